@@ -1,0 +1,1 @@
+"""Campaign engine: typed configs, composition, trial expansion, runner, records, provenance."""

@@ -1,0 +1,1 @@
+"""Typer command line. Imports the other layers lazily inside commands."""

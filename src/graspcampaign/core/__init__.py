@@ -1,0 +1,4 @@
+"""Numerical core: meshes, features, contact geometry, contact law, MSD body, metric, evaluator, planners, PSO.
+
+Imports numpy, scipy and trimesh only; never the campaign, rig, report or CLI layers.
+"""

@@ -1,0 +1,1 @@
+"""Statistics, tables and figures. Reads records; never runs a trial."""

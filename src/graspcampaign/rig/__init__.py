@@ -1,0 +1,1 @@
+"""Hardware protocols (Tests 1-3): schedules, ingest and validation, the virtual rig."""
