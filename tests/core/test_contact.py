@@ -1,0 +1,129 @@
+"""Tests for the contact law (Eq. 13-16)."""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy.differentiate import derivative
+
+from graspcampaign.core.contact import (
+    NOMINAL_CONTACT,
+    TABLE3_CONTACT,
+    ContactParams,
+    StickSlipParams,
+    StickSlipState,
+    contact_damping_c,
+    normal_force,
+    normal_stiffness,
+    tangential_force,
+)
+
+
+def test_damping_matches_spec_check_value():
+    # SPEC §1: lambda2 = 0.88, R = 5 mm -> C = 4 pi 0.005 0.88 = 0.0553 N s/m
+    # (Table 4 measures 0.055-0.062).
+    params = ContactParams(lambda1=1.0, lambda2=0.88, n=1.0, fingertip_radius=5e-3)
+    assert params.c_n_s_per_m == pytest.approx(0.0553, abs=5e-5)
+    assert contact_damping_c(0.88, 5e-3) == pytest.approx(0.05529203, rel=1e-7)
+
+
+def test_stiffness_uses_mpa_and_mm():
+    # Psi from Table 2: python -c "print(1/((1-0.5**2)/0.0893e6 + (1-0.45**2)/0.14e6))"
+    # -> 70946.7176077189 Pa; K = 2 * 1 * 0.0709467 MPa * sqrt(5 mm).
+    assert NOMINAL_CONTACT.psi == pytest.approx(70946.7176077189, rel=1e-12)
+    assert NOMINAL_CONTACT.k_n_per_mm_n == pytest.approx(2 * 0.0709467176077189 * np.sqrt(5.0))
+    assert TABLE3_CONTACT.k_n_per_mm_n == pytest.approx(0.332 * NOMINAL_CONTACT.k_n_per_mm_n)
+    assert (NOMINAL_CONTACT.n, NOMINAL_CONTACT.lambda1, NOMINAL_CONTACT.lambda2) == (1.5, 1.0, 1.0)
+    assert (TABLE3_CONTACT.lambda1, TABLE3_CONTACT.lambda2, TABLE3_CONTACT.n) == (
+        0.332,
+        0.880,
+        0.487,
+    )
+
+
+def test_contact_params_validate():
+    with pytest.raises(ValueError, match=r"ContactParams.n must be finite and > 0"):
+        ContactParams(lambda1=1.0, lambda2=1.0, n=0.0)
+    with pytest.raises(ValueError, match=r"nu_object must lie in \[0, 0.5\]"):
+        ContactParams(lambda1=1.0, lambda2=1.0, n=1.0, nu_object=0.7)
+
+
+def test_normal_force_power_term_in_millimetres():
+    # 1 mm with K = 2 N/mm^1.5 -> 2 N; 2 mm -> 2 * 2^1.5 N (hand computation of Eq. 13).
+    forces = normal_force(np.array([1e-3, 2e-3]), 0.0, 2.0, 1.5, 0.0)
+    np.testing.assert_allclose(forces, [2.0, 2.0 * 2.0**1.5])
+
+
+def test_normal_force_damper_in_metres_per_second_and_clamp():
+    # K delta^n + C delta_dot with delta_dot in m/s: 2 + 0.05 * 0.1 = 2.005 N.
+    assert normal_force(1e-3, 0.1, 2.0, 1.5, 0.05) == pytest.approx(2.005)
+    # A fast separation would pull: the max(0, .) clamp removes it.
+    assert normal_force(1e-3, -100.0, 2.0, 1.5, 0.05) == 0.0
+    # Open contacts carry nothing, whatever their rate.
+    np.testing.assert_array_equal(normal_force([0.0, -1e-3], [1.0, 1.0], 2.0, 1.5, 0.05), 0.0)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    depth=st.floats(1e-5, 5e-2),
+    k=st.floats(0.01, 5.0),
+    n=st.floats(0.1, 2.0),
+)
+def test_normal_stiffness_is_derivative_per_metre(depth, k, n):
+    def elastic(d):
+        return normal_force(d, 0.0, k, n, 0.0)
+
+    reference = derivative(elastic, depth, initial_step=depth / 10)
+    assert normal_stiffness(depth, k, n) == pytest.approx(reference.df, rel=1e-6)
+
+
+def test_normal_stiffness_at_zero_depth_is_one_sided():
+    np.testing.assert_array_equal(
+        normal_stiffness(0.0, 2.0, np.array([0.5, 1.0, 1.5])), [np.inf, 2000.0, 0.0]
+    )
+
+
+FRICTION = StickSlipParams(mu_s=0.5, mu_k=0.4, k_t=100.0, c_t=0.0)
+UP = np.array([[0.0, 0.0, 1.0]])
+
+
+def test_stick_below_the_cone_is_elastic():
+    state = StickSlipState.initial(np.zeros((1, 3)))
+    # Displacement 1 mm along x plus a normal component the tangent plane must ignore.
+    point = np.array([[1e-3, 0.0, 5e-3]])
+    forces, new = tangential_force(state, FRICTION, point, np.array([1.0]), np.zeros((1, 3)), UP)
+    np.testing.assert_allclose(forces, [[-0.1, 0.0, 0.0]])  # -k_t xi, |0.1| <= 0.5 * 1
+    assert not new.sliding[0]
+    np.testing.assert_array_equal(new.anchors, state.anchors)
+
+
+def test_slip_opposes_velocity_at_kinetic_level_and_saturates_anchor():
+    state = StickSlipState.initial(np.zeros((1, 3)))
+    point = np.array([[0.0, 1e-2, 0.0]])  # k_t xi = 1 N > mu_s f_n = 0.5 N
+    velocity = np.array([[0.0, 0.2, 0.0]])
+    forces, new = tangential_force(state, FRICTION, point, np.array([1.0]), velocity, UP)
+    np.testing.assert_allclose(forces, [[0.0, -0.4, 0.0]])  # -mu_k f_n V_t/|V_t| (Eq. 15)
+    assert new.sliding[0]
+    # The state is pure: the input anchors are untouched.
+    np.testing.assert_array_equal(state.anchors, 0.0)
+    # Anchor dragged so the elastic force equals the sliding force; at rest it now sticks there.
+    again, after = tangential_force(new, FRICTION, point, np.array([1.0]), np.zeros((1, 3)), UP)
+    np.testing.assert_allclose(again, forces, atol=1e-12)
+    assert not after.sliding[0]
+
+
+def test_unloaded_contact_carries_no_friction():
+    state = StickSlipState(anchors=np.zeros((2, 3)), sliding=np.zeros(2, dtype=bool))
+    points = np.array([[1e-3, 0, 0], [0, 0, 0]], dtype=float)
+    forces, new = tangential_force(
+        state, FRICTION, points, np.zeros(2), np.zeros((2, 3)), np.repeat(UP, 2, axis=0)
+    )
+    np.testing.assert_array_equal(forces, 0.0)
+    np.testing.assert_allclose(new.anchors, points)
+
+
+def test_stick_slip_validation():
+    with pytest.raises(ValueError, match=r"k_t must be > 0"):
+        StickSlipParams(mu_s=0.5, mu_k=0.5, k_t=0.0)
+    with pytest.raises(ValueError, match=r"shape \(c, 3\), got \(3,\)"):
+        StickSlipState.initial(np.zeros(3))
