@@ -1,0 +1,45 @@
+# graspcampaign — make targets used locally and in CI. `make help` lists them.
+PY      ?= python3
+VENV    ?= .venv
+BIN     := $(VENV)/bin
+STAMP   := $(VENV)/.install.stamp
+GC      := $(BIN)/graspcampaign
+
+.PHONY: help install test test-full smoke demo reproduce report bench lint clean
+
+help:  ## list the targets
+	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/' | expand -t 14
+
+install: $(STAMP)  ## create .venv and install the package with every extra
+$(STAMP): pyproject.toml
+	$(PY) -m venv $(VENV)
+	$(BIN)/pip install --quiet --disable-pip-version-check -e '.[dev,dask,ml,xlsx]'
+	@touch $(STAMP)
+
+test: install  ## fast test suite (a few minutes on 2 cores)
+	$(BIN)/pytest -q
+
+test-full: install  ## every test, slow ones included
+	$(BIN)/pytest -q -m ""
+
+smoke: install  ## run the smoke study and write its report
+	$(GC) run smoke --report
+
+demo: install  ## run the 2700-trial baseline grid (Sec. 6.5) and write its report
+	$(GC) run baseline_grid --report
+
+reproduce: install  ## every runnable study at paper scale, then every report
+	@for s in $$($(GC) list --names); do echo "== $$s"; $(GC) run $$s || exit $$?; done
+	$(GC) report
+
+report: install  ## reports for every run under results/
+	$(GC) report
+
+bench: install  ## benchmarks: ratios against references measured in the same run
+	@for f in benchmarks/bench_*.py; do echo "== $$f"; $(BIN)/python $$f || exit $$?; done
+
+lint: install  ## ruff
+	$(BIN)/ruff check src tests benchmarks
+
+clean:  ## remove the virtual environment and caches (results/ is kept)
+	rm -rf $(VENV) .pytest_cache .ruff_cache .hypothesis

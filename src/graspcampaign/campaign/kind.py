@@ -1,0 +1,106 @@
+"""Trial kinds: what one trial computes, and the explicit registry that maps names to code.
+
+A study names its trial kind; the name maps to an implementation through ``KINDS`` below, never
+through a string a config could point anywhere. A kind whose implementation does not exist yet is
+registered with ``None``: ``graspcampaign list`` shows its studies as not yet runnable and ``run``
+refuses them before writing anything.
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+from graspcampaign.campaign.grid import Trial
+from graspcampaign.campaign.schema import StudyCfg
+from graspcampaign.errors import StudyNotRunnableError
+
+
+@dataclass(frozen=True)
+class TrialInput:
+    """What a kind's ``run`` receives for one trial."""
+
+    trial: Trial
+    study: StudyCfg
+    params: Any  # the kind's params dataclass instance (or the raw dict if it has none)
+    prepared: dict[str, Any] | None  # the shared preparation of this trial's body, if any
+
+
+@dataclass(frozen=True)
+class TrialKind:
+    """What one trial of a study computes.
+
+    ``run(inp, rng)`` returns a flat dict of record columns (units in every name). It may also
+    return ``"__tables__": {name: {column: list}}`` for per-step traces, stored beside the records
+    and keyed by ``trial_id``.
+
+    ``body_key(factors)`` and ``prepare(study, params, body, rng)`` describe a shared preparation
+    computed once per distinct key before the trials that need it (e.g. a PSO identification per
+    soft body); preparations are stored as records of their own and reused on resume.
+    """
+
+    name: str
+    run: Callable[[TrialInput, Any], dict[str, Any]]
+    params: type | None = None
+    source: str = "simulation"  # simulation | virtual | measured
+    seconds_per_trial: float = 0.01  # rough estimate for `show` and task sizing
+    body_key: Callable[[dict[str, Any]], dict[str, Any]] | None = None
+    prepare: Callable[..., dict[str, Any]] | None = None
+    description: str = ""
+    extra: dict[str, Any] = field(default_factory=dict)
+
+
+# name -> "module:attribute" of a TrialKind, or None while not implemented (with the issue that
+# will implement it, shown by `graspcampaign list`).
+KINDS: dict[str, str | None] = {
+    "mesh_features": "graspcampaign.campaign.kinds.smoke:MESH_FEATURES",
+    "quasi_static": None,
+    "heuristic_weights": None,
+    "wrench_balance": None,
+    "pso_repeatability": None,
+    "gravity_settle": None,
+    "dynamic_grasp": None,
+    "sensitivity": None,
+    "mesh_resolution": None,
+    "surrogate": None,
+    "test1_bench": None,
+    "test2_grasp": None,
+    "test3_disturbance": None,
+}
+
+_EXTRA: dict[str, TrialKind] = {}
+
+
+def register_kind(kind: TrialKind) -> None:
+    """Register a kind defined outside this package (tests and benchmarks)."""
+    _EXTRA[kind.name] = kind
+
+
+def kind_available(name: str) -> bool:
+    """Return whether a kind is implemented and importable."""
+    return name in _EXTRA or KINDS.get(name) is not None
+
+
+def get_kind(name: str) -> TrialKind:
+    """Resolve a kind name to its implementation.
+
+    Raises
+    ------
+    StudyNotRunnableError
+        When the kind is unknown or not implemented yet.
+    """
+    if name in _EXTRA:
+        return _EXTRA[name]
+    if name not in KINDS:
+        raise StudyNotRunnableError(
+            f"trial kind {name!r} is unknown; known kinds: {', '.join(sorted(KINDS))}."
+        )
+    target = KINDS[name]
+    if target is None:
+        raise StudyNotRunnableError(
+            f"trial kind {name!r} is not implemented yet, so this study cannot run."
+        )
+    module, attr = target.split(":")
+    return getattr(importlib.import_module(module), attr)

@@ -1,0 +1,1 @@
+"""Trial kinds, one module per family; registered by name in ``campaign.kind.KINDS``."""

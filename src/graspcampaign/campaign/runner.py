@@ -1,0 +1,345 @@
+"""Run a study: fan trials out over cores (joblib loky) or a Dask cluster, record, resume.
+
+Trials are grouped into tasks of about ``runner.target_task_s`` seconds of compute (SPEC Sec. 5);
+each finished task becomes one atomic Parquet shard, so a run killed at any moment resumes with no
+trial lost or duplicated. A trial's record never depends on the backend, the worker count, the
+order or a resume: its random stream comes from the study seed and its own scene (grid.py).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import os
+import socket
+import sys
+import time
+import traceback
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from omegaconf import OmegaConf
+
+from graspcampaign.campaign import provenance
+from graspcampaign.campaign.grid import Trial, content_hash, expand
+from graspcampaign.campaign.kind import TrialInput, TrialKind, get_kind
+from graspcampaign.campaign.records import RunStore
+from graspcampaign.campaign.schema import StudyCfg, check_config
+from graspcampaign.errors import ConfigError, UserInputError
+
+BASE_COLUMNS = ("trial_id", "study", "run", "kind", "trial_index", "scene_id", "status",
+                "error_type", "error_message", "wall_time_s", "worker", "host", "source")
+
+
+class DriftError(UserInputError):
+    """The resolved config or code changed since the run started."""
+
+
+@dataclass
+class RunSummary:
+    """What a call to :func:`run_study` did."""
+
+    study: str
+    run: str
+    path: Path
+    n_trials: int
+    n_already: int = 0
+    n_ran: int = 0
+    n_ok: int = 0
+    n_error: int = 0
+    n_prepared: int = 0
+    stopped_early: bool = False
+    first_error: str | None = None
+    wall_time_s: float = 0.0
+    errors: list[str] = field(default_factory=list)
+
+
+def run_path(study: StudyCfg, run: str | None = None) -> Path:
+    """Return ``<output.root>/<study>/<run>``."""
+    return Path(study.output.root) / study.name / (run or study.output.run)
+
+
+def kind_params(study: StudyCfg, kind: TrialKind) -> Any:
+    """Validate ``study.params`` against the kind's schema and return the params object."""
+    if kind.params is None:
+        if study.params:
+            raise ConfigError(
+                f"params.{next(iter(study.params))} is not a parameter of trial kind "
+                f"{kind.name!r}, which takes none."
+            )
+        return {}
+    from graspcampaign.campaign.compose import omegaconf_error_sentence
+
+    try:
+        merged = OmegaConf.merge(OmegaConf.structured(kind.params), study.params)
+        obj = OmegaConf.to_object(merged)
+    except Exception as exc:  # OmegaConf raises several unrelated types
+        raise ConfigError(omegaconf_error_sentence(exc, prefix="params.")) from None
+    check_config(obj, prefix="params.")
+    return obj
+
+
+# -- the work one task does (runs in a worker process) -----------------------------------------
+def _error_fields(exc: BaseException) -> dict[str, Any]:
+    message = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+    return {"status": "error", "error_type": type(exc).__name__, "error_message": message,
+            "error_traceback": "".join(traceback.format_exception(exc))[-4000:]}
+
+
+def run_task(kind: TrialKind, study: StudyCfg, run: str, params: Any,
+             items: list[tuple[Trial, dict[str, Any] | None]], fail_fast: bool):
+    """Run a batch of trials; return their record rows and trace-table rows."""
+    host, worker = socket.gethostname(), f"pid{os.getpid()}"
+    rows: list[dict[str, Any]] = []
+    tables: dict[str, list[dict[str, Any]]] = {}
+    for trial, prepared in items:
+        row: dict[str, Any] = {
+            "trial_id": trial.trial_id, "study": study.name, "run": run, "kind": kind.name,
+            "trial_index": trial.index, "scene_id": trial.scene_id, "status": "ok",
+            "error_type": None, "error_message": None, "wall_time_s": None,
+            "worker": worker, "host": host, "source": kind.source,
+        }
+        row.update(trial.factors)
+        start = time.perf_counter()
+        try:
+            out = dict(kind.run(TrialInput(trial, study, params, prepared), trial.rng(study.seed)))
+            for name, columns in out.pop("__tables__", {}).items():
+                n = len(next(iter(columns.values()))) if columns else 0
+                tables.setdefault(name, []).extend(
+                    {"trial_id": trial.trial_id, **{c: v[i] for c, v in columns.items()}}
+                    for i in range(n)
+                )
+            clash = set(out) & set(row)
+            if clash:
+                raise RuntimeError(f"trial kind output overwrites input columns {sorted(clash)}")
+            row.update(out)
+        except Exception as exc:  # a failing trial becomes an error record; the campaign goes on
+            row.update(_error_fields(exc))
+        row["wall_time_s"] = time.perf_counter() - start
+        rows.append(row)
+        if fail_fast and row["status"] == "error":
+            break
+    return rows, tables
+
+
+def run_prepare(kind: TrialKind, study: StudyCfg, params: Any, body: dict[str, Any]):
+    """Compute one shared preparation (e.g. an identification) for a body."""
+    import numpy as np
+
+    from graspcampaign.campaign.grid import stream_key
+
+    rng = np.random.default_rng(
+        np.random.SeedSequence(study.seed, spawn_key=stream_key({"prepare": body}))
+    )
+    start = time.perf_counter()
+    out = kind.prepare(study, params, body, rng)
+    return {"body_id": content_hash(body), **body, **out,
+            "wall_time_s": time.perf_counter() - start}
+
+
+# -- backends -----------------------------------------------------------------------------------
+def _n_workers(study: StudyCfg) -> int:
+    if study.runner.backend == "sequential":
+        return 1
+    n = study.runner.n_jobs
+    return (os.cpu_count() or 1) if n in (-1, 0) else n
+
+
+@contextlib.contextmanager
+def _executor(study: StudyCfg):
+    """Yield ``map_unordered(fn, arg_tuples) -> iterator`` for the configured backend."""
+    backend = study.runner.backend
+    if backend == "sequential" or (backend == "loky" and _n_workers(study) == 1):
+        yield lambda fn, args: (fn(*a) for a in args)
+        return
+    from joblib import Parallel, delayed, parallel_config
+
+    if backend == "loky":
+        with parallel_config(backend="loky", n_jobs=study.runner.n_jobs):
+            yield lambda fn, args: Parallel(return_as="generator_unordered")(
+                delayed(fn)(*a) for a in args
+            )
+        return
+    try:
+        from dask.distributed import Client, LocalCluster
+    except ImportError:
+        raise UserInputError(
+            "runner.backend=dask needs the dask extra: pip install 'graspcampaign[dask]'."
+        ) from None
+    cluster = None
+    if study.runner.address:
+        client = Client(study.runner.address)
+    else:
+        cluster = LocalCluster(n_workers=_n_workers(study), threads_per_worker=1, processes=True,
+                               dashboard_address=None, host="127.0.0.1")
+        client = Client(cluster)
+    try:
+        with parallel_config(backend="dask"):
+            yield lambda fn, args: Parallel(n_jobs=-1, return_as="generator_unordered")(
+                delayed(fn)(*a) for a in args
+            )
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+def _chunks(items: list, size: int) -> Iterator[list]:
+    for i in range(0, len(items), size):
+        yield items[i : i + size]
+
+
+def task_size(study: StudyCfg, kind: TrialKind, n_pending: int) -> int:
+    """Trials per task: ~target_task_s of compute, but enough tasks to balance the workers."""
+    if study.runner.batch_size:
+        return study.runner.batch_size
+    by_time = max(1, round(study.runner.target_task_s / max(kind.seconds_per_trial, 1e-6)))
+    balance = max(1, math.ceil(n_pending / (4 * _n_workers(study))))
+    return max(1, min(by_time, balance))
+
+
+# -- the campaign -------------------------------------------------------------------------------
+def _check_drift(manifest: dict[str, Any], study: StudyCfg, allow_drift: bool, path: Path) -> None:
+    if allow_drift:
+        return
+    changes = []
+    if manifest.get("config_hash") != provenance.config_hash(study):
+        changes.append("the resolved study config")
+    if manifest.get("code_version") != provenance.code_version():
+        changes.append(f"the code version ({manifest.get('code_version')} -> "
+                       f"{provenance.code_version()})")
+    if changes:
+        raise DriftError(
+            f"run {path} was started with different {' and '.join(changes)}; use a new run "
+            "name (output.run=NAME or --run NAME) or pass --allow-drift to mix them."
+        )
+
+
+class _Progress:
+    """A done/failed/total progress bar on a terminal; silent otherwise."""
+
+    def __init__(self, total: int, done: int, enabled: bool, label: str):
+        self.enabled = enabled and sys.stderr.isatty()
+        self.failed = 0
+        if not self.enabled:
+            return
+        from rich.progress import (
+            BarColumn,
+            MofNCompleteColumn,
+            Progress,
+            TextColumn,
+            TimeElapsedColumn,
+            TimeRemainingColumn,
+        )
+
+        self._bar = Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
+                             TextColumn("failed {task.fields[failed]}"),
+                             TextColumn("{task.fields[rate]}"), TimeElapsedColumn(),
+                             TextColumn("ETA"), TimeRemainingColumn(), transient=False)
+        self._bar.start()
+        self._task = self._bar.add_task(label, total=total, completed=done, failed=0, rate="")
+        self._t0, self._done0 = time.perf_counter(), done
+
+    def advance(self, n: int, failed: int) -> None:
+        self.failed += failed
+        if self.enabled:
+            self._bar.advance(self._task, n)
+            done = self._bar.tasks[0].completed - self._done0
+            rate = done / max(time.perf_counter() - self._t0, 1e-9)
+            self._bar.update(self._task, failed=self.failed, rate=f"{rate:.1f} trials/s")
+
+    def close(self) -> None:
+        if self.enabled:
+            self._bar.stop()
+
+
+def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = False,
+              fail_fast: bool = False, progress: bool | None = None) -> RunSummary:
+    """Run every trial of ``study`` not yet recorded in its run directory.
+
+    Raises
+    ------
+    StudyNotRunnableError
+        If the study's trial kind is not implemented (nothing is written).
+    DriftError
+        If the run exists with a different resolved config or code version.
+    """
+    kind = get_kind(study.kind)
+    params = kind_params(study, kind)
+    run = run or study.output.run
+    trials = expand(study)
+    path = run_path(study, run)
+    store = RunStore(path)
+    manifest = provenance.read_manifest(store.manifest_path)
+    if manifest is not None:
+        _check_drift(manifest, study, allow_drift, path)
+    else:
+        manifest = provenance.new_manifest(study, run, len(trials), kind.source)
+    session = {"started_at": provenance.now_utc(), "host": socket.gethostname(),
+               "backend": study.runner.backend, "n_jobs": study.runner.n_jobs}
+    store.clean()
+    provenance.write_manifest(store.manifest_path, manifest)
+
+    t0 = time.perf_counter()
+    done = store.recorded_ids()
+    pending = [t for t in trials if t.trial_id not in done]
+    summary = RunSummary(study.name, run, path, len(trials), n_already=len(trials) - len(pending))
+    show = study.runner.progress if progress is None else progress
+
+    with _executor(study) as map_unordered:
+        prepared = _prepare_bodies(kind, study, params, pending, store, map_unordered, summary)
+        size = task_size(study, kind, len(pending))
+        tasks = [
+            [(t, prepared.get(content_hash(kind.body_key(t.factors))) if kind.body_key else None)
+             for t in chunk]
+            for chunk in _chunks(pending, size)
+        ]
+        bar = _Progress(len(trials), summary.n_already, show, study.name)
+        try:
+            results = map_unordered(run_task, [(kind, study, run, params, items, fail_fast)
+                                               for items in tasks])
+            for rows, tables in results:
+                name = content_hash([r["trial_id"] for r in rows])
+                for table_name, table_rows in tables.items():
+                    if table_rows:
+                        store.write_shard(f"tables/{table_name}", name, table_rows)
+                store.write_shard("records", name, rows)
+                n_err = sum(r["status"] == "error" for r in rows)
+                summary.n_ran += len(rows)
+                summary.n_error += n_err
+                summary.n_ok += len(rows) - n_err
+                bar.advance(len(rows), n_err)
+                for r in rows:
+                    if r["status"] == "error":
+                        summary.errors.append(f"{r['trial_id']}: {r['error_type']}: "
+                                              f"{r['error_message']}")
+                if fail_fast and n_err:
+                    summary.stopped_early = True
+                    break
+        finally:
+            bar.close()
+    store.compact_all()
+    summary.wall_time_s = time.perf_counter() - t0
+    session.update(finished_at=provenance.now_utc(), ran=summary.n_ran, errors=summary.n_error)
+    manifest["sessions"].append(session)
+    if not summary.stopped_early and summary.n_already + summary.n_ran == len(trials):
+        manifest["finished_at"] = session["finished_at"]
+    provenance.write_manifest(store.manifest_path, manifest)
+    return summary
+
+
+def _prepare_bodies(kind, study, params, pending, store, map_unordered, summary):
+    """Compute (or read back) the shared preparation of every body the pending trials need."""
+    if kind.body_key is None or kind.prepare is None:
+        return {}
+    bodies = {content_hash(kind.body_key(t.factors)): kind.body_key(t.factors) for t in pending}
+    stored = store.read("prepared").to_pylist()
+    have = {row["body_id"]: row for row in stored}
+    missing = [b for h, b in bodies.items() if h not in have]
+    for row in map_unordered(run_prepare, [(kind, study, params, b) for b in missing]):
+        store.write_shard("prepared", row["body_id"], [row])
+        have[row["body_id"]] = row
+        summary.n_prepared += 1
+    return {h: have[h] for h in bodies}

@@ -1,0 +1,268 @@
+"""Typed config schemas for every group in ``conf/`` and for studies in ``campaigns/``.
+
+Every YAML file names its schema on its first line (``# schema: StudyCfg``); ``SCHEMAS`` maps
+those names to the dataclasses below. Hydra merges each YAML into its dataclass, so an unknown
+key or a wrong type fails at load; ranges and allowed values are declared in each field's
+``metadata`` and checked by :func:`check_config`, which names the offending key in one sentence.
+
+Ranges: ``gt``/``ge``/``le`` bounds and ``choices`` (a tuple, or the name of a registry).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+from graspcampaign.errors import ConfigError
+
+
+def _f(default: Any, **meta: Any) -> Any:
+    """Declare a dataclass field with validation metadata."""
+    if isinstance(default, (list, dict)):
+        return field(default_factory=lambda d=default: type(d)(d), metadata=meta)
+    return field(default=default, metadata=meta)
+
+
+@dataclass
+class ContactModelCfg:
+    """Contact-law constants (Eq. 13-14, Table 2, Table 3)."""
+
+    lambda1: float = _f(0.332, gt=0.0)  # Table 3
+    lambda2: float = _f(0.880, gt=0.0)  # Table 3
+    n_exp: float = _f(0.487, gt=0.0)  # Table 3 (Hunt-Crossley exponent)
+    fingertip_radius_m: float = _f(5e-3, gt=0.0)  # Table 2
+    e_finger_pa: float = _f(0.0893e6, gt=0.0)  # Table 2
+    e_object_pa: float = _f(0.14e6, gt=0.0)  # Table 2
+    nu_finger: float = _f(0.5, ge=0.0, le=0.5)  # Table 2
+    nu_object: float = _f(0.45, ge=0.0, le=0.5)  # Table 2
+
+
+@dataclass
+class EvaluatorCfg:
+    """Quasi-static evaluator (Algorithms 1-2, Sec. 6.1, Sec. 11)."""
+
+    seed_depth_m: float = _f(5e-4, gt=0.0)  # Alg. 2 line 1
+    n_max: int = _f(100, ge=1)  # Sec. 11
+    alpha: float = _f(1.0, gt=0.0)  # documented in docs/decisions.md
+    eps: float = _f(1e-9, gt=0.0)  # documented in docs/decisions.md
+    tau_f_n: float = _f(0.5, gt=0.0)  # Sec. 3.7: simulation criterion
+    tau_t_nm: float = _f(0.05, gt=0.0)  # documented in docs/decisions.md
+    n_cand: int = _f(1000, ge=1)  # documented in docs/decisions.md
+
+
+@dataclass
+class FeatureCfg:
+    """Sharp-feature thresholds (Sec. 3.1, Sec. 11)."""
+
+    vertex_defect_rad: float = _f(0.2, gt=0.0)
+    edge_dihedral_deg: float = _f(30.0, gt=0.0, le=180.0)
+    edge_proximity_factor: float = _f(0.5, ge=0.0)
+    resolution_aware: bool = False
+
+
+@dataclass
+class PsoCfg:
+    """Particle swarm identification (Sec. 4, Sec. 11)."""
+
+    enabled: bool = True
+    n_particles: int = _f(8, ge=1)  # Sec. 6.8 repeatability budget
+    n_iterations: int = _f(15, ge=1)  # Sec. 6.8
+    inertia: float = _f(0.7, ge=0.0)  # Sec. 11
+    c1: float = _f(1.5, ge=0.0)  # Sec. 11
+    c2: float = _f(1.5, ge=0.0)  # Sec. 11
+
+
+@dataclass
+class RunnerCfg:
+    """Where and how trials run."""
+
+    backend: str = _f("loky", choices=("loky", "dask", "sequential"))
+    n_jobs: int = _f(-1, ge=-1)  # -1: all cores
+    address: str | None = None  # Dask scheduler address; None starts a LocalCluster
+    batch_size: int = _f(0, ge=0)  # trials per task; 0 sizes tasks to ~target_task_s
+    target_task_s: float = _f(0.5, gt=0.0)  # SPEC Sec. 5: 0.2-1 s of compute per task
+    progress: bool = True
+
+
+@dataclass
+class OutputCfg:
+    """Where records go: ``<root>/<study>/<run>/``."""
+
+    root: str = "results"
+    run: str = "default"
+
+
+@dataclass
+class StudyCfg:
+    """One study: its design (factors, seeds), trial kind, fixed parameters and paper values."""
+
+    name: str = "???"
+    kind: str = "???"
+    description: str = ""
+    seed: int = _f(0, ge=0)  # study seed: root of every trial's random stream
+    seeds: int = _f(1, ge=1)  # seed indices 0..seeds-1, a first-class axis
+    repeats: int = _f(1, ge=1)  # repeats of each scene, a first-class axis
+    factors: dict[str, list[Any]] = field(default_factory=dict)
+    zip: list[list[str]] = field(default_factory=list)  # factor groups advanced together
+    method_factors: list[str] = field(default_factory=lambda: ["planner", "variant"])
+    params: dict[str, Any] = field(default_factory=dict)  # kind-specific, see the kind's schema
+    paper: dict[str, Any] = field(default_factory=dict)  # the paper's reported values
+    model: ContactModelCfg = field(default_factory=ContactModelCfg)
+    evaluator: EvaluatorCfg = field(default_factory=EvaluatorCfg)
+    features: FeatureCfg = field(default_factory=FeatureCfg)
+    pso: PsoCfg = field(default_factory=PsoCfg)
+    runner: RunnerCfg = field(default_factory=RunnerCfg)
+    output: OutputCfg = field(default_factory=OutputCfg)
+
+
+SCHEMAS: dict[str, type] = {
+    "StudyCfg": StudyCfg,
+    "ContactModelCfg": ContactModelCfg,
+    "EvaluatorCfg": EvaluatorCfg,
+    "FeatureCfg": FeatureCfg,
+    "PsoCfg": PsoCfg,
+    "RunnerCfg": RunnerCfg,
+    "OutputCfg": OutputCfg,
+}
+
+
+def _registry_names(name: str) -> tuple[str, ...]:
+    """Return the allowed values of a registry-backed choice."""
+    if name == "shape":
+        from graspcampaign.core.mesh import SHAPES
+
+        return tuple(SHAPES)
+    if name == "planner":
+        from graspcampaign.core.planner import PLANNERS
+
+        return tuple(PLANNERS)
+    raise KeyError(name)
+
+
+# Known factors: name -> validation metadata. A factor not listed here is rejected, so a typo in a
+# study file or an override fails at load instead of silently adding an axis.
+FACTOR_SPECS: dict[str, dict[str, Any]] = {
+    "shape": {"type": str, "choices": "shape"},
+    "planner": {"type": str, "choices": "planner"},
+    "mass_kg": {"type": float, "gt": 0.0},
+    "mu": {"type": float, "ge": 0.0},
+    "nodes": {"type": int, "ge": 12},
+    "n_cand": {"type": int, "ge": 1},
+    "lambda1": {"type": float, "gt": 0.0},
+    "lambda2": {"type": float, "gt": 0.0},
+    "n_exp": {"type": float, "gt": 0.0},
+    "b_n_s_per_m": {"type": float, "ge": 0.0},
+    "n_max": {"type": int, "ge": 1},
+    "dt_s": {"type": float, "gt": 0.0},
+    "weight_scale": {"type": float, "gt": 0.0},
+    "w1": {"type": float, "ge": 0.0},
+    "w2": {"type": float, "ge": 0.0},
+    "w3": {"type": float, "ge": 0.0},
+    "variant": {"type": str},
+    "pso_seed": {"type": int, "ge": 0},
+    "budget": {"type": str},
+}
+
+
+def _fmt_allowed(meta: dict[str, Any]) -> str:
+    parts = []
+    if "gt" in meta:
+        parts.append(f"> {meta['gt']}")
+    if "ge" in meta:
+        parts.append(f">= {meta['ge']}")
+    if "le" in meta:
+        parts.append(f"<= {meta['le']}")
+    return " and ".join(parts)
+
+
+def check_value(key: str, value: Any, meta: dict[str, Any]) -> Any:
+    """Check one value against its metadata and return it (coerced to the declared type).
+
+    Raises
+    ------
+    ConfigError
+        One sentence naming ``key``, the offending value and the allowed values.
+    """
+    typ = meta.get("type")
+    if typ is not None and value is not None:
+        if typ is float and isinstance(value, (int, float)) and not isinstance(value, bool):
+            value = float(value)
+        elif typ is int and isinstance(value, int) and not isinstance(value, bool):
+            pass
+        elif typ is str and isinstance(value, str):
+            pass
+        else:
+            raise ConfigError(
+                f"{key} must be of type {typ.__name__}, got {value!r} "
+                f"({type(value).__name__})."
+            )
+    choices = meta.get("choices")
+    if choices is not None:
+        allowed = _registry_names(choices) if isinstance(choices, str) else tuple(choices)
+        if value not in allowed:
+            raise ConfigError(
+                f"{key} has unknown value {value!r}; allowed values: {', '.join(map(str, allowed))}."
+            )
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        if isinstance(value, float) and not math.isfinite(value):
+            raise ConfigError(f"{key} must be finite, got {value!r}.")
+        bad = (
+            ("gt" in meta and not value > meta["gt"])
+            or ("ge" in meta and not value >= meta["ge"])
+            or ("le" in meta and not value <= meta["le"])
+        )
+        if bad:
+            raise ConfigError(f"{key} = {value!r} is out of range; allowed: {_fmt_allowed(meta)}.")
+    return value
+
+
+def check_config(obj: Any, prefix: str = "") -> None:
+    """Walk a config dataclass and check every field's range and allowed values."""
+    for f in dataclasses.fields(obj):
+        key = f"{prefix}{f.name}"
+        value = getattr(obj, f.name)
+        if dataclasses.is_dataclass(value):
+            check_config(value, prefix=f"{key}.")
+        elif f.metadata:
+            check_value(key, value, dict(f.metadata))
+
+
+def check_study(study: StudyCfg) -> None:
+    """Check a whole study: group ranges, factor names and levels, zip groups.
+
+    Raises
+    ------
+    ConfigError
+        For the first problem found, naming its key.
+    """
+    check_config(study)
+    for name, levels in study.factors.items():
+        if name not in FACTOR_SPECS:
+            raise ConfigError(
+                f"factors.{name} is not a known factor; known factors: "
+                f"{', '.join(sorted(FACTOR_SPECS))}."
+            )
+        if not isinstance(levels, list) or not levels:
+            raise ConfigError(f"factors.{name} must be a non-empty list of levels.")
+        levels[:] = [
+            check_value(f"factors.{name}[{i}]", v, FACTOR_SPECS[name]) for i, v in enumerate(levels)
+        ]
+        if len(set(map(repr, levels))) != len(levels):
+            raise ConfigError(f"factors.{name} lists a level twice: {levels!r}.")
+    seen: set[str] = set()
+    for i, group in enumerate(study.zip):
+        for name in group:
+            if name not in study.factors:
+                raise ConfigError(f"zip[{i}] names {name!r}, which is not among the factors.")
+            if name in seen:
+                raise ConfigError(f"zip[{i}] names {name!r}, which is already zipped.")
+            seen.add(name)
+        lengths = {len(study.factors[n]) for n in group}
+        if len(lengths) > 1:
+            raise ConfigError(
+                f"zip[{i}] groups factors of different lengths: "
+                + ", ".join(f"{n} has {len(study.factors[n])}" for n in group)
+                + "."
+            )

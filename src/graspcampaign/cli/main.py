@@ -1,0 +1,183 @@
+"""The ``graspcampaign`` command line (Typer).
+
+Exit codes: 0 success, 1 trial errors occurred, 2 bad usage or bad input. Errors are one
+sentence on stderr; ``--debug`` adds the traceback. Layers are imported inside commands so that
+``--help`` stays fast.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+import traceback
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+app = typer.Typer(
+    add_completion=False,
+    no_args_is_help=True,
+    help="Reproducible experiment campaigns for soft-object grasp planning.",
+    pretty_exceptions_enable=False,
+)
+_state = {"debug": False}
+
+Overrides = Annotated[
+    list[str] | None,
+    typer.Argument(help="Hydra overrides, e.g. mu=[0.3] seeds=2 runner.n_jobs=2.", show_default=False),
+]
+RunOpt = Annotated[str | None, typer.Option("--run", help="Run name (default: output.run).")]
+
+
+def _fail(message: str, code: int = 2) -> None:
+    typer.echo(f"error: {message}", err=True)
+    raise typer.Exit(code)
+
+
+def _guard(fn):
+    """Turn bad-input exceptions into one sentence and exit 2 (traceback with --debug)."""
+    import functools
+
+    @functools.wraps(fn)
+    def wrapper(*args, **kwargs):
+        from graspcampaign.errors import UserInputError
+
+        try:
+            return fn(*args, **kwargs)
+        except typer.Exit:
+            raise
+        except (UserInputError, ValueError) as exc:
+            if _state["debug"]:
+                traceback.print_exc()
+            if isinstance(exc, UserInputError) or type(exc).__name__ in _INPUT_ERRORS:
+                _fail(str(exc))
+            raise
+    return wrapper
+
+
+# ValueErrors from the core that mean bad input (a mesh, an ingested file).
+_INPUT_ERRORS = {"MeshError", "IngestError"}
+
+
+@app.callback()
+def _main(debug: Annotated[bool, typer.Option("--debug", help="Show tracebacks.")] = False):
+    _state["debug"] = debug
+
+
+@app.command("list")
+@_guard
+def list_cmd(
+    names: Annotated[bool, typer.Option("--names", help="Print runnable study names only.")] = False,
+) -> None:
+    """List the studies, their trial kinds, trial counts and whether they can run yet."""
+    from rich.console import Console
+    from rich.table import Table
+
+    from graspcampaign.campaign.compose import compose_study, list_studies
+    from graspcampaign.campaign.grid import n_trials
+    from graspcampaign.campaign.kind import KINDS, kind_available
+
+    if names:
+        for name in list_studies():
+            if name != "smoke" and kind_available(compose_study(name).kind):
+                typer.echo(name)
+        return
+    table = Table("study", "kind", "trials", "runnable", "description")
+    for name in list_studies():
+        study = compose_study(name)
+        ready = kind_available(study.kind)
+        table.add_row(name, study.kind, str(n_trials(study)),
+                      "yes" if ready else "not yet" if study.kind in KINDS else "unknown kind",
+                      " ".join(study.description.split())[:70])
+    Console(width=160).print(table)
+
+
+@app.command()
+@_guard
+def show(study: str, overrides: Overrides = None, run: RunOpt = None) -> None:
+    """Print a study's design, factor levels, trial count, progress and estimated time."""
+    from graspcampaign.campaign.compose import compose_study
+    from graspcampaign.campaign.status import design_text
+
+    cfg = compose_study(study, overrides or [])
+    typer.echo(design_text(cfg, run))
+
+
+@app.command("run")
+@_guard
+def run_cmd(
+    study: str,
+    overrides: Overrides = None,
+    run: RunOpt = None,
+    allow_drift: Annotated[bool, typer.Option(help="Resume even if config or code changed.")] = False,
+    fail_fast: Annotated[bool, typer.Option(help="Stop at the first trial error.")] = False,
+    report: Annotated[bool, typer.Option(help="Write the study's report after the run.")] = False,
+) -> None:
+    """Run a study (resuming a run that already has records)."""
+    from graspcampaign.campaign.compose import compose_study
+    from graspcampaign.campaign.runner import run_study
+
+    cfg = compose_study(study, overrides or [])
+    summary = run_study(cfg, run=run, allow_drift=allow_drift, fail_fast=fail_fast)
+    typer.echo(
+        f"{summary.study}/{summary.run}: {summary.n_trials} trials, {summary.n_already} already "
+        f"recorded, {summary.n_ran} ran ({summary.n_ok} ok, {summary.n_error} errors) in "
+        f"{summary.wall_time_s:.1f} s -> {summary.path}"
+    )
+    for line in summary.errors[:5]:
+        typer.echo(f"  error: {line}", err=True)
+    if report:
+        from graspcampaign.report.build import build_reports
+
+        for path in build_reports([cfg.name], run=summary.run, root=cfg.output.root):
+            typer.echo(f"report: {path}")
+    if summary.n_error:
+        raise typer.Exit(1)
+
+
+@app.command()
+@_guard
+def status(
+    study: str,
+    run: RunOpt = None,
+    as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
+    root: Annotated[Path, typer.Option(help="Results root.")] = Path("results"),
+) -> None:
+    """Summarise a run from its records only (never runs anything)."""
+    from graspcampaign.campaign.status import run_status
+
+    info = run_status(root, study, run or "default")
+    if as_json:
+        typer.echo(json.dumps(info, indent=2, default=str))
+        return
+    for key, value in info.items():
+        typer.echo(f"{key}: {value}")
+
+
+@app.command()
+@_guard
+def report(
+    studies: Annotated[list[str] | None, typer.Argument(help="Studies (default: all with records).")] = None,
+    run: RunOpt = None,
+    root: Annotated[Path, typer.Option(help="Results root.")] = Path("results"),
+    fmt: Annotated[str, typer.Option("--format", help="Comma-separated: md,csv,json,html.")] = "md,csv",
+) -> None:
+    """Write reports (Markdown, CSV tables, PNG figures) from the records; never runs a trial."""
+    from graspcampaign.report.build import build_reports
+
+    for path in build_reports(studies or None, run=run, root=root, formats=fmt.split(",")):
+        typer.echo(f"report: {path}")
+
+
+def main() -> None:
+    """Console-script entry point."""
+    try:
+        app()
+    except KeyboardInterrupt:
+        typer.echo("interrupted", err=True)
+        sys.exit(130)
+
+
+if __name__ == "__main__":
+    main()

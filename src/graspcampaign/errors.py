@@ -1,0 +1,17 @@
+"""Exceptions that mean "bad usage or bad input" (exit code 2 on the command line)."""
+
+
+class UserInputError(Exception):
+    """Bad usage or bad input: a config, an override, a file or a command-line value.
+
+    The message is one sentence naming what is wrong and where. The command line prints it
+    and exits with code 2; nothing already stored is changed.
+    """
+
+
+class ConfigError(UserInputError):
+    """A study or group config is malformed: unknown key, wrong type or out-of-range value."""
+
+
+class StudyNotRunnableError(UserInputError):
+    """The study's trial kind is not implemented yet, so the study cannot run."""

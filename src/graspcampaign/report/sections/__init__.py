@@ -1,0 +1,1 @@
+"""Per-kind report sections (tables and figures beside the paper)."""

@@ -1,0 +1,76 @@
+"""Record store: atomic shards, quarantine, compaction leftovers, schema union, outside readers."""
+
+from __future__ import annotations
+
+import kinds_for_tests  # noqa: F401
+import pandas as pd
+import pyarrow.dataset as ds
+import pytest
+
+from graspcampaign.campaign.records import RunStore
+from graspcampaign.campaign.runner import run_study
+
+
+def test_schema_union_keeps_columns_added_later(tmp_path):
+    store = RunStore(tmp_path / "run")
+    store.write_shard("records", "a", [{"trial_id": "a", "x": 1.0}])
+    store.write_shard("records", "b", [{"trial_id": "b", "x": None, "y": "new"}])
+    df = store.read().to_pandas().sort_values("trial_id")
+    assert df["y"].isna().tolist() == [True, False] and df["y"].iloc[1] == "new"
+    assert df["x"].iloc[0] == 1.0
+
+
+def test_truncated_shard_is_quarantined_with_warning(tmp_path):
+    store = RunStore(tmp_path / "run")
+    store.write_shard("records", "a", [{"trial_id": "a", "x": 1.0}])
+    path = store.write_shard("records", "b", [{"trial_id": "b", "x": 2.0}])
+    data = path.read_bytes()
+    path.write_bytes(data[: len(data) // 2])
+    with pytest.warns(UserWarning, match="unreadable shard .*part-b.parquet moved to"):
+        ids = store.recorded_ids()
+    assert ids == {"a"}
+    assert (tmp_path / "run" / "quarantine" / "records__part-b.parquet").exists()
+
+
+def test_temporary_files_are_invisible_and_cleaned(tmp_path):
+    store = RunStore(tmp_path / "run")
+    store.write_shard("records", "a", [{"trial_id": "a"}])
+    tmp = tmp_path / "run" / "records" / ".part-b.parquet.tmp"
+    tmp.write_bytes(b"half a file")
+    assert store.recorded_ids() == {"a"}
+    store.clean()
+    assert not tmp.exists()
+
+
+def test_compaction_leftover_sources_are_not_read_twice(tmp_path):
+    store = RunStore(tmp_path / "run")
+    for name in "abc":
+        store.write_shard("records", name, [{"trial_id": name}])
+    saved = {p.name: p.read_bytes() for p in (tmp_path / "run" / "records").glob("part-*")}
+    store.compact()
+    # simulate a crash between writing the compacted file and deleting its sources
+    for name, data in saved.items():
+        (tmp_path / "run" / "records" / name).write_bytes(data)
+    table = store.read()
+    assert sorted(table.column("trial_id").to_pylist()) == ["a", "b", "c"]
+    store.clean()
+    assert not list((tmp_path / "run" / "records").glob("part-*"))
+
+
+def test_pandas_pyarrow_and_duckdb_read_the_same_records(study_factory):
+    duckdb = pytest.importorskip("duckdb")
+    summary = run_study(study_factory(runner={"batch_size": 3}))
+    ours = RunStore(summary.path).read().to_pandas()
+    records_dir = summary.path / "records"
+    via_pandas = pd.read_parquet(records_dir)
+    via_dataset = ds.dataset(records_dir, format="parquet").to_table().to_pandas()
+    via_duckdb = duckdb.sql(
+        f"SELECT * FROM read_parquet('{records_dir}/*.parquet', union_by_name=true)"
+    ).df()
+
+    def norm(df):
+        df = df[sorted(ours.columns)].sort_values("trial_id").reset_index(drop=True)
+        return df.astype({c: "object" for c in df.columns})
+
+    for other in (via_pandas, via_dataset, via_duckdb):
+        pd.testing.assert_frame_equal(norm(ours), norm(other), check_dtype=False)
