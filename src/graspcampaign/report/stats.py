@@ -747,8 +747,9 @@ def logistic_regression(df: pd.DataFrame, outcome: str, predictors: Sequence[str
     -------
     LogisticResult
         Never raises on separation or non-convergence: they are reported in ``separation``,
-        ``separation_kind`` ("none", "quasi-complete", "complete") and ``converged``, with the
-        optimiser's warnings in ``messages``.
+        ``separation_kind`` ("none", "quasi-complete", "complete", or "undetermined" if the
+        linear programme fails numerically) and ``converged``, with the optimiser's warnings in
+        ``messages``.
 
     Notes
     -----
@@ -802,7 +803,7 @@ def logistic_regression(df: pd.DataFrame, outcome: str, predictors: Sequence[str
         converged = bool(fit.mle_retvals.get("converged", False)) \
             and bool(np.all(np.isfinite(fit.bse)))
     return LogisticResult(coefficients=table, converged=converged,
-                          separation=separation_kind != "none",
+                          separation=separation_kind in ("quasi-complete", "complete"),
                           separation_kind=separation_kind, n=int(y.size),
                           messages=tuple(messages))
 
@@ -818,7 +819,9 @@ def _separation_kind(design: np.ndarray, y: np.ndarray) -> str:
     # Quasi-complete or complete: maximise sum_i a_i.b subject to a_i.b >= 0 for all i.
     quasi = optimize.linprog(-signed.sum(axis=0), A_ub=-signed, b_ub=np.zeros(n), bounds=box,
                              method="highs")
-    if quasi.status != 0 or -quasi.fun <= tol:
+    if quasi.status != 0:  # feasible (b = 0) and bounded, so only numerical trouble lands here
+        return "undetermined"
+    if -quasi.fun <= tol:
         return "none"
     # Complete: maximise t subject to a_i.b >= t for all i (t <= 1 keeps it bounded).
     complete = optimize.linprog(np.r_[np.zeros(p), -1.0],
