@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from graspcampaign.core.contact import normal_force, normal_stiffness
+from graspcampaign.core.contact import MM_PER_M, normal_force
 
 __all__ = [
     "FAILURE_CHECKS",
@@ -288,17 +288,40 @@ def _wrench(geometry: _Geometry, depths, weight, mu, k, n) -> _Wrench:
     return _Wrench(forces, residual, torque, eta, margin, ratio, post_friction_z)
 
 
-def _gradient_step(geometry: _Geometry, depths, residual_z, k, n, alpha, eps):
-    """Apply line 6-7 of Algorithm 2 to every candidate at once."""
-    stiffness = normal_stiffness(depths, k[:, None], n[:, None])  # [N/m]
-    # A released contact (delta = 0) with n < 1 has an infinite one-sided stiffness; taking it
-    # literally freezes every other contact (finite/inf = 0). It carries no force, so it takes
-    # no gradient: it stays released, as it does literally for n > 1 (g(0) = 0).
-    stiffness = np.where(np.isfinite(stiffness), stiffness, 0.0)
-    gradient = geometry.direction_z * stiffness  # g_k = n_hat_k,z K n delta^(n-1)
-    denominator = 2.0 * np.sum(np.abs(gradient), axis=1) + eps
-    step = alpha * (-residual_z)[:, None] * np.sign(gradient) / denominator[:, None]
-    return np.maximum(0.0, depths + step)
+class _Loop:
+    """Algorithm 2 lines 3-7 for a whole batch, with per-candidate constants hoisted."""
+
+    def __init__(self, geometry: _Geometry, weight, k, n, alpha: float, eps: float):
+        self.k = k[:, None]
+        self.n = n[:, None]
+        self.force_z = geometry.directions[..., 2]
+        self.gradient_z = geometry.direction_z
+        self.weight = weight
+        self.alpha = alpha
+        self.eps = eps
+        # One-sided stiffness at delta = 0 [N/m]: 1000 K for n = 1, 0 for n > 1, and 0 for n < 1
+        # where it is literally infinite: a released contact carries no force and taking the
+        # infinite gradient literally would make every other contact's step finite/inf = 0,
+        # freezing the candidate. So it stays released, as it does literally for n > 1.
+        self.stiffness_at_zero = np.where(self.n == 1.0, MM_PER_M * self.k, 0.0)
+
+    def forces(self, depths):
+        """Line 3: ``f_n,k = K delta_k^n`` (delta in mm; the rate term vanishes)."""
+        return self.k * np.power(depths * MM_PER_M, self.n)
+
+    def residual_z(self, forces):
+        """Line 4, vertical component: ``R_z = sum_k f_n,k n_hat_k,z - m g``."""
+        return np.sum(forces * self.force_z, axis=1) - self.weight
+
+    def step(self, depths, forces, residual_z):
+        """Lines 6-7 on every candidate at once; returns the new depths."""
+        # d(K (1000 delta)^n)/d delta = n f / delta per metre of penetration (0/0 at a released
+        # contact is replaced; the caller silences that warning once for the whole loop).
+        stiffness = np.where(depths <= 0.0, self.stiffness_at_zero, self.n * forces / depths)
+        gradient = self.gradient_z * stiffness  # g_k = n_hat_k,z n K delta^(n-1)
+        denominator = 2.0 * np.sum(np.abs(gradient), axis=1) + self.eps
+        scale = self.alpha * (-residual_z) / denominator
+        return np.maximum(0.0, depths + scale[:, None] * np.sign(gradient))
 
 
 def static_checks(points, normals, centroid, mass, mu, depths, k_n_per_mm_n, n, params=None):
@@ -445,20 +468,21 @@ def evaluate_grasps(
         raise ValueError("k_n_per_mm_n and n must be finite and > 0")
     geometry = _geometry(points, normals, centroid, params.normal_z_tol)
 
+    loop = _Loop(geometry, weight, k, n, params.alpha, params.eps)
     depths = np.full((n_batch, 3), params.seed_depth)
     last_change = np.zeros(n_batch, dtype=int)
     monitors = [] if record_trace else None
-    for iteration in range(1, params.n_max + 1):
-        forces = normal_force(depths, 0.0, k[:, None], n[:, None], 0.0)
-        residual_z = np.sum(forces * geometry.directions[..., 2], axis=1) - weight
-        if monitors is not None:
-            monitors.append((depths, _wrench(geometry, depths, weight, mu, k, n)))
-        updated = _gradient_step(geometry, depths, residual_z, k, n, params.alpha, params.eps)
-        changed = np.any(updated != depths, axis=1)
-        last_change = np.where(changed, iteration, last_change)
-        depths = updated
-        if monitors is None and not np.any(changed):
-            break  # every candidate sits on a floating-point fixed point: the rest are no-ops
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for iteration in range(1, params.n_max + 1):
+            forces = loop.forces(depths)
+            if monitors is not None:
+                monitors.append((depths, _wrench(geometry, depths, weight, mu, k, n)))
+            updated = loop.step(depths, forces, loop.residual_z(forces))
+            changed = np.any(updated != depths, axis=1)
+            last_change[changed] = iteration
+            depths = updated
+            if monitors is None and not changed.any():
+                break  # every candidate is at a floating-point fixed point: the rest are no-ops
 
     trace = None
     if monitors is not None:
