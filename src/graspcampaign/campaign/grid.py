@@ -12,6 +12,7 @@ from __future__ import annotations
 import hashlib
 import itertools
 import json
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
@@ -83,14 +84,24 @@ def design_axes(study: StudyCfg) -> list[list[dict[str, Any]]]:
     return axes
 
 
-def expand(study: StudyCfg) -> list[Trial]:
-    """Expand a study into its ordered trials with stable, content-derived ids."""
-    trials = []
-    method = set(study.method_factors)
-    for index, combo in enumerate(itertools.product(*design_axes(study))):
+def _cartesian(study: StudyCfg) -> Iterator[dict[str, Any]]:
+    for combo in itertools.product(*design_axes(study)):
         factors: dict[str, Any] = {}
         for part in combo:
             factors.update(part)
+        yield factors
+
+
+def expand(study: StudyCfg, rows: list[dict[str, Any]] | None = None) -> list[Trial]:
+    """Expand a study into its ordered trials with stable, content-derived ids.
+
+    ``rows`` replaces the Cartesian design with an explicit list of factor assignments (a
+    protocol's schedule: one row per commanded trial, see ``TrialKind.design``).
+    """
+    trials = []
+    method = set(study.method_factors)
+    for index, factors in enumerate(_cartesian(study) if rows is None else map(dict, rows)):
+        factors.setdefault("seed", 0)
         factors.setdefault("repeat", 0)
         scene = {k: v for k, v in factors.items() if k not in method}
         readable = "_".join(

@@ -39,6 +39,10 @@ class TrialKind:
     ``body_key(factors)`` and ``prepare(study, params, body, rng)`` describe a shared preparation
     computed once per distinct key before the trials that need it (e.g. a PSO identification per
     soft body); preparations are stored as records of their own and reused on resume.
+
+    ``design(study, params)``, when given, returns the trial list explicitly (one dict of factor
+    values per trial, e.g. a hardware protocol's commanded schedule) instead of the Cartesian
+    product of ``study.factors``.
     """
 
     name: str
@@ -48,6 +52,7 @@ class TrialKind:
     seconds_per_trial: float = 0.01  # rough estimate for `show` and task sizing
     body_key: Callable[[dict[str, Any]], dict[str, Any]] | None = None
     prepare: Callable[..., dict[str, Any]] | None = None
+    design: Callable[[StudyCfg, Any], list[dict[str, Any]]] | None = None
     description: str = ""
     extra: dict[str, Any] = field(default_factory=dict)
 

@@ -81,6 +81,11 @@ def kind_params(study: StudyCfg, kind: TrialKind) -> Any:
     return obj
 
 
+def study_trials(study: StudyCfg, kind: TrialKind, params: Any) -> list[Trial]:
+    """Return the study's trials: its Cartesian design, or the kind's explicit design."""
+    return expand(study, kind.design(study, params) if kind.design else None)
+
+
 # -- the work one task does (runs in a worker process) -----------------------------------------
 def _error_fields(exc: BaseException) -> dict[str, Any]:
     message = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
@@ -269,7 +274,7 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
     kind = get_kind(study.kind)
     params = kind_params(study, kind)
     run = run or study.output.run
-    trials = expand(study)
+    trials = study_trials(study, kind, params)
     path = run_path(study, run)
     store = RunStore(path)
     manifest = provenance.read_manifest(store.manifest_path)

@@ -9,7 +9,7 @@ from graspcampaign.campaign.grid import design_axes, n_trials
 from graspcampaign.campaign.kind import KINDS, get_kind, kind_available
 from graspcampaign.campaign.provenance import read_manifest
 from graspcampaign.campaign.records import RunStore
-from graspcampaign.campaign.runner import _n_workers, run_path
+from graspcampaign.campaign.runner import _n_workers, kind_params, run_path, study_trials
 from graspcampaign.campaign.schema import StudyCfg
 
 
@@ -21,11 +21,19 @@ def _fmt_seconds(seconds: float) -> str:
     return f"{seconds / 3600:.1f} h"
 
 
+def study_size(study: StudyCfg) -> int:
+    """Return a study's trial count (its Cartesian design or its kind's explicit schedule)."""
+    if kind_available(study.kind) and get_kind(study.kind).design is not None:
+        kind = get_kind(study.kind)
+        return len(study_trials(study, kind, kind_params(study, kind)))
+    return n_trials(study)
+
+
 def design_text(study: StudyCfg, run: str | None = None) -> str:
     """Return the human-readable design of a study and the progress of its run."""
-    total = n_trials(study)
-    lines = [f"study: {study.name}", f"description: {' '.join(study.description.split())}"]
     ready = kind_available(study.kind)
+    total = study_size(study)
+    lines = [f"study: {study.name}", f"description: {' '.join(study.description.split())}"]
     state = "runnable" if ready else ("not yet runnable" if study.kind in KINDS else "unknown kind")
     lines.append(f"trial kind: {study.kind} ({state})")
     lines.append(f"study seed: {study.seed}   seeds per scene: {study.seeds}   "
@@ -36,7 +44,10 @@ def design_text(study: StudyCfg, run: str | None = None) -> str:
         lines.append(f"  {name} [{len(levels)}]{role}: {', '.join(map(str, levels))}")
     if study.zip:
         lines.append("zipped: " + "; ".join(" + ".join(g) for g in study.zip))
-    lines.append(f"axes: {' x '.join(str(len(a)) for a in design_axes(study))} = {total} trials")
+    if ready and get_kind(study.kind).design is not None:
+        lines.append(f"design: the protocol's schedule = {total} trials")
+    else:
+        lines.append(f"axes: {' x '.join(str(len(a)) for a in design_axes(study))} = {total} trials")
     store = RunStore(run_path(study, run))
     done = len(store.recorded_ids()) if store.exists() else 0
     lines.append(f"run: {store.path} ({done} of {total} recorded)")

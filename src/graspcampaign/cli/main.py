@@ -75,8 +75,8 @@ def list_cmd(
     from rich.table import Table
 
     from graspcampaign.campaign.compose import compose_study, list_studies
-    from graspcampaign.campaign.grid import n_trials
     from graspcampaign.campaign.kind import KINDS, kind_available
+    from graspcampaign.campaign.status import study_size
 
     if names:
         for name in list_studies():
@@ -87,7 +87,7 @@ def list_cmd(
     for name in list_studies():
         study = compose_study(name)
         ready = kind_available(study.kind)
-        table.add_row(name, study.kind, str(n_trials(study)),
+        table.add_row(name, study.kind, str(study_size(study)),
                       "yes" if ready else "not yet" if study.kind in KINDS else "unknown kind",
                       " ".join(study.description.split())[:70])
     Console(width=160).print(table)
