@@ -196,3 +196,19 @@ def test_input_validation():
         evaluate_grasps(points, normals, ORIGIN, [0.4, 0.2], 0.3, 0.3, 1.5)
     with pytest.raises(ValueError, match=r"alpha must be finite and > 0"):
         EvaluatorParams(alpha=0.0)
+
+
+def test_residual_check_reading_vertical_versus_norm():
+    # Two upward contacts tilted unequally: Algorithm 2 closes R_z but leaves a horizontal
+    # residual, which fails |R| < tau_F (SPEC §2.7) and passes |R_z| < tau_F (§6.2 prose).
+    lat = np.radians([-60.0, -20.0, 45.0])
+    az = np.radians([0.0, 150.0, 260.0])
+    normals = np.stack([np.cos(lat) * np.cos(az), np.cos(lat) * np.sin(az), np.sin(lat)], axis=1)
+    args = (RADIUS * normals, normals, ORIGIN, 0.3, 0.5, 0.3, 1.5)
+    norm = evaluate_grasps(*args)
+    vertical = evaluate_grasps(*args, EvaluatorParams(residual_check="vertical"))
+    assert abs(norm.residual_z[0]) < 1e-6 and norm.residual_norm[0] > 0.5
+    assert norm.failure_labels()[0] == "residual" and vertical.residual_ok[0]
+    np.testing.assert_array_equal(norm.depths, vertical.depths)
+    with pytest.raises(ValueError, match=r"residual_check must be 'norm' or 'vertical'"):
+        EvaluatorParams(residual_check="z")

@@ -67,6 +67,11 @@ class EvaluatorParams:
         it without publishing it and notes it is never binding (§3.7).
     g : float
         Gravitational acceleration [m/s^2].
+    residual_check : {"norm", "vertical"}
+        Quantity compared with tau_f. ``"norm"`` (default): the normal-only 3-vector residual
+        ``|R|`` of Algorithm 1 line 6 and SPEC §2.7. ``"vertical"``: ``|R_z|`` only, the reading of
+        the paper's prose (§3.7, §6.2, §6.5 speak of the vertical normal-only residual). Both
+        quantities are always returned; see docs/decisions.md.
     normal_z_tol : float
         ``|n_z|`` below this counts as exactly horizontal (no vertical gradient) and ``1 - |n_z|``
         below it as exactly vertical (no tangent, excluded from the slip margin) [-]. A float-noise
@@ -80,6 +85,7 @@ class EvaluatorParams:
     tau_f: float = 0.5
     tau_t: float = 0.025
     g: float = 9.81
+    residual_check: str = "norm"
     normal_z_tol: float = 1.0e-9
 
     def __post_init__(self) -> None:
@@ -91,6 +97,10 @@ class EvaluatorParams:
             value = getattr(self, name)
             if not (np.isfinite(value) and value > 0.0):
                 raise ValueError(f"EvaluatorParams.{name} must be finite and > 0, got {value!r}")
+        if self.residual_check not in ("norm", "vertical"):
+            raise ValueError(
+                f"EvaluatorParams.residual_check must be 'norm' or 'vertical', got {self.residual_check!r}"
+            )
         if not 0.0 <= self.normal_z_tol < 1.0:
             raise ValueError(f"EvaluatorParams.normal_z_tol must lie in [0, 1), got {self.normal_z_tol!r}")
 
@@ -144,7 +154,8 @@ class EquilibriumResult:
         First failing check, coded by :data:`FAILURE_CHECKS`: 0 none, 1 residual, 2 torque,
         3 slip (checked in that order).
     residual_ok, torque_ok, slip_ok : (b,) bool
-        The three checks separately (``|R| < tau_F``, ``|tau| < tau_T``, slip margin > 0).
+        The three checks separately (``|R| < tau_F`` (or ``|R_z| < tau_F``, see
+        ``EvaluatorParams.residual_check``), ``|tau| < tau_T``, slip margin > 0).
     residual_norm : (b,) float
         Normal-only force residual ``|sum_k f_n,k n_hat_k + m g|`` at the returned depths,
         before friction [N] (§6.1: the quantity the 0.5 N criterion applies to).
@@ -376,7 +387,8 @@ def _result(geometry, depths, weight, mu, k, n, params, iterations, trace) -> Eq
     wrench = _wrench(geometry, depths, weight, mu, k, n)
     residual_norm = np.linalg.norm(wrench.residual, axis=1)
     torque_norm = np.linalg.norm(wrench.torque, axis=1)
-    residual_ok = residual_norm < params.tau_f
+    checked = residual_norm if params.residual_check == "norm" else np.abs(wrench.residual[:, 2])
+    residual_ok = checked < params.tau_f
     torque_ok = torque_norm < params.tau_t
     slip_ok = wrench.slip_margin > 0.0
     failure = np.select([~residual_ok, ~torque_ok, ~slip_ok], [1, 2, 3], default=0).astype(np.int8)
