@@ -1,0 +1,577 @@
+"""Sphere-triangle contact geometry (paper §3.2-3.4, §3.6; SPEC §2.4).
+
+The fingertip is a sphere of radius ``r`` (5 mm); the object is a triangulated surface. For every
+(fingertip, face) pair this module decides whether they collide and which of the four collision
+cases of §3.2 applies, places the reference points of the penetration depth (Eq. 11) with the three
+subcases of §3.3, and provides the barycentric interpolation of vertex velocities (Eq. 12) and its
+transpose, the force transfer to the vertices (Eq. 17-18).
+
+Shape letters: ``p`` fingertips, ``f`` faces, ``k`` colliding (fingertip, face) pairs, ``m`` points.
+
+Local frame (§3.2). For a face (A, B, C) wound counter-clockwise seen from outside, take
+``b = (A - B)/|A - B|``, ``c`` the *outward* unit normal and ``d = c x b``; ``R = [b, d, c]^T`` and
+the origin B map world to local coordinates (:func:`face_frames`). The fingertip centre becomes
+``(x0', y0', z0')`` and the sphere cuts the plane ``z' = 0`` in the disc of Eq. 10, of radius
+``rho = sqrt(r^2 - z0'^2)`` when ``|z0'| < r``. The code below evaluates the same quantities as dot
+products in world coordinates (no 4x4 matrices per face): ``z0'`` is the signed height of the centre
+above the face plane, and the in-plane position of the disc centre is classified by the Voronoi
+region tests of Ericson (2005), which are invariant to the normal component of the query point.
+
+Collision cases (§3.2), :class:`CollisionCase`; the integer value is the paper's case number:
+
+1. ``NONE``   the disc misses the triangle (closest distance from the centre to the face >= r);
+2. ``EDGE``   the disc clips a triangle edge: the disc overlaps the face, is not contained in it, and
+   its centre is not in a corner region;
+3. ``CORNER`` the disc centre lies in a corner (vertex Voronoi) region: contact at that vertex;
+4. ``FULL``   the disc lies entirely inside the triangle.
+
+Penetration subcases (§3.3), :class:`PenetrationSubcase`: where the projection of the centre falls
+(``INSIDE`` the triangle, in an ``EDGE`` region, in a ``CORNER`` region). The face reference point
+``P_face`` is respectively the projection itself, its projection onto the nearest edge segment, or
+the vertex: in every subcase the closest point of the triangle to the centre. The finger reference
+point ``P_finger`` is on the sphere surface on the line through ``P_face`` along the face normal
+(Fig. 4), so that
+
+    delta_max = |P_face - P_finger| = sqrt(r^2 - e^2) - z0'          (Eq. 11)
+
+with ``e`` the in-plane distance from the projection of the centre to ``P_face`` (zero in the INSIDE
+subcase, where ``delta_max = r - z0'``). We also return the closest-point overlap
+``r - |centre - P_face|`` (the minimum translation that separates sphere and triangle). Both are
+positive exactly when the sphere and the triangle overlap.
+
+References
+----------
+Ericson, C. (2005). Real-Time Collision Detection, §5.1.5 "Closest point on triangle to point".
+Morgan Kaufmann. Symbols ``ab, ac, ap, d1..d6, va, vb, vc`` follow the book.
+Paper Eq. 10-12, 17-18.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+from enum import IntEnum
+
+import numpy as np
+from scipy.spatial.distance import cdist
+
+_NEXT = np.array([1, 2, 0])
+
+
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Cross product over the last axis (broadcasting); cheaper than ``np.cross`` on our sizes."""
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+    out[..., 0] = a1 * b2 - a2 * b1
+    out[..., 1] = a2 * b0 - a0 * b2
+    out[..., 2] = a0 * b1 - a1 * b0
+    return out
+
+
+__all__ = [
+    "CollisionCase",
+    "PenetrationSubcase",
+    "FaceGeometry",
+    "SphereTriangleResult",
+    "face_geometry",
+    "face_frames",
+    "closest_point_barycentric",
+    "sphere_triangle_contacts",
+    "deepest_per_finger",
+    "barycentric_weights",
+    "point_velocity",
+    "transfer_force",
+]
+
+
+class CollisionCase(IntEnum):
+    """Sphere-face collision cases of §3.2 (value = the paper's case number)."""
+
+    NONE = 1
+    EDGE = 2
+    CORNER = 3
+    FULL = 4
+
+
+class PenetrationSubcase(IntEnum):
+    """Placement of the face reference point of Eq. 11 (§3.3 subcases i-iii)."""
+
+    INSIDE = 1
+    EDGE = 2
+    CORNER = 3
+
+
+_TINY = np.finfo(float).tiny
+_SUB_INSIDE = np.int8(PenetrationSubcase.INSIDE)
+_SUB_EDGE = np.int8(PenetrationSubcase.EDGE)
+_SUB_CORNER = np.int8(PenetrationSubcase.CORNER)
+_CASE_EDGE = np.int8(CollisionCase.EDGE)
+_CASE_CORNER = np.int8(CollisionCase.CORNER)
+_CASE_FULL = np.int8(CollisionCase.FULL)
+
+
+# Column layout of FaceGeometry.packed: one gather brings every per-face quantity of a candidate.
+_COL_TRI = slice(0, 9)  # A, B, C
+_COL_EDGE = slice(9, 18)  # AB, BC, CA
+_COL_EDGE_NORMAL = slice(18, 27)  # unit in-plane normals of AB, BC, CA pointing into the face
+_COL_NORMAL = slice(27, 30)  # outward unit face normal
+_COL_EDGE_SQ = slice(30, 33)  # |AB|^2, |BC|^2, |CA|^2
+_COL_DOUBLE_AREA = 33  # |AB x AC|
+_N_COLS = 34
+
+
+@dataclass(frozen=True)
+class FaceGeometry:
+    """Per-face quantities of the local-frame collision test (§3.2), computed once per mesh state.
+
+    Attributes
+    ----------
+    centers : (f, 3) float
+        Face centroids, centres of the broad-phase bounding spheres [m].
+    radii : (f,) float
+        Largest centroid-to-vertex distance per face [m].
+    packed : (f, 34) float
+        Row-wise: vertices A, B, C; edges AB, BC, CA; the unit in-plane edge normals (pointing into
+        the face, ``n x edge / |edge|``); the outward unit normal ``n``; squared edge lengths; twice
+        the face area. Degenerate faces get zero normals and never collide.
+    """
+
+    centers: np.ndarray
+    radii: np.ndarray
+    packed: np.ndarray
+
+    @property
+    def normals(self) -> np.ndarray:
+        """(f, 3) outward unit face normals."""
+        return self.packed[:, _COL_NORMAL]
+
+
+def _pack(triangles: np.ndarray) -> np.ndarray:
+    """Per-face rows of the local-frame test, layout ``_COL_*`` (see FaceGeometry.packed)."""
+    n_faces = len(triangles)
+    edges = triangles[:, _NEXT] - triangles
+    raw_normal = _cross(edges[:, 0], -edges[:, 2])
+    double_area = np.sqrt(np.einsum("ij,ij->i", raw_normal, raw_normal))
+    edge_sq = np.maximum(np.einsum("fij,fij->fi", edges, edges), _TINY)
+    # Degenerate faces keep zero normals (they never collide); guard the divisions.
+    normals = raw_normal / np.maximum(double_area, _TINY)[:, None]
+    packed = np.empty((n_faces, _N_COLS))
+    packed[:, _COL_TRI] = triangles.reshape(n_faces, 9)
+    packed[:, _COL_EDGE] = edges.reshape(n_faces, 9)
+    # n x e_i / |e_i| is the in-plane normal of edge i pointing into a counter-clockwise face.
+    edge_normals = _cross(normals[:, None, :], edges) / np.sqrt(edge_sq)[:, :, None]
+    packed[:, _COL_EDGE_NORMAL] = edge_normals.reshape(n_faces, 9)
+    packed[:, _COL_NORMAL] = normals
+    packed[:, _COL_EDGE_SQ] = edge_sq
+    packed[:, _COL_DOUBLE_AREA] = double_area
+    return packed
+
+
+def face_geometry(triangles: np.ndarray) -> FaceGeometry:
+    """Precompute the per-face data used by :func:`sphere_triangle_contacts`.
+
+    Parameters
+    ----------
+    triangles : (f, 3, 3) float
+        Face vertices (A, B, C), counter-clockwise seen from outside [m].
+
+    Returns
+    -------
+    geometry : FaceGeometry
+        Reuse it for every query while the mesh does not move; recompute after it deforms.
+    """
+    triangles = np.asarray(triangles, dtype=float)
+    centers = (triangles[:, 0] + triangles[:, 1] + triangles[:, 2]) / 3.0
+    offsets = triangles - centers[:, None, :]
+    radii = np.sqrt(np.einsum("fij,fij->fi", offsets, offsets).max(axis=1))
+    return FaceGeometry(centers=centers, radii=radii, packed=_pack(triangles))
+
+
+def face_frames(triangles: np.ndarray) -> np.ndarray:
+    """Return the world-to-local homogeneous transforms of §3.2, one per face.
+
+    Parameters
+    ----------
+    triangles : (f, 3, 3) float
+        Vertices (A, B, C) of each face, counter-clockwise seen from outside [m].
+
+    Returns
+    -------
+    transforms : (f, 4, 4) float
+        ``DH`` with rotation ``R = [b, d, c]^T`` (``b`` along BA, ``c`` the outward unit normal,
+        ``d = c x b``) and translation ``-R B``: local = DH @ [world, 1]. The face lies in
+        ``z' = 0`` and outside the object ``z' > 0``.
+
+    References
+    ----------
+    Paper §3.2 (we orient ``c`` outward so that a fingertip outside the object has ``z0' > 0``).
+    """
+    triangles = np.asarray(triangles, dtype=float)
+    a, b, c = triangles[:, 0], triangles[:, 1], triangles[:, 2]
+    b_hat = a - b
+    b_hat /= np.linalg.norm(b_hat, axis=1)[:, None]
+    c_hat = np.cross(b - a, c - a)
+    c_hat /= np.linalg.norm(c_hat, axis=1)[:, None]
+    d_hat = np.cross(c_hat, b_hat)
+    rotation = np.stack([b_hat, d_hat, c_hat], axis=1)
+    transforms = np.zeros((len(triangles), 4, 4))
+    transforms[:, :3, :3] = rotation
+    transforms[:, :3, 3] = -np.einsum("fij,fj->fi", rotation, b)
+    transforms[:, 3, 3] = 1.0
+    return transforms
+
+
+def closest_point_barycentric(points: np.ndarray,
+                              triangles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Return the closest point of each triangle to each point, as barycentric weights.
+
+    Parameters
+    ----------
+    points : (m, 3) float
+        Query points [m].
+    triangles : (m, 3, 3) float
+        One triangle (A, B, C) per query point [m].
+
+    Returns
+    -------
+    weights : (m, 3) float
+        Barycentric weights (u, v, w) of the closest point ``u A + v B + w C``; non-negative,
+        summing to one.
+    subcases : (m,) int8
+        :class:`PenetrationSubcase` of the point's projection: face interior, edge or corner
+        (vertex) Voronoi region.
+
+    References
+    ----------
+    Ericson (2005), Real-Time Collision Detection, §5.1.5 (ClosestPtPointTriangle), vectorised:
+    all region tests are evaluated for every point and the first matching region in Ericson's
+    order (A, B, AB, C, AC, BC, face) is selected.
+    """
+    points = np.asarray(points, dtype=float)
+    triangles = np.asarray(triangles, dtype=float)
+    a = triangles[:, 0]
+    edges = triangles[:, 1:] - a[:, None, :]  # rows ab, ac
+    rel = points[:, None, :] - triangles  # rows ap, bp, cp
+    d = np.einsum("mie,mje->mij", edges, rel)  # d[:, 0] = ab.(ap, bp, cp); d[:, 1] = ac.(...)
+    d1, d3, d5 = d[:, 0, 0], d[:, 0, 1], d[:, 0, 2]
+    d2, d4, d6 = d[:, 1, 0], d[:, 1, 1], d[:, 1, 2]
+    va = d3 * d6 - d5 * d4
+    vb = d5 * d2 - d1 * d6
+    vc = d1 * d4 - d3 * d2
+
+    in_a = (d1 <= 0.0) & (d2 <= 0.0)
+    in_b = (d3 >= 0.0) & (d4 <= d3)
+    on_ab = (vc <= 0.0) & (d1 >= 0.0) & (d3 <= 0.0)
+    in_c = (d6 >= 0.0) & (d5 <= d6)
+    on_ac = (vb <= 0.0) & (d2 >= 0.0) & (d6 <= 0.0)
+    on_bc = (va <= 0.0) & (d4 - d3 >= 0.0) & (d5 - d6 >= 0.0)
+
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t_ab = d1 / (d1 - d3)
+        t_ac = d2 / (d2 - d6)
+        t_bc = (d4 - d3) / ((d4 - d3) + (d5 - d6))
+        denom = va + vb + vc
+        v_face = vb / denom
+        w_face = vc / denom
+        u_face = va / denom
+    conditions = [in_a, in_b, on_ab, in_c, on_ac, on_bc]
+    u = np.select(conditions, [1.0, 0.0, 1.0 - t_ab, 0.0, 1.0 - t_ac, 0.0], u_face)
+    v = np.select(conditions, [0.0, 1.0, t_ab, 0.0, 0.0, 1.0 - t_bc], v_face)
+    w = np.select(conditions, [0.0, 0.0, 0.0, 1.0, t_ac, t_bc], w_face)
+    weights = np.column_stack([u, v, w])
+    subcases = np.select(
+        [in_a | in_b | in_c, on_ab | on_ac | on_bc],
+        [np.int8(PenetrationSubcase.CORNER), np.int8(PenetrationSubcase.EDGE)],
+        np.int8(PenetrationSubcase.INSIDE),
+    ).astype(np.int8)
+    return weights, subcases
+
+
+@dataclass(frozen=True)
+class SphereTriangleResult:
+    """Colliding (fingertip, face) pairs, one row per pair (cases 2-4 of §3.2).
+
+    Attributes
+    ----------
+    fingers : (k,) int
+        Fingertip index into ``centers``.
+    faces : (k,) int
+        Face index into ``triangles``.
+    cases : (k,) int8
+        :class:`CollisionCase` (2 EDGE, 3 CORNER, 4 FULL; NONE pairs are not listed).
+    subcases : (k,) int8
+        :class:`PenetrationSubcase` of the face reference point (§3.3).
+    depths : (k,) float
+        Penetration depth ``delta_max`` of Eq. 11, measured along the face normal [m].
+    overlaps : (k,) float
+        Closest-point overlap ``r - |centre - P_face|`` [m].
+    distances : (k,) float
+        Distance from the fingertip centre to the face, ``|centre - P_face|`` [m].
+    heights : (k,) float
+        Signed height ``z0'`` of the centre above the face plane, positive outside [m].
+    points : (k, 3) float
+        Contact point on the face, ``P_face`` of Eq. 11 [m].
+    finger_points : (k, 3) float
+        ``P_finger`` of Eq. 11: on the sphere surface, ``P_face - depths * normals`` [m].
+    normals : (k, 3) float
+        Contact normal: the outward unit face normal ``n_f`` (force on the object is along
+        ``-n_f``).
+    weights : (k, 3) float
+        Barycentric weights of ``points`` in the face (Eq. 12); rows sum to one.
+    n_fingers : int
+        Number of fingertips queried (``p``).
+    radius : float
+        Fingertip radius [m].
+    """
+
+    fingers: np.ndarray
+    faces: np.ndarray
+    cases: np.ndarray
+    subcases: np.ndarray
+    depths: np.ndarray
+    overlaps: np.ndarray
+    distances: np.ndarray
+    heights: np.ndarray
+    points: np.ndarray
+    finger_points: np.ndarray
+    normals: np.ndarray
+    weights: np.ndarray
+    n_fingers: int
+    radius: float
+
+    def __len__(self) -> int:
+        return len(self.fingers)
+
+    @property
+    def face_points(self) -> np.ndarray:
+        """``P_face`` of Eq. 11, the same array as ``points``."""
+        return self.points
+
+    def take(self, indices: np.ndarray) -> SphereTriangleResult:
+        """Return the pairs at ``indices`` (an int or bool index over the k pairs)."""
+        arrays = {
+            f.name: getattr(self, f.name)[indices]
+            for f in fields(self)
+            if f.name not in ("n_fingers", "radius")
+        }
+        return SphereTriangleResult(**arrays, n_fingers=self.n_fingers, radius=self.radius)
+
+
+def sphere_triangle_contacts(centers: np.ndarray, radius: float, triangles: np.ndarray,
+                             geometry: FaceGeometry | None = None) -> SphereTriangleResult:
+    """Find every colliding (fingertip, face) pair and its contact geometry (§3.2-3.3).
+
+    Parameters
+    ----------
+    centers : (p, 3) float
+        Fingertip sphere centres [m].
+    radius : float
+        Fingertip radius [m].
+    triangles : (f, 3, 3) float
+        Face vertices, counter-clockwise seen from outside (trimesh's ``mesh.triangles``) [m].
+        Ignored when ``geometry`` is given.
+    geometry : FaceGeometry, optional
+        Precomputed :func:`face_geometry` of ``triangles``; reuse it while the mesh is undeformed.
+
+    Returns
+    -------
+    result : SphereTriangleResult
+        Colliding pairs ordered by fingertip, then face.
+
+    Notes
+    -----
+    Broad phase: a face is a candidate for a fingertip when the fingertip overlaps the face's
+    bounding sphere (precomputed ``geometry``) or the bounding sphere of its axis-aligned box (raw
+    ``triangles``); either is one (p, f) distance matrix. Only candidates reach the narrow phase,
+    so its cost depends on the number of nearby faces, not on the face count.
+
+    Narrow phase, on all k candidates at once, in the face's local frame (§3.2): the signed height
+    ``z0' = (P - A) . n`` and the signed perpendicular distances ``s_i = (P - V_i) . m_i`` of the
+    disc centre to the three edge lines (``m_i`` the in-plane inward edge normals). The projection
+    is inside the triangle iff all ``s_i >= 0`` (subcase i, ``P_face`` the projection); the disc
+    of Eq. 10 lies inside iff additionally ``rho = sqrt(r^2 - z0'^2) <= min s_i`` (case iv).
+    Otherwise ``P_face`` is the nearest of the three projections of the centre onto the edge
+    segments, a vertex when the projection is clamped to a segment end (corner region, subcase iii,
+    case iii) and an edge point otherwise (subcase ii, case ii). This is the Voronoi-region
+    partition of Ericson (2005), checked against :func:`closest_point_barycentric` and trimesh.
+
+    References
+    ----------
+    Paper §3.2 (four cases), §3.3 and Eq. 11 (depth), Eq. 10 (the disc); Ericson (2005) §5.1.5.
+    """
+    centers = np.asarray(centers, dtype=float).reshape(-1, 3)
+    radius = float(radius)
+    r_sq = radius * radius
+    if geometry is None:
+        # Broad phase on the raw soup: bounding spheres of the faces' axis-aligned boxes (cheap to
+        # form for a deforming mesh); then pack the local-frame data of the candidates only.
+        triangles = np.asarray(triangles, dtype=float)
+        a, b, c = triangles[:, 0], triangles[:, 1], triangles[:, 2]
+        lo = np.minimum(np.minimum(a, b), c)
+        hi = np.maximum(np.maximum(a, b), c)
+        half = 0.5 * (hi - lo)
+        reach = radius + np.sqrt(np.einsum("ij,ij->i", half, half))
+        flat = np.flatnonzero(cdist(centers, lo + half) < reach)
+        fingers, faces = np.divmod(flat, len(triangles))
+        data = _pack(triangles[faces])
+    else:
+        # Broad phase on precomputed bounding spheres, then one gather of the packed rows.
+        flat = np.flatnonzero(cdist(centers, geometry.centers) < radius + geometry.radii)
+        fingers, faces = np.divmod(flat, len(geometry.radii))
+        data = geometry.packed[faces]
+
+    # Narrow phase on the k candidates, in each face's local frame.
+    k = len(faces)
+    tri = data[:, _COL_TRI].reshape(k, 3, 3)
+    edges = data[:, _COL_EDGE].reshape(k, 3, 3)
+    p = centers[fingers]
+    rel = p[:, None, :] - tri  # P - A, P - B, P - C
+    heights = np.einsum("ij,ij->i", rel[:, 0], data[:, _COL_NORMAL])  # z0'
+    perp = np.einsum("kij,kij->ki", rel, data[:, _COL_EDGE_NORMAL].reshape(k, 3, 3))  # s_i
+    t = np.minimum(np.maximum(
+        np.einsum("kij,kij->ki", rel, edges) / data[:, _COL_EDGE_SQ], 0.0), 1.0)
+    offsets = rel - t[:, :, None] * edges  # P minus its clamped projection on edge i
+    offset_sq = np.einsum("kij,kij->ki", offsets, offsets)
+    inside = perp.min(axis=1) >= 0.0
+    nearest_edge = offset_sq.argmin(axis=1)
+    rows = np.arange(k)
+    dist_sq = np.where(inside, heights * heights, offset_sq[rows, nearest_edge])
+    hit = np.flatnonzero((dist_sq < r_sq) & (data[:, _COL_DOUBLE_AREA] > 0.0))
+
+    data, fingers, faces, tri = data[hit], fingers[hit], faces[hit], tri[hit]
+    heights, perp, dist_sq, inside = heights[hit], perp[hit], dist_sq[hit], inside[hit]
+    nearest_edge = nearest_edge[hit]
+    t_edge = t[hit, nearest_edge]
+    rows = rows[: len(hit)]
+
+    # Barycentric weights of P_face: inside, the weight of the vertex opposite edge i is
+    # s_i |e_i| / (2 area); on edge i = (V_i, V_i+1) at parameter t, (1 - t, t).
+    double_area = data[:, _COL_DOUBLE_AREA]
+    weights = np.zeros((len(hit), 3))
+    weights[rows, nearest_edge] = 1.0 - t_edge
+    weights[rows, _NEXT[nearest_edge]] = t_edge
+    inside_weights = perp * np.sqrt(data[:, _COL_EDGE_SQ]) / double_area[:, None]
+    weights = np.where(inside[:, None], inside_weights[:, _NEXT], weights)
+    # Enum arithmetic: subcase INSIDE=1, EDGE=2, CORNER=3; case EDGE=2, CORNER=3, FULL=4.
+    corner = ((t_edge <= 0.0) | (t_edge >= 1.0)).view(np.int8)
+    full = (r_sq - heights * heights <= np.square(perp.min(axis=1))).view(np.int8)
+    subcases = np.where(inside, _SUB_INSIDE, _SUB_EDGE + corner)
+    cases = np.where(inside, _CASE_EDGE + 2 * full, _CASE_EDGE + corner)
+
+    q = np.einsum("ki,kij->kj", weights, tri)
+    normals = data[:, _COL_NORMAL]
+    depths = np.sqrt(r_sq - np.maximum(dist_sq - heights * heights, 0.0)) - heights
+    distances = np.sqrt(dist_sq)
+    return SphereTriangleResult(
+        fingers=fingers,
+        faces=faces,
+        cases=cases,
+        subcases=subcases,
+        depths=depths,
+        overlaps=radius - distances,
+        distances=distances,
+        heights=heights,
+        points=q,
+        finger_points=q - depths[:, None] * normals,
+        normals=normals,
+        weights=weights,
+        n_fingers=len(centers),
+        radius=radius,
+    )
+
+
+def deepest_per_finger(result: SphereTriangleResult) -> np.ndarray:
+    """Return, per fingertip, the index of its deepest colliding pair.
+
+    Parameters
+    ----------
+    result : SphereTriangleResult
+
+    Returns
+    -------
+    indices : (p,) int
+        Index into the k pairs of ``result`` (largest ``depths``; ties to the lower face index),
+        or -1 for a fingertip with no contact. ``result.take(indices[indices >= 0])`` gives one
+        contact per touching fingertip, as the simulator uses.
+    """
+    indices = np.full(result.n_fingers, -1, dtype=np.int64)
+    if len(result) == 0:
+        return indices
+    order = np.lexsort((result.faces, -result.depths, result.fingers))
+    sorted_fingers = result.fingers[order]
+    first = np.r_[True, sorted_fingers[1:] != sorted_fingers[:-1]]
+    indices[sorted_fingers[first]] = order[first]
+    return indices
+
+
+def barycentric_weights(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """Return the area weights of Eq. 12 of points in their triangles.
+
+    Parameters
+    ----------
+    points : (m, 3) float
+        Points in (or projected onto) the plane of their triangle [m].
+    triangles : (m, 3, 3) float
+        Vertices N1, N2, N3 of each host triangle [m].
+
+    Returns
+    -------
+    weights : (m, 3) float
+        ``A_i / A_G`` with ``A_i`` the area of the sub-triangle formed by the point and the two
+        vertices other than ``N_i`` (Fig. 5). Areas are signed (measured along the face normal), so
+        the rows sum to one exactly and a point outside the triangle gets a negative weight.
+
+    References
+    ----------
+    Paper Eq. 12, Fig. 5.
+    """
+    points = np.asarray(points, dtype=float)
+    triangles = np.asarray(triangles, dtype=float)
+    normal = np.cross(triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0])
+    rel = triangles - points[:, None, :]  # N_i - P
+    # Twice the signed area opposite N_i: ((N_j - P) x (N_k - P)) . n for (i, j, k) cyclic.
+    sub = np.cross(rel[:, [1, 2, 0]], rel[:, [2, 0, 1]])
+    areas = np.einsum("mij,mj->mi", sub, normal)
+    return areas / np.einsum("ij,ij->i", normal, normal)[:, None]
+
+
+def point_velocity(weights: np.ndarray, vertex_velocities: np.ndarray) -> np.ndarray:
+    """Interpolate the velocity of the face contact point from its vertices (Eq. 12).
+
+    Parameters
+    ----------
+    weights : (m, 3) float
+        Barycentric weights of the contact points.
+    vertex_velocities : (m, 3, 3) float
+        Velocities of N1, N2, N3 of each host face [m/s].
+
+    Returns
+    -------
+    velocities : (m, 3) float
+        ``sum_i (A_i / A_G) V_Ni`` [m/s].
+    """
+    return np.einsum("mi,mij->mj", weights, vertex_velocities)
+
+
+def transfer_force(weights: np.ndarray, forces: np.ndarray) -> np.ndarray:
+    """Distribute contact forces to the three face vertices, ``f_l = Phi^T f_p`` (Eq. 17-18).
+
+    Parameters
+    ----------
+    weights : (m, 3) float
+        Barycentric weights of the contact points (the blocks of ``Phi``).
+    forces : (m, 3) float
+        Contact force at each point [N].
+
+    Returns
+    -------
+    nodal_forces : (m, 3, 3) float
+        Force on N1, N2, N3 of each face [N]. They sum to the contact force, and their moment
+        about the contact point is zero (the contact force's own moment there), because the
+        weights sum to one and reproduce the point.
+
+    References
+    ----------
+    Paper Eq. 17-18.
+    """
+    return np.asarray(weights, dtype=float)[:, :, None] * np.asarray(forces, dtype=float)[:, None, :]
