@@ -13,6 +13,7 @@ from graspcampaign.core.contact import (
     StickSlipParams,
     StickSlipState,
     contact_damping_c,
+    depth_for_force,
     normal_force,
     normal_stiffness,
     tangential_force,
@@ -127,3 +128,10 @@ def test_stick_slip_validation():
         StickSlipParams(mu_s=0.5, mu_k=0.5, k_t=0.0)
     with pytest.raises(ValueError, match=r"shape \(c, 3\), got \(3,\)"):
         StickSlipState.initial(np.zeros(3))
+
+
+@settings(max_examples=30, deadline=None)
+@given(force=st.floats(1e-3, 100.0), k=st.floats(0.01, 5.0), n=st.floats(0.1, 2.0))
+def test_depth_for_force_inverts_the_elastic_term(force, k, n):
+    depth = depth_for_force(force, k, n)
+    assert normal_force(depth, 0.0, k, n, 0.0) == pytest.approx(force, rel=1e-9)

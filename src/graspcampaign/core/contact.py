@@ -30,6 +30,7 @@ __all__ = [
     "StickSlipState",
     "contact_damping_c",
     "contact_stiffness_k",
+    "depth_for_force",
     "effective_modulus",
     "normal_force",
     "normal_stiffness",
@@ -227,6 +228,32 @@ def normal_force(depth, depth_rate, k_n_per_mm_n, n, c_n_s_per_m):
     elastic = k_n_per_mm_n * np.power(depth_mm, n)
     force = np.maximum(0.0, elastic + c_n_s_per_m * np.asarray(depth_rate, dtype=float))
     return np.where(active, force, 0.0)
+
+
+def depth_for_force(force, k_n_per_mm_n, n):
+    """Return the static penetration at which ``K delta_mm^n`` equals a given normal force.
+
+    Parameters
+    ----------
+    force : (...) float
+        Normal force f_n >= 0 [N].
+    k_n_per_mm_n : float or (...) float
+        Stiffness K [N*mm^-n].
+    n : float or (...) float
+        Exponent [-].
+
+    Returns
+    -------
+    depth : (...) float
+        ``(f_n / K)^(1/n)`` millimetres, returned in metres [m].
+
+    Notes
+    -----
+    The inverse of the elastic term of Eq. 13, e.g. to turn a fixed grip command per finger
+    (§6.4) into penetrations for :func:`graspcampaign.core.equilibrium.static_checks`.
+    """
+    force = np.maximum(np.asarray(force, dtype=float), 0.0)
+    return np.power(force / k_n_per_mm_n, 1.0 / np.asarray(n, dtype=float)) / MM_PER_M
 
 
 def normal_stiffness(depth, k_n_per_mm_n, n):
