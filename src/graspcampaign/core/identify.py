@@ -16,7 +16,6 @@ velocities).
 from __future__ import annotations
 
 import logging
-from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -132,7 +131,7 @@ def _evaluate(cost, positions: np.ndarray) -> np.ndarray:
 
 
 def pso_minimize(
-    cost: Callable[[np.ndarray], np.ndarray],
+    cost,
     lower,
     upper,
     *,

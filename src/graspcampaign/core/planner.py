@@ -16,7 +16,6 @@ candidate budget), SPEC §2.8.
 from __future__ import annotations
 
 import logging
-from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -433,9 +432,7 @@ def identification_contacts(ctx: PlanContext, rng: np.random.Generator):
     return best, ctx.vertices[best], ctx.normals[best]
 
 
-def _heuristic_planner(
-    name: str, weights_of: Callable[[PlanContext], HeuristicWeights], nominal: bool = False
-):
+def _heuristic_planner(name: str, weights_of, nominal: bool = False):
     def plan(ctx: PlanContext, rng: np.random.Generator) -> PlanResult:
         triples = sample_triples(ctx.sampling_weights, ctx.n_cand, rng)
         best, score = _argmin_h(ctx, triples, weights_of(ctx))
@@ -447,7 +444,7 @@ def _heuristic_planner(
     return plan
 
 
-def _ablated(field_name: str) -> Callable[[PlanContext], HeuristicWeights]:
+def _ablated(field_name: str):
     return lambda ctx: replace(ctx.weights, **{field_name: 0.0})
 
 
@@ -661,7 +658,7 @@ def plan_reference(ctx: PlanContext, rng: np.random.Generator) -> PlanResult:
     return _finish(ctx, "reference", best, h_planner=best_score, n_scored=n_scored, exhaustive=exhaustive)
 
 
-PLANNERS: dict[str, Callable[[PlanContext, np.random.Generator], PlanResult]] = {
+PLANNERS: dict = {
     "heuristic": _heuristic_planner("heuristic", lambda ctx: ctx.weights),
     "no_pso": _heuristic_planner("no_pso", lambda ctx: ctx.weights, nominal=True),
     "random": plan_random,
