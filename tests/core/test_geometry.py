@@ -270,3 +270,20 @@ def test_force_transfer_preserves_force_moment_and_power(tri, w, force, origin, 
     # Virtual-work consistency of Phi^T: f . v_P = sum_i f_i . v_i.
     v_point = point_velocity(weights, velocities[None])[0]
     assert np.einsum("ij,ij->", nodal, velocities) == pytest.approx(force @ v_point, abs=1e-8)
+
+
+@pytest.mark.parametrize("use_geometry", [True, False])
+def test_degenerate_faces_never_collide(use_geometry):
+    tri = np.array([
+        [[0.0, 0.0, 0.0], [0.01, 0.0, 0.0], [0.0, 0.01, 0.0]],  # regular face
+        [[0.0, 0.0, 0.0], [0.01, 0.0, 0.0], [0.02, 0.0, 0.0]],  # collinear: zero area
+        [[0.001, 0.001, 0.0]] * 3,  # a point
+    ])
+    # Projection (3, 3) mm, height 4.5 mm: disc radius sqrt(5^2 - 4.5^2) = 2.18 mm, clear of the
+    # edge lines at 3, 3 and 2.83 mm -> case iv.
+    centers = np.array([[0.003, 0.003, 0.0045]])
+    geometry = face_geometry(tri) if use_geometry else None
+    res = sphere_triangle_contacts(centers, 0.005, tri, geometry=geometry)
+    assert res.faces.tolist() == [0]
+    assert res.cases.tolist() == [CollisionCase.FULL]
+    assert res.depths[0] == pytest.approx(0.0005)

@@ -133,7 +133,8 @@ class FaceGeometry:
     packed : (f, 34) float
         Row-wise: vertices A, B, C; edges AB, BC, CA; the unit in-plane edge normals (pointing into
         the face, ``n x edge / |edge|``); the outward unit normal ``n``; squared edge lengths; twice
-        the face area. Degenerate faces get zero normals and never collide.
+        the face area. Degenerate (zero-area) faces hold NaN in every derived column and never
+        collide.
     """
 
     centers: np.ndarray
@@ -152,9 +153,15 @@ def _pack(triangles: np.ndarray) -> np.ndarray:
     edges = triangles[:, _NEXT] - triangles
     raw_normal = _cross(edges[:, 0], -edges[:, 2])
     double_area = np.sqrt(np.einsum("ij,ij->i", raw_normal, raw_normal))
-    edge_sq = np.maximum(np.einsum("fij,fij->fi", edges, edges), _TINY)
-    # Degenerate faces keep zero normals (they never collide); guard the divisions.
-    normals = raw_normal / np.maximum(double_area, _TINY)[:, None]
+    edge_sq = np.einsum("fij,fij->fi", edges, edges)
+    # Degenerate (zero-area) faces get NaN normals, edge normals and edge lengths: every distance
+    # computed from them is NaN, and NaN < r^2 is false, so they never collide.
+    degenerate = double_area <= 0.0
+    if degenerate.any():
+        double_area = np.where(degenerate, np.nan, double_area)
+        edge_sq = np.where(degenerate[:, None], np.nan, edge_sq)
+    edge_sq = np.maximum(edge_sq, _TINY)
+    normals = raw_normal / double_area[:, None]
     packed = np.empty((n_faces, _N_COLS))
     packed[:, _COL_TRI] = triangles.reshape(n_faces, 9)
     packed[:, _COL_EDGE] = edges.reshape(n_faces, 9)
@@ -428,15 +435,15 @@ def sphere_triangle_contacts(centers: np.ndarray, radius: float, triangles: np.n
     rel = p[:, None, :] - tri  # P - A, P - B, P - C
     heights = np.einsum("ij,ij->i", rel[:, 0], data[:, _COL_NORMAL])  # z0'
     perp = np.einsum("kij,kij->ki", rel, data[:, _COL_EDGE_NORMAL].reshape(k, 3, 3))  # s_i
-    t = np.minimum(np.maximum(
-        np.einsum("kij,kij->ki", rel, edges) / data[:, _COL_EDGE_SQ], 0.0), 1.0)
+    along = np.einsum("kij,kij->ki", rel, edges)  # (P - V_i) . e_i
+    t = np.minimum(np.maximum(along / data[:, _COL_EDGE_SQ], 0.0), 1.0)
     offsets = rel - t[:, :, None] * edges  # P minus its clamped projection on edge i
     offset_sq = np.einsum("kij,kij->ki", offsets, offsets)
     inside = perp.min(axis=1) >= 0.0
     nearest_edge = offset_sq.argmin(axis=1)
     rows = np.arange(k)
     dist_sq = np.where(inside, heights * heights, offset_sq[rows, nearest_edge])
-    hit = np.flatnonzero((dist_sq < r_sq) & (data[:, _COL_DOUBLE_AREA] > 0.0))
+    hit = np.flatnonzero(dist_sq < r_sq)  # NaN rows of degenerate faces never hit
 
     data, fingers, faces, tri = data[hit], fingers[hit], faces[hit], tri[hit]
     heights, perp, dist_sq, inside = heights[hit], perp[hit], dist_sq[hit], inside[hit]
