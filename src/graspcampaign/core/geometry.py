@@ -57,6 +57,15 @@ from scipy.spatial.distance import cdist
 _NEXT = np.array([1, 2, 0])
 
 
+def _einsum_dot(a: np.ndarray, b: np.ndarray, axis: int = -1) -> np.ndarray:
+    return np.sum(a * b, axis=axis)
+
+
+# Dot product over one axis with broadcasting: the numpy >= 2.0 gufunc is about twice as fast as
+# einsum on the small batches of the narrow phase.
+_dot = getattr(np, "vecdot", _einsum_dot)
+
+
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Cross product over the last axis (broadcasting); cheaper than ``np.cross`` on our sizes."""
     a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
@@ -102,12 +111,10 @@ class PenetrationSubcase(IntEnum):
 
 
 _TINY = np.finfo(float).tiny
-_SUB_INSIDE = np.int8(PenetrationSubcase.INSIDE)
-_SUB_EDGE = np.int8(PenetrationSubcase.EDGE)
-_SUB_CORNER = np.int8(PenetrationSubcase.CORNER)
-_CASE_EDGE = np.int8(CollisionCase.EDGE)
-_CASE_CORNER = np.int8(CollisionCase.CORNER)
-_CASE_FULL = np.int8(CollisionCase.FULL)
+_SUBCASE_OF_KEY = np.array([PenetrationSubcase.EDGE, PenetrationSubcase.CORNER,
+                            PenetrationSubcase.INSIDE, PenetrationSubcase.INSIDE], dtype=np.int8)
+_CASE_OF_KEY = np.array([CollisionCase.EDGE, CollisionCase.CORNER, CollisionCase.EDGE,
+                         CollisionCase.FULL], dtype=np.int8)
 
 
 # Column layout of FaceGeometry.packed: one gather brings every per-face quantity of a candidate.
@@ -152,8 +159,8 @@ def _pack(triangles: np.ndarray) -> np.ndarray:
     n_faces = len(triangles)
     edges = triangles[:, _NEXT] - triangles
     raw_normal = _cross(edges[:, 0], -edges[:, 2])
-    double_area = np.sqrt(np.einsum("ij,ij->i", raw_normal, raw_normal))
-    edge_sq = np.einsum("fij,fij->fi", edges, edges)
+    double_area = np.sqrt(_dot(raw_normal, raw_normal))
+    edge_sq = _dot(edges, edges)
     # Degenerate (zero-area) faces get NaN normals, edge normals and edge lengths: every distance
     # computed from them is NaN, and NaN < r^2 is false, so they never collide.
     degenerate = double_area <= 0.0
@@ -190,7 +197,7 @@ def face_geometry(triangles: np.ndarray) -> FaceGeometry:
     triangles = np.asarray(triangles, dtype=float)
     centers = (triangles[:, 0] + triangles[:, 1] + triangles[:, 2]) / 3.0
     offsets = triangles - centers[:, None, :]
-    radii = np.sqrt(np.einsum("fij,fij->fi", offsets, offsets).max(axis=1))
+    radii = np.sqrt(_dot(offsets, offsets).max(axis=1))
     return FaceGeometry(centers=centers, radii=radii, packed=_pack(triangles))
 
 
@@ -417,7 +424,7 @@ def sphere_triangle_contacts(centers: np.ndarray, radius: float, triangles: np.n
         lo = np.minimum(np.minimum(a, b), c)
         hi = np.maximum(np.maximum(a, b), c)
         half = 0.5 * (hi - lo)
-        reach = radius + np.sqrt(np.einsum("ij,ij->i", half, half))
+        reach = radius + np.sqrt(_dot(half, half))
         flat = np.flatnonzero(cdist(centers, lo + half) < reach)
         fingers, faces = np.divmod(flat, len(triangles))
         data = _pack(triangles[faces])
@@ -433,23 +440,21 @@ def sphere_triangle_contacts(centers: np.ndarray, radius: float, triangles: np.n
     edges = data[:, _COL_EDGE].reshape(k, 3, 3)
     p = centers[fingers]
     rel = p[:, None, :] - tri  # P - A, P - B, P - C
-    heights = np.einsum("ij,ij->i", rel[:, 0], data[:, _COL_NORMAL])  # z0'
-    perp = np.einsum("kij,kij->ki", rel, data[:, _COL_EDGE_NORMAL].reshape(k, 3, 3))  # s_i
-    along = np.einsum("kij,kij->ki", rel, edges)  # (P - V_i) . e_i
+    heights = _dot(rel[:, 0], data[:, _COL_NORMAL])  # z0'
+    perp = _dot(rel, data[:, _COL_EDGE_NORMAL].reshape(k, 3, 3))  # s_i
+    along = _dot(rel, edges)  # (P - V_i) . e_i
     t = np.minimum(np.maximum(along / data[:, _COL_EDGE_SQ], 0.0), 1.0)
     offsets = rel - t[:, :, None] * edges  # P minus its clamped projection on edge i
-    offset_sq = np.einsum("kij,kij->ki", offsets, offsets)
+    offset_sq = _dot(offsets, offsets)
     inside = perp.min(axis=1) >= 0.0
-    nearest_edge = offset_sq.argmin(axis=1)
-    rows = np.arange(k)
-    dist_sq = np.where(inside, heights * heights, offset_sq[rows, nearest_edge])
+    dist_sq = np.where(inside, heights * heights, offset_sq.min(axis=1))
     hit = np.flatnonzero(dist_sq < r_sq)  # NaN rows of degenerate faces never hit
 
     data, fingers, faces, tri = data[hit], fingers[hit], faces[hit], tri[hit]
     heights, perp, dist_sq, inside = heights[hit], perp[hit], dist_sq[hit], inside[hit]
-    nearest_edge = nearest_edge[hit]
+    nearest_edge = offset_sq[hit].argmin(axis=1)
+    rows = np.arange(len(hit))
     t_edge = t[hit, nearest_edge]
-    rows = rows[: len(hit)]
 
     # Barycentric weights of P_face: inside, the weight of the vertex opposite edge i is
     # s_i |e_i| / (2 area); on edge i = (V_i, V_i+1) at parameter t, (1 - t, t).
@@ -459,13 +464,15 @@ def sphere_triangle_contacts(centers: np.ndarray, radius: float, triangles: np.n
     weights[rows, _NEXT[nearest_edge]] = t_edge
     inside_weights = perp * np.sqrt(data[:, _COL_EDGE_SQ]) / double_area[:, None]
     weights = np.where(inside[:, None], inside_weights[:, _NEXT], weights)
-    # Enum arithmetic: subcase INSIDE=1, EDGE=2, CORNER=3; case EDGE=2, CORNER=3, FULL=4.
-    corner = ((t_edge <= 0.0) | (t_edge >= 1.0)).view(np.int8)
-    full = (r_sq - heights * heights <= np.square(perp.min(axis=1))).view(np.int8)
-    subcases = np.where(inside, _SUB_INSIDE, _SUB_EDGE + corner)
-    cases = np.where(inside, _CASE_EDGE + 2 * full, _CASE_EDGE + corner)
+    # Key 0: outside, edge region; 1: outside, corner region; 2: inside, disc crosses an edge
+    # line; 3: inside, disc within all edge lines. Look-up tables give the subcase and case.
+    corner = (t_edge <= 0.0) | (t_edge >= 1.0)
+    full = r_sq - heights * heights <= np.square(perp.min(axis=1))
+    key = 2 * inside + np.where(inside, full, corner)
+    subcases = _SUBCASE_OF_KEY[key]
+    cases = _CASE_OF_KEY[key]
 
-    q = np.einsum("ki,kij->kj", weights, tri)
+    q = _dot(weights[:, :, None], tri, axis=1)
     normals = data[:, _COL_NORMAL]
     depths = np.sqrt(r_sq - np.maximum(dist_sq - heights * heights, 0.0)) - heights
     distances = np.sqrt(dist_sq)
