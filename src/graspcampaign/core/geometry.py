@@ -12,10 +12,13 @@ Local frame (§3.2). For a face (A, B, C) wound counter-clockwise seen from outs
 ``b = (A - B)/|A - B|``, ``c`` the *outward* unit normal and ``d = c x b``; ``R = [b, d, c]^T`` and
 the origin B map world to local coordinates (:func:`face_frames`). The fingertip centre becomes
 ``(x0', y0', z0')`` and the sphere cuts the plane ``z' = 0`` in the disc of Eq. 10, of radius
-``rho = sqrt(r^2 - z0'^2)`` when ``|z0'| < r``. The code below evaluates the same quantities as dot
-products in world coordinates (no 4x4 matrices per face): ``z0'`` is the signed height of the centre
-above the face plane, and the in-plane position of the disc centre is classified by the Voronoi
-region tests of Ericson (2005), which are invariant to the normal component of the query point.
+``rho = sqrt(r^2 - z0'^2)`` when ``|z0'| < r``. The code evaluates the same local coordinates as dot
+products with per-face unit vectors stored once (:class:`FaceGeometry`, no 4x4 matrix per pair):
+``z0'`` is the signed height of the centre above the face plane and ``s_i`` the signed perpendicular
+distances of the disc centre to the three edge lines, the "per-edge perpendicular distances" with
+which §3.2 decides each case. The resulting partition of the plane is the Voronoi-region partition
+of Ericson (2005); :func:`closest_point_barycentric` implements Ericson's own tests and the tests
+check both against trimesh.
 
 Collision cases (§3.2), :class:`CollisionCase`; the integer value is the paper's case number:
 

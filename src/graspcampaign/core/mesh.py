@@ -18,7 +18,7 @@ Constructions (recorded in ``docs/decisions.md``):
   such as the paper's MATLAB pipeline produces.
 - **handle** (genus 0, not star-shaped) is a half torus (a 180° toroidal section) lying in the
   horizontal plane, built as a structured tube grid closed by flat fan caps; its node count is
-  ``n_u * n_v + 2``, chosen within ±2 % of the request.
+  ``n_u * n_v + 2``, chosen within ±2 % of the request (from 50 nodes up).
 
 References
 ----------
@@ -344,7 +344,8 @@ def make_object(shape: str, n_nodes: int = 390) -> trimesh.Trimesh:
     shape : str
         One of ``"sphere"``, ``"ellipsoid"``, ``"rounded_cube"``, ``"pear"``, ``"handle"``.
     n_nodes : int
-        Requested vertex count. Star-shaped objects hit it exactly; the handle within ±2 %.
+        Requested vertex count. Star-shaped objects hit it exactly; the handle within ±2 % from 50
+        nodes up (below that, the nearest count its tube grid allows).
 
     Returns
     -------
