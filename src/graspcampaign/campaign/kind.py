@@ -61,7 +61,7 @@ class TrialKind:
 # will implement it, shown by `graspcampaign list`).
 KINDS: dict[str, str | None] = {
     "mesh_features": "graspcampaign.campaign.kinds.smoke:MESH_FEATURES",
-    "quasi_static": None,
+    "quasi_static": "graspcampaign.campaign.kinds.quasi_static:QUASI_STATIC",
     "heuristic_weights": None,
     "wrench_balance": None,
     "pso_repeatability": None,

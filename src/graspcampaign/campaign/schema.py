@@ -46,10 +46,11 @@ class EvaluatorCfg:
     seed_depth_m: float = _f(5e-4, gt=0.0)  # Alg. 2 line 1
     n_max: int = _f(100, ge=1)  # Sec. 11
     alpha: float = _f(1.0, gt=0.0)  # documented in docs/decisions.md
-    eps: float = _f(1e-9, gt=0.0)  # documented in docs/decisions.md
+    eps: float = _f(1e-6, gt=0.0)  # N/m; documented in docs/decisions.md
     tau_f_n: float = _f(0.5, gt=0.0)  # Sec. 3.7: simulation criterion
-    tau_t_nm: float = _f(0.05, gt=0.0)  # documented in docs/decisions.md
+    tau_t_nm: float = _f(0.025, gt=0.0)  # documented in docs/decisions.md
     n_cand: int = _f(1000, ge=1)  # documented in docs/decisions.md
+    residual_check: str = _f("norm", choices=("norm", "vertical"))  # SPEC 2.7: |R|
 
 
 @dataclass
