@@ -54,6 +54,7 @@ __all__ = [
     "check_state",
     "dissipation_power",
     "elastic_energy",
+    "enclosed_volume",
     "energy_audit",
     "floor_anchors_update",
     "floor_forces",
@@ -72,6 +73,8 @@ __all__ = [
     "state_from_positions",
     "step_convergence",
     "velocities_from_state",
+    "volume_energy",
+    "volume_forces",
 ]
 
 logger = logging.getLogger(__name__)
@@ -98,13 +101,16 @@ class MsdParams:
         Total object mass m [kg]; lumped uniformly, ``m_i = m / n`` (§2.1). Default 0.4 kg, the
         representative case of §5.5.
     k : float
-        Edge spring stiffness [N/m]. Default ``E2 * l_mean`` = 0.14 MPa x 10 mm = 1.4e3 N/m.
+        Edge spring stiffness [N/m]. Default ``E2 * l_mean`` = 0.14 MPa x 10.3 mm = 1.44e3 N/m.
     c : float
         Edge damper on the stretch rate [N*s/m]. Default 1.0 N*s/m.
     b : float
-        Absolute nodal damping per node [N*s/m]. Default 0.016 N*s/m.
+        Absolute nodal damping per node [N*s/m]. Default 0.0162 N*s/m.
     g : float
         Gravitational acceleration, acting along -z [m/s^2].
+    bulk_modulus : float
+        Optional enclosed-volume stiffness K_b [Pa] (an extension, see Notes). Default 0: the
+        paper's pure surface shell (§2.1: "no volumetric or internal-pressure term").
 
     Notes
     -----
@@ -121,20 +127,31 @@ class MsdParams:
       ``zeta = 0.1`` (a lightly damped gel, §5.4: "oscillates briefly, and settles") and the
       highest mesh mode (w_max ~ 2.8e3 rad/s) is critically damped (``zeta = 1``; mesh-scale
       modes are discretisation artefacts).
+
+    The pure shell has no bending stiffness, so a point load (one fingertip carrying the weight)
+    inverts a cap of it at almost no strain-energy cost. ``bulk_modulus > 0`` adds the pressure
+    term the paper lists as future work (§12): energy ``K_b (V - V0)^2 / (2 V0)`` of the enclosed
+    volume V (Matyka & Ollila 2004). For a near-incompressible gel ``K_b = E2 / (3 (1 - 2 nu2))``
+    = 0.47 MPa with Table 2's E2 = 0.14 MPa, nu2 = 0.45. Needs a closed, outward-wound mesh.
+
+    References
+    ----------
+    Matyka, M. & Ollila, M. (2004), "Pressure model of soft body simulation", SIGRAD 2003.
     """
 
     mass: float = 0.4
-    k: float = 1.4e3
+    k: float = 1.44e3
     c: float = 1.0
-    b: float = 0.016
+    b: float = 0.0162
     g: float = 9.81
+    bulk_modulus: float = 0.0
 
     def __post_init__(self) -> None:
         for name in ("mass", "k"):
             value = getattr(self, name)
             if not np.isfinite(value) or value <= 0.0:
                 raise ValueError(f"MsdParams.{name} must be finite and > 0, got {value!r}")
-        for name in ("c", "b", "g"):
+        for name in ("c", "b", "g", "bulk_modulus"):
             value = getattr(self, name)
             if not np.isfinite(value) or value < 0.0:
                 raise ValueError(f"MsdParams.{name} must be finite and >= 0, got {value!r}")
@@ -168,6 +185,19 @@ class MsdBody:
     # D^T as CSR, for the force gather F = -D^T (f_e u_e).
     incidence_t: scipy.sparse.csr_matrix = field(init=False, repr=False)
     degrees: np.ndarray = field(init=False, repr=False)
+    # Fast path of msd_rhs on the flat state: (6e, 6n) maps X to the component-major edge
+    # differences [dx; dy; dz; dvx; dvy; dvz] (each row block contiguous), and (6n, 3e) scatters
+    # component-major edge forces [fx; fy; fz] to the acceleration slots of dX (+ on node i,
+    # - on node j, i.e. the force on node i of a compressed edge).
+    gather6: scipy.sparse.csr_matrix = field(init=False, repr=False)
+    scatter6: scipy.sparse.csr_matrix = field(init=False, repr=False)
+    # Enclosed rest volume V0 [m^3] (0 without faces) and the (n, 3f) scatter of per-corner
+    # volume gradients to the nodes.
+    rest_volume: float = field(init=False, repr=False)
+    corner_scatter: scipy.sparse.csr_matrix | None = field(init=False, repr=False)
+    # For corner (f, a): the next and previous vertex of face f, flattened (3 f,).
+    corner_next: np.ndarray | None = field(init=False, repr=False)
+    corner_prev: np.ndarray | None = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         n_nodes = self.rest_positions.shape[0]
@@ -179,6 +209,42 @@ class MsdBody:
         object.__setattr__(self, "incidence", incidence)
         object.__setattr__(self, "incidence_t", incidence.T.tocsr())
         object.__setattr__(self, "degrees", np.bincount(cols, minlength=n_nodes))
+        e0, e1 = self.edges[:, 0], self.edges[:, 1]
+        comp = np.arange(6)[:, None]
+        g_rows = np.concatenate([(comp * n_edges + np.arange(n_edges)).ravel()] * 2)
+        g_cols = np.concatenate([(6 * e0[None, :] + comp).ravel(), (6 * e1[None, :] + comp).ravel()])
+        g_vals = np.repeat([1.0, -1.0], 6 * n_edges)
+        object.__setattr__(
+            self,
+            "gather6",
+            scipy.sparse.csr_matrix((g_vals, (g_rows, g_cols)), shape=(6 * n_edges, 6 * n_nodes)),
+        )
+        comp3 = np.arange(3)[:, None]
+        s_cols = np.concatenate([(comp3 * n_edges + np.arange(n_edges)).ravel()] * 2)
+        s_rows = np.concatenate(
+            [(6 * e0[None, :] + 3 + comp3).ravel(), (6 * e1[None, :] + 3 + comp3).ravel()]
+        )
+        s_vals = np.repeat([1.0, -1.0], 3 * n_edges)
+        object.__setattr__(
+            self,
+            "scatter6",
+            scipy.sparse.csr_matrix((s_vals, (s_rows, s_cols)), shape=(6 * n_nodes, 3 * n_edges)),
+        )
+        if self.faces is None:
+            object.__setattr__(self, "rest_volume", 0.0)
+            object.__setattr__(self, "corner_scatter", None)
+            object.__setattr__(self, "corner_next", None)
+            object.__setattr__(self, "corner_prev", None)
+        else:
+            object.__setattr__(self, "corner_next", self.faces[:, [1, 2, 0]].ravel())
+            object.__setattr__(self, "corner_prev", self.faces[:, [2, 0, 1]].ravel())
+            corners = self.faces.size
+            scatter = scipy.sparse.csr_matrix(
+                (np.ones(corners), (self.faces.ravel(), np.arange(corners))),
+                shape=(n_nodes, corners),
+            )
+            object.__setattr__(self, "corner_scatter", scatter)
+            object.__setattr__(self, "rest_volume", enclosed_volume(self, self.rest_positions))
 
     @property
     def n_nodes(self) -> int:
@@ -217,8 +283,13 @@ class MsdBody:
         unit = _rest_stiffness_matrix(self, 1.0)
         if unit.shape[0] <= 64:
             return float(np.linalg.eigvalsh(unit.toarray())[-1])
+        # Fixed start vector: ARPACK's default is random, and dt (hence every trajectory) must
+        # not change from run to run.
+        start = np.linspace(1.0, 2.0, unit.shape[0])
         return float(
-            scipy.sparse.linalg.eigsh(unit, k=1, which="LA", return_eigenvectors=False, tol=1e-8)[0]
+            scipy.sparse.linalg.eigsh(
+                unit, k=1, which="LA", return_eigenvectors=False, tol=1e-10, v0=start
+            )[0]
         )
 
 
@@ -464,6 +535,73 @@ def internal_forces(body: MsdBody, params: MsdParams, state) -> np.ndarray:
     return -(body.incidence_t @ (d * tension_per_length[:, None]))
 
 
+def enclosed_volume(body: MsdBody, positions) -> float:
+    """Return the volume enclosed by the body's faces, ``sum_f x_a . (x_b x x_c) / 6`` [m^3].
+
+    Parameters
+    ----------
+    body : MsdBody
+        With outward-wound ``faces``.
+    positions : (n, 3) float
+        Node positions [m].
+    """
+    if body.faces is None:
+        raise ValueError("enclosed_volume needs a body with faces")
+    tri = np.asarray(positions)[body.faces]
+    return float(np.einsum("ij,ij->", tri[:, 0], np.cross(tri[:, 1], tri[:, 2])) / 6.0)
+
+
+def volume_forces(body: MsdBody, params: MsdParams, positions) -> np.ndarray:
+    """Return the nodal forces of the enclosed-volume (pressure) term [N].
+
+    Parameters
+    ----------
+    body : MsdBody
+        With faces.
+    params : MsdParams
+        ``bulk_modulus`` K_b [Pa].
+    positions : (n, 3) float
+        Node positions [m].
+
+    Returns
+    -------
+    forces : (n, 3) float
+        ``-K_b (V - V0) / V0 * dV/dx_i`` with ``dV/dx_a = sum_faces (x_b x x_c) / 6``: a
+        compressed body (V < V0) pushes its nodes outward, like an internal pressure.
+
+    References
+    ----------
+    Matyka & Ollila (2004); §12 of the paper (pressure term as future work).
+    """
+    gradient, volume = _volume_gradient(body, np.asarray(positions, dtype=np.float64))
+    return (-params.bulk_modulus * (volume - body.rest_volume) / body.rest_volume) * gradient
+
+
+def _volume_gradient(body: MsdBody, positions: np.ndarray) -> tuple[np.ndarray, float]:
+    """Return dV/dx (n, 3) and V: corner a of a face gets ``(x_b x x_c) / 6``, (a, b, c) cyclic."""
+    # np.take is several times faster than fancy indexing on small (n, 3) arrays.
+    u = np.take(positions, body.corner_next, axis=0)
+    v = np.take(positions, body.corner_prev, axis=0)
+    corner = np.empty_like(u)
+    corner[:, 0] = u[:, 1] * v[:, 2] - u[:, 2] * v[:, 1]
+    corner[:, 1] = u[:, 2] * v[:, 0] - u[:, 0] * v[:, 2]
+    corner[:, 2] = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+    corner *= 1.0 / 6.0
+    gradient = body.corner_scatter @ corner
+    # Each face's triple product appears at its three corners: V = sum_i x_i . dV/dx_i / 3.
+    return gradient, float(np.einsum("ij,ij->", positions, gradient)) / 3.0
+
+
+def volume_energy(body: MsdBody, params: MsdParams, state) -> np.ndarray:
+    """Return ``K_b (V - V0)^2 / (2 V0)`` [J] of a (6 n,) or (s, 6 n) state (0 without K_b)."""
+    positions = positions_from_state(state)
+    if params.bulk_modulus == 0.0 or body.faces is None:
+        return np.zeros(positions.shape[:-2]) if positions.ndim > 2 else np.float64(0.0)
+    tri = positions[..., body.faces, :]  # (..., f, 3, 3)
+    volume = np.einsum("...fj,...fj->...", tri[..., 0, :], np.cross(tri[..., 1, :], tri[..., 2, :])) / 6.0
+    return 0.5 * params.bulk_modulus * (volume - body.rest_volume) ** 2 / body.rest_volume
+
+
 def msd_rhs(t, state, body: MsdBody, params: MsdParams, f_ext=None) -> np.ndarray:
     """Return dX/dt of Eq. 5 for the MSD body under gravity and optional nodal forces.
 
@@ -481,25 +619,36 @@ def msd_rhs(t, state, body: MsdBody, params: MsdParams, f_ext=None) -> np.ndarra
     Returns
     -------
     dstate : (6 n,) float
-        ``[v_i, (F_int,i - b v_i + f_ext,i) / m_i - g e_z]`` per node, same layout as the state.
+        ``[v_i, (F_int,i - b v_i + F_vol,i + f_ext,i) / m_i - g e_z]`` per node, same layout as
+        the state (``F_vol`` only when ``params.bulk_modulus > 0``).
 
     References
     ----------
     Eq. 1-5 (§2.1-2.2): ``m_i a_i = -b v_i - sum_j f_ij + f_ext,i`` with gravity in f_ext.
     """
-    nodes = np.asarray(state, dtype=np.float64).reshape(-1, 6)
-    d, lengths, stretch_rate = _edge_terms(body, nodes)
-    tension_per_length = (params.k * (lengths - body.rest_lengths) + params.c * stretch_rate) / lengths
-    force = body.incidence_t @ (d * tension_per_length[:, None])  # = -F_int
+    state = np.asarray(state, dtype=np.float64)
+    rel = (body.gather6 @ state).reshape(6, -1)  # component-major edge differences
+    dx, dy, dz = rel[0], rel[1], rel[2]
+    lengths = np.sqrt(dx * dx + dy * dy + dz * dz)
+    inv_len = 1.0 / lengths
+    stretch_rate = (rel[3] * dx + rel[4] * dy + rel[5] * dz) * inv_len
+    # Tension / length / (-m_i): times (x_i - x_j) gives the acceleration of node i.
+    scale = (params.k * (lengths - body.rest_lengths) + params.c * stretch_rate) * inv_len
+    scale *= -1.0 / body.node_mass
+    out = body.scatter6 @ (rel[:3] * scale).ravel()
+    nodes = state.reshape(-1, 6)
+    out_nodes = out.reshape(-1, 6)
     velocities = nodes[:, 3:]
-    force += params.b * velocities
+    out_nodes[:, :3] = velocities
+    accel = out_nodes[:, 3:]
+    if params.b > 0.0:
+        accel -= (params.b / body.node_mass) * velocities
+    if params.bulk_modulus > 0.0:
+        accel += volume_forces(body, params, nodes[:, :3]) * (1.0 / body.node_mass)
     if f_ext is not None:
-        force -= f_ext
-    out = np.empty_like(nodes)
-    out[:, :3] = velocities
-    np.multiply(force, -1.0 / body.node_mass, out=out[:, 3:])
-    out[:, 5] -= params.g
-    return out.ravel()
+        accel += np.asarray(f_ext) * (1.0 / body.node_mass)
+    out_nodes[:, 5] -= params.g
+    return out
 
 
 # ----------------------------------------------------------------------------------------------
@@ -607,18 +756,29 @@ def integrate_rk4(
 def _rk4_boundary_table() -> tuple[np.ndarray, np.ndarray]:
     """Return (angles, radii): first exit radius of the RK4 stability region along each ray.
 
-    Angles in [pi/2, pi] (closed left half-plane, upper half; the region is symmetric).
+    Angles in [pi/2, pi] (closed left half-plane, upper half; the region is symmetric). Along a
+    ray ``z = rho e^{i theta}``, ``|R(z)|^2 - 1`` is a degree-8 polynomial in rho with
+    coefficients ``sum_{j+k=m} cos((j-k) theta) / (j! k!)``; the exit radius is its first positive
+    real root where it turns positive.
     """
     angles = np.linspace(0.5 * np.pi, np.pi, 721)
-    radii = np.linspace(0.0, 3.2, 6401)
-    z = radii[None, :] * np.exp(1j * angles[:, None])
-    amplification = np.abs(1.0 + z * (1.0 + z / 2.0 * (1.0 + z / 3.0 * (1.0 + z / 4.0))))
-    outside = amplification > 1.0 + 1e-12
-    outside[:, 0] = False
-    first = np.argmax(outside, axis=1)
-    exit_radius = radii[np.maximum(first - 1, 0)]
-    # A ray that never leaves within 3.2 does not occur for RK4 in the left half-plane.
-    return angles, exit_radius
+    inv_fact = 1.0 / np.array([1.0, 1.0, 2.0, 6.0, 24.0])
+    j, k = np.meshgrid(np.arange(5), np.arange(5), indexing="ij")
+    radii = np.empty_like(angles)
+    for a, theta in enumerate(angles):  # 721 small polynomials, once per process
+        terms = inv_fact[j] * inv_fact[k] * np.cos((j - k) * theta)
+        coeffs = np.bincount((j + k).ravel(), weights=terms.ravel(), minlength=9)
+        coeffs[0] -= 1.0  # |R|^2 - 1; rho = 0 is a root: divide it out
+        poly = coeffs[1:][::-1]  # highest degree first for np.roots
+        roots = np.roots(poly)
+        real = np.sort(roots.real[(np.abs(roots.imag) < 1e-7) & (roots.real > 1e-9)])
+        exit_radius = np.inf
+        for root in real:
+            if np.polyval(coeffs[::-1], root * (1.0 + 1e-6)) > 0.0:
+                exit_radius = root
+                break
+        radii[a] = exit_radius
+    return angles, radii
 
 
 def stable_step_limit(
@@ -695,9 +855,15 @@ def body_step_limit(body: MsdBody, params: MsdParams, k_extra: float = 0.0, c_ex
     dt_max : float
         Step limit [s] of the linearisation at rest; uses ``body.unit_stiffness_max`` (sparse
         eigensolver) instead of the ``2 d_max`` bound, which is 2.2x loose on the 356-node sphere.
+        With ``bulk_modulus > 0`` the eigenvalue of the rank-one volume stiffness is added to
+        ``k_extra`` (a bound: ``lambda_max(A + B) <= lambda_max(A) + lambda_max(B)``).
     """
     kappa = body.unit_stiffness_max
     m = body.node_mass
+    if params.bulk_modulus > 0.0 and body.faces is not None:
+        # Rank-one volume stiffness (K_b / V0) g g^T: its eigenvalue is (K_b / V0) |dV/dx|^2.
+        grads, _ = _volume_gradient(body, body.rest_positions)
+        k_extra = k_extra + params.bulk_modulus / body.rest_volume * float(np.sum(grads * grads))
     return _rk4_step_limit(
         np.sqrt((params.k * kappa + k_extra) / m),
         params.b / m,
@@ -772,7 +938,7 @@ class EnergyAuditResult:
     times : (s,) float
         [s].
     kinetic, elastic, gravitational : (s,) float
-        Energies [J].
+        Energies [J]; ``elastic`` includes the volume term when ``bulk_modulus > 0``.
     mechanical : (s,) float
         Their sum [J].
     dissipated : (s,) float
@@ -851,7 +1017,7 @@ def energy_audit(
     run = integrate_rk4(augmented, 0.0, np.concatenate([state0, [0.0, 0.0]]), dt, n_steps, record_every)
     states = run.states[:, :n6]
     kinetic = kinetic_energy(body, states)
-    elastic = elastic_energy(body, params, states)
+    elastic = elastic_energy(body, params, states) + volume_energy(body, params, states)
     gravitational = gravitational_energy(body, params, states)
     mechanical = kinetic + elastic + gravitational
     dissipated = run.states[:, n6]
