@@ -1092,14 +1092,25 @@ class RelaxationFitResult:
     success: bool
 
 
+def _plateau(x: np.ndarray, tolerance: float) -> np.ndarray:
+    """Indices of the hold at peak travel: the span from the first to the last sample within
+    ``tolerance`` of the plateau level (median of the samples within 5 um of the maximum, so
+    one quantisation outlier neither sets the level nor splits the hold)."""
+    top = x[x >= x.max() - 5e-6]
+    level = float(np.median(top))
+    idx = np.flatnonzero(x >= level - tolerance)
+    return np.arange(idx[0], idx[-1] + 1) if idx.size else idx
+
+
 def fit_relaxation(time: np.ndarray, displacement: np.ndarray, normal_force_: np.ndarray,
-                   tolerance: float = 2e-6) -> RelaxationFitResult:
+                   tolerance: float = 3e-6) -> RelaxationFitResult:
     """Fit the §7.4 relaxation law to the hold at peak indentation.
 
-    The hold is the run of samples whose displacement stays within ``tolerance`` of its
-    maximum. ``F = A + B exp(-(t - t_0)/tau)`` is fitted with
-    ``scipy.optimize.least_squares`` (Levenberg-Marquardt) from a start read off the
-    trace; ``F_0 = A + B`` and ``rho = A / F_0``.
+    The hold is the span of samples whose displacement lies within ``tolerance`` of the
+    peak plateau. ``F = A + B exp(-(t - t_0)/tau)`` is fitted with
+    ``scipy.optimize.least_squares`` (trust-region reflective, ``A, B >= 0``,
+    ``tau <= 10 x hold``) from a start read off the trace; ``F_0 = A + B`` and
+    ``rho = A / F_0``.
 
     Parameters
     ----------
@@ -1118,11 +1129,7 @@ def fit_relaxation(time: np.ndarray, displacement: np.ndarray, normal_force_: np
     nan = RelaxationFitResult(math.nan, math.nan, math.nan, math.nan, math.nan, False)
     if x.size < 10:
         return nan
-    at_peak = x >= x.max() - tolerance
-    idx = np.flatnonzero(at_peak)
-    # contiguous run containing the first peak sample
-    breaks = np.flatnonzero(np.diff(idx) > 1)
-    run = idx[: breaks[0] + 1] if breaks.size else idx
+    run = _plateau(x, tolerance)
     if run.size < 10:
         return nan
     th = t[run] - t[run[0]]
@@ -1142,7 +1149,8 @@ def fit_relaxation(time: np.ndarray, displacement: np.ndarray, normal_force_: np
     target = tail + (head - tail) / math.e
     below = np.flatnonzero(y <= target)
     tau0 = float(th[below[0]]) if below.size and th[below[0]] > 0 else hold / 4.0
-    p0 = np.array([tail, head - tail, max(tau0, 1e-2)])
+    p0 = np.array([max(tail, 1e-6), max(head - tail, 1e-6),
+                   float(np.clip(tau0, 2e-2, 5.0 * max(hold, 1.0)))])
 
     def resid(p: np.ndarray) -> np.ndarray:
         return p[0] + p[1] * np.exp(-th / p[2]) - y
@@ -1152,7 +1160,11 @@ def fit_relaxation(time: np.ndarray, displacement: np.ndarray, normal_force_: np
         return np.column_stack([np.ones_like(th), e, p[1] * e * th / p[2] ** 2])
 
     try:
-        sol = least_squares(resid, p0, jac=jac, method="lm", max_nfev=200)
+        # bounded (trust-region reflective): a drifting baseline must not send tau to
+        # infinity with a negative amplitude
+        sol = least_squares(resid, p0, jac=jac, method="trf",
+                            bounds=([0.0, 0.0, 1e-2], [np.inf, np.inf, 10.0 * max(hold, 1.0)]),
+                            max_nfev=200)
     except (ValueError, np.linalg.LinAlgError) as exc:  # pragma: no cover - defensive
         log.debug("relaxation fit failed: %s", exc)
         return nan
@@ -1292,7 +1304,7 @@ class ObliqueFitResult:
 
 def fit_oblique(time: np.ndarray, displacement: np.ndarray, normal_force_: np.ndarray,
                 tangential_force: np.ndarray, tangential_displacement: np.ndarray,
-                tolerance: float = 2e-6) -> ObliqueFitResult:
+                tolerance: float = 3e-6) -> ObliqueFitResult:
     """Read the peak load components and the tangential slip of an oblique press.
 
     Parameters
@@ -1310,7 +1322,7 @@ def fit_oblique(time: np.ndarray, displacement: np.ndarray, normal_force_: np.nd
     x = np.asarray(displacement, dtype=float)
     if x.size < 5:
         return ObliqueFitResult(math.nan, math.nan, math.nan, False, False)
-    dwell = x >= x.max() - tolerance
+    dwell = _plateau(x, tolerance)
     fn = float(np.mean(np.asarray(normal_force_)[dwell]))
     ft = float(np.mean(np.asarray(tangential_force)[dwell]))
     xt = np.asarray(tangential_displacement, dtype=float)

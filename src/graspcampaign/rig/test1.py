@@ -933,10 +933,12 @@ def damage_depths(fits: pd.DataFrame, *, stiffness_target: float = 0.85,
 
 
 def table4(fits: pd.DataFrame, truths: pd.DataFrame | None = None) -> pd.DataFrame:
-    """Per-family means in the layout of Table 4 (accepted normal fits; all others).
+    """Per-family means in the layout of Table 4 (accepted normal fits; other blocks'
+    successful fits).
 
     ``E`` comes from ``truths`` (virtual bench) when given: the bench measures no modulus.
     """
+    fits = fits[fits["fit_ok"].astype(bool)]
     nf = fits[(fits["block"] == "normal") & fits["accepted"].astype(bool)]
     g = nf.groupby("material")
     out = pd.DataFrame({
