@@ -62,9 +62,9 @@ class TrialKind:
 KINDS: dict[str, str | None] = {
     "mesh_features": "graspcampaign.campaign.kinds.smoke:MESH_FEATURES",
     "quasi_static": "graspcampaign.campaign.kinds.quasi_static:QUASI_STATIC",
-    "heuristic_weights": None,
-    "wrench_balance": None,
-    "pso_repeatability": None,
+    "heuristic_weights": "graspcampaign.campaign.kinds.weights:HEURISTIC_WEIGHTS",
+    "wrench_balance": "graspcampaign.campaign.kinds.wrench:WRENCH_BALANCE",
+    "pso_repeatability": "graspcampaign.campaign.kinds.pso:PSO_REPEATABILITY",
     "gravity_settle": None,
     "dynamic_grasp": None,
     "sensitivity": None,
