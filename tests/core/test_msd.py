@@ -329,3 +329,40 @@ def test_settle_on_floor_reaches_rest_and_floor_carries_the_weight():
     support = msd.floor_forces(msd.state_from_positions(result.positions), floor)[:, 2].sum()
     assert support == pytest.approx(params.mass * params.g, rel=1e-2)
     assert dataclasses.is_dataclass(result)
+
+
+# ---------------------------------------------------------------------------- optional volume term
+
+
+def test_enclosed_volume_matches_trimesh_and_volume_forces_are_its_gradient(small_mesh):
+    params = msd.MsdParams(bulk_modulus=0.47e6)
+    body = msd.msd_body_from_mesh(small_mesh, params)
+    assert body.rest_volume == pytest.approx(small_mesh.volume, rel=1e-12)  # trimesh reference
+    rng = np.random.default_rng(2)
+    x = small_mesh.vertices + 2e-3 * rng.normal(size=(42, 3))
+    assert msd.enclosed_volume(body, x) == pytest.approx(
+        trimesh.Trimesh(x, small_mesh.faces, process=False).volume, rel=1e-12
+    )
+    forces = msd.volume_forces(body, params, x)
+    h = 1e-7
+    for node in (0, 17, 41):
+        for axis in range(3):
+            plus, minus = x.copy(), x.copy()
+            plus[node, axis] += h
+            minus[node, axis] -= h
+            numeric = -(
+                msd.volume_energy(body, params, msd.state_from_positions(plus))
+                - msd.volume_energy(body, params, msd.state_from_positions(minus))
+            ) / (2 * h)
+            assert forces[node, axis] == pytest.approx(numeric, rel=1e-5, abs=1e-9)
+
+
+def test_energy_audit_closes_with_the_volume_term(small_mesh):
+    params = msd.MsdParams(bulk_modulus=0.47e6, b=0.0, c=0.0)
+    body = msd.msd_body_from_mesh(small_mesh, params)
+    rng = np.random.default_rng(4)
+    state0 = msd.state_from_positions(small_mesh.vertices * 0.98 + 5e-4 * rng.normal(size=(42, 3)))
+    dt = 0.025 * msd.body_step_limit(body, params)
+    audit = msd.energy_audit(body, params, state0, dt, 1600, record_every=10)
+    assert msd.volume_energy(body, params, state0) > 0.1 * audit.elastic[0]
+    assert audit.max_relative_error < 1e-5
