@@ -628,14 +628,14 @@ def msd_rhs(t, state, body: MsdBody, params: MsdParams, f_ext=None) -> np.ndarra
     """
     state = np.asarray(state, dtype=np.float64)
     rel = (body.gather6 @ state).reshape(6, -1)  # component-major edge differences
-    dx, dy, dz = rel[0], rel[1], rel[2]
-    lengths = np.sqrt(dx * dx + dy * dy + dz * dz)
+    d = rel[:3]
+    lengths = np.sqrt(np.einsum("ij,ij->j", d, d))
     inv_len = 1.0 / lengths
-    stretch_rate = (rel[3] * dx + rel[4] * dy + rel[5] * dz) * inv_len
     # Tension / length / (-m_i): times (x_i - x_j) gives the acceleration of node i.
-    scale = (params.k * (lengths - body.rest_lengths) + params.c * stretch_rate) * inv_len
-    scale *= -1.0 / body.node_mass
-    out = body.scatter6 @ (rel[:3] * scale).ravel()
+    scale = params.k * (lengths - body.rest_lengths)
+    scale += params.c * inv_len * np.einsum("ij,ij->j", rel[3:], d)  # c * stretch rate
+    scale *= inv_len * (-1.0 / body.node_mass)
+    out = body.scatter6 @ (d * scale).ravel()
     nodes = state.reshape(-1, 6)
     out_nodes = out.reshape(-1, 6)
     velocities = nodes[:, 3:]
