@@ -112,7 +112,8 @@ def compose_study(study: str, overrides: list[str] | None = None) -> StudyCfg:
     names = list_studies()
     if study not in names:
         raise ConfigError(f"unknown study {study!r}; available studies: {', '.join(names)}.")
-    overrides = _rewrite_overrides(study, list(overrides or []))
+    given = list(overrides or [])
+    overrides = _rewrite_overrides(study, given)
     _register_schema()
     try:
         with initialize_config_dir(config_dir=str(conf_dir), version_base=None):
@@ -125,22 +126,23 @@ def compose_study(study: str, overrides: list[str] | None = None) -> StudyCfg:
     except UserInputError:
         raise
     except Exception as exc:  # Hydra/OmegaConf raise many unrelated types; all mean bad input
-        raise ConfigError(_override_sentence(exc, overrides)) from None
+        raise ConfigError(_override_sentence(exc, overrides, given)) from None
     check_study(obj)
     return obj
 
 
-def _override_sentence(exc: BaseException, overrides: list[str]) -> str:
+def _override_sentence(exc: BaseException, overrides: list[str], given: list[str]) -> str:
+    """One sentence for a composition error, naming the user's override as they typed it."""
     text = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
     if type(exc).__name__ == "OverrideParseException":
         from hydra.core.override_parser.overrides_parser import OverridesParser
 
         parser = OverridesParser.create()
-        for item in overrides:
+        for item, typed in zip(overrides, given, strict=True):
             try:
                 parser.parse_overrides([item])
             except Exception:  # the one that fails is the one to name
-                return f"cannot parse override {item!r}: {text.rstrip('.')}."
+                return f"cannot parse override {typed!r}: {text.rstrip('.')}."
         return f"cannot parse overrides: {text.rstrip('.')}."
     match = re.match(r"Could not override '([^']+)'", text)
     if match:
