@@ -512,15 +512,6 @@ def _fit_arrays(row: dict, a: dict[str, np.ndarray], anomaly: str) -> dict:
             out.update({"shifted_k_n_per_mm_m": sh.k_n_per_mm_m, "shifted_m": sh.m,
                         "shifted_delta0_mm": sh.delta0 * 1e3,
                         "shifted_rmse_pct": sh.rmse_pct})
-        reasons = []
-        if not r.success:
-            reasons.append("fit_failed")
-        elif r.rmse_pct > REVIEW_RMSE_PCT:
-            reasons.append("rmse")
-        if anomaly:
-            reasons.append(f"anomaly:{anomaly}")
-        out["review_reason"] = ";".join(reasons)
-        out["accepted"] = not reasons
     elif b == "relaxation":
         r = bench.fit_relaxation(t, x, fn)
         out.update({"f0_n": r.f0, "rho": r.rho, "tau_s": r.tau, "rmse_pct": r.rmse_pct,
@@ -537,6 +528,17 @@ def _fit_arrays(row: dict, a: dict[str, np.ndarray], anomaly: str) -> dict:
                     "slipped_measured": r.slipped, "fit_ok": r.success})
     else:
         raise ValueError(f"unknown block {b!r}")
+    # §7.2 (iii): flagged for review when the force RMSE exceeds the threshold (normal-law
+    # fits) or the rig log records an anomaly; flagged fits stay in every summary
+    reasons = []
+    if not out["fit_ok"]:
+        reasons.append("fit_failed")
+    elif b in ("normal", "cyclic") and out["rmse_pct"] > REVIEW_RMSE_PCT:
+        reasons.append("rmse")
+    if anomaly:
+        reasons.append(f"anomaly:{anomaly}")
+    out["review_reason"] = ";".join(reasons)
+    out["accepted"] = not reasons
     return out
 
 
