@@ -560,7 +560,8 @@ MAX_ATTEMPTS = 5
 
 
 def _run_rows(rows: list[dict], seed: int, spread: SpreadParams, sensor: SensorParams,
-              p: Test1Protocol, keep: bool) -> tuple[list[dict], list[dict], list[dict]]:
+              p: Test1Protocol, keep: bool, fit: bool = True
+              ) -> tuple[list[dict], list[dict], list[dict]]:
     attempts, fits, waves = [], [], []
     for row in rows:
         spec = _specimen(seed, row["material"], int(row["specimen"]), row["environment"],
@@ -577,7 +578,8 @@ def _run_rows(rows: list[dict], seed: int, spread: SpreadParams, sensor: SensorP
             if w.aborted:
                 continue
             a = _table_arrays(w)
-            fits.append(_fit_row(row, a, attempt, w.anomaly))
+            if fit:
+                fits.append(_fit_row(row, a, attempt, w.anomaly))
             if keep:
                 waves.append({"event_id": row["event_id"], "attempt": attempt,
                               "anomaly": w.anomaly, **a})
@@ -628,7 +630,7 @@ def run_virtual_bench(schedule: pd.DataFrame, seed: int, *, n_jobs: int = 1,
                       keep_waveforms: bool = True, spread: SpreadParams | None = None,
                       sensor: SensorParams | None = None,
                       protocol: Test1Protocol | None = None,
-                      chunk_size: int = 500) -> VirtualBenchResult:
+                      chunk_size: int = 500, fit: bool = True) -> VirtualBenchResult:
     """Run a schedule on the virtual bench: generate, abort/re-run, fit.
 
     Every attempt draws from :func:`event_rng` ``(seed, event_id, attempt)``, so results do
@@ -648,6 +650,10 @@ def run_virtual_bench(schedule: pd.DataFrame, seed: int, *, n_jobs: int = 1,
         there).
     spread, sensor, protocol : optional
         Virtual-bench and protocol parameters.
+    chunk_size : int, optional
+        Events per worker task.
+    fit : bool, optional
+        Fit every completed event (default); False only generates (``fits`` is empty).
 
     Returns
     -------
@@ -659,12 +665,13 @@ def run_virtual_bench(schedule: pd.DataFrame, seed: int, *, n_jobs: int = 1,
     rows = schedule.to_dict("records")
     chunks = [rows[i:i + chunk_size] for i in range(0, len(rows), chunk_size)]
     if n_jobs == 1 or len(chunks) <= 1:
-        parts = [_run_rows(c, int(seed), sp, se, p, keep_waveforms) for c in chunks]
+        parts = [_run_rows(c, int(seed), sp, se, p, keep_waveforms, fit) for c in chunks]
     else:
         from joblib import Parallel, delayed
 
         parts = Parallel(n_jobs=n_jobs)(delayed(_run_rows)(c, int(seed), sp, se, p,
-                                                           keep_waveforms) for c in chunks)
+                                                           keep_waveforms, fit)
+                                        for c in chunks)
     attempts = pd.DataFrame([a for part in parts for a in part[0]])
     fits = pd.DataFrame([f for part in parts for f in part[1]])
     waves = _waves_frame([w for part in parts for w in part[2]]) if keep_waveforms else None
