@@ -84,3 +84,26 @@ def test_pso_repeatability_trace_and_bounds(tmp_path):
     for name, column in (("lambda1", "lambda1"), ("n", "n_exponent")):
         low, high = PAPER_BOUNDS[name]
         assert df[column].between(low, high).all()
+
+
+def test_gravity_settle_records_trace_and_shape(tmp_path):
+    summary, store, df = _run("gravity_settle", tmp_path, "nodes=[144]", "+params.settle_t_max_s=0.3")
+    row = df.iloc[0]
+    assert 0.0 < row["squash_ratio"] <= 1.0
+    trace = store.read("tables/settle").to_pandas()
+    assert trace["time_s"].is_monotonic_increasing and len(trace) > 10
+    shape = store.read("tables/shape").to_pandas()
+    assert len(shape) == 144
+
+
+def test_dynamic_grasp_records_traces_and_like_for_like(tmp_path):
+    summary, store, df = _run("friction_mass", tmp_path, "nodes=[144]", "mu=[0.3]", "mass_kg=[0.2]",
+                              "+params.t_max_s=0.05")
+    row = df.iloc[0]
+    assert row["dynamic_status"] in ("stable", "not_settled", "penetration_limit", "dropped")
+    assert row["lp_status"] in ("feasible", "infeasible", "undetermined")
+    assert isinstance(row["qs_success"], (bool, np.bool_))
+    steps = store.read("tables/steps").to_pandas()
+    assert set(steps["trial_id"]) == {row["trial_id"]}
+    assert {"residual_z_n", "total_penetration_m", "normal_force_3_n"} <= set(steps.columns)
+    assert steps["time_s"].is_monotonic_increasing
