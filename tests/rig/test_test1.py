@@ -209,6 +209,22 @@ def test_results_do_not_depend_on_order_or_workers(reduced):
     pd.testing.assert_frame_equal(a, b[a.columns])
 
 
+def test_transfer_errors_on_held_out_splits(reduced):
+    _, res = reduced
+    te = T.transfer_errors(res.fits, res.waveforms)
+    assert np.isfinite(te["error_pct"]).all() and (te["source"] == "virtual").all()
+    mean = te.groupby(["quantity", "split"])["error_pct"].mean()
+    assert set(mean.index) >= {("normal_force", "train"), ("normal_force", "unseen_speed"),
+                               ("friction", "unseen_load"), ("relaxation", "extended_relaxation"),
+                               ("flat_to_curved", "flat_to_curved")}
+    # same-specimen calibration transfers within a few per cent on the virtual bench
+    assert mean[("normal_force", "train")] < 3.0
+    assert mean[("normal_force", "unseen_speed")] < 5.0
+    assert mean[("friction", "unseen_load")] < 2.0
+    assert mean[("relaxation", "extended_relaxation")] < 2.0
+    assert mean[("flat_to_curved", "flat_to_curved")] < 10.0
+
+
 # ----------------------------------------------------------------------------- ingest
 
 

@@ -61,6 +61,7 @@ __all__ = [
     "table4",
     "table5",
     "test1_schedule",
+    "transfer_errors",
     "validate_waveforms",
 ]
 
@@ -543,7 +544,7 @@ def _fit_arrays(row: dict, a: dict[str, np.ndarray], anomaly: str) -> dict:
 
 
 _META = ("event_id", "material", "specimen", "specimen_id", "environment", "block", "split",
-         "surface", "angle_deg", "speed_mm_per_s", "depth_mm", "normal_load_n", "hold_s",
+         "surface", "surface_radius_mm", "angle_deg", "speed_mm_per_s", "depth_mm", "normal_load_n", "hold_s",
          "cycle_index")
 
 
@@ -966,6 +967,90 @@ def table4(fits: pd.DataFrame, truths: pd.DataFrame | None = None) -> pd.DataFra
         out.insert(0, "modulus_mean_kpa", spec["modulus_kpa"].mean())
     order = [m for m in MATERIALS if m in out.index]
     return out.loc[order].reset_index()
+
+
+def _calibration(fits: pd.DataFrame, block: str, columns: list[str]) -> tuple[pd.DataFrame,
+                                                                               pd.DataFrame]:
+    """Training-split medians per (material, specimen, environment) and per (material,
+    environment) (the latter stands in for specimens never seen)."""
+    ok = fits[(fits["block"] == block) & (fits["split"] == "train")
+              & fits["accepted"].astype(bool)]
+    return (ok.groupby(["material", "specimen", "environment"])[columns].median(),
+            ok.groupby(["material", "environment"])[columns].median())
+
+
+def _calibrated(row: dict, per_spec: pd.DataFrame, per_family: pd.DataFrame) -> pd.Series:
+    if row["split"] != "unseen_specimen":
+        key = (row["material"], row["specimen"], row["environment"])
+        if key in per_spec.index:
+            return per_spec.loc[key]
+    return per_family.loc[(row["material"], row["environment"])]
+
+
+def transfer_errors(fits: pd.DataFrame, waveforms: pd.DataFrame | None = None,
+                    protocol: Test1Protocol | None = None) -> pd.DataFrame:
+    """Transfer error of the training-split calibration on every held-out event (§7.6).
+
+    The calibration is the median of the training fits of the same specimen and environment
+    (for ``unseen_specimen``: of the family's training specimens in that environment).
+
+    * normal force (normal events of ``unseen_speed`` / ``unseen_specimen``; needs
+      ``waveforms``): RMSE of the calibrated Eq. 13 on the event's loading branch, % of peak;
+    * friction (sliding events of ``unseen_speed`` / ``unseen_load`` / ``unseen_specimen``):
+      ``|mu_k - mu_k,cal| / mu_k,cal`` in %;
+    * relaxation (``extended_relaxation``): ``|rho - rho_cal| / rho_cal`` in %;
+    * flat-to-curved (oblique, curved): predicted peak normal force of the flat calibration
+      with K scaled by ``sqrt(R_eff / R)`` (Eq. 14) against the measured one, in %.
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``event_id, material, specimen, environment, split, quantity, error_pct, source``;
+        training rows are included for the normal and friction quantities as the reference.
+    """
+    p = Test1Protocol() if protocol is None else protocol
+    rows = []
+
+    def add(r: dict, quantity: str, err: float) -> None:
+        rows.append({"event_id": r["event_id"], "material": r["material"],
+                     "specimen": r["specimen"], "environment": r["environment"],
+                     "split": r["split"], "quantity": quantity, "error_pct": float(err),
+                     "source": r["source"]})
+
+    n_spec, n_fam = _calibration(fits, "normal", ["k_n_per_mm_n", "exponent_n", "c_n_s_per_m"])
+    s_spec, s_fam = _calibration(fits, "sliding", ["mu_k"])
+    r_spec, r_fam = _calibration(fits, "relaxation", ["rho"])
+    ok = fits[fits["fit_ok"].astype(bool)]
+    for r in ok[ok["block"] == "sliding"].to_dict("records"):
+        if r["split"] in ("train", "unseen_speed", "unseen_load", "unseen_specimen"):
+            cal = _calibrated(r, s_spec, s_fam)["mu_k"]
+            add(r, "friction", abs(r["mu_k"] - cal) / cal * 100.0)
+    ext = ok[(ok["block"] == "relaxation") & (ok["split"] == "extended_relaxation")]
+    for r in ext.to_dict("records"):
+        cal = _calibrated(r, r_spec, r_fam)["rho"]
+        add(r, "relaxation", abs(r["rho"] - cal) / cal * 100.0)
+    curved = ok[(ok["block"] == "oblique") & (ok["split"] == "flat_to_curved")]
+    for r in curved.to_dict("records"):
+        law = _calibrated(r, n_spec, n_fam)
+        radius = r["surface_radius_mm"] if np.isfinite(r["surface_radius_mm"]) else \
+            p.curved_radius_mm
+        scale = bench._curvature_scale(radius * 1e-3)
+        pred = scale * law["k_n_per_mm_n"] * r["depth_mm"] ** law["exponent_n"]
+        add(r, "flat_to_curved", abs(pred - r["peak_normal_force_n"])
+            / r["peak_normal_force_n"] * 100.0)
+    if waveforms is not None:
+        nrm = ok[(ok["block"] == "normal")
+                 & ok["split"].isin(["train", "unseen_speed", "unseen_specimen"])]
+        nrm = nrm[nrm["event_id"].isin(set(waveforms["event_id"]))].set_index("event_id")
+        for eid, g in waveforms[waveforms["event_id"].isin(nrm.index)].groupby("event_id"):
+            r = {**nrm.loc[eid].to_dict(), "event_id": eid}
+            law = _calibrated(r, n_spec, n_fam)
+            a = {c: g[c].to_numpy(dtype=float) for c in WAVEFORM_COLUMNS[1:]}
+            depth, rate, force, peak = _trace_points(r, a, 10**9)
+            pred = normal_force(depth, rate, law["k_n_per_mm_n"], law["exponent_n"],
+                                law["c_n_s_per_m"])
+            add(r, "normal_force", np.sqrt(np.mean((pred - force) ** 2)) / peak * 100.0)
+    return pd.DataFrame(rows)
 
 
 # -------------------------------------------------------------------------------- PSO
