@@ -43,6 +43,16 @@ class TrialKind:
     ``design(study, params)``, when given, returns the trial list explicitly (one dict of factor
     values per trial, e.g. a hardware protocol's commanded schedule) instead of the Cartesian
     product of ``study.factors``.
+
+    ``finalize(study, params, records, store)`` runs once every trial is recorded and returns
+    study-level tables ``{name: list of row dicts}`` (e.g. the PSO re-identification of Test 1,
+    or the surrogate's model fits); they are stored in ``summary/<name>/`` and recomputed only when
+    missing.
+
+    Hardware protocols also supply ``schedule(study, params) -> DataFrame`` (the commanded sheet
+    written by ``graspcampaign schedule``) and ``ingest(study, params, paths) -> list[dict]``
+    (measured records, validated before anything is stored; raises a ``UserInputError`` /
+    ``IngestError`` naming file, row and column).
     """
 
     name: str
@@ -53,6 +63,9 @@ class TrialKind:
     body_key: Callable[[dict[str, Any]], dict[str, Any]] | None = None
     prepare: Callable[..., dict[str, Any]] | None = None
     design: Callable[[StudyCfg, Any], list[dict[str, Any]]] | None = None
+    finalize: Callable[..., dict[str, list[dict[str, Any]]]] | None = None
+    schedule: Callable[[StudyCfg, Any], Any] | None = None
+    ingest: Callable[[StudyCfg, Any, list[str]], list[dict[str, Any]]] | None = None
     description: str = ""
     extra: dict[str, Any] = field(default_factory=dict)
 

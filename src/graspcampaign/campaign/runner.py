@@ -325,14 +325,30 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
                     break
         finally:
             bar.close()
+    complete = not summary.stopped_early and summary.n_already + summary.n_ran == len(trials)
+    if complete and kind.finalize is not None:
+        _finalize(kind, study, params, store)
     store.compact_all()
     summary.wall_time_s = time.perf_counter() - t0
     session.update(finished_at=provenance.now_utc(), ran=summary.n_ran, errors=summary.n_error)
     manifest["sessions"].append(session)
-    if not summary.stopped_early and summary.n_already + summary.n_ran == len(trials):
+    if complete:
         manifest["finished_at"] = session["finished_at"]
     provenance.write_manifest(store.manifest_path, manifest)
     return summary
+
+
+def _finalize(kind: TrialKind, study: StudyCfg, params: Any, store: RunStore) -> None:
+    """Compute the study-level tables once all trials are recorded (skipped if stored)."""
+    done = store.path / "summary" / "complete.json"
+    if done.exists():
+        return
+    records = store.read().to_pandas()
+    tables = kind.finalize(study, params, records, store)
+    for name, rows in tables.items():
+        if rows:
+            store.write_shard(f"summary/{name}", "final", rows)
+    provenance.write_manifest(done, {"tables": sorted(tables), "at": provenance.now_utc()})
 
 
 def _prepare_bodies(kind, study, params, pending, store, map_unordered, summary):

@@ -170,6 +170,47 @@ def report(
         typer.echo(f"report: {path}")
 
 
+@app.command()
+@_guard
+def schedule(
+    study: str,
+    overrides: Overrides = None,
+    out: Annotated[Path | None, typer.Option(help="Output file stem (default: results/<study>/schedule).")] = None,
+) -> None:
+    """Write a hardware protocol's commanded-trial sheet (CSV and Parquet)."""
+    from graspcampaign.campaign.compose import compose_study
+    from graspcampaign.campaign.kind import get_kind
+    from graspcampaign.campaign.runner import kind_params
+
+    cfg = compose_study(study, overrides or [])
+    kind = get_kind(cfg.kind)
+    if kind.schedule is None:
+        _fail(f"study {study!r} is a simulation study; only hardware protocols have a schedule.")
+    sheet = kind.schedule(cfg, kind_params(cfg, kind))
+    stem = out or Path(cfg.output.root) / cfg.name / "schedule"
+    stem.parent.mkdir(parents=True, exist_ok=True)
+    sheet.to_csv(stem.with_suffix(".csv"), index=False)
+    sheet.to_parquet(stem.with_suffix(".parquet"), index=False)
+    typer.echo(f"{len(sheet)} commanded trials -> {stem.with_suffix('.csv')} and .parquet")
+
+
+@app.command()
+@_guard
+def ingest(
+    study: str,
+    files: Annotated[list[Path], typer.Argument(help="Measured records (CSV, XLSX or Parquet).")],
+    run: Annotated[str, typer.Option("--run", help="Run that receives the measured records.")] = "measured",
+    overrides: Annotated[list[str] | None, typer.Option("--set", help="Hydra override (repeatable).")] = None,
+) -> None:
+    """Validate measured records and store them as a run with source = measured."""
+    from graspcampaign.campaign.compose import compose_study
+    from graspcampaign.campaign.ingest import ingest_files
+
+    cfg = compose_study(study, overrides or [])
+    n, path = ingest_files(cfg, [str(f) for f in files], run)
+    typer.echo(f"{n} measured records stored in {path}")
+
+
 def main() -> None:
     """Console-script entry point."""
     try:
