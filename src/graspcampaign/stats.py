@@ -1,66 +1,8 @@
-"""Public statistics API for reports and notebooks: ``from graspcampaign import stats``.
+"""Public statistics API for notebooks: ``from graspcampaign import stats``.
 
-Re-exports :mod:`graspcampaign.report.stats`; nothing is defined here.
+A re-export of :mod:`graspcampaign.report.stats` (its ``__all__``); see there for the functions,
+their result dataclasses and their references.
 """
 
-from graspcampaign.report.stats import (
-    LIMITS_OF_AGREEMENT_Z,
-    BlandAltmanResult,
-    BootstrapInterval,
-    Chi2Result,
-    ClassifierMetrics,
-    KruskalResult,
-    LogisticResult,
-    McNemarResult,
-    ParityResult,
-    ProportionInterval,
-    SampleSizeResult,
-    SurvivalCurve,
-    bland_altman,
-    chi2_contingency_test,
-    classifier_metrics,
-    cluster_bootstrap_interval,
-    coefficient_of_variation,
-    discordant_pairs,
-    format_estimate_interval,
-    format_interval,
-    kruskal_wallis,
-    logistic_regression,
-    mcnemar,
-    median_abs_pct_error,
-    parity_fit,
-    power_two_proportions,
-    survival_curve,
-    wilson_interval,
-)
-
-__all__ = [
-    "LIMITS_OF_AGREEMENT_Z",
-    "BlandAltmanResult",
-    "BootstrapInterval",
-    "Chi2Result",
-    "ClassifierMetrics",
-    "KruskalResult",
-    "LogisticResult",
-    "McNemarResult",
-    "ParityResult",
-    "ProportionInterval",
-    "SampleSizeResult",
-    "SurvivalCurve",
-    "bland_altman",
-    "chi2_contingency_test",
-    "classifier_metrics",
-    "cluster_bootstrap_interval",
-    "coefficient_of_variation",
-    "discordant_pairs",
-    "format_estimate_interval",
-    "format_interval",
-    "kruskal_wallis",
-    "logistic_regression",
-    "mcnemar",
-    "median_abs_pct_error",
-    "parity_fit",
-    "power_two_proportions",
-    "survival_curve",
-    "wilson_interval",
-]
+from graspcampaign.report.stats import *  # noqa: F403
+from graspcampaign.report.stats import __all__  # noqa: F401
