@@ -25,6 +25,9 @@ SOURCE_LABEL = {
 # trial kind -> "module:function(report, records, manifest, store)"
 SECTIONS: dict[str, str] = {
     "mesh_features": "graspcampaign.report.sections.smoke:section",
+    "mesh_resolution": "graspcampaign.report.sections.mesh_resolution:section",
+    "sensitivity": "graspcampaign.report.sections.sensitivity:section",
+    "surrogate": "graspcampaign.report.sections.surrogate:section",
 }
 
 
