@@ -1,0 +1,140 @@
+"""Report sections of issue 7 rendered from reduced runs (and a synthetic surrogate dataset)."""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from graspcampaign.campaign.compose import compose_study
+from graspcampaign.campaign.records import RunStore
+from graspcampaign.campaign.runner import run_study
+from graspcampaign.report.build import build_reports
+from graspcampaign.report.document import Report
+
+REDUCED = {
+    "sensitivity": ["params.levels=2", "seeds=2"],
+    "mesh_resolution": ["seeds=2", "params.resolutions=[144,1750]", "params.timing_repeats=2",
+                        "params.budget_shapes=[sphere]", "params.budget_nodes=[144]",
+                        "params.budget_seeds=2", "params.budgets=[1,30]",
+                        "params.baseline_shapes=[sphere]", "params.baseline_masses_kg=[0.4]",
+                        "params.baseline_mus=[0.3]", "params.baseline_seeds=2"],
+    "surrogate": ["seeds=16"],
+}
+
+
+@pytest.fixture(scope="module")
+def runs(tmp_path_factory):
+    root = tmp_path_factory.mktemp("results")
+    stores = {}
+    for study, overrides in REDUCED.items():
+        cfg = compose_study(study, ["runner.backend=sequential", f"output.root={root}",
+                                    *overrides])
+        stores[study] = RunStore(run_study(cfg).path)
+    build_reports(list(REDUCED), root=root)
+    return stores
+
+
+def _table(store, name):
+    return pd.read_csv(store.path / "report" / "tables" / f"{name}.csv")
+
+
+def test_sensitivity_report(runs):
+    store = runs["sensitivity"]
+    records = store.read().to_pandas()
+    panels = _table(store, "sensitivity_panels").set_index("panel")
+    assert panels["trials"].to_dict() == records.groupby("panel").size().to_dict()
+    k = int(records.loc[records["panel"] == "mu_mass", "success"].sum())
+    assert panels.loc["mu_mass", "success"].startswith(f"{k}/8 = ")
+    claims = _table(store, "sensitivity_claims")
+    assert claims["claim (paper)"].str.contains("stable for λ1").any()
+    md = (store.path / "report" / "report.md").read_text()
+    assert "Where ours differ from the paper" in md
+    for name in ("fig19_sensitivity", "fig19_supplement"):
+        assert (store.path / "report" / "figures" / f"{name}.png").stat().st_size > 10_000
+
+
+def test_mesh_resolution_report_prints_the_cost_ratio(runs):
+    store = runs["mesh_resolution"]
+    records = store.read().to_pandas()
+    res = records[records["panel"] == "resolution"]
+    ratio = _table(store, "cost_ratio").iloc[0]
+    expected = res.loc[res["nodes"] == 1750, "cost_ratio_vs_reference"].median()
+    assert ratio["ours"] == pytest.approx(expected, rel=1e-12)
+    assert ratio["paper"] == 1.95 and ratio["target"] == 1.5
+    md = (store.path / "report" / "report.md").read_text()
+    assert f"Per-evaluation cost ratio 1750/144 nodes: {expected:.2f}**" in md
+    rerun = _table(store, "n_max_rerun").set_index("planner")
+    nm = records[records["panel"] == "n_max"]
+    failed = nm[~nm["success"].astype(bool)]
+    assert rerun["failures_at_n_max"].sum() == len(failed)
+    assert rerun["budget_capped"].sum() == failed["budget_capped"].sum()
+    budget = _table(store, "success_vs_n_cand")
+    assert set(budget["n_cand"]) == {-1, 1, 30}
+    assert (budget.loc[budget["n_cand"] > 0, "h_gap_to_reference"] >= -1e-12).all()
+    assert "cross-check" in md  # the baseline_grid records are absent here: says so
+    assert (store.path / "report" / "figures" / "fig20_mesh_resolution.png").exists()
+
+
+def test_surrogate_report_from_the_run(runs):
+    store = runs["surrogate"]
+    dataset = _table(store, "surrogate_dataset").set_index("group")
+    assert dataset.loc["all", "scenarios"] == 16
+    assert (store.path / "report" / "tables" / "surrogate_timing.csv").exists()
+    assert (store.path / "report" / "figures" / "figA1_surrogate.png").exists()
+
+
+def _synthetic(n=400, seed=3):
+    """Scenarios whose outcomes are known functions of the inputs (a check of the fitting)."""
+    rng = np.random.default_rng(seed)
+    df = pd.DataFrame({
+        "status": "ok", "shape": rng.choice(["sphere", "pear"], n),
+        "mass_kg": rng.uniform(0.1, 0.8, n), "mu": rng.uniform(0.05, 0.6, n),
+        "lambda1": rng.uniform(0.05, 1.5, n), "lambda2": rng.uniform(0.05, 1.5, n),
+        "msd_b": rng.uniform(0.1, 2.0, n), "n_exp": 0.487, "pso_n_evaluations": 25,
+        "pso_time_s": 0.05,
+    })
+    df["success"] = df["mass_kg"] < 0.3
+    df["success_vertical"] = df["mu"] > 0.3
+    df["residual_norm_n"] = 10 ** (3 * df["mass_kg"])
+    df["abs_residual_z_n"] = df["mass_kg"] * 9.81
+    df["delta_max_mm"] = 10 ** (1.5 - df["lambda1"])
+    return df
+
+
+def _manifest():
+    return {"config": {"seed": 5, "params": {"shapes": ["sphere", "pear"], "hidden_layers": [64, 32],
+                                             "n_trees": 100, "test_fraction": 0.2},
+                       "paper": compose_study("surrogate").paper},
+            "host": {"name": "test"}}
+
+
+def test_surrogate_fitting_recovers_known_structure(tmp_path):
+    pytest.importorskip("sklearn")
+    from graspcampaign.report.sections import surrogate
+
+    report = Report("surrogate", tmp_path / "report")
+    surrogate.section(report, _synthetic(), _manifest())
+    cls = report.tables["surrogate_classification"].set_index(["label", "model"])
+    assert (cls["roc_auc"] > 0.95).all()
+    assert cls.loc[("success", "mlp"), "test_trials"] == 80  # stratified 80/20 of 400
+    reg = report.tables["surrogate_regression"].set_index(["target", "model"])
+    assert reg.loc[("log10_residual_norm_n", "random_forest"), "r2"] > 0.95
+    assert reg.loc[("log10_delta_max_mm", "random_forest"), "r2"] > 0.95
+    importance = report.tables["surrogate_feature_importance"]
+    assert importance.iloc[0]["feature"] == "mass_kg"  # the one input success depends on
+    timing = report.tables["surrogate_timing"]
+    assert timing["time_s"].iloc[0] == 0.05 and (timing["time_s"] > 0).all()
+
+
+def test_surrogate_section_without_scikit_learn(tmp_path, monkeypatch):
+    from graspcampaign.report.sections import surrogate
+
+    monkeypatch.setitem(sys.modules, "sklearn", None)  # import sklearn -> ImportError
+    report = Report("surrogate", tmp_path / "report")
+    surrogate.section(report, _synthetic(60), _manifest())
+    assert "surrogate_classification" not in report.tables
+    assert "surrogate_dataset" in report.tables
+    assert any("not installed" in part[-1] for part in report.parts if part[0] == "text")
