@@ -1,0 +1,426 @@
+"""Ingest of measured Tests 2-3 per-trial records (CSV, XLSX, Parquet) against a documented schema.
+
+A measured-records file has one row per executed or aborted trial attempt, keyed by the
+schedule's ``trial_id`` (a re-run of an aborted slot that the schedule did not foresee may use the
+id ``<slot_id>-a<attempt>``). The columns are :data:`TEST2_SCHEMA` (Test 2) or
+:data:`TEST3_SCHEMA` (Test 3, the Test 2 columns plus the disturbance measurements), each with its
+unit in its name:
+
+=========================  ======  =======================================================
+column                     type    meaning, allowed values
+=========================  ======  =======================================================
+trial_id                   str     a schedule trial id (or a re-run ``<slot_id>-a<k>``)
+aborted                    bool    rig fault before load; such rows need nothing else
+outcome                    str     stable, success, partial, failure_slip, failure_drop,
+                                   failure_damage, failure_contact_loss (``aborted``)
+success, stable            bool    binary success (stable or success), stable hold
+slip_flag ... contact_     bool    measured failure events (slip, drop, damage, contact
+loss_flag                          loss); a failure class must carry its flag (§8.1)
+peak_slip_mm               float   [0, 1000] peak slip in the vision record
+sf_actual                  float   [0, 100] post-hoc safety factor
+g_geo_actual               float   [0, 1] achieved geometric efficiency
+normal_force_{1,2,3}_n     float   [-1, 20] per-finger normal force (~20 N sensors)
+normal_force_mean_n        float   [-1, 20]
+deformation_{1,2,3}_mm     float   [0, 50] contact deformation (vision)
+deformation_mean_mm        float   [0, 50]
+max_indentation_mm         float   [0, 100]
+contact_point_error_mm     float   [0, 200]
+Test 3 only:
+threshold_measured_n       float   [0, 50] sustained force at slip (load cell +-50 N)
+threshold_measured_nm      float   [0, 1] sustained yaw torque (0-1 N m sensor)
+threshold_censored         bool    the ramp ended (cap or commanded level) without slip
+first_finger_measured      int     0 (no slip), 1, 2 or 3
+rotation_at_limit_deg      float   [-180, 180]
+optional: abort_reason (str), environment (str), source (measured | virtual)
+=========================  ======  =======================================================
+
+Float cells may be empty (not measured) except ``sf_actual``, ``g_geo_actual`` and the flags of
+an executed row. Validation stops at the first problem and raises :class:`IngestError` with one
+sentence naming the file, the 1-based data row (header excluded) and the column; nothing is
+returned, so a caller that stores only after validation changes nothing on bad input.
+
+References
+----------
+SPEC §4 (ingest), paper §8.1 (outcome classes, flags, aborted attempts enter no statistic).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from graspcampaign.rig.protocol import STUDY_TEST2, STUDY_TEST3
+
+__all__ = [
+    "IngestError",
+    "OUTCOME_VALUES",
+    "TEST2_SCHEMA",
+    "TEST3_SCHEMA",
+    "FieldSpec",
+    "read_records",
+    "record_columns",
+    "schema_for",
+    "validate_records",
+]
+
+logger = logging.getLogger(__name__)
+
+OUTCOME_VALUES = ("stable", "success", "partial", "failure_slip", "failure_drop",
+                  "failure_damage", "failure_contact_loss", "aborted")
+SOURCES = ("measured", "virtual")
+_FLAG_OF = {"failure_slip": "slip_flag", "failure_drop": "drop_flag",
+            "failure_damage": "damage_flag", "failure_contact_loss": "contact_loss_flag"}
+
+
+class IngestError(ValueError):
+    """A measured-records file failed validation; the message names the file, row and column."""
+
+
+@dataclass(frozen=True)
+class FieldSpec:
+    """One column of the measured-records schema.
+
+    Attributes
+    ----------
+    name : str
+        Column name (unit suffix included).
+    kind : {"str", "bool", "float", "int"}
+    low, high : float
+        Inclusive range of numbers.
+    unit : str
+        Unit suffix for the wrong-unit check (``""`` for dimensionless or non-numeric).
+    executed_required : bool
+        Must be present (non-empty) in every non-aborted row.
+    optional : bool
+        May be missing from the header.
+    choices : tuple of str
+        Allowed strings (empty: any).
+    """
+
+    name: str
+    kind: str
+    low: float = -math.inf
+    high: float = math.inf
+    unit: str = ""
+    executed_required: bool = False
+    optional: bool = False
+    choices: tuple[str, ...] = ()
+
+
+_FLAGS = ("slip_flag", "drop_flag", "damage_flag", "contact_loss_flag")
+TEST2_SCHEMA: tuple[FieldSpec, ...] = (
+    FieldSpec("trial_id", "str"),
+    FieldSpec("aborted", "bool"),
+    FieldSpec("outcome", "str", executed_required=True, choices=OUTCOME_VALUES),
+    FieldSpec("success", "bool", executed_required=True),
+    FieldSpec("stable", "bool", executed_required=True),
+    *(FieldSpec(f, "bool", executed_required=True) for f in _FLAGS),
+    FieldSpec("peak_slip_mm", "float", 0.0, 1000.0, "mm"),
+    FieldSpec("sf_actual", "float", 0.0, 100.0, executed_required=True),
+    FieldSpec("g_geo_actual", "float", 0.0, 1.0, executed_required=True),
+    *(FieldSpec(f"normal_force_{j}_n", "float", -1.0, 20.0, "n") for j in (1, 2, 3)),
+    FieldSpec("normal_force_mean_n", "float", -1.0, 20.0, "n"),
+    *(FieldSpec(f"deformation_{j}_mm", "float", 0.0, 50.0, "mm") for j in (1, 2, 3)),
+    FieldSpec("deformation_mean_mm", "float", 0.0, 50.0, "mm"),
+    FieldSpec("max_indentation_mm", "float", 0.0, 100.0, "mm"),
+    FieldSpec("contact_point_error_mm", "float", 0.0, 200.0, "mm"),
+    FieldSpec("abort_reason", "str", optional=True),
+    FieldSpec("environment", "str", optional=True),
+    FieldSpec("source", "str", optional=True, choices=SOURCES),
+)
+"""Measured columns of a Test 2 record (module docstring)."""
+TEST3_SCHEMA: tuple[FieldSpec, ...] = TEST2_SCHEMA + (
+    FieldSpec("threshold_measured_n", "float", 0.0, 50.0, "n"),
+    FieldSpec("threshold_measured_nm", "float", 0.0, 1.0, "nm"),
+    FieldSpec("threshold_censored", "bool"),
+    FieldSpec("first_finger_measured", "int", 0.0, 3.0),
+    FieldSpec("rotation_at_limit_deg", "float", -180.0, 180.0, "deg"),
+)
+"""Measured columns of a Test 3 record: Test 2's plus the disturbance measurements."""
+
+_UNIT_RE = re.compile(r"^(?P<stem>.+)_(?P<unit>mm|m|cm|um|n|kn|mn|nm|nmm|deg|rad|s|ms|kg|g)$")
+_TRUE = {"true", "1", "yes", "y", "t", "1.0"}
+_FALSE = {"false", "0", "no", "n", "f", "0.0"}
+
+
+def schema_for(study: str) -> tuple[FieldSpec, ...]:
+    """Return the schema of ``test2_grasp`` or ``test3_disturbance``."""
+    if study == STUDY_TEST2:
+        return TEST2_SCHEMA
+    if study == STUDY_TEST3:
+        return TEST3_SCHEMA
+    raise ValueError(f"unknown study {study!r}: expected {STUDY_TEST2!r} or {STUDY_TEST3!r}")
+
+
+def record_columns(study: str) -> list[str]:
+    """Return the measured-record column names of a study, in schema order."""
+    return [f.name for f in schema_for(study)]
+
+
+def _fail(label: str, row: int | None, column: str, problem: str) -> IngestError:
+    where = "header" if row is None else f"row {row}"
+    return IngestError(f"{label}, {where}, column '{column}': {problem}.")
+
+
+def read_records(path: str | Path) -> pd.DataFrame:
+    """Read a records file (``.csv``, ``.parquet``/``.pq``, ``.xlsx``) without checks.
+
+    Raises
+    ------
+    IngestError
+        Unsupported file type, missing or unreadable file.
+    """
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in (".csv", ".parquet", ".pq", ".xlsx"):
+        raise IngestError(f"{path.name}, header, column '-': unsupported file type "
+                          f"'{suffix or '(none)'}' (expected .csv, .parquet or .xlsx).")
+    if not path.is_file():
+        raise IngestError(f"{path.name}, header, column '-': the file does not exist.")
+    try:
+        if suffix == ".csv":
+            return pd.read_csv(path, dtype=str, keep_default_na=False)
+        if suffix == ".xlsx":
+            return pd.read_excel(path, dtype=object)
+        return pd.read_parquet(path)
+    except Exception as exc:  # the readers raise many types for corrupt files
+        raise IngestError(f"{path.name}, header, column '-': the file cannot be read as "
+                          f"{suffix[1:]} ({type(exc).__name__}).") from exc
+
+
+def _blank(value) -> bool:
+    if value is None:
+        return True
+    if isinstance(value, float) and math.isnan(value):
+        return True
+    if value is pd.NA or value is pd.NaT:
+        return True
+    return isinstance(value, str) and value.strip().lower() in ("", "nan", "none", "null", "na")
+
+
+def _as_bool(value) -> bool | None:
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    if isinstance(value, (int, np.integer)) and value in (0, 1):
+        return bool(value)
+    if isinstance(value, (float, np.floating)) and value in (0.0, 1.0):
+        return bool(value)
+    text = str(value).strip().lower()
+    if text in _TRUE:
+        return True
+    if text in _FALSE:
+        return False
+    return None
+
+
+def _as_float(value) -> float | None:
+    if isinstance(value, (bool, np.bool_)):
+        return None
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        return None
+
+
+def _check_header(df: pd.DataFrame, schema, label: str) -> None:
+    columns = [str(c) for c in df.columns]
+    for spec in schema:
+        if spec.name in columns or spec.optional:
+            continue
+        stem_match = _UNIT_RE.match(spec.name) if spec.unit else None
+        if stem_match:
+            for c in columns:
+                m = _UNIT_RE.match(c)
+                if m and m["stem"] == stem_match["stem"] and m["unit"] != spec.unit:
+                    raise _fail(label, None, c, f"unit '{m['unit']}' where '{spec.name}' "
+                                f"({spec.unit}) is expected")
+        raise _fail(label, None, spec.name, "required column is missing")
+
+
+def validate_records(data: pd.DataFrame | str | Path, schedule: pd.DataFrame,
+                     file_label: str | None = None) -> pd.DataFrame:
+    """Validate measured per-trial records against the schedule and the study's schema.
+
+    Checks, in order: file type and readability, at least one row, the header (every schema
+    column present; a known quantity with another unit suffix is reported as wrong units),
+    ``trial_id`` present, ``aborted`` a boolean, then per executed row every column's type and
+    range (booleans, numbers, allowed strings, required cells non-empty), known trial ids (the
+    schedule's, or a re-run ``<slot_id>-a<k>`` of a known slot), no duplicate ``trial_id``, at
+    most one executed record per slot, and the §8.1 consistency of ``outcome`` with
+    ``success``/``stable`` and with its failure flag.
+
+    Parameters
+    ----------
+    data : DataFrame or path
+        The records, or a CSV/XLSX/Parquet file.
+    schedule : pandas.DataFrame
+        The study's schedule (its ``study`` column selects the schema).
+    file_label : str, optional
+        Name used in messages; default the file name (``"<dataframe>"`` for a frame).
+
+    Returns
+    -------
+    pandas.DataFrame
+        The schema columns with clean dtypes (bool columns are object arrays holding True/False
+        or None on aborted rows), plus ``slot_id`` and ``attempt`` from the schedule and
+        ``source`` (``"measured"`` unless the file says ``"virtual"``), in file order.
+
+    Raises
+    ------
+    IngestError
+        One sentence naming the file, the 1-based data row (header excluded) and the column.
+    """
+    if isinstance(data, (str, Path)):
+        label = file_label or Path(data).name
+        df = read_records(data)
+    else:
+        label = file_label or "<dataframe>"
+        df = data
+    if not isinstance(df, pd.DataFrame):
+        raise IngestError(f"{label}, header, column '-': expected a table, got "
+                          f"{type(df).__name__}.")
+    studies = schedule["study"].unique().tolist() if "study" in schedule else []
+    if len(studies) != 1:
+        raise ValueError(f"the schedule must hold exactly one study, got {studies}")
+    schema = schema_for(str(studies[0]))
+    df = df.reset_index(drop=True)
+    df.columns = [str(c).strip() for c in df.columns]
+    if len(df) == 0:
+        raise _fail(label, None, "trial_id", "the file has no data rows")
+    _check_header(df, schema, label)
+
+    n = len(df)
+    ids = []
+    for i, value in enumerate(df["trial_id"].tolist()):
+        if _blank(value):
+            raise _fail(label, i + 1, "trial_id", "trial id is empty")
+        ids.append(str(value).strip())
+    aborted = []
+    for i, value in enumerate(df["aborted"].tolist()):
+        flag = _as_bool(value)
+        if flag is None:
+            raise _fail(label, i + 1, "aborted", f"value {value!r} is not a boolean "
+                        "(true/false, 1/0, yes/no)")
+        aborted.append(flag)
+
+    out: dict[str, list] = {"trial_id": ids, "aborted": aborted}
+    for spec in schema:
+        if spec.name in ("trial_id", "aborted"):
+            continue
+        if spec.name not in df.columns:
+            out[spec.name] = [None] * n
+            continue
+        values = df[spec.name].tolist()
+        clean: list = []
+        for i, value in enumerate(values):
+            executed = not aborted[i]
+            if _blank(value):
+                if executed and spec.executed_required:
+                    raise _fail(label, i + 1, spec.name, "value is empty but the trial was "
+                                "executed (aborted is false)")
+                if spec.kind in ("float", "int"):
+                    clean.append(math.nan)
+                else:
+                    clean.append("" if spec.kind == "str" and spec.optional else None)
+                continue
+            clean.append(_parse(spec, value, label, i + 1))
+        out[spec.name] = clean
+    clean_df = pd.DataFrame(out)
+
+    _check_ids(clean_df, schedule, label)
+    _check_consistency(clean_df, label)
+    sources = clean_df["source"].where(clean_df["source"].fillna("") != "", "measured")
+    clean_df["source"] = sources.astype(object)
+    for spec in schema:
+        if spec.kind == "float":
+            clean_df[spec.name] = clean_df[spec.name].astype(float)
+        if spec.kind == "int":
+            clean_df[spec.name] = clean_df[spec.name].astype(float)
+    return clean_df
+
+
+def _parse(spec: FieldSpec, value, label: str, row: int):
+    if spec.kind == "bool":
+        flag = _as_bool(value)
+        if flag is None:
+            raise _fail(label, row, spec.name, f"value {value!r} is not a boolean "
+                        "(true/false, 1/0, yes/no)")
+        return flag
+    if spec.kind == "str":
+        text = str(value).strip()
+        if spec.choices and text not in spec.choices:
+            raise _fail(label, row, spec.name, f"value {text!r} is not one of "
+                        f"{', '.join(spec.choices)}")
+        return text
+    number = _as_float(value)
+    if number is None:
+        raise _fail(label, row, spec.name, f"value {value!r} is not a number")
+    if not math.isfinite(number):
+        raise _fail(label, row, spec.name, f"value {value!r} is not finite")
+    if spec.kind == "int" and number != int(number):
+        raise _fail(label, row, spec.name, f"value {value!r} is not an integer")
+    if not spec.low <= number <= spec.high:
+        unit = f" {spec.unit}" if spec.unit else ""
+        raise _fail(label, row, spec.name, f"value {number:g} lies outside "
+                    f"[{spec.low:g}, {spec.high:g}]{unit} (wrong units?)")
+    return number
+
+
+def _check_ids(df: pd.DataFrame, schedule: pd.DataFrame, label: str) -> None:
+    known = dict(zip(schedule["trial_id"], schedule["slot_id"], strict=True))
+    attempts = dict(zip(schedule["trial_id"], schedule["attempt"], strict=True))
+    slots = set(schedule["slot_id"])
+    slot_col, attempt_col = [], []
+    for i, tid in enumerate(df["trial_id"]):
+        if tid in known:
+            slot_col.append(known[tid])
+            attempt_col.append(int(attempts[tid]))
+            continue
+        m = re.fullmatch(r"(?P<slot>.+)-a(?P<k>[0-9]+)", tid)
+        if m and m["slot"] in slots and int(m["k"]) >= 2:
+            slot_col.append(m["slot"])
+            attempt_col.append(int(m["k"]))
+            continue
+        raise _fail(label, i + 1, "trial_id", f"trial id '{tid}' is not in the schedule")
+    dup = df["trial_id"].duplicated(keep="first")
+    if dup.any():
+        i = int(np.flatnonzero(dup.to_numpy())[0])
+        first = int(np.flatnonzero((df["trial_id"] == df["trial_id"].iloc[i]).to_numpy())[0])
+        raise _fail(label, i + 1, "trial_id", f"duplicate trial id '{df['trial_id'].iloc[i]}' "
+                    f"(first seen in row {first + 1})")
+    df["slot_id"] = slot_col
+    df["attempt"] = attempt_col
+    executed = ~df["aborted"].astype(bool)
+    twice = df["slot_id"].where(executed).duplicated(keep="first") & executed
+    if twice.any():
+        i = int(np.flatnonzero(twice.to_numpy())[0])
+        slot = df["slot_id"].iloc[i]
+        first = int(np.flatnonzero(((df["slot_id"] == slot) & executed).to_numpy())[0])
+        raise _fail(label, i + 1, "aborted", f"slot '{slot}' already has an executed record in "
+                    f"row {first + 1}; only one attempt per slot may be executed")
+
+
+def _check_consistency(df: pd.DataFrame, label: str) -> None:
+    for i, row in enumerate(df.itertuples(index=False)):
+        if row.aborted:
+            continue
+        outcome = row.outcome
+        if outcome == "aborted":
+            raise _fail(label, i + 1, "outcome", "outcome 'aborted' on a row whose aborted flag "
+                        "is false")
+        if bool(row.success) != (outcome in ("stable", "success")):
+            raise _fail(label, i + 1, "success", f"success is {row.success} but outcome is "
+                        f"'{outcome}' (success means outcome stable or success, §8.1)")
+        if bool(row.stable) != (outcome == "stable"):
+            raise _fail(label, i + 1, "stable", f"stable is {row.stable} but outcome is "
+                        f"'{outcome}'")
+        flag = _FLAG_OF.get(outcome)
+        if flag and not getattr(row, flag):
+            raise _fail(label, i + 1, flag, f"outcome is '{outcome}' but {flag} is false "
+                        "(every failure class carries its flag, §8.1)")
