@@ -376,8 +376,11 @@ def _ramp_to_slip(rate: float, cap: float, threshold: float, budget_s: float, bu
     return measured, travel, travel > p.drop_travel, threshold / rate + t_total
 
 
-def _quantise(value: float, step: float, rng: np.random.Generator, steps: float) -> float:
+def _quantise(value: float, step: float, rng: np.random.Generator, steps: float,
+              floor: float | None = None) -> float:
     noisy = value + steps * step * rng.standard_normal()
+    if floor is not None:
+        noisy = max(noisy, floor)
     return float(np.round(noisy / step) * step)
 
 
@@ -409,9 +412,9 @@ def grade(*, contact_loss: bool, dropped: bool, damaged: bool, slip_mm: float, s
     return ("stable" if stable else "success"), True, stable
 
 
-def _aborted(row: dict, rng: np.random.Generator) -> dict[str, Any]:
+def _aborted(row: dict, rng: np.random.Generator, environment: str) -> dict[str, Any]:
     return {"aborted": True, "abort_reason": str(rng.choice(ABORT_REASONS)), "outcome": "aborted",
-            "source": SOURCE}
+            "source": SOURCE, "environment": environment}
 
 
 def _num(row: dict, key: str, default: float = math.nan) -> float:
@@ -456,11 +459,11 @@ def virtual_trial(row: dict, predictions: dict, rng: np.random.Generator,
         rotation_at_limit_deg``. Aborted rows carry only the first four and ``outcome``.
     """
     p = RigParams() if params is None else params
-    if bool(row.get("rig_fault", False)):
-        return _aborted(row, rng)
     seed = int(row.get("protocol_seed", 0))
     study = str(row.get("study", ""))
     environment = day_environment(seed, study, int(row.get("day", 1)))
+    if bool(row.get("rig_fault", False)):
+        return _aborted(row, rng, environment)
     spec = specimen_truth(seed, str(row["object_id"]), str(row["material"]),
                           int(row.get("object_index", 1)), str(row.get("friction_level", "natural")),
                           environment, p.coating_mu_rel)
@@ -567,6 +570,8 @@ def virtual_trial(row: dict, predictions: dict, rng: np.random.Generator,
     deform = [max(float(d) + p.vision_noise * rng.standard_normal(), 0.0) * 1e3 for d in hold_depths]
     point_noise = p.contact_point_noise * rng.standard_normal((3, 3))
     cp_error = np.linalg.norm(points + offset - planned_points + point_noise, axis=1)
+    # A lost object is tracked until it leaves the fingertips: the record stops at drop_travel.
+    slip, graded_slip = min(slip, p.drop_travel), min(graded_slip, p.drop_travel)
     noise = p.vision_noise * rng.standard_normal()
     slip_mm = max(slip + noise, 0.0) * 1e3
     graded_mm = max(graded_slip + noise, 0.0) * 1e3
@@ -621,7 +626,7 @@ def _disturb(row, predictions, spec: Specimen, p: RigParams, points, normals, fo
         measured, travel, dropped, duration = _ramp_to_slip(rate, cap, lateral_limit, budget_s,
                                                             budget_k, base, mass, p)
         censored = lateral_limit > cap
-        measured = _quantise(measured, p.load_cell_resolution, rng, p.noise_steps)
+        measured = _quantise(measured, p.load_cell_resolution, rng, p.noise_steps, 0.0)
         measures.update(threshold_measured_n=measured, threshold_censored=censored,
                         first_finger_measured=0 if censored else first)
         threshold_ok = measured >= _num(row, "proof_force_n")
@@ -631,7 +636,7 @@ def _disturb(row, predictions, spec: Specimen, p: RigParams, points, normals, fo
         measured, travel, dropped, duration = _ramp_to_slip(
             rate / r_eff, cap / r_eff, lateral_limit, budget_s, budget_k, base, mass, p)
         censored = lateral_limit > cap / r_eff
-        torque = _quantise(measured * r_eff, p.torque_resolution, rng, p.noise_steps)
+        torque = _quantise(measured * r_eff, p.torque_resolution, rng, p.noise_steps, 0.0)
         pad = float(dist.microslip(1.0, budget_s / 3.0, spec.k_t))
         rotation = math.degrees((pad + (0.0 if censored else p.detection_slip)) / r_eff)
         measures.update(threshold_measured_nm=torque, threshold_censored=censored,
@@ -647,14 +652,14 @@ def _disturb(row, predictions, spec: Specimen, p: RigParams, points, normals, fo
         if abs(demand) <= budget_s:
             travel = float(dist.microslip(abs(demand) / budget_s, budget_s / 3.0, spec.k_t))
             measures.update(threshold_measured_n=_quantise(load, p.load_cell_resolution, rng,
-                                                           p.noise_steps),
+                                                           p.noise_steps, 0.0),
                             threshold_censored=True, first_finger_measured=0)
         else:
             onset = budget_s - base if kind == "down" else budget_s + base
             measured, travel, dropped, _ = _ramp_to_slip(rate, load, onset, budget_s, budget_k,
                                                          base, mass, p)
             measures.update(threshold_measured_n=_quantise(measured, p.load_cell_resolution, rng,
-                                                           p.noise_steps),
+                                                           p.noise_steps, 0.0),
                             threshold_censored=False, first_finger_measured=first)
     elif block in ("D", "E"):
         if block == "D":
