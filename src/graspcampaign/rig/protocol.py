@@ -334,12 +334,14 @@ def _test2_slots() -> list[dict[str, Any]]:
     # D: repeatability, 7 objects x 15.
     for object_id in TEST2_D_OBJECTS:
         slots += [_t2_slot("D", object_id) for _ in range(15)]
-    # E: speed sensitivity, cells cycled over the whole group (exact 20/80/20 marginals).
+    # E: speed sensitivity, cells cycled over the whole group (exact 20/80/20 marginals); each
+    # run of six consecutive trials puts one object through all six cells, so the speed levels
+    # are not confounded with objects.
     i = 0
     for shape in SHAPE_ORDER:
-        for j in range(TEST2_E_PER_SHAPE[shape]):
+        for _ in range(TEST2_E_PER_SHAPE[shape]):
             closing, lift = TEST2_E_CELLS[i % len(TEST2_E_CELLS)]
-            k = ENVELOPE_INDICES[j % len(ENVELOPE_INDICES)]
+            k = ENVELOPE_INDICES[(i // len(TEST2_E_CELLS)) % len(ENVELOPE_INDICES)]
             slots.append(_t2_slot("E", f"{shape}-{k:02d}", closing=closing, lift=lift))
             i += 1
     # M: matched ablation, 10 objects x 3 conditions x 3 repeats x 5 planners (one unit per cell).
