@@ -230,12 +230,14 @@ def _as_float(value) -> float | None:
 
 def _check_header(df: pd.DataFrame, schema, label: str) -> None:
     columns = [str(c) for c in df.columns]
+    known = {spec.name for spec in schema}
+    unknown = [c for c in columns if c not in known]
     for spec in schema:
         if spec.name in columns or spec.optional:
             continue
         stem_match = _UNIT_RE.match(spec.name) if spec.unit else None
         if stem_match:
-            for c in columns:
+            for c in unknown:
                 m = _UNIT_RE.match(c)
                 if m and m["stem"] == stem_match["stem"] and m["unit"] != spec.unit:
                     raise _fail(label, None, c, f"unit '{m['unit']}' where '{spec.name}' "
