@@ -57,7 +57,7 @@ def test_plan_with_mu_overrides_the_material(stl_files):
 @pytest.mark.parametrize("kwargs, match", [
     ({"mass_kg": 0.0}, r"mass_kg must lie in \(0, 50\] kg, got 0\.0\."),
     ({"mass_kg": "heavy"}, r"mass_kg must be a number, got 'heavy'\."),
-    ({"mass_kg": 0.1, "mu": -0.2}, r"mu must lie in \(0, 3\] , got -0\.2\."),
+    ({"mass_kg": 0.1, "mu": -0.2}, r"mu must lie in \(0, 3\], got -0\.2\."),
     ({"mass_kg": 0.1, "fingertip_radius_mm": 80}, r"fingertip_radius_mm must lie in \(0, 50\] mm"),
     ({"mass_kg": 0.1, "material": "steel"}, r"unknown material 'steel': use one of gel, "),
 ])

@@ -506,7 +506,8 @@ def _check_positive(value: object, name: str, upper: float, unit: str) -> float:
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be a number, got {value!r}.") from None
     if not (math.isfinite(number) and 0.0 < number <= upper):
-        raise ValueError(f"{name} must lie in (0, {upper:g}] {unit}, got {value!r}.")
+        unit = f" {unit}" if unit else ""
+        raise ValueError(f"{name} must lie in (0, {upper:g}]{unit}, got {value!r}.")
     return number
 
 

@@ -58,7 +58,7 @@ import functools
 import hashlib
 import logging
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -688,7 +688,3 @@ def _disturb(row, predictions, spec: Specimen, p: RigParams, points, normals, fo
     return {"measures": measures, "travel": travel, "graded_travel": graded, "dropped": dropped,
             "threshold_ok": threshold_ok, "duration": duration}
 
-
-def replace_params(params: RigParams, **changes) -> RigParams:
-    """Return ``params`` with fields changed (sensitivity studies)."""
-    return replace(params, **changes)
