@@ -620,6 +620,7 @@ def _disturb(row, predictions, spec: Specimen, p: RigParams, points, normals, fo
     first = dist.first_slip_finger(points, normals, forces, centroid, mass, spec.mu_s, kind,
                                    direction, p.kappa)
     base_pos = max(base, 0.0)
+    budget_s = max(budget_s, 1e-12)  # guards the ratios below; a zero budget never holds
     lateral_limit = math.sqrt(max(budget_s**2 - base_pos**2, 0.0))
     if block == "A":
         rate, cap = _num(row, "ramp_rate_n_per_s"), _num(row, "ramp_cap_n", 15.0)
@@ -631,7 +632,7 @@ def _disturb(row, predictions, spec: Specimen, p: RigParams, points, normals, fo
                         first_finger_measured=0 if censored else first)
         threshold_ok = measured >= _num(row, "proof_force_n")
     elif block == "C":
-        r_eff = dist.effective_radius(points, centroid)
+        r_eff = max(dist.effective_radius(points, centroid), 1e-6)
         rate, cap = _num(row, "torque_ramp_nm_per_s"), _num(row, "torque_cap_nm", 1.0)
         measured, travel, dropped, duration = _ramp_to_slip(
             rate / r_eff, cap / r_eff, lateral_limit, budget_s, budget_k, base, mass, p)
