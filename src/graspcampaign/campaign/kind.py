@@ -83,7 +83,7 @@ KINDS: dict[str, str | None] = {
     "sensitivity": "graspcampaign.campaign.kinds.sensitivity:SENSITIVITY",
     "mesh_resolution": "graspcampaign.campaign.kinds.mesh_resolution:MESH_RESOLUTION",
     "surrogate": "graspcampaign.campaign.kinds.surrogate:SURROGATE",
-    "test1_bench": None,
+    "test1_bench": "graspcampaign.campaign.kinds.test1:TEST1_BENCH",
     "test2_grasp": None,
     "test3_disturbance": None,
 }
