@@ -211,6 +211,55 @@ def ingest(
     typer.echo(f"{n} measured records stored in {path}")
 
 
+@app.command()
+@_guard
+def plan(
+    mesh: Annotated[Path, typer.Argument(help="Object mesh (STL, OBJ or PLY).")],
+    mass_kg: Annotated[float, typer.Option("--mass-kg", help="Object mass [kg].")],
+    material: Annotated[str | None, typer.Option(help="Table 4 material family.")] = None,
+    mu: Annotated[float | None, typer.Option(help="Static friction; overrides the material's.")] = None,
+    fingertip_radius_mm: Annotated[float, typer.Option("--fingertip-radius-mm")] = 5.0,
+    unit: Annotated[str, typer.Option(help="Length unit of the mesh file: m, cm or mm.")] = "mm",
+    png: Annotated[Path | None, typer.Option(help="Picture path (default: <mesh>.plan.png).")] = None,
+    as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
+) -> None:
+    """Plan a three-finger grasp on a mesh and predict the disturbances it resists."""
+    from graspcampaign.rig.plan import plan_mesh
+
+    if not mesh.is_file():
+        _fail(f"{mesh}: no such mesh file.")
+    png = png or mesh.with_suffix(".plan.png")
+    try:
+        result = plan_mesh(mesh, mass_kg=mass_kg, material=material, mu=mu,
+                           fingertip_radius_mm=fingertip_radius_mm, unit=unit, png_path=png)
+    except ValueError as exc:  # MeshError and out-of-range values are bad input
+        if _state["debug"]:
+            traceback.print_exc()
+        _fail(str(exc))
+    if as_json:
+        typer.echo(json.dumps(result, indent=2, default=str))
+        return
+    _print_plan(result)
+
+
+def _print_plan(r: dict) -> None:
+    typer.echo(f"mesh: {r['mesh']}  mass: {r['mass_kg']} kg (W = {r['weight_n']:.3f} N)  "
+               f"material: {r['material']}  mu_s: {r['mu_s']:.3f}")
+    for c in r["contacts"]:
+        point = ", ".join(f"{v:.1f}" for v in c["point_mm"])
+        normal = ", ".join(f"{v:.2f}" for v in c["normal"])
+        typer.echo(f"finger {c['finger']}: vertex {c['vertex']} at ({point}) mm, normal ({normal}), "
+                   f"f_n = {c['normal_force_n']:.3f} N, deformation = {c['deformation_mm']:.2f} mm")
+    typer.echo("H: " + ", ".join(f"{k}={v:.3f}" for k, v in r["h"].items()))
+    typer.echo(f"G_geo = {r['g_geo']:.3f}  grip = {r['grip_force_n']:.3f} N"
+               f"{' (capped at the damage depth)' if r['grip_capped'] else ''}  "
+               f"SF = {r['sf_predicted']:.3f}  predicted stable: {r['predicted_stable']}")
+    typer.echo(f"predicted limits: F_lat = {r['f_lat_n']:.3f} N, F_down = {r['f_down_n']:.3f} N, "
+               f"T = {r['torque_nm']:.4f} N m (r_eff = {r['r_eff_mm']:.1f} mm)")
+    typer.echo(f"first finger to slip: {r['first_finger']}")
+    typer.echo(f"picture: {r['png']}")
+
+
 def main() -> None:
     """Console-script entry point."""
     try:

@@ -28,6 +28,7 @@ SECTIONS: dict[str, str] = {
     "mesh_resolution": "graspcampaign.report.sections.mesh_resolution:section",
     "sensitivity": "graspcampaign.report.sections.sensitivity:section",
     "surrogate": "graspcampaign.report.sections.surrogate:section",
+    "test1_bench": "graspcampaign.report.sections.test1:section",
 }
 
 
