@@ -175,7 +175,9 @@ def report(
 def schedule(
     study: str,
     overrides: Overrides = None,
-    out: Annotated[Path | None, typer.Option(help="Output file stem (default: results/<study>/schedule).")] = None,
+    out: Annotated[
+        Path | None, typer.Option(help="Output file stem (default: results/<study>/schedule).")
+    ] = None,
 ) -> None:
     """Write a hardware protocol's commanded-trial sheet (CSV and Parquet)."""
     from graspcampaign.campaign.compose import compose_study
