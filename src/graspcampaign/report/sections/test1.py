@@ -13,6 +13,7 @@ the section shows is stated first: virtual-bench rows are synthetic, never hardw
 
 from __future__ import annotations
 
+import inspect
 import math
 from typing import Any
 
@@ -90,6 +91,18 @@ def _f(value: Any, digits: int = 3) -> str:
     if isinstance(value, (int, np.integer)):
         return str(int(value))
     return f"{float(value):.{digits}f}"
+
+
+def _table(report: Report, name: str, full: pd.DataFrame, caption: str,
+           display: pd.DataFrame) -> None:
+    """Add a table: full precision to CSV/JSON, ``display`` (rounded once) to Markdown/HTML.
+
+    A ``Report`` without the ``display`` argument gets the displayed form only.
+    """
+    if "display" in inspect.signature(report.table).parameters:
+        report.table(name, full, caption, display=display)
+    else:
+        report.table(name, display, caption)
 
 
 def _pm(mean: float, sd: float, digits: int = 3) -> str:
@@ -223,7 +236,7 @@ def _table4(report: Report, fits, truths, paper) -> None:
         "ρ / τ (s)": [f"{_f(a, 2)} / {_f(b, 1)}" for a, b in zip(full["rho"], full["tau_s"],
                                                                 strict=True)],
     })
-    report.table("table4", full, "Table 4 (ours beside the paper's): per-family means of the "
+    _table(report, "table4", full, "Table 4 (ours beside the paper's): per-family means of the "
                  "accepted normal fits (n, K, f0.5, C) and of the fitted sliding and relaxation "
                  "events. Our E is the virtual bench's drawn specimen modulus (the bench "
                  "measures none), mean ± SD over the specimens. C is not identifiable per event "
@@ -617,7 +630,7 @@ def _table5(report: Report, runs, t5, pso_transfer, paper) -> None:
         "paper CV (%)": [_f(v, 1) for v in full["paper_cv_pct"]],
     })
     n_conv = int(runs["converged"].astype(bool).sum())
-    report.table("table5", full,
+    _table(report, "table5", full,
                  f"Table 5 (ours beside the paper's): PSO re-identification on the training "
                  f"split's normal traces, mean ± SD and CV over our {n_conv} converged runs "
                  f"({len(runs)} logged; paper {paper.get('pso_runs_converged')} of "
