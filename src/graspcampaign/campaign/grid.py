@@ -21,6 +21,7 @@ import numpy as np
 from graspcampaign.campaign.schema import StudyCfg
 
 _HASH_LEN = 10
+_READABLE_MAX = 48  # the hash identifies the trial; the readable prefix only helps a human
 
 
 def _canonical(obj: Any) -> str:
@@ -107,7 +108,7 @@ def expand(study: StudyCfg, rows: list[dict[str, Any]] | None = None) -> list[Tr
         readable = "_".join(
             f"s{v}" if k == "seed" else f"r{v}" if k == "repeat" else _level_text(v)
             for k, v in factors.items() if k != "repeat" or study.repeats > 1
-        )
+        )[:_READABLE_MAX]
         digest = content_hash({"study": study.name, "kind": study.kind, "factors": factors})
         trials.append(
             Trial(
