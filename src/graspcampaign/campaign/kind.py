@@ -84,8 +84,8 @@ KINDS: dict[str, str | None] = {
     "mesh_resolution": "graspcampaign.campaign.kinds.mesh_resolution:MESH_RESOLUTION",
     "surrogate": "graspcampaign.campaign.kinds.surrogate:SURROGATE",
     "test1_bench": "graspcampaign.campaign.kinds.test1:TEST1_BENCH",
-    "test2_grasp": None,
-    "test3_disturbance": None,
+    "test2_grasp": "graspcampaign.campaign.kinds.hardware:TEST2_GRASP",
+    "test3_disturbance": "graspcampaign.campaign.kinds.hardware:TEST3_DISTURBANCE",
 }
 
 _EXTRA: dict[str, TrialKind] = {}

@@ -1,0 +1,303 @@
+"""``test2_grasp`` and ``test3_disturbance``: the Tests 2-3 hardware protocols on the engine.
+
+One trial = one row of the commanded sheet (:func:`graspcampaign.rig.protocol.test2_schedule`,
+1785 rows; :func:`~graspcampaign.rig.protocol.test3_schedule`, 1245 rows): its factors are the
+sheet's columns, the sheet's own id renamed ``rig_trial_id`` (the engine's ``trial_id`` is made
+from the factor values, docs/records.md) and ``study`` left to the engine's column of that name.
+Without a rig the trial runs on the virtual rig (``source = virtual``): the planner's
+pre-execution predictions (:func:`graspcampaign.rig.plan.predict_trial`, deterministic from the
+protocol seed and the row's ``plan_key``) and the measured outcome
+(:func:`graspcampaign.rig.virtual.virtual_trial`) drawn from the engine's per-trial generator,
+which depends on the study seed and the row only -- never on the worker or the order. Attempts the
+sheet marks ``rig_fault`` abort before load; their re-runs are rows of their own.
+
+There is no finalize stage: every Tests 2-3 statistic is computed by the report from the records,
+so a run filled by ``graspcampaign ingest`` gets exactly the same report.
+
+``graspcampaign schedule <study>`` writes the sheet with each row's plan (contacts, commanded grip
+per finger, predicted thresholds); ``graspcampaign ingest <study> FILES`` validates measured
+per-trial records (:func:`graspcampaign.rig.ingest.validate_records`: every file completely,
+before anything is stored) and stores them beside the same predictions.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from dataclasses import dataclass, field
+from functools import lru_cache
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from graspcampaign.campaign.kind import TrialInput, TrialKind
+from graspcampaign.campaign.schema import StudyCfg, check_value
+from graspcampaign.errors import ConfigError
+
+TEST2 = "test2_grasp"
+TEST3 = "test3_disturbance"
+SHEET_ID = "rig_trial_id"
+"""Record column holding the sheet's own trial id (the id a measured-records file uses)."""
+TEST2_GROUPS = ("A", "B", "C", "D", "E", "M", "X")
+TEST3_BLOCKS = ("A", "B", "C", "D", "E")
+
+
+def _list(default: list) -> Any:
+    return field(default_factory=lambda: list(default))
+
+
+def _object_ids() -> tuple[str, ...]:
+    from graspcampaign.rig.protocol import SHAPE_ORDER
+
+    return tuple(f"{s}-{k:02d}" for s in SHAPE_ORDER for k in range(1, 9))
+
+
+def _check_lists(items: tuple[tuple[str, list, dict], ...]) -> None:
+    for key, values, meta in items:
+        for i, v in enumerate(values):
+            check_value(f"params.{key}[{i}]", v, meta)
+        if len(set(values)) != len(values):
+            raise ConfigError(f"params.{key} lists a value twice: {list(values)!r}.")
+
+
+@dataclass
+class Test2GraspParams:
+    """Size of the Test 2 sheet: empty lists and ``fraction = 1`` are the full protocol.
+
+    ``objects`` keeps the slots on these object ids (``sphere-01`` ... ``handle-08``), ``groups``
+    the slots of these groups (A-E, M the matched ablation, X the further baseline trials), and
+    ``fraction`` a deterministic share of the remaining *units*: a slot with its re-run, or a
+    whole matched cell (all planners of one object, condition and repeat), chosen by a hash of the
+    unit, so pilots and tests keep complete matched pairs. Ids and factors of kept rows do not
+    change.
+    """
+
+    objects: list[str] = _list([])
+    groups: list[str] = _list([])
+    fraction: float = field(default=1.0, metadata={"gt": 0.0, "le": 1.0})
+
+    def __post_init__(self) -> None:
+        _check_lists((("objects", self.objects, {"type": str, "choices": _object_ids()}),
+                      ("groups", self.groups, {"type": str, "choices": TEST2_GROUPS})))
+
+    def selection(self) -> tuple[tuple[str, ...], tuple[str, ...], float]:
+        return tuple(sorted(self.objects)), tuple(sorted(self.groups)), float(self.fraction)
+
+
+@dataclass
+class Test3DisturbanceParams:
+    """Size of the Test 3 sheet: empty lists and ``fraction = 1`` are the full protocol.
+
+    As :class:`Test2GraspParams`, with ``blocks`` (A-E) in place of groups; a matched unit is one
+    object and disturbance for all five planners.
+    """
+
+    objects: list[str] = _list([])
+    blocks: list[str] = _list([])
+    fraction: float = field(default=1.0, metadata={"gt": 0.0, "le": 1.0})
+
+    def __post_init__(self) -> None:
+        _check_lists((("objects", self.objects, {"type": str, "choices": _object_ids()}),
+                      ("blocks", self.blocks, {"type": str, "choices": TEST3_BLOCKS})))
+
+    def selection(self) -> tuple[tuple[str, ...], tuple[str, ...], float]:
+        return tuple(sorted(self.objects)), tuple(sorted(self.blocks)), float(self.fraction)
+
+
+# -- the sheet ---------------------------------------------------------------------------------
+def unit_key(row: dict[str, Any]) -> str:
+    """The unit a reduced sheet keeps or drops whole: a matched cell, else the slot."""
+    if bool(row.get("matched")):
+        return f"{row['object_id']}|{row['condition']}|{row['repeat']}"
+    return str(row["slot_id"])
+
+
+def _keep_fraction(key: str, fraction: float) -> bool:
+    if fraction >= 1.0:
+        return True
+    word = int.from_bytes(hashlib.sha256(key.encode()).digest()[:8], "little")
+    return word / 2.0**64 < fraction
+
+
+@lru_cache(maxsize=8)
+def _sheet(study: str, seed: int, objects: tuple, groups: tuple, fraction: float) -> pd.DataFrame:
+    from graspcampaign.rig.protocol import test2_schedule, test3_schedule
+
+    sheet = test2_schedule(seed) if study == TEST2 else test3_schedule(seed)
+    keep = np.ones(len(sheet), dtype=bool)
+    if objects:
+        keep &= sheet["object_id"].isin(objects).to_numpy()
+    if groups:
+        keep &= sheet["group" if study == TEST2 else "block"].isin(groups).to_numpy()
+    if fraction < 1.0:
+        keys = [unit_key(r) for r in sheet[["matched", "object_id", "condition", "repeat",
+                                            "slot_id"]].to_dict("records")]
+        keep &= np.array([_keep_fraction(k, fraction) for k in keys], dtype=bool)
+    return sheet[keep].reset_index(drop=True)
+
+
+def protocol_schedule(study: StudyCfg, params: Any) -> pd.DataFrame:
+    """Return the study's commanded sheet (a copy; cached per seed and selection)."""
+    if study.kind not in (TEST2, TEST3):
+        raise ConfigError(f"study {study.name!r} has kind {study.kind!r}, not a Tests 2-3 protocol.")
+    return _sheet(study.kind, int(study.seed), *params.selection()).copy()
+
+
+def _native(value: Any) -> Any:
+    return value.item() if isinstance(value, np.generic) else value
+
+
+def design(study: StudyCfg, params: Any) -> list[dict[str, Any]]:
+    """One trial per sheet row; the factors are its columns (scalars), its id as ``rig_trial_id``."""
+    sheet = protocol_schedule(study, params).drop(columns=["study"])
+    sheet = sheet.rename(columns={"trial_id": SHEET_ID})
+    return [{k: _native(v) for k, v in r.items()} for r in sheet.to_dict("records")]
+
+
+def rig_row(factors: dict[str, Any], study: str) -> dict[str, Any]:
+    """The sheet row of a trial's factors, as :mod:`graspcampaign.rig` expects it."""
+    row = {k: v for k, v in factors.items() if k not in (SHEET_ID, "seed")}
+    row["trial_id"] = factors[SHEET_ID]
+    row["study"] = study
+    return row
+
+
+def _outputs(d: dict[str, Any]) -> dict[str, Any]:
+    return {k: _native(v) for k, v in d.items() if k != "source"}
+
+
+# -- one trial -----------------------------------------------------------------------------------
+def run(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
+    """Plan the row (cached per object and planner) and execute it on the virtual rig."""
+    from graspcampaign.rig.plan import predict_trial
+    from graspcampaign.rig.virtual import virtual_trial
+
+    row = rig_row(inp.trial.factors, inp.study.kind)
+    predictions = predict_trial(row)
+    measured = virtual_trial(row, predictions, rng)
+    return {**_outputs(predictions), **_outputs(measured)}
+
+
+# -- hardware side: schedule, export, ingest -----------------------------------------------------
+def schedule(study: StudyCfg, params: Any) -> pd.DataFrame:
+    """The commanded sheet with each row's plan, written by ``graspcampaign schedule``.
+
+    The sheet's columns, then the planner's pre-execution predictions (contacts and normals in the
+    object frame [mm], commanded grip per finger, SF_predicted, predicted forces, deformations,
+    thresholds and first finger to slip): what the rig executes and what it is scored against.
+    """
+    from graspcampaign.rig.plan import predict_trial
+
+    sheet = protocol_schedule(study, params)
+    plans = pd.DataFrame([predict_trial(r) for r in sheet.to_dict("records")])
+    plans = plans.drop(columns=["plan_time_s"])
+    return pd.concat([sheet, plans], axis=1)
+
+
+def export_records(records: pd.DataFrame, study: str) -> pd.DataFrame:
+    """Return stored records as a measured-records file (the ingest schema, sheet ids).
+
+    Used to hand the virtual rig's records to ``graspcampaign ingest`` (and as a template for a
+    rig's own files): one row per recorded attempt, the columns of
+    :func:`graspcampaign.rig.ingest.record_columns`, ``trial_id`` the sheet's id.
+    """
+    from graspcampaign.rig.ingest import record_columns
+
+    ok = records[records["status"] == "ok"] if "status" in records else records
+    out = pd.DataFrame({c: ok[c] if c in ok else None for c in record_columns(study)
+                        if c != "trial_id"})
+    out.insert(0, "trial_id", ok[SHEET_ID].to_numpy())
+    return out.reset_index(drop=True)
+
+
+def _measured_value(value: Any, kind: str) -> Any:
+    """A validated cell as the engine records it (ints as int, missing as None)."""
+    if value is None or (isinstance(value, float) and math.isnan(value)):
+        return None
+    if kind == "int":
+        return int(value)
+    return _native(value)
+
+
+def _rerun_trial(study: StudyCfg, trials: dict, sheet_id: str, slot: str, attempt: int):
+    """An engine trial for a re-run the sheet did not foresee (``<slot_id>-a<k>``)."""
+    from graspcampaign.campaign.grid import expand
+
+    first = next(t for t in trials.values() if t.factors["slot_id"] == slot)
+    factors = {**first.factors, SHEET_ID: sheet_id, "attempt": attempt, "rig_fault": False}
+    return expand(study, [factors])[0]
+
+
+def ingest(study: StudyCfg, params: Any, paths: list[str]) -> list[dict[str, Any]]:
+    """Validate measured-records files completely, then return their engine records.
+
+    Each file is checked by :func:`graspcampaign.rig.ingest.validate_records` (header and units,
+    types and ranges, known sheet ids, no duplicates, one executed attempt per slot, outcome
+    consistent with its flags); across files a trial id and a slot's executed attempt may appear
+    once. The first problem raises ``IngestError`` naming the file, the 1-based data row and the
+    column; nothing is stored then.
+
+    Returns
+    -------
+    list of dict
+        One record per row, keyed by the engine's ``trial_id`` of the same sheet row (a re-run
+        ``<slot_id>-a<k>`` the sheet did not foresee gets the id its factors give), with the
+        sheet's factors, the planner's predictions (recomputed: deterministic from the seed and
+        the row) and the measured columns; ``source`` is the file's column (virtual-rig exports
+        say ``virtual``), ``measured`` otherwise.
+    """
+    from graspcampaign.campaign.kind import get_kind
+    from graspcampaign.campaign.runner import study_trials
+    from graspcampaign.rig.ingest import IngestError, schema_for, validate_records
+    from graspcampaign.rig.plan import predict_trial
+
+    sheet = protocol_schedule(study, params)
+    kinds = {f.name: f.kind for f in schema_for(study.kind)}
+    frames: list[tuple[str, pd.DataFrame]] = []
+    seen_ids: dict[str, str] = {}
+    seen_slots: dict[str, str] = {}
+    for path in paths:
+        label = Path(path).name
+        table = validate_records(path, sheet, file_label=label)
+        for i, (tid, slot, aborted) in enumerate(zip(table["trial_id"], table["slot_id"],
+                                                     table["aborted"], strict=True)):
+            if tid in seen_ids:
+                raise IngestError(f"{label}, row {i + 1}, column 'trial_id': trial '{tid}' is "
+                                  f"already in {seen_ids[tid]} (one record per trial).")
+            seen_ids[tid] = label
+            if not aborted:
+                if slot in seen_slots:
+                    raise IngestError(f"{label}, row {i + 1}, column 'aborted': slot '{slot}' "
+                                      f"already has an executed record in {seen_slots[slot]}.")
+                seen_slots[slot] = label
+        frames.append((label, table))
+    trials = {t.factors[SHEET_ID]: t for t in study_trials(study, get_kind(study.kind), params)}
+    rows = []
+    for _, table in frames:
+        for rec in table.to_dict("records"):
+            sheet_id = rec["trial_id"]
+            trial = trials.get(sheet_id) or _rerun_trial(study, trials, sheet_id,
+                                                         rec["slot_id"], int(rec["attempt"]))
+            predictions = _outputs(predict_trial(rig_row(trial.factors, study.kind)))
+            measured = {k: _measured_value(v, kinds.get(k, "")) for k, v in rec.items()
+                        if k not in ("trial_id", "slot_id", "attempt", "source")}
+            rows.append({"trial_id": trial.trial_id, "kind": study.kind,
+                         "trial_index": trial.index, "scene_id": trial.scene_id,
+                         **trial.factors, "source": str(rec.get("source") or "measured"),
+                         **predictions, **measured})
+    return rows
+
+
+_COMMON = dict(source="virtual", seconds_per_trial=0.004, design=design, schedule=schedule,
+               ingest=ingest)
+
+TEST2_GRASP = TrialKind(
+    name=TEST2, run=run, params=Test2GraspParams,
+    description="Test 2 grasp validation (§8): one commanded slot, planned and executed on the "
+                "virtual rig", **_COMMON)
+TEST3_DISTURBANCE = TrialKind(
+    name=TEST3, run=run, params=Test3DisturbanceParams,
+    description="Test 3 disturbance robustness (§9): one commanded slot, planned, lifted and "
+                "disturbed on the virtual rig", **_COMMON)
