@@ -29,6 +29,8 @@ SECTIONS: dict[str, str] = {
     "sensitivity": "graspcampaign.report.sections.sensitivity:section",
     "surrogate": "graspcampaign.report.sections.surrogate:section",
     "test1_bench": "graspcampaign.report.sections.test1:section",
+    "test2_grasp": "graspcampaign.report.sections.test2:section",
+    "test3_disturbance": "graspcampaign.report.sections.test3:section",
 }
 
 
