@@ -1,0 +1,332 @@
+"""The ``test2_grasp`` and ``test3_disturbance`` kinds: design, records, workers, schedule, ingest.
+
+Reduced sheets (``params.fraction``: whole matched cells and slots with their re-runs) are run
+through ``run_study`` sequentially and on two loky workers; the records are checked against the
+in-process rig path (:func:`graspcampaign.rig.plan.predict_trial` and
+:func:`graspcampaign.rig.virtual.virtual_trial` with the trial's own generator), which no engine
+code touches. Ingest goes through the command line, one test per malformed-file kind.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+import pandas as pd
+import pytest
+from typer.testing import CliRunner
+
+from graspcampaign.campaign.compose import compose_study
+from graspcampaign.campaign.kind import get_kind
+from graspcampaign.campaign.kinds import hardware as H
+from graspcampaign.campaign.records import RunStore
+from graspcampaign.campaign.runner import kind_params, run_study, study_trials
+from graspcampaign.cli.main import app
+from graspcampaign.rig import protocol
+from graspcampaign.rig.ingest import record_columns
+from graspcampaign.rig.plan import predict_trial
+from graspcampaign.rig.virtual import virtual_trial
+
+SEEDS = {"test2_grasp": 801, "test3_disturbance": 901}  # campaigns/*.yaml
+REDUCED = ["params.fraction=0.06"]
+TIMING = {"wall_time_s", "plan_time_s", "worker", "host", "run"}
+cli = CliRunner()
+
+
+def _study(name, root, *extra):
+    return compose_study(name, ["runner.progress=false", f"output.root={root}", *REDUCED,
+                                *extra])
+
+
+def _same(a: pd.Series, b: pd.Series) -> bool:
+    """Equal cell by cell, None/NaN meaning the same (not measured)."""
+    for x, y in zip(a.tolist(), b.tolist(), strict=True):
+        xn = x is None or (isinstance(x, float) and math.isnan(x))
+        yn = y is None or (isinstance(y, float) and math.isnan(y))
+        if xn != yn or (not xn and x != y):
+            return False
+    return True
+
+
+@pytest.fixture(scope="module", params=sorted(SEEDS))
+def runs(request, tmp_path_factory):
+    """One reduced study run sequentially and on two loky workers."""
+    name = request.param
+    root = tmp_path_factory.mktemp(name)
+    seq = run_study(_study(name, root, "runner.backend=sequential", "output.run=seq"))
+    par = run_study(_study(name, root, "runner.backend=loky", "runner.n_jobs=2",
+                           "runner.batch_size=15", "output.run=par"))
+    study = _study(name, root)
+    records = RunStore(seq.path).read().to_pandas()
+    return name, root, study, seq, par, records
+
+
+# ------------------------------------------------------------------------------- design
+
+
+@pytest.mark.parametrize(("name", "maker", "n"), [("test2_grasp", protocol.test2_schedule, 1785),
+                                                  ("test3_disturbance", protocol.test3_schedule,
+                                                   1245)])
+def test_full_design_is_the_commanded_sheet(name, maker, n):
+    study = compose_study(name)
+    kind = get_kind(name)
+    trials = study_trials(study, kind, kind_params(study, kind))
+    sheet = maker(SEEDS[name])
+    assert len(trials) == n == len(sheet)  # §8.1: 1785 commanded; §9.1: 1245
+    assert [t.factors[H.SHEET_ID] for t in trials] == sheet["trial_id"].tolist()
+    assert len({t.trial_id for t in trials}) == n
+    assert kind.source == "virtual"
+    assert all(isinstance(v, (str, int, float, bool)) for t in trials[:40]
+               for v in t.factors.values())
+
+
+def test_reduced_sheet_keeps_matched_cells_and_reruns_whole():
+    study = compose_study("test2_grasp", ["params.fraction=0.2"])
+    sheet = H.protocol_schedule(study, kind_params(study, get_kind("test2_grasp")))
+    full = protocol.test2_schedule(SEEDS["test2_grasp"])
+    assert 0.1 * len(full) < len(sheet) < 0.3 * len(full)
+    matched = sheet[sheet["matched"]]
+    assert (matched.groupby(["object_id", "condition", "repeat"])["slot_id"].nunique() == 5).all()
+    faults = set(sheet.loc[sheet["rig_fault"], "slot_id"])
+    assert faults == set(sheet.loc[sheet["attempt"] == 2, "slot_id"])
+    kept = full[full["trial_id"].isin(sheet["trial_id"])]  # ids and factors unchanged
+    pd.testing.assert_frame_equal(sheet, kept.reset_index(drop=True))
+    one = compose_study("test3_disturbance", ["params.objects=[pear-01]", "params.blocks=[A,C]"])
+    part = H.protocol_schedule(one, kind_params(one, get_kind("test3_disturbance")))
+    assert set(part["object_id"]) == {"pear-01"} and set(part["block"]) == {"A", "C"}
+
+
+def test_params_are_validated_before_anything_runs(tmp_path):
+    result = cli.invoke(app, ["run", "test2_grasp", "params.objects=[cup-01]",
+                              f"output.root={tmp_path}"])
+    assert result.exit_code == 2
+    assert re.search(r"params\.objects\[0\] has unknown value 'cup-01'", result.stderr)
+    assert not any(tmp_path.iterdir())
+    result = cli.invoke(app, ["show", "test3_disturbance", "params.blocks=[F]"])
+    assert result.exit_code == 2 and "params.blocks[0] has unknown value 'F'" in result.stderr
+    result = cli.invoke(app, ["show", "test2_grasp", "params.fraction=0"])
+    assert result.exit_code == 2 and "params.fraction = 0.0 is out of range" in result.stderr
+
+
+# ------------------------------------------------------------------ engine = in-process
+
+
+def test_records_equal_the_in_process_rig(runs):
+    name, _, study, seq, _, records = runs
+    assert seq.n_error == 0 and seq.n_trials == len(records) > 50
+    trials = {t.trial_id: t for t in study_trials(study, get_kind(name),
+                                                  kind_params(study, get_kind(name)))}
+    rec = records.set_index("trial_id")
+    for tid in list(trials)[:: max(1, len(trials) // 40)]:
+        t = trials[tid]
+        row = {k: v for k, v in t.factors.items() if k not in (H.SHEET_ID, "seed")}
+        row.update(trial_id=t.factors[H.SHEET_ID], study=name)
+        pred = predict_trial(row)
+        meas = virtual_trial(row, pred, t.rng(SEEDS[name]))
+        for k, v in {**pred, **meas}.items():
+            if k in ("plan_time_s", "source"):
+                continue
+            got = rec.loc[tid, k]
+            assert (got is None or (isinstance(got, float) and math.isnan(got))) if v is None \
+                or (isinstance(v, float) and math.isnan(v)) else got == v, (tid, k)
+
+
+def test_records_carry_the_sheet_row_and_label_the_source(runs):
+    name, _, study, _, _, records = runs
+    sheet = H.protocol_schedule(study, kind_params(study, get_kind(name)))
+    got = records.set_index(H.SHEET_ID).loc[sheet["trial_id"]].reset_index()
+    for col in sheet.columns.drop(["trial_id", "study"]):
+        assert _same(got[col], sheet[col]), col
+    assert (records["source"] == "virtual").all() and (records["study"] == name).all()
+    aborted = records["aborted"].astype(bool)
+    assert (aborted == records["rig_fault"].astype(bool)).all()
+    assert (records.loc[aborted, "outcome"] == "aborted").all()
+    assert records.loc[~aborted, "success"].notna().all()
+
+
+def test_records_do_not_depend_on_the_worker_count(runs):
+    *_, seq, par, records = runs
+    other = RunStore(par.path).read().to_pandas()
+    assert par.n_error == 0 and other["worker"].nunique() == 2  # both workers ran trials
+    a = records.sort_values("trial_id").reset_index(drop=True)
+    b = other.sort_values("trial_id").reset_index(drop=True)
+    assert sorted(a.columns) == sorted(b.columns)
+    for col in sorted(set(a.columns) - TIMING):
+        assert _same(a[col], b[col]), col
+
+
+def test_schedule_command_writes_the_sheet_with_its_plans(tmp_path):
+    result = cli.invoke(app, ["schedule", "test3_disturbance", "params.blocks=[C]",
+                              f"output.root={tmp_path}"])
+    assert result.exit_code == 0, result.output
+    sheet = pd.read_parquet(tmp_path / "test3_disturbance" / "schedule.parquet")
+    full = protocol.test3_schedule(SEEDS["test3_disturbance"])
+    want = full[full["block"] == "C"].reset_index(drop=True)
+    pd.testing.assert_frame_equal(sheet[want.columns], want)
+    for col in ("grip_force_n", "contact_1_x_mm", "normal_3_z", "torque_pred_nm",
+                "first_finger_pred", "retention_pred"):
+        assert col in sheet and sheet[col].notna().all(), col
+    # §9.1: T = W sqrt(SF^2 - 1) r_eff on every row the planner sized to SF >= 1
+    ok = sheet[sheet["sf_predicted"] >= 1.0]
+    weight = ok["mass_kg"] * 9.81
+    np.testing.assert_allclose(ok["torque_pred_nm"], weight * np.sqrt(ok["sf_predicted"] ** 2 - 1)
+                               * ok["r_eff_mm"] * 1e-3, rtol=1e-9)
+
+
+# ------------------------------------------------------------------------------- ingest
+
+
+def _ingest(root, *files, study="test2_grasp", run="measured"):
+    return cli.invoke(app, ["ingest", study, *map(str, files), "--run", run, "--set",
+                            f"output.root={root}", *[a for o in REDUCED for a in ("--set", o)]])
+
+
+def _snapshot(path):
+    return sorted((p.relative_to(path).as_posix(), p.stat().st_size, p.stat().st_mtime_ns)
+                  for p in path.rglob("*") if p.is_file())
+
+
+@pytest.fixture(scope="module")
+def t2_export(tmp_path_factory):
+    root = tmp_path_factory.mktemp("t2ingest")
+    summary = run_study(_study("test2_grasp", root, "runner.backend=sequential"))
+    records = RunStore(summary.path).read().to_pandas()
+    export = H.export_records(records, "test2_grasp")
+    folder = tmp_path_factory.mktemp("t2files")
+    half = len(export) // 2
+    export.iloc[:half].to_csv(folder / "day1.csv", index=False)
+    export.iloc[half:].to_parquet(folder / "day2.parquet", index=False)
+    result = _ingest(root, folder / "day1.csv")
+    assert result.exit_code == 0, result.output
+    return root, folder, records, export, RunStore(root / "test2_grasp" / "measured")
+
+
+def test_ingest_stores_the_engine_records_under_the_same_ids(t2_export):
+    root, folder, records, export, store = t2_export
+    result = _ingest(root, folder / "day2.parquet", run="all")
+    assert result.exit_code == 0, result.output
+    result = _ingest(root, folder / "day1.csv", run="all")
+    assert result.exit_code == 0, result.output
+    got = RunStore(root / "test2_grasp" / "all").read().to_pandas()
+    assert len(got) == len(records) and set(got["trial_id"]) == set(records["trial_id"])
+    a = records.set_index("trial_id").sort_index()
+    b = got.set_index("trial_id").sort_index()
+    skip = TIMING | {"status", "error_type", "error_message", "abort_reason", "environment"}
+    for col in sorted((set(a.columns) & set(b.columns)) - skip):
+        assert _same(a[col], b[col]), col
+    assert (b["source"] == "virtual").all()  # the files say what they are
+    assert record_columns("test2_grasp")[0] == "trial_id" == export.columns[0]
+
+
+def test_an_unforeseen_rerun_gets_its_own_trial(t2_export, tmp_path):
+    root, _, records, export, _ = t2_export
+    plain = records[~records["rig_fault"].astype(bool) & (records["attempt"] == 1)].iloc[0]
+    row = export[export["trial_id"] == plain[H.SHEET_ID]].iloc[0]
+    aborted = {c: None for c in export.columns} | {"trial_id": row["trial_id"], "aborted": True,
+                                                   "outcome": "aborted", "source": "virtual"}
+    rerun = row.to_dict() | {"trial_id": f"{plain['slot_id']}-a2"}
+    pd.DataFrame([aborted, rerun]).to_csv(tmp_path / "rerun.csv", index=False)
+    result = _ingest(root, tmp_path / "rerun.csv", run="rerun")
+    assert result.exit_code == 0, result.output
+    got = RunStore(root / "test2_grasp" / "rerun").read().to_pandas().set_index(H.SHEET_ID)
+    assert got.loc[rerun["trial_id"], "attempt"] == 2
+    assert got.loc[rerun["trial_id"], "trial_id"] not in set(records["trial_id"])
+    assert got.loc[row["trial_id"], "trial_id"] == plain["trial_id"]
+
+
+def _bad(export: pd.DataFrame, kind: str, folder):
+    """A malformed measured-records file of one failure kind; returns (paths, message)."""
+    ex = export[~export["aborted"].astype(bool)].reset_index(drop=True)
+    df = ex.copy()
+    path = folder / f"{kind}.csv"
+    if kind == "file_type":
+        path = folder / "records.txt"
+        path.write_text("trial_id\n")
+        return [path], r"unsupported file type '\.txt'"
+    if kind == "missing_file":
+        return [folder / "nowhere.csv"], r"no such file"
+    if kind == "corrupt":
+        path = folder / "broken.parquet"
+        path.write_bytes(b"PAR1 not really parquet")
+        return [path], r"broken\.parquet, header, column '-': the file cannot be read as parquet"
+    if kind == "no_rows":
+        df = df.iloc[:0]
+        msg = r"the file has no data rows"
+    elif kind == "missing_column":
+        df = df.drop(columns=["sf_actual"])
+        msg = r"header, column 'sf_actual': required column is missing"
+    elif kind == "wrong_unit":
+        df = df.rename(columns={"peak_slip_mm": "peak_slip_m"})
+        msg = r"column 'peak_slip_m': unit 'm' where 'peak_slip_mm' \(mm\) is expected"
+    elif kind == "empty_id":
+        df.loc[2, "trial_id"] = ""
+        msg = r"row 3, column 'trial_id': trial id is empty"
+    elif kind == "unknown_id":
+        df.loc[1, "trial_id"] = "t2A-sphere-01-prop-0000000000"
+        msg = r"row 2, column 'trial_id': trial id 't2A-sphere-01-prop-0000000000' is not in"
+    elif kind == "duplicate":
+        df = pd.concat([df, df.iloc[[0]]], ignore_index=True)
+        msg = rf"row {len(df)}, column 'trial_id': duplicate trial id"
+    elif kind == "not_boolean":
+        df["aborted"] = df["aborted"].astype(object)
+        df.loc[0, "aborted"] = "maybe"
+        msg = r"row 1, column 'aborted': value 'maybe' is not a boolean"
+    elif kind == "not_number":
+        df["normal_force_1_n"] = df["normal_force_1_n"].astype(object)
+        df.loc[0, "normal_force_1_n"] = "1,5"
+        msg = r"row 1, column 'normal_force_1_n': value '1,5' is not a number"
+    elif kind == "not_finite":
+        df.loc[0, "g_geo_actual"] = math.inf
+        msg = r"row 1, column 'g_geo_actual': value 'inf' is not finite"
+    elif kind == "out_of_range":
+        df.loc[0, "deformation_1_mm"] = 120.0
+        msg = r"row 1, column 'deformation_1_mm': value 120 lies outside \[0, 50\] mm"
+    elif kind == "bad_choice":
+        df.loc[0, "outcome"] = "wobbled"
+        msg = r"row 1, column 'outcome': value 'wobbled' is not one of stable"
+    elif kind == "required_empty":
+        df.loc[0, "sf_actual"] = None
+        msg = r"row 1, column 'sf_actual': value is empty but the trial was executed"
+    elif kind == "inconsistent":
+        i = int(np.flatnonzero(df["outcome"].isin(["stable", "success"]))[0])
+        df.loc[i, "success"] = False
+        msg = rf"row {i + 1}, column 'success': success is False but outcome is"
+    elif kind == "missing_flag":
+        i = int(np.flatnonzero(df["outcome"] == "failure_drop")[0])
+        df.loc[i, "drop_flag"] = False
+        msg = rf"row {i + 1}, column 'drop_flag': outcome is 'failure_drop' but drop_flag is false"
+    elif kind == "slot_twice":
+        extra = df.iloc[[0]].assign(trial_id=lambda d: d["trial_id"] + "-a2")
+        df = pd.concat([df, extra], ignore_index=True)
+        msg = rf"row {len(df)}, column 'aborted': slot '.*' already has an executed record"
+    elif kind == "across_files":
+        df.iloc[:3].to_csv(folder / "a.csv", index=False)
+        df.iloc[2:5].to_parquet(folder / "b.parquet", index=False)
+        return [folder / "a.csv", folder / "b.parquet"], \
+            r"b\.parquet, row 1, column 'trial_id': trial '.*' is already in a\.csv"
+    elif kind == "already_stored":
+        df = export.iloc[:2]
+        msg = r"is already stored in .*measured records are never overwritten"
+    else:
+        raise AssertionError(kind)
+    df.to_csv(path, index=False)
+    return [path], msg
+
+
+FAILURES = ("file_type", "missing_file", "corrupt", "no_rows", "missing_column", "wrong_unit",
+            "empty_id", "unknown_id", "duplicate", "not_boolean", "not_number", "not_finite",
+            "out_of_range", "bad_choice", "required_empty", "inconsistent", "missing_flag",
+            "slot_twice", "across_files", "already_stored")
+
+
+@pytest.mark.parametrize("kind", FAILURES)
+def test_malformed_files_are_rejected_and_nothing_changes(t2_export, kind, tmp_path):
+    root, _, _, export, store = t2_export
+    before = _snapshot(store.path)
+    files, message = _bad(export, kind, tmp_path)
+    result = _ingest(root, *files)
+    assert result.exit_code == 2, result.output
+    assert re.search(message, result.stderr), result.stderr
+    assert result.stderr.count("\n") == 1  # one sentence, no traceback
+    assert _snapshot(store.path) == before
