@@ -14,7 +14,8 @@ import pandas as pd
 from graspcampaign.campaign.provenance import read_manifest
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.errors import UserInputError
-from graspcampaign.report.document import Report
+from graspcampaign.report.document import Report, check_formats
+from graspcampaign.report.headline import write_headline
 
 SOURCE_LABEL = {
     "simulation": "simulation (this tool's numerical model)",
@@ -25,9 +26,13 @@ SOURCE_LABEL = {
 # trial kind -> "module:function(report, records, manifest, store)"
 SECTIONS: dict[str, str] = {
     "mesh_features": "graspcampaign.report.sections.smoke:section",
+    "quasi_static": "graspcampaign.report.sections.quasi_static:section",
     "mesh_resolution": "graspcampaign.report.sections.mesh_resolution:section",
     "sensitivity": "graspcampaign.report.sections.sensitivity:section",
     "surrogate": "graspcampaign.report.sections.surrogate:section",
+    "pso_repeatability": "graspcampaign.report.sections.pso:section",
+    "wrench_balance": "graspcampaign.report.sections.wrench:section",
+    "heuristic_weights": "graspcampaign.report.sections.weights:section",
     "test1_bench": "graspcampaign.report.sections.test1:section",
     "test2_grasp": "graspcampaign.report.sections.test2:section",
     "test3_disturbance": "graspcampaign.report.sections.test3:section",
@@ -90,7 +95,7 @@ def build_reports(studies: list[str] | None = None, run: str | None = None,
                   root: Path | str = "results", formats: list[str] | None = None) -> list[Path]:
     """Write ``report/`` for each selected run and the index; return the report paths."""
     root = Path(root)
-    formats = formats or ["md", "csv"]
+    formats = check_formats(formats)
     written = []
     for store in _runs(root, studies, run):
         manifest = read_manifest(store.manifest_path)
@@ -105,15 +110,22 @@ def build_reports(studies: list[str] | None = None, run: str | None = None,
                 getattr(importlib.import_module(module), attr)(report, records, manifest, store)
             generic_section(report, records, manifest, store)
         written.append(report.write(formats))
+    write_headline(root)
     _write_index(root)
     return written
 
 
 def _write_index(root: Path) -> None:
-    lines = ["# Reports", "", "| study | run | source | trials | report |", "|---|---|---|---|---|"]
-    for path in sorted(root.glob("*/*/report/report.md")):
-        manifest = read_manifest(path.parent.parent / "manifest.json") or {}
-        rel = path.relative_to(root).as_posix()
+    lines = ["# Reports", "", "Headline success rates beside the paper's Table 1: "
+             "[headline.md](headline.md)", "",
+             "| study | run | source | trials | report |", "|---|---|---|---|---|"]
+    for report_dir in sorted(root.glob("*/*/report")):
+        main = next((report_dir / f for f in ("report.md", "report.html", "tables.json")
+                     if (report_dir / f).exists()), None)
+        if main is None:
+            continue
+        manifest = read_manifest(report_dir.parent / "manifest.json") or {}
+        rel = main.relative_to(root).as_posix()
         lines.append(f"| {manifest.get('study')} | {manifest.get('run')} | "
                      f"{manifest.get('source')} | {manifest.get('n_trials')} | [{rel}]({rel}) |")
     (root / "index.md").write_text("\n".join(lines) + "\n")
