@@ -32,7 +32,8 @@ import numpy as np
 from graspcampaign.campaign.grid import stream_key
 from graspcampaign.campaign.kind import TrialInput, TrialKind
 from graspcampaign.campaign.kinds import common, quasi_static
-from graspcampaign.campaign.kinds.sensitivity import plan_and_evaluate, verdicts
+from graspcampaign.campaign.kinds.quasi_static import verdicts
+from graspcampaign.campaign.kinds.sensitivity import plan_and_evaluate
 from graspcampaign.errors import ConfigError
 
 PANELS = ("resolution", "budget", "n_max")

@@ -66,11 +66,23 @@ def body_contact(study, prepared: dict[str, Any] | None):
                                  n=prepared["n_exponent"])
 
 
+def verdicts(eq, evaluator) -> dict[str, bool]:
+    """Both readings of Algorithm 1 line 6 from one evaluation (batch of one).
+
+    ``success_norm`` checks the normal-only |R| (SPEC 2.7, the default), ``success_vertical``
+    |R_z| (the paper's prose, Sec. 3.7 and 6.5); torque and slip checks are shared.
+    """
+    rest = bool(eq.torque_ok[0]) and bool(eq.slip_ok[0])
+    return {"success_norm": bool(eq.residual_norm[0] < evaluator.tau_f) and rest,
+            "success_vertical": bool(abs(eq.residual_z[0]) < evaluator.tau_f) and rest}
+
+
 def plan_record(ctx, plan, truth) -> dict[str, Any]:
     """Flatten a PlanResult and its ground-truth evaluation into record columns."""
     eq = truth
     out: dict[str, Any] = {
         "success": bool(eq.success[0]),
+        **verdicts(eq, ctx.evaluator),
         "failure_check": str(eq.failure_labels()[0]),
         "residual_norm_n": float(eq.residual_norm[0]),
         "residual_z_n": float(eq.residual_z[0]),

@@ -125,17 +125,6 @@ def prepare(study, params, body, rng: np.random.Generator) -> dict[str, Any]:
     return quasi_static.prepare(study, params, body, rng)
 
 
-def verdicts(eq, evaluator) -> dict[str, bool]:
-    """Both readings of Algorithm 1 line 6 from one evaluation (batch of one).
-
-    ``success_norm`` checks the normal-only |R| (SPEC 2.7, the default), ``success_vertical``
-    |R_z| (the paper's prose); torque and slip checks are shared.
-    """
-    rest = bool(eq.torque_ok[0]) and bool(eq.slip_ok[0])
-    return {"success_norm": bool(eq.residual_norm[0] < evaluator.tau_f) and rest,
-            "success_vertical": bool(abs(eq.residual_z[0]) < evaluator.tau_f) and rest}
-
-
 def plan_and_evaluate(study, shape: str, nodes: int, mass: float, mu: float, contact,
                       planner: str, rng: np.random.Generator, n_cand: int | None = None,
                       evaluator=None) -> tuple[Any, Any, dict[str, Any]]:
@@ -160,7 +149,6 @@ def plan_and_evaluate(study, shape: str, nodes: int, mass: float, mu: float, con
     if plan.contact != ctx.contact:  # a planner that believes other parameters (no_pso)
         truth = evaluate_triple(ctx, plan.points, plan.normals, contact=ctx.contact)
     out = quasi_static.plan_record(ctx, plan, truth)
-    out.update(verdicts(truth, ctx.evaluator))
     out.update({
         "loop_capped": bool(truth.iterations[0] >= ctx.evaluator.n_max),
         "n_cand": ctx.n_cand,
