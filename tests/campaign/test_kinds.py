@@ -81,7 +81,7 @@ def test_pso_repeatability_trace_and_bounds(tmp_path):
     assert len(trace) == 2 * 15 and trace.groupby("trial_id")["n_evaluations"].max().eq(120).all()
     for _, t in trace.groupby("trial_id"):
         assert np.all(np.diff(t.sort_values("iteration")["best_cost"]) <= 0)
-    for name, column in (("lambda1", "lambda1"), ("n", "n_exponent")):
+    for name, column in (("lambda1", "lambda1"), ("n", "n_exp"), ("b", "b"), ("c", "c")):
         low, high = PAPER_BOUNDS[name]
         assert df[column].between(low, high).all()
 

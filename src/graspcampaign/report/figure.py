@@ -229,7 +229,8 @@ def fig17_wrench(traces: pd.DataFrame, *, settle_band: Sequence[float] | None = 
     panels = [
         ("residual_norm_n", "(a) force residual \u2016R\u2016 [N]"),
         ("torque_norm_nm", "(b) torque residual \u2016\u03c4\u2016 [N\u00b7m]"),
-        ("slip_margin_rel", "(c) slip margin (\u03bcf\u2099 \u2212 \u2016f\u209c\u2016)/(\u03bcf\u2099) [\u2013]"),
+        ("slip_margin_rel",
+         "(c) slip margin (\u03bcf\u2099 \u2212 \u2016f\u209c\u2016)/(\u03bcf\u2099) [\u2013]"),
         ("normal_force_1_n", "(d) finger-1 normal force [N]"),
     ]
     for i, (mu, grp) in enumerate(traces.groupby("mu", sort=True)):

@@ -69,3 +69,13 @@ def plan_context(shape: str, nodes: int, mass: float, mu: float, contact, evalua
 
 def nodes_of(factors: dict, default: int = DEFAULT_NODES) -> int:
     return int(factors.get("nodes", default))
+
+
+# IdentificationResult.to_record() names -> record column names (docs/records.md)
+_IDENTIFICATION_COLUMNS = {"n_exponent": "n_exp", "msd_b": "b", "msd_k": "k", "msd_c": "c",
+                           "pso_best_cost": "best_cost", "pso_n_evaluations": "n_evaluations"}
+
+
+def identification_record(result) -> dict:
+    """Flatten an IdentificationResult into the record columns of docs/records.md."""
+    return {_IDENTIFICATION_COLUMNS.get(k, k): v for k, v in result.to_record().items()}

@@ -43,7 +43,7 @@ def run(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
     iterations = params.converged_iterations if converged else study.pso.n_iterations
     result = identify_body(points, normals, ctx.centroid, ctx.mass, ctx.mu, rng, material=material,
                            evaluator=ctx.evaluator, n_particles=particles, n_iterations=iterations)
-    out = result.to_record()
+    out = common.identification_record(result)
     out.update(n_particles=particles, n_iterations=iterations)
     history = result.pso
     out["__tables__"] = {"pso_trace": {

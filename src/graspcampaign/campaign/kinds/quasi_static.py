@@ -49,13 +49,13 @@ def prepare(study, params, body, rng: np.random.Generator) -> dict[str, Any]:
     material = common.contact_params(study)
     if not study.pso.enabled:
         return {"identified": False, "lambda1": material.lambda1, "lambda2": material.lambda2,
-                "n_exponent": material.n}
+                "n_exp": material.n}
     ctx = _context(study, params, body, material)
     _, points, normals = identification_contacts(ctx, rng)
     result = identify_body(points, normals, ctx.centroid, ctx.mass, ctx.mu, rng,
                            material=material, evaluator=ctx.evaluator,
                            n_particles=study.pso.n_particles, n_iterations=study.pso.n_iterations)
-    return {"identified": True, **result.to_record()}
+    return {"identified": True, **common.identification_record(result)}
 
 
 def body_contact(study, prepared: dict[str, Any] | None):
@@ -63,7 +63,7 @@ def body_contact(study, prepared: dict[str, Any] | None):
     if not prepared or not prepared.get("identified"):
         return common.contact_params(study)
     return common.contact_params(study, lambda1=prepared["lambda1"], lambda2=prepared["lambda2"],
-                                 n=prepared["n_exponent"])
+                                 n=prepared["n_exp"])
 
 
 def verdicts(eq, evaluator) -> dict[str, bool]:

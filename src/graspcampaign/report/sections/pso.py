@@ -46,6 +46,19 @@ def section(report: Report, records: pd.DataFrame, manifest: dict, store: RunSto
     """CV per parameter beside the paper, Table 3, Fig. 21."""
     report.text(tbl.status_note(records))
     ok = records[records["status"] == "ok"]
+    if "flat_parameters" in ok and ok["flat_parameters"].notna().any():
+        flat = ok["flat_parameters"].dropna().iloc[0]
+        report.text(
+            f"**Read the CVs with care:** in the quasi-static evaluator the cost J does not depend "
+            f"on {flat.replace(',', ', ')} (the damping term vanishes in the static loop and the "
+            "MSD constants do not enter Algorithms 1-2), so their spread is where the swarm "
+            "stopped inside the bounds, not a measure of identifiability. Parameters pinned at "
+            "a bound show a CV of 0.")
+    if "budget" in ok and (ok["budget"] == "repeatability").any() and ok["budget"].nunique() > 1:
+        n_conv = int((ok["budget"] != "repeatability").sum())
+        ok = ok[ok["budget"] == "repeatability"]
+        report.text(f"The CV table and Fig. 21 use the {len(ok)} restarts at the paper's 8 x 15 "
+                    f"budget (Sec. 6.8); the {n_conv} converged-budget restarts are in the records.")
     params = [p for p in PARAMETERS if p in ok and ok[p].notna().sum() >= 2]
     paper = ((manifest.get("config") or {}).get("paper") or {}).get("cv_pct") or {}
     seed = int((manifest.get("config") or {}).get("seed", 0))

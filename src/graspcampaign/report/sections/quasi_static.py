@@ -1,25 +1,23 @@
-"""Report sections for the quasi-static studies (paper Sec. 6.2-6.3, 6.5-6.7).
+"""Report sections for the quasi-static studies (paper Sec. 6.2, 6.3, 6.5).
 
 One entry point, :func:`section`, chooses the study's section by the study name in the manifest
-(``shapes``, ``ablation``, ``baseline_grid``, ``mesh_resolution``, ``sensitivity``); any other
-study of these kinds gets the planner comparison. Every section reads the record columns of
-docs/records.md (``quasi_static``) and the paper's values from the manifest's ``config.paper``
+(``shapes``, ``ablation``, ``baseline_grid``); any other quasi-static study gets the planner
+comparison. ``mesh_resolution`` and ``sensitivity`` have kinds and sections of their own. Every
+section reads the record columns of docs/records.md (``quasi_static``) and the paper's values from the manifest's ``config.paper``
 block; none runs a trial.
 """
 
 from __future__ import annotations
 
 import math
-import re
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-import numpy as np
 import pandas as pd
 
 from graspcampaign.campaign.records import RunStore
-from graspcampaign.report import figure, stats
+from graspcampaign.report import figure
 from graspcampaign.report import table as tbl
 from graspcampaign.report.document import Report
 
@@ -67,9 +65,7 @@ class Context:
 def section(report: Report, records: pd.DataFrame, manifest: dict, store: RunStore | None) -> None:
     """Write the section of a quasi-static study, chosen by the study name."""
     ctx = Context(report, records, manifest, store)
-    handler = STUDY_SECTIONS.get(manifest.get("study"))
-    if handler is None:
-        handler = KIND_SECTIONS.get(manifest.get("kind"), planner_comparison)
+    handler = STUDY_SECTIONS.get(manifest.get("study"), planner_comparison)
     report.text(tbl.status_note(records))
     handler(ctx)
     contact_parameters(ctx)
@@ -352,225 +348,8 @@ def planner_comparison(ctx: Context) -> None:
     add_failure_checks(ctx, by)
 
 
-# --------------------------------------------------------------------------------------------
-# Sec. 6.7, Fig. 20: mesh resolution
-# --------------------------------------------------------------------------------------------
-
-
-def runtime_ms(ok: pd.DataFrame) -> pd.Series:
-    """Runtime per grasp evaluation [ms]: planning (candidate scoring) plus evaluation.
-
-    The paper's "runtime per evaluation" includes the heuristic stage, whose fixed candidate
-    budget is its explanation of the sub-linear scaling (Sec. 6.7); falls back to the trial's
-    wall time when the split columns are missing.
-    """
-    if {"plan_time_s", "eval_time_s"} <= set(ok.columns):
-        return 1000.0 * (ok["plan_time_s"].astype(float) + ok["eval_time_s"].astype(float))
-    return 1000.0 * ok["wall_time_s"].astype(float)
-
-
-def mesh_resolution(ctx: Context) -> None:
-    """Runtime and residual per node count beside Fig. 20; the 1750/144 runtime ratio."""
-    ok = tbl.executed(ctx.records)
-    if "nodes" not in ok or not len(ok):
-        planner_comparison(ctx)
-        return
-    ok = ok.assign(runtime_ms=runtime_ms(ok).to_numpy())
-    paper_rt = {int(k): float(v) for k, v in (ctx.paper.get("runtime_ms") or {}).items()}
-    band = ctx.paper.get("residual_scatter_n")
-    rates = tbl.rate_table(ctx.records, ["nodes"], order=ctx.order)
-    rows = []
-    for nodes, grp in ok.groupby("nodes", sort=True):
-        rt = grp["runtime_ms"].to_numpy(dtype=float)
-        rate = rates.full[rates.full["nodes"] == nodes].iloc[0]
-        paper = paper_rt.get(int(nodes))
-        med = float(np.median(rt))
-        rows.append({
-            "nodes": int(nodes), "n": len(grp), "n_error": int(rate["n_error"]),
-            "paper_runtime_ms": paper, "runtime_median_ms": med,
-            "runtime_p25_ms": float(np.quantile(rt, 0.25)),
-            "runtime_p75_ms": float(np.quantile(rt, 0.75)),
-            "runtime_difference_ms": med - paper if paper is not None else math.nan,
-            "success_pct": rate["ours_pct"], "success_low_pct": rate["wilson_low_pct"],
-            "success_high_pct": rate["wilson_high_pct"],
-            "residual_median_n": float(grp["residual_norm_n"].median()),
-            "residual_min_n": float(grp["residual_norm_n"].min()),
-            "residual_max_n": float(grp["residual_norm_n"].max()),
-            "paper_residual_scatter_n": f"{band[0]}–{band[1]}" if band else None,
-        })
-    per_nodes = pd.DataFrame(rows)
-    display = pd.DataFrame({
-        "nodes": per_nodes["nodes"], "n": per_nodes["n"], "errors": per_nodes["n_error"],
-        "paper runtime [ms]": [tbl.format_number(v) for v in per_nodes["paper_runtime_ms"]],
-        "ours median [ms] (IQR)": [f"{tbl.format_number(m)} ({tbl.format_number(a)}–"
-                                   f"{tbl.format_number(b)})" for m, a, b in per_nodes[
-                                       ["runtime_median_ms", "runtime_p25_ms", "runtime_p75_ms"]]
-                                   .itertuples(index=False)],
-        "difference [ms]": [tbl.format_signed(v, 1, " ms") for v in
-                            per_nodes["runtime_difference_ms"]],
-        "success % (Wilson 95%)": [stats.format_estimate_interval(e / 100, lo / 100, hi / 100)
-                                   for e, lo, hi in per_nodes[["success_pct", "success_low_pct",
-                                                               "success_high_pct"]]
-                                   .itertuples(index=False)],
-        "‖R‖ median [N] (min–max)": [f"{tbl.format_number(m, 3)} ({tbl.format_number(a, 3)}–"
-                                     f"{tbl.format_number(b, 3)})" for m, a, b in per_nodes[
-                                         ["residual_median_n", "residual_min_n", "residual_max_n"]]
-                                     .itertuples(index=False)],
-        "paper ‖R‖ scatter [N]": per_nodes["paper_residual_scatter_n"],
-    })
-    ctx.report.table("mesh_resolution", per_nodes,
-                     "Runtime per grasp evaluation (planning + evaluation, this machine) and final "
-                     "residual per node count beside Fig. 20 (paper: MATLAB on a desktop "
-                     "workstation; absolute times are platform-dependent)", display)
-    _scaling(ctx, ok, per_nodes, paper_rt)
-    ctx.report.figure(
-        "fig20_mesh_resolution",
-        figure.fig20_mesh_resolution(ok[["nodes", "runtime_ms", "residual_norm_n"]], per_nodes,
-                                     paper_rt, band, RESIDUAL_LIMIT_N),
-        "Fig. 20 (ours): (a) runtime per evaluation vs nodes with O(n) and O(√n) guides, the "
-        "paper's points in black; (b) final force residual with the 0.5 N criterion")
-    add_design_limit(ctx, ["nodes"])
-    add_failure_checks(ctx, ["nodes"])
-
-
-def _scaling(ctx: Context, ok: pd.DataFrame, per_nodes: pd.DataFrame,
-             paper_rt: dict[int, float]) -> None:
-    """The runtime ratio largest/smallest mesh beside the paper's 1.95, and the log-log slope."""
-    lo_n, hi_n = int(per_nodes["nodes"].min()), int(per_nodes["nodes"].max())
-    if lo_n == hi_n:
-        return
-    a = ok.loc[ok["nodes"] == lo_n, "runtime_ms"].to_numpy(dtype=float)
-    b = ok.loc[ok["nodes"] == hi_n, "runtime_ms"].to_numpy(dtype=float)
-    ratio = float(np.median(b) / np.median(a))
-    seed = int(ctx.config.get("seed", 0))
-    low = high = math.nan
-    if a.size > 1 and b.size > 1:
-        from scipy.stats import bootstrap
-
-        res = bootstrap((a, b), lambda x, y, axis=-1: np.median(y, axis=axis) /
-                        np.median(x, axis=axis), n_resamples=tbl.BOOTSTRAP_RESAMPLES,
-                        method="percentile", rng=np.random.default_rng(seed), vectorized=True)
-        low, high = float(res.confidence_interval.low), float(res.confidence_interval.high)
-    paper_ratio = ctx.paper.get("runtime_ratio_1750_144") if (lo_n, hi_n) == (144, 1750) else None
-    logn = np.log(ok["nodes"].to_numpy(dtype=float))
-    slope = float(np.polyfit(logn, np.log(ok["runtime_ms"].to_numpy(dtype=float)), 1)[0])
-    paper_slope = (math.log(paper_rt[1750] / paper_rt[144]) / math.log(1750 / 144)
-                   if {144, 1750} <= set(paper_rt) else None)
-    rows = [
-        {"quantity": f"runtime ratio {hi_n}/{lo_n} nodes (medians)", "paper": paper_ratio,
-         "ours": ratio, "difference": ratio - paper_ratio if paper_ratio else math.nan,
-         "low_95": low, "high_95": high, "n": int(a.size + b.size),
-         "note": f"percentile bootstrap over trials, {tbl.BOOTSTRAP_RESAMPLES} resamples, "
-                 f"seed {seed}" if a.size > 1 and b.size > 1 else "single trials: no interval"},
-        {"quantity": "runtime exponent (log-log slope; O(n) = 1, O(√n) = 0.5)",
-         "paper": paper_slope, "ours": slope,
-         "difference": slope - paper_slope if paper_slope is not None else math.nan,
-         "low_95": math.nan, "high_95": math.nan, "n": len(ok),
-         "note": "paper's slope from its 37 ms and 72 ms end points" if paper_slope else ""},
-    ]
-    full = pd.DataFrame(rows)
-    display = full.assign(
-        paper=[tbl.format_number(v, 3) for v in full["paper"]],
-        ours=[tbl.format_number(v, 3) for v in full["ours"]],
-        difference=[tbl.format_signed(v, 3, "") for v in full["difference"]],
-        low_95=[tbl.format_number(v, 3) for v in full["low_95"]],
-        high_95=[tbl.format_number(v, 3) for v in full["high_95"]])
-    ctx.report.table("runtime_scaling", full, "Sub-linear scaling of runtime with node count "
-                     "(Sec. 6.7)", display)
-    words = f"Our runtime ratio {hi_n}/{lo_n} is {tbl.format_number(ratio, 2)}"
-    if paper_ratio:
-        inside = not math.isnan(low) and low <= paper_ratio <= high
-        words += (f" beside the paper's {paper_ratio}: "
-                  + ("within our 95% interval." if inside else
-                     f"differs from the paper by {tbl.format_signed(ratio - paper_ratio, 2, '')}"
-                     + ("; outside our 95% interval." if not math.isnan(low) else ".")))
-    ctx.report.text(words)
-
-
-# --------------------------------------------------------------------------------------------
-# Sec. 6.6, Fig. 19: sensitivity
-# --------------------------------------------------------------------------------------------
-
-_REGION = re.compile(r"mu\s*>=\s*([\d.]+).*?m\s*<=\s*([\d.]+)")
-
-
-def sensitivity(ctx: Context) -> None:
-    """Success over friction x mass (Fig. 19a), the paper's stable region; panels b, c if swept."""
-    recs = ctx.records
-    panels = [("mu", "mass_kg", "friction coefficient μ [–]", "object mass m [kg]", "a"),
-              ("lambda1", "lambda2", "λ1 [–]", "λ2 [–]", "b")]
-    drew = False
-    for x, y, xl, yl, tag in panels:
-        if x not in recs or y not in recs or recs[x].nunique() < 2 or recs[y].nunique() < 2:
-            continue
-        drew = True
-        pair = tbl.rate_table(recs, [y, x], order=ctx.order)
-        ctx.report.table(f"success_{x}_{y}", pair.full,
-                         f"Success per cell ({x} × {y}), Wilson 95%, 5 seeds per cell in the "
-                         "paper (Fig. 19" + tag + ")", pair.display)
-        grid = pair.full.pivot(index=y, columns=x, values="ours_pct")
-        region = None
-        if tag == "a":
-            region = _region_mask(grid, ctx.paper.get("stable_region"))
-            if region is not None:
-                _region_summary(ctx, region)
-        elif ctx.paper.get("lambda1_stable_below") is not None:
-            limit = float(ctx.paper["lambda1_stable_below"])
-            region = pd.DataFrame(np.broadcast_to(grid.columns.to_numpy() < limit, grid.shape),
-                                  index=grid.index, columns=grid.columns)
-        ctx.report.figure(f"fig19{tag}_heatmap", figure.fig19_heatmap(
-            grid, xlabel=xl, ylabel=yl, title=f"({tag}) success rate per cell", region=region),
-            f"Fig. 19{tag} (ours): success rate per cell [%]; outlined cells are the paper's "
-            "stable region")
-    if "n_exp" in recs and "b" in recs and recs["n_exp"].nunique() > 1 and recs["b"].nunique() > 1:
-        ok = tbl.executed(recs)
-        grid = (ok.assign(runtime_ms=runtime_ms(ok).to_numpy())
-                .pivot_table(index="b", columns="n_exp", values="runtime_ms", aggfunc="median"))
-        ctx.report.figure("fig19c_runtime", figure.fig19_heatmap(
-            grid, xlabel="contact exponent n [–]", ylabel="nodal damping b [–]",
-            title="(c) median runtime per evaluation", value_label="runtime [ms]",
-            vmax=float(np.nanmax(grid.to_numpy()))),
-            "Fig. 19c (ours): median runtime per evaluation [ms] over n × b")
-        drew = True
-    if not drew:
-        planner_comparison(ctx)
-        return
-    add_design_limit(ctx, ["mu"] if "mu" in recs else ["shape"])
-    add_failure_checks(ctx, ["mu"] if "mu" in recs else ["shape"])
-
-
-def _region_mask(grid: pd.DataFrame, text: str | None) -> pd.DataFrame | None:
-    match = _REGION.search(text or "")
-    if not match:
-        return None
-    mu_min, m_max = float(match.group(1)), float(match.group(2))
-    cols = grid.columns.to_numpy(dtype=float)[None, :] >= mu_min - 1e-12
-    rows = grid.index.to_numpy(dtype=float)[:, None] <= m_max + 1e-12
-    return pd.DataFrame(cols & rows, index=grid.index, columns=grid.columns)
-
-
-def _region_summary(ctx: Context, region: pd.DataFrame) -> None:
-    stable = region.stack()
-    inside = {k for k, v in stable.items() if v}
-    recs = ctx.records
-    keys = list(zip(recs["mass_kg"], recs["mu"], strict=True))
-    flag = np.array([k in inside for k in keys])
-    part = recs.assign(region=np.where(flag, "inside the paper's stable region", "outside"))
-    pair = tbl.rate_table(part, ["region"])
-    ctx.report.table("stable_region", pair.full.assign(paper="stable inside (qualitative)"),
-                     f"Success inside and outside the paper's stable region "
-                     f"({ctx.paper.get('stable_region')}); the paper states it qualitatively",
-                     pair.display.assign(paper="stable inside (qualitative)"))
-
-
 STUDY_SECTIONS: dict[str, Callable[[Context], None]] = {
     "shapes": shapes,
     "ablation": ablation,
     "baseline_grid": baseline_grid,
-    "mesh_resolution": mesh_resolution,
-    "sensitivity": sensitivity,
-}
-KIND_SECTIONS: dict[str, Callable[[Context], None]] = {
-    "mesh_resolution": mesh_resolution,
-    "sensitivity": sensitivity,
 }

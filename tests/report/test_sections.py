@@ -1,0 +1,408 @@
+"""Report sections rendered from small synthetic runs; tables checked against pandas.
+
+The records are built here column for column as docs/records.md specifies (base columns, factors,
+the kind's outputs, trace tables), written through ``RunStore`` with a manifest from
+``campaign.provenance``; trial ids and scene ids come from the campaign's own design expansion.
+Every expected number is recomputed directly from those records with pandas, statsmodels or
+scipy, never with the report's helpers.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Callable
+
+import numpy as np
+import pandas as pd
+import pytest
+from scipy import stats as sps
+from statsmodels.stats.contingency_tables import mcnemar as sm_mcnemar
+from statsmodels.stats.proportion import proportion_confint
+
+from graspcampaign.campaign.grid import expand
+from graspcampaign.campaign.provenance import new_manifest, now_utc, write_manifest
+from graspcampaign.campaign.records import RunStore
+from graspcampaign.campaign.schema import StudyCfg
+from graspcampaign.report.build import build_reports
+
+SHAPES = ["sphere", "ellipsoid", "rounded_cube", "pear", "handle"]
+P_SUCCESS = {"heuristic": 0.7, "antipodal": 0.4, "random": 0.1, "centroid": 0.0, "no_s1": 0.7,
+             "no_s2": 0.65}
+
+
+def make_run(root, name: str, kind: str, factors: dict, seeds: int, paper: dict,
+             outputs: Callable[[dict, np.random.Generator], dict], *, seed: int = 11,
+             error_every: int = 0, tables: Callable[[str, dict, dict], dict] | None = None,
+             prepared: list[dict] | None = None, source: str = "simulation") -> RunStore:
+    """Write a run of ``name`` like the runner does: records (+ traces), then the manifest."""
+    study = StudyCfg(name=name, kind=kind, seed=seed, seeds=seeds, factors=factors, paper=paper)
+    trials = expand(study)
+    rng = np.random.default_rng(seed)
+    rows, traces = [], {}
+    for trial in trials:
+        row = {"trial_id": trial.trial_id, "study": name, "run": "r1", "kind": kind,
+               "trial_index": trial.index, "scene_id": trial.scene_id, "status": "ok",
+               "error_type": None, "error_message": None, "wall_time_s": 0.01,
+               "worker": "pid1", "host": "test", "source": source, **trial.factors}
+        if error_every and trial.index % error_every == error_every - 1:
+            row.update(status="error", error_type="RuntimeError", error_message="boom")
+        else:
+            out = outputs(trial.factors, rng)
+            row.update(out)
+            if tables:
+                for tname, cols in tables(trial.trial_id, trial.factors, out).items():
+                    traces.setdefault(tname, []).extend(cols)
+        rows.append(row)
+    store = RunStore(root / name / "r1")
+    half = len(rows) // 2
+    store.write_shard("records", "a", rows[:half])
+    store.write_shard("records", "b", rows[half:])
+    for tname, trows in traces.items():
+        store.write_shard(f"tables/{tname}", "a", trows)
+    if prepared:
+        store.write_shard("prepared", "a", prepared)
+    manifest = new_manifest(study, "r1", len(trials), source)
+    manifest["finished_at"] = now_utc()
+    write_manifest(store.manifest_path, manifest)
+    return store
+
+
+def quasi_static_outputs(factors: dict, rng: np.random.Generator) -> dict:
+    """One quasi_static record (docs/records.md), outcome drawn per planner."""
+    planner = factors.get("planner", "heuristic")
+    success = bool(rng.random() < P_SUCCESS.get(planner, 0.5))
+    check = "none" if success else str(rng.choice(["residual", "torque", "slip"]))
+    deltas = rng.lognormal(np.log(0.8), 0.6, 3)
+    forces = rng.uniform(1, 10, 3)
+    out = {
+        "nodes": factors.get("nodes", 390), "n_cand": 200, "success": success,
+        "failure_check": check,
+        "residual_norm_n": float(rng.uniform(0, 0.45) if success else rng.uniform(0.5, 4)),
+        "torque_norm_nm": float(rng.uniform(0, 0.01)),
+        "slip_margin_n": float(rng.uniform(0.1, 2) if success else rng.uniform(-2, 0.5)),
+        "eta": float(rng.uniform(0, 0.8)), "delta_max_mm": float(deltas.max()),
+        "exceeds_1mm": bool(deltas.max() > 1.0), "iterations": int(rng.integers(5, 100)),
+        "h_total": float(rng.uniform(0.15, 0.28)), "s1": 0.1, "s2": 0.1, "s3": 0.05,
+        "n_c": 0, "n_e": 0, "believed_quality": 0.5, "n_sharp_vertex": 0, "n_sharp_edge": 0,
+        "lambda1": 0.332, "lambda2": 0.88, "n_exp": 0.487,
+        "plan_time_s": 0.01 * (1 + factors.get("nodes", 390) / 1000) + rng.uniform(0, 1e-3),
+        "eval_time_s": 0.02 + rng.uniform(0, 1e-3),
+    }
+    for j in range(3):
+        out[f"delta_{j + 1}_mm"] = float(deltas[j])
+        out[f"normal_force_{j + 1}_n"] = float(forces[j])
+        out[f"vertex_{j + 1}"] = int(rng.integers(0, 390))
+    return out
+
+
+def read_table(store: RunStore, name: str) -> pd.DataFrame:
+    return pd.read_csv(store.path / "report" / "tables" / f"{name}.csv")
+
+
+def ok_records(store: RunStore) -> pd.DataFrame:
+    df = store.read().to_pandas()
+    ok = df[df["status"] == "ok"]
+    return ok.assign(success=ok["success"].astype(bool)) if "success" in ok else ok
+
+
+# --------------------------------------------------------------------------------------------
+# baseline_grid: the Done-when test (tables against pandas), Fig. 18, McNemar, design limit
+# --------------------------------------------------------------------------------------------
+
+GRID_PAPER = {"figure": "Fig. 18", "trials_per_planner": 675,
+              "success_pct": {"heuristic": 67.6, "antipodal": 40.0, "random": 11.0,
+                              "centroid": 0.0},
+              "success_by_shape_pct": {"rounded_cube": {"heuristic": 56.0, "antipodal": 33.0}}}
+
+
+@pytest.fixture(scope="module")
+def grid_run(tmp_path_factory):
+    root = tmp_path_factory.mktemp("grid") / "results"
+    store = make_run(root, "baseline_grid", "quasi_static",
+                     {"shape": SHAPES, "mass_kg": [0.2, 0.6], "mu": [0.1, 0.5],
+                      "planner": ["heuristic", "antipodal", "random", "centroid"]},
+                     seeds=3, paper=GRID_PAPER, outputs=quasi_static_outputs, error_every=17)
+    build_reports(["baseline_grid"], root=root)
+    return root, store
+
+
+def test_grid_rates_match_pandas(grid_run):
+    root, store = grid_run
+    raw = store.read().to_pandas()
+    ok = ok_records(store)
+    table = read_table(store, "success_by_planner").set_index("planner")
+    assert list(table.index) == ["heuristic", "antipodal", "random", "centroid"]  # config order
+    expected = ok.groupby("planner")["success"].agg(["sum", "size"])
+    errors = raw[raw["status"] == "error"].groupby("planner").size()
+    assert errors.sum() > 0
+    for planner, row in table.iterrows():
+        s, n = expected.loc[planner]
+        assert row["n"] == n and row["successes"] == s
+        assert row["n_error"] == errors.get(planner, 0)
+        assert row["n"] + row["n_error"] == (raw["planner"] == planner).sum()
+        assert row["ours_pct"] == pytest.approx(100 * s / n, abs=1e-12)
+        # statsmodels.stats.proportion.proportion_confint(s, n, method="wilson")
+        low, high = proportion_confint(s, n, alpha=0.05, method="wilson")
+        assert row["wilson_low_pct"] == pytest.approx(100 * max(low, 0), abs=1e-9)
+        assert row["wilson_high_pct"] == pytest.approx(100 * min(high, 1), abs=1e-9)
+        assert row["paper_pct"] == GRID_PAPER["success_pct"][planner]
+        assert row["difference_pp"] == pytest.approx(100 * s / n - row["paper_pct"], abs=1e-9)
+        assert row["n_clusters"] == ok.loc[ok["planner"] == planner, "shape"].nunique()
+        assert row["bootstrap_low_pct"] <= row["ours_pct"] <= row["bootstrap_high_pct"]
+
+
+def test_grid_by_shape_and_condition_match_pandas(grid_run):
+    _, store = grid_run
+    ok = ok_records(store)
+    by_shape = read_table(store, "success_by_shape")
+    expected = ok.groupby(["shape", "planner"])["success"].mean() * 100
+    got = by_shape.set_index(["shape", "planner"])["ours_pct"]
+    pd.testing.assert_series_equal(got.sort_index(), expected.sort_index(), check_names=False)
+    cube = by_shape.set_index(["shape", "planner"])
+    assert cube.loc[("rounded_cube", "heuristic"), "paper_pct"] == 56.0
+    assert cube.loc[("rounded_cube", "antipodal"), "paper_pct"] == 33.0
+    assert cube.loc[("pear", "centroid"), "paper_pct"] == 0.0  # 0% overall is 0% per shape
+    assert math.isnan(cube.loc[("pear", "heuristic"), "paper_pct"])
+    by_mu = read_table(store, "success_by_mu").set_index(["planner", "mu"])["ours_pct"]
+    exp_mu = ok.groupby(["planner", "mu"])["success"].mean() * 100
+    pd.testing.assert_series_equal(by_mu.sort_index(), exp_mu.sort_index(), check_names=False)
+
+
+def test_grid_mcnemar_pairs_by_scene(grid_run):
+    _, store = grid_run
+    ok = ok_records(store)
+    wide = ok.pivot(index="scene_id", columns="planner", values="success")
+    table = read_table(store, "mcnemar").set_index("compared")
+    assert list(table.index) == ["antipodal", "random", "centroid"]
+    for other, row in table.iterrows():
+        pair = wide[["heuristic", other]].dropna().astype(bool)
+        n10 = int((pair["heuristic"] & ~pair[other]).sum())
+        n01 = int((~pair["heuristic"] & pair[other]).sum())
+        assert (row["pairs"], row["reference_only"], row["compared_only"]) == (len(pair), n10, n01)
+        # statsmodels mcnemar(exact=False, correction=True) on [[., n01], [n10, .]]
+        ref = sm_mcnemar(np.array([[0, n01], [n10, 0]]), exact=False, correction=True)
+        assert row["chi2_cc"] == pytest.approx(ref.statistic, rel=1e-12)
+        # scipy.stats.binomtest(n10, n01 + n10).pvalue
+        assert row["p_exact"] == pytest.approx(sps.binomtest(n10, n01 + n10).pvalue, rel=1e-12)
+        assert row["unpaired"] == wide[["heuristic", other]].notna().sum(axis=1).eq(1).sum()
+
+
+def test_grid_design_limit_and_failure_checks(grid_run):
+    _, store = grid_run
+    ok = ok_records(store)
+    limit = read_table(store, "design_limit").set_index("planner")
+    for planner, grp in ok.groupby("planner"):
+        row = limit.loc[planner]
+        assert row["exceeds_1mm"] == (grp["delta_max_mm"] > 1).sum()
+        assert row["n"] == len(grp)
+        assert row["successes_exceeding"] == ((grp["delta_max_mm"] > 1) & grp["success"]).sum()
+        assert row["delta_max_median_mm"] == pytest.approx(grp["delta_max_mm"].median())
+    checks = read_table(store, "failure_checks").set_index("planner")
+    expected = pd.crosstab(ok["planner"], ok["failure_check"])
+    for planner in expected.index:
+        for check in expected.columns:
+            assert checks.loc[planner, check] == expected.loc[planner, check]
+    assert checks["none"].sort_index().equals(ok.groupby("planner")["success"].sum().sort_index())
+
+
+def test_grid_markdown_states_differences_and_figure(grid_run):
+    root, store = grid_run
+    md = (store.path / "report" / "report.md").read_text()
+    heuristic = read_table(store, "success_by_planner").set_index("planner").loc["heuristic"]
+    assert f"differs from the paper by {_signed(heuristic['difference_pp'])}" in md
+    assert "Where we differ from the paper" in md
+    assert "errored trials" in md and "excluded from every success denominator" in md
+    assert "shape-clustered percentile bootstrap" in md and "10000 resamples, seed 11" in md
+    assert "Data source:** simulation" in md
+    png = store.path / "report" / "figures" / "fig18_baselines.png"
+    assert png.stat().st_size > 10_000
+    assert "[headline.md](headline.md)" in (root / "index.md").read_text()
+
+
+def _signed(x: float) -> str:
+    text = f"{x:+.1f}".replace("-", "\u2212")
+    return f"{text} pp"
+
+
+# --------------------------------------------------------------------------------------------
+# ablation, shapes, mesh_resolution, sensitivity
+# --------------------------------------------------------------------------------------------
+
+
+def test_ablation_section(tmp_path):
+    paper = {"trials_per_variant": 50,
+             "success_pct": {"heuristic": 72.0, "no_s1": 72.0, "no_s2": 72.0, "random": 6.0}}
+    store = make_run(tmp_path, "ablation", "quasi_static",
+                     {"shape": SHAPES, "mass_kg": [0.4], "mu": [0.3],
+                      "planner": ["heuristic", "no_s1", "no_s2", "random"]},
+                     seeds=4, paper=paper, outputs=quasi_static_outputs)
+    build_reports(["ablation"], root=tmp_path)
+    ok = ok_records(store)
+    table = read_table(store, "success_by_planner").set_index("planner")
+    pd.testing.assert_series_equal(table["ours_pct"].sort_index(),
+                                   (ok.groupby("planner")["success"].mean() * 100).sort_index(),
+                                   check_names=False)
+    assert table.loc["random", "paper_pct"] == 6.0
+    assert set(read_table(store, "mcnemar")["compared"]) == {"no_s1", "no_s2", "random"}
+    md = (store.path / "report" / "report.md").read_text()
+    assert "roughly ±12 pp" in md
+    assert (store.path / "report" / "figures" / "fig16_ablation.png").exists()
+
+
+def test_shapes_section_flags_disagreement(tmp_path):
+    paper = {"success": {"sphere": True, "ellipsoid": False, "rounded_cube": True, "pear": True,
+                         "handle": False},
+             "failure_check": {"ellipsoid": "residual", "handle": "slip"}, "h_range": [0.15, 0.28]}
+
+    def outputs(factors, rng):
+        out = quasi_static_outputs(factors, rng)
+        win = factors["shape"] in ("sphere", "ellipsoid")  # ellipsoid disagrees; cube/pear too
+        out.update(success=win, failure_check="none" if win else "slip")
+        return out
+
+    store = make_run(tmp_path, "shapes", "quasi_static",
+                     {"shape": SHAPES, "mass_kg": [0.4], "mu": [0.3], "planner": ["heuristic"]},
+                     seeds=1, paper=paper, outputs=outputs)
+    build_reports(["shapes"], root=tmp_path)
+    table = read_table(store, "shapes").set_index("shape")
+    ok = ok_records(store).set_index("shape")
+    assert table.loc["sphere", "verdict"].startswith("agrees")
+    assert table.loc["ellipsoid", "verdict"].startswith("differs from the paper")
+    assert table.loc["handle", "verdict"].startswith("agrees")  # fails by slip, as the paper
+    assert table.loc["pear", "h_total"] == pytest.approx(ok.loc["pear", "h_total"])
+    md = (store.path / "report" / "report.md").read_text()
+    assert "**ellipsoid:** differs from the paper" in md
+    assert (store.path / "report" / "figures" / "fig15_shape_metrics.png").exists()
+
+
+TABLE3 = {"lambda1": 0.332, "lambda2": 0.880, "n": 0.487, "b": 0.646, "k": 0.138, "c": 0.00247}
+
+
+def test_pso_cv_table3_and_trace(tmp_path):
+    def outputs(factors, rng):
+        return {"lambda1": rng.uniform(0.1, 0.6), "lambda2": rng.uniform(0.3, 1.4),
+                "n_exp": rng.normal(0.487, 0.08), "b": rng.uniform(0.2, 1.5),
+                "k": rng.uniform(0.05, 0.3), "c": rng.uniform(5e-4, 0.01),
+                "best_cost": rng.uniform(0.01, 1), "n_evaluations": 120, "n_particles": 8,
+                "n_iterations": 15}
+
+    def trace(trial_id, factors, out):
+        cost = 50 * np.exp(-np.arange(15) / 4) + out["best_cost"]
+        return {"pso_trace": [{"trial_id": trial_id, "iteration": i, "n_evaluations": 8 * (i + 1),
+                               "best_cost": float(c)} for i, c in enumerate(cost)]}
+
+    store = make_run(tmp_path, "pso_repeatability", "pso_repeatability",
+                     {"shape": ["sphere"], "mass_kg": [0.4], "mu": [0.3]}, seeds=12,
+                     paper={"cv_pct": {"n": 19.0, "others_range": [47.0, 77.0],
+                                       "lambda_approx": 60.0}, "table3": TABLE3},
+                     outputs=outputs, tables=trace)
+    build_reports(["pso_repeatability"], root=tmp_path)
+    ok = ok_records(store)
+    cv = read_table(store, "cv").set_index("parameter")
+    for p in ("lambda1", "lambda2", "n_exp", "b", "k", "c"):
+        # scipy.stats.variation(x, ddof=1): sample SD / mean
+        assert cv.loc[p, "cv_pct"] == pytest.approx(100 * sps.variation(ok[p], ddof=1), rel=1e-12)
+    assert cv.loc["n_exp", "paper_cv_pct"] == 19.0
+    assert cv.loc["lambda1", "paper_cv_pct"] == 60.0
+    t3 = read_table(store, "table3").set_index("parameter")
+    assert t3.loc["n_exp", "paper"] == 0.487
+    assert t3.loc["c", "ours_mean"] == pytest.approx(ok["c"].mean())
+    best = ok.loc[ok["best_cost"].idxmin()]
+    assert t3.loc["k", "ours_best_run"] == pytest.approx(best["k"])
+    bands = read_table(store, "convergence")
+    trace_df = store.read("tables/pso_trace").to_pandas()
+    assert bands["p25"].to_numpy() == pytest.approx(
+        trace_df.groupby("iteration")["best_cost"].quantile(0.25).to_numpy())
+    assert (store.path / "report" / "figures" / "fig21_pso.png").exists()
+
+
+def test_wrench_balance_settling_from_trace(tmp_path):
+    paper = {"finger_force_command_n": 65.0, "residual_settles_within_iterations": [30, 40],
+             "slip_margin_saturates_above": 0.8}
+
+    def outputs(factors, rng):
+        return quasi_static_outputs({**factors, "planner": "heuristic"}, rng)
+
+    def trace(trial_id, factors, out):
+        it = np.arange(60)
+        settle = {0.1: 20, 0.3: 35, 0.5: 50}[factors["mu"]]
+        res = np.where(it < settle, 5.0, 0.1)
+        return {"iterations": [{"trial_id": trial_id, "iteration": int(i),
+                                "residual_norm_n": float(r), "torque_norm_nm": 1e-4,
+                                "slip_margin_n": 1.0, "slip_margin_rel": factors["mu"] * 1.9,
+                                "normal_force_1_n": 64.0} for i, r in zip(it, res, strict=True)]}
+
+    store = make_run(tmp_path, "wrench_balance", "wrench_balance",
+                     {"shape": ["sphere"], "mass_kg": [0.4], "mu": [0.1, 0.3, 0.5]}, seeds=1,
+                     paper=paper, outputs=outputs, tables=trace)
+    build_reports(["wrench_balance"], root=tmp_path)
+    table = read_table(store, "wrench_balance")
+    settle = table[table["quantity"].str.startswith("iteration")].set_index("mu")
+    assert settle["ours"].to_dict() == {0.1: 20.0, 0.3: 35.0, 0.5: 50.0}
+    assert settle.loc[0.3, "verdict"] == "inside the paper's range"
+    assert "earlier" in settle.loc[0.1, "verdict"] and "later" in settle.loc[0.5, "verdict"]
+    slip = table[table["quantity"].str.startswith("final slip")].set_index("mu")
+    assert slip.loc[0.5, "verdict"] == "as in the paper"
+    assert slip.loc[0.3, "verdict"].startswith("differs")  # 0.57 is not above 0.8
+    assert (store.path / "report" / "figures" / "fig17_wrench.png").exists()
+
+
+def test_heuristic_weights_invariance(tmp_path):
+    def outputs(factors, rng):
+        s = factors["weight_scale"]
+        return {"vertex_1": 1, "vertex_2": 2, "vertex_3": 3, "argmin_key": "1-2-3",
+                "h_total": 0.2 * s, "s1": 0.05, "s2": 0.1, "s3": 0.05, "n_c": 0, "n_e": 0,
+                "h_reachable": (0.25 + 0.25 + 1 / 3) * s, "s1_reachable": 0.25,
+                "s2_reachable": 0.25, "s3_reachable": 1 / 3}
+
+    store = make_run(tmp_path, "heuristic_weights", "heuristic_weights",
+                     {"weight_scale": [1.0, 0.5, 2.0]}, seeds=1,
+                     paper={"h_at_scale": {"1.0": 0.833, "0.5": 0.416, "2.0": 1.666},
+                            "s1": 0.25, "s2": 0.25, "s3": 0.33}, outputs=outputs)
+    build_reports(["heuristic_weights"], root=tmp_path)
+    h = read_table(store, "h_by_scale").set_index("weight_scale")
+    assert h.loc[2.0, "h_reachable"] == pytest.approx(2 * (0.5 + 1 / 3))
+    assert h["verdict"].str.startswith("matches").all()
+    comp = read_table(store, "components").set_index("quantity")
+    assert comp.loc["argmin under uniform scaling", "verdict"] == "invariant, as in the paper"
+
+
+def test_prepared_identifications_beside_table3(tmp_path):
+    prepared = [{"shape": "sphere", "mass_kg": 0.4, "mu": 0.3, "nodes": 390, "body_id": "b1",
+                 "lambda1": 0.3, "lambda2": 0.9, "n_exp": 0.5, "b": 0.6, "k": 0.1, "c": 0.002,
+                 "best_cost": 0.01, "n_evaluations": 50_000, "wall_time_s": 3.0}]
+    store = make_run(tmp_path, "my_grid", "quasi_static",
+                     {"shape": ["sphere"], "mass_kg": [0.4], "mu": [0.3],
+                      "planner": ["heuristic", "random"]},
+                     seeds=3, paper={}, outputs=quasi_static_outputs, prepared=prepared)
+    build_reports(["my_grid"], root=tmp_path)
+    ident = read_table(store, "identifications").set_index("parameter")
+    assert ident.loc["lambda1", "paper"] == 0.332  # from campaigns/pso_repeatability.yaml
+    assert ident.loc["n_exp", "ours_mean"] == 0.5
+    assert read_table(store, "success_rates")["planner"].tolist() == ["heuristic", "random"]
+
+
+def test_headline_page_gathers_rates(grid_run):
+    root, store = grid_run
+    headline = pd.read_csv(root / "headline.csv")
+    grid = headline[headline["study"] == "baseline_grid"].iloc[0]
+    ok = ok_records(store)
+    mine = ok[ok["planner"] == "heuristic"]
+    assert grid["n"] == len(mine)
+    assert grid["ours_pct"] == pytest.approx(100 * mine["success"].mean())
+    assert grid["paper_pct"] == 67.6 and grid["paper_n"] == 675
+    assert grid["paper_baseline"].startswith("antipodal 40%")
+    missing = headline[headline["study"] == "test3_disturbance"]
+    assert set(missing["verdict"]) == {"no records yet"}
+    assert 80.8 in missing["paper_pct"].tolist()
+    md = (root / "headline.md").read_text()
+    assert "Baseline grid" in md and "not** comparable" in md
+
+
+def test_tables_json_is_strict(grid_run):
+    _, store = grid_run
+    build_reports(["baseline_grid"], root=store.path.parent.parent, formats=["md", "json"])
+    data = json.loads((store.path / "report" / "tables.json").read_text(),
+                      parse_constant=lambda c: pytest.fail(f"non-JSON constant {c}"))
+    assert {"success_by_planner", "mcnemar", "design_limit"} <= set(data)
