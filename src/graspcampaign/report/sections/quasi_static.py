@@ -3,8 +3,8 @@
 One entry point, :func:`section`, chooses the study's section by the study name in the manifest
 (``shapes``, ``ablation``, ``baseline_grid``); any other quasi-static study gets the planner
 comparison. ``mesh_resolution`` and ``sensitivity`` have kinds and sections of their own. Every
-section reads the record columns of docs/records.md (``quasi_static``) and the paper's values from the manifest's ``config.paper``
-block; none runs a trial.
+section reads the record columns of docs/records.md (``quasi_static``) and the paper's values
+from the manifest's ``config.paper`` block; none runs a trial.
 """
 
 from __future__ import annotations
