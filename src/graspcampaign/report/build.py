@@ -25,6 +25,8 @@ SOURCE_LABEL = {
 
 # trial kind -> "module:function(report, records, manifest, store)"
 SECTIONS: dict[str, str] = {
+    "gravity_settle": "graspcampaign.report.sections.dynamic:gravity_settle",
+    "dynamic_grasp": "graspcampaign.report.sections.dynamic:friction_mass",
     "mesh_features": "graspcampaign.report.sections.smoke:section",
     "quasi_static": "graspcampaign.report.sections.quasi_static:section",
     "mesh_resolution": "graspcampaign.report.sections.mesh_resolution:section",
