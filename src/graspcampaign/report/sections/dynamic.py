@@ -101,8 +101,8 @@ def friction_mass(report: Report, records: pd.DataFrame, manifest: dict, store) 
             f"{ok['delta_max_mm'].max():.1f} mm; the fingertip radius is 5 mm), and the "
             "quasi-static evaluator on the same contacts needs "
             f"{ok['qs_delta_max_mm'].min():.0f}–{ok['qs_delta_max_mm'].max():.0f} mm to carry "
-            "the weight: the law is far outside its range of validity. The paper's runs used an unpublished internal "
-            "unit system (Sec. 5.5); nothing is rescaled here.")
+            "the weight: the law is far outside its range of validity. The paper's runs used an "
+            "unpublished internal unit system (Sec. 5.5); nothing is rescaled here.")
     like = ok[["mu", "mass_kg", "dynamic_status", "qs_success", "qs_failure_check",
                "qs_residual_norm_n", "qs_delta_max_mm", "lp_status", "lp_status_mu0"]]
     report.table("like_for_like", like.sort_values(["mu", "mass_kg"]).reset_index(drop=True),
