@@ -64,18 +64,18 @@ def _colour(planner: str, i: int = 0) -> str:
 
 
 def _rate_bars(ax, x: np.ndarray, rates: pd.DataFrame, width: float, colours: Sequence[str],
-               label: str | None = None, annotate_n: bool = True) -> None:
-    """Bars of ``ours_pct`` with asymmetric Wilson error bars, n above each bar."""
+               label: str | None = None) -> None:
+    """Bars of ``ours_pct`` with asymmetric Wilson error bars."""
     ours = rates["ours_pct"].to_numpy(dtype=float)
     low = rates["wilson_low_pct"].to_numpy(dtype=float)
     high = rates["wilson_high_pct"].to_numpy(dtype=float)
     err = np.vstack([np.nan_to_num(ours - low), np.nan_to_num(high - ours)])
     ax.bar(x, np.nan_to_num(ours), width, color=colours, edgecolor="white", label=label,
            yerr=err, ecolor="#333333", error_kw={"elinewidth": 1.0})
-    if annotate_n:
-        for xi, hi, n in zip(x, np.nan_to_num(high), rates["n"], strict=True):
-            ax.annotate(f"n={n}", (xi, hi), xytext=(0, 2), textcoords="offset points",
-                        ha="center", va="bottom", fontsize=6.5, color="#444444")
+
+
+def _ticks_with_n(rates: pd.DataFrame) -> list[str]:
+    return [f"{_label(p)}\nn={n}" for p, n in zip(rates["planner"], rates["n"], strict=True)]
 
 
 def _paper_marks(ax, x: np.ndarray, paper_pct: Sequence, width: float) -> bool:
@@ -110,8 +110,8 @@ def fig15_shape_metrics(per_shape: pd.DataFrame, h_range: Sequence[float] | None
     ``slip_margin_n`` (medians over the shape's trials), ``success_rate`` in [0, 1], ``n`` and
     ``paper_success`` (True/False/None).
     """
-    fig = Figure(figsize=(10.0, 3.2), layout="constrained")
-    axes = fig.subplots(1, 4)
+    fig = Figure(figsize=(9.0, 6.6), layout="constrained")
+    axes = fig.subplots(2, 2).ravel()
     x = np.arange(len(per_shape))
     colours = [SUCCESS_COLOUR if r >= 0.5 else FAILURE_COLOUR for r in per_shape["success_rate"]]
     ticks = []
@@ -120,7 +120,7 @@ def fig15_shape_metrics(per_shape: pd.DataFrame, h_range: Sequence[float] | None
         ours = f"{int(round(rate * n))}/{n}" if n > 1 else ("ok" if rate >= 0.5 else "fail")
         paper_txt = "" if paper is None or pd.isna(paper) else \
             ("\npaper: ok" if paper else "\npaper: fail")
-        ticks.append(f"{shape.replace('_', ' ')}\nours: {ours}{paper_txt}")
+        ticks.append(f"{shape.replace('_', chr(10))}\nours: {ours}{paper_txt}")
     panels = [
         ("h_total", "(a) heuristic H(G) [\u2013]", None),
         ("residual_norm_n", "(b) force residual \u2016R\u2016 [N]", residual_limit_n),
@@ -131,12 +131,13 @@ def fig15_shape_metrics(per_shape: pd.DataFrame, h_range: Sequence[float] | None
         values = per_shape[col].to_numpy(dtype=float) if col in per_shape else np.full(len(x), np.nan)
         ax.bar(x, np.nan_to_num(values), 0.7, color=colours)
         ax.set_title(title, loc="left")
-        ax.set_xticks(x, ticks, rotation=0, fontsize=6.5)
+        ax.set_xticks(x, ticks, fontsize=7)
         if line is not None:
             ax.axhline(line, color="#333333", linestyle="--", linewidth=1.0)
     if h_range is not None:
         axes[0].axhspan(h_range[0], h_range[1], color=PAPER_COLOUR, alpha=0.12, zorder=0)
-    axes[0].set_ylabel("value of the chosen grasp (median over trials)")
+    for ax in axes[::2]:
+        ax.set_ylabel("chosen grasp, median over trials")
     handles = [Patch(color=SUCCESS_COLOUR, label="success (all checks pass)"),
                Patch(color=FAILURE_COLOUR, label="failure"),
                Line2D([], [], color="#333333", linestyle="--",
@@ -144,7 +145,7 @@ def fig15_shape_metrics(per_shape: pd.DataFrame, h_range: Sequence[float] | None
     if h_range is not None:
         handles.append(Patch(color=PAPER_COLOUR, alpha=0.12,
                              label=f"paper's H range {h_range[0]}\u2013{h_range[1]}"))
-    fig.legend(handles=handles, loc="outside lower center", ncol=len(handles))
+    fig.legend(handles=handles, loc="outside lower center", ncol=2)
     return fig
 
 
@@ -162,7 +163,7 @@ def fig16_ablation(rates: pd.DataFrame) -> Figure:
     colours = [_colour(p, i) for i, p in enumerate(rates["planner"])]
     _rate_bars(ax, x, rates, 0.7, colours)
     marked = _paper_marks(ax, x, rates["paper_pct"].tolist(), 0.7)
-    ax.set_xticks(x, [_label(p) for p in rates["planner"]])
+    ax.set_xticks(x, _ticks_with_n(rates))
     ax.set_ylabel("success rate [%]")
     ax.set_xlabel("planner (heuristic with one term removed, or a baseline)")
     ax.set_ylim(0, 105)
@@ -184,7 +185,7 @@ def fig18_baselines(by_planner: pd.DataFrame, by_shape: pd.DataFrame) -> Figure:
     planners = by_planner["planner"].tolist()
     _rate_bars(ax_a, x, by_planner, 0.7, [_colour(p, i) for i, p in enumerate(planners)])
     marked = _paper_marks(ax_a, x, by_planner["paper_pct"].tolist(), 0.7)
-    ax_a.set_xticks(x, [_label(p) for p in planners])
+    ax_a.set_xticks(x, _ticks_with_n(by_planner))
     ax_a.set_ylabel("success rate [%]")
     ax_a.set_ylim(0, 105)
     ax_a.set_title("(a) overall", loc="left")
@@ -195,8 +196,7 @@ def fig18_baselines(by_planner: pd.DataFrame, by_shape: pd.DataFrame) -> Figure:
         sub = by_shape[by_shape["planner"] == planner].set_index("shape").reindex(shapes)
         sub = sub.assign(n=sub["n"].fillna(0).astype(int))
         xs = np.arange(len(shapes)) + (i - (len(planners) - 1) / 2) * width
-        _rate_bars(ax_b, xs, sub, width, [_colour(planner, i)] * len(shapes), _label(planner),
-                   annotate_n=False)
+        _rate_bars(ax_b, xs, sub, width, [_colour(planner, i)] * len(shapes), _label(planner))
         marked |= _paper_marks(ax_b, xs, sub["paper_pct"].tolist(), width)
     ax_b.set_xticks(np.arange(len(shapes)), [s.replace("_", " ") for s in shapes])
     ax_b.set_ylabel("success rate [%]")

@@ -115,8 +115,14 @@ def verdict(paper_pct: float | None, ours_fraction: float, low: float, high: flo
 
 
 def executed(records: pd.DataFrame) -> pd.DataFrame:
-    """Return the executed trials (``status == "ok"``) with ``success`` as a plain bool column."""
+    """Return the executed trials with ``success`` as a plain bool column.
+
+    Executed: ``status == "ok"`` and, for the hardware protocols, not ``aborted`` (an aborted
+    attempt is kept for provenance and enters no statistic, paper Sec. 8.1; docs/records.md).
+    """
     ok = records[records["status"] == "ok"]
+    if "aborted" in ok:
+        ok = ok[~ok["aborted"].astype("boolean").fillna(False).astype(bool)]
     if "success" in ok:
         ok = ok.assign(success=ok["success"].astype("boolean").fillna(False).astype(bool))
     return ok
