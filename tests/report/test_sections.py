@@ -34,9 +34,11 @@ P_SUCCESS = {"heuristic": 0.7, "antipodal": 0.4, "random": 0.1, "centroid": 0.0,
 def make_run(root, name: str, kind: str, factors: dict, seeds: int, paper: dict,
              outputs: Callable[[dict, np.random.Generator], dict], *, seed: int = 11,
              error_every: int = 0, tables: Callable[[str, dict, dict], dict] | None = None,
-             prepared: list[dict] | None = None, source: str = "simulation") -> RunStore:
+             prepared: list[dict] | None = None, source: str = "simulation",
+             **study_kw) -> RunStore:
     """Write a run of ``name`` like the runner does: records (+ traces), then the manifest."""
-    study = StudyCfg(name=name, kind=kind, seed=seed, seeds=seeds, factors=factors, paper=paper)
+    study = StudyCfg(name=name, kind=kind, seed=seed, seeds=seeds, factors=factors, paper=paper,
+                     **study_kw)
     trials = expand(study)
     rng = np.random.default_rng(seed)
     rows, traces = [], {}
@@ -351,21 +353,28 @@ def test_wrench_balance_settling_from_trace(tmp_path):
 def test_heuristic_weights_invariance(tmp_path):
     def outputs(factors, rng):
         s = factors["weight_scale"]
-        return {"vertex_1": 1, "vertex_2": 2, "vertex_3": 3, "argmin_key": "1-2-3",
+        key = f"{factors['seed']}-2-3"  # differs between seeds, never between scales of one seed
+        return {"vertex_1": 1, "vertex_2": 2, "vertex_3": 3, "argmin_key": key,
+                "argmin_key_ratio_2_1_1": key,
+                "argmin_key_ratio_1_1_2": "9-9-9" if factors["seed"] == 0 else key,
                 "h_total": 0.2 * s, "s1": 0.05, "s2": 0.1, "s3": 0.05, "n_c": 0, "n_e": 0,
                 "h_reachable": (0.25 + 0.25 + 1 / 3) * s, "s1_reachable": 0.25,
                 "s2_reachable": 0.25, "s3_reachable": 1 / 3}
 
     store = make_run(tmp_path, "heuristic_weights", "heuristic_weights",
-                     {"weight_scale": [1.0, 0.5, 2.0]}, seeds=1,
+                     {"weight_scale": [1.0, 0.5, 2.0]}, seeds=3,
                      paper={"h_at_scale": {"1.0": 0.833, "0.5": 0.416, "2.0": 1.666},
-                            "s1": 0.25, "s2": 0.25, "s3": 0.33}, outputs=outputs)
+                            "s1": 0.25, "s2": 0.25, "s3": 0.33}, outputs=outputs,
+                     method_factors=["weight_scale"])
     build_reports(["heuristic_weights"], root=tmp_path)
     h = read_table(store, "h_by_scale").set_index("weight_scale")
     assert h.loc[2.0, "h_reachable"] == pytest.approx(2 * (0.5 + 1 / 3))
     assert h["verdict"].str.startswith("matches").all()
     comp = read_table(store, "components").set_index("quantity")
-    assert comp.loc["argmin under uniform scaling", "verdict"] == "invariant, as in the paper"
+    assert comp.loc["seeds whose argmin is the same at every scale", "verdict"] == \
+        "invariant in every seed, as in the paper"
+    sweep = read_table(store, "ratio_sweep").set_index("weights_w1_w2_w3")
+    assert sweep["argmin_moves"].to_dict() == {"2:1:1": 0, "1:1:2": 1}
 
 
 def test_prepared_identifications_beside_table3(tmp_path):

@@ -115,9 +115,13 @@ def fig15_shape_metrics(per_shape: pd.DataFrame, h_range: Sequence[float] | None
     x = np.arange(len(per_shape))
     colours = [SUCCESS_COLOUR if r >= 0.5 else FAILURE_COLOUR for r in per_shape["success_rate"]]
     ticks = []
-    for shape, paper, rate, n in per_shape[["shape", "paper_success", "success_rate", "n"]] \
-            .itertuples(index=False):
-        ours = f"{int(round(rate * n))}/{n}" if n > 1 else ("ok" if rate >= 0.5 else "fail")
+    checks = per_shape["failure_check"] if "failure_check" in per_shape else [""] * len(x)
+    for (shape, paper, rate, n), check in zip(
+            per_shape[["shape", "paper_success", "success_rate", "n"]].itertuples(index=False),
+            checks, strict=True):
+        first = str(check).split(" ")[0] if isinstance(check, str) and check else ""
+        ours = f"{int(round(rate * n))}/{n}" if n > 1 else (
+            "ok" if rate >= 0.5 else f"fail ({first})" if first else "fail")
         paper_txt = "" if paper is None or pd.isna(paper) else \
             ("\npaper: ok" if paper else "\npaper: fail")
         ticks.append(f"{shape.replace('_', chr(10))}\nours: {ours}{paper_txt}")
@@ -252,6 +256,10 @@ def fig17_wrench(traces: pd.DataFrame, *, settle_band: Sequence[float] | None = 
         axes[2].axhline(slip_saturates_above, color=PAPER_COLOUR, linestyle=":",
                         label=f"paper: > {slip_saturates_above} for \u03bc \u2265 0.3")
     axes[2].axhline(0.0, color="#333333", linestyle="--", linewidth=1.0, label="slip boundary")
+    if "slip_margin_rel" in traces and traces["slip_margin_rel"].min() < -1.0:
+        # the first iterations (seed contact) can reach -100 and would hide the saturation
+        axes[2].set_ylim(-1.0, 1.1)
+        axes[2].set_title(panels[2][1] + ", clipped at \u22121", loc="left")
     if force_command_n is not None:
         axes[3].axhline(force_command_n, color=PAPER_COLOUR, linestyle=":",
                         label=f"paper: \u2248{force_command_n:g} N command")
@@ -378,8 +386,8 @@ def fig21_pso(normalised: pd.DataFrame, cv_pct: Mapping[str, float],
                      color=PLANNER_COLOURS[PROPOSED], zorder=3)
     ax_a.axhline(1.0, color="#333333", linestyle="--", linewidth=1.0)
     dash = "\u2014"
-    labels = [f"{_param_label(p)}\nCV {cv_pct[p]:.0f}%\npaper {paper_cv_pct.get(p, dash)}"
-              for p in params]
+    labels = [f"{_param_label(p)}\nCV {cv_pct[p]:.0f}%\n"
+              f"paper {str(paper_cv_pct.get(p, dash)).replace(' (range)', '')}" for p in params]
     ax_a.set_xticks(range(len(params)), labels, fontsize=7)
     ax_a.set_ylabel("identified value / mean over runs [\u2013]")
     ax_a.set_title(f"(a) identified values, {len(normalised)} runs", loc="left")

@@ -62,6 +62,7 @@ TABLE1: tuple[Headline, ...] = (
     Headline("test3_disturbance", "Disturbance, all", "Sec. 9.5", paper_key="proposed_success_pct",
              paper_n_key="proposed_trials"),
 )
+FACTOR_NOUNS = {"shape": "shapes", "mass_kg": "masses", "mu": "frictions", "nodes": "meshes"}
 COLUMNS = ["headline", "section", "study", "run", "source", "testbed", "paper_pct", "paper_n",
            "ours_pct", "wilson_low_pct", "wilson_high_pct", "n", "n_error", "difference_pp",
            "paper_baseline", "ours_baseline", "verdict", "report"]
@@ -102,7 +103,7 @@ def _paper_values(h: Headline, paper: dict, proposed: str) -> tuple[float | None
 def _design(manifest: dict, records: pd.DataFrame) -> str:
     config = manifest.get("config") or {}
     factors = config.get("factors") or {}
-    parts = [f"{len(v)} {k}" for k, v in factors.items()
+    parts = [f"{len(v)} {FACTOR_NOUNS.get(k, k + ' levels')}" for k, v in factors.items()
              if k not in ("planner", "variant") and len(v) > 1]
     if int(config.get("seeds", 1)) > 1:
         parts.append(f"{config['seeds']} seeds")
@@ -183,6 +184,10 @@ def _ours_baseline(records: pd.DataFrame, proposed: str, h: Headline) -> str:
     return ", ".join(f"{p} {tbl.format_number(r, 1, percent=True)}%" for p, r in rates.items())
 
 
+def _given(value) -> bool:
+    return value is not None and not (isinstance(value, float) and math.isnan(value))
+
+
 def headline_markdown(rows: pd.DataFrame) -> str:
     """Return the headline page as Markdown."""
     from graspcampaign.report.document import _md_table
@@ -191,9 +196,9 @@ def headline_markdown(rows: pd.DataFrame) -> str:
         "headline (proposed planner)": rows["headline"],
         "testbed (ours)": rows["testbed"].fillna("—"),
         "run": rows["run"].fillna("—"),
-        "paper %": [tbl.format_number(v) + (f" (n = {n})" if n else "") if v is not None and
-                    not pd.isna(v) else "—" for v, n in zip(rows["paper_pct"], rows["paper_n"],
-                                                            strict=True)],
+        "paper %": [tbl.format_number(v) + (f" (n = {int(n)})" if _given(n) else "")
+                    if _given(v) else "—" for v, n in zip(rows["paper_pct"], rows["paper_n"],
+                                                         strict=True)],
         "ours % (Wilson 95%)": ["—" if not n else stats.format_estimate_interval(
             e / 100, lo / 100, hi / 100) for e, lo, hi, n in rows[
                 ["ours_pct", "wilson_low_pct", "wilson_high_pct", "n"]].itertuples(index=False)],
@@ -202,7 +207,7 @@ def headline_markdown(rows: pd.DataFrame) -> str:
         "strongest baselines: paper": rows["paper_baseline"].fillna("—"),
         "ours": rows["ours_baseline"].fillna("—"),
         "verdict": rows["verdict"], "section": rows["section"],
-        "report": [f"[report]({r})" if r else "—" for r in rows["report"]],
+        "report": [f"[report]({r})" if _given(r) else "—" for r in rows["report"]],
     })
     return "\n".join([
         "# Headline success rates (paper Table 1)", "",
