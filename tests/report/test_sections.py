@@ -415,3 +415,27 @@ def test_tables_json_is_strict(grid_run):
     data = json.loads((store.path / "report" / "tables.json").read_text(),
                       parse_constant=lambda c: pytest.fail(f"non-JSON constant {c}"))
     assert {"success_by_planner", "mcnemar", "design_limit"} <= set(data)
+
+
+def test_pso_budgets_split_and_pinned_parameters(tmp_path):
+    def outputs(factors, rng):
+        conv = factors["budget"] == "converged"
+        return {"lambda1": 1.5, "lambda2": rng.uniform(0.3, 1.4), "n_exp": rng.normal(0.5, 0.05),
+                "b": rng.uniform(0.2, 1.5), "k": rng.uniform(0.05, 0.3),
+                "c": 0.002 if conv else rng.uniform(5e-4, 0.01), "best_cost": rng.uniform(0, 1),
+                "n_evaluations": 50_000 if conv else 120}
+
+    store = make_run(tmp_path, "pso_repeatability", "pso_repeatability",
+                     {"shape": ["sphere"], "budget": ["repeatability", "converged"]}, seeds=6,
+                     paper={"cv_pct": {"n": 19.0}, "table3": TABLE3}, outputs=outputs)
+    build_reports(["pso_repeatability"], root=tmp_path)
+    ok = ok_records(store)
+    rep, conv = ok[ok["budget"] == "repeatability"], ok[ok["budget"] == "converged"]
+    cv = read_table(store, "cv").set_index("parameter")
+    assert cv.loc["n_exp", "n"] == len(rep)
+    assert cv.loc["n_exp", "cv_pct"] == pytest.approx(100 * sps.variation(rep["n_exp"], ddof=1))
+    assert cv.loc["lambda1", "cv_pct"] == 0.0
+    t3 = read_table(store, "table3").set_index("parameter")
+    assert t3.loc["c", "ours_mean"] == pytest.approx(0.002) and t3.loc["c", "n"] == len(conv)
+    md = (store.path / "report" / "report.md").read_text()
+    assert "lambda1 ends at 1.5" in md and "every run at one value" in md

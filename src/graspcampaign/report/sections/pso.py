@@ -54,11 +54,13 @@ def section(report: Report, records: pd.DataFrame, manifest: dict, store: RunSto
             "MSD constants do not enter Algorithms 1-2), so their spread is where the swarm "
             "stopped inside the bounds, not a measure of identifiability. Parameters pinned at "
             "a bound show a CV of 0.")
+    converged = ok.iloc[0:0]
     if "budget" in ok and (ok["budget"] == "repeatability").any() and ok["budget"].nunique() > 1:
-        n_conv = int((ok["budget"] != "repeatability").sum())
+        converged = ok[ok["budget"] != "repeatability"]
         ok = ok[ok["budget"] == "repeatability"]
         report.text(f"The CV table and Fig. 21 use the {len(ok)} restarts at the paper's 8 x 15 "
-                    f"budget (Sec. 6.8); the {n_conv} converged-budget restarts are in the records.")
+                    f"budget (Sec. 6.8); Table 3 uses the {len(converged)} converged-budget "
+                    "restarts (the paper's Table 3 comes from a converged run, Sec. 5.3).")
     params = [p for p in PARAMETERS if p in ok and ok[p].notna().sum() >= 2]
     paper = ((manifest.get("config") or {}).get("paper") or {}).get("cv_pct") or {}
     seed = int((manifest.get("config") or {}).get("seed", 0))
@@ -81,8 +83,9 @@ def section(report: Report, records: pd.DataFrame, manifest: dict, store: RunSto
         display = pd.DataFrame({
             "parameter": full["parameter"], "paper CV %": full["paper_text"],
             "ours CV % (95%)": [f"{tbl.format_number(c)} ({tbl.format_number(lo)}–"
-                                f"{tbl.format_number(hi)})" for c, lo, hi in
-                                full[["cv_pct", "low_pct", "high_pct"]].itertuples(index=False)],
+                                f"{tbl.format_number(hi)})" if not math.isnan(lo) else
+                                f"{tbl.format_number(c)} (every run at one value)" for c, lo, hi
+                                in full[["cv_pct", "low_pct", "high_pct"]].itertuples(index=False)],
             "difference": [tbl.format_signed(v) for v in full["difference_pp"]],
             "n": full["n"], "mean": [f"{v:.4g}" for v in full["mean"]],
             "SD": [f"{v:.4g}" for v in full["sd"]], "verdict": full["verdict"]})
@@ -90,16 +93,12 @@ def section(report: Report, records: pd.DataFrame, manifest: dict, store: RunSto
                      "Coefficient of variation of each identified parameter over the PSO "
                      "restarts beside Sec. 6.8 (sample SD / mean; 95% percentile bootstrap over "
                      f"runs, {tbl.BOOTSTRAP_RESAMPLES} resamples, seed {seed})", display)
-        tightest = full.loc[full["cv_pct"].idxmin(), "parameter"]
-        report.text(
-            "The paper finds the exponent n the most identifiable (smallest CV). "
-            + (f"Ours agrees: n has the smallest CV ({tbl.format_number(full['cv_pct'].min())}%)."
-               if tightest == "n_exp" else
-               f"Ours differs: {tightest} has the smallest CV "
-               f"({tbl.format_number(full['cv_pct'].min())}%), not n."))
-    if len(ok):
-        add_table3(report, ok, manifest, name="table3",
-                   label=f"identified values of the {len(ok)} restarts")
+        report.text(_ranking_words(full))
+    table3_rows = converged if len(converged) else ok
+    if len(table3_rows):
+        add_table3(report, table3_rows, manifest, name="table3",
+                   label=f"identified values of the {len(table3_rows)} "
+                         f"{'converged-budget ' if len(converged) else ''}restarts")
     bands = None
     if store is not None:
         trace = store.read("tables/pso_trace").to_pandas()
@@ -116,6 +115,29 @@ def section(report: Report, records: pd.DataFrame, manifest: dict, store: RunSto
     if bands is not None and len(bands):
         report.table("convergence", bands, "Best-cost convergence bands across restarts "
                      "(Fig. 21b)")
+
+
+def _ranking_words(full: pd.DataFrame) -> str:
+    """Say whether n is the most identifiable parameter, as the paper finds (Sec. 6.8)."""
+    head = "The paper finds the exponent n the most identifiable (smallest CV). "
+    pinned = full[full["sd"] == 0]
+    spread = full[full["sd"] > 0]
+    text = ""
+    if len(pinned):
+        text = ("Ours: " + ", ".join(f"{p} ends at {m:.4g}" for p, m in
+                                     zip(pinned["parameter"], pinned["mean"], strict=True))
+                + " in every run (CV 0: pinned, typically at a bound of the search box), so a "
+                "CV ranking says nothing about them. ")
+    if not len(spread):
+        return head + text
+    tightest = spread.loc[spread["cv_pct"].idxmin()]
+    if tightest["parameter"] == "n_exp":
+        return head + text + f"Ours agrees: n has the smallest CV " \
+            f"({tbl.format_number(tightest['cv_pct'])}%)."
+    among = "Among the parameters that vary, " if len(pinned) else "Ours differs: "
+    return (head + text + f"{among}{tightest['parameter']} has the smallest CV "
+            f"({tbl.format_number(tightest['cv_pct'])}%)"
+            + (", not n." if "n_exp" in set(spread["parameter"]) else "."))
 
 
 def _cv_interval(values: np.ndarray, seed: int) -> tuple[float, float]:
