@@ -26,7 +26,8 @@ from graspcampaign.report.document import check_formats
 
 
 def write_run(root, name="ablation", kind="quasi_static", n_success=None, error_rows=(),
-              paper=None, source="simulation", planners=("heuristic", "random")):
+              paper=None, source="simulation", planners=("heuristic", "random"),
+              aborted_rows=None):
     """A run of ``len(planners) * 10`` trials; ``n_success[planner]`` successes each."""
     study = StudyCfg(name=name, kind=kind, seed=3, seeds=10,
                      factors={"shape": ["sphere"], "planner": list(planners)},
@@ -39,8 +40,12 @@ def write_run(root, name="ablation", kind="quasi_static", n_success=None, error_
                "trial_index": trial.index, "scene_id": trial.scene_id, "status": "ok",
                "error_type": None, "error_message": None, "wall_time_s": 0.01, "worker": "w",
                "host": "h", "source": source, **trial.factors}
+        if aborted_rows is not None:  # hardware protocols: an aborted attempt stays "ok"
+            row["aborted"] = trial.index in aborted_rows
         if trial.index in error_rows:
             row.update(status="error", error_type="ValueError", error_message="bad")
+        elif row.get("aborted"):
+            row.update(success=None)
         else:
             success = counts[planner] < n_success.get(planner, 0)
             counts[planner] += success
@@ -99,7 +104,7 @@ def test_cli_format_option(tmp_path):
 
 
 def test_errored_trials_enter_no_denominator(tmp_path):
-    # indices 0 and 2 are heuristic trials (planner varies fastest before the seed axis)
+    # trials 0-9 are the heuristic's (the seed axis is innermost)
     store = write_run(tmp_path, error_rows=(0, 2))
     build_reports(["ablation"], root=tmp_path)
     table = pd.read_csv(store.path / "report" / "tables" / "success_by_planner.csv")
@@ -148,11 +153,13 @@ def test_virtual_rig_rows_say_so(tmp_path):
     # the Test 2 section needs the full protocol columns; the headline needs only these
     write_run(tmp_path, name="test2_grasp", kind="no_section_kind", source="virtual",
               paper={"proposed_success_pct": 77.8, "proposed_trials": 819,
-                     "random_success_pct": 28.0})
+                     "random_success_pct": 28.0}, aborted_rows={0, 15})
     build_reports(["test2_grasp"], root=tmp_path)
     rows = pd.read_csv(tmp_path / "headline.csv").set_index("headline")
     assert rows.loc["Grasp validation, all", "testbed"].startswith("VIRTUAL RIG")
-    assert rows.loc["Grasp validation, all", "n"] == 10
+    # trials 0-9 are the heuristic's (the seed axis is innermost): one aborted, one random one
+    assert rows.loc["Grasp validation, all", ["n", "n_aborted", "ours_pct"]].tolist() == \
+        [9, 1, pytest.approx(700 / 9)]
     assert "lack the `group` column" in rows.loc["Grasp validation, nominal", "verdict"]
 
 

@@ -64,7 +64,8 @@ TABLE1: tuple[Headline, ...] = (
 )
 FACTOR_NOUNS = {"shape": "shapes", "mass_kg": "masses", "mu": "frictions", "nodes": "meshes"}
 COLUMNS = ["headline", "section", "study", "run", "source", "testbed", "paper_pct", "paper_n",
-           "ours_pct", "wilson_low_pct", "wilson_high_pct", "n", "n_error", "difference_pp",
+           "ours_pct", "wilson_low_pct", "wilson_high_pct", "n", "n_error", "n_aborted",
+           "difference_pp",
            "paper_baseline", "ours_baseline", "verdict", "report"]
 
 
@@ -130,7 +131,7 @@ def headline_rows(root: Path | str) -> pd.DataFrame:
 def _missing(h: Headline, value, baseline, n, why: str, **extra) -> dict:
     row = dict.fromkeys(COLUMNS)
     row.update(headline=h.label, section=h.section, study=h.study, paper_pct=value,
-               paper_n=n, paper_baseline=baseline, verdict=why, n=0, n_error=0,
+               paper_n=n, paper_baseline=baseline, verdict=why, n=0, n_error=0, n_aborted=0,
                ours_pct=math.nan, wilson_low_pct=math.nan, wilson_high_pct=math.nan,
                difference_pp=math.nan)
     row.update(extra)
@@ -140,7 +141,7 @@ def _missing(h: Headline, value, baseline, n, why: str, **extra) -> dict:
 def _row(h: Headline, store: RunStore, root: Path) -> dict:
     manifest = read_manifest(store.manifest_path) or {}
     paper = (manifest.get("config") or {}).get("paper") or {}
-    wanted = ["status", "planner", "success", *([h.subset[0]] if h.subset else [])]
+    wanted = ["status", "planner", "success", "aborted", *([h.subset[0]] if h.subset else [])]
     records = store.read("records", columns=wanted).to_pandas()
     report = store.path / "report" / "report.md"
     common = {"run": manifest.get("run"), "source": manifest.get("source"),
@@ -164,6 +165,8 @@ def _row(h: Headline, store: RunStore, root: Path) -> dict:
     n, k = len(ok), int(ok["success"].sum()) if len(ok) else 0
     row = _missing(h, value, baseline, n_paper, "no executed trial", **common)
     row["n_error"] = int((mine["status"] == "error").sum())
+    row["n_aborted"] = int(mine["aborted"].astype("boolean").fillna(False).sum()) \
+        if "aborted" in mine else 0
     if n:
         w = stats.wilson_interval(k, n)
         row.update(ours_pct=100 * w.estimate, wilson_low_pct=100 * w.low,
@@ -202,7 +205,7 @@ def headline_markdown(rows: pd.DataFrame) -> str:
         "ours % (Wilson 95%)": ["—" if not n else stats.format_estimate_interval(
             e / 100, lo / 100, hi / 100) for e, lo, hi, n in rows[
                 ["ours_pct", "wilson_low_pct", "wilson_high_pct", "n"]].itertuples(index=False)],
-        "n": rows["n"], "errors": rows["n_error"],
+        "n": rows["n"], "errors": rows["n_error"], "aborted": rows["n_aborted"],
         "difference": [tbl.format_signed(v) for v in rows["difference_pp"]],
         "strongest baselines: paper": rows["paper_baseline"].fillna("—"),
         "ours": rows["ours_baseline"].fillna("—"),
@@ -212,7 +215,8 @@ def headline_markdown(rows: pd.DataFrame) -> str:
     return "\n".join([
         "# Headline success rates (paper Table 1)", "",
         "Each row is the proposed planner's success rate over executed trials (errored trials "
-        "excluded from the denominator and counted in *errors*), with its Wilson 95% interval, "
+        "and aborted hardware attempts are excluded from the denominator and counted in *errors* "
+        "and *aborted*), with its Wilson 95% interval, "
         "beside the paper's Table 1. As in the paper, rows are **not** comparable with each other: "
         "each has its own testbed, object set, baselines and trial count. Rows from the virtual "
         "rig are synthetic data, not hardware results.", "",
