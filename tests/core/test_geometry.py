@@ -22,6 +22,7 @@ from graspcampaign.core.geometry import (
     face_frames,
     face_geometry,
     point_velocity,
+    sphere_mesh_contacts,
     sphere_triangle_contacts,
     transfer_force,
 )
@@ -56,7 +57,7 @@ def _random_pairs(rng, n):
     return tri, centers, radius
 
 
-def _contacts_pairwise(tri, centers, radius, use_geometry):
+def _contacts_pairwise(tri, centers, radius, use_geometry, backend):
     """Run sphere_triangle_contacts on pairs laid out SPACING apart, one radius per pair."""
     rows = []
     for r in np.unique(radius):  # group by radius (the API takes one radius per call)
@@ -65,7 +66,8 @@ def _contacts_pairwise(tri, centers, radius, use_geometry):
         shift[:, 0] = SPACING * np.arange(len(idx))
         t = tri[idx] + shift[:, None, :]
         c = centers[idx] + shift
-        res = sphere_triangle_contacts(c, r, t, geometry=face_geometry(t) if use_geometry else None)
+        res = sphere_triangle_contacts(c, r, t, geometry=face_geometry(t) if use_geometry else None,
+                                       backend=backend)
         assert (res.fingers == res.faces).all()  # only the matching pair can collide
         rows.append((idx[res.fingers], res, shift[res.fingers]))
     return rows
@@ -76,8 +78,12 @@ def random_pairs():
     return _random_pairs(np.random.default_rng(20240611), N_PAIRS)
 
 
+BACKENDS = ["numba", "numpy"]
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
 @pytest.mark.parametrize("use_geometry", [True, False])
-def test_contacts_match_trimesh_closest_point(random_pairs, use_geometry):
+def test_contacts_match_trimesh_closest_point(random_pairs, use_geometry, backend):
     tri, centers, radius = random_pairs
     q_ref = trimesh.triangles.closest_point(tri, centers)
     dist_ref = np.linalg.norm(centers - q_ref, axis=1)
@@ -86,7 +92,7 @@ def test_contacts_match_trimesh_closest_point(random_pairs, use_geometry):
 
     found = np.zeros(len(tri), dtype=bool)
     n_cases = dict.fromkeys(CollisionCase, 0)
-    for idx, res, shift in _contacts_pairwise(tri, centers, radius, use_geometry):
+    for idx, res, shift in _contacts_pairwise(tri, centers, radius, use_geometry, backend):
         found[idx] = True
         r = radius[idx]
         assert np.allclose(res.points - shift, q_ref[idx], atol=1e-12)
@@ -169,11 +175,13 @@ def sphere_queries():
     return m, centers
 
 
-def test_broad_phases_agree_with_brute_force(sphere_queries):
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_broad_phases_agree_with_brute_force(sphere_queries, backend):
     m, centers = sphere_queries
     tri = m.triangles
-    with_geo = sphere_triangle_contacts(centers, 0.005, tri, geometry=face_geometry(tri))
-    soup = sphere_triangle_contacts(centers, 0.005, tri)
+    with_geo = sphere_triangle_contacts(centers, 0.005, tri, geometry=face_geometry(tri),
+                                        backend=backend)
+    soup = sphere_triangle_contacts(centers, 0.005, tri, backend=backend)
     # Brute force: every (finger, face) pair through the Ericson reference.
     p, f = np.meshgrid(np.arange(len(centers)), np.arange(len(tri)), indexing="ij")
     w, _ = closest_point_barycentric(centers[p.ravel()], tri[f.ravel()])
@@ -184,6 +192,41 @@ def test_broad_phases_agree_with_brute_force(sphere_queries):
         assert np.array_equal(res.faces, f.ravel()[hit])
     assert np.allclose(with_geo.depths, soup.depths) and np.allclose(with_geo.points, soup.points)
     assert len(with_geo) > 40
+
+
+def test_compiled_and_numpy_paths_agree_pair_for_pair(random_pairs, sphere_queries):
+    """The numba kernel against the numpy reference: same pairs, codes and values (to rounding),
+    on the random pairs of every case and on a meshed sphere with an indexed-mesh query."""
+    tri, centers, radius = random_pairs
+    r = 0.005
+    idx = np.flatnonzero(radius == r)
+    shift = np.zeros((len(idx), 3))
+    shift[:, 0] = SPACING * np.arange(len(idx))
+    m, sphere_centers = sphere_queries
+    cases = [
+        (centers[idx] + shift, tri[idx] + shift[:, None, :]),
+        (sphere_centers, m.triangles),
+    ]
+    for c, t in cases:
+        ref = sphere_triangle_contacts(c, r, t, backend="numpy")
+        for res in (sphere_triangle_contacts(c, r, t),
+                    sphere_triangle_contacts(c, r, t, geometry=face_geometry(t))):
+            assert len(res) == len(ref) > 40
+            for name in ("fingers", "faces", "cases", "subcases"):
+                assert np.array_equal(getattr(res, name), getattr(ref, name)), name
+            for name in ("depths", "overlaps", "distances", "heights", "points", "finger_points",
+                         "normals", "weights"):
+                assert np.allclose(getattr(res, name), getattr(ref, name), rtol=1e-12,
+                                   atol=1e-15), name
+    mesh_res = sphere_mesh_contacts(sphere_centers, r, m.vertices, m.faces)
+    ref = sphere_triangle_contacts(sphere_centers, r, m.triangles, backend="numpy")
+    assert np.array_equal(mesh_res.faces, ref.faces) and np.allclose(mesh_res.points, ref.points)
+
+
+def test_unknown_backend_is_refused(sphere_queries):
+    m, centers = sphere_queries
+    with pytest.raises(ValueError, match="backend must be 'numba' or 'numpy', got 'cuda'"):
+        sphere_triangle_contacts(centers, 0.005, m.triangles, backend="cuda")
 
 
 def test_eq11_reference_points(sphere_queries):
@@ -272,8 +315,9 @@ def test_force_transfer_preserves_force_moment_and_power(tri, w, force, origin, 
     assert np.einsum("ij,ij->", nodal, velocities) == pytest.approx(force @ v_point, abs=1e-8)
 
 
+@pytest.mark.parametrize("backend", BACKENDS)
 @pytest.mark.parametrize("use_geometry", [True, False])
-def test_degenerate_faces_never_collide(use_geometry):
+def test_degenerate_faces_never_collide(use_geometry, backend):
     tri = np.array([
         [[0.0, 0.0, 0.0], [0.01, 0.0, 0.0], [0.0, 0.01, 0.0]],  # regular face
         [[0.0, 0.0, 0.0], [0.01, 0.0, 0.0], [0.02, 0.0, 0.0]],  # collinear: zero area
@@ -283,7 +327,7 @@ def test_degenerate_faces_never_collide(use_geometry):
     # edge lines at 3, 3 and 2.83 mm -> case iv.
     centers = np.array([[0.003, 0.003, 0.0045]])
     geometry = face_geometry(tri) if use_geometry else None
-    res = sphere_triangle_contacts(centers, 0.005, tri, geometry=geometry)
+    res = sphere_triangle_contacts(centers, 0.005, tri, geometry=geometry, backend=backend)
     assert res.faces.tolist() == [0]
     assert res.cases.tolist() == [CollisionCase.FULL]
     assert res.depths[0] == pytest.approx(0.0005)

@@ -57,6 +57,8 @@ from enum import IntEnum
 import numpy as np
 from scipy.spatial.distance import cdist
 
+from graspcampaign.core import kernels
+
 _NEXT = np.array([1, 2, 0])
 
 
@@ -89,6 +91,7 @@ __all__ = [
     "face_frames",
     "closest_point_barycentric",
     "sphere_triangle_contacts",
+    "sphere_mesh_contacts",
     "deepest_per_finger",
     "barycentric_weights",
     "point_velocity",
@@ -144,12 +147,19 @@ class FaceGeometry:
         Row-wise: vertices A, B, C; edges AB, BC, CA; the unit in-plane edge normals (pointing into
         the face, ``n x edge / |edge|``); the outward unit normal ``n``; squared edge lengths; twice
         the face area. Degenerate (zero-area) faces hold NaN in every derived column and never
-        collide.
+        collide. Used by the numpy path.
+    vertices : (3 f, 3) float
+        The face vertices as an indexed mesh for the compiled path (``vertices[faces]`` is the
+        triangle soup) [m].
+    faces : (f, 3) int64
+        ``arange(3 f).reshape(f, 3)``.
     """
 
     centers: np.ndarray
     radii: np.ndarray
     packed: np.ndarray
+    vertices: np.ndarray
+    faces: np.ndarray
 
     @property
     def normals(self) -> np.ndarray:
@@ -201,7 +211,14 @@ def face_geometry(triangles: np.ndarray) -> FaceGeometry:
     centers = (triangles[:, 0] + triangles[:, 1] + triangles[:, 2]) / 3.0
     offsets = triangles - centers[:, None, :]
     radii = np.sqrt(_dot(offsets, offsets).max(axis=1))
-    return FaceGeometry(centers=centers, radii=radii, packed=_pack(triangles))
+    return FaceGeometry(centers=centers, radii=radii, packed=_pack(triangles),
+                        vertices=np.ascontiguousarray(triangles.reshape(-1, 3)),
+                        faces=_soup_faces(len(triangles)))
+
+
+def _soup_faces(n_faces: int) -> np.ndarray:
+    """Index array ``arange(3 f).reshape(f, 3)`` that makes a triangle soup an indexed mesh."""
+    return np.arange(3 * n_faces, dtype=np.int64).reshape(n_faces, 3)
 
 
 def face_frames(triangles: np.ndarray) -> np.ndarray:
@@ -375,7 +392,8 @@ class SphereTriangleResult:
 
 
 def sphere_triangle_contacts(centers: np.ndarray, radius: float, triangles: np.ndarray,
-                             geometry: FaceGeometry | None = None) -> SphereTriangleResult:
+                             geometry: FaceGeometry | None = None, *,
+                             backend: str = "numba") -> SphereTriangleResult:
     """Find every colliding (fingertip, face) pair and its contact geometry (§3.2-3.3).
 
     Parameters
@@ -389,6 +407,11 @@ def sphere_triangle_contacts(centers: np.ndarray, radius: float, triangles: np.n
         Ignored when ``geometry`` is given.
     geometry : FaceGeometry, optional
         Precomputed :func:`face_geometry` of ``triangles``; reuse it while the mesh is undeformed.
+    backend : {"numba", "numpy"}
+        ``"numba"`` (default) runs the compiled kernel of :mod:`graspcampaign.core.kernels`, one
+        pair at a time; ``"numpy"`` the vectorised reference described below. Both return the
+        same pairs with the same values (to rounding); tests hold them to each other and to
+        trimesh.
 
     Returns
     -------
@@ -398,26 +421,96 @@ def sphere_triangle_contacts(centers: np.ndarray, radius: float, triangles: np.n
     Notes
     -----
     Broad phase: a face is a candidate for a fingertip when the fingertip overlaps the face's
-    bounding sphere (precomputed ``geometry``) or the bounding sphere of its axis-aligned box (raw
-    ``triangles``); either is one (p, f) distance matrix. Only candidates reach the narrow phase,
-    so its cost depends on the number of nearby faces, not on the face count.
+    bounding sphere (precomputed ``geometry``; on raw ``triangles`` the compiled path computes the
+    centroid spheres on the fly, the numpy path the spheres of the axis-aligned boxes). Only
+    candidates reach the narrow phase, so its cost depends on the number of nearby faces, not on
+    the face count.
 
-    Narrow phase, on all k candidates at once, in the face's local frame (§3.2): the signed height
-    ``z0' = (P - A) . n`` and the signed perpendicular distances ``s_i = (P - V_i) . m_i`` of the
-    disc centre to the three edge lines (``m_i`` the in-plane inward edge normals). The projection
-    is inside the triangle iff all ``s_i >= 0`` (subcase i, ``P_face`` the projection); the disc
-    of Eq. 10 lies inside iff additionally ``rho = sqrt(r^2 - z0'^2) <= min s_i`` (case iv).
-    Otherwise ``P_face`` is the nearest of the three projections of the centre onto the edge
-    segments, a vertex when the projection is clamped to a segment end (corner region, subcase iii,
-    case iii) and an edge point otherwise (subcase ii, case ii). This is the Voronoi-region
-    partition of Ericson (2005), checked against :func:`closest_point_barycentric` and trimesh.
+    Narrow phase, on the k candidates (all at once in the numpy path), in the face's local frame
+    (§3.2): the signed height ``z0' = (P - A) . n`` and the signed perpendicular distances ``s_i =
+    (P - V_i) . m_i`` of the disc centre to the three edge lines (``m_i`` the in-plane inward edge
+    normals). The projection is inside the triangle iff all ``s_i >= 0`` (subcase i, ``P_face`` the
+    projection); the disc of Eq. 10 lies inside iff additionally ``rho = sqrt(r^2 - z0'^2) <= min
+    s_i`` (case iv). Otherwise ``P_face`` is the nearest of the three projections of the centre onto
+    the edge segments, a vertex when the projection is clamped to a segment end (corner region,
+    subcase iii, case iii) and an edge point otherwise (subcase ii, case ii). This is the
+    Voronoi-region partition of Ericson (2005), checked against :func:`closest_point_barycentric`
+    and trimesh.
 
     References
     ----------
     Paper §3.2 (four cases), §3.3 and Eq. 11 (depth), Eq. 10 (the disc); Ericson (2005) §5.1.5.
     """
-    centers = np.asarray(centers, dtype=float).reshape(-1, 3)
-    radius = float(radius)
+    centers = np.ascontiguousarray(centers, dtype=float).reshape(-1, 3)
+    if backend == "numpy":
+        return _contacts_numpy(centers, float(radius), triangles, geometry)
+    if backend != "numba":
+        raise ValueError(f"backend must be 'numba' or 'numpy', got {backend!r}")
+    if geometry is None:
+        triangles = np.ascontiguousarray(triangles, dtype=float)
+        return sphere_mesh_contacts(centers, radius, triangles.reshape(-1, 3),
+                                    _soup_faces(len(triangles)))
+    found = kernels.sphere_faces(centers, float(radius), geometry.vertices, geometry.faces,
+                                 geometry.centers, geometry.radii)
+    return _from_kernel(found, len(centers), float(radius))
+
+
+def sphere_mesh_contacts(centers: np.ndarray, radius: float, vertices: np.ndarray,
+                         faces: np.ndarray) -> SphereTriangleResult:
+    """Collide spheres with an indexed (possibly deforming) mesh; compiled path.
+
+    The same as ``sphere_triangle_contacts(centers, radius, vertices[faces])`` without forming the
+    triangle soup: face bounding spheres (centroid, farthest vertex) are computed from the current
+    vertices, then the kernel runs the broad and narrow phases. ``faces`` in the result index the
+    rows of ``faces``.
+
+    Parameters
+    ----------
+    centers : (p, 3) float
+        Sphere centres [m].
+    radius : float
+        Sphere radius [m].
+    vertices : (n, 3) float
+        Current vertex positions [m].
+    faces : (f, 3) int
+        Vertex indices, counter-clockwise seen from outside.
+
+    Returns
+    -------
+    result : SphereTriangleResult
+    """
+    centers = np.ascontiguousarray(centers, dtype=float).reshape(-1, 3)
+    vertices = np.ascontiguousarray(vertices, dtype=float)
+    faces = np.ascontiguousarray(faces, dtype=np.int64)
+    bound_centers, bound_radii = kernels.face_bounds(vertices, faces)
+    found = kernels.sphere_faces(centers, float(radius), vertices, faces, bound_centers, bound_radii)
+    return _from_kernel(found, len(centers), float(radius))
+
+
+def _from_kernel(found, n_fingers: int, radius: float) -> SphereTriangleResult:
+    """Wrap the arrays of ``kernels.sphere_faces`` (first ``count`` rows) as a result."""
+    count, pairs, codes, scalars, vectors = found
+    return SphereTriangleResult(
+        fingers=pairs[:count, 0],
+        faces=pairs[:count, 1],
+        cases=codes[:count, 0],
+        subcases=codes[:count, 1],
+        depths=scalars[:count, 0],
+        overlaps=scalars[:count, 3],
+        distances=scalars[:count, 1],
+        heights=scalars[:count, 2],
+        points=vectors[:count, 0],
+        finger_points=vectors[:count, 1],
+        normals=vectors[:count, 2],
+        weights=vectors[:count, 3],
+        n_fingers=n_fingers,
+        radius=radius,
+    )
+
+
+def _contacts_numpy(centers: np.ndarray, radius: float, triangles: np.ndarray,
+                    geometry: FaceGeometry | None) -> SphereTriangleResult:
+    """The vectorised reference path of :func:`sphere_triangle_contacts` (see its Notes)."""
     r_sq = radius * radius
     if geometry is None:
         # Broad phase on the raw soup: bounding spheres of the faces' axis-aligned boxes (cheap to
