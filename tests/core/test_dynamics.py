@@ -71,12 +71,46 @@ def test_finger_contacts_broad_phase_is_exact(samples):
     centers = np.array(centers)
     approach = centers / np.linalg.norm(centers, axis=1)[:, None]
     got = dynamics.finger_contacts(mesh.vertices, body, centers, 0.005, approach)
-    brute = geometry.sphere_triangle_contacts(centers, 0.005, np.asarray(mesh.triangles))
+    brute = geometry.sphere_triangle_contacts(centers, 0.005, np.asarray(mesh.triangles),
+                                              backend="numpy")
     best = geometry.deepest_per_finger(brute)
     np.testing.assert_array_equal(got.active, best >= 0)
     for j in np.flatnonzero(best >= 0):
         assert got.depths[j] == pytest.approx(brute.depths[best[j]], abs=1e-15)
         assert got.faces[j] == brute.faces[best[j]]
+
+
+def test_grasp_loop_with_compiled_contacts_matches_the_numpy_reference(sphere, monkeypatch):
+    """300 steps of the Fig. 3 loop with the compiled contact query and with the numpy reference
+    path (vertices[faces] through ``backend="numpy"``): the same contacts and trajectory. As in
+    benchmarks/bench_msd.py, gravity is off and free fingers re-close fast, so contacts persist."""
+    setup, initial = dynamics.prepare_grasp(sphere, 0.3, msd.MsdParams(mass=0.1, g=0.0), STIFF_TIP,
+                                            dynamics.GraspParams(grip_speed=0.3))
+
+    def run():
+        gs = dynamics.GraspState(time=0.0, state=initial.state.copy(), grip=initial.grip.copy(),
+                                 grip_rate=initial.grip_rate.copy(), stick=initial.stick,
+                                 slip_coords=initial.slip_coords.copy())
+        faces, forces = [], []
+        for _ in range(300):
+            out = dynamics.grasp_forces(setup, gs)
+            faces.append(out.contacts.faces)
+            forces.append(out.forces)
+            dynamics.advance_grasp(setup, gs, out)
+        return np.array(faces), np.array(forces), gs.state
+
+    compiled = run()
+
+    def numpy_reference(centers, radius, vertices, faces):
+        return geometry.sphere_triangle_contacts(centers, radius, np.asarray(vertices)[faces],
+                                                 backend="numpy")
+
+    monkeypatch.setattr(dynamics.geometry, "sphere_mesh_contacts", numpy_reference)
+    reference = run()
+    assert (compiled[0] >= 0).mean() > 0.5  # most finger-steps are in contact
+    np.testing.assert_array_equal(compiled[0], reference[0])
+    np.testing.assert_allclose(compiled[1], reference[1], rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(compiled[2], reference[2], rtol=1e-9, atol=1e-15)
 
 
 def test_seeded_forces_follow_eq13_and_phi_transfer_conserves_them(sphere):

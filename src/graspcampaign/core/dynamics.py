@@ -320,18 +320,10 @@ def finger_contacts(
 
     Notes
     -----
-    Broad phase before ``geometry.sphere_triangle_contacts`` (exact, no tuning): if a face
-    touches a sphere, its closest point q lies within r of the centre and every vertex within
-    (longest edge) of q, so only faces whose three vertices all lie within ``r + l_max`` of a
-    centre (``l_max`` the longest current edge) can collide. The per-face frames of §3.2 are then
-    built for those few faces only.
+    ``geometry.sphere_mesh_contacts`` (compiled) collides the spheres with every face of the
+    current mesh: its broad phase builds the faces' bounding spheres from the current positions,
+    so no state is carried between calls.
     """
-    rel = body.incidence @ positions
-    reach = radius + float(np.sqrt(np.max(np.einsum("ij,ij->i", rel, rel))))
-    gaps = positions[None, :, :] - centers[:, None, :]
-    near = (np.einsum("pij,pij->pi", gaps, gaps) < reach * reach).any(axis=0)  # (n,)
-    candidates = np.flatnonzero(np.take(near, body.faces).all(axis=1))
-    triangles = np.take(positions, body.faces[candidates], axis=0)
     n_fingers = len(centers)
     active = np.zeros(n_fingers, dtype=bool)
     depths = np.zeros(n_fingers)
@@ -340,18 +332,17 @@ def finger_contacts(
     normals = np.array(approach_normals, dtype=np.float64)
     weights = np.full((n_fingers, 3), 1.0 / 3.0)
     cases = np.full(n_fingers, int(geometry.CollisionCase.NONE), dtype=np.int64)
-    if candidates.size:
-        hits = geometry.sphere_triangle_contacts(centers, radius, triangles)
-        if len(hits):
-            best = geometry.deepest_per_finger(hits)
-            active = best >= 0
-            rows = best[active]
-            depths[active] = hits.depths[rows]
-            hosts[active] = candidates[hits.faces[rows]]
-            points[active] = hits.points[rows]
-            normals[active] = hits.normals[rows]
-            weights[active] = hits.weights[rows]
-            cases[active] = hits.cases[rows]
+    hits = geometry.sphere_mesh_contacts(centers, radius, positions, body.faces)
+    if len(hits):
+        best = geometry.deepest_per_finger(hits)
+        active = best >= 0
+        rows = best[active]
+        depths[active] = hits.depths[rows]
+        hosts[active] = hits.faces[rows]
+        points[active] = hits.points[rows]
+        normals[active] = hits.normals[rows]
+        weights[active] = hits.weights[rows]
+        cases[active] = hits.cases[rows]
     return FingerContacts(
         active=active,
         depths=depths,
