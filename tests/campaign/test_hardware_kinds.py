@@ -235,6 +235,25 @@ def test_an_unforeseen_rerun_gets_its_own_trial(t2_export, tmp_path):
     assert got.loc[row["trial_id"], "trial_id"] == plain["trial_id"]
 
 
+def test_a_late_second_executed_attempt_of_a_stored_slot_is_refused(t2_export, tmp_path):
+    """A re-run of a slot whose executed record an earlier ingest call stored (day1.csv)."""
+    root, folder, records, export, store = t2_export
+    day1 = set(pd.read_csv(folder / "day1.csv")["trial_id"])
+    done = records[records[H.SHEET_ID].isin(day1) & ~records["aborted"].astype(bool)].iloc[0]
+    row = export[export["trial_id"] == done[H.SHEET_ID]].iloc[0]
+    late = f"{done['slot_id']}-a9"
+    pd.DataFrame([row.to_dict() | {"trial_id": late}]).to_csv(tmp_path / "late.csv", index=False)
+    before = _snapshot(store.path)
+    result = _ingest(root, tmp_path / "late.csv")
+    assert result.exit_code == 2, result.output
+    assert re.search(rf"trial '{late}' is an executed attempt of slot '{done['slot_id']}', which "
+                     rf"already has an executed record \('{done[H.SHEET_ID]}'\) in .*measured; "
+                     r"only one attempt per slot may be executed\.", result.stderr), result.stderr
+    assert _snapshot(store.path) == before
+    # the same file into a run without that slot's record is accepted
+    assert _ingest(root, tmp_path / "late.csv", run="late").exit_code == 0
+
+
 def _bad(export: pd.DataFrame, kind: str, folder):
     """A malformed measured-records file of one failure kind; returns (paths, message)."""
     ex = export[~export["aborted"].astype(bool)].reset_index(drop=True)
