@@ -53,6 +53,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, fields
 from enum import IntEnum
+from functools import cached_property
 
 import numpy as np
 from scipy.spatial.distance import cdist
@@ -117,6 +118,9 @@ class PenetrationSubcase(IntEnum):
 
 
 _TINY = np.finfo(float).tiny
+# Region key of a colliding pair, shared by both backends: 0 outside the face in an edge region,
+# 1 outside in a corner region, 2 inside with the disc crossing an edge line, 3 inside with the
+# disc within all edge lines. The tables give its penetration subcase and collision case.
 _SUBCASE_OF_KEY = np.array([PenetrationSubcase.EDGE, PenetrationSubcase.CORNER,
                             PenetrationSubcase.INSIDE, PenetrationSubcase.INSIDE], dtype=np.int8)
 _CASE_OF_KEY = np.array([CollisionCase.EDGE, CollisionCase.CORNER, CollisionCase.EDGE,
@@ -135,36 +139,43 @@ _N_COLS = 34
 
 @dataclass(frozen=True)
 class FaceGeometry:
-    """Per-face quantities of the local-frame collision test (§3.2), computed once per mesh state.
+    """Per-face data of the collision test (§3.2) for one mesh state; build it with
+    :func:`face_geometry` and reuse it while the mesh does not move.
 
     Attributes
     ----------
+    triangles : (f, 3, 3) float
+        Face vertices (A, B, C), C-contiguous [m].
     centers : (f, 3) float
         Face centroids, centres of the broad-phase bounding spheres [m].
     radii : (f,) float
         Largest centroid-to-vertex distance per face [m].
-    packed : (f, 34) float
+    """
+
+    triangles: np.ndarray
+    centers: np.ndarray
+    radii: np.ndarray
+
+    @property
+    def vertices(self) -> np.ndarray:
+        """(3 f, 3) the triangle soup as the vertex array of an indexed mesh (a view) [m]."""
+        return self.triangles.reshape(-1, 3)
+
+    @cached_property
+    def faces(self) -> np.ndarray:
+        """(f, 3) int64 indices into :attr:`vertices`, ``arange(3 f).reshape(f, 3)``."""
+        return _soup_faces(len(self.triangles))
+
+    @cached_property
+    def packed(self) -> np.ndarray:
+        """(f, 34) rows of the numpy path, built on first use (layout ``_COL_*``).
+
         Row-wise: vertices A, B, C; edges AB, BC, CA; the unit in-plane edge normals (pointing into
         the face, ``n x edge / |edge|``); the outward unit normal ``n``; squared edge lengths; twice
         the face area. Degenerate (zero-area) faces hold NaN in every derived column and never
-        collide. Used by the numpy path.
-    vertices : (3 f, 3) float
-        The face vertices as an indexed mesh for the compiled path (``vertices[faces]`` is the
-        triangle soup) [m].
-    faces : (f, 3) int64
-        ``arange(3 f).reshape(f, 3)``.
-    """
-
-    centers: np.ndarray
-    radii: np.ndarray
-    packed: np.ndarray
-    vertices: np.ndarray
-    faces: np.ndarray
-
-    @property
-    def normals(self) -> np.ndarray:
-        """(f, 3) outward unit face normals."""
-        return self.packed[:, _COL_NORMAL]
+        collide.
+        """
+        return _pack(self.triangles)
 
 
 def _pack(triangles: np.ndarray) -> np.ndarray:
@@ -207,13 +218,9 @@ def face_geometry(triangles: np.ndarray) -> FaceGeometry:
     geometry : FaceGeometry
         Reuse it for every query while the mesh does not move; recompute after it deforms.
     """
-    triangles = np.asarray(triangles, dtype=float)
-    centers = (triangles[:, 0] + triangles[:, 1] + triangles[:, 2]) / 3.0
-    offsets = triangles - centers[:, None, :]
-    radii = np.sqrt(_dot(offsets, offsets).max(axis=1))
-    return FaceGeometry(centers=centers, radii=radii, packed=_pack(triangles),
-                        vertices=np.ascontiguousarray(triangles.reshape(-1, 3)),
-                        faces=_soup_faces(len(triangles)))
+    triangles = np.ascontiguousarray(triangles, dtype=float)
+    centers, radii = kernels.face_bounds(triangles.reshape(-1, 3), _soup_faces(len(triangles)))
+    return FaceGeometry(triangles=triangles, centers=centers, radii=radii)
 
 
 def _soup_faces(n_faces: int) -> np.ndarray:
@@ -489,12 +496,13 @@ def sphere_mesh_contacts(centers: np.ndarray, radius: float, vertices: np.ndarra
 
 def _from_kernel(found, n_fingers: int, radius: float) -> SphereTriangleResult:
     """Wrap the arrays of ``kernels.sphere_faces`` (first ``count`` rows) as a result."""
-    count, pairs, codes, scalars, vectors = found
+    count, pairs, keys, scalars, vectors = found
+    keys = keys[:count]
     return SphereTriangleResult(
         fingers=pairs[:count, 0],
         faces=pairs[:count, 1],
-        cases=codes[:count, 0],
-        subcases=codes[:count, 1],
+        cases=_CASE_OF_KEY[keys],
+        subcases=_SUBCASE_OF_KEY[keys],
         depths=scalars[:count, 0],
         overlaps=scalars[:count, 3],
         distances=scalars[:count, 1],

@@ -22,12 +22,6 @@ from numba import njit
 
 _TINY = np.finfo(np.float64).tiny
 
-# Collision case / penetration subcase per key (see geometry._CASE_OF_KEY, _SUBCASE_OF_KEY):
-# key 0 outside in an edge region, 1 outside in a corner region, 2 inside with the disc crossing
-# an edge line, 3 inside with the disc within all edge lines.
-_CASE_OF_KEY = np.array([2, 3, 2, 4], dtype=np.int8)
-_SUBCASE_OF_KEY = np.array([2, 3, 1, 1], dtype=np.int8)
-
 
 @njit(cache=True)
 def face_bounds(vertices, faces):
@@ -74,9 +68,10 @@ def sphere_faces(centers, radius, vertices, faces, bound_centers, bound_radii):
         sphere, then face.
     pairs : (m, 2) int64
         (sphere, face).
-    codes : (m, 2) int8
-        (collision case, penetration subcase), values of ``geometry.CollisionCase`` and
-        ``geometry.PenetrationSubcase``.
+    keys : (m,) int8
+        Region key: 0 outside the face in an edge region, 1 outside in a corner region, 2 inside
+        with the disc crossing an edge line, 3 inside with the disc within all edge lines
+        (``geometry._CASE_OF_KEY`` and ``_SUBCASE_OF_KEY`` map it to the case and subcase).
     scalars : (m, 4) float
         (depth delta_max of Eq. 11, distance ``|P - P_face|``, height z0', overlap
         ``r - |P - P_face|``) [m].
@@ -100,7 +95,7 @@ def sphere_faces(centers, radius, vertices, faces, bound_centers, bound_radii):
                 n_cand += 1
 
     pairs = np.empty((n_cand, 2), dtype=np.int64)
-    codes = np.empty((n_cand, 2), dtype=np.int8)
+    keys = np.empty(n_cand, dtype=np.int8)
     scalars = np.empty((n_cand, 4))
     vectors = np.empty((n_cand, 4, 3))
     tri = np.empty((3, 3))
@@ -171,11 +166,11 @@ def sphere_faces(centers, radius, vertices, faces, bound_centers, bound_radii):
             vectors[count, 1, j] = point - depth * normal[j]
             vectors[count, 2, j] = normal[j]
         pairs[count, 0], pairs[count, 1] = p, f
-        codes[count, 0], codes[count, 1] = _CASE_OF_KEY[key], _SUBCASE_OF_KEY[key]
+        keys[count] = key
         distance = math.sqrt(dist_sq)
         scalars[count, 0] = depth
         scalars[count, 1] = distance
         scalars[count, 2] = height
         scalars[count, 3] = radius - distance
         count += 1
-    return count, pairs, codes, scalars, vectors
+    return count, pairs, keys, scalars, vectors
