@@ -19,6 +19,7 @@ from pathlib import Path
 
 import pandas as pd
 import pyarrow as pa
+from _common import print_table
 
 from graspcampaign.campaign.compose import compose_study
 from graspcampaign.campaign.records import RunStore
@@ -72,9 +73,8 @@ def main() -> None:
                      f"same report at 2,700 records: {small_s:.1f} s", "< 10 s"))
     finally:
         shutil.rmtree(root, ignore_errors=True)
-    print("\n| measure | value | reference in the same run | target |\n|---|---|---|---|")
-    for row in rows:
-        print("| " + " | ".join(row) + " |")
+    print()
+    print_table(["measure", "value", "reference in the same run", "target"], rows)
 
 
 if __name__ == "__main__":

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from _common import print_table
 from joblib import Parallel, delayed, parallel_config
 
 from graspcampaign.campaign.grid import expand
@@ -129,10 +130,7 @@ def main() -> None:
         shutil.rmtree(root, ignore_errors=True)
 
     print(f"\nCampaign engine ({os.cpu_count()} cores)\n")
-    print("| measure | value | reference in the same run | target |")
-    print("|---|---|---|---|")
-    for row in rows:
-        print("| " + " | ".join(row) + " |")
+    print_table(["measure", "value", "reference in the same run", "target"], rows)
 
 
 if __name__ == "__main__":

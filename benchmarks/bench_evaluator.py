@@ -17,6 +17,7 @@ import statistics
 import time
 
 import numpy as np
+from _common import print_table
 
 from graspcampaign.core.contact import ContactParams
 from graspcampaign.core.feature import sharp_features
@@ -114,10 +115,8 @@ def main() -> None:
         )
     )
 
-    print("| benchmark | ours | reference (same run) | reference | ratio |")
-    print("|---|---:|---|---:|---|")
-    for row in rows:
-        print("| " + " | ".join(row) + " |")
+    print_table(["benchmark", "ours", "reference (same run)", "reference", "ratio"], rows,
+                align=["---", "---:", "---", "---:", "---"])
     print()
     print(
         f"PSO result on the 390-node sphere, m = {MASS_KG} kg, mu = {MU}: "

@@ -20,6 +20,7 @@ import time
 
 import numpy as np
 import trimesh
+from _common import print_table
 
 from graspcampaign.core.feature import sharp_features
 from graspcampaign.core.geometry import face_geometry, sphere_triangle_contacts
@@ -116,9 +117,9 @@ def bench_contacts(rng, n_nodes: int) -> list[tuple[str, str, str, str]]:
     for backend in ("numba", "numpy"):
         ref = sphere_triangle_contacts(centers, RADIUS, tri, backend=backend)
         assert np.array_equal(ref.faces, res.faces)
-        t_geo = best_time(lambda: sphere_triangle_contacts(centers, RADIUS, tri, geometry=geometry,
-                                                           backend=backend), number=2000)
-        t_soup = best_time(lambda: sphere_triangle_contacts(centers, RADIUS, tri, backend=backend),
+        t_geo = best_time(lambda b=backend: sphere_triangle_contacts(
+            centers, RADIUS, tri, geometry=geometry, backend=b), number=2000)
+        t_soup = best_time(lambda b=backend: sphere_triangle_contacts(centers, RADIUS, tri, backend=b),
                            number=1000)
         rows += [
             (f"{label}, static mesh, {backend}", f"{t_geo * 1e6:.1f} us",
@@ -135,10 +136,7 @@ def main() -> int:
     rows = bench_overhead() + bench_metric(rng)
     for n_nodes in (390, 1750):
         rows += bench_contacts(rng, n_nodes)
-    print("| work | ours | reference, same run | speed-up |")
-    print("|---|---|---|---|")
-    for row in rows:
-        print("| " + " | ".join(row) + " |")
+    print_table(["work", "ours", "reference, same run", "speed-up"], rows)
     print()
     print("Best of 7 batches, process CPU time. 'static mesh' reuses face_geometry(); 'deforming "
           "mesh' starts from the raw (f, 3, 3) triangles each call. 'numba' is the compiled kernel "

@@ -59,14 +59,7 @@ def main() -> None:
     active_counts = []
 
     def grasp_run():
-        gs = dynamics.GraspState(
-            time=initial.time,
-            state=initial.state.copy(),
-            grip=initial.grip.copy(),
-            grip_rate=initial.grip_rate.copy(),
-            stick=initial.stick,
-            slip_coords=initial.slip_coords.copy(),
-        )
+        gs = initial.copy()
         active = 0
         for _ in range(N_STEPS):
             out = dynamics.grasp_forces(setup, gs)

@@ -13,11 +13,11 @@ from __future__ import annotations
 
 import shutil
 import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
+from _common import best_of, print_table
 
 from graspcampaign.campaign.provenance import new_manifest, write_manifest
 from graspcampaign.campaign.records import RunStore
@@ -82,15 +82,6 @@ def synthetic_run(root: Path, name: str, rng: np.random.Generator) -> tuple[RunS
     return store, n
 
 
-def _best_of(fn, repeat: int = 2) -> float:
-    best = float("inf")
-    for _ in range(repeat):
-        start = time.perf_counter()
-        fn()
-        best = min(best, time.perf_counter() - start)
-    return best
-
-
 def main() -> None:
     root = Path(tempfile.mkdtemp(prefix="gc-bench-report-"))
     rows = []
@@ -98,8 +89,8 @@ def main() -> None:
         rng = np.random.default_rng(0)
         for name in DESIGNS:
             store, n = synthetic_run(root, name, rng)
-            read_s = _best_of(lambda s=store: s.read().to_pandas())
-            report_s = _best_of(lambda nm=name: build_reports([nm], run="bench", root=root))
+            read_s = best_of(lambda s=store: s.read().to_pandas(), repeat=2)
+            report_s = best_of(lambda nm=name: build_reports([nm], run="bench", root=root), repeat=2)
             figures = len(list((store.path / "report" / "figures").glob("*.png")))
             tables = len(list((store.path / "report" / "tables").glob("*.csv")))
             rows.append((f"`{name}` report ({tables} tables, {figures} figures)", f"{n:,}",
@@ -107,10 +98,9 @@ def main() -> None:
                          "< 10 s"))
     finally:
         shutil.rmtree(root, ignore_errors=True)
-    print("\n| measure | records | full report | reference: read records | ratio | target |")
-    print("|---|---|---|---|---|---|")
-    for row in rows:
-        print("| " + " | ".join(row) + " |")
+    print()
+    print_table(["measure", "records", "full report", "reference: read records", "ratio", "target"],
+                rows)
 
 
 if __name__ == "__main__":

@@ -8,10 +8,9 @@ and the other calls against one Wilson interval. No asserts on time.
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 import pandas as pd
+from _common import best_of
 from scipy import stats as sps
 
 from graspcampaign import stats
@@ -19,15 +18,6 @@ from graspcampaign import stats
 N_TRIALS = 100_000
 N_OBJECTS = 40
 N_RESAMPLES = 10_000
-
-
-def _best_of(fn, repeat: int = 3) -> float:
-    best = float("inf")
-    for _ in range(repeat):
-        start = time.perf_counter()
-        fn()
-        best = min(best, time.perf_counter() - start)
-    return best
 
 
 def _pooled(s, n, axis=-1):
@@ -47,15 +37,15 @@ def main() -> None:
     predicted = measured / 1.26 + rng.normal(0, 0.5, N_TRIALS)
 
     rows: list[tuple[str, float, str, float]] = []
-    t_scipy = _best_of(lambda: sps.bootstrap(
+    t_scipy = best_of(lambda: sps.bootstrap(
         (s, n), _pooled, paired=True, vectorized=True, n_resamples=N_RESAMPLES,
         method="percentile", rng=np.random.default_rng(1)))
-    t_ours = _best_of(lambda: stats.cluster_bootstrap_interval(
+    t_ours = best_of(lambda: stats.cluster_bootstrap_interval(
         s, n, n_resamples=N_RESAMPLES, rng=1))
     rows.append((f"cluster_bootstrap_interval (k={N_OBJECTS}, B={N_RESAMPLES})", t_ours,
                  "scipy.stats.bootstrap paired percentile", t_scipy))
 
-    t_wilson = _best_of(lambda: stats.wilson_interval(int(success.sum()), N_TRIALS), repeat=20)
+    t_wilson = best_of(lambda: stats.wilson_interval(int(success.sum()), N_TRIALS), repeat=20)
     for label, fn in [
         ("mcnemar(33, 3)", lambda: stats.mcnemar(3, 33)),
         ("chi2_contingency_test 3x2", lambda: stats.chi2_contingency_test(
@@ -72,7 +62,7 @@ def main() -> None:
             measured, predicted)),
         (f"survival_curve, n={N_TRIALS}", lambda: stats.survival_curve(measured)),
     ]:
-        rows.append((label, _best_of(fn), "wilson_interval", t_wilson))
+        rows.append((label, best_of(fn), "wilson_interval", t_wilson))
 
     print("| call | time [ms] | reference | reference [ms] | ratio |")
     print("|---|---:|---|---:|---:|")
