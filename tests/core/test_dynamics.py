@@ -88,9 +88,7 @@ def test_grasp_loop_with_compiled_contacts_matches_the_numpy_reference(sphere, m
                                             dynamics.GraspParams(grip_speed=0.3))
 
     def run():
-        gs = dynamics.GraspState(time=0.0, state=initial.state.copy(), grip=initial.grip.copy(),
-                                 grip_rate=initial.grip_rate.copy(), stick=initial.stick,
-                                 slip_coords=initial.slip_coords.copy())
+        gs = initial.copy()
         faces, forces = [], []
         for _ in range(300):
             out = dynamics.grasp_forces(setup, gs)
@@ -111,6 +109,15 @@ def test_grasp_loop_with_compiled_contacts_matches_the_numpy_reference(sphere, m
     np.testing.assert_array_equal(compiled[0], reference[0])
     np.testing.assert_allclose(compiled[1], reference[1], rtol=1e-9, atol=1e-12)
     np.testing.assert_allclose(compiled[2], reference[2], rtol=1e-9, atol=1e-15)
+
+
+def test_grasp_state_copy_shares_no_arrays(sphere):
+    _, initial = dynamics.prepare_grasp(sphere, 0.3, msd.MsdParams(mass=0.1), STIFF_TIP)
+    copy = initial.copy()
+    for name in ("state", "grip", "grip_rate", "slip_coords"):
+        getattr(copy, name)[...] = 7.0
+        assert not np.any(getattr(initial, name) == 7.0), name
+    assert copy.time == initial.time
 
 
 def test_seeded_forces_follow_eq13_and_phi_transfer_conserves_them(sphere):

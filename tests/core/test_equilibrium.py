@@ -196,6 +196,9 @@ def test_input_validation():
         evaluate_grasps(points, normals, ORIGIN, [0.4, 0.2], 0.3, 0.3, 1.5)
     with pytest.raises(ValueError, match=r"alpha must be finite and > 0"):
         EvaluatorParams(alpha=0.0)
+    # The fixed-grip checks share the evaluator's validation of the contact law.
+    with pytest.raises(ValueError, match=r"k_n_per_mm_n and n must be finite and > 0"):
+        static_checks(points, normals, ORIGIN, 0.4, 0.3, [[1e-3] * 3], 0.0, 1.5)
 
 
 def test_residual_check_reading_vertical_versus_norm():

@@ -42,7 +42,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from graspcampaign.core.contact import MM_PER_M
+from graspcampaign.core.contact import depth_for_force, normal_force
 
 __all__ = [
     "A_LIFT",
@@ -224,13 +224,12 @@ def indentation_from_force(force, k_n_per_mm_n, n, creep=1.0):
     creep : float or (...) float
         Creep compliance factor ``J(t)`` (1 = instantaneous).
     """
-    f = np.maximum(np.asarray(force, dtype=float) * creep, 0.0)
-    return (f / k_n_per_mm_n) ** (1.0 / n) / MM_PER_M
+    return depth_for_force(np.asarray(force, dtype=float) * creep, k_n_per_mm_n, n)
 
 
 def force_at_indentation(depth, k_n_per_mm_n, n, creep=1.0):
     """Return the constant force [N] whose indentation reaches ``depth`` [m] after creep ``J``."""
-    return k_n_per_mm_n * (np.maximum(np.asarray(depth, dtype=float), 0.0) * MM_PER_M) ** n / creep
+    return normal_force(depth, 0.0, k_n_per_mm_n, n, 0.0) / creep
 
 
 @dataclass(frozen=True)

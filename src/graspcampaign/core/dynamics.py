@@ -279,8 +279,6 @@ class FingerContacts:
         Outward face normal n_f (the approach normal when inactive).
     weights : (3, 3) float
         Barycentric weights of the points in their faces (Eq. 12).
-    cases : (3,) int
-        ``geometry.CollisionCase`` value (1 = none when inactive).
     """
 
     active: np.ndarray
@@ -289,7 +287,6 @@ class FingerContacts:
     points: np.ndarray
     normals: np.ndarray
     weights: np.ndarray
-    cases: np.ndarray
 
 
 def finger_contacts(
@@ -325,32 +322,22 @@ def finger_contacts(
     so no state is carried between calls.
     """
     n_fingers = len(centers)
-    active = np.zeros(n_fingers, dtype=bool)
-    depths = np.zeros(n_fingers)
-    hosts = np.full(n_fingers, -1, dtype=np.int64)
-    points = centers - radius * approach_normals
-    normals = np.array(approach_normals, dtype=np.float64)
-    weights = np.full((n_fingers, 3), 1.0 / 3.0)
-    cases = np.full(n_fingers, int(geometry.CollisionCase.NONE), dtype=np.int64)
     hits = geometry.sphere_mesh_contacts(centers, radius, positions, body.faces)
-    if len(hits):
-        best = geometry.deepest_per_finger(hits)
-        active = best >= 0
-        rows = best[active]
-        depths[active] = hits.depths[rows]
-        hosts[active] = hits.faces[rows]
-        points[active] = hits.points[rows]
-        normals[active] = hits.normals[rows]
-        weights[active] = hits.weights[rows]
-        cases[active] = hits.cases[rows]
+    best = geometry.deepest_per_finger(hits)  # -1 for every finger when nothing touches
+    active = best >= 0
+    rows = best[active]
+    depths = np.zeros(n_fingers)
+    depths[active] = hits.depths[rows]
+    hosts = np.full(n_fingers, -1, dtype=np.int64)
+    hosts[active] = hits.faces[rows]
+    points = centers - radius * approach_normals
+    points[active] = hits.points[rows]
+    normals = np.array(approach_normals, dtype=np.float64)
+    normals[active] = hits.normals[rows]
+    weights = np.full((n_fingers, 3), 1.0 / 3.0)
+    weights[active] = hits.weights[rows]
     return FingerContacts(
-        active=active,
-        depths=depths,
-        faces=hosts,
-        points=points,
-        normals=normals,
-        weights=weights,
-        cases=cases,
+        active=active, depths=depths, faces=hosts, points=points, normals=normals, weights=weights
     )
 
 
@@ -423,6 +410,17 @@ class GraspState:
     grip_rate: np.ndarray
     stick: StickSlipState
     slip_coords: np.ndarray
+
+    def copy(self) -> GraspState:
+        """Return an independent copy (e.g. to rerun a grasp from its initial state)."""
+        return GraspState(
+            time=self.time,
+            state=self.state.copy(),
+            grip=self.grip.copy(),
+            grip_rate=self.grip_rate.copy(),
+            stick=self.stick,  # frozen, and replaced (never mutated) by advance_grasp
+            slip_coords=self.slip_coords.copy(),
+        )
 
 
 @dataclass(frozen=True)

@@ -243,25 +243,48 @@ def _per_candidate(value, n_batch: int, name: str) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class _Geometry:
-    """Per-candidate geometry shared by the loop and the checks."""
+class _Candidates:
+    """Per-candidate geometry and constants shared by the loop and the checks."""
 
     directions: np.ndarray  # (b, 3, 3) force directions n_hat = -n_out
     arms: np.ndarray  # (b, 3, 3) r_k = p_k - centroid [m]
     direction_z: np.ndarray  # (b, 3) n_hat_z with float noise zeroed
     tangent_z: np.ndarray  # (b, 3) t_hat_z = |proj of +z on the tangent plane|
     has_tangent: np.ndarray  # (b, 3) bool
+    weight: np.ndarray  # (b,) m g [N]
+    mu: np.ndarray  # (b,)
+    k: np.ndarray  # (b,) K [N*mm^-n]
+    n: np.ndarray  # (b,)
 
 
-def _geometry(points, normals, centroid, tol: float) -> _Geometry:
+def _candidates(points, normals, centroid, mass, mu, k_n_per_mm_n, n, params) -> _Candidates:
+    """Validate the inputs shared by :func:`evaluate_grasps` and :func:`static_checks`."""
+    points, normals = _check_contacts(points, normals)
+    n_batch = points.shape[0]
+    weight = _per_candidate(mass, n_batch, "mass") * params.g
+    mu = _per_candidate(mu, n_batch, "mu")
+    k = _per_candidate(k_n_per_mm_n, n_batch, "k_n_per_mm_n")
+    n = _per_candidate(n, n_batch, "n")
+    if np.any(~np.isfinite(k) | (k <= 0.0) | ~np.isfinite(n) | (n <= 0.0)):
+        raise ValueError("k_n_per_mm_n and n must be finite and > 0")
+    tol = params.normal_z_tol
     directions = -normals
     direction_z = np.where(np.abs(directions[..., 2]) <= tol, 0.0, directions[..., 2])
     # t_hat_j is the unit projection of -g_hat = +z on the tangent plane; its z-component is
     # sqrt(1 - n_z^2) >= 0, so friction along +eta t_hat supports the weight (§6.1, Alg. 1 l.5).
     has_tangent = np.abs(normals[..., 2]) < 1.0 - tol
     tangent_z = np.where(has_tangent, np.sqrt(np.clip(1.0 - normals[..., 2] ** 2, 0.0, 1.0)), 0.0)
-    arms = points - np.asarray(centroid, dtype=float)
-    return _Geometry(directions, arms, direction_z, tangent_z, has_tangent)
+    return _Candidates(
+        directions=directions,
+        arms=points - np.asarray(centroid, dtype=float),
+        direction_z=direction_z,
+        tangent_z=tangent_z,
+        has_tangent=has_tangent,
+        weight=weight,
+        mu=mu,
+        k=k,
+        n=n,
+    )
 
 
 @dataclass(frozen=True)
@@ -275,23 +298,24 @@ class _Wrench:
     post_friction_residual_z: np.ndarray  # (b,)
 
 
-def _wrench(geometry: _Geometry, depths, weight, mu, k, n) -> _Wrench:
+def _wrench(batch: _Candidates, depths) -> _Wrench:
     """Evaluate lines 3-5 of Algorithm 2 and line 5 of Algorithm 1 at the given depths."""
-    forces = normal_force(depths, 0.0, k[:, None], n[:, None], 0.0)
-    residual = np.einsum("bk,bkx->bx", forces, geometry.directions)
-    residual[:, 2] -= weight
-    torque = np.einsum("bkx,bk->bx", np.cross(geometry.arms, geometry.directions), forces)
+    forces = normal_force(depths, 0.0, batch.k[:, None], batch.n[:, None], 0.0)
+    residual = np.einsum("bk,bkx->bx", forces, batch.directions)
+    residual[:, 2] -= batch.weight
+    torque = np.einsum("bkx,bk->bx", np.cross(batch.arms, batch.directions), forces)
 
     # Friction acts only at loaded contacts with a tangent: a vertical normal has no tangent
     # plane direction (§6.1) and a released contact (f_n = 0) carries no tangential load under
     # f_t = eta f_n t_hat either, so both are left out of the minimum.
-    carrying = geometry.has_tangent & (forces > 0.0)
-    support = np.sum(np.where(carrying, forces * geometry.tangent_z, 0.0), axis=1)
+    carrying = batch.has_tangent & (forces > 0.0)
+    support = np.sum(np.where(carrying, forces * batch.tangent_z, 0.0), axis=1)
     loaded = np.any(carrying, axis=1) & (support > 0.0)
     with np.errstate(divide="ignore", invalid="ignore"):
         eta = np.where(loaded, -residual[:, 2] / support, np.nan)
     post_friction_z = np.where(loaded, residual[:, 2] + eta * support, residual[:, 2])
 
+    mu = batch.mu
     abs_eta = np.where(loaded, np.abs(eta), 0.0)
     per_contact = np.where(carrying, forces * (mu[:, None] - abs_eta[:, None]), np.inf)
     margin = np.min(per_contact, axis=1)  # +inf for the empty set
@@ -302,12 +326,12 @@ def _wrench(geometry: _Geometry, depths, weight, mu, k, n) -> _Wrench:
 class _Loop:
     """Algorithm 2 lines 3-7 for a whole batch, with per-candidate constants hoisted."""
 
-    def __init__(self, geometry: _Geometry, weight, k, n, alpha: float, eps: float):
-        self.k = k[:, None]
-        self.n = n[:, None]
-        self.force_z = geometry.directions[..., 2]
-        self.gradient_z = geometry.direction_z
-        self.weight = weight
+    def __init__(self, batch: _Candidates, alpha: float, eps: float):
+        self.k = batch.k[:, None]
+        self.n = batch.n[:, None]
+        self.force_z = batch.directions[..., 2]
+        self.gradient_z = batch.direction_z
+        self.weight = batch.weight
         self.alpha = alpha
         self.eps = eps
         # One-sided stiffness at delta = 0 [N/m]: 1000 K for n = 1, 0 for n > 1, and 0 for n < 1
@@ -317,7 +341,12 @@ class _Loop:
         self.stiffness_at_zero = np.where(self.n == 1.0, MM_PER_M * self.k, 0.0)
 
     def forces(self, depths):
-        """Line 3: ``f_n,k = K delta_k^n`` (delta in mm; the rate term vanishes)."""
+        """Line 3: ``f_n,k = K delta_k^n`` (delta in mm; the rate term vanishes).
+
+        ``contact.normal_force`` without its open-contact and clamp guards, which are no-ops
+        here (the loop keeps delta >= 0 and the rate term is zero): this runs N_max times per
+        batch.
+        """
         return self.k * np.power(depths * MM_PER_M, self.n)
 
     def residual_z(self, forces):
@@ -367,24 +396,14 @@ def static_checks(points, normals, centroid, mass, mu, depths, k_n_per_mm_n, n, 
         With ``iterations`` zero and no trace.
     """
     params = EvaluatorParams() if params is None else params
-    points, normals = _check_contacts(points, normals)
-    n_batch = points.shape[0]
+    batch = _candidates(points, normals, centroid, mass, mu, k_n_per_mm_n, n, params)
+    n_batch = batch.weight.shape[0]
     depths = np.asarray(depths, dtype=float).reshape(n_batch, 3)
-    return _result(
-        _geometry(points, normals, centroid, params.normal_z_tol),
-        depths,
-        _per_candidate(mass, n_batch, "mass") * params.g,
-        _per_candidate(mu, n_batch, "mu"),
-        _per_candidate(k_n_per_mm_n, n_batch, "k_n_per_mm_n"),
-        _per_candidate(n, n_batch, "n"),
-        params,
-        np.zeros(n_batch, dtype=int),
-        None,
-    )
+    return _result(batch, depths, params, np.zeros(n_batch, dtype=int), None)
 
 
-def _result(geometry, depths, weight, mu, k, n, params, iterations, trace) -> EquilibriumResult:
-    wrench = _wrench(geometry, depths, weight, mu, k, n)
+def _result(batch: _Candidates, depths, params, iterations, trace) -> EquilibriumResult:
+    wrench = _wrench(batch, depths)
     residual_norm = np.linalg.norm(wrench.residual, axis=1)
     torque_norm = np.linalg.norm(wrench.torque, axis=1)
     checked = residual_norm if params.residual_check == "norm" else np.abs(wrench.residual[:, 2])
@@ -407,7 +426,7 @@ def _result(geometry, depths, weight, mu, k, n, params, iterations, trace) -> Eq
         post_friction_residual_z=wrench.post_friction_residual_z,
         normal_forces=wrench.forces,
         depths=depths,
-        delta_max_mm=np.max(depths, axis=1) * 1.0e3,
+        delta_max_mm=np.max(depths, axis=1) * MM_PER_M,
         iterations=iterations,
         trace=trace,
     )
@@ -470,17 +489,9 @@ def evaluate_grasps(
     Algorithms 1-2, §6.1, §6.5, §11; Eq. 13, Eq. 19.
     """
     params = EvaluatorParams() if params is None else params
-    points, normals = _check_contacts(points, normals)
-    n_batch = points.shape[0]
-    weight = _per_candidate(mass, n_batch, "mass") * params.g
-    mu = _per_candidate(mu, n_batch, "mu")
-    k = _per_candidate(k_n_per_mm_n, n_batch, "k_n_per_mm_n")
-    n = _per_candidate(n, n_batch, "n")
-    if np.any(~np.isfinite(k) | (k <= 0.0) | ~np.isfinite(n) | (n <= 0.0)):
-        raise ValueError("k_n_per_mm_n and n must be finite and > 0")
-    geometry = _geometry(points, normals, centroid, params.normal_z_tol)
-
-    loop = _Loop(geometry, weight, k, n, params.alpha, params.eps)
+    batch = _candidates(points, normals, centroid, mass, mu, k_n_per_mm_n, n, params)
+    n_batch = batch.weight.shape[0]
+    loop = _Loop(batch, params.alpha, params.eps)
     depths = np.full((n_batch, 3), params.seed_depth)
     last_change = np.zeros(n_batch, dtype=int)
     monitors = [] if record_trace else None
@@ -488,7 +499,7 @@ def evaluate_grasps(
         for iteration in range(1, params.n_max + 1):
             forces = loop.forces(depths)
             if monitors is not None:
-                monitors.append((depths, _wrench(geometry, depths, weight, mu, k, n)))
+                monitors.append((depths, _wrench(batch, depths)))
             updated = loop.step(depths, forces, loop.residual_z(forces))
             changed = np.any(updated != depths, axis=1)
             last_change[changed] = iteration
@@ -499,7 +510,7 @@ def evaluate_grasps(
     trace = None
     if monitors is not None:
         trace = _stack_trace(monitors, n_batch)
-    return _result(geometry, depths, weight, mu, k, n, params, last_change, trace)
+    return _result(batch, depths, params, last_change, trace)
 
 
 def _stack_trace(monitors, n_batch: int) -> EquilibriumTrace:

@@ -182,10 +182,18 @@ class FrictionConeResult:
         return self.feasible_inner
 
 
+def _check_cone(mu, n_facets) -> None:
+    if mu < 0.0 or not np.isfinite(mu):
+        raise ValueError(f"mu must be finite and >= 0, got {mu!r}")
+    if n_facets < 3:
+        raise ValueError(f"n_facets must be >= 3, got {n_facets}")
+
+
 def _solve_cone_lp(points, normals, mu, rho, mass, center, g, n_facets, min_normal_force):
-    """Solve min sum f_n s.t. wrench balance and polyhedral cones; return forces or None.
+    """Solve min sum f_n s.t. wrench balance and polyhedral cones.
 
     Unknowns per contact j: ``x_j = (f_n, a, b)`` with the force ``-f_n n + a t1 + b t2``.
+    Returns ``(forces (c, 3), x (c, 3))``, or None when the LP is infeasible.
     """
     n_contacts = len(points)
     t1, t2 = tangent_bases(normals)
@@ -261,13 +269,11 @@ def friction_cone_feasibility(
     §6.1 (the closed-form check), Murray, Li & Sastry (1994) §5.3.
     """
     points, normals = check_contacts(points, normals)
-    if mu < 0.0 or not np.isfinite(mu):
-        raise ValueError(f"mu must be finite and >= 0, got {mu!r}")
-    if n_facets < 3:
-        raise ValueError(f"n_facets must be >= 3, got {n_facets}")
+    _check_cone(mu, n_facets)
     center = np.asarray(center, dtype=np.float64)
     args = (mass, center, g, n_facets, min_normal_force)
     inner = _solve_cone_lp(points, normals, mu, np.cos(np.pi / n_facets), *args)
+    # The inscribed cone lies inside the circumscribed one: a feasible inner LP answers both.
     outer = inner if inner is not None else _solve_cone_lp(points, normals, mu, 1.0, *args)
     if inner is not None:
         status = "feasible"
@@ -275,11 +281,10 @@ def friction_cone_feasibility(
         status = "undetermined"
     else:
         status = "infeasible"
-    chosen = inner if inner is not None else outer
-    if chosen is None:
+    if outer is None:
         forces = normal = tangential = residual = None
     else:
-        forces, x = chosen
+        forces, x = outer  # the inner solution whenever there is one
         normal = x[:, 0]
         tangential = np.hypot(x[:, 1], x[:, 2])
         residual = wrench_residual(points, forces, mass, center, g)
@@ -322,9 +327,19 @@ def required_friction(
     mu_required : float
         0.0 when normal forces alone can hold the object; ``inf`` when even ``mu_max`` cannot.
         The exact-cone value lies in ``[cos(pi/q) mu_required, mu_required]``.
+
+    Notes
+    -----
+    Each bisection step solves only the inner-cone LP (what
+    ``friction_cone_feasibility(...).feasible`` reports), without its outer-cone bracket.
     """
+    points, normals = check_contacts(points, normals)
+    _check_cone(mu_max, n_facets)
+    center = np.asarray(center, dtype=np.float64)
+    rho = np.cos(np.pi / n_facets)
+
     def feasible(mu):
-        return friction_cone_feasibility(points, normals, mu, mass, center, n_facets, g).feasible
+        return _solve_cone_lp(points, normals, mu, rho, mass, center, g, n_facets, 0.0) is not None
 
     if feasible(0.0):
         return 0.0
