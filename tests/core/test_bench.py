@@ -197,6 +197,15 @@ def test_fit_normal_uses_contact_normal_force():
     np.testing.assert_allclose(pred[x > 1e-5], f[x > 1e-5], rtol=1e-4)
 
 
+def test_loading_window_is_the_compressive_loading_branch():
+    # travel rises to its first peak at index 4, then unloads; 1 mN is below MIN_FIT_FORCE
+    x = np.array([-1e-5, 0.0, 1e-4, 2e-4, 3e-4, 3e-4, 2e-4, 1e-4])
+    f = np.array([0.0, 0.0, 1e-3, 5e-3, 9e-3, 9e-3, 5e-3, 3e-3])
+    np.testing.assert_array_equal(np.flatnonzero(bench.loading_window(x, f)), [3, 4])
+    # the onset moves the contact surface: delta = x - onset must be > 0
+    np.testing.assert_array_equal(np.flatnonzero(bench.loading_window(x, f, onset=2e-4)), [4])
+
+
 def test_fit_normal_rejects_a_too_short_window():
     r = bench.fit_normal(np.arange(5.0), np.zeros(5), np.zeros(5))
     assert not r.success and math.isnan(r.n)

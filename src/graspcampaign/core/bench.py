@@ -70,6 +70,7 @@ __all__ = [
     "cyclic_state",
     "simulate_event",
     "fit_normal",
+    "loading_window",
     "fit_shifted",
     "fit_relaxation",
     "fit_sliding",
@@ -90,8 +91,13 @@ FINGERTIP_POISSON = 0.5
 """Fingertip Poisson's ratio nu_1 (§7.1, Table 2)."""
 SPECIMEN_POISSON = 0.45
 """Specimen Poisson's ratio nu_2 (Table 2, object)."""
-REFERENCE_DEPTH = 0.5e-3
-"""Reference indentation of f_0.5 = K (0.5 mm)^n [m] (Table 4)."""
+REFERENCE_DEPTH_MM = 0.5
+"""Reference indentation of f_0.5 = K (0.5 mm)^n [mm] (Table 4; K is in N mm^-n)."""
+
+
+def _f05(k_n_per_mm_n: float, n: float) -> float:
+    """Return Table 4's force at the reference indentation, ``K (0.5 mm)^n`` [N]."""
+    return k_n_per_mm_n * REFERENCE_DEPTH_MM**n
 
 
 @dataclass(frozen=True)
@@ -144,7 +150,7 @@ class FamilyParams:
     @property
     def f05(self) -> float:
         """Force at the 0.5 mm reference indentation, K 0.5^n [N] (Table 4)."""
-        return self.k_n_per_mm_n * 0.5**self.n
+        return _f05(self.k_n_per_mm_n, self.n)
 
 
 FAMILIES: dict[str, FamilyParams] = {
@@ -263,7 +269,7 @@ class SpecimenParams:
     @property
     def f05(self) -> float:
         """Force at 0.5 mm, K 0.5^n [N]."""
-        return self.k_n_per_mm_n * 0.5**self.n
+        return _f05(self.k_n_per_mm_n, self.n)
 
 
 @dataclass(frozen=True)
@@ -322,7 +328,7 @@ def draw_specimen(family: FamilyParams, specimen: int, environment: str,
     n = family.n + sp.n_sd * z[1]
     f05 = family.f05 * specimen_effective_modulus(modulus) / specimen_effective_modulus(
         family.modulus_mean)
-    k = f05 / 0.5**n
+    k = f05 / REFERENCE_DEPTH_MM**n
     mu_s = family.mu_s * math.exp(sp.mu_rel * z[2]) * factors[environment]
     mu_k = mu_s * (family.mu_k / family.mu_s) * math.exp(sp.mu_ratio_rel * z[3])
     cyc = math.exp(sp.cyclic_rel * z[9])
@@ -652,14 +658,13 @@ def _quantise(x: np.ndarray, step: float) -> np.ndarray:
     return np.round(x / step) * step
 
 
-def _press(cmd: EventCommand, spec: SpecimenParams, dt: float, depth_along_axis: float,
+def _press(cmd: EventCommand, dt: float, depth_along_axis: float,
            hold: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
     """Approach, press to ``depth_along_axis``, hold, retract; return t, x, v, t_unload."""
     start = -APPROACH_GAP
-    t_in = _move_time(depth_along_axis - start, cmd.speed, cmd.accel)
-    t_out = _move_time(depth_along_axis - start, cmd.speed, cmd.accel)
-    t_unload = t_in + hold
-    total = t_unload + t_out + RETRACT_DWELL
+    t_move = _move_time(depth_along_axis - start, cmd.speed, cmd.accel)  # in and out alike
+    t_unload = t_move + hold
+    total = t_unload + t_move + RETRACT_DWELL
     times = np.arange(0.0, total, dt)
     x, v = _axis(times, start, [(0.0, depth_along_axis, cmd.speed, cmd.accel),
                                 (t_unload, start, cmd.speed, cmd.accel)])
@@ -674,7 +679,7 @@ def _simulate_press(cmd: EventCommand, spec: SpecimenParams, rng: np.random.Gene
     if cmd.block == "oblique":
         theta = cmd.angle + sensor.angle_sd * rng.standard_normal()
         axial = cmd.depth / math.cos(cmd.angle)
-        t, x, v, _ = _press(cmd, spec, dt, axial, cmd.hold)
+        t, x, v, _ = _press(cmd, dt, axial, cmd.hold)
         depth = x * math.cos(theta) - surface
         fn = _contact_force(depth, v * math.cos(theta), dt, spec, k_scale)
         ft = np.maximum(fn, 0.0) * math.tan(theta)
@@ -689,8 +694,7 @@ def _simulate_press(cmd: EventCommand, spec: SpecimenParams, rng: np.random.Gene
         else:
             slip = ft / spec.k_t
         return {"time": t, "x": x, "fn": fn, "ft": ft, "xt": slip}
-    hold = cmd.hold
-    t, x, v, _ = _press(cmd, spec, dt, cmd.depth + cmd.permanent_set, hold)
+    t, x, v, _ = _press(cmd, dt, cmd.depth + cmd.permanent_set, cmd.hold)
     fn = _contact_force(x - surface, v, dt, spec, k_scale)
     return {"time": t, "x": x, "fn": fn, "ft": np.zeros_like(fn), "xt": np.zeros_like(fn)}
 
@@ -708,11 +712,11 @@ def _simulate_sliding(cmd: EventCommand, spec: SpecimenParams, rng: np.random.Ge
     target = cmd.normal_load
     depth0 = float(_untoe(_invert_law(target, spec.k_n_per_mm_n, spec.n), spec.toe))
     start = -APPROACH_GAP
-    t_in = _move_time(depth0 - start, NORMAL_APPROACH_SPEED, cmd.accel)
+    t_in = _move_time(depth0 - start, NORMAL_APPROACH_SPEED, cmd.accel)  # retraction alike
     t_slide = t_in + PRELOAD_DWELL
     t_stroke = _move_time(cmd.stroke, cmd.speed, cmd.accel)
     t_out = t_slide + t_stroke + 0.2
-    total = t_out + _move_time(depth0 - start, NORMAL_APPROACH_SPEED, cmd.accel) + RETRACT_DWELL
+    total = t_out + t_in + RETRACT_DWELL
     times = np.arange(0.0, total, dt)
     z, vz = _axis(times, start, [(0.0, depth0 + surface, NORMAL_APPROACH_SPEED, cmd.accel),
                                  (t_out, start, NORMAL_APPROACH_SPEED, cmd.accel)])
@@ -885,6 +889,29 @@ def _nan_normal(peak: float = math.nan, npts: int = 0) -> NormalFitResult:
     return NormalFitResult(nan, nan, nan, nan, nan, nan, peak, nan, nan, nan, npts, False)
 
 
+def loading_window(displacement: np.ndarray, normal_force_: np.ndarray, onset: float = 0.0
+                   ) -> np.ndarray:
+    """Return the mask of the samples Eq. 13 is fitted to (and judged on).
+
+    Parameters
+    ----------
+    displacement, normal_force_ : (s,) float
+        Probe travel [m] and measured normal force [N].
+    onset : float, optional
+        Displacement of the contact surface [m]; ``delta = displacement - onset``.
+
+    Returns
+    -------
+    window : (s,) bool
+        Loading branch (up to the first sample of peak travel) with ``delta > 0`` and
+        ``f > MIN_FIT_FORCE`` (see :func:`fit_normal`).
+    """
+    x = np.asarray(displacement, dtype=float)
+    window = np.zeros(x.size, dtype=bool)
+    window[: int(np.argmax(x)) + 1] = True
+    return window & (x - onset > 0.0) & (np.asarray(normal_force_, dtype=float) > MIN_FIT_FORCE)
+
+
 def _branch_work(x: np.ndarray, f: np.ndarray) -> float:
     fc = np.maximum(f, 0.0)
     return float(abs(np.sum(0.5 * (fc[1:] + fc[:-1]) * np.diff(x))))
@@ -936,9 +963,7 @@ def fit_normal(time: np.ndarray, displacement: np.ndarray, normal_force_: np.nda
     peak = float(np.max(f))
     depth = x - onset
     rate = np.gradient(x, t)
-    load = np.zeros(x.size, dtype=bool)
-    load[: ipk + 1] = True
-    win = load & (depth > 0.0) & (f > MIN_FIT_FORCE)
+    win = loading_window(x, f, onset)
     w_load = _branch_work(x[: ipk + 1], f[: ipk + 1])
     w_unload = _branch_work(x[ipk:], f[ipk:])
     if np.count_nonzero(win) < 6 or peak <= 0.0:
@@ -976,7 +1001,7 @@ def fit_normal(time: np.ndarray, displacement: np.ndarray, normal_force_: np.nda
         c_se = float(np.sqrt(max(cov[2, 2], 0.0)))
     except np.linalg.LinAlgError:
         c_se = math.inf
-    return NormalFitResult(k, n, c, c_se, k * 0.5**n, rmse, peak, float(depth[ipk]), w_load,
+    return NormalFitResult(k, n, c, c_se, _f05(k, n), rmse, peak, float(depth[ipk]), w_load,
                            w_unload, int(d_mm.size), ok)
 
 
@@ -1291,7 +1316,7 @@ class ObliqueFitResult:
     slip : float
         Largest tangential slip during the press [m].
     slipped : bool
-        Measured state: ``slip > 50 um``.
+        Measured state: ``slip > SLIP_DETECTION`` (0.25 mm).
     success : bool
     """
 

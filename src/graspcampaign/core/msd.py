@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property, lru_cache
 
 import numpy as np
@@ -42,7 +42,6 @@ import trimesh
 
 __all__ = [
     "RK4_IMAGINARY_AXIS_LIMIT",
-    "RK4_REAL_AXIS_LIMIT",
     "EnergyAuditResult",
     "FloorParams",
     "IntegrationResult",
@@ -81,9 +80,6 @@ logger = logging.getLogger(__name__)
 
 RK4_IMAGINARY_AXIS_LIMIT = 2.0 * np.sqrt(2.0)
 """|R(i y)| <= 1 for |y| <= 2 sqrt(2) (Hairer et al. 1993, §IV.2): undamped oscillators."""
-
-RK4_REAL_AXIS_LIMIT = 2.785293563405282
-"""|R(-x)| <= 1 for 0 <= x <= 2.7853 (Hairer et al. 1993, §IV.2): overdamped modes."""
 
 
 # ----------------------------------------------------------------------------------------------
@@ -180,12 +176,8 @@ class MsdBody:
     rest_lengths: np.ndarray
     node_mass: float
     faces: np.ndarray | None = None
-    # Sparse edge-node incidence D (e, n): (D x)_e = x_{edges[e,0]} - x_{edges[e,1]}.
-    incidence: scipy.sparse.csr_matrix = field(init=False, repr=False)
-    # D^T as CSR, for the force gather F = -D^T (f_e u_e).
-    incidence_t: scipy.sparse.csr_matrix = field(init=False, repr=False)
     degrees: np.ndarray = field(init=False, repr=False)
-    # Fast path of msd_rhs on the flat state: (6e, 6n) maps X to the component-major edge
+    # Sparse edge-node incidence D on the flat state: (6e, 6n) maps X to the component-major edge
     # differences [dx; dy; dz; dvx; dvy; dvz] (each row block contiguous), and (6n, 3e) scatters
     # component-major edge forces [fx; fy; fz] to the acceleration slots of dX (+ on node i,
     # - on node j, i.e. the force on node i of a compressed edge).
@@ -202,13 +194,7 @@ class MsdBody:
     def __post_init__(self) -> None:
         n_nodes = self.rest_positions.shape[0]
         n_edges = self.edges.shape[0]
-        rows = np.repeat(np.arange(n_edges), 2)
-        cols = self.edges.ravel()
-        vals = np.tile([1.0, -1.0], n_edges)
-        incidence = scipy.sparse.csr_matrix((vals, (rows, cols)), shape=(n_edges, n_nodes))
-        object.__setattr__(self, "incidence", incidence)
-        object.__setattr__(self, "incidence_t", incidence.T.tocsr())
-        object.__setattr__(self, "degrees", np.bincount(cols, minlength=n_nodes))
+        object.__setattr__(self, "degrees", np.bincount(self.edges.ravel(), minlength=n_nodes))
         e0, e1 = self.edges[:, 0], self.edges[:, 1]
         comp = np.arange(6)[:, None]
         g_rows = np.concatenate([(comp * n_edges + np.arange(n_edges)).ravel()] * 2)
@@ -500,12 +486,12 @@ def state_from_positions(positions, velocities=None) -> np.ndarray:
 # ----------------------------------------------------------------------------------------------
 
 
-def _edge_terms(body: MsdBody, nodes: np.ndarray):
-    """Return relative positions d (e, 3), lengths (e,), and stretch rates (e,)."""
-    rel = body.incidence @ nodes  # (e, 6): [x_i - x_j, v_i - v_j]
-    d = rel[:, :3]
-    lengths = np.sqrt(np.einsum("ij,ij->i", d, d))
-    stretch_rate = np.einsum("ij,ij->i", rel[:, 3:], d) / lengths
+def _edge_terms(body: MsdBody, state: np.ndarray):
+    """Return component-major relative positions d (3, e), lengths (e,), and stretch rates (e,)."""
+    rel = (body.gather6 @ state).reshape(6, -1)  # [x_i - x_j; v_i - v_j]
+    d = rel[:3]
+    lengths = np.sqrt(np.einsum("ij,ij->j", d, d))
+    stretch_rate = np.einsum("ij,ij->j", rel[3:], d) / lengths
     return d, lengths, stretch_rate
 
 
@@ -529,10 +515,9 @@ def internal_forces(body: MsdBody, params: MsdParams, state) -> np.ndarray:
     ----------
     Eq. 3-4 (§2.1-2.2).
     """
-    nodes = np.asarray(state).reshape(-1, 6)
-    d, lengths, stretch_rate = _edge_terms(body, nodes)
+    d, lengths, stretch_rate = _edge_terms(body, np.asarray(state, dtype=np.float64).ravel())
     tension_per_length = (params.k * (lengths - body.rest_lengths) + params.c * stretch_rate) / lengths
-    return -(body.incidence_t @ (d * tension_per_length[:, None]))
+    return -(body.scatter6 @ (d * tension_per_length).ravel()).reshape(-1, 6)[:, 3:]
 
 
 def enclosed_volume(body: MsdBody, positions) -> float:
@@ -832,12 +817,7 @@ def stable_step_limit(
     """
     if node_mass <= 0.0 or k < 0.0 or max_degree < 0:
         raise ValueError("need node_mass > 0, k >= 0, max_degree >= 0")
-    kappa = 2.0 * max_degree
-    return _rk4_step_limit(
-        np.sqrt((k * kappa + k_extra) / node_mass),
-        b / node_mass,
-        (b + c * kappa + c_extra) / node_mass,
-    )
+    return _shell_step_limit(2.0 * max_degree, k, c, b, node_mass, k_extra, c_extra)
 
 
 def body_step_limit(body: MsdBody, params: MsdParams, k_extra: float = 0.0, c_extra: float = 0.0) -> float:
@@ -858,17 +838,22 @@ def body_step_limit(body: MsdBody, params: MsdParams, k_extra: float = 0.0, c_ex
         With ``bulk_modulus > 0`` the eigenvalue of the rank-one volume stiffness is added to
         ``k_extra`` (a bound: ``lambda_max(A + B) <= lambda_max(A) + lambda_max(B)``).
     """
-    kappa = body.unit_stiffness_max
-    m = body.node_mass
     if params.bulk_modulus > 0.0 and body.faces is not None:
         # Rank-one volume stiffness (K_b / V0) g g^T: its eigenvalue is (K_b / V0) |dV/dx|^2.
         grads, _ = _volume_gradient(body, body.rest_positions)
         k_extra = k_extra + params.bulk_modulus / body.rest_volume * float(np.sum(grads * grads))
-    return _rk4_step_limit(
-        np.sqrt((params.k * kappa + k_extra) / m),
-        params.b / m,
-        (params.b + params.c * kappa + c_extra) / m,
+    return _shell_step_limit(
+        body.unit_stiffness_max, params.k, params.c, params.b, body.node_mass, k_extra, c_extra
     )
+
+
+def _shell_step_limit(
+    kappa: float, k: float, c: float, b: float, m: float, k_extra: float, c_extra: float
+) -> float:
+    """Return the RK4 step limit of modes bounded by ``lambda_max(K) <= k kappa`` (Notes of
+    :func:`stable_step_limit`): ``w_max^2 = (k kappa + k_extra) / m``, damping rates in
+    ``[b / m, (b + c kappa + c_extra) / m]``."""
+    return _rk4_step_limit(np.sqrt((k * kappa + k_extra) / m), b / m, (b + c * kappa + c_extra) / m)
 
 
 def _rk4_step_limit(w_max: float, nu_lo: float, nu_hi: float) -> float:
@@ -923,9 +908,9 @@ def gravitational_energy(body: MsdBody, params: MsdParams, state) -> np.ndarray:
 
 def dissipation_power(body: MsdBody, params: MsdParams, state) -> float:
     """Return the power dissipated by the nodal and edge dampers ``b sum|v|^2 + c sum l_dot^2`` [W]."""
-    nodes = np.asarray(state, dtype=np.float64).reshape(-1, 6)
-    _, _, stretch_rate = _edge_terms(body, nodes)
-    velocities = nodes[:, 3:]
+    state = np.asarray(state, dtype=np.float64).ravel()
+    _, _, stretch_rate = _edge_terms(body, state)
+    velocities = velocities_from_state(state)
     return float(params.b * np.sum(velocities * velocities) + params.c * np.sum(stretch_rate**2))
 
 
@@ -1210,13 +1195,18 @@ def floor_forces(state, floor: FloorParams, anchors=None) -> np.ndarray:
     if not np.any(touching):
         return forces
     v = nodes[touching, 3:]
-    normal = np.maximum(0.0, floor.stiffness * penetration[touching] - floor.damping * v[:, 2])
+    normal = _floor_normal(penetration[touching], v[:, 2], floor)
     forces[touching, 2] = normal
     if anchors is not None and floor.mu > 0.0:
         forces[touching, :2] = _floor_friction(
             nodes[touching, :2], v[:, :2], anchors[touching], normal, floor
         )
     return forces
+
+
+def _floor_normal(penetration, v_z, floor: FloorParams) -> np.ndarray:
+    """Return the penalty normal force ``max(0, k_f p - c_f v_z)`` [N] (no adhesion)."""
+    return np.maximum(0.0, floor.stiffness * penetration - floor.damping * v_z)
 
 
 def _floor_friction(xy, v_xy, anchors, normal, floor: FloorParams) -> np.ndarray:
@@ -1248,7 +1238,7 @@ def floor_anchors_update(state, floor: FloorParams, anchors) -> np.ndarray:
     xy = nodes[:, :2]
     new = np.array(anchors, dtype=np.float64, copy=True)
     penetration = floor.height - nodes[:, 2]
-    normal = np.maximum(0.0, floor.stiffness * penetration - floor.damping * nodes[:, 5])
+    normal = _floor_normal(penetration, nodes[:, 5], floor)
     touching = (penetration > 0.0) & (normal > 0.0)
     new[~touching] = xy[~touching]
     stretch = xy - new
@@ -1338,16 +1328,8 @@ def settle_on_floor(
     ----------
     §5.4, Fig. 10.
     """
-    floor = floor or FloorParams()
     rest = body.rest_positions
-    floor = FloorParams(
-        height=float(rest[:, 2].min()),
-        stiffness=floor.stiffness,
-        damping=floor.damping,
-        mu=floor.mu,
-        tangential_stiffness=floor.tangential_stiffness,
-        tangential_damping=floor.tangential_damping,
-    )
+    floor = replace(floor or FloorParams(), height=float(rest[:, 2].min()))
     height0 = float(np.ptp(rest[:, 2]))
     limit = body_step_limit(
         body,

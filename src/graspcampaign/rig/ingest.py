@@ -64,6 +64,7 @@ __all__ = [
     "TEST3_SCHEMA",
     "FieldSpec",
     "read_records",
+    "read_table",
     "record_columns",
     "schema_for",
     "validate_records",
@@ -79,7 +80,8 @@ _FLAG_OF = {"failure_slip": "slip_flag", "failure_drop": "drop_flag",
 
 
 class IngestError(ValueError):
-    """A measured-records file failed validation; the message names the file, row and column."""
+    """A measured file (trial records, Test 1 waveforms) failed validation; the message names the
+    file, row and column."""
 
 
 @dataclass(frozen=True)
@@ -168,8 +170,13 @@ def _fail(label: str, row: int | None, column: str, problem: str) -> IngestError
     return IngestError(f"{label}, {where}, column '{column}': {problem}.")
 
 
-def read_records(path: str | Path) -> pd.DataFrame:
-    """Read a records file (``.csv``, ``.parquet``/``.pq``, ``.xlsx``) without checks.
+def read_table(path: str | Path, *, csv_options: dict | None = None,
+               excel_options: dict | None = None) -> pd.DataFrame:
+    """Read a measured table (``.csv``, ``.parquet``/``.pq``, ``.xlsx``) without checks.
+
+    The one reader of the rig's ingest paths (trial records here, Test 1 waveforms in
+    :mod:`graspcampaign.rig.test1`); ``csv_options`` and ``excel_options`` go to
+    :func:`pandas.read_csv` and :func:`pandas.read_excel`.
 
     Raises
     ------
@@ -185,13 +192,34 @@ def read_records(path: str | Path) -> pd.DataFrame:
         raise IngestError(f"{path.name}, header, column '-': the file does not exist.")
     try:
         if suffix == ".csv":
-            return pd.read_csv(path, dtype=str, keep_default_na=False)
+            return pd.read_csv(path, **(csv_options or {}))
         if suffix == ".xlsx":
-            return pd.read_excel(path, dtype=object)
+            return pd.read_excel(path, **(excel_options or {}))
         return pd.read_parquet(path)
     except Exception as exc:  # the readers raise many types for corrupt files
         raise IngestError(f"{path.name}, header, column '-': the file cannot be read as "
                           f"{suffix[1:]} ({type(exc).__name__}).") from exc
+
+
+def read_records(path: str | Path) -> pd.DataFrame:
+    """Read a records file (``.csv``, ``.parquet``/``.pq``, ``.xlsx``) without checks.
+
+    Every CSV cell stays a string (the checks parse them); see :func:`read_table`.
+    """
+    return read_table(path, csv_options={"dtype": str, "keep_default_na": False},
+                      excel_options={"dtype": object})
+
+
+def _table_and_label(data: pd.DataFrame | str | Path, file_label: str | None,
+                    reader) -> tuple[pd.DataFrame, str]:
+    """Return the table to validate and the file name its messages use.
+
+    ``data`` is a table (label ``file_label`` or ``"<dataframe>"``) or a path read with
+    ``reader`` (label ``file_label`` or the file name).
+    """
+    if isinstance(data, (str, Path)):
+        return reader(data), file_label or Path(data).name
+    return data, file_label or "<dataframe>"
 
 
 def _blank(value) -> bool:
@@ -278,12 +306,7 @@ def validate_records(data: pd.DataFrame | str | Path, schedule: pd.DataFrame,
     IngestError
         One sentence naming the file, the 1-based data row (header excluded) and the column.
     """
-    if isinstance(data, (str, Path)):
-        label = file_label or Path(data).name
-        df = read_records(data)
-    else:
-        label = file_label or "<dataframe>"
-        df = data
+    df, label = _table_and_label(data, file_label, read_records)
     if not isinstance(df, pd.DataFrame):
         raise IngestError(f"{label}, header, column '-': expected a table, got "
                           f"{type(df).__name__}.")
@@ -340,9 +363,7 @@ def validate_records(data: pd.DataFrame | str | Path, schedule: pd.DataFrame,
     sources = clean_df["source"].where(clean_df["source"].fillna("") != "", "measured")
     clean_df["source"] = sources.astype(object)
     for spec in schema:
-        if spec.kind == "float":
-            clean_df[spec.name] = clean_df[spec.name].astype(float)
-        if spec.kind == "int":
+        if spec.kind in ("float", "int"):  # int columns stay float: empty cells are NaN
             clean_df[spec.name] = clean_df[spec.name].astype(float)
     return clean_df
 

@@ -35,6 +35,7 @@ import pandas as pd
 from graspcampaign.core import bench
 from graspcampaign.core.bench import FAMILIES, EventCommand, SensorParams, SpreadParams
 from graspcampaign.core.contact import contact_damping_c, contact_stiffness_k, normal_force
+from graspcampaign.rig.ingest import IngestError, _fail, _table_and_label, read_table
 
 log = logging.getLogger(__name__)
 
@@ -444,10 +445,9 @@ def specimen_truths(seed: int, schedule: pd.DataFrame | None = None, *,
 
 @lru_cache(maxsize=1024)
 def _cyclic_states(seed: int, material: str, specimen: int, environment: str,
-                   spread: SpreadParams, levels: tuple) -> tuple[np.ndarray, np.ndarray]:
+                   spread: SpreadParams, p: Test1Protocol) -> tuple[np.ndarray, np.ndarray]:
     spec = _specimen(seed, material, specimen, environment, spread)
-    depths = np.concatenate([np.full(n, d * 1e-3) for d, n in levels])
-    return bench.cyclic_state(spec, depths)
+    return bench.cyclic_state(spec, p.cyclic_depths_mm() * 1e-3)
 
 
 def _command(row: dict, seed: int, spread: SpreadParams, p: Test1Protocol) -> EventCommand:
@@ -463,7 +463,7 @@ def _command(row: dict, seed: int, spread: SpreadParams, p: Test1Protocol) -> Ev
                        surface_radius=radius * 1e-3 if np.isfinite(radius) else math.inf)
     if b == "cyclic":
         s, perm = _cyclic_states(seed, row["material"], int(row["specimen"]),
-                                 row["environment"], spread, p.cyclic_levels)
+                                 row["environment"], spread, p)
         i = int(row["cycle_index"]) - 1
         cmd = EventCommand(**{**asdict(cmd), "softening": float(s[i]),
                               "permanent_set": float(perm[i])})
@@ -484,6 +484,11 @@ def _table_arrays(w: bench.Waveform) -> dict[str, np.ndarray]:
         "tangential_force_n": np.round(w.tangential_force * 1e3) / 1e3,
         "tangential_displacement_mm": np.round(w.tangential_displacement * 1e6) / 1e3,
     }
+
+
+def _channels(g: pd.DataFrame) -> dict[str, np.ndarray]:
+    """One event's rows of a waveform table as float channel arrays in file units."""
+    return {c: g[c].to_numpy(dtype=float) for c in WAVEFORM_COLUMNS[1:]}
 
 
 def _fit_arrays(row: dict, a: dict[str, np.ndarray], anomaly: str) -> dict:
@@ -716,10 +721,6 @@ def _order_fit_columns(fits: pd.DataFrame) -> pd.DataFrame:
 # ------------------------------------------------------------------------------ ingest
 
 
-class IngestError(ValueError):
-    """A waveform file failed validation; the message names the file, row and column."""
-
-
 _UNIT_RE = re.compile(r"^(?P<stem>time|displacement|normal_force|tangential_force|"
                       r"tangential_displacement)_(?P<unit>[a-z]+)$")
 _EXPECTED_UNIT = {"time": "s", "displacement": "mm", "normal_force": "n",
@@ -733,24 +734,16 @@ _RANGES = {  # physical envelope of the rig (§7.1): values outside suggest wron
 }
 
 
-def _fail(label: str, row: int | None, column: str, problem: str) -> IngestError:
-    where = "header" if row is None else f"row {row}"
-    return IngestError(f"{label}, {where}, column '{column}': {problem}.")
-
-
 def read_waveforms(path: str | Path) -> pd.DataFrame:
-    """Read a waveform file (``.csv``, ``.parquet``/``.pq`` or ``.xlsx``) without checks."""
-    path = Path(path)
-    suffix = path.suffix.lower()
-    if suffix == ".csv":
-        return pd.read_csv(path, dtype={"event_id": str, "anomaly": str}, keep_default_na=False,
-                           na_values=[""])
-    if suffix in (".parquet", ".pq"):
-        return pd.read_parquet(path)
-    if suffix in (".xlsx", ".xls"):
-        return pd.read_excel(path, dtype={"event_id": str})
-    raise IngestError(f"{path.name}, header, column '-': unsupported file type "
-                      f"'{suffix}' (expected .csv, .parquet or .xlsx).")
+    """Read a waveform file (``.csv``, ``.parquet``/``.pq`` or ``.xlsx``) without checks.
+
+    Via :func:`graspcampaign.rig.ingest.read_table` (an unsupported, missing or unreadable
+    file raises :class:`IngestError`); CSV channels are parsed as numbers, only an empty cell
+    is missing.
+    """
+    return read_table(path, csv_options={"dtype": {"event_id": str, "anomaly": str},
+                                         "keep_default_na": False, "na_values": [""]},
+                      excel_options={"dtype": {"event_id": str}})
 
 
 def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterable[str],
@@ -781,12 +774,7 @@ def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterabl
     IngestError
         One sentence naming the file, the 1-based data row (header excluded) and the column.
     """
-    if isinstance(data, (str, Path)):
-        label = file_label or Path(data).name
-        df = read_waveforms(data)
-    else:
-        label = file_label or "<dataframe>"
-        df = data
+    df, label = _table_and_label(data, file_label, read_waveforms)
     df = df.reset_index(drop=True)
     cols = [str(c) for c in df.columns]
     for need in WAVEFORM_COLUMNS:
@@ -879,18 +867,18 @@ def fit_waveforms(waveforms: pd.DataFrame, schedule: pd.DataFrame,
         (a real rig's file).
     """
     sched = schedule.set_index("event_id", drop=False)
+    log_anomalies = None if anomalies is None else dict(anomalies)
     rows = []
     for eid, g in waveforms.groupby("event_id", sort=False):
         row = sched.loc[eid].to_dict()
-        if anomalies is not None:
-            anomaly = str(dict(anomalies).get(eid, "") or "")
+        if log_anomalies is not None:
+            anomaly = str(log_anomalies.get(eid, "") or "")
         elif "anomaly" in g:
             anomaly = str(g["anomaly"].iloc[0] or "")
         else:
             anomaly = ""
-        a = {c: g[c].to_numpy(dtype=float) for c in WAVEFORM_COLUMNS[1:]}
         attempt = int(g["attempt"].iloc[0]) if "attempt" in g else 1
-        fit = _fit_row(row, a, attempt, anomaly)
+        fit = _fit_row(row, _channels(g), attempt, anomaly)
         # a file without a source column comes from a rig: never label it virtual
         fit["source"] = str(g["source"].iloc[0]) if "source" in g else "measured"
         rows.append(fit)
@@ -1072,8 +1060,7 @@ def transfer_errors(fits: pd.DataFrame, waveforms: pd.DataFrame | None = None,
         for eid, g in waveforms[waveforms["event_id"].isin(nrm.index)].groupby("event_id"):
             r = {**nrm.loc[eid].to_dict(), "event_id": eid}
             law = _calibrated(r, n_spec, n_fam)
-            a = {c: g[c].to_numpy(dtype=float) for c in WAVEFORM_COLUMNS[1:]}
-            depth, rate, force, peak = _trace_points(r, a, 10**9)
+            depth, rate, force, peak = _trace_points(_channels(g))
             pred = normal_force(depth, rate, law["k_n_per_mm_n"], law["exponent_n"],
                                 law["c_n_s_per_m"])
             add(r, "normal_force", np.sqrt(np.mean((pred - force) ** 2)) / peak * 100.0)
@@ -1104,20 +1091,31 @@ def _converged(runs: list, costs: list) -> np.ndarray:
                      for res, cost in zip(runs, costs, strict=True)])
 
 
-def _trace_points(row: dict, a: dict[str, np.ndarray], n_points: int
+def _trace_points(a: dict[str, np.ndarray], n_points: int | None = None
                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """Depth [m], rate [m/s] and force [N] on the Eq. 13 fit window of one normal trace
+    (:func:`graspcampaign.core.bench.loading_window`; evenly thinned to at most ``n_points``),
+    and the trace's peak force [N]."""
     t = a["time_s"]
     x = a["displacement_mm"] * 1e-3
     f = a["normal_force_n"]
-    ipk = int(np.argmax(x))
     rate = np.gradient(x, t)
-    win = np.zeros(x.size, dtype=bool)
-    win[: ipk + 1] = True
-    win &= (x > 0) & (f > bench.MIN_FIT_FORCE)
-    idx = np.flatnonzero(win)
-    if idx.size > n_points:
+    idx = np.flatnonzero(bench.loading_window(x, f))
+    if n_points is not None and idx.size > n_points:
         idx = idx[np.linspace(0, idx.size - 1, n_points).round().astype(int)]
     return x[idx], rate[idx], f[idx], float(f.max())
+
+
+def _normal_traces(waveforms: pd.DataFrame, n_points: int | None = None, min_points: int = 1
+                   ) -> list[tuple[np.ndarray, np.ndarray, np.ndarray, float]]:
+    """:func:`_trace_points` of every event in ``waveforms`` (sorted by event id) that keeps
+    at least ``min_points`` points."""
+    traces = []
+    for _, g in waveforms.groupby("event_id", sort=True):
+        tr = _trace_points(_channels(g), n_points)
+        if tr[0].size >= min_points:
+            traces.append(tr)
+    return traces
 
 
 def _pso_cost(traces: list[tuple], psi: float):
@@ -1190,12 +1188,7 @@ def pso_reidentify(waveforms: pd.DataFrame, schedule: pd.DataFrame, seed: int, *
     for m in [m for m in MATERIALS if m in set(sched["material"])]:
         ids = sched.index[(sched["material"] == m) & (sched["block"] == "normal")]
         g = waveforms[waveforms["event_id"].isin(ids)]
-        pool = []
-        for eid, t in g.groupby("event_id", sort=True):
-            a = {c: t[c].to_numpy(dtype=float) for c in WAVEFORM_COLUMNS[1:]}
-            tr = _trace_points(sched.loc[eid].to_dict(), a, PSO_POINTS_PER_TRACE)
-            if tr[0].size >= 6:
-                pool.append(tr)
+        pool = _normal_traces(g, PSO_POINTS_PER_TRACE, min_points=6)
         if not pool:
             continue
         psi = bench.specimen_effective_modulus(FAMILIES[m].modulus_mean)
@@ -1248,13 +1241,7 @@ def pso_transfer_errors(runs: pd.DataFrame, waveforms: pd.DataFrame, schedule: p
     for m, g_runs in runs.groupby("material", sort=False):
         ids = sched.index[(sched["material"] == m) & (sched["block"] == "normal")
                           & sched["split"].isin(list(splits))]
-        g = waveforms[waveforms["event_id"].isin(ids)]
-        traces = []
-        for eid, t in g.groupby("event_id", sort=True):
-            a = {c: t[c].to_numpy(dtype=float) for c in WAVEFORM_COLUMNS[1:]}
-            tr = _trace_points(sched.loc[eid].to_dict(), a, 10**9)
-            if tr[0].size:
-                traces.append(tr)
+        traces = _normal_traces(waveforms[waveforms["event_id"].isin(ids)])
         if not traces:
             continue
         psi = bench.specimen_effective_modulus(FAMILIES[m].modulus_mean)
