@@ -10,6 +10,7 @@ from __future__ import annotations
 import pandas as pd
 import pytest
 from PIL import Image
+from statsmodels.stats.proportion import proportion_confint
 
 from graspcampaign.campaign.compose import compose_study
 from graspcampaign.campaign.ingest import ingest_files
@@ -123,3 +124,26 @@ def test_ingested_run_reports_without_finalize_tables(reported):
     assert not (folder / "tables" / "table5.csv").exists()
     for name in FIGURES[:3]:
         assert (folder / "figures" / f"{name}.png").exists()
+
+
+def test_every_figure_is_labelled_virtual_in_its_title(reported, monkeypatch):
+    from graspcampaign.report.document import Report
+
+    root, _ = reported
+    titles = {}
+    monkeypatch.setattr(Report, "figure", lambda self, name, fig, caption: titles.setdefault(
+        name, fig._suptitle.get_text() if fig._suptitle else ""))
+    build_reports(["test1_bench"], run="default", root=root, formats=["md"])
+    assert sorted(titles) == sorted(FIGURES)
+    for name, title in titles.items():
+        assert "VIRTUAL RIG data" in title and "not hardware measurements" in title, name
+
+
+def test_oblique_shares_carry_n_and_wilson_interval(reported):
+    root, _ = reported
+    folder, _ = _tables(root, "default")
+    claims = pd.read_csv(folder / "tables" / "test1_claims.csv").set_index("quantity")
+    ours = claims.loc["Coulomb class = measured slip (%)", "ours"]
+    k, n = (int(v) for v in ours.split(" = ")[0].split("/"))
+    low, high = proportion_confint(k, n, method="wilson")
+    assert ours == f"{k}/{n} = {100 * k / n:.1f} % ({100 * low:.1f}–{100 * high:.1f})"

@@ -128,6 +128,15 @@ def executed(records: pd.DataFrame) -> pd.DataFrame:
     return ok
 
 
+def rate_cell(successes: int, n: int) -> str:
+    """Return ``"k/n = e % (low–high)"`` with its Wilson 95 % interval; ``"–"`` for no trials."""
+    if n == 0:
+        return "–"
+    ci = stats.wilson_interval(int(successes), int(n), CONFIDENCE_LEVEL)
+    return (f"{successes}/{n} = {100 * ci.estimate:.1f} % "
+            f"({stats.format_interval(ci.low, ci.high)})")
+
+
 def status_note(records: pd.DataFrame) -> str:
     """Return one sentence stating executed and errored trial counts."""
     n_ok = int((records["status"] == "ok").sum())

@@ -18,10 +18,12 @@ from matplotlib.figure import Figure
 
 from graspcampaign.report import stats
 from graspcampaign.report.document import Report
-from graspcampaign.report.sections.sensitivity import RC, executed, rate_cell
+from graspcampaign.report.sections.sensitivity import RC
+from graspcampaign.report.table import executed, rate_cell
 
 OURS = "#1f5aa6"
 PAPER = "black"
+NODE_COLOURS = ("#1f5aa6", "#e08a1e", "#2e7d32", "#7b4ea3")  # one per resolution, panels (c, d)
 RESIDUAL_LIMIT_N = 0.5  # tau_F (Sec. 3.7); only drawn
 
 
@@ -137,33 +139,31 @@ def budget_table(bud: pd.DataFrame) -> pd.DataFrame:
     ref = bud[bud["planner"] == "reference"].set_index(["shape", "nodes"])
     rows = []
     for (nodes, n_cand), grp in bud[bud["planner"] != "reference"].groupby(["nodes", "n_cand"]):
-        h_ref = ref.loc[list(zip(grp["shape"], grp["nodes"], strict=True)), "h_planner"]
-        key_ref = ref.loc[list(zip(grp["shape"], grp["nodes"], strict=True)),
-                          ["vertex_1", "vertex_2", "vertex_3"]].to_numpy()
+        same_body = ref.loc[list(zip(grp["shape"], grp["nodes"], strict=True))]
+        h_ref = same_body["h_planner"]
+        key_ref = same_body[["vertex_1", "vertex_2", "vertex_3"]].to_numpy()
         same = [set(a) == set(b) for a, b in zip(
             grp[["vertex_1", "vertex_2", "vertex_3"]].to_numpy(), key_ref, strict=True)]
-        k, n = int(grp["success"].sum()), len(grp)
-        ci = stats.wilson_interval(k, n)
-        rows.append({"nodes": int(nodes), "n_cand": int(n_cand), "trials": n,
-                     "success_pct": 100 * ci.estimate, "success_low_pct": 100 * ci.low,
-                     "success_high_pct": 100 * ci.high,
-                     "success_vertical_pct": 100 * float(grp["success_vertical"].mean()),
+        rows.append({"nodes": int(nodes), "n_cand": int(n_cand), **_success_columns(grp),
                      "h_mean": float(grp["h_planner"].mean()),
                      "h_gap_to_reference": float(np.mean(grp["h_planner"].to_numpy()
                                                          - h_ref.to_numpy())),
                      "reference_argmin_found_pct": 100 * float(np.mean(same))})
-    for (shape_nodes), grp in bud[bud["planner"] == "reference"].groupby("nodes"):
-        k, n = int(grp["success"].sum()), len(grp)
-        ci = stats.wilson_interval(k, n)
-        rows.append({"nodes": int(shape_nodes), "n_cand": -1, "trials": n,
-                     "success_pct": 100 * ci.estimate, "success_low_pct": 100 * ci.low,
-                     "success_high_pct": 100 * ci.high,
-                     "success_vertical_pct": 100 * float(grp["success_vertical"].mean()),
+    for nodes, grp in bud[bud["planner"] == "reference"].groupby("nodes"):
+        rows.append({"nodes": int(nodes), "n_cand": -1, **_success_columns(grp),
                      "h_mean": float(grp["h_planner"].mean()), "h_gap_to_reference": 0.0,
                      "reference_argmin_found_pct": 100.0,
                      "exhaustive": bool(grp["exhaustive"].all()),
                      "n_scored": int(grp["n_scored"].median())})
     return pd.DataFrame(rows).sort_values(["nodes", "n_cand"]).reset_index(drop=True)
+
+
+def _success_columns(grp: pd.DataFrame) -> dict:
+    """Trials, success under the configured check (Wilson 95 %) and the |R_z| reading [%]."""
+    ci = stats.wilson_interval(int(grp["success"].sum()), len(grp))
+    return {"trials": len(grp), "success_pct": 100 * ci.estimate,
+            "success_low_pct": 100 * ci.low, "success_high_pct": 100 * ci.high,
+            "success_vertical_pct": 100 * float(grp["success_vertical"].mean())}
 
 
 def _budget(report: Report, bud: pd.DataFrame, paper: dict) -> None:
@@ -355,11 +355,10 @@ def _residual_axes(ax, res: pd.DataFrame, paper: dict) -> None:
 
 
 def _budget_axes(ax, table: pd.DataFrame) -> None:
-    colours = ["#1f5aa6", "#e08a1e", "#2e7d32", "#7b4ea3"]
     for i, (nodes, grp) in enumerate(table.groupby("nodes")):
         heur = grp[grp["n_cand"] > 0]
         ref = grp[grp["n_cand"] < 0]
-        c = colours[i % len(colours)]
+        c = NODE_COLOURS[i % len(NODE_COLOURS)]
         err = np.vstack([heur["success_pct"] - heur["success_low_pct"],
                          heur["success_high_pct"] - heur["success_pct"]])
         ax.errorbar(heur["n_cand"], heur["success_pct"], yerr=err, marker="o", color=c,
@@ -382,11 +381,10 @@ def _budget_axes(ax, table: pd.DataFrame) -> None:
 
 
 def _gap_axes(ax, table: pd.DataFrame, paper: dict) -> None:
-    colours = ["#1f5aa6", "#e08a1e", "#2e7d32", "#7b4ea3"]
     for i, (nodes, grp) in enumerate(table.groupby("nodes")):
         heur = grp[grp["n_cand"] > 0]
         ax.plot(heur["n_cand"], np.maximum(heur["h_gap_to_reference"], 1e-4), marker="o",
-                color=colours[i % len(colours)], label=f"{nodes} nodes")
+                color=NODE_COLOURS[i % len(NODE_COLOURS)], label=f"{nodes} nodes")
     band = paper.get("effective_budget_triples")
     if band:
         ax.axvspan(band[0], band[1], color=PAPER, alpha=0.12,

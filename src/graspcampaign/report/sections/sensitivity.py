@@ -16,8 +16,8 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from graspcampaign.report import stats
 from graspcampaign.report.document import Report
+from graspcampaign.report.table import executed, rate_cell
 
 RC = {
     "font.size": 9, "axes.titlesize": 9.5, "axes.labelsize": 9, "legend.fontsize": 7.5,
@@ -32,20 +32,6 @@ PANEL_AXES = {
     "lambda": ("lambda1", "lambda2", "λ1 [–]", "λ2 [–]"),
     "n_b": ("n_exp", "b_n_s_per_m", "contact exponent n [–]", "nodal damping b [internal units]"),
 }
-
-
-def executed(records: pd.DataFrame) -> pd.DataFrame:
-    """Rows that computed (errored trials enter no denominator)."""
-    return records[records["status"] == "ok"].copy()
-
-
-def rate_cell(successes: int, n: int) -> str:
-    """``"k/n = e % (low–high)"`` with a Wilson 95 % interval; ``"–"`` for no trials."""
-    if n == 0:
-        return "–"
-    ci = stats.wilson_interval(int(successes), int(n))
-    return (f"{successes}/{n} = {100 * ci.estimate:.1f} % "
-            f"({stats.format_interval(ci.low, ci.high)})")
 
 
 def cell_grid(df: pd.DataFrame, x: str, y: str, value: str, how: str = "mean") -> pd.DataFrame:

@@ -13,26 +13,18 @@ the section shows is stated first: virtual-bench rows are synthetic, never hardw
 
 from __future__ import annotations
 
-import inspect
 import math
 from typing import Any
 
 import matplotlib as mpl
 import numpy as np
 import pandas as pd
-from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
 from graspcampaign.report.document import Report
+from graspcampaign.report.sections.test2 import PAPER, RC, new_figure
+from graspcampaign.report.table import rate_cell
 
-RC = {
-    "font.size": 9, "axes.titlesize": 9.5, "axes.labelsize": 9, "legend.fontsize": 7.5,
-    "xtick.labelsize": 8, "ytick.labelsize": 8, "axes.spines.top": False,
-    "axes.spines.right": False, "legend.frameon": False, "axes.grid": True, "grid.alpha": 0.3,
-}
-"""Figure style (headless: figures are built without pyplot)."""
-
-PAPER = "black"
 MATERIAL_COLOURS = {"gel": "#1b9e77", "silicone_soft": "#d95f02", "bio_foam": "#7570b3",
                     "silicone_ref": "#e7298a"}
 MATERIAL_LABELS = {"gel": "gel", "silicone_soft": "silicone, soft", "bio_foam": "bio foam",
@@ -93,18 +85,6 @@ def _f(value: Any, digits: int = 3) -> str:
     return f"{float(value):.{digits}f}"
 
 
-def _table(report: Report, name: str, full: pd.DataFrame, caption: str,
-           display: pd.DataFrame) -> None:
-    """Add a table: full precision to CSV/JSON, ``display`` (rounded once) to Markdown/HTML.
-
-    A ``Report`` without the ``display`` argument gets the displayed form only.
-    """
-    if "display" in inspect.signature(report.table).parameters:
-        report.table(name, full, caption, display=display)
-    else:
-        report.table(name, display, caption)
-
-
 def _pm(mean: float, sd: float, digits: int = 3) -> str:
     return f"{_f(mean, digits)} ± {_f(sd, digits)}"
 
@@ -136,7 +116,7 @@ def section(report: Report, records: pd.DataFrame, manifest: dict, store=None) -
     if transfer is not None:
         _transfer(report, transfer, paper)
     if runs is not None or transfer is not None:
-        _fig26(report, t5, transfer, paper)
+        _fig26(report, fits, t5, transfer, paper)
     else:
         report.text("The PSO re-identification (§7.5, Table 5, Fig. 26) and the §7.6 transfer "
                     "errors are computed by the finalize stage of `graspcampaign run`; this run "
@@ -236,7 +216,7 @@ def _table4(report: Report, fits, truths, paper) -> None:
         "ρ / τ (s)": [f"{_f(a, 2)} / {_f(b, 1)}" for a, b in zip(full["rho"], full["tau_s"],
                                                                 strict=True)],
     })
-    _table(report, "table4", full, "Table 4 (ours beside the paper's): per-family means of the "
+    report.table("table4", full, "Table 4 (ours beside the paper's): per-family means of the "
                  "accepted normal fits (n, K, f0.5, C) and of the fitted sliding and relaxation "
                  "events. Our E is the virtual bench's drawn specimen modulus (the bench "
                  "measures none), mean ± SD over the specimens. C is not identifiable per event "
@@ -305,11 +285,13 @@ def _claims(report: Report, fits: pd.DataFrame, paper: dict, store) -> None:
             key = f"{a:g}"
             add(f"slip margin μs fn − ft at {key}° (mean, N)", _f(margin[a], 2),
                 _f(ref.get(key), 2) if key in ref else "–", float(margin[a]))
-        match = ob["classification_matches_margin"].mean() * 100
-        add(f"Coulomb class = margin sign ({len(ob)} oblique events, %)", _f(match, 1),
-            _f(paper.get("oblique_classification_match_pct"), 1), float(match))
-        meas = ob["classification_matches_measured"].mean() * 100
-        add("Coulomb class = measured slip (%)", _f(meas, 1), "–", float(meas))
+        for col, quantity, theirs in (
+                ("classification_matches_margin",
+                 f"Coulomb class = margin sign ({len(ob)} oblique events, %)",
+                 _f(paper.get("oblique_classification_match_pct"), 1)),
+                ("classification_matches_measured", "Coulomb class = measured slip (%)", "–")):
+            k = int(ob[col].sum())
+            add(quantity, rate_cell(k, len(ob)), theirs, 100 * k / len(ob))
     rl = fits[(fits["block"] == "relaxation") & fits["fit_ok"]]
     if len(rl):
         rho = rl.groupby("material")["rho"].mean()
@@ -329,7 +311,8 @@ def _claims(report: Report, fits: pd.DataFrame, paper: dict, store) -> None:
             f"{_f(fam.min(), 2)}–{_f(fam.max(), 2)}", f"{_f(lo, 2)}–{_f(hi, 2)}")
     report.table("test1_claims", pd.DataFrame(rows),
                  "§7 figures in the text, ours beside the paper's (accepted fits unless stated; "
-                 "margins use each specimen's calibrated μs, the median breakaway of its slides)")
+                 "margins use each specimen's calibrated μs, the median breakaway of its slides; "
+                 "shares as k/n with their Wilson 95 % interval)")
 
 
 # -- figures ---------------------------------------------------------------------------------------
@@ -361,8 +344,8 @@ def _fig23(report: Report, fits: pd.DataFrame, waves, paper: dict) -> None:
     mats = _materials(nf)
     t4 = paper.get("table4") or {}
     with mpl.rc_context(RC):
-        fig = Figure(figsize=(13.0, 4.3), layout="constrained")
-        ax_a, ax_b, ax_c = fig.subplots(1, 3)
+        fig, (ax_a, ax_b, ax_c) = new_figure(fits, "Fig. 23: normal indentation",
+                                             (13.0, 4.3), 3)
         picked = _pick(fits, waves, "normal", speed_mm_per_s=1.0, depth_mm=1.5)
         if picked:
             row, w = picked
@@ -452,8 +435,8 @@ def _fig24(report: Report, fits: pd.DataFrame, waves, paper: dict) -> None:
     mats = _materials(sl)
     t4 = paper.get("table4") or {}
     with mpl.rc_context(RC):
-        fig = Figure(figsize=(13.0, 4.3), layout="constrained")
-        ax_a, ax_b, ax_c = fig.subplots(1, 3)
+        fig, (ax_a, ax_b, ax_c) = new_figure(fits, "Fig. 24: tangential response and slip margin",
+                                             (13.0, 4.3), 3)
         g = sl.groupby("material")
         pos = np.arange(len(mats))
         for off, col, colour, lab in ((-0.18, "mu_s", "#1f5aa6", "μs"),
@@ -538,8 +521,8 @@ def _fig25(report: Report, fits: pd.DataFrame, waves, paper: dict) -> None:
         return
     t4 = paper.get("table4") or {}
     with mpl.rc_context(RC):
-        fig = Figure(figsize=(13.0, 4.3), layout="constrained")
-        ax_a, ax_b, ax_c = fig.subplots(1, 3)
+        fig, (ax_a, ax_b, ax_c) = new_figure(fits, "Fig. 25: stress relaxation and cyclic loading",
+                                             (13.0, 4.3), 3)
         picked = _pick(fits, waves, "relaxation", hold_s=60.0)
         if picked:
             row, w = picked
@@ -630,7 +613,7 @@ def _table5(report: Report, runs, t5, pso_transfer, paper) -> None:
         "paper CV (%)": [_f(v, 1) for v in full["paper_cv_pct"]],
     })
     n_conv = int(runs["converged"].astype(bool).sum())
-    _table(report, "table5", full,
+    report.table("table5", full,
                  f"Table 5 (ours beside the paper's): PSO re-identification on the training "
                  f"split's normal traces, mean ± SD and CV over our {n_conv} converged runs "
                  f"({len(runs)} logged; paper {paper.get('pso_runs_converged')} of "
@@ -701,11 +684,11 @@ def _transfer(report: Report, transfer, paper) -> None:
                  "'near or below ~1 %', shown as 1.0)")
 
 
-def _fig26(report: Report, t5, transfer, paper) -> None:
+def _fig26(report: Report, fits: pd.DataFrame, t5, transfer, paper) -> None:
     ref = paper.get("table5") or {}
     with mpl.rc_context(RC):
-        fig = Figure(figsize=(13.0, 4.5), layout="constrained")
-        ax_a, ax_b, ax_c = fig.subplots(1, 3)
+        fig, (ax_a, ax_b, ax_c) = new_figure(fits, "Fig. 26: parameter identification and transfer",
+                                             (13.0, 4.5), 3)
         if t5 is not None:
             params = [p for p in PSO_PARAMETERS if p in set(t5["parameter"])]
             t = t5.set_index("parameter").loc[params]

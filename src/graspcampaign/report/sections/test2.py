@@ -210,6 +210,33 @@ def claims_table(report: Report, name: str, rows: list[dict[str, Any]], caption:
                 "other number when it differs at the shown precision).")
 
 
+def flag_claims(rows: list[dict[str, Any]], quantity: str, where: str, predicted, actual,
+                paper: dict) -> np.ndarray:
+    """Append accuracy, precision and recall of a pre-execution flag against measured success.
+
+    ``quantity`` is a template with ``{}`` for the metric's name. Each is a proportion with its
+    Wilson interval over its own denominator (all trials, flagged trials, successes). Returns the
+    confusion ``[[tn, fp], [fn, tp]]`` (zeros when there are no trials).
+    """
+    confusion = _confusion(predicted, actual)
+    (tn, fp), (fn, tp) = confusion
+    rows.append(claim_fraction(quantity.format("accuracy"), where, tp + tn, confusion.sum(),
+                               paper.get("accuracy")))
+    rows.append(claim_fraction(quantity.format("precision"), where, tp, tp + fp,
+                               paper.get("precision")))
+    rows.append(claim_fraction(quantity.format("recall"), where, tp, tp + fn,
+                               paper.get("recall")))
+    return confusion
+
+
+def _confusion(predicted, actual) -> np.ndarray:
+    """``[[tn, fp], [fn, tp]]`` of :func:`graspcampaign.stats.classifier_metrics`; zeros if empty."""
+    p = np.asarray(predicted, dtype=bool)
+    if not p.size:
+        return np.zeros((2, 2), dtype=np.int64)
+    return stats.classifier_metrics(p, np.asarray(actual, dtype=bool)).confusion
+
+
 def differences_text(title: str, items: list[tuple[str, bool, str]]) -> str | None:
     """A bullet list of the plain sentences of the quantities that differ."""
     lines = [f"- **{label}**: {text}." for label, differs, text in items if differs]
@@ -217,6 +244,13 @@ def differences_text(title: str, items: list[tuple[str, bool, str]]) -> str | No
         return None
     return f"Where ours differs from {title} ({len(lines)} of {len(items)} values):\n\n" + \
         "\n".join(lines)
+
+
+def add_differences(report: Report, title: str, items: list[tuple[str, bool, str]]) -> None:
+    """Add the bullet list of :func:`differences_text` when any quantity differs."""
+    text = differences_text(title, items)
+    if text:
+        report.text(text)
 
 
 def with_intervals(df: pd.DataFrame, rate_columns: Sequence[str], n_column: str = "n"
@@ -320,9 +354,9 @@ def rate_bars(ax, labels: Sequence[str], ks: Sequence[int], ns: Sequence[int],
 def confusion_panel(ax, predicted, actual, title: str, paper: dict, flag: str) -> None:
     """Confusion matrix of a pre-execution flag against measured success, paper's metrics beside."""
     p = np.asarray(predicted, dtype=bool)
-    a = np.asarray(actual, dtype=bool)
-    m = stats.classifier_metrics(p, a) if p.size else None
-    cells = np.array([[np.sum(~p & ~a), np.sum(~p & a)], [np.sum(p & ~a), np.sum(p & a)]])
+    m = stats.classifier_metrics(p, np.asarray(actual, dtype=bool)) if p.size else None
+    # rows: flag no/yes; columns: measured failed/succeeded (the transpose of m.confusion)
+    cells = m.confusion.T if m is not None else np.zeros((2, 2), dtype=np.int64)
     ax.imshow(cells, cmap="Blues", vmin=0, vmax=max(int(cells.max()), 1))
     ax.grid(False)
     for (r, c), v in np.ndenumerate(cells):
@@ -344,7 +378,8 @@ def confusion_panel(ax, predicted, actual, title: str, paper: dict, flag: str) -
               bbox_to_anchor=(1.02, 1.0), fontsize=7, handlelength=0)
 
 
-def _planner_list(df: pd.DataFrame) -> list[str]:
+def planners_in_order(df: pd.DataFrame) -> list[str]:
+    """The planners present in ``df``, Table 7's order first, any others sorted after."""
     present = set(df["planner"])
     return [p for p in PLANNER_ORDER if p in present] + sorted(present - set(PLANNER_ORDER))
 
@@ -374,7 +409,7 @@ def section(report: Report, records: pd.DataFrame, manifest: dict, store=None) -
     if not len(ex):
         report.text("No executed Test 2 trials to report.")
         return
-    counts_table(report, "test2_counts", records, paper, "planner", _planner_list(ex),
+    counts_table(report, "test2_counts", records, paper, "planner", planners_in_order(ex),
                  {p: (paper.get("table7") or {}).get(p, {}).get("n") for p in PLANNER_ORDER},
                  "Test 2 trial counts (§8.1), ours beside the paper's; a reduced study (params) "
                  "has proportionally fewer")
@@ -453,9 +488,7 @@ def _table6(report: Report, ex: pd.DataFrame, an, paper: dict) -> None:
                  "shape over all its trials (group C included), the natural-friction subset, and "
                  "median absolute errors of the trial-mean normal force and deformation "
                  "predictions; rates with Wilson 95 % intervals", display=display)
-    text = differences_text("Table 6", items)
-    if text:
-        report.text(text)
+    add_differences(report, "Table 6", items)
 
 
 def _table7(report: Report, recs: pd.DataFrame, ex: pd.DataFrame, an, paper: dict) -> None:
@@ -464,7 +497,7 @@ def _table7(report: Report, recs: pd.DataFrame, ex: pd.DataFrame, an, paper: dic
     rows, items = [], []
     cols = (("stable", "stable_pct", "stable"), ("slip", "slip_pct", "failure_slip"),
             ("drop", "drop_pct", "failure_drop"), ("damage", "damage_pct", "failure_damage"))
-    for planner in _planner_list(ex):
+    for planner in planners_in_order(ex):
         g = ex[ex["planner"] == planner]
         p = ref.get(planner, {})
         s = summary.loc[planner]
@@ -512,9 +545,7 @@ def _table7(report: Report, recs: pd.DataFrame, ex: pd.DataFrame, an, paper: dic
                  "success with its Wilson 95 % interval and the object-clustered bootstrap "
                  "(objects resampled, 2000 resamples, seed 0); stable, slip, drop and damage as "
                  "primary outcome classes, each with its Wilson interval", display=display)
-    text = differences_text("Table 7", items)
-    if text:
-        report.text(text)
+    add_differences(report, "Table 7", items)
 
 
 def _claims(report: Report, recs: pd.DataFrame, ex: pd.DataFrame, an, paper: dict) -> None:
@@ -561,14 +592,8 @@ def _claims(report: Report, recs: pd.DataFrame, ex: pd.DataFrame, an, paper: dic
     clf = paper.get("classifier") or {}
     for scope, g, ref in (("all planners", ex, clf),
                           ("proposed planner", prop, paper.get("classifier_proposed") or {})):
-        p, a_ = g["predicted_stable"].to_numpy(bool), g["success"].to_numpy(bool)
-        tp, fp, fn = int(np.sum(p & a_)), int(np.sum(p & ~a_)), int(np.sum(~p & a_))
-        rows.append(claim_fraction(f"stability flag accuracy, {scope}", "§8.4, Fig. 31c",
-                                   int(np.sum(p == a_)), len(p), ref.get("accuracy")))
-        rows.append(claim_fraction(f"stability flag precision, {scope}", "§8.4, Fig. 31c",
-                                   tp, tp + fp, ref.get("precision")))
-        rows.append(claim_fraction(f"stability flag recall, {scope}", "§8.4, Fig. 31c",
-                                   tp, tp + fn, ref.get("recall")))
+        flag_claims(rows, f"stability flag {{}}, {scope}", "§8.4, Fig. 31c",
+                    g["predicted_stable"], g["success"], ref)
     base = ex[ex["planner"] != "heuristic"]
     bp, ba = base["predicted_stable"].to_numpy(bool), base["success"].to_numpy(bool)
     rows.append(claim_fraction("stability flag precision, baselines", "§8.4",
@@ -580,7 +605,7 @@ def _claims(report: Report, recs: pd.DataFrame, ex: pd.DataFrame, an, paper: dic
                                int(np.sum(cp & ca)), int(cp.sum()),
                                paper.get("classifier_group_c_precision")))
     matched = ex[ex["matched"].astype(bool)]
-    for planner in _planner_list(matched):
+    for planner in planners_in_order(matched):
         g = matched[matched["planner"] == planner]
         rate(f"matched ablation success, {PLANNER_LABELS.get(planner, planner)}",
              "§8.5, Fig. 31b", g["success"], (paper.get("matched_pct") or {}).get(planner))
@@ -731,7 +756,7 @@ def fig29(report: Report, ex: pd.DataFrame, an, paper: dict) -> None:
     with mpl.rc_context(RC):
         fig, (ax_a, ax_b, ax_c) = new_figure(ex, "Fig. 29: force and deformation prediction "
                                              "accuracy", (12.0, 3.8), 3)
-        for planner in _planner_list(ok):
+        for planner in planners_in_order(ok):
             sel = (ok["planner"] == planner).to_numpy()
             ax_a.scatter(pred[sel], meas[sel], s=7, alpha=0.5,
                          color=PLANNER_COLOURS.get(planner, "#888888"),
@@ -875,7 +900,7 @@ def fig30(report: Report, ex: pd.DataFrame, paper: dict) -> None:
 
 def fig31(report: Report, recs: pd.DataFrame, ex: pd.DataFrame, an, paper: dict) -> None:
     """Fig. 31: (a) success per planner; (b) matched ablation; (c) stability confusion matrix."""
-    planners = _planner_list(ex)
+    planners = planners_in_order(ex)
     matched = ex[ex["matched"].astype(bool)]
     ref7 = paper.get("table7") or {}
     refm = paper.get("matched_pct") or {}

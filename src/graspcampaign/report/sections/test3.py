@@ -20,7 +20,6 @@ import numpy as np
 import pandas as pd
 from matplotlib.patches import Patch
 
-from graspcampaign import stats
 from graspcampaign.report.document import Report
 from graspcampaign.report.sections.test2 import (
     DASH,
@@ -30,21 +29,22 @@ from graspcampaign.report.sections.test2 import (
     PLANNER_ORDER,
     RC,
     _missing,
+    add_differences,
     ci_handle,
     claim,
-    claim_fraction,
     claim_rate,
     claims_table,
     compare,
     confusion_panel,
     counts_table,
-    differences_text,
     executed,
+    flag_claims,
     fmt,
     fmt_ci,
     new_figure,
     ok_records,
     paper_handle,
+    planners_in_order,
     rate_bars,
     representative,
     sheet_id,
@@ -66,11 +66,6 @@ DEPARTURES_T3 = (
     "equivalent radius in yaw), a reading the paper leaves open.")
 
 
-def _planners(df: pd.DataFrame) -> list[str]:
-    present = set(df["planner"])
-    return [p for p in PLANNER_ORDER if p in present] + sorted(present - set(PLANNER_ORDER))
-
-
 def _natural(df: pd.DataFrame) -> pd.DataFrame:
     return df[df["friction_level"] == "natural"]
 
@@ -88,7 +83,7 @@ def section(report: Report, records: pd.DataFrame, manifest: dict, store=None) -
     if not len(ex):
         report.text("No executed Test 3 trials to report.")
         return
-    counts_table(report, "test3_counts", records, paper, "planner", _planners(ex),
+    counts_table(report, "test3_counts", records, paper, "planner", planners_in_order(ex),
                  {p: (paper.get("table9") or {}).get(p, {}).get("n") for p in PLANNER_ORDER},
                  "Test 3 trial counts (§9.1), ours beside the paper's; a reduced study (params) "
                  "has proportionally fewer")
@@ -158,9 +153,7 @@ def _table8(report: Report, recs, ex, an, paper: dict) -> None:
                  "[mm] (D, E: no threshold is measured, so no prediction error); prediction error "
                  "= median absolute % error over the block's uncensored thresholds",
                  display=display)
-    text = differences_text("Table 8", items)
-    if text:
-        report.text(text)
+    add_differences(report, "Table 8", items)
 
 
 def _table9(report: Report, recs, ex, an, paper: dict) -> None:
@@ -170,7 +163,7 @@ def _table9(report: Report, recs, ex, an, paper: dict) -> None:
     rows, items = [], []
     cols = (("stable", "stable_pct", "stable"), ("drop", "drop_pct", "failure_drop"),
             ("damage", "damage_pct", "failure_damage"))
-    for planner in _planners(ex):
+    for planner in planners_in_order(ex):
         g = ex[ex["planner"] == planner]
         p = ref.get(planner, {})
         s = summary.loc[planner]
@@ -234,9 +227,7 @@ def _table9(report: Report, recs, ex, an, paper: dict) -> None:
                  "classes with Wilson intervals; median lateral threshold over all block-A trials "
                  "with an uncensored threshold and its median absolute prediction error",
                  display=display)
-    text = differences_text("Table 9", items)
-    if text:
-        report.text(text)
+    add_differences(report, "Table 9", items)
 
 
 def _rate(rows, q, where, mask, pv):
@@ -394,17 +385,11 @@ def _claims(report: Report, recs, ex, an, paper: dict) -> None:
                           digits=2))
         _rate(rows, "proposed natural-friction pulls sustaining > 5 N", "§9.5, Fig. 36b",
               lat > 5.0, surv.get("above_5n_pct"))
-    rc = paper.get("retention_classifier") or {}
-    pr, ac = ex["retention_pred"].to_numpy(bool), ex["success"].to_numpy(bool)
-    tp, fp, fn = int(np.sum(pr & ac)), int(np.sum(pr & ~ac)), int(np.sum(~pr & ac))
-    rows.append(claim_fraction("retention flag accuracy", "§9.5, Fig. 36c", int(np.sum(pr == ac)),
-                               len(pr), rc.get("accuracy")))
-    rows.append(claim_fraction("retention flag precision", "§9.5, Fig. 36c", tp, tp + fp,
-                               rc.get("precision")))
-    rows.append(claim_fraction("retention flag recall", "§9.5, Fig. 36c", tp, tp + fn,
-                               rc.get("recall")))
+    confusion = flag_claims(rows, "retention flag {}", "§9.5, Fig. 36c", ex["retention_pred"],
+                            ex["success"], paper.get("retention_classifier") or {})
+    (_, fp), (_, tp) = confusion
     rows.append(claim("grasps certified as retained", "§9.5", tp + fp,
-                      paper.get("retention_certified"), n=len(pr), unit="", digits=0))
+                      paper.get("retention_certified"), n=confusion.sum(), unit="", digits=0))
     rows.append(claim("certified grasps that failed", "§9.5", fp,
                       paper.get("retention_certified_failed"), n=tp + fp, unit="", digits=0))
     logit = an.failure_logistic(recs).set_index("term")
@@ -537,8 +522,13 @@ def fig33(report: Report, ex: pd.DataFrame, an, paper: dict) -> None:
 
 
 def fig34(report: Report, recs, ex: pd.DataFrame, an, paper: dict) -> None:
-    """Fig. 34: (a) parity of lateral thresholds; (b) Bland-Altman; (c) error per planner."""
+    """Fig. 34: (a) parity of lateral thresholds; (b) Bland-Altman; (c) error per planner.
+
+    The fitted line, R², bias and limits are those of the claims table
+    (:func:`graspcampaign.rig.analysis.threshold_agreement`), over the same thresholds.
+    """
     m, p, _ = an._thresholds(ex[ex["planner"] == "heuristic"], "A")
+    agree = an.threshold_agreement(recs).iloc[0]
     with mpl.rc_context(RC):
         fig, (ax_a, ax_b, ax_c) = new_figure(ex, "Fig. 34: predicting the failure boundary",
                                              (13.0, 4.0), 3)
@@ -548,25 +538,24 @@ def fig34(report: Report, recs, ex: pd.DataFrame, an, paper: dict) -> None:
             top = float(max(p.max(), m.max())) * 1.05
             grid = np.linspace(0.0, top, 50)
             ax_a.plot(grid, grid, ":", color="#777777", label="identity")
-            fit = np.polyfit(p, m, 1)
-            r2 = float(np.corrcoef(p, m)[0, 1] ** 2)
-            ax_a.plot(grid, np.polyval(fit, grid), color=PLANNER_COLOURS["heuristic"],
-                      label=f"ours: OLS slope {fit[0]:.2f}, R² {r2:.2f}")
+            ax_a.plot(grid, agree["ols_intercept"] + agree["ols_slope"] * grid,
+                      color=PLANNER_COLOURS["heuristic"],
+                      label=f"ours: OLS slope {agree['ols_slope']:.2f}, R² {agree['ols_r2']:.2f}")
             if paper.get("threshold_ols_slope") is not None:
                 ax_a.plot(grid, float(paper["threshold_ols_slope"]) * grid, "--", color=PAPER,
                           label=f"paper: slope {paper['threshold_ols_slope']}, "
                                 f"R² {paper.get('threshold_ols_r2')} (through 0, drawn)")
-            ba = stats.bland_altman(m, p)
             mean = (m + p) / 2
             ax_b.scatter(mean, m - p, s=9, alpha=0.55, color=PLANNER_COLOURS["heuristic"],
                          label=f"ours (n={m.size})", rasterized=True)
-            ax_b.axhline(ba.bias, color=PLANNER_COLOURS["heuristic"],
-                         label=f"ours: bias {ba.bias:+.2f} N")
-            for v in (ba.lower, ba.upper):
+            ax_b.axhline(agree["bias_n"], color=PLANNER_COLOURS["heuristic"],
+                         label=f"ours: bias {agree['bias_n']:+.2f} N")
+            for v in (agree["loa_low_n"], agree["loa_high_n"]):
                 ax_b.axhline(v, color=PLANNER_COLOURS["heuristic"], linestyle="--",
                              linewidth=1.0)
             ax_b.plot([], [], "--", color=PLANNER_COLOURS["heuristic"],
-                      label=f"ours: 95 % limits {ba.lower:+.2f} / {ba.upper:+.2f} N")
+                      label=f"ours: 95 % limits {agree['loa_low_n']:+.2f} / "
+                            f"{agree['loa_high_n']:+.2f} N")
             bias, half = paper.get("bland_altman_bias_n"), paper.get(
                 "bland_altman_loa_half_width_n")
             if bias is not None:
@@ -675,7 +664,7 @@ def fig35(report: Report, ex: pd.DataFrame, paper: dict) -> None:
 
 def fig36(report: Report, recs, ex: pd.DataFrame, an, paper: dict) -> None:
     """Fig. 36: (a) success per planner; (b) lateral survival, proposed vs centroid; (c) flag."""
-    planners = _planners(ex)
+    planners = planners_in_order(ex)
     ref = paper.get("table9") or {}
     surv_ref = paper.get("survival") or {}
     with mpl.rc_context(RC):
