@@ -1,4 +1,7 @@
-"""The simulation trial kinds end to end, on reduced versions of the real study files."""
+"""The simulation trial kinds end to end, on reduced versions of the real study files.
+
+The hardware kinds (Tests 1-3) have their own files: test_test1_kind.py, test_hardware_kinds.py.
+"""
 
 from __future__ import annotations
 
@@ -8,11 +11,13 @@ import pytest
 from graspcampaign.campaign.compose import compose_study
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.runner import run_study
+from graspcampaign.errors import UserInputError
 
 REQUIRED = ["trial_id", "study", "planner", "shape", "mass_kg", "mu", "seed", "status", "success",
             "failure_check", "residual_norm_n", "torque_norm_nm", "slip_margin_n", "eta",
             "delta_max_mm", "h_total", "s1", "s2", "s3", "n_sharp_vertex", "n_sharp_edge",
             "wall_time_s"]
+VERTICES = ["vertex_1", "vertex_2", "vertex_3"]
 
 
 def _run(study, tmp_path, *overrides):
@@ -23,8 +28,8 @@ def _run(study, tmp_path, *overrides):
 
 
 def test_reduced_baseline_grid_end_to_end(tmp_path):
-    summary, store, df = _run("baseline_grid", tmp_path, "shape=[sphere,handle]", "mass_kg=[0.4]",
-                              "mu=[0.3]", "seeds=2")
+    grid = ("shape=[sphere,handle]", "mass_kg=[0.4]", "mu=[0.3]", "seeds=2")
+    summary, store, df = _run("baseline_grid", tmp_path, *grid)
     assert summary.n_error == 0 and len(df) == 2 * 4 * 2
     assert set(REQUIRED) <= set(df.columns)
     # every planner of one scene draw sees the same object, mass, friction and seed
@@ -37,9 +42,8 @@ def test_reduced_baseline_grid_end_to_end(tmp_path):
     for _, body in prepared.iterrows():
         used = df.loc[df["shape"] == body["shape"], "lambda1"]
         assert np.allclose(used, body["lambda1"])
-    assert run_study(compose_study("baseline_grid", [
-        "runner.backend=sequential", f"output.root={tmp_path}", "shape=[sphere,handle]",
-        "mass_kg=[0.4]", "mu=[0.3]", "seeds=2"])).n_prepared == 0
+    again, _, _ = _run("baseline_grid", tmp_path, *grid)
+    assert again.n_prepared == 0
     # Sec. 6.5: centroid's normals are horizontal, so delta never leaves its 0.5 mm seed
     centroid = df[df["planner"] == "centroid"]
     assert not centroid["success"].any()
@@ -107,3 +111,109 @@ def test_dynamic_grasp_records_traces_and_like_for_like(tmp_path):
     assert set(steps["trial_id"]) == {row["trial_id"]}
     assert {"residual_z_n", "total_penetration_m", "normal_force_3_n"} <= set(steps.columns)
     assert steps["time_s"].is_monotonic_increasing
+
+
+# ------------------------------------------- sensitivity, mesh_resolution, surrogate (issue 7)
+def test_sensitivity_three_panels_as_one_design(tmp_path):
+    summary, store, df = _run("sensitivity", tmp_path, "params.levels=2", "seeds=2")
+    assert summary.n_error == 0 and len(df) == 3 * 2 * 2 * 2
+    assert df.groupby("panel").size().to_dict() == {"mu_mass": 8, "lambda": 8, "n_b": 8}
+    a = df[df["panel"] == "mu_mass"]
+    assert sorted(a["mu"].unique()) == [0.05, 0.6] and sorted(a["mass_kg"].unique()) == [0.1, 0.8]
+    # (a) bodies identified by PSO, one per (mu, m); (b, c) contact set directly
+    prepared = store.read("prepared").to_pandas()
+    assert prepared["identified"].sum() == 4 and (~prepared["identified"].astype(bool)).sum() == 1
+    assert a["identified"].all() and not df.loc[df["panel"] != "mu_mass", "identified"].any()
+    b = df[df["panel"] == "lambda"]
+    np.testing.assert_allclose(b["contact_lambda1"], b["lambda1"])
+    np.testing.assert_allclose(b["contact_n_exp"], 0.487)  # Table 3, the configured model
+    # common random numbers: every cell of one panel and seed scores the same candidates, and
+    # the heuristic's argmin is geometric, so it picks the same triple in every cell
+    for _, grp in df.groupby(["panel", "seed"]):
+        assert len(grp[VERTICES].drop_duplicates()) == 1
+    # lambda2 only scales the damping C, whose rate term vanishes in the static loop
+    for _, grp in b.groupby(["lambda1", "seed"]):
+        assert grp["residual_norm_n"].nunique() == 1 and grp["success"].nunique() == 1
+    # b never enters the quasi-static evaluator
+    c = df[df["panel"] == "n_b"]
+    for _, grp in c.groupby(["n_exp", "seed"]):
+        assert grp["delta_max_mm"].nunique() == 1
+    # both readings of the residual check are consistent with the recorded quantities
+    tau = 0.5
+    expect = (df["residual_norm_n"] < tau) & (df["torque_norm_nm"] < 0.025) & (df["slip_margin_n"] > 0)
+    assert (df["success_norm"] == expect).all() and (df["success"] == df["success_norm"]).all()
+
+
+def test_mesh_resolution_panels_and_baseline_reproduction(tmp_path):
+    overrides = ["seeds=2", "params.resolutions=[144,390]", "params.timing_repeats=2",
+                 "params.budget_shapes=[sphere]", "params.budget_nodes=[144]",
+                 "params.budget_seeds=2", "params.budgets=[1,30]",
+                 "params.baseline_shapes=[handle]", "params.baseline_masses_kg=[0.4]",
+                 "params.baseline_mus=[0.3]", "params.baseline_seeds=2"]
+    summary, store, df = _run("mesh_resolution", tmp_path, *overrides)
+    assert summary.n_error == 0
+    assert df.groupby("panel").size().to_dict() == {"resolution": 4, "budget": 5, "n_max": 8}
+    res = df[df["panel"] == "resolution"]
+    # one identification, held fixed across resolutions (Sec. 12)
+    assert res["contact_lambda1"].nunique() == 1 and res["contact_n_exp"].nunique() == 1
+    assert (res["cost_ratio_vs_reference"] > 0).all()
+    np.testing.assert_allclose(res["cost_ratio_vs_reference"],
+                               res["eval_time_s"] / res["eval_time_reference_s"])
+    # the exhaustive reference scores every triple of the 144-node mesh: C(144, 3) = 487344,
+    # so no sampled budget can find a lower H on the same body
+    bud = df[df["panel"] == "budget"]
+    ref = bud[bud["planner"] == "reference"].iloc[0]
+    assert ref["exhaustive"] and ref["n_scored"] == 144 * 143 * 142 // 6
+    assert (bud.loc[bud["planner"] == "heuristic", "h_planner"] >= ref["h_planner"] - 1e-12).all()
+    # the n_max panel re-derives the baseline grid's trials exactly
+    _, _, base = _run("baseline_grid", tmp_path, "shape=[handle]", "mass_kg=[0.4]", "mu=[0.3]",
+                      "seeds=2")
+    nm = df[df["panel"] == "n_max"]
+    merged = nm.merge(base, on=["shape", "mass_kg", "mu", "planner", "seed"], suffixes=("", "_b"))
+    assert len(merged) == 8
+    for col in VERTICES:
+        assert (merged[col] == merged[f"{col}_b"]).all()
+    np.testing.assert_allclose(merged["residual_norm_n"], merged["residual_norm_n_b"], rtol=1e-12)
+    assert (merged["success"] == merged["success_b"]).all()
+    np.testing.assert_allclose(merged["contact_lambda1"], merged["lambda1"], rtol=1e-12)
+    assert (nm["budget_capped"] == (~nm["success"] & nm["success_rerun"])).all()
+    assert (nm["n_max_rerun"] == 200).all()
+
+
+def test_mesh_resolution_baseline_params_equal_the_baseline_study():
+    mesh = compose_study("mesh_resolution").params
+    base = compose_study("baseline_grid")
+    assert mesh["baseline_seed"] == base.seed
+    assert mesh["baseline_seeds"] == base.seeds
+    assert list(mesh["baseline_shapes"]) == base.factors["shape"]
+    assert list(mesh["baseline_masses_kg"]) == base.factors["mass_kg"]
+    assert list(mesh["baseline_mus"]) == base.factors["mu"]
+    assert list(mesh["baseline_planners"]) == base.factors["planner"]
+
+
+def test_surrogate_scenarios(tmp_path):
+    summary, _, df = _run("surrogate", tmp_path, "seeds=12")
+    assert summary.n_error == 0 and len(df) == 12
+    assert df["shape"].isin(["sphere", "ellipsoid", "rounded_cube", "pear", "handle"]).all()
+    assert df["mass_kg"].between(0.1, 0.8).all() and df["mu"].between(0.05, 0.6).all()
+    assert df["lambda1"].between(0.05, 1.5).all() and df["msd_b"].between(0.1, 2.0).all()
+    np.testing.assert_allclose(df["contact_lambda1"], df["lambda1"])
+    assert (df["pso_n_evaluations"] == 25).all() and (df["pso_time_s"] > 0).all()
+    assert df["scene_id"].nunique() == 12  # one scenario per seed
+
+
+def test_surrogate_refuses_without_scikit_learn(tmp_path, monkeypatch):
+    from typer.testing import CliRunner
+
+    from graspcampaign.campaign.kinds import surrogate
+    from graspcampaign.cli.main import app
+
+    monkeypatch.setattr(surrogate, "sklearn_available", lambda: False)
+    with pytest.raises(UserInputError, match="needs scikit-learn.*ml"):
+        run_study(compose_study("surrogate", ["runner.backend=sequential",
+                                              f"output.root={tmp_path}", "seeds=2"]))
+    result = CliRunner().invoke(app, ["run", "surrogate", "seeds=2", "runner.backend=sequential",
+                                      f"output.root={tmp_path}"])
+    assert result.exit_code == 2 and "scikit-learn" in result.output
+    assert not (tmp_path / "surrogate").exists()  # refused before writing anything
+    assert CliRunner().invoke(app, ["show", "surrogate"]).exit_code == 0  # still describable

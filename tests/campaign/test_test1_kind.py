@@ -264,7 +264,7 @@ def test_malformed_file_is_rejected_and_nothing_changes(ingested, good_event, tm
     before = _snapshot(root)
     result = _ingest(root, path)
     assert result.exit_code == 2, result.output
-    assert re.fullmatch(r"error: " + message + r".*\n", result.stderr), result.stderr
+    assert re.fullmatch(r"error: " + message + r"\n", result.stderr), result.stderr
     assert result.stderr.count("\n") == 1  # one sentence, no traceback
     assert _snapshot(root) == before
 
@@ -276,7 +276,8 @@ def test_unsupported_file_type_is_rejected(ingested, good_event, tmp_path):
     before = _snapshot(root)
     result = _ingest(root, path)
     assert result.exit_code == 2
-    assert "bad.json, header, column '-': unsupported file type '.json'" in result.stderr
+    assert result.stderr == ("error: bad.json, header, column '-': unsupported file type '.json' "
+                             "(expected .csv, .parquet or .xlsx).\n")
     assert _snapshot(root) == before
 
 
@@ -296,7 +297,11 @@ def test_reingesting_a_stored_event_is_refused(ingested, good_event, tmp_path):
     root, folder, _ = ingested
     before = _snapshot(root)
     result = _ingest(root, folder / "day1.csv")
-    assert result.exit_code == 2 and "is already stored in" in result.stderr
+    assert result.exit_code == 2
+    n_events = pd.read_csv(folder / "day1.csv", usecols=["event_id"])["event_id"].nunique()
+    message = (rf"error: trial '[^']+' is already stored in .*measured; measured records are never "
+               rf"overwritten \({n_events} such trials\)\.\n")
+    assert re.fullmatch(message, result.stderr), result.stderr
     assert _snapshot(root) == before
 
 

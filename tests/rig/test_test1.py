@@ -7,6 +7,7 @@ environments, all five blocks: 1,624 events, about 5 s) once per module.
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import replace
 
 import numpy as np
@@ -258,93 +259,63 @@ def good(small):
     return schedule["event_id"], df
 
 
-def _write(df, tmp_path, name="bad.csv"):
-    path = tmp_path / name
+def _write(df, tmp_path):
+    path = tmp_path / "bad.csv"
     df.to_csv(path, index=False)
     return path
 
 
-def test_ingest_rejects_missing_column(good, tmp_path):
+def _set(df, row, column, value):
+    """Return a copy of ``df`` with one cell replaced (the column widened to object for text)."""
+    out = df.astype({column: object}) if isinstance(value, str) else df.copy()
+    out.loc[row, column] = value
+    return out
+
+
+def _force_in_mn(df):
+    """Normal force written in mN under the N header, after five zero samples."""
+    out = df.assign(normal_force_n=df["normal_force_n"] * 1000.0)
+    out.loc[:4, "normal_force_n"] = 0.0
+    out.loc[5, "normal_force_n"] = 250.0
+    return out
+
+
+# Each case: how the bad table is made from the good 30-sample event, and the message after
+# "bad.csv, " ({event} is the good event's id).
+BAD_WAVEFORMS = {
+    "missing_column": (lambda d: d.drop(columns="normal_force_n"),
+                       r"header, column 'normal_force_n': required column is missing\."),
+    "wrong_unit_column": (lambda d: d.rename(columns={"displacement_mm": "displacement_m"}),
+                          r"header, column 'displacement_m': unit 'm' where 'displacement_mm' "
+                          r"\(mm\) is expected\."),
+    "values_in_wrong_units": (_force_in_mn, r"row 6, column 'normal_force_n': value 250 lies "
+                                            r"outside the 10 N load-cell range \(wrong units\?\)\."),
+    "non_numeric": (lambda d: _set(d, 3, "time_s", "0.3s"),
+                    r"row 4, column 'time_s': value '0\.3s' is not a number\."),
+    "non_finite": (lambda d: _set(d, 7, "tangential_force_n", np.nan),
+                   r"row 8, column 'tangential_force_n': value nan \(an empty cell or NaN\) is "
+                   r"not finite\."),
+    "non_monotonic_time": (lambda d: _set(d, 10, "time_s", d.loc[8, "time_s"] - 1e-4),
+                           r"row 11, column 'time_s': time .* s does not increase within event "
+                           r"'{event}' \(previous sample .* s\)\."),
+    "unknown_event": (lambda d: _set(d, 12, "event_id", "t1-000000000000"),
+                      r"row 13, column 'event_id': event id 't1-000000000000' is not in the "
+                      r"schedule\."),
+    "empty_event_id": (lambda d: _set(d, 2, "event_id", ""),
+                       r"row 3, column 'event_id': event id is empty\."),
+    "duplicate_rows": (lambda d: pd.concat([d, d.iloc[[4]]], ignore_index=True),
+                       r"row 31, column 'time_s': duplicate sample of event '{event}' at .* s "
+                       r"\(first seen in row 5\)\."),
+}
+
+
+@pytest.mark.parametrize("case", list(BAD_WAVEFORMS))
+def test_ingest_rejects(good, tmp_path, case):
     ids, df = good
-    path = _write(df.drop(columns="normal_force_n"), tmp_path)
-    with pytest.raises(T.IngestError,
-                       match=r"^bad\.csv, header, column 'normal_force_n': required column "
-                             r"is missing\.$"):
-        T.validate_waveforms(path, ids)
-
-
-def test_ingest_rejects_wrong_unit_column(good, tmp_path):
-    ids, df = good
-    path = _write(df.rename(columns={"displacement_mm": "displacement_m"}), tmp_path)
-    with pytest.raises(T.IngestError, match=r"bad\.csv, header, column 'displacement_m': "
-                                            r"unit 'm' where 'displacement_mm' \(mm\)"):
-        T.validate_waveforms(path, ids)
-
-
-def test_ingest_rejects_values_in_wrong_units(good, tmp_path):
-    ids, df = good
-    df["normal_force_n"] = df["normal_force_n"] * 1000.0  # mN written as N
-    df.loc[:4, "normal_force_n"] = 0.0
-    df.loc[5, "normal_force_n"] = 250.0
-    path = _write(df, tmp_path)
-    with pytest.raises(T.IngestError, match=r"bad\.csv, row 6, column 'normal_force_n': "
-                                            r"value 250 lies outside the 10 N load-cell "
-                                            r"range \(wrong units\?\)"):
-        T.validate_waveforms(path, ids)
-
-
-def test_ingest_rejects_non_numeric(good, tmp_path):
-    ids, df = good
-    df["time_s"] = df["time_s"].astype(object)
-    df.loc[3, "time_s"] = "0.3s"
-    path = _write(df, tmp_path)
-    with pytest.raises(T.IngestError, match=r"bad\.csv, row 4, column 'time_s': value "
-                                            r"'0\.3s' is not a number\."):
-        T.validate_waveforms(path, ids)
-
-
-def test_ingest_rejects_non_finite(good, tmp_path):
-    ids, df = good
-    df.loc[7, "tangential_force_n"] = np.nan
-    path = _write(df, tmp_path)
-    with pytest.raises(T.IngestError, match=r"bad\.csv, row 8, column 'tangential_force_n': "
-                                            r"value .* is not finite\."):
-        T.validate_waveforms(path, ids)
-
-
-def test_ingest_rejects_non_monotonic_time(good, tmp_path):
-    ids, df = good
-    df.loc[10, "time_s"] = df.loc[8, "time_s"] - 1e-4
-    path = _write(df, tmp_path)
-    with pytest.raises(T.IngestError, match=r"bad\.csv, row 11, column 'time_s': time .* "
-                                            r"does not increase within event 't1-"):
-        T.validate_waveforms(path, ids)
-
-
-def test_ingest_rejects_unknown_event(good, tmp_path):
-    ids, df = good
-    df.loc[12, "event_id"] = "t1-000000000000"
-    path = _write(df, tmp_path)
-    with pytest.raises(T.IngestError, match=r"bad\.csv, row 13, column 'event_id': event id "
-                                            r"'t1-000000000000' is not in the schedule\."):
-        T.validate_waveforms(path, ids)
-
-
-def test_ingest_rejects_empty_event_id(good, tmp_path):
-    ids, df = good
-    df.loc[2, "event_id"] = ""
-    path = _write(df, tmp_path)
-    with pytest.raises(T.IngestError, match=r"bad\.csv, row 3, column 'event_id': event id "
-                                            r"is empty\."):
-        T.validate_waveforms(path, ids)
-
-
-def test_ingest_rejects_duplicate_rows(good, tmp_path):
-    ids, df = good
-    df = pd.concat([df, df.iloc[[4]]], ignore_index=True)
-    path = _write(df, tmp_path)
-    with pytest.raises(T.IngestError, match=r"bad\.csv, row 31, column 'time_s': duplicate "
-                                            r"sample of event .* \(first seen in row 5\)\."):
+    make, message = BAD_WAVEFORMS[case]
+    path = _write(make(df), tmp_path)
+    message = message.format(event=re.escape(df["event_id"].iloc[0]))
+    with pytest.raises(T.IngestError, match=rf"^bad\.csv, {message}$"):
         T.validate_waveforms(path, ids)
 
 
@@ -352,13 +323,16 @@ def test_ingest_rejects_unknown_file_type(good, tmp_path):
     ids, df = good
     path = tmp_path / "waves.txt"
     path.write_text("x")
-    with pytest.raises(T.IngestError, match=r"waves\.txt, header, .*unsupported file type"):
+    with pytest.raises(T.IngestError, match=r"^waves\.txt, header, column '-': unsupported file "
+                                            r"type '\.txt' \(expected \.csv, \.parquet or "
+                                            r"\.xlsx\)\.$"):
         T.validate_waveforms(path, ids)
 
 
 def test_ingest_error_is_a_value_error_and_labels_dataframes(good):
     ids, df = good
-    with pytest.raises(ValueError, match=r"^<dataframe>, header, column 'event_id'"):
+    with pytest.raises(ValueError, match=r"^<dataframe>, header, column 'event_id': required "
+                                         r"column is missing\.$"):
         T.validate_waveforms(df.drop(columns="event_id"), ids)
 
 

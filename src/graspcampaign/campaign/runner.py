@@ -211,13 +211,13 @@ def _check_drift(manifest: dict[str, Any], study: StudyCfg, allow_drift: bool, p
         return
     changes = []
     if manifest.get("config_hash") != provenance.config_hash(study):
-        changes.append("the resolved study config")
+        changes.append("resolved study config")
     if manifest.get("code_version") != provenance.code_version():
-        changes.append(f"the code version ({manifest.get('code_version')} -> "
+        changes.append(f"code version ({manifest.get('code_version')} -> "
                        f"{provenance.code_version()})")
     if changes:
         raise DriftError(
-            f"run {path} was started with different {' and '.join(changes)}; use a new run "
+            f"run {path} was started with a different {' and '.join(changes)}; use a new run "
             "name (output.run=NAME or --run NAME) or pass --allow-drift to mix them."
         )
 
