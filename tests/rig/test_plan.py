@@ -87,6 +87,17 @@ def test_material_contact_params_reproduce_table4():
         assert m.cap_depth < m.damage_depth and m.cap_k_n_per_mm_n < m.k_n_per_mm_n
 
 
+def test_material_contact_params_at_another_fingertip_radius():
+    # K scales with sqrt(R) once (Eq. 14), in material_model; contact_params must not scale again
+    fam = bench.FAMILIES["gel"]
+    m = rp.material_model("gel", "natural", 8e-3)
+    cp = m.contact_params(8e-3)
+    assert m.k_n_per_mm_n == pytest.approx(fam.k_n_per_mm_n * math.sqrt(8.0 / 5.0))
+    assert cp.k_n_per_mm_n == pytest.approx(m.k_n_per_mm_n)
+    assert cp.lambda1 == pytest.approx(rp.material_model("gel").contact_params().lambda1)
+    assert cp.c_n_s_per_m == pytest.approx(fam.c * 8.0 / 5.0)
+
+
 def test_damage_depth_closed_form():
     # gel: stabilised softening 0.10 (d/2 mm)^2 reaches 1 - 0.85 at d = 2 mm sqrt(1.5)
     gel = bench.FAMILIES["gel"]

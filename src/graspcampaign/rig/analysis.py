@@ -24,6 +24,7 @@ import pandas as pd
 from scipy import stats as sstats
 
 from graspcampaign import stats
+from graspcampaign.core.disturbance import G
 
 __all__ = [
     "PLANNER_ORDER",
@@ -373,22 +374,26 @@ def planner_chi2(records: pd.DataFrame,
                           "dof": res.dof, "p": res.pvalue}])
 
 
+def _kruskal_row(samples: dict[str, np.ndarray], median_prefix: str) -> pd.DataFrame:
+    """Kruskal-Wallis over the non-empty finite samples, with each sample's median."""
+    groups = {label: x for label, x in samples.items() if x.size}
+    res = stats.kruskal_wallis(*groups.values())
+    medians = {f"{median_prefix}{label}": float(np.median(x)) for label, x in groups.items()}
+    return pd.DataFrame([{"n": res.n, "n_groups": res.n_groups, "H": res.statistic,
+                          "p": res.pvalue, **medians}])
+
+
 def force_error_kruskal(records: pd.DataFrame) -> pd.DataFrame:
     """Return Kruskal-Wallis of the absolute force-prediction error across planners (§8.5).
 
     Columns: ``n, n_groups, H, p`` and the per-planner medians ``median_err_pct_<planner>``.
     """
     df = executed(records)
-    groups, medians = [], {}
+    samples = {}
     for p in _planners(df):
         g = df[df["planner"] == p]
-        err = _abs_pct_err(g["normal_force_mean_n"], g["normal_force_pred_mean_n"])
-        if err.size:
-            groups.append(err)
-            medians[f"median_err_pct_{p}"] = float(np.median(err))
-    res = stats.kruskal_wallis(*groups)
-    return pd.DataFrame([{"n": res.n, "n_groups": res.n_groups, "H": res.statistic,
-                          "p": res.pvalue, **medians}])
+        samples[p] = _abs_pct_err(g["normal_force_mean_n"], g["normal_force_pred_mean_n"])
+    return _kruskal_row(samples, "median_err_pct_")
 
 
 def slip_friction_kruskal(records: pd.DataFrame) -> pd.DataFrame:
@@ -397,16 +402,11 @@ def slip_friction_kruskal(records: pd.DataFrame) -> pd.DataFrame:
     Columns: ``n, n_groups, H, p`` and ``median_slip_mm_<level>``.
     """
     df = executed(records)
-    groups, medians = [], {}
+    samples = {}
     for level, g in df.groupby("friction_level", sort=True):
         slip = g["peak_slip_mm"].astype(float).to_numpy()
-        slip = slip[np.isfinite(slip)]
-        if slip.size:
-            groups.append(slip)
-            medians[f"median_slip_mm_{level}"] = float(np.median(slip))
-    res = stats.kruskal_wallis(*groups)
-    return pd.DataFrame([{"n": res.n, "n_groups": res.n_groups, "H": res.statistic,
-                          "p": res.pvalue, **medians}])
+        samples[level] = slip[np.isfinite(slip)]
+    return _kruskal_row(samples, "median_slip_mm_")
 
 
 # --------------------------------------------------------------------------------------------
@@ -458,7 +458,7 @@ def block_summary(records: pd.DataFrame, planner: str = PROPOSED) -> pd.DataFram
             headline, unit = _median(m), "N"
         elif block == "B":
             down = h[h["disturbance_kind"] == "down"]
-            weight = down["mass_kg"].astype(float) * 9.81
+            weight = down["mass_kg"].astype(float) * G
             headline = _median(100.0 * down["threshold_measured_n"].astype(float) / weight)
             unit = "% W"
         elif block == "C":

@@ -144,11 +144,16 @@ class MaterialModel:
     cap_k_n_per_mm_n: float
 
     def contact_params(self, fingertip_radius: float = bench.FINGERTIP_RADIUS) -> ContactParams:
-        """Return ContactParams whose Eq. 14 K and C reproduce this material's Table 4 K and C."""
+        """Return ContactParams whose Eq. 14 K and C reproduce this model's K and C.
+
+        ``fingertip_radius`` [m] must be the radius this model was built for
+        (:func:`material_model`'s). ``k_n_per_mm_n`` is already scaled to that radius, so lambda1
+        is solved there; ``c_n_s_per_m`` is Table 4's 5 mm bench value, so lambda2 is solved at
+        the bench radius and Eq. 14 scales C with R.
+        """
         psi = effective_modulus(bench.FINGERTIP_MODULUS, bench.FINGERTIP_POISSON, self.modulus,
                                 bench.SPECIMEN_POISSON)
-        k_at_5mm = self.k_n_per_mm_n
-        lambda1 = k_at_5mm / (2.0 * psi / 1e6 * math.sqrt(bench.FINGERTIP_RADIUS * 1e3))
+        lambda1 = self.k_n_per_mm_n / (2.0 * psi / 1e6 * math.sqrt(fingertip_radius * 1e3))
         lambda2 = self.c_n_s_per_m / (4.0 * math.pi * bench.FINGERTIP_RADIUS)
         return ContactParams(lambda1=lambda1, lambda2=lambda2, n=self.n,
                              fingertip_radius=fingertip_radius,
@@ -345,9 +350,9 @@ def _num(row: dict, key: str, default: float = math.nan) -> float:
 
 def grip_time_s(row: dict) -> float:
     """Return the time under grip before grading [s]: lift (50 mm at the lift speed) plus hold."""
-    from graspcampaign.rig.protocol import HOLD_S, LIFT_HEIGHT_MM
+    from graspcampaign.rig.protocol import DEFAULT_LIFT_MM_PER_S, HOLD_S, LIFT_HEIGHT_MM
 
-    lift = _num(row, "lift_speed_mm_per_s", 30.0)
+    lift = _num(row, "lift_speed_mm_per_s", DEFAULT_LIFT_MM_PER_S)
     return LIFT_HEIGHT_MM / lift + _num(row, "hold_s", HOLD_S)
 
 
@@ -372,7 +377,8 @@ def commanded_disturbance(row: dict) -> tuple[str, float, float]:
 
 def predictions_from_plan(plan: HardwarePlan, material: MaterialModel, mass: float,
                           centroid=(0.0, 0.0, 0.0), kind: str = "none", level: float = 0.0,
-                          direction_deg: float = 0.0, load_s: float = 4.67) -> dict[str, Any]:
+                          direction_deg: float = 0.0, load_s: float | None = None
+                          ) -> dict[str, Any]:
     """Size the grip and derive every pre-execution prediction from a plan (SI in, units in keys).
 
     Parameters
@@ -386,15 +392,18 @@ def predictions_from_plan(plan: HardwarePlan, material: MaterialModel, mass: flo
         Object centroid [m].
     kind, level, direction_deg
         Commanded disturbance (see :func:`commanded_disturbance`).
-    load_s : float
+    load_s : float, optional
         Time under grip the calibrated planners expect the indentation to creep over (lift plus
         hold; QLV with Table 4 rho and tau); the uncalibrated no-PSO planner models no creep.
+        Default: :func:`grip_time_s` at the default lift speed and hold.
 
     Returns
     -------
     dict
         Flat prediction columns (see :func:`predict_trial`).
     """
+    if load_s is None:
+        load_s = grip_time_s({})
     k_b, n_b = _believed_contact(plan.planner, material)
     calibrated = plan.planner != "no_pso"
     creep = float(dist.creep_compliance(load_s, material.rho, material.tau)) if calibrated else 1.0

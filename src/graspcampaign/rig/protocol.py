@@ -291,6 +291,15 @@ def _finish(rows: list[dict], study: str, seed: int, columns: list[str]) -> pd.D
     return df[front + rest + extra].reset_index(drop=True)
 
 
+def _schedule(slots: list[dict[str, Any]], study: str, prefix: str, key: str, seed: int,
+              columns: list[str]) -> pd.DataFrame:
+    """Id, plan-key, order (with the paper's rig faults) and tabulate one study's slots."""
+    _with_ids(slots, study, prefix, key)
+    _plan_keys(slots)
+    rows = _order(slots, _rng(seed, study), PAPER_COUNTS[study]["aborted"])
+    return _finish(rows, study, seed, columns)
+
+
 def _check_seed(seed: object) -> int:
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise ValueError(f"seed must be a non-negative int, got {seed!r}")
@@ -386,11 +395,7 @@ def test2_schedule(seed: int = 0) -> pd.DataFrame:
         closing_speed_mm_per_s, lift_speed_mm_per_s, hold_s, matched, condition, repeat``).
     """
     seed = _check_seed(seed)
-    slots = _test2_slots()
-    _with_ids(slots, STUDY_TEST2, "t2", "group")
-    _plan_keys(slots)
-    rows = _order(slots, _rng(seed, STUDY_TEST2), PAPER_COUNTS[STUDY_TEST2]["aborted"])
-    return _finish(rows, STUDY_TEST2, seed, TEST2_COLUMNS)
+    return _schedule(_test2_slots(), STUDY_TEST2, "t2", "group", seed, TEST2_COLUMNS)
 
 
 # --------------------------------------------------------------------------------------------
@@ -555,8 +560,4 @@ def test3_schedule(seed: int = 0) -> pd.DataFrame:
         if s["matched"]:
             s["unit"] = f"M|{s['object_id']}|{s['condition']}"
             baselines += [{**s, "planner": p} for p in BASELINES]
-    slots = proposed + baselines
-    _with_ids(slots, STUDY_TEST3, "t3", "block")
-    _plan_keys(slots)
-    rows = _order(slots, _rng(seed, STUDY_TEST3), PAPER_COUNTS[STUDY_TEST3]["aborted"])
-    return _finish(rows, STUDY_TEST3, seed, TEST3_COLUMNS)
+    return _schedule(proposed + baselines, STUDY_TEST3, "t3", "block", seed, TEST3_COLUMNS)

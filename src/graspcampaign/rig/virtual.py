@@ -242,7 +242,7 @@ def specimen_truth(seed: int, object_id: str, material: str, object_index: int,
 # Execution geometry
 # --------------------------------------------------------------------------------------------
 def _first_hits(origins: np.ndarray, directions: np.ndarray, triangles: np.ndarray):
-    """Nearest ray-triangle hit per ray (Moller-Trumbore); face -1 and NaN on a miss."""
+    """Nearest ray-triangle hit per ray (Moller-Trumbore); face -1 and t = inf on a miss."""
     v0 = triangles[:, 0]
     e1 = triangles[:, 1] - v0
     e2 = triangles[:, 2] - v0

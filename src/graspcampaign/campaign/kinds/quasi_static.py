@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -35,10 +35,52 @@ def body_key(factors: dict[str, Any]) -> dict[str, Any]:
             "mass_kg": factors["mass_kg"], "mu": factors["mu"]}
 
 
+def context(study, shape: str, nodes: int, mass: float, mu: float, contact,
+            n_cand: int | None = None, evaluator=None):
+    """Return the (per-worker cached) PlanContext of one body under the study's settings."""
+    evaluator = common.evaluator_params(study) if evaluator is None else evaluator
+    return common.plan_context(shape, int(nodes), float(mass), float(mu), contact, evaluator,
+                               int(study.evaluator.n_cand if n_cand is None else n_cand),
+                               common.feature_thresholds(study))
+
+
 def _context(study, params, body, contact):
-    return common.plan_context(
-        body["shape"], body["nodes"] or params.nodes, body["mass_kg"], body["mu"], contact,
-        common.evaluator_params(study), study.evaluator.n_cand, common.feature_thresholds(study))
+    return context(study, body["shape"], body["nodes"] or params.nodes, body["mass_kg"],
+                   body["mu"], contact)
+
+
+class Judged(NamedTuple):
+    """One planned grasp judged under the body's parameters (see :func:`plan_and_judge`)."""
+
+    ctx: Any
+    plan: Any
+    truth: Any
+    context_time_s: float
+    plan_time_s: float
+
+
+def plan_and_judge(study, shape: str, nodes: int, mass: float, mu: float, contact, planner: str,
+                   rng: np.random.Generator, n_cand: int | None = None,
+                   evaluator=None) -> Judged:
+    """Plan with ``planner`` and evaluate its triple under ``contact`` (the simulated truth).
+
+    The planner's own evaluation is the truth unless it believed other contact parameters
+    (``no_pso``); then the triple is evaluated again under ``contact``. ``context_time_s`` is the
+    per-body preparation (cached per worker), ``plan_time_s`` Algorithm 1 with its candidate
+    search and Algorithm 2.
+    """
+    from graspcampaign.core.planner import PLANNERS, evaluate_triple
+
+    start = time.perf_counter()
+    ctx = context(study, shape, nodes, mass, mu, contact, n_cand, evaluator)
+    context_time = time.perf_counter() - start
+    start = time.perf_counter()
+    plan = PLANNERS[planner](ctx, rng)
+    plan_time = time.perf_counter() - start
+    truth = plan.equilibrium
+    if plan.contact != ctx.contact:
+        truth = evaluate_triple(ctx, plan.points, plan.normals, contact=ctx.contact)
+    return Judged(ctx, plan, truth, context_time, plan_time)
 
 
 def prepare(study, params, body, rng: np.random.Generator) -> dict[str, Any]:
@@ -111,22 +153,13 @@ def plan_record(ctx, plan, truth) -> dict[str, Any]:
 
 def run(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
     """Plan with the trial's planner and evaluate under the body's parameters."""
-    from graspcampaign.core.planner import PLANNERS, evaluate_triple
-
     f, study = inp.trial.factors, inp.study
     body = body_key(f)
+    nodes = body["nodes"] or inp.params.nodes
     contact = body_contact(study, inp.prepared)
-    start = time.perf_counter()
-    ctx = _context(study, inp.params, body, contact)
-    context_time = time.perf_counter() - start
-    start = time.perf_counter()
-    plan = PLANNERS[f["planner"]](ctx, rng)
-    plan_time = time.perf_counter() - start
-    truth = plan.equilibrium
-    if plan.contact != ctx.contact:  # the planner believed other parameters (no_pso)
-        truth = evaluate_triple(ctx, plan.points, plan.normals, contact=ctx.contact)
-    _, features = common.body_mesh(body["shape"], body["nodes"] or inp.params.nodes,
-                                   common.feature_thresholds(study))
+    ctx, plan, truth, context_time, plan_time = plan_and_judge(
+        study, body["shape"], nodes, body["mass_kg"], body["mu"], contact, f["planner"], rng)
+    _, features = common.body_mesh(body["shape"], nodes, common.feature_thresholds(study))
     out = plan_record(ctx, plan, truth)
     out.update({
         "nodes": len(ctx.vertices),

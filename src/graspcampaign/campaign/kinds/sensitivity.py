@@ -22,7 +22,6 @@ One trial plans one grasp with ``params.planner`` (heuristic by default) on ``pa
 
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -134,20 +133,8 @@ def plan_and_evaluate(study, shape: str, nodes: int, mass: float, mu: float, con
     the contact parameters used and the timings (``plan_time_s``: Algorithm 1 with the candidate
     search and Algorithm 2; ``context_time_s``: the per-body preparation, cached per worker).
     """
-    from graspcampaign.core.planner import PLANNERS, evaluate_triple
-
-    evaluator = common.evaluator_params(study) if evaluator is None else evaluator
-    start = time.perf_counter()
-    ctx = common.plan_context(shape, int(nodes), float(mass), float(mu), contact, evaluator,
-                              int(study.evaluator.n_cand if n_cand is None else n_cand),
-                              common.feature_thresholds(study))
-    context_time = time.perf_counter() - start
-    start = time.perf_counter()
-    plan = PLANNERS[planner](ctx, rng)
-    plan_time = time.perf_counter() - start
-    truth = plan.equilibrium
-    if plan.contact != ctx.contact:  # a planner that believes other parameters (no_pso)
-        truth = evaluate_triple(ctx, plan.points, plan.normals, contact=ctx.contact)
+    ctx, plan, truth, context_time, plan_time = quasi_static.plan_and_judge(
+        study, shape, nodes, mass, mu, contact, planner, rng, n_cand, evaluator)
     out = quasi_static.plan_record(ctx, plan, truth)
     out.update({
         "loop_capped": bool(truth.iterations[0] >= ctx.evaluator.n_max),
