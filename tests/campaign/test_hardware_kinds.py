@@ -246,9 +246,9 @@ def test_a_late_second_executed_attempt_of_a_stored_slot_is_refused(t2_export, t
     before = _snapshot(store.path)
     result = _ingest(root, tmp_path / "late.csv")
     assert result.exit_code == 2, result.output
-    assert re.search(rf"trial '{late}' is an executed attempt of slot '{done['slot_id']}', which "
-                     rf"already has an executed record \('{done[H.SHEET_ID]}'\) in .*measured; "
-                     r"only one attempt per slot may be executed\.", result.stderr), result.stderr
+    assert re.search(rf"^error: late\.csv, row 1, column 'aborted': slot '{done['slot_id']}' "
+                     rf"already has an executed record in the run's stored records \(trial "
+                     rf"'{done[H.SHEET_ID]}'\)\.$", result.stderr, re.M), result.stderr
     assert _snapshot(store.path) == before
     # the same file into a run without that slot's record is accepted
     assert _ingest(root, tmp_path / "late.csv", run="late").exit_code == 0

@@ -50,9 +50,10 @@ class TrialKind:
     missing.
 
     Hardware protocols also supply ``schedule(study, params) -> DataFrame`` (the commanded sheet
-    written by ``graspcampaign schedule``) and ``ingest(study, params, paths) -> list[dict]``
-    (measured records, validated before anything is stored; raises a ``UserInputError`` /
-    ``IngestError`` naming file, row and column).
+    written by ``graspcampaign schedule``) and ``ingest(study, params, paths, stored) ->
+    list[dict]`` (measured records, validated before anything is stored, ``stored`` the run's
+    records already stored as a DataFrame or None; raises a ``UserInputError`` / ``IngestError``
+    naming file, row and column).
     """
 
     name: str
@@ -65,7 +66,7 @@ class TrialKind:
     design: Callable[[StudyCfg, Any], list[dict[str, Any]]] | None = None
     finalize: Callable[..., dict[str, list[dict[str, Any]]]] | None = None
     schedule: Callable[[StudyCfg, Any], Any] | None = None
-    ingest: Callable[[StudyCfg, Any, list[str]], list[dict[str, Any]]] | None = None
+    ingest: Callable[[StudyCfg, Any, list[str], Any], list[dict[str, Any]]] | None = None
     description: str = ""
     extra: dict[str, Any] = field(default_factory=dict)
 

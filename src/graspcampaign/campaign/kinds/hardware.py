@@ -230,14 +230,16 @@ def _rerun_trial(study: StudyCfg, trials: dict, sheet_id: str, slot: str, attemp
     return expand(study, [factors])[0]
 
 
-def ingest(study: StudyCfg, params: Any, paths: list[str]) -> list[dict[str, Any]]:
+def ingest(study: StudyCfg, params: Any, paths: list[str],
+           stored: pd.DataFrame | None = None) -> list[dict[str, Any]]:
     """Validate measured-records files completely, then return their engine records.
 
     Each file is checked by :func:`graspcampaign.rig.ingest.validate_records` (header and units,
     types and ranges, known sheet ids, no duplicates, one executed attempt per slot, outcome
     consistent with its flags); across files a trial id and a slot's executed attempt may appear
-    once. The first problem raises ``IngestError`` naming the file, the 1-based data row and the
-    column; nothing is stored then.
+    once, and a slot with an executed record among ``stored`` (the run's records already stored,
+    from an earlier ``ingest``) may not get another. The first problem raises ``IngestError``
+    naming the file, the 1-based data row and the column; nothing is stored then.
 
     Returns
     -------
@@ -258,6 +260,7 @@ def ingest(study: StudyCfg, params: Any, paths: list[str]) -> list[dict[str, Any
     frames: list[tuple[str, pd.DataFrame]] = []
     seen_ids: dict[str, str] = {}
     seen_slots: dict[str, str] = {}
+    entries: list[tuple[str, int, str, str, bool]] = []
     for path in paths:
         label = Path(path).name
         table = validate_records(path, sheet, file_label=label)
@@ -272,7 +275,9 @@ def ingest(study: StudyCfg, params: Any, paths: list[str]) -> list[dict[str, Any
                     raise IngestError(f"{label}, row {i + 1}, column 'aborted': slot '{slot}' "
                                       f"already has an executed record in {seen_slots[slot]}.")
                 seen_slots[slot] = label
+            entries.append((label, i + 1, tid, slot, bool(aborted)))
         frames.append((label, table))
+    _check_against_stored(entries, stored)
     trials = {t.factors[SHEET_ID]: t for t in study_trials(study, get_kind(study.kind), params)}
     rows = []
     for _, table in frames:
@@ -288,6 +293,27 @@ def ingest(study: StudyCfg, params: Any, paths: list[str]) -> list[dict[str, Any
                          **trial.factors, "source": str(rec.get("source") or "measured"),
                          **predictions, **measured})
     return rows
+
+
+def _check_against_stored(entries: list[tuple[str, int, str, str, bool]],
+                          stored: pd.DataFrame | None) -> None:
+    """Refuse an executed attempt of a slot that has an executed record among ``stored``.
+
+    ``entries`` are (file label, 1-based row, sheet trial id, slot, aborted). A trial that is
+    itself already stored is left to the engine, which refuses it as an overwrite.
+    """
+    from graspcampaign.rig.ingest import IngestError
+
+    if stored is None or not {SHEET_ID, "slot_id", "aborted"} <= set(stored.columns):
+        return
+    stored_ids = set(stored[SHEET_ID])
+    done = stored[stored["aborted"] == False]  # noqa: E712  (None on errored rows)
+    executed = dict(zip(done["slot_id"], done[SHEET_ID], strict=True))
+    for label, row, tid, slot, aborted in entries:
+        if not aborted and slot in executed and tid not in stored_ids:
+            raise IngestError(f"{label}, row {row}, column 'aborted': slot '{slot}' already has an "
+                              f"executed record in the run's stored records (trial "
+                              f"'{executed[slot]}').")
 
 
 _COMMON = dict(source="virtual", seconds_per_trial=0.004, design=design, schedule=schedule,

@@ -269,8 +269,12 @@ def schedule(study: StudyCfg, params: Test1BenchParams) -> pd.DataFrame:
     return protocol_schedule(study, params)
 
 
-def ingest(study: StudyCfg, params: Test1BenchParams, paths: list[str]) -> list[dict[str, Any]]:
+def ingest(study: StudyCfg, params: Test1BenchParams, paths: list[str],
+           stored: pd.DataFrame | None = None) -> list[dict[str, Any]]:
     """Validate waveform files completely, then fit every event (the in-process fit path).
+
+    ``stored`` (the run's records already stored) is not needed: an event has one record, and the
+    engine refuses a trial id that is already stored.
 
     Each file is checked by :func:`graspcampaign.rig.test1.validate_waveforms` (columns,
     units, numbers, finite values, rig ranges, known event ids, duplicate samples, increasing
