@@ -9,6 +9,7 @@ from hypothesis import strategies as st
 from scipy.integrate import quad
 
 from graspcampaign.core import disturbance as d
+from graspcampaign.core.statics import GRAVITY
 
 
 def _cone(tilt_rad: float, phase: float = 0.0) -> np.ndarray:
@@ -155,7 +156,7 @@ def test_lateral_slip_scale_symmetric_closed_form():
                                  [0, 0, -w], np.zeros(3), [1.0, 0, 0], np.zeros(3))
     assert np.isinf(scales[0])
     np.testing.assert_allclose(scales[1:], np.sqrt(3) * np.sqrt(c**2 - (w / 3) ** 2))
-    assert d.first_slip_finger(points, normals, [1, 1, 1], np.zeros(3), w / d.G, c / 2.4,
+    assert d.first_slip_finger(points, normals, [1, 1, 1], np.zeros(3), w / GRAVITY, c / 2.4,
                                "lateral", 0.0) in (2, 3)
 
 

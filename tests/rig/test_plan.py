@@ -11,6 +11,7 @@ import pytest
 from graspcampaign.core import bench
 from graspcampaign.core import disturbance as d
 from graspcampaign.core.mesh import SHAPES, MeshError, make_object
+from graspcampaign.core.statics import GRAVITY
 from graspcampaign.rig import plan as rp
 from graspcampaign.rig import protocol
 
@@ -31,7 +32,7 @@ def stl_files(tmp_path_factory):
 def test_plan_on_each_shape_predicts_the_shared_budget_limits(stl_files, shape, tmp_path):
     png = tmp_path / f"{shape}.png"
     out = rp.plan_mesh(stl_files[shape], mass_kg=0.1, material="silicone_ref", png_path=png)
-    w = 0.1 * d.G
+    w = 0.1 * GRAVITY
     sf = out["sf_predicted"]
     assert out["weight_n"] == pytest.approx(w)
     if sf >= 1.0:
@@ -132,7 +133,7 @@ def test_predictions_follow_their_definitions(t2_rows):
         normals = np.array([[p[f"normal_{j}_{a}"] for a in "xyz"] for j in (1, 2, 3)])
         assert p["g_geo_predicted"] == pytest.approx(d.geometric_efficiency(normals))
         if p["sf_predicted"] >= 1:
-            w = row["mass_kg"] * d.G
+            w = row["mass_kg"] * GRAVITY
             assert p["f_lat_pred_n"] == pytest.approx(w * math.sqrt(p["sf_predicted"] ** 2 - 1))
         if row["planner"] == "no_pso":
             assert p["n_believed"] == 1.5

@@ -151,6 +151,7 @@ def test_dimensional_columns_carry_units(maker):
 
 def test_masses_follow_the_envelope_rule():
     from graspcampaign.core import disturbance as d
+    from graspcampaign.core.statics import GRAVITY
     from graspcampaign.rig.plan import material_model
 
     for k, (material, mass) in enumerate(zip(pr.OBJECT_MATERIALS, pr.OBJECT_MASSES_KG,
@@ -161,7 +162,7 @@ def test_masses_follow_the_envelope_rule():
         m = material_model(material)
         creep = float(d.creep_compliance(pr.LIFT_HEIGHT_MM / 30.0 + pr.HOLD_S, m.rho, m.tau))
         cap = float(d.force_at_indentation(m.cap_depth, m.cap_k_n_per_mm_n, m.n, creep))
-        envelope = 3 * m.mu_s * d.KAPPA * cap / (d.SF_TARGET * d.G * (1 + d.A_LIFT / d.G))
+        envelope = 3 * m.mu_s * d.KAPPA * cap / (d.SF_TARGET * GRAVITY * (1 + d.A_LIFT / GRAVITY))
         fraction = 0.5 if OBJECT_IS_LIGHT[k] else 0.8
         assert mass == pytest.approx(round(fraction * envelope / 0.05) * 0.05)
 

@@ -41,8 +41,8 @@ import numpy as np
 from scipy.optimize import least_squares
 from scipy.signal import lfilter
 
+from graspcampaign.core.contact import depth_for_force, normal_force
 from graspcampaign.core.contact import effective_modulus as _psi
-from graspcampaign.core.contact import normal_force
 
 log = logging.getLogger(__name__)
 
@@ -588,11 +588,6 @@ def _contact_force(depths: np.ndarray, rates: np.ndarray, dt: float, spec: Speci
     return force
 
 
-def _invert_law(force: float | np.ndarray, k_n_per_mm_n: float, n: float) -> np.ndarray:
-    """Depth [m] at which K delta_mm^n equals ``force`` [N]."""
-    return 1e-3 * (np.maximum(np.asarray(force, dtype=float), 0.0) / k_n_per_mm_n) ** (1.0 / n)
-
-
 def _untoe(eff: np.ndarray, toe: float) -> np.ndarray:
     """Inverse of :func:`_toe_depth` by Newton iteration (monotone, converges in a few)."""
     d = eff + toe
@@ -710,7 +705,7 @@ def _simulate_sliding(cmd: EventCommand, spec: SpecimenParams, rng: np.random.Ge
     dt = 1.0 / cmd.daq_hz
     surface = sensor.touch_off_sd * rng.standard_normal()
     target = cmd.normal_load
-    depth0 = float(_untoe(_invert_law(target, spec.k_n_per_mm_n, spec.n), spec.toe))
+    depth0 = float(_untoe(depth_for_force(target, spec.k_n_per_mm_n, spec.n), spec.toe))
     start = -APPROACH_GAP
     t_in = _move_time(depth0 - start, NORMAL_APPROACH_SPEED, cmd.accel)  # retraction alike
     t_slide = t_in + PRELOAD_DWELL
@@ -726,7 +721,7 @@ def _simulate_sliding(cmd: EventCommand, spec: SpecimenParams, rng: np.random.Ge
     held = (times >= t_in) & (times < t_out)
     th = times[held] - t_in
     g = spec.rho + (1.0 - spec.rho) * np.exp(-th / spec.tau)
-    z_held = _untoe(_invert_law(target / g, spec.k_n_per_mm_n, spec.n), spec.toe) + surface
+    z_held = _untoe(depth_for_force(target / g, spec.k_n_per_mm_n, spec.n), spec.toe) + surface
     z = z.copy()
     z[held] = z_held
     fn[held] = target

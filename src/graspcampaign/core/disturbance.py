@@ -43,10 +43,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from graspcampaign.core.contact import depth_for_force, normal_force
+from graspcampaign.core.statics import GRAVITY
 
 __all__ = [
     "A_LIFT",
-    "G",
     "KAPPA",
     "SF_STABLE",
     "SF_TARGET",
@@ -73,8 +73,6 @@ __all__ = [
 
 logger = logging.getLogger(__name__)
 
-G = 9.81
-"""Gravitational acceleration [m/s^2] (ARCHITECTURE.md)."""
 KAPPA = 2.4
 """Finger-pad friction-enhancement factor, calibrated once from Test 1 and frozen (§8.1)."""
 TAU_F_HARDWARE = 0.0886
@@ -147,7 +145,7 @@ def effective_radius(points, centroid) -> float:
 # --------------------------------------------------------------------------------------------
 # Safety factor, grip sizing and predicted limits
 # --------------------------------------------------------------------------------------------
-def safety_factor(mu_s, grip_force, g_geo, mass, a_lift=A_LIFT, kappa=KAPPA, g=G):
+def safety_factor(mu_s, grip_force, g_geo, mass, a_lift=A_LIFT, kappa=KAPPA, g=GRAVITY):
     """Return ``SF = 3 mu_s F_grip G_geo kappa / (W (1 + a_lift/g))`` (§8.1).
 
     Parameters
@@ -173,7 +171,7 @@ def safety_factor(mu_s, grip_force, g_geo, mass, a_lift=A_LIFT, kappa=KAPPA, g=G
     return 3.0 * np.asarray(mu_s) * np.asarray(grip_force) * np.asarray(g_geo) * kappa / weight
 
 
-def grip_for_safety_factor(target_sf, mu_s, g_geo, mass, a_lift=A_LIFT, kappa=KAPPA, g=G):
+def grip_for_safety_factor(target_sf, mu_s, g_geo, mass, a_lift=A_LIFT, kappa=KAPPA, g=GRAVITY):
     """Return the per-finger grip [N] that reaches ``target_sf`` (inverse of :func:`safety_factor`).
 
     ``inf`` when ``mu_s G_geo = 0`` (no friction reach: no grip suffices).
@@ -512,7 +510,7 @@ def slip_load_factors(points, normals, normal_forces, centroid, capacities, base
 
 
 def first_slip_finger(points, normals, normal_forces, centroid, mass, mu_s, kind, direction_deg=0.0,
-                      kappa=KAPPA, g=G) -> int:
+                      kappa=KAPPA, g=GRAVITY) -> int:
     """Return the finger (1-3) whose contact saturates first as a disturbance grows; 0 if none.
 
     Parameters

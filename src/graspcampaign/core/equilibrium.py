@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from graspcampaign.core.contact import MM_PER_M, normal_force
+from graspcampaign.core.statics import GRAVITY
 
 __all__ = [
     "FAILURE_CHECKS",
@@ -84,7 +85,7 @@ class EvaluatorParams:
     eps: float = 1.0e-6
     tau_f: float = 0.5
     tau_t: float = 0.025
-    g: float = 9.81
+    g: float = GRAVITY
     residual_check: str = "norm"
     normal_z_tol: float = 1.0e-9
 

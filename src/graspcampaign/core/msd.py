@@ -40,6 +40,8 @@ import scipy.sparse
 import scipy.sparse.linalg
 import trimesh
 
+from graspcampaign.core.statics import GRAVITY
+
 __all__ = [
     "RK4_IMAGINARY_AXIS_LIMIT",
     "EnergyAuditResult",
@@ -139,7 +141,7 @@ class MsdParams:
     k: float = 1.44e3
     c: float = 1.0
     b: float = 0.0162
-    g: float = 9.81
+    g: float = GRAVITY
     bulk_modulus: float = 0.0
 
     def __post_init__(self) -> None:
@@ -362,7 +364,7 @@ def msd_params_from_modulus(
     mass: float = 0.4,
     zeta_low: float = 0.1,
     zeta_high: float = 1.0,
-    g: float = 9.81,
+    g: float = GRAVITY,
 ) -> MsdParams:
     """Derive SI MSD constants from a modulus and two target damping ratios (see MsdParams).
 

@@ -51,6 +51,7 @@ __all__ = [
 logger = logging.getLogger(__name__)
 
 GRAVITY = 9.81
+"""Gravitational acceleration [m/s^2], the one value used across core (SPEC §1, SI inside)."""
 
 
 def check_contacts(points, normals) -> tuple[np.ndarray, np.ndarray]:

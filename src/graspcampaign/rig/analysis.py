@@ -24,7 +24,7 @@ import pandas as pd
 from scipy import stats as sstats
 
 from graspcampaign import stats
-from graspcampaign.core.disturbance import G
+from graspcampaign.core.statics import GRAVITY
 
 __all__ = [
     "PLANNER_ORDER",
@@ -458,7 +458,7 @@ def block_summary(records: pd.DataFrame, planner: str = PROPOSED) -> pd.DataFram
             headline, unit = _median(m), "N"
         elif block == "B":
             down = h[h["disturbance_kind"] == "down"]
-            weight = down["mass_kg"].astype(float) * G
+            weight = down["mass_kg"].astype(float) * GRAVITY
             headline = _median(100.0 * down["threshold_measured_n"].astype(float) / weight)
             unit = "% W"
         elif block == "C":

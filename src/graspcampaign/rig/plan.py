@@ -45,6 +45,7 @@ from graspcampaign.core.planner import (
     plan_context,
     sample_triples,
 )
+from graspcampaign.core.statics import GRAVITY
 
 __all__ = [
     "CHARACTERISTIC_Z",
@@ -416,7 +417,7 @@ def predictions_from_plan(plan: HardwarePlan, material: MaterialModel, mass: flo
     forces, feasible = dist.load_shared_forces(np.full(3, sizing.grip_force), plan.normals)
     forces = np.maximum(forces, 0.0)
     depths_mm = dist.indentation_from_force(forces, k_b, n_b, creep) * 1e3
-    weight = mass * dist.G
+    weight = mass * GRAVITY
     r_eff = dist.effective_radius(plan.points, centroid)
     limits = dist.disturbance_limits(sizing.sf_predicted, weight, r_eff)
     first = dist.first_slip_finger(plan.points, plan.normals, forces, centroid, mass,
@@ -596,7 +597,7 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
                  "deformation_mm": pred[f"deformation_pred_{j + 1}_mm"]} for j in range(3)]
     out = {
         "mesh": {"name": name, "nodes": int(len(mesh.vertices)), "faces": int(len(mesh.faces))},
-        "material": name_material, "mu_s": mat.mu_s, "mass_kg": mass, "weight_n": mass * dist.G,
+        "material": name_material, "mu_s": mat.mu_s, "mass_kg": mass, "weight_n": mass * GRAVITY,
         "fingertip_radius_mm": radius_mm, "kappa": dist.KAPPA, "target_sf": dist.SF_TARGET,
         "contacts": contacts,
         "h": {k: pred[k] for k in ("h_tilde", "s1", "s2", "s3", "pc_mag", "pe_mag")},

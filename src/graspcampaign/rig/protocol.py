@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from graspcampaign.core.disturbance import G
+from graspcampaign.core.statics import GRAVITY
 
 __all__ = [
     "COATING_LEVELS",
@@ -404,7 +404,7 @@ def test2_schedule(seed: int = 0) -> pd.DataFrame:
 def _t3_slot(block: str, object_id: str, planner: str = "heuristic", *, friction: str = "natural",
              probe: str = "", matched: bool = False, condition: str = "", **levels) -> dict:
     obj = _object(object_id)
-    weight = obj["mass_kg"] * G
+    weight = obj["mass_kg"] * GRAVITY
     slot = {"block": block, **obj, "planner": planner, "friction_level": friction, "probe": probe,
             "pose_err_mm": 0.0, "closing_speed_mm_per_s": DEFAULT_CLOSING_MM_PER_S,
             "lift_speed_mm_per_s": DEFAULT_LIFT_MM_PER_S, "hold_s": HOLD_S,

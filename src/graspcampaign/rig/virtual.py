@@ -65,6 +65,7 @@ import numpy as np
 
 from graspcampaign.core import bench
 from graspcampaign.core import disturbance as dist
+from graspcampaign.core.statics import GRAVITY
 from graspcampaign.rig import plan as rigplan
 from graspcampaign.rig.protocol import LIFT_HEIGHT_MM
 
@@ -470,7 +471,7 @@ def virtual_trial(row: dict, predictions: dict, rng: np.random.Generator,
     body = rigplan._shape_body(str(row["shape"]))
     centroid = np.asarray(body.ctx.centroid)
     mass = float(row["mass_kg"])
-    weight = mass * dist.G
+    weight = mass * GRAVITY
     grip = float(predictions["grip_force_n"])
     out: dict[str, Any] = {"aborted": False, "abort_reason": "", "source": SOURCE,
                            "environment": environment}
@@ -505,7 +506,7 @@ def virtual_trial(row: dict, predictions: dict, rng: np.random.Generator,
     budget_k = budget_s * spec.mu_k / spec.mu_s
     support = float(np.dot(forces, -normals[:, 2]))
     base = weight - support  # vertical demand on friction while held
-    lift_demand = weight * (1.0 + p.a_lift / dist.G) - support
+    lift_demand = weight * (1.0 + p.a_lift / GRAVITY) - support
     g_actual = float(dist.geometric_efficiency(normals))
     sf_actual = float(dist.safety_factor(float(predictions["mu_s_believed"]), grip, g_actual, mass,
                                          p.a_lift, p.kappa))

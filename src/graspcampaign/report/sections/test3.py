@@ -20,6 +20,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.patches import Patch
 
+from graspcampaign.core.statics import GRAVITY
 from graspcampaign.report.document import Report
 from graspcampaign.report.sections.test2 import (
     DASH,
@@ -273,7 +274,7 @@ def _claims(report: Report, recs, ex, an, paper: dict) -> None:
                           n=len(g), unit="N", digits=2))
     b = nat[nat["block"] == "B"]
     down = b[(b["disturbance_kind"] == "down") & ~b["threshold_censored"].astype(bool)]
-    payload = 100.0 * down["threshold_measured_n"].astype(float) / (down["mass_kg"] * 9.81)
+    payload = 100.0 * down["threshold_measured_n"].astype(float) / (down["mass_kg"] * GRAVITY)
     rows.append(claim("median downward payload at slip [% W]", "§9.2",
                       payload.median() if len(payload) else math.nan,
                       paper.get("down_payload_median_pct_w"), n=len(payload), unit=""))
