@@ -1432,9 +1432,9 @@ def damage_depth(depths: np.ndarray, stiffness_ratios: np.ndarray, permanent_set
     return DamageDepthResult(depth, ds, dp, crit, bool(depth > d.max()))
 
 
-def true_damage_depth(spec: SpecimenParams, stiffness_target: float = 0.85,
+def true_damage_depth(spec: SpecimenParams | FamilyParams, stiffness_target: float = 0.85,
                       set_limit: float = 0.5e-3) -> DamageDepthResult:
-    """Return the damage-depth threshold implied by a specimen's true cyclic constants.
+    """Return the damage-depth threshold implied by a specimen's (or family's) cyclic constants.
 
     Closed form of :func:`damage_depth` for the stabilised laws of :func:`cyclic_state`:
     ``softening_ref (d/d_ref)^2 = 1 - target`` and ``set_ref (d/d_ref)^1.5 = set_limit``.

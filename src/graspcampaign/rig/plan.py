@@ -86,16 +86,13 @@ N_NODES = 390
 def family_damage_depth(family: bench.FamilyParams, cyclic_scale: float = 1.0) -> float:
     """Return the damage depth [m] of a family from the Test 1 cyclic model (§7.4).
 
-    The stabilised softening and permanent set of :func:`graspcampaign.core.bench.cyclic_state`
-    (power laws in depth, scaled by ``cyclic_scale``) are evaluated at two depths and passed to
-    :func:`graspcampaign.core.bench.damage_depth`, whose power-law crossing is then exact: the
-    depth at which K/K_1 falls to 0.85 or the permanent set reaches 0.5 mm, whichever is first.
+    The closed form :func:`graspcampaign.core.bench.true_damage_depth` of the family's
+    stabilised softening and permanent set (scaled by ``cyclic_scale``): the depth at which K/K_1
+    falls to 0.85 or the permanent set reaches 0.5 mm, whichever is first.
     """
-    depths = np.array([1.0e-3, bench.CYCLIC_REFERENCE_DEPTH])
-    ratio = depths / bench.CYCLIC_REFERENCE_DEPTH
-    softening = family.softening_ref * cyclic_scale * ratio**bench.SOFTENING_EXPONENT
-    sets = family.set_ref * cyclic_scale * ratio**bench.SET_EXPONENT
-    return float(bench.damage_depth(depths, 1.0 - softening, sets).depth)
+    scaled = replace(family, softening_ref=family.softening_ref * cyclic_scale,
+                     set_ref=family.set_ref * cyclic_scale)
+    return float(bench.true_damage_depth(scaled).depth)
 
 
 @dataclass(frozen=True)
