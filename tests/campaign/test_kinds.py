@@ -98,6 +98,24 @@ def test_gravity_settle_records_trace_and_shape(tmp_path):
     assert trace["time_s"].is_monotonic_increasing and len(trace) > 10
     shape = store.read("tables/shape").to_pandas()
     assert len(shape) == 144
+    # The integrator audit of Sec. 12 on the same body: RK4's global error falls with the fourth
+    # power of the step (Hairer, Norsett & Wanner 1993, Thm II.3.6) and the energy-balance error,
+    # pure truncation, shrinks with the step; no energy is created without external power.
+    conv = store.read("tables/step_convergence").to_pandas().sort_values("dt_s")
+    assert len(conv) == 4 and np.allclose(conv["dt_s"].max() / conv["dt_s"], [8, 4, 2, 1])
+    slopes = np.diff(np.log(conv["max_position_error_m"])) / np.diff(np.log(conv["dt_s"]))
+    np.testing.assert_allclose(slopes, 4.0, atol=0.3)
+    assert row["rk4_observed_order"] == pytest.approx(conv["observed_order"].iloc[0])
+    assert row["rk4_error_at_settle_dt_m"] == conv["max_position_error_m"].iloc[-1]
+    assert row["energy_balance_rel_error_half_dt"] < row["energy_balance_rel_error"] / 8.0
+    assert row["energy_increases"] == 0
+    energy = store.read("tables/energy_audit").to_pandas()
+    assert set(energy["step"]) == {"dt", "dt/2"}
+    at_dt = energy[energy["step"] == "dt"]
+    mechanical = at_dt[["kinetic_energy_j", "elastic_energy_j", "gravitational_energy_j"]].sum(axis=1)
+    np.testing.assert_allclose(at_dt["balance_error_j"],
+                               mechanical - mechanical.iloc[0] + at_dt["dissipated_energy_j"],
+                               atol=1e-12)
 
 
 def test_dynamic_grasp_records_traces_and_like_for_like(tmp_path):

@@ -27,3 +27,8 @@ def test_friction_mass_and_settle_reports(tmp_path):
     settle = tmp_path / "gravity_settle" / "default" / "report"
     assert (settle / "figures" / "fig10_settle.png").exists()
     assert "settl" in (settle / "report.md").read_text()
+    audit = pd.read_csv(settle / "tables" / "integrator_audit.csv")
+    record = RunStore(tmp_path / "gravity_settle" / "default").read().to_pandas().iloc[0]
+    assert audit["rk4_observed_order"].iloc[0] == record["rk4_observed_order"]
+    assert (settle / "figures" / "integrator_audit.png").stat().st_size > 10_000
+    assert "Sec. 12 lists both as missing" in (settle / "report.md").read_text()

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import matplotlib
+import matplotlib.ticker
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -30,6 +31,53 @@ def fig10_settle(shape: pd.DataFrame, trace: pd.DataFrame, squash: float):
     return fig
 
 
+def fig_integrator_audit(conv: pd.DataFrame, energy: pd.DataFrame):
+    """Step-size study (error against step, slope-4 guide) and energy-balance error over time."""
+    fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4), layout="constrained")
+    a.loglog(1e6 * conv["dt_s"], conv["max_position_error_m"], "o-", color="C0", label="RK4")
+    guide = conv["max_position_error_m"].iloc[-1] * (conv["dt_s"] / conv["dt_s"].iloc[-1]) ** 4
+    a.loglog(1e6 * conv["dt_s"], guide, "k--", lw=1, label="slope 4")
+    a.set(xlabel="step [us]", ylabel="max position error at t_end [m]",
+          title="step-size study (reference DOP853)")
+    a.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+    a.legend()
+    for colour, (label, rows) in zip(("C0", "C1"), energy.groupby("step", sort=False), strict=False):
+        b.plot(rows["time_s"], rows["balance_error_j"], color=colour, label=f"step {label}")
+    b.set(xlabel="time [s]", ylabel="energy balance error [J]",
+          title="energy audit (no contact, gravity on)")
+    b.legend()
+    b.grid(alpha=0.3)
+    return fig
+
+
+def integrator_audit(report: Report, ok: pd.DataFrame, store) -> None:
+    """The step-size study and the energy audit the paper lists as missing (Sec. 12)."""
+    conv = store.read("tables/step_convergence").to_pandas()
+    energy = store.read("tables/energy_audit").to_pandas()
+    cols = ["shape", "nodes", "dt_s", "rk4_error_at_settle_dt_m", "rk4_observed_order",
+            "energy_balance_rel_error", "energy_balance_rel_error_half_dt", "energy_increases"]
+    if not len(conv) or not set(cols) <= set(ok.columns):
+        return
+    report.table("integrator_audit", ok[cols].reset_index(drop=True),
+                 "RK4 step-size study and energy audit on the settle body (Sec. 12 lists both as "
+                 "missing from the paper; no paper values to compare)")
+    row = ok.iloc[0]
+    order, ratio = row["rk4_observed_order"], (row["energy_balance_rel_error"]
+                                              / row["energy_balance_rel_error_half_dt"])
+    report.text(
+        f"At the settle step the observed order of the global error is {order:.2f} (RK4: 4), and "
+        f"halving the step shrinks the largest relative energy-balance error {ratio:.1f}-fold "
+        f"({row['energy_balance_rel_error']:.2g} -> {row['energy_balance_rel_error_half_dt']:.2g}); "
+        f"the mechanical energy grew at {int(row['energy_increases'])} steps without external "
+        "power. The balance error at the settle step is RK4's own damping of the stiffest mesh "
+        "modes (docs/decisions.md, energy audit).")
+    first = row["trial_id"]
+    report.figure("integrator_audit",
+                  fig_integrator_audit(conv[conv.trial_id == first].sort_values("dt_s"),
+                                       energy[energy.trial_id == first]),
+                  "RK4 global error against step size and energy-balance error over time")
+
+
 def gravity_settle(report: Report, records: pd.DataFrame, manifest: dict, store) -> None:
     ok = records[records["status"] == "ok"]
     cols = ["shape", "nodes", "mass_kg", "settled", "squash_ratio", "simulated_time_s",
@@ -49,6 +97,7 @@ def gravity_settle(report: Report, records: pd.DataFrame, manifest: dict, store)
                                                    trace[trace.trial_id == first],
                                                    float(ok["squash_ratio"].iloc[0])),
                       "Fig. 10 (ours): undeformed and settled sphere; kinetic-energy decay")
+    integrator_audit(report, ok, store)
 
 
 def fig12_13(steps: pd.DataFrame, records: pd.DataFrame):
