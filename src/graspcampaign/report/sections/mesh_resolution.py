@@ -161,9 +161,12 @@ def budget_table(bud: pd.DataFrame) -> pd.DataFrame:
 def _success_columns(grp: pd.DataFrame) -> dict:
     """Trials, success under the configured check (Wilson 95 %) and the |R_z| reading [%]."""
     ci = stats.wilson_interval(int(grp["success"].sum()), len(grp))
+    vertical = stats.wilson_interval(int(grp["success_vertical"].sum()), len(grp))
     return {"trials": len(grp), "success_pct": 100 * ci.estimate,
             "success_low_pct": 100 * ci.low, "success_high_pct": 100 * ci.high,
-            "success_vertical_pct": 100 * float(grp["success_vertical"].mean())}
+            "success_vertical_pct": 100 * vertical.estimate,
+            "success_vertical_low_pct": 100 * vertical.low,
+            "success_vertical_high_pct": 100 * vertical.high}
 
 
 def _budget(report: Report, bud: pd.DataFrame, paper: dict) -> None:

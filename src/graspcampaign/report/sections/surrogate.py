@@ -20,6 +20,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
+from graspcampaign.report import stats
 from graspcampaign.report.document import Report
 from graspcampaign.report.sections.sensitivity import RC
 from graspcampaign.report.table import executed, rate_cell
@@ -34,6 +35,13 @@ LOG_FLOOR = 1e-3  # floor before log10 of a residual [N] or a penetration [mm] t
 
 COLOURS = {"mlp": "#1f5aa6", "random_forest": "#e08a1e", "pso": "#7b4ea3"}
 
+
+
+def _accuracy_columns(truth: np.ndarray, predicted: np.ndarray) -> dict:
+    """Test-set accuracy with its n and Wilson 95 % interval [%]."""
+    ci = stats.wilson_interval(int(np.sum(truth == predicted)), len(truth))
+    return {"accuracy_pct": 100 * ci.estimate, "accuracy_low_pct": 100 * ci.low,
+            "accuracy_high_pct": 100 * ci.high}
 
 def features(df: pd.DataFrame, shapes: list[str]) -> pd.DataFrame:
     """Return the model inputs: one column per shape (0/1) and the numeric scenario values."""
@@ -87,7 +95,7 @@ def fit_surrogates(ok: pd.DataFrame, params: dict, seed: int) -> dict:
     import warnings
 
     from sklearn.exceptions import ConvergenceWarning
-    from sklearn.metrics import accuracy_score, r2_score, roc_auc_score, roc_curve
+    from sklearn.metrics import r2_score, roc_auc_score, roc_curve
     from sklearn.model_selection import train_test_split
 
     shapes = list(params.get("shapes") or sorted(set(ok["shape"])))
@@ -123,8 +131,7 @@ def fit_surrogates(ok: pd.DataFrame, params: dict, seed: int) -> dict:
                 "class_balance_pct": 100 * n_pos / len(y),
                 "test_trials": len(idx_test), "test_positives": int(y[idx_test].sum()),
                 "roc_auc": float(roc_auc_score(y[idx_test], score)),
-                "accuracy_pct": 100 * float(accuracy_score(y[idx_test],
-                                                           model.predict(x[idx_test]))),
+                **_accuracy_columns(y[idx_test], model.predict(x[idx_test])),
                 "majority_class_accuracy_pct": 100 * float(majority), "note": ""})
             if name == "random_forest" and label == "success" or (
                     name == "random_forest" and out["importance"] is None):
@@ -238,7 +245,9 @@ def _words(cls, reg, timing, fit, paper, version: str) -> str:
     out = [f"**Ours beside the paper** (scikit-learn {version})."]
     fitted = cls[cls["model"] != "–"] if "model" in cls else cls.iloc[0:0]
     for label, grp in fitted.groupby("label", sort=False):
-        parts = ", ".join(f"{r['model']} AUC {r['roc_auc']:.2f}, accuracy {r['accuracy_pct']:.1f} %"
+        parts = ", ".join(f"{r['model']} AUC {r['roc_auc']:.2f}, accuracy {r['accuracy_pct']:.1f} % "
+                          f"({r['accuracy_low_pct']:.1f}–{r['accuracy_high_pct']:.1f}, Wilson 95 %, "
+                          f"n = {int(r['test_trials'])} test trials)"
                           for _, r in grp.iterrows())
         first = grp.iloc[0]
         out.append(f"`{label}`: {first['class_balance_pct']:.1f} % positives, "

@@ -1,4 +1,5 @@
-"""Report sections of issue 7 rendered from reduced runs (and a synthetic surrogate dataset)."""
+"""Report sections of the sensitivity, mesh_resolution and surrogate studies, rendered from reduced
+runs (and a synthetic surrogate dataset)."""
 
 from __future__ import annotations
 
@@ -74,6 +75,8 @@ def test_mesh_resolution_report_prints_the_cost_ratio(runs):
     budget = _table(store, "success_vs_n_cand")
     assert set(budget["n_cand"]) == {-1, 1, 30}
     assert (budget.loc[budget["n_cand"] > 0, "h_gap_to_reference"] >= -1e-12).all()
+    assert (budget["success_vertical_low_pct"] <= budget["success_vertical_pct"]).all()
+    assert (budget["success_vertical_pct"] <= budget["success_vertical_high_pct"]).all()
     assert "cross-check" in md  # the baseline_grid records are absent here: says so
     assert (store.path / "report" / "figures" / "fig20_mesh_resolution.png").exists()
 
@@ -120,6 +123,14 @@ def test_surrogate_fitting_recovers_known_structure(tmp_path):
     cls = report.tables["surrogate_classification"].set_index(["label", "model"])
     assert (cls["roc_auc"] > 0.95).all()
     assert cls.loc[("success", "mlp"), "test_trials"] == 80  # stratified 80/20 of 400
+    # accuracy carries its Wilson 95 % interval over the test trials (statsmodels as reference)
+    from statsmodels.stats.proportion import proportion_confint
+
+    for _, row in cls.iterrows():
+        k = round(row["accuracy_pct"] / 100 * row["test_trials"])
+        low, high = proportion_confint(k, row["test_trials"], alpha=0.05, method="wilson")
+        assert (row["accuracy_low_pct"], row["accuracy_high_pct"]) == pytest.approx(
+            (100 * low, 100 * high), rel=1e-9)
     reg = report.tables["surrogate_regression"].set_index(["target", "model"])
     assert reg.loc[("log10_residual_norm_n", "random_forest"), "r2"] > 0.95
     assert reg.loc[("log10_delta_max_mm", "random_forest"), "r2"] > 0.95
