@@ -961,8 +961,9 @@ def energy_audit(
     n_steps: int,
     f_ext=None,
     record_every: int = 1,
+    stepper: Callable | None = None,
 ) -> EnergyAuditResult:
-    """Run RK4 without contact and close the energy balance step by step.
+    """Run an integrator without contact and close the energy balance step by step.
 
     Parameters
     ----------
@@ -978,6 +979,11 @@ def energy_audit(
         Constant external nodal forces [N].
     record_every : int
         Record stride.
+    stepper : callable, optional
+        ``stepper(state, dt) -> (new_state, dissipated, work)``: one step of another integrator
+        with the energy its dampers removed and the external work done over the step [J] (e.g.
+        ``core.implicit.ImplicitIntegrator.audit_stepper(f_ext)``, which holds its own
+        ``f_ext``). Default: classical RK4 with ``f_ext``.
 
     Returns
     -------
@@ -985,23 +991,19 @@ def energy_audit(
 
     Notes
     -----
-    The dissipated energy ``D`` and the external work ``W`` are appended to the state as two
-    extra ODE components (``D_dot`` = damper power, ``W_dot = f_ext . v``) and integrated by the
-    same RK4, so the balance error measures only the integrator's truncation error (O(dt^4)
-    globally), not a quadrature error. This is the energy audit the paper lists as missing (§12).
+    With RK4 the dissipated energy ``D`` and the external work ``W`` are appended to the state as
+    two extra ODE components (``D_dot`` = damper power, ``W_dot = f_ext . v``) and integrated by
+    the same RK4, so the balance error measures only the integrator's truncation error (O(dt^4)
+    globally), not a quadrature error. A ``stepper`` reports ``D`` and ``W`` as its own method
+    integrates them (the implicit midpoint rule: ``dt P`` at the midpoint state). This is the
+    energy audit the paper lists as missing (§12).
     """
     state0 = check_state(state0, body.n_nodes)
     n6 = 6 * body.n_nodes
-    f_ext_arr = None if f_ext is None else np.asarray(f_ext, dtype=np.float64)
-
-    def augmented(t, y):
-        x = y[:n6]
-        dx = msd_rhs(t, x, body, params, f_ext_arr)
-        velocities = x.reshape(-1, 6)[:, 3:]
-        work = 0.0 if f_ext_arr is None else float(np.sum(f_ext_arr * velocities))
-        return np.concatenate([dx, [dissipation_power(body, params, x), work]])
-
-    run = integrate_rk4(augmented, 0.0, np.concatenate([state0, [0.0, 0.0]]), dt, n_steps, record_every)
+    if stepper is not None and f_ext is not None:
+        raise ValueError("energy_audit: give f_ext to the stepper, not to energy_audit")
+    stepper = stepper or _rk4_audit_stepper(body, params, f_ext)
+    run = _run_audit_stepper(stepper, state0, dt, n_steps, record_every)
     states = run.states[:, :n6]
     kinetic = kinetic_energy(body, states)
     elastic = elastic_energy(body, params, states) + volume_energy(body, params, states)
@@ -1033,6 +1035,50 @@ def energy_audit(
     )
 
 
+def _rk4_audit_stepper(body: MsdBody, params: MsdParams, f_ext) -> Callable:
+    """Return the RK4 audit step: the state with ``D`` and ``W`` as two extra ODE components."""
+    n6 = 6 * body.n_nodes
+    f_ext_arr = None if f_ext is None else np.asarray(f_ext, dtype=np.float64)
+
+    def augmented(t, y):
+        x = y[:n6]
+        dx = msd_rhs(t, x, body, params, f_ext_arr)
+        velocities = x.reshape(-1, 6)[:, 3:]
+        work = 0.0 if f_ext_arr is None else float(np.sum(f_ext_arr * velocities))
+        return np.concatenate([dx, [dissipation_power(body, params, x), work]])
+
+    def step(state, dt):
+        y = rk4_step(augmented, 0.0, np.concatenate([state, [0.0, 0.0]]), dt)
+        return y[:n6], float(y[n6]), float(y[n6 + 1])
+
+    return step
+
+
+def _run_audit_stepper(stepper: Callable, state0, dt: float, n_steps: int,
+                       record_every: int) -> IntegrationResult:
+    """Run ``stepper`` and record ``[state, D, W]`` (accumulated) like :func:`integrate_rk4`."""
+    if not dt > 0.0:
+        raise ValueError(f"dt must be > 0, got {dt!r}")
+    if n_steps < 0 or record_every < 1:
+        raise ValueError(f"need n_steps >= 0 and record_every >= 1, got {n_steps}, {record_every}")
+    recorded = list(range(0, n_steps + 1, record_every))
+    if recorded[-1] != n_steps:
+        recorded.append(n_steps)
+    states = np.empty((len(recorded), state0.size + 2))
+    states[0] = np.concatenate([state0, [0.0, 0.0]])
+    state, dissipated, work = np.array(state0, dtype=np.float64), 0.0, 0.0
+    slot = 1
+    for step in range(1, n_steps + 1):
+        state, d_inc, w_inc = stepper(state, dt)
+        dissipated += d_inc
+        work += w_inc
+        if slot < len(recorded) and recorded[slot] == step:
+            states[slot, :-2] = state
+            states[slot, -2:] = (dissipated, work)
+            slot += 1
+    return IntegrationResult(times=dt * np.asarray(recorded, dtype=float), states=states)
+
+
 # ----------------------------------------------------------------------------------------------
 # Step-size convergence study
 # ----------------------------------------------------------------------------------------------
@@ -1040,7 +1086,7 @@ def energy_audit(
 
 @dataclass(frozen=True)
 class StepConvergenceResult:
-    """Global error of fixed-step RK4 against a tight reference, per step size.
+    """Global error of a fixed-step integrator (RK4 by default) against a tight reference.
 
     Attributes
     ----------
@@ -1049,7 +1095,8 @@ class StepConvergenceResult:
     errors : (q,) float
         Max-norm position error at ``t_end`` against the reference [m].
     orders : (q - 1,) float
-        Observed orders ``log(e_i / e_{i+1}) / log(dt_i / dt_{i+1})`` [-] (4 for RK4).
+        Observed orders ``log(e_i / e_{i+1}) / log(dt_i / dt_{i+1})`` [-] (4 for RK4, 2 for the
+        implicit midpoint rule).
     t_end : float
         Comparison time [s].
     reference : str
@@ -1072,8 +1119,9 @@ def step_convergence(
     f_ext=None,
     rtol: float = 1e-11,
     atol: float = 1e-14,
+    stepper: Callable | None = None,
 ) -> StepConvergenceResult:
-    """Measure the global error of fixed-step RK4 as the step shrinks (step-size study, §12).
+    """Measure the global error of a fixed-step integrator as the step shrinks (§12).
 
     Parameters
     ----------
@@ -1089,6 +1137,10 @@ def step_convergence(
         Constant nodal forces [N].
     rtol, atol : float
         Tolerances of the ``scipy.integrate.solve_ivp`` DOP853 reference.
+    stepper : callable, optional
+        ``stepper(state, dt) -> (new_state, ...)``: one step of the integrator under study, with
+        the same ``f_ext`` (e.g. ``core.implicit.ImplicitIntegrator.audit_stepper(f_ext)``).
+        Default: classical RK4.
 
     Returns
     -------
@@ -1111,8 +1163,13 @@ def step_convergence(
         n_steps = int(round(t_end / dt))
         if abs(n_steps * dt - t_end) > 1e-9 * t_end:
             raise ValueError(f"dt = {dt} does not divide t_end = {t_end}")
-        run = integrate_rk4(rhs, 0.0, state0, t_end / n_steps, n_steps, record_every=n_steps)
-        errors.append(float(np.max(np.abs(positions_from_state(run.states[-1]) - ref_positions))))
+        if stepper is None:
+            final = integrate_rk4(rhs, 0.0, state0, t_end / n_steps, n_steps, n_steps).states[-1]
+        else:
+            final = state0
+            for _ in range(n_steps):
+                final = stepper(final, t_end / n_steps)[0]
+        errors.append(float(np.max(np.abs(positions_from_state(final) - ref_positions))))
     errors = np.asarray(errors)
     orders = np.log(errors[:-1] / errors[1:]) / np.log(dts[:-1] / dts[1:])
     return StepConvergenceResult(
@@ -1301,6 +1358,7 @@ def settle_on_floor(
     ke_tol: float | None = None,
     window: float = 0.05,
     record_every: int = 10,
+    stepper: Callable | None = None,
 ) -> SettleResult:
     """Place the undeformed body on a rigid floor, release it under gravity, and let it settle.
 
@@ -1312,7 +1370,7 @@ def settle_on_floor(
         Floor constants; its ``height`` is ignored and set to the lowest rest node, so the body
         starts touching the floor at rest.
     dt : float, optional
-        RK4 step [s]; default half of :func:`body_step_limit` including the floor penalty.
+        Step [s]; default (RK4 only) half of :func:`body_step_limit` including the floor penalty.
     t_max : float
         Time budget [s].
     ke_tol : float, optional
@@ -1321,6 +1379,11 @@ def settle_on_floor(
         The kinetic energy must stay below ``ke_tol`` this long to stop [s].
     record_every : int
         Record stride of the traces (the stop test uses every step).
+    stepper : callable, optional
+        ``stepper(state, floor, anchors, dt) -> state``: one step of another integrator with the
+        floor forces (anchors held over the step), e.g.
+        ``core.implicit.ImplicitIntegrator.floor_stepper()``; then ``dt`` is required. Default:
+        classical RK4 with the floor forces evaluated at every stage.
 
     Returns
     -------
@@ -1339,7 +1402,10 @@ def settle_on_floor(
         max(floor.stiffness, floor.tangential_stiffness),
         max(floor.damping, floor.tangential_damping),
     )
-    if dt is None:
+    if stepper is not None:
+        if dt is None:
+            raise ValueError("settle_on_floor: a stepper needs an explicit dt")
+    elif dt is None:
         dt = 0.5 * limit
     elif dt > limit:
         logger.warning("settle_on_floor: dt = %.3g s exceeds the RK4 limit %.3g s", dt, limit)
@@ -1360,7 +1426,10 @@ def settle_on_floor(
     step = 0
     min_steps = window_steps  # the body starts at rest: do not stop before it has moved
     for step in range(1, max_steps + 1):
-        state = rk4_step(rhs, (step - 1) * dt, state, dt)
+        if stepper is None:
+            state = rk4_step(rhs, (step - 1) * dt, state, dt)
+        else:
+            state = stepper(state, floor, anchors, dt)
         anchors[:] = floor_anchors_update(state, floor, anchors)
         ke = float(kinetic_energy(body, state))
         if not np.isfinite(ke):
