@@ -91,7 +91,8 @@ def test_pso_repeatability_trace_and_bounds(tmp_path):
 
 
 def test_gravity_settle_records_trace_and_shape(tmp_path):
-    summary, store, df = _run("gravity_settle", tmp_path, "nodes=[144]", "+params.settle_t_max_s=0.3")
+    summary, store, df = _run("gravity_settle", tmp_path, "nodes=[144]", "integrator=[rk4]",
+                              "+params.settle_t_max_s=0.3")
     row = df.iloc[0]
     assert 0.0 < row["squash_ratio"] <= 1.0
     trace = store.read("tables/settle").to_pandas()
@@ -116,6 +117,26 @@ def test_gravity_settle_records_trace_and_shape(tmp_path):
     np.testing.assert_allclose(at_dt["balance_error_j"],
                                mechanical - mechanical.iloc[0] + at_dt["dissipated_energy_j"],
                                atol=1e-12)
+
+
+@pytest.mark.slow  # ~40 s: the implicit settle and its audit on 144 nodes
+def test_gravity_settle_implicit_records_its_audit_beside_rk4(tmp_path):
+    summary, store, df = _run("gravity_settle", tmp_path, "nodes=[144]",
+                              "+params.settle_t_max_s=0.1")
+    assert summary.n_error == 0 and sorted(df["integrator"]) == ["implicit", "rk4"]
+    rk4, imp = (df[df["integrator"] == name].iloc[0] for name in ("rk4", "implicit"))
+    assert rk4["dt_over_rk4_limit"] == pytest.approx(0.5)
+    assert imp["dt_s"] == 2.5e-4
+    assert imp["dt_over_rk4_limit"] == pytest.approx(2.5e-4 / (2.0 * rk4["dt_s"]))
+    assert np.isnan(imp["rk4_observed_order"]) and rk4["observed_order"] == rk4["rk4_observed_order"]
+    # The implicit midpoint rule is second order (Hairer & Wanner 1996, §IV.3), and its energy
+    # balance error is O(dt^2): halving the step divides it by about 4, never creating energy.
+    assert imp["observed_order"] == pytest.approx(2.0, abs=0.3)
+    assert imp["energy_balance_rel_error_half_dt"] < imp["energy_balance_rel_error"] / 3.0
+    assert imp["energy_increases"] == 0
+    assert imp["newton_iterations_per_step"] >= 1.0 and imp["lu_factorizations"] >= 1
+    shape = store.read("tables/shape").to_pandas()
+    assert shape.groupby("trial_id").size().tolist() == [144, 144]
 
 
 def test_dynamic_grasp_records_traces_and_like_for_like(tmp_path):
@@ -235,3 +256,10 @@ def test_surrogate_refuses_without_scikit_learn(tmp_path, monkeypatch):
     assert result.exit_code == 2 and "scikit-learn" in result.output
     assert not (tmp_path / "surrogate").exists()  # refused before writing anything
     assert CliRunner().invoke(app, ["show", "surrogate"]).exit_code == 0  # still describable
+
+
+def test_friction_mass_sweeps_the_damping_law(tmp_path):
+    summary, _, df = _run("friction_mass", tmp_path, "nodes=[144]", "mu=[0.3]", "mass_kg=[0.2]",
+                          "+factors.damping_law=[linear,hunt_crossley]", "+params.t_max_s=0.02")
+    assert summary.n_error == 0
+    assert sorted(df["damping_law"]) == ["hunt_crossley", "linear"]

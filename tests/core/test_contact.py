@@ -7,6 +7,8 @@ from hypothesis import strategies as st
 from scipy.differentiate import derivative
 
 from graspcampaign.core.contact import (
+    BENCH_RESTITUTION,
+    GRASP_APPROACH_SPEED,
     NOMINAL_CONTACT,
     TABLE3_CONTACT,
     ContactParams,
@@ -135,3 +137,64 @@ def test_stick_slip_validation():
 def test_depth_for_force_inverts_the_elastic_term(force, k, n):
     depth = depth_for_force(force, k, n)
     assert normal_force(depth, 0.0, k, n, 0.0) == pytest.approx(force, rel=1e-9)
+
+
+# ---------------------------------------------------------------- original Hunt-Crossley damping
+
+
+@pytest.mark.parametrize("rate", [0.002, 0.02, 1.0])
+def test_hunt_crossley_has_no_force_step_at_contact_onset_and_linear_has(rate):
+    params = ContactParams.table3()
+    k, n, c = params.k_n_per_mm_n, params.n, params.c_n_s_per_m
+    depths = np.array([1e-6, 1e-10, 1e-14, 1e-20])  # m, approaching contact onset
+    original = normal_force(depths, rate, k, n, c, "hunt_crossley", params.alpha_hc_s_per_m)
+    linear = normal_force(depths, rate, k, n, c)
+    # original: f = K delta^n (1 + 1.5 alpha delta_dot) -> 0 with delta (like delta^n, n = 0.487),
+    # for any closing rate
+    assert np.all(np.diff(original) < 0.0) and original[-1] < 1e-4 * c * rate
+    np.testing.assert_allclose(original[1:] / original[:-1], (depths[1:] / depths[:-1]) ** n)
+    # paper's form (Sec. 3.5 / 5.1): a finite step C delta_dot survives as delta -> 0+
+    np.testing.assert_allclose(linear[-1], c * rate, rtol=1e-3)
+    assert normal_force(0.0, rate, k, n, c) == 0.0  # open contact: no force at all
+
+
+@given(depth=st.floats(1e-6, 5e-3), k=st.floats(0.05, 5.0), n=st.floats(0.3, 1.6),
+       alpha=st.floats(0.0, 50.0))
+def test_both_damping_laws_agree_in_statics(depth, k, n, alpha):
+    linear = normal_force(depth, 0.0, k, n, 0.06)
+    original = normal_force(depth, 0.0, k, n, 0.06, "hunt_crossley", alpha)
+    assert original == pytest.approx(linear, rel=1e-12)
+    assert linear == pytest.approx(k * (depth * 1e3) ** n, rel=1e-12)  # K delta_mm^n
+
+
+def test_default_alpha_reproduces_the_bench_restitution_at_the_closing_speed():
+    # A 10 g mass hits the Table 3 contact at v_i = 20 mm/s; with alpha = (1 - e)/v_i the rebound
+    # speed ratio must come back near e = 0.882 (the relation is first order in 1 - e).
+    from scipy.integrate import solve_ivp
+
+    params = ContactParams.table3(damping_law="hunt_crossley")
+    mass, v_in = 0.01, GRASP_APPROACH_SPEED
+
+    def rhs(t, y):
+        f = normal_force(max(y[0], 0.0), y[1], params.k_n_per_mm_n, params.n, 0.0,
+                         "hunt_crossley", params.alpha_hc_s_per_m)
+        return [y[1], -f / mass]
+
+    def separation(t, y):
+        return y[0]
+
+    separation.terminal, separation.direction = True, -1
+    sol = solve_ivp(rhs, (0.0, 1.0), [1e-12, v_in], events=separation, rtol=1e-10, atol=1e-15,
+                    max_step=1e-4)
+    e = -sol.y_events[0][0][1] / v_in
+    assert e == pytest.approx(BENCH_RESTITUTION, abs=0.015)
+    assert params.alpha_hc_s_per_m == pytest.approx((1 - 0.882) / 0.02)
+
+
+def test_damping_law_validation():
+    with pytest.raises(ValueError, match="^ContactParams.damping_law must be one of linear, "
+                                         "hunt_crossley, got 'quadratic'$"):
+        ContactParams.table3(damping_law="quadratic")
+    with pytest.raises(ValueError, match="^damping_law must be one of linear, hunt_crossley, "
+                                         "got 'x'$"):
+        normal_force(1e-3, 0.0, 1.0, 0.5, 0.05, "x")

@@ -37,6 +37,9 @@ class ContactModelCfg:
     e_object_pa: float = _f(0.14e6, gt=0.0)  # Table 2
     nu_finger: float = _f(0.5, ge=0.0, le=0.5)  # Table 2
     nu_object: float = _f(0.45, ge=0.0, le=0.5)  # Table 2
+    # Rate term of Eq. 13: linear C*delta_dot (the paper) or the original Hunt-Crossley form
+    damping_law: str = _f("linear", choices=("linear", "hunt_crossley"))
+    alpha_hc_s_per_m: float = _f(5.9, ge=0.0)  # (1 - e)/v_i, e = 0.882 (Sec. 7.2), v_i = 20 mm/s
 
 
 @dataclass
@@ -164,6 +167,8 @@ FACTOR_SPECS: dict[str, dict[str, Any]] = {
     "variant": {"type": str},
     "pso_seed": {"type": int, "ge": 0},
     "budget": {"type": str},
+    "integrator": {"type": str, "choices": ("rk4", "implicit")},
+    "damping_law": {"type": str, "choices": ("linear", "hunt_crossley")},
 }
 
 

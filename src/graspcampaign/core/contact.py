@@ -22,6 +22,10 @@ from dataclasses import dataclass
 import numpy as np
 
 __all__ = [
+    "ALPHA_HC_DEFAULT",
+    "BENCH_RESTITUTION",
+    "DAMPING_LAWS",
+    "GRASP_APPROACH_SPEED",
     "MM_PER_M",
     "NOMINAL_CONTACT",
     "TABLE3_CONTACT",
@@ -41,6 +45,22 @@ logger = logging.getLogger(__name__)
 
 MM_PER_M = 1.0e3
 """Millimetres per metre: the one unit conversion of Eq. 13 (SPEC §1)."""
+
+DAMPING_LAWS = ("linear", "hunt_crossley")
+"""Rate terms of the normal law: ``linear`` = Eq. 13's ``C delta_dot`` (the paper), ``hunt_crossley``
+= the original indentation-weighted ``(3/2) alpha_hc K delta^n delta_dot`` (Hunt & Crossley 1975)."""
+
+BENCH_RESTITUTION = 0.882
+"""Energetic coefficient of restitution ``e = sqrt(W_unload / W_load) = sqrt(0.42 / 0.54)`` of the
+median bench loading-unloading event (§7.2) [-]."""
+
+GRASP_APPROACH_SPEED = 0.02
+"""Approach speed at which ``BENCH_RESTITUTION`` is applied [m/s]: the fastest closing speed of
+the hardware grasps (§8, Group E: 5/10/20 mm/s) and the dynamic grasp's closing speed."""
+
+ALPHA_HC_DEFAULT = (1.0 - BENCH_RESTITUTION) / GRASP_APPROACH_SPEED
+"""Default Hunt-Crossley damping factor alpha_hc = (1 - e) / v_i = 5.9 s/m (Hunt & Crossley 1975;
+Marhefka & Orin 1999, Eq. 12: lambda = (3/2) alpha K)."""
 
 PA_PER_MPA = 1.0e6
 
@@ -129,6 +149,13 @@ class ContactParams:
         Young's moduli of fingertip and object [Pa] (Table 2: 0.0893 MPa, 0.14 MPa).
     nu_finger, nu_object : float
         Poisson's ratios [-] (Table 2: 0.5, 0.45).
+    damping_law : str
+        Rate term of the normal law (:data:`DAMPING_LAWS`): ``"linear"`` (default, Eq. 13, the
+        paper) or ``"hunt_crossley"`` (the original form, :func:`normal_force`).
+    alpha_hc_s_per_m : float
+        Hunt-Crossley damping factor alpha_hc [s/m], used by ``"hunt_crossley"`` only. Default
+        :data:`ALPHA_HC_DEFAULT` = (1 - e)/v_i with the bench's e = 0.882 (§7.2) at the 20 mm/s
+        closing speed (§8).
 
     Notes
     -----
@@ -146,8 +173,16 @@ class ContactParams:
     e_object: float = 0.14e6
     nu_finger: float = 0.5
     nu_object: float = 0.45
+    damping_law: str = "linear"
+    alpha_hc_s_per_m: float = ALPHA_HC_DEFAULT
 
     def __post_init__(self) -> None:
+        if self.damping_law not in DAMPING_LAWS:
+            raise ValueError(f"ContactParams.damping_law must be one of {', '.join(DAMPING_LAWS)}, "
+                             f"got {self.damping_law!r}")
+        if not np.isfinite(self.alpha_hc_s_per_m) or self.alpha_hc_s_per_m < 0.0:
+            raise ValueError("ContactParams.alpha_hc_s_per_m must be finite and >= 0, got "
+                             f"{self.alpha_hc_s_per_m!r}")
         for name in ("lambda1", "lambda2", "n", "fingertip_radius", "e_finger", "e_object"):
             value = getattr(self, name)
             if not np.isfinite(value) or value <= 0.0:
@@ -191,7 +226,8 @@ TABLE3_CONTACT = ContactParams.table3()
 """The paper's simulation identification (Table 3); a reference value, not our identification."""
 
 
-def normal_force(depth, depth_rate, k_n_per_mm_n, n, c_n_s_per_m):
+def normal_force(depth, depth_rate, k_n_per_mm_n, n, c_n_s_per_m, damping_law="linear",
+                 alpha_hc_s_per_m=ALPHA_HC_DEFAULT):
     """Return the Hunt-Crossley-type normal force ``max(0, K delta_mm^n + C delta_dot)``.
 
     Parameters
@@ -205,7 +241,13 @@ def normal_force(depth, depth_rate, k_n_per_mm_n, n, c_n_s_per_m):
     n : float or (...) float
         Exponent [-].
     c_n_s_per_m : float or (...) float
-        Damping C [N*s/m].
+        Damping C [N*s/m] (``"linear"`` law).
+    damping_law : {"linear", "hunt_crossley"}
+        ``"linear"`` (default): Eq. 13, ``max(0, K delta_mm^n + C delta_dot)``.
+        ``"hunt_crossley"``: the original law ``max(0, K delta_mm^n (1 + (3/2) alpha_hc
+        delta_dot))``, ``C`` unused.
+    alpha_hc_s_per_m : float or (...) float
+        Hunt-Crossley damping factor alpha_hc [s/m] (``"hunt_crossley"`` law).
 
     Returns
     -------
@@ -215,18 +257,35 @@ def normal_force(depth, depth_rate, k_n_per_mm_n, n, c_n_s_per_m):
     Notes
     -----
     The power term takes the depth in millimetres, the damper the rate in m/s (§3.5: "the two
-    length conventions must not be mixed"). The ``max(0, .)`` clamp removes tensile forces on
-    separation (§5.1).
+    length conventions must not be mixed"); alpha_hc multiplies the rate in m/s, so it is in s/m
+    whatever the length unit of the power term. The ``max(0, .)`` clamp removes tensile forces
+    on separation (§5.1). The linear rate term gives a force step ``C delta_dot`` at contact onset
+    (§5.1); the original form weights the damper by ``K delta^n`` and has none: f -> 0 as
+    delta -> 0 for every delta_dot. In statics (delta_dot = 0) both are ``K delta_mm^n``.
+
+    alpha_hc and the coefficient of restitution: for a mass striking the contact at v_i, the
+    energy the damper dissipates over the (elastic) loading-unloading cycle is, to first order,
+    ``(4/3) (lambda / K) v_i`` of the impact energy for every n (``lambda = (3/2) alpha_hc K``),
+    so ``1 - e^2 ~ 2 (1 - e) = 2 alpha_hc v_i``: ``alpha_hc = (1 - e) / v_i`` (Hunt & Crossley
+    1975; Marhefka & Orin 1999).
 
     References
     ----------
-    Eq. 13 (§3.5); Hunt & Crossley (1975).
+    Eq. 13 (§3.5); Hunt & Crossley (1975); Marhefka, D. W. & Orin, D. E. (1999), "A compliant
+    contact model with nonlinear damping for simulation of robotic systems", IEEE Trans. SMC-A
+    29(6):566-572, Eq. 12.
     """
     depth = np.asarray(depth, dtype=float)
     active = depth > 0.0
     depth_mm = np.where(active, depth, 0.0) * MM_PER_M
     elastic = k_n_per_mm_n * np.power(depth_mm, n)
-    force = np.maximum(0.0, elastic + c_n_s_per_m * np.asarray(depth_rate, dtype=float))
+    rate = np.asarray(depth_rate, dtype=float)
+    if damping_law == "linear":
+        force = np.maximum(0.0, elastic + c_n_s_per_m * rate)
+    elif damping_law == "hunt_crossley":
+        force = np.maximum(0.0, elastic * (1.0 + 1.5 * np.asarray(alpha_hc_s_per_m) * rate))
+    else:
+        raise ValueError(f"damping_law must be one of {', '.join(DAMPING_LAWS)}, got {damping_law!r}")
     return np.where(active, force, 0.0)
 
 

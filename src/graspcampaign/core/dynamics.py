@@ -529,7 +529,8 @@ def grasp_forces(setup: GraspSetup, gs: GraspState) -> GraspForces:
     depth_rate = np.einsum("ij,ij->i", v_rel, hits.normals)
     f_n = np.where(
         hits.active,
-        normal_force(hits.depths, depth_rate, contact.k_n_per_mm_n, contact.n, contact.c_n_s_per_m),
+        normal_force(hits.depths, depth_rate, contact.k_n_per_mm_n, contact.n, contact.c_n_s_per_m,
+                     contact.damping_law, contact.alpha_hc_s_per_m),
         0.0,
     )
     # Stick deflection: xi_dot = V_t (§3.5) with V_t of the *material* point of the face (Eq. 12)

@@ -20,7 +20,8 @@ def contact_params(study: StudyCfg, **overrides):
     m = study.model
     values = dict(lambda1=m.lambda1, lambda2=m.lambda2, n=m.n_exp,
                   fingertip_radius=m.fingertip_radius_m, e_finger=m.e_finger_pa,
-                  e_object=m.e_object_pa, nu_finger=m.nu_finger, nu_object=m.nu_object)
+                  e_object=m.e_object_pa, nu_finger=m.nu_finger, nu_object=m.nu_object,
+                  damping_law=m.damping_law, alpha_hc_s_per_m=m.alpha_hc_s_per_m)
     values.update(overrides)
     return ContactParams(**values)
 

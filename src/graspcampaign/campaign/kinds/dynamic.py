@@ -29,6 +29,9 @@ class DynamicParams:
     t_max_s: float = 1.0  # simulated time budget of one grasp
     grip_speed_m_per_s: float = 0.02  # finger advance rate while |R_z| >= tau_F
     settle_t_max_s: float = 2.0  # gravity_settle time budget
+    # gravity_settle, factor integrator=implicit: step of the implicit midpoint rule [s]; the
+    # largest tested step whose settled shape matches RK4's (docs/decisions.md, implicit settle)
+    implicit_dt_s: float = 2.5e-4
 
 
 def _body(study, params, factors):
@@ -55,15 +58,17 @@ CONVERGENCE_STEPS = 40  # settle steps spanned by the step-size study
 CONVERGENCE_REFINEMENTS = (1, 2, 4, 8)  # the settle step divided by these
 
 
-def numerical_audit(body, msd, dt: float, rng: np.random.Generator) -> tuple[dict, dict]:
+def numerical_audit(body, msd, dt: float, rng: np.random.Generator, stepper=None,
+                    audit_steps: int = AUDIT_STEPS) -> tuple[dict, dict]:
     """The step-size study and the energy audit that Sec. 12 lists as missing, on the settle body.
 
     Both run without contact or floor from the rest shape jittered by ``AUDIT_PERTURBATION``
-    (seeded by the trial), under gravity: the step-size study compares RK4 at ``dt / r`` for
-    ``r`` in ``CONVERGENCE_REFINEMENTS`` with DOP853 at tight tolerances after
-    ``CONVERGENCE_STEPS`` settle steps; the energy audit closes kinetic + elastic + gravitational
-    energy against the integrated damper dissipation over ``AUDIT_STEPS`` steps at ``dt`` and
-    again at ``dt / 2`` (the balance error is RK4 truncation, so it must shrink).
+    (seeded by the trial), under gravity: the step-size study compares the integrator (RK4, or
+    ``stepper``, see ``core.msd.step_convergence``) at ``dt / r`` for ``r`` in
+    ``CONVERGENCE_REFINEMENTS`` with DOP853 at tight tolerances after ``CONVERGENCE_STEPS``
+    settle steps; the energy audit closes kinetic + elastic + gravitational energy against the
+    integrated damper dissipation over ``audit_steps`` steps at ``dt`` and again at ``dt / 2``
+    (the balance error is the method's own error, so it must shrink).
 
     Returns
     -------
@@ -75,12 +80,16 @@ def numerical_audit(body, msd, dt: float, rng: np.random.Generator) -> tuple[dic
     jitter = AUDIT_PERTURBATION * rng.normal(size=body.rest_positions.shape)
     state0 = state_from_positions(body.rest_positions + jitter)
     conv = step_convergence(body, msd, state0, CONVERGENCE_STEPS * dt,
-                            dt / np.asarray(CONVERGENCE_REFINEMENTS, dtype=float))
-    audits = {"dt": energy_audit(body, msd, state0, dt, AUDIT_STEPS, record_every=10),
-              "dt/2": energy_audit(body, msd, state0, dt / 2, 2 * AUDIT_STEPS, record_every=20)}
+                            dt / np.asarray(CONVERGENCE_REFINEMENTS, dtype=float), stepper=stepper)
+    audits = {"dt": energy_audit(body, msd, state0, dt, audit_steps, record_every=10,
+                                 stepper=stepper),
+              "dt/2": energy_audit(body, msd, state0, dt / 2, 2 * audit_steps, record_every=20,
+                                   stepper=stepper)}
     scalars = {
-        "rk4_observed_order": float(conv.orders[-1]),
-        "rk4_error_at_settle_dt_m": float(conv.errors[0]),
+        "observed_order": float(conv.orders[-1]),
+        "error_at_settle_dt_m": float(conv.errors[0]),
+        "rk4_observed_order": float(conv.orders[-1]) if stepper is None else float("nan"),
+        "rk4_error_at_settle_dt_m": float(conv.errors[0]) if stepper is None else float("nan"),
         "energy_balance_rel_error": float(audits["dt"].max_relative_error),
         "energy_balance_rel_error_half_dt": float(audits["dt/2"].max_relative_error),
         "energy_increases": int(audits["dt"].n_increases + audits["dt/2"].n_increases),
@@ -105,15 +114,47 @@ def numerical_audit(body, msd, dt: float, rng: np.random.Generator) -> tuple[dic
 
 
 def run_settle(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
-    """Drop the body on a rigid floor and let it settle (Fig. 10); audit the integrator."""
-    from graspcampaign.core.msd import msd_body_from_mesh, settle_on_floor
+    """Drop the body on a rigid floor and let it settle (Fig. 10); audit the integrator.
+
+    Factor ``integrator``: ``rk4`` (the paper's, at half its stable step with the floor) or
+    ``implicit`` (the implicit midpoint rule of ``core.implicit`` at ``params.implicit_dt_s``,
+    the floor linearised per step). Both audits span the same simulated time.
+    """
+    from graspcampaign.core.msd import (
+        FloorParams,
+        body_step_limit,
+        msd_body_from_mesh,
+        settle_on_floor,
+    )
 
     mesh, msd = _body(inp.study, inp.params, inp.trial.factors)
     body = msd_body_from_mesh(mesh, msd)
-    res = settle_on_floor(body, msd, t_max=inp.params.settle_t_max_s)
+    integrator = inp.trial.factors.get("integrator", "rk4")
+    floor = FloorParams()
+    rk4_limit = body_step_limit(body, msd, max(floor.stiffness, floor.tangential_stiffness),
+                                max(floor.damping, floor.tangential_damping))
+    implicit_stats: dict[str, Any] = {}
+    if integrator == "implicit":
+        from graspcampaign.core.implicit import ImplicitIntegrator
+
+        solver = ImplicitIntegrator(body, msd)
+        dt = float(inp.params.implicit_dt_s)
+        res = settle_on_floor(body, msd, floor, dt=dt, t_max=inp.params.settle_t_max_s,
+                              stepper=solver.floor_stepper())
+        implicit_stats = {"newton_iterations_per_step": solver.n_iterations / solver.n_steps,
+                          "lu_factorizations": int(solver.n_factorizations)}
+        audit_solver = ImplicitIntegrator(body, msd)
+        audit_steps = max(1, int(round(AUDIT_STEPS * 0.5 * rk4_limit / dt)))
+        audit, audit_tables = numerical_audit(body, msd, dt, rng, audit_solver.audit_stepper(),
+                                              audit_steps)
+    else:
+        res = settle_on_floor(body, msd, floor, t_max=inp.params.settle_t_max_s)
+        audit, audit_tables = numerical_audit(body, msd, float(res.dt), rng)
+        implicit_stats = {"newton_iterations_per_step": float("nan"), "lu_factorizations": 0}
     keep = _decimate(len(res.times))
-    audit, audit_tables = numerical_audit(body, msd, float(res.dt), rng)
     return {
+        "dt_over_rk4_limit": float(res.dt / rk4_limit),
+        **implicit_stats,
         "settled": bool(res.settled),
         "squash_ratio": float(res.squash_ratio),
         "final_kinetic_energy_j": float(res.kinetic_energy[-1]),
@@ -172,7 +213,7 @@ def run_grasp(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
 
     f, study, params = inp.trial.factors, inp.study, inp.params
     mesh, msd = _body(study, params, f)
-    contact = common.contact_params(study)
+    contact = common.contact_params(study, damping_law=f.get("damping_law", study.model.damping_law))
     grasp = GraspParams(tau_f=study.evaluator.tau_f_n, t_max=params.t_max_s,
                         grip_speed=params.grip_speed_m_per_s)
     res = dynamic_grasp(mesh, f["mu"], msd_params=msd, contact=contact, grasp=grasp)
