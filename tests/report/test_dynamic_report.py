@@ -14,7 +14,10 @@ def test_friction_mass_and_settle_reports(tmp_path):
     common = ["runner.backend=sequential", f"output.root={tmp_path}", "nodes=[144]"]
     run_study(compose_study("friction_mass", [*common, "mu=[0.1,0.5]", "mass_kg=[0.2]",
                                               "+params.t_max_s=0.03"]))
-    run_study(compose_study("gravity_settle", [*common, "+params.settle_t_max_s=0.2"]))
+    # the current report reads RK4 audit columns only; the integrator comparison comes with the
+    # new report framework (issue 17)
+    run_study(compose_study("gravity_settle", [*common, "integrator=[rk4]",
+                                               "+params.settle_t_max_s=0.2"]))
     build_reports(["friction_mass", "gravity_settle"], root=tmp_path)
     fm = tmp_path / "friction_mass" / "default"
     records = RunStore(fm).read().to_pandas().sort_values("mu").reset_index(drop=True)
