@@ -147,3 +147,16 @@ def test_normals_all_leaning_to_one_side_break_the_force_balance():
     assert diagnosis.torque_residual is None
     np.testing.assert_allclose(diagnosis.off_radial_deg, 2.0, atol=1e-9)
 
+
+def test_the_356_node_sphere_fails_at_mu_zero_in_the_force_balance():
+    """The like-for-like contact set of friction_mass: facet normals 2.5-4.8 deg off radial, all
+    leaning to -y, so the mu = 0 infeasibility is a force (not torque) imbalance."""
+    from graspcampaign.core.hand import hand_contact_directions, planned_contacts
+    from graspcampaign.core.mesh import make_object
+
+    mesh = make_object("sphere", 356)
+    points, _, normals = planned_contacts(mesh, hand_contact_directions())
+    diagnosis = statics.frictionless_diagnosis(points, normals, 0.4, mesh.centroid)
+    assert np.all((diagnosis.off_radial_deg > 2.4) & (diagnosis.off_radial_deg < 4.8))
+    assert np.all(normals[:, 1] < 0.0)
+    assert diagnosis.reason == "force_balance"

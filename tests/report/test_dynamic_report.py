@@ -13,7 +13,7 @@ from graspcampaign.report.build import build_reports
 def test_friction_mass_and_settle_reports(tmp_path):
     common = ["runner.backend=sequential", f"output.root={tmp_path}", "nodes=[144]"]
     run_study(compose_study("friction_mass", [*common, "mu=[0.1,0.5]", "mass_kg=[0.2]",
-                                              "+params.t_max_s=0.03"]))
+                                              "model_preset=[table2]", "+params.t_max_s=0.03"]))
     run_study(compose_study("gravity_settle", [*common, "+params.settle_t_max_s=0.2"]))
     build_reports(["friction_mass", "gravity_settle"], root=tmp_path)
     fm = tmp_path / "friction_mass" / "default"

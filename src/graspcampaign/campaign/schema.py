@@ -139,6 +139,10 @@ def _registry_names(name: str) -> tuple[str, ...]:
         from graspcampaign.core.planner import PLANNERS
 
         return tuple(PLANNERS)
+    if name == "model":  # the presets of the model group: conf/model/<name>.yaml
+        from graspcampaign.campaign.compose import group_options
+
+        return group_options("model")
     raise KeyError(name)
 
 
@@ -164,6 +168,8 @@ FACTOR_SPECS: dict[str, dict[str, Any]] = {
     "variant": {"type": str},
     "pso_seed": {"type": int, "ge": 0},
     "budget": {"type": str},
+    # a conf/model preset per trial, in place of the study's model group (dynamic_grasp)
+    "model_preset": {"type": str, "choices": "model"},
 }
 
 
