@@ -129,6 +129,7 @@ def test_table4_gel_needs_39_mm_for_0_2_kg():
     assert depth_for_force(0.2 * G, 0.346, 0.473) == pytest.approx(39.2e-3, rel=2e-3)
 
 
+@pytest.mark.slow  # ~4000 RK4 steps (5-10 s); the fast suite checks the gate on records too
 def test_validity_gate_removes_a_hold_deeper_than_the_fingertip_radius():
     """A 20 g gel sphere on the paper's contact law settles on the bottom fingertip ~5.2 mm deep:
     Eq. 19 is met, but the fingertip (r = 5 mm) would be buried past its radius. With the stop
