@@ -139,17 +139,51 @@ def test_gravity_settle_implicit_records_its_audit_beside_rk4(tmp_path):
     assert shape.groupby("trial_id").size().tolist() == [144, 144]
 
 
-def test_dynamic_grasp_records_traces_and_like_for_like(tmp_path):
+def test_dynamic_grasp_records_phases_presets_and_like_for_like(tmp_path):
+    # Both presets, cut at 0.12 s: the closure (~0.08 s) and part of the lift-off are simulated.
     summary, store, df = _run("friction_mass", tmp_path, "nodes=[144]", "mu=[0.3]", "mass_kg=[0.2]",
-                              "+params.t_max_s=0.05")
-    row = df.iloc[0]
-    assert row["dynamic_status"] in ("stable", "not_settled", "penetration_limit", "dropped")
-    assert row["lp_status"] in ("feasible", "infeasible", "undetermined")
-    assert isinstance(row["qs_success"], (bool, np.bool_))
+                              "+params.t_max_s=0.12")
+    assert summary.n_error == 0 and sorted(df["model_preset"]) == ["firm", "table2"]
+    for _, row in df.iterrows():
+        assert row["dynamic_status"] in ("stable", "not_settled", "penetration_limit", "dropped")
+        assert row["final_phase"] in ("closure", "lift", "hold")
+        # the gate: success needs the Eq. 19 verdict and every penetration within the radius
+        assert row["success"] == (row["success_unbounded"] and row["valid_geometry"])
+        assert row["valid_geometry"] == (row["delta_max_mm"] <= row["fingertip_radius_mm"])
+        assert row["qs_success"] == (row["qs_success_unbounded"] and row["qs_valid_geometry"])
+        assert row["qs_valid_geometry"] == (row["qs_delta_max_mm"] <= row["fingertip_radius_mm"])
+        # contacts close before lift-off
+        touches = [row[f"touch_{j}_s"] for j in (1, 2, 3)]
+        assert max(touches) < row["closure_end_s"] == row["lift_start_s"]
+        # the closed form beside the run: one fingertip carrying m g (Eq. 13 at rest)
+        weight = row["mass_kg"] * 9.81
+        assert row["k_contact_n_per_mm_n"] * row["delta_required_mm"] ** row["n_exp"] == \
+            pytest.approx(weight, rel=1e-12)
+        assert row["lp_status"] in ("feasible", "infeasible", "undetermined")
+        assert row["lp_mu0_reason"] in ("feasible", "force_balance", "torque_balance")
+        assert row["lp_status_mu0_ideal"] == "feasible"  # the paper's ideal-sphere argument
+    table2 = df.set_index("model_preset").loc["table2"]
+    firm = df.set_index("model_preset").loc["firm"]
+    assert table2["delta_required_mm"] > 100.0 > 1.0 > firm["delta_required_mm"]
+    # the preset reaches both the contact law and the body (conf/model/firm.yaml)
+    assert firm["n_exp"] == 1.5 and firm["e_object_pa"] == 2455800.0
+    assert firm["spring_k_n_per_m"] > 10 * table2["spring_k_n_per_m"]
     steps = store.read("tables/steps").to_pandas()
-    assert set(steps["trial_id"]) == {row["trial_id"]}
-    assert {"residual_z_n", "total_penetration_m", "normal_force_3_n"} <= set(steps.columns)
-    assert steps["time_s"].is_monotonic_increasing
+    assert set(steps["trial_id"]) == set(df["trial_id"])
+    assert {"residual_z_n", "total_penetration_m", "normal_force_3_n", "phase", "load_fraction",
+            "support_force_z_n", "depth_1_m", "grip_1_m", "centroid_z_m"} <= set(steps.columns)
+    for _, trace in steps.groupby("trial_id"):
+        assert trace["time_s"].is_monotonic_increasing
+        assert trace["phase"].iloc[0] == "closure" and "lift" in set(trace["phase"])
+        closing = trace[trace["phase"] == "closure"]
+        assert (closing["load_fraction"] == 0.0).all()
+        assert closing["centroid_z_m"].max() - closing["centroid_z_m"].min() < 1e-12
+
+
+def test_model_preset_factor_rejects_an_unknown_preset(tmp_path):
+    with pytest.raises(UserInputError, match=r"factors.model_preset\[0\] has unknown value "
+                                             r"'soft'; allowed values: firm, nominal, table2\."):
+        _run("friction_mass", tmp_path, "model_preset=[soft]")
 
 
 # ------------------------------------------- sensitivity, mesh_resolution, surrogate (issue 7)
@@ -260,6 +294,7 @@ def test_surrogate_refuses_without_scikit_learn(tmp_path, monkeypatch):
 
 def test_friction_mass_sweeps_the_damping_law(tmp_path):
     summary, _, df = _run("friction_mass", tmp_path, "nodes=[144]", "mu=[0.3]", "mass_kg=[0.2]",
-                          "+factors.damping_law=[linear,hunt_crossley]", "+params.t_max_s=0.02")
+                          "model_preset=[table2]", "+factors.damping_law=[linear,hunt_crossley]",
+                          "+params.t_max_s=0.02")
     assert summary.n_error == 0
     assert sorted(df["damping_law"]) == ["hunt_crossley", "linear"]

@@ -1,19 +1,21 @@
-"""Tests of core.dynamics: hand geometry, fingertip contacts on a deforming mesh, the grasp loop.
+"""Tests of core.dynamics: the contact stage, the support, and one step of the dynamic grasp.
 
-Outside references: the closed-form 45/45/-90 directions (§5.2, §6.1), brute-force
-``geometry.sphere_triangle_contacts`` over every face (the broad phase must be exact), Eq. 13 at
-the 0.5 mm seed, Newton's third law (Phi^T transfers the full contact force), and the friction-cone
-LP of core.statics on the settled contact set.
+Outside references: Eq. 13 at the 0.5 mm seed, Newton's third law (Phi^T transfers the full
+contact force), rigid-body mechanics (a held body keeps zero momentum; a free body falls by
+g t^2 / 2, which RK4 integrates exactly), and the numpy reference path of the contact query.
 """
 
 from __future__ import annotations
+
+from dataclasses import replace
 
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
 
-from graspcampaign.core import dynamics, geometry, msd, statics
+from graspcampaign.core import dynamics, geometry, hand, msd
 from graspcampaign.core.contact import ContactParams
 from graspcampaign.core.mesh import make_object
 
@@ -21,6 +23,7 @@ from graspcampaign.core.mesh import make_object
 # materials), so that f_n reaches the weight of 0.1 kg within a fraction of a millimetre. A test
 # fixture of the mechanics, not a paper value.
 STIFF_TIP = ContactParams(lambda1=15.8, lambda2=0.88, n=0.487)
+G = 9.81
 
 
 @pytest.fixture(scope="module")
@@ -28,73 +31,28 @@ def sphere():
     return make_object("sphere", 92)
 
 
-def test_hand_contact_directions_default_is_45_45_minus_90():
-    d = dynamics.hand_contact_directions()
-    s = np.sqrt(0.5)
-    np.testing.assert_allclose(d, [[s, 0, s], [-s, 0, s], [0, 0, -1]], atol=1e-12)
-    tilted = dynamics.hand_contact_directions(elevation_deg=30.0, third_elevation_deg=-60.0)
-    np.testing.assert_allclose(np.degrees(np.arcsin(tilted[:, 2])), [30.0, 30.0, -60.0])
-    np.testing.assert_allclose(np.linalg.norm(tilted, axis=1), 1.0)
+def _seeded(setup, state, depth=5e-4):
+    """The state with every finger advanced to ``depth`` past first touch, contacts re-evaluated."""
+    moved = replace(state, grip=np.full(setup.n_fingers, depth))
+    return replace(moved, contact=dynamics.grasp_forces(setup, moved))
 
 
-def test_planned_contacts_hit_the_sphere_surface_along_the_rays(sphere):
-    directions = dynamics.hand_contact_directions()
-    points, faces, normals = dynamics.planned_contacts(sphere, directions)
-    radii = np.linalg.norm(points - sphere.centroid, axis=1)
-    # A faceted sphere lies between its inscribed and circumscribed radii.
-    assert np.all(radii <= 0.05 + 1e-12) and np.all(radii > 0.045)
-    np.testing.assert_allclose(
-        (points - sphere.centroid) / radii[:, None], directions, atol=1e-9
-    )
-    np.testing.assert_allclose(normals, np.asarray(sphere.face_normals)[faces])
-    assert np.all(np.einsum("ij,ij->i", normals, directions) > np.cos(np.radians(20.0)))
-
-
-@settings(max_examples=40, deadline=None)
-@given(
-    st.lists(
-        st.tuples(
-            st.floats(-1.0, 1.0), st.floats(-1.0, 1.0), st.floats(-1.0, 1.0),
-            st.floats(0.040, 0.056),
-        ),
-        min_size=3,
-        max_size=3,
-    )
-)
-def test_finger_contacts_broad_phase_is_exact(samples):
-    mesh = make_object("sphere", 92)
-    body = msd.msd_body_from_mesh(mesh, msd.MsdParams())
-    centers = []
-    for x, y, z, dist in samples:
-        u = np.array([x, y, z]) + [1e-3, 0.0, 0.0]
-        centers.append(dist * u / np.linalg.norm(u))
-    centers = np.array(centers)
-    approach = centers / np.linalg.norm(centers, axis=1)[:, None]
-    got = dynamics.finger_contacts(mesh.vertices, body, centers, 0.005, approach)
-    brute = geometry.sphere_triangle_contacts(centers, 0.005, np.asarray(mesh.triangles),
-                                              backend="numpy")
-    best = geometry.deepest_per_finger(brute)
-    np.testing.assert_array_equal(got.active, best >= 0)
-    for j in np.flatnonzero(best >= 0):
-        assert got.depths[j] == pytest.approx(brute.depths[best[j]], abs=1e-15)
-        assert got.faces[j] == brute.faces[best[j]]
-
-
-def test_grasp_loop_with_compiled_contacts_matches_the_numpy_reference(sphere, monkeypatch):
-    """300 steps of the Fig. 3 loop with the compiled contact query and with the numpy reference
-    path (vertices[faces] through ``backend="numpy"``): the same contacts and trajectory. As in
-    benchmarks/bench_msd.py, gravity is off and free fingers re-close fast, so contacts persist."""
-    setup, initial = dynamics.prepare_grasp(sphere, 0.3, msd.MsdParams(mass=0.1, g=0.0), STIFF_TIP,
-                                            dynamics.GraspParams(grip_speed=0.3))
+def test_grasp_steps_with_compiled_contacts_match_the_numpy_reference(sphere, monkeypatch):
+    """300 steps with the compiled contact query and with the numpy reference path (vertices[faces]
+    through ``backend="numpy"``): the same contacts and trajectory. As in benchmarks/bench_msd.py,
+    gravity is off, the body free, and the fingers close fast (0.3 m/s) while out of contact or
+    while |R_z| >= tau_F (the grip law of §3), so contacts persist."""
+    setup, opened = dynamics.prepare_grasp(sphere, 0.3, msd.MsdParams(mass=0.1, g=0.0), STIFF_TIP)
 
     def run():
-        gs = initial.copy()
+        gs = _seeded(setup, opened)
         faces, forces = [], []
         for _ in range(300):
-            out = dynamics.grasp_forces(setup, gs)
-            faces.append(out.contacts.faces)
-            forces.append(out.forces)
-            dynamics.advance_grasp(setup, gs, out)
+            faces.append(gs.contact.contacts.faces)
+            forces.append(gs.contact.forces)
+            out = gs.contact
+            closing = ~out.contacts.active | (abs(out.residual[2]) >= setup.grasp.tau_f)
+            gs = dynamics.grasp_step(setup, gs.commanded(np.where(closing, 0.3, 0.0), 1.0))
         return np.array(faces), np.array(forces), gs.state
 
     compiled = run()
@@ -103,7 +61,7 @@ def test_grasp_loop_with_compiled_contacts_matches_the_numpy_reference(sphere, m
         return geometry.sphere_triangle_contacts(centers, radius, np.asarray(vertices)[faces],
                                                  backend="numpy")
 
-    monkeypatch.setattr(dynamics.geometry, "sphere_mesh_contacts", numpy_reference)
+    monkeypatch.setattr(hand.geometry, "sphere_mesh_contacts", numpy_reference)
     reference = run()
     assert (compiled[0] >= 0).mean() > 0.5  # most finger-steps are in contact
     np.testing.assert_array_equal(compiled[0], reference[0])
@@ -111,18 +69,34 @@ def test_grasp_loop_with_compiled_contacts_matches_the_numpy_reference(sphere, m
     np.testing.assert_allclose(compiled[2], reference[2], rtol=1e-9, atol=1e-15)
 
 
-def test_grasp_state_copy_shares_no_arrays(sphere):
-    _, initial = dynamics.prepare_grasp(sphere, 0.3, msd.MsdParams(mass=0.1), STIFF_TIP)
-    copy = initial.copy()
-    for name in ("state", "grip", "grip_rate", "slip_coords"):
-        getattr(copy, name)[...] = 7.0
-        assert not np.any(getattr(initial, name) == 7.0), name
-    assert copy.time == initial.time
+def test_grasp_step_is_a_pure_function_of_setup_and_state(sphere):
+    setup, opened = dynamics.prepare_grasp(sphere, 0.3, msd.MsdParams(mass=0.1), STIFF_TIP)
+    gs = _seeded(setup, opened).commanded([0.01, 0.02, 0.0], 0.5)
+    before = {name: np.copy(getattr(gs, name)) for name in ("state", "grip", "grip_rate",
+                                                            "slip_coords")}
+    nodal = gs.contact.nodal_forces.copy()
+    new = dynamics.grasp_step(setup, gs)
+    again = dynamics.grasp_step(setup, gs)
+    for name, value in before.items():
+        np.testing.assert_array_equal(getattr(gs, name), value, err_msg=name)
+    np.testing.assert_array_equal(gs.contact.nodal_forces, nodal)
+    np.testing.assert_array_equal(new.state, again.state)  # same input, same output
+    assert new.time == pytest.approx(setup.dt)
+    np.testing.assert_allclose(new.grip, gs.grip + setup.dt * np.array([0.01, 0.02, 0.0]))
+    np.testing.assert_array_equal(new.grip_rate, gs.grip_rate)  # the command carries over
+    assert new.load_fraction == 0.5
+    assert new.stick is gs.contact.stick  # the evaluated stick state is committed
 
 
 def test_seeded_forces_follow_eq13_and_phi_transfer_conserves_them(sphere):
-    setup, state = dynamics.prepare_grasp(sphere, 0.3, msd.MsdParams(mass=0.1), STIFF_TIP)
-    out = dynamics.grasp_forces(setup, state)
+    setup, opened = dynamics.prepare_grasp(sphere, 0.3, msd.MsdParams(mass=0.1), STIFF_TIP)
+    assert not opened.contact.contacts.active.any()  # fingers start open (Fig. 11)
+    np.testing.assert_allclose(
+        dynamics.finger_centers(setup, opened.grip) - setup.targets,
+        setup.approach * (STIFF_TIP.fingertip_radius + setup.grasp.open_gap),
+    )
+    state = _seeded(setup, opened)
+    out = state.contact
     assert out.contacts.active.all()
     # At rest the rate term vanishes: f_n = K (delta_mm)^n with delta close to the 0.5 mm seed
     # (the faceted surface shifts the deepest face slightly).
@@ -131,7 +105,9 @@ def test_seeded_forces_follow_eq13_and_phi_transfer_conserves_them(sphere):
     np.testing.assert_allclose(out.contacts.depths, 5e-4, atol=2e-4)
     np.testing.assert_allclose(out.tangential, 0.0, atol=1e-12)
     np.testing.assert_allclose(out.nodal_forces.sum(axis=0), out.forces.sum(axis=0), atol=1e-12)
-    np.testing.assert_allclose(out.residual, out.forces.sum(axis=0) + [0, 0, -0.1 * 9.81])
+    np.testing.assert_allclose(out.residual, out.forces.sum(axis=0) + [0, 0, -0.1 * G])
+    # The held body at rest: the support takes whatever the fingers and gravity leave.
+    np.testing.assert_allclose(out.support_force, -out.residual, atol=1e-12)
     # Moment of the transferred forces about the origin equals that of the contact forces.
     nodes = msd.positions_from_state(state.state)
     np.testing.assert_allclose(
@@ -141,47 +117,68 @@ def test_seeded_forces_follow_eq13_and_phi_transfer_conserves_them(sphere):
     )
 
 
+@settings(max_examples=50, deadline=None)
+@given(arrays(np.float64, (12, 3), elements=st.floats(-1.0, 1.0)),
+       arrays(np.float64, (12, 3), elements=st.floats(-10.0, 10.0)))
+def test_rigid_body_part_removes_net_force_and_torque_and_is_a_projection(offsets, accel):
+    # Points of a unit cube plus bounded offsets: never all collinear, so the inertia is regular.
+    corners = np.array([[x, y, z] for x in (0, 2) for y in (0, 2) for z in (0, 2)], float)
+    positions = np.vstack([corners, corners[:4] + [0.5, 0.5, 0.5]]) + 0.2 * offsets
+    rigid = dynamics.rigid_body_part(positions, accel)
+    rest = accel - rigid
+    r = positions - positions.mean(axis=0)
+    scale = 1.0 + np.abs(accel).sum()
+    np.testing.assert_allclose(rest.sum(axis=0), 0.0, atol=1e-10 * scale)
+    np.testing.assert_allclose(np.cross(r, rest).sum(axis=0), 0.0, atol=1e-9 * scale)
+    # A rigid field is its own rigid part; the remainder has no rigid part.
+    np.testing.assert_allclose(dynamics.rigid_body_part(positions, rigid), rigid, atol=1e-9 * scale)
+    np.testing.assert_allclose(dynamics.rigid_body_part(positions, rest), 0.0, atol=1e-9 * scale)
+
+
+def test_support_holds_the_body_and_releasing_it_gives_free_fall(sphere):
+    """Open fingers touch nothing: held (w = 0) the centroid and the momentum stay at zero and the
+    support carries m g; free (w = 1) the rest shape falls rigidly by g t^2 / 2 (no internal force
+    at rest, nodal damping only on velocity: with b = 0 RK4 is exact for constant acceleration)."""
+    mass = 0.1
+    setup, state = dynamics.prepare_grasp(sphere, 0.3, msd.MsdParams(mass=mass, b=0.0), STIFF_TIP)
+    np.testing.assert_allclose(state.contact.support_force, [0.0, 0.0, mass * G])
+    held, free = state.commanded(np.zeros(3), 0.0), state.commanded(np.zeros(3), 1.0)
+    for _ in range(50):
+        held = dynamics.grasp_step(setup, held)
+        free = dynamics.grasp_step(setup, free)
+    t = 50 * setup.dt
+    rest = setup.body.rest_positions
+    np.testing.assert_allclose(msd.positions_from_state(held.state), rest, atol=1e-15)
+    np.testing.assert_allclose(msd.velocities_from_state(held.state), 0.0, atol=1e-15)
+    np.testing.assert_allclose(held.contact.support_force, [0.0, 0.0, mass * G], rtol=1e-12)
+    drop = rest[:, 2] - msd.positions_from_state(free.state)[:, 2]
+    np.testing.assert_allclose(drop, 0.5 * G * t * t, rtol=1e-9)
+    np.testing.assert_allclose(free.contact.support_force, 0.0)
+
+
+def test_prepare_grasp_takes_any_planned_contacts(sphere):
+    # Three vertices and their vertex normals, as a quasi-static planner would give them.
+    vertices = [0, 40, 80]
+    points = sphere.vertices[vertices]
+    normals = sphere.vertex_normals[vertices]
+    setup, state = dynamics.prepare_grasp(sphere, 0.5, msd.MsdParams(mass=0.1), STIFF_TIP,
+                                          points=points, normals=normals)
+    np.testing.assert_allclose(setup.targets, points)
+    np.testing.assert_allclose(setup.approach, normals / np.linalg.norm(normals, axis=1)[:, None])
+    seeded = _seeded(setup, state)
+    assert seeded.contact.contacts.active.all()
+    with pytest.raises(ValueError, match="points and normals must be given together"):
+        dynamics.prepare_grasp(sphere, 0.5, points=points)
+    with pytest.raises(ValueError, match=r"must both have shape \(c, 3\), got \(3, 3\) and \(2, 3\)"):
+        dynamics.prepare_grasp(sphere, 0.5, points=points, normals=normals[:2])
+
+
 def test_grasp_params_validation():
     with pytest.raises(ValueError, match="GraspParams.tau_f must be finite and > 0"):
         dynamics.GraspParams(tau_f=0.0)
+    with pytest.raises(ValueError, match="GraspParams.lift_time must be finite and > 0"):
+        dynamics.GraspParams(lift_time=0.0)
+    with pytest.raises(ValueError, match="GraspParams.open_gap must be finite and >= 0"):
+        dynamics.GraspParams(open_gap=-1e-3)
     with pytest.raises(ValueError, match="mu must be finite and >= 0"):
         dynamics.prepare_grasp(make_object("sphere", 42), -0.1)
-
-
-def test_settled_grasp_balances_the_weight_within_tau_f(sphere):
-    # A stiffer shell (10 k) and the stiff fingertip: the loop mechanics in a regime where the
-    # shell does not sag off the bottom fingertip (see test_paper_si_constants_do_not_hold_...).
-    mass, mu = 0.1, 0.5
-    params = msd.MsdParams(mass=mass, k=1.44e4)
-    grasp = dynamics.GraspParams(t_max=1.0)
-    result = dynamics.dynamic_grasp(sphere, mu, params, STIFF_TIP, grasp)
-    assert result.status == "stable", result.status
-    assert result.success
-    weight = mass * params.g
-    # Eq. 19 vertically: the per-finger forces carry the weight within tau_F.
-    assert abs(result.contact_forces[:, 2].sum() - weight) < grasp.tau_f
-    assert abs(result.residual_z[-1]) < grasp.tau_f
-    np.testing.assert_allclose(result.wrench[2], result.residual_z[-1])
-    assert np.all(result.normal_forces[-1] > 0.0)
-    assert np.all(result.in_contact[-1])
-    # The settled contact set is statically admissible (friction-cone LP, like for like).
-    normals = -result.contact_forces / np.linalg.norm(result.contact_forces, axis=1)[:, None]
-    lp = statics.friction_cone_feasibility(
-        result.contact_points, normals, mu, mass, center=result.centroid[-1]
-    )
-    assert lp.status == "feasible"
-    # Traces have one row per step.
-    n = result.n_steps
-    assert result.normal_forces.shape == (n, 3) and result.total_penetration.shape == (n,)
-    assert result.delta_max < STIFF_TIP.fingertip_radius
-
-
-def test_paper_si_constants_do_not_hold_a_heavy_sphere():
-    # The paper's Table 3 contact law with the Table 2 materials gives K = 0.105 N mm^-n: carrying
-    # 0.4 kg on the bottom fingertip would need delta ~ (3.9 / 0.105)^(1/0.487) mm ~ 1.7 m. The
-    # surface shell sags around the fingertip and the grasp fails; the loop must say so.
-    mesh = make_object("sphere", 92)
-    result = dynamics.dynamic_grasp(mesh, 0.3, msd.MsdParams(mass=0.4), grasp=dynamics.GraspParams(t_max=0.5))
-    assert not result.success
-    assert result.status in {"dropped", "penetration_limit", "not_settled"}
-    assert result.residual_z.min() < -0.5

@@ -102,3 +102,61 @@ def test_min_horizontal_residual_reproduces_the_papers_audit_of_fig13():
     assert residual == pytest.approx(expected, rel=5e-3)
     assert residual == pytest.approx(1.6, abs=0.05)
     assert statics.min_horizontal_residual(normals, [0.4, 4.9, 11.9], mu=0.5) == pytest.approx(0.0, abs=1e-9)
+
+
+def _tilt(vector, axis, angle_deg):
+    """Rotate ``vector`` about the unit ``axis`` by ``angle_deg`` (Rodrigues)."""
+    k = np.asarray(axis, float) / np.linalg.norm(axis)
+    a = np.radians(angle_deg)
+    v = np.asarray(vector, float)
+    return v * np.cos(a) + np.cross(k, v) * np.sin(a) + k * np.dot(k, v) * (1.0 - np.cos(a))
+
+
+@pytest.mark.parametrize("mass", [0.2, 0.4, 0.6])
+def test_ideal_sphere_normals_are_feasible_at_mu_zero(mass):
+    points, normals = statics.sphere_contacts_from_directions(DIRECTIONS_45_45_M90, RADIUS)
+    diagnosis = statics.frictionless_diagnosis(points, normals, mass)
+    assert diagnosis.status == "feasible" and diagnosis.reason == "feasible"
+    np.testing.assert_allclose(diagnosis.off_radial_deg, 0.0, atol=1e-6)
+    assert diagnosis.torque_residual == pytest.approx(0.0, abs=1e-12)
+
+
+def test_a_normal_off_radial_in_the_plane_of_the_fingers_breaks_only_the_torque_balance():
+    # Bottom normal tilted 3 deg about y: the three normals still span the xz plane with positive
+    # combinations (force balance holds), but the bottom line of action misses the centre by
+    # R sin 3 deg, so its force has a moment (0, R f3 sin 3 deg, 0) that nothing cancels.
+    points, normals = statics.sphere_contacts_from_directions(DIRECTIONS_45_45_M90, RADIUS)
+    normals[2] = _tilt(normals[2], [0.0, 1.0, 0.0], 3.0)
+    diagnosis = statics.frictionless_diagnosis(points, normals, 0.4)
+    assert diagnosis.status == "infeasible"
+    assert diagnosis.force_only_status == "feasible" and diagnosis.reason == "torque_balance"
+    np.testing.assert_allclose(diagnosis.off_radial_deg, [0.0, 0.0, 3.0], atol=1e-9)
+    assert diagnosis.torque_residual > 0.0
+    # Friction heals it: the same set is feasible at mu = 0.1 (tan 3 deg = 0.052 < 0.1).
+    assert statics.friction_cone_feasibility(points, normals, 0.1, 0.4).status == "feasible"
+
+
+def test_normals_all_leaning_to_one_side_break_the_force_balance():
+    # Every normal tilted 2 deg toward -y (about n x (-y)): the pushes -f n all have a +y
+    # component, so no non-negative forces cancel in y, torque or not.
+    points, normals = statics.sphere_contacts_from_directions(DIRECTIONS_45_45_M90, RADIUS)
+    normals = np.array([_tilt(n, np.cross(n, [0.0, -1.0, 0.0]), 2.0) for n in normals])
+    assert np.all(normals[:, 1] < 0.0)
+    diagnosis = statics.frictionless_diagnosis(points, normals, 0.4)
+    assert diagnosis.reason == "force_balance" and diagnosis.force_only_status == "infeasible"
+    assert diagnosis.torque_residual is None
+    np.testing.assert_allclose(diagnosis.off_radial_deg, 2.0, atol=1e-9)
+
+
+def test_the_356_node_sphere_fails_at_mu_zero_in_the_force_balance():
+    """The like-for-like contact set of friction_mass: facet normals 2.5-4.8 deg off radial, all
+    leaning to -y, so the mu = 0 infeasibility is a force (not torque) imbalance."""
+    from graspcampaign.core.hand import hand_contact_directions, planned_contacts
+    from graspcampaign.core.mesh import make_object
+
+    mesh = make_object("sphere", 356)
+    points, _, normals = planned_contacts(mesh, hand_contact_directions())
+    diagnosis = statics.frictionless_diagnosis(points, normals, 0.4, mesh.centroid)
+    assert np.all((diagnosis.off_radial_deg > 2.4) & (diagnosis.off_radial_deg < 4.8))
+    assert np.all(normals[:, 1] < 0.0)
+    assert diagnosis.reason == "force_balance"

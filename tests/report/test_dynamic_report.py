@@ -13,7 +13,7 @@ from graspcampaign.report.build import build_reports
 def test_friction_mass_and_settle_reports(tmp_path):
     common = ["runner.backend=sequential", f"output.root={tmp_path}", "nodes=[144]"]
     run_study(compose_study("friction_mass", [*common, "mu=[0.1,0.5]", "mass_kg=[0.2]",
-                                              "+params.t_max_s=0.03"]))
+                                              "model_preset=[table2]", "+params.t_max_s=0.03"]))
     # the current report reads RK4 audit columns only; the integrator comparison comes with the
     # new report framework (issue 17)
     run_study(compose_study("gravity_settle", [*common, "integrator=[rk4]",

@@ -20,7 +20,7 @@ from hydra import compose, initialize_config_dir
 from hydra.core.config_store import ConfigStore
 from omegaconf import OmegaConf
 
-from graspcampaign.campaign.schema import SCHEMAS, StudyCfg, check_study
+from graspcampaign.campaign.schema import SCHEMAS, StudyCfg, check_config, check_study
 from graspcampaign.errors import ConfigError, UserInputError
 
 _SCHEMA_LINE = re.compile(r"^#\s*schema:\s*(\w+)")
@@ -42,6 +42,40 @@ def project_dirs() -> tuple[Path, Path]:
         if (root / "conf" / "config.yaml").is_file() and (root / "campaigns").is_dir():
             return root / "conf", root / "campaigns"
     raise UserInputError("cannot find conf/config.yaml and campaigns/; set GRASPCAMPAIGN_HOME.")
+
+
+def group_options(group: str) -> tuple[str, ...]:
+    """Return the options of a config group (the YAML files in ``conf/<group>/``), sorted."""
+    return tuple(sorted(p.stem for p in (project_dirs()[0] / group).glob("*.yaml")))
+
+
+@cache
+def group_config(group: str, name: str):
+    """Load ``conf/<group>/<name>.yaml`` into the schema its header names and check its ranges.
+
+    Used where one study needs several options of a group at once (e.g. the ``model_preset``
+    factor); a study's own group selection goes through :func:`compose_study`.
+
+    Raises
+    ------
+    ConfigError
+        Unknown option, a file without a known schema, an unknown key, a wrong type or an
+        out-of-range value; one sentence naming the file and the key.
+    """
+    options = group_options(group)
+    if name not in options:
+        raise ConfigError(f"{group}={name!r} is not an option of conf/{group}/; "
+                          f"available: {', '.join(options)}.")
+    path = project_dirs()[0] / group / f"{name}.yaml"
+    schema = SCHEMAS.get(schema_of(path) or "")
+    if schema is None:
+        raise ConfigError(f"{path} does not name a known schema in its header (# schema: Name).")
+    try:
+        obj = OmegaConf.to_object(OmegaConf.merge(OmegaConf.structured(schema), OmegaConf.load(path)))
+    except Exception as exc:  # OmegaConf raises several unrelated types; all mean a bad file
+        raise ConfigError(f"{path}: {omegaconf_error_sentence(exc)}") from None
+    check_config(obj, prefix=f"{group}.")
+    return obj
 
 
 def list_studies() -> list[str]:

@@ -142,6 +142,10 @@ def _registry_names(name: str) -> tuple[str, ...]:
         from graspcampaign.core.planner import PLANNERS
 
         return tuple(PLANNERS)
+    if name == "model":  # the presets of the model group: conf/model/<name>.yaml
+        from graspcampaign.campaign.compose import group_options
+
+        return group_options("model")
     raise KeyError(name)
 
 
@@ -169,6 +173,8 @@ FACTOR_SPECS: dict[str, dict[str, Any]] = {
     "budget": {"type": str},
     "integrator": {"type": str, "choices": ("rk4", "implicit")},
     "damping_law": {"type": str, "choices": ("linear", "hunt_crossley")},
+    # a conf/model preset per trial, in place of the study's model group (dynamic_grasp)
+    "model_preset": {"type": str, "choices": "model"},
 }
 
 

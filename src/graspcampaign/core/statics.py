@@ -39,8 +39,10 @@ from scipy.optimize import linprog
 
 __all__ = [
     "FrictionConeResult",
+    "FrictionlessDiagnosis",
     "check_contacts",
     "friction_cone_feasibility",
+    "frictionless_diagnosis",
     "min_horizontal_residual",
     "required_friction",
     "sphere_contacts_from_directions",
@@ -413,3 +415,97 @@ def min_horizontal_residual(
     if result.status != 0:
         raise RuntimeError(f"horizontal-residual LP failed: {result.message}")
     return float(result.x[-1])
+
+
+@dataclass(frozen=True)
+class FrictionlessDiagnosis:
+    """Why normal forces alone can or cannot hold an object (the ``mu -> 0`` limit of §6.1).
+
+    Attributes
+    ----------
+    status : str
+        :func:`friction_cone_feasibility` at ``mu = 0`` (force and torque balance; exact: the cones
+        are rays).
+    reason : str
+        ``"feasible"``; ``"force_balance"``: no non-negative normal forces balance the weight even
+        in force alone; ``"torque_balance"``: some do, but none of them balances the torque too
+        (the normals' lines of action miss the centre of mass).
+    force_only_status : str
+        The same LP with the torque rows trivially satisfied (every point moved to ``center``).
+    torque_residual : float or None
+        Norm of the torque about ``center`` of the force-only solution (the unique one for three
+        independent normals) [N*m]; None when force balance alone fails.
+    off_radial_deg : (c,) float
+        Angle between each normal and the direction from ``center`` to its point [deg]: the
+        facet-normal error of a meshed sphere (0 for an ideal sphere).
+    """
+
+    status: str
+    reason: str
+    force_only_status: str
+    torque_residual: float | None
+    off_radial_deg: np.ndarray
+
+
+def frictionless_diagnosis(
+    points,
+    normals,
+    mass: float,
+    center=(0.0, 0.0, 0.0),
+    g: float = GRAVITY,
+) -> FrictionlessDiagnosis:
+    """Decide whether normal forces alone hold the object and, if not, which balance fails.
+
+    Parameters
+    ----------
+    points : (c, 3) float
+        Contact points in W [m].
+    normals : (c, 3) float
+        Outward unit normals.
+    mass : float
+        Object mass [kg].
+    center : (3,) float
+        Centre of mass [m].
+    g : float
+        Gravity [m/s^2].
+
+    Returns
+    -------
+    diagnosis : FrictionlessDiagnosis
+
+    Notes
+    -----
+    §6.1 argues that on the ideal sphere the 45/45/-90 normals alone carry the weight (all lines
+    of action pass through the centre, so torque balance is automatic). On a meshed sphere the
+    contact normals are facet normals a few degrees off radial: the force-only problem tells
+    whether the failure is already in the force balance (e.g. every normal leaning to the same
+    side out of the plane of the fingers) or only in the torque balance.
+
+    References
+    ----------
+    §6.1 (the mu -> 0 feasibility of the 45/45/-90 set), Murray, Li & Sastry (1994) §5.3.
+    """
+    points, normals = check_contacts(points, normals)
+    center = np.asarray(center, dtype=np.float64)
+    full = friction_cone_feasibility(points, normals, 0.0, mass, center, g=g)
+    at_center = np.broadcast_to(center, points.shape)
+    force_only = friction_cone_feasibility(at_center, normals, 0.0, mass, center, g=g)
+    torque = None
+    if force_only.forces is not None:
+        torque = float(np.linalg.norm(wrench_residual(points, force_only.forces, mass, center, g)[3:]))
+    if full.status == "feasible":
+        reason = "feasible"
+    elif force_only.status != "feasible":
+        reason = "force_balance"
+    else:
+        reason = "torque_balance"
+    radial = points - center
+    radial /= np.linalg.norm(radial, axis=1)[:, None]
+    cosines = np.clip(np.einsum("ij,ij->i", radial, normals), -1.0, 1.0)
+    return FrictionlessDiagnosis(
+        status=full.status,
+        reason=reason,
+        force_only_status=force_only.status,
+        torque_residual=torque,
+        off_radial_deg=np.degrees(np.arccos(cosines)),
+    )

@@ -3,15 +3,16 @@
 
 The body constants are SI values derived from the object modulus (``core.msd.
 msd_params_from_modulus``); Table 3's b, k, c are in the paper's unpublished internal units and are
-not reused. The contact law is the configured model (Table 3 lambdas, Table 2 materials). At these
-constants the bottom finger must carry the whole weight of a 45/45/-90 grasp, which needs
-penetrations far beyond the fingertip radius: the records say so (``status``, ``delta_max_mm``);
-nothing is rescaled.
+not reused. The contact law is the configured model (Table 3 lambdas, Table 2 materials), or per
+trial the preset named by the ``model_preset`` factor (``friction_mass`` sweeps ``table2`` and the
+documented ``firm`` preset). At the paper's constants the bottom finger must carry the whole weight
+of a 45/45/-90 grasp, which needs penetrations far beyond the fingertip radius: the records say so
+(``dynamic_status``, ``delta_max_mm``, the closed form ``delta_required_mm``); nothing is rescaled.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -32,6 +33,9 @@ class DynamicParams:
     # gravity_settle, factor integrator=implicit: step of the implicit midpoint rule [s]; the
     # largest tested step whose settled shape matches RK4's (docs/decisions.md, implicit settle)
     implicit_dt_s: float = 2.5e-4
+    # dynamic grasp phases (Fig. 11); sources in core.dynamics.GraspParams
+    lift_time_s: float = field(default=0.1, metadata={"gt": 0.0})  # lift-off ramp of the load
+    open_gap_m: float = field(default=1e-3, metadata={"ge": 0.0})  # fingers start this far out
 
 
 def _body(study, params, factors):
@@ -179,54 +183,106 @@ def run_settle(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
     }
 
 
+def trial_study(study, factors: dict):
+    """Return the study with the trial's ``model_preset`` (a conf/model option) as its model group.
+
+    Without the factor the study's own ``model`` group is used.
+    """
+    from dataclasses import replace
+
+    from graspcampaign.campaign.compose import group_config
+
+    name = factors.get("model_preset")
+    return study if name is None else replace(study, model=group_config("model", name))
+
+
 def like_for_like(study, mesh, mass: float, mu: float, contact) -> dict[str, Any]:
     """The quasi-static evaluator and the friction-cone LP on the dynamic pipeline's contact set.
 
     Sec. 6.1 and Sec. 12 list this run as an open comparison item: Algorithms 1-2 on the identical
-    45/45/-90 contacts, plus the closed-form static feasibility of that set at mu and as mu -> 0.
+    45/45/-90 contacts, plus the closed-form static feasibility of that set at mu and as mu -> 0,
+    with the reason of a mu = 0 failure (force or torque balance) and the ideal-sphere reference.
     """
-    from graspcampaign.core.dynamics import hand_contact_directions, planned_contacts
     from graspcampaign.core.equilibrium import evaluate_grasps
-    from graspcampaign.core.statics import friction_cone_feasibility
+    from graspcampaign.core.hand import hand_contact_directions, planned_contacts
+    from graspcampaign.core.statics import (
+        friction_cone_feasibility,
+        frictionless_diagnosis,
+        sphere_contacts_from_directions,
+    )
 
-    points, _, normals = planned_contacts(mesh, hand_contact_directions())
+    directions = hand_contact_directions()
+    points, _, normals = planned_contacts(mesh, directions)
     centroid = np.asarray(mesh.center_mass, dtype=float)
     qs = evaluate_grasps(points[None], normals[None], centroid, mass, mu, contact.k_n_per_mm_n,
                          contact.n, common.evaluator_params(study))
     lp = friction_cone_feasibility(points, normals, mu, mass, centroid)
-    lp0 = friction_cone_feasibility(points, normals, 0.0, mass, centroid)
+    mu0 = frictionless_diagnosis(points, normals, mass, centroid)
+    radius = float(np.mean(np.linalg.norm(points - centroid, axis=1)))
+    ideal = friction_cone_feasibility(*sphere_contacts_from_directions(directions, radius, centroid),
+                                      0.0, mass, centroid)
+    qs_valid = bool(qs.delta_max_mm[0] <= contact.fingertip_radius * 1e3)
     return {
-        "qs_success": bool(qs.success[0]),
+        "qs_success": bool(qs.success[0]) and qs_valid,
+        "qs_success_unbounded": bool(qs.success[0]),
+        "qs_valid_geometry": qs_valid,
         "qs_failure_check": str(qs.failure_labels()[0]),
         "qs_residual_norm_n": float(qs.residual_norm[0]),
         "qs_residual_z_n": float(qs.residual_z[0]),
         "qs_slip_margin_n": float(qs.slip_margin[0]),
         "qs_delta_max_mm": float(qs.delta_max_mm[0]),
         "lp_status": lp.status,
-        "lp_status_mu0": lp0.status,
+        "lp_status_mu0": mu0.status,
+        "lp_mu0_reason": mu0.reason,
+        "lp_mu0_force_only_status": mu0.force_only_status,
+        "lp_mu0_torque_residual_nm": float("nan") if mu0.torque_residual is None
+        else mu0.torque_residual,
+        "normal_off_radial_max_deg": float(mu0.off_radial_deg.max()),
+        "lp_status_mu0_ideal": ideal.status,
     }
 
 
 def run_grasp(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
-    """The dynamic grasp of Fig. 3 on the 45/45/-90 set, then the like-for-like checks."""
-    from graspcampaign.core.dynamics import GraspParams, dynamic_grasp
+    """The dynamic grasp in the order of Fig. 11 on the 45/45/-90 set, then the like-for-like checks.
 
-    f, study, params = inp.trial.factors, inp.study, inp.params
+    The model preset (factor ``model_preset``, else the study's ``model`` group) sets the contact
+    law and the object modulus of the MSD body.
+    """
+    from graspcampaign.core.dynamics import GraspParams
+    from graspcampaign.core.grasp_phases import dynamic_grasp
+
+    f, params = inp.trial.factors, inp.params
+    study = trial_study(inp.study, f)
     mesh, msd = _body(study, params, f)
     contact = common.contact_params(study, damping_law=f.get("damping_law", study.model.damping_law))
     grasp = GraspParams(tau_f=study.evaluator.tau_f_n, t_max=params.t_max_s,
-                        grip_speed=params.grip_speed_m_per_s)
+                        grip_speed=params.grip_speed_m_per_s, lift_time=params.lift_time_s,
+                        open_gap=params.open_gap_m)
     res = dynamic_grasp(mesh, f["mu"], msd_params=msd, contact=contact, grasp=grasp)
     force, torque = res.wrench[:3], res.wrench[3:]
+    times = res.phase_times
+    lifted = res.phase != "closure"
+    z_lift = res.centroid[lifted, 2][0] if lifted.any() else float("nan")
     keep = _decimate(len(res.times))
     out: dict[str, Any] = {
         "dynamic_status": res.status,
+        "final_phase": res.final_phase,
         "success": bool(res.success),
+        "success_unbounded": bool(res.success_unbounded),
+        "valid_geometry": bool(res.valid_geometry),
         "settled_at_s": float(res.settled_at),
+        "closure_start_s": times.closure_start, "closure_end_s": times.closure_end,
+        **{f"touch_{j + 1}_s": float(t) for j, t in enumerate(times.touch)},
+        "lift_start_s": times.lift_start, "lift_end_s": times.lift_end,
+        "hold_start_s": times.hold_start, "hold_end_s": times.hold_end,
         "simulated_time_s": float(res.times[-1]),
         "dt_s": float(res.dt), "n_steps": int(res.n_steps),
         "final_residual_z_n": float(res.residual_z[-1]),
         "delta_max_mm": float(res.delta_max * 1e3),
+        "delta_required_mm": float(res.delta_required * 1e3),
+        "fingertip_radius_mm": float(contact.fingertip_radius * 1e3),
+        **{f"delta_{j + 1}_mm": float(res.depths[-1, j] * 1e3) for j in range(3)},
+        "centroid_drop_mm": float((z_lift - res.centroid[-1, 2]) * 1e3),
         "slip_margin_n": float(res.slip_margin),
         "wrench_force_norm_n": float(np.linalg.norm(force)),
         "wrench_torque_norm_nm": float(np.linalg.norm(torque)),
@@ -234,15 +290,23 @@ def run_grasp(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
                                                      "tz_nm"), res.wrench, strict=True)},
         **{f"normal_force_{j + 1}_n": float(res.normal_forces[-1, j]) for j in range(3)},
         "lambda1": contact.lambda1, "n_exp": contact.n,
+        "k_contact_n_per_mm_n": float(contact.k_n_per_mm_n),
+        "e_finger_pa": float(contact.e_finger), "e_object_pa": float(contact.e_object),
         "spring_k_n_per_m": float(msd.k),
     }
     out.update(like_for_like(study, mesh, f["mass_kg"], f["mu"], contact))
     out["__tables__"] = {"steps": {
         "step": keep.tolist(),
         "time_s": res.times[keep].tolist(),
+        "phase": res.phase[keep].tolist(),
+        "load_fraction": res.load_fraction[keep].tolist(),
         "residual_z_n": res.residual_z[keep].tolist(),
+        "support_force_z_n": res.support_force[keep, 2].tolist(),
         "total_penetration_m": res.total_penetration[keep].tolist(),
         **{f"normal_force_{j + 1}_n": res.normal_forces[keep, j].tolist() for j in range(3)},
+        **{f"depth_{j + 1}_m": res.depths[keep, j].tolist() for j in range(3)},
+        **{f"grip_{j + 1}_m": res.grip[keep, j].tolist() for j in range(3)},
+        "centroid_z_m": res.centroid[keep, 2].tolist(),
     }}
     return out
 
@@ -250,5 +314,6 @@ def run_grasp(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
 GRAVITY_SETTLE = TrialKind(name="gravity_settle", run=run_settle, params=DynamicParams,
                            seconds_per_trial=10.0, description="MSD body settling on a floor")
 DYNAMIC_GRASP = TrialKind(name="dynamic_grasp", run=run_grasp, params=DynamicParams,
-                          seconds_per_trial=5.0,
-                          description="RK4 dynamic grasp on the 45/45/-90 set + like-for-like checks")
+                          seconds_per_trial=20.0,
+                          description="RK4 dynamic grasp (closure, lift-off, hold) on the 45/45/-90 "
+                                      "set + like-for-like checks")
