@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import assume, given, settings
+from hypothesis import assume, given, reject, settings
 from hypothesis import strategies as st
 from scipy.integrate import quad
 
@@ -84,10 +84,18 @@ def test_lp_equilibrium_never_exceeds_the_vertical_capacity(values, mu_eff, mass
     assume(np.all(np.linalg.norm(raw, axis=1) >= 1e-2))
     normals = _unit(raw)
     points = 0.05 * normals  # contacts on a 50 mm sphere, outward radial normals
-    lp = friction_cone_feasibility(points, normals, mu_eff, mass)
+    try:
+        lp = friction_cone_feasibility(points, normals, mu_eff, mass)
+    except RuntimeError as exc:  # the reference cannot answer: HiGHS reports a solve error (not
+        # infeasibility) on some near-degenerate sets, e.g. normals (0, 1.2e-7, 1) and (0, 0, 1),
+        # or (0, -6e-8, -1) with (0, -1, 0) and (1, 1, 0)/sqrt 2 -- a core.statics matter
+        assert "friction-cone LP failed" in str(exc)
+        reject()
     if lp.feasible:  # inner-cone solution: |f_t| <= mu_eff cos(pi/q) f_n <= mu_eff f_n
         capacity = d.vertical_capacity(normals, lp.normal_forces, mu_eff)
-        assert capacity >= mass * GRAVITY * (1.0 - 1e-7) - 1e-9
+        # HiGHS meets every row to its primal feasibility tolerance (1e-7 by default), so the
+        # bound holds to ~1e-7 times the forces involved
+        assert capacity >= mass * GRAVITY - 1e-6 * (mass * GRAVITY + lp.normal_forces.sum())
 
 
 def test_the_lp_check_is_not_vacuous():
@@ -99,7 +107,8 @@ def test_the_lp_check_is_not_vacuous():
         lp = friction_cone_feasibility(0.05 * normals, normals, 1.5, 0.2)
         if lp.feasible:
             feasible += 1
-            assert d.vertical_capacity(normals, lp.normal_forces, 1.5) >= 0.2 * GRAVITY * (1 - 1e-7)
+            assert d.vertical_capacity(normals, lp.normal_forces, 1.5) >= \
+                0.2 * GRAVITY - 1e-6 * (0.2 * GRAVITY + lp.normal_forces.sum())
     assert feasible >= 20
 
 
@@ -250,3 +259,28 @@ def test_load_sharing():
     _, ok = d.load_shared_forces([1.0, 1.0, 1.0], np.array([[1.0, 0, 0], [1.0, 0.1, 0],
                                                              [1.0, -0.1, 0]]))
     assert not ok
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.lists(st.floats(-1, 1), min_size=9, max_size=9), st.integers(0, 3),
+       st.lists(st.floats(0.1, 5.0), min_size=3, max_size=3))
+def test_load_sharing_is_the_least_squares_projection(values, degenerate, commanded):
+    # Reference: c - A^T pinv(A A^T) A c with numpy's SVD pseudo-inverse, A the horizontal force
+    # directions; degenerate cases: collinear, vertical and parallel normals (rank 1 and 0).
+    normals = np.asarray(values).reshape(3, 3)
+    if degenerate == 1:
+        normals[:, :2] = normals[0, :2] * np.array([[1.0], [-2.0], [0.5]])
+    elif degenerate == 2:
+        normals[:, :2] = 0.0
+        normals[:, 2] = 1.0
+    assume(np.all(np.linalg.norm(normals, axis=1) >= 1e-3))
+    unit = normals / np.linalg.norm(normals, axis=1, keepdims=True)
+    a = -unit[:, :2].T
+    c = np.asarray(commanded)
+    gram = a @ a.T
+    expected = c - a.T @ (np.linalg.pinv(gram) @ (a @ c))
+    got, _ = d.load_shared_forces(c, normals)
+    # both lose ~eps * cond digits on a nearly rank-one Gram matrix (two nearly vertical normals)
+    sv = np.linalg.svd(gram, compute_uv=False)
+    cond = sv[0] / sv[1] if sv[1] > 1e-15 * sv[0] else 1.0
+    np.testing.assert_allclose(got, expected, atol=(1e-9 + 1e-14 * cond) * np.abs(c).max())

@@ -36,18 +36,36 @@ __all__ = [
 logger = logging.getLogger(__name__)
 
 
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Cross products of (..., 3) arrays, written out: np.cross costs ~0.1 ms per call here."""
+    return np.stack([a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
+                     a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
+                     a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]], axis=-1)
+
+
 def _tangent_bases(normals: np.ndarray) -> np.ndarray:
     """Return (3, 3, 2) orthonormal tangent bases; the first tangent points as far up as possible."""
-    z = np.array([0.0, 0.0, 1.0])
-    bases = np.empty((3, 3, 2))
-    for j, nj in enumerate(normals):
-        up = z - nj[2] * nj
-        if np.linalg.norm(up) < 1e-9:  # vertical normal: any horizontal pair
-            up = np.array([1.0, 0.0, 0.0]) - nj[0] * nj
-        t1 = up / np.linalg.norm(up)
-        bases[j, :, 0] = t1
-        bases[j, :, 1] = np.cross(nj, t1)
-    return bases
+    n = np.asarray(normals, dtype=float)
+    up = np.array([0.0, 0.0, 1.0]) - n[:, 2:3] * n
+    flat = np.linalg.norm(up, axis=1) < 1e-9  # vertical normal: any horizontal pair
+    up[flat] = np.array([1.0, 0.0, 0.0]) - n[flat, 0:1] * n[flat]
+    t1 = up / np.linalg.norm(up, axis=1, keepdims=True)
+    return np.stack([t1, _cross(n, t1)], axis=2)
+
+
+def _tangential_solve(points, normals, normal_forces, centroid, forces, moments) -> np.ndarray:
+    """Tangential forces (w, 3, 3) for w external wrenches ``forces``, ``moments`` (w, 3)."""
+    p = np.asarray(points, dtype=float) - np.asarray(centroid, dtype=float)
+    n = _normals(normals)
+    fn = np.asarray(normal_forces, dtype=float).reshape(3)
+    bases = _tangent_bases(n)
+    t = np.transpose(bases, (0, 2, 1)).reshape(6, 3)  # row 2j+k: tangent k of contact j
+    a = np.vstack([t.T, _cross(np.repeat(p, 2, axis=0), t).T])  # (6, 6)
+    normal_vectors = -fn[:, None] * n
+    own = np.concatenate([normal_vectors.sum(axis=0), _cross(p, normal_vectors).sum(axis=0)])
+    rhs = -(own[None, :] + np.hstack([np.atleast_2d(forces), np.atleast_2d(moments)]))
+    x = np.linalg.lstsq(a, rhs.T, rcond=None)[0].T  # (w, 6)
+    return np.einsum("jik,wjk->wji", bases, x.reshape(-1, 3, 2))
 
 
 def contact_tangential_forces(points, normals, normal_forces, centroid, force, moment):
@@ -79,23 +97,8 @@ def contact_tangential_forces(points, normals, normal_forces, centroid, force, m
     ----------
     Murray, Li & Sastry (1994) §5.2.
     """
-    p = np.asarray(points, dtype=float) - np.asarray(centroid, dtype=float)
-    n = _normals(normals)
-    fn = np.asarray(normal_forces, dtype=float).reshape(3)
-    bases = _tangent_bases(n)
-    a = np.zeros((6, 6))
-    for j in range(3):
-        for k in range(2):
-            t = bases[j, :, k]
-            a[:3, 2 * j + k] = t
-            a[3:, 2 * j + k] = np.cross(p[j], t)
-    normal_vectors = -fn[:, None] * n
-    rhs = np.concatenate([
-        -(normal_vectors.sum(axis=0) + np.asarray(force, dtype=float)),
-        -(np.cross(p, normal_vectors).sum(axis=0) + np.asarray(moment, dtype=float)),
-    ])
-    x = np.linalg.lstsq(a, rhs, rcond=None)[0]
-    return np.einsum("jik,jk->ji", bases, x.reshape(3, 2))
+    return _tangential_solve(points, normals, normal_forces, centroid,
+                             np.asarray(force, dtype=float), np.asarray(moment, dtype=float))[0]
 
 
 def disturbance_wrench(kind: str, level: float, direction_deg: float = 0.0):
@@ -133,10 +136,10 @@ def slip_load_factors(points, normals, normal_forces, centroid, capacities, base
     scales : (3,) float
         0 when the contact already slips under the base wrench; inf when it never saturates.
     """
-    a = contact_tangential_forces(points, normals, normal_forces, centroid, base_force, base_moment)
-    ab = contact_tangential_forces(points, normals, normal_forces, centroid,
-                                   np.asarray(base_force) + unit_force,
-                                   np.asarray(base_moment) + unit_moment)
+    base_f, base_m = np.asarray(base_force, dtype=float), np.asarray(base_moment, dtype=float)
+    a, ab = _tangential_solve(points, normals, normal_forces, centroid,
+                              np.stack([base_f, base_f + unit_force]),
+                              np.stack([base_m, base_m + unit_moment]))
     b = ab - a
     cap = np.asarray(capacities, dtype=float).reshape(3)
     qa = np.einsum("ij,ij->i", b, b)
