@@ -118,16 +118,27 @@ def test_records_equal_the_in_process_rig(runs):
     trials = {t.trial_id: t for t in study_trials(study, get_kind(name),
                                                   kind_params(study, get_kind(name)))}
     rec = records.set_index("trial_id")
+    counterfactual = RunStore(seq.path).read(f"tables/{H.COUNTERFACTUAL_TABLE}").to_pandas()
+    counterfactual = counterfactual.set_index("trial_id")
     for tid in list(trials)[:: max(1, len(trials) // 40)]:
         t = trials[tid]
         row = {k: v for k, v in t.factors.items() if k not in (H.SHEET_ID, "seed")}
         row.update(trial_id=t.factors[H.SHEET_ID], study=name)
+        # one seed from the trial's generator, the same execution noise for both readings
+        seed = int(t.rng(SEEDS[name]).integers(0, 2**63))
         pred = predict_trial(row)
-        meas = virtual_trial(row, pred, t.rng(SEEDS[name]))
+        meas = virtual_trial(row, pred, np.random.default_rng(seed))
         for k, v in {**pred, **meas}.items():
             if k in ("plan_time_s", "source"):
                 continue
             got = rec.loc[tid, k]
+            assert (got is None or (isinstance(got, float) and math.isnan(got))) if v is None \
+                or (isinstance(v, float) and math.isnan(v)) else got == v, (tid, k)
+        none = virtual_trial(row, pred, np.random.default_rng(seed), belief_error="none")
+        for k, v in none.items():
+            if k in ("plan_time_s", "source"):
+                continue
+            got = counterfactual.loc[tid, k]
             assert (got is None or (isinstance(got, float) and math.isnan(got))) if v is None \
                 or (isinstance(v, float) and math.isnan(v)) else got == v, (tid, k)
 
@@ -154,6 +165,46 @@ def test_records_do_not_depend_on_the_worker_count(runs):
     assert sorted(a.columns) == sorted(b.columns)
     for col in sorted(set(a.columns) - TIMING):
         assert _same(a[col], b[col]), col
+
+
+def test_the_counterfactual_reading_is_one_row_per_trial(runs):
+    name, root, study, seq, par, records = runs
+    table = RunStore(seq.path).read(f"tables/{H.COUNTERFACTUAL_TABLE}").to_pandas()
+    assert sorted(table["trial_id"]) == sorted(records["trial_id"])
+    assert (table["belief_error"] == "none").all() and (records["belief_error"] == "paper").all()
+    none = H.records_under_belief(records, table)
+    assert set(records.columns) <= set(none.columns) and len(none) == len(records)
+    pd.testing.assert_series_equal(none.set_index("trial_id")["slot_id"].sort_index(),
+                                   records.set_index("trial_id")["slot_id"].sort_index())
+    ex = none[~none["aborted"].astype(bool) & (none["g_geo_actual"] > 0)]
+    assert len(ex) > 20
+    np.testing.assert_allclose(ex["g_geo_believed"], ex["g_geo_actual"], atol=1e-12)
+    np.testing.assert_allclose(ex["mu_s_believed"], ex["mu_s_actual"], rtol=1e-12)
+    np.testing.assert_allclose(ex["sf_predicted"], ex["sf_actual"], rtol=1e-12)
+    # the paper reading keeps each planner's own belief
+    paper = records[~records["aborted"].astype(bool)]
+    base = paper[paper["planner"] != "heuristic"]
+    np.testing.assert_allclose(base["mu_s_believed"], 0.646, atol=5e-4)  # Table 4 mean
+    other = RunStore(par.path).read(f"tables/{H.COUNTERFACTUAL_TABLE}").to_pandas()
+    a = table.sort_values("trial_id").reset_index(drop=True)
+    b = other.sort_values("trial_id").reset_index(drop=True)
+    for col in sorted(set(a.columns) - TIMING):
+        assert _same(a[col], b[col]), col
+
+
+def test_belief_error_param(tmp_path):
+    study = _study("test3_disturbance", tmp_path, "params.belief_error=[paper]",
+                   "params.blocks=[C]", "runner.backend=sequential")
+    summary = run_study(study)
+    assert summary.n_error == 0
+    assert RunStore(summary.path).read(f"tables/{H.COUNTERFACTUAL_TABLE}").num_rows == 0
+    result = cli.invoke(app, ["show", "test2_grasp", "params.belief_error=[none]"])
+    assert result.exit_code == 2
+    assert "params.belief_error must list 'paper' (the records hold the planners' own beliefs; " \
+           "'none' is their counterfactual), got ['none']." in result.stderr
+    result = cli.invoke(app, ["show", "test2_grasp", "params.belief_error=[paper,oracle]"])
+    assert result.exit_code == 2
+    assert "params.belief_error[1] has unknown value 'oracle'" in result.stderr
 
 
 def test_schedule_command_writes_the_sheet_with_its_plans(tmp_path):

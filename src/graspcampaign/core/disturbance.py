@@ -7,19 +7,49 @@ factor compares it with the lifted weight including the inertial term,
 
 and the budget ``SF W`` is shared between the weight and a disturbance, which gives the predicted
 limits ``F_lat = W sqrt(SF^2 - 1)``, ``F_down = W (SF - 1)`` and ``T = W sqrt(SF^2 - 1) r_eff``
-(§9.1). Everything here is closed-form statics on a contact set; no dynamics.
+(§9.1). Everything here is closed-form statics on a contact set; no dynamics. The contact-level
+statics (tangential forces, first finger to slip, pad microslip) are :mod:`graspcampaign.core.slip`.
 
-Geometric efficiency ``G_geo`` (our definition; SPEC §2.10 asks for one):
+Geometric efficiency ``G_geo`` (our definition; SPEC §2.10 asks for one, issue 13 asks that it
+count the sign of ``n_z``):
 
-    G_geo = beta * (1/3) sum_j sqrt(1 - n_z,j^2),
-    beta  = 1 - |sum_j h_j| / sum_j |h_j|,     h_j = horizontal part of the outward normal n_j.
+    G_geo = clip( (1/3) sum_j s_j (sqrt(1 - n_z,j^2) - n_z,j / (kappa mu_s)), 0, 1 ),
 
-The mean term is the vertical reach of each contact's friction: a finger pressing along ``-n_j``
-can only pull the object up with friction that lies in its tangent plane, whose largest vertical
-component is ``mu f_n sqrt(1 - n_z^2)``; it is 1 for three horizontal normals and falls to 0 as the
-normals turn vertical. ``beta`` is 1 when the horizontal squeeze balances itself (the grip does
-not push the object sideways) and 0 when all three fingers push the same way. So ``G_geo`` lies in
-[0, 1], equal to 1 exactly for three horizontal, self-balancing normals.
+with ``s_j`` the load-shared normal force of finger j per unit of equal commanded grip
+(:func:`load_shared_forces` of ``(1, 1, 1)``: the object shifts in the hand until the squeeze
+balances horizontally) and ``G_geo = 0`` when that sharing needs a non-positive force (a finger
+loses contact under equal commands). Derivation: a finger pressing along ``-n_j`` with normal force
+``f_j`` lifts the object with friction in its tangent plane, whose largest vertical component is
+``kappa mu_s f_j sqrt(1 - n_z,j^2)``, and with its own normal force, whose vertical component
+``-f_j n_z,j`` supports the object at a lower contact (``n_z < 0``) and *adds load* at an upper one
+(``n_z > 0``). The vertical capacity of the grasp is therefore
+
+    V(f) = sum_j f_j (kappa mu_s sqrt(1 - n_z,j^2) - n_z,j)           (:func:`vertical_capacity`)
+
+and ``G_geo`` is ``V(F s) / (3 kappa mu_s F)``, so that ``3 mu_s F G_geo kappa`` -- the §8.1 holding
+term -- is exactly the vertical capacity at grip F. It is 1 for three horizontal, self-balancing
+normals, falls as upper contacts turn vertical (to 0 once their push exceeds their friction reach),
+and would exceed 1 for a cradle of lower contacts; it is capped at 1, the paper's range
+``G_geo in (0, 1]`` (§8.1): the safety factor never credits more than the friction budget of three
+horizontal contacts, which under-states a cradle (conservative). The term ``n_z / (kappa mu_s)``
+converts normal support into friction-equivalent units, so G_geo depends on the friction the
+caller believes: a planner's believed G_geo uses its believed mu_s, the achieved one the true mu_s.
+
+Relation to the friction-cone LP of :mod:`graspcampaign.core.statics` (tested in
+tests/core/test_disturbance.py, stated in docs/decisions.md):
+
+1. *Necessary.* If contact forces inside the cones ``|f_t| <= kappa mu_s f_n`` balance the lifted
+   weight ``W' = W (1 + a_lift/g)`` in force (torque aside) with normal forces ``f``, then
+   ``V(f) >= W'``: the z-component of the balance is ``W' = sum_j (f_t,j . z - f_j n_z,j)`` and
+   ``|f_t,j . z| <= kappa mu_s f_j sqrt(1 - n_z,j^2)``. So SF < 1 at grip F (uncapped G_geo) means
+   no static equilibrium exists at the load-shared forces ``F s``.
+2. *Sufficient for symmetric sets.* For three contacts related by 120 deg rotations about the
+   vertical through the centre of mass, SF(F) >= 1 exactly when F is at least the LP's minimum
+   per-finger normal force (the exact cone lies between the LP's inscribed cones at ``kappa mu_s``
+   and at ``kappa mu_s / cos(pi/q)``).
+3. *Neither in general.* SF ignores torque (coincident contacts beside the centre of mass: SF >= 1,
+   LP infeasible) and equal commands cannot unload a harmful upper contact (a finger below the
+   centre of mass with two steep upper fingers: LP feasible, G_geo = 0).
 
 Shape letters: ``c = 3`` contacts; leading batch axes broadcast where stated.
 
@@ -27,12 +57,11 @@ References
 ----------
 Paper §8.1 (SF, kappa, G_geo, grip sizing from believed quality, tau_F = 0.0886 N), §9.1 (shared
 friction budget and the three limits), §7.4 (damage depth), Table 4 (constants).
-Johnson, K. L. (1985), Contact Mechanics, §7.2 (Mindlin partial slip, Eq. 7.42).
 Fung, Y. C. (1981), Biomechanics, ch. 7 (quasi-linear viscoelasticity); Findley, Lai & Onaran
 (1976), Creep and Relaxation of Nonlinear Viscoelastic Materials, §5.3 (standard linear solid:
 relaxation ratio rho, time constant tau <-> creep time constant tau / rho).
-Murray, Li & Sastry (1994), A Mathematical Introduction to Robotic Manipulation, §5.2 (contact
-wrenches, grasp statics).
+Murray, Li & Sastry (1994), A Mathematical Introduction to Robotic Manipulation, §5.2-5.3 (contact
+wrenches, friction cones).
 """
 
 from __future__ import annotations
@@ -47,28 +76,25 @@ from graspcampaign.core.statics import GRAVITY
 
 __all__ = [
     "A_LIFT",
+    "DISTURBANCE_KINDS",
     "KAPPA",
     "SF_STABLE",
     "SF_TARGET",
     "TAU_F_HARDWARE",
     "DisturbanceLimits",
     "GripSizing",
-    "contact_tangential_forces",
     "creep_compliance",
     "disturbance_limits",
-    "disturbance_wrench",
     "effective_radius",
-    "first_slip_finger",
     "force_at_indentation",
     "geometric_efficiency",
     "grip_for_safety_factor",
     "indentation_from_force",
     "load_shared_forces",
-    "microslip",
     "retention_margin",
     "safety_factor",
     "size_grip",
-    "slip_load_factors",
+    "vertical_capacity",
 ]
 
 logger = logging.getLogger(__name__)
@@ -87,6 +113,7 @@ A_LIFT = 0.3
 rig actuators, §7.1, the only acceleration the paper states)."""
 
 DISTURBANCE_KINDS = ("none", "lateral", "down", "up", "yaw")
+"""Disturbance families of Test 3 (§9.1); ``none`` is Test 2's lift and hold."""
 
 
 # --------------------------------------------------------------------------------------------
@@ -99,27 +126,123 @@ def _normals(normals) -> np.ndarray:
     return normals / np.linalg.norm(normals, axis=-1, keepdims=True)
 
 
-def geometric_efficiency(normals) -> np.ndarray | float:
-    """Return G_geo of contact sets (module docstring).
+def _shares(commanded, normals) -> np.ndarray:
+    """Batched least-squares horizontal load sharing (:func:`load_shared_forces`), (..., 3)."""
+    n = _normals(normals)
+    c = np.broadcast_to(np.asarray(commanded, dtype=float), n.shape[:-1])
+    a = -np.swapaxes(n[..., :2], -1, -2)  # (..., 2, 3): horizontal force directions -h_j
+    gram = a @ np.swapaxes(a, -1, -2)  # (..., 2, 2), symmetric positive semi-definite
+    ac = np.einsum("...ij,...j->...i", a, c)
+    return c - np.einsum("...ji,...j->...i", a, np.einsum("...ij,...j->...i", _pinv2(gram), ac))
+
+
+def _pinv2(m: np.ndarray) -> np.ndarray:
+    """Moore-Penrose inverse of symmetric PSD (..., 2, 2) matrices in closed form.
+
+    With the trace ``t`` scaled out (``pinv(m) = pinv(m / t) / t``): full rank, the adjugate over
+    the determinant; rank one (``m = lambda u u^T``), ``m / t^2``; zero, zero. Rank is judged as
+    ``numpy.linalg.pinv`` does, a singular value below 1e-15 times the largest counting as zero.
+    Written out because ``pinv`` (an SVD) of a 2 x 2 costs ~0.1 ms and this runs per prediction.
+    """
+    tr = m[..., 0, 0] + m[..., 1, 1]
+    scale = np.where(tr > 0.0, tr, 1.0)[..., None, None]
+    u = m / scale  # trace 1 (or a zero matrix)
+    det = u[..., 0, 0] * u[..., 1, 1] - u[..., 0, 1] * u[..., 1, 0]
+    t = u[..., 0, 0] + u[..., 1, 1]
+    small = np.maximum(t - np.sqrt(np.maximum(t * t - 4.0 * det, 0.0)), 0.0) / 2.0
+    adj = np.stack([np.stack([u[..., 1, 1], -u[..., 0, 1]], -1),
+                    np.stack([-u[..., 1, 0], u[..., 0, 0]], -1)], -2)
+    full = small > 1e-15 * (t - small)
+    inv = np.where(full[..., None, None], adj / np.where(full, det, 1.0)[..., None, None], u)
+    return np.where((tr > 0.0)[..., None, None], inv / scale, 0.0)
+
+
+def load_shared_forces(commanded, normals) -> tuple[np.ndarray, bool]:
+    """Return the per-finger normal forces closest to the commands that balance horizontally.
+
+    Parameters
+    ----------
+    commanded : (3,) float
+        Commanded normal force of each finger [N].
+    normals : (3, 3) float
+        Outward unit normals.
+
+    Returns
+    -------
+    forces : (3,) float
+        ``f = c - A^T (A A^T)^+ A c`` with ``A`` the 2 x 3 matrix of horizontal force directions
+        ``-h_j``: the least-squares correction of the commands under which the squeeze exerts no
+        net horizontal force on the object (the object shifts in the hand until the fingers'
+        forces balance).
+    feasible : bool
+        False when balance needs a non-positive finger force: that finger loses contact.
+    """
+    c = np.asarray(commanded, dtype=float).reshape(3)
+    f = _shares(c, np.asarray(normals, dtype=float).reshape(3, 3))
+    return f, bool(np.all(f > 1e-9))
+
+
+def vertical_capacity(normals, normal_forces, mu_eff) -> np.ndarray | float:
+    """Return the largest vertical force the contacts can exert on the object [N].
+
+    Parameters
+    ----------
+    normals : (..., 3, 3) float
+        Outward unit contact normals ``n_out``.
+    normal_forces : (..., 3) float
+        Normal force of each finger [N] (applied along ``-n_out``).
+    mu_eff : float or (...) float
+        Effective friction coefficient of each contact (``kappa mu_s`` for the hand) [-].
+
+    Returns
+    -------
+    capacity : (...) float
+        ``V = sum_j f_j (mu_eff sqrt(1 - n_z,j^2) - n_z,j)``: friction pulling straight up the
+        tangent plane at its limit, plus the vertical component of each normal push (negative at
+        an upper contact). Vertical force balance against a load ``W'`` is possible with these
+        normal forces exactly when ``W' <= V`` (module docstring, relation 1).
+
+    References
+    ----------
+    Coulomb cone, Eq. 15; Murray, Li & Sastry (1994) §5.2.
+    """
+    n = _normals(normals)
+    f = np.asarray(normal_forces, dtype=float)
+    reach = np.sqrt(np.clip(1.0 - n[..., 2] ** 2, 0.0, 1.0))
+    mu = np.asarray(mu_eff, dtype=float)[..., None]
+    v = np.sum(f * (mu * reach - n[..., 2]), axis=-1)
+    return float(v) if np.ndim(v) == 0 else v
+
+
+def geometric_efficiency(normals, mu_s, kappa=KAPPA) -> np.ndarray | float:
+    """Return G_geo of contact sets under equal commanded grip (module docstring).
 
     Parameters
     ----------
     normals : (..., 3, 3) float
         Outward unit contact normals ``n_out`` of the three contacts.
+    mu_s : float or (...) float
+        Static friction coefficient the caller uses (a planner its believed value, the rig the
+        true one) [-].
+    kappa : float
+        Friction-enhancement factor [-].
 
     Returns
     -------
     g_geo : (...) float
-        In [0, 1]; 1 for three horizontal self-balancing normals.
+        In [0, 1]: 1 for three horizontal self-balancing normals; smaller as upper contacts tilt
+        (their push adds load); 0 when equal commands cannot be shared with positive forces or the
+        upper contacts' push exceeds the friction reach; capped at 1 for a cradle of lower
+        contacts.
     """
     n = _normals(normals)
-    reach = np.sqrt(np.clip(1.0 - n[..., 2] ** 2, 0.0, 1.0))  # (..., 3)
-    horizontal = n[..., :2]
-    total = np.linalg.norm(horizontal, axis=-1).sum(axis=-1)
-    net = np.linalg.norm(horizontal.sum(axis=-2), axis=-1)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        beta = np.where(total > 1e-12, 1.0 - net / np.maximum(total, 1e-300), 0.0)
-    g = np.clip(beta, 0.0, 1.0) * reach.mean(axis=-1)
+    shares = _shares(np.ones(3), n)
+    mu_eff = kappa * np.asarray(mu_s, dtype=float)
+    per_grip = vertical_capacity(n, shares, mu_eff)
+    ok = np.all(shares > 1e-9, axis=-1) & (mu_eff > 0.0)
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):  # tiny mu: G -> cap
+        g = np.where(ok, per_grip / (3.0 * np.where(mu_eff > 0.0, mu_eff, 1.0)), 0.0)
+    g = np.clip(g, 0.0, 1.0)
     return float(g) if np.ndim(g) == 0 else g
 
 
@@ -363,214 +486,3 @@ def retention_margin(sf: float, weight: float, r_eff: float, kind: str, level: f
         return limits.yaw_torque / level
     demand = abs(weight - level)
     return float(np.inf) if demand == 0.0 else float(sf * weight / demand)
-
-
-# --------------------------------------------------------------------------------------------
-# Contact-level statics: load sharing, tangential forces, first finger to slip
-# --------------------------------------------------------------------------------------------
-def load_shared_forces(commanded, normals) -> tuple[np.ndarray, bool]:
-    """Return the per-finger normal forces closest to the commands that balance horizontally.
-
-    Parameters
-    ----------
-    commanded : (3,) float
-        Commanded normal force of each finger [N].
-    normals : (3, 3) float
-        Outward unit normals.
-
-    Returns
-    -------
-    forces : (3,) float
-        ``f = c - A^T (A A^T)^+ A c`` with ``A`` the 2 x 3 matrix of horizontal force directions
-        ``-h_j``: the least-squares correction of the commands under which the squeeze exerts no
-        net horizontal force on the object (the object shifts in the hand until the fingers'
-        forces balance).
-    feasible : bool
-        False when balance needs a non-positive finger force: that finger loses contact.
-    """
-    c = np.asarray(commanded, dtype=float).reshape(3)
-    a = -_normals(normals)[:, :2].T  # (2, 3)
-    f = c - a.T @ (np.linalg.pinv(a @ a.T) @ (a @ c))
-    return f, bool(np.all(f > 1e-9))
-
-
-def _tangent_bases(normals: np.ndarray) -> np.ndarray:
-    """Return (3, 3, 2) orthonormal tangent bases; the first tangent points as far up as possible."""
-    z = np.array([0.0, 0.0, 1.0])
-    bases = np.empty((3, 3, 2))
-    for j, nj in enumerate(normals):
-        up = z - nj[2] * nj
-        if np.linalg.norm(up) < 1e-9:  # vertical normal: any horizontal pair
-            up = np.array([1.0, 0.0, 0.0]) - nj[0] * nj
-        t1 = up / np.linalg.norm(up)
-        bases[j, :, 0] = t1
-        bases[j, :, 1] = np.cross(nj, t1)
-    return bases
-
-
-def contact_tangential_forces(points, normals, normal_forces, centroid, force, moment):
-    """Solve the determinate statics of three contacts with given normal forces.
-
-    Parameters
-    ----------
-    points : (3, 3) float
-        Contact points [m].
-    normals : (3, 3) float
-        Outward unit normals.
-    normal_forces : (3,) float
-        Normal force of each finger [N] (applied along ``-n``).
-    centroid : (3,) float
-        Reference point of the moments (object centre of mass) [m].
-    force : (3,) float
-        External force on the object other than the contacts, incl. weight [N].
-    moment : (3,) float
-        External moment about ``centroid`` [N m].
-
-    Returns
-    -------
-    tangential : (3, 3) float
-        Tangential (friction) force of each contact [N]: the unique in-plane forces (6 unknowns)
-        that satisfy force and moment balance (6 equations); least-norm when the 6 x 6 system is
-        singular.
-
-    References
-    ----------
-    Murray, Li & Sastry (1994) §5.2.
-    """
-    p = np.asarray(points, dtype=float) - np.asarray(centroid, dtype=float)
-    n = _normals(normals)
-    fn = np.asarray(normal_forces, dtype=float).reshape(3)
-    bases = _tangent_bases(n)
-    a = np.zeros((6, 6))
-    for j in range(3):
-        for k in range(2):
-            t = bases[j, :, k]
-            a[:3, 2 * j + k] = t
-            a[3:, 2 * j + k] = np.cross(p[j], t)
-    normal_vectors = -fn[:, None] * n
-    rhs = np.concatenate([
-        -(normal_vectors.sum(axis=0) + np.asarray(force, dtype=float)),
-        -(np.cross(p, normal_vectors).sum(axis=0) + np.asarray(moment, dtype=float)),
-    ])
-    x = np.linalg.lstsq(a, rhs, rcond=None)[0]
-    return np.einsum("jik,jk->ji", bases, x.reshape(3, 2))
-
-
-def disturbance_wrench(kind: str, level: float, direction_deg: float = 0.0):
-    """Return the external (force [N], moment [N m]) of a unit-described disturbance at the COM.
-
-    ``lateral``: horizontal force ``level`` at azimuth ``direction_deg``; ``down`` / ``up``:
-    vertical force; ``yaw``: moment ``level`` about +z; ``none``: zero.
-    """
-    force = np.zeros(3)
-    moment = np.zeros(3)
-    if kind == "lateral":
-        a = np.radians(direction_deg)
-        force[:2] = level * np.array([np.cos(a), np.sin(a)])
-    elif kind == "down":
-        force[2] = -level
-    elif kind == "up":
-        force[2] = level
-    elif kind == "yaw":
-        moment[2] = level
-    elif kind != "none":
-        raise ValueError(f"kind must be one of {DISTURBANCE_KINDS}, got {kind!r}")
-    return force, moment
-
-
-def slip_load_factors(points, normals, normal_forces, centroid, capacities, base_force,
-                      base_moment, unit_force, unit_moment) -> np.ndarray:
-    """Return, per contact, the disturbance scale at which its friction reaches its capacity.
-
-    The tangential forces are affine in the disturbance scale ``s``:
-    ``f_t,j(s) = a_j + s b_j`` (base wrench plus ``s`` times the unit wrench); contact j saturates
-    at the smallest ``s >= 0`` with ``|a_j + s b_j| = capacity_j``.
-
-    Returns
-    -------
-    scales : (3,) float
-        0 when the contact already slips under the base wrench; inf when it never saturates.
-    """
-    a = contact_tangential_forces(points, normals, normal_forces, centroid, base_force, base_moment)
-    ab = contact_tangential_forces(points, normals, normal_forces, centroid,
-                                   np.asarray(base_force) + unit_force,
-                                   np.asarray(base_moment) + unit_moment)
-    b = ab - a
-    cap = np.asarray(capacities, dtype=float).reshape(3)
-    qa = np.einsum("ij,ij->i", b, b)
-    qb = 2.0 * np.einsum("ij,ij->i", a, b)
-    qc = np.einsum("ij,ij->i", a, a) - cap**2
-    out = np.full(3, np.inf)
-    for j in range(3):
-        if qc[j] >= 0.0:
-            out[j] = 0.0
-        elif qa[j] > 1e-18:
-            out[j] = (-qb[j] + np.sqrt(qb[j] ** 2 - 4.0 * qa[j] * qc[j])) / (2.0 * qa[j])
-    return out
-
-
-def first_slip_finger(points, normals, normal_forces, centroid, mass, mu_s, kind, direction_deg=0.0,
-                      kappa=KAPPA, g=GRAVITY) -> int:
-    """Return the finger (1-3) whose contact saturates first as a disturbance grows; 0 if none.
-
-    Parameters
-    ----------
-    points, normals : (3, 3) float
-        Contacts and outward normals.
-    normal_forces : (3,) float
-        Per-finger normal forces [N].
-    centroid : (3,) float
-        Object centre of mass [m].
-    mass : float
-        [kg]; the weight is the base load.
-    mu_s : float
-        Friction coefficient; each contact's capacity is ``kappa mu_s f_n,j``.
-    kind : {"none", "lateral", "down", "up", "yaw"}
-        Disturbance family (``none``: the weight itself is scaled).
-    direction_deg : float
-        Azimuth of a lateral disturbance.
-
-    Returns
-    -------
-    finger : int
-        1-based index, ties broken by the lower index.
-    """
-    weight = np.array([0.0, 0.0, -mass * g])
-    caps = kappa * mu_s * np.asarray(normal_forces, dtype=float)
-    if kind == "none":
-        base_f, base_m = np.zeros(3), np.zeros(3)
-        unit_f, unit_m = weight, np.zeros(3)
-    else:
-        base_f, base_m = weight, np.zeros(3)
-        unit_f, unit_m = disturbance_wrench(kind, 1.0, direction_deg)
-    scales = slip_load_factors(points, normals, normal_forces, centroid, caps, base_f, base_m,
-                               unit_f, unit_m)
-    if not np.any(np.isfinite(scales)):
-        return 0
-    return int(np.argmin(scales)) + 1
-
-
-def microslip(utilisation, capacity, k_t):
-    """Return the Mindlin partial-slip tangential displacement of a contact [m].
-
-    Parameters
-    ----------
-    utilisation : float or (...) float
-        ``Q / Q_cap`` in [0, 1] (clipped).
-    capacity : float or (...) float
-        Tangential capacity ``Q_cap`` of the contact [N].
-    k_t : float or (...) float
-        Initial tangential (stick) stiffness [N/m] (Table 4).
-
-    Returns
-    -------
-    displacement : float or (...) float
-        ``(3 Q_cap / (2 k_t)) (1 - (1 - u)^(2/3))``: ``Q / k_t`` for small u, ``1.5 Q_cap / k_t``
-        at the onset of gross slip.
-
-    References
-    ----------
-    Johnson (1985) Eq. 7.42 with the initial stiffness ``k_t = 8 a G*``.
-    """
-    u = np.clip(np.asarray(utilisation, dtype=float), 0.0, 1.0)
-    return 1.5 * np.asarray(capacity) / np.asarray(k_t) * (1.0 - (1.0 - u) ** (2.0 / 3.0))

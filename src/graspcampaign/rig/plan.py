@@ -1,12 +1,12 @@
 """Planner predictions for the hardware campaigns and the ``graspcampaign plan MESH`` computation.
 
-What each planner *knows* lives here: the Test 1 material constants (Table 4, via
-:data:`graspcampaign.core.bench.FAMILIES`), the calibrated surface coatings, the damage depth of
-each material (from the Test 1 cyclic model), and the hardware form of the proposed planner
-(§8.1: weights 0.45/0.30/0.25, continuous penalties, maximised score H~).
+What each planner *knows* (materials, friction, contact law, creep, geometry) lives in
+:mod:`graspcampaign.rig.belief`; this module plans the contacts (the hardware form of the proposed
+planner, §8.1: weights 0.45/0.30/0.25, continuous penalties, maximised score H~; the registry
+baselines) and sizes each planner's grip from its own belief (§8.1, SPEC §2.10).
 
 * :func:`predict_trial` -- the pre-execution predictions of one schedule row (contacts, H~ terms,
-  believed G_geo, grip sizing, SF_predicted, per-finger forces and deformations,
+  believed G_geo and mu_s, grip sizing, SF_predicted, per-finger forces and deformations,
   ``predicted_stable``, F_lat / F_down / T, first finger to slip, retention flag).
 * :func:`plan_mesh` -- the same pipeline for a user's mesh, plus a PNG of contacts and forces.
 
@@ -33,9 +33,9 @@ from typing import Any
 
 import numpy as np
 
-from graspcampaign.core import bench
 from graspcampaign.core import disturbance as dist
-from graspcampaign.core.contact import NOMINAL_CONTACT, ContactParams, effective_modulus
+from graspcampaign.core import slip
+from graspcampaign.core.contact import NOMINAL_CONTACT
 from graspcampaign.core.equilibrium import EvaluatorParams, evaluate_grasps
 from graspcampaign.core.metric import HARDWARE_WEIGHTS, heuristic_terms
 from graspcampaign.core.planner import (
@@ -46,6 +46,16 @@ from graspcampaign.core.planner import (
     sample_triples,
 )
 from graspcampaign.core.statics import GRAVITY
+from graspcampaign.rig.belief import (  # noqa: F401  (re-exported: the planners' knowledge)
+    CHARACTERISTIC_Z,
+    COATING_MU_S,
+    MaterialModel,
+    PlannerBelief,
+    believed_contact_law,
+    family_damage_depth,
+    material_model,
+    planner_belief,
+)
 
 __all__ = [
     "CHARACTERISTIC_Z",
@@ -53,11 +63,14 @@ __all__ = [
     "HARDWARE_PLANNERS",
     "HardwarePlan",
     "MaterialModel",
+    "commanded_disturbance",
     "family_damage_depth",
+    "grip_time_s",
     "hardware_plan",
     "material_model",
     "plan_mesh",
     "predict_trial",
+    "predictions_from_plan",
 ]
 
 logger = logging.getLogger(__name__)
@@ -65,142 +78,9 @@ logger = logging.getLogger(__name__)
 HARDWARE_PLANNERS = ("heuristic", "no_pso", "centroid", "force_balance", "random")
 """The proposed planner and the four hardware baselines of §8.1."""
 
-COATING_MU_S = {"high": 0.90, "medium": 0.35, "low": 0.15}
-"""Static friction of the surface coatings on the silicone fingertip (decision, docs/decisions.md:
-low = a PTFE-like film, medium = a powdered (talc) skin, high = a tacky rubber coating, at the
-values typical of such pairs; the paper reports only their effect, §9.2)."""
-
-CHARACTERISTIC_Z = 1.645
-"""The grip cap uses the 5 % characteristic (lower-fractile) stiffness and damage depth of the
-material's Test 1 specimen distribution (decision: the lower 5 % fractile is the usual
-characteristic value of a resistance, EN 1990 Annex D)."""
-
 STABLE_RESIDUAL_N = dist.TAU_F_HARDWARE
 N_NODES = 390
 """Mesh resolution of the hardware objects (the §6 multi-shape remesh)."""
-
-
-# --------------------------------------------------------------------------------------------
-# Materials and coatings (the planner's knowledge)
-# --------------------------------------------------------------------------------------------
-def family_damage_depth(family: bench.FamilyParams, cyclic_scale: float = 1.0) -> float:
-    """Return the damage depth [m] of a family from the Test 1 cyclic model (§7.4).
-
-    The closed form :func:`graspcampaign.core.bench.true_damage_depth` of the family's
-    stabilised softening and permanent set (scaled by ``cyclic_scale``): the depth at which K/K_1
-    falls to 0.85 or the permanent set reaches 0.5 mm, whichever is first.
-    """
-    scaled = replace(family, softening_ref=family.softening_ref * cyclic_scale,
-                     set_ref=family.set_ref * cyclic_scale)
-    return float(bench.true_damage_depth(scaled).depth)
-
-
-@dataclass(frozen=True)
-class MaterialModel:
-    """Contact and material constants of one object surface as a planner knows them.
-
-    Attributes
-    ----------
-    material : str
-        Table 4 family key.
-    friction_level : str
-        ``natural`` or a coating (``high``, ``medium``, ``low``).
-    mu_s, mu_k : float
-        Static and kinetic friction [-] (Table 4 mean, or the coating's).
-    k_n_per_mm_n, n : float
-        Eq. 13 law of the fingertip-material pair (Table 4).
-    c_n_s_per_m : float
-        Damping C [N s/m] (Table 4).
-    k_t : float
-        Tangential stick stiffness [N/m] (Table 4).
-    rho, tau : float
-        Relaxation ratio and time constant [s] (Table 4).
-    modulus, modulus_sd : float
-        Young's modulus mean and SD [Pa] (Table 4).
-    damage_depth : float
-        Damage depth of the family's mean specimen [m] (§7.4).
-    cap_depth : float
-        Characteristic (5 %) damage depth used by the grip cap [m].
-    cap_k_n_per_mm_n : float
-        Characteristic (5 %) stiffness used by the grip cap [N mm^-n].
-    """
-
-    material: str
-    friction_level: str
-    mu_s: float
-    mu_k: float
-    k_n_per_mm_n: float
-    n: float
-    c_n_s_per_m: float
-    k_t: float
-    rho: float
-    tau: float
-    modulus: float
-    modulus_sd: float
-    damage_depth: float
-    cap_depth: float
-    cap_k_n_per_mm_n: float
-
-    def contact_params(self, fingertip_radius: float = bench.FINGERTIP_RADIUS) -> ContactParams:
-        """Return ContactParams whose Eq. 14 K and C reproduce this model's K and C.
-
-        ``fingertip_radius`` [m] must be the radius this model was built for
-        (:func:`material_model`'s). ``k_n_per_mm_n`` is already scaled to that radius, so lambda1
-        is solved there; ``c_n_s_per_m`` is Table 4's 5 mm bench value, so lambda2 is solved at
-        the bench radius and Eq. 14 scales C with R.
-        """
-        psi = effective_modulus(bench.FINGERTIP_MODULUS, bench.FINGERTIP_POISSON, self.modulus,
-                                bench.SPECIMEN_POISSON)
-        lambda1 = self.k_n_per_mm_n / (2.0 * psi / 1e6 * math.sqrt(fingertip_radius * 1e3))
-        lambda2 = self.c_n_s_per_m / (4.0 * math.pi * bench.FINGERTIP_RADIUS)
-        return ContactParams(lambda1=lambda1, lambda2=lambda2, n=self.n,
-                             fingertip_radius=fingertip_radius,
-                             e_finger=bench.FINGERTIP_MODULUS, e_object=self.modulus,
-                             nu_finger=bench.FINGERTIP_POISSON, nu_object=bench.SPECIMEN_POISSON)
-
-
-@functools.lru_cache(maxsize=64)
-def material_model(material: str, friction_level: str = "natural",
-                   fingertip_radius: float = bench.FINGERTIP_RADIUS) -> MaterialModel:
-    """Return the planner's constants for a Table 4 family and surface.
-
-    Parameters
-    ----------
-    material : str
-        One of ``gel``, ``silicone_soft``, ``bio_foam``, ``silicone_ref``.
-    friction_level : str
-        ``natural`` (Table 4 friction) or a coating of :data:`COATING_MU_S` (mu_k keeps the
-        family's mu_k/mu_s ratio).
-    fingertip_radius : float
-        [m]; K scales with sqrt(R) (Eq. 14) from the 5 mm bench fingertip.
-
-    Raises
-    ------
-    ValueError
-        Unknown material or friction level.
-    """
-    if material not in bench.FAMILIES:
-        raise ValueError(f"unknown material {material!r}: use one of {', '.join(bench.FAMILIES)}")
-    fam = bench.FAMILIES[material]
-    if friction_level == "natural":
-        mu_s, mu_k = fam.mu_s, fam.mu_k
-    elif friction_level in COATING_MU_S:
-        mu_s = COATING_MU_S[friction_level]
-        mu_k = mu_s * fam.mu_k / fam.mu_s
-    else:
-        raise ValueError(f"unknown friction level {friction_level!r}: use natural, "
-                         f"{', '.join(COATING_MU_S)}")
-    scale = math.sqrt(fingertip_radius / bench.FINGERTIP_RADIUS)
-    psi = bench.specimen_effective_modulus
-    low_modulus = max(fam.modulus_mean - CHARACTERISTIC_Z * fam.modulus_sd, 0.3 * fam.modulus_mean)
-    cap_k = fam.k_n_per_mm_n * scale * psi(low_modulus) / psi(fam.modulus_mean)
-    cyclic_high = math.exp(CHARACTERISTIC_Z * bench.SpreadParams().cyclic_rel)
-    return MaterialModel(
-        material=material, friction_level=friction_level, mu_s=mu_s, mu_k=mu_k,
-        k_n_per_mm_n=fam.k_n_per_mm_n * scale, n=fam.n, c_n_s_per_m=fam.c, k_t=fam.k_t,
-        rho=fam.rho, tau=fam.tau, modulus=fam.modulus_mean, modulus_sd=fam.modulus_sd,
-        damage_depth=family_damage_depth(fam), cap_depth=family_damage_depth(fam, cyclic_high),
-        cap_k_n_per_mm_n=cap_k)
 
 
 # --------------------------------------------------------------------------------------------
@@ -266,13 +146,6 @@ class HardwarePlan:
     plan_time_s: float
 
 
-def _believed_contact(planner: str, material: MaterialModel) -> tuple[float, float]:
-    """Return the contact law (K, n) the planner believes for this material."""
-    if planner == "no_pso":  # uncalibrated Hertzian law (and no relaxation model)
-        return NOMINAL_CONTACT.k_n_per_mm_n, NOMINAL_CONTACT.n
-    return material.k_n_per_mm_n, material.n
-
-
 def hardware_plan(ctx: PlanContext, planner: str, rng: np.random.Generator,
                   believed_k: float, believed_n: float) -> HardwarePlan:
     """Choose three contacts with one hardware planner and evaluate them under its own belief.
@@ -330,7 +203,7 @@ def _cached_plan(shape: str, planner: str, plan_key: str, seed: int, mass: float
     body = _shape_body(shape)
     mat = material_model(material, friction_level)
     ctx = replace(body.ctx, mass=mass, mu=mat.mu_s, contact=mat.contact_params())
-    k, n = _believed_contact(planner, mat)
+    k, n = believed_contact_law(planner, mat)
     return hardware_plan(ctx, planner, _plan_rng(seed, plan_key), k, n)
 
 
@@ -373,52 +246,64 @@ def commanded_disturbance(row: dict) -> tuple[str, float, float]:
     return kind, _num(row, "load_n"), direction
 
 
-def predictions_from_plan(plan: HardwarePlan, material: MaterialModel, mass: float,
+def predictions_from_plan(plan: HardwarePlan, belief: PlannerBelief, mass: float,
                           centroid=(0.0, 0.0, 0.0), kind: str = "none", level: float = 0.0,
                           direction_deg: float = 0.0, load_s: float | None = None
                           ) -> dict[str, Any]:
-    """Size the grip and derive every pre-execution prediction from a plan (SI in, units in keys).
+    """Size the grip from a planner's belief and derive every pre-execution prediction.
 
     Parameters
     ----------
     plan : HardwarePlan
-    material : MaterialModel
-        The planner's constants of the contacted surface.
+        The planned contacts (what the rig executes: points and approach normals).
+    belief : PlannerBelief
+        What the planner believes (:func:`graspcampaign.rig.belief.planner_belief`, or
+        :func:`~graspcampaign.rig.belief.actual_belief` for ``belief_error = none``): friction,
+        the contacts and normals its statics uses, contact law, creep, grip cap.
     mass : float
         [kg].
     centroid : (3,) float
         Object centroid [m].
     kind, level, direction_deg
-        Commanded disturbance (see :func:`commanded_disturbance`).
+        Commanded disturbance (see :func:`commanded_disturbance`; ``none`` for Test 2).
     load_s : float, optional
-        Time under grip the calibrated planners expect the indentation to creep over (lift plus
-        hold; QLV with Table 4 rho and tau); the uncalibrated no-PSO planner models no creep.
-        Default: :func:`grip_time_s` at the default lift speed and hold.
+        Time under grip the indentation creeps over (lift plus hold) for a belief with a creep
+        model. Default: :func:`grip_time_s` at the default lift speed and hold.
 
     Returns
     -------
     dict
         Flat prediction columns (see :func:`predict_trial`).
+
+    Notes
+    -----
+    The grip is sized to the target SF from the believed mu_s and G_geo, capped at the grip that
+    keeps the believed most loaded finger -- and the commanded force itself -- within the cap
+    depth after the believed creep (SPEC §2.10). ``predicted_stable`` follows §9.5: the believed
+    retention margin under the commanded disturbance exceeds one; for Test 2 the commanded load
+    is the lifted weight alone, so the margin is SF_predicted itself. The paper's Test 2 reading
+    (§8.1: Algorithm 2's residual at most tau_F = 0.0886 N) is kept as
+    ``predicted_stable_residual``.
     """
     if load_s is None:
         load_s = grip_time_s({})
-    k_b, n_b = _believed_contact(plan.planner, material)
-    calibrated = plan.planner != "no_pso"
-    creep = float(dist.creep_compliance(load_s, material.rho, material.tau)) if calibrated else 1.0
-    cap_k = material.cap_k_n_per_mm_n if calibrated else k_b
-    g_geo = float(dist.geometric_efficiency(plan.normals))
-    shares, _ = dist.load_shared_forces(np.ones(3), plan.normals)
-    max_share = max(float(shares.max()), 1e-6)
-    sizing = dist.size_grip(mu_s=material.mu_s, g_geo=g_geo, mass=mass, k_n_per_mm_n=cap_k,
-                            n=n_b, cap_depth=material.cap_depth, creep=creep, max_share=max_share)
-    forces, feasible = dist.load_shared_forces(np.full(3, sizing.grip_force), plan.normals)
+    creep = belief.creep(load_s)
+    g_geo = belief.g_geo()
+    shares, _ = dist.load_shared_forces(np.ones(3), belief.normals)
+    # each finger first presses with its commanded force, then the object shifts and the forces
+    # share out: the cap keeps both the command and the largest shared force within the cap depth
+    max_share = max(float(shares.max()), 1.0)
+    sizing = dist.size_grip(mu_s=belief.mu_s, g_geo=g_geo, mass=mass,
+                            k_n_per_mm_n=belief.cap_k_n_per_mm_n, n=belief.n,
+                            cap_depth=belief.cap_depth, creep=creep, max_share=max_share)
+    forces, feasible = dist.load_shared_forces(np.full(3, sizing.grip_force), belief.normals)
     forces = np.maximum(forces, 0.0)
-    depths_mm = dist.indentation_from_force(forces, k_b, n_b, creep) * 1e3
+    depths_mm = dist.indentation_from_force(forces, belief.k_n_per_mm_n, belief.n, creep) * 1e3
     weight = mass * GRAVITY
-    r_eff = dist.effective_radius(plan.points, centroid)
+    r_eff = dist.effective_radius(belief.points, centroid)
     limits = dist.disturbance_limits(sizing.sf_predicted, weight, r_eff)
-    first = dist.first_slip_finger(plan.points, plan.normals, forces, centroid, mass,
-                                   material.mu_s, kind, direction_deg) if feasible else 0
+    first = slip.first_slip_finger(belief.points, belief.normals, forces, centroid, mass,
+                                   belief.mu_s, kind, direction_deg) if feasible else 0
     margin = dist.retention_margin(sizing.sf_predicted, weight, r_eff, kind, level) \
         if sizing.sf_predicted >= 1.0 else sizing.sf_predicted
     threshold_n = {"lateral": limits.lateral_force, "down": limits.down_force}.get(kind, math.nan)
@@ -432,8 +317,10 @@ def predictions_from_plan(plan: HardwarePlan, material: MaterialModel, mass: flo
     out.update({
         "h_tilde": plan.h_tilde, "s1": plan.s1, "s2": plan.s2, "s3": plan.s3,
         "pc_mag": plan.pc_mag, "pe_mag": plan.pe_mag,
-        "g_geo_predicted": g_geo, "mu_s_believed": material.mu_s,
-        "k_believed_n_per_mm_n": k_b, "n_believed": n_b,
+        "belief_error": belief.belief_error, "belief_model": belief.model,
+        "g_geo_believed": g_geo, "mu_s_believed": belief.mu_s,
+        "k_believed_n_per_mm_n": belief.k_n_per_mm_n, "n_believed": belief.n,
+        "creep_believed": creep,
         "grip_force_n": sizing.grip_force, "grip_needed_n": sizing.needed_force,
         "grip_cap_n": sizing.cap_force, "grip_capped": sizing.capped,
         "sf_predicted": sizing.sf_predicted,
@@ -444,7 +331,8 @@ def predictions_from_plan(plan: HardwarePlan, material: MaterialModel, mass: flo
         "contact_loss_predicted": not feasible,
         "residual_pred_n": plan.residual_norm,
         "delta_max_pred_mm": plan.delta_max_mm,
-        "predicted_stable": bool(plan.residual_norm <= STABLE_RESIDUAL_N),
+        "predicted_stable": bool(margin > 1.0),
+        "predicted_stable_residual": bool(plan.residual_norm <= STABLE_RESIDUAL_N),
         "r_eff_mm": r_eff * 1e3,
         "f_lat_pred_n": limits.lateral_force, "f_down_pred_n": limits.down_force,
         "torque_pred_nm": limits.yaw_torque,
@@ -458,7 +346,7 @@ def predictions_from_plan(plan: HardwarePlan, material: MaterialModel, mass: flo
     return out
 
 
-def predict_trial(row: dict) -> dict[str, Any]:
+def predict_trial(row: dict, belief: PlannerBelief | None = None) -> dict[str, Any]:
     """Return the planner's pre-execution predictions for one schedule row.
 
     Parameters
@@ -467,21 +355,27 @@ def predict_trial(row: dict) -> dict[str, Any]:
         A row of :func:`graspcampaign.rig.protocol.test2_schedule` or ``test3_schedule``
         (needs ``shape, material, mass_kg, planner, plan_key, protocol_seed, friction_level,
         hold_s``; Test 3 rows also the disturbance columns).
+    belief : PlannerBelief, optional
+        Replaces the planner's own belief (:func:`graspcampaign.rig.belief.planner_belief`):
+        the virtual rig passes the actual quantities for ``belief_error = none``.
 
     Returns
     -------
     dict
         ``vertex_1..3``; ``contact_j_{x,y,z}_mm`` and ``normal_j_{x,y,z}`` (planned contacts and
-        the normals the planner believes); ``h_tilde, s1, s2, s3, pc_mag, pe_mag``;
-        ``g_geo_predicted, mu_s_believed, k_believed_n_per_mm_n, n_believed``;
-        ``grip_force_n`` (commanded per finger), ``grip_needed_n``, ``grip_cap_n``,
-        ``grip_capped``, ``sf_predicted``; ``normal_force_pred_j_n``, ``normal_force_pred_mean_n``,
+        their outward normals: the fingers close along ``-normal``); ``h_tilde, s1, s2, s3,
+        pc_mag, pe_mag``; ``belief_error`` (paper | none), ``belief_model`` (calibrated,
+        nominal_law, nominal_geometry, actual); ``g_geo_believed, mu_s_believed,
+        k_believed_n_per_mm_n, n_believed, creep_believed``; ``grip_force_n`` (commanded per
+        finger), ``grip_needed_n``, ``grip_cap_n``, ``grip_capped``, ``sf_predicted`` (the
+        believed SF); ``normal_force_pred_j_n``, ``normal_force_pred_mean_n``,
         ``deformation_pred_j_mm``, ``deformation_pred_mean_mm``; ``contact_loss_predicted``;
-        ``residual_pred_n``, ``delta_max_pred_mm``, ``predicted_stable`` (residual <= 0.0886 N);
+        ``residual_pred_n``, ``delta_max_pred_mm``; ``predicted_stable`` (believed retention
+        margin > 1, §9.5), ``predicted_stable_residual`` (residual <= 0.0886 N, §8.1);
         ``r_eff_mm``, ``f_lat_pred_n``, ``f_down_pred_n``, ``torque_pred_nm``,
         ``threshold_pred_n`` / ``threshold_pred_nm`` (for the row's disturbance),
-        ``first_finger_pred`` (1-3, 0 = none), ``retention_margin_pred``, ``retention_pred``,
-        ``plan_time_s`` (0 when the plan came from the cache).
+        ``first_finger_pred`` (1-3, 0 = none), ``retention_margin_pred``, ``retention_pred``
+        (= ``predicted_stable``), ``plan_time_s`` (0 when the plan came from the cache).
     """
     planner = str(row["planner"])
     shape = str(row["shape"])
@@ -491,10 +385,12 @@ def predict_trial(row: dict) -> dict[str, Any]:
     plan = _cached_plan(shape, planner, str(row["plan_key"]), int(row.get("protocol_seed", 0)),
                         mass, material.material, material.friction_level)
     cached = _cached_plan.cache_info().hits > hits
+    centroid = _shape_body(shape).ctx.centroid
+    if belief is None:
+        belief = planner_belief(planner, plan.points, plan.normals, material, centroid)
     kind, level, direction = commanded_disturbance(row)
-    load_s = grip_time_s(row)
-    out = predictions_from_plan(plan, material, mass, _shape_body(shape).ctx.centroid, kind, level,
-                                direction, load_s)
+    out = predictions_from_plan(plan, belief, mass, centroid, kind, level, direction,
+                                grip_time_s(row))
     if cached:
         out["plan_time_s"] = 0.0
     return out
@@ -580,12 +476,13 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
                   contact=mat.contact_params(radius_mm * 1e-3), n_cand=DEFAULT_N_CAND,
                   evaluator=EvaluatorParams())
     plan = hardware_plan(ctx, "heuristic", np.random.default_rng(seed), mat.k_n_per_mm_n, mat.n)
-    pred = predictions_from_plan(plan, mat, mass, ctx.centroid)
+    belief = planner_belief("heuristic", plan.points, plan.normals, mat, ctx.centroid)
+    pred = predictions_from_plan(plan, belief, mass, ctx.centroid)
     forces = np.array([pred[f"normal_force_pred_{j}_n"] for j in (1, 2, 3)])
     first = {}
     for label, kind, direction in (("lateral_x", "lateral", 0.0), ("lateral_y", "lateral", 90.0),
                                    ("down", "down", 0.0), ("yaw", "yaw", 0.0)):
-        first[label] = dist.first_slip_finger(plan.points, plan.normals, forces, ctx.centroid,
+        first[label] = slip.first_slip_finger(plan.points, plan.normals, forces, ctx.centroid,
                                               mass, mat.mu_s, kind, direction)
     contacts = [{"finger": j + 1, "vertex": int(plan.vertex_ids[j]),
                  "point_mm": [round(float(v) * 1e3, 3) for v in plan.points[j]],
@@ -598,7 +495,7 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
         "fingertip_radius_mm": radius_mm, "kappa": dist.KAPPA, "target_sf": dist.SF_TARGET,
         "contacts": contacts,
         "h": {k: pred[k] for k in ("h_tilde", "s1", "s2", "s3", "pc_mag", "pe_mag")},
-        "g_geo": pred["g_geo_predicted"], "grip_force_n": pred["grip_force_n"],
+        "g_geo": pred["g_geo_believed"], "grip_force_n": pred["grip_force_n"],
         "grip_capped": pred["grip_capped"], "grip_cap_n": pred["grip_cap_n"],
         "sf_predicted": pred["sf_predicted"], "f_lat_n": pred["f_lat_pred_n"],
         "f_down_n": pred["f_down_pred_n"], "torque_nm": pred["torque_pred_nm"],

@@ -7,13 +7,14 @@ these are model outputs, never hardware results.
 
 The model, step by step (each constant's source is in :class:`RigParams` and docs/decisions.md):
 
-1. **Specimen truth.** Each physical object's constants are drawn once, around its Table 4 family,
-   by the Test 1 virtual bench's own :func:`graspcampaign.core.bench.draw_specimen` (modulus from
-   Table 4 mean/SD, K scaled through Eq. 14's effective modulus, friction, k_t, rho, tau, cyclic
-   damage), from a generator keyed by (protocol seed, object id) -- so all trials on an object
-   see the same specimen. The day's ambient group (cool/dry, normal-lab, warm/humid) scales the
-   natural friction as in §7.3. Coatings replace the surface friction by the coating's value with
-   a per-object spread. The true damage depth follows the specimen's cyclic constants (§7.4).
+0. **Beliefs.** The grip executed is the one the planner sized from its own belief
+   (:mod:`graspcampaign.rig.belief`, ``belief_error = paper``), or -- the counterfactual
+   ``belief_error = none`` -- the grip it would size knowing the trial's actual quantities,
+   re-sized after the contacts are realised (step 2).
+1. **Specimen truth** (:mod:`graspcampaign.rig.specimen`). Each object's constants are drawn once
+   around its Table 4 family by the Test 1 virtual bench, keyed by (protocol seed, object id);
+   the day's ambient group scales natural friction (§7.3); coatings replace it with a per-object
+   spread; the true damage depth follows the specimen's cyclic constants (§7.4).
 2. **Execution.** The object sits offset from where the planner believes it is: the designed pose
    error (0 or 10 mm, random horizontal direction) plus the pose-estimation error. Each finger
    closes along its planned force direction ``-n``; its achieved contact is the first surface
@@ -33,16 +34,20 @@ The model, step by step (each constant's source is in :class:`RigParams` and doc
    is carried (barycentric load share of the most loaded contact). Sliding adds its travel.
 6. **Damage.** Indentation under constant grip creeps (QLV standard linear solid, Table 4 rho,
    tau) over the time under load; beyond the specimen's damage depth the trial is a damage event.
-7. **Disturbances (Test 3)** act on the same budget: lateral ramps and torsion ramps are pulled
-   until slip (detected at 2 mm, released after a latency), vertical loads are ramped to their
-   level, impulses and sinusoids are integrated in time.
+   A fingertip sunk deeper than its own radius is buried: ``valid_geometry`` is false, the trial
+   is a damage event too (``success_unbounded`` keeps the reading without this gate), and that
+   finger gives no deformation reading (the Eq. 13 patch no longer exists).
+7. **Disturbances (Test 3)** (:mod:`graspcampaign.rig.disturb`) act on the same budget: lateral
+   and torsion ramps are pulled until slip (detected at 2 mm, released after a latency), vertical
+   loads are ramped to their level, impulses and sinusoids are integrated in time.
 8. **Sensors.** Finger forces at 5 mN, vision at 0.1 mm (multi-frame aggregates stored finer),
    load cell 0.01 N, torque 0.005 N m, each with noise of 1.5 resolution steps before rounding.
 9. **Aborts.** A slot the schedule marks ``rig_fault`` aborts before load (§8.1, §9.1).
 
 Grading (§8.1, exactly): measured failures override the safety factor -- contact loss, drop,
 damage, slip beyond 12 mm (in this order of precedence for the primary class; every flag is also
-recorded); otherwise peak slip < 2 mm is a success, promoted to *stable* when SF_actual >= 1.25;
+recorded); otherwise peak slip < 2 mm is a success, promoted to *stable* when SF_actual >= 1.25
+(SF_actual: the §8.1 formula with the true friction, the commanded grip and the achieved G_geo);
 2-12 mm is *partial* (a failure in the binary column). Test 3 threshold blocks (A, C) succeed
 when the sustained threshold reaches the proof load and the object is retained.
 
@@ -54,8 +59,6 @@ Onaran (1976) §5.3 (standard linear solid creep); Moller & Trumbore (1997) (ray
 
 from __future__ import annotations
 
-import functools
-import hashlib
 import logging
 import math
 from dataclasses import dataclass
@@ -65,9 +68,19 @@ import numpy as np
 
 from graspcampaign.core import bench
 from graspcampaign.core import disturbance as dist
+from graspcampaign.core import slip as slip_statics
 from graspcampaign.core.statics import GRAVITY
+from graspcampaign.rig import belief as rigbelief
 from graspcampaign.rig import plan as rigplan
+from graspcampaign.rig.disturb import disturb, empty_measures, num, quantise
 from graspcampaign.rig.protocol import LIFT_HEIGHT_MM
+from graspcampaign.rig.specimen import (  # noqa: F401  (re-exported: the truth a trial runs on)
+    COATING_MU_REL,
+    ENVIRONMENT_PROBABILITIES,
+    Specimen,
+    day_environment,
+    specimen_truth,
+)
 
 __all__ = [
     "ENVIRONMENT_PROBABILITIES",
@@ -89,8 +102,6 @@ OUTCOMES = ("stable", "success", "partial", "failure_slip", "failure_drop", "fai
 """Outcome classes; ``aborted`` rows carry ``outcome = "aborted"`` and enter no statistic."""
 SUCCESS_SLIP_MM = 2.0
 PARTIAL_SLIP_MM = 12.0
-ENVIRONMENT_PROBABILITIES = {"cool_dry": 0.25, "normal_lab": 0.5, "warm_humid": 0.25}
-"""Ambient group of a campaign day (decision: the Test 1 groups, normal-lab twice as likely)."""
 ABORT_REASONS = ("gripper_fault", "vision_dropout", "actuator_fault")
 
 
@@ -136,13 +147,16 @@ class RigParams:
         Observation after a disturbance ends [s] (decision).
     dt : float
         Time step of the sliding integration [s].
+    fingertip_radius : float
+        Radius of the hand's silicone fingertips [m] (5 mm, §8.1): a finger indented deeper is
+        buried (``valid_geometry`` false, a damage event, no deformation reading).
     """
 
     kappa: float = dist.KAPPA
     a_lift: float = dist.A_LIFT
     pose_sd: float = 1.0e-3
     grip_tracking_rel: float = 0.05
-    coating_mu_rel: float = 0.10
+    coating_mu_rel: float = COATING_MU_REL
     finger_force_resolution: float = 5.0e-3
     vision_resolution: float = 1.0e-4
     vision_noise: float = 1.0e-4
@@ -153,90 +167,9 @@ class RigParams:
     detection_slip: float = 2.0e-3
     release_latency: float = 0.05
     drop_travel: float = 25.0e-3
+    fingertip_radius: float = bench.FINGERTIP_RADIUS
     observe: float = 1.0
     dt: float = 1.0e-3
-
-
-# --------------------------------------------------------------------------------------------
-# Specimens and environment
-# --------------------------------------------------------------------------------------------
-def _key_rng(*parts: object) -> np.random.Generator:
-    digest = hashlib.sha256("|".join(map(str, parts)).encode()).digest()
-    words = [int.from_bytes(digest[i:i + 4], "little") for i in range(0, 32, 4)]
-    return np.random.default_rng(np.random.SeedSequence(words))
-
-
-@functools.lru_cache(maxsize=256)
-def day_environment(seed: int, study: str, day: int) -> str:
-    """Return the ambient group of one campaign day (a draw keyed by seed, study and day)."""
-    names = list(ENVIRONMENT_PROBABILITIES)
-    rng = _key_rng("environment", seed, study, day)
-    return str(rng.choice(names, p=list(ENVIRONMENT_PROBABILITIES.values())))
-
-
-@dataclass(frozen=True)
-class Specimen:
-    """True constants of one object surface in one environment.
-
-    Attributes
-    ----------
-    mu_s, mu_k : float
-        True friction of the contacted surface.
-    k_n_per_mm_n, n : float
-        True Eq. 13 law.
-    k_t : float
-        Tangential stick stiffness [N/m].
-    rho, tau : float
-        Relaxation ratio and time constant [s].
-    damage_depth : float
-        True damage depth [m].
-    environment : str
-    """
-
-    mu_s: float
-    mu_k: float
-    k_n_per_mm_n: float
-    n: float
-    k_t: float
-    rho: float
-    tau: float
-    damage_depth: float
-    environment: str
-
-
-@functools.lru_cache(maxsize=1024)
-def specimen_truth(seed: int, object_id: str, material: str, object_index: int,
-                   friction_level: str, environment: str,
-                   coating_mu_rel: float = RigParams.coating_mu_rel) -> Specimen:
-    """Return the true constants of an object (the same for all its trials in one environment).
-
-    Parameters
-    ----------
-    seed : int
-        Protocol seed.
-    object_id, material : str
-    object_index : int
-        Specimen number (recorded by the bench draw only).
-    friction_level : str
-        ``natural`` or a coating of :data:`graspcampaign.rig.plan.COATING_MU_S`.
-    environment : str
-        Ambient group of the trial's day (scales natural friction, §7.3).
-
-    Returns
-    -------
-    Specimen
-    """
-    fam = bench.FAMILIES[material]
-    spec = bench.draw_specimen(fam, object_index, "normal_lab", _key_rng("specimen", seed, object_id))
-    spec = bench.with_environment(spec, environment)
-    mu_s, mu_k = spec.mu_s, spec.mu_k
-    if friction_level != "natural":
-        z = _key_rng("coating", seed, object_id, friction_level).standard_normal()
-        mu_s = rigplan.COATING_MU_S[friction_level] * math.exp(coating_mu_rel * z)
-        mu_k = mu_s * spec.mu_k / spec.mu_s
-    depth = rigplan.family_damage_depth(fam, spec.softening_ref / fam.softening_ref)
-    return Specimen(mu_s=mu_s, mu_k=mu_k, k_n_per_mm_n=spec.k_n_per_mm_n, n=spec.n, k_t=spec.k_t,
-                    rho=spec.rho, tau=spec.tau, damage_depth=depth, environment=environment)
 
 
 # --------------------------------------------------------------------------------------------
@@ -301,91 +234,6 @@ def realise_contacts(mesh, planned_points, planned_normals, offset):
 
 
 # --------------------------------------------------------------------------------------------
-# Sliding on the shared budget
-# --------------------------------------------------------------------------------------------
-@dataclass(frozen=True)
-class _Slide:
-    travel: float  # peak displacement [m]
-    dropped: bool
-    onset_time: float  # first time the budget was exceeded [s], nan if never
-
-
-def _slide(times: np.ndarray, lateral: np.ndarray, vertical: np.ndarray, budget_s: float,
-           budget_k: float, mass: float, drop_travel: float, settle_demand: float) -> _Slide:
-    """Integrate 2-D Coulomb sliding of the object relative to the hand (semi-implicit Euler).
-
-    ``lateral`` and ``vertical`` (down positive) are the demand on the friction budget [N];
-    sticking while the demand lies inside ``budget_s``, sliding against ``budget_k``. After the
-    last sample, a still-sliding object re-sticks if ``budget_k`` exceeds ``settle_demand``
-    (stopping distance v^2 / 2a added), otherwise it is lost.
-    """
-    x = np.zeros(2)
-    v = np.zeros(2)
-    peak = 0.0
-    onset = math.nan
-    sliding = False
-    dt = times[1] - times[0] if len(times) > 1 else 1e-3
-    for i in range(len(times)):
-        demand = np.array([lateral[i], vertical[i]])
-        size = math.hypot(*demand)
-        if not sliding:
-            if size <= budget_s:
-                continue
-            sliding = True
-            if math.isnan(onset):
-                onset = float(times[i])
-        speed = math.hypot(*v)
-        direction = v / speed if speed > 1e-12 else demand / max(size, 1e-300)
-        a = (demand - budget_k * direction) / mass
-        v_new = v + a * dt
-        if speed > 1e-12 and float(np.dot(v_new, v)) <= 0.0 and size <= budget_s:
-            v[:] = 0.0
-            sliding = False
-            continue
-        v = v_new
-        x = x + v * dt
-        peak = max(peak, math.hypot(*x))
-        if x[1] > drop_travel:
-            return _Slide(peak, True, onset)
-    if sliding:
-        speed = math.hypot(*v)
-        if budget_k <= settle_demand:
-            return _Slide(max(peak, drop_travel), True, onset)
-        peak += speed * speed * mass / (2.0 * (budget_k - settle_demand))
-    return _Slide(peak, peak > drop_travel, onset)
-
-
-def _ramp_to_slip(rate: float, cap: float, threshold: float, budget_s: float, budget_k: float,
-                  base: float, mass: float, p: RigParams) -> tuple[float, float, bool, float]:
-    """Quasi-static ramp until slip, detection at 2 mm, release after the latency.
-
-    Returns ``(measured_threshold, slip_travel, dropped, duration)``; a threshold above the cap
-    returns ``(cap, 0, False, cap / rate)`` (censored by the caller).
-    """
-    if threshold > cap:
-        return cap, 0.0, False, cap / rate
-    excess = max(budget_s - budget_k, 1e-9)
-    accel = excess / mass  # the demand stays at the budget while the ramp continues
-    t_detect = math.sqrt(2.0 * p.detection_slip / accel)
-    measured = threshold + rate * t_detect
-    t_total = t_detect + p.release_latency
-    speed = accel * t_total
-    travel = 0.5 * accel * t_total**2
-    if budget_k <= base:  # the kinetic budget cannot even carry the weight: lost after release
-        return measured, max(travel, p.drop_travel), True, threshold / rate + t_total
-    travel += speed * speed * mass / (2.0 * (budget_k - base))
-    return measured, travel, travel > p.drop_travel, threshold / rate + t_total
-
-
-def _quantise(value: float, step: float, rng: np.random.Generator, steps: float,
-              floor: float | None = None) -> float:
-    noisy = value + steps * step * rng.standard_normal()
-    if floor is not None:
-        noisy = max(noisy, floor)
-    return float(np.round(noisy / step) * step)
-
-
-# --------------------------------------------------------------------------------------------
 # Grading
 # --------------------------------------------------------------------------------------------
 def grade(*, contact_loss: bool, dropped: bool, damaged: bool, slip_mm: float, sf_actual: float,
@@ -418,13 +266,6 @@ def _aborted(row: dict, rng: np.random.Generator, environment: str) -> dict[str,
             "source": SOURCE, "environment": environment}
 
 
-def _num(row: dict, key: str, default: float = math.nan) -> float:
-    try:
-        return float(row.get(key, default))
-    except (TypeError, ValueError):
-        return default
-
-
 def _planned(predictions: dict) -> tuple[np.ndarray, np.ndarray]:
     points = np.array([[predictions[f"contact_{j}_{a}_mm"] for a in "xyz"] for j in (1, 2, 3)])
     normals = np.array([[predictions[f"normal_{j}_{a}"] for a in "xyz"] for j in (1, 2, 3)])
@@ -435,7 +276,7 @@ def _planned(predictions: dict) -> tuple[np.ndarray, np.ndarray]:
 # The trial
 # --------------------------------------------------------------------------------------------
 def virtual_trial(row: dict, predictions: dict, rng: np.random.Generator,
-                  params: RigParams | None = None) -> dict[str, Any]:
+                  params: RigParams | None = None, belief_error: str = "paper") -> dict[str, Any]:
     """Execute one schedule row on the virtual rig and return its measured columns.
 
     Parameters
@@ -443,22 +284,36 @@ def virtual_trial(row: dict, predictions: dict, rng: np.random.Generator,
     row : dict
         Schedule row (Test 2 or Test 3).
     predictions : dict
-        :func:`graspcampaign.rig.plan.predict_trial` of the row (planned contacts, believed
-        normals, grip, believed friction).
+        :func:`graspcampaign.rig.plan.predict_trial` of the row (planned contacts and normals,
+        commanded grip, believed friction).
     rng : numpy.random.Generator
-        The trial's own random stream (pose error, force tracking, sensor noise).
+        The trial's own random stream (pose error, force tracking, sensor noise). Both belief
+        readings draw the pose error and the force-tracking errors first and in the same order,
+        so one seed gives both the same execution up to the grip.
     params : RigParams, optional
+    belief_error : {"paper", "none"}
+        ``paper``: the grip of ``predictions`` is executed. ``none``: after the contacts are
+        realised, the planner's grip is re-sized from the trial's *actual* quantities
+        (:func:`graspcampaign.rig.belief.actual_belief`: realised contacts, true friction, law,
+        creep and damage depth) and the returned dict also carries those prediction columns,
+        replacing the pre-execution ones (believed G_geo, mu_s, SF then equal the actual ones).
 
     Returns
     -------
     dict
         ``aborted, abort_reason, source ("virtual"), environment, outcome, success, stable,
-        slip_flag, drop_flag, damage_flag, contact_loss_flag, peak_slip_mm, sf_actual,
-        g_geo_actual, normal_force_1_n..3, normal_force_mean_n, deformation_1_mm..3,
+        slip_flag, drop_flag, damage_flag, contact_loss_flag, peak_slip_mm, mu_s_actual,
+        g_geo_actual, sf_actual, normal_force_1_n..3, normal_force_mean_n, deformation_1_mm..3,
         deformation_mean_mm, max_indentation_mm, contact_point_error_mm`` and for Test 3
         ``threshold_measured_n, threshold_measured_nm, threshold_censored, first_finger_measured,
         rotation_at_limit_deg``. Aborted rows carry only the first four and ``outcome``.
+        ``mu_s_actual`` is the true static friction of the contacted surface on the trial's day;
+        ``g_geo_actual`` the G_geo of the realised contacts under it; ``sf_actual`` the §8.1 SF
+        with that friction, the commanded grip and ``g_geo_actual``.
     """
+    if belief_error not in rigbelief.BELIEF_ERRORS:
+        raise ValueError(f"belief_error must be one of {', '.join(rigbelief.BELIEF_ERRORS)}, "
+                         f"got {belief_error!r}")
     p = RigParams() if params is None else params
     seed = int(row.get("protocol_seed", 0))
     study = str(row.get("study", ""))
@@ -472,17 +327,31 @@ def virtual_trial(row: dict, predictions: dict, rng: np.random.Generator,
     centroid = np.asarray(body.ctx.centroid)
     mass = float(row["mass_kg"])
     weight = mass * GRAVITY
-    grip = float(predictions["grip_force_n"])
     out: dict[str, Any] = {"aborted": False, "abort_reason": "", "source": SOURCE,
                            "environment": environment}
 
     # 2. Execution: pose error and achieved contacts.
-    pose = _num(row, "pose_err_mm", 0.0) * 1e-3
+    pose = num(row, "pose_err_mm", 0.0) * 1e-3
     azimuth = rng.uniform(0.0, 2.0 * math.pi)
     offset = np.array([pose * math.cos(azimuth), pose * math.sin(azimuth), 0.0])
     offset[:2] += p.pose_sd * rng.standard_normal(2)
     planned_points, planned_normals = _planned(predictions)
     points, normals, hit = realise_contacts(body.mesh, planned_points, planned_normals, offset)
+    seen_normals = np.where(hit[:, None], normals, planned_normals)
+    if belief_error == "none":  # the planner re-sizes its grip knowing the actual quantities
+        actual = rigbelief.actual_belief(
+            np.where(hit[:, None], points, planned_points), seen_normals, mu_s=spec.mu_s,
+            k_n_per_mm_n=spec.k_n_per_mm_n, n=spec.n, rho=spec.rho, tau=spec.tau,
+            damage_depth=spec.damage_depth, fingertip_radius=p.fingertip_radius)
+        predictions = rigplan.predict_trial(row, belief=actual)
+        out.update({k: v for k, v in predictions.items() if k != "plan_time_s"})
+    grip = float(predictions["grip_force_n"])
+    # a finger that misses the object achieves no contact: nothing of the grasp is left
+    g_actual = float(dist.geometric_efficiency(seen_normals, spec.mu_s, p.kappa)) \
+        if hit.all() else 0.0
+    out.update(mu_s_actual=spec.mu_s, g_geo_actual=g_actual,
+               sf_actual=float(dist.safety_factor(spec.mu_s, grip, g_actual, mass, p.a_lift,
+                                                  p.kappa)))
     # 3. Forces: tracking error, load sharing.
     commanded = grip * np.exp(p.grip_tracking_rel * rng.standard_normal(3))
     forces = np.zeros(3)
@@ -494,9 +363,7 @@ def virtual_trial(row: dict, predictions: dict, rng: np.random.Generator,
         errors = np.linalg.norm(np.where(hit[:, None], points - planned_points, 0.0), axis=1)
         out.update(_empty_measures(test3))
         out.update(contact_loss_flag=True, outcome="failure_contact_loss", success=False,
-                   stable=False, g_geo_actual=float(dist.geometric_efficiency(
-                       np.where(hit[:, None], normals, planned_normals))),
-                   sf_actual=0.0, contact_point_error_mm=float(errors.mean() * 1e3))
+                   stable=False, contact_point_error_mm=float(errors.mean() * 1e3))
         return out
     forces = np.maximum(forces, 0.0)
 
@@ -507,16 +374,12 @@ def virtual_trial(row: dict, predictions: dict, rng: np.random.Generator,
     support = float(np.dot(forces, -normals[:, 2]))
     base = weight - support  # vertical demand on friction while held
     lift_demand = weight * (1.0 + p.a_lift / GRAVITY) - support
-    g_actual = float(dist.geometric_efficiency(normals))
-    sf_actual = float(dist.safety_factor(float(predictions["mu_s_believed"]), grip, g_actual, mass,
-                                         p.a_lift, p.kappa))
-    out["g_geo_actual"] = g_actual
-    out["sf_actual"] = sf_actual
+    sf_actual = out["sf_actual"]
 
     # 5. Lift and hold.
-    v_lift = _num(row, "lift_speed_mm_per_s", 30.0) * 1e-3
+    v_lift = num(row, "lift_speed_mm_per_s", 30.0) * 1e-3
     t_lift = LIFT_HEIGHT_MM * 1e-3 / v_lift
-    hold = _num(row, "hold_s", 3.0)
+    hold = num(row, "hold_s", 3.0)
     dropped = False
     slide = 0.0
     if lift_demand > budget_s:  # slips during the lift acceleration
@@ -531,7 +394,7 @@ def virtual_trial(row: dict, predictions: dict, rng: np.random.Generator,
             dropped = slide > p.drop_travel
     capacity = budget_s / 3.0
     utilisation = min(max(base, 0.0) / budget_s, 1.0) if budget_s > 0 else 1.0
-    micro = float(dist.microslip(utilisation, capacity, spec.k_t))
+    micro = float(slip_statics.microslip(utilisation, capacity, spec.k_t))
     swing = 0.0
     sf_hold = budget_s / base if base > 0 else math.inf
     if not dropped and sf_hold >= 1.0:
@@ -546,7 +409,7 @@ def virtual_trial(row: dict, predictions: dict, rng: np.random.Generator,
     # 7. Disturbance (Test 3).
     threshold_ok = True
     if test3 and not dropped:
-        res = _disturb(row, predictions, spec, p, points, normals, forces, centroid, mass,
+        res = disturb(row, predictions, spec, p, points, normals, forces, centroid, mass,
                        budget_s, budget_k, base, rng)
         out.update(res["measures"])
         dropped = res["dropped"]
@@ -555,7 +418,7 @@ def virtual_trial(row: dict, predictions: dict, rng: np.random.Generator,
         threshold_ok = res["threshold_ok"]
         t_load += res["duration"]
     elif test3:
-        out.update(_empty_measures(True, contact=False))
+        out.update(empty_measures())
 
     # 6. Damage: creep over the time under grip.
     creep = float(dist.creep_compliance(t_load, spec.rho, spec.tau))
@@ -563,12 +426,18 @@ def virtual_trial(row: dict, predictions: dict, rng: np.random.Generator,
     hold_depths = dist.indentation_from_force(
         forces, spec.k_n_per_mm_n, spec.n,
         float(dist.creep_compliance(t_lift + hold, spec.rho, spec.tau)))
-    damaged = bool(depths.max() > spec.damage_depth)
+    # A fingertip sunk deeper than its own radius is buried in the specimen: no longer the contact
+    # of Eq. 13 (issue 13, item 1), a measured damage event, and its patch is no vision reading.
+    valid_geometry = bool(depths.max() <= p.fingertip_radius)
+    beyond_damage_depth = bool(depths.max() > spec.damage_depth)
+    damaged = beyond_damage_depth or not valid_geometry
 
     # 8. Sensors.
     steps = p.noise_steps
-    measured_forces = [_quantise(f, p.finger_force_resolution, rng, steps) for f in forces]
+    measured_forces = [quantise(f, p.finger_force_resolution, rng, steps) for f in forces]
     deform = [max(float(d) + p.vision_noise * rng.standard_normal(), 0.0) * 1e3 for d in hold_depths]
+    deform = [x if d <= p.fingertip_radius else math.nan for x, d in zip(deform, hold_depths,
+                                                                       strict=True)]
     point_noise = p.contact_point_noise * rng.standard_normal((3, 3))
     cp_error = np.linalg.norm(points + offset - planned_points + point_noise, axis=1)
     # A lost object is tracked until it leaves the fingertips: the record stops at drop_travel.
@@ -579,114 +448,34 @@ def virtual_trial(row: dict, predictions: dict, rng: np.random.Generator,
     outcome, success, stable = grade(contact_loss=False, dropped=dropped, damaged=damaged,
                                      slip_mm=graded_mm, sf_actual=sf_actual,
                                      threshold_ok=threshold_ok)
+    unbounded = grade(contact_loss=False, dropped=dropped, damaged=beyond_damage_depth,
+                      slip_mm=graded_mm, sf_actual=sf_actual, threshold_ok=threshold_ok)[1]
+    readable = [x for x in deform if not math.isnan(x)]
     out.update({
         "outcome": outcome, "success": success, "stable": stable,
+        "valid_geometry": valid_geometry, "success_unbounded": unbounded,
         "slip_flag": bool(graded_mm >= SUCCESS_SLIP_MM or not threshold_ok),
         "drop_flag": dropped, "damage_flag": damaged, "contact_loss_flag": False,
         "peak_slip_mm": round(slip_mm, 2),
         **{f"normal_force_{j + 1}_n": measured_forces[j] for j in range(3)},
         "normal_force_mean_n": float(np.mean(measured_forces)),
         **{f"deformation_{j + 1}_mm": round(deform[j], 3) for j in range(3)},
-        "deformation_mean_mm": round(float(np.mean(deform)), 3),
-        "max_indentation_mm": round(float(depths.max() * 1e3), 3),
+        "deformation_mean_mm": round(float(np.mean(readable)), 3) if readable else math.nan,
+        "max_indentation_mm": round(float(depths.max() * 1e3), 3) if valid_geometry else math.nan,
         "contact_point_error_mm": round(float(cp_error.mean() * 1e3), 2),
     })
     return out
 
 
-def _empty_measures(test3: bool, contact: bool = True) -> dict[str, Any]:
-    out: dict[str, Any] = {}
-    if contact:
-        out.update({"success": False, "stable": False, "slip_flag": False, "drop_flag": False,
-                    "damage_flag": False, "peak_slip_mm": math.nan,
-                    **{f"normal_force_{j}_n": math.nan for j in (1, 2, 3)},
-                    "normal_force_mean_n": math.nan,
-                    **{f"deformation_{j}_mm": math.nan for j in (1, 2, 3)},
-                    "deformation_mean_mm": math.nan, "max_indentation_mm": math.nan})
+def _empty_measures(test3: bool) -> dict[str, Any]:
+    """Measured columns of a trial whose fingers lost contact: no reading of a hold."""
+    out: dict[str, Any] = {"success": False, "stable": False, "valid_geometry": True,
+                           "success_unbounded": False, "slip_flag": False, "drop_flag": False,
+                           "damage_flag": False, "peak_slip_mm": math.nan,
+                           **{f"normal_force_{j}_n": math.nan for j in (1, 2, 3)},
+                           "normal_force_mean_n": math.nan,
+                           **{f"deformation_{j}_mm": math.nan for j in (1, 2, 3)},
+                           "deformation_mean_mm": math.nan, "max_indentation_mm": math.nan}
     if test3:
-        out.update({"threshold_measured_n": math.nan, "threshold_measured_nm": math.nan,
-                    "threshold_censored": False, "first_finger_measured": 0,
-                    "rotation_at_limit_deg": math.nan})
+        out.update(empty_measures())
     return out
-
-
-def _disturb(row, predictions, spec: Specimen, p: RigParams, points, normals, forces, centroid,
-             mass, budget_s, budget_k, base, rng) -> dict[str, Any]:
-    """Apply the row's Test 3 disturbance to a held grasp; return measures and events."""
-    block = str(row["block"])
-    kind = str(row["disturbance_kind"])
-    direction = _num(row, "direction_deg", 0.0)
-    measures = _empty_measures(True, contact=False)
-    travel, dropped, threshold_ok, duration = 0.0, False, True, 0.0
-    first = dist.first_slip_finger(points, normals, forces, centroid, mass, spec.mu_s, kind,
-                                   direction, p.kappa)
-    base_pos = max(base, 0.0)
-    budget_s = max(budget_s, 1e-12)  # guards the ratios below; a zero budget never holds
-    lateral_limit = math.sqrt(max(budget_s**2 - base_pos**2, 0.0))
-    if block == "A":
-        rate, cap = _num(row, "ramp_rate_n_per_s"), _num(row, "ramp_cap_n", 15.0)
-        measured, travel, dropped, duration = _ramp_to_slip(rate, cap, lateral_limit, budget_s,
-                                                            budget_k, base, mass, p)
-        censored = lateral_limit > cap
-        measured = _quantise(measured, p.load_cell_resolution, rng, p.noise_steps, 0.0)
-        measures.update(threshold_measured_n=measured, threshold_censored=censored,
-                        first_finger_measured=0 if censored else first)
-        threshold_ok = measured >= _num(row, "proof_force_n")
-    elif block == "C":
-        r_eff = max(dist.effective_radius(points, centroid), 1e-6)
-        rate, cap = _num(row, "torque_ramp_nm_per_s"), _num(row, "torque_cap_nm", 1.0)
-        measured, travel, dropped, duration = _ramp_to_slip(
-            rate / r_eff, cap / r_eff, lateral_limit, budget_s, budget_k, base, mass, p)
-        censored = lateral_limit > cap / r_eff
-        torque = _quantise(measured * r_eff, p.torque_resolution, rng, p.noise_steps, 0.0)
-        pad = float(dist.microslip(1.0, budget_s / 3.0, spec.k_t))
-        rotation = math.degrees((pad + (0.0 if censored else p.detection_slip)) / r_eff)
-        measures.update(threshold_measured_nm=torque, threshold_censored=censored,
-                        first_finger_measured=0 if censored else first,
-                        rotation_at_limit_deg=round(rotation + 0.1 * rng.standard_normal(), 2))
-        threshold_ok = torque >= _num(row, "proof_torque_nm")
-    elif block == "B":
-        load = _num(row, "load_n")
-        rate = _num(row, "ramp_rate_n_per_s", 0.5)
-        sign = 1.0 if kind == "down" else -1.0
-        demand = base + sign * load
-        duration = load / rate + _num(row, "hold_s", 3.0)
-        if abs(demand) <= budget_s:
-            travel = float(dist.microslip(abs(demand) / budget_s, budget_s / 3.0, spec.k_t))
-            measures.update(threshold_measured_n=_quantise(load, p.load_cell_resolution, rng,
-                                                           p.noise_steps, 0.0),
-                            threshold_censored=True, first_finger_measured=0)
-        else:
-            onset = budget_s - base if kind == "down" else budget_s + base
-            measured, travel, dropped, _ = _ramp_to_slip(rate, load, onset, budget_s, budget_k,
-                                                         base, mass, p)
-            measures.update(threshold_measured_n=_quantise(measured, p.load_cell_resolution, rng,
-                                                           p.noise_steps, 0.0),
-                            threshold_censored=False, first_finger_measured=first)
-    elif block in ("D", "E"):
-        if block == "D":
-            width = _num(row, "pulse_duration_ms") * 1e-3
-            duration = _num(row, "duration_s", width + p.observe)
-            times = np.arange(0.0, width + p.observe, p.dt)
-            lateral = np.where(times <= width,
-                               0.5 * _num(row, "load_n") * (1.0 - np.cos(2 * np.pi * times / width)),
-                               0.0)
-        else:
-            duration = _num(row, "duration_s", 5.0)
-            times = np.arange(0.0, duration, p.dt)
-            lateral = _num(row, "amplitude_n") * np.sin(2 * np.pi * _num(row, "frequency_hz") * times)
-        peak = float(np.abs(lateral).max())
-        if peak <= lateral_limit:
-            travel = float(dist.microslip(math.hypot(peak, base_pos) / budget_s, budget_s / 3.0,
-                                          spec.k_t))
-        else:
-            res = _slide(times, lateral, np.full_like(times, base), budget_s, budget_k, mass,
-                         p.drop_travel, base)
-            travel, dropped = res.travel, res.dropped
-            measures.update(first_finger_measured=first)
-    # Threshold blocks are graded at their proof load: the slip of the threshold search beyond it
-    # is a measurement, not a failure.
-    graded = travel if block not in ("A", "C") or not threshold_ok else 0.0
-    return {"measures": measures, "travel": travel, "graded_travel": graded, "dropped": dropped,
-            "threshold_ok": threshold_ok, "duration": duration}
-

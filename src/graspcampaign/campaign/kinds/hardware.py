@@ -41,6 +41,11 @@ TEST3 = "test3_disturbance"
 SHEET_ID = "rig_trial_id"
 """Record column holding the sheet's own trial id (the id a measured-records file uses)."""
 TEST2_GROUPS = ("A", "B", "C", "D", "E", "M", "X")
+BELIEF_ERRORS = ("paper", "none")
+"""Belief readings of a virtual trial (:data:`graspcampaign.rig.belief.BELIEF_ERRORS`; kept here
+so a study's params validate without importing the rig)."""
+COUNTERFACTUAL_TABLE = "belief_none"
+"""Trace table holding each trial's ``belief_error = none`` record."""
 TEST3_BLOCKS = ("A", "B", "C", "D", "E")
 
 
@@ -52,6 +57,13 @@ def _object_ids() -> tuple[str, ...]:
     from graspcampaign.rig.protocol import SHAPE_ORDER
 
     return tuple(f"{s}-{k:02d}" for s in SHAPE_ORDER for k in range(1, 9))
+
+
+def _check_beliefs(values: list[str]) -> None:
+    _check_lists((("belief_error", values, {"type": str, "choices": BELIEF_ERRORS}),))
+    if "paper" not in values:
+        raise ConfigError(f"params.belief_error must list 'paper' (the records hold the planners' "
+                          f"own beliefs; 'none' is their counterfactual), got {list(values)!r}.")
 
 
 def _check_lists(items: tuple[tuple[str, list, dict], ...]) -> None:
@@ -71,16 +83,21 @@ class Test2GraspParams:
     ``fraction`` a deterministic share of the remaining *units*: a slot with its re-run, or a
     whole matched cell (all planners of one object, condition and repeat), chosen by a hash of the
     unit, so pilots and tests keep complete matched pairs. Ids and factors of kept rows do not
-    change.
+    change. ``belief_error`` lists the belief readings each virtual trial is executed under:
+    ``paper`` (the planners' own beliefs, :mod:`graspcampaign.rig.belief`) fills the records and
+    must be listed; ``none`` (every planner believes the actual quantities) is the counterfactual
+    kept in the trace table ``belief_none`` (module docstring).
     """
 
     objects: list[str] = _list([])
     groups: list[str] = _list([])
     fraction: float = field(default=1.0, metadata={"gt": 0.0, "le": 1.0})
+    belief_error: list[str] = _list(list(BELIEF_ERRORS))
 
     def __post_init__(self) -> None:
         _check_lists((("objects", self.objects, {"type": str, "choices": _object_ids()}),
                       ("groups", self.groups, {"type": str, "choices": TEST2_GROUPS})))
+        _check_beliefs(self.belief_error)
 
     def selection(self) -> tuple[tuple[str, ...], tuple[str, ...], float]:
         return tuple(sorted(self.objects)), tuple(sorted(self.groups)), float(self.fraction)
@@ -91,16 +108,18 @@ class Test3DisturbanceParams:
     """Size of the Test 3 sheet: empty lists and ``fraction = 1`` are the full protocol.
 
     As :class:`Test2GraspParams`, with ``blocks`` (A-E) in place of groups; a matched unit is one
-    object and disturbance for all five planners.
+    object and disturbance for all five planners; ``belief_error`` as there.
     """
 
     objects: list[str] = _list([])
     blocks: list[str] = _list([])
     fraction: float = field(default=1.0, metadata={"gt": 0.0, "le": 1.0})
+    belief_error: list[str] = _list(list(BELIEF_ERRORS))
 
     def __post_init__(self) -> None:
         _check_lists((("objects", self.objects, {"type": str, "choices": _object_ids()}),
                       ("blocks", self.blocks, {"type": str, "choices": TEST3_BLOCKS})))
+        _check_beliefs(self.belief_error)
 
     def selection(self) -> tuple[tuple[str, ...], tuple[str, ...], float]:
         return tuple(sorted(self.objects)), tuple(sorted(self.blocks)), float(self.fraction)
@@ -169,15 +188,68 @@ def _outputs(d: dict[str, Any]) -> dict[str, Any]:
 
 
 # -- one trial -----------------------------------------------------------------------------------
-def run(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
-    """Plan the row (cached per object and planner) and execute it on the virtual rig."""
+def execute(row: dict[str, Any], rng: np.random.Generator,
+            belief_errors: tuple[str, ...] = BELIEF_ERRORS) -> dict[str, dict[str, Any]]:
+    """Plan one sheet row and execute it on the virtual rig under each belief reading.
+
+    One 64-bit seed is drawn from ``rng`` and every reading executes from a generator of that
+    seed, so the readings share the pose error, the force-tracking errors and (up to the point the
+    grips make them diverge) the sensor noise: a paired counterfactual.
+
+    Returns
+    -------
+    dict
+        ``{belief_error: record}``, each record the prediction columns followed by the measured
+        ones (:func:`graspcampaign.rig.virtual.virtual_trial`).
+    """
     from graspcampaign.rig.plan import predict_trial
     from graspcampaign.rig.virtual import virtual_trial
 
+    seed = int(rng.integers(0, 2**63))
+    predictions = _outputs(predict_trial(row))
+    out = {}
+    for belief in belief_errors:
+        measured = virtual_trial(row, predictions, np.random.default_rng(seed),
+                                 belief_error=belief)
+        out[belief] = {**predictions, **_outputs(measured), "belief_error": belief}
+    return out
+
+
+def run(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
+    """Plan the row (cached per object and planner) and execute it on the virtual rig.
+
+    The record is the ``paper`` reading; with ``none`` in ``params.belief_error`` the trial also
+    writes its ``none`` reading as one row of the trace table ``belief_none``.
+    """
     row = rig_row(inp.trial.factors, inp.study.kind)
-    predictions = predict_trial(row)
-    measured = virtual_trial(row, predictions, rng)
-    return {**_outputs(predictions), **_outputs(measured)}
+    beliefs = tuple(getattr(inp.params, "belief_error", ("paper",)))
+    readings = execute(row, rng, beliefs)
+    out = dict(readings["paper"])
+    if "none" in readings:
+        out["__tables__"] = {COUNTERFACTUAL_TABLE: {k: [v] for k, v in readings["none"].items()}}
+    return out
+
+
+def records_under_belief(records: pd.DataFrame, counterfactual: pd.DataFrame) -> pd.DataFrame:
+    """Return the ``belief_error = none`` records of a run, shaped like its records.
+
+    Parameters
+    ----------
+    records : pandas.DataFrame
+        The run's records (the ``paper`` reading).
+    counterfactual : pandas.DataFrame
+        The run's trace table ``belief_none`` (``RunStore.read("tables/belief_none")``).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per record that has a counterfactual: the record's own columns (ids, factors,
+        engine columns) with every column of the counterfactual replacing the record's. Any
+        Tests 2-3 statistic computed on ``records`` can be computed on this frame unchanged; the
+        ``belief_error`` column tells the two apart (``pd.concat`` gives the long form).
+    """
+    replaced = [c for c in counterfactual.columns if c in records.columns and c != "trial_id"]
+    return records.drop(columns=replaced).merge(counterfactual, on="trial_id", how="inner")
 
 
 # -- hardware side: schedule, export, ingest -----------------------------------------------------
