@@ -19,6 +19,7 @@ its residual), so a body's parameters do not depend on the grip law it is later 
 from __future__ import annotations
 
 import time
+from collections import OrderedDict
 from dataclasses import dataclass
 from typing import Any, NamedTuple
 
@@ -66,30 +67,75 @@ class Judged(NamedTuple):
     truth: Any
     context_time_s: float
     plan_time_s: float
+    plan_cached: bool = False
+
+
+RELEASED_DEPTH = 1e-12
+"""A contact at or below this penetration [m] is released: line 7's ``max(0, delta + step)``
+leaves 0 or the round-off of ``delta - delta`` (1e-12 m is 1e-9 of the 0.5 mm seed)."""
+
+_PLANS: OrderedDict = OrderedDict()
+_PLANS_SIZE = 64
+
+
+def _planned(ctx, planner: str, rng: np.random.Generator, body: tuple):
+    """Plan, reusing this worker's plan of the same body, planner and generator state.
+
+    A planner's choice depends on the body, its settings and the random draws, never on the grip
+    law; only its own evaluation (``equilibrium``, the belief) does. So a trial that differs from
+    an earlier one only in the grip law (``grip_laws``, ``ablation``) gets that plan with the
+    belief re-evaluated under its own law: the same record as re-planning, at a third of the
+    cost. The key holds the generator's exact state, so no two different draws can share a plan.
+    """
+    from dataclasses import replace
+
+    from graspcampaign.core.planner import PLANNERS, evaluate_triple
+
+    state = rng.bit_generator.state
+    key = (body, planner, ctx.n_cand, ctx.fc_cone_edges, ctx.weights, repr(state))
+    cached = _PLANS.get(key)
+    if cached is not None:
+        _PLANS.move_to_end(key)
+        belief = evaluate_triple(ctx, cached.points, cached.normals, cached.contact)
+        return replace(cached, equilibrium=belief), True
+    plan = PLANNERS[planner](ctx, rng)
+    _PLANS[key] = plan
+    while len(_PLANS) > _PLANS_SIZE:
+        _PLANS.popitem(last=False)
+    return plan, False
 
 
 def plan_and_judge(study, shape: str, nodes: int, mass: float, mu: float, contact, planner: str,
                    rng: np.random.Generator, n_cand: int | None = None,
-                   evaluator=None) -> Judged:
+                   evaluator=None, reuse: bool = False) -> Judged:
     """Plan with ``planner`` and evaluate its triple under ``contact`` (the simulated truth).
 
     The planner's own evaluation is the truth unless it believed other contact parameters
     (``no_pso``); then the triple is evaluated again under ``contact``. ``context_time_s`` is the
     per-body preparation (cached per worker), ``plan_time_s`` Algorithm 1 with its candidate
-    search and Algorithm 2.
+    search and Algorithm 2. With ``reuse`` (studies whose trials differ only in the grip law) a
+    plan this worker already made is reused (:func:`_planned`); ``plan_time_s`` is then only the
+    re-evaluation, flagged by ``plan_cached``. Timing studies never reuse.
     """
-    from graspcampaign.core.planner import PLANNERS, evaluate_triple
+    from graspcampaign.core.planner import evaluate_triple
 
     start = time.perf_counter()
     ctx = context(study, shape, nodes, mass, mu, contact, n_cand, evaluator)
     context_time = time.perf_counter() - start
     start = time.perf_counter()
-    plan = PLANNERS[planner](ctx, rng)
+    body = (shape, int(nodes), float(mass), float(mu), contact,
+            common.feature_thresholds(study))
+    if reuse:
+        plan, cached = _planned(ctx, planner, rng, body)
+    else:
+        from graspcampaign.core.planner import PLANNERS
+
+        plan, cached = PLANNERS[planner](ctx, rng), False
     plan_time = time.perf_counter() - start
     truth = plan.equilibrium
     if plan.contact != ctx.contact:
         truth = evaluate_triple(ctx, plan.points, plan.normals, contact=ctx.contact)
-    return Judged(ctx, plan, truth, context_time, plan_time)
+    return Judged(ctx, plan, truth, context_time, plan_time, cached)
 
 
 def prepare(study, params, body, rng: np.random.Generator) -> dict[str, Any]:
@@ -135,8 +181,8 @@ def plan_record(ctx, plan, truth) -> dict[str, Any]:
         "slip_margin_ratio": float(eq.slip_margin_ratio[0]),
         "eta": float(eq.eta[0]),
         "rho": float(eq.rho[0]),
-        "n_released": int(np.count_nonzero(eq.depths[0] == 0.0)),
-        "n_upper": int(np.count_nonzero(normals_z > 0.0)),
+        "n_released": int(np.count_nonzero(eq.depths[0] <= RELEASED_DEPTH)),
+        "n_upper": int(np.count_nonzero(normals_z > ctx.evaluator.normal_z_tol)),
         "n_loaded": int(np.count_nonzero(forces > 0.0)),
         "support_share_max": float(support.max() / positive) if positive > 0.0 else float("nan"),
         "grip_force_n": float(eq.grip_force[0]),
@@ -232,9 +278,9 @@ def run(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
     nodes = body["nodes"] or inp.params.nodes
     contact = body_contact(study, inp.prepared)
     evaluator = common.evaluator_params(study, grip_law=f.get("grip_law", study.evaluator.grip_law))
-    ctx, plan, truth, context_time, plan_time = plan_and_judge(
+    ctx, plan, truth, context_time, plan_time, cached = plan_and_judge(
         study, body["shape"], nodes, body["mass_kg"], body["mu"], contact, f["planner"],
-        trial_rng(inp, rng), evaluator=evaluator)
+        trial_rng(inp, rng), evaluator=evaluator, reuse="grip_law" in f)
     _, features = common.body_mesh(body["shape"], nodes, common.feature_thresholds(study))
     out = plan_record(ctx, plan, truth)
     out.update({
@@ -247,6 +293,7 @@ def run(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
         "pso_at_bound": str((inp.prepared or {}).get("at_bound", "")),
         "context_time_s": context_time,
         "plan_time_s": plan_time,
+        "plan_cached": cached,
     })
     if "nodes" in f:
         out.pop("nodes")
