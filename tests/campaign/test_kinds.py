@@ -342,3 +342,17 @@ def test_plan_reuse_across_grip_laws_changes_no_record(tmp_path, small_runs, mon
     a = reused.sort_values("trial_id")[cols].reset_index(drop=True)
     b = fresh.sort_values("trial_id")[cols].reset_index(drop=True)
     pd.testing.assert_frame_equal(a, b)
+
+
+def test_grip_law_config_errors_name_the_key_and_allowed_values():
+    from graspcampaign.errors import ConfigError
+
+    with pytest.raises(ConfigError, match=r"^evaluator\.grip_law has unknown value 'firm'; "
+                                          r"allowed values: paper, slip, oracle\.$"):
+        compose_study("baseline_grid", ["evaluator.grip_law=firm"])
+    with pytest.raises(ConfigError, match=r"^factors\.grip_law\[1\] has unknown value 'firm'; "
+                                          r"allowed values: paper, slip, oracle\.$"):
+        compose_study("grip_laws", ["grip_law=[paper,firm]"])
+    with pytest.raises(ConfigError, match=r"^evaluator\.grip_safety_factor = 1\.0 is out of range; "
+                                          r"allowed: > 1\.0\.$"):
+        compose_study("grip_laws", ["evaluator.grip_safety_factor=1.0"])

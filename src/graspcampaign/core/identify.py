@@ -77,25 +77,10 @@ def paper_bounds() -> tuple[np.ndarray, np.ndarray]:
 
 
 def at_bound(x, lower, upper, names=PARAMETER_NAMES, rtol: float = 1e-9) -> tuple[str, ...]:
-    """Return the names of the parameters of ``x`` that sit on a bound of the box.
+    """Return the names of the parameters of ``x`` (d,) within ``rtol`` box widths of a bound.
 
-    Parameters
-    ----------
-    x : (d,) float
-        A PSO result (positions are clamped onto the bounds, so a saturated parameter is on it
-        exactly).
-    lower, upper : (d,) float
-        The search box.
-    names : sequence of str
-        Parameter names, in order (default :data:`PARAMETER_NAMES`).
-    rtol : float
-        Distance to a bound, relative to the box width, that still counts as on it.
-
-    Returns
-    -------
-    names : tuple of str
-        Parameters on their lower or upper bound, in order (issue 13: an identified value on a
-        bound is a limit of the search, not an estimate).
+    PSO clamps positions onto the bounds, so a saturated parameter sits on its bound exactly; an
+    identified value there is a limit of the search, not an estimate (issue 13).
     """
     x, lower, upper = (np.asarray(v, dtype=float) for v in (x, lower, upper))
     tol = rtol * (upper - lower)
