@@ -6,6 +6,7 @@ The hardware kinds (Tests 1-3) have their own files: test_test1_kind.py, test_ha
 from __future__ import annotations
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from graspcampaign.campaign.compose import compose_study
@@ -30,11 +31,11 @@ def _run(study, tmp_path, *overrides):
 def test_reduced_baseline_grid_end_to_end(tmp_path):
     grid = ("shape=[sphere,handle]", "mass_kg=[0.4]", "mu=[0.3]", "seeds=2")
     summary, store, df = _run("baseline_grid", tmp_path, *grid)
-    assert summary.n_error == 0 and len(df) == 2 * 4 * 2
+    assert summary.n_error == 0 and len(df) == 2 * 5 * 2
     assert set(REQUIRED) <= set(df.columns)
     # every planner of one scene draw sees the same object, mass, friction and seed
     scenes = df.groupby("scene_id")
-    assert (scenes["planner"].nunique() == 4).all()
+    assert (scenes["planner"].nunique() == 5).all()
     assert (scenes[["shape", "mass_kg", "mu", "seed"]].nunique() == 1).all().all()
     # one identification per soft body, reused by every trial of that body
     prepared = store.read("prepared").to_pandas()
@@ -225,7 +226,7 @@ def test_mesh_resolution_panels_and_baseline_reproduction(tmp_path):
                  "params.baseline_mus=[0.3]", "params.baseline_seeds=2"]
     summary, store, df = _run("mesh_resolution", tmp_path, *overrides)
     assert summary.n_error == 0
-    assert df.groupby("panel").size().to_dict() == {"resolution": 4, "budget": 5, "n_max": 8}
+    assert df.groupby("panel").size().to_dict() == {"resolution": 4, "budget": 5, "n_max": 10}
     res = df[df["panel"] == "resolution"]
     # one identification, held fixed across resolutions (Sec. 12)
     assert res["contact_lambda1"].nunique() == 1 and res["contact_n_exp"].nunique() == 1
@@ -243,7 +244,7 @@ def test_mesh_resolution_panels_and_baseline_reproduction(tmp_path):
                       "seeds=2")
     nm = df[df["panel"] == "n_max"]
     merged = nm.merge(base, on=["shape", "mass_kg", "mu", "planner", "seed"], suffixes=("", "_b"))
-    assert len(merged) == 8
+    assert len(merged) == 10
     for col in VERTICES:
         assert (merged[col] == merged[f"{col}_b"]).all()
     np.testing.assert_allclose(merged["residual_norm_n"], merged["residual_norm_n_b"], rtol=1e-12)
@@ -298,3 +299,123 @@ def test_friction_mass_sweeps_the_damping_law(tmp_path):
                           "+params.t_max_s=0.02")
     assert summary.n_error == 0
     assert sorted(df["damping_law"]) == ["hunt_crossley", "linear"]
+
+
+SMALL_GRID = ("shape=[sphere,handle]", "mass_kg=[0.2,0.6]", "mu=[0.5]", "seeds=2")
+DEPTHS = ["delta_1_mm", "delta_2_mm", "delta_3_mm"]
+
+
+def _check_gate(df, radius_mm=5.0):
+    """Issue 13: no success with a contact deeper than the fingertip radius; one verdict rule."""
+    beyond = (df[[c for c in DEPTHS if c in df]] > radius_mm).any(axis=1) if DEPTHS[0] in df \
+        else df["delta_max_mm"] > radius_mm
+    assert not (df["success"] & beyond).any()
+    assert (df["valid_geometry"] == ~beyond).all()
+    assert (df["success"] == (df["success_unbounded"] & df["valid_geometry"])).all()
+    assert (df["success"] <= df["success_no_torque"]).all()
+    assert ((df["failure_check"] == "geometry") == (df["success_unbounded"] & ~df["success"])).all()
+
+
+@pytest.fixture(scope="module")
+def small_runs(tmp_path_factory):
+    """The small grip_laws and baseline_grid runs shared by the issue-13/17 tests below."""
+    root = tmp_path_factory.mktemp("small")
+    return {study: _run(study, root, *SMALL_GRID) for study in ("grip_laws", "baseline_grid")}
+
+
+def test_validity_gate_holds_in_every_quasi_static_and_wrench_study(tmp_path, small_runs):
+    for study, (summary, _, df) in small_runs.items():
+        assert summary.n_error == 0, study
+        _check_gate(df)
+    for study, overrides in (("ablation", ("shape=[pear]", "seeds=1")),
+                             ("wrench_balance", ("mu=[0.3]",))):
+        summary, _, df = _run(study, tmp_path, *overrides)
+        assert summary.n_error == 0, study
+        _check_gate(df)
+    # the 65 N fixed grip of Sec. 6.4 buries the fingertips far beyond r in SI (Table 3 law)
+    assert not df["valid_geometry"].any() and not df["success"].any()
+
+
+def test_grip_laws_replay_the_baseline_grid(small_runs):
+    _, store, grid = small_runs["grip_laws"]
+    _, base_store, base = small_runs["baseline_grid"]
+    assert len(grid) == 2 * 2 * 5 * 3 * 2 and set(grid["grip_law"]) == {"paper", "slip", "oracle"}
+    # the same identifications (same study seed and body streams) ...
+    ids = ["shape", "mass_kg", "mu", "lambda1", "n_exp", "at_bound"]
+    prepared = store.read("prepared").to_pandas()[ids].sort_values(ids[:3]).reset_index(drop=True)
+    assert prepared.equals(base_store.read("prepared").to_pandas()[ids].sort_values(ids[:3])
+                           .reset_index(drop=True))
+    # ... and the same scene draws: the paper-law rows are baseline_grid's records
+    keys = ["shape", "mass_kg", "mu", "planner", "seed"]
+    paper = grid[grid["grip_law"] == "paper"].merge(base, on=keys, suffixes=("", "_b"))
+    assert len(paper) == len(base)
+    for col in [*VERTICES, "success", "success_unbounded", "residual_norm_n", "epsilon_fc"]:
+        assert (paper[col] == paper[f"{col}_b"]).all(), col
+    # the grip law changes the verdict, never the planner's choice
+    assert (grid.groupby(keys)[VERTICES].nunique() == 1).all().all()
+    # slip and oracle squeeze with one equal grip within the cap (r = 5 mm here)
+    other = grid[grid["grip_law"] != "paper"]
+    assert (other[DEPTHS].max(axis=1) <= 5.0 + 1e-12).all()
+    assert np.allclose(other["delta_1_mm"], other["delta_3_mm"]) and (other["n_released"] == 0).all()
+    assert (other["grip_capped"] == (other["grip_needed_n"] > other["grip_force_n"])).all()
+    assert grid.loc[grid["grip_law"] == "paper", "grip_force_n"].isna().all()
+
+
+def test_quasi_static_records_explain_algorithm_2(small_runs):
+    _, store, df = small_runs["baseline_grid"]
+    released = (df[DEPTHS] <= 1e-9).sum(axis=1)  # mm: at or within round-off of delta = 0
+    assert (df["n_released"] == released).all()
+    upper = (df[["contact_normal_z_1", "contact_normal_z_2", "contact_normal_z_3"]] > 1e-9).sum(axis=1)
+    assert (df["n_upper"] == upper).all()
+    # line 7's sign step releases exactly the upper contacts of a triple that moved off its seed
+    moved = df["iterations"] > 0
+    assert (df.loc[moved, "n_released"] == df.loc[moved, "n_upper"]).all()
+    loaded = (df[["normal_force_1_n", "normal_force_2_n", "normal_force_3_n"]] > 0).sum(axis=1)
+    assert (df["n_loaded"] == loaded).all()
+    share = df["support_share_max"].dropna()
+    assert share.between(0.0, 1.0 + 1e-12).all()
+    assert ((df["n_loaded"] == 1) <= (df["support_share_max"].fillna(0) >= 1.0 - 1e-12)).all()
+    # rho = |R_xy| / W <= |R| / W, and epsilon is recorded for every planner's triple
+    weight = df["mass_kg"] * 9.81
+    assert (df["rho"] <= df["residual_norm_n"] / weight + 1e-12).all()
+    assert df["epsilon_fc"].notna().all() and (df["epsilon_fc"] >= 0).all()
+    fc = df[df["planner"] == "ferrari_canny"]
+    assert (fc["n_force_closure"] > 0).all() and (fc["spearman_h_epsilon"].abs() <= 1).all()
+    assert (fc["epsilon_fc"] >= fc["epsilon_h_argmin"]).all()
+    table = store.read("tables/candidates").to_pandas()
+    assert table.groupby("trial_id").size().eq(50).all() and set(table["trial_id"]) == set(fc["trial_id"])
+    # PSO bounds are named wherever an identification is used
+    prepared = store.read("prepared").to_pandas()
+    assert "at_bound" in prepared and prepared["at_bound_lambda1"].dtype == bool
+    assert set(df["pso_at_bound"]) <= set(prepared["at_bound"])
+
+
+def test_plan_reuse_across_grip_laws_changes_no_record(tmp_path, small_runs, monkeypatch):
+    from graspcampaign.campaign.kinds import quasi_static
+
+    _, _, reused = small_runs["grip_laws"]
+    assert reused["plan_cached"].any() and not reused.loc[reused["grip_law"] == "paper",
+                                                           "plan_cached"].any()
+    monkeypatch.setattr(quasi_static, "_PLANS_SIZE", 0)  # every plan evicted: always re-plan
+    quasi_static._PLANS.clear()
+    _, _, fresh = _run("grip_laws", tmp_path, *SMALL_GRID)
+    assert not fresh["plan_cached"].any()
+    timing = {"wall_time_s", "plan_time_s", "context_time_s", "plan_cached", "worker", "host", "run"}
+    cols = [c for c in fresh.columns if c not in timing]
+    a = reused.sort_values("trial_id")[cols].reset_index(drop=True)
+    b = fresh.sort_values("trial_id")[cols].reset_index(drop=True)
+    pd.testing.assert_frame_equal(a, b)
+
+
+def test_grip_law_config_errors_name_the_key_and_allowed_values():
+    from graspcampaign.errors import ConfigError
+
+    with pytest.raises(ConfigError, match=r"^evaluator\.grip_law has unknown value 'firm'; "
+                                          r"allowed values: paper, slip, oracle\.$"):
+        compose_study("baseline_grid", ["evaluator.grip_law=firm"])
+    with pytest.raises(ConfigError, match=r"^factors\.grip_law\[1\] has unknown value 'firm'; "
+                                          r"allowed values: paper, slip, oracle\.$"):
+        compose_study("grip_laws", ["grip_law=[paper,firm]"])
+    with pytest.raises(ConfigError, match=r"^evaluator\.grip_safety_factor = 1\.0 is out of range; "
+                                          r"allowed: > 1\.0\.$"):
+        compose_study("grip_laws", ["evaluator.grip_safety_factor=1.0"])

@@ -8,6 +8,7 @@ from graspcampaign.core.contact import NOMINAL_CONTACT, ContactParams
 from graspcampaign.core.identify import (
     PAPER_BOUNDS,
     PARAMETER_NAMES,
+    at_bound,
     identification_cost,
     identification_terms,
     identify_body,
@@ -95,6 +96,16 @@ def test_pso_clamps_to_bound_when_minimum_lies_outside():
     np.testing.assert_array_equal(result.best_x, UPPER)
     evaluated = np.concatenate(recorder.calls)
     assert np.all(evaluated <= UPPER) and np.all(evaluated >= LOWER)
+    # every parameter ended on its (upper) bound, and at_bound says so
+    assert at_bound(result.best_x, LOWER, UPPER) == PARAMETER_NAMES
+
+
+def test_at_bound_names_parameters_on_either_bound_only():
+    x = 0.5 * (LOWER + UPPER)
+    x[0], x[2] = UPPER[0], LOWER[2]  # lambda1 on its upper, n on its lower bound
+    assert at_bound(x, LOWER, UPPER) == ("lambda1", "n")
+    x[0] = UPPER[0] - 1e-3 * (UPPER[0] - LOWER[0])  # near a bound is not on it
+    assert at_bound(x, LOWER, UPPER) == ("n",)
 
 
 def test_pso_is_seeded_and_history_is_monotone():
@@ -177,3 +188,6 @@ def test_identify_body_returns_bounded_contact_params():
     record = result.to_record()
     assert record["pso_best_cost"] == pytest.approx(result.pso.best_cost)
     assert record["flat_parameters"] == "lambda2,b,k,c"
+    assert record["at_bound"] == ",".join(result.at_bound)
+    assert result.at_bound == at_bound(result.best_x, LOWER, UPPER)
+    assert record["at_bound_lambda1"] == ("lambda1" in result.at_bound)

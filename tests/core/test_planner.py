@@ -8,6 +8,7 @@ import pytest
 import trimesh
 from scipy.stats import chisquare
 
+from graspcampaign.core.baseline import _all_triples_chunks
 from graspcampaign.core.contact import NOMINAL_CONTACT, ContactParams
 from graspcampaign.core.feature import sharp_features
 from graspcampaign.core.mesh import SHAPES, make_object
@@ -15,7 +16,6 @@ from graspcampaign.core.metric import heuristic_terms
 from graspcampaign.core.planner import (
     ABLATIONS,
     PLANNERS,
-    _all_triples_chunks,
     identification_contacts,
     plan_context,
     sample_triples,
@@ -50,6 +50,7 @@ def test_registry_holds_every_planner():
         "random",
         "antipodal",
         "centroid",
+        "ferrari_canny",
         "force_balance",
         "no_s1",
         "no_s2",
@@ -193,3 +194,33 @@ def test_sample_triples_are_distinct_and_follow_the_weights():
 def test_plan_context_validates_budget(meshes):
     with pytest.raises(ValueError, match=r"n_cand must be a positive int"):
         context(meshes["sphere"], n_cand=0)
+
+
+def test_ferrari_canny_scores_the_heuristics_candidates(sphere_ctx):
+    # Same generator state -> the same N_cand triples: ferrari_canny picks their epsilon argmax,
+    # the heuristic their H argmin, and each result carries the other's measure of its triple.
+    from graspcampaign.core.candidate import candidate_epsilon
+
+    fc = PLANNERS["ferrari_canny"](sphere_ctx, np.random.default_rng(11))
+    heuristic = PLANNERS["heuristic"](sphere_ctx, np.random.default_rng(11))
+    triples = sample_triples(sphere_ctx.sampling_weights, sphere_ctx.n_cand, np.random.default_rng(11))
+    epsilon = candidate_epsilon(sphere_ctx, triples)
+    assert fc.n_scored == heuristic.n_scored == sphere_ctx.n_cand
+    np.testing.assert_array_equal(fc.candidates.epsilon, epsilon)
+    assert fc.epsilon_fc == pytest.approx(epsilon.max(), rel=1e-12)
+    assert sorted(fc.vertex_ids) == sorted(triples[int(np.argmax(epsilon))])
+    h = heuristic_terms(sphere_ctx.heuristic, triples).total(sphere_ctx.weights)
+    np.testing.assert_allclose(fc.candidates.h_total, h)
+    assert heuristic.epsilon_fc == pytest.approx(epsilon[int(np.argmin(h))], rel=1e-9, abs=1e-15)
+
+
+@pytest.mark.parametrize("shape", ["sphere", "ellipsoid", "rounded_cube"])
+def test_ferrari_canny_beats_random_on_force_closure(meshes, shape):
+    # Force closure = epsilon > 0. The epsilon argmax of 300 candidates is in force closure
+    # whenever any candidate is; a single random triple only at the base rate.
+    ctx = context(meshes[shape])
+    fc = [PLANNERS["ferrari_canny"](ctx, np.random.default_rng(s)).epsilon_fc for s in range(15)]
+    rand = [PLANNERS["random"](ctx, np.random.default_rng(s)).epsilon_fc for s in range(15)]
+    assert np.mean(np.array(fc) > 0) == 1.0
+    assert np.mean(np.array(rand) > 0) < 0.8
+    assert np.all(np.array(fc) >= np.array(rand))

@@ -54,6 +54,14 @@ class EvaluatorCfg:
     tau_t_nm: float = _f(0.025, gt=0.0)  # documented in docs/decisions.md
     n_cand: int = _f(1000, ge=1)  # documented in docs/decisions.md
     residual_check: str = _f("norm", choices=("norm", "vertical"))  # SPEC 2.7: |R|
+    # Grip laws (issue 13; SPEC 8): paper = Algorithm 2 as published (the default).
+    grip_law: str = _f("paper", choices=("paper", "slip", "oracle"))
+    grip_safety_factor: float = _f(1.5, gt=1.0)  # slip/oracle design margin; docs/decisions.md
+    # Deepest penetration slip/oracle may command [m]; None: the Table 4 damage depth of the
+    # family nearest in modulus to model.e_object_pa, bounded by the fingertip radius.
+    grip_cap_depth_m: float | None = _f(None, gt=0.0)
+    oracle_cone_facets: int = _f(16, ge=3)  # facets of the oracle's polyhedral cones (statics)
+    fc_cone_edges: int = _f(8, ge=3)  # Ferrari-Canny linearised cone edges (issue 17)
 
 
 @dataclass
@@ -175,6 +183,7 @@ FACTOR_SPECS: dict[str, dict[str, Any]] = {
     "damping_law": {"type": str, "choices": ("linear", "hunt_crossley")},
     # a conf/model preset per trial, in place of the study's model group (dynamic_grasp)
     "model_preset": {"type": str, "choices": "model"},
+    "grip_law": {"type": str, "choices": ("paper", "slip", "oracle")},  # issue 13, item 3
 }
 
 

@@ -36,6 +36,7 @@ __all__ = [
     "IdentificationResult",
     "IdentificationTerms",
     "PsoResult",
+    "at_bound",
     "identification_cost",
     "identification_terms",
     "identify_body",
@@ -73,6 +74,18 @@ def paper_bounds() -> tuple[np.ndarray, np.ndarray]:
     lower = np.array([PAPER_BOUNDS[name][0] for name in PARAMETER_NAMES])
     upper = np.array([PAPER_BOUNDS[name][1] for name in PARAMETER_NAMES])
     return lower, upper
+
+
+def at_bound(x, lower, upper, names=PARAMETER_NAMES, rtol: float = 1e-9) -> tuple[str, ...]:
+    """Return the names of the parameters of ``x`` (d,) within ``rtol`` box widths of a bound.
+
+    PSO clamps positions onto the bounds, so a saturated parameter sits on its bound exactly; an
+    identified value there is a limit of the search, not an estimate (issue 13).
+    """
+    x, lower, upper = (np.asarray(v, dtype=float) for v in (x, lower, upper))
+    tol = rtol * (upper - lower)
+    hit = (np.abs(x - lower) <= tol) | (np.abs(upper - x) <= tol)
+    return tuple(name for name, h in zip(names, hit, strict=True) if h)
 
 
 @dataclass(frozen=True)
@@ -389,6 +402,8 @@ class IdentificationResult:
         The search itself (convergence history for Fig. 9 / Fig. 21).
     flat_parameters : tuple of str
         Parameters J does not depend on.
+    at_bound : tuple of str
+        Parameters whose identified value sits on a search bound (:func:`at_bound`).
     """
 
     contact: ContactParams
@@ -403,8 +418,9 @@ class IdentificationResult:
     equilibrium: EquilibriumResult
     pso: PsoResult
     flat_parameters: tuple[str, ...] = FLAT_PARAMETERS
+    at_bound: tuple[str, ...] = ()
 
-    def to_record(self) -> dict[str, float | int | str]:
+    def to_record(self) -> dict[str, float | int | str | bool]:
         """Return the identification as flat, unit-suffixed scalars for a record."""
         return {
             "lambda1": float(self.contact.lambda1),
@@ -424,6 +440,8 @@ class IdentificationResult:
             "slip_margin_n": float(self.equilibrium.slip_margin[0]),
             "pso_n_evaluations": int(self.pso.n_evaluations),
             "flat_parameters": ",".join(self.flat_parameters),
+            "at_bound": ",".join(self.at_bound),
+            **{f"at_bound_{name}": name in self.at_bound for name in PARAMETER_NAMES},
         }
 
 
@@ -497,4 +515,5 @@ def identify_body(
         j_slip=float(terms.slip[0]),
         equilibrium=terms.equilibrium,
         pso=search,
+        at_bound=at_bound(best, lower, upper),
     )

@@ -174,3 +174,152 @@ def sphere_faces(centers, radius, vertices, faces, bound_centers, bound_radii):
         scalars[count, 3] = radius - distance
         count += 1
     return count, pairs, keys, scalars, vectors
+
+
+# ------------------------------------------------------------------ Ferrari-Canny epsilon (L1)
+# The facet enumeration of :mod:`graspcampaign.core.ferrari_canny` (module docstring there), one
+# candidate at a time: the numpy path of that module is the reference and tests hold both to
+# scipy.spatial.ConvexHull. Symbols: ``d[i] = P^-1 c_i`` (u . c_i = a . d[i]), ``basis = P^-T``
+# (u = basis @ a), ``a = (alpha_0, beta_0, ..., beta_2)`` the in-plane directions.
+
+@njit(cache=True)
+def _cramer3(m, x):
+    """Solve ``m x = 1`` (3x3) in place by Cramer's rule; return the determinant."""
+    det = (m[0, 0] * (m[1, 1] * m[2, 2] - m[1, 2] * m[2, 1])
+           - m[0, 1] * (m[1, 0] * m[2, 2] - m[1, 2] * m[2, 0])
+           + m[0, 2] * (m[1, 0] * m[2, 1] - m[1, 1] * m[2, 0]))
+    if det == 0.0 or not math.isfinite(det):
+        return 0.0
+    for col in range(3):
+        value = 0.0
+        # determinant with column ``col`` replaced by ones, expanded along that column
+        for row in range(3):
+            r1, r2 = (row + 1) % 3, (row + 2) % 3
+            c1, c2 = (col + 1) % 3, (col + 2) % 3
+            value += m[r1, c1] * m[r2, c2] - m[r1, c2] * m[r2, c1]
+        x[col] = value / det
+    return det
+
+
+@njit(cache=True)
+def epsilon_facets(d, basis, mu, n_edges, rel_tol):
+    """Return the L1 epsilon of each candidate from its facet patterns (edge-edge-edge and
+    whole-edge-vertex; the whole-whole pattern is handled by the caller).
+
+    Parameters
+    ----------
+    d : (b, 3, 6) float
+        ``P^-1 c_i`` per contact.
+    basis : (b, 6, 6) float
+        ``P^-T``.
+    mu : (b,) float
+        Friction coefficients (> 0).
+    n_edges : int
+        Cone edges q.
+    rel_tol : float
+        Sign tolerance on the scale-free unknowns.
+
+    Returns
+    -------
+    epsilon : (b,) float
+        0 when a facet has the origin on its outer side (or none is found).
+    """
+    n_batch = d.shape[0]
+    q = n_edges
+    out = np.zeros(n_batch)
+    cos_t = np.empty(q)
+    sin_t = np.empty(q)
+    cos_p = np.empty(q)
+    sin_p = np.empty(q)
+    for k in range(q):
+        t = 2.0 * math.pi * k / q
+        cos_t[k], sin_t[k] = math.cos(t), math.sin(t)
+        cos_p[k], sin_p[k] = math.cos(t + math.pi / q), math.sin(t + math.pi / q)
+    cos_half = math.cos(math.pi / q)
+    e0 = np.empty((3, 3, q))
+    edge = np.empty((3, q, 6))
+    m = np.empty((3, 3))
+    x = np.empty(3)
+    u = np.empty(6)
+    for b in range(n_batch):
+        mu_c = mu[b] * cos_half
+        for j in range(3):
+            for k in range(q):
+                for i in range(3):
+                    e0[i, j, k] = cos_p[k] * d[b, i, 2 * j] + sin_p[k] * d[b, i, 2 * j + 1]
+                for r in range(6):
+                    edge[j, k, r] = cos_p[k] * basis[b, r, 2 * j] + sin_p[k] * basis[b, r, 2 * j + 1]
+        best = math.inf
+        outside = False
+        # edge-edge-edge: E r = 1 with E[i, j] = e0[i, j, k_j] + mu cos(pi/q) delta_ij
+        for k0 in range(q):
+            for k1 in range(q):
+                for k2 in range(q):
+                    for i in range(3):
+                        m[i, 0] = e0[i, 0, k0]
+                        m[i, 1] = e0[i, 1, k1]
+                        m[i, 2] = e0[i, 2, k2]
+                        m[i, i] += mu_c
+                    if _cramer3(m, x) == 0.0:
+                        continue
+                    scale = max(abs(x[0]), abs(x[1]), abs(x[2]))
+                    tol = rel_tol * scale
+                    if x[0] > -tol and x[1] > -tol and x[2] > -tol:
+                        sign = 1.0
+                    elif x[0] < tol and x[1] < tol and x[2] < tol:
+                        sign = -1.0
+                    else:
+                        continue
+                    norm_sq = 0.0
+                    for r in range(6):
+                        u[r] = sign * (x[0] * edge[0, k0, r] + x[1] * edge[1, k1, r]
+                                       + x[2] * edge[2, k2, r])
+                        norm_sq += u[r] * u[r]
+                    offset = sign / math.sqrt(norm_sq)
+                    if offset < 0.0:
+                        outside = True
+                        break
+                    best = min(best, offset)
+                if outside:
+                    break
+            if outside:
+                break
+        # whole-edge-vertex: unknowns (r_b, alpha_c, beta_c)
+        if not outside:
+            for p in range(6):  # (edge polygon, vertex polygon); the third is whole
+                bb, c = p // 2, (p // 2 + 1 + p % 2) % 3
+                for k in range(q):
+                    for v in range(q):
+                        for i in range(3):
+                            m[i, 0] = e0[i, bb, k]
+                            m[i, 1] = d[b, i, 2 * c]
+                            m[i, 2] = d[b, i, 2 * c + 1]
+                        m[bb, 0] += mu_c
+                        m[c, 1] += mu[b] * cos_t[v]
+                        m[c, 2] += mu[b] * sin_t[v]
+                        if _cramer3(m, x) == 0.0 or x[0] == 0.0:
+                            continue
+                        sign = 1.0 if x[0] > 0.0 else -1.0
+                        r_b, alpha, beta = sign * x[0], sign * x[1], sign * x[2]
+                        tol = rel_tol * max(math.sqrt(alpha * alpha + beta * beta), r_b)
+                        vp, vn = (v - 1) % q, (v + 1) % q
+                        if (alpha * (cos_t[v] - cos_t[vp]) + beta * (sin_t[v] - sin_t[vp]) < -tol
+                                or alpha * (cos_t[v] - cos_t[vn]) + beta * (sin_t[v] - sin_t[vn])
+                                < -tol):
+                            continue
+                        norm_sq = 0.0
+                        for r in range(6):
+                            u[r] = (r_b * edge[bb, k, r] + alpha * basis[b, r, 2 * c]
+                                    + beta * basis[b, r, 2 * c + 1])
+                            norm_sq += u[r] * u[r]
+                        offset = sign / math.sqrt(norm_sq)
+                        if offset < 0.0:
+                            outside = True
+                            break
+                        best = min(best, offset)
+                    if outside:
+                        break
+                if outside:
+                    break
+        out[b] = 0.0 if (outside or best == math.inf) else best
+    return out

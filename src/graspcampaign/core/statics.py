@@ -41,6 +41,7 @@ __all__ = [
     "FrictionConeResult",
     "FrictionlessDiagnosis",
     "check_contacts",
+    "cone_lp_matrices",
     "friction_cone_feasibility",
     "frictionless_diagnosis",
     "min_horizontal_residual",
@@ -192,11 +193,21 @@ def _check_cone(mu, n_facets) -> None:
         raise ValueError(f"n_facets must be >= 3, got {n_facets}")
 
 
-def _solve_cone_lp(points, normals, mu, rho, mass, center, g, n_facets, min_normal_force):
-    """Solve min sum f_n s.t. wrench balance and polyhedral cones.
+def cone_lp_matrices(points, normals, mu, rho, mass, center, g, n_facets):
+    """Assemble the friction-cone LP of :func:`friction_cone_feasibility` (shared by core.grip).
 
     Unknowns per contact j: ``x_j = (f_n, a, b)`` with the force ``-f_n n + a t1 + b t2``.
-    Returns ``(forces (c, 3), x (c, 3))``, or None when the LP is infeasible.
+
+    Returns
+    -------
+    basis : (c, 3, 3) float
+        Columns map ``x_j`` to the force vector.
+    a_eq : (6, 3c) float
+        Net force and torque about ``center`` (Eq. 19 with torque).
+    b_eq : (6,) float
+        ``(0, 0, m g, 0, 0, 0)``.
+    a_ub : (c q, 3c) float
+        Facets ``e_k . (a, b) - rho mu f_n <= 0`` of the polyhedral cones (right-hand side 0).
     """
     n_contacts = len(points)
     t1, t2 = tangent_bases(normals)
@@ -212,6 +223,16 @@ def _solve_cone_lp(points, normals, mu, rho, mass, center, g, n_facets, min_norm
     a_ub = np.zeros((n_contacts * n_facets, 3 * n_contacts))
     for j in range(n_contacts):  # c <= a handful of contacts: building the LP, not the physics
         a_ub[j * n_facets : (j + 1) * n_facets, 3 * j : 3 * j + 3] = facets
+    return basis, a_eq, b_eq, a_ub
+
+
+def _solve_cone_lp(points, normals, mu, rho, mass, center, g, n_facets, min_normal_force):
+    """Solve min sum f_n s.t. wrench balance and polyhedral cones.
+
+    Returns ``(forces (c, 3), x (c, 3))``, or None when the LP is infeasible.
+    """
+    n_contacts = len(points)
+    basis, a_eq, b_eq, a_ub = cone_lp_matrices(points, normals, mu, rho, mass, center, g, n_facets)
     b_ub = np.zeros(n_contacts * n_facets)
     cost = np.tile([1.0, 0.0, 0.0], n_contacts)
     bounds = [(min_normal_force, None), (None, None), (None, None)] * n_contacts

@@ -1176,9 +1176,9 @@ def pso_reidentify(waveforms: pd.DataFrame, schedule: pd.DataFrame, seed: int, *
     pandas.DataFrame
         One row per logged run: ``material, run, lambda1, lambda2, n, b, k, c,
         k_n_per_mm_n, c_n_s_per_m, cost_rmse_pct, converged, n_traces, n_evaluations,
-        source``.
+        at_bound, source`` (``at_bound``: parameters on a search bound, comma-joined).
     """
-    from graspcampaign.core.identify import paper_bounds, pso_minimize
+    from graspcampaign.core.identify import at_bound, paper_bounds, pso_minimize
 
     lower, upper = paper_bounds()
     upper = upper.copy()
@@ -1215,6 +1215,7 @@ def pso_reidentify(waveforms: pd.DataFrame, schedule: pd.DataFrame, seed: int, *
                 "converged": bool(converged[r]),
                 "n_traces": min(traces_per_run, len(pool)),
                 "n_evaluations": res.n_evaluations,
+                "at_bound": ",".join(at_bound(res.best_x, lower, upper)),
                 "source": str(g["source"].iloc[0]) if "source" in g else SOURCE,
             })
     return pd.DataFrame(rows)

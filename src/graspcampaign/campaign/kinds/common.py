@@ -27,14 +27,59 @@ def contact_params(study: StudyCfg, **overrides):
 
 
 def evaluator_params(study: StudyCfg, **overrides):
-    """Return the configured EvaluatorParams (Algorithms 1-2)."""
+    """Return the configured EvaluatorParams (Algorithms 1-2, grip law, validity bound)."""
     from graspcampaign.core.equilibrium import EvaluatorParams
 
     e = study.evaluator
     values = dict(seed_depth=e.seed_depth_m, n_max=e.n_max, alpha=e.alpha, eps=e.eps,
-                  tau_f=e.tau_f_n, tau_t=e.tau_t_nm, residual_check=e.residual_check)
+                  tau_f=e.tau_f_n, tau_t=e.tau_t_nm, residual_check=e.residual_check,
+                  fingertip_radius=study.model.fingertip_radius_m, grip_law=e.grip_law,
+                  grip_safety_factor=e.grip_safety_factor, grip_cap_depth=grip_cap_depth(study),
+                  cone_facets=e.oracle_cone_facets)
     values.update(overrides)
     return EvaluatorParams(**values)
+
+
+def grip_cap_depth(study: StudyCfg) -> float:
+    """Deepest penetration the slip/oracle grip laws may command [m].
+
+    ``evaluator.grip_cap_depth_m`` when set; otherwise the damage depth (§7.4,
+    ``bench.true_damage_depth``) of the Table 4 family whose modulus is nearest
+    ``model.e_object_pa``, bounded by the fingertip radius (deeper is not a contact, issue 13).
+    """
+    if study.evaluator.grip_cap_depth_m is not None:
+        return float(study.evaluator.grip_cap_depth_m)
+    return _default_cap_depth(float(study.model.e_object_pa), float(study.model.fingertip_radius_m))
+
+
+@lru_cache(maxsize=8)
+def _default_cap_depth(e_object_pa: float, fingertip_radius_m: float) -> float:
+    from graspcampaign.core.bench import FAMILIES, true_damage_depth
+
+    family = min(FAMILIES.values(), key=lambda f: abs(f.modulus_mean - e_object_pa))
+    return min(float(true_damage_depth(family).depth), fingertip_radius_m)
+
+
+def verdict_columns(eq, evaluator, index: int = 0) -> dict:
+    """Record columns of one evaluation's verdict: the one rule every kind records (issue 13).
+
+    ``success`` requires the checks and ``valid_geometry`` (every active contact within the
+    fingertip radius); ``success_unbounded`` is the checks alone; ``success_norm``,
+    ``success_vertical``, ``success_no_torque`` the other readings
+    (:func:`graspcampaign.core.verdict.readings`); ``failure_check`` the first failing check and
+    ``residual_ok``, ``torque_ok``, ``slip_ok`` each check on its own.
+    """
+    from graspcampaign.core.verdict import readings
+
+    out = {name: bool(value[index]) for name, value in readings(eq, evaluator).items()}
+    out.update({
+        "valid_geometry": bool(eq.valid_geometry[index]),
+        "failure_check": str(eq.failure_labels()[index]),
+        "residual_ok": bool(eq.residual_ok[index]),
+        "torque_ok": bool(eq.torque_ok[index]),
+        "slip_ok": bool(eq.slip_ok[index]),
+    })
+    return out
 
 
 def feature_thresholds(study: StudyCfg):
@@ -59,13 +104,13 @@ def body_mesh(shape: str, nodes: int, thresholds):
 
 @lru_cache(maxsize=256)
 def plan_context(shape: str, nodes: int, mass: float, mu: float, contact, evaluator, n_cand: int,
-                 thresholds, weights=None):
+                 thresholds, weights=None, fc_cone_edges: int = 8):
     """Return the PlanContext of one soft body (cached per worker)."""
     from graspcampaign.core.planner import plan_context as make_context
 
     mesh, features = body_mesh(shape, nodes, thresholds)
     return make_context(mesh, features, mass=mass, mu=mu, contact=contact, evaluator=evaluator,
-                        n_cand=n_cand, weights=weights)
+                        n_cand=n_cand, weights=weights, fc_cone_edges=fc_cone_edges)
 
 
 def nodes_of(factors: dict, default: int = DEFAULT_NODES) -> int:

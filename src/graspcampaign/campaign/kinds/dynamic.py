@@ -221,11 +221,10 @@ def like_for_like(study, mesh, mass: float, mu: float, contact) -> dict[str, Any
     radius = float(np.mean(np.linalg.norm(points - centroid, axis=1)))
     ideal = friction_cone_feasibility(*sphere_contacts_from_directions(directions, radius, centroid),
                                       0.0, mass, centroid)
-    qs_valid = bool(qs.delta_max_mm[0] <= contact.fingertip_radius * 1e3)
-    return {
-        "qs_success": bool(qs.success[0]) and qs_valid,
-        "qs_success_unbounded": bool(qs.success[0]),
-        "qs_valid_geometry": qs_valid,
+    return {  # the evaluator's one verdict rule: success is gated by valid_geometry (issue 13)
+        "qs_success": bool(qs.success[0]),
+        "qs_success_unbounded": bool(qs.success_unbounded[0]),
+        "qs_valid_geometry": bool(qs.valid_geometry[0]),
         "qs_failure_check": str(qs.failure_labels()[0]),
         "qs_residual_norm_n": float(qs.residual_norm[0]),
         "qs_residual_z_n": float(qs.residual_z[0]),

@@ -32,7 +32,6 @@ import numpy as np
 from graspcampaign.campaign.grid import stream_key
 from graspcampaign.campaign.kind import TrialInput, TrialKind
 from graspcampaign.campaign.kinds import common, quasi_static
-from graspcampaign.campaign.kinds.quasi_static import verdicts
 from graspcampaign.campaign.kinds.sensitivity import plan_and_evaluate
 from graspcampaign.errors import ConfigError
 
@@ -74,7 +73,8 @@ class MeshResolutionParams:
     baseline_masses_kg: list[float] = _list([0.2, 0.4, 0.6])
     baseline_mus: list[float] = _list([0.1, 0.3, 0.5])
     baseline_seeds: int = field(default=15, metadata={"ge": 1})
-    baseline_planners: list[str] = _list(["heuristic", "antipodal", "random", "centroid"])
+    baseline_planners: list[str] = _list(["heuristic", "antipodal", "random", "centroid",
+                                          "ferrari_canny"])
 
     def __post_init__(self) -> None:
         unknown = [p for p in self.panels if p not in PANELS]
@@ -220,12 +220,13 @@ def _n_max(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
                                        f["mu"], contact, f["planner"], baseline_rng)
     doubled = replace(ctx, evaluator=replace(ctx.evaluator, n_max=params.nmax_rerun))
     rerun = evaluate_triple(doubled, plan.points, plan.normals, contact=contact)
-    again = verdicts(rerun, doubled.evaluator)
+    again = common.verdict_columns(rerun, doubled.evaluator)
     out.update({
         "nodes": common.DEFAULT_NODES,
         "n_max": ctx.evaluator.n_max,
         "n_max_rerun": params.nmax_rerun,
-        "success_rerun": bool(rerun.success[0]),
+        "success_rerun": again["success"],
+        "success_unbounded_rerun": again["success_unbounded"],
         "success_norm_rerun": again["success_norm"],
         "success_vertical_rerun": again["success_vertical"],
         "failure_check_rerun": str(rerun.failure_labels()[0]),
@@ -241,8 +242,10 @@ def _n_max(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
 
 def run(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
     """Dispatch on the trial's panel."""
-    return {"resolution": _resolution, "budget": _budget, "n_max": _n_max}[
+    out = {"resolution": _resolution, "budget": _budget, "n_max": _n_max}[
         inp.trial.factors["panel"]](inp, rng)
+    out["pso_at_bound"] = str((inp.prepared or {}).get("at_bound", ""))
+    return out
 
 
 MESH_RESOLUTION = TrialKind(

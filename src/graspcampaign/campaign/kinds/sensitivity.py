@@ -133,7 +133,7 @@ def plan_and_evaluate(study, shape: str, nodes: int, mass: float, mu: float, con
     the contact parameters used and the timings (``plan_time_s``: Algorithm 1 with the candidate
     search and Algorithm 2; ``context_time_s``: the per-body preparation, cached per worker).
     """
-    ctx, plan, truth, context_time, plan_time = quasi_static.plan_and_judge(
+    ctx, plan, truth, context_time, plan_time, _ = quasi_static.plan_and_judge(
         study, shape, nodes, mass, mu, contact, planner, rng, n_cand, evaluator)
     out = quasi_static.plan_record(ctx, plan, truth)
     out.update({
@@ -159,6 +159,7 @@ def run(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
     _, _, out = plan_and_evaluate(study, f["shape"], params.nodes, f["mass_kg"], f["mu"],
                                   contact, f["planner"], rng)
     out["identified"] = bool(inp.prepared and inp.prepared.get("identified"))
+    out["pso_at_bound"] = str((inp.prepared or {}).get("at_bound", ""))
     out["nodes"] = params.nodes
     out["runtime_ms"] = 1e3 * out["plan_time_s"]
     return out

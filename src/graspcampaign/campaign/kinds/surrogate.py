@@ -107,7 +107,7 @@ def run(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
         "n_exp": contact.n, "nodes": params.nodes,
         "abs_residual_z_n": abs(out["residual_z_n"]),
         "pso_time_s": pso_time, "pso_n_evaluations": int(pso.pso.n_evaluations),
-        "pso_best_cost": float(pso.best_cost),
+        "pso_best_cost": float(pso.best_cost), "pso_at_bound": ",".join(pso.at_bound),
     })
     return out
 

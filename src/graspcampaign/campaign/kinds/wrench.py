@@ -46,14 +46,14 @@ def run(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
                         evaluator)
     last = -1
     out: dict[str, Any] = {
-        "success": bool(res.success[last]),
-        "failure_check": str(res.failure_labels()[last]),
+        **common.verdict_columns(res, evaluator, last),
         "residual_norm_n": float(res.residual_norm[last]),
         "torque_norm_nm": float(res.torque_norm[last]),
         "slip_margin_n": float(res.slip_margin[last]),
         "slip_margin_ratio": float(res.slip_margin_ratio[last]),
         "eta": float(res.eta[last]),
         "delta_max_mm": float(res.delta_max_mm[last]),
+        "rho": float(res.rho[last]),
         "grip_force_n": params.grip_force_n,
         "lambda1": contact.lambda1, "n_exp": contact.n,
     }
