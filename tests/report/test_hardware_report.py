@@ -21,6 +21,7 @@ from PIL import Image
 from statsmodels.stats.proportion import proportion_confint
 from typer.testing import CliRunner
 
+from graspcampaign.analysis import disturbance, hardware
 from graspcampaign.campaign.compose import compose_study, project_dirs
 from graspcampaign.campaign.kinds.hardware import export_records
 from graspcampaign.campaign.records import RunStore
@@ -29,7 +30,6 @@ from graspcampaign.cli.main import app
 from graspcampaign.report.build import build_reports
 from graspcampaign.report.sections import test2 as S2
 from graspcampaign.report.sections import test3 as S3
-from graspcampaign.rig import analysis as an
 
 OVERRIDES = ["params.fraction=0.08", "runner.backend=sequential", "runner.progress=false"]
 FIGURES = {"test2_grasp": ("fig28_outcomes", "fig29_prediction_accuracy",
@@ -213,15 +213,15 @@ def test_figures_have_units_legends_and_the_papers_value(reported, study):
     paper = _paper(study)
     cap = _Capture()
     if study == "test2_grasp":
-        S2.fig28(cap, ex, an, paper)
-        S2.fig29(cap, ex, an, paper)
+        S2.fig28(cap, ex, hardware, paper)
+        S2.fig29(cap, ex, hardware, paper)
         S2.fig30(cap, ex, paper)
-        S2.fig31(cap, recs, ex, an, paper)
+        S2.fig31(cap, recs, ex, hardware, paper)
     else:
-        S3.fig33(cap, ex, an, paper)
-        S3.fig34(cap, recs, ex, an, paper)
+        S3.fig33(cap, ex, disturbance, paper)
+        S3.fig34(cap, recs, ex, disturbance, paper)
         S3.fig35(cap, ex, paper)
-        S3.fig36(cap, recs, ex, an, paper)
+        S3.fig36(cap, recs, ex, disturbance, paper)
     assert sorted(cap.figures) == sorted(FIGURES[study]), cap.texts
     for name, fig in cap.figures.items():
         assert "VIRTUAL RIG data" in fig._suptitle.get_text(), name

@@ -19,9 +19,10 @@ from pathlib import Path
 
 import pandas as pd
 
+from graspcampaign import stats
 from graspcampaign.campaign.provenance import read_manifest
 from graspcampaign.campaign.records import RunStore
-from graspcampaign.report import stats
+from graspcampaign.report import format as fmt
 from graspcampaign.report import table as tbl
 
 PROPOSED_NAMES = ("heuristic", "proposed")
@@ -72,15 +73,12 @@ COLUMNS = ["headline", "section", "study", "run", "source", "testbed", "paper_pc
 @cache
 def campaign_paper(study: str) -> dict:
     """Return the ``paper:`` block of ``campaigns/<study>.yaml`` ({} if there is none)."""
-    import yaml
+    import dataclasses
 
-    from graspcampaign.campaign.compose import project_dirs
+    from graspcampaign.campaign.paper import study_paper
 
-    try:
-        path = project_dirs()[1] / f"{study}.yaml"
-        return (yaml.safe_load(path.read_text()) or {}).get("paper") or {}
-    except Exception:  # a missing or unreadable study file only loses the paper's value
-        return {}
+    paper = study_paper(study)
+    return dataclasses.asdict(paper) if paper is not None else {}
 
 
 def _paper_values(h: Headline, paper: dict, proposed: str) -> tuple[float | None, str, int | None]:
@@ -202,8 +200,7 @@ def headline_markdown(rows: pd.DataFrame) -> str:
         "paper %": [tbl.format_number(v) + (f" (n = {int(n)})" if _given(n) else "")
                     if _given(v) else "—" for v, n in zip(rows["paper_pct"], rows["paper_n"],
                                                          strict=True)],
-        "ours % (Wilson 95%)": ["—" if not n else stats.format_estimate_interval(
-            e / 100, lo / 100, hi / 100) for e, lo, hi, n in rows[
+        "ours % (Wilson 95%)": ["—" if not n else fmt.estimate(e, lo, hi, 1) for e, lo, hi, n in rows[
                 ["ours_pct", "wilson_low_pct", "wilson_high_pct", "n"]].itertuples(index=False)],
         "n": rows["n"], "errors": rows["n_error"], "aborted": rows["n_aborted"],
         "difference": [tbl.format_signed(v) for v in rows["difference_pp"]],

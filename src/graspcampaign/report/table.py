@@ -24,7 +24,8 @@ from decimal import ROUND_HALF_EVEN, Decimal
 import numpy as np
 import pandas as pd
 
-from graspcampaign.report import stats
+from graspcampaign import stats
+from graspcampaign.report import format as fmt
 
 CONFIDENCE_LEVEL = 0.95
 BOOTSTRAP_RESAMPLES = 10_000
@@ -134,7 +135,7 @@ def rate_cell(successes: int, n: int) -> str:
         return "–"
     ci = stats.wilson_interval(int(successes), int(n), CONFIDENCE_LEVEL)
     return (f"{successes}/{n} = {100 * ci.estimate:.1f} % "
-            f"({stats.format_interval(ci.low, ci.high)})")
+            f"({fmt.interval(100 * ci.low, 100 * ci.high, 1)})")
 
 
 def status_note(records: pd.DataFrame) -> str:
@@ -244,7 +245,7 @@ def _rate_display(full: pd.DataFrame, by: list[str], bootstrap: BootstrapSpec | 
     display = full[by].copy()
     display["paper %"] = [format_number(v) for v in full["paper_pct"]]
     display["ours % (Wilson 95%)"] = [
-        "\u2014" if not n else stats.format_estimate_interval(o / 100, lo / 100, hi / 100)
+        "\u2014" if not n else fmt.estimate(o, lo, hi, 1)
         for o, lo, hi, n in full[["ours_pct", "wilson_low_pct", "wilson_high_pct", "n"]]
         .itertuples(index=False)]
     display["difference"] = [format_signed(v) for v in full["difference_pp"]]
@@ -252,7 +253,7 @@ def _rate_display(full: pd.DataFrame, by: list[str], bootstrap: BootstrapSpec | 
     display["errors"] = full["n_error"]
     if bootstrap is not None:
         display[f"{bootstrap.cluster}-bootstrap 95%"] = [
-            "\u2014" if math.isnan(lo) else stats.format_interval(lo / 100, hi / 100)
+            "\u2014" if math.isnan(lo) else fmt.interval(lo, hi, 1)
             for lo, hi in full[["bootstrap_low_pct", "bootstrap_high_pct"]].itertuples(index=False)]
     display["verdict"] = full["verdict"]
     return display
@@ -406,7 +407,7 @@ def design_limit_table(records: pd.DataFrame, by: Sequence[str],
     display["n"] = full["n"]
     display["> 1 mm"] = full["exceeds_1mm"]
     display["% > 1 mm (Wilson 95%)"] = [
-        stats.format_estimate_interval(e / 100, lo / 100, hi / 100)
+        fmt.estimate(e, lo, hi, 1)
         for e, lo, hi in full[["exceeds_pct", "wilson_low_pct", "wilson_high_pct"]]
         .itertuples(index=False)]
     display["successes > 1 mm"] = full["successes_exceeding"]

@@ -15,7 +15,8 @@ import pandas as pd
 from scipy.stats import bootstrap
 
 from graspcampaign.campaign.records import RunStore
-from graspcampaign.report import figure, stats
+from graspcampaign import stats
+from graspcampaign.report import figure
 from graspcampaign.report import table as tbl
 from graspcampaign.report.document import Report
 

@@ -20,7 +20,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from graspcampaign.report import stats
+from graspcampaign import stats
 from graspcampaign.report.document import Report
 from graspcampaign.report.sections.sensitivity import RC
 from graspcampaign.report.table import executed, rate_cell

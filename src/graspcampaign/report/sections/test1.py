@@ -21,6 +21,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.lines import Line2D
 
+from graspcampaign.core.bench import RMSE_REVIEW_THRESHOLD_PCT
 from graspcampaign.report.document import Report
 from graspcampaign.report.sections.test2 import PAPER, RC, new_figure
 from graspcampaign.report.table import rate_cell
@@ -71,7 +72,7 @@ def fitted(records: pd.DataFrame) -> pd.DataFrame:
 
 
 def _materials(df: pd.DataFrame) -> list[str]:
-    from graspcampaign.rig.test1 import MATERIALS
+    from graspcampaign.analysis.calibration import MATERIALS
 
     return [m for m in MATERIALS if m in set(df["material"])]
 
@@ -178,7 +179,7 @@ def _counts(report: Report, records, fits, attempts, waves, paper) -> None:
 
 def table4_rows(fits: pd.DataFrame, truths: pd.DataFrame | None, paper: dict) -> pd.DataFrame:
     """Table 4 as two rows per family (ours, paper) at full precision."""
-    from graspcampaign.rig.test1 import table4
+    from graspcampaign.analysis.calibration import table4
 
     ours = table4(fits, truths)
     ref = paper.get("table4") or {}
@@ -226,7 +227,7 @@ def _table4(report: Report, fits, truths, paper) -> None:
 
 # -- §7 text figures ------------------------------------------------------------------------------
 def _claims(report: Report, fits: pd.DataFrame, paper: dict, store) -> None:
-    from graspcampaign.rig.test1 import cyclic_summary, oblique_summary
+    from graspcampaign.analysis.calibration import cyclic_summary, oblique_summary
 
     rows = []
 
@@ -413,7 +414,8 @@ def _fig23(report: Report, fits: pd.DataFrame, waves, paper: dict) -> None:
         if paper.get("rmse_pct") is not None:
             ax_c.axvline(paper["rmse_pct"], color=PAPER, ls="--", lw=1.5,
                          label=f"paper mean {paper['rmse_pct']} %")
-        ax_c.axvline(5.0, color="#c62828", ls=":", lw=1.0, label="review threshold 5 %")
+        ax_c.axvline(RMSE_REVIEW_THRESHOLD_PCT, color="#c62828", ls=":", lw=1.0,
+                     label=f"review threshold {RMSE_REVIEW_THRESHOLD_PCT:g} %")
         ax_c.set_xlabel("force-fit RMSE [% of peak force]")
         ax_c.set_ylabel("normal-indentation events")
         ax_c.set_title("(c) force-fit RMSE", loc="left")
@@ -422,12 +424,12 @@ def _fig23(report: Report, fits: pd.DataFrame, waves, paper: dict) -> None:
                       "Fig. 23 (ours, virtual-bench data where so labelled): (a) a retained "
                       "loading–unloading curve with its Eq. 13 fit and the paper's Table 4 "
                       "family law; (b) fitted n per family with the paper's family values, "
-                      "overall mean ± SD and the simulation's 0.487; (c) RMSE distribution with "
-                      "the paper's 2.7 % mean")
+                      f"overall mean ± SD and the simulation's {paper['n_exp_simulation']:g}; "
+                      f"(c) RMSE distribution with the paper's {paper['rmse_pct']:g} % mean")
 
 
 def _fig24(report: Report, fits: pd.DataFrame, waves, paper: dict) -> None:
-    from graspcampaign.rig.test1 import oblique_summary
+    from graspcampaign.analysis.calibration import oblique_summary
 
     sl = fits[(fits["block"] == "sliding") & fits["fit_ok"]]
     if not len(sl):
@@ -513,7 +515,7 @@ def _hold(w: pd.DataFrame) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _fig25(report: Report, fits: pd.DataFrame, waves, paper: dict) -> None:
-    from graspcampaign.rig.test1 import cyclic_summary
+    from graspcampaign.analysis.calibration import cyclic_summary
 
     rl = fits[(fits["block"] == "relaxation") & fits["fit_ok"]]
     cyc = fits[fits["block"] == "cyclic"]

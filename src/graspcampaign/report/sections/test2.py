@@ -26,6 +26,8 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from graspcampaign import stats
+from graspcampaign.analysis.records import executed as analysis_executed
+from graspcampaign.core.bench import FAMILIES
 from graspcampaign.report.document import Report
 
 RC = {
@@ -61,10 +63,7 @@ MINUS = "−"
 # =============================================================================================
 def executed(records: pd.DataFrame) -> pd.DataFrame:
     """Records of executed attempts: status ok and not aborted (booleans cleaned)."""
-    ok = records[records["status"] == "ok"] if "status" in records else records
-    from graspcampaign.rig.analysis import executed as rig_executed
-
-    return rig_executed(ok).reset_index(drop=True)
+    return analysis_executed(records)
 
 
 def ok_records(records: pd.DataFrame) -> pd.DataFrame:
@@ -399,7 +398,7 @@ DEPARTURES_T2 = (
 
 def section(report: Report, records: pd.DataFrame, manifest: dict, store=None) -> None:
     """Write the Test 2 section: counts, Tables 6-7, §8 claims, Figs. 28-31, power."""
-    from graspcampaign.rig import analysis as an
+    from graspcampaign.analysis import hardware as an
 
     paper = (manifest.get("config") or {}).get("paper") or {}
     report.text(source_note(records, manifest, "One record per commanded attempt of the Test 2 "
@@ -414,7 +413,7 @@ def section(report: Report, records: pd.DataFrame, manifest: dict, store=None) -
                  "Test 2 trial counts (§8.1), ours beside the paper's; a reduced study (params) "
                  "has proportionally fewer")
     _table6(report, ex, an, paper)
-    _table7(report, recs, ex, an, paper)
+    _table7(report, recs, ex, an, paper, int((manifest.get("config") or {}).get("seed", 0)))
     _claims(report, recs, ex, an, paper)
     _extra_tables(report, recs, an)
     fig28(report, ex, an, paper)
@@ -491,9 +490,10 @@ def _table6(report: Report, ex: pd.DataFrame, an, paper: dict) -> None:
     add_differences(report, "Table 6", items)
 
 
-def _table7(report: Report, recs: pd.DataFrame, ex: pd.DataFrame, an, paper: dict) -> None:
+def _table7(report: Report, recs: pd.DataFrame, ex: pd.DataFrame, an, paper: dict,
+            seed: int) -> None:
     ref = paper.get("table7") or {}
-    summary = an.planner_summary(recs).set_index("planner")
+    summary = an.planner_summary(recs, seed=seed).set_index("planner")
     rows, items = [], []
     cols = (("stable", "stable_pct", "stable"), ("slip", "slip_pct", "failure_slip"),
             ("drop", "drop_pct", "failure_drop"), ("damage", "damage_pct", "failure_damage"))
@@ -543,7 +543,8 @@ def _table7(report: Report, recs: pd.DataFrame, ex: pd.DataFrame, an, paper: dic
     })
     report.table("table7", full, "Table 7 (ours beside the paper's): executed trials per planner; "
                  "success with its Wilson 95 % interval and the object-clustered bootstrap "
-                 "(objects resampled, 2000 resamples, seed 0); stable, slip, drop and damage as "
+                 f"(objects resampled, {stats.BOOTSTRAP_RESAMPLES} resamples, seed {seed}); "
+                 "stable, slip, drop and damage as "
                  "primary outcome classes, each with its Wilson interval", display=display)
     add_differences(report, "Table 7", items)
 
@@ -705,16 +706,14 @@ def fig28(report: Report, ex: pd.DataFrame, an, paper: dict) -> None:
                   [int((prop["shape"] == s).sum()) for s in shapes],
                   [PLANNER_COLOURS["heuristic"]] * len(shapes),
                   [ref.get(s, {}).get("success_pct") for s in shapes])
-        ax_a.axhline(75.0, color="#555555", linestyle="--", linewidth=1.0)
+        ax_a.axhline(float(paper["fig28_reference_pct"]), color="#555555", linestyle="--", linewidth=1.0)
         ax_a.set_ylabel("success rate [%]")
         ax_a.set_title("(a) proposed planner, by shape", loc="left")
         ax_a.tick_params(axis="x", labelsize=7)
 
-        from graspcampaign.rig.plan import material_model
-
         mats = [m for m in MATERIAL_ORDER if m in set(ex["material"])]
         ref_m = paper.get("success_by_material_pct") or {}
-        labels = [f"{MATERIAL_LABELS[m]}\nE = {material_model(m).modulus / 1e3:.0f} kPa"
+        labels = [f"{MATERIAL_LABELS[m]}\nE = {FAMILIES[m].modulus_mean / 1e3:.0f} kPa"
                   for m in mats]
         rate_bars(ax_b, labels, [int(ex.loc[ex["material"] == m, "success"].sum()) for m in mats],
                   [int((ex["material"] == m).sum()) for m in mats], ["#8aa9d6"] * len(mats),
@@ -832,7 +831,7 @@ def fig30(report: Report, ex: pd.DataFrame, paper: dict) -> None:
     values (per-finger normal force, peak slip) are drawn as levels over the hold.
     """
     from graspcampaign.core.disturbance import A_LIFT
-    from graspcampaign.rig.protocol import LIFT_HEIGHT_MM
+    lift_height_mm = float(paper["lift_height_mm"])
 
     pool = ex[(ex["planner"] == "heuristic") & (ex["shape"] == "sphere")
               & (ex["outcome"] == "stable") & (ex["friction_level"] == "natural")]
@@ -844,11 +843,11 @@ def fig30(report: Report, ex: pd.DataFrame, paper: dict) -> None:
     v_lift = float(trial["lift_speed_mm_per_s"]) * 1e-3
     t_close = 10.0 / closing  # 10 mm approach at the commanded closing speed (drawing only)
     t_acc = v_lift / A_LIFT
-    t_lift = LIFT_HEIGHT_MM * 1e-3 / v_lift + t_acc
+    t_lift = lift_height_mm * 1e-3 / v_lift + t_acc
     hold = float(trial["hold_s"])
     t0, t1, t2 = t_close, t_close + t_lift, t_close + t_lift + hold
     t = np.linspace(0.0, t2, 600)
-    height = np.clip((t - t0 - t_acc / 2) / (t_lift - t_acc), 0.0, 1.0) * LIFT_HEIGHT_MM
+    height = np.clip((t - t0 - t_acc / 2) / (t_lift - t_acc), 0.0, 1.0) * lift_height_mm
     with mpl.rc_context(RC):
         fig, (ax_f, ax_z) = new_figure(ex, "Fig. 30: representative successful grasp "
                                        f"({sheet_id(trial)})", (9.5, 5.4), 1, nrows=2,

@@ -20,6 +20,8 @@ import numpy as np
 import pandas as pd
 from matplotlib.patches import Patch
 
+from graspcampaign import stats
+from graspcampaign.analysis import hardware as hw
 from graspcampaign.core.statics import GRAVITY
 from graspcampaign.report.document import Report
 from graspcampaign.report.sections.test2 import (
@@ -73,7 +75,7 @@ def _natural(df: pd.DataFrame) -> pd.DataFrame:
 
 def section(report: Report, records: pd.DataFrame, manifest: dict, store=None) -> None:
     """Write the Test 3 section: counts, Tables 8-9, §9 claims, Figs. 33-36."""
-    from graspcampaign.rig import analysis as an
+    from graspcampaign.analysis import disturbance as an
 
     paper = (manifest.get("config") or {}).get("paper") or {}
     report.text(source_note(records, manifest, "One record per commanded attempt of the Test 3 "
@@ -89,7 +91,7 @@ def section(report: Report, records: pd.DataFrame, manifest: dict, store=None) -
                  "Test 3 trial counts (§9.1), ours beside the paper's; a reduced study (params) "
                  "has proportionally fewer")
     _table8(report, recs, ex, an, paper)
-    _table9(report, recs, ex, an, paper)
+    _table9(report, recs, ex, an, paper, int((manifest.get("config") or {}).get("seed", 0)))
     _claims(report, recs, ex, an, paper)
     _extra_tables(report, recs, an)
     fig33(report, ex, an, paper)
@@ -157,9 +159,9 @@ def _table8(report: Report, recs, ex, an, paper: dict) -> None:
     add_differences(report, "Table 8", items)
 
 
-def _table9(report: Report, recs, ex, an, paper: dict) -> None:
+def _table9(report: Report, recs, ex, an, paper: dict, seed: int) -> None:
     ref = paper.get("table9") or {}
-    summary = an.planner_summary(recs).set_index("planner")
+    summary = hw.planner_summary(recs, seed=seed).set_index("planner")
     thr = an.threshold_summary(recs).set_index("planner")
     rows, items = [], []
     cols = (("stable", "stable_pct", "stable"), ("drop", "drop_pct", "failure_drop"),
@@ -224,7 +226,8 @@ def _table9(report: Report, recs, ex, an, paper: dict) -> None:
     report.table("table9", full.drop(columns=["paper_wilson_pct"]),
                  "Table 9 (ours beside the paper's): all executed trials per planner; success "
                  "with its Wilson 95 % interval and the object-clustered bootstrap (objects "
-                 "resampled, 2000 resamples, seed 0); stable, drop and damage as primary outcome "
+                 f"resampled, {stats.BOOTSTRAP_RESAMPLES} resamples, seed {seed}); stable, drop and "
+                 "damage as primary outcome "
                  "classes with Wilson intervals; median lateral threshold over all block-A trials "
                  "with an uncensored threshold and its median absolute prediction error",
                  display=display)
@@ -249,7 +252,7 @@ def _claims(report: Report, recs, ex, an, paper: dict) -> None:
         if len(g):
             _rate(rows, f"natural-friction success, block {block}", "§9.2, Fig. 33c",
                   g["success"], pv)
-    a_thr, _, _ = an._thresholds(nat, "A")
+    a_thr, _, _ = an.thresholds(nat, "A")
     rows.append(claim("median lateral threshold, natural friction", "§9.2",
                       np.median(a_thr) if a_thr.size else math.nan,
                       paper.get("lateral_threshold_median_n"), n=a_thr.size, unit="N", digits=2))
@@ -287,7 +290,7 @@ def _claims(report: Report, recs, ex, an, paper: dict) -> None:
     c_nat = _natural(c)
     for label, g, key in (("natural friction", c_nat, "yaw_torque_median_nm"),
                           ("with the coating probes", c, "yaw_torque_with_probes_nm")):
-        m, _, _ = an._thresholds(g, "C")
+        m, _, _ = an.thresholds(g, "C")
         rows.append(claim(f"median yaw torque at slip, {label}", "§9.2",
                           np.median(m) if m.size else math.nan, paper.get(key), n=m.size,
                           unit="N m", digits=3))
@@ -323,7 +326,7 @@ def _claims(report: Report, recs, ex, an, paper: dict) -> None:
                            100 * paper["threshold_err_over_50pct"] / paper[
                                "lateral_threshold_trials"]
                            if paper.get("threshold_err_over_50pct") is not None else None))
-    c_m, c_p, _ = an._thresholds(c, "C")
+    c_m, c_p, _ = an.thresholds(c, "C")
     err_c = 100.0 * np.abs(c_p - c_m) / c_m if c_m.size else np.array([])
     rows.append(claim("median torque-threshold error", "§9.3", np.median(err_c) if err_c.size
                       else math.nan, paper.get("torque_threshold_err_pct"), n=err_c.size))
@@ -357,7 +360,7 @@ def _claims(report: Report, recs, ex, an, paper: dict) -> None:
     mp = matched[matched["planner"] == "heuristic"]
     _rate(rows, "matched set success, proposed", "§9.5", mp["success"],
           paper.get("matched_proposed_pct"))
-    mc = an.matched_mcnemar(recs).set_index("baseline")
+    mc = hw.matched_mcnemar(recs).set_index("baseline")
     ref = paper.get("mcnemar_centroid") or {}
     if "centroid" in mc.index:
         r = mc.loc["centroid"]
@@ -401,7 +404,7 @@ def _claims(report: Report, recs, ex, an, paper: dict) -> None:
             rows.append(claim(f"logistic coefficient of failure: {term}", "§9.5", r["coef"],
                               ref.get(term), n=r["n"], low=r["ci_low"], high=r["ci_high"],
                               unit="", digits=2))
-    chi = an.planner_chi2(recs).iloc[0]
+    chi = hw.planner_chi2(recs).iloc[0]
     rows.append(claim("χ² planner × retention (proposed, centroid, random)", "§9.5", chi["chi2"],
                       paper.get("chi2_planner_retention"), n=chi["n"], unit="", digits=1))
     _rate(rows, "proposed drops, all its trials", "§9.6", prop["outcome"] == "failure_drop",
@@ -436,10 +439,10 @@ def _extra_tables(report: Report, recs, an) -> None:
     report.table("test3_logistic", an.failure_logistic(recs),
                  "Logistic regression of failure over the fixed-load blocks B, D, E (§9.5): "
                  "applied load [N], mass [kg], believed μ, proposed-planner indicator")
-    report.table("test3_mcnemar", an.matched_mcnemar(recs),
+    report.table("test3_mcnemar", hw.matched_mcnemar(recs),
                  "Matched paired set (§9.5): McNemar tests of the proposed planner against each "
                  "baseline on occurrence-matched pairs")
-    report.table("test3_chi2", an.planner_chi2(recs),
+    report.table("test3_chi2", hw.planner_chi2(recs),
                  "χ² of planner × retention over the proposed, centroid and random arms (§9.5)")
 
 
@@ -456,7 +459,7 @@ def fig33(report: Report, ex: pd.DataFrame, an, paper: dict) -> None:
         x = np.arange(len(levels))
         meds, ns = [], []
         for lv in levels:
-            m, _, _ = an._thresholds(a[a["friction_level"] == lv], "A")
+            m, _, _ = an.thresholds(a[a["friction_level"] == lv], "A")
             meds.append(float(np.median(m)) if m.size else math.nan)
             ns.append(int(m.size))
         ax_a.bar(x, np.nan_to_num(meds), 0.7, color=PLANNER_COLOURS["heuristic"])
@@ -528,7 +531,7 @@ def fig34(report: Report, recs, ex: pd.DataFrame, an, paper: dict) -> None:
     The fitted line, R², bias and limits are those of the claims table
     (:func:`graspcampaign.rig.analysis.threshold_agreement`), over the same thresholds.
     """
-    m, p, _ = an._thresholds(ex[ex["planner"] == "heuristic"], "A")
+    m, p, _ = an.thresholds(ex[ex["planner"] == "heuristic"], "A")
     agree = an.threshold_agreement(recs).iloc[0]
     with mpl.rc_context(RC):
         fig, (ax_a, ax_b, ax_c) = new_figure(ex, "Fig. 34: predicting the failure boundary",
@@ -615,29 +618,28 @@ def fig35(report: Report, ex: pd.DataFrame, paper: dict) -> None:
     if trial is None:
         report.text("Fig. 35 not drawn: no proposed-planner natural-friction pull ended in slip.")
         return
-    from graspcampaign.rig.protocol import HOLD_S
-
+    hold_s = float(trial["hold_s"])
     rate = float(trial["ramp_rate_n_per_s"])
     thr = float(trial["threshold_measured_n"])
     pred = float(trial["threshold_pred_n"])
     t_on = thr / rate
-    t = np.linspace(0.0, HOLD_S + t_on * 1.15, 500)
-    force = np.clip(t - HOLD_S, 0.0, t_on) * rate
-    force[t > HOLD_S + t_on] = 0.0
+    t = np.linspace(0.0, hold_s + t_on * 1.15, 500)
+    force = np.clip(t - hold_s, 0.0, t_on) * rate
+    force[t > hold_s + t_on] = 0.0
     with mpl.rc_context(RC):
         fig, (ax_f, ax_s) = new_figure(ex, f"Fig. 35: representative lateral pull "
                                        f"({sheet_id(trial)})", (9.5, 5.2), 1, nrows=2,
                                        sharex=True)
         for ax in (ax_f, ax_s):
-            ax.axvspan(0.0, HOLD_S, color="#e8f5e9", zorder=0,
+            ax.axvspan(0.0, hold_s, color="#e8f5e9", zorder=0,
                        label="hold" if ax is ax_f else None)
-            ax.axvspan(HOLD_S, HOLD_S + t_on, color="#fff8e1", zorder=0,
+            ax.axvspan(hold_s, hold_s + t_on, color="#fff8e1", zorder=0,
                        label="ramp" if ax is ax_f else None)
         ax_f.plot(t, force, color="#333333",
                   label=f"applied lateral force, commanded ramp {rate:g} N/s")
-        ax_f.hlines(thr, HOLD_S, t[-1], color="#c62828",
+        ax_f.hlines(thr, hold_s, t[-1], color="#c62828",
                     label=f"recorded threshold at slip {thr:.2f} N")
-        ax_f.hlines(pred, HOLD_S, t[-1], color=PLANNER_COLOURS["heuristic"], linestyle="--",
+        ax_f.hlines(pred, hold_s, t[-1], color=PLANNER_COLOURS["heuristic"], linestyle="--",
                     label=f"predicted F_lat = W√(SF²−1) = {pred:.2f} N")
         if paper.get("lateral_threshold_median_n") is not None:
             ax_f.axhline(float(paper["lateral_threshold_median_n"]), color=PAPER, linestyle=":",
@@ -647,9 +649,9 @@ def fig35(report: Report, ex: pd.DataFrame, paper: dict) -> None:
         ax_f.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=6.5)
         slip = float(trial["peak_slip_mm"])
         ax_s.axhline(2.0, color="#c62828", linestyle="--", label="2 mm slip criterion (detection)")
-        ax_s.plot([HOLD_S + t_on], [2.0], "o", color="#c62828", label="slip detected, load released")
+        ax_s.plot([hold_s + t_on], [2.0], "o", color="#c62828", label="slip detected, load released")
         lost = " (object lost)" if bool(trial["drop_flag"]) else ""
-        ax_s.hlines(slip, HOLD_S + t_on, t[-1], color="#333333",
+        ax_s.hlines(slip, hold_s + t_on, t[-1], color="#333333",
                     label=f"recorded peak slip {slip:.2f} mm, after release{lost}")
         ax_s.set_ylim(0.0, max(3.0, slip * 1.1))
         ax_s.set_ylabel("slip [mm]")
