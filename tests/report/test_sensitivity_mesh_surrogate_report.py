@@ -13,7 +13,9 @@ from graspcampaign.campaign.compose import compose_study
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.runner import run_study
 from graspcampaign.report.build import build_reports
-from graspcampaign.report.document import Report
+from graspcampaign.report.build import LegacyReport
+from graspcampaign.report.document import Document, Text
+from graspcampaign.report.render import Run
 
 REDUCED = {
     "sensitivity": ["params.levels=2", "seeds=2"],
@@ -118,7 +120,7 @@ def test_surrogate_fitting_recovers_known_structure(tmp_path):
     pytest.importorskip("sklearn")
     from graspcampaign.report.sections import surrogate
 
-    report = Report("surrogate", tmp_path / "report")
+    report = LegacyReport(Document("surrogate", "simulation", []), Run(_synthetic(), _manifest()))
     surrogate.section(report, _synthetic(), _manifest())
     cls = report.tables["surrogate_classification"].set_index(["label", "model"])
     assert (cls["roc_auc"] > 0.95).all()
@@ -144,8 +146,9 @@ def test_surrogate_section_without_scikit_learn(tmp_path, monkeypatch):
     from graspcampaign.report.sections import surrogate
 
     monkeypatch.setitem(sys.modules, "sklearn", None)  # import sklearn -> ImportError
-    report = Report("surrogate", tmp_path / "report")
+    report = LegacyReport(Document("surrogate", "simulation", []),
+                          Run(_synthetic(60), _manifest()))
     surrogate.section(report, _synthetic(60), _manifest())
     assert "surrogate_classification" not in report.tables
     assert "surrogate_dataset" in report.tables
-    assert any("not installed" in part[-1] for part in report.parts if part[0] == "text")
+    assert any("not installed" in b.markdown for b in report.doc.blocks if isinstance(b, Text))

@@ -313,3 +313,39 @@ def survival_curve(thresholds: ArrayLike, levels: ArrayLike | None = None) -> Su
     grid.setflags(write=False)
     fraction.setflags(write=False)
     return SurvivalCurve(levels=grid, surviving_fraction=fraction, n=int(values.size))
+
+
+def cv_interval(x: ArrayLike, *, seed: int, n_resamples: int = 10_000,
+                confidence_level: float = 0.95) -> tuple[float, float]:
+    """Return the percentile-bootstrap interval of the coefficient of variation of ``x``.
+
+    Parameters
+    ----------
+    x : (n,) float
+        Values (e.g. one identified parameter over PSO restarts); n >= 3 and not all equal.
+    seed : int
+        Generator seed (the study seed), so the interval is reproducible.
+
+    Returns
+    -------
+    tuple of float
+        ``(low, high)`` of ``std(x, ddof=1) / mean(x)`` (fractions).
+
+    Raises
+    ------
+    ValueError
+        Fewer than 3 values, or every value equal (a zero spread has no interval).
+
+    References
+    ----------
+    Efron, B. & Tibshirani, R. J. (1993), ch. 13 (percentile interval);
+    ``scipy.stats.bootstrap``.
+    """
+    arr = check_1d(x, "x", 3)
+    if np.ptp(arr) == 0:
+        raise ValueError("every value is the same: a zero spread has no interval")
+    res = stats.bootstrap((arr,), lambda v, axis=-1: np.std(v, axis=axis, ddof=1)
+                          / np.mean(v, axis=axis), n_resamples=n_resamples,
+                          confidence_level=confidence_level, method="percentile",
+                          rng=np.random.default_rng(seed), vectorized=True)
+    return float(res.confidence_interval.low), float(res.confidence_interval.high)

@@ -83,6 +83,10 @@ VOCABULARIES: dict[str, dict[str, Term]] = {
 }
 """Record column -> its vocabulary."""
 
+FACTOR_LABELS = {"mu": "μ", "mass_kg": "mass [kg]", "nodes": "nodes", "weight_scale":
+                 "weight scale", "n_cand": "N_cand", "friction_level": "friction"}
+"""Header of a factor column outside the vocabularies (its unit in brackets)."""
+
 OTHER_COLOURS = ("#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#e6ab02")
 """Colours of levels outside every vocabulary (friction levels, node counts), in level order."""
 
@@ -106,5 +110,7 @@ def ordered(column: str, values: Iterable, first: Iterable = ()) -> list:
     then the rest sorted by their text.
     """
     values = list(dict.fromkeys(v for v in values if not pd.isna(v)))
-    rank = {v: i for i, v in enumerate([*first, *VOCABULARIES.get(column, {})])}
+    rank: dict = {}
+    for v in [*first, *VOCABULARIES.get(column, {})]:
+        rank.setdefault(v, len(rank))
     return sorted(values, key=lambda v: (rank.get(v, rank.get(str(v), len(rank))), str(v)))

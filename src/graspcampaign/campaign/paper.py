@@ -126,6 +126,9 @@ class HeuristicWeightsPaper:
     s1: float
     s2: float
     s3: float
+    argmin_invariant: bool
+    h_scales_with_weights: bool
+    sphere_penalised_contacts: int
 
 
 @dataclass(frozen=True)
@@ -136,6 +139,7 @@ class WrenchBalancePaper:
     finger_force_command_n: float
     residual_settles_within_iterations: tuple[int, int]
     slip_margin_saturates_above: float
+    torque_residual_nm: float
     #: the saturation is stated for these frictions only (Sec. 6.4: "for μ ≥ 0.3")
     slip_margin_saturates_from_mu: float
 

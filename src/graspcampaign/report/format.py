@@ -26,9 +26,11 @@ DASH = "\u2013"
 
 
 def is_missing(value: Any) -> bool:
-    """Return whether ``value`` is None, nan, NA or an empty string."""
-    if value is None or (isinstance(value, str) and not value):
+    """Return whether ``value`` is None, nan or NA (a value that is absent, not an empty text)."""
+    if value is None:
         return True
+    if isinstance(value, str):
+        return False
     try:
         return bool(value != value)  # nan, pd.NA raise or compare unequal
     except (TypeError, ValueError):
@@ -40,8 +42,9 @@ def number(value: Any, digits: int | None = None, *, sig: int | None = None,
     """Return ``value`` rounded once: ``digits`` decimals, or ``sig`` significant digits.
 
     Integers print as they are; with neither ``digits`` nor ``sig`` a float keeps 4 significant
-    digits. ``signed`` prefixes ``+`` to a non-zero positive value; ``unit`` is appended as
-    given (e.g. ``" pp"``). Missing values print :data:`MISSING`.
+    digits without trailing zeros (0.1, 2, 0.003142). ``signed`` prefixes ``+`` to a non-zero
+    positive value; ``unit`` is appended as given (e.g. ``" pp"``). Missing values print
+    :data:`MISSING`.
     """
     if isinstance(value, str):
         return value
@@ -55,9 +58,12 @@ def number(value: Any, digits: int | None = None, *, sig: int | None = None,
         text = "inf" if value > 0 else "-inf"
     else:
         exact = Decimal(float(value))
+        strip = digits is None and sig is None
         if digits is None:  # significant digits; negative "decimals" round left of the point
             digits = (sig or 4) - 1 - (exact.adjusted() if exact else 0)
         text = f"{exact.quantize(Decimal(1).scaleb(-digits), rounding=ROUND_HALF_EVEN):f}"
+        if strip and "." in text:
+            text = text.rstrip("0").rstrip(".")
     if text.startswith("-"):
         text = text[1:] if not any(c in "123456789" for c in text) else text
     if signed and not text.startswith("-") and any(c in "123456789" for c in text):

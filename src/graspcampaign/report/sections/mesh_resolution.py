@@ -17,9 +17,9 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from graspcampaign import stats
-from graspcampaign.report.document import Report
+from graspcampaign.report.build import LegacyReport as Report
+from graspcampaign.report.sections import executed, rate_cell
 from graspcampaign.report.sections.sensitivity import RC
-from graspcampaign.report.table import executed, rate_cell
 
 OURS = "#1f5aa6"
 PAPER = "black"

@@ -16,8 +16,8 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from graspcampaign.report.document import Report
-from graspcampaign.report.table import executed, rate_cell
+from graspcampaign.report.build import LegacyReport as Report
+from graspcampaign.report.sections import executed, rate_cell
 
 RC = {
     "font.size": 9, "axes.titlesize": 9.5, "axes.labelsize": 9, "legend.fontsize": 7.5,

@@ -22,9 +22,9 @@ import pandas as pd
 from matplotlib.lines import Line2D
 
 from graspcampaign.core.bench import RMSE_REVIEW_THRESHOLD_PCT
-from graspcampaign.report.document import Report
+from graspcampaign.report.build import LegacyReport as Report
+from graspcampaign.report.sections import rate_cell
 from graspcampaign.report.sections.test2 import PAPER, RC, new_figure
-from graspcampaign.report.table import rate_cell
 
 MATERIAL_COLOURS = {"gel": "#1b9e77", "silicone_soft": "#d95f02", "bio_foam": "#7570b3",
                     "silicone_ref": "#e7298a"}

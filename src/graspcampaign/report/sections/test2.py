@@ -28,7 +28,7 @@ from matplotlib.patches import Patch
 from graspcampaign import stats
 from graspcampaign.analysis.records import executed as analysis_executed
 from graspcampaign.core.bench import FAMILIES
-from graspcampaign.report.document import Report
+from graspcampaign.report.build import LegacyReport as Report
 
 RC = {
     "font.size": 9, "axes.titlesize": 9.5, "axes.labelsize": 9, "legend.fontsize": 7.5,

@@ -23,7 +23,7 @@ from matplotlib.patches import Patch
 from graspcampaign import stats
 from graspcampaign.analysis import hardware as hw
 from graspcampaign.core.statics import GRAVITY
-from graspcampaign.report.document import Report
+from graspcampaign.report.build import LegacyReport as Report
 from graspcampaign.report.sections.test2 import (
     DASH,
     PAPER,
