@@ -12,8 +12,7 @@ import pytest
 from graspcampaign.campaign.compose import compose_study
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.runner import run_study
-from graspcampaign.report.build import build_reports
-from graspcampaign.report.build import LegacyReport
+from graspcampaign.report.build import LegacyReport, build_reports
 from graspcampaign.report.document import Document, Text
 from graspcampaign.report.render import Run
 

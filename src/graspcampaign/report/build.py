@@ -129,7 +129,7 @@ def report_run(store: RunStore, root: Path, formats: list[str], figure_format: s
     paper = _paper((manifest.get("config") or {}).get("paper"), study, notes)
     run = Run(records, manifest, paper, store, figure_format)
     up = "../" * (len(store.path.relative_to(root).parts) + 1)
-    doc = Document(f"{study} — run `{manifest.get('run')}`", run.source,
+    doc = Document(f"{study} — run {manifest.get('run')}", run.source,
                    provenance(run) + [("Note", n) for n in notes],
                    nav=[("Index", f"{up}index.html"), ("Table 1 headline", f"{up}headline.html")])
     if not len(records):

@@ -82,7 +82,7 @@ class Col:
 
     @property
     def keys(self) -> list[str]:
-        return [k for k in (self.key, self.low, self.high, self.share) if k]
+        return list(dict.fromkeys(k for k in (self.key, self.low, self.high, self.share) if k))
 
 
 def cell(row: Mapping[str, Any], col: Col) -> str:

@@ -89,7 +89,8 @@ def reason(exc: BaseException) -> str:
     """One sentence saying why a statistic could not be computed."""
     if isinstance(exc, KeyError):
         return f"the records have no `{exc.args[0]}` column"
-    text = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+    text = str(exc).strip().splitlines()[0].rstrip(".") if str(exc).strip() \
+        else type(exc).__name__
     from graspcampaign.errors import UserInputError
 
     plain = isinstance(exc, ValueError | UserInputError)

@@ -25,7 +25,7 @@ RC = {
     "grid.alpha": 0.3, "grid.linewidth": 0.6, "axes.spines.top": False,
     "axes.spines.right": False, "legend.frameon": False, "lines.linewidth": 1.5,
     "errorbar.capsize": 3, "figure.dpi": 100, "savefig.dpi": 130, "image.cmap": "viridis",
-    "svg.hashsalt": "graspcampaign", "font.family": "DejaVu Sans",
+    "svg.hashsalt": "graspcampaign", "svg.fonttype": "none", "font.family": "DejaVu Sans",
 }
 """The report's rcParams (every figure of every study)."""
 PAPER = "black"
