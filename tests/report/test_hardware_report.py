@@ -241,3 +241,23 @@ def test_figures_have_units_legends_and_the_papers_value(reported, study):
         assert any(_black(a) for a in artists), name
         assert "paper" in legend_text, name
     assert not math.isnan(float(paper["proposed_success_pct"]))
+
+
+def test_a_partially_ingested_measured_run_is_reported(reported, tmp_path):
+    """Issue 15 item 2: ``report`` after 40 ingested rows, a planner with a single object."""
+    root, _ = reported
+    part = tmp_path / "first40.csv"
+    pd.read_csv(root / "test2_grasp.csv").head(40).to_csv(part, index=False)
+    where = tmp_path / "results"
+    result = cli.invoke(app, ["ingest", "test2_grasp", str(part), "--set", f"output.root={where}",
+                              *[a for o in OVERRIDES for a in ("--set", o)]])
+    assert result.exit_code == 0, result.output
+    result = cli.invoke(app, ["report", "test2_grasp", "--run", "measured", "--root",
+                              str(where), "--format", "md,csv,html"])
+    assert result.exit_code == 0, result.output
+    folder = where / "test2_grasp" / "measured" / "report"
+    text = (folder / "report.md").read_text()
+    assert "40 recorded of" in text and "Data source:** measured on hardware" in text
+    table7 = pd.read_csv(folder / "tables" / "table7.csv")  # written before anything failed
+    assert len(table7) >= 1
+    assert (folder / "report.html").exists()

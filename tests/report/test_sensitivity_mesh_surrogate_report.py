@@ -151,3 +151,29 @@ def test_surrogate_section_without_scikit_learn(tmp_path, monkeypatch):
     assert "surrogate_classification" not in report.tables
     assert "surrogate_dataset" in report.tables
     assert any("not installed" in b.markdown for b in report.doc.blocks if isinstance(b, Text))
+
+
+def test_a_non_finite_sweep_level_is_reported_not_raised(runs, tmp_path):
+    """Issue 15 item 2: a sweep level that makes a heatmap non-finite."""
+    import shutil
+
+    from typer.testing import CliRunner
+
+    from graspcampaign.cli.main import app
+
+    source = runs["sensitivity"]
+    copy = tmp_path / "results" / "sensitivity" / "default"
+    shutil.copytree(source.path, copy, ignore=shutil.ignore_patterns("report"))
+    store = RunStore(copy)
+    records = store.read().to_pandas()
+    level = sorted(records.loc[records["panel"] == "lambda", "lambda1"].unique())[0]
+    records.loc[(records["panel"] == "lambda") & (records["lambda1"] == level),
+                "delta_max_mm"] = np.inf
+    records.loc[records["panel"] == "n_b", "runtime_ms"] = np.nan
+    shutil.rmtree(copy / "records")
+    store.write_shard("records", "a", records.to_dict("records"))
+    result = CliRunner().invoke(app, ["report", "--root", str(tmp_path / "results")])
+    assert result.exit_code == 0, result.output
+    md = (copy / "report" / "report.md").read_text()
+    assert "could not be computed" in md or "not computed" in md
+    assert (copy / "report" / "tables" / "sensitivity_panels.csv").exists()
