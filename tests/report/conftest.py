@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import pytest
 
-#: Reduced designs: every study of the spec path, plus one of the legacy path (sensitivity).
+#: Reduced designs: every study of the spec path, plus one of the legacy path (surrogate).
 REDUCED = {
     "smoke": ["nodes=[144]"],
     "heuristic_weights": ["seeds=2"],
@@ -20,6 +20,12 @@ REDUCED = {
     "gravity_settle": ["nodes=[144]", "+params.settle_t_max_s=0.2"],
     "friction_mass": ["nodes=[144]", "mu=[0.1,0.5]", "mass_kg=[0.4]", "+params.t_max_s=0.03"],
     "sensitivity": ["params.levels=2", "seeds=1"],
+    "mesh_resolution": ["seeds=1", "params.resolutions=[144,390]", "params.timing_repeats=1",
+                        "params.budget_shapes=[sphere]", "params.budget_nodes=[144]",
+                        "params.budget_seeds=1", "params.budgets=[1,30]",
+                        "params.baseline_shapes=[sphere]", "params.baseline_masses_kg=[0.4]",
+                        "params.baseline_mus=[0.3]", "params.baseline_seeds=1"],
+    "surrogate": ["seeds=16"],
 }
 
 

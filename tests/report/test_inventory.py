@@ -30,6 +30,8 @@ INVENTORY = {
     "friction_mass": ({"friction_mass", "like_for_like"}, {"fig12_13_dynamic"}),
     "sensitivity": ({"sensitivity_panels", "sensitivity_claims"},
                     {"fig19_sensitivity", "fig19_supplement"}),
+    "mesh_resolution": ({"mesh_resolution_runtime", "cost_ratio", "success_vs_n_cand",
+                         "n_max_rerun"}, {"fig20_mesh_resolution"}),
 }
 
 

@@ -48,17 +48,19 @@ SPECS: dict[str, str] = {
     "pso_repeatability": "pso:SPEC",
     "gravity_settle": "dynamic:GRAVITY_SETTLE",
     "friction_mass": "dynamic:FRICTION_MASS",
+    "sensitivity": "sensitivity:SPEC",
+    "mesh_resolution": "mesh_resolution:SPEC",
 }
 #: trial kind -> spec for studies of that kind without a spec of their own
 KIND_SPECS: dict[str, str] = {
     "quasi_static": "quasi_static:PLANNERS",
     "mesh_features": "smoke:SPEC",
+    "sensitivity": "sensitivity:SPEC",
+    "mesh_resolution": "mesh_resolution:SPEC",
 }
 #: LEGACY PATH (issue 14): trial kind -> "module:function(report, records, manifest, store)" of
 #: the section modules not yet ported to a spec. Remove an entry when its study is ported.
 LEGACY: dict[str, str] = {
-    "mesh_resolution": "graspcampaign.report.sections.mesh_resolution:section",
-    "sensitivity": "graspcampaign.report.sections.sensitivity:section",
     "surrogate": "graspcampaign.report.sections.surrogate:section",
     "test1_bench": "graspcampaign.report.sections.test1:section",
     "test2_grasp": "graspcampaign.report.sections.test2:section",

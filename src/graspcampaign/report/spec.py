@@ -205,17 +205,19 @@ class Rates:
 
 @dataclass(frozen=True)
 class Rate:
-    """One rate beside the paper's (a row of :class:`Claims`)."""
+    """One rate beside the paper's (a row of :class:`Claims`) over the executed trials that
+    ``where(run)`` selects (a boolean mask over ``run.ok``; None: all)."""
 
     label: str
     section: str
-    where: Callable[[pd.DataFrame], pd.Series] | None = None
+    where: Callable[[Run], pd.Series] | None = None
     paper: Callable[[Any], Any] | None = None
     outcome: str = "success"
     digits: int = 1
 
     def row(self, run: Run) -> dict:
-        e = rec.rate(run.records, self.where, self.outcome)
+        e = rec.rate(run.records, (lambda ok: self.where(run).to_numpy()) if self.where else None,
+                     self.outcome)
         return {"value": e.value, "low": e.low, "high": e.high, "n": e.n, "unit": "%"}
 
 

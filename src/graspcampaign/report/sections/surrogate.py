@@ -23,7 +23,7 @@ from matplotlib.figure import Figure
 from graspcampaign import stats
 from graspcampaign.report.build import LegacyReport as Report
 from graspcampaign.report.sections import executed, rate_cell
-from graspcampaign.report.sections.sensitivity import RC
+from graspcampaign.report.style import RC
 
 NUMERIC = ["mass_kg", "mu", "lambda1", "lambda2", "msd_b"]
 """Appendix A's sampled inputs besides the shape (n is fixed, so it is not a feature)."""

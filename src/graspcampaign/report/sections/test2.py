@@ -28,14 +28,10 @@ from matplotlib.patches import Patch
 from graspcampaign import stats
 from graspcampaign.analysis.records import executed as analysis_executed
 from graspcampaign.core.bench import FAMILIES
+from graspcampaign.report import style
 from graspcampaign.report.build import LegacyReport as Report
 
-RC = {
-    "font.size": 9, "axes.titlesize": 9.5, "axes.labelsize": 9, "legend.fontsize": 7.5,
-    "xtick.labelsize": 8, "ytick.labelsize": 8, "axes.spines.top": False,
-    "axes.spines.right": False, "legend.frameon": False, "axes.grid": True, "grid.alpha": 0.3,
-}
-"""Figure style (headless: figures are built without pyplot, rendered by the Agg canvas)."""
+RC = style.RC  # the report's one figure style
 
 PAPER = "black"
 PLANNER_ORDER = ("heuristic", "centroid", "no_pso", "force_balance", "random")
