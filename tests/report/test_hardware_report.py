@@ -210,7 +210,9 @@ def test_figures_have_units_legends_and_the_papers_value(reported, study):
     _, records = reported
     recs = records[study]
     ex = S2.executed(recs)
-    paper = _paper(study)
+    from graspcampaign.campaign.paper import study_paper
+
+    paper = study_paper(study)  # the sections read the typed paper values
     cap = _Capture()
     if study == "test2_grasp":
         S2.fig28(cap, ex, hardware, paper)
@@ -240,7 +242,7 @@ def test_figures_have_units_legends_and_the_papers_value(reported, study):
         legend_text += " ".join(t.get_text() for lg in fig.legends for t in lg.get_texts())
         assert any(_black(a) for a in artists), name
         assert "paper" in legend_text, name
-    assert not math.isnan(float(paper["proposed_success_pct"]))
+    assert not math.isnan(float(paper.proposed_success_pct))
 
 
 def test_a_partially_ingested_measured_run_is_reported(reported, tmp_path):

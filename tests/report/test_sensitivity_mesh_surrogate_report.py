@@ -11,6 +11,7 @@ import pytest
 from statsmodels.stats.proportion import proportion_confint
 
 from graspcampaign.campaign.compose import compose_study
+from graspcampaign.campaign.paper import study_paper
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.runner import run_study
 from graspcampaign.report.build import LegacyReport, build_reports
@@ -118,7 +119,7 @@ def _synthetic(n=400, seed=3):
 def _manifest():
     return {"config": {"seed": 5, "params": {"shapes": ["sphere", "pear"], "hidden_layers": [64, 32],
                                              "n_trees": 100, "test_fraction": 0.2},
-                       "paper": compose_study("surrogate").paper},
+                       "paper": study_paper("surrogate")},
             "host": {"name": "test"}}
 
 

@@ -281,8 +281,9 @@ class LegacyReport:
 def _legacy(kind: str, run: Run, doc: Document) -> None:
     module, attr = LEGACY[kind].split(":")
     section = getattr(importlib.import_module(module), attr)
+    manifest = {**run.manifest, "config": {**run.config, "paper": run.paper}}  # typed values
     try:
-        section(LegacyReport(doc, run), run.records, run.manifest, run.store)
+        section(LegacyReport(doc, run), run.records, manifest, run.store)
     except Exception as exc:  # noqa: BLE001 - the parts written so far are kept
         log.debug("legacy section %s failed", kind, exc_info=True)
         run.failures.append(f"section {kind}: {reason(exc)}")

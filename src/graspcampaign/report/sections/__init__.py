@@ -13,7 +13,7 @@ from graspcampaign.analysis.rates import CONFIDENCE_LEVEL, wilson_interval
 from graspcampaign.analysis.records import executed
 from graspcampaign.report import format as fmt
 
-__all__ = ["executed", "rate_cell"]
+__all__ = ["executed", "paper_value", "rate_cell"]
 
 
 def rate_cell(successes: int, n: int) -> str:
@@ -23,3 +23,18 @@ def rate_cell(successes: int, n: int) -> str:
     ci = wilson_interval(int(successes), int(n), CONFIDENCE_LEVEL)
     return (f"{successes}/{n} = {fmt.number(100 * ci.estimate, 1)} % "
             f"({fmt.interval(100 * ci.low, 100 * ci.high, 1)})")
+
+
+def paper_value(paper, *path):
+    """Walk ``path`` through the typed paper values (:mod:`graspcampaign.campaign.paper`).
+
+    A step into a dataclass reads its attribute (a mistyped name raises AttributeError); a step
+    into a dict (values keyed by planner, shape, material ...) gives None for a key the paper
+    does not report; so does any step below a None.
+    """
+    value = paper
+    for key in path:
+        if value is None:
+            return None
+        value = value.get(key) if isinstance(value, dict) else getattr(value, key)
+    return value

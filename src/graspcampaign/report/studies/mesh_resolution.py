@@ -34,7 +34,7 @@ def _rate_cols(g: pd.DataFrame, col: str, prefix: str) -> dict:
 
 
 def _runtime(run: Run) -> pd.DataFrame:
-    rows, paper = [], run.paper.runtime_ms
+    rows, paper_ms = [], run.paper.runtime_ms
     for nodes, g in _panel(run, "resolution").groupby("nodes", sort=True):
         t = 1e3 * g["eval_time_s"].to_numpy(float)
         rows.append({"nodes": int(nodes), "faces": int(g["n_faces"].iloc[0]), "trials": len(g),
@@ -43,7 +43,7 @@ def _runtime(run: Run) -> pd.DataFrame:
                      "cost_ratio_vs_reference": float(g["cost_ratio_vs_reference"].median()),
                      "search_median_ms": 1e3 * float(g["search_time_s"].median()),
                      "equilibrium_median_ms": 1e3 * float(g["equilibrium_time_s"].median()),
-                     "paper_runtime_ms": paper.get(str(int(nodes))),
+                     "paper_runtime_ms": paper_ms.get(str(int(nodes))),
                      "residual_median_n": float(g["residual_norm_n"].median()),
                      "loop_at_n_max": int(g["loop_capped"].sum()),
                      **_rate_cols(g, "success", "success")})
