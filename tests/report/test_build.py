@@ -236,3 +236,17 @@ def test_a_mistyped_paper_block_of_an_old_run_falls_back_to_the_study_file(tmp_p
             "block.sucess_pct is not a known key of AblationPaper") in md
     table = pd.read_csv(store.path / "report" / "tables" / "success_by_planner.csv")
     assert table["paper_pct"].tolist() == [72.0, 6.0]
+
+
+def test_a_measured_run_filled_with_virtual_exports_is_labelled_virtual(tmp_path):
+    store = write_run(tmp_path, name="test2_grasp", kind="no_section_kind", source="virtual",
+                      aborted_rows=set())
+    manifest = json.loads(store.manifest_path.read_text())
+    manifest["source"] = "measured"  # as `ingest` declares it
+    store.manifest_path.write_text(json.dumps(manifest))
+    build_reports(["test2_grasp"], root=tmp_path, formats=["md", "html"])
+    md = (store.path / "report" / "report.md").read_text()
+    assert "**Data source:** VIRTUAL RIG: synthetic data" in md
+    assert "measured on hardware" not in (store.path / "report" / "report.html").read_text()
+    rows = pd.read_csv(tmp_path / "headline.csv").set_index("headline")
+    assert rows.loc["Grasp validation, all", "source"] == "virtual"

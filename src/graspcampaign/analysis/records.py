@@ -62,6 +62,17 @@ def executed(records: pd.DataFrame) -> pd.DataFrame:
     return ok.assign(**cast).reset_index(drop=True)
 
 
+def data_source(records: pd.DataFrame, declared: str | None) -> str:
+    """Return the data's source label: ``virtual`` as soon as one record says so.
+
+    A run declared ``measured`` but filled with virtual-rig exports is virtual-rig data, never
+    hardware data (SPEC §4); otherwise the declared source (``simulation`` by default).
+    """
+    if "source" in records and (records["source"] == "virtual").any():
+        return "virtual"
+    return str(declared or "simulation")
+
+
 def status_counts(records: pd.DataFrame) -> dict[str, int]:
     """Return the number of executed, errored, aborted and otherwise excluded trials."""
     n_ok = int((records["status"] == "ok").sum()) if "status" in records else len(records)

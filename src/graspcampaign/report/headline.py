@@ -18,7 +18,7 @@ from typing import Any
 
 import pandas as pd
 
-from graspcampaign.analysis.records import executed, rate_table
+from graspcampaign.analysis.records import data_source, executed, rate_table
 from graspcampaign.analysis.vocabulary import PROPOSED
 from graspcampaign.campaign.paper import check_paper, study_paper
 from graspcampaign.campaign.provenance import read_manifest
@@ -111,9 +111,10 @@ def _run_row(h: Headline, store: RunStore, root: Path) -> dict:
         paper = check_paper(h.study, (manifest.get("config") or {}).get("paper"))
     except ConfigError:
         paper = study_paper(h.study)
-    wanted = ["status", "planner", "success", "aborted", *([h.subset[0]] if h.subset else [])]
+    wanted = ["status", "planner", "success", "aborted", "source",
+              *([h.subset[0]] if h.subset else [])]
     records = store.read("records", columns=wanted).to_pandas()
-    source = str(manifest.get("source"))
+    source = data_source(records, manifest.get("source"))
     design = _design(manifest)
     report = store.path / "report" / "report.html"
     common = {"run": manifest.get("run"), "source": source,

@@ -16,7 +16,7 @@ from typing import Any
 
 import pandas as pd
 
-from graspcampaign.analysis.records import executed, status_counts
+from graspcampaign.analysis.records import data_source, executed, status_counts
 from graspcampaign.report.document import Document, Text
 
 log = logging.getLogger(__name__)
@@ -47,9 +47,10 @@ class Run:
     def params(self) -> dict:
         return self.config.get("params") or {}
 
-    @property
+    @cached_property
     def source(self) -> str:
-        return str(self.manifest.get("source") or "simulation")
+        """simulation, virtual or measured (virtual as soon as one record says so)."""
+        return data_source(self.records, self.manifest.get("source"))
 
     @property
     def seed(self) -> int:
