@@ -85,6 +85,30 @@ class Col:
         return list(dict.fromkeys(k for k in (self.key, self.low, self.high, self.share) if k))
 
 
+#: Unit suffixes of record columns (docs/records.md) and how their headers print them.
+UNITS = {"pct": "%", "mm": "mm", "m": "m", "n": "N", "nm": "N·m", "s": "s", "ms": "ms",
+         "kg": "kg", "j": "J", "mj": "mJ", "deg": "°", "rad": "rad", "kpa": "kPa"}
+
+
+def cols(*names: str) -> list[Col]:
+    """Shown columns for record-convention names ``<words>_<unit>``: header ``words [unit]``,
+    values with 3 significant digits (1 decimal for %); factor levels and other columns print
+    as they are."""
+    from graspcampaign.analysis.vocabulary import FACTOR_LABELS
+
+    out = []
+    for name in names:
+        if name in FACTOR_LABELS:  # design levels print as configured
+            out.append(Col(name, FACTOR_LABELS[name]))
+            continue
+        words, _, suffix = name.rpartition("_")
+        unit = UNITS.get(suffix) if words else None
+        label = f"{words.replace('_', ' ')} [{unit}]" if unit else name.replace("_", " ")
+        out.append(Col(name, label, 1 if unit == "%" else None, sig=3 if unit and unit != "%"
+                       else None))
+    return out
+
+
 def cell(row: Mapping[str, Any], col: Col) -> str:
     """Return the displayed text of ``row`` under ``col`` (the one formatting of every table)."""
     value = row.get(col.key)

@@ -9,7 +9,7 @@ import pandas as pd
 from matplotlib.ticker import FixedLocator, NullFormatter
 
 from graspcampaign.report import style
-from graspcampaign.report.document import Col
+from graspcampaign.report.document import cols
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, Text
 
@@ -82,23 +82,17 @@ GRAVITY_SETTLE = ReportSpec("gravity_settle", [
     Finding(settle_finding),
     Table("settle", "Gravity settling beside Sec. 5.4 (the paper reports it qualitatively)",
           lambda run: run.ok.assign(paper_settles=run.paper.settles), [
-              Col("shape", "shape"), Col("nodes", "nodes"), Col("mass_kg", "mass [kg]"),
-              Col("paper_settles", "paper: settles"), Col("settled", "ours: settles"),
-              Col("squash_ratio", "squash ratio", 3), Col("simulated_time_s", "time [s]", 2),
-              Col("final_kinetic_energy_j", "final KE [J]", sig=2),
-              Col("max_floor_penetration_mm", "floor penetration [mm]", sig=3),
-              Col("dt_s", "step [s]", sig=3), Col("n_steps", "steps")]),
+              *cols("shape", "nodes", "mass_kg", "paper_settles", "settled", "squash_ratio",
+                    "simulated_time_s", "final_kinetic_energy_j", "max_floor_penetration_mm",
+                    "dt_s", "n_steps")]),
     Figure("fig10_settle", "Fig. 10 (ours): undeformed and settled sphere; kinetic-energy "
            "decay", fig10, (10.0, 4.0)),
     Table("integrator_audit", "RK4 step-size study and energy audit on the settle body (Sec. 12 "
           "lists both as missing from the paper; no paper values to compare)",
           lambda run: run.ok, [
-              Col("shape", "shape"), Col("nodes", "nodes"), Col("dt_s", "step [s]", sig=3),
-              Col("rk4_error_at_settle_dt_m", "RK4 error at the step [m]", sig=3),
-              Col("rk4_observed_order", "observed order", 2),
-              Col("energy_balance_rel_error", "energy-balance error (relative)", sig=2),
-              Col("energy_balance_rel_error_half_dt", "… at half the step", sig=2),
-              Col("energy_increases", "steps with energy growth")]),
+              *cols("shape", "nodes", "dt_s", "rk4_error_at_settle_dt_m", "rk4_observed_order",
+                    "energy_balance_rel_error", "energy_balance_rel_error_half_dt",
+                    "energy_increases")]),
     Text("The energy-balance error at the settle step is RK4's own damping of the stiffest mesh "
          "modes; mechanical energy growing without external power would be a defect, and the "
          "table counts such steps (`docs/decisions.md`, energy audit)."),
@@ -165,22 +159,16 @@ FRICTION_MASS = ReportSpec("friction_mass", [
           "the nine and reports all stable); final six-component wrench residual (the paper "
           "checked only the vertical part)",
           lambda run: run.ok.sort_values(["mu", "mass_kg"]).assign(paper="stable"), [
-              Col("mu", "μ"), Col("mass_kg", "mass [kg]"), Col("paper", "paper"),
-              Col("dynamic_status", "ours"), Col("simulated_time_s", "time [s]", 2),
-              Col("delta_max_mm", "δmax [mm]", sig=3),
-              Col("final_residual_z_n", "final R_z [N]", sig=3),
-              Col("wrench_force_norm_n", "‖F‖ [N]", sig=3),
-              Col("wrench_torque_norm_nm", "‖T‖ [N·m]", sig=3),
-              *(Col(f"normal_force_{j}_n", f"f_n,{j} [N]", sig=3) for j in (1, 2, 3))]),
+              *cols("mu", "mass_kg", "paper", "dynamic_status", "simulated_time_s",
+                    "delta_max_mm", "final_residual_z_n", "wrench_force_norm_n",
+                    "wrench_torque_norm_nm", "normal_force_1_n", "normal_force_2_n",
+                    "normal_force_3_n")]),
     Table("like_for_like", "Like-for-like checks on the dynamic pipeline's 45°/45°/−90° contact "
           "set (open items of Sec. 6.1 and Sec. 12): the quasi-static evaluator on the same "
           "contacts, and the friction-cone LP at μ and at μ = 0 (the paper: feasible at every μ "
           "and as μ → 0)", lambda run: run.ok.sort_values(["mu", "mass_kg"]), [
-              Col("mu", "μ"), Col("mass_kg", "mass [kg]"), Col("dynamic_status", "dynamic"),
-              Col("qs_success", "quasi-static success"), Col("qs_failure_check", "QS check"),
-              Col("qs_residual_norm_n", "QS ‖R‖ [N]", sig=3),
-              Col("qs_delta_max_mm", "QS δmax [mm]", sig=3), Col("lp_status", "LP at μ"),
-              Col("lp_status_mu0", "LP at μ = 0")]),
+              *cols("mu", "mass_kg", "dynamic_status", "qs_success", "qs_failure_check",
+                    "qs_residual_norm_n", "qs_delta_max_mm", "lp_status", "lp_status_mu0")]),
     Figure("fig12_13_dynamic", "Figs. 12-13 (ours): vertical residual and total penetration for "
            "every μ × m (thick: the paper's representative case), and the per-finger normal "
            "forces of the representative case", fig12_13, (15.0, 4.6)),

@@ -6,7 +6,7 @@ nodes (SmokePaper). Every other object is listed with its closure and feature co
 
 from __future__ import annotations
 
-from graspcampaign.report.document import Col
+from graspcampaign.report.document import cols
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, Value
 
@@ -60,13 +60,9 @@ SPEC = ReportSpec("smoke", [
     Finding(finding),
     Table("meshes", "Object meshes: requested and built node counts, closure, sharp features "
           "and build time", _meshes, [
-              Col("shape", "shape"), Col("nodes", "nodes requested"),
-              Col("n_nodes", "nodes built"), Col("node_count_error_pct", "node error [%]", 1),
-              Col("n_faces", "faces"), Col("watertight", "closed"),
-              Col("n_sharp_vertex", "sharp vertices"), Col("n_sharp_edge", "sharp edges"),
-              Col("max_vertex_defect_rad", "max vertex defect [rad]", sig=3),
-              Col("max_edge_deviation_deg", "max edge deviation [°]", sig=3),
-              Col("build_time_s", "build time [s]", sig=2)]),
+              *cols("shape", "nodes", "n_nodes", "node_count_error_pct", "n_faces",
+                    "watertight", "n_sharp_vertex", "n_sharp_edge", "max_vertex_defect_rad",
+                    "max_edge_deviation_deg", "build_time_s")]),
     Value("sharp vertices on the sphere (worst resolution)", "Sec. 3.1",
           _worst("n_sharp_vertex"), lambda p: p.sphere_sharp_vertices, digits=0),
     Value("sharp edges on the sphere (worst resolution)", "Sec. 3.1",
