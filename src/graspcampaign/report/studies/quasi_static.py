@@ -75,9 +75,9 @@ def planner_finding(run: Run) -> str:
     paired = run.tables.get("mcnemar")
     if paired is not None and len(paired):
         won = paired.set_index("compared")
-        text += "Paired on the same scenes, the proposed planner wins " + ", ".join(
-            f"{r['reference_only']}–{r['compared_only']} against {label('planner', p)}"
-            for p, r in won.iterrows()) + ". "
+        text += "Paired on the same scenes, the proposed planner's pairs won–lost are " + \
+            ", ".join(f"{r['reference_only']}–{r['compared_only']} against "
+                      f"{label('planner', p)}" for p, r in won.iterrows()) + ". "
     limit = run.tables.get("design_limit")
     if limit is not None and len(limit):
         text += (f"{int(limit['exceeds'].sum())} of {int(limit['n'].sum())} executed trials "
