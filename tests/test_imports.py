@@ -1,4 +1,18 @@
-"""The numerical core never imports the campaign, rig, report or CLI layers or their libraries."""
+"""The layers import one way: ``cli -> campaign, rig, report -> analysis -> core``.
+
+Rules (STYLE.md "Layout and the direction of imports", issue 14):
+
+* core imports only the standard library, numpy, scipy, trimesh, numba, and core itself;
+* analysis imports only core and itself (besides the libraries it is built on);
+* rig and report never import each other;
+* report never imports a campaign trial kind, the runner, or rig; it reads runs through
+  ``campaign.records`` / ``campaign.provenance`` and the typed paper values of ``campaign.paper``;
+* nothing but cli (and ``python -m``'s ``__main__``) imports cli.
+
+The checker walks every module's ``import`` statements (top level and inside functions, relative
+imports resolved) with :mod:`ast`; the last tests run it on a synthetic package that breaks each
+rule, so the rules are known to bite.
+"""
 
 from __future__ import annotations
 
@@ -6,42 +20,147 @@ import ast
 import sys
 from pathlib import Path
 
+import pytest
+
 import graspcampaign
 
-CORE = Path(graspcampaign.__file__).parent / "core"
-# The standard library plus the numerical libraries; graspcampaign only through core itself.
-ALLOWED_ROOTS = set(sys.stdlib_module_names) | {"numpy", "scipy", "trimesh", "numba", "graspcampaign"}
+PACKAGE = Path(graspcampaign.__file__).parent
+STDLIB = set(sys.stdlib_module_names)
+CORE_LIBRARIES = {"numpy", "scipy", "trimesh", "numba"}
+ANALYSIS_LIBRARIES = CORE_LIBRARIES | {"pandas", "statsmodels"}
+REPORT_CAMPAIGN = ("campaign.records", "campaign.provenance", "campaign.paper",
+                   "campaign.paper_hardware")
 
 
-def _imports(path: Path):
+def imports(path: Path) -> list[str]:
+    """Return the absolute module names ``path`` imports (relative ones resolved)."""
     tree = ast.parse(path.read_text(), filename=str(path))
+    here = module_name(path).split(".")
+    package = here if path.name == "__init__.py" else here[:-1]
+    out = []
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
-            yield from (alias.name for alias in node.names)
+            out += [alias.name for alias in node.names]
         elif isinstance(node, ast.ImportFrom):
-            if node.level:  # relative import: stays inside core
-                yield "graspcampaign.core" + (f".{node.module}" if node.module else "")
-            else:
-                yield node.module
+            base = ".".join(package[: len(package) - node.level + 1]) if node.level else ""
+            module = ".".join(filter(None, [base, node.module]))
+            out += [module if alias.name == "*" else f"{module}.{alias.name}"
+                    for alias in node.names]
+    return out
 
 
-def test_core_imports_only_numerics():
-    offenders = []
-    files = sorted(CORE.rglob("*.py"))
-    assert files, "core/ has no modules"
-    for path in files:
-        for name in _imports(path):
+ROOTS: dict[Path, str] = {}
+
+
+def module_name(path: Path) -> str:
+    for root, name in ROOTS.items():
+        if root in path.parents:
+            rel = path.relative_to(root).with_suffix("")
+            parts = [name, *rel.parts]
+            return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+    raise AssertionError(f"{path} is outside every registered package root")
+
+
+def layer_of(module: str) -> str:
+    """Return the layer a ``graspcampaign.*`` module belongs to ("top" for the package files)."""
+    parts = module.split(".")
+    return parts[1] if len(parts) > 1 and parts[1] in {
+        "core", "analysis", "campaign", "rig", "report", "cli"} else "top"
+
+
+def violations(package_dir: Path, package: str = "graspcampaign") -> list[str]:
+    """Return one line per import that breaks a layer rule, for every module of the package."""
+    ROOTS[package_dir] = package
+    out = []
+    for path in sorted(package_dir.rglob("*.py")):
+        me = module_name(path)
+        mine = layer_of(me)
+        for name in imports(path):
             root = name.split(".")[0]
-            if root not in ALLOWED_ROOTS:
-                offenders.append(f"{path.name}: {name}")
-            elif root == "graspcampaign":
-                parts = name.split(".")
-                if len(parts) > 1 and parts[1] != "core":
-                    offenders.append(f"{path.name}: {name}")
-    assert not offenders, "core imports outside the numerical core: " + ", ".join(offenders)
+            ours = root == package
+            target = layer_of(package + name[len(root):]) if ours else None
+            full = package + name[len(root):] if ours else name
+            bad = None
+            if mine == "core":
+                if not ours and root not in STDLIB | CORE_LIBRARIES:
+                    bad = "core imports only the standard library and numerics"
+                elif ours and target != "core":
+                    bad = "core imports nothing above it"
+            elif mine == "analysis":
+                if not ours and root not in STDLIB | ANALYSIS_LIBRARIES:
+                    bad = "analysis imports no plotting, config or storage library"
+                elif ours and target not in ("core", "analysis"):
+                    bad = "analysis imports core only"
+            elif mine == "rig" and target == "report":
+                bad = "rig never imports report"
+            elif mine == "report":
+                if target == "rig":
+                    bad = "report never imports rig"
+                elif target == "campaign" and not any(
+                        full == f"{package}.{m}" or full.startswith(f"{package}.{m}.")
+                        for m in REPORT_CAMPAIGN):
+                    bad = "report reads runs through campaign.records/provenance/paper only"
+            if target == "cli" and mine != "cli" and me != f"{package}.__main__":
+                bad = "only cli imports cli"
+            if bad:
+                out.append(f"{me} imports {full}: {bad}")
+    return out
 
 
-def test_the_walker_sees_forbidden_imports(tmp_path):
-    bad = tmp_path / "bad.py"
-    bad.write_text("import pandas\nfrom graspcampaign.campaign import runner\nfrom . import mesh\n")
-    assert list(_imports(bad)) == ["pandas", "graspcampaign.campaign", "graspcampaign.core"]
+def test_the_package_keeps_every_layer_rule():
+    assert violations(PACKAGE) == []
+
+
+def test_every_layer_is_walked():
+    ROOTS[PACKAGE] = "graspcampaign"
+    layers = {layer_of(module_name(p)) for p in PACKAGE.rglob("*.py")}
+    assert {"core", "analysis", "campaign", "rig", "report", "cli"} <= layers
+
+
+def _tree(tmp_path: Path, files: dict[str, str]) -> Path:
+    pkg = tmp_path / "fakepkg"
+    for rel, text in {**{f"{layer}/__init__.py": "" for layer in (
+            "core", "analysis", "campaign", "campaign/kinds", "rig", "report", "cli")},
+            "__init__.py": "", **files}.items():
+        (pkg / rel).parent.mkdir(parents=True, exist_ok=True)
+        (pkg / rel).write_text(text)
+    return pkg
+
+
+@pytest.mark.parametrize(("path", "source", "rule"), [
+    ("core/mesh.py", "import pandas\n", "core imports only the standard library"),
+    ("core/mesh.py", "from ..analysis import rates\n", "core imports nothing above it"),
+    ("core/mesh.py", "def f():\n    from fakepkg.report import build\n",
+     "core imports nothing above it"),
+    ("analysis/rates.py", "import matplotlib.pyplot\n", "analysis imports no plotting"),
+    ("analysis/rates.py", "from fakepkg.campaign.records import RunStore\n",
+     "analysis imports core only"),
+    ("analysis/rates.py", "from fakepkg import rig\n", "analysis imports core only"),
+    ("rig/virtual.py", "from fakepkg.report import format\n", "rig never imports report"),
+    ("report/build.py", "from fakepkg.rig.analysis import x\n", "report never imports rig"),
+    ("report/spec.py", "from ..rig import test1\n", "report never imports rig"),
+    ("report/build.py", "from fakepkg.campaign.kinds.hardware import export\n",
+     "report reads runs through campaign.records"),
+    ("report/build.py", "import fakepkg.campaign.runner\n",
+     "report reads runs through campaign.records"),
+    ("campaign/runner.py", "from fakepkg.cli import main\n", "only cli imports cli"),
+])
+def test_the_checker_catches_each_broken_rule(tmp_path, path, source, rule):
+    pkg = _tree(tmp_path, {path: source})
+    found = violations(pkg, "fakepkg")
+    assert len(found) == 1 and rule in found[0], found
+
+
+def test_the_checker_passes_allowed_imports(tmp_path):
+    pkg = _tree(tmp_path, {
+        "core/mesh.py": "import numpy\nfrom . import feature\nimport logging\n",
+        "core/feature.py": "import trimesh\n",
+        "analysis/rates.py": "import pandas\nfrom fakepkg.core import mesh\nfrom . import records\n",
+        "analysis/records.py": "from scipy import stats\n",
+        "report/build.py": "from fakepkg.campaign.records import RunStore\n"
+                           "from fakepkg.campaign.paper import check_paper\n"
+                           "from fakepkg.analysis import rates\nimport matplotlib\n",
+        "rig/plan.py": "from fakepkg.analysis import rates\nfrom fakepkg.core import mesh\n",
+        "cli/main.py": "from fakepkg.report import build\nfrom fakepkg.rig import plan\n",
+    })
+    assert violations(pkg, "fakepkg") == []

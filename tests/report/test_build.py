@@ -1,7 +1,8 @@
-"""build_reports: section registry, output formats, index and headline pages, rounding, words.
+"""build_reports: spec registry, formats, index and headline pages, failures kept per run.
 
 Small runs are written here through ``RunStore`` and a manifest from ``campaign.provenance`` (the
-record columns of docs/records.md); reference intervals come from statsmodels.
+record columns of docs/records.md), with the paper values of the study files; reference
+intervals come from statsmodels.
 """
 
 from __future__ import annotations
@@ -9,34 +10,43 @@ from __future__ import annotations
 import importlib
 import json
 
-import numpy as np
 import pandas as pd
 import pytest
+import yaml
 from statsmodels.stats.proportion import proportion_confint
 from typer.testing import CliRunner
 
+from graspcampaign.campaign.compose import project_dirs
 from graspcampaign.campaign.grid import expand
 from graspcampaign.campaign.provenance import new_manifest, write_manifest
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.schema import StudyCfg
+from graspcampaign.cli.main import app
 from graspcampaign.errors import UserInputError
-from graspcampaign.report import table as tbl
-from graspcampaign.report.build import SECTIONS, build_reports
+from graspcampaign.report.build import KIND_SPECS, LEGACY, SPECS, build_reports, spec_for
 from graspcampaign.report.document import check_formats
+from graspcampaign.report.spec import ReportSpec
+
+cli = CliRunner()
+
+
+def study_paper_block(name: str) -> dict:
+    path = project_dirs()[1] / f"{name}.yaml"
+    return yaml.safe_load(path.read_text())["paper"] if path.exists() else {}
 
 
 def write_run(root, name="ablation", kind="quasi_static", n_success=None, error_rows=(),
-              paper=None, source="simulation", planners=("heuristic", "random"),
-              aborted_rows=None):
+              source="simulation", planners=("heuristic", "random"), aborted_rows=None,
+              run="r1"):
     """A run of ``len(planners) * 10`` trials; ``n_success[planner]`` successes each."""
     study = StudyCfg(name=name, kind=kind, seed=3, seeds=10,
                      factors={"shape": ["sphere"], "planner": list(planners)},
-                     paper=paper if paper is not None else {"success_pct": {"heuristic": 72.0}})
+                     paper=study_paper_block(name))
     n_success = n_success or {"heuristic": 7, "random": 1}
     rows, counts = [], dict.fromkeys(planners, 0)
     for trial in expand(study):
         planner = trial.factors["planner"]
-        row = {"trial_id": trial.trial_id, "study": name, "run": "r1", "kind": kind,
+        row = {"trial_id": trial.trial_id, "study": name, "run": run, "kind": kind,
                "trial_index": trial.index, "scene_id": trial.scene_id, "status": "ok",
                "error_type": None, "error_message": None, "wall_time_s": 0.01, "worker": "w",
                "host": "h", "source": source, **trial.factors}
@@ -53,54 +63,67 @@ def write_run(root, name="ablation", kind="quasi_static", n_success=None, error_
                        residual_norm_n=0.1 if success else 2.0, delta_max_mm=0.5 + trial.index,
                        exceeds_1mm=0.5 + trial.index > 1)
         rows.append(row)
-    store = RunStore(root / name / "r1")
+    store = RunStore(root / name / run)
     store.write_shard("records", "a", rows)
-    write_manifest(store.manifest_path, new_manifest(study, "r1", len(rows), source))
+    write_manifest(store.manifest_path, new_manifest(study, run, len(rows), source))
     return store
 
 
-def test_every_section_resolves_to_a_callable():
-    for kind, target in SECTIONS.items():
+def test_every_spec_and_legacy_section_resolves():
+    for study in SPECS:
+        assert isinstance(spec_for(study, "no_such_kind"), ReportSpec), study
+    for kind in KIND_SPECS:
+        assert isinstance(spec_for("a_study_of_mine", kind), ReportSpec), kind
+    for kind, target in LEGACY.items():
         module, attr = target.split(":")
         assert callable(getattr(importlib.import_module(module), attr)), kind
-    for kind in ("quasi_static", "pso_repeatability", "wrench_balance", "heuristic_weights"):
-        assert kind in SECTIONS
+    assert not set(SPECS) & set(LEGACY), "a study is both ported and on the legacy path"
 
 
 def test_formats_md_csv_json_html(tmp_path):
     store = write_run(tmp_path)
     paths = build_reports(["ablation"], root=tmp_path, formats=["json", "html"])
     out = store.path / "report"
-    assert paths == [out / "report.html"]
+    assert list(paths) == [out / "report.html"] and paths.failed == []
     assert not (out / "report.md").exists() and not (out / "tables").exists()
     data = json.loads((out / "tables.json").read_text())
     assert data["success_by_planner"][0]["planner"] == "heuristic"
     html = (out / "report.html").read_text()
-    assert "<table" in html and "figures/fig16_ablation.png" in html and "Data source" in html
-    assert "ablation/r1/report/report.html" in (tmp_path / "index.md").read_text()
+    assert "<table" in html and "src='data:image/png;base64," in html
+    assert "Data: simulation (this tool&#x27;s numerical model)" in html
+    assert (out / "figures" / "fig16_ablation.png").exists()
+    assert "ablation/r1/report/report.html" in (tmp_path / "index.html").read_text()
     build_reports(["ablation"], root=tmp_path, formats=["md", "csv"])
     assert (out / "report.md").exists() and (out / "tables" / "success_by_planner.csv").exists()
+    assert "ablation/r1/report/report.md" in (tmp_path / "index.md").read_text()
 
 
 def test_unknown_format_is_bad_input_and_writes_nothing(tmp_path):
     store = write_run(tmp_path)
     with pytest.raises(UserInputError, match="unknown report format 'pdf'; choose from md, csv"):
         build_reports(["ablation"], root=tmp_path, formats=["md", "pdf"])
+    with pytest.raises(UserInputError, match="unknown figure format 'gif'; choose from png, "
+                                             "svg, pdf."):
+        build_reports(["ablation"], root=tmp_path, figure_format="gif")
     assert not (store.path / "report").exists() and not (tmp_path / "index.md").exists()
     assert check_formats("md, CSV,md") == ["md", "csv"]
 
 
-def test_cli_format_option(tmp_path):
-    from graspcampaign.cli.main import app
-
+def test_cli_format_and_figure_format_options(tmp_path):
     write_run(tmp_path)
-    runner = CliRunner()
-    bad = runner.invoke(app, ["report", "ablation", "--root", str(tmp_path), "--format", "pdf"])
+    bad = cli.invoke(app, ["report", "ablation", "--root", str(tmp_path), "--format", "pdf"])
     assert bad.exit_code == 2
-    good = runner.invoke(app, ["report", "ablation", "--root", str(tmp_path), "--format",
-                               "md,json"])
+    good = cli.invoke(app, ["report", "ablation", "--root", str(tmp_path), "--format",
+                            "md,json,html", "--figure-format", "svg"])
     assert good.exit_code == 0, good.output
-    assert (tmp_path / "ablation" / "r1" / "report" / "tables.json").exists()
+    out = tmp_path / "ablation" / "r1" / "report"
+    assert (out / "tables.json").exists() and (out / "figures" / "fig16_ablation.svg").exists()
+    assert "src='data:image/svg+xml;base64," in (out / "report.html").read_text()
+    pdf = cli.invoke(app, ["report", "ablation", "--root", str(tmp_path), "--figure-format",
+                           "pdf"])
+    assert pdf.exit_code == 0 and (out / "figures" / "fig16_ablation.pdf").read_bytes()[:4] \
+        == b"%PDF"
+    assert "[fig16_ablation (PDF)](figures/fig16_ablation.pdf)" in (out / "report.md").read_text()
 
 
 def test_errored_trials_enter_no_denominator(tmp_path):
@@ -113,7 +136,7 @@ def test_errored_trials_enter_no_denominator(tmp_path):
     low, high = proportion_confint(7, 8, method="wilson")  # statsmodels reference
     assert (row["wilson_low_pct"], row["wilson_high_pct"]) == pytest.approx((100 * low, 100 * high))
     md = (store.path / "report" / "report.md").read_text()
-    assert "18 trials executed; 2 errored trials counted separately" in md
+    assert "20 recorded of 20; 18 executed; 2 errored, excluded from every denominator" in md
 
 
 def test_report_never_runs_a_trial(tmp_path, monkeypatch):
@@ -129,22 +152,35 @@ def test_report_never_runs_a_trial(tmp_path, monkeypatch):
     assert build_reports(root=tmp_path)[0].exists()
 
 
+def test_two_reports_of_the_same_records_give_identical_tables(tmp_path):
+    store = write_run(tmp_path, name="baseline_grid", planners=("heuristic", "antipodal"))
+    tables = store.path / "report" / "tables"
+    build_reports(["baseline_grid"], root=tmp_path, formats=["csv", "json"])
+    first = {p.name: p.read_bytes() for p in tables.iterdir()}
+    first["json"] = (store.path / "report" / "tables.json").read_bytes()
+    build_reports(["baseline_grid"], root=tmp_path, formats=["csv", "json"])
+    second = {p.name: p.read_bytes() for p in tables.iterdir()}
+    second["json"] = (store.path / "report" / "tables.json").read_bytes()
+    assert first == second and len(first) > 5
+
+
 def test_headline_page_and_index(tmp_path):
     write_run(tmp_path, name="baseline_grid", planners=("heuristic", "antipodal", "random"),
-              n_success={"heuristic": 6, "antipodal": 4, "random": 1},
-              paper={"success_pct": {"heuristic": 67.6, "antipodal": 40.0, "random": 11.0},
-                     "trials_per_planner": 675})
+              n_success={"heuristic": 6, "antipodal": 4, "random": 1})
     write_run(tmp_path, name="other", kind="no_section_kind", planners=("heuristic",))
-    build_reports(root=tmp_path)
+    build_reports(root=tmp_path, formats=["md", "csv", "html"])
     rows = pd.read_csv(tmp_path / "headline.csv").set_index("headline")
     grid = rows.loc["Baseline grid"]
-    assert (grid["n"], grid["ours_pct"], grid["paper_pct"]) == (10, 60.0, 67.6)
-    assert grid["ours_baseline"] == "antipodal 40.0%, random 10.0%"
-    assert grid["verdict"].startswith("differs from the paper by \u22127.6 pp; paper's value inside")
+    assert (grid["n"], grid["rate_pct"], grid["paper_pct"]) == (10, 60.0, 67.6)
+    assert grid["ours_baselines"] == "antipodal 40.0%, random 10.0%"
+    assert grid["paper_baselines"] == "antipodal 40.0%, random 11.0%, centroid 0.0%"
+    assert grid["verdict"] == ("consistent: the paper's value lies inside our 95% interval "
+                               "(\u22127.6 pp)")
     assert rows.loc["Heuristic ablation", "verdict"] == "no records yet"
     assert rows.loc["Heuristic ablation", "paper_pct"] == 72.0  # from campaigns/ablation.yaml
     md = (tmp_path / "headline.md").read_text()
-    assert "simulation: 10 seeds" in md and "[report](baseline_grid/r1/report/report.md)" in md
+    assert "simulation: 10 seeds" in md and "[r1](baseline_grid/r1/report/report.md)" in md
+    assert "href='baseline_grid/r1/report/report.html'" in (tmp_path / "headline.html").read_text()
     index = (tmp_path / "index.md").read_text()
     assert "[headline.md](headline.md)" in index and "other/r1/report/report.md" in index
 
@@ -152,58 +188,65 @@ def test_headline_page_and_index(tmp_path):
 def test_virtual_rig_rows_say_so(tmp_path):
     # the Test 2 section needs the full protocol columns; the headline needs only these
     write_run(tmp_path, name="test2_grasp", kind="no_section_kind", source="virtual",
-              paper={"proposed_success_pct": 77.8, "proposed_trials": 819,
-                     "random_success_pct": 28.0}, aborted_rows={0, 15})
+              aborted_rows={0, 15})
     build_reports(["test2_grasp"], root=tmp_path)
     rows = pd.read_csv(tmp_path / "headline.csv").set_index("headline")
     assert rows.loc["Grasp validation, all", "testbed"].startswith("VIRTUAL RIG")
     # trials 0-9 are the heuristic's (the seed axis is innermost): one aborted, one random one
-    assert rows.loc["Grasp validation, all", ["n", "n_aborted", "ours_pct"]].tolist() == \
+    assert rows.loc["Grasp validation, all", ["n", "n_aborted", "rate_pct"]].tolist() == \
         [9, 1, pytest.approx(700 / 9)]
-    assert "lack the `group` column" in rows.loc["Grasp validation, nominal", "verdict"]
+    assert rows.loc["Grasp validation, nominal", "verdict"] == \
+        "the records lack the `group` column this sub-population needs"
 
 
-# --------------------------------------------------------------------------------------------
-# table helpers: rounding once, words, paired tests
-# --------------------------------------------------------------------------------------------
+def test_one_broken_run_never_stops_the_others(tmp_path):
+    write_run(tmp_path, run="good")
+    broken = write_run(tmp_path, run="broken")
+    broken.manifest_path.write_text("{not json")
+    result = cli.invoke(app, ["report", "--root", str(tmp_path)])
+    assert result.exit_code == 2
+    assert (tmp_path / "ablation" / "good" / "report" / "report.md").exists()
+    assert f"error: the report of ablation/broken could not be written: {broken.manifest_path} " \
+           "is not valid JSON" in result.output.replace("\n", "")
+    assert (tmp_path / "index.md").exists() and (tmp_path / "headline.md").exists()
 
 
-def test_rate_display_rounds_once_from_full_precision():
-    records = pd.DataFrame({"status": "ok", "planner": "random", "shape": "sphere",
-                            "success": [True] * 17 + [False] * 83})
-    pair = tbl.rate_table(records, ["planner"], paper_pct=lambda k: 17.0)
-    # Wilson 17/100 = (0.108936, 0.255480): 25.5, not the doubly rounded 25.6 (issue 5)
-    assert pair.display["ours % (Wilson 95%)"].iloc[0] == "17.0 (10.9–25.5)"
-    assert pair.full["wilson_high_pct"].iloc[0] == pytest.approx(25.5480, abs=1e-4)
-    assert pair.full["verdict"].iloc[0].startswith("matches the paper (difference 0.0 pp)")
+def test_a_run_whose_every_trial_errored_is_reported_with_reasons(tmp_path):
+    store = write_run(tmp_path, error_rows=set(range(20)))
+    result = cli.invoke(app, ["report", "ablation", "--root", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    table = pd.read_csv(store.path / "report" / "tables" / "success_by_planner.csv")
+    assert table["rate_why"].tolist() == ["no executed trial"] * 2
+    assert table["n_error"].tolist() == [10, 10]
+    md = (store.path / "report" / "report.md").read_text()
+    assert "| proposed H(G) | 72.0 | no executed trial |" in md
+    assert "20 recorded of 20; 0 executed; 20 errored" in md
+    errors = pd.read_csv(store.path / "report" / "tables" / "errors.csv")
+    assert set(errors["error_message"]) == {"bad"}
 
 
-def test_verdict_words():
-    text = tbl.verdict(72.0, 0.506, 0.37, 0.64)
-    assert text == ("differs from the paper by \u221221.4 pp; paper's value outside our 95% "
-                    "Wilson interval")
-    assert tbl.verdict(None, 0.5, 0.4, 0.6) == "the paper reports no value for this row"
-    assert "inside the object-bootstrap interval" in tbl.verdict(60.0, 0.5, 0.4, 0.61, 0.3, 0.7)
-    assert tbl.format_signed(-0.04) == "0.0 pp" and tbl.format_signed(1.25) == "+1.2 pp"
+def test_a_mistyped_paper_block_of_an_old_run_falls_back_to_the_study_file(tmp_path):
+    store = write_run(tmp_path)
+    manifest = json.loads(store.manifest_path.read_text())
+    manifest["config"]["paper"]["sucess_pct"] = manifest["config"]["paper"].pop("success_pct")
+    store.manifest_path.write_text(json.dumps(manifest))
+    build_reports(["ablation"], root=tmp_path)
+    md = (store.path / "report" / "report.md").read_text()
+    assert ("this run's paper block does not match the current schema (the run's paper "
+            "block.sucess_pct is not a known key of AblationPaper") in md
+    table = pd.read_csv(store.path / "report" / "tables" / "success_by_planner.csv")
+    assert table["paper_pct"].tolist() == [72.0, 6.0]
 
 
-def test_mcnemar_pairs_occurrences_and_skips_errors():
-    # scene s1 has two occurrences per planner; scene s3 misses its baseline (errored)
-    records = pd.DataFrame({
-        "scene_id": ["s1", "s1", "s1", "s1", "s2", "s2", "s3", "s3"],
-        "trial_index": range(8),
-        "planner": ["a", "b", "a", "b", "a", "b", "a", "b"],
-        "status": ["ok"] * 7 + ["error"],
-        "success": [True, False, True, True, False, True, True, None]})
-    full = tbl.mcnemar_table(records, "a", ["b"]).full.iloc[0]
-    assert (full["pairs"], full["reference_only"], full["compared_only"], full["unpaired"]) == \
-        (3, 1, 1, 1)
-    assert full["chi2_cc"] == 0.0 and full["p_exact"] == 1.0
-
-
-def test_design_limit_counts_exceedances():
-    d = np.array([0.2, 0.9, 1.0, 1.01, 5.0])
-    records = pd.DataFrame({"status": "ok", "planner": "a", "delta_max_mm": d,
-                            "success": [True, True, False, True, False]})
-    row = tbl.design_limit_table(records, ["planner"]).full.iloc[0]
-    assert (row["exceeds_1mm"], row["successes_exceeding"]) == (2, 1)  # 1.0 is not above 1 mm
+def test_a_measured_run_filled_with_virtual_exports_is_labelled_virtual(tmp_path):
+    store = write_run(tmp_path, name="test2_grasp", kind="no_section_kind", source="virtual",
+                      aborted_rows=set())
+    manifest = json.loads(store.manifest_path.read_text())
+    manifest["source"] = "measured"  # as `ingest` declares it
+    store.manifest_path.write_text(json.dumps(manifest))
+    build_reports(["test2_grasp"], root=tmp_path, formats=["md", "html"])
+    md = (store.path / "report" / "report.md").read_text()
+    assert "**Data source:** VIRTUAL RIG: synthetic data" in md
+    assert "measured on hardware" not in (store.path / "report" / "report.html").read_text()
+    rows = pd.read_csv(tmp_path / "headline.csv").set_index("headline")
+    assert rows.loc["Grasp validation, all", "source"] == "virtual"

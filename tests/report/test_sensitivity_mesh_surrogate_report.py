@@ -8,12 +8,15 @@ import sys
 import numpy as np
 import pandas as pd
 import pytest
+from statsmodels.stats.proportion import proportion_confint
 
 from graspcampaign.campaign.compose import compose_study
+from graspcampaign.campaign.paper import study_paper
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.runner import run_study
-from graspcampaign.report.build import build_reports
-from graspcampaign.report.document import Report
+from graspcampaign.report.build import LegacyReport, build_reports
+from graspcampaign.report.document import Document, Text
+from graspcampaign.report.render import Run
 
 REDUCED = {
     "sensitivity": ["params.levels=2", "seeds=2"],
@@ -48,11 +51,16 @@ def test_sensitivity_report(runs):
     panels = _table(store, "sensitivity_panels").set_index("panel")
     assert panels["trials"].to_dict() == records.groupby("panel").size().to_dict()
     k = int(records.loc[records["panel"] == "mu_mass", "success"].sum())
-    assert panels.loc["mu_mass", "success"].startswith(f"{k}/8 = ")
-    claims = _table(store, "sensitivity_claims")
-    assert claims["claim (paper)"].str.contains("stable for λ1").any()
+    low, high = proportion_confint(k, 8, method="wilson")  # statsmodels reference
+    assert panels.loc["mu_mass", ["success", "success_low", "success_high"]].tolist() == \
+        pytest.approx([100 * k / 8, 100 * low, 100 * high])
+    claims = _table(store, "sensitivity_claims").set_index("quantity")
+    inside = records[(records["panel"] == "mu_mass") & (records["mu"] >= 0.2)
+                     & (records["mass_kg"] <= 0.5)]
+    row = claims.loc["(a) stable region: success inside it"]
+    assert (row["n"], row["value"]) == (len(inside), 100 * inside["success"].mean())
     md = (store.path / "report" / "report.md").read_text()
-    assert "Where ours differ from the paper" in md
+    assert "## What this shows" in md and "Where ours differ" not in md
     for name in ("fig19_sensitivity", "fig19_supplement"):
         assert (store.path / "report" / "figures" / f"{name}.png").stat().st_size > 10_000
 
@@ -61,23 +69,24 @@ def test_mesh_resolution_report_prints_the_cost_ratio(runs):
     store = runs["mesh_resolution"]
     records = store.read().to_pandas()
     res = records[records["panel"] == "resolution"]
-    ratio = _table(store, "cost_ratio").iloc[0]
+    ratio = _table(store, "cost_ratio")
     expected = res.loc[res["nodes"] == 1750, "cost_ratio_vs_reference"].median()
-    assert ratio["ours"] == pytest.approx(expected, rel=1e-12)
-    assert ratio["paper"] == 1.95 and ratio["target"] == 1.5
+    assert ratio["value"].tolist() == pytest.approx([expected, expected], rel=1e-12)
+    assert ratio["paper"].tolist() == ["1.95", "0.00–1.50"]  # the paper's ratio; its target
     md = (store.path / "report" / "report.md").read_text()
-    assert f"Per-evaluation cost ratio 1750/144 nodes: {expected:.2f}**" in md
+    assert f"grows {expected:.2f}-fold from the smallest to the largest mesh" in md
     rerun = _table(store, "n_max_rerun").set_index("planner")
     nm = records[records["panel"] == "n_max"]
     failed = nm[~nm["success"].astype(bool)]
     assert rerun["failures_at_n_max"].sum() == len(failed)
     assert rerun["budget_capped"].sum() == failed["budget_capped"].sum()
     budget = _table(store, "success_vs_n_cand")
-    assert set(budget["n_cand"]) == {-1, 1, 30}
-    assert (budget.loc[budget["n_cand"] > 0, "h_gap_to_reference"] >= -1e-12).all()
-    assert (budget["success_vertical_low_pct"] <= budget["success_vertical_pct"]).all()
-    assert (budget["success_vertical_pct"] <= budget["success_vertical_high_pct"]).all()
-    assert "cross-check" in md  # the baseline_grid records are absent here: says so
+    assert set(budget["planner"]) == {"heuristic", "reference"}
+    assert set(budget.loc[budget["planner"] == "heuristic", "n_cand"]) == {1, 30}
+    assert (budget["h_gap_to_reference"] >= -1e-12).all()
+    assert (budget["vertical_low_pct"] <= budget["vertical_pct"]).all()
+    assert (budget["vertical_pct"] <= budget["vertical_high_pct"]).all()
+    assert "were not cross-checked" in md  # the baseline_grid records are absent here
     assert (store.path / "report" / "figures" / "fig20_mesh_resolution.png").exists()
 
 
@@ -110,7 +119,7 @@ def _synthetic(n=400, seed=3):
 def _manifest():
     return {"config": {"seed": 5, "params": {"shapes": ["sphere", "pear"], "hidden_layers": [64, 32],
                                              "n_trees": 100, "test_fraction": 0.2},
-                       "paper": compose_study("surrogate").paper},
+                       "paper": study_paper("surrogate")},
             "host": {"name": "test"}}
 
 
@@ -118,7 +127,7 @@ def test_surrogate_fitting_recovers_known_structure(tmp_path):
     pytest.importorskip("sklearn")
     from graspcampaign.report.sections import surrogate
 
-    report = Report("surrogate", tmp_path / "report")
+    report = LegacyReport(Document("surrogate", "simulation", []), Run(_synthetic(), _manifest()))
     surrogate.section(report, _synthetic(), _manifest())
     cls = report.tables["surrogate_classification"].set_index(["label", "model"])
     assert (cls["roc_auc"] > 0.95).all()
@@ -144,8 +153,41 @@ def test_surrogate_section_without_scikit_learn(tmp_path, monkeypatch):
     from graspcampaign.report.sections import surrogate
 
     monkeypatch.setitem(sys.modules, "sklearn", None)  # import sklearn -> ImportError
-    report = Report("surrogate", tmp_path / "report")
+    report = LegacyReport(Document("surrogate", "simulation", []),
+                          Run(_synthetic(60), _manifest()))
     surrogate.section(report, _synthetic(60), _manifest())
     assert "surrogate_classification" not in report.tables
     assert "surrogate_dataset" in report.tables
-    assert any("not installed" in part[-1] for part in report.parts if part[0] == "text")
+    assert any("not installed" in b.markdown for b in report.doc.blocks if isinstance(b, Text))
+
+
+def test_a_non_finite_sweep_level_is_reported_not_raised(runs, tmp_path):
+    """Issue 15 item 2: a sweep level that makes a heatmap non-finite."""
+    import shutil
+
+    from typer.testing import CliRunner
+
+    from graspcampaign.cli.main import app
+
+    source = runs["sensitivity"]
+    copy = tmp_path / "results" / "sensitivity" / "default"
+    shutil.copytree(source.path, copy, ignore=shutil.ignore_patterns("report"))
+    store = RunStore(copy)
+    records = store.read().to_pandas()
+    level = sorted(records.loc[records["panel"] == "lambda", "lambda1"].unique())[0]
+    records.loc[(records["panel"] == "lambda") & (records["lambda1"] == level),
+                "delta_max_mm"] = np.inf
+    records.loc[records["panel"] == "n_b", "runtime_ms"] = np.nan
+    shutil.rmtree(copy / "records")
+    store.write_shard("records", "a", records.to_dict("records"))
+    result = CliRunner().invoke(app, ["report", "--root", str(tmp_path / "results"),
+                                      "--figure-format", "svg"])
+    assert result.exit_code == 0, result.output
+    md = (copy / "report" / "report.md").read_text()
+    panels = pd.read_csv(copy / "report" / "tables" / "sensitivity_panels.csv")
+    assert panels.set_index("panel")["runtime_median_ms"].isna().loc["n_b"]
+    assert "| n_b |" in md and md.split("| n_b |")[1].split("\n")[0].endswith("| — |")
+    svg = (copy / "report" / "figures" / "fig19_sensitivity.svg").read_text()
+    assert "not drawn: no finite value of" in svg  # panel (c) says why; (a), (b) are drawn
+    assert "n/a" in (copy / "report" / "figures" / "fig19_supplement.svg").read_text()
+    assert (copy / "report" / "tables" / "sensitivity_panels.csv").exists()

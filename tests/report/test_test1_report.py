@@ -127,7 +127,7 @@ def test_ingested_run_reports_without_finalize_tables(reported):
 
 
 def test_every_figure_is_labelled_virtual_in_its_title(reported, monkeypatch):
-    from graspcampaign.report.document import Report
+    from graspcampaign.report.build import LegacyReport as Report
 
     root, _ = reported
     titles = {}

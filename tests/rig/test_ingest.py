@@ -7,7 +7,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from graspcampaign.rig import analysis, protocol
+from graspcampaign.analysis import hardware as analysis
+from graspcampaign.rig import protocol
 from graspcampaign.rig.ingest import IngestError, record_columns, validate_records
 from graspcampaign.rig.plan import predict_trial
 from graspcampaign.rig.virtual import virtual_trial
@@ -69,7 +70,8 @@ def test_virtual_records_round_trip(fixture, kind, tmp_path, request):
     direct = analysis.merge_records(rows, preds, meas)
     ingested = analysis.merge_records(rows, preds, back)
     for fn in (analysis.planner_summary, analysis.outcome_breakdown, analysis.force_accuracy):
-        pd.testing.assert_frame_equal(fn(direct), fn(ingested), check_dtype=False)
+        kw = {"seed": 0} if fn is analysis.planner_summary else {}
+        pd.testing.assert_frame_equal(fn(direct, **kw), fn(ingested, **kw), check_dtype=False)
 
 
 def test_source_defaults_to_measured_and_reruns_are_accepted(t2, tmp_path):

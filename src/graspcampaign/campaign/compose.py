@@ -20,6 +20,7 @@ from hydra import compose, initialize_config_dir
 from hydra.core.config_store import ConfigStore
 from omegaconf import OmegaConf
 
+from graspcampaign.campaign.paper import check_paper
 from graspcampaign.campaign.schema import SCHEMAS, StudyCfg, check_config, check_study
 from graspcampaign.errors import ConfigError, UserInputError
 
@@ -162,6 +163,7 @@ def compose_study(study: str, overrides: list[str] | None = None) -> StudyCfg:
     except Exception as exc:  # Hydra/OmegaConf raise many unrelated types; all mean bad input
         raise ConfigError(_override_sentence(exc, overrides, given)) from None
     check_study(obj)
+    check_paper(obj.name, obj.paper, f"{campaigns_dir.name}/{study}.yaml: paper")
     return obj
 
 

@@ -130,8 +130,7 @@ def run_cmd(
     if report:
         from graspcampaign.report.build import build_reports
 
-        for path in build_reports([cfg.name], run=summary.run, root=cfg.output.root):
-            typer.echo(f"report: {path}")
+        _report_paths(build_reports([cfg.name], run=summary.run, root=cfg.output.root))
     if summary.n_error:
         raise typer.Exit(1)
 
@@ -162,12 +161,23 @@ def report(
     run: RunOpt = None,
     root: Annotated[Path, typer.Option(help="Results root.")] = Path("results"),
     fmt: Annotated[str, typer.Option("--format", help="Comma-separated: md,csv,json,html.")] = "md,csv",
+    figure_format: Annotated[str, typer.Option("--figure-format", help="png, svg or pdf.")] = "png",
 ) -> None:
-    """Write reports (Markdown, CSV tables, PNG figures) from the records; never runs a trial."""
+    """Write reports (Markdown, CSV tables, figures, HTML) from the records; never runs a trial."""
     from graspcampaign.report.build import build_reports
 
-    for path in build_reports(studies or None, run=run, root=root, formats=fmt.split(",")):
+    _report_paths(build_reports(studies or None, run=run, root=root, formats=fmt.split(","),
+                                figure_format=figure_format))
+
+
+def _report_paths(batch) -> None:
+    """Print the written reports; name every run whose report failed and exit non-zero."""
+    for path in batch:
         typer.echo(f"report: {path}")
+    for label, why, _ in batch.failed:
+        typer.echo(f"error: the report of {label} could not be written: {why}", err=True)
+    if batch.failed:
+        raise typer.Exit(2 if all(bad for _, _, bad in batch.failed) else 1)
 
 
 @app.command()

@@ -20,10 +20,10 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from graspcampaign.report import stats
-from graspcampaign.report.document import Report
-from graspcampaign.report.sections.sensitivity import RC
-from graspcampaign.report.table import executed, rate_cell
+from graspcampaign import stats
+from graspcampaign.report.build import LegacyReport as Report
+from graspcampaign.report.sections import executed, paper_value, rate_cell
+from graspcampaign.report.style import RC
 
 NUMERIC = ["mass_kg", "mu", "lambda1", "lambda2", "msd_b"]
 """Appendix A's sampled inputs besides the shape (n is fixed, so it is not a feature)."""
@@ -161,7 +161,7 @@ def fit_surrogates(ok: pd.DataFrame, params: dict, seed: int) -> dict:
 def section(report: Report, records: pd.DataFrame, manifest: dict, store=None) -> None:
     """Write the surrogate section (Appendix A, Fig. A.1)."""
     config = manifest.get("config") or {}
-    paper = config.get("paper") or {}
+    paper = config["paper"]  # the typed paper values (build._legacy)
     params = config.get("params") or {}
     seed = int(config.get("seed", 0))
     ok = executed(records)
@@ -182,11 +182,11 @@ def section(report: Report, records: pd.DataFrame, manifest: dict, store=None) -
     report.table("surrogate_classification", cls,
                  f"Success classifiers on a stratified {100 - test_pct:.0f}/{test_pct:.0f} split "
                  f"(seed {seed}); "
-                 f"paper: AUC {paper.get('auc')}, accuracy {paper.get('accuracy_pct')} %, "
-                 f"class balance {paper.get('class_balance_pct')} %")
+                 f"paper: AUC {paper.auc}, accuracy {paper.accuracy_pct} %, "
+                 f"class balance {paper.class_balance_pct} %")
     reg = pd.DataFrame(fit["regression"])
     report.table("surrogate_regression", reg,
-                 f"Regression R² on the held-out trials (paper: R² = {paper.get('residual_r2')} "
+                 f"Regression R² on the held-out trials (paper: R² = {paper.residual_r2} "
                  "for the vertical force residual)")
     if fit["importance"] is not None:
         report.table("surrogate_feature_importance", fit["importance"],
@@ -204,14 +204,14 @@ def _dataset(report: Report, ok: pd.DataFrame, paper: dict, config: dict) -> Non
     rows = [{"group": "all", "scenarios": len(ok),
              "success": rate_cell(int(ok["success"].sum()), len(ok)),
              "success_vertical": rate_cell(int(ok["success_vertical"].sum()), len(ok)),
-             "paper_class_balance_pct": paper.get("class_balance_pct")}]
+             "paper_class_balance_pct": paper.class_balance_pct}]
     for shape, grp in ok.groupby("shape"):
         rows.append({"group": shape, "scenarios": len(grp),
                      "success": rate_cell(int(grp["success"].sum()), len(grp)),
                      "success_vertical": rate_cell(int(grp["success_vertical"].sum()), len(grp)),
                      "paper_class_balance_pct": None})
     report.text(
-        f"**Dataset.** {len(ok)} scenarios (paper {paper.get('n_scenarios')}), each a shape, mass, "
+        f"**Dataset.** {len(ok)} scenarios (paper {paper.n_scenarios}), each a shape, mass, "
         f"friction, λ1, λ2 and b drawn uniformly (n = {ok['n_exp'].iloc[0]:.3g} fixed, as the "
         f"paper samples no exponent) and the heuristic planner's grasp judged by the "
         f"quasi-static evaluator. `success` is the configured check (`{check}`), "
@@ -226,14 +226,14 @@ def _timing(ok: pd.DataFrame, fit: dict, paper: dict, manifest: dict) -> pd.Data
     rows = [{"what": f"brief PSO call ({int(ok['pso_n_evaluations'].median())} evaluations), "
                      "median over the run's trials",
              "time_s": float(ok["pso_time_s"].median()),
-             "paper_time_s": paper.get("pso_call_time_s"),
+             "paper_time_s": paper_value(paper, "pso_call_time_s"),
              "host": (manifest.get("host") or {}).get("name")}]
     for (label, name), model in fit["models"].items():
         if label != "success" or name not in ("mlp", "random_forest"):
             continue
         rows.append({"what": f"one {name} prediction (success probability), median of up to 200",
                      "time_s": prediction_time_s(model, row),
-                     "paper_time_s": (paper.get("prediction_time_ms") or math.nan) * 1e-3
+                     "paper_time_s": (paper_value(paper, "prediction_time_ms") or math.nan) * 1e-3
                      if name == "mlp" else math.nan,
                      "host": socket.gethostname()})
     table = pd.DataFrame(rows)
@@ -254,15 +254,15 @@ def _words(cls, reg, timing, fit, paper, version: str) -> str:
                    f"{first['test_positives']} in the {first['test_trials']} held-out trials "
                    f"(so few make the AUC uncertain) "
                    f"(majority-class accuracy {first['majority_class_accuracy_pct']:.1f} %); "
-                   f"{parts}. Paper: {paper.get('class_balance_pct')} % positives, AUC "
-                   f"{paper.get('auc')}, accuracy {paper.get('accuracy_pct')} %.")
+                   f"{parts}. Paper: {paper.class_balance_pct} % positives, AUC "
+                   f"{paper.auc}, accuracy {paper.accuracy_pct} %.")
     for _, r in cls[cls["model"] == "–"].iterrows() if "model" in cls else []:
         out.append(f"`{r['label']}`: {r['note']} ({r['positives']} positives of {r['trials']}).")
     if len(reg):
         best = reg.loc[reg.groupby("target")["r2"].idxmax()]
         out.append("Regression R² (best model per target): " + "; ".join(
             f"{r['target']} {r['r2']:.2f} ({r['model']})" for _, r in best.iterrows())
-            + f". Paper: R² = {paper.get('residual_r2')} for the vertical residual. Our vertical "
+            + f". Paper: R² = {paper.residual_r2} for the vertical residual. Our vertical "
               "residual is driven to ~0 by Algorithm 2 in most scenarios, so its R² says little; "
               "the check quantity ‖R‖ and the penetration are regressed on a log scale.")
     if len(timing) > 1:
@@ -271,8 +271,8 @@ def _words(cls, reg, timing, fit, paper, version: str) -> str:
             out.append(f"One MLP prediction takes {1e3 * mlp['time_s'].iloc[0]:.3f} ms against "
                        f"{timing['time_s'].iloc[0]:.3f} s for the brief PSO call: "
                        f"{mlp['pso_over_this'].iloc[0]:.0f}× (paper: "
-                       f"{paper.get('prediction_time_ms')} ms vs {paper.get('pso_call_time_s')} s, "
-                       f"{paper.get('speedup')}×). Our PSO call is cheaper than the paper's "
+                       f"{paper.prediction_time_ms} ms vs {paper.pso_call_time_s} s, "
+                       f"{paper.speedup}×). Our PSO call is cheaper than the paper's "
                        f"because one swarm iteration is a single vectorised evaluator call; the "
                        f"PSO time was measured in the run, the prediction time in this report "
                        f"(hosts in the table).")
@@ -294,7 +294,7 @@ def _figure(report: Report, fit: dict, timing: pd.DataFrame, paper: dict) -> Non
                       linestyle="-" if label == "success" else "--",
                       label=f"{name}, {label}: AUC {auc[(label, name)]:.2f}")
         ax_a.plot([0, 1], [0, 1], color="#999999", linestyle=":", label="chance")
-        paper_auc = paper.get("auc") or {}
+        paper_auc = paper_value(paper, "auc")
         if paper_auc:
             ax_a.plot([], [], " ", label="paper: " + ", ".join(f"{k} {v}"
                                                                 for k, v in paper_auc.items()))
@@ -315,7 +315,7 @@ def _figure(report: Report, fit: dict, timing: pd.DataFrame, paper: dict) -> Non
             ax_b.plot([lo, hi], [lo, hi], color="black", linewidth=1.0, label="parity")
             ax_b.axvline(math.log10(0.5), color="#333333", linestyle="--", linewidth=1.0,
                          label="τ_F = 0.5 N")
-            ax_b.plot([], [], " ", label=f"paper: R² {paper.get('residual_r2')} (vertical residual)")
+            ax_b.plot([], [], " ", label=f"paper: R² {paper.residual_r2} (vertical residual)")
         ax_b.set_xlabel("simulated log10 ‖R‖ [log10 N]")
         ax_b.set_ylabel("predicted log10 ‖R‖ [log10 N]")
         ax_b.set_title("(b) MLP regressor, force residual", loc="left")

@@ -26,14 +26,13 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from graspcampaign import stats
-from graspcampaign.report.document import Report
+from graspcampaign.analysis.records import executed as analysis_executed
+from graspcampaign.core.bench import FAMILIES
+from graspcampaign.report import style
+from graspcampaign.report.build import LegacyReport as Report
+from graspcampaign.report.sections import paper_value
 
-RC = {
-    "font.size": 9, "axes.titlesize": 9.5, "axes.labelsize": 9, "legend.fontsize": 7.5,
-    "xtick.labelsize": 8, "ytick.labelsize": 8, "axes.spines.top": False,
-    "axes.spines.right": False, "legend.frameon": False, "axes.grid": True, "grid.alpha": 0.3,
-}
-"""Figure style (headless: figures are built without pyplot, rendered by the Agg canvas)."""
+RC = style.RC  # the report's one figure style
 
 PAPER = "black"
 PLANNER_ORDER = ("heuristic", "centroid", "no_pso", "force_balance", "random")
@@ -61,10 +60,7 @@ MINUS = "−"
 # =============================================================================================
 def executed(records: pd.DataFrame) -> pd.DataFrame:
     """Records of executed attempts: status ok and not aborted (booleans cleaned)."""
-    ok = records[records["status"] == "ok"] if "status" in records else records
-    from graspcampaign.rig.analysis import executed as rig_executed
-
-    return rig_executed(ok).reset_index(drop=True)
+    return analysis_executed(records)
 
 
 def ok_records(records: pd.DataFrame) -> pd.DataFrame:
@@ -221,11 +217,11 @@ def flag_claims(rows: list[dict[str, Any]], quantity: str, where: str, predicted
     confusion = _confusion(predicted, actual)
     (tn, fp), (fn, tp) = confusion
     rows.append(claim_fraction(quantity.format("accuracy"), where, tp + tn, confusion.sum(),
-                               paper.get("accuracy")))
+                               paper_value(paper, "accuracy")))
     rows.append(claim_fraction(quantity.format("precision"), where, tp, tp + fp,
-                               paper.get("precision")))
+                               paper_value(paper, "precision")))
     rows.append(claim_fraction(quantity.format("recall"), where, tp, tp + fn,
-                               paper.get("recall")))
+                               paper_value(paper, "recall")))
     return confusion
 
 
@@ -294,11 +290,11 @@ def counts_table(report: Report, name: str, records: pd.DataFrame, paper: dict, 
         else pd.Series(False, index=ok.index)
     rows = [
         {"quantity": "commanded attempts (recorded)", "ours": len(records),
-         "paper": paper.get("commanded")},
+         "paper": paper.commanded},
         {"quantity": "aborted before load (rig faults)", "ours": int(aborted.sum()),
-         "paper": paper.get("aborted")},
+         "paper": paper.aborted},
         {"quantity": "executed trials", "ours": int((~aborted).sum()),
-         "paper": paper.get("executed")},
+         "paper": paper.executed},
         {"quantity": "trial errors (software)", "ours": int((records["status"] != "ok").sum())
          if "status" in records else 0, "paper": None},
     ]
@@ -369,7 +365,7 @@ def confusion_panel(ax, predicted, actual, title: str, paper: dict, flag: str) -
 
     def line(name, key):
         ours = getattr(m, key) if m is not None else math.nan
-        return f"{name}: ours {fmt(ours, 2)} | paper {fmt(paper.get(key), 2)}"
+        return f"{name}: ours {fmt(ours, 2)} | paper {fmt(paper_value(paper, key), 2)}"
 
     text = "\n".join([f"n = {int(p.size)}", line("accuracy", "accuracy"),
                       line("precision", "precision"), line("recall", "recall"),
@@ -399,9 +395,9 @@ DEPARTURES_T2 = (
 
 def section(report: Report, records: pd.DataFrame, manifest: dict, store=None) -> None:
     """Write the Test 2 section: counts, Tables 6-7, §8 claims, Figs. 28-31, power."""
-    from graspcampaign.rig import analysis as an
+    from graspcampaign.analysis import hardware as an
 
-    paper = (manifest.get("config") or {}).get("paper") or {}
+    paper = manifest["config"]["paper"]  # the typed paper values (build._legacy)
     report.text(source_note(records, manifest, "One record per commanded attempt of the Test 2 "
                             "sheet (§8.1; `graspcampaign schedule test2_grasp`).", DEPARTURES_T2))
     recs = ok_records(records)
@@ -410,11 +406,11 @@ def section(report: Report, records: pd.DataFrame, manifest: dict, store=None) -
         report.text("No executed Test 2 trials to report.")
         return
     counts_table(report, "test2_counts", records, paper, "planner", planners_in_order(ex),
-                 {p: (paper.get("table7") or {}).get(p, {}).get("n") for p in PLANNER_ORDER},
+                 {p: paper_value(paper, "table7", p, "n") for p in PLANNER_ORDER},
                  "Test 2 trial counts (§8.1), ours beside the paper's; a reduced study (params) "
                  "has proportionally fewer")
     _table6(report, ex, an, paper)
-    _table7(report, recs, ex, an, paper)
+    _table7(report, recs, ex, an, paper, int((manifest.get("config") or {}).get("seed", 0)))
     _claims(report, recs, ex, an, paper)
     _extra_tables(report, recs, an)
     fig28(report, ex, an, paper)
@@ -426,38 +422,38 @@ def section(report: Report, records: pd.DataFrame, manifest: dict, store=None) -
 
 # -- tables ------------------------------------------------------------------------------------
 def _table6(report: Report, ex: pd.DataFrame, an, paper: dict) -> None:
-    ref = paper.get("table6") or {}
+    ref = paper_value(paper, "table6")
     summary = an.shape_summary(ex).set_index("shape")
     prop = ex[ex["planner"] == "heuristic"]
     rows, items = [], []
     for shape in [s for s in SHAPE_ORDER if s in summary.index]:
         g = prop[prop["shape"] == shape]
         nat = g[g["friction_level"] == "natural"]
-        p = ref.get(shape, {})
+        p = paper_value(ref, shape)
         s_pct, s_lo, s_hi = wilson_pct(int(g["success"].sum()), len(g))
         n_pct, n_lo, n_hi = wilson_pct(int(nat["success"].sum()), len(nat))
         r = summary.loc[shape]
-        row = {"shape": shape, "n": len(g), "paper_n": p.get("n"),
+        row = {"shape": shape, "n": len(g), "paper_n": paper_value(p, "n"),
                "success_pct": s_pct, "success_low_pct": s_lo, "success_high_pct": s_hi,
-               "paper_success_pct": p.get("success_pct"),
+               "paper_success_pct": paper_value(p, "success_pct"),
                "natural_n": len(nat), "natural_success_pct": n_pct,
                "natural_low_pct": n_lo, "natural_high_pct": n_hi,
-               "paper_natural_pct": p.get("natural_pct"),
-               "force_err_pct": r["force_err_pct"], "paper_force_err_pct": p.get("force_err_pct"),
+               "paper_natural_pct": paper_value(p, "natural_pct"),
+               "force_err_pct": r["force_err_pct"], "paper_force_err_pct": paper_value(p, "force_err_pct"),
                "deformation_err_pct": r["deformation_err_pct"],
-               "paper_deformation_err_pct": p.get("deformation_err_pct"),
+               "paper_deformation_err_pct": paper_value(p, "deformation_err_pct"),
                "flagged_n": int(r["flagged_n"]), "flagged_success_pct": r["flagged_success_pct"]}
-        row["verdict"] = compare(s_pct, p.get("success_pct"), n=len(g), low=s_lo,
+        row["verdict"] = compare(s_pct, paper_value(p, "success_pct"), n=len(g), low=s_lo,
                                  high=s_hi)[1]
         rows.append(row)
         label = SHAPE_LABELS[shape]
         for q, o, pv, lo, hi, n in (
-                ("success", s_pct, p.get("success_pct"), s_lo, s_hi, len(g)),
-                ("natural-friction success", n_pct, p.get("natural_pct"), n_lo, n_hi, len(nat)),
-                ("median |F_n| error", r["force_err_pct"], p.get("force_err_pct"), None, None,
+                ("success", s_pct, paper_value(p, "success_pct"), s_lo, s_hi, len(g)),
+                ("natural-friction success", n_pct, paper_value(p, "natural_pct"), n_lo, n_hi, len(nat)),
+                ("median |F_n| error", r["force_err_pct"], paper_value(p, "force_err_pct"), None, None,
                  len(g)),
                 ("median deformation error", r["deformation_err_pct"],
-                 p.get("deformation_err_pct"), None, None, len(g))):
+                 paper_value(p, "deformation_err_pct"), None, None, len(g))):
             items.append((f"{label}, {q}", *compare(o, pv, n=n, low=lo, high=hi)))
     full = pd.DataFrame(rows)
 
@@ -491,33 +487,34 @@ def _table6(report: Report, ex: pd.DataFrame, an, paper: dict) -> None:
     add_differences(report, "Table 6", items)
 
 
-def _table7(report: Report, recs: pd.DataFrame, ex: pd.DataFrame, an, paper: dict) -> None:
-    ref = paper.get("table7") or {}
-    summary = an.planner_summary(recs).set_index("planner")
+def _table7(report: Report, recs: pd.DataFrame, ex: pd.DataFrame, an, paper: dict,
+            seed: int) -> None:
+    ref = paper_value(paper, "table7")
+    summary = an.planner_summary(recs, seed=seed).set_index("planner")
     rows, items = [], []
     cols = (("stable", "stable_pct", "stable"), ("slip", "slip_pct", "failure_slip"),
             ("drop", "drop_pct", "failure_drop"), ("damage", "damage_pct", "failure_damage"))
     for planner in planners_in_order(ex):
         g = ex[ex["planner"] == planner]
-        p = ref.get(planner, {})
+        p = paper_value(ref, planner)
         s = summary.loc[planner]
-        row = {"planner": planner, "n": len(g), "paper_n": p.get("n"),
+        row = {"planner": planner, "n": len(g), "paper_n": paper_value(p, "n"),
                "success_pct": s["success_pct"], "wilson_low_pct": s["wilson_low_pct"],
                "wilson_high_pct": s["wilson_high_pct"],
                "bootstrap_low_pct": s["bootstrap_low_pct"],
                "bootstrap_high_pct": s["bootstrap_high_pct"], "n_objects": int(s["n_objects"]),
-               "paper_success_pct": p.get("success_pct")}
+               "paper_success_pct": paper_value(p, "success_pct")}
         label = PLANNER_LABELS.get(planner, planner)
         items.append((f"{label}, success", *compare(
-            s["success_pct"], p.get("success_pct"), n=len(g), low=s["wilson_low_pct"],
+            s["success_pct"], paper_value(p, "success_pct"), n=len(g), low=s["wilson_low_pct"],
             high=s["wilson_high_pct"])))
         row["verdict"] = items[-1][2]
         for name, key, outcome in cols:
             k = int((g["outcome"] == outcome).sum())
             pct, lo, hi = wilson_pct(k, len(g))
             row.update({key: pct, f"{name}_low_pct": lo, f"{name}_high_pct": hi,
-                        f"paper_{key}": p.get(key)})
-            items.append((f"{label}, {name} rate", *compare(pct, p.get(key), n=len(g), low=lo,
+                        f"paper_{key}": paper_value(p, key)})
+            items.append((f"{label}, {name} rate", *compare(pct, paper_value(p, key), n=len(g), low=lo,
                                                            high=hi)))
         row["partial_pct"] = s["partial_pct"]
         row["contact_loss_pct"] = s["contact_loss_pct"]
@@ -543,7 +540,8 @@ def _table7(report: Report, recs: pd.DataFrame, ex: pd.DataFrame, an, paper: dic
     })
     report.table("table7", full, "Table 7 (ours beside the paper's): executed trials per planner; "
                  "success with its Wilson 95 % interval and the object-clustered bootstrap "
-                 "(objects resampled, 2000 resamples, seed 0); stable, slip, drop and damage as "
+                 f"(objects resampled, {stats.BOOTSTRAP_RESAMPLES} resamples, seed {seed}); "
+                 "stable, slip, drop and damage as "
                  "primary outcome classes, each with its Wilson interval", display=display)
     add_differences(report, "Table 7", items)
 
@@ -556,83 +554,83 @@ def _claims(report: Report, recs: pd.DataFrame, ex: pd.DataFrame, an, paper: dic
         rows.append(claim_rate(q, where, int(mask.sum()), len(mask), pv))
 
     abd = prop[prop["group"].isin(["A", "B", "D"])]
-    rate("proposed success, groups A, B, D", "§8.2", abd["success"], paper.get(
+    rate("proposed success, groups A, B, D", "§8.2", abd["success"], paper_value(paper,
         "validation_success_pct"))
     rate("proposed success, all its trials", "§8.5", prop["success"],
-         paper.get("proposed_success_pct"))
+         paper_value(paper, "proposed_success_pct"))
     rate("proposed success, group C (failure boundary)", "§8.6",
-         prop.loc[prop["group"] == "C", "success"], paper.get("group_c_pct"))
+         prop.loc[prop["group"] == "C", "success"], paper_value(paper, "group_c_pct"))
     rate("proposed stable holds", "§8.2, Fig. 28c", prop["outcome"] == "stable",
-         paper.get("proposed_stable_pct"))
+         paper_value(paper, "proposed_stable_pct"))
     rate("proposed marginal successes", "§8.2, Fig. 28c", prop["outcome"] == "success",
-         paper.get("proposed_marginal_pct"))
+         paper_value(paper, "proposed_marginal_pct"))
     rate("proposed drop + damage + contact loss", "§8.2, Fig. 28c",
          prop["outcome"].isin(["failure_drop", "failure_damage", "failure_contact_loss"]),
-         paper.get("proposed_drop_damage_contact_pct_max"))
+         paper_value(paper, "proposed_drop_damage_contact_pct_max"))
     for m in MATERIAL_ORDER:
         g = ex[ex["material"] == m]
         if len(g):
             rate(f"success on {MATERIAL_LABELS[m]}, all planners", "§8.2, Fig. 28b",
-                 g["success"], (paper.get("success_by_material_pct") or {}).get(m))
+                 g["success"], paper_value(paper, "success_by_material_pct", m))
     acc = an.force_accuracy(recs).set_index("scope")
     if "all" in acc.index:
         a = acc.loc["all"]
         rows.append(claim("parity slope (through origin)", "§8.3, Fig. 29a",
-                          a.get("parity_slope"), paper.get("parity_slope"), n=a["n"], unit="",
+                          a.get("parity_slope"), paper_value(paper, "parity_slope"), n=a["n"], unit="",
                           digits=3))
         rows.append(claim("parity R² (uncentred)", "§8.3, Fig. 29a", a.get("parity_r2"),
-                          paper.get("parity_r2"), n=a["n"], unit="", digits=3))
+                          paper_value(paper, "parity_r2"), n=a["n"], unit="", digits=3))
         rows.append(claim("median |normal-force error|", "§8.3, Fig. 29b", a["force_err_pct"],
-                          paper.get("force_err_median_pct"), n=a["n"]))
+                          paper_value(paper, "force_err_median_pct"), n=a["n"]))
         rows.append(claim("median |deformation error|", "§8.3, Fig. 29c",
-                          a["deformation_err_pct"], paper.get("deformation_err_median_pct"),
+                          a["deformation_err_pct"], paper_value(paper, "deformation_err_median_pct"),
                           n=a["n"]))
         rows.append(claim("median contact-point error", "§8.3", a["contact_point_err_mm"],
-                          paper.get("contact_point_err_median_mm"), n=a["n"], unit="mm"))
-    clf = paper.get("classifier") or {}
+                          paper_value(paper, "contact_point_err_median_mm"), n=a["n"], unit="mm"))
+    clf = paper_value(paper, "classifier")
     for scope, g, ref in (("all planners", ex, clf),
-                          ("proposed planner", prop, paper.get("classifier_proposed") or {})):
+                          ("proposed planner", prop, paper_value(paper, "classifier_proposed"))):
         flag_claims(rows, f"stability flag {{}}, {scope}", "§8.4, Fig. 31c",
                     g["predicted_stable"], g["success"], ref)
     base = ex[ex["planner"] != "heuristic"]
     bp, ba = base["predicted_stable"].to_numpy(bool), base["success"].to_numpy(bool)
     rows.append(claim_fraction("stability flag precision, baselines", "§8.4",
                                int(np.sum(bp & ba)), int(bp.sum()),
-                               paper.get("classifier_baselines_precision")))
+                               paper_value(paper, "classifier_baselines_precision")))
     c = prop[prop["group"] == "C"]
     cp, ca = c["predicted_stable"].to_numpy(bool), c["success"].to_numpy(bool)
     rows.append(claim_fraction("stability flag precision, group C", "§8.1, §8.4",
                                int(np.sum(cp & ca)), int(cp.sum()),
-                               paper.get("classifier_group_c_precision")))
+                               paper_value(paper, "classifier_group_c_precision")))
     matched = ex[ex["matched"].astype(bool)]
     for planner in planners_in_order(matched):
         g = matched[matched["planner"] == planner]
         rate(f"matched ablation success, {PLANNER_LABELS.get(planner, planner)}",
-             "§8.5, Fig. 31b", g["success"], (paper.get("matched_pct") or {}).get(planner))
+             "§8.5, Fig. 31b", g["success"], paper_value(paper, "matched_pct", planner))
     mc = an.matched_mcnemar(recs).set_index("baseline")
-    ref = paper.get("mcnemar_centroid") or {}
+    ref = paper_value(paper, "mcnemar_centroid")
     if "centroid" in mc.index:
         r = mc.loc["centroid"]
         rows.append(claim("McNemar χ² proposed vs centroid (matched)", "§8.5", r["chi2"],
-                          ref.get("chi2"), n=r["n_pairs"], unit="", digits=1))
-        rows.append(claim("pairs won by proposed (vs centroid)", "§8.5", r["won"], ref.get("won"),
+                          paper_value(ref, "chi2"), n=r["n_pairs"], unit="", digits=1))
+        rows.append(claim("pairs won by proposed (vs centroid)", "§8.5", r["won"], paper_value(ref, "won"),
                           n=r["n_pairs"], unit="", digits=0))
         rows.append(claim("pairs lost by proposed (vs centroid)", "§8.5", r["lost"],
-                          ref.get("lost"), n=r["n_pairs"], unit="", digits=0))
+                          paper_value(ref, "lost"), n=r["n_pairs"], unit="", digits=0))
         rows.append(claim("discordant-pair odds ratio", "§8.5", r["odds_ratio"],
-                          ref.get("odds_ratio"), n=r["n_pairs"], low=r["odds_ratio_low"],
+                          paper_value(ref, "odds_ratio"), n=r["n_pairs"], low=r["odds_ratio_low"],
                           high=r["odds_ratio_high"], unit="", digits=1))
     chi = an.planner_chi2(recs).iloc[0]
     rows.append(claim("χ² planner × success (proposed, centroid, random)", "§8.5", chi["chi2"],
-                      paper.get("chi2_planner_success"), n=chi["n"], unit="", digits=1))
+                      paper_value(paper, "chi2_planner_success"), n=chi["n"], unit="", digits=1))
     kw = an.force_error_kruskal(recs).iloc[0]
     rows.append(claim("Kruskal–Wallis p, force error across planners", "§8.5", kw["p"],
-                      paper.get("force_err_kruskal_p"), n=kw["n"], unit="", digits=None))
+                      paper_value(paper, "force_err_kruskal_p"), n=kw["n"], unit="", digits=None))
     sk = an.slip_friction_kruskal(recs).iloc[0]
     rows.append(claim("Kruskal–Wallis H, slip across friction levels", "§8.6", sk["H"],
-                      paper.get("slip_friction_kruskal_h"), n=sk["n"], unit="", digits=1))
+                      paper_value(paper, "slip_friction_kruskal_h"), n=sk["n"], unit="", digits=1))
     e = prop[prop["group"] == "E"]
-    lo_hi = paper.get("group_e_success_pct_range") or [None, None]
+    lo_hi = paper_value(paper, "group_e_success_pct_range")
     for col, unit in (("closing_speed_mm_per_s", "closing"), ("lift_speed_mm_per_s", "lift")):
         for speed, g in e.groupby(col):
             rate(f"group E success, {unit} {speed:g} mm/s", "§8.6", g["success"], lo_hi[0])
@@ -668,12 +666,12 @@ def _extra_tables(report: Report, recs: pd.DataFrame, an) -> None:
 
 def _power(report: Report, recs: pd.DataFrame, an, paper: dict) -> None:
     mc = an.matched_mcnemar(recs).set_index("baseline")
-    matched = paper.get("matched_pct") or {}
+    matched = paper_value(paper, "matched_pct")
     rows = []
-    if matched.get("heuristic") and matched.get("centroid"):
+    if paper_value(matched, "heuristic") and paper_value(matched, "centroid"):
         rows.append(an.power_analysis(matched["heuristic"] / 100, matched["centroid"] / 100)
                     .assign(rates="paper matched: proposed vs centroid"))
-    if matched.get("heuristic") and matched.get("no_pso"):
+    if paper_value(matched, "heuristic") and paper_value(matched, "no_pso"):
         rows.append(an.power_analysis(matched["heuristic"] / 100, matched["no_pso"] / 100)
                     .assign(rates="paper matched: proposed vs no-PSO"))
     if "centroid" in mc.index:
@@ -699,34 +697,32 @@ def fig28(report: Report, ex: pd.DataFrame, an, paper: dict) -> None:
                                              (12.0, 3.9), 3)
         prop = ex[ex["planner"] == "heuristic"]
         shapes = [s for s in SHAPE_ORDER if s in set(prop["shape"])]
-        ref = paper.get("table6") or {}
+        ref = paper_value(paper, "table6")
         rate_bars(ax_a, [SHAPE_LABELS[s].replace(" (", "\n(") for s in shapes],
                   [int(prop.loc[prop["shape"] == s, "success"].sum()) for s in shapes],
                   [int((prop["shape"] == s).sum()) for s in shapes],
                   [PLANNER_COLOURS["heuristic"]] * len(shapes),
-                  [ref.get(s, {}).get("success_pct") for s in shapes])
-        ax_a.axhline(75.0, color="#555555", linestyle="--", linewidth=1.0)
+                  [paper_value(ref, s, "success_pct") for s in shapes])
+        ax_a.axhline(float(paper.fig28_reference_pct), color="#555555", linestyle="--", linewidth=1.0)
         ax_a.set_ylabel("success rate [%]")
         ax_a.set_title("(a) proposed planner, by shape", loc="left")
         ax_a.tick_params(axis="x", labelsize=7)
 
-        from graspcampaign.rig.plan import material_model
-
         mats = [m for m in MATERIAL_ORDER if m in set(ex["material"])]
-        ref_m = paper.get("success_by_material_pct") or {}
-        labels = [f"{MATERIAL_LABELS[m]}\nE = {material_model(m).modulus / 1e3:.0f} kPa"
+        ref_m = paper_value(paper, "success_by_material_pct")
+        labels = [f"{MATERIAL_LABELS[m]}\nE = {FAMILIES[m].modulus_mean / 1e3:.0f} kPa"
                   for m in mats]
         rate_bars(ax_b, labels, [int(ex.loc[ex["material"] == m, "success"].sum()) for m in mats],
                   [int((ex["material"] == m).sum()) for m in mats], ["#8aa9d6"] * len(mats),
-                  [ref_m.get(m) for m in mats])
+                  [paper_value(ref_m, m) for m in mats])
         ax_b.set_ylabel("success rate, all planners [%]")
         ax_b.set_title("(b) by material (Test 1 modulus, Table 4)", loc="left")
         ax_b.tick_params(axis="x", labelsize=7)
 
-        t7 = (paper.get("table7") or {}).get("heuristic", {})
-        ref_o = {"stable": t7.get("stable_pct"), "success": paper.get("proposed_marginal_pct"),
-                 "failure_slip": t7.get("slip_pct"), "failure_drop": t7.get("drop_pct"),
-                 "failure_damage": t7.get("damage_pct")}
+        t7 = paper_value(paper, "table7", "heuristic")
+        ref_o = {"stable": paper_value(t7, "stable_pct"), "success": paper.proposed_marginal_pct,
+                 "failure_slip": paper_value(t7, "slip_pct"), "failure_drop": paper_value(t7, "drop_pct"),
+                 "failure_damage": paper_value(t7, "damage_pct")}
         colours = ["#2e7d32", "#81c784", "#ffb74d", "#e57373", "#c62828", "#6d4c41", "#757575"]
         rate_bars(ax_c, [OUTCOME_LABELS[o] for o in OUTCOME_ORDER],
                   [int((prop["outcome"] == o).sum()) for o in OUTCOME_ORDER],
@@ -769,9 +765,9 @@ def fig29(report: Report, ex: pd.DataFrame, an, paper: dict) -> None:
             ax_a.plot(grid, fit.slope_through_origin * grid, color=PLANNER_COLOURS["heuristic"],
                       label=f"ours: slope {fit.slope_through_origin:.2f}, "
                             f"R² {fit.r2_uncentred:.2f} (n={fit.n})")
-        if not _missing(paper.get("parity_slope")):
-            ax_a.plot(grid, float(paper["parity_slope"]) * grid, color=PAPER, linestyle="--",
-                      label=f"paper: slope {paper['parity_slope']}, R² {paper.get('parity_r2')}")
+        if not _missing(paper_value(paper, "parity_slope")):
+            ax_a.plot(grid, float(paper.parity_slope) * grid, color=PAPER, linestyle="--",
+                      label=f"paper: slope {paper.parity_slope}, R² {paper.parity_r2}")
         ax_a.set_xlabel("predicted trial-mean normal force [N]")
         ax_a.set_ylabel("measured trial-mean normal force [N]")
         ax_a.set_title("(a) parity, all planners", loc="left")
@@ -792,9 +788,9 @@ def fig29(report: Report, ex: pd.DataFrame, an, paper: dict) -> None:
             if err.size:
                 ax.axvline(float(np.median(err)), color=PLANNER_COLOURS["heuristic"],
                            label=f"ours: median {np.median(err):.1f} %")
-            if not _missing(paper.get(key)):
-                ax.axvline(float(paper[key]), color=PAPER, linestyle="--",
-                           label=f"paper: median {paper[key]} %")
+            if not _missing(paper_value(paper, key)):
+                ax.axvline(float(paper_value(paper, key)), color=PAPER, linestyle="--",
+                           label=f"paper: median {paper_value(paper, key)} %")
             ax.set_xlabel(f"absolute {name} prediction error [%]")
             ax.set_ylabel("trials [count]")
             ax.legend(loc="upper right", fontsize=6.5)
@@ -832,7 +828,7 @@ def fig30(report: Report, ex: pd.DataFrame, paper: dict) -> None:
     values (per-finger normal force, peak slip) are drawn as levels over the hold.
     """
     from graspcampaign.core.disturbance import A_LIFT
-    from graspcampaign.rig.protocol import LIFT_HEIGHT_MM
+    lift_height_mm = float(paper.lift_height_mm)
 
     pool = ex[(ex["planner"] == "heuristic") & (ex["shape"] == "sphere")
               & (ex["outcome"] == "stable") & (ex["friction_level"] == "natural")]
@@ -844,11 +840,11 @@ def fig30(report: Report, ex: pd.DataFrame, paper: dict) -> None:
     v_lift = float(trial["lift_speed_mm_per_s"]) * 1e-3
     t_close = 10.0 / closing  # 10 mm approach at the commanded closing speed (drawing only)
     t_acc = v_lift / A_LIFT
-    t_lift = LIFT_HEIGHT_MM * 1e-3 / v_lift + t_acc
+    t_lift = lift_height_mm * 1e-3 / v_lift + t_acc
     hold = float(trial["hold_s"])
     t0, t1, t2 = t_close, t_close + t_lift, t_close + t_lift + hold
     t = np.linspace(0.0, t2, 600)
-    height = np.clip((t - t0 - t_acc / 2) / (t_lift - t_acc), 0.0, 1.0) * LIFT_HEIGHT_MM
+    height = np.clip((t - t0 - t_acc / 2) / (t_lift - t_acc), 0.0, 1.0) * lift_height_mm
     with mpl.rc_context(RC):
         fig, (ax_f, ax_z) = new_figure(ex, "Fig. 30: representative successful grasp "
                                        f"({sheet_id(trial)})", (9.5, 5.4), 1, nrows=2,
@@ -864,7 +860,7 @@ def fig30(report: Report, ex: pd.DataFrame, paper: dict) -> None:
         pred = float(trial["normal_force_pred_mean_n"])
         ax_f.hlines(pred, t0, t2, color="#333333", linestyle=":",
                     label=f"predicted per-finger mean {pred:.2f} N")
-        band = paper.get("hold_force_per_finger_n")
+        band = paper_value(paper, "hold_force_per_finger_n")
         if band:
             ax_f.axhspan(band[0], band[1], color=PAPER, alpha=0.12,
                          label=f"paper: steady hold {band[0]}–{band[1]} N per finger")
@@ -880,9 +876,9 @@ def fig30(report: Report, ex: pd.DataFrame, paper: dict) -> None:
         ax_s.hlines(slip, t1, t2, color="#c62828", label=f"peak slip {slip:.2f} mm (recorded)")
         ax_s.axhline(2.0, color="#c62828", linestyle="--", linewidth=1.0,
                      label="2 mm success criterion")
-        if paper.get("hold_slip_max_mm") is not None:
-            ax_s.axhline(float(paper["hold_slip_max_mm"]), color=PAPER, linestyle=":",
-                         label=f"paper: slip below {paper['hold_slip_max_mm']} mm")
+        if paper_value(paper, "hold_slip_max_mm") is not None:
+            ax_s.axhline(float(paper.hold_slip_max_mm), color=PAPER, linestyle=":",
+                         label=f"paper: slip below {paper.hold_slip_max_mm} mm")
         ax_s.set_ylim(0.0, 3.0)
         ax_s.set_ylabel("slip [mm]", color="#c62828")
         ax_s.grid(False)
@@ -902,8 +898,8 @@ def fig31(report: Report, recs: pd.DataFrame, ex: pd.DataFrame, an, paper: dict)
     """Fig. 31: (a) success per planner; (b) matched ablation; (c) stability confusion matrix."""
     planners = planners_in_order(ex)
     matched = ex[ex["matched"].astype(bool)]
-    ref7 = paper.get("table7") or {}
-    refm = paper.get("matched_pct") or {}
+    ref7 = paper_value(paper, "table7")
+    refm = paper_value(paper, "matched_pct")
     with mpl.rc_context(RC):
         fig, (ax_a, ax_b, ax_c) = new_figure(ex, "Fig. 31: planner comparison and stability "
                                              "classification", (13.0, 3.9), 3)
@@ -911,7 +907,7 @@ def fig31(report: Report, recs: pd.DataFrame, ex: pd.DataFrame, an, paper: dict)
         labels = [PLANNER_LABELS.get(p, p) for p in planners]
         rate_bars(ax_a, labels, [int(ex.loc[ex["planner"] == p, "success"].sum()) for p in planners],
                   [int((ex["planner"] == p).sum()) for p in planners], colours,
-                  [ref7.get(p, {}).get("success_pct") for p in planners])
+                  [paper_value(ref7, p, "success_pct") for p in planners])
         ax_a.set_ylabel("success rate [%]")
         ax_a.set_title("(a) all executed trials", loc="left")
         ax_a.legend(handles=[ci_handle(), paper_handle()], loc="upper right", fontsize=6.5)
@@ -919,14 +915,14 @@ def fig31(report: Report, recs: pd.DataFrame, ex: pd.DataFrame, an, paper: dict)
         rate_bars(ax_b, [PLANNER_LABELS.get(p, p) for p in mp],
                   [int(matched.loc[matched["planner"] == p, "success"].sum()) for p in mp],
                   [int((matched["planner"] == p).sum()) for p in mp],
-                  [PLANNER_COLOURS.get(p, "#888888") for p in mp], [refm.get(p) for p in mp])
+                  [PLANNER_COLOURS.get(p, "#888888") for p in mp], [paper_value(refm, p) for p in mp])
         ax_b.set_ylabel("success rate [%]")
         ax_b.set_title("(b) matched ablation (same objects and conditions)", loc="left")
         ax_b.legend(handles=[ci_handle(), paper_handle()], loc="upper right", fontsize=6.5)
         for ax in (ax_a, ax_b):
             ax.tick_params(axis="x", labelsize=7)
         confusion_panel(ax_c, ex["predicted_stable"], ex["success"],
-                        "(c) predicted_stable vs measured success", paper.get("classifier") or {},
+                        "(c) predicted_stable vs measured success", paper_value(paper, "classifier"),
                         "predicted_stable")
     report.figure("fig31_planner_comparison", fig,
                   "Fig. 31 (ours, paper's values as black diamonds): (a) success per planner "

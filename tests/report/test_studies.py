@@ -31,12 +31,19 @@ P_SUCCESS = {"heuristic": 0.7, "antipodal": 0.4, "random": 0.1, "centroid": 0.0,
              "no_s2": 0.65}
 
 
-def make_run(root, name: str, kind: str, factors: dict, seeds: int, paper: dict,
+def make_run(root, name: str, kind: str, factors: dict, seeds: int, paper: dict | None,
              outputs: Callable[[dict, np.random.Generator], dict], *, seed: int = 11,
              error_every: int = 0, tables: Callable[[str, dict, dict], dict] | None = None,
              prepared: list[dict] | None = None, source: str = "simulation",
              **study_kw) -> RunStore:
-    """Write a run of ``name`` like the runner does: records (+ traces), then the manifest."""
+    """Write a run of ``name`` like the runner does: records (+ traces), then the manifest.
+
+    ``paper`` None takes the study file's paper block (the typed values a real run carries).
+    """
+    if paper is None:
+        from test_build import study_paper_block
+
+        paper = study_paper_block(name)
     study = StudyCfg(name=name, kind=kind, seed=seed, seeds=seeds, factors=factors, paper=paper,
                      **study_kw)
     trials = expand(study)
@@ -124,7 +131,7 @@ def grid_run(tmp_path_factory):
     store = make_run(root, "baseline_grid", "quasi_static",
                      {"shape": SHAPES, "mass_kg": [0.2, 0.6], "mu": [0.1, 0.5],
                       "planner": ["heuristic", "antipodal", "random", "centroid"]},
-                     seeds=3, paper=GRID_PAPER, outputs=quasi_static_outputs, error_every=17)
+                     seeds=3, paper=None, outputs=quasi_static_outputs, error_every=17)
     build_reports(["baseline_grid"], root=root)
     return root, store
 
@@ -143,15 +150,15 @@ def test_grid_rates_match_pandas(grid_run):
         assert row["n"] == n and row["successes"] == s
         assert row["n_error"] == errors.get(planner, 0)
         assert row["n"] + row["n_error"] == (raw["planner"] == planner).sum()
-        assert row["ours_pct"] == pytest.approx(100 * s / n, abs=1e-12)
+        assert row["rate_pct"] == pytest.approx(100 * s / n, abs=1e-12)
         # statsmodels.stats.proportion.proportion_confint(s, n, method="wilson")
         low, high = proportion_confint(s, n, alpha=0.05, method="wilson")
         assert row["wilson_low_pct"] == pytest.approx(100 * max(low, 0), abs=1e-9)
         assert row["wilson_high_pct"] == pytest.approx(100 * min(high, 1), abs=1e-9)
         assert row["paper_pct"] == GRID_PAPER["success_pct"][planner]
-        assert row["difference_pp"] == pytest.approx(100 * s / n - row["paper_pct"], abs=1e-9)
+        assert row["difference"] == pytest.approx(100 * s / n - row["paper_pct"], abs=1e-9)
         assert row["n_clusters"] == ok.loc[ok["planner"] == planner, "shape"].nunique()
-        assert row["bootstrap_low_pct"] <= row["ours_pct"] <= row["bootstrap_high_pct"]
+        assert row["bootstrap_low_pct"] <= row["rate_pct"] <= row["bootstrap_high_pct"]
 
 
 def test_grid_by_shape_and_condition_match_pandas(grid_run):
@@ -159,14 +166,14 @@ def test_grid_by_shape_and_condition_match_pandas(grid_run):
     ok = ok_records(store)
     by_shape = read_table(store, "success_by_shape")
     expected = ok.groupby(["shape", "planner"])["success"].mean() * 100
-    got = by_shape.set_index(["shape", "planner"])["ours_pct"]
+    got = by_shape.set_index(["shape", "planner"])["rate_pct"]
     pd.testing.assert_series_equal(got.sort_index(), expected.sort_index(), check_names=False)
     cube = by_shape.set_index(["shape", "planner"])
     assert cube.loc[("rounded_cube", "heuristic"), "paper_pct"] == 56.0
     assert cube.loc[("rounded_cube", "antipodal"), "paper_pct"] == 33.0
     assert cube.loc[("pear", "centroid"), "paper_pct"] == 0.0  # 0% overall is 0% per shape
     assert math.isnan(cube.loc[("pear", "heuristic"), "paper_pct"])
-    by_mu = read_table(store, "success_by_mu").set_index(["planner", "mu"])["ours_pct"]
+    by_mu = read_table(store, "success_by_mu").set_index(["planner", "mu"])["rate_pct"]
     exp_mu = ok.groupby(["planner", "mu"])["success"].mean() * 100
     pd.testing.assert_series_equal(by_mu.sort_index(), exp_mu.sort_index(), check_names=False)
 
@@ -196,7 +203,7 @@ def test_grid_design_limit_and_failure_checks(grid_run):
     limit = read_table(store, "design_limit").set_index("planner")
     for planner, grp in ok.groupby("planner"):
         row = limit.loc[planner]
-        assert row["exceeds_1mm"] == (grp["delta_max_mm"] > 1).sum()
+        assert row["exceeds"] == (grp["delta_max_mm"] > 1).sum()
         assert row["n"] == len(grp)
         assert row["successes_exceeding"] == ((grp["delta_max_mm"] > 1) & grp["success"]).sum()
         assert row["delta_max_median_mm"] == pytest.approx(grp["delta_max_mm"].median())
@@ -212,11 +219,12 @@ def test_grid_markdown_states_differences_and_figure(grid_run):
     root, store = grid_run
     md = (store.path / "report" / "report.md").read_text()
     heuristic = read_table(store, "success_by_planner").set_index("planner").loc["heuristic"]
-    assert f"differs from the paper by {_signed(heuristic['difference_pp'])}" in md
-    assert "Where we differ from the paper" in md
-    assert "errored trials" in md and "excluded from every success denominator" in md
+    assert f"| {heuristic['verdict']} |" in md and f"({_signed(heuristic['difference'])})" in md
+    assert "Where we differ" not in md  # the verdicts are in the tables, not repeated as bullets
+    assert "errored, excluded from every denominator" in md
     assert "shape-clustered percentile bootstrap" in md and "10000 resamples, seed 11" in md
     assert "Data source:** simulation" in md
+    assert md.index("## What this shows") < md.index("success_by_planner.csv")
     png = store.path / "report" / "figures" / "fig18_baselines.png"
     assert png.stat().st_size > 10_000
     assert "[headline.md](headline.md)" in (root / "index.md").read_text()
@@ -233,16 +241,14 @@ def _signed(x: float) -> str:
 
 
 def test_ablation_section(tmp_path):
-    paper = {"trials_per_variant": 50,
-             "success_pct": {"heuristic": 72.0, "no_s1": 72.0, "no_s2": 72.0, "random": 6.0}}
     store = make_run(tmp_path, "ablation", "quasi_static",
                      {"shape": SHAPES, "mass_kg": [0.4], "mu": [0.3],
                       "planner": ["heuristic", "no_s1", "no_s2", "random"]},
-                     seeds=4, paper=paper, outputs=quasi_static_outputs)
+                     seeds=4, paper=None, outputs=quasi_static_outputs)
     build_reports(["ablation"], root=tmp_path)
     ok = ok_records(store)
     table = read_table(store, "success_by_planner").set_index("planner")
-    pd.testing.assert_series_equal(table["ours_pct"].sort_index(),
+    pd.testing.assert_series_equal(table["rate_pct"].sort_index(),
                                    (ok.groupby("planner")["success"].mean() * 100).sort_index(),
                                    check_names=False)
     assert table.loc["random", "paper_pct"] == 6.0
@@ -253,10 +259,6 @@ def test_ablation_section(tmp_path):
 
 
 def test_shapes_section_flags_disagreement(tmp_path):
-    paper = {"success": {"sphere": True, "ellipsoid": False, "rounded_cube": True, "pear": True,
-                         "handle": False},
-             "failure_check": {"ellipsoid": "residual", "handle": "slip"}, "h_range": [0.15, 0.28]}
-
     def outputs(factors, rng):
         out = quasi_static_outputs(factors, rng)
         win = factors["shape"] in ("sphere", "ellipsoid")  # ellipsoid disagrees; cube/pear too
@@ -265,16 +267,19 @@ def test_shapes_section_flags_disagreement(tmp_path):
 
     store = make_run(tmp_path, "shapes", "quasi_static",
                      {"shape": SHAPES, "mass_kg": [0.4], "mu": [0.3], "planner": ["heuristic"]},
-                     seeds=1, paper=paper, outputs=outputs)
+                     seeds=1, paper=None, outputs=outputs)
     build_reports(["shapes"], root=tmp_path)
     table = read_table(store, "shapes").set_index("shape")
     ok = ok_records(store).set_index("shape")
-    assert table.loc["sphere", "verdict"].startswith("agrees")
-    assert table.loc["ellipsoid", "verdict"].startswith("differs from the paper")
-    assert table.loc["handle", "verdict"].startswith("agrees")  # fails by slip, as the paper
+    assert table.loc["sphere", "verdict"] == "as in the paper (yes)"
+    assert table.loc["ellipsoid", "verdict"] == "differs: the paper reports no, ours is yes"
+    assert table.loc["handle", "verdict"] == "as in the paper (no)"  # fails, as the paper
     assert table.loc["pear", "h_total"] == pytest.approx(ok.loc["pear", "h_total"])
     md = (store.path / "report" / "report.md").read_text()
-    assert "**ellipsoid:** differs from the paper" in md
+    assert "2 of 5 shapes reach the paper's outcome (Fig. 15): sphere, concave handle." in md
+    assert "Ours differs on ellipsoid (paper fails, ours 1/1" in md
+    checks = read_table(store, "failure_checks").set_index("shape")
+    assert checks.loc["handle", "paper"] == "slip" and checks.loc["sphere", "paper"] == "none"
     assert (store.path / "report" / "figures" / "fig15_shape_metrics.png").exists()
 
 
@@ -296,8 +301,7 @@ def test_pso_cv_table3_and_trace(tmp_path):
 
     store = make_run(tmp_path, "pso_repeatability", "pso_repeatability",
                      {"shape": ["sphere"], "mass_kg": [0.4], "mu": [0.3]}, seeds=12,
-                     paper={"cv_pct": {"n": 19.0, "others_range": [47.0, 77.0],
-                                       "lambda_approx": 60.0}, "table3": TABLE3},
+                     paper=None,
                      outputs=outputs, tables=trace)
     build_reports(["pso_repeatability"], root=tmp_path)
     ok = ok_records(store)
@@ -320,9 +324,6 @@ def test_pso_cv_table3_and_trace(tmp_path):
 
 
 def test_wrench_balance_settling_from_trace(tmp_path):
-    paper = {"finger_force_command_n": 65.0, "residual_settles_within_iterations": [30, 40],
-             "slip_margin_saturates_above": 0.8}
-
     def outputs(factors, rng):
         return quasi_static_outputs({**factors, "planner": "heuristic"}, rng)
 
@@ -337,15 +338,17 @@ def test_wrench_balance_settling_from_trace(tmp_path):
 
     store = make_run(tmp_path, "wrench_balance", "wrench_balance",
                      {"shape": ["sphere"], "mass_kg": [0.4], "mu": [0.1, 0.3, 0.5]}, seeds=1,
-                     paper=paper, outputs=outputs, tables=trace)
+                     paper=None, outputs=outputs, tables=trace)
     build_reports(["wrench_balance"], root=tmp_path)
     table = read_table(store, "wrench_balance")
     settle = table[table["quantity"].str.startswith("iteration")].set_index("mu")
     assert settle["ours"].to_dict() == {0.1: 20.0, 0.3: 35.0, 0.5: 50.0}
-    assert settle.loc[0.3, "verdict"] == "inside the paper's range"
-    assert "earlier" in settle.loc[0.1, "verdict"] and "later" in settle.loc[0.5, "verdict"]
+    assert settle.loc[0.3, "verdict"] == "inside the paper's range 30–40"
+    assert settle.loc[0.1, "verdict"] == "differs: below the paper's range 30–40"
+    assert settle.loc[0.5, "verdict"] == "differs: above the paper's range 30–40"
     slip = table[table["quantity"].str.startswith("final slip")].set_index("mu")
-    assert slip.loc[0.5, "verdict"] == "as in the paper"
+    assert slip.loc[0.5, "verdict"] == "inside the paper's range 0.80–1.00"
+    assert slip.loc[0.1, "verdict"] == "the paper reports no value"  # stated for μ ≥ 0.3 only
     assert slip.loc[0.3, "verdict"].startswith("differs")  # 0.57 is not above 0.8
     assert (store.path / "report" / "figures" / "fig17_wrench.png").exists()
 
@@ -363,16 +366,17 @@ def test_heuristic_weights_invariance(tmp_path):
 
     store = make_run(tmp_path, "heuristic_weights", "heuristic_weights",
                      {"weight_scale": [1.0, 0.5, 2.0]}, seeds=3,
-                     paper={"h_at_scale": {"1.0": 0.833, "0.5": 0.416, "2.0": 1.666},
-                            "s1": 0.25, "s2": 0.25, "s3": 0.33}, outputs=outputs,
+                     paper=None, outputs=outputs,
                      method_factors=["weight_scale"])
     build_reports(["heuristic_weights"], root=tmp_path)
     h = read_table(store, "h_by_scale").set_index("weight_scale")
     assert h.loc[2.0, "h_reachable"] == pytest.approx(2 * (0.5 + 1 / 3))
     assert h["verdict"].str.startswith("matches").all()
     comp = read_table(store, "components").set_index("quantity")
-    assert comp.loc["seeds whose argmin is the same at every scale", "verdict"] == \
-        "invariant in every seed, as in the paper"
+    assert comp.loc["argmin the same at every scale, in every seed", "verdict"] == \
+        "as in the paper (yes)"
+    assert comp.loc["S3 of the reachable set at unit weights", "verdict"] == \
+        "matches to the paper's printed precision"  # 1/3 against the printed 0.33
     sweep = read_table(store, "ratio_sweep").set_index("weights_w1_w2_w3")
     assert sweep["argmin_moves"].to_dict() == {"2:1:1": 0, "1:1:2": 1}
 
@@ -399,9 +403,9 @@ def test_headline_page_gathers_rates(grid_run):
     ok = ok_records(store)
     mine = ok[ok["planner"] == "heuristic"]
     assert grid["n"] == len(mine)
-    assert grid["ours_pct"] == pytest.approx(100 * mine["success"].mean())
+    assert grid["rate_pct"] == pytest.approx(100 * mine["success"].mean())
     assert grid["paper_pct"] == 67.6 and grid["paper_n"] == 675
-    assert grid["paper_baseline"].startswith("antipodal 40%")
+    assert grid["paper_baselines"].startswith("antipodal 40.0%")
     missing = headline[headline["study"] == "test3_disturbance"]
     assert set(missing["verdict"]) == {"no records yet"}
     assert 80.8 in missing["paper_pct"].tolist()
@@ -427,7 +431,7 @@ def test_pso_budgets_split_and_pinned_parameters(tmp_path):
 
     store = make_run(tmp_path, "pso_repeatability", "pso_repeatability",
                      {"shape": ["sphere"], "budget": ["repeatability", "converged"]}, seeds=6,
-                     paper={"cv_pct": {"n": 19.0}, "table3": TABLE3}, outputs=outputs)
+                     paper=None, outputs=outputs)
     build_reports(["pso_repeatability"], root=tmp_path)
     ok = ok_records(store)
     rep, conv = ok[ok["budget"] == "repeatability"], ok[ok["budget"] == "converged"]
@@ -438,4 +442,7 @@ def test_pso_budgets_split_and_pinned_parameters(tmp_path):
     t3 = read_table(store, "table3").set_index("parameter")
     assert t3.loc["c", "ours_mean"] == pytest.approx(0.002) and t3.loc["c", "n"] == len(conv)
     md = (store.path / "report" / "report.md").read_text()
-    assert "lambda1 ends at 1.5" in md and "every run at one value" in md
+    assert "Pinned in every run (CV 0, a bound of the search box): lambda1 at 1.5" in md
+    assert cv.loc["lambda1", "why"] == "every value is the same: a zero spread has no interval"
+    assert "| lambda1 | 60.0 | 0.0 (every value is the same" not in md  # no interval shown
+    assert "restarts at the paper's 8 × 15 budget" in md

@@ -1,4 +1,4 @@
-"""Tests of graspcampaign.report.stats against values computed outside the code.
+"""Tests of graspcampaign.stats (the analysis layer's statistics) against values computed outside the code.
 
 Every pinned number carries the command (or publication) that produced it. "Paper" means the
 printed statistic of the source paper (/work/shared/paper.txt), reproduced from its own counts.
@@ -14,19 +14,23 @@ from hypothesis import strategies as st
 from scipy import stats as sps
 
 import graspcampaign.stats as public_stats
+from graspcampaign import stats as S
 from graspcampaign import stats as public_stats_from
-from graspcampaign.report import stats as S
+from graspcampaign.report import format as fmt
 
 # ---------------------------------------------------------------------------------------------
 # Public module
 # ---------------------------------------------------------------------------------------------
 
 
-def test_public_module_reexports_everything():
+def test_public_module_reexports_the_analysis_layer():
+    from graspcampaign.analysis import agreement, association, rates
+
     assert public_stats is public_stats_from
-    for name in S.__all__:
-        assert getattr(public_stats, name) is getattr(S, name)
-    assert set(public_stats.__all__) == set(S.__all__)
+    for name in public_stats.__all__:
+        obj = getattr(public_stats, name)
+        assert any(getattr(m, name, None) is obj for m in (agreement, association, rates)), name
+    assert not any(name.startswith("format") for name in public_stats.__all__)
 
 
 def test_results_are_frozen():
@@ -62,7 +66,7 @@ PAPER_WILSON = [
 @pytest.mark.parametrize(("k", "n", "printed"), PAPER_WILSON)
 def test_wilson_reproduces_paper_intervals(k, n, printed):
     res = S.wilson_interval(k, n)
-    assert S.format_interval(res.low, res.high) == printed
+    assert fmt.interval(100 * res.low, 100 * res.high, 1) == printed
     low, high = _wilson_closed_form(k, n)
     assert res.low == pytest.approx(low, abs=1e-12)
     assert res.high == pytest.approx(high, abs=1e-12)
@@ -73,7 +77,7 @@ def test_wilson_reproduces_paper_intervals(k, n, printed):
 def test_wilson_table9_row_format():
     # Paper Table 9, proposed row: "80.8 (78.0–83.4)".
     res = S.wilson_interval(671, 830)
-    assert S.format_estimate_interval(res.estimate, res.low, res.high) == "80.8 (78.0–83.4)"
+    assert fmt.estimate(100 * res.estimate, 100 * res.low, 100 * res.high, 1) == "80.8 (78.0–83.4)"
 
 
 @pytest.mark.parametrize(
@@ -687,28 +691,3 @@ def test_power_validation():
         S.power_two_proportions(0.8, 0.4, discordant=0.5)
     with pytest.raises(ValueError, match="alternative must be"):
         S.power_two_proportions(0.8, 0.4, alternative="less")
-
-
-# ---------------------------------------------------------------------------------------------
-# Formatting
-# ---------------------------------------------------------------------------------------------
-
-
-def test_format_interval_rounds_once():
-    # Wilson 17/100 upper bound 0.25548...: rounding once gives 25.5; rounding to 25.55 first
-    # and then to one place would give 25.6 (issue 5, item 4).
-    res = S.wilson_interval(17, 100)
-    assert S.format_interval(res.low, res.high) == "10.9–25.5"
-    assert f"{float(f'{100 * res.high:.2f}'):.1f}" == "25.6"  # the double-rounding trap
-
-
-def test_format_interval_variants():
-    assert S.format_interval(0.0, 1.0) == "0.0–100.0"
-    assert S.format_interval(-0.00001, 0.5, percent=False) == "0.0–0.5"  # no "-0.0"
-    assert S.format_interval(-3.9, 4.38, digits=2, percent=False) == "-3.90–4.38"
-    assert S.format_interval(3.45, math.inf, digits=1, percent=False) == "3.5–inf"
-    assert S.format_estimate_interval(0.778, 0.748, 0.8049, digits=0) == "78 (75–80)"
-    # 0.805 is stored as 0.80500000000000004885 (exact binary value), so it rounds up, once.
-    assert S.format_interval(0.748, 0.805, digits=0) == "75–81"
-    with pytest.raises(ValueError, match="digits must be a non-negative integer"):
-        S.format_interval(0.1, 0.2, digits=-1)

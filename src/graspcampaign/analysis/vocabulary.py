@@ -1,0 +1,116 @@
+"""One vocabulary for every study: planners, shapes, materials, outcomes (order, label, colour).
+
+Every table sorts, and every figure labels and colours, a planner, shape or material by these
+entries, so the same planner reads and looks the same in every report. The order is the paper's
+(Table 7 / Fig. 18 for planners, Fig. 14 for shapes, Table 4 for materials); labels are the
+paper's words; colours are fixed per entry (the proposed planner in the report's main blue).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+import pandas as pd
+
+
+@dataclass(frozen=True)
+class Term:
+    """One entry of a vocabulary: its record value, display label and colour."""
+
+    key: str
+    label: str
+    colour: str
+
+
+def _terms(*rows: tuple[str, str, str]) -> dict[str, Term]:
+    return {key: Term(key, label, colour) for key, label, colour in rows}
+
+
+PROPOSED = "heuristic"
+"""The proposed planner (paper: "proposed", full H(G))."""
+
+PLANNERS = _terms(
+    ("heuristic", "proposed H(G)", "#1f5aa6"),
+    ("antipodal", "antipodal", "#e08a1e"),
+    ("centroid", "centroid", "#8c8c8c"),
+    ("no_pso", "no PSO", "#6a8fc7"),
+    ("force_balance", "force balance", "#7b4ea3"),
+    ("random", "random", "#c9a227"),
+    ("no_s1", "\u2212S1", "#4c78b5"),
+    ("no_s2", "\u2212S2", "#5f8bc2"),
+    ("no_s3", "\u2212S3", "#739ecf"),
+    ("no_pc", "\u2212Pc", "#87b0db"),
+    ("no_pe", "\u2212Pe", "#9bc2e6"),
+    ("reference", "reference search", "#2e7d32"),
+    ("epsilon", "Ferrari\u2013Canny \u03b5", "#b5403a"),
+)
+SHAPES = _terms(
+    ("sphere", "sphere", "#1b9e77"),
+    ("ellipsoid", "ellipsoid", "#d95f02"),
+    ("rounded_cube", "rounded cube", "#7570b3"),
+    ("pear", "pear", "#e7298a"),
+    ("handle", "concave handle", "#66a61e"),
+)
+MATERIALS = _terms(
+    ("gel", "gel", "#1b9e77"),
+    ("silicone_soft", "silicone, soft", "#d95f02"),
+    ("bio_foam", "bio foam", "#7570b3"),
+    ("silicone_ref", "silicone, ref.", "#e7298a"),
+)
+OUTCOMES = _terms(
+    ("stable", "stable", "#2e7d32"),
+    ("success", "success (marginal)", "#81c784"),
+    ("partial", "partial", "#ffb74d"),
+    ("failure_slip", "slip", "#e57373"),
+    ("failure_drop", "drop", "#c62828"),
+    ("failure_damage", "damage", "#6d4c41"),
+    ("failure_contact_loss", "contact loss", "#9e9e9e"),
+)
+BLOCKS = _terms(
+    ("A", "lateral pull", "#1f5aa6"), ("B", "vertical load", "#e08a1e"),
+    ("C", "yaw torque", "#2e7d32"), ("D", "impulse", "#7b4ea3"), ("E", "sinusoid", "#c9a227"),
+)
+PARAMETERS = _terms(
+    ("lambda1", "\u03bb1", "#1f5aa6"), ("lambda2", "\u03bb2", "#e08a1e"),
+    ("n", "n", "#2e7d32"), ("n_exp", "n", "#2e7d32"), ("b", "b", "#7b4ea3"),
+    ("k", "k", "#c9a227"), ("c", "c", "#8c8c8c"),
+)
+
+VOCABULARIES: dict[str, dict[str, Term]] = {
+    "planner": PLANNERS, "shape": SHAPES, "material": MATERIALS, "outcome": OUTCOMES,
+    "block": BLOCKS, "parameter": PARAMETERS,
+}
+"""Record column -> its vocabulary."""
+
+FACTOR_LABELS = {"mu": "μ", "mass_kg": "mass [kg]", "nodes": "nodes", "weight_scale":
+                 "weight scale", "n_cand": "N_cand", "friction_level": "friction"}
+"""Header of a factor column outside the vocabularies (its unit in brackets)."""
+
+OTHER_COLOURS = ("#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#e6ab02")
+"""Colours of levels outside every vocabulary (friction levels, node counts), in level order."""
+
+
+def label(column: str, value: object) -> str:
+    """Return the display label of ``value`` in ``column`` (the value itself if unknown)."""
+    term = VOCABULARIES.get(column, {}).get(str(value))
+    return term.label if term else str(value)
+
+
+def colour(column: str, value: object, index: int = 0) -> str:
+    """Return the colour of ``value`` in ``column``; unknown values cycle ``OTHER_COLOURS``."""
+    term = VOCABULARIES.get(column, {}).get(str(value))
+    return term.colour if term else OTHER_COLOURS[index % len(OTHER_COLOURS)]
+
+
+def ordered(column: str, values: Iterable, first: Iterable = ()) -> list:
+    """Return the distinct ``values`` in display order.
+
+    ``first`` (e.g. the study's configured factor levels) leads; then the vocabulary's order;
+    then the rest sorted by their text.
+    """
+    values = list(dict.fromkeys(v for v in values if not pd.isna(v)))
+    rank: dict = {}
+    for v in [*first, *VOCABULARIES.get(column, {})]:
+        rank.setdefault(v, len(rank))
+    return sorted(values, key=lambda v: (rank.get(v, rank.get(str(v), len(rank))), str(v)))

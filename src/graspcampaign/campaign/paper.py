@@ -1,0 +1,317 @@
+"""Typed ``paper:`` blocks: the values the paper reports, one frozen dataclass per study.
+
+A study file's ``paper:`` block is validated against its study's dataclass when the study is
+composed (:func:`graspcampaign.campaign.compose.compose_study`): a missing key, an unknown key
+(e.g. a typo), a value of the wrong type or a dict key outside its vocabulary (planner, shape,
+material names) is a :class:`~graspcampaign.errors.ConfigError` naming the file and the key, so a
+mistyped key can never show up as a silent dash in a report. A field with a default of ``None``
+is one the paper states only for some variants of the study; every other field is required.
+
+Reports receive the parsed object (``run.paper``) and read attributes, never ``dict.get``.
+Tuples are closed ranges or lists the paper prints; numbers keep the precision the paper prints.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import types
+import typing
+from dataclasses import dataclass, field
+from functools import cache
+from typing import Any
+
+from graspcampaign.errors import ConfigError
+
+Range = tuple[float, float]
+
+
+def keyed(vocabulary: str) -> Any:
+    """A required dict field whose keys must belong to ``vocabulary`` (planner, shape, ...)."""
+    return field(metadata={"keys": vocabulary})
+
+
+def _vocabulary(name: str) -> tuple[str, ...]:
+    from graspcampaign.analysis.vocabulary import VOCABULARIES
+
+    return tuple(VOCABULARIES[name])
+
+
+def parse_paper(cls: type, data: Any, where: str = "paper") -> Any:
+    """Return ``data`` (the YAML mapping) as an instance of the dataclass ``cls``.
+
+    Raises
+    ------
+    ConfigError
+        Naming ``where``-relative key paths: missing, unknown, or of the wrong type.
+    """
+    return _convert(cls, data, where)
+
+
+def _convert(typ: Any, value: Any, where: str) -> Any:
+    origin = typing.get_origin(typ)
+    if dataclasses.is_dataclass(typ):
+        if not isinstance(value, dict):
+            raise ConfigError(f"{where} must be a mapping with keys "
+                              f"{', '.join(f.name for f in dataclasses.fields(typ))}; "
+                              f"got {value!r}.")
+        hints = typing.get_type_hints(typ)
+        fields = {f.name: f for f in dataclasses.fields(typ)}
+        unknown = sorted(set(map(str, value)) - set(fields))
+        if unknown:
+            raise ConfigError(f"{where}.{unknown[0]} is not a known key of {typ.__name__}; "
+                              f"allowed: {', '.join(fields)}.")
+        out = {}
+        for name, f in fields.items():
+            if name not in value:
+                if f.default is dataclasses.MISSING:
+                    raise ConfigError(f"{where}.{name} is missing ({typ.__name__} requires it).")
+                continue
+            out[name] = _convert(hints[name], value[name], f"{where}.{name}")
+            if "keys" in f.metadata:
+                allowed = _vocabulary(f.metadata["keys"])
+                bad = [k for k in out[name] if k not in allowed]
+                if bad:
+                    raise ConfigError(f"{where}.{name}.{bad[0]} is not a known "
+                                      f"{f.metadata['keys']}; allowed: {', '.join(allowed)}.")
+        return typ(**out)
+    if origin in (typing.Union, types.UnionType):
+        args = typing.get_args(typ)
+        if value is None and type(None) in args:
+            return None
+        return _convert(next(a for a in args if a is not type(None)), value, where)
+    if origin is dict:
+        _, item = typing.get_args(typ)
+        if not isinstance(value, dict):
+            raise ConfigError(f"{where} must be a mapping; got {value!r}.")
+        return {str(k): _convert(item, v, f"{where}.{k}") for k, v in value.items()}
+    if origin is tuple:
+        args = typing.get_args(typ)
+        if not isinstance(value, list | tuple) or (args[-1] is not Ellipsis
+                                                   and len(value) != len(args)):
+            size = "a list" if args[-1] is Ellipsis else f"a list of {len(args)} values"
+            raise ConfigError(f"{where} must be {size}; got {value!r}.")
+        items = [args[0]] * len(value) if args[-1] is Ellipsis else args
+        return tuple(_convert(a, v, f"{where}[{i}]") for i, (a, v) in enumerate(zip(
+            items, value, strict=True)))
+    if typ is float:
+        if isinstance(value, int | float) and not isinstance(value, bool):
+            return float(value)
+    elif typ is int:
+        if isinstance(value, int) and not isinstance(value, bool):
+            return value
+    elif isinstance(value, typ):
+        return value
+    raise ConfigError(f"{where} must be {getattr(typ, '__name__', typ)}; got {value!r}.")
+
+
+# --------------------------------------------------------------------------------------------
+# Simulation studies
+# --------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class SmokePaper:
+    """Sec. 3.1: the sphere has no sharp feature at 144-1750 nodes."""
+
+    sphere_sharp_vertices: int
+    sphere_sharp_edges: int
+
+
+@dataclass(frozen=True)
+class HeuristicWeightsPaper:
+    """Sec. 5.2: H of the hand-reachable 45°/45°/−90° set per uniform weight scale, its terms."""
+
+    section: str
+    h_at_scale: dict[str, float]
+    s1: float
+    s2: float
+    s3: float
+    argmin_invariant: bool
+    h_scales_with_weights: bool
+    sphere_penalised_contacts: int
+
+
+@dataclass(frozen=True)
+class WrenchBalancePaper:
+    """Sec. 6.4, Fig. 17."""
+
+    figure: str
+    finger_force_command_n: float
+    residual_settles_within_iterations: tuple[int, int]
+    slip_margin_saturates_above: float
+    torque_residual_nm: float
+    #: the saturation is stated for these frictions only (Sec. 6.4: "for μ ≥ 0.3")
+    slip_margin_saturates_from_mu: float
+
+
+@dataclass(frozen=True)
+class ShapesPaper:
+    """Sec. 6.2, Fig. 15: outcome per shape, the failing check of the failures, H range."""
+
+    figure: str
+    success: dict[str, bool] = keyed("shape")
+    failure_check: dict[str, str] = keyed("shape")
+    h_range: Range
+
+
+@dataclass(frozen=True)
+class AblationPaper:
+    """Sec. 6.3, Fig. 16."""
+
+    figure: str
+    trials_per_variant: int
+    #: half-width of the paper's stated interval at 50 trials per variant [pp] (Sec. 6.3)
+    interval_half_width_pp: float
+    success_pct: dict[str, float] = keyed("planner")
+
+
+@dataclass(frozen=True)
+class BaselineGridPaper:
+    """Sec. 6.5, Fig. 18."""
+
+    figure: str
+    trials_per_planner: int
+    success_pct: dict[str, float] = keyed("planner")
+    success_by_shape_pct: dict[str, dict[str, float]] = keyed("shape")
+
+
+@dataclass(frozen=True)
+class SensitivityPaper:
+    """Sec. 6.6, Fig. 19: boundaries stated in words, as numbers."""
+
+    figure: str
+    stable_region: str
+    stable_mu_min: float
+    stable_mass_max_kg: float
+    lambda1_stable_below: float
+    nonconvergence_strip_lambda1_from: float
+
+
+@dataclass(frozen=True)
+class MeshResolutionPaper:
+    """Sec. 6.7, Fig. 20."""
+
+    figure: str
+    runtime_ms: dict[str, float]
+    runtime_ratio_1750_144: float
+    runtime_ratio_target: float
+    residual_scatter_n: Range
+    effective_budget_triples: tuple[int, int]
+    nmax_rerun_performed: bool
+
+
+@dataclass(frozen=True)
+class CvPaper:
+    """Sec. 6.8: CV of n, the approximate CV of the lambdas, the range of the others [%]."""
+
+    n: float
+    others_range: Range
+    lambda_approx: float
+
+
+@dataclass(frozen=True)
+class Table3Paper:
+    """Table 3: the identified contact and MSD parameters (b, k, c in internal units)."""
+
+    lambda1: float
+    lambda2: float
+    n: float
+    b: float
+    k: float
+    c: float
+
+
+@dataclass(frozen=True)
+class PsoRepeatabilityPaper:
+    """Sec. 6.8, Fig. 21, Table 3."""
+
+    figure: str
+    cv_pct: CvPaper
+    table3: Table3Paper
+
+
+@dataclass(frozen=True)
+class GravitySettlePaper:
+    """Sec. 5.4, Fig. 10 (qualitative)."""
+
+    figure: str
+    settles: bool
+
+
+@dataclass(frozen=True)
+class FrictionMassPaper:
+    """Sec. 5.5, Figs. 12-13 (forces and residual in the paper's internal units)."""
+
+    figures: str
+    settle_within_iterations: int
+    residual_amplitude_internal_units: float
+    total_penetration_below_m: float
+    finger_forces_internal_units: dict[str, float]
+    #: the (μ, m [kg]) case the paper plots in Figs. 12-13
+    representative_mu: float
+    representative_mass_kg: float
+
+
+@dataclass(frozen=True)
+class SurrogatePaper:
+    """Appendix A, Fig. A.1."""
+
+    figure: str
+    n_scenarios: int
+    class_balance_pct: float
+    auc: dict[str, float]
+    accuracy_pct: Range
+    residual_r2: float
+    prediction_time_ms: float
+    pso_call_time_s: float
+    pso_call_evaluations: int
+    speedup: float
+
+
+def _hardware() -> dict[str, type]:
+    from graspcampaign.campaign import paper_hardware as hw
+
+    return {"test1_bench": hw.Test1Paper, "test2_grasp": hw.Test2Paper,
+            "test3_disturbance": hw.Test3Paper}
+
+
+@cache
+def paper_types() -> dict[str, type]:
+    """Return study name -> its paper dataclass."""
+    return {"smoke": SmokePaper, "heuristic_weights": HeuristicWeightsPaper,
+            "wrench_balance": WrenchBalancePaper, "shapes": ShapesPaper,
+            "ablation": AblationPaper, "baseline_grid": BaselineGridPaper,
+            # the baseline grid under three grip laws: compared with the same Fig. 18 values
+            "grip_laws": BaselineGridPaper,
+            "sensitivity": SensitivityPaper, "mesh_resolution": MeshResolutionPaper,
+            "pso_repeatability": PsoRepeatabilityPaper, "gravity_settle": GravitySettlePaper,
+            "friction_mass": FrictionMassPaper, "surrogate": SurrogatePaper, **_hardware()}
+
+
+def check_paper(study: str, block: dict | None, where: str = "paper") -> Any:
+    """Return the study's typed paper values, or None for a study with no paper block.
+
+    Raises
+    ------
+    ConfigError
+        The block does not match the study's dataclass, or a study without one has a block.
+    """
+    types_ = paper_types()
+    if study not in types_:
+        if block:
+            raise ConfigError(f"{where}: study {study!r} has no paper schema, so its paper "
+                              f"values cannot be checked; remove the block or name the study after "
+                              f"one of {', '.join(sorted(types_))}.")
+        return None
+    return parse_paper(types_[study], block or {}, where)
+
+
+def study_paper(study: str) -> Any:
+    """Return the typed paper values of ``campaigns/<study>.yaml`` (None if it has none)."""
+    import yaml
+
+    from graspcampaign.campaign.compose import project_dirs
+
+    path = project_dirs()[1] / f"{study}.yaml"
+    block = (yaml.safe_load(path.read_text()) or {}).get("paper") if path.is_file() else None
+    return check_paper(study, block, f"{path.name}: paper")

@@ -1,0 +1,1 @@
+"""One report spec per study (see graspcampaign.report.spec and docs/ARCHITECTURE.md)."""

@@ -1,0 +1,71 @@
+"""Records -> tables: executed trials, rates with their reasons, McNemar pairing, design limit."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+from statsmodels.stats.proportion import proportion_confint
+
+from graspcampaign.analysis import records as rec
+
+
+def test_executed_drops_errors_and_aborted_attempts():
+    records = pd.DataFrame({"status": ["ok", "ok", "error", "ok"],
+                            "aborted": [False, True, False, None],
+                            "success": [True, None, None, pd.NA]})
+    ok = rec.executed(records)
+    assert len(ok) == 2 and ok["success"].tolist() == [True, False]
+    assert rec.status_counts(records) == {"executed": 2, "error": 1, "aborted": 1, "other": 0}
+
+
+def test_rate_table_wilson_and_the_reasons_it_gives():
+    records = pd.DataFrame({"status": "ok", "planner": ["a"] * 10 + ["b"] * 3,
+                            "shape": ["s1"] * 5 + ["s2"] * 5 + ["s1"] * 3,
+                            "success": [True] * 7 + [False] * 3 + [True, False, False]})
+    records = pd.concat([records, pd.DataFrame({"status": ["error"], "planner": ["c"],
+                                                "shape": ["s1"]})], ignore_index=True)
+    table = rec.rate_table(records, ["planner"], cluster="shape", seed=1, n_resamples=500)
+    table = table.set_index("planner")
+    low, high = proportion_confint(7, 10, method="wilson")  # statsmodels reference
+    assert table.loc["a", ["n", "successes", "rate_pct"]].tolist() == [10, 7, 70.0]
+    assert table.loc["a", "wilson_low_pct"] == pytest.approx(100 * low)
+    assert table.loc["a", "wilson_high_pct"] == pytest.approx(100 * high)
+    assert table.loc["a", "n_clusters"] == 2 and table.loc["a", "bootstrap_why"] == ""
+    assert math.isnan(table.loc["b", "bootstrap_low_pct"])
+    assert table.loc["b", "bootstrap_why"] == "needs \u2265 2 shape values, has 1"
+    assert (table.loc["c", "n"], table.loc["c", "n_error"]) == (0, 1)
+    assert table.loc["c", "rate_why"] == "no executed trial"
+
+
+def test_rate_without_an_outcome_column_says_so():
+    records = pd.DataFrame({"status": ["error", "error"], "planner": ["a", "a"]})
+    table = rec.rate_table(records, ["planner"])
+    assert table["rate_why"].tolist() == ["no executed trial"]
+    with pytest.raises(ValueError, match="no executed trial"):
+        rec.rate(records)
+
+
+def test_mcnemar_pairs_occurrences_and_skips_errors():
+    # scene s1 has two occurrences per planner; scene s3 misses its baseline (errored)
+    records = pd.DataFrame({
+        "scene_id": ["s1", "s1", "s1", "s1", "s2", "s2", "s3", "s3"],
+        "trial_index": range(8),
+        "planner": ["a", "b", "a", "b", "a", "b", "a", "b"],
+        "status": ["ok"] * 7 + ["error"],
+        "success": [True, False, True, True, False, True, True, None]})
+    row = rec.mcnemar_table(records, "a", ["b"]).iloc[0]
+    assert (row["pairs"], row["reference_only"], row["compared_only"], row["unpaired"]) == \
+        (3, 1, 1, 1)
+    assert row["chi2_cc"] == 0.0 and row["p_exact"] == 1.0
+
+
+def test_design_limit_counts_exceedances_strictly():
+    d = np.array([0.2, 0.9, 1.0, 1.01, 5.0])
+    records = pd.DataFrame({"status": "ok", "planner": "a", "delta_max_mm": d,
+                            "success": [True, True, False, True, False]})
+    row = rec.design_limit_table(records, ["planner"]).iloc[0]
+    assert (row["exceeds"], row["successes_exceeding"]) == (2, 1)  # 1.0 is not above 1 mm
+    assert row["delta_max_median_mm"] == 1.0

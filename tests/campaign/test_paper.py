@@ -1,0 +1,78 @@
+"""Typed paper blocks: every study file validates; a wrong or missing key exits 2 naming it."""
+
+from __future__ import annotations
+
+import shutil
+
+import pytest
+import yaml
+from typer.testing import CliRunner
+
+from graspcampaign.campaign.compose import list_studies, project_dirs
+from graspcampaign.campaign.paper import check_paper, paper_types, study_paper
+from graspcampaign.cli.main import app
+from graspcampaign.errors import ConfigError
+
+cli = CliRunner()
+
+
+def test_every_study_file_has_a_valid_paper_block():
+    assert set(paper_types()) == set(list_studies())
+    for study in list_studies():
+        paper = study_paper(study)
+        assert type(paper) is paper_types()[study]
+    assert study_paper("baseline_grid").success_pct["heuristic"] == 67.6
+    assert study_paper("test3_disturbance").table9["random"].wilson_pct == (10.9, 25.5)
+
+
+@pytest.mark.parametrize(("edit", "message"), [
+    (lambda p: p.update(trials_per_varian=p.pop("trials_per_variant")),
+     "campaigns/ablation.yaml: paper.trials_per_varian is not a known key of AblationPaper; "
+     "allowed: figure, trials_per_variant, interval_half_width_pp, success_pct."),
+    (lambda p: p.pop("figure"),
+     "campaigns/ablation.yaml: paper.figure is missing (AblationPaper requires it)."),
+    (lambda p: p["success_pct"].update(heuristc=p["success_pct"].pop("heuristic")),
+     "campaigns/ablation.yaml: paper.success_pct.heuristc is not a known planner; allowed: "),
+    (lambda p: p.update(trials_per_variant="fifty"),
+     "campaigns/ablation.yaml: paper.trials_per_variant must be int; got 'fifty'."),
+])
+def test_a_wrong_paper_key_exits_2_naming_it(tmp_path, monkeypatch, edit, message):
+    conf, campaigns = project_dirs()
+    home = tmp_path / "home"
+    shutil.copytree(conf, home / "conf")
+    shutil.copytree(campaigns, home / "campaigns")
+    path = home / "campaigns" / "ablation.yaml"
+    text = path.read_text()
+    head = "".join(line + "\n" for line in text.splitlines() if line.startswith("#"))
+    data = yaml.safe_load(text)
+    edit(data["paper"])
+    path.write_text(head + yaml.safe_dump(data, sort_keys=False))
+    monkeypatch.setenv("GRASPCAMPAIGN_HOME", str(home))
+    project_dirs.cache_clear()
+    try:
+        result = cli.invoke(app, ["show", "ablation"])
+    finally:
+        monkeypatch.delenv("GRASPCAMPAIGN_HOME")
+        project_dirs.cache_clear()
+    assert result.exit_code == 2, result.output
+    assert f"error: {message}" in result.output.replace("\n", " ")
+
+
+def test_nested_and_optional_fields():
+    block = yaml.safe_load((project_dirs()[1] / "test3_disturbance.yaml").read_text())["paper"]
+    block["table8"]["A"]["pred_err_pc"] = 1.0
+    with pytest.raises(ConfigError, match=r"^p\.table8\.A\.pred_err_pc is not a known key of "
+                                          r"Table8Row"):
+        check_paper("test3_disturbance", block, "p")
+    del block["table8"]["A"]["pred_err_pc"]
+    assert "headline" not in block["table8"]["D"]  # optional: no headline printed for D
+    assert check_paper("test3_disturbance", block).table8["D"].headline is None
+    with pytest.raises(ConfigError, match="p.h_range must be a list of 2 values; got 0.2."):
+        check_paper("shapes", {**study_paper_block("shapes"), "h_range": 0.2}, "p")
+    assert check_paper("my_own_study", {}) is None
+    with pytest.raises(ConfigError, match="study 'my_own_study' has no paper schema"):
+        check_paper("my_own_study", {"x": 1})
+
+
+def study_paper_block(study: str) -> dict:
+    return yaml.safe_load((project_dirs()[1] / f"{study}.yaml").read_text())["paper"]

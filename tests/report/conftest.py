@@ -1,0 +1,47 @@
+"""A results tree of every ported simulation study, run reduced by the engine and reported once.
+
+Shared by the inventory test (every table and figure each report produces) and the HTML test
+(every page parsed, its tables equal to the CSV tables), so the runs are paid for once.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+#: Reduced designs: every study of the spec path, plus one of the legacy path (surrogate).
+REDUCED = {
+    "smoke": ["nodes=[144]"],
+    "heuristic_weights": ["seeds=2"],
+    "wrench_balance": [],
+    "shapes": [],
+    "ablation": ["seeds=1", "shape=[sphere,pear]"],
+    "baseline_grid": ["seeds=1", "shape=[sphere,pear]", "mass_kg=[0.4]", "mu=[0.3]"],
+    "pso_repeatability": ["seeds=2", "budget=[repeatability]"],
+    # one preset and one integrator until the dynamic reports read both (issues 13, 17)
+    "gravity_settle": ["nodes=[144]", "integrator=[rk4]", "+params.settle_t_max_s=0.2"],
+    "friction_mass": ["nodes=[144]", "mu=[0.1,0.5]", "mass_kg=[0.4]", "model_preset=[table2]",
+                      "+params.t_max_s=0.03"],
+    "sensitivity": ["params.levels=2", "seeds=1"],
+    "mesh_resolution": ["seeds=1", "params.resolutions=[144,390]", "params.timing_repeats=1",
+                        "params.budget_shapes=[sphere]", "params.budget_nodes=[144]",
+                        "params.budget_seeds=1", "params.budgets=[1,30]",
+                        "params.baseline_shapes=[sphere]", "params.baseline_masses_kg=[0.4]",
+                        "params.baseline_mus=[0.3]", "params.baseline_seeds=1"],
+    "surrogate": ["seeds=16"],
+}
+
+
+@pytest.fixture(scope="session")
+def sim_root(tmp_path_factory):
+    """Root of the reduced runs, reported in every format (tables, md, json, html)."""
+    from graspcampaign.campaign.compose import compose_study
+    from graspcampaign.campaign.runner import run_study
+    from graspcampaign.report.build import build_reports
+
+    root = tmp_path_factory.mktemp("sim") / "results"
+    for study, overrides in REDUCED.items():
+        run_study(compose_study(study, ["runner.backend=sequential", "runner.progress=false",
+                                        f"output.root={root}", *overrides]))
+    batch = build_reports(root=root, formats=["md", "csv", "json", "html"])
+    assert batch.failed == []
+    return root

@@ -1,0 +1,65 @@
+"""The one rounding, the one missing mark and the one verdict rule."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from graspcampaign import stats
+from graspcampaign.report import format as fmt
+
+
+def test_interval_rounds_once():
+    # Wilson 17/100 upper bound 0.25548...: rounding once gives 25.5; rounding to 25.55 first
+    # and then to one place would give 25.6 (issue 5, item 4).
+    res = stats.wilson_interval(17, 100)
+    assert fmt.interval(100 * res.low, 100 * res.high, 1) == "10.9–25.5"
+    assert f"{float(f'{100 * res.high:.2f}'):.1f}" == "25.6"  # the double-rounding trap
+
+
+def test_number_variants():
+    assert fmt.interval(0.0, 100.0, 1) == "0.0–100.0"
+    assert fmt.number(-0.00001, 1) == "0.0"  # no "-0.0"
+    assert fmt.interval(-3.9, 4.38, 2) == "\u22123.90 to 4.38"  # a negative bound: "to"
+    assert fmt.interval(3.45, math.inf, 1) == "3.5–inf"
+    assert fmt.estimate(77.8, 74.8, 80.49, 0) == "78 (75–80)"
+    # 0.805 is stored as 0.80500000000000004885 (exact binary value), so it rounds up, once.
+    assert fmt.number(80.5 / 100, 2) == "0.81"
+    assert fmt.number(0.0024712, sig=3) == "0.00247" and fmt.number(406_600.0, sig=3) == "407000"
+    assert fmt.number(0.1) == "0.1" and fmt.number(2.0) == "2" and fmt.number(3) == "3"
+    assert fmt.number(2.5, 1, signed=True, unit=" pp") == "+2.5 pp"
+    assert fmt.number(0.0, 1, signed=True) == "0.0"
+    assert fmt.number(None) == fmt.number(math.nan) == fmt.MISSING == "\u2014"
+    assert fmt.number(True) == "yes" and fmt.number("as is") == "as is"
+
+
+@pytest.mark.parametrize(("args", "kwargs", "expected"), [
+    # Table 9 random planner: 17/100 against the paper's 17.0 -> inside the interval
+    ((17.0, 17.0), {"low": 10.9, "high": 25.5, "unit": " pp"},
+     (False, "consistent: the paper's value lies inside our 95% interval (0.0 pp)")),
+    ((50.6, 72.0), {"low": 37.0, "high": 64.0, "unit": " pp"},
+     (True, "differs by \u221221.4 pp: the paper's value lies outside our 95% interval")),
+    ((0.41666, 0.416), {"digits": 3}, (False, "matches to the paper's printed precision")),
+    ((0.512, 0.833), {"digits": 3}, (True, "differs by \u22120.321")),
+    ((35.0, (30, 40)), {"digits": 0}, (False, "inside the paper's range 30–40")),
+    ((20.0, (30, 40)), {"digits": 0}, (True, "differs: below the paper's range 30–40")),
+    ((True, True), {}, (False, "as in the paper (yes)")),
+    ((False, True), {}, (True, "differs: the paper reports yes, ours is no")),
+    ((1.0, None), {}, (None, "the paper reports no value")),
+    ((math.nan, 3.0), {}, (None, "not computed")),
+])
+def test_one_verdict_rule(args, kwargs, expected):
+    assert fmt.verdict(*args, **kwargs) == expected
+
+
+def test_a_cell_shows_the_reason_of_a_missing_value():
+    from graspcampaign.report.document import Col, cell
+
+    row = {"rate_pct": math.nan, "rate_why": "no executed trial", "low": 1.0, "high": 2.0}
+    assert cell(row, Col("rate_pct", "ours", 1, low="low", high="high", why="rate_why")) == \
+        "no executed trial"
+    assert cell({"x": math.nan}, Col("x", "x")) == fmt.MISSING
+    assert cell({"k": 3, "p": 37.5}, Col("k", "k", share="p")) == "3 (37.5%)"
+    assert cell({"lo": 1.25, "hi": 2.0}, Col("lo", "interval", 1, low="lo", high="hi")) == \
+        "1.2–2.0"  # 1.25 rounds half to even, once
