@@ -907,6 +907,58 @@ def loading_window(displacement: np.ndarray, normal_force_: np.ndarray, onset: f
     return window & (x - onset > 0.0) & (np.asarray(normal_force_, dtype=float) > MIN_FIT_FORCE)
 
 
+def trace_rmse_pct(k: np.ndarray, n: np.ndarray, c: np.ndarray, depths: np.ndarray,
+                   rates: np.ndarray, forces: np.ndarray, offsets: np.ndarray,
+                   peaks: np.ndarray, backend: str = "numba") -> np.ndarray:
+    """Return the Eq. 13 force RMSE of every trace for every parameter set [% of peak].
+
+    Parameters
+    ----------
+    k, n, c : (p,) float
+        Stiffness K [N mm^-n], exponent n [-] and damping C [N s/m] of each parameter set.
+    depths, rates, forces : (m,) float
+        Penetration [m], penetration rate [m/s] and measured force [N] of every trace point,
+        trace after trace (e.g. each trace's :func:`loading_window`).
+    offsets : (t + 1,) int
+        Trace ``j`` holds points ``offsets[j]:offsets[j + 1]``; every trace is non-empty.
+    peaks : (t,) float
+        Peak force of each trace [N].
+    backend : {"numba", "numpy"}
+        ``"numba"`` (default): the fused kernel
+        :func:`graspcampaign.core.bench_kernels.trace_rmse_pct`; ``"numpy"``: the reference,
+        :func:`graspcampaign.core.contact.normal_force` on the ``(p, m)`` grid and a matrix
+        product over trace membership. Both agree to rounding (tests).
+
+    Returns
+    -------
+    rmse_pct : (p, t) float
+        ``100 sqrt(mean_j (f_pred - f)^2) / peak_j``, ``f_pred`` from Eq. 13.
+
+    References
+    ----------
+    Paper Eq. 13, §7.5.
+    """
+    k, n, c = (np.ascontiguousarray(v, dtype=float).reshape(-1) for v in (k, n, c))
+    depths, rates, forces, peaks = (np.ascontiguousarray(v, dtype=float)
+                                    for v in (depths, rates, forces, peaks))
+    offsets = np.ascontiguousarray(offsets, dtype=np.int64)
+    if np.any(np.diff(offsets) <= 0) or offsets[0] != 0 or offsets[-1] != depths.size:
+        raise ValueError(f"offsets must rise strictly from 0 to {depths.size} (one non-empty "
+                         f"trace each), got {offsets.tolist()!r}")
+    if backend == "numba":
+        from graspcampaign.core.bench_kernels import trace_rmse_pct as kernel
+
+        return kernel(k, n, c, depths, rates, forces, offsets, peaks)
+    if backend != "numpy":
+        raise ValueError(f"backend must be 'numba' or 'numpy', got {backend!r}")
+    sizes = np.diff(offsets)
+    member = np.zeros((depths.size, sizes.size))
+    member[np.arange(depths.size), np.repeat(np.arange(sizes.size), sizes)] = 1.0 / np.repeat(
+        sizes, sizes)
+    pred = normal_force(depths[None, :], rates[None, :], k[:, None], n[:, None], c[:, None])
+    return np.sqrt(((pred - forces[None, :]) ** 2) @ member) / peaks * 100.0
+
+
 def _branch_work(x: np.ndarray, f: np.ndarray) -> float:
     fc = np.maximum(f, 0.0)
     return float(abs(np.sum(0.5 * (fc[1:] + fc[:-1]) * np.diff(x))))

@@ -1118,32 +1118,53 @@ def _normal_traces(waveforms: pd.DataFrame, n_points: int | None = None, min_poi
     return traces
 
 
-def _pso_cost(traces: list[tuple], psi: float):
+def _pso_cost(traces: list[tuple], psi: float, backend: str = "numba"):
+    """The §7.5 PSO cost over ``traces``: mean over traces of the Eq. 13 force RMSE (% of
+    peak) of each particle's ``K = 2 lambda1 Psi sqrt(R)``, ``C = 4 pi R lambda2`` and ``n``
+    (:func:`graspcampaign.core.bench.trace_rmse_pct`; ``backend="numpy"`` is its reference)."""
     depth = np.concatenate([t[0] for t in traces])
     rate = np.concatenate([t[1] for t in traces])
     force = np.concatenate([t[2] for t in traces])
-    which = np.concatenate([np.full(t[0].size, i) for i, t in enumerate(traces)])
-    # per-trace mean of squared residuals as one matrix product: (p, N) @ (N, T)
-    member = np.zeros((which.size, len(traces)))
-    member[np.arange(which.size), which] = 1.0
-    member /= member.sum(axis=0, keepdims=True)
+    offsets = np.concatenate([[0], np.cumsum([t[0].size for t in traces])])
     peaks = np.array([t[3] for t in traces])
 
     def cost(pos: np.ndarray) -> np.ndarray:
         k = contact_stiffness_k(pos[:, 0], psi, bench.FINGERTIP_RADIUS)
         c = contact_damping_c(pos[:, 1], bench.FINGERTIP_RADIUS)
-        pred = normal_force(depth[None, :], rate[None, :], k[:, None], pos[:, 2:3],
-                            c[:, None])
-        rmse_pct = np.sqrt(((pred - force[None, :]) ** 2) @ member) / peaks * 100.0
-        return rmse_pct.mean(axis=1)
+        return bench.trace_rmse_pct(k, pos[:, 2], c, depth, rate, force, offsets, peaks,
+                                    backend=backend).mean(axis=1)
 
     return cost
+
+
+def _pso_run(pool: list[tuple], psi: float, seed: int, material: str, run: int,
+             bounds: tuple[np.ndarray, np.ndarray], n_particles: int, n_iterations: int,
+             traces_per_run: int) -> tuple:
+    """Run ``run`` of ``material``: draw its traces and its swarm from ``(seed, "pso",
+    material, run)`` and minimise :func:`_pso_cost`; return the result and the traces."""
+    from graspcampaign.core.identify import pso_minimize
+
+    rng = _rng(seed, "pso", material, str(run))
+    pick = rng.choice(len(pool), size=min(traces_per_run, len(pool)), replace=False)
+    traces = [pool[i] for i in sorted(pick)]
+    res = pso_minimize(_pso_cost(traces, psi), *bounds, n_particles=n_particles,
+                       n_iterations=n_iterations, rng=rng)
+    return res, traces
+
+
+def _map(fn, tasks: list[tuple], n_jobs: int) -> list:
+    """``[fn(*task) for task in tasks]``, over ``n_jobs`` local processes when > 1."""
+    if n_jobs == 1 or len(tasks) <= 1:
+        return [fn(*t) for t in tasks]
+    from joblib import Parallel, delayed
+
+    return Parallel(n_jobs=min(n_jobs, len(tasks)))(delayed(fn)(*t) for t in tasks)
 
 
 def pso_reidentify(waveforms: pd.DataFrame, schedule: pd.DataFrame, seed: int, *,
                    n_restarts: int = 30, n_particles: int = 40, n_iterations: int = 1250,
                    traces_per_run: int = 12, max_reruns: int = 30,
-                   lambda1_upper: float = PSO_LAMBDA1_UPPER) -> pd.DataFrame:
+                   lambda1_upper: float = PSO_LAMBDA1_UPPER, n_jobs: int = 1) -> pd.DataFrame:
     """Re-identify (lambda1, lambda2, n, b, k, c) from normal-indentation traces (§7.5).
 
     For each material, ``n_restarts`` PSO runs (:func:`graspcampaign.core.identify.
@@ -1170,6 +1191,9 @@ def pso_reidentify(waveforms: pd.DataFrame, schedule: pd.DataFrame, seed: int, *
         Gives each trace's material and block (normal-indentation traces are used).
     seed : int
         Study seed; run ``r`` of material ``m`` draws from ``(seed, "pso", m, r)``.
+    n_jobs : int, optional
+        Local worker processes; every run is one task (all materials' first ``n_restarts``
+        at once, then re-runs), so the result does not depend on ``n_jobs``.
 
     Returns
     -------
@@ -1178,44 +1202,61 @@ def pso_reidentify(waveforms: pd.DataFrame, schedule: pd.DataFrame, seed: int, *
         k_n_per_mm_n, c_n_s_per_m, cost_rmse_pct, converged, n_traces, n_evaluations,
         source``.
     """
-    from graspcampaign.core.identify import paper_bounds, pso_minimize
+    from graspcampaign.core.identify import paper_bounds
 
     lower, upper = paper_bounds()
     upper = upper.copy()
     upper[0] = lambda1_upper
     sched = schedule.set_index("event_id")
-    rows = []
+    pools, psis, sources = {}, {}, {}
     for m in [m for m in MATERIALS if m in set(sched["material"])]:
         ids = sched.index[(sched["material"] == m) & (sched["block"] == "normal")]
         g = waveforms[waveforms["event_id"].isin(ids)]
         pool = _normal_traces(g, PSO_POINTS_PER_TRACE, min_points=6)
-        if not pool:
-            continue
-        psi = bench.specimen_effective_modulus(FAMILIES[m].modulus_mean)
-        runs, costs = [], []
-        for r in range(n_restarts + max_reruns):
-            rng = _rng(seed, "pso", m, str(r))
-            pick = rng.choice(len(pool), size=min(traces_per_run, len(pool)), replace=False)
-            cost = _pso_cost([pool[i] for i in sorted(pick)], psi)
-            res = pso_minimize(cost, lower, upper, n_particles=n_particles,
-                               n_iterations=n_iterations, rng=rng)
-            runs.append(res)
-            costs.append(cost)
-            if r + 1 >= n_restarts and _converged(runs, costs).sum() >= n_restarts:
-                break
-        converged = _converged(runs, costs)
+        if pool:
+            pools[m] = pool
+            psis[m] = bench.specimen_effective_modulus(FAMILIES[m].modulus_mean)
+            sources[m] = str(g["source"].iloc[0]) if "source" in g else SOURCE
+
+    def run_all(tasks: list[tuple[str, int]]) -> list[tuple]:
+        return _map(_pso_run, [(pools[m], psis[m], int(seed), m, r, (lower, upper),
+                                n_particles, n_iterations, traces_per_run) for m, r in tasks],
+                    n_jobs)
+
+    # runs are independent streams: compute the first n_restarts of every material at once,
+    # then re-runs in batches of the shortfall (each new run adds at most one converged run,
+    # so no batch runs past the point where the run-by-run rule would stop)
+    done = {m: [] for m in pools}
+    todo = [(m, r) for m in pools for r in range(n_restarts)]
+    limit = n_restarts + max_reruns
+    while todo:
+        for (m, _), out in zip(todo, run_all(todo), strict=True):
+            done[m].append(out)
+        todo = []
+        for m, outs in done.items():
+            if len(outs) >= limit:
+                continue
+            costs = [_pso_cost(traces, psis[m]) for _, traces in outs]
+            short = n_restarts - int(_converged([res for res, _ in outs], costs).sum())
+            if short > 0:
+                todo += [(m, r) for r in range(len(outs), min(len(outs) + short, limit))]
+    rows = []
+    for m, outs in done.items():
+        runs = [res for res, _ in outs]
+        converged = _converged(runs, [_pso_cost(traces, psis[m]) for _, traces in outs])
         for r, res in enumerate(runs):
             lam1, lam2, n, b, k, c = (float(v) for v in res.best_x)
             rows.append({
                 "material": m, "run": r + 1, "lambda1": lam1, "lambda2": lam2, "n": n,
                 "b": b, "k": k, "c": c,
-                "k_n_per_mm_n": float(contact_stiffness_k(lam1, psi, bench.FINGERTIP_RADIUS)),
+                "k_n_per_mm_n": float(contact_stiffness_k(lam1, psis[m],
+                                                          bench.FINGERTIP_RADIUS)),
                 "c_n_s_per_m": float(contact_damping_c(lam2, bench.FINGERTIP_RADIUS)),
                 "cost_rmse_pct": res.best_cost,
                 "converged": bool(converged[r]),
-                "n_traces": min(traces_per_run, len(pool)),
+                "n_traces": min(traces_per_run, len(pools[m])),
                 "n_evaluations": res.n_evaluations,
-                "source": str(g["source"].iloc[0]) if "source" in g else SOURCE,
+                "source": sources[m],
             })
     return pd.DataFrame(rows)
 

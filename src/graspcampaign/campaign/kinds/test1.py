@@ -224,8 +224,6 @@ def finalize(study: StudyCfg, params: Test1BenchParams, records: pd.DataFrame, s
     The normal-indentation traces are regenerated from ``(seed, event_id, attempt)`` (the
     records keep only a few), in parallel over ``runner.n_jobs`` local processes.
     """
-    from joblib import Parallel, delayed
-
     from graspcampaign.rig import test1 as T
 
     seed = int(study.seed)
@@ -241,21 +239,15 @@ def finalize(study: StudyCfg, params: Test1BenchParams, records: pd.DataFrame, s
         waves = T.run_virtual_bench(normal, seed, n_jobs=n_jobs, keep_waveforms=True,
                                     fit=False).waveforms
         train = normal[normal["split"] == "train"]
-        mats = [m for m in T.MATERIALS if m in set(train["material"])]
-
-        def one(m: str) -> pd.DataFrame:
-            part = train[train["material"] == m]
-            return T.pso_reidentify(waves[waves["event_id"].isin(set(part["event_id"]))], part,
-                                    seed, n_restarts=params.pso_restarts,
-                                    n_particles=params.pso_particles,
-                                    n_iterations=params.pso_iterations,
-                                    traces_per_run=params.pso_traces_per_run,
-                                    max_reruns=params.pso_max_reruns)
-
-        # materials draw independent streams (seed, "pso", material, run): parallel = serial
-        parts = Parallel(n_jobs=min(n_jobs, max(len(mats), 1)))(delayed(one)(m) for m in mats)
-        runs = pd.concat([p for p in parts if len(p)], ignore_index=True) if mats else None
-        if runs is not None and len(runs):
+        # every PSO run is one task (runs draw independent streams (seed, "pso", material,
+        # run): the result does not depend on n_jobs)
+        runs = T.pso_reidentify(waves[waves["event_id"].isin(set(train["event_id"]))], train,
+                                seed, n_restarts=params.pso_restarts,
+                                n_particles=params.pso_particles,
+                                n_iterations=params.pso_iterations,
+                                traces_per_run=params.pso_traces_per_run,
+                                max_reruns=params.pso_max_reruns, n_jobs=n_jobs)
+        if len(runs):
             out["pso_runs"] = _rows(runs)
             out["table5"] = _rows(T.table5(runs))
             out["pso_transfer"] = _rows(T.pso_transfer_errors(runs, waves, sched))
