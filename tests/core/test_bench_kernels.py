@@ -46,44 +46,32 @@ def _traces(n_traces=6, seed=0):
     return out
 
 
-def _stack(traces):
-    return (np.concatenate([t[0] for t in traces]), np.concatenate([t[1] for t in traces]),
-            np.concatenate([t[2] for t in traces]),
-            np.concatenate([[0], np.cumsum([t[0].size for t in traces])]),
-            np.array([t[3] for t in traces]))
-
-
 @pytest.fixture(scope="module")
-def stacked():
-    return _stack(_traces())
+def points():
+    return bench.TraceSet.from_traces(_traces())
 
 
-def test_trace_rmse_numba_matches_numpy_reference(stacked):
-    depths, rates, forces, offsets, peaks = stacked
-    depths = depths.copy()
-    rates = rates.copy()
+def test_trace_rmse_numba_matches_numpy_reference(points):
+    depths, rates = points.depths.copy(), points.rates.copy()
     depths[[0, 5]] = [0.0, -2e-6]  # open contacts carry no force
     rates[[1, 7]] = -0.5  # the max(0, .) clamp fires
+    edited = bench.TraceSet(depths, rates, points.forces, points.offsets, points.peaks)
     rng = np.random.default_rng(1)
     # the PSO's box: lambda1 in [0.05, 5] -> K, n in [0.1, 1], lambda2 in [0.05, 1.5] -> C
     k = rng.uniform(0.05, 1.8, 64)
     n = rng.uniform(0.1, 1.0, 64)
     c = rng.uniform(3e-3, 0.1, 64)
-    got = bench.trace_rmse_pct(k, n, c, depths, rates, forces, offsets, peaks)
-    want = bench.trace_rmse_pct(k, n, c, depths, rates, forces, offsets, peaks,
-                                backend="numpy")
-    assert got.shape == (64, peaks.size)
+    got = edited.rmse_pct(k, n, c)
+    want = edited.rmse_pct(k, n, c, backend="numpy")
+    assert got.shape == (64, points.peaks.size)
     np.testing.assert_allclose(got, want, rtol=1e-13)
 
 
-def test_trace_rmse_libm_fallback_for_huge_exponents(stacked):
+def test_trace_rmse_libm_fallback_for_huge_exponents(points):
     # |n ln delta_mm| > 700: the exponent-field construction would overflow; libm's exp is used
-    depths, rates, forces, offsets, peaks = stacked
     k, n, c = np.array([0.5, 0.5]), np.array([0.4, 400.0]), np.array([0.05, 0.05])
-    got = bench.trace_rmse_pct(k, n, c, depths, rates, forces, offsets, peaks)
-    want = bench.trace_rmse_pct(k, n, c, depths, rates, forces, offsets, peaks,
-                                backend="numpy")
-    np.testing.assert_allclose(got, want, rtol=1e-13)
+    np.testing.assert_allclose(points.rmse_pct(k, n, c),
+                               points.rmse_pct(k, n, c, backend="numpy"), rtol=1e-13)
 
 
 @pytest.mark.parametrize("backend", ["numba", "numpy"])
@@ -94,24 +82,137 @@ def test_trace_rmse_closed_forms(backend):
     k, n, c = 0.4, 0.47, 0.06
     exact = k * (depths * 1e3) ** n + c * rates
     for offset, want in ((0.0, 0.0), (0.01, 0.01), (-0.02, 0.02)):
-        got = bench.trace_rmse_pct([k], [n], [c], depths, rates, exact + offset, [0, 50],
-                                   [2.0], backend=backend)
+        got = bench.TraceSet(depths, rates, exact + offset, [0, 50], [2.0]).rmse_pct(
+            [k], [n], [c], backend=backend)
         assert got[0, 0] == pytest.approx(want / 2.0 * 100.0, abs=1e-12)
 
 
-@pytest.mark.parametrize("offsets, message", [
-    ([0, 5, 5, 10], "offsets must rise strictly from 0 to 10 (one non-empty trace each), got "
-                    "[0, 5, 5, 10]"),
-    ([1, 10], "offsets must rise strictly from 0 to 10 (one non-empty trace each), got [1, 10]"),
-    ([0, 9], "offsets must rise strictly from 0 to 10 (one non-empty trace each), got [0, 9]"),
-])
-def test_trace_rmse_rejects_bad_offsets(offsets, message):
+@pytest.mark.parametrize("offsets, n_peaks", [([0, 5, 5, 10], 3), ([1, 10], 1), ([0, 9], 1),
+                                              ([0, 5, 10], 1)])
+def test_trace_set_rejects_bad_offsets(offsets, n_peaks):
     x = np.full(10, 1e-3)
+    message = (f"offsets must rise strictly from 0 to 10 (one non-empty trace per peak), got "
+               f"{offsets}")
     with pytest.raises(ValueError, match=f"^{re.escape(message)}$"):
-        bench.trace_rmse_pct([1.0], [0.5], [0.0], x, x, x, offsets, [1.0] * (len(offsets) - 1))
+        bench.TraceSet(x, x, x, offsets, [1.0] * n_peaks)
+
+
+def test_trace_set_rejects_unequal_channels():
+    x = np.full(10, 1e-3)
+    with pytest.raises(ValueError, match="^depths, rates and forces must have one value per "
+                                         "point, got 10, 9 and 10$"):
+        bench.TraceSet(x, x[:9], x, [0, 10], [1.0])
 
 
 def test_trace_rmse_rejects_unknown_backend():
     x = np.full(3, 1e-3)
     with pytest.raises(ValueError, match="^backend must be 'numba' or 'numpy', got 'cuda'$"):
-        bench.trace_rmse_pct([1.0], [0.5], [0.0], x, x, x, [0, 3], [1.0], backend="cuda")
+        bench.TraceSet(x, x, x, [0, 3], [1.0]).rmse_pct([1.0], [0.5], [0.0], backend="cuda")
+
+
+# ------------------------------------------------------------------------ virtual bench
+
+
+def _axis_by_trapezoid_move(times, start, moves):
+    """An axis from bench.trapezoid_move move after move: each move takes over t >= t0."""
+    pos, vel = np.full_like(times, start), np.zeros_like(times)
+    current = start
+    for t0, target, v, a in moves:
+        p, dv, dur = bench.trapezoid_move(times - t0, target - current, v, a)
+        after = times >= t0
+        pos = np.where(after, current + p, pos)
+        vel = np.where(after & (times <= t0 + dur), dv, vel)
+        current = target
+    return pos, vel
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_axis_profile_is_trapezoid_move_bit_for_bit(seed):
+    rng = np.random.default_rng(seed)
+    times = np.arange(0.0, rng.uniform(1.0, 20.0), 1.0 / rng.choice([50.0, 250.0, 500.0]))
+    moves, t0, pos = [], 0.0, -1e-4
+    for _ in range(int(rng.integers(1, 4))):
+        target = pos + rng.choice([-1.0, 1.0, 0.0]) * rng.uniform(1e-5, 3e-3)
+        moves.append((t0, target, rng.uniform(5e-4, 5e-2), rng.uniform(0.05, 0.3)))
+        t0 += rng.uniform(0.0, 5.0)
+        pos = target
+    got = bench_kernels.axis_profile(times, -1e-4, np.array(moves))
+    want = _axis_by_trapezoid_move(times, -1e-4, moves)
+    np.testing.assert_array_equal(got[0], want[0])
+    np.testing.assert_array_equal(got[1], want[1])
+
+
+def test_first_order_filter_is_lfilter_bit_for_bit():
+    from scipy.signal import lfilter
+
+    x = np.diff(np.random.default_rng(2).uniform(0.0, 1.0, 5000), prepend=0.0)
+    b0, decay = 0.3 * math.exp(-0.01), math.exp(-0.02)
+    np.testing.assert_array_equal(bench_kernels.first_order_filter(x, b0, decay),
+                                  lfilter([b0], [1.0, -decay], x))
+
+
+# --------------------------------------------------------------------- least squares
+
+
+def _models():
+    """(model, start, a, b, y, lower, upper, typical, residual) of each bench model."""
+    rng = np.random.default_rng(4)
+    d_mm = np.linspace(0.02, 1.5, 300)
+    rate = 2e-3 + 1e-3 * np.sin(np.linspace(0.0, 6.0, 300))
+    y_n = 0.45 * d_mm**0.47 + 0.06 * rate + 2e-3 * rng.standard_normal(300)
+    x_mm = np.linspace(0.2, 1.6, 200)
+    y_s = 0.5 * (x_mm - 0.08) ** 0.55 + 2e-3 * rng.standard_normal(200)
+    th = np.linspace(0.0, 60.0, 600)
+    y_r = 0.2 + 0.1 * np.exp(-th / 7.1) + 1e-3 * rng.standard_normal(600)
+    inf = np.inf
+    return {
+        "normal": (bench_kernels.MODEL_NORMAL, [0.4, 0.5, 0.0], d_mm, rate, y_n,
+                   [-inf] * 3, [inf] * 3, [0.1, 0.1, 0.05],
+                   lambda p: p[0] * d_mm ** p[1] + p[2] * rate - y_n),
+        "shifted": (bench_kernels.MODEL_SHIFTED, [0.3, 0.5, 0.1], x_mm, x_mm, y_s,
+                    [1e-6, 0.05, -1.0], [100.0, 3.0, 0.2 - 1e-6], [0.1, 0.1, 0.01],
+                    lambda p: p[0] * np.maximum(x_mm - p[2], 1e-9) ** p[1] - y_s),
+        "relaxation": (bench_kernels.MODEL_RELAXATION, [0.25, 0.05, 3.0], th, th, y_r,
+                       [0.0, 0.0, 1e-2], [inf, inf, 600.0], [1e-3, 1e-3, 1e-2],
+                       lambda p: p[0] + p[1] * np.exp(-th / p[2]) - y_r),
+    }
+
+
+def _jacobian(resid, p, h=1e-7):
+    """Central differences (for the stationarity check only)."""
+    cols = []
+    for u in range(3):
+        dp = np.zeros(3)
+        dp[u] = h * max(abs(p[u]), 1e-3)
+        cols.append((resid(p + dp) - resid(p - dp)) / (2 * dp[u]))
+    return np.column_stack(cols)
+
+
+@pytest.mark.parametrize("name", ["normal", "shifted", "relaxation"])
+def test_lm_fit_reaches_scipy_least_squares_run_to_convergence(name):
+    from scipy.optimize import least_squares
+
+    model, p0, a, b, y, lo, hi, typ, resid = _models()[name]
+    arrays = [np.asarray(v, dtype=float) for v in (p0, a, b, y, lo, hi, typ)]
+    p, cost, status, n_iter = bench_kernels.lm_fit(model, *arrays)
+    assert status == bench_kernels.LM_CONVERGED and n_iter < 50
+    assert cost == pytest.approx(float(resid(p) @ resid(p)), rel=1e-12)
+    # outside reference: scipy's trust-region reflective solver with tolerances at rounding;
+    # ours is at least as low and a stationary point (each Jacobian column orthogonal to the
+    # residual); parameters agree as far as the cost's flatness allows (C of Eq. 13 is weak)
+    ref = least_squares(resid, p0, bounds=(lo, hi), method="trf", ftol=1e-15, xtol=1e-15,
+                        gtol=1e-15, max_nfev=10_000)
+    assert cost <= float(ref.fun @ ref.fun) * (1 + 1e-12)
+    r, jac = resid(p), _jacobian(resid, p)
+    cosines = np.abs(jac.T @ r) / (np.linalg.norm(jac, axis=0) * np.linalg.norm(r))
+    assert cosines.max() < 1e-7
+    np.testing.assert_allclose(p, ref.x, rtol=1e-5)
+
+
+def test_lm_fit_reports_a_minimum_on_the_bound():
+    # the data's exponent is 0.55; capped at 0.3 the minimum lies on the bound, which the
+    # interior-only solver reports (the fits then use scipy's bounded solver)
+    model, p0, a, b, y, lo, hi, typ, _ = _models()["shifted"]
+    arrays = [np.asarray(v, dtype=float)
+              for v in ([0.3, 0.25, 0.1], a, b, y, lo, [100.0, 0.3, 0.2 - 1e-6], typ)]
+    assert bench_kernels.lm_fit(model, *arrays)[2] == bench_kernels.LM_AT_BOUND

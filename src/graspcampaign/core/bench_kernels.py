@@ -5,7 +5,15 @@ Each kernel has a numpy reference in :mod:`graspcampaign.core.bench` that tests 
 * :func:`trace_rmse_pct` -- the Eq. 13 force RMSE (% of peak) of every trace of a set for a
   batch of parameter sets, one fused pass per parameter set (the §7.5 PSO cost; reference:
   :func:`graspcampaign.core.contact.normal_force` over the ``(p, m)`` grid and a matrix
-  product). Measured ~6x faster than the reference in the same run (benchmarks/bench_test1.py).
+  product);
+* :func:`lm_fit` -- Levenberg-Marquardt for the three-parameter per-event fits (reference:
+  ``scipy.optimize.least_squares``, which the fits fall back to when it does not converge);
+* :func:`axis_profile` -- an axis driven by sequential trapezoidal moves (reference:
+  :func:`graspcampaign.core.bench.trapezoid_move` move after move);
+* :func:`first_order_filter` -- ``y_i = b0 x_i + decay y_(i-1)``, the QLV recursion (reference:
+  ``scipy.signal.lfilter([b0], [1, -decay], x)``).
+
+Speed-ups against the references are measured in ``benchmarks/bench_test1.py``.
 
 Everything is compiled with ``cache=True`` and no threads (the campaign owns the cores).
 
@@ -36,7 +44,7 @@ _SHIFT_BITS = 0x4338000000000000  # the bit pattern of _SHIFT
 _EXP_ARG_MAX = 700.0  # |x| beyond which the exponent-field construction would overflow
 
 
-@njit(cache=True, fastmath={"contract"})
+@njit(cache=True, error_model="numpy", fastmath={"contract"})
 def _scaled_exp_into(a, x, poly, bits):
     """Split ``exp(a x)`` of (m,) ``x`` into ``poly * 2^k``: ``poly`` (m,) and the float64 bit
     pattern of ``2^k`` in ``bits`` (m,), for ``|a x| <= 700``.
@@ -73,7 +81,7 @@ def _scaled_exp_into(a, x, poly, bits):
         ibits[i] = (ibits[i] - _SHIFT_BITS + 1023) << 52
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def exp_kernel(x):
     """Return ``exp(x)`` of a (m,) array by :func:`_scaled_exp_into` (tests; ``|x| <= 700``)."""
     poly = np.empty(x.size)
@@ -82,7 +90,7 @@ def exp_kernel(x):
     return poly * bits
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _sum(values, start, stop):
     """Sum ``values[start:stop]`` with four running sums (a single one is latency-bound)."""
     a0 = a1 = a2 = a3 = 0.0
@@ -99,7 +107,7 @@ def _sum(values, start, stop):
     return (a0 + a1) + (a2 + a3)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def trace_rmse_pct(k, n, c, depths, rates, forces, offsets, peaks):
     """Return the Eq. 13 force RMSE of every trace for every parameter set [% of peak].
 
@@ -161,3 +169,307 @@ def trace_rmse_pct(k, n, c, depths, rates, forces, offsets, peaks):
             mean_sq = _sum(sq, offsets[j], offsets[j + 1]) / (offsets[j + 1] - offsets[j])
             out[p, j] = math.sqrt(mean_sq) / peaks[j] * 100.0
     return out
+
+
+# ------------------------------------------------------------------ per-event least squares
+
+MODEL_NORMAL = 0
+"""Eq. 13 on a loading window: ``K a^n + C b - y``, ``a`` depth [mm], ``b`` rate [m/s]."""
+MODEL_SHIFTED = 1
+"""Shifted law: ``K max(a - x0, 1e-9)^m - y``, ``a`` displacement [mm] (``b`` unused)."""
+MODEL_RELAXATION = 2
+"""Relaxation law: ``A + B exp(-a / tau) - y``, ``a`` time into the hold [s] (``b`` unused)."""
+
+LM_CONVERGED = 1
+"""A stationary point: the Gauss-Newton step is below ``xtol`` of every parameter, or no step
+lowers the cost any more and every Jacobian column is orthogonal to the residual."""
+LM_MAX_ITERATIONS = 0
+"""The iteration budget ran out, or the cost stalled away from a stationary point."""
+LM_AT_BOUND = -1
+"""The cost stalled away from a stationary point after steps were refused at the box (the
+minimum may lie on a bound)."""
+
+
+@njit(cache=True, error_model="numpy")
+def _residuals(model, p, a, b, y, out):
+    """Fill ``out`` (m,) with the model's residuals at ``p``; return their sum of squares."""
+    cost = 0.0
+    for i in range(a.size):
+        if model == MODEL_NORMAL:
+            r = p[0] * a[i] ** p[1] + p[2] * b[i] - y[i]
+        elif model == MODEL_SHIFTED:
+            r = p[0] * max(a[i] - p[2], 1e-9) ** p[1] - y[i]
+        else:
+            r = p[0] + p[1] * math.exp(-a[i] / p[2]) - y[i]
+        out[i] = r
+        cost += r * r
+    return cost
+
+
+@njit(cache=True, error_model="numpy")
+def _normal_equations(model, p, a, b, y, h, g):
+    """Fill ``h = J^T J`` (3, 3) and ``g = J^T r`` (3,) at ``p`` (analytic Jacobian)."""
+    h[:] = 0.0
+    g[:] = 0.0
+    jr = np.empty(3)
+    for i in range(a.size):
+        if model == MODEL_NORMAL:
+            pw = a[i] ** p[1]
+            r = p[0] * pw + p[2] * b[i] - y[i]
+            jr[0], jr[1], jr[2] = pw, p[0] * pw * math.log(a[i]), b[i]
+        elif model == MODEL_SHIFTED:
+            d = max(a[i] - p[2], 1e-9)
+            pw = d ** p[1]
+            r = p[0] * pw - y[i]
+            jr[0], jr[1], jr[2] = pw, p[0] * pw * math.log(d), -p[0] * p[1] * pw / d
+        else:
+            e = math.exp(-a[i] / p[2])
+            r = p[0] + p[1] * e - y[i]
+            jr[0], jr[1], jr[2] = 1.0, e, p[1] * e * a[i] / p[2] ** 2
+        for u in range(3):
+            g[u] += jr[u] * r
+            for v in range(u + 1):
+                h[u, v] += jr[u] * jr[v]
+    for u in range(3):
+        for v in range(u + 1, 3):
+            h[u, v] = h[v, u]
+
+
+@njit(cache=True, error_model="numpy")
+def _solve_damped(h, g, scale, lam, step):
+    """Solve ``(H + lam diag(scale^2)) step = -g`` by Cholesky in scaled variables; return
+    False when the matrix is not positive definite."""
+    m = np.empty((3, 3))
+    for u in range(3):
+        for v in range(3):
+            m[u, v] = h[u, v] / (scale[u] * scale[v])
+        m[u, u] += lam
+    low = np.zeros((3, 3))
+    for u in range(3):
+        for v in range(u + 1):
+            s = m[u, v]
+            for w in range(v):
+                s -= low[u, w] * low[v, w]
+            if u == v:
+                if not s > 0.0:
+                    return False
+                low[u, u] = math.sqrt(s)
+            else:
+                low[u, v] = s / low[v, v]
+    z = np.empty(3)
+    for u in range(3):  # L z = -g / scale
+        s = -g[u] / scale[u]
+        for w in range(u):
+            s -= low[u, w] * z[w]
+        z[u] = s / low[u, u]
+    for u in range(2, -1, -1):  # L^T x = z
+        s = z[u]
+        for w in range(u + 1, 3):
+            s -= low[w, u] * step[w]
+        step[u] = s / low[u, u]
+    for u in range(3):
+        step[u] /= scale[u]
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def lm_fit(model, p0, a, b, y, lower, upper, typical, xtol=1e-12, max_iter=200):
+    """Minimise the sum of squared residuals of a three-parameter bench model.
+
+    Levenberg-Marquardt with Marquardt's scaling (the columns of ``J`` scaled by their running
+    largest norms, Moré 1978) and a trust-ratio update of the damping, run to a stationary
+    point rather than to a cost-reduction tolerance: it stops when the undamped Gauss-Newton
+    step is below ``xtol (|p| + typical)`` in every parameter, or when no damped step lowers
+    the cost although the model predicts a decrease below rounding (``1e-15`` of the cost) and
+    every Jacobian column is orthogonal to the residual (cosine < 1e-7). Iterates stay
+    strictly inside ``[lower, upper]``: a step that would leave the box is refused and the
+    damping raised; a run stalled against the box reports ``LM_AT_BOUND`` so that the caller
+    can use a bounded solver instead.
+
+    Parameters
+    ----------
+    model : int
+        ``MODEL_NORMAL``, ``MODEL_SHIFTED`` or ``MODEL_RELAXATION``.
+    p0 : (3,) float
+        Start.
+    a, b, y : (m,) float
+        Model data (see the model constants) and observations.
+    lower, upper : (3,) float
+        Box; use +-inf for a free parameter.
+    typical : (3,) float
+        Typical magnitude of each parameter (the absolute part of the step test).
+    xtol : float, optional
+        Relative step below which the iteration has converged.
+    max_iter : int, optional
+        Largest number of Jacobian evaluations.
+
+    Returns
+    -------
+    p : (3,) float
+        Solution.
+    cost : float
+        Sum of squared residuals at ``p``.
+    status : int
+        ``LM_CONVERGED``, ``LM_MAX_ITERATIONS`` or ``LM_AT_BOUND``.
+    n_iter : int
+        Jacobian evaluations.
+
+    References
+    ----------
+    Moré, J. J. (1978). The Levenberg-Marquardt algorithm: implementation and theory.
+    *Numerical Analysis*, Lecture Notes in Mathematics 630, 105-116.
+    Nocedal, J. & Wright, S. J. (2006). *Numerical Optimization*, 2nd ed., §10.3.
+    """
+    p = p0.copy()
+    res = np.empty(a.size)
+    cost = _residuals(model, p, a, b, y, res)
+    h = np.empty((3, 3))
+    g = np.empty(3)
+    scale = np.zeros(3)
+    step = np.empty(3)
+    trial = np.empty(3)
+    lam = 1e-3
+    hits = 0
+    for it in range(max_iter):
+        _normal_equations(model, p, a, b, y, h, g)
+        for u in range(3):
+            scale[u] = max(scale[u], math.sqrt(h[u, u]), 1e-150)
+        if _solve_damped(h, g, scale, 0.0, step):
+            small = True
+            for u in range(3):
+                if abs(step[u]) > xtol * (abs(p[u]) + typical[u]):
+                    small = False
+            if small:
+                return p, cost, LM_CONVERGED, it + 1
+        accepted = False
+        while lam < 1e16:
+            if not _solve_damped(h, g, scale, lam, step):
+                lam *= 10.0
+                continue
+            predicted = 0.0  # -(2 g.step + step.H.step) >= 0
+            for u in range(3):
+                hs = 0.0
+                for v in range(3):
+                    hs += h[u, v] * step[v]
+                predicted -= 2.0 * g[u] * step[u] + step[u] * hs
+            inside = True
+            for u in range(3):
+                trial[u] = p[u] + step[u]
+                if not (lower[u] < trial[u] < upper[u]):
+                    inside = False
+            if not inside:
+                hits += 1
+                lam *= 10.0
+                continue
+            new_cost = _residuals(model, trial, a, b, y, res)
+            if new_cost < cost:
+                ratio = (cost - new_cost) / predicted if predicted > 0.0 else 0.0
+                if ratio > 0.75:
+                    lam = max(lam / 3.0, 1e-12)
+                elif ratio < 0.25:
+                    lam *= 2.0
+                p[:] = trial
+                cost = new_cost
+                accepted = True
+                break
+            if predicted <= 1e-15 * cost:
+                break  # no step lowers the cost any more: judge stationarity below
+            lam *= 10.0
+        if not accepted:
+            # the cost cannot be lowered within rounding: a stationary point when every
+            # Jacobian column is orthogonal to the residual (cosine < 1e-7); otherwise the
+            # iterates were stopped by the box (or by rounding far from a minimum)
+            for u in range(3):
+                if abs(g[u]) > 1e-7 * math.sqrt(h[u, u] * cost):
+                    return p, cost, (LM_AT_BOUND if hits else LM_MAX_ITERATIONS), it + 1
+            return p, cost, LM_CONVERGED, it + 1
+    return p, cost, LM_MAX_ITERATIONS, max_iter
+
+
+# ------------------------------------------------------------------------- virtual bench
+
+
+@njit(cache=True, error_model="numpy")
+def axis_profile(times, start, moves):
+    """Position and velocity of one axis driven by sequential trapezoidal moves.
+
+    Parameters
+    ----------
+    times : (s,) float
+        Sample times [s].
+    start : float
+        Position before the first move [m].
+    moves : (k, 4) float
+        One row per move, in order: start time t0 [s], target position [m], speed limit
+        [m/s], acceleration limit [m/s^2]; a move takes over the samples with ``t >= t0``.
+
+    Returns
+    -------
+    positions, velocities : (s,) float
+        [m], [m/s].
+
+    Notes
+    -----
+    Each move is :func:`graspcampaign.core.bench.trapezoid_move` (trapezoidal, triangular when
+    too short) evaluated with the same operations in the same order, so both paths agree bit
+    for bit (tests), in one pass per move instead of ~15 array temporaries.
+    """
+    n = times.size
+    pos = np.full(n, start)
+    vel = np.zeros(n)
+    current = start
+    for k in range(moves.shape[0]):
+        t0, target, v_max, a_max = moves[k, 0], moves[k, 1], moves[k, 2], moves[k, 3]
+        distance = target - current
+        d = abs(distance)
+        sign = 1.0 if distance >= 0 else -1.0
+        if d == 0.0:
+            v = ta = duration = 0.0
+        elif d * a_max >= v_max * v_max:
+            v, ta = v_max, v_max / a_max
+            duration = 2 * ta + (d - v_max * v_max / a_max) / v_max
+        else:
+            v = math.sqrt(a_max * d)
+            ta = v / a_max
+            duration = 2 * ta
+        half_a = 0.5 * a_max
+        cruise0 = half_a * (ta * ta)
+        end = t0 + duration
+        for i in range(n):
+            if not times[i] >= t0:
+                continue
+            if d == 0.0:
+                p = dv = 0.0
+            else:
+                tt = times[i] - t0
+                t = min(max(tt, 0.0), duration)
+                if t < ta:
+                    p, dv = half_a * (t * t), a_max * t
+                elif t <= duration - ta:
+                    p, dv = cruise0 + v * (t - ta), v
+                else:
+                    rest = duration - t
+                    p, dv = d - half_a * (rest * rest), a_max * rest
+                if tt < 0 or tt > duration:
+                    dv = 0.0
+                p, dv = sign * p, sign * dv
+            pos[i] = current + p
+            if times[i] <= end:
+                vel[i] = dv
+        current = target
+    return pos, vel
+
+
+@njit(cache=True, error_model="numpy")
+def first_order_filter(x, b0, decay):
+    """Return ``y`` (s,) with ``y_i = b0 x_i + decay y_(i-1)``, ``y_(-1) = 0``.
+
+    The operations of ``scipy.signal.lfilter([b0], [1, -decay], x)`` (direct form II
+    transposed), in the same order (tests: bit for bit).
+    """
+    y = np.empty(x.size)
+    prev = 0.0
+    for i in range(x.size):
+        prev = x[i] * b0 + prev * decay
+        y[i] = prev
+    return y

@@ -1121,18 +1121,14 @@ def _normal_traces(waveforms: pd.DataFrame, n_points: int | None = None, min_poi
 def _pso_cost(traces: list[tuple], psi: float, backend: str = "numba"):
     """The §7.5 PSO cost over ``traces``: mean over traces of the Eq. 13 force RMSE (% of
     peak) of each particle's ``K = 2 lambda1 Psi sqrt(R)``, ``C = 4 pi R lambda2`` and ``n``
-    (:func:`graspcampaign.core.bench.trace_rmse_pct`; ``backend="numpy"`` is its reference)."""
-    depth = np.concatenate([t[0] for t in traces])
-    rate = np.concatenate([t[1] for t in traces])
-    force = np.concatenate([t[2] for t in traces])
-    offsets = np.concatenate([[0], np.cumsum([t[0].size for t in traces])])
-    peaks = np.array([t[3] for t in traces])
+    (:meth:`graspcampaign.core.bench.TraceSet.rmse_pct`; ``backend="numpy"`` is its
+    reference)."""
+    points = bench.TraceSet.from_traces(traces)
 
     def cost(pos: np.ndarray) -> np.ndarray:
         k = contact_stiffness_k(pos[:, 0], psi, bench.FINGERTIP_RADIUS)
         c = contact_damping_c(pos[:, 1], bench.FINGERTIP_RADIUS)
-        return bench.trace_rmse_pct(k, pos[:, 2], c, depth, rate, force, offsets, peaks,
-                                    backend=backend).mean(axis=1)
+        return points.rmse_pct(k, pos[:, 2], c, backend=backend).mean(axis=1)
 
     return cost
 
