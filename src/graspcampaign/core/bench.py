@@ -995,6 +995,22 @@ class TraceSet:
                             c[:, None])
         return np.sqrt(((pred - self.forces[None, :]) ** 2) @ member) / self.peaks * 100.0
 
+    def mean_rmse_pct(self, k: np.ndarray, n: np.ndarray, c: np.ndarray,
+                      backend: str = "numba") -> np.ndarray:
+        """Return :meth:`rmse_pct` averaged over the traces, shape (p,) [% of peak].
+
+        The numba path averages inside the kernel
+        (:func:`graspcampaign.core.bench_kernels.trace_rmse_mean_pct`): this is the §7.5 PSO
+        cost, called ~10^5 times per material, where numpy's per-call overhead would cost as
+        much as the kernel.
+        """
+        if backend == "numba":
+            k, n, c = (np.ascontiguousarray(v, dtype=np.float64).reshape(-1)
+                       for v in (k, n, c))
+            return bench_kernels.trace_rmse_mean_pct(k, n, c, self.depths, self.rates,
+                                                     self.forces, self.offsets, self.peaks)
+        return self.rmse_pct(k, n, c, backend=backend).mean(axis=1)
+
 
 def _branch_work(x: np.ndarray, f: np.ndarray) -> float:
     fc = np.maximum(f, 0.0)

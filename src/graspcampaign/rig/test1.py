@@ -1121,14 +1121,16 @@ def _normal_traces(waveforms: pd.DataFrame, n_points: int | None = None, min_poi
 def _pso_cost(traces: list[tuple], psi: float, backend: str = "numba"):
     """The §7.5 PSO cost over ``traces``: mean over traces of the Eq. 13 force RMSE (% of
     peak) of each particle's ``K = 2 lambda1 Psi sqrt(R)``, ``C = 4 pi R lambda2`` and ``n``
-    (:meth:`graspcampaign.core.bench.TraceSet.rmse_pct`; ``backend="numpy"`` is its
-    reference)."""
+    (:meth:`graspcampaign.core.bench.TraceSet.mean_rmse_pct`; ``backend="numpy"`` is its
+    reference). K and C are linear in lambda1 and lambda2 (Eq. 14): their unit values are
+    computed once."""
     points = bench.TraceSet.from_traces(traces)
+    k_unit = float(contact_stiffness_k(1.0, psi, bench.FINGERTIP_RADIUS))
+    c_unit = float(contact_damping_c(1.0, bench.FINGERTIP_RADIUS))
 
     def cost(pos: np.ndarray) -> np.ndarray:
-        k = contact_stiffness_k(pos[:, 0], psi, bench.FINGERTIP_RADIUS)
-        c = contact_damping_c(pos[:, 1], bench.FINGERTIP_RADIUS)
-        return points.rmse_pct(k, pos[:, 2], c, backend=backend).mean(axis=1)
+        return points.mean_rmse_pct(k_unit * pos[:, 0], pos[:, 2], c_unit * pos[:, 1],
+                                    backend=backend)
 
     return cost
 
