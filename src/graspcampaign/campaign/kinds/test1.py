@@ -26,6 +26,7 @@ fits them through the same code as the virtual path.
 from __future__ import annotations
 
 import os
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import Any
@@ -222,7 +223,9 @@ def finalize(study: StudyCfg, params: Test1BenchParams, records: pd.DataFrame, s
     * ``transfer``: §7.6 transfer errors of the per-event fits' training calibration.
 
     The normal-indentation traces are regenerated from ``(seed, event_id, attempt)`` (the
-    records keep only a few), in parallel over ``runner.n_jobs`` local processes.
+    records keep only a few), in parallel over ``runner.n_jobs`` local processes; every PSO
+    run is one task for those processes, and the transfer errors are computed in a thread
+    meanwhile.
     """
     from graspcampaign.rig import test1 as T
 
@@ -235,10 +238,16 @@ def finalize(study: StudyCfg, params: Test1BenchParams, records: pd.DataFrame, s
         out["damage_depth"] = _rows(T.damage_depths(fits))
     normal = sched[sched["block"] == "normal"]
     waves = None
-    if len(normal):
-        waves = T.run_virtual_bench(normal, seed, n_jobs=n_jobs, keep_waveforms=True,
-                                    fit=False).waveforms
-        train = normal[normal["split"] == "train"]
+    if not len(normal):
+        out["transfer"] = _rows(T.transfer_errors(fits, waves))
+        return out
+    waves = T.run_virtual_bench(normal, seed, n_jobs=n_jobs, keep_waveforms=True,
+                                fit=False).waveforms
+    train = normal[normal["split"] == "train"]
+    # the §7.6 transfer errors are serial pandas work that does not depend on the PSO: with
+    # workers, they run in a thread of this process while the PSO runs fill the workers
+    with ThreadPoolExecutor(max_workers=1) as pool:
+        transfer = pool.submit(T.transfer_errors, fits, waves) if n_jobs > 1 else None
         # every PSO run is one task (runs draw independent streams (seed, "pso", material,
         # run): the result does not depend on n_jobs)
         runs = T.pso_reidentify(waves[waves["event_id"].isin(set(train["event_id"]))], train,
@@ -251,7 +260,8 @@ def finalize(study: StudyCfg, params: Test1BenchParams, records: pd.DataFrame, s
             out["pso_runs"] = _rows(runs)
             out["table5"] = _rows(T.table5(runs))
             out["pso_transfer"] = _rows(T.pso_transfer_errors(runs, waves, sched))
-    out["transfer"] = _rows(T.transfer_errors(fits, waves))
+        out["transfer"] = _rows(transfer.result() if transfer is not None
+                                else T.transfer_errors(fits, waves))
     return out
 
 
