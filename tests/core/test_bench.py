@@ -360,3 +360,22 @@ def test_fits_reject_an_unknown_backend():
     for fit in (bench.fit_normal, bench.fit_shifted, bench.fit_relaxation):
         with pytest.raises(ValueError, match="^backend must be 'numba' or 'scipy', got 'lm'$"):
             fit(t, t, t, backend="lm")
+
+
+@pytest.mark.parametrize("family", list(FAMILIES))
+@pytest.mark.parametrize("toe, adhesion, k_scale", [(None, True, 1.0), (0.0, True, 0.8),
+                                                     (None, False, 1.0)])
+def test_contact_force_kernel_is_the_numpy_model_bit_for_bit(family, toe, adhesion, k_scale):
+    spec = _spec(family)
+    if toe is not None:
+        spec = replace(spec, toe=toe)
+    rng = np.random.default_rng(5)
+    for daq, hold in ((50.0, 60.0), (500.0, 0.2)):
+        cmd = EventCommand("normal", depth=rng.uniform(0.3e-3, 2e-3), speed=2e-3, hold=hold,
+                           daq_hz=daq)
+        t, x, v, _ = bench._press(cmd, 1.0 / daq, cmd.depth, cmd.hold)
+        depths = x - rng.normal(0.0, 2e-6)
+        got = bench._contact_force(depths, v, 1.0 / daq, spec, k_scale, adhesion)
+        want = bench._contact_force(depths, v, 1.0 / daq, spec, k_scale, adhesion,
+                                    backend="numpy")
+        np.testing.assert_array_equal(got, want)

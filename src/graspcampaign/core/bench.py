@@ -563,15 +563,27 @@ def _qlv(elastic: np.ndarray, dt: float, rho: float, tau: float) -> np.ndarray:
 
 
 def _contact_force(depths: np.ndarray, rates: np.ndarray, dt: float, spec: SpecimenParams,
-                   k_scale: float = 1.0, adhesion: bool = True) -> np.ndarray:
+                   k_scale: float = 1.0, adhesion: bool = True, backend: str = "numba"
+                   ) -> np.ndarray:
     """Normal force of the virtual fingertip-specimen pair for a depth history.
 
     Eq. 13's power term on the toe-smoothed depth passes through the QLV kernel (the slow
     dissipation that §7.2 says dominates the loop), the linear-rate term ``C delta_dot``
     is added while in contact, the ``max(0, .)`` clamp applies, and on the unloading branch
     a small adhesive neck pulls the probe until it snaps ``3 toe`` past the surface.
+
+    ``backend="numba"`` runs :func:`graspcampaign.core.bench_kernels.press_force`, the same
+    operations in one compiled pass; ``"numpy"`` (below) is the reference it is held to.
     """
     k = spec.k_n_per_mm_n * k_scale
+    if backend == "numba":
+        return bench_kernels.press_force(
+            np.ascontiguousarray(depths, dtype=float), np.ascontiguousarray(rates, dtype=float),
+            k, spec.n, spec.c, spec.toe, spec.rho,
+            (1.0 - spec.rho) * math.exp(-0.5 * dt / spec.tau), math.exp(-dt / spec.tau),
+            spec.adhesion if adhesion else 0.0, 3.0 * max(spec.toe, 1e-6))
+    if backend != "numpy":
+        raise ValueError(f"backend must be 'numba' or 'numpy', got {backend!r}")
     eff = _toe_depth(depths, spec.toe)
     elastic = normal_force(eff, np.zeros_like(eff), k, spec.n, 0.0)
     relaxed = _qlv(elastic, dt, spec.rho, spec.tau)
