@@ -216,3 +216,28 @@ def test_lm_fit_reports_a_minimum_on_the_bound():
     arrays = [np.asarray(v, dtype=float)
               for v in ([0.3, 0.25, 0.1], a, b, y, lo, [100.0, 0.3, 0.2 - 1e-6], typ)]
     assert bench_kernels.lm_fit(model, *arrays)[2] == bench_kernels.LM_AT_BOUND
+
+
+@pytest.mark.parametrize("times", [
+    np.round(np.arange(0.0, 4.0, 1 / 50.0), 9),  # the rig's time column: not exactly uniform
+    np.arange(8) * 0.25,  # exactly uniform: numpy's scalar-spacing formula
+    np.array([0.0, 0.1]),  # two samples: one-sided differences only
+    np.cumsum(np.random.default_rng(3).uniform(0.001, 0.01, 300)),
+])
+def test_gradient_is_numpy_gradient_bit_for_bit(times):
+    values = np.sin(7.0 * times) + np.random.default_rng(1).normal(0.0, 1e-3, times.size)
+    np.testing.assert_array_equal(bench_kernels.gradient(values, times), np.gradient(values, times))
+
+
+def test_gradient_rejects_a_single_sample():
+    with pytest.raises(ValueError, match="^gradient needs at least 2 samples and one time per "
+                                         "sample$"):
+        bench_kernels.gradient(np.ones(1), np.ones(1))
+
+
+def test_noisy_quantised_is_numpy_round_bit_for_bit():
+    rng = np.random.default_rng(8)
+    values, noise = rng.uniform(-0.5, 2.0, 10_000), rng.standard_normal(10_000)
+    values[:4], noise[:4] = [0.5e-3, 1.5e-3, -2.5e-3, 0.0], 0.0  # halfway: round to even
+    np.testing.assert_array_equal(bench_kernels.noisy_quantised(values, noise, 1.5e-3, 1e-3),
+                                  np.round((values + 1.5e-3 * noise) / 1e-3) * 1e-3)

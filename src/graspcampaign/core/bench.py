@@ -666,10 +666,6 @@ def cyclic_state(spec: SpecimenParams, depths: np.ndarray) -> tuple[np.ndarray, 
 # ------------------------------------------------------------------------ simulation
 
 
-def _quantise(x: np.ndarray, step: float) -> np.ndarray:
-    return np.round(x / step) * step
-
-
 def _press(cmd: EventCommand, dt: float, depth_along_axis: float,
            hold: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
     """Approach, press to ``depth_along_axis``, hold, retract; return t, x, v, t_unload."""
@@ -830,14 +826,14 @@ def simulate_event(cmd: EventCommand, spec: SpecimenParams, rng: np.random.Gener
         anomaly = ANOMALY_KINDS[int(rng.integers(len(ANOMALY_KINDS)))]
         _inject_anomaly(anomaly, out, rng)
     s = out["time"].size
-    fn = _quantise(out["fn"] + sensor.force_noise * rng.standard_normal(s),
-                   sensor.force_resolution)
-    ft = _quantise(out["ft"] + sensor.force_noise * rng.standard_normal(s),
-                   sensor.force_resolution)
-    x = _quantise(out["x"] + sensor.displacement_noise * rng.standard_normal(s),
-                  sensor.displacement_resolution)
-    xt = _quantise(out["xt"] + sensor.displacement_noise * rng.standard_normal(s),
-                   sensor.displacement_resolution)
+    fn, ft, x, xt = (
+        bench_kernels.noisy_quantised(np.ascontiguousarray(out[key], dtype=float),
+                                      rng.standard_normal(s), sd, step)
+        for key, sd, step in (("fn", sensor.force_noise, sensor.force_resolution),
+                              ("ft", sensor.force_noise, sensor.force_resolution),
+                              ("x", sensor.displacement_noise, sensor.displacement_resolution),
+                              ("xt", sensor.displacement_noise,
+                               sensor.displacement_resolution)))
     aborted = bool(u_abort < sensor.abort_rate)
     if aborted:
         keep = max(2, int(rng.uniform(0.1, 0.9) * s))
@@ -1123,7 +1119,7 @@ def fit_normal(time: np.ndarray, displacement: np.ndarray, normal_force_: np.nda
     ipk = int(np.argmax(x))
     peak = float(np.max(f))
     depth = x - onset
-    rate = np.gradient(x, t)
+    rate = bench_kernels.gradient(x, t)  # numpy.gradient, bit for bit
     win = loading_window(x, f, onset)
     w_load = _branch_work(x[: ipk + 1], f[: ipk + 1])
     w_unload = _branch_work(x[ipk:], f[ipk:])

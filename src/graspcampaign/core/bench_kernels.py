@@ -537,3 +537,50 @@ def press_force(depths, rates, k, n, c, toe, rho, b0, decay, adhesion, neck):
                           else min(max(1.0 + t / neck, 0.0), 1.0))
                 force[i] = force[i] - adhesion * weight
     return force
+
+
+@njit(cache=True, error_model="numpy")
+def gradient(f, t):
+    """Return ``numpy.gradient(f, t)`` (s,) for s >= 2 samples at times ``t`` (s,).
+
+    Second-order central differences inside, first-order one-sided at the ends; numpy's
+    operations in numpy's order, including its switch to the uniform-spacing formula when
+    every ``diff(t)`` is equal, so both agree bit for bit (tests). One pass instead of
+    numpy's ~15 temporaries (the rate of every Eq. 13 fit).
+    """
+    s = f.size
+    if s < 2 or t.size != s:
+        raise ValueError("gradient needs at least 2 samples and one time per sample")
+    out = np.empty(s)
+    uniform = True
+    for i in range(1, s - 1):
+        if t[i + 1] - t[i] != t[1] - t[0]:
+            uniform = False
+            break
+    if uniform:
+        dx = t[1] - t[0]
+        for i in range(1, s - 1):
+            out[i] = (f[i + 1] - f[i - 1]) / (2.0 * dx)
+        out[0] = (f[1] - f[0]) / dx
+        out[s - 1] = (f[s - 1] - f[s - 2]) / dx
+        return out
+    for i in range(1, s - 1):
+        dx1 = t[i] - t[i - 1]
+        dx2 = t[i + 1] - t[i]
+        a = -dx2 / (dx1 * (dx1 + dx2))
+        b = (dx2 - dx1) / (dx1 * dx2)
+        c = dx1 / (dx2 * (dx1 + dx2))
+        out[i] = a * f[i - 1] + b * f[i] + c * f[i + 1]
+    out[0] = (f[1] - f[0]) / (t[1] - t[0])
+    out[s - 1] = (f[s - 1] - f[s - 2]) / (t[s - 1] - t[s - 2])
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def noisy_quantised(values, noise, sd, step):
+    """Return ``round((values + sd noise) / step) * step`` (s,): a sensor channel with its
+    noise, quantised to its resolution (round half to even, as ``numpy.round``)."""
+    out = np.empty(values.size)
+    for i in range(values.size):
+        out[i] = np.rint((values[i] + sd * noise[i]) / step) * step
+    return out
