@@ -177,10 +177,13 @@ def trace_rmse_mean_pct(k, n, c, depths, rates, forces, offsets, peaks):
     """Return the mean over traces of :func:`trace_rmse_pct`, shape (p,) [% of peak]: the
     §7.5 PSO cost without a round trip through numpy per call."""
     rmse = trace_rmse_pct(k, n, c, depths, rates, forces, offsets, peaks)
-    n_traces = rmse.shape[1]
-    out = np.empty(rmse.shape[0])
-    for p in range(rmse.shape[0]):
-        out[p] = _sum(rmse[p], 0, n_traces) / n_traces
+    n_sets, n_traces = rmse.shape
+    out = np.empty(n_sets)
+    for p in range(n_sets):
+        total = 0.0
+        for j in range(n_traces):
+            total += rmse[p, j]
+        out[p] = total / n_traces
     return out
 
 
@@ -222,8 +225,10 @@ def _residuals(model, p, a, b, y, out):
 @njit(cache=True, error_model="numpy")
 def _normal_equations(model, p, a, b, y, h, g):
     """Fill ``h = J^T J`` (3, 3) and ``g = J^T r`` (3,) at ``p`` (analytic Jacobian)."""
-    h[:] = 0.0
-    g[:] = 0.0
+    for u in range(3):
+        g[u] = 0.0
+        for v in range(3):
+            h[u, v] = 0.0
     jr = np.empty(3)
     for i in range(a.size):
         if model == MODEL_NORMAL:
@@ -381,7 +386,8 @@ def lm_fit(model, p0, a, b, y, lower, upper, typical, xtol=1e-12, max_iter=200):
                     lam = max(lam / 3.0, 1e-12)
                 elif ratio < 0.25:
                     lam *= 2.0
-                p[:] = trial
+                for u in range(3):
+                    p[u] = trial[u]
                 cost = new_cost
                 accepted = True
                 break

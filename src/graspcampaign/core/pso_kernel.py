@@ -61,7 +61,8 @@ def swarm_accept(costs, positions, best_positions, best_costs):
     for i in range(costs.size):
         if costs[i] < best_costs[i]:
             best_costs[i] = costs[i]
-            best_positions[i, :] = positions[i, :]
+            for j in range(positions.shape[1]):
+                best_positions[i, j] = positions[i, j]
         if best_costs[i] < best_costs[leader]:
             leader = i
     return leader
