@@ -341,16 +341,16 @@ def test_relaxation_fit_with_the_minimum_on_a_bound_falls_back_to_scipy(monkeypa
     x = np.where(hold, 1e-3, 0.5e-3)
     f = np.where(hold, 0.3 + 0.02 * (1.0 - np.exp(-(t - 2.0) / 9.0)), 0.1)
     statuses = []
-    lm_fit = bench.bench_kernels.lm_fit
+    lm_fit = bench.fit_kernel.lm_fit
 
     def spy(*args):
         out = lm_fit(*args)
         statuses.append(out[2])
         return out
 
-    monkeypatch.setattr(bench.bench_kernels, "lm_fit", spy)
+    monkeypatch.setattr(bench.fit_kernel, "lm_fit", spy)
     a = bench.fit_relaxation(t, x, f)
-    assert statuses == [bench.bench_kernels.LM_AT_BOUND]
+    assert statuses == [bench.fit_kernel.LM_AT_BOUND]
     assert a == bench.fit_relaxation(t, x, f, backend="scipy")
     assert a.rho == pytest.approx(1.0)  # B on its bound 0
 

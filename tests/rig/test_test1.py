@@ -391,7 +391,9 @@ def _pso_run_by_run(waveforms, schedule, seed, n_restarts, max_reruns, **kw):
         psi = T.bench.specimen_effective_modulus(T.FAMILIES[m].modulus_mean)
         runs, costs = [], []
         for r in range(n_restarts + max_reruns):
-            res, traces = T._pso_run(pool, psi, seed, m, r, (lower, upper), **kw)
+            traces, rng = T._pso_draw(pool, seed, m, r, kw["traces_per_run"])
+            res = T._pso_run(traces, psi, rng, (lower, upper), kw["n_particles"],
+                             kw["n_iterations"])
             runs.append(res)
             costs.append(T._pso_cost(traces, psi))
             if r + 1 >= n_restarts and T._converged(runs, costs).sum() >= n_restarts:

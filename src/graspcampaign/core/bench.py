@@ -1,6 +1,7 @@
 """Test 1 contact-calibration bench: virtual waveforms and per-event fits (paper §7).
 
-Two halves, both pure numpy/scipy:
+Two halves in numpy/scipy, their hot loops compiled in :mod:`graspcampaign.core.bench_kernels`
+(tests hold each kernel to the numpy/scipy path it replaces):
 
 * **Virtual bench** -- :func:`simulate_event` turns one commanded contact event
   (:class:`EventCommand`) and one specimen's true constants (:class:`SpecimenParams`)
@@ -11,13 +12,14 @@ Two halves, both pure numpy/scipy:
   (``F(t) = F_0 (rho + (1 - rho) exp(-t / tau))``), :func:`fit_sliding` (``mu_s``,
   ``mu_k``, ``k_t``), :func:`fit_oblique` (peak components and measured slip),
   :func:`cyclic_state` / :func:`damage_depth` (Mullins-type softening, permanent set and
-  the damage-depth threshold).
+  the damage-depth threshold); :class:`TraceSet` (Eq. 13 error over many traces and parameter
+  sets, the §7.5 PSO cost).
 
 Units are SI inside this module (m, s, N, N/m, N s/m). The one exception is fixed by the
 paper (§3.5, §7.2): the power term of Eq. 13 takes the indentation in millimetres and
 ``K`` in N mm^-n; that conversion happens only inside
-:func:`graspcampaign.core.contact.normal_force` and in the analytic Jacobian of
-:func:`fit_normal`, which mirrors it.
+:func:`graspcampaign.core.contact.normal_force`, in the analytic Jacobian of
+:func:`fit_normal` and in the compiled kernels that mirror them (tests hold them together).
 
 Shape letters: ``s`` samples of one waveform, ``c`` cycles of one fatigue run.
 
@@ -40,10 +42,10 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.optimize import least_squares
 
-from graspcampaign.core import bench_kernels
-from graspcampaign.core.bench_kernels import MODEL_NORMAL, MODEL_RELAXATION, MODEL_SHIFTED
+from graspcampaign.core import bench_kernels, fit_kernel
 from graspcampaign.core.contact import depth_for_force, normal_force
 from graspcampaign.core.contact import effective_modulus as _psi
+from graspcampaign.core.fit_kernel import MODEL_NORMAL, MODEL_RELAXATION, MODEL_SHIFTED
 
 log = logging.getLogger(__name__)
 
@@ -1027,7 +1029,7 @@ def _branch_work(x: np.ndarray, f: np.ndarray) -> float:
 
 FIT_BACKENDS = ("numba", "scipy")
 """Solvers of the per-event fits: the compiled Levenberg-Marquardt run to a stationary point
-(:func:`graspcampaign.core.bench_kernels.lm_fit`, default) or ``scipy.optimize.least_squares``
+(:func:`graspcampaign.core.fit_kernel.lm_fit`, default) or ``scipy.optimize.least_squares``
 with its default tolerances (the reference, and the fallback of the compiled path)."""
 
 
@@ -1044,7 +1046,7 @@ def _least_squares(resid, jac, x0: np.ndarray, model: int, data: tuple[np.ndarra
                    check=None, **scipy_options) -> tuple[np.ndarray, np.ndarray, bool]:
     """Minimise ``|resid(p)|^2`` from ``x0``; return the solution, its residuals, success.
 
-    ``backend="numba"`` runs :func:`graspcampaign.core.bench_kernels.lm_fit` on the model
+    ``backend="numba"`` runs :func:`graspcampaign.core.fit_kernel.lm_fit` on the model
     ``model`` with ``data = (a, b, y)`` (contiguous float arrays); when it does not reach a
     stationary point strictly inside ``bounds`` ((3,) float arrays, +-inf where free), or
     ``check(p)`` is False (a condition under which the compiled model is not the reference
@@ -1052,8 +1054,8 @@ def _least_squares(resid, jac, x0: np.ndarray, model: int, data: tuple[np.ndarra
     ``scipy.optimize.least_squares(resid, x0, jac=jac, bounds=bounds, **scipy_options)``.
     """
     if backend == "numba":
-        p, _, status, _ = bench_kernels.lm_fit(model, x0, *data, *bounds, typical)
-        if (status == bench_kernels.LM_CONVERGED and np.all(np.isfinite(p))
+        p, _, status, _ = fit_kernel.lm_fit(model, x0, *data, *bounds, typical)
+        if (status == fit_kernel.LM_CONVERGED and np.all(np.isfinite(p))
                 and (check is None or check(p))):
             return p, resid(p), True
         log.debug("compiled fit (model %d) ended with status %d; using scipy", model, status)

@@ -1135,19 +1135,23 @@ def _pso_cost(traces: list[tuple], psi: float, backend: str = "numba"):
     return cost
 
 
-def _pso_run(pool: list[tuple], psi: float, seed: int, material: str, run: int,
-             bounds: tuple[np.ndarray, np.ndarray], n_particles: int, n_iterations: int,
-             traces_per_run: int) -> tuple:
-    """Run ``run`` of ``material``: draw its traces and its swarm from ``(seed, "pso",
-    material, run)`` and minimise :func:`_pso_cost`; return the result and the traces."""
-    from graspcampaign.core.identify import pso_minimize
-
+def _pso_draw(pool: list[tuple], seed: int, material: str, run: int, traces_per_run: int
+              ) -> tuple[list[tuple], np.random.Generator]:
+    """The traces of run ``run`` of ``material`` and the generator that then draws its swarm,
+    both from ``(seed, "pso", material, run)``."""
     rng = _rng(seed, "pso", material, str(run))
     pick = rng.choice(len(pool), size=min(traces_per_run, len(pool)), replace=False)
-    traces = [pool[i] for i in sorted(pick)]
-    res = pso_minimize(_pso_cost(traces, psi), *bounds, n_particles=n_particles,
-                       n_iterations=n_iterations, rng=rng)
-    return res, traces
+    return [pool[i] for i in sorted(pick)], rng
+
+
+def _pso_run(traces: list[tuple], psi: float, rng: np.random.Generator,
+             bounds: tuple[np.ndarray, np.ndarray], n_particles: int, n_iterations: int):
+    """Minimise :func:`_pso_cost` over ``traces`` with the swarm drawn from ``rng`` (a task:
+    it carries its own traces and generator state, not the material's pool)."""
+    from graspcampaign.core.identify import pso_minimize
+
+    return pso_minimize(_pso_cost(traces, psi), *bounds, n_particles=n_particles,
+                        n_iterations=n_iterations, rng=rng)
 
 
 def _map(fn, tasks: list[tuple], n_jobs: int) -> list:
@@ -1217,9 +1221,11 @@ def pso_reidentify(waveforms: pd.DataFrame, schedule: pd.DataFrame, seed: int, *
             sources[m] = str(g["source"].iloc[0]) if "source" in g else SOURCE
 
     def run_all(tasks: list[tuple[str, int]]) -> list[tuple]:
-        return _map(_pso_run, [(pools[m], psis[m], int(seed), m, r, (lower, upper),
-                                n_particles, n_iterations, traces_per_run) for m, r in tasks],
-                    n_jobs)
+        drawn = [_pso_draw(pools[m], int(seed), m, r, traces_per_run) for m, r in tasks]
+        results = _map(_pso_run, [(traces, psis[m], rng, (lower, upper), n_particles,
+                                   n_iterations) for (m, _), (traces, rng)
+                                  in zip(tasks, drawn, strict=True)], n_jobs)
+        return [(res, traces) for res, (traces, _) in zip(results, drawn, strict=True)]
 
     # runs are independent streams: compute the first n_restarts of every material at once,
     # then re-runs in batches of the shortfall (each new run adds at most one converged run,
