@@ -183,11 +183,14 @@ def main(full: bool = True) -> None:
                 ["---", "---:", "---:"])
     if full:
         wall, cpu, n = full_run()
-        verdict = "met" if wall <= TARGET_S else "MISSED"
-        print(f"\n`graspcampaign run test1_bench`: {n} records, wall {wall:.1f} s "
-              f"(target <= {TARGET_S:.0f} s on 2 idle cores: {verdict} here), CPU {cpu:.1f} s "
-              f"over the process and its workers; load average {os.getloadavg()[0]:.1f} at "
-              "the end.")
+        end_load = os.getloadavg()[0]
+        if max(load, end_load) < 1.0:
+            verdict = "met" if wall <= TARGET_S else "MISSED"
+        else:
+            verdict = f"not judged: other jobs kept the load at {load:.1f}-{end_load:.1f}"
+        print(f"\n`graspcampaign run test1_bench`: {n} records, wall {wall:.1f} s, CPU "
+              f"{cpu:.1f} s over the process and its workers (target <= {TARGET_S:.0f} s wall "
+              f"on 2 idle cores: {verdict}).")
 
 
 if __name__ == "__main__":
