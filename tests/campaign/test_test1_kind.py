@@ -313,3 +313,16 @@ def test_a_file_without_source_is_labelled_measured(engine, good_event, tmp_path
     kind = get_kind("test1_bench")
     rows = K.ingest(study, kind_params(study, kind), [str(path)])
     assert len(rows) == 1 and rows[0]["source"] == "measured"
+
+
+@pytest.mark.slow
+def test_finalize_does_not_depend_on_the_worker_count(engine):
+    # two workers: PSO runs as tasks, transfer errors in a thread meanwhile; same tables
+    _, study, _, _, records, _, _ = engine
+    params = kind_params(study, get_kind(study.kind))
+    one = K.finalize(study, params, records)
+    two = K.finalize(_study(study.output.root, "runner.backend=loky", "runner.n_jobs=2"),
+                     params, records)
+    assert list(one) == list(two)
+    for name in one:
+        pd.testing.assert_frame_equal(pd.DataFrame(one[name]), pd.DataFrame(two[name]))

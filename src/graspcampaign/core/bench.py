@@ -1,6 +1,7 @@
 """Test 1 contact-calibration bench: virtual waveforms and per-event fits (paper §7).
 
-Two halves, both pure numpy/scipy:
+Two halves in numpy/scipy, their hot loops compiled in :mod:`graspcampaign.core.bench_kernels`
+(tests hold each kernel to the numpy/scipy path it replaces):
 
 * **Virtual bench** -- :func:`simulate_event` turns one commanded contact event
   (:class:`EventCommand`) and one specimen's true constants (:class:`SpecimenParams`)
@@ -11,13 +12,14 @@ Two halves, both pure numpy/scipy:
   (``F(t) = F_0 (rho + (1 - rho) exp(-t / tau))``), :func:`fit_sliding` (``mu_s``,
   ``mu_k``, ``k_t``), :func:`fit_oblique` (peak components and measured slip),
   :func:`cyclic_state` / :func:`damage_depth` (Mullins-type softening, permanent set and
-  the damage-depth threshold).
+  the damage-depth threshold); :class:`TraceSet` (Eq. 13 error over many traces and parameter
+  sets, the §7.5 PSO cost).
 
 Units are SI inside this module (m, s, N, N/m, N s/m). The one exception is fixed by the
 paper (§3.5, §7.2): the power term of Eq. 13 takes the indentation in millimetres and
 ``K`` in N mm^-n; that conversion happens only inside
-:func:`graspcampaign.core.contact.normal_force` and in the analytic Jacobian of
-:func:`fit_normal`, which mirrors it.
+:func:`graspcampaign.core.contact.normal_force`, in the analytic Jacobian of
+:func:`fit_normal` and in the compiled kernels that mirror them (tests hold them together).
 
 Shape letters: ``s`` samples of one waveform, ``c`` cycles of one fatigue run.
 
@@ -39,10 +41,11 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.optimize import least_squares
-from scipy.signal import lfilter
 
+from graspcampaign.core import bench_kernels, fit_kernel
 from graspcampaign.core.contact import depth_for_force, normal_force
 from graspcampaign.core.contact import effective_modulus as _psi
+from graspcampaign.core.fit_kernel import MODEL_NORMAL, MODEL_RELAXATION, MODEL_SHIFTED
 
 log = logging.getLogger(__name__)
 
@@ -64,6 +67,7 @@ __all__ = [
     "SlidingFitResult",
     "ObliqueFitResult",
     "DamageDepthResult",
+    "TraceSet",
     "environment_friction_factors",
     "draw_specimen",
     "trapezoid_move",
@@ -462,6 +466,17 @@ class Waveform:
 # --------------------------------------------------------------------------- motion
 
 
+def _trapezoid_timing(d: float, v_max: float, a_max: float) -> tuple[float, float, float]:
+    """Peak speed, ramp time and duration of a trapezoidal move of length ``d > 0``
+    (triangular when ``d a_max < v_max^2``) [m/s, s, s]."""
+    if d * a_max >= v_max**2:
+        v, ta = v_max, v_max / a_max
+        return v, ta, 2 * ta + (d - v_max**2 / a_max) / v_max
+    v = math.sqrt(a_max * d)
+    ta = v / a_max
+    return v, ta, 2 * ta
+
+
 def trapezoid_move(times: np.ndarray, distance: float, v_max: float, a_max: float
                    ) -> tuple[np.ndarray, np.ndarray, float]:
     """Evaluate a finite-acceleration trapezoidal move (triangular when too short).
@@ -489,13 +504,7 @@ def trapezoid_move(times: np.ndarray, distance: float, v_max: float, a_max: floa
     if d == 0.0:
         z = np.zeros_like(times, dtype=float)
         return z, z.copy(), 0.0
-    if d * a_max >= v_max**2:
-        v, ta = v_max, v_max / a_max
-        duration = 2 * ta + (d - v_max**2 / a_max) / v_max
-    else:
-        v = math.sqrt(a_max * d)
-        ta = v / a_max
-        duration = 2 * ta
+    v, ta, duration = _trapezoid_timing(d, v_max, a_max)
     t = np.clip(times, 0.0, duration)
     pos = np.where(t < ta, 0.5 * a_max * t**2,
                    np.where(t <= duration - ta, 0.5 * a_max * ta**2 + v * (t - ta),
@@ -508,21 +517,16 @@ def trapezoid_move(times: np.ndarray, distance: float, v_max: float, a_max: floa
 
 def _axis(times: np.ndarray, start: float, moves: list[tuple[float, float, float, float]]
           ) -> tuple[np.ndarray, np.ndarray]:
-    """Position and velocity of one axis driven by sequential moves (t0, target, v, a)."""
-    pos = np.full_like(times, start, dtype=float)
-    vel = np.zeros_like(times, dtype=float)
-    current = start
-    for t0, target, v, a in moves:
-        p, dv, dur = trapezoid_move(times - t0, target - current, v, a)
-        after = times >= t0
-        pos = np.where(after, current + p, pos)
-        vel = np.where(after & (times <= t0 + dur), dv, vel)
-        current = target
-    return pos, vel
+    """Position and velocity of one axis driven by sequential moves (t0, target, v, a):
+    :func:`trapezoid_move` after move, by the compiled
+    :func:`graspcampaign.core.bench_kernels.axis_profile`."""
+    return bench_kernels.axis_profile(np.ascontiguousarray(times, dtype=float), float(start),
+                                      np.array(moves, dtype=float).reshape(-1, 4))
 
 
 def _move_time(distance: float, v: float, a: float) -> float:
-    return trapezoid_move(np.zeros(1), distance, v, a)[2]
+    """Duration of a trapezoidal move [s] (:func:`trapezoid_move`'s ``duration``)."""
+    return _trapezoid_timing(abs(distance), v, a)[2] if distance != 0 else 0.0
 
 
 # ------------------------------------------------------------------------ contact model
@@ -556,20 +560,32 @@ def _qlv(elastic: np.ndarray, dt: float, rho: float, tau: float) -> np.ndarray:
     """
     inc = np.diff(elastic, prepend=0.0)
     decay = math.exp(-dt / tau)
-    h = lfilter([(1.0 - rho) * math.exp(-0.5 * dt / tau)], [1.0, -decay], inc)
+    h = bench_kernels.first_order_filter(inc, (1.0 - rho) * math.exp(-0.5 * dt / tau), decay)
     return rho * elastic + h
 
 
 def _contact_force(depths: np.ndarray, rates: np.ndarray, dt: float, spec: SpecimenParams,
-                   k_scale: float = 1.0, adhesion: bool = True) -> np.ndarray:
+                   k_scale: float = 1.0, adhesion: bool = True, backend: str = "numba"
+                   ) -> np.ndarray:
     """Normal force of the virtual fingertip-specimen pair for a depth history.
 
     Eq. 13's power term on the toe-smoothed depth passes through the QLV kernel (the slow
     dissipation that §7.2 says dominates the loop), the linear-rate term ``C delta_dot``
     is added while in contact, the ``max(0, .)`` clamp applies, and on the unloading branch
     a small adhesive neck pulls the probe until it snaps ``3 toe`` past the surface.
+
+    ``backend="numba"`` runs :func:`graspcampaign.core.bench_kernels.press_force`, the same
+    operations in one compiled pass; ``"numpy"`` (below) is the reference it is held to.
     """
     k = spec.k_n_per_mm_n * k_scale
+    if backend == "numba":
+        return bench_kernels.press_force(
+            np.ascontiguousarray(depths, dtype=float), np.ascontiguousarray(rates, dtype=float),
+            k, spec.n, spec.c, spec.toe, spec.rho,
+            (1.0 - spec.rho) * math.exp(-0.5 * dt / spec.tau), math.exp(-dt / spec.tau),
+            spec.adhesion if adhesion else 0.0, 3.0 * max(spec.toe, 1e-6))
+    if backend != "numpy":
+        raise ValueError(f"backend must be 'numba' or 'numpy', got {backend!r}")
     eff = _toe_depth(depths, spec.toe)
     elastic = normal_force(eff, np.zeros_like(eff), k, spec.n, 0.0)
     relaxed = _qlv(elastic, dt, spec.rho, spec.tau)
@@ -577,14 +593,14 @@ def _contact_force(depths: np.ndarray, rates: np.ndarray, dt: float, spec: Speci
     force = np.maximum(relaxed + np.where(in_contact, spec.c * rates, 0.0), 0.0)
     force = np.where(in_contact | (relaxed > 0), force, 0.0)
     if adhesion and spec.adhesion > 0.0 and depths.size:
-        peak = int(np.argmax(depths))
-        unloading = np.arange(depths.size) > peak
+        unload = int(np.argmax(depths)) + 1  # the unloading branch: after the peak
+        tail = depths[unload:]
         neck = 3.0 * max(spec.toe, 1e-6)
-        weight = np.where(depths >= 0.0, np.exp(-np.maximum(depths, 0.0) / neck),
-                          np.clip(1.0 + depths / neck, 0.0, 1.0))
+        weight = np.where(tail >= 0.0, np.exp(-np.maximum(tail, 0.0) / neck),
+                          np.clip(1.0 + tail / neck, 0.0, 1.0))
         # the neck exists only after contact was made and until it snaps once
-        snapped = np.cumsum(unloading & (depths <= -neck)) > 0
-        force = force - spec.adhesion * weight * (unloading & ~snapped)
+        snapped = np.cumsum(tail <= -neck) > 0
+        force[unload:] = force[unload:] - spec.adhesion * weight * ~snapped
     return force
 
 
@@ -593,7 +609,10 @@ def _untoe(eff: np.ndarray, toe: float) -> np.ndarray:
     d = eff + toe
     for _ in range(8):
         g = d - toe * -np.expm1(-d / toe) - eff
-        d = d - g / (1.0 - np.exp(-d / toe))
+        step = d - g / (1.0 - np.exp(-d / toe))
+        if np.array_equal(step, d):  # a fixed point: the remaining iterations change nothing
+            break
+        d = step
     return np.maximum(d, 0.0)
 
 
@@ -647,10 +666,6 @@ def cyclic_state(spec: SpecimenParams, depths: np.ndarray) -> tuple[np.ndarray, 
 
 
 # ------------------------------------------------------------------------ simulation
-
-
-def _quantise(x: np.ndarray, step: float) -> np.ndarray:
-    return np.round(x / step) * step
 
 
 def _press(cmd: EventCommand, dt: float, depth_along_axis: float,
@@ -813,14 +828,14 @@ def simulate_event(cmd: EventCommand, spec: SpecimenParams, rng: np.random.Gener
         anomaly = ANOMALY_KINDS[int(rng.integers(len(ANOMALY_KINDS)))]
         _inject_anomaly(anomaly, out, rng)
     s = out["time"].size
-    fn = _quantise(out["fn"] + sensor.force_noise * rng.standard_normal(s),
-                   sensor.force_resolution)
-    ft = _quantise(out["ft"] + sensor.force_noise * rng.standard_normal(s),
-                   sensor.force_resolution)
-    x = _quantise(out["x"] + sensor.displacement_noise * rng.standard_normal(s),
-                  sensor.displacement_resolution)
-    xt = _quantise(out["xt"] + sensor.displacement_noise * rng.standard_normal(s),
-                   sensor.displacement_resolution)
+    fn, ft, x, xt = (
+        bench_kernels.noisy_quantised(np.ascontiguousarray(out[key], dtype=float),
+                                      rng.standard_normal(s), sd, step)
+        for key, sd, step in (("fn", sensor.force_noise, sensor.force_resolution),
+                              ("ft", sensor.force_noise, sensor.force_resolution),
+                              ("x", sensor.displacement_noise, sensor.displacement_resolution),
+                              ("xt", sensor.displacement_noise,
+                               sensor.displacement_resolution)))
     aborted = bool(u_abort < sensor.abort_rate)
     if aborted:
         keep = max(2, int(rng.uniform(0.1, 0.9) * s))
@@ -907,21 +922,164 @@ def loading_window(displacement: np.ndarray, normal_force_: np.ndarray, onset: f
     return window & (x - onset > 0.0) & (np.asarray(normal_force_, dtype=float) > MIN_FIT_FORCE)
 
 
+@dataclass(frozen=True)
+class TraceSet:
+    """Points of several normal-indentation traces, concatenated, checked once (§7.5).
+
+    Attributes
+    ----------
+    depths, rates, forces : (m,) float
+        Penetration [m], penetration rate [m/s] and measured force [N] of every point, trace
+        after trace (e.g. each trace's :func:`loading_window`).
+    offsets : (t + 1,) int
+        Trace ``j`` holds points ``offsets[j]:offsets[j + 1]``; every trace is non-empty.
+    peaks : (t,) float
+        Peak force of each trace [N].
+    """
+
+    depths: np.ndarray
+    rates: np.ndarray
+    forces: np.ndarray
+    offsets: np.ndarray
+    peaks: np.ndarray
+
+    def __post_init__(self) -> None:
+        for name in ("depths", "rates", "forces", "peaks"):
+            object.__setattr__(self, name, np.ascontiguousarray(getattr(self, name),
+                                                                dtype=np.float64))
+        offsets = np.ascontiguousarray(self.offsets, dtype=np.int64)
+        object.__setattr__(self, "offsets", offsets)
+        m = self.depths.size
+        if (offsets.size != self.peaks.size + 1 or offsets[0] != 0 or offsets[-1] != m
+                or np.any(np.diff(offsets) <= 0)):
+            raise ValueError(f"offsets must rise strictly from 0 to {m} (one non-empty trace "
+                             f"per peak), got {offsets.tolist()!r}")
+        if self.rates.size != m or self.forces.size != m:
+            raise ValueError(f"depths, rates and forces must have one value per point, got "
+                             f"{m}, {self.rates.size} and {self.forces.size}")
+
+    @classmethod
+    def from_traces(cls, traces: list[tuple[np.ndarray, np.ndarray, np.ndarray, float]]
+                    ) -> TraceSet:
+        """Concatenate ``(depths, rates, forces, peak)`` tuples, one per trace."""
+        return cls(np.concatenate([t[0] for t in traces]),
+                   np.concatenate([t[1] for t in traces]),
+                   np.concatenate([t[2] for t in traces]),
+                   np.concatenate([[0], np.cumsum([t[0].size for t in traces])]),
+                   np.array([t[3] for t in traces], dtype=float))
+
+    def rmse_pct(self, k: np.ndarray, n: np.ndarray, c: np.ndarray, backend: str = "numba"
+                 ) -> np.ndarray:
+        """Return the Eq. 13 force RMSE of every trace for every parameter set [% of peak].
+
+        Parameters
+        ----------
+        k, n, c : (p,) float
+            Stiffness K [N mm^-n], exponent n [-] and damping C [N s/m] of each set.
+        backend : {"numba", "numpy"}
+            ``"numba"`` (default): the fused kernel
+            :func:`graspcampaign.core.bench_kernels.trace_rmse_pct`; ``"numpy"``: the
+            reference, :func:`graspcampaign.core.contact.normal_force` on the ``(p, m)`` grid
+            and a matrix product over trace membership. Both agree to rounding (tests).
+
+        Returns
+        -------
+        rmse_pct : (p, t) float
+            ``100 sqrt(mean_j (f_pred - f)^2) / peak_j``, ``f_pred`` from Eq. 13.
+
+        References
+        ----------
+        Paper Eq. 13, §7.5.
+        """
+        k, n, c = (np.ascontiguousarray(v, dtype=np.float64).reshape(-1) for v in (k, n, c))
+        if backend == "numba":
+            return bench_kernels.trace_rmse_pct(k, n, c, self.depths, self.rates, self.forces,
+                                                self.offsets, self.peaks)
+        if backend != "numpy":
+            raise ValueError(f"backend must be 'numba' or 'numpy', got {backend!r}")
+        sizes = np.diff(self.offsets)
+        member = np.zeros((self.depths.size, sizes.size))
+        member[np.arange(self.depths.size), np.repeat(np.arange(sizes.size), sizes)] = (
+            1.0 / np.repeat(sizes, sizes))
+        pred = normal_force(self.depths[None, :], self.rates[None, :], k[:, None], n[:, None],
+                            c[:, None])
+        return np.sqrt(((pred - self.forces[None, :]) ** 2) @ member) / self.peaks * 100.0
+
+    def mean_rmse_pct(self, k: np.ndarray, n: np.ndarray, c: np.ndarray,
+                      backend: str = "numba") -> np.ndarray:
+        """Return :meth:`rmse_pct` averaged over the traces, shape (p,) [% of peak].
+
+        The numba path averages inside the kernel
+        (:func:`graspcampaign.core.bench_kernels.trace_rmse_mean_pct`): this is the §7.5 PSO
+        cost, called ~10^5 times per material, where numpy's per-call overhead would cost as
+        much as the kernel.
+        """
+        if backend == "numba":
+            k, n, c = (np.ascontiguousarray(v, dtype=np.float64).reshape(-1)
+                       for v in (k, n, c))
+            return bench_kernels.trace_rmse_mean_pct(k, n, c, self.depths, self.rates,
+                                                     self.forces, self.offsets, self.peaks)
+        return self.rmse_pct(k, n, c, backend=backend).mean(axis=1)
+
+
 def _branch_work(x: np.ndarray, f: np.ndarray) -> float:
     fc = np.maximum(f, 0.0)
     return float(abs(np.sum(0.5 * (fc[1:] + fc[:-1]) * np.diff(x))))
 
 
+FIT_BACKENDS = ("numba", "scipy")
+"""Solvers of the per-event fits: the compiled Levenberg-Marquardt run to a stationary point
+(:func:`graspcampaign.core.fit_kernel.lm_fit`, default) or ``scipy.optimize.least_squares``
+with its default tolerances (the reference, and the fallback of the compiled path)."""
+
+
+_FREE = np.full(3, -np.inf), np.full(3, np.inf)
+# typical magnitudes of the parameters (the absolute part of the compiled solver's step test):
+# (K [N mm^-n], n, C [N s/m]) as the reference's x_scale; (K, m, x0 [mm]); (A [N], B [N], tau [s])
+_TYPICAL_NORMAL = np.array([0.1, 0.1, 0.05])
+_TYPICAL_SHIFTED = np.array([0.1, 0.1, 0.01])
+_TYPICAL_RELAXATION = np.array([1e-3, 1e-3, 1e-2])
+
+
+def _least_squares(resid, jac, x0: np.ndarray, model: int, data: tuple[np.ndarray, ...],
+                   bounds: tuple[np.ndarray, np.ndarray], typical: np.ndarray, backend: str,
+                   check=None, **scipy_options) -> tuple[np.ndarray, np.ndarray, bool]:
+    """Minimise ``|resid(p)|^2`` from ``x0``; return the solution, its residuals, success.
+
+    ``backend="numba"`` runs :func:`graspcampaign.core.fit_kernel.lm_fit` on the model
+    ``model`` with ``data = (a, b, y)`` (contiguous float arrays); when it does not reach a
+    stationary point strictly inside ``bounds`` ((3,) float arrays, +-inf where free), or
+    ``check(p)`` is False (a condition under which the compiled model is not the reference
+    residual), the fit falls back to ``backend="scipy"``:
+    ``scipy.optimize.least_squares(resid, x0, jac=jac, bounds=bounds, **scipy_options)``.
+    """
+    if backend == "numba":
+        p, _, status, _ = fit_kernel.lm_fit(model, x0, *data, *bounds, typical)
+        if (status == fit_kernel.LM_CONVERGED and np.all(np.isfinite(p))
+                and (check is None or check(p))):
+            return p, resid(p), True
+        log.debug("compiled fit (model %d) ended with status %d; using scipy", model, status)
+    if bounds is _FREE:
+        sol = least_squares(resid, x0, jac=jac, **scipy_options)
+    else:
+        sol = least_squares(resid, x0, jac=jac, bounds=bounds, **scipy_options)
+    return sol.x, sol.fun, bool(sol.success)
+
+
+def _check_backend(backend: str) -> None:
+    if backend not in FIT_BACKENDS:
+        raise ValueError(f"backend must be 'numba' or 'scipy', got {backend!r}")
+
+
 def fit_normal(time: np.ndarray, displacement: np.ndarray, normal_force_: np.ndarray,
-               onset: float = 0.0) -> NormalFitResult:
+               onset: float = 0.0, backend: str = "numba") -> NormalFitResult:
     """Fit Eq. 13, ``f = K delta_mm^n + C delta_dot``, to the compressive loading branch.
 
     The window runs from contact to the peak indentation and keeps samples with
     ``delta > 0`` and ``f > 2 mN``: the tensile pull-off at separation lies outside the
     ``max(0, .)`` law (§7.2 (ii)) and the unloading branch carries the slow viscoelastic
     loop, which §7.2 attributes to relaxation rather than to ``C``. The start comes from a
-    log-log regression; ``scipy.optimize.least_squares`` (Levenberg-Marquardt, analytic
-    Jacobian) refines ``(K, n, C)``.
+    log-log regression; Levenberg-Marquardt with the analytic Jacobian refines ``(K, n, C)``.
 
     Parameters
     ----------
@@ -933,6 +1091,11 @@ def fit_normal(time: np.ndarray, displacement: np.ndarray, normal_force_: np.nda
         Measured normal force [N].
     onset : float, optional
         Displacement of the contact surface [m]; ``delta = displacement - onset``.
+    backend : {"numba", "scipy"}, optional
+        Solver (:data:`FIT_BACKENDS`): the compiled Levenberg-Marquardt run to a stationary
+        point (default), or the reference ``scipy.optimize.least_squares`` (MINPACK's
+        Levenberg-Marquardt), which is also the fallback when the compiled path does not
+        converge or Eq. 13's ``max(0, .)`` clamp is active at its solution.
 
     Returns
     -------
@@ -949,6 +1112,7 @@ def fit_normal(time: np.ndarray, displacement: np.ndarray, normal_force_: np.nda
     ----------
     Paper Eq. 13, §7.2; More (1978) Levenberg-Marquardt, via scipy.optimize.least_squares.
     """
+    _check_backend(backend)
     x = np.asarray(displacement, dtype=float)
     f = np.asarray(normal_force_, dtype=float)
     t = np.asarray(time, dtype=float)
@@ -957,7 +1121,7 @@ def fit_normal(time: np.ndarray, displacement: np.ndarray, normal_force_: np.nda
     ipk = int(np.argmax(x))
     peak = float(np.max(f))
     depth = x - onset
-    rate = np.gradient(x, t)
+    rate = bench_kernels.gradient(x, t)  # numpy.gradient, bit for bit
     win = loading_window(x, f, onset)
     w_load = _branch_work(x[: ipk + 1], f[: ipk + 1])
     w_unload = _branch_work(x[ipk:], f[ipk:])
@@ -981,18 +1145,25 @@ def fit_normal(time: np.ndarray, displacement: np.ndarray, normal_force_: np.nda
         pw = np.exp(p[1] * log_d)
         return np.column_stack([pw, p[0] * pw * log_d, r])
 
+    d_win = depth[win]
+
+    def unclamped(p: np.ndarray) -> bool:  # the compiled model omits Eq. 13's max(0, .)
+        return bool(np.all(p[0] * np.power(d_win * 1e3, p[1]) + p[2] * r > 0.0))
+
     try:
-        sol = least_squares(resid, x0, jac=jac, method="lm", x_scale=[0.1, 0.1, 0.05],
-                            max_nfev=200)
+        p_fit, fun, success = _least_squares(
+            resid, jac, x0, MODEL_NORMAL, (d_mm, r, y), _FREE, _TYPICAL_NORMAL, backend,
+            check=unclamped, method="lm", x_scale=[0.1, 0.1, 0.05], max_nfev=200)
     except (ValueError, np.linalg.LinAlgError) as exc:  # pragma: no cover - defensive
         log.debug("normal fit failed: %s", exc)
         return _nan_normal(peak, int(d_mm.size))
-    k, n, c = (float(v) for v in sol.x)
-    ok = bool(sol.success) and k > 0 and 0 < n < 5
-    rmse = float(np.sqrt(np.mean(sol.fun**2)) / peak * 100.0)
+    k, n, c = (float(v) for v in p_fit)
+    ok = success and k > 0 and 0 < n < 5
+    rmse = float(np.sqrt(np.mean(fun**2)) / peak * 100.0)
     dof = max(d_mm.size - 3, 1)
     try:
-        cov = np.linalg.inv(sol.jac.T @ sol.jac) * (float(sol.fun @ sol.fun) / dof)
+        j = jac(p_fit)
+        cov = np.linalg.inv(j.T @ j) * (float(fun @ fun) / dof)
         c_se = float(np.sqrt(max(cov[2, 2], 0.0)))
     except np.linalg.LinAlgError:
         c_se = math.inf
@@ -1022,8 +1193,8 @@ class ShiftedFitResult:
     success: bool
 
 
-def fit_shifted(time: np.ndarray, displacement: np.ndarray, normal_force_: np.ndarray
-                ) -> ShiftedFitResult:
+def fit_shifted(time: np.ndarray, displacement: np.ndarray, normal_force_: np.ndarray,
+                backend: str = "numba") -> ShiftedFitResult:
     """Fit ``K (x - x_0)^m`` to the loading branch, with the onset ``x_0`` free.
 
     Samples below 10 % of the peak force are left out so the onset toe does not drive the
@@ -1037,6 +1208,11 @@ def fit_shifted(time: np.ndarray, displacement: np.ndarray, normal_force_: np.nd
         [m].
     normal_force_ : (s,) float
         [N].
+    backend : {"numba", "scipy"}, optional
+        Solver (:data:`FIT_BACKENDS`): the compiled Levenberg-Marquardt run to a stationary
+        point (default), or the reference ``scipy.optimize.least_squares`` (trust-region
+        reflective within the bounds below), which is also the fallback when the compiled
+        path meets a bound.
 
     Returns
     -------
@@ -1047,6 +1223,7 @@ def fit_shifted(time: np.ndarray, displacement: np.ndarray, normal_force_: np.nd
     Paper §7.2 ("a shifted law K(delta - delta_0)^m ... a candidate refinement").
     """
     del time
+    _check_backend(backend)
     x = np.asarray(displacement, dtype=float)
     f = np.asarray(normal_force_, dtype=float)
     nan = ShiftedFitResult(math.nan, math.nan, math.nan, math.nan, False)
@@ -1072,15 +1249,16 @@ def fit_shifted(time: np.ndarray, displacement: np.ndarray, normal_force_: np.nd
         return np.column_stack([pw, p[0] * pw * np.log(d), -p[0] * p[1] * pw / d])
 
     try:
-        sol = least_squares(resid, x0, jac=jac, method="trf",
-                            bounds=([1e-6, 0.05, -1.0], [100.0, 3.0, first - 1e-6]),
-                            max_nfev=200)
+        p_fit, fun, success = _least_squares(
+            resid, jac, x0, MODEL_SHIFTED, (xm, xm, y),
+            (np.array([1e-6, 0.05, -1.0]), np.array([100.0, 3.0, first - 1e-6])),
+            _TYPICAL_SHIFTED, backend, method="trf", max_nfev=200)
     except (ValueError, np.linalg.LinAlgError) as exc:  # pragma: no cover - defensive
         log.debug("shifted fit failed: %s", exc)
         return nan
-    k, m, d0 = (float(v) for v in sol.x)
-    rmse = float(np.sqrt(np.mean(sol.fun**2)) / peak * 100.0)
-    return ShiftedFitResult(k, m, d0 * 1e-3, rmse, bool(sol.success))
+    k, m, d0 = (float(v) for v in p_fit)
+    rmse = float(np.sqrt(np.mean(fun**2)) / peak * 100.0)
+    return ShiftedFitResult(k, m, d0 * 1e-3, rmse, success)
 
 
 RELAXATION_FIT_POINTS = 600
@@ -1123,14 +1301,13 @@ def _plateau(x: np.ndarray, tolerance: float) -> np.ndarray:
 
 
 def fit_relaxation(time: np.ndarray, displacement: np.ndarray, normal_force_: np.ndarray,
-                   tolerance: float = 3e-6) -> RelaxationFitResult:
+                   tolerance: float = 3e-6, backend: str = "numba") -> RelaxationFitResult:
     """Fit the §7.4 relaxation law to the hold at peak indentation.
 
     The hold is the span of samples whose displacement lies within ``tolerance`` of the
-    peak plateau. ``F = A + B exp(-(t - t_0)/tau)`` is fitted with
-    ``scipy.optimize.least_squares`` (trust-region reflective, ``A, B >= 0``,
-    ``tau <= 10 x hold``) from a start read off the trace; ``F_0 = A + B`` and
-    ``rho = A / F_0``.
+    peak plateau. ``F = A + B exp(-(t - t_0)/tau)`` is fitted by least squares within
+    ``A, B >= 0``, ``0.01 s <= tau <= 10 x hold`` from a start read off the trace;
+    ``F_0 = A + B`` and ``rho = A / F_0``.
 
     Parameters
     ----------
@@ -1138,11 +1315,17 @@ def fit_relaxation(time: np.ndarray, displacement: np.ndarray, normal_force_: np
         [s], [m], [N].
     tolerance : float, optional
         Hold detection band [m].
+    backend : {"numba", "scipy"}, optional
+        Solver (:data:`FIT_BACKENDS`): the compiled Levenberg-Marquardt run to a stationary
+        point strictly inside the bounds (default), or the reference
+        ``scipy.optimize.least_squares`` (trust-region reflective), which is also the
+        fallback when the compiled path meets a bound.
 
     Returns
     -------
     RelaxationFitResult
     """
+    _check_backend(backend)
     t = np.asarray(time, dtype=float)
     x = np.asarray(displacement, dtype=float)
     f = np.asarray(normal_force_, dtype=float)
@@ -1180,18 +1363,18 @@ def fit_relaxation(time: np.ndarray, displacement: np.ndarray, normal_force_: np
         return np.column_stack([np.ones_like(th), e, p[1] * e * th / p[2] ** 2])
 
     try:
-        # bounded (trust-region reflective): a drifting baseline must not send tau to
-        # infinity with a negative amplitude
-        sol = least_squares(resid, p0, jac=jac, method="trf",
-                            bounds=([0.0, 0.0, 1e-2], [np.inf, np.inf, 10.0 * max(hold, 1.0)]),
-                            max_nfev=200)
+        # bounded: a drifting baseline must not send tau to infinity with a negative amplitude
+        p_fit, fun, success = _least_squares(
+            resid, jac, p0, MODEL_RELAXATION, (th, th, y),
+            (np.array([0.0, 0.0, 1e-2]), np.array([np.inf, np.inf, 10.0 * max(hold, 1.0)])),
+            _TYPICAL_RELAXATION, backend, method="trf", max_nfev=200)
     except (ValueError, np.linalg.LinAlgError) as exc:  # pragma: no cover - defensive
         log.debug("relaxation fit failed: %s", exc)
         return nan
-    a, b, tau = (float(v) for v in sol.x)
+    a, b, tau = (float(v) for v in p_fit)
     f0 = a + b
-    ok = bool(sol.success) and f0 > 0 and tau > 0
-    rmse = float(np.sqrt(np.mean(sol.fun**2)) / f0 * 100.0) if f0 > 0 else math.nan
+    ok = success and f0 > 0 and tau > 0
+    rmse = float(np.sqrt(np.mean(fun**2)) / f0 * 100.0) if f0 > 0 else math.nan
     return RelaxationFitResult(f0, a / f0 if f0 > 0 else math.nan, tau, rmse, hold, ok)
 
 

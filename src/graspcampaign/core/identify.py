@@ -26,6 +26,7 @@ from graspcampaign.core.contact import (
     contact_stiffness_k,
 )
 from graspcampaign.core.equilibrium import EquilibriumResult, EvaluatorParams, evaluate_grasps
+from graspcampaign.core.pso_kernel import swarm_accept, swarm_update
 
 __all__ = [
     "F0_N",
@@ -215,19 +216,14 @@ def pso_minimize(
     for iteration in range(1, n_iterations):
         r1 = rng.random((n_particles, n_dims))
         r2 = rng.random((n_particles, n_dims))
-        velocities = (
-            inertia * velocities
-            + c1 * r1 * (best_positions - positions)
-            + c2 * r2 * (best_positions[leader] - positions)
-        )
-        moved = positions + velocities
-        positions = np.clip(moved, lower, upper)
-        velocities = np.where(positions != moved, 0.0, velocities)
+        # the update and the personal/global bests in two compiled calls (the numpy version's
+        # operations in the same order, bit for bit; ~20 numpy calls per iteration otherwise)
+        positions_new = np.empty_like(positions)
+        swarm_update(positions, velocities, best_positions, leader, r1, r2, lower, upper,
+                     float(inertia), float(c1), float(c2), positions_new)
+        positions = positions_new
         costs = _evaluate(cost, positions)
-        improved = costs < best_costs
-        best_positions[improved] = positions[improved]
-        best_costs[improved] = costs[improved]
-        leader = int(np.argmin(best_costs))
+        leader = swarm_accept(costs, positions, best_positions, best_costs)
         history_cost[iteration], history_x[iteration] = best_costs[leader], best_positions[leader]
 
     logger.debug(

@@ -26,6 +26,7 @@ fits them through the same code as the virtual path.
 from __future__ import annotations
 
 import os
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import Any
@@ -222,10 +223,10 @@ def finalize(study: StudyCfg, params: Test1BenchParams, records: pd.DataFrame, s
     * ``transfer``: §7.6 transfer errors of the per-event fits' training calibration.
 
     The normal-indentation traces are regenerated from ``(seed, event_id, attempt)`` (the
-    records keep only a few), in parallel over ``runner.n_jobs`` local processes.
+    records keep only a few), in parallel over ``runner.n_jobs`` local processes; every PSO
+    run is one task for those processes, and the transfer errors are computed in a thread
+    meanwhile.
     """
-    from joblib import Parallel, delayed
-
     from graspcampaign.rig import test1 as T
 
     seed = int(study.seed)
@@ -237,29 +238,30 @@ def finalize(study: StudyCfg, params: Test1BenchParams, records: pd.DataFrame, s
         out["damage_depth"] = _rows(T.damage_depths(fits))
     normal = sched[sched["block"] == "normal"]
     waves = None
-    if len(normal):
-        waves = T.run_virtual_bench(normal, seed, n_jobs=n_jobs, keep_waveforms=True,
-                                    fit=False).waveforms
-        train = normal[normal["split"] == "train"]
-        mats = [m for m in T.MATERIALS if m in set(train["material"])]
-
-        def one(m: str) -> pd.DataFrame:
-            part = train[train["material"] == m]
-            return T.pso_reidentify(waves[waves["event_id"].isin(set(part["event_id"]))], part,
-                                    seed, n_restarts=params.pso_restarts,
-                                    n_particles=params.pso_particles,
-                                    n_iterations=params.pso_iterations,
-                                    traces_per_run=params.pso_traces_per_run,
-                                    max_reruns=params.pso_max_reruns)
-
-        # materials draw independent streams (seed, "pso", material, run): parallel = serial
-        parts = Parallel(n_jobs=min(n_jobs, max(len(mats), 1)))(delayed(one)(m) for m in mats)
-        runs = pd.concat([p for p in parts if len(p)], ignore_index=True) if mats else None
-        if runs is not None and len(runs):
+    if not len(normal):
+        out["transfer"] = _rows(T.transfer_errors(fits, waves))
+        return out
+    waves = T.run_virtual_bench(normal, seed, n_jobs=n_jobs, keep_waveforms=True,
+                                fit=False).waveforms
+    train = normal[normal["split"] == "train"]
+    # the §7.6 transfer errors are serial pandas work that does not depend on the PSO: with
+    # workers, they run in a thread of this process while the PSO runs fill the workers
+    with ThreadPoolExecutor(max_workers=1) as pool:
+        transfer = pool.submit(T.transfer_errors, fits, waves) if n_jobs > 1 else None
+        # every PSO run is one task (runs draw independent streams (seed, "pso", material,
+        # run): the result does not depend on n_jobs)
+        runs = T.pso_reidentify(waves[waves["event_id"].isin(set(train["event_id"]))], train,
+                                seed, n_restarts=params.pso_restarts,
+                                n_particles=params.pso_particles,
+                                n_iterations=params.pso_iterations,
+                                traces_per_run=params.pso_traces_per_run,
+                                max_reruns=params.pso_max_reruns, n_jobs=n_jobs)
+        if len(runs):
             out["pso_runs"] = _rows(runs)
             out["table5"] = _rows(T.table5(runs))
             out["pso_transfer"] = _rows(T.pso_transfer_errors(runs, waves, sched))
-    out["transfer"] = _rows(T.transfer_errors(fits, waves))
+        out["transfer"] = _rows(transfer.result() if transfer is not None
+                                else T.transfer_errors(fits, waves))
     return out
 
 
@@ -328,7 +330,7 @@ TEST1_BENCH = TrialKind(
     run=run,
     params=Test1BenchParams,
     source="virtual",
-    seconds_per_trial=0.007,  # generate + fit, measured on 2 cores (docs/decisions.md)
+    seconds_per_trial=0.001,  # generate + fit, CPU per event after issue 16 (docs/decisions.md)
     design=design,
     finalize=finalize,
     schedule=schedule,
