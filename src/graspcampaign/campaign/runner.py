@@ -30,7 +30,10 @@ from graspcampaign.campaign.schema import StudyCfg, check_config
 from graspcampaign.errors import ConfigError, UserInputError
 
 BASE_COLUMNS = ("trial_id", "study", "run", "kind", "trial_index", "scene_id", "status",
-                "error_type", "error_message", "wall_time_s", "worker", "host", "source")
+                "error_type", "error_message", "error_traceback", "wall_time_s", "worker", "host",
+                "source")
+#: Record columns stored as strings in every shard, even when no trial of the shard errored.
+ERROR_COLUMNS = ("error_type", "error_message", "error_traceback")
 
 
 class DriftError(UserInputError):
@@ -103,7 +106,7 @@ def run_task(kind: TrialKind, study: StudyCfg, run: str, params: Any,
         row: dict[str, Any] = {
             "trial_id": trial.trial_id, "study": study.name, "run": run, "kind": kind.name,
             "trial_index": trial.index, "scene_id": trial.scene_id, "status": "ok",
-            "error_type": None, "error_message": None, "wall_time_s": None,
+            "error_type": None, "error_message": None, "error_traceback": None, "wall_time_s": None,
             "worker": worker, "host": host, "source": kind.source,
         }
         row.update(trial.factors)
@@ -285,6 +288,7 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
     session = {"started_at": provenance.now_utc(), "host": socket.gethostname(),
                "backend": study.runner.backend, "n_jobs": study.runner.n_jobs}
     store.clean()
+    store.repair()  # a damaged file is quarantined before anything in it counts as recorded
     provenance.write_manifest(store.manifest_path, manifest)
 
     t0 = time.perf_counter()
@@ -310,7 +314,7 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
                 for table_name, table_rows in tables.items():
                     if table_rows:
                         store.write_shard(f"tables/{table_name}", name, table_rows)
-                store.write_shard("records", name, rows)
+                store.write_shard("records", name, rows, strings=ERROR_COLUMNS)
                 n_err = sum(r["status"] == "error" for r in rows)
                 summary.n_ran += len(rows)
                 summary.n_error += n_err

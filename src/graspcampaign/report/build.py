@@ -89,6 +89,7 @@ def _runs(root: Path, studies: list[str] | None, run: str | None) -> list[RunSto
                 if run:
                     raise UserInputError(f"no run {r!r} of study {name!r} under {root}.")
                 continue
+            store.verify()  # a damaged file: refuse (DamagedRunError, exit 2), never report around it
             stores.append(store)
     return stores
 
