@@ -3,12 +3,16 @@
 from __future__ import annotations
 
 import os
+import tempfile
 
 import matplotlib
 import pytest
 
 matplotlib.use("Agg")
 os.environ.setdefault("MPLBACKEND", "Agg")
+# the catalog cache (campaign/catalog.py) of this test process: never the user's ~/.cache
+os.environ["GRASPCAMPAIGN_CACHE"] = tempfile.mkdtemp(prefix="graspcampaign-test-cache-")
+os.environ.pop("GRASPCAMPAIGN_PATH", None)
 
 
 @pytest.fixture

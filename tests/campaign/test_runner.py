@@ -159,7 +159,7 @@ def test_finished_run_with_a_damaged_shard_is_refused_by_report_then_resumed(stu
     corrupt_value_column(compact, "pi_estimate")
     root = summary.path.parent.parent
     before = _tree(root)
-    result = CliRunner().invoke(app, ["report", "unit", "--root", str(root)])
+    result = CliRunner().invoke(app, ["report", "unit", "--run", "r1", "--root", str(root)])
     assert result.exit_code == 2
     assert result.stderr == (
         f"error: run unit/r1 at {summary.path} has a damaged file records/{compact.name} "
@@ -172,7 +172,8 @@ def test_finished_run_with_a_damaged_shard_is_refused_by_report_then_resumed(stu
     assert resumed.n_already == 0 and resumed.n_ran == 16
     pd.testing.assert_frame_equal(clean.drop(columns=["run"]),
                                   _records(resumed).drop(columns=["run"]))
-    assert CliRunner().invoke(app, ["report", "unit", "--root", str(root)]).exit_code == 0
+    assert CliRunner().invoke(app, ["report", "unit", "--run", "r1", "--root", str(root)]
+                              ).exit_code == 0
 
 
 def test_damaged_trace_file_reruns_the_trials_it_held(study_factory, monkeypatch):

@@ -224,12 +224,28 @@ def _bad_duplicate(df):
     return pd.concat([df.iloc[:30], df.iloc[[29]], df.iloc[30:]], ignore_index=True)
 
 
+TEMPLATE = r" \(`graspcampaign schedule test1_bench --template` writes a sheet with every column\)\."
+ATTEMPT = r"is not an attempt number \(an integer 1, 2, \.\.\. counting the tries of the event\)\."
 FAILURES = {
     "missing_column": (lambda d: d.drop(columns=["normal_force_n"]),
-                       r"bad\.csv, header, column 'normal_force_n': required column is missing\."),
+                       r"bad\.csv, header: a required column is missing: normal_force_n" + TEMPLATE),
+    "missing_columns_all_named": (
+        lambda d: d.drop(columns=["normal_force_n", "event_id", "tangential_displacement_mm"]),
+        r"bad\.csv, header: required columns are missing: event_id, normal_force_n, "
+        r"tangential_displacement_mm" + TEMPLATE),
     "wrong_unit_column": (lambda d: d.rename(columns={"displacement_mm": "displacement_m"}),
-                          r"bad\.csv, header, column 'displacement_m': unit 'm' where "
-                          r"'displacement_mm' \(mm\) is expected\."),
+                          r"bad\.csv, header: 'displacement_m' has unit 'm' where "
+                          r"'displacement_mm' \(mm\) is expected" + TEMPLATE),
+    "attempt_not_an_integer": (lambda d: d.astype({"attempt": object}).assign(
+        attempt=lambda x: x["attempt"].where(x.index != 2, "second")),
+        r"bad\.csv, row 3, column 'attempt': value 'second' " + ATTEMPT),
+    "attempt_negative": (lambda d: d.assign(attempt=-4),
+                         r"bad\.csv, row 1, column 'attempt': value -4 " + ATTEMPT),
+    "attempt_zero": (lambda d: d.assign(attempt=0), r"bad\.csv, row 1, column 'attempt': value 0 "
+                                                    + ATTEMPT),
+    "unknown_source": (lambda d: d.assign(source="bogus"),
+                       r"bad\.csv, row 1, column 'source': value 'bogus' is not one of measured, "
+                       r"virtual\."),
     "values_in_wrong_units": (lambda d: d.assign(normal_force_n=d["normal_force_n"] * 1e3),
                               r"bad\.csv, row \d+, column 'normal_force_n': value .* lies outside "
                               r"the 10 N load-cell range \(wrong units\?\)\."),

@@ -97,8 +97,8 @@ def test_cli_format_option(tmp_path):
     runner = CliRunner()
     bad = runner.invoke(app, ["report", "ablation", "--root", str(tmp_path), "--format", "pdf"])
     assert bad.exit_code == 2
-    good = runner.invoke(app, ["report", "ablation", "--root", str(tmp_path), "--format",
-                               "md,json"])
+    good = runner.invoke(app, ["report", "ablation", "--run", "r1", "--root", str(tmp_path),
+                               "--format", "md,json"])
     assert good.exit_code == 0, good.output
     assert (tmp_path / "ablation" / "r1" / "report" / "tables.json").exists()
 

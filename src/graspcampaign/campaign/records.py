@@ -40,8 +40,6 @@ from pathlib import Path
 from typing import Any
 
 import pyarrow as pa
-import pyarrow.compute as pc
-import pyarrow.dataset as ds
 import pyarrow.parquet as pq
 
 from graspcampaign.campaign.grid import content_hash
@@ -50,9 +48,6 @@ from graspcampaign.errors import DamagedRunError
 log = logging.getLogger(__name__)
 
 _SOURCES_KEY = b"graspcampaign.sources"
-_FORMAT = ds.ParquetFileFormat(
-    default_fragment_scan_options=ds.ParquetFragmentScanOptions(page_checksum_verification=True)
-)
 # What pyarrow raises for a file it cannot read (bad footer, bad page, failed checksum, bad codec).
 _READ_ERRORS = (pa.ArrowException, OSError, ValueError, EOFError)
 # Files that passed full verification, keyed by (path, size, mtime): a file is read in full once
@@ -220,16 +215,8 @@ class RunStore:
                                f"({reason}); {advice}.")
 
     # -- reading --------------------------------------------------------------------------------
-    def read(self, part: str = "records", columns: list[str] | None = None) -> pa.Table:
-        """Read every live file of ``part`` into one table with the union of their schemas.
-
-        Every file is verified in full first, whatever ``columns`` asks for.
-
-        Raises
-        ------
-        DamagedRunError
-            If a file of ``part`` is damaged (nothing is moved; see :meth:`repair`).
-        """
+    def _verified_files(self, part: str) -> list[Path]:
+        """The live files of ``part``, each verified in full (raises DamagedRunError)."""
         live, unreadable = self._listing(part)
         if unreadable:
             raise self._damage_error(*unreadable[0])
@@ -237,13 +224,48 @@ class RunStore:
             reason = verify_file(path)
             if reason is not None:
                 raise self._damage_error(path, reason)
+        return live
+
+    def read(self, part: str = "records", columns: list[str] | None = None) -> pa.Table:
+        """Read every live file of ``part`` into one table with the union of their schemas.
+
+        Every file is verified in full first, whatever ``columns`` asks for; a column that some
+        files lack is null there.
+
+        Raises
+        ------
+        DamagedRunError
+            If a file of ``part`` is damaged (nothing is moved; see :meth:`repair`).
+        """
+        live = self._verified_files(part)
         if not live:
             return pa.table({})
+        schemas = [pq.read_schema(p).remove_metadata() for p in live]
+        schema = pa.unify_schemas(schemas, promote_options="permissive")
+        if columns is not None:
+            schema = pa.schema([schema.field(c) for c in columns if c in schema.names])
+        tables = []
+        for path, own in zip(live, schemas, strict=True):
+            table = pq.read_table(path, columns=[c for c in schema.names if c in own.names])
+            for field in schema:
+                if field.name not in table.column_names:
+                    table = table.append_column(field, pa.nulls(table.num_rows, field.type))
+            tables.append(table.select(schema.names).replace_schema_metadata(None))
+        return pa.concat_tables(tables, promote_options="permissive").cast(schema)
+
+    def dataset(self, part: str = "records"):
+        """Return a ``pyarrow.dataset.Dataset`` over the verified files of ``part`` (large runs).
+
+        Filters and column selections are pushed down to the files; nothing is read until asked.
+        """
+        import pyarrow.dataset as ds
+
+        live = self._verified_files(part)
         schema = pa.unify_schemas([pq.read_schema(p).remove_metadata() for p in live],
-                                  promote_options="permissive")
-        dataset = ds.dataset([str(p) for p in live], schema=schema, format=_FORMAT)
-        cols = None if columns is None else [c for c in columns if c in schema.names]
-        return dataset.to_table(columns=cols)
+                                  promote_options="permissive") if live else pa.schema([])
+        fmt = ds.ParquetFileFormat(default_fragment_scan_options=ds.ParquetFragmentScanOptions(
+            page_checksum_verification=True))
+        return ds.dataset([str(p) for p in live], schema=schema, format=fmt)
 
     def recorded_ids(self, part: str = "records", key: str = "trial_id") -> set[str]:
         """Return the ids stored in ``part`` (every file verified in full first)."""
@@ -344,6 +366,8 @@ class RunStore:
 
     def _drop_rows(self, part: str, ids: set[str]) -> None:
         """Remove the rows of trials ``ids`` from every file of ``part``."""
+        import pyarrow.compute as pc
+
         live, _ = self._listing(part)
         for path in live:
             table = pq.read_table(path, page_checksum_verification=True)
@@ -355,6 +379,8 @@ class RunStore:
 
     def _keep_rows(self, part: str, ids: set[str]) -> None:
         """Keep only the rows of trials ``ids`` in every file of ``part``."""
+        import pyarrow.compute as pc
+
         live, _ = self._listing(part)
         value_set = pa.array(sorted(ids), pa.string())
         for path in live:
