@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import hashlib
 import os
 import tempfile
 
@@ -10,8 +11,12 @@ import pytest
 
 matplotlib.use("Agg")
 os.environ.setdefault("MPLBACKEND", "Agg")
-# the catalog cache (campaign/catalog.py) of this test process: never the user's ~/.cache
-os.environ["GRASPCAMPAIGN_CACHE"] = tempfile.mkdtemp(prefix="graspcampaign-test-cache-")
+# The catalog cache (campaign/catalog.py) of the test runs of this checkout, never the user's
+# ~/.cache: shared by the xdist workers and kept between runs, which is safe because its facts
+# are keyed by the hash of the package's source (tests of the cache itself use their own dirs).
+_CHECKOUT = hashlib.sha256(os.path.abspath(__file__).encode()).hexdigest()[:10]
+os.environ["GRASPCAMPAIGN_CACHE"] = os.path.join(tempfile.gettempdir(),
+                                                 f"graspcampaign-test-catalog-{_CHECKOUT}")
 os.environ.pop("GRASPCAMPAIGN_PATH", None)
 
 

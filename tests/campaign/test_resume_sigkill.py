@@ -10,6 +10,7 @@ import sys
 import time
 
 import pandas as pd
+import pytest
 from damage import corrupt_value_column
 
 from graspcampaign.campaign.records import RunStore
@@ -28,6 +29,8 @@ def _records(path) -> pd.DataFrame:
     return df.drop(columns=volatile).sort_values("trial_id").reset_index(drop=True)
 
 
+@pytest.mark.slow  # three CLI processes with loky workers: `make test-full`; the in-process kill
+# (tests/campaign/test_runner.py) keeps resume and quarantine in the fast suite
 def test_sigkill_then_resume_equals_uninterrupted_run(tmp_path):
     subprocess.run(_cmd(tmp_path, "full"), check=True, capture_output=True, timeout=300)
     full = _records(tmp_path / "smoke" / "full")

@@ -119,6 +119,8 @@ def test_show_counts_only_the_overridden_design_as_recorded(smoke_run):
     # a design the run never covered: nothing recorded, every trial still to run
     out = _invoke("show", "smoke", "nodes=[390]", "--root", str(smoke_run))
     assert "(0 of 5 recorded)" in out.stdout and "for 5 trials" in out.stdout
+    same = _invoke("show", "smoke", "nodes=[144]", "--root", str(smoke_run))  # the run's config
+    assert "(5 of 5 recorded)" in same.stdout and "estimated time: 0 s for 0 trials" in same.stdout
     full = _invoke("show", "smoke", "--root", str(smoke_run))
     assert "(5 of 10 recorded)" in full.stdout and "for 5 trials" in full.stdout
     assert "{" not in full.stdout and "'" not in full.stdout  # no Python reprs
@@ -199,8 +201,8 @@ def test_schedule_template_has_every_column_and_its_unit(tmp_path):
 
     from graspcampaign.rig.ingest import record_columns
 
-    result = _invoke("schedule", "test3_disturbance", "--template", "--out",
-                     str(tmp_path / "t3" / "sheet"))
+    result = _invoke("schedule", "test3_disturbance", "params.fraction=0.05", "--template",
+                     "--out", str(tmp_path / "t3" / "sheet"))
     assert result.exit_code == 0, result.output
     sheet = pd.read_csv(tmp_path / "t3" / "sheet.csv")
     fill = pd.read_csv(tmp_path / "t3" / "sheet-template.csv", keep_default_na=False)
@@ -222,3 +224,30 @@ def test_schedule_template_has_every_column_and_its_unit(tmp_path):
 def test_help_is_quick_to_import_and_offers_completion():
     result = _invoke("--help")
     assert result.exit_code == 0 and "--install-completion" in result.stdout
+
+
+HEAVY = ("numpy", "pandas", "scipy", "trimesh", "numba", "matplotlib", "sklearn", "pyarrow",
+         "hydra", "graspcampaign.core.mesh", "graspcampaign.core.planner")
+
+
+@pytest.mark.parametrize(("args", "allowed"), [
+    (["--help"], ()),
+    (["list"], ()),
+    (["show", "smoke"], ("hydra",)),
+    (["status", "smoke", "--root", "{root}"], ("pyarrow", "numpy")),  # pyarrow needs numpy
+])
+def test_answering_commands_import_no_numerical_layer(smoke_run, args, allowed):
+    """`list`, `show`, `status`, `--help` answer fast because they import none of these
+    (timed by benchmarks/bench_cli.py; here only what they import, which cannot flake)."""
+    import subprocess
+    import sys
+
+    args = [a.format(root=smoke_run) for a in args]
+    # warm the catalog cache of this test process first, as a user's second call would find it
+    _invoke(*args)
+    code = ("import sys\nfrom graspcampaign.cli.main import app\n"
+            f"try:\n    app({args!r}, standalone_mode=False)\nexcept SystemExit:\n    pass\n"
+            f"print([m for m in {HEAVY!r} if m in sys.modules])")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    imported = eval(out.stdout.strip().splitlines()[-1])  # noqa: S307  (our own print)
+    assert set(imported) <= set(allowed), imported

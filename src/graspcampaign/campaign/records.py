@@ -246,7 +246,8 @@ class RunStore:
             schema = pa.schema([schema.field(c) for c in columns if c in schema.names])
         tables = []
         for path, own in zip(live, schemas, strict=True):
-            table = pq.read_table(path, columns=[c for c in schema.names if c in own.names])
+            # ParquetFile, not pq.read_table: the latter goes through pyarrow.dataset and pandas
+            table = pq.ParquetFile(path).read(columns=[c for c in schema.names if c in own.names])
             for field in schema:
                 if field.name not in table.column_names:
                     table = table.append_column(field, pa.nulls(table.num_rows, field.type))

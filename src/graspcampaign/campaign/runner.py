@@ -337,7 +337,8 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
     else:
         manifest = provenance.new_manifest(study, run, len(trials), kind.source)
     session = {"started_at": provenance.now_utc(), "host": socket.gethostname(),
-               "backend": study.runner.backend, "n_jobs": study.runner.n_jobs}
+               "backend": study.runner.backend, "n_jobs": study.runner.n_jobs,
+               "config_hash": provenance.config_hash(study)}
     store.clean()
     store.repair()  # a damaged file is quarantined before anything in it counts as recorded
     provenance.write_manifest(store.manifest_path, manifest)

@@ -45,15 +45,24 @@ def recorded_in(study: StudyCfg, run: str | None = None) -> int:
     full grid holds 2700 records, but ``mu=[0.3] seeds=2`` asks about 120 of them.
     """
     path = _run_dir(study, run)
-    if not (path / "manifest.json").exists():
+    manifest = read_manifest(path / "manifest.json")
+    if manifest is None:
         return 0
     from graspcampaign.campaign.kind import get_kind
+    from graspcampaign.campaign.provenance import config_hash
     from graspcampaign.campaign.records import RunStore
     from graspcampaign.campaign.runner import kind_params, study_trials
 
     recorded = RunStore(path).recorded_ids()
     if not recorded:
         return 0
+    # every session of the run had this very config: its records are all of this design (this
+    # spares building a 19,168-event schedule just to count)
+    wanted = config_hash(study)
+    sessions = manifest.get("sessions") or []
+    if manifest.get("config_hash") == wanted and sessions and all(
+            s.get("config_hash") == wanted for s in sessions):
+        return len(recorded)
     kind = get_kind(study.kind)
     ids = {t.trial_id for t in study_trials(study, kind, kind_params(study, kind))}
     return len(ids & recorded)
@@ -113,8 +122,8 @@ def run_status(root: Path | str, study: str, run: str = "default") -> dict[str, 
         No such run; for a study that is neither known nor in ``root``, the available studies.
     """
     check_name(run, "--run")
-    if not check_name(study, "study") or (
-            not (Path(root) / study).is_dir() and study not in list_studies()):
+    check_name(study, "study")
+    if not (Path(root) / study).is_dir() and study not in list_studies():
         raise UserInputError(f"unknown study {study!r}: not on the config search path and no "
                              f"records under {root}; available studies: "
                              f"{', '.join(list_studies())}.")
