@@ -124,3 +124,28 @@ def test_pandas_pyarrow_and_duckdb_read_the_same_records(study_factory):
 
     for other in (via_pandas, via_dataset, via_duckdb):
         pd.testing.assert_frame_equal(norm(ours), norm(other), check_dtype=False)
+
+
+def test_a_damaged_measured_run_is_refused_with_the_ingest_advice(tmp_path):
+    from graspcampaign.campaign.provenance import write_manifest
+
+    store, path = _two_shards(tmp_path)
+    write_manifest(store.manifest_path, {"source": "measured"})
+    corrupt_value_column(path, "residual_norm_n")
+    with pytest.raises(DamagedRunError) as info:
+        store.verify()
+    assert str(info.value) == (
+        f"run unit/r1 at {store.path} has a damaged file records/part-b.parquet (could not verify "
+        "page integrity, CRC checksum verification failed for page_ordinal 0); move it out of the "
+        "run directory and ingest the file that held its records again.")
+
+
+def test_trace_rows_without_a_record_are_dropped_on_repair(tmp_path):
+    store = RunStore(tmp_path / "run")
+    store.write_shard("records", "a", [{"trial_id": "a"}])
+    store.write_shard("tables/trace", "a", [{"trial_id": "a", "step": 0}])
+    # a kill between a task's traces and its records leaves traces of an unrecorded trial
+    store.write_shard("tables/trace", "b", [{"trial_id": "b", "step": 0},
+                                            {"trial_id": "b", "step": 1}])
+    assert store.repair() == []
+    assert store.read("tables/trace").column("trial_id").to_pylist() == ["a"]

@@ -287,12 +287,15 @@ def schedule(
     if template:
         fill, columns = kind.template(cfg, params, sheet)
         sheets.update({"-template": fill, "-template-columns": columns})
-    stem.parent.mkdir(parents=True, exist_ok=True)
-    for suffix, table in sheets.items():
-        path = stem.with_name(stem.name + suffix)
-        table.to_csv(path.with_suffix(".csv"), index=False)
-        if not suffix:
-            table.to_parquet(path.with_suffix(".parquet"), index=False)
+    try:
+        stem.parent.mkdir(parents=True, exist_ok=True)
+        for suffix, table in sheets.items():
+            path = stem.with_name(stem.name + suffix)
+            table.to_csv(path.with_suffix(".csv"), index=False)
+            if not suffix:
+                table.to_parquet(path.with_suffix(".parquet"), index=False)
+    except OSError as exc:  # permissions, a full disk
+        _fail(f"--out {stem}: cannot write there ({exc.strerror or type(exc).__name__}).")
     typer.echo(f"{len(sheet)} commanded trials -> {stem.with_suffix('.csv')} and .parquet")
     if template:
         typer.echo(f"measured-records template -> {stem}-template.csv (columns and units: "
