@@ -36,3 +36,29 @@ def study_factory(tmp_path):
         )
 
     return make
+
+
+@pytest.fixture(scope="session")
+def study_run(tmp_path_factory):
+    """Run a study once per test session (per xdist worker) and share the finished run.
+
+    ``study_run(name, *overrides)`` composes ``name`` with ``overrides`` under a results root of
+    its own (sequential backend, no progress output) and returns ``(root, RunSummary)``; the same
+    arguments give the same run. A test must not change the run it gets; writing other runs beside
+    it (another ``output.run``, an ingested ``measured`` run) is fine.
+    """
+    from graspcampaign.campaign.compose import compose_study
+    from graspcampaign.campaign.runner import run_study
+
+    done: dict[tuple, tuple] = {}
+
+    def get(name: str, *overrides: str):
+        key = (name, overrides)
+        if key not in done:
+            root = tmp_path_factory.mktemp(f"shared-{name}")
+            study = compose_study(name, ["runner.backend=sequential", "runner.progress=false",
+                                         f"output.root={root}", *overrides])
+            done[key] = root, run_study(study)
+        return done[key]
+
+    return get

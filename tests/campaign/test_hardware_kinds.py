@@ -50,11 +50,10 @@ def _same(a: pd.Series, b: pd.Series) -> bool:
 
 
 @pytest.fixture(scope="module", params=sorted(SEEDS))
-def runs(request, tmp_path_factory):
-    """One reduced study run sequentially and on two loky workers."""
+def runs(request, study_run):
+    """One reduced study run sequentially (shared with the ingest tests) and on two loky workers."""
     name = request.param
-    root = tmp_path_factory.mktemp(name)
-    seq = run_study(_study(name, root, "runner.backend=sequential", "output.run=seq"))
+    root, seq = study_run(name, *REDUCED)
     par = run_study(_study(name, root, "runner.backend=loky", "runner.n_jobs=2",
                            "runner.batch_size=15", "output.run=par"))
     study = _study(name, root)
@@ -188,9 +187,8 @@ def _snapshot(path):
 
 
 @pytest.fixture(scope="module")
-def t2_export(tmp_path_factory):
-    root = tmp_path_factory.mktemp("t2ingest")
-    summary = run_study(_study("test2_grasp", root, "runner.backend=sequential"))
+def t2_export(tmp_path_factory, study_run):
+    root, summary = study_run("test2_grasp", *REDUCED)  # the run of `runs`, ingested beside it
     records = RunStore(summary.path).read().to_pandas()
     export = H.export_records(records, "test2_grasp")
     folder = tmp_path_factory.mktemp("t2files")

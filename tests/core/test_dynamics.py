@@ -148,6 +148,7 @@ def test_grasp_params_validation():
         dynamics.prepare_grasp(make_object("sphere", 42), -0.1)
 
 
+@pytest.mark.slow  # one simulated second of the dynamic grasp: `make test-full`
 def test_settled_grasp_balances_the_weight_within_tau_f(sphere):
     # A stiffer shell (10 k) and the stiff fingertip: the loop mechanics in a regime where the
     # shell does not sag off the bottom fingertip (see test_paper_si_constants_do_not_hold_...).
