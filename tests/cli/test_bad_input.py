@@ -241,18 +241,39 @@ def test_schedule_out_into_a_path_whose_parent_is_a_file(results, tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["notes.txt"]
 
 
+UNREACHABLE = ("runner.address = 'tcp://127.0.0.1:9': no Dask scheduler answered within 1 s "
+               "(OSError); start one (dask scheduler) or drop runner.address to run on a local "
+               "cluster.")
+
+
+def test_a_malformed_dask_address_is_refused_before_anything_runs(results):
+    for command in ("show", "run"):
+        _refused(results, [command, "smoke", "runner.backend=dask", "runner.address=localhost",
+                           "--root", results],
+                 "runner.address = 'localhost' is not a Dask scheduler address; expected e.g. "
+                 "tcp://host:8786.")
+
+
+def test_an_unreachable_dask_scheduler_is_one_sentence():
+    from graspcampaign.campaign.runner import _connect
+    from graspcampaign.errors import UserInputError
+
+    class Unreachable:  # what distributed.Client does when nothing answers in time
+        def __init__(self, address, timeout):
+            raise OSError(f"Timed out trying to connect to {address} after {timeout} s")
+
+    with pytest.raises(UserInputError) as info:
+        _connect(Unreachable, "tcp://127.0.0.1:9", 1.0)
+    assert str(info.value) == UNREACHABLE
+
+
+@pytest.mark.slow  # imports distributed and waits for the connection timeout: `make test-full`
 def test_unreachable_dask_scheduler_fails_fast_in_one_sentence(results):
     pytest.importorskip("distributed")
-    base = ["run", "smoke", "shape=[sphere]", "nodes=[144]", "runner.backend=dask",
-            "runner.connect_timeout_s=1", "--root", results]
-    # port 9 (discard) on the loopback: nothing listens, the connection is refused at once
-    _refused(results, [*base, "runner.address=tcp://127.0.0.1:9"],
-             "runner.address = 'tcp://127.0.0.1:9': no Dask scheduler answered within 1 s "
-             "(OSError); start one (dask scheduler) or drop runner.address to run on a local "
-             "cluster.")
-    _refused(results, [*base, "runner.address=localhost"],
-             "runner.address = 'localhost' is not a Dask scheduler address; expected e.g. "
-             "tcp://host:8786.")
+    # port 9 (discard) on the loopback: nothing listens
+    _refused(results, ["run", "smoke", "shape=[sphere]", "nodes=[144]", "runner.backend=dask",
+                       "runner.connect_timeout_s=1", "runner.address=tcp://127.0.0.1:9", "--root",
+                       results], UNREACHABLE)
 
 
 IMPOSSIBLE = {

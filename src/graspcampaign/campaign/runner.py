@@ -11,7 +11,6 @@ from __future__ import annotations
 import contextlib
 import math
 import os
-import re
 import socket
 import sys
 import time
@@ -210,10 +209,8 @@ def _executor(study: StudyCfg):
 
 
 def _connect(client_type: type, address: str, timeout_s: float):
-    """Connect to a Dask scheduler, or say in one sentence that none answers."""
-    if not re.fullmatch(r"(tcp|tls|ucx|inproc|ws|wss)://[^\s/:]+(:\d+)?/?", address):
-        raise UserInputError(f"runner.address = {address!r} is not a Dask scheduler address; "
-                             "expected e.g. tcp://host:8786.")
+    """Connect to a Dask scheduler, or say in one sentence that none answers (the address's
+    form is checked with the config, ``schema.check_study``)."""
     try:
         return client_type(address, timeout=timeout_s)
     except (OSError, TimeoutError) as exc:

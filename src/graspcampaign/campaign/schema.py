@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -260,6 +261,11 @@ def check_study(study: StudyCfg) -> None:
     check_name(study.name, "name")
     check_name(study.output.run, "output.run")
     check_config(study)
+    address = study.runner.address
+    if address is not None and not re.fullmatch(
+            r"(tcp|tls|ucx|inproc|ws|wss)://[^\s/:]+(:\d+)?/?", str(address)):
+        raise ConfigError(f"runner.address = {address!r} is not a Dask scheduler address; "
+                          "expected e.g. tcp://host:8786.")
     for name, levels in study.factors.items():
         if name not in FACTOR_SPECS:
             raise ConfigError(
