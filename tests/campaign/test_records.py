@@ -149,3 +149,17 @@ def test_trace_rows_without_a_record_are_dropped_on_repair(tmp_path):
                                             {"trial_id": "b", "step": 1}])
     assert store.repair() == []
     assert store.read("tables/trace").column("trial_id").to_pylist() == ["a"]
+
+
+def test_a_rewrite_interrupted_before_the_old_file_goes_counts_no_row_twice(tmp_path):
+    store = RunStore(tmp_path / "run")
+    for name in "ab":
+        store.write_shard("records", name, [{"trial_id": f"{name}1"}, {"trial_id": f"{name}2"}])
+    store.compact()
+    (compact,) = (tmp_path / "run" / "records").glob("compact-*.parquet")
+    saved = compact.read_bytes()
+    store._drop_rows("records", {"a2"})  # what repair does for a trial whose traces were lost
+    compact.write_bytes(saved)  # a crash before the old file was removed
+    assert sorted(store.recorded_ids()) == ["a1", "b1", "b2"]
+    store.clean()
+    assert not compact.exists() and sorted(store.recorded_ids()) == ["a1", "b1", "b2"]

@@ -358,10 +358,13 @@ class RunStore:
         return target
 
     def _rewrite(self, path: Path, table: pa.Table, tag: Any) -> None:
-        """Replace ``path`` by ``table`` crash-safely (the new file supersedes the old one)."""
+        """Replace ``path`` by ``table`` crash-safely: the new file supersedes the old one and
+        whatever the old one superseded, so no crash in between can make a row count twice."""
         if table.num_rows:
+            raw = (pq.read_schema(path).metadata or {}).get(_SOURCES_KEY)
+            sources = [path.name, *(json.loads(raw) if raw else [])]
             name = f"compact-{content_hash([path.name, tag])}.parquet"
-            table = table.replace_schema_metadata({_SOURCES_KEY: json.dumps([path.name]).encode()})
+            table = table.replace_schema_metadata({_SOURCES_KEY: json.dumps(sources).encode()})
             _write_atomic(table, path.parent / name)
         path.unlink(missing_ok=True)
 
@@ -372,8 +375,7 @@ class RunStore:
         live, _ = self._listing(part)
         for path in live:
             table = pq.read_table(path, page_checksum_verification=True)
-            keep = pc.invert(pc.is_in(table.column("trial_id"),
-                                                      value_set=pa.array(sorted(ids))))
+            keep = pc.invert(pc.is_in(table.column("trial_id"), value_set=pa.array(sorted(ids))))
             if not pc.all(keep).as_py():
                 self._rewrite(path, table.filter(keep).replace_schema_metadata(None),
                               ["drop", sorted(ids)])
