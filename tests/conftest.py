@@ -2,13 +2,22 @@
 
 from __future__ import annotations
 
+import hashlib
 import os
+import tempfile
 
 import matplotlib
 import pytest
 
 matplotlib.use("Agg")
 os.environ.setdefault("MPLBACKEND", "Agg")
+# The catalog cache (campaign/catalog.py) of the test runs of this checkout, never the user's
+# ~/.cache: shared by the xdist workers and kept between runs, which is safe because its facts
+# are keyed by the hash of the package's source (tests of the cache itself use their own dirs).
+_CHECKOUT = hashlib.sha256(os.path.abspath(__file__).encode()).hexdigest()[:10]
+os.environ["GRASPCAMPAIGN_CACHE"] = os.path.join(tempfile.gettempdir(),
+                                                 f"graspcampaign-test-catalog-{_CHECKOUT}")
+os.environ.pop("GRASPCAMPAIGN_PATH", None)
 
 
 @pytest.fixture
@@ -27,3 +36,29 @@ def study_factory(tmp_path):
         )
 
     return make
+
+
+@pytest.fixture(scope="session")
+def study_run(tmp_path_factory):
+    """Run a study once per test session (per xdist worker) and share the finished run.
+
+    ``study_run(name, *overrides)`` composes ``name`` with ``overrides`` under a results root of
+    its own (sequential backend, no progress output) and returns ``(root, RunSummary)``; the same
+    arguments give the same run. A test must not change the run it gets; writing other runs beside
+    it (another ``output.run``, an ingested ``measured`` run) is fine.
+    """
+    from graspcampaign.campaign.compose import compose_study
+    from graspcampaign.campaign.runner import run_study
+
+    done: dict[tuple, tuple] = {}
+
+    def get(name: str, *overrides: str):
+        key = (name, overrides)
+        if key not in done:
+            root = tmp_path_factory.mktemp(f"shared-{name}")
+            study = compose_study(name, ["runner.backend=sequential", "runner.progress=false",
+                                         f"output.root={root}", *overrides])
+            done[key] = root, run_study(study)
+        return done[key]
+
+    return get

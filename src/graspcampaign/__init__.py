@@ -1,3 +1,16 @@
-"""graspcampaign: reproducible experiment campaigns for soft-object grasp planning."""
+"""graspcampaign: reproducible experiment campaigns for soft-object grasp planning.
+
+The Python API (see ``graspcampaign.api``): ``compose_study``, ``run_study``, ``load_records``.
+They are imported on first use, so ``import graspcampaign`` stays instant.
+"""
 
 __version__ = "0.1.0"
+__all__ = ["compose_study", "run_study", "load_records"]
+
+
+def __getattr__(name: str):
+    if name in __all__:
+        from graspcampaign import api
+
+        return getattr(api, name)
+    raise AttributeError(f"module 'graspcampaign' has no attribute {name!r}")

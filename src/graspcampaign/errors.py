@@ -15,3 +15,11 @@ class ConfigError(UserInputError):
 
 class StudyNotRunnableError(UserInputError):
     """The study's trial kind is not implemented yet, so the study cannot run."""
+
+
+class DamagedRunError(UserInputError):
+    """A stored file of a run fails full verification (a damaged page, footer or checksum).
+
+    Reading a run never changes it: the report and the status refuse such a run, naming it and
+    the file; resuming the run quarantines the file and runs its trials again.
+    """

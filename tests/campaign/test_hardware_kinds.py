@@ -50,11 +50,10 @@ def _same(a: pd.Series, b: pd.Series) -> bool:
 
 
 @pytest.fixture(scope="module", params=sorted(SEEDS))
-def runs(request, tmp_path_factory):
-    """One reduced study run sequentially and on two loky workers."""
+def runs(request, study_run):
+    """One reduced study run sequentially (shared with the ingest tests) and on two loky workers."""
     name = request.param
-    root = tmp_path_factory.mktemp(name)
-    seq = run_study(_study(name, root, "runner.backend=sequential", "output.run=seq"))
+    root, seq = study_run(name, *REDUCED)
     par = run_study(_study(name, root, "runner.backend=loky", "runner.n_jobs=2",
                            "runner.batch_size=15", "output.run=par"))
     study = _study(name, root)
@@ -239,9 +238,8 @@ def _snapshot(path):
 
 
 @pytest.fixture(scope="module")
-def t2_export(tmp_path_factory):
-    root = tmp_path_factory.mktemp("t2ingest")
-    summary = run_study(_study("test2_grasp", root, "runner.backend=sequential"))
+def t2_export(tmp_path_factory, study_run):
+    root, summary = study_run("test2_grasp", *REDUCED)  # the run of `runs`, ingested beside it
     records = RunStore(summary.path).read().to_pandas()
     export = H.export_records(records, "test2_grasp")
     folder = tmp_path_factory.mktemp("t2files")
@@ -305,98 +303,124 @@ def test_a_late_second_executed_attempt_of_a_stored_slot_is_refused(t2_export, t
     assert _ingest(root, tmp_path / "late.csv", run="late").exit_code == 0
 
 
-def _bad(export: pd.DataFrame, kind: str, folder):
-    """A malformed measured-records file of one failure kind; returns (paths, message)."""
+TEMPLATE = (r" \(`graspcampaign schedule <study> --template` writes a sheet with every "
+            r"column\)\.")
+OUTCOMES = ("stable, success, partial, failure_slip, failure_drop, failure_damage, "
+            "failure_contact_loss, aborted")
+
+
+def _bad(export: pd.DataFrame, kind: str, folder, store):
+    """A malformed measured-records file of one failure kind; returns (paths, whole message)."""
     ex = export[~export["aborted"].astype(bool)].reset_index(drop=True)
     df = ex.copy()
     path = folder / f"{kind}.csv"
+    at = rf"{kind}\.csv, "
     if kind == "file_type":
         path = folder / "records.txt"
         path.write_text("trial_id\n")
-        return [path], r"unsupported file type '\.txt'"
+        return [path], (r"records\.txt, header, column '-': unsupported file type '\.txt' "
+                        r"\(expected \.csv, \.parquet or \.xlsx\)\.")
     if kind == "missing_file":
-        return [folder / "nowhere.csv"], r"no such file"
+        return [folder / "nowhere.csv"], re.escape(f"{folder / 'nowhere.csv'}: no such file.")
     if kind == "corrupt":
         path = folder / "broken.parquet"
         path.write_bytes(b"PAR1 not really parquet")
-        return [path], r"broken\.parquet, header, column '-': the file cannot be read as parquet"
+        return [path], (r"broken\.parquet, header, column '-': the file cannot be read as parquet "
+                        r"\(\w+\)\.")
     if kind == "no_rows":
         df = df.iloc[:0]
-        msg = r"the file has no data rows"
+        msg = at + r"header, column 'trial_id': the file has no data rows\."
     elif kind == "missing_column":
         df = df.drop(columns=["sf_actual"])
-        msg = r"header, column 'sf_actual': required column is missing"
+        msg = at + r"header: a required column is missing: sf_actual" + TEMPLATE
+    elif kind == "missing_columns_all_named":
+        df = df.drop(columns=["sf_actual", "outcome", "stable"])
+        msg = at + r"header: required columns are missing: outcome, stable, sf_actual" + TEMPLATE
     elif kind == "wrong_unit":
         df = df.rename(columns={"peak_slip_mm": "peak_slip_m"})
-        msg = r"column 'peak_slip_m': unit 'm' where 'peak_slip_mm' \(mm\) is expected"
+        msg = at + r"header: 'peak_slip_m' has unit 'm' where 'peak_slip_mm' \(mm\) is expected" \
+            + TEMPLATE
     elif kind == "empty_id":
         df.loc[2, "trial_id"] = ""
-        msg = r"row 3, column 'trial_id': trial id is empty"
+        msg = at + r"row 3, column 'trial_id': trial id is empty\."
     elif kind == "unknown_id":
         df.loc[1, "trial_id"] = "t2A-sphere-01-prop-0000000000"
-        msg = r"row 2, column 'trial_id': trial id 't2A-sphere-01-prop-0000000000' is not in"
+        msg = at + (r"row 2, column 'trial_id': trial id 't2A-sphere-01-prop-0000000000' is not "
+                    r"in the schedule\.")
     elif kind == "duplicate":
         df = pd.concat([df, df.iloc[[0]]], ignore_index=True)
-        msg = rf"row {len(df)}, column 'trial_id': duplicate trial id"
+        msg = at + (rf"row {len(df)}, column 'trial_id': duplicate trial id '[^']+' \(first seen "
+                    r"in row 1\)\.")
     elif kind == "not_boolean":
         df["aborted"] = df["aborted"].astype(object)
         df.loc[0, "aborted"] = "maybe"
-        msg = r"row 1, column 'aborted': value 'maybe' is not a boolean"
+        msg = at + (r"row 1, column 'aborted': value 'maybe' is not a boolean \(true/false, 1/0, "
+                    r"yes/no\)\.")
     elif kind == "not_number":
         df["normal_force_1_n"] = df["normal_force_1_n"].astype(object)
         df.loc[0, "normal_force_1_n"] = "1,5"
-        msg = r"row 1, column 'normal_force_1_n': value '1,5' is not a number"
+        msg = at + r"row 1, column 'normal_force_1_n': value '1,5' is not a number\."
     elif kind == "not_finite":
         df.loc[0, "g_geo_actual"] = math.inf
-        msg = r"row 1, column 'g_geo_actual': value 'inf' is not finite"
+        msg = at + r"row 1, column 'g_geo_actual': value 'inf' is not finite\."
     elif kind == "out_of_range":
         df.loc[0, "deformation_1_mm"] = 120.0
-        msg = r"row 1, column 'deformation_1_mm': value 120 lies outside \[0, 50\] mm"
+        msg = at + (r"row 1, column 'deformation_1_mm': value 120 lies outside \[0, 50\] mm "
+                    r"\(wrong units\?\)\.")
     elif kind == "bad_choice":
         df.loc[0, "outcome"] = "wobbled"
-        msg = r"row 1, column 'outcome': value 'wobbled' is not one of stable"
+        msg = at + rf"row 1, column 'outcome': value 'wobbled' is not one of {OUTCOMES}\."
+    elif kind == "unknown_source":
+        df.loc[0, "source"] = "bogus"
+        msg = at + r"row 1, column 'source': value 'bogus' is not one of measured, virtual\."
     elif kind == "required_empty":
         df.loc[0, "sf_actual"] = None
-        msg = r"row 1, column 'sf_actual': value is empty but the trial was executed"
+        msg = at + (r"row 1, column 'sf_actual': value is empty but the trial was executed "
+                    r"\(aborted is false\)\.")
     elif kind == "inconsistent":
         i = int(np.flatnonzero(df["outcome"].isin(["stable", "success"]))[0])
         df.loc[i, "success"] = False
-        msg = rf"row {i + 1}, column 'success': success is False but outcome is"
+        msg = at + (rf"row {i + 1}, column 'success': success is False but outcome is "
+                    r"'(stable|success)' \(success means outcome stable or success, §8\.1\)\.")
     elif kind == "missing_flag":
         i = int(np.flatnonzero(df["outcome"] == "failure_drop")[0])
         df.loc[i, "drop_flag"] = False
-        msg = rf"row {i + 1}, column 'drop_flag': outcome is 'failure_drop' but drop_flag is false"
+        msg = at + (rf"row {i + 1}, column 'drop_flag': outcome is 'failure_drop' but drop_flag "
+                    r"is false \(every failure class carries its flag, §8\.1\)\.")
     elif kind == "slot_twice":
         extra = df.iloc[[0]].assign(trial_id=lambda d: d["trial_id"] + "-a2")
         df = pd.concat([df, extra], ignore_index=True)
-        msg = rf"row {len(df)}, column 'aborted': slot '.*' already has an executed record"
+        msg = at + (rf"row {len(df)}, column 'aborted': slot '[^']+' already has an executed "
+                    r"record in row 1; only one attempt per slot may be executed\.")
     elif kind == "across_files":
         df.iloc[:3].to_csv(folder / "a.csv", index=False)
         df.iloc[2:5].to_parquet(folder / "b.parquet", index=False)
         return [folder / "a.csv", folder / "b.parquet"], \
-            r"b\.parquet, row 1, column 'trial_id': trial '.*' is already in a\.csv"
+            r"b\.parquet, row 1, column 'trial_id': trial '[^']+' is already in a\.csv \(one " \
+            r"record per trial\)\."
     elif kind == "already_stored":
         df = export.iloc[:2]
-        msg = r"is already stored in .*measured records are never overwritten"
+        msg = (rf"trial '[^']+' is already stored in {re.escape(str(store.path))}; measured "
+               r"records are never overwritten \(2 such trials\)\.")
     else:
         raise AssertionError(kind)
     df.to_csv(path, index=False)
     return [path], msg
 
 
-FAILURES = ("file_type", "missing_file", "corrupt", "no_rows", "missing_column", "wrong_unit",
-            "empty_id", "unknown_id", "duplicate", "not_boolean", "not_number", "not_finite",
-            "out_of_range", "bad_choice", "required_empty", "inconsistent", "missing_flag",
-            "slot_twice", "across_files", "already_stored")
+FAILURES = ("file_type", "missing_file", "corrupt", "no_rows", "missing_column",
+            "missing_columns_all_named", "wrong_unit", "empty_id", "unknown_id", "duplicate",
+            "not_boolean", "not_number", "not_finite", "out_of_range", "bad_choice",
+            "unknown_source", "required_empty", "inconsistent", "missing_flag", "slot_twice",
+            "across_files", "already_stored")
 
 
 @pytest.mark.parametrize("kind", FAILURES)
 def test_malformed_files_are_rejected_and_nothing_changes(t2_export, kind, tmp_path):
     root, _, _, export, store = t2_export
-    before = _snapshot(store.path)
-    files, message = _bad(export, kind, tmp_path)
+    before = _snapshot(root)
+    files, message = _bad(export, kind, tmp_path, store)
     result = _ingest(root, *files)
     assert result.exit_code == 2, result.output
-    assert re.search(message, result.stderr), result.stderr
-    assert result.stderr.count("\n") == 1  # one sentence, no traceback
-    assert _snapshot(store.path) == before
+    assert re.fullmatch(f"error: {message}\n", result.stderr), result.stderr
+    assert _snapshot(root) == before

@@ -91,6 +91,7 @@ def test_pso_repeatability_trace_and_bounds(tmp_path):
         assert df[column].between(low, high).all()
 
 
+@pytest.mark.slow  # a settle plus the 4-step RK4 convergence study: `make test-full`
 def test_gravity_settle_records_trace_and_shape(tmp_path):
     summary, store, df = _run("gravity_settle", tmp_path, "nodes=[144]", "integrator=[rk4]",
                               "+params.settle_t_max_s=0.3")

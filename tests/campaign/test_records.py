@@ -6,9 +6,11 @@ import kinds_for_tests  # noqa: F401
 import pandas as pd
 import pyarrow.dataset as ds
 import pytest
+from damage import corrupt_value_column
 
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.runner import run_study
+from graspcampaign.errors import DamagedRunError
 
 
 def test_schema_union_keeps_columns_added_later(tmp_path):
@@ -26,10 +28,57 @@ def test_truncated_shard_is_quarantined_with_warning(tmp_path):
     path = store.write_shard("records", "b", [{"trial_id": "b", "x": 2.0}])
     data = path.read_bytes()
     path.write_bytes(data[: len(data) // 2])
-    with pytest.warns(UserWarning, match="unreadable shard .*part-b.parquet moved to"):
-        ids = store.recorded_ids()
-    assert ids == {"a"}
+    with pytest.warns(UserWarning, match="damaged file .*part-b.parquet moved to"):
+        moved = store.repair()
+    assert [(m[0].name, m[1].name) for m in moved] == [("part-b.parquet", "records__part-b.parquet")]
+    assert store.recorded_ids() == {"a"}
     assert (tmp_path / "run" / "quarantine" / "records__part-b.parquet").exists()
+
+
+def _two_shards(tmp_path):
+    store = RunStore(tmp_path / "results" / "unit" / "r1")
+    store.write_shard("records", "a", [{"trial_id": "a", "residual_norm_n": 0.25}])
+    rows = [{"trial_id": f"b{i}", "residual_norm_n": 0.1 * i, "status": "ok"} for i in range(20)]
+    path = store.write_shard("records", "b", rows)
+    return store, path
+
+
+def test_damaged_value_column_is_refused_on_read_and_nothing_moves(tmp_path):
+    store, path = _two_shards(tmp_path)
+    corrupt_value_column(path, "residual_norm_n")
+    message = (f"run unit/r1 at {store.path} has a damaged file records/part-b.parquet "
+               "(could not verify page integrity, CRC checksum verification failed for page_ordinal "
+               "0); resume the run (graspcampaign run unit --run r1 --root "
+               f"{tmp_path / 'results'}) to quarantine the file and run its trials again.")
+    for read in (store.recorded_ids, store.read, store.verify,
+                 lambda: store.read(columns=["trial_id"])):
+        with pytest.raises(DamagedRunError) as info:
+            read()
+        assert str(info.value) == message
+    assert path.exists() and not (store.path / "quarantine").exists()
+
+
+def test_compaction_never_reads_an_unverified_shard(tmp_path):
+    store, path = _two_shards(tmp_path)
+    corrupt_value_column(path, "residual_norm_n")
+    with pytest.raises(DamagedRunError, match="has a damaged file records/part-b.parquet"):
+        store.compact()
+    assert sorted(p.name for p in (store.path / "records").iterdir()) == [
+        "part-a.parquet", "part-b.parquet"]
+
+
+def test_repair_moves_exactly_the_damaged_shard_and_never_overwrites_quarantine(tmp_path):
+    store, path = _two_shards(tmp_path)
+    kept = path.read_bytes()
+    for _ in range(3):
+        path.write_bytes(kept)
+        corrupt_value_column(path, "residual_norm_n")
+        with pytest.warns(UserWarning, match="damaged file"):
+            store.repair()
+        assert store.recorded_ids() == {"a"}
+    names = sorted(p.name for p in (store.path / "quarantine").iterdir())
+    assert names == ["records__part-b.parquet", "records__part-b~1.parquet",
+                     "records__part-b~2.parquet"]
 
 
 def test_temporary_files_are_invisible_and_cleaned(tmp_path):
@@ -70,7 +119,47 @@ def test_pandas_pyarrow_and_duckdb_read_the_same_records(study_factory):
 
     def norm(df):
         df = df[sorted(ours.columns)].sort_values("trial_id").reset_index(drop=True)
-        return df.astype({c: "object" for c in df.columns})
+        # a missing string is NaN in one reader and None in another
+        return df.astype(object).map(lambda v: None if v is None or v != v else v)
 
     for other in (via_pandas, via_dataset, via_duckdb):
         pd.testing.assert_frame_equal(norm(ours), norm(other), check_dtype=False)
+
+
+def test_a_damaged_measured_run_is_refused_with_the_ingest_advice(tmp_path):
+    from graspcampaign.campaign.provenance import write_manifest
+
+    store, path = _two_shards(tmp_path)
+    write_manifest(store.manifest_path, {"source": "measured"})
+    corrupt_value_column(path, "residual_norm_n")
+    with pytest.raises(DamagedRunError) as info:
+        store.verify()
+    assert str(info.value) == (
+        f"run unit/r1 at {store.path} has a damaged file records/part-b.parquet (could not verify "
+        "page integrity, CRC checksum verification failed for page_ordinal 0); move it out of the "
+        "run directory and ingest the file that held its records again.")
+
+
+def test_trace_rows_without_a_record_are_dropped_on_repair(tmp_path):
+    store = RunStore(tmp_path / "run")
+    store.write_shard("records", "a", [{"trial_id": "a"}])
+    store.write_shard("tables/trace", "a", [{"trial_id": "a", "step": 0}])
+    # a kill between a task's traces and its records leaves traces of an unrecorded trial
+    store.write_shard("tables/trace", "b", [{"trial_id": "b", "step": 0},
+                                            {"trial_id": "b", "step": 1}])
+    assert store.repair() == []
+    assert store.read("tables/trace").column("trial_id").to_pylist() == ["a"]
+
+
+def test_a_rewrite_interrupted_before_the_old_file_goes_counts_no_row_twice(tmp_path):
+    store = RunStore(tmp_path / "run")
+    for name in "ab":
+        store.write_shard("records", name, [{"trial_id": f"{name}1"}, {"trial_id": f"{name}2"}])
+    store.compact()
+    (compact,) = (tmp_path / "run" / "records").glob("compact-*.parquet")
+    saved = compact.read_bytes()
+    store._drop_rows("records", {"a2"})  # what repair does for a trial whose traces were lost
+    compact.write_bytes(saved)  # a crash before the old file was removed
+    assert sorted(store.recorded_ids()) == ["a1", "b1", "b2"]
+    store.clean()
+    assert not compact.exists() and sorted(store.recorded_ids()) == ["a1", "b1", "b2"]

@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import kinds_for_tests  # noqa: F401  (registers the test kinds)
 import pandas as pd
+import pyarrow.parquet as pq
 import pytest
 
 from graspcampaign.campaign.records import RunStore
-from graspcampaign.campaign.runner import DriftError, run_study
+from graspcampaign.campaign.runner import DriftError, run_path, run_study
 
 VOLATILE = ["wall_time_s", "worker", "host"]
 
@@ -17,18 +18,25 @@ def _records(summary) -> pd.DataFrame:
     return df.drop(columns=VOLATILE).sort_values("trial_id").reset_index(drop=True)
 
 
-def test_sequential_loky_and_dask_give_identical_records(study_factory, tmp_path):
-    pytest.importorskip("distributed")
+def test_sequential_and_loky_give_identical_records(study_factory):
     seq = run_study(study_factory(backend="sequential"), run="seq")
     loky1 = run_study(study_factory(backend="loky", n_jobs=1), run="loky1")
     loky2 = run_study(study_factory(backend="loky", n_jobs=2, runner={"batch_size": 3}),
                       run="loky2")
-    dask = run_study(study_factory(backend="dask", n_jobs=2, runner={"batch_size": 5}),
-                     run="dask")
     ref = _records(seq).drop(columns=["run"])
     assert len(ref) == 16 and ref["trial_id"].is_unique
-    for other in (loky1, loky2, dask):
+    for other in (loky1, loky2):
         pd.testing.assert_frame_equal(ref, _records(other).drop(columns=["run"]))
+
+
+@pytest.mark.slow  # a LocalCluster takes seconds to start: `make test-full`
+def test_dask_gives_the_records_of_the_sequential_run(study_factory):
+    pytest.importorskip("distributed")
+    seq = run_study(study_factory(backend="sequential"), run="seq")
+    dask = run_study(study_factory(backend="dask", n_jobs=2, runner={"batch_size": 5}),
+                     run="dask")
+    pd.testing.assert_frame_equal(_records(seq).drop(columns=["run"]),
+                                  _records(dask).drop(columns=["run"]))
 
 
 def test_planners_of_a_scene_see_the_same_draws(study_factory):
@@ -98,3 +106,114 @@ def test_runner_settings_are_not_drift(study_factory):
     run_study(study_factory(backend="sequential"))
     again = run_study(study_factory(backend="loky", n_jobs=2))
     assert again.n_ran == 0
+
+
+class _Killed(Exception):
+    """Stands in for SIGKILL: the run stops between two tasks, nothing after the loop runs."""
+
+
+def _kill_after(monkeypatch, n_tasks):
+    from graspcampaign.campaign import runner
+
+    calls = []
+
+    def advance(self, n, failed):
+        calls.append(n)
+        if len(calls) == n_tasks:
+            raise _Killed
+
+    monkeypatch.setattr(runner._Progress, "advance", advance)
+
+
+def _tree(root):
+    return {p: p.read_bytes() for p in sorted(root.rglob("*")) if p.is_file()}
+
+
+def test_killed_run_with_a_damaged_value_column_reruns_exactly_that_shard(
+        study_factory, monkeypatch):
+    from damage import corrupt_value_column
+
+    clean = _records(run_study(study_factory(runner={"batch_size": 3}), run="clean"))
+    study = study_factory(runner={"batch_size": 3})
+    with monkeypatch.context() as m:
+        _kill_after(m, 3)
+        with pytest.raises(_Killed):
+            run_study(study)
+    records = sorted((run_path(study) / "records").glob("part-*.parquet"))
+    assert len(records) == 3 and not list(records[0].parent.glob("compact-*"))
+    damaged = records[1]
+    lost = set(pq.read_table(damaged, columns=["trial_id"]).column("trial_id").to_pylist())
+    corrupt_value_column(damaged, "pi_estimate")
+    with pytest.warns(UserWarning, match=f"damaged file {damaged} moved to"):
+        resumed = run_study(study)
+    assert resumed.n_already == 9 - len(lost) and resumed.n_ran == 16 - 9 + len(lost)
+    quarantined = run_path(study) / "quarantine" / f"records__{damaged.name}"
+    assert quarantined.is_file()
+    pd.testing.assert_frame_equal(clean.drop(columns=["run"]),
+                                  _records(resumed).drop(columns=["run"]))
+
+
+def test_finished_run_with_a_damaged_shard_is_refused_by_report_then_resumed(study_factory):
+    from damage import corrupt_value_column
+    from typer.testing import CliRunner
+
+    from graspcampaign.cli.main import app
+
+    clean = _records(run_study(study_factory(), run="clean"))
+    study = study_factory()
+    summary = run_study(study)
+    (compact,) = (summary.path / "records").glob("compact-*.parquet")
+    corrupt_value_column(compact, "pi_estimate")
+    root = summary.path.parent.parent
+    before = _tree(root)
+    result = CliRunner().invoke(app, ["report", "unit", "--run", "r1", "--root", str(root)])
+    assert result.exit_code == 2
+    assert result.stderr == (
+        f"error: run unit/r1 at {summary.path} has a damaged file records/{compact.name} "
+        "(could not verify page integrity, CRC checksum verification failed for page_ordinal 0); "
+        f"resume the run (graspcampaign run unit --run r1 --root {root}) to quarantine the file "
+        "and run its trials again.\n")
+    assert _tree(root) == before
+    with pytest.warns(UserWarning, match="damaged file"):
+        resumed = run_study(study)
+    assert resumed.n_already == 0 and resumed.n_ran == 16
+    pd.testing.assert_frame_equal(clean.drop(columns=["run"]),
+                                  _records(resumed).drop(columns=["run"]))
+    assert CliRunner().invoke(app, ["report", "unit", "--run", "r1", "--root", str(root)]
+                              ).exit_code == 0
+
+
+def test_damaged_trace_file_reruns_the_trials_it_held(study_factory, monkeypatch):
+    from damage import corrupt_value_column
+
+    clean_summary = run_study(study_factory(kind="test_pi_trace", runner={"batch_size": 4}),
+                              run="clean")
+    study = study_factory(kind="test_pi_trace", runner={"batch_size": 4})
+    with monkeypatch.context() as m:
+        _kill_after(m, 2)
+        with pytest.raises(_Killed):
+            run_study(study)
+    path = run_path(study)
+    trace = sorted((path / "tables" / "trace").glob("part-*.parquet"))[0]
+    lost = set(pq.read_table(trace, columns=["trial_id"]).column("trial_id").to_pylist())
+    corrupt_value_column(trace, "value")
+    with pytest.warns(UserWarning, match="damaged file"):
+        resumed = run_study(study)
+    assert resumed.n_already == 8 - len(lost) and resumed.n_ran == 8 + len(lost)
+    store, clean_store = RunStore(path), RunStore(clean_summary.path)
+    for part in ("records", "tables/trace"):
+        ours = store.read(part).to_pandas().drop(columns=VOLATILE + ["run"], errors="ignore")
+        ref = clean_store.read(part).to_pandas().drop(columns=VOLATILE + ["run"], errors="ignore")
+        key = ["trial_id", "step"] if part != "records" else ["trial_id"]
+        pd.testing.assert_frame_equal(ours.sort_values(key).reset_index(drop=True),
+                                      ref.sort_values(key).reset_index(drop=True))
+
+
+def test_error_columns_are_strings_even_when_no_trial_errored(study_factory):
+    import pyarrow as pa
+
+    summary = run_study(study_factory())
+    table = RunStore(summary.path).read()
+    for name in ("error_type", "error_message", "error_traceback"):
+        assert table.schema.field(name).type == pa.string()
+        assert table.column(name).null_count == table.num_rows

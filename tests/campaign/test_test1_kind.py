@@ -175,10 +175,11 @@ def _ingest(root, *files, extra=()):
 
 @pytest.fixture(scope="module")
 def ingested(engine, tmp_path_factory):
-    """The virtual waveforms of every event written to CSV (half) and Parquet (half), ingested."""
-    root, *_, ref = engine
+    """The virtual waveforms of 6 events of every block (and cyclic cycle) written to CSV (half)
+    and Parquet (half), ingested: every fit path, at a tenth of the cost of all 284 events."""
+    root, *_, schedule, ref = engine
     folder = tmp_path_factory.mktemp("files")
-    ids = sorted(ref.waveforms["event_id"].unique())
+    ids = sorted(schedule.groupby("block").head(6)["event_id"])
     first = ref.waveforms[ref.waveforms["event_id"].isin(ids[: len(ids) // 2])]
     second = ref.waveforms[ref.waveforms["event_id"].isin(ids[len(ids) // 2:])]
     first.to_csv(folder / "day1.csv", index=False)
@@ -192,7 +193,8 @@ def test_ingest_gives_the_same_fits_as_the_in_process_path(engine, ingested):
     *_, records, _, ref = engine
     _, _, store = ingested
     measured = store.read().to_pandas()
-    assert len(measured) == len(records) == 284
+    assert len(records) == 284 and len(measured) == 30
+    assert sorted(measured["block"].unique()) == sorted(T.BLOCKS)
     _assert_same_fits(measured, ref.fits)
     # keyed by the engine's trial ids of the same planned events
     ids = records.set_index("event_id")["trial_id"]
@@ -224,12 +226,28 @@ def _bad_duplicate(df):
     return pd.concat([df.iloc[:30], df.iloc[[29]], df.iloc[30:]], ignore_index=True)
 
 
+TEMPLATE = r" \(`graspcampaign schedule test1_bench --template` writes a sheet with every column\)\."
+ATTEMPT = r"is not an attempt number \(an integer 1, 2, \.\.\. counting the tries of the event\)\."
 FAILURES = {
     "missing_column": (lambda d: d.drop(columns=["normal_force_n"]),
-                       r"bad\.csv, header, column 'normal_force_n': required column is missing\."),
+                       r"bad\.csv, header: a required column is missing: normal_force_n" + TEMPLATE),
+    "missing_columns_all_named": (
+        lambda d: d.drop(columns=["normal_force_n", "event_id", "tangential_displacement_mm"]),
+        r"bad\.csv, header: required columns are missing: event_id, normal_force_n, "
+        r"tangential_displacement_mm" + TEMPLATE),
     "wrong_unit_column": (lambda d: d.rename(columns={"displacement_mm": "displacement_m"}),
-                          r"bad\.csv, header, column 'displacement_m': unit 'm' where "
-                          r"'displacement_mm' \(mm\) is expected\."),
+                          r"bad\.csv, header: 'displacement_m' has unit 'm' where "
+                          r"'displacement_mm' \(mm\) is expected" + TEMPLATE),
+    "attempt_not_an_integer": (lambda d: d.astype({"attempt": object}).assign(
+        attempt=lambda x: x["attempt"].where(x.index != 2, "second")),
+        r"bad\.csv, row 3, column 'attempt': value 'second' " + ATTEMPT),
+    "attempt_negative": (lambda d: d.assign(attempt=-4),
+                         r"bad\.csv, row 1, column 'attempt': value -4 " + ATTEMPT),
+    "attempt_zero": (lambda d: d.assign(attempt=0), r"bad\.csv, row 1, column 'attempt': value 0 "
+                                                    + ATTEMPT),
+    "unknown_source": (lambda d: d.assign(source="bogus"),
+                       r"bad\.csv, row 1, column 'source': value 'bogus' is not one of measured, "
+                       r"virtual\."),
     "values_in_wrong_units": (lambda d: d.assign(normal_force_n=d["normal_force_n"] * 1e3),
                               r"bad\.csv, row \d+, column 'normal_force_n': value .* lies outside "
                               r"the 10 N load-cell range \(wrong units\?\)\."),

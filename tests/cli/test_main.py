@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import re
+from pathlib import Path
 
 import pytest
 from typer.testing import CliRunner
@@ -96,3 +97,159 @@ def test_run_status_and_report_smoke(tmp_path):
     md = (tmp_path / "smoke" / "default" / "report" / "report.md").read_text()
     assert "Data source:** simulation" in md
     assert (tmp_path / "index.md").exists()
+
+
+SMOKE = ["nodes=[144]", "runner.backend=sequential"]
+
+
+@pytest.fixture(scope="module")
+def smoke_run(tmp_path_factory):
+    """One finished smoke run (5 shapes at 144 nodes) under its own results root."""
+    root = tmp_path_factory.mktemp("smoke") / "results"
+    result = _invoke("run", "smoke", *SMOKE, "--root", str(root))
+    assert result.exit_code == 0, result.output
+    return root
+
+
+def test_show_counts_only_the_overridden_design_as_recorded(smoke_run):
+    # the run holds 5 trials (every shape); asking about two shapes counts two, at 144 nodes
+    out = _invoke("show", "smoke", "nodes=[144]", "shape=[sphere,pear]", "--root", str(smoke_run))
+    assert "= 2 trials" in out.stdout and "(2 of 2 recorded)" in out.stdout
+    assert "estimated time: 0 s for 0 trials" in out.stdout
+    # a design the run never covered: nothing recorded, every trial still to run
+    out = _invoke("show", "smoke", "nodes=[390]", "--root", str(smoke_run))
+    assert "(0 of 5 recorded)" in out.stdout and "for 5 trials" in out.stdout
+    same = _invoke("show", "smoke", "nodes=[144]", "--root", str(smoke_run))  # the run's config
+    assert "(5 of 5 recorded)" in same.stdout and "estimated time: 0 s for 0 trials" in same.stdout
+    full = _invoke("show", "smoke", "--root", str(smoke_run))
+    assert "(5 of 10 recorded)" in full.stdout and "for 5 trials" in full.stdout
+    assert "{" not in full.stdout and "'" not in full.stdout  # no Python reprs
+
+
+def test_report_without_run_reports_the_configured_run(smoke_run, tmp_path):
+    root = tmp_path / "results"
+    import shutil
+
+    shutil.copytree(smoke_run, root)
+    shutil.copytree(root / "smoke" / "default", root / "smoke" / "other")
+    result = _invoke("report", "smoke", "--root", str(root))
+    assert result.exit_code == 0, result.output
+    assert result.stdout == f"report: {root / 'smoke' / 'default' / 'report' / 'report.md'}\n"
+    assert not (root / "smoke" / "other" / "report").exists()
+
+
+def test_status_reads_the_configured_run(smoke_run):
+    info = json.loads(_invoke("status", "smoke", "--json", "--root", str(smoke_run)).stdout)
+    assert (info["run"], info["n_recorded"], info["n_ok"], info["complete"]) == ("default", 5, 5,
+                                                                                 True)
+
+
+def test_a_study_file_of_ones_own_runs_by_path_and_on_the_search_path(tmp_path, monkeypatch):
+    studies = tmp_path / "mine"
+    studies.mkdir()
+    text = (Path(__file__).parents[2] / "campaigns" / "smoke.yaml").read_text()
+    # a copy keeps the paper comparison of the study it came from (compare_with)
+    (studies / "my_smoke.yaml").write_text(
+        text.replace("name: smoke", "name: my_smoke\ncompare_with: smoke"))
+    root = tmp_path / "results"
+    monkeypatch.chdir(tmp_path)
+    by_path = _invoke("run", "./mine/my_smoke.yaml", "shape=[sphere]", *SMOKE, "--root", str(root))
+    assert by_path.exit_code == 0, by_path.output
+    assert "my_smoke/default: 1 trials, 0 already recorded, 1 ran" in by_path.stdout
+    monkeypatch.setenv("GRASPCAMPAIGN_PATH", str(studies))
+    listing = _invoke("list", "--names")
+    assert "my_smoke" in listing.stdout.split()
+    again = _invoke("run", "my_smoke", "shape=[sphere]", *SMOKE, "--root", str(root))
+    assert "1 already recorded, 0 ran" in again.stdout  # the same study, found by name
+
+
+def test_progress_lines_without_a_terminal(tmp_path):
+    result = _invoke("run", "smoke", "shape=[sphere,pear]", *SMOKE, "runner.progress=true",
+                     "runner.progress_interval_s=0", "runner.batch_size=1", "--root",
+                     str(tmp_path))
+    assert result.exit_code == 0, result.output
+    lines = result.stderr.splitlines()
+    assert len(lines) == 2, result.stderr  # one per task at interval 0, the last at 2/2
+    assert re.fullmatch(r"smoke/default: 1/2 trials \(50%\), 0 failed, [0-9.]+ trials/s, "
+                        r"ETA [0-9]+ s", lines[0]), lines[0]
+    assert lines[1].startswith("smoke/default: 2/2 trials (100%), 0 failed, ")
+
+
+def test_ctrl_c_says_what_is_recorded_and_how_to_resume(tmp_path, monkeypatch):
+    from graspcampaign.campaign import runner as runner_module
+
+    calls = []
+
+    def advance(self, n, failed):  # Ctrl-C after the second task is recorded
+        calls.append(n)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+
+    monkeypatch.setattr(runner_module._Progress, "advance", advance)
+    args = ["smoke", "shape=[sphere,pear,handle]", *SMOKE, "runner.batch_size=1"]
+    result = _invoke("run", *args, "--run", "try1", "--root", str(tmp_path))
+    assert result.exit_code == 130
+    assert result.stderr == (
+        f"interrupted: 2 of 3 trials are recorded in {tmp_path / 'smoke' / 'try1'}; resume with: "
+        f"graspcampaign run smoke 'shape=[sphere,pear,handle]' 'nodes=[144]' "
+        f"runner.backend=sequential runner.batch_size=1 --run try1 --root {tmp_path}\n")
+    monkeypatch.undo()
+    resumed = _invoke("run", *args, "--run", "try1", "--root", str(tmp_path))
+    assert "3 trials, 2 already recorded, 1 ran" in resumed.stdout
+
+
+def test_schedule_template_has_every_column_and_its_unit(tmp_path):
+    import pandas as pd
+
+    from graspcampaign.rig.ingest import record_columns
+
+    result = _invoke("schedule", "test3_disturbance", "params.fraction=0.05", "--template",
+                     "--out", str(tmp_path / "t3" / "sheet"))
+    assert result.exit_code == 0, result.output
+    sheet = pd.read_csv(tmp_path / "t3" / "sheet.csv")
+    fill = pd.read_csv(tmp_path / "t3" / "sheet-template.csv", keep_default_na=False)
+    columns = pd.read_csv(tmp_path / "t3" / "sheet-template-columns.csv")
+    assert list(fill.columns) == record_columns("test3_disturbance") == list(columns["column"])
+    assert fill["trial_id"].tolist() == sheet["trial_id"].tolist()
+    assert (fill.drop(columns="trial_id") == "").all().all()
+    assert set(columns["unit"]) == {"-", "1", "mm", "N", "N m", "deg"}
+    bench = _invoke("schedule", "test1_bench", "--template", "--out", str(tmp_path / "t1"),
+                    "params.materials=[gel]", "params.specimens=[1]", "params.environments=[normal_lab]")
+    assert bench.exit_code == 0, bench.output
+    waves = pd.read_csv(tmp_path / "t1-template-columns.csv")
+    assert waves["column"].tolist()[:6] == ["event_id", "time_s", "displacement_mm",
+                                            "normal_force_n", "tangential_force_n",
+                                            "tangential_displacement_mm"]
+    assert waves["unit"].tolist()[:6] == ["-", "s", "mm", "N", "N", "mm"]
+
+
+def test_help_is_quick_to_import_and_offers_completion():
+    result = _invoke("--help")
+    assert result.exit_code == 0 and "--install-completion" in result.stdout
+
+
+HEAVY = ("numpy", "pandas", "scipy", "trimesh", "numba", "matplotlib", "sklearn", "pyarrow",
+         "hydra", "graspcampaign.core.mesh", "graspcampaign.core.planner")
+
+
+@pytest.mark.parametrize(("args", "allowed"), [
+    (["--help"], ()),
+    (["list"], ()),
+    (["show", "smoke"], ("hydra",)),
+    (["status", "smoke", "--root", "{root}"], ("pyarrow", "numpy")),  # pyarrow needs numpy
+])
+def test_answering_commands_import_no_numerical_layer(smoke_run, args, allowed):
+    """`list`, `show`, `status`, `--help` answer fast because they import none of these
+    (timed by benchmarks/bench_cli.py; here only what they import, which cannot flake)."""
+    import subprocess
+    import sys
+
+    args = [a.format(root=smoke_run) for a in args]
+    # warm the catalog cache of this test process first, as a user's second call would find it
+    _invoke(*args)
+    code = ("import sys\nfrom graspcampaign.cli.main import app\n"
+            f"try:\n    app({args!r}, standalone_mode=False)\nexcept SystemExit:\n    pass\n"
+            f"print([m for m in {HEAVY!r} if m in sys.modules])")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    imported = eval(out.stdout.strip().splitlines()[-1])  # noqa: S307  (our own print)
+    assert set(imported) <= set(allowed), imported

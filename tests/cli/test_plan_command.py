@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import json
 import math
-import re
 
+import numpy as np
 import pytest
 from typer.testing import CliRunner
 
@@ -48,24 +48,119 @@ def test_plan_human_output(stl_files):
     assert "predicted limits: F_lat =" in result.stdout and "finger 3: vertex" in result.stdout
 
 
+MASS = "a mass must be positive and a three-finger hand lifts at most ~10 kg"
+
+
 @pytest.mark.parametrize(
     ("args", "message"),
     [
-        (["--mass-kg", "-1"], r"mass_kg must lie in \(0, 50\] kg, got -1\.0\."),
+        (["--mass-kg", "-1"], f"mass_kg = -1.0 is out of range; allowed: > 0 and <= 10 kg ({MASS})."),
+        (["--mass-kg", "500"], f"mass_kg = 500.0 is out of range; allowed: > 0 and <= 10 kg ({MASS})."),
+        (["--mass-kg", "0.1", "--mu", "50"], "mu = 50.0 is out of range; allowed: >= 0 and <= 3 (dry "
+                                             "friction of soft materials stays below 3)."),
+        (["--mass-kg", "0.1", "--mu", "nan"], "mu = nan is out of range; allowed: >= 0 and <= 3 (dry "
+                                              "friction of soft materials stays below 3)."),
+        (["--mass-kg", "0.1", "--fingertip-radius-mm", "-5"],
+         "fingertip_radius_mm = -5.0 is out of range; allowed: > 0 and <= 50 mm (a fingertip is a "
+         "few millimetres to a few centimetres in radius)."),
         (["--mass-kg", "0.1", "--material", "unobtainium"],
-         r"unknown material 'unobtainium': use one of gel, silicone_soft, bio_foam, silicone_ref"),
-        (["--mass-kg", "0.1", "--unit", "furlong"], r"unknown unit 'furlong': use one of 'm', 'cm', 'mm'"),
+         "unknown material 'unobtainium': use one of gel, silicone_soft, bio_foam, silicone_ref"),
+        (["--mass-kg", "0.1", "--unit", "furlong"], "unknown unit 'furlong': use one of 'm', 'cm', 'mm'"),
+        (["--mass-kg", "0.1", "--unit", "m"],
+         "mesh 'sphere.stl' is 99.8 m across read with --unit m, outside the 10-500 mm a "
+         "three-finger hand grasps; its coordinates look like millimetres: pass --unit mm."),
     ],
 )
 def test_plan_bad_values_exit_2(stl_files, args, message):
     result = runner.invoke(app, ["plan", str(stl_files["sphere"]), *args])
     assert result.exit_code == 2
-    assert re.fullmatch(r"error: " + message + r"\n", result.stderr), result.stderr
+    assert result.stderr == f"error: {message}\n"
 
 
-def test_plan_bad_mesh_exit_2(tmp_path):
-    bad = tmp_path / "open.stl"
-    bad.write_text("solid nothing\nendsolid nothing\n")
-    result = runner.invoke(app, ["plan", str(bad), "--mass-kg", "0.1"])
+def _mesh_file(tmp_path, name: str) -> tuple:
+    """Write one bad mesh of each class; return (path, the whole message)."""
+    import trimesh
+
+    sphere = trimesh.creation.icosphere(subdivisions=2, radius=40.0)  # mm
+    path = tmp_path / name
+    if name == "huge.obj":
+        v = sphere.vertices.copy()
+        v[3] = [1e200, 0.0, 0.0]
+        trimesh.Trimesh(v, sphere.faces, process=False).export(path)
+        return path, ("mesh 'huge.obj' has a coordinate of 1e+200 mm at vertex 4, beyond the 1e+06 mm "
+                      "(1000 m) any graspable object fits in; check the file and its unit (--unit)")
+    if name == "nan.obj":
+        sphere.export(path)
+        lines = path.read_text().splitlines()
+        first = next(i for i, line in enumerate(lines) if line.startswith("v "))
+        lines[first + 1] = "v nan 0 0"
+        path.write_text("\n".join(lines) + "\n")
+        return path, ("mesh 'nan.obj' has a non-finite coordinate at vertex 2 (nan, 0, 0): every "
+                      "coordinate must be a finite number")
+    if name == "inf.stl":
+        v = sphere.vertices.copy()
+        v[sphere.faces[4, 1]] = [0.0, np.inf, 0.0]
+        with np.errstate(invalid="ignore"):  # the exporter's face normals of an infinite corner
+            trimesh.Trimesh(v, sphere.faces, process=False).export(path)  # binary STL
+        return path, ("mesh 'inf.stl' has a non-finite coordinate at triangle 5 (0, inf, 0): every "
+                      "coordinate must be a finite number")
+    if name == "garbage.stl":
+        path.write_bytes(np.random.default_rng(0).integers(0, 256, 3000, dtype=np.uint8).tobytes())
+        return path, ("mesh 'garbage.stl' is not an STL file: 3000 bytes are neither a binary STL "
+                      "(84 bytes plus 50 per triangle) nor an ASCII STL (text starting with 'solid')")
+    if name == "empty.stl":
+        path.write_bytes(b"")
+        return path, "mesh 'empty.stl' is empty: the file has 0 bytes"
+    if name == "facetless.stl":
+        path.write_text("solid nothing\nendsolid nothing\n")
+        return path, "mesh 'facetless.stl' is empty: it has no faces"
+    if name == "text.ply":
+        path.write_text("hello\n")
+        return path, "mesh 'text.ply' cannot be read as PLY (Not a ply file!)"
+    if name == "sphere.step":
+        path.write_text("ISO-10303-21;\n")
+        return path, (f"mesh file '{path}' has unsupported type '.step': use .stl, .obj, .ply")
+    if name == "open.stl":
+        sphere.update_faces(np.arange(len(sphere.faces)) > 0)
+        sphere.export(path)
+        return path, "mesh 'open.stl' is not watertight: 3 boundary edges"
+    if name == "metres.stl":
+        sphere.apply_scale(1e-3)
+        sphere.export(path)
+        return path, ("mesh 'metres.stl' is 0.08 mm across read with --unit mm, outside the 10-500 mm "
+                      "a three-finger hand grasps; its coordinates look like metres: pass --unit m.")
+    raise AssertionError(name)
+
+
+@pytest.mark.parametrize("name", ["huge.obj", "nan.obj", "inf.stl", "garbage.stl", "empty.stl",
+                                  "facetless.stl", "text.ply", "sphere.step", "open.stl",
+                                  "metres.stl"])
+def test_plan_bad_mesh_exit_2(tmp_path, name):
+    path, message = _mesh_file(tmp_path, name)
+    before = sorted(p.name for p in tmp_path.iterdir())
+    result = runner.invoke(app, ["plan", str(path), "--mass-kg", "0.1"])
     assert result.exit_code == 2
-    assert result.stderr == "error: mesh 'open.stl' is empty: it has no faces\n"
+    assert result.stderr == f"error: {message}\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == before  # no picture of a refused mesh
+
+
+def test_plan_on_a_box_never_calls_a_grasp_with_an_unloaded_finger_stable(tmp_path):
+    import trimesh
+
+    path = tmp_path / "box.stl"
+    trimesh.creation.box(extents=(40.0, 30.0, 20.0)).export(path)  # 8 vertices, in mm
+    text = runner.invoke(app, ["plan", str(path), "--mass-kg", "0.1"])
+    assert text.exit_code == 0, text.output
+    # the coarse-mesh warning once, as one line; no Python reprs anywhere
+    assert text.stderr.count("mesh has only 8 vertices") == 1
+    assert text.stderr.startswith("warning: mesh has only 8 vertices")
+    assert "{" not in text.stdout and "[" not in text.stdout and "np." not in text.stdout
+    result = runner.invoke(app, ["plan", str(path), "--mass-kg", "0.1", "--json"])
+    assert result.exit_code == 0, result.output
+    plan = json.loads(result.stdout)
+    unloaded = [c["finger"] for c in plan["contacts"] if not c["normal_force_n"] > 1e-6]
+    assert plan["unloaded_fingers"] == unloaded
+    assert unloaded, "the box plan no longer has an unloaded finger: this test checks nothing"
+    assert plan["predicted_stable"] is False
+    assert "predicted stable: no (finger " in text.stdout
+    assert plan["mesh"]["size_mm"] == pytest.approx(40.0)

@@ -113,14 +113,14 @@ def test_cli_format_and_figure_format_options(tmp_path):
     write_run(tmp_path)
     bad = cli.invoke(app, ["report", "ablation", "--root", str(tmp_path), "--format", "pdf"])
     assert bad.exit_code == 2
-    good = cli.invoke(app, ["report", "ablation", "--root", str(tmp_path), "--format",
+    good = cli.invoke(app, ["report", "ablation", "--run", "r1", "--root", str(tmp_path), "--format",
                             "md,json,html", "--figure-format", "svg"])
     assert good.exit_code == 0, good.output
     out = tmp_path / "ablation" / "r1" / "report"
     assert (out / "tables.json").exists() and (out / "figures" / "fig16_ablation.svg").exists()
     assert "src='data:image/svg+xml;base64," in (out / "report.html").read_text()
-    pdf = cli.invoke(app, ["report", "ablation", "--root", str(tmp_path), "--figure-format",
-                           "pdf"])
+    pdf = cli.invoke(app, ["report", "ablation", "--run", "r1", "--root", str(tmp_path),
+                           "--figure-format", "pdf"])
     assert pdf.exit_code == 0 and (out / "figures" / "fig16_ablation.pdf").read_bytes()[:4] \
         == b"%PDF"
     assert "[fig16_ablation (PDF)](figures/fig16_ablation.pdf)" in (out / "report.md").read_text()
@@ -213,7 +213,7 @@ def test_one_broken_run_never_stops_the_others(tmp_path):
 
 def test_a_run_whose_every_trial_errored_is_reported_with_reasons(tmp_path):
     store = write_run(tmp_path, error_rows=set(range(20)))
-    result = cli.invoke(app, ["report", "ablation", "--root", str(tmp_path)])
+    result = cli.invoke(app, ["report", "ablation", "--run", "r1", "--root", str(tmp_path)])
     assert result.exit_code == 0, result.output
     table = pd.read_csv(store.path / "report" / "tables" / "success_by_planner.csv")
     assert table["rate_why"].tolist() == ["no executed trial"] * 2

@@ -102,18 +102,31 @@ def _check(schedule, df, tmp_path, match, kind="csv"):
         validate_records(path, schedule)
 
 
+TEMPLATE = (r" \(`graspcampaign schedule <study> --template` writes a sheet with every "
+            r"column\)\.$")
+
+
 def test_missing_column(good, tmp_path):
     schedule, rec, _ = good
     _check(schedule, rec.drop(columns=["sf_actual"]), tmp_path,
-           r"^bad\.csv, header, column 'sf_actual': required column is missing\.$")
+           r"^bad\.csv, header: a required column is missing: sf_actual" + TEMPLATE)
+
+
+def test_every_missing_column_is_named_at_once(good, tmp_path):
+    schedule, rec, _ = good
+    bad = rec.drop(columns=["sf_actual", "aborted", "normal_force_mean_n"])
+    bad = bad.rename(columns={"peak_slip_mm": "peak_slip_cm"})
+    _check(schedule, bad, tmp_path, r"^bad\.csv, header: required columns are missing: aborted, "
+           r"sf_actual, normal_force_mean_n; 'peak_slip_cm' has unit 'cm' where 'peak_slip_mm' "
+           r"\(mm\) is expected" + TEMPLATE)
 
 
 def test_wrong_unit(good, tmp_path):
     schedule, rec, _ = good
     bad = rec.rename(columns={"peak_slip_mm": "peak_slip_m"})
     bad["peak_slip_m"] = bad["peak_slip_m"] / 1000
-    _check(schedule, bad, tmp_path, r"^bad\.csv, header, column 'peak_slip_m': unit 'm' where "
-           r"'peak_slip_mm' \(mm\) is expected\.$")
+    _check(schedule, bad, tmp_path, r"^bad\.csv, header: 'peak_slip_m' has unit 'm' where "
+           r"'peak_slip_mm' \(mm\) is expected" + TEMPLATE)
 
 
 # One bad row: the first executed trial, row i + 1 of the file. Each case: the cells changed in
@@ -219,5 +232,26 @@ def test_test3_specific_columns(t3, tmp_path):
     _check(schedule, bad, tmp_path, rf"^bad\.csv, row {i + 1}, column 'first_finger_measured': "
            r"value '1\.5' is not an integer\.$")
     _check(schedule, rec.rename(columns={"threshold_measured_nm": "threshold_measured_nmm"}),
-           tmp_path, r"^bad\.csv, header, column 'threshold_measured_nmm': unit 'nmm' where "
-           r"'threshold_measured_nm' \(nm\) is expected\.$")
+           tmp_path, r"^bad\.csv, header: 'threshold_measured_nmm' has unit 'nmm' where "
+           r"'threshold_measured_nm' \(nm\) is expected" + TEMPLATE)
+    bad = rec.astype({"first_finger_measured": object})
+    bad.loc[i, "first_finger_measured"] = 4
+    _check(schedule, bad, tmp_path, rf"^bad\.csv, row {i + 1}, column 'first_finger_measured': "
+           r"value 4 lies outside \[0, 3\] \(wrong units\?\)\.$")
+
+
+def test_record_template_has_every_column_with_its_unit(t3):
+    from graspcampaign.rig.ingest import record_template
+
+    schedule = t3[0]
+    sheet, columns = record_template(schedule)
+    assert list(sheet.columns) == record_columns("test3_disturbance") == list(columns["column"])
+    assert sheet["trial_id"].tolist() == schedule["trial_id"].tolist()
+    assert (sheet.drop(columns="trial_id") == "").all().all()
+    unit = dict(zip(columns["column"], columns["unit"], strict=True))
+    assert (unit["peak_slip_mm"], unit["normal_force_1_n"], unit["threshold_measured_nm"],
+            unit["rotation_at_limit_deg"], unit["sf_actual"], unit["outcome"]) == (
+        "mm", "N", "N m", "deg", "1", "-")
+    # the template read back, every measured cell still empty, fails only on what is missing
+    with pytest.raises(IngestError, match=r"row 1, column 'aborted': value '' is not a boolean"):
+        validate_records(sheet, schedule, "template.csv")

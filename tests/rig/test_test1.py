@@ -280,14 +280,37 @@ def _force_in_mn(df):
     return out
 
 
+TEMPLATE = r" \(`graspcampaign schedule test1_bench --template` writes a sheet with every column\)\."
 # Each case: how the bad table is made from the good 30-sample event, and the message after
 # "bad.csv, " ({event} is the good event's id).
 BAD_WAVEFORMS = {
     "missing_column": (lambda d: d.drop(columns="normal_force_n"),
-                       r"header, column 'normal_force_n': required column is missing\."),
+                       r"header: a required column is missing: normal_force_n" + TEMPLATE),
+    "missing_columns_all_named": (lambda d: d.drop(columns=["normal_force_n", "time_s"]),
+                                  r"header: required columns are missing: time_s, normal_force_n"
+                                  + TEMPLATE),
     "wrong_unit_column": (lambda d: d.rename(columns={"displacement_mm": "displacement_m"}),
-                          r"header, column 'displacement_m': unit 'm' where 'displacement_mm' "
-                          r"\(mm\) is expected\."),
+                          r"header: 'displacement_m' has unit 'm' where 'displacement_mm' "
+                          r"\(mm\) is expected" + TEMPLATE),
+    "attempt_not_an_integer": (lambda d: _set(d, 3, "attempt", "two"),
+                               r"row 4, column 'attempt': value 'two' is not an attempt number "
+                               r"\(an integer 1, 2, \.\.\. counting the tries of the event\)\."),
+    "attempt_fractional": (lambda d: d.astype({"attempt": float}).assign(attempt=1.5),
+                           r"row 1, column 'attempt': value 1\.5 is not an attempt number \(an "
+                           r"integer 1, 2, \.\.\. counting the tries of the event\)\."),
+    "attempt_negative": (lambda d: d.assign(attempt=-4),
+                         r"row 1, column 'attempt': value -4 is not an attempt number \(an "
+                         r"integer 1, 2, \.\.\. counting the tries of the event\)\."),
+    "attempt_changes_within_event": (lambda d: _set(d, 6, "attempt", 2),
+                                     r"row 7, column 'attempt': value 2 differs from 1 earlier in "
+                                     r"event '{event}' \(one value per event\)\."),
+    "unknown_source": (lambda d: _set(d, 2, "source", "bogus"),
+                       r"row 3, column 'source': value 'bogus' is not one of measured, "
+                       r"virtual\."),
+    "empty_source": (lambda d: _set(d, 5, "source", ""),
+                     r"row 6, column 'source': value is empty; expected one of measured, "
+                     r"virtual\."),
+    "no_rows": (lambda d: d.iloc[:0], r"header, column 'event_id': the file has no data rows\."),
     "values_in_wrong_units": (_force_in_mn, r"row 6, column 'normal_force_n': value 250 lies "
                                             r"outside the 10 N load-cell range \(wrong units\?\)\."),
     "non_numeric": (lambda d: _set(d, 3, "time_s", "0.3s"),
@@ -331,8 +354,8 @@ def test_ingest_rejects_unknown_file_type(good, tmp_path):
 
 def test_ingest_error_is_a_value_error_and_labels_dataframes(good):
     ids, df = good
-    with pytest.raises(ValueError, match=r"^<dataframe>, header, column 'event_id': required "
-                                         r"column is missing\.$"):
+    with pytest.raises(ValueError, match=r"^<dataframe>, header: a required column is missing: "
+                                         r"event_id" + TEMPLATE + "$"):
         T.validate_waveforms(df.drop(columns="event_id"), ids)
 
 

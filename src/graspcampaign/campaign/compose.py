@@ -11,10 +11,16 @@ Overrides follow Hydra's grammar. A factor may be overridden by its bare name:
 
 from __future__ import annotations
 
-import os
+import contextlib
+import copy
+import functools
+import hashlib
 import re
-from functools import cache
+import shutil
+import tempfile
+from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 from hydra import compose, initialize_config_dir
 from hydra.core.config_store import ConfigStore
@@ -22,35 +28,21 @@ from omegaconf import OmegaConf
 
 from graspcampaign.campaign.paper import check_paper
 from graspcampaign.campaign.schema import SCHEMAS, StudyCfg, check_config, check_study
+from graspcampaign.campaign.studyfile import (  # noqa: F401  (project_dirs, list_studies: public here too)
+    check_group_files,
+    check_package_header,
+    find_study,
+    group_options,
+    list_studies,
+    project_dirs,
+    read_yaml,
+)
 from graspcampaign.errors import ConfigError, UserInputError
 
 _SCHEMA_LINE = re.compile(r"^#\s*schema:\s*(\w+)")
 
 
-@cache
-def project_dirs() -> tuple[Path, Path]:
-    """Return ``(conf_dir, campaigns_dir)``.
-
-    Looked up in order: ``$GRASPCAMPAIGN_HOME``, the source checkout the package is imported from
-    (editable installs), then the copies shipped inside the wheel.
-    """
-    candidates = []
-    if os.environ.get("GRASPCAMPAIGN_HOME"):
-        candidates.append(Path(os.environ["GRASPCAMPAIGN_HOME"]))
-    here = Path(__file__).resolve()
-    candidates += [here.parents[3], here.parents[1] / "_data"]
-    for root in candidates:
-        if (root / "conf" / "config.yaml").is_file() and (root / "campaigns").is_dir():
-            return root / "conf", root / "campaigns"
-    raise UserInputError("cannot find conf/config.yaml and campaigns/; set GRASPCAMPAIGN_HOME.")
-
-
-def group_options(group: str) -> tuple[str, ...]:
-    """Return the options of a config group (the YAML files in ``conf/<group>/``), sorted."""
-    return tuple(sorted(p.stem for p in (project_dirs()[0] / group).glob("*.yaml")))
-
-
-@cache
+@functools.cache
 def group_config(group: str, name: str):
     """Load ``conf/<group>/<name>.yaml`` into the schema its header names and check its ranges.
 
@@ -79,11 +71,6 @@ def group_config(group: str, name: str):
     return obj
 
 
-def list_studies() -> list[str]:
-    """Return the study names (files in ``campaigns/``), sorted."""
-    return sorted(p.stem for p in project_dirs()[1].glob("*.yaml"))
-
-
 def schema_of(path: Path) -> str | None:
     """Return the schema a YAML file names in its header (``# schema: Name``).
 
@@ -100,7 +87,9 @@ def schema_of(path: Path) -> str | None:
     return None
 
 
+@functools.cache
 def _register_schema() -> None:
+    """Put StudyCfg in Hydra's ConfigStore (once per process: converting it costs ~50 ms)."""
     ConfigStore.instance().store(name="study_schema", node=StudyCfg)
 
 
@@ -120,10 +109,8 @@ def omegaconf_error_sentence(exc: BaseException, prefix: str = "") -> str:
     return f"{text}."
 
 
-def _rewrite_overrides(study: str, overrides: list[str]) -> list[str]:
+def _rewrite_overrides(factors: set[str], overrides: list[str]) -> list[str]:
     """Map bare factor names to ``factors.<name>`` and scalars to one-level lists."""
-    path = project_dirs()[1] / f"{study}.yaml"
-    factors = set((OmegaConf.load(path).get("factors") or {}).keys())
     out = []
     for item in overrides:
         key, sep, value = item.partition("=")
@@ -136,35 +123,135 @@ def _rewrite_overrides(study: str, overrides: list[str]) -> list[str]:
 
 
 def compose_study(study: str, overrides: list[str] | None = None) -> StudyCfg:
-    """Compose ``campaigns/<study>.yaml`` with the ``conf/`` groups and ``overrides``.
+    """Compose a study with the ``conf/`` groups and ``overrides``.
+
+    ``study`` is a name on the config search path (``campaigns/`` and ``$GRASPCAMPAIGN_PATH``, see
+    :mod:`graspcampaign.campaign.studyfile`) or the path of a study file.
 
     Raises
     ------
     ConfigError
-        Unknown study, unknown key, wrong type or out-of-range value; one sentence naming it.
+        Unknown study, invalid YAML (file and line), unknown key, wrong type or out-of-range
+        value; one sentence naming it.
     """
     conf_dir, campaigns_dir = project_dirs()
-    names = list_studies()
-    if study not in names:
-        raise ConfigError(f"unknown study {study!r}; available studies: {', '.join(names)}.")
+    path = find_study(study)
+    data = read_yaml(path, study=True)
+    check_package_header(path)
+    _check_file_keys(path, data)
     given = list(overrides or [])
-    overrides = _rewrite_overrides(study, given)
+    key = _inputs_key(path, conf_dir, given)
+    if key in _COMPOSED:
+        return copy.deepcopy(_COMPOSED[key])
+    factors = data.get("factors")
+    overrides = _rewrite_overrides(set(factors) if isinstance(factors, dict) else set(), given)
     _register_schema()
-    try:
-        with initialize_config_dir(config_dir=str(conf_dir), version_base=None):
-            cfg = compose(
-                config_name="config",
-                overrides=[f"hydra.searchpath=[file://{campaigns_dir.parent}]",
-                           f"+campaigns={study}", *overrides],
-            )
-        obj = OmegaConf.to_object(cfg)
-    except UserInputError:
-        raise
-    except Exception as exc:  # Hydra/OmegaConf raise many unrelated types; all mean bad input
-        raise ConfigError(_override_sentence(exc, overrides, given)) from None
+    with _study_search_dir(path, campaigns_dir) as (search_dir, option):
+        try:
+            with initialize_config_dir(config_dir=str(conf_dir), version_base=None):
+                cfg = compose(
+                    config_name="config",
+                    overrides=[f"hydra.searchpath=[file://{search_dir}]",
+                               f"+campaigns={option}", *overrides],
+                )
+            _check_known_keys(cfg, given)
+            obj = OmegaConf.to_object(cfg)
+        except UserInputError:
+            raise
+        except Exception as exc:  # Hydra/OmegaConf raise many unrelated types; all mean bad input
+            check_group_files()  # a broken group file is named with its line
+            raise ConfigError(_override_sentence(exc, overrides, given)) from None
     check_study(obj)
-    check_paper(obj.name, obj.paper, f"{campaigns_dir.name}/{study}.yaml: paper")
+    where = f"{campaigns_dir.name}/{path.name}" if path.parent == campaigns_dir else str(path)
+    check_paper(obj.compare_with or obj.name, obj.paper, f"{where}: paper",
+                compare_with=bool(obj.compare_with))
+    if len(_COMPOSED) >= _COMPOSED_MAX:
+        _COMPOSED.pop(next(iter(_COMPOSED)))
+    _COMPOSED[key] = copy.deepcopy(obj)
     return obj
+
+
+# Compositions of this process by their inputs: the bytes of every conf/ file and of the study file,
+# and the overrides as given. Hydra takes ~0.2 s per composition; a notebook or a test suite that
+# composes the same inputs again gets a copy of the first result (failures are never kept).
+_COMPOSED: dict[tuple, StudyCfg] = {}
+_COMPOSED_MAX = 64
+
+
+def _inputs_key(path: Path, conf_dir: Path, overrides: list[str]) -> tuple:
+    digest = hashlib.sha256()
+    for file in [*sorted(conf_dir.rglob("*.yaml")), path]:
+        digest.update(file.as_posix().encode())
+        digest.update(file.read_bytes())
+    return str(Path(path).resolve()), str(conf_dir.resolve()), digest.hexdigest(), tuple(overrides)
+
+
+@contextlib.contextmanager
+def _study_search_dir(path: Path, campaigns_dir: Path) -> Iterator[tuple[Path, str]]:
+    """Yield a Hydra search directory and the ``campaigns/<option>`` that is the study file.
+
+    A study of the tool's own ``campaigns/`` is used in place; any other file is copied into a
+    temporary ``campaigns/`` (under a name no study can have) for the composition only.
+    """
+    if path.resolve().parent == campaigns_dir.resolve():
+        yield campaigns_dir.parent, path.stem
+        return
+    with tempfile.TemporaryDirectory(prefix="graspcampaign-") as tmp:
+        (Path(tmp) / "campaigns").mkdir()
+        shutil.copyfile(path, Path(tmp) / "campaigns" / "_user_study.yaml")
+        yield Path(tmp), "_user_study"
+
+
+def _unknown_key(cfg: Any, schema: type, prefix: str = "") -> tuple[str, type] | None:
+    """Return the first key of a mapping (or DictConfig) outside ``schema``, with its schema."""
+    import dataclasses
+
+    if not hasattr(cfg, "keys"):
+        return None
+    fields = {f.name: f for f in dataclasses.fields(schema)}
+    for key in cfg.keys():
+        if key not in fields:
+            return f"{prefix}{key}", schema
+        sub = fields[key].type
+        sub = SCHEMAS.get(sub) if isinstance(sub, str) else sub
+        if dataclasses.is_dataclass(sub):
+            found = _unknown_key(cfg[key], sub, f"{prefix}{key}.")
+            if found:
+                return found
+    return None
+
+
+def _known_keys_sentence(key: str, schema: type) -> str:
+    import dataclasses
+
+    return (f"{key} is not a known key of {schema.__name__}; known keys: "
+            f"{', '.join(f.name for f in dataclasses.fields(schema))}.")
+
+
+def _check_file_keys(path: Path, data: dict[str, Any]) -> None:
+    """Refuse a key of a study file outside the schema, naming the file and its line."""
+    found = _unknown_key(data, StudyCfg)
+    if found:
+        key, schema = found
+        leaf = key.rsplit(".", 1)[-1]
+        lines = Path(path).read_text().splitlines()
+        line = next((i + 1 for i, text in enumerate(lines)
+                     if re.match(rf"\s*{re.escape(leaf)}\s*:", text)), None)
+        where = f"{path}, line {line}" if line else f"{path}"
+        raise ConfigError(f"{where}: {_known_keys_sentence(key, schema)}")
+
+
+def _check_known_keys(cfg: Any, given: list[str]) -> None:
+    """Refuse keys a ``+key=value`` override added outside the schema (Hydra accepts them)."""
+    found = _unknown_key(cfg, StudyCfg)
+    if found:
+        key, schema = found
+        typed = next((o for o in given if o.lstrip("+~").partition("=")[0] == key), None)
+        sentence = _known_keys_sentence(key, schema)
+        if typed:
+            sentence = sentence.replace(f"of {schema.__name__};",
+                                        f"of {schema.__name__} (override {typed!r} rejected);")
+        raise ConfigError(sentence)
 
 
 def _override_sentence(exc: BaseException, overrides: list[str], given: list[str]) -> str:
@@ -186,7 +273,21 @@ def _override_sentence(exc: BaseException, overrides: list[str], given: list[str
     match = re.match(r"Could not append to config\. An item is already at '([^']+)'", text)
     if match:
         return f"{match.group(1)} already exists; override it without the leading '+'."
+    match = re.search(r"Could not find '([\w-]+)/([^']+)'", text)
+    if match:
+        return _missing_option_sentence(match.group(1), match.group(2))
     return omegaconf_error_sentence(exc)
+
+
+def _missing_option_sentence(group: str, option: str) -> str:
+    """``model=nosuch``: name the group's options (the files of ``conf/<group>/``)."""
+    directory = project_dirs()[0] / group
+    options = sorted(p.stem for p in directory.glob("*.yaml")) if directory.is_dir() else []
+    if not options:
+        groups = sorted(p.name for p in project_dirs()[0].iterdir() if p.is_dir())
+        return f"{group} is not a config group; config groups: {', '.join(groups)}."
+    return (f"{group}={option} is not an option of config group {group}; available options: "
+            f"{', '.join(options)}.")
 
 
 def check_yaml_schemas() -> list[tuple[Path, str]]:

@@ -14,11 +14,12 @@ import itertools
 import json
 from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import Any
-
-import numpy as np
+from typing import TYPE_CHECKING, Any
 
 from graspcampaign.campaign.schema import StudyCfg
+
+if TYPE_CHECKING:
+    import numpy as np
 
 _HASH_LEN = 10
 _READABLE_MAX = 48  # the hash identifies the trial; the readable prefix only helps a human
@@ -52,6 +53,8 @@ class Trial:
 
     def rng(self, study_seed: int) -> np.random.Generator:
         """Return this trial's random generator (independent of order, workers and resume)."""
+        import numpy as np  # here, not at import: `graspcampaign list` and `show` never need it
+
         return np.random.default_rng(np.random.SeedSequence(study_seed, spawn_key=self.stream_key))
 
 

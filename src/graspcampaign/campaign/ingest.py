@@ -15,7 +15,7 @@ from graspcampaign.campaign import provenance
 from graspcampaign.campaign.grid import content_hash
 from graspcampaign.campaign.kind import get_kind
 from graspcampaign.campaign.records import RunStore
-from graspcampaign.campaign.runner import kind_params, run_path, study_trials
+from graspcampaign.campaign.runner import ERROR_COLUMNS, kind_params, run_path, study_trials
 from graspcampaign.campaign.schema import StudyCfg
 from graspcampaign.errors import UserInputError
 
@@ -52,7 +52,8 @@ def ingest_files(study: StudyCfg, paths: list[str], run: str = "measured") -> tu
         row.setdefault("status", "ok")
         row.setdefault("study", study.name)
         row.setdefault("run", run)
-    store.write_shard("records", content_hash(sorted(r["trial_id"] for r in rows)), rows)
+    store.write_shard("records", content_hash(sorted(r["trial_id"] for r in rows)), rows,
+                      strings=ERROR_COLUMNS)
     manifest["sessions"].append({"ingested": [str(p) for p in paths], "rows": len(rows),
                                  "at": provenance.now_utc()})
     provenance.write_manifest(store.manifest_path, manifest)

@@ -53,7 +53,9 @@ class TrialKind:
     written by ``graspcampaign schedule``) and ``ingest(study, params, paths, stored) ->
     list[dict]`` (measured records, validated before anything is stored, ``stored`` the run's
     records already stored as a DataFrame or None; raises a ``UserInputError`` / ``IngestError``
-    naming file, row and column).
+    naming file, row and column), and ``template(study, params, schedule) -> (sheet, columns)``:
+    the measured-records sheet to fill in (every column, empty) and a table of its columns with
+    type, unit, allowed values and when required (``graspcampaign schedule --template``).
     """
 
     name: str
@@ -67,6 +69,7 @@ class TrialKind:
     finalize: Callable[..., dict[str, list[dict[str, Any]]]] | None = None
     schedule: Callable[[StudyCfg, Any], Any] | None = None
     ingest: Callable[[StudyCfg, Any, list[str], Any], list[dict[str, Any]]] | None = None
+    template: Callable[[StudyCfg, Any, Any], tuple[Any, Any]] | None = None
     description: str = ""
     extra: dict[str, Any] = field(default_factory=dict)
 

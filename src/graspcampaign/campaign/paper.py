@@ -281,14 +281,13 @@ def paper_types() -> dict[str, type]:
     return {"smoke": SmokePaper, "heuristic_weights": HeuristicWeightsPaper,
             "wrench_balance": WrenchBalancePaper, "shapes": ShapesPaper,
             "ablation": AblationPaper, "baseline_grid": BaselineGridPaper,
-            # the baseline grid under three grip laws: compared with the same Fig. 18 values
-            "grip_laws": BaselineGridPaper,
             "sensitivity": SensitivityPaper, "mesh_resolution": MeshResolutionPaper,
             "pso_repeatability": PsoRepeatabilityPaper, "gravity_settle": GravitySettlePaper,
             "friction_mass": FrictionMassPaper, "surrogate": SurrogatePaper, **_hardware()}
 
 
-def check_paper(study: str, block: dict | None, where: str = "paper") -> Any:
+def check_paper(study: str, block: dict | None, where: str = "paper", *,
+                compare_with: bool = False) -> Any:
     """Return the study's typed paper values, or None for a study with no paper block.
 
     Raises
@@ -297,10 +296,13 @@ def check_paper(study: str, block: dict | None, where: str = "paper") -> Any:
         The block does not match the study's dataclass, or a study without one has a block.
     """
     types_ = paper_types()
+    if compare_with and study not in types_:
+        raise ConfigError(f"{where.rsplit(':', 1)[0]}: compare_with = {study!r} is not a study with "
+                          f"paper values; allowed: {', '.join(sorted(types_))}.")
     if study not in types_:
         if block:
             raise ConfigError(f"{where}: study {study!r} has no paper schema, so its paper "
-                              f"values cannot be checked; remove the block or name the study after "
+                              f"values cannot be checked; remove the block or set compare_with to "
                               f"one of {', '.join(sorted(types_))}.")
         return None
     return parse_paper(types_[study], block or {}, where)
@@ -313,5 +315,7 @@ def study_paper(study: str) -> Any:
     from graspcampaign.campaign.compose import project_dirs
 
     path = project_dirs()[1] / f"{study}.yaml"
-    block = (yaml.safe_load(path.read_text()) or {}).get("paper") if path.is_file() else None
-    return check_paper(study, block, f"{path.name}: paper")
+    data = (yaml.safe_load(path.read_text()) or {}) if path.is_file() else {}
+    like = data.get("compare_with") or study
+    return check_paper(like, data.get("paper"), f"{path.name}: paper",
+                       compare_with=like != study)

@@ -1,4 +1,4 @@
-"""Parquet record store of one run: atomic shards, crash-safe compaction, quarantine.
+"""Parquet record store of one run: atomic shards, full verification, quarantine, compaction.
 
 Layout of ``<root>/<study>/<run>/``::
 
@@ -7,14 +7,26 @@ Layout of ``<root>/<study>/<run>/``::
     records/compact-<hash>.parquet    shards merged at the end of a run
     prepared/...                      shared preparations (e.g. PSO identifications), same scheme
     tables/<name>/part-<task>.parquet per-step traces keyed by trial_id, named after their task
-    quarantine/                       unreadable shards moved aside (their trials re-run)
+    summary/<name>/part-final.parquet study-level tables computed once every trial is recorded
+    quarantine/                       damaged files moved aside (their trials re-run)
 
 A shard is written to a hidden temporary name (``.part-….parquet.tmp``, skipped by every reader)
 and renamed into place, so a reader never sees half a file and a run killed at any moment loses
-at most the tasks in flight. Page checksums are written and verified, so a corrupted body is
-caught, not only a truncated footer. A compacted file lists its source shards in its metadata;
-a source still present after a crash between "write compact" and "delete sources" is ignored and
+at most the tasks in flight. Page checksums are written, and every file is read *in full* (every
+column, every page, checksums verified) before anything uses it: before its trials count as
+recorded, before it is compacted, before a report reads it. Verifying only the key column would
+let a damaged value column through, and a compaction would then copy the garbage into a new file
+with valid checksums.
+
+A file that names other files in its metadata (``graspcampaign.sources``) supersedes them: a
+compacted file lists its source shards, a rewritten file the file it replaces. A superseded file
+still present after a crash between "write the new file" and "delete the old ones" is ignored and
 removed, so no trial is ever read twice.
+
+Reading never changes a run: a damaged file raises :class:`~graspcampaign.errors.DamagedRunError`
+naming the run and the file. Only :meth:`RunStore.repair` (called by the runner when a run starts
+or resumes) moves damaged files to ``quarantine/`` and makes the rest consistent, so that exactly
+the damaged file's trials run again.
 """
 
 from __future__ import annotations
@@ -24,30 +36,42 @@ import logging
 import os
 import shutil
 import warnings
-from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
 import pyarrow as pa
-import pyarrow.dataset as ds
 import pyarrow.parquet as pq
 
 from graspcampaign.campaign.grid import content_hash
+from graspcampaign.errors import DamagedRunError
 
 log = logging.getLogger(__name__)
 
 _SOURCES_KEY = b"graspcampaign.sources"
-_FORMAT = ds.ParquetFileFormat(
-    default_fragment_scan_options=ds.ParquetFragmentScanOptions(page_checksum_verification=True)
-)
+# What pyarrow raises for a file it cannot read (bad footer, bad page, failed checksum, bad codec).
+_READ_ERRORS = (pa.ArrowException, OSError, ValueError, EOFError)
+# Files that passed full verification, keyed by (path, size, mtime): a file is read in full once
+# per process however often it is listed.
+_VERIFIED: set[tuple[str, int, int]] = set()
 
 
-def table_from_rows(rows: list[dict[str, Any]], metadata: dict[str, str] | None = None) -> pa.Table:
-    """Build an Arrow table from record dicts (columns in first-seen order)."""
+def table_from_rows(rows: list[dict[str, Any]], metadata: dict[str, str] | None = None,
+                    strings: tuple[str, ...] = ()) -> pa.Table:
+    """Build an Arrow table from record dicts (columns in first-seen order).
+
+    ``strings`` are columns stored as strings even when every value is missing (a column of
+    Nones would otherwise be Null-typed, and a reader would see the record schema change with
+    the data); absent ones are added, empty.
+    """
     columns: dict[str, None] = {}
     for row in rows:
         columns.update(dict.fromkeys(row))
+    columns.update(dict.fromkeys(strings))
     table = pa.Table.from_pylist([{c: row.get(c) for c in columns} for row in rows])
+    for name in strings:
+        i = table.schema.get_field_index(name)
+        if table.schema.field(i).type != pa.string():
+            table = table.set_column(i, name, table.column(i).cast(pa.string()))
     if metadata:
         table = table.replace_schema_metadata({k.encode(): v.encode() for k, v in metadata.items()})
     return table
@@ -59,6 +83,34 @@ def _write_atomic(table: pa.Table, path: Path) -> None:
     with open(tmp, "rb") as fh:
         os.fsync(fh.fileno())
     os.replace(tmp, path)
+
+
+def _reason(exc: BaseException) -> str:
+    text = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+    return text if len(text) <= 120 else text[:117] + "..."
+
+
+def verify_file(path: Path) -> str | None:
+    """Read every column of every page of ``path`` with page checksums verified.
+
+    Returns
+    -------
+    str or None
+        Why the file cannot be trusted (first line of pyarrow's error), or None if it is intact.
+    """
+    try:
+        st = path.stat()
+    except OSError as exc:
+        return _reason(exc)
+    key = (str(path.resolve()), st.st_size, st.st_mtime_ns)
+    if key in _VERIFIED:
+        return None
+    try:
+        pq.ParquetFile(path, page_checksum_verification=True).read(use_threads=False)
+    except _READ_ERRORS as exc:
+        return _reason(exc)
+    _VERIFIED.add(key)
+    return None
 
 
 class RunStore:
@@ -78,83 +130,146 @@ class RunStore:
     def exists(self) -> bool:
         return self.manifest_path.exists()
 
+    def _parts(self, summaries: bool = True) -> list[str]:
+        parts = [p for p in ("records", "prepared") if self._dir(p).is_dir()]
+        for group in ("tables", "summary") if summaries else ("tables",):
+            directory = self._dir(group)
+            if directory.is_dir():
+                parts += [f"{group}/{d.name}" for d in sorted(directory.iterdir()) if d.is_dir()]
+        return parts
+
     # -- writing --------------------------------------------------------------------------------
     def write_shard(self, part: str, name: str, rows: list[dict[str, Any]],
-                    metadata: dict[str, str] | None = None) -> Path:
+                    metadata: dict[str, str] | None = None,
+                    strings: tuple[str, ...] = ()) -> Path:
         """Write ``rows`` as ``<part>/part-<name>.parquet`` atomically and return its path."""
         directory = self._dir(part)
         directory.mkdir(parents=True, exist_ok=True)
         path = directory / f"part-{name}.parquet"
-        _write_atomic(table_from_rows(rows, metadata), path)
+        _write_atomic(table_from_rows(rows, metadata, strings), path)
         return path
 
-    # -- reading --------------------------------------------------------------------------------
-    def _files(self, part: str) -> list[Path]:
-        """Return the live shards of ``part`` (compacted sources left by a crash excluded)."""
+    # -- listing and verification ---------------------------------------------------------------
+    def _listing(self, part: str) -> tuple[list[Path], list[tuple[Path, str]]]:
+        """Return the live files of ``part`` and those whose footer cannot be read.
+
+        A file named in another file's sources is superseded (a crash left it behind): not live.
+        """
         directory = self._dir(part)
         if not directory.is_dir():
-            return []
-        compacts = sorted(directory.glob("compact-*.parquet"))
+            return [], []
+        files = sorted(directory.glob("compact-*.parquet")) + sorted(directory.glob("part-*.parquet"))
         sources: set[str] = set()
-        for path in compacts:
-            meta = self._schema_or_quarantine(path)
-            if meta is None:
+        unreadable = []
+        for path in files:
+            if not path.name.startswith("compact-"):
                 continue
-            raw = (meta.metadata or {}).get(_SOURCES_KEY)
-            if raw:
-                sources.update(json.loads(raw))
-        live = [p for p in compacts if p.exists()]
-        live += [p for p in sorted(directory.glob("part-*.parquet")) if p.name not in sources]
+            try:
+                raw = (pq.read_schema(path).metadata or {}).get(_SOURCES_KEY)
+            except _READ_ERRORS as exc:
+                unreadable.append((path, _reason(exc)))
+                continue
+            sources.update(json.loads(raw) if raw else [])
+        bad = {p for p, _ in unreadable}
+        return [p for p in files if p.name not in sources and p not in bad], unreadable
+
+    def damaged(self, part: str) -> list[tuple[Path, str]]:
+        """Return ``(file, reason)`` for every live file of ``part`` that fails full verification."""
+        live, out = self._listing(part)
+        for path in live:
+            reason = verify_file(path)
+            if reason is not None:
+                out.append((path, reason))
+        return out
+
+    def verify(self) -> None:
+        """Check every file of the run in full (never changes anything).
+
+        Raises
+        ------
+        DamagedRunError
+            For the first damaged file, naming the run and the file.
+        """
+        for part in self._parts():
+            bad = self.damaged(part)
+            if bad:
+                raise self._damage_error(*bad[0])
+
+    def _damage_error(self, path: Path, reason: str) -> DamagedRunError:
+        from graspcampaign.campaign.provenance import read_manifest
+
+        study, run, root = self.path.parent.name, self.path.name, self.path.parent.parent
+        rel = path.relative_to(self.path).as_posix()
+        try:
+            source = (read_manifest(self.manifest_path) or {}).get("source")
+        except (OSError, ValueError):
+            source = None
+        if source == "measured":
+            advice = ("move it out of the run directory and ingest the file that held its "
+                      "records again")
+        else:
+            where = "" if root == Path("results") else f" --root {root}"
+            advice = (f"resume the run (graspcampaign run {study} --run {run}{where}) to "
+                      "quarantine the file and run its trials again")
+        return DamagedRunError(f"run {study}/{run} at {self.path} has a damaged file {rel} "
+                               f"({reason}); {advice}.")
+
+    # -- reading --------------------------------------------------------------------------------
+    def _verified_files(self, part: str) -> list[Path]:
+        """The live files of ``part``, each verified in full (raises DamagedRunError)."""
+        live, unreadable = self._listing(part)
+        if unreadable:
+            raise self._damage_error(*unreadable[0])
+        for path in live:
+            reason = verify_file(path)
+            if reason is not None:
+                raise self._damage_error(path, reason)
         return live
 
-    def _schema_or_quarantine(self, path: Path) -> pa.Schema | None:
-        try:
-            return pq.read_schema(path)
-        except (pa.ArrowInvalid, OSError) as exc:
-            self._quarantine(path, exc)
-            return None
-
-    def _quarantine(self, path: Path, exc: Exception) -> None:
-        target = self._dir("quarantine") / path.relative_to(self.path).as_posix().replace("/", "__")
-        target.parent.mkdir(parents=True, exist_ok=True)
-        shutil.move(str(path), target)
-        warnings.warn(
-            f"unreadable shard {path} moved to {target} ({exc}); its trials will run again",
-            stacklevel=2,
-        )
-
     def read(self, part: str = "records", columns: list[str] | None = None) -> pa.Table:
-        """Read every live shard of ``part`` into one table with the union of their schemas."""
-        while True:
-            files = self._files(part)
-            schemas = [(p, self._schema_or_quarantine(p)) for p in files]
-            if any(s is None for _, s in schemas):
-                continue  # something was quarantined: list again
-            if not schemas:
-                return pa.table({})
-            schema = pa.unify_schemas(
-                [s.remove_metadata() for _, s in schemas], promote_options="permissive"
-            )
-            try:
-                dataset = ds.dataset([str(p) for p in files], schema=schema, format=_FORMAT)
-                cols = None if columns is None else [c for c in columns if c in schema.names]
-                return dataset.to_table(columns=cols)
-            except (pa.ArrowInvalid, OSError):
-                bad = self._find_corrupt(files)
-                if bad is None:
-                    raise
+        """Read every live file of ``part`` into one table with the union of their schemas.
 
-    def _find_corrupt(self, files: Iterable[Path]) -> Path | None:
-        for path in files:
-            try:
-                pq.read_table(path, page_checksum_verification=True)
-            except (pa.ArrowInvalid, OSError) as exc:
-                self._quarantine(path, exc)
-                return path
-        return None
+        Every file is verified in full first, whatever ``columns`` asks for; a column that some
+        files lack is null there.
+
+        Raises
+        ------
+        DamagedRunError
+            If a file of ``part`` is damaged (nothing is moved; see :meth:`repair`).
+        """
+        live = self._verified_files(part)
+        if not live:
+            return pa.table({})
+        schemas = [pq.read_schema(p).remove_metadata() for p in live]
+        schema = pa.unify_schemas(schemas, promote_options="permissive")
+        if columns is not None:
+            schema = pa.schema([schema.field(c) for c in columns if c in schema.names])
+        tables = []
+        for path, own in zip(live, schemas, strict=True):
+            # ParquetFile, not pq.read_table: the latter goes through pyarrow.dataset and pandas
+            table = pq.ParquetFile(path).read(columns=[c for c in schema.names if c in own.names])
+            for field in schema:
+                if field.name not in table.column_names:
+                    table = table.append_column(field, pa.nulls(table.num_rows, field.type))
+            tables.append(table.select(schema.names).replace_schema_metadata(None))
+        return pa.concat_tables(tables, promote_options="permissive").cast(schema)
+
+    def dataset(self, part: str = "records"):
+        """Return a ``pyarrow.dataset.Dataset`` over the verified files of ``part`` (large runs).
+
+        Filters and column selections are pushed down to the files; nothing is read until asked.
+        """
+        import pyarrow.dataset as ds
+
+        live = self._verified_files(part)
+        schema = pa.unify_schemas([pq.read_schema(p).remove_metadata() for p in live],
+                                  promote_options="permissive") if live else pa.schema([])
+        fmt = ds.ParquetFileFormat(default_fragment_scan_options=ds.ParquetFragmentScanOptions(
+            page_checksum_verification=True))
+        return ds.dataset([str(p) for p in live], schema=schema, format=fmt)
 
     def recorded_ids(self, part: str = "records", key: str = "trial_id") -> set[str]:
-        """Return the ids already stored in ``part``."""
+        """Return the ids stored in ``part`` (every file verified in full first)."""
         table = self.read(part, columns=[key])
         if key not in table.column_names:
             return set()
@@ -162,52 +277,141 @@ class RunStore:
 
     # -- maintenance ----------------------------------------------------------------------------
     def clean(self) -> None:
-        """Remove temporary files and compacted sources a crash may have left behind."""
+        """Remove temporary files and superseded files a crash may have left behind."""
         if not self.path.is_dir():
             return
         for tmp in self.path.rglob(".*.tmp"):
             tmp.unlink(missing_ok=True)
-        for part in self._parts():
-            live = {p.name for p in self._files(part)}
-            for path in self._dir(part).glob("part-*.parquet"):
-                if path.name not in live:
+        for part in self._parts(summaries=False):
+            live, unreadable = self._listing(part)
+            keep = {p.name for p in live} | {p.name for p, _ in unreadable}
+            for path in self._dir(part).glob("*.parquet"):
+                if path.name not in keep:
                     path.unlink(missing_ok=True)
-        self._drop_orphan_tables()
 
-    def _parts(self) -> list[str]:
-        parts = [p for p in ("records", "prepared") if self._dir(p).is_dir()]
-        tables = self._dir("tables")
-        if tables.is_dir():
-            parts += [f"tables/{d.name}" for d in sorted(tables.iterdir()) if d.is_dir()]
-        return parts
+    def repair(self) -> list[tuple[Path, Path, str]]:
+        """Quarantine every damaged file and make the rest of the run consistent.
 
-    def _record_shard_names(self) -> set[str]:
-        """Names of every record shard ever committed (live parts and compacted sources)."""
-        names: set[str] = set()
-        directory = self._dir("records")
-        for path in directory.glob("compact-*.parquet") if directory.is_dir() else []:
+        - a damaged records file: moved aside; its trials are no longer recorded, so they run again;
+        - a damaged trace file (``tables/``): moved aside, and the records of the trials it held are
+          dropped so that they run again with their traces;
+        - trace rows of a trial that has no record (its records file was damaged, or a kill landed
+          between writing a task's traces and its records) are dropped;
+        - a damaged preparation is recomputed; a damaged summary table is recomputed once every
+          trial is recorded.
+
+        Returns
+        -------
+        list of (file, quarantined as, reason)
+
+        Raises
+        ------
+        DamagedRunError
+            If the trials of a damaged trace file cannot be identified.
+        """
+        moved = []
+        lost: set[str] = set()
+        for part in self._parts():
+            for path, reason in self.damaged(part):
+                if part.startswith("tables/"):
+                    lost |= self._trials_of_damaged_trace(path, reason)
+                if part.startswith("summary/"):
+                    (self.path / "summary" / "complete.json").unlink(missing_ok=True)
+                moved.append((path, self._quarantine(path, reason), reason))
+        if not moved and not self._dir("tables").is_dir():
+            return moved
+        if lost:
+            self._drop_rows("records", lost)
+        recorded = self.recorded_ids()
+        for part in self._parts(summaries=False):
+            if part.startswith("tables/"):
+                self._keep_rows(part, recorded)
+        return moved
+
+    def _trials_of_damaged_trace(self, path: Path, reason: str) -> set[str]:
+        """The trials whose traces a damaged trace file held."""
+        try:  # the key pages are usually intact when a value page is not
+            ids = pq.read_table(path, columns=["trial_id"], page_checksum_verification=True)
+            return set(ids.column("trial_id").to_pylist())
+        except _READ_ERRORS:
+            pass
+        twin = self._dir("records") / path.name  # a task's traces and records share its name
+        if twin.exists() and verify_file(twin) is None:
+            return set(pq.read_table(twin, columns=["trial_id"]).column("trial_id").to_pylist())
+        raise self._damage_error(path, f"{reason}; its trials cannot be identified, so start a "
+                                       "new run")
+
+    def _quarantine(self, path: Path, reason: str) -> Path:
+        """Move ``path`` to ``quarantine/``, never over an earlier quarantined file."""
+        directory = self._dir("quarantine")
+        directory.mkdir(parents=True, exist_ok=True)
+        stem = path.relative_to(self.path).as_posix().replace("/", "__")
+        target, k = directory / stem, 1
+        while target.exists():
+            base, dot, suffix = stem.rpartition(".")
+            target = directory / (f"{base}~{k}.{suffix}" if dot else f"{stem}~{k}")
+            k += 1
+        shutil.move(str(path), target)
+        warnings.warn(f"damaged file {path} moved to {target} ({reason}); its trials will run "
+                      "again", stacklevel=3)
+        log.warning("quarantined %s as %s: %s", path, target, reason)
+        return target
+
+    def _rewrite(self, path: Path, table: pa.Table, tag: Any) -> None:
+        """Replace ``path`` by ``table`` crash-safely: the new file supersedes the old one and
+        whatever the old one superseded, so no crash in between can make a row count twice."""
+        if table.num_rows:
             raw = (pq.read_schema(path).metadata or {}).get(_SOURCES_KEY)
-            names.update(json.loads(raw) if raw else [])
-        names.update(p.name for p in directory.glob("part-*.parquet")) if directory.is_dir() else None
-        return names
+            sources = [path.name, *(json.loads(raw) if raw else [])]
+            name = f"compact-{content_hash([path.name, tag])}.parquet"
+            table = table.replace_schema_metadata({_SOURCES_KEY: json.dumps(sources).encode()})
+            _write_atomic(table, path.parent / name)
+        path.unlink(missing_ok=True)
 
-    def _drop_orphan_tables(self) -> None:
-        """Delete trace shards whose records shard was never committed (killed in between)."""
-        tables = self._dir("tables")
-        if not tables.is_dir():
-            return
-        committed = self._record_shard_names()
-        for path in tables.glob("*/part-*.parquet"):
-            if path.name not in committed:
-                path.unlink(missing_ok=True)
+    def _drop_rows(self, part: str, ids: set[str]) -> None:
+        """Remove the rows of trials ``ids`` from every file of ``part``."""
+        import pyarrow.compute as pc
+
+        live, _ = self._listing(part)
+        for path in live:
+            table = pq.read_table(path, page_checksum_verification=True)
+            keep = pc.invert(pc.is_in(table.column("trial_id"), value_set=pa.array(sorted(ids))))
+            if not pc.all(keep).as_py():
+                self._rewrite(path, table.filter(keep).replace_schema_metadata(None),
+                              ["drop", sorted(ids)])
+
+    def _keep_rows(self, part: str, ids: set[str]) -> None:
+        """Keep only the rows of trials ``ids`` in every file of ``part``."""
+        import pyarrow.compute as pc
+
+        live, _ = self._listing(part)
+        value_set = pa.array(sorted(ids), pa.string())
+        for path in live:
+            keys = pq.read_table(path, columns=["trial_id"]).column("trial_id")
+            if pc.all(pc.is_in(keys, value_set=value_set)).as_py() in (True, None):
+                continue
+            table = pq.read_table(path, page_checksum_verification=True)
+            keep = pc.is_in(table.column("trial_id"), value_set=value_set)
+            self._rewrite(path, table.filter(keep).replace_schema_metadata(None),
+                          ["keep", content_hash(sorted(ids))])
 
     def compact(self, part: str = "records") -> None:
-        """Merge the live part shards of ``part`` into one compacted file, crash-safely."""
+        """Merge the live part shards of ``part`` into one compacted file, crash-safely.
+
+        Every shard is read with its page checksums verified: a compacted file is never written
+        from a shard that was not checked.
+        """
         directory = self._dir(part)
-        parts = [p for p in self._files(part) if p.name.startswith("part-")]
+        live, _ = self._listing(part)
+        parts = [p for p in live if p.name.startswith("part-")]
         if len(parts) < 2:
             return
-        tables = [pq.read_table(p) for p in parts]
+        tables = []
+        for path in parts:
+            try:
+                tables.append(pq.read_table(path, page_checksum_verification=True))
+            except _READ_ERRORS as exc:
+                raise self._damage_error(path, _reason(exc)) from None
         schema = pa.unify_schemas([t.schema.remove_metadata() for t in tables],
                                   promote_options="permissive")
         merged = pa.concat_tables(
@@ -221,5 +425,5 @@ class RunStore:
 
     def compact_all(self) -> None:
         """Compact records, preparations and every trace table."""
-        for part in self._parts():
+        for part in self._parts(summaries=False):
             self.compact(part)

@@ -26,11 +26,15 @@ from graspcampaign.campaign import provenance
 from graspcampaign.campaign.grid import Trial, content_hash, expand
 from graspcampaign.campaign.kind import TrialInput, TrialKind, get_kind
 from graspcampaign.campaign.records import RunStore
-from graspcampaign.campaign.schema import StudyCfg, check_config
+from graspcampaign.campaign.schema import StudyCfg, check_config, check_design_rows
+from graspcampaign.campaign.studyfile import run_dir
 from graspcampaign.errors import ConfigError, UserInputError
 
 BASE_COLUMNS = ("trial_id", "study", "run", "kind", "trial_index", "scene_id", "status",
-                "error_type", "error_message", "wall_time_s", "worker", "host", "source")
+                "error_type", "error_message", "error_traceback", "wall_time_s", "worker", "host",
+                "source")
+#: Record columns stored as strings in every shard, even when no trial of the shard errored.
+ERROR_COLUMNS = ("error_type", "error_message", "error_traceback")
 
 
 class DriftError(UserInputError):
@@ -57,8 +61,17 @@ class RunSummary:
 
 
 def run_path(study: StudyCfg, run: str | None = None) -> Path:
-    """Return ``<output.root>/<study>/<run>``."""
-    return Path(study.output.root) / study.name / (run or study.output.run)
+    """Return ``<output.root>/<study>/<run>``.
+
+    Raises
+    ------
+    ConfigError
+        A run name that is not one plain path component (``../elsewhere``): runs stay inside the
+        results root.
+    """
+    if run:
+        return run_dir(study.output.root, study.name, run)
+    return run_dir(study.output.root, study.name, study.output.run, "output.run")
 
 
 def kind_params(study: StudyCfg, kind: TrialKind) -> Any:
@@ -82,8 +95,19 @@ def kind_params(study: StudyCfg, kind: TrialKind) -> Any:
 
 
 def study_trials(study: StudyCfg, kind: TrialKind, params: Any) -> list[Trial]:
-    """Return the study's trials: its Cartesian design, or the kind's explicit design."""
-    return expand(study, kind.design(study, params) if kind.design else None)
+    """Return the study's trials: its Cartesian design, or the kind's explicit design.
+
+    Raises
+    ------
+    ConfigError
+        An explicit design (computed from ``params``) holding a physically impossible factor
+        value (a known factor out of its plausible range, ``schema.FACTOR_SPECS``).
+    """
+    if kind.design is None:
+        return expand(study, None)
+    rows = kind.design(study, params)
+    check_design_rows(rows)
+    return expand(study, rows)
 
 
 # -- the work one task does (runs in a worker process) -----------------------------------------
@@ -103,7 +127,7 @@ def run_task(kind: TrialKind, study: StudyCfg, run: str, params: Any,
         row: dict[str, Any] = {
             "trial_id": trial.trial_id, "study": study.name, "run": run, "kind": kind.name,
             "trial_index": trial.index, "scene_id": trial.scene_id, "status": "ok",
-            "error_type": None, "error_message": None, "wall_time_s": None,
+            "error_type": None, "error_message": None, "error_traceback": None, "wall_time_s": None,
             "worker": worker, "host": host, "source": kind.source,
         }
         row.update(trial.factors)
@@ -145,18 +169,11 @@ def run_prepare(kind: TrialKind, study: StudyCfg, params: Any, body: dict[str, A
 
 
 # -- backends -----------------------------------------------------------------------------------
-def _n_workers(study: StudyCfg) -> int:
-    if study.runner.backend == "sequential":
-        return 1
-    n = study.runner.n_jobs
-    return (os.cpu_count() or 1) if n in (-1, 0) else n
-
-
 @contextlib.contextmanager
 def _executor(study: StudyCfg):
     """Yield ``map_unordered(fn, arg_tuples) -> iterator`` for the configured backend."""
     backend = study.runner.backend
-    if backend == "sequential" or (backend == "loky" and _n_workers(study) == 1):
+    if backend == "sequential" or (backend == "loky" and study.runner.workers() == 1):
         yield lambda fn, args: (fn(*a) for a in args)
         return
     from joblib import Parallel, delayed, parallel_config
@@ -175,9 +192,9 @@ def _executor(study: StudyCfg):
         ) from None
     cluster = None
     if study.runner.address:
-        client = Client(study.runner.address)
+        client = _connect(Client, study.runner.address, study.runner.connect_timeout_s)
     else:
-        cluster = LocalCluster(n_workers=_n_workers(study), threads_per_worker=1, processes=True,
+        cluster = LocalCluster(n_workers=study.runner.workers(), threads_per_worker=1, processes=True,
                                dashboard_address=None, host="127.0.0.1")
         client = Client(cluster)
     try:
@@ -191,6 +208,19 @@ def _executor(study: StudyCfg):
             cluster.close()
 
 
+def _connect(client_type: type, address: str, timeout_s: float):
+    """Connect to a Dask scheduler, or say in one sentence that none answers (the address's
+    form is checked with the config, ``schema.check_study``)."""
+    try:
+        return client_type(address, timeout=timeout_s)
+    except (OSError, TimeoutError) as exc:
+        raise UserInputError(
+            f"runner.address = {address!r}: no Dask scheduler answered within {timeout_s:g} s "
+            f"({type(exc).__name__}); start one (dask scheduler) or drop runner.address to run "
+            "on a local cluster."
+        ) from None
+
+
 def _chunks(items: list, size: int) -> Iterator[list]:
     for i in range(0, len(items), size):
         yield items[i : i + size]
@@ -201,7 +231,7 @@ def task_size(study: StudyCfg, kind: TrialKind, n_pending: int) -> int:
     if study.runner.batch_size:
         return study.runner.batch_size
     by_time = max(1, round(study.runner.target_task_s / max(kind.seconds_per_trial, 1e-6)))
-    balance = max(1, math.ceil(n_pending / (4 * _n_workers(study))))
+    balance = max(1, math.ceil(n_pending / (4 * study.runner.workers())))
     return max(1, min(by_time, balance))
 
 
@@ -223,12 +253,20 @@ def _check_drift(manifest: dict[str, Any], study: StudyCfg, allow_drift: bool, p
 
 
 class _Progress:
-    """A done/failed/total progress bar on a terminal; silent otherwise."""
+    """Progress of a run: a bar on a terminal, else one line at most every ``interval_s``.
 
-    def __init__(self, total: int, done: int, enabled: bool, label: str):
-        self.enabled = enabled and sys.stderr.isatty()
-        self.failed = 0
-        if not self.enabled:
+    Without a terminal (make, CI, a batch job) a bar would print nothing useful; a line with
+    done/total, failures, rate and ETA every ``interval_s`` keeps the log short and alive.
+    """
+
+    def __init__(self, total: int, done: int, enabled: bool, label: str, interval_s: float = 30.0):
+        self.total, self.done, self.failed, self.label = total, done, 0, label
+        self.bar = enabled and sys.stderr.isatty()
+        self.lines = enabled and not self.bar
+        self.interval_s = interval_s
+        self._t0 = self._last = time.perf_counter()
+        self._done0 = done
+        if not self.bar:
             return
         from rich.progress import (
             BarColumn,
@@ -245,18 +283,31 @@ class _Progress:
                              TextColumn("ETA"), TimeRemainingColumn(), transient=False)
         self._bar.start()
         self._task = self._bar.add_task(label, total=total, completed=done, failed=0, rate="")
-        self._t0, self._done0 = time.perf_counter(), done
+
+    def _rate(self) -> float:
+        return (self.done - self._done0) / max(time.perf_counter() - self._t0, 1e-9)
 
     def advance(self, n: int, failed: int) -> None:
+        self.done += n
         self.failed += failed
-        if self.enabled:
+        if self.bar:
             self._bar.advance(self._task, n)
-            done = self._bar.tasks[0].completed - self._done0
-            rate = done / max(time.perf_counter() - self._t0, 1e-9)
-            self._bar.update(self._task, failed=self.failed, rate=f"{rate:.1f} trials/s")
+            self._bar.update(self._task, failed=self.failed, rate=f"{self._rate():.1f} trials/s")
+        elif self.lines and (time.perf_counter() - self._last >= self.interval_s
+                             or self.done >= self.total):
+            self._last = time.perf_counter()
+            self.print_line()
+
+    def print_line(self) -> None:
+        rate = self._rate()
+        eta = (self.total - self.done) / rate if rate > 0 else math.inf
+        eta_text = f"{eta:.0f} s" if math.isfinite(eta) else "unknown"
+        print(f"{self.label}: {self.done}/{self.total} trials ({100 * self.done / max(self.total, 1):.0f}%), "
+              f"{self.failed} failed, {rate:.1f} trials/s, ETA {eta_text}", file=sys.stderr,
+              flush=True)
 
     def close(self) -> None:
-        if self.enabled:
+        if self.bar:
             self._bar.stop()
 
 
@@ -283,8 +334,10 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
     else:
         manifest = provenance.new_manifest(study, run, len(trials), kind.source)
     session = {"started_at": provenance.now_utc(), "host": socket.gethostname(),
-               "backend": study.runner.backend, "n_jobs": study.runner.n_jobs}
+               "backend": study.runner.backend, "n_jobs": study.runner.n_jobs,
+               "config_hash": provenance.config_hash(study)}
     store.clean()
+    store.repair()  # a damaged file is quarantined before anything in it counts as recorded
     provenance.write_manifest(store.manifest_path, manifest)
 
     t0 = time.perf_counter()
@@ -301,7 +354,8 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
              for t in chunk]
             for chunk in _chunks(pending, size)
         ]
-        bar = _Progress(len(trials), summary.n_already, show, study.name)
+        bar = _Progress(len(trials), summary.n_already, show, f"{study.name}/{run}",
+                        study.runner.progress_interval_s)
         try:
             results = map_unordered(run_task, [(kind, study, run, params, items, fail_fast)
                                                for items in tasks])
@@ -310,7 +364,7 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
                 for table_name, table_rows in tables.items():
                     if table_rows:
                         store.write_shard(f"tables/{table_name}", name, table_rows)
-                store.write_shard("records", name, rows)
+                store.write_shard("records", name, rows, strings=ERROR_COLUMNS)
                 n_err = sum(r["status"] == "error" for r in rows)
                 summary.n_ran += len(rows)
                 summary.n_error += n_err

@@ -5,17 +5,23 @@ those names to the dataclasses below. Hydra merges each YAML into its dataclass,
 key or a wrong type fails at load; ranges and allowed values are declared in each field's
 ``metadata`` and checked by :func:`check_config`, which names the offending key in one sentence.
 
-Ranges: ``gt``/``ge``/``le`` bounds and ``choices`` (a tuple, or the name of a registry).
+Ranges: ``gt``/``ge``/``le`` bounds and ``choices`` (a tuple, or the name of a registry). Physical
+quantities take their plausible range from :data:`graspcampaign.core.plausible.PLAUSIBLE`, with the
+reason (``why``) shown in the error and the source documented there.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import math
+import re
 from dataclasses import dataclass, field
 from typing import Any
 
+from graspcampaign.core.plausible import PLAUSIBLE
 from graspcampaign.errors import ConfigError
+
+_LAMBDA = PLAUSIBLE["lambda"].meta()
 
 
 def _f(default: Any, **meta: Any) -> Any:
@@ -29,10 +35,12 @@ def _f(default: Any, **meta: Any) -> Any:
 class ContactModelCfg:
     """Contact-law constants (Eq. 13-14, Table 2, Table 3)."""
 
-    lambda1: float = _f(0.332, gt=0.0)  # Table 3
-    lambda2: float = _f(0.880, gt=0.0)  # Table 3
-    n_exp: float = _f(0.487, gt=0.0)  # Table 3 (Hunt-Crossley exponent)
-    fingertip_radius_m: float = _f(5e-3, gt=0.0)  # Table 2
+    lambda1: float = _f(0.332, **_LAMBDA)  # Table 3
+    lambda2: float = _f(0.880, **_LAMBDA)  # Table 3
+    n_exp: float = _f(0.487, **PLAUSIBLE["n_exp"].meta())  # Table 3 (Hunt-Crossley exponent)
+    fingertip_radius_m: float = _f(  # Table 2
+        5e-3, gt=0.0, le=PLAUSIBLE["fingertip_radius_mm"].high * 1e-3,
+        why=PLAUSIBLE["fingertip_radius_mm"].why)
     e_finger_pa: float = _f(0.0893e6, gt=0.0)  # Table 2
     e_object_pa: float = _f(0.14e6, gt=0.0)  # Table 2
     nu_finger: float = _f(0.5, ge=0.0, le=0.5)  # Table 2
@@ -96,6 +104,20 @@ class RunnerCfg:
     batch_size: int = _f(0, ge=0)  # trials per task; 0 sizes tasks to ~target_task_s
     target_task_s: float = _f(0.5, gt=0.0)  # SPEC Sec. 5: 0.2-1 s of compute per task
     progress: bool = True
+    # without a terminal (make, CI, batch jobs): one progress line at most this often; 30 s keeps a
+    # 10-minute study at ~20 lines of log (docs/decisions.md)
+    progress_interval_s: float = _f(30.0, ge=0.0)
+    # a Dask scheduler that does not answer within this time is reported, not waited for; 5 s is
+    # ~100x a LAN round trip (docs/decisions.md)
+    connect_timeout_s: float = _f(5.0, gt=0.0)
+
+    def workers(self) -> int:
+        """Worker processes a run uses (``n_jobs`` -1 or 0: every core)."""
+        import os
+
+        if self.backend == "sequential":
+            return 1
+        return (os.cpu_count() or 1) if self.n_jobs in (-1, 0) else self.n_jobs
 
 
 @dataclass
@@ -121,6 +143,9 @@ class StudyCfg:
     method_factors: list[str] = field(default_factory=lambda: ["planner", "variant"])
     params: dict[str, Any] = field(default_factory=dict)  # kind-specific, see the kind's schema
     paper: dict[str, Any] = field(default_factory=dict)  # the paper's reported values
+    # the paper study whose values the `paper:` block holds and whose report this study uses
+    # (default: the study's own name); lets a variant (grip_laws, a user's copy) compare with it
+    compare_with: str = ""
     model: ContactModelCfg = field(default_factory=ContactModelCfg)
     evaluator: EvaluatorCfg = field(default_factory=EvaluatorCfg)
     features: FeatureCfg = field(default_factory=FeatureCfg)
@@ -141,20 +166,14 @@ SCHEMAS: dict[str, type] = {
 
 
 def _registry_names(name: str) -> tuple[str, ...]:
-    """Return the allowed values of a registry-backed choice."""
-    if name == "shape":
-        from graspcampaign.core.mesh import SHAPES
+    """Return the allowed values of a registry-backed choice (``shape``, ``planner``)."""
+    from graspcampaign.campaign.catalog import registry_names
 
-        return tuple(SHAPES)
-    if name == "planner":
-        from graspcampaign.core.planner import PLANNERS
-
-        return tuple(PLANNERS)
-    if name == "model":  # the presets of the model group: conf/model/<name>.yaml
-        from graspcampaign.campaign.compose import group_options
+    if name == "model":  # the presets of the model group: conf/model/<name>.yaml (files, not code)
+        from graspcampaign.campaign.studyfile import group_options
 
         return group_options("model")
-    raise KeyError(name)
+    return registry_names(name)
 
 
 # Known factors: name -> validation metadata. A factor not listed here is rejected, so a typo in a
@@ -162,14 +181,14 @@ def _registry_names(name: str) -> tuple[str, ...]:
 FACTOR_SPECS: dict[str, dict[str, Any]] = {
     "shape": {"type": str, "choices": "shape"},
     "planner": {"type": str, "choices": "planner"},
-    "mass_kg": {"type": float, "gt": 0.0},
-    "mu": {"type": float, "ge": 0.0},
+    "mass_kg": {"type": float, **PLAUSIBLE["mass_kg"].meta()},
+    "mu": {"type": float, **PLAUSIBLE["mu"].meta()},
     "nodes": {"type": int, "ge": 12},
     "n_cand": {"type": int, "ge": 1},
-    "lambda1": {"type": float, "gt": 0.0},
-    "lambda2": {"type": float, "gt": 0.0},
-    "n_exp": {"type": float, "gt": 0.0},
-    "b_n_s_per_m": {"type": float, "ge": 0.0},
+    "lambda1": {"type": float, **_LAMBDA},
+    "lambda2": {"type": float, **_LAMBDA},
+    "n_exp": {"type": float, **PLAUSIBLE["n_exp"].meta()},
+    "b_n_s_per_m": {"type": float, **PLAUSIBLE["b_n_s_per_m"].meta()},
     "n_max": {"type": int, "ge": 1},
     "dt_s": {"type": float, "gt": 0.0},
     "weight_scale": {"type": float, "gt": 0.0},
@@ -235,7 +254,9 @@ def check_value(key: str, value: Any, meta: dict[str, Any]) -> Any:
             or ("le" in meta and not value <= meta["le"])
         )
         if bad:
-            raise ConfigError(f"{key} = {value!r} is out of range; allowed: {_fmt_allowed(meta)}.")
+            why = f" ({meta['why']})" if meta.get("why") else ""
+            raise ConfigError(f"{key} = {value!r} is out of range; allowed: {_fmt_allowed(meta)}"
+                              f"{why}.")
     return value
 
 
@@ -258,7 +279,16 @@ def check_study(study: StudyCfg) -> None:
     ConfigError
         For the first problem found, naming its key.
     """
+    from graspcampaign.campaign.studyfile import check_name
+
+    check_name(study.name, "name")
+    check_name(study.output.run, "output.run")
     check_config(study)
+    address = study.runner.address
+    if address is not None and not re.fullmatch(
+            r"(tcp|tls|ucx|inproc|ws|wss)://[^\s/:]+(:\d+)?/?", str(address)):
+        raise ConfigError(f"runner.address = {address!r} is not a Dask scheduler address; "
+                          "expected e.g. tcp://host:8786.")
     for name, levels in study.factors.items():
         if name not in FACTOR_SPECS:
             raise ConfigError(
@@ -287,3 +317,27 @@ def check_study(study: StudyCfg) -> None:
                 + ", ".join(f"{n} has {len(study.factors[n])}" for n in group)
                 + "."
             )
+
+
+def check_design_rows(rows: list[dict[str, Any]]) -> None:
+    """Check the physical factors of an explicit design (one dict per trial) against their
+    plausible ranges (the factors whose spec carries a ``why``).
+
+    A kind's design is computed from its ``params``; a value out of its plausible range means a
+    parameter set it so. Other factors are the kind's own business (e.g. ``n_cand = 0`` meaning
+    "the study's default").
+
+    Raises
+    ------
+    ConfigError
+        Naming the trial, the factor and the allowed range.
+    """
+    numeric = {k: v for k, v in FACTOR_SPECS.items() if "why" in v}
+    for name, meta in numeric.items():
+        for i, row in enumerate(rows):
+            if name in row and row[name] is not None:
+                try:
+                    check_value(f"factor {name}", row[name], meta)
+                except ConfigError as exc:
+                    raise ConfigError(f"trial {i} of the design computed from params: {exc} "
+                                      "Check the params that set it.") from None

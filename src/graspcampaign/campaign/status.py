@@ -1,16 +1,22 @@
-"""Describe a study's design and a run's progress from its config and records alone."""
+"""Describe a study's design and a run's progress from its config and records alone.
+
+Used by ``graspcampaign show`` and ``status``, which answer in well under a second: nothing here
+imports the numerical layers (the kind facts and explicit design sizes come from
+:mod:`graspcampaign.campaign.catalog`), and the records are read only when the run exists.
+"""
 
 from __future__ import annotations
 
 from pathlib import Path
 from typing import Any
 
-from graspcampaign.campaign.grid import design_axes, n_trials
-from graspcampaign.campaign.kind import KINDS, get_kind, kind_available
+from graspcampaign.campaign.catalog import design_size, kind_facts
+from graspcampaign.campaign.grid import design_axes
+from graspcampaign.campaign.kind import KINDS, kind_available
 from graspcampaign.campaign.provenance import read_manifest
-from graspcampaign.campaign.records import RunStore
-from graspcampaign.campaign.runner import _n_workers, kind_params, run_path, study_trials
 from graspcampaign.campaign.schema import StudyCfg
+from graspcampaign.campaign.studyfile import check_name, list_studies, run_dir
+from graspcampaign.errors import UserInputError
 
 
 def _fmt_seconds(seconds: float) -> str:
@@ -23,15 +29,49 @@ def _fmt_seconds(seconds: float) -> str:
 
 def study_size(study: StudyCfg) -> int:
     """Return a study's trial count (its Cartesian design or its kind's explicit schedule)."""
-    if kind_available(study.kind) and get_kind(study.kind).design is not None:
-        kind = get_kind(study.kind)
-        return len(study_trials(study, kind, kind_params(study, kind)))
-    return n_trials(study)
+    return design_size(study)
+
+
+def _run_dir(study: StudyCfg, run: str | None) -> Path:
+    if run:
+        return run_dir(study.output.root, study.name, run)
+    return run_dir(study.output.root, study.name, study.output.run, "output.run")
+
+
+def recorded_in(study: StudyCfg, run: str | None = None) -> int:
+    """Return how many of the study's current trials the run has recorded.
+
+    Only the trial ids of the design as configured now (overrides included) count: a run of the
+    full grid holds 2700 records, but ``mu=[0.3] seeds=2`` asks about 120 of them.
+    """
+    path = _run_dir(study, run)
+    manifest = read_manifest(path / "manifest.json")
+    if manifest is None:
+        return 0
+    from graspcampaign.campaign.kind import get_kind
+    from graspcampaign.campaign.provenance import config_hash
+    from graspcampaign.campaign.records import RunStore
+    from graspcampaign.campaign.runner import kind_params, study_trials
+
+    recorded = RunStore(path).recorded_ids()
+    if not recorded:
+        return 0
+    # every session of the run had this very config: its records are all of this design (this
+    # spares building a 19,168-event schedule just to count)
+    wanted = config_hash(study)
+    sessions = manifest.get("sessions") or []
+    if manifest.get("config_hash") == wanted and sessions and all(
+            s.get("config_hash") == wanted for s in sessions):
+        return len(recorded)
+    kind = get_kind(study.kind)
+    ids = {t.trial_id for t in study_trials(study, kind, kind_params(study, kind))}
+    return len(ids & recorded)
 
 
 def design_text(study: StudyCfg, run: str | None = None) -> str:
     """Return the human-readable design of a study and the progress of its run."""
     ready = kind_available(study.kind)
+    facts = kind_facts(study.kind) if ready else None
     total = study_size(study)
     lines = [f"study: {study.name}", f"description: {' '.join(study.description.split())}"]
     state = "runnable" if ready else ("not yet runnable" if study.kind in KINDS else "unknown kind")
@@ -44,30 +84,54 @@ def design_text(study: StudyCfg, run: str | None = None) -> str:
         lines.append(f"  {name} [{len(levels)}]{role}: {', '.join(map(str, levels))}")
     if study.zip:
         lines.append("zipped: " + "; ".join(" + ".join(g) for g in study.zip))
-    if ready and get_kind(study.kind).design is not None:
+    if facts and facts["design"]:
         lines.append(f"design: the protocol's schedule = {total} trials")
     else:
         lines.append(f"axes: {' x '.join(str(len(a)) for a in design_axes(study))} = {total} trials")
-    store = RunStore(run_path(study, run))
-    done = len(store.recorded_ids()) if store.exists() else 0
-    lines.append(f"run: {store.path} ({done} of {total} recorded)")
-    if ready:
-        per = get_kind(study.kind).seconds_per_trial
-        remaining = (total - done) * per / _n_workers(study)
+    done = recorded_in(study, run) if ready else 0
+    lines.append(f"run: {_run_dir(study, run)} ({done} of {total} recorded)")
+    if facts:
+        per, workers = facts["seconds_per_trial"], study.runner.workers()
+        remaining = (total - done) * per / workers
         lines.append(f"estimated time: {_fmt_seconds(remaining)} for {total - done} trials "
-                     f"(~{per * 1e3:.0f} ms each on {_n_workers(study)} workers)")
+                     f"(~{per * 1e3:.0f} ms each on {workers} workers)")
     if study.paper:
-        lines.append("paper: " + ", ".join(f"{k}={v}" for k, v in study.paper.items()))
+        lines.append("paper: " + _paper_text(study.paper))
     return "\n".join(lines)
 
 
+def _paper_text(paper: dict[str, Any], prefix: str = "") -> str:
+    """``key=value`` pairs of the paper block, nested keys dotted (no Python reprs)."""
+    parts = []
+    for key, value in paper.items():
+        if isinstance(value, dict):
+            parts.append(_paper_text(value, f"{prefix}{key}."))
+        elif isinstance(value, list):
+            parts.append(f"{prefix}{key}=[{', '.join(map(str, value))}]")
+        else:
+            parts.append(f"{prefix}{key}={value}")
+    return ", ".join(parts)
+
+
 def run_status(root: Path | str, study: str, run: str = "default") -> dict[str, Any]:
-    """Summarise a run from its manifest and records only."""
-    store = RunStore(Path(root) / study / run)
+    """Summarise a run from its manifest and records only.
+
+    Raises
+    ------
+    UserInputError
+        No such run; for a study that is neither known nor in ``root``, the available studies.
+    """
+    check_name(run, "--run")
+    check_name(study, "study")
+    if not (Path(root) / study).is_dir() and study not in list_studies():
+        raise UserInputError(f"unknown study {study!r}: not on the config search path and no "
+                             f"records under {root}; available studies: "
+                             f"{', '.join(list_studies())}.")
+    from graspcampaign.campaign.records import RunStore
+
+    store = RunStore(run_dir(root, study, run))
     manifest = read_manifest(store.manifest_path)
     if manifest is None:
-        from graspcampaign.errors import UserInputError
-
         raise UserInputError(f"no run at {store.path}; run `graspcampaign run {study}` first.")
     table = store.read(columns=["status"])
     statuses = table.column("status").to_pylist() if table.num_rows else []

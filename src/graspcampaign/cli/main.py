@@ -1,33 +1,47 @@
 """The ``graspcampaign`` command line (Typer).
 
-Exit codes: 0 success, 1 trial errors occurred, 2 bad usage or bad input. Errors are one
-sentence on stderr; ``--debug`` adds the traceback. Layers are imported inside commands so that
-``--help`` stays fast.
+Exit codes: 0 success, 1 trial errors occurred, 2 bad usage or bad input, 130 interrupted (Ctrl-C).
+Errors are one sentence on stderr; ``--debug`` adds the traceback. Layers are imported inside
+commands so that ``--help``, ``list``, ``show`` and ``status`` answer in well under a second.
+Warnings of the layers are printed once each as ``warning: ...``; their loggers stay quiet
+unless ``--debug``.
 """
 
 from __future__ import annotations
 
 import json
+import logging
+import shlex
 import sys
 import traceback
+import warnings
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
+from graspcampaign.cli.output import print_list, print_plan
+
 app = typer.Typer(
-    add_completion=False,
+    add_completion=True,
     no_args_is_help=True,
     help="Reproducible experiment campaigns for soft-object grasp planning.",
     pretty_exceptions_enable=False,
 )
 _state = {"debug": False}
 
+StudyArg = Annotated[str, typer.Argument(help="Study name (see `list`) or path of a study file.",
+                                         show_default=False)]
 Overrides = Annotated[
     list[str] | None,
     typer.Argument(help="Hydra overrides, e.g. mu=[0.3] seeds=2 runner.n_jobs=2.", show_default=False),
 ]
-RunOpt = Annotated[str | None, typer.Option("--run", help="Run name (default: output.run).")]
+RunOpt = Annotated[str | None, typer.Option("--run", help="Run name (default: the study's output.run).")]
+RootOpt = Annotated[Path | None, typer.Option("--root", help="Results root (default: output.root, "
+                                                             "i.e. results).")]
+
+# ValueErrors from the core and rig layers that mean bad input (a mesh, an ingested file).
+_INPUT_ERRORS = {"MeshError", "IngestError"}
 
 
 def _fail(message: str, code: int = 2) -> None:
@@ -56,13 +70,40 @@ def _guard(fn):
     return wrapper
 
 
-# ValueErrors from the core that mean bad input (a mesh, an ingested file).
-_INPUT_ERRORS = {"MeshError", "IngestError"}
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """Print a warning of the layers as one ``warning: ...`` line (no file, no line, no class)."""
+    text = str(message)
+    if text not in _shown:
+        _shown.add(text)
+        print(f"warning: {text}", file=sys.stderr)
+
+
+_shown: set[str] = set()
 
 
 @app.callback()
-def _main(debug: Annotated[bool, typer.Option("--debug", help="Show tracebacks.")] = False):
+def _main(debug: Annotated[bool, typer.Option("--debug", help="Show tracebacks and logs.")] = False):
     _state["debug"] = debug
+    _shown.clear()
+    package_log = logging.getLogger("graspcampaign")
+    if debug:
+        logging.basicConfig(level=logging.INFO, format="%(levelname)s %(name)s: %(message)s")
+    elif not package_log.handlers:
+        package_log.addHandler(logging.NullHandler())  # warnings reach the user once, below
+    warnings.showwarning = _show_warning
+
+
+def _configure(cfg, root: Path | None):
+    """Apply ``--root`` to a composed study (where records go never changes a result)."""
+    if root is not None:
+        cfg.output.root = str(root)
+    return cfg
+
+
+def _compose(study: str, overrides: list[str] | None, root: Path | None = None):
+    from graspcampaign.campaign.compose import compose_study
+
+    return _configure(compose_study(study, overrides or []), root)
 
 
 @app.command("list")
@@ -70,56 +111,61 @@ def _main(debug: Annotated[bool, typer.Option("--debug", help="Show tracebacks."
 def list_cmd(
     names: Annotated[bool, typer.Option("--names", help="Print runnable study names only.")] = False,
 ) -> None:
-    """List the studies, their trial kinds, trial counts and whether they can run yet."""
-    from rich.console import Console
-    from rich.table import Table
+    """List the studies, their trial kinds, trial counts and whether they can run yet.
 
-    from graspcampaign.campaign.compose import compose_study, list_studies
-    from graspcampaign.campaign.kind import KINDS, kind_available
-    from graspcampaign.campaign.status import study_size
+    Each study file is read directly (no Hydra); a broken file is listed with what is wrong.
+    """
+    from graspcampaign.campaign.catalog import study_row
+    from graspcampaign.campaign.studyfile import study_files
+    from graspcampaign.errors import UserInputError
 
+    rows, broken = [], []
+    for name, path in study_files().items():
+        try:
+            rows.append(study_row(path))
+        except UserInputError as exc:
+            broken.append(name)
+            rows.append({"study": name, "kind": "?", "trials": "?", "runnable": "broken",
+                         "description": str(exc)})
+            typer.echo(f"warning: study {name} is broken: {exc}", err=True)
     if names:
-        for name in list_studies():
-            if name != "smoke" and kind_available(compose_study(name).kind):
-                typer.echo(name)
+        for row in rows:
+            if row["runnable"] == "yes" and row["study"] != "smoke":
+                typer.echo(row["study"])
         return
-    table = Table("study", "kind", "trials", "runnable", "description")
-    for name in list_studies():
-        study = compose_study(name)
-        ready = kind_available(study.kind)
-        table.add_row(name, study.kind, str(study_size(study)),
-                      "yes" if ready else "not yet" if study.kind in KINDS else "unknown kind",
-                      " ".join(study.description.split())[:70])
-    Console(width=160).print(table)
+    print_list(rows)
 
 
 @app.command()
 @_guard
-def show(study: str, overrides: Overrides = None, run: RunOpt = None) -> None:
+def show(study: StudyArg, overrides: Overrides = None, run: RunOpt = None,
+         root: RootOpt = None) -> None:
     """Print a study's design, factor levels, trial count, progress and estimated time."""
-    from graspcampaign.campaign.compose import compose_study
     from graspcampaign.campaign.status import design_text
 
-    cfg = compose_study(study, overrides or [])
-    typer.echo(design_text(cfg, run))
+    typer.echo(design_text(_compose(study, overrides, root), run))
 
 
 @app.command("run")
 @_guard
 def run_cmd(
-    study: str,
+    study: StudyArg,
     overrides: Overrides = None,
     run: RunOpt = None,
+    root: RootOpt = None,
     allow_drift: Annotated[bool, typer.Option(help="Resume even if config or code changed.")] = False,
     fail_fast: Annotated[bool, typer.Option(help="Stop at the first trial error.")] = False,
     report: Annotated[bool, typer.Option(help="Write the study's report after the run.")] = False,
 ) -> None:
     """Run a study (resuming a run that already has records)."""
-    from graspcampaign.campaign.compose import compose_study
-    from graspcampaign.campaign.runner import run_study
+    from graspcampaign.campaign.runner import run_path, run_study
 
-    cfg = compose_study(study, overrides or [])
-    summary = run_study(cfg, run=run, allow_drift=allow_drift, fail_fast=fail_fast)
+    cfg = _compose(study, overrides, root)
+    path = run_path(cfg, run)
+    try:
+        summary = run_study(cfg, run=run, allow_drift=allow_drift, fail_fast=fail_fast)
+    except KeyboardInterrupt:
+        _interrupted(cfg, path, study, overrides, run, root)
     typer.echo(
         f"{summary.study}/{summary.run}: {summary.n_trials} trials, {summary.n_already} already "
         f"recorded, {summary.n_ran} ran ({summary.n_ok} ok, {summary.n_error} errors) in "
@@ -135,18 +181,37 @@ def run_cmd(
         raise typer.Exit(1)
 
 
+def _interrupted(cfg, path: Path, study: str, overrides, run, root) -> None:
+    """Ctrl-C: say what is recorded and how to resume; exit 130."""
+    from graspcampaign.campaign.status import recorded_in, study_size
+
+    try:
+        done = f"{recorded_in(cfg, run)} of {study_size(cfg)} trials"
+    except Exception:  # noqa: BLE001  (a second Ctrl-C or a shard in flight: say less)
+        done = "the trials finished so far"
+    again = ["graspcampaign", "run", study, *(overrides or [])]
+    if run:
+        again += ["--run", run]
+    if root is not None:
+        again += ["--root", str(root)]
+    typer.echo(f"interrupted: {done} are recorded in {path}; resume with: "
+               f"{shlex.join(again)}", err=True)
+    raise typer.Exit(130)
+
+
 @app.command()
 @_guard
 def status(
-    study: str,
+    study: Annotated[str, typer.Argument(help="Study name.", show_default=False)],
     run: RunOpt = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
     root: Annotated[Path, typer.Option(help="Results root.")] = Path("results"),
 ) -> None:
     """Summarise a run from its records only (never runs anything)."""
     from graspcampaign.campaign.status import run_status
+    from graspcampaign.campaign.studyfile import configured_run
 
-    info = run_status(root, study, run or "default")
+    info = run_status(root, study, run or configured_run(study))
     if as_json:
         typer.echo(json.dumps(info, indent=2, default=str))
         return
@@ -157,68 +222,115 @@ def status(
 @app.command()
 @_guard
 def report(
-    studies: Annotated[list[str] | None, typer.Argument(help="Studies (default: all with records).")] = None,
+    studies: Annotated[list[str] | None, typer.Argument(
+        help="Studies (default: every run of every study under the root).")] = None,
     run: RunOpt = None,
     root: Annotated[Path, typer.Option(help="Results root.")] = Path("results"),
     fmt: Annotated[str, typer.Option("--format", help="Comma-separated: md,csv,json,html.")] = "md,csv",
     figure_format: Annotated[str, typer.Option("--figure-format", help="png, svg or pdf.")] = "png",
 ) -> None:
-    """Write reports (Markdown, CSV tables, figures, HTML) from the records; never runs a trial."""
+    """Write reports (Markdown, CSV tables, figures, HTML) from the records; never runs a trial.
+
+    With studies and no ``--run``, each study's configured run (its ``output.run``) is reported.
+    """
+    from graspcampaign.campaign.studyfile import check_name, configured_run
     from graspcampaign.report.build import build_reports
 
-    _report_paths(build_reports(studies or None, run=run, root=root, formats=fmt.split(","),
-                                figure_format=figure_format))
+    if run is not None:
+        check_name(run, "--run")
+    jobs = [(None, run)] if not studies else [([s], run or configured_run(s)) for s in studies]
+    failed = []
+    for names, run_name in jobs:
+        batch = build_reports(names, run=run_name, root=root, formats=fmt.split(","),
+                              figure_format=figure_format)
+        for path in batch:
+            typer.echo(f"report: {path}")
+        failed += batch.failed
+    _exit_if_failed(failed)
 
 
 def _report_paths(batch) -> None:
     """Print the written reports; name every run whose report failed and exit non-zero."""
     for path in batch:
         typer.echo(f"report: {path}")
-    for label, why, _ in batch.failed:
+    _exit_if_failed(batch.failed)
+
+
+def _exit_if_failed(failed) -> None:
+    for label, why, _ in failed:
         typer.echo(f"error: the report of {label} could not be written: {why}", err=True)
-    if batch.failed:
-        raise typer.Exit(2 if all(bad for _, _, bad in batch.failed) else 1)
+    if failed:
+        raise typer.Exit(2 if all(bad for _, _, bad in failed) else 1)
+
+
+def _writable_stem(out: Path, option: str) -> Path:
+    """Check that files ``<out>.<ext>`` can be created (a parent that is a file is bad input)."""
+    for parent in [out.parent, *out.parent.parents]:
+        if parent.exists():
+            if not parent.is_dir():
+                _fail(f"{option} {out}: {parent} is a file, not a directory.")
+            break
+    if out.is_dir():
+        _fail(f"{option} {out} is a directory; give a file stem such as {out / 'schedule'}.")
+    return out
 
 
 @app.command()
 @_guard
 def schedule(
-    study: str,
+    study: StudyArg,
     overrides: Overrides = None,
     out: Annotated[
-        Path | None, typer.Option(help="Output file stem (default: results/<study>/schedule).")
+        Path | None, typer.Option(help="Output file stem (default: <root>/<study>/schedule).")
     ] = None,
+    template: Annotated[bool, typer.Option(
+        "--template", help="Also write the measured-records sheet to fill in (every column, empty, "
+                           "with its unit in <stem>-template-columns.csv).")] = False,
+    root: RootOpt = None,
 ) -> None:
     """Write a hardware protocol's commanded-trial sheet (CSV and Parquet)."""
-    from graspcampaign.campaign.compose import compose_study
     from graspcampaign.campaign.kind import get_kind
     from graspcampaign.campaign.runner import kind_params
 
-    cfg = compose_study(study, overrides or [])
+    cfg = _compose(study, overrides, root)
     kind = get_kind(cfg.kind)
     if kind.schedule is None:
-        _fail(f"study {study!r} is a simulation study; only hardware protocols have a schedule.")
-    sheet = kind.schedule(cfg, kind_params(cfg, kind))
-    stem = out or Path(cfg.output.root) / cfg.name / "schedule"
-    stem.parent.mkdir(parents=True, exist_ok=True)
-    sheet.to_csv(stem.with_suffix(".csv"), index=False)
-    sheet.to_parquet(stem.with_suffix(".parquet"), index=False)
+        _fail(f"study {cfg.name!r} is a simulation study; only hardware protocols have a schedule.")
+    stem = _writable_stem(out or Path(cfg.output.root) / cfg.name / "schedule", "--out")
+    params = kind_params(cfg, kind)
+    sheet = kind.schedule(cfg, params)
+    sheets = {"": sheet}
+    if template:
+        fill, columns = kind.template(cfg, params, sheet)
+        sheets.update({"-template": fill, "-template-columns": columns})
+    try:
+        stem.parent.mkdir(parents=True, exist_ok=True)
+        for suffix, table in sheets.items():
+            path = stem.with_name(stem.name + suffix)
+            table.to_csv(path.with_suffix(".csv"), index=False)
+            if not suffix:
+                table.to_parquet(path.with_suffix(".parquet"), index=False)
+    except OSError as exc:  # permissions, a full disk
+        _fail(f"--out {stem}: cannot write there ({exc.strerror or type(exc).__name__}).")
     typer.echo(f"{len(sheet)} commanded trials -> {stem.with_suffix('.csv')} and .parquet")
+    if template:
+        typer.echo(f"measured-records template -> {stem}-template.csv (columns and units: "
+                   f"{stem}-template-columns.csv)")
 
 
 @app.command()
 @_guard
 def ingest(
-    study: str,
+    study: StudyArg,
     files: Annotated[list[Path], typer.Argument(help="Measured records (CSV, XLSX or Parquet).")],
     run: Annotated[str, typer.Option("--run", help="Run that receives the measured records.")] = "measured",
     overrides: Annotated[list[str] | None, typer.Option("--set", help="Hydra override (repeatable).")] = None,
+    root: RootOpt = None,
 ) -> None:
     """Validate measured records and store them as a run with source = measured."""
-    from graspcampaign.campaign.compose import compose_study
     from graspcampaign.campaign.ingest import ingest_files
 
-    cfg = compose_study(study, overrides or [])
+    cfg = _compose(study, overrides, root)
     n, path = ingest_files(cfg, [str(f) for f in files], run)
     typer.echo(f"{n} measured records stored in {path}")
 
@@ -251,25 +363,7 @@ def plan(
     if as_json:
         typer.echo(json.dumps(result, indent=2, default=str))
         return
-    _print_plan(result)
-
-
-def _print_plan(r: dict) -> None:
-    typer.echo(f"mesh: {r['mesh']}  mass: {r['mass_kg']} kg (W = {r['weight_n']:.3f} N)  "
-               f"material: {r['material']}  mu_s: {r['mu_s']:.3f}")
-    for c in r["contacts"]:
-        point = ", ".join(f"{v:.1f}" for v in c["point_mm"])
-        normal = ", ".join(f"{v:.2f}" for v in c["normal"])
-        typer.echo(f"finger {c['finger']}: vertex {c['vertex']} at ({point}) mm, normal ({normal}), "
-                   f"f_n = {c['normal_force_n']:.3f} N, deformation = {c['deformation_mm']:.2f} mm")
-    typer.echo("H: " + ", ".join(f"{k}={v:.3f}" for k, v in r["h"].items()))
-    typer.echo(f"G_geo = {r['g_geo']:.3f}  grip = {r['grip_force_n']:.3f} N"
-               f"{' (capped at the damage depth)' if r['grip_capped'] else ''}  "
-               f"SF = {r['sf_predicted']:.3f}  predicted stable: {r['predicted_stable']}")
-    typer.echo(f"predicted limits: F_lat = {r['f_lat_n']:.3f} N, F_down = {r['f_down_n']:.3f} N, "
-               f"T = {r['torque_nm']:.4f} N m (r_eff = {r['r_eff_mm']:.1f} mm)")
-    typer.echo(f"first finger to slip: {r['first_finger']}")
-    typer.echo(f"picture: {r['png']}")
+    print_plan(result)
 
 
 def main() -> None:

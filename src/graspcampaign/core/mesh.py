@@ -394,6 +394,7 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
     if unit not in UNITS:
         raise MeshError(f"unknown unit {unit!r}: use one of {', '.join(repr(u) for u in UNITS)}")
     name = os.fspath(path)
+    base = os.path.basename(name)
     if not os.path.isfile(name):
         raise MeshError(f"mesh file {name!r} does not exist")
     suffix = os.path.splitext(name)[1].lower()
@@ -402,16 +403,67 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
             f"mesh file {name!r} has unsupported type {suffix or '(none)'!r}: "
             f"use {', '.join(MESH_SUFFIXES)}"
         )
+    n_bytes = os.path.getsize(name)
+    if n_bytes == 0:
+        raise MeshError(f"mesh {base!r} is empty: the file has 0 bytes")
+    if suffix == ".stl":
+        _check_stl_layout(name, base, n_bytes)
     try:
-        # process=True merges the duplicated corners of STL triangle soups; validate=False keeps
-        # degenerate faces and bad winding so that check_mesh can report them.
-        mesh = trimesh.load(name, force="mesh", process=True, validate=False)
+        # validate=False, process=False: keep non-finite values, degenerate faces and bad winding
+        # so that they are reported here and by check_mesh instead of silently dropped
+        with np.errstate(all="ignore"):  # non-finite values are reported below, not warned about
+            mesh = trimesh.load(name, force="mesh", process=False, validate=False)
     except Exception as exc:  # trimesh raises many types for unreadable files
-        raise MeshError(f"could not read mesh {name!r}: {exc}") from exc
-    if not isinstance(mesh, trimesh.Trimesh):
-        raise MeshError(f"mesh {name!r} is empty: the file holds no triangles")
+        text = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        raise MeshError(f"mesh {base!r} cannot be read as {suffix[1:].upper()} ({text})") from exc
+    if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
+        raise MeshError(f"mesh {base!r} is empty: it has no faces")
+    _check_coordinates(np.asarray(mesh.vertices), base, unit, per_triangle=suffix == ".stl")
+    mesh.process(validate=False)  # merge the duplicated corners of STL triangle soups
     mesh.apply_scale(UNITS[unit])
-    return check_mesh(mesh, os.path.basename(name))
+    return check_mesh(mesh, base)
+
+
+#: Largest coordinate accepted from a mesh file [m]: a kilometre is no graspable object, and
+#: bounding coordinates keeps areas and volumes (cubes of lengths) far from float overflow.
+MAX_COORDINATE_M = 1e3
+
+
+def _check_stl_layout(name: str, base: str, n_bytes: int) -> None:
+    """Tell an STL from other bytes before trimesh guesses (it would try text decodings)."""
+    with open(name, "rb") as fh:
+        head = fh.read(84)
+    if len(head) == 84 and 84 + 50 * int.from_bytes(head[80:84], "little") == n_bytes:
+        return  # binary STL: 80-byte header, triangle count, 50 bytes per triangle
+    if head.lstrip()[:5].lower() == b"solid":
+        try:
+            with open(name, encoding="ascii") as fh:
+                fh.read()
+            return
+        except UnicodeDecodeError:
+            pass
+    raise MeshError(f"mesh {base!r} is not an STL file: {n_bytes} bytes are neither a binary STL "
+                    "(84 bytes plus 50 per triangle) nor an ASCII STL (text starting with 'solid')")
+
+
+def _check_coordinates(vertices: np.ndarray, base: str, unit: str, per_triangle: bool) -> None:
+    """Refuse non-finite or absurdly large coordinates, naming the first vertex (or triangle)."""
+    def where(i: int) -> str:
+        return f"triangle {i // 3 + 1}" if per_triangle else f"vertex {i + 1}"
+
+    finite = np.isfinite(vertices).all(axis=1)
+    if not finite.all():
+        i = int(np.flatnonzero(~finite)[0])
+        raise MeshError(f"mesh {base!r} has a non-finite coordinate at {where(i)} "
+                        f"({', '.join(f'{x:g}' for x in vertices[i])}): every coordinate must be a "
+                        "finite number")
+    limit = MAX_COORDINATE_M / UNITS[unit]
+    far = np.abs(vertices).max(axis=1) > limit
+    if far.any():
+        i = int(np.flatnonzero(far)[0])
+        raise MeshError(f"mesh {base!r} has a coordinate of {np.abs(vertices[i]).max():.3g} {unit} "
+                        f"at {where(i)}, beyond the {limit:g} {unit} ({MAX_COORDINATE_M:g} m) any "
+                        "graspable object fits in; check the file and its unit (--unit)")
 
 
 def check_mesh(mesh: trimesh.Trimesh, name: str = "mesh", centre: bool = True) -> trimesh.Trimesh:

@@ -127,8 +127,9 @@ def report_run(store: RunStore, root: Path, formats: list[str], figure_format: s
         raise UserInputError(f"{store.manifest_path} is missing.")
     records = store.read("records").to_pandas()
     study, kind = str(manifest.get("study")), str(manifest.get("kind"))
+    like = (manifest.get("config") or {}).get("compare_with") or study  # its paper values' study
     notes: list[str] = []
-    paper = _paper((manifest.get("config") or {}).get("paper"), study, notes)
+    paper = _paper((manifest.get("config") or {}).get("paper"), like, notes)
     run = Run(records, manifest, paper, store, figure_format)
     up = "../" * (len(store.path.relative_to(root).parts) + 1)
     doc = Document(f"{study} — run {manifest.get('run')}", run.source,
@@ -137,7 +138,7 @@ def report_run(store: RunStore, root: Path, formats: list[str], figure_format: s
     if not len(records):
         doc.blocks.append(Text("No trial of this run is recorded yet.", "note"))
     else:
-        spec = spec_for(study, kind)
+        spec = spec_for(study, kind) if study in SPECS else spec_for(like, kind)
         if spec is not None:
             render(spec, run, doc)
         elif kind in LEGACY:
@@ -172,6 +173,7 @@ def _runs(root: Path, studies: list[str] | None, run: str | None) -> list[RunSto
                 if run:
                     raise UserInputError(f"no run {r!r} of study {name!r} under {root}.")
                 continue
+            store.verify()  # a damaged file: refuse (DamagedRunError, exit 2), never report around it
             stores.append(store)
     return stores
 

@@ -59,6 +59,8 @@ from graspcampaign.rig.protocol import STUDY_TEST2, STUDY_TEST3
 
 __all__ = [
     "IngestError",
+    "header_problems",
+    "record_template",
     "OUTCOME_VALUES",
     "TEST2_SCHEMA",
     "TEST3_SCHEMA",
@@ -256,21 +258,46 @@ def _as_float(value) -> float | None:
         return None
 
 
+def header_problems(columns: list[str], required: list[str], units: dict[str, str],
+                    unit_re: re.Pattern) -> list[str]:
+    """Describe every required column missing from a header, all at once.
+
+    ``units`` maps a required column to its unit suffix; a missing column whose quantity is present
+    under another unit suffix (``peak_slip_cm`` for ``peak_slip_mm``) is reported as wrong units.
+
+    Returns
+    -------
+    list of str
+        One phrase per problem; empty when the header is complete.
+    """
+    present = set(columns)
+    unknown = [c for c in columns if c not in set(required) | set(units)]
+    wrong, missing = [], []
+    for name in required:
+        if name in present:
+            continue
+        want = unit_re.match(name) if units.get(name) else None
+        other = next((c for c in unknown if want and (m := unit_re.match(c))
+                      and m["stem"] == want["stem"] and m["unit"] != want["unit"]), None)
+        if other:
+            wrong.append(f"'{other}' has unit '{unit_re.match(other)['unit']}' where '{name}' "
+                         f"({units[name]}) is expected")
+        else:
+            missing.append(name)
+    out = []
+    if missing:
+        out.append(f"{'a required column is' if len(missing) == 1 else 'required columns are'} "
+                   f"missing: {', '.join(missing)}")
+    return out + wrong
+
+
 def _check_header(df: pd.DataFrame, schema, label: str) -> None:
     columns = [str(c) for c in df.columns]
-    known = {spec.name for spec in schema}
-    unknown = [c for c in columns if c not in known]
-    for spec in schema:
-        if spec.name in columns or spec.optional:
-            continue
-        stem_match = _UNIT_RE.match(spec.name) if spec.unit else None
-        if stem_match:
-            for c in unknown:
-                m = _UNIT_RE.match(c)
-                if m and m["stem"] == stem_match["stem"] and m["unit"] != spec.unit:
-                    raise _fail(label, None, c, f"unit '{m['unit']}' where '{spec.name}' "
-                                f"({spec.unit}) is expected")
-        raise _fail(label, None, spec.name, "required column is missing")
+    problems = header_problems(columns, [s.name for s in schema if not s.optional],
+                               {s.name: s.unit for s in schema}, _UNIT_RE)
+    if problems:
+        raise IngestError(f"{label}, header: {'; '.join(problems)} (`graspcampaign schedule "
+                          "<study> --template` writes a sheet with every column).")
 
 
 def validate_records(data: pd.DataFrame | str | Path, schedule: pd.DataFrame,
@@ -447,3 +474,40 @@ def _check_consistency(df: pd.DataFrame, label: str) -> None:
         if flag and not getattr(row, flag):
             raise _fail(label, i + 1, flag, f"outcome is '{outcome}' but {flag} is false "
                         "(every failure class carries its flag, §8.1)")
+
+
+_UNIT_NAMES = {"mm": "mm", "n": "N", "nm": "N m", "deg": "deg"}
+
+
+def record_template(schedule: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """Return the measured-records sheet to fill in, and the description of its columns.
+
+    Returns
+    -------
+    sheet : pandas.DataFrame
+        Every column of the study's schema (:func:`schema_for`), one row per commanded trial with
+        its ``trial_id``; every measured cell empty.
+    columns : pandas.DataFrame
+        ``column, type, unit, allowed, required`` for each column of ``sheet`` (``unit`` ``1`` for
+        dimensionless numbers, ``-`` for flags and text).
+    """
+    schema = schema_for(str(schedule["study"].iloc[0]))
+    sheet = pd.DataFrame({spec.name: pd.Series([""] * len(schedule), dtype=object)
+                          for spec in schema})
+    sheet["trial_id"] = schedule["trial_id"].to_numpy()
+    rows = []
+    for spec in schema:
+        if spec.kind in ("float", "int"):
+            unit = _UNIT_NAMES.get(spec.unit, spec.unit) or "1"
+            allowed = f"{spec.kind} in [{spec.low:g}, {spec.high:g}]"
+        else:
+            unit = "-"
+            allowed = ("true/false" if spec.kind == "bool"
+                       else ", ".join(spec.choices) if spec.choices else "text")
+        required = ("every row" if spec.name in ("trial_id", "aborted")
+                    else "optional column" if spec.optional
+                    else "executed rows" if spec.executed_required else "column required, cells "
+                    "may be empty")
+        rows.append({"column": spec.name, "type": spec.kind, "unit": unit, "allowed": allowed,
+                     "required": required})
+    return sheet, pd.DataFrame(rows)

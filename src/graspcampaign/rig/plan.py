@@ -403,15 +403,43 @@ DEFAULT_PLAN_MATERIAL = "silicone_ref"
 """Contact law used by ``plan`` when only ``--mu`` is given (the stiffest, Table 4 reference)."""
 
 
-def _check_positive(value: object, name: str, upper: float, unit: str) -> float:
+def _check_plausible(value: object, name: str, quantity: str, unit: str) -> float:
+    """Return ``value`` as a float inside its plausible range (``core.plausible.PLAUSIBLE``)."""
+    from graspcampaign.core.plausible import PLAUSIBLE
+
     try:
         number = float(value)  # type: ignore[arg-type]
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be a number, got {value!r}.") from None
-    if not (math.isfinite(number) and 0.0 < number <= upper):
+    rng = PLAUSIBLE[quantity]
+    if not rng.contains(number):
         unit = f" {unit}" if unit else ""
-        raise ValueError(f"{name} must lie in (0, {upper:g}]{unit}, got {value!r}.")
+        raise ValueError(f"{name} = {value!r} is out of range; allowed: {rng.text()}{unit} "
+                         f"({rng.why}).")
     return number
+
+
+def _check_size(mesh, name: str, unit: str) -> float:
+    """Return the object's size [mm]; refuse one no hand can grasp, naming the likely unit."""
+    from graspcampaign.core.mesh import UNITS
+    from graspcampaign.core.plausible import OBJECT_SIZE_MM
+
+    size_mm = float(np.ptp(np.asarray(mesh.vertices), axis=0).max()) * 1e3
+    if OBJECT_SIZE_MM.contains(size_mm):
+        return size_mm
+    raw = size_mm * 1e-3 / UNITS[unit]  # the size in the file's own numbers
+    fits = [u for u, scale in UNITS.items() if OBJECT_SIZE_MM.contains(raw * scale * 1e3)]
+    hint = (f"its coordinates look like {' or '.join(_UNIT_WORDS[u] for u in fits)}: pass "
+            f"--unit {fits[0]}" if fits else "no length unit makes it graspable")
+    across = f"{size_mm / 1e3:.3g} m" if size_mm >= 1e3 else f"{size_mm:.3g} mm"
+    raise ValueError(f"mesh {name!r} is {across} across read with --unit {unit}, outside "
+                     f"the {OBJECT_SIZE_MM.low:g}-{OBJECT_SIZE_MM.high:g} mm a three-finger hand "
+                     f"grasps; {hint}.")
+
+
+_UNIT_WORDS = {"m": "metres", "cm": "centimetres", "mm": "millimetres"}
+UNLOADED_N = 1e-6
+"""A finger pressing with less than this [N] carries no load (the plan's forces are N-scale)."""
 
 
 def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: float | None = None,
@@ -424,11 +452,11 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
     mesh_or_path : str, path or trimesh.Trimesh
         Mesh file (STL/OBJ/PLY, read with :func:`graspcampaign.core.mesh.load_mesh`) or a mesh.
     mass_kg : float
-        Object mass (0, 50] kg.
+        Object mass, in its plausible range (``core.plausible.PLAUSIBLE``: (0, 10] kg).
     material : str, optional
         Table 4 family; default ``silicone_ref`` for the contact law when only ``mu`` is given.
     mu : float, optional
-        Static friction (0, 3]; overrides the material's mu_s.
+        Static friction [0, 3]; overrides the material's mu_s.
     fingertip_radius_mm : float
         Fingertip radius (0, 50] mm (K scales with sqrt(R), Eq. 14).
     unit : str
@@ -441,26 +469,30 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
     Returns
     -------
     dict
-        ``mesh`` (name, nodes, faces), ``material``, ``mu_s``, ``mass_kg``, ``weight_n``,
+        ``mesh`` (name, nodes, faces, size_mm), ``material``, ``mu_s``, ``mass_kg``, ``weight_n``,
         ``contacts`` (per finger: point mm, outward normal, normal force N, deformation mm),
         ``h`` (``h_tilde, s1, s2, s3, pc_mag, pe_mag``), ``g_geo``, ``grip_force_n``,
         ``grip_capped``, ``sf_predicted``, ``f_lat_n``, ``f_down_n``, ``torque_nm``, ``r_eff_mm``,
-        ``first_finger`` (per disturbance: lateral +x, +y, down, yaw), ``predicted_stable``,
-        ``png``.
+        ``first_finger`` (per disturbance: lateral +x, +y, down, yaw), ``predicted_stable``
+        (the residual criterion, and every finger loaded), ``unloaded_fingers`` (1-based, fingers
+        whose normal force is not above :data:`UNLOADED_N`), ``png``.
 
     Raises
     ------
     graspcampaign.core.mesh.MeshError
         Unreadable or invalid mesh.
     ValueError
-        Out-of-range mass, friction, radius, or an unknown material.
+        Out-of-range mass, friction, radius, an unknown material, or an object whose size no
+        three-finger hand grasps (``core.plausible.OBJECT_SIZE_MM``; the message names the unit
+        its coordinates look like).
     """
     from graspcampaign.core.mesh import load_mesh
 
-    mass = _check_positive(mass_kg, "mass_kg", 50.0, "kg")
-    radius_mm = _check_positive(fingertip_radius_mm, "fingertip_radius_mm", 50.0, "mm")
+    mass = _check_plausible(mass_kg, "mass_kg", "mass_kg", "kg")
+    radius_mm = _check_plausible(fingertip_radius_mm, "fingertip_radius_mm", "fingertip_radius_mm",
+                                 "mm")
     if mu is not None:
-        mu = _check_positive(mu, "mu", 3.0, "")
+        mu = _check_plausible(mu, "mu", "mu", "")
     name_material = material or DEFAULT_PLAN_MATERIAL
     mat = material_model(name_material, "natural", radius_mm * 1e-3)
     if mu is not None:
@@ -471,6 +503,7 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
     else:
         mesh = mesh_or_path
         name = "mesh"
+    size_mm = _check_size(mesh, name, unit)
     body = _make_body(mesh)
     ctx = replace(body.ctx, mass=mass, mu=mat.mu_s,
                   contact=mat.contact_params(radius_mm * 1e-3), n_cand=DEFAULT_N_CAND,
@@ -489,8 +522,12 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
                  "normal": [round(float(v), 4) for v in plan.normals[j]],
                  "normal_force_n": float(forces[j]),
                  "deformation_mm": pred[f"deformation_pred_{j + 1}_mm"]} for j in range(3)]
+    # a finger that presses on nothing leaves a two-finger grasp: never stable (Sec. 8.1 needs all
+    # three contacts loaded), whatever the residual criterion says
+    unloaded = [j + 1 for j in range(3) if not forces[j] > UNLOADED_N]
     out = {
-        "mesh": {"name": name, "nodes": int(len(mesh.vertices)), "faces": int(len(mesh.faces))},
+        "mesh": {"name": name, "nodes": int(len(mesh.vertices)), "faces": int(len(mesh.faces)),
+                 "size_mm": size_mm},
         "material": name_material, "mu_s": mat.mu_s, "mass_kg": mass, "weight_n": mass * GRAVITY,
         "fingertip_radius_mm": radius_mm, "kappa": dist.KAPPA, "target_sf": dist.SF_TARGET,
         "contacts": contacts,
@@ -500,7 +537,8 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
         "sf_predicted": pred["sf_predicted"], "f_lat_n": pred["f_lat_pred_n"],
         "f_down_n": pred["f_down_pred_n"], "torque_nm": pred["torque_pred_nm"],
         "r_eff_mm": pred["r_eff_mm"], "first_finger": first,
-        "predicted_stable": pred["predicted_stable"], "residual_n": pred["residual_pred_n"],
+        "predicted_stable": bool(pred["predicted_stable"]) and not unloaded,
+        "unloaded_fingers": unloaded, "residual_n": pred["residual_pred_n"],
         "png": None,
     }
     if png_path is not None:

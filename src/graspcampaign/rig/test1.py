@@ -49,7 +49,14 @@ from graspcampaign.analysis.calibration import transfer_errors as _transfer_erro
 from graspcampaign.core import bench
 from graspcampaign.core.bench import FAMILIES, EventCommand, SensorParams, SpreadParams
 from graspcampaign.core.contact import contact_damping_c, contact_stiffness_k, normal_force
-from graspcampaign.rig.ingest import IngestError, _fail, _table_and_label, read_table
+from graspcampaign.rig.ingest import (
+    SOURCES,
+    IngestError,
+    _fail,
+    _table_and_label,
+    header_problems,
+    read_table,
+)
 
 log = logging.getLogger(__name__)
 
@@ -779,17 +786,14 @@ def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterabl
     """
     df, label = _table_and_label(data, file_label, read_waveforms)
     df = df.reset_index(drop=True)
-    cols = [str(c) for c in df.columns]
-    for need in WAVEFORM_COLUMNS:
-        if need in cols:
-            continue
-        stem = need.rsplit("_", 1)[0] if need != "event_id" else None
-        for c in cols:
-            m = _UNIT_RE.match(c)
-            if stem and m and m["stem"] == stem and m["unit"] != _EXPECTED_UNIT[stem]:
-                raise _fail(label, None, c, f"unit '{m['unit']}' where '{need}' "
-                            f"({_EXPECTED_UNIT[stem]}) is expected")
-        raise _fail(label, None, need, "required column is missing")
+    df.columns = [str(c).strip() for c in df.columns]
+    units = {c: _EXPECTED_UNIT[c.rsplit("_", 1)[0]] for c in WAVEFORM_COLUMNS[1:]}
+    problems = header_problems(list(df.columns), list(WAVEFORM_COLUMNS), units, _UNIT_RE)
+    if problems:
+        raise IngestError(f"{label}, header: {'; '.join(problems)} (`graspcampaign schedule "
+                          "test1_bench --template` writes a sheet with every column).")
+    if len(df) == 0:
+        raise _fail(label, None, "event_id", "the file has no data rows")
     out = pd.DataFrame({"event_id": df["event_id"]})
     ids = df["event_id"]
     bad = ids.isna() | (ids.astype(str).str.strip() == "")
@@ -840,13 +844,92 @@ def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterabl
         raise _fail(label, i + 1, "time_s", f"time {out['time_s'].iloc[i]:g} s does not "
                     f"increase within event '{out['event_id'].iloc[i]}' (previous sample "
                     f"{prev.iloc[i]:g} s)")
+    if "attempt" in df.columns:
+        out["attempt"] = _attempts(df["attempt"], label)
+    if "anomaly" in df.columns:
+        anomaly = df["anomaly"].astype(object)
+        out["anomaly"] = anomaly.where(anomaly.notna(), "").astype(str).str.strip()
+    if "source" in df.columns:
+        out["source"] = _sources(df["source"], label)
     for extra in ("attempt", "anomaly", "source"):
-        if extra in df.columns:
-            out[extra] = df[extra].to_numpy()
-    if "anomaly" in out:
-        anomaly = out["anomaly"].astype(object)
-        out["anomaly"] = anomaly.where(anomaly.notna(), "").astype(str)
+        if extra in out:
+            _check_constant(out, extra, label)
     return out
+
+
+def _attempts(raw: pd.Series, label: str) -> np.ndarray:
+    """Parse the optional ``attempt`` column: an integer from 1 (the first try) on."""
+    values = []
+    for i, value in enumerate(raw.tolist()):
+        text = str(value).strip()
+        try:
+            number = float(text)
+        except ValueError:
+            number = math.nan
+        if not (math.isfinite(number) and number == int(number) and number >= 1):
+            shown = value.item() if isinstance(value, np.generic) else value  # no np reprs
+            raise _fail(label, i + 1, "attempt", f"value {shown!r} is not an attempt number (an "
+                        "integer 1, 2, ... counting the tries of the event)")
+        values.append(int(number))
+    return np.asarray(values, dtype=np.int64)
+
+
+def _sources(raw: pd.Series, label: str) -> np.ndarray:
+    """Parse the optional ``source`` column: ``measured`` (a rig) or ``virtual`` (a virtual bench)."""
+    values = []
+    for i, value in enumerate(raw.tolist()):
+        text = "" if value is None or (isinstance(value, float) and math.isnan(value)) \
+            else str(value).strip()
+        if not text:
+            raise _fail(label, i + 1, "source", f"value is empty; expected one of "
+                        f"{', '.join(SOURCES)}")
+        if text not in SOURCES:
+            raise _fail(label, i + 1, "source", f"value {text!r} is not one of "
+                        f"{', '.join(SOURCES)}")
+        values.append(text)
+    return np.asarray(values, dtype=object)
+
+
+def _check_constant(table: pd.DataFrame, column: str, label: str) -> None:
+    """A per-event column (attempt, anomaly, source) must not change within an event."""
+    first = table.groupby("event_id", sort=False)[column].transform("first")
+    changed = (table[column] != first).to_numpy()
+    if changed.any():
+        i = int(np.flatnonzero(changed)[0])
+        value, before = (v.item() if isinstance(v, np.generic) else v  # no np reprs
+                         for v in (table[column].iloc[i], first.iloc[i]))
+        raise _fail(label, i + 1, column, f"value {value!r} differs from {before!r} earlier in "
+                    f"event '{table['event_id'].iloc[i]}' (one value per event)")
+
+
+def waveform_template() -> tuple[pd.DataFrame, pd.DataFrame]:
+    """Return the (empty) waveform sheet a rig fills in, and the description of its columns.
+
+    Returns
+    -------
+    sheet : pandas.DataFrame
+        No rows; the columns :data:`WAVEFORM_COLUMNS` then the optional ``attempt``, ``anomaly``,
+        ``source``.
+    columns : pandas.DataFrame
+        ``column, type, unit, allowed, required`` per column (ranges: the rig envelope of §7.1).
+    """
+    rows = [{"column": "event_id", "type": "str", "unit": "-",
+             "allowed": "an event_id of the schedule", "required": "every row"}]
+    for name in WAVEFORM_COLUMNS[1:]:
+        lo, hi, what = _RANGES[name]
+        unit = {"s": "s", "mm": "mm", "n": "N"}[name.rsplit("_", 1)[1]]
+        rows.append({"column": name, "type": "float", "unit": unit,
+                     "allowed": f"float in [{lo:g}, {hi:g}] ({what})", "required": "every row"})
+    rows += [
+        {"column": "attempt", "type": "int", "unit": "1",
+         "allowed": "integer >= 1, one value per event", "required": "optional column (1)"},
+        {"column": "anomaly", "type": "str", "unit": "-", "allowed": "rig-log note, one per event",
+         "required": "optional column"},
+        {"column": "source", "type": "str", "unit": "-", "allowed": ", ".join(SOURCES),
+         "required": "optional column (measured)"},
+    ]
+    columns = pd.DataFrame(rows)
+    return pd.DataFrame({c: pd.Series(dtype=object) for c in columns["column"]}), columns
 
 
 def fit_waveforms(waveforms: pd.DataFrame, schedule: pd.DataFrame,

@@ -284,6 +284,15 @@ def export_records(records: pd.DataFrame, study: str) -> pd.DataFrame:
     return out.reset_index(drop=True)
 
 
+def template(study: StudyCfg, params: Any, sheet: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """The measured-records sheet to fill in: one row per commanded trial (its sheet id), every
+    measured column empty; and its columns with type, unit, allowed values (the ingest schema)."""
+    from graspcampaign.rig.ingest import record_template
+
+    schedule = pd.DataFrame({"study": study.kind, "trial_id": sheet["trial_id"]})
+    return record_template(schedule)
+
+
 def _measured_value(value: Any, kind: str) -> Any:
     """A validated cell as the engine records it (ints as int, missing as None)."""
     if value is None or (isinstance(value, float) and math.isnan(value)):
@@ -389,7 +398,7 @@ def _check_against_stored(entries: list[tuple[str, int, str, str, bool]],
 
 
 _COMMON = dict(source="virtual", seconds_per_trial=0.004, design=design, schedule=schedule,
-               ingest=ingest)
+               ingest=ingest, template=template)
 
 TEST2_GRASP = TrialKind(
     name=TEST2, run=run, params=Test2GraspParams,

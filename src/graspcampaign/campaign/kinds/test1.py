@@ -271,6 +271,14 @@ def schedule(study: StudyCfg, params: Test1BenchParams) -> pd.DataFrame:
     return protocol_schedule(study, params)
 
 
+def template(study: StudyCfg, params: Test1BenchParams, sheet: pd.DataFrame
+             ) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """The waveform sheet a bench fills in (no rows: one row per sample) and its columns."""
+    from graspcampaign.rig.test1 import waveform_template
+
+    return waveform_template()
+
+
 def ingest(study: StudyCfg, params: Test1BenchParams, paths: list[str],
            stored: pd.DataFrame | None = None) -> list[dict[str, Any]]:
     """Validate waveform files completely, then fit every event (the in-process fit path).
@@ -335,5 +343,6 @@ TEST1_BENCH = TrialKind(
     finalize=finalize,
     schedule=schedule,
     ingest=ingest,
+    template=template,
     description="Test 1 bench protocol (§7): one planned event on the virtual bench, fitted",
 )

@@ -1,0 +1,61 @@
+"""The Python API for notebooks and scripts: compose a study, run it, load its records.
+
+>>> import graspcampaign as gc
+>>> study = gc.compose_study("baseline_grid", ["mu=[0.3]", "seeds=2"])
+>>> summary = gc.run_study(study, run="mu03")
+>>> df = gc.load_records("baseline_grid", "mu03")            # a pandas DataFrame
+>>> ds = gc.load_records("baseline_grid", "mu03", dataset=True)  # a pyarrow.dataset, for large runs
+
+``compose_study`` and ``run_study`` are the command line's own functions
+(:func:`graspcampaign.campaign.compose.compose_study`,
+:func:`graspcampaign.campaign.runner.run_study`); bad input raises
+:class:`graspcampaign.errors.UserInputError` with the same one-sentence message the command line
+prints.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from graspcampaign.campaign.compose import compose_study
+from graspcampaign.campaign.runner import RunSummary, run_study
+
+__all__ = ["compose_study", "run_study", "load_records", "RunSummary"]
+
+
+def load_records(study: str, run: str | None = None, *, root: str | Path = "results",
+                 dataset: bool = False) -> Any:
+    """Return the records of a run: one row per trial, every column with its unit in its name.
+
+    Parameters
+    ----------
+    study : str
+        Study name (a directory under ``root``).
+    run : str, optional
+        Run name; default the study's configured run (``output.run``, normally ``default``).
+    root : str or path
+        Results root (``output.root``).
+    dataset : bool
+        Return a :class:`pyarrow.dataset.Dataset` instead of a DataFrame: nothing is read until
+        asked, and filters and column selections are pushed down to the files (runs of millions
+        of trials).
+
+    Returns
+    -------
+    pandas.DataFrame or pyarrow.dataset.Dataset
+        Every file verified in full first (``docs/records.md`` lists the columns).
+
+    Raises
+    ------
+    graspcampaign.errors.UserInputError
+        No such run, a run name leaving ``root``, or a damaged file (``DamagedRunError``).
+    """
+    from graspcampaign.campaign.records import RunStore
+    from graspcampaign.campaign.studyfile import configured_run, run_dir
+    from graspcampaign.errors import UserInputError
+
+    store = RunStore(run_dir(root, study, run or configured_run(study)))
+    if not store.exists():
+        raise UserInputError(f"no run at {store.path}; run `graspcampaign run {study}` first.")
+    return store.dataset() if dataset else store.read().to_pandas()

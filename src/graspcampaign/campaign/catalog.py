@@ -1,0 +1,210 @@
+"""What ``list`` and ``show`` need to know about the code, computed once per code version.
+
+``graspcampaign list`` and ``show`` answer in well under a second because they import neither the
+numerical layers nor, for ``list``, Hydra. Three facts would need those imports: the names in the
+shape and planner registries (to validate factor levels), a trial kind's facts (its time per trial,
+whether it has an explicit design, its data source), and the size of an explicit design (a hardware
+protocol's schedule takes seconds to build). They are computed on first use and kept in a small
+JSON file keyed by a hash of the package's source files, so any change of the code recomputes them:
+a cached answer is always the one the code would give.
+
+Cache file: ``$GRASPCAMPAIGN_CACHE/catalog.json`` (default ``$XDG_CACHE_HOME/graspcampaign``, i.e.
+``~/.cache/graspcampaign``). It holds nothing but these facts; deleting it costs one slow call. An
+unwritable cache directory only makes ``list`` and ``show`` slower.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import logging
+import os
+from functools import cache
+from pathlib import Path
+from typing import Any
+
+import graspcampaign
+
+log = logging.getLogger(__name__)
+
+
+@cache
+def source_hash() -> str:
+    """Hash of every ``.py`` file of the installed package (paths and contents)."""
+    root = Path(graspcampaign.__file__).resolve().parent
+    digest = hashlib.sha256()
+    for path in sorted(root.rglob("*.py")):
+        digest.update(path.relative_to(root).as_posix().encode())
+        digest.update(path.read_bytes())
+    return digest.hexdigest()[:16]
+
+
+def cache_path() -> Path:
+    """Return the catalog's cache file (see the module docstring)."""
+    base = os.environ.get("GRASPCAMPAIGN_CACHE")
+    if not base:
+        xdg = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+        base = os.path.join(xdg, "graspcampaign")
+    return Path(base) / "catalog.json"
+
+
+def _load() -> dict[str, Any]:
+    try:
+        data = json.loads(cache_path().read_text())
+    except (OSError, ValueError):
+        return {"source": source_hash()}
+    return data if data.get("source") == source_hash() else {"source": source_hash()}
+
+
+def _remember(section: str, key: str, value: Any) -> None:
+    """Store one fact (re-reading the file first, so concurrent writers lose little)."""
+    data = _load()
+    data.setdefault(section, {})[key] = value
+    path = cache_path()
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+        tmp.write_text(json.dumps(data, sort_keys=True))
+        os.replace(tmp, path)
+    except OSError as exc:
+        log.debug("catalog cache not written (%s)", exc)
+
+
+def _fact(section: str, key: str, compute) -> Any:
+    known = _load().get(section, {})
+    if key in known:
+        return known[key]
+    value = compute()
+    _remember(section, key, value)
+    return value
+
+
+def registry_names(name: str) -> tuple[str, ...]:
+    """Return the names of the ``shape`` or ``planner`` registry (``core.mesh.SHAPES``,
+    ``core.planner.PLANNERS``)."""
+
+    def compute() -> list[str]:
+        if name == "shape":
+            from graspcampaign.core.mesh import SHAPES
+
+            return list(SHAPES)
+        if name == "planner":
+            from graspcampaign.core.planner import PLANNERS
+
+            return list(PLANNERS)
+        raise KeyError(name)
+
+    return tuple(_fact("registries", name, compute))
+
+
+def kind_facts(name: str) -> dict[str, Any]:
+    """Return ``{"seconds_per_trial", "design", "source"}`` of an available trial kind."""
+    from graspcampaign.campaign.kind import _EXTRA, get_kind
+
+    def compute() -> dict[str, Any]:
+        kind = get_kind(name)
+        return {"seconds_per_trial": kind.seconds_per_trial, "design": kind.design is not None,
+                "source": kind.source}
+
+    if name in _EXTRA:  # kinds registered at run time (tests) are never cached
+        return compute()
+    return _fact("kinds", name, compute)
+
+
+def design_size(study) -> int:
+    """Return a study's trial count: its Cartesian product, or its kind's explicit design."""
+    from graspcampaign.campaign.grid import n_trials
+    from graspcampaign.campaign.kind import kind_available
+
+    if not kind_available(study.kind) or not kind_facts(study.kind)["design"]:
+        return n_trials(study)
+    from graspcampaign.campaign.provenance import config_hash
+
+    def compute() -> int:
+        from graspcampaign.campaign.kind import get_kind
+        from graspcampaign.campaign.runner import kind_params
+
+        kind = get_kind(study.kind)
+        rows = kind.design(study, kind_params(study, kind))
+        from graspcampaign.campaign.schema import check_design_rows
+
+        check_design_rows(rows)
+        return len(rows)
+
+    from graspcampaign.campaign.kind import _EXTRA
+
+    if study.kind in _EXTRA:
+        return compute()
+    return int(_fact("designs", f"{study.kind}:{config_hash(study)}", compute))
+
+
+def _light_study(path: Path, data: dict[str, Any]):
+    """A StudyCfg from a study file's own keys, without Hydra (the groups keep their defaults).
+
+    Enough for ``list``: names, kind, description, design keys and factor levels are checked;
+    ``show`` and ``run`` compose the file with Hydra and check everything.
+    """
+    import dataclasses
+
+    from graspcampaign.campaign.schema import StudyCfg, check_study
+    from graspcampaign.errors import ConfigError
+
+    fields = {f.name for f in dataclasses.fields(StudyCfg)}
+    unknown = [k for k in data if k not in fields]
+    if unknown:
+        raise ConfigError(f"{path}: {unknown[0]} is not a known key of StudyCfg; known keys: "
+                          f"{', '.join(sorted(fields))}.")
+    plain = {"name": str, "kind": str, "description": str, "seed": int, "seeds": int,
+             "repeats": int, "factors": dict, "zip": list, "method_factors": list, "params": dict,
+             "paper": dict}
+    kwargs = {}
+    for key, typ in plain.items():
+        if key not in data or data[key] is None:
+            continue
+        value = data[key]
+        if not isinstance(value, typ) or isinstance(value, bool):
+            raise ConfigError(f"{path}: {key} must be of type {typ.__name__}, got {value!r}.")
+        kwargs[key] = value
+    factors = kwargs.get("factors", {})
+    for name, levels in factors.items():
+        factors[name] = levels if isinstance(levels, list) else [levels]
+    study = StudyCfg(**kwargs)
+    try:
+        check_study(study)
+    except ConfigError as exc:
+        raise ConfigError(f"{path}: {exc}") from None
+    return study
+
+
+def study_row(path: Path) -> dict[str, Any]:
+    """Return what ``graspcampaign list`` shows of a study file: name, kind, trials, runnable.
+
+    Raises
+    ------
+    ConfigError
+        A broken file (invalid YAML, missing header, unknown key, bad factor), naming it.
+    """
+    from graspcampaign.campaign.grid import n_trials
+    from graspcampaign.campaign.kind import KINDS, kind_available
+    from graspcampaign.campaign.studyfile import check_package_header, project_dirs, read_yaml
+
+    data = read_yaml(path, study=True)
+    check_package_header(path)
+    study = _light_study(path, data)
+    ready = kind_available(study.kind)
+    if ready and kind_facts(study.kind)["design"]:
+        digest = hashlib.sha256(path.read_bytes())
+        for conf in sorted(project_dirs()[0].rglob("*.yaml")):
+            digest.update(conf.read_bytes())
+
+        def compute() -> int:
+            from graspcampaign.campaign.compose import compose_study
+
+            return design_size(compose_study(str(path)))
+
+        n = int(_fact("listed", digest.hexdigest()[:16], compute))
+    else:
+        n = n_trials(study)
+    state = "yes" if ready else "not yet" if study.kind in KINDS else "unknown kind"
+    return {"study": path.stem, "kind": study.kind, "trials": n, "runnable": state,
+            "description": " ".join(study.description.split())}

@@ -1,0 +1,239 @@
+"""Where study and group files live, and a first look at a YAML file before Hydra sees it.
+
+Config search path (documented in the README):
+
+- ``GRASPCAMPAIGN_HOME``: a directory holding ``conf/`` (the config groups) and ``campaigns/`` (the
+  studies) that replaces the ones shipped with the package (default: the source checkout the
+  package is imported from, else the copies inside the wheel);
+- ``GRASPCAMPAIGN_PATH``: further directories of study files (``*.yaml``), separated by ``:`` (``;``
+  on Windows), searched in order *before* ``campaigns/``, so a study of your own can keep a name of
+  the tool's;
+- a study argument that names a file (``./my_study.yaml``, anything ending in ``.yaml``/``.yml`` or
+  holding a path separator) is that file.
+
+Nothing here imports Hydra, numpy or the numerical layers: ``graspcampaign list`` runs on this
+module alone.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from functools import cache
+from pathlib import Path
+from typing import Any
+
+from graspcampaign.errors import ConfigError, UserInputError
+
+_RUN_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
+_SUFFIXES = (".yaml", ".yml")
+
+
+@cache
+def project_dirs() -> tuple[Path, Path]:
+    """Return ``(conf_dir, campaigns_dir)``.
+
+    Looked up in order: ``$GRASPCAMPAIGN_HOME``, the source checkout the package is imported from
+    (editable installs), then the copies shipped inside the wheel.
+    """
+    candidates = []
+    home = os.environ.get("GRASPCAMPAIGN_HOME")
+    if home:
+        candidates.append(Path(home).expanduser())
+    here = Path(__file__).resolve()
+    candidates += [here.parents[3], here.parents[1] / "_data"]
+    for root in candidates:
+        if (root / "conf" / "config.yaml").is_file() and (root / "campaigns").is_dir():
+            return root / "conf", root / "campaigns"
+    if home:
+        raise UserInputError(f"GRASPCAMPAIGN_HOME={home} holds no conf/config.yaml and "
+                             "campaigns/; point it at a directory that has both.")
+    raise UserInputError("cannot find conf/config.yaml and campaigns/; set GRASPCAMPAIGN_HOME to "
+                         "a directory that has both.")
+
+
+def study_dirs() -> list[Path]:
+    """Return the directories searched for study files: ``$GRASPCAMPAIGN_PATH``, then campaigns/."""
+    extra = [Path(p).expanduser() for p in os.environ.get("GRASPCAMPAIGN_PATH", "").split(os.pathsep)
+             if p.strip()]
+    return [*extra, project_dirs()[1]]
+
+
+def study_files() -> dict[str, Path]:
+    """Return ``{study name: file}`` over the search path (the first directory holding a name wins)."""
+    out: dict[str, Path] = {}
+    for directory in study_dirs():
+        if not directory.is_dir():
+            continue
+        for path in sorted(directory.iterdir()):
+            if path.suffix in _SUFFIXES and path.is_file():
+                out.setdefault(path.stem, path)
+    return dict(sorted(out.items()))
+
+
+def list_studies() -> list[str]:
+    """Return the study names on the search path, sorted."""
+    return list(study_files())
+
+
+def is_path_argument(study: str) -> bool:
+    """Whether a study argument names a file rather than a study."""
+    return study.endswith(_SUFFIXES) or "/" in study or os.sep in study
+
+
+def find_study(study: str) -> Path:
+    """Return the file of a study given by name (on the search path) or by path.
+
+    Raises
+    ------
+    ConfigError
+        No such study or file, naming the available studies.
+    """
+    if is_path_argument(study):
+        path = Path(study).expanduser()
+        if not path.is_file():
+            raise ConfigError(f"study file {study} does not exist.")
+        if path.suffix not in _SUFFIXES:
+            raise ConfigError(f"study file {study} must end in .yaml or .yml.")
+        return path
+    files = study_files()
+    if study not in files:
+        raise ConfigError(f"unknown study {study!r}; available studies: {', '.join(files)}.")
+    return files[study]
+
+
+def check_package_header(path: Path) -> None:
+    """Refuse a study file without Hydra's ``# @package _global_`` in its leading comments.
+
+    Without it Hydra would nest the whole study under a ``campaigns:`` key.
+    """
+    with open(path) as fh:
+        for line in fh:
+            if not line.startswith("#"):
+                break
+            if re.match(r"#\s*@package\s+_global_\s*$", line):
+                return
+    raise ConfigError(f"{path} does not start with the comment line '# @package _global_', which "
+                      "every study file needs (see campaigns/smoke.yaml).")
+
+
+def _yaml_error_sentence(path: Path, exc: Exception, n_lines: int) -> str:
+    mark = getattr(exc, "problem_mark", None) or getattr(exc, "context_mark", None)
+    # past the last line (an item left open): the last line is where it was left open
+    where = f"{path}, line {min(mark.line + 1, max(n_lines, 1))}" if mark is not None else f"{path}"
+    problem = (getattr(exc, "problem", None) or str(exc).splitlines()[0]).strip()
+    context = (getattr(exc, "context", None) or "").strip()
+    if "'\\t'" in problem:
+        return f"{where}: a tab character where YAML allows only spaces for indentation."
+    text = f"{context}: {problem}" if context else problem
+    return f"{where}: this is not valid YAML ({text})."
+
+
+@cache
+def _loader() -> type:
+    """A SafeLoader that refuses a key given twice in one mapping, as OmegaConf does."""
+    import yaml
+
+    class Loader(yaml.SafeLoader):
+        pass
+
+    def mapping(loader: yaml.SafeLoader, node: yaml.MappingNode, deep: bool = False) -> dict:
+        seen: dict[Any, int] = {}
+        for key_node, _ in node.value:
+            key = loader.construct_object(key_node, deep=True)
+            if key in seen:
+                raise yaml.constructor.ConstructorError(
+                    None, None, f"key {key!r} is given twice (first on line {seen[key] + 1})",
+                    key_node.start_mark)
+            seen[key] = key_node.start_mark.line
+        return loader.construct_mapping(node, deep)
+
+    Loader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, mapping)
+    return Loader
+
+
+def read_yaml(path: Path, *, study: bool = False) -> dict[str, Any]:
+    """Parse a study or group file and return its mapping.
+
+    Raises
+    ------
+    ConfigError
+        Invalid YAML (naming the file and line), an empty study file, or a file that is not a
+        mapping of keys.
+    """
+    import yaml
+
+    try:
+        text = Path(path).read_text()
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ConfigError(f"{path} cannot be read as a text file ({type(exc).__name__}).") from None
+    try:
+        data = yaml.load(text, Loader=_loader())  # noqa: S506  (a SafeLoader subclass)
+    except yaml.YAMLError as exc:
+        raise ConfigError(_yaml_error_sentence(Path(path), exc, len(text.splitlines()))) from None
+    if data is None:
+        if study:
+            raise ConfigError(f"{path} is empty; a study file needs at least the keys name and "
+                              "kind.")
+        return {}
+    if not isinstance(data, dict):
+        raise ConfigError(f"{path} must be a mapping of keys (name: ..., kind: ...), not a "
+                          f"{type(data).__name__}.")
+    if study:
+        missing = [k for k in ("name", "kind") if k not in data]
+        if missing:
+            raise ConfigError(f"{path} has no {' and no '.join(missing)} key; a study file needs "
+                              "at least the keys name and kind.")
+    return data
+
+
+def check_group_files() -> None:
+    """Parse every YAML under ``conf/``; the first invalid one raises naming its file and line."""
+    conf_dir, _ = project_dirs()
+    for path in sorted(conf_dir.rglob("*.yaml")):
+        read_yaml(path)
+
+
+def check_name(value: Any, key: str) -> str:
+    """Check a study or run name: one path component, so results stay under the results root.
+
+    Raises
+    ------
+    ConfigError
+        Naming ``key`` and the allowed characters.
+    """
+    text = str(value)
+    if not _RUN_NAME.fullmatch(text):
+        raise ConfigError(f"{key} = {text!r} is not allowed; use letters, digits, '.', '_' and '-' "
+                          "(starting with a letter or digit, at most 100), so the run stays "
+                          "inside the results directory.")
+    return text
+
+
+def run_dir(root: str | Path, study: str, run: str, key: str = "--run") -> Path:
+    """Return ``<root>/<study>/<run>`` after checking both names stay one path component each."""
+    return Path(root) / check_name(study, "study name") / check_name(run, key)
+
+
+def configured_run(study: str) -> str:
+    """Return the run a study writes to by default (``output.run``), read without Hydra.
+
+    The study file's ``output.run`` if it sets one, else the ``conf/output`` default's, else
+    ``default``; for a name not on the search path (records of a study of another tool version),
+    ``default``.
+    """
+    try:
+        data = read_yaml(find_study(study), study=True)
+    except ConfigError:
+        return "default"
+    output = data.get("output")
+    if isinstance(output, dict) and output.get("run"):
+        return str(output["run"])
+    default = project_dirs()[0] / "output" / "default.yaml"
+    run = read_yaml(default).get("run") if default.is_file() else None
+    return str(run or "default")
+
+
+def group_options(group: str) -> tuple[str, ...]:
+    """Return the options of a config group (the YAML files in ``conf/<group>/``), sorted."""
+    return tuple(sorted(p.stem for p in (project_dirs()[0] / group).glob("*.yaml")))

@@ -1,0 +1,52 @@
+"""What the command line prints: the study list and a grasp plan, in words and tables (no reprs)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import typer
+
+
+def print_list(rows: list[dict[str, Any]]) -> None:
+    """Print the study table of ``graspcampaign list``."""
+    from rich.console import Console
+    from rich.table import Table
+
+    table = Table("study", "kind", "trials", "runnable", "description")
+    for row in rows:
+        description = row["description"]
+        if row["runnable"] != "broken":
+            description = description[:70]
+        table.add_row(row["study"], row["kind"], str(row["trials"]), row["runnable"], description)
+    Console(width=160).print(table)
+
+
+def _vector(values, fmt: str) -> str:
+    return "(" + ", ".join(format(float(v), fmt) for v in values) + ")"
+
+
+def print_plan(r: dict[str, Any]) -> None:
+    """Print the result of :func:`graspcampaign.rig.plan.plan_mesh` for a person."""
+    mesh = r["mesh"]
+    typer.echo(f"mesh: {mesh['name']} ({mesh['nodes']} nodes, {mesh['faces']} faces, "
+               f"{mesh['size_mm']:.1f} mm across)  mass: {r['mass_kg']} kg "
+               f"(W = {r['weight_n']:.3f} N)  material: {r['material']}  mu_s: {r['mu_s']:.3f}")
+    for c in r["contacts"]:
+        typer.echo(f"finger {c['finger']}: vertex {c['vertex']} at {_vector(c['point_mm'], '.1f')} mm, "
+                   f"normal {_vector(c['normal'], '.2f')}, f_n = {c['normal_force_n']:.3f} N, "
+                   f"deformation = {c['deformation_mm']:.2f} mm")
+    typer.echo("H: " + ", ".join(f"{k} = {v:.3f}" for k, v in r["h"].items()))
+    stable = "yes" if r["predicted_stable"] else "no"
+    if r["unloaded_fingers"]:
+        fingers = ", ".join(map(str, r["unloaded_fingers"]))
+        stable += f" (finger {fingers} carries no load, so the grasp is not a three-finger grasp)"
+    typer.echo(f"G_geo = {r['g_geo']:.3f}  grip = {r['grip_force_n']:.3f} N"
+               f"{' (capped at the damage depth)' if r['grip_capped'] else ''}  "
+               f"SF = {r['sf_predicted']:.3f}  predicted stable: {stable}")
+    typer.echo(f"predicted limits: F_lat = {r['f_lat_n']:.3f} N, F_down = {r['f_down_n']:.3f} N, "
+               f"T = {r['torque_nm']:.4f} N m (r_eff = {r['r_eff_mm']:.1f} mm)")
+    first = ", ".join(f"{k.replace('_', ' ')}: finger {v}" if v else f"{k.replace('_', ' ')}: none"
+                      for k, v in r["first_finger"].items())
+    typer.echo(f"first finger to slip: {first}")
+    if r["png"]:
+        typer.echo(f"picture: {r['png']}")

@@ -1,0 +1,86 @@
+"""Physically plausible ranges of the quantities a user can set, each with its source.
+
+A value outside its range is not a harder case of the same problem but a state that cannot exist
+(a friction coefficient of 50, a negative mass) or a unit mistake (a mesh exported in metres read
+as millimetres). The campaign schema (``campaign/schema.py``) and ``graspcampaign plan``
+(``rig/plan.py``) refuse such values with the range and the reason below, from this one table.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+__all__ = ["PLAUSIBLE", "PlausibleRange", "OBJECT_SIZE_MM"]
+
+
+@dataclass(frozen=True)
+class PlausibleRange:
+    """A closed or half-open interval of physically meaningful values.
+
+    Attributes
+    ----------
+    low, high : float
+        Bounds, in the unit the quantity's name carries.
+    low_open : bool
+        Whether ``low`` itself is excluded (a mass must be > 0, a friction coefficient may be 0).
+    why : str
+        The reason, short enough for an error message.
+    source : str
+        Where the bound comes from (paper section, reference, or physical argument).
+    """
+
+    low: float
+    high: float
+    low_open: bool
+    why: str
+    source: str
+
+    def contains(self, value: float) -> bool:
+        """Whether ``value`` is finite and inside the range."""
+        if not math.isfinite(value):
+            return False
+        above = value > self.low if self.low_open else value >= self.low
+        return above and value <= self.high
+
+    def text(self) -> str:
+        """The interval in words, e.g. ``> 0 and <= 10``."""
+        return f"{'>' if self.low_open else '>='} {self.low:g} and <= {self.high:g}"
+
+    def meta(self) -> dict:
+        """Validation metadata for ``campaign.schema.check_value`` (``gt``/``ge``, ``le``, ``why``)."""
+        return {"gt" if self.low_open else "ge": self.low, "le": self.high, "why": self.why}
+
+
+PLAUSIBLE: dict[str, PlausibleRange] = {
+    "mass_kg": PlausibleRange(
+        0.0, 10.0, True, "a mass must be positive and a three-finger hand lifts at most ~10 kg",
+        "Robotiq 3-Finger Adaptive Gripper datasheet: 10 kg encompassing-grip payload; the paper's "
+        "objects weigh 0.1-0.8 kg (Sec. 6.6, 8)"),
+    "mu": PlausibleRange(
+        0.0, 3.0, False, "dry friction of soft materials stays below 3",
+        "Persson (2001) J. Chem. Phys. 115, 3840 (rubber friction rarely exceeds mu ~ 3); the "
+        "paper's materials measure mu_s = 0.51-0.77 (Table 4)"),
+    "fingertip_radius_mm": PlausibleRange(
+        0.0, 50.0, True, "a fingertip is a few millimetres to a few centimetres in radius",
+        "Table 2 (R = 5 mm); human fingertips 7-10 mm, robot pads below 50 mm"),
+    "n_exp": PlausibleRange(
+        0.0, 3.0, True, "contact force exponents of soft bodies lie between ~0.4 and ~2",
+        "Table 4 (n = 0.43-0.48), Hertz 1.5 (Johnson 1985, Contact Mechanics, Sec. 4.2); PSO "
+        "bounds n in [0.1, 1.0] (Sec. 4)"),
+    "lambda": PlausibleRange(
+        0.0, 15.0, True, "the identification scale factors stay within 10x their PSO bounds",
+        "PSO bounds lambda1, lambda2 in [0.05, 1.5] (Sec. 4, Sec. 11); sensitivity sweep "
+        "[0.1, 1.5] (Sec. 6.6)"),
+    "b_n_s_per_m": PlausibleRange(
+        0.0, 20.0, False, "nodal damping stays within 10x its PSO bound",
+        "PSO bounds b in [0.1, 2.0] (Sec. 4, Sec. 11)"),
+}
+"""Plausible ranges by quantity; each carries its reason and source."""
+
+OBJECT_SIZE_MM = PlausibleRange(
+    10.0, 500.0, False, "a three-finger hand grasps objects about 1 cm to 50 cm across",
+    "fingertip radius 5 mm (Table 2) needs an object several radii wide; three-finger grippers "
+    "open to ~155 mm (Robotiq 3F) and a human hand spans ~200 mm; the paper's objects are "
+    "50-120 mm (Sec. 6.2, 8)")
+"""Largest bounding-box side of an object to grasp [mm]."""

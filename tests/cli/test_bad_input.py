@@ -1,0 +1,312 @@
+"""Bad input, class by class: exit 2, the whole one-sentence message, nothing under results/ changed.
+
+Each class is tried through every command that reads it (``show`` and ``run`` compose a study;
+``status``, ``report`` and ``ingest`` take run names). Study files of a user's own live on the
+config search path (``GRASPCAMPAIGN_PATH``) or are given as paths; broken group files need a
+``GRASPCAMPAIGN_HOME`` of their own.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import shutil
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from graspcampaign.campaign import studyfile
+from graspcampaign.cli.main import app
+
+runner = CliRunner()
+PROJECT = Path(studyfile.project_dirs()[0]).parent
+SMOKE = ["shape=[sphere]", "nodes=[144]", "runner.backend=sequential"]
+
+
+def _invoke(*args):
+    return runner.invoke(app, [str(a) for a in args], catch_exceptions=False)
+
+
+def _snapshot(root: Path) -> dict[str, str]:
+    return {p.relative_to(root).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest()
+            for p in sorted(root.rglob("*")) if p.is_file()}
+
+
+@pytest.fixture(scope="module")
+def results(tmp_path_factory):
+    """A results root holding one finished smoke run (so 'nothing changed' has something to keep)."""
+    root = tmp_path_factory.mktemp("bad_input") / "results"
+    done = _invoke("run", "smoke", *SMOKE, "--root", root)
+    assert done.exit_code == 0, done.output
+    return root
+
+
+def _commands(case: str, first: str) -> tuple[str, ...]:
+    """``run`` for every case (it is the command that could write); ``show`` for the first case
+    of a class too (it composes the same way, and must refuse the same way)."""
+    return ("show", "run") if case == first else ("run",)
+
+
+def _refused(results: Path, args, message: str) -> None:
+    before = _snapshot(results)
+    result = _invoke(*args)
+    assert result.exit_code == 2, result.output
+    assert result.stderr == f"error: {message}\n"
+    assert _snapshot(results) == before
+
+
+@pytest.fixture
+def user_dir(tmp_path, monkeypatch):
+    """A directory of the user's own study files on GRASPCAMPAIGN_PATH."""
+    folder = tmp_path / "my_studies"
+    folder.mkdir()
+    monkeypatch.setenv("GRASPCAMPAIGN_PATH", str(folder))
+    return folder
+
+
+@pytest.fixture
+def home(tmp_path, monkeypatch):
+    """A GRASPCAMPAIGN_HOME copy of conf/ and campaigns/ whose group files a test may break."""
+    root = tmp_path / "home"
+    shutil.copytree(PROJECT / "conf", root / "conf")
+    shutil.copytree(PROJECT / "campaigns", root / "campaigns")
+    monkeypatch.setenv("GRASPCAMPAIGN_HOME", str(root))
+    studyfile.project_dirs.cache_clear()
+    yield root
+    studyfile.project_dirs.cache_clear()
+
+
+HEADER = "# @package _global_\n# schema: StudyCfg\n"
+GOOD_BODY = "name: mine\nkind: mesh_features\nfactors:\n  shape: [sphere]\n  nodes: [144]\n"
+
+# study file class -> (file text, the message after "<path>")
+STUDY_FILES = {
+    "tab_indented": (HEADER + "name: mine\nkind: mesh_features\nfactors:\n\tshape: [sphere]\n",
+                     ", line 6: a tab character where YAML allows only spaces for indentation."),
+    "unclosed_list": (HEADER + "name: mine\nkind: mesh_features\nfactors:\n  shape: [sphere,\n",
+                      ", line 6: this is not valid YAML (while parsing a flow node: expected the "
+                      "node content, but found '<stream end>')."),
+    "bad_mapping": (HEADER + "name: mine\nkind: mesh_features\n  seeds: 2\n",
+                    ", line 5: this is not valid YAML (mapping values are not allowed here)."),
+    "key_twice": (HEADER + "name: mine\nkind: mesh_features\nname: yours\n",
+                  ", line 5: this is not valid YAML (key 'name' is given twice (first on line 3))."),
+    "empty": ("", " is empty; a study file needs at least the keys name and kind."),
+    "comments_only": (HEADER, " is empty; a study file needs at least the keys name and kind."),
+    "a_list": (HEADER + "- name: mine\n", " must be a mapping of keys (name: ..., kind: ...), not "
+                                          "a list."),
+    "no_kind": (HEADER + "name: mine\n", " has no kind key; a study file needs at least the keys "
+                                         "name and kind."),
+    "no_package_header": ("# schema: StudyCfg\n" + GOOD_BODY,
+                          " does not start with the comment line '# @package _global_', which "
+                          "every study file needs (see campaigns/smoke.yaml)."),
+}
+
+
+@pytest.mark.parametrize("case", sorted(STUDY_FILES))
+@pytest.mark.parametrize("how", ["name", "path"])
+def test_broken_study_file(results, user_dir, case, how):
+    text, tail = STUDY_FILES[case]
+    path = user_dir / "mine.yaml"
+    path.write_text(text)
+    for command in _commands(case, "tab_indented"):
+        _refused(results, [command, "mine" if how == "name" else path, "--root", results],
+                 f"{path}{tail}")
+
+
+# keys and values inside a study file that composes: the schema names them
+STUDY_VALUES = {
+    "unknown_key": ("colour: red\n", "{path}, line 8: colour is not a known key of StudyCfg; known "
+                                     "keys: name, kind, description, seed, seeds, repeats, factors, "
+                                     "zip, method_factors, params, paper, compare_with, model, evaluator, features, "
+                                     "pso, runner, output."),
+    "unknown_group_key": ("model:\n  lambda3: 0.2\n",
+                          "{path}, line 9: model.lambda3 is not a known key of ContactModelCfg; "
+                          "known keys: lambda1, lambda2, n_exp, fingertip_radius_m, e_finger_pa, "
+                          "e_object_pa, nu_finger, nu_object, damping_law, alpha_hc_s_per_m."),
+    "impossible_friction": ("factors:\n  mu: [0.3, 50]\n",
+                            "factors.mu[1] = 50.0 is out of range; allowed: >= 0.0 and <= 3.0 (dry "
+                            "friction of soft materials stays below 3)."),
+    "negative_mass": ("factors:\n  mass_kg: [-0.2]\n",
+                      "factors.mass_kg[0] = -0.2 is out of range; allowed: > 0.0 and <= 10.0 (a "
+                      "mass must be positive and a three-finger hand lifts at most ~10 kg)."),
+    "run_escaping_results": ("output:\n  run: ../../elsewhere\n",
+                             "output.run = '../../elsewhere' is not allowed; use letters, digits, "
+                             "'.', '_' and '-' (starting with a letter or digit, at most 100), so "
+                             "the run stays inside the results directory."),
+    "name_escaping_results": ("name: ../mine\n",
+                              "name = '../mine' is not allowed; use letters, digits, '.', '_' and "
+                              "'-' (starting with a letter or digit, at most 100), so the run stays "
+                              "inside the results directory."),
+}
+
+
+@pytest.mark.parametrize("case", sorted(STUDY_VALUES))
+def test_bad_value_in_a_study_file(results, user_dir, case):
+    extra, message = STUDY_VALUES[case]
+    body = GOOD_BODY.replace("name: mine\n", "") if extra.startswith("name:") else GOOD_BODY
+    if extra.startswith("factors:"):
+        body = "name: mine\nkind: mesh_features\n"
+    path = user_dir / "mine.yaml"
+    path.write_text(HEADER + body + extra)
+    for command in _commands(case, "impossible_friction"):
+        _refused(results, [command, "mine", "--root", results], message.format(path=path))
+
+
+GROUP_FILES = {
+    "model/table2.yaml": ("# schema: ContactModelCfg\nlambda1: [0.3,\n", [],
+                          ", line 2: this is not valid YAML (while parsing a flow node: expected "
+                          "the node content, but found '<stream end>')."),
+    "model/nominal.yaml": ("# schema: ContactModelCfg\nlambda1: 1.0\n\tlambda2: 1.0\n",
+                           ["model=nominal"], ", line 3: a tab character where YAML allows only "
+                                              "spaces for indentation."),
+}
+
+
+@pytest.mark.parametrize("name", sorted(GROUP_FILES))
+def test_broken_group_file_is_named_with_its_line(results, home, name):
+    text, overrides, tail = GROUP_FILES[name]
+    (home / "conf" / name).write_text(text)
+    for command in _commands(name, "model/table2.yaml"):
+        _refused(results, [command, "smoke", *overrides, "--root", results],
+                 f"{home / 'conf' / name}{tail}")
+
+
+def test_one_broken_study_file_does_not_break_list(user_dir):
+    (user_dir / "broken.yaml").write_text(HEADER + "name: broken\nkind: [oops\n")
+    (user_dir / "mine.yaml").write_text(HEADER + GOOD_BODY)
+    message = (f"{user_dir / 'broken.yaml'}, line 4: this is not valid YAML (while parsing a flow "
+               "sequence: expected ',' or ']', but got '<stream end>').")
+    result = _invoke("list")
+    assert result.exit_code == 0, result.output
+    assert result.stderr == f"warning: study broken is broken: {message}\n"
+    lines = {line.split("│")[1].strip(): line for line in result.stdout.splitlines()
+             if line.count("│") > 4}
+    assert "broken" in lines["broken"].split("│")[4]
+    assert lines["mine"].split("│")[3].strip() == "1"  # its own trial count
+    assert "baseline_grid" in lines and lines["baseline_grid"].split("│")[3].strip() == "3375"
+    names = _invoke("list", "--names")
+    assert "broken" not in names.stdout.split() and "mine" in names.stdout.split()
+
+
+PLUS = {
+    "+sedes=3": "sedes is not a known key of StudyCfg (override '+sedes=3' rejected); known keys: "
+                "name, kind, description, seed, seeds, repeats, factors, zip, method_factors, "
+                "params, paper, compare_with, model, evaluator, features, pso, runner, output.",
+    "+model.foo=1": "model.foo is not a known key of ContactModelCfg (override '+model.foo=1' "
+                    "rejected); known keys: lambda1, lambda2, n_exp, fingertip_radius_m, "
+                    "e_finger_pa, e_object_pa, nu_finger, nu_object, damping_law, alpha_hc_s_per_m.",
+    "+runner.cores=4": "runner.cores is not a known key of RunnerCfg (override '+runner.cores=4' "
+                       "rejected); known keys: backend, n_jobs, address, batch_size, target_task_s, "
+                       "progress, progress_interval_s, connect_timeout_s.",
+    "model=nosuch": "model=nosuch is not an option of config group model; available options: "
+                    "firm, nominal, table2.",
+}
+
+
+@pytest.mark.parametrize("override", sorted(PLUS))
+def test_unknown_keys_added_with_plus_and_unknown_options(results, override):
+    for command in _commands(override, "+sedes=3"):
+        _refused(results, [command, "smoke", override, "--root", results], PLUS[override])
+
+
+RUN_NAME = ("is not allowed; use letters, digits, '.', '_' and '-' (starting with a letter or "
+            "digit, at most 100), so the run stays inside the results directory.")
+
+
+@pytest.mark.parametrize("name", ["../../elsewhere", "a/b", "..", ".hidden", "/abs"])
+def test_run_names_never_leave_the_results_root(results, tmp_path, name):
+    message = f"--run = {name!r} {RUN_NAME}"
+    commands = [["run", "smoke", *SMOKE], ["status", "smoke"], ["report", "smoke"]]
+    if name == "../../elsewhere":
+        commands.append(["show", "smoke"])
+    for args in commands:
+        _refused(results, [*args, "--run", name, "--root", results], message)
+    records = tmp_path / "m.csv"
+    records.write_text("trial_id\n")
+    _refused(results, ["ingest", "test2_grasp", records, "--run", name, "--root", results], message)
+    _refused(results, ["run", "smoke", *SMOKE, f"output.run={name}", "--root", results],
+             f"output.run = {name!r} {RUN_NAME}")
+
+
+def test_schedule_out_into_a_path_whose_parent_is_a_file(results, tmp_path):
+    blocker = tmp_path / "notes.txt"
+    blocker.write_text("a file, not a folder")
+    _refused(results, ["schedule", "test2_grasp", "--out", blocker / "sheet", "--root", results],
+             f"--out {blocker / 'sheet'}: {blocker} is a file, not a directory.")
+    _refused(results, ["schedule", "test2_grasp", "--out", blocker / "deeper" / "sheet", "--root",
+                       results], f"--out {blocker / 'deeper' / 'sheet'}: {blocker} is a file, not "
+                                 "a directory.")
+    _refused(results, ["schedule", "test2_grasp", "--out", tmp_path, "--root", results],
+             f"--out {tmp_path} is a directory; give a file stem such as {tmp_path / 'schedule'}.")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["notes.txt"]
+
+
+UNREACHABLE = ("runner.address = 'tcp://127.0.0.1:9': no Dask scheduler answered within 1 s "
+               "(OSError); start one (dask scheduler) or drop runner.address to run on a local "
+               "cluster.")
+
+
+def test_a_malformed_dask_address_is_refused_before_anything_runs(results):
+    for command in ("show", "run"):
+        _refused(results, [command, "smoke", "runner.backend=dask", "runner.address=localhost",
+                           "--root", results],
+                 "runner.address = 'localhost' is not a Dask scheduler address; expected e.g. "
+                 "tcp://host:8786.")
+
+
+def test_an_unreachable_dask_scheduler_is_one_sentence():
+    from graspcampaign.campaign.runner import _connect
+    from graspcampaign.errors import UserInputError
+
+    class Unreachable:  # what distributed.Client does when nothing answers in time
+        def __init__(self, address, timeout):
+            raise OSError(f"Timed out trying to connect to {address} after {timeout} s")
+
+    with pytest.raises(UserInputError) as info:
+        _connect(Unreachable, "tcp://127.0.0.1:9", 1.0)
+    assert str(info.value) == UNREACHABLE
+
+
+@pytest.mark.slow  # imports distributed and waits for the connection timeout: `make test-full`
+def test_unreachable_dask_scheduler_fails_fast_in_one_sentence(results):
+    pytest.importorskip("distributed")
+    # port 9 (discard) on the loopback: nothing listens
+    _refused(results, ["run", "smoke", "shape=[sphere]", "nodes=[144]", "runner.backend=dask",
+                       "runner.connect_timeout_s=1", "runner.address=tcp://127.0.0.1:9", "--root",
+                       results], UNREACHABLE)
+
+
+IMPOSSIBLE = {
+    "mu=50": "factors.mu[0] = 50.0 is out of range; allowed: >= 0.0 and <= 3.0 (dry friction of "
+             "soft materials stays below 3).",
+    "mu=[0.3,-0.1]": "factors.mu[1] = -0.1 is out of range; allowed: >= 0.0 and <= 3.0 (dry "
+                     "friction of soft materials stays below 3).",
+    "mass_kg=-1": "factors.mass_kg[0] = -1.0 is out of range; allowed: > 0.0 and <= 10.0 (a mass "
+                  "must be positive and a three-finger hand lifts at most ~10 kg).",
+    "mass_kg=40": "factors.mass_kg[0] = 40.0 is out of range; allowed: > 0.0 and <= 10.0 (a mass "
+                  "must be positive and a three-finger hand lifts at most ~10 kg).",
+    "model.lambda1=100": "model.lambda1 = 100.0 is out of range; allowed: > 0.0 and <= 15.0 (the "
+                         "identification scale factors stay within 10x their PSO bounds).",
+    "model.n_exp=0": "model.n_exp = 0.0 is out of range; allowed: > 0.0 and <= 3.0 (contact force "
+                     "exponents of soft bodies lie between ~0.4 and ~2).",
+    "model.fingertip_radius_m=0.5": "model.fingertip_radius_m = 0.5 is out of range; allowed: > 0.0 "
+                                    "and <= 0.05 (a fingertip is a few millimetres to a few "
+                                    "centimetres in radius).",
+}
+
+
+@pytest.mark.parametrize("override", sorted(IMPOSSIBLE))
+def test_physically_impossible_values_are_refused_with_the_range(results, override):
+    for command in _commands(override, "mu=50"):
+        _refused(results, [command, "shapes", override, "--root", results], IMPOSSIBLE[override])
+
+
+def test_status_of_an_unknown_study_does_not_suggest_running_it(results):
+    from graspcampaign.campaign.studyfile import list_studies
+
+    _refused(results, ["status", "nosuch", "--root", results],
+             f"unknown study 'nosuch': not on the config search path and no records under "
+             f"{results}; available studies: {', '.join(list_studies())}.")
+    _refused(results, ["status", "baseline_grid", "--root", results],
+             f"no run at {results / 'baseline_grid' / 'default'}; run `graspcampaign run "
+             "baseline_grid` first.")
