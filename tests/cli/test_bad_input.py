@@ -117,8 +117,8 @@ def test_broken_study_file(results, user_dir, case, how):
 STUDY_VALUES = {
     "unknown_key": ("colour: red\n", "{path}, line 8: colour is not a known key of StudyCfg; known "
                                      "keys: name, kind, description, seed, seeds, repeats, factors, "
-                                     "zip, method_factors, params, paper, compare_with, model, evaluator, features, "
-                                     "pso, runner, output."),
+                                     "zip, method_factors, params, paper, compare_with, model, "
+                                     "evaluator, features, pso, runner, output."),
     "unknown_group_key": ("model:\n  lambda3: 0.2\n",
                           "{path}, line 9: model.lambda3 is not a known key of ContactModelCfg; "
                           "known keys: lambda1, lambda2, n_exp, fingertip_radius_m, e_finger_pa, "

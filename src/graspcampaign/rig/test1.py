@@ -48,7 +48,7 @@ from graspcampaign.analysis.calibration import (
 from graspcampaign.analysis.calibration import transfer_errors as _transfer_errors
 from graspcampaign.core import bench
 from graspcampaign.core.bench import FAMILIES, EventCommand, SensorParams, SpreadParams
-from graspcampaign.core.contact import contact_damping_c, contact_stiffness_k, normal_force
+from graspcampaign.core.contact import contact_damping_c, contact_stiffness_k
 from graspcampaign.rig.ingest import (
     SOURCES,
     IngestError,
