@@ -44,14 +44,11 @@ def _counts(frame: pd.DataFrame, by: list[str], counts: list[str], order: dict |
 
 def mechanism(records: pd.DataFrame, tau_f_n: float, order: dict | None = None,
               threshold: float = SINGLE_FINGERTIP_SHARE) -> pd.DataFrame:
-    """Return per planner how Algorithm 2 ends its triples (paper-law rows).
-
-    Counts ``released`` (a contact at delta = 0), ``upper_released`` (as many released as upper
-    contacts), ``rho_passable`` (rho m g < ``tau_f_n``: only these can pass the ||R|| check, so
-    they bound the success rate), ``successes``, ``single_fingertip`` (passes whose largest
-    contact carries >= ``threshold`` of the vertical support), ``single_loaded`` (passes with one
-    loaded contact); and ``rho_median``.
-    """
+    """Return per planner (paper-law rows) the counts ``released`` (a contact at delta = 0),
+    ``upper_released`` (as many released as upper contacts), ``rho_passable`` (rho m g <
+    ``tau_f_n``: only these can pass ||R|| < tau_F), ``successes``, ``single_fingertip`` (passes
+    whose largest contact gives >= ``threshold`` of the vertical support), ``single_loaded``
+    (passes with one loaded contact), and ``rho_median``."""
     rows = paper_law(records)
     passes = _flag(rows, "success")
     frame = rows.assign(
@@ -80,12 +77,9 @@ def readings(records: pd.DataFrame, by: list[str], order: dict | None = None) ->
 
 
 def grip_need(records: pd.DataFrame, order: dict | None = None) -> pd.DataFrame:
-    """Return per grip law (not ``paper``) and planner what an equal grip needs.
-
-    Counts ``holdable`` (needed grip within the cap), ``no_equal_grip`` (``grip_needed_n``
-    infinite), ``capped_passes`` (passes at the capped grip); and ``steepest_normal_z_median``,
-    the median of max_j |n_out,z| (0: horizontal normals).
-    """
+    """Return per grip law (``slip``, ``oracle``) and planner the counts ``holdable`` (needed grip
+    within the cap), ``no_equal_grip`` (``grip_needed_n`` infinite), ``capped_passes`` (passes at
+    the capped grip) and ``steepest_normal_z_median`` (median max_j |n_out,z|; 0: horizontal)."""
     ok = rec.executed(records)
     ok = ok[ok["grip_law"] != "paper"]
     capped = _flag(ok, "grip_capped")
@@ -136,11 +130,9 @@ def h_epsilon_correlation(records: pd.DataFrame, candidates: pd.DataFrame, *, co
                           n_resamples: int = BOOTSTRAP_RESAMPLES, seed: int = 0) -> pd.DataFrame:
     """Return Spearman's rho of H(G) and epsilon (rho < 0: agreement) with bootstrap intervals.
 
-    Rows ``median per trial`` (``, force closure``): the median over the paper-law ``ferrari_canny`` trials
-    of each trial's rho over all / force-closure candidates; ``pooled``: rho over those trials'
-    ``candidates`` subsamples. Percentile intervals resample trials (a trial's candidates share a
-    body; at most 2000 resamples pooled). Columns ``reading``, ``rho``, ``low``, ``high``,
-    ``n_trials``, ``n_pairs``.
+    Rows: the median over the paper-law ``ferrari_canny`` trials of each trial's rho over all (and
+    force-closure) candidates; rho over those trials' pooled ``candidates``. Percentile intervals
+    resample trials, since a trial's candidates share a body (at most 2000 resamples pooled).
     """
     rng, alpha = np.random.default_rng(seed), (1 - confidence) / 2
     if not len(rows := paper_law(records).query("planner == 'ferrari_canny'")):

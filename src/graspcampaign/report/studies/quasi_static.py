@@ -31,10 +31,6 @@ LAW_LABEL = {"paper": "paper law (Algorithm 2)"}
 PAPER_MARKS = "black marks are the paper's (Algorithm 2) values"
 
 
-def _pct(k, n) -> str:
-    return f"{100 * k / n:.1f}%" if n else "—"
-
-
 def _paper_law(t: pd.DataFrame) -> pd.DataFrame:
     return t[t["grip_law"] == "paper"] if "grip_law" in t else t
 
@@ -98,13 +94,13 @@ def grid_finding(run: Run) -> str:
     m = run.tables["mechanism"].set_index("planner")
     t, rates = m.sum(numeric_only=True).astype(int), _paper_law(run.tables["success_by_planner"])
     paper, gate = rates.set_index("planner")["paper_pct"], _paper_law(run.tables["readings"])
-    bound = [f"{label('planner', p)} ≤ {_pct(r['rho_passable'], r['n'])} (paper {paper[p]:g}%)"
+    bound = [f"{label('planner', p)} ≤ {100 * r['rho_passable'] / r['n']:.1f}% (paper {paper[p]:g}%)"
              for p, r in m.iterrows() if r["n"] and 100 * r["rho_passable"] / r["n"] < paper.get(p, -1)]
     paired = _paper_law(run.tables.get("mcnemar", pd.DataFrame()))
     return (
         "**The paper's rates cannot come from its own Algorithm 2.** Line 7 moves each depth by "
         f"sgn(g_k)·(−R_z) and so drives every upper contact (n_out,z > 0) to δ = 0: {t.released} of "
-        f"{t.n} triples ({_pct(t.released, t.n)}) end with a released contact; in {t.upper_released} "
+        f"{t.n} triples ({100 * t.released / t.n:.1f}%) end with a released contact; in {t.upper_released} "
         f"of {t.n} as many are released as are upper. The lower contacts left push along tilted "
         "normals: a horizontal residual W·ρ that the loop, acting on R_z only, never reduces (median "
         "ρ " + ", ".join(f"{label('planner', p)} {r['rho_median']:.2f}" for p, r in m.iterrows()) +
@@ -184,20 +180,18 @@ def _rho_text(run: Run) -> str:
 
 
 EPSILON = [
-    S.Table("epsilon", "Ferrari–Canny ε (L1, linearised cones, torque / d_max) of each planner's "
-            "chosen triples (paper law; ε is geometric) and their share in force closure, ε > 0; the "
-            "ferrari_canny planner takes the largest ε of the N_cand candidates the heuristic scores",
+    S.Table("epsilon", "Ferrari–Canny ε of each planner's chosen triples (paper law; ε is geometric) "
+            "and their share in force closure (ε > 0); ferrari_canny takes the largest ε of the "
+            "candidates the heuristic scores",
             lambda run: qs.epsilon_table(run.records, run.order), [
                 Col("n", "n"), Col("rate_pct", "force closure % (Wilson 95%)", 1,
                                    low="wilson_low_pct", high="wilson_high_pct"),
                 *(Col(f"epsilon_{s}", f"{s} ε", sig=3) for s in ("median", "mean", "max"))],
             by=["planner"]),
     S.Table("h_epsilon", "Does H(G) rank grasps as the classical metric does? Spearman ρ of H(G) "
-            "and ε (ρ < 0: agreement) over the ferrari_canny trials' candidates: the median of each "
-            "trial's ρ over all and over force-closure candidates, and ρ over the pooled "
-            "50-candidate subsamples; percentile bootstrap over trials (a trial's candidates share a "
-            "body)", lambda run: qs.h_epsilon_correlation(run.records, run.aux("candidates"),
-                                                           seed=run.seed),
+            "and ε (ρ < 0: agreement) over the ferrari_canny trials' candidates, per trial and pooled; "
+            "percentile bootstrap over trials (a trial's candidates share a body)",
+            lambda run: qs.h_epsilon_correlation(run.records, run.aux("candidates"), seed=run.seed),
             [Col("reading", "reading"), Col("rho", "ρ (95%)", 3, low="low", high="high"),
              Col("n_trials", "trials"), Col("n_pairs", "candidates")]),
     S.Figure("h_epsilon", lambda run: "H(G) against Ferrari–Canny ε: (a) the ferrari_canny trials' "
@@ -341,15 +335,12 @@ BASELINE_GRID = S.ReportSpec("baseline_grid", [
 ])
 
 
-def _names(planners) -> str:
-    return ", ".join(label("planner", p) for p in planners) or "none"
-
-
 def grip_finding(run: Run) -> str:
     """The ordering under each grip law, the paired tests and the physical reasons, from records."""
     t, sig = run.tables["success_by_planner"], run.tables["mcnemar"].query("p_exact < 0.05")
     gate, paper = run.tables["readings"], run.paper.success_pct
     need = run.tables["grip_need"].query("grip_law == 'oracle'")
+    names = lambda planners: ", ".join(label("planner", p) for p in planners) or "none"  # noqa: E731
     rank = {law: t[t["grip_law"] == law].sort_values("rate_pct", ascending=False, kind="stable")
             for law in run.order["grip_law"]}
     same = [law for law, g in rank.items()
@@ -361,8 +352,8 @@ def grip_finding(run: Run) -> str:
             f"{label('planner', p)} {v:g}%" for p, v in paper.items()) + " (Fig. 18): its ordering "
         f"appears under {', '.join(same) or 'none of the laws'}. Within each law (McNemar, exact "
         "p < 0.05) the proposed planner " + ("; ".join(
-            f"under {law} beats {_names(s.query('reference_only > compared_only').compared)} and "
-            f"loses to {_names(s.query('reference_only < compared_only').compared)}"
+            f"under {law} beats {names(s.query('reference_only > compared_only').compared)} and "
+            f"loses to {names(s.query('reference_only < compared_only').compared)}"
             for law, s in sig.groupby("grip_law", sort=False)) or "differs from no planner") + ". "
         "Why: H(G) is geometric (S1–S3, P_c, P_e) and sees neither gravity nor the tilt of the "
         "contact plane. Median steepest contact |n_out,z| of each planner's triples: " + ", ".join(
