@@ -1,107 +1,138 @@
-"""Tests for analysis.quasi_static (the numbers behind the quasi-static report paragraphs)."""
+"""Tests for analysis.quasi_static (the numbers behind the quasi-static report paragraphs).
+
+Expected counts are read off the hand-written rows below; intervals come from statsmodels and
+rank correlations from scipy, never from the code under test.
+"""
 
 import numpy as np
 import pandas as pd
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from scipy import stats
+from statsmodels.stats.proportion import proportion_confint
 
 from graspcampaign.analysis.quasi_static import (
-    epsilon_summary,
-    gate_removed,
+    epsilon_table,
+    grip_need,
     h_epsilon_correlation,
-    median_rho_by_planner,
-    planner_grip_law_table,
-    released_contact_share,
-    single_fingertip_share,
-    spearman_interval,
-    what_this_shows,
+    mechanism,
+    readings,
+    weighted_spearman,
 )
+
+INF = float("inf")
 
 
 def records():
-    """Eight hand-written rows: two planners x (paper, slip), statuses and outcomes chosen."""
+    """Nine hand-written rows: two planners x (paper, slip, oracle); t8 is an errored trial."""
     return pd.DataFrame({
-        "trial_id": [f"t{i}" for i in range(8)],
-        "status": ["ok"] * 7 + ["error"],
-        "planner": ["heuristic", "heuristic", "random", "random",
-                    "heuristic", "random", "ferrari_canny", "random"],
-        "grip_law": ["paper"] * 4 + ["slip", "slip", "paper", "paper"],
-        "success": [True, False, True, False, True, False, False, True],
-        "success_unbounded": [True, True, True, False, True, False, False, True],
-        "success_no_torque": [True, False, True, True, True, False, False, True],
-        "failure_check": ["none", "geometry", "none", "torque", "none", "residual", "residual",
-                          "none"],
-        "n_released": [1, 2, 0, 1, 0, 0, 1, 0],
-        "n_upper": [1, 2, 0, 1, 0, 0, 1, 0],
-        "n_loaded": [1, 1, 2, 2, 3, 3, 2, 3],
-        "support_share_max": [1.0, 1.0, 0.97, 0.6, 0.34, 0.4, 0.7, 0.5],
-        "rho": [0.1, 0.3, 0.5, 0.9, 0.0, 0.0, 0.2, 9.9],
-        "epsilon_fc": [0.0, 0.02, 0.0, 0.0, 0.0, 0.0, 0.05, 1.0],
-        "spearman_h_epsilon": [np.nan] * 6 + [-0.3, np.nan],
+        "trial_id": [f"t{i}" for i in range(9)],
+        "status": ["ok"] * 8 + ["error"],
+        "planner": ["heuristic", "heuristic", "random", "random", "heuristic", "random",
+                    "ferrari_canny", "centroid", "random"],
+        "grip_law": ["paper"] * 4 + ["slip", "oracle", "paper", "oracle", "paper"],
+        "mass_kg": [0.2, 0.6, 0.2, 0.4, 0.2, 0.2, 0.4, 0.2, 0.2],
+        "success": [True, False, True, False, True, False, False, True, True],
+        "success_unbounded": [True, True, True, False, True, False, False, True, True],
+        "success_vertical": [True, True, True, True, True, False, False, True, True],
+        "success_no_torque": [True, False, True, True, True, False, False, True, True],
+        "n_released": [1, 2, 0, 1, 0, 0, 1, 0, 0],
+        "n_upper": [1, 2, 0, 1, 1, 0, 1, 0, 0],
+        "n_loaded": [1, 1, 2, 2, 3, 3, 2, 3, 3],
+        "support_share_max": [1.0, 1.0, 0.97, 0.6, 0.34, 0.4, 0.7, 0.3, 0.5],
+        # rho * m * g < 0.5 N: t0 (0.1*0.2*9.81 = 0.196) yes, t1 (0.3*0.6*9.81 = 1.77) no,
+        # t2 (0.2*0.2*9.81 = 0.392) yes, t3 (0.9*0.4*9.81 = 3.53) no, t6 (0.2*0.4*9.81 = 0.785) no
+        "rho": [0.1, 0.3, 0.2, 0.9, 0.0, 0.0, 0.2, 0.0, 9.9],
+        "epsilon_fc": [0.0, 0.02, 0.0, 0.0, 0.0, 0.0, 0.05, 0.1, 1.0],
+        "grip_capped": [False, False, False, False, True, True, False, True, False],
+        "grip_needed_n": [np.nan] * 4 + [3.0, INF, np.nan, 12.0, np.nan],
+        "contact_normal_z_1": [0.1, 0.5, -0.9, 0.0, 0.6, -0.2, 0.0, 0.0, 0.0],
+        "contact_normal_z_2": [-0.7, 0.0, 0.3, 0.0, -0.3, 0.8, 0.0, 0.0, 0.0],
+        "contact_normal_z_3": [0.2, 0.1, 0.0, 0.0, 0.0, 0.1, 0.0, 0.0, 0.0],
+        "spearman_h_epsilon": [np.nan] * 6 + [-0.3, np.nan, np.nan],
+        "spearman_h_epsilon_fc": [np.nan] * 6 + [-0.5, np.nan, np.nan],
     })
 
 
-def test_paragraph_numbers_count_the_paper_law_ok_rows():
-    df = records()
-    shows = what_this_shows(df)
-    # paper-law ok rows: t0..t3 and t6 (t7 is an error row, t4/t5 are slip)
-    assert (shows.released.k, shows.released.n) == (4, 5)
-    assert released_contact_share(df).share == pytest.approx(0.8)
-    assert shows.upper_released.k == 5
-    assert median_rho_by_planner(df).to_dict() == pytest.approx(
-        {"heuristic": 0.2, "random": 0.7, "ferrari_canny": 0.2})
-    # passes t0 (one loaded contact, share 1) and t2 (share 0.97, two loaded)
-    assert (shows.single_fingertip.k, shows.single_fingertip.n) == (2, 2)
-    assert (shows.single_loaded.k, shows.single_loaded.n) == (1, 2)
-    share, loaded = single_fingertip_share(df, threshold=0.99)
-    assert (share.k, loaded.k) == (1, 1)
-    assert (shows.gate_removed.k, shows.gate_removed.n) == (1, 3)
+def test_mechanism_counts_the_paper_law_ok_rows():
+    m = mechanism(records(), tau_f_n=0.5, order={"planner": ["random", "heuristic"]}).set_index("planner")
+    assert list(m.index) == ["random", "heuristic", "ferrari_canny"]  # study order, then vocabulary
+    assert m.loc["heuristic", ["n", "released", "upper_released", "rho_passable"]].tolist() == [2, 2, 2, 1]
+    assert m.loc["random", ["n", "released", "rho_passable", "successes"]].tolist() == [2, 1, 1, 1]
+    # passes: t0 (share 1.0, one loaded) and t2 (share 0.97, two loaded)
+    assert m.loc["heuristic", ["single_fingertip", "single_loaded"]].tolist() == [1, 1]
+    assert m.loc["random", ["single_fingertip", "single_loaded"]].tolist() == [1, 0]
+    assert m.loc["heuristic", "rho_median"] == pytest.approx(0.2)
+    strict = mechanism(records(), tau_f_n=0.5, threshold=0.99).set_index("planner")
+    assert strict.loc["random", "single_fingertip"] == 0
 
 
-def test_tables_by_planner_and_grip_law():
-    df = records()
-    table = planner_grip_law_table(df)
-    assert table.loc[("heuristic", "paper"), ["n", "success", "success_unbounded"]].tolist() == [2, 1, 2]
-    assert table.loc[("random", "slip"), "fail_residual"] == 1
-    removed = gate_removed(df, by=("planner",))
-    assert removed.loc["heuristic", "removed"] == 1 and removed["removed"].sum() == 1
-    eps = epsilon_summary(df)
-    assert eps.loc["heuristic", "force_closure"] == 1 and eps.loc["random", "n"] == 2
+def test_readings_counts_rates_and_removed_passes():
+    r = readings(records(), ["grip_law", "planner"]).set_index(["grip_law", "planner"])
+    row = r.loc[("paper", "heuristic")]
+    assert row[["n", "success", "success_unbounded", "success_vertical", "success_no_torque"]].tolist() == [
+        2, 1, 2, 2, 1]
+    assert (row["gate_removed"], row["torque_binds"]) == (1, 0)
+    assert r.loc[("paper", "random"), "torque_binds"] == 1  # t3 fails torque only
+    assert ("paper", "random") in r.index and r.loc[("paper", "random"), "n"] == 2  # error row excluded
+    # statsmodels.stats.proportion.proportion_confint(1, 2, method="wilson")
+    low, high = proportion_confint(1, 2, method="wilson")
+    assert row["success_pct"] == 50.0
+    assert (row["success_low_pct"], row["success_high_pct"]) == pytest.approx((100 * low, 100 * high))
+
+
+def test_grip_need_and_epsilon():
+    need = grip_need(records(), {"grip_law": ["slip", "oracle"]}).set_index(["grip_law", "planner"])
+    assert list(need.index) == [("slip", "heuristic"), ("oracle", "centroid"), ("oracle", "random")]
+    counts = ["holdable", "no_equal_grip", "capped_passes"]
+    assert need.loc[("oracle", "random"), counts].tolist() == [0, 1, 0]
+    assert need.loc[("oracle", "centroid"), ["no_equal_grip", "capped_passes"]].tolist() == [0, 1]
+    assert need.loc[("slip", "heuristic"), "steepest_normal_z_median"] == pytest.approx(0.6)
+    eps = epsilon_table(records()).set_index("planner")  # paper law: t0-t3, t6
+    assert eps.loc["heuristic", ["n", "successes"]].tolist() == [2, 1]
+    assert eps.loc["random", "successes"] == 0
     assert eps.loc["ferrari_canny", "epsilon_median"] == pytest.approx(0.05)
+    assert eps.loc["heuristic", "rate_pct"] == 50.0
 
 
-def test_spearman_interval_covers_the_population_value():
-    # Bivariate normal with Pearson r has population Spearman rho_s = (6/pi) asin(r/2)
-    # (Pearson 1907; Kruskal 1958) -- a closed form independent of the code under test.
-    rng = np.random.default_rng(0)
-    r, n, reps = 0.6, 60, 400
-    rho_s = 6 / np.pi * np.arcsin(r / 2)
-    cov = [[1, r], [r, 1]]
-    hits = 0
-    for _ in range(reps):
-        x, y = rng.multivariate_normal([0, 0], cov, size=n).T
-        res = spearman_interval(x, y)
-        assert res.rho == pytest.approx(stats.spearmanr(x, y).statistic)
-        hits += res.low <= rho_s <= res.high
-    assert 0.91 <= hits / reps <= 0.98  # nominal 95 %, binomial sd ~1.1 %
-    res = spearman_interval(np.arange(10), np.arange(10) ** 3)
-    assert res.rho == pytest.approx(1.0) and res.n == 10
-    assert np.isnan(spearman_interval([1, 2, 3], [3, 2, 1]).rho)  # n < 4: no interval
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.tuples(st.integers(0, 4), st.integers(0, 6), st.integers(0, 3)), min_size=3,
+                max_size=30))
+def test_weighted_spearman_is_spearman_of_the_repeated_sample(rows):
+    x, y, w = (np.array(c, dtype=float) for c in zip(*rows, strict=True))
+    xs, ys = np.repeat(x, w.astype(int)), np.repeat(y, w.astype(int))
+    if len(xs) < 2 or np.ptp(xs) == 0 or np.ptp(ys) == 0:
+        return
+    # scipy.stats.spearmanr on the explicitly repeated sample (ties get average ranks)
+    assert weighted_spearman(x, y, w) == pytest.approx(stats.spearmanr(xs, ys).statistic, abs=1e-12)
+
+
+def _trials(relation: float, n_trials: int = 30, seed: int = 1):
+    rng = np.random.default_rng(seed)
+    rows, tables = [], []
+    for t in range(n_trials):
+        h = rng.uniform(0, 1, 50)
+        eps = np.maximum(0.0, relation * (0.5 - h) + 0.1 * rng.normal(size=50))
+        fc = eps > 0
+        rows.append({"trial_id": f"fc{t}", "status": "ok", "planner": "ferrari_canny", "grip_law": "paper",
+                     "spearman_h_epsilon": stats.spearmanr(h, eps).statistic,
+                     "spearman_h_epsilon_fc": stats.spearmanr(h[fc], eps[fc]).statistic})
+        tables.append(pd.DataFrame({"trial_id": f"fc{t}", "h_total": h, "epsilon_fc": eps}))
+    return pd.DataFrame(rows), pd.concat(tables, ignore_index=True)
 
 
 def test_h_epsilon_correlation_per_trial_and_pooled():
-    rng = np.random.default_rng(1)
-    rows, tables = [], []
-    for t in range(12):
-        h = rng.uniform(0, 1, 50)
-        eps = np.maximum(0.0, 0.5 - h + 0.1 * rng.normal(size=50))  # agreement: rho < 0
-        rho = stats.spearmanr(h, eps).statistic
-        rows.append({"trial_id": f"fc{t}", "status": "ok", "planner": "ferrari_canny",
-                     "grip_law": "paper", "spearman_h_epsilon": rho})
-        tables.append(pd.DataFrame({"trial_id": f"fc{t}", "h_total": h, "epsilon_fc": eps}))
-    out = h_epsilon_correlation(pd.DataFrame(rows), pd.concat(tables), n_resamples=500)
-    per = out["per_trial"]
-    assert per.rho == pytest.approx(np.median([r["spearman_h_epsilon"] for r in rows]))
-    assert per.low <= per.rho <= per.high < 0 and per.n == 12
-    pooled = out["pooled"]
-    assert pooled.n == 600 and pooled.low <= pooled.rho <= pooled.high < 0
+    rows, candidates = _trials(relation=1.0)
+    out = h_epsilon_correlation(rows, candidates, n_resamples=400).set_index("reading")
+    per = out.loc["median per trial"]
+    assert per["rho"] == pytest.approx(np.median(rows["spearman_h_epsilon"]))
+    assert per["low"] <= per["rho"] <= per["high"] < 0 and per["n_trials"] == 30
+    pooled = out.loc["pooled"]
+    expected = stats.spearmanr(candidates["h_total"], candidates["epsilon_fc"]).statistic
+    assert pooled["rho"] == pytest.approx(expected)
+    assert pooled["n_pairs"] == 1500 and pooled["low"] <= pooled["rho"] <= pooled["high"] < 0
+    assert "median per trial, force closure" in out.index
+    # no relation: every interval contains zero
+    unrelated = h_epsilon_correlation(*_trials(relation=0.0, seed=3), n_resamples=400)
+    assert ((unrelated["low"] < 0) & (unrelated["high"] > 0)).all()

@@ -16,6 +16,7 @@ REDUCED = {
     "shapes": [],
     "ablation": ["seeds=1", "shape=[sphere,pear]"],
     "baseline_grid": ["seeds=1", "shape=[sphere,pear]", "mass_kg=[0.4]", "mu=[0.3]"],
+    "grip_laws": ["seeds=1", "shape=[sphere,pear]", "mass_kg=[0.2]", "mu=[0.5]"],
     "pso_repeatability": ["seeds=2", "budget=[repeatability]"],
     # one preset and one integrator until the dynamic reports read both (issues 13, 17)
     "gravity_settle": ["nodes=[144]", "integrator=[rk4]", "+params.settle_t_max_s=0.2"],

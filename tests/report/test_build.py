@@ -50,6 +50,8 @@ def write_run(root, name="ablation", kind="quasi_static", n_success=None, error_
                "trial_index": trial.index, "scene_id": trial.scene_id, "status": "ok",
                "error_type": None, "error_message": None, "wall_time_s": 0.01, "worker": "w",
                "host": "h", "source": source, **trial.factors}
+        if kind == "quasi_static":  # every quasi-static record names its grip law (docs/records.md)
+            row["grip_law"] = "paper"
         if aborted_rows is not None:  # hardware protocols: an aborted attempt stays "ok"
             row["aborted"] = trial.index in aborted_rows
         if trial.index in error_rows:
@@ -219,7 +221,7 @@ def test_a_run_whose_every_trial_errored_is_reported_with_reasons(tmp_path):
     assert table["rate_why"].tolist() == ["no executed trial"] * 2
     assert table["n_error"].tolist() == [10, 10]
     md = (store.path / "report" / "report.md").read_text()
-    assert "| proposed H(G) | 72.0 | no executed trial |" in md
+    assert "| proposed H(G) | paper | 72.0 | no executed trial |" in md  # grip law beside planner
     assert "20 recorded of 20; 0 executed; 20 errored" in md
     errors = pd.read_csv(store.path / "report" / "tables" / "errors.csv")
     assert set(errors["error_message"]) == {"bad"}

@@ -102,6 +102,25 @@ def quasi_static_outputs(factors: dict, rng: np.random.Generator) -> dict:
         out[f"delta_{j + 1}_mm"] = float(deltas[j])
         out[f"normal_force_{j + 1}_n"] = float(forces[j])
         out[f"vertex_{j + 1}"] = int(rng.integers(0, 390))
+        out[f"contact_normal_z_{j + 1}"] = float(rng.uniform(-1, 1))
+    # issue 13/17 columns (docs/records.md): the gate only removes passes, torque only binds
+    unbounded = success or bool(rng.random() < 0.15)
+    upper = int(rng.integers(0, 3))
+    law = factors.get("grip_law", "paper")
+    out.update({
+        "grip_law": law, "success_unbounded": unbounded, "valid_geometry": success or not unbounded,
+        "success_vertical": unbounded or bool(rng.random() < 0.2),
+        "success_no_torque": success or check == "torque",
+        "failure_check": "geometry" if unbounded and not success else check,
+        "n_upper": upper, "n_released": upper if law == "paper" else 0, "n_loaded": 3 - upper,
+        "support_share_max": float(rng.uniform(0.3, 1.0)), "rho": float(rng.uniform(0.0, 1.0)),
+        "epsilon_fc": float(max(0.0, rng.normal(0.02, 0.05))), "pso_at_bound": "lambda1,n",
+        "grip_capped": law != "paper" and bool(rng.random() < 0.8),
+        "grip_needed_n": float("nan") if law == "paper" else float(rng.choice([2.0, 40.0, np.inf])),
+    })
+    if planner == "ferrari_canny":
+        out.update(spearman_h_epsilon=float(rng.uniform(-0.8, 0.1)),
+                   spearman_h_epsilon_fc=float(rng.uniform(-0.9, 0.2)))
     return out
 
 

@@ -1,274 +1,156 @@
-"""Quasi-static records -> the numbers of the "what this shows" paragraph, grip laws, epsilon.
+"""Quasi-static records -> Algorithm 2's mechanism, readings of success, grip need, epsilon.
 
-Pure functions over a records DataFrame of the ``quasi_static`` kind (``baseline_grid``,
-``ablation``, ``grip_laws``, ``shapes``): they select, count and summarise; they never format.
-Rates are returned with their counts (``k`` of ``n``) so the report attaches its own intervals.
-
-Columns used (docs/records.md): ``status``, ``planner``, ``grip_law`` (factor; rows without it are
-the ``paper`` law), ``success``, ``success_unbounded``, ``success_no_torque``, ``failure_check``,
-``n_released``, ``n_upper``, ``n_loaded``, ``support_share_max``, ``rho``, ``epsilon_fc``,
-``spearman_h_epsilon``; the ``candidates`` trace table (``trial_id``, ``h_total``,
-``epsilon_fc``) for the pooled H-versus-epsilon figure.
-
-References
-----------
-Paper Algorithm 2 line 7 (the sign step that releases upper contacts), §6.1, §6.5, §12; issue 13
-item 2; Ferrari & Canny (1992); Fieller, Hartley & Pearson (1957), "Tests for rank correlation
-coefficients. I", Biometrika 44:470-481 (variance 1.06/(n-3) of Fisher's z of Spearman's rho);
-Efron & Tibshirani (1993) (percentile bootstrap).
+Pure functions over ``quasi_static`` records (docs/records.md); ``order``: the study's levels.
+References: paper Algorithm 2 line 7, Sec. 3.7, 6.1, 6.5; Ferrari & Canny (1992); Efron &
+Tibshirani (1993), ch. 13, 16 (percentile and cluster bootstrap).
 """
 
 from __future__ import annotations
-
-from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
 from scipy import stats
 
-__all__ = [
-    "SINGLE_FINGERTIP_SHARE",
-    "CountShare",
-    "SpearmanResult",
-    "WhatThisShows",
-    "epsilon_summary",
-    "gate_removed",
-    "h_epsilon_correlation",
-    "median_rho_by_planner",
-    "paper_law",
-    "planner_grip_law_table",
-    "released_contact_share",
-    "single_fingertip_share",
-    "spearman_interval",
-    "what_this_shows",
-]
+from graspcampaign.analysis import records as rec
+from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
+from graspcampaign.analysis.vocabulary import ordered
+from graspcampaign.core.statics import GRAVITY
 
+#: A pass rests on one fingertip when one contact gives >= this share of the vertical support
+#: (``support_share_max``; descriptive, beside ``n_loaded == 1``; docs/decisions.md).
 SINGLE_FINGERTIP_SHARE = 0.95
-"""A pass "rests on one fingertip" when one contact supplies at least this share of the vertical
-normal support (``support_share_max``); a descriptive threshold (docs/decisions.md), reported
-beside the stricter ``n_loaded == 1`` reading."""
-
-
-@dataclass(frozen=True)
-class CountShare:
-    """``k`` of ``n`` rows, and the share ``k / n`` (NaN when n = 0)."""
-
-    k: int
-    n: int
-
-    @property
-    def share(self) -> float:
-        """``k / n``."""
-        return self.k / self.n if self.n else float("nan")
-
-
-@dataclass(frozen=True)
-class SpearmanResult:
-    """Spearman's rank correlation with a confidence interval."""
-
-    rho: float
-    low: float
-    high: float
-    n: int
-    confidence_level: float
-    method: str
-
-
-@dataclass(frozen=True)
-class WhatThisShows:
-    """The numbers of the paragraph explaining Algorithm 2's outcomes (paper law rows).
-
-    Attributes
-    ----------
-    released : CountShare
-        Triples with at least one contact released to delta = 0 by line 7's sign step.
-    upper_released : CountShare
-        Triples whose released contacts are exactly their upper contacts (n_out,z > 0).
-    rho_median : pandas.Series
-        Median ``rho = |R_xy| / W`` per planner.
-    single_fingertip : CountShare
-        Passes (``success``) with one contact carrying >= :data:`SINGLE_FINGERTIP_SHARE` of the
-        vertical support.
-    single_loaded : CountShare
-        Passes with exactly one loaded contact.
-    gate_removed : CountShare
-        ``success_unbounded`` rows that the validity gate turned into failures.
-    """
-
-    released: CountShare
-    upper_released: CountShare
-    rho_median: pd.Series
-    single_fingertip: CountShare
-    single_loaded: CountShare
-    gate_removed: CountShare
-
-
-def _ok(records: pd.DataFrame) -> pd.DataFrame:
-    return records[records["status"] == "ok"] if "status" in records else records
-
-
-def paper_law(records: pd.DataFrame) -> pd.DataFrame:
-    """Return the ``ok`` rows judged under Algorithm 2 (``grip_law`` absent or ``"paper"``)."""
-    ok = _ok(records)
-    return ok[ok["grip_law"] == "paper"] if "grip_law" in ok else ok
+#: Success as gated; without the validity gate; under |R_z|; with the torque check off.
+READINGS = ("success", "success_unbounded", "success_vertical", "success_no_torque")
 
 
 def _flag(frame: pd.DataFrame, column: str) -> pd.Series:
     return frame[column].astype("boolean").fillna(False).astype(bool)
 
 
-def released_contact_share(records: pd.DataFrame) -> CountShare:
-    """Return the paper-law triples with at least one contact released (``n_released >= 1``)."""
+def paper_law(records: pd.DataFrame) -> pd.DataFrame:
+    """Return the executed trials judged by Algorithm 2 (``grip_law`` absent or ``paper``)."""
+    ok = rec.executed(records)
+    return ok[ok["grip_law"] == "paper"] if "grip_law" in ok else ok
+
+
+def _counts(frame: pd.DataFrame, by: list[str], counts: list[str], order: dict | None) -> tuple:
+    """``n`` and the sums of boolean ``counts`` per group, groups in display order."""
+    g = frame.groupby(by, sort=False)
+    out = g[counts].sum().astype(int)
+    out.insert(0, "n", g.size())
+    rank = {c: {v: i for i, v in enumerate(ordered(c, frame[c], (order or {}).get(c, ())))} for c in by}
+    return out.sort_index(key=lambda s: s.map(rank[s.name])), g
+
+
+def mechanism(records: pd.DataFrame, tau_f_n: float, order: dict | None = None,
+              threshold: float = SINGLE_FINGERTIP_SHARE) -> pd.DataFrame:
+    """Return per planner (paper-law rows) the counts ``released`` (a contact at delta = 0),
+    ``upper_released`` (as many released as upper contacts), ``rho_passable`` (rho m g <
+    ``tau_f_n``: only these can pass ||R|| < tau_F), ``successes``, ``single_fingertip`` (passes
+    whose largest contact gives >= ``threshold`` of the vertical support), ``single_loaded``
+    (passes with one loaded contact), and ``rho_median``."""
     rows = paper_law(records)
-    return CountShare(int((rows["n_released"] >= 1).sum()), len(rows))
+    passes = _flag(rows, "success")
+    frame = rows.assign(
+        released=rows["n_released"] >= 1, upper_released=rows["n_released"] == rows["n_upper"],
+        rho_passable=rows["rho"] * rows["mass_kg"] * GRAVITY < tau_f_n, successes=passes,
+        single_fingertip=passes & (rows["support_share_max"] >= threshold),
+        single_loaded=passes & (rows["n_loaded"] == 1))
+    out, g = _counts(frame, ["planner"], ["released", "upper_released", "rho_passable", "successes",
+                                          "single_fingertip", "single_loaded"], order)
+    return out.assign(rho_median=g["rho"].median()).reset_index()
 
 
-def median_rho_by_planner(records: pd.DataFrame) -> pd.Series:
-    """Return the median ``rho`` (horizontal normal-only residual over the weight) per planner."""
-    return paper_law(records).groupby("planner", sort=False)["rho"].median()
+def readings(records: pd.DataFrame, by: list[str], order: dict | None = None) -> pd.DataFrame:
+    """Return per group each reading's count ``r`` and rate ``r_pct`` (Wilson ``r_low_pct``,
+    ``r_high_pct``), ``gate_removed`` = success_unbounded - success and ``torque_binds`` =
+    success_no_torque - success (the gate and the torque check only remove passes)."""
+    flags = records.assign(**{r: records[r].astype("boolean").fillna(False) for r in READINGS})
+    frame = None
+    for r in READINGS:
+        t = rec.rate_table(flags, by, outcome=r, order=order)[
+            [*by, "n", "successes", "rate_pct", "wilson_low_pct", "wilson_high_pct"]]
+        t.columns = [*by, "n", r, f"{r}_pct", f"{r}_low_pct", f"{r}_high_pct"]
+        frame = t if frame is None else frame.merge(t, on=[*by, "n"])
+    return frame.assign(gate_removed=frame["success_unbounded"] - frame["success"],
+                        torque_binds=frame["success_no_torque"] - frame["success"])
 
 
-def single_fingertip_share(records: pd.DataFrame, threshold: float = SINGLE_FINGERTIP_SHARE,
-                           grip_law: str = "paper") -> tuple[CountShare, CountShare]:
-    """Return the passes resting on one fingertip: by support share, and by ``n_loaded == 1``."""
-    ok = _ok(records)
-    rows = ok[ok["grip_law"] == grip_law] if "grip_law" in ok else ok
-    passes = rows[_flag(rows, "success")]
-    by_share = int((passes["support_share_max"] >= threshold).sum())
-    return CountShare(by_share, len(passes)), CountShare(int((passes["n_loaded"] == 1).sum()),
-                                                         len(passes))
+def grip_need(records: pd.DataFrame, order: dict | None = None) -> pd.DataFrame:
+    """Return per grip law (``slip``, ``oracle``) and planner the counts ``holdable`` (needed grip
+    within the cap), ``no_equal_grip`` (``grip_needed_n`` infinite), ``capped_passes`` (passes at
+    the capped grip) and ``steepest_normal_z_median`` (median max_j |n_out,z|; 0: horizontal)."""
+    ok = rec.executed(records)
+    ok = ok[ok["grip_law"] != "paper"]
+    capped = _flag(ok, "grip_capped")
+    frame = ok.assign(holdable=~capped, no_equal_grip=np.isinf(ok["grip_needed_n"].astype(float)),
+                      capped_passes=capped & _flag(ok, "success"),
+                      steepest=ok.filter(like="contact_normal_z_").abs().max(axis=1))
+    out, g = _counts(frame, ["grip_law", "planner"], ["holdable", "no_equal_grip", "capped_passes"],
+                     order)
+    return out.assign(steepest_normal_z_median=g["steepest"].median()).reset_index()
 
 
-def gate_removed(records: pd.DataFrame, by: tuple[str, ...] = ()) -> pd.DataFrame | CountShare:
-    """Return how many ``success_unbounded`` rows the validity gate removed (``k`` of ``n``).
-
-    With ``by`` (e.g. ``("planner", "grip_law")``) a DataFrame with columns ``removed``,
-    ``unbounded`` and ``n`` per group.
-    """
-    ok = _ok(records)
-    removed = _flag(ok, "success_unbounded") & ~_flag(ok, "success")
-    if not by:
-        return CountShare(int(removed.sum()), int(_flag(ok, "success_unbounded").sum()))
-    frame = ok.assign(_removed=removed, _unbounded=_flag(ok, "success_unbounded"))
-    grouped = frame.groupby(list(by), sort=False)
-    return pd.DataFrame({"removed": grouped["_removed"].sum(),
-                         "unbounded": grouped["_unbounded"].sum(),
-                         "n": grouped.size()})
-
-
-def what_this_shows(records: pd.DataFrame,
-                    threshold: float = SINGLE_FINGERTIP_SHARE) -> WhatThisShows:
-    """Return every number of the "what this shows" paragraph from paper-law records."""
+def epsilon_table(records: pd.DataFrame, order: dict | None = None) -> pd.DataFrame:
+    """Return per planner the force-closure share (epsilon > 0; ``rate_table`` columns) and the
+    median, mean and max epsilon of its chosen triples (paper-law rows: epsilon is geometric)."""
     rows = paper_law(records)
-    single, loaded = single_fingertip_share(rows, threshold)
-    removed = gate_removed(rows)
-    return WhatThisShows(
-        released=released_contact_share(rows),
-        upper_released=CountShare(int((rows["n_released"] == rows["n_upper"]).sum()), len(rows)),
-        rho_median=median_rho_by_planner(rows),
-        single_fingertip=single,
-        single_loaded=loaded,
-        gate_removed=removed,
-    )
+    out = rec.rate_table(rows.assign(force_closure=rows["epsilon_fc"] > 0), ["planner"],
+                         outcome="force_closure", order=order)
+    eps = rows.groupby("planner")["epsilon_fc"].agg(["median", "mean", "max"])
+    return out.join(eps.add_prefix("epsilon_"), on="planner")
 
 
-def planner_grip_law_table(records: pd.DataFrame) -> pd.DataFrame:
-    """Return successes per planner x grip law under each reading, with ``n``.
+def _ranker(x: np.ndarray):
+    """Return ``ranks(w)``: the average ranks of ``x`` in the sample repeating x_i w_i times."""
+    order = np.argsort(x, kind="stable")
+    tie = np.r_[0, np.cumsum(np.diff(x[order]) != 0)]
 
-    Columns: ``n``, ``success``, ``success_unbounded``, ``success_no_torque`` (counts), and the
-    first failing check counted per label (``fail_<label>``); rows indexed by
-    (``planner``, ``grip_law``).
-    """
-    ok = _ok(records)
-    if "grip_law" not in ok:
-        ok = ok.assign(grip_law="paper")
-    flags = {c: _flag(ok, c) for c in ("success", "success_unbounded", "success_no_torque")}
-    frame = ok.assign(**flags)
-    grouped = frame.groupby(["planner", "grip_law"], sort=False)
-    table = grouped[list(flags)].sum().astype(int)
-    table.insert(0, "n", grouped.size())
-    checks = pd.crosstab([frame["planner"], frame["grip_law"]], frame["failure_check"])
-    checks.columns = [f"fail_{c}" for c in checks.columns]
-    return table.join(checks).fillna(0)
+    def ranks(w: np.ndarray) -> np.ndarray:
+        group = np.bincount(tie, weights=w[order])
+        out = np.empty(len(x))
+        out[order] = (np.cumsum(group) - group + (group + 1) / 2)[tie]
+        return out
+    return ranks
 
 
-def epsilon_summary(records: pd.DataFrame) -> pd.DataFrame:
-    """Return per planner the force-closure share (``epsilon_fc > 0``) and epsilon statistics.
-
-    Columns: ``n``, ``force_closure`` (count), ``epsilon_median``, ``epsilon_mean``,
-    ``epsilon_max`` (over the planner's chosen triples, paper-law rows: epsilon is geometric).
-    """
-    rows = paper_law(records)
-    grouped = rows.groupby("planner", sort=False)["epsilon_fc"]
-    return pd.DataFrame({"n": grouped.size(),
-                         "force_closure": grouped.apply(lambda e: int((e > 0.0).sum())),
-                         "epsilon_median": grouped.median(),
-                         "epsilon_mean": grouped.mean(),
-                         "epsilon_max": grouped.max()})
+def _rho(rank_x, rank_y, w: np.ndarray) -> float:
+    rx, ry = rank_x(w), rank_y(w)
+    dx, dy = rx - np.average(rx, weights=w), ry - np.average(ry, weights=w)
+    return float(np.sum(w * dx * dy) / np.sqrt(np.sum(w * dx * dx) * np.sum(w * dy * dy)))
 
 
-def spearman_interval(x, y, confidence: float = 0.95) -> SpearmanResult:
-    """Return Spearman's rho of paired samples with a Fisher-z interval.
-
-    ``z = atanh(rho)`` with standard error ``sqrt(1.06 / (n - 3))`` (Fieller, Hartley & Pearson
-    1957), back-transformed with tanh. Pairs must be independent; for candidates clustered in
-    trials use :func:`h_epsilon_correlation`, which resamples trials.
-    """
+def weighted_spearman(x, y, w) -> float:
+    """Return Spearman's rho of the sample in which the pair (x_i, y_i) occurs ``w_i`` times."""
     x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
-    keep = np.isfinite(x) & np.isfinite(y)
-    x, y = x[keep], y[keep]
-    n = len(x)
-    if n < 4 or np.ptp(x) == 0.0 or np.ptp(y) == 0.0:
-        return SpearmanResult(float("nan"), float("nan"), float("nan"), n, confidence,
-                              "fisher-z (Fieller 1957)")
-    rho = float(stats.spearmanr(x, y).statistic)
-    half = stats.norm.ppf(0.5 + confidence / 2.0) * np.sqrt(1.06 / (n - 3))
-    z = np.arctanh(np.clip(rho, -1 + 1e-15, 1 - 1e-15))
-    return SpearmanResult(rho, float(np.tanh(z - half)), float(np.tanh(z + half)), n, confidence,
-                          "fisher-z (Fieller 1957)")
+    return _rho(_ranker(x), _ranker(y), np.asarray(w, dtype=float))
 
 
-def h_epsilon_correlation(records: pd.DataFrame, candidates: pd.DataFrame | None = None, *,
-                          confidence: float = 0.95, n_resamples: int = 10_000,
-                          seed: int = 0) -> dict[str, SpearmanResult]:
-    """Return how H(G) ranks the candidates against epsilon, as Spearman correlations.
+def h_epsilon_correlation(records: pd.DataFrame, candidates: pd.DataFrame, *, confidence: float = 0.95,
+                          n_resamples: int = BOOTSTRAP_RESAMPLES, seed: int = 0) -> pd.DataFrame:
+    """Return Spearman's rho of H(G) and epsilon (rho < 0: agreement) with bootstrap intervals.
 
-    ``per_trial``: the median over ``ferrari_canny`` trials of each trial's Spearman rho over its
-    N_cand candidates (``spearman_h_epsilon``), with a percentile-bootstrap interval resampling
-    trials (independent scene draws). ``pooled`` (when the ``candidates`` table is given): rho
-    over the pooled subsample, its interval from a bootstrap that resamples *trials* (the
-    candidates of one trial share a body). Negative rho means agreement (H lower is better,
-    epsilon higher is better).
+    Rows: the median over the paper-law ``ferrari_canny`` trials of each trial's rho over all (and
+    force-closure) candidates; rho over those trials' pooled ``candidates``. Percentile intervals
+    resample trials, since a trial's candidates share a body (at most 2000 resamples pooled).
     """
-    rng = np.random.default_rng(seed)
-    rows = paper_law(records)
-    rows = rows[rows["planner"] == "ferrari_canny"]
-    values = rows["spearman_h_epsilon"].to_numpy(dtype=float)
-    values = values[np.isfinite(values)]
-    out = {}
-    if len(values) >= 2:
-        boot = stats.bootstrap((values,), np.median, confidence_level=confidence,
-                               n_resamples=n_resamples, method="percentile", random_state=rng)
-        out["per_trial"] = SpearmanResult(float(np.median(values)),
-                                          float(boot.confidence_interval.low),
-                                          float(boot.confidence_interval.high), len(values),
-                                          confidence, "median of per-trial rho, trial bootstrap")
-    if candidates is not None and len(candidates):
-        pooled = candidates[candidates["trial_id"].isin(rows["trial_id"])] if "trial_id" in rows \
-            else candidates
-        groups = [g[["h_total", "epsilon_fc"]].to_numpy(dtype=float)
-                  for _, g in pooled.groupby("trial_id", sort=True)]
-        if len(groups) >= 2:
-            def pooled_rho(index):
-                block = np.concatenate([groups[i] for i in index])
-                return stats.spearmanr(block[:, 0], block[:, 1]).statistic
-
-            whole = float(pooled_rho(range(len(groups))))
-            draws = np.array([pooled_rho(rng.integers(0, len(groups), len(groups)))
-                              for _ in range(min(n_resamples, 2000))])
-            alpha = (1.0 - confidence) / 2.0
-            low, high = np.nanquantile(draws, [alpha, 1.0 - alpha])
-            out["pooled"] = SpearmanResult(whole, float(low), float(high),
-                                           int(sum(len(g) for g in groups)), confidence,
-                                           "pooled rho, trial-cluster bootstrap (2000 resamples)")
-    return out
+    rng, alpha = np.random.default_rng(seed), (1 - confidence) / 2
+    if not len(rows := paper_law(records).query("planner == 'ferrari_canny'")):
+        raise ValueError("no executed trial of the ferrari_canny planner")
+    out = []
+    for reading, column in (("median per trial", "spearman_h_epsilon"),
+                            ("median per trial, force closure", "spearman_h_epsilon_fc")):
+        v = rows[column].dropna().to_numpy(float)
+        if len(v) >= 2:
+            ci = stats.bootstrap((v,), np.median, confidence_level=confidence, method="percentile",
+                                 n_resamples=n_resamples, random_state=rng).confidence_interval
+            out.append((reading, float(np.median(v)), ci.low, ci.high, len(v), np.nan))
+    pooled = candidates[candidates["trial_id"].isin(rows["trial_id"])]
+    trial = pooled["trial_id"].astype("category").cat.codes.to_numpy()
+    if (k := len(np.unique(trial))) >= 2:
+        rx, ry = (_ranker(pooled[c].to_numpy(float)) for c in ("h_total", "epsilon_fc"))
+        draws = [_rho(rx, ry, 1.0 * np.bincount(rng.integers(0, k, k), minlength=k)[trial])
+                 for _ in range(min(n_resamples, 2000))]
+        low, high = np.nanquantile(draws, [alpha, 1 - alpha])
+        out.append(("pooled", _rho(rx, ry, np.ones(len(trial))), low, high, k, len(trial)))
+    return pd.DataFrame(out, columns=["reading", "rho", "low", "high", "n_trials", "n_pairs"])

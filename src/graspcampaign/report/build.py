@@ -45,6 +45,7 @@ SPECS: dict[str, str] = {
     "shapes": "quasi_static:SHAPES",
     "ablation": "quasi_static:ABLATION",
     "baseline_grid": "quasi_static:BASELINE_GRID",
+    "grip_laws": "quasi_static:GRIP_LAWS",
     "pso_repeatability": "pso:SPEC",
     "gravity_settle": "dynamic:GRAVITY_SETTLE",
     "friction_mass": "dynamic:FRICTION_MASS",

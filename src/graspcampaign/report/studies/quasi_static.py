@@ -1,106 +1,203 @@
 """Reports of the quasi-static studies: ``shapes`` (Sec. 6.2, Fig. 15), ``ablation`` (Sec. 6.3,
-Fig. 16), ``baseline_grid`` (Sec. 6.5, Fig. 18), and any other study of the kind (``PLANNERS``).
-
-Every rate is over executed trials with its Wilson interval and a shape-clustered bootstrap;
-paired tests match trials by ``scene_id``. A planner whose overall paper rate is exactly 0 % or
-100 % carries that rate to every subgroup (Sec. 6.5: the centroid's 0 % is "μ-independent").
+Fig. 16), ``baseline_grid`` (Sec. 6.5, Fig. 18), ``grip_laws`` (that grid under the grip laws of
+Sec. 6.5/12) and any other study of the kind (``PLANNERS``). Paired tests match ``scene_id`` (and
+``grip_law`` where it is a factor); an overall paper rate of 0 % or 100 % is carried to subgroups.
 """
 
 from __future__ import annotations
+
+from dataclasses import dataclass, replace
 
 import numpy as np
 import pandas as pd
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
+from graspcampaign.analysis import quasi_static as qs
 from graspcampaign.analysis.records import DESIGN_LIMIT_MM, Estimate
-from graspcampaign.analysis.vocabulary import PROPOSED, colour, label, ordered
+from graspcampaign.analysis.vocabulary import colour, label, ordered
 from graspcampaign.campaign.paper import study_paper
+from graspcampaign.report import format as fmt
+from graspcampaign.report import spec as S
 from graspcampaign.report import style
-from graspcampaign.report.document import Col
+from graspcampaign.report.document import Col, cols
 from graspcampaign.report.render import Run
-from graspcampaign.report.spec import (
-    Claims,
-    DesignLimit,
-    FailureChecks,
-    Figure,
-    Finding,
-    Paired,
-    Rates,
-    ReportSpec,
-    Table,
-    Value,
-    verdicts,
-)
 from graspcampaign.report.studies.pso import table3
 
-WHY = ("Our rates sit far below the paper's because Algorithm 2, implemented as published, "
-       "releases the upper contacts at line 7's sign step, so most grasps end resting on one "
-       "near-vertical fingertip with a horizontal residual the loop never acts on, and because "
-       "in SI the paper's contact constants cannot carry 0.2–0.6 kg at a sane indentation "
-       "(SPEC §8; `docs/decisions.md`, *Contact law, evaluator, planners, PSO (issue 4)* and "
-       "*Simulation studies (issue 4, campaign side)*: the ‖R‖ residual check).")
+DECISION = ("`docs/decisions.md`, *Physical validity, grip laws, Ferrari–Canny ε (issues 13 and 17, "
+            "quasi-static side)*")
+LAWS, BY_LAW = ["planner", "grip_law"], ["grip_law", "planner"]
+LAW_LABEL = {"paper": "paper law (Algorithm 2)"}
+PAPER_MARKS = "black marks are the paper's (Algorithm 2) values"
 
 
-def carried(table: dict, overall: dict, planner: str):
-    """The paper's rate of ``planner`` in a subgroup: printed, or carried from 0 %/100 %."""
-    if planner in table:
-        return table[planner]
-    value = overall.get(planner)
-    return value if value in (0, 0.0, 100, 100.0) else None
+def _paper_law(t: pd.DataFrame) -> pd.DataFrame:
+    return t[t["grip_law"] == "paper"] if "grip_law" in t else t
 
 
-def identifications(run: Run) -> pd.DataFrame:
-    return run.part("prepared")
+def _carried(by_group: dict, p, k: dict):
+    """The paper's rate of a planner in a subgroup: printed, or carried from an overall 0 % / 100 %."""
+    value = by_group.get(k["planner"], p.success_pct.get(k["planner"]))
+    return value if k["planner"] in by_group or value in (0, 100) else None
 
 
-IDENTIFICATIONS = table3(
-    "identifications", "PSO identifications of this run's soft bodies (prepared/) beside "
-    "Table 3 (values from campaigns/pso_repeatability.yaml); b, k and c are in the paper's "
-    "internal units", identifications, lambda run: study_paper("pso_repeatability").table3,
-    empty=None)
+def _bounds(run: Run) -> str:
+    """Which identified parameters ended on a PSO search bound, at what value; where J is flat."""
+    prep, parts = run.part("prepared"), []
+    for p in (p for p in ("lambda1", "lambda2", "n", "b", "k", "c") if f"at_bound_{p}" in prep):
+        if (on := prep[f"at_bound_{p}"].astype(bool)).any():
+            at = "/".join(f"{v:g}" for v in sorted(set(prep.loc[on, "n_exp" if p == "n" else p])))
+            parts.append(f"{label('parameter', p)} = {at} in {int(on.sum())} of {len(prep)}")
+    flat = prep["flat_parameters"].value_counts() if "flat_parameters" in prep else pd.Series()
+    flat_in = ", ".join(label("parameter", p) for p in str(flat.index[0]).split(",")) if len(flat) else ""
+    return ("; on a PSO search bound: " + ", ".join(parts) if parts else "; none on a PSO bound") + (
+        f" (J is flat in {flat_in} in {flat.iloc[0]} of {len(prep)} bodies)." if len(flat) else ".")
 
 
-def planner_finding(run: Run) -> str:
-    """Success of every planner beside the paper, the paired test and the design limit."""
-    rates = run.tables["success_by_planner"].set_index("planner")
-    parts = [f"{label('planner', p)} {r['rate_pct']:.1f}%" + (
-        f" (paper {r['paper_pct']:g}%)" if pd.notna(r["paper_pct"]) else "")
-        for p, r in rates.iterrows() if r["n"]]
-    n = int(rates["n"].max()) if len(rates) else 0
-    text = (f"Success over executed trials (up to {n} per planner): " + "; ".join(parts) + ". "
-            f"{int((rates['differs'] == True).sum())} of {int(rates['differs'].notna().sum())} "  # noqa: E712
-            "rates with a paper value differ from it (the paper's value outside our 95% "
-            "interval). ")
-    paired = run.tables.get("mcnemar")
-    if paired is not None and len(paired):
-        won = paired.set_index("compared")
-        text += "Paired on the same scenes, the proposed planner's pairs won–lost are " + \
-            ", ".join(f"{r['reference_only']}–{r['compared_only']} against "
-                      f"{label('planner', p)}" for p, r in won.iterrows()) + ". "
-    limit = run.tables.get("design_limit")
-    if limit is not None and len(limit):
-        text += (f"{int(limit['exceeds'].sum())} of {int(limit['n'].sum())} executed trials "
-                 f"exceed the paper's {DESIGN_LIMIT_MM:g} mm design limit. ")
-    return text + WHY
+IDENTIFICATIONS = replace(table3(
+    "identifications", "", lambda run: run.part("prepared"),
+    lambda run: study_paper("pso_repeatability").table3, empty=None), caption=lambda run: (
+        "PSO identifications of this run's soft bodies (prepared/) beside Table 3; b, k, c in the "
+        "paper's internal units" + _bounds(run)))
 
 
-def planner_bars(ax, rates: pd.DataFrame) -> None:
-    """Bars of success per planner with Wilson whiskers and the paper's marks."""
-    x = np.arange(len(rates))
-    marked = style.bars(ax, x, rates["rate_pct"], rates["wilson_low_pct"],
-                        rates["wilson_high_pct"],
-                        [colour("planner", p, i) for i, p in enumerate(rates["planner"])],
-                        paper=rates["paper_pct"].tolist())
-    ax.set_xticks(x, [f"{label('planner', p)}\nn={n}" for p, n in
-                      zip(rates["planner"], rates["n"], strict=True)])
+def readings(by: list[str]) -> S.Table:
+    """Success under every reading per group, and the passes the gate and τ_T alone removed."""
+    heads = {"success": "success", "success_unbounded": "without the validity gate",
+             "success_vertical": "|R_z| reading", "success_no_torque": "torque check off"}
+    return S.Table("readings", lambda run: (
+        "Success per reading (Wilson 95%): as configured (‖R‖ < τ_F, ‖τ‖ < τ_T = "
+        f"{run.config['evaluator']['tau_t_nm']:g} N·m, slip margin > 0, no active contact deeper "
+        "than the fingertip radius); without that validity gate; |R_z| < τ_F (the paper's prose); "
+        "τ_T off (Sec. 3.7: it never binds); the passes the gate alone and τ_T alone removed"),
+        lambda run: qs.readings(run.records, by, run.order), [Col("n", "n"), *(
+            Col(f"{r}_pct", f"{h} % (95%)", 1, low=f"{r}_low_pct", high=f"{r}_high_pct")
+            for r, h in heads.items()), Col("gate_removed", "removed by the gate"),
+            Col("torque_binds", "failed only τ_T")], by=by)
+
+
+MECHANISM = S.Table("mechanism", lambda run: (
+    "How Algorithm 2 ends each planner's triples (paper law): a contact released to δ = 0 by line "
+    "7; as many released as upper (n_out,z > 0) contacts; median ρ = |R_xy|/W; ρ·W < τ_F = "
+    f"{run.config['evaluator']['tau_f_n']:g} N (only these can pass ‖R‖ < τ_F); passes; passes "
+    f"with one contact giving ≥ {100 * qs.SINGLE_FINGERTIP_SHARE:g}% of the vertical support; with "
+    "one loaded contact"),
+    lambda run: qs.mechanism(run.records, run.config["evaluator"]["tau_f_n"], run.order), [
+        Col("n", "n"), Col("released", "released δ = 0"), Col("upper_released", "released = upper"),
+        Col("rho_median", "median ρ", 3), Col("rho_passable", "ρ·W < τ_F"),
+        Col("successes", "passes"), Col("single_fingertip", "passes on one fingertip"),
+        Col("single_loaded", "passes, one loaded")], by=["planner"])
+
+
+def grid_finding(run: Run) -> str:
+    """Why the paper's rates cannot come from its own Algorithm 2 (from the records), then ours."""
+    m = run.tables["mechanism"].set_index("planner")
+    t, rates = m.sum(numeric_only=True).astype(int), _paper_law(run.tables["success_by_planner"])
+    paper, gate = rates.set_index("planner")["paper_pct"], _paper_law(run.tables["readings"])
+    bound = [f"{label('planner', p)} ≤ {100 * r['rho_passable'] / r['n']:.1f}% (paper {paper[p]:g}%)"
+             for p, r in m.iterrows() if r["n"] and 100 * r["rho_passable"] / r["n"] < paper.get(p, -1)]
+    paired = _paper_law(run.tables.get("mcnemar", pd.DataFrame()))
+    return (
+        "**The paper's rates cannot come from its own Algorithm 2.** Line 7 moves each depth by "
+        f"sgn(g_k)·(−R_z) and so drives every upper contact (n_out,z > 0) to δ = 0: {t.released} of "
+        f"{t.n} triples ({100 * t.released / t.n:.1f}%) end with a released contact; in {t.upper_released} "
+        f"of {t.n} as many are released as are upper. The lower contacts left push along tilted "
+        "normals: a horizontal residual W·ρ that the loop, acting on R_z only, never reduces (median "
+        "ρ " + ", ".join(f"{label('planner', p)} {r['rho_median']:.2f}" for p, r in m.iterrows()) +
+        "). Only triples with ρ·W < τ_F can pass ‖R‖ < τ_F, which bounds each rate" + (
+            ": " + "; ".join(bound) + "." if bound else " (here no bound is below a paper rate).") + (
+            " Passes are objects resting on one near-vertical fingertip: "
+            f"{t.single_fingertip} of {t.successes} have one contact giving ≥ "
+            f"{100 * qs.SINGLE_FINGERTIP_SHARE:g}% of the vertical support ({t.single_loaded} a "
+            "single loaded one)." if t.successes else " No triple passes.") +
+        " Ours (Algorithm 2): " + "; ".join(f"{label('planner', r.planner)} {r.rate_pct:.1f}%"
+                                            for r in rates.itertuples() if r.n) +
+        f"; {int(rates['differs'].eq(True).sum())} of {int(rates['differs'].notna().sum())} differ "
+        "from the paper (its value outside our 95% interval). " + (
+            "Paired, the proposed planner won–lost " + ", ".join(
+                f"{r.reference_only}–{r.compared_only} against {label('planner', r.compared)}"
+                for r in paired.itertuples()) + ". " if len(paired) else "") +
+        f"{int(_paper_law(run.tables['design_limit'])['exceeds'].sum())} trials exceed the paper's "
+        f"{DESIGN_LIMIT_MM:g} mm design limit; the validity gate removed "
+        f"{int(gate['gate_removed'].sum())} of {int(gate['success_unbounded'].sum())} passes of the "
+        f"published checks. SPEC §8; {DECISION}.")
+
+
+def bars(ax, t: pd.DataFrame, x: str, hue: str | None = None) -> None:
+    """Rates per ``x`` (and ``hue``) level with Wilson whiskers and the paper's marks."""
+    xs, hues = list(dict.fromkeys(t[x])), list(dict.fromkeys(t[hue])) if hue else [None]
+    width, marked = 0.8 / len(hues), False
+    for i, h in enumerate(hues):
+        sub = (t[t[hue] == h] if hue else t).set_index(x).reindex(xs)
+        marked |= style.bars(
+            ax, np.arange(len(xs)) + (i - (len(hues) - 1) / 2) * width, sub["rate_pct"],
+            sub["wilson_low_pct"], sub["wilson_high_pct"], colour(hue, h, i) if hue else [
+                colour(x, v, j) for j, v in enumerate(xs)], width, sub["paper_pct"].tolist(),
+            LAW_LABEL.get(h, label(hue, h)) if hue else None)
+    ax.set_xticks(np.arange(len(xs)), [label(x, v).replace(" ", "\n").replace("_", "\n") for v in xs])
     style.rate_axes(ax)
-    ax.legend(handles=[style.interval_handle("ours, Wilson 95%"),
-                       *([style.paper_handle()] if marked else [])], loc="upper right")
+    handles = [*ax.get_legend_handles_labels()[0], style.interval_handle("ours, Wilson 95%"),
+               *([style.paper_handle()] if marked else [])]
+    style.legend_below(ax, handles, ncol=min(len(handles), 5))
 
 
-def fig16(run: Run, fig) -> None:
-    planner_bars(fig.subplots(), run.tables["success_by_planner"])
+@dataclass(frozen=True)
+class LawPaired(S.Paired):
+    """McNemar of the proposed planner against each other, within each grip law."""
+
+    caption: str = ("Paired comparison within each grip law, McNemar on pairs matched by (scene_id, "
+                    "grip_law); χ² with continuity correction, exact binomial p, discordant-pair odds "
+                    "ratio (> 1 favours the proposed planner) with its exact 95% interval")
+
+    def render(self, run: Run) -> list:
+        laws = run.order.get("grip_law", ["paper"])
+        parts = [S.Paired.render(self, Run(run.records[run.records["grip_law"] == law],
+                                           run.manifest, run.paper))[0] for law in laws]
+        frame = pd.concat([b.frame.assign(grip_law=law) for b, law in zip(parts, laws, strict=True)])
+        return [replace(parts[0], frame=frame, cols=[Col("grip_law", "grip law"), *parts[0].cols])]
+
+
+def h_epsilon_figure(run: Run, fig) -> None:
+    trials = qs.paper_law(run.records).query("planner == 'ferrari_canny'")
+    if not len(trials):
+        raise ValueError("no executed trial of the ferrari_canny planner")
+    c = run.aux("candidates").query("trial_id in @trials.trial_id")
+    a, b = fig.subplots(1, 2)
+    fig.colorbar(a.hexbin(c["h_total"], c["epsilon_fc"], gridsize=40, bins="log", mincnt=1), ax=a,
+                 label="candidates")
+    a.set(xlabel="H(G) [–], lower is better", ylabel="Ferrari–Canny ε [–], higher is better",
+          title="(a) every sampled candidate")
+    b.hist(trials["spearman_h_epsilon"].dropna(), bins=30, color=colour("planner", "ferrari_canny"))
+    b.axvline(0.0, color=style.CRITERION, linestyle="--", linewidth=1.0)
+    b.set(xlabel="Spearman ρ of H and ε over one trial's candidates", ylabel="trials",
+          title="(b) per trial (ρ < 0: H agrees with ε)")
+
+
+def _rho_text(run: Run) -> str:
+    t = run.tables["h_epsilon"].set_index("reading")
+    return "; ".join(f"{k} ρ = {fmt.estimate(*t.loc[k, ['rho', 'low', 'high']], 2)}"
+                     for k in ("pooled", "median per trial") if k in t.index)
+
+
+EPSILON = [
+    S.Table("epsilon", "Ferrari–Canny ε of each planner's chosen triples (paper law; ε is geometric) "
+            "and their share in force closure (ε > 0); ferrari_canny takes the largest ε of the "
+            "candidates the heuristic scores",
+            lambda run: qs.epsilon_table(run.records, run.order), [
+                Col("n", "n"), Col("rate_pct", "force closure % (Wilson 95%)", 1,
+                                   low="wilson_low_pct", high="wilson_high_pct"),
+                *(Col(f"epsilon_{s}", f"{s} ε", sig=3) for s in ("median", "mean", "max"))],
+            by=["planner"]),
+    S.Table("h_epsilon", "Does H(G) rank grasps as the classical metric does? Spearman ρ of H(G) "
+            "and ε (ρ < 0: agreement) over the ferrari_canny trials' candidates, per trial and pooled; "
+            "percentile bootstrap over trials (a trial's candidates share a body)",
+            lambda run: qs.h_epsilon_correlation(run.records, run.aux("candidates"), seed=run.seed),
+            [Col("reading", "reading"), Col("rho", "ρ (95%)", 3, low="low", high="high"),
+             Col("n_trials", "trials"), Col("n_pairs", "candidates")]),
+    S.Figure("h_epsilon", lambda run: "H(G) against Ferrari–Canny ε: (a) the ferrari_canny trials' "
+             "sampled candidates (log colour scale), (b) each trial's rank correlation; "
+             + _rho_text(run), h_epsilon_figure, (10.0, 3.8)),
+]
 
 
 # ------------------------------------------------------------------------------------- shapes
@@ -108,182 +205,186 @@ def _shapes(run: Run) -> pd.DataFrame:
     p, rows = run.paper, []
     for shape in ordered("shape", run.records["shape"], run.order.get("shape", ())):
         g = run.ok[run.ok["shape"] == shape]
-        checks = g["failure_check"].value_counts() if "failure_check" in g else pd.Series()
-        row = {"shape": shape, "paper_success": p.success.get(shape),
-               "paper_failure_check": p.failure_check.get(shape, "none" if p.success.get(shape)
-                                                          else None),
-               "n": len(g), "successes": int(g["success"].sum()) if len(g) else 0,
-               "n_error": int(((run.records["shape"] == shape)
-                               & (run.records["status"] == "error")).sum()),
-               "ours_success": bool(g["success"].mean() >= 0.5) if len(g) else None,
-               "failure_check": ", ".join(f"{c} {v}" for c, v in checks.items()),
-               "exceeds_1mm": int((g["delta_max_mm"] > DESIGN_LIMIT_MM).sum())}
-        for col in ("h_total", "residual_norm_n", "torque_norm_nm", "slip_margin_n",
-                    "delta_max_mm"):
-            row[col] = float(g[col].median()) if len(g) else float("nan")
-        rows.append(row)
-    return verdicts(pd.DataFrame(rows), "ours_success", "paper_success")
-
-
-def _h(which: str):
-    def value(run: Run) -> Estimate:
-        h = run.ok["h_total"]
-        return Estimate(float(h.min() if which == "min" else h.max()), n=len(h))
-    return value
+        rows.append({
+            "shape": shape, "paper_success": p.success.get(shape), "paper_failure_check":
+            p.failure_check.get(shape, "none" if p.success.get(shape) else None), "n": len(g),
+            "successes": int(g["success"].sum()),
+            "n_error": len(run.records.query("shape == @shape and status == 'error'")),
+            "ours_success": bool(g["success"].mean() >= 0.5) if len(g) else None,
+            "failure_check": ", ".join(f"{c} {v}" for c, v in g["failure_check"].value_counts().items()),
+            "exceeds_1mm": int((g["delta_max_mm"] > DESIGN_LIMIT_MM).sum()), **g[[
+                "h_total", "residual_norm_n", "torque_norm_nm", "slip_margin_n", "delta_max_mm"]].median()})
+    return S.verdicts(pd.DataFrame(rows), "ours_success", "paper_success")
 
 
 def shapes_finding(run: Run) -> str:
     t = run.tables["shapes"]
-    agree = t[t["differs"] == False]  # noqa: E712
-    differ = t[t["differs"] == True]  # noqa: E712
-    text = (f"{len(agree)} of {len(t)} shapes reach the paper's outcome (Fig. 15)"
-            + (f": {', '.join(label('shape', s) for s in agree['shape'])}" if len(agree) else "")
-            + ". ")
-    if len(differ):
-        text += "Ours differs on " + "; ".join(
-            f"{label('shape', r['shape'])} (paper {'success' if r['paper_success'] else 'fails'}"
-            f", ours {r['successes']}/{r['n']}, first failing check {r['failure_check'] or '—'})"
-            for _, r in differ.iterrows()) + ". "
-    return text + WHY
+    agree, differ = t[t["differs"].eq(False)], t[t["differs"].eq(True)]
+    return (f"{len(agree)} of {len(t)} shapes reach the paper's outcome (Fig. 15)" + (
+        f": {', '.join(label('shape', s) for s in agree['shape'])}" if len(agree) else "") + ". " + (
+        "Ours differs on " + "; ".join(
+            f"{label('shape', r.shape)} (paper {'success' if r.paper_success else 'fails'}, ours "
+            f"{r.successes}/{r.n}, first failing check {r.failure_check or '—'})"
+            for r in differ.itertuples()) + ". " if len(differ) else "") +
+        "In SI the paper's contact constants cannot carry the object at a sane indentation, and "
+        f"Algorithm 2 releases the upper contacts (SPEC §8; {DECISION}).")
 
 
 def fig15(run: Run, fig) -> None:
-    t = run.tables["shapes"]
-    axes = fig.subplots(2, 2, sharex=True).ravel()
-    x = np.arange(len(t))
-    tau = float(run.config["evaluator"]["tau_f_n"])
-    colours = ["#2e7d32" if s else "#c62828" for s in t["ours_success"].fillna(False)]
-    for ax, (col, title, line) in zip(axes, (
-            ("h_total", "(a) heuristic H(G) [–]", None),
-            ("residual_norm_n", "(b) force residual ‖R‖ [N]", tau),
-            ("torque_norm_nm", "(c) torque residual ‖τ‖ [N·m]", None),
-            ("slip_margin_n", "(d) slip margin [N]", 0.0)), strict=True):
-        ax.bar(x, np.nan_to_num(t[col].to_numpy(float)), 0.7, color=colours)
+    t, tau = run.tables["shapes"], float(run.config["evaluator"]["tau_f_n"])
+    axes, x, good, bad = fig.subplots(2, 2, sharex=True).ravel(), np.arange(len(t)), "#2e7d32", "#c62828"
+    for ax, col, title, line in zip(axes, ("h_total", "residual_norm_n", "torque_norm_nm", "slip_margin_n"), (
+            "(a) heuristic H(G) [–]", "(b) force residual ‖R‖ [N]", "(c) torque residual ‖τ‖ [N·m]",
+            "(d) slip margin [N]"), (None, tau, None, 0.0), strict=True):
+        ax.bar(x, np.nan_to_num(t[col].to_numpy(float)), 0.7,
+               color=[good if s else bad for s in t["ours_success"]])
         ax.set_title(title)
         if line is not None:
             ax.axhline(line, color=style.CRITERION, linestyle="--", linewidth=1.0)
     lo, hi = run.paper.h_range
     axes[0].axhspan(lo, hi, color=style.PAPER, alpha=0.12, zorder=0)
     axes[0].set_ylim(0, 1.35 * max(float(np.nanmax(t["h_total"].to_numpy(float))), hi))
+    mark = {True: "✓", False: "✗", None: "—"}
     for xi, (ours, paper) in enumerate(zip(t["ours_success"], t["paper_success"], strict=True)):
-        axes[0].annotate(f"ours {'✓' if ours else '✗'}\npaper "
-                         f"{'—' if paper is None else '✓' if paper else '✗'}", (xi, 1),
+        axes[0].annotate(f"ours {mark[bool(ours)]}\npaper {mark[paper]}", (xi, 1),
                          xycoords=("data", "axes fraction"), ha="center", va="top", fontsize=7)
     for ax in axes[2:]:
         ax.set_xticks(x, [label("shape", s).replace(" ", "\n") for s in t["shape"]])
-    fig.legend(handles=[Patch(color="#2e7d32", label="ours: success"),
-                        Patch(color="#c62828", label="ours: failure"),
-                        Patch(color=style.PAPER, alpha=0.12, label=f"paper's H range {lo}–{hi}"),
-                        Line2D([], [], color=style.CRITERION, linestyle="--",
-                                     label=f"criterion: ‖R‖ < {tau:g} N; slip margin > 0")],
-               loc="outside lower center", ncol=4)
+    fig.legend(handles=[
+        Patch(color=good, label="ours: success"), Patch(color=bad, label="ours: failure"),
+        Patch(color=style.PAPER, alpha=0.12, label=f"paper's H range {lo}–{hi}"),
+        Line2D([], [], color=style.CRITERION, linestyle="--",
+               label=f"criterion: ‖R‖ < {tau:g} N; slip margin > 0")], loc="outside lower center", ncol=4)
 
 
-SHAPES = ReportSpec("shapes", [
-    Finding(shapes_finding),
-    Table("shapes", "Outcome and grasp metrics per shape beside Fig. 15 (medians over the "
-          "shape's executed trials)", _shapes, [
-              Col("paper_success", "paper: success"), Col("paper_failure_check", "paper: check"),
-              Col("ours_success", "ours: success"), Col("successes", "successes"),
-              Col("n", "n"), Col("n_error", "errors"), Col("failure_check", "ours: checks"),
-              Col("h_total", "H(G)", 3), Col("residual_norm_n", "‖R‖ [N]", 3),
-              Col("torque_norm_nm", "‖τ‖ [N·m]", 4), Col("slip_margin_n", "slip margin [N]", 3),
-              Col("delta_max_mm", "δmax [mm]", 2), Col("exceeds_1mm", "> 1 mm"),
-              Col("verdict", "verdict")], by=["shape"]),
-    Claims("h_range", "Heuristic value range across shapes beside the Fig. 15 caption", [
-        Value("H(G) of the chosen grasps, lowest over shapes", "Fig. 15", _h("min"),
-              lambda p: p.h_range, digits=2),
-        Value("H(G) of the chosen grasps, highest over shapes", "Fig. 15", _h("max"),
-              lambda p: p.h_range, digits=2)]),
-    Figure("fig15_shape_metrics", "Fig. 15 (ours): chosen grasp's metrics per shape (medians); "
-           "green = success, red = failure; our and the paper's outcome above panel (a)",
-           fig15, (9.0, 6.4)),
-    DesignLimit(["shape"]),
-    FailureChecks(["shape"], lambda p, k: p.failure_check.get(
+SHAPES = S.ReportSpec("shapes", [
+    S.Finding(shapes_finding),
+    S.Table("shapes", "Outcome and grasp metrics per shape beside Fig. 15 (medians over executed "
+            "trials)", _shapes, [
+                Col("paper_success", "paper: success"), Col("paper_failure_check", "paper: check"),
+                Col("ours_success", "ours: success"), Col("successes", "successes"), Col("n", "n"),
+                Col("n_error", "errors"), Col("failure_check", "ours: checks"),
+                Col("h_total", "H(G)", 3), *cols("residual_norm_n", "torque_norm_nm", "slip_margin_n",
+                                                 "delta_max_mm"),
+                Col("exceeds_1mm", "> 1 mm"), Col("verdict", "verdict")], by=["shape"]),
+    S.Claims("h_range", "Heuristic value range across shapes beside the Fig. 15 caption", [S.Value(
+        f"H(G) of the chosen grasps, {w} over shapes", "Fig. 15", lambda run, f=f: Estimate(
+            float(getattr(run.ok["h_total"], f)()), n=len(run.ok)), lambda p: p.h_range, digits=2)
+        for w, f in (("lowest", "min"), ("highest", "max"))]),
+    S.Figure("fig15_shape_metrics", "Fig. 15 (ours): chosen grasp's metrics per shape (medians); "
+             "green = success, red = failure; our and the paper's outcome above panel (a)", fig15,
+             (9.0, 6.4)),
+    S.DesignLimit(["shape"]), S.FailureChecks(["shape"], lambda p, k: p.failure_check.get(
         k["shape"], "none" if p.success.get(k["shape"]) else "not reported")),
-    IDENTIFICATIONS,
+    readings(["shape"]), IDENTIFICATIONS,
 ])
 
-# ----------------------------------------------------------------------------------- ablation
+
+# --------------------------------------------------------------------- ablation, grid, grip laws
 def ablation_finding(run: Run) -> str:
-    full = run.tables["success_by_planner"].set_index("planner").loc[PROPOSED]
-    half = (full["wilson_high_pct"] - full["wilson_low_pct"]) / 2
-    return planner_finding(run) + (
-        f" Power: at the paper's {run.paper.trials_per_variant} trials per variant its interval "
-        f"is roughly ±{run.paper.interval_half_width_pp:g} pp (Sec. 6.3); ours on the full "
-        f"heuristic is ±{half:.1f} pp at n = {full['n']}.")
+    full = _paper_law(run.tables["success_by_planner"]).set_index("planner").loc["heuristic"]
+    return grid_finding(run) + (
+        f" Power: at the paper's {run.paper.trials_per_variant} trials per variant its interval is "
+        f"roughly ±{run.paper.interval_half_width_pp:g} pp (Sec. 6.3); ours on the full heuristic is "
+        f"±{(full['wilson_high_pct'] - full['wilson_low_pct']) / 2:.1f} pp at n = {full['n']}.")
 
 
-ABLATION = ReportSpec("ablation", [
-    Finding(ablation_finding),
-    Rates("success_by_planner", "Success per variant beside Fig. 16", ["planner"],
-          lambda p, k: p.success_pct.get(k["planner"])),
-    Figure("fig16_ablation", "Fig. 16 (ours): success per variant with Wilson 95% whiskers; "
-           "black marks are the paper's values", fig16, (7.2, 3.6)),
-    Paired(),
-    DesignLimit(["planner"]),
-    FailureChecks(["planner"]),
-    IDENTIFICATIONS,
+def law_items(figure: str, name: str, what: str) -> list:
+    """Success per planner and grip law beside the paper, its figure, McNemar within each law."""
+    return [S.Rates("success_by_planner", f"Success per {what} and grip law beside {figure} (the "
+                    "paper's values are Algorithm 2's, shown beside every law)", LAWS,
+                    lambda p, k: p.success_pct.get(k["planner"])),
+            S.Figure(name, f"{figure} (ours): success per {what} under each grip law, Wilson 95% "
+                     f"whiskers; {PAPER_MARKS}", lambda run, fig: bars(
+                         fig.subplots(), run.tables["success_by_planner"], "planner", "grip_law"),
+                     (10.0, 3.8)), LawPaired()]
+
+
+ABLATION = S.ReportSpec("ablation", [
+    S.Finding(ablation_finding), *law_items("Fig. 16", "fig16_ablation", "variant"), MECHANISM,
+    readings(BY_LAW), *EPSILON, S.DesignLimit(BY_LAW), S.FailureChecks(BY_LAW), IDENTIFICATIONS,
 ])
 
 
-# ------------------------------------------------------------------------------ baseline grid
 def fig18(run: Run, fig) -> None:
     ax_a, ax_b = fig.subplots(1, 2, width_ratios=[1, 2.2])
-    planner_bars(ax_a, run.tables["success_by_planner"])
+    bars(ax_a, run.tables["success_by_planner"], "planner")
+    bars(ax_b, run.tables["success_by_shape"], "shape", "planner")
     ax_a.set_title("(a) overall")
-    by = run.tables["success_by_shape"]
-    planners = list(dict.fromkeys(by["planner"]))
-    shapes = list(dict.fromkeys(by["shape"]))
-    width = 0.8 / max(len(planners), 1)
-    marked = False
-    for i, p in enumerate(planners):
-        sub = by[by["planner"] == p].set_index("shape").reindex(shapes)
-        xs = np.arange(len(shapes)) + (i - (len(planners) - 1) / 2) * width
-        marked |= style.bars(ax_b, xs, sub["rate_pct"], sub["wilson_low_pct"],
-                             sub["wilson_high_pct"], colour("planner", p, i), width,
-                             sub["paper_pct"].tolist(), label=label("planner", p))
-    ax_b.set_xticks(np.arange(len(shapes)), [label("shape", s) for s in shapes])
-    style.rate_axes(ax_b)
-    ax_b.set_title("(b) by shape (Wilson 95% whiskers)")
-    handles = ax_b.get_legend_handles_labels()[0] + ([style.paper_handle()] if marked else [])
-    style.legend_below(ax_b, handles, ncol=min(len(handles), 5))
+    ax_b.set_title("(b) by shape")
 
 
-def _carried_overall(p, k: dict):
-    return carried({}, p.success_pct, k["planner"])
-
-
-BASELINE_GRID = ReportSpec("baseline_grid", [
-    Finding(planner_finding),
-    Rates("success_by_planner", "Success per planner beside Fig. 18a", ["planner"],
-          lambda p, k: p.success_pct.get(k["planner"])),
-    Rates("success_by_shape", "Success per shape and planner beside Fig. 18b (the paper prints "
-          "only the rounded cube's values; a planner at 0% overall is 0% on every shape)",
-          ["shape", "planner"], lambda p, k: carried(p.success_by_shape_pct.get(k["shape"], {}),
-                                                     p.success_pct, k["planner"]),
-          bootstrap=False),
-    Paired(),
-    DesignLimit(["planner"]),
-    Figure("fig18_baselines", "Fig. 18 (ours): (a) overall success per planner, (b) per shape; "
-           "Wilson 95% whiskers; black marks are the paper's values", fig18, (10.5, 4.0)),
-    Rates("success_by_mu", "Success per planner and friction coefficient μ (not printed in the "
-          "paper except where a planner's overall rate is 0% or 100%)", ["planner", "mu"],
-          _carried_overall),
-    Rates("success_by_mass_kg", "Success per planner and object mass (not printed in the paper "
-          "except where a planner's overall rate is 0% or 100%)", ["planner", "mass_kg"],
-          _carried_overall),
-    FailureChecks(["planner"], lambda p, k: "residual (normal forces stay at seed level, "
-                  "Sec. 6.5)" if k["planner"] == "centroid" else None),
-    IDENTIFICATIONS,
+BASELINE_GRID = S.ReportSpec("baseline_grid", [
+    S.Finding(grid_finding),
+    S.Rates("success_by_planner", "Success per planner beside Fig. 18a", ["planner"],
+            lambda p, k: p.success_pct.get(k["planner"])),
+    S.Rates("success_by_shape", "Success per shape and planner beside Fig. 18b (the paper prints "
+            "only the rounded cube's values; a planner at 0% overall is 0% on every shape)",
+            ["shape", "planner"], lambda p, k: _carried(p.success_by_shape_pct.get(k["shape"], {}),
+                                                        p, k), bootstrap=False),
+    S.Paired(), S.DesignLimit(["planner"]),
+    S.Figure("fig18_baselines", "Fig. 18 (ours): (a) overall success per planner, (b) per shape; "
+             f"Wilson 95% whiskers; {PAPER_MARKS}", fig18, (10.5, 4.2)),
+    *(S.Rates(f"success_by_{f}", f"Success per planner and {w} (not printed in the paper except "
+              "where a planner's overall rate is 0% or 100%)", ["planner", f],
+              lambda p, k: _carried({}, p, k)) for f, w in (("mu", "friction coefficient μ"),
+                                                           ("mass_kg", "object mass"))),
+    S.FailureChecks(["planner"], lambda p, k: "residual (normal forces stay at seed level, Sec. "
+                    "6.5)" if k["planner"] == "centroid" else None),
+    MECHANISM, readings(["planner"]), *EPSILON, IDENTIFICATIONS,
 ])
 
-# ----------------------------------------------------------------------- any other such study
-PLANNERS = ReportSpec("quasi_static", [
-    Rates("success_rates", "Success per planner", ["planner"],
-          lambda p, k: getattr(p, "success_pct", {}).get(k["planner"])),
-    Paired(),
-    DesignLimit(["planner"]),
-    FailureChecks(["planner"]),
+
+def grip_finding(run: Run) -> str:
+    """The ordering under each grip law, the paired tests and the physical reasons, from records."""
+    t, sig = run.tables["success_by_planner"], run.tables["mcnemar"].query("p_exact < 0.05")
+    gate, paper = run.tables["readings"], run.paper.success_pct
+    need = run.tables["grip_need"].query("grip_law == 'oracle'")
+    names = lambda planners: ", ".join(label("planner", p) for p in planners) or "none"  # noqa: E731
+    rank = {law: t[t["grip_law"] == law].sort_values("rate_pct", ascending=False, kind="stable")
+            for law in run.order["grip_law"]}
+    same = [law for law, g in rank.items()
+            if [p for p in g["planner"] if p in paper] == sorted(paper, key=lambda p: -paper[p])]
+    return (
+        "Success per grip law, highest first — " + "; ".join(f"{law}: " + ", ".join(
+            f"{label('planner', r.planner)} {r.rate_pct:.1f}%" for r in g.itertuples())
+            for law, g in rank.items()) + " — against the paper's " + ", ".join(
+            f"{label('planner', p)} {v:g}%" for p, v in paper.items()) + " (Fig. 18): its ordering "
+        f"appears under {', '.join(same) or 'none of the laws'}. Within each law (McNemar, exact "
+        "p < 0.05) the proposed planner " + ("; ".join(
+            f"under {law} beats {names(s.query('reference_only > compared_only').compared)} and "
+            f"loses to {names(s.query('reference_only < compared_only').compared)}"
+            for law, s in sig.groupby("grip_law", sort=False)) or "differs from no planner") + ". "
+        "Why: H(G) is geometric (S1–S3, P_c, P_e) and sees neither gravity nor the tilt of the "
+        "contact plane. Median steepest contact |n_out,z| of each planner's triples: " + ", ".join(
+            f"{label('planner', r.planner)} {r.steepest_normal_z_median:.2f}"
+            for r in need.itertuples()) + "; horizontal normals (the centroid planner's triple) let an "
+        "equal grip balance by symmetry, friction carrying the weight. Under oracle the grip the "
+        "friction-cone LP asks for (design margin "
+        f"{run.config['evaluator']['grip_safety_factor']:g}) fits within the grip cap on "
+        f"{need['holdable'].sum()} of {need['n'].sum()} triples, no equal grip satisfies it on "
+        f"{need['no_equal_grip'].sum()}, and {need['capped_passes'].sum()} of its "
+        f"{gate.loc[gate['grip_law'] == 'oracle', 'success'].sum()} passes hold at the capped grip. "
+        f"τ_T binds: the torque check alone removed {gate['torque_binds'].sum()} passes, the validity "
+        f"gate {gate['gate_removed'].sum()} (table readings). {DECISION}.")
+
+
+GRIP_LAWS = S.ReportSpec("grip_laws", [
+    S.Finding(grip_finding), *law_items("Fig. 18", "fig18_grip_laws", "planner"), readings(BY_LAW),
+    S.FailureChecks(BY_LAW),
+    S.Table("grip_need", "What an equal grip needs under slip and oracle: triples whose needed grip "
+            "(with the design margin) fits within the grip cap, triples no equal grip holds, passes "
+            "at the capped grip, median steepest contact |n_out,z| (0: horizontal normals)",
+            lambda run: qs.grip_need(run.records, run.order), [
+                Col("n", "n"), Col("holdable", "within the cap"),
+                Col("no_equal_grip", "no equal grip holds"), Col("capped_passes", "passes at the cap"),
+                Col("steepest_normal_z_median", "median steepest |n_z|", 2)], by=BY_LAW),
+    MECHANISM, *EPSILON, S.DesignLimit(BY_LAW), IDENTIFICATIONS,
+])
+
+PLANNERS = S.ReportSpec("quasi_static", [
+    S.Rates("success_rates", "Success per planner", ["planner"],
+            lambda p, k: getattr(p, "success_pct", {}).get(k["planner"])),
+    S.Paired(), S.DesignLimit(["planner"]), S.FailureChecks(["planner"]), readings(["planner"]),
     IDENTIFICATIONS,
 ])

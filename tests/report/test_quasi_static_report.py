@@ -1,0 +1,207 @@
+"""Quasi-static reports (baseline_grid, ablation, grip_laws) on synthetic runs.
+
+The opening paragraphs' numbers, the mechanism, readings, grip-need, epsilon and H-epsilon tables,
+McNemar within each grip law and the at-bound caption are recomputed here from the records with
+pandas, scipy and statsmodels, never with the report's helpers.
+"""
+
+from __future__ import annotations
+
+import zlib
+
+import numpy as np
+import pandas as pd
+import pytest
+from scipy import stats
+from statsmodels.stats.contingency_tables import mcnemar as sm_mcnemar
+from test_studies import SHAPES, make_run, ok_records, quasi_static_outputs, read_table
+
+from graspcampaign.report.build import build_reports
+
+PLANNERS = ["heuristic", "antipodal", "random", "centroid", "ferrari_canny"]
+LAWS = ["paper", "slip", "oracle"]
+G = 9.81  # core.statics.GRAVITY
+NAMES = {"heuristic": "proposed H(G)"}  # analysis.vocabulary labels
+
+
+def candidates(trial_id: str, factors: dict, out: dict) -> dict:
+    """50 (H, epsilon) candidates per ferrari_canny trial (docs/records.md trace table)."""
+    if factors["planner"] != "ferrari_canny":
+        return {}
+    rng = np.random.default_rng(zlib.crc32(trial_id.encode()))
+    h = rng.uniform(0.2, 3.0, 50)
+    eps = np.maximum(0.0, 0.1 - 0.04 * h + 0.03 * rng.normal(size=50))
+    return {"candidates": [{"trial_id": trial_id, "candidate": i, "h_total": float(a), "epsilon_fc": float(e)}
+                           for i, (a, e) in enumerate(zip(h, eps, strict=True))]}
+
+
+PREPARED = [{"shape": s, "mass_kg": 0.2, "mu": 0.3, "nodes": 390, "body_id": f"b{i}", "lambda1": 1.5,
+             "lambda2": 0.05 if i else 0.9, "n_exp": 1.0, "b": 0.6, "k": 0.1, "c": 0.002, "best_cost": 1.0,
+             "n_evaluations": 120, "wall_time_s": 0.3, "flat_parameters": "lambda2,b,k,c",
+             "at_bound": "lambda1,lambda2,n" if i else "lambda1,n", "at_bound_lambda1": True,
+             "at_bound_lambda2": bool(i), "at_bound_n": True, "at_bound_b": False, "at_bound_k": False,
+             "at_bound_c": False} for i, s in enumerate(SHAPES[:2])]
+
+
+@pytest.fixture(scope="module")
+def runs(tmp_path_factory):
+    root = tmp_path_factory.mktemp("qs") / "results"
+    grid = make_run(root, "baseline_grid", "quasi_static", {"shape": SHAPES, "mass_kg": [0.2, 0.6],
+                                                            "mu": [0.1, 0.5], "planner": PLANNERS},
+                    seeds=3, paper=None, outputs=quasi_static_outputs, tables=candidates, prepared=PREPARED)
+    laws = make_run(root, "grip_laws", "quasi_static", {"shape": SHAPES, "mass_kg": [0.2], "mu": [0.3],
+                                                        "planner": PLANNERS, "grip_law": LAWS},
+                    seeds=6, paper=None, outputs=quasi_static_outputs, tables=candidates,
+                    method_factors=["planner", "grip_law"])
+    ablation = make_run(root, "ablation", "quasi_static", {"shape": SHAPES, "mass_kg": [0.4], "mu": [0.3],
+                                                           "planner": ["heuristic", "no_s1", "random",
+                                                                       "ferrari_canny"], "grip_law": LAWS},
+                        seeds=2, paper=None, outputs=quasi_static_outputs, tables=candidates,
+                        method_factors=["planner", "grip_law"])
+    build_reports(["baseline_grid", "grip_laws", "ablation"], root=root)
+    return {"grid": grid, "laws": laws, "ablation": ablation}
+
+
+def md(store) -> str:
+    return (store.path / "report" / "report.md").read_text()
+
+
+def figures(store) -> set[str]:
+    return {p.stem for p in (store.path / "report" / "figures").glob("*.png")}
+
+
+def finding(store) -> str:
+    """The report's opening "What this shows" paragraph."""
+    return md(store).split("## What this shows\n\n", 1)[1].split("\n", 1)[0]
+
+
+def test_grid_opening_paragraph_numbers_are_the_records(runs):
+    store = runs["grid"]
+    ok = ok_records(store)
+    text = finding(store)
+    released = int((ok["n_released"] >= 1).sum())
+    assert f"{released} of {len(ok)} triples ({100 * released / len(ok):.1f}%) end with a released" in text
+    equal = int((ok["n_released"] == ok["n_upper"]).sum())
+    assert f"in {equal} of {len(ok)} as many are released as are upper" in text
+    for planner, rho in ok.groupby("planner")["rho"].median().items():
+        assert f"{NAMES.get(planner, planner)} {rho:.2f}" in text
+    passes = ok[ok["success"]]
+    one = int((passes["support_share_max"] >= 0.95).sum())
+    loaded = int((passes["n_loaded"] == 1).sum())
+    assert f"{one} of {len(passes)} have one contact giving ≥ 95% of the vertical support ({loaded} a" in text
+    passable = ok.assign(p=ok["rho"] * ok["mass_kg"] * G < 0.5).groupby("planner")["p"].mean() * 100
+    assert f"proposed H(G) ≤ {passable['heuristic']:.1f}% (paper 67.6%)" in text
+    unbounded = ok["success_unbounded"].astype(bool)
+    removed = int((unbounded & ~ok["success"]).sum())
+    assert f"the validity gate removed {removed} of {int(unbounded.sum())}" in text
+    assert "docs/decisions.md" in text and "cannot come from its own Algorithm 2" in text
+
+
+def test_grid_mechanism_readings_and_epsilon_tables(runs):
+    store = runs["grid"]
+    ok = ok_records(store)
+    mech = read_table(store, "mechanism").set_index("planner")
+    assert list(mech.index) == PLANNERS
+    assert mech["released"].to_dict() == (ok["n_released"] >= 1).groupby(ok["planner"]).sum().to_dict()
+    reading = read_table(store, "readings").set_index("planner")
+    for column in ("success", "success_unbounded", "success_vertical", "success_no_torque"):
+        expected = ok[column].astype(bool).groupby(ok["planner"]).agg(["sum", "mean"])
+        assert reading[column].to_dict() == expected["sum"].to_dict()
+        assert reading[f"{column}_pct"].to_dict() == pytest.approx((100 * expected["mean"]).to_dict())
+    no_torque_only = ok["success_no_torque"].astype(bool) & ~ok["success"]
+    assert reading["torque_binds"].to_dict() == no_torque_only.groupby(ok["planner"]).sum().to_dict()
+    eps = read_table(store, "epsilon").set_index("planner")
+    assert eps["successes"].to_dict() == (ok["epsilon_fc"] > 0).groupby(ok["planner"]).sum().to_dict()
+    median = ok.groupby("planner")["epsilon_fc"].median()
+    assert eps["epsilon_median"].to_dict() == pytest.approx(median.to_dict())
+    fc = ok[ok["planner"] == "ferrari_canny"]
+    table = read_table(store, "h_epsilon").set_index("reading")
+    assert table.loc["median per trial", "rho"] == pytest.approx(fc["spearman_h_epsilon"].median())
+    cand = store.read("tables/candidates").to_pandas()
+    # scipy.stats.spearmanr over the pooled candidates
+    pooled = stats.spearmanr(cand["h_total"], cand["epsilon_fc"]).statistic
+    assert table.loc["pooled", "rho"] == pytest.approx(pooled)
+    assert table.loc["pooled", "n_pairs"] == len(cand) == 50 * len(fc)
+    text = md(store)
+    assert "on a PSO search bound: λ1 = 1.5 in 2 of 2, λ2 = 0.05 in 1 of 2, n = 1 in 2 of 2" in text
+    assert "J is flat in λ2, b, k, c in 2 of 2 bodies" in text
+    assert "not computed" not in text
+    assert figures(store) == {"fig18_baselines", "h_epsilon"}
+
+
+def test_grip_laws_mcnemar_pairs_within_each_law(runs):
+    store = runs["laws"]
+    ok = ok_records(store)
+    table = read_table(store, "mcnemar").set_index(["grip_law", "compared"])
+    assert list(table.index) == [(law, p) for law in LAWS for p in PLANNERS[1:]]
+    wide = ok.pivot(index=["scene_id", "grip_law"], columns="planner", values="success")
+    for (law, other), row in table.iterrows():
+        pair = wide.xs(law, level="grip_law")[["heuristic", other]].dropna().astype(bool)
+        n10 = int((pair["heuristic"] & ~pair[other]).sum())
+        n01 = int((~pair["heuristic"] & pair[other]).sum())
+        assert (row["pairs"], row["reference_only"], row["compared_only"]) == (len(pair), n10, n01)
+        if n01 + n10:
+            cells = np.array([[0, n01], [n10, 0]])
+            # statsmodels mcnemar: chi2 with continuity correction, and the exact binomial test
+            assert row["chi2_cc"] == pytest.approx(sm_mcnemar(cells, exact=False, correction=True).statistic)
+            assert row["p_exact"] == pytest.approx(sm_mcnemar(cells, exact=True).pvalue)
+
+
+def test_grip_laws_rates_readings_checks_and_need(runs):
+    store = runs["laws"]
+    ok = ok_records(store)
+    rates = read_table(store, "success_by_planner").set_index(["planner", "grip_law"])
+    assert list(rates.index) == [(p, law) for p in PLANNERS for law in LAWS]  # planners side by side
+    expected = ok.groupby(["planner", "grip_law"])["success"].mean() * 100
+    pd.testing.assert_series_equal(rates["rate_pct"].sort_index(), expected.sort_index(), check_names=False)
+    assert rates.loc[("heuristic", "oracle"), "paper_pct"] == 67.6  # Fig. 18, beside every law
+    reading = read_table(store, "readings").set_index(["grip_law", "planner"])
+    exp = ok.assign(nt=ok["success_no_torque"].astype(bool)).groupby(["grip_law", "planner"])["nt"].mean()
+    assert reading["success_no_torque_pct"].to_dict() == pytest.approx((100 * exp).to_dict())
+    checks = read_table(store, "failure_checks").set_index(["grip_law", "planner"])
+    crosstab = pd.crosstab([ok["grip_law"], ok["planner"]], ok["failure_check"])
+    for key in crosstab.index:
+        for check in crosstab.columns:
+            assert checks.loc[key, check] == crosstab.loc[key, check]
+    need = read_table(store, "grip_need").set_index(["grip_law", "planner"])
+    assert {law for law, _ in need.index} == {"slip", "oracle"}
+    oracle = ok[ok["grip_law"] == "oracle"]
+    capped = oracle["grip_capped"].astype(bool)
+    assert need.xs("oracle")["holdable"].to_dict() == (~capped).groupby(oracle["planner"]).sum().to_dict()
+    text = finding(store)
+    assert (f"fits within the grip cap on {int((~capped).sum())} of {len(oracle)} triples, no equal grip "
+            f"satisfies it on {int(np.isinf(oracle['grip_needed_n']).sum())}") in text
+    slip = ok[ok["grip_law"] == "slip"].groupby("planner")["success"].mean().reindex(PLANNERS)
+    slip = slip.sort_values(ascending=False, kind="stable")  # ties keep the study's planner order
+    assert "slip: " + ", ".join(f"{NAMES.get(p, p)} {100 * r:.1f}%" for p, r in slip.items()) in text
+    torque = int((ok["success_no_torque"].astype(bool) & ~ok["success"]).sum())
+    assert f"the torque check alone removed {torque} passes" in text
+    assert "not computed" not in md(store)
+    assert figures(store) == {"fig18_grip_laws", "h_epsilon"}
+
+
+def test_ablation_gains_its_grip_law_columns(runs):
+    store = runs["ablation"]
+    rates = read_table(store, "success_by_planner")
+    assert set(rates["grip_law"]) == set(LAWS) and (rates.groupby("planner").size() == 3).all()
+    assert set(read_table(store, "mcnemar")["grip_law"]) == set(LAWS)
+    text = md(store)
+    assert "roughly ±12 pp" in text and "not computed" not in text
+    assert figures(store) == {"fig16_ablation", "h_epsilon"}
+
+
+def test_real_reduced_runs_state_their_records(sim_root):
+    """The engine's own reduced baseline_grid and grip_laws runs: paragraph numbers from the records."""
+    from graspcampaign.campaign.records import RunStore
+
+    for study in ("baseline_grid", "grip_laws"):
+        store = RunStore(sim_root / study / "default")
+        ok = ok_records(store)
+        ok = ok[ok["grip_law"] == "paper"]
+        text = finding(store)
+        if study == "baseline_grid":
+            released = int((ok["n_released"] >= 1).sum())
+            assert f"{released} of {len(ok)} triples ({100 * released / len(ok):.1f}%)" in text
+            assert int((ok["n_released"] == ok["n_upper"]).sum()) == len(ok)  # issue 13: upper = released
+        rank = ok.groupby("planner")["success"].mean()
+        assert f"{100 * rank['centroid']:.1f}%" in text
