@@ -299,8 +299,11 @@ class GraspState:
 
     def commanded(self, grip_rate, load_fraction: float) -> GraspState:
         """Return this state with the command for the next step replaced."""
-        return replace(self, grip_rate=np.asarray(grip_rate, dtype=np.float64),
-                       load_fraction=float(load_fraction))
+        # The constructor, not dataclasses.replace: this runs once per step of every grasp, and
+        # replace() costs several times more.
+        return GraspState(self.time, self.state, self.grip,
+                          np.asarray(grip_rate, dtype=np.float64), float(load_fraction),
+                          self.stick, self.slip_coords, self.contact)
 
 
 def finger_centers(setup: GraspSetup, grip) -> np.ndarray:
