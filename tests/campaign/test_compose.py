@@ -12,7 +12,8 @@ from graspcampaign.errors import ConfigError
 SPEC_STUDIES = {"friction_mass", "gravity_settle", "heuristic_weights", "shapes", "ablation",
                 "wrench_balance", "baseline_grid", "sensitivity", "mesh_resolution",
                 "pso_repeatability", "test1_bench", "test2_grasp", "test3_disturbance",
-                "surrogate", "smoke"}
+                "surrogate", "smoke",
+                "dynamic_check"}  # SPEC §8: every quasi-static label re-simulated dynamically
 
 
 def test_one_campaign_file_per_spec_study():

@@ -83,11 +83,17 @@ def list_cmd(
             if name != "smoke" and kind_available(compose_study(name).kind):
                 typer.echo(name)
         return
+    from graspcampaign.errors import UserInputError
+
     table = Table("study", "kind", "trials", "runnable", "description")
     for name in list_studies():
         study = compose_study(name)
         ready = kind_available(study.kind)
-        table.add_row(name, study.kind, str(study_size(study)),
+        try:
+            size = str(study_size(study))
+        except UserInputError:  # a design read from another study's records, not run yet
+            size = "?"
+        table.add_row(name, study.kind, size,
                       "yes" if ready else "not yet" if study.kind in KINDS else "unknown kind",
                       " ".join(study.description.split())[:70])
     Console(width=160).print(table)

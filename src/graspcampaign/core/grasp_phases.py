@@ -420,13 +420,14 @@ def dynamic_grasp(
     *,
     points=None,
     normals=None,
+    body=None,
     step: Step = grasp_step,
 ) -> DynamicGraspResult:
     """Prepare and run a dynamic grasp (Fig. 3 per step, Fig. 11 in order) on an MSD body.
 
     Parameters
     ----------
-    mesh, mu, msd_params, contact, grasp, directions, points, normals
+    mesh, mu, msd_params, contact, grasp, directions, points, normals, body
         As :func:`core.dynamics.prepare_grasp` (default: the 45/45/-90 contacts of §5.2, Table 3
         contact law, default body and loop constants).
     step : callable
@@ -441,5 +442,5 @@ def dynamic_grasp(
     Fig. 3, Fig. 11, Eq. 11-19, §5.1, §5.5.
     """
     setup, state = prepare_grasp(mesh, mu, msd_params, contact, grasp, directions,
-                                 points=points, normals=normals)
+                                 points=points, normals=normals, body=body)
     return run_grasp_phases(setup, state, step)
