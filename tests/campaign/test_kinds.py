@@ -420,3 +420,17 @@ def test_grip_law_config_errors_name_the_key_and_allowed_values():
     with pytest.raises(ConfigError, match=r"^evaluator\.grip_safety_factor = 1\.0 is out of range; "
                                           r"allowed: > 1\.0\.$"):
         compose_study("grip_laws", ["evaluator.grip_safety_factor=1.0"])
+def test_dynamic_grasp_runs_the_numpy_reference_by_param(tmp_path):
+    """params.step selects how a grasp runs: the compiled loop (default) or the Python driver on
+    the numpy step; the records agree to rounding (docs/decisions.md, compiled dynamic step)."""
+    cut = ("nodes=[144]", "mu=[0.3]", "mass_kg=[0.2]", "model_preset=[table2]",
+           "+params.t_max_s=0.06")
+    _, _, fast = _run("friction_mass", tmp_path / "compiled", *cut)
+    _, _, ref = _run("friction_mass", tmp_path / "numpy", *cut, "+params.step=numpy")
+    assert fast.loc[0, "n_steps"] == ref.loc[0, "n_steps"] > 0
+    assert fast.loc[0, "dynamic_status"] == ref.loc[0, "dynamic_status"]
+    for column in ("delta_max_mm", "final_residual_z_n", "normal_force_1_n", "closure_end_s"):
+        np.testing.assert_allclose(fast[column], ref[column], rtol=1e-9, err_msg=column)
+    with pytest.raises(UserInputError, match=r"params.step has unknown value 'gpu'; allowed "
+                                             r"values: compiled, numpy\."):
+        _run("friction_mass", tmp_path / "bad", *cut, "+params.step=gpu")

@@ -22,12 +22,10 @@ FIRM = ContactParams(lambda1=2.0 / 3.0, lambda2=0.88, n=1.5, e_finger=1.1424e6,
 
 
 @pytest.fixture(scope="module")
-def firm_run():
+def firm_run(firm_grasp):
     """A small firm-preset grasp that holds: 144 nodes, 0.2 kg, mu = 0.3, default phases."""
-    mesh = make_object("sphere", 144)
-    params = msd.msd_params_from_modulus(mesh, youngs_modulus=FIRM.e_object, mass=0.2)
-    setup, state = dynamics.prepare_grasp(mesh, 0.3, params, FIRM)
-    return setup, grasp_phases.run_grasp_phases(setup, state)
+    setup, _, result = firm_grasp
+    return setup, result
 
 
 def test_firm_preset_holds_with_valid_geometry_and_balances_the_weight(firm_run):

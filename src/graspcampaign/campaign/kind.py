@@ -84,6 +84,7 @@ KINDS: dict[str, str | None] = {
     "pso_repeatability": "graspcampaign.campaign.kinds.pso:PSO_REPEATABILITY",
     "gravity_settle": "graspcampaign.campaign.kinds.dynamic:GRAVITY_SETTLE",
     "dynamic_grasp": "graspcampaign.campaign.kinds.dynamic:DYNAMIC_GRASP",
+    "dynamic_check": "graspcampaign.campaign.kinds.dynamic_check:DYNAMIC_CHECK",
     "sensitivity": "graspcampaign.campaign.kinds.sensitivity:SENSITIVITY",
     "mesh_resolution": "graspcampaign.campaign.kinds.mesh_resolution:MESH_RESOLUTION",
     "surrogate": "graspcampaign.campaign.kinds.surrogate:SURROGATE",

@@ -268,6 +268,13 @@ class SurrogatePaper:
     speedup: float
 
 
+@dataclass(frozen=True)
+class DynamicCheckPaper:
+    """Sec. 6.1: the one qualitative agreement claim (checked on the sphere's optimum only)."""
+
+    claim: str
+
+
 def _hardware() -> dict[str, type]:
     from graspcampaign.campaign import paper_hardware as hw
 
@@ -283,7 +290,8 @@ def paper_types() -> dict[str, type]:
             "ablation": AblationPaper, "baseline_grid": BaselineGridPaper,
             "sensitivity": SensitivityPaper, "mesh_resolution": MeshResolutionPaper,
             "pso_repeatability": PsoRepeatabilityPaper, "gravity_settle": GravitySettlePaper,
-            "friction_mass": FrictionMassPaper, "surrogate": SurrogatePaper, **_hardware()}
+            "friction_mass": FrictionMassPaper, "surrogate": SurrogatePaper,
+            "dynamic_check": DynamicCheckPaper, **_hardware()}
 
 
 def check_paper(study: str, block: dict | None, where: str = "paper", *,

@@ -299,8 +299,11 @@ class GraspState:
 
     def commanded(self, grip_rate, load_fraction: float) -> GraspState:
         """Return this state with the command for the next step replaced."""
-        return replace(self, grip_rate=np.asarray(grip_rate, dtype=np.float64),
-                       load_fraction=float(load_fraction))
+        # The constructor, not dataclasses.replace: this runs once per step of every grasp, and
+        # replace() costs several times more.
+        return GraspState(self.time, self.state, self.grip,
+                          np.asarray(grip_rate, dtype=np.float64), float(load_fraction),
+                          self.stick, self.slip_coords, self.contact)
 
 
 def finger_centers(setup: GraspSetup, grip) -> np.ndarray:
@@ -358,6 +361,7 @@ def prepare_grasp(
     *,
     points=None,
     normals=None,
+    body: MsdBody | None = None,
 ) -> tuple[GraspSetup, GraspState]:
     """Build the fixed model and the initial state of a dynamic grasp.
 
@@ -379,6 +383,10 @@ def prepare_grasp(
     points, normals : (c, 3) float, optional
         Planned contact points on the undeformed surface [m] and their outward normals (any
         planner's contacts); both or neither.
+    body : MsdBody, optional
+        The MSD shell of ``mesh`` with ``msd_params``' mass, when the caller already built it
+        (a campaign reuses one body, and its cached stiffness spectrum, across trials); default
+        :func:`core.msd.msd_body_from_mesh`.
 
     Returns
     -------
@@ -392,7 +400,11 @@ def prepare_grasp(
     grasp = grasp or GraspParams()
     if not np.isfinite(mu) or mu < 0.0:
         raise ValueError(f"mu must be finite and >= 0, got {mu!r}")
-    body = msd_body_from_mesh(mesh, msd_params)
+    if body is None:
+        body = msd_body_from_mesh(mesh, msd_params)
+    elif body.n_nodes != len(mesh.vertices) or not np.isclose(body.mass, msd_params.mass):
+        raise ValueError(f"body has {body.n_nodes} nodes and {body.mass:g} kg, the mesh "
+                         f"{len(mesh.vertices)} nodes and msd_params {msd_params.mass:g} kg")
     if (points is None) != (normals is None):
         raise ValueError("points and normals must be given together")
     if points is None:

@@ -37,6 +37,7 @@ increment while equilibrium fails), §3.7 Eq. 19, §5.1 (seed), §12 (six-compon
 from __future__ import annotations
 
 import logging
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -51,7 +52,8 @@ from graspcampaign.core.dynamics import (
     grasp_step,
     prepare_grasp,
 )
-from graspcampaign.core.msd import MsdParams, kinetic_energy
+from graspcampaign.core.grasp_kernel import body_summary
+from graspcampaign.core.msd import MsdParams
 from graspcampaign.core.statics import wrench_residual
 
 __all__ = [
@@ -224,8 +226,7 @@ class DynamicGraspResult:
 
 
 _TRACES = ("times", "phase", "load_fraction", "residual", "support_force", "normal_forces",
-           "tangential_forces", "depths", "sliding", "in_contact", "grip", "centroid",
-           "kinetic_energy")
+           "tangential", "sliding", "depths", "in_contact", "grip", "centroid", "kinetic_energy")
 
 
 def run_grasp_phases(setup: GraspSetup, state: GraspState, step: Step = grasp_step) -> DynamicGraspResult:
@@ -256,45 +257,61 @@ def run_grasp_phases(setup: GraspSetup, state: GraspState, step: Step = grasp_st
     n_max = int(np.ceil(grasp.t_max / dt))
     settle_steps = max(1, int(np.ceil(grasp.settle_time / dt)))
     traces: dict[str, list] = {key: [] for key in _TRACES}
+    record = [traces[key].append for key in _TRACES]
     phase, status = "closure", "not_settled"
     closure_start = state.time
-    reached = np.zeros(n_fingers, dtype=bool)
-    touch = np.full(n_fingers, np.nan)
+    reached = [False] * n_fingers
+    touch = [float("nan")] * n_fingers
     lift_start = lift_end = hold_start = hold_end = float("nan")
     z_lift = float("nan")
     quiet = 0
-    since_touch = np.full(n_fingers, settle_steps)
+    since_touch = [settle_steps] * n_fingers
+    speed_close, seed, tau_f = grasp.grip_speed, grasp.seed_depth, grasp.tau_f
+    half_node_mass = 0.5 * setup.body.node_mass
     n_steps = 0
+    # Per-finger values as Python lists and one compiled pass over the nodes per step
+    # (body_summary): the driver's own cost stays small beside a compiled step.
     while True:
         out = state.contact
         hits = out.contacts
-        nodes = state.state.reshape(-1, 6)
-        centroid = nodes[:, :3].mean(axis=0)
-        touch = np.where(np.isnan(touch) & hits.active, state.time, touch)
+        active = hits.active.tolist()
+        depths = hits.depths.tolist()
+        summary = body_summary(state.state)
+        centroid = summary[:3]
+        for j in range(n_fingers):
+            if active[j] and touch[j] != touch[j]:  # first touch (nan != nan)
+                touch[j] = state.time
         if phase == "closure":
-            reached |= hits.depths >= grasp.seed_depth
-            if reached.all():
+            for j in range(n_fingers):
+                reached[j] = reached[j] or depths[j] >= seed
+            if all(reached):
                 phase, lift_start, z_lift = "lift", state.time, float(centroid[2])
         w = 0.0
         if phase != "closure":
-            w = float(load_fraction(state.time - lift_start, grasp.lift_time))
+            w = _load_fraction(state.time - lift_start, grasp.lift_time)
             if phase == "lift" and state.time - lift_start >= grasp.lift_time:
                 phase, lift_end, w = "hold", state.time, 1.0
-        _record(traces, state, phase, w, centroid, setup)
+        residual_z = float(out.residual[2])
+        for append, value in zip(record, (
+                state.time, phase, w, out.residual, out.support_force, out.normal_forces,
+                out.tangential, out.stick.sliding, hits.depths, hits.active, state.grip,
+                centroid, half_node_mass * float(summary[6])), strict=True):
+            append(value)
 
-        if hits.depths.max() > setup.max_depth:
+        if max(depths) > setup.max_depth:
             status = "penetration_limit"
             break
-        if phase != "closure" and z_lift - centroid[2] > grasp.drop_distance:
+        if phase != "closure" and z_lift - float(centroid[2]) > grasp.drop_distance:
             status = "dropped"
             break
         if phase == "hold":
-            speed = float(np.linalg.norm(nodes[:, 3:].mean(axis=0)))
+            speed = math.sqrt(float(summary[3]) ** 2 + float(summary[4]) ** 2
+                              + float(summary[5]) ** 2)
             # Every finger touching within the window: a light contact may flicker at the onset
             # of Eq. 13.
-            since_touch = np.where(hits.active, 0, since_touch + 1)
-            held = (abs(out.residual[2]) < grasp.tau_f and speed < grasp.settle_speed
-                    and since_touch.max() < settle_steps)
+            since_touch = [0 if a else s + 1 for a, s in zip(active, since_touch, strict=True)]
+            held = (abs(residual_z) < tau_f and speed < grasp.settle_speed
+                    and max(since_touch) < settle_steps)
             quiet = quiet + 1 if held else 0
             if quiet == 1:
                 hold_start = state.time
@@ -305,10 +322,11 @@ def run_grasp_phases(setup: GraspSetup, state: GraspState, step: Step = grasp_st
             break
 
         if phase == "closure":
-            rate = np.where(reached & hits.active, 0.0, grasp.grip_speed)
+            rate = [0.0 if r and a else speed_close
+                    for r, a in zip(reached, active, strict=True)]
         else:
-            closing = (~hits.active) | (abs(w * out.residual[2]) >= grasp.tau_f)
-            rate = np.where(closing, grasp.grip_speed, 0.0)
+            squeezing = abs(w * residual_z) >= tau_f
+            rate = [speed_close if (not a) or squeezing else 0.0 for a in active]
         state = step(setup, state.commanded(rate, w))
         n_steps += 1
 
@@ -317,7 +335,7 @@ def run_grasp_phases(setup: GraspSetup, state: GraspState, step: Step = grasp_st
     times = PhaseTimes(
         closure_start=float(closure_start),
         closure_end=float(lift_start),
-        touch=touch,
+        touch=np.array(touch),
         lift_start=float(lift_start),
         lift_end=float(lift_end),
         hold_start=float(hold_start),
@@ -326,26 +344,16 @@ def run_grasp_phases(setup: GraspSetup, state: GraspState, step: Step = grasp_st
     return _result(setup, state, traces, status, phase, times, n_steps)
 
 
-def _record(traces: dict, state: GraspState, phase: str, w: float, centroid, setup) -> None:
-    out = state.contact
-    hits = out.contacts
-    traces["times"].append(state.time)
-    traces["phase"].append(phase)
-    traces["load_fraction"].append(w)
-    traces["residual"].append(out.residual)
-    traces["support_force"].append(out.support_force)
-    traces["normal_forces"].append(out.normal_forces)
-    traces["tangential_forces"].append(np.linalg.norm(out.tangential, axis=1))
-    traces["depths"].append(hits.depths)
-    traces["sliding"].append(out.stick.sliding & hits.active)
-    traces["in_contact"].append(hits.active)
-    traces["grip"].append(state.grip)
-    traces["centroid"].append(centroid)
-    traces["kinetic_energy"].append(float(kinetic_energy(setup.body, state.state)))
+def _load_fraction(elapsed: float, lift_time: float) -> float:
+    """Scalar :func:`load_fraction` (the driver calls it once per step)."""
+    tau = min(max(elapsed / lift_time, 0.0), 1.0)
+    return 0.5 * (1.0 - math.cos(math.pi * tau))
 
 
 def _result(setup, state, traces, status, phase, times, n_steps) -> DynamicGraspResult:
     arrays = {key: np.asarray(value) for key, value in traces.items()}
+    arrays["tangential_forces"] = np.linalg.norm(arrays.pop("tangential"), axis=-1)
+    arrays["sliding"] &= arrays["in_contact"]
     out = state.contact
     hits = out.contacts
     params, contact = setup.msd_params, setup.contact
@@ -412,13 +420,14 @@ def dynamic_grasp(
     *,
     points=None,
     normals=None,
+    body=None,
     step: Step = grasp_step,
 ) -> DynamicGraspResult:
     """Prepare and run a dynamic grasp (Fig. 3 per step, Fig. 11 in order) on an MSD body.
 
     Parameters
     ----------
-    mesh, mu, msd_params, contact, grasp, directions, points, normals
+    mesh, mu, msd_params, contact, grasp, directions, points, normals, body
         As :func:`core.dynamics.prepare_grasp` (default: the 45/45/-90 contacts of §5.2, Table 3
         contact law, default body and loop constants).
     step : callable
@@ -433,5 +442,5 @@ def dynamic_grasp(
     Fig. 3, Fig. 11, Eq. 11-19, §5.1, §5.5.
     """
     setup, state = prepare_grasp(mesh, mu, msd_params, contact, grasp, directions,
-                                 points=points, normals=normals)
+                                 points=points, normals=normals, body=body)
     return run_grasp_phases(setup, state, step)

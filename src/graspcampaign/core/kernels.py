@@ -79,7 +79,6 @@ def sphere_faces(centers, radius, vertices, faces, bound_centers, bound_radii):
         (P_face, P_finger, outward face normal, barycentric weights of P_face).
     """
     n_spheres, n_faces = centers.shape[0], faces.shape[0]
-    r_sq = radius * radius
     # Broad phase: the sphere overlaps the face's bounding sphere.
     candidates = np.empty(n_spheres * n_faces, dtype=np.int64)
     n_cand = 0
@@ -98,80 +97,16 @@ def sphere_faces(centers, radius, vertices, faces, bound_centers, bound_radii):
     keys = np.empty(n_cand, dtype=np.int8)
     scalars = np.empty((n_cand, 4))
     vectors = np.empty((n_cand, 4, 3))
-    tri = np.empty((3, 3))
-    edges = np.empty((3, 3))
-    rel = np.empty((3, 3))
-    normal = np.empty(3)
-    perp = np.empty(3)
-    t = np.empty(3)
-    offset_sq = np.empty(3)
-    edge_sq = np.empty(3)
+    scratch = np.empty((9, 3))
     count = 0
     for i in range(n_cand):
         p, f = divmod(candidates[i], n_faces)
-        for v in range(3):
-            for j in range(3):
-                tri[v, j] = vertices[faces[f, v], j]
-        for v in range(3):
-            for j in range(3):
-                edges[v, j] = tri[(v + 1) % 3, j] - tri[v, j]
-                rel[v, j] = centers[p, j] - tri[v, j]
-        # raw normal = AB x AC = e0 x (-e2)
-        nx = -(edges[0, 1] * edges[2, 2] - edges[0, 2] * edges[2, 1])
-        ny = -(edges[0, 2] * edges[2, 0] - edges[0, 0] * edges[2, 2])
-        nz = -(edges[0, 0] * edges[2, 1] - edges[0, 1] * edges[2, 0])
-        double_area = math.sqrt(nx * nx + ny * ny + nz * nz)
-        if not double_area > 0.0:
-            continue  # degenerate faces never collide (as in the numpy path)
-        normal[0], normal[1], normal[2] = nx / double_area, ny / double_area, nz / double_area
-        height = rel[0, 0] * normal[0] + rel[0, 1] * normal[1] + rel[0, 2] * normal[2]
-        nearest = 0
-        min_perp = np.inf
-        for v in range(3):
-            ex, ey, ez = edges[v, 0], edges[v, 1], edges[v, 2]
-            edge_sq[v] = max(ex * ex + ey * ey + ez * ez, _TINY)
-            inv_len = 1.0 / math.sqrt(edge_sq[v])
-            # m_v = n x e_v / |e_v|
-            mx = (normal[1] * ez - normal[2] * ey) * inv_len
-            my = (normal[2] * ex - normal[0] * ez) * inv_len
-            mz = (normal[0] * ey - normal[1] * ex) * inv_len
-            rx, ry, rz = rel[v, 0], rel[v, 1], rel[v, 2]
-            perp[v] = rx * mx + ry * my + rz * mz
-            min_perp = min(min_perp, perp[v])
-            t[v] = min(max((rx * ex + ry * ey + rz * ez) / edge_sq[v], 0.0), 1.0)
-            ox, oy, oz = rx - t[v] * ex, ry - t[v] * ey, rz - t[v] * ez
-            offset_sq[v] = ox * ox + oy * oy + oz * oz
-            if offset_sq[v] < offset_sq[nearest]:
-                nearest = v
-        inside = min_perp >= 0.0
-        dist_sq = height * height if inside else offset_sq[nearest]
-        if not dist_sq < r_sq:
+        key = narrow_pair(centers[p], radius, vertices, faces, f, scratch, scalars[count],
+                          vectors[count])
+        if key < 0:
             continue
-        w = vectors[count, 3]
-        if inside:
-            for v in range(3):
-                nxt = (v + 1) % 3
-                w[v] = perp[nxt] * math.sqrt(edge_sq[nxt]) / double_area
-            key = 2 + (1 if r_sq - height * height <= min_perp * min_perp else 0)
-        else:
-            t_edge = t[nearest]
-            w[0] = w[1] = w[2] = 0.0
-            w[nearest] = 1.0 - t_edge
-            w[(nearest + 1) % 3] = t_edge
-            key = 1 if (t_edge <= 0.0 or t_edge >= 1.0) else 0
-        depth = math.sqrt(r_sq - max(dist_sq - height * height, 0.0)) - height
-        for j in range(3):
-            point = w[0] * tri[0, j] + w[1] * tri[1, j] + w[2] * tri[2, j]
-            vectors[count, 0, j] = point
-            vectors[count, 1, j] = point - depth * normal[j]
-            vectors[count, 2, j] = normal[j]
         pairs[count, 0], pairs[count, 1] = p, f
         keys[count] = key
-        distance = math.sqrt(dist_sq)
-        scalars[count, 0] = depth
-        scalars[count, 1] = distance
-        scalars[count, 2] = height
-        scalars[count, 3] = radius - distance
         count += 1
     return count, pairs, keys, scalars, vectors
 
@@ -323,3 +258,116 @@ def epsilon_facets(d, basis, mu, n_edges, rel_tol):
                     break
         out[b] = 0.0 if (outside or best == math.inf) else best
     return out
+@njit(cache=True)
+def narrow_pair(center, radius, vertices, faces, f, scratch, scalars, vectors):
+    """Collide one sphere with one face of an indexed mesh (the narrow phase of §3.2-3.3).
+
+    Parameters
+    ----------
+    center : (3,) float
+        Sphere centre P [m].
+    radius : float
+        Sphere radius r [m].
+    vertices : (n, 3) float
+        Mesh vertices [m] (an (n, 6) state works too: only the first three columns are read).
+    faces : (f, 3) int
+        Vertex indices, counter-clockwise seen from outside.
+    f : int
+        Face index.
+    scratch : (9, 3) float
+        Work array.
+    scalars : (4,) float
+        Output on a hit: (depth delta_max of Eq. 11, distance ``|P - P_face|``, height z0',
+        overlap ``r - |P - P_face|``) [m].
+    vectors : (4, 3) float
+        Output on a hit: (P_face, P_finger, outward face normal, barycentric weights of P_face).
+
+    Returns
+    -------
+    key : int
+        -1 when the sphere does not reach the face (degenerate faces never collide), else the
+        region key of :func:`sphere_faces`.
+    """
+    r_sq = radius * radius
+    tri, edges, rel = scratch[0:3], scratch[3:6], scratch[6:9]
+    for v in range(3):
+        for j in range(3):
+            tri[v, j] = vertices[faces[f, v], j]
+    for v in range(3):
+        for j in range(3):
+            edges[v, j] = tri[(v + 1) % 3, j] - tri[v, j]
+            rel[v, j] = center[j] - tri[v, j]
+    # raw normal = AB x AC = e0 x (-e2)
+    nx = -(edges[0, 1] * edges[2, 2] - edges[0, 2] * edges[2, 1])
+    ny = -(edges[0, 2] * edges[2, 0] - edges[0, 0] * edges[2, 2])
+    nz = -(edges[0, 0] * edges[2, 1] - edges[0, 1] * edges[2, 0])
+    double_area = math.sqrt(nx * nx + ny * ny + nz * nz)
+    if not double_area > 0.0:
+        return -1
+    n0, n1, n2 = nx / double_area, ny / double_area, nz / double_area
+    height = rel[0, 0] * n0 + rel[0, 1] * n1 + rel[0, 2] * n2
+    nearest = 0
+    min_perp = np.inf
+    perp0 = perp1 = perp2 = 0.0
+    t0 = t1 = t2 = 0.0
+    off0 = off1 = off2 = 0.0
+    esq0 = esq1 = esq2 = 0.0
+    for v in range(3):
+        ex, ey, ez = edges[v, 0], edges[v, 1], edges[v, 2]
+        edge_sq = max(ex * ex + ey * ey + ez * ez, _TINY)
+        inv_len = 1.0 / math.sqrt(edge_sq)
+        # m_v = n x e_v / |e_v|
+        mx = (n1 * ez - n2 * ey) * inv_len
+        my = (n2 * ex - n0 * ez) * inv_len
+        mz = (n0 * ey - n1 * ex) * inv_len
+        rx, ry, rz = rel[v, 0], rel[v, 1], rel[v, 2]
+        perp = rx * mx + ry * my + rz * mz
+        min_perp = min(min_perp, perp)
+        t = min(max((rx * ex + ry * ey + rz * ez) / edge_sq, 0.0), 1.0)
+        ox, oy, oz = rx - t * ex, ry - t * ey, rz - t * ez
+        offset_sq = ox * ox + oy * oy + oz * oz
+        if v == 0:
+            perp0, t0, off0, esq0 = perp, t, offset_sq, edge_sq
+        elif v == 1:
+            perp1, t1, off1, esq1 = perp, t, offset_sq, edge_sq
+            if off1 < off0:
+                nearest = 1
+        else:
+            perp2, t2, off2, esq2 = perp, t, offset_sq, edge_sq
+            if off2 < (off0 if nearest == 0 else off1):
+                nearest = 2
+    inside = min_perp >= 0.0
+    near_off = off0 if nearest == 0 else (off1 if nearest == 1 else off2)
+    dist_sq = height * height if inside else near_off
+    if not dist_sq < r_sq:
+        return -1
+    if inside:
+        # weight of vertex v: s_{v+1} |e_{v+1}| / (2 area)
+        w0 = perp1 * math.sqrt(esq1) / double_area
+        w1 = perp2 * math.sqrt(esq2) / double_area
+        w2 = perp0 * math.sqrt(esq0) / double_area
+        key = 2 + (1 if r_sq - height * height <= min_perp * min_perp else 0)
+    else:
+        t_edge = t0 if nearest == 0 else (t1 if nearest == 1 else t2)
+        w0 = w1 = w2 = 0.0
+        if nearest == 0:
+            w0, w1 = 1.0 - t_edge, t_edge
+        elif nearest == 1:
+            w1, w2 = 1.0 - t_edge, t_edge
+        else:
+            w2, w0 = 1.0 - t_edge, t_edge
+        key = 1 if (t_edge <= 0.0 or t_edge >= 1.0) else 0
+    depth = math.sqrt(r_sq - max(dist_sq - height * height, 0.0)) - height
+    normal = (n0, n1, n2)
+    for j in range(3):
+        point = w0 * tri[0, j] + w1 * tri[1, j] + w2 * tri[2, j]
+        vectors[0, j] = point
+        vectors[1, j] = point - depth * normal[j]
+        vectors[2, j] = normal[j]
+    vectors[3, 0], vectors[3, 1], vectors[3, 2] = w0, w1, w2
+    distance = math.sqrt(dist_sq)
+    scalars[0] = depth
+    scalars[1] = distance
+    scalars[2] = height
+    scalars[3] = radius - distance
+    return key

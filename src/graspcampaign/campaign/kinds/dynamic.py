@@ -13,6 +13,7 @@ of a 45/45/-90 grasp, which needs penetrations far beyond the fingertip radius: 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -36,18 +37,28 @@ class DynamicParams:
     # dynamic grasp phases (Fig. 11); sources in core.dynamics.GraspParams
     lift_time_s: float = field(default=0.1, metadata={"gt": 0.0})  # lift-off ramp of the load
     open_gap_m: float = field(default=1e-3, metadata={"ge": 0.0})  # fingers start this far out
+    # how a grasp runs (core.phase_kernel.GRASP_RUNNERS): the compiled loop and step, or the
+    # Python driver on the numpy reference step (docs/decisions.md, compiled dynamic step)
+    step: str = field(default="compiled", metadata={"choices": ("compiled", "numpy")})
 
 
-def _body(study, params, factors):
+@lru_cache(maxsize=64)
+def msd_model(shape: str, nodes: int, youngs_modulus: float, mass: float, bulk_modulus: float):
+    """Return ``(mesh, MsdParams, MsdBody)`` of one object (cached per worker).
+
+    The constants come from the object modulus (``msd.msd_params_from_modulus``: a dense
+    eigen-decomposition, ~1 s at 390 nodes), so a campaign that grasps one body many times builds
+    it, and its RK4 step limit, once per worker.
+    """
     from dataclasses import replace
 
-    from graspcampaign.core.msd import msd_params_from_modulus
+    from graspcampaign.core.mesh import make_object
+    from graspcampaign.core.msd import msd_body_from_mesh, msd_params_from_modulus
 
-    mesh, _ = common.body_mesh(factors["shape"], common.nodes_of(factors, params.nodes),
-                               common.feature_thresholds(study))
-    msd = msd_params_from_modulus(mesh, youngs_modulus=study.model.e_object_pa,
-                                  mass=factors["mass_kg"])
-    return mesh, replace(msd, bulk_modulus=params.bulk_modulus_pa)
+    mesh = make_object(shape, int(nodes))
+    msd = replace(msd_params_from_modulus(mesh, youngs_modulus=youngs_modulus, mass=mass),
+                  bulk_modulus=bulk_modulus)
+    return mesh, msd, msd_body_from_mesh(mesh, msd)
 
 
 def _decimate(n: int) -> np.ndarray:
@@ -127,12 +138,13 @@ def run_settle(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
     from graspcampaign.core.msd import (
         FloorParams,
         body_step_limit,
-        msd_body_from_mesh,
         settle_on_floor,
     )
 
-    mesh, msd = _body(inp.study, inp.params, inp.trial.factors)
-    body = msd_body_from_mesh(mesh, msd)
+    f = inp.trial.factors
+    mesh, msd, body = msd_model(f["shape"], common.nodes_of(f, inp.params.nodes),
+                                inp.study.model.e_object_pa, f["mass_kg"],
+                                inp.params.bulk_modulus_pa)
     integrator = inp.trial.factors.get("integrator", "rk4")
     floor = FloorParams()
     rk4_limit = body_step_limit(body, msd, max(floor.stiffness, floor.tangential_stiffness),
@@ -241,29 +253,23 @@ def like_for_like(study, mesh, mass: float, mu: float, contact) -> dict[str, Any
     }
 
 
-def run_grasp(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
-    """The dynamic grasp in the order of Fig. 11 on the 45/45/-90 set, then the like-for-like checks.
-
-    The model preset (factor ``model_preset``, else the study's ``model`` group) sets the contact
-    law and the object modulus of the MSD body.
-    """
+def grasp_params(study, params):
+    """Return the GraspParams of a dynamic trial: tau_F from the evaluator config (Sec. 3.7), the
+    phase constants from the kind's params (sources in ``core.dynamics.GraspParams``)."""
     from graspcampaign.core.dynamics import GraspParams
-    from graspcampaign.core.grasp_phases import dynamic_grasp
 
-    f, params = inp.trial.factors, inp.params
-    study = trial_study(inp.study, f)
-    mesh, msd = _body(study, params, f)
-    contact = common.contact_params(study, damping_law=f.get("damping_law", study.model.damping_law))
-    grasp = GraspParams(tau_f=study.evaluator.tau_f_n, t_max=params.t_max_s,
-                        grip_speed=params.grip_speed_m_per_s, lift_time=params.lift_time_s,
-                        open_gap=params.open_gap_m)
-    res = dynamic_grasp(mesh, f["mu"], msd_params=msd, contact=contact, grasp=grasp)
+    return GraspParams(tau_f=study.evaluator.tau_f_n, t_max=params.t_max_s,
+                       grip_speed=params.grip_speed_m_per_s, lift_time=params.lift_time_s,
+                       open_gap=params.open_gap_m)
+
+
+def grasp_record(res, contact, msd) -> dict[str, Any]:
+    """Flatten a ``DynamicGraspResult`` into record columns (docs/records.md, friction_mass)."""
     force, torque = res.wrench[:3], res.wrench[3:]
     times = res.phase_times
     lifted = res.phase != "closure"
     z_lift = res.centroid[lifted, 2][0] if lifted.any() else float("nan")
-    keep = _decimate(len(res.times))
-    out: dict[str, Any] = {
+    return {
         "dynamic_status": res.status,
         "final_phase": res.final_phase,
         "success": bool(res.success),
@@ -293,6 +299,27 @@ def run_grasp(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
         "e_finger_pa": float(contact.e_finger), "e_object_pa": float(contact.e_object),
         "spring_k_n_per_m": float(msd.k),
     }
+
+
+def run_grasp(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
+    """The dynamic grasp in the order of Fig. 11 on the 45/45/-90 set, then the like-for-like checks.
+
+    The model preset (factor ``model_preset``, else the study's ``model`` group) sets the contact
+    law and the object modulus of the MSD body.
+    """
+    from graspcampaign.core.dynamics import prepare_grasp
+    from graspcampaign.core.phase_kernel import GRASP_RUNNERS
+
+    f, params = inp.trial.factors, inp.params
+    study = trial_study(inp.study, f)
+    mesh, msd, body = msd_model(f["shape"], common.nodes_of(f, params.nodes),
+                                study.model.e_object_pa, f["mass_kg"], params.bulk_modulus_pa)
+    contact = common.contact_params(study, damping_law=f.get("damping_law", study.model.damping_law))
+    setup, state = prepare_grasp(mesh, f["mu"], msd, contact, grasp_params(study, params),
+                                 body=body)
+    res = GRASP_RUNNERS[params.step](setup, state)
+    keep = _decimate(len(res.times))
+    out = grasp_record(res, contact, msd)
     out.update(like_for_like(study, mesh, f["mass_kg"], f["mu"], contact))
     out["__tables__"] = {"steps": {
         "step": keep.tolist(),

@@ -1,0 +1,246 @@
+"""``dynamic_check``: every quasi-static label of a study re-simulated by the dynamic grasp.
+
+The paper claims that the dynamic and the quasi-static evaluators "agree on the labels" (§6.1)
+but checked it on the sphere's optimum only. This kind takes every recorded trial of a
+quasi-static study (``baseline_grid`` by default; ``params.source_study`` / ``params.source_run``),
+rebuilds its planned contacts, runs them through the dynamic grasp in the order of Fig. 11
+(closure on the held object, lift-off, hold; ``core.grasp_phases``, compiled step) for each
+material preset of the ``model_preset`` factor, and records both labels side by side.
+
+Where the contacts come from (docs/decisions.md, dynamic check): the source run's records must
+exist, since its labels are what is checked. The contacts are *re-planned* from the source
+trial's own random stream (the source run's resolved config from its manifest, the trial's scene
+seed, the same planner and body), because the records hold vertex ids only and one planner
+(``centroid``) contacts the surface at exact ray hits with horizontal normals, not at vertices.
+The re-planned vertex ids must equal the recorded ``vertex_1..3``; a mismatch (e.g. a planner
+changed since the source ran) is an error record naming the ids, never a silent substitution.
+
+Labels recorded per trial (docs/records.md): the source's quasi-static labels (``qs_success``,
+``qs_success_unbounded``, ``qs_valid_geometry``, ``qs_delta_max_mm``, read by column name), the
+quasi-static evaluator re-run on the same contacts under the trial's preset (``qs_preset_*``:
+the like-for-like label, same contact law as the dynamic run), and the dynamic outcome
+(``success``, ``success_unbounded``, ``valid_geometry``, ``dynamic_status``, δ_max, phase times).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from functools import lru_cache
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from graspcampaign.campaign.kind import TrialInput, TrialKind
+from graspcampaign.campaign.kinds import common
+from graspcampaign.errors import UserInputError
+
+SOURCE_ID = "source_trial_id"
+# Factors of the source records copied into each trial (the scene of the check), in order.
+SCENE = ("shape", "mass_kg", "mu", "planner", "seed")
+# Source factors that may restrict the check (``graspcampaign run dynamic_check planner=[...]``).
+FILTERS = ("shape", "mass_kg", "mu", "planner")
+
+
+@dataclass
+class DynamicCheckParams:
+    """Fixed parameters of the dynamic check (phase constants as ``friction_mass``'s)."""
+
+    source_study: str = "baseline_grid"  # a quasi-static study whose records are checked
+    source_run: str = "default"  # its run name under output.root
+    bulk_modulus_pa: float = field(default=0.0, metadata={"ge": 0.0})  # 0: the paper's shell
+    t_max_s: float = field(default=1.0, metadata={"gt": 0.0})  # simulated budget of one grasp
+    grip_speed_m_per_s: float = field(default=0.02, metadata={"gt": 0.0})
+    lift_time_s: float = field(default=0.1, metadata={"gt": 0.0})
+    open_gap_m: float = field(default=1e-3, metadata={"ge": 0.0})
+    step: str = field(default="compiled", metadata={"choices": ("compiled", "numpy")})
+
+
+@dataclass(frozen=True)
+class Source:
+    """A source run: its resolved config, records (ok trials, by id) and trials (by id)."""
+
+    study: Any
+    path: Path
+    records: Any  # pandas.DataFrame indexed by trial_id
+    trials: dict
+    nodes: int
+    config_hash: str
+
+
+def _source_path(study, params) -> Path:
+    return Path(study.output.root) / params.source_study / params.source_run
+
+
+@lru_cache(maxsize=4)
+def load_source(root: str, name: str, run: str) -> Source:
+    """Read a source run (cached per worker): manifest config, ok records, trials.
+
+    Raises
+    ------
+    UserInputError
+        When the run does not exist, is not complete, or is not a quasi-static study; the message
+        names the run and the command to run first.
+    """
+    from omegaconf import OmegaConf
+
+    from graspcampaign.campaign.kind import get_kind
+    from graspcampaign.campaign.provenance import read_manifest
+    from graspcampaign.campaign.records import RunStore
+    from graspcampaign.campaign.runner import kind_params, study_trials
+    from graspcampaign.campaign.schema import StudyCfg
+
+    path = Path(root) / name / run
+    store = RunStore(path)
+    manifest = read_manifest(store.manifest_path)
+    command = f"graspcampaign run {name}" + ("" if run == "default" else f" --run {run}")
+    if manifest is None:
+        raise UserInputError(
+            f"dynamic_check re-simulates the records of {name}/{run}, but {path} holds no run; "
+            f"run `{command}` first (or set params.source_study / params.source_run).")
+    if manifest.get("kind") != "quasi_static":
+        raise UserInputError(
+            f"dynamic_check re-simulates quasi-static plans, but {name}/{run} is a "
+            f"{manifest.get('kind')!r} run; choose a study of kind quasi_static "
+            "(baseline_grid, ablation, shapes) as params.source_study.")
+    study = OmegaConf.to_object(OmegaConf.merge(OmegaConf.structured(StudyCfg),
+                                                manifest["config"]))
+    kind = get_kind(study.kind)
+    trials = {t.trial_id: t for t in study_trials(study, kind, kind_params(study, kind))}
+    records = store.read().to_pandas()
+    recorded = set(records["trial_id"]) if len(records) else set()
+    missing = len(set(trials) - recorded)
+    if missing:
+        raise UserInputError(
+            f"dynamic_check needs every trial of {name}/{run}, but {missing} of {len(trials)} are "
+            f"not recorded under {path}; finish it with `{command}` first.")
+    records = records[records["status"] == "ok"].set_index("trial_id", drop=False)
+    return Source(study=study, path=path, records=records, trials=trials,
+                  nodes=int(kind_params(study, kind).nodes), config_hash=manifest["config_hash"])
+
+
+def design(study, params) -> list[dict[str, Any]]:
+    """One trial per (model preset, recorded ok source trial), in the source's order.
+
+    Factors of the study other than ``model_preset`` filter the source trials (levels of
+    ``shape``, ``mass_kg``, ``mu``, ``planner``).
+    """
+    presets = study.factors.get("model_preset")
+    if not presets:
+        raise UserInputError("dynamic_check needs the factor model_preset (conf/model presets to "
+                             "simulate), e.g. model_preset=[table2,firm].")
+    unknown = sorted(set(study.factors) - {"model_preset", *FILTERS})
+    if unknown:
+        raise UserInputError(f"dynamic_check takes the factors model_preset and the filters "
+                             f"{', '.join(FILTERS)}; got {', '.join(unknown)}.")
+    source = load_source(study.output.root, params.source_study, params.source_run)
+    rows = source.records
+    for name in FILTERS:
+        if name in study.factors:
+            rows = rows[rows[name].isin(study.factors[name])]
+    order = [t for t in source.trials if t in rows.index]
+    out = []
+    for preset in presets:
+        for trial_id in order:
+            row = rows.loc[trial_id]
+            factors = {"model_preset": preset}
+            for name in SCENE:
+                value = row[name]
+                factors[name] = value.item() if isinstance(value, np.generic) else value
+            factors[SOURCE_ID] = trial_id
+            out.append(factors)
+    return out
+
+
+def _replan(source: Source, row) -> tuple[np.ndarray, np.ndarray, np.ndarray, Any, float]:
+    """Re-plan a source trial from its own stream; return ids, points, normals, ctx, time."""
+    from graspcampaign.campaign.kinds.quasi_static import plan_and_judge
+
+    study = source.study
+    trial = source.trials[row["trial_id"]]
+    contact = common.contact_params(study, lambda1=float(row["lambda1"]),
+                                    lambda2=float(row["lambda2"]), n=float(row["n_exp"]))
+    nodes = int(trial.factors.get("nodes", source.nodes))
+    start = time.perf_counter()
+    judged = plan_and_judge(study, trial.factors["shape"], nodes, trial.factors["mass_kg"],
+                            trial.factors["mu"], contact, trial.factors["planner"],
+                            trial.rng(study.seed))
+    plan_time = time.perf_counter() - start
+    recorded = np.array([int(row[f"vertex_{j}"]) for j in (1, 2, 3)])
+    replanned = np.asarray(judged.plan.vertex_ids, dtype=np.int64)
+    if not np.array_equal(recorded, replanned):
+        raise RuntimeError(
+            f"re-planning {row['trial_id']} gave vertices {replanned.tolist()}, its record has "
+            f"{recorded.tolist()}: the planner or its config changed since the source ran")
+    return replanned, np.asarray(judged.plan.points), np.asarray(judged.plan.normals), \
+        judged.ctx, plan_time
+
+
+def source_labels(source: Source, row) -> dict[str, Any]:
+    """The source's quasi-static labels, read by column name.
+
+    Records written before the validity gate (no ``success_unbounded`` / ``valid_geometry``
+    columns) hold the unbounded reading in ``success``; then the gate is applied here with the
+    source's fingertip radius and ``qs_gate_derived`` says so.
+    """
+    radius_mm = source.study.model.fingertip_radius_m * 1e3
+    delta = float(row["delta_max_mm"])
+    gated = "success_unbounded" in row.index and "valid_geometry" in row.index
+    if gated:
+        unbounded, valid = bool(row["success_unbounded"]), bool(row["valid_geometry"])
+        success = bool(row["success"])
+    else:
+        unbounded, valid = bool(row["success"]), delta <= radius_mm
+        success = unbounded and valid
+    return {"qs_success": success, "qs_success_unbounded": unbounded, "qs_valid_geometry": valid,
+            "qs_delta_max_mm": delta, "qs_gate_derived": not gated,
+            "qs_failure_check": str(row.get("failure_check", ""))}
+
+
+def run(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
+    """Re-plan one source trial, re-evaluate it quasi-statically under the preset, grasp it."""
+    from graspcampaign.campaign.kinds.dynamic import grasp_params, grasp_record, msd_model, trial_study
+    from graspcampaign.core.dynamics import prepare_grasp
+    from graspcampaign.core.phase_kernel import GRASP_RUNNERS
+    from graspcampaign.core.planner import evaluate_triple
+
+    f, params = inp.trial.factors, inp.params
+    source = load_source(inp.study.output.root, params.source_study, params.source_run)
+    row = source.records.loc[f[SOURCE_ID]]
+    vertex_ids, points, normals, ctx, plan_time = _replan(source, row)
+    study = trial_study(inp.study, f)
+    contact = common.contact_params(study)
+    # like for like: Algorithms 1-2 (the source's settings) on these contacts under the preset
+    preset_eq = evaluate_triple(ctx, points, normals, contact=contact)
+    preset_valid = bool(preset_eq.delta_max_mm[0] <= contact.fingertip_radius * 1e3)
+    nodes = len(ctx.vertices)
+    mesh, msd, body = msd_model(f["shape"], nodes, study.model.e_object_pa, f["mass_kg"],
+                                params.bulk_modulus_pa)
+    start = time.perf_counter()
+    setup, state = prepare_grasp(mesh, f["mu"], msd, contact, grasp_params(study, params),
+                                 points=points, normals=normals, body=body)
+    res = GRASP_RUNNERS[params.step](setup, state)
+    grasp_time = time.perf_counter() - start
+    return {
+        "source_study": params.source_study, "source_run": params.source_run,
+        "source_config_hash": source.config_hash, "nodes": nodes,
+        **{f"vertex_{j + 1}": int(v) for j, v in enumerate(vertex_ids)},
+        **{f"contact_normal_z_{j + 1}": float(normals[j, 2]) for j in range(3)},
+        **source_labels(source, row),
+        "qs_preset_success": bool(preset_eq.success[0]) and preset_valid,
+        "qs_preset_success_unbounded": bool(preset_eq.success[0]),
+        "qs_preset_valid_geometry": preset_valid,
+        "qs_preset_delta_max_mm": float(preset_eq.delta_max_mm[0]),
+        "qs_preset_failure_check": str(preset_eq.failure_labels()[0]),
+        **grasp_record(res, contact, msd),
+        "plan_time_s": plan_time, "grasp_time_s": grasp_time,
+    }
+
+
+DYNAMIC_CHECK = TrialKind(
+    name="dynamic_check", run=run, params=DynamicCheckParams, design=design,
+    seconds_per_trial=0.2,
+    description="every quasi-static trial of a study re-run through the dynamic grasp "
+                "(closure, lift-off, hold) per material preset; both labels recorded",
+)

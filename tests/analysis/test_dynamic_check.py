@@ -1,0 +1,90 @@
+"""Tests of analysis.dynamic_check: confusion matrix, Cohen's kappa, agreement per group.
+
+Outside references: statsmodels (``cohens_kappa``, ``proportion_confint``) on the constructed
+tables, and kappa worked by hand from its definition (Cohen 1960).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+from statsmodels.stats.inter_rater import cohens_kappa as sm_kappa
+from statsmodels.stats.proportion import proportion_confint
+
+from graspcampaign.analysis import dynamic_check as dc
+
+
+def _records(both, qs_only, dyn_only, neither, **columns):
+    qs = [True] * both + [True] * qs_only + [False] * dyn_only + [False] * neither
+    dyn = [True] * both + [False] * qs_only + [True] * dyn_only + [False] * neither
+    return pd.DataFrame({"qs_success": qs, "success": dyn, "status": "ok", **columns})
+
+
+def test_confusion_matrix_orientation_and_error_rows():
+    records = _records(20, 5, 10, 15)
+    errors = pd.DataFrame({"qs_success": [True, False], "success": [None, None],
+                           "status": ["error", "error"]})
+    table = dc.confusion_matrix(pd.concat([records, errors], ignore_index=True))
+    # rows: quasi-static success / failure; columns: dynamic success / failure
+    np.testing.assert_array_equal(table, [[20, 5], [10, 15]])
+    with pytest.raises(KeyError, match="dynamic_check records have no column 'qs_preset_success'"):
+        dc.confusion_matrix(records, "qs_preset_success")
+
+
+def test_kappa_matches_the_definition_and_statsmodels():
+    # By hand: p_o = (20 + 15) / 50 = 0.7; marginals 25/25 (rows) and 30/20 (columns), so
+    # p_e = (25 * 30 + 25 * 20) / 50^2 = 0.5 and kappa = (0.7 - 0.5) / (1 - 0.5) = 0.4.
+    table = np.array([[20, 5], [10, 15]])
+    result = dc.cohens_kappa(table)
+    assert result.n == 50
+    assert result.observed_agreement == pytest.approx(0.7)
+    assert result.expected_agreement == pytest.approx(0.5)
+    assert result.kappa == pytest.approx(0.4)
+    reference = sm_kappa(table)
+    assert result.std_error == pytest.approx(reference.std_kappa)
+    assert (result.ci_low, result.ci_high) == pytest.approx((reference.kappa_low,
+                                                             reference.kappa_upp))
+    # a 90 % interval is narrower by z(0.95) / z(0.975) = 1.6449 / 1.9600
+    narrow = dc.cohens_kappa(table, confidence_level=0.90)
+    assert narrow.ci_high - narrow.ci_low == pytest.approx(
+        (reference.kappa_upp - reference.kappa_low) * 1.6448536 / 1.9599640, rel=1e-6)
+
+
+@pytest.mark.parametrize("table", [[[7, 0], [0, 3]], [[3, 4], [2, 41]], [[0, 12], [9, 0]]])
+def test_kappa_on_other_tables_matches_statsmodels(table):
+    result = dc.cohens_kappa(table)
+    reference = sm_kappa(np.array(table))
+    assert result.kappa == pytest.approx(reference.kappa)
+    assert (result.ci_low, result.ci_high) == pytest.approx((reference.kappa_low,
+                                                             reference.kappa_upp))
+
+
+def test_kappa_is_undefined_when_both_labels_are_constant():
+    # every grasp fails both ways: p_o = p_e = 1, kappa = 0 / 0
+    result = dc.cohens_kappa([[0, 0], [0, 40]])
+    assert result.observed_agreement == 1.0 and result.expected_agreement == 1.0
+    assert np.isnan(result.kappa) and np.isnan(result.ci_low)
+    with pytest.raises(ValueError, match=r"table must be a \(2, 2\) array of counts, got \[1, 2\]"):
+        dc.cohens_kappa([1, 2])
+
+
+def test_agreement_per_group():
+    records = pd.concat([
+        _records(20, 5, 10, 15, planner="heuristic", model_preset="firm"),
+        _records(0, 0, 0, 40, planner="centroid", model_preset="firm"),
+    ], ignore_index=True)
+    table = dc.agreement_table(records, by="planner").set_index("planner")
+    heuristic, centroid = table.loc["heuristic"], table.loc["centroid"]
+    assert heuristic["n"] == 50 and heuristic["kappa"] == pytest.approx(0.4)
+    assert (heuristic["both_success"], heuristic["qs_only"], heuristic["dynamic_only"],
+            heuristic["both_failure"]) == (20, 5, 10, 15)
+    assert heuristic["qs_success_rate"] == 0.5 and heuristic["dynamic_success_rate"] == 0.6
+    low, high = proportion_confint(35, 50, alpha=0.05, method="wilson")
+    assert (heuristic["agreement_low"], heuristic["agreement_high"]) == pytest.approx((low, high))
+    assert centroid["agreement"] == 1.0 and np.isnan(centroid["kappa"])
+    overall = dc.agreement_table(records)
+    assert len(overall) == 1 and overall.loc[0, "n"] == 90
+    assert overall.loc[0, "kappa"] == pytest.approx(sm_kappa(np.array([[20, 5], [10, 55]])).kappa)
+    two = dc.agreement_table(records, by=["model_preset", "planner"])
+    assert list(two.columns[:2]) == ["model_preset", "planner"] and len(two) == 2
