@@ -47,7 +47,7 @@ from _mujoco_sphere import (
     trace_mujoco,
 )
 
-from graspcampaign.core import dynamics, msd
+from graspcampaign.core import dynamics, grasp_kernel, msd
 from graspcampaign.core.contact import ContactParams
 from graspcampaign.core.mesh import SPHERE_RADIUS, make_object
 
@@ -66,19 +66,18 @@ SCAN_DOUBLINGS = 3
 # ------------------------------------------------------------------------------------------------
 
 
-OURS_STEP = "grasp_forces + advance_grasp, numpy"
+OURS_STEP = "grasp_kernel.compiled_grasp_step (numba; the numpy grasp_step is its reference)"
 """What :func:`ours_step` calls (printed in the tables)."""
 
 
 def ours_step(setup: dynamics.GraspSetup, gs: dynamics.GraspState):
-    """Take one step of our dynamic grasp (Fig. 3: contacts, forces, one RK4 step, grip law).
+    """Take one step of our dynamic grasp (Fig. 3: contacts, forces, one RK4 step).
 
-    The benchmark's only call into our dynamic step: switch it here when the pure or compiled
-    ``grasp_step`` lands. Returns the advanced state and the contact evaluation of the step.
+    The benchmark's only call into our dynamic step: the compiled step of issue 16, held to the
+    numpy ``grasp_step`` by tests/core/test_grasp_kernel.py. Returns the advanced state and the
+    contact evaluation the step started from.
     """
-    out = dynamics.grasp_forces(setup, gs)
-    dynamics.advance_grasp(setup, gs, out)
-    return gs, out
+    return grasp_kernel.compiled_grasp_step(setup, gs), gs.contact
 
 
 def our_grasp(dt: float | None = None):
@@ -95,7 +94,7 @@ def our_grasp(dt: float | None = None):
 
 def trace_ours(setup, initial, n_steps: int) -> tuple[WindowTrace, np.ndarray]:
     """Run our grasp untimed; return its trace and the (s, 3) finger advances it used [m]."""
-    gs = initial.copy()
+    gs = initial  # a GraspState is immutable: grasp steps return a new one
     rows, grips = [], []
     for _ in range(n_steps):
         grips.append(gs.grip.copy())
@@ -235,7 +234,7 @@ def measure_ours(mesh, setup, initial) -> tuple[SimulatorResult, np.ndarray]:
     trace, grips = trace_ours(setup, initial, N_STEPS)  # also warms the caches
 
     def window():
-        gs = initial.copy()
+        gs = initial  # a GraspState is immutable: grasp steps return a new one
         for _ in range(N_STEPS):
             gs, _ = ours_step(setup, gs)
 
