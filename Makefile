@@ -5,7 +5,7 @@ BIN     := $(VENV)/bin
 STAMP   := $(VENV)/.install.stamp
 GC      := $(BIN)/graspcampaign
 
-.PHONY: help install test test-full smoke demo reproduce report bench lint clean
+.PHONY: help install test test-full smoke demo reproduce extensions report bench lint clean
 
 help:  ## list the targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/' | expand -t 14
@@ -29,12 +29,23 @@ test-full: install  ## every test, slow ones included (-m slow: only those)
 smoke: install  ## run the smoke study and write its report
 	$(GC) run smoke --report
 
-demo: install  ## run the 2700-trial baseline grid (Sec. 6.5) and write its report
+demo: install  ## run the baseline grid (Sec. 6.5: 675 scenes x 4 planners, + ferrari_canny) and its report
 	$(GC) run baseline_grid --report
 
-reproduce: install  ## every runnable study at paper scale, then every report
-	@for s in $$($(GC) list --names); do echo "== $$s"; $(GC) run $$s || exit $$?; done
-	$(GC) report
+# $(call TIMED,command,label,file): run command, append "label seconds" to file, stop on failure
+TIMED = t=$$(date +%s); $(1) || exit $$?; \
+	echo "== $(2): $$(( $$(date +%s) - t )) s" | tee -a $(3)
+
+reproduce: install  ## the paper's studies at paper scale, then every report; times printed at the end
+	@mkdir -p results; f=results/.reproduce_times; : > $$f; start=$$(date +%s); \
+	for s in $$($(GC) list --names); do $(call TIMED,$(GC) run $$s,$$s,$$f); done; \
+	$(call TIMED,$(GC) report,report,$$f); echo "== wall time per step:"; cat $$f; \
+	echo "== make reproduce: $$(( $$(date +%s) - start )) s on $$(nproc) cores"
+
+extensions: install  ## after reproduce: the studies beyond the paper (SPEC §8) with their reports, timed
+	@mkdir -p results; f=results/.extension_times; : > $$f; \
+	for s in $$($(GC) list --names --extensions); do \
+	$(call TIMED,$(GC) run $$s --report,$$s,$$f); done; echo "== wall time per study:"; cat $$f
 
 report: install  ## reports for every run under results/
 	$(GC) report

@@ -23,3 +23,17 @@ class DamagedRunError(UserInputError):
     Reading a run never changes it: the report and the status refuse such a run, naming it and
     the file; resuming the run quarantines the file and runs its trials again.
     """
+
+
+class MissingSourceRunError(UserInputError):
+    """A study whose design is read from another study's records, before that run exists.
+
+    Attributes
+    ----------
+    source : str
+        The ``study`` (or ``study --run name``) to run first.
+    """
+
+    def __init__(self, message: str, source: str):
+        super().__init__(message)
+        self.source = source

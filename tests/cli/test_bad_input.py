@@ -117,7 +117,8 @@ def test_broken_study_file(results, user_dir, case, how):
 STUDY_VALUES = {
     "unknown_key": ("colour: red\n", "{path}, line 8: colour is not a known key of StudyCfg; known "
                                      "keys: name, kind, description, seed, seeds, repeats, factors, "
-                                     "zip, method_factors, params, paper, compare_with, model, "
+                                     "zip, method_factors, params, paper, compare_with, extension, "
+                                     "model, "
                                      "evaluator, features, pso, runner, output."),
     "unknown_group_key": ("model:\n  lambda3: 0.2\n",
                           "{path}, line 9: model.lambda3 is not a known key of ContactModelCfg; "
@@ -191,7 +192,7 @@ def test_one_broken_study_file_does_not_break_list(user_dir):
 PLUS = {
     "+sedes=3": "sedes is not a known key of StudyCfg (override '+sedes=3' rejected); known keys: "
                 "name, kind, description, seed, seeds, repeats, factors, zip, method_factors, "
-                "params, paper, compare_with, model, evaluator, features, pso, runner, output.",
+                "params, paper, compare_with, extension, model, evaluator, features, pso, runner, output.",
     "+model.foo=1": "model.foo is not a known key of ContactModelCfg (override '+model.foo=1' "
                     "rejected); known keys: lambda1, lambda2, n_exp, fingertip_radius_m, "
                     "e_finger_pa, e_object_pa, nu_finger, nu_object, damping_law, alpha_hc_s_per_m.",

@@ -28,6 +28,20 @@ def test_list_shows_every_study_and_runnability():
     assert ("not yet" in result.stdout) == any(v is None for v in KINDS.values())
 
 
+def test_list_separates_the_papers_studies_from_the_extensions(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # no results/: dynamic_check's source run does not exist
+    listing = _invoke("list")
+    assert listing.exit_code == 0 and "broken" not in listing.output
+    row = next(line for line in listing.stdout.splitlines() if "dynamic_check" in line)
+    assert "after baseline_grid" in row and "extension" in row
+    paper = _invoke("list", "--names").stdout.split()
+    extensions = _invoke("list", "--names", "--extensions").stdout.split()
+    # make reproduce runs the first list, make extensions the second (after baseline_grid)
+    assert {"baseline_grid", "test1_bench", "friction_mass"} <= set(paper)
+    assert extensions == ["dynamic_check", "grip_laws"]
+    assert "smoke" not in paper and not set(paper) & set(extensions)
+
+
 def test_show_prints_design_without_running(tmp_path):
     result = _invoke("show", "smoke", "nodes=[144]", f"output.root={tmp_path}")
     assert result.exit_code == 0, result.output

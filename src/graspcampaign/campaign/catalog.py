@@ -138,6 +138,13 @@ def design_size(study) -> int:
     return int(_fact("designs", f"{study.kind}:{config_hash(study)}", compute))
 
 
+def _read_or_none(path: Path) -> bytes:
+    try:
+        return path.read_bytes()
+    except OSError:
+        return b"<none>"
+
+
 def _light_study(path: Path, data: dict[str, Any]):
     """A StudyCfg from a study file's own keys, without Hydra (the groups keep their defaults).
 
@@ -156,13 +163,13 @@ def _light_study(path: Path, data: dict[str, Any]):
                           f"{', '.join(sorted(fields))}.")
     plain = {"name": str, "kind": str, "description": str, "seed": int, "seeds": int,
              "repeats": int, "factors": dict, "zip": list, "method_factors": list, "params": dict,
-             "paper": dict}
+             "paper": dict, "compare_with": str, "extension": bool}
     kwargs = {}
     for key, typ in plain.items():
         if key not in data or data[key] is None:
             continue
         value = data[key]
-        if not isinstance(value, typ) or isinstance(value, bool):
+        if not isinstance(value, typ) or (isinstance(value, bool) and typ is not bool):
             raise ConfigError(f"{path}: {key} must be of type {typ.__name__}, got {value!r}.")
         kwargs[key] = value
     factors = kwargs.get("factors", {})
@@ -187,6 +194,7 @@ def study_row(path: Path) -> dict[str, Any]:
     from graspcampaign.campaign.grid import n_trials
     from graspcampaign.campaign.kind import KINDS, kind_available
     from graspcampaign.campaign.studyfile import check_package_header, project_dirs, read_yaml
+    from graspcampaign.errors import MissingSourceRunError
 
     data = read_yaml(path, study=True)
     check_package_header(path)
@@ -196,15 +204,27 @@ def study_row(path: Path) -> dict[str, Any]:
         digest = hashlib.sha256(path.read_bytes())
         for conf in sorted(project_dirs()[0].rglob("*.yaml")):
             digest.update(conf.read_bytes())
+        source = study.params.get("source_study")
+        if source:  # a design read from another run's records: keyed on that run's manifest too
+            manifest = Path(study.output.root) / source / study.params.get("source_run",
+                                                                           "default")
+            digest.update(_read_or_none(manifest / "manifest.json"))
 
-        def compute() -> int:
+        def compute() -> int | str:
             from graspcampaign.campaign.compose import compose_study
 
-            return design_size(compose_study(str(path)))
+            try:
+                return design_size(compose_study(str(path)))
+            except MissingSourceRunError as exc:  # runnable once its source run exists
+                return f"after {exc.source}"
 
-        n = int(_fact("listed", digest.hexdigest()[:16], compute))
+        n = _fact("listed", digest.hexdigest()[:16], compute)
+        if isinstance(n, str):
+            return {"study": path.stem, "kind": study.kind, "trials": "?", "runnable": n,
+                    "extension": study.extension,
+                    "description": " ".join(study.description.split())}
     else:
         n = n_trials(study)
     state = "yes" if ready else "not yet" if study.kind in KINDS else "unknown kind"
     return {"study": path.stem, "kind": study.kind, "trials": n, "runnable": state,
-            "description": " ".join(study.description.split())}
+            "extension": study.extension, "description": " ".join(study.description.split())}

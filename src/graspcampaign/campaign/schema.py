@@ -146,6 +146,9 @@ class StudyCfg:
     # the paper study whose values the `paper:` block holds and whose report this study uses
     # (default: the study's own name); lets a variant (grip_laws, a user's copy) compare with it
     compare_with: str = ""
+    # a study the paper does not run (SPEC §8: grip_laws, dynamic_check): `make reproduce` runs
+    # the paper's studies, `make extensions` these (docs/decisions.md, "make reproduce")
+    extension: bool = False
     model: ContactModelCfg = field(default_factory=ContactModelCfg)
     evaluator: EvaluatorCfg = field(default_factory=EvaluatorCfg)
     features: FeatureCfg = field(default_factory=FeatureCfg)

@@ -110,6 +110,9 @@ def _compose(study: str, overrides: list[str] | None, root: Path | None = None):
 @_guard
 def list_cmd(
     names: Annotated[bool, typer.Option("--names", help="Print runnable study names only.")] = False,
+    extensions: Annotated[bool, typer.Option(
+        "--extensions", help="With --names: the studies the paper does not run (SPEC §8) instead "
+                             "of the paper's studies.")] = False,
 ) -> None:
     """List the studies, their trial kinds, trial counts and whether they can run yet.
 
@@ -119,18 +122,21 @@ def list_cmd(
     from graspcampaign.campaign.studyfile import study_files
     from graspcampaign.errors import UserInputError
 
-    rows, broken = [], []
+    rows = []
     for name, path in study_files().items():
         try:
             rows.append(study_row(path))
         except UserInputError as exc:
-            broken.append(name)
             rows.append({"study": name, "kind": "?", "trials": "?", "runnable": "broken",
-                         "description": str(exc)})
+                         "extension": False, "description": str(exc)})
             typer.echo(f"warning: study {name} is broken: {exc}", err=True)
     if names:
+        # an extension waiting for its source run is listed: `make extensions` runs it after
+        # the paper's studies, and its run names what is missing if that has not happened
+        wanted = ("yes", "after") if extensions else ("yes",)
         for row in rows:
-            if row["runnable"] == "yes" and row["study"] != "smoke":
+            if (row["runnable"].startswith(wanted) and row["study"] != "smoke"
+                    and row["extension"] == extensions):
                 typer.echo(row["study"])
         return
     print_list(rows)

@@ -12,12 +12,13 @@ def print_list(rows: list[dict[str, Any]]) -> None:
     from rich.console import Console
     from rich.table import Table
 
-    table = Table("study", "kind", "trials", "runnable", "description")
+    table = Table("study", "kind", "trials", "runnable", "of", "description")
     for row in rows:
         description = row["description"]
         if row["runnable"] != "broken":
             description = description[:70]
-        table.add_row(row["study"], row["kind"], str(row["trials"]), row["runnable"], description)
+        table.add_row(row["study"], row["kind"], str(row["trials"]), row["runnable"],
+                      "extension" if row["extension"] else "paper", description)
     Console(width=160).print(table)
 
 

@@ -34,7 +34,7 @@ import numpy as np
 
 from graspcampaign.campaign.kind import TrialInput, TrialKind
 from graspcampaign.campaign.kinds import common
-from graspcampaign.errors import UserInputError
+from graspcampaign.errors import MissingSourceRunError, UserInputError
 
 SOURCE_ID = "source_trial_id"
 # Factors of the source records copied into each trial (the scene of the check), in order.
@@ -96,9 +96,10 @@ def load_source(root: str, name: str, run: str) -> Source:
     manifest = read_manifest(store.manifest_path)
     command = f"graspcampaign run {name}" + ("" if run == "default" else f" --run {run}")
     if manifest is None:
-        raise UserInputError(
+        raise MissingSourceRunError(
             f"dynamic_check re-simulates the records of {name}/{run}, but {path} holds no run; "
-            f"run `{command}` first (or set params.source_study / params.source_run).")
+            f"run `{command}` first (or set params.source_study / params.source_run).",
+            source=command.removeprefix("graspcampaign run "))
     if manifest.get("kind") != "quasi_static":
         raise UserInputError(
             f"dynamic_check re-simulates quasi-static plans, but {name}/{run} is a "
