@@ -48,7 +48,7 @@ from dataclasses import replace
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from graspcampaign.core import dynamics, grasp_kernel, implicit, msd
+from graspcampaign.core import dynamics, grasp_kernel, implicit, msd, phase_kernel
 from graspcampaign.core.contact import ContactParams
 from graspcampaign.core.mesh import make_object
 
@@ -283,6 +283,44 @@ def implicit_table() -> None:
               f"{per_step / dt / rk4_per_second:.2f}x | {verdict} |")
 
 
+def phase_loop_table() -> None:
+    """A whole grasp (closure, lift-off, hold of Fig. 11) as the campaigns run it, per 100 steps.
+
+    The same 356-node sphere with gravity, the paper's contact constants and the default
+    ``GraspParams`` (``friction_mass``'s protocol): the compiled phase loop
+    (``phase_kernel.run_grasp_phases_compiled``, no Python per step) against the Python driver on
+    the numpy reference step (``GRASP_RUNNERS["numpy"]``), in this run; the result must agree
+    (same status and step count) for the ratio to mean anything.
+    """
+    mesh = make_object("sphere", 356)
+    setup, state = dynamics.prepare_grasp(mesh, 0.3, msd.MsdParams(), ContactParams.table3(),
+                                          dynamics.GraspParams())
+    compiled, numpy_run = phase_kernel.GRASP_RUNNERS["compiled"], phase_kernel.GRASP_RUNNERS["numpy"]
+    fast = compiled(setup, state)  # warm (cache load)
+    wall_fast, cpu_fast = _median_times(lambda: compiled(setup, state), 5)
+    start, start_cpu = time.perf_counter(), time.process_time()
+    slow = numpy_run(setup, state)
+    wall_slow, cpu_slow = time.perf_counter() - start, time.process_time() - start_cpu
+    simulated = fast.times[-1] - fast.times[0]
+    n = len(fast.times) - 1
+    print(f"Whole grasp (Fig. 11: closure, lift-off, hold), 356 nodes, gravity, Table 3 contact, "
+          f"dt = {setup.dt * 1e6:.1f} us: {n} steps = {simulated * 1e3:.1f} ms simulated, status "
+          f"{fast.status} (numpy driver: {slow.status}, {len(slow.times) - 1} steps); mean fingertips "
+          f"in contact {fast.in_contact.sum(axis=1).mean():.2f} / 3; load average "
+          f"{os.getloadavg()[0]:.2f}")
+    print()
+    print("| runner | CPU [ms] per 100 steps | wall [ms] per 100 steps | real-time factor (CPU) | "
+          "CPU vs numpy driver |")
+    print("|---|---:|---:|---:|---:|")
+    for name, wall, cpu, steps in (("numpy step, Python driver [reference]", wall_slow, cpu_slow,
+                                    len(slow.times) - 1),
+                                   ("compiled phase loop (campaigns)", wall_fast, cpu_fast, n)):
+        print(f"| {name} | {cpu / steps * 1e5:.2f} | {wall / steps * 1e5:.2f} | "
+              f"{simulated / cpu:.2f} | {(cpu_slow / (len(slow.times) - 1)) / (cpu / steps):.1f}x |")
+    print()
+
+
 if __name__ == "__main__":
     main()
+    phase_loop_table()
     implicit_table()

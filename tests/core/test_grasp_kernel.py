@@ -120,7 +120,7 @@ def test_contact_stage_matches_grasp_forces_with_an_open_finger(sphere):
                     state=opened.state + 2e-5 * rng.normal(size=opened.state.shape),
                     slip_coords=1e-5 * rng.normal(size=(3, 3)))
     reference = dynamics.grasp_forces(setup, moved)
-    packed = grasp_kernel._packed(setup)
+    packed = grasp_kernel.packed_setup(setup)
     vec, scal, flags, hosts, sums, nodal = grasp_kernel.contact_stage(
         moved.state.reshape(-1, 6), packed.edges, packed.faces, packed.targets, packed.approach,
         moved.grip, moved.grip_rate, moved.slip_coords, moved.stick.anchors, packed.law,

@@ -45,7 +45,8 @@ from graspcampaign.core.dynamics import GraspForces, GraspSetup, GraspState
 from graspcampaign.core.hand import FingerContacts
 from graspcampaign.core.msd_kernel import B, body_constants, rk4_body_step
 
-__all__ = ["body_summary", "compiled_grasp_step", "contact_stage"]
+__all__ = ["PackedSetup", "body_summary", "compiled_grasp_step", "contact_stage", "packed_setup",
+           "step_kernel"]
 
 # Layout of the contact-law vector ``law`` (one float64 array: fewer arguments, cheaper calls).
 RADIUS, K_N, N_EXP, C_N, HUNT_CROSSLEY, ALPHA_HC, MU_S, MU_K, K_T, C_T = range(10)
@@ -293,9 +294,14 @@ def contact_stage(x, edges, faces, targets, approach, grip, grip_rate, slip_coor
 
 
 @njit(cache=True, error_model="numpy")
-def _step(x, dt, edges, rest_lengths, faces, constants, f_ext, share, grip, grip_rate,
-          slip_coords, active, v_rel, anchors, targets, approach, law, weight_z, load_fraction):
-    """RK4 step, finger advance, stick commit, slip integration, then the contact stage."""
+def step_kernel(x, dt, edges, rest_lengths, faces, constants, f_ext, share, grip, grip_rate,
+                slip_coords, active, v_rel, anchors, targets, approach, law, weight_z,
+                load_fraction):
+    """One compiled step on packed arrays: RK4, finger advance, slip integration, contact stage.
+
+    Returns ``(finite, new_state (n, 6), *contact_stage outputs)``; ``anchors`` are the stick
+    anchors committed by the previous evaluation (``contact.stick.anchors`` of the state).
+    """
     new_x = rk4_body_step(x, dt, edges, rest_lengths, faces, constants, f_ext, share)
     finite = True
     for i in range(new_x.shape[0]):
@@ -317,8 +323,8 @@ def _step(x, dt, edges, rest_lengths, faces, constants, f_ext, share, grip, grip
 
 
 @dataclass(frozen=True)
-class _Packed:
-    """The arrays and constant vectors of one GraspSetup, as the kernel takes them."""
+class PackedSetup:
+    """The arrays and constant vectors of one GraspSetup, as :func:`step_kernel` takes them."""
 
     edges: np.ndarray
     rest_lengths: np.ndarray
@@ -333,14 +339,15 @@ class _Packed:
 _PACKED: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
-def _packed(setup: GraspSetup) -> _Packed:
+def packed_setup(setup: GraspSetup) -> PackedSetup:
+    """Return the kernel arrays of a setup (built once per setup, then cached weakly)."""
     packed = _PACKED.get(setup)
     if packed is None:
         body, contact, stick = setup.body, setup.contact, setup.stick
         law = np.array([contact.fingertip_radius, contact.k_n_per_mm_n, contact.n,
                         contact.c_n_s_per_m, float(contact.damping_law == "hunt_crossley"),
                         contact.alpha_hc_s_per_m, stick.mu_s, stick.mu_k, stick.k_t, stick.c_t])
-        packed = _Packed(
+        packed = PackedSetup(
             edges=np.ascontiguousarray(body.edges, dtype=np.int64),
             rest_lengths=np.ascontiguousarray(body.rest_lengths, dtype=np.float64),
             faces=np.ascontiguousarray(body.faces, dtype=np.int64),
@@ -378,10 +385,10 @@ def compiled_grasp_step(setup: GraspSetup, gs: GraspState) -> GraspState:
     ----------
     Fig. 3, §3, Eq. 5, Eq. 11-19.
     """
-    packed = _packed(setup)
+    packed = packed_setup(setup)
     out = gs.contact
     dt = setup.dt
-    finite, new_x, vec, scal, flags, hosts, sums, nodal = _step(
+    finite, new_x, vec, scal, flags, hosts, sums, nodal = step_kernel(
         gs.state.reshape(-1, 6), dt, packed.edges, packed.rest_lengths, packed.faces,
         packed.constants, out.nodal_forces, 1.0 - gs.load_fraction, gs.grip, gs.grip_rate,
         gs.slip_coords, out.contacts.active, out.relative_velocity, out.stick.anchors,

@@ -62,6 +62,7 @@ __all__ = [
     "DynamicGraspResult",
     "PhaseTimes",
     "dynamic_grasp",
+    "grasp_result",
     "load_fraction",
     "run_grasp_phases",
 ]
@@ -341,7 +342,7 @@ def run_grasp_phases(setup: GraspSetup, state: GraspState, step: Step = grasp_st
         hold_start=float(hold_start),
         hold_end=float(hold_end),
     )
-    return _result(setup, state, traces, status, phase, times, n_steps)
+    return grasp_result(setup, state, traces, status, phase, times, n_steps)
 
 
 def _load_fraction(elapsed: float, lift_time: float) -> float:
@@ -350,7 +351,8 @@ def _load_fraction(elapsed: float, lift_time: float) -> float:
     return 0.5 * (1.0 - math.cos(math.pi * tau))
 
 
-def _result(setup, state, traces, status, phase, times, n_steps) -> DynamicGraspResult:
+def grasp_result(setup, state, traces, status, phase, times, n_steps) -> DynamicGraspResult:
+    """Assemble a DynamicGraspResult from the per-step traces and the last state (both drivers)."""
     arrays = {key: np.asarray(value) for key, value in traces.items()}
     arrays["tangential_forces"] = np.linalg.norm(arrays.pop("tangential"), axis=-1)
     arrays["sliding"] &= arrays["in_contact"]

@@ -44,15 +44,15 @@ from graspcampaign.core.grasp_kernel import (
     SUPPORT,
     TANGENTIAL,
     WEIGHTS,
-    _packed,
-    _step,
+    packed_setup,
+    step_kernel,
 )
 from graspcampaign.core.grasp_phases import (
     PHASES,
     STATUSES,
     DynamicGraspResult,
     PhaseTimes,
-    _result,
+    grasp_result,
     run_grasp_phases,
 )
 from graspcampaign.core.hand import FingerContacts
@@ -163,7 +163,7 @@ def _phase_loop(x, time0, grip, slip, vec, scal, flags, hosts, sums, nodal, comm
                 rate[p] = consts[GRIP_SPEED] if (not active[p]) or squeezing else 0.0
         committed = vec[ANCHORS]
         committed_sliding = flags[SLIDING]
-        finite, x, vec, scal, flags, hosts, sums, nodal = _step(
+        finite, x, vec, scal, flags, hosts, sums, nodal = step_kernel(
             x, dt, edges, rest_lengths, faces, constants, nodal, 1.0 - w, grip, rate,
             vec[SLIP], active, vec[REL_VEL], committed, targets, approach, law, weight_z, w)
         if not finite:
@@ -221,7 +221,7 @@ def run_grasp_phases_compiled(setup: GraspSetup, state: GraspState) -> DynamicGr
         If the state becomes non-finite (a step beyond the stability limit).
     """
     grasp, dt = setup.grasp, setup.dt
-    packed = _packed(setup)
+    packed = packed_setup(setup)
     n_max = int(np.ceil(grasp.t_max / dt))
     settle_steps = max(1, int(np.ceil(grasp.settle_time / dt)))
     consts = np.array([grasp.seed_depth, grasp.grip_speed, grasp.tau_f, grasp.lift_time,
@@ -260,7 +260,7 @@ def run_grasp_phases_compiled(setup: GraspSetup, state: GraspState) -> DynamicGr
     times = PhaseTimes(closure_start=float(state.time), closure_end=float(marks[0]), touch=touch,
                        lift_start=float(marks[0]), lift_end=float(marks[1]),
                        hold_start=float(marks[2]), hold_end=float(marks[3]))
-    return _result(setup, final, arrays, STATUSES[status], PHASES[phase], times, int(n_steps))
+    return grasp_result(setup, final, arrays, STATUSES[status], PHASES[phase], times, int(n_steps))
 
 
 def _run_numpy(setup: GraspSetup, state: GraspState) -> DynamicGraspResult:
