@@ -5,7 +5,8 @@ The body of §2 (Eq. 1-5) is split by concept; this module holds the rigid floor
 settling (§5.4, Fig. 10) and re-exports every public name of the others, so
 ``from graspcampaign.core.msd import ...`` keeps working:
 
-* :mod:`graspcampaign.core.msd_body`: parameters, body construction, the ``6 n`` state layout;
+* :mod:`graspcampaign.core.msd_body`: parameters, body construction, enclosed volume;
+* :mod:`graspcampaign.core.msd_state`: the ``6 n`` state layout, positions and velocities;
 * :mod:`graspcampaign.core.msd_forces`: spring, damper and enclosed-volume forces, ``msd_rhs``;
 * :mod:`graspcampaign.core.msd_integrate`: classical RK4 and its stable step limits;
 * :mod:`graspcampaign.core.msd_audit`: energies, energy audit, step-size convergence study.
@@ -40,14 +41,10 @@ from graspcampaign.core.msd_body import (
     MsdBody,
     MsdParams,
     _rest_stiffness_matrix,  # noqa: F401  (re-exported, used outside this module)
-    check_state,
     enclosed_volume,
     msd_body_from_arrays,
     msd_body_from_mesh,
     msd_params_from_modulus,
-    positions_from_state,
-    state_from_positions,
-    velocities_from_state,
 )
 from graspcampaign.core.msd_forces import (
     _volume_gradient,  # noqa: F401  (re-exported, used outside this module)
@@ -64,6 +61,12 @@ from graspcampaign.core.msd_integrate import (
     rk4_step,
     stable_step_limit,
 )
+from graspcampaign.core.msd_state import (
+    check_state,
+    positions_from_state,
+    state_from_positions,
+    velocities_from_state,
+)
 
 __all__ = [
     # rigid floor and gravity settling (this module)
@@ -75,11 +78,12 @@ __all__ = [
     # re-exported: they live in graspcampaign.core.msd_body
     "MsdBody",
     "MsdParams",
-    "check_state",
     "enclosed_volume",
     "msd_body_from_arrays",
     "msd_body_from_mesh",
     "msd_params_from_modulus",
+    # re-exported: they live in graspcampaign.core.msd_state
+    "check_state",
     "positions_from_state",
     "state_from_positions",
     "velocities_from_state",

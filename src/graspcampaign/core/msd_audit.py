@@ -14,15 +14,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from graspcampaign.core.msd_body import (
-    MsdBody,
-    MsdParams,
+from graspcampaign.core.msd_body import MsdBody, MsdParams
+from graspcampaign.core.msd_forces import _edge_terms, msd_rhs, volume_energy
+from graspcampaign.core.msd_integrate import IntegrationResult, integrate_rk4, rk4_step
+from graspcampaign.core.msd_state import (
     check_state,
     positions_from_state,
     velocities_from_state,
 )
-from graspcampaign.core.msd_forces import _edge_terms, msd_rhs, volume_energy
-from graspcampaign.core.msd_integrate import IntegrationResult, integrate_rk4, rk4_step
 
 __all__ = [
     "EnergyAuditResult",

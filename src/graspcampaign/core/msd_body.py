@@ -1,23 +1,13 @@
-"""Mass-spring-damper (MSD) surface-shell body: parameters, body construction and the state layout.
+"""Mass-spring-damper (MSD) surface-shell body: parameters, body construction, enclosed volume.
 
 The body of §2 (Eq. 1-5): the object's surface mesh is a shell of ``n`` point masses ``m/n``
 joined along the mesh edges by linear springs ``k`` with parallel dampers ``c`` acting on the
 stretch rate, plus an absolute nodal damper ``b``. The body holds the sparse edge incidence
 matrices the forces of :mod:`graspcampaign.core.msd_forces` are assembled with.
 
-Shape letters: ``n`` nodes, ``e`` edges, ``f`` faces, ``s`` recorded samples.
+Shape letters: ``n`` nodes, ``e`` edges, ``f`` faces.
 
-State layout
-------------
-``X`` is a flat float64 vector of length ``6 n`` that interleaves position and velocity per node
-(the paper's ordering, §2.2)::
-
-    X.reshape(n, 6) == [[x_0, y_0, z_0, vx_0, vy_0, vz_0],
-                        [x_1, y_1, z_1, vx_1, vy_1, vz_1], ...]
-
-so ``X[6 i : 6 i + 3]`` is the position of node ``i`` in W [m] and ``X[6 i + 3 : 6 i + 6]`` its
-velocity [m/s]. :func:`positions_from_state`, :func:`velocities_from_state` return views,
-:func:`state_from_positions` builds a state.
+The ``6 n`` state vector of the body is laid out as described in :mod:`graspcampaign.core.msd_state`.
 
 References
 ----------
@@ -40,14 +30,10 @@ from graspcampaign.core.statics import GRAVITY
 __all__ = [
     "MsdBody",
     "MsdParams",
-    "check_state",
     "enclosed_volume",
     "msd_body_from_arrays",
     "msd_body_from_mesh",
     "msd_params_from_modulus",
-    "positions_from_state",
-    "state_from_positions",
-    "velocities_from_state",
 ]
 
 logger = logging.getLogger(__name__)
@@ -400,56 +386,6 @@ def _rest_stiffness_matrix(body: MsdBody, k: float) -> scipy.sparse.csr_matrix:
     return scipy.sparse.csr_matrix(
         (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n3, n3)
     )
-
-
-# ----------------------------------------------------------------------------------------------
-# State helpers
-# ----------------------------------------------------------------------------------------------
-
-
-def check_state(state, n_nodes: int) -> np.ndarray:
-    """Validate a state vector and return it as float64 of shape (6 n,).
-
-    Raises
-    ------
-    ValueError
-        If the shape is not ``(6 n,)`` or an entry is not finite.
-    """
-    state = np.asarray(state, dtype=np.float64)
-    if state.shape != (6 * n_nodes,):
-        raise ValueError(f"state must have shape ({6 * n_nodes},) for n = {n_nodes}, got {state.shape}")
-    if not np.all(np.isfinite(state)):
-        raise ValueError("state contains non-finite values")
-    return state
-
-
-def positions_from_state(state) -> np.ndarray:
-    """Return the (n, 3) node positions [m] of a (6 n,) or (s, 6 n) state (a view)."""
-    state = np.asarray(state)
-    return state.reshape(*state.shape[:-1], -1, 6)[..., :3]
-
-
-def velocities_from_state(state) -> np.ndarray:
-    """Return the (n, 3) node velocities [m/s] of a (6 n,) or (s, 6 n) state (a view)."""
-    state = np.asarray(state)
-    return state.reshape(*state.shape[:-1], -1, 6)[..., 3:]
-
-
-def state_from_positions(positions, velocities=None) -> np.ndarray:
-    """Stack (n, 3) positions [m] and velocities [m/s] (default zero) into a (6 n,) state."""
-    positions = np.asarray(positions, dtype=np.float64)
-    if positions.ndim != 2 or positions.shape[1] != 3:
-        raise ValueError(f"positions must have shape (n, 3), got {positions.shape}")
-    state = np.zeros((positions.shape[0], 6))
-    state[:, :3] = positions
-    if velocities is not None:
-        velocities = np.asarray(velocities, dtype=np.float64)
-        if velocities.shape != positions.shape:
-            raise ValueError(
-                f"velocities must have shape {positions.shape}, got {velocities.shape}"
-            )
-        state[:, 3:] = velocities
-    return state.ravel()
 
 
 def enclosed_volume(body: MsdBody, positions) -> float:

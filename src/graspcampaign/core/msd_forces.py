@@ -1,7 +1,8 @@
 """Forces and right-hand side of the MSD shell body (Eq. 1-5): springs, dampers, enclosed volume.
 
 Forces are assembled from the edge list with one sparse incidence matrix (no Python loop over
-nodes or edges). The body and state layout are those of :mod:`graspcampaign.core.msd_body`.
+nodes or edges). The body and state layout are those of :mod:`graspcampaign.core.msd_body` and
+:mod:`graspcampaign.core.msd_state`.
 
 References
 ----------
@@ -12,7 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from graspcampaign.core.msd_body import MsdBody, MsdParams, positions_from_state
+from graspcampaign.core.msd_body import MsdBody, MsdParams
+from graspcampaign.core.msd_state import positions_from_state
 
 __all__ = [
     "internal_forces",
