@@ -8,6 +8,12 @@ transpose, the force transfer to the vertices (Eq. 17-18).
 
 Shape letters: ``p`` fingertips, ``f`` faces, ``k`` colliding (fingertip, face) pairs, ``m`` points.
 
+This module holds the sphere-triangle query and re-exports the public names of its siblings, so
+``from graspcampaign.core.geometry import ...`` keeps working: :mod:`~graspcampaign.core.geometry_faces`
+(:class:`FaceGeometry`, :func:`face_frames`), :mod:`~graspcampaign.core.geometry_cases` (the cases,
+subcases and :func:`closest_point_barycentric`) and :mod:`~graspcampaign.core.geometry_transfer`
+(Eq. 12 and Eq. 17-18).
+
 Local frame (§3.2). For a face (A, B, C) wound counter-clockwise seen from outside, take
 ``b = (A - B)/|A - B|``, ``c`` the *outward* unit normal and ``d = c x b``; ``R = [b, d, c]^T`` and
 the origin B map world to local coordinates (:func:`face_frames`). The fingertip centre becomes
@@ -52,72 +58,58 @@ Paper Eq. 10-12, 17-18.
 from __future__ import annotations
 
 from dataclasses import dataclass, fields
-from enum import IntEnum
-from functools import cached_property
 
 import numpy as np
 from scipy.spatial.distance import cdist
 
 from graspcampaign.core import kernels
-
-_NEXT = np.array([1, 2, 0])
-
-
-def _einsum_dot(a: np.ndarray, b: np.ndarray, axis: int = -1) -> np.ndarray:
-    return np.sum(a * b, axis=axis)
-
-
-# Dot product over one axis with broadcasting: the numpy >= 2.0 gufunc is about twice as fast as
-# einsum on the small batches of the narrow phase.
-_dot = getattr(np, "vecdot", _einsum_dot)
-
-
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Cross product over the last axis (broadcasting); cheaper than ``np.cross`` on our sizes."""
-    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
-    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
-    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
-    out[..., 0] = a1 * b2 - a2 * b1
-    out[..., 1] = a2 * b0 - a0 * b2
-    out[..., 2] = a0 * b1 - a1 * b0
-    return out
-
+from graspcampaign.core.geometry_cases import (
+    CollisionCase,
+    PenetrationSubcase,
+    closest_point_barycentric,
+)
+from graspcampaign.core.geometry_faces import (
+    _COL_DOUBLE_AREA,
+    _COL_EDGE,
+    _COL_EDGE_NORMAL,
+    _COL_EDGE_SQ,
+    _COL_NORMAL,
+    _COL_TRI,
+    _NEXT,
+    FaceGeometry,
+    _dot,
+    _pack,
+    _soup_faces,
+    face_frames,
+    face_geometry,
+)
+from graspcampaign.core.geometry_transfer import (
+    barycentric_weights,
+    point_velocity,
+    transfer_force,
+)
 
 __all__ = [
-    "CollisionCase",
-    "PenetrationSubcase",
-    "FaceGeometry",
+    # sphere-triangle collision (this module)
     "SphereTriangleResult",
-    "face_geometry",
-    "face_frames",
-    "closest_point_barycentric",
     "sphere_triangle_contacts",
     "sphere_mesh_contacts",
     "deepest_per_finger",
+    # re-exported: they live in graspcampaign.core.geometry_faces
+    "FaceGeometry",
+    "face_geometry",
+    "face_frames",
+    # re-exported: they live in graspcampaign.core.geometry_cases
+    "CollisionCase",
+    "PenetrationSubcase",
+    "closest_point_barycentric",
+    # re-exported: they live in graspcampaign.core.geometry_transfer
     "barycentric_weights",
     "point_velocity",
     "transfer_force",
 ]
 
 
-class CollisionCase(IntEnum):
-    """Sphere-face collision cases of §3.2 (value = the paper's case number)."""
-
-    NONE = 1
-    EDGE = 2
-    CORNER = 3
-    FULL = 4
-
-
-class PenetrationSubcase(IntEnum):
-    """Placement of the face reference point of Eq. 11 (§3.3 subcases i-iii)."""
-
-    INSIDE = 1
-    EDGE = 2
-    CORNER = 3
-
-
-_TINY = np.finfo(float).tiny
 # Region key of a colliding pair, shared by both backends: 0 outside the face in an edge region,
 # 1 outside in a corner region, 2 inside with the disc crossing an edge line, 3 inside with the
 # disc within all edge lines. The tables give its penetration subcase and collision case.
@@ -125,207 +117,6 @@ _SUBCASE_OF_KEY = np.array([PenetrationSubcase.EDGE, PenetrationSubcase.CORNER,
                             PenetrationSubcase.INSIDE, PenetrationSubcase.INSIDE], dtype=np.int8)
 _CASE_OF_KEY = np.array([CollisionCase.EDGE, CollisionCase.CORNER, CollisionCase.EDGE,
                          CollisionCase.FULL], dtype=np.int8)
-
-
-# Column layout of FaceGeometry.packed: one gather brings every per-face quantity of a candidate.
-_COL_TRI = slice(0, 9)  # A, B, C
-_COL_EDGE = slice(9, 18)  # AB, BC, CA
-_COL_EDGE_NORMAL = slice(18, 27)  # unit in-plane normals of AB, BC, CA pointing into the face
-_COL_NORMAL = slice(27, 30)  # outward unit face normal
-_COL_EDGE_SQ = slice(30, 33)  # |AB|^2, |BC|^2, |CA|^2
-_COL_DOUBLE_AREA = 33  # |AB x AC|
-_N_COLS = 34
-
-
-@dataclass(frozen=True)
-class FaceGeometry:
-    """Per-face data of the collision test (§3.2) for one mesh state; build it with
-    :func:`face_geometry` and reuse it while the mesh does not move.
-
-    Attributes
-    ----------
-    triangles : (f, 3, 3) float
-        Face vertices (A, B, C), C-contiguous [m].
-    centers : (f, 3) float
-        Face centroids, centres of the broad-phase bounding spheres [m].
-    radii : (f,) float
-        Largest centroid-to-vertex distance per face [m].
-    """
-
-    triangles: np.ndarray
-    centers: np.ndarray
-    radii: np.ndarray
-
-    @property
-    def vertices(self) -> np.ndarray:
-        """(3 f, 3) the triangle soup as the vertex array of an indexed mesh (a view) [m]."""
-        return self.triangles.reshape(-1, 3)
-
-    @cached_property
-    def faces(self) -> np.ndarray:
-        """(f, 3) int64 indices into :attr:`vertices`, ``arange(3 f).reshape(f, 3)``."""
-        return _soup_faces(len(self.triangles))
-
-    @cached_property
-    def packed(self) -> np.ndarray:
-        """(f, 34) rows of the numpy path, built on first use (layout ``_COL_*``).
-
-        Row-wise: vertices A, B, C; edges AB, BC, CA; the unit in-plane edge normals (pointing into
-        the face, ``n x edge / |edge|``); the outward unit normal ``n``; squared edge lengths; twice
-        the face area. Degenerate (zero-area) faces hold NaN in every derived column and never
-        collide.
-        """
-        return _pack(self.triangles)
-
-
-def _pack(triangles: np.ndarray) -> np.ndarray:
-    """Per-face rows of the local-frame test, layout ``_COL_*`` (see FaceGeometry.packed)."""
-    n_faces = len(triangles)
-    edges = triangles[:, _NEXT] - triangles
-    raw_normal = _cross(edges[:, 0], -edges[:, 2])
-    double_area = np.sqrt(_dot(raw_normal, raw_normal))
-    edge_sq = _dot(edges, edges)
-    # Degenerate (zero-area) faces get NaN normals, edge normals and edge lengths: every distance
-    # computed from them is NaN, and NaN < r^2 is false, so they never collide.
-    degenerate = double_area <= 0.0
-    if degenerate.any():
-        double_area = np.where(degenerate, np.nan, double_area)
-        edge_sq = np.where(degenerate[:, None], np.nan, edge_sq)
-    edge_sq = np.maximum(edge_sq, _TINY)
-    normals = raw_normal / double_area[:, None]
-    packed = np.empty((n_faces, _N_COLS))
-    packed[:, _COL_TRI] = triangles.reshape(n_faces, 9)
-    packed[:, _COL_EDGE] = edges.reshape(n_faces, 9)
-    # n x e_i / |e_i| is the in-plane normal of edge i pointing into a counter-clockwise face.
-    edge_normals = _cross(normals[:, None, :], edges) / np.sqrt(edge_sq)[:, :, None]
-    packed[:, _COL_EDGE_NORMAL] = edge_normals.reshape(n_faces, 9)
-    packed[:, _COL_NORMAL] = normals
-    packed[:, _COL_EDGE_SQ] = edge_sq
-    packed[:, _COL_DOUBLE_AREA] = double_area
-    return packed
-
-
-def face_geometry(triangles: np.ndarray) -> FaceGeometry:
-    """Precompute the per-face data used by :func:`sphere_triangle_contacts`.
-
-    Parameters
-    ----------
-    triangles : (f, 3, 3) float
-        Face vertices (A, B, C), counter-clockwise seen from outside [m].
-
-    Returns
-    -------
-    geometry : FaceGeometry
-        Reuse it for every query while the mesh does not move; recompute after it deforms.
-    """
-    triangles = np.ascontiguousarray(triangles, dtype=float)
-    centers, radii = kernels.face_bounds(triangles.reshape(-1, 3), _soup_faces(len(triangles)))
-    return FaceGeometry(triangles=triangles, centers=centers, radii=radii)
-
-
-def _soup_faces(n_faces: int) -> np.ndarray:
-    """Index array ``arange(3 f).reshape(f, 3)`` that makes a triangle soup an indexed mesh."""
-    return np.arange(3 * n_faces, dtype=np.int64).reshape(n_faces, 3)
-
-
-def face_frames(triangles: np.ndarray) -> np.ndarray:
-    """Return the world-to-local homogeneous transforms of §3.2, one per face.
-
-    Parameters
-    ----------
-    triangles : (f, 3, 3) float
-        Vertices (A, B, C) of each face, counter-clockwise seen from outside [m].
-
-    Returns
-    -------
-    transforms : (f, 4, 4) float
-        ``DH`` with rotation ``R = [b, d, c]^T`` (``b`` along BA, ``c`` the outward unit normal,
-        ``d = c x b``) and translation ``-R B``: local = DH @ [world, 1]. The face lies in
-        ``z' = 0`` and outside the object ``z' > 0``.
-
-    References
-    ----------
-    Paper §3.2 (we orient ``c`` outward so that a fingertip outside the object has ``z0' > 0``).
-    """
-    triangles = np.asarray(triangles, dtype=float)
-    a, b, c = triangles[:, 0], triangles[:, 1], triangles[:, 2]
-    b_hat = a - b
-    b_hat /= np.linalg.norm(b_hat, axis=1)[:, None]
-    c_hat = np.cross(b - a, c - a)
-    c_hat /= np.linalg.norm(c_hat, axis=1)[:, None]
-    d_hat = np.cross(c_hat, b_hat)
-    rotation = np.stack([b_hat, d_hat, c_hat], axis=1)
-    transforms = np.zeros((len(triangles), 4, 4))
-    transforms[:, :3, :3] = rotation
-    transforms[:, :3, 3] = -np.einsum("fij,fj->fi", rotation, b)
-    transforms[:, 3, 3] = 1.0
-    return transforms
-
-
-def closest_point_barycentric(points: np.ndarray,
-                              triangles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Return the closest point of each triangle to each point, as barycentric weights.
-
-    Parameters
-    ----------
-    points : (m, 3) float
-        Query points [m].
-    triangles : (m, 3, 3) float
-        One triangle (A, B, C) per query point [m].
-
-    Returns
-    -------
-    weights : (m, 3) float
-        Barycentric weights (u, v, w) of the closest point ``u A + v B + w C``; non-negative,
-        summing to one.
-    subcases : (m,) int8
-        :class:`PenetrationSubcase` of the point's projection: face interior, edge or corner
-        (vertex) Voronoi region.
-
-    References
-    ----------
-    Ericson (2005), Real-Time Collision Detection, §5.1.5 (ClosestPtPointTriangle), vectorised:
-    all region tests are evaluated for every point and the first matching region in Ericson's
-    order (A, B, AB, C, AC, BC, face) is selected.
-    """
-    points = np.asarray(points, dtype=float)
-    triangles = np.asarray(triangles, dtype=float)
-    a = triangles[:, 0]
-    edges = triangles[:, 1:] - a[:, None, :]  # rows ab, ac
-    rel = points[:, None, :] - triangles  # rows ap, bp, cp
-    d = np.einsum("mie,mje->mij", edges, rel)  # d[:, 0] = ab.(ap, bp, cp); d[:, 1] = ac.(...)
-    d1, d3, d5 = d[:, 0, 0], d[:, 0, 1], d[:, 0, 2]
-    d2, d4, d6 = d[:, 1, 0], d[:, 1, 1], d[:, 1, 2]
-    va = d3 * d6 - d5 * d4
-    vb = d5 * d2 - d1 * d6
-    vc = d1 * d4 - d3 * d2
-
-    in_a = (d1 <= 0.0) & (d2 <= 0.0)
-    in_b = (d3 >= 0.0) & (d4 <= d3)
-    on_ab = (vc <= 0.0) & (d1 >= 0.0) & (d3 <= 0.0)
-    in_c = (d6 >= 0.0) & (d5 <= d6)
-    on_ac = (vb <= 0.0) & (d2 >= 0.0) & (d6 <= 0.0)
-    on_bc = (va <= 0.0) & (d4 - d3 >= 0.0) & (d5 - d6 >= 0.0)
-
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t_ab = d1 / (d1 - d3)
-        t_ac = d2 / (d2 - d6)
-        t_bc = (d4 - d3) / ((d4 - d3) + (d5 - d6))
-        denom = va + vb + vc
-        v_face = vb / denom
-        w_face = vc / denom
-        u_face = va / denom
-    conditions = [in_a, in_b, on_ab, in_c, on_ac, on_bc]
-    u = np.select(conditions, [1.0, 0.0, 1.0 - t_ab, 0.0, 1.0 - t_ac, 0.0], u_face)
-    v = np.select(conditions, [0.0, 1.0, t_ab, 0.0, 0.0, 1.0 - t_bc], v_face)
-    w = np.select(conditions, [0.0, 0.0, 0.0, 1.0, t_ac, t_bc], w_face)
-    weights = np.column_stack([u, v, w])
-    subcases = np.select(
-        [in_a | in_b | in_c, on_ab | on_ac | on_bc],
-        [np.int8(PenetrationSubcase.CORNER), np.int8(PenetrationSubcase.EDGE)],
-        np.int8(PenetrationSubcase.INSIDE),
-    ).astype(np.int8)
-    return weights, subcases
 
 
 @dataclass(frozen=True)
@@ -622,74 +413,3 @@ def deepest_per_finger(result: SphereTriangleResult) -> np.ndarray:
     return indices
 
 
-def barycentric_weights(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
-    """Return the area weights of Eq. 12 of points in their triangles.
-
-    Parameters
-    ----------
-    points : (m, 3) float
-        Points in (or projected onto) the plane of their triangle [m].
-    triangles : (m, 3, 3) float
-        Vertices N1, N2, N3 of each host triangle [m].
-
-    Returns
-    -------
-    weights : (m, 3) float
-        ``A_i / A_G`` with ``A_i`` the area of the sub-triangle formed by the point and the two
-        vertices other than ``N_i`` (Fig. 5). Areas are signed (measured along the face normal), so
-        the rows sum to one exactly and a point outside the triangle gets a negative weight.
-
-    References
-    ----------
-    Paper Eq. 12, Fig. 5.
-    """
-    points = np.asarray(points, dtype=float)
-    triangles = np.asarray(triangles, dtype=float)
-    normal = np.cross(triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0])
-    rel = triangles - points[:, None, :]  # N_i - P
-    # Twice the signed area opposite N_i: ((N_j - P) x (N_k - P)) . n for (i, j, k) cyclic.
-    sub = np.cross(rel[:, [1, 2, 0]], rel[:, [2, 0, 1]])
-    areas = np.einsum("mij,mj->mi", sub, normal)
-    return areas / np.einsum("ij,ij->i", normal, normal)[:, None]
-
-
-def point_velocity(weights: np.ndarray, vertex_velocities: np.ndarray) -> np.ndarray:
-    """Interpolate the velocity of the face contact point from its vertices (Eq. 12).
-
-    Parameters
-    ----------
-    weights : (m, 3) float
-        Barycentric weights of the contact points.
-    vertex_velocities : (m, 3, 3) float
-        Velocities of N1, N2, N3 of each host face [m/s].
-
-    Returns
-    -------
-    velocities : (m, 3) float
-        ``sum_i (A_i / A_G) V_Ni`` [m/s].
-    """
-    return np.einsum("mi,mij->mj", weights, vertex_velocities)
-
-
-def transfer_force(weights: np.ndarray, forces: np.ndarray) -> np.ndarray:
-    """Distribute contact forces to the three face vertices, ``f_l = Phi^T f_p`` (Eq. 17-18).
-
-    Parameters
-    ----------
-    weights : (m, 3) float
-        Barycentric weights of the contact points (the blocks of ``Phi``).
-    forces : (m, 3) float
-        Contact force at each point [N].
-
-    Returns
-    -------
-    nodal_forces : (m, 3, 3) float
-        Force on N1, N2, N3 of each face [N]. They sum to the contact force, and their moment
-        about the contact point is zero (the contact force's own moment there), because the
-        weights sum to one and reproduce the point.
-
-    References
-    ----------
-    Paper Eq. 17-18.
-    """
-    return np.asarray(weights, dtype=float)[:, :, None] * np.asarray(forces, dtype=float)[:, None, :]

@@ -11,6 +11,10 @@ pandas DataFrames, one row per commanded trial attempt, with
 * a randomised run order blocked by session and day (matched-set units stay in one session);
 * a unit in every dimensional column name.
 
+The design constants and the object set live in :mod:`graspcampaign.rig.protocol_design`, ids,
+run order and rig faults in :mod:`graspcampaign.rig.protocol_order`; this module builds the two
+sheets and re-exports the public names of both.
+
 The paper fixes the totals; where it leaves a split open, the split chosen here is recorded in
 ``docs/decisions.md`` ("Tests 2-3 protocols and virtual rig (issue 9)") and in the constants below.
 
@@ -23,20 +27,68 @@ Paper §8.1 (objects, groups A-E, matched ablation, baselines, pose error, 1785/
 
 from __future__ import annotations
 
-import functools
-import hashlib
-import json
 import logging
 import math
-from collections import Counter, defaultdict
 from typing import Any
 
-import numpy as np
 import pandas as pd
 
 from graspcampaign.core.statics import GRAVITY
+from graspcampaign.rig.protocol_design import (
+    BASELINES,
+    COATING_LEVELS,
+    DEFAULT_CLOSING_MM_PER_S,
+    DEFAULT_LIFT_MM_PER_S,
+    ENVELOPE_INDICES,
+    FRICTION_LEVELS,
+    HEAVY_INDICES,
+    HOLD_S,
+    LIFT_HEIGHT_MM,
+    MATCHED_OBJECTS,
+    OBJECT_MASSES_KG,
+    OBJECT_MATERIALS,
+    PAPER_COUNTS,
+    PLANNER_LABELS,
+    SESSION_SLOTS,
+    SHAPE_ORDER,
+    STUDY_TEST2,
+    STUDY_TEST3,
+    TEST2_C_CELLS,
+    TEST2_C_PER_SHAPE,
+    TEST2_D_OBJECTS,
+    TEST2_E_CELLS,
+    TEST2_E_PER_SHAPE,
+    TEST2_M_CONDITIONS,
+    TEST2_X_COUNTS,
+    TEST3_A_CAP_N,
+    TEST3_A_DIRECTIONS_DEG,
+    TEST3_A_RAMPS_N_PER_S,
+    TEST3_B_CELLS,
+    TEST3_B_RAMP_N_PER_S,
+    TEST3_C_CAP_NM,
+    TEST3_C_RAMP_NM_PER_S,
+    TEST3_D_CELLS,
+    TEST3_D_DURATIONS_MS,
+    TEST3_D_OBSERVE_S,
+    TEST3_E_CELLS,
+    TEST3_E_DURATION_S,
+    TEST3_MATCHED,
+    _all_objects,
+    _envelope_objects,
+    _object,
+    objects_table,
+    shape_equivalent_radius,
+)
+from graspcampaign.rig.protocol_order import (
+    _check_seed,
+    _schedule,
+)
 
 __all__ = [
+    # the Test 2 and Test 3 schedules (this module)
+    "test2_schedule",
+    "test3_schedule",
+    # re-exported: they live in graspcampaign.rig.protocol_design
     "COATING_LEVELS",
     "FRICTION_LEVELS",
     "HOLD_S",
@@ -51,264 +103,35 @@ __all__ = [
     "STUDY_TEST3",
     "objects_table",
     "shape_equivalent_radius",
-    "test2_schedule",
-    "test3_schedule",
+    "BASELINES",
+    "DEFAULT_CLOSING_MM_PER_S",
+    "DEFAULT_LIFT_MM_PER_S",
+    "ENVELOPE_INDICES",
+    "HEAVY_INDICES",
+    "SESSION_SLOTS",
+    "TEST2_C_CELLS",
+    "TEST2_C_PER_SHAPE",
+    "TEST2_D_OBJECTS",
+    "TEST2_E_CELLS",
+    "TEST2_E_PER_SHAPE",
+    "TEST2_M_CONDITIONS",
+    "TEST2_X_COUNTS",
+    "TEST3_A_CAP_N",
+    "TEST3_A_DIRECTIONS_DEG",
+    "TEST3_A_RAMPS_N_PER_S",
+    "TEST3_B_CELLS",
+    "TEST3_B_RAMP_N_PER_S",
+    "TEST3_C_CAP_NM",
+    "TEST3_C_RAMP_NM_PER_S",
+    "TEST3_D_CELLS",
+    "TEST3_D_DURATIONS_MS",
+    "TEST3_D_OBSERVE_S",
+    "TEST3_E_CELLS",
+    "TEST3_E_DURATION_S",
+    "TEST3_MATCHED",
 ]
 
 logger = logging.getLogger(__name__)
-
-STUDY_TEST2 = "test2_grasp"
-STUDY_TEST3 = "test3_disturbance"
-
-SHAPE_ORDER = ("sphere", "ellipsoid", "rounded_cube", "pear", "handle")
-"""The five shape families of §8.1 (the paper's "concave" shape is our ``handle``)."""
-OBJECT_MATERIALS = ("gel", "gel", "silicone_soft", "silicone_soft", "bio_foam", "bio_foam",
-                    "silicone_ref", "silicone_ref")
-"""Material of objects 1-8 of every shape: two per Table 4 family (§8.1: four materials)."""
-OBJECT_MASSES_KG = (0.05, 0.10, 0.20, 0.60, 0.10, 0.15, 0.25, 0.60)
-"""Ballasted mass of objects 1-8 of every shape [kg] (decision, docs/decisions.md): inside the
-envelope the calibrated planner predicts for each material -- 0.5 and 0.8 times the heaviest mass
-it can lift at SF 1.5 with G_geo = 1 under the damage cap (gel 0.12, silicone-soft 0.25, foam 0.19,
-silicone-ref 0.33 kg), rounded to 0.05 kg -- except the second object of each silicone, ballasted
-to the paper's 0.6 kg maximum: group C's "lowest-friction materials with the highest masses"."""
-HEAVY_INDICES = (4, 8)
-ENVELOPE_INDICES = (1, 2, 3, 5, 6, 7)
-"""Objects used by the validation groups (everything below the 0.6 kg failure-boundary ballast)."""
-
-PLANNER_LABELS = {"heuristic": "proposed", "no_pso": "no-PSO", "centroid": "centroid",
-                  "force_balance": "force-balance", "random": "random"}
-"""Registry name -> the paper's name of the five planners (§8.1)."""
-BASELINES = ("no_pso", "centroid", "force_balance", "random")
-
-FRICTION_LEVELS = ("natural", "high", "medium", "low")
-"""Contact surface: the object's own material, or a surface coating (§8.6 three friction levels of
-Test 2: natural/medium/low; §9.2 coatings of Test 3: high/medium/low)."""
-COATING_LEVELS = ("low", "medium", "high")
-
-MATCHED_OBJECTS = ("sphere-01", "sphere-05", "ellipsoid-03", "ellipsoid-07", "rounded_cube-02",
-                   "rounded_cube-06", "pear-01", "pear-07", "handle-03", "handle-05")
-"""The ten objects of the matched sets of Tests 2 and 3: two per shape, all four materials."""
-
-PAPER_COUNTS = {
-    STUDY_TEST2: {"commanded": 1785, "executed": 1755, "aborted": 30,
-                  "planners": {"heuristic": 819, "centroid": 474, "no_pso": 90,
-                               "force_balance": 90, "random": 282},
-                  "groups": {"A": 120, "B": 240, "C": 144, "D": 105, "E": 120, "M": 90},
-                  "shapes": {"sphere": 183, "ellipsoid": 135, "rounded_cube": 231, "pear": 111,
-                             "handle": 159}},
-    STUDY_TEST3: {"commanded": 1245, "executed": 1230, "aborted": 15,
-                  "planners": {"heuristic": 830, "centroid": 100, "no_pso": 100,
-                               "force_balance": 100, "random": 100},
-                  "blocks": {"A": 300, "B": 180, "C": 90, "D": 160, "E": 100}},
-}
-"""The paper's design counts (§8.1, Table 6-7; §9.1, Tables 8-9)."""
-
-# ------------------------------------------------------------------ Test 2 design constants
-TEST2_C_PER_SHAPE = {"sphere": 6, "ellipsoid": 36, "rounded_cube": 66, "pear": 6, "handle": 30}
-"""Group C (144) per shape: with A, B, D, E and the matched set, every shape's proposed total is
-Table 6's n (183/135/231/111/159)."""
-TEST2_C_CELLS = ((4, "natural"), (8, "natural"), (3, "medium"), (7, "medium"), (3, "low"),
-                 (7, "low"))
-"""Group C cells (object index, friction level), cycled: the 0.6 kg silicones at natural friction
-and the lighter silicones on the medium and low coatings -- 48 trials per friction level."""
-TEST2_D_OBJECTS = ("sphere-07", "ellipsoid-06", "rounded_cube-01", "rounded_cube-07", "pear-03",
-                   "handle-05", "handle-07")
-"""Group D (repeatability): seven objects x 15 repeats = 105."""
-TEST2_E_PER_SHAPE = {"sphere": 24, "ellipsoid": 6, "rounded_cube": 57, "pear": 12, "handle": 21}
-TEST2_E_CELLS = ((10.0, 30.0), (5.0, 30.0), (10.0, 30.0), (20.0, 30.0), (10.0, 10.0),
-                 (10.0, 50.0))
-"""Group E (closing, lift) speeds [mm/s], cycled: 20/80/20 trials per closing level and per lift
-level (§8.6), one factor at a time around the default (10, 30)."""
-TEST2_M_CONDITIONS = {"c1": ("natural", 0.0), "c2": ("natural", 10.0), "c3": ("medium", 0.0)}
-"""The matched set's three conditions (friction level, pose error [mm])."""
-TEST2_X_COUNTS = {"centroid": 384, "random": 192}
-"""Baseline trials outside the matched set (group X), so centroid = 474 and random = 282."""
-DEFAULT_CLOSING_MM_PER_S = 10.0
-DEFAULT_LIFT_MM_PER_S = 30.0
-HOLD_S = 3.0
-"""Hold after lift before grading / before the disturbance [s] (§9.1: 3 s)."""
-LIFT_HEIGHT_MM = 50.0
-"""Lift height [mm] (§8.3: "the object lifts smoothly to 50 mm")."""
-
-# ------------------------------------------------------------------ Test 3 design constants
-TEST3_A_DIRECTIONS_DEG = tuple(float(a) for a in range(0, 360, 45))
-TEST3_A_RAMPS_N_PER_S = (0.2, 0.6, 1.0)
-TEST3_A_CAP_N = 15.0
-TEST3_B_CELLS = (("down", 0.25, 40), ("down", 0.50, 60), ("down", 0.75, 40), ("up", 0.50, 20),
-                 ("up", 1.00, 20))
-TEST3_B_RAMP_N_PER_S = 0.5
-TEST3_C_RAMP_NM_PER_S = 0.01
-TEST3_C_CAP_NM = 1.0
-TEST3_D_CELLS = ((0.8, 40), (1.0, 40), (1.2, 60), (1.4, 10), (1.8, 10))
-TEST3_D_DURATIONS_MS = (100.0, 200.0)
-TEST3_D_OBSERVE_S = 2.0
-TEST3_E_CELLS = ((1.0, 1.0), (1.0, 2.0), (2.0, 1.0), (2.0, 2.0))
-"""Sinusoid (frequency [Hz], amplitude [N]), 25 trials each."""
-TEST3_E_DURATION_S = 5.0
-TEST3_MATCHED = (
-    ("A", {"direction_deg": 0.0}), ("A", {"direction_deg": 180.0}),
-    ("B", {"direction": "down", "load_frac_w": 0.25}), ("B", {"direction": "down", "load_frac_w": 0.5}),
-    ("B", {"direction": "up", "load_frac_w": 1.0}),
-    ("C", {}),
-    ("D", {"load_frac_w": 1.0, "pulse_duration_ms": 100.0}),
-    ("D", {"load_frac_w": 1.2, "pulse_duration_ms": 200.0}),
-    ("E", {"frequency_hz": 1.0, "amplitude_n": 1.0}), ("E", {"frequency_hz": 2.0, "amplitude_n": 2.0}),
-)
-"""The ten identical disturbances of the matched paired set (one per object and planner)."""
-
-SESSION_SLOTS = 45
-"""Trial slots per session (decision: a half-day at ~4 min per trial); two sessions per day."""
-
-_HASH_LEN = 10
-
-
-# --------------------------------------------------------------------------------------------
-# Objects
-# --------------------------------------------------------------------------------------------
-def objects_table() -> pd.DataFrame:
-    """Return the 40 objects of §8.1: 5 shapes x 8, two per material, ballast up to 0.6 kg."""
-    rows = []
-    for shape in SHAPE_ORDER:
-        for k in range(1, 9):
-            rows.append({"object_id": f"{shape}-{k:02d}", "shape": shape, "object_index": k,
-                         "material": OBJECT_MATERIALS[k - 1], "mass_kg": OBJECT_MASSES_KG[k - 1],
-                         "heavy": k in HEAVY_INDICES})
-    return pd.DataFrame(rows)
-
-
-@functools.lru_cache(maxsize=16)
-def shape_equivalent_radius(shape: str, n_nodes: int = 390) -> float:
-    """Return the area-equivalent radius of the shape's equatorial section [m].
-
-    ``d_opt / sqrt(3)`` of :func:`graspcampaign.core.metric.default_d_opt` (50 mm on the sphere):
-    the lever of the Test 3 proof torque ``W R_eq``.
-    """
-    from graspcampaign.core.mesh import make_object
-    from graspcampaign.core.metric import default_d_opt
-
-    return float(default_d_opt(make_object(shape, n_nodes)) / math.sqrt(3.0))
-
-
-def _object(object_id: str) -> dict[str, Any]:
-    shape, k = object_id.rsplit("-", 1)
-    k = int(k)
-    return {"object_id": object_id, "shape": shape, "object_index": k,
-            "material": OBJECT_MATERIALS[k - 1], "mass_kg": OBJECT_MASSES_KG[k - 1]}
-
-
-def _envelope_objects() -> list[str]:
-    return [f"{s}-{k:02d}" for s in SHAPE_ORDER for k in ENVELOPE_INDICES]
-
-
-def _all_objects() -> list[str]:
-    return [f"{s}-{k:02d}" for s in SHAPE_ORDER for k in range(1, 9)]
-
-
-# --------------------------------------------------------------------------------------------
-# Ids, run order, rig faults
-# --------------------------------------------------------------------------------------------
-def _canonical(obj: Any) -> str:
-    return json.dumps(obj, sort_keys=True, separators=(",", ":"), default=str)
-
-
-def _digest(obj: Any, length: int = _HASH_LEN) -> str:
-    return hashlib.sha256(_canonical(obj).encode()).hexdigest()[:length]
-
-
-_SHORT = {"heuristic": "prop", "no_pso": "nopso", "centroid": "cent", "force_balance": "fb",
-          "random": "rand"}
-
-
-def _with_ids(slots: list[dict[str, Any]], study: str, prefix: str, key: str) -> None:
-    """Give every slot a readable, content-derived id; identical slots get repeat indices."""
-    seen: Counter = Counter()
-    for s in slots:
-        design = {k: v for k, v in s.items() if k not in ("repeat", "unit")}
-        cell = _canonical(design)
-        s["repeat"] = seen[cell]
-        seen[cell] += 1
-        digest = _digest({"study": study, **design, "repeat": s["repeat"]})
-        s["slot_id"] = f"{prefix}{s[key]}-{s['object_id']}-{_SHORT[s['planner']]}-{digest}"
-
-
-def _plan_keys(slots: list[dict[str, Any]]) -> None:
-    """Plans are shared per (object, planner); the random planner draws a new triple per slot."""
-    for s in slots:
-        if s["planner"] == "random":
-            s["plan_key"] = f"{s['object_id']}:random:{s['slot_id']}"
-        else:
-            s["plan_key"] = f"{s['object_id']}:{s['planner']}"
-
-
-def _order(slots: list[dict[str, Any]], rng: np.random.Generator, n_faults: int) -> list[dict]:
-    """Shuffle units into sessions of SESSION_SLOTS, shuffle inside sessions, add fault re-runs."""
-    units: dict[str, list[int]] = defaultdict(list)
-    for i, s in enumerate(slots):
-        units[s.get("unit") or s["slot_id"]].append(i)
-    keys = list(units)
-    rng.shuffle(keys)
-    sessions: list[list[int]] = [[]]
-    for k in keys:
-        if sessions[-1] and len(sessions[-1]) + len(units[k]) > SESSION_SLOTS:
-            sessions.append([])
-        sessions[-1].extend(units[k])
-    faulty = set(rng.choice(len(slots), size=n_faults, replace=False).tolist())
-    rows: list[dict] = []
-    order = 0
-    for index, members in enumerate(sessions):
-        members = list(members)
-        rng.shuffle(members)
-        reruns = []
-        day, half = divmod(index, 2)
-        session = f"d{day + 1:02d}-{'am' if half == 0 else 'pm'}"
-        for position, i in enumerate(members, start=1):
-            order += 1
-            row = {**slots[i], "attempt": 1, "rig_fault": i in faulty, "day": day + 1,
-                   "session": session, "session_position": position, "run_order": order}
-            rows.append(row)
-            if i in faulty:
-                reruns.append(i)
-        for i in reruns:  # aborted slots are re-run at the end of their session
-            order += 1
-            rows.append({**slots[i], "attempt": 2, "rig_fault": False, "day": day + 1,
-                         "session": session, "session_position": len(members) + 1 + reruns.index(i),
-                         "run_order": order})
-    return rows
-
-
-def _finish(rows: list[dict], study: str, seed: int, columns: list[str]) -> pd.DataFrame:
-    for r in rows:
-        r["trial_id"] = r["slot_id"] if r["attempt"] == 1 else f"{r['slot_id']}-a{r['attempt']}"
-        r["study"] = study
-        r["protocol_seed"] = int(seed)
-        r["planner_label"] = PLANNER_LABELS[r["planner"]]
-        r.pop("unit", None)
-    df = pd.DataFrame(rows)
-    front = ["trial_id", "slot_id", "attempt", "rig_fault", "study", "protocol_seed", "run_order",
-             "day", "session", "session_position"]
-    rest = [c for c in columns if c not in front]
-    extra = [c for c in df.columns if c not in front + rest]
-    return df[front + rest + extra].reset_index(drop=True)
-
-
-def _schedule(slots: list[dict[str, Any]], study: str, prefix: str, key: str, seed: int,
-              columns: list[str]) -> pd.DataFrame:
-    """Id, plan-key, order (with the paper's rig faults) and tabulate one study's slots."""
-    _with_ids(slots, study, prefix, key)
-    _plan_keys(slots)
-    rows = _order(slots, _rng(seed, study), PAPER_COUNTS[study]["aborted"])
-    return _finish(rows, study, seed, columns)
-
-
-def _check_seed(seed: object) -> int:
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise ValueError(f"seed must be a non-negative int, got {seed!r}")
-    return int(seed)
-
-
-def _rng(seed: int, study: str) -> np.random.Generator:
-    word = int.from_bytes(hashlib.sha256(study.encode()).digest()[:4], "little")
-    return np.random.default_rng(np.random.SeedSequence([seed, word]))
 
 
 # --------------------------------------------------------------------------------------------
