@@ -1,9 +1,6 @@
-"""Test 3 statistics (paper §9.3-9.5; Figs. 34, 36) over the frame of :func:`.hardware.derive`:
-threshold agreement, lateral survival, logistic regression of failure.
+"""Test 3 statistics (paper §9.3-9.5; Figs. 34, 36) over the frame of :func:`.hardware.derive`.
 
-References
-----------
-Bland & Altman (1986); Kaplan & Meier (1958), the uncensored case; logistic regression, Wald intervals.
+References: Bland & Altman (1986); Kaplan & Meier (1958), uncensored case; logistic regression (Wald).
 """
 
 from __future__ import annotations
@@ -24,9 +21,9 @@ def threshold_agreement(df: pd.DataFrame, planner: str = PROPOSED) -> dict:
     g = df[df["planner"] == planner].dropna(subset=["lat_threshold_n"])
     m, p, err = (g[c].to_numpy(float) for c in ("lat_threshold_n", "threshold_pred", "lat_threshold_err_pct"))
     if m.size < 3:
-        return {"planner": planner, "n": int(m.size)}
+        return {"planner": planner, "n": m.size}
     ba, lin = agreement.bland_altman(m, p), stats.linregress(p, m)
-    return {"planner": planner, "n": int(m.size), "bias_n": ba.bias, "sd_n": ba.sd, "loa_low_n": ba.lower,
+    return {"planner": planner, "n": m.size, "bias_n": ba.bias, "sd_n": ba.sd, "loa_low_n": ba.lower,
             "loa_high_n": ba.upper, "loa_half_n": (ba.upper - ba.lower) / 2, "ols_slope": lin.slope,
             "ols_intercept": lin.intercept, "ols_r2": lin.rvalue**2, "ols_p": lin.pvalue,
             "median_err_pct": np.median(err), "n_err_over_50pct": int(np.sum(err > 50.0))}

@@ -1,12 +1,6 @@
-"""Tests 2-3 statistics (paper §8-9; Tables 6-9, Figs. 28-36): derived columns, grouped rates, tests.
+"""Tests 2-3 statistics (paper §8-9, Tables 6-9) over the executed trials of :func:`derive` (§8.1).
 
-Functions take a run's records (docs/records.md) or the executed frame of :func:`derive`: only executed
-trials enter a statistic (§8.1); rates are in percent, errors ``|predicted - measured| / |measured|`` [%].
-
-References
-----------
-Wilson (1927); Efron & Tibshirani (1993), object-clustered bootstrap; McNemar (1947); Pearson's chi2;
-Kruskal & Wallis (1952).
+References: Wilson (1927); Efron & Tibshirani (1993); McNemar (1947); Pearson's χ²; Kruskal & Wallis (1952).
 """
 
 from __future__ import annotations
@@ -29,8 +23,7 @@ VIRTUAL_ONLY = ("mu_s_actual", "valid_geometry", "success_unbounded")
 
 
 def records_under_belief(records: pd.DataFrame, counterfactual: pd.DataFrame) -> pd.DataFrame:
-    """Return the trace table ``belief_none`` shaped like the records: the records' ids, factors and
-    engine columns with every column of the counterfactual replacing theirs (docs/records.md)."""
+    """Return the trace table ``belief_none`` shaped like the records (its columns replace theirs)."""
     replaced = [c for c in counterfactual.columns if c in records.columns and c != "trial_id"]
     return records.drop(columns=replaced).merge(counterfactual, on="trial_id", how="inner")
 
@@ -63,13 +56,11 @@ def pct_error(measured: pd.Series, predicted: pd.Series) -> pd.Series:
 def derive(records: pd.DataFrame) -> pd.DataFrame:
     """Return the executed trials with the columns every Tests 2-3 table reads.
 
-    ``is_<class>`` (:data:`CLASSES`), ``natural`` (success, nan off natural friction), ``force_err_pct``,
-    ``deformation_err_pct``, ``g_geo_gap`` and ``mu_s_gap`` (believed - actual), ``gate_removed`` (a
-    success only without the δ ≤ r gate), ``match_key`` (object|condition|repeat: the matched pair);
-    Test 3: ``threshold``, ``threshold_pred`` (uncensored ramps only; N, N·m in block C),
-    ``threshold_err_pct``, ``lat_threshold_n``, ``lat_threshold_err_pct`` (block A), ``payload_pct_w``
-    (block B downward, % of the weight), ``headline`` (Table 8: A, C threshold, B payload, D, E peak slip
-    [mm]), ``first_finger_correct`` (nan where no finger slipped).
+    ``is_<class>``, ``natural`` (success at natural friction), ``force_err_pct``, ``deformation_err_pct``,
+    ``g_geo_gap``/``mu_s_gap`` (believed - actual), ``gate_removed`` (a success only without the δ ≤ r
+    gate), ``match_key``; Test 3: ``threshold``/``threshold_pred`` (uncensored ramps; N·m in block C),
+    ``threshold_err_pct``, ``lat_threshold_n``/``_err_pct`` (block A), ``payload_pct_w`` (block B down),
+    ``headline`` (Table 8: A, C threshold, B payload, D, E peak slip [mm]), ``first_finger_correct``.
     """
     df = executed(records)
     df = df.assign(**{c: np.nan for c in VIRTUAL_ONLY if c not in df})
@@ -100,16 +91,15 @@ def derive(records: pd.DataFrame) -> pd.DataFrame:
 
 
 def scoped(df: pd.DataFrame, parts: Mapping[str, pd.Series]) -> pd.DataFrame:
-    """Return the rows each boolean mask of ``parts`` selects, stacked with their ``scope`` name."""
+    """Return the rows each mask of ``parts`` selects, stacked with their ``scope`` name."""
     return pd.concat([df[mask].assign(scope=name) for name, mask in parts.items()], ignore_index=True)
 
 
 def summary(df: pd.DataFrame, by: Sequence[str], rates: Sequence[str] = (), medians: Sequence[str] = (),
             *, cluster: str | None = None, seed: int = 0, order: Mapping | None = None) -> pd.DataFrame:
-    """Return per group of ``by`` the columns of :func:`~graspcampaign.analysis.records.rate_table`
-    (success as ``success_pct``, ``success_low_pct``, ``success_high_pct``: Wilson 95 %), each boolean
-    column of ``rates`` as ``<name>_pct``, ``_low_pct``, ``_high_pct``, ``_n`` over its non-missing rows
-    (``is_`` dropped), and the median and count (``<column>_n``) of each column of ``medians``."""
+    """Return per group of ``by`` the success :func:`~.records.rate_table` (``success_pct``, ``_low_pct``,
+    ``_high_pct``), each boolean column of ``rates`` likewise as ``<name>_pct``, ... and ``<name>_n`` over
+    its non-missing rows (``is_`` dropped), and the median and count ``<column>_n`` of ``medians``."""
     by, names = list(by), ("n", "pct", "low_pct", "high_pct")
     out = rate_table(df, by, cluster=cluster, seed=seed, order=order).rename(columns=lambda c: c.replace(
         "rate_pct", "success_pct").replace("wilson", "success"))
@@ -136,8 +126,7 @@ def parity_by(df: pd.DataFrame, by: str, measured: str, predicted: str) -> pd.Da
 
 
 def force_accuracy(df: pd.DataFrame) -> pd.DataFrame:
-    """Return per scope (all, each planner) the trial-mean normal-force parity and the median force,
-    deformation and contact-point errors over the trials with both forces (§8.3, Fig. 29)."""
+    """Return per scope (all, each planner) the normal-force parity and median errors (§8.3, Fig. 29)."""
     df = df.dropna(subset=["normal_force_mean_n", "normal_force_pred_mean_n"])
     long = scoped(df, {"all": df["planner"].notna(), **{p: df["planner"] == p for p in
                                                         ordered("planner", df["planner"])}})
@@ -147,9 +136,8 @@ def force_accuracy(df: pd.DataFrame) -> pd.DataFrame:
 
 
 def classifier_table(df: pd.DataFrame, flags: Sequence[str], by: Sequence[str]) -> pd.DataFrame:
-    """Return each pre-execution flag scored against measured success per group of ``by``: ``n``,
-    ``flagged``, ``tp, fp, fn, tn``, ``accuracy``, ``f1``, the base success rate, precision and recall
-    (fractions) with their Wilson 95 % bounds (``_low``, ``_high``) and ``above_base`` (precision > base)."""
+    """Return each flag scored against measured success per group of ``by``: counts, accuracy, f1, the base
+    success rate, precision and recall with Wilson 95 % bounds (``_low``, ``_high``), ``above_base``."""
     rows = []
     for flag in flags:
         for key, g in df.groupby(list(by), sort=False):
@@ -159,8 +147,8 @@ def classifier_table(df: pd.DataFrame, flags: Sequence[str], by: Sequence[str]) 
             for name, k, n in (("base", m.tp + m.fn, m.n), ("precision", m.tp, m.tp + m.fp),
                                ("recall", m.tp, m.tp + m.fn)):
                 w = rates.wilson_interval(k, n) if n else None
-                row.update({name + s: getattr(w, a) if w else np.nan
-                            for s, a in (("", "estimate"), ("_low", "low"), ("_high", "high"))})
+                row.update({name + s: getattr(w, a, np.nan) for s, a in (("", "estimate"), ("_low", "low"),
+                                                                         ("_high", "high"))})
             rows.append({**row, "above_base": row["precision"] > row["base"]})
     return pd.DataFrame(rows)
 
@@ -176,8 +164,7 @@ def chi2_planners(df: pd.DataFrame, planners: Sequence[str] = ("heuristic", "cen
 
 def kruskal(df: pd.DataFrame, value: str, by: str) -> dict:
     """Return Kruskal-Wallis of ``value`` across the groups of ``by``, with each group's median."""
-    groups = {k: x.dropna().to_numpy(float) for k, x in df.groupby(by, sort=True)[value]}
-    groups = {k: x for k, x in groups.items() if x.size}
+    groups = {k: x.to_numpy(float) for k, x in df.dropna(subset=[value]).groupby(by, sort=True)[value]}
     res = association.kruskal_wallis(*groups.values())
     return {"test": f"Kruskal–Wallis {value} by {by}", "n": res.n, "statistic": res.statistic,
             "dof": res.n_groups - 1, "p": res.pvalue, **{f"median_{k}": np.median(x) for k, x in

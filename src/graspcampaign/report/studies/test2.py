@@ -1,8 +1,5 @@
-"""Report of ``test2_grasp`` (paper §8; Tables 6-7, Figs. 28-31), and the parts Test 3's report shares.
-
-Over the executed trials of the records (virtual rig or an ingested run) and, on the virtual rig, of
-their ``belief_error = none`` counterfactual (trace table ``belief_none``): Tables 6-9 show both.
-"""
+"""Report of ``test2_grasp`` (§8; Tables 6-7, Figs. 28-31) and the parts Test 3 shares; on the virtual rig
+Tables 6-9 show the records and their ``belief_error = none`` counterfactual (trace table ``belief_none``)."""
 
 from __future__ import annotations
 
@@ -21,12 +18,11 @@ from graspcampaign.report.document import Col
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Claims, Figure, Finding, Rates, ReportSpec, Table, Value, verdicts
 
-PLANNERS = ("heuristic", "centroid", "no_pso", "force_balance", "random")
+PLANNERS, ME = ("heuristic", "centroid", "no_pso", "force_balance", "random"), f"planner == '{PROPOSED}'"
 FLAGS = ("predicted_stable", "predicted_stable_residual")
 READINGS, PAPER_ROWS = {"belief_error": ["paper", "none"]}, "belief_error == 'paper'"
-WHY_NOT = {"predicted_stable_residual": "it is the paper's §8.1 flag (Algorithm 2's normal-only residual "
-           "≤ τ_F = 0.0886 N), friction-blind, and at the SI contact constants it carries no "
-           "information about a friction hold",
+WHY_NOT = {"predicted_stable_residual": "it is the paper's §8.1 flag (Algorithm 2's residual ≤ τ_F = "
+           "0.0886 N), friction-blind: it carries no information about a friction hold",
            "predicted_stable": "the believed margins are optimistic where the beliefs are wrong"}
 
 
@@ -58,10 +54,8 @@ def pct(c: str, head: str) -> Col:
 
 def paper_table(name, caption, key, row, items, rates=(), medians=(), *, where=None, boot=False,
                 extra=None) -> Table:
-    """A table per ``key`` and belief reading (:func:`hw.summary`): each item ``(column, paper, header,
-    digits)`` is a rate (digits None: ``<column>_pct`` with its Wilson 95 %), a number or a text ("")
-    beside ``paper``, an attribute of ``row(paper, key)`` or a function ``(paper, key)``, on the
-    ``paper`` rows; the verdict is the success rate's."""
+    """A :func:`hw.summary` table per ``key`` and belief reading; items ``(column, paper, header, digits)``: a
+    rate (digits None), number or text ("") beside ``paper``: ``row(p, key)``'s attribute or ``f(p, key)``."""
     def compute(run: Run) -> pd.DataFrame:
         d = frames(run) if where is None else where(frames(run))
         out = hw.summary(d, [key, "belief_error"], rates, medians, order=READINGS, seed=run.seed,
@@ -86,8 +80,7 @@ def paper_table(name, caption, key, row, items, rates=(), medians=(), *, where=N
 
 @dataclass(frozen=True)
 class Listed:
-    """A :class:`Claims` table of the rows ``rows(run)`` yields, ``(quantity, §, value, paper, unit,
-    digits)``: the value a number, an Estimate or a function raising why it cannot be computed."""
+    """A :class:`Claims` table of the rows ``(quantity, §, value, paper, unit, digits)`` of ``rows(run)``."""
 
     name: str
     caption: str
@@ -98,6 +91,11 @@ class Listed:
         return Claims(self.name, self.caption, [
             Value(q, s, lambda run, v=v: v() if callable(v) else v, lambda p, x=x: x, u, d)
             for q, s, v, x, u, d in self.rows(run)]).render(run)
+
+
+def per_planner(d: pd.DataFrame) -> dict[str, pd.Series]:
+    """Scopes ``all`` and each planner (masks over ``d``)."""
+    return {"all": d["planner"].notna(), **{q: d["planner"] == q for q in PLANNERS}}
 
 
 def share(d: pd.DataFrame, event) -> Estimate:
@@ -432,70 +430,60 @@ def claims(run: Run):
 SPEC = ReportSpec("test2_grasp", [
     Finding(finding),
     Listed("test2_counts", "Trial counts beside the paper's (a reduced study has fewer)", counts("table7")),
-    paper_table("table6", "Table 6: the proposed planner per shape and belief reading, all its trials (group "
-                "C included), at natural friction, and its median absolute prediction errors", "shape",
-                lambda p, k: p.table6[k], [
-                    ("n", "n", "n", 0), ("success", "success_pct", "success", None),
-                    ("natural", "natural_pct", "natural friction", None),
-                    ("force_err_pct", "force_err_pct", "median |F_n| error [%]", 1),
-                    ("deformation_err_pct", "deformation_err_pct", "median deformation error [%]", 1)],
-                ["natural"], ["force_err_pct", "deformation_err_pct"],
-                where=lambda d: d[d["planner"] == PROPOSED]),
-    paper_table("table7", "Table 7: executed trials per planner and belief reading: success (Wilson and "
-                "object-clustered bootstrap 95%); stable, slip, drop and damage as primary outcome classes",
-                "planner", lambda p, k: p.table7[k], [("n", "n", "n", 0), *(
-                    (k, f"{k}_pct", k, None) for k in ("success", "stable", "slip", "drop", "damage"))],
+    paper_table("table6", "Table 6: the proposed planner per shape and belief reading (all its trials), at "
+                "natural friction, its median absolute prediction errors", "shape", lambda p, k: p.table6[k],
+                [("n", "n", "n", 0), ("success", "success_pct", "success", None),
+                 ("natural", "natural_pct", "natural friction", None),
+                 ("force_err_pct", "force_err_pct", "median |F_n| error [%]", 1),
+                 ("deformation_err_pct", "deformation_err_pct", "median deformation error [%]", 1)],
+                ["natural"], ["force_err_pct", "deformation_err_pct"], where=lambda d: d.query(ME)),
+    paper_table("table7", "Table 7: executed trials per planner and belief reading: success (Wilson, object "
+                "bootstrap 95%); stable, slip, drop, damage as primary outcome classes", "planner",
+                lambda p, k: p.table7[k], [("n", "n", "n", 0), *((k, f"{k}_pct", k, None) for k in (
+                    "success", "stable", "slip", "drop", "damage"))],
                 [f"is_{k}" for k in ("stable", "slip", "drop", "damage")], boot=True),
     *belief_tables("test2"),
-    Table("test2_groups", "The proposed planner per group (A-E, M matched ablation), the validation pool "
-          "ABD, all its trials and group E per closing and lift speed, beside the paper (§8.2, §8.6)",
-          groups, [Col("scope", "group"), Col("n", "n"), Col("paper_text", "paper %"),
-                   pct("success", "success"), pct("stable", "stable"), Col("verdict", "verdict (success)")]),
-    Table("test2_outcomes", "Outcome classes of the proposed planner beside the paper's (§8.2, Fig. 28c; "
-          "slip, drop and damage from Table 7)", outcomes, [
-              Col("outcome", "outcome"), Col("n", "n"), pct("success", "share"),
-              Col("paper_success_pct", "paper %", 1), Col("verdict", "verdict")]),
+    Table("test2_groups", "The proposed planner per group (A-E, M matched), the validation pool ABD, all "
+          "trials and group E per closing and lift speed (§8.2, §8.6)", groups, [
+              Col("scope", "group"), Col("n", "n"), Col("paper_text", "paper %"), pct("success", "success"),
+              pct("stable", "stable"), Col("verdict", "verdict (success)")]),
+    Table("test2_outcomes", "Outcome classes of the proposed planner (§8.2, Fig. 28c; slip, drop, damage: "
+          "Table 7)", outcomes, [Col("outcome", "outcome"), Col("n", "n"), pct("success", "share"),
+                                 Col("paper_success_pct", "paper %", 1), Col("verdict", "verdict")]),
     Rates("test2_materials", "Success per material, all planners (§8.2, Fig. 28b)", ["material"],
           lambda p, k: p.success_by_material_pct[k["material"]]),
-    Rates("test2_matched", "Matched ablation: success per planner on the same objects and conditions "
-          "(§8.5, Fig. 31b)", ["planner"], lambda p, k: p.matched_pct[k["planner"]],
+    Rates("test2_matched", "Matched ablation: success per planner on the same objects and conditions (§8.5, "
+          "Fig. 31b)", ["planner"], lambda p, k: p.matched_pct[k["planner"]],
           where=lambda r: r["matched"].astype(bool)),
-    Table("test2_force_accuracy", "Prediction accuracy (§8.3): trial-mean normal-force parity through the "
-          "origin (uncentred and centred R²), median absolute errors", lambda run: hw.force_accuracy(
-              ex(run))),
-    classifier("test2_classifier", "The pre-execution flags against measured success (§8.4, Fig. 31c): "
-               "`predicted_stable` is the §9.5 believed-margin flag (SF_predicted > 1), "
-               "`predicted_stable_residual` the paper's §8.1 residual flag (≤ τ_F = 0.0886 N), the "
-               "definition the paper's scores belong to", lambda d: {
-                   "all": d["planner"].notna(), "baselines": d["planner"] != PROPOSED,
-                   **{q: d["planner"] == q for q in PLANNERS},
-                   "group C": (d["planner"] == PROPOSED) & (d["group"] == "C"),
-                   "outside C": (d["planner"] == PROPOSED) & (d["group"] != "C")},
-               lambda p: {"all": [*vars(p.classifier).values()], PROPOSED: [
-                   *vars(p.classifier_proposed).values()], "baselines": (
-                   None, p.classifier_baselines_precision, None), "group C": (
-                   None, p.classifier_group_c_precision, None)}),
-    Table("test2_mcnemar", "Matched ablation (§8.5): McNemar tests of the proposed planner against each "
-          "baseline on occurrence-matched pairs (object, condition, repeat)", matched_mcnemar),
-    Table("test2_tests", "χ² of planner × success; Kruskal–Wallis of the force error across planners and "
-          "of the peak slip across friction levels (§8.5-8.6), no multiplicity correction (as the paper)",
-          lambda run: pd.DataFrame([hw.chi2_planners(ex(run)), hw.kruskal(ex(run), "force_err_pct",
-                                    "planner"), hw.kruskal(ex(run), "peak_slip_mm", "friction_level")])),
-    Listed("test2_claims", "§8 headline numbers not in a table above, beside the paper's (rates with "
-           "Wilson 95% intervals, the odds ratio with its exact interval)", claims),
-    Table("test2_power", "Power (§8.5, §11: the ablation lacked power): trials per arm to detect p1 vs p2 "
-          "at α = 0.05 (independent arms: Cohen's h; matched pairs: McNemar, Connor 1987)", power),
-    Figure("fig28_outcomes", "Fig. 28 (the paper's values in black): proposed-planner success per shape "
-           "(dashed: the paper's 75% reference), success per material, the proposed planner's outcome "
-           "classes; Wilson 95% whiskers", fig28, (12.0, 4.0)),
+    Table("test2_force_accuracy", "Prediction accuracy (§8.3): normal-force parity through the origin "
+          "(uncentred, centred R²), median absolute errors", lambda run: hw.force_accuracy(ex(run))),
+    classifier("test2_classifier", "Pre-execution flags against measured success (§8.4, Fig. 31c): "
+               "`predicted_stable` is §9.5's SF_predicted > 1, `predicted_stable_residual` §8.1's residual "
+               "≤ τ_F = 0.0886 N, the flag the paper's scores belong to", lambda d: {
+                   **per_planner(d), "baselines": d["planner"] != PROPOSED,
+                   "group C": d.eval(f"{ME} and group == 'C'"),
+                   "outside C": d.eval(f"{ME} and group != 'C'")},
+               lambda p: {"all": [*vars(p.classifier).values()], PROPOSED: [*vars(
+                   p.classifier_proposed).values()],
+                          "baselines": (None, p.classifier_baselines_precision, None),
+                          "group C": (None, p.classifier_group_c_precision, None)}),
+    Table("test2_mcnemar", "Matched ablation (§8.5): McNemar, proposed against each baseline on "
+          "occurrence-matched pairs (object, condition, repeat)", matched_mcnemar),
+    Table("test2_tests", "χ² of planner × success; Kruskal–Wallis of the force error across planners, "
+          "the peak slip across friction levels (§8.5-8.6; no multiplicity correction, as the paper)",
+          lambda run: pd.DataFrame([hw.chi2_planners(ex(run)), *(hw.kruskal(ex(run), v, k) for v, k in (
+              ("force_err_pct", "planner"), ("peak_slip_mm", "friction_level")))])),
+    Listed("test2_claims", "§8 numbers not in a table above, beside the paper's", claims),
+    Table("test2_power", "Power (§8.5, §11): trials per arm to detect p1 vs p2 at α = 0.05 (independent: "
+          "Cohen's h; matched pairs: McNemar, Connor 1987)", power),
+    Figure("fig28_outcomes", "Fig. 28 (paper in black): proposed success per shape (dashed: the paper's 75% "
+           "reference), success per material, proposed outcome classes; Wilson 95%", fig28, (12.0, 4.0)),
     Figure("fig29_prediction_accuracy", "Fig. 29: (a) measured against predicted trial-mean normal force; "
-           "(b) normal-force and (c) deformation prediction errors with their medians", fig29, (12.0, 3.8)),
-    Figure("fig30_representative_grasp", "Fig. 30 (schematic of one recorded trial, the median-force "
-           "stable proposed sphere grasp): phases from the commanded speeds, recorded hold forces and "
-           "peak slip as levels", fig30, (9.5, 5.4)),
-    Figure("fig31_planner_comparison", "Fig. 31: (a) success per planner with the planners' own beliefs "
-           "and with exact ones (hatched), (b) on the matched ablation; (c) `predicted_stable` against "
-           "the measured outcome", panels(planner_bars("table7"), ("test2_matched", None, "planner",
-                                                                   "(b) matched ablation"),
-                                          confusion(lambda p: p.classifier)), (13.0, 4.0)),
+           "(b) normal-force and (c) deformation errors with their medians", fig29, (12.0, 3.8)),
+    Figure("fig30_representative_grasp", "Fig. 30 (schematic of the median-force stable proposed sphere "
+           "grasp): commanded phases, recorded hold forces and peak slip as levels", fig30, (9.5, 5.4)),
+    Figure("fig31_planner_comparison", "Fig. 31: success per planner (a) with own and exact beliefs "
+           "(hatched), (b) matched ablation; (c) `predicted_stable` against the outcome", panels(
+               planner_bars("table7"), ("test2_matched", None, "planner", "(b) matched ablation"),
+               confusion(lambda p: p.classifier)), (13.0, 4.0)),
 ])

@@ -1,7 +1,5 @@
-"""Report of ``test3_disturbance`` (paper §9; Tables 8-9, Figs. 33-36), built from Test 2's parts.
-
-Thresholds are compared only where a ramp ended in slip (a ramp that reached its cap is a lower bound).
-"""
+"""Report of ``test3_disturbance`` (§9; Tables 8-9, Figs. 33-36) from Test 2's parts; thresholds are compared
+only where a ramp ended in slip (a ramp that reached its cap is a lower bound)."""
 
 from __future__ import annotations
 
@@ -17,34 +15,15 @@ from graspcampaign.report import style
 from graspcampaign.report.document import Col
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, verdicts
-from graspcampaign.report.studies.test2 import (
-    PAPER_ROWS,
-    PLANNERS,
-    Listed,
-    belief_tables,
-    classifier,
-    confusion,
-    counts,
-    ex,
-    finding,
-    matched_mcnemar,
-    panels,
-    paper_table,
-    parity,
-    pct,
-    planner_bars,
-    pv,
-    schematic,
-    share,
-)
+from graspcampaign.report.studies import test2 as t2
 
 NATURAL = "friction_level == 'natural'"
 
 
 def drops(run: Run) -> str:
-    d = ex(run, PROPOSED)
+    d = t2.ex(run, PROPOSED)
     return (f"The proposed planner drops {fmt.number(100 * d['is_drop'].mean(), 1)} % of its trials "
-            f"(paper {fmt.number(pv(run, lambda p: p.table9[PROPOSED].drop_pct), 1)} %): with Table 4's "
+            f"(paper {fmt.number(t2.pv(run, lambda p: p.table9[PROPOSED].drop_pct), 1)} %): with Table 4's "
             "μ_k/μ_s ≈ 0.7 the rig's Coulomb contact cannot arrest a slip once SF < ~1.4, and blocks A and "
             "C succeed only when the threshold reaches the proof load (one weight laterally, the weight "
             "at the shape's radius in yaw). ")
@@ -59,17 +38,17 @@ def table8(run: Run, d: pd.DataFrame, out: pd.DataFrame) -> pd.DataFrame:
 
 
 def table9(run: Run, d: pd.DataFrame, out: pd.DataFrame) -> pd.DataFrame:
-    w = [None if b != "paper" else pv(run, lambda p, k: p.table9[k].wilson_pct, k)
+    w = [None if b != "paper" else t2.pv(run, lambda p, k: p.table9[k].wilson_pct, k)
          for k, b in zip(out["planner"], out["belief_error"], strict=True)]
     return out.assign(paper_wilson=[x and fmt.paper_text(x, 1) for x in w])
 
 
 def coating(run: Run) -> pd.DataFrame:
-    out = hw.summary(ex(run, PROPOSED).query("block == 'A'"), ["friction_level"], medians=["threshold"],
+    out = hw.summary(t2.ex(run, PROPOSED).query("block == 'A'"), ["friction_level"], medians=["threshold"],
                      order={"friction_level": ["natural", "high", "medium", "low"]})
-    ref = [pv(run, lambda p, k: p.coating[k], k) for k in out["friction_level"]]
+    ref = [t2.pv(run, lambda p, k: p.coating[k], k) for k in out["friction_level"]]
     out["paper_success_pct"] = [r and r.success_pct for r in ref]
-    out["paper_threshold_n"] = [r.threshold_n if r else pv(run, lambda p: p.lateral_threshold_median_n)
+    out["paper_threshold_n"] = [r.threshold_n if r else t2.pv(run, lambda p: p.lateral_threshold_median_n)
                                 if k == "natural" else None
                                 for k, r in zip(out["friction_level"], ref, strict=True)]
     return verdicts(out, "success_pct", "paper_success_pct", "success_low_pct", "success_high_pct",
@@ -78,9 +57,9 @@ def coating(run: Run) -> pd.DataFrame:
 
 def claims(run: Run):
     """§9 headline numbers not in a table above, beside the paper's."""
-    p, e, t = run.paper, ex(run), run.tables
-    d, nat = ex(run, PROPOSED), ex(run, PROPOSED).query(NATURAL)
-    yield ("proposed success, natural friction", "§9.2", share(nat, nat["success"]),
+    p, e, t = run.paper, t2.ex(run), run.tables
+    d, nat = t2.ex(run, PROPOSED), t2.ex(run, PROPOSED).query(NATURAL)
+    yield ("proposed success, natural friction", "§9.2", t2.share(nat, nat["success"]),
            p.natural_success_pct, "%", 1)
     for i, f in enumerate((min, max)):
         yield (f"{('lowest', 'highest')[i]} median threshold over pull directions", "§9.2, Fig. 33b",
@@ -90,7 +69,7 @@ def claims(run: Run):
         g = nat.query(f"block == 'B' and disturbance_kind == '{key.split('_')[0]}'")
         g = g[np.isclose(g["load_frac_w"].astype(float), float(key.split("_")[1]))]
         yield (f"vertical {key.replace('_', ' to ')} W, success", "§9.2",
-               lambda g=g: share(g, g["success"]), v, "%", 1)
+               lambda g=g: t2.share(g, g["success"]), v, "%", 1)
     c = d.query("block == 'C'")
     yield ("median yaw torque at slip, with the coating probes", "§9.2", Estimate(
         c["threshold"].median(), n=c["threshold"].count()), p.yaw_torque_with_probes_nm, "N·m", 3)
@@ -104,26 +83,26 @@ def claims(run: Run):
             ("Bland–Altman bias (measured − predicted)", "bias_n", "bland_altman_bias_n", "N"),
             ("Bland–Altman limits, half width", "loa_half_n", "bland_altman_loa_half_width_n", "N")):
         yield q, "§9.3, Fig. 34", Estimate(a.get(col, np.nan), n=a["n"]), getattr(p, key), unit, 2
-    yield ("lateral thresholds with error > 50 %", "§9.3", lambda: share(range(a["n"]), range(a.get(
+    yield ("lateral thresholds with error > 50 %", "§9.3", lambda: t2.share(range(a["n"]), range(a.get(
         "n_err_over_50pct", 0))), 100 * p.threshold_err_over_50pct / p.lateral_threshold_trials, "%", 1)
     yield ("median torque-threshold error", "§9.3", Estimate(c["threshold_err_pct"].median(), n=c[
         "threshold_err_pct"].count()), p.torque_threshold_err_pct, "%", 1)
     ff = e.dropna(subset=["first_finger_correct"])
-    yield ("first finger to slip predicted", "§9.3", lambda: share(ff, ff["first_finger_correct"]
+    yield ("first finger to slip predicted", "§9.3", lambda: t2.share(ff, ff["first_finger_correct"]
            .astype(bool)), p.first_finger_accuracy_pct, "%", 1)
     dd = nat.query("block == 'D'")
     for what, col, ref in (("retained (success)", "success", p.impulse_retained_pct),
                            ("dropped", "drop_flag", p.impulse_drop_pct)):
         for level, v in ref.items():
             g = dd[np.isclose(dd["load_frac_w"].astype(float), float(level))]
-            yield (f"impulse {float(level):g} W, {what}", "§9.4", lambda g=g, c=col: share(g, g[c]), v,
+            yield (f"impulse {float(level):g} W, {what}", "§9.4", lambda g=g, c=col: t2.share(g, g[c]), v,
                    "%", 1)
     cells = nat.query("block == 'E'").groupby(["frequency_hz", "amplitude_n"])["peak_slip_mm"].median()
     for i, f in enumerate((min, max)):
         yield (f"sinusoids: {('lowest', 'highest')[i]} median slip over (f, A) cells", "§9.4",
                f(cells, default=np.nan), p.sinusoid_slip_mm_range[i], "mm", 2)
     mp = d[d["matched"].astype(bool)]
-    yield ("matched set success, proposed", "§9.5", lambda: share(mp, mp["success"]),
+    yield ("matched set success, proposed", "§9.5", lambda: t2.share(mp, mp["success"]),
            p.matched_proposed_pct, "%", 1)
     mc = t["test3_mcnemar"].set_index("compared").loc["centroid"]
     yield ("matched difference, proposed − centroid", "§9.5", 100 * (mc["reference_only"] - mc[
@@ -134,13 +113,13 @@ def claims(run: Run):
         yield q, "§9.5", Estimate(mc[col], n=mc["pairs"]), getattr(p.mcnemar_centroid, key), "", digits
     yield ("success margin over the random planner", "§9.5", 100 * (d["success"].mean() - e.query(
         "planner == 'random'")["success"].mean()), p.margin_over_random_pp, "pp", 1)
-    lat = nat.query("block == 'A'")["threshold_measured_n"].astype(float).fillna(0.0)
-    for q, v, x, u in (
-            ("natural-friction pulls sustaining > 3 N", lambda: share(lat, lat > 3.0), "above_3n_pct", "%"),
-            ("lateral level held by half the proposed grasps", lat.median(), "half_at_n", "N"),
-            ("natural-friction pulls sustaining > 5 N", lambda: share(lat, lat > 5.0), "above_5n_pct", "%")):
+    lat, pulls = nat.query("block == 'A'")["threshold_measured_n"].astype(float).fillna(0.0), \
+        "natural-friction pulls"
+    for q, v, x, u in ((f"{pulls} sustaining > 3 N", lambda: t2.share(lat, lat > 3.0), "above_3n_pct", "%"),
+                       ("lateral level held by half the proposed grasps", lat.median(), "half_at_n", "N"),
+                       (f"{pulls} sustaining > 5 N", lambda: t2.share(lat, lat > 5.0), "above_5n_pct", "%")):
         yield q, "§9.5, Fig. 36b", v, getattr(p.survival, x), u, 1 if u == "%" else 2
-    r = t["test3_retention_classifier"].query(f"scope == 'all' and {PAPER_ROWS}").iloc[0]
+    r = t["test3_retention_classifier"].query(f"scope == 'all' and {t2.PAPER_ROWS}").iloc[0]
     yield "grasps certified as retained", "§9.5", r["flagged"], p.retention_certified, "", 0
     yield "certified grasps that failed", "§9.5", r["fp"], p.retention_certified_failed, "", 0
     for _, r in t["test3_logistic"].query("term != 'intercept'").iterrows():
@@ -163,7 +142,7 @@ def thresholds(run: Run, ax) -> None:
 
 
 def directions(run: Run, ax) -> None:
-    d, rng = run.tables["test3_directions"], pv(run, lambda p: p.direction_threshold_range_n)
+    d, rng = run.tables["test3_directions"], t2.pv(run, lambda p: p.direction_threshold_range_n)
     ax.plot(d["direction_deg"], d["threshold"], "o-", color=colour("planner", PROPOSED), label="ours")
     ax.axhspan(*(rng or (np.nan,) * 2), color=style.PAPER, alpha=0.15, label="paper: range")
     ax.set(xticks=np.arange(0, 360, 45), xlabel="pull direction (azimuth) [°]", ylim=(0, None),
@@ -172,10 +151,10 @@ def directions(run: Run, ax) -> None:
 
 
 def survival(run: Run, ax) -> None:
-    for q, g in ds.lateral_survival(ex(run), np.arange(0.0, 8.01, 0.05)).groupby("planner", sort=False):
+    for q, g in ds.lateral_survival(t2.ex(run), np.arange(0.0, 8.01, 0.05)).groupby("planner", sort=False):
         ax.step(g["level_n"], 100 * g["surviving_fraction"], where="post", color=colour("planner", q),
                 label=f"ours, {label('planner', q)} (n={g['n'].iloc[0]})")
-    if (s := pv(run, lambda p: p.survival)) is not None:
+    if (s := t2.pv(run, lambda p: p.survival)) is not None:
         ax.plot([3.0, s.half_at_n, 5.0], [s.above_3n_pct, 50, s.above_5n_pct], "D", color=style.PAPER,
                 label="paper")
         ax.plot([s.centroid_failed_by_n], [0], "s", mfc="none", color=style.PAPER,
@@ -187,15 +166,15 @@ def survival(run: Run, ax) -> None:
 
 def fig34(run: Run, fig) -> None:
     a, b, c = fig.subplots(1, 3)
-    d = ex(run, PROPOSED).dropna(subset=["lat_threshold_n"])
+    d = t2.ex(run, PROPOSED).dropna(subset=["lat_threshold_n"])
     m, p, g = d["lat_threshold_n"], d["threshold_pred"], run.tables["test3_threshold_agreement"].iloc[0]
     ours = colour("planner", PROPOSED)
-    parity(a, p, m, [(g.get("ols_intercept"), g.get("ols_slope"), "ours: OLS", {"color": ours}),
-                     (0, pv(run, lambda p: p.threshold_ols_slope), "paper's slope",
+    t2.parity(a, p, m, [(g.get("ols_intercept"), g.get("ols_slope"), "ours: OLS", {"color": ours}),
+                     (0, t2.pv(run, lambda p: p.threshold_ols_slope), "paper's slope",
                       {"ls": "--", "color": style.PAPER})], "lateral threshold [N]",
            "(a) parity, proposed, block A")
     b.scatter((m + p) / 2, m - p, s=7, alpha=0.5, color=ours, label="ours")
-    bias, half = pv(run, lambda p: p.bland_altman_bias_n), pv(run, lambda p: p.bland_altman_loa_half_width_n)
+    bias, half = (t2.pv(run, getattr, k) for k in ("bland_altman_bias_n", "bland_altman_loa_half_width_n"))
     lines = [(g.get(k), ls, ours, "ours") for k, ls in (("bias_n", "-"), ("loa_low_n", "--"),
                                                          ("loa_high_n", "--"))]
     lines += [(bias + k * half, ls, style.PAPER, "paper") for k, ls in ((0, "-"), (-1, ":"), (1, ":"))
@@ -206,7 +185,7 @@ def fig34(run: Run, fig) -> None:
     b.set(xlabel="mean of measured and predicted [N]", ylabel="measured − predicted [N]",
           title="(b) Bland–Altman")
     b.legend(loc="lower right")
-    t = run.tables["table9"].query(PAPER_ROWS)
+    t = run.tables["table9"].query(t2.PAPER_ROWS)
     x = np.arange(len(t))
     c.bar(x, t["lat_threshold_err_pct"], 0.7, color=[colour("planner", q) for q in t["planner"]])
     style.paper_marks(c, x, list(t["paper_lat_threshold_err_pct"]), 0.7)
@@ -217,13 +196,13 @@ def fig34(run: Run, fig) -> None:
 
 
 def fig35(run: Run, fig) -> None:
-    d = ex(run, PROPOSED).query(f"block == 'A' and {NATURAL}").dropna(subset=["lat_threshold_n"])
+    d = t2.ex(run, PROPOSED).query(f"block == 'A' and {NATURAL}").dropna(subset=["lat_threshold_n"])
     t = d.sort_values("run_order")
     t = t.loc[(t["lat_threshold_n"] - t["lat_threshold_n"].median()).abs().idxmin()]
-    h, thr, paper = t["hold_s"], t["lat_threshold_n"], pv(run, lambda p: p.lateral_threshold_median_n)
+    h, thr, paper = t["hold_s"], t["lat_threshold_n"], t2.pv(run, lambda p: p.lateral_threshold_median_n)
     t1 = h + thr / t["ramp_rate_n_per_s"]
     end = 1.15 * t1
-    schematic(fig, t, ((0, h, "hold", "#e8f5e9"), (h, t1, "ramp to slip", "#fff8e1")), [
+    t2.schematic(fig, t, ((0, h, "hold", "#e8f5e9"), (h, t1, "ramp to slip", "#fff8e1")), [
         ([0, h, t1, t1, end], [0, 0, thr, 0, 0], "applied force, commanded ramp", {"color": "#333333"}),
         ([h, end], [thr] * 2, "recorded threshold at slip", {"color": "#c62828"}),
         ([h, end], [t["threshold_pred"]] * 2, "predicted F_lat", {"ls": "--", "color": colour(
@@ -237,9 +216,10 @@ def fig35(run: Run, fig) -> None:
 
 
 SPEC = ReportSpec("test3_disturbance", [
-    Finding(lambda run: finding(run, drops)),
-    Listed("test3_counts", "Trial counts beside the paper's (a reduced study has fewer)", counts("table9")),
-    paper_table("table8", "Table 8: the proposed planner's natural-friction blocks per belief reading; "
+    Finding(lambda run: t2.finding(run, drops)),
+    t2.Listed("test3_counts", "Trial counts beside the paper's (a reduced study has fewer)",
+              t2.counts("table9")),
+    t2.paper_table("table8", "Table 8: the proposed planner's natural-friction blocks per belief reading; "
                 "headline = median lateral threshold (A), downward payload at slip (B), yaw torque (C), "
                 "peak slip (D, E: no threshold); prediction error and centred parity R² over the "
                 "uncensored thresholds", "block", lambda p, k: p.table8[k], [
@@ -250,7 +230,7 @@ SPEC = ReportSpec("test3_disturbance", [
                     ("parity_r2_centred", lambda p, k: p.block_parity_r2[k], "parity R² (centred)", 2)],
                 medians=["headline", "threshold_err_pct"], extra=table8,
                 where=lambda d: d.query(f"planner == '{PROPOSED}' and {NATURAL}")),
-    paper_table("table9", "Table 9: all executed trials per planner and belief reading: success (Wilson, "
+    t2.paper_table("table9", "Table 9: all executed trials per planner and belief reading: success (Wilson, "
                 "the paper's Wilson and our object-bootstrap 95%); stable, drop and damage as primary "
                 "outcome classes; median lateral threshold and its prediction error (uncensored block A)",
                 "planner", lambda p, k: p.table9[k], [
@@ -262,45 +242,43 @@ SPEC = ReportSpec("test3_disturbance", [
                     ("lat_threshold_err_pct", "threshold_err_pct", "median |threshold error| [%]", 1)],
                 ["is_stable", "is_drop", "is_damage"], ["lat_threshold_n", "lat_threshold_err_pct"],
                 boot=True, extra=table9),
-    *belief_tables("test3"),
+    *t2.belief_tables("test3"),
     Table("test3_coating", "Block A of the proposed planner per surface (§9.2, Fig. 33a): success and "
           "median uncensored lateral threshold beside the paper's", coating, [
-              Col("friction_level", "surface"), Col("n", "n"), pct("success", "success"),
+              Col("friction_level", "surface"), Col("n", "n"), t2.pct("success", "success"),
               Col("paper_success_pct", "paper %", 1), Col("threshold_n", "thresholds"),
               Col("threshold", "median threshold [N]", 2), Col("paper_threshold_n", "paper", 2),
               Col("verdict", "verdict (success)")]),
     Table("test3_directions", "Natural-friction block A of the proposed planner per pull direction (§9.2, "
-          "Fig. 33b)", lambda run: hw.summary(ex(run, PROPOSED).query(f"block == 'A' and {NATURAL}"), [
+          "Fig. 33b)", lambda run: hw.summary(t2.ex(run, PROPOSED).query(f"block == 'A' and {NATURAL}"), [
               "direction_deg"], medians=["threshold"]).sort_values("direction_deg")[[
                   "direction_deg", "n", "success_pct", "threshold", "threshold_n"]]),
     Table("test3_threshold_agreement", "Predicted against measured lateral thresholds of the proposed "
           "planner (§9.3, Fig. 34): Bland–Altman [N], OLS with intercept, median absolute error [%]",
-          lambda run: pd.DataFrame([ds.threshold_agreement(ex(run))])),
+          lambda run: pd.DataFrame([ds.threshold_agreement(t2.ex(run))])),
     Table("test3_first_finger", "First finger to slip, predicted against measured, over the trials whose "
-          "first finger is known (§9.3)", lambda run: hw.summary(hw.scoped(ex(run), {
-              "all": ex(run)["planner"].notna(), **{q: ex(run)["planner"] == q for q in PLANNERS}}).dropna(
-              subset=["first_finger_correct"]), ["scope"], ["first_finger_correct"])[[
-                  "scope", "n", "first_finger_correct_pct", "first_finger_correct_low_pct",
-                  "first_finger_correct_high_pct"]]),
-    classifier("test3_retention_classifier", "The retention flag against measured success (§9.5, Fig. 36c): "
+          "first finger is known (§9.3)", lambda run: hw.summary(hw.scoped(e := t2.ex(run), t2.per_planner(
+              e)).dropna(subset=["first_finger_correct"]), ["scope"], ["first_finger_correct"])[[
+                  "scope", "n", *(f"first_finger_correct_{s}" for s in ("pct", "low_pct", "high_pct"))]]),
+    t2.classifier("test3_retention_classifier", "The retention flag against success (§9.5, Fig. 36c): "
                "`predicted_stable` (= `retention_pred`) is the believed retention margin under the "
                "commanded disturbance > 1; `predicted_stable_residual` Algorithm 2's residual ≤ τ_F",
-               lambda d: {"all": d["planner"].notna(), **{q: d["planner"] == q for q in PLANNERS}},
+               t2.per_planner,
                lambda p: {"all": [*vars(p.retention_classifier).values()]}),
     Table("test3_logistic", "Logistic regression of failure over the fixed-load blocks B, D, E (§9.5): "
           "applied load [N], mass [kg], believed μ_s, proposed-planner indicator (Wald 95%)",
-          lambda run: ds.failure_logistic(ex(run))),
+          lambda run: ds.failure_logistic(t2.ex(run))),
     Table("test3_mcnemar", "Matched paired set (§9.5): McNemar tests of the proposed planner against each "
-          "baseline on occurrence-matched pairs", matched_mcnemar),
+          "baseline on occurrence-matched pairs", t2.matched_mcnemar),
     Table("test3_chi2", "χ² of planner × retention over the proposed, centroid and random arms (§9.5)",
-          lambda run: pd.DataFrame([hw.chi2_planners(ex(run))])),
-    Listed("test3_claims", "§9 headline numbers not in a table above, beside the paper's (rates with "
+          lambda run: pd.DataFrame([hw.chi2_planners(t2.ex(run))])),
+    t2.Listed("test3_claims", "§9 headline numbers not in a table above, beside the paper's (rates with "
            "Wilson 95% intervals, logistic coefficients with their Wald intervals)", claims),
     Figure("fig33_thresholds", "Fig. 33 (the paper's values in black): block A median threshold and "
            "success per surface, natural-friction threshold per pull direction, proposed success per block "
-           "at natural friction", panels(thresholds, ("test3_coating", None, "friction_level",
+           "at natural friction", t2.panels(thresholds, ("test3_coating", None, "friction_level",
                                                       "(a) block A: success"), directions,
-                                         ("table8", PAPER_ROWS, "block", "(c) proposed, by block")),
+                                         ("table8", t2.PAPER_ROWS, "block", "(c) proposed, by block")),
            (15.0, 4.0)),
     Figure("fig34_threshold_prediction", "Fig. 34: (a) predicted against measured lateral thresholds of "
            "the proposed planner with the OLS fit, (b) Bland–Altman, (c) median lateral-threshold error "
@@ -310,6 +288,7 @@ SPEC = ReportSpec("test3_disturbance", [
            "predicted threshold, recorded peak slip", fig35, (9.5, 5.2)),
     Figure("fig36_robustness", "Fig. 36: (a) success per planner with the planners' own beliefs and with "
            "exact ones (hatched), (b) share of natural-friction pulls holding each level (a grasp lost "
-           "before the pull counts as 0 N), (c) the retention flag against the measured outcome", panels(
-               planner_bars("table9"), survival, confusion(lambda p: p.retention_classifier)), (13.0, 4.0)),
+           "before the pull counts as 0 N), (c) the retention flag against the measured outcome", t2.panels(
+               t2.planner_bars("table9"), survival, t2.confusion(lambda p: p.retention_classifier)),
+           (13.0, 4.0)),
 ])
