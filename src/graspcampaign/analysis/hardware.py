@@ -37,14 +37,15 @@ def beliefs(records: pd.DataFrame, counterfactual: pd.DataFrame | None = None) -
 
 
 def belief_pairs(long: pd.DataFrame) -> pd.DataFrame:
-    """Return per planner its success on the same trials under ``paper`` and ``none`` beliefs and
+    """Return per planner its success and rank on the same trials under ``paper`` and ``none`` beliefs and
     McNemar's test of the pairs (:func:`~graspcampaign.analysis.records.mcnemar_table`, reference none)."""
     out = pd.concat([mcnemar_table(long[long["planner"] == p], "none", ["paper"], method="belief_error",
                                    pair_on="trial_id").assign(planner=p)
                      for p in ordered("planner", long["planner"])], ignore_index=True)
     for r, k in (("paper", "compared_only"), ("none", "reference_only")):
         out[f"success_{r}_pct"] = 100 * (out["both_success"] + out[k]) / out["pairs"]
-    return out.assign(difference_pp=out["success_none_pct"] - out["success_paper_pct"])
+    return out.assign(difference_pp=out["success_none_pct"] - out["success_paper_pct"], **{
+        f"rank_{r}": out[f"success_{r}_pct"].rank(ascending=False, method="min") for r in ("paper", "none")})
 
 
 def pct_error(measured: pd.Series, predicted: pd.Series) -> pd.Series:
