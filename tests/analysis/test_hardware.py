@@ -6,10 +6,10 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 import pytest
-from statsmodels.stats.power import NormalIndPower
-from statsmodels.stats.proportion import proportion_confint, proportion_effectsize
+from statsmodels.stats.proportion import proportion_confint
 
 from graspcampaign.analysis import disturbance, hardware
+from graspcampaign.analysis.records import mcnemar_table
 from graspcampaign.rig import protocol
 from graspcampaign.rig.plan import predict_trial
 from graspcampaign.rig.virtual import virtual_trial
@@ -21,39 +21,45 @@ def _records(planner_counts: dict[str, tuple[int, int]], **extra) -> pd.DataFram
     for planner, (k, n) in planner_counts.items():
         for i in range(n):
             ok = i < k
-            rows.append({"trial_id": f"{planner}-{i}", "planner": planner,
+            rows.append({"trial_id": f"{planner}-{i}", "planner": planner, "status": "ok",
                          "object_id": f"obj-{i % 10}", "aborted": False, "success": ok,
-                         "stable": ok, "outcome": "stable" if ok else "failure_slip",
-                         "slip_flag": not ok, "drop_flag": False, "damage_flag": False,
-                         "contact_loss_flag": False, **extra})
+                         "outcome": "stable" if ok else "failure_slip", "friction_level": "natural",
+                         "condition": "c", "repeat": i, **{c: 1.0 for c in PREDICTED}, **extra})
     return pd.DataFrame(rows)
 
 
-def planner_summary(records: pd.DataFrame) -> pd.DataFrame:
-    return hardware.planner_summary(records, seed=0)
+PREDICTED = ("normal_force_mean_n", "normal_force_pred_mean_n", "deformation_mean_mm",
+             "deformation_pred_mean_mm", "g_geo_believed", "g_geo_actual", "mu_s_believed")
+
+
+def _merge(schedule: pd.DataFrame, preds: pd.DataFrame, meas: pd.DataFrame) -> pd.DataFrame:
+    """The records of a virtual run: schedule rows with their predictions, joined to the measured."""
+    left = pd.concat([schedule.reset_index(drop=True), preds.reset_index(drop=True)], axis=1)
+    return left.merge(meas.drop(columns=["slot_id", "attempt"], errors="ignore"), on="trial_id")
 
 
 def test_paper_test2_counts_reproduce_its_chi2():
     # §8.5: 637/819 proposed, 213/474 centroid, 79/282 random -> chi2 = 270.0 (Pearson)
     rec = _records({"heuristic": (637, 819), "centroid": (213, 474), "random": (79, 282)})
-    out = hardware.planner_chi2(rec)
-    assert out["chi2"].iloc[0] == pytest.approx(270.0, abs=0.05)
-    assert out["dof"].iloc[0] == 2
+    out = hardware.chi2_planners(hardware.derive(rec))
+    assert out["statistic"] == pytest.approx(270.0, abs=0.05)
+    assert (out["dof"], out["n"]) == (2, 819 + 474 + 282)
 
 
 def test_planner_summary_rates_and_intervals():
     rec = _records({"heuristic": (637, 819), "centroid": (213, 474)})
     rec = pd.concat([rec, _records({"heuristic": (0, 1)}).assign(aborted=True, trial_id="ab")])
-    out = hardware.planner_summary(rec, n_resamples=200, seed=1).set_index("planner")
+    d = hardware.derive(rec)
+    out = hardware.summary(d, ["planner"], [f"is_{k}" for k in hardware.CLASSES], cluster="object_id",
+                           seed=1).set_index("planner")
     assert out.loc["heuristic", "n"] == 819  # aborted attempts enter no statistic
     low, high = proportion_confint(637, 819, method="wilson")
     assert out.loc["heuristic", "success_pct"] == pytest.approx(100 * 637 / 819)
-    assert out.loc["heuristic", "wilson_low_pct"] == pytest.approx(100 * low)
-    assert out.loc["heuristic", "wilson_high_pct"] == pytest.approx(100 * high)
+    assert out.loc["heuristic", "success_low_pct"] == pytest.approx(100 * low)
+    assert out.loc["heuristic", "success_high_pct"] == pytest.approx(100 * high)
     assert out.loc["heuristic", "bootstrap_low_pct"] <= 100 * 637 / 819 <= \
         out.loc["heuristic", "bootstrap_high_pct"]
-    total = out[["stable_pct", "partial_pct", "slip_pct", "drop_pct", "damage_pct",
-                 "contact_loss_pct"]].sum(axis=1)
+    total = out[[f"{k}_pct" for k in hardware.CLASSES]].sum(axis=1)  # one class per trial
     np.testing.assert_allclose(total, 100.0)
 
 
@@ -64,12 +70,15 @@ def test_matched_mcnemar_reproduces_the_papers_33_to_3():
         a = i < 33 or 36 <= i < 60  # won 0-32, both succeed 36-59
         b = 33 <= i < 60             # lost 33-35
         for planner, ok in (("heuristic", a), ("centroid", b)):
-            rows.append({"trial_id": f"{planner}-{i}", "planner": planner, "aborted": False,
-                         "success": ok, "matched": True, "object_id": f"o{i % 10}",
+            rows.append({"planner": planner, "success": ok, "object_id": f"o{i % 10}",
                          "condition": f"c{i // 30}", "repeat": (i // 10) % 3})
-    out = hardware.matched_mcnemar(pd.DataFrame(rows)).iloc[0]
-    assert (out["won"], out["lost"], out["n_pairs"]) == (33, 3, 90)
-    assert out["chi2"] == pytest.approx(23.4, abs=0.05)
+    d = _records({}).iloc[:0]
+    d = hardware.derive(pd.concat([d, pd.DataFrame(rows)]).assign(
+        trial_id=lambda x: np.arange(len(x)).astype(str), status="ok", aborted=False,
+        outcome="stable", friction_level="natural", **{c: 1.0 for c in PREDICTED}))
+    out = mcnemar_table(d, "heuristic", ["centroid"], pair_on="match_key").iloc[0]
+    assert (out["reference_only"], out["compared_only"], out["pairs"]) == (33, 3, 90)
+    assert out["chi2_cc"] == pytest.approx(23.4, abs=0.05)
     assert out["odds_ratio"] == pytest.approx(11.0)
 
 
@@ -77,21 +86,22 @@ def test_threshold_agreement_and_summary():
     rng = np.random.default_rng(0)
     pred = rng.uniform(1.0, 6.0, 300)
     meas = 1.2 * pred + 0.1 + rng.normal(0, 0.05, 300)
-    rec = pd.DataFrame({"trial_id": [f"t{i}" for i in range(300)], "planner": "heuristic",
-                        "aborted": False, "success": True, "block": "A",
-                        "friction_level": "natural", "threshold_measured_n": meas,
-                        "threshold_pred_n": pred, "threshold_censored": False,
-                        "object_id": "o", "direction_deg": 0.0})
-    out = disturbance.threshold_agreement(rec).iloc[0]
+    rec = _records({"heuristic": (300, 300)}, block="A", threshold_censored=False, mass_kg=0.2,
+                   threshold_measured_nm=np.nan, threshold_pred_nm=np.nan, disturbance_kind="lateral",
+                   first_finger_measured=0, first_finger_pred=1, peak_slip_mm=0.0)
+    rec = rec.assign(threshold_measured_n=meas, threshold_pred_n=pred)
+    out = disturbance.threshold_agreement(hardware.derive(rec))
     assert out["n"] == 300
     assert out["bias_n"] == pytest.approx(np.mean(meas - pred))
     assert out["ols_slope"] == pytest.approx(1.2, abs=0.01)
-    assert out["median_err_pct"] == pytest.approx(
-        100 * np.median(np.abs(pred - meas) / meas))
-    rec.loc[:9, "threshold_censored"] = True
-    assert disturbance.threshold_agreement(rec).iloc[0]["n"] == 290
-    summary = disturbance.threshold_summary(rec).iloc[0]
-    assert summary["lat_threshold_median_n"] == pytest.approx(np.median(meas[10:]))
+    assert out["median_err_pct"] == pytest.approx(100 * np.median(np.abs(pred - meas) / meas))
+    rec.loc[:9, "threshold_censored"] = True  # a ramp that reached its cap is a lower bound only
+    d = hardware.derive(rec)
+    assert disturbance.threshold_agreement(d)["n"] == 290
+    assert d["first_finger_correct"].isna().all()  # no finger slipped: nothing to score
+    summary = hardware.summary(d, ["block"], medians=["lat_threshold_n"]).iloc[0]
+    assert summary["lat_threshold_n"] == pytest.approx(np.median(meas[10:]))
+    assert summary["lat_threshold_n_n"] == 290
 
 
 def test_lateral_survival_counts_failures_as_zero():
@@ -103,16 +113,19 @@ def test_lateral_survival_counts_failures_as_zero():
 
 
 def test_classifiers():
-    rec = pd.DataFrame({"trial_id": [f"t{i}" for i in range(6)], "planner": "heuristic",
-                        "aborted": False, "group": ["A", "A", "C", "C", "B", "B"],
+    rec = pd.DataFrame({"planner": "heuristic", "group": ["A", "A", "C", "C", "B", "B"],
                         "predicted_stable": [True, True, True, False, False, True],
                         "retention_pred": [True, False, True, False, False, True],
                         "success": [True, False, False, False, True, True]})
-    out = hardware.stability_classifier(rec).set_index("scope")
-    assert out.loc["all", ["tp", "fp", "fn", "tn"]].tolist() == [2, 2, 1, 1]
-    assert out.loc["group C", "n"] == 2 and out.loc["outside C", "n"] == 4
-    ret = disturbance.retention_classifier(rec).set_index("scope")
-    assert ret.loc["all", "precision"] == pytest.approx(2 / 3)
+    out = hardware.classifier_table(hardware.scoped(rec, {"all": rec["planner"].notna(), "group C": rec[
+        "group"] == "C"}), ["predicted_stable", "retention_pred"], ["scope"]).set_index(["flag", "scope"])
+    assert out.loc[("predicted_stable", "all"), ["tp", "fp", "fn", "tn"]].tolist() == [2, 2, 1, 1]
+    assert out.loc[("predicted_stable", "group C"), "n"] == 2
+    ret = out.loc[("retention_pred", "all")]
+    low, high = proportion_confint(2, 3, method="wilson")
+    assert (ret["precision"], ret["precision_low"], ret["precision_high"]) == \
+        pytest.approx((2 / 3, low, high))
+    assert ret["base"] == pytest.approx(0.5) and bool(ret["above_base"])
 
 
 def test_failure_logistic_recovers_known_coefficients():
@@ -134,14 +147,6 @@ def test_failure_logistic_recovers_known_coefficients():
     assert bool(out["converged"].iloc[0])
 
 
-def test_power_analysis_matches_statsmodels():
-    out = hardware.power_analysis(0.778, 0.467, powers=(0.8,)).set_index("design")
-    h = proportion_effectsize(0.778, 0.467)
-    n = NormalIndPower().solve_power(effect_size=abs(h), alpha=0.05, power=0.8)
-    assert out.loc["independent", "n_per_arm"] == int(np.ceil(n))
-    assert out.loc["paired", "n_per_arm"] > 0
-
-
 def test_every_statistic_runs_on_virtual_records():
     tables = {}
     for maker, n in ((protocol.test2_schedule, 150), (protocol.test3_schedule, 150)):
@@ -153,22 +158,19 @@ def test_every_statistic_runs_on_virtual_records():
                              enumerate(zip(rows.to_dict("records"), preds.to_dict("records"),
                                            strict=True))])
         meas.insert(0, "trial_id", rows["trial_id"].to_numpy())
-        tables[maker.__name__] = hardware.merge_records(rows, preds, meas)
+        tables[maker.__name__] = hardware.derive(_merge(rows, preds, meas).assign(status="ok"))
     t2, t3 = tables["test2_schedule"], tables["test3_schedule"]
-    for fn in (planner_summary, hardware.shape_summary, hardware.material_summary,
-               hardware.outcome_breakdown, hardware.group_summary, hardware.force_accuracy,
-               hardware.stability_classifier, hardware.matched_mcnemar, hardware.planner_chi2,
-               hardware.force_error_kruskal, hardware.slip_friction_kruskal):
-        out = fn(t2)
-        assert isinstance(out, pd.DataFrame) and len(out) > 0, fn.__name__
-    mc = hardware.matched_mcnemar(t2)
-    assert set(mc["baseline"]) == {"centroid", "no_pso", "force_balance", "random"}
-    assert ((mc["n_pairs"] > 0) & (mc["n_pairs"] <= 90)).all()
-    for fn in (planner_summary, disturbance.threshold_summary, disturbance.block_summary,
-               disturbance.threshold_agreement, disturbance.first_finger_accuracy,
-               disturbance.lateral_survival, disturbance.retention_classifier,
-               disturbance.failure_logistic, disturbance.coating_summary,
-               disturbance.direction_summary, hardware.matched_mcnemar, hardware.planner_chi2):
-        out = fn(t3)
-        assert isinstance(out, pd.DataFrame) and len(out) > 0, fn.__name__
-    assert (hardware.matched_mcnemar(t3)["n_pairs"] <= 100).all()
+    for d in (t2, t3):
+        for out, col in ((hardware.summary(d, ["planner"], ["is_stable"], ["force_err_pct"]), "n"),
+                         (hardware.force_accuracy(d), "parity_slope"),
+                         (hardware.classifier_table(d, ["predicted_stable"], ["planner"]), "accuracy"),
+                         (pd.DataFrame([hardware.chi2_planners(d), hardware.kruskal(d, "force_err_pct",
+                                                                                   "planner")]), "p")):
+            assert len(out) > 0 and out[col].notna().all(), col
+        mc = mcnemar_table(d[d["matched"].astype(bool)], "heuristic", ["centroid", "random"],
+                           pair_on="match_key")
+        assert ((mc["pairs"] > 0) & (mc["pairs"] <= 100)).all()
+    for out in (pd.DataFrame([disturbance.threshold_agreement(t3)]), disturbance.failure_logistic(t3),
+                disturbance.lateral_survival(t3, [0.0, 1.0, 2.0])):
+        assert len(out) > 0
+    assert t3["headline"].notna().any() and t3["first_finger_correct"].notna().any()

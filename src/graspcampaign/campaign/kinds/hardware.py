@@ -231,25 +231,12 @@ def run(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
 
 
 def records_under_belief(records: pd.DataFrame, counterfactual: pd.DataFrame) -> pd.DataFrame:
-    """Return the ``belief_error = none`` records of a run, shaped like its records.
+    """Return the trace table ``belief_none`` shaped like the records (moved to
+    :func:`graspcampaign.analysis.hardware.records_under_belief`, which the report uses too;
+    imported lazily so a trial worker does not load the statistics stack)."""
+    from graspcampaign.analysis.hardware import records_under_belief as reshape
 
-    Parameters
-    ----------
-    records : pandas.DataFrame
-        The run's records (the ``paper`` reading).
-    counterfactual : pandas.DataFrame
-        The run's trace table ``belief_none`` (``RunStore.read("tables/belief_none")``).
-
-    Returns
-    -------
-    pandas.DataFrame
-        One row per record that has a counterfactual: the record's own columns (ids, factors,
-        engine columns) with every column of the counterfactual replacing the record's. Any
-        Tests 2-3 statistic computed on ``records`` can be computed on this frame unchanged; the
-        ``belief_error`` column tells the two apart (``pd.concat`` gives the long form).
-    """
-    replaced = [c for c in counterfactual.columns if c in records.columns and c != "trial_id"]
-    return records.drop(columns=replaced).merge(counterfactual, on="trial_id", how="inner")
+    return reshape(records, counterfactual)
 
 
 # -- hardware side: schedule, export, ingest -----------------------------------------------------

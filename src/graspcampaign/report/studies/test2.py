@@ -1,0 +1,484 @@
+"""Report of ``test2_grasp`` (§8; Tables 6-7, Figs. 28-31) and the parts Test 3 shares; on the virtual rig
+Tables 6-9 show the records and their ``belief_error = none`` counterfactual (trace table ``belief_none``)."""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+import numpy as np
+import pandas as pd
+
+from graspcampaign.analysis import hardware as hw
+from graspcampaign.analysis.rates import power_two_proportions, wilson_interval
+from graspcampaign.analysis.records import Estimate, mcnemar_table
+from graspcampaign.analysis.vocabulary import PROPOSED, colour, label
+from graspcampaign.report import format as fmt
+from graspcampaign.report import style
+from graspcampaign.report.document import Col, cols
+from graspcampaign.report.render import Run
+from graspcampaign.report.spec import Claims, Figure, Finding, Rates, ReportSpec, Table, Value, verdicts
+
+PLANNERS, ME = ("heuristic", "centroid", "no_pso", "force_balance", "random"), f"planner == '{PROPOSED}'"
+FLAGS = ("predicted_stable", "predicted_stable_residual")
+READINGS, PAPER_ROWS = {"belief_error": ["paper", "none"]}, "belief_error == 'paper'"
+WHY_NOT = {"predicted_stable_residual": "it is the paper's §8.1 flag (Algorithm 2's residual ≤ τ_F = "
+           "0.0886 N), friction-blind: it carries no information about a friction hold",
+           "predicted_stable": "the believed margins are optimistic where the beliefs are wrong"}
+
+
+# --------------------------------------------------------------------------- shared with Test 3
+def frames(run: Run) -> pd.DataFrame:
+    """Executed trials of both belief readings with the derived columns (computed once per run)."""
+    if "_hw" not in run.__dict__:
+        run.__dict__["_hw"] = hw.derive(hw.beliefs(run.records, run.aux("belief_none")))
+    return run.__dict__["_hw"]
+
+
+def ex(run: Run, planner: str | None = None) -> pd.DataFrame:
+    """The executed trials as recorded (the planners' own beliefs), of ``planner`` if given."""
+    d = frames(run)
+    return d[(d["belief_error"] == "paper") & (d["planner"] == planner if planner else True)]
+
+
+def pv(run: Run, fn, *key):
+    """The paper's value ``fn(paper, *key)``; None where the paper reports none."""
+    try:
+        return fn(run.paper, *key) if run.paper is not None else None
+    except KeyError:
+        return None
+
+
+def pct(c: str, head: str) -> Col:
+    return Col(f"{c}_pct", f"{head} % (Wilson 95%)", 1, low=f"{c}_low_pct", high=f"{c}_high_pct")
+
+
+def paper_table(name, caption, key, row, items, rates=(), medians=(), *, where=None, boot=False,
+                extra=None) -> Table:
+    """A :func:`hw.summary` table per ``key`` and belief reading; items ``(column, paper, header, digits)``: a
+    rate (digits None), number or text ("") beside ``paper``: ``row(p, key)``'s attribute or ``f(p, key)``."""
+    def compute(run: Run) -> pd.DataFrame:
+        d = frames(run) if where is None else where(frames(run))
+        out = hw.summary(d, [key, "belief_error"], rates, medians, order=READINGS, seed=run.seed,
+                         cluster="object_id" if boot else None)
+        for col, paper, _, digits in (i for i in items if i[1]):
+            out[f"paper_{col}{'_pct' * (digits is None)}"] = [None if b != "paper" else pv(
+                run, paper if callable(paper) else lambda p, k, a=paper: getattr(row(p, k), a), k)
+                for k, b in zip(out[key], out["belief_error"], strict=True)]
+        out = extra(run, d, out) if extra else out
+        return verdicts(out, "success_pct", "paper_success_pct", "success_low_pct", "success_high_pct",
+                        unit="%")
+    cols = [Col("belief_error", "belief error")]
+    for col, paper, head, digits in items:
+        c = f"{col}{'_pct' * (digits is None)}"
+        cols += [pct(col, head) if digits is None else Col(c, head, digits if digits != "" else None),
+                 *[Col(f"paper_{c}", "paper", 1 if digits is None else digits)] * bool(paper),
+                 *[Col("difference", "difference [pp]", 1, signed=True)] * (col == "success"),
+                 *[Col("bootstrap_low_pct", "object bootstrap 95% [%]", 1, low="bootstrap_low_pct",
+                       high="bootstrap_high_pct", why="bootstrap_why")] * (col == "success" and boot)]
+    return Table(name, caption, compute, [*cols, Col("verdict", "verdict (success)")], by=[key])
+
+
+@dataclass(frozen=True)
+class Listed:
+    """A :class:`Claims` table of the rows ``(quantity, §, value, paper, unit, digits)`` of ``rows(run)``."""
+
+    name: str
+    caption: str
+    rows: object
+    title: str = "Claims"
+
+    def render(self, run: Run) -> list:
+        return Claims(self.name, self.caption, [
+            Value(q, s, lambda run, v=v: v() if callable(v) else v, lambda p, x=x: x, u, d)
+            for q, s, v, x, u, d in self.rows(run)]).render(run)
+
+
+def per_planner(d: pd.DataFrame) -> dict[str, pd.Series]:
+    """Scopes ``all`` and each planner (masks over ``d``)."""
+    return {"all": d["planner"].notna(), **{q: d["planner"] == q for q in PLANNERS}}
+
+
+def share(d: pd.DataFrame, event) -> Estimate:
+    """The share [%] of the trials of ``d`` where ``event`` holds, with its Wilson 95 % interval."""
+    if not len(d):
+        raise ValueError("no executed trial")
+    w = wilson_interval(int(np.sum(event)), len(d))
+    return Estimate(100 * w.estimate, 100 * w.low, 100 * w.high, len(d))
+
+
+def counts(table: str):
+    """The trial counts (commanded, executed, aborted, errored, per planner) beside the paper's."""
+    def rows(run: Run):
+        r, d, p = run.records, ex(run), run.paper
+        yield from ((q, "§8.1, §9.1", v, x, "", 0) for q, v, x in (
+            ("commanded attempts", len(r), p.commanded), ("executed trials", len(d), p.executed),
+            ("aborted before load (rig faults)", int((r["status"] == "ok").sum()) - len(d), p.aborted),
+            ("trial errors (software)", int((r["status"] == "error").sum()), None), *(
+                (f"executed, {label('planner', q)}", int((d["planner"] == q).sum()),
+                 pv(run, lambda p, q: getattr(p, table)[q].n, q)) for q in PLANNERS)))
+    return rows
+
+
+def belief_tables(prefix: str) -> list[Table]:
+    """What each planner believes against what the rig realises; its success under both readings."""
+    med = ("g_geo_believed", "g_geo_actual", "g_geo_gap", "mu_s_believed", "mu_s_actual", "mu_s_gap",
+           "creep_believed", "sf_predicted", "sf_actual")
+    rates = {c: c.replace("_", " ") for c in ("grip_capped", "valid_geometry", "gate_removed")}
+
+    def beliefs(run: Run) -> pd.DataFrame:
+        d, by = frames(run), ["planner", "belief_error"]
+        out = hw.summary(d, by, rates, med, order=READINGS)
+        return out.merge(d.groupby(by)["belief_model"].first(), on=by)
+
+    return [Table(f"{prefix}_belief", "What each planner believes and what the rig realises (§8.1, §9.3; "
+                  "rig/belief.py): medians (gap = believed − actual), grips at the damage cap, valid "
+                  "grasps (fingers within the 5 mm fingertip radius), successes the δ ≤ r gate removed",
+                  beliefs, [Col("belief_error", "belief error"), Col("belief_model", "belief model"),
+                            Col("n", "n"), *(Col(c, f"median {c.replace('_', ' ')}", sig=3) for c in med),
+                            *(pct(c, h) for c, h in rates.items())], by=["planner"]),
+            Table(f"{prefix}_belief_pairs", "How much of the ranking the belief mechanism explains: "
+                  "success on the same trials with the planners' own beliefs (`paper`) and with the "
+                  "trial's actual quantities (`none`, same execution noise); McNemar exact p; rank",
+                  lambda run: hw.belief_pairs(frames(run)), [
+                      *cols("pairs", "success_paper_pct", "success_none_pct"),
+                      Col("difference_pp", "none − paper [pp]", 1, signed=True), Col("compared_only",
+                                                                                     "paper only"),
+                      Col("reference_only", "none only"), Col("p_exact", "p (exact)", sig=2, why="test_why"),
+                      *(Col(f"rank_{r}", f"rank, {r}", 0) for r in ("paper", "none"))],
+                  by=["planner"], empty="this run has no `belief_error = none` counterfactual (a real "
+                  "rig has no oracle)")]
+
+
+def classifier(name: str, caption: str, scopes, paper) -> Table:
+    """The flags against measured success per belief reading and scope, beside the paper's scores
+    (``paper(p)``: scope -> (accuracy, precision, recall), None where not printed)."""
+    def compute(run: Run) -> pd.DataFrame:
+        d, ref = frames(run), pv(run, paper) or {}
+        out = hw.classifier_table(hw.scoped(d, scopes(d)), FLAGS, ["belief_error", "scope"])
+        for i, k in enumerate(("accuracy", "precision", "recall")):
+            out[f"paper_{k}"] = [ref.get(s, [None] * 3)[i] if b == "paper" else None
+                                 for s, b in zip(out["scope"], out["belief_error"], strict=True)]
+        out["why"] = np.where(out["flagged"] > 0, "", "no trial flagged")
+        return verdicts(out, "precision", "paper_precision", "precision_low", "precision_high", digits=2)
+    fracs = [c for k, h in (("base", "base success rate"), ("precision", "precision"), ("recall", "recall"))
+             for c in (Col(k, f"{h} (Wilson 95%)", 3, low=f"{k}_low", high=f"{k}_high",
+                           why="why" if k == "precision" else None),
+                       *[Col(f"paper_{k}", "paper", 2)] * (k != "base"))]
+    return Table(name, caption, compute, [
+        *(Col(c, c.replace("_", " ")) for c in ("flag", "belief_error", "scope", "n", "flagged", "fp")),
+        *fracs, Col("above_base", "precision above base"), Col("accuracy", "accuracy", 3),
+        Col("paper_accuracy", "paper", 2), Col("verdict", "verdict (precision)")])
+
+
+def matched_mcnemar(run: Run) -> pd.DataFrame:
+    d = ex(run)[ex(run)["matched"].astype(bool)]
+    return mcnemar_table(d, PROPOSED, [q for q in PLANNERS[1:] if q in set(d["planner"])],
+                         pair_on="match_key")
+
+
+def finding(run: Run, extra=lambda run: "") -> str:
+    """The opening paragraph: the ranking with and without belief errors, and why, from the records."""
+    d, e, n1, n2 = frames(run), ex(run), (lambda v: fmt.number(v, 1)), (lambda v: fmt.number(v, 2))
+    s, lab = d.groupby(["belief_error", "planner"])["success"].mean() * 100, (lambda q: label("planner", q))
+    paper, table = s["paper"].sort_values(ascending=False), f"table{7 + 2 * (run.study != 'test2_grasp')}"
+    top = paper.index[0]
+    text = ("**VIRTUAL RIG data**: every number below is the output of the virtual rig's stochastic model "
+            "of the gripper executing the commanded sheet (`rig/virtual.py`), not a hardware measurement; "
+            "no constant of the rig was tuned towards the paper. " if run.source == "virtual" else
+            "Measured on hardware. ") + ("This run was filled by `graspcampaign ingest`, but its files "
+                                         "carried `source = virtual`: they are virtual-rig exports, not rig "
+                                         "measurements. " if run.manifest.get("source") == "measured" and
+                                         run.source == "virtual" else "")
+    text += "Success over the executed trials, ours (paper): " + ", ".join(
+        f"{lab(q)} {n1(v)} % ({n1(pv(run, lambda p, q: getattr(p, table)[q].success_pct, q))} %)"
+        for q, v in paper.items()) + f"; the {lab(top)} planner ranks first. "
+    if "none" in s and top != PROPOSED:
+        none = s["none"].reindex(paper.index)
+        gap, gap0 = paper[top] - paper[PROPOSED], none[top] - none[PROPOSED]
+        same = list(none.sort_values(ascending=False).index) == list(paper.index)
+        text += ("Removing the belief errors (`belief_error = none`: every planner sizes its grip from the "
+                 "trial's actual μ_s, G_geo and contact law, same execution noise) gives " + ", ".join(
+                     f"{lab(q)} {n1(v)} %" for q, v in none.items()) + f"; the order is "
+                 f"{'un' * same}changed and the {lab(top)} planner leads the proposed one by {n1(gap)} pp "
+                 f"with the planners' own beliefs and by {n1(gap0)} pp with exact ones, so " + (
+                     "the ranking comes from where each planner places its contacts, not from what it "
+                     "believes. " if gap0 > gap / 2 else "the beliefs explain most of it. "))
+    elif "none" not in s:
+        text += "This run has no `belief_error = none` counterfactual (a real rig has no oracle). "
+    g, gap = (e.groupby("planner")[c].median().reindex(paper.index) for c in ("g_geo_actual", "g_geo_gap"))
+    cap = e.groupby("planner")["grip_capped"].mean() * 100
+    cube = e.query(f"planner == '{PROPOSED}' and shape == 'rounded_cube'")["g_geo_actual"].median()
+    text += ("Median G_geo of the realised contacts (true μ_s): " + ", ".join(
+        f"{lab(q)} {n2(v)}" for q, v in g.items()) + "; the proposed score H~ has no gravity term, so "
+        f"its triples give friction less vertical reach than a horizontal triangle ({n2(cube)} on the "
+        f"rounded cube), and its calibrated grip hits the damage cap on {n1(cap[PROPOSED])} % of its "
+        f"trials ({lab(top)} {n1(cap[top])} %). The beliefs differ as documented: median believed − "
+        "actual G_geo " + ", ".join(f"{lab(q)} {n2(v)}" for q, v in gap.items()) + ". ")
+    for f, r in hw.classifier_table(e, FLAGS, ["belief_error"]).set_index("flag").iterrows():
+        text += (f"`{f}` has precision {n2(r['precision'])} ({r['flagged']} of {r['n']} trials flagged, "
+                 f"recall {n2(r['recall'])}) against a base success rate of {n2(r['base'])}: "
+                 + ("above it. " if r["above_base"] else f"not above it, because {WHY_NOT[f]}. "))
+    return text + extra(run) + ("See `docs/decisions.md`, *Planner beliefs on the virtual rig (issue "
+                                "13, item 5)* and *Tests 2-3 protocols and virtual rig (issue 9)*.")
+
+
+def bars(ax, f: pd.DataFrame, key: str, title: str, ylabel: str = "success rate [%]") -> None:
+    """Rates [%] of ``f`` per ``key`` (its vocabulary) with Wilson whiskers, the paper's in black."""
+    f = f.rename(columns=lambda c: c.replace("rate_pct", "success_pct").replace("wilson", "success")
+                 .replace("paper_pct", "paper_success_pct"))
+    x = np.arange(len(f))
+    marked = style.bars(ax, x, f["success_pct"], f["success_low_pct"], f["success_high_pct"],
+                        [colour(key, k, i) for i, k in enumerate(f[key])], paper=list(f["paper_success_pct"]))
+    ax.set_xticks(x, [f"{label(key, k)}\nn={n}".replace(" ", "\n")
+                      for k, n in zip(f[key], f["n"], strict=True)], fontsize=7)
+    style.rate_axes(ax, ylabel)
+    ax.set_title(title)
+    ax.legend(handles=[style.interval_handle(), *[style.paper_handle()] * marked], loc="upper right")
+
+
+def planner_bars(table: str):
+    """Panel: success per planner with the planners' own beliefs and with exact ones (hatched)."""
+    def draw(run: Run, ax) -> None:
+        t = run.tables[table]
+        for i, (r, g) in enumerate(t.groupby("belief_error", sort=False)):
+            style.bars(ax, np.arange(len(g)) + 0.2 * (2 * i - t["belief_error"].nunique() + 1),
+                       g["success_pct"], g["success_low_pct"], g["success_high_pct"],
+                       [colour("planner", q) for q in g["planner"]], 0.4, list(g["paper_success_pct"]))
+            for patch in ax.patches[-len(g):]:
+                patch.set_hatch("//" * (r == "none"))
+        ax.set_xticks(np.arange(len(g)), [label("planner", q).replace(" ", "\n") for q in g["planner"]],
+                      fontsize=7)
+        style.rate_axes(ax)
+        ax.set_title("(a) all trials; hatched: exact beliefs")
+        ax.legend(handles=[style.interval_handle(), style.paper_handle()], loc="upper right")
+    return draw
+
+
+def confusion(paper):
+    """Panel: ``predicted_stable`` against measured success, with ours and the paper's scores."""
+    def draw(run: Run, ax) -> None:
+        m = hw.classifier_table(ex(run).assign(all=1), ["predicted_stable"], ["all"]).iloc[0]
+        cells, ref = np.array([[m["tn"], m["fn"]], [m["fp"], m["tp"]]]), pv(run, paper)
+        ax.imshow(cells, cmap="Blues", vmin=0)
+        for (i, j), v in np.ndenumerate(cells):
+            ax.text(j, i, v, ha="center", va="center", color="white" if v > 0.6 * cells.max() else "k")
+        ax.set(xticks=[0, 1], xticklabels=["failed", "succeeded"], yticks=[0, 1], yticklabels=["no", "yes"],
+               xlabel="measured outcome [trials]", ylabel="predicted_stable", title="(c) flag vs outcome")
+        ax.grid(False)
+        ax.plot([], [], " ", label="\n".join([f"n = {m['n']}", *(
+            f"{k}: ours {fmt.number(m[k], 2)}, paper {fmt.number(getattr(ref, k), 2)}"
+            for k in ("accuracy", "precision", "recall") if ref)]))
+        ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), handlelength=0)
+    return draw
+
+
+def panels(*specs):
+    """A figure with a panel per spec: ``(table, query, key, title[, ylabel])`` bars, or ``draw(run, ax)``."""
+    def draw(run: Run, fig) -> None:
+        for ax, s in zip(fig.subplots(1, len(specs)), specs, strict=True):
+            s(run, ax) if callable(s) else bars(ax, run.tables[s[0]].query(s[1] or "index == index"), *s[2:])
+    return draw
+
+
+def schematic(fig, t: pd.Series, spans, top, bottom, title: str) -> None:
+    """Fig. 30/35: one recorded trial over its commanded phases ``(start, end, name, colour)``, lines
+    ``(x, y, label, style)`` on ``top``/``bottom`` (x None: the band y); no time series is recorded."""
+    axes = fig.subplots(2, 1, sharex=True)
+    for ax, lines in zip(axes, (top, bottom), strict=True):
+        for a, b, what, c in spans:
+            ax.axvspan(a, b, color=c, zorder=0, label=what if ax is axes[0] else None)
+        for x, y, what, kw in lines:
+            ax.axhspan(*y, label=what, **kw) if x is None else ax.plot(x, y, label=what, **kw)
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    axes[0].set_title(f"{t['rig_trial_id']}: {title}")
+    axes[1].set_yscale("symlog", linthresh=1.0)
+
+
+def parity(ax, x, y, lines, xlabel: str, title: str) -> None:
+    """Parity panel: ``y`` against ``x``, the identity and lines ``(intercept, slope, label, style)``."""
+    ax.scatter(x, y, s=7, alpha=0.5, color=colour("planner", PROPOSED), label=f"ours, n={len(x)}",
+               rasterized=True)
+    grid = np.array([0.0, np.nanmax(np.r_[1.0, np.asarray(x, float), np.asarray(y, float)])])
+    for a, b, what, kw in [(0.0, 1.0, "identity", {"ls": ":", "color": "#777777"}), *lines]:
+        ax.plot(grid, (a or 0.0) + (np.nan if b is None else b) * grid, label=what, **kw)
+    ax.set(xlabel=f"predicted {xlabel}", ylabel=f"measured {xlabel}", title=title)
+    ax.legend(loc="upper left")
+
+
+# --------------------------------------------------------------------------- Test 2
+def fig28(run: Run, fig) -> None:
+    panels(("table6", PAPER_ROWS, "shape", "(a) proposed, by shape"), ("test2_materials", None,
+           "material", "(b) by material, all planners"), ("test2_outcomes", None, "outcome",
+           "(c) outcome classes, proposed", "share of trials [%]"))(run, fig)
+    fig.axes[0].axhline(pv(run, lambda p: p.fig28_reference_pct) or np.nan, color=style.CRITERION, ls="--")
+
+
+def fig29(run: Run, fig) -> None:
+    a, *hist = fig.subplots(1, 3)
+    e = ex(run).dropna(subset=["normal_force_pred_mean_n", "normal_force_mean_n"])
+    parity(a, e["normal_force_pred_mean_n"], e["normal_force_mean_n"], [
+        (0, run.tables["test2_force_accuracy"]["parity_slope"].iloc[0], "ours, through the origin",
+         {"color": colour("planner", PROPOSED)}),
+        (0, pv(run, lambda p: p.parity_slope), "paper", {"ls": "--", "color": style.PAPER})],
+        "trial-mean normal force [N]", "(a) parity, all planners")
+    for ax, col, what, key in zip(hist, ("force_err_pct", "deformation_err_pct"), ("normal-force",
+                                  "deformation"), ("force_err_median_pct", "deformation_err_median_pct"),
+                                  strict=True):
+        err = ex(run)[col].dropna()
+        ax.hist(err.clip(upper=err.quantile(0.98)), bins=40, color="#8aa9d6", label="ours (98th pct. clip)")
+        ax.axvline(err.median(), color=colour("planner", PROPOSED), label="ours: median")
+        ax.axvline(pv(run, getattr, key) or np.nan, color=style.PAPER, ls="--", label="paper: median")
+        ax.set(xlabel=f"absolute {what} prediction error [%]", ylabel="trials [count]",
+               title=f"({'b' if ax is hist[0] else 'c'}) {what} error")
+        ax.legend(loc="upper right")
+
+
+def fig30(run: Run, fig) -> None:
+    e = ex(run, PROPOSED).query("shape == 'sphere' and outcome == 'stable' and friction_level == 'natural'")
+    t = e.dropna(subset=["normal_force_mean_n"]).sort_values("run_order")
+    t = t.loc[(t["normal_force_mean_n"] - t["normal_force_mean_n"].median()).abs().idxmin()]
+    lift, t0 = pv(run, lambda p: p.lift_height_mm) or 50.0, 10.0 / t["closing_speed_mm_per_s"]  # 10 mm
+    t1 = t0 + lift / t["lift_speed_mm_per_s"]
+    t2, band, slip = t1 + t["hold_s"], pv(run, lambda p: p.hold_force_per_finger_n), "#c62828"
+    schematic(fig, t, ((0, t0, "closing", "#e3f2fd"), (t0, t1, "lift", "#fff8e1"), (t1, t2, "hold",
+                                                                                   "#e8f5e9")), [
+        *(([t0, t2], [t[f"normal_force_{j}_n"]] * 2, f"finger {j}, recorded", {"color": f"C{j + 1}"})
+          for j in (1, 2, 3)),
+        ([t0, t2], [t["normal_force_pred_mean_n"]] * 2, "predicted, mean", {"ls": ":", "color": "#333333"}),
+        *[(None, band, "paper: steady hold", {"color": style.PAPER, "alpha": 0.12})] * bool(band)], [
+        ([0, t0, t1, t2], [0, 0, lift, lift], "lift height, commanded [mm]", {"color": "#333333"}),
+        ([t1, t2], [t["peak_slip_mm"]] * 2, "peak slip, recorded [mm]", {"color": slip}),
+        ([0, t2], [2.0, 2.0], "2 mm success criterion", {"color": slip, "ls": "--"}),
+        ([0, t2], [pv(run, lambda p: p.hold_slip_max_mm)] * 2, "paper: slip below", {"color": style.PAPER,
+                                                                                   "ls": ":"})],
+        "recorded hold values over the commanded phases")
+    fig.axes[0].set_ylabel("normal force per finger [N]")
+    fig.axes[1].set(ylabel="height, slip [mm]", xlabel="time from the start of closing [s]")
+
+
+def groups(run: Run) -> pd.DataFrame:
+    d, key = ex(run, PROPOSED), {"ABD": "validation_success_pct", "all": "proposed_success_pct",
+                                 "C": "group_c_pct"}
+    e = d["group"] == "E"
+    parts = {**{g: d["group"] == g for g in sorted(d["group"].unique())},
+             "ABD": d["group"].isin(["A", "B", "D"]), "all": d["group"].notna(),
+             **{f"E {w} {v:g} mm/s": e & (d[f"{w}_speed_mm_per_s"] == v) for w in ("closing", "lift")
+                for v in sorted(d[e][f"{w}_speed_mm_per_s"].unique())}}
+    out = hw.summary(hw.scoped(d, parts), ["scope"], ["is_stable"], order={"scope": list(parts)})
+    out["paper"] = [pv(run, getattr, "group_e_success_pct_range" if s[:2] == "E " else key[s])
+                    if s[:2] == "E " or s in key else None for s in out["scope"]]
+    out["paper_text"] = [p and fmt.paper_text(p, 1) for p in out["paper"]]
+    return verdicts(out, "success_pct", "paper", "success_low_pct", "success_high_pct", unit="%")
+
+
+def outcomes(run: Run) -> pd.DataFrame:
+    o = hw.summary(ex(run, PROPOSED), ["planner"], [f"is_{k}" for k in hw.CLASSES]).iloc[0]
+    out = pd.DataFrame([{"outcome": v, "n": o[f"{k}_n"], **{f"success{s}": o[f"{k}{s}"] for s in (
+        "_pct", "_low_pct", "_high_pct")}} for k, v in hw.CLASSES.items()])
+    ref = {"stable": "proposed_stable_pct", "success": "proposed_marginal_pct"}
+    t7 = {"failure_slip": "slip_pct", "failure_drop": "drop_pct", "failure_damage": "damage_pct"}
+    out["paper_success_pct"] = [pv(run, getattr, ref[v]) if v in ref else pv(run, lambda p, v: getattr(
+        p.table7[PROPOSED], t7[v]), v) if v in t7 else None for v in out["outcome"]]
+    return verdicts(out, "success_pct", "paper_success_pct", "success_low_pct", "success_high_pct", unit="%")
+
+
+def power(run: Run) -> pd.DataFrame:
+    m, p = run.tables["test2_mcnemar"].set_index("compared"), run.paper.matched_pct
+    arms = [(p[PROPOSED] / 100, p[q] / 100, f"paper matched: proposed vs {q}") for q in ("centroid",
+                                                                                       "no_pso")]
+    if "centroid" in m.index:
+        r = m.loc["centroid"]
+        arms.append((*((r["both_success"] + r[k]) / r["pairs"] for k in ("reference_only", "compared_only")),
+                     "ours matched: proposed vs centroid"))
+    return pd.DataFrame([{"rates": r, "p1": p1, "p2": p2, "design": ("independent", "paired")[pr],
+                          **asdict(power_two_proportions(p1, p2, power=pw, paired=pr))} for p1, p2, r in arms
+                         if 0 < p1 < 1 and 0 < p2 < 1 and p1 != p2 for pw in (0.8, 0.9) for pr in (0, 1)])
+
+
+def claims(run: Run):
+    """§8 headline numbers not in a table above, beside the paper's."""
+    p, t, d = run.paper, run.tables, ex(run, PROPOSED)
+    yield ("proposed drop, damage or contact loss", "§8.2, Fig. 28c", share(d, d["is_drop"] | d["is_damage"]
+           | d["is_contact_loss"]), (0.0, p.proposed_drop_damage_contact_pct_max), "%", 1)
+    acc, mc = t["test2_force_accuracy"].iloc[0], t["test2_mcnemar"].set_index("compared").loc["centroid"]
+    for q, col, key, unit in (
+            ("parity slope (through the origin)", "parity_slope", "parity_slope", ""),
+            ("parity R² (uncentred)", "parity_r2", "parity_r2", ""),
+            ("median |normal-force error|", "force_err_pct", "force_err_median_pct", "%"),
+            ("median |deformation error|", "deformation_err_pct", "deformation_err_median_pct", "%"),
+            ("median contact-point error", "contact_point_error_mm", "contact_point_err_median_mm", "mm")):
+        yield q, "§8.3, Fig. 29", Estimate(acc[col], n=acc["parity_n"]), getattr(p, key), unit, 2
+    for q, col, key, digits in (("McNemar χ² proposed vs centroid", "chi2_cc", "chi2", 1),
+                                ("pairs won by proposed (vs centroid)", "reference_only", "won", 0),
+                                ("pairs lost by proposed (vs centroid)", "compared_only", "lost", 0)):
+        yield q, "§8.5", Estimate(mc[col], n=mc["pairs"]), getattr(p.mcnemar_centroid, key), "", digits
+    yield ("discordant-pair odds ratio", "§8.5", Estimate(*mc[["odds_ratio", "odds_ratio_low",
+           "odds_ratio_high", "pairs"]]), p.mcnemar_centroid.odds_ratio, "", 1)
+    for (_, r), (q, key, col, digits) in zip(t["test2_tests"].iterrows(), (
+            ("χ² planner × success (proposed, centroid, random)", "chi2_planner_success", "statistic", 1),
+            ("Kruskal–Wallis p, force error across planners", "force_err_kruskal_p", "p", 3),
+            ("Kruskal–Wallis H, peak slip across friction levels", "slip_friction_kruskal_h", "statistic",
+             1)), strict=True):
+        yield q, "§8.5-8.6", Estimate(r[col], n=r["n"]), getattr(p, key), "", digits
+
+
+SPEC = ReportSpec("test2_grasp", [
+    Finding(finding),
+    Listed("test2_counts", "Trial counts beside the paper's (a reduced study has fewer)", counts("table7")),
+    paper_table("table6", "Table 6: the proposed planner per shape and belief reading (all its trials), at "
+                "natural friction, its median absolute prediction errors", "shape", lambda p, k: p.table6[k],
+                [("n", "n", "n", 0), ("success", "success_pct", "success", None),
+                 ("natural", "natural_pct", "natural friction", None),
+                 ("force_err_pct", "force_err_pct", "median |F_n| error [%]", 1),
+                 ("deformation_err_pct", "deformation_err_pct", "median deformation error [%]", 1)],
+                ["natural"], ["force_err_pct", "deformation_err_pct"], where=lambda d: d.query(ME)),
+    paper_table("table7", "Table 7: executed trials per planner and belief reading: success (Wilson, object "
+                "bootstrap 95%); stable, slip, drop, damage as primary outcome classes", "planner",
+                lambda p, k: p.table7[k], [("n", "n", "n", 0), *((k, f"{k}_pct", k, None) for k in (
+                    "success", "stable", "slip", "drop", "damage"))],
+                [f"is_{k}" for k in ("stable", "slip", "drop", "damage")], boot=True),
+    *belief_tables("test2"),
+    Table("test2_groups", "The proposed planner per group (A-E, M matched), the validation pool ABD, all "
+          "trials and group E per closing and lift speed (§8.2, §8.6)", groups, [
+              Col("scope", "group"), Col("n", "n"), Col("paper_text", "paper %"), pct("success", "success"),
+              pct("stable", "stable"), Col("verdict", "verdict (success)")]),
+    Table("test2_outcomes", "Outcome classes of the proposed planner (§8.2, Fig. 28c; slip, drop, damage: "
+          "Table 7)", outcomes, [Col("outcome", "outcome"), Col("n", "n"), pct("success", "share"),
+                                 Col("paper_success_pct", "paper %", 1), Col("verdict", "verdict")]),
+    Rates("test2_materials", "Success per material, all planners (§8.2, Fig. 28b)", ["material"],
+          lambda p, k: p.success_by_material_pct[k["material"]]),
+    Rates("test2_matched", "Matched ablation: success per planner on the same objects and conditions (§8.5, "
+          "Fig. 31b)", ["planner"], lambda p, k: p.matched_pct[k["planner"]],
+          where=lambda r: r["matched"].astype(bool)),
+    Table("test2_force_accuracy", "Prediction accuracy (§8.3): normal-force parity through the origin "
+          "(uncentred, centred R²), median absolute errors", lambda run: hw.force_accuracy(ex(run))),
+    classifier("test2_classifier", "Pre-execution flags against measured success (§8.4, Fig. 31c): "
+               "`predicted_stable` is §9.5's SF_predicted > 1, `predicted_stable_residual` §8.1's residual "
+               "≤ τ_F = 0.0886 N, the flag the paper's scores belong to", lambda d: {
+                   **per_planner(d), "baselines": d["planner"] != PROPOSED,
+                   "group C": d.eval(f"{ME} and group == 'C'"),
+                   "outside C": d.eval(f"{ME} and group != 'C'")},
+               lambda p: {"all": [*vars(p.classifier).values()], PROPOSED: [*vars(
+                   p.classifier_proposed).values()],
+                          "baselines": (None, p.classifier_baselines_precision, None),
+                          "group C": (None, p.classifier_group_c_precision, None)}),
+    Table("test2_mcnemar", "Matched ablation (§8.5): McNemar, proposed against each baseline on "
+          "occurrence-matched pairs (object, condition, repeat)", matched_mcnemar),
+    Table("test2_tests", "χ² of planner × success; Kruskal–Wallis of the force error across planners, "
+          "the peak slip across friction levels (§8.5-8.6; no multiplicity correction, as the paper)",
+          lambda run: pd.DataFrame([hw.chi2_planners(ex(run)), *(hw.kruskal(ex(run), v, k) for v, k in (
+              ("force_err_pct", "planner"), ("peak_slip_mm", "friction_level")))])),
+    Listed("test2_claims", "§8 numbers not in a table above, beside the paper's", claims),
+    Table("test2_power", "Power (§8.5, §11): trials per arm to detect p1 vs p2 at α = 0.05 (independent: "
+          "Cohen's h; matched pairs: McNemar, Connor 1987)", power),
+    Figure("fig28_outcomes", "Fig. 28 (paper in black): proposed success per shape (dashed: the paper's 75% "
+           "reference), success per material, proposed outcome classes; Wilson 95%", fig28, (12.0, 4.0)),
+    Figure("fig29_prediction_accuracy", "Fig. 29: (a) measured against predicted trial-mean normal force; "
+           "(b) normal-force and (c) deformation errors with their medians", fig29, (12.0, 3.8)),
+    Figure("fig30_representative_grasp", "Fig. 30 (schematic of the median-force stable proposed sphere "
+           "grasp): commanded phases, recorded hold forces and peak slip as levels", fig30, (9.5, 5.4)),
+    Figure("fig31_planner_comparison", "Fig. 31: success per planner (a) with own and exact beliefs "
+           "(hatched), (b) matched ablation; (c) `predicted_stable` against the outcome", panels(
+               planner_bars("table7"), ("test2_matched", None, "planner", "(b) matched ablation"),
+               confusion(lambda p: p.classifier)), (13.0, 4.0)),
+])

@@ -1,0 +1,294 @@
+"""Report of ``test3_disturbance`` (§9; Tables 8-9, Figs. 33-36) from Test 2's parts; thresholds are compared
+only where a ramp ended in slip (a ramp that reached its cap is a lower bound)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from graspcampaign.analysis import disturbance as ds
+from graspcampaign.analysis import hardware as hw
+from graspcampaign.analysis.records import Estimate
+from graspcampaign.analysis.vocabulary import PROPOSED, colour, label
+from graspcampaign.report import format as fmt
+from graspcampaign.report import style
+from graspcampaign.report.document import Col
+from graspcampaign.report.render import Run
+from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, verdicts
+from graspcampaign.report.studies import test2 as t2
+
+NATURAL = "friction_level == 'natural'"
+
+
+def drops(run: Run) -> str:
+    d = t2.ex(run, PROPOSED)
+    return (f"The proposed planner drops {fmt.number(100 * d['is_drop'].mean(), 1)} % of its trials "
+            f"(paper {fmt.number(t2.pv(run, lambda p: p.table9[PROPOSED].drop_pct), 1)} %): with Table 4's "
+            "μ_k/μ_s ≈ 0.7 the rig's Coulomb contact cannot arrest a slip once SF < ~1.4, and blocks A and "
+            "C succeed only when the threshold reaches the proof load (one weight laterally, the weight "
+            "at the shape's radius in yaw). ")
+
+
+def table8(run: Run, d: pd.DataFrame, out: pd.DataFrame) -> pd.DataFrame:
+    fits = [hw.parity_by(g, "block", "threshold", "threshold_pred").assign(belief_error=b)
+            for b, g in d.groupby("belief_error")]
+    units = {"A": "N", "B": "% W", "C": "N·m", "D": "mm slip", "E": "mm slip"}
+    out = out.merge(pd.concat(fits), on=["block", "belief_error"], how="left")
+    return out.assign(unit=out["block"].map(units))
+
+
+def table9(run: Run, d: pd.DataFrame, out: pd.DataFrame) -> pd.DataFrame:
+    w = [None if b != "paper" else t2.pv(run, lambda p, k: p.table9[k].wilson_pct, k)
+         for k, b in zip(out["planner"], out["belief_error"], strict=True)]
+    return out.assign(paper_wilson=[x and fmt.paper_text(x, 1) for x in w])
+
+
+def coating(run: Run) -> pd.DataFrame:
+    out = hw.summary(t2.ex(run, PROPOSED).query("block == 'A'"), ["friction_level"], medians=["threshold"],
+                     order={"friction_level": ["natural", "high", "medium", "low"]})
+    ref = [t2.pv(run, lambda p, k: p.coating[k], k) for k in out["friction_level"]]
+    out["paper_success_pct"] = [r and r.success_pct for r in ref]
+    out["paper_threshold_n"] = [r.threshold_n if r else t2.pv(run, lambda p: p.lateral_threshold_median_n)
+                                if k == "natural" else None
+                                for k, r in zip(out["friction_level"], ref, strict=True)]
+    return verdicts(out, "success_pct", "paper_success_pct", "success_low_pct", "success_high_pct",
+                    unit="%")
+
+
+def claims(run: Run):
+    """§9 headline numbers not in a table above, beside the paper's."""
+    p, e, t = run.paper, t2.ex(run), run.tables
+    d, nat = t2.ex(run, PROPOSED), t2.ex(run, PROPOSED).query(NATURAL)
+    yield ("proposed success, natural friction", "§9.2", t2.share(nat, nat["success"]),
+           p.natural_success_pct, "%", 1)
+    for i, f in enumerate((min, max)):
+        yield (f"{('lowest', 'highest')[i]} median threshold over pull directions", "§9.2, Fig. 33b",
+               f(t["test3_directions"]["threshold"], default=np.nan), p.direction_threshold_range_n[i],
+               "N", 2)
+    for key, v in p.vertical_levels_pct.items():
+        g = nat.query(f"block == 'B' and disturbance_kind == '{key.split('_')[0]}'")
+        g = g[np.isclose(g["load_frac_w"].astype(float), float(key.split("_")[1]))]
+        yield (f"vertical {key.replace('_', ' to ')} W, success", "§9.2",
+               lambda g=g: t2.share(g, g["success"]), v, "%", 1)
+    c = d.query("block == 'C'")
+    yield ("median yaw torque at slip, with the coating probes", "§9.2", Estimate(
+        c["threshold"].median(), n=c["threshold"].count()), p.yaw_torque_with_probes_nm, "N·m", 3)
+    rot = c.query(NATURAL).dropna(subset=["threshold"])["rotation_at_limit_deg"].astype(float)
+    yield ("median rotation at the yaw limit", "§9.2", Estimate(rot.median(), n=len(rot)),
+           p.yaw_rotation_median_deg, "°", 1)
+    a = t["test3_threshold_agreement"].iloc[0]
+    for q, col, key, unit in (
+            ("OLS slope, measured on predicted", "ols_slope", "threshold_ols_slope", ""),
+            ("OLS R²", "ols_r2", "threshold_ols_r2", ""),
+            ("Bland–Altman bias (measured − predicted)", "bias_n", "bland_altman_bias_n", "N"),
+            ("Bland–Altman limits, half width", "loa_half_n", "bland_altman_loa_half_width_n", "N")):
+        yield q, "§9.3, Fig. 34", Estimate(a.get(col, np.nan), n=a["n"]), getattr(p, key), unit, 2
+    yield ("lateral thresholds with error > 50 %", "§9.3", lambda: t2.share(range(a["n"]), range(a.get(
+        "n_err_over_50pct", 0))), 100 * p.threshold_err_over_50pct / p.lateral_threshold_trials, "%", 1)
+    yield ("median torque-threshold error", "§9.3", Estimate(c["threshold_err_pct"].median(), n=c[
+        "threshold_err_pct"].count()), p.torque_threshold_err_pct, "%", 1)
+    ff = e.dropna(subset=["first_finger_correct"])
+    yield ("first finger to slip predicted", "§9.3", lambda: t2.share(ff, ff["first_finger_correct"]
+           .astype(bool)), p.first_finger_accuracy_pct, "%", 1)
+    dd = nat.query("block == 'D'")
+    for what, col, ref in (("retained (success)", "success", p.impulse_retained_pct),
+                           ("dropped", "drop_flag", p.impulse_drop_pct)):
+        for level, v in ref.items():
+            g = dd[np.isclose(dd["load_frac_w"].astype(float), float(level))]
+            yield (f"impulse {float(level):g} W, {what}", "§9.4", lambda g=g, c=col: t2.share(g, g[c]), v,
+                   "%", 1)
+    cells = nat.query("block == 'E'").groupby(["frequency_hz", "amplitude_n"])["peak_slip_mm"].median()
+    for i, f in enumerate((min, max)):
+        yield (f"sinusoids: {('lowest', 'highest')[i]} median slip over (f, A) cells", "§9.4",
+               f(cells, default=np.nan), p.sinusoid_slip_mm_range[i], "mm", 2)
+    mp = d[d["matched"].astype(bool)]
+    yield ("matched set success, proposed", "§9.5", lambda: t2.share(mp, mp["success"]),
+           p.matched_proposed_pct, "%", 1)
+    mc = t["test3_mcnemar"].set_index("compared").loc["centroid"]
+    yield ("matched difference, proposed − centroid", "§9.5", 100 * (mc["reference_only"] - mc[
+        "compared_only"]) / mc["pairs"], p.matched_difference_centroid_pp, "pp", 1)
+    for q, col, key, digits in (("McNemar χ² proposed vs centroid", "chi2_cc", "chi2", 1),
+                                ("pairs won by proposed (vs centroid)", "reference_only", "won", 0),
+                                ("pairs lost by proposed (vs centroid)", "compared_only", "lost", 0)):
+        yield q, "§9.5", Estimate(mc[col], n=mc["pairs"]), getattr(p.mcnemar_centroid, key), "", digits
+    yield ("success margin over the random planner", "§9.5", 100 * (d["success"].mean() - e.query(
+        "planner == 'random'")["success"].mean()), p.margin_over_random_pp, "pp", 1)
+    lat, pulls = nat.query("block == 'A'")["threshold_measured_n"].astype(float).fillna(0.0), \
+        "natural-friction pulls"
+    for q, v, x, u in ((f"{pulls} sustaining > 3 N", lambda: t2.share(lat, lat > 3.0), "above_3n_pct", "%"),
+                       ("lateral level held by half the proposed grasps", lat.median(), "half_at_n", "N"),
+                       (f"{pulls} sustaining > 5 N", lambda: t2.share(lat, lat > 5.0), "above_5n_pct", "%")):
+        yield q, "§9.5, Fig. 36b", v, getattr(p.survival, x), u, 1 if u == "%" else 2
+    r = t["test3_retention_classifier"].query(f"scope == 'all' and {t2.PAPER_ROWS}").iloc[0]
+    yield "grasps certified as retained", "§9.5", r["flagged"], p.retention_certified, "", 0
+    yield "certified grasps that failed", "§9.5", r["fp"], p.retention_certified_failed, "", 0
+    for _, r in t["test3_logistic"].query("term != 'intercept'").iterrows():
+        yield (f"logistic coefficient of failure: {r['term']}", "§9.5", Estimate(
+            *r[["coef", "ci_low", "ci_high", "n"]]), getattr(p.logistic, r["term"]), "", 2)
+    chi = t["test3_chi2"].iloc[0]
+    yield ("χ² planner × retention (proposed, centroid, random)", "§9.5", Estimate(
+        chi["statistic"], n=chi["n"]), p.chi2_planner_retention, "", 1)
+
+
+def thresholds(run: Run, ax) -> None:
+    t = run.tables["test3_coating"]
+    x = np.arange(len(t))
+    ax.bar(x, t["threshold"], 0.7, color=colour("planner", PROPOSED), label="ours, uncensored ramps")
+    style.paper_marks(ax, x, list(t["paper_threshold_n"]), 0.7)
+    ax.set(xticks=x, xticklabels=[f"{k}\nn={n}" for k, n in zip(t["friction_level"], t["threshold_n"],
+                                                                  strict=True)],
+           ylabel="median lateral threshold at slip [N]", title="(a) block A: median threshold")
+    ax.legend(handles=[*ax.get_legend_handles_labels()[0], style.paper_handle()], loc="upper right")
+
+
+def directions(run: Run, ax) -> None:
+    d, rng = run.tables["test3_directions"], t2.pv(run, lambda p: p.direction_threshold_range_n)
+    ax.plot(d["direction_deg"], d["threshold"], "o-", color=colour("planner", PROPOSED), label="ours")
+    ax.axhspan(*(rng or (np.nan,) * 2), color=style.PAPER, alpha=0.15, label="paper: range")
+    ax.set(xticks=np.arange(0, 360, 45), xlabel="pull direction (azimuth) [°]", ylim=(0, None),
+           ylabel="median lateral threshold [N]", title="(b) natural friction, by direction")
+    ax.legend(loc="lower right")
+
+
+def survival(run: Run, ax) -> None:
+    for q, g in ds.lateral_survival(t2.ex(run), np.arange(0.0, 8.01, 0.05)).groupby("planner", sort=False):
+        ax.step(g["level_n"], 100 * g["surviving_fraction"], where="post", color=colour("planner", q),
+                label=f"ours, {label('planner', q)} (n={g['n'].iloc[0]})")
+    if (s := t2.pv(run, lambda p: p.survival)) is not None:
+        ax.plot([3.0, s.half_at_n, 5.0], [s.above_3n_pct, 50, s.above_5n_pct], "D", color=style.PAPER,
+                label="paper")
+        ax.plot([s.centroid_failed_by_n], [0], "s", mfc="none", color=style.PAPER,
+                label="paper: centroid failed by")
+    ax.set(xlabel="lateral pull level [N]", ylabel="natural-friction pulls holding [%]",
+           title="(b) survival of the lateral threshold")
+    ax.legend(loc="upper right")
+
+
+def fig34(run: Run, fig) -> None:
+    a, b, c = fig.subplots(1, 3)
+    d = t2.ex(run, PROPOSED).dropna(subset=["lat_threshold_n"])
+    m, p, g = d["lat_threshold_n"], d["threshold_pred"], run.tables["test3_threshold_agreement"].iloc[0]
+    ours = colour("planner", PROPOSED)
+    t2.parity(a, p, m, [(g.get("ols_intercept"), g.get("ols_slope"), "ours: OLS", {"color": ours}),
+                     (0, t2.pv(run, lambda p: p.threshold_ols_slope), "paper's slope",
+                      {"ls": "--", "color": style.PAPER})], "lateral threshold [N]",
+           "(a) parity, proposed, block A")
+    b.scatter((m + p) / 2, m - p, s=7, alpha=0.5, color=ours, label="ours")
+    bias, half = (t2.pv(run, getattr, k) for k in ("bland_altman_bias_n", "bland_altman_loa_half_width_n"))
+    lines = [(g.get(k), ls, ours, "ours") for k, ls in (("bias_n", "-"), ("loa_low_n", "--"),
+                                                         ("loa_high_n", "--"))]
+    lines += [(bias + k * half, ls, style.PAPER, "paper") for k, ls in ((0, "-"), (-1, ":"), (1, ":"))
+              if bias is not None]
+    for v, ls, col, who in lines:
+        b.axhline(np.nan if v is None else v, ls=ls, lw=1, color=col,
+                  label=f"{who}: bias, 95% limits" if ls == "-" else None)
+    b.set(xlabel="mean of measured and predicted [N]", ylabel="measured − predicted [N]",
+          title="(b) Bland–Altman")
+    b.legend(loc="lower right")
+    t = run.tables["table9"].query(t2.PAPER_ROWS)
+    x = np.arange(len(t))
+    c.bar(x, t["lat_threshold_err_pct"], 0.7, color=[colour("planner", q) for q in t["planner"]])
+    style.paper_marks(c, x, list(t["paper_lat_threshold_err_pct"]), 0.7)
+    c.set(xticks=x, xticklabels=[f"{label('planner', q)}\nn={n}".replace(" ", "\n") for q, n in zip(
+        t["planner"], t["lat_threshold_n_n"], strict=True)], ylabel="median |lateral-threshold error| [%]",
+          title="(c) by planner, uncensored block A")
+    c.legend(handles=[style.paper_handle()], loc="upper center")
+
+
+def fig35(run: Run, fig) -> None:
+    d = t2.ex(run, PROPOSED).query(f"block == 'A' and {NATURAL}").dropna(subset=["lat_threshold_n"])
+    t = d.sort_values("run_order")
+    t = t.loc[(t["lat_threshold_n"] - t["lat_threshold_n"].median()).abs().idxmin()]
+    h, thr, paper = t["hold_s"], t["lat_threshold_n"], t2.pv(run, lambda p: p.lateral_threshold_median_n)
+    t1 = h + thr / t["ramp_rate_n_per_s"]
+    end = 1.15 * t1
+    t2.schematic(fig, t, ((0, h, "hold", "#e8f5e9"), (h, t1, "ramp to slip", "#fff8e1")), [
+        ([0, h, t1, t1, end], [0, 0, thr, 0, 0], "applied force, commanded ramp", {"color": "#333333"}),
+        ([h, end], [thr] * 2, "recorded threshold at slip", {"color": "#c62828"}),
+        ([h, end], [t["threshold_pred"]] * 2, "predicted F_lat", {"ls": "--", "color": colour(
+            "planner", PROPOSED)}),
+        ([0, end], [paper] * 2, "paper: natural-friction median", {"ls": ":", "color": style.PAPER})], [
+        ([0, end], [2.0, 2.0], "2 mm slip criterion (detection)", {"color": "#c62828", "ls": "--"}),
+        ([t1, end], [t["peak_slip_mm"]] * 2, "recorded peak slip after release" + " (object lost)" * bool(
+            t["drop_flag"]), {"color": "#333333"})], "lateral pull over the commanded phases")
+    fig.axes[0].set_ylabel("lateral force [N]")
+    fig.axes[1].set(ylabel="slip [mm]", xlabel="time from the start of the hold [s]")
+
+
+SPEC = ReportSpec("test3_disturbance", [
+    Finding(lambda run: t2.finding(run, drops)),
+    t2.Listed("test3_counts", "Trial counts beside the paper's (a reduced study has fewer)",
+              t2.counts("table9")),
+    t2.paper_table("table8", "Table 8: the proposed planner's natural-friction blocks per belief reading; "
+                "headline = median lateral threshold (A), downward payload at slip (B), yaw torque (C), "
+                "peak slip (D, E: no threshold); prediction error and centred parity R² over the "
+                "uncensored thresholds", "block", lambda p, k: p.table8[k], [
+                    ("n", "n", "n", 0), ("success", "success_pct", "success", None),
+                    ("headline", "headline", "headline", 3), ("unit", None, "unit", ""),
+                    ("headline_n", None, "thresholds", 0),
+                    ("threshold_err_pct", "pred_err_pct", "median |prediction error| [%]", 1),
+                    ("parity_r2_centred", lambda p, k: p.block_parity_r2[k], "parity R² (centred)", 2)],
+                medians=["headline", "threshold_err_pct"], extra=table8,
+                where=lambda d: d.query(f"planner == '{PROPOSED}' and {NATURAL}")),
+    t2.paper_table("table9", "Table 9: all executed trials per planner and belief reading: success (Wilson, "
+                "the paper's Wilson and our object-bootstrap 95%); stable, drop and damage as primary "
+                "outcome classes; median lateral threshold and its prediction error (uncensored block A)",
+                "planner", lambda p, k: p.table9[k], [
+                    ("n", "n", "n", 0), ("success", "success_pct", "success", None),
+                    ("paper_wilson", None, "paper Wilson 95%", ""),
+                    *((k, f"{k}_pct", k, None) for k in ("stable", "drop", "damage")),
+                    ("lat_threshold_n_n", None, "thresholds", 0),
+                    ("lat_threshold_n", "lat_threshold_n", "median lateral threshold [N]", 2),
+                    ("lat_threshold_err_pct", "threshold_err_pct", "median |threshold error| [%]", 1)],
+                ["is_stable", "is_drop", "is_damage"], ["lat_threshold_n", "lat_threshold_err_pct"],
+                boot=True, extra=table9),
+    *t2.belief_tables("test3"),
+    Table("test3_coating", "Block A of the proposed planner per surface (§9.2, Fig. 33a): success and "
+          "median uncensored lateral threshold beside the paper's", coating, [
+              Col("friction_level", "surface"), Col("n", "n"), t2.pct("success", "success"),
+              Col("paper_success_pct", "paper %", 1), Col("threshold_n", "thresholds"),
+              Col("threshold", "median threshold [N]", 2), Col("paper_threshold_n", "paper", 2),
+              Col("verdict", "verdict (success)")]),
+    Table("test3_directions", "Natural-friction block A of the proposed planner per pull direction (§9.2, "
+          "Fig. 33b)", lambda run: hw.summary(t2.ex(run, PROPOSED).query(f"block == 'A' and {NATURAL}"), [
+              "direction_deg"], medians=["threshold"]).sort_values("direction_deg")[[
+                  "direction_deg", "n", "success_pct", "threshold", "threshold_n"]]),
+    Table("test3_threshold_agreement", "Predicted against measured lateral thresholds of the proposed "
+          "planner (§9.3, Fig. 34): Bland–Altman [N], OLS with intercept, median absolute error [%]",
+          lambda run: pd.DataFrame([ds.threshold_agreement(t2.ex(run))])),
+    Table("test3_first_finger", "First finger to slip, predicted against measured, over the trials whose "
+          "first finger is known (§9.3)", lambda run: hw.summary(hw.scoped(e := t2.ex(run), t2.per_planner(
+              e)).dropna(subset=["first_finger_correct"]), ["scope"], ["first_finger_correct"])[[
+                  "scope", "n", *(f"first_finger_correct_{s}" for s in ("pct", "low_pct", "high_pct"))]]),
+    t2.classifier("test3_retention_classifier", "The retention flag against success (§9.5, Fig. 36c): "
+               "`predicted_stable` (= `retention_pred`) is the believed retention margin under the "
+               "commanded disturbance > 1; `predicted_stable_residual` Algorithm 2's residual ≤ τ_F",
+               t2.per_planner,
+               lambda p: {"all": [*vars(p.retention_classifier).values()]}),
+    Table("test3_logistic", "Logistic regression of failure over the fixed-load blocks B, D, E (§9.5): "
+          "applied load [N], mass [kg], believed μ_s, proposed-planner indicator (Wald 95%)",
+          lambda run: ds.failure_logistic(t2.ex(run))),
+    Table("test3_mcnemar", "Matched paired set (§9.5): McNemar tests of the proposed planner against each "
+          "baseline on occurrence-matched pairs", t2.matched_mcnemar),
+    Table("test3_chi2", "χ² of planner × retention over the proposed, centroid and random arms (§9.5)",
+          lambda run: pd.DataFrame([hw.chi2_planners(t2.ex(run))])),
+    t2.Listed("test3_claims", "§9 headline numbers not in a table above, beside the paper's (rates with "
+           "Wilson 95% intervals, logistic coefficients with their Wald intervals)", claims),
+    Figure("fig33_thresholds", "Fig. 33 (the paper's values in black): block A median threshold and "
+           "success per surface, natural-friction threshold per pull direction, proposed success per block "
+           "at natural friction", t2.panels(thresholds, ("test3_coating", None, "friction_level",
+                                                      "(a) block A: success"), directions,
+                                         ("table8", t2.PAPER_ROWS, "block", "(c) proposed, by block")),
+           (15.0, 4.0)),
+    Figure("fig34_threshold_prediction", "Fig. 34: (a) predicted against measured lateral thresholds of "
+           "the proposed planner with the OLS fit, (b) Bland–Altman, (c) median lateral-threshold error "
+           "per planner", fig34, (13.0, 4.0)),
+    Figure("fig35_representative_pull", "Fig. 35 (schematic of one recorded trial, the median-threshold "
+           "proposed natural-friction pull): hold, commanded ramp to the recorded threshold at 2 mm slip, "
+           "predicted threshold, recorded peak slip", fig35, (9.5, 5.2)),
+    Figure("fig36_robustness", "Fig. 36: (a) success per planner with the planners' own beliefs and with "
+           "exact ones (hatched), (b) share of natural-friction pulls holding each level (a grasp lost "
+           "before the pull counts as 0 N), (c) the retention flag against the measured outcome", t2.panels(
+               t2.planner_bars("table9"), survival, t2.confusion(lambda p: p.retention_classifier)),
+           (13.0, 4.0)),
+])
