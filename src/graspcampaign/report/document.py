@@ -35,35 +35,29 @@ NAV = [("Index", "index.html"), ("Table 1 headline", "headline.html")]
 """The navigation bar of every page (relative to the results root)."""
 
 
-def check_formats(formats: Sequence[str] | str | None) -> list[str]:
-    """Return the requested formats as a list, or raise naming an unknown one."""
+def check_formats(formats: Sequence[str] | str | None, allowed: Sequence[str] = FORMATS,
+                  what: str = "report format") -> list[str]:
+    """Return the requested formats (comma-separated or a list) or raise naming an unknown one."""
     items = formats.split(",") if isinstance(formats, str) else ["md", "csv"] if formats is None else formats
-    items = list(dict.fromkeys(f.strip().lower() for f in items if f and f.strip()))
-    unknown = [f for f in items if f not in FORMATS]
-    if unknown or not items:
-        raise UserInputError((f"unknown report format {unknown[0]!r}" if unknown else "no report format "
-                              "given") + f"; choose from {', '.join(FORMATS)} (comma-separated).")
+    items = list(dict.fromkeys(f.strip().lower() for f in items if f and str(f).strip()))
+    if not items or (bad := [f for f in items if f not in allowed]):
+        raise UserInputError(f"{f'unknown {what} {bad[0]!r}' if items else f'no {what} given'}; choose "
+                             f"from {', '.join(allowed)}.")
     return items
 
 
 def check_figure_format(figure_format: str) -> str:
     """Return the figure format, or raise naming the allowed ones."""
-    if str(figure_format).strip().lower() not in FIGURE_FORMATS:
-        raise UserInputError(f"unknown figure format {figure_format!r}; choose from "
-                             f"{', '.join(FIGURE_FORMATS)}.")
-    return str(figure_format).strip().lower()
+    return check_formats([figure_format], FIGURE_FORMATS, "figure format")[0]
 
 
 @dataclass(frozen=True)
 class Col:
-    """A shown column: the CSV column ``key`` under ``label``, rounded once.
-
-    ``digits``: decimals (or the CSV column holding each row's decimals); ``sig``: significant
-    digits instead; ``low``/``high``: the interval columns printed in brackets (only the interval
-    when ``low == key``); ``why``: the column whose text replaces a value that was not computed;
-    ``share``: a percentage printed after a count, ``k (p%)``; ``link``: the column holding a
-    relative link to another page.
-    """
+    """A shown column: the CSV column ``key`` under ``label``, rounded once to ``digits`` decimals
+    (or the CSV column holding each row's) or ``sig`` significant digits; ``low``/``high`` the
+    interval columns in brackets (only the interval when ``low == key``); ``why`` the column whose
+    text replaces a value not computed; ``share`` a percentage after a count, ``k (p%)``; ``link``
+    the column holding a relative link to another page."""
 
     key: str
     label: str
@@ -86,9 +80,11 @@ UNITS = {"pct": "%", "mm": "mm", "m": "m", "n": "N", "nm": "N·m", "s": "s", "ms
          "kg": "kg", "j": "J", "mj": "mJ", "deg": "°", "rad": "rad", "kpa": "kPa"}
 
 
-def cols(*names: str) -> list[Col]:
+def cols(*names: str, frame: pd.DataFrame | None = None) -> list[Col]:
     """Shown columns of record-convention names ``<words>_<unit>``: header ``words [unit]``, 3
-    significant digits (1 decimal for %); factor levels and other columns print as they are."""
+    significant digits (1 decimal for %); factor levels and other columns print as they are. With
+    ``frame``, a column's interval ``<words>_low_<unit>``/``_high_<unit>`` and reason ``<name>_why``
+    join it when the frame has them."""
     from graspcampaign.analysis.vocabulary import FACTOR_LABELS
 
     out = []
@@ -97,7 +93,12 @@ def cols(*names: str) -> list[Col]:
         unit = UNITS.get(suffix) if words and name not in FACTOR_LABELS else None
         label = FACTOR_LABELS.get(name) or (f"{words.replace('_', ' ')} [{unit}]" if unit
                                             else name.replace("_", " "))
-        out.append(Col(name, label, 1 if unit == "%" else None, sig=3 if unit and unit != "%" else None))
+        low, high = (f"{words}_low_{suffix}", f"{words}_high_{suffix}") if unit else (f"{name}_low",
+                                                                                       f"{name}_high")
+        ci = frame is not None and low in frame and high in frame
+        out.append(Col(name, label, 1 if unit == "%" else None, sig=3 if unit and unit != "%" else None,
+                       low=low if ci else None, high=high if ci else None,
+                       why=f"{name}_why" if frame is not None and f"{name}_why" in frame else None))
     return out
 
 
@@ -136,6 +137,28 @@ class Table:
         return [[(cell(r, c), None if not c.link or fmt.is_missing(r.get(c.link)) else str(r[c.link]))
                  for c in self.cols] for r in self.frame.to_dict("records")]
 
+    def md(self, figure_format: str) -> str:
+        def line(cells: Sequence[str]) -> str:
+            return "| " + " | ".join(str(c).replace("|", "\\|").replace("\n", " ") for c in cells) + " |"
+
+        rows = [[f"[{v}]({h.replace('.html', '.md')})" if h else v for v, h in r] for r in self.cells()]
+        return "\n".join([f"**{self.caption}**" + (f" (`{self.csv.format(name=self.name)}`)" if self.csv
+                                                   else "") + "\n", line([c.label for c in self.cols]),
+                          "|" + "---|" * len(self.cols), *map(line, rows)])
+
+    def html(self) -> str:
+        """A styled HTML table; each header names the CSV columns it shows (``data-cols``)."""
+        head = "".join(f"<th data-cols='{' '.join(c.keys) if self.legacy is None else ''}'>"
+                       f"{html.escape(c.label)}</th>" for c in self.cols)
+        body = "".join("<tr>" + "".join(f"<td><a href='{html.escape(h, quote=True)}'>{html.escape(v)}</a>"
+                                        f"</td>" if h else f"<td>{html.escape(v)}</td>" for v, h in r)
+                       + "</tr>" for r in self.cells())
+        attrs = (f" data-table='{self.name}'" if self.csv else "") + \
+            (" data-legacy='1'" if self.legacy is not None else "")
+        csv = f" <span class='csv'>{self.csv.format(name=self.name)}</span>" if self.csv else ""
+        return (f"<div class='table' id='t-{self.name}'><table{attrs}><caption>{inline(self.caption)}{csv}"
+                f"</caption><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table></div>")
+
 
 @dataclass
 class Text:
@@ -143,6 +166,12 @@ class Text:
 
     markdown: str
     kind: str = "text"
+
+    def md(self, figure_format: str) -> str:
+        return self.markdown if self.kind != "note" else f"*{self.markdown}*"
+
+    def html(self) -> str:
+        return f"<p class='{self.kind}'>{inline(self.markdown)}</p>"
 
 
 @dataclass
@@ -153,6 +182,12 @@ class Heading:
     def anchor(self) -> str:
         return "s-" + "".join(c if c.isalnum() else "-" for c in self.title.lower()).strip("-")
 
+    def md(self, figure_format: str) -> str:
+        return f"## {self.title}"
+
+    def html(self) -> str:
+        return f"<h2 id='{self.anchor}'>{html.escape(self.title)}</h2>"
+
 
 @dataclass
 class Figure:
@@ -161,6 +196,18 @@ class Figure:
     name: str
     caption: str
     images: dict[str, bytes]
+
+    def md(self, figure_format: str) -> str:
+        path = f"figures/{self.name}.{figure_format}"
+        link = f"![{self.caption}]({path})" if figure_format != "pdf" else f"[{self.name} (PDF)]({path})"
+        return f"{link}\n\n*{self.caption}*"
+
+    def html(self) -> str:
+        kind = "svg" if "svg" in self.images else "png"
+        data = base64.b64encode(self.images[kind]).decode()
+        return (f"<figure id='f-{self.name}'><img src='data:image/{'svg+xml' if kind == 'svg' else 'png'};"
+                f"base64,{data}' alt='{html.escape(self.caption, quote=True)}'><figcaption>"
+                f"{inline(self.caption)}</figcaption></figure>")
 
 
 def _json(value: Any) -> Any:
@@ -216,51 +263,29 @@ class Document:
 
     def markdown(self, figure_format: str = "png") -> str:
         out = [f"# {self.title}"]
-        out += [f"> **Data source:** {SOURCE_LABEL.get(self.source, self.source)}"] if self.source else []
-        out += ["\n".join(f"- **{k}:** {v}" for k, v in self.provenance)] if self.provenance else []
-        for b in self.blocks:
-            if isinstance(b, Heading):
-                out.append(f"## {b.title}")
-            elif isinstance(b, Text):
-                out.append(b.markdown if b.kind != "note" else f"*{b.markdown}*")
-            elif isinstance(b, Table):
-                rows = [[f"[{v}]({h.replace('.html', '.md')})" if h else v for v, h in r]
-                        for r in b.cells()]
-                csv = f" (`{b.csv.format(name=b.name)}`)" if b.csv else ""
-                out.append(f"**{b.caption}**{csv}\n\n" + markdown_table([c.label for c in b.cols], rows))
-            else:
-                path = f"figures/{b.name}.{figure_format}"
-                link = f"![{b.caption}]({path})" if figure_format != "pdf" else f"[{b.name} (PDF)]({path})"
-                out.append(f"{link}\n\n*{b.caption}*")
-        return "\n\n".join(out) + "\n"
+        if self.source:
+            out.append(f"> **Data source:** {SOURCE_LABEL.get(self.source, self.source)}")
+        if self.provenance:
+            out.append("\n".join(f"- **{k}:** {v}" for k, v in self.provenance))
+        return "\n\n".join([*out, *(b.md(figure_format) for b in self.blocks)]) + "\n"
 
     def html(self) -> str:
-        body = ["<dl class='provenance'>" + "".join(f"<dt>{html.escape(k)}</dt><dd>{inline(v)}</dd>"
-                                                    for k, v in self.provenance) + "</dl>"]
-        for b in self.blocks:
-            if isinstance(b, Heading):
-                body.append(f"<h2 id='{b.anchor}'>{html.escape(b.title)}</h2>")
-            elif isinstance(b, Text):
-                body.append(f"<p class='{b.kind}'>{inline(b.markdown)}</p>")
-            elif isinstance(b, Table):
-                body.append(html_table(b))
-            else:
-                kind = "svg" if "svg" in b.images else "png"
-                data = base64.b64encode(b.images[kind]).decode()
-                body.append(f"<figure id='f-{b.name}'><img src='data:image/{kind}"
-                            f"{'+xml' if kind == 'svg' else ''};base64,{data}' alt='"
-                            f"{html.escape(b.caption, quote=True)}'><figcaption>{inline(b.caption)}"
-                            "</figcaption></figure>")
-        toc = [(b.title, f"#{b.anchor}") for b in self.blocks if isinstance(b, Heading)]
-        return page(self.title, self.source, "\n".join(body), self.nav, toc)
-
-
-def markdown_table(header: Sequence[str], rows: Sequence[Sequence[str]]) -> str:
-    """Return a GitHub Markdown table of already formatted cells."""
-    def line(cells: Sequence[str]) -> str:
-        return "| " + " | ".join(str(c).replace("|", "\\|").replace("\n", " ") for c in cells) + " |"
-
-    return "\n".join([line(header), "|" + "---|" * len(header), *map(line, rows)])
+        """A complete self-contained page: navigation bar (the other pages and this page's sections),
+        data-source banner, provenance and blocks."""
+        toc = "".join(f"<a href='#{b.anchor}'>{html.escape(b.title)}</a>" for b in self.blocks
+                      if isinstance(b, Heading))
+        links = "".join(f"<a href='{html.escape(h, quote=True)}'>{html.escape(t)}</a>" for t, h in self.nav) \
+            + (f"<span class='toc'>{toc}</span>" if toc else "")
+        banner, title = html.escape(SOURCE_LABEL.get(self.source, self.source) or "see each row"), \
+            html.escape(self.title)
+        body = "\n".join(["<dl class='provenance'>" + "".join(f"<dt>{html.escape(k)}</dt><dd>{inline(v)}</dd>"
+                                                              for k, v in self.provenance) + "</dl>",
+                          *(b.html() for b in self.blocks)])
+        return ("<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'><meta name='viewport' "
+                f"content='width=device-width,initial-scale=1'><title>{title}</title><style>{CSS}</style>"
+                f"</head><body><nav>{links}</nav><div class='source source-{html.escape(self.source)}'>Data: "
+                f"{banner}</div><main><h1>{title}</h1>{body}</main><footer>Data: {banner}. Written by "
+                "graspcampaign from the records only.</footer></body></html>\n")
 
 
 def inline(markdown: str) -> str:
@@ -272,19 +297,6 @@ def inline(markdown: str) -> str:
     text = re.sub(r"`(.+?)`", r"<code>\1</code>", text)
     text = re.sub(r"\[([^\]]+)\]\(([\w./-]+)\.md\)", r"<a href='\2.html'>\1</a>", text)
     return text.replace("\n- ", "<br>• ").replace("\n\n", "<br><br>")
-
-
-def html_table(b: Table) -> str:
-    """Return a styled HTML table; each header names the CSV columns it shows (``data-cols``)."""
-    head = "".join(f"<th data-cols='{' '.join(c.keys) if b.legacy is None else ''}'>"
-                   f"{html.escape(c.label)}</th>" for c in b.cols)
-    body = "".join("<tr>" + "".join(f"<td><a href='{html.escape(h, quote=True)}'>{html.escape(v)}</a></td>"
-                                    if h else f"<td>{html.escape(v)}</td>" for v, h in r) + "</tr>"
-                   for r in b.cells())
-    attrs = (f" data-table='{b.name}'" if b.csv else "") + (" data-legacy='1'" * (b.legacy is not None))
-    csv = f" <span class='csv'>{b.csv.format(name=b.name)}</span>" if b.csv else ""
-    return (f"<div class='table' id='t-{b.name}'><table{attrs}><caption>{inline(b.caption)}{csv}"
-            f"</caption><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table></div>")
 
 
 CSS = """
@@ -306,19 +318,3 @@ figure{margin:18px 0;background:#fff;padding:10px;border:1px solid #e1e5ea}figur
 height:auto}figcaption{font-size:13.5px;color:#444;margin-top:6px}footer{color:#666;font-size:13px;
 padding:12px 24px}code{background:#eef2f6;padding:0 3px}
 """
-
-
-def page(title: str, source: str, body: str, nav: Sequence[tuple[str, str]] = (),
-         toc: Sequence[tuple[str, str]] = ()) -> str:
-    """Return a complete self-contained HTML page: navigation bar (``nav``: relative links to the
-    other pages; ``toc``: anchors of this one), data-source banner and body."""
-    links = "".join(f"<a href='{html.escape(h, quote=True)}'>{html.escape(t)}</a>" for t, h in nav)
-    links += ("<span class='toc'>" + "".join(f"<a href='{h}'>{html.escape(t)}</a>" for t, h in toc)
-              + "</span>") if toc else ""
-    banner = html.escape(SOURCE_LABEL.get(source, source) or "see each row")
-    return ("<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'><meta name='viewport' "
-            f"content='width=device-width,initial-scale=1'><title>{html.escape(title)}</title>"
-            f"<style>{CSS}</style></head><body><nav>{links}</nav><div class='source "
-            f"source-{html.escape(source)}'>Data: {banner}</div><main><h1>{html.escape(title)}</h1>"
-            f"{body}</main><footer>Data: {banner}. Written by graspcampaign from the records only."
-            "</footer></body></html>\n")

@@ -12,6 +12,7 @@ run's typed paper object (``lambda p: p.success_pct[...]``); one verdict rule, o
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -22,8 +23,8 @@ from graspcampaign.analysis import records as rec
 from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
 from graspcampaign.analysis.records import Estimate
 from graspcampaign.analysis.vocabulary import FACTOR_LABELS, PROPOSED, VOCABULARIES, label
+from graspcampaign.report import document, style
 from graspcampaign.report import format as fmt
-from graspcampaign.report import style
 from graspcampaign.report.document import Col, Heading
 from graspcampaign.report.document import Figure as FigureBlock
 from graspcampaign.report.document import Table as TableBlock
@@ -127,24 +128,27 @@ class Text:
 @dataclass(frozen=True)
 class Finding:
     """The opening paragraph: the main finding from the records and where and why it differs from
-    the paper (naming the decision in ``docs/decisions.md``); computed last, shown first."""
+    the paper (naming the decision in ``docs/decisions.md``); computed last, shown first, it ends
+    with what the validity gate removed when the report has a :func:`GateRemoved` table."""
 
     text: Callable[[Run], str]
     title: str = "The main finding"
 
     def render(self, run: Run) -> list:
-        return [Heading("What this shows"), TextBlock(self.text(run), "finding")]
+        return [Heading("What this shows"), TextBlock(self.text(run) + gate_text(run), "finding")]
 
 
 @dataclass(frozen=True)
 class Table:
     """Any table: ``compute(run)`` returns the full-precision frame (the CSV); ``cols`` the shown
-    columns (default all; or ``cols(run, frame)``) after the labels of the grouping columns ``by``."""
+    columns after the labels of the grouping columns ``by``: a :class:`Col`, or a column name shown
+    by :func:`~graspcampaign.report.document.cols` (header and rounding from its unit, its interval
+    and reason columns joined), or ``cols(run, frame)``; default every other column."""
 
     name: str
     caption: str | Callable[[Run], str]
     compute: Callable[[Run], pd.DataFrame]
-    cols: Sequence[Col] | Callable[[Run, pd.DataFrame], Sequence[Col]] | None = None
+    cols: Sequence[Col | str] | Callable[[Run, pd.DataFrame], Sequence[Col | str]] | None = None
     by: Sequence[str] = ()
     empty: str | None = "no executed trial has its data"  # None: an empty table is left out
     title = property(lambda self: f"Table {self.name}")
@@ -154,8 +158,9 @@ class Table:
         if frame is None or not len(frame):
             return [TextBlock(f"Table {self.name} is empty: {self.empty}.", "note")] if self.empty else []
         frame, lead = labelled(frame.reset_index(drop=True), self.by)
-        cols = self.cols(run, frame) if callable(self.cols) else self.cols if self.cols is not None else [
-            Col(c, c.replace("_", " ")) for c in frame if not c.endswith("_label") and c not in self.by]
+        shown = self.cols(run, frame) if callable(self.cols) else self.cols if self.cols is not None else [
+            c for c in frame if c not in self.by and not re.search(r"_(label|why|low|high)(_[a-z]+)?$", c)]
+        cols = [c if isinstance(c, Col) else document.cols(c, frame=frame)[0] for c in shown]
         return [TableBlock(self.name, _text(self.caption, run), frame, [*lead, *cols])]
 
 
@@ -309,6 +314,15 @@ def FailureChecks(by: Sequence[str], paper: PaperKey | None = None,
     return Table(name, caption, compute, lambda run, frame: [
         Col("n", "n"), *(Col(c, c, share=f"{c}_pct") for c in frame if f"{c}_pct" in frame),
         Col("paper", "paper")], by)
+
+
+def gate_text(run: Run, name: str = "gate_removed") -> str:
+    """The Finding's sentence on the :func:`GateRemoved` table ``name`` ("" without one)."""
+    if (g := run.tables.get(name)) is None or not len(g):
+        return ""
+    return (f" The validity gate (a contact deeper than the fingertip radius is no contact, issue 13) "
+            f"removed {int(g['removed'].sum())} of {int(g['success_unbounded'].sum())} successes; "
+            f"{int(g['invalid_geometry'].sum())} of {int(g['n'].sum())} executed trials have such a contact.")
 
 
 def GateRemoved(by: Sequence[str], name: str = "gate_removed", caption: str = (

@@ -18,7 +18,6 @@ from graspcampaign.analysis.records import Estimate, rate
 from graspcampaign.analysis.vocabulary import OTHER_COLOURS, PROPOSED, colour
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.report import style
-from graspcampaign.report.document import Col
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Claims, Figure, Finding, GateRemoved, ReportSpec, Table, Text, Value
 from graspcampaign.report.studies.sensitivity import panel_rows
@@ -27,10 +26,6 @@ from graspcampaign.report.studies.sensitivity import panel_rows
 def _rate(g: pd.DataFrame, col: str, prefix: str) -> dict:
     e = rate(g, outcome=col)
     return {f"{prefix}_pct": e.value, f"{prefix}_low_pct": e.low, f"{prefix}_high_pct": e.high}
-
-
-def _rate_col(prefix: str, header: str) -> Col:
-    return Col(f"{prefix}_pct", header, 1, low=f"{prefix}_low_pct", high=f"{prefix}_high_pct")
 
 
 def _runtime(run: Run) -> pd.DataFrame:
@@ -115,9 +110,6 @@ def finding(run: Run) -> str:
                     f"{int(t['budget_capped'].sum())} pass at the doubled N_max: what remains is the "
                     "horizontal part of the normal-only residual, which Algorithm 2 does not act on, so more "
                     "iterations cannot remove it (the paper did not run this).")
-    if (gate := run.tables.get("gate_removed")) is not None:
-        text.append(f"The validity gate removed {int(gate['removed'].sum())} of "
-                    f"{int(gate['success_unbounded'].sum())} successes.")
     return " ".join(text) + " (`docs/decisions.md`, *Sensitivity, mesh resolution, surrogate (issue 7)*.)"
 
 
@@ -174,36 +166,26 @@ def fig20(run: Run, fig) -> None:
 SPEC = ReportSpec("mesh_resolution", [
     Finding(finding),
     Table("mesh_resolution_runtime", "Runtime per evaluation (wall clock during the run; the paper's is "
-          "MATLAB on a workstation) and final residual per node count beside Fig. 20", _runtime, [
-              Col("nodes", "nodes"), Col("faces", "faces"), Col("trials", "trials"),
-              Col("paper_runtime_ms", "paper [ms]", 0), Col("eval_median_ms", "ours median [ms]", sig=3),
-              Col("cost_ratio_vs_reference", "cost / reference mesh", 2),
-              Col("search_median_ms", "search [ms]", sig=3),
-              Col("equilibrium_median_ms", "Algorithm 2 [ms]", sig=3),
-              Col("residual_median_n", "median ‖R‖ [N]", sig=3), _rate_col("success", "success % (95%)"),
-              Col("loop_at_n_max", "loop at N_max")]),
+          "MATLAB on a workstation), its cost against the reference mesh and final residual per node count "
+          "beside Fig. 20", _runtime, ["nodes", "faces", "trials", "paper_runtime_ms", "eval_median_ms",
+                                       "cost_ratio_vs_reference", "search_median_ms", "equilibrium_median_ms",
+                                       "residual_median_n", "success_pct", "loop_at_n_max"]),
     Claims("cost_ratio", "Per-evaluation cost ratio, largest against smallest mesh (median of the per-trial "
            "ratios measured interleaved in the same process, so machine load cancels; no interval)", [
                Value("cost ratio, largest / reference mesh", "Sec. 6.7", _cost_ratio,
                      lambda p: p.runtime_ratio_1750_144, digits=2),
                Value("cost ratio against the paper's target (≤)", "Sec. 11", _cost_ratio,
                      lambda p: (0.0, p.runtime_ratio_target), digits=2)]),
-    Table("success_vs_n_cand", "Success (‖R‖ check and |R_z| reading, Wilson 95%) against N_cand (the "
-          "paper's future work, Sec. 11); mean H(G) of the chosen triple, its gap to the reference search on "
-          "the same body, and how often the sampled search found the reference argmin", _budget, [
-              Col("nodes", "nodes"), Col("planner", "planner"), Col("n_cand", "N_cand"),
-              Col("trials", "trials"),
-              _rate_col("success", "success % (95%)"), _rate_col("vertical", "|R_z| reading % (95%)"),
-              Col("h_mean", "mean H", 3), Col("h_gap_to_reference", "H gap", sig=3),
-              Col("reference_argmin_found_pct", "reference argmin found [%]", 0)],
-          empty="the run has no budget panel"),
+    Table("success_vs_n_cand", "Success (‖R‖ check; vertical: the |R_z| reading; Wilson 95%) against "
+          "N_cand (the paper's future work, Sec. 11); mean H(G) of the chosen triple, its gap to the "
+          "reference search on the same body, and how often the sampled search found the reference argmin",
+          _budget, ["nodes", "planner", "n_cand", "trials", "success_pct", "vertical_pct", "h_mean",
+                    "h_gap_to_reference", "reference_argmin_found_pct"], empty="the run has no budget panel"),
     Table("n_max_rerun", "Baseline-grid failures at N_max and re-evaluated at the doubled budget "
-          "(budget-capped = fails at N_max, passes at the doubled budget)", _n_max, [
-              Col("planner", "planner"), Col("trials", "trials"), Col("failures_at_n_max", "failures"),
-              Col("failures_loop_still_moving", "loop still moving"), Col("budget_capped", "budget-capped"),
-              _rate_col("success", "success at N_max %"), _rate_col("rerun", "at doubled N_max %"),
-              Col("residual_median_failures_rerun_n", "failures' median ‖R‖ after [N]", sig=3)],
-          empty="the run has no n_max panel"),
+          "(budget-capped = fails at N_max, passes at the doubled budget; rerun: success at the doubled "
+          "budget)", _n_max, ["planner", "trials", "failures_at_n_max", "failures_loop_still_moving",
+                              "budget_capped", "success_pct", "rerun_pct",
+                              "residual_median_failures_rerun_n"], empty="the run has no n_max panel"),
     Text(_cross_check),
     Figure("fig20_mesh_resolution", "Fig. 20 (ours) and the N_cand curve: (a) runtime per evaluation with "
            "O(n), O(√n) guides and the paper's points; (b) final residual with τ_F and the paper's scatter "

@@ -147,10 +147,6 @@ def finding(run: Run) -> str:
     if len(c):
         text.append("(c) b is an MSD constant the quasi-static evaluator never reads, so the b axis is flat "
                     "by construction.")
-    gate = run.tables.get("gate_removed")
-    if gate is not None:
-        text.append(f"The validity gate removed {int(gate['removed'].sum())} of "
-                    f"{int(gate['success_unbounded'].sum())} successes (contacts deeper than the fingertip).")
     return " ".join(text) + (" (`docs/decisions.md`, *Sensitivity, mesh resolution, surrogate (issue 7)*; "
                              "SPEC §8.)")
 

@@ -57,9 +57,6 @@ def _per_mu(run: Run) -> pd.DataFrame:
 def finding(run: Run) -> str:
     table, p = _per_mu(run), run.paper
     settle = table[table["quantity"].str.startswith("iteration")]
-    gate = run.tables.get("gate_removed")
-    removed = f" The validity gate removed {int(gate['removed'].sum())} of " \
-              f"{int(gate['success_unbounded'].sum())} successes." if gate is not None else ""
     return (f"Under the fixed {p.finger_force_command_n:g} N grip command the force residual settles below "
             f"τ_F = {_tau(run):g} N at {settle['ours'].notna().sum()} of {len(settle)} friction levels "
             f"(paper: by iteration {p.residual_settles_within_iterations[1]} at every level), and "
@@ -68,8 +65,7 @@ def finding(run: Run) -> str:
             f"{run.ok['delta_max_mm'].max() / 1e3:.3g} m, far outside the contact law's range (the paper "
             "calls the study a robustness test outside the validated envelope, Sec. 6.4); we record it "
             "rather than rescale (`docs/decisions.md`, *Simulation studies (issue 4, campaign side)*: "
-            "wrench_balance)."
-            + removed)
+            "wrench_balance).")
 
 
 PANELS = (("residual_norm_n", "(a) force residual ‖R‖ [N]"),
