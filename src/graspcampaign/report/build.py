@@ -1,10 +1,4 @@
-"""Build reports from records: one per run, the Table 1 headline page and an index.
-
-Reads only ``manifest.json`` and the Parquet records; never runs a trial, fits a model or times
-anything. A study's report is its :class:`~graspcampaign.report.spec.ReportSpec` (``SPECS`` by
-study, ``KIND_SPECS`` by trial kind); studies not yet ported keep their section module through the
-**legacy path** (``LEGACY``). One run whose report cannot be written never stops the others.
-"""
+"""Build reports from records: one per run, the Table 1 headline page and an index."""
 
 from __future__ import annotations
 

@@ -1,11 +1,4 @@
-"""A rendered report: blocks (headings, paragraphs, tables, figures) and the writer of each format.
-
-A table is one DataFrame at full precision (``tables/<name>.csv``, ``tables.json``) plus its shown
-columns: each :class:`Col` names the CSV column(s) it displays and every cell is :func:`cell` of
-its row (rounded once, the missing mark or the reason), so a page's table equals its CSV table.
-Formats: ``md``, ``csv``, ``json`` and ``html`` (one self-contained page: styles inline, figures
-as data URIs, links only to the other pages of the results tree); figures as PNG, SVG or PDF.
-"""
+"""A rendered report: blocks (headings, paragraphs, tables, figures) and the writer of each format."""
 
 from __future__ import annotations
 

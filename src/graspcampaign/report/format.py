@@ -1,11 +1,4 @@
-"""The one way a report writes a number and sets it beside the paper's.
-
-* **Rounding once**, from the exact binary value, half to even (:mod:`decimal`), to decimals or
-  significant digits; an interval's bounds and its estimate are each rounded once (17/100 prints
-  10.9–25.5, not the doubly rounded 25.6).
-* **One missing mark** (:data:`MISSING`) and one minus sign (:data:`MINUS`).
-* **One verdict rule** (:func:`verdict`), used by every table that sets ours beside the paper.
-"""
+"""The one way a report writes a number and sets it beside the paper's."""
 
 from __future__ import annotations
 
@@ -36,11 +29,7 @@ def _nonzero(text: str) -> bool:
 
 def number(value: Any, digits: int | None = None, *, sig: int | None = None,
            signed: bool = False, unit: str = "") -> str:
-    """Return ``value`` rounded once to ``digits`` decimals or ``sig`` significant digits.
-
-    Integers print as they are; a float with neither keeps 4 significant digits without trailing
-    zeros; ``signed`` prefixes ``+`` to a positive value; ``unit`` is appended (e.g. ``" pp"``).
-    """
+    """Return ``value`` rounded once to ``digits`` decimals or ``sig`` significant digits."""
     if isinstance(value, str):
         return value
     if is_missing(value):
@@ -87,13 +76,9 @@ def paper_text(paper: Any, digits: int | None = None) -> str:
 
 def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits: int = 1,
             unit: str = "") -> tuple[bool | None, str]:
-    """Say how ours stands against the paper's value: ``(differs, words)``, the one rule.
-
-    No paper value or ours not computed: ``differs`` is None. A range ``(lo, hi)``: inside agrees.
-    A yes/no or a word: equality agrees. Ours with a 95 % interval: the paper's value inside it
-    is consistent. Otherwise ours matches within one unit of the paper's last printed digit
-    (``10**-digits``; the paper both rounds and truncates). The difference is rounded once.
-    """
+    """Say how ours stands against the paper's value: ``(differs, words)``, the one rule: a range agrees
+    inside it; a word when equal; ours with a 95 % interval when it holds the paper's value; otherwise
+    within one unit of the paper's last printed digit (``10**-digits``)."""
     if is_missing(paper):
         return None, "the paper reports no value"
     if is_missing(ours):

@@ -1,11 +1,4 @@
-"""The Table 1 headline page: every headline success rate across studies, with testbed and n.
-
-``<root>/headline.md`` (``.csv``, ``.html``): one row per Table 1 entry and run -- the proposed
-planner's success over executed trials with its Wilson interval, the strongest baselines of the
-same run, the paper's values (typed, from the run's paper block) and the verdict by the one rule.
-As in the paper the rows are *not* comparable with each other; the testbed column says which is
-which. Studies without records show the paper's value from their study file.
-"""
+"""The Table 1 headline page: every headline success rate across studies, with testbed and n."""
 
 from __future__ import annotations
 

@@ -1,9 +1,4 @@
-"""Render a study's :class:`~graspcampaign.report.spec.ReportSpec` over one run's records.
-
-:class:`Run` is what every item sees. Each item is rendered on its own: one whose statistic cannot
-be computed (no executed trial, too few clusters, a missing column, a non-finite heatmap) is
-replaced by one sentence giving the reason, and the rest of the report is written.
-"""
+"""Render a study's :class:`~graspcampaign.report.spec.ReportSpec` over one run's records."""
 
 from __future__ import annotations
 

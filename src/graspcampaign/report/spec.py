@@ -1,13 +1,4 @@
-"""A study's report, declared: what to show, never how to format it.
-
-A :class:`ReportSpec` lists items, rendered in order by :func:`graspcampaign.report.render.render`:
-:class:`Finding` (the opening paragraph, from the records), :class:`Section`, :class:`Text`,
-:class:`Table` (any frame), :class:`Figure`, and the tables built on :class:`Table`:
-:func:`Rates` (a rate per group beside the paper), :func:`Claims` of :class:`Rate` and
-:class:`Value` rows (bare ones are gathered into one table), :func:`Paired` (McNemar),
-:func:`DesignLimit`, :func:`FailureChecks` and :func:`GateRemoved`. Paper values come from the
-run's typed paper object (``lambda p: p.success_pct[...]``); one verdict rule, one rounding.
-"""
+"""A study's report, declared: what to show, never how to format it."""
 
 from __future__ import annotations
 
@@ -59,11 +50,7 @@ def labelled(frame: pd.DataFrame, by: Sequence[str]) -> tuple[pd.DataFrame, list
 def verdicts(frame: pd.DataFrame, ours: str, paper: str, low: str | None = None,
              high: str | None = None, digits: int | str = 1, unit: str = "",
              why: str = "why") -> pd.DataFrame:
-    """Add ``difference``, ``differs`` and ``verdict`` columns by the one verdict rule.
-
-    ``digits`` and ``unit`` may name columns holding each row's decimals and unit; a unit ``%``
-    states its difference in percentage points; where ours is missing the verdict is the row's
-    ``why`` text (the reason it was not computed)."""
+    """Add ``difference``, ``differs`` and ``verdict`` columns by the one verdict rule."""
     out = []
     for r in frame.to_dict("records"):
         u = str(r[unit] or "") if unit in r else unit

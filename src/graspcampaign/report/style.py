@@ -1,9 +1,4 @@
-"""The one figure style: rcParams, the data-source label, the paper's marks, rate bars.
-
-Figures are :class:`matplotlib.figure.Figure` objects built without pyplot (headless, no global
-state) under :data:`RC`; each carries its data source top right; the paper's values are black;
-labels and colours come from :mod:`graspcampaign.analysis.vocabulary`, as in the tables.
-"""
+"""The one figure style: rcParams, the data-source label, the paper's marks, rate bars."""
 
 from __future__ import annotations
 

@@ -1,11 +1,4 @@
-"""Report of ``mesh_resolution`` (Sec. 6.7, Fig. 20; Sec. 11): three panels.
-
-``resolution``: runtime per evaluation and final residual against node count; the cost ratio is the
-median of the ratios each trial measured against the reference mesh interleaved in the same process
-(``cost_ratio_vs_reference``, so machine load cancels; the report times nothing). ``budget``:
-success against N_cand with the reference search. ``n_max``: the baseline grid's failures at a
-doubled N_max, checked against the ``baseline_grid`` records beside this run when there are any.
-"""
+"""Report of ``mesh_resolution`` (Sec. 6.7, Fig. 20; Sec. 11): three panels."""
 
 from __future__ import annotations
 

@@ -1,10 +1,4 @@
-"""Report of ``pso_repeatability`` (Sec. 6.8, Fig. 21) and Table 3.
-
-The coefficient of variation of each identified parameter over the restarts with a percentile
-bootstrap interval beside the paper's; the identified values beside Table 3, with how many ended
-on a PSO search bound (``at_bound``); Fig. 21 from the records and ``tables/pso_trace``.
-:func:`table3` also serves the quasi-static studies (their ``prepared/`` identifications).
-"""
+"""Report of ``pso_repeatability`` (Sec. 6.8, Fig. 21) and Table 3."""
 
 from __future__ import annotations
 

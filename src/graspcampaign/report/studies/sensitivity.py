@@ -1,10 +1,4 @@
-"""Report of ``sensitivity`` (Sec. 6.6, Fig. 19): success over three parameter planes.
-
-Success per cell is the mean over its seeds under the residual check (``success``) and the |R_z|
-reading (``success_vertical``). The paper states its boundaries in words (Fig. 19, Sec. 6.6, 10);
-SensitivityPaper holds them as numbers, drawn as lines and set beside the matching counts of ours.
-A cell whose value is not finite is left blank and named.
-"""
+"""Report of ``sensitivity`` (Sec. 6.6, Fig. 19): success over three parameter planes."""
 
 from __future__ import annotations
 

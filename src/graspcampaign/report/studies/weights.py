@@ -1,9 +1,4 @@
-"""Report of ``heuristic_weights`` (Sec. 5.2): uniform weight scaling must scale H and keep the argmin.
-
-``weight_scale`` is a method factor, so invariance is judged within each scene (every scale of a
-seed scores the same candidates). The paper's H values are those of the hand-reachable
-45°/45°/−90° set (``h_reachable``, ``s*_reachable``), beside the unconstrained argmin (``h_total``).
-"""
+"""Report of ``heuristic_weights`` (Sec. 5.2): uniform weight scaling must scale H and keep the argmin."""
 
 from __future__ import annotations
 

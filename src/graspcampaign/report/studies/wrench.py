@@ -1,8 +1,4 @@
-"""Report of ``wrench_balance`` (Sec. 6.4, Fig. 17): a fixed grip command, one trial per friction.
-
-Reads the per-iteration trace ``tables/iterations``; the settling iteration is the first from which
-‖R‖ stays below τ_F.
-"""
+"""Report of ``wrench_balance`` (Sec. 6.4, Fig. 17): a fixed grip command, one trial per friction."""
 
 from __future__ import annotations
 
