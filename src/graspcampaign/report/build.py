@@ -12,51 +12,29 @@ import pandas as pd
 from graspcampaign.campaign.provenance import read_manifest
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.errors import ConfigError, UserInputError
+from graspcampaign.report import document as D
 from graspcampaign.report import spec as S
 from graspcampaign.report import style
-from graspcampaign.report.document import (
-    NAV,
-    Col,
-    Document,
-    Figure,
-    Table,
-    Text,
-    check_figure_format,
-    check_formats,
-)
+from graspcampaign.report.document import NAV, Col, Document, Figure, Table, Text
 from graspcampaign.report.render import Run, provenance, reason, render
 
 log = logging.getLogger(__name__)
 
 #: study -> "module:attribute" of its spec under ``graspcampaign.report.studies``
 SPECS: dict[str, str] = {
-    "smoke": "smoke:SPEC",
-    "heuristic_weights": "weights:SPEC",
-    "wrench_balance": "wrench:SPEC",
-    "shapes": "quasi_static:SHAPES",
-    "ablation": "quasi_static:ABLATION",
-    "baseline_grid": "quasi_static:BASELINE_GRID",
-    "pso_repeatability": "pso:SPEC",
-    "gravity_settle": "dynamic:GRAVITY_SETTLE",
-    "friction_mass": "dynamic:FRICTION_MASS",
-    "sensitivity": "sensitivity:SPEC",
-    "mesh_resolution": "mesh_resolution:SPEC",
-}
+    "smoke": "smoke:SPEC", "heuristic_weights": "weights:SPEC", "wrench_balance": "wrench:SPEC",
+    "shapes": "quasi_static:SHAPES", "ablation": "quasi_static:ABLATION",
+    "baseline_grid": "quasi_static:BASELINE_GRID", "pso_repeatability": "pso:SPEC",
+    "gravity_settle": "dynamic:GRAVITY_SETTLE", "friction_mass": "dynamic:FRICTION_MASS",
+    "sensitivity": "sensitivity:SPEC", "mesh_resolution": "mesh_resolution:SPEC"}
 #: trial kind -> spec for studies of that kind without a spec of their own
-KIND_SPECS: dict[str, str] = {
-    "quasi_static": "quasi_static:PLANNERS",
-    "mesh_features": "smoke:SPEC",
-    "sensitivity": "sensitivity:SPEC",
-    "mesh_resolution": "mesh_resolution:SPEC",
-}
-#: LEGACY PATH (issue 14): trial kind -> "module:function(report, records, manifest, store)" of
-#: the section modules not yet ported to a spec. Remove an entry when its study is ported.
-LEGACY: dict[str, str] = {
-    "surrogate": "graspcampaign.report.sections.surrogate:section",
-    "test1_bench": "graspcampaign.report.sections.test1:section",
-    "test2_grasp": "graspcampaign.report.sections.test2:section",
-    "test3_disturbance": "graspcampaign.report.sections.test3:section",
-}
+KIND_SPECS: dict[str, str] = {"quasi_static": "quasi_static:PLANNERS", "mesh_features": "smoke:SPEC",
+                              "sensitivity": "sensitivity:SPEC", "mesh_resolution": "mesh_resolution:SPEC"}
+#: LEGACY PATH (issue 14): trial kind -> "module:function(report, records, manifest, store)" of the
+#: section modules not yet ported to a spec. Remove an entry when its study is ported.
+LEGACY: dict[str, str] = {k: f"graspcampaign.report.sections.{m}:section" for k, m in (
+    ("surrogate", "surrogate"), ("test1_bench", "test1"), ("test2_grasp", "test2"),
+    ("test3_disturbance", "test3"))}
 
 
 class ReportBatch(list):
@@ -151,8 +129,8 @@ def build_reports(studies: list[str] | None = None, run: str | None = None,
                   figure_format: str = "png") -> ReportBatch:
     """Write every selected run's report, then the headline page and the index; ``.failed`` of
     the result lists the runs whose report could not be written (the others are written)."""
-    root, formats = Path(root), check_formats(formats)
-    figure_format, batch = check_figure_format(figure_format), ReportBatch()
+    root, formats = Path(root), D.check_formats(formats)
+    figure_format, batch = D.check_figure_format(figure_format), ReportBatch()
     for store in _runs(root, studies, run):
         label = store.path.relative_to(root).as_posix()
         try:

@@ -19,11 +19,9 @@ from graspcampaign.report import format as fmt
 
 FORMATS = ("md", "csv", "json", "html")
 FIGURE_FORMATS = ("png", "svg", "pdf")
-SOURCE_LABEL = {
-    "simulation": "simulation (this tool's numerical model)",
-    "virtual": "VIRTUAL RIG: synthetic data from a stochastic model, not hardware measurements",
-    "measured": "measured on hardware (ingested records)",
-}
+SOURCE_LABEL = {"simulation": "simulation (this tool's numerical model)", "measured": "measured on hardware "
+                "(ingested records)", "virtual": "VIRTUAL RIG: synthetic data from a stochastic model, not "
+                "hardware measurements"}
 NAV = [("Index", "index.html"), ("Table 1 headline", "headline.html")]
 """The navigation bar of every page (relative to the results root)."""
 
