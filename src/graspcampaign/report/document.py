@@ -74,11 +74,11 @@ UNITS = {"pct": "%", "mm": "mm", "m": "m", "n": "N", "nm": "N·m", "s": "s", "ms
 def cols(*names: str, frame: pd.DataFrame | None = None) -> list[Col]:
     """Shown columns of record-convention names ``<words>_<unit>``: header ``words [unit]``, 3
     significant digits (1 decimal for %); factor levels and other columns print as they are. With
-    ``frame``, a column's interval ``<words>_low_<unit>``/``_high_<unit>`` and reason ``<name>_why``
-    join it when the frame has them."""
+    ``frame``, its interval ``<words>_low_<unit>``/``_high_<unit>`` (or ``<name>_low``/``_high``)
+    and reason ``<name>_why`` (or ``<words>_why``) join a column when the frame has them."""
     from graspcampaign.analysis.vocabulary import FACTOR_LABELS
 
-    out = []
+    out, has = [], (lambda c: frame is not None and c in frame)
     for name in names:
         words, _, suffix = name.rpartition("_")
         unit = UNITS.get(suffix) if words and name not in FACTOR_LABELS else None
@@ -86,10 +86,9 @@ def cols(*names: str, frame: pd.DataFrame | None = None) -> list[Col]:
                                             else name.replace("_", " "))
         low, high = (f"{words}_low_{suffix}", f"{words}_high_{suffix}") if unit else (f"{name}_low",
                                                                                        f"{name}_high")
-        ci = frame is not None and low in frame and high in frame
+        ci, why = has(low) and has(high), next((w for w in (f"{name}_why", f"{words}_why") if has(w)), None)
         out.append(Col(name, label, 1 if unit == "%" else None, sig=3 if unit and unit != "%" else None,
-                       low=low if ci else None, high=high if ci else None,
-                       why=f"{name}_why" if frame is not None and f"{name}_why" in frame else None))
+                       low=low if ci else None, high=high if ci else None, why=why))
     return out
 
 

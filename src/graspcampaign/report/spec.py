@@ -16,10 +16,7 @@ from graspcampaign.analysis.records import Estimate
 from graspcampaign.analysis.vocabulary import FACTOR_LABELS, PROPOSED, VOCABULARIES, label
 from graspcampaign.report import document, style
 from graspcampaign.report import format as fmt
-from graspcampaign.report.document import Col, Heading
-from graspcampaign.report.document import Figure as FigureBlock
-from graspcampaign.report.document import Table as TableBlock
-from graspcampaign.report.document import Text as TextBlock
+from graspcampaign.report.document import Col
 from graspcampaign.report.render import Run, reason
 
 PaperKey = Callable[[Any, dict], Any]
@@ -80,7 +77,7 @@ class ReportSpec:
     def __post_init__(self):
         items, rows = [], []
         for item in [*self.items, None]:
-            if isinstance(item, Rate | Value):
+            if isinstance(item, Value):
                 rows.append(item)
                 continue
             if rows:
@@ -98,7 +95,7 @@ class Section:
     title: str
 
     def render(self, run: Run) -> list:
-        return [Heading(self.title)]
+        return [document.Heading(self.title)]
 
 
 @dataclass(frozen=True)
@@ -109,7 +106,7 @@ class Text:
     title: str = "a paragraph"
 
     def render(self, run: Run) -> list:
-        return [TextBlock(text)] if (text := _text(self.text, run)) else []
+        return [document.Text(text)] if (text := _text(self.text, run)) else []
 
 
 @dataclass(frozen=True)
@@ -122,7 +119,8 @@ class Finding:
     title: str = "The main finding"
 
     def render(self, run: Run) -> list:
-        return [Heading("What this shows"), TextBlock(self.text(run) + gate_text(run), "finding")]
+        return [document.Heading("What this shows"), document.Text(self.text(run) + gate_text(run),
+                                                                    "finding")]
 
 
 @dataclass(frozen=True)
@@ -143,12 +141,12 @@ class Table:
     def render(self, run: Run) -> list:
         frame = self.compute(run)
         if frame is None or not len(frame):
-            return [TextBlock(f"Table {self.name} is empty: {self.empty}.", "note")] if self.empty else []
+            return [document.Text(f"Table {self.name} is empty: {self.empty}.", "note")] if self.empty else []
         frame, lead = labelled(frame.reset_index(drop=True), self.by)
         shown = self.cols(run, frame) if callable(self.cols) else self.cols if self.cols is not None else [
             c for c in frame if c not in self.by and not re.search(r"_(label|why|low|high)(_[a-z]+)?$", c)]
         cols = [c if isinstance(c, Col) else document.cols(c, frame=frame)[0] for c in shown]
-        return [TableBlock(self.name, _text(self.caption, run), frame, [*lead, *cols])]
+        return [document.Table(self.name, _text(self.caption, run), frame, [*lead, *cols])]
 
 
 @dataclass(frozen=True)
@@ -163,7 +161,7 @@ class Figure:
 
     def render(self, run: Run) -> list:
         images = style.draw(lambda fig: self.draw(run, fig), self.size, run.source, (run.figure_format,))
-        return [FigureBlock(self.name, _text(self.caption, run), images)]
+        return [document.Figure(self.name, _text(self.caption, run), images)]
 
 
 # ------------------------------------------------------------------ tables of the records
@@ -196,24 +194,6 @@ def Rates(name: str, caption: str, by: Sequence[str], paper: PaperKey | None = N
 
 
 @dataclass(frozen=True)
-class Rate:
-    """One rate beside the paper's (a row of :func:`Claims`) over the executed trials that
-    ``where(run)`` selects (a boolean mask over ``run.ok``; None: all)."""
-
-    label: str
-    section: str
-    where: Callable[[Run], pd.Series] | None = None
-    paper: Callable[[Any], Any] | None = None
-    outcome: str = "success"
-    digits: int = 1
-    unit = "%"
-
-    def estimate(self, run: Run) -> Estimate:
-        return rec.rate(run.records, (lambda ok: self.where(run).to_numpy()) if self.where else None,
-                        self.outcome)
-
-
-@dataclass(frozen=True)
 class Value:
     """One value beside the paper's (a row of :func:`Claims`): ``value(run)`` returns a number or an
     :class:`~graspcampaign.analysis.records.Estimate`; raising ValueError gives the reason."""
@@ -229,8 +209,16 @@ class Value:
         return v if isinstance(v := self.value(run), Estimate) else Estimate(v)
 
 
-def Claims(name: str, caption: str, rows: Sequence[Rate | Value] = ()) -> Table:
-    """A table of single quantities (:class:`Rate` and :class:`Value` rows) beside the paper's."""
+def Rate(label: str, section: str, where: Callable[[Run], pd.Series] | None = None,
+         paper: Callable[[Any], Any] | None = None, outcome: str = "success", digits: int = 1) -> Value:
+    """One rate beside the paper's (a :class:`Value` row, Wilson 95 %) over the executed trials that
+    ``where(run)`` selects (a boolean mask over ``run.ok``; None: all)."""
+    return Value(label, section, lambda run: rec.rate(run.records, (lambda ok: where(run).to_numpy())
+                                                      if where else None, outcome), paper, "%", digits)
+
+
+def Claims(name: str, caption: str, rows: Sequence[Value] = ()) -> Table:
+    """A table of single quantities (:func:`Rate` and :class:`Value` rows) beside the paper's."""
     def compute(run: Run) -> pd.DataFrame:
         out = []
         for r in rows:
@@ -319,7 +307,5 @@ def GateRemoved(by: Sequence[str], name: str = "gate_removed", caption: str = (
     """How many successes the validity gate removed per group (issue 13 item 1), from the records'
     ``success_unbounded`` and ``valid_geometry``: add ``GateRemoved(["planner"])`` to a spec."""
     return Table(name, caption, lambda run: rec.gate_table(run.records, by, run.order), [
-        Col("n", "n"), Col("success_unbounded", "successes without the gate"),
-        Col("removed_pct", "removed by the gate % (Wilson 95%)", 1, low="removed_low_pct",
-            high="removed_high_pct", why="removed_why"), Col("removed", "removed"),
-        Col("success", "successes"), Col("invalid_geometry", "contact deeper than r")], by)
+        "n", Col("success_unbounded", "successes without the gate"), "removed_pct", "removed", "success",
+        Col("invalid_geometry", "contact deeper than r")], by)

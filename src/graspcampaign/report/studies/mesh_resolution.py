@@ -7,18 +7,13 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from graspcampaign.analysis.records import Estimate, rate
+from graspcampaign.analysis.records import Estimate
 from graspcampaign.analysis.vocabulary import OTHER_COLOURS, PROPOSED, colour
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.report import style
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Claims, Figure, Finding, GateRemoved, ReportSpec, Table, Text, Value
-from graspcampaign.report.studies.sensitivity import panel_rows
-
-
-def _rate(g: pd.DataFrame, col: str, prefix: str) -> dict:
-    e = rate(g, outcome=col)
-    return {f"{prefix}_pct": e.value, f"{prefix}_low_pct": e.low, f"{prefix}_high_pct": e.high}
+from graspcampaign.report.studies.sensitivity import panel_rows, rate_cols
 
 
 def _runtime(run: Run) -> pd.DataFrame:
@@ -31,7 +26,7 @@ def _runtime(run: Run) -> pd.DataFrame:
         "equilibrium_median_ms": 1e3 * g["equilibrium_time_s"].median(),
         "paper_runtime_ms": run.paper.runtime_ms.get(str(int(nodes))),
         "residual_median_n": g["residual_norm_n"].median(), "loop_at_n_max": int(g["loop_capped"].sum()),
-        **_rate(g, "success", "success")} for nodes, g in panel_rows(run, "resolution").groupby("nodes")])
+        **rate_cols(g, "success", "success")} for nodes, g in panel_rows(run, "resolution").groupby("nodes")])
 
 
 def _cost_ratio(run: Run) -> Estimate:
@@ -52,7 +47,7 @@ def _budget(run: Run) -> pd.DataFrame:
                                                   strict=True)] if same is not None else []
         rows.append({"nodes": int(nodes), "n_cand": int(n_cand), "trials": len(g),
                      "planner": "reference" if (g["planner"] == "reference").all() else PROPOSED,
-                     **_rate(g, "success", "success"), **_rate(g, "success_vertical", "vertical"),
+                     **rate_cols(g, "success", "success"), **rate_cols(g, "success_vertical", "vertical"),
                      "h_mean": g["h_planner"].mean(), "h_gap_to_reference": np.nan if same is None
                      else np.mean(g["h_planner"].to_numpy() - same["h_planner"].to_numpy()),
                      "reference_argmin_found_pct": 100 * np.mean(found) if found else np.nan})
@@ -66,7 +61,7 @@ def _n_max(run: Run) -> pd.DataFrame:
         rows.append({"planner": planner, "trials": len(g), "failures_at_n_max": len(failed),
                      "failures_loop_still_moving": int(failed["loop_capped"].sum()),
                      "budget_capped": int(failed["budget_capped"].astype(bool).sum()),
-                     **_rate(g, "success", "success"), **_rate(g, "success_rerun", "rerun"),
+                     **rate_cols(g, "success", "success"), **rate_cols(g, "success_rerun", "rerun"),
                      "residual_median_failures_rerun_n": failed["residual_norm_rerun_n"].median()})
     return pd.DataFrame(rows)
 
