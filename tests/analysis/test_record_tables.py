@@ -69,3 +69,28 @@ def test_design_limit_counts_exceedances_strictly():
     row = rec.design_limit_table(records, ["planner"]).iloc[0]
     assert (row["exceeds"], row["successes_exceeding"]) == (2, 1)  # 1.0 is not above 1 mm
     assert row["delta_max_median_mm"] == 1.0
+
+
+def test_gate_table_counts_the_successes_the_validity_gate_removed():
+    # 6 executed trials of planner a: 4 pass the checks, 1 of them with a contact deeper than r
+    records = pd.DataFrame({"status": ["ok"] * 7 + ["error"], "planner": ["a"] * 6 + ["b", "a"],
+                            "success_unbounded": [True, True, True, True, False, False, False, None],
+                            "valid_geometry": [True, True, False, True, False, True, True, None],
+                            "success": [True, True, False, True, False, False, False, None]})
+    table = rec.gate_table(records, ["planner"]).set_index("planner")
+    assert table.loc["a", ["n", "success_unbounded", "removed", "success", "invalid_geometry"]
+                     ].tolist() == [6, 4, 1, 3, 2]
+    low, high = proportion_confint(1, 4, method="wilson")  # statsmodels reference
+    assert table.loc["a", ["removed_pct", "removed_low_pct", "removed_high_pct"]].tolist() == \
+        pytest.approx([25.0, 100 * low, 100 * high])
+    assert table.loc["b", "removed_why"] == "no success without the gate"
+    with pytest.raises(KeyError, match="success_unbounded"):
+        rec.gate_table(records.drop(columns="success_unbounded"), ["planner"])
+
+
+def test_at_bound_reads_booleans_or_the_comma_joined_names():
+    booleans = pd.DataFrame({"at_bound_n": [True, None, False]})
+    assert rec.at_bound(booleans, "n_exp").tolist() == [True, False, False]  # n_exp is n
+    joined = pd.DataFrame({"pso_at_bound": ["lambda1,n", "", None, "lambda2"]})
+    assert rec.at_bound(joined, "lambda1").tolist() == [True, False, False, False]
+    assert rec.at_bound(joined, "n").tolist() == [True, False, False, False]

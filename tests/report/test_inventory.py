@@ -17,7 +17,7 @@ from graspcampaign.report.build import LEGACY, SPECS
 INVENTORY = {
     "smoke": ({"meshes", "paper_comparison"}, {"sharp_features"}),
     "heuristic_weights": ({"h_by_scale", "components", "ratio_sweep"}, set()),
-    "wrench_balance": ({"wrench_balance", "design_limit"}, {"fig17_wrench"}),
+    "wrench_balance": ({"wrench_balance", "design_limit", "gate_removed"}, {"fig17_wrench"}),
     "shapes": ({"shapes", "h_range", "design_limit", "failure_checks", "readings",
                 "identifications"}, {"fig15_shape_metrics"}),
     "ablation": ({"success_by_planner", "mcnemar", "design_limit", "failure_checks", "mechanism",
@@ -33,10 +33,10 @@ INVENTORY = {
     "pso_repeatability": ({"cv", "table3", "convergence"}, {"fig21_pso"}),
     "gravity_settle": ({"settle", "integrator_audit"}, {"fig10_settle", "integrator_audit"}),
     "friction_mass": ({"friction_mass", "like_for_like"}, {"fig12_13_dynamic"}),
-    "sensitivity": ({"sensitivity_panels", "sensitivity_claims"},
+    "sensitivity": ({"sensitivity_panels", "sensitivity_claims", "gate_removed"},
                     {"fig19_sensitivity", "fig19_supplement"}),
     "mesh_resolution": ({"mesh_resolution_runtime", "cost_ratio", "success_vs_n_cand",
-                         "n_max_rerun"}, {"fig20_mesh_resolution"}),
+                         "n_max_rerun", "gate_removed"}, {"fig20_mesh_resolution"}),
     # legacy sections/test2.py and test3.py wrote the first eleven / twelve tables (plus status)
     # and the four figures (full-scale run of the last legacy commit, 2c60934); the spec adds
     # the belief tables (issue 13 item 5), Fig. 28's outcome classes and materials, Fig. 31b's
@@ -108,3 +108,14 @@ def test_every_figure_is_labelled_with_its_data_source(sim_root):
     svg = (sim_root / "baseline_grid" / "default" / "report" / "figures" /
            "fig18_baselines.svg").read_text()
     assert "data: simulation" in svg
+
+
+@pytest.mark.parametrize("study", ["wrench_balance", "sensitivity", "mesh_resolution"])
+def test_the_gate_table_counts_what_the_records_say(sim_root, study):
+    run = sim_root / study / "default"
+    ok = RunStore(run).read().to_pandas().query("status == 'ok'")
+    gate = pd.read_csv(run / "report" / "tables" / "gate_removed.csv")
+    unbounded, success = ok["success_unbounded"].astype(bool), ok["success"].astype(bool)
+    assert gate["success_unbounded"].sum() == unbounded.sum()
+    assert gate["removed"].sum() == (unbounded & ~success).sum()
+    assert gate["invalid_geometry"].sum() == (~ok["valid_geometry"].astype(bool)).sum()

@@ -52,7 +52,7 @@ def test_sensitivity_report(runs):
     assert panels["trials"].to_dict() == records.groupby("panel").size().to_dict()
     k = int(records.loc[records["panel"] == "mu_mass", "success"].sum())
     low, high = proportion_confint(k, 8, method="wilson")  # statsmodels reference
-    assert panels.loc["mu_mass", ["success", "success_low", "success_high"]].tolist() == \
+    assert panels.loc["mu_mass", ["success_pct", "success_low_pct", "success_high_pct"]].tolist() == \
         pytest.approx([100 * k / 8, 100 * low, 100 * high])
     claims = _table(store, "sensitivity_claims").set_index("quantity")
     inside = records[(records["panel"] == "mu_mass") & (records["mu"] >= 0.2)

@@ -446,7 +446,8 @@ def test_pso_budgets_split_and_pinned_parameters(tmp_path):
         return {"lambda1": 1.5, "lambda2": rng.uniform(0.3, 1.4), "n_exp": rng.normal(0.5, 0.05),
                 "b": rng.uniform(0.2, 1.5), "k": rng.uniform(0.05, 0.3),
                 "c": 0.002 if conv else rng.uniform(5e-4, 0.01), "best_cost": rng.uniform(0, 1),
-                "n_evaluations": 50_000 if conv else 120}
+                "n_evaluations": 50_000 if conv else 120, "at_bound": "lambda1",  # its upper bound
+                **{f"at_bound_{p}": p == "lambda1" for p in ("lambda1", "lambda2", "n", "b", "k", "c")}}
 
     store = make_run(tmp_path, "pso_repeatability", "pso_repeatability",
                      {"shape": ["sphere"], "budget": ["repeatability", "converged"]}, seeds=6,
@@ -465,3 +466,7 @@ def test_pso_budgets_split_and_pinned_parameters(tmp_path):
     assert cv.loc["lambda1", "why"] == "every value is the same: a zero spread has no interval"
     assert "| lambda1 | 60.0 | 0.0 (every value is the same" not in md  # no interval shown
     assert "restarts at the paper's 8 × 15 budget" in md
+    # issue 13: an identified value on a search bound is said so wherever it is shown
+    assert (cv.loc["lambda1", "at_bound"], cv.loc["n_exp", "at_bound"]) == (len(rep), 0)
+    assert t3.loc["lambda1", "at_bound"] == len(conv)
+    assert f"Ended on a PSO search bound (`at_bound`): λ1 in {len(rep)} of {len(rep)} runs" in md

@@ -1,21 +1,17 @@
-"""One vocabulary for every study: planners, shapes, materials, outcomes (order, label, colour).
-
-Every table sorts, and every figure labels and colours, a planner, shape or material by these
-entries, so the same planner reads and looks the same in every report. The order is the paper's
-(Table 7 / Fig. 18 for planners, Fig. 14 for shapes, Table 4 for materials); labels are the
-paper's words; colours are fixed per entry (the proposed planner in the report's main blue).
-"""
+"""One vocabulary (order, label, colour) for every study: planners, shapes, materials, grip laws,
+model presets, integrators, outcomes, blocks and parameters, so a level reads and looks the same in
+every table and figure. Orders are the paper's (Table 7 / Fig. 18 planners, Fig. 14 shapes, Table 4
+materials), labels its words; the proposed planner is the report's main blue."""
 
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass
+from typing import NamedTuple
 
 import pandas as pd
 
 
-@dataclass(frozen=True)
-class Term:
+class Term(NamedTuple):
     """One entry of a vocabulary: its record value, display label and colour."""
 
     key: str
@@ -24,47 +20,46 @@ class Term:
 
 
 def _terms(*rows: tuple[str, str, str]) -> dict[str, Term]:
-    return {key: Term(key, label, colour) for key, label, colour in rows}
+    return {row[0]: Term(*row) for row in rows}
 
 
 PROPOSED = "heuristic"
 """The proposed planner (paper: "proposed", full H(G))."""
 
 PLANNERS = _terms(
-    ("heuristic", "proposed H(G)", "#1f5aa6"),
-    ("antipodal", "antipodal", "#e08a1e"),
-    ("centroid", "centroid", "#8c8c8c"),
-    ("no_pso", "no PSO", "#6a8fc7"),
-    ("force_balance", "force balance", "#7b4ea3"),
-    ("random", "random", "#c9a227"),
-    ("no_s1", "\u2212S1", "#4c78b5"),
-    ("no_s2", "\u2212S2", "#5f8bc2"),
-    ("no_s3", "\u2212S3", "#739ecf"),
-    ("no_pc", "\u2212Pc", "#87b0db"),
-    ("no_pe", "\u2212Pe", "#9bc2e6"),
-    ("reference", "reference search", "#2e7d32"),
-    ("epsilon", "Ferrari\u2013Canny \u03b5", "#b5403a"),
+    ("heuristic", "proposed H(G)", "#1f5aa6"), ("antipodal", "antipodal", "#e08a1e"),
+    ("centroid", "centroid", "#8c8c8c"), ("no_pso", "no PSO", "#6a8fc7"),
+    ("force_balance", "force balance", "#7b4ea3"), ("random", "random", "#c9a227"),
+    ("ferrari_canny", "Ferrari\u2013Canny \u03b5", "#b5403a"),
+    ("no_s1", "\u2212S1", "#4c78b5"), ("no_s2", "\u2212S2", "#5f8bc2"),
+    ("no_s3", "\u2212S3", "#739ecf"), ("no_pc", "\u2212Pc", "#87b0db"),
+    ("no_pe", "\u2212Pe", "#9bc2e6"), ("reference", "reference search", "#2e7d32"),
 )
 SHAPES = _terms(
-    ("sphere", "sphere", "#1b9e77"),
-    ("ellipsoid", "ellipsoid", "#d95f02"),
-    ("rounded_cube", "rounded cube", "#7570b3"),
-    ("pear", "pear", "#e7298a"),
+    ("sphere", "sphere", "#1b9e77"), ("ellipsoid", "ellipsoid", "#d95f02"),
+    ("rounded_cube", "rounded cube", "#7570b3"), ("pear", "pear", "#e7298a"),
     ("handle", "concave handle", "#66a61e"),
 )
 MATERIALS = _terms(
-    ("gel", "gel", "#1b9e77"),
-    ("silicone_soft", "silicone, soft", "#d95f02"),
-    ("bio_foam", "bio foam", "#7570b3"),
-    ("silicone_ref", "silicone, ref.", "#e7298a"),
+    ("gel", "gel", "#1b9e77"), ("silicone_soft", "silicone, soft", "#d95f02"),
+    ("bio_foam", "bio foam", "#7570b3"), ("silicone_ref", "silicone, ref.", "#e7298a"),
+)
+GRIP_LAWS = _terms(  # issue 13 item 3; paper = Algorithm 2 as published (Sec. 6.5, 12)
+    ("paper", "Algorithm 2 (paper)", "#1f5aa6"), ("slip", "slip-margin grip", "#e08a1e"),
+    ("oracle", "oracle equal grip", "#2e7d32"),
+)
+MODEL_PRESETS = _terms(  # conf/model
+    ("table2", "Tables 2\u20133 constants", "#1f5aa6"),
+    ("firm", "firm preset (Shore 30A/50A, Hertz)", "#b5403a"),
+    ("nominal", "nominal Hertz (uncalibrated)", "#8c8c8c"),
+)
+INTEGRATORS = _terms(  # gravity_settle's factor (Sec. 12)
+    ("rk4", "RK4 (explicit, the paper's)", "#1f5aa6"), ("implicit", "implicit midpoint", "#e08a1e"),
 )
 OUTCOMES = _terms(
-    ("stable", "stable", "#2e7d32"),
-    ("success", "success (marginal)", "#81c784"),
-    ("partial", "partial", "#ffb74d"),
-    ("failure_slip", "slip", "#e57373"),
-    ("failure_drop", "drop", "#c62828"),
-    ("failure_damage", "damage", "#6d4c41"),
+    ("stable", "stable", "#2e7d32"), ("success", "success (marginal)", "#81c784"),
+    ("partial", "partial", "#ffb74d"), ("failure_slip", "slip", "#e57373"),
+    ("failure_drop", "drop", "#c62828"), ("failure_damage", "damage", "#6d4c41"),
     ("failure_contact_loss", "contact loss", "#9e9e9e"),
 )
 BLOCKS = _terms(
@@ -78,7 +73,8 @@ PARAMETERS = _terms(
 )
 
 VOCABULARIES: dict[str, dict[str, Term]] = {
-    "planner": PLANNERS, "shape": SHAPES, "material": MATERIALS, "outcome": OUTCOMES,
+    "planner": PLANNERS, "shape": SHAPES, "material": MATERIALS, "grip_law": GRIP_LAWS,
+    "model_preset": MODEL_PRESETS, "integrator": INTEGRATORS, "outcome": OUTCOMES,
     "block": BLOCKS, "parameter": PARAMETERS,
 }
 """Record column -> its vocabulary."""
@@ -104,11 +100,8 @@ def colour(column: str, value: object, index: int = 0) -> str:
 
 
 def ordered(column: str, values: Iterable, first: Iterable = ()) -> list:
-    """Return the distinct ``values`` in display order.
-
-    ``first`` (e.g. the study's configured factor levels) leads; then the vocabulary's order;
-    then the rest sorted by their text.
-    """
+    """Return the distinct ``values`` in display order: ``first`` (e.g. the study's configured
+    levels), then the vocabulary's order, then the rest sorted by their text."""
     values = list(dict.fromkeys(v for v in values if not pd.isna(v)))
     rank: dict = {}
     for v in [*first, *VOCABULARIES.get(column, {})]:

@@ -1,17 +1,8 @@
-"""Build reports from records: one per run, the Table 1 headline page and an index.
-
-Reads only ``manifest.json`` and the Parquet records; never runs a trial, fits a model or times
-anything. A study's report is its :class:`~graspcampaign.report.spec.ReportSpec` (``SPECS``, by
-study name; ``KIND_SPECS`` for other studies of a kind). Studies not yet ported to a spec keep
-their section module through the **legacy path** (``LEGACY``, by trial kind) until they are.
-One run whose report cannot be written never stops the others: :func:`build_reports` returns the
-written pages and the failures, and the command line names each failed run and exits non-zero.
-"""
+"""Build reports from records: one per run, the Table 1 headline page and an index."""
 
 from __future__ import annotations
 
 import importlib
-import io
 import logging
 from pathlib import Path
 from typing import Any
@@ -21,56 +12,34 @@ import pandas as pd
 from graspcampaign.campaign.provenance import read_manifest
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.errors import ConfigError, UserInputError
+from graspcampaign.report import document as D
 from graspcampaign.report import spec as S
-from graspcampaign.report.document import (
-    Col,
-    Document,
-    Figure,
-    Table,
-    Text,
-    check_figure_format,
-    check_formats,
-    markdown_table,
-    page,
-)
+from graspcampaign.report import style
+from graspcampaign.report.document import NAV, Col, Document, Figure, Table, Text
 from graspcampaign.report.render import Run, provenance, reason, render
 
 log = logging.getLogger(__name__)
 
 #: study -> "module:attribute" of its spec under ``graspcampaign.report.studies``
 SPECS: dict[str, str] = {
-    "smoke": "smoke:SPEC",
-    "heuristic_weights": "weights:SPEC",
-    "wrench_balance": "wrench:SPEC",
-    "shapes": "quasi_static:SHAPES",
-    "ablation": "quasi_static:ABLATION",
-    "baseline_grid": "quasi_static:BASELINE_GRID",
-    "grip_laws": "quasi_static:GRIP_LAWS",
-    "pso_repeatability": "pso:SPEC",
-    "gravity_settle": "dynamic:GRAVITY_SETTLE",
-    "friction_mass": "dynamic:FRICTION_MASS",
-    "sensitivity": "sensitivity:SPEC",
-    "mesh_resolution": "mesh_resolution:SPEC",
-    "test2_grasp": "test2:SPEC",
-    "test3_disturbance": "test3:SPEC",
-}
+    "smoke": "smoke:SPEC", "heuristic_weights": "weights:SPEC", "wrench_balance": "wrench:SPEC",
+    "shapes": "quasi_static:SHAPES", "ablation": "quasi_static:ABLATION",
+    "baseline_grid": "quasi_static:BASELINE_GRID", "grip_laws": "quasi_static:GRIP_LAWS",
+    "pso_repeatability": "pso:SPEC", "gravity_settle": "dynamic:GRAVITY_SETTLE",
+    "friction_mass": "dynamic:FRICTION_MASS", "sensitivity": "sensitivity:SPEC",
+    "mesh_resolution": "mesh_resolution:SPEC", "test2_grasp": "test2:SPEC",
+    "test3_disturbance": "test3:SPEC"}
 #: trial kind -> spec for studies of that kind without a spec of their own
-KIND_SPECS: dict[str, str] = {
-    "quasi_static": "quasi_static:PLANNERS",
-    "mesh_features": "smoke:SPEC",
-    "sensitivity": "sensitivity:SPEC",
-    "mesh_resolution": "mesh_resolution:SPEC",
-}
-#: LEGACY PATH (issue 14): trial kind -> "module:function(report, records, manifest, store)" of
-#: the section modules not yet ported to a spec. Remove an entry when its study is ported.
-LEGACY: dict[str, str] = {
-    "surrogate": "graspcampaign.report.sections.surrogate:section",
-    "test1_bench": "graspcampaign.report.sections.test1:section",
-}
+KIND_SPECS: dict[str, str] = {"quasi_static": "quasi_static:PLANNERS", "mesh_features": "smoke:SPEC",
+                              "sensitivity": "sensitivity:SPEC", "mesh_resolution": "mesh_resolution:SPEC"}
+#: LEGACY PATH (issue 14): trial kind -> "module:function(report, records, manifest, store)" of the
+#: section modules not yet ported to a spec. Remove an entry when its study is ported.
+LEGACY: dict[str, str] = {k: f"graspcampaign.report.sections.{m}:section" for k, m in (
+    ("surrogate", "surrogate"), ("test1_bench", "test1"))}
 
 
 class ReportBatch(list):
-    """The written report paths, with ``failed``: ``(run label, reason)`` of runs not written."""
+    """The written report paths; ``failed``: ``(run label, reason, bad input)`` of runs not written."""
 
     def __init__(self, written=(), failed=()):
         super().__init__(written)
@@ -86,23 +55,17 @@ def spec_for(study: str, kind: str) -> S.ReportSpec | None:
     return getattr(importlib.import_module(f"graspcampaign.report.studies.{module}"), attr)
 
 
-def _status(run: Run) -> pd.DataFrame:
-    return run.records.groupby("status").size().rename("n").reset_index()
-
-
-def _errors(run: Run) -> pd.DataFrame:
-    cols = [c for c in ("trial_id", "error_type", "error_message") if c in run.records]
-    return run.records[run.records["status"] == "error"][cols].head(20)
-
-
 GENERIC = S.ReportSpec("any", [
     S.Section("Trials"),
-    S.Table("status", "Trials by status (errored trials enter no success denominator)", _status),
-    S.Table("errors", "First errors", _errors, empty=None),
+    S.Table("status", "Trials by status (errored trials enter no success denominator)",
+            lambda run: run.records.groupby("status").size().rename("n").reset_index()),
+    S.Table("errors", "First errors", lambda run: run.records[run.records["status"] == "error"][
+        [c for c in ("trial_id", "error_type", "error_message") if c in run.records]].head(20), empty=None),
 ])
 
 
 def _paper(run_paper: dict | None, study: str, notes: list[str]) -> Any:
+    """The run's typed paper values; an old run's mismatching block falls back to the study file."""
     from graspcampaign.campaign.paper import check_paper, study_paper
 
     try:
@@ -126,16 +89,14 @@ def report_run(store: RunStore, root: Path, formats: list[str], figure_format: s
         raise UserInputError(f"{store.manifest_path} is not valid JSON ({exc}).") from None
     if not manifest:
         raise UserInputError(f"{store.manifest_path} is missing.")
-    records = store.read("records").to_pandas()
+    records, notes = store.read("records").to_pandas(), []
     study, kind = str(manifest.get("study")), str(manifest.get("kind"))
     like = (manifest.get("config") or {}).get("compare_with") or study  # its paper values' study
-    notes: list[str] = []
-    paper = _paper((manifest.get("config") or {}).get("paper"), like, notes)
-    run = Run(records, manifest, paper, store, figure_format)
+    run = Run(records, manifest, _paper((manifest.get("config") or {}).get("paper"), like, notes),
+              store, figure_format)
     up = "../" * (len(store.path.relative_to(root).parts) + 1)
     doc = Document(f"{study} — run {manifest.get('run')}", run.source,
-                   provenance(run) + [("Note", n) for n in notes],
-                   nav=[("Index", f"{up}index.html"), ("Table 1 headline", f"{up}headline.html")])
+                   provenance(run) + [("Note", n) for n in notes], nav=[(t, up + h) for t, h in NAV])
     if not len(records):
         doc.blocks.append(Text("No trial of this run is recorded yet.", "note"))
     else:
@@ -150,26 +111,15 @@ def report_run(store: RunStore, root: Path, formats: list[str], figure_format: s
     return doc.write(store.path / "report", formats, figure_format)
 
 
-def safe_manifest(path: Path) -> dict:
-    """Return the manifest at ``path``, or {} when it is missing or unreadable."""
-    try:
-        return read_manifest(path) or {}
-    except (OSError, ValueError):
-        return {}
-
-
 def _runs(root: Path, studies: list[str] | None, run: str | None) -> list[RunStore]:
     if not root.is_dir():
         raise UserInputError(f"no results directory at {root}; run a study first.")
-    names = studies or sorted(p.name for p in root.iterdir() if p.is_dir())
     stores = []
-    for name in names:
-        study_dir = root / name
-        if studies and not study_dir.is_dir():
+    for name in studies or sorted(p.name for p in root.iterdir() if p.is_dir()):
+        if studies and not (root / name).is_dir():
             raise UserInputError(f"no records for study {name!r} under {root}; run it first.")
-        runs = [run] if run else sorted(p.name for p in study_dir.iterdir() if p.is_dir())
-        for r in runs:
-            store = RunStore(study_dir / r)
+        for r in [run] if run else sorted(p.name for p in (root / name).iterdir() if p.is_dir()):
+            store = RunStore(root / name / r)
             if not store.exists():
                 if run:
                     raise UserInputError(f"no run {r!r} of study {name!r} under {root}.")
@@ -182,15 +132,10 @@ def _runs(root: Path, studies: list[str] | None, run: str | None) -> list[RunSto
 def build_reports(studies: list[str] | None = None, run: str | None = None,
                   root: Path | str = "results", formats: list[str] | str | None = None,
                   figure_format: str = "png") -> ReportBatch:
-    """Write every selected run's report, then the headline page and the index.
-
-    Returns the written main pages; ``.failed`` lists ``(study/run, reason, bad_input)`` of the
-    runs whose report could not be written (the others are written regardless).
-    """
-    root = Path(root)
-    formats = check_formats(formats)
-    figure_format = check_figure_format(figure_format)
-    batch = ReportBatch()
+    """Write every selected run's report, then the headline page and the index; ``.failed`` of
+    the result lists the runs whose report could not be written (the others are written)."""
+    root, formats = Path(root), D.check_formats(formats)
+    figure_format, batch = D.check_figure_format(figure_format), ReportBatch()
     for store in _runs(root, studies, run):
         label = store.path.relative_to(root).as_posix()
         try:
@@ -206,46 +151,30 @@ def build_reports(studies: list[str] | None = None, run: str | None = None,
 
 
 def write_index(root: Path, formats: list[str]) -> None:
-    """Write ``index.md`` (and ``index.html``) linking every run's report and the headline."""
-    rows, links = [], []
-    for report_dir in sorted(root.glob("*/*/report")):
-        manifest = safe_manifest(report_dir.parent / "manifest.json")
-        pages = {f: report_dir / f"report.{f}" for f in ("md", "html")}
-        if not any(p.exists() for p in pages.values()):
-            continue
-        rows.append([str(manifest.get("study")), str(manifest.get("run")),
-                     str(manifest.get("source")), str(manifest.get("n_trials"))])
-        links.append({f: p.relative_to(root).as_posix() for f, p in pages.items() if p.exists()})
-    head = ["study", "run", "source", "trials", "report"]
-    md = [r + [f"[{lk.get('md', lk.get('html'))}]({lk.get('md', lk.get('html'))})"]
-          for r, lk in zip(rows, links, strict=True)]
-    (root / "index.md").write_text(
-        "# Reports\n\nHeadline success rates beside the paper's Table 1: "
-        "[headline.md](headline.md)\n\n" + markdown_table(head, md) + "\n")
-    if "html" in formats:
-        import html
-
-        body = "".join(
-            "<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in r) + (
-                f"<td><a href='{html.escape(lk['html'])}'>report</a></td>" if "html" in lk
-                else "<td>—</td>") + "</tr>" for r, lk in zip(rows, links, strict=True))
-        table = ("<div class='table'><table><thead><tr>" + "".join(
-            f"<th>{h}</th>" for h in head) + f"</tr></thead><tbody>{body}</tbody></table></div>")
-        (root / "index.html").write_text(page(
-            "Reports", "", "<p>Every run's report; headline success rates beside the paper's "
-            "Table 1 on the <a href='headline.html'>headline page</a>.</p>" + table,
-            [("Index", "index.html"), ("Table 1 headline", "headline.html")]))
+    """Write ``index.md`` (and ``index.html``) linking every run's report page and the headline."""
+    for page in [f for f in ("md", "html") if f in formats] or ["md"]:
+        rows = []
+        for report in sorted(root.glob(f"*/*/report/report.{page}")):
+            try:
+                m = read_manifest(report.parent.parent / "manifest.json") or {}
+            except (OSError, ValueError):
+                m = {}
+            rows.append([m.get("study"), m.get("run"), m.get("source"), m.get("n_trials"),
+                         report.with_suffix(".html").relative_to(root).as_posix()])
+        frame = pd.DataFrame(rows, columns=["study", "run", "source", "trials", "report"])
+        Document("Reports", "", [], [
+            Text("Headline success rates beside the paper's Table 1: [headline.md](headline.md)"),
+            Table("index", "Every run's report", frame, [
+                Col("study", "study"), Col("run", "run", link="report"), Col("source", "source"),
+                Col("trials", "trials")], csv=None)]).write_pages(root / "index", [page])
 
 
 # ------------------------------------------------------------------------------------------
 # LEGACY PATH: section modules not yet ported to a spec (see LEGACY); remove with the last one
 # ------------------------------------------------------------------------------------------
 class LegacyReport:
-    """The section modules' old ``Report`` API (text, table, figure) writing into a Document.
-
-    Legacy tables are shown as their own display frame (marked ``legacy`` on the page), not
-    derived from the CSV by the one formatter; porting the study to a spec removes them.
-    """
+    """The section modules' old ``Report`` API (text, table, figure) writing into a Document; their
+    tables show their own display frame (marked ``legacy``), not the one formatter's cells."""
 
     def __init__(self, doc: Document, run: Run):
         self.doc, self.run, self.tables = doc, run, {}
@@ -253,42 +182,28 @@ class LegacyReport:
     def text(self, markdown: str) -> None:
         self.doc.blocks.append(Text(markdown.strip()))
 
-    def table(self, name: str, df: pd.DataFrame, caption: str,
-              display: pd.DataFrame | None = None) -> None:
-        self.tables[name] = df
-        shown = (df if display is None else display).astype(object).where(
-            lambda d: d.notna(), "")
+    def table(self, name: str, df: pd.DataFrame, caption: str, display: pd.DataFrame | None = None) -> None:
+        self.tables[name] = self.run.tables[name] = df
+        shown = (df if display is None else display).astype(object).where(lambda d: d.notna(), "")
         self.doc.blocks.append(Table(name, caption, df.reset_index(drop=True), [
             Col(str(c), str(c)) for c in shown.columns], shown.astype(str).to_numpy().tolist()))
-        self.run.tables[name] = df
 
     def figure(self, name: str, fig, caption: str) -> None:
-        from graspcampaign.report.style import SOURCE_SHORT
-
-        if getattr(fig, "_suptitle", None) is None:
-            fig.suptitle(f"data: {SOURCE_SHORT.get(self.run.source)}", x=0.995, ha="right",
-                         fontsize=7.5)
-        images = {}
-        for f in dict.fromkeys(("png", self.run.figure_format)):
-            buf = io.BytesIO()
-            fig.savefig(buf, format=f, dpi=130, bbox_inches="tight",
-                        metadata={"Software": "graspcampaign"} if f == "png" else {"Date": None})
-            images[f] = buf.getvalue()
-        if getattr(fig.canvas, "manager", None) is not None:
+        images = style.save(fig, self.run.source, (self.run.figure_format,))
+        self.doc.blocks.append(Figure(name, caption, images))
+        if getattr(fig.canvas, "manager", None) is not None:  # a pyplot figure
             import matplotlib.pyplot as plt
 
             plt.close(fig)
-        self.doc.blocks.append(Figure(name, caption, images))
 
 
 def _legacy(kind: str, run: Run, doc: Document) -> None:
     module, attr = LEGACY[kind].split(":")
-    section = getattr(importlib.import_module(module), attr)
     manifest = {**run.manifest, "config": {**run.config, "paper": run.paper}}  # typed values
     try:
+        section = getattr(importlib.import_module(module), attr)
         section(LegacyReport(doc, run), run.records, manifest, run.store)
     except Exception as exc:  # noqa: BLE001 - the parts written so far are kept
         log.debug("legacy section %s failed", kind, exc_info=True)
         run.failures.append(f"section {kind}: {reason(exc)}")
-        doc.blocks.append(Text(f"The rest of this section could not be computed: "
-                               f"{reason(exc)}.", "note"))
+        doc.blocks.append(Text(f"The rest of this section could not be computed: {reason(exc)}.", "note"))

@@ -1,14 +1,4 @@
-"""A rendered report: blocks (headings, paragraphs, tables, figures) and the writers of each format.
-
-A table is one DataFrame at full precision (written as ``tables/<name>.csv`` and in
-``tables.json``) plus the columns shown: each shown column names the CSV column(s) it displays
-(:class:`Col`), and every cell is :func:`cell` of its row -- rounded once, the missing mark or the
-reason a value could not be computed. So a page's table always equals its CSV table.
-
-Formats: ``md`` (``report.md``), ``csv`` (``tables/``), ``json`` (``tables.json``) and ``html``
-(one self-contained ``report.html``: styles inline, figures embedded as data URIs, links only to
-the other pages of the results tree). Figures are written as PNG, SVG or PDF (``figures/``).
-"""
+"""A rendered report: blocks (headings, paragraphs, tables, figures) and the writer of each format."""
 
 from __future__ import annotations
 
@@ -16,6 +6,7 @@ import base64
 import html
 import json
 import math
+import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -28,46 +19,36 @@ from graspcampaign.report import format as fmt
 
 FORMATS = ("md", "csv", "json", "html")
 FIGURE_FORMATS = ("png", "svg", "pdf")
-SOURCE_LABEL = {
-    "simulation": "simulation (this tool's numerical model)",
-    "virtual": "VIRTUAL RIG: synthetic data from a stochastic model, not hardware measurements",
-    "measured": "measured on hardware (ingested records)",
-}
+SOURCE_LABEL = {"simulation": "simulation (this tool's numerical model)", "measured": "measured on hardware "
+                "(ingested records)", "virtual": "VIRTUAL RIG: synthetic data from a stochastic model, not "
+                "hardware measurements"}
+NAV = [("Index", "index.html"), ("Table 1 headline", "headline.html")]
+"""The navigation bar of every page (relative to the results root)."""
 
 
-def check_formats(formats: Sequence[str] | str | None) -> list[str]:
-    """Return the requested formats as a list, or raise naming an unknown one."""
-    if formats is None:
-        return ["md", "csv"]
-    items = formats.split(",") if isinstance(formats, str) else list(formats)
-    items = [f.strip().lower() for f in items if f and f.strip()]
-    unknown = [f for f in items if f not in FORMATS]
-    if unknown or not items:
-        raise UserInputError(f"unknown report format {unknown[0]!r}; choose from "
-                             f"{', '.join(FORMATS)} (comma-separated)." if unknown else
-                             f"no report format given; choose from {', '.join(FORMATS)}.")
-    return list(dict.fromkeys(items))
+def check_formats(formats: Sequence[str] | str | None, allowed: Sequence[str] = FORMATS,
+                  what: str = "report format") -> list[str]:
+    """Return the requested formats (comma-separated or a list) or raise naming an unknown one."""
+    items = formats.split(",") if isinstance(formats, str) else ["md", "csv"] if formats is None else formats
+    items = list(dict.fromkeys(f.strip().lower() for f in items if f and str(f).strip()))
+    if not items or (bad := [f for f in items if f not in allowed]):
+        raise UserInputError(f"{f'unknown {what} {bad[0]!r}' if items else f'no {what} given'}; choose "
+                             f"from {', '.join(allowed)}.")
+    return items
 
 
 def check_figure_format(figure_format: str) -> str:
     """Return the figure format, or raise naming the allowed ones."""
-    value = str(figure_format).strip().lower()
-    if value not in FIGURE_FORMATS:
-        raise UserInputError(f"unknown figure format {figure_format!r}; choose from "
-                             f"{', '.join(FIGURE_FORMATS)}.")
-    return value
+    return check_formats([figure_format], FIGURE_FORMATS, "figure format")[0]
 
 
 @dataclass(frozen=True)
 class Col:
-    """A shown column: the CSV column ``key`` under ``label``, rounded once.
-
-    ``digits`` decimals (or the name of a CSV column holding each row's decimals), ``sig``
-    significant digits instead; ``low``/``high`` name the interval columns printed in brackets
-    (only the interval when ``key`` is ``low``);
-    ``why`` names the column whose text replaces a value that could not be computed; ``share``
-    names a percentage column printed after a count, ``k (p%)``.
-    """
+    """A shown column: the CSV column ``key`` under ``label``, rounded once to ``digits`` decimals
+    (or the CSV column holding each row's) or ``sig`` significant digits; ``low``/``high`` the
+    interval columns in brackets (only the interval when ``low == key``); ``why`` the column whose
+    text replaces a value not computed; ``share`` a percentage after a count, ``k (p%)``; ``link``
+    the column holding a relative link to another page."""
 
     key: str
     label: str
@@ -78,7 +59,7 @@ class Col:
     high: str | None = None
     why: str | None = None
     share: str | None = None
-    link: str | None = None  # column holding a relative link to another page (html/md)
+    link: str | None = None
 
     @property
     def keys(self) -> list[str]:
@@ -90,22 +71,24 @@ UNITS = {"pct": "%", "mm": "mm", "m": "m", "n": "N", "nm": "N·m", "s": "s", "ms
          "kg": "kg", "j": "J", "mj": "mJ", "deg": "°", "rad": "rad", "kpa": "kPa"}
 
 
-def cols(*names: str) -> list[Col]:
-    """Shown columns for record-convention names ``<words>_<unit>``: header ``words [unit]``,
-    values with 3 significant digits (1 decimal for %); factor levels and other columns print
-    as they are."""
+def cols(*names: str, frame: pd.DataFrame | None = None) -> list[Col]:
+    """Shown columns of record-convention names ``<words>_<unit>``: header ``words [unit]``, 3
+    significant digits (1 decimal for %); factor levels and other columns print as they are. With
+    ``frame``, its interval ``<words>_low_<unit>``/``_high_<unit>`` (or ``<name>_low``/``_high``)
+    and reason ``<name>_why`` (or ``<words>_why``) join a column when the frame has them."""
     from graspcampaign.analysis.vocabulary import FACTOR_LABELS
 
-    out = []
+    out, has = [], (lambda c: frame is not None and c in frame)
     for name in names:
-        if name in FACTOR_LABELS:  # design levels print as configured
-            out.append(Col(name, FACTOR_LABELS[name]))
-            continue
         words, _, suffix = name.rpartition("_")
-        unit = UNITS.get(suffix) if words else None
-        label = f"{words.replace('_', ' ')} [{unit}]" if unit else name.replace("_", " ")
-        out.append(Col(name, label, 1 if unit == "%" else None, sig=3 if unit and unit != "%"
-                       else None))
+        unit = UNITS.get(suffix) if words and name not in FACTOR_LABELS else None
+        label = FACTOR_LABELS.get(name) or (f"{words.replace('_', ' ')} [{unit}]" if unit
+                                            else name.replace("_", " "))
+        low, high = (f"{words}_low_{suffix}", f"{words}_high_{suffix}") if unit else (f"{name}_low",
+                                                                                       f"{name}_high")
+        ci, why = has(low) and has(high), next((w for w in (f"{name}_why", f"{words}_why") if has(w)), None)
+        out.append(Col(name, label, 1 if unit == "%" else None, sig=3 if unit and unit != "%" else None,
+                       low=low if ci else None, high=high if ci else None, why=why))
     return out
 
 
@@ -128,26 +111,43 @@ def cell(row: Mapping[str, Any], col: Col) -> str:
 
 @dataclass
 class Table:
-    """A table block: full-precision frame, shown columns, caption."""
+    """A table block: full-precision frame, shown columns, caption and its CSV path (None: none)."""
 
     name: str
     caption: str
     frame: pd.DataFrame
     cols: list[Col]
     legacy: list[list[str]] | None = None  # LEGACY PATH: a section's own display cells
+    csv: str | None = "tables/{name}.csv"
 
-    def rows(self) -> list[list[str]]:
+    def cells(self) -> list[list[tuple[str, str | None]]]:
+        """Every row's ``(text, link target or None)`` per shown column."""
         if self.legacy is not None:
-            return self.legacy
-        records = self.frame.to_dict("records")
-        return [[cell(r, c) for c in self.cols] for r in records]
+            return [[(v, None) for v in r] for r in self.legacy]
+        return [[(cell(r, c), None if not c.link or fmt.is_missing(r.get(c.link)) else str(r[c.link]))
+                 for c in self.cols] for r in self.frame.to_dict("records")]
 
-    def links(self) -> list[list[str | None]]:
-        """The link target of every cell (None where the cell links nothing)."""
-        records = self.frame.to_dict("records") if self.legacy is None else []
-        return [[None if not c.link or fmt.is_missing(r.get(c.link)) else str(r[c.link])
-                 for c in self.cols]
-                for r in records] or [[None] * len(self.cols) for _ in self.rows()]
+    def md(self, figure_format: str) -> str:
+        def line(cells: Sequence[str]) -> str:
+            return "| " + " | ".join(str(c).replace("|", "\\|").replace("\n", " ") for c in cells) + " |"
+
+        rows = [[f"[{v}]({h.replace('.html', '.md')})" if h else v for v, h in r] for r in self.cells()]
+        return "\n".join([f"**{self.caption}**" + (f" (`{self.csv.format(name=self.name)}`)" if self.csv
+                                                   else "") + "\n", line([c.label for c in self.cols]),
+                          "|" + "---|" * len(self.cols), *map(line, rows)])
+
+    def html(self) -> str:
+        """A styled HTML table; each header names the CSV columns it shows (``data-cols``)."""
+        head = "".join(f"<th data-cols='{' '.join(c.keys) if self.legacy is None else ''}'>"
+                       f"{html.escape(c.label)}</th>" for c in self.cols)
+        body = "".join("<tr>" + "".join(f"<td><a href='{html.escape(h, quote=True)}'>{html.escape(v)}</a>"
+                                        f"</td>" if h else f"<td>{html.escape(v)}</td>" for v, h in r)
+                       + "</tr>" for r in self.cells())
+        attrs = (f" data-table='{self.name}'" if self.csv else "") + \
+            (" data-legacy='1'" if self.legacy is not None else "")
+        csv = f" <span class='csv'>{self.csv.format(name=self.name)}</span>" if self.csv else ""
+        return (f"<div class='table' id='t-{self.name}'><table{attrs}><caption>{inline(self.caption)}{csv}"
+                f"</caption><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table></div>")
 
 
 @dataclass
@@ -156,6 +156,12 @@ class Text:
 
     markdown: str
     kind: str = "text"
+
+    def md(self, figure_format: str) -> str:
+        return self.markdown if self.kind != "note" else f"*{self.markdown}*"
+
+    def html(self) -> str:
+        return f"<p class='{self.kind}'>{inline(self.markdown)}</p>"
 
 
 @dataclass
@@ -166,6 +172,12 @@ class Heading:
     def anchor(self) -> str:
         return "s-" + "".join(c if c.isalnum() else "-" for c in self.title.lower()).strip("-")
 
+    def md(self, figure_format: str) -> str:
+        return f"## {self.title}"
+
+    def html(self) -> str:
+        return f"<h2 id='{self.anchor}'>{html.escape(self.title)}</h2>"
+
 
 @dataclass
 class Figure:
@@ -175,21 +187,35 @@ class Figure:
     caption: str
     images: dict[str, bytes]
 
+    def md(self, figure_format: str) -> str:
+        path = f"figures/{self.name}.{figure_format}"
+        link = f"![{self.caption}]({path})" if figure_format != "pdf" else f"[{self.name} (PDF)]({path})"
+        return f"{link}\n\n*{self.caption}*"
 
-def auto_cols(frame: pd.DataFrame) -> list[Col]:
-    """Show every column of ``frame``; floats with 4 significant digits."""
-    return [Col(c, c.replace("_", " ")) for c in frame.columns]
+    def html(self) -> str:
+        kind = "svg" if "svg" in self.images else "png"
+        data = base64.b64encode(self.images[kind]).decode()
+        return (f"<figure id='f-{self.name}'><img src='data:image/{'svg+xml' if kind == 'svg' else 'png'};"
+                f"base64,{data}' alt='{html.escape(self.caption, quote=True)}'><figcaption>"
+                f"{inline(self.caption)}</figcaption></figure>")
+
+
+def _json(value: Any) -> Any:
+    """Return ``value`` as strict JSON allows: nan and NA -> null, inf -> "inf"."""
+    if value is pd.NA or value is pd.NaT or (isinstance(value, float) and math.isnan(value)):
+        return None
+    return ("inf" if value > 0 else "-inf") if isinstance(value, float) and math.isinf(value) else value
 
 
 @dataclass
 class Document:
-    """One run's report: title, data source, provenance lines and blocks."""
+    """One page: title, data source, provenance lines, blocks and the navigation bar."""
 
     title: str
     source: str
     provenance: list[tuple[str, str]]
     blocks: list[Any] = field(default_factory=list)
-    nav: list[tuple[str, str]] = field(default_factory=list)  # (label, relative href)
+    nav: list[tuple[str, str]] = field(default_factory=lambda: list(NAV))
 
     @property
     def tables(self) -> dict[str, pd.DataFrame]:
@@ -197,163 +223,88 @@ class Document:
 
     def write(self, out: Path, formats: Sequence[str], figure_format: str = "png") -> Path:
         """Write the requested formats under ``out``; return the main page (md, else html...)."""
-        formats = check_formats(formats)
+        formats, written = check_formats(formats), {}
         out.mkdir(parents=True, exist_ok=True)
-        figures = [b for b in self.blocks if isinstance(b, Figure)]
-        if figures:
+        for b in (b for b in self.blocks if isinstance(b, Figure)):
             (out / "figures").mkdir(exist_ok=True)
-            for b in figures:
-                (out / "figures" / f"{b.name}.{figure_format}").write_bytes(b.images[figure_format])
-        written = {}
+            (out / "figures" / f"{b.name}.{figure_format}").write_bytes(b.images[figure_format])
         if "csv" in formats:
             (out / "tables").mkdir(exist_ok=True)
             for name, frame in self.tables.items():
                 frame.to_csv(out / "tables" / f"{name}.csv", index=False)
             written["csv"] = out / "tables"
         if "json" in formats:
-            data = {k: [{c: _json(v) for c, v in r.items()} for r in f.to_dict("records")]
-                    for k, f in self.tables.items()}
             written["json"] = out / "tables.json"
-            written["json"].write_text(json.dumps(data, indent=1, default=str, allow_nan=False))
-        if "html" in formats:
-            written["html"] = out / "report.html"
-            written["html"].write_text(self.html())
-        if "md" in formats:
-            written["md"] = out / "report.md"
-            written["md"].write_text(self.markdown(figure_format))
+            written["json"].write_text(json.dumps({k: [{c: _json(v) for c, v in r.items()} for r in
+                                                       f.to_dict("records")] for k, f in self.tables.items()},
+                                                  indent=1, default=str, allow_nan=False))
+        for f in ("html", "md"):
+            if f in formats:
+                written[f] = out / f"report.{f}"
+                written[f].write_text(self.html() if f == "html" else self.markdown(figure_format))
         return next(written[k] for k in ("md", "html", "json", "csv") if k in written)
 
-    # ---------------------------------------------------------------------------- Markdown
+    def write_pages(self, stem: Path, formats: Sequence[str]) -> Path:
+        """Write a page of the results tree (not a run's): ``<stem>.md``, and ``.html`` if asked."""
+        stem.with_suffix(".md").write_text(self.markdown())
+        if "html" in formats:
+            stem.with_suffix(".html").write_text(self.html())
+        return stem.with_suffix(".md")
+
     def markdown(self, figure_format: str = "png") -> str:
         out = [f"# {self.title}"]
         if self.source:
             out.append(f"> **Data source:** {SOURCE_LABEL.get(self.source, self.source)}")
         if self.provenance:
             out.append("\n".join(f"- **{k}:** {v}" for k, v in self.provenance))
-        for b in self.blocks:
-            if isinstance(b, Heading):
-                out.append(f"## {b.title}")
-            elif isinstance(b, Text):
-                out.append(b.markdown if b.kind != "note" else f"*{b.markdown}*")
-            elif isinstance(b, Table):
-                rows = [[f"[{v}]({h.replace('.html', '.md')})" if h else v
-                         for v, h in zip(r, lk, strict=True)]
-                        for r, lk in zip(b.rows(), b.links(), strict=True)]
-                out.append(f"**{b.caption}** (`tables/{b.name}.csv`)\n\n" + markdown_table(
-                    [c.label for c in b.cols], rows))
-            else:
-                path = f"figures/{b.name}.{figure_format}"
-                link = f"![{b.caption}]({path})" if figure_format != "pdf" else \
-                    f"[{b.name} (PDF)]({path})"
-                out.append(f"{link}\n\n*{b.caption}*")
-        return "\n\n".join(out) + "\n"
+        return "\n\n".join([*out, *(b.md(figure_format) for b in self.blocks)]) + "\n"
 
-    # ---------------------------------------------------------------------------- HTML
     def html(self) -> str:
-        toc = [(b.title, f"#{b.anchor}") for b in self.blocks if isinstance(b, Heading)]
-        body = ["<dl class='provenance'>" + "".join(
-                    f"<dt>{html.escape(k)}</dt><dd>{inline(v)}</dd>" for k, v in self.provenance)
-                + "</dl>"]
-        for b in self.blocks:
-            if isinstance(b, Heading):
-                body.append(f"<h2 id='{b.anchor}'>{html.escape(b.title)}</h2>")
-            elif isinstance(b, Text):
-                body.append(f"<p class='{b.kind}'>{inline(b.markdown)}</p>")
-            elif isinstance(b, Table):
-                body.append(html_table(b))
-            else:
-                data = base64.b64encode(b.images["svg" if "svg" in b.images else "png"]).decode()
-                mime = "image/svg+xml" if "svg" in b.images else "image/png"
-                body.append(f"<figure id='f-{b.name}'><img src='data:{mime};base64,{data}' "
-                            f"alt='{html.escape(b.caption, quote=True)}'><figcaption>"
-                            f"{inline(b.caption)}</figcaption></figure>")
-        return page(self.title, self.source, "\n".join(body), self.nav, toc)
-
-
-def _json(value: Any) -> Any:
-    """Return ``value`` as strict JSON allows: nan and NA -> null, inf -> "inf"."""
-    if value is pd.NA or value is pd.NaT:
-        return None
-    if isinstance(value, float) and not math.isfinite(value):
-        return None if math.isnan(value) else ("inf" if value > 0 else "-inf")
-    return value
-
-
-def markdown_table(header: Sequence[str], rows: Sequence[Sequence[str]]) -> str:
-    """Return a GitHub Markdown table of already formatted cells."""
-    def esc(text: str) -> str:
-        return str(text).replace("|", "\\|").replace("\n", " ")
-
-    lines = ["| " + " | ".join(map(esc, header)) + " |", "|" + "---|" * len(header)]
-    return "\n".join(lines + ["| " + " | ".join(map(esc, r)) + " |" for r in rows])
+        """A complete self-contained page: navigation bar (the other pages and this page's sections),
+        data-source banner, provenance and blocks."""
+        toc = "".join(f"<a href='#{b.anchor}'>{html.escape(b.title)}</a>" for b in self.blocks
+                      if isinstance(b, Heading))
+        links = "".join(f"<a href='{html.escape(h, quote=True)}'>{html.escape(t)}</a>" for t, h in self.nav) \
+            + (f"<span class='toc'>{toc}</span>" if toc else "")
+        banner, title = html.escape(SOURCE_LABEL.get(self.source, self.source) or "see each row"), \
+            html.escape(self.title)
+        body = "\n".join(["<dl class='provenance'>" + "".join(f"<dt>{html.escape(k)}</dt><dd>{inline(v)}</dd>"
+                                                              for k, v in self.provenance) + "</dl>",
+                          *(b.html() for b in self.blocks)])
+        return ("<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'><meta name='viewport' "
+                f"content='width=device-width,initial-scale=1'><title>{title}</title><style>{CSS}</style>"
+                f"</head><body><nav>{links}</nav><div class='source source-{html.escape(self.source)}'>Data: "
+                f"{banner}</div><main><h1>{title}</h1>{body}</main><footer>Data: {banner}. Written by "
+                "graspcampaign from the records only.</footer></body></html>\n")
 
 
 def inline(markdown: str) -> str:
-    """Return escaped HTML of a Markdown paragraph: **bold**, *italic*, `code` and line breaks."""
-    import re
-
+    """Return escaped HTML of a Markdown paragraph: **bold**, *italic*, `code`, line breaks and
+    ``[text](page.md)`` links between the pages of the results tree (to their ``.html``)."""
     text = html.escape(markdown)
     text = re.sub(r"\*\*(.+?)\*\*", r"<b>\1</b>", text)
     text = re.sub(r"(?<![\w*])\*(?!\s)(.+?)(?<!\s)\*(?![\w*])", r"<i>\1</i>", text)
     text = re.sub(r"`(.+?)`", r"<code>\1</code>", text)
+    text = re.sub(r"\[([^\]]+)\]\(([\w./-]+)\.md\)", r"<a href='\2.html'>\1</a>", text)
     return text.replace("\n- ", "<br>• ").replace("\n\n", "<br><br>")
 
 
-def html_table(b: Table) -> str:
-    """Return a styled HTML table; each header names the CSV columns it shows (data-cols)."""
-    def td(text: str, href: str | None) -> str:
-        inner = html.escape(text)
-        return f"<td><a href='{html.escape(href, quote=True)}'>{inner}</a></td>" if href \
-            else f"<td>{inner}</td>"
-
-    head = "".join(f"<th data-cols='{' '.join(c.keys) if b.legacy is None else ''}'>"
-                   f"{html.escape(c.label)}</th>" for c in b.cols)
-    body = "".join("<tr>" + "".join(td(v, h) for v, h in zip(r, lk, strict=True)) + "</tr>"
-                   for r, lk in zip(b.rows(), b.links(), strict=True))
-    legacy = " data-legacy='1'" if b.legacy is not None else ""
-    return (f"<div class='table' id='t-{b.name}'><table data-table='{b.name}'{legacy}><caption>"
-            f"{inline(b.caption)} <span class='csv'>tables/{b.name}.csv</span></caption>"
-            f"<thead><tr>{head}</tr></thead><tbody>{body}</tbody></table></div>")
-
-
 CSS = """
-body{font:15px/1.5 system-ui,-apple-system,"Segoe UI",sans-serif;margin:0;color:#1d2327;
-background:#fafafa}main{max-width:1180px;margin:0 auto;padding:0 24px 48px}
-nav{position:sticky;top:0;background:#1f3a5f;color:#fff;padding:8px 24px;z-index:2;
-font-size:14px}nav a{color:#fff;margin-right:14px;text-decoration:none}nav a:hover{
-text-decoration:underline}nav .toc{opacity:.85}h1{font-size:26px;margin:18px 0 6px}
+body{font:15px/1.5 system-ui,-apple-system,"Segoe UI",sans-serif;margin:0;color:#1d2327;background:#fafafa}
+main{max-width:1180px;margin:0 auto;padding:0 24px 48px}nav{position:sticky;top:0;background:#1f3a5f;
+color:#fff;padding:8px 24px;z-index:2;font-size:14px}nav a{color:#fff;margin-right:14px;text-decoration:none}
+nav a:hover{text-decoration:underline}nav .toc{opacity:.85}h1{font-size:26px;margin:18px 0 6px}
 h2{font-size:19px;margin:34px 0 8px;border-bottom:1px solid #d5dbe1;padding-bottom:4px}
 .source{padding:8px 24px;font-weight:600}.source-simulation{background:#e3edf7;color:#1f3a5f}
-.source-virtual{background:#fff3cd;color:#7a4b00}.source-measured{background:#e3f4e6;
-color:#1b5e20}dl.provenance{display:grid;grid-template-columns:max-content auto;gap:2px 14px;
-font-size:13.5px;color:#444}dl.provenance dt{font-weight:600}dl.provenance dd{margin:0}
-p.finding{font-size:16px;background:#fff;border-left:4px solid #1f5aa6;padding:10px 14px}
-p.note{color:#8a4b00;font-style:italic}.table{overflow-x:auto;margin:14px 0}
-table{border-collapse:collapse;background:#fff;font-size:13.5px}caption{text-align:left;
-padding:6px 0;font-weight:600;caption-side:top}caption .csv{font-weight:400;color:#777;
-font-family:monospace;font-size:12px}th,td{border:1px solid #d5dbe1;padding:4px 8px;
-text-align:left;vertical-align:top}th{background:#eef2f6}tbody tr:nth-child(even){
-background:#f6f8fa}figure{margin:18px 0;background:#fff;padding:10px;border:1px solid #e1e5ea}
-figure img{max-width:100%;height:auto}figcaption{font-size:13.5px;color:#444;margin-top:6px}
-footer{color:#666;font-size:13px;padding:12px 24px}code{background:#eef2f6;padding:0 3px}
+.source-virtual{background:#fff3cd;color:#7a4b00}.source-measured{background:#e3f4e6;color:#1b5e20}
+dl.provenance{display:grid;grid-template-columns:max-content auto;gap:2px 14px;font-size:13.5px;color:#444}
+dl.provenance dt{font-weight:600}dl.provenance dd{margin:0}p.finding{font-size:16px;background:#fff;
+border-left:4px solid #1f5aa6;padding:10px 14px}p.note{color:#8a4b00;font-style:italic}
+.table{overflow-x:auto;margin:14px 0}table{border-collapse:collapse;background:#fff;font-size:13.5px}
+caption{text-align:left;padding:6px 0;font-weight:600;caption-side:top}caption .csv{font-weight:400;
+color:#777;font-family:monospace;font-size:12px}th,td{border:1px solid #d5dbe1;padding:4px 8px;
+text-align:left;vertical-align:top}th{background:#eef2f6}tbody tr:nth-child(even){background:#f6f8fa}
+figure{margin:18px 0;background:#fff;padding:10px;border:1px solid #e1e5ea}figure img{max-width:100%;
+height:auto}figcaption{font-size:13.5px;color:#444;margin-top:6px}footer{color:#666;font-size:13px;
+padding:12px 24px}code{background:#eef2f6;padding:0 3px}
 """
-
-
-def page(title: str, source: str, body: str, nav: Sequence[tuple[str, str]] = (),
-         toc: Sequence[tuple[str, str]] = ()) -> str:
-    """Return a complete self-contained HTML page: navigation bar, data-source banner, body.
-
-    ``nav`` and ``toc`` are (label, href) pairs: relative links to the other pages of the
-    results tree and anchors of this page; nothing else is linked.
-    """
-    links = "".join(f"<a href='{html.escape(h, quote=True)}'>{html.escape(t)}</a>"
-                    for t, h in nav)
-    toc_html = ("<span class='toc'>" + "".join(
-        f"<a href='{h}'>{html.escape(t)}</a>" for t, h in toc) + "</span>") if toc else ""
-    banner = html.escape(SOURCE_LABEL.get(source, source) or "see each row")
-    return ("<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'><meta name='viewport' "
-            f"content='width=device-width,initial-scale=1'><title>{html.escape(title)}</title>"
-            f"<style>{CSS}</style></head><body><nav>{links}{toc_html}</nav>"
-            f"<div class='source source-{html.escape(source)}'>Data: {banner}</div><main>"
-            f"<h1>{html.escape(title)}</h1>{body}</main><footer>Data: {banner}. Written by "
-            "graspcampaign from the records only.</footer></body></html>\n")

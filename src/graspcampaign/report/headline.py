@@ -1,13 +1,4 @@
-"""The Table 1 headline page: every headline success rate across studies, with testbed and n.
-
-``<root>/headline.md`` (``.csv``, ``.html``): one row per Table 1 entry and run -- the proposed
-planner's success over executed trials with its Wilson interval, the strongest baselines of the
-same run, the paper's values (typed, from the run's paper block) and the verdict by the one rule.
-As in the paper's Table 1 the rows are *not* comparable with each other (different object sets,
-baselines and trial counts); the testbed column says which is which, and virtual-rig rows say
-plainly that they are synthetic. Studies without records show the paper's value from their
-study file, so the page always shows what is still missing.
-"""
+"""The Table 1 headline page: every headline success rate across studies, with testbed and n."""
 
 from __future__ import annotations
 
@@ -18,7 +9,7 @@ from typing import Any
 
 import pandas as pd
 
-from graspcampaign.analysis.records import data_source, executed, rate_table
+from graspcampaign.analysis.records import data_source, rate_table
 from graspcampaign.analysis.vocabulary import PROPOSED
 from graspcampaign.campaign.paper import check_paper, study_paper
 from graspcampaign.campaign.provenance import read_manifest
@@ -31,8 +22,9 @@ from graspcampaign.report.spec import verdicts
 from graspcampaign.report.style import SOURCE_SHORT
 
 
-def _ablation_variant(planner: str) -> bool:
-    return str(planner).startswith("no_") and planner != "no_pso"
+def _baseline(planner: str) -> bool:
+    """A baseline of the proposed planner (not the planner itself, not an ablation variant)."""
+    return planner != PROPOSED and (planner == "no_pso" or not str(planner).startswith("no_"))
 
 
 @dataclass(frozen=True)
@@ -49,7 +41,7 @@ class Headline:
 
 
 def _rates(p: Any) -> dict[str, float]:
-    return {k: v for k, v in p.success_pct.items() if k != PROPOSED and not _ablation_variant(k)}
+    return {k: v for k, v in p.success_pct.items() if _baseline(k)}
 
 
 def _table_rates(table: dict) -> dict[str, float]:
@@ -66,112 +58,23 @@ TABLE1: tuple[Headline, ...] = (
     Headline("test2_grasp", "Grasp validation, all", "Sec. 8.5", lambda p: p.proposed_success_pct,
              lambda p: p.proposed_trials, lambda p: _table_rates(p.table7)),
     Headline("test3_disturbance", "Disturbance, natural μ", "Sec. 9.2",
-             lambda p: p.natural_success_pct,
-             subset=("friction_level", frozenset({"natural"}))),
+             lambda p: p.natural_success_pct, subset=("friction_level", frozenset({"natural"}))),
     Headline("test3_disturbance", "Disturbance, all", "Sec. 9.5", lambda p: p.proposed_success_pct,
              lambda p: p.proposed_trials, lambda p: _table_rates(p.table9)),
 )
 FACTOR_NOUNS = {"shape": "shapes", "mass_kg": "masses", "mu": "frictions", "nodes": "meshes"}
-
-
-def _baselines_text(rates: dict[str, float], digits: int = 1) -> str:
-    ranked = sorted(rates.items(), key=lambda kv: -kv[1])
-    return ", ".join(f"{k} {fmt.number(v, digits)}%" for k, v in ranked) or fmt.MISSING
-
-
-def _design(manifest: dict) -> str:
-    config = manifest.get("config") or {}
-    parts = [f"{len(v)} {FACTOR_NOUNS.get(k, k + ' levels')}"
-             for k, v in (config.get("factors") or {}).items()
-             if k not in ("planner", "variant") and len(v) > 1]
-    if int(config.get("seeds", 1)) > 1:
-        parts.append(f"{config['seeds']} seeds")
-    return " × ".join(parts)
-
-
-def _row(h: Headline, paper: Any, **extra) -> dict:
-    row = {"headline": h.label, "section": h.section, "study": h.study, "run": None,
-           "source": None, "testbed": None, "paper_pct": None, "paper_n": None,
-           "paper_baselines": fmt.MISSING, "n": 0, "n_error": 0, "n_aborted": 0,
-           "rate_pct": float("nan"), "wilson_low_pct": float("nan"),
-           "wilson_high_pct": float("nan"), "ours_baselines": fmt.MISSING, "why": "",
-           "report": None}
-    if paper is not None:
-        row["paper_pct"] = h.paper(paper)
-        row["paper_n"] = h.paper_n(paper) if h.paper_n else None
-        row["paper_baselines"] = _baselines_text(h.baselines(paper), 1) if h.baselines \
-            else fmt.MISSING
-    row.update(extra)
-    return row
-
-
-def _run_row(h: Headline, store: RunStore, root: Path) -> dict:
-    manifest = read_manifest(store.manifest_path) or {}
-    try:
-        paper = check_paper(h.study, (manifest.get("config") or {}).get("paper"))
-    except ConfigError:
-        paper = study_paper(h.study)
-    wanted = ["status", "planner", "success", "aborted", "source",
-              *([h.subset[0]] if h.subset else [])]
-    records = store.read("records", columns=wanted).to_pandas()
-    source = data_source(records, manifest.get("source"))
-    design = _design(manifest)
-    report = store.path / "report" / "report.html"
-    common = {"run": manifest.get("run"), "source": source,
-              "testbed": SOURCE_SHORT.get(source, source) + (f": {design}" if design else ""),
-              "report": report.relative_to(root).as_posix()}
-    if h.subset is not None and h.subset[0] not in records:
-        return _row(h, paper, why=f"the records lack the `{h.subset[0]}` column this "
-                                  "sub-population needs", **common)
-    if h.subset is not None:
-        records = records[records[h.subset[0]].isin(h.subset[1])]
-    if "planner" not in records or PROPOSED not in set(records["planner"]):
-        return _row(h, paper, why="no trial of the proposed planner", **common)
-    rates = rate_table(records, ["planner"]).set_index("planner")
-    mine = rates.loc[PROPOSED]
-    ok = executed(records)
-    ours = ok[(ok["planner"] != PROPOSED).to_numpy()
-              & ~ok["planner"].map(_ablation_variant).astype(bool).to_numpy()]
-    baselines = ours.groupby("planner")["success"].mean() * 100 if len(ours) \
-        and "success" in ours else {}
-    return _row(h, paper, n=int(mine["n"]), n_error=int(mine["n_error"]),
-                n_aborted=int(mine["n_aborted"]), rate_pct=mine["rate_pct"],
-                wilson_low_pct=mine["wilson_low_pct"], wilson_high_pct=mine["wilson_high_pct"],
-                why=mine["rate_why"], ours_baselines=_baselines_text(dict(baselines)), **common)
-
-
-def headline_rows(root: Path | str) -> pd.DataFrame:
-    """Return the headline table over every run under ``root`` (one row per entry and run)."""
-    root = Path(root)
-    rows = []
-    for h in TABLE1:
-        study_dir = root / h.study
-        runs = sorted(p for p in study_dir.iterdir() if (p / "manifest.json").exists()) \
-            if study_dir.is_dir() else []
-        if not runs:
-            rows.append(_row(h, study_paper(h.study), why="no records yet"))
-        for r in runs:
-            try:
-                rows.append(_run_row(h, RunStore(r), root))
-            except Exception as exc:  # noqa: BLE001 - a broken run is named, not fatal
-                rows.append(_row(h, study_paper(h.study), run=r.name,
-                                 why=f"the run cannot be read: {reason(exc)}"))
-    frame = verdicts(pd.DataFrame(rows), "rate_pct", "paper_pct", "wilson_low_pct",
-                     "wilson_high_pct", unit="%")
-    frame["verdict"] = [w or v for w, v in zip(frame["why"], frame["verdict"], strict=True)]
-    return frame
-
-
 COLUMNS = [
     Col("headline", "headline (proposed planner)"), Col("testbed", "testbed (ours)"),
     Col("run", "run", link="report"), Col("paper_pct", "paper %", 1), Col("paper_n", "paper n", 0),
-    Col("rate_pct", "ours % (Wilson 95%)", 1, low="wilson_low_pct", high="wilson_high_pct",
-        why="why"),
+    Col("rate_pct", "ours % (Wilson 95%)", 1, low="wilson_low_pct", high="wilson_high_pct", why="why"),
     Col("n", "n"), Col("n_error", "errors"), Col("n_aborted", "aborted"),
     Col("difference", "difference [pp]", 1, signed=True),
     Col("paper_baselines", "baselines: paper"), Col("ours_baselines", "baselines: ours"),
     Col("verdict", "verdict"), Col("section", "section"),
 ]
+ROW = ["headline", "section", "study", "run", "source", "testbed", "paper_pct", "paper_n",
+       "paper_baselines", "n", "n_error", "n_aborted", "rate_pct", "wilson_low_pct",
+       "wilson_high_pct", "ours_baselines", "why", "report"]
 INTRO = ("Each row is the proposed planner's success rate over executed trials (errored trials "
          "and aborted hardware attempts are excluded from the denominator and counted in "
          "*errors* and *aborted*), with its Wilson 95% interval, beside the paper's Table 1. As "
@@ -180,18 +83,73 @@ INTRO = ("Each row is the proposed planner's success rate over executed trials (
          "not hardware results.")
 
 
+def _ranked(rates: dict[str, float]) -> str:
+    return ", ".join(f"{k} {fmt.number(v, 1)}%" for k, v in sorted(rates.items(), key=lambda kv: -kv[1])) \
+        or fmt.MISSING
+
+
+def _row(h: Headline, paper: Any, **extra) -> dict:
+    row = {"headline": h.label, "section": h.section, "study": h.study, "n": 0, "n_error": 0,
+           "n_aborted": 0, "paper_baselines": fmt.MISSING, "ours_baselines": fmt.MISSING, "why": ""}
+    if paper is not None:
+        row.update(paper_pct=h.paper(paper), paper_n=h.paper_n(paper) if h.paper_n else None,
+                   paper_baselines=_ranked(h.baselines(paper)) if h.baselines else fmt.MISSING)
+    return {**row, **extra}
+
+
+def _run_row(h: Headline, store: RunStore, root: Path) -> dict:
+    manifest = read_manifest(store.manifest_path) or {}
+    config = manifest.get("config") or {}
+    try:
+        paper = check_paper(h.study, config.get("paper"))
+    except ConfigError:
+        paper = study_paper(h.study)
+    records = store.read("records", columns=["status", "planner", "success", "aborted", "source",
+                                             *([h.subset[0]] if h.subset else [])]).to_pandas()
+    source = data_source(records, manifest.get("source"))
+    design = " × ".join([f"{len(v)} {FACTOR_NOUNS.get(k, k + ' levels')}" for k, v in (
+        config.get("factors") or {}).items() if k not in ("planner", "variant") and len(v) > 1]
+        + ([f"{config['seeds']} seeds"] if int(config.get("seeds", 1)) > 1 else []))
+    common = {"run": manifest.get("run"), "source": source,
+              "testbed": SOURCE_SHORT.get(source, source) + (f": {design}" if design else ""),
+              "report": (store.path / "report" / "report.html").relative_to(root).as_posix()}
+    if h.subset is not None and h.subset[0] not in records:
+        return _row(h, paper, why=f"the records lack the `{h.subset[0]}` column this "
+                                  "sub-population needs", **common)
+    records = records[records[h.subset[0]].isin(h.subset[1])] if h.subset else records
+    if "planner" not in records or PROPOSED not in set(records["planner"]):
+        return _row(h, paper, why="no trial of the proposed planner", **common)
+    rates = rate_table(records, ["planner"]).set_index("planner")
+    mine, others = rates.loc[PROPOSED], rates[(rates["n"] > 0) & rates.index.map(_baseline).to_numpy(bool)]
+    return _row(h, paper, **{k: mine[k] for k in ("n", "n_error", "n_aborted", "rate_pct",
+                                                  "wilson_low_pct", "wilson_high_pct")},
+                why=mine["rate_why"], ours_baselines=_ranked(others["rate_pct"].to_dict()), **common)
+
+
+def headline_rows(root: Path | str) -> pd.DataFrame:
+    """Return the headline table over every run under ``root`` (one row per entry and run)."""
+    root, rows = Path(root), []
+    for h in TABLE1:
+        study_dir = root / h.study
+        runs = sorted(p for p in study_dir.iterdir() if (p / "manifest.json").exists()) \
+            if study_dir.is_dir() else []
+        rows += [] if runs else [_row(h, study_paper(h.study), why="no records yet")]
+        for r in runs:
+            try:
+                rows.append(_run_row(h, RunStore(r), root))
+            except Exception as exc:  # noqa: BLE001 - a broken run is named, not fatal
+                rows.append(_row(h, study_paper(h.study), run=r.name,
+                                 why=f"the run cannot be read: {reason(exc)}"))
+    frame = verdicts(pd.DataFrame(rows, columns=ROW), "rate_pct", "paper_pct", "wilson_low_pct",
+                     "wilson_high_pct", unit="%")
+    frame["verdict"] = [w or v for w, v in zip(frame["why"], frame["verdict"], strict=True)]
+    return frame
+
+
 def write_headline(root: Path | str, formats: list[str] | None = None) -> Path:
     """Write ``headline.csv``, ``headline.md`` (and ``headline.html``); return the md path."""
-    root = Path(root)
     frame = headline_rows(root)
-    frame.to_csv(root / "headline.csv", index=False)
-    doc = Document("Headline success rates (paper Table 1)", "", [],
-                   [Text(INTRO), Table("headline", "Table 1, ours beside the paper", frame,
-                                       COLUMNS)],
-                   nav=[("Index", "index.html"), ("Table 1 headline", "headline.html")])
-    (root / "headline.md").write_text(doc.markdown().replace("tables/headline.csv",
-                                                             "headline.csv"))
-    if "html" in (formats or []):
-        (root / "headline.html").write_text(doc.html().replace("tables/headline.csv",
-                                                               "headline.csv"))
-    return root / "headline.md"
+    frame.to_csv(Path(root) / "headline.csv", index=False)
+    return Document("Headline success rates (paper Table 1)", "", [], [
+        Text(INTRO), Table("headline", "Table 1, ours beside the paper", frame, COLUMNS,
+                           csv="headline.csv")]).write_pages(Path(root) / "headline", formats or [])

@@ -1,11 +1,4 @@
-"""Render a study's :class:`~graspcampaign.report.spec.ReportSpec` over one run's records.
-
-:class:`Run` is what every item sees: the records, the executed trials, the manifest's config,
-the typed paper values, the run's auxiliary tables and the tables computed so far. Each item is
-rendered on its own: an item whose statistic cannot be computed (no executed trial, too few
-clusters, a missing column, a non-finite heatmap) is replaced by one sentence giving the reason,
-and the rest of the report is written.
-"""
+"""Render a study's :class:`~graspcampaign.report.spec.ReportSpec` over one run's records."""
 
 from __future__ import annotations
 
@@ -17,6 +10,7 @@ from typing import Any
 import pandas as pd
 
 from graspcampaign.analysis.records import data_source, executed, status_counts
+from graspcampaign.errors import UserInputError
 from graspcampaign.report.document import Document, Text
 
 log = logging.getLogger(__name__)
@@ -24,41 +18,32 @@ log = logging.getLogger(__name__)
 
 @dataclass
 class Run:
-    """One run as the report items see it."""
+    """One run as the items see it: records, manifest, typed paper values, the run's store (for
+    its auxiliary tables) and the tables rendered so far (``tables``, by name)."""
 
     records: pd.DataFrame
     manifest: dict
     paper: Any = None
-    store: Any = None  # campaign.records.RunStore, for the run's auxiliary tables
+    store: Any = None  # campaign.records.RunStore
     figure_format: str = "png"
     tables: dict[str, pd.DataFrame] = field(default_factory=dict)
     failures: list[str] = field(default_factory=list)
+    _parts: dict[str, pd.DataFrame] = field(default_factory=dict, init=False, repr=False)
+
+    config = property(lambda self: self.manifest.get("config") or {})
+    params = property(lambda self: self.config.get("params") or {})
+    seed = property(lambda self: int(self.config.get("seed", 0)))
+    study = property(lambda self: str(self.manifest.get("study")))
 
     @cached_property
     def ok(self) -> pd.DataFrame:
         """The executed trials (:func:`graspcampaign.analysis.records.executed`)."""
         return executed(self.records)
 
-    @property
-    def config(self) -> dict:
-        return self.manifest.get("config") or {}
-
-    @property
-    def params(self) -> dict:
-        return self.config.get("params") or {}
-
     @cached_property
     def source(self) -> str:
         """simulation, virtual or measured (virtual as soon as one record says so)."""
         return data_source(self.records, self.manifest.get("source"))
-
-    @property
-    def seed(self) -> int:
-        return int(self.config.get("seed", 0))
-
-    @property
-    def study(self) -> str:
-        return str(self.manifest.get("study"))
 
     @property
     def cluster(self) -> str:
@@ -76,66 +61,47 @@ class Run:
 
     def part(self, name: str) -> pd.DataFrame:
         """Return a stored part of the run (e.g. ``prepared``; empty if the run has none)."""
-        if name not in self._aux:
-            self._aux[name] = (self.store.read(name).to_pandas() if self.store is not None
-                               else pd.DataFrame())
-        return self._aux[name]
-
-    @cached_property
-    def _aux(self) -> dict[str, pd.DataFrame]:
-        return {}
+        if name not in self._parts:
+            self._parts[name] = self.store.read(name).to_pandas() if self.store is not None \
+                else pd.DataFrame()
+        return self._parts[name]
 
 
 def reason(exc: BaseException) -> str:
     """One sentence saying why a statistic could not be computed."""
     if isinstance(exc, KeyError):
         return f"the records have no `{exc.args[0]}` column"
-    text = str(exc).strip().splitlines()[0].rstrip(".") if str(exc).strip() \
-        else type(exc).__name__
-    from graspcampaign.errors import UserInputError
-
-    plain = isinstance(exc, ValueError | UserInputError)
-    return text if plain else f"{type(exc).__name__}: {text}"
+    text = str(exc).strip().splitlines()[0].rstrip(".") if str(exc).strip() else type(exc).__name__
+    return text if isinstance(exc, ValueError | UserInputError) else f"{type(exc).__name__}: {text}"
 
 
 def render(spec, run: Run, document: Document) -> Document:
-    """Append every item of ``spec`` rendered over ``run`` to ``document``.
-
-    A :class:`~graspcampaign.report.spec.Finding` is computed last (it may read every table of
-    the report) and shown where it is declared, first in every study's spec.
-    """
+    """Append every item of ``spec`` rendered over ``run`` to ``document``; a Finding is computed
+    last (it may read every table of the report) and shown where it is declared."""
     from graspcampaign.report.spec import Finding
 
-    slots = []
-    for item in sorted(spec.items, key=lambda i: isinstance(i, Finding)):
+    slots = {}
+    for i, item in sorted(enumerate(spec.items), key=lambda e: isinstance(e[1], Finding)):
         try:
-            blocks = item.render(run)
-        except Exception as exc:  # noqa: BLE001 - any failure of one item is reported, not fatal
+            slots[i] = item.render(run)
+        except Exception as exc:  # noqa: BLE001 - one failing item is reported, never fatal
             log.debug("report item %s failed", getattr(item, "name", item), exc_info=True)
             run.failures.append(f"{item.title}: {reason(exc)}")
-            blocks = [Text(f"{item.title} not computed: {reason(exc)}.", "note")]
-        for b in blocks:
-            if hasattr(b, "frame"):
-                run.tables[b.name] = b.frame
-        slots.append((spec.items.index(item), blocks))
-    document.blocks.extend(b for _, blocks in sorted(slots, key=lambda s: s[0]) for b in blocks)
+            slots[i] = [Text(f"{item.title} not computed: {reason(exc)}.", "note")]
+        run.tables.update({b.name: b.frame for b in slots[i] if hasattr(b, "frame")})
+    document.blocks.extend(b for i in sorted(slots) for b in slots[i])
     return document
 
 
 def provenance(run: Run) -> list[tuple[str, str]]:
     """Return the provenance lines every report starts with."""
-    m = run.manifest
-    counts = status_counts(run.records)
-    git = m.get("git") or {}
-    excluded = ", ".join(f"{counts[k]} {w}" for k, w in (("error", "errored"),
-                         ("aborted", "aborted"), ("other", "with another status")) if counts[k])
-    return [
-        ("Trials", f"{len(run.records)} recorded of {m.get('n_trials')}; {counts['executed']} "
-                   f"executed" + (f"; {excluded}, excluded from every denominator"
-                                  if excluded else "")),
-        ("Config hash", f"`{m.get('config_hash')}`"),
-        ("Code", f"`{m.get('code_version')}`" + (" (dirty tree)" if git.get("dirty") else "")),
-        ("Started / finished", f"{m.get('started_at')} / {m.get('finished_at')}"),
-        ("Host", str((m.get("host") or {}).get("name"))),
-        ("Seed", str(run.seed)),
-    ]
+    m, counts = run.manifest, status_counts(run.records)
+    excluded = ", ".join(f"{counts[k]} {w}" for k, w in (
+        ("error", "errored"), ("aborted", "aborted"), ("other", "with another status")) if counts[k])
+    return [("Trials", f"{len(run.records)} recorded of {m.get('n_trials')}; {counts['executed']} "
+                       "executed" + (f"; {excluded}, excluded from every denominator" if excluded else "")),
+            ("Config hash", f"`{m.get('config_hash')}`"),
+            ("Code", f"`{m.get('code_version')}`" + (" (dirty tree)" if (m.get("git") or {}).get("dirty")
+                                                     else "")),
+            ("Started / finished", f"{m.get('started_at')} / {m.get('finished_at')}"),
+            ("Host", str((m.get("host") or {}).get("name"))), ("Seed", str(run.seed))]

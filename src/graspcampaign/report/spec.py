@@ -1,45 +1,23 @@
-"""A study's report, declared: what to show, never how to format it.
-
-A :class:`ReportSpec` is a list of items rendered in order by
-:func:`graspcampaign.report.render.render`:
-
-* :class:`Finding` -- the opening paragraph, computed from the records (and the tables above);
-* :class:`Section` -- a heading (the page's navigation lists them);
-* :class:`Text` -- a paragraph computed from the run;
-* :class:`Rates` -- a rate per group with its Wilson and object-bootstrap intervals, the
-  paper's value, the difference and the verdict;
-* :class:`Claims` of :class:`Rate` and :class:`Value` rows -- single quantities beside the paper
-  (bare Rate/Value items in a spec are gathered into one Claims table);
-* :class:`Paired` -- McNemar on occurrence-matched pairs;
-* :class:`DesignLimit` and :class:`FailureChecks` -- how often δmax exceeds 1 mm; the first
-  failing check of Algorithm 1;
-* :class:`Table` -- any DataFrame computed from the run, with its shown columns;
-* :class:`Figure` -- a drawing function over the run, in the one figure style.
-
-Paper values are read from the run's typed paper object (``lambda p: p.success_pct[...]``); the
-one verdict rule (:func:`graspcampaign.report.format.verdict`), the one rounding and the one
-missing mark apply everywhere. A Rate, Table or Figure for a new record column is a few lines.
-"""
+"""A study's report, declared: what to show, never how to format it."""
 
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import pandas as pd
 
 from graspcampaign.analysis import records as rec
+from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
 from graspcampaign.analysis.records import Estimate
 from graspcampaign.analysis.vocabulary import FACTOR_LABELS, PROPOSED, VOCABULARIES, label
+from graspcampaign.report import document, style
 from graspcampaign.report import format as fmt
-from graspcampaign.report import style
-from graspcampaign.report.document import Col, Heading
-from graspcampaign.report.document import Figure as FigureBlock
-from graspcampaign.report.document import Table as TableBlock
-from graspcampaign.report.document import Text as TextBlock
-from graspcampaign.report.render import Run
+from graspcampaign.report.document import Col
+from graspcampaign.report.render import Run, reason
 
 PaperKey = Callable[[Any, dict], Any]
 """``(paper, group) -> the paper's value`` for one row of a grouped table (None: not reported)."""
@@ -47,58 +25,51 @@ PaperKey = Callable[[Any, dict], Any]
 
 def _paper(fn: Callable | None, paper: Any, *args) -> Any:
     """Return ``fn(paper, *args)``; a missing paper object or key means "not reported"."""
-    if fn is None or paper is None:
-        return None
     try:
-        return fn(paper, *args)
+        return None if fn is None or paper is None else fn(paper, *args)
     except (KeyError, IndexError):
         return None
 
 
+def _paper_by(fn: PaperKey | None, run: Run, frame: pd.DataFrame, by: Sequence[str]) -> list:
+    return [_paper(fn, run.paper, dict(zip(by, key, strict=True)))
+            for key in frame[list(by)].itertuples(index=False)]
+
+
 def labelled(frame: pd.DataFrame, by: Sequence[str]) -> tuple[pd.DataFrame, list[Col]]:
-    """Add ``<column>_label`` (the shared vocabulary's words) for grouping columns; shown cols."""
-    cols = []
-    for c in by:
-        if c in VOCABULARIES:
-            frame[f"{c}_label"] = [label(c, v) for v in frame[c]]
-            cols.append(Col(f"{c}_label", c.replace("_", " ")))
-        else:
-            cols.append(Col(c, FACTOR_LABELS.get(c, c.replace("_", " "))))
-    return frame, cols
+    """Add ``<column>_label`` (the vocabulary's words) for grouping columns; return the shown cols."""
+    for c in (c for c in by if c in VOCABULARIES):
+        frame[f"{c}_label"] = [label(c, v) for v in frame[c]]
+    return frame, [Col(f"{c}_label", c.replace("_", " ")) if c in VOCABULARIES
+                   else Col(c, FACTOR_LABELS.get(c, c.replace("_", " "))) for c in by]
 
 
 def verdicts(frame: pd.DataFrame, ours: str, paper: str, low: str | None = None,
              high: str | None = None, digits: int | str = 1, unit: str = "",
              why: str = "why") -> pd.DataFrame:
-    """Add ``difference``, ``differs`` and ``verdict`` columns by the one verdict rule.
-
-    ``digits`` (and ``unit``) may name a column holding each row's decimals (unit); a unit of
-    ``%`` states its difference in percentage points. Where ours is missing the verdict is the
-    row's ``why`` text (the reason it could not be computed).
-    """
+    """Add ``difference``, ``differs`` and ``verdict`` columns by the one verdict rule."""
     out = []
     for r in frame.to_dict("records"):
-        d = int(r[digits]) if isinstance(digits, str) else digits
         u = str(r[unit] or "") if unit in r else unit
         u = " pp" if u in ("%", " pp") else (f" {u}" if u else "")
-        p = r[paper]
-        number = isinstance(p, int | float) and not isinstance(p, bool)
-        diff = (float(r[ours]) - float(p) if number and not fmt.is_missing(r[ours])
-                and not fmt.is_missing(p) else math.nan)
-        verdict = fmt.verdict(r[ours], p, low=r.get(low) if low else None,
-                              high=r.get(high) if high else None, digits=d, unit=u)
-        if fmt.is_missing(r[ours]) and r.get(why):
-            verdict = (None, str(r[why]))
-        out.append((diff, *verdict))
-    frame["difference"] = [o[0] for o in out]
-    frame["differs"] = [o[1] for o in out]
-    frame["verdict"] = [o[2] for o in out]
-    return frame
+        o, p = r[ours], r[paper]
+        number = isinstance(p, int | float) and not isinstance(p, bool) and not fmt.is_missing(p)
+        verdict = fmt.verdict(o, p, low=r.get(low) if low else None, high=r.get(high) if high else None,
+                              digits=int(r[digits]) if isinstance(digits, str) else digits, unit=u)
+        out.append((float(o) - float(p) if number and not fmt.is_missing(o) else math.nan,
+                    *((None, str(r[why])) if fmt.is_missing(o) and r.get(why) else verdict)))
+    return frame.assign(**{c: [row[i] for row in out] for i, c in enumerate(("difference", "differs",
+                                                                          "verdict"))})
+
+
+def _text(text: str | Callable[[Run], str], run: Run) -> str:
+    return text(run) if callable(text) else text
 
 
 @dataclass(frozen=True)
 class ReportSpec:
-    """A study's report: the study (or studies) it serves and its items in order."""
+    """A study's report: the study it serves and its items in order (each run of bare Rate/Value
+    items is gathered into one Claims table, ``paper_comparison``, ``paper_comparison2`` ...)."""
 
     study: str
     items: Sequence[Any]
@@ -106,20 +77,17 @@ class ReportSpec:
     def __post_init__(self):
         items, rows = [], []
         for item in [*self.items, None]:
-            if isinstance(item, Rate | Value):
+            if isinstance(item, Value):
                 rows.append(item)
                 continue
             if rows:
-                n = sum(isinstance(i, Claims) for i in items)
-                items.append(Claims(f"paper_comparison{n + 1 if n else ''}",
-                                    "Ours beside the paper", rows))
+                n = sum(i.name.startswith("paper_comparison") for i in items if isinstance(i, Table))
+                items.append(Claims(f"paper_comparison{n + 1 if n else ''}", "Ours beside the paper", rows))
                 rows = []
-            if item is not None:
-                items.append(item)
+            items += [item] if item is not None else []
         object.__setattr__(self, "items", tuple(items))
 
 
-# ------------------------------------------------------------------------------ text items
 @dataclass(frozen=True)
 class Section:
     """A heading; the HTML page's navigation lists every section."""
@@ -127,267 +95,58 @@ class Section:
     title: str
 
     def render(self, run: Run) -> list:
-        return [Heading(self.title)]
+        return [document.Heading(self.title)]
 
 
 @dataclass(frozen=True)
 class Text:
-    """A paragraph: a string, or a function of the run returning Markdown."""
+    """A paragraph: a string, or a function of the run returning Markdown (empty: left out)."""
 
     text: str | Callable[[Run], str]
     title: str = "a paragraph"
 
     def render(self, run: Run) -> list:
-        text = self.text(run) if callable(self.text) else self.text
-        return [TextBlock(text)] if text else []
+        return [document.Text(text)] if (text := _text(self.text, run)) else []
 
 
 @dataclass(frozen=True)
 class Finding:
-    """The opening paragraph: the main finding from the records, and where and why it differs
-    from the paper (naming the decision in ``docs/decisions.md``)."""
+    """The opening paragraph: the main finding from the records and where and why it differs from
+    the paper (naming the decision in ``docs/decisions.md``); computed last, shown first, it ends
+    with what the validity gate removed when the report has a :func:`GateRemoved` table."""
 
     text: Callable[[Run], str]
     title: str = "The main finding"
 
     def render(self, run: Run) -> list:
-        return [Heading("What this shows"), TextBlock(self.text(run), "finding")]
+        return [document.Heading("What this shows"), document.Text(self.text(run) + gate_text(run),
+                                                                    "finding")]
 
 
-# ------------------------------------------------------------------------------ rate tables
-@dataclass(frozen=True)
-class Rates:
-    """The rate of ``outcome`` per group of ``by`` beside the paper (Wilson 95 % per row; an
-    object-clustered bootstrap when ``bootstrap``), over the executed trials ``where`` selects.
-    """
-
-    name: str
-    caption: str
-    by: Sequence[str]
-    paper: PaperKey | None = None
-    outcome: str = "success"
-    bootstrap: bool = True
-    where: Callable[[pd.DataFrame], pd.Series] | None = None
-
-    @property
-    def title(self) -> str:
-        return f"Table {self.name}"
-
-    def render(self, run: Run) -> list:
-        records = run.records[self.where(run.records)] if self.where else run.records
-        cluster = run.cluster if self.bootstrap else None
-        frame = rec.rate_table(records, self.by, outcome=self.outcome, cluster=cluster,
-                               seed=run.seed, order=run.order)
-        frame.insert(len(self.by), "paper_pct", [
-            _paper(self.paper, run.paper, dict(zip(self.by, key, strict=True)))
-            for key in frame[list(self.by)].itertuples(index=False)])
-        frame = verdicts(frame, "rate_pct", "paper_pct", "wilson_low_pct", "wilson_high_pct",
-                         unit="%")
-        frame, cols = labelled(frame, self.by)
-        cols += [Col("paper_pct", "paper %", 1),
-                 Col("rate_pct", "ours % (Wilson 95%)", 1, low="wilson_low_pct",
-                     high="wilson_high_pct", why="rate_why"),
-                 Col("difference", "difference [pp]", 1, signed=True), Col("n", "n"),
-                 Col("n_error", "errors")]
-        note = ""
-        if cluster:
-            cols.append(Col("bootstrap_low_pct", f"{cluster}-bootstrap 95% [%]", 1,
-                            low="bootstrap_low_pct", high="bootstrap_high_pct",
-                            why="bootstrap_why"))
-            note = (f" Intervals: Wilson 95% per row; {cluster}-clustered percentile bootstrap "
-                    f"({cluster}s resampled, not trials; {rec.rates.BOOTSTRAP_RESAMPLES} "
-                    f"resamples, seed {run.seed}).")
-        if frame["n_aborted"].any():
-            cols.append(Col("n_aborted", "aborted"))
-        cols.append(Col("verdict", "verdict"))
-        return [TableBlock(self.name, self.caption + "." + note, frame, cols)]
-
-
-@dataclass(frozen=True)
-class Rate:
-    """One rate beside the paper's (a row of :class:`Claims`) over the executed trials that
-    ``where(run)`` selects (a boolean mask over ``run.ok``; None: all)."""
-
-    label: str
-    section: str
-    where: Callable[[Run], pd.Series] | None = None
-    paper: Callable[[Any], Any] | None = None
-    outcome: str = "success"
-    digits: int = 1
-
-    def row(self, run: Run) -> dict:
-        e = rec.rate(run.records, (lambda ok: self.where(run).to_numpy()) if self.where else None,
-                     self.outcome)
-        return {"value": e.value, "low": e.low, "high": e.high, "n": e.n, "unit": "%"}
-
-
-@dataclass(frozen=True)
-class Value:
-    """One value beside the paper's (a row of :class:`Claims`): ``value(run)`` returns a number
-    or an :class:`~graspcampaign.analysis.records.Estimate`; raising ValueError gives the reason.
-    """
-
-    label: str
-    section: str
-    value: Callable[[Run], float | Estimate]
-    paper: Callable[[Any], Any] | None = None
-    unit: str = ""
-    digits: int = 2
-
-    def row(self, run: Run) -> dict:
-        v = self.value(run)
-        e = v if isinstance(v, Estimate) else Estimate(v)
-        return {"value": e.value, "low": e.low, "high": e.high, "n": e.n, "unit": self.unit}
-
-
-@dataclass(frozen=True)
-class Claims:
-    """A table of single quantities (Rate and Value rows) beside the paper's values."""
-
-    name: str
-    caption: str
-    rows: Sequence[Rate | Value] = field(default_factory=tuple)
-
-    @property
-    def title(self) -> str:
-        return f"Table {self.name}"
-
-    def render(self, run: Run) -> list:
-        out = []
-        for r in self.rows:
-            base = {"quantity": r.label, "section": r.section, "digits": r.digits, "why": ""}
-            try:
-                base.update(r.row(run))
-            except (ValueError, KeyError, ZeroDivisionError) as exc:
-                from graspcampaign.report.render import reason
-
-                base.update(value=math.nan, low=math.nan, high=math.nan, n=None,
-                            unit=getattr(r, "unit", ""), why=f"not computed: {reason(exc)}")
-            p = _paper(r.paper, run.paper)
-            base["paper"] = fmt.paper_text(p, r.digits) if isinstance(p, tuple | list) else p
-            base["_paper"] = p
-            out.append(base)
-        frame = pd.DataFrame(out, columns=["quantity", "section", "paper", "value", "low",
-                                           "high", "n", "unit", "digits", "why", "_paper"])
-        frame = verdicts(frame, "value", "_paper", "low", "high", "digits", "unit")
-        frame = frame.drop(columns="_paper")
-        cols = [Col("quantity", "quantity"), Col("section", "paper §"),
-                Col("paper", "paper", "digits"),
-                Col("value", "ours (95%)", "digits", low="low", high="high", why="why"),
-                Col("unit", "unit"), Col("n", "n", 0),
-                Col("difference", "difference", "digits", signed=True),
-                Col("verdict", "verdict")]
-        return [TableBlock(self.name, self.caption, frame, cols)]
-
-
-@dataclass(frozen=True)
-class Paired:
-    """McNemar (1947) of the proposed planner against every other on occurrence-matched pairs."""
-
-    name: str = "mcnemar"
-    caption: str = ("Paired comparison, McNemar on occurrence-matched pairs (rows paired by "
-                    "scene_id: same object, mass, friction and seed); χ² with continuity "
-                    "correction, exact binomial p, discordant-pair odds ratio (> 1 favours the "
-                    "proposed planner) with its exact 95% interval")
-    reference: str = PROPOSED
-    pair_on: str = "scene_id"
-    paper: Callable[[Any, str], Any] | None = None
-    title: str = "Paired comparison"
-
-    def render(self, run: Run) -> list:
-        planners = [p for p in run.order.get("planner", []) if p != self.reference]
-        frame = rec.mcnemar_table(run.records, self.reference, planners, pair_on=self.pair_on)
-        frame["paper"] = [_paper(self.paper, run.paper, p) or "not reported"
-                          for p in frame["compared"]]
-        frame, cols = labelled(frame, ["compared"])
-        frame["compared_label"] = [label("planner", p) for p in frame["compared"]]
-        cols += [Col("pairs", "pairs"), Col("reference_only", f"{label('planner', self.reference)}"
-                                                              " only"),
-                 Col("compared_only", "compared only"), Col("both_success", "both succeed"),
-                 Col("both_fail", "both fail"), Col("chi2_cc", "χ² (cc)", 1, why="test_why"),
-                 Col("p_exact", "p (exact)", sig=2),
-                 Col("odds_ratio", "odds ratio (95%)", 2, low="odds_ratio_low",
-                     high="odds_ratio_high", why="test_why"), Col("paper", "paper")]
-        return [TableBlock(self.name, self.caption, frame, cols)]
-
-
-@dataclass(frozen=True)
-class DesignLimit:
-    """How often the deepest contact exceeds the paper's 1 mm design limit (Sec. 4), per group."""
-
-    by: Sequence[str]
-    name: str = "design_limit"
-    caption: str = ("Penetration against the paper's 1 mm design limit (Sec. 4, 5.5): executed "
-                    "trials whose deepest contact δmax exceeds 1 mm (Wilson 95%); our SI "
-                    "evaluation keeps the published algorithm, so this is reported, never "
-                    "rescaled (SPEC §2.7)")
-    title: str = "Design limit"
-
-    def render(self, run: Run) -> list:
-        frame = rec.design_limit_table(run.records, self.by, order=run.order)
-        frame["paper"] = f"within {rec.DESIGN_LIMIT_MM:g} mm"
-        frame, cols = labelled(frame, self.by)
-        cols += [Col("paper", "paper"), Col("n", "n"), Col("exceeds", "> 1 mm"),
-                 Col("exceeds_pct", "% > 1 mm (Wilson 95%)", 1, low="wilson_low_pct",
-                     high="wilson_high_pct"),
-                 Col("successes_exceeding", "successes > 1 mm"),
-                 Col("delta_max_median_mm", "median δmax [mm]", sig=3),
-                 Col("delta_max_p95_mm", "95th pct δmax [mm]", sig=3),
-                 Col("delta_max_max_mm", "max δmax [mm]", sig=3)]
-        return [TableBlock(self.name, self.caption, frame, cols)]
-
-
-@dataclass(frozen=True)
-class FailureChecks:
-    """The first failing check of Algorithm 1 per group (none = success)."""
-
-    by: Sequence[str]
-    paper: PaperKey | None = None
-    name: str = "failure_checks"
-    caption: str = ("First failing check of Algorithm 1 (none = success; residual ‖R‖ ≥ τ_F, "
-                    "torque, slip margin ≤ 0), executed trials")
-    title: str = "Failing checks"
-
-    def render(self, run: Run) -> list:
-        frame = rec.failure_check_table(run.records, self.by, order=run.order)
-        frame["paper"] = [_paper(self.paper, run.paper, dict(zip(self.by, k, strict=True)))
-                          or "not reported" for k in frame[list(self.by)].itertuples(index=False)]
-        frame, cols = labelled(frame, self.by)
-        checks = [c for c in frame.columns if f"{c}_pct" in frame.columns]
-        cols += [Col("n", "n"), *(Col(c, c, share=f"{c}_pct") for c in checks),
-                 Col("paper", "paper")]
-        return [TableBlock(self.name, self.caption, frame, cols)]
-
-
-# ------------------------------------------------------------------------------ generic items
 @dataclass(frozen=True)
 class Table:
-    """Any table computed from the run: ``compute(run)`` returns the full-precision frame;
-    ``cols`` are the shown columns (default: every column, 4 significant digits)."""
+    """Any table: ``compute(run)`` returns the full-precision frame (the CSV); ``cols`` the shown
+    columns after the labels of the grouping columns ``by``: a :class:`Col`, or a column name shown
+    by :func:`~graspcampaign.report.document.cols` (header and rounding from its unit, its interval
+    and reason columns joined), or ``cols(run, frame)``; default every other column."""
 
     name: str
     caption: str | Callable[[Run], str]
     compute: Callable[[Run], pd.DataFrame]
-    cols: Sequence[Col] | None = None
+    cols: Sequence[Col | str] | Callable[[Run, pd.DataFrame], Sequence[Col | str]] | None = None
     by: Sequence[str] = ()
     empty: str | None = "no executed trial has its data"  # None: an empty table is left out
-
-    @property
-    def title(self) -> str:
-        return f"Table {self.name}"
+    title = property(lambda self: f"Table {self.name}")
 
     def render(self, run: Run) -> list:
         frame = self.compute(run)
         if frame is None or not len(frame):
-            return [TextBlock(f"Table {self.name} is empty: {self.empty}.", "note")] \
-                if self.empty else []
-        frame = frame.reset_index(drop=True)
-        lead = labelled(frame, self.by)[1] if self.by else []
-        cols = list(self.cols) if self.cols is not None else [
-            Col(c, c.replace("_", " ")) for c in frame.columns if not c.endswith("_label")
-            and c not in self.by]
-        caption = self.caption(run) if callable(self.caption) else self.caption
-        return [TableBlock(self.name, caption, frame, [*lead, *cols])]
+            return [document.Text(f"Table {self.name} is empty: {self.empty}.", "note")] if self.empty else []
+        frame, lead = labelled(frame.reset_index(drop=True), self.by)
+        shown = self.cols(run, frame) if callable(self.cols) else self.cols if self.cols is not None else [
+            c for c in frame if c not in self.by and not re.search(r"_(label|why|low|high)(_[a-z]+)?$", c)]
+        cols = [c if isinstance(c, Col) else document.cols(c, frame=frame)[0] for c in shown]
+        return [document.Table(self.name, _text(self.caption, run), frame, [*lead, *cols])]
 
 
 @dataclass(frozen=True)
@@ -398,13 +157,155 @@ class Figure:
     caption: str | Callable[[Run], str]
     draw: Callable[[Run, Any], None]
     size: tuple[float, float] = (6.4, 3.6)
-
-    @property
-    def title(self) -> str:
-        return f"Figure {self.name}"
+    title = property(lambda self: f"Figure {self.name}")
 
     def render(self, run: Run) -> list:
-        images = style.draw(lambda fig: self.draw(run, fig), self.size, run.source,
-                            (run.figure_format,))
-        caption = self.caption(run) if callable(self.caption) else self.caption
-        return [FigureBlock(self.name, caption, images)]
+        images = style.draw(lambda fig: self.draw(run, fig), self.size, run.source, (run.figure_format,))
+        return [document.Figure(self.name, _text(self.caption, run), images)]
+
+
+# ------------------------------------------------------------------ tables of the records
+def Rates(name: str, caption: str, by: Sequence[str], paper: PaperKey | None = None,
+          outcome: str = "success", bootstrap: bool = True,
+          where: Callable[[pd.DataFrame], pd.Series] | None = None) -> Table:
+    """The rate of ``outcome`` per group of ``by`` beside the paper (Wilson 95 % per row; an
+    object-clustered bootstrap when ``bootstrap``) over the trials ``where(records)`` selects."""
+    def compute(run: Run) -> pd.DataFrame:
+        records = run.records[where(run.records)] if where else run.records
+        frame = rec.rate_table(records, by, outcome=outcome, cluster=run.cluster if bootstrap else None,
+                               seed=run.seed, order=run.order)
+        frame.insert(len(by), "paper_pct", _paper_by(paper, run, frame, by))
+        return verdicts(frame, "rate_pct", "paper_pct", "wilson_low_pct", "wilson_high_pct", unit="%")
+
+    def cols(run: Run, frame: pd.DataFrame) -> list[Col]:
+        return [Col("paper_pct", "paper %", 1),
+                Col("rate_pct", "ours % (Wilson 95%)", 1, low="wilson_low_pct", high="wilson_high_pct",
+                    why="rate_why"),
+                Col("difference", "difference [pp]", 1, signed=True), Col("n", "n"), Col("n_error", "errors"),
+                *([Col("bootstrap_low_pct", f"{run.cluster}-bootstrap 95% [%]", 1, low="bootstrap_low_pct",
+                       high="bootstrap_high_pct", why="bootstrap_why")] if bootstrap else []),
+                *([Col("n_aborted", "aborted")] if frame["n_aborted"].any() else []),
+                Col("verdict", "verdict")]
+
+    return Table(name, lambda run: caption + "." + (
+        f" Intervals: Wilson 95% per row; {run.cluster}-clustered percentile bootstrap ({run.cluster}s "
+        f"resampled, not trials; {BOOTSTRAP_RESAMPLES} resamples, seed {run.seed})." if bootstrap else ""),
+        compute, cols, by)
+
+
+@dataclass(frozen=True)
+class Value:
+    """One value beside the paper's (a row of :func:`Claims`): ``value(run)`` returns a number or an
+    :class:`~graspcampaign.analysis.records.Estimate`; raising ValueError gives the reason."""
+
+    label: str
+    section: str
+    value: Callable[[Run], float | Estimate]
+    paper: Callable[[Any], Any] | None = None
+    unit: str = ""
+    digits: int = 2
+
+    def estimate(self, run: Run) -> Estimate:
+        return v if isinstance(v := self.value(run), Estimate) else Estimate(v)
+
+
+def Rate(label: str, section: str, where: Callable[[Run], pd.Series] | None = None,
+         paper: Callable[[Any], Any] | None = None, outcome: str = "success", digits: int = 1) -> Value:
+    """One rate beside the paper's (a :class:`Value` row, Wilson 95 %) over the executed trials that
+    ``where(run)`` selects (a boolean mask over ``run.ok``; None: all)."""
+    return Value(label, section, lambda run: rec.rate(run.records, (lambda ok: where(run).to_numpy())
+                                                      if where else None, outcome), paper, "%", digits)
+
+
+def Claims(name: str, caption: str, rows: Sequence[Value] = ()) -> Table:
+    """A table of single quantities (:func:`Rate` and :class:`Value` rows) beside the paper's."""
+    def compute(run: Run) -> pd.DataFrame:
+        out = []
+        for r in rows:
+            try:
+                e, why = r.estimate(run), ""
+            except (ValueError, KeyError, ZeroDivisionError) as exc:
+                e, why = Estimate(math.nan), f"not computed: {reason(exc)}"
+            p = _paper(r.paper, run.paper)
+            out.append([r.label, r.section, fmt.paper_text(p, r.digits) if isinstance(p, tuple | list) else p,
+                        e.value, e.low, e.high, e.n, r.unit, r.digits, why, p])
+        frame = pd.DataFrame(out, columns=["quantity", "section", "paper", "value", "low", "high", "n",
+                                           "unit", "digits", "why", "_paper"])
+        return verdicts(frame, "value", "_paper", "low", "high", "digits", "unit").drop(columns="_paper")
+
+    return Table(name, caption, compute, [
+        Col("quantity", "quantity"), Col("section", "paper §"), Col("paper", "paper", "digits"),
+        Col("value", "ours (95%)", "digits", low="low", high="high", why="why"), Col("unit", "unit"),
+        Col("n", "n", 0), Col("difference", "difference", "digits", signed=True), Col("verdict", "verdict")])
+
+
+def Paired(name: str = "mcnemar", caption: str = (
+        "Paired comparison, McNemar on occurrence-matched pairs (rows paired by scene_id: same "
+        "object, mass, friction and seed); χ² with continuity correction, exact binomial p, "
+        "discordant-pair odds ratio (> 1 favours the proposed planner) with its exact 95% interval"),
+        reference: str = PROPOSED, pair_on: str = "scene_id",
+        paper: Callable[[Any, str], Any] | None = None) -> Table:
+    """McNemar (1947) of ``reference`` against every other planner on occurrence-matched pairs."""
+    def compute(run: Run) -> pd.DataFrame:
+        planners = [p for p in run.order.get("planner", []) if p != reference]
+        frame = rec.mcnemar_table(run.records, reference, planners, pair_on=pair_on)
+        return frame.assign(paper=[_paper(paper, run.paper, p) or "not reported" for p in frame["compared"]],
+                            compared_label=[label("planner", p) for p in frame["compared"]])
+
+    return Table(name, caption, compute, [
+        Col("compared_label", "compared"), Col("pairs", "pairs"),
+        Col("reference_only", f"{label('planner', reference)} only"), Col("compared_only", "compared only"),
+        Col("both_success", "both succeed"), Col("both_fail", "both fail"),
+        Col("chi2_cc", "χ² (cc)", 1, why="test_why"), Col("p_exact", "p (exact)", sig=2),
+        Col("odds_ratio", "odds ratio (95%)", 2, low="odds_ratio_low", high="odds_ratio_high",
+            why="test_why"), Col("paper", "paper")])
+
+
+def DesignLimit(by: Sequence[str], name: str = "design_limit", caption: str = (
+        "Penetration against the paper's 1 mm design limit (Sec. 4, 5.5): executed trials whose "
+        "deepest contact δmax exceeds 1 mm (Wilson 95%); our SI evaluation keeps the published "
+        "algorithm, so this is reported, never rescaled (SPEC §2.7)")) -> Table:
+    """How often the deepest contact exceeds the paper's 1 mm design limit (Sec. 4), per group."""
+    return Table(name, caption, lambda run: rec.design_limit_table(run.records, by, order=run.order).assign(
+        paper=f"within {rec.DESIGN_LIMIT_MM:g} mm"), [
+        Col("paper", "paper"), Col("n", "n"), Col("exceeds", "> 1 mm"),
+        Col("exceeds_pct", "% > 1 mm (Wilson 95%)", 1, low="wilson_low_pct", high="wilson_high_pct"),
+        Col("successes_exceeding", "successes > 1 mm"),
+        Col("delta_max_median_mm", "median δmax [mm]", sig=3),
+        Col("delta_max_p95_mm", "95th pct δmax [mm]", sig=3),
+        Col("delta_max_max_mm", "max δmax [mm]", sig=3)], by)
+
+
+def FailureChecks(by: Sequence[str], paper: PaperKey | None = None,
+                  name: str = "failure_checks", caption: str = (
+                      "First failing check of Algorithm 1 (none = success; residual ‖R‖ ≥ τ_F, torque, "
+                      "slip margin ≤ 0; geometry = only the validity gate: a contact deeper than the "
+                      "fingertip radius), executed trials")) -> Table:
+    """The first failing check of Algorithm 1 per group (none = success)."""
+    def compute(run: Run) -> pd.DataFrame:
+        frame = rec.failure_check_table(run.records, by, order=run.order)
+        return frame.assign(paper=[p or "not reported" for p in _paper_by(paper, run, frame, by)])
+
+    return Table(name, caption, compute, lambda run, frame: [
+        Col("n", "n"), *(Col(c, c, share=f"{c}_pct") for c in frame if f"{c}_pct" in frame),
+        Col("paper", "paper")], by)
+
+
+def gate_text(run: Run, name: str = "gate_removed") -> str:
+    """The Finding's sentence on the :func:`GateRemoved` table ``name`` ("" without one)."""
+    if (g := run.tables.get(name)) is None or not len(g):
+        return ""
+    return (f" The validity gate (a contact deeper than the fingertip radius is no contact, issue 13) "
+            f"removed {int(g['removed'].sum())} of {int(g['success_unbounded'].sum())} successes; "
+            f"{int(g['invalid_geometry'].sum())} of {int(g['n'].sum())} executed trials have such a contact.")
+
+
+def GateRemoved(by: Sequence[str], name: str = "gate_removed", caption: str = (
+        "Successes the validity gate removed (issue 13): trials passing every check (success "
+        "without the gate) with a contact deeper than the fingertip radius, which is no contact "
+        "any more, count as failures; Wilson 95%")) -> Table:
+    """How many successes the validity gate removed per group (issue 13 item 1), from the records'
+    ``success_unbounded`` and ``valid_geometry``: add ``GateRemoved(["planner"])`` to a spec."""
+    return Table(name, caption, lambda run: rec.gate_table(run.records, by, run.order), [
+        "n", Col("success_unbounded", "successes without the gate"), "removed_pct", "removed", "success",
+        Col("invalid_geometry", "contact deeper than r")], by)

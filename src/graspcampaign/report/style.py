@@ -1,11 +1,4 @@
-"""The one figure style: rcParams, the data-source label, the paper's marks, rate bars.
-
-Figures are :class:`matplotlib.figure.Figure` objects built without pyplot (headless by
-construction; no global state), drawn and saved under :data:`RC`. Every figure carries its data
-source as a top-right label (simulation / VIRTUAL RIG / measured); the paper's values are black;
-planners, shapes and materials take their labels and colours from
-:mod:`graspcampaign.analysis.vocabulary`, as in the tables.
-"""
+"""The one figure style: rcParams, the data-source label, the paper's marks, rate bars."""
 
 from __future__ import annotations
 
@@ -37,26 +30,28 @@ SOURCE_SHORT = {"simulation": "simulation", "virtual": "VIRTUAL RIG (synthetic d
 SOURCE_COLOUR = {"simulation": "#1f3a5f", "virtual": "#b35900", "measured": "#1b5e20"}
 
 
+def save(fig: Figure, source: str, formats: Sequence[str] = ("png",)) -> dict[str, bytes]:
+    """Label ``fig`` with its data source; return its PNG and each of ``formats`` (SVG and PDF
+    without a creation date, so they are reproducible)."""
+    if getattr(fig, "_suptitle", None) is None:
+        fig.suptitle(f"data: {SOURCE_SHORT.get(source, source)}", x=0.995, ha="right",
+                     fontsize=7.5, color=SOURCE_COLOUR.get(source, "#333333"))
+    out = {}
+    for f in dict.fromkeys(("png", *formats)):
+        buf = io.BytesIO()
+        fig.savefig(buf, format=f, dpi=RC["savefig.dpi"], bbox_inches="tight", metadata=(
+            {"Software": "graspcampaign"} if f == "png" else {"Date": None, "Creator": "graspcampaign"}))
+        out[f] = buf.getvalue()
+    return out
+
+
 def draw(build: Callable[[Figure], None], size: tuple[float, float], source: str,
          formats: Sequence[str] = ("png",)) -> dict[str, bytes]:
-    """Build a figure of ``size`` inches with ``build(fig)`` under :data:`RC`; return its images.
-
-    The figure is labelled with its data source and rendered in each of ``formats`` (PNG at
-    130 dpi; SVG and PDF without a creation date, so they are reproducible).
-    """
+    """Build a figure of ``size`` inches with ``build(fig)`` under :data:`RC`; return its images."""
     with mpl.rc_context(RC):
         fig = Figure(figsize=size, layout="constrained")
         build(fig)
-        fig.suptitle(f"data: {SOURCE_SHORT.get(source, source)}", x=0.995, ha="right",
-                     fontsize=7.5, color=SOURCE_COLOUR.get(source, "#333333"))
-        out = {}
-        for f in dict.fromkeys(("png", *formats)):
-            buf = io.BytesIO()
-            meta = {"Software": "graspcampaign"} if f == "png" else {"Date": None, "Creator":
-                                                                     "graspcampaign"}
-            fig.savefig(buf, format=f, bbox_inches="tight", metadata=meta)
-            out[f] = buf.getvalue()
-    return out
+        return save(fig, source, formats)
 
 
 def paper_handle(label: str = "paper's value") -> Line2D:
@@ -66,40 +61,32 @@ def paper_handle(label: str = "paper's value") -> Line2D:
 
 def interval_handle(label: str = "95% interval") -> Line2D:
     """Legend entry of our error bars."""
-    return Line2D([], [], color="#333333", marker="|", linestyle="none", markersize=8,
-                  label=label)
+    return Line2D([], [], color="#333333", marker="|", linestyle="none", markersize=8, label=label)
 
 
 def paper_marks(ax, x: Sequence[float], values: Sequence, width: float) -> bool:
     """Draw the paper's values as black bars with a diamond; return whether any was drawn."""
-    drawn = False
-    for xi, p in zip(x, values, strict=True):
-        if fmt.is_missing(p):
-            continue
-        ax.hlines(float(p), xi - width * 0.45, xi + width * 0.45, colors=PAPER, linewidth=2.0,
-                  zorder=5)
-        ax.plot([xi], [float(p)], marker="D", color=PAPER, markersize=3.5, zorder=6)
-        drawn = True
-    return drawn
+    shown = [(xi, float(p)) for xi, p in zip(x, values, strict=True) if not fmt.is_missing(p)]
+    for xi, p in shown:
+        ax.hlines(p, xi - width * 0.45, xi + width * 0.45, colors=PAPER, linewidth=2.0, zorder=5)
+        ax.plot([xi], [p], marker="D", color=PAPER, markersize=3.5, zorder=6)
+    return bool(shown)
 
 
 def bars(ax, x: Sequence[float], values, low, high, colours, width: float = 0.7,
          paper: Sequence | None = None, label: str | None = None) -> bool:
-    """Bars with asymmetric interval whiskers and, optionally, the paper's marks.
-
-    Missing values draw no bar; returns whether a paper mark was drawn.
-    """
+    """Bars with interval whiskers (none for a missing value) and, optionally, the paper's marks;
+    return whether a paper mark was drawn."""
     v, lo, hi = (np.asarray(a, dtype=float) for a in (values, low, high))
-    err = np.vstack([np.nan_to_num(v - lo), np.nan_to_num(hi - v)])
     ax.bar(x, np.nan_to_num(v), width, color=colours, edgecolor="white", label=label,
-           yerr=err, ecolor="#333333", error_kw={"elinewidth": 1.0})
+           yerr=np.vstack([np.nan_to_num(v - lo), np.nan_to_num(hi - v)]), ecolor="#333333",
+           error_kw={"elinewidth": 1.0})
     return paper_marks(ax, x, list(paper), width) if paper is not None else False
 
 
 def rate_axes(ax, ylabel: str = "success rate [%]") -> None:
     """Axis of a rate in percent, 0-100 with room for the whiskers."""
-    ax.set_ylim(0, 105)
-    ax.set_ylabel(ylabel)
+    ax.set(ylim=(0, 105), ylabel=ylabel)
 
 
 def legend_below(ax, handles=None, ncol: int = 3) -> None:

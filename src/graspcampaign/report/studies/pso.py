@@ -1,10 +1,4 @@
-"""Report of ``pso_repeatability`` (paper Sec. 6.8, Fig. 21) and Table 3.
-
-The coefficient of variation of each identified parameter over the restarts (sample SD / mean)
-with a percentile bootstrap interval over runs, beside the paper's CVs; the identified values
-beside Table 3; Fig. 21 from the records and ``tables/pso_trace`` (best cost per iteration).
-:func:`table3` is shared with the quasi-static studies (their ``prepared/`` identifications).
-"""
+"""Report of ``pso_repeatability`` (Sec. 6.8, Fig. 21) and Table 3."""
 
 from __future__ import annotations
 
@@ -15,6 +9,7 @@ import pandas as pd
 
 from graspcampaign.analysis import agreement
 from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
+from graspcampaign.analysis.records import at_bound
 from graspcampaign.analysis.vocabulary import PROPOSED, colour, label
 from graspcampaign.report import style
 from graspcampaign.report.document import Col
@@ -23,7 +18,7 @@ from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, Text, 
 
 #: Identified parameters in Table 3's order (record columns; the paper calls ``n_exp`` n).
 PARAMETERS = ("lambda1", "lambda2", "n_exp", "b", "k", "c")
-TABLE3_KEY = {"n_exp": "n"}
+BOUND = Col("at_bound", "on a search bound", share="at_bound_pct")
 
 
 def _budgets(run: Run) -> tuple[pd.DataFrame, pd.DataFrame]:
@@ -34,33 +29,33 @@ def _budgets(run: Run) -> tuple[pd.DataFrame, pd.DataFrame]:
     return ok, ok.iloc[:0]
 
 
-def _params(ok: pd.DataFrame) -> list[str]:
-    return [p for p in PARAMETERS if p in ok and ok[p].notna().sum() >= 2]
+def _bound(rows: pd.DataFrame, parameter: str) -> dict:
+    """How many ``rows`` ended with ``parameter`` on a search bound (nan: not recorded)."""
+    try:
+        k = int(at_bound(rows, parameter).sum())
+    except KeyError:
+        k = math.nan
+    return {"at_bound": k, "at_bound_pct": 100 * k / len(rows)}
 
 
 def _cv(run: Run) -> pd.DataFrame:
-    ok, cv_paper, rows = _budgets(run)[0], run.paper.cv_pct, []
-    for p in _params(ok):
-        v = ok[p].dropna().to_numpy(float)
+    ok, paper, rows = _budgets(run)[0], run.paper.cv_pct, []
+    for p in [p for p in PARAMETERS if p in ok and ok[p].notna().sum() >= 2]:
+        v, (low, high), why = ok[p].dropna().to_numpy(float), (math.nan, math.nan), ""
         try:
             low, high = agreement.cv_interval(v, seed=run.seed)
-            why = ""
         except ValueError as exc:
-            (low, high), why = (math.nan, math.nan), str(exc)
-        paper = cv_paper.n if p == "n_exp" else cv_paper.lambda_approx if p.startswith(
-            "lambda") else cv_paper.others_range
-        rows.append({"parameter": p, "paper_cv_pct": paper,
-                     "cv_pct": 100 * agreement.coefficient_of_variation(v),
-                     "low_pct": 100 * low, "high_pct": 100 * high, "why": why, "n": v.size,
-                     "mean": float(v.mean()), "sd": float(v.std(ddof=1))})
-    frame = verdicts(pd.DataFrame(rows), "cv_pct", "paper_cv_pct", "low_pct", "high_pct",
-                     unit="%")
-    ranges = [isinstance(v, tuple) for v in frame["paper_cv_pct"]]
-    frame["paper_range_pct"] = [f"{v[0]:g}–{v[1]:g} (range)" if r else ""
-                                for v, r in zip(frame["paper_cv_pct"], ranges, strict=True)]
-    frame["paper_cv_pct"] = [np.nan if r else v
-                             for v, r in zip(frame["paper_cv_pct"], ranges, strict=True)]
-    return frame
+            why = str(exc)
+        ref = paper.n if p == "n_exp" else paper.lambda_approx if p.startswith("lambda") \
+            else paper.others_range
+        rows.append({"parameter": p, "paper_cv_pct": ref, "low_pct": 100 * low, "high_pct": 100 * high,
+                     "cv_pct": 100 * agreement.coefficient_of_variation(v), "why": why, "n": v.size,
+                     "mean": v.mean(), "sd": v.std(ddof=1), **_bound(ok[ok[p].notna()], p)})
+    frame = verdicts(pd.DataFrame(rows), "cv_pct", "paper_cv_pct", "low_pct", "high_pct", unit="%")
+    paper = frame["paper_cv_pct"]
+    return frame.assign(paper_range_pct=[f"{v[0]:g}–{v[1]:g} (range)" if isinstance(v, tuple) else ""
+                                         for v in paper],
+                        paper_cv_pct=[np.nan if isinstance(v, tuple) else v for v in paper])
 
 
 def _identified(run: Run) -> pd.DataFrame:
@@ -69,25 +64,19 @@ def _identified(run: Run) -> pd.DataFrame:
 
 
 def table3(name: str, caption: str, identified, paper_from, empty: str | None = None) -> Table:
-    """A Table item: the identified parameters (mean, median, best-cost run) beside Table 3.
-
-    ``identified(run)`` returns the rows identified (one per restart or body); ``paper_from``
-    returns the typed Table 3 values.
-    """
+    """A Table item: identified parameters (mean, median, best-cost run, runs on a search bound)
+    beside Table 3; ``identified(run)`` returns the identifications, ``paper_from(run)`` Table 3."""
     def compute(run: Run) -> pd.DataFrame:
-        rows, ident = [], identified(run)
-        ref = paper_from(run)
+        ident, ref, rows = identified(run), paper_from(run), []
         best = ident.loc[ident["best_cost"].astype(float).idxmin()] \
             if "best_cost" in ident and ident["best_cost"].notna().any() else None
         for p in [p for p in PARAMETERS if p in ident and ident[p].notna().any()]:
-            v = ident[p].dropna().to_numpy(float)
-            pv = getattr(ref, TABLE3_KEY.get(p, p))
-            rows.append({"parameter": p, "paper": pv, "ours_mean": float(v.mean()),
-                         "ours_median": float(np.median(v)),
+            v, pv = ident[p].dropna().to_numpy(float), getattr(ref, {"n_exp": "n"}.get(p, p))
+            rows.append({"parameter": p, "paper": pv, "ours_mean": v.mean(), "ours_median": np.median(v),
                          "ours_best_run": float(best[p]) if best is not None else math.nan,
-                         "difference_mean": float(v.mean()) - pv,
-                         "relative_difference_pct": 100 * (float(v.mean()) - pv) / pv,
-                         "n": v.size})
+                         "difference_mean": v.mean() - pv, "n": v.size,
+                         "relative_difference_pct": 100 * (v.mean() - pv) / pv,
+                         **_bound(ident[ident[p].notna()], p)})
         return pd.DataFrame(rows)
 
     return Table(name, caption, compute, [
@@ -95,8 +84,7 @@ def table3(name: str, caption: str, identified, paper_from, empty: str | None = 
         Col("ours_mean", "ours mean", sig=3), Col("ours_median", "ours median", sig=3),
         Col("ours_best_run", "ours best-cost run", sig=3),
         Col("difference_mean", "difference (mean − paper)", sig=3, signed=True),
-        Col("relative_difference_pct", "relative [%]", 0, signed=True), Col("n", "n")],
-        empty=empty)
+        Col("relative_difference_pct", "relative [%]", 0, signed=True), Col("n", "n"), BOUND], empty=empty)
 
 
 def convergence_bands(run: Run) -> pd.DataFrame:
@@ -107,100 +95,91 @@ def convergence_bands(run: Run) -> pd.DataFrame:
         return pd.DataFrame()
     g = trace.groupby("iteration", sort=True)
     cost = g["best_cost"]
-    return pd.DataFrame({"iteration": cost.mean().index, "n_evaluations":
-                         g["n_evaluations"].mean().to_numpy(), "n_runs": cost.size().to_numpy(),
-                         "mean": cost.mean().to_numpy(), **{
-                             f"p{q}": cost.quantile(q / 100).to_numpy() for q in (10, 25, 75, 90)
-                         }})
+    return pd.DataFrame({"iteration": cost.mean().index, "n_runs": cost.size().to_numpy(),
+                         "n_evaluations": g["n_evaluations"].mean().to_numpy(),
+                         "mean": cost.mean().to_numpy(),
+                         **{f"p{q}": cost.quantile(q / 100).to_numpy() for q in (10, 25, 75, 90)}})
 
 
 def finding(run: Run) -> str:
     cv = _cv(run)
-    spread = cv[cv["sd"] > 0]
-    pinned = cv[cv["sd"] == 0]
-    flat = run.ok["flat_parameters"].dropna().iloc[0] if "flat_parameters" in run.ok and \
-        run.ok["flat_parameters"].notna().any() else ""
+    spread, pinned, bound = cv[cv["sd"] > 0], cv[cv["sd"] == 0], cv[cv["at_bound"] > 0]
+    flat = run.ok["flat_parameters"].dropna() if "flat_parameters" in run.ok else pd.Series()
     text = (f"Over {len(_budgets(run)[0])} restarts at the paper's budget, "
-            f"{int((cv['differs'] == True).sum())} of {len(cv)} parameters' CVs differ from "  # noqa: E712
-            "the paper's (Sec. 6.8). ")
+            f"{int((cv['differs'] == True).sum())} of {len(cv)} parameters' CVs differ from the "  # noqa: E712
+            "paper's (Sec. 6.8). ")
     if len(spread):
         tight = spread.loc[spread["cv_pct"].idxmin()]
         text += (f"The paper finds the exponent n the most identifiable; among ours that vary, "
-                 f"{label('parameter', tight['parameter'])} has the smallest CV "
-                 f"({tight['cv_pct']:.1f}%). ")
+                 f"{label('parameter', tight['parameter'])} has the smallest CV ({tight['cv_pct']:.1f}%). ")
     if len(pinned):
-        text += ("Pinned in every run (CV 0, a bound of the search box): " + ", ".join(
-            f"{p} at {m:.4g}" for p, m in zip(pinned["parameter"], pinned["mean"], strict=True))
-            + ". ")
-    if flat:
-        text += (f"The cost J does not depend on {flat.replace(',', ', ')} in the quasi-static "
-                 "evaluator (the damping term vanishes in the static loop; the MSD constants do "
-                 "not enter Algorithms 1-2), so their spread is where the swarm stopped, not a "
-                 "measure of identifiability (`docs/decisions.md`, *Report (issue 5)*: PSO).")
+        text += "Pinned in every run (CV 0, a bound of the search box): " + ", ".join(
+            f"{p} at {m:.4g}" for p, m in zip(pinned["parameter"], pinned["mean"], strict=True)) + ". "
+    if len(bound):
+        text += "Ended on a PSO search bound (`at_bound`): " + ", ".join(
+            f"{label('parameter', p)} in {k:.0f} of {n} runs"
+            for p, k, n in bound[["parameter", "at_bound", "n"]].itertuples(index=False)) + \
+            "; such a value is the box's edge, not an identified optimum. "
+    if len(flat):
+        text += (f"The cost J does not depend on {flat.iloc[0].replace(',', ', ')} in the quasi-static "
+                 "evaluator (the damping term vanishes in the static loop; the MSD constants do not enter "
+                 "Algorithms 1-2), so their spread is where the swarm stopped, not a measure of "
+                 "identifiability (`docs/decisions.md`, *Report (issue 5)*: PSO).")
     return text
 
 
 def fig21(run: Run, fig) -> None:
     ax_a, ax_b = fig.subplots(1, 2, width_ratios=[1.3, 1])
-    ok, cv = _budgets(run)[0], _cv(run).set_index("parameter")
-    params = list(cv.index)
-    data = [ok[p].dropna().to_numpy(float) / ok[p].mean() for p in params]
-    c = colour("planner", PROPOSED)
-    ax_a.boxplot(data, positions=range(len(params)), widths=0.55, showfliers=False,
-                 medianprops={"color": c})
+    ok, cv, c = _budgets(run)[0], _cv(run).set_index("parameter"), colour("planner", PROPOSED)
+    data = [ok[p].dropna().to_numpy(float) / ok[p].mean() for p in cv.index]
+    ax_a.boxplot(data, positions=range(len(cv)), widths=0.55, showfliers=False, medianprops={"color": c})
     jitter = np.random.default_rng(run.seed)  # the dots' jitter only; no statistic uses it
     for i, v in enumerate(data):
-        ax_a.scatter(i + jitter.uniform(-0.15, 0.15, v.size), v, s=9, alpha=0.6, color=c,
-                     zorder=3)
+        ax_a.scatter(i + jitter.uniform(-0.15, 0.15, v.size), v, s=9, alpha=0.6, color=c, zorder=3)
     ax_a.axhline(1.0, color=style.CRITERION, linestyle="--", linewidth=1.0)
-    paper = [cv.loc[p, "paper_range_pct"].replace(" (range)", "")
-             or f"{cv.loc[p, 'paper_cv_pct']:g}" for p in params]
-    ax_a.set_xticks(range(len(params)), [
-        f"{label('parameter', p)}\nCV {cv.loc[p, 'cv_pct']:.0f}%\npaper {t}"
-        for p, t in zip(params, paper, strict=True)], fontsize=7)
-    ax_a.set_ylabel("identified value / mean over runs [–]")
-    ax_a.set_title(f"(a) identified values, {len(ok)} runs")
-    bands = convergence_bands(run)
-    if len(bands):
+    ax_a.set_xticks(range(len(cv)), [
+        f"{label('parameter', p)}\nCV {r['cv_pct']:.0f}%\npaper "
+        f"{r['paper_range_pct'].replace(' (range)', '') or f'{r.paper_cv_pct:g}'}"
+        + (f"\non bound {r['at_bound']:.0f}/{r['n']}" if r["at_bound"] > 0 else "")
+        for p, r in cv.iterrows()], fontsize=7)
+    ax_a.set(ylabel="identified value / mean over runs [–]", title=f"(a) identified values, {len(ok)} runs")
+    if len(bands := convergence_bands(run)):
         x = bands["n_evaluations"].to_numpy(float)
         ax_b.fill_between(x, bands["p10"], bands["p90"], color=c, alpha=0.15, label="10–90%")
         ax_b.fill_between(x, bands["p25"], bands["p75"], color=c, alpha=0.3, label="25–75%")
         ax_b.plot(x, bands["mean"], color=c, label="mean")
-        if (bands[["p10", "mean"]] > 0).all().all() and \
-                bands["mean"].max() / bands["p10"].min() > 50:
+        if (bands[["p10", "mean"]] > 0).all().all() and bands["mean"].max() / bands["p10"].min() > 50:
             ax_b.set_yscale("log")
         ax_b.legend(loc="upper right")
-    ax_b.set_xlabel("function evaluations [–]")
-    ax_b.set_ylabel("best cost J [–]")
-    ax_b.set_title("(b) convergence bands of the best cost")
+    ax_b.set(xlabel="function evaluations [–]", ylabel="best cost J [–]",
+             title="(b) convergence bands of the best cost")
 
 
 def _budget_note(run: Run) -> str:
     rep, conv = _budgets(run)
     return "" if not len(conv) else (
-        f"The CV table and Fig. 21 use the {len(rep)} restarts at the paper's 8 × 15 budget "
-        f"(Sec. 6.8); Table 3 uses the {len(conv)} converged-budget restarts (the paper's Table 3 "
-        "comes from a converged run, Sec. 5.3).")
+        f"The CV table and Fig. 21 use the {len(rep)} restarts at the paper's 8 × 15 budget (Sec. 6.8); "
+        f"Table 3 uses the {len(conv)} converged-budget restarts (the paper's Table 3 comes from a converged "
+        "run, Sec. 5.3).")
 
 
 SPEC = ReportSpec("pso_repeatability", [
     Finding(finding),
     Text(_budget_note),
-    Table("cv", lambda run: "Coefficient of variation of each identified parameter over the "
-          "PSO restarts beside Sec. 6.8 (sample SD / mean; 95% percentile bootstrap over runs, "
-          f"{BOOTSTRAP_RESAMPLES} resamples, seed {run.seed})", _cv, [
-              Col("parameter", "parameter"),
-              Col("paper_cv_pct", "paper CV %", 1, why="paper_range_pct"),
+    Table("cv", lambda run: "Coefficient of variation of each identified parameter over the PSO restarts "
+          "beside Sec. 6.8 (sample SD / mean; 95% percentile bootstrap over runs, "
+          f"{BOOTSTRAP_RESAMPLES} resamples, seed {run.seed}); runs ending on a search bound", _cv, [
+              Col("parameter", "parameter"), Col("paper_cv_pct", "paper CV %", 1, why="paper_range_pct"),
               Col("cv_pct", "ours CV % (95%)", 1, low="low_pct", high="high_pct", why="why"),
-              Col("difference", "difference [pp]", 1, signed=True), Col("n", "n"),
-              Col("mean", "mean", sig=4), Col("sd", "SD", sig=4), Col("verdict", "verdict")]),
-    table3("table3", "Table 3 beside our identified values (converged-budget restarts when the "
-           "run has them); b, k and c are in the paper's internal unit system (Table 3 caption), "
-           "so only their order of magnitude is comparable", _identified,
-           lambda run: run.paper.table3),
-    Figure("fig21_pso", "Fig. 21 (ours): (a) identified values over the restarts normalised by "
-           "their mean, with our CV and the paper's; (b) mean and 25–75% / 10–90% bands of the "
-           "best cost", fig21, (10.0, 3.8)),
-    Table("convergence", "Best-cost convergence bands across restarts (Fig. 21b)",
-          convergence_bands, empty="the run has no pso_trace table"),
+              Col("difference", "difference [pp]", 1, signed=True), Col("n", "n"), Col("mean", "mean", sig=4),
+              Col("sd", "SD", sig=4), BOUND, Col("verdict", "verdict")]),
+    table3("table3", "Table 3 beside our identified values (converged-budget restarts when the run has "
+           "them); b, k and c are in the paper's internal unit system (Table 3 caption), so only their order "
+           "of magnitude is comparable; a value on a search bound is the box's edge",
+           _identified, lambda run: run.paper.table3),
+    Figure("fig21_pso", "Fig. 21 (ours): (a) identified values over the restarts normalised by their mean, "
+           "with our CV, the paper's and the runs on a search bound; (b) mean and 25–75% / 10–90% bands of "
+           "the best cost", fig21, (10.0, 3.8)),
+    Table("convergence", "Best-cost convergence bands across restarts (Fig. 21b)", convergence_bands,
+          empty="the run has no pso_trace table"),
 ])

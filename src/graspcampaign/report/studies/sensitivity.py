@@ -1,10 +1,4 @@
-"""Report of ``sensitivity`` (paper Sec. 6.6, Fig. 19): success over three parameter planes.
-
-Success per cell is the mean over the cell's seeds under the study's residual check (``success``)
-and the |R_z| reading (``success_vertical``). The paper gives its boundaries in words (Fig. 19
-caption, Sec. 6.6, Sec. 10); SensitivityPaper holds them as numbers, drawn as lines and set
-beside the matching counts of ours. A cell whose value is not finite is left blank and named.
-"""
+"""Report of ``sensitivity`` (Sec. 6.6, Fig. 19): success over three parameter planes."""
 
 from __future__ import annotations
 
@@ -15,17 +9,25 @@ import numpy as np
 import pandas as pd
 from matplotlib.lines import Line2D
 
-from graspcampaign.analysis.records import Estimate, rate
+from graspcampaign.analysis.records import Estimate, at_bound, rate
 from graspcampaign.report import style
-from graspcampaign.report.document import Col
 from graspcampaign.report.render import Run
-from graspcampaign.report.spec import Claims, Figure, Finding, Rate, ReportSpec, Table, Value
+from graspcampaign.report.spec import Claims, Figure, Finding, GateRemoved, Rate, ReportSpec, Table, Value
 
 PANELS = {"mu_mass": ("mu", "mass_kg", "friction coefficient μ [–]", "object mass m [kg]"),
           "lambda": ("lambda1", "lambda2", "λ1 [–]", "λ2 [–]"),
-          "n_b": ("n_exp", "b_n_s_per_m", "contact exponent n [–]",
-                  "nodal damping b [internal units]")}
+          "n_b": ("n_exp", "b_n_s_per_m", "contact exponent n [–]", "nodal damping b [internal units]")}
 EPS = 1e-9  # level comparisons of float factors
+
+
+def panel_rows(run: Run, name: str) -> pd.DataFrame:
+    return run.ok[run.ok["panel"] == name] if "panel" in run.ok else run.ok.iloc[:0]
+
+
+def rate_cols(g: pd.DataFrame, outcome: str, prefix: str) -> dict:
+    """``<prefix>_pct`` and its Wilson 95 % ``<prefix>_low_pct``/``_high_pct`` of ``outcome`` in ``g``."""
+    e = rate(g, outcome=outcome)
+    return {f"{prefix}_pct": e.value, f"{prefix}_low_pct": e.low, f"{prefix}_high_pct": e.high}
 
 
 def grid(df: pd.DataFrame, x: str, y: str, value: str, how: str = "mean") -> pd.DataFrame:
@@ -48,67 +50,54 @@ def heatmap(ax, fig, g: pd.DataFrame, label: str, cmap: str, vmax: float | None 
     values = g.to_numpy(dtype=float)
     finite = values[np.isfinite(values) & ((values > 0) if log else True)]
     if not finite.size:  # the panel says why instead of failing the figure
-        ax.text(0.5, 0.5, f"not drawn: no finite value of\n{label}", ha="center",
-                va="center", transform=ax.transAxes)
+        ax.text(0.5, 0.5, f"not drawn: no finite value of\n{label}", ha="center", va="center",
+                transform=ax.transAxes)
         return
     xs, ys = g.columns.to_numpy(float), g.index.to_numpy(float)
     norm = mpl.colors.LogNorm(finite.min(), max(finite.max(), 10 * finite.min())) if log else \
         mpl.colors.Normalize(0.0, vmax if vmax is not None else finite.max())
-    mesh = ax.pcolormesh(_edges(xs), _edges(ys), np.ma.masked_invalid(values), cmap=cmap,
-                         norm=norm, shading="flat")
-    if values.size <= 225:
-        for (r, c), v in np.ndenumerate(values):
-            ax.text(xs[c], ys[r], fmt.format(v) if math.isfinite(v) else "n/a", ha="center",
-                    va="center", fontsize=5.5)
+    mesh = ax.pcolormesh(_edges(xs), _edges(ys), np.ma.masked_invalid(values), cmap=cmap, norm=norm)
+    for (r, c), v in np.ndenumerate(values) if values.size <= 225 else ():
+        ax.text(xs[c], ys[r], fmt.format(v) if math.isfinite(v) else "n/a", ha="center", va="center",
+                fontsize=5.5)
     ax.grid(False)
     fig.colorbar(mesh, ax=ax, label=label, shrink=0.85)
 
 
-def _panel(run: Run, name: str) -> pd.DataFrame:
-    return run.ok[run.ok["panel"] == name] if "panel" in run.ok else run.ok.iloc[:0]
-
-
 def _panels(run: Run) -> pd.DataFrame:
     rows = []
-    for panel in [k for k in PANELS if len(_panel(run, k))]:
-        g = _panel(run, panel)
-        x, y = PANELS[panel][:2]
+    for panel in [k for k in PANELS if len(panel_rows(run, k))]:
+        g, (x, y) = panel_rows(run, panel), PANELS[panel][:2]
         row = {"panel": panel, "cells": g.groupby([x, y]).ngroups, "trials": len(g),
-               "loop_at_n_max_pct": 100 * float(g["loop_capped"].mean()),
-               "delta_max_median_mm": float(g["delta_max_mm"].median()),
-               "runtime_median_ms": float(g["runtime_ms"].median())}
-        for col in ("success", "success_vertical"):
-            e = rate(g, outcome=col)
-            row.update({col: e.value, f"{col}_low": e.low, f"{col}_high": e.high})
+               "loop_at_n_max_pct": 100 * g["loop_capped"].mean(),
+               "delta_max_median_mm": g["delta_max_mm"].median(),
+               "runtime_median_ms": g["runtime_ms"].median(), **rate_cols(g, "success", "success"),
+               **rate_cols(g, "success_vertical", "vertical")}
         rows.append(row)
     return pd.DataFrame(rows)
 
 
 def _figure(run: Run, fig) -> None:
-    p, panels = run.paper, [k for k in PANELS if len(_panel(run, k))]
+    p, panels = run.paper, [k for k in PANELS if len(panel_rows(run, k))]
     for ax, panel in zip(np.atleast_1d(fig.subplots(1, len(panels))), panels, strict=True):
         x, y, xl, yl = PANELS[panel]
-        part = _panel(run, panel)
-        tag = "abc"[list(PANELS).index(panel)]
+        part, tag, handles = panel_rows(run, panel), "abc"[list(PANELS).index(panel)], []
         if panel == "n_b":
-            heatmap(ax, fig, grid(part, x, y, "runtime_ms", "median"), "median runtime [ms]",
-                    "viridis", None, "{:.1f}")
+            heatmap(ax, fig, grid(part, x, y, "runtime_ms", "median"), "median runtime [ms]", "viridis", None,
+                    "{:.1f}")
             ax.set_title(f"({tag}) runtime, n × b (paper: flat)")
         else:
             heatmap(ax, fig, 100 * grid(part, x, y, "success"), "success rate [%]", "RdYlGn")
             ax.set_title(f"({tag}) success, {xl.split(' [')[0]} × {yl.split(' [')[0]}")
-        handles = []
         if panel == "mu_mass":
-            x1, y0 = ax.get_xlim()[1], ax.get_ylim()[0]
-            ax.plot([p.stable_mu_min, p.stable_mu_min, x1],
-                    [y0, p.stable_mass_max_kg, p.stable_mass_max_kg], color=style.PAPER,
+            ax.plot([p.stable_mu_min, p.stable_mu_min, ax.get_xlim()[1]],
+                    [ax.get_ylim()[0], p.stable_mass_max_kg, p.stable_mass_max_kg], color=style.PAPER,
                     linewidth=2, linestyle="--")
-            handles.append(Line2D([], [], color=style.PAPER, linestyle="--", label=f"paper: "
-                                  f"stable for μ ≥ {p.stable_mu_min}, m ≤ {p.stable_mass_max_kg}"))
+            handles.append(Line2D([], [], color=style.PAPER, linestyle="--", label=f"paper: stable for "
+                                  f"μ ≥ {p.stable_mu_min}, m ≤ {p.stable_mass_max_kg}"))
         elif panel == "lambda":
             for value, ls, words in ((p.lambda1_stable_below, "--", "stable for λ1 ≲"),
-                                     (p.nonconvergence_strip_lambda1_from, ":",
-                                      "non-convergence for λ1 ≥")):
+                                     (p.nonconvergence_strip_lambda1_from, ":", "non-convergence for λ1 ≥")):
                 ax.axvline(value, color=style.PAPER, linestyle=ls, linewidth=2)
                 handles.append(Line2D([], [], color=style.PAPER, linestyle=ls,
                                       label=f"paper: {words} {value}"))
@@ -118,147 +107,128 @@ def _figure(run: Run, fig) -> None:
 
 
 def _supplement(run: Run, fig) -> None:
-    tiles = [(panel, value, label, cmap) for panel, value, label, cmap in (
-        ("mu_mass", "success_vertical", "success, |R_z| reading [%]", "RdYlGn"),
-        ("lambda", "loop_capped", "loop still moving at N_max [%]", "magma_r"),
-        ("lambda", "delta_max_mm", "median δ_max [mm] (log)", "log"),
-        ("n_b", "success_vertical", "success, |R_z| reading, n × b [%]", "RdYlGn"))
-        if len(_panel(run, panel))]
+    tiles = [t for t in (("mu_mass", "success_vertical", "success, |R_z| reading [%]", "RdYlGn"),
+                         ("lambda", "loop_capped", "loop still moving at N_max [%]", "magma_r"),
+                         ("lambda", "delta_max_mm", "median δ_max [mm] (log)", "log"),
+                         ("n_b", "success_vertical", "success, |R_z| reading, n × b [%]", "RdYlGn"))
+             if len(panel_rows(run, t[0]))]
     axes = np.atleast_1d(fig.subplots(math.ceil(len(tiles) / 2), 2)).ravel()
     for ax, (panel, value, label, cmap) in zip(axes, tiles, strict=False):
         x, y, xl, yl = PANELS[panel]
-        part = _panel(run, panel)
         if cmap == "log":
-            heatmap(ax, fig, grid(part, x, y, value, "median"), label, "cividis", None,
+            heatmap(ax, fig, grid(panel_rows(run, panel), x, y, value, "median"), label, "cividis", None,
                     "{:.0e}", log=True)
         else:
-            heatmap(ax, fig, 100 * grid(part, x, y, value), label, cmap)
+            heatmap(ax, fig, 100 * grid(panel_rows(run, panel), x, y, value), label, cmap)
         ax.set(title=label, xlabel=xl, ylabel=yl)
     for ax in axes[len(tiles):]:
         ax.set_visible(False)
 
 
-def _median(panel: str, column: str, where):
+def finding(run: Run) -> str:
+    (a, b, c), p, text = (panel_rows(run, k) for k in PANELS), run.paper, []
+    if len(a):
+        by_mu, by_m = a.groupby("mu")["success"].mean(), a.groupby("mass_kg")["success"].mean()
+        text.append(f"(a) Our success varies with mass ({100 * by_m.iloc[0]:.0f}% at {by_m.index[0]:g} "
+                    f"kg, {100 * by_m.iloc[-1]:.0f}% at {by_m.index[-1]:g} kg) and hardly with friction "
+                    f"(per-μ rates {100 * by_mu.min():.0f}–{100 * by_mu.max():.0f}%): Algorithm 2 releases "
+                    "contacts until "
+                    "the remaining normals carry the weight (η ≈ 0), so the slip check rarely binds and the "
+                    f"paper's μ ≥ {p.stable_mu_min} boundary does not appear.")
+    if len(b):
+        text.append("(b) λ2 scales only the damping C, whose rate term vanishes in the static loop, and "
+                    "Algorithm 2 is invariant to a common scale of K except through the 0.5 mm seed: λ1 "
+                    f"moves the penetration (median δ_max {b['delta_max_mm'].median():.3g} mm) but barely "
+                    f"the verdict ({100 * b['success'].mean():.0f}% over the panel); no λ1 ≈ "
+                    f"{p.lambda1_stable_below} boundary and no non-convergence strip appear.")
+    if len(c):
+        text.append("(c) b is an MSD constant the quasi-static evaluator never reads, so the b axis is flat "
+                    "by construction.")
+    return " ".join(text) + (" (`docs/decisions.md`, *Sensitivity, mesh resolution, surrogate (issue 7)*; "
+                             "SPEC §8.)")
+
+
+def _where(panel: str, cond=None):
+    """Executed trials of ``panel`` where ``cond(run)`` holds (a mask over ``run.ok``)."""
+    return lambda run: (run.ok["panel"] == panel) & (cond(run) if cond else True)
+
+
+def _inside(run: Run) -> pd.Series:  # the paper's stable region of panel a
+    p = run.paper
+    return (run.ok["mu"] >= p.stable_mu_min - EPS) & (run.ok["mass_kg"] <= p.stable_mass_max_kg + EPS)
+
+
+def _low_mu(run: Run) -> pd.Series:
+    return run.ok["mu"] < 0.1 - EPS
+
+
+def _below(run: Run) -> pd.Series:  # panel b below the paper's λ1 boundary
+    return run.ok["lambda1"] <= run.paper.lambda1_stable_below + EPS
+
+
+def _strip(run: Run) -> pd.Series:  # panel b inside the paper's non-convergence strip
+    return run.ok["lambda1"] >= run.paper.nonconvergence_strip_lambda1_from - EPS
+
+
+def _identified(cond, what: str):
+    """The median identified λ1 of panel a's trials where ``cond``, or the share on a PSO bound."""
     def value(run: Run) -> Estimate:
-        part = _panel(run, panel)
-        part = part[where(run, part)]
+        part = run.ok[_where("mu_mass", cond)(run)]
         if not len(part):
             raise ValueError("no trial in this part of the panel")
-        return Estimate(float(part[column].median()), n=len(part))
+        if what == "bound":
+            return rate(part.assign(on_bound=at_bound(part, "lambda1")), outcome="on_bound")
+        return Estimate(float(part["contact_lambda1"].median()), n=len(part))
     return value
 
 
 def _runtime_ratio(axis: str):
     def value(run: Run) -> float:
-        c = _panel(run, "n_b")
-        med = c.groupby(axis)["runtime_ms"].median()
+        med = panel_rows(run, "n_b").groupby(axis)["runtime_ms"].median()
         return float(med.max() / med.min())
     return value
 
 
-def finding(run: Run) -> str:
-    a, b, c = (_panel(run, k) for k in PANELS)
-    text = []
-    if len(a):
-        by_mu, by_m = a.groupby("mu")["success"].mean(), a.groupby("mass_kg")["success"].mean()
-        text.append(
-            f"(a) Our success varies with mass ({100 * by_m.iloc[0]:.0f}% at "
-            f"{by_m.index[0]:g} kg, {100 * by_m.iloc[-1]:.0f}% at {by_m.index[-1]:g} kg) and "
-            f"hardly with friction (per-μ rates {100 * by_mu.min():.0f}–"
-            f"{100 * by_mu.max():.0f}%): Algorithm 2 releases contacts until the remaining "
-            "normals carry the weight (η ≈ 0), so the slip check rarely binds and the paper's "
-            f"μ ≥ {run.paper.stable_mu_min} boundary does not appear.")
-    if len(b):
-        text.append(
-            f"(b) λ2 scales only the damping C, whose rate term vanishes in the static loop, and "
-            f"Algorithm 2 is invariant to a common scale of K except through the 0.5 mm seed: "
-            f"λ1 moves the penetration (median δ_max {b['delta_max_mm'].median():.3g} mm) but "
-            f"barely the verdict ({100 * b['success'].mean():.0f}% over the panel); no λ1 ≈ "
-            f"{run.paper.lambda1_stable_below} boundary and no non-convergence strip appear.")
-    if len(c):
-        text.append("(c) b is an MSD constant the quasi-static evaluator never reads, so the "
-                    "b axis is flat by construction.")
-    return " ".join(text) + (" (`docs/decisions.md`, *Sensitivity, mesh resolution, surrogate "
-                             "(issue 7)*; SPEC §8.)")
-
-
-def _mu_lt(run: Run, part: pd.DataFrame) -> pd.Series:
-    return part["mu"] < 0.1 - EPS
-
-
-def _in_a(run: Run) -> pd.Series:
-    return run.ok["panel"] == "mu_mass"
-
-
-def _inside(run: Run) -> pd.Series:
-    """Executed trials inside the paper's stable region (only meaningful on panel a)."""
-    p = run.paper
-    return (run.ok["mu"] >= p.stable_mu_min - EPS) & (run.ok["mass_kg"]
-                                                      <= p.stable_mass_max_kg + EPS)
-
-
-def _low_mu_heavy(run: Run) -> pd.Series:
-    p = run.paper
-    return (run.ok["mu"] < p.stable_mu_min - EPS) & (run.ok["mass_kg"]
-                                                     > p.stable_mass_max_kg + EPS)
-
-
-def _lambda(run: Run, below: bool) -> pd.Series:
-    b = run.ok["panel"] == "lambda"
-    low = run.ok["lambda1"] <= run.paper.lambda1_stable_below + EPS
-    return b & (low if below else ~low)
-
-
-def _strip(run: Run, inside: bool = True) -> pd.Series:
-    b = run.ok["panel"] == "lambda"
-    strip = run.ok["lambda1"] >= run.paper.nonconvergence_strip_lambda1_from - EPS
-    return b & (strip if inside else ~strip)
-
-
 SPEC = ReportSpec("sensitivity", [
     Finding(finding),
-    Table("sensitivity_panels", "Sensitivity panels: success under both residual readings "
-          "(Wilson 95%), trials whose Algorithm 2 was still moving at N_max, median penetration "
-          "and runtime per evaluation", _panels, [
-              Col("panel", "panel"), Col("cells", "cells"), Col("trials", "trials"),
-              Col("success", "success % (95%)", 1, low="success_low", high="success_high"),
-              Col("success_vertical", "|R_z| reading % (95%)", 1, low="success_vertical_low",
-                  high="success_vertical_high"),
-              Col("loop_at_n_max_pct", "loop at N_max [%]", 1),
-              Col("delta_max_median_mm", "median δmax [mm]", sig=3),
-              Col("runtime_median_ms", "median runtime [ms]", sig=3)]),
-    Figure("fig19_sensitivity", "Fig. 19 (ours): (a) success over μ × m with the paper's stable "
-           "region (dashed); (b) success over λ1 × λ2 with the paper's λ1 boundary (dashed) and "
-           "non-convergence strip (dotted); (c) median runtime over n × b; per-cell values",
-           _figure, (15.0, 4.9)),
-    Figure("fig19_supplement", "Beyond Fig. 19: the |R_z| reading over μ × m and n × b; trials "
-           "still moving at N_max and median penetration over λ1 × λ2", _supplement,
-           (10.0, 8.6)),
-    Claims("sensitivity_claims", "The paper's Fig. 19 statements (in words) beside the "
-           "matching counts of ours; rates over executed trials with Wilson 95%", [
-               Rate("(a) stable region: success inside it", "Fig. 19a",
-                    lambda run: _in_a(run) & _inside(run)),
+    Table("sensitivity_panels", "Sensitivity panels: success under both residual readings (vertical: the "
+          "|R_z| reading; Wilson 95%), trials whose Algorithm 2 was still moving at N_max, median "
+          "penetration and runtime per evaluation",
+          _panels, ["panel", "cells", "trials", "success_pct", "vertical_pct", "loop_at_n_max_pct",
+                    "delta_max_median_mm", "runtime_median_ms"]),
+    Figure("fig19_sensitivity", "Fig. 19 (ours): (a) success over μ × m with the paper's stable region "
+           "(dashed); (b) success over λ1 × λ2 with the paper's λ1 boundary (dashed) and non-convergence "
+           "strip (dotted); (c) median runtime over n × b; per-cell values", _figure, (15.0, 4.9)),
+    Figure("fig19_supplement", "Beyond Fig. 19: the |R_z| reading over μ × m and n × b; trials still moving "
+           "at N_max and median penetration over λ1 × λ2", _supplement, (10.0, 8.6)),
+    Claims("sensitivity_claims", "The paper's Fig. 19 statements (in words) beside the matching counts of "
+           "ours; rates over executed trials with Wilson 95%", [
+               Rate("(a) stable region: success inside it", "Fig. 19a", _where("mu_mass", _inside)),
                Rate("(a) stable region: success outside it", "Fig. 19a",
-                    lambda run: _in_a(run) & ~_inside(run)),
-               Rate("(a) stable region: |R_z| reading inside it", "Fig. 19a",
-                    lambda run: _in_a(run) & _inside(run), outcome="success_vertical"),
+                    _where("mu_mass", lambda run: ~_inside(run))),
+               Rate("(a) stable region: |R_z| reading inside it", "Fig. 19a", _where("mu_mass", _inside),
+                    outcome="success_vertical"),
                Rate("(a) sharp drop above the mass limit when μ < the friction limit", "Sec. 6.6",
-                    lambda run: _in_a(run) & _low_mu_heavy(run)),
-               Value("(a) median identified λ1 at μ < 0.1 (the paper: pushed to its bound)",
-                     "Sec. 6.6", _median("mu_mass", "contact_lambda1", _mu_lt), digits=3),
+                    _where("mu_mass", lambda run: (run.ok["mu"] < run.paper.stable_mu_min - EPS)
+                           & (run.ok["mass_kg"] > run.paper.stable_mass_max_kg + EPS))),
+               Value("(a) median identified λ1 at μ < 0.1 (the paper: pushed to its bound)", "Sec. 6.6",
+                     _identified(_low_mu, "median"), digits=3),
+               Value("(a) identified λ1 on its PSO search bound at μ < 0.1", "Sec. 6.6",
+                     _identified(_low_mu, "bound"), unit="%", digits=1),
                Value("(a) median identified λ1 at μ ≥ 0.1", "Sec. 6.6",
-                     _median("mu_mass", "contact_lambda1", lambda r, p: ~_mu_lt(r, p)),
-                     digits=3),
+                     _identified(lambda run: ~_low_mu(run), "median"), digits=3),
+               Value("(a) identified λ1 on its PSO search bound at μ ≥ 0.1", "Sec. 6.6",
+                     _identified(lambda run: ~_low_mu(run), "bound"), unit="%", digits=1),
                Rate("(b) stable for λ1 below the paper's boundary: success there", "Fig. 19b",
-                    lambda run: _lambda(run, below=True)),
-               Rate("(b) success above the boundary", "Fig. 19b",
-                    lambda run: _lambda(run, below=False)),
-               Rate("(b) non-convergence strip: loop still moving at N_max inside it",
-                    "Sec. 10", lambda run: _strip(run), outcome="loop_capped"),
+                    _where("lambda", _below)),
+               Rate("(b) success above the boundary", "Fig. 19b", _where("lambda", lambda run: ~_below(run))),
+               Rate("(b) non-convergence strip: loop still moving at N_max inside it", "Sec. 10",
+                    _where("lambda", _strip), outcome="loop_capped"),
                Rate("(b) loop still moving at N_max outside the strip", "Sec. 10",
-                    lambda run: _strip(run, inside=False), outcome="loop_capped"),
+                    _where("lambda", lambda run: ~_strip(run)), outcome="loop_capped"),
                Value("(c) runtime max/min over n levels (the paper: nearly flat)", "Fig. 19c",
                      _runtime_ratio("n_exp"), digits=2),
-               Value("(c) runtime max/min over b levels", "Fig. 19c",
-                     _runtime_ratio("b_n_s_per_m"), digits=2)]),
+               Value("(c) runtime max/min over b levels", "Fig. 19c", _runtime_ratio("b_n_s_per_m"),
+                     digits=2)]),
+    GateRemoved(["panel"]),
 ])

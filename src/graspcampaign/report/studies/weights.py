@@ -1,11 +1,4 @@
-"""Report of ``heuristic_weights`` (paper Sec. 5.2): uniform weight scaling and the argmin.
-
-Uniform scaling of the weights (w_i = P_c = P_e = s) must scale H by s and leave the argmin
-where it is. ``weight_scale`` is a method factor: every scale of one seed scores the same
-candidates, so invariance is judged within each scene (``scene_id``), never across seeds. The
-paper's H values refer to the hand-reachable 45°/45°/−90° set (records ``h_reachable``,
-``s*_reachable``) beside the unconstrained argmin (``h_total``, ``argmin_key``).
-"""
+"""Report of ``heuristic_weights`` (Sec. 5.2): uniform weight scaling must scale H and keep the argmin."""
 
 from __future__ import annotations
 
@@ -33,91 +26,73 @@ def _proportional(run: Run) -> Estimate:
     return Estimate(bool((spread <= 1e-9).all()), n=len(spread))
 
 
-def _unit(run: Run) -> pd.Series:
-    """The trial nearest unit weights (the paper's S1-S3 are at unit weights)."""
-    return run.ok.loc[(run.ok["weight_scale"] - 1.0).abs().idxmin()]
+def _unit(column: str):
+    """The value at the trial nearest unit weights (where the paper states S1-S3)."""
+    return lambda run: float(run.ok.loc[(run.ok["weight_scale"] - 1.0).abs().idxmin(), column])
 
 
 def _by_scale(run: Run) -> pd.DataFrame:
-    rows = []
-    for scale, g in run.ok.groupby("weight_scale", sort=True):
-        rows.append({"weight_scale": float(scale),
-                     "paper_h_reachable": run.paper.h_at_scale.get(str(float(scale))),
-                     "h_reachable": float(g["h_reachable"].median()),
-                     "h_reachable_per_scale": float(g["h_reachable"].median()) / float(scale),
-                     "h_reachable_spread": float(g["h_reachable"].max() - g["h_reachable"].min()),
-                     "h_total_median": float(g["h_total"].median()),
-                     "h_total_per_scale_median": float((g["h_total"] / scale).median()),
-                     "n": len(g)})
+    rows = [{"weight_scale": float(s), "paper_h_reachable": run.paper.h_at_scale.get(str(float(s))),
+             "h_reachable": g["h_reachable"].median(), "h_reachable_per_scale": g["h_reachable"].median() / s,
+             "h_reachable_spread": g["h_reachable"].max() - g["h_reachable"].min(),
+             "h_total_median": g["h_total"].median(), "h_total_per_scale_median": (g["h_total"] / s).median(),
+             "n": len(g)} for s, g in run.ok.groupby("weight_scale", sort=True)]
     return verdicts(pd.DataFrame(rows), "h_reachable", "paper_h_reachable", digits=3)
 
 
 def _ratio_sweep(run: Run) -> pd.DataFrame:
     unit = run.ok.sort_values("weight_scale", key=lambda s: (s - 1.0).abs()).drop_duplicates(
         "scene_id" if "scene_id" in run.ok else "seed")
-    cols = [c for c in unit.columns if c.startswith("argmin_key_ratio_")]
-    return pd.DataFrame([{
-        "weights_w1_w2_w3": c.removeprefix("argmin_key_ratio_").replace("_", ":"),
-        "paper": "not probed (Sec. 5.2)", "n": len(unit),
-        "argmin_moves": int((unit[c] != unit["argmin_key"]).sum()),
-        "argmin_moves_pct": 100 * float((unit[c] != unit["argmin_key"]).mean())} for c in cols])
+    moved = {c.removeprefix("argmin_key_ratio_").replace("_", ":"): unit[c] != unit["argmin_key"]
+             for c in unit if c.startswith("argmin_key_ratio_")}
+    return pd.DataFrame([{"weights_w1_w2_w3": k, "paper": "not probed (Sec. 5.2)", "n": len(unit),
+                          "argmin_moves": int(m.sum()), "argmin_moves_pct": 100 * m.mean()}
+                         for k, m in moved.items()])
 
 
 def finding(run: Run) -> str:
-    inv, prop, scale = _invariant(run), _proportional(run), _by_scale(run)
-    sweep = _ratio_sweep(run)
+    inv, prop, scale, sweep = _invariant(run), _proportional(run), _by_scale(run), _ratio_sweep(run)
     unit = scale.iloc[(scale["weight_scale"] - 1).abs().argmin()]
-    leaves = "leaves" if inv.value else "does not always leave"
-    scales = "scales" if prop.value else "does not always scale"
-    text = (f"Scaling every weight by the same factor {leaves} the chosen triple unchanged "
-            f"({inv.n} seeds) and {scales} H by the factor; the paper states both (Sec. 5.2). "
-            "On the hand-reachable 45°/45°/−90° set H is "
-            f"{unit['h_reachable']:.3f} at unit weights (paper {unit['paper_h_reachable']}); "
-            f"{int((scale['differs'] == False).sum())} of {len(scale)} scales match the paper's "  # noqa: E712
-            "value to its printed precision. S1 follows Eq. 7, which the paper publishes; S2 and "
-            "S3 rest on a bounded s2ᵢ and a triangle geometry the paper does not publish, so our "
-            "H differs wherever they do (`docs/decisions.md`, *Geometry and metric (issue 3)*: "
-            "bounded s2ᵢ, §5.2 reachable optimum). ")
+    text = (f"Scaling every weight by the same factor {'leaves' if inv.value else 'does not always leave'} "
+            f"the chosen triple unchanged ({inv.n} seeds) and "
+            f"{'scales' if prop.value else 'does not always scale'} H by the factor; the paper states both "
+            "(Sec. 5.2). On the hand-reachable 45°/45°/−90° set H "
+            f"is {unit['h_reachable']:.3f} at unit weights (paper {unit['paper_h_reachable']}); "
+            f"{int((scale['differs'] == False).sum())} of {len(scale)} scales match the paper's value to "  # noqa: E712
+            "its printed precision. S1 follows Eq. 7, which the paper publishes; S2 and S3 rest on a bounded "
+            "s2ᵢ and a triangle geometry the paper does not publish, so our H differs wherever they do "
+            "(`docs/decisions.md`, *Geometry and metric (issue 3)*: bounded s2ᵢ, §5.2 reachable optimum). ")
     if len(sweep):
-        moved = sweep.loc[sweep["argmin_moves_pct"].idxmax()]
-        text += (f"Changing the weight *ratio*, which the paper did not probe, moves the argmin "
-                 f"in up to {moved['argmin_moves']} of {moved['n']} seeds "
-                 f"(w1:w2:w3 = {moved['weights_w1_w2_w3']}).")
+        top = sweep.loc[sweep["argmin_moves_pct"].idxmax()]
+        text += (f"Changing the weight *ratio*, which the paper did not probe, moves the argmin in up to "
+                 f"{top['argmin_moves']} of {top['n']} seeds (w1:w2:w3 = {top['weights_w1_w2_w3']}).")
     return text
 
 
 SPEC = ReportSpec("heuristic_weights", [
     Finding(finding),
-    Table("h_by_scale", "H at each uniform weight scale beside Sec. 5.2 (reachable 45°/45°/−90° "
-          "set, and the unconstrained argmin's median over seeds; H/scale must be constant)",
-          _by_scale, [
+    Table("h_by_scale", "H at each uniform weight scale beside Sec. 5.2 (reachable 45°/45°/−90° set, and "
+          "the unconstrained argmin's median over seeds; H/scale must be constant)", _by_scale, [
               Col("weight_scale", "weight scale", sig=2), Col("paper_h_reachable", "paper H", 3),
-              Col("h_reachable", "H, reachable set", 3),
-              Col("difference", "difference", 3, signed=True),
-              Col("h_reachable_per_scale", "H/scale", 3),
-              Col("h_reachable_spread", "spread over seeds", 3),
+              Col("h_reachable", "H, reachable set", 3), Col("difference", "difference", 3, signed=True),
+              Col("h_reachable_per_scale", "H/scale", 3), Col("h_reachable_spread", "spread over seeds", 3),
               Col("h_total_median", "H of the argmin (median)", 3),
               Col("h_total_per_scale_median", "argmin H/scale", 3), Col("n", "n"),
               Col("verdict", "verdict")]),
-    Claims("components", "Heuristic components and invariance under uniform scaling beside "
-           "Sec. 5.2 (invariance judged within each seed: every scale of a seed scores the "
-           "same candidates)", [
-    Value("S1 of the reachable set at unit weights", "Sec. 5.2",
-          lambda run: float(_unit(run)["s1_reachable"]), lambda p: p.s1, digits=2),
-    Value("S2 of the reachable set at unit weights", "Sec. 5.2",
-          lambda run: float(_unit(run)["s2_reachable"]), lambda p: p.s2, digits=2),
-    Value("S3 of the reachable set at unit weights", "Sec. 5.2",
-          lambda run: float(_unit(run)["s3_reachable"]), lambda p: p.s3, digits=2),
-    Value("penalised contacts n_c + n_e on the sphere (largest over trials)", "Sec. 3.1",
-          lambda run: int((run.ok["n_c"] + run.ok["n_e"]).max()),
-          lambda p: p.sphere_penalised_contacts, digits=0),
-    Value("argmin the same at every scale, in every seed", "Sec. 5.2", _invariant,
-          lambda p: p.argmin_invariant, digits=0),
-    Value("H/scale the same at every scale, in every seed", "Sec. 5.2", _proportional,
-          lambda p: p.h_scales_with_weights, digits=0)]),
-    Table("ratio_sweep", "Weight-ratio sweep: seeds whose argmin moves when the weight ratio "
-          "changes (uniform scaling cannot probe this; the paper ran none and points to the "
-          "single-term ablations of Sec. 6.3)", _ratio_sweep, [
+    Claims("components", "Heuristic components and invariance under uniform scaling beside Sec. 5.2 "
+           "(invariance judged within each seed: every scale of a seed scores the same candidates)", [
+               *(Value(f"S{i} of the reachable set at unit weights", "Sec. 5.2", _unit(f"s{i}_reachable"),
+                       lambda p, i=i: getattr(p, f"s{i}"), digits=2) for i in (1, 2, 3)),
+               Value("penalised contacts n_c + n_e on the sphere (largest over trials)", "Sec. 3.1",
+                     lambda run: int((run.ok["n_c"] + run.ok["n_e"]).max()),
+                     lambda p: p.sphere_penalised_contacts, digits=0),
+               Value("argmin the same at every scale, in every seed", "Sec. 5.2", _invariant,
+                     lambda p: p.argmin_invariant, digits=0),
+               Value("H/scale the same at every scale, in every seed", "Sec. 5.2", _proportional,
+                     lambda p: p.h_scales_with_weights, digits=0)]),
+    Table("ratio_sweep", "Weight-ratio sweep: seeds whose argmin moves when the weight ratio changes "
+          "(uniform scaling cannot probe this; the paper ran none and points to the single-term ablations "
+          "of Sec. 6.3)", _ratio_sweep, [
               Col("weights_w1_w2_w3", "w1:w2:w3"), Col("paper", "paper"), Col("n", "seeds"),
               Col("argmin_moves", "argmin moves"), Col("argmin_moves_pct", "moves [%]", 1)]),
 ])

@@ -1,9 +1,4 @@
-"""Report of ``wrench_balance`` (paper Sec. 6.4, Fig. 17): a fixed grip command per friction.
-
-Reads the records and the per-iteration trace ``tables/iterations`` (``trial_id, iteration,
-residual_norm_n, torque_norm_nm, slip_margin_n, slip_margin_rel, normal_force_1_n``), one trial
-per friction level. The settling iteration is the first from which ‖R‖ stays below τ_F.
-"""
+"""Report of ``wrench_balance`` (Sec. 6.4, Fig. 17): a fixed grip command, one trial per friction."""
 
 from __future__ import annotations
 
@@ -16,7 +11,7 @@ from graspcampaign.analysis.vocabulary import colour
 from graspcampaign.report import style
 from graspcampaign.report.document import Col
 from graspcampaign.report.render import Run
-from graspcampaign.report.spec import DesignLimit, Figure, Finding, ReportSpec, Table, verdicts
+from graspcampaign.report.spec import DesignLimit, Figure, Finding, GateRemoved, ReportSpec, Table, verdicts
 
 
 def settle_iteration(residual: np.ndarray, iterations: np.ndarray, limit: float) -> float:
@@ -32,8 +27,7 @@ def _tau(run: Run) -> float:
 
 
 def _traces(run: Run) -> pd.DataFrame:
-    trace = run.aux("iterations")
-    if not len(trace):
+    if not len(trace := run.aux("iterations")):
         raise ValueError("the run has no `iterations` trace table")
     return trace.merge(run.ok[["trial_id", "mu"]], on="trial_id").sort_values(["mu", "iteration"])
 
@@ -41,44 +35,33 @@ def _traces(run: Run) -> pd.DataFrame:
 def _per_mu(run: Run) -> pd.DataFrame:
     p, tau, rows = run.paper, _tau(run), []
     for mu, tr in _traces(run).groupby("mu", sort=True):
+        settle = settle_iteration(tr["residual_norm_n"].to_numpy(float), tr["iteration"].to_numpy(), tau)
         rec = run.ok[run.ok["mu"] == mu]
-        saturates = mu >= p.slip_margin_saturates_from_mu
-        for quantity, paper, ours, digits in (
-                (f"iteration from which ‖R‖ stays < {tau:g} N",
-                 p.residual_settles_within_iterations,
-                 settle_iteration(tr["residual_norm_n"].to_numpy(float),
-                                  tr["iteration"].to_numpy(), tau), 0),
-                ("final slip margin (μf_n − ‖f_t‖)/(μf_n) [–]",
-                 (p.slip_margin_saturates_above, 1.0) if saturates else None,
-                 float(tr["slip_margin_rel"].iloc[-1]), 2),
-                ("final finger-1 normal force [N]", p.finger_force_command_n,
-                 float(tr["normal_force_1_n"].iloc[-1]), 0),
-                ("largest torque residual ‖τ‖ [N·m]", p.torque_residual_nm,
-                 float(tr["torque_norm_nm"].max()), 3),
-                ("final residual ‖R‖ of the record [N]", (0.0, tau),
-                 float(rec["residual_norm_n"].median()), 2)):
-            rows.append({"mu": mu, "quantity": quantity, "paper": paper, "ours": ours,
-                         "digits": digits, "n": len(rec),
-                         "why": "never settles within the trace" if ours != ours else ""})
+        rows += [{"mu": mu, "quantity": q, "paper": paper, "ours": ours, "digits": d, "n": len(rec),
+                  "why": "never settles within the trace" if ours != ours else ""} for q, paper, ours, d in (
+            (f"iteration from which ‖R‖ stays < {tau:g} N", p.residual_settles_within_iterations, settle, 0),
+            ("final slip margin (μf_n − ‖f_t‖)/(μf_n) [–]", (p.slip_margin_saturates_above, 1.0)
+             if mu >= p.slip_margin_saturates_from_mu else None, float(tr["slip_margin_rel"].iloc[-1]), 2),
+            ("final finger-1 normal force [N]", p.finger_force_command_n,
+             float(tr["normal_force_1_n"].iloc[-1]), 0),
+            ("largest torque residual ‖τ‖ [N·m]", p.torque_residual_nm, float(tr["torque_norm_nm"].max()), 3),
+            ("final residual ‖R‖ of the record [N]", (0.0, tau), float(rec["residual_norm_n"].median()), 2))]
     frame = verdicts(pd.DataFrame(rows), "ours", "paper", digits="digits")
-    frame["paper"] = [f"{v[0]:g}–{v[1]:g}" if isinstance(v, tuple) else v for v in frame["paper"]]
-    return frame
+    return frame.assign(paper=[f"{v[0]:g}–{v[1]:g}" if isinstance(v, tuple) else v for v in frame["paper"]])
 
 
 def finding(run: Run) -> str:
-    table = _per_mu(run)
+    table, p = _per_mu(run), run.paper
     settle = table[table["quantity"].str.startswith("iteration")]
-    settled = settle["ours"].notna().sum()
-    p = run.paper
-    return (f"Under the fixed {p.finger_force_command_n:g} N grip command the force residual "
-            f"settles below τ_F = {_tau(run):g} N at {settled} of {len(settle)} friction levels "
+    return (f"Under the fixed {p.finger_force_command_n:g} N grip command the force residual settles below "
+            f"τ_F = {_tau(run):g} N at {settle['ours'].notna().sum()} of {len(settle)} friction levels "
             f"(paper: by iteration {p.residual_settles_within_iterations[1]} at every level), and "
-            f"{int((table['differs'] == True).sum())} of {len(table)} quantities differ from the "  # noqa: E712
-            f"paper's statements. At Table 3's contact constants this command needs a penetration "
-            f"of {run.ok['delta_max_mm'].max() / 1e3:.3g} m, far outside the contact law's range "
-            "(the paper calls the study a robustness test outside the validated envelope, "
-            "Sec. 6.4); we record it rather than rescale (`docs/decisions.md`, *Simulation "
-            "studies (issue 4, campaign side)*: wrench_balance).")
+            f"{int((table['differs'] == True).sum())} of {len(table)} quantities differ from the paper's "  # noqa: E712
+            f"statements. At Table 3's contact constants this command needs a penetration of "
+            f"{run.ok['delta_max_mm'].max() / 1e3:.3g} m, far outside the contact law's range (the paper "
+            "calls the study a robustness test outside the validated envelope, Sec. 6.4); we record it "
+            "rather than rescale (`docs/decisions.md`, *Simulation studies (issue 4, campaign side)*: "
+            "wrench_balance).")
 
 
 PANELS = (("residual_norm_n", "(a) force residual ‖R‖ [N]"),
@@ -88,44 +71,41 @@ PANELS = (("residual_norm_n", "(a) force residual ‖R‖ [N]"),
 
 
 def fig17(run: Run, fig) -> None:
-    axes = fig.subplots(2, 2, sharex=True).ravel()
-    p, trace = run.paper, _traces(run)
+    axes, p, trace, tau = fig.subplots(2, 2, sharex=True).ravel(), run.paper, _traces(run), _tau(run)
     for i, (mu, g) in enumerate(trace.groupby("mu", sort=True)):
         for ax, (col, _) in zip(axes, PANELS, strict=True):
             ax.plot(g["iteration"], g[col], color=colour("mu", mu, i), label=f"μ = {mu:g}")
     for ax, (_, title) in zip(axes, PANELS, strict=True):
         ax.set_title(title)
-    for ax in axes[2:]:
-        ax.set_xlabel("iteration of Algorithm 2")
-    axes[0].set_yscale("log")
-    axes[0].axhline(_tau(run), color=style.CRITERION, linestyle="--", label=f"τ_F {_tau(run):g} N")
     lo, hi = p.residual_settles_within_iterations
+    axes[0].set_yscale("log")
+    axes[0].axhline(tau, color=style.CRITERION, linestyle="--", label=f"τ_F {tau:g} N")
     axes[0].axvspan(lo, hi, color=style.PAPER, alpha=0.12, label=f"paper: settles in {lo}–{hi}")
-    axes[2].axhline(p.slip_margin_saturates_above, color=style.PAPER, linestyle=":",
-                    label=f"paper: > {p.slip_margin_saturates_above:g} for μ ≥ "
-                          f"{p.slip_margin_saturates_from_mu:g}")
+    axes[2].axhline(p.slip_margin_saturates_above, color=style.PAPER, linestyle=":", label=f"paper: > "
+                    f"{p.slip_margin_saturates_above:g} for μ ≥ {p.slip_margin_saturates_from_mu:g}")
     axes[2].axhline(0.0, color=style.CRITERION, linestyle="--", label="slip boundary")
     if trace["slip_margin_rel"].min() < -1.0:  # the seed contact can reach −100 and hides it
-        axes[2].set_ylim(-1.0, 1.1)
-        axes[2].set_title(PANELS[2][1] + ", clipped at −1")
+        axes[2].set(ylim=(-1.0, 1.1), title=PANELS[2][1] + ", clipped at −1")
     axes[3].axhline(p.finger_force_command_n, color=style.PAPER, linestyle=":",
                     label=f"paper: ≈{p.finger_force_command_n:g} N command")
     for ax in axes:
         ax.legend(loc="best")
+    for ax in axes[2:]:
+        ax.set_xlabel("iteration of Algorithm 2")
 
 
 SPEC = ReportSpec("wrench_balance", [
     Finding(finding),
-    Table("wrench_balance", "Wrench balance per friction level beside Sec. 6.4 (fixed grip "
-          "command; one trial per μ; traces from tables/iterations)", _per_mu, [
+    Table("wrench_balance", "Wrench balance per friction level beside Sec. 6.4 (fixed grip command; one "
+          "trial per μ; traces from tables/iterations)", _per_mu, [
               Col("mu", "μ"), Col("quantity", "quantity"), Col("paper", "paper", "digits"),
-              Col("ours", "ours", "digits", why="why"), Col("difference", "difference", "digits",
-                                                 signed=True),
-              Col("n", "n"), Col("verdict", "verdict")]),
-    Figure("fig17_wrench", "Fig. 17 (ours): (a) force residual, (b) torque residual, (c) "
-           "friction-cone slip margin, (d) finger-1 normal force per iteration; the paper's "
-           "statements in black", fig17, (9.0, 6.0)),
-    DesignLimit(["mu"], caption="Penetration against the paper's 1 mm design limit (Sec. 4); "
-                "the paper notes this study's command lies far outside the validated envelope "
-                "(Sec. 6.4)"),
+              Col("ours", "ours", "digits", why="why"),
+              Col("difference", "difference", "digits", signed=True), Col("n", "n"),
+              Col("verdict", "verdict")]),
+    Figure("fig17_wrench", "Fig. 17 (ours): (a) force residual, (b) torque residual, (c) friction-cone slip "
+           "margin, (d) finger-1 normal force per iteration; the paper's statements in black", fig17,
+           (9.0, 6.0)),
+    DesignLimit(["mu"], caption="Penetration against the paper's 1 mm design limit (Sec. 4); the paper notes "
+                "this study's command lies far outside the validated envelope (Sec. 6.4)"),
+    GateRemoved(["mu"]),
 ])

@@ -1,0 +1,26 @@
+"""One vocabulary for every study: every planner, grip law, model preset and integrator the
+campaign can run has a label, a place in the order and its own colour."""
+
+from __future__ import annotations
+
+from graspcampaign.analysis import vocabulary as V
+from graspcampaign.campaign.schema import FACTOR_SPECS
+from graspcampaign.core.planner import PLANNERS
+
+
+def test_every_planner_has_its_own_label_and_colour():
+    assert set(PLANNERS) <= set(V.PLANNERS)
+    assert V.label("planner", "ferrari_canny") == "Ferrari\u2013Canny \u03b5"
+    colours = [t.colour for t in V.PLANNERS.values()]
+    assert len(set(colours)) == len(colours)
+
+
+def test_the_factor_levels_of_the_campaign_are_in_the_vocabulary():
+    assert tuple(V.GRIP_LAWS) == FACTOR_SPECS["grip_law"]["choices"] == ("paper", "slip", "oracle")
+    assert tuple(V.INTEGRATORS) == FACTOR_SPECS["integrator"]["choices"]
+    from graspcampaign.campaign.compose import project_dirs
+
+    presets = {p.stem for p in (project_dirs()[0] / "model").glob("*.yaml")}
+    assert presets == set(V.MODEL_PRESETS)
+    assert V.ordered("grip_law", ["oracle", "paper", "slip"]) == ["paper", "slip", "oracle"]
+    assert all(isinstance(t.label, str) and t.label for voc in V.VOCABULARIES.values() for t in voc.values())
