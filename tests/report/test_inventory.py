@@ -32,6 +32,14 @@ INVENTORY = {
                     {"fig19_sensitivity", "fig19_supplement"}),
     "mesh_resolution": ({"mesh_resolution_runtime", "cost_ratio", "success_vs_n_cand",
                          "n_max_rerun"}, {"fig20_mesh_resolution"}),
+    # the legacy section's five tables; surrogate_feature_importance only when a classifier was
+    # fitted, which the reduced run's 16 scenarios never allow (test_surrogate_report.py checks it)
+    "surrogate": ({"surrogate_dataset", "surrogate_classification", "surrogate_regression",
+                   "surrogate_timing"}, {"figA1_surrogate"}),
+    # the legacy section's seven tables plus oblique_margin (the margins by angle of its claims)
+    "test1_bench": ({"test1_counts", "table4", "test1_claims", "oblique_margin", "table5", "pso_summary",
+                     "transfer", "damage_depth"}, {"fig23_normal_law", "fig24_tangential",
+                                                   "fig25_relaxation_cycling", "fig26_identification"}),
 }
 
 

@@ -50,6 +50,8 @@ SPECS: dict[str, str] = {
     "friction_mass": "dynamic:FRICTION_MASS",
     "sensitivity": "sensitivity:SPEC",
     "mesh_resolution": "mesh_resolution:SPEC",
+    "surrogate": "surrogate:SPEC",
+    "test1_bench": "test1:SPEC",
 }
 #: trial kind -> spec for studies of that kind without a spec of their own
 KIND_SPECS: dict[str, str] = {
@@ -61,8 +63,6 @@ KIND_SPECS: dict[str, str] = {
 #: LEGACY PATH (issue 14): trial kind -> "module:function(report, records, manifest, store)" of
 #: the section modules not yet ported to a spec. Remove an entry when its study is ported.
 LEGACY: dict[str, str] = {
-    "surrogate": "graspcampaign.report.sections.surrogate:section",
-    "test1_bench": "graspcampaign.report.sections.test1:section",
     "test2_grasp": "graspcampaign.report.sections.test2:section",
     "test3_disturbance": "graspcampaign.report.sections.test3:section",
 }
