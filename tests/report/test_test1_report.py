@@ -84,7 +84,7 @@ def test_section_7_claims_against_the_records(run):
     assert share["n"] == (ok["block"] == "oblique").sum()
     margins = _table(path, "oblique_margin").set_index("angle_deg")
     assert margins.loc[45.0, "paper_n"] == -0.16 and np.isnan(margins.loc[15.0, "paper_n"])
-    assert margins["size"].sum() == share["n"]
+    assert margins["events"].sum() == share["n"]
 
 
 def test_counts_table_against_the_records_and_traces(run):

@@ -1,14 +1,11 @@
-"""Test 1 bench summaries from the per-event fits (paper §7; Tables 4-5, Figs. 23-25).
+"""Test 1 bench summaries of the per-event fits (paper §7; Tables 4-5, Figs. 23-25).
 
-Every function takes the fits (one record per event: ``rig.test1.fit_waveforms``, the virtual
-bench, or a run's records) or the PSO run log and returns a full-precision DataFrame with a
-unit in every dimensional column. The damage depths and the transfer errors on traces are computed
-by the run (``rig.test1_summary``); the report reads them from ``summary/``.
+Each function takes the fits (one record per event) or the PSO run log and returns a
+full-precision DataFrame, units in the column names. Damage depths and transfer errors need the
+traces: the run's finalize stage computes them (``rig.test1_summary``, ``summary/``).
 """
 
 from __future__ import annotations
-
-import math
 
 import numpy as np
 import pandas as pd
@@ -18,6 +15,7 @@ from graspcampaign.core.bench import FAMILIES
 
 MATERIALS = tuple(FAMILIES)
 """Material families in Table 4 order."""
+KEY = ["material", "specimen", "environment"]
 
 
 def fitted(records: pd.DataFrame) -> pd.DataFrame:
@@ -29,63 +27,55 @@ def fitted(records: pd.DataFrame) -> pd.DataFrame:
 
 
 def oblique_summary(fits: pd.DataFrame) -> pd.DataFrame:
-    """Oblique events (§7.3) with ``mu_s_calibrated`` (median breakaway of the specimen's
-    slides in that environment), ``margin_n`` = mu_s f_n - f_t at the dwell, the Coulomb
-    prediction ``predicted_slip`` = tan(angle) > mu_s, ``margin_negative`` and whether the
-    prediction matches the margin's sign and the measured slip."""
-    key = ["material", "specimen", "environment"]
-    mu = (fits[fits["block"] == "sliding"].groupby(key)["mu_s"].median()
-          .rename("mu_s_calibrated"))
-    ob = fits[fits["block"] == "oblique"].join(mu, on=key)
+    """Oblique events (§7.3) with ``mu_s_calibrated`` (median breakaway of the specimen's slides
+    in that environment), ``margin_n`` = μs fn − ft at the dwell, the Coulomb prediction
+    ``predicted_slip`` = tan(angle) > μs, and whether it matches the margin's sign and the
+    measured slip."""
+    mu = fits[fits["block"] == "sliding"].groupby(KEY)["mu_s"].median().rename("mu_s_calibrated")
+    ob = fits[fits["block"] == "oblique"].join(mu, on=KEY)
     ob["margin_n"] = bench.slip_margin(ob["mu_s_calibrated"], ob["peak_normal_force_n"],
                                        ob["peak_tangential_force_n"])
     ob["predicted_slip"] = np.tan(np.radians(ob["angle_deg"])) > ob["mu_s_calibrated"]
     ob["margin_negative"] = ob["margin_n"] < 0
     ob["classification_matches_margin"] = ob["predicted_slip"] == ob["margin_negative"]
-    ob["classification_matches_measured"] = (ob["predicted_slip"]
-                                             == ob["slipped_measured"].astype(bool))
+    ob["classification_matches_measured"] = ob["predicted_slip"] == ob["slipped_measured"].astype(bool)
     return ob.reset_index(drop=True)
 
 
 def cyclic_summary(fits: pd.DataFrame) -> pd.DataFrame:
-    """Fatigue cycles (§7.4) with ``k_ratio`` = f05 / cycle 1's f05 (K/K1, unit-clean) and
-    ``permanent_set_mm`` = shift of the shifted-law contact onset from cycle 1's."""
+    """Fatigue cycles (§7.4) with ``k_ratio`` = f0.5 / cycle 1's (K/K1) and ``permanent_set_mm`` =
+    shift of the shifted-law contact onset from cycle 1's."""
     cy = fits[fits["block"] == "cyclic"].sort_values(["material", "specimen", "cycle_index"])
-    first = cy.groupby(["material", "specimen", "environment"])[["f05_n", "onset_mm"]] \
-        .transform("first")
+    first = cy.groupby(KEY)[["f05_n", "onset_mm"]].transform("first")
     return cy.assign(k_ratio=cy["f05_n"] / first["f05_n"],
                      permanent_set_mm=cy["onset_mm"] - first["onset_mm"]).reset_index(drop=True)
 
 
 def table4(fits: pd.DataFrame, truths: pd.DataFrame | None = None) -> pd.DataFrame:
-    """Per-family means in Table 4's layout: accepted normal fits (n, K, f0.5, C and their
-    count), fitted slides (mu_s, mu_k, k_t) and holds (rho, tau); E (mean, SD over specimens)
-    from the virtual bench's ``truths`` when given, since the bench measures no modulus."""
+    """Per-family means in Table 4's layout: accepted normal fits (n, K, f0.5, C, their count),
+    fitted slides (μs, μk, kt) and holds (ρ, τ); E (mean, SD over specimens) from the virtual
+    bench's ``truths`` when given (the bench measures no modulus)."""
     fits = fits[fits["fit_ok"].astype(bool)]
     nf = fits[(fits["block"] == "normal") & fits["accepted"].astype(bool)].groupby("material")
     sl, rl = (fits[fits["block"] == b].groupby("material") for b in ("sliding", "relaxation"))
     out = pd.concat([nf[["exponent_n", "k_n_per_mm_n", "f05_n", "c_n_s_per_m"]].mean(),
-                     nf.size().rename("n_accepted_fits"),
-                     sl[["mu_s", "mu_k", "k_t_n_per_mm"]].mean(), rl[["rho", "tau_s"]].mean()],
-                    axis=1)
+                     nf.size().rename("n_accepted_fits"), sl[["mu_s", "mu_k", "k_t_n_per_mm"]].mean(),
+                     rl[["rho", "tau_s"]].mean()], axis=1)
     if truths is not None and len(truths):
-        spec = truths.drop_duplicates(["material", "specimen"]).groupby("material")["modulus_kpa"]
-        out.insert(0, "modulus_sd_kpa", spec.std())
-        out.insert(0, "modulus_kpa", spec.mean())
-    return out.loc[[m for m in MATERIALS if m in out.index]].rename_axis("material") \
-        .reset_index()
+        e = truths.drop_duplicates(["material", "specimen"]).groupby("material")["modulus_kpa"]
+        out = pd.concat([e.mean(), e.std().rename("modulus_sd_kpa"), out], axis=1).reindex(out.index)
+    return out.loc[[m for m in MATERIALS if m in out.index]].rename_axis("material").reset_index()
 
 
 def table5(runs: pd.DataFrame) -> pd.DataFrame:
     """Mean, SD, CV (%) of each identified parameter over the converged runs (Table 5), and
     ``n_at_bound``: converged runs that ended with that parameter on a search bound."""
     ok = runs[runs["converged"].astype(bool)]
+    p = ["lambda1", "lambda2", "n", "b", "k", "c"]
+    out = pd.DataFrame({"parameter": p, "mean": ok[p].mean().to_numpy(),
+                        "sd": ok[p].std(ddof=1).to_numpy(), "n_runs": len(ok)})
+    out["cv_pct"] = 100.0 * out["sd"] / out["mean"].where(out["mean"] != 0)
     bound = ok["at_bound"].fillna("").str.split(",") if "at_bound" in ok else None
-    out = []
-    for p in ("lambda1", "lambda2", "n", "b", "k", "c"):
-        mean, sd = float(ok[p].mean()), float(ok[p].std(ddof=1))
-        out.append({"parameter": p, "mean": mean, "sd": sd,
-                    "cv_pct": 100.0 * sd / mean if mean else math.nan, "n_runs": len(ok),
-                    "n_at_bound": int(bound.map(lambda b, p=p: p in b).sum())
-                    if bound is not None else None})
-    return pd.DataFrame(out)
+    out["n_at_bound"] = [int(bound.map(lambda b, q=q: q in b).sum()) if bound is not None else None
+                         for q in p]
+    return out

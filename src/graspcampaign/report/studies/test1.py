@@ -1,14 +1,9 @@
-"""Report of ``test1_bench`` (paper §7, Tables 4-5, Figs. 23-26): the bench calibration.
-
-Per-event statistics come from the records (an ingested run gets them too); Table 5, the PSO and
-transfer errors and the damage depths from the run's finalize stage (``summary/``). The data are
-VIRTUAL RIG unless ingested from a rig, and every page and figure says which.
-"""
+"""Report of ``test1_bench`` (§7, Tables 4-5, Figs. 23-26): per-event statistics from the records, the
+PSO log, transfer errors and damage depths from the run's finalize stage (``summary/``)."""
 
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass
-from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -137,9 +132,9 @@ def _table4(run: Run) -> pd.DataFrame:
 
 
 def _margins(run: Run) -> pd.DataFrame:
-    t = FRAMES["oblique"](run).groupby("angle_deg")["margin_n"].agg(["size", "mean", "std"]).reset_index()
-    t["paper_n"] = [run.paper.oblique_margin_n.get(f"{a:g}") for a in t["angle_deg"]]
-    return verdicts(t, "mean", "paper_n", digits=2, unit="N")
+    t = FRAMES["oblique"](run).groupby("angle_deg")["margin_n"].agg(events="size", mean_n="mean", sd_n="std")
+    t["paper_n"] = [run.paper.oblique_margin_n.get(f"{a:g}") for a in t.index]
+    return verdicts(t.reset_index(), "mean_n", "paper_n", digits=2, unit="N")
 
 
 def _runs(run: Run) -> pd.DataFrame:
@@ -196,24 +191,21 @@ def _pso_claims(run: Run) -> Claims:
 
 @dataclass(frozen=True)
 class _Finalized:
-    """An item (or a function of the run giving it) shown only when the run's finalize stage stored
-    the PSO log (runs of the engine)."""
+    """An item (or a function of the run giving it) shown only when the finalize stage stored the PSO log."""
 
-    item: Any
+    item: object
     title = property(lambda self: getattr(self.item, "title", "Table pso_summary"))
 
     def render(self, run: Run) -> list:
-        if not len(run.part("summary/pso_runs")):
-            return []
-        return (self.item(run) if callable(self.item) else self.item).render(run)
+        return (self.item(run) if callable(self.item) else self.item).render(run) if len(_runs(run)) else []
 
 
 def _transfer(run: Run) -> pd.DataFrame:
     if not len(te := run.part("summary/transfer")):
         return te
     ref, g = run.paper.transfer_pct, te.groupby(["quantity", "split"])["error_pct"]
-    t = g.agg(["size", "mean", "median", lambda e: e.quantile(0.95)]).set_axis(
-        ["n_events", "mean_error_pct", "median_error_pct", "p95_error_pct"], axis=1).reset_index()
+    t = g.agg(events="size", mean_error_pct="mean", median_error_pct="median",
+              p95_error_pct=lambda e: e.quantile(0.95)).reset_index()
     t = t.sort_values(["quantity", "split"], key=lambda c: c.map(ORDER[c.name].index))
     t["paper_pct"] = [getattr(ref.normal_force, s) if q == "normal_force" else getattr(ref, q, None)
                       if q != "friction" else ref.friction_max if s != "train" else None
@@ -457,64 +449,56 @@ SPEC = ReportSpec("test1_bench", [
     Finding(finding),
     Text(_note),
     Table("test1_counts", lambda run: "Test 1 event counts (§7.1) beside the paper's; commanded = planned "
-          "events + re-runs of aborted attempts (p = "
-          f"{run.paper.events_aborted}/{run.paper.events_commanded} per attempt, a random realisation); "
-          f"accepted = RMSE ≤ {REVIEW_PCT:g}% of peak and no logged anomaly; a reduced study (params) has "
-          "proportionally fewer events", _counts,
-          [Col("quantity", "quantity"), Col("paper", "paper"), Col("ours", "ours", 0),
-           Col("verdict", "verdict")]),
-    Table("table4", "Table 4, ours beside the paper's: family means of the accepted normal fits (n, K, f0.5, "
-          "C) and of the fitted slides and holds. Our E is the virtual bench's drawn specimen modulus (the "
-          "bench measures none), mean and SD over specimens; per-event C is not identifiable at 1 mN (its "
-          "median standard error is below)", _table4, [
+          f"events + re-runs of aborted attempts (p = {run.paper.events_aborted}/"
+          f"{run.paper.events_commanded} per attempt, a random realisation); accepted = RMSE ≤ "
+          f"{REVIEW_PCT:g}% of peak and no logged anomaly; a reduced study has proportionally fewer events",
+          _counts, [*cols("quantity", "paper"), Col("ours", "ours", 0), *cols("verdict")]),
+    Table("table4", "Table 4, ours beside the paper's: family means of the accepted normal fits (n, K, "
+          "f0.5, C) and of the fitted slides and holds. Our E is the virtual bench's drawn specimen modulus "
+          "(the bench measures none), mean and SD over specimens; per-event C is not identifiable at 1 mN "
+          "(its median standard error is below)", _table4, [
               Col("row", "row"), Col("n_accepted_fits", "accepted normal fits", 0),
               *(Col(k, v, sig=3) for k, v in T4.items())], by=["material"]),
     Claims("test1_claims", "§7 figures in the text beside the paper's (accepted fits unless stated; "
-           "margins use each specimen's calibrated μs, the median breakaway of its slides; shares with their "
-           "Wilson 95% interval)", CLAIMS),
+           "margins use each specimen's calibrated μs, the median breakaway of its slides; shares with "
+           "their Wilson 95% interval)", CLAIMS),
     Table("oblique_margin", "Slip margin μs fn − ft per press angle (§7.3, mean and SD over the oblique "
-          "events) beside the paper's means", _margins, [
-              *cols("angle_deg"), Col("size", "events"), Col("paper_n", "paper [N]", 2),
-              Col("mean", "ours [N]", 2), Col("std", "SD [N]", 2), Col("verdict", "verdict")]),
-    Figure("fig23_normal_law", lambda run: "Fig. 23 (ours): (a) a retained loading–unloading curve with its "
-           "Eq. 13 fit and the paper's Table 4 family law; (b) fitted n per family with the paper's family "
-           f"values, mean ± SD and Table 3's {run.paper.n_exp_simulation:g}; (c) RMSE distribution with the "
-           f"paper's {run.paper.rmse_pct:g}% mean", fig23, (13.0, 4.6)),
-    Figure("fig24_tangential", "Fig. 24 (ours): (a) μs and μk per family (mean ± SD over slides) with Table "
-           "4's; (b) a retained 0.5 mm/s slide with the friction limits; (c) slip margin vs press angle with "
-           "the paper's means", fig24, (13.0, 4.6)),
-    Figure("fig25_relaxation_cycling", lambda run: "Fig. 25 (ours): (a) a retained 60 s hold, normalised, "
-           "with its fit and the paper's steady ratio (inset: mean ρ per family); (b) K/K1 over the fatigue "
-           f"cycles with the {run.paper.k_ratio_target:g} target; (c) permanent set with the paper's range",
-           fig25, (13.0, 4.3)),
-    _Finalized(Table("table5", "Table 5 beside the paper's: PSO re-identification on the training "
-                     "split's normal traces, mean, SD and CV over the converged runs; 'at bound': converged "
-                     "runs that ended on a search bound (their value is the box, not an identification). "
-                     "b, k and c do not enter a single-contact trace and λ2 (C) is unresolved at 1 mN: their "
+          "events) beside the paper's means", _margins,
+          cols("angle_deg", "events", "paper_n", "mean_n", "sd_n", "verdict")),
+    Figure("fig23_normal_law", lambda run: "Fig. 23 (ours): (a) a retained loading–unloading curve with "
+           "its Eq. 13 fit and the paper's Table 4 family law; (b) fitted n per family with the paper's "
+           f"family values, mean ± SD and Table 3's {run.paper.n_exp_simulation:g}; (c) RMSE distribution "
+           f"with the paper's {run.paper.rmse_pct:g}% mean", fig23, (13.0, 4.6)),
+    Figure("fig24_tangential", "Fig. 24 (ours): (a) μs and μk per family (mean ± SD over slides) with "
+           "Table 4's; (b) a retained 0.5 mm/s slide with the friction limits; (c) slip margin vs press "
+           "angle with the paper's means", fig24, (13.0, 4.6)),
+    Figure("fig25_relaxation_cycling", lambda run: "Fig. 25 (ours): (a) a retained 60 s hold, "
+           "normalised, with its fit and the paper's steady ratio (inset: mean ρ per family); (b) K/K1 "
+           f"over the fatigue cycles with the {run.paper.k_ratio_target:g} target; (c) permanent set with "
+           "the paper's range", fig25, (13.0, 4.3)),
+    _Finalized(Table("table5", "Table 5 beside the paper's: PSO re-identification on the training split's "
+                     "normal traces, mean, SD and CV over the converged runs; 'at bound': converged runs "
+                     "that ended on a search bound (their value is the box, not an identification). b, k "
+                     "and c do not enter a single-contact trace and λ2 (C) is unresolved at 1 mN: their "
                      "spread is the search prior", _table5, [
-                         Col("parameter_label", "parameter"), Col("paper_simulation", "Table 3", sig=3),
-                         Col("paper_mean", "paper mean", sig=3), Col("paper_sd", "paper SD", sig=3),
-                         Col("mean", "ours mean", sig=3), Col("sd", "ours SD", sig=3),
-                         Col("paper_cv_pct", "paper CV %", 1), Col("cv_pct", "ours CV %", 1),
-                         Col("n_runs", "runs"), Col("n_at_bound", "at bound"),
-                         Col("verdict", "CV verdict")])),
+                         Col("parameter_label", "parameter"), *(Col(k, v, sig=3) for k, v in (
+                             ("paper_simulation", "Table 3"), ("paper_mean", "paper mean"),
+                             ("paper_sd", "paper SD"), ("mean", "ours mean"), ("sd", "ours SD"))),
+                         *cols("paper_cv_pct", "cv_pct", "n_runs", "n_at_bound", "verdict")])),
     _Finalized(_pso_claims),
     Table("transfer", "§7.6 transfer errors of the training-split calibration (per-event fits), training "
-          "beside the held-out splits (paper: friction 'near or below ~1%', read as 1.0)", _transfer, [
-              Col("quantity", "quantity"), Col("split", "split"), Col("n_events", "events"),
-              Col("paper_pct", "paper %", 2), Col("mean_error_pct", "ours mean %", 2),
-              Col("median_error_pct", "median %", 2), Col("p95_error_pct", "95th pct %", 2),
-              Col("verdict", "verdict")], empty=None),
+          "beside the held-out splits (paper: friction 'near or below ~1%', read as 1.0)", _transfer,
+          cols("quantity", "split", "events", "paper_pct", "mean_error_pct", "median_error_pct",
+               "p95_error_pct", "verdict"), empty=None),
     _Finalized(Figure("fig26_identification", "Fig. 26 (ours): (a) CV of each PSO-identified parameter "
                       "over the converged runs with Table 5's; (b) identified values relative to Table 3 "
                       "(ours and the paper's experiment); (c) mean transfer error per quantity and split "
                       "with the paper's §7.6 values", fig26, (13.0, 4.8))),
     Table("damage_depth", "Damage-depth threshold per fatigued specimen (§7.4: K/K1 below the stiffness "
           "target or permanent set above the set limit, whichever comes first; Tests 2-3 read "
-          "summary/damage_depth): family summaries and, on the virtual bench, the median error against each "
-          "specimen's true threshold; the paper gives no numbers", _damage, [
-              Col("specimens", "specimens"), *cols("damage_depth_mean_mm", "damage_depth_min_mm",
-                                                   "damage_depth_max_mm"), Col("set_limited", "set-limited"),
-              Col("extrapolated", "extrapolated"), *cols("abs_error_median_mm", "stiffness_target",
-                                                         "set_limit_mm")], by=["material"], empty=None),
+          "summary/damage_depth): family summaries and, on the virtual bench, the median error against "
+          "each specimen's true threshold; the paper gives no numbers", _damage, cols(
+              "specimens", "damage_depth_mean_mm", "damage_depth_min_mm", "damage_depth_max_mm",
+              "set_limited", "extrapolated", "abs_error_median_mm", "stiffness_target", "set_limit_mm"),
+          by=["material"], empty=None),
 ])
