@@ -79,3 +79,38 @@ def table5(runs: pd.DataFrame) -> pd.DataFrame:
     out["n_at_bound"] = [int(bound.map(lambda b, q=q: q in b).sum()) if bound is not None else None
                          for q in p]
     return out
+
+
+ORDER = {"quantity": ("normal_force", "friction", "relaxation", "flat_to_curved"), "split": (
+    "train", "unseen_specimen", "unseen_speed", "unseen_load", "extended_relaxation", "flat_to_curved")}
+"""§7.6 quantities and splits in the paper's order."""
+
+
+def transfer_summary(errors: pd.DataFrame) -> pd.DataFrame:
+    """Transfer errors (``rig.test1_summary.transfer_errors``) per quantity and split: events, mean,
+    median and 95th percentile of ``error_pct``, in :data:`ORDER`."""
+    if not len(errors):
+        return errors
+    t = errors.groupby(["quantity", "split"])["error_pct"].agg(
+        events="size", mean_error_pct="mean", median_error_pct="median",
+        p95_error_pct=lambda e: e.quantile(0.95)).reset_index()
+    return t.sort_values(["quantity", "split"], key=lambda c: c.map(ORDER[c.name].index))
+
+
+def damage_summary(depths: pd.DataFrame, truths: pd.DataFrame | None = None) -> pd.DataFrame:
+    """Damage depths (``rig.test1_summary.damage_depths``) per family: specimens, mean/min/max depth,
+    how many were set-limited or extrapolated, the criteria, and with the virtual bench's ``truths``
+    the median absolute error against each specimen's true threshold."""
+    if not len(d := depths):
+        return d
+    if truths is not None and len(truths):
+        d = d.merge(truths[[*KEY, "damage_depth_mm"]], "left", KEY, suffixes=("", "_true"))
+        d["abs_error_median_mm"] = (d["damage_depth_mm"] - d["damage_depth_mm_true"]).abs()
+    g = d.assign(set_limited=d["criterion"] == "set", extrapolated=d["extrapolated"].astype(bool)) \
+        .sort_values("material", key=lambda m: m.map(MATERIALS.index)).groupby("material", sort=False)
+    depth = g["damage_depth_mm"].agg(damage_depth_mean_mm="mean", damage_depth_min_mm="min",
+                                     damage_depth_max_mm="max")
+    return pd.concat([g.size().rename("specimens"), depth, g[["set_limited", "extrapolated"]].sum(),
+                      g[["abs_error_median_mm"]].median() if "abs_error_median_mm" in d else None,
+                      g[["stiffness_target", "set_limit_mm"]].first() if "set_limit_mm" in d else None],
+                     axis=1).reset_index()

@@ -1,5 +1,5 @@
-"""Report of ``surrogate`` (Appendix A, Fig. A.1): the run's scenarios, and the models its finalize
-stage fitted, scored and timed (``summary/surrogate_*``); nothing is fitted or timed here."""
+"""Report of ``surrogate`` (Appendix A, Fig. A.1): the scenarios, and the models the run's finalize stage
+fitted, scored and timed (``summary/surrogate_*``); nothing is fitted or timed here."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import pandas as pd
 from graspcampaign.analysis import records as rec
 from graspcampaign.analysis.vocabulary import label, ordered
 from graspcampaign.report import style
-from graspcampaign.report.document import Col
+from graspcampaign.report.document import Col, cols
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, verdicts
 
@@ -95,11 +95,14 @@ def finding(run: Run) -> str:
              f"reach {aucs}, against {fit['majority_class_accuracy_pct'].iloc[0]:.1f}% for always saying "
              "'fails'. " if len(fit) else
              f"The success classifiers were {cls['note'].iloc[0]}. ")
-    best = t["surrogate_regression"].loc[t["surrogate_regression"]["r2"].idxmax()]
-    text += (f"The best regression R² is {best['r2']:.2f} ({best['target']}, {best['model_label']}; paper "
-             f"{p.residual_r2:g} for |R_z|)" + (": the residual depends on the sampled contact triple "
-                                                "more than on the scenario's inputs. "
-                                                if best["r2"] < p.residual_r2 else ". "))
+    if len(reg := t["surrogate_regression"].dropna(subset=["r2"])):
+        best = reg.loc[reg["r2"].idxmax()]
+        text += (f"The best regression R² is {best['r2']:.2f} ({best['target']}, {best['model_label']}; "
+                 f"paper {p.residual_r2:g} for |R_z|)" + (": the residual depends on the sampled contact "
+                                                          "triple more than on the scenario's inputs. "
+                                                          if best["r2"] < p.residual_r2 else ". "))
+    else:
+        text += f"No regression R² could be computed ({t['surrogate_regression']['note'].iloc[0]}). "
     if "mlp" in (tm := t["surrogate_timing"].set_index("what")).index:
         text += (f"One MLP prediction takes {1e3 * tm.loc['mlp', 'time_s']:.3g} ms against "
                  f"{tm.loc['pso_call', 'time_s']:.3g} s for the brief PSO call, "
@@ -172,21 +175,17 @@ SPEC = ReportSpec("surrogate", [
                   why="note"),
               Col("majority_class_accuracy_pct", "majority class %", 1), Col("accuracy_verdict", "verdict")]),
     Table("surrogate_regression", "Regression R² on the held-out scenarios (the paper's is the MLP on the "
-          "vertical residual |R_z|)", _regression, [
-              Col("target", "target"), Col("model_label", "model"), Col("test_trials", "held out"),
-              Col("paper_r2", "paper R²", 2), Col("r2", "R²", 2, why="note"), Col("verdict", "verdict")]),
+          "vertical residual |R_z|)", _regression, [*cols("target", "model_label", "test_trials"), Col(
+              "paper_r2", "paper R²", 2), Col("r2", "R²", 2, why="note"), *cols("verdict")]),
     Table("surrogate_feature_importance", "Random-forest impurity importances of the first fitted classifier "
           "(λ2 and b cannot affect a quasi-static outcome: their share is what a forest gives to noise)",
-          _read("importance"), [Col("label", "label"), Col("feature", "feature"),
-                                Col("importance", "importance", sig=3)],
+          _read("importance"), [*cols("label", "feature"), Col("importance", "importance", sig=3)],
           empty="no classifier was fitted (too few trials of one class)"),
     Table("surrogate_timing", "Wall time of one call, measured by the run: the brief PSO call (median over "
           "the trials) and one single-row prediction per model (median of up to 200)", _timing, [
-              Col("model_label", "call"), Col("predicts", "predicts"),
-              Col("paper_time_s", "paper [s]", sig=3),
-              Col("time_s", "ours [s]", sig=3), Col("n_timed", "calls timed"),
+              Col("model_label", "call"), *cols("predicts", "paper_time_s", "time_s", "n_timed"),
               Col("paper_speedup", "paper PSO/this", 0), Col("speedup", "ours PSO/this", sig=3),
-              Col("verdict", "verdict"), Col("host", "host"), Col("sklearn_version", "scikit-learn")]),
+              *cols("verdict", "host", "sklearn_version")]),
     Figure("figA1_surrogate", "Fig. A.1 (ours): (a) ROC curves of the fitted classifiers (solid: the "
            "configured check, dashed: Algorithm 1 as published, dotted: the |R_z| reading); (b) parity of "
            "the MLP regressor for log10 ‖R‖; (c) one prediction against a brief PSO call (the paper's values "

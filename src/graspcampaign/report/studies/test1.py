@@ -25,8 +25,6 @@ BLUE, ORANGE, RED, GREY = "#1f5aa6", "#e08a1e", "#c62828", "#8c8c8c"
 T4 = {"modulus_kpa": "E [kPa]", "modulus_sd_kpa": "E SD [kPa]", "exponent_n": "n", "k_n_per_mm_n":
       "K [N mm⁻ⁿ]", "f05_n": "f0.5 [N]", "c_n_s_per_m": "C [N s/m]", "mu_s": "μs", "mu_k": "μk",
       "k_t_n_per_mm": "kt [N/mm]", "rho": "ρ", "tau_s": "τ [s]"}
-ORDER = {"quantity": ("normal_force", "friction", "relaxation", "flat_to_curved"), "split": (
-    "train", "unseen_specimen", "unseen_speed", "unseen_load", "extended_relaxation", "flat_to_curved")}
 
 
 def _fits(run: Run, block: str | None = None, *need: str) -> pd.DataFrame:
@@ -201,32 +199,13 @@ class _Finalized:
 
 
 def _transfer(run: Run) -> pd.DataFrame:
-    if not len(te := run.part("summary/transfer")):
-        return te
-    ref, g = run.paper.transfer_pct, te.groupby(["quantity", "split"])["error_pct"]
-    t = g.agg(events="size", mean_error_pct="mean", median_error_pct="median",
-              p95_error_pct=lambda e: e.quantile(0.95)).reset_index()
-    t = t.sort_values(["quantity", "split"], key=lambda c: c.map(ORDER[c.name].index))
+    if not len(t := cal.transfer_summary(run.part("summary/transfer"))):
+        return t
+    ref = run.paper.transfer_pct
     t["paper_pct"] = [getattr(ref.normal_force, s) if q == "normal_force" else getattr(ref, q, None)
                       if q != "friction" else ref.friction_max if s != "train" else None
                       for q, s in zip(t["quantity"], t["split"], strict=True)]
     return verdicts(t, "mean_error_pct", "paper_pct", unit="%")
-
-
-def _damage(run: Run) -> pd.DataFrame:
-    if not len(d := run.part("summary/damage_depth")):
-        return d
-    if len(truth := run.part("summary/truths")):
-        d = d.merge(truth[["material", "specimen", "environment", "damage_depth_mm"]], "left",
-                    ["material", "specimen", "environment"], suffixes=("", "_true"))
-        d["abs_error_median_mm"] = (d["damage_depth_mm"] - d["damage_depth_mm_true"]).abs()
-    g = d.assign(set_limited=d["criterion"] == "set", extrapolated=d["extrapolated"].astype(bool)) \
-        .sort_values("material", key=lambda m: m.map(cal.MATERIALS.index)).groupby("material", sort=False)
-    return pd.concat([g.size().rename("specimens"), g["damage_depth_mm"].agg(["mean", "min", "max"])
-                      .set_axis([f"damage_depth_{s}_mm" for s in ("mean", "min", "max")], axis=1),
-                      g[["set_limited", "extrapolated"]].sum(), g[["abs_error_median_mm"]].median()
-                      if len(truth) else None, g[["stiffness_target", "set_limit_mm"]].first()
-                      if "set_limit_mm" in d else None], axis=1).reset_index()
 
 
 def _note(run: Run) -> str:
@@ -497,7 +476,8 @@ SPEC = ReportSpec("test1_bench", [
     Table("damage_depth", "Damage-depth threshold per fatigued specimen (§7.4: K/K1 below the stiffness "
           "target or permanent set above the set limit, whichever comes first; Tests 2-3 read "
           "summary/damage_depth): family summaries and, on the virtual bench, the median error against "
-          "each specimen's true threshold; the paper gives no numbers", _damage, cols(
+          "each specimen's true threshold; the paper gives no numbers", lambda run: cal.damage_summary(
+              run.part("summary/damage_depth"), run.part("summary/truths")), cols(
               "specimens", "damage_depth_mean_mm", "damage_depth_min_mm", "damage_depth_max_mm",
               "set_limited", "extrapolated", "abs_error_median_mm", "stiffness_target", "set_limit_mm"),
           by=["material"], empty=None),
