@@ -51,7 +51,8 @@ def _dataset(run: Run) -> pd.DataFrame:
 
 
 def _classification(run: Run) -> pd.DataFrame:
-    t, p = _read("classification", "model", "roc_auc", "accuracy_pct", "accuracy_low_pct",
+    t, p = _read("classification", "model", "roc_auc", "accuracy_pct", "accuracy_low_pct", "test_trials",
+                 "test_positives", "majority_class_accuracy_pct",
                  "accuracy_high_pct")(run), run.paper
     main = t["label"] == PAPER_LABEL
     t["paper_auc"] = [p.auc.get(m) if ok else None for m, ok in zip(t["model"], main, strict=True)]
