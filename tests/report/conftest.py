@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import pytest
 
-#: Reduced designs: every study of the spec path, plus one of the legacy path (surrogate).
+#: Reduced designs: every study of the spec path.
 REDUCED = {
     "smoke": ["nodes=[144]"],
     "heuristic_weights": ["seeds=2"],
@@ -33,6 +33,10 @@ REDUCED = {
     # pair every planner (a few Test 3 levels, e.g. the 1.8 W impulse, are then absent)
     "test2_grasp": ["params.fraction=0.08"],
     "test3_disturbance": ["params.fraction=0.1"],
+    # Test 1 on the virtual bench: one family, a training and a held-out specimen, every block,
+    # split and environment (772 events), and a short PSO so the finalize tables exist
+    "test1_bench": ["params.materials=[gel]", "params.specimens=[1,11]", "params.pso_restarts=3",
+                    "params.pso_particles=12", "params.pso_iterations=40", "params.pso_max_reruns=1"],
 }
 
 

@@ -7,7 +7,6 @@ intervals come from statsmodels.
 
 from __future__ import annotations
 
-import importlib
 import json
 
 import pandas as pd
@@ -23,7 +22,7 @@ from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.schema import StudyCfg
 from graspcampaign.cli.main import app
 from graspcampaign.errors import UserInputError
-from graspcampaign.report.build import KIND_SPECS, LEGACY, SPECS, build_reports, spec_for
+from graspcampaign.report.build import KIND_SPECS, SPECS, build_reports, spec_for
 from graspcampaign.report.document import check_formats
 from graspcampaign.report.spec import ReportSpec
 
@@ -71,15 +70,11 @@ def write_run(root, name="ablation", kind="quasi_static", n_success=None, error_
     return store
 
 
-def test_every_spec_and_legacy_section_resolves():
+def test_every_spec_resolves():
     for study in SPECS:
         assert isinstance(spec_for(study, "no_such_kind"), ReportSpec), study
     for kind in KIND_SPECS:
         assert isinstance(spec_for("a_study_of_mine", kind), ReportSpec), kind
-    for kind, target in LEGACY.items():
-        module, attr = target.split(":")
-        assert callable(getattr(importlib.import_module(module), attr)), kind
-    assert not set(SPECS) & set(LEGACY), "a study is both ported and on the legacy path"
 
 
 def test_formats_md_csv_json_html(tmp_path):

@@ -19,7 +19,6 @@ from pathlib import Path
 
 import pytest
 
-from graspcampaign.report.build import LEGACY
 from graspcampaign.report.format import MISSING
 
 NUMBER = re.compile(r"[+\u2212-]?(?:\d+(?:\.\d+)?|inf)")
@@ -42,7 +41,7 @@ class Page(HTMLParser):
             if key in a:
                 self.links.append((key, a[key]))
         if tag == "table":
-            self._table = {"name": a.get("data-table"), "legacy": "data-legacy" in a,
+            self._table = {"name": a.get("data-table"),
                            "cols": [], "rows": []}
             self.tables.append(self._table)
         elif tag == "th" and self._table is not None:
@@ -131,7 +130,6 @@ def test_every_page_is_self_contained(sim_root):
 def test_every_table_equals_its_csv(sim_root):
     checked = 0
     for path in pages(sim_root):
-        legacy_page = path.parent.parent.parent.name in LEGACY
         for table in parse(path).tables:
             if table["name"] is None:  # the index lists runs; it has no CSV
                 assert path.name == "index.html"
@@ -141,9 +139,6 @@ def test_every_table_equals_its_csv(sim_root):
             with open(csv_path, newline="") as fh:
                 rows = list(csv.DictReader(fh))
             assert len(rows) == len([r for r in table["rows"] if r]), (path, table["name"])
-            if table["legacy"]:  # LEGACY PATH: a section's own display, not derived from CSV
-                assert legacy_page, (path, table["name"])
-                continue
             for csv_row, cells in zip(rows, [r for r in table["rows"] if r], strict=True):
                 for keys, text in zip(table["cols"], cells, strict=True):
                     assert keys and all(k in csv_row for k in keys), (table["name"], keys)

@@ -1,9 +1,7 @@
-"""Report sections of the sensitivity, mesh_resolution and surrogate studies, rendered from reduced
-runs (and a synthetic surrogate dataset)."""
+"""Reports of the sensitivity and mesh_resolution studies, rendered from reduced runs (the
+surrogate's report is tested in test_surrogate_report.py)."""
 
 from __future__ import annotations
-
-import sys
 
 import numpy as np
 import pandas as pd
@@ -11,12 +9,9 @@ import pytest
 from statsmodels.stats.proportion import proportion_confint
 
 from graspcampaign.campaign.compose import compose_study
-from graspcampaign.campaign.paper import study_paper
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.runner import run_study
-from graspcampaign.report.build import LegacyReport, build_reports
-from graspcampaign.report.document import Document, Text
-from graspcampaign.report.render import Run
+from graspcampaign.report.build import build_reports
 
 REDUCED = {
     "sensitivity": ["params.levels=2", "seeds=2"],
@@ -25,7 +20,6 @@ REDUCED = {
                         "params.budget_seeds=2", "params.budgets=[1,30]",
                         "params.baseline_shapes=[sphere]", "params.baseline_masses_kg=[0.4]",
                         "params.baseline_mus=[0.3]", "params.baseline_seeds=2"],
-    "surrogate": ["seeds=16"],
 }
 
 
@@ -88,77 +82,6 @@ def test_mesh_resolution_report_prints_the_cost_ratio(runs):
     assert (budget["vertical_pct"] <= budget["vertical_high_pct"]).all()
     assert "were not cross-checked" in md  # the baseline_grid records are absent here
     assert (store.path / "report" / "figures" / "fig20_mesh_resolution.png").exists()
-
-
-def test_surrogate_report_from_the_run(runs):
-    store = runs["surrogate"]
-    dataset = _table(store, "surrogate_dataset").set_index("group")
-    assert dataset.loc["all", "scenarios"] == 16
-    assert (store.path / "report" / "tables" / "surrogate_timing.csv").exists()
-    assert (store.path / "report" / "figures" / "figA1_surrogate.png").exists()
-
-
-def _synthetic(n=400, seed=3):
-    """Scenarios whose outcomes are known functions of the inputs (a check of the fitting)."""
-    rng = np.random.default_rng(seed)
-    df = pd.DataFrame({
-        "status": "ok", "shape": rng.choice(["sphere", "pear"], n),
-        "mass_kg": rng.uniform(0.1, 0.8, n), "mu": rng.uniform(0.05, 0.6, n),
-        "lambda1": rng.uniform(0.05, 1.5, n), "lambda2": rng.uniform(0.05, 1.5, n),
-        "msd_b": rng.uniform(0.1, 2.0, n), "n_exp": 0.487, "pso_n_evaluations": 25,
-        "pso_time_s": 0.05,
-    })
-    df["success"] = df["mass_kg"] < 0.3
-    df["success_vertical"] = df["mu"] > 0.3
-    df["residual_norm_n"] = 10 ** (3 * df["mass_kg"])
-    df["abs_residual_z_n"] = df["mass_kg"] * 9.81
-    df["delta_max_mm"] = 10 ** (1.5 - df["lambda1"])
-    return df
-
-
-def _manifest():
-    return {"config": {"seed": 5, "params": {"shapes": ["sphere", "pear"], "hidden_layers": [64, 32],
-                                             "n_trees": 100, "test_fraction": 0.2},
-                       "paper": study_paper("surrogate")},
-            "host": {"name": "test"}}
-
-
-def test_surrogate_fitting_recovers_known_structure(tmp_path):
-    pytest.importorskip("sklearn")
-    from graspcampaign.report.sections import surrogate
-
-    report = LegacyReport(Document("surrogate", "simulation", []), Run(_synthetic(), _manifest()))
-    surrogate.section(report, _synthetic(), _manifest())
-    cls = report.tables["surrogate_classification"].set_index(["label", "model"])
-    assert (cls["roc_auc"] > 0.95).all()
-    assert cls.loc[("success", "mlp"), "test_trials"] == 80  # stratified 80/20 of 400
-    # accuracy carries its Wilson 95 % interval over the test trials (statsmodels as reference)
-    from statsmodels.stats.proportion import proportion_confint
-
-    for _, row in cls.iterrows():
-        k = round(row["accuracy_pct"] / 100 * row["test_trials"])
-        low, high = proportion_confint(k, row["test_trials"], alpha=0.05, method="wilson")
-        assert (row["accuracy_low_pct"], row["accuracy_high_pct"]) == pytest.approx(
-            (100 * low, 100 * high), rel=1e-9)
-    reg = report.tables["surrogate_regression"].set_index(["target", "model"])
-    assert reg.loc[("log10_residual_norm_n", "random_forest"), "r2"] > 0.95
-    assert reg.loc[("log10_delta_max_mm", "random_forest"), "r2"] > 0.95
-    importance = report.tables["surrogate_feature_importance"]
-    assert importance.iloc[0]["feature"] == "mass_kg"  # the one input success depends on
-    timing = report.tables["surrogate_timing"]
-    assert timing["time_s"].iloc[0] == 0.05 and (timing["time_s"] > 0).all()
-
-
-def test_surrogate_section_without_scikit_learn(tmp_path, monkeypatch):
-    from graspcampaign.report.sections import surrogate
-
-    monkeypatch.setitem(sys.modules, "sklearn", None)  # import sklearn -> ImportError
-    report = LegacyReport(Document("surrogate", "simulation", []),
-                          Run(_synthetic(60), _manifest()))
-    surrogate.section(report, _synthetic(60), _manifest())
-    assert "surrogate_classification" not in report.tables
-    assert "surrogate_dataset" in report.tables
-    assert any("not installed" in b.markdown for b in report.doc.blocks if isinstance(b, Text))
 
 
 def test_a_non_finite_sweep_level_is_reported_not_raised(runs, tmp_path):

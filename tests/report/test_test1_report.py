@@ -1,149 +1,144 @@
-"""Report section of ``test1_bench``: Tables 4-5 and Figs. 23-26 beside the paper's values.
+"""Report of ``test1_bench``: Tables 4-5 and Figs. 23-26 beside the paper's values.
 
-Built from a reduced engine run (gel and reference silicone, specimens 1 and 11, normal-lab:
-568 events) and from specimen 1's events ingested as a measured run (no finalize tables). Numbers
-are checked against the rig's summaries of the in-process fits, not against the section's code.
+Built from the reduced engine run of the shared results tree (gel, specimens 1 and 11, every block,
+split and environment; conftest.py) and from its retained traces ingested as a measured run (no
+finalize tables). Report numbers are checked against the records with plain pandas and against
+statsmodels, not against the report's own helpers.
 """
 
 from __future__ import annotations
 
+import shutil
+
+import numpy as np
 import pandas as pd
 import pytest
-from PIL import Image
 from statsmodels.stats.proportion import proportion_confint
 
 from graspcampaign.campaign.compose import compose_study
 from graspcampaign.campaign.ingest import ingest_files
-from graspcampaign.campaign.runner import run_study
+from graspcampaign.campaign.records import RunStore
 from graspcampaign.report.build import build_reports
-from graspcampaign.rig import test1 as T
 
-SEED = 701
-SELECT = {"materials": ["gel", "silicone_ref"], "specimens": [1, 11],
-          "environments": ["normal_lab"]}
-OVERRIDES = ["params.materials=[gel,silicone_ref]", "params.specimens=[1,11]",
-             "params.environments=[normal_lab]", "params.pso_restarts=3",
-             "params.pso_particles=12", "params.pso_iterations=40", "params.pso_max_reruns=1",
-             "runner.backend=sequential", "runner.progress=false"]
-FIGURES = ("fig23_normal_law", "fig24_tangential", "fig25_relaxation_cycling",
-           "fig26_identification")
+FIGURES = {"fig23_normal_law", "fig24_tangential", "fig25_relaxation_cycling", "fig26_identification"}
 
 
 @pytest.fixture(scope="module")
-def reported(tmp_path_factory):
-    root = tmp_path_factory.mktemp("t1report")
-    study = compose_study("test1_bench", [f"output.root={root}", *OVERRIDES])
-    run_study(study)
-    schedule = T.test1_schedule(SEED, **SELECT)
-    ref = T.run_virtual_bench(schedule, SEED, keep_waveforms=True)
-    path = root / "waves.parquet"  # the measured run: specimen 1's events, ingested
-    ids = set(schedule.loc[schedule["specimen"] == 1, "event_id"])
-    ref.waveforms[ref.waveforms["event_id"].isin(ids)].to_parquet(path, index=False)
-    ingest_files(study, [str(path)])
-    build_reports(["test1_bench"], root=root, formats=["md", "csv"])
-    return root, ref
+def run(sim_root):
+    path = sim_root / "test1_bench" / "default"
+    return path, RunStore(path).read().to_pandas()
 
 
-def _tables(root, run):
-    folder = root / "test1_bench" / run / "report"
-    return folder, (folder / "report.md").read_text()
+def _table(path, name):
+    return pd.read_csv(path / "report" / "tables" / f"{name}.csv")
 
 
-def test_report_labels_virtual_rig_data(reported):
-    root, _ = reported
-    _, text = _tables(root, "default")
-    assert "VIRTUAL RIG" in text
-    assert "not hardware measurements" in text
+def test_every_page_and_figure_says_virtual_rig(run, tmp_path):
+    path, _ = run
+    md = (path / "report" / "report.md").read_text()
+    assert "VIRTUAL RIG" in md and "not hardware measurements" in md
+    assert md.index("## What this shows") < md.index("VIRTUAL RIG data: synthetic waveforms")
+    copy = tmp_path / "results" / "test1_bench" / "default"
+    shutil.copytree(path, copy, ignore=shutil.ignore_patterns("report"))
+    build_reports(["test1_bench"], root=tmp_path / "results", figure_format="svg")
+    for name in FIGURES:
+        svg = (copy / "report" / "figures" / f"{name}.svg").read_text()
+        assert "data: VIRTUAL RIG (synthetic data)" in svg, name
 
 
-def test_table4_is_the_rig_summary_beside_the_paper(reported):
-    root, ref = reported
-    folder, _ = _tables(root, "default")
-    table = pd.read_csv(folder / "tables" / "table4.csv")
-    assert table["row"].tolist() == ["ours", "paper", "ours", "paper"]
-    ours = table[table["row"] == "ours"].set_index("material")
-    want = T.table4(ref.fits, ref.truths).set_index("material")
-    for col in ("exponent_n", "k_n_per_mm_n", "f05_n", "mu_s", "mu_k", "k_t_n_per_mm", "rho",
-                "tau_s"):
-        pd.testing.assert_series_equal(ours[col], want[col], check_names=False, rtol=1e-12)
-    paper = table[table["row"] == "paper"].set_index("material")
-    assert paper.loc["gel", "exponent_n"] == 0.473 and paper.loc["silicone_ref", "mu_s"] == 0.509
-    assert paper.loc["gel", "modulus_kpa"] == 40.1 and paper.loc["gel", "modulus_sd_kpa"] == 6.2
+def test_table4_is_the_records_beside_the_paper(run):
+    path, records = run
+    t4 = _table(path, "table4")
+    assert t4["row"].tolist() == ["ours", "paper"]
+    ours, paper = t4.iloc[0], t4.iloc[1]
+    ok = records[(records["status"] == "ok") & records["fit_ok"].astype(bool)]
+    normal = ok[(ok["block"] == "normal") & ok["accepted"].astype(bool)]
+    assert ours["exponent_n"] == pytest.approx(normal["exponent_n"].mean(), rel=1e-12)
+    assert ours["n_accepted_fits"] == len(normal)
+    assert ours["mu_k"] == pytest.approx(ok.loc[ok["block"] == "sliding", "mu_k"].mean(), rel=1e-12)
+    assert ours["tau_s"] == pytest.approx(ok.loc[ok["block"] == "relaxation", "tau_s"].mean(), rel=1e-12)
+    truths = RunStore(path).read("summary/truths").to_pandas().drop_duplicates("specimen")
+    assert ours["modulus_sd_kpa"] == pytest.approx(np.std(truths["modulus_kpa"], ddof=1), rel=1e-12)
+    assert (paper["exponent_n"], paper["modulus_kpa"], paper["tau_s"]) == (0.473, 40.1, 7.1)
 
 
-def test_table5_and_transfer_beside_the_paper(reported):
-    root, _ = reported
-    folder, _ = _tables(root, "default")
-    t5 = pd.read_csv(folder / "tables" / "table5.csv").set_index("parameter")
-    assert list(t5.index) == ["lambda1", "lambda2", "n", "b", "k", "c"]
-    assert t5.loc["n", "paper_mean"] == 0.483 and t5.loc["n", "paper_cv_pct"] == 20.5
-    assert t5.loc["lambda1", "simulation_table3"] == 0.332
-    assert (t5["n_runs"] >= 3).all()
-    transfer = pd.read_csv(folder / "tables" / "transfer.csv")
-    paper = transfer.set_index(["quantity", "split"])["paper_pct"]
-    assert paper[("normal_force", "unseen_speed")] == 3.64
-    assert paper[("flat_to_curved", "flat_to_curved")] == 4.3
-    assert set(transfer["split"]) == set(T.SPLITS)
+def test_section_7_claims_against_the_records(run):
+    path, records = run
+    claims = _table(path, "test1_claims").set_index("quantity")
+    assert claims.loc["μs > μk in every family", ["value", "paper"]].tolist() == ["True", "True"]
+    claims = claims.drop(index="μs > μk in every family").astype({"value": float, "n": float})
+    ok = records[records["status"] == "ok"]
+    acc = ok[(ok["block"] == "normal") & ok["fit_ok"].astype(bool) & ok["accepted"].astype(bool)]
+    row = claims.loc["contact exponent n, accepted fits: mean"]
+    assert (row["value"], row["n"], row["paper"]) == (pytest.approx(acc["exponent_n"].mean(), rel=1e-12),
+                                                       len(acc), "0.46")
+    slides = ok[(ok["block"] == "sliding") & ok["fit_ok"].astype(bool)]
+    warm = claims.loc["μs warm/humid: campaign mean"]
+    assert warm["value"] == pytest.approx(slides.loc[slides["environment"] == "warm_humid", "mu_s"].mean())
+    assert claims.loc["kt per family: lowest family", "paper"] == "2.00–5.00"
+    # a share carries n and its Wilson interval (statsmodels)
+    share = claims.loc["Coulomb prediction = measured slip"]
+    k = round(share["value"] / 100 * share["n"])
+    low, high = proportion_confint(k, share["n"], method="wilson")
+    assert (share["low"], share["high"]) == pytest.approx((100 * low, 100 * high))
+    assert share["n"] == (ok["block"] == "oblique").sum()
+    margins = _table(path, "oblique_margin").set_index("angle_deg")
+    assert margins.loc[45.0, "paper_n"] == -0.16 and np.isnan(margins.loc[15.0, "paper_n"])
+    assert margins["events"].sum() == share["n"]
 
 
-def test_section_7_claims_and_counts(reported):
-    root, ref = reported
-    folder, _ = _tables(root, "default")
-    claims = pd.read_csv(folder / "tables" / "test1_claims.csv").set_index("quantity")
-    acc = ref.fits[(ref.fits["block"] == "normal") & ref.fits["accepted"]]
-    row = claims.loc["contact exponent n, accepted fits (mean ± SD)"]
-    assert row["paper"] == "0.46 ± 0.07"
-    assert row["ours_value"] == pytest.approx(acc["exponent_n"].mean(), rel=1e-12)
-    ob = T.oblique_summary(ref.fits).groupby("angle_deg")["margin_n"].mean()
-    assert claims.loc["slip margin μs fn − ft at 45° (mean, N)", "ours_value"] == pytest.approx(
-        ob[45.0], rel=1e-12)
-    assert claims.loc["slip margin μs fn − ft at 45° (mean, N)", "paper"] == "-0.16"
-    counts = pd.read_csv(folder / "tables" / "test1_counts.csv").set_index("quantity")
-    assert counts.loc["completed events (fitted)", "ours"] == 568
-    assert counts.loc["commanded attempts", "ours"] == len(ref.attempts)
+def test_counts_table_against_the_records_and_traces(run):
+    path, records = run
+    counts = _table(path, "test1_counts").set_index("quantity")
+    store = RunStore(path)
+    assert counts.loc["completed events (fitted)", "ours"] == (records["event_status"] == "completed").sum()
+    assert counts.loc["commanded attempts", "ours"] == len(store.read("tables/attempts"))
+    assert counts.loc["trace samples kept", "ours"] == len(store.read("tables/waveforms"))
     assert counts.loc["normal fits accepted", "paper"] == 4888
 
 
-def test_figures_23_to_26_are_written(reported):
-    root, _ = reported
-    folder, text = _tables(root, "default")
+def test_table5_says_which_runs_ended_on_a_bound(run):
+    path, _ = run
+    t5 = _table(path, "table5").set_index("parameter")
+    runs = RunStore(path).read("summary/pso_runs").to_pandas()
+    conv = runs[runs["converged"]]
+    assert list(t5.index) == ["lambda1", "lambda2", "n", "b", "k", "c"]
+    for p in t5.index:
+        assert t5.loc[p, "n_at_bound"] == sum(p in str(b).split(",") for b in conv["at_bound"])
+        assert t5.loc[p, "cv_pct"] == pytest.approx(100 * conv[p].std() / conv[p].mean(), rel=1e-12)
+    assert (t5.loc["n", "paper_cv_pct"], t5.loc["lambda1", "paper_simulation"]) == (20.5, 0.332)
+    pso = _table(path, "pso_summary").set_index("quantity")
+    assert pso.loc["PSO runs logged", "value"] == len(runs)
+    transfer = _table(path, "transfer").set_index(["quantity", "split"])
+    assert transfer.loc[("normal_force", "unseen_speed"), "paper_pct"] == 3.64
+    assert transfer.loc[("flat_to_curved", "flat_to_curved"), "paper_pct"] == 4.3
+    assert np.isnan(transfer.loc[("friction", "train"), "paper_pct"])
+
+
+def test_figures_23_to_26_are_written(run):
+    path, _ = run
+    from PIL import Image
+
     for name in FIGURES:
-        path = folder / "figures" / f"{name}.png"
-        assert path.stat().st_size > 20_000, name
-        width, height = Image.open(path).size
-        assert width > 1000 and height > 400
-        assert f"figures/{name}.png" in text
+        png = path / "report" / "figures" / f"{name}.png"
+        assert png.stat().st_size > 30_000, name
+        assert Image.open(png).size[0] > 1500
 
 
-def test_ingested_run_reports_without_finalize_tables(reported):
-    root, _ = reported
-    folder, text = _tables(root, "measured")
-    assert (folder / "tables" / "table4.csv").exists()
-    assert "finalize stage of `graspcampaign run`" in text
-    assert "its files carried `source = virtual`" in text  # ingested exports stay labelled
-    assert not (folder / "tables" / "table5.csv").exists()
-    for name in FIGURES[:3]:
-        assert (folder / "figures" / f"{name}.png").exists()
-
-
-def test_every_figure_is_labelled_virtual_in_its_title(reported, monkeypatch):
-    from graspcampaign.report.build import LegacyReport as Report
-
-    root, _ = reported
-    titles = {}
-    monkeypatch.setattr(Report, "figure", lambda self, name, fig, caption: titles.setdefault(
-        name, fig._suptitle.get_text() if fig._suptitle else ""))
-    build_reports(["test1_bench"], run="default", root=root, formats=["md"])
-    assert sorted(titles) == sorted(FIGURES)
-    for name, title in titles.items():
-        assert "VIRTUAL RIG data" in title and "not hardware measurements" in title, name
-
-
-def test_oblique_shares_carry_n_and_wilson_interval(reported):
-    root, _ = reported
-    folder, _ = _tables(root, "default")
-    claims = pd.read_csv(folder / "tables" / "test1_claims.csv").set_index("quantity")
-    ours = claims.loc["Coulomb class = measured slip (%)", "ours"]
-    k, n = (int(v) for v in ours.split(" = ")[0].split("/"))
-    low, high = proportion_confint(k, n, method="wilson")
-    assert ours == f"{k}/{n} = {100 * k / n:.1f} % ({100 * low:.1f}–{100 * high:.1f})"
+def test_ingested_traces_are_reported_without_finalize_tables(run, tmp_path):
+    path, _ = run
+    waves = RunStore(path).read("tables/waveforms").to_pandas().drop(columns=["trial_id"])
+    files = tmp_path / "waves.parquet"
+    waves.assign(source="virtual").to_parquet(files, index=False)  # virtual-bench exports
+    study = compose_study("test1_bench", [f"output.root={tmp_path / 'results'}", "params.materials=[gel]",
+                                          "params.specimens=[1,11]"])
+    ingest_files(study, [str(files)])
+    assert build_reports(["test1_bench"], root=tmp_path / "results").failed == []
+    out = tmp_path / "results" / "test1_bench" / "measured" / "report"
+    md = (out / "report.md").read_text()
+    assert "finalize stage of `graspcampaign run`" in md and "its files carried `source = virtual`" in md
+    assert {p.stem for p in (out / "tables").glob("*.csv")} == {
+        "test1_counts", "table4", "test1_claims", "oblique_margin", "status"}
+    assert {p.stem for p in (out / "figures").glob("*.png")} == FIGURES - {"fig26_identification"}
+    assert _table(out.parent, "test1_counts").set_index("quantity").loc[
+        "completed events (fitted)", "ours"] == waves["event_id"].nunique()

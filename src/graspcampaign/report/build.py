@@ -14,8 +14,7 @@ from graspcampaign.campaign.records import RunStore
 from graspcampaign.errors import ConfigError, UserInputError
 from graspcampaign.report import document as D
 from graspcampaign.report import spec as S
-from graspcampaign.report import style
-from graspcampaign.report.document import NAV, Col, Document, Figure, Table, Text
+from graspcampaign.report.document import NAV, Col, Document, Table, Text
 from graspcampaign.report.render import Run, provenance, reason, render
 
 log = logging.getLogger(__name__)
@@ -28,14 +27,10 @@ SPECS: dict[str, str] = {
     "pso_repeatability": "pso:SPEC", "gravity_settle": "dynamic:GRAVITY_SETTLE",
     "friction_mass": "dynamic:FRICTION_MASS", "sensitivity": "sensitivity:SPEC",
     "mesh_resolution": "mesh_resolution:SPEC", "test2_grasp": "test2:SPEC",
-    "test3_disturbance": "test3:SPEC"}
+    "test3_disturbance": "test3:SPEC", "surrogate": "surrogate:SPEC", "test1_bench": "test1:SPEC"}
 #: trial kind -> spec for studies of that kind without a spec of their own
 KIND_SPECS: dict[str, str] = {"quasi_static": "quasi_static:PLANNERS", "mesh_features": "smoke:SPEC",
                               "sensitivity": "sensitivity:SPEC", "mesh_resolution": "mesh_resolution:SPEC"}
-#: LEGACY PATH (issue 14): trial kind -> "module:function(report, records, manifest, store)" of the
-#: section modules not yet ported to a spec. Remove an entry when its study is ported.
-LEGACY: dict[str, str] = {k: f"graspcampaign.report.sections.{m}:section" for k, m in (
-    ("surrogate", "surrogate"), ("test1_bench", "test1"))}
 
 
 class ReportBatch(list):
@@ -47,7 +42,7 @@ class ReportBatch(list):
 
 
 def spec_for(study: str, kind: str) -> S.ReportSpec | None:
-    """Return the study's spec (by name, else by kind), or None (legacy path / generic)."""
+    """Return the study's spec (by name, else by kind), or None (generic tables only)."""
     target = SPECS.get(study) or KIND_SPECS.get(kind)
     if target is None:
         return None
@@ -103,8 +98,6 @@ def report_run(store: RunStore, root: Path, formats: list[str], figure_format: s
         spec = spec_for(study, kind) if study in SPECS else spec_for(like, kind)
         if spec is not None:
             render(spec, run, doc)
-        elif kind in LEGACY:
-            _legacy(kind, run, doc)
         render(GENERIC, run, doc)
     for failure in run.failures:
         log.warning("report %s/%s: %s", study, manifest.get("run"), failure)
@@ -167,43 +160,3 @@ def write_index(root: Path, formats: list[str]) -> None:
             Table("index", "Every run's report", frame, [
                 Col("study", "study"), Col("run", "run", link="report"), Col("source", "source"),
                 Col("trials", "trials")], csv=None)]).write_pages(root / "index", [page])
-
-
-# ------------------------------------------------------------------------------------------
-# LEGACY PATH: section modules not yet ported to a spec (see LEGACY); remove with the last one
-# ------------------------------------------------------------------------------------------
-class LegacyReport:
-    """The section modules' old ``Report`` API (text, table, figure) writing into a Document; their
-    tables show their own display frame (marked ``legacy``), not the one formatter's cells."""
-
-    def __init__(self, doc: Document, run: Run):
-        self.doc, self.run, self.tables = doc, run, {}
-
-    def text(self, markdown: str) -> None:
-        self.doc.blocks.append(Text(markdown.strip()))
-
-    def table(self, name: str, df: pd.DataFrame, caption: str, display: pd.DataFrame | None = None) -> None:
-        self.tables[name] = self.run.tables[name] = df
-        shown = (df if display is None else display).astype(object).where(lambda d: d.notna(), "")
-        self.doc.blocks.append(Table(name, caption, df.reset_index(drop=True), [
-            Col(str(c), str(c)) for c in shown.columns], shown.astype(str).to_numpy().tolist()))
-
-    def figure(self, name: str, fig, caption: str) -> None:
-        images = style.save(fig, self.run.source, (self.run.figure_format,))
-        self.doc.blocks.append(Figure(name, caption, images))
-        if getattr(fig.canvas, "manager", None) is not None:  # a pyplot figure
-            import matplotlib.pyplot as plt
-
-            plt.close(fig)
-
-
-def _legacy(kind: str, run: Run, doc: Document) -> None:
-    module, attr = LEGACY[kind].split(":")
-    manifest = {**run.manifest, "config": {**run.config, "paper": run.paper}}  # typed values
-    try:
-        section = getattr(importlib.import_module(module), attr)
-        section(LegacyReport(doc, run), run.records, manifest, run.store)
-    except Exception as exc:  # noqa: BLE001 - the parts written so far are kept
-        log.debug("legacy section %s failed", kind, exc_info=True)
-        run.failures.append(f"section {kind}: {reason(exc)}")
-        doc.blocks.append(Text(f"The rest of this section could not be computed: {reason(exc)}.", "note"))

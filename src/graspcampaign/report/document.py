@@ -117,13 +117,10 @@ class Table:
     caption: str
     frame: pd.DataFrame
     cols: list[Col]
-    legacy: list[list[str]] | None = None  # LEGACY PATH: a section's own display cells
     csv: str | None = "tables/{name}.csv"
 
     def cells(self) -> list[list[tuple[str, str | None]]]:
         """Every row's ``(text, link target or None)`` per shown column."""
-        if self.legacy is not None:
-            return [[(v, None) for v in r] for r in self.legacy]
         return [[(cell(r, c), None if not c.link or fmt.is_missing(r.get(c.link)) else str(r[c.link]))
                  for c in self.cols] for r in self.frame.to_dict("records")]
 
@@ -138,13 +135,12 @@ class Table:
 
     def html(self) -> str:
         """A styled HTML table; each header names the CSV columns it shows (``data-cols``)."""
-        head = "".join(f"<th data-cols='{' '.join(c.keys) if self.legacy is None else ''}'>"
+        head = "".join(f"<th data-cols='{' '.join(c.keys)}'>"
                        f"{html.escape(c.label)}</th>" for c in self.cols)
         body = "".join("<tr>" + "".join(f"<td><a href='{html.escape(h, quote=True)}'>{html.escape(v)}</a>"
                                         f"</td>" if h else f"<td>{html.escape(v)}</td>" for v, h in r)
                        + "</tr>" for r in self.cells())
-        attrs = (f" data-table='{self.name}'" if self.csv else "") + \
-            (" data-legacy='1'" if self.legacy is not None else "")
+        attrs = f" data-table='{self.name}'" if self.csv else ""
         csv = f" <span class='csv'>{self.csv.format(name=self.name)}</span>" if self.csv else ""
         return (f"<div class='table' id='t-{self.name}'><table{attrs}><caption>{inline(self.caption)}{csv}"
                 f"</caption><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table></div>")

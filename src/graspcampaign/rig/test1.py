@@ -32,20 +32,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from graspcampaign.analysis.calibration import (
-    MATERIALS,
-    SOURCE,
-    WAVEFORM_COLUMNS,
-    channels,
-    cyclic_summary,
-    damage_depths,
-    normal_traces,
-    oblique_summary,
-    pso_transfer_errors,
-    table4,
-    table5,
-)
-from graspcampaign.analysis.calibration import transfer_errors as _transfer_errors
+from graspcampaign.analysis.calibration import MATERIALS, cyclic_summary, oblique_summary, table4, table5
 from graspcampaign.core import bench
 from graspcampaign.core.bench import FAMILIES, EventCommand, SensorParams, SpreadParams
 from graspcampaign.core.contact import contact_damping_c, contact_stiffness_k
@@ -57,6 +44,15 @@ from graspcampaign.rig.ingest import (
     header_problems,
     read_table,
 )
+from graspcampaign.rig.test1_summary import (
+    SOURCE,
+    WAVEFORM_COLUMNS,
+    channels,
+    damage_depths,
+    normal_traces,
+    pso_transfer_errors,
+)
+from graspcampaign.rig.test1_summary import transfer_errors as _transfer_errors
 
 log = logging.getLogger(__name__)
 
@@ -976,7 +972,7 @@ def fit_waveforms(waveforms: pd.DataFrame, schedule: pd.DataFrame,
 
 def transfer_errors(fits: pd.DataFrame, waveforms: pd.DataFrame | None = None,
                     protocol: Test1Protocol | None = None) -> pd.DataFrame:
-    """:func:`graspcampaign.analysis.calibration.transfer_errors` with the protocol's curved
+    """:func:`graspcampaign.rig.test1_summary.transfer_errors` with the protocol's curved
     radius (the flat-to-curved split's specimens)."""
     p = Test1Protocol() if protocol is None else protocol
     return _transfer_errors(fits, waveforms, curved_radius_mm=p.curved_radius_mm)

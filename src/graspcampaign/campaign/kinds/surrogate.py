@@ -8,20 +8,25 @@ grasp on the 390-node mesh and the quasi-static evaluator judges it under the dr
 Each trial also times a brief PSO pre-screening call (about 25 evaluations, Appendix A) on its own
 contact set: the cost the surrogate is meant to replace.
 
-The models themselves (64-32 MLP, 100-tree random forest) are fitted by the report section
-(``graspcampaign.report.sections.surrogate``), from these records only. scikit-learn is needed
-for that, and the study refuses to run without it (exit 2) so that no dataset is generated
-that could not be analysed.
+The models themselves (64-32 MLP, 100-tree random forest) are fitted, scored and timed by
+:func:`finalize` once every scenario is recorded, and stored in ``summary/``; the report only
+reads those tables. scikit-learn is needed for that, and the study refuses to run without it
+(exit 2) so that no dataset is generated that could not be analysed.
 """
 
 from __future__ import annotations
 
+import socket
 import time
+import warnings
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+import pandas as pd
 
+from graspcampaign.analysis.rates import wilson_interval
+from graspcampaign.analysis.records import executed
 from graspcampaign.campaign.kind import TrialInput, TrialKind
 from graspcampaign.campaign.kinds import common
 from graspcampaign.campaign.kinds.sensitivity import check_range, plan_and_evaluate
@@ -112,10 +117,176 @@ def run(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
     return out
 
 
+# -- the models (Appendix A), fitted once every scenario is recorded ------------------------------
+NUMERIC = ["mass_kg", "mu", "lambda1", "lambda2", "msd_b"]
+"""Appendix A's sampled inputs besides the shape (n is fixed, so it is not a feature)."""
+MIN_POSITIVES = 10
+"""Fewer positives (or negatives) than this and a classifier is not fitted: AUC would be noise."""
+LOG_FLOOR = 1e-3  # floor before log10 of a residual [N] or a penetration [mm] that may be 0
+LABELS = ("success", "success_unbounded", "success_vertical")
+"""The configured check (with the validity gate), Algorithm 1 as published (no gate: the paper's
+label) and the |R_z| reading (docs/records.md)."""
+
+
+def features(df: pd.DataFrame, shapes: list[str]) -> pd.DataFrame:
+    """Return the model inputs: one 0/1 column per shape and the numeric scenario values."""
+    out = df[NUMERIC].astype(float).copy()
+    for shape in shapes:
+        out[f"shape_{shape}"] = (df["shape"] == shape).astype(float)
+    return out
+
+
+def targets(df: pd.DataFrame) -> dict[str, np.ndarray]:
+    """Regression targets: the paper's vertical residual, and log10 of ‖R‖ and δ_max."""
+    def log(c):
+        return np.log10(np.maximum(df[c].to_numpy(float), LOG_FLOOR))
+    return {"abs_residual_z_n": df["abs_residual_z_n"].to_numpy(dtype=float),
+            "log10_residual_norm_n": log("residual_norm_n"),
+            "log10_delta_max_mm": log("delta_max_mm")}
+
+
+def models(params: SurrogateParams, seed: int, regression: bool) -> dict[str, Any]:
+    """The standardised 64-32 MLP and the 100-tree random forest of Appendix A."""
+    from sklearn.ensemble import RandomForestClassifier, RandomForestRegressor
+    from sklearn.neural_network import MLPClassifier, MLPRegressor
+    from sklearn.pipeline import make_pipeline
+    from sklearn.preprocessing import StandardScaler
+
+    mlp = (MLPRegressor if regression else MLPClassifier)(
+        hidden_layer_sizes=tuple(params.hidden_layers), max_iter=2000, random_state=seed)
+    forest = (RandomForestRegressor if regression else RandomForestClassifier)(
+        n_estimators=params.n_trees, random_state=seed, n_jobs=1)
+    return {"mlp": make_pipeline(StandardScaler(), mlp),
+            "random_forest": make_pipeline(StandardScaler(), forest)}
+
+
+def prediction_time_s(model, row: np.ndarray, repeats: int = 200, budget_s: float = 0.5
+                      ) -> tuple[float, int]:
+    """Median wall time of one single-row prediction [s] over up to ``repeats`` calls (at
+    least 5, then within ``budget_s``), and the number of calls timed."""
+    predict = getattr(model, "predict_proba", model.predict)
+    predict(row)  # warm-up
+    times: list[float] = []
+    stop = time.perf_counter() + budget_s
+    while len(times) < repeats and (len(times) < 5 or time.perf_counter() < stop):
+        start = time.perf_counter()
+        predict(row)
+        times.append(time.perf_counter() - start)
+    return float(np.median(times)), len(times)
+
+
+def _fit(model, x, y) -> None:
+    from sklearn.exceptions import ConvergenceWarning
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        model.fit(x, y)
+
+
+def finalize(study, params: SurrogateParams, records: pd.DataFrame, store=None
+             ) -> dict[str, list[dict[str, Any]]]:
+    """Fit, score and time Appendix A's surrogates on the run's executed scenarios.
+
+    Features: the shape one-hot and m, μ, λ1, λ2, b (standardised in the pipeline). For each
+    label of :data:`LABELS` with at least :data:`MIN_POSITIVES` of either class, a stratified
+    ``1 - test_fraction`` / ``test_fraction`` split (``random_state`` = study seed) trains both
+    classifiers; the held-out trials give ROC AUC, accuracy (with its Wilson 95 % interval),
+    the majority-class accuracy and the ROC curve. Both regressors predict |R_z|, log10 ‖R‖ and
+    log10 δ_max on the first label's split (R² held out). One single-row prediction of the first
+    fitted label's classifiers (else of the |R_z| regressors) is timed here, beside the median
+    of the brief PSO calls timed in the trials.
+
+    Returns
+    -------
+    dict
+        ``surrogate_classification``, ``surrogate_regression``, ``surrogate_importance``
+        (random-forest impurity importances), ``surrogate_roc`` (curve points),
+        ``surrogate_parity`` (the MLP's held-out log10 ‖R‖ against the simulated one) and
+        ``surrogate_timing`` (the PSO call, then one prediction per model), stored in
+        ``summary/<name>/``.
+    """
+    import sklearn
+    from sklearn.metrics import r2_score, roc_auc_score, roc_curve
+    from sklearn.model_selection import train_test_split
+
+    ok, seed = executed(records), int(study.seed)
+    frame = features(ok, list(params.shapes))
+    x = frame.to_numpy()  # plain arrays: what a deployed surrogate would be fed
+    out: dict[str, list[dict[str, Any]]] = {k: [] for k in (
+        "surrogate_classification", "surrogate_regression", "surrogate_importance",
+        "surrogate_roc", "surrogate_parity", "surrogate_timing")}
+    split, timed = None, {}
+    for label in LABELS:
+        y = ok[label].astype(bool).to_numpy()
+        base = {"label": label, "positives": int(y.sum()), "trials": len(y),
+                "class_balance_pct": 100 * float(y.mean()) if len(y) else np.nan}
+        if min(y.sum(), len(y) - y.sum()) < MIN_POSITIVES:
+            out["surrogate_classification"].append({**base, "note": (
+                f"not fitted: fewer than {MIN_POSITIVES} trials of one class")})
+            continue
+        train, test = train_test_split(np.arange(len(y)), test_size=params.test_fraction,
+                                       stratify=y, random_state=seed)
+        first, split = split is None, split or (train, test)
+        for name, model in models(params, seed, regression=False).items():
+            _fit(model, x[train], y[train])
+            if first:
+                timed[name] = (model, f"{label} probability")
+            score = model.predict_proba(x[test])[:, 1]
+            fpr, tpr, _ = roc_curve(y[test], score)
+            out["surrogate_roc"] += [{"label": label, "model": name, "fpr": float(a),
+                                      "tpr": float(b)} for a, b in zip(fpr, tpr, strict=True)]
+            hits = int(np.sum(model.predict(x[test]) == y[test]))
+            w = wilson_interval(hits, len(test))
+            out["surrogate_classification"].append({
+                **base, "model": name, "test_trials": len(test),
+                "test_positives": int(y[test].sum()), "roc_auc": float(roc_auc_score(
+                    y[test], score)), "accuracy_pct": 100 * w.estimate,
+                "accuracy_low_pct": 100 * w.low, "accuracy_high_pct": 100 * w.high,
+                "majority_class_accuracy_pct": 100 * max(y[test].mean(), 1 - y[test].mean()),
+                "note": ""})
+            if name == "random_forest" and not out["surrogate_importance"]:
+                out["surrogate_importance"] = [
+                    {"label": label, "feature": f, "importance": float(v)} for f, v in sorted(
+                        zip(frame.columns, model[-1].feature_importances_, strict=True),
+                        key=lambda fv: -fv[1])]
+    train, test = split or train_test_split(np.arange(len(ok)), test_size=params.test_fraction,
+                                            random_state=seed)
+    fallback = not timed  # no classifier fitted: time the regressors of the paper's target
+    for target, values in targets(ok).items():
+        for name, model in models(params, seed, regression=True).items():
+            _fit(model, x[train], values[train])
+            predicted = model.predict(x[test])
+            # R² divides by the held-out variance: undefined when the target is constant to
+            # round-off (|R_z| of force-closed grasps is 0 up to 1e-15 N)
+            flat = np.ptp(values[test]) <= 1e-9 * max(1.0, float(np.abs(values).max()))
+            out["surrogate_regression"].append({
+                "target": target, "model": name, "test_trials": len(test),
+                "r2": np.nan if flat else float(r2_score(values[test], predicted)),
+                "note": "held-out target constant to round-off: R² undefined" if flat else ""})
+            if name == "mlp" and target == "log10_residual_norm_n":
+                out["surrogate_parity"] = [{"target": target, "model": name, "simulated": float(
+                    a), "predicted": float(b)} for a, b in zip(values[test], predicted,
+                                                               strict=True)]
+            if fallback and target == "abs_residual_z_n":
+                timed[name] = (model, target)
+    host = socket.gethostname()
+    out["surrogate_timing"] = [{
+        "what": "pso_call", "predicts": "", "time_s": float(ok["pso_time_s"].median()),
+        "n_timed": len(ok), "evaluations": int(ok["pso_n_evaluations"].median()),
+        "host": host, "sklearn_version": sklearn.__version__}]
+    for name, (model, predicts) in timed.items():
+        t, n = prediction_time_s(model, x[:1])
+        out["surrogate_timing"].append({"what": name, "predicts": predicts, "time_s": t,
+                                        "n_timed": n, "evaluations": 0, "host": host,
+                                        "sklearn_version": sklearn.__version__})
+    return out
+
+
 SURROGATE = TrialKind(
     name="surrogate",
     run=run,
     params=SurrogateParams,
     seconds_per_trial=0.03,
+    finalize=finalize,
     description="Appendix A dataset: sampled scenarios through the evaluator (+ a brief PSO call)",
 )

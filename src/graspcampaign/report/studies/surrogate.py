@@ -1,0 +1,195 @@
+"""Report of ``surrogate`` (Appendix A, Fig. A.1): the scenarios, and the models the run's finalize stage
+fitted, scored and timed (``summary/surrogate_*``); nothing is fitted or timed here."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+
+from graspcampaign.analysis import records as rec
+from graspcampaign.analysis.vocabulary import label, ordered
+from graspcampaign.report import style
+from graspcampaign.report.document import Col, cols
+from graspcampaign.report.render import Run
+from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, verdicts
+
+MODELS = {"pso_call": ("brief PSO call", "#7b4ea3"), "mlp": ("MLP 64-32", "#1f5aa6"),
+          "random_forest": ("random forest", "#e08a1e")}
+LABELS = ("success", "success_unbounded", "success_vertical")
+PAPER_LABEL = "success_unbounded"  # Algorithm 1 as published, no validity gate: the paper's label
+WHY = ("`docs/decisions.md`, *Sensitivity, mesh resolution, surrogate (issue 7)*, *Contact law, "
+       "evaluator, planners, PSO (issue 4)* and *Physical validity, grip laws, Ferrari–Canny ε (issues 13 "
+       "and 17, quasi-static side)*")
+
+
+def _read(name: str, *need: str):
+    """The finalize table ``summary/surrogate_<name>`` (with the ``need`` columns, empty if absent)."""
+    def read(run: Run) -> pd.DataFrame:
+        if not len(t := run.part(f"summary/surrogate_{name}")) and need:
+            raise ValueError(f"the run has no summary/surrogate_{name}: `graspcampaign run surrogate` fits "
+                             "the models once every scenario is recorded")
+        t = t.assign(**{c: t.get(c) for c in need})
+        key = t.get("model", t.get("what"))
+        return t if key is None else t.assign(model_label=[MODELS.get(m, ("—",))[0] for m in key])
+    return read
+
+
+def _dataset(run: Run) -> pd.DataFrame:
+    rows = []
+    for group in ["all", *ordered("shape", run.ok["shape"])]:
+        g = run.ok if group == "all" else run.ok[run.ok["shape"] == group]
+        row = {"group_label": label("shape", group), "n": len(g),
+               "paper_pct": run.paper.class_balance_pct if group == "all" else None}
+        for o in LABELS:
+            e = rec.rate(g, outcome=o)
+            row |= {f"{o}_pct": e.value, f"{o}_low_pct": e.low, f"{o}_high_pct": e.high}
+        rows.append(row)
+    return verdicts(pd.DataFrame(rows), "success_unbounded_pct", "paper_pct", "success_unbounded_low_pct",
+                    "success_unbounded_high_pct", unit="%")
+
+
+def _classification(run: Run) -> pd.DataFrame:
+    t, p = _read("classification", "model", "roc_auc", "accuracy_pct", "accuracy_low_pct", "test_trials",
+                 "test_positives", "majority_class_accuracy_pct",
+                 "accuracy_high_pct")(run), run.paper
+    main = t["label"] == PAPER_LABEL
+    t["paper_auc"] = [p.auc.get(m) if ok else None for m, ok in zip(t["model"], main, strict=True)]
+    t["paper_accuracy"] = [p.accuracy_pct if ok else None for ok in main]  # a range: (low, high)
+    for i, end in enumerate(("low", "high")):
+        t[f"paper_accuracy_{end}_pct"] = [r[i] if r else None for r in t["paper_accuracy"]]
+    acc = verdicts(t.copy(), "accuracy_pct", "paper_accuracy", "accuracy_low_pct", "accuracy_high_pct",
+                   unit="%", why="note")
+    return verdicts(t, "roc_auc", "paper_auc", digits=2, why="note").assign(
+        accuracy_verdict=acc["verdict"]).drop(columns="paper_accuracy")
+
+
+def _regression(run: Run) -> pd.DataFrame:
+    t = _read("regression", "r2")(run)
+    t["paper_r2"] = [run.paper.residual_r2 if (g, m) == ("abs_residual_z_n", "mlp") else None
+                     for g, m in zip(t["target"], t["model"], strict=True)]
+    return verdicts(t, "r2", "paper_r2", digits=2, why="note")
+
+
+def _timing(run: Run) -> pd.DataFrame:
+    t, p = _read("timing", "time_s")(run), run.paper
+    t["paper_time_s"] = t["what"].map({"pso_call": p.pso_call_time_s, "mlp": p.prediction_time_ms * 1e-3})
+    t["speedup"] = float(t.loc[t["what"] == "pso_call", "time_s"].iloc[0]) / t["time_s"]
+    t["paper_speedup"] = t["what"].map({"mlp": p.speedup})
+    return verdicts(t, "speedup", "paper_speedup", digits=0)
+
+
+def finding(run: Run) -> str:
+    d, p, t = run.tables["surrogate_dataset"].iloc[0], run.paper, run.tables
+    text = (f"{int(d['n'])} scenarios (paper {p.n_scenarios}): {d['success_unbounded_pct']:.1f}% are "
+            f"successes under Algorithm 1 as published (Wilson {d['success_unbounded_low_pct']:.1f}–"
+            f"{d['success_unbounded_high_pct']:.1f}%; paper {p.class_balance_pct:g}%), "
+            f"{d['success_pct']:.1f}% once a fingertip buried deeper than its radius is no contact (the "
+            f"configured check; median δmax {run.ok['delta_max_mm'].median():.3g} mm) and "
+            f"{d['success_vertical_pct']:.1f}% under the gated |R_z| reading. ")
+    cls = t["surrogate_classification"].query(f"label == '{PAPER_LABEL}'")
+    fit = cls[cls["roc_auc"].notna()]
+    aucs = ", ".join(f"AUC {r['roc_auc']:.2f} ({r['model_label']}; paper {r['paper_auc']:g}) at "
+                     f"{r['accuracy_pct']:.1f}% accuracy" for _, r in fit.iterrows())
+    text += (f"Scored on {int(fit['test_positives'].iloc[0])} held-out positives, the success classifiers "
+             f"reach {aucs}, against {fit['majority_class_accuracy_pct'].iloc[0]:.1f}% for always saying "
+             "'fails'. " if len(fit) else
+             f"The success classifiers were {cls['note'].iloc[0]}. ")
+    if len(reg := t["surrogate_regression"].dropna(subset=["r2"])):
+        best = reg.loc[reg["r2"].idxmax()]
+        text += (f"The best regression R² is {best['r2']:.2f} ({best['target']}, {best['model_label']}; "
+                 f"paper {p.residual_r2:g} for |R_z|)" + (": the residual depends on the sampled contact "
+                                                          "triple more than on the scenario's inputs. "
+                                                          if best["r2"] < p.residual_r2 else ". "))
+    else:
+        text += f"No regression R² could be computed ({t['surrogate_regression']['note'].iloc[0]}). "
+    if "mlp" in (tm := t["surrogate_timing"].set_index("what")).index:
+        text += (f"One MLP prediction takes {1e3 * tm.loc['mlp', 'time_s']:.3g} ms against "
+                 f"{tm.loc['pso_call', 'time_s']:.3g} s for the brief PSO call, "
+                 f"{tm.loc['mlp', 'speedup']:.0f}× (paper {p.prediction_time_ms:g} ms vs "
+                 f"{p.pso_call_time_s:g} s, {p.speedup:g}×): our swarm iteration is one vectorised "
+                 "evaluator call. ")
+    return text + ("Both timings were measured by the run, not by this report. Why ours differs from the "
+                   "paper (Algorithm 2 as published passes few grasps under ‖R‖, and those bury a fingertip "
+                   f"in SI): {WHY}.")
+
+
+def figA1(run: Run, fig) -> None:
+    ax_a, ax_b, ax_c = fig.subplots(1, 3)
+    roc, cls = _read("roc")(run), run.tables["surrogate_classification"].set_index(["label", "model"])
+    for (lab, m), g in roc.groupby(["label", "model"], sort=False) if len(roc) else ():
+        ls = dict(zip(LABELS, ("-", "--", ":"), strict=True))[lab]
+        ax_a.plot(g["fpr"], g["tpr"], color=MODELS[m][1], ls=ls,
+                  label=f"{MODELS[m][0]}, {lab}: AUC {cls.loc[(lab, m), 'roc_auc']:.2f}")
+    if not len(roc):
+        ax_a.text(0.5, 0.5, "not fitted: too few trials of one class", ha="center", transform=ax_a.transAxes)
+    ax_a.plot([0, 1], [0, 1], color=style.CRITERION, ls=":", label="chance")
+    ax_a.plot([], [], " ", label="paper AUC: " + ", ".join(f"{MODELS[m][0]} {v:g}" for m, v in
+                                                          run.paper.auc.items()))
+    ax_a.set(xlabel="false positive rate [–]", ylabel="true positive rate [–]",
+             title="(a) ROC, success classifiers (held out)")
+    ax_a.legend(loc="lower right", fontsize=6.5)
+    par, r2 = _read("parity")(run), run.tables["surrogate_regression"].set_index(["target", "model"])
+    if len(par):
+        ax_b.scatter(par["simulated"], par["predicted"], s=8, alpha=0.5, color=MODELS["mlp"][1],
+                     label=f"MLP, held out: R² {r2.loc[('log10_residual_norm_n', 'mlp'), 'r2']:.2f}")
+        lim = [par[["simulated", "predicted"]].min().min(), par[["simulated", "predicted"]].max().max()]
+        ax_b.plot(lim, lim, color="black", lw=1.0, label="parity")
+        tau = float(run.config["evaluator"]["tau_f_n"])
+        ax_b.axvline(math.log10(tau), color=style.CRITERION, ls="--", lw=1.0, label=f"τ_F = {tau:g} N")
+    ax_b.plot([], [], " ", label=f"paper: R² {run.paper.residual_r2:g} (|R_z|)")
+    ax_b.set(xlabel="simulated log10 ‖R‖ [log10 N]", ylabel="predicted log10 ‖R‖ [log10 N]",
+             title="(b) MLP regressor, force residual")
+    ax_b.legend(loc="upper left", fontsize=6.5)
+    t = run.tables["surrogate_timing"]
+    x, ms = np.arange(len(t)), 1e3 * t["time_s"].to_numpy(float)
+    ax_c.bar(x, ms, color=[MODELS[w][1] for w in t["what"]])
+    style.paper_marks(ax_c, x, list(1e3 * t["paper_time_s"]), 0.8)
+    for xi, v in zip(x, ms, strict=True):
+        ax_c.annotate(f"{v:.3g} ms", (xi, v), xytext=(0, 3), textcoords="offset points", ha="center",
+                      fontsize=7)
+    ax_c.set_xticks(x, t["model_label"])
+    ax_c.set(yscale="log", ylabel="wall time of one call [ms]",
+             title="(c) one prediction vs a brief PSO call")
+    ax_c.legend(handles=[style.paper_handle()], loc="upper right")
+
+
+SPEC = ReportSpec("surrogate", [
+    Finding(finding),
+    Table("surrogate_dataset", "Class balance of the scenarios (Wilson 95%): Algorithm 1 as published "
+          "(`success_unbounded`, the paper's label) beside the paper's positives; the configured check "
+          "`success` (a contact deeper than the fingertip radius is invalid) and the |R_z| reading", _dataset,
+          [Col("group_label", "group"), Col("n", "scenarios"), Col("paper_pct", "paper %", 1),
+           *(Col(f"{o}_pct", f"{o} % (95%)", 1, low=f"{o}_low_pct", high=f"{o}_high_pct") for o in LABELS),
+           Col("difference", "difference [pp]", 1, signed=True), Col("verdict", "verdict")]),
+    Table("surrogate_classification", lambda run: "Success classifiers scored by the run on its held-out "
+          f"{100 * run.params.get('test_fraction', 0.2):g}% (stratified split, seed {run.seed}); accuracy "
+          "with its Wilson 95% interval", _classification, [
+              Col("label", "label"), Col("model_label", "model"), Col("positives", "positives"),
+              Col("trials", "trials"), Col("test_trials", "held out"),
+              Col("test_positives", "held-out positives"), Col("paper_auc", "paper AUC", 2),
+              Col("roc_auc", "AUC", 2, why="note"), Col("verdict", "AUC verdict"),
+              Col("paper_accuracy_low_pct", "paper accuracy %", 1, low="paper_accuracy_low_pct",
+                  high="paper_accuracy_high_pct"),
+              Col("accuracy_pct", "accuracy % (95%)", 1, low="accuracy_low_pct", high="accuracy_high_pct",
+                  why="note"),
+              Col("majority_class_accuracy_pct", "majority class %", 1), Col("accuracy_verdict", "verdict")]),
+    Table("surrogate_regression", "Regression R² on the held-out scenarios (the paper's is the MLP on the "
+          "vertical residual |R_z|)", _regression, [*cols("target", "model_label", "test_trials"), Col(
+              "paper_r2", "paper R²", 2), Col("r2", "R²", 2, why="note"), *cols("verdict")]),
+    Table("surrogate_feature_importance", "Random-forest impurity importances of the first fitted classifier "
+          "(λ2 and b cannot affect a quasi-static outcome: their share is what a forest gives to noise)",
+          _read("importance"), [*cols("label", "feature"), Col("importance", "importance", sig=3)],
+          empty="no classifier was fitted (too few trials of one class)"),
+    Table("surrogate_timing", "Wall time of one call, measured by the run: the brief PSO call (median over "
+          "the trials) and one single-row prediction per model (median of up to 200)", _timing, [
+              Col("model_label", "call"), *cols("predicts", "paper_time_s", "time_s", "n_timed"),
+              Col("paper_speedup", "paper PSO/this", 0), Col("speedup", "ours PSO/this", sig=3),
+              *cols("verdict", "host", "sklearn_version")]),
+    Figure("figA1_surrogate", "Fig. A.1 (ours): (a) ROC curves of the fitted classifiers (solid: the "
+           "configured check, dashed: Algorithm 1 as published, dotted: the |R_z| reading); (b) parity of "
+           "the MLP regressor for log10 ‖R‖; (c) one prediction against a brief PSO call (the paper's values "
+           "in black)",
+           figA1, (12.0, 3.9)),
+])

@@ -1,0 +1,91 @@
+"""The surrogate kind's finalize stage: Appendix A's models fitted, scored and timed by the run.
+
+Checked on scenarios whose outcomes are known functions of the inputs (``surrogate_scenarios`` in
+tests/conftest.py), so a correct fit must recover them; intervals against statsmodels.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+from statsmodels.stats.proportion import proportion_confint
+
+pytest.importorskip("sklearn")
+
+from graspcampaign.campaign.kinds.surrogate import LABELS  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def fitted(surrogate_scenarios, surrogate_finalize):
+    return surrogate_finalize(surrogate_scenarios())
+
+
+def test_classifiers_recover_the_known_structure(fitted):
+    cls = fitted["surrogate_classification"].set_index(["label", "model"])
+    assert set(cls.index.get_level_values("label")) == set(LABELS)
+    assert (cls["roc_auc"] > 0.95).all()
+    assert (cls["test_trials"] == 80).all()  # stratified 80/20 of 400
+    for _, row in cls.iterrows():  # accuracy with its Wilson 95 % interval (statsmodels)
+        k = round(row["accuracy_pct"] / 100 * row["test_trials"])
+        low, high = proportion_confint(k, row["test_trials"], alpha=0.05, method="wilson")
+        assert (row["accuracy_low_pct"], row["accuracy_high_pct"]) == pytest.approx((100 * low, 100 * high))
+    importance = fitted["surrogate_importance"]
+    assert importance.iloc[0]["feature"] == "mass_kg"  # the one input `success` depends on
+    assert importance["importance"].sum() == pytest.approx(1.0)
+    roc = fitted["surrogate_roc"]
+    for _, g in roc.groupby(["label", "model"]):
+        assert g["fpr"].is_monotonic_increasing and (g["fpr"].iloc[[0, -1]] == [0, 1]).all()
+
+
+def test_regressors_and_parity_are_held_out(fitted, surrogate_scenarios):
+    reg = fitted["surrogate_regression"].set_index(["target", "model"])
+    assert reg.loc[("log10_residual_norm_n", "random_forest"), "r2"] > 0.95
+    assert reg.loc[("log10_delta_max_mm", "random_forest"), "r2"] > 0.95
+    parity = fitted["surrogate_parity"]
+    assert len(parity) == 80
+    # the simulated values are the held-out scenarios' own log10 ||R|| = 3 m (a closed form)
+    held = np.sort(parity["simulated"].to_numpy())
+    masses = np.sort(surrogate_scenarios()["mass_kg"].to_numpy())
+    assert np.isin(np.round(held / 3, 12), np.round(masses, 12)).all()
+
+
+def test_one_prediction_is_timed_beside_the_run_pso_call(fitted, surrogate_scenarios):
+    t = fitted["surrogate_timing"].set_index("what")
+    assert list(t.index) == ["pso_call", "mlp", "random_forest"]
+    assert t.loc["pso_call", "time_s"] == pytest.approx(surrogate_scenarios()["pso_time_s"].median())
+    assert t.loc["pso_call", "n_timed"] == 400 and t.loc["pso_call", "evaluations"] == 25
+    assert (t.loc[["mlp", "random_forest"], "time_s"] > 0).all()
+    assert (t.loc[["mlp", "random_forest"], "predicts"] == "success probability").all()
+    assert (t["n_timed"] >= 5).all()
+
+
+def test_fits_do_not_depend_on_the_call_only_timings_do(fitted, surrogate_scenarios, surrogate_finalize):
+    again = surrogate_finalize(surrogate_scenarios())
+    for name, table in fitted.items():
+        if name != "surrogate_timing":
+            pd.testing.assert_frame_equal(table, again[name])
+
+
+def test_a_label_with_too_few_positives_is_not_fitted(surrogate_scenarios, surrogate_finalize):
+    df = surrogate_scenarios(120)
+    df["success"] = df["success_unbounded"] = df["success_vertical"] = False
+    df.loc[:4, "success_unbounded"] = True  # 5 < 10 positives
+    out = surrogate_finalize(df)
+    cls = out["surrogate_classification"]
+    assert cls["note"].tolist() == ["not fitted: fewer than 10 trials of one class"] * 3
+    assert "model" not in cls and out["surrogate_roc"].empty and out["surrogate_importance"].empty
+    t = out["surrogate_timing"].set_index("what")  # the regressors of |R_z| are timed instead
+    assert (t.loc[["mlp", "random_forest"], "predicts"] == "abs_residual_z_n").all()
+    assert len(out["surrogate_regression"]) == 6
+
+
+def test_r2_of_a_constant_held_out_target_is_missing_with_its_reason(surrogate_scenarios,
+                                                                     surrogate_finalize):
+    df = surrogate_scenarios(n=120)
+    df["abs_residual_z_n"] = 1e-16 * (df.index % 2)  # force-closed grasps: |R_z| is round-off
+    reg = surrogate_finalize(df)["surrogate_regression"].set_index(["target", "model"])
+    flat = reg.loc["abs_residual_z_n"]
+    assert flat["r2"].isna().all()
+    assert (flat["note"] == "held-out target constant to round-off: R² undefined").all()
+    assert reg.loc["log10_delta_max_mm", "r2"].notna().all()

@@ -1,0 +1,86 @@
+"""Report of ``surrogate`` (Appendix A): the dataset from the records, the models from the tables the
+run's finalize stage stored (``summary/surrogate_*``); nothing is fitted or timed by the report."""
+
+from __future__ import annotations
+
+import shutil
+
+import pandas as pd
+import pytest
+from statsmodels.stats.proportion import proportion_confint
+
+from graspcampaign.campaign.records import RunStore
+from graspcampaign.report.build import build_reports
+
+
+def _table(run, name):
+    return pd.read_csv(run / "report" / "tables" / f"{name}.csv")
+
+
+def test_dataset_rates_are_the_records_with_wilson_intervals(sim_root):
+    run = sim_root / "surrogate" / "default"
+    records = RunStore(run).read().to_pandas()
+    data = _table(run, "surrogate_dataset").set_index("group_label")
+    assert data.loc["all", "n"] == len(records) == 16
+    for column in ("success", "success_unbounded", "success_vertical"):
+        k = int(records[column].sum())
+        low, high = proportion_confint(k, 16, method="wilson")  # statsmodels reference
+        assert data.loc["all", [f"{column}_pct", f"{column}_low_pct", f"{column}_high_pct"]].tolist() == \
+            pytest.approx([100 * k / 16, 100 * low, 100 * high])
+    assert data.loc["all", "paper_pct"] == 8.7 and data["paper_pct"].notna().sum() == 1
+
+
+def test_model_tables_are_the_stored_summary(sim_root):
+    run = sim_root / "surrogate" / "default"
+    store = RunStore(run)
+    for name in ("classification", "regression", "timing"):
+        stored = store.read(f"summary/surrogate_{name}").to_pandas()
+        shown = _table(run, f"surrogate_{name}")
+        assert len(shown) == len(stored) > 0
+        for col in ("r2", "time_s", "positives"):
+            if col in stored:
+                assert shown[col].tolist() == pytest.approx(stored[col].tolist(), rel=1e-12, nan_ok=True)
+    reg = _table(run, "surrogate_regression").set_index(["target", "model"])
+    assert reg["paper_r2"].notna().sum() == 1 and reg.loc[("abs_residual_z_n", "mlp"), "paper_r2"] == 0.5
+
+
+@pytest.fixture(scope="module")
+def fitted_run(sim_root, tmp_path_factory, surrogate_scenarios, surrogate_finalize):
+    """The reduced run with the summary of a dataset that does fit (finalize on known structure)."""
+    root = tmp_path_factory.mktemp("surrogate") / "results"
+    shutil.copytree(sim_root / "surrogate" / "default", root / "surrogate" / "default",
+                    ignore=shutil.ignore_patterns("report", "summary"))
+    store = RunStore(root / "surrogate" / "default")
+    for name, table in surrogate_finalize(surrogate_scenarios()).items():
+        store.write_shard(f"summary/{name}", "final", table.to_dict("records"))
+    assert build_reports(["surrogate"], root=root).failed == []
+    return store.path
+
+
+def test_a_fitted_run_shows_every_table_and_its_paper_values(fitted_run):
+    tables = {p.stem for p in (fitted_run / "report" / "tables").glob("*.csv")}
+    assert tables == {"surrogate_dataset", "surrogate_classification", "surrogate_regression",
+                      "surrogate_feature_importance", "surrogate_timing", "status"}
+    cls = _table(fitted_run, "surrogate_classification").set_index(["label", "model"])
+    # the paper's values sit on Algorithm 1 as published (no validity gate) only
+    assert cls.loc[("success_unbounded", "mlp"), "paper_auc"] == 0.69
+    assert cls.loc[("success_unbounded", "random_forest"), "paper_auc"] == 0.65
+    assert cls.loc[("success", "mlp"), ["paper_auc", "paper_accuracy_low_pct"]].isna().all()
+    assert cls.loc[("success_unbounded", "mlp"), "verdict"] == "differs by +0.31"  # 1.00 − 0.69
+    timing = _table(fitted_run, "surrogate_timing").set_index("what")
+    assert timing.loc["mlp", "speedup"] == pytest.approx(timing.loc["pso_call", "time_s"]
+                                                         / timing.loc["mlp", "time_s"])
+    assert timing.loc["mlp", "paper_speedup"] == 17000
+    md = (fitted_run / "report" / "report.md").read_text()
+    assert "Both timings were measured by the run" in md and "held-out positives" in md
+    assert (fitted_run / "report" / "figures" / "figA1_surrogate.png").stat().st_size > 30_000
+
+
+def test_a_run_without_its_summary_says_how_to_get_it(sim_root, tmp_path):
+    root = tmp_path / "results"
+    shutil.copytree(sim_root / "surrogate" / "default", root / "surrogate" / "default",
+                    ignore=shutil.ignore_patterns("report", "summary"))
+    build_reports(["surrogate"], root=root)
+    md = (root / "surrogate" / "default" / "report" / "report.md").read_text()
+    assert ("Table surrogate_classification not computed: the run has no summary/surrogate_classification: "
+            "`graspcampaign run surrogate` fits the models once every scenario is recorded.") in md
