@@ -16,12 +16,12 @@ from scipy import stats
 from statsmodels.stats.contingency_tables import mcnemar as sm_mcnemar
 from test_studies import SHAPES, make_run, ok_records, quasi_static_outputs, read_table
 
+from graspcampaign.analysis.vocabulary import label
 from graspcampaign.report.build import build_reports
 
 PLANNERS = ["heuristic", "antipodal", "random", "centroid", "ferrari_canny"]
 LAWS = ["paper", "slip", "oracle"]
 G = 9.81  # core.statics.GRAVITY
-NAMES = {"heuristic": "proposed H(G)"}  # analysis.vocabulary labels
 
 
 def candidates(trial_id: str, factors: dict, out: dict) -> dict:
@@ -84,7 +84,7 @@ def test_grid_opening_paragraph_numbers_are_the_records(runs):
     equal = int((ok["n_released"] == ok["n_upper"]).sum())
     assert f"in {equal} of {len(ok)} as many are released as are upper" in text
     for planner, rho in ok.groupby("planner")["rho"].median().items():
-        assert f"{NAMES.get(planner, planner)} {rho:.2f}" in text
+        assert f"{label('planner', planner)} {rho:.2f}" in text
     passes = ok[ok["success"]]
     one = int((passes["support_share_max"] >= 0.95).sum())
     loaded = int((passes["n_loaded"] == 1).sum())
@@ -173,7 +173,7 @@ def test_grip_laws_rates_readings_checks_and_need(runs):
             f"satisfies it on {int(np.isinf(oracle['grip_needed_n']).sum())}") in text
     slip = ok[ok["grip_law"] == "slip"].groupby("planner")["success"].mean().reindex(PLANNERS)
     slip = slip.sort_values(ascending=False, kind="stable")  # ties keep the study's planner order
-    assert "slip: " + ", ".join(f"{NAMES.get(p, p)} {100 * r:.1f}%" for p, r in slip.items()) in text
+    assert "slip: " + ", ".join(f"{label('planner', p)} {100 * r:.1f}%" for p, r in slip.items()) in text
     torque = int((ok["success_no_torque"].astype(bool) & ~ok["success"]).sum())
     assert f"the torque check alone removed {torque} passes" in text
     assert "not computed" not in md(store)

@@ -6,7 +6,7 @@ Sec. 6.5/12) and any other study of the kind (``PLANNERS``). Paired tests match 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 import numpy as np
 import pandas as pd
@@ -141,20 +141,19 @@ def bars(ax, t: pd.DataFrame, x: str, hue: str | None = None) -> None:
     style.legend_below(ax, handles, ncol=min(len(handles), 5))
 
 
-@dataclass(frozen=True)
-class LawPaired(S.Paired):
+def LawPaired() -> S.Table:
     """McNemar of the proposed planner against each other, within each grip law."""
+    base = S.Paired(caption=(
+        "Paired comparison within each grip law, McNemar on pairs matched by (scene_id, grip_law); "
+        "χ² with continuity correction, exact binomial p, discordant-pair odds ratio (> 1 favours "
+        "the proposed planner) with its exact 95% interval"))
 
-    caption: str = ("Paired comparison within each grip law, McNemar on pairs matched by (scene_id, "
-                    "grip_law); χ² with continuity correction, exact binomial p, discordant-pair odds "
-                    "ratio (> 1 favours the proposed planner) with its exact 95% interval")
+    def compute(run: Run) -> pd.DataFrame:
+        return pd.concat([base.compute(Run(run.records[run.records["grip_law"] == law], run.manifest,
+                                           run.paper)).assign(grip_law=law)
+                          for law in run.order.get("grip_law", ["paper"])])
 
-    def render(self, run: Run) -> list:
-        laws = run.order.get("grip_law", ["paper"])
-        parts = [S.Paired.render(self, Run(run.records[run.records["grip_law"] == law],
-                                           run.manifest, run.paper))[0] for law in laws]
-        frame = pd.concat([b.frame.assign(grip_law=law) for b, law in zip(parts, laws, strict=True)])
-        return [replace(parts[0], frame=frame, cols=[Col("grip_law", "grip law"), *parts[0].cols])]
+    return replace(base, compute=compute, cols=[Col("grip_law", "grip law"), *base.cols])
 
 
 def h_epsilon_figure(run: Run, fig) -> None:
