@@ -69,8 +69,9 @@ def test_kappa_is_undefined_when_both_labels_are_constant():
     assert result.why == "undefined: every trial has one label in both columns"
     assert dc.cohens_kappa([[0, 0], [0, 0]]).why == "no executed trial"
     # one label constant, the other not: p_e = p_o, so kappa = 0 (defined)
-    assert dc.cohens_kappa([[0, 0], [3, 37]]).kappa == pytest.approx(sm_kappa(
-        np.array([[0, 0], [3, 37]])).kappa) == 0.0
+    one = dc.cohens_kappa([[0, 0], [3, 37]])
+    assert one.kappa == pytest.approx(sm_kappa(np.array([[0, 0], [3, 37]])).kappa) == 0.0
+    assert one.why == "0 by construction: the quasi-static label is constant"
     with pytest.raises(ValueError, match=r"table must be a \(2, 2\) array of counts, got \[1, 2\]"):
         dc.cohens_kappa([1, 2])
 

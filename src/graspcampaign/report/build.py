@@ -49,6 +49,7 @@ SPECS: dict[str, str] = {
     "pso_repeatability": "pso:SPEC",
     "gravity_settle": "dynamic:GRAVITY_SETTLE",
     "friction_mass": "dynamic:FRICTION_MASS",
+    "dynamic_check": "dynamic_check:SPEC",
     "sensitivity": "sensitivity:SPEC",
     "mesh_resolution": "mesh_resolution:SPEC",
 }
