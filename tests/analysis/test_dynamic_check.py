@@ -72,6 +72,7 @@ def test_kappa_is_undefined_when_both_labels_are_constant():
     one = dc.cohens_kappa([[0, 0], [3, 37]])
     assert one.kappa == pytest.approx(sm_kappa(np.array([[0, 0], [3, 37]])).kappa) == 0.0
     assert one.why == "0 by construction: the quasi-static label is constant"
+    assert np.isnan(one.ci_low) and np.isnan(one.std_error)
     with pytest.raises(ValueError, match=r"table must be a \(2, 2\) array of counts, got \[1, 2\]"):
         dc.cohens_kappa([1, 2])
 

@@ -39,7 +39,7 @@ class KappaResult:
     marginals) agreement, ``kappa = (p_o - p_e) / (1 - p_e)``, its asymptotic ``std_error`` and
     interval ``ci_low``-``ci_high`` at ``confidence_level``; kappa and its interval are nan (with
     ``why``) when the table is empty or both labels are one constant value (``p_e = 1``); ``why``
-    also says when one label alone is constant (kappa = 0 and its interval 0-0 by construction)."""
+    also says when one label alone is constant (kappa = 0 by construction, no interval)."""
 
     table: np.ndarray
     n: int
@@ -91,9 +91,12 @@ def cohens_kappa(table, confidence_level: float = 0.95) -> KappaResult:
     half = norm.ppf(0.5 + confidence_level / 2.0) * float(res.std_kappa)
     constant = [w for w, m in (("quasi-static", table.sum(axis=1)), ("dynamic", table.sum(axis=0)))
                 if m.min() == 0]
-    why = f"0 by construction: the {constant[0]} label is constant" if constant else ""
+    if constant:  # kappa = 0 with a zero standard error: no interval to speak of
+        return KappaResult(table, n, observed, expected, float(res.kappa), nan, nan, nan,
+                           confidence_level, f"0 by construction: the {constant[0]} label is "
+                           "constant")
     return KappaResult(table, n, observed, expected, float(res.kappa), float(res.std_kappa),
-                       float(res.kappa) - half, float(res.kappa) + half, confidence_level, why)
+                       float(res.kappa) - half, float(res.kappa) + half, confidence_level)
 
 
 def agreement_table(records: pd.DataFrame, qs_column: str = "qs_success",

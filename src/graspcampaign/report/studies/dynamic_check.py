@@ -10,6 +10,7 @@ import pandas as pd
 from graspcampaign.analysis import dynamic_check as dc
 from graspcampaign.analysis.vocabulary import label, ordered
 from graspcampaign.report import format as fmt
+from graspcampaign.report import style
 from graspcampaign.report.document import Col
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, verdicts
@@ -104,7 +105,7 @@ def group_figure(run: Run, fig) -> None:
                    ecolor="#333333")
         ax.set_xticks(np.arange(len(keys)), [label(by, v).replace(" ", "\n") for v in keys])
         ax.set(ylim=(0, 105), ylabel="labels agree [%]", title=f"per {by} (Wilson 95%)")
-        ax.legend()
+        style.legend_below(ax, ncol=2)
 
 
 def _by(by: str) -> Table:
