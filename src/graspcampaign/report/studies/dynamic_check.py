@@ -62,7 +62,8 @@ def finding(run: Run) -> str:
             f"**{r.model_preset}**: the labels agree on {r.both_success + r.both_failure} of "
             f"{r.n} ({r.agreement_pct:.1f}%, Wilson 95% "
             f"{fmt.interval(r.agreement_low_pct, r.agreement_high_pct, 1)}), κ = {kappa}; "
-            f"quasi-static passes {r.both_success + r.qs_only}, the dynamic grasp holds {r.both_success + r.dynamic_only} ({status})")
+            f"quasi-static passes {r.both_success + r.qs_only}, the dynamic grasp holds "
+            f"{r.both_success + r.dynamic_only} ({status})")
     like = k[k.comparison == "preset"]
     return (f"The paper: \"{run.paper.claim}\". Re-simulating {ok.source_trial_id.nunique()} "
             f"{', '.join(sorted(set(ok.source_study)))} trials: " + "; ".join(parts) + ". Like "
