@@ -22,15 +22,12 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from graspcampaign.analysis.rates import wilson_interval
 from graspcampaign.analysis.records import executed
 
-LABEL_PAIRS: dict[str, tuple[str, str]] = {
-    "source": ("qs_success", "success"),
-    "preset": ("qs_preset_success", "success"),
-    "source_unbounded": ("qs_success_unbounded", "success_unbounded"),
-    "preset_unbounded": ("qs_preset_success_unbounded", "success_unbounded"),
-}
-"""Comparison name -> (quasi-static column, dynamic column) of the dynamic_check records."""
+LABEL_PAIRS = {"source": ("qs_success", "success"), "preset": ("qs_preset_success", "success"),
+               "source_unbounded": ("qs_success_unbounded", "success_unbounded"),
+               "preset_unbounded": ("qs_preset_success_unbounded", "success_unbounded")}
 
 
 @dataclass(frozen=True)
@@ -55,10 +52,7 @@ class KappaResult:
 
 def confusion_matrix(records: pd.DataFrame, qs_column: str = "qs_success",
                      dynamic_column: str = "success") -> np.ndarray:
-    """Return the (2, 2) counts of two boolean label columns over the executed trials.
-
-    Raises KeyError naming a missing column.
-    """
+    """Return the (2, 2) counts of two boolean label columns over the executed trials."""
     rows = executed(records)
     for column in (qs_column, dynamic_column):
         if column not in rows.columns:
@@ -78,43 +72,31 @@ def cohens_kappa(table, confidence_level: float = 0.95) -> KappaResult:
     if table.shape != (2, 2) or np.any(table < 0):
         raise ValueError(f"table must be a (2, 2) array of counts, got {table.tolist()}")
     n, nan = int(table.sum()), float("nan")
-    if n == 0:
-        return KappaResult(table, 0, nan, nan, nan, nan, nan, nan, confidence_level,
-                           "no executed trial")
-    observed = float(np.trace(table)) / n
-    expected = float(table.sum(axis=1) @ table.sum(axis=0)) / n**2
-    if expected >= 1.0:  # both labels constant and equal: kappa = 0/0
-        return KappaResult(table, n, observed, expected, nan, nan, nan, nan, confidence_level,
-                           "undefined: every trial has one label in both columns")
-    with np.errstate(invalid="ignore", divide="ignore"):  # z test of kappa = 0 at std 0
-        res = sm_kappa(table, return_results=True)
-    half = norm.ppf(0.5 + confidence_level / 2.0) * float(res.std_kappa)
+    observed = float(np.trace(table)) / n if n else nan
+    expected = float(table.sum(axis=1) @ table.sum(axis=0)) / n**2 if n else nan
     constant = [w for w, m in (("quasi-static", table.sum(axis=1)), ("dynamic", table.sum(axis=0)))
                 if m.min() == 0]
-    if constant:  # kappa = 0 with a zero standard error: no interval to speak of
-        return KappaResult(table, n, observed, expected, float(res.kappa), nan, nan, nan,
-                           confidence_level, f"0 by construction: the {constant[0]} label is "
-                           "constant")
-    return KappaResult(table, n, observed, expected, float(res.kappa), float(res.std_kappa),
-                       float(res.kappa) - half, float(res.kappa) + half, confidence_level)
+    why = ("no executed trial" if not n else "undefined: every trial has one label in both "
+           "columns" if expected >= 1.0 else f"0 by construction: the {constant[0]} label is "
+           "constant" if constant else "")
+    if not n or expected >= 1.0:  # kappa = 0/0
+        return KappaResult(table, n, observed, expected, nan, nan, nan, nan, confidence_level, why)
+    with np.errstate(invalid="ignore", divide="ignore"):  # z test of kappa = 0 at std 0
+        res = sm_kappa(table, return_results=True)
+    std = nan if constant else float(res.std_kappa)  # one label constant: std 0, no interval
+    half = norm.ppf(0.5 + confidence_level / 2.0) * std
+    return KappaResult(table, n, observed, expected, float(res.kappa), std,
+                       float(res.kappa) - half, float(res.kappa) + half, confidence_level, why)
 
 
 def agreement_table(records: pd.DataFrame, qs_column: str = "qs_success",
                     dynamic_column: str = "success", by=None,
                     confidence_level: float = 0.95) -> pd.DataFrame:
-    """Return the agreement of two label columns, overall (``by=None``) or per group of ``by``.
-
-    Returns
-    -------
-    table : DataFrame
-        One row per group: the group columns, ``n``, the counts ``both_success``, ``qs_only``,
-        ``dynamic_only``, ``both_failure``, ``qs_success_rate``, ``dynamic_success_rate``,
-        ``agreement`` (observed proportion) with its Wilson interval ``agreement_low`` /
-        ``agreement_high``, ``kappa`` with ``kappa_std_error``, ``kappa_low``, ``kappa_high``
-        and ``kappa_why`` (why kappa is nan), ``expected_agreement``.
-    """
-    from statsmodels.stats.proportion import proportion_confint
-
+    """Return the agreement of two label columns, overall (``by=None``) or per group of ``by``:
+    the counts of :func:`confusion_matrix` (``both_success``, ``qs_only``, ``dynamic_only``,
+    ``both_failure``), both success rates, ``agreement`` with its Wilson interval, and the
+    fields of :class:`KappaResult` (``kappa``, ``kappa_std_error``, ``kappa_low``/``_high``,
+    ``kappa_why``, ``expected_agreement``)."""
     rows = executed(records)
     keys = [] if by is None else ([by] if isinstance(by, str) else list(by))
     out = []
@@ -122,15 +104,14 @@ def agreement_table(records: pd.DataFrame, qs_column: str = "qs_success",
     for key, group in groups:
         table = confusion_matrix(group, qs_column, dynamic_column)
         k, agree = cohens_kappa(table, confidence_level), int(np.trace(table))
-        low, high = proportion_confint(agree, k.n, alpha=1.0 - confidence_level,
-                                       method="wilson")
+        w = wilson_interval(agree, k.n, confidence_level)
         out.append({
             **dict(zip(keys, key if isinstance(key, tuple) else (key,), strict=True)),
             "n": k.n, "both_success": int(table[0, 0]), "qs_only": int(table[0, 1]),
             "dynamic_only": int(table[1, 0]), "both_failure": int(table[1, 1]),
             "qs_success_rate": table[0].sum() / k.n,
             "dynamic_success_rate": table[:, 0].sum() / k.n,
-            "agreement": agree / k.n, "agreement_low": float(low), "agreement_high": float(high),
+            "agreement": agree / k.n, "agreement_low": w.low, "agreement_high": w.high,
             "kappa": k.kappa, "kappa_std_error": k.std_error, "kappa_low": k.ci_low,
             "kappa_high": k.ci_high, "kappa_why": k.why,
             "expected_agreement": k.expected_agreement})

@@ -26,17 +26,18 @@ ORDER = {"rk4": 4, "implicit": 2}
 BEFORE = {"integrator": "rk4", "model_preset": "table2"}
 
 
-def _sorted(run: Run, by: list[str]) -> pd.DataFrame:
-    """The executed trials in the design's order of ``by`` (missing factors: their old level)."""
-    ok = run.ok.assign(**{c: BEFORE[c] for c in by if c not in run.ok and c in BEFORE})
-    ranks = [ok[c].map({v: i for i, v in enumerate(ordered(c, ok[c], run.order.get(c, ())))})
+def in_order(run: Run, by: list[str], frame: pd.DataFrame | None = None, first=()) -> pd.DataFrame:
+    """Rows of ``frame`` (the executed trials) sorted by the ``first`` ranks, then the design's
+    order of ``by`` (a factor missing from older runs takes its old level, ``BEFORE``)."""
+    t = run.ok if frame is None else frame
+    t = t.assign(**{c: BEFORE[c] for c in by if c not in t and c in BEFORE})
+    ranks = [t[c].map({v: i for i, v in enumerate(ordered(c, t[c], run.order.get(c, ())))})
              for c in by]
-    return ok.iloc[np.lexsort(ranks[::-1])].reset_index(drop=True)
+    return t.iloc[np.lexsort([*first, *ranks][::-1])].reset_index(drop=True)
 
 
 def _trial(run: Run, table: str, trial_id: str) -> pd.DataFrame:
-    data = run.aux(table)
-    if not len(data):
+    if not len(data := run.aux(table)):
         raise ValueError(f"the run has no `{table}` table")
     return data[data["trial_id"] == trial_id]
 
@@ -49,7 +50,7 @@ def _span(values: pd.Series, unit: str) -> str:
 # --------------------------------------------------------------------------- gravity settle
 def _settle(run: Run) -> pd.DataFrame:
     """Settle rows per integrator; each settled shape's largest node distance from the first's."""
-    ok = _sorted(run, ["integrator"])
+    ok = in_order(run, ["integrator"])
     xyz = [_trial(run, "shape", t).set_index("node")[["x_m", "y_m", "z_m"]] for t in ok.trial_id]
     return ok.assign(paper_settles=run.paper.settles, expected_order=ok.integrator.map(ORDER),
                      shape_difference_max_mm=[1e3 * np.linalg.norm(s - xyz[0], axis=1).max()
@@ -65,10 +66,9 @@ def settle_finding(run: Run) -> str:
                  f"{r.lu_factorizations} LU factorisations" if r.lu_factorizations else "")
              for r in t.itertuples()]
     like = "as" if t["settled"].all() == run.paper.settles else "unlike"
-    text = (f"The sphere on the floor, {like} the paper's Fig. 10: " + "; ".join(parts) + ". ")
-    if len(t) > 1:
-        text += (f"The settled shapes differ by at most {t.shape_difference_max_mm.max():.3g} mm "
-                 f"per node and {abs(np.ptp(t.squash_ratio)):.2g} in squash ratio. ")
+    text = f"The sphere on the floor, {like} the paper's Fig. 10: " + "; ".join(parts) + ". "
+    text += (f"The settled shapes differ by at most {t.shape_difference_max_mm.max():.3g} mm per "
+             f"node and {np.ptp(t.squash_ratio):.2g} in squash ratio. ") if len(t) > 1 else ""
     text += "Integrator audit (Sec. 12 lists it as missing): " + "; ".join(
         f"{r.integrator} observed order {r.observed_order:.2f} (expected {r.expected_order}), "
         f"energy-balance error {r.energy_balance_rel_error:.2g} shrinking "
@@ -94,9 +94,8 @@ def fig10(run: Run, fig) -> None:
                    label=r.integrator)
     a.axhline(1e3 * shape0["z_m"].min(), color=style.PAPER, linewidth=1.0, label="floor")
     a.set(xlabel="x [mm]", ylabel="z [mm]", aspect="equal", title="(a) side view")
-    style.legend_below(a, ncol=2)
     b.set(xlabel="time [s]", ylabel="kinetic energy [J]", title="(b) settling")
-    b.legend()
+    style.legend_below(a, ncol=2), b.legend()
 
 
 def integrator_figure(run: Run, fig) -> None:
@@ -112,36 +111,32 @@ def integrator_figure(run: Run, fig) -> None:
         for j, (step, rows) in enumerate(audit.groupby("step", sort=False)):
             b.plot(rows["time_s"], rows["balance_error_j"], color=c, linestyle="-:"[j % 2],
                    label=f"{r.integrator}, step {step}")
-    a.xaxis.set_major_locator(LogLocator(subs=(1, 2, 5)))
-    a.xaxis.set_major_formatter(lambda v, _: f"{v:g}")
+    a.xaxis.set(major_locator=LogLocator(subs=(1, 2, 5)), major_formatter=lambda v, _: f"{v:g}")
     a.xaxis.set_minor_formatter(NullFormatter())
     a.set(xlabel="step [µs]", ylabel="largest position error at t_end [m]",
           title="(a) step-size study (reference DOP853)")
-    a.legend()
     b.set(xlabel="time [s]", ylabel="energy-balance error [J]",
           title="(b) energy audit (no contact, gravity on)")
-    b.legend()
+    a.legend(), b.legend()
 
 
 GRAVITY_SETTLE = ReportSpec("gravity_settle", [
     Finding(settle_finding),
     Table("settle", "Gravity settling per integrator beside Sec. 5.4 (the paper reports it "
           "qualitatively); shape difference: largest distance of a node from its place in the "
-          "first integrator's settled shape", _settle, [
-              *cols("integrator", "nodes", "mass_kg", "paper_settles", "settled",
-                    "squash_ratio", "shape_difference_max_mm", "simulated_time_s",
-                    "final_kinetic_energy_j", "max_floor_penetration_mm", "dt_s",
-                    "dt_over_rk4_limit", "n_steps", "newton_iterations_per_step",
-                    "lu_factorizations")]),
+          "first integrator's settled shape", _settle, cols(
+              "integrator", "nodes", "mass_kg", "paper_settles", "settled", "squash_ratio",
+              "shape_difference_max_mm", "simulated_time_s", "final_kinetic_energy_j",
+              "max_floor_penetration_mm", "dt_s", "dt_over_rk4_limit", "n_steps",
+              "newton_iterations_per_step", "lu_factorizations")),
     Figure("fig10_settle", "Fig. 10 (ours): undeformed and settled sphere per integrator; "
            "kinetic-energy decay", fig10, (10.0, 4.4)),
     Table("integrator_audit", "Step-size study and energy audit of each integrator on the "
           "settle body (Sec. 12 lists both as missing from the paper; no paper values to "
           "compare); expected order: RK4 4, implicit midpoint 2",
-          lambda run: run.tables["settle"], [
-              *cols("integrator", "dt_s", "expected_order", "observed_order",
-                    "error_at_settle_dt_m", "energy_balance_rel_error",
-                    "energy_balance_rel_error_half_dt", "energy_increases")]),
+          lambda run: run.tables["settle"], cols(
+              "integrator", "dt_s", "expected_order", "observed_order", "error_at_settle_dt_m",
+              "energy_balance_rel_error", "energy_balance_rel_error_half_dt", "energy_increases")),
     Text("The energy-balance error at the settle step is each integrator's own truncation of "
          "the stiffest mesh modes; mechanical energy growing without external power would be a "
          "defect, and the table counts such steps (`docs/decisions.md`, energy audit)."),
@@ -157,9 +152,8 @@ FM = ["model_preset", "mu", "mass_kg"]
 
 def mass_finding(run: Run) -> str:
     p, parts = run.paper, []
-    for preset, g in _sorted(run, FM).groupby("model_preset", sort=False):
-        stable = g[g["dynamic_status"] == "stable"]
-        other = g[g["dynamic_status"] != "stable"]
+    for preset, g in in_order(run, FM).groupby("model_preset", sort=False):
+        stable, other = g[g.dynamic_status == "stable"], g[g.dynamic_status != "stable"]
         text = f"**{preset}**: {len(stable)} of {len(g)} μ × m runs hold (`stable`)"
         if len(stable):
             text += f" at δ_max {_span(stable.delta_max_mm, 'mm')}"
@@ -173,14 +167,11 @@ def mass_finding(run: Run) -> str:
                      f"{_span(g.delta_required_mm, 'mm')}, "
                      + {1.0: "**beyond**", 0.0: "within"}.get(beyond, "partly beyond") +
                      f" the fingertip radius {_span(g.fingertip_radius_mm, 'mm')}")
-        agree = (g["success"].astype(bool) == g["qs_success"].astype(bool)).sum()
-        text += (f"; the quasi-static evaluator on the same contacts passes {g.qs_success.sum()} "
-                 f"({g.get('qs_success_unbounded', g.qs_success).sum()} without the validity "
-                 f"gate), so the labels agree on {agree} of {len(g)}")
-        parts.append(text)
+        parts.append(text + f"; the quasi-static evaluator on the same contacts passes "
+                     f"{g.qs_success.sum()} ({g.qs_success_unbounded.sum()} without the validity "
+                     f"gate), so the labels agree on {(g.success == g.qs_success).sum()} of {len(g)}")
     ok = run.ok
-    why = ok.loc[ok.lp_status_mu0 != "feasible", "lp_mu0_reason"].value_counts() \
-        if "lp_mu0_reason" in ok else pd.Series(dtype=int)
+    why = ok.loc[ok.lp_status_mu0 != "feasible", "lp_mu0_reason"].value_counts()
     return ("The paper ran six of the nine μ × m cases and reports every one stable (Sec. 5.5). "
             + "; ".join(parts) + f" ({GRASP}). The friction-cone LP is feasible at μ = 0 in "
             f"{(ok.lp_status_mu0 == 'feasible').sum()} of {len(ok)} runs on the meshed sphere" + (
@@ -193,16 +184,14 @@ def mass_finding(run: Run) -> str:
 
 
 def fig12_13(run: Run, fig) -> None:
-    steps, p, ok = run.aux("steps"), run.paper, _sorted(run, FM)
+    steps, p, ok = run.aux("steps"), run.paper, in_order(run, FM)
     if not len(steps):
         raise ValueError("the run has no `steps` table")
-    presets = list(dict.fromkeys(ok.model_preset))
-    axes = fig.subplots(len(presets), 3, squeeze=False)
+    axes = fig.subplots(ok.model_preset.nunique(), 3, squeeze=False)
     for ax, (preset, g) in zip(axes, ok.groupby("model_preset", sort=False), strict=True):
         for i, row in enumerate(g.itertuples()):
             s = steps[steps["trial_id"] == row.trial_id]
-            rep = np.isclose(row.mu, p.representative_mu) and np.isclose(
-                row.mass_kg, p.representative_mass_kg)
+            rep = np.isclose([row.mu, row.mass_kg], [p.representative_mu, p.representative_mass_kg]).all()
             kw = {"linewidth": 2.0 if rep else 0.8, "alpha": 1.0 if rep else 0.5,
                   "color": f"C{i}", "label": f"μ={row.mu:g}, m={row.mass_kg:g} kg"}
             ax[0].plot(s["time_s"], s["residual_z_n"], **kw)
@@ -214,19 +203,16 @@ def fig12_13(run: Run, fig) -> None:
                 for a in ax if not np.isnan(row.lift_start_s) else ():
                     a.axvspan(row.lift_start_s, end, color="0.9", zorder=0, label="lift-off")
         ax[0].axhline(0.0, color=style.CRITERION, linestyle="--", linewidth=1)
-        ax[0].set(xlabel="time [s]", ylabel="vertical residual R_z [N]",
-                  title=f"({preset}) Fig. 12 top")
+        ax[0].set(xlabel="time [s]", ylabel="vertical residual R_z [N]", title=f"({preset}) Fig. 12 top")
         ax[1].axhline(1e3 * p.total_penetration_below_m, color=style.PAPER, linewidth=2,
                       label=f"paper: settles below {1e3 * p.total_penetration_below_m:g} mm")
-        ax[1].set(xlabel="time [s]", ylabel="total penetration [mm]", title=f"({preset}) "
-                  "Fig. 12 bottom")
+        ax[1].set(xlabel="time [s]", ylabel="total penetration [mm]", title=f"({preset}) Fig. 12 bottom")
         ax[2].set(xlabel="time [s]", ylabel="normal force [N]", title=f"({preset}) Fig. 13: "
                   f"μ={p.representative_mu:g}, m={p.representative_mass_kg:g} kg")
         ax[1].legend(handles=ax[1].get_legend_handles_labels()[0][-1:], loc="upper right")
         if ax[2].lines:
             ax[2].legend()
-    fig.legend(handles=axes[0, 0].get_legend_handles_labels()[0], loc="outside lower center",
-               ncol=6)
+    fig.legend(handles=axes[0, 0].get_legend_handles_labels()[0], loc="outside lower center", ncol=6)
 
 
 FRICTION_MASS = ReportSpec("friction_mass", [
@@ -238,33 +224,30 @@ FRICTION_MASS = ReportSpec("friction_mass", [
           "the closed form (mg/K)^(1/n) at which one fingertip alone carries the weight, beside "
           "the fingertip radius (the validity limit); final six-component wrench residual (the "
           "paper checked only the vertical part)",
-          lambda run: _sorted(run, FM).assign(paper="stable"), [
-              *cols(*FM, "paper", "dynamic_status", "final_phase", "success",
-                    "delta_max_mm", "delta_required_mm", "fingertip_radius_mm",
-                    "final_residual_z_n", "wrench_force_norm_n", "wrench_torque_norm_nm",
-                    "normal_force_1_n", "normal_force_2_n", "normal_force_3_n")]),
+          lambda run: in_order(run, FM).assign(paper="stable"), cols(
+              *FM, "paper", "dynamic_status", "final_phase", "success", "delta_max_mm",
+              "delta_required_mm", "fingertip_radius_mm", "final_residual_z_n",
+              "wrench_force_norm_n", "wrench_torque_norm_nm",
+              *(f"normal_force_{j}_n" for j in (1, 2, 3)))),
     Table("phases", "Phase timings in the order of Fig. 11: closure on the held object (first "
           "touch of each finger), lift-off, the settled window of Eq. 19 (— unless stable)",
-          lambda run: _sorted(run, FM), [*cols(*FM, "closure_start_s", "touch_1_s",
-                                               "touch_2_s", "touch_3_s", "closure_end_s",
-                                               "lift_end_s", "hold_start_s", "hold_end_s",
-                                               "simulated_time_s")]),
+          lambda run: in_order(run, FM), cols(*FM, "closure_start_s", *(f"touch_{j}_s" for j in (
+              1, 2, 3)), "closure_end_s", "lift_end_s", "hold_start_s", "hold_end_s",
+              "simulated_time_s")),
     Table("like_for_like", "Like-for-like labels on the dynamic pipeline's 45°/45°/−90° contact "
           "set (Sec. 6.1, Sec. 12): the dynamic label and Algorithms 1-2 on the same contacts "
           "under the same preset, with and without the validity gate (δ ≤ fingertip radius)",
-          lambda run: _sorted(run, FM).assign(labels_agree=lambda d: d.success.astype(bool) ==
-                                              d.qs_success.astype(bool)),
-          [*cols(*FM, "dynamic_status", "success", "qs_success", "labels_agree",
-                 "qs_success_unbounded", "qs_failure_check", "qs_residual_norm_n",
-                 "qs_delta_max_mm")]),
+          lambda run: in_order(run, FM).assign(labels_agree=lambda d: d.success == d.qs_success),
+          cols(*FM, "dynamic_status", "success", "qs_success", "labels_agree",
+               "qs_success_unbounded", "qs_failure_check", "qs_residual_norm_n",
+               "qs_delta_max_mm")),
     Table("friction_cone", "Friction-cone LP on the same contacts at μ and at μ = 0 (the "
           "paper: feasible at every μ and as μ → 0 on the sphere): why μ = 0 fails on the "
           "meshed sphere (force or torque balance), the force-only LP's torque residual, the "
           "facet normals' largest angle off radial, and the ideal sphere along the same "
-          "directions", lambda run: _sorted(run, FM), [
-              *cols(*FM, "lp_status", "lp_status_mu0", "lp_mu0_reason",
-                    "lp_mu0_force_only_status", "lp_mu0_torque_residual_nm",
-                    "normal_off_radial_max_deg", "lp_status_mu0_ideal")]),
+          "directions", lambda run: in_order(run, FM), cols(
+              *FM, "lp_status", "lp_status_mu0", "lp_mu0_reason", "lp_mu0_force_only_status",
+              "lp_mu0_torque_residual_nm", "normal_off_radial_max_deg", "lp_status_mu0_ideal")),
     Figure("fig12_13_dynamic", "Figs. 12-13 (ours), one row per preset: vertical residual and "
            "total penetration for every μ × m (thick: the paper's representative case; grey: "
            "its lift-off), and the per-finger normal forces of the representative case",

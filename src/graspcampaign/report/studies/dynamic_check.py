@@ -1,6 +1,5 @@
 """Report of ``dynamic_check``: every quasi-static label of a source study re-simulated by the
-dynamic grasp, per material preset, beside the paper's Sec. 6.1 claim that the two evaluators
-agree on the labels (checked there on the sphere's optimum only)."""
+dynamic grasp, per material preset, beside the paper's Sec. 6.1 claim that the labels agree."""
 
 from __future__ import annotations
 
@@ -8,12 +7,13 @@ import numpy as np
 import pandas as pd
 
 from graspcampaign.analysis import dynamic_check as dc
-from graspcampaign.analysis.vocabulary import label, ordered
+from graspcampaign.analysis.vocabulary import label
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
 from graspcampaign.report.document import Col
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, verdicts
+from graspcampaign.report.studies.dynamic import in_order
 
 DECISION = "`docs/decisions.md`, *Dynamic check report (issue 16, item 3, report side)*"
 PAIRS = {"source": "source study's label", "preset": "Algorithms 1–2 under the preset",
@@ -32,21 +32,14 @@ def agreement(run: Run, by: list[str], pairs=("source",)) -> pd.DataFrame:
     frames = [dc.agreement_table(run.records, *dc.LABEL_PAIRS[p], by=by).assign(comparison=p)
               for p in pairs]
     t = pd.concat(frames, ignore_index=True)
-    t = t.assign(**{f"{c}_pct": 100 * t[c] for c in ("agreement", "agreement_low",
-                                                      "agreement_high")})
-    return _order(run, t, [t.comparison.map(list(PAIRS).index)], by)
-
-
-def _order(run: Run, t: pd.DataFrame, first: list, by: list[str]) -> pd.DataFrame:
-    ranks = [t[c].map({v: i for i, v in enumerate(ordered(c, t[c], run.order.get(c, ())))})
-             for c in by]
-    return t.iloc[np.lexsort([*first, *ranks][::-1])].reset_index(drop=True)
+    t = t.assign(**{f"{c}_pct": 100 * t[c] for c in ("agreement", "agreement_low", "agreement_high")})
+    return in_order(run, by, t, [t.comparison.map(list(PAIRS).index)])
 
 
 def _kappa(run: Run) -> pd.DataFrame:
     t = agreement(run, ["model_preset"], PAIRS).assign(paper_pct=100.0)
     t["comparison_label"] = t.comparison.map(PAIRS)
-    return verdicts(t.reset_index(drop=True), "agreement_pct", "paper_pct", "agreement_low_pct",
+    return verdicts(t, "agreement_pct", "paper_pct", "agreement_low_pct",
                     "agreement_high_pct", unit="%")
 
 
@@ -79,17 +72,15 @@ def confusion_figure(run: Run, fig) -> None:
     k = k[k.comparison.isin(["source", "preset"])]
     presets = list(dict.fromkeys(k.model_preset))
     axes = fig.subplots(2, len(presets), squeeze=False)
-    for ax, r in zip(axes.T.ravel(), k.sort_values("model_preset", key=lambda s: s.map(
-            presets.index), kind="stable").itertuples(), strict=True):
+    for ax, r in zip(axes.ravel(), k.itertuples(), strict=True):  # rows: pair, columns: preset
         table = np.array([[r.both_success, r.qs_only], [r.dynamic_only, r.both_failure]])
         ax.imshow(table, cmap="Blues", vmin=0, vmax=max(1, table.max()))
         for (i, j), v in np.ndenumerate(table):
             ax.text(j, i, str(v), ha="center", va="center",
                     color="white" if v > table.max() / 2 else "black")
-        ax.set_xticks([0, 1], ["success", "failure"])
-        ax.set_yticks([0, 1], ["success", "failure"])
         ax.grid(False)
-        ax.set(xlabel="dynamic label", ylabel="quasi-static label",
+        ax.set(xticks=[0, 1], yticks=[0, 1], xticklabels=["success", "failure"], yticklabels=[
+            "success", "failure"], xlabel="dynamic label", ylabel="quasi-static label",
                title=f"{r.model_preset}: {PAIRS[r.comparison]}")
 
 
@@ -100,10 +91,8 @@ def group_figure(run: Run, fig) -> None:
         keys = list(dict.fromkeys(t[by]))
         for i, (preset, g) in enumerate(t.groupby("model_preset", sort=False)):
             g = g.set_index(by).reindex(keys)
-            x = np.arange(len(keys)) + (i - 0.5) * 0.4
-            ax.bar(x, g.agreement_pct, 0.4, label=preset, color=f"C{i}", yerr=[
-                g.agreement_pct - g.agreement_low_pct, g.agreement_high_pct - g.agreement_pct],
-                   ecolor="#333333")
+            style.bars(ax, np.arange(len(keys)) + (i - 0.5) * 0.4, g.agreement_pct,
+                       g.agreement_low_pct, g.agreement_high_pct, f"C{i}", 0.4, label=preset)
         ax.set_xticks(np.arange(len(keys)), [label(by, v).replace(" ", "\n") for v in keys])
         ax.set(ylim=(0, 105), ylabel="labels agree [%]", title=f"per {by} (Wilson 95%)")
         style.legend_below(ax, ncol=2)
@@ -132,7 +121,7 @@ SPEC = ReportSpec("dynamic_check", [
     Figure("agreement_by_group", "Share of trials whose labels agree per planner and per "
            "shape, per preset", group_figure, (11.0, 4.0)),
     Table("dynamic_status", "How the dynamic grasps ended, per preset and planner",
-          lambda run: _order(run, pd.crosstab([run.ok.model_preset, run.ok.planner],
-                                              run.ok.dynamic_status).reset_index(), [],
-                             ["model_preset", "planner"]), by=["model_preset", "planner"]),
+          lambda run: in_order(run, ["model_preset", "planner"], pd.crosstab(
+              [run.ok.model_preset, run.ok.planner], run.ok.dynamic_status).reset_index()),
+          by=["model_preset", "planner"]),
 ])
