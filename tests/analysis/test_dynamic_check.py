@@ -60,11 +60,19 @@ def test_kappa_on_other_tables_matches_statsmodels(table):
                                                              reference.kappa_upp))
 
 
+@pytest.mark.filterwarnings("ignore:invalid value:RuntimeWarning")  # statsmodels' z at std 0
 def test_kappa_is_undefined_when_both_labels_are_constant():
     # every grasp fails both ways: p_o = p_e = 1, kappa = 0 / 0
     result = dc.cohens_kappa([[0, 0], [0, 40]])
     assert result.observed_agreement == 1.0 and result.expected_agreement == 1.0
     assert np.isnan(result.kappa) and np.isnan(result.ci_low)
+    assert result.why == "undefined: every trial has one label in both columns"
+    assert dc.cohens_kappa([[0, 0], [0, 0]]).why == "no executed trial"
+    # one label constant, the other not: p_e = p_o, so kappa = 0 (defined)
+    one = dc.cohens_kappa([[0, 0], [3, 37]])
+    assert one.kappa == pytest.approx(sm_kappa(np.array([[0, 0], [3, 37]])).kappa) == 0.0
+    assert one.why == "0 by construction: the quasi-static label is constant"
+    assert np.isnan(one.ci_low) and np.isnan(one.std_error)
     with pytest.raises(ValueError, match=r"table must be a \(2, 2\) array of counts, got \[1, 2\]"):
         dc.cohens_kappa([1, 2])
 
@@ -83,6 +91,8 @@ def test_agreement_per_group():
     low, high = proportion_confint(35, 50, alpha=0.05, method="wilson")
     assert (heuristic["agreement_low"], heuristic["agreement_high"]) == pytest.approx((low, high))
     assert centroid["agreement"] == 1.0 and np.isnan(centroid["kappa"])
+    assert centroid["kappa_why"] == "undefined: every trial has one label in both columns"
+    assert heuristic["kappa_why"] == ""
     overall = dc.agreement_table(records)
     assert len(overall) == 1 and overall.loc[0, "n"] == 90
     assert overall.loc[0, "kappa"] == pytest.approx(sm_kappa(np.array([[20, 5], [10, 55]])).kappa)

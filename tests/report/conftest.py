@@ -18,10 +18,9 @@ REDUCED = {
     "baseline_grid": ["seeds=1", "shape=[sphere,pear]", "mass_kg=[0.4]", "mu=[0.3]"],
     "grip_laws": ["seeds=1", "shape=[sphere,pear]", "mass_kg=[0.2]", "mu=[0.5]"],
     "pso_repeatability": ["seeds=2", "budget=[repeatability]"],
-    # one preset and one integrator until the dynamic reports read both (issues 13, 17)
-    "gravity_settle": ["nodes=[144]", "integrator=[rk4]", "+params.settle_t_max_s=0.2"],
-    "friction_mass": ["nodes=[144]", "mu=[0.1,0.5]", "mass_kg=[0.4]", "model_preset=[table2]",
-                      "+params.t_max_s=0.03"],
+    # both integrators and both presets (issues 13, 17), at short simulated times
+    "gravity_settle": ["nodes=[144]", "+params.settle_t_max_s=0.2"],
+    "friction_mass": ["nodes=[144]", "mu=[0.1,0.5]", "mass_kg=[0.4]", "+params.t_max_s=0.03"],
     "sensitivity": ["params.levels=2", "seeds=1"],
     "mesh_resolution": ["seeds=1", "params.resolutions=[144,390]", "params.timing_repeats=1",
                         "params.budget_shapes=[sphere]", "params.budget_nodes=[144]",
@@ -37,6 +36,8 @@ REDUCED = {
     # split and environment (772 events), and a short PSO so the finalize tables exist
     "test1_bench": ["params.materials=[gel]", "params.specimens=[1,11]", "params.pso_restarts=3",
                     "params.pso_particles=12", "params.pso_iterations=40", "params.pso_max_reruns=1"],
+    # after baseline_grid, its source: two planners of its sphere and pear trials, both presets
+    "dynamic_check": ["+factors.planner=[heuristic,centroid]", "+params.t_max_s=0.05"],
 }
 
 

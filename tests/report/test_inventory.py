@@ -32,7 +32,10 @@ INVENTORY = {
                   {"fig18_grip_laws", "h_epsilon"}),
     "pso_repeatability": ({"cv", "table3", "convergence"}, {"fig21_pso"}),
     "gravity_settle": ({"settle", "integrator_audit"}, {"fig10_settle", "integrator_audit"}),
-    "friction_mass": ({"friction_mass", "like_for_like"}, {"fig12_13_dynamic"}),
+    "friction_mass": ({"stable_by_preset", "friction_mass", "phases", "like_for_like",
+                       "friction_cone"}, {"fig12_13_dynamic"}),
+    "dynamic_check": ({"kappa", "agreement_by_planner", "agreement_by_shape", "dynamic_status"},
+                      {"confusion", "agreement_by_group"}),
     "sensitivity": ({"sensitivity_panels", "sensitivity_claims", "gate_removed"},
                     {"fig19_sensitivity", "fig19_supplement"}),
     "mesh_resolution": ({"mesh_resolution_runtime", "cost_ratio", "success_vs_n_cand",
@@ -87,19 +90,58 @@ def test_each_report_has_its_tables_and_figures(sim_root, study):
 
 def test_dynamic_tables_match_their_records(sim_root):
     fm = sim_root / "friction_mass" / "default"
-    records = RunStore(fm).read().to_pandas().sort_values(["mu", "mass_kg"])
+    records = RunStore(fm).read().to_pandas().sort_values(["model_preset", "mu", "mass_kg"],
+                                                          key=lambda s: s.replace("table2", "0"))
     table = pd.read_csv(fm / "report" / "tables" / "friction_mass.csv")
-    assert list(table["dynamic_status"]) == list(records["dynamic_status"])
+    assert list(table["model_preset"]) == ["table2", "table2", "firm", "firm"]  # design order
+    for column in ("trial_id", "dynamic_status", "delta_required_mm"):
+        assert list(table[column]) == list(records[column])
     assert (table["paper"] == "stable").all()
     like = pd.read_csv(fm / "report" / "tables" / "like_for_like.csv")
-    assert list(like["lp_status_mu0"]) == list(records["lp_status_mu0"])
+    assert list(like["labels_agree"]) == list(records["success"] == records["qs_success"])
+    cone = pd.read_csv(fm / "report" / "tables" / "friction_cone.csv")
+    assert list(cone["lp_mu0_reason"]) == list(records["lp_mu0_reason"])
+    stable = pd.read_csv(fm / "report" / "tables" / "stable_by_preset.csv").set_index("model_preset")
+    assert stable.loc["firm", "successes"] == records.query("model_preset == 'firm'").success.sum()
+    md = (fm / "report" / "report.md").read_text()
+    for preset, g in records.groupby("model_preset"):
+        assert f"**{preset}**: {int((g.dynamic_status == 'stable').sum())} of {len(g)}" in md
+
     settle = sim_root / "gravity_settle" / "default"
     audit = pd.read_csv(settle / "report" / "tables" / "integrator_audit.csv")
-    record = RunStore(settle).read().to_pandas().iloc[0]
-    assert audit["rk4_observed_order"].iloc[0] == record["rk4_observed_order"]
+    records = RunStore(settle).read().to_pandas().set_index("integrator")
+    assert list(audit["integrator"]) == ["rk4", "implicit"]
+    assert list(audit["observed_order"]) == list(records.loc[["rk4", "implicit"], "observed_order"])
+    assert list(audit["expected_order"]) == [4, 2]
+    shapes = pd.read_csv(settle / "report" / "tables" / "settle.csv")
+    assert shapes["shape_difference_max_mm"].iloc[0] == 0.0  # rk4 against itself
     md = (settle / "report" / "report.md").read_text()
     assert "Sec. 12 lists both as missing" in md and "step [µs]" not in md  # the unit is in PNG
-    assert f"observed order {record['rk4_observed_order']:.2f} (RK4: 4)" in md
+    assert f"rk4 observed order {records.loc['rk4', 'observed_order']:.2f} (expected 4)" in md
+
+
+def test_dynamic_check_tables_match_their_records(sim_root):
+    """The kappa table's counts are the records' crosstab; kappa is statsmodels' on it."""
+    from statsmodels.stats.inter_rater import cohens_kappa
+
+    run = sim_root / "dynamic_check" / "default"
+    records = RunStore(run).read().to_pandas().query("status == 'ok'")
+    kappa = pd.read_csv(run / "report" / "tables" / "kappa.csv")
+    assert sorted(kappa["model_preset"].unique()) == ["firm", "table2"]
+    for r in kappa.itertuples():
+        qs, dyn = {"source": ("qs_success", "success"), "preset": ("qs_preset_success", "success"),
+                   "source_unbounded": ("qs_success_unbounded", "success_unbounded"),
+                   "preset_unbounded": ("qs_preset_success_unbounded", "success_unbounded"),
+                   }[r.comparison]
+        g = records[records["model_preset"] == r.model_preset]
+        counts = pd.crosstab(g[qs].astype(bool), g[dyn].astype(bool)).reindex(
+            index=[True, False], columns=[True, False], fill_value=0).to_numpy()
+        assert [[r.both_success, r.qs_only], [r.dynamic_only, r.both_failure]] == counts.tolist()
+        if not pd.isna(r.kappa):
+            assert r.kappa == pytest.approx(cohens_kappa(counts).kappa)
+    by_shape = pd.read_csv(run / "report" / "tables" / "agreement_by_shape.csv")
+    assert by_shape["n"].sum() == len(records)
+    assert "Sec. 6.1" in (run / "report" / "report.md").read_text()
 
 
 def test_every_figure_is_labelled_with_its_data_source(sim_root):

@@ -1,31 +1,17 @@
-"""Agreement of the quasi-static and the dynamic labels of the ``dynamic_check`` study.
+"""Agreement of the quasi-static and dynamic labels of ``dynamic_check`` (docs/records.md).
 
-Pure functions of the records (one row per source trial and material preset, docs/records.md):
-the 2 x 2 confusion matrix of two boolean label columns, Cohen's kappa with its asymptotic
-interval (statsmodels), and the agreement per group (planner, shape, preset). They return arrays,
-small frozen results and DataFrames; the report formats them.
-
-Which label pairs to compare (:data:`LABEL_PAIRS`): the dynamic ``success`` (Eq. 19 held, every
-penetration within the fingertip radius) against
-
-- ``qs_success``: the source study's recorded quasi-static label (its own contact law: the
-  PSO-identified gel constants for ``baseline_grid``), i.e. the label the paper reports;
-- ``qs_preset_success``: Algorithms 1-2 re-run on the same contacts under the trial's preset (the
-  like-for-like comparison: same contacts, same contact law, only the evaluator differs);
-
-and the same pairs without the validity gate (``*_unbounded``).
-
-Orientation of every table: rows are the quasi-static label (success, failure), columns the
-dynamic label (success, failure)::
-
-    [[both succeed,          quasi-static only],
-     [dynamic only,          both fail        ]]
+Every 2 x 2 table has the quasi-static label in its rows and the dynamic label in its columns
+(success first): ``[[both succeed, quasi-static only], [dynamic only, both fail]]``.
+:data:`LABEL_PAIRS` names the compared columns: the dynamic ``success`` (Eq. 19 held, every
+penetration within the fingertip radius) against the source study's recorded label
+(``qs_success``, the label the paper reports) and against Algorithms 1-2 re-run on the same
+contacts under the trial's preset (``qs_preset_success``: like for like), each also without the
+validity gate (``*_unbounded``). Only executed trials (``status == "ok"``) carry a label.
 
 References
 ----------
-Cohen, J. (1960), "A coefficient of agreement for nominal scales", Educational and Psychological
-Measurement 20(1):37-46; Fleiss, J. L., Cohen, J. & Everitt, B. S. (1969), "Large sample
-standard errors of kappa and weighted kappa", Psychological Bulletin 72(5):323-327 (the ASE of
+Cohen, J. (1960), Educ. Psychol. Meas. 20(1):37-46; Fleiss, J. L., Cohen, J. & Everitt, B. S.
+(1969), Psychol. Bull. 72(5):323-327 (the asymptotic standard error of
 ``statsmodels.stats.inter_rater.cohens_kappa``); Wilson, E. B. (1927), JASA 22:209-212.
 """
 
@@ -36,48 +22,21 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-__all__ = [
-    "LABEL_PAIRS",
-    "KappaResult",
-    "agreement_table",
-    "cohens_kappa",
-    "confusion_matrix",
-    "ok_records",
-]
+from graspcampaign.analysis.rates import wilson_interval
+from graspcampaign.analysis.records import executed
 
-LABEL_PAIRS: dict[str, tuple[str, str]] = {
-    "source": ("qs_success", "success"),
-    "preset": ("qs_preset_success", "success"),
-    "source_unbounded": ("qs_success_unbounded", "success_unbounded"),
-    "preset_unbounded": ("qs_preset_success_unbounded", "success_unbounded"),
-}
-"""Comparison name -> (quasi-static column, dynamic column) of the dynamic_check records."""
+LABEL_PAIRS = {"source": ("qs_success", "success"), "preset": ("qs_preset_success", "success"),
+               "source_unbounded": ("qs_success_unbounded", "success_unbounded"),
+               "preset_unbounded": ("qs_preset_success_unbounded", "success_unbounded")}
 
 
 @dataclass(frozen=True)
 class KappaResult:
-    """Cohen's kappa of a 2 x 2 table.
-
-    Attributes
-    ----------
-    table : (2, 2) int
-        The confusion matrix (module orientation).
-    n : int
-        Trials.
-    observed_agreement : float
-        ``(both succeed + both fail) / n`` [-].
-    expected_agreement : float
-        Agreement expected from the marginals alone [-].
-    kappa : float
-        ``(p_o - p_e) / (1 - p_e)``; nan when ``p_e = 1`` (one label constant in both columns:
-        kappa is undefined, the agreement is then the observed proportion alone).
-    std_error : float
-        Asymptotic standard error (Fleiss, Cohen & Everitt 1969) [-].
-    ci_low, ci_high : float
-        ``kappa -/+ z std_error`` at the requested confidence (statsmodels' interval).
-    confidence_level : float
-        [-].
-    """
+    """Cohen's kappa of a 2 x 2 table: ``table``, ``n``, the observed and expected (from the
+    marginals) agreement, ``kappa = (p_o - p_e) / (1 - p_e)``, its asymptotic ``std_error`` and
+    interval ``ci_low``-``ci_high`` at ``confidence_level``; kappa and its interval are nan (with
+    ``why``) when the table is empty or both labels are one constant value (``p_e = 1``); ``why``
+    also says when one label alone is constant (kappa = 0 by construction, no interval)."""
 
     table: np.ndarray
     n: int
@@ -88,146 +47,72 @@ class KappaResult:
     ci_low: float
     ci_high: float
     confidence_level: float
-
-
-def ok_records(records: pd.DataFrame) -> pd.DataFrame:
-    """Return the executed trials (``status == "ok"``): error records carry no label."""
-    if "status" not in records.columns:
-        return records
-    return records[records["status"] == "ok"]
+    why: str = ""
 
 
 def confusion_matrix(records: pd.DataFrame, qs_column: str = "qs_success",
                      dynamic_column: str = "success") -> np.ndarray:
-    """Return the 2 x 2 counts of two boolean label columns (rows quasi-static, columns dynamic).
-
-    Parameters
-    ----------
-    records : DataFrame
-        dynamic_check records (only ``status == "ok"`` rows are counted).
-    qs_column, dynamic_column : str
-        Label columns (e.g. a pair of :data:`LABEL_PAIRS`).
-
-    Returns
-    -------
-    table : (2, 2) int
-        ``[[both, quasi-static only], [dynamic only, neither]]``.
-
-    Raises
-    ------
-    KeyError
-        If a column is missing (the message names it).
-    """
-    rows = ok_records(records)
+    """Return the (2, 2) counts of two boolean label columns over the executed trials."""
+    rows = executed(records)
     for column in (qs_column, dynamic_column):
         if column not in rows.columns:
             raise KeyError(f"dynamic_check records have no column {column!r}")
-    qs = rows[qs_column].astype(bool).to_numpy()
-    dyn = rows[dynamic_column].astype(bool).to_numpy()
+    qs, dyn = (rows[c].astype(bool).to_numpy() for c in (qs_column, dynamic_column))
     return np.array([[np.sum(qs & dyn), np.sum(qs & ~dyn)],
                      [np.sum(~qs & dyn), np.sum(~qs & ~dyn)]], dtype=np.int64)
 
 
 def cohens_kappa(table, confidence_level: float = 0.95) -> KappaResult:
-    """Return Cohen's kappa of a 2 x 2 agreement table with its asymptotic interval.
-
-    Parameters
-    ----------
-    table : (2, 2) int
-        Counts (any consistent orientation: kappa is symmetric).
-    confidence_level : float
-        Of the interval.
-
-    Returns
-    -------
-    result : KappaResult
-        Computed by ``statsmodels.stats.inter_rater.cohens_kappa``; kappa, its standard error
-        and interval are nan when the marginals make kappa undefined (``p_e = 1``) or the table
-        is empty.
-
-    References
-    ----------
-    Cohen (1960); Fleiss, Cohen & Everitt (1969).
-    """
+    """Return Cohen's kappa of a (2, 2) table of counts with its asymptotic interval
+    (``statsmodels.stats.inter_rater.cohens_kappa``; Cohen 1960, Fleiss et al. 1969)."""
+    from scipy.stats import norm
     from statsmodels.stats.inter_rater import cohens_kappa as sm_kappa
 
     table = np.asarray(table, dtype=np.int64)
     if table.shape != (2, 2) or np.any(table < 0):
         raise ValueError(f"table must be a (2, 2) array of counts, got {table.tolist()}")
-    n = int(table.sum())
-    nan = float("nan")
-    if n == 0:
-        return KappaResult(table, 0, nan, nan, nan, nan, nan, nan, confidence_level)
-    observed = float(np.trace(table)) / n
-    expected = float(table.sum(axis=1) @ table.sum(axis=0)) / n**2
-    if expected >= 1.0:  # both raters constant and equal: kappa = 0/0
-        return KappaResult(table, n, observed, expected, nan, nan, nan, nan, confidence_level)
-    res = sm_kappa(table, return_results=True)
-    alpha = 1.0 - confidence_level
-    if np.isclose(alpha, res.alpha):
-        low, high = float(res.kappa_low), float(res.kappa_upp)
-    else:
-        from scipy.stats import norm
-
-        half = norm.ppf(1.0 - alpha / 2.0) * float(res.std_kappa)
-        low, high = float(res.kappa) - half, float(res.kappa) + half
-    return KappaResult(table, n, observed, expected, float(res.kappa), float(res.std_kappa), low,
-                       high, confidence_level)
+    n, nan = int(table.sum()), float("nan")
+    observed = float(np.trace(table)) / n if n else nan
+    expected = float(table.sum(axis=1) @ table.sum(axis=0)) / n**2 if n else nan
+    constant = [w for w, m in (("quasi-static", table.sum(axis=1)), ("dynamic", table.sum(axis=0)))
+                if m.min() == 0]
+    why = ("no executed trial" if not n else "undefined: every trial has one label in both "
+           "columns" if expected >= 1.0 else f"0 by construction: the {constant[0]} label is "
+           "constant" if constant else "")
+    if not n or expected >= 1.0:  # kappa = 0/0
+        return KappaResult(table, n, observed, expected, nan, nan, nan, nan, confidence_level, why)
+    with np.errstate(invalid="ignore", divide="ignore"):  # z test of kappa = 0 at std 0
+        res = sm_kappa(table, return_results=True)
+    std = nan if constant else float(res.std_kappa)  # one label constant: std 0, no interval
+    half = norm.ppf(0.5 + confidence_level / 2.0) * std
+    return KappaResult(table, n, observed, expected, float(res.kappa), std,
+                       float(res.kappa) - half, float(res.kappa) + half, confidence_level, why)
 
 
 def agreement_table(records: pd.DataFrame, qs_column: str = "qs_success",
                     dynamic_column: str = "success", by=None,
                     confidence_level: float = 0.95) -> pd.DataFrame:
-    """Return the agreement of two label columns, overall or per group.
-
-    Parameters
-    ----------
-    records : DataFrame
-        dynamic_check records.
-    qs_column, dynamic_column : str
-        Label columns.
-    by : str or list of str, optional
-        Grouping columns (e.g. ``"model_preset"``, ``["model_preset", "planner"]``); None: one
-        row for all trials.
-    confidence_level : float
-        Of the Wilson and kappa intervals.
-
-    Returns
-    -------
-    table : DataFrame
-        One row per group: the group columns, ``n``, ``both_success``, ``qs_only``,
-        ``dynamic_only``, ``both_failure`` (counts), ``qs_success_rate``,
-        ``dynamic_success_rate``, ``agreement`` (observed proportion) with its Wilson interval
-        ``agreement_low`` / ``agreement_high``, ``kappa``, ``kappa_std_error``, ``kappa_low``,
-        ``kappa_high`` (nan where kappa is undefined), ``expected_agreement``.
-
-    References
-    ----------
-    Cohen (1960); Wilson (1927).
-    """
-    from statsmodels.stats.proportion import proportion_confint
-
-    rows = ok_records(records)
+    """Return the agreement of two label columns, overall (``by=None``) or per group of ``by``:
+    the counts of :func:`confusion_matrix` (``both_success``, ``qs_only``, ``dynamic_only``,
+    ``both_failure``), both success rates, ``agreement`` with its Wilson interval, and the
+    fields of :class:`KappaResult` (``kappa``, ``kappa_std_error``, ``kappa_low``/``_high``,
+    ``kappa_why``, ``expected_agreement``)."""
+    rows = executed(records)
     keys = [] if by is None else ([by] if isinstance(by, str) else list(by))
-    groups = [((), rows)] if not keys else rows.groupby(keys, sort=True, observed=True)
     out = []
+    groups = rows.groupby(keys, sort=True, observed=True) if keys else [((), rows)]
     for key, group in groups:
         table = confusion_matrix(group, qs_column, dynamic_column)
-        kappa = cohens_kappa(table, confidence_level)
-        n = kappa.n
-        agree = int(np.trace(table))
-        low, high = proportion_confint(agree, n, alpha=1.0 - confidence_level, method="wilson")
-        key = key if isinstance(key, tuple) else (key,)
+        k, agree = cohens_kappa(table, confidence_level), int(np.trace(table))
+        w = wilson_interval(agree, k.n, confidence_level)
         out.append({
-            **dict(zip(keys, key, strict=True)),
-            "n": n,
-            "both_success": int(table[0, 0]), "qs_only": int(table[0, 1]),
+            **dict(zip(keys, key if isinstance(key, tuple) else (key,), strict=True)),
+            "n": k.n, "both_success": int(table[0, 0]), "qs_only": int(table[0, 1]),
             "dynamic_only": int(table[1, 0]), "both_failure": int(table[1, 1]),
-            "qs_success_rate": float(table[0].sum()) / n,
-            "dynamic_success_rate": float(table[:, 0].sum()) / n,
-            "agreement": agree / n, "agreement_low": float(low), "agreement_high": float(high),
-            "kappa": kappa.kappa, "kappa_std_error": kappa.std_error,
-            "kappa_low": kappa.ci_low, "kappa_high": kappa.ci_high,
-            "expected_agreement": kappa.expected_agreement,
-        })
+            "qs_success_rate": table[0].sum() / k.n,
+            "dynamic_success_rate": table[:, 0].sum() / k.n,
+            "agreement": agree / k.n, "agreement_low": w.low, "agreement_high": w.high,
+            "kappa": k.kappa, "kappa_std_error": k.std_error, "kappa_low": k.ci_low,
+            "kappa_high": k.ci_high, "kappa_why": k.why,
+            "expected_agreement": k.expected_agreement})
     return pd.DataFrame(out)

@@ -25,7 +25,8 @@ SPECS: dict[str, str] = {
     "shapes": "quasi_static:SHAPES", "ablation": "quasi_static:ABLATION",
     "baseline_grid": "quasi_static:BASELINE_GRID", "grip_laws": "quasi_static:GRIP_LAWS",
     "pso_repeatability": "pso:SPEC", "gravity_settle": "dynamic:GRAVITY_SETTLE",
-    "friction_mass": "dynamic:FRICTION_MASS", "sensitivity": "sensitivity:SPEC",
+    "friction_mass": "dynamic:FRICTION_MASS", "dynamic_check": "dynamic_check:SPEC",
+    "sensitivity": "sensitivity:SPEC",
     "mesh_resolution": "mesh_resolution:SPEC", "test2_grasp": "test2:SPEC",
     "test3_disturbance": "test3:SPEC", "surrogate": "surrogate:SPEC", "test1_bench": "test1:SPEC"}
 #: trial kind -> spec for studies of that kind without a spec of their own
