@@ -1,0 +1,234 @@
+"""Test 1 ingest of waveform files (paper §7.1): reading, validation and the blank sheet a rig
+fills in.
+
+Validation raises :class:`graspcampaign.rig.ingest.IngestError` with one sentence naming the file,
+the data row and the column; a validated table is fitted by
+:func:`graspcampaign.rig.test1_fits.fit_waveforms`.
+
+Waveform table columns: ``event_id, time_s, displacement_mm, normal_force_n,
+tangential_force_n, tangential_displacement_mm`` plus optional metadata (``attempt``,
+``anomaly``, ``source``).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Iterable
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from graspcampaign.rig.ingest import (
+    SOURCES,
+    IngestError,
+    _fail,
+    _table_and_label,
+    header_problems,
+    read_table,
+)
+from graspcampaign.rig.test1_summary import WAVEFORM_COLUMNS
+
+__all__ = ["read_waveforms", "validate_waveforms", "waveform_template"]
+
+
+_UNIT_RE = re.compile(r"^(?P<stem>time|displacement|normal_force|tangential_force|"
+                      r"tangential_displacement)_(?P<unit>[a-z]+)$")
+_EXPECTED_UNIT = {"time": "s", "displacement": "mm", "normal_force": "n",
+                  "tangential_force": "n", "tangential_displacement": "mm"}
+_RANGES = {  # physical envelope of the rig (§7.1): values outside suggest wrong units
+    "time_s": (0.0, 3600.0, "the 0-3600 s record window"),
+    "displacement_mm": (-50.0, 50.0, "the +-50 mm actuator travel"),
+    "normal_force_n": (-10.0, 10.0, "the 10 N load-cell range"),
+    "tangential_force_n": (-10.0, 10.0, "the 10 N load-cell range"),
+    "tangential_displacement_mm": (-50.0, 50.0, "the +-50 mm stage travel"),
+}
+
+
+def read_waveforms(path: str | Path) -> pd.DataFrame:
+    """Read a waveform file (``.csv``, ``.parquet``/``.pq`` or ``.xlsx``) without checks.
+
+    Via :func:`graspcampaign.rig.ingest.read_table` (an unsupported, missing or unreadable
+    file raises :class:`IngestError`); CSV channels are parsed as numbers, only an empty cell
+    is missing.
+    """
+    return read_table(path, csv_options={"dtype": {"event_id": str, "anomaly": str},
+                                         "keep_default_na": False, "na_values": [""]},
+                      excel_options={"dtype": {"event_id": str}})
+
+
+def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterable[str],
+                       file_label: str | None = None) -> pd.DataFrame:
+    """Validate a waveform table and return it with clean dtypes.
+
+    Checks, in order: required columns (a column with the right quantity but another unit
+    suffix is reported as wrong units), numbers, finite values, the rig's physical ranges
+    (values outside them usually mean wrong units), known event ids, duplicate samples
+    (same ``event_id`` and ``time_s``), strictly increasing time within each event.
+
+    Parameters
+    ----------
+    data : DataFrame or path
+        The table, or a CSV/Parquet/XLSX file to read with :func:`read_waveforms`.
+    known_event_ids : iterable of str
+        Event ids of the study's schedule.
+    file_label : str, optional
+        Name used in messages; default the file name (or ``"<dataframe>"``).
+
+    Returns
+    -------
+    pandas.DataFrame
+        The validated table (``event_id`` str, channels float64), in file order.
+
+    Raises
+    ------
+    IngestError
+        One sentence naming the file, the 1-based data row (header excluded) and the column.
+    """
+    df, label = _table_and_label(data, file_label, read_waveforms)
+    df = df.reset_index(drop=True)
+    df.columns = [str(c).strip() for c in df.columns]
+    units = {c: _EXPECTED_UNIT[c.rsplit("_", 1)[0]] for c in WAVEFORM_COLUMNS[1:]}
+    problems = header_problems(list(df.columns), list(WAVEFORM_COLUMNS), units, _UNIT_RE)
+    if problems:
+        raise IngestError(f"{label}, header: {'; '.join(problems)} (`graspcampaign schedule "
+                          "test1_bench --template` writes a sheet with every column).")
+    if len(df) == 0:
+        raise _fail(label, None, "event_id", "the file has no data rows")
+    out = pd.DataFrame({"event_id": df["event_id"]})
+    ids = df["event_id"]
+    bad = ids.isna() | (ids.astype(str).str.strip() == "")
+    if bad.any():
+        raise _fail(label, int(np.flatnonzero(bad.to_numpy())[0]) + 1, "event_id",
+                    "event id is empty")
+    out["event_id"] = ids.astype(str).str.strip()
+    for c in WAVEFORM_COLUMNS[1:]:
+        raw = df[c]
+        num = pd.to_numeric(raw, errors="coerce")
+        nonnum = num.isna() & raw.notna() & ~raw.astype(str).str.strip().str.lower().isin(
+            ["nan", "inf", "-inf", "+inf", "infinity", "-infinity"])
+        if nonnum.any():
+            i = int(np.flatnonzero(nonnum.to_numpy())[0])
+            raise _fail(label, i + 1, c, f"value {raw.iloc[i]!r} is not a number")
+        vals = num.to_numpy(dtype=float)
+        notfinite = ~np.isfinite(vals)
+        if notfinite.any():
+            i = int(np.flatnonzero(notfinite)[0])
+            problem = ("value nan (an empty cell or NaN) is not finite" if np.isnan(vals[i])
+                       else f"value {vals[i]:g} is not finite")  # not np.float64(inf)
+            raise _fail(label, i + 1, c, problem)
+        lo, hi, what = _RANGES[c]
+        outside = (vals < lo) | (vals > hi)
+        if outside.any():
+            i = int(np.flatnonzero(outside)[0])
+            raise _fail(label, i + 1, c, f"value {vals[i]:g} lies outside {what} "
+                        "(wrong units?)")
+        out[c] = vals
+    known = set(known_event_ids)
+    unknown = ~out["event_id"].isin(known)
+    if unknown.any():
+        i = int(np.flatnonzero(unknown.to_numpy())[0])
+        raise _fail(label, i + 1, "event_id",
+                    f"event id '{out['event_id'].iloc[i]}' is not in the schedule")
+    dup = out.duplicated(["event_id", "time_s"], keep="first")
+    if dup.any():
+        i = int(np.flatnonzero(dup.to_numpy())[0])
+        key = out.iloc[i]
+        first = out.index[(out["event_id"] == key["event_id"])
+                          & (out["time_s"] == key["time_s"])][0]
+        raise _fail(label, i + 1, "time_s", f"duplicate sample of event '{key['event_id']}' "
+                    f"at {key['time_s']:g} s (first seen in row {first + 1})")
+    prev = out.groupby("event_id", sort=False)["time_s"].shift()
+    back = (out["time_s"] <= prev).to_numpy()
+    if back.any():
+        i = int(np.flatnonzero(back)[0])
+        raise _fail(label, i + 1, "time_s", f"time {out['time_s'].iloc[i]:g} s does not "
+                    f"increase within event '{out['event_id'].iloc[i]}' (previous sample "
+                    f"{prev.iloc[i]:g} s)")
+    if "attempt" in df.columns:
+        out["attempt"] = _attempts(df["attempt"], label)
+    if "anomaly" in df.columns:
+        anomaly = df["anomaly"].astype(object)
+        out["anomaly"] = anomaly.where(anomaly.notna(), "").astype(str).str.strip()
+    if "source" in df.columns:
+        out["source"] = _sources(df["source"], label)
+    for extra in ("attempt", "anomaly", "source"):
+        if extra in out:
+            _check_constant(out, extra, label)
+    return out
+
+
+def _attempts(raw: pd.Series, label: str) -> np.ndarray:
+    """Parse the optional ``attempt`` column: an integer from 1 (the first try) on."""
+    values = []
+    for i, value in enumerate(raw.tolist()):
+        text = str(value).strip()
+        try:
+            number = float(text)
+        except ValueError:
+            number = math.nan
+        if not (math.isfinite(number) and number == int(number) and number >= 1):
+            shown = value.item() if isinstance(value, np.generic) else value  # no np reprs
+            raise _fail(label, i + 1, "attempt", f"value {shown!r} is not an attempt number (an "
+                        "integer 1, 2, ... counting the tries of the event)")
+        values.append(int(number))
+    return np.asarray(values, dtype=np.int64)
+
+
+def _sources(raw: pd.Series, label: str) -> np.ndarray:
+    """Parse the optional ``source`` column: ``measured`` (a rig) or ``virtual`` (a virtual bench)."""
+    values = []
+    for i, value in enumerate(raw.tolist()):
+        text = "" if value is None or (isinstance(value, float) and math.isnan(value)) \
+            else str(value).strip()
+        if not text:
+            raise _fail(label, i + 1, "source", f"value is empty; expected one of "
+                        f"{', '.join(SOURCES)}")
+        if text not in SOURCES:
+            raise _fail(label, i + 1, "source", f"value {text!r} is not one of "
+                        f"{', '.join(SOURCES)}")
+        values.append(text)
+    return np.asarray(values, dtype=object)
+
+
+def _check_constant(table: pd.DataFrame, column: str, label: str) -> None:
+    """A per-event column (attempt, anomaly, source) must not change within an event."""
+    first = table.groupby("event_id", sort=False)[column].transform("first")
+    changed = (table[column] != first).to_numpy()
+    if changed.any():
+        i = int(np.flatnonzero(changed)[0])
+        value, before = (v.item() if isinstance(v, np.generic) else v  # no np reprs
+                         for v in (table[column].iloc[i], first.iloc[i]))
+        raise _fail(label, i + 1, column, f"value {value!r} differs from {before!r} earlier in "
+                    f"event '{table['event_id'].iloc[i]}' (one value per event)")
+
+
+def waveform_template() -> tuple[pd.DataFrame, pd.DataFrame]:
+    """Return the (empty) waveform sheet a rig fills in, and the description of its columns.
+
+    Returns
+    -------
+    sheet : pandas.DataFrame
+        No rows; the columns :data:`WAVEFORM_COLUMNS` then the optional ``attempt``, ``anomaly``,
+        ``source``.
+    columns : pandas.DataFrame
+        ``column, type, unit, allowed, required`` per column (ranges: the rig envelope of §7.1).
+    """
+    rows = [{"column": "event_id", "type": "str", "unit": "-",
+             "allowed": "an event_id of the schedule", "required": "every row"}]
+    for name in WAVEFORM_COLUMNS[1:]:
+        lo, hi, what = _RANGES[name]
+        unit = {"s": "s", "mm": "mm", "n": "N"}[name.rsplit("_", 1)[1]]
+        rows.append({"column": name, "type": "float", "unit": unit,
+                     "allowed": f"float in [{lo:g}, {hi:g}] ({what})", "required": "every row"})
+    rows += [
+        {"column": "attempt", "type": "int", "unit": "1",
+         "allowed": "integer >= 1, one value per event", "required": "optional column (1)"},
+        {"column": "anomaly", "type": "str", "unit": "-", "allowed": "rig-log note, one per event",
+         "required": "optional column"},
+        {"column": "source", "type": "str", "unit": "-", "allowed": ", ".join(SOURCES),
+         "required": "optional column (measured)"},
+    ]
+    columns = pd.DataFrame(rows)
+    return pd.DataFrame({c: pd.Series(dtype=object) for c in columns["column"]}), columns
