@@ -112,7 +112,7 @@ def pso(schedule) -> tuple[list[tuple[str, ...]], object]:
     waves = T.run_virtual_bench(normal, SEED, keep_waveforms=True, fit=False).waveforms
     t_regen = time.process_time() - t0
     t0 = time.process_time()
-    pool = T._normal_traces(waves, T.PSO_POINTS_PER_TRACE, min_points=6)
+    pool = T.normal_traces(waves, T.PSO_POINTS_PER_TRACE, min_points=6)
     t_pool = time.process_time() - t0
     psi = bench.specimen_effective_modulus(bench.FAMILIES["gel"].modulus_mean)
     lower, upper = paper_bounds()
