@@ -216,7 +216,7 @@ def test_a_run_whose_every_trial_errored_is_reported_with_reasons(tmp_path):
     assert table["rate_why"].tolist() == ["no executed trial"] * 2
     assert table["n_error"].tolist() == [10, 10]
     md = (store.path / "report" / "report.md").read_text()
-    assert "| proposed H(G) | Algorithm 2 (paper) | 72.0 | no executed trial |" in md  # grip law beside planner
+    assert "| proposed H(G) | Algorithm 2 (paper) | 72.0 | no executed trial |" in md  # law by planner
     assert "20 recorded of 20; 0 executed; 20 errored" in md
     errors = pd.read_csv(store.path / "report" / "tables" / "errors.csv")
     assert set(errors["error_message"]) == {"bad"}
