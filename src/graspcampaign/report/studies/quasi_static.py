@@ -93,9 +93,10 @@ def grid_finding(run: Run) -> str:
     """Why the paper's rates cannot come from its own Algorithm 2 (from the records), then ours."""
     m = run.tables["mechanism"].set_index("planner")
     t, rates = m.sum(numeric_only=True).astype(int), _paper_law(run.tables["success_by_planner"])
-    paper, gate = rates.set_index("planner")["paper_pct"], _paper_law(run.tables["readings"])
-    bound = [f"{label('planner', p)} ≤ {100 * r['rho_passable'] / r['n']:.1f}% (paper {paper[p]:g}%)"
-             for p, r in m.iterrows() if r["n"] and 100 * r["rho_passable"] / r["n"] < paper.get(p, -1)]
+    paper_pct, gate = rates.set_index("planner")["paper_pct"], _paper_law(run.tables["readings"])
+    bound = [f"{label('planner', p)} ≤ {100 * r['rho_passable'] / r['n']:.1f}% (paper {paper_pct[p]:g}%)"
+             for p, r in m.iterrows()
+             if r["n"] and 100 * r["rho_passable"] / r["n"] < paper_pct.get(p, -1)]
     paired = _paper_law(run.tables.get("mcnemar", pd.DataFrame()))
     return (
         "**The paper's rates cannot come from its own Algorithm 2.** Line 7 moves each depth by "
