@@ -27,7 +27,6 @@ from graspcampaign.report.studies.pso import table3
 DECISION = ("`docs/decisions.md`, *Physical validity, grip laws, Ferrari–Canny ε (issues 13 and 17, "
             "quasi-static side)*")
 LAWS, BY_LAW = ["planner", "grip_law"], ["grip_law", "planner"]
-LAW_LABEL = {"paper": "paper law (Algorithm 2)"}
 PAPER_MARKS = "black marks are the paper's (Algorithm 2) values"
 
 
@@ -134,7 +133,7 @@ def bars(ax, t: pd.DataFrame, x: str, hue: str | None = None) -> None:
             ax, np.arange(len(xs)) + (i - (len(hues) - 1) / 2) * width, sub["rate_pct"],
             sub["wilson_low_pct"], sub["wilson_high_pct"], colour(hue, h, i) if hue else [
                 colour(x, v, j) for j, v in enumerate(xs)], width, sub["paper_pct"].tolist(),
-            LAW_LABEL.get(h, label(hue, h)) if hue else None)
+            label(hue, h) if hue else None)
     ax.set_xticks(np.arange(len(xs)), [label(x, v).replace(" ", "\n").replace("_", "\n") for v in xs])
     style.rate_axes(ax)
     handles = [*ax.get_legend_handles_labels()[0], style.interval_handle("ours, Wilson 95%"),
