@@ -219,12 +219,11 @@ def study_row(path: Path) -> dict[str, Any]:
                 return f"after {exc.source}"
 
         n = _fact("listed", digest.hexdigest()[:16], compute)
-        if isinstance(n, str):
-            return {"study": path.stem, "kind": study.kind, "trials": "?", "runnable": n,
-                    "extension": study.extension,
-                    "description": " ".join(study.description.split())}
     else:
         n = n_trials(study)
-    state = "yes" if ready else "not yet" if study.kind in KINDS else "unknown kind"
+    if isinstance(n, str):  # "after <source>": its design needs another run first
+        n, state = "?", n
+    else:
+        state = "yes" if ready else "not yet" if study.kind in KINDS else "unknown kind"
     return {"study": path.stem, "kind": study.kind, "trials": n, "runnable": state,
             "extension": study.extension, "description": " ".join(study.description.split())}

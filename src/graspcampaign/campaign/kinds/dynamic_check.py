@@ -94,12 +94,12 @@ def load_source(root: str, name: str, run: str) -> Source:
     path = Path(root) / name / run
     store = RunStore(path)
     manifest = read_manifest(store.manifest_path)
-    command = f"graspcampaign run {name}" + ("" if run == "default" else f" --run {run}")
+    source = name + ("" if run == "default" else f" --run {run}")
+    command = f"graspcampaign run {source}"
     if manifest is None:
         raise MissingSourceRunError(
             f"dynamic_check re-simulates the records of {name}/{run}, but {path} holds no run; "
-            f"run `{command}` first (or set params.source_study / params.source_run).",
-            source=command.removeprefix("graspcampaign run "))
+            f"run `{command}` first (or set params.source_study / params.source_run).", source)
     if manifest.get("kind") != "quasi_static":
         raise UserInputError(
             f"dynamic_check re-simulates quasi-static plans, but {name}/{run} is a "
