@@ -62,7 +62,8 @@ def test_show_prints_design_without_running(tmp_path):
                                          r"allowed values: heuristic"),
         ("shape=[cube]", r"factors\.shape\[0\] has unknown value 'cube'; allowed values: sphere, "
                          r"ellipsoid, rounded_cube, pear, handle\.$"),
-        ("colour=red", r"colour is not a known key of the study config \(override rejected\)\.$"),
+        ("colour=red", r"colour is neither a known key of the study config nor a factor of this study "
+                       r"\(factors: nodes, shape\); override rejected\.$"),
         ("model.lambda1=soft", r"model\.lambda1: Value 'soft' of type 'str' could not be converted"),
         ("runner.backend=spark", r"runner\.backend has unknown value 'spark'; allowed values: loky"),
         ("+factors.flavour=[1]", r"factors\.flavour is not a known factor; known factors:"),

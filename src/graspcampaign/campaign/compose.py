@@ -160,7 +160,8 @@ def compose_study(study: str, overrides: list[str] | None = None) -> StudyCfg:
             raise
         except Exception as exc:  # Hydra/OmegaConf raise many unrelated types; all mean bad input
             check_group_files()  # a broken group file is named with its line
-            raise ConfigError(_override_sentence(exc, overrides, given)) from None
+            names = sorted(factors) if isinstance(factors, dict) else []
+            raise ConfigError(_override_sentence(exc, overrides, given, names)) from None
     check_study(obj)
     where = f"{campaigns_dir.name}/{path.name}" if path.parent == campaigns_dir else str(path)
     check_paper(obj.compare_with or obj.name, obj.paper, f"{where}: paper",
@@ -254,8 +255,10 @@ def _check_known_keys(cfg: Any, given: list[str]) -> None:
         raise ConfigError(sentence)
 
 
-def _override_sentence(exc: BaseException, overrides: list[str], given: list[str]) -> str:
-    """One sentence for a composition error, naming the user's override as they typed it."""
+def _override_sentence(exc: BaseException, overrides: list[str], given: list[str],
+                       factors: list[str] = ()) -> str:
+    """One sentence for a composition error, naming the user's override as they typed it (and, for a
+    bare key, the study's factors: ``shape=[...]`` works only where shape is a factor)."""
     text = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
     if type(exc).__name__ == "OverrideParseException":
         from hydra.core.override_parser.overrides_parser import OverridesParser
@@ -269,7 +272,11 @@ def _override_sentence(exc: BaseException, overrides: list[str], given: list[str
         return f"cannot parse overrides: {text.rstrip('.')}."
     match = re.match(r"Could not override '([^']+)'", text)
     if match:
-        return f"{match.group(1)} is not a known key of the study config (override rejected)."
+        key = match.group(1)
+        if "." in key:
+            return f"{key} is not a known key of the study config (override rejected)."
+        return (f"{key} is neither a known key of the study config nor a factor of this study "
+                f"(factors: {', '.join(factors) or 'none'}); override rejected.")
     match = re.match(r"Could not append to config\. An item is already at '([^']+)'", text)
     if match:
         return f"{match.group(1)} already exists; override it without the leading '+'."
