@@ -282,8 +282,12 @@ def rk4_body_step(x, dt, edges, rest_lengths, faces, constants, f_ext, share):
     result. The stage combinations run over the flattened arrays (one loop of 6 n instead of
     the (n, 6) double loop with its inner trip count of 6). Every
     element sees the operations of ``msd.rk4_step`` in its order, ``k2 + k3`` summed before it
-    is doubled, so the result is the same to the last bit (measured on the 356-node sphere:
-    ~3 us of a ~40 us step saved, all of it outside the force evaluations).
+    is doubled, so the result is the same to the last bit (measured on the 356-node sphere in one
+    process against the four-stage layout, shared machine: 5 % less CPU per free-body step, ~2 us
+    of ~40 us; no change measurable with the support's share, where ``remove_rigid_part`` adds
+    ~2.4 us per stage). The four force evaluations are ~8 us each and bound the step: their edge
+    passes are limited by loads and stores (a fused edge loop, a node-centric CSR gather and
+    other edge orders were each measured slower).
 
     References
     ----------
