@@ -6,6 +6,9 @@ Figures, all measured in this run (median and best of repeats):
   the compiled path (``grasp_kernel.compiled_grasp_step``), with their ratio and real-time factors
   (issue 16 targets: compiled real-time factor >= 5, i.e. 100 steps in <= 4 ms at the 207.5 us
   step, and >= 10x the numpy path; the paper reports 1.8 s in MATLAB, Table 2);
+- the same 100 compiled steps with their loop in numba (``grasp_kernel.step_kernel`` called from
+  a compiled driver with the same grip law; checked to give the same final state bit for bit):
+  the cost of the compiled step without the Python between steps;
 - the same 100 RK4 steps without contact, and with the optional volume term;
 - the reference: ``scipy.integrate.solve_ivp`` RK45 (default tolerances) on the same body without
   contact over the same simulated time;
@@ -33,6 +36,11 @@ The first-call cost of the compiled path is measured too: a fresh interpreter wi
 numba cache directory (what a fresh clone pays once: JIT compilation, then the cache is written)
 and again with that cache (every later process).
 
+A last table gathers the issue 16 figures: step cost [us] on CPU time, real-time factor on CPU
+time (the machine may be shared) and on the best wall time, and the speed-up over the numpy step,
+for the compiled step called from Python, its loop in numba, and the whole grasp's compiled phase
+loop.
+
 Run: ``python benchmarks/bench_msd.py``.
 """
 
@@ -46,6 +54,7 @@ import time
 from dataclasses import replace
 
 import numpy as np
+from numba import njit
 from scipy.integrate import solve_ivp
 
 from graspcampaign.core import dynamics, grasp_kernel, implicit, msd, phase_kernel
@@ -59,6 +68,7 @@ TARGET_MS = 90.0  # issue 6, numpy path
 COMPILED_TARGET_RTF = 5.0  # issue 16: real-time factor of the compiled path
 COMPILED_TARGET_SPEEDUP = 10.0  # issue 16: compiled vs numpy, same run
 PAPER_MS = 1800.0
+CLOSING_SPEED = 0.3  # finger speed of the timed grasp while closing [m/s] (module docstring)
 
 
 def _median_times(fn, repeats: int = REPEATS, best: bool = False):
@@ -73,6 +83,29 @@ def _median_times(fn, repeats: int = REPEATS, best: bool = False):
         cpus.append(time.process_time() - start_cpu)
     out = float(np.median(walls)), float(np.median(cpus))
     return (*out, float(np.min(walls))) if best else out
+
+
+@njit  # not cached: numba's cache would not see a change of the step_kernel it calls
+def _compiled_driver(x, nodal, grip, slip, active, v_rel, anchors, residual_z, n_steps, dt,
+                     edges, rest_lengths, faces, constants, targets, approach, law, weight_z,
+                     load_fraction, tau_f, closing_speed):
+    """The timed grasp of ``main`` (same grip law, same steps) with the loop in numba: the cost
+    of ``grasp_kernel.step_kernel`` alone, without the Python between steps. Returns the final
+    (n, 6) state and the mean number of active contacts."""
+    n_active = 0
+    rate = np.empty(grip.shape[0])
+    for _ in range(n_steps):
+        for p in range(grip.shape[0]):
+            n_active += active[p]
+            closing = (not active[p]) or abs(residual_z) >= tau_f
+            rate[p] = closing_speed if closing else 0.0
+        finite, x, vec, scal, flags, hosts, sums, nodal = grasp_kernel.step_kernel(
+            x, dt, edges, rest_lengths, faces, constants, nodal, 1.0 - load_fraction, grip, rate,
+            slip, active, v_rel, anchors, targets, approach, law, weight_z, load_fraction)
+        grip, slip, v_rel = scal[grasp_kernel.GRIP], vec[grasp_kernel.SLIP], vec[grasp_kernel.REL_VEL]
+        active, anchors = flags[grasp_kernel.ACTIVE], vec[grasp_kernel.ANCHORS]
+        residual_z = sums[grasp_kernel.RESIDUAL, 2]
+    return x, n_active / n_steps
 
 
 _JIT_PROBE = """
@@ -102,7 +135,10 @@ def first_call_costs() -> tuple[tuple[float, float], tuple[float, float]]:
     return runs[0], runs[1]
 
 
-def main() -> None:
+def main() -> list[tuple]:
+    """Time the grasp steps and the integrators; return the issue 16 figures of the compiled step
+    (name, CPU per step [s], real-time factor on CPU and on best wall, speed-up over the numpy
+    step on CPU and on best wall)."""
     mesh = make_object("sphere", 356)
     contact = ContactParams.table3()
     params = msd.MsdParams(g=0.0)
@@ -120,8 +156,23 @@ def main() -> None:
                 out = gs.contact
                 active += int(out.contacts.active.sum())
                 closing = ~out.contacts.active | (abs(out.residual[2]) >= setup.grasp.tau_f)
-                gs = step(setup, gs.commanded(np.where(closing, 0.3, 0.0), load_fraction))
+                gs = step(setup, gs.commanded(np.where(closing, CLOSING_SPEED, 0.0), load_fraction))
             active_counts.append(active / N_STEPS)
+            return gs
+        return run
+
+    packed = grasp_kernel.packed_setup(setup)
+    start = initial.contact
+
+    def driver_run(load_fraction):
+        def run():
+            return _compiled_driver(
+                initial.state.reshape(-1, 6), start.nodal_forces, initial.grip,
+                initial.slip_coords, start.contacts.active, start.relative_velocity,
+                start.stick.anchors, float(start.residual[2]), N_STEPS, dt, packed.edges,
+                packed.rest_lengths, packed.faces, packed.constants, packed.targets,
+                packed.approach, packed.law, packed.weight_z, load_fraction, setup.grasp.tau_f,
+                CLOSING_SPEED)
         return run
 
     body = setup.body
@@ -162,6 +213,12 @@ def main() -> None:
                                                    best=True)
     wall_fast_held, cpu_fast_held, best_fast_held = _median_times(grasp_run(0.0, compiled),
                                                                   COMPILED_REPEATS, best=True)
+    # the loop in numba must run the very same steps as the Python loop over compiled steps
+    driver_end, driver_active = driver_run(1.0)()
+    same_steps = np.array_equal(driver_end.reshape(-1), grasp_run(1.0, compiled)().state)
+    wall_loop, cpu_loop, best_loop = _median_times(driver_run(1.0), COMPILED_REPEATS, best=True)
+    wall_loop_held, cpu_loop_held, best_loop_held = _median_times(driver_run(0.0),
+                                                                  COMPILED_REPEATS, best=True)
     wall_rk4, cpu_rk4 = _median_times(rk4_run(gravity))
     wall_volume, cpu_volume = _median_times(rk4_volume)
     wall_ivp, cpu_ivp = _median_times(ivp_run)
@@ -175,6 +232,10 @@ def main() -> None:
         ("RK4 + 3 fingertip contacts, compiled", wall_fast, cpu_fast, best_fast, 4 * N_STEPS),
         ("the same, body held by the support, compiled", wall_fast_held, cpu_fast_held,
          best_fast_held, 4 * N_STEPS),
+        ("RK4 + 3 fingertip contacts, compiled, loop in numba (no Python between steps)",
+         wall_loop, cpu_loop, best_loop, 4 * N_STEPS),
+        ("the same, body held by the support, loop in numba", wall_loop_held, cpu_loop_held,
+         best_loop_held, 4 * N_STEPS),
         ("RK4, no contact, numpy", wall_rk4, cpu_rk4, float("nan"), 4 * N_STEPS),
         ("RK4, no contact, volume term (K_b = 0.47 MPa), numpy", wall_volume, cpu_volume,
          float("nan"), 4 * N_STEPS),
@@ -201,18 +262,19 @@ def main() -> None:
     print(f"numpy grasp step: {cpu_grasp * 1e3:.1f} ms CPU ({wall_grasp * 1e3:.1f} ms wall) per "
           f"100 steps, {verdict} the {TARGET_MS:.0f} ms target; {PAPER_MS / (wall_grasp * 1e3):.0f}x "
           f"the paper's 1.8 s")
-    speedup_cpu, speedup_best = cpu_grasp / cpu_fast, best_grasp / best_fast
-    rtf_cpu, rtf_best = t_end / cpu_fast, t_end / best_fast
-    print(f"compiled grasp step: {cpu_fast * 1e3:.2f} ms CPU ({wall_fast * 1e3:.2f} ms wall median, "
-          f"{best_fast * 1e3:.2f} ms best) per 100 steps; real-time factor {rtf_cpu:.2f} (CPU), "
-          f"{rtf_best:.2f} (best wall) against the target {COMPILED_TARGET_RTF:.0f} "
-          f"({'meets' if rtf_cpu >= COMPILED_TARGET_RTF else 'misses'} on CPU time); "
-          f"{speedup_cpu:.1f}x the numpy path on CPU time, {speedup_best:.1f}x on best wall "
-          f"(target {COMPILED_TARGET_SPEEDUP:.0f}x: "
-          f"{'meets' if speedup_cpu >= COMPILED_TARGET_SPEEDUP else 'misses'} on CPU time)")
+    print(f"the loop in numba runs the same steps as the Python loop over compiled steps: "
+          f"{'yes' if same_steps else 'NO'} (final states equal bit for bit; mean active "
+          f"contacts {driver_active:.2f} / 3)")
     print(f"compiled step, first call in a fresh process: {cold_wall:.1f} s wall ({cold_cpu:.1f} s "
           f"CPU) with an empty numba cache (a fresh clone: JIT compilation), {warm_wall:.2f} s "
           f"({warm_cpu:.2f} s CPU) once the cache is written")
+    simulated = t_end
+    return [(name, cpu / N_STEPS, simulated / cpu, simulated / best, cpu_grasp / cpu,
+             best_grasp / best)
+            for name, cpu, best in (("compiled step called from Python (compiled_grasp_step)",
+                                     cpu_fast, best_fast),
+                                    ("compiled step, loop in numba (step_kernel)", cpu_loop,
+                                     best_loop))]
 
 
 IMPLICIT_STEPS = 40
@@ -283,7 +345,7 @@ def implicit_table() -> None:
               f"{per_step / dt / rk4_per_second:.2f}x | {verdict} |")
 
 
-def phase_loop_table() -> None:
+def phase_loop_table() -> tuple:
     """A whole grasp (closure, lift-off, hold of Fig. 11) as the campaigns run it, per 100 steps.
 
     The same 356-node sphere with gravity, the paper's contact constants and the default
@@ -297,7 +359,7 @@ def phase_loop_table() -> None:
                                           dynamics.GraspParams())
     compiled, numpy_run = phase_kernel.GRASP_RUNNERS["compiled"], phase_kernel.GRASP_RUNNERS["numpy"]
     fast = compiled(setup, state)  # warm (cache load)
-    wall_fast, cpu_fast = _median_times(lambda: compiled(setup, state), 5)
+    wall_fast, cpu_fast, best_fast = _median_times(lambda: compiled(setup, state), 5, best=True)
     start, start_cpu = time.perf_counter(), time.process_time()
     slow = numpy_run(setup, state)
     wall_slow, cpu_slow = time.perf_counter() - start, time.process_time() - start_cpu
@@ -318,9 +380,34 @@ def phase_loop_table() -> None:
         print(f"| {name} | {cpu / steps * 1e5:.2f} | {wall / steps * 1e5:.2f} | "
               f"{simulated / cpu:.2f} | {(cpu_slow / (len(slow.times) - 1)) / (cpu / steps):.1f}x |")
     print()
+    slow_steps = len(slow.times) - 1
+    return ("whole grasp, compiled phase loop (run_grasp_phases_compiled)", cpu_fast / n,
+            simulated / cpu_fast, simulated / best_fast, (cpu_slow / slow_steps) / (cpu_fast / n),
+            (wall_slow / slow_steps) / (best_fast / n))
+
+
+def summary(rows) -> None:
+    """Print the issue 16 figures of the compiled dynamic step, all measured in this run."""
+    print(f"Issue 16, compiled dynamic step (targets: real-time factor >= {COMPILED_TARGET_RTF:.0f}, "
+          f">= {COMPILED_TARGET_SPEEDUP:.0f}x the numpy step). The real-time factor is simulated "
+          f"time over process CPU time (the machine may be shared; best wall beside it); the "
+          f"speed-ups are over the numpy step timed in this run (the whole grasp: over the numpy "
+          f"step under the Python driver, per step, its wall time from one run). Load average "
+          f"{os.getloadavg()[0]:.2f} on {os.cpu_count()} CPUs.")
+    print()
+    print("| run | step cost [us] (CPU) | real-time factor (CPU) | real-time factor (best wall) | "
+          "vs numpy step (CPU) | vs numpy step (best wall) | targets on CPU time (RTF, speed-up) |")
+    print("|---|---:|---:|---:|---:|---:|---|")
+    for name, per_step, rtf_cpu, rtf_best, speedup_cpu, speedup_best in rows:
+        verdicts = ("meets" if rtf_cpu >= COMPILED_TARGET_RTF else "misses",
+                    "meets" if speedup_cpu >= COMPILED_TARGET_SPEEDUP else "misses")
+        print(f"| {name} | {per_step * 1e6:.1f} | {rtf_cpu:.2f} | {rtf_best:.2f} | "
+              f"{speedup_cpu:.1f}x | {speedup_best:.1f}x | {verdicts[0]}, {verdicts[1]} |")
+    print()
 
 
 if __name__ == "__main__":
-    main()
-    phase_loop_table()
+    step_rows = main()
+    phase_row = phase_loop_table()
+    summary([*step_rows, phase_row])
     implicit_table()

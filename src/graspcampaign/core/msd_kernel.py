@@ -275,6 +275,20 @@ def rk4_body_step(x, dt, edges, rest_lengths, faces, constants, f_ext, share):
     new : (n, 6) float
         ``x + dt/6 (k1 + 2 (k2 + k3) + k4)``.
 
+    Notes
+    -----
+    Three (n, 6) work arrays instead of the four stages: ``k1``, the running sum ``k2 + k3`` and
+    the current stage, and ``new`` holds the stage inputs ``x + h k`` until it receives the
+    result. The stage combinations run over the flattened arrays (one loop of 6 n instead of
+    the (n, 6) double loop with its inner trip count of 6). Every
+    element sees the operations of ``msd.rk4_step`` in its order, ``k2 + k3`` summed before it
+    is doubled, so the result is the same to the last bit (measured on the 356-node sphere in one
+    process against the four-stage layout, shared machine: 5 % less CPU per free-body step, ~2 us
+    of ~40 us; no change measurable with the support's share, where ``remove_rigid_part`` adds
+    ~2.4 us per stage). The four force evaluations are ~8 us each and bound the step: their edge
+    passes are limited by loads and stores (a fused edge loop, a node-centric CSR gather and
+    other edge orders were each measured slower).
+
     References
     ----------
     Hairer, Norsett & Wanner (1993) §II.1 (Kutta 1901); Eq. 5.
@@ -282,28 +296,28 @@ def rk4_body_step(x, dt, edges, rest_lengths, faces, constants, f_ext, share):
     n = x.shape[0]
     work = np.empty((5, edges.shape[0]))
     scratch = np.empty((n, 3))
-    stages = np.empty((4, n, 6))
-    y = np.empty((n, 6))
-    # One call site for the four stages (k1 at x, k2 and k3 at x + dt/2 k, k4 at x + dt k3):
-    # the same arithmetic as four explicit calls, a quarter of the code to compile.
-    for s in range(4):
-        if s == 0:
-            current = x
-        else:
-            h = dt if s == 3 else 0.5 * dt
-            previous = stages[s - 1]
-            for i in range(n):
-                for j in range(6):
-                    y[i, j] = x[i, j] + h * previous[i, j]
-            current = y
-        _stage(current, edges, rest_lengths, faces, constants, f_ext, share, stages[s], work,
-               scratch)
-    k1, k2, k3, k4 = stages[0], stages[1], stages[2], stages[3]
+    k1 = np.empty((n, 6))
+    k23 = np.empty((n, 6))
+    k = np.empty((n, 6))
+    new = np.empty((n, 6))
+    flat_x, flat_new = x.reshape(-1), new.reshape(-1)
+    flat_k1, flat_k23, flat_k = k1.reshape(-1), k23.reshape(-1), k.reshape(-1)
+    half = 0.5 * dt
+    _stage(x, edges, rest_lengths, faces, constants, f_ext, share, k1, work, scratch)
+    for m in range(flat_x.shape[0]):
+        flat_new[m] = flat_x[m] + half * flat_k1[m]
+    _stage(new, edges, rest_lengths, faces, constants, f_ext, share, k23, work, scratch)
+    for m in range(flat_x.shape[0]):
+        flat_new[m] = flat_x[m] + half * flat_k23[m]
+    _stage(new, edges, rest_lengths, faces, constants, f_ext, share, k, work, scratch)
+    for m in range(flat_x.shape[0]):
+        flat_new[m] = flat_x[m] + dt * flat_k[m]
+        flat_k23[m] += flat_k[m]
+    _stage(new, edges, rest_lengths, faces, constants, f_ext, share, k, work, scratch)
     sixth = dt / 6.0
-    for i in range(n):
-        for j in range(6):
-            y[i, j] = x[i, j] + sixth * (k1[i, j] + 2.0 * (k2[i, j] + k3[i, j]) + k4[i, j])
-    return y
+    for m in range(flat_x.shape[0]):
+        flat_new[m] = flat_x[m] + sixth * (flat_k1[m] + 2.0 * flat_k23[m] + flat_k[m])
+    return new
 
 
 @njit(cache=True, error_model="numpy")

@@ -12,6 +12,11 @@ depth that ends the closure, the raised-cosine load ramp, the grip law of §3, t
 settled window of Eq. 19) is the one documented in :mod:`core.grasp_phases`; a change there must
 be made here too, and the equality tests say so if it is not.
 
+Numba's cache (``cache=True``) is keyed on this file alone: it does not see a change of the
+kernels the loop calls (:func:`core.grasp_kernel.step_kernel`, :mod:`core.msd_kernel`), so a
+change there must come with an edit here (or a cleared ``__pycache__``), or the loop keeps the
+old compiled step.
+
 References
 ----------
 Fig. 11 and §5.5, §3 (grip increment while equilibrium fails), §3.7 Eq. 19, §5.1 (seed).
