@@ -123,8 +123,8 @@ def figA1(run: Run, fig) -> None:
     ax_a.plot([0, 1], [0, 1], color=style.CRITERION, ls=":", label="chance")
     ax_a.plot([], [], " ", label="paper AUC: " + ", ".join(f"{MODELS[m][0]} {v:g}" for m, v in
                                                           run.paper.auc.items()))
-    ax_a.set(xlabel="false positive rate [–]", ylabel="true positive rate [–]", title="(a) ROC, success "
-             "classifiers (held out)")
+    ax_a.set(xlabel="false positive rate [–]", ylabel="true positive rate [–]",
+             title="(a) ROC, success classifiers (held out)")
     ax_a.legend(loc="lower right", fontsize=6.5)
     par, r2 = _read("parity")(run), run.tables["surrogate_regression"].set_index(["target", "model"])
     if len(par):
