@@ -1,6 +1,6 @@
-"""Reports of the dynamic MSD studies: ``gravity_settle`` (Sec. 5.4, Fig. 10; RK4 against the
-implicit midpoint rule with the integrator audit Sec. 12 lists as missing) and ``friction_mass``
-(Sec. 5.5, Figs. 12-13, per material preset, with the like-for-like checks of Sec. 6.1 / 12)."""
+"""Reports of the dynamic MSD studies: ``gravity_settle`` (Sec. 5.4, Fig. 10; RK4 against the implicit
+midpoint rule with the integrator audit Sec. 12 lists as missing) and ``friction_mass`` (Sec. 5.5,
+Figs. 12-13, per material preset, with the like-for-like checks of Sec. 6.1 / 12)."""
 
 from __future__ import annotations
 
@@ -15,11 +15,11 @@ from graspcampaign.report.document import cols
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Figure, Finding, Rates, ReportSpec, Table, Text
 
-DECISION = ("`docs/decisions.md`, *Dynamic studies (issue 6, campaign side)*: SI body constants "
-            "from the object modulus; the paper's b, k, c are in unpublished internal units")
+DECISION = ("`docs/decisions.md`, *Dynamic studies (issue 6, campaign side)*: SI body constants from the "
+            "object modulus; the paper's b, k, c are in unpublished internal units")
 GRASP = "`docs/decisions.md`, *Dynamic grasp in the paper's order (issue 13, item 4)*"
-IMPLICIT = ("`docs/decisions.md`, *Classical references: implicit integrator and original "
-            "Hunt–Crossley damping (issue 17, items 2–3)*")
+IMPLICIT = ("`docs/decisions.md`, *Classical references: implicit integrator and original Hunt–Crossley "
+            "damping (issue 17, items 2–3)*")
 #: order of accuracy of each integrator: classical RK4; the implicit midpoint rule (theta = 1/2)
 ORDER = {"rk4": 4, "implicit": 2}
 #: the level of a factor in runs recorded before it existed (issues 13, 17)
@@ -27,12 +27,11 @@ BEFORE = {"integrator": "rk4", "model_preset": "table2"}
 
 
 def in_order(run: Run, by: list[str], frame: pd.DataFrame | None = None, first=()) -> pd.DataFrame:
-    """Rows of ``frame`` (the executed trials) sorted by the ``first`` ranks, then the design's
-    order of ``by`` (a factor missing from older runs takes its old level, ``BEFORE``)."""
+    """Rows of ``frame`` (the executed trials) sorted by the ``first`` ranks, then the design's order
+    of ``by`` (a factor missing from older runs takes its old level, ``BEFORE``)."""
     t = run.ok if frame is None else frame
     t = t.assign(**{c: BEFORE[c] for c in by if c not in t and c in BEFORE})
-    ranks = [t[c].map({v: i for i, v in enumerate(ordered(c, t[c], run.order.get(c, ())))})
-             for c in by]
+    ranks = [t[c].map({v: i for i, v in enumerate(ordered(c, t[c], run.order.get(c, ())))}) for c in by]
     return t.iloc[np.lexsort([*first, *ranks][::-1])].reset_index(drop=True)
 
 
@@ -53,32 +52,29 @@ def _settle(run: Run) -> pd.DataFrame:
     ok = in_order(run, ["integrator"])
     xyz = [_trial(run, "shape", t).set_index("node")[["x_m", "y_m", "z_m"]] for t in ok.trial_id]
     return ok.assign(paper_settles=run.paper.settles, expected_order=ok.integrator.map(ORDER),
-                     shape_difference_max_mm=[1e3 * np.linalg.norm(s - xyz[0], axis=1).max()
-                                              for s in xyz])
+                     shape_difference_max_mm=[1e3 * np.linalg.norm(s - xyz[0], axis=1).max() for s in xyz])
 
 
 def settle_finding(run: Run) -> str:
     t = run.tables["settle"]
-    parts = [f"{r.integrator} at dt = {1e6 * r.dt_s:.0f} µs ({r.dt_over_rk4_limit:.2f}× RK4's "
-             f"stable step with the floor) {'settles' if r.settled else '**does not settle**'}, "
-             f"squash ratio {r.squash_ratio:.3f}" + (
-                 f", {r.newton_iterations_per_step:.1f} Newton iterations per step and "
-                 f"{r.lu_factorizations} LU factorisations" if r.lu_factorizations else "")
-             for r in t.itertuples()]
+    parts = [f"{r.integrator} at dt = {1e6 * r.dt_s:.0f} µs ({r.dt_over_rk4_limit:.2f}× RK4's stable step "
+             f"with the floor) {'settles' if r.settled else '**does not settle**'}, squash ratio "
+             f"{r.squash_ratio:.3f}" + (f", {r.newton_iterations_per_step:.1f} Newton iterations per step "
+                                        f"and {r.lu_factorizations} LU factorisations"
+                                        if r.lu_factorizations else "") for r in t.itertuples()]
     like = "as" if t["settled"].all() == run.paper.settles else "unlike"
     text = f"The sphere on the floor, {like} the paper's Fig. 10: " + "; ".join(parts) + ". "
-    text += (f"The settled shapes differ by at most {t.shape_difference_max_mm.max():.3g} mm per "
-             f"node and {np.ptp(t.squash_ratio):.2g} in squash ratio. ") if len(t) > 1 else ""
+    text += (f"The settled shapes differ by at most {t.shape_difference_max_mm.max():.3g} mm per node and "
+             f"{np.ptp(t.squash_ratio):.2g} in squash ratio. ") if len(t) > 1 else ""
     text += "Integrator audit (Sec. 12 lists it as missing): " + "; ".join(
-        f"{r.integrator} observed order {r.observed_order:.2f} (expected {r.expected_order}), "
-        f"energy-balance error {r.energy_balance_rel_error:.2g} shrinking "
-        f"{r.energy_balance_rel_error / r.energy_balance_rel_error_half_dt:.1f}-fold at half "
-        f"the step (2^{r.expected_order} = {2 ** r.expected_order}), {r.energy_increases} "
-        "energy increases" for r in t.itertuples())
-    return text + (f". The implicit rule is stable beyond RK4's limit but its settled shape "
-                   f"departs from RK4's at larger steps ({IMPLICIT}). Body constants are SI, "
-                   f"not the paper's ({DECISION}).")
-
+        f"{r.integrator} observed order {r.observed_order:.2f} (expected {r.expected_order}), energy-balance "
+        f"error {r.energy_balance_rel_error:.2g} shrinking "
+        f"{r.energy_balance_rel_error / r.energy_balance_rel_error_half_dt:.1f}-fold at half the step "
+        f"(2^{r.expected_order} = {2 ** r.expected_order}), {r.energy_increases} energy increases"
+        for r in t.itertuples())
+    return text + (f". The implicit rule is stable beyond RK4's limit but its settled shape departs from "
+                   f"RK4's at larger steps ({IMPLICIT}). Body constants are SI, not the paper's "
+                   f"({DECISION}).")
 
 def fig10(run: Run, fig) -> None:
     t = run.tables["settle"]
@@ -90,8 +86,7 @@ def fig10(run: Run, fig) -> None:
         c = colour("integrator", r.integrator, i)
         a.scatter(1e3 * shape["x_m"], 1e3 * shape["z_m"], s=12, c=c, marker="o+x"[i % 3],
                   label=f"settled, {r.integrator} (ratio {r.squash_ratio:.3f})")
-        b.semilogy(trace["time_s"], np.maximum(trace["kinetic_energy_j"], 1e-12), color=c,
-                   label=r.integrator)
+        b.semilogy(trace["time_s"], np.maximum(trace["kinetic_energy_j"], 1e-12), color=c, label=r.integrator)
     a.axhline(1e3 * shape0["z_m"].min(), color=style.PAPER, linewidth=1.0, label="floor")
     a.set(xlabel="x [mm]", ylabel="z [mm]", aspect="equal", title="(a) side view")
     b.set(xlabel="time [s]", ylabel="kinetic energy [J]", title="(b) settling")
@@ -105,10 +100,9 @@ def integrator_figure(run: Run, fig) -> None:
         dt_us, err = 1e6 * conv["dt_s"].to_numpy(float), conv["max_position_error_m"].to_numpy()
         c = colour("integrator", r.integrator, i)
         a.loglog(dt_us, err, "o-", color=c, label=r.integrator)
-        a.loglog(dt_us, err[0] * (dt_us / dt_us[0]) ** r.expected_order, "--", linewidth=1,
-                 color=c, label=f"slope {r.expected_order}")
-        audit = _trial(run, "energy_audit", r.trial_id)
-        for j, (step, rows) in enumerate(audit.groupby("step", sort=False)):
+        a.loglog(dt_us, err[0] * (dt_us / dt_us[0]) ** r.expected_order, "--", linewidth=1, color=c,
+                 label=f"slope {r.expected_order}")
+        for j, (step, rows) in enumerate(_trial(run, "energy_audit", r.trial_id).groupby("step", sort=False)):
             b.plot(rows["time_s"], rows["balance_error_j"], color=c, linestyle="-:"[j % 2],
                    label=f"{r.integrator}, step {step}")
     a.xaxis.set(major_locator=LogLocator(subs=(1, 2, 5)), major_formatter=lambda v, _: f"{v:g}")
@@ -122,27 +116,25 @@ def integrator_figure(run: Run, fig) -> None:
 
 GRAVITY_SETTLE = ReportSpec("gravity_settle", [
     Finding(settle_finding),
-    Table("settle", "Gravity settling per integrator beside Sec. 5.4 (the paper reports it "
-          "qualitatively); shape difference: largest distance of a node from its place in the "
-          "first integrator's settled shape", _settle, cols(
+    Table("settle", "Gravity settling per integrator beside Sec. 5.4 (the paper reports it qualitatively); "
+          "shape difference: largest distance of a node from its place in the first integrator's settled "
+          "shape", _settle, cols(
               "integrator", "nodes", "mass_kg", "paper_settles", "settled", "squash_ratio",
               "shape_difference_max_mm", "simulated_time_s", "final_kinetic_energy_j",
-              "max_floor_penetration_mm", "dt_s", "dt_over_rk4_limit", "n_steps",
-              "newton_iterations_per_step", "lu_factorizations")),
-    Figure("fig10_settle", "Fig. 10 (ours): undeformed and settled sphere per integrator; "
-           "kinetic-energy decay", fig10, (10.0, 4.4)),
-    Table("integrator_audit", "Step-size study and energy audit of each integrator on the "
-          "settle body (Sec. 12 lists both as missing from the paper; no paper values to "
-          "compare); expected order: RK4 4, implicit midpoint 2",
-          lambda run: run.tables["settle"], cols(
+              "max_floor_penetration_mm", "dt_s",
+              "dt_over_rk4_limit", "n_steps", "newton_iterations_per_step", "lu_factorizations")),
+    Figure("fig10_settle", "Fig. 10 (ours): undeformed and settled sphere per integrator; kinetic-energy "
+           "decay", fig10, (10.0, 4.4)),
+    Table("integrator_audit", "Step-size study and energy audit of each integrator on the settle body (Sec. "
+          "12 lists both as missing from the paper; no paper values to compare); expected order: RK4 4, "
+          "implicit midpoint 2", lambda run: run.tables["settle"], cols(
               "integrator", "dt_s", "expected_order", "observed_order", "error_at_settle_dt_m",
               "energy_balance_rel_error", "energy_balance_rel_error_half_dt", "energy_increases")),
-    Text("The energy-balance error at the settle step is each integrator's own truncation of "
-         "the stiffest mesh modes; mechanical energy growing without external power would be a "
-         "defect, and the table counts such steps (`docs/decisions.md`, energy audit)."),
-    Figure("integrator_audit", "Global error against step size (dashed: the expected order's "
-           "slope) and energy-balance error over time, per integrator", integrator_figure,
-           (10.0, 4.0)),
+    Text("The energy-balance error at the settle step is each integrator's own truncation of the stiffest "
+         "mesh modes; mechanical energy growing without external power would be a defect, and the table "
+         "counts such steps (`docs/decisions.md`, energy audit)."),
+    Figure("integrator_audit", "Global error against step size (dashed: the expected order's slope) and "
+           "energy-balance error over time, per integrator", integrator_figure, (10.0, 4.0)),
 ])
 
 
@@ -164,12 +156,12 @@ def mass_finding(run: Run) -> str:
         if "delta_required_mm" in g:
             beyond = (g.delta_required_mm > g.fingertip_radius_mm).mean()
             text += (f"; one fingertip alone carries the weight at δ = (mg/K)^(1/n) = "
-                     f"{_span(g.delta_required_mm, 'mm')}, "
-                     + {1.0: "**beyond**", 0.0: "within"}.get(beyond, "partly beyond") +
-                     f" the fingertip radius {_span(g.fingertip_radius_mm, 'mm')}")
-        parts.append(text + f"; the quasi-static evaluator on the same contacts passes "
-                     f"{g.qs_success.sum()} ({g.qs_success_unbounded.sum()} without the validity "
-                     f"gate), so the labels agree on {(g.success == g.qs_success).sum()} of {len(g)}")
+                     f"{_span(g.delta_required_mm, 'mm')}, " + {1.0: "**beyond**", 0.0: "within"}.get(
+                         beyond, "partly beyond") + f" the fingertip radius "
+                     f"{_span(g.fingertip_radius_mm, 'mm')}")
+        parts.append(text + f"; the quasi-static evaluator on the same contacts passes {g.qs_success.sum()} "
+                     f"({g.qs_success_unbounded.sum()} without the validity gate), so the labels agree on "
+                     f"{(g.success == g.qs_success).sum()} of {len(g)}")
     ok = run.ok
     why = ok.loc[ok.lp_status_mu0 != "feasible", "lp_mu0_reason"].value_counts()
     return ("The paper ran six of the nine μ × m cases and reports every one stable (Sec. 5.5). "
@@ -177,10 +169,10 @@ def mass_finding(run: Run) -> str:
             f"{(ok.lp_status_mu0 == 'feasible').sum()} of {len(ok)} runs on the meshed sphere" + (
                 " (" + ", ".join(f"{k} {v}" for k, v in why.items()) + "; facet normals up to "
                 f"{ok.normal_off_radial_max_deg.max():.1f}° off radial), and in "
-                f"{(ok.lp_status_mu0_ideal == 'feasible').sum()} of {len(ok)} on the ideal "
-                "sphere along the same directions, the paper's argument (Sec. 6.1)"
-                if len(why) else "") + f". Representative case of Figs. 12-13: μ = "
-            f"{p.representative_mu:g}, m = {p.representative_mass_kg:g} kg. {DECISION}.")
+                f"{(ok.lp_status_mu0_ideal == 'feasible').sum()} of {len(ok)} on the ideal sphere along the "
+                "same directions, the paper's argument (Sec. 6.1)" if len(why) else "")
+            + f". Representative case of Figs. 12-13: μ = {p.representative_mu:g}, m = "
+            f"{p.representative_mass_kg:g} kg. {DECISION}.")
 
 
 def fig12_13(run: Run, fig) -> None:
@@ -192,8 +184,8 @@ def fig12_13(run: Run, fig) -> None:
         for i, row in enumerate(g.itertuples()):
             s = steps[steps["trial_id"] == row.trial_id]
             rep = np.isclose([row.mu, row.mass_kg], [p.representative_mu, p.representative_mass_kg]).all()
-            kw = {"linewidth": 2.0 if rep else 0.8, "alpha": 1.0 if rep else 0.5,
-                  "color": f"C{i}", "label": f"μ={row.mu:g}, m={row.mass_kg:g} kg"}
+            kw = {"linewidth": 2.0 if rep else 0.8, "alpha": 1.0 if rep else 0.5, "color": f"C{i}",
+                  "label": f"μ={row.mu:g}, m={row.mass_kg:g} kg"}
             ax[0].plot(s["time_s"], s["residual_z_n"], **kw)
             ax[1].plot(s["time_s"], 1e3 * s["total_penetration_m"], **kw)
             if rep:
@@ -215,41 +207,39 @@ def fig12_13(run: Run, fig) -> None:
     fig.legend(handles=axes[0, 0].get_legend_handles_labels()[0], loc="outside lower center", ncol=6)
 
 
+def _fm_table(name: str, caption: str, *columns: str, **extra) -> Table:
+    """A table of every preset × μ × m run in design order (``extra``: columns added first)."""
+    return Table(name, caption, lambda run: in_order(run, FM).assign(**extra), cols(*FM, *columns))
+
+
 FRICTION_MASS = ReportSpec("friction_mass", [
     Finding(mass_finding),
-    Rates("stable_by_preset", "Stable, physically valid grasps per material preset beside Sec. "
-          "5.5 (the paper ran six of the nine μ × m and reports every one stable)",
-          ["model_preset"], lambda p, key: 100.0, bootstrap=False),
-    Table("friction_mass", "Dynamic grasp at every preset × μ × m beside Sec. 5.5; δ required: "
-          "the closed form (mg/K)^(1/n) at which one fingertip alone carries the weight, beside "
-          "the fingertip radius (the validity limit); final six-component wrench residual (the "
-          "paper checked only the vertical part)",
-          lambda run: in_order(run, FM).assign(paper="stable"), cols(
-              *FM, "paper", "dynamic_status", "final_phase", "success", "delta_max_mm",
-              "delta_required_mm", "fingertip_radius_mm", "final_residual_z_n",
-              "wrench_force_norm_n", "wrench_torque_norm_nm",
-              *(f"normal_force_{j}_n" for j in (1, 2, 3)))),
-    Table("phases", "Phase timings in the order of Fig. 11: closure on the held object (first "
-          "touch of each finger), lift-off, the settled window of Eq. 19 (— unless stable)",
-          lambda run: in_order(run, FM), cols(*FM, "closure_start_s", *(f"touch_{j}_s" for j in (
-              1, 2, 3)), "closure_end_s", "lift_end_s", "hold_start_s", "hold_end_s",
-              "simulated_time_s")),
-    Table("like_for_like", "Like-for-like labels on the dynamic pipeline's 45°/45°/−90° contact "
-          "set (Sec. 6.1, Sec. 12): the dynamic label and Algorithms 1-2 on the same contacts "
-          "under the same preset, with and without the validity gate (δ ≤ fingertip radius)",
-          lambda run: in_order(run, FM).assign(labels_agree=lambda d: d.success == d.qs_success),
-          cols(*FM, "dynamic_status", "success", "qs_success", "labels_agree",
-               "qs_success_unbounded", "qs_failure_check", "qs_residual_norm_n",
-               "qs_delta_max_mm")),
-    Table("friction_cone", "Friction-cone LP on the same contacts at μ and at μ = 0 (the "
-          "paper: feasible at every μ and as μ → 0 on the sphere): why μ = 0 fails on the "
-          "meshed sphere (force or torque balance), the force-only LP's torque residual, the "
-          "facet normals' largest angle off radial, and the ideal sphere along the same "
-          "directions", lambda run: in_order(run, FM), cols(
-              *FM, "lp_status", "lp_status_mu0", "lp_mu0_reason", "lp_mu0_force_only_status",
-              "lp_mu0_torque_residual_nm", "normal_off_radial_max_deg", "lp_status_mu0_ideal")),
-    Figure("fig12_13_dynamic", "Figs. 12-13 (ours), one row per preset: vertical residual and "
-           "total penetration for every μ × m (thick: the paper's representative case; grey: "
-           "its lift-off), and the per-finger normal forces of the representative case",
-           fig12_13, (15.0, 8.8)),
+    Rates("stable_by_preset", "Stable, physically valid grasps per material preset beside Sec. 5.5 (the "
+          "paper ran six of the nine μ × m and reports every one stable)", ["model_preset"],
+          lambda p, key: 100.0, bootstrap=False),
+    _fm_table("friction_mass", "Dynamic grasp at every preset × μ × m beside Sec. 5.5; δ required: the "
+              "closed form (mg/K)^(1/n) at which one fingertip alone carries the weight, beside the "
+              "fingertip radius (the validity limit); final six-component wrench residual (the paper checked "
+              "only the vertical part)", "paper", "dynamic_status", "final_phase", "success", "delta_max_mm",
+              "delta_required_mm",
+              "fingertip_radius_mm", "final_residual_z_n", "wrench_force_norm_n", "wrench_torque_norm_nm",
+              *(f"normal_force_{j}_n" for j in (1, 2, 3)), paper="stable"),
+    _fm_table("phases", "Phase timings in the order of Fig. 11: closure on the held object (first touch of "
+              "each finger), lift-off, the settled window of Eq. 19 (— unless stable)", "closure_start_s",
+              *(f"touch_{j}_s" for j in (1, 2, 3)), "closure_end_s", "lift_end_s", "hold_start_s",
+              "hold_end_s", "simulated_time_s"),
+    _fm_table("like_for_like", "Like-for-like labels on the dynamic pipeline's 45°/45°/−90° contact set "
+              "(Sec. 6.1, Sec. 12): the dynamic label and Algorithms 1-2 on the same contacts under the same "
+              "preset, with and without the validity gate (δ ≤ fingertip radius)", "dynamic_status",
+              "success", "qs_success", "labels_agree", "qs_success_unbounded", "qs_failure_check",
+              "qs_residual_norm_n", "qs_delta_max_mm", labels_agree=lambda d: d.success == d.qs_success),
+    _fm_table("friction_cone", "Friction-cone LP on the same contacts at μ and at μ = 0 (the paper: feasible "
+              "at every μ and as μ → 0 on the sphere): why μ = 0 fails on the meshed sphere (force or torque "
+              "balance), the force-only LP's torque residual, the facet normals' largest angle off radial, "
+              "and the ideal sphere along the same directions", "lp_status", "lp_status_mu0", "lp_mu0_reason",
+              "lp_mu0_force_only_status", "lp_mu0_torque_residual_nm", "normal_off_radial_max_deg",
+              "lp_status_mu0_ideal"),
+    Figure("fig12_13_dynamic", "Figs. 12-13 (ours), one row per preset: vertical residual and total "
+           "penetration for every μ × m (thick: the paper's representative case; grey: its lift-off), and "
+           "the per-finger normal forces of the representative case", fig12_13, (15.0, 8.8)),
 ])

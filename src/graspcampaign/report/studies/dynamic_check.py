@@ -1,5 +1,5 @@
-"""Report of ``dynamic_check``: every quasi-static label of a source study re-simulated by the
-dynamic grasp, per material preset, beside the paper's Sec. 6.1 claim that the labels agree."""
+"""Report of ``dynamic_check``: every quasi-static label of a source study re-simulated by the dynamic
+grasp, per material preset, beside the paper's Sec. 6.1 claim that the labels agree."""
 
 from __future__ import annotations
 
@@ -7,13 +7,12 @@ import numpy as np
 import pandas as pd
 
 from graspcampaign.analysis import dynamic_check as dc
-from graspcampaign.analysis.vocabulary import label
 from graspcampaign.report import format as fmt
-from graspcampaign.report import style
 from graspcampaign.report.document import Col
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, verdicts
 from graspcampaign.report.studies.dynamic import in_order
+from graspcampaign.report.studies.quasi_static import bars
 
 DECISION = "`docs/decisions.md`, *Dynamic check report (issue 16, item 3, report side)*"
 PAIRS = {"source": "source study's label", "preset": "Algorithms 1–2 under the preset",
@@ -23,15 +22,13 @@ AGREE = [Col("n", "n"), Col("both_success", "both succeed"), Col("qs_only", "qua
          Col("dynamic_only", "dynamic only"), Col("both_failure", "both fail"),
          Col("agreement_pct", "agreement % (Wilson 95%)", 1, low="agreement_low_pct",
              high="agreement_high_pct"),
-         Col("kappa", "Cohen's κ (95%)", 2, low="kappa_low", high="kappa_high"),
-         Col("kappa_why", "κ note")]
+         Col("kappa", "Cohen's κ (95%)", 2, low="kappa_low", high="kappa_high"), Col("kappa_why", "κ note")]
 
 
 def agreement(run: Run, by: list[str], pairs=("source",)) -> pd.DataFrame:
     """Agreement of each label pair per group of ``by`` (presets and groups in design order)."""
-    frames = [dc.agreement_table(run.records, *dc.LABEL_PAIRS[p], by=by).assign(comparison=p)
-              for p in pairs]
-    t = pd.concat(frames, ignore_index=True)
+    t = pd.concat([dc.agreement_table(run.records, *dc.LABEL_PAIRS[p], by=by).assign(comparison=p)
+                   for p in pairs], ignore_index=True)
     t = t.assign(**{f"{c}_pct": 100 * t[c] for c in ("agreement", "agreement_low", "agreement_high")})
     return in_order(run, by, t, [t.comparison.map(list(PAIRS).index)])
 
@@ -39,87 +36,72 @@ def agreement(run: Run, by: list[str], pairs=("source",)) -> pd.DataFrame:
 def _kappa(run: Run) -> pd.DataFrame:
     t = agreement(run, ["model_preset"], PAIRS).assign(paper_pct=100.0)
     t["comparison_label"] = t.comparison.map(PAIRS)
-    return verdicts(t, "agreement_pct", "paper_pct", "agreement_low_pct",
-                    "agreement_high_pct", unit="%")
+    return verdicts(t, "agreement_pct", "paper_pct", "agreement_low_pct", "agreement_high_pct", unit="%")
 
 
 def finding(run: Run) -> str:
-    k, ok = run.tables["kappa"], run.ok
-    parts = []
+    k, ok, parts = run.tables["kappa"], run.ok, []
     for r in k[k.comparison == "source"].itertuples():
         g = ok[ok.model_preset == r.model_preset]
         status = ", ".join(f"{v} `{s}`" for s, v in g.dynamic_status.value_counts().items())
         kappa = fmt.estimate(r.kappa, r.kappa_low, r.kappa_high, 2) + (
             f" ({r.kappa_why})" if r.kappa_why else "")
-        parts.append(
-            f"**{r.model_preset}**: the labels agree on {r.both_success + r.both_failure} of "
-            f"{r.n} ({r.agreement_pct:.1f}%, Wilson 95% "
-            f"{fmt.interval(r.agreement_low_pct, r.agreement_high_pct, 1)}), κ = {kappa}; "
-            f"quasi-static passes {r.both_success + r.qs_only}, the dynamic grasp holds "
-            f"{r.both_success + r.dynamic_only} ({status})")
+        parts.append(f"**{r.model_preset}**: the labels agree on {r.both_success + r.both_failure} of {r.n} "
+                     f"({r.agreement_pct:.1f}%, Wilson 95% "
+                     f"{fmt.interval(r.agreement_low_pct, r.agreement_high_pct, 1)}), κ = {kappa}; "
+                     f"quasi-static passes {r.both_success + r.qs_only}, the dynamic grasp holds "
+                     f"{r.both_success + r.dynamic_only} ({status})")
     like = k[k.comparison == "preset"]
     return (f"The paper: \"{run.paper.claim}\". Re-simulating {ok.source_trial_id.nunique()} "
-            f"{', '.join(sorted(set(ok.source_study)))} trials: " + "; ".join(parts) + ". Like "
-            "for like (Algorithms 1–2 under the same preset): agreement " + ", ".join(
+            f"{', '.join(sorted(set(ok.source_study)))} trials: " + "; ".join(parts) + ". Like for like "
+            "(Algorithms 1–2 under the same preset): agreement " + ", ".join(
                 f"{r.model_preset} {r.agreement_pct:.1f}%" for r in like.itertuples()) + ". "
-            f"{int(k.differs.eq(True).sum())} of {len(k)} comparisons differ from full "
-            "agreement (its 100% outside our Wilson interval); agreement by mutual failure gives "
-            f"κ near 0, not evidence that the evaluators agree. {DECISION}.")
+            f"{int(k.differs.eq(True).sum())} of {len(k)} comparisons differ from full agreement (its 100% "
+            "outside our Wilson interval); agreement by mutual failure gives κ near 0, not evidence that the "
+            f"evaluators agree. {DECISION}.")
 
 
 def confusion_figure(run: Run, fig) -> None:
-    k = run.tables["kappa"]
-    k = k[k.comparison.isin(["source", "preset"])]
-    presets = list(dict.fromkeys(k.model_preset))
-    axes = fig.subplots(2, len(presets), squeeze=False)
+    k = run.tables["kappa"].query("comparison in ['source', 'preset']")
+    axes = fig.subplots(2, k.model_preset.nunique(), squeeze=False)
     for ax, r in zip(axes.ravel(), k.itertuples(), strict=True):  # rows: pair, columns: preset
         table = np.array([[r.both_success, r.qs_only], [r.dynamic_only, r.both_failure]])
         ax.imshow(table, cmap="Blues", vmin=0, vmax=max(1, table.max()))
         for (i, j), v in np.ndenumerate(table):
-            ax.text(j, i, str(v), ha="center", va="center",
-                    color="white" if v > table.max() / 2 else "black")
+            ax.text(j, i, str(v), ha="center", va="center", color="white" if v > table.max() / 2 else "black")
         ax.grid(False)
-        ax.set(xticks=[0, 1], yticks=[0, 1], xticklabels=["success", "failure"], yticklabels=[
-            "success", "failure"], xlabel="dynamic label", ylabel="quasi-static label",
+        ax.set(xticks=[0, 1], yticks=[0, 1], xticklabels=["success", "failure"],
+               yticklabels=["success", "failure"], xlabel="dynamic label", ylabel="quasi-static label",
                title=f"{r.model_preset}: {PAIRS[r.comparison]}")
 
 
 def group_figure(run: Run, fig) -> None:
-    axes = fig.subplots(1, 2)
-    for ax, by in zip(axes, ("planner", "shape"), strict=True):
-        t = run.tables[f"agreement_by_{by}"]
-        keys = list(dict.fromkeys(t[by]))
-        for i, (preset, g) in enumerate(t.groupby("model_preset", sort=False)):
-            g = g.set_index(by).reindex(keys)
-            style.bars(ax, np.arange(len(keys)) + (i - 0.5) * 0.4, g.agreement_pct,
-                       g.agreement_low_pct, g.agreement_high_pct, f"C{i}", 0.4, label=preset)
-        ax.set_xticks(np.arange(len(keys)), [label(by, v).replace(" ", "\n") for v in keys])
-        ax.set(ylim=(0, 105), ylabel="labels agree [%]", title=f"per {by} (Wilson 95%)")
-        style.legend_below(ax, ncol=2)
+    for ax, by in zip(fig.subplots(1, 2), ("planner", "shape"), strict=True):
+        bars(ax, run.tables[f"agreement_by_{by}"], by, "model_preset",
+             ("agreement_pct", "agreement_low_pct", "agreement_high_pct"))
+        ax.set(ylabel="labels agree [%]", title=f"per {by} (Wilson 95%)")
 
 
 def _by(by: str) -> Table:
-    return Table(f"agreement_by_{by}", f"Agreement of the source study's quasi-static label "
-                 f"and the dynamic label per preset and {by}; κ undefined where every trial has "
-                 "one label in both columns", lambda run: agreement(run, ["model_preset", by]),
-                 [Col("qs_success_rate", "quasi-static success", 3),
-                  Col("dynamic_success_rate", "dynamic success", 3), *AGREE],
-                 by=["model_preset", by])
+    return Table(f"agreement_by_{by}", f"Agreement of the source study's quasi-static label and the dynamic "
+                 f"label per preset and {by}; κ undefined where every trial has one label in both columns",
+                 lambda run: agreement(run, ["model_preset", by]), [
+                     Col("qs_success_rate", "quasi-static success", 3),
+                     Col("dynamic_success_rate", "dynamic success", 3), *AGREE], by=["model_preset", by])
 
 
 SPEC = ReportSpec("dynamic_check", [
     Finding(finding),
-    Table("kappa", lambda run: f"Confusion matrix (rows quasi-static, columns dynamic), "
-          f"agreement and Cohen's κ (asymptotic 95% interval, statsmodels) per preset and label "
-          f"pair, beside the paper's claim \"{run.paper.claim}\" read as full agreement (100%)",
-          _kappa, [Col("model_preset", "model preset"), Col("comparison_label", "quasi-static "
-                   "label"), *AGREE, Col("paper_pct", "paper %", 1), Col("verdict", "verdict")]),
-    Figure("confusion", "Confusion matrices per preset: the source study's label and "
-           "Algorithms 1–2 under the preset (rows) against the dynamic label (columns)",
-           confusion_figure, (8.0, 7.0)),
+    Table("kappa", lambda run: f"Confusion matrix (rows quasi-static, columns dynamic), agreement and "
+          f"Cohen's κ (asymptotic 95% interval, statsmodels) per preset and label pair, beside the paper's "
+          f"claim \"{run.paper.claim}\" read as full agreement (100%)", _kappa, [
+              Col("model_preset", "model preset"), Col("comparison_label", "quasi-static label"), *AGREE,
+              Col("paper_pct", "paper %", 1), Col("verdict", "verdict")]),
+    Figure("confusion", "Confusion matrices per preset: the source study's label and Algorithms 1–2 under "
+           "the preset (rows) against the dynamic label (columns)", confusion_figure, (8.0, 7.0)),
     _by("planner"), _by("shape"),
-    Figure("agreement_by_group", "Share of trials whose labels agree per planner and per "
-           "shape, per preset", group_figure, (11.0, 4.0)),
+    Figure("agreement_by_group", "Share of trials whose labels agree per planner and per shape, per preset",
+           group_figure, (11.0, 4.0)),
     Table("dynamic_status", "How the dynamic grasps ended, per preset and planner",
           lambda run: in_order(run, ["model_preset", "planner"], pd.crosstab(
               [run.ok.model_preset, run.ok.planner], run.ok.dynamic_status).reset_index()),

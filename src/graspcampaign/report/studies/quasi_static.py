@@ -123,17 +123,18 @@ def grid_finding(run: Run) -> str:
         f"published checks. SPEC §8; {DECISION}.")
 
 
-def bars(ax, t: pd.DataFrame, x: str, hue: str | None = None) -> None:
-    """Rates per ``x`` (and ``hue``) level with Wilson whiskers and the paper's marks."""
+def bars(ax, t: pd.DataFrame, x: str, hue: str | None = None,
+         rate: tuple[str, str, str] = ("rate_pct", "wilson_low_pct", "wilson_high_pct")) -> None:
+    """Rates (the ``rate`` columns: value, Wilson low, high) per ``x`` (and ``hue``) level with their
+    whiskers and the paper's marks (``paper_pct``, if any)."""
     xs, hues = list(dict.fromkeys(t[x])), list(dict.fromkeys(t[hue])) if hue else [None]
     width, marked = 0.8 / len(hues), False
     for i, h in enumerate(hues):
         sub = (t[t[hue] == h] if hue else t).set_index(x).reindex(xs)
         marked |= style.bars(
-            ax, np.arange(len(xs)) + (i - (len(hues) - 1) / 2) * width, sub["rate_pct"],
-            sub["wilson_low_pct"], sub["wilson_high_pct"], colour(hue, h, i) if hue else [
-                colour(x, v, j) for j, v in enumerate(xs)], width, sub["paper_pct"].tolist(),
-            label(hue, h) if hue else None)
+            ax, np.arange(len(xs)) + (i - (len(hues) - 1) / 2) * width, *(sub[c] for c in rate),
+            colour(hue, h, i) if hue else [colour(x, v, j) for j, v in enumerate(xs)], width,
+            sub["paper_pct"].tolist() if "paper_pct" in sub else None, label(hue, h) if hue else None)
     ax.set_xticks(np.arange(len(xs)), [label(x, v).replace(" ", "\n").replace("_", "\n") for v in xs])
     style.rate_axes(ax)
     handles = [*ax.get_legend_handles_labels()[0], style.interval_handle("ours, Wilson 95%"),

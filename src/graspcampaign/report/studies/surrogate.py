@@ -8,12 +8,12 @@ import math
 import numpy as np
 import pandas as pd
 
-from graspcampaign.analysis import records as rec
 from graspcampaign.analysis.vocabulary import label, ordered
 from graspcampaign.report import style
 from graspcampaign.report.document import Col, cols
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, verdicts
+from graspcampaign.report.studies.sensitivity import rate_cols
 
 MODELS = {"pso_call": ("brief PSO call", "#7b4ea3"), "mlp": ("MLP 64-32", "#1f5aa6"),
           "random_forest": ("random forest", "#e08a1e")}
@@ -40,20 +40,16 @@ def _dataset(run: Run) -> pd.DataFrame:
     rows = []
     for group in ["all", *ordered("shape", run.ok["shape"])]:
         g = run.ok if group == "all" else run.ok[run.ok["shape"] == group]
-        row = {"group_label": label("shape", group), "n": len(g),
-               "paper_pct": run.paper.class_balance_pct if group == "all" else None}
-        for o in LABELS:
-            e = rec.rate(g, outcome=o)
-            row |= {f"{o}_pct": e.value, f"{o}_low_pct": e.low, f"{o}_high_pct": e.high}
-        rows.append(row)
+        rows.append({"group_label": label("shape", group), "n": len(g),
+                     "paper_pct": run.paper.class_balance_pct if group == "all" else None,
+                     **{k: v for o in LABELS for k, v in rate_cols(g, o, o).items()}})
     return verdicts(pd.DataFrame(rows), "success_unbounded_pct", "paper_pct", "success_unbounded_low_pct",
                     "success_unbounded_high_pct", unit="%")
 
 
 def _classification(run: Run) -> pd.DataFrame:
     t, p = _read("classification", "model", "roc_auc", "accuracy_pct", "accuracy_low_pct", "test_trials",
-                 "test_positives", "majority_class_accuracy_pct",
-                 "accuracy_high_pct")(run), run.paper
+                 "test_positives", "majority_class_accuracy_pct", "accuracy_high_pct")(run), run.paper
     main = t["label"] == PAPER_LABEL
     t["paper_auc"] = [p.auc.get(m) if ok else None for m, ok in zip(t["model"], main, strict=True)]
     t["paper_accuracy"] = [p.accuracy_pct if ok else None for ok in main]  # a range: (low, high)
@@ -190,6 +186,5 @@ SPEC = ReportSpec("surrogate", [
     Figure("figA1_surrogate", "Fig. A.1 (ours): (a) ROC curves of the fitted classifiers (solid: the "
            "configured check, dashed: Algorithm 1 as published, dotted: the |R_z| reading); (b) parity of "
            "the MLP regressor for log10 ‖R‖; (c) one prediction against a brief PSO call (the paper's values "
-           "in black)",
-           figA1, (12.0, 3.9)),
+           "in black)", figA1, (12.0, 3.9)),
 ])

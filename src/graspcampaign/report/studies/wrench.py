@@ -72,11 +72,10 @@ PANELS = (("residual_norm_n", "(a) force residual ‖R‖ [N]"),
 
 def fig17(run: Run, fig) -> None:
     axes, p, trace, tau = fig.subplots(2, 2, sharex=True).ravel(), run.paper, _traces(run), _tau(run)
-    for i, (mu, g) in enumerate(trace.groupby("mu", sort=True)):
-        for ax, (col, _) in zip(axes, PANELS, strict=True):
-            ax.plot(g["iteration"], g[col], color=colour("mu", mu, i), label=f"μ = {mu:g}")
-    for ax, (_, title) in zip(axes, PANELS, strict=True):
+    for ax, (col, title) in zip(axes, PANELS, strict=True):
         ax.set_title(title)
+        for i, (mu, g) in enumerate(trace.groupby("mu", sort=True)):
+            ax.plot(g["iteration"], g[col], color=colour("mu", mu, i), label=f"μ = {mu:g}")
     lo, hi = p.residual_settles_within_iterations
     axes[0].set_yscale("log")
     axes[0].axhline(tau, color=style.CRITERION, linestyle="--", label=f"τ_F {tau:g} N")
