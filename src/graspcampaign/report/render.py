@@ -11,7 +11,7 @@ import pandas as pd
 
 from graspcampaign.analysis.records import data_source, executed, status_counts
 from graspcampaign.errors import UserInputError
-from graspcampaign.report.document import Document, Text
+from graspcampaign.report.document import Document, Table, Text
 
 log = logging.getLogger(__name__)
 
@@ -88,7 +88,7 @@ def render(spec, run: Run, document: Document) -> Document:
             log.debug("report item %s failed", getattr(item, "name", item), exc_info=True)
             run.failures.append(f"{item.title}: {reason(exc)}")
             slots[i] = [Text(f"{item.title} not computed: {reason(exc)}.", "note")]
-        run.tables.update({b.name: b.frame for b in slots[i] if hasattr(b, "frame")})
+        run.tables.update({b.name: b.frame for b in slots[i] if isinstance(b, Table)})
     document.blocks.extend(b for i in sorted(slots) for b in slots[i])
     return document
 

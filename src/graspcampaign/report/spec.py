@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import re
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -13,10 +12,9 @@ import pandas as pd
 from graspcampaign.analysis import records as rec
 from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
 from graspcampaign.analysis.records import Estimate
-from graspcampaign.analysis.vocabulary import FACTOR_LABELS, PROPOSED, VOCABULARIES, label
-from graspcampaign.report import document, style
+from graspcampaign.analysis.vocabulary import PROPOSED, label
 from graspcampaign.report import format as fmt
-from graspcampaign.report.document import Col
+from graspcampaign.report.document import Col, Figure, Section, Table, Text, labelled  # noqa: F401 - the API
 from graspcampaign.report.render import Run, reason
 
 PaperKey = Callable[[Any, dict], Any]
@@ -36,14 +34,6 @@ def _paper_by(fn: PaperKey | None, run: Run, frame: pd.DataFrame, by: Sequence[s
             for key in frame[list(by)].itertuples(index=False)]
 
 
-def labelled(frame: pd.DataFrame, by: Sequence[str]) -> tuple[pd.DataFrame, list[Col]]:
-    """Add ``<column>_label`` (the vocabulary's words) for grouping columns; return the shown cols."""
-    for c in (c for c in by if c in VOCABULARIES):
-        frame[f"{c}_label"] = [label(c, v) for v in frame[c]]
-    return frame, [Col(f"{c}_label", c.replace("_", " ")) if c in VOCABULARIES
-                   else Col(c, FACTOR_LABELS.get(c, c.replace("_", " "))) for c in by]
-
-
 def verdicts(frame: pd.DataFrame, ours: str, paper: str, low: str | None = None,
              high: str | None = None, digits: int | str = 1, unit: str = "",
              why: str = "why") -> pd.DataFrame:
@@ -60,10 +50,6 @@ def verdicts(frame: pd.DataFrame, ours: str, paper: str, low: str | None = None,
                     *((None, str(r[why])) if fmt.is_missing(o) and r.get(why) else verdict)))
     return frame.assign(**{c: [row[i] for row in out] for i, c in enumerate(("difference", "differs",
                                                                           "verdict"))})
-
-
-def _text(text: str | Callable[[Run], str], run: Run) -> str:
-    return text(run) if callable(text) else text
 
 
 @dataclass(frozen=True)
@@ -89,27 +75,6 @@ class ReportSpec:
 
 
 @dataclass(frozen=True)
-class Section:
-    """A heading; the HTML page's navigation lists every section."""
-
-    title: str
-
-    def render(self, run: Run) -> list:
-        return [document.Heading(self.title)]
-
-
-@dataclass(frozen=True)
-class Text:
-    """A paragraph: a string, or a function of the run returning Markdown (empty: left out)."""
-
-    text: str | Callable[[Run], str]
-    title: str = "a paragraph"
-
-    def render(self, run: Run) -> list:
-        return [document.Text(text)] if (text := _text(self.text, run)) else []
-
-
-@dataclass(frozen=True)
 class Finding:
     """The opening paragraph: the main finding from the records and where and why it differs from
     the paper (naming the decision in ``docs/decisions.md``); computed last, shown first, it ends
@@ -119,49 +84,7 @@ class Finding:
     title: str = "The main finding"
 
     def render(self, run: Run) -> list:
-        return [document.Heading("What this shows"), document.Text(self.text(run) + gate_text(run),
-                                                                    "finding")]
-
-
-@dataclass(frozen=True)
-class Table:
-    """Any table: ``compute(run)`` returns the full-precision frame (the CSV); ``cols`` the shown
-    columns after the labels of the grouping columns ``by``: a :class:`Col`, or a column name shown
-    by :func:`~graspcampaign.report.document.cols` (header and rounding from its unit, its interval
-    and reason columns joined), or ``cols(run, frame)``; default every other column."""
-
-    name: str
-    caption: str | Callable[[Run], str]
-    compute: Callable[[Run], pd.DataFrame]
-    cols: Sequence[Col | str] | Callable[[Run, pd.DataFrame], Sequence[Col | str]] | None = None
-    by: Sequence[str] = ()
-    empty: str | None = "no executed trial has its data"  # None: an empty table is left out
-    title = property(lambda self: f"Table {self.name}")
-
-    def render(self, run: Run) -> list:
-        frame = self.compute(run)
-        if frame is None or not len(frame):
-            return [document.Text(f"Table {self.name} is empty: {self.empty}.", "note")] if self.empty else []
-        frame, lead = labelled(frame.reset_index(drop=True), self.by)
-        shown = self.cols(run, frame) if callable(self.cols) else self.cols if self.cols is not None else [
-            c for c in frame if c not in self.by and not re.search(r"_(label|why|low|high)(_[a-z]+)?$", c)]
-        cols = [c if isinstance(c, Col) else document.cols(c, frame=frame)[0] for c in shown]
-        return [document.Table(self.name, _text(self.caption, run), frame, [*lead, *cols])]
-
-
-@dataclass(frozen=True)
-class Figure:
-    """A figure: ``draw(run, fig)`` draws on a figure of ``size`` inches in the one style."""
-
-    name: str
-    caption: str | Callable[[Run], str]
-    draw: Callable[[Run, Any], None]
-    size: tuple[float, float] = (6.4, 3.6)
-    title = property(lambda self: f"Figure {self.name}")
-
-    def render(self, run: Run) -> list:
-        images = style.draw(lambda fig: self.draw(run, fig), self.size, run.source, (run.figure_format,))
-        return [document.Figure(self.name, _text(self.caption, run), images)]
+        return [Section("What this shows"), Text(self.text(run) + gate_text(run), "finding")]
 
 
 # ------------------------------------------------------------------ tables of the records
