@@ -92,6 +92,11 @@ def cols(*names: str, frame: pd.DataFrame | None = None) -> list[Col]:
     return out
 
 
+def pct_col(name: str, head: str) -> Col:
+    """The rate ``<name>_pct`` under ``<head> % (Wilson 95%)`` with its ``_low_pct``/``_high_pct``."""
+    return Col(f"{name}_pct", f"{head} % (Wilson 95%)", 1, low=f"{name}_low_pct", high=f"{name}_high_pct")
+
+
 def cell(row: Mapping[str, Any], col: Col) -> str:
     """Return the displayed text of ``row`` under ``col`` (the one formatting of every table)."""
     value = row.get(col.key)

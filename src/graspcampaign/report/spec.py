@@ -3,18 +3,19 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
 import pandas as pd
 
 from graspcampaign.analysis import records as rec
-from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
+from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES, wilson_interval
 from graspcampaign.analysis.records import Estimate
 from graspcampaign.analysis.vocabulary import PROPOSED, label
 from graspcampaign.report import format as fmt
-from graspcampaign.report.document import Col, Figure, Section, Table, Text, labelled  # noqa: F401 - the API
+from graspcampaign.report.document import Col, Figure, Section, Table, Text, labelled, pct_col  # noqa: F401 - API
 from graspcampaign.report.render import Run, reason
 
 PaperKey = Callable[[Any, dict], Any]
@@ -27,6 +28,19 @@ def _paper(fn: Callable | None, paper: Any, *args) -> Any:
         return None if fn is None or paper is None else fn(paper, *args)
     except (KeyError, IndexError):
         return None
+
+
+def paper_of(run: Run, fn: Callable | None, *key) -> Any:
+    """The paper's value ``fn(run.paper, *key)``; None where the paper reports none."""
+    return _paper(fn, run.paper, *key)
+
+
+def share(frame: Any, event: Any) -> Estimate:
+    """The share [%] of the rows of ``frame`` where ``event`` holds, with its Wilson 95 % interval."""
+    if not len(frame):
+        raise ValueError("no executed trial")
+    w = wilson_interval(int(np.sum(event)), len(frame))
+    return Estimate(100 * w.estimate, 100 * w.low, 100 * w.high, len(frame))
 
 
 def _paper_by(fn: PaperKey | None, run: Run, frame: pd.DataFrame, by: Sequence[str]) -> list:
@@ -140,11 +154,18 @@ def Rate(label: str, section: str, where: Callable[[Run], pd.Series] | None = No
                                                       if where else None, outcome), paper, "%", digits)
 
 
-def Claims(name: str, caption: str, rows: Sequence[Value] = ()) -> Table:
-    """A table of single quantities (:func:`Rate` and :class:`Value` rows) beside the paper's."""
+def Claims(name: str, caption: str | Callable[[Run], str],
+           rows: Sequence[Value] | Callable[[Run], Iterable[tuple]] = (), empty: str | None = None) -> Table:
+    """A table of single quantities beside the paper's: :func:`Rate` and :class:`Value` rows, or
+    ``rows(run)`` yielding ``(quantity, section, value, paper, unit, digits)`` with the paper's value
+    itself and ours a number, an Estimate or a function of nothing giving one (its ValueError: the
+    row's reason); no row: an empty table (left out when ``empty`` is None)."""
     def compute(run: Run) -> pd.DataFrame:
         out = []
-        for r in rows:
+        for r in rows(run) if callable(rows) else rows:
+            if not isinstance(r, Value):
+                q, s, v, x, unit, digits = r
+                r = Value(q, s, lambda run, v=v: v() if callable(v) else v, lambda p, x=x: x, unit, digits)
             try:
                 e, why = r.estimate(run), ""
             except (ValueError, KeyError, ZeroDivisionError) as exc:
@@ -159,7 +180,8 @@ def Claims(name: str, caption: str, rows: Sequence[Value] = ()) -> Table:
     return Table(name, caption, compute, [
         Col("quantity", "quantity"), Col("section", "paper §"), Col("paper", "paper", "digits"),
         Col("value", "ours (95%)", "digits", low="low", high="high", why="why"), Col("unit", "unit"),
-        Col("n", "n", 0), Col("difference", "difference", "digits", signed=True), Col("verdict", "verdict")])
+        Col("n", "n", 0), Col("difference", "difference", "digits", signed=True), Col("verdict", "verdict")],
+        empty=empty)
 
 
 def Paired(name: str = "mcnemar", caption: str = (
