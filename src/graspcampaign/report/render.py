@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Any
@@ -61,9 +62,13 @@ class Run:
 
     def part(self, name: str) -> pd.DataFrame:
         """Return a stored part of the run (e.g. ``prepared``; empty if the run has none)."""
+        return self.memo(name, lambda: self.store.read(name).to_pandas() if self.store is not None
+                         else pd.DataFrame())
+
+    def memo(self, name: str, compute: Callable[[], Any]) -> Any:
+        """Return ``compute()``, computed once per run under ``name`` (a frame several items read)."""
         if name not in self._parts:
-            self._parts[name] = self.store.read(name).to_pandas() if self.store is not None \
-                else pd.DataFrame()
+            self._parts[name] = compute()
         return self._parts[name]
 
 

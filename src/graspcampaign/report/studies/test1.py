@@ -27,7 +27,7 @@ T4 = {"modulus_kpa": "E [kPa]", "modulus_sd_kpa": "E SD [kPa]", "exponent_n": "n
 
 
 def _fits(run: Run, block: str | None = None, *need: str) -> pd.DataFrame:
-    f = cal.fitted(run.records)
+    f = run.memo("fitted", lambda: cal.fitted(run.records))
     f = f[f["block"] == block] if block else f
     return f[f[list(need)].all(axis=1)] if need else f
 

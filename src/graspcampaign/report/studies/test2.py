@@ -29,9 +29,7 @@ WHY_NOT = {"predicted_stable_residual": "it is the paper's §8.1 flag (Algorithm
 # --------------------------------------------------------------------------- shared with Test 3
 def frames(run: Run) -> pd.DataFrame:
     """Executed trials of both belief readings with the derived columns (computed once per run)."""
-    if "_hw" not in run.__dict__:
-        run.__dict__["_hw"] = hw.derive(hw.beliefs(run.records, run.aux("belief_none")))
-    return run.__dict__["_hw"]
+    return run.memo("hardware", lambda: hw.derive(hw.beliefs(run.records, run.aux("belief_none"))))
 
 
 def ex(run: Run, planner: str | None = None) -> pd.DataFrame:
@@ -187,20 +185,6 @@ def finding(run: Run, extra=lambda run: "") -> str:
                                 "13, item 5)* and *Tests 2-3 protocols and virtual rig (issue 9)*.")
 
 
-def bars(ax, f: pd.DataFrame, key: str, title: str, ylabel: str = "success rate [%]") -> None:
-    """Rates [%] of ``f`` per ``key`` (its vocabulary) with Wilson whiskers, the paper's in black."""
-    f = f.rename(columns=lambda c: c.replace("rate_pct", "success_pct").replace("wilson", "success")
-                 .replace("paper_pct", "paper_success_pct"))
-    x = np.arange(len(f))
-    marked = style.bars(ax, x, f["success_pct"], f["success_low_pct"], f["success_high_pct"],
-                        [colour(key, k, i) for i, k in enumerate(f[key])], paper=list(f["paper_success_pct"]))
-    ax.set_xticks(x, [f"{label(key, k)}\nn={n}".replace(" ", "\n")
-                      for k, n in zip(f[key], f["n"], strict=True)], fontsize=7)
-    style.rate_axes(ax, ylabel)
-    ax.set_title(title)
-    ax.legend(handles=[style.interval_handle(), *[style.paper_handle()] * marked], loc="upper right")
-
-
 def planner_bars(table: str):
     """Panel: success per planner with the planners' own beliefs and with exact ones (hatched)."""
     def draw(run: Run, ax) -> None:
@@ -237,14 +221,6 @@ def confusion(paper):
     return draw
 
 
-def panels(*specs):
-    """A figure with a panel per spec: ``(table, query, key, title[, ylabel])`` bars, or ``draw(run, ax)``."""
-    def draw(run: Run, fig) -> None:
-        for ax, s in zip(fig.subplots(1, len(specs)), specs, strict=True):
-            s(run, ax) if callable(s) else bars(ax, run.tables[s[0]].query(s[1] or "index == index"), *s[2:])
-    return draw
-
-
 def schematic(fig, t: pd.Series, spans, top, bottom, title: str) -> None:
     """Fig. 30/35: one recorded trial over its commanded phases ``(start, end, name, colour)``, lines
     ``(x, y, label, style)`` on ``top``/``bottom`` (x None: the band y); no time series is recorded."""
@@ -259,20 +235,9 @@ def schematic(fig, t: pd.Series, spans, top, bottom, title: str) -> None:
     axes[1].set_yscale("symlog", linthresh=1.0)
 
 
-def parity(ax, x, y, lines, xlabel: str, title: str) -> None:
-    """Parity panel: ``y`` against ``x``, the identity and lines ``(intercept, slope, label, style)``."""
-    ax.scatter(x, y, s=7, alpha=0.5, color=colour("planner", PROPOSED), label=f"ours, n={len(x)}",
-               rasterized=True)
-    grid = np.array([0.0, np.nanmax(np.r_[1.0, np.asarray(x, float), np.asarray(y, float)])])
-    for a, b, what, kw in [(0.0, 1.0, "identity", {"ls": ":", "color": "#777777"}), *lines]:
-        ax.plot(grid, (a or 0.0) + (np.nan if b is None else b) * grid, label=what, **kw)
-    ax.set(xlabel=f"predicted {xlabel}", ylabel=f"measured {xlabel}", title=title)
-    ax.legend(loc="upper left")
-
-
 # --------------------------------------------------------------------------- Test 2
 def fig28(run: Run, fig) -> None:
-    panels(("table6", PAPER_ROWS, "shape", "(a) proposed, by shape"), ("test2_materials", None,
+    style.panels(("table6", PAPER_ROWS, "shape", "(a) proposed, by shape"), ("test2_materials", None,
            "material", "(b) by material, all planners"), ("test2_outcomes", None, "outcome",
            "(c) outcome classes, proposed", "share of trials [%]"))(run, fig)
     reference = paper_of(run, lambda p: p.fig28_reference_pct) or np.nan
@@ -282,7 +247,7 @@ def fig28(run: Run, fig) -> None:
 def fig29(run: Run, fig) -> None:
     a, *hist = fig.subplots(1, 3)
     e = ex(run).dropna(subset=["normal_force_pred_mean_n", "normal_force_mean_n"])
-    parity(a, e["normal_force_pred_mean_n"], e["normal_force_mean_n"], [
+    style.parity(a, e["normal_force_pred_mean_n"], e["normal_force_mean_n"], [
         (0, run.tables["test2_force_accuracy"]["parity_slope"].iloc[0], "ours, through the origin",
          {"color": colour("planner", PROPOSED)}),
         (0, paper_of(run, lambda p: p.parity_slope), "paper", {"ls": "--", "color": style.PAPER})],
@@ -361,6 +326,14 @@ def power(run: Run) -> pd.DataFrame:
                          if 0 < p1 < 1 and 0 < p2 < 1 and p1 != p2 for pw in (0.8, 0.9) for pr in (0, 1)])
 
 
+def mcnemar_rows(mc: pd.Series, paper, section: str):
+    """Claims rows: McNemar χ², won and lost pairs of the proposed planner against the centroid."""
+    for q, col, key, digits in (("McNemar χ² proposed vs centroid", "chi2_cc", "chi2", 1),
+                                ("pairs won by proposed (vs centroid)", "reference_only", "won", 0),
+                                ("pairs lost by proposed (vs centroid)", "compared_only", "lost", 0)):
+        yield q, section, Estimate(mc[col], n=mc["pairs"]), getattr(paper, key), "", digits
+
+
 def claims(run: Run):
     """§8 headline numbers not in a table above, beside the paper's."""
     p, t, d = run.paper, run.tables, ex(run, PROPOSED)
@@ -374,10 +347,7 @@ def claims(run: Run):
             ("median |deformation error|", "deformation_err_pct", "deformation_err_median_pct", "%"),
             ("median contact-point error", "contact_point_error_mm", "contact_point_err_median_mm", "mm")):
         yield q, "§8.3, Fig. 29", Estimate(acc[col], n=acc["parity_n"]), getattr(p, key), unit, 2
-    for q, col, key, digits in (("McNemar χ² proposed vs centroid", "chi2_cc", "chi2", 1),
-                                ("pairs won by proposed (vs centroid)", "reference_only", "won", 0),
-                                ("pairs lost by proposed (vs centroid)", "compared_only", "lost", 0)):
-        yield q, "§8.5", Estimate(mc[col], n=mc["pairs"]), getattr(p.mcnemar_centroid, key), "", digits
+    yield from mcnemar_rows(mc, p.mcnemar_centroid, "§8.5")
     yield ("discordant-pair odds ratio", "§8.5", Estimate(*mc[["odds_ratio", "odds_ratio_low",
            "odds_ratio_high", "pairs"]]), p.mcnemar_centroid.odds_ratio, "", 1)
     for (_, r), (q, key, col, digits) in zip(t["test2_tests"].iterrows(), (
@@ -445,7 +415,7 @@ SPEC = ReportSpec("test2_grasp", [
     Figure("fig30_representative_grasp", "Fig. 30 (schematic of the median-force stable proposed sphere "
            "grasp): commanded phases, recorded hold forces and peak slip as levels", fig30, (9.5, 5.4)),
     Figure("fig31_planner_comparison", "Fig. 31: success per planner (a) with own and exact beliefs "
-           "(hatched), (b) matched ablation; (c) `predicted_stable` against the outcome", panels(
+           "(hatched), (b) matched ablation; (c) `predicted_stable` against the outcome", style.panels(
                planner_bars("table7"), ("test2_matched", None, "planner", "(b) matched ablation"),
                confusion(lambda p: p.classifier)), (13.0, 4.0)),
 ])

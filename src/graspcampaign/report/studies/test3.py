@@ -107,10 +107,7 @@ def claims(run: Run):
     mc = t["test3_mcnemar"].set_index("compared").loc["centroid"]
     yield ("matched difference, proposed − centroid", "§9.5", 100 * (mc["reference_only"] - mc[
         "compared_only"]) / mc["pairs"], p.matched_difference_centroid_pp, "pp", 1)
-    for q, col, key, digits in (("McNemar χ² proposed vs centroid", "chi2_cc", "chi2", 1),
-                                ("pairs won by proposed (vs centroid)", "reference_only", "won", 0),
-                                ("pairs lost by proposed (vs centroid)", "compared_only", "lost", 0)):
-        yield q, "§9.5", Estimate(mc[col], n=mc["pairs"]), getattr(p.mcnemar_centroid, key), "", digits
+    yield from t2.mcnemar_rows(mc, p.mcnemar_centroid, "§9.5")
     yield ("success margin over the random planner", "§9.5", 100 * (d["success"].mean() - e.query(
         "planner == 'random'")["success"].mean()), p.margin_over_random_pp, "pp", 1)
     lat, pulls = nat.query("block == 'A'")["threshold_measured_n"].astype(float).fillna(0.0), \
@@ -169,7 +166,7 @@ def fig34(run: Run, fig) -> None:
     d = t2.ex(run, PROPOSED).dropna(subset=["lat_threshold_n"])
     m, p, g = d["lat_threshold_n"], d["threshold_pred"], run.tables["test3_threshold_agreement"].iloc[0]
     ours = colour("planner", PROPOSED)
-    t2.parity(a, p, m, [(g.get("ols_intercept"), g.get("ols_slope"), "ours: OLS", {"color": ours}),
+    style.parity(a, p, m, [(g.get("ols_intercept"), g.get("ols_slope"), "ours: OLS", {"color": ours}),
                      (0, paper_of(run, lambda p: p.threshold_ols_slope), "paper's slope",
                       {"ls": "--", "color": style.PAPER})], "lateral threshold [N]",
            "(a) parity, proposed, block A")
@@ -276,7 +273,7 @@ SPEC = ReportSpec("test3_disturbance", [
            "Wilson 95% intervals, logistic coefficients with their Wald intervals)", claims),
     Figure("fig33_thresholds", "Fig. 33 (the paper's values in black): block A median threshold and "
            "success per surface, natural-friction threshold per pull direction, proposed success per block "
-           "at natural friction", t2.panels(thresholds, ("test3_coating", None, "friction_level",
+           "at natural friction", style.panels(thresholds, ("test3_coating", None, "friction_level",
                                                       "(a) block A: success"), directions,
                                          ("table8", t2.PAPER_ROWS, "block", "(c) proposed, by block")),
            (15.0, 4.0)),
@@ -288,7 +285,7 @@ SPEC = ReportSpec("test3_disturbance", [
            "predicted threshold, recorded peak slip", fig35, (9.5, 5.2)),
     Figure("fig36_robustness", "Fig. 36: (a) success per planner with the planners' own beliefs and with "
            "exact ones (hatched), (b) share of natural-friction pulls holding each level (a grasp lost "
-           "before the pull counts as 0 N), (c) the retention flag against the measured outcome", t2.panels(
-               t2.planner_bars("table9"), survival, t2.confusion(lambda p: p.retention_classifier)),
+           "before the pull counts as 0 N), (c) the retention flag against the measured outcome",
+           style.panels(t2.planner_bars("table9"), survival, t2.confusion(lambda p: p.retention_classifier)),
            (13.0, 4.0)),
 ])
