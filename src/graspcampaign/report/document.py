@@ -1,4 +1,4 @@
-"""A rendered report: blocks (headings, paragraphs, tables, figures) and the writer of each format."""
+"""A report's items and blocks (sections, paragraphs, tables, figures), one class each; the page writer."""
 
 from __future__ import annotations
 

@@ -155,11 +155,12 @@ def Rate(label: str, section: str, where: Callable[[Run], pd.Series] | None = No
 
 
 def Claims(name: str, caption: str | Callable[[Run], str],
-           rows: Sequence[Value] | Callable[[Run], Iterable[tuple]] = (), empty: str | None = None) -> Table:
+           rows: Sequence[Value] | Callable[[Run], Iterable[tuple]] = (),
+           empty: str | None = "no executed trial has its data") -> Table:
     """A table of single quantities beside the paper's: :func:`Rate` and :class:`Value` rows, or
     ``rows(run)`` yielding ``(quantity, section, value, paper, unit, digits)`` with the paper's value
     itself and ours a number, an Estimate or a function of nothing giving one (its ValueError: the
-    row's reason); no row: an empty table (left out when ``empty`` is None)."""
+    row's reason); ``empty`` as for :class:`Table`."""
     def compute(run: Run) -> pd.DataFrame:
         out = []
         for r in rows(run) if callable(rows) else rows:
