@@ -155,7 +155,7 @@ def _pso_rows(run: Run):
         return
     conv, bad = (tr.loc[tr["converged"].astype(bool) == c, "rmse_mean_pct"] for c in (True, False))
 
-    def known(v, what: str = "converged"):
+    def known(v, what: str = "converged") -> Estimate:  # ours, or the reason there is none
         if pd.isna(v):
             raise ValueError(f"no {what} run in the PSO log")
         return Estimate(float(v))
@@ -167,7 +167,9 @@ def _pso_rows(run: Run):
     for w, k in (("mean", "mean"), ("median", "median"), ("worst run", "max")):
         yield (f"held-out RMSE of the converged runs: {w}", "§7.5", lambda k=k: known(conv.agg(k)),
                getattr(p.pso_transfer_rmse_pct, k), "%", 1)
-    for w, k in (("best run", "min"), ("worst run", "max"))[:2 * (not runs["converged"].all())]:
+    if runs["converged"].all():
+        return
+    for w, k in (("best run", "min"), ("worst run", "max")):
         yield (f"held-out RMSE of the diverged runs: {w}", "§7.5", lambda k=k: known(bad.agg(k), "diverged"),
                p.pso_diverged_transfer_rmse_pct, "%", 1)
 

@@ -221,6 +221,12 @@ def confusion(paper):
     return draw
 
 
+def median_trial(trials: pd.DataFrame, column: str) -> pd.Series:
+    """The trial whose ``column`` is nearest its median (the first in run order on a tie)."""
+    t = trials.dropna(subset=[column]).sort_values("run_order")
+    return t.loc[(t[column] - t[column].median()).abs().idxmin()]
+
+
 def schematic(fig, t: pd.Series, spans, top, bottom, title: str) -> None:
     """Fig. 30/35: one recorded trial over its commanded phases ``(start, end, name, colour)``, lines
     ``(x, y, label, style)`` on ``top``/``bottom`` (x None: the band y); no time series is recorded."""
@@ -266,8 +272,7 @@ def fig29(run: Run, fig) -> None:
 
 def fig30(run: Run, fig) -> None:
     e = ex(run, PROPOSED).query("shape == 'sphere' and outcome == 'stable' and friction_level == 'natural'")
-    t = e.dropna(subset=["normal_force_mean_n"]).sort_values("run_order")
-    t = t.loc[(t["normal_force_mean_n"] - t["normal_force_mean_n"].median()).abs().idxmin()]
+    t = median_trial(e, "normal_force_mean_n")
     lift, t0 = paper_of(run, lambda p: p.lift_height_mm) or 50.0, 10.0 / t["closing_speed_mm_per_s"]  # 10 mm
     t1 = t0 + lift / t["lift_speed_mm_per_s"]
     t2, band, slip = t1 + t["hold_s"], paper_of(run, lambda p: p.hold_force_per_finger_n), "#c62828"

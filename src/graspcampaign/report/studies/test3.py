@@ -194,8 +194,7 @@ def fig34(run: Run, fig) -> None:
 
 def fig35(run: Run, fig) -> None:
     d = t2.ex(run, PROPOSED).query(f"block == 'A' and {NATURAL}").dropna(subset=["lat_threshold_n"])
-    t = d.sort_values("run_order")
-    t = t.loc[(t["lat_threshold_n"] - t["lat_threshold_n"].median()).abs().idxmin()]
+    t = t2.median_trial(d, "lat_threshold_n")
     h, thr, paper = t["hold_s"], t["lat_threshold_n"], paper_of(run, lambda p: p.lateral_threshold_median_n)
     t1 = h + thr / t["ramp_rate_n_per_s"]
     end = 1.15 * t1
