@@ -1,4 +1,4 @@
-"""A rendered report: blocks (headings, paragraphs, tables, figures) and the writer of each format."""
+"""A report's items and blocks (sections, paragraphs, tables, figures), one class each; the page writer."""
 
 from __future__ import annotations
 
@@ -7,15 +7,17 @@ import html
 import json
 import math
 import re
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
 import pandas as pd
 
+from graspcampaign.analysis.vocabulary import FACTOR_LABELS, VOCABULARIES, label
 from graspcampaign.errors import UserInputError
 from graspcampaign.report import format as fmt
+from graspcampaign.report import style
 
 FORMATS = ("md", "csv", "json", "html")
 FIGURE_FORMATS = ("png", "svg", "pdf")
@@ -76,20 +78,23 @@ def cols(*names: str, frame: pd.DataFrame | None = None) -> list[Col]:
     significant digits (1 decimal for %); factor levels and other columns print as they are. With
     ``frame``, its interval ``<words>_low_<unit>``/``_high_<unit>`` (or ``<name>_low``/``_high``)
     and reason ``<name>_why`` (or ``<words>_why``) join a column when the frame has them."""
-    from graspcampaign.analysis.vocabulary import FACTOR_LABELS
-
     out, has = [], (lambda c: frame is not None and c in frame)
     for name in names:
         words, _, suffix = name.rpartition("_")
         unit = UNITS.get(suffix) if words and name not in FACTOR_LABELS else None
-        label = FACTOR_LABELS.get(name) or (f"{words.replace('_', ' ')} [{unit}]" if unit
-                                            else name.replace("_", " "))
+        head = FACTOR_LABELS.get(name) or (f"{words.replace('_', ' ')} [{unit}]" if unit
+                                           else name.replace("_", " "))
         low, high = (f"{words}_low_{suffix}", f"{words}_high_{suffix}") if unit else (f"{name}_low",
                                                                                        f"{name}_high")
         ci, why = has(low) and has(high), next((w for w in (f"{name}_why", f"{words}_why") if has(w)), None)
-        out.append(Col(name, label, 1 if unit == "%" else None, sig=3 if unit and unit != "%" else None,
+        out.append(Col(name, head, 1 if unit == "%" else None, sig=3 if unit and unit != "%" else None,
                        low=low if ci else None, high=high if ci else None, why=why))
     return out
+
+
+def pct_col(name: str, head: str) -> Col:
+    """The rate ``<name>_pct`` under ``<head> % (Wilson 95%)`` with its ``_low_pct``/``_high_pct``."""
+    return Col(f"{name}_pct", f"{head} % (Wilson 95%)", 1, low=f"{name}_low_pct", high=f"{name}_high_pct")
 
 
 def cell(row: Mapping[str, Any], col: Col) -> str:
@@ -109,15 +114,46 @@ def cell(row: Mapping[str, Any], col: Col) -> str:
     return fmt.number(value, digits, sig=col.sig, signed=col.signed)
 
 
-@dataclass
+def labelled(frame: pd.DataFrame, by: Sequence[str]) -> tuple[pd.DataFrame, list[Col]]:
+    """Add ``<column>_label`` (the vocabulary's words) for grouping columns; return the shown cols."""
+    for c in (c for c in by if c in VOCABULARIES):
+        frame[f"{c}_label"] = [label(c, v) for v in frame[c]]
+    return frame, [Col(f"{c}_label", c.replace("_", " ")) if c in VOCABULARIES
+                   else Col(c, FACTOR_LABELS.get(c, c.replace("_", " "))) for c in by]
+
+
+def _text(text: str | Callable, run: Any) -> str:
+    return text(run) if callable(text) else text
+
+
+# A spec's items and the page's blocks are the same classes: ``render(run)`` turns an item of a
+# ReportSpec into the blocks of the page (a Table's frame, a Figure's images); ``md``/``html`` write them.
+@dataclass(frozen=True)
 class Table:
-    """A table block: full-precision frame, shown columns, caption and its CSV path (None: none)."""
+    """Any table: ``compute(run)`` returns the full-precision frame (the CSV), or ``compute`` is the
+    frame; ``cols`` the shown columns after the labels of the grouping columns ``by``: a :class:`Col`, or
+    a column name shown by :func:`cols` (header and rounding from its unit, its interval and reason
+    columns joined), or ``cols(run, frame)``; default every other column. ``csv``: its CSV path."""
 
     name: str
-    caption: str
-    frame: pd.DataFrame
-    cols: list[Col]
+    caption: str | Callable[[Any], str]
+    compute: Callable[[Any], pd.DataFrame] | pd.DataFrame
+    cols: Sequence[Col | str] | Callable[[Any, pd.DataFrame], Sequence[Col | str]] | None = None
+    by: Sequence[str] = ()
+    empty: str | None = "no executed trial has its data"  # None: an empty table is left out
     csv: str | None = "tables/{name}.csv"
+    title = property(lambda self: f"Table {self.name}")
+    frame = property(lambda self: self.compute)
+
+    def render(self, run: Any) -> list:
+        frame = self.compute(run) if callable(self.compute) else self.compute
+        if frame is None or not len(frame):
+            return [Text(f"Table {self.name} is empty: {self.empty}.", "note")] if self.empty else []
+        frame, lead = labelled(frame.reset_index(drop=True), self.by)
+        shown = self.cols(run, frame) if callable(self.cols) else self.cols if self.cols is not None else [
+            c for c in frame if c not in self.by and not re.search(r"_(label|why|low|high)(_[a-z]+)?$", c)]
+        shown = [c if isinstance(c, Col) else cols(c, frame=frame)[0] for c in shown]
+        return [replace(self, caption=_text(self.caption, run), compute=frame, cols=[*lead, *shown], by=())]
 
     def cells(self) -> list[list[tuple[str, str | None]]]:
         """Every row's ``(text, link target or None)`` per shown column."""
@@ -146,12 +182,17 @@ class Table:
                 f"</caption><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table></div>")
 
 
-@dataclass
+@dataclass(frozen=True)
 class Text:
-    """A paragraph (Markdown); ``kind`` is ``finding``, ``note`` (a reason) or ``text``."""
+    """A paragraph: Markdown, or a function of the run returning it (empty: left out); ``kind`` is
+    ``finding``, ``note`` (a reason) or ``text``."""
 
-    markdown: str
+    markdown: str | Callable[[Any], str]
     kind: str = "text"
+    title = "a paragraph"
+
+    def render(self, run: Any) -> list:
+        return [replace(self, markdown=text)] if (text := _text(self.markdown, run)) else []
 
     def md(self, figure_format: str) -> str:
         return self.markdown if self.kind != "note" else f"*{self.markdown}*"
@@ -160,9 +201,14 @@ class Text:
         return f"<p class='{self.kind}'>{inline(self.markdown)}</p>"
 
 
-@dataclass
-class Heading:
+@dataclass(frozen=True)
+class Section:
+    """A heading; the HTML page's navigation lists every section."""
+
     title: str
+
+    def render(self, run: Any) -> list:
+        return [self]
 
     @property
     def anchor(self) -> str:
@@ -175,13 +221,22 @@ class Heading:
         return f"<h2 id='{self.anchor}'>{html.escape(self.title)}</h2>"
 
 
-@dataclass
+@dataclass(frozen=True)
 class Figure:
-    """A figure block: its images by format (``png`` always, for the HTML page)."""
+    """A figure: ``draw(run, fig)`` draws on a figure of ``size`` inches in the one style; rendered, its
+    ``images`` by format (``png`` always, for the HTML page)."""
 
     name: str
-    caption: str
-    images: dict[str, bytes]
+    caption: str | Callable[[Any], str]
+    draw: Callable[[Any, Any], None]
+    size: tuple[float, float] = (6.4, 3.6)
+    images: dict[str, bytes] | None = None
+    title = property(lambda self: f"Figure {self.name}")
+
+    def render(self, run: Any) -> list:
+        images = style.draw(lambda fig: self.draw(run, fig), self.size, run.source, (run.figure_format,))
+        return [replace(self, caption=_text(self.caption, run), images=images)]
+
 
     def md(self, figure_format: str) -> str:
         path = f"figures/{self.name}.{figure_format}"
@@ -259,7 +314,7 @@ class Document:
         """A complete self-contained page: navigation bar (the other pages and this page's sections),
         data-source banner, provenance and blocks."""
         toc = "".join(f"<a href='#{b.anchor}'>{html.escape(b.title)}</a>" for b in self.blocks
-                      if isinstance(b, Heading))
+                      if isinstance(b, Section))
         links = "".join(f"<a href='{html.escape(h, quote=True)}'>{html.escape(t)}</a>" for t, h in self.nav) \
             + (f"<span class='toc'>{toc}</span>" if toc else "")
         banner, title = html.escape(SOURCE_LABEL.get(self.source, self.source) or "see each row"), \

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Any
@@ -11,7 +12,7 @@ import pandas as pd
 
 from graspcampaign.analysis.records import data_source, executed, status_counts
 from graspcampaign.errors import UserInputError
-from graspcampaign.report.document import Document, Text
+from graspcampaign.report.document import Document, Table, Text
 
 log = logging.getLogger(__name__)
 
@@ -61,9 +62,13 @@ class Run:
 
     def part(self, name: str) -> pd.DataFrame:
         """Return a stored part of the run (e.g. ``prepared``; empty if the run has none)."""
+        return self.memo(name, lambda: self.store.read(name).to_pandas() if self.store is not None
+                         else pd.DataFrame())
+
+    def memo(self, name: str, compute: Callable[[], Any]) -> Any:
+        """Return ``compute()``, computed once per run under ``name`` (a frame several items read)."""
         if name not in self._parts:
-            self._parts[name] = self.store.read(name).to_pandas() if self.store is not None \
-                else pd.DataFrame()
+            self._parts[name] = compute()
         return self._parts[name]
 
 
@@ -88,7 +93,7 @@ def render(spec, run: Run, document: Document) -> Document:
             log.debug("report item %s failed", getattr(item, "name", item), exc_info=True)
             run.failures.append(f"{item.title}: {reason(exc)}")
             slots[i] = [Text(f"{item.title} not computed: {reason(exc)}.", "note")]
-        run.tables.update({b.name: b.frame for b in slots[i] if hasattr(b, "frame")})
+        run.tables.update({b.name: b.frame for b in slots[i] if isinstance(b, Table)})
     document.blocks.extend(b for i in sorted(slots) for b in slots[i])
     return document
 

@@ -3,20 +3,19 @@
 from __future__ import annotations
 
 import math
-import re
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
 import pandas as pd
 
 from graspcampaign.analysis import records as rec
-from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
+from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES, wilson_interval
 from graspcampaign.analysis.records import Estimate
-from graspcampaign.analysis.vocabulary import FACTOR_LABELS, PROPOSED, VOCABULARIES, label
-from graspcampaign.report import document, style
+from graspcampaign.analysis.vocabulary import PROPOSED, label
 from graspcampaign.report import format as fmt
-from graspcampaign.report.document import Col
+from graspcampaign.report.document import Col, Figure, Section, Table, Text, labelled, pct_col  # noqa: F401 - API
 from graspcampaign.report.render import Run, reason
 
 PaperKey = Callable[[Any, dict], Any]
@@ -31,17 +30,22 @@ def _paper(fn: Callable | None, paper: Any, *args) -> Any:
         return None
 
 
+def paper_of(run: Run, fn: Callable | None, *key) -> Any:
+    """The paper's value ``fn(run.paper, *key)``; None where the paper reports none."""
+    return _paper(fn, run.paper, *key)
+
+
+def share(frame: Any, event: Any) -> Estimate:
+    """The share [%] of the rows of ``frame`` where ``event`` holds, with its Wilson 95 % interval."""
+    if not len(frame):
+        raise ValueError("no executed trial")
+    w = wilson_interval(int(np.sum(event)), len(frame))
+    return Estimate(100 * w.estimate, 100 * w.low, 100 * w.high, len(frame))
+
+
 def _paper_by(fn: PaperKey | None, run: Run, frame: pd.DataFrame, by: Sequence[str]) -> list:
     return [_paper(fn, run.paper, dict(zip(by, key, strict=True)))
             for key in frame[list(by)].itertuples(index=False)]
-
-
-def labelled(frame: pd.DataFrame, by: Sequence[str]) -> tuple[pd.DataFrame, list[Col]]:
-    """Add ``<column>_label`` (the vocabulary's words) for grouping columns; return the shown cols."""
-    for c in (c for c in by if c in VOCABULARIES):
-        frame[f"{c}_label"] = [label(c, v) for v in frame[c]]
-    return frame, [Col(f"{c}_label", c.replace("_", " ")) if c in VOCABULARIES
-                   else Col(c, FACTOR_LABELS.get(c, c.replace("_", " "))) for c in by]
 
 
 def verdicts(frame: pd.DataFrame, ours: str, paper: str, low: str | None = None,
@@ -60,10 +64,6 @@ def verdicts(frame: pd.DataFrame, ours: str, paper: str, low: str | None = None,
                     *((None, str(r[why])) if fmt.is_missing(o) and r.get(why) else verdict)))
     return frame.assign(**{c: [row[i] for row in out] for i, c in enumerate(("difference", "differs",
                                                                           "verdict"))})
-
-
-def _text(text: str | Callable[[Run], str], run: Run) -> str:
-    return text(run) if callable(text) else text
 
 
 @dataclass(frozen=True)
@@ -89,27 +89,6 @@ class ReportSpec:
 
 
 @dataclass(frozen=True)
-class Section:
-    """A heading; the HTML page's navigation lists every section."""
-
-    title: str
-
-    def render(self, run: Run) -> list:
-        return [document.Heading(self.title)]
-
-
-@dataclass(frozen=True)
-class Text:
-    """A paragraph: a string, or a function of the run returning Markdown (empty: left out)."""
-
-    text: str | Callable[[Run], str]
-    title: str = "a paragraph"
-
-    def render(self, run: Run) -> list:
-        return [document.Text(text)] if (text := _text(self.text, run)) else []
-
-
-@dataclass(frozen=True)
 class Finding:
     """The opening paragraph: the main finding from the records and where and why it differs from
     the paper (naming the decision in ``docs/decisions.md``); computed last, shown first, it ends
@@ -119,49 +98,7 @@ class Finding:
     title: str = "The main finding"
 
     def render(self, run: Run) -> list:
-        return [document.Heading("What this shows"), document.Text(self.text(run) + gate_text(run),
-                                                                    "finding")]
-
-
-@dataclass(frozen=True)
-class Table:
-    """Any table: ``compute(run)`` returns the full-precision frame (the CSV); ``cols`` the shown
-    columns after the labels of the grouping columns ``by``: a :class:`Col`, or a column name shown
-    by :func:`~graspcampaign.report.document.cols` (header and rounding from its unit, its interval
-    and reason columns joined), or ``cols(run, frame)``; default every other column."""
-
-    name: str
-    caption: str | Callable[[Run], str]
-    compute: Callable[[Run], pd.DataFrame]
-    cols: Sequence[Col | str] | Callable[[Run, pd.DataFrame], Sequence[Col | str]] | None = None
-    by: Sequence[str] = ()
-    empty: str | None = "no executed trial has its data"  # None: an empty table is left out
-    title = property(lambda self: f"Table {self.name}")
-
-    def render(self, run: Run) -> list:
-        frame = self.compute(run)
-        if frame is None or not len(frame):
-            return [document.Text(f"Table {self.name} is empty: {self.empty}.", "note")] if self.empty else []
-        frame, lead = labelled(frame.reset_index(drop=True), self.by)
-        shown = self.cols(run, frame) if callable(self.cols) else self.cols if self.cols is not None else [
-            c for c in frame if c not in self.by and not re.search(r"_(label|why|low|high)(_[a-z]+)?$", c)]
-        cols = [c if isinstance(c, Col) else document.cols(c, frame=frame)[0] for c in shown]
-        return [document.Table(self.name, _text(self.caption, run), frame, [*lead, *cols])]
-
-
-@dataclass(frozen=True)
-class Figure:
-    """A figure: ``draw(run, fig)`` draws on a figure of ``size`` inches in the one style."""
-
-    name: str
-    caption: str | Callable[[Run], str]
-    draw: Callable[[Run, Any], None]
-    size: tuple[float, float] = (6.4, 3.6)
-    title = property(lambda self: f"Figure {self.name}")
-
-    def render(self, run: Run) -> list:
-        images = style.draw(lambda fig: self.draw(run, fig), self.size, run.source, (run.figure_format,))
-        return [document.Figure(self.name, _text(self.caption, run), images)]
+        return [Section("What this shows"), Text(self.text(run) + gate_text(run), "finding")]
 
 
 # ------------------------------------------------------------------ tables of the records
@@ -217,11 +154,19 @@ def Rate(label: str, section: str, where: Callable[[Run], pd.Series] | None = No
                                                       if where else None, outcome), paper, "%", digits)
 
 
-def Claims(name: str, caption: str, rows: Sequence[Value] = ()) -> Table:
-    """A table of single quantities (:func:`Rate` and :class:`Value` rows) beside the paper's."""
+def Claims(name: str, caption: str | Callable[[Run], str],
+           rows: Sequence[Value] | Callable[[Run], Iterable[tuple]] = (),
+           empty: str | None = "no executed trial has its data") -> Table:
+    """A table of single quantities beside the paper's: :func:`Rate` and :class:`Value` rows, or
+    ``rows(run)`` yielding ``(quantity, section, value, paper, unit, digits)`` with the paper's value
+    itself and ours a number, an Estimate or a function of nothing giving one (its ValueError: the
+    row's reason); ``empty`` as for :class:`Table`."""
     def compute(run: Run) -> pd.DataFrame:
         out = []
-        for r in rows:
+        for r in rows(run) if callable(rows) else rows:
+            if not isinstance(r, Value):
+                q, s, v, x, unit, digits = r
+                r = Value(q, s, lambda run, v=v: v() if callable(v) else v, lambda p, x=x: x, unit, digits)
             try:
                 e, why = r.estimate(run), ""
             except (ValueError, KeyError, ZeroDivisionError) as exc:
@@ -236,7 +181,8 @@ def Claims(name: str, caption: str, rows: Sequence[Value] = ()) -> Table:
     return Table(name, caption, compute, [
         Col("quantity", "quantity"), Col("section", "paper §"), Col("paper", "paper", "digits"),
         Col("value", "ours (95%)", "digits", low="low", high="high", why="why"), Col("unit", "unit"),
-        Col("n", "n", 0), Col("difference", "difference", "digits", signed=True), Col("verdict", "verdict")])
+        Col("n", "n", 0), Col("difference", "difference", "digits", signed=True), Col("verdict", "verdict")],
+        empty=empty)
 
 
 def Paired(name: str = "mcnemar", caption: str = (

@@ -1,4 +1,4 @@
-"""The one figure style: rcParams, the data-source label, the paper's marks, rate bars."""
+"""The one figure style: rcParams, the data-source label, the paper's marks, rate bars, panels, parity."""
 
 from __future__ import annotations
 
@@ -7,9 +7,11 @@ from collections.abc import Callable, Sequence
 
 import matplotlib as mpl
 import numpy as np
+import pandas as pd
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
+from graspcampaign.analysis.vocabulary import PROPOSED, colour, label
 from graspcampaign.report import format as fmt
 
 RC = {
@@ -92,3 +94,40 @@ def rate_axes(ax, ylabel: str = "success rate [%]") -> None:
 def legend_below(ax, handles=None, ncol: int = 3) -> None:
     """A legend under the axes (never over the data)."""
     ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=ncol)
+
+
+def rate_bars(ax, f: pd.DataFrame, key: str, title: str, ylabel: str = "success rate [%]") -> None:
+    """Rates [%] of ``f`` per ``key`` (its vocabulary) with Wilson whiskers, the paper's in black."""
+    f = f.rename(columns=lambda c: c.replace("rate_pct", "success_pct").replace("wilson", "success")
+                 .replace("paper_pct", "paper_success_pct"))
+    x = np.arange(len(f))
+    marked = bars(ax, x, f["success_pct"], f["success_low_pct"], f["success_high_pct"],
+                  [colour(key, k, i) for i, k in enumerate(f[key])], paper=list(f["paper_success_pct"]))
+    ax.set_xticks(x, [f"{label(key, k)}\nn={n}".replace(" ", "\n")
+                      for k, n in zip(f[key], f["n"], strict=True)], fontsize=7)
+    rate_axes(ax, ylabel)
+    ax.set_title(title)
+    ax.legend(handles=[interval_handle(), *[paper_handle()] * marked], loc="upper right")
+
+
+def panels(*specs):
+    """A figure with a panel per spec: ``(table, query, key, title[, ylabel])``, :func:`rate_bars` of a
+    table the run has rendered, or ``draw(run, ax)``."""
+    def draw(run, fig) -> None:
+        for ax, s in zip(fig.subplots(1, len(specs)), specs, strict=True):
+            if callable(s):
+                s(run, ax)
+            else:
+                rate_bars(ax, run.tables[s[0]].query(s[1] or "index == index"), *s[2:])
+    return draw
+
+
+def parity(ax, x, y, lines, xlabel: str, title: str) -> None:
+    """Parity panel: ``y`` against ``x``, the identity and lines ``(intercept, slope, label, style)``."""
+    ax.scatter(x, y, s=7, alpha=0.5, color=colour("planner", PROPOSED), label=f"ours, n={len(x)}",
+               rasterized=True)
+    grid = np.array([0.0, np.nanmax(np.r_[1.0, np.asarray(x, float), np.asarray(y, float)])])
+    for a, b, what, kw in [(0.0, 1.0, "identity", {"ls": ":", "color": "#777777"}), *lines]:
+        ax.plot(grid, (a or 0.0) + (np.nan if b is None else b) * grid, label=what, **kw)
+    ax.set(xlabel=f"predicted {xlabel}", ylabel=f"measured {xlabel}", title=title)
+    ax.legend(loc="upper left")

@@ -10,14 +10,13 @@ import pandas as pd
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
 from graspcampaign.analysis import calibration as cal
-from graspcampaign.analysis.rates import wilson_interval
 from graspcampaign.analysis.records import Estimate
 from graspcampaign.analysis.vocabulary import colour, label
 from graspcampaign.core.bench import RMSE_REVIEW_THRESHOLD_PCT as REVIEW_PCT
 from graspcampaign.core.contact import normal_force
 from graspcampaign.report.document import Col, cols
 from graspcampaign.report.render import Run
-from graspcampaign.report.spec import Claims, Figure, Finding, ReportSpec, Table, Text, Value, verdicts
+from graspcampaign.report.spec import Claims, Figure, Finding, ReportSpec, Table, Text, Value, share, verdicts
 from graspcampaign.report.style import CRITERION, PAPER, legend_below, paper_handle, paper_marks
 
 WHY = "`docs/decisions.md`, *Test 1 bench protocol (issue 8)* and *Test 1 in the engine (issue 8)*"
@@ -28,7 +27,7 @@ T4 = {"modulus_kpa": "E [kPa]", "modulus_sd_kpa": "E SD [kPa]", "exponent_n": "n
 
 
 def _fits(run: Run, block: str | None = None, *need: str) -> pd.DataFrame:
-    f = cal.fitted(run.records)
+    f = run.memo("fitted", lambda: cal.fitted(run.records))
     f = f[f["block"] == block] if block else f
     return f[f[list(need)].all(axis=1)] if need else f
 
@@ -50,8 +49,7 @@ def _v(frame: str, col: str, how: str = "mean"):
         if not len(f := FRAMES[frame](run)):
             raise ValueError(f"no {frame.replace('_', ' ')} event in the records")
         if how == "share":
-            w = wilson_interval(int(f[col].sum()), len(f))
-            return Estimate(100 * w.estimate, 100 * w.low, 100 * w.high, len(f))
+            return share(f, f[col])
         v = f.groupby("material")[col].mean() if how in ("lowest", "highest") else f[col]
         return Estimate(float(v.agg({"lowest": "min", "highest": "max"}.get(how, how))), n=len(f))
     return value
@@ -141,61 +139,60 @@ def _runs(run: Run) -> pd.DataFrame:
 
 
 def _table5(run: Run) -> pd.DataFrame:
-    t, ref = cal.table5(_runs(run)), run.paper.table5
+    if not len(runs := _runs(run)):
+        return runs
+    t, ref = cal.table5(runs), run.paper.table5
     for k in ("simulation", "mean", "sd", "cv_pct"):
         t[f"paper_{k}"] = [getattr(ref[p], k) for p in t["parameter"]]
     t["parameter_label"] = [label("parameter", p) for p in t["parameter"]]
     return verdicts(t, "cv_pct", "paper_cv_pct", unit="%")
 
 
-def _pso(run: Run) -> dict[str, float]:
-    runs, tr = _runs(run), run.part("summary/pso_transfer")
-    conv, bad = (tr.loc[tr["converged"].astype(bool) == c, "rmse_mean_pct"] for c in (True, False))
-    return {"logged": len(runs), "converged": runs["converged"].sum(), "n": runs.loc[runs["converged"], "n"]
-            .median(), "mean": conv.mean(), "median": conv.median(), "max": conv.max(), "bad_min": bad.min(),
-            "bad_max": bad.max()}
-
-
-def _pso_v(k: str):
-    def value(run: Run) -> Estimate:
-        if pd.isna(v := _pso(run)[k]):
-            raise ValueError(f"no {'diverged' if k.startswith('bad') else 'converged'} run in the PSO log")
-        return Estimate(float(v))
-    return value
-
-
-PSO = [Value(what, "§7.5", _pso_v(k), paper, unit, d)
-       for what, k, paper, unit, d in (
-           ("PSO runs logged", "logged", lambda p: p.pso_runs_logged, "", 0),
-           ("PSO runs converged", "converged", lambda p: p.pso_runs_converged, "", 0),
-           ("n over the converged runs: median", "n", lambda p: p.pso_n_run_median, "", 3),
-           *((f"held-out RMSE of the converged runs: {w}", k,
-              lambda p, k=k: getattr(p.pso_transfer_rmse_pct, k), "%", 1)
-             for w, k in (("mean", "mean"), ("median", "median"), ("worst run", "max"))),
-           *((f"held-out RMSE of the diverged runs: {w}", k, lambda p: p.pso_diverged_transfer_rmse_pct,
-              "%", 1) for w, k in (("best run", "bad_min"), ("worst run", "bad_max"))))]
-
-
-def _pso_claims(run: Run) -> Claims:
+def _pso_rows(run: Run):
     """The §7.5 claims; the diverged runs' rows only when a run diverged (else the caption says so)."""
-    p, diverged = run.paper, not _runs(run)["converged"].all()
-    return Claims("pso_summary", "§7.5 PSO log and the identified sets' normal-force RMSE on held-out "
-                  "traces (unseen specimens and speed; per run the mean over its traces, % of peak)" + (
-                      "" if diverged else f"; no run diverged, so the paper's "
-                      f"{'–'.join(f'{v:g}' for v in p.pso_diverged_transfer_rmse_pct)}% of its "
-                      f"{p.pso_runs_logged - p.pso_runs_converged} diverged runs has no counterpart here"),
-                  PSO if diverged else PSO[:-2])
+    runs, tr, p = _runs(run), run.part("summary/pso_transfer"), run.paper
+    if not len(runs):
+        return
+    conv, bad = (tr.loc[tr["converged"].astype(bool) == c, "rmse_mean_pct"] for c in (True, False))
+
+    def known(v, what: str = "converged") -> Estimate:  # ours, or the reason there is none
+        if pd.isna(v):
+            raise ValueError(f"no {what} run in the PSO log")
+        return Estimate(float(v))
+
+    yield "PSO runs logged", "§7.5", known(len(runs)), p.pso_runs_logged, "", 0
+    yield "PSO runs converged", "§7.5", known(runs["converged"].sum()), p.pso_runs_converged, "", 0
+    n = runs.loc[runs["converged"], "n"]
+    yield "n over the converged runs: median", "§7.5", lambda: known(n.median()), p.pso_n_run_median, "", 3
+    for w, k in (("mean", "mean"), ("median", "median"), ("worst run", "max")):
+        yield (f"held-out RMSE of the converged runs: {w}", "§7.5", lambda k=k: known(conv.agg(k)),
+               getattr(p.pso_transfer_rmse_pct, k), "%", 1)
+    if runs["converged"].all():
+        return
+    for w, k in (("best run", "min"), ("worst run", "max")):
+        yield (f"held-out RMSE of the diverged runs: {w}", "§7.5", lambda k=k: known(bad.agg(k), "diverged"),
+               p.pso_diverged_transfer_rmse_pct, "%", 1)
+
+
+def _pso_caption(run: Run) -> str:
+    p, caption = run.paper, ("§7.5 PSO log and the identified sets' normal-force RMSE on held-out traces "
+                             "(unseen specimens and speed; per run the mean over its traces, % of peak)")
+    if not _runs(run)["converged"].all():
+        return caption
+    return (f"{caption}; no run diverged, so the paper's "
+            f"{'–'.join(f'{v:g}' for v in p.pso_diverged_transfer_rmse_pct)}% of its "
+            f"{p.pso_runs_logged - p.pso_runs_converged} diverged runs has no counterpart here")
 
 
 @dataclass(frozen=True)
 class _Finalized:
-    """An item (or a function of the run giving it) shown only when the finalize stage stored the PSO log."""
+    """A figure shown only when the finalize stage stored the PSO log."""
 
-    item: object
-    title = property(lambda self: getattr(self.item, "title", "Table pso_summary"))
+    item: Figure
+    title = property(lambda self: self.item.title)
 
     def render(self, run: Run) -> list:
-        return (self.item(run) if callable(self.item) else self.item).render(run) if len(_runs(run)) else []
+        return self.item.render(run) if len(_runs(run)) else []
 
 
 def _transfer(run: Run) -> pd.DataFrame:
@@ -455,16 +452,16 @@ SPEC = ReportSpec("test1_bench", [
            "normalised, with its fit and the paper's steady ratio (inset: mean ρ per family); (b) K/K1 "
            f"over the fatigue cycles with the {run.paper.k_ratio_target:g} target; (c) permanent set with "
            "the paper's range", fig25, (13.0, 4.3)),
-    _Finalized(Table("table5", "Table 5 beside the paper's: PSO re-identification on the training split's "
-                     "normal traces, mean, SD and CV over the converged runs; 'at bound': converged runs "
-                     "that ended on a search bound (their value is the box, not an identification). b, k "
-                     "and c do not enter a single-contact trace and λ2 (C) is unresolved at 1 mN: their "
-                     "spread is the search prior", _table5, [
-                         Col("parameter_label", "parameter"), *(Col(k, v, sig=3) for k, v in (
-                             ("paper_simulation", "Table 3"), ("paper_mean", "paper mean"),
-                             ("paper_sd", "paper SD"), ("mean", "ours mean"), ("sd", "ours SD"))),
-                         *cols("paper_cv_pct", "cv_pct", "n_runs", "n_at_bound", "verdict")])),
-    _Finalized(_pso_claims),
+    Table("table5", "Table 5 beside the paper's: PSO re-identification on the training split's normal "
+          "traces, mean, SD and CV over the converged runs; 'at bound': converged runs that ended on a "
+          "search bound (their value is the box, not an identification). b, k and c do not enter a "
+          "single-contact trace and λ2 (C) is unresolved at 1 mN: their spread is the search prior",
+          _table5, [
+              Col("parameter_label", "parameter"), *(Col(k, v, sig=3) for k, v in (
+                  ("paper_simulation", "Table 3"), ("paper_mean", "paper mean"), ("paper_sd", "paper SD"),
+                  ("mean", "ours mean"), ("sd", "ours SD"))),
+              *cols("paper_cv_pct", "cv_pct", "n_runs", "n_at_bound", "verdict")], empty=None),
+    Claims("pso_summary", _pso_caption, _pso_rows, empty=None),  # both left out without the PSO log
     Table("transfer", "§7.6 transfer errors of the training-split calibration (per-event fits), training "
           "beside the held-out splits (paper: friction 'near or below ~1%', read as 1.0)", _transfer,
           cols("quantity", "split", "events", "paper_pct", "mean_error_pct", "median_error_pct",

@@ -3,20 +3,20 @@ Tables 6-9 show the records and their ``belief_error = none`` counterfactual (tr
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import asdict
 
 import numpy as np
 import pandas as pd
 
 from graspcampaign.analysis import hardware as hw
-from graspcampaign.analysis.rates import power_two_proportions, wilson_interval
+from graspcampaign.analysis.rates import power_two_proportions
 from graspcampaign.analysis.records import Estimate, mcnemar_table
 from graspcampaign.analysis.vocabulary import PROPOSED, colour, label
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
-from graspcampaign.report.document import Col, cols
+from graspcampaign.report.document import Col, Figure, Table, cols, pct_col
 from graspcampaign.report.render import Run
-from graspcampaign.report.spec import Claims, Figure, Finding, Rates, ReportSpec, Table, Value, verdicts
+from graspcampaign.report.spec import Claims, Finding, Rates, ReportSpec, paper_of, share, verdicts
 
 PLANNERS, ME = ("heuristic", "centroid", "no_pso", "force_balance", "random"), f"planner == '{PROPOSED}'"
 FLAGS = ("predicted_stable", "predicted_stable_residual")
@@ -29,27 +29,13 @@ WHY_NOT = {"predicted_stable_residual": "it is the paper's §8.1 flag (Algorithm
 # --------------------------------------------------------------------------- shared with Test 3
 def frames(run: Run) -> pd.DataFrame:
     """Executed trials of both belief readings with the derived columns (computed once per run)."""
-    if "_hw" not in run.__dict__:
-        run.__dict__["_hw"] = hw.derive(hw.beliefs(run.records, run.aux("belief_none")))
-    return run.__dict__["_hw"]
+    return run.memo("hardware", lambda: hw.derive(hw.beliefs(run.records, run.aux("belief_none"))))
 
 
 def ex(run: Run, planner: str | None = None) -> pd.DataFrame:
     """The executed trials as recorded (the planners' own beliefs), of ``planner`` if given."""
     d = frames(run)
     return d[(d["belief_error"] == "paper") & (d["planner"] == planner if planner else True)]
-
-
-def pv(run: Run, fn, *key):
-    """The paper's value ``fn(paper, *key)``; None where the paper reports none."""
-    try:
-        return fn(run.paper, *key) if run.paper is not None else None
-    except KeyError:
-        return None
-
-
-def pct(c: str, head: str) -> Col:
-    return Col(f"{c}_pct", f"{head} % (Wilson 95%)", 1, low=f"{c}_low_pct", high=f"{c}_high_pct")
 
 
 def paper_table(name, caption, key, row, items, rates=(), medians=(), *, where=None, boot=False,
@@ -61,7 +47,7 @@ def paper_table(name, caption, key, row, items, rates=(), medians=(), *, where=N
         out = hw.summary(d, [key, "belief_error"], rates, medians, order=READINGS, seed=run.seed,
                          cluster="object_id" if boot else None)
         for col, paper, _, digits in (i for i in items if i[1]):
-            out[f"paper_{col}{'_pct' * (digits is None)}"] = [None if b != "paper" else pv(
+            out[f"paper_{col}{'_pct' * (digits is None)}"] = [None if b != "paper" else paper_of(
                 run, paper if callable(paper) else lambda p, k, a=paper: getattr(row(p, k), a), k)
                 for k, b in zip(out[key], out["belief_error"], strict=True)]
         out = extra(run, d, out) if extra else out
@@ -70,7 +56,7 @@ def paper_table(name, caption, key, row, items, rates=(), medians=(), *, where=N
     cols = [Col("belief_error", "belief error")]
     for col, paper, head, digits in items:
         c = f"{col}{'_pct' * (digits is None)}"
-        cols += [pct(col, head) if digits is None else Col(c, head, digits if digits != "" else None),
+        cols += [pct_col(col, head) if digits is None else Col(c, head, digits if digits != "" else None),
                  *[Col(f"paper_{c}", "paper", 1 if digits is None else digits)] * bool(paper),
                  *[Col("difference", "difference [pp]", 1, signed=True)] * (col == "success"),
                  *[Col("bootstrap_low_pct", "object bootstrap 95% [%]", 1, low="bootstrap_low_pct",
@@ -78,32 +64,9 @@ def paper_table(name, caption, key, row, items, rates=(), medians=(), *, where=N
     return Table(name, caption, compute, [*cols, Col("verdict", "verdict (success)")], by=[key])
 
 
-@dataclass(frozen=True)
-class Listed:
-    """A :class:`Claims` table of the rows ``(quantity, §, value, paper, unit, digits)`` of ``rows(run)``."""
-
-    name: str
-    caption: str
-    rows: object
-    title: str = "Claims"
-
-    def render(self, run: Run) -> list:
-        return Claims(self.name, self.caption, [
-            Value(q, s, lambda run, v=v: v() if callable(v) else v, lambda p, x=x: x, u, d)
-            for q, s, v, x, u, d in self.rows(run)]).render(run)
-
-
 def per_planner(d: pd.DataFrame) -> dict[str, pd.Series]:
     """Scopes ``all`` and each planner (masks over ``d``)."""
     return {"all": d["planner"].notna(), **{q: d["planner"] == q for q in PLANNERS}}
-
-
-def share(d: pd.DataFrame, event) -> Estimate:
-    """The share [%] of the trials of ``d`` where ``event`` holds, with its Wilson 95 % interval."""
-    if not len(d):
-        raise ValueError("no executed trial")
-    w = wilson_interval(int(np.sum(event)), len(d))
-    return Estimate(100 * w.estimate, 100 * w.low, 100 * w.high, len(d))
 
 
 def counts(table: str):
@@ -115,7 +78,7 @@ def counts(table: str):
             ("aborted before load (rig faults)", int((r["status"] == "ok").sum()) - len(d), p.aborted),
             ("trial errors (software)", int((r["status"] == "error").sum()), None), *(
                 (f"executed, {label('planner', q)}", int((d["planner"] == q).sum()),
-                 pv(run, lambda p, q: getattr(p, table)[q].n, q)) for q in PLANNERS)))
+                 paper_of(run, lambda p, q: getattr(p, table)[q].n, q)) for q in PLANNERS)))
     return rows
 
 
@@ -135,7 +98,7 @@ def belief_tables(prefix: str) -> list[Table]:
                   "grasps (fingers within the 5 mm fingertip radius), successes the δ ≤ r gate removed",
                   beliefs, [Col("belief_error", "belief error"), Col("belief_model", "belief model"),
                             Col("n", "n"), *(Col(c, f"median {c.replace('_', ' ')}", sig=3) for c in med),
-                            *(pct(c, h) for c, h in rates.items())], by=["planner"]),
+                            *(pct_col(c, h) for c, h in rates.items())], by=["planner"]),
             Table(f"{prefix}_belief_pairs", "How much of the ranking the belief mechanism explains: "
                   "success on the same trials with the planners' own beliefs (`paper`) and with the "
                   "trial's actual quantities (`none`, same execution noise); McNemar exact p; rank",
@@ -153,7 +116,7 @@ def classifier(name: str, caption: str, scopes, paper) -> Table:
     """The flags against measured success per belief reading and scope, beside the paper's scores
     (``paper(p)``: scope -> (accuracy, precision, recall), None where not printed)."""
     def compute(run: Run) -> pd.DataFrame:
-        d, ref = frames(run), pv(run, paper) or {}
+        d, ref = frames(run), paper_of(run, paper) or {}
         out = hw.classifier_table(hw.scoped(d, scopes(d)), FLAGS, ["belief_error", "scope"])
         for i, k in enumerate(("accuracy", "precision", "recall")):
             out[f"paper_{k}"] = [ref.get(s, [None] * 3)[i] if b == "paper" else None
@@ -190,7 +153,7 @@ def finding(run: Run, extra=lambda run: "") -> str:
                                          "measurements. " if run.manifest.get("source") == "measured" and
                                          run.source == "virtual" else "")
     text += "Success over the executed trials, ours (paper): " + ", ".join(
-        f"{lab(q)} {n1(v)} % ({n1(pv(run, lambda p, q: getattr(p, table)[q].success_pct, q))} %)"
+        f"{lab(q)} {n1(v)} % ({n1(paper_of(run, lambda p, q: getattr(p, table)[q].success_pct, q))} %)"
         for q, v in paper.items()) + f"; the {lab(top)} planner ranks first. "
     if "none" in s and top != PROPOSED:
         none = s["none"].reindex(paper.index)
@@ -222,20 +185,6 @@ def finding(run: Run, extra=lambda run: "") -> str:
                                 "13, item 5)* and *Tests 2-3 protocols and virtual rig (issue 9)*.")
 
 
-def bars(ax, f: pd.DataFrame, key: str, title: str, ylabel: str = "success rate [%]") -> None:
-    """Rates [%] of ``f`` per ``key`` (its vocabulary) with Wilson whiskers, the paper's in black."""
-    f = f.rename(columns=lambda c: c.replace("rate_pct", "success_pct").replace("wilson", "success")
-                 .replace("paper_pct", "paper_success_pct"))
-    x = np.arange(len(f))
-    marked = style.bars(ax, x, f["success_pct"], f["success_low_pct"], f["success_high_pct"],
-                        [colour(key, k, i) for i, k in enumerate(f[key])], paper=list(f["paper_success_pct"]))
-    ax.set_xticks(x, [f"{label(key, k)}\nn={n}".replace(" ", "\n")
-                      for k, n in zip(f[key], f["n"], strict=True)], fontsize=7)
-    style.rate_axes(ax, ylabel)
-    ax.set_title(title)
-    ax.legend(handles=[style.interval_handle(), *[style.paper_handle()] * marked], loc="upper right")
-
-
 def planner_bars(table: str):
     """Panel: success per planner with the planners' own beliefs and with exact ones (hatched)."""
     def draw(run: Run, ax) -> None:
@@ -258,7 +207,7 @@ def confusion(paper):
     """Panel: ``predicted_stable`` against measured success, with ours and the paper's scores."""
     def draw(run: Run, ax) -> None:
         m = hw.classifier_table(ex(run).assign(all=1), ["predicted_stable"], ["all"]).iloc[0]
-        cells, ref = np.array([[m["tn"], m["fn"]], [m["fp"], m["tp"]]]), pv(run, paper)
+        cells, ref = np.array([[m["tn"], m["fn"]], [m["fp"], m["tp"]]]), paper_of(run, paper)
         ax.imshow(cells, cmap="Blues", vmin=0)
         for (i, j), v in np.ndenumerate(cells):
             ax.text(j, i, v, ha="center", va="center", color="white" if v > 0.6 * cells.max() else "k")
@@ -272,12 +221,10 @@ def confusion(paper):
     return draw
 
 
-def panels(*specs):
-    """A figure with a panel per spec: ``(table, query, key, title[, ylabel])`` bars, or ``draw(run, ax)``."""
-    def draw(run: Run, fig) -> None:
-        for ax, s in zip(fig.subplots(1, len(specs)), specs, strict=True):
-            s(run, ax) if callable(s) else bars(ax, run.tables[s[0]].query(s[1] or "index == index"), *s[2:])
-    return draw
+def median_trial(trials: pd.DataFrame, column: str) -> pd.Series:
+    """The trial whose ``column`` is nearest its median (the first in run order on a tie)."""
+    t = trials.dropna(subset=[column]).sort_values("run_order")
+    return t.loc[(t[column] - t[column].median()).abs().idxmin()]
 
 
 def schematic(fig, t: pd.Series, spans, top, bottom, title: str) -> None:
@@ -294,32 +241,22 @@ def schematic(fig, t: pd.Series, spans, top, bottom, title: str) -> None:
     axes[1].set_yscale("symlog", linthresh=1.0)
 
 
-def parity(ax, x, y, lines, xlabel: str, title: str) -> None:
-    """Parity panel: ``y`` against ``x``, the identity and lines ``(intercept, slope, label, style)``."""
-    ax.scatter(x, y, s=7, alpha=0.5, color=colour("planner", PROPOSED), label=f"ours, n={len(x)}",
-               rasterized=True)
-    grid = np.array([0.0, np.nanmax(np.r_[1.0, np.asarray(x, float), np.asarray(y, float)])])
-    for a, b, what, kw in [(0.0, 1.0, "identity", {"ls": ":", "color": "#777777"}), *lines]:
-        ax.plot(grid, (a or 0.0) + (np.nan if b is None else b) * grid, label=what, **kw)
-    ax.set(xlabel=f"predicted {xlabel}", ylabel=f"measured {xlabel}", title=title)
-    ax.legend(loc="upper left")
-
-
 # --------------------------------------------------------------------------- Test 2
 def fig28(run: Run, fig) -> None:
-    panels(("table6", PAPER_ROWS, "shape", "(a) proposed, by shape"), ("test2_materials", None,
+    style.panels(("table6", PAPER_ROWS, "shape", "(a) proposed, by shape"), ("test2_materials", None,
            "material", "(b) by material, all planners"), ("test2_outcomes", None, "outcome",
            "(c) outcome classes, proposed", "share of trials [%]"))(run, fig)
-    fig.axes[0].axhline(pv(run, lambda p: p.fig28_reference_pct) or np.nan, color=style.CRITERION, ls="--")
+    reference = paper_of(run, lambda p: p.fig28_reference_pct) or np.nan
+    fig.axes[0].axhline(reference, color=style.CRITERION, ls="--")
 
 
 def fig29(run: Run, fig) -> None:
     a, *hist = fig.subplots(1, 3)
     e = ex(run).dropna(subset=["normal_force_pred_mean_n", "normal_force_mean_n"])
-    parity(a, e["normal_force_pred_mean_n"], e["normal_force_mean_n"], [
+    style.parity(a, e["normal_force_pred_mean_n"], e["normal_force_mean_n"], [
         (0, run.tables["test2_force_accuracy"]["parity_slope"].iloc[0], "ours, through the origin",
          {"color": colour("planner", PROPOSED)}),
-        (0, pv(run, lambda p: p.parity_slope), "paper", {"ls": "--", "color": style.PAPER})],
+        (0, paper_of(run, lambda p: p.parity_slope), "paper", {"ls": "--", "color": style.PAPER})],
         "trial-mean normal force [N]", "(a) parity, all planners")
     for ax, col, what, key in zip(hist, ("force_err_pct", "deformation_err_pct"), ("normal-force",
                                   "deformation"), ("force_err_median_pct", "deformation_err_median_pct"),
@@ -327,7 +264,7 @@ def fig29(run: Run, fig) -> None:
         err = ex(run)[col].dropna()
         ax.hist(err.clip(upper=err.quantile(0.98)), bins=40, color="#8aa9d6", label="ours (98th pct. clip)")
         ax.axvline(err.median(), color=colour("planner", PROPOSED), label="ours: median")
-        ax.axvline(pv(run, getattr, key) or np.nan, color=style.PAPER, ls="--", label="paper: median")
+        ax.axvline(paper_of(run, getattr, key) or np.nan, color=style.PAPER, ls="--", label="paper: median")
         ax.set(xlabel=f"absolute {what} prediction error [%]", ylabel="trials [count]",
                title=f"({'b' if ax is hist[0] else 'c'}) {what} error")
         ax.legend(loc="upper right")
@@ -335,11 +272,10 @@ def fig29(run: Run, fig) -> None:
 
 def fig30(run: Run, fig) -> None:
     e = ex(run, PROPOSED).query("shape == 'sphere' and outcome == 'stable' and friction_level == 'natural'")
-    t = e.dropna(subset=["normal_force_mean_n"]).sort_values("run_order")
-    t = t.loc[(t["normal_force_mean_n"] - t["normal_force_mean_n"].median()).abs().idxmin()]
-    lift, t0 = pv(run, lambda p: p.lift_height_mm) or 50.0, 10.0 / t["closing_speed_mm_per_s"]  # 10 mm
+    t = median_trial(e, "normal_force_mean_n")
+    lift, t0 = paper_of(run, lambda p: p.lift_height_mm) or 50.0, 10.0 / t["closing_speed_mm_per_s"]  # 10 mm
     t1 = t0 + lift / t["lift_speed_mm_per_s"]
-    t2, band, slip = t1 + t["hold_s"], pv(run, lambda p: p.hold_force_per_finger_n), "#c62828"
+    t2, band, slip = t1 + t["hold_s"], paper_of(run, lambda p: p.hold_force_per_finger_n), "#c62828"
     schematic(fig, t, ((0, t0, "closing", "#e3f2fd"), (t0, t1, "lift", "#fff8e1"), (t1, t2, "hold",
                                                                                    "#e8f5e9")), [
         *(([t0, t2], [t[f"normal_force_{j}_n"]] * 2, f"finger {j}, recorded", {"color": f"C{j + 1}"})
@@ -349,8 +285,8 @@ def fig30(run: Run, fig) -> None:
         ([0, t0, t1, t2], [0, 0, lift, lift], "lift height, commanded [mm]", {"color": "#333333"}),
         ([t1, t2], [t["peak_slip_mm"]] * 2, "peak slip, recorded [mm]", {"color": slip}),
         ([0, t2], [2.0, 2.0], "2 mm success criterion", {"color": slip, "ls": "--"}),
-        ([0, t2], [pv(run, lambda p: p.hold_slip_max_mm)] * 2, "paper: slip below", {"color": style.PAPER,
-                                                                                   "ls": ":"})],
+        ([0, t2], [paper_of(run, lambda p: p.hold_slip_max_mm)] * 2, "paper: slip below",
+         {"color": style.PAPER, "ls": ":"})],
         "recorded hold values over the commanded phases")
     fig.axes[0].set_ylabel("normal force per finger [N]")
     fig.axes[1].set(ylabel="height, slip [mm]", xlabel="time from the start of closing [s]")
@@ -365,7 +301,7 @@ def groups(run: Run) -> pd.DataFrame:
              **{f"E {w} {v:g} mm/s": e & (d[f"{w}_speed_mm_per_s"] == v) for w in ("closing", "lift")
                 for v in sorted(d[e][f"{w}_speed_mm_per_s"].unique())}}
     out = hw.summary(hw.scoped(d, parts), ["scope"], ["is_stable"], order={"scope": list(parts)})
-    out["paper"] = [pv(run, getattr, "group_e_success_pct_range" if s[:2] == "E " else key[s])
+    out["paper"] = [paper_of(run, getattr, "group_e_success_pct_range" if s[:2] == "E " else key[s])
                     if s[:2] == "E " or s in key else None for s in out["scope"]]
     out["paper_text"] = [p and fmt.paper_text(p, 1) for p in out["paper"]]
     return verdicts(out, "success_pct", "paper", "success_low_pct", "success_high_pct", unit="%")
@@ -377,8 +313,8 @@ def outcomes(run: Run) -> pd.DataFrame:
         "_pct", "_low_pct", "_high_pct")}} for k, v in hw.CLASSES.items()])
     ref = {"stable": "proposed_stable_pct", "success": "proposed_marginal_pct"}
     t7 = {"failure_slip": "slip_pct", "failure_drop": "drop_pct", "failure_damage": "damage_pct"}
-    out["paper_success_pct"] = [pv(run, getattr, ref[v]) if v in ref else pv(run, lambda p, v: getattr(
-        p.table7[PROPOSED], t7[v]), v) if v in t7 else None for v in out["outcome"]]
+    out["paper_success_pct"] = [paper_of(run, getattr, ref[v]) if v in ref else paper_of(
+        run, lambda p, v: getattr(p.table7[PROPOSED], t7[v]), v) if v in t7 else None for v in out["outcome"]]
     return verdicts(out, "success_pct", "paper_success_pct", "success_low_pct", "success_high_pct", unit="%")
 
 
@@ -395,6 +331,14 @@ def power(run: Run) -> pd.DataFrame:
                          if 0 < p1 < 1 and 0 < p2 < 1 and p1 != p2 for pw in (0.8, 0.9) for pr in (0, 1)])
 
 
+def mcnemar_rows(mc: pd.Series, paper, section: str):
+    """Claims rows: McNemar χ², won and lost pairs of the proposed planner against the centroid."""
+    for q, col, key, digits in (("McNemar χ² proposed vs centroid", "chi2_cc", "chi2", 1),
+                                ("pairs won by proposed (vs centroid)", "reference_only", "won", 0),
+                                ("pairs lost by proposed (vs centroid)", "compared_only", "lost", 0)):
+        yield q, section, Estimate(mc[col], n=mc["pairs"]), getattr(paper, key), "", digits
+
+
 def claims(run: Run):
     """§8 headline numbers not in a table above, beside the paper's."""
     p, t, d = run.paper, run.tables, ex(run, PROPOSED)
@@ -408,10 +352,7 @@ def claims(run: Run):
             ("median |deformation error|", "deformation_err_pct", "deformation_err_median_pct", "%"),
             ("median contact-point error", "contact_point_error_mm", "contact_point_err_median_mm", "mm")):
         yield q, "§8.3, Fig. 29", Estimate(acc[col], n=acc["parity_n"]), getattr(p, key), unit, 2
-    for q, col, key, digits in (("McNemar χ² proposed vs centroid", "chi2_cc", "chi2", 1),
-                                ("pairs won by proposed (vs centroid)", "reference_only", "won", 0),
-                                ("pairs lost by proposed (vs centroid)", "compared_only", "lost", 0)):
-        yield q, "§8.5", Estimate(mc[col], n=mc["pairs"]), getattr(p.mcnemar_centroid, key), "", digits
+    yield from mcnemar_rows(mc, p.mcnemar_centroid, "§8.5")
     yield ("discordant-pair odds ratio", "§8.5", Estimate(*mc[["odds_ratio", "odds_ratio_low",
            "odds_ratio_high", "pairs"]]), p.mcnemar_centroid.odds_ratio, "", 1)
     for (_, r), (q, key, col, digits) in zip(t["test2_tests"].iterrows(), (
@@ -424,7 +365,7 @@ def claims(run: Run):
 
 SPEC = ReportSpec("test2_grasp", [
     Finding(finding),
-    Listed("test2_counts", "Trial counts beside the paper's (a reduced study has fewer)", counts("table7")),
+    Claims("test2_counts", "Trial counts beside the paper's (a reduced study has fewer)", counts("table7")),
     paper_table("table6", "Table 6: the proposed planner per shape and belief reading (all its trials), at "
                 "natural friction, its median absolute prediction errors", "shape", lambda p, k: p.table6[k],
                 [("n", "n", "n", 0), ("success", "success_pct", "success", None),
@@ -440,10 +381,11 @@ SPEC = ReportSpec("test2_grasp", [
     *belief_tables("test2"),
     Table("test2_groups", "The proposed planner per group (A-E, M matched), the validation pool ABD, all "
           "trials and group E per closing and lift speed (§8.2, §8.6)", groups, [
-              Col("scope", "group"), Col("n", "n"), Col("paper_text", "paper %"), pct("success", "success"),
-              pct("stable", "stable"), Col("verdict", "verdict (success)")]),
+              Col("scope", "group"), Col("n", "n"), Col("paper_text", "paper %"),
+              pct_col("success", "success"), pct_col("stable", "stable"),
+              Col("verdict", "verdict (success)")]),
     Table("test2_outcomes", "Outcome classes of the proposed planner (§8.2, Fig. 28c; slip, drop, damage: "
-          "Table 7)", outcomes, [Col("outcome", "outcome"), Col("n", "n"), pct("success", "share"),
+          "Table 7)", outcomes, [Col("outcome", "outcome"), Col("n", "n"), pct_col("success", "share"),
                                  Col("paper_success_pct", "paper %", 1), Col("verdict", "verdict")]),
     Rates("test2_materials", "Success per material, all planners (§8.2, Fig. 28b)", ["material"],
           lambda p, k: p.success_by_material_pct[k["material"]]),
@@ -468,7 +410,7 @@ SPEC = ReportSpec("test2_grasp", [
           "the peak slip across friction levels (§8.5-8.6; no multiplicity correction, as the paper)",
           lambda run: pd.DataFrame([hw.chi2_planners(ex(run)), *(hw.kruskal(ex(run), v, k) for v, k in (
               ("force_err_pct", "planner"), ("peak_slip_mm", "friction_level")))])),
-    Listed("test2_claims", "§8 numbers not in a table above, beside the paper's", claims),
+    Claims("test2_claims", "§8 numbers not in a table above, beside the paper's", claims),
     Table("test2_power", "Power (§8.5, §11): trials per arm to detect p1 vs p2 at α = 0.05 (independent: "
           "Cohen's h; matched pairs: McNemar, Connor 1987)", power),
     Figure("fig28_outcomes", "Fig. 28 (paper in black): proposed success per shape (dashed: the paper's 75% "
@@ -478,7 +420,7 @@ SPEC = ReportSpec("test2_grasp", [
     Figure("fig30_representative_grasp", "Fig. 30 (schematic of the median-force stable proposed sphere "
            "grasp): commanded phases, recorded hold forces and peak slip as levels", fig30, (9.5, 5.4)),
     Figure("fig31_planner_comparison", "Fig. 31: success per planner (a) with own and exact beliefs "
-           "(hatched), (b) matched ablation; (c) `predicted_stable` against the outcome", panels(
+           "(hatched), (b) matched ablation; (c) `predicted_stable` against the outcome", style.panels(
                planner_bars("table7"), ("test2_matched", None, "planner", "(b) matched ablation"),
                confusion(lambda p: p.classifier)), (13.0, 4.0)),
 ])

@@ -12,18 +12,18 @@ from graspcampaign.analysis.records import Estimate
 from graspcampaign.analysis.vocabulary import PROPOSED, colour, label
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
-from graspcampaign.report.document import Col
+from graspcampaign.report.document import Col, pct_col
 from graspcampaign.report.render import Run
-from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, verdicts
+from graspcampaign.report.spec import Claims, Figure, Finding, ReportSpec, Table, paper_of, share, verdicts
 from graspcampaign.report.studies import test2 as t2
 
 NATURAL = "friction_level == 'natural'"
 
 
 def drops(run: Run) -> str:
-    d = t2.ex(run, PROPOSED)
+    d, paper = t2.ex(run, PROPOSED), paper_of(run, lambda p: p.table9[PROPOSED].drop_pct)
     return (f"The proposed planner drops {fmt.number(100 * d['is_drop'].mean(), 1)} % of its trials "
-            f"(paper {fmt.number(t2.pv(run, lambda p: p.table9[PROPOSED].drop_pct), 1)} %): with Table 4's "
+            f"(paper {fmt.number(paper, 1)} %): with Table 4's "
             "μ_k/μ_s ≈ 0.7 the rig's Coulomb contact cannot arrest a slip once SF < ~1.4, and blocks A and "
             "C succeed only when the threshold reaches the proof load (one weight laterally, the weight "
             "at the shape's radius in yaw). ")
@@ -38,7 +38,7 @@ def table8(run: Run, d: pd.DataFrame, out: pd.DataFrame) -> pd.DataFrame:
 
 
 def table9(run: Run, d: pd.DataFrame, out: pd.DataFrame) -> pd.DataFrame:
-    w = [None if b != "paper" else t2.pv(run, lambda p, k: p.table9[k].wilson_pct, k)
+    w = [None if b != "paper" else paper_of(run, lambda p, k: p.table9[k].wilson_pct, k)
          for k, b in zip(out["planner"], out["belief_error"], strict=True)]
     return out.assign(paper_wilson=[x and fmt.paper_text(x, 1) for x in w])
 
@@ -46,9 +46,9 @@ def table9(run: Run, d: pd.DataFrame, out: pd.DataFrame) -> pd.DataFrame:
 def coating(run: Run) -> pd.DataFrame:
     out = hw.summary(t2.ex(run, PROPOSED).query("block == 'A'"), ["friction_level"], medians=["threshold"],
                      order={"friction_level": ["natural", "high", "medium", "low"]})
-    ref = [t2.pv(run, lambda p, k: p.coating[k], k) for k in out["friction_level"]]
+    ref = [paper_of(run, lambda p, k: p.coating[k], k) for k in out["friction_level"]]
     out["paper_success_pct"] = [r and r.success_pct for r in ref]
-    out["paper_threshold_n"] = [r.threshold_n if r else t2.pv(run, lambda p: p.lateral_threshold_median_n)
+    out["paper_threshold_n"] = [r.threshold_n if r else paper_of(run, lambda p: p.lateral_threshold_median_n)
                                 if k == "natural" else None
                                 for k, r in zip(out["friction_level"], ref, strict=True)]
     return verdicts(out, "success_pct", "paper_success_pct", "success_low_pct", "success_high_pct",
@@ -59,7 +59,7 @@ def claims(run: Run):
     """§9 headline numbers not in a table above, beside the paper's."""
     p, e, t = run.paper, t2.ex(run), run.tables
     d, nat = t2.ex(run, PROPOSED), t2.ex(run, PROPOSED).query(NATURAL)
-    yield ("proposed success, natural friction", "§9.2", t2.share(nat, nat["success"]),
+    yield ("proposed success, natural friction", "§9.2", share(nat, nat["success"]),
            p.natural_success_pct, "%", 1)
     for i, f in enumerate((min, max)):
         yield (f"{('lowest', 'highest')[i]} median threshold over pull directions", "§9.2, Fig. 33b",
@@ -69,7 +69,7 @@ def claims(run: Run):
         g = nat.query(f"block == 'B' and disturbance_kind == '{key.split('_')[0]}'")
         g = g[np.isclose(g["load_frac_w"].astype(float), float(key.split("_")[1]))]
         yield (f"vertical {key.replace('_', ' to ')} W, success", "§9.2",
-               lambda g=g: t2.share(g, g["success"]), v, "%", 1)
+               lambda g=g: share(g, g["success"]), v, "%", 1)
     c = d.query("block == 'C'")
     yield ("median yaw torque at slip, with the coating probes", "§9.2", Estimate(
         c["threshold"].median(), n=c["threshold"].count()), p.yaw_torque_with_probes_nm, "N·m", 3)
@@ -83,41 +83,38 @@ def claims(run: Run):
             ("Bland–Altman bias (measured − predicted)", "bias_n", "bland_altman_bias_n", "N"),
             ("Bland–Altman limits, half width", "loa_half_n", "bland_altman_loa_half_width_n", "N")):
         yield q, "§9.3, Fig. 34", Estimate(a.get(col, np.nan), n=a["n"]), getattr(p, key), unit, 2
-    yield ("lateral thresholds with error > 50 %", "§9.3", lambda: t2.share(range(a["n"]), range(a.get(
+    yield ("lateral thresholds with error > 50 %", "§9.3", lambda: share(range(a["n"]), range(a.get(
         "n_err_over_50pct", 0))), 100 * p.threshold_err_over_50pct / p.lateral_threshold_trials, "%", 1)
     yield ("median torque-threshold error", "§9.3", Estimate(c["threshold_err_pct"].median(), n=c[
         "threshold_err_pct"].count()), p.torque_threshold_err_pct, "%", 1)
     ff = e.dropna(subset=["first_finger_correct"])
-    yield ("first finger to slip predicted", "§9.3", lambda: t2.share(ff, ff["first_finger_correct"]
+    yield ("first finger to slip predicted", "§9.3", lambda: share(ff, ff["first_finger_correct"]
            .astype(bool)), p.first_finger_accuracy_pct, "%", 1)
     dd = nat.query("block == 'D'")
     for what, col, ref in (("retained (success)", "success", p.impulse_retained_pct),
                            ("dropped", "drop_flag", p.impulse_drop_pct)):
         for level, v in ref.items():
             g = dd[np.isclose(dd["load_frac_w"].astype(float), float(level))]
-            yield (f"impulse {float(level):g} W, {what}", "§9.4", lambda g=g, c=col: t2.share(g, g[c]), v,
+            yield (f"impulse {float(level):g} W, {what}", "§9.4", lambda g=g, c=col: share(g, g[c]), v,
                    "%", 1)
     cells = nat.query("block == 'E'").groupby(["frequency_hz", "amplitude_n"])["peak_slip_mm"].median()
     for i, f in enumerate((min, max)):
         yield (f"sinusoids: {('lowest', 'highest')[i]} median slip over (f, A) cells", "§9.4",
                f(cells, default=np.nan), p.sinusoid_slip_mm_range[i], "mm", 2)
     mp = d[d["matched"].astype(bool)]
-    yield ("matched set success, proposed", "§9.5", lambda: t2.share(mp, mp["success"]),
+    yield ("matched set success, proposed", "§9.5", lambda: share(mp, mp["success"]),
            p.matched_proposed_pct, "%", 1)
     mc = t["test3_mcnemar"].set_index("compared").loc["centroid"]
     yield ("matched difference, proposed − centroid", "§9.5", 100 * (mc["reference_only"] - mc[
         "compared_only"]) / mc["pairs"], p.matched_difference_centroid_pp, "pp", 1)
-    for q, col, key, digits in (("McNemar χ² proposed vs centroid", "chi2_cc", "chi2", 1),
-                                ("pairs won by proposed (vs centroid)", "reference_only", "won", 0),
-                                ("pairs lost by proposed (vs centroid)", "compared_only", "lost", 0)):
-        yield q, "§9.5", Estimate(mc[col], n=mc["pairs"]), getattr(p.mcnemar_centroid, key), "", digits
+    yield from t2.mcnemar_rows(mc, p.mcnemar_centroid, "§9.5")
     yield ("success margin over the random planner", "§9.5", 100 * (d["success"].mean() - e.query(
         "planner == 'random'")["success"].mean()), p.margin_over_random_pp, "pp", 1)
     lat, pulls = nat.query("block == 'A'")["threshold_measured_n"].astype(float).fillna(0.0), \
         "natural-friction pulls"
-    for q, v, x, u in ((f"{pulls} sustaining > 3 N", lambda: t2.share(lat, lat > 3.0), "above_3n_pct", "%"),
+    for q, v, x, u in ((f"{pulls} sustaining > 3 N", lambda: share(lat, lat > 3.0), "above_3n_pct", "%"),
                        ("lateral level held by half the proposed grasps", lat.median(), "half_at_n", "N"),
-                       (f"{pulls} sustaining > 5 N", lambda: t2.share(lat, lat > 5.0), "above_5n_pct", "%")):
+                       (f"{pulls} sustaining > 5 N", lambda: share(lat, lat > 5.0), "above_5n_pct", "%")):
         yield q, "§9.5, Fig. 36b", v, getattr(p.survival, x), u, 1 if u == "%" else 2
     r = t["test3_retention_classifier"].query(f"scope == 'all' and {t2.PAPER_ROWS}").iloc[0]
     yield "grasps certified as retained", "§9.5", r["flagged"], p.retention_certified, "", 0
@@ -142,7 +139,7 @@ def thresholds(run: Run, ax) -> None:
 
 
 def directions(run: Run, ax) -> None:
-    d, rng = run.tables["test3_directions"], t2.pv(run, lambda p: p.direction_threshold_range_n)
+    d, rng = run.tables["test3_directions"], paper_of(run, lambda p: p.direction_threshold_range_n)
     ax.plot(d["direction_deg"], d["threshold"], "o-", color=colour("planner", PROPOSED), label="ours")
     ax.axhspan(*(rng or (np.nan,) * 2), color=style.PAPER, alpha=0.15, label="paper: range")
     ax.set(xticks=np.arange(0, 360, 45), xlabel="pull direction (azimuth) [°]", ylim=(0, None),
@@ -154,7 +151,7 @@ def survival(run: Run, ax) -> None:
     for q, g in ds.lateral_survival(t2.ex(run), np.arange(0.0, 8.01, 0.05)).groupby("planner", sort=False):
         ax.step(g["level_n"], 100 * g["surviving_fraction"], where="post", color=colour("planner", q),
                 label=f"ours, {label('planner', q)} (n={g['n'].iloc[0]})")
-    if (s := t2.pv(run, lambda p: p.survival)) is not None:
+    if (s := paper_of(run, lambda p: p.survival)) is not None:
         ax.plot([3.0, s.half_at_n, 5.0], [s.above_3n_pct, 50, s.above_5n_pct], "D", color=style.PAPER,
                 label="paper")
         ax.plot([s.centroid_failed_by_n], [0], "s", mfc="none", color=style.PAPER,
@@ -169,12 +166,12 @@ def fig34(run: Run, fig) -> None:
     d = t2.ex(run, PROPOSED).dropna(subset=["lat_threshold_n"])
     m, p, g = d["lat_threshold_n"], d["threshold_pred"], run.tables["test3_threshold_agreement"].iloc[0]
     ours = colour("planner", PROPOSED)
-    t2.parity(a, p, m, [(g.get("ols_intercept"), g.get("ols_slope"), "ours: OLS", {"color": ours}),
-                     (0, t2.pv(run, lambda p: p.threshold_ols_slope), "paper's slope",
+    style.parity(a, p, m, [(g.get("ols_intercept"), g.get("ols_slope"), "ours: OLS", {"color": ours}),
+                     (0, paper_of(run, lambda p: p.threshold_ols_slope), "paper's slope",
                       {"ls": "--", "color": style.PAPER})], "lateral threshold [N]",
            "(a) parity, proposed, block A")
     b.scatter((m + p) / 2, m - p, s=7, alpha=0.5, color=ours, label="ours")
-    bias, half = (t2.pv(run, getattr, k) for k in ("bland_altman_bias_n", "bland_altman_loa_half_width_n"))
+    bias, half = (paper_of(run, getattr, k) for k in ("bland_altman_bias_n", "bland_altman_loa_half_width_n"))
     lines = [(g.get(k), ls, ours, "ours") for k, ls in (("bias_n", "-"), ("loa_low_n", "--"),
                                                          ("loa_high_n", "--"))]
     lines += [(bias + k * half, ls, style.PAPER, "paper") for k, ls in ((0, "-"), (-1, ":"), (1, ":"))
@@ -197,9 +194,8 @@ def fig34(run: Run, fig) -> None:
 
 def fig35(run: Run, fig) -> None:
     d = t2.ex(run, PROPOSED).query(f"block == 'A' and {NATURAL}").dropna(subset=["lat_threshold_n"])
-    t = d.sort_values("run_order")
-    t = t.loc[(t["lat_threshold_n"] - t["lat_threshold_n"].median()).abs().idxmin()]
-    h, thr, paper = t["hold_s"], t["lat_threshold_n"], t2.pv(run, lambda p: p.lateral_threshold_median_n)
+    t = t2.median_trial(d, "lat_threshold_n")
+    h, thr, paper = t["hold_s"], t["lat_threshold_n"], paper_of(run, lambda p: p.lateral_threshold_median_n)
     t1 = h + thr / t["ramp_rate_n_per_s"]
     end = 1.15 * t1
     t2.schematic(fig, t, ((0, h, "hold", "#e8f5e9"), (h, t1, "ramp to slip", "#fff8e1")), [
@@ -217,7 +213,7 @@ def fig35(run: Run, fig) -> None:
 
 SPEC = ReportSpec("test3_disturbance", [
     Finding(lambda run: t2.finding(run, drops)),
-    t2.Listed("test3_counts", "Trial counts beside the paper's (a reduced study has fewer)",
+    Claims("test3_counts", "Trial counts beside the paper's (a reduced study has fewer)",
               t2.counts("table9")),
     t2.paper_table("table8", "Table 8: the proposed planner's natural-friction blocks per belief reading; "
                 "headline = median lateral threshold (A), downward payload at slip (B), yaw torque (C), "
@@ -245,7 +241,7 @@ SPEC = ReportSpec("test3_disturbance", [
     *t2.belief_tables("test3"),
     Table("test3_coating", "Block A of the proposed planner per surface (§9.2, Fig. 33a): success and "
           "median uncensored lateral threshold beside the paper's", coating, [
-              Col("friction_level", "surface"), Col("n", "n"), t2.pct("success", "success"),
+              Col("friction_level", "surface"), Col("n", "n"), pct_col("success", "success"),
               Col("paper_success_pct", "paper %", 1), Col("threshold_n", "thresholds"),
               Col("threshold", "median threshold [N]", 2), Col("paper_threshold_n", "paper", 2),
               Col("verdict", "verdict (success)")]),
@@ -272,11 +268,11 @@ SPEC = ReportSpec("test3_disturbance", [
           "baseline on occurrence-matched pairs", t2.matched_mcnemar),
     Table("test3_chi2", "χ² of planner × retention over the proposed, centroid and random arms (§9.5)",
           lambda run: pd.DataFrame([hw.chi2_planners(t2.ex(run))])),
-    t2.Listed("test3_claims", "§9 headline numbers not in a table above, beside the paper's (rates with "
+    Claims("test3_claims", "§9 headline numbers not in a table above, beside the paper's (rates with "
            "Wilson 95% intervals, logistic coefficients with their Wald intervals)", claims),
     Figure("fig33_thresholds", "Fig. 33 (the paper's values in black): block A median threshold and "
            "success per surface, natural-friction threshold per pull direction, proposed success per block "
-           "at natural friction", t2.panels(thresholds, ("test3_coating", None, "friction_level",
+           "at natural friction", style.panels(thresholds, ("test3_coating", None, "friction_level",
                                                       "(a) block A: success"), directions,
                                          ("table8", t2.PAPER_ROWS, "block", "(c) proposed, by block")),
            (15.0, 4.0)),
@@ -288,7 +284,7 @@ SPEC = ReportSpec("test3_disturbance", [
            "predicted threshold, recorded peak slip", fig35, (9.5, 5.2)),
     Figure("fig36_robustness", "Fig. 36: (a) success per planner with the planners' own beliefs and with "
            "exact ones (hatched), (b) share of natural-friction pulls holding each level (a grasp lost "
-           "before the pull counts as 0 N), (c) the retention flag against the measured outcome", t2.panels(
-               t2.planner_bars("table9"), survival, t2.confusion(lambda p: p.retention_classifier)),
+           "before the pull counts as 0 N), (c) the retention flag against the measured outcome",
+           style.panels(t2.planner_bars("table9"), survival, t2.confusion(lambda p: p.retention_classifier)),
            (13.0, 4.0)),
 ])
