@@ -1,6 +1,6 @@
 """Agreement of predictions with measurements: classifier scores, Bland-Altman, parity, coefficient
-of variation (and its bootstrap), median absolute percentage error, survival. Signed errors are
-measured - predicted (paper Sec. 9.3). Shapes: ``n`` observations, ``m`` levels.
+of variation, median absolute percentage error, survival. Signed errors are measured - predicted
+(paper Sec. 9.3).
 
 References
 ----------
@@ -28,21 +28,20 @@ LIMITS_OF_AGREEMENT_Z = 1.96
 
 
 ClassifierMetrics = result(
-    "ClassifierMetrics", "Binary classifier scores (nan where a ratio has a zero denominator); "
-    "``confusion`` is ``[[tn, fp], [fn, tp]]`` (rows actual, columns predicted, as scikit-learn's).",
+    "ClassifierMetrics", "Binary classifier scores (nan at a zero denominator); ``confusion`` is "
+    "``[[tn, fp], [fn, tp]]`` (rows actual, as scikit-learn's).",
     {k: property(lambda self, i=i: int(self.confusion.flat[i]))
      for i, k in enumerate(("tn", "fp", "fn", "tp"))},
     accuracy=float, precision=float, recall=float, f1=float, confusion=np.ndarray, n=int)
 BlandAltmanResult = result(
-    "BlandAltmanResult", "Bland-Altman bias and 95 % limits of agreement of ``measured - "
-    "predicted``.", bias=float, sd=float, lower=float, upper=float, n=int)
+    "BlandAltmanResult", "Bland-Altman bias and 95 % limits of ``measured - predicted``.",
+    bias=float, sd=float, lower=float, upper=float, n=int)
 ParityResult = result(
-    "ParityResult", "Least-squares line ``measured = slope * predicted`` through the origin, with "
-    "``r2_uncentred = 1 - SSR / sum(y**2)`` (what through-origin software reports) and "
-    "``r2_centred = 1 - SSR / sum((y - mean)**2)`` (negative when the mean does better).",
+    "ParityResult", "Line ``measured = slope * predicted`` through the origin; ``r2_uncentred = 1 - "
+    "SSR / sum(y**2)``, ``r2_centred = 1 - SSR / sum((y - mean)**2)`` (negative if the mean wins).",
     slope_through_origin=float, r2_uncentred=float, r2_centred=float, n=int)
 SurvivalCurve = result(
-    "SurvivalCurve", "Empirical fraction of trials whose threshold is at least each level.",
+    "SurvivalCurve", "Share of trials whose threshold is at least each level.",
     levels=np.ndarray, surviving_fraction=np.ndarray, n=int)
 
 
@@ -57,10 +56,8 @@ def _frozen(values: ArrayLike, dtype=np.float64) -> np.ndarray:
 
 
 def classifier_metrics(predicted: ArrayLike, actual: ArrayLike) -> ClassifierMetrics:
-    """Return accuracy, precision, recall, F1 and the confusion matrix of a binary classifier.
-
-    ``predicted``: certified positive (e.g. retained); ``actual``: measured positive. ``f1 =
-    2 tp / (2 tp + fp + fn)`` is 0, not nan, when tp = 0 but fp + fn > 0."""
+    """Return the scores of ``predicted`` (certified) against ``actual`` (measured) positives;
+    ``f1 = 2 tp / (2 tp + fp + fn)`` is 0, not nan, when tp = 0 but fp + fn > 0."""
     p, a = check_paired(predicted, actual, "predicted", "actual", binary=True)
     tp, fp, fn, tn = (int(np.sum(x & y)) for x, y in ((p, a), (p, ~a), (~p, a), (~p, ~a)))
     return ClassifierMetrics((tp + tn) / p.size, _ratio(tp, tp + fp), _ratio(tp, tp + fn),
@@ -69,8 +66,7 @@ def classifier_metrics(predicted: ArrayLike, actual: ArrayLike) -> ClassifierMet
 
 
 def bland_altman(measured: ArrayLike, predicted: ArrayLike) -> BlandAltmanResult:
-    """Return the bias (mean of ``measured - predicted``; positive: the model under-predicts),
-    the sample SD (ddof 1) and the limits ``bias -/+ 1.96 sd`` (n >= 2)."""
+    """Return the bias (positive: the model under-predicts), SD (ddof 1), ``bias -/+ 1.96 sd``."""
     measured, predicted = check_paired(measured, predicted, "measured", "predicted", 2)
     d = measured - predicted
     bias, sd = float(np.mean(d)), float(np.std(d, ddof=1))
@@ -79,10 +75,8 @@ def bland_altman(measured: ArrayLike, predicted: ArrayLike) -> BlandAltmanResult
 
 
 def parity_fit(measured: ArrayLike, predicted: ArrayLike) -> ParityResult:
-    """Return the least-squares slope of measured on predicted through the origin, and R^2.
-
-    Fitted by statsmodels' ``OLS`` without a constant (R's ``lm(y ~ 0 + x)``); the uncentred R^2
-    is inflated by the data's distance from the origin, the centred one (Kvalseth's R^2_1) is not."""
+    """Return the slope of measured on predicted through the origin (statsmodels ``OLS``) and R^2;
+    the uncentred R^2 grows with the data's distance from the origin, the centred one does not."""
     measured, predicted = check_paired(measured, predicted, "measured", "predicted", 2)
     require(np.any(predicted != 0.0), "predicted must not be all zero (the slope through the "
                                       "origin is then undefined).")
@@ -93,10 +87,8 @@ def parity_fit(measured: ArrayLike, predicted: ArrayLike) -> ParityResult:
 
 
 def coefficient_of_variation(x: ArrayLike, axis: int | None = None) -> float | np.ndarray:
-    """Return ``std(x, ddof=1) / mean(x)`` along ``axis`` (all values when None), a fraction.
-
-    Computed by ``scipy.stats.variation``; signed (a negative mean gives a negative CV), nan at a
-    zero mean; at least 2 values along the axis."""
+    """Return ``std(x, ddof=1) / mean(x)`` along ``axis`` (``scipy.stats.variation``; nan at a zero
+    mean, negative at a negative one)."""
     arr = np.asarray(x)
     require(arr.dtype.kind in "biuf", f"x must hold real numbers, got dtype {arr.dtype}.")
     require(np.isfinite(arr).all(), "x must be finite (no nan or inf).")
@@ -110,10 +102,7 @@ def coefficient_of_variation(x: ArrayLike, axis: int | None = None) -> float | n
 
 def cv_interval(x: ArrayLike, *, seed: int, n_resamples: int = 10_000,
                 confidence_level: float = 0.95) -> tuple[float, float]:
-    """Return the percentile-bootstrap interval ``(low, high)`` of the CV of ``x`` (n >= 3).
-
-    Computed by ``scipy.stats.bootstrap`` with ``numpy.random.default_rng(seed)``; raises when
-    every value is the same (a zero spread has no interval)."""
+    """Return the percentile interval of the CV of ``x`` by ``scipy.stats.bootstrap`` (n >= 3)."""
     arr = check_1d(x, "x", 3)
     require(np.ptp(arr) > 0, "every value is the same: a zero spread has no interval")
     res = stats.bootstrap((arr,), lambda v, axis=-1: np.std(v, axis=axis, ddof=1)
@@ -124,8 +113,7 @@ def cv_interval(x: ArrayLike, *, seed: int, n_resamples: int = 10_000,
 
 
 def median_abs_pct_error(measured: ArrayLike, predicted: ArrayLike) -> float:
-    """Return ``100 * median(|predicted - measured| / |measured|)`` [%] (the paper's threshold
-    errors, Sec. 9.3, relative to the measurement, which must be non-zero)."""
+    """Return ``100 * median(|predicted - measured| / |measured|)`` [%] (paper Sec. 9.3)."""
     measured, predicted = check_paired(measured, predicted, "measured", "predicted")
     zeros = int(np.sum(measured == 0.0))
     require(not zeros, f"measured must be non-zero (it is the denominator), got {zeros} zero values.")
@@ -133,11 +121,8 @@ def median_abs_pct_error(measured: ArrayLike, predicted: ArrayLike) -> float:
 
 
 def survival_curve(thresholds: ArrayLike, levels: ArrayLike | None = None) -> SurvivalCurve:
-    """Return ``P(T >= level)``, the share of thresholds at least each level (default: the sorted
-    distinct thresholds).
-
-    No censoring is modelled: a trial that survived the largest load is counted at that load, so
-    the curve is a lower bound above it (a Kaplan-Meier estimate would be needed otherwise)."""
+    """Return ``P(T >= level)`` at each level (default: the distinct thresholds); uncensored, so a
+    lower bound above the largest load (Kaplan-Meier would be needed there)."""
     values = np.sort(check_1d(thresholds, "thresholds"))
     grid = np.unique(values) if levels is None else check_1d(levels, "levels")
     fraction = (values.size - np.searchsorted(values, grid, side="left")) / values.size

@@ -1,7 +1,5 @@
 """Association: Pearson chi-square, Kruskal-Wallis and logistic regression.
 
-Shapes: ``r x c`` contingency tables, ``n`` observations, ``p`` coefficients.
-
 References
 ----------
 Pearson, K. (1900). Phil. Mag. Ser. 5, 50(302), 157-175. Yates, F. (1934). Suppl. J. R. Stat. Soc.
@@ -42,17 +40,15 @@ KruskalResult = result(
     "values tie.", statistic=float, pvalue=float, n_groups=int, n=int)
 LogisticResult = result(
     "LogisticResult", "Unpenalised logistic regression: ``coefficients`` has one row per term "
-    "(``intercept`` first) and the columns ``coef, se, z, p, ci_low, ci_high`` on the log-odds "
-    "scale. Under separation or without convergence the maximum-likelihood estimate does not exist "
-    "or was not reached: the numbers are the optimiser's last iterate, not estimates.",
+    "(``intercept`` first), columns ``coef, se, z, p, ci_low, ci_high`` (log-odds). Under separation "
+    "or without convergence they are the optimiser's last iterate, not estimates.",
     coefficients=pd.DataFrame, converged=bool, separation=bool, separation_kind=str, n=int,
     messages=tuple)
 
 
 def chi2_contingency_test(table: ArrayLike, *, yates: bool = False) -> Chi2Result:
-    """Return Pearson's chi-square test of independence (``scipy.stats.chi2_contingency``) on an
-    r x c table of counts; ``yates``: Yates' correction of a 2 x 2 table (off, as for any table).
-    The paper's Test 2 counts (637/819, 213/474, 79/282) give chi2 = 270.0 (Sec. 8.5)."""
+    """Return Pearson's chi-square test of independence (``scipy.stats.chi2_contingency``) of an
+    r x c table of counts; ``yates``: Yates' correction of a 2 x 2 table (off by default)."""
     counts = check_table(table)
     res = stats.chi2_contingency(counts, correction=bool(yates))
     expected = np.array(res.expected_freq, dtype=np.float64)
@@ -74,13 +70,11 @@ def kruskal_wallis(*groups: ArrayLike) -> KruskalResult:
 
 def logistic_regression(df: pd.DataFrame, outcome: str, predictors: Sequence[str], *,
                         confidence_level: float = 0.95, maxiter: int = 100) -> LogisticResult:
-    """Fit an unpenalised logistic regression and report convergence and separation.
+    """Fit statsmodels' ``Logit`` (Newton, Wald intervals, intercept added) and report convergence
+    and separation (Konis 2007: none, quasi-complete, complete, undetermined) instead of raising.
 
-    ``outcome``: a 0/1 or boolean column; ``predictors``: numeric or boolean columns (indicators
-    for categories), an intercept is added. statsmodels' ``Logit`` (Newton; Wald z, p, intervals).
-    Never raises on separation, decided by linear programming (Konis 2007: ``"none"``,
-    ``"quasi-complete"``, ``"complete"``, ``"undetermined"``), or non-convergence (``messages``
-    keeps the warnings). No Firth penalty: the paper reports an unpenalised fit."""
+    ``outcome``: a 0/1 or boolean column; ``predictors``: numeric or boolean columns. No Firth
+    penalty: the paper reports an unpenalised fit."""
     y, design, names = check_frame(df, outcome, predictors)
     level = check_fraction(confidence_level, "confidence_level")
     maxiter = check_count(maxiter, "maxiter", positive=True)

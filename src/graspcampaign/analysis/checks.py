@@ -1,6 +1,5 @@
-"""Input validation and result types of the statistics, kept apart from the computation (as in
-scipy.stats): each ``check_*`` returns the value as the computation needs it or raises
-``ValueError`` with one sentence naming the argument, the expected form and what was given."""
+"""Input validation and result types of the statistics: each ``check_*`` returns the value as the
+computation needs it or raises ``ValueError`` naming the argument, the expected form and the value."""
 
 from __future__ import annotations
 

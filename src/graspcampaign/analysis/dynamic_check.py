@@ -1,12 +1,10 @@
 """Agreement of the quasi-static and dynamic labels of ``dynamic_check`` (docs/records.md).
 
-Every 2 x 2 table has the quasi-static label in its rows and the dynamic label in its columns
-(success first): ``[[both succeed, quasi-static only], [dynamic only, both fail]]``.
-:data:`LABEL_PAIRS` names the compared columns: the dynamic ``success`` (Eq. 19 held, every
-penetration within the fingertip radius) against the source study's recorded label
-(``qs_success``, the label the paper reports) and against Algorithms 1-2 re-run on the same
-contacts under the trial's preset (``qs_preset_success``: like for like), each also without the
-validity gate (``*_unbounded``). Only executed trials (``status == "ok"``) carry a label.
+Every 2 x 2 table has the quasi-static label in its rows and the dynamic label in its columns,
+success first: ``[[both succeed, quasi-static only], [dynamic only, both fail]]``. :data:`LABEL_PAIRS`
+pairs the dynamic ``success`` with the source study's label (``qs_success``, the paper's) and with
+Algorithms 1-2 re-run on the same contacts under the trial's preset (``qs_preset_success``), each
+also without the validity gate (``*_unbounded``). Only executed trials carry a label.
 
 References
 ----------
@@ -17,11 +15,12 @@ Cohen, J. (1960), Educ. Psychol. Meas. 20(1):37-46; Fleiss, J. L., Cohen, J. & E
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 import pandas as pd
+from scipy.stats import norm
+from statsmodels.stats.inter_rater import cohens_kappa as sm_kappa
 
+from graspcampaign.analysis.checks import result
 from graspcampaign.analysis.rates import wilson_interval
 from graspcampaign.analysis.records import executed
 
@@ -29,25 +28,12 @@ LABEL_PAIRS = {"source": ("qs_success", "success"), "preset": ("qs_preset_succes
                "source_unbounded": ("qs_success_unbounded", "success_unbounded"),
                "preset_unbounded": ("qs_preset_success_unbounded", "success_unbounded")}
 
-
-@dataclass(frozen=True)
-class KappaResult:
-    """Cohen's kappa of a 2 x 2 table: ``table``, ``n``, the observed and expected (from the
-    marginals) agreement, ``kappa = (p_o - p_e) / (1 - p_e)``, its asymptotic ``std_error`` and
-    interval ``ci_low``-``ci_high`` at ``confidence_level``; kappa and its interval are nan (with
-    ``why``) when the table is empty or both labels are one constant value (``p_e = 1``); ``why``
-    also says when one label alone is constant (kappa = 0 by construction, no interval)."""
-
-    table: np.ndarray
-    n: int
-    observed_agreement: float
-    expected_agreement: float
-    kappa: float
-    std_error: float
-    ci_low: float
-    ci_high: float
-    confidence_level: float
-    why: str = ""
+KappaResult = result(
+    "KappaResult", "Cohen's kappa ``(p_o - p_e) / (1 - p_e)`` of a 2 x 2 table with its asymptotic "
+    "standard error and interval; nan with ``why`` when undefined (no trial, or ``p_e = 1``), and "
+    "``why`` says when one label alone is constant (kappa = 0 by construction, no interval).",
+    table=np.ndarray, n=int, observed_agreement=float, expected_agreement=float, kappa=float,
+    std_error=float, ci_low=float, ci_high=float, confidence_level=float, why=str)
 
 
 def confusion_matrix(records: pd.DataFrame, qs_column: str = "qs_success",
@@ -63,11 +49,7 @@ def confusion_matrix(records: pd.DataFrame, qs_column: str = "qs_success",
 
 
 def cohens_kappa(table, confidence_level: float = 0.95) -> KappaResult:
-    """Return Cohen's kappa of a (2, 2) table of counts with its asymptotic interval
-    (``statsmodels.stats.inter_rater.cohens_kappa``; Cohen 1960, Fleiss et al. 1969)."""
-    from scipy.stats import norm
-    from statsmodels.stats.inter_rater import cohens_kappa as sm_kappa
-
+    """Return Cohen's kappa of a (2, 2) table of counts (statsmodels' ``cohens_kappa``)."""
     table = np.asarray(table, dtype=np.int64)
     if table.shape != (2, 2) or np.any(table < 0):
         raise ValueError(f"table must be a (2, 2) array of counts, got {table.tolist()}")
@@ -92,11 +74,8 @@ def cohens_kappa(table, confidence_level: float = 0.95) -> KappaResult:
 def agreement_table(records: pd.DataFrame, qs_column: str = "qs_success",
                     dynamic_column: str = "success", by=None,
                     confidence_level: float = 0.95) -> pd.DataFrame:
-    """Return the agreement of two label columns, overall (``by=None``) or per group of ``by``:
-    the counts of :func:`confusion_matrix` (``both_success``, ``qs_only``, ``dynamic_only``,
-    ``both_failure``), both success rates, ``agreement`` with its Wilson interval, and the
-    fields of :class:`KappaResult` (``kappa``, ``kappa_std_error``, ``kappa_low``/``_high``,
-    ``kappa_why``, ``expected_agreement``)."""
+    """Return the :func:`confusion_matrix` counts, both success rates, the agreement (Wilson
+    interval) and :func:`cohens_kappa` of two label columns, overall or per group of ``by``."""
     rows = executed(records)
     keys = [] if by is None else ([by] if isinstance(by, str) else list(by))
     out = []

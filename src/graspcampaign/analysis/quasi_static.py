@@ -13,7 +13,6 @@ from scipy import stats
 
 from graspcampaign.analysis import records as rec
 from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
-from graspcampaign.analysis.vocabulary import ordered
 from graspcampaign.core.statics import GRAVITY
 
 #: A pass rests on one fingertip when one contact gives >= this share of the vertical support
@@ -23,48 +22,40 @@ SINGLE_FINGERTIP_SHARE = 0.95
 READINGS = ("success", "success_unbounded", "success_vertical", "success_no_torque")
 
 
-def _flag(frame: pd.DataFrame, column: str) -> pd.Series:
-    return frame[column].astype("boolean").fillna(False).astype(bool)
-
-
 def paper_law(records: pd.DataFrame) -> pd.DataFrame:
     """Return the executed trials judged by Algorithm 2 (``grip_law`` absent or ``paper``)."""
     ok = rec.executed(records)
     return ok[ok["grip_law"] == "paper"] if "grip_law" in ok else ok
 
 
-def _counts(frame: pd.DataFrame, by: list[str], counts: list[str], order: dict | None) -> tuple:
-    """``n`` and the sums of boolean ``counts`` per group, groups in display order."""
-    g = frame.groupby(by, sort=False)
-    out = g[counts].sum().astype(int)
-    out.insert(0, "n", g.size())
-    rank = {c: {v: i for i, v in enumerate(ordered(c, frame[c], (order or {}).get(c, ())))} for c in by}
-    return out.sort_index(key=lambda s: s.map(rank[s.name])), g
+def _counts(frame: pd.DataFrame, by: list[str], counts: list[str], median: tuple[str, str],
+            order: dict | None) -> pd.DataFrame:
+    """Return per group ``n``, the sums of the boolean ``counts`` and ``median = (name, column)``."""
+    rows = [{**key, "n": len(g), **g[counts].sum().astype(int), median[0]: g[median[1]].median()}
+            for key, g in rec.groups(frame, by, order)]
+    return pd.DataFrame(rows, columns=[*by, "n", *counts, median[0]])
 
 
 def mechanism(records: pd.DataFrame, tau_f_n: float, order: dict | None = None,
               threshold: float = SINGLE_FINGERTIP_SHARE) -> pd.DataFrame:
     """Return per planner (paper-law rows) the counts ``released`` (a contact at delta = 0),
-    ``upper_released`` (as many released as upper contacts), ``rho_passable`` (rho m g <
-    ``tau_f_n``: only these can pass ||R|| < tau_F), ``successes``, ``single_fingertip`` (passes
-    whose largest contact gives >= ``threshold`` of the vertical support), ``single_loaded``
-    (passes with one loaded contact), and ``rho_median``."""
+    ``upper_released`` (every upper contact released), ``rho_passable`` (rho m g < ``tau_f_n``),
+    ``successes``, ``single_fingertip`` (passes whose largest contact gives >= ``threshold`` of
+    the vertical support), ``single_loaded`` (passes with one loaded contact), ``rho_median``."""
     rows = paper_law(records)
-    passes = _flag(rows, "success")
+    passes = rec.flag(rows, "success")
     frame = rows.assign(
         released=rows["n_released"] >= 1, upper_released=rows["n_released"] == rows["n_upper"],
         rho_passable=rows["rho"] * rows["mass_kg"] * GRAVITY < tau_f_n, successes=passes,
         single_fingertip=passes & (rows["support_share_max"] >= threshold),
         single_loaded=passes & (rows["n_loaded"] == 1))
-    out, g = _counts(frame, ["planner"], ["released", "upper_released", "rho_passable", "successes",
-                                          "single_fingertip", "single_loaded"], order)
-    return out.assign(rho_median=g["rho"].median()).reset_index()
+    return _counts(frame, ["planner"], ["released", "upper_released", "rho_passable", "successes",
+                                        "single_fingertip", "single_loaded"], ("rho_median", "rho"), order)
 
 
 def readings(records: pd.DataFrame, by: list[str], order: dict | None = None) -> pd.DataFrame:
     """Return per group each reading's count ``r`` and rate ``r_pct`` (Wilson ``r_low_pct``,
-    ``r_high_pct``), ``gate_removed`` = success_unbounded - success and ``torque_binds`` =
-    success_no_torque - success (the gate and the torque check only remove passes)."""
+    ``r_high_pct``), ``gate_removed`` and ``torque_binds`` (the passes the gate, the torque check remove)."""
     flags = records.assign(**{r: records[r].astype("boolean").fillna(False) for r in READINGS})
     frame = None
     for r in READINGS:
@@ -78,22 +69,21 @@ def readings(records: pd.DataFrame, by: list[str], order: dict | None = None) ->
 
 def grip_need(records: pd.DataFrame, order: dict | None = None) -> pd.DataFrame:
     """Return per grip law (``slip``, ``oracle``) and planner the counts ``holdable`` (needed grip
-    within the cap), ``no_equal_grip`` (``grip_needed_n`` infinite), ``capped_passes`` (passes at
-    the capped grip) and ``steepest_normal_z_median`` (median max_j |n_out,z|; 0: horizontal)."""
+    within the cap), ``no_equal_grip`` (``grip_needed_n`` infinite), ``capped_passes`` and
+    ``steepest_normal_z_median`` (median max_j |n_out,z|; 0: horizontal)."""
     ok = rec.executed(records)
     ok = ok[ok["grip_law"] != "paper"]
-    capped = _flag(ok, "grip_capped")
+    capped = rec.flag(ok, "grip_capped")
     frame = ok.assign(holdable=~capped, no_equal_grip=np.isinf(ok["grip_needed_n"].astype(float)),
-                      capped_passes=capped & _flag(ok, "success"),
+                      capped_passes=capped & rec.flag(ok, "success"),
                       steepest=ok.filter(like="contact_normal_z_").abs().max(axis=1))
-    out, g = _counts(frame, ["grip_law", "planner"], ["holdable", "no_equal_grip", "capped_passes"],
-                     order)
-    return out.assign(steepest_normal_z_median=g["steepest"].median()).reset_index()
+    return _counts(frame, ["grip_law", "planner"], ["holdable", "no_equal_grip", "capped_passes"],
+                   ("steepest_normal_z_median", "steepest"), order)
 
 
 def epsilon_table(records: pd.DataFrame, order: dict | None = None) -> pd.DataFrame:
-    """Return per planner the force-closure share (epsilon > 0; ``rate_table`` columns) and the
-    median, mean and max epsilon of its chosen triples (paper-law rows: epsilon is geometric)."""
+    """Return per planner the force-closure share (epsilon > 0) and the median, mean and max
+    epsilon of its chosen triples (paper-law rows: epsilon is geometric)."""
     rows = paper_law(records)
     out = rec.rate_table(rows.assign(force_closure=rows["epsilon_fc"] > 0), ["planner"],
                          outcome="force_closure", order=order)
@@ -131,9 +121,8 @@ def h_epsilon_correlation(records: pd.DataFrame, candidates: pd.DataFrame, *, co
     """Return Spearman's rho of H(G) and epsilon (rho < 0: agreement) with bootstrap intervals.
 
     Rows: the median over the paper-law ``ferrari_canny`` trials of each trial's rho over all (and
-    force-closure) candidates; rho over those trials' pooled ``candidates``. Percentile intervals
-    resample trials, since a trial's candidates share a body (at most 2000 resamples pooled).
-    """
+    force-closure) candidates; rho over those trials' pooled ``candidates``, its percentile
+    interval resampling trials (a trial's candidates share a body; at most 2000 resamples)."""
     rng, alpha = np.random.default_rng(seed), (1 - confidence) / 2
     if not len(rows := paper_law(records).query("planner == 'ferrari_canny'")):
         raise ValueError("no executed trial of the ferrari_canny planner")

@@ -1,7 +1,6 @@
 """Rates: Wilson and cluster-bootstrap intervals, McNemar on matched pairs, sample size.
 
-Fractions in [0, 1]. As in the paper (Sec. 11), success denominators are executed trials and paired
-comparisons use occurrence-matched pairs. Shapes: ``n`` trials or pairs, ``k`` clusters (objects).
+Fractions in [0, 1]; success denominators are executed trials, pairs are occurrence-matched (Sec. 11).
 
 References
 ----------
@@ -47,8 +46,8 @@ ProportionInterval = result(
     "ProportionInterval", "A binomial proportion with its confidence interval.", estimate=float,
     low=float, high=float, n=int, successes=int, confidence_level=float, method=str)
 BootstrapInterval = result(
-    "BootstrapInterval", "Cluster-bootstrap percentile interval of a pooled rate; ``seed`` is the "
-    "int seed if one was given, ``rng_note`` how the generator was made (for the report).",
+    "BootstrapInterval", "Cluster-bootstrap percentile interval of a pooled rate; ``seed``: the int "
+    "seed if one was given, ``rng_note``: how the generator was made.",
     estimate=float, low=float, high=float, n_clusters=int, n_trials=int, n_resamples=int,
     confidence_level=float, seed=int | None, rng_note=str)
 McNemarResult = result(
@@ -63,10 +62,8 @@ SampleSizeResult = result(
 
 
 def wilson_interval(successes: int, n: int, confidence_level: float = 0.95) -> ProportionInterval:
-    """Return the Wilson (1927) score interval of ``successes`` of ``n`` executed trials.
-
-    statsmodels' ``proportion_confint(method="wilson")`` clipped to [0, 1]: ``low`` is exactly 0
-    when ``successes == 0`` and ``high`` exactly 1 when ``successes == n``."""
+    """Return the Wilson score interval (statsmodels ``proportion_confint``) of ``successes`` of
+    ``n``, clipped to [0, 1]: exactly 0 at no success and exactly 1 at ``successes == n``."""
     require(not (isinstance(n, numbers.Real) and n <= 0),
             f"n must be positive (the number of executed trials), got {n!r}.")
     n, successes = check_count(n, "n"), check_count(successes, "successes")
@@ -83,10 +80,9 @@ def cluster_bootstrap_interval(successes_per_cluster: ArrayLike, trials_per_clus
                                rng: np.random.Generator | int) -> BootstrapInterval:
     """Return the percentile interval of a pooled rate ``sum(s) / sum(n)``, resampling clusters.
 
-    Each resample draws ``k`` clusters (objects) with replacement with all their trials, carrying
-    the within-object correlation; the ``(B, k)`` indices are drawn as ``scipy.stats.bootstrap(...,
-    paired=True, method="percentile")`` does (same interval for the same generator). ``rng``: a
-    Generator, or an int seed (reported back in ``seed``; prefer it in reports)."""
+    Each resample draws the ``k`` clusters (objects) with replacement, with all their trials; the
+    ``(B, k)`` indices are drawn as ``scipy.stats.bootstrap(..., paired=True)`` draws them (same
+    interval for the same generator). ``rng``: a Generator or an int seed."""
     s, t = check_cluster_counts(successes_per_cluster, trials_per_cluster)
     n_resamples = check_count(n_resamples, "n_resamples", positive=True)
     level = check_fraction(confidence_level, "confidence_level")
@@ -99,21 +95,18 @@ def cluster_bootstrap_interval(successes_per_cluster: ArrayLike, trials_per_clus
 
 
 def discordant_pairs(success_a: ArrayLike, success_b: ArrayLike) -> tuple[int, int]:
-    """Return ``(n01, n10)``: pairs where A failed and B succeeded, and where A won.
-
-    ``success_a``, ``success_b`` : (n,) bool, outcomes of A and B on the same occurrences."""
+    """Return ``(n01, n10)`` of (n,) paired outcomes: pairs where only B succeeded, only A."""
     a, b = check_paired(success_a, success_b, "success_a", "success_b", binary=True)
     return int(np.sum(~a & b)), int(np.sum(a & ~b))
 
 
 def mcnemar(n01: int, n10: int, confidence_level: float = 0.95) -> McNemarResult:
-    """Return McNemar's test and the discordant-pair odds ratio for paired binary outcomes.
+    """Return McNemar's test and the discordant-pair odds ratio ``n10 / n01``.
 
     ``statistic``: statsmodels' continuity-corrected chi-square (0, p = 1 when ``n01 == n10``, as
     R's ``mcnemar.test``); ``pvalue_exact``: ``scipy.stats.binomtest`` of ``n10`` of ``n01 + n10``,
-    whose Clopper-Pearson interval on ``q`` maps through ``q / (1 - q)`` to the odds ratio's. With A
-    the proposed planner, the paper's "33 won against 3 lost" is ``mcnemar(3, 33)``: chi2 = 23.4,
-    odds ratio 11.0 (Sec. 8.5). Without discordant pairs: statistic and odds ratio nan, p = 1."""
+    its Clopper-Pearson interval on ``q`` mapped through ``q / (1 - q)``. The paper's "33 won
+    against 3 lost" is ``mcnemar(3, 33)``: chi2 = 23.4, odds ratio 11.0 (Sec. 8.5)."""
     n01, n10 = check_count(n01, "n01"), check_count(n10, "n10")
     level = check_fraction(confidence_level, "confidence_level")
     n = n01 + n10
@@ -133,11 +126,9 @@ def power_two_proportions(p1: float, p2: float, *, alpha: float = 0.05, power: f
                           discordant: float | None = None) -> SampleSizeResult:
     """Return the trials per arm (pairs, when ``paired``) to tell success rates p1 and p2 apart.
 
-    Unpaired: statsmodels' ``NormalIndPower`` on Cohen's h (``2 asin sqrt(p1) - 2 asin
-    sqrt(p2)``). Paired (McNemar): Connor's ``n = (z_a sqrt(psi) + z_b sqrt(psi - d**2))**2 /
-    d**2`` with ``d = p1 - p2`` and ``psi = discordant``, the expected share of discordant pairs
-    (default: independent outcomes, ``p1 (1 - p2) + p2 (1 - p1)``). Both omit the continuity
-    correction, so they are slightly optimistic for small n."""
+    Unpaired: statsmodels' ``NormalIndPower`` on Cohen's h. Paired: Connor's ``n = (z_a sqrt(psi) +
+    z_b sqrt(psi - d**2))**2 / d**2``, ``d = p1 - p2``, ``psi = discordant`` (default: independent
+    outcomes). No continuity correction: slightly optimistic for small n."""
     p1, p2 = check_fraction(p1, "p1", closed=True), check_fraction(p2, "p2", closed=True)
     require(p1 != p2, f"p1 and p2 must differ (no sample size detects a zero difference), got {p1} "
                       f"and {p2}.")

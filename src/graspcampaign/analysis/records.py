@@ -1,13 +1,8 @@
 """Records (docs/records.md) -> full-precision tables: executed trials, rates, paired outcomes,
-design limit, validity gate. Nothing here formats or words a number. Success denominators are
-*executed* trials; errored trials and aborted hardware attempts are counted apart (paper Sec. 11,
-8.1). A statistic that cannot be computed is nan with its reason in the matching ``*_why`` column.
-Groups are ordered by ``order`` (the study's factor levels), then by the vocabulary.
-
-References
-----------
-Wilson, E. B. (1927). J. Am. Stat. Assoc. 22(158), 209-212. Efron, B. & Tibshirani, R. J.
-(1993). An Introduction to the Bootstrap, ch. 13. McNemar, Q. (1947). Psychometrika 12(2), 153-157.
+design limit, validity gate. Success denominators are *executed* trials; errored trials and aborted
+hardware attempts are counted apart (paper Sec. 11, 8.1). A statistic that cannot be computed is nan
+with its reason in the matching ``*_why`` column. Groups are ordered by ``order`` (the study's
+levels), then by the vocabulary. The intervals and tests (and their references) are :mod:`.rates`'.
 """
 
 from __future__ import annotations
@@ -41,23 +36,21 @@ class Estimate:
     n: int | None = None
 
 
-def _flag(frame: pd.DataFrame, column: str) -> pd.Series:
+def flag(frame: pd.DataFrame, column: str) -> pd.Series:
+    """Return a nullable boolean column as bool, missing values False."""
     return frame[column].astype("boolean").fillna(False).astype(bool)
 
 
 def executed(records: pd.DataFrame) -> pd.DataFrame:
-    """Return the executed trials (``status == "ok"``, not ``aborted``), outcomes as bool.
-
-    An aborted hardware attempt stays in the records for provenance and enters no statistic
-    (paper Sec. 8.1); a missing outcome of an executed trial reads False."""
+    """Return the executed trials (``status == "ok"``, not ``aborted``), outcomes as bool (missing:
+    False); an aborted hardware attempt enters no statistic (paper Sec. 8.1)."""
     ok = records[records["status"] == "ok"] if "status" in records else records
-    ok = ok[~_flag(ok, "aborted")] if "aborted" in ok else ok
-    return ok.assign(**{c: _flag(ok, c) for c in BOOLEAN_COLUMNS if c in ok}).reset_index(drop=True)
+    ok = ok[~flag(ok, "aborted")] if "aborted" in ok else ok
+    return ok.assign(**{c: flag(ok, c) for c in BOOLEAN_COLUMNS if c in ok}).reset_index(drop=True)
 
 
 def data_source(records: pd.DataFrame, declared: str | None) -> str:
-    """Return ``virtual`` as soon as one record says so (virtual-rig exports ingested as measured
-    stay virtual, SPEC §4), else the declared source (``simulation`` by default)."""
+    """Return ``virtual`` if one record says so (SPEC §4), else the declared source (simulation)."""
     if "source" in records and (records["source"] == "virtual").any():
         return "virtual"
     return str(declared or "simulation")
@@ -95,14 +88,12 @@ def rate_table(records: pd.DataFrame, by: Sequence[str], *, outcome: str = "succ
                cluster: str | None = None, seed: int = 0,
                n_resamples: int = rates.BOOTSTRAP_RESAMPLES,
                order: Mapping[str, Sequence] | None = None) -> pd.DataFrame:
-    """Return the rate [%] of ``outcome`` per group of ``by`` with Wilson and cluster intervals.
-
-    ``cluster`` names the object column (``shape`` in simulation, ``object_id`` on the rig): a
-    percentile bootstrap resampling objects, not trials (``seed``: the study seed)."""
+    """Return the rate [%] of ``outcome`` per group of ``by`` with Wilson and cluster intervals;
+    ``cluster``: the object column whose values the bootstrap resamples (``shape``, ``object_id``)."""
     by, ok = list(by), executed(records)
     status = records["status"] if "status" in records else pd.Series("ok", records.index)
     err = records[status == "error"]
-    aborted = records[(status == "ok") & _flag(records, "aborted")] if "aborted" in records \
+    aborted = records[(status == "ok") & flag(records, "aborted")] if "aborted" in records \
         else records.iloc[:0]
     rows = [{**key, "n": len(g), "n_error": len(select(err, key)),
              "n_aborted": len(select(aborted, key)), **rate_cells(g, outcome, cluster, seed, n_resamples)}
@@ -115,7 +106,7 @@ def rate_table(records: pd.DataFrame, by: Sequence[str], *, outcome: str = "succ
 
 def rate_cells(g: pd.DataFrame, outcome: str, cluster: str | None, seed: int,
                n_resamples: int = rates.BOOTSTRAP_RESAMPLES) -> dict:
-    """Return one row of :func:`rate_table` (without the group and counts) over executed ``g``."""
+    """Return one row of :func:`rate_table` (no group or counts) over the executed trials ``g``."""
     out = {"successes": 0, **dict.fromkeys(("rate_pct", "wilson_low_pct", "wilson_high_pct",
                                             "bootstrap_low_pct", "bootstrap_high_pct"), math.nan),
            "n_clusters": 0, "rate_why": "", "bootstrap_why": "" if cluster else "no object clustering here"}
@@ -141,8 +132,8 @@ def rate_cells(g: pd.DataFrame, outcome: str, cluster: str | None, seed: int,
 
 
 def rate(records: pd.DataFrame, mask=None, outcome: str = "success") -> Estimate:
-    """Return the rate [%] of ``outcome`` over the executed trials ``mask(ok)`` selects (a
-    callable returning a boolean Series; None: all), raising ValueError naming the reason."""
+    """Return the rate [%] of ``outcome`` over the executed trials ``mask(ok)`` selects (None:
+    all); raise ValueError naming why there is none."""
     ok = executed(records)
     g = ok[mask(ok)] if mask is not None and len(ok) else ok
     cells = rate_cells(g, outcome, None, 0)
@@ -151,28 +142,18 @@ def rate(records: pd.DataFrame, mask=None, outcome: str = "success") -> Estimate
     return Estimate(cells["rate_pct"], cells["wilson_low_pct"], cells["wilson_high_pct"], len(g))
 
 
-def paired_outcomes(records: pd.DataFrame, method: str = "planner", pair_on: str = "scene_id",
-                    outcome: str = "success") -> pd.DataFrame:
-    """Return executed outcomes wide: one row per matched occurrence, one column per method.
-
-    The k-th executed row of a method within a ``pair_on`` group pairs with the k-th row of every
-    other method there (trial order, paper Sec. 11); an errored trial leaves its pair incomplete."""
-    ok = executed(records)
-    ok = ok.sort_values("trial_index", kind="stable") if "trial_index" in ok else ok
-    return (ok.assign(_occurrence=ok.groupby([pair_on, method], sort=False).cumcount())
-            .pivot(index=[pair_on, "_occurrence"], columns=method, values=outcome))
-
-
-MCNEMAR_COLUMNS = ["reference", "compared", "pairs", "reference_only", "compared_only",
-                   "both_success", "both_fail", "unpaired", "chi2_cc", "p_chi2", "p_exact",
-                   "odds_ratio", "odds_ratio_low", "odds_ratio_high", "test_why"]
-
-
 def mcnemar_table(records: pd.DataFrame, reference: str, others: Sequence[str], *,
                   method: str = "planner", pair_on: str = "scene_id") -> pd.DataFrame:
-    """Return McNemar's test of ``reference`` (A) against each of ``others`` on matched pairs:
-    ``reference_only`` (n10) counts the pairs it won; an odds ratio above 1 favours it."""
-    wide, rows = paired_outcomes(records, method, pair_on), []
+    """Return McNemar's test of ``reference`` against each of ``others`` on matched pairs;
+    ``reference_only`` counts the pairs it won, an odds ratio above 1 favours it.
+
+    The k-th executed trial of a method within a ``pair_on`` group (trial order, paper Sec. 11)
+    pairs with the k-th of every other method there; an errored trial leaves its pair unpaired."""
+    ok = executed(records)
+    ok = ok.sort_values("trial_index", kind="stable") if "trial_index" in ok else ok
+    wide = (ok.assign(_occurrence=ok.groupby([pair_on, method], sort=False).cumcount())
+            .pivot(index=[pair_on, "_occurrence"], columns=method, values="success"))
+    rows = []
     for other in [o for o in others if reference in wide and o in wide]:
         complete = wide[[reference, other]].notna().all(axis=1)
         a, b = (wide.loc[complete, c].astype(bool).to_numpy() for c in (reference, other))
@@ -182,14 +163,17 @@ def mcnemar_table(records: pd.DataFrame, reference: str, others: Sequence[str], 
                      int((~complete).sum()), res.statistic, res.pvalue_chi2, res.pvalue_exact,
                      res.odds_ratio, res.odds_ratio_low, res.odds_ratio_high,
                      "" if n01 + n10 else "no discordant pair: the test is undefined"])
-    return pd.DataFrame(rows, columns=MCNEMAR_COLUMNS)
+    return pd.DataFrame(rows, columns=[
+        "reference", "compared", "pairs", "reference_only", "compared_only", "both_success",
+        "both_fail", "unpaired", "chi2_cc", "p_chi2", "p_exact", "odds_ratio", "odds_ratio_low",
+        "odds_ratio_high", "test_why"])
 
 
 def design_limit_table(records: pd.DataFrame, by: Sequence[str], *,
                        limit_mm: float = DESIGN_LIMIT_MM,
                        order: Mapping[str, Sequence] | None = None) -> pd.DataFrame:
-    """Return how often ``delta_max_mm`` exceeds (strictly) the paper's 1 mm design limit
-    (Sec. 4, 5.5; SPEC Sec. 2.7 asks the report to show it), per group, with Wilson 95 %."""
+    """Return per group how often ``delta_max_mm`` exceeds (strictly) the 1 mm design limit
+    (paper Sec. 4, 5.5; SPEC Sec. 2.7), with Wilson 95 %."""
     ok = executed(records)
     ok = ok[ok["delta_max_mm"].notna()] if "delta_max_mm" in ok else ok.iloc[:0]
     rows = []
@@ -211,8 +195,7 @@ def design_limit_table(records: pd.DataFrame, by: Sequence[str], *,
 
 def failure_check_table(records: pd.DataFrame, by: Sequence[str],
                         order: Mapping[str, Sequence] | None = None) -> pd.DataFrame:
-    """Return the count and share [%] of each first failing check (none/residual/torque/slip/
-    geometry, then any other recorded) per group."""
+    """Return per group the count and share [%] of each first failing check."""
     ok = executed(records)
     ok = ok if "failure_check" in ok else ok.assign(failure_check="unknown")
     found = sorted(map(str, set(ok["failure_check"].dropna()) - set(FAILURE_CHECKS)))
@@ -229,9 +212,8 @@ def failure_check_table(records: pd.DataFrame, by: Sequence[str],
 
 def gate_table(records: pd.DataFrame, by: Sequence[str],
                order: Mapping[str, Sequence] | None = None) -> pd.DataFrame:
-    """Return per group the successes the validity gate removed (issue 13 item 1): ``removed`` of
-    the ``success_unbounded`` ones (Algorithm 1's checks alone) fail ``valid_geometry`` (a contact
-    deeper than the fingertip radius), with Wilson 95 %; ``invalid_geometry`` counts every such trial."""
+    """Return per group the ``success_unbounded`` trials the validity gate ``removed`` (a contact
+    deeper than the fingertip radius), with Wilson 95 %, and all ``invalid_geometry`` trials."""
     ok = executed(records)
     for column in ("success_unbounded", "valid_geometry", "success"):
         if column not in ok:
@@ -253,11 +235,11 @@ def gate_table(records: pd.DataFrame, by: Sequence[str],
 
 
 def at_bound(frame: pd.DataFrame, parameter: str) -> pd.Series:
-    """Return whether each row's identified ``parameter`` (``lambda1``, ``n`` ...) ended on a PSO
-    search bound: ``at_bound_<parameter>``, else the comma-joined ``at_bound``/``pso_at_bound``."""
+    """Return whether ``parameter`` ended on a PSO search bound: column ``at_bound_<parameter>``,
+    else the comma-joined ``at_bound`` / ``pso_at_bound``."""
     parameter = {"n_exp": "n"}.get(parameter, parameter)
     if f"at_bound_{parameter}" in frame:
-        return _flag(frame, f"at_bound_{parameter}")
+        return flag(frame, f"at_bound_{parameter}")
     column = next((c for c in ("at_bound", "pso_at_bound") if c in frame), None)
     if column is None:
         raise KeyError("at_bound")

@@ -1,6 +1,5 @@
-"""One vocabulary (order, label, colour) for every study: planners, shapes, materials, grip laws,
-model presets, integrators, outcomes, blocks and parameters, so a level reads and looks the same in
-every table and figure. Orders are the paper's (Table 7 / Fig. 18 planners, Fig. 14 shapes, Table 4
+"""One vocabulary (order, label, colour) for every study, so a level reads and looks the same in every
+table and figure. Orders are the paper's (Table 7 / Fig. 18 planners, Fig. 14 shapes, Table 4
 materials), labels its words; the proposed planner is the report's main blue."""
 
 from __future__ import annotations
@@ -23,8 +22,8 @@ def _terms(*rows: tuple[str, str, str]) -> dict[str, Term]:
     return {row[0]: Term(*row) for row in rows}
 
 
+#: The proposed planner (paper: "proposed", full H(G)).
 PROPOSED = "heuristic"
-"""The proposed planner (paper: "proposed", full H(G))."""
 
 PLANNERS = _terms(
     ("heuristic", "proposed H(G)", "#1f5aa6"), ("antipodal", "antipodal", "#e08a1e"),
@@ -72,19 +71,17 @@ PARAMETERS = _terms(
     ("k", "k", "#c9a227"), ("c", "c", "#8c8c8c"),
 )
 
+#: Record column -> its vocabulary.
 VOCABULARIES: dict[str, dict[str, Term]] = {
     "planner": PLANNERS, "shape": SHAPES, "material": MATERIALS, "grip_law": GRIP_LAWS,
     "model_preset": MODEL_PRESETS, "integrator": INTEGRATORS, "outcome": OUTCOMES,
     "block": BLOCKS, "parameter": PARAMETERS,
 }
-"""Record column -> its vocabulary."""
-
+#: Header of a factor column outside the vocabularies (its unit in brackets).
 FACTOR_LABELS = {"mu": "μ", "mass_kg": "mass [kg]", "nodes": "nodes", "weight_scale":
                  "weight scale", "n_cand": "N_cand", "friction_level": "friction"}
-"""Header of a factor column outside the vocabularies (its unit in brackets)."""
-
+#: Colours of levels outside every vocabulary (friction levels, node counts), in level order.
 OTHER_COLOURS = ("#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#e6ab02")
-"""Colours of levels outside every vocabulary (friction levels, node counts), in level order."""
 
 
 def label(column: str, value: object) -> str:
@@ -100,8 +97,7 @@ def colour(column: str, value: object, index: int = 0) -> str:
 
 
 def ordered(column: str, values: Iterable, first: Iterable = ()) -> list:
-    """Return the distinct ``values`` in display order: ``first`` (e.g. the study's configured
-    levels), then the vocabulary's order, then the rest sorted by their text."""
+    """Return the distinct ``values`` in display order: ``first``, the vocabulary's, then by text."""
     values = list(dict.fromkeys(v for v in values if not pd.isna(v)))
     rank: dict = {}
     for v in [*first, *VOCABULARIES.get(column, {})]:
