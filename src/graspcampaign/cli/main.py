@@ -234,6 +234,8 @@ def report(
     root: Annotated[Path, typer.Option(help="Results root.")] = Path("results"),
     fmt: Annotated[str, typer.Option("--format", help="Comma-separated: md,csv,json,html.")] = "md,csv",
     figure_format: Annotated[str, typer.Option("--figure-format", help="png, svg or pdf.")] = "png",
+    jobs: Annotated[int, typer.Option(
+        "--jobs", help="Processes writing the runs' reports (-1: one per core; --debug: 1).")] = 1,
 ) -> None:
     """Write reports (Markdown, CSV tables, figures, HTML) from the records; never runs a trial.
 
@@ -244,11 +246,13 @@ def report(
 
     if run is not None:
         check_name(run, "--run")
-    jobs = [(None, run)] if not studies else [([s], run or configured_run(s)) for s in studies]
+    if jobs == 0 or jobs < -1:
+        _fail(f"--jobs {jobs}: give a number of processes (1 or more), or -1 for one per core.")
+    runs = [(None, run)] if not studies else [([s], run or configured_run(s)) for s in studies]
     failed = []
-    for names, run_name in jobs:
+    for names, run_name in runs:
         batch = build_reports(names, run=run_name, root=root, formats=fmt.split(","),
-                              figure_format=figure_format)
+                              figure_format=figure_format, n_jobs=1 if _state["debug"] else jobs)
         for path in batch:
             typer.echo(f"report: {path}")
         failed += batch.failed
