@@ -96,9 +96,11 @@ def surrogate_finalize():
     import pandas as pd
 
     from graspcampaign.campaign.kinds.surrogate import SurrogateParams, finalize
+    from graspcampaign.campaign.schema import RunnerCfg
 
-    def run(df):
-        tables = finalize(SimpleNamespace(seed=5), SurrogateParams(shapes=["sphere", "pear"]), df)
+    def run(df, n_jobs: int = 1):
+        study = SimpleNamespace(seed=5, runner=RunnerCfg(backend="loky", n_jobs=n_jobs))
+        tables = finalize(study, SurrogateParams(shapes=["sphere", "pear"]), df)
         return {k: pd.DataFrame(v) for k, v in tables.items()}
 
     return run

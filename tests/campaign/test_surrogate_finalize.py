@@ -67,6 +67,14 @@ def test_fits_do_not_depend_on_the_call_only_timings_do(fitted, surrogate_scenar
             pd.testing.assert_frame_equal(table, again[name])
 
 
+def test_models_fitted_in_two_processes_are_those_fitted_in_one(fitted, surrogate_scenarios,
+                                                                surrogate_finalize):
+    again = surrogate_finalize(surrogate_scenarios(), n_jobs=2)
+    for name, table in fitted.items():
+        if name != "surrogate_timing":
+            pd.testing.assert_frame_equal(table, again[name])
+
+
 def test_a_label_with_too_few_positives_is_not_fitted(surrogate_scenarios, surrogate_finalize):
     df = surrogate_scenarios(120)
     df["success"] = df["success_unbounded"] = df["success_vertical"] = False

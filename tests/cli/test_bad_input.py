@@ -311,3 +311,13 @@ def test_status_of_an_unknown_study_does_not_suggest_running_it(results):
     _refused(results, ["status", "baseline_grid", "--root", results],
              f"no run at {results / 'baseline_grid' / 'default'}; run `graspcampaign run "
              "baseline_grid` first.")
+
+
+@pytest.mark.parametrize("jobs", [0, -2])
+def test_report_jobs_must_be_a_process_count(results, jobs):
+    before = _snapshot(results)
+    result = _invoke("report", "--root", results, "--jobs", jobs)
+    assert result.exit_code == 2
+    assert result.output == (f"error: --jobs {jobs}: give a number of processes (1 or more), or -1 "
+                             "for one per core.\n")
+    assert _snapshot(results) == before

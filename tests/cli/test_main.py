@@ -268,3 +268,21 @@ def test_answering_commands_import_no_numerical_layer(smoke_run, args, allowed):
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     imported = eval(out.stdout.strip().splitlines()[-1])  # noqa: S307  (our own print)
     assert set(imported) <= set(allowed), imported
+
+
+def test_reproduce_runs_the_listed_studies_then_every_report(tmp_path, monkeypatch):
+    """`reproduce` runs what `list --names` lists (here: a small smoke run) and then the reports,
+    timing each step into --times."""
+    from graspcampaign.cli import main
+
+    compose = main._compose
+    monkeypatch.setattr(main, "_runnable", lambda rows, extensions: ["smoke"])
+    monkeypatch.setattr(main, "_compose", lambda study, overrides, root=None: compose(
+        study, [*overrides, "shape=[sphere]", "nodes=[144]", "runner.backend=sequential"], root))
+    root, times = tmp_path / "results", tmp_path / "times"
+    result = _invoke("reproduce", "--root", str(root), "--times", str(times))
+    assert result.exit_code == 0, result.output
+    assert [line.split(":")[0] for line in times.read_text().splitlines()] == \
+        ["== smoke", "== report"]
+    assert (root / "smoke" / "default" / "report" / "report.md").exists()
+    assert (root / "index.md").exists()

@@ -8,6 +8,7 @@ intervals come from statsmodels.
 from __future__ import annotations
 
 import json
+import shutil
 
 import pandas as pd
 import pytest
@@ -247,3 +248,19 @@ def test_a_measured_run_filled_with_virtual_exports_is_labelled_virtual(tmp_path
     assert "measured on hardware" not in (store.path / "report" / "report.html").read_text()
     rows = pd.read_csv(tmp_path / "headline.csv").set_index("headline")
     assert rows.loc["Grasp validation, all", "source"] == "virtual"
+
+
+def test_reports_written_in_two_processes_are_the_files_written_one_by_one(tmp_path):
+    """--jobs 2 writes each run's report in a worker: the same bytes, the same failures."""
+    roots = [tmp_path / "one", tmp_path / "two"]
+    write_run(roots[0], run="r1")
+    write_run(roots[0], run="broken").manifest_path.write_text("{not json")
+    shutil.copytree(roots[0], roots[1])
+    one = cli.invoke(app, ["report", "--root", str(roots[0]), "--jobs", "1"])
+    two = cli.invoke(app, ["report", "--root", str(roots[1]), "--jobs", "2"])
+    assert one.exit_code == two.exit_code == 2
+    assert one.output.replace(str(roots[0]), "ROOT") == two.output.replace(str(roots[1]), "ROOT")
+    files = [{p.relative_to(root).as_posix(): p.read_bytes() for p in sorted(root.rglob("*"))
+              if p.is_file()} for root in roots]
+    assert "ablation/r1/report/report.md" in files[0]
+    assert files[0] == files[1]

@@ -118,6 +118,15 @@ def list_cmd(
 
     Each study file is read directly (no Hydra); a broken file is listed with what is wrong.
     """
+    rows = _study_rows()
+    if names:
+        for name in _runnable(rows, extensions):
+            typer.echo(name)
+        return
+    print_list(rows)
+
+
+def _study_rows() -> list[dict]:
     from graspcampaign.campaign.catalog import study_row
     from graspcampaign.campaign.studyfile import study_files
     from graspcampaign.errors import UserInputError
@@ -130,16 +139,16 @@ def list_cmd(
             rows.append({"study": name, "kind": "?", "trials": "?", "runnable": "broken",
                          "extension": False, "description": str(exc)})
             typer.echo(f"warning: study {name} is broken: {exc}", err=True)
-    if names:
-        # an extension waiting for its source run is listed: `make extensions` runs it after
-        # the paper's studies, and its run names what is missing if that has not happened
-        wanted = ("yes", "after") if extensions else ("yes",)
-        for row in rows:
-            if (row["runnable"].startswith(wanted) and row["study"] != "smoke"
-                    and row["extension"] == extensions):
-                typer.echo(row["study"])
-        return
-    print_list(rows)
+    return rows
+
+
+def _runnable(rows: list[dict], extensions: bool) -> list[str]:
+    """The paper's runnable studies (smoke aside), or with ``extensions`` the others."""
+    # an extension waiting for its source run is listed: `make extensions` runs it after
+    # the paper's studies, and its run names what is missing if that has not happened
+    wanted = ("yes", "after") if extensions else ("yes",)
+    return [row["study"] for row in rows if row["runnable"].startswith(wanted)
+            and row["study"] != "smoke" and row["extension"] == extensions]
 
 
 @app.command()
@@ -185,6 +194,47 @@ def run_cmd(
         _report_paths(build_reports([cfg.name], run=summary.run, root=cfg.output.root))
     if summary.n_error:
         raise typer.Exit(1)
+
+
+@app.command()
+@_guard
+def reproduce(
+    root: RootOpt = None,
+    times: Annotated[Path | None, typer.Option(
+        help="Also append each step's '== <step>: <s> s' line to this file.")] = None,
+) -> None:
+    """Run every study of `list --names` at paper scale, then write every report (one process
+    per core), in this one process: the workers and their caches serve every study.
+
+    Prints each step's wall time; stops at the first study with a trial error (exit 1).
+    """
+    import time
+
+    from graspcampaign.campaign.runner import run_study
+    from graspcampaign.report.build import build_reports
+
+    def timed(step: str, start: float) -> None:
+        line = f"== {step}: {time.perf_counter() - start:.0f} s"
+        typer.echo(line)
+        if times is not None:
+            with times.open("a") as out:
+                out.write(line + "\n")
+
+    for name in _runnable(_study_rows(), extensions=False):
+        start = time.perf_counter()
+        cfg = _compose(name, [], root)
+        summary = run_study(cfg)
+        typer.echo(f"{summary.study}/{summary.run}: {summary.n_trials} trials, {summary.n_ran} ran "
+                   f"({summary.n_ok} ok, {summary.n_error} errors) -> {summary.path}")
+        for line in summary.errors[:5]:
+            typer.echo(f"  error: {line}", err=True)
+        if summary.n_error:
+            raise typer.Exit(1)
+        timed(name, start)
+    start = time.perf_counter()
+    batch = build_reports(None, root=root or Path("results"), n_jobs=1 if _state["debug"] else -1)
+    timed("report", start)
+    _report_paths(batch)
 
 
 def _interrupted(cfg, path: Path, study: str, overrides, run, root) -> None:
@@ -234,6 +284,8 @@ def report(
     root: Annotated[Path, typer.Option(help="Results root.")] = Path("results"),
     fmt: Annotated[str, typer.Option("--format", help="Comma-separated: md,csv,json,html.")] = "md,csv",
     figure_format: Annotated[str, typer.Option("--figure-format", help="png, svg or pdf.")] = "png",
+    jobs: Annotated[int, typer.Option(
+        "--jobs", help="Processes writing the runs' reports (-1: one per core; --debug: 1).")] = 1,
 ) -> None:
     """Write reports (Markdown, CSV tables, figures, HTML) from the records; never runs a trial.
 
@@ -244,11 +296,13 @@ def report(
 
     if run is not None:
         check_name(run, "--run")
-    jobs = [(None, run)] if not studies else [([s], run or configured_run(s)) for s in studies]
+    if jobs == 0 or jobs < -1:
+        _fail(f"--jobs {jobs}: give a number of processes (1 or more), or -1 for one per core.")
+    runs = [(None, run)] if not studies else [([s], run or configured_run(s)) for s in studies]
     failed = []
-    for names, run_name in jobs:
+    for names, run_name in runs:
         batch = build_reports(names, run=run_name, root=root, formats=fmt.split(","),
-                              figure_format=figure_format)
+                              figure_format=figure_format, n_jobs=1 if _state["debug"] else jobs)
         for path in batch:
             typer.echo(f"report: {path}")
         failed += batch.failed

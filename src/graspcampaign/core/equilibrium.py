@@ -24,6 +24,7 @@ import logging
 import numpy as np
 
 from graspcampaign.core.contact import MM_PER_M
+from graspcampaign.core.equilibrium_loop import algorithm2_depths
 from graspcampaign.core.verdict import (
     FAILURE_CHECKS,
     GRIP_LAWS,
@@ -194,11 +195,28 @@ def evaluate_grasps(
         from graspcampaign.core import grip  # grip builds on this module's checks
 
         return grip.evaluate(batch, params)
+    if record_trace:
+        monitors = []
+        depths, last_change = algorithm2_numpy(batch, params, monitors)
+        return judge(batch, depths, params, last_change, _stack_trace(monitors, len(batch.weight)))
+    depths, last_change = algorithm2_depths(
+        batch.k, batch.n, np.ascontiguousarray(batch.directions[..., 2]), batch.direction_z,
+        batch.weight, float(params.seed_depth), int(params.n_max), float(params.alpha),
+        float(params.eps))
+    return judge(batch, depths, params, last_change, None)
+
+
+def algorithm2_numpy(batch: CandidateBatch, params: EvaluatorParams, monitors: list | None = None):
+    """Algorithm 2 lines 3-7 in numpy: ``(depths (b, 3) [m], last_change (b,))``.
+
+    The reference of the compiled loop (:func:`graspcampaign.core.equilibrium_loop.algorithm2_depths`,
+    the same numbers bit for bit) and the traced path: with ``monitors`` a list, the depths and
+    resolved wrench of every iteration are appended to it and all N_max iterations run.
+    """
     n_batch = batch.weight.shape[0]
     loop = _Loop(batch, params.alpha, params.eps)
     depths = np.full((n_batch, 3), params.seed_depth)
     last_change = np.zeros(n_batch, dtype=int)
-    monitors = [] if record_trace else None
     with np.errstate(divide="ignore", invalid="ignore"):
         for iteration in range(1, params.n_max + 1):
             forces = loop.forces(depths)
@@ -210,11 +228,7 @@ def evaluate_grasps(
             depths = updated
             if monitors is None and not changed.any():
                 break  # every candidate is at a floating-point fixed point: the rest are no-ops
-
-    trace = None
-    if monitors is not None:
-        trace = _stack_trace(monitors, n_batch)
-    return judge(batch, depths, params, last_change, trace)
+    return depths, last_change
 
 
 def _stack_trace(monitors, n_batch: int) -> EquilibriumTrace:

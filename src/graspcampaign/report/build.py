@@ -123,20 +123,47 @@ def _runs(root: Path, studies: list[str] | None, run: str | None) -> list[RunSto
     return stores
 
 
+def _report_or_failure(store: RunStore, root: Path, formats: list[str], figure_format: str):
+    """``(report page, None)``, or ``(None, (run label, reason, bad input))`` if it failed."""
+    label = store.path.relative_to(root).as_posix()
+    try:
+        return report_run(store, root, formats, figure_format), None
+    except Exception as exc:  # noqa: BLE001 - one broken run never stops the others
+        log.debug("report of %s failed", label, exc_info=True)
+        return None, (label, reason(exc), isinstance(exc, UserInputError))
+
+
+def _report_in_worker(*args):
+    """:func:`_report_or_failure` in a worker process, its package logger as quiet as the CLI's."""
+    package_log = logging.getLogger("graspcampaign")
+    if not package_log.handlers:
+        package_log.addHandler(logging.NullHandler())
+    return _report_or_failure(*args)
+
+
 def build_reports(studies: list[str] | None = None, run: str | None = None,
                   root: Path | str = "results", formats: list[str] | str | None = None,
-                  figure_format: str = "png") -> ReportBatch:
+                  figure_format: str = "png", n_jobs: int = 1) -> ReportBatch:
     """Write every selected run's report, then the headline page and the index; ``.failed`` of
-    the result lists the runs whose report could not be written (the others are written)."""
+    the result lists the runs whose report could not be written (the others are written).
+
+    The runs' reports are independent: with ``n_jobs`` other than 1 they are written in that
+    many processes (joblib loky; -1: one per core), the same files as one by one."""
     root, formats = Path(root), D.check_formats(formats)
     figure_format, batch = D.check_figure_format(figure_format), ReportBatch()
-    for store in _runs(root, studies, run):
-        label = store.path.relative_to(root).as_posix()
-        try:
-            batch.append(report_run(store, root, formats, figure_format))
-        except Exception as exc:  # noqa: BLE001 - one broken run never stops the others
-            log.debug("report of %s failed", label, exc_info=True)
-            batch.failed.append((label, reason(exc), isinstance(exc, UserInputError)))
+    stores = _runs(root, studies, run)
+    if n_jobs == 1 or len(stores) < 2:
+        outcomes = [_report_or_failure(store, root, formats, figure_format) for store in stores]
+    else:
+        from joblib import Parallel, delayed
+
+        outcomes = Parallel(n_jobs=n_jobs)(delayed(_report_in_worker)(store, root, formats, figure_format)
+                                           for store in stores)
+    for page, failure in outcomes:
+        if failure is None:
+            batch.append(page)
+        else:
+            batch.failed.append(failure)
     from graspcampaign.report.headline import write_headline
 
     write_headline(root, formats)

@@ -175,12 +175,23 @@ def prediction_time_s(model, row: np.ndarray, repeats: int = 200, budget_s: floa
     return float(np.median(times)), len(times)
 
 
-def _fit(model, x, y) -> None:
+def _fit(model, x, y):
+    """Return ``model`` fitted on ``(x, y)``."""
     from sklearn.exceptions import ConvergenceWarning
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)
-        model.fit(x, y)
+        return model.fit(x, y)
+
+
+def _fit_all(jobs: list[tuple[Any, np.ndarray, np.ndarray]], n_jobs: int) -> list[Any]:
+    """Fit every ``(model, x, y)`` of ``jobs``, in ``n_jobs`` processes (joblib loky) when more
+    than one; every model has its own ``random_state``, so the fits do not depend on that."""
+    if n_jobs == 1 or len(jobs) < 2:
+        return [_fit(*job) for job in jobs]
+    from joblib import Parallel, delayed
+
+    return Parallel(n_jobs=n_jobs)(delayed(_fit)(*job) for job in jobs)
 
 
 def finalize(study, params: SurrogateParams, records: pd.DataFrame, store=None
@@ -215,20 +226,34 @@ def finalize(study, params: SurrogateParams, records: pd.DataFrame, store=None
     out: dict[str, list[dict[str, Any]]] = {k: [] for k in (
         "surrogate_classification", "surrogate_regression", "surrogate_importance",
         "surrogate_roc", "surrogate_parity", "surrogate_timing")}
-    split, timed = None, {}
+    # the splits first, then every model fitted at once (over the run's cores), then scored
+    splits, split, timed = {}, None, {}
+    for label in LABELS:
+        y = ok[label].astype(bool).to_numpy()
+        if min(y.sum(), len(y) - y.sum()) >= MIN_POSITIVES:
+            splits[label] = train_test_split(np.arange(len(y)), test_size=params.test_fraction,
+                                             stratify=y, random_state=seed)
+            split = split or splits[label]
+    train, test = split or train_test_split(np.arange(len(ok)), test_size=params.test_fraction,
+                                            random_state=seed)
+    jobs = [(model, x[fit_on], ok[label].astype(bool).to_numpy()[fit_on])
+            for label, (fit_on, _) in splits.items()
+            for model in models(params, seed, regression=False).values()]
+    jobs += [(model, x[train], values[train]) for values in targets(ok).values()
+             for model in models(params, seed, regression=True).values()]
+    fitted = iter(_fit_all(jobs, study.runner.workers()))
     for label in LABELS:
         y = ok[label].astype(bool).to_numpy()
         base = {"label": label, "positives": int(y.sum()), "trials": len(y),
                 "class_balance_pct": 100 * float(y.mean()) if len(y) else np.nan}
-        if min(y.sum(), len(y) - y.sum()) < MIN_POSITIVES:
+        if label not in splits:
             out["surrogate_classification"].append({**base, "note": (
                 f"not fitted: fewer than {MIN_POSITIVES} trials of one class")})
             continue
-        train, test = train_test_split(np.arange(len(y)), test_size=params.test_fraction,
-                                       stratify=y, random_state=seed)
-        first, split = split is None, split or (train, test)
-        for name, model in models(params, seed, regression=False).items():
-            _fit(model, x[train], y[train])
+        test = splits[label][1]
+        first = splits[label] is split
+        for name in models(params, seed, regression=False):
+            model = next(fitted)
             if first:
                 timed[name] = (model, f"{label} probability")
             score = model.predict_proba(x[test])[:, 1]
@@ -253,8 +278,8 @@ def finalize(study, params: SurrogateParams, records: pd.DataFrame, store=None
                                             random_state=seed)
     fallback = not timed  # no classifier fitted: time the regressors of the paper's target
     for target, values in targets(ok).items():
-        for name, model in models(params, seed, regression=True).items():
-            _fit(model, x[train], values[train])
+        for name in models(params, seed, regression=True):
+            model = next(fitted)
             predicted = model.predict(x[test])
             # R² divides by the held-out variance: undefined when the target is constant to
             # round-off (|R_z| of force-closed grasps is 0 up to 1e-15 N)
