@@ -29,7 +29,7 @@ $(WARM): $(STAMP) $(KERNELS)
 # tree of the report tests (tests/report/conftest.py) once, on one worker, first
 XDIST   := -n auto --dist loadscope
 
-test: install  ## fast test suite, parallel over the cores (under 90 s of tests on 2 idle cores)
+test: install  ## fast test suite, parallel over the cores (one worker each)
 	$(BIN)/pytest -q $(XDIST)
 
 test-full: install  ## every test, slow ones included (-m slow: only those)
