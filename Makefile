@@ -4,23 +4,32 @@ VENV    ?= .venv
 BIN     := $(VENV)/bin
 STAMP   := $(VENV)/.install.stamp
 GC      := $(BIN)/graspcampaign
+WARM    := $(VENV)/.warm.stamp
+KERNELS := $(wildcard src/graspcampaign/core/*kernel*.py)
 
 .PHONY: help install test test-full smoke demo reproduce extensions report bench lint clean
 
 help:  ## list the targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/' | expand -t 14
 
-install: $(STAMP)  ## create .venv and install the package with every extra
+install: $(WARM)  ## create .venv, install the package with every extra, compile the kernels
 $(STAMP): pyproject.toml
 	$(PY) -m venv $(VENV)
 	$(BIN)/pip install --quiet --disable-pip-version-check -e '.[dev,dask,ml,xlsx]'
 	@touch $(STAMP)
 
-# -n auto: one pytest-xdist worker per core; loadscope keeps a module's tests (and its module
-# fixtures) on one worker, so an expensive fixture is built once
+# numba's on-disk cache of the compiled kernels (next to their sources), filled again whenever a
+# kernel source changes, so no test session or study run pays the compilation (docs/decisions.md)
+$(WARM): $(STAMP) $(KERNELS)
+	$(BIN)/python -m graspcampaign.cli.warm
+	@touch $(WARM)
+
+# -n auto: one pytest-xdist worker per core; loadscope (with the scheduler of tests/conftest.py)
+# keeps a module's tests (and its module fixtures) on one worker and builds the shared results
+# tree of the report tests (tests/report/conftest.py) once, on one worker, first
 XDIST   := -n auto --dist loadscope
 
-test: install  ## fast test suite, parallel over the cores (under 90 s of tests on 2 idle cores)
+test: install  ## fast test suite, parallel over the cores (one worker each)
 	$(BIN)/pytest -q $(XDIST)
 
 test-full: install  ## every test, slow ones included (-m slow: only those)

@@ -19,6 +19,42 @@ os.environ["GRASPCAMPAIGN_CACHE"] = os.path.join(tempfile.gettempdir(),
                                                  f"graspcampaign-test-catalog-{_CHECKOUT}")
 os.environ.pop("GRASPCAMPAIGN_PATH", None)
 
+#: xdist scope of every test module that uses the session fixture ``sim_root``
+SIM_ROOT_SCOPE = "sim_root"
+
+
+def pytest_xdist_make_scheduler(config, log):
+    """Schedule ``pytest -n auto --dist loadscope`` (Makefile ``test``) with one scope more.
+
+    As with plain ``loadscope``, a module's tests run on one worker, so its module fixtures are
+    built once; in addition every module that names ``sim_root`` (the reduced results tree of
+    tests/report/conftest.py, the most expensive fixture) joins one scope, so that tree is built
+    once per test session instead of once on each worker that runs such a module; that scope is
+    handed out first (the other scopes follow xdist's order, most tests first), so the longest
+    chain of work starts at once. (``--dist loadgroup`` with ``xdist_group`` marks would say the
+    same, but pytest-xdist 3.8 cannot tag the node ids of pytest 9 and then schedules test by
+    test.) Other ``--dist`` modes are left to xdist.
+    """
+    if config.getvalue("dist") != "loadscope":
+        return None
+    from xdist.scheduler import LoadScopeScheduling
+
+    tests = config.rootpath / "tests"
+    shared = {path.relative_to(config.rootpath).as_posix() for path in tests.rglob("test_*.py")
+              if "sim_root" in path.read_text()}
+
+    class SharedTreeScheduling(LoadScopeScheduling):
+        def _split_scope(self, nodeid: str) -> str:
+            module = nodeid.split("::")[0]
+            return SIM_ROOT_SCOPE if module in shared else super()._split_scope(nodeid)
+
+        def _assign_work_unit(self, node) -> None:
+            if SIM_ROOT_SCOPE in self.workqueue:  # first: the longest scope, ~1/3 of the suite
+                self.workqueue.move_to_end(SIM_ROOT_SCOPE, last=False)
+            super()._assign_work_unit(node)
+
+    return SharedTreeScheduling(config, log)
+
 
 @pytest.fixture
 def study_factory(tmp_path):
