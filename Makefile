@@ -5,7 +5,7 @@ BIN     := $(VENV)/bin
 STAMP   := $(VENV)/.install.stamp
 GC      := $(BIN)/graspcampaign
 WARM    := $(VENV)/.warm.stamp
-KERNELS := $(wildcard src/graspcampaign/core/*kernel*.py)
+KERNELS := $(shell grep -l "cache=True" src/graspcampaign/core/*.py)
 
 .PHONY: help install test test-full smoke demo reproduce extensions report bench lint clean
 
