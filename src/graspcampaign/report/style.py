@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import io
+import re
 from collections.abc import Callable, Sequence
 
 import matplotlib as mpl
@@ -96,6 +97,21 @@ def legend_below(ax, handles=None, ncol: int = 3) -> None:
     ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=ncol)
 
 
+def tick(text: str, width: int = 9) -> str:
+    """A tick label wrapped at ``width`` characters, a longer word broken after its dash
+    ("Ferrari–Canny ε" -> "Ferrari–" / "Canny ε"), so neighbouring labels never overlap."""
+    lines: list[str] = []
+    for word in text.replace("_", " ").split():
+        parts = re.split(r"(?<=[–-])(?=\w)", word) if len(word) > width else [word]
+        for i, part in enumerate(parts):
+            glue = "" if i else " "
+            if lines and len(lines[-1]) + len(glue) + len(part) <= width:
+                lines[-1] += glue + part
+            else:
+                lines.append(part)
+    return "\n".join(lines)
+
+
 def rate_bars(ax, f: pd.DataFrame, key: str, title: str, ylabel: str = "success rate [%]") -> None:
     """Rates [%] of ``f`` per ``key`` (its vocabulary) with Wilson whiskers, the paper's in black."""
     f = f.rename(columns=lambda c: c.replace("rate_pct", "success_pct").replace("wilson", "success")
@@ -103,7 +119,7 @@ def rate_bars(ax, f: pd.DataFrame, key: str, title: str, ylabel: str = "success 
     x = np.arange(len(f))
     marked = bars(ax, x, f["success_pct"], f["success_low_pct"], f["success_high_pct"],
                   [colour(key, k, i) for i, k in enumerate(f[key])], paper=list(f["paper_success_pct"]))
-    ax.set_xticks(x, [f"{label(key, k)}\nn={n}".replace(" ", "\n")
+    ax.set_xticks(x, [f"{tick(label(key, k))}\nn={n}"
                       for k, n in zip(f[key], f["n"], strict=True)], fontsize=7)
     rate_axes(ax, ylabel)
     ax.set_title(title)

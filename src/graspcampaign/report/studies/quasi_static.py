@@ -135,7 +135,7 @@ def bars(ax, t: pd.DataFrame, x: str, hue: str | None = None,
             ax, np.arange(len(xs)) + (i - (len(hues) - 1) / 2) * width, *(sub[c] for c in rate),
             colour(hue, h, i) if hue else [colour(x, v, j) for j, v in enumerate(xs)], width,
             sub["paper_pct"].tolist() if "paper_pct" in sub else None, label(hue, h) if hue else None)
-    ax.set_xticks(np.arange(len(xs)), [label(x, v).replace(" ", "\n").replace("_", "\n") for v in xs])
+    ax.set_xticks(np.arange(len(xs)), [style.tick(label(x, v)) for v in xs])
     style.rate_axes(ax)
     handles = [*ax.get_legend_handles_labels()[0], style.interval_handle("ours, Wilson 95%"),
                *([style.paper_handle()] if marked else [])]
@@ -249,7 +249,7 @@ def fig15(run: Run, fig) -> None:
         axes[0].annotate(f"ours {mark[bool(ours)]}\npaper {mark[paper]}", (xi, 1),
                          xycoords=("data", "axes fraction"), ha="center", va="top", fontsize=7)
     for ax in axes[2:]:
-        ax.set_xticks(x, [label("shape", s).replace(" ", "\n") for s in t["shape"]])
+        ax.set_xticks(x, [style.tick(label("shape", s)) for s in t["shape"]])
     fig.legend(handles=[
         Patch(color=good, label="ours: success"), Patch(color=bad, label="ours: failure"),
         Patch(color=style.PAPER, alpha=0.12, label=f"paper's H range {lo}–{hi}"),

@@ -195,7 +195,7 @@ def planner_bars(table: str):
                        [colour("planner", q) for q in g["planner"]], 0.4, list(g["paper_success_pct"]))
             for patch in ax.patches[-len(g):]:
                 patch.set_hatch("//" * (r == "none"))
-        ax.set_xticks(np.arange(len(g)), [label("planner", q).replace(" ", "\n") for q in g["planner"]],
+        ax.set_xticks(np.arange(len(g)), [style.tick(label("planner", q)) for q in g["planner"]],
                       fontsize=7)
         style.rate_axes(ax)
         ax.set_title("(a) all trials; hatched: exact beliefs")

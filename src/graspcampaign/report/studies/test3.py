@@ -186,7 +186,7 @@ def fig34(run: Run, fig) -> None:
     x = np.arange(len(t))
     c.bar(x, t["lat_threshold_err_pct"], 0.7, color=[colour("planner", q) for q in t["planner"]])
     style.paper_marks(c, x, list(t["paper_lat_threshold_err_pct"]), 0.7)
-    c.set(xticks=x, xticklabels=[f"{label('planner', q)}\nn={n}".replace(" ", "\n") for q, n in zip(
+    c.set(xticks=x, xticklabels=[f"{style.tick(label('planner', q))}\nn={n}" for q, n in zip(
         t["planner"], t["lat_threshold_n_n"], strict=True)], ylabel="median |lateral-threshold error| [%]",
           title="(c) by planner, uncensored block A")
     c.legend(handles=[style.paper_handle()], loc="upper center")
