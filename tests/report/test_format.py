@@ -5,6 +5,8 @@ from __future__ import annotations
 import math
 
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from graspcampaign import stats
 from graspcampaign.report import format as fmt
@@ -63,3 +65,12 @@ def test_a_cell_shows_the_reason_of_a_missing_value():
     assert cell({"k": 3, "p": 37.5}, Col("k", "k", share="p")) == "3 (37.5%)"
     assert cell({"lo": 1.25, "hi": 2.0}, Col("lo", "interval", 1, low="lo", high="hi")) == \
         "1.2–2.0"  # 1.25 rounds half to even, once
+
+
+@given(st.floats(allow_nan=False, allow_infinity=False), st.integers(0, 4))
+def test_fixed_decimals_agree_with_python_at_any_magnitude(x, digits):
+    """``number(x, d)`` is Python's own ``f"{x:.{d}f}"`` (round half even on the exact binary value),
+    also beyond the 28 digits of the default decimal context (1e30 to 2 decimals raised before)."""
+    expected = f"{x:.{digits}f}"
+    expected = expected.lstrip("-") if not expected.strip("-0.") else expected  # no "-0.00"
+    assert fmt.number(x, digits) == expected.replace("-", fmt.MINUS)
