@@ -270,10 +270,19 @@ def fig29(run: Run, fig) -> None:
         ax.legend(loc="upper right")
 
 
+LIFT_HEIGHT_MM = 50.0
+"""Fig. 30's commanded lift when the study gives no paper value: §8.3, "the object lifts smoothly to 50 mm"
+(the protocol's ``rig.protocol_design.LIFT_HEIGHT_MM``, same source; the report does not import rig)."""
+CLOSING_TRAVEL_MM = 10.0
+"""Fig. 30 draws 10 mm of closing at the trial's closing speed: a schematic length, the records hold no
+closing travel (the figure is labelled a schematic of the commanded phases)."""
+
+
 def fig30(run: Run, fig) -> None:
     e = ex(run, PROPOSED).query("shape == 'sphere' and outcome == 'stable' and friction_level == 'natural'")
     t = median_trial(e, "normal_force_mean_n")
-    lift, t0 = paper_of(run, lambda p: p.lift_height_mm) or 50.0, 10.0 / t["closing_speed_mm_per_s"]  # 10 mm
+    lift = paper_of(run, lambda p: p.lift_height_mm) or LIFT_HEIGHT_MM
+    t0 = CLOSING_TRAVEL_MM / t["closing_speed_mm_per_s"]
     t1 = t0 + lift / t["lift_speed_mm_per_s"]
     t2, band, slip = t1 + t["hold_s"], paper_of(run, lambda p: p.hold_force_per_finger_n), "#c62828"
     schematic(fig, t, ((0, t0, "closing", "#e3f2fd"), (t0, t1, "lift", "#fff8e1"), (t1, t2, "hold",
