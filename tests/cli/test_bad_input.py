@@ -232,6 +232,8 @@ def test_run_names_never_leave_the_results_root(results, tmp_path, name):
 def test_schedule_out_into_a_path_whose_parent_is_a_file(results, tmp_path):
     blocker = tmp_path / "notes.txt"
     blocker.write_text("a file, not a folder")
+    _refused(results, ["reproduce", "--times", blocker / "times.txt", "--root", results],
+             f"--times {blocker / 'times.txt'}: {blocker} is a file, not a directory.")
     _refused(results, ["schedule", "test2_grasp", "--out", blocker / "sheet", "--root", results],
              f"--out {blocker / 'sheet'}: {blocker} is a file, not a directory.")
     _refused(results, ["schedule", "test2_grasp", "--out", blocker / "deeper" / "sheet", "--root",

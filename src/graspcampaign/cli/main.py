@@ -213,6 +213,10 @@ def reproduce(
     from graspcampaign.campaign.runner import run_study
     from graspcampaign.report.build import build_reports
 
+    if times is not None:  # checked before the first study runs, not after it
+        _writable_stem(times, "--times")
+        times.parent.mkdir(parents=True, exist_ok=True)
+
     def timed(step: str, start: float) -> None:
         line = f"== {step}: {time.perf_counter() - start:.0f} s"
         typer.echo(line)
