@@ -180,7 +180,7 @@ def test_headline_page_and_index(tmp_path):
     assert "simulation: 10 seeds" in md and "[r1](baseline_grid/r1/report/report.md)" in md
     assert "href='baseline_grid/r1/report/report.html'" in (tmp_path / "headline.html").read_text()
     index = (tmp_path / "index.md").read_text()
-    assert "[headline.md](headline.md)" in index and "other/r1/report/report.md" in index
+    assert "[Table 1 headline](headline.md)" in index and "other/r1/report/report.md" in index
 
 
 def test_virtual_rig_rows_say_so(tmp_path):

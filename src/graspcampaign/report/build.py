@@ -16,6 +16,7 @@ from graspcampaign.report import document as D
 from graspcampaign.report import spec as S
 from graspcampaign.report.document import NAV, Col, Document, Table, Text
 from graspcampaign.report.render import Run, provenance, reason, render
+from graspcampaign.report.style import SOURCE_SHORT
 
 log = logging.getLogger(__name__)
 
@@ -180,11 +181,12 @@ def write_index(root: Path, formats: list[str]) -> None:
                 m = read_manifest(report.parent.parent / "manifest.json") or {}
             except (OSError, ValueError):
                 m = {}
-            rows.append([m.get("study"), m.get("run"), m.get("source"), m.get("n_trials"),
+            rows.append([m.get("study"), m.get("run"), SOURCE_SHORT.get(m.get("source"), m.get("source")),
+                         m.get("n_trials"),
                          report.with_suffix(".html").relative_to(root).as_posix()])
         frame = pd.DataFrame(rows, columns=["study", "run", "source", "trials", "report"])
         Document("Reports", "", [], [
-            Text("Headline success rates beside the paper's Table 1: [headline.md](headline.md)"),
+            Text("Headline success rates beside the paper's Table 1: [Table 1 headline](headline.md)"),
             Table("index", "Every run's report", frame, [
                 Col("study", "study"), Col("run", "run", link="report"), Col("source", "source"),
                 Col("trials", "trials")], csv=None)]).write_pages(root / "index", [page])
