@@ -21,6 +21,9 @@ $(STAMP): pyproject.toml
 # numba's on-disk cache of the compiled kernels (next to their sources), filled again whenever a
 # kernel source changes, so no test session or study run pays the compilation (docs/decisions.md)
 $(WARM): $(STAMP) $(KERNELS)
+	@# numba keys a cache entry on its own file only: a kernel compiled with an older version of a
+	@# kernel it calls would survive, so every entry is compiled afresh when any kernel changes
+	@find src/graspcampaign -path '*__pycache__*' -name '*.nb[ic]' -delete
 	$(BIN)/python -m graspcampaign.cli.warm
 	@touch $(WARM)
 
