@@ -246,7 +246,7 @@ def test_grid_markdown_states_differences_and_figure(grid_run):
     assert md.index("## What this shows") < md.index("success_by_planner.csv")
     png = store.path / "report" / "figures" / "fig18_baselines.png"
     assert png.stat().st_size > 10_000
-    assert "[headline.md](headline.md)" in (root / "index.md").read_text()
+    assert "[Table 1 headline](headline.md)" in (root / "index.md").read_text()
 
 
 def _signed(x: float) -> str:
