@@ -151,6 +151,17 @@ def _runnable(rows: list[dict], extensions: bool) -> list[str]:
             and row["study"] != "smoke" and row["extension"] == extensions]
 
 
+def _echo_summary(summary) -> None:
+    """One line per run (trials, already recorded, ran, ok, errors, time, path), then its first errors."""
+    typer.echo(
+        f"{summary.study}/{summary.run}: {summary.n_trials} trials, {summary.n_already} already "
+        f"recorded, {summary.n_ran} ran ({summary.n_ok} ok, {summary.n_error} errors) in "
+        f"{summary.wall_time_s:.1f} s -> {summary.path}"
+    )
+    for line in summary.errors[:5]:
+        typer.echo(f"  error: {line}", err=True)
+
+
 @app.command()
 @_guard
 def show(study: StudyArg, overrides: Overrides = None, run: RunOpt = None,
@@ -181,13 +192,7 @@ def run_cmd(
         summary = run_study(cfg, run=run, allow_drift=allow_drift, fail_fast=fail_fast)
     except KeyboardInterrupt:
         _interrupted(cfg, path, study, overrides, run, root)
-    typer.echo(
-        f"{summary.study}/{summary.run}: {summary.n_trials} trials, {summary.n_already} already "
-        f"recorded, {summary.n_ran} ran ({summary.n_ok} ok, {summary.n_error} errors) in "
-        f"{summary.wall_time_s:.1f} s -> {summary.path}"
-    )
-    for line in summary.errors[:5]:
-        typer.echo(f"  error: {line}", err=True)
+    _echo_summary(summary)
     if report:
         from graspcampaign.report.build import build_reports
 
@@ -210,7 +215,7 @@ def reproduce(
     """
     import time
 
-    from graspcampaign.campaign.runner import run_study
+    from graspcampaign.campaign.runner import run_path, run_study
     from graspcampaign.report.build import build_reports
 
     if times is not None:  # checked before the first study runs, not after it
@@ -227,11 +232,11 @@ def reproduce(
     for name in _runnable(_study_rows(), extensions=False):
         start = time.perf_counter()
         cfg = _compose(name, [], root)
-        summary = run_study(cfg)
-        typer.echo(f"{summary.study}/{summary.run}: {summary.n_trials} trials, {summary.n_ran} ran "
-                   f"({summary.n_ok} ok, {summary.n_error} errors) -> {summary.path}")
-        for line in summary.errors[:5]:
-            typer.echo(f"  error: {line}", err=True)
+        try:
+            summary = run_study(cfg)
+        except KeyboardInterrupt:  # say what is recorded and how to resume, as `run` does
+            _interrupted(cfg, run_path(cfg, None), name, [], None, root)
+        _echo_summary(summary)
         if summary.n_error:
             raise typer.Exit(1)
         timed(name, start)

@@ -45,7 +45,7 @@ from graspcampaign.core.dynamics import GraspForces, GraspSetup, GraspState
 from graspcampaign.core.hand import FingerContacts
 from graspcampaign.core.msd_kernel import B, body_constants, rk4_body_step
 
-__all__ = ["ASSEMBLED", "PackedSetup", "body_summary", "compiled_grasp_step", "contact_stage", "packed_setup",
+__all__ = ["PackedSetup", "body_summary", "compiled_grasp_step", "contact_stage", "packed_setup",
            "step_kernel"]
 
 # Layout of the contact-law vector ``law`` (one float64 array: fewer arguments, cheaper calls).
@@ -396,38 +396,16 @@ def compiled_grasp_step(setup: GraspSetup, gs: GraspState) -> GraspState:
     )
     if not finite:
         raise FloatingPointError(f"dynamic grasp diverged at t = {gs.time:.4g} s (dt = {dt:.3g} s)")
-    stick = _assembled(StickSlipState, {"anchors": vec[ANCHORS], "sliding": flags[SLIDING]})
-    hits = _assembled(FingerContacts, {
-        "active": flags[ACTIVE], "depths": scal[DEPTHS], "faces": hosts, "points": vec[POINTS],
-        "normals": vec[NORMALS], "weights": vec[WEIGHTS]})
-    contact = _assembled(GraspForces, {
-        "contacts": hits, "normal_forces": scal[NORMAL_FORCES], "tangential": vec[TANGENTIAL],
-        "forces": vec[FORCES], "residual": sums[RESIDUAL], "support_force": sums[SUPPORT],
-        "nodal_forces": nodal, "relative_velocity": vec[REL_VEL], "stick": stick})
-    return _assembled(GraspState, {
-        "time": gs.time + dt, "state": new_x.reshape(-1), "grip": scal[GRIP],
-        "grip_rate": gs.grip_rate, "load_fraction": gs.load_fraction, "stick": out.stick,
-        "slip_coords": vec[SLIP], "contact": contact})
-
-
-ASSEMBLED = (StickSlipState, FingerContacts, GraspForces, GraspState)
-"""The frozen dataclasses :func:`compiled_grasp_step` builds with :func:`_assembled`."""
-
-
-def _assembled(cls, fields: dict):
-    """Return an instance of one of the frozen dataclasses of ``ASSEMBLED`` holding ``fields``.
-
-    The instance the dataclass's ``__init__`` would build (its ``__dict__`` set to ``fields``),
-    without the ``__init__``: a frozen dataclass sets each field through ``object.__setattr__``,
-    which for the four objects of a step (25 fields, Python 3.11) costs ~3.5 us more per step
-    (measured in one process on the 356-node sphere, shared machine: ~5 % of the step called
-    from Python). Valid because none of these classes has a ``__post_init__``, defaults or
-    slots, and ``fields`` names every field; ``tests/core/test_grasp_kernel.py`` checks both, and
-    that the result equals the one ``__init__`` builds.
-    """
-    instance = object.__new__(cls)
-    instance.__dict__.update(fields)
-    return instance
+    stick = StickSlipState(anchors=vec[ANCHORS], sliding=flags[SLIDING])
+    hits = FingerContacts(active=flags[ACTIVE], depths=scal[DEPTHS], faces=hosts, points=vec[POINTS],
+                          normals=vec[NORMALS], weights=vec[WEIGHTS])
+    contact = GraspForces(
+        contacts=hits, normal_forces=scal[NORMAL_FORCES], tangential=vec[TANGENTIAL],
+        forces=vec[FORCES], residual=sums[RESIDUAL], support_force=sums[SUPPORT],
+        nodal_forces=nodal, relative_velocity=vec[REL_VEL], stick=stick)
+    return GraspState(
+        time=gs.time + dt, state=new_x.reshape(-1), grip=scal[GRIP], grip_rate=gs.grip_rate,
+        load_fraction=gs.load_fraction, stick=out.stick, slip_coords=vec[SLIP], contact=contact)
 
 
 @njit(cache=True, error_model="numpy")
