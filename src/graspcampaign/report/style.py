@@ -126,6 +126,25 @@ def rate_bars(ax, f: pd.DataFrame, key: str, title: str, ylabel: str = "success 
     ax.legend(handles=[interval_handle(), *[paper_handle()] * marked], loc="upper right")
 
 
+def grouped_bars(ax, t: pd.DataFrame, x: str, hue: str | None = None,
+                 rate: tuple[str, str, str] = ("rate_pct", "wilson_low_pct", "wilson_high_pct")) -> None:
+    """Rates (the ``rate`` columns: value, Wilson low, high) per ``x`` (and ``hue``) level with their
+    whiskers and the paper's marks (``paper_pct``, if any)."""
+    xs, hues = list(dict.fromkeys(t[x])), list(dict.fromkeys(t[hue])) if hue else [None]
+    width, marked = 0.8 / len(hues), False
+    for i, h in enumerate(hues):
+        sub = (t[t[hue] == h] if hue else t).set_index(x).reindex(xs)
+        marked |= bars(
+            ax, np.arange(len(xs)) + (i - (len(hues) - 1) / 2) * width, *(sub[c] for c in rate),
+            colour(hue, h, i) if hue else [colour(x, v, j) for j, v in enumerate(xs)], width,
+            sub["paper_pct"].tolist() if "paper_pct" in sub else None, label(hue, h) if hue else None)
+    ax.set_xticks(np.arange(len(xs)), [tick(label(x, v)) for v in xs])
+    rate_axes(ax)
+    handles = [*ax.get_legend_handles_labels()[0], interval_handle("ours, Wilson 95%"),
+               *([paper_handle()] if marked else [])]
+    legend_below(ax, handles, ncol=min(len(handles), 5))
+
+
 def panels(*specs):
     """A figure with a panel per spec: ``(table, query, key, title[, ylabel])``, :func:`rate_bars` of a
     table the run has rendered, or ``draw(run, ax)``."""

@@ -8,11 +8,11 @@ import pandas as pd
 
 from graspcampaign.analysis import dynamic_check as dc
 from graspcampaign.report import format as fmt
+from graspcampaign.report import style
 from graspcampaign.report.document import Col
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, verdicts
 from graspcampaign.report.studies.dynamic import in_order
-from graspcampaign.report.studies.quasi_static import bars
 
 DECISION = "`docs/decisions.md`, *Dynamic check report (issue 16, item 3, report side)*"
 PAIRS = {"source": "source study's label", "preset": "Algorithms 1–2 under the preset",
@@ -77,7 +77,7 @@ def confusion_figure(run: Run, fig) -> None:
 
 def group_figure(run: Run, fig) -> None:
     for ax, by in zip(fig.subplots(1, 2), ("planner", "shape"), strict=True):
-        bars(ax, run.tables[f"agreement_by_{by}"], by, "model_preset",
+        style.grouped_bars(ax, run.tables[f"agreement_by_{by}"], by, "model_preset",
              ("agreement_pct", "agreement_low_pct", "agreement_high_pct"))
         ax.set(ylabel="labels agree [%]", title=f"per {by} (Wilson 95%)")
 

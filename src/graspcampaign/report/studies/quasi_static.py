@@ -123,25 +123,6 @@ def grid_finding(run: Run) -> str:
         f"published checks. SPEC §8; {DECISION}.")
 
 
-def bars(ax, t: pd.DataFrame, x: str, hue: str | None = None,
-         rate: tuple[str, str, str] = ("rate_pct", "wilson_low_pct", "wilson_high_pct")) -> None:
-    """Rates (the ``rate`` columns: value, Wilson low, high) per ``x`` (and ``hue``) level with their
-    whiskers and the paper's marks (``paper_pct``, if any)."""
-    xs, hues = list(dict.fromkeys(t[x])), list(dict.fromkeys(t[hue])) if hue else [None]
-    width, marked = 0.8 / len(hues), False
-    for i, h in enumerate(hues):
-        sub = (t[t[hue] == h] if hue else t).set_index(x).reindex(xs)
-        marked |= style.bars(
-            ax, np.arange(len(xs)) + (i - (len(hues) - 1) / 2) * width, *(sub[c] for c in rate),
-            colour(hue, h, i) if hue else [colour(x, v, j) for j, v in enumerate(xs)], width,
-            sub["paper_pct"].tolist() if "paper_pct" in sub else None, label(hue, h) if hue else None)
-    ax.set_xticks(np.arange(len(xs)), [style.tick(label(x, v)) for v in xs])
-    style.rate_axes(ax)
-    handles = [*ax.get_legend_handles_labels()[0], style.interval_handle("ours, Wilson 95%"),
-               *([style.paper_handle()] if marked else [])]
-    style.legend_below(ax, handles, ncol=min(len(handles), 5))
-
-
 def LawPaired() -> S.Table:
     """McNemar of the proposed planner against each other, within each grip law."""
     base = S.Paired(caption=(
@@ -295,7 +276,7 @@ def law_items(figure: str, name: str, what: str) -> list:
                     "paper's values are Algorithm 2's, shown beside every law)", LAWS,
                     lambda p, k: p.success_pct.get(k["planner"])),
             S.Figure(name, f"{figure} (ours): success per {what} under each grip law, Wilson 95% "
-                     f"whiskers; {PAPER_MARKS}", lambda run, fig: bars(
+                     f"whiskers; {PAPER_MARKS}", lambda run, fig: style.grouped_bars(
                          fig.subplots(), run.tables["success_by_planner"], "planner", "grip_law"),
                      (10.0, 3.8)), LawPaired()]
 
@@ -308,8 +289,8 @@ ABLATION = S.ReportSpec("ablation", [
 
 def fig18(run: Run, fig) -> None:
     ax_a, ax_b = fig.subplots(1, 2, width_ratios=[1, 2.2])
-    bars(ax_a, run.tables["success_by_planner"], "planner")
-    bars(ax_b, run.tables["success_by_shape"], "shape", "planner")
+    style.grouped_bars(ax_a, run.tables["success_by_planner"], "planner")
+    style.grouped_bars(ax_b, run.tables["success_by_shape"], "shape", "planner")
     ax_a.set_title("(a) overall")
     ax_b.set_title("(b) by shape")
 
