@@ -251,6 +251,7 @@ HEAVY = ("numpy", "pandas", "scipy", "trimesh", "numba", "matplotlib", "sklearn"
     (["--help"], ()),
     (["list"], ()),
     (["show", "smoke"], ("hydra",)),
+    (["show", "baseline_grid"], ("hydra",)),  # its paper block's planner keys: the vocabulary
     (["status", "smoke", "--root", "{root}"], ("pyarrow", "numpy")),  # pyarrow needs numpy
 ])
 def test_answering_commands_import_no_numerical_layer(smoke_run, args, allowed):

@@ -7,8 +7,6 @@ from __future__ import annotations
 from collections.abc import Iterable
 from typing import NamedTuple
 
-import pandas as pd
-
 
 class Term(NamedTuple):
     """One entry of a vocabulary: its record value, display label and colour."""
@@ -98,6 +96,8 @@ def colour(column: str, value: object, index: int = 0) -> str:
 
 def ordered(column: str, values: Iterable, first: Iterable = ()) -> list:
     """Return the distinct ``values`` in display order: ``first``, the vocabulary's, then by text."""
+    import pandas as pd  # here: composing a study reads VOCABULARIES, and `show` needs no pandas
+
     values = list(dict.fromkeys(v for v in values if not pd.isna(v)))
     rank: dict = {}
     for v in [*first, *VOCABULARIES.get(column, {})]:
