@@ -3,8 +3,9 @@ give byte-identical tables, and the report path never imports scikit-learn.
 
 Both claims share one report of the reduced ``surrogate`` and ``test1_bench`` runs, written in a
 fresh interpreter (the one place whose ``sys.modules`` says what the report path imports); the
-other report of the same records is the one the ``sim_root`` fixture wrote (same formats), so each
-run is reported once here instead of three times.
+other report of the same records is the one the ``sim_root`` fixture wrote (same formats; PNG
+figures there, SVG here, which the tables do not depend on), so each run is reported once here
+instead of three times.
 """
 
 from __future__ import annotations
@@ -23,21 +24,31 @@ STUDIES = ("surrogate", "test1_bench")
 FORMATS = ["md", "csv", "json", "html"]  # the formats the sim_root fixture writes (conftest.py)
 
 
+_FRESH: dict = {}
+
+
+def fresh_reports(sim_root, tmp_path_factory):
+    """``(root, completed process)``: the runs' records copied without their reports and reported
+    again by ``build_reports`` (SVG figures) in a new interpreter, which prints the sklearn modules
+    it holds; written once per session (test_test1_report.py reads its SVG figures too)."""
+    if sim_root not in _FRESH:
+        root = tmp_path_factory.mktemp("fresh") / "results"
+        for study in STUDIES:
+            shutil.copytree(sim_root / study / "default", root / study / "default",
+                            ignore=shutil.ignore_patterns("report"))
+        code = ("import sys\nfrom graspcampaign.report.build import build_reports\n"
+                f"batch = build_reports(root={str(root)!r}, formats={FORMATS!r}, figure_format='svg')\n"
+                "assert batch.failed == [], batch.failed\n"
+                "print(sorted(m for m in sys.modules if m == 'sklearn' or m.startswith('sklearn.')))\n")
+        env = {**os.environ, "PYTHONPATH": str(Path(graspcampaign.__file__).parents[1])}  # this tree
+        _FRESH[sim_root] = root, subprocess.run([sys.executable, "-c", code], capture_output=True,
+                                                text=True, timeout=600, env=env)
+    return _FRESH[sim_root]
+
+
 @pytest.fixture(scope="module")
 def fresh(sim_root, tmp_path_factory):
-    """``(root, completed process)``: the runs' records copied without their reports and reported
-    again by ``build_reports`` in a new interpreter, which prints the sklearn modules it holds."""
-    root = tmp_path_factory.mktemp("fresh") / "results"
-    for study in STUDIES:
-        shutil.copytree(sim_root / study / "default", root / study / "default",
-                        ignore=shutil.ignore_patterns("report"))
-    code = ("import sys\nfrom graspcampaign.report.build import build_reports\n"
-            f"batch = build_reports(root={str(root)!r}, formats={FORMATS!r})\n"
-            "assert batch.failed == [], batch.failed\n"
-            "print(sorted(m for m in sys.modules if m == 'sklearn' or m.startswith('sklearn.')))\n")
-    env = {**os.environ, "PYTHONPATH": str(Path(graspcampaign.__file__).parents[1])}  # this tree
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600, env=env)
-    return root, out
+    return fresh_reports(sim_root, tmp_path_factory)
 
 
 @pytest.mark.parametrize("study", STUDIES)
