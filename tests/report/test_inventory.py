@@ -168,3 +168,25 @@ def test_the_gate_table_counts_what_the_records_say(sim_root, study):
     assert gate["success_unbounded"].sum() == unbounded.sum()
     assert gate["removed"].sum() == (unbounded & ~success).sum()
     assert gate["invalid_geometry"].sum() == (~ok["valid_geometry"].astype(bool)).sum()
+
+
+def test_real_reduced_runs_state_their_records(sim_root):
+    """The engine's own reduced baseline_grid and grip_laws runs: paragraph numbers from the records.
+
+    (Kept here, beside the other checks of the shared tree, rather than in
+    test_quasi_static_report.py: a module naming ``sim_root`` runs in that tree's xdist scope
+    (tests/conftest.py), and the quasi-static module's own synthetic runs need no place there.)"""
+    from test_quasi_static_report import finding
+    from test_studies import ok_records
+
+    for study in ("baseline_grid", "grip_laws"):
+        store = RunStore(sim_root / study / "default")
+        ok = ok_records(store)
+        ok = ok[ok["grip_law"] == "paper"]
+        text = finding(store)
+        if study == "baseline_grid":
+            released = int((ok["n_released"] >= 1).sum())
+            assert f"{released} of {len(ok)} triples ({100 * released / len(ok):.1f}%)" in text
+            assert int((ok["n_released"] == ok["n_upper"]).sum()) == len(ok)  # issue 13: upper = released
+        rank = ok.groupby("planner")["success"].mean()
+        assert f"{100 * rank['centroid']:.1f}%" in text

@@ -189,19 +189,3 @@ def test_ablation_gains_its_grip_law_columns(runs):
     assert "roughly ±12 pp" in text and "not computed" not in text
     assert figures(store) == {"fig16_ablation", "h_epsilon"}
 
-
-def test_real_reduced_runs_state_their_records(sim_root):
-    """The engine's own reduced baseline_grid and grip_laws runs: paragraph numbers from the records."""
-    from graspcampaign.campaign.records import RunStore
-
-    for study in ("baseline_grid", "grip_laws"):
-        store = RunStore(sim_root / study / "default")
-        ok = ok_records(store)
-        ok = ok[ok["grip_law"] == "paper"]
-        text = finding(store)
-        if study == "baseline_grid":
-            released = int((ok["n_released"] >= 1).sum())
-            assert f"{released} of {len(ok)} triples ({100 * released / len(ok):.1f}%)" in text
-            assert int((ok["n_released"] == ok["n_upper"]).sum()) == len(ok)  # issue 13: upper = released
-        rank = ok.groupby("planner")["success"].mean()
-        assert f"{100 * rank['centroid']:.1f}%" in text

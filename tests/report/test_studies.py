@@ -151,7 +151,8 @@ def grid_run(tmp_path_factory):
                      {"shape": SHAPES, "mass_kg": [0.2, 0.6], "mu": [0.1, 0.5],
                       "planner": ["heuristic", "antipodal", "random", "centroid"]},
                      seeds=3, paper=None, outputs=quasi_static_outputs, error_every=17)
-    build_reports(["baseline_grid"], root=root)
+    # json beside the default md and csv: test_tables_json_is_strict reads it (one report, not two)
+    build_reports(["baseline_grid"], root=root, formats=["md", "csv", "json"])
     return root, store
 
 
@@ -434,7 +435,6 @@ def test_headline_page_gathers_rates(grid_run):
 
 def test_tables_json_is_strict(grid_run):
     _, store = grid_run
-    build_reports(["baseline_grid"], root=store.path.parent.parent, formats=["md", "json"])
     data = json.loads((store.path / "report" / "tables.json").read_text(),
                       parse_constant=lambda c: pytest.fail(f"non-JSON constant {c}"))
     assert {"success_by_planner", "mcnemar", "design_limit"} <= set(data)
