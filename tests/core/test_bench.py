@@ -379,3 +379,12 @@ def test_contact_force_kernel_is_the_numpy_model_bit_for_bit(family, toe, adhesi
         want = bench._contact_force(depths, v, 1.0 / daq, spec, k_scale, adhesion,
                                     backend="numpy")
         np.testing.assert_array_equal(got, want)
+
+
+def test_trapezoid_duration_is_the_moves_duration_and_the_closed_form():
+    # trapezoidal: T = d / v + v / a; triangular (d a < v^2): T = 2 sqrt(d / a)
+    for d, v, a in [(2e-3, 0.05, 0.3), (-4e-2, 0.05, 0.3), (1e-3, 0.05, 0.3), (0.0, 0.05, 0.3)]:
+        want = abs(d) / v + v / a if abs(d) * a >= v * v else 2.0 * np.sqrt(abs(d) / a)
+        got = bench.trapezoid_duration(d, v, a)
+        assert got == bench.trapezoid_move(np.zeros(1), d, v, a)[2]
+        assert got == pytest.approx(want, rel=1e-12)

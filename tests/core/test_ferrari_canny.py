@@ -1,5 +1,7 @@
 """Tests for the Ferrari-Canny L1 epsilon (core.ferrari_canny, kernels.epsilon_facets)."""
 
+import functools
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -20,14 +22,24 @@ def random_triples(seed, b=200, offset=0.0):
     return points, normals, rng.uniform(0.05, 1.0, b)
 
 
+@functools.cache
+def _triples_and_hull_epsilon(seed, offset):
+    """:func:`random_triples` and their qhull epsilon, computed once for both backends (qhull
+    over 200 triples is most of the test's time); read-only, so no backend can alter them."""
+    points, normals, mu = random_triples(seed, offset=offset)
+    reference = epsilon_qhull(primitive_wrenches(points, normals, mu, ORIGIN, 0.06))
+    for a in (points, normals, mu, reference):
+        a.setflags(write=False)
+    return points, normals, mu, reference
+
+
 @pytest.mark.parametrize("backend", ["numba", "numpy"])
 @pytest.mark.parametrize("seed, offset", [(0, 0.0), (1, 0.01), (2, 0.02)])
 def test_epsilon_equals_convex_hull_on_random_triples(backend, seed, offset):
     # offset 0: radial normals (sphere-like, many pair-axis facets through the origin);
     # offset > 0: normals off the contact radius (torque from every normal force).
-    points, normals, mu = random_triples(seed, offset=offset)
+    points, normals, mu, reference = _triples_and_hull_epsilon(seed, offset)
     fast = epsilon_metric(points, normals, mu, ORIGIN, 0.06, backend=backend)
-    reference = epsilon_qhull(primitive_wrenches(points, normals, mu, ORIGIN, 0.06))
     closure = reference > 1e-9
     assert 0.2 < closure.mean() < 0.8  # both outcomes are exercised
     np.testing.assert_allclose(fast[closure], reference[closure], rtol=1e-9)

@@ -32,8 +32,8 @@ def _assert_same(python, compiled):
             np.testing.assert_equal(b, a, err_msg=field.name)
 
 
-def test_compiled_loop_reproduces_the_python_driver_on_a_holding_grasp(firm_grasp):
-    setup, state, _ = firm_grasp
+def test_compiled_loop_reproduces_the_python_driver_on_a_holding_grasp(firm_setup):
+    setup, state = firm_setup  # the grasp only: this test never reads the numpy reference run
     python = grasp_phases.run_grasp_phases(setup, state, step=grasp_kernel.compiled_grasp_step)
     compiled = phase_kernel.run_grasp_phases_compiled(setup, state)
     assert compiled.status == "stable" and compiled.success

@@ -44,6 +44,7 @@ from graspcampaign.core.bench_contact import (
     _curvature_scale,  # noqa: F401  (re-exported, used outside this module)
     _qlv,  # noqa: F401  (re-exported, used outside this module)
     cyclic_state,
+    trapezoid_duration,
     trapezoid_move,
 )
 from graspcampaign.core.bench_fit_backend import (
@@ -134,6 +135,7 @@ __all__ = [
     "STICK_SLIP_SPEED",
     # re-exported: they live in graspcampaign.core.bench_contact
     "trapezoid_move",
+    "trapezoid_duration",
     "cyclic_state",
     "APPROACH_GAP",
     "RETRACT_DWELL",

@@ -51,6 +51,13 @@ def _trapezoid_timing(d: float, v_max: float, a_max: float) -> tuple[float, floa
     return v, ta, 2 * ta
 
 
+def trapezoid_duration(distance: float, v_max: float, a_max: float) -> float:
+    """Duration T [s] of :func:`trapezoid_move` over signed ``distance`` [m] (0 for no travel),
+    without evaluating the motion."""
+    d = abs(distance)
+    return 0.0 if d == 0.0 else _trapezoid_timing(d, v_max, a_max)[2]
+
+
 def trapezoid_move(times: np.ndarray, distance: float, v_max: float, a_max: float
                    ) -> tuple[np.ndarray, np.ndarray, float]:
     """Evaluate a finite-acceleration trapezoidal move (triangular when too short).

@@ -220,8 +220,13 @@ def _rounded_cube(n_nodes: int) -> trimesh.Trimesh:
 
 def _pear_sdf(points: np.ndarray) -> np.ndarray:
     """Signed distance-like field of the pear: polynomial smooth union of two spheres."""
-    d_body = np.linalg.norm(points, axis=-1) - PEAR_BODY_RADIUS
-    d_top = np.linalg.norm(points - np.array([0.0, 0.0, PEAR_TOP_HEIGHT]), axis=-1) - PEAR_TOP_RADIUS
+    # the two distances share x^2 + y^2; summed in np.linalg.norm's order, so bit for bit the same
+    # values, without the (..., 3) temporaries (5x faster on the 6 M points of the star test)
+    x, y, z = points[..., 0], points[..., 1], points[..., 2]
+    r2 = x * x + y * y
+    d_body = np.sqrt(r2 + z * z) - PEAR_BODY_RADIUS
+    z_top = z - PEAR_TOP_HEIGHT
+    d_top = np.sqrt(r2 + z_top * z_top) - PEAR_TOP_RADIUS
     h = np.clip(0.5 + 0.5 * (d_top - d_body) / PEAR_BLEND, 0.0, 1.0)
     return d_top * (1.0 - h) + d_body * h - PEAR_BLEND * h * (1.0 - h)
 

@@ -152,8 +152,8 @@ DAQ_RATES_HZ = (50.0, 100.0, 200.0, 250.0, 500.0)
 
 
 def _daq_for_press(distance_mm: float, speed_mm_per_s: float, p: Test1Protocol) -> float:
-    t_load = bench.trapezoid_move(np.zeros(1), distance_mm * 1e-3, speed_mm_per_s * 1e-3,
-                                  p.accel_mm_per_s2 * 1e-3)[2]
+    t_load = bench.trapezoid_duration(distance_mm * 1e-3, speed_mm_per_s * 1e-3,
+                                      p.accel_mm_per_s2 * 1e-3)
     for rate in DAQ_RATES_HZ:
         if rate * t_load >= p.min_loading_samples:
             return rate

@@ -129,7 +129,7 @@ def transfer_errors(fits: pd.DataFrame, waveforms: pd.DataFrame | None = None, *
     if waveforms is not None:
         nrm = ok[(ok["block"] == "normal")
                  & ok["split"].isin(["train", "unseen_speed", "unseen_specimen"])]
-        nrm = nrm[nrm["event_id"].isin(set(waveforms["event_id"]))].set_index("event_id")
+        nrm = nrm[nrm["event_id"].isin(waveforms["event_id"].unique())].set_index("event_id")
         for eid, g in waveforms[waveforms["event_id"].isin(nrm.index)].groupby("event_id"):
             r = {**nrm.loc[eid].to_dict(), "event_id": eid}
             law = calibrated(r, n_spec, n_fam)
