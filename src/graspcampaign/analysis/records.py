@@ -72,8 +72,9 @@ def groups(frame: pd.DataFrame, by: Sequence[str], order: Mapping[str, Sequence]
     keys = list(dict.fromkeys(zip(*(source[c] for c in by), strict=True))) if len(source) else []
     ranks = [{v: i for i, v in enumerate(ordered(c, [k[j] for k in keys], (order or {}).get(c, ())))}
              for j, c in enumerate(by)]
+    index = _index(frame, by) if keys else {}
     for key in sorted(keys, key=lambda k: tuple(r[v] for r, v in zip(ranks, k, strict=True))):
-        yield dict(zip(by, key, strict=True)), select(frame, dict(zip(by, key, strict=True)))
+        yield dict(zip(by, key, strict=True)), _select(frame, by, key, index)
 
 
 def select(frame: pd.DataFrame, key: Mapping) -> pd.DataFrame:
@@ -82,6 +83,30 @@ def select(frame: pd.DataFrame, key: Mapping) -> pd.DataFrame:
     for c, v in key.items():
         mask &= (frame[c] == v).to_numpy()
     return frame[mask]
+
+
+def _index(frame: pd.DataFrame, by: Sequence[str]) -> dict | None:
+    """Row positions of ``frame`` per key tuple of ``by`` from one groupby (a missing value is in
+    no group, as ``nan == nan`` is false); None if the columns cannot be grouped."""
+    if not by or not len(frame):
+        return {} if by else None
+    try:
+        idx = frame.groupby(list(by), sort=False, dropna=True, observed=True).indices
+    except (TypeError, ValueError):
+        return None
+    return {k if len(by) > 1 else (k,): v for k, v in idx.items()}
+
+
+def _select(frame: pd.DataFrame, by: Sequence[str], key: tuple, index: dict | None) -> pd.DataFrame:
+    """:func:`select` of ``key`` by ``index`` (:func:`_index`; None: compared row by row)."""
+    if index is None:
+        return select(frame, dict(zip(by, key, strict=True)))
+    return frame.iloc[index.get(key, [])]
+
+
+def _count(frame: pd.DataFrame, by: Sequence[str], key: dict, index: dict | None) -> int:
+    """The number of rows :func:`select` returns for ``key``, by ``index`` (:func:`_index`)."""
+    return len(select(frame, key) if index is None else index.get(tuple(key.values()), ()))
 
 
 def rate_table(records: pd.DataFrame, by: Sequence[str], *, outcome: str = "success",
@@ -95,8 +120,10 @@ def rate_table(records: pd.DataFrame, by: Sequence[str], *, outcome: str = "succ
     err = records[status == "error"]
     aborted = records[(status == "ok") & flag(records, "aborted")] if "aborted" in records \
         else records.iloc[:0]
-    rows = [{**key, "n": len(g), "n_error": len(select(err, key)),
-             "n_aborted": len(select(aborted, key)), **rate_cells(g, outcome, cluster, seed, n_resamples)}
+    e_index, a_index = (_index(err, by), _index(aborted, by)) if set(by) <= set(records) else ({}, {})
+    rows = [{**key, "n": len(g), "n_error": _count(err, by, key, e_index),
+             "n_aborted": _count(aborted, by, key, a_index),
+             **rate_cells(g, outcome, cluster, seed, n_resamples)}
             for key, g in (groups(ok, by, order, records) if set(by) <= set(records) else ())]
     return pd.DataFrame(rows, columns=[
         *by, "n", "successes", "n_error", "n_aborted", "rate_pct", "wilson_low_pct",
