@@ -120,11 +120,12 @@ def rate_table(records: pd.DataFrame, by: Sequence[str], *, outcome: str = "succ
     err = records[status == "error"]
     aborted = records[(status == "ok") & flag(records, "aborted")] if "aborted" in records \
         else records.iloc[:0]
+    narrow = [c for c in dict.fromkeys([*by, outcome, cluster]) if c in ok]  # all rate_cells reads
     e_index, a_index = (_index(err, by), _index(aborted, by)) if set(by) <= set(records) else ({}, {})
     rows = [{**key, "n": len(g), "n_error": _count(err, by, key, e_index),
              "n_aborted": _count(aborted, by, key, a_index),
              **rate_cells(g, outcome, cluster, seed, n_resamples)}
-            for key, g in (groups(ok, by, order, records) if set(by) <= set(records) else ())]
+            for key, g in (groups(ok[narrow], by, order, records) if set(by) <= set(records) else ())]
     return pd.DataFrame(rows, columns=[
         *by, "n", "successes", "n_error", "n_aborted", "rate_pct", "wilson_low_pct",
         "wilson_high_pct", "bootstrap_low_pct", "bootstrap_high_pct", "n_clusters", "rate_why",
