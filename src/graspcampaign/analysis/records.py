@@ -44,8 +44,9 @@ def flag(frame: pd.DataFrame, column: str) -> pd.Series:
 def executed(records: pd.DataFrame) -> pd.DataFrame:
     """Return the executed trials (``status == "ok"``, not ``aborted``), outcomes as bool (missing:
     False); an aborted hardware attempt enters no statistic (paper Sec. 8.1)."""
-    ok = records[records["status"] == "ok"] if "status" in records else records
-    ok = ok[~flag(ok, "aborted")] if "aborted" in ok else ok
+    keep = (records["status"] == "ok").fillna(False).to_numpy(bool) if "status" in records \
+        else np.ones(len(records), bool)
+    ok = records[keep & ~flag(records, "aborted").to_numpy()] if "aborted" in records else records[keep]
     return ok.assign(**{c: flag(ok, c) for c in BOOLEAN_COLUMNS if c in ok}).reset_index(drop=True)
 
 
@@ -115,17 +116,19 @@ def rate_table(records: pd.DataFrame, by: Sequence[str], *, outcome: str = "succ
                order: Mapping[str, Sequence] | None = None) -> pd.DataFrame:
     """Return the rate [%] of ``outcome`` per group of ``by`` with Wilson and cluster intervals;
     ``cluster``: the object column whose values the bootstrap resamples (``shape``, ``object_id``)."""
-    by, ok = list(by), executed(records)
+    by = list(by)
+    records = records[[c for c in dict.fromkeys([*by, outcome, cluster, "status", "aborted"])
+                       if c in records]]  # every column read here (the rest: copies of no use)
+    ok = executed(records)
     status = records["status"] if "status" in records else pd.Series("ok", records.index)
     err = records[status == "error"]
     aborted = records[(status == "ok") & flag(records, "aborted")] if "aborted" in records \
         else records.iloc[:0]
-    narrow = [c for c in dict.fromkeys([*by, outcome, cluster]) if c in ok]  # all rate_cells reads
     e_index, a_index = (_index(err, by), _index(aborted, by)) if set(by) <= set(records) else ({}, {})
     rows = [{**key, "n": len(g), "n_error": _count(err, by, key, e_index),
              "n_aborted": _count(aborted, by, key, a_index),
              **rate_cells(g, outcome, cluster, seed, n_resamples)}
-            for key, g in (groups(ok[narrow], by, order, records) if set(by) <= set(records) else ())]
+            for key, g in (groups(ok, by, order, records) if set(by) <= set(records) else ())]
     return pd.DataFrame(rows, columns=[
         *by, "n", "successes", "n_error", "n_aborted", "rate_pct", "wilson_low_pct",
         "wilson_high_pct", "bootstrap_low_pct", "bootstrap_high_pct", "n_clusters", "rate_why",
