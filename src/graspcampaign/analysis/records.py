@@ -38,7 +38,8 @@ class Estimate:
 
 def flag(frame: pd.DataFrame, column: str) -> pd.Series:
     """Return a nullable boolean column as bool, missing values False."""
-    return frame[column].astype("boolean").fillna(False).astype(bool)
+    col = frame[column]
+    return col if col.dtype == bool else col.astype("boolean").fillna(False).astype(bool)
 
 
 def executed(records: pd.DataFrame) -> pd.DataFrame:
