@@ -76,7 +76,7 @@ def groups(frame: pd.DataFrame, by: Sequence[str], order: Mapping[str, Sequence]
              for j, c in enumerate(by)]
     index = _index(frame, by) if keys else {}
     for key in sorted(keys, key=lambda k: tuple(r[v] for r, v in zip(ranks, k, strict=True))):
-        yield dict(zip(by, key, strict=True)), _select(frame, by, key, index)
+        yield (k := dict(zip(by, key, strict=True))), _select(frame, k, index)
 
 
 def select(frame: pd.DataFrame, key: Mapping) -> pd.DataFrame:
@@ -88,27 +88,18 @@ def select(frame: pd.DataFrame, key: Mapping) -> pd.DataFrame:
 
 
 def _index(frame: pd.DataFrame, by: Sequence[str]) -> dict | None:
-    """Row positions of ``frame`` per key tuple of ``by`` from one groupby (a missing value is in
-    no group, as ``nan == nan`` is false); None if the columns cannot be grouped."""
-    if not by or not len(frame):
-        return {} if by else None
+    """Row positions per key tuple of ``by`` from one groupby (a missing value is in no group, as
+    ``nan == nan`` is false); None if the columns cannot be grouped."""
     try:
-        idx = frame.groupby(list(by), sort=False, dropna=True, observed=True).indices
+        idx = frame.groupby(list(by), sort=False, observed=True).indices if len(frame) else {}
     except (TypeError, ValueError):
         return None
     return {k if len(by) > 1 else (k,): v for k, v in idx.items()}
 
 
-def _select(frame: pd.DataFrame, by: Sequence[str], key: tuple, index: dict | None) -> pd.DataFrame:
-    """:func:`select` of ``key`` by ``index`` (:func:`_index`; None: compared row by row)."""
-    if index is None:
-        return select(frame, dict(zip(by, key, strict=True)))
-    return frame.iloc[index.get(key, [])]
-
-
-def _count(frame: pd.DataFrame, by: Sequence[str], key: dict, index: dict | None) -> int:
-    """The number of rows :func:`select` returns for ``key``, by ``index`` (:func:`_index`)."""
-    return len(select(frame, key) if index is None else index.get(tuple(key.values()), ()))
+def _select(frame: pd.DataFrame, key: dict, index: dict | None) -> pd.DataFrame:
+    """:func:`select` by ``index`` (:func:`_index`; None: compared row by row)."""
+    return select(frame, key) if index is None else frame.iloc[index.get(tuple(key.values()), [])]
 
 
 def rate_table(records: pd.DataFrame, by: Sequence[str], *, outcome: str = "success",
@@ -126,8 +117,8 @@ def rate_table(records: pd.DataFrame, by: Sequence[str], *, outcome: str = "succ
     aborted = records[(status == "ok") & flag(records, "aborted")] if "aborted" in records \
         else records.iloc[:0]
     e_index, a_index = (_index(err, by), _index(aborted, by)) if set(by) <= set(records) else ({}, {})
-    rows = [{**key, "n": len(g), "n_error": _count(err, by, key, e_index),
-             "n_aborted": _count(aborted, by, key, a_index),
+    rows = [{**key, "n": len(g), "n_error": len(_select(err, key, e_index)),
+             "n_aborted": len(_select(aborted, key, a_index)),
              **rate_cells(g, outcome, cluster, seed, n_resamples)}
             for key, g in (groups(ok, by, order, records) if set(by) <= set(records) else ())]
     return pd.DataFrame(rows, columns=[
