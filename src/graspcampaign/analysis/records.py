@@ -38,14 +38,16 @@ class Estimate:
 
 def flag(frame: pd.DataFrame, column: str) -> pd.Series:
     """Return a nullable boolean column as bool, missing values False."""
-    return frame[column].astype("boolean").fillna(False).astype(bool)
+    col = frame[column]
+    return col if col.dtype == bool else col.astype("boolean").fillna(False).astype(bool)
 
 
 def executed(records: pd.DataFrame) -> pd.DataFrame:
     """Return the executed trials (``status == "ok"``, not ``aborted``), outcomes as bool (missing:
     False); an aborted hardware attempt enters no statistic (paper Sec. 8.1)."""
-    ok = records[records["status"] == "ok"] if "status" in records else records
-    ok = ok[~flag(ok, "aborted")] if "aborted" in ok else ok
+    keep = (records["status"] == "ok").fillna(False).to_numpy(bool) if "status" in records \
+        else np.ones(len(records), bool)
+    ok = records[keep & ~flag(records, "aborted").to_numpy()] if "aborted" in records else records[keep]
     return ok.assign(**{c: flag(ok, c) for c in BOOLEAN_COLUMNS if c in ok}).reset_index(drop=True)
 
 
@@ -72,8 +74,9 @@ def groups(frame: pd.DataFrame, by: Sequence[str], order: Mapping[str, Sequence]
     keys = list(dict.fromkeys(zip(*(source[c] for c in by), strict=True))) if len(source) else []
     ranks = [{v: i for i, v in enumerate(ordered(c, [k[j] for k in keys], (order or {}).get(c, ())))}
              for j, c in enumerate(by)]
+    index = _index(frame, by) if keys else {}
     for key in sorted(keys, key=lambda k: tuple(r[v] for r, v in zip(ranks, k, strict=True))):
-        yield dict(zip(by, key, strict=True)), select(frame, dict(zip(by, key, strict=True)))
+        yield (k := dict(zip(by, key, strict=True))), _select(frame, k, index)
 
 
 def select(frame: pd.DataFrame, key: Mapping) -> pd.DataFrame:
@@ -84,19 +87,39 @@ def select(frame: pd.DataFrame, key: Mapping) -> pd.DataFrame:
     return frame[mask]
 
 
+def _index(frame: pd.DataFrame, by: Sequence[str]) -> dict | None:
+    """Row positions per key tuple of ``by`` from one groupby (a missing value is in no group, as
+    ``nan == nan`` is false); None if the columns cannot be grouped."""
+    try:
+        idx = frame.groupby(list(by), sort=False, observed=True).indices if len(frame) else {}
+    except (TypeError, ValueError):
+        return None
+    return {k if len(by) > 1 else (k,): v for k, v in idx.items()}
+
+
+def _select(frame: pd.DataFrame, key: dict, index: dict | None) -> pd.DataFrame:
+    """:func:`select` by ``index`` (:func:`_index`; None: compared row by row)."""
+    return select(frame, key) if index is None else frame.iloc[index.get(tuple(key.values()), [])]
+
+
 def rate_table(records: pd.DataFrame, by: Sequence[str], *, outcome: str = "success",
                cluster: str | None = None, seed: int = 0,
                n_resamples: int = rates.BOOTSTRAP_RESAMPLES,
                order: Mapping[str, Sequence] | None = None) -> pd.DataFrame:
     """Return the rate [%] of ``outcome`` per group of ``by`` with Wilson and cluster intervals;
     ``cluster``: the object column whose values the bootstrap resamples (``shape``, ``object_id``)."""
-    by, ok = list(by), executed(records)
+    by = list(by)
+    records = records[[c for c in dict.fromkeys([*by, outcome, cluster, "status", "aborted"])
+                       if c in records]]  # every column read here (the rest: copies of no use)
+    ok = executed(records)
     status = records["status"] if "status" in records else pd.Series("ok", records.index)
     err = records[status == "error"]
     aborted = records[(status == "ok") & flag(records, "aborted")] if "aborted" in records \
         else records.iloc[:0]
-    rows = [{**key, "n": len(g), "n_error": len(select(err, key)),
-             "n_aborted": len(select(aborted, key)), **rate_cells(g, outcome, cluster, seed, n_resamples)}
+    e_index, a_index = (_index(err, by), _index(aborted, by)) if set(by) <= set(records) else ({}, {})
+    rows = [{**key, "n": len(g), "n_error": len(_select(err, key, e_index)),
+             "n_aborted": len(_select(aborted, key, a_index)),
+             **rate_cells(g, outcome, cluster, seed, n_resamples)}
             for key, g in (groups(ok, by, order, records) if set(by) <= set(records) else ())]
     return pd.DataFrame(rows, columns=[
         *by, "n", "successes", "n_error", "n_aborted", "rate_pct", "wilson_low_pct",

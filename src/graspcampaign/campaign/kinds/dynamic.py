@@ -31,6 +31,9 @@ class DynamicParams:
     t_max_s: float = 1.0  # simulated time budget of one grasp
     grip_speed_m_per_s: float = 0.02  # finger advance rate while |R_z| >= tau_F
     settle_t_max_s: float = 2.0  # gravity_settle time budget
+    # gravity_settle, Sec. 12 energy audit: RK4 steps at the settle step (twice as many at half);
+    # 2000 is the former fixed AUDIT_STEPS (docs/decisions.md, audit length as a param)
+    audit_steps: int = field(default=2000, metadata={"ge": 1})
     # gravity_settle, factor integrator=implicit: step of the implicit midpoint rule [s]; the
     # largest tested step whose settled shape matches RK4's (docs/decisions.md, implicit settle)
     implicit_dt_s: float = 2.5e-4
@@ -68,13 +71,12 @@ def _decimate(n: int) -> np.ndarray:
 
 
 AUDIT_PERTURBATION = 1.0e-3  # [m] node jitter that starts the free elastic motion of the audit
-AUDIT_STEPS = 2000  # RK4 steps of the energy audit at the settle step (and twice as many at half)
 CONVERGENCE_STEPS = 40  # settle steps spanned by the step-size study
 CONVERGENCE_REFINEMENTS = (1, 2, 4, 8)  # the settle step divided by these
 
 
-def numerical_audit(body, msd, dt: float, rng: np.random.Generator, stepper=None,
-                    audit_steps: int = AUDIT_STEPS) -> tuple[dict, dict]:
+def numerical_audit(body, msd, dt: float, rng: np.random.Generator, audit_steps: int,
+                    stepper=None) -> tuple[dict, dict]:
     """The step-size study and the energy audit that Sec. 12 lists as missing, on the settle body.
 
     Both run without contact or floor from the rest shape jittered by ``AUDIT_PERTURBATION``
@@ -160,12 +162,13 @@ def run_settle(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
         implicit_stats = {"newton_iterations_per_step": solver.n_iterations / solver.n_steps,
                           "lu_factorizations": int(solver.n_factorizations)}
         audit_solver = ImplicitIntegrator(body, msd)
-        audit_steps = max(1, int(round(AUDIT_STEPS * 0.5 * rk4_limit / dt)))
-        audit, audit_tables = numerical_audit(body, msd, dt, rng, audit_solver.audit_stepper(),
-                                              audit_steps)
+        audit_steps = max(1, int(round(inp.params.audit_steps * 0.5 * rk4_limit / dt)))
+        audit, audit_tables = numerical_audit(body, msd, dt, rng, audit_steps,
+                                              audit_solver.audit_stepper())
     else:
         res = settle_on_floor(body, msd, floor, t_max=inp.params.settle_t_max_s)
-        audit, audit_tables = numerical_audit(body, msd, float(res.dt), rng)
+        audit, audit_tables = numerical_audit(body, msd, float(res.dt), rng,
+                                              inp.params.audit_steps)
         implicit_stats = {"newton_iterations_per_step": float("nan"), "lu_factorizations": 0}
     keep = _decimate(len(res.times))
     return {
