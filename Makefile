@@ -7,7 +7,7 @@ GC      := $(BIN)/graspcampaign
 WARM    := $(VENV)/.warm.stamp
 KERNELS := $(shell grep -l "cache=True" src/graspcampaign/core/*.py)
 
-.PHONY: help install test test-full smoke demo reproduce extensions report bench lint clean
+.PHONY: help install test test-slow test-full smoke demo reproduce extensions report bench lint clean
 
 help:  ## list the targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/' | expand -t 14
@@ -27,15 +27,20 @@ $(WARM): $(STAMP) $(KERNELS)
 	$(BIN)/python -m graspcampaign.cli.warm
 	@touch $(WARM)
 
-# -n auto: one pytest-xdist worker per core; loadscope (with the scheduler of tests/conftest.py)
-# keeps a module's tests (and its module fixtures) on one worker and builds the shared results
-# tree of the report tests (tests/report/conftest.py) once, on one worker, first
+# -n auto: one pytest-xdist worker per core. The fast suite is dealt out test by test and a worker
+# that runs dry takes half of the other's queue (worksteal; its module fixtures are cheap, and no
+# worker waits idle at the end); the slow tests keep a module's tests on one worker (loadscope, with
+# the scheduler of tests/conftest.py, which builds the report tests' shared results tree once, first)
+FAST    := -n auto --dist worksteal
 XDIST   := -n auto --dist loadscope
 
 test: install  ## fast test suite, parallel over the cores (one worker each)
-	$(BIN)/pytest -q $(XDIST)
+	$(BIN)/pytest -q $(FAST)
 
-test-full: install  ## every test, slow ones included (-m slow: only those)
+test-slow: install  ## only the slow tests (end to end over every study; CI runs them after test)
+	$(BIN)/pytest -q $(XDIST) -m slow
+
+test-full: install  ## every test, slow ones included
 	$(BIN)/pytest -q $(XDIST) -m ""
 
 smoke: install  ## run the smoke study and write its report

@@ -23,8 +23,20 @@ os.environ.pop("GRASPCAMPAIGN_PATH", None)
 SIM_ROOT_SCOPE = "sim_root"
 
 
+@pytest.hookimpl(tryfirst=True)  # before `-m "not slow"` deselects
+def pytest_collection_modifyitems(config, items):
+    """Mark ``slow`` every test on ``sim_root`` (tests/report/conftest.py: every study run
+    reduced and reported, ~50 s of one worker before its first test): these end-to-end checks
+    run in `make test-slow` (CI, after `make test`) and `make test-full`; `make test` keeps the
+    unit and per-study report checks (docs/decisions.md, "The fast suite under 90 s")."""
+    for item in items:
+        if "sim_root" in getattr(item, "fixturenames", ()):
+            item.add_marker(pytest.mark.slow)
+
+
 def pytest_xdist_make_scheduler(config, log):
-    """Schedule ``pytest -n auto --dist loadscope`` (Makefile ``test``) with one scope more.
+    """Schedule ``pytest -n auto --dist loadscope`` (Makefile ``test-slow``, ``test-full``) with one
+    scope more.
 
     As with plain ``loadscope``, a module's tests run on one worker, so its module fixtures are
     built once; in addition every module that names ``sim_root`` (the reduced results tree of

@@ -51,14 +51,20 @@ def _same(a: pd.Series, b: pd.Series) -> bool:
 
 @pytest.fixture(scope="module", params=sorted(SEEDS))
 def runs(request, study_run):
-    """One reduced study run sequentially (shared with the ingest tests) and on two loky workers."""
+    """One reduced study run sequentially (shared with the ingest tests)."""
     name = request.param
     root, seq = study_run(name, *REDUCED)
-    par = run_study(_study(name, root, "runner.backend=loky", "runner.n_jobs=2",
-                           "runner.batch_size=15", "output.run=par"))
     study = _study(name, root)
     records = RunStore(seq.path).read().to_pandas()
-    return name, root, study, seq, par, records
+    return name, root, study, seq, records
+
+
+@pytest.fixture(scope="module")
+def parallel(runs):
+    """The run of ``runs`` again on two loky workers."""
+    name, root, *_ = runs
+    return run_study(_study(name, root, "runner.backend=loky", "runner.n_jobs=2",
+                            "runner.batch_size=15", "output.run=par"))
 
 
 # ------------------------------------------------------------------------------- design
@@ -112,7 +118,7 @@ def test_params_are_validated_before_anything_runs(tmp_path):
 
 
 def test_records_equal_the_in_process_rig(runs):
-    name, _, study, seq, _, records = runs
+    name, _, study, seq, records = runs
     assert seq.n_error == 0 and seq.n_trials == len(records) > 50
     trials = {t.trial_id: t for t in study_trials(study, get_kind(name),
                                                   kind_params(study, get_kind(name)))}
@@ -143,7 +149,7 @@ def test_records_equal_the_in_process_rig(runs):
 
 
 def test_records_carry_the_sheet_row_and_label_the_source(runs):
-    name, _, study, _, _, records = runs
+    name, _, study, _, records = runs
     sheet = H.protocol_schedule(study, kind_params(study, get_kind(name)))
     got = records.set_index(H.SHEET_ID).loc[sheet["trial_id"]].reset_index()
     for col in sheet.columns.drop(["trial_id", "study"]):
@@ -155,8 +161,10 @@ def test_records_carry_the_sheet_row_and_label_the_source(runs):
     assert records.loc[~aborted, "success"].notna().all()
 
 
-def test_records_do_not_depend_on_the_worker_count(runs):
-    *_, seq, par, records = runs
+@pytest.mark.slow  # starts loky workers: `make test-slow`
+def test_records_and_tables_do_not_depend_on_the_worker_count(runs, parallel):
+    *_, seq, records = runs
+    par = parallel
     other = RunStore(par.path).read().to_pandas()
     assert par.n_error == 0 and other["worker"].nunique() == 2  # both workers ran trials
     a = records.sort_values("trial_id").reset_index(drop=True)
@@ -164,10 +172,16 @@ def test_records_do_not_depend_on_the_worker_count(runs):
     assert sorted(a.columns) == sorted(b.columns)
     for col in sorted(set(a.columns) - TIMING):
         assert _same(a[col], b[col]), col
+    table = RunStore(seq.path).read(f"tables/{H.COUNTERFACTUAL_TABLE}").to_pandas()
+    other = RunStore(par.path).read(f"tables/{H.COUNTERFACTUAL_TABLE}").to_pandas()
+    a = table.sort_values("trial_id").reset_index(drop=True)
+    b = other.sort_values("trial_id").reset_index(drop=True)
+    for col in sorted(set(a.columns) - TIMING):
+        assert _same(a[col], b[col]), col
 
 
 def test_the_counterfactual_reading_is_one_row_per_trial(runs):
-    name, root, study, seq, par, records = runs
+    name, root, study, seq, records = runs
     table = RunStore(seq.path).read(f"tables/{H.COUNTERFACTUAL_TABLE}").to_pandas()
     assert sorted(table["trial_id"]) == sorted(records["trial_id"])
     assert (table["belief_error"] == "none").all() and (records["belief_error"] == "paper").all()
@@ -184,11 +198,6 @@ def test_the_counterfactual_reading_is_one_row_per_trial(runs):
     paper = records[~records["aborted"].astype(bool)]
     base = paper[paper["planner"] != "heuristic"]
     np.testing.assert_allclose(base["mu_s_believed"], 0.646, atol=5e-4)  # Table 4 mean
-    other = RunStore(par.path).read(f"tables/{H.COUNTERFACTUAL_TABLE}").to_pandas()
-    a = table.sort_values("trial_id").reset_index(drop=True)
-    b = other.sort_values("trial_id").reset_index(drop=True)
-    for col in sorted(set(a.columns) - TIMING):
-        assert _same(a[col], b[col]), col
 
 
 def test_belief_error_param(tmp_path):

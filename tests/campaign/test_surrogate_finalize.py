@@ -67,6 +67,7 @@ def test_fits_do_not_depend_on_the_call_only_timings_do(fitted, surrogate_scenar
             pd.testing.assert_frame_equal(table, again[name])
 
 
+@pytest.mark.slow  # starts loky workers: `make test-slow`
 def test_models_fitted_in_two_processes_are_those_fitted_in_one(fitted, surrogate_scenarios,
                                                                 surrogate_finalize):
     again = surrogate_finalize(surrogate_scenarios(), n_jobs=2)

@@ -250,6 +250,7 @@ def test_a_measured_run_filled_with_virtual_exports_is_labelled_virtual(tmp_path
     assert rows.loc["Grasp validation, all", "source"] == "virtual"
 
 
+@pytest.mark.slow  # starts loky workers: `make test-slow`
 def test_reports_written_in_two_processes_are_the_files_written_one_by_one(tmp_path):
     """--jobs 2 writes each run's report in a worker: the same bytes, the same failures."""
     roots = [tmp_path / "one", tmp_path / "two"]

@@ -200,6 +200,7 @@ def test_cyclic_softening_set_and_damage_depth(reduced):
     np.testing.assert_allclose(dd["damage_depth_mm"], dd["damage_depth_mm_true"], rtol=0.2)
 
 
+@pytest.mark.slow  # starts loky workers: `make test-slow`
 def test_results_do_not_depend_on_order_or_workers(reduced):
     schedule, res = reduced
     sub = schedule.sample(60, random_state=1)
