@@ -7,6 +7,8 @@ import math
 import numpy as np
 import pandas as pd
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 from statsmodels.stats.proportion import proportion_confint
 
 from graspcampaign.analysis import records as rec
@@ -94,3 +96,20 @@ def test_at_bound_reads_booleans_or_the_comma_joined_names():
     joined = pd.DataFrame({"pso_at_bound": ["lambda1,n", "", None, "lambda2"]})
     assert rec.at_bound(joined, "lambda1").tolist() == [True, False, False, False]
     assert rec.at_bound(joined, "n").tolist() == [True, False, False, False]
+
+
+@given(st.lists(st.tuples(st.sampled_from(["a", "b", None]), st.sampled_from([0.1, 0.3, math.nan]),
+                          st.integers(0, 2)), max_size=40),
+       st.sampled_from([["planner"], ["mu"], ["planner", "mu"], ["mu", "seed"]]))
+def test_groups_partition_the_rows_with_a_complete_key(rows, by):
+    """Each group holds exactly the rows whose key columns equal its key, in record order; a row
+    with a missing key value is in no group (as NaN equals nothing); no key repeats."""
+    frame = pd.DataFrame(rows, columns=["planner", "mu", "seed"]).assign(row=lambda f: range(len(f)))
+    seen, keys = [], []
+    for key, g in rec.groups(frame, by):
+        assert all(g[c].eq(v).all() for c, v in key.items())
+        assert g["row"].is_monotonic_increasing
+        seen += g["row"].tolist()
+        keys.append(tuple(key.values()))
+    complete = frame[by].notna().all(axis=1)
+    assert sorted(seen) == frame.loc[complete, "row"].tolist() and len(set(keys)) == len(keys)
