@@ -136,3 +136,14 @@ def test_h_epsilon_correlation_per_trial_and_pooled():
     # no relation: every interval contains zero
     unrelated = h_epsilon_correlation(*_trials(relation=0.0, seed=3), n_resamples=400)
     assert ((unrelated["low"] < 0) & (unrelated["high"] > 0)).all()
+
+
+def test_weighted_spearman_of_a_constant_sample_is_nan_without_a_warning():
+    """As scipy's spearmanr (NaN for constant input), but no RuntimeWarning in a report run."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert np.isnan(weighted_spearman([1.0, 1.0, 1.0], [0.0, 1.0, 2.0], [1.0, 2.0, 1.0]))
+    with pytest.warns(stats.ConstantInputWarning):
+        assert np.isnan(stats.spearmanr([1.0, 1.0, 1.0, 1.0], [0.0, 1.0, 1.0, 2.0]).statistic)

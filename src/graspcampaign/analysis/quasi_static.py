@@ -107,7 +107,8 @@ def _ranker(x: np.ndarray):
 def _rho(rank_x, rank_y, w: np.ndarray) -> float:
     rx, ry = rank_x(w), rank_y(w)
     dx, dy = rx - np.average(rx, weights=w), ry - np.average(ry, weights=w)
-    return float(np.sum(w * dx * dy) / np.sqrt(np.sum(w * dx * dx) * np.sum(w * dy * dy)))
+    with np.errstate(invalid="ignore", divide="ignore"):  # a constant sample: rho is NaN, no warning
+        return float(np.sum(w * dx * dy) / np.sqrt(np.sum(w * dx * dx) * np.sum(w * dy * dy)))
 
 
 def weighted_spearman(x, y, w) -> float:
