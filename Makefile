@@ -6,6 +6,9 @@ STAMP   := $(VENV)/.install.stamp
 GC      := $(BIN)/graspcampaign
 WARM    := $(VENV)/.warm.stamp
 KERNELS := $(shell grep -l "cache=True" src/graspcampaign/core/*.py)
+# Python's default, even where the environment turns it off: modules compiled once into
+# __pycache__ (git-ignored), so the test workers and each command do not compile every module again
+unexport PYTHONDONTWRITEBYTECODE
 
 .PHONY: help install test test-slow test-full smoke demo reproduce extensions report bench lint clean
 
