@@ -12,6 +12,7 @@ import pandas as pd
 from scipy import stats
 
 from graspcampaign.analysis import records as rec
+from graspcampaign.analysis.rank_kernel import sorted_pairs, weighted_rho
 from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
 from graspcampaign.core.statics import GRAVITY
 
@@ -91,30 +92,12 @@ def epsilon_table(records: pd.DataFrame, order: dict | None = None) -> pd.DataFr
     return out.join(eps.add_prefix("epsilon_"), on="planner")
 
 
-def _ranker(x: np.ndarray):
-    """Return ``ranks(w)``: the average ranks of ``x`` in the sample repeating x_i w_i times."""
-    order = np.argsort(x, kind="stable")
-    tie = np.r_[0, np.cumsum(np.diff(x[order]) != 0)]
-
-    def ranks(w: np.ndarray) -> np.ndarray:
-        group = np.bincount(tie, weights=w[order])
-        out = np.empty(len(x))
-        out[order] = (np.cumsum(group) - group + (group + 1) / 2)[tie]
-        return out
-    return ranks
-
-
-def _rho(rank_x, rank_y, w: np.ndarray) -> float:
-    rx, ry = rank_x(w), rank_y(w)
-    dx, dy = rx - np.average(rx, weights=w), ry - np.average(ry, weights=w)
-    with np.errstate(invalid="ignore", divide="ignore"):  # a constant sample: rho is NaN, no warning
-        return float(np.sum(w * dx * dy) / np.sqrt(np.sum(w * dx * dx) * np.sum(w * dy * dy)))
-
-
 def weighted_spearman(x, y, w) -> float:
-    """Return Spearman's rho of the sample in which the pair (x_i, y_i) occurs ``w_i`` times."""
-    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
-    return _rho(_ranker(x), _ranker(y), np.asarray(w, dtype=float))
+    """Return Spearman's rho of the sample in which the pair (x_i, y_i) occurs ``w_i`` times
+    (NaN for a constant sample; :func:`graspcampaign.analysis.rank_kernel.weighted_rho`)."""
+    w = np.asarray(w, dtype=float)
+    return float(weighted_rho(*sorted_pairs(x, y, w, np.zeros(len(w), dtype=np.int64)),
+                              np.ones((1, 1)))[0])
 
 
 def h_epsilon_correlation(records: pd.DataFrame, candidates: pd.DataFrame, *, confidence: float = 0.95,
@@ -138,9 +121,13 @@ def h_epsilon_correlation(records: pd.DataFrame, candidates: pd.DataFrame, *, co
     pooled = candidates[candidates["trial_id"].isin(rows["trial_id"])]
     trial = pooled["trial_id"].astype("category").cat.codes.to_numpy()
     if (k := len(np.unique(trial))) >= 2:
-        rx, ry = (_ranker(pooled[c].to_numpy(float)) for c in ("h_total", "epsilon_fc"))
-        draws = [_rho(rx, ry, 1.0 * np.bincount(rng.integers(0, k, k), minlength=k)[trial])
-                 for _ in range(min(n_resamples, 2000))]
-        low, high = np.nanquantile(draws, [alpha, 1 - alpha])
-        out.append(("pooled", _rho(rx, ry, np.ones(len(trial))), low, high, k, len(trial)))
+        ranks = sorted_pairs(pooled["h_total"].to_numpy(float),
+                             pooled["epsilon_fc"].to_numpy(float), np.ones(len(trial)), trial)
+        draws, n_boot = [], min(n_resamples, 2000)
+        for start in range(0, n_boot, 64):  # each resample's trial counts, drawn in turn, 64 a call
+            draws.append(weighted_rho(*ranks, np.array(
+                [np.bincount(rng.integers(0, k, k), minlength=k)
+                 for _ in range(min(64, n_boot - start))], dtype=float)))
+        low, high = np.nanquantile(np.concatenate(draws), [alpha, 1 - alpha])
+        out.append(("pooled", float(weighted_rho(*ranks, np.ones((1, k)))[0]), low, high, k, len(trial)))
     return pd.DataFrame(out, columns=["reading", "rho", "low", "high", "n_trials", "n_pairs"])

@@ -1,0 +1,136 @@
+"""Tests for analysis.rank_kernel (the compiled weighted Spearman rho of the pooled bootstrap).
+
+References: ``scipy.stats.spearmanr`` on the explicitly repeated sample, and the numpy
+implementation the kernel replaced (copied below from commit 39c048a,
+src/graspcampaign/analysis/quasi_static.py, ``_ranker`` / ``_rho`` / ``h_epsilon_correlation``),
+kept here only as the reference the kernel's values must reproduce.
+"""
+
+import numpy as np
+import pandas as pd
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy import stats
+
+from graspcampaign.analysis.quasi_static import h_epsilon_correlation, paper_law
+from graspcampaign.analysis.rank_kernel import sorted_pairs, tie_groups, weighted_rho
+
+
+def _ranker(x):  # numpy reference (39c048a)
+    order = np.argsort(x, kind="stable")
+    tie = np.r_[0, np.cumsum(np.diff(x[order]) != 0)]
+
+    def ranks(w):
+        group = np.bincount(tie, weights=w[order])
+        out = np.empty(len(x))
+        out[order] = (np.cumsum(group) - group + (group + 1) / 2)[tie]
+        return out
+    return ranks
+
+
+def _rho(rank_x, rank_y, w):  # numpy reference (39c048a)
+    rx, ry = rank_x(w), rank_y(w)
+    dx, dy = rx - np.average(rx, weights=w), ry - np.average(ry, weights=w)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return float(np.sum(w * dx * dy) / np.sqrt(np.sum(w * dx * dx) * np.sum(w * dy * dy)))
+
+
+def _h_epsilon_numpy(records, candidates, confidence=0.95, n_resamples=10_000, seed=0):
+    """h_epsilon_correlation as of 39c048a (the numpy pooled bootstrap)."""
+    rng, alpha = np.random.default_rng(seed), (1 - confidence) / 2
+    rows = paper_law(records).query("planner == 'ferrari_canny'")
+    out = []
+    for reading, column in (("median per trial", "spearman_h_epsilon"),
+                            ("median per trial, force closure", "spearman_h_epsilon_fc")):
+        v = rows[column].dropna().to_numpy(float)
+        if len(v) >= 2:
+            ci = stats.bootstrap((v,), np.median, confidence_level=confidence, method="percentile",
+                                 n_resamples=n_resamples, random_state=rng).confidence_interval
+            out.append((reading, float(np.median(v)), ci.low, ci.high, len(v), np.nan))
+    pooled = candidates[candidates["trial_id"].isin(rows["trial_id"])]
+    trial = pooled["trial_id"].astype("category").cat.codes.to_numpy()
+    if (k := len(np.unique(trial))) >= 2:
+        rx, ry = (_ranker(pooled[c].to_numpy(float)) for c in ("h_total", "epsilon_fc"))
+        draws = [_rho(rx, ry, 1.0 * np.bincount(rng.integers(0, k, k), minlength=k)[trial])
+                 for _ in range(min(n_resamples, 2000))]
+        low, high = np.nanquantile(draws, [alpha, 1 - alpha])
+        out.append(("pooled", _rho(rx, ry, np.ones(len(trial))), low, high, k, len(trial)))
+    return pd.DataFrame(out, columns=["reading", "rho", "low", "high", "n_trials", "n_pairs"])
+
+
+def _kernel(x, y, cluster, counts):
+    return weighted_rho(*sorted_pairs(x, y, np.ones(len(x)), cluster),
+                        np.atleast_2d(counts).astype(float))
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.lists(st.tuples(st.integers(0, 4), st.integers(0, 6), st.integers(0, 4)), min_size=3,
+                max_size=40),
+       st.lists(st.lists(st.integers(0, 3), min_size=5, max_size=5), min_size=1, max_size=4))
+def test_kernel_rho_is_the_numpy_rho_and_spearman_of_the_repeated_sample(rows, counts):
+    """Pairs (x, y) in five clusters; each row of ``counts`` says how often each cluster occurs."""
+    x, y, cluster = (np.array(c) for c in zip(*rows, strict=True))
+    x, y = x.astype(float), y.astype(float)
+    counts = np.array(counts, dtype=float)
+    got = _kernel(x, y, cluster, counts)
+    assert got.shape == (len(counts),)
+    for rho, c in zip(got, counts, strict=True):
+        w = c[cluster]
+        xs, ys = np.repeat(x, w.astype(int)), np.repeat(y, w.astype(int))
+        if len(xs) < 2 or np.ptp(xs) == 0 or np.ptp(ys) == 0:
+            assert np.isnan(rho)  # a constant (or empty) sample has no rank correlation
+            continue
+        assert rho == pytest.approx(_rho(_ranker(x), _ranker(y), w), abs=1e-12)
+        assert rho == pytest.approx(stats.spearmanr(xs, ys).statistic, abs=1e-12)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.floats(-1e3, 1e3, allow_nan=False), min_size=0, max_size=30))
+def test_tie_groups_order_the_values_and_share_a_group_exactly_when_equal(values):
+    x = np.array(values, dtype=float)
+    group, n = tie_groups(x)
+    assert n == len(np.unique(x))
+    # the dense rank of x: the index of each value among the sorted distinct values
+    assert group.tolist() == np.searchsorted(np.unique(x), x).tolist()
+
+
+def test_kernel_without_ties_at_scale_matches_scipy():
+    rng = np.random.default_rng(4)
+    x, y = rng.normal(size=5000), rng.normal(size=5000)
+    y += 0.3 * x
+    cluster = rng.integers(0, 50, 5000)
+    counts = np.bincount(rng.integers(0, 50, 50), minlength=50)
+    w = counts[cluster]
+    expected = stats.spearmanr(np.repeat(x, w), np.repeat(y, w)).statistic
+    assert _kernel(x, y, cluster, counts)[0] == pytest.approx(expected, abs=1e-12)
+
+
+def _synthetic(n_trials=60, n_candidates=40, seed=2):
+    """Ferrari-Canny trials with candidates; epsilon has ties (0 outside force closure, rounded)."""
+    rng = np.random.default_rng(seed)
+    rows, tables = [], []
+    for t in range(n_trials):
+        h = np.round(rng.uniform(0, 1, n_candidates), 2)
+        eps = np.round(np.maximum(0.0, 0.5 - h + 0.2 * rng.normal(size=n_candidates)), 2)
+        fc = eps > 0
+        rows.append({"trial_id": f"fc{t}", "status": "ok", "planner": "ferrari_canny",
+                     "grip_law": "paper", "spearman_h_epsilon": stats.spearmanr(h, eps).statistic,
+                     "spearman_h_epsilon_fc": stats.spearmanr(h[fc], eps[fc]).statistic})
+        tables.append(pd.DataFrame({"trial_id": f"fc{t}", "h_total": h, "epsilon_fc": eps}))
+    rows.append({"trial_id": "r0", "status": "ok", "planner": "random", "grip_law": "paper",
+                 "spearman_h_epsilon": np.nan, "spearman_h_epsilon_fc": np.nan})
+    tables.append(pd.DataFrame({"trial_id": "r0", "h_total": [0.1, 0.2], "epsilon_fc": [0.3, 0.0]}))
+    return pd.DataFrame(rows), pd.concat(tables, ignore_index=True)
+
+
+@pytest.mark.parametrize("n_resamples", [300, 2500])
+def test_h_epsilon_correlation_equals_the_numpy_implementation(n_resamples):
+    """Same draws, same values: the interval ends to 1e-12 (2500 > the 2000-resample cap)."""
+    records, candidates = _synthetic()
+    got = h_epsilon_correlation(records, candidates, n_resamples=n_resamples, seed=7)
+    expected = _h_epsilon_numpy(records, candidates, n_resamples=n_resamples, seed=7)
+    assert got["reading"].tolist() == expected["reading"].tolist()
+    assert got[["n_trials", "n_pairs"]].equals(expected[["n_trials", "n_pairs"]])
+    np.testing.assert_allclose(got[["rho", "low", "high"]].to_numpy(float),
+                               expected[["rho", "low", "high"]].to_numpy(float), rtol=0, atol=1e-12)
