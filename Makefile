@@ -5,7 +5,7 @@ BIN     := $(VENV)/bin
 STAMP   := $(VENV)/.install.stamp
 GC      := $(BIN)/graspcampaign
 WARM    := $(VENV)/.warm.stamp
-KERNELS := $(shell grep -l "cache=True" src/graspcampaign/core/*.py)
+KERNELS := $(shell grep -l "cache=True" src/graspcampaign/core/*.py src/graspcampaign/analysis/*.py)
 # Python's default, even where the environment turns it off: modules compiled once into
 # __pycache__ (git-ignored), so the test workers and each command do not compile every module again
 unexport PYTHONDONTWRITEBYTECODE

@@ -124,10 +124,25 @@ def _synthetic(n_trials=60, n_candidates=40, seed=2):
     return pd.DataFrame(rows), pd.concat(tables, ignore_index=True)
 
 
-@pytest.mark.parametrize("n_resamples", [300, 2500])
-def test_h_epsilon_correlation_equals_the_numpy_implementation(n_resamples):
-    """Same draws, same values: the interval ends to 1e-12 (2500 > the 2000-resample cap)."""
-    records, candidates = _synthetic()
+def _many(n_trials: int, seed: int = 3):
+    """Many two-candidate trials whose per-trial rho is drawn directly (only its median is
+    bootstrapped), enough of them that scipy's median bootstrap runs in batches."""
+    rng = np.random.default_rng(seed)
+    ids = [f"fc{t}" for t in range(n_trials)]
+    records = pd.DataFrame({"trial_id": ids, "status": "ok", "planner": "ferrari_canny",
+                            "grip_law": "paper", "spearman_h_epsilon": rng.uniform(-1, 1, n_trials),
+                            "spearman_h_epsilon_fc": rng.uniform(-1, 1, n_trials)})
+    candidates = pd.DataFrame({"trial_id": np.repeat(ids, 2),
+                               "h_total": np.round(rng.uniform(0, 1, 2 * n_trials), 2),
+                               "epsilon_fc": np.round(rng.uniform(0, 1, 2 * n_trials), 2)})
+    return records, candidates
+
+
+@pytest.mark.parametrize(("n_resamples", "n_trials"), [(300, 60), (2500, 60), (2500, 2000)])
+def test_h_epsilon_correlation_equals_the_numpy_implementation(n_resamples, n_trials):
+    """Same draws, same values: the interval ends to 1e-12 (2500 > the 2000-resample cap; at 2000
+    trials scipy's median bootstrap runs in batches, the reference in one call)."""
+    records, candidates = _synthetic(n_trials=n_trials) if n_trials < 100 else _many(n_trials)
     got = h_epsilon_correlation(records, candidates, n_resamples=n_resamples, seed=7)
     expected = _h_epsilon_numpy(records, candidates, n_resamples=n_resamples, seed=7)
     assert got["reading"].tolist() == expected["reading"].tolist()

@@ -115,8 +115,11 @@ def h_epsilon_correlation(records: pd.DataFrame, candidates: pd.DataFrame, *, co
                             ("median per trial, force closure", "spearman_h_epsilon_fc")):
         v = rows[column].dropna().to_numpy(float)
         if len(v) >= 2:
+            # resamples in batches of ~4·10^6 values (32 MB): the same draws as one call, which at
+            # 2·10^4 trials allocates ~3 GB and runs 3x slower
             ci = stats.bootstrap((v,), np.median, confidence_level=confidence, method="percentile",
-                                 n_resamples=n_resamples, random_state=rng).confidence_interval
+                                 n_resamples=n_resamples, random_state=rng,
+                                 batch=max(1, 2**22 // len(v))).confidence_interval
             out.append((reading, float(np.median(v)), ci.low, ci.high, len(v), np.nan))
     pooled = candidates[candidates["trial_id"].isin(rows["trial_id"])]
     trial = pooled["trial_id"].astype("category").cat.codes.to_numpy()
