@@ -1,10 +1,12 @@
 """Tests for analysis.rank_kernel (the compiled weighted Spearman rho of the pooled bootstrap).
 
-References: ``scipy.stats.spearmanr`` on the explicitly repeated sample, and the numpy
-implementation the kernel replaced (copied below from commit 39c048a,
-src/graspcampaign/analysis/quasi_static.py, ``_ranker`` / ``_rho`` / ``h_epsilon_correlation``),
-kept here only as the reference the kernel's values must reproduce.
+Reference: ``scipy.stats.spearmanr`` on the explicitly repeated sample (the pair of a cluster
+drawn c times occurs c times), for single rho values and inside the trial-cluster bootstrap of
+``h_epsilon_correlation`` (its draws taken as the function takes them, and scipy's median
+bootstrap in one call where the function runs it in batches).
 """
+
+import warnings
 
 import numpy as np
 import pandas as pd
@@ -17,27 +19,18 @@ from graspcampaign.analysis.quasi_static import h_epsilon_correlation, paper_law
 from graspcampaign.analysis.rank_kernel import sorted_pairs, tie_groups, weighted_rho
 
 
-def _ranker(x):  # numpy reference (39c048a)
-    order = np.argsort(x, kind="stable")
-    tie = np.r_[0, np.cumsum(np.diff(x[order]) != 0)]
-
-    def ranks(w):
-        group = np.bincount(tie, weights=w[order])
-        out = np.empty(len(x))
-        out[order] = (np.cumsum(group) - group + (group + 1) / 2)[tie]
-        return out
-    return ranks
+def _spearman_repeated(x, y, w):
+    """scipy's Spearman rho of the sample in which (x_i, y_i) occurs w_i times (NaN if constant)."""
+    xs, ys = np.repeat(x, w.astype(int)), np.repeat(y, w.astype(int))
+    if len(xs) < 2:
+        return np.nan
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", stats.ConstantInputWarning)
+        return float(stats.spearmanr(xs, ys).statistic)
 
 
-def _rho(rank_x, rank_y, w):  # numpy reference (39c048a)
-    rx, ry = rank_x(w), rank_y(w)
-    dx, dy = rx - np.average(rx, weights=w), ry - np.average(ry, weights=w)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        return float(np.sum(w * dx * dy) / np.sqrt(np.sum(w * dx * dx) * np.sum(w * dy * dy)))
-
-
-def _h_epsilon_numpy(records, candidates, confidence=0.95, n_resamples=10_000, seed=0):
-    """h_epsilon_correlation as of 39c048a (the numpy pooled bootstrap)."""
+def _h_epsilon_reference(records, candidates, confidence=0.95, n_resamples=10_000, seed=0):
+    """h_epsilon_correlation with scipy's spearmanr for each resample's rho."""
     rng, alpha = np.random.default_rng(seed), (1 - confidence) / 2
     rows = paper_law(records).query("planner == 'ferrari_canny'")
     out = []
@@ -51,11 +44,11 @@ def _h_epsilon_numpy(records, candidates, confidence=0.95, n_resamples=10_000, s
     pooled = candidates[candidates["trial_id"].isin(rows["trial_id"])]
     trial = pooled["trial_id"].astype("category").cat.codes.to_numpy()
     if (k := len(np.unique(trial))) >= 2:
-        rx, ry = (_ranker(pooled[c].to_numpy(float)) for c in ("h_total", "epsilon_fc"))
-        draws = [_rho(rx, ry, 1.0 * np.bincount(rng.integers(0, k, k), minlength=k)[trial])
+        x, y = (pooled[c].to_numpy(float) for c in ("h_total", "epsilon_fc"))
+        draws = [_spearman_repeated(x, y, np.bincount(rng.integers(0, k, k), minlength=k)[trial])
                  for _ in range(min(n_resamples, 2000))]
         low, high = np.nanquantile(draws, [alpha, 1 - alpha])
-        out.append(("pooled", _rho(rx, ry, np.ones(len(trial))), low, high, k, len(trial)))
+        out.append(("pooled", _spearman_repeated(x, y, np.ones(len(trial))), low, high, k, len(trial)))
     return pd.DataFrame(out, columns=["reading", "rho", "low", "high", "n_trials", "n_pairs"])
 
 
@@ -68,7 +61,7 @@ def _kernel(x, y, cluster, counts):
 @given(st.lists(st.tuples(st.integers(0, 4), st.integers(0, 6), st.integers(0, 4)), min_size=3,
                 max_size=40),
        st.lists(st.lists(st.integers(0, 3), min_size=5, max_size=5), min_size=1, max_size=4))
-def test_kernel_rho_is_the_numpy_rho_and_spearman_of_the_repeated_sample(rows, counts):
+def test_kernel_rho_is_spearman_of_the_repeated_sample(rows, counts):
     """Pairs (x, y) in five clusters; each row of ``counts`` says how often each cluster occurs."""
     x, y, cluster = (np.array(c) for c in zip(*rows, strict=True))
     x, y = x.astype(float), y.astype(float)
@@ -81,7 +74,6 @@ def test_kernel_rho_is_the_numpy_rho_and_spearman_of_the_repeated_sample(rows, c
         if len(xs) < 2 or np.ptp(xs) == 0 or np.ptp(ys) == 0:
             assert np.isnan(rho)  # a constant (or empty) sample has no rank correlation
             continue
-        assert rho == pytest.approx(_rho(_ranker(x), _ranker(y), w), abs=1e-12)
         assert rho == pytest.approx(stats.spearmanr(xs, ys).statistic, abs=1e-12)
 
 
@@ -139,12 +131,12 @@ def _many(n_trials: int, seed: int = 3):
 
 
 @pytest.mark.parametrize(("n_resamples", "n_trials"), [(300, 60), (2500, 60), (2500, 2000)])
-def test_h_epsilon_correlation_equals_the_numpy_implementation(n_resamples, n_trials):
+def test_h_epsilon_correlation_is_the_bootstrap_of_scipys_spearman(n_resamples, n_trials):
     """Same draws, same values: the interval ends to 1e-12 (2500 > the 2000-resample cap; at 2000
     trials scipy's median bootstrap runs in batches, the reference in one call)."""
     records, candidates = _synthetic(n_trials=n_trials) if n_trials < 100 else _many(n_trials)
     got = h_epsilon_correlation(records, candidates, n_resamples=n_resamples, seed=7)
-    expected = _h_epsilon_numpy(records, candidates, n_resamples=n_resamples, seed=7)
+    expected = _h_epsilon_reference(records, candidates, n_resamples=n_resamples, seed=7)
     assert got["reading"].tolist() == expected["reading"].tolist()
     assert got[["n_trials", "n_pairs"]].equals(expected[["n_trials", "n_pairs"]])
     np.testing.assert_allclose(got[["rho", "low", "high"]].to_numpy(float),
