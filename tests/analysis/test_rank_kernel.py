@@ -1,12 +1,10 @@
 """Tests for analysis.rank_kernel (the compiled weighted Spearman rho of the pooled bootstrap).
 
 Reference: ``scipy.stats.spearmanr`` on the explicitly repeated sample (the pair of a cluster
-drawn c times occurs c times), for single rho values and inside the trial-cluster bootstrap of
-``h_epsilon_correlation`` (its draws taken as the function takes them, and scipy's median
-bootstrap in one call where the function runs it in batches).
+drawn c times occurs c times) for the kernel's rho. ``h_epsilon_correlation`` is held to the plain
+form of its bootstraps: one resample at a time (it passes the kernel 64 at once) and scipy's
+median bootstrap in one call (it runs it in batches), the same generator draws in the same order.
 """
-
-import warnings
 
 import numpy as np
 import pandas as pd
@@ -15,22 +13,12 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import stats
 
-from graspcampaign.analysis.quasi_static import h_epsilon_correlation, paper_law
+from graspcampaign.analysis.quasi_static import h_epsilon_correlation, paper_law, weighted_spearman
 from graspcampaign.analysis.rank_kernel import sorted_pairs, tie_groups, weighted_rho
 
 
-def _spearman_repeated(x, y, w):
-    """scipy's Spearman rho of the sample in which (x_i, y_i) occurs w_i times (NaN if constant)."""
-    xs, ys = np.repeat(x, w.astype(int)), np.repeat(y, w.astype(int))
-    if len(xs) < 2:
-        return np.nan
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", stats.ConstantInputWarning)
-        return float(stats.spearmanr(xs, ys).statistic)
-
-
 def _h_epsilon_reference(records, candidates, confidence=0.95, n_resamples=10_000, seed=0):
-    """h_epsilon_correlation with scipy's spearmanr for each resample's rho."""
+    """h_epsilon_correlation in its plain form: one resample's rho at a time, one median call."""
     rng, alpha = np.random.default_rng(seed), (1 - confidence) / 2
     rows = paper_law(records).query("planner == 'ferrari_canny'")
     out = []
@@ -45,10 +33,10 @@ def _h_epsilon_reference(records, candidates, confidence=0.95, n_resamples=10_00
     trial = pooled["trial_id"].astype("category").cat.codes.to_numpy()
     if (k := len(np.unique(trial))) >= 2:
         x, y = (pooled[c].to_numpy(float) for c in ("h_total", "epsilon_fc"))
-        draws = [_spearman_repeated(x, y, np.bincount(rng.integers(0, k, k), minlength=k)[trial])
+        draws = [weighted_spearman(x, y, np.bincount(rng.integers(0, k, k), minlength=k)[trial])
                  for _ in range(min(n_resamples, 2000))]
         low, high = np.nanquantile(draws, [alpha, 1 - alpha])
-        out.append(("pooled", _spearman_repeated(x, y, np.ones(len(trial))), low, high, k, len(trial)))
+        out.append(("pooled", weighted_spearman(x, y, np.ones(len(trial))), low, high, k, len(trial)))
     return pd.DataFrame(out, columns=["reading", "rho", "low", "high", "n_trials", "n_pairs"])
 
 
@@ -131,7 +119,7 @@ def _many(n_trials: int, seed: int = 3):
 
 
 @pytest.mark.parametrize(("n_resamples", "n_trials"), [(300, 60), (2500, 60), (2500, 2000)])
-def test_h_epsilon_correlation_is_the_bootstrap_of_scipys_spearman(n_resamples, n_trials):
+def test_h_epsilon_correlation_is_its_plain_bootstrap(n_resamples, n_trials):
     """Same draws, same values: the interval ends to 1e-12 (2500 > the 2000-resample cap; at 2000
     trials scipy's median bootstrap runs in batches, the reference in one call)."""
     records, candidates = _synthetic(n_trials=n_trials) if n_trials < 100 else _many(n_trials)
