@@ -110,6 +110,8 @@ def numerical_audit(body, msd, dt: float, rng: np.random.Generator, audit_steps:
         "energy_balance_rel_error": float(audits["dt"].max_relative_error),
         "energy_balance_rel_error_half_dt": float(audits["dt/2"].max_relative_error),
         "energy_increases": int(audits["dt"].n_increases + audits["dt/2"].n_increases),
+        "energy_audit_steps": int(audit_steps),  # at dt; twice as many at dt / 2
+        "energy_audit_span_s": float(audit_steps * dt),
     }
     energy: dict[str, list] = {k: [] for k in (
         "step", "time_s", "kinetic_energy_j", "elastic_energy_j", "gravitational_energy_j",
