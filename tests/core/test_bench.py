@@ -365,7 +365,8 @@ def test_fits_reject_an_unknown_backend():
 @pytest.mark.parametrize("family", list(FAMILIES))
 @pytest.mark.parametrize("toe, adhesion, k_scale", [(None, True, 1.0), (0.0, True, 0.8),
                                                      (None, False, 1.0)])
-def test_contact_force_kernel_is_the_numpy_model_bit_for_bit(family, toe, adhesion, k_scale):
+def test_contact_force_kernel_is_the_numpy_model_bit_for_bit(same_floats, family, toe, adhesion,
+                                                              k_scale):
     spec = _spec(family)
     if toe is not None:
         spec = replace(spec, toe=toe)
@@ -378,7 +379,7 @@ def test_contact_force_kernel_is_the_numpy_model_bit_for_bit(family, toe, adhesi
         got = bench._contact_force(depths, v, 1.0 / daq, spec, k_scale, adhesion)
         want = bench._contact_force(depths, v, 1.0 / daq, spec, k_scale, adhesion,
                                     backend="numpy")
-        np.testing.assert_array_equal(got, want)
+        same_floats(got, want)
 
 
 def test_trapezoid_duration_is_the_moves_duration_and_the_closed_form():

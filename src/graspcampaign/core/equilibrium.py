@@ -210,7 +210,7 @@ def algorithm2_numpy(batch: CandidateBatch, params: EvaluatorParams, monitors: l
     """Algorithm 2 lines 3-7 in numpy: ``(depths (b, 3) [m], last_change (b,))``.
 
     The reference of the compiled loop (:func:`graspcampaign.core.equilibrium_loop.algorithm2_depths`,
-    the same numbers bit for bit) and the traced path: with ``monitors`` a list, the depths and
+    the same numbers bit for bit where numpy rounds as libm) and the traced path: with ``monitors`` a list, the depths and
     resolved wrench of every iteration are appended to it and all N_max iterations run.
     """
     n_batch = batch.weight.shape[0]

@@ -6,7 +6,8 @@ converged identification (§11) and once per plan in every quasi-static study. T
 same for every candidate and candidates never interact, so this kernel runs each candidate's
 loop on its own, with the numpy version's operations in the same order (sums over the three
 contacts left to right, as ``numpy.sum`` does): depths and iteration counts are the same bit for
-bit (tests hold it to the numpy loop, which stays the reference and the traced path).
+bit wherever numpy's ``power`` rounds as libm's (tests hold it to the numpy loop, which stays the
+reference and the traced path; docs/decisions.md says what holds on AVX-512 machines).
 
 Shape letters: ``b`` candidates, ``c = 3`` contacts.
 
