@@ -210,8 +210,9 @@ def algorithm2_numpy(batch: CandidateBatch, params: EvaluatorParams, monitors: l
     """Algorithm 2 lines 3-7 in numpy: ``(depths (b, 3) [m], last_change (b,))``.
 
     The reference of the compiled loop (:func:`graspcampaign.core.equilibrium_loop.algorithm2_depths`,
-    the same numbers bit for bit where numpy rounds as libm) and the traced path: with ``monitors`` a list, the depths and
-    resolved wrench of every iteration are appended to it and all N_max iterations run.
+    the same numbers bit for bit where numpy rounds as libm) and the traced path: with ``monitors``
+    a list, the depths and resolved wrench of every iteration are appended to it and all N_max
+    iterations run.
     """
     n_batch = batch.weight.shape[0]
     loop = _Loop(batch, params.alpha, params.eps)
