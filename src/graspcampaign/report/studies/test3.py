@@ -155,7 +155,7 @@ def survival(run: Run, ax) -> None:
         ax.plot([3.0, s.half_at_n, 5.0], [s.above_3n_pct, 50, s.above_5n_pct], "D", color=style.PAPER,
                 label="paper")
         ax.plot([s.centroid_failed_by_n], [0], "s", mfc="none", color=style.PAPER,
-                label="paper: centroid failed by")
+                label=f"paper: centroid grasp already failed by {s.centroid_failed_by_n:g} N")
     ax.set(xlabel="lateral pull level [N]", ylabel="natural-friction pulls holding [%]",
            title="(b) survival of the lateral threshold")
     ax.legend(loc="upper right")
