@@ -8,7 +8,7 @@ import pyarrow.dataset as ds
 import pytest
 from damage import corrupt_value_column
 
-from graspcampaign.campaign.records import RunStore
+from graspcampaign.campaign.records import RunStore, table_from_rows
 from graspcampaign.campaign.runner import run_study
 from graspcampaign.errors import DamagedRunError
 
@@ -163,3 +163,17 @@ def test_a_rewrite_interrupted_before_the_old_file_goes_counts_no_row_twice(tmp_
     assert sorted(store.recorded_ids()) == ["a1", "b1", "b2"]
     store.clean()
     assert not compact.exists() and sorted(store.recorded_ids()) == ["a1", "b1", "b2"]
+
+
+@pytest.mark.parametrize("first", [float("nan"), True])
+def test_a_flag_missing_on_some_rows_is_a_nullable_bool_whatever_comes_first(first):
+    """Test 1's ``slipped_measured`` is measured on oblique events only; pandas hands the other
+    rows a NaN. Stored, it is a bool column with nulls there (pyarrow refused NaN after a bool,
+    and typed the column double when the NaN came first)."""
+    other = True if first is not True else float("nan")
+    table = table_from_rows([{"trial_id": "a", "slipped_measured": first},
+                             {"trial_id": "b", "slipped_measured": False},
+                             {"trial_id": "c", "slipped_measured": other, "x_mm": float("nan")}])
+    assert str(table.schema.field("slipped_measured").type) == "bool"
+    assert table.column("slipped_measured").null_count == 1
+    assert str(table.schema.field("x_mm").type) == "double"  # a NaN measurement stays a number
