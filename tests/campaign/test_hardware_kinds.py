@@ -312,6 +312,24 @@ def test_a_late_second_executed_attempt_of_a_stored_slot_is_refused(t2_export, t
     assert _ingest(root, tmp_path / "late.csv", run="late").exit_code == 0
 
 
+def test_records_of_another_source_are_refused_in_a_run(t2_export, tmp_path):
+    """The run holds virtual-rig exports (day1.csv): a rig's own file (no source column, so
+    measured) is not pooled with them."""
+    root, folder, _, export, store = t2_export
+    day1 = set(pd.read_csv(folder / "day1.csv")["trial_id"])
+    new = export[~export["trial_id"].isin(day1)].iloc[:2].drop(columns="source")
+    new.to_csv(tmp_path / "rig.csv", index=False)
+    before = _snapshot(store.path)
+    result = _ingest(root, tmp_path / "rig.csv")
+    assert result.exit_code == 2, result.output
+    assert result.stderr == ("error: rig.csv, row 1, column 'source': value 'measured' differs from "
+                             "'virtual' in the run's stored records; a run holds the records of one "
+                             "source (measured or virtual): ingest the others into another run with "
+                             "--run.\n")
+    assert _snapshot(store.path) == before
+    assert _ingest(root, tmp_path / "rig.csv", run="rig").exit_code == 0
+
+
 TEMPLATE = (r" \(`graspcampaign schedule <study> --template` writes a sheet with every "
             r"column\)\.")
 OUTCOMES = ("stable, success, partial, failure_slip, failure_drop, failure_damage, "
@@ -409,8 +427,9 @@ def _bad(export: pd.DataFrame, kind: str, folder, store):
             r"record per trial\)\."
     elif kind == "already_stored":
         df = export.iloc[:2]
-        msg = (rf"trial '[^']+' is already stored in {re.escape(str(store.path))}; measured "
-               r"records are never overwritten \(2 such trials\)\.")
+        msg = at + (r"row 1, column 'trial_id': trial '[^']+' is already stored in this run; measured "
+                    r"records are never overwritten \(ingest a corrected file into another run with "
+                    r"--run\)\.")
     else:
         raise AssertionError(kind)
     df.to_csv(path, index=False)

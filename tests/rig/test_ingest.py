@@ -147,6 +147,75 @@ def test_wrong_unit(good, tmp_path):
            r"'peak_slip_mm' \(mm\) is expected" + TEMPLATE)
 
 
+KNOWN = r"; its columns are trial_id, aborted, outcome, .*, abort_reason, environment, source"
+
+
+def test_an_unknown_column_is_refused_with_the_nearest_name(good, tmp_path):
+    """A misspelt optional column would be dropped: ``Source = virtual`` stored as measured."""
+    schedule, rec, _ = good
+    bad = rec.assign(source="virtual").rename(columns={"source": "Source"})
+    bad["operator_notes"] = "ok"
+    _check(schedule, bad, tmp_path, r"^bad\.csv, header: columns are not part of the sheet: 'Source' "
+           r"\(did you mean 'source'\?\), 'operator_notes'" + KNOWN + TEMPLATE)
+
+
+@pytest.mark.parametrize("kind", ["csv", "xlsx"])
+def test_a_column_given_twice_is_refused(good, tmp_path, kind):
+    schedule, rec, _ = good
+    bad = pd.concat([rec, rec[["sf_actual"]] * 0 + 42], axis=1)  # pandas keeps the first one
+    _check(schedule, bad, tmp_path, rf"^bad\.{kind}, header: a column appears more than once: "
+           r"sf_actual" + TEMPLATE, kind)
+
+
+@pytest.mark.parametrize("text, message", [
+    (b"trial_id;aborted\nx;false\n", r"header: the cells are separated by ';', not commas; "
+     r"save the sheet as comma-separated CSV \(decimal point '\.'\)\."),
+    (b"trial_id\taborted\nx\tfalse\n", r"header: the cells are separated by tabs, not commas; "
+     r"save the sheet as comma-separated CSV \(decimal point '\.'\)\."),
+    ("trial_id,aborted\nt\u00e4,false\n".encode("latin-1"), r"line 2: the file is not UTF-8 text "
+     r"\(byte 0xe4\); save it as CSV UTF-8\."),
+    (b"  \n\n", r"header, column '-': the file is empty\."),
+    (b"trial_id,aborted\nx,false\ny,false,3,4\n", r"row 2: 4 cells where the header has 2 columns "
+     r"\(a cell with a comma needs quotes; a truncated file loses its last row's cells\)\."),
+    (b"trial_id,aborted,outcome\nx,false,stable\ny,fal\n", r"row 2: 2 cells where the header has 3 "
+     r"columns \(a cell with a comma needs quotes; a truncated file loses its last row's cells\)\."),
+])
+def test_a_csv_pandas_would_misread_is_refused_with_the_reason(good, tmp_path, text, message):
+    schedule, _, _ = good
+    path = tmp_path / "bad.csv"
+    path.write_bytes(text)
+    with pytest.raises(IngestError, match=rf"^bad\.csv, {message}$"):
+        validate_records(path, schedule)
+
+
+def test_a_directory_is_not_a_file(good, tmp_path):
+    schedule, _, _ = good
+    (tmp_path / "day1.csv").mkdir()
+    with pytest.raises(IngestError, match=r"^day1\.csv: is a directory, not a file\.$"):
+        validate_records(tmp_path / "day1.csv", schedule)
+
+
+def test_a_file_of_two_sources_is_refused(good, tmp_path):
+    """A run is measured or virtual, never both: its report labels the whole run by its source."""
+    schedule, rec, i = good
+    bad = rec.assign(source="measured")
+    bad.loc[i + 1, "source"] = "virtual"
+    _check(schedule, bad, tmp_path, rf"^bad\.csv, row {i + 2}, column 'source': value 'virtual' "
+           r"differs from 'measured' in bad\.csv, row 1; a run holds the records of one source "
+           r"\(measured or virtual\): ingest the others into another run with --run\.$")
+
+
+@pytest.mark.parametrize("attempt", ["100", "1000000000000000000000"])
+def test_a_rerun_beyond_the_attempt_limit_is_refused(good, tmp_path, attempt):
+    schedule, rec, i = good
+    slot = schedule.set_index("trial_id").loc[rec.loc[i, "trial_id"], "slot_id"]
+    bad = pd.concat([rec, rec.iloc[[i]].assign(trial_id=f"{slot}-a{attempt}", aborted=True)],
+                    ignore_index=True)
+    _check(schedule, bad, tmp_path, rf"^bad\.csv, row {len(rec) + 1}, column 'trial_id': trial id "
+           rf"'{slot}-a{attempt}' names attempt {attempt} of slot '{slot}'; a re-run is attempt 2 to "
+           r"99\.$")
+
+
 # One bad row: the first executed trial, row i + 1 of the file. Each case: the cells changed in
 # that row, the file type, the column the message names and the message after that column.
 BAD_ROW = {
@@ -155,6 +224,8 @@ BAD_ROW = {
     "out_of_range": ({"deformation_2_mm": 4200.0},  # micrometres written into a mm column
                      "csv", "deformation_2_mm",
                      r"value 4200 lies outside \[0, 50\] mm \(wrong units\?\)\.$"),
+    "out_of_range_in_newtons": ({"normal_force_1_n": 1e6}, "csv", "normal_force_1_n",
+                                r"value 1e\+06 lies outside \[-1, 20\] N \(wrong units\?\)\.$"),
     "not_finite": ({"sf_actual": np.inf}, "parquet", "sf_actual", r"value inf is not finite\.$"),
     "bad_aborted_flag": ({"aborted": "maybe"}, "csv", "aborted",
                          r"value 'maybe' is not a boolean \(true/false, 1/0, yes/no\)\.$"),

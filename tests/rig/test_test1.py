@@ -295,13 +295,25 @@ BAD_WAVEFORMS = {
                           r"\(mm\) is expected" + TEMPLATE),
     "attempt_not_an_integer": (lambda d: _set(d, 3, "attempt", "two"),
                                r"row 4, column 'attempt': value 'two' is not an attempt number "
-                               r"\(an integer 1, 2, \.\.\. counting the tries of the event\)\."),
+                               r"\(an integer 1 to 99 counting the tries of the event\)\."),
     "attempt_fractional": (lambda d: d.astype({"attempt": float}).assign(attempt=1.5),
                            r"row 1, column 'attempt': value 1\.5 is not an attempt number \(an "
-                           r"integer 1, 2, \.\.\. counting the tries of the event\)\."),
+                           r"integer 1 to 99 counting the tries of the event\)\."),
+    "attempt_beyond_the_limit": (lambda d: d.assign(attempt=1000000),  # stored as 999999 aborts
+                                 r"row 1, column 'attempt': value 1000000 is not an attempt number "
+                                 r"\(an integer 1 to 99 counting the tries of the event\)\."),
+    "two_sources": (lambda d: _set(d.assign(source="measured"), 6, "source", "virtual"),
+                    r"row 7, column 'source': value 'virtual' differs from 'measured' in bad\.csv, "
+                    r"row 1; a run holds the records of one source \(measured or virtual\): ingest "
+                    r"the others into another run with --run\."),
+    "a_misspelt_optional_column": (lambda d: d.rename(columns={"source": "Source"}),
+                                   r"header: a column is not part of the sheet: 'Source' \(did you "
+                                   r"mean 'source'\?\); its columns are event_id, time_s, "
+                                   r"displacement_mm, normal_force_n, tangential_force_n, "
+                                   r"tangential_displacement_mm, attempt, anomaly, source" + TEMPLATE),
     "attempt_negative": (lambda d: d.assign(attempt=-4),
                          r"row 1, column 'attempt': value -4 is not an attempt number \(an "
-                         r"integer 1, 2, \.\.\. counting the tries of the event\)\."),
+                         r"integer 1 to 99 counting the tries of the event\)\."),
     "attempt_changes_within_event": (lambda d: _set(d, 6, "attempt", 2),
                                      r"row 7, column 'attempt': value 2 differs from 1 earlier in "
                                      r"event '{event}' \(one value per event\)\."),

@@ -46,10 +46,14 @@ SPEC §4 (ingest), paper §8.1 (outcome classes, flags, aborted attempts enter n
 
 from __future__ import annotations
 
+import csv
 import logging
 import math
 import re
+from collections import Counter
+from collections.abc import Sequence
 from dataclasses import dataclass
+from difflib import get_close_matches
 from pathlib import Path
 
 import numpy as np
@@ -59,6 +63,8 @@ from graspcampaign.rig.protocol import STUDY_TEST2, STUDY_TEST3
 
 __all__ = [
     "IngestError",
+    "MAX_ATTEMPT",
+    "check_one_source",
     "header_problems",
     "record_template",
     "OUTCOME_VALUES",
@@ -79,6 +85,12 @@ OUTCOME_VALUES = ("stable", "success", "partial", "failure_slip", "failure_drop"
 SOURCES = ("measured", "virtual")
 _FLAG_OF = {"failure_slip": "slip_flag", "failure_drop": "drop_flag",
             "failure_damage": "damage_flag", "failure_contact_loss": "contact_loss_flag"}
+
+
+MAX_ATTEMPT = 99
+"""The largest attempt number of a re-run (``<slot_id>-a<k>``, Test 1's ``attempt``): the paper re-ran
+each aborted slot once (§7.1, §8.1, §9.1), the virtual bench at most 4 times; a larger number is a
+typing error, which would otherwise be stored as that many aborted attempts (docs/decisions.md)."""
 
 
 class IngestError(ValueError):
@@ -190,8 +202,12 @@ def read_table(path: str | Path, *, csv_options: dict | None = None,
     if suffix not in (".csv", ".parquet", ".pq", ".xlsx"):
         raise IngestError(f"{path.name}, header, column '-': unsupported file type "
                           f"'{suffix or '(none)'}' (expected .csv, .parquet or .xlsx).")
+    if path.is_dir():
+        raise IngestError(f"{path.name}: is a directory, not a file.")
     if not path.is_file():
         raise IngestError(f"{path.name}, header, column '-': the file does not exist.")
+    if suffix == ".csv":
+        _check_csv(path)
     try:
         if suffix == ".csv":
             return pd.read_csv(path, **(csv_options or {}))
@@ -201,6 +217,36 @@ def read_table(path: str | Path, *, csv_options: dict | None = None,
     except Exception as exc:  # the readers raise many types for corrupt files
         raise IngestError(f"{path.name}, header, column '-': the file cannot be read as "
                           f"{suffix[1:]} ({type(exc).__name__}).") from exc
+
+
+def _check_csv(path: Path) -> None:
+    """Refuse a CSV that pandas would misread or describe only by an exception's name: not UTF-8,
+    empty, cells separated by ';' or tabs (a spreadsheet's regional export), or a data row with
+    more or fewer cells than the header (pandas shifts a longer first row into an index and pads
+    a shorter row, a truncated file's last row, with empty cells)."""
+    data = path.read_bytes()
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        line = data[:exc.start].count(b"\n") + 1
+        raise IngestError(f"{path.name}, line {line}: the file is not UTF-8 text (byte "
+                          f"0x{data[exc.start]:02x}); save it as CSV UTF-8.") from None
+    try:
+        rows = [r for r in csv.reader(text.splitlines()) if any(c.strip() for c in r)]
+    except csv.Error as exc:  # a cell over the csv module's field limit, a stray NUL byte
+        raise IngestError(f"{path.name}: the file cannot be read as CSV ({exc}).") from None
+    if not rows:
+        raise IngestError(f"{path.name}, header, column '-': the file is empty.")
+    header = rows[0]
+    for sep, name in ((";", "';'"), ("\t", "tabs")):
+        if len(header) == 1 and sep in header[0]:
+            raise IngestError(f"{path.name}, header: the cells are separated by {name}, not commas; "
+                              "save the sheet as comma-separated CSV (decimal point '.').")
+    for i, row in enumerate(rows[1:], start=1):
+        if len(row) != len(header):
+            raise IngestError(f"{path.name}, row {i}: {len(row)} cells where the header has "
+                              f"{len(header)} columns (a cell with a comma needs quotes; a "
+                              "truncated file loses its last row's cells).")
 
 
 def read_records(path: str | Path) -> pd.DataFrame:
@@ -259,27 +305,36 @@ def _as_float(value) -> float | None:
 
 
 def header_problems(columns: list[str], required: list[str], units: dict[str, str],
-                    unit_re: re.Pattern) -> list[str]:
-    """Describe every required column missing from a header, all at once.
+                    unit_re: re.Pattern, optional: Sequence[str] = ()) -> list[str]:
+    """Describe every problem of a header, all at once.
 
-    ``units`` maps a required column to its unit suffix; a missing column whose quantity is present
-    under another unit suffix (``peak_slip_cm`` for ``peak_slip_mm``) is reported as wrong units.
+    Missing required columns; a missing column whose quantity is present under another unit suffix
+    (``peak_slip_cm`` for ``peak_slip_mm``, ``units`` maps a column to its suffix) as wrong units;
+    a column given twice (pandas reads the second ``x`` of a CSV or XLSX header as ``x.1``); any
+    other column the sheet does not have (a misspelt optional column such as ``Source`` would
+    otherwise be dropped and its rows stored as measured), with the closest known name.
 
     Returns
     -------
     list of str
-        One phrase per problem; empty when the header is complete.
+        One phrase per kind of problem; empty when the header is complete.
     """
-    present = set(columns)
-    unknown = [c for c in columns if c not in set(required) | set(units)]
-    wrong, missing = [], []
+    known = list(dict.fromkeys([*required, *units, *optional]))
+    counts = Counter(columns)
+    twice = [c for c, k in counts.items() if k > 1]
+    twice += [m[1] for c in counts if (m := re.fullmatch(r"(.+)\.[0-9]+", c)) and m[1] in counts
+              and m[1] not in twice]
+    unknown = [c for c in counts if c not in known and c not in twice
+               and not ((m := re.fullmatch(r"(.+)\.[0-9]+", c)) and m[1] in twice)]
+    wrong, missing, explained = [], [], set()
     for name in required:
-        if name in present:
+        if name in counts:
             continue
         want = unit_re.match(name) if units.get(name) else None
         other = next((c for c in unknown if want and (m := unit_re.match(c))
                       and m["stem"] == want["stem"] and m["unit"] != want["unit"]), None)
         if other:
+            explained.add(other)
             wrong.append(f"'{other}' has unit '{unit_re.match(other)['unit']}' where '{name}' "
                          f"({units[name]}) is expected")
         else:
@@ -288,13 +343,25 @@ def header_problems(columns: list[str], required: list[str], units: dict[str, st
     if missing:
         out.append(f"{'a required column is' if len(missing) == 1 else 'required columns are'} "
                    f"missing: {', '.join(missing)}")
-    return out + wrong
+    out += wrong
+    if twice:
+        out.append(f"{'a column appears' if len(twice) == 1 else 'columns appear'} more than once: "
+                   f"{', '.join(twice)}")
+    if unknown := [c for c in unknown if c not in explained]:
+        def hint(c: str) -> str:
+            near = [k for k in known if k.lower() == c.lower().strip()] or get_close_matches(
+                c.lower(), known, n=1, cutoff=0.75)
+            return f"'{c}'" + (f" (did you mean '{near[0]}'?)" if near else "")
+        out.append(f"{'a column is' if len(unknown) == 1 else 'columns are'} not part of the sheet: "
+                   f"{', '.join(map(hint, unknown))}; its columns are {', '.join(known)}")
+    return out
 
 
 def _check_header(df: pd.DataFrame, schema, label: str) -> None:
     columns = [str(c) for c in df.columns]
     problems = header_problems(columns, [s.name for s in schema if not s.optional],
-                               {s.name: s.unit for s in schema}, _UNIT_RE)
+                               {s.name: s.unit for s in schema}, _UNIT_RE,
+                               [s.name for s in schema if s.optional])
     if problems:
         raise IngestError(f"{label}, header: {'; '.join(problems)} (`graspcampaign schedule "
                           "<study> --template` writes a sheet with every column).")
@@ -389,10 +456,29 @@ def validate_records(data: pd.DataFrame | str | Path, schedule: pd.DataFrame,
     _check_consistency(clean_df, label)
     sources = clean_df["source"].where(clean_df["source"].fillna("") != "", "measured")
     clean_df["source"] = sources.astype(object)
+    check_one_source([(label, i + 1, v) for i, v in enumerate(clean_df["source"])])
     for spec in schema:
         if spec.kind in ("float", "int"):  # int columns stay float: empty cells are NaN
             clean_df[spec.name] = clean_df[spec.name].astype(float)
     return clean_df
+
+
+def check_one_source(rows: Sequence[tuple[str, int, str]], stored: pd.DataFrame | None = None) -> None:
+    """Refuse records of more than one source in a run: ``rows`` are (file, 1-based row,
+    source) of the files being ingested, ``stored`` the run's stored records (None: a new run).
+
+    A run is measured on a rig or exported from a virtual rig or bench, never both: its report
+    labels the whole run by its source, and pooling the two would mix hardware and model data.
+    """
+    first = None if stored is None or "source" not in stored else next(iter(stored["source"].dropna()), None)
+    where = "the run's stored records"
+    for label, row, source in rows:
+        if first is None:
+            first, where = source, f"{label}, row {row}"
+        elif source != first:
+            raise _fail(label, row, "source", f"value '{source}' differs from '{first}' in {where}; "
+                        "a run holds the records of one source (measured or virtual): ingest the "
+                        "others into another run with --run")
 
 
 def _parse(spec: FieldSpec, value, label: str, row: int):
@@ -416,7 +502,7 @@ def _parse(spec: FieldSpec, value, label: str, row: int):
     if spec.kind == "int" and number != int(number):
         raise _fail(label, row, spec.name, f"value {value!r} is not an integer")
     if not spec.low <= number <= spec.high:
-        unit = f" {spec.unit}" if spec.unit else ""
+        unit = f" {_UNIT_NAMES.get(spec.unit, spec.unit)}" if spec.unit else ""
         raise _fail(label, row, spec.name, f"value {number:g} lies outside "
                     f"[{spec.low:g}, {spec.high:g}]{unit} (wrong units?)")
     return number
@@ -433,10 +519,13 @@ def _check_ids(df: pd.DataFrame, schedule: pd.DataFrame, label: str) -> None:
             attempt_col.append(int(attempts[tid]))
             continue
         m = re.fullmatch(r"(?P<slot>.+)-a(?P<k>[0-9]+)", tid)
-        if m and m["slot"] in slots and int(m["k"]) >= 2:
+        if m and m["slot"] in slots and 2 <= int(m["k"]) <= MAX_ATTEMPT:
             slot_col.append(m["slot"])
             attempt_col.append(int(m["k"]))
             continue
+        if m and m["slot"] in slots:
+            raise _fail(label, i + 1, "trial_id", f"trial id '{tid}' names attempt {m['k']} of slot "
+                        f"'{m['slot']}'; a re-run is attempt 2 to {MAX_ATTEMPT}")
         raise _fail(label, i + 1, "trial_id", f"trial id '{tid}' is not in the schedule")
     dup = df["trial_id"].duplicated(keep="first")
     if dup.any():

@@ -21,10 +21,12 @@ import numpy as np
 import pandas as pd
 
 from graspcampaign.rig.ingest import (
+    MAX_ATTEMPT,
     SOURCES,
     IngestError,
     _fail,
     _table_and_label,
+    check_one_source,
     header_problems,
     read_table,
 )
@@ -90,7 +92,8 @@ def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterabl
     df = df.reset_index(drop=True)
     df.columns = [str(c).strip() for c in df.columns]
     units = {c: _EXPECTED_UNIT[c.rsplit("_", 1)[0]] for c in WAVEFORM_COLUMNS[1:]}
-    problems = header_problems(list(df.columns), list(WAVEFORM_COLUMNS), units, _UNIT_RE)
+    problems = header_problems(list(df.columns), list(WAVEFORM_COLUMNS), units, _UNIT_RE,
+                               ("attempt", "anomaly", "source"))
     if problems:
         raise IngestError(f"{label}, header: {'; '.join(problems)} (`graspcampaign schedule "
                           "test1_bench --template` writes a sheet with every column).")
@@ -153,7 +156,8 @@ def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterabl
         out["anomaly"] = anomaly.where(anomaly.notna(), "").astype(str).str.strip()
     if "source" in df.columns:
         out["source"] = _sources(df["source"], label)
-    for extra in ("attempt", "anomaly", "source"):
+        check_one_source([(label, i + 1, v) for i, v in enumerate(out["source"])])
+    for extra in ("attempt", "anomaly"):
         if extra in out:
             _check_constant(out, extra, label)
     return out
@@ -168,10 +172,10 @@ def _attempts(raw: pd.Series, label: str) -> np.ndarray:
             number = float(text)
         except ValueError:
             number = math.nan
-        if not (math.isfinite(number) and number == int(number) and number >= 1):
+        if not (math.isfinite(number) and number == int(number) and 1 <= number <= MAX_ATTEMPT):
             shown = value.item() if isinstance(value, np.generic) else value  # no np reprs
             raise _fail(label, i + 1, "attempt", f"value {shown!r} is not an attempt number (an "
-                        "integer 1, 2, ... counting the tries of the event)")
+                        f"integer 1 to {MAX_ATTEMPT} counting the tries of the event)")
         values.append(int(number))
     return np.asarray(values, dtype=np.int64)
 
@@ -224,7 +228,7 @@ def waveform_template() -> tuple[pd.DataFrame, pd.DataFrame]:
                      "allowed": f"float in [{lo:g}, {hi:g}] ({what})", "required": "every row"})
     rows += [
         {"column": "attempt", "type": "int", "unit": "1",
-         "allowed": "integer >= 1, one value per event", "required": "optional column (1)"},
+         "allowed": f"integer 1 to {MAX_ATTEMPT}, one value per event", "required": "optional column (1)"},
         {"column": "anomaly", "type": "str", "unit": "-", "allowed": "rig-log note, one per event",
          "required": "optional column"},
         {"column": "source", "type": "str", "unit": "-", "allowed": ", ".join(SOURCES),

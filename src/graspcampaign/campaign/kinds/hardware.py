@@ -320,7 +320,7 @@ def ingest(study: StudyCfg, params: Any, paths: list[str],
     """
     from graspcampaign.campaign.kind import get_kind
     from graspcampaign.campaign.runner import study_trials
-    from graspcampaign.rig.ingest import IngestError, schema_for, validate_records
+    from graspcampaign.rig.ingest import IngestError, check_one_source, schema_for, validate_records
     from graspcampaign.rig.plan import predict_trial
 
     sheet = protocol_schedule(study, params)
@@ -346,6 +346,8 @@ def ingest(study: StudyCfg, params: Any, paths: list[str],
             entries.append((label, i + 1, tid, slot, bool(aborted)))
         frames.append((label, table))
     _check_against_stored(entries, stored)
+    check_one_source([(label, i + 1, v) for label, table in frames for i, v in enumerate(table["source"])],
+                     stored)
     trials = {t.factors[SHEET_ID]: t for t in study_trials(study, get_kind(study.kind), params)}
     rows = []
     for _, table in frames:
@@ -365,10 +367,10 @@ def ingest(study: StudyCfg, params: Any, paths: list[str],
 
 def _check_against_stored(entries: list[tuple[str, int, str, str, bool]],
                           stored: pd.DataFrame | None) -> None:
-    """Refuse an executed attempt of a slot that has an executed record among ``stored``.
+    """Refuse a trial that is already stored (measured records are never overwritten) and an
+    executed attempt of a slot that has an executed record among ``stored``.
 
-    ``entries`` are (file label, 1-based row, sheet trial id, slot, aborted). A trial that is
-    itself already stored is left to the engine, which refuses it as an overwrite.
+    ``entries`` are (file label, 1-based row, sheet trial id, slot, aborted).
     """
     from graspcampaign.rig.ingest import IngestError
 
@@ -378,7 +380,11 @@ def _check_against_stored(entries: list[tuple[str, int, str, str, bool]],
     done = stored[stored["aborted"] == False]  # noqa: E712  (None on errored rows)
     executed = dict(zip(done["slot_id"], done[SHEET_ID], strict=True))
     for label, row, tid, slot, aborted in entries:
-        if not aborted and slot in executed and tid not in stored_ids:
+        if tid in stored_ids:
+            raise IngestError(f"{label}, row {row}, column 'trial_id': trial '{tid}' is already stored "
+                              "in this run; measured records are never overwritten (ingest a "
+                              "corrected file into another run with --run).")
+        if not aborted and slot in executed:
             raise IngestError(f"{label}, row {row}, column 'aborted': slot '{slot}' already has an "
                               f"executed record in the run's stored records (trial "
                               f"'{executed[slot]}').")

@@ -283,8 +283,8 @@ def ingest(study: StudyCfg, params: Test1BenchParams, paths: list[str],
            stored: pd.DataFrame | None = None) -> list[dict[str, Any]]:
     """Validate waveform files completely, then fit every event (the in-process fit path).
 
-    ``stored`` (the run's records already stored) is not needed: an event has one record, and the
-    engine refuses a trial id that is already stored.
+    An event already among ``stored`` (the run's records) is refused, as is a file whose
+    ``source`` differs from another file's or from the stored records' (one source per run).
 
     Each file is checked by :func:`graspcampaign.rig.test1.validate_waveforms` (columns,
     units, numbers, finite values, rig ranges, known event ids, duplicate samples, increasing
@@ -303,10 +303,12 @@ def ingest(study: StudyCfg, params: Test1BenchParams, paths: list[str],
     from graspcampaign.campaign.kind import get_kind
     from graspcampaign.campaign.runner import study_trials
     from graspcampaign.rig import test1 as T
+    from graspcampaign.rig.ingest import check_one_source
 
     sched = protocol_schedule(study, params)
     known = set(sched["event_id"])
-    frames, owner = [], {}
+    done = set() if stored is None or "event_id" not in stored else set(stored["event_id"])
+    frames, owner, sources = [], {}, []
     for path in paths:
         label = Path(path).name
         table = T.validate_waveforms(path, known, file_label=label)
@@ -315,8 +317,14 @@ def ingest(study: StudyCfg, params: Test1BenchParams, paths: list[str],
             if eid in owner:
                 raise T.IngestError(f"{label}, row {i + 1}, column 'event_id': event '{eid}' "
                                     f"is already in {owner[eid]} (one file per event).")
+            if eid in done:
+                raise T.IngestError(f"{label}, row {i + 1}, column 'event_id': event '{eid}' is already "
+                                    "stored in this run; measured records are never overwritten "
+                                    "(ingest a corrected file into another run with --run).")
             owner[eid] = label
+            sources.append((label, i + 1, table["source"].iloc[i] if "source" in table else "measured"))
         frames.append(table)
+    check_one_source(sources, stored)
     fits = T.fit_waveforms(pd.concat(frames, ignore_index=True), sched)
     trials = {t.factors["event_id"]: t
               for t in study_trials(study, get_kind(study.kind), params)}
