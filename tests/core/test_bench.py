@@ -197,6 +197,15 @@ def test_fit_normal_uses_contact_normal_force():
     np.testing.assert_allclose(pred[x > 1e-5], f[x > 1e-5], rtol=1e-4)
 
 
+def test_a_force_that_does_not_depend_on_the_indentation_is_no_fit():
+    """A constant force over the loading branch (a stuck load cell) fits n -> 0 with zero RMSE:
+    Eq. 13 with n = 0 is no contact law, so the fit is not ok (a review-flagged event)."""
+    t, x, _, f = _eq13_trace()
+    r = bench.fit_normal(t, x, np.where(f > bench.MIN_FIT_FORCE, 0.3, f))
+    assert abs(r.n) < 1e-3 and r.rmse_pct < 1.0  # it does fit...
+    assert not r.success                         # ...but it is no contact law
+
+
 def test_loading_window_is_the_compressive_loading_branch():
     # travel rises to its first peak at index 4, then unloads; 1 mN is below MIN_FIT_FORCE
     x = np.array([-1e-5, 0.0, 1e-4, 2e-4, 3e-4, 3e-4, 2e-4, 1e-4])
