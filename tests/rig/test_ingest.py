@@ -98,7 +98,7 @@ def test_source_defaults_to_measured_and_reruns_are_accepted(t2, tmp_path):
     executed = rec[~rec["aborted"].astype(bool)].iloc[:1].copy()
     slot = schedule.set_index("trial_id").loc[executed["trial_id"].iloc[0], "slot_id"]
     aborted = executed.copy()
-    aborted["aborted"] = True
+    aborted["aborted"], aborted["outcome"] = True, "aborted"
     executed["trial_id"] = f"{slot}-a3"  # an unforeseen re-run of the same slot
     out = validate_records(pd.concat([aborted, executed]), schedule, "measured.csv")
     assert (out["source"] == "measured").all()
@@ -245,6 +245,14 @@ BAD_ROW = {
         {"outcome": "failure_slip", "success": True, "stable": False, "slip_flag": True}, "csv",
         "success", r"success is True but outcome is 'failure_slip' \(success means outcome "
         r"stable or success, §8\.1\)\.$"),
+    "failure_event_under_a_non_failure_outcome": (
+        {"outcome": "stable", "success": True, "stable": True, "drop_flag": True}, "csv", "drop_flag",
+        r"drop_flag is true but outcome is 'stable' \(a measured drop, damage or contact loss classes "
+        r"the trial as that failure, §8\.1\)\.$"),
+    "an_outcome_on_an_aborted_row": (
+        {"aborted": True, "outcome": "stable"}, "csv", "outcome", r"outcome is 'stable' on a row "
+        r"whose aborted flag is true \(an aborted attempt has no outcome: leave it empty or write "
+        r"aborted\)\.$"),
     "failure_class_without_its_flag": (
         {"outcome": "failure_drop", "success": False, "stable": False, "drop_flag": False}, "csv",
         "drop_flag", r"outcome is 'failure_drop' but drop_flag is false \(every failure class "

@@ -15,7 +15,8 @@ outcome                    str     stable, success, partial, failure_slip, failu
                                    failure_damage, failure_contact_loss (``aborted``)
 success, stable            bool    binary success (stable or success), stable hold
 slip_flag ... contact_     bool    measured failure events (slip, drop, damage, contact
-loss_flag                          loss); a failure class must carry its flag (§8.1)
+loss_flag                          loss); a failure class must carry its flag, and a drop,
+                                   damage or contact loss makes the trial that failure (§8.1)
 peak_slip_mm               float   [0, 1000] peak slip in the vision record
 sf_actual                  float   [0, 100] post-hoc safety factor
 g_geo_actual               float   [0, 1] achieved geometric efficiency
@@ -548,6 +549,10 @@ def _check_ids(df: pd.DataFrame, schedule: pd.DataFrame, label: str) -> None:
 def _check_consistency(df: pd.DataFrame, label: str) -> None:
     for i, row in enumerate(df.itertuples(index=False)):
         if row.aborted:
+            if row.outcome not in (None, "aborted"):
+                raise _fail(label, i + 1, "outcome", f"outcome is '{row.outcome}' on a row whose "
+                            "aborted flag is true (an aborted attempt has no outcome: leave it empty "
+                            "or write aborted)")
             continue
         outcome = row.outcome
         if outcome == "aborted":
@@ -563,6 +568,12 @@ def _check_consistency(df: pd.DataFrame, label: str) -> None:
         if flag and not getattr(row, flag):
             raise _fail(label, i + 1, flag, f"outcome is '{outcome}' but {flag} is false "
                         "(every failure class carries its flag, §8.1)")
+        # a drop, damage or contact loss classes the trial as that failure whatever else (§8.1);
+        # slip is graded by its amount (a partial hold may carry a slip flag)
+        if not flag and (raised := next((f for f in _FLAGS[1:] if getattr(row, f)), None)):
+            raise _fail(label, i + 1, raised, f"{raised} is true but outcome is '{outcome}' (a "
+                        "measured drop, damage or contact loss classes the trial as that failure, "
+                        "§8.1)")
 
 
 _UNIT_NAMES = {"mm": "mm", "n": "N", "nm": "N m", "deg": "deg"}
