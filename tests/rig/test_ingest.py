@@ -335,6 +335,11 @@ def test_test3_specific_columns(t3, tmp_path):
     bad.loc[i, "first_finger_measured"] = 4
     _check(schedule, bad, tmp_path, rf"^bad\.csv, row {i + 1}, column 'first_finger_measured': "
            r"value 4 lies outside \[0, 3\] \(wrong units\?\)\.$")
+    bad = rec.copy()
+    bad.loc[i, ["threshold_censored", "first_finger_measured"]] = [True, 2]
+    _check(schedule, bad, tmp_path, rf"^bad\.csv, row {i + 1}, column 'first_finger_measured': finger "
+           r"2 slipped first but threshold_censored is true \(a censored ramp ended without slip: "
+           r"0\)\.$")
 
 
 def test_record_template_has_every_column_with_its_unit(t3):

@@ -568,6 +568,10 @@ def _check_consistency(df: pd.DataFrame, label: str) -> None:
         if flag and not getattr(row, flag):
             raise _fail(label, i + 1, flag, f"outcome is '{outcome}' but {flag} is false "
                         "(every failure class carries its flag, §8.1)")
+        finger = getattr(row, "first_finger_measured", math.nan)
+        if getattr(row, "threshold_censored", None) and finger == finger and finger != 0:
+            raise _fail(label, i + 1, "first_finger_measured", f"finger {finger:g} slipped first but "
+                        "threshold_censored is true (a censored ramp ended without slip: 0)")
         # a drop, damage or contact loss classes the trial as that failure whatever else (§8.1);
         # slip is graded by its amount (a partial hold may carry a slip flag)
         if not flag and (raised := next((f for f in _FLAGS[1:] if getattr(row, f)), None)):
