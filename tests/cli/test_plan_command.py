@@ -129,12 +129,27 @@ def _mesh_file(tmp_path, name: str) -> tuple:
         sphere.export(path)
         return path, ("mesh 'metres.stl' is 0.08 mm across read with --unit mm, outside the 10-500 mm "
                       "a three-finger hand grasps; its coordinates look like metres: pass --unit m.")
+    if name == "two_spheres.stl":  # the tester's file: two r = 20 mm balls 100 mm apart
+        far = trimesh.creation.icosphere(subdivisions=2, radius=20.0)
+        far.apply_translation((100.0, 0.0, 0.0))
+        both = trimesh.util.concatenate([trimesh.creation.icosphere(subdivisions=2, radius=20.0), far])
+        both.export(path)
+        count = len(trimesh.load(path).split(only_watertight=False))  # trimesh's own count: 2
+        return path, (f"mesh 'two_spheres.stl' has {count} separate bodies: the planner grasps one "
+                      "object, so put each body in a file of its own and plan it alone")
+    if name == "hollow.stl":  # a ball with a ball-shaped cavity, the cavity's surface wound inward
+        cavity = trimesh.creation.icosphere(subdivisions=2, radius=30.0)
+        cavity.invert()
+        trimesh.util.concatenate([sphere, cavity]).export(path)
+        return path, ("mesh 'hollow.stl' has an internal cavity (1 of its 2 closed surfaces lies "
+                      "inside the outer one), whose surface no finger reaches: keep only the outer "
+                      "surface in the file (the plan then takes the object as solid)")
     raise AssertionError(name)
 
 
 @pytest.mark.parametrize("name", ["huge.obj", "nan.obj", "inf.stl", "garbage.stl", "empty.stl",
                                   "facetless.stl", "text.ply", "sphere.step", "open.stl",
-                                  "metres.stl"])
+                                  "metres.stl", "two_spheres.stl", "hollow.stl"])
 def test_plan_bad_mesh_exit_2(tmp_path, name):
     path, message = _mesh_file(tmp_path, name)
     before = sorted(p.name for p in tmp_path.iterdir())

@@ -44,6 +44,7 @@ from graspcampaign.core.mesh_file import (  # noqa: F401  (re-exported: user mes
     MeshError,
     _finish,
     check_mesh,
+    check_one_body,
     load_mesh,
 )
 
@@ -58,6 +59,7 @@ __all__ = [
     "make_object",
     "load_mesh",
     "check_mesh",
+    "check_one_body",
     "fibonacci_directions",
 ]
 

@@ -5,7 +5,7 @@ triangulated surface in metres whose solid's volume centroid (``mesh.center_mass
 origin. Every refusal is a :class:`MeshError` whose message is one sentence naming the file and
 what is wrong. :mod:`graspcampaign.core.mesh` re-exports the public names.
 
-Shape letters used in this module: ``n`` vertices (nodes), ``f`` faces.
+Shape letters used in this module: ``n`` vertices (nodes), ``f`` faces, ``p`` query points.
 """
 
 from __future__ import annotations
@@ -25,6 +25,8 @@ __all__ = [
     "MAX_COORDINATE_M",
     "load_mesh",
     "check_mesh",
+    "check_one_body",
+    "winding_numbers",
 ]
 
 #: Length units accepted by :func:`load_mesh`, as metres per unit.
@@ -163,7 +165,8 @@ def check_mesh(mesh: trimesh.Trimesh, name: str = "mesh", centre: bool = True) -
     ------
     MeshError
         Empty mesh, non-finite coordinates, degenerate (zero-area) faces, open or non-manifold
-        edges, inconsistent winding, or zero enclosed volume.
+        edges, inconsistent winding, more than one closed surface (:func:`check_one_body`), or
+        zero enclosed volume.
     """
     if len(mesh.faces) == 0 or len(mesh.vertices) == 0:
         raise MeshError(f"mesh {name!r} is empty: it has no faces")
@@ -202,6 +205,7 @@ def check_mesh(mesh: trimesh.Trimesh, name: str = "mesh", centre: bool = True) -
             f"mesh {name!r} is inconsistently wound: {n_inconsistent} edges are traversed in the "
             "same direction by both of their faces"
         )
+    check_one_body(mesh, name)
     out = mesh.copy()
     volume = out.volume
     if abs(volume) <= 1e-12 * scale**3:
@@ -212,3 +216,105 @@ def check_mesh(mesh: trimesh.Trimesh, name: str = "mesh", centre: bool = True) -
     if centre:
         out = _finish(out)
     return out
+
+
+#: Vertices of each surface tested against the others by :func:`check_one_body` (evenly spaced).
+NESTING_SAMPLES = 64
+
+
+def winding_numbers(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """Return the winding number of a closed triangulated surface about each point.
+
+    Parameters
+    ----------
+    points : (p, 3) float
+        Query points [m].
+    triangles : (f, 3, 3) float
+        Corners of the surface's faces [m], in their winding order.
+
+    Returns
+    -------
+    (p,) float
+        The signed solid angle the surface subtends at each point over ``4 pi``: +1 inside an
+        outward-wound closed surface, -1 inside an inward-wound one, 0 outside (up to rounding).
+
+    References
+    ----------
+    Van Oosterom, A. & Strackee, J. (1983). The solid angle of a plane triangle. IEEE Trans.
+    Biomed. Eng. 30(2), 125-126 (``tan(Omega / 2) = a.(b x c) / (|a||b||c| + (a.b)|c| +
+    (b.c)|a| + (c.a)|b|)``). Jacobson, A., Kavan, L. & Sorkine-Hornung, O. (2013). Robust
+    inside-outside segmentation using generalized winding numbers. ACM TOG 32(4), 33.
+    """
+    points = np.asarray(points, dtype=float).reshape(-1, 3)
+    triangles = np.asarray(triangles, dtype=float).reshape(-1, 3, 3)
+    out = np.empty(len(points))
+    block = max(1, 2**20 // max(len(triangles), 1))  # about 2**20 point-face pairs at a time
+    for start in range(0, len(points), block):
+        rel = triangles[None, :, :, :] - points[start:start + block, None, None, :]
+        a, b, c = rel[:, :, 0], rel[:, :, 1], rel[:, :, 2]
+        la, lb, lc = (np.linalg.norm(v, axis=-1) for v in (a, b, c))
+        det = np.einsum("pfi,pfi->pf", a, np.cross(b, c))
+        dots = (np.einsum("pfi,pfi->pf", a, b) * lc + np.einsum("pfi,pfi->pf", b, c) * la
+                + np.einsum("pfi,pfi->pf", c, a) * lb)
+        out[start:start + block] = (2.0 * np.arctan2(det, la * lb * lc + dots)).sum(axis=1)
+    return out / (4.0 * np.pi)
+
+
+def check_one_body(mesh: trimesh.Trimesh, name: str = "mesh") -> None:
+    """Refuse a closed mesh made of more than one surface, saying what the surfaces are.
+
+    The surfaces are the face-connected components (``trimesh.Trimesh.split``). A surface lies
+    inside another when its sampled vertices have winding number ``|w| > 1/2`` about it
+    (:func:`winding_numbers`); a surface inside an odd number of others bounds a cavity, one
+    inside an even number (none: the outside) is a body of its own.
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+        A closed mesh (every edge shared by two faces).
+    name : str
+        Name used in error messages (e.g. the file name).
+
+    Raises
+    ------
+    MeshError
+        Surfaces passing through each other; more than one separate body (side by side, or one
+        inside another's cavity); or one body with an internal cavity.
+    """
+    labels = trimesh.graph.connected_component_labels(mesh.face_adjacency,
+                                                      node_count=len(mesh.faces))
+    n_surfaces = int(labels.max()) + 1 if len(labels) else 0
+    if n_surfaces <= 1:
+        return
+    triangles = np.asarray(mesh.triangles)
+    faces = np.asarray(mesh.faces)
+    vertices = np.asarray(mesh.vertices)
+    inside = np.zeros((n_surfaces, n_surfaces), dtype=bool)  # [i, j]: surface i inside surface j
+    for i in range(n_surfaces):
+        ids = np.unique(faces[labels == i])
+        samples = vertices[ids[np.linspace(0, len(ids) - 1, min(len(ids), NESTING_SAMPLES))
+                               .astype(np.int64)]]
+        for j in range(n_surfaces):
+            if i == j:
+                continue
+            other = triangles[labels == j]
+            # a point outside the surface's bounding box is outside it: no solid angles needed
+            boxed = ((samples >= other.min(axis=(0, 1))) & (samples <= other.max(axis=(0, 1)))).all(1)
+            enclosed = np.zeros(len(samples), dtype=bool)
+            if boxed.any():
+                enclosed[boxed] = np.abs(winding_numbers(samples[boxed], other)) > 0.5
+            if enclosed.any() and not enclosed.all():
+                raise MeshError(f"mesh {name!r} has {n_surfaces} closed surfaces that pass through "
+                                "each other: merge them into one closed surface (a boolean union) "
+                                "before planning")
+            inside[i, j] = enclosed.all()
+    depth = inside.sum(axis=1)
+    n_bodies = int((depth % 2 == 0).sum())
+    if n_bodies > 1:
+        raise MeshError(f"mesh {name!r} has {n_bodies} separate bodies: the planner grasps one "
+                        "object, so put each body in a file of its own and plan it alone")
+    n_cavities = n_surfaces - n_bodies
+    lies = "lies" if n_cavities == 1 else "lie"
+    raise MeshError(f"mesh {name!r} has an internal cavity ({n_cavities} of its {n_surfaces} closed "
+                    f"surfaces {lies} inside the outer one), whose surface no finger reaches: keep "
+                    "only the outer surface in the file (the plan then takes the object as solid)")

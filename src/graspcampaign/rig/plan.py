@@ -173,13 +173,14 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
     Raises
     ------
     graspcampaign.core.mesh.MeshError
-        Unreadable or invalid mesh.
+        Unreadable or invalid mesh, or one of more than one body or with an internal cavity
+        (:func:`graspcampaign.core.mesh_file.check_one_body`).
     ValueError
         Out-of-range mass, friction, radius, an unknown material, or an object whose size no
         three-finger hand grasps (``core.plausible.OBJECT_SIZE_MM``; the message names the unit
         its coordinates look like).
     """
-    from graspcampaign.core.mesh import load_mesh
+    from graspcampaign.core.mesh import check_one_body, load_mesh
 
     mass = _check_plausible(mass_kg, "mass_kg", "mass_kg", "kg")
     radius_mm = _check_plausible(fingertip_radius_mm, "fingertip_radius_mm", "fingertip_radius_mm",
@@ -196,6 +197,7 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
     else:
         mesh = mesh_or_path
         name = "mesh"
+        check_one_body(mesh, name)  # load_mesh checks a file's mesh; the planner grasps one body
     size_mm = _check_size(mesh, name, unit)
     body = _make_body(mesh)
     ctx = replace(body.ctx, mass=mass, mu=mat.mu_s,
