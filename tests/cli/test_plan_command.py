@@ -48,6 +48,31 @@ def test_plan_human_output(stl_files):
     assert "predicted limits: F_lat =" in result.stdout and "finger 3: vertex" in result.stdout
 
 
+TAU_F_N = 0.0886  # the paper's residual tolerance (§8.1), typed from the paper
+
+
+@pytest.mark.parametrize(("mass", "verdict"), [
+    ("0.05", "yes (SF > 1 with every finger loaded, §9.5)"),
+    ("0.3", "no (SF <= 1: friction does not carry the weight, §9.5)"),
+], ids=["stable", "sf_below_one"])
+def test_plan_verdict_and_residual_check_each_follow_their_own_criterion(stl_files, mass, verdict):
+    args = ["plan", str(stl_files["sphere"]), "--mass-kg", mass]
+    result = runner.invoke(app, [*args, "--json"])
+    assert result.exit_code == 0, result.output
+    plan = json.loads(result.stdout)
+    # plan_mesh's documented criteria: §9.5 SF_predicted > 1 with every finger loaded; the §8.1
+    # residual check |R| <= tau_F reported on its own
+    assert plan["predicted_stable"] is (plan["sf_predicted"] > 1.0 and not plan["unloaded_fingers"])
+    assert plan["tau_f_n"] == TAU_F_N
+    assert plan["predicted_stable_residual"] is (plan["residual_n"] <= TAU_F_N)
+    assert not plan["predicted_stable_residual"]  # |R| > tau_F beside either verdict: the report's case
+    text = runner.invoke(app, args).stdout
+    assert f"SF = {plan['sf_predicted']:.3f}  predicted stable: {verdict}\n" in text
+    assert (f"\nresidual check (§8.1: Algorithm 2, normal forces only, friction ignored): |R| = "
+            f"{plan['residual_n']:.3f} N > tau_F = 0.0886 N, not passed; not part of the verdict "
+            "above\n") in text
+
+
 MASS = "a mass must be positive and a three-finger hand lifts at most ~10 kg"
 
 

@@ -49,6 +49,14 @@ def test_plan_on_each_shape_predicts_the_shared_budget_limits(stl_files, shape, 
     json.dumps(out)  # the CLI prints it with --json
 
 
+def test_plan_mesh_states_the_residual_check_apart_from_the_stability_verdict(stl_files):
+    out = rp.plan_mesh(stl_files["sphere"], mass_kg=0.05)
+    assert out["predicted_stable"] and out["residual_n"] > 0.0886  # the verdict is not the residual's
+    assert out["predicted_stable"] is (out["sf_predicted"] > 1.0 and not out["unloaded_fingers"])  # §9.5
+    assert out["tau_f_n"] == 0.0886  # §8.1
+    assert out["predicted_stable_residual"] is False
+
+
 def test_plan_with_mu_overrides_the_material(stl_files):
     out = rp.plan_mesh(stl_files["sphere"], mass_kg=0.05, mu=0.9)
     assert out["mu_s"] == 0.9 and out["material"] == rp.DEFAULT_PLAN_MATERIAL

@@ -167,8 +167,13 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
         ``h`` (``h_tilde, s1, s2, s3, pc_mag, pe_mag``), ``g_geo``, ``grip_force_n``,
         ``grip_capped``, ``sf_predicted``, ``f_lat_n``, ``f_down_n``, ``torque_nm``, ``r_eff_mm``,
         ``first_finger`` (per disturbance: lateral +x, +y, down, yaw), ``predicted_stable``
-        (the residual criterion, and every finger loaded), ``unloaded_fingers`` (1-based, fingers
-        whose normal force is not above :data:`UNLOADED_N`), ``png``.
+        (§9.5, as :func:`predict_trial`: the believed margin ``sf_predicted > 1``, and every finger
+        loaded), ``unloaded_fingers`` (1-based, fingers whose normal force is not above
+        :data:`UNLOADED_N`), ``residual_n`` (Algorithm 2's normal-only residual ``|R|`` at the
+        planned contacts under the material's contact law, friction ignored [N]; a different
+        quantity from the one ``predicted_stable`` judges), ``tau_f_n`` (0.0886 N, §8.1),
+        ``predicted_stable_residual`` (the paper's §8.1 check ``residual_n <= tau_f_n``, friction-
+        blind; at SI constants it almost never holds, see docs/decisions.md), ``png``.
 
     Raises
     ------
@@ -234,6 +239,8 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
         "r_eff_mm": pred["r_eff_mm"], "first_finger": first,
         "predicted_stable": bool(pred["predicted_stable"]) and not unloaded,
         "unloaded_fingers": unloaded, "residual_n": pred["residual_pred_n"],
+        "tau_f_n": STABLE_RESIDUAL_N,
+        "predicted_stable_residual": bool(pred["predicted_stable_residual"]),
         "png": None,
     }
     if png_path is not None:
