@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import json
 import math
+import os
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -204,3 +207,76 @@ def test_plan_on_a_box_never_calls_a_grasp_with_an_unloaded_finger_stable(tmp_pa
     assert plan["predicted_stable"] is False
     assert "predicted stable: no (finger " in text.stdout
     assert plan["mesh"]["size_mm"] == pytest.approx(40.0)
+
+
+def _never_plan(*args, **kwargs):
+    raise AssertionError("planning started before the picture path was checked")
+
+
+@pytest.mark.parametrize("where", ["directory", "no_suffix", "jpg", "missing_parent", "file_parent"])
+def test_plan_refuses_a_picture_path_before_planning(stl_files, tmp_path, monkeypatch, where):
+    monkeypatch.setattr("graspcampaign.rig.plan.plan_mesh", _never_plan)
+    (tmp_path / "pictures").mkdir()
+    (tmp_path / "notes.txt").write_text("")
+    png, message = {
+        "directory": (tmp_path / "pictures", f"--png {tmp_path / 'pictures'} is a directory: give a "
+                      f"file path ending in .png, such as {tmp_path / 'pictures' / 'plan.png'}."),
+        "no_suffix": (tmp_path / "plan", f"--png {tmp_path / 'plan'} does not end in .png: the "
+                      f"picture is a PNG file, so give a path such as {tmp_path / 'plan.png'}."),
+        "jpg": (tmp_path / "plan.jpg", f"--png {tmp_path / 'plan.jpg'} does not end in .png: the "
+                f"picture is a PNG file, so give a path such as {tmp_path / 'plan.png'}."),
+        "missing_parent": (tmp_path / "nowhere" / "plan.png", f"--png {tmp_path / 'nowhere' / 'plan.png'}"
+                           f": directory {tmp_path / 'nowhere'} does not exist."),
+        "file_parent": (tmp_path / "notes.txt" / "plan.png", f"--png {tmp_path / 'notes.txt' / 'plan.png'}"
+                        f": {tmp_path / 'notes.txt'} is a file, not a directory."),
+    }[where]
+    before = sorted(p.name for p in tmp_path.rglob("*"))
+    result = runner.invoke(app, ["plan", str(stl_files["sphere"]), "--mass-kg", "0.1", "--png", str(png)])
+    assert result.exit_code == 2, result.output
+    assert result.stderr == f"error: {message}\n"
+    assert sorted(p.name for p in tmp_path.rglob("*")) == before  # nothing written, no probe left
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="/proc takes no new files on Linux")
+def test_plan_refuses_an_unwritable_picture_path(stl_files, monkeypatch):
+    monkeypatch.setattr("graspcampaign.rig.plan.plan_mesh", _never_plan)
+    result = runner.invoke(app, ["plan", str(stl_files["sphere"]), "--mass-kg", "0.1",
+                                 "--png", "/proc/x.png"])
+    assert result.exit_code == 2
+    assert result.stderr == ("error: --png /proc/x.png: cannot write there (No such file or "
+                             "directory).\n")
+
+
+@pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() == 0,
+                    reason="permission bits do not stop root")
+def test_plan_refuses_a_read_only_directory(stl_files, tmp_path, monkeypatch):
+    monkeypatch.setattr("graspcampaign.rig.plan.plan_mesh", _never_plan)
+    locked = tmp_path / "locked"
+    locked.mkdir(mode=0o500)
+    result = runner.invoke(app, ["plan", str(stl_files["sphere"]), "--mass-kg", "0.1",
+                                 "--png", str(locked / "plan.png")])
+    assert result.exit_code == 2
+    assert result.stderr == f"error: --png {locked / 'plan.png'}: cannot write there (Permission denied).\n"
+
+
+def test_plan_names_the_default_picture_it_cannot_write(stl_files, tmp_path, monkeypatch):
+    monkeypatch.setattr("graspcampaign.rig.plan.plan_mesh", _never_plan)
+    mesh = tmp_path / "ball.stl"
+    mesh.write_bytes(stl_files["sphere"].read_bytes())
+    (tmp_path / "ball.plan.png").mkdir()  # where the default picture would go
+    result = runner.invoke(app, ["plan", str(mesh), "--mass-kg", "0.1"])
+    assert result.exit_code == 2
+    assert result.stderr == (f"error: the default picture {tmp_path / 'ball.plan.png'} is a directory: "
+                             f"give a file path ending in .png, such as "
+                             f"{tmp_path / 'ball.plan.png' / 'plan.png'}; pass --png with a path where "
+                             "the picture can be written.\n")
+
+
+def test_plan_prints_the_path_it_wrote(stl_files, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    result = runner.invoke(app, ["plan", str(stl_files["sphere"]), "--mass-kg", "0.1",
+                                 "--png", "Plan.PNG"])
+    assert result.exit_code == 0, result.output
+    assert result.stdout.endswith("\npicture: Plan.PNG\n")
+    assert sorted(p.name for p in Path().iterdir()) == ["Plan.PNG"]
+    assert Path("Plan.PNG").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

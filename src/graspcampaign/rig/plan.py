@@ -67,6 +67,7 @@ from graspcampaign.rig.plan_predict import (
 __all__ = [
     # the graspcampaign plan MESH computation (this module)
     "plan_mesh",
+    "check_picture_path",
     # re-exported: they live in graspcampaign.rig.belief
     "CHARACTERISTIC_Z",
     "COATING_MU_S",
@@ -131,6 +132,54 @@ def _check_size(mesh, name: str, unit: str) -> float:
 
 
 _UNIT_WORDS = {"m": "metres", "cm": "centimetres", "mm": "millimetres"}
+
+
+def check_picture_path(path, option: str = "picture path") -> Path:
+    """Return ``path`` as a Path a PNG can be written at, exactly; refuse any other, naming it.
+
+    Checked before any work: a directory, a name not ending in ``.png`` (matplotlib would pick
+    another format or append ``.png``, so the file written would not be the path named), a
+    missing parent directory, or one where no file can be created (probed by creating and
+    removing a temporary file: permission bits do not tell, e.g. for root or on ``/proc``).
+
+    Parameters
+    ----------
+    path : str or path
+        Where the picture goes.
+    option : str
+        How the messages name the path (the command line passes ``--png``).
+
+    Raises
+    ------
+    ValueError
+        One sentence naming the path and what is wrong with it.
+    """
+    import os
+    import tempfile
+
+    path = Path(path)
+    if path.is_dir():
+        raise ValueError(f"{option} {path} is a directory: give a file path ending in .png, such as "
+                         f"{path / 'plan.png'}.")
+    if path.suffix.lower() != ".png":
+        raise ValueError(f"{option} {path} does not end in .png: the picture is a PNG file, so give "
+                         f"a path such as {path.with_suffix('.png')}.")
+    parent = path.parent
+    if parent.exists() and not parent.is_dir():
+        raise ValueError(f"{option} {path}: {parent} is a file, not a directory.")
+    if not parent.is_dir():
+        raise ValueError(f"{option} {path}: directory {parent} does not exist.")
+    try:
+        handle, probe = tempfile.mkstemp(suffix=".png", prefix=".plan-probe-", dir=parent)
+        os.close(handle)
+        os.unlink(probe)
+        if path.exists():
+            with path.open("ab"):
+                pass
+    except OSError as exc:
+        raise ValueError(f"{option} {path}: cannot write there "
+                         f"({exc.strerror or type(exc).__name__}).") from None
+    return path
 UNLOADED_N = 1e-6
 """A finger pressing with less than this [N] carries no load (the plan's forces are N-scale)."""
 
@@ -155,7 +204,8 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
     unit : str
         Length unit of the mesh file.
     png_path : path, optional
-        Where to write the picture (mesh, contacts, force arrows); none when omitted.
+        Where to write the picture (mesh, contacts, force arrows), exactly this path; none when
+        omitted. Checked first (:func:`check_picture_path`).
     seed : int
         Candidate sampling seed.
 
@@ -181,12 +231,14 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
         Unreadable or invalid mesh, or one of more than one body or with an internal cavity
         (:func:`graspcampaign.core.mesh_file.check_one_body`).
     ValueError
-        Out-of-range mass, friction, radius, an unknown material, or an object whose size no
+        Out-of-range mass, friction, radius, an unknown material, an object whose size no
         three-finger hand grasps (``core.plausible.OBJECT_SIZE_MM``; the message names the unit
-        its coordinates look like).
+        its coordinates look like), or a picture path that cannot be written.
     """
     from graspcampaign.core.mesh import check_one_body, load_mesh
 
+    if png_path is not None:  # before any work: a plan whose picture cannot be written is lost
+        png_path = check_picture_path(png_path)
     mass = _check_plausible(mass_kg, "mass_kg", "mass_kg", "kg")
     radius_mm = _check_plausible(fingertip_radius_mm, "fingertip_radius_mm", "fingertip_radius_mm",
                                  "mm")
@@ -244,9 +296,13 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
         "png": None,
     }
     if png_path is not None:
-        out["png"] = str(plot_plan(mesh, plan.points, plan.normals, forces, png_path,
-                                   title=f"{name}: SF {out['sf_predicted']:.2f}, "
-                                         f"F_lat {out['f_lat_n']:.2f} N"))
+        try:
+            out["png"] = str(plot_plan(mesh, plan.points, plan.normals, forces, png_path,
+                                       title=f"{name}: SF {out['sf_predicted']:.2f}, "
+                                             f"F_lat {out['f_lat_n']:.2f} N"))
+        except OSError as exc:  # a full disk, or the directory changed since the check
+            raise ValueError(f"picture path {png_path}: cannot write there "
+                             f"({exc.strerror or type(exc).__name__}).") from None
     return out
 
 
@@ -284,5 +340,5 @@ def plot_plan(mesh, points, normals, forces, path, title: str = "") -> Path:
     ax.set_box_aspect(np.ptp(v, axis=0))
     ax.set_title(title, fontsize=9)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=100)
+    fig.savefig(path, dpi=100, format="png")  # at exactly this path, whatever its suffix
     return path
