@@ -76,6 +76,15 @@ def test_plan_verdict_and_residual_check_each_follow_their_own_criterion(stl_fil
             "above\n") in text
 
 
+def test_plan_without_friction_reports_no_hold_and_no_numpy_warning(stl_files):
+    result = runner.invoke(app, ["plan", str(stl_files["sphere"]), "--mass-kg", "0.1", "--mu", "0"])
+    assert result.exit_code == 0, result.output
+    assert result.stderr == ""
+    # SF = mu ... / W (§8.1) is 0 without friction: the verdict says so
+    assert "SF = 0.000  predicted stable: no (SF <= 1: friction does not carry the weight, §9.5)\n" \
+        in result.stdout
+
+
 MASS = "a mass must be positive and a three-finger hand lifts at most ~10 kg"
 
 
