@@ -181,12 +181,22 @@ def _mesh_file(tmp_path, name: str) -> tuple:
         return path, ("mesh 'hollow.stl' has an internal cavity (1 of its 2 closed surfaces lies "
                       "inside the outer one), whose surface no finger reaches: keep only the outer "
                       "surface in the file (the plan then takes the object as solid)")
+    if name == "bad_index.obj":  # a face beyond the vertices
+        path.write_text(sphere.export(file_type="obj") + "f 1 2 99999\n")
+        line = len(path.read_text().splitlines())
+        return path, (f"mesh 'bad_index.obj' has a face (line {line}) that refers to vertex 99999, "
+                      f"but the file has only {len(sphere.vertices)} vertices")
+    if name == "points_only.obj":
+        path.write_text("".join(f"v {x} {y} {z}\n" for x, y, z in sphere.vertices))
+        return path, (f"mesh 'points_only.obj' has {len(sphere.vertices)} vertices but no faces: a "
+                      "point cloud is no surface; export the mesh with its faces (OBJ 'f' lines)")
     raise AssertionError(name)
 
 
 @pytest.mark.parametrize("name", ["huge.obj", "nan.obj", "inf.stl", "garbage.stl", "empty.stl",
                                   "facetless.stl", "text.ply", "sphere.step", "open.stl",
-                                  "metres.stl", "two_spheres.stl", "hollow.stl"])
+                                  "metres.stl", "two_spheres.stl", "hollow.stl", "bad_index.obj",
+                                  "points_only.obj"])
 def test_plan_bad_mesh_exit_2(tmp_path, name):
     path, message = _mesh_file(tmp_path, name)
     before = sorted(p.name for p in tmp_path.iterdir())

@@ -8,7 +8,13 @@ import numpy as np
 import pytest
 import trimesh
 
-from graspcampaign.core.mesh_file import MeshError, check_mesh, check_one_body, winding_numbers
+from graspcampaign.core.mesh_file import (
+    MeshError,
+    check_mesh,
+    check_one_body,
+    load_mesh,
+    winding_numbers,
+)
 
 
 def _ball(radius: float, centre=(0.0, 0.0, 0.0), inward: bool = False) -> trimesh.Trimesh:
@@ -68,3 +74,54 @@ def test_surfaces_passing_through_each_other_are_refused():
                                         r"each other: merge them into one closed surface \(a boolean "
                                         r"union\) before planning$"):
         check_one_body(mesh, "pair.stl")
+
+
+def _sphere_obj(path, extra: str = "") -> int:
+    """Write a trimesh icosphere (mm) as OBJ plus ``extra`` lines; return its vertex count."""
+    sphere = trimesh.creation.icosphere(subdivisions=2, radius=40.0)
+    path.write_text(sphere.export(file_type="obj") + extra)
+    return len(sphere.vertices)
+
+
+def test_an_obj_face_beyond_the_vertices_is_named(tmp_path):
+    path = tmp_path / "bad_index.obj"
+    n_vertices = _sphere_obj(path, "f 1 2 99999\n")
+    line = len(path.read_text().splitlines())  # the appended face is the last line
+    with pytest.raises(MeshError) as info:
+        load_mesh(path)
+    assert str(info.value) == (f"mesh 'bad_index.obj' has a face (line {line}) that refers to vertex "
+                               f"99999, but the file has only {n_vertices} vertices")
+
+
+@pytest.mark.parametrize("index", [0, -9999])
+def test_an_obj_face_before_the_first_vertex_is_named(tmp_path, index):
+    path = tmp_path / "back.obj"
+    n_vertices = _sphere_obj(path, f"f 1 2 {index}\n")
+    line = len(path.read_text().splitlines())
+    with pytest.raises(MeshError, match=rf"^mesh 'back.obj' has a face \(line {line}\) that refers to "
+                                        rf"vertex {index}, but {n_vertices} vertices precede it: OBJ "
+                                        r"indices count from 1, or back from -1$"):
+        load_mesh(path)
+
+
+def test_an_obj_of_vertices_only_is_named(tmp_path):
+    path = tmp_path / "points_only.obj"
+    sphere = trimesh.creation.icosphere(subdivisions=2, radius=40.0)
+    path.write_text("".join(f"v {x} {y} {z}\n" for x, y, z in sphere.vertices))
+    with pytest.raises(MeshError) as info:
+        load_mesh(path)
+    assert str(info.value) == (f"mesh 'points_only.obj' has {len(sphere.vertices)} vertices but no "
+                               "faces: a point cloud is no surface; export the mesh with its faces "
+                               "(OBJ 'f' lines)")
+
+
+def test_obj_faces_with_slashes_and_negative_indices_are_read(tmp_path):
+    box = trimesh.creation.box(extents=(30.0, 30.0, 30.0))  # mm
+    lines = [f"v {x} {y} {z}" for x, y, z in box.vertices] + ["vn 0 0 1"]
+    n = len(box.vertices)
+    lines += [f"f {a - n}//1 {b - n}//1 {c - n}//1" for a, b, c in box.faces]  # -n..-1 is 0..n-1
+    path = tmp_path / "box.obj"
+    path.write_text("\n".join(lines) + "\n")
+    mesh = load_mesh(path)
+    assert len(mesh.faces) == len(box.faces)
+    assert mesh.volume == pytest.approx(box.volume * 1e-9)  # trimesh's own volume, mm^3 -> m^3

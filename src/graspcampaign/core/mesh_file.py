@@ -86,6 +86,8 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
         raise MeshError(f"mesh {base!r} is empty: the file has 0 bytes")
     if suffix == ".stl":
         _check_stl_layout(name, base, n_bytes)
+    if suffix == ".obj":
+        _check_obj_indices(name, base)
     try:
         # validate=False, process=False: keep non-finite values, degenerate faces and bad winding
         # so that they are reported here and by check_mesh instead of silently dropped
@@ -122,6 +124,41 @@ def _check_stl_layout(name: str, base: str, n_bytes: int) -> None:
             pass
     raise MeshError(f"mesh {base!r} is not an STL file: {n_bytes} bytes are neither a binary STL "
                     "(84 bytes plus 50 per triangle) nor an ASCII STL (text starting with 'solid')")
+
+
+def _check_obj_indices(name: str, base: str) -> None:
+    """Refuse an OBJ whose faces refer to missing vertices, or that has vertices but no faces.
+
+    trimesh reports both as "could not be read to its end due to unmatched data". A face's
+    vertex index is 1-based, or negative counting back from the vertices read so far (the OBJ
+    format); a positive index is checked against every vertex of the file, as readers do.
+    """
+    n_vertices = n_faces = 0
+    largest = (0, 0)  # (positive vertex index, line)
+    with open(name, encoding="utf-8", errors="replace") as fh:
+        for line_no, line in enumerate(fh, 1):
+            words = line.split()
+            if words[:1] == ["v"]:
+                n_vertices += 1
+            elif words[:1] == ["f"]:
+                n_faces += 1
+                for token in words[1:]:
+                    try:
+                        index = int(token.split("/", 1)[0])  # v, v/vt, v//vn or v/vt/vn
+                    except ValueError:
+                        continue  # not a number: trimesh's own message says what it could not read
+                    if index > largest[0]:
+                        largest = (index, line_no)
+                    elif index == 0 or index < -n_vertices:  # a positive index passes both
+                        raise MeshError(f"mesh {base!r} has a face (line {line_no}) that refers to "
+                                        f"vertex {index}, but {n_vertices} vertices precede it: OBJ "
+                                        "indices count from 1, or back from -1")
+    if largest[0] > n_vertices:
+        raise MeshError(f"mesh {base!r} has a face (line {largest[1]}) that refers to vertex "
+                        f"{largest[0]}, but the file has only {n_vertices} vertices")
+    if n_vertices and not n_faces:
+        raise MeshError(f"mesh {base!r} has {n_vertices} vertices but no faces: a point cloud is no "
+                        "surface; export the mesh with its faces (OBJ 'f' lines)")
 
 
 def _check_coordinates(vertices: np.ndarray, base: str, unit: str, per_triangle: bool) -> None:
