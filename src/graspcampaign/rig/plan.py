@@ -134,6 +134,37 @@ def _check_size(mesh, name: str, unit: str) -> float:
 _UNIT_WORDS = {"m": "metres", "cm": "centimetres", "mm": "millimetres"}
 
 
+def _coarse_checked_body(mesh, name: str):
+    """Return the planning body of ``mesh``, warning once, in the planner's words, if it is coarse.
+
+    The core's :class:`~graspcampaign.core.feature.CoarseMeshWarning` names a Python remedy
+    (resolution-aware thresholds); for a plan the remedy is a finer mesh, because the planner's
+    contacts are mesh vertices: raising the thresholds would call a coarse cube's corners smooth
+    and still leave the fingers only its corners to choose from.
+    """
+    import warnings
+
+    from graspcampaign.core.feature import (
+        CoarseMeshWarning,
+        FeatureThresholds,
+        is_coarse,
+        smooth_mean_defect,
+    )
+
+    n_vertices = len(mesh.vertices)
+    if is_coarse(n_vertices):
+        warnings.warn(
+            f"mesh {name!r} has only {n_vertices} vertices and the planner places fingers on "
+            f"vertices only: a surface this coarse leaves it few places to choose from and its "
+            f"smooth regions look sharp (mean angular defect {smooth_mean_defect(n_vertices):.3f} "
+            f"rad against the {FeatureThresholds().vertex_defect_rad} rad sharp-vertex threshold); "
+            f"remesh or subdivide it finer for a better plan (the paper's objects have {N_NODES} "
+            "vertices)", CoarseMeshWarning, stacklevel=3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CoarseMeshWarning)  # said above, in the planner's words
+        return _make_body(mesh)
+
+
 def check_picture_path(path, option: str = "picture path") -> Path:
     """Return ``path`` as a Path a PNG can be written at, exactly; refuse any other, naming it.
 
@@ -256,7 +287,7 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
         name = "mesh"
         check_one_body(mesh, name)  # load_mesh checks a file's mesh; the planner grasps one body
     size_mm = _check_size(mesh, name, unit)
-    body = _make_body(mesh)
+    body = _coarse_checked_body(mesh, name)
     ctx = replace(body.ctx, mass=mass, mu=mat.mu_s,
                   contact=mat.contact_params(radius_mm * 1e-3), n_cand=DEFAULT_N_CAND,
                   evaluator=EvaluatorParams())
