@@ -388,9 +388,8 @@ def resolve(batch: CandidateBatch, depths, friction=None) -> Resolved:
     if friction is None:
         abs_eta = np.where(loaded, np.abs(eta), 0.0)
         per_contact = np.where(carrying, forces * (mu[:, None] - abs_eta[:, None]), np.inf)
-        # 1 - |eta|/mu, with its limits at mu = 0 (frictionless contacts): no tangential demand
-        # uses none of the cone, any demand exceeds it (-inf). np.where evaluates the quotient on
-        # every row, so the unloaded rows' 0/0 is kept out of it rather than warned about.
+        # 1 - |eta|/mu and its limits at mu = 0: no demand uses none of the cone, any demand
+        # exceeds it (-inf); np.where evaluates every row, so the unloaded rows' 0/0 is kept out
         with np.errstate(divide="ignore"):
             used = np.where(abs_eta > 0.0, abs_eta / np.where(abs_eta > 0.0, mu, 1.0), 0.0)
         ratio = np.where(loaded, 1.0 - used, np.inf)
