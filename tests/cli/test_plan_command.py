@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import json
 import math
+import os
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -46,6 +49,40 @@ def test_plan_human_output(stl_files):
     result = runner.invoke(app, ["plan", str(stl_files["sphere"]), "--mass-kg", "0.05"])
     assert result.exit_code == 0, result.output
     assert "predicted limits: F_lat =" in result.stdout and "finger 3: vertex" in result.stdout
+
+
+TAU_F_N = 0.0886  # the paper's residual tolerance (§8.1), typed from the paper
+
+
+@pytest.mark.parametrize(("mass", "verdict"), [
+    ("0.05", "yes (SF > 1 with every finger loaded, §9.5)"),
+    ("0.3", "no (SF <= 1: friction does not carry the weight, §9.5)"),
+], ids=["stable", "sf_below_one"])
+def test_plan_verdict_and_residual_check_each_follow_their_own_criterion(stl_files, mass, verdict):
+    args = ["plan", str(stl_files["sphere"]), "--mass-kg", mass]
+    result = runner.invoke(app, [*args, "--json"])
+    assert result.exit_code == 0, result.output
+    plan = json.loads(result.stdout)
+    # plan_mesh's documented criteria: §9.5 SF_predicted > 1 with every finger loaded; the §8.1
+    # residual check |R| <= tau_F reported on its own
+    assert plan["predicted_stable"] is (plan["sf_predicted"] > 1.0 and not plan["unloaded_fingers"])
+    assert plan["tau_f_n"] == TAU_F_N
+    assert plan["predicted_stable_residual"] is (plan["residual_n"] <= TAU_F_N)
+    assert not plan["predicted_stable_residual"]  # |R| > tau_F beside either verdict: the report's case
+    text = runner.invoke(app, args).stdout
+    assert f"SF = {plan['sf_predicted']:.3f}  predicted stable: {verdict}\n" in text
+    assert (f"\nresidual check (§8.1: Algorithm 2, normal forces only, friction ignored): |R| = "
+            f"{plan['residual_n']:.3f} N > tau_F = 0.0886 N, not passed; not part of the verdict "
+            "above\n") in text
+
+
+def test_plan_without_friction_reports_no_hold_and_no_numpy_warning(stl_files):
+    result = runner.invoke(app, ["plan", str(stl_files["sphere"]), "--mass-kg", "0.1", "--mu", "0"])
+    assert result.exit_code == 0, result.output
+    assert result.stderr == ""
+    # SF = mu ... / W (§8.1) is 0 without friction: the verdict says so
+    assert "SF = 0.000  predicted stable: no (SF <= 1: friction does not carry the weight, §9.5)\n" \
+        in result.stdout
 
 
 MASS = "a mass must be positive and a three-finger hand lifts at most ~10 kg"
@@ -129,12 +166,37 @@ def _mesh_file(tmp_path, name: str) -> tuple:
         sphere.export(path)
         return path, ("mesh 'metres.stl' is 0.08 mm across read with --unit mm, outside the 10-500 mm "
                       "a three-finger hand grasps; its coordinates look like metres: pass --unit m.")
+    if name == "two_spheres.stl":  # the tester's file: two r = 20 mm balls 100 mm apart
+        far = trimesh.creation.icosphere(subdivisions=2, radius=20.0)
+        far.apply_translation((100.0, 0.0, 0.0))
+        both = trimesh.util.concatenate([trimesh.creation.icosphere(subdivisions=2, radius=20.0), far])
+        both.export(path)
+        count = len(trimesh.load(path).split(only_watertight=False))  # trimesh's own count: 2
+        return path, (f"mesh 'two_spheres.stl' has {count} separate bodies: the planner grasps one "
+                      "object, so put each body in a file of its own and plan it alone")
+    if name == "hollow.stl":  # a ball with a ball-shaped cavity, the cavity's surface wound inward
+        cavity = trimesh.creation.icosphere(subdivisions=2, radius=30.0)
+        cavity.invert()
+        trimesh.util.concatenate([sphere, cavity]).export(path)
+        return path, ("mesh 'hollow.stl' has an internal cavity (1 of its 2 closed surfaces lies "
+                      "inside the outer one), whose surface no finger reaches: keep only the outer "
+                      "surface in the file (the plan then takes the object as solid)")
+    if name == "bad_index.obj":  # a face beyond the vertices
+        path.write_text(sphere.export(file_type="obj") + "f 1 2 99999\n")
+        line = len(path.read_text().splitlines())
+        return path, (f"mesh 'bad_index.obj' has a face (line {line}) that refers to vertex 99999, "
+                      f"but the file has only {len(sphere.vertices)} vertices")
+    if name == "points_only.obj":
+        path.write_text("".join(f"v {x} {y} {z}\n" for x, y, z in sphere.vertices))
+        return path, (f"mesh 'points_only.obj' has {len(sphere.vertices)} vertices but no faces: a "
+                      "point cloud is no surface; export the mesh with its faces (OBJ 'f' lines)")
     raise AssertionError(name)
 
 
 @pytest.mark.parametrize("name", ["huge.obj", "nan.obj", "inf.stl", "garbage.stl", "empty.stl",
                                   "facetless.stl", "text.ply", "sphere.step", "open.stl",
-                                  "metres.stl"])
+                                  "metres.stl", "two_spheres.stl", "hollow.stl", "bad_index.obj",
+                                  "points_only.obj"])
 def test_plan_bad_mesh_exit_2(tmp_path, name):
     path, message = _mesh_file(tmp_path, name)
     before = sorted(p.name for p in tmp_path.iterdir())
@@ -144,6 +206,13 @@ def test_plan_bad_mesh_exit_2(tmp_path, name):
     assert sorted(p.name for p in tmp_path.iterdir()) == before  # no picture of a refused mesh
 
 
+COARSE_BOX = (  # the mean angular defect of a smooth closed surface of N vertices is 4 pi / N
+    "warning: mesh 'box.stl' has only 8 vertices and the planner places fingers on vertices only: a "
+    "surface this coarse leaves it few places to choose from and its smooth regions look sharp (mean "
+    f"angular defect {4 * math.pi / 8:.3f} rad against the 0.2 rad sharp-vertex threshold); remesh or "
+    "subdivide it finer for a better plan (the paper's objects have 390 vertices)\n")
+
+
 def test_plan_on_a_box_never_calls_a_grasp_with_an_unloaded_finger_stable(tmp_path):
     import trimesh
 
@@ -151,9 +220,10 @@ def test_plan_on_a_box_never_calls_a_grasp_with_an_unloaded_finger_stable(tmp_pa
     trimesh.creation.box(extents=(40.0, 30.0, 20.0)).export(path)  # 8 vertices, in mm
     text = runner.invoke(app, ["plan", str(path), "--mass-kg", "0.1"])
     assert text.exit_code == 0, text.output
-    # the coarse-mesh warning once, as one line; no Python reprs anywhere
-    assert text.stderr.count("mesh has only 8 vertices") == 1
-    assert text.stderr.startswith("warning: mesh has only 8 vertices")
+    debug = runner.invoke(app, ["--debug", "plan", str(path), "--mass-kg", "0.1"])
+    assert debug.stderr == COARSE_BOX  # --debug shows logs, but the warning is no log record
+    # the coarse-mesh warning once, as one line, with a remedy a command-line user can apply
+    assert text.stderr == COARSE_BOX
     assert "{" not in text.stdout and "[" not in text.stdout and "np." not in text.stdout
     result = runner.invoke(app, ["plan", str(path), "--mass-kg", "0.1", "--json"])
     assert result.exit_code == 0, result.output
@@ -164,3 +234,76 @@ def test_plan_on_a_box_never_calls_a_grasp_with_an_unloaded_finger_stable(tmp_pa
     assert plan["predicted_stable"] is False
     assert "predicted stable: no (finger " in text.stdout
     assert plan["mesh"]["size_mm"] == pytest.approx(40.0)
+
+
+def _never_plan(*args, **kwargs):
+    raise AssertionError("planning started before the picture path was checked")
+
+
+@pytest.mark.parametrize("where", ["directory", "no_suffix", "jpg", "missing_parent", "file_parent"])
+def test_plan_refuses_a_picture_path_before_planning(stl_files, tmp_path, monkeypatch, where):
+    monkeypatch.setattr("graspcampaign.rig.plan.plan_mesh", _never_plan)
+    (tmp_path / "pictures").mkdir()
+    (tmp_path / "notes.txt").write_text("")
+    png, message = {
+        "directory": (tmp_path / "pictures", f"--png {tmp_path / 'pictures'} is a directory: give a "
+                      f"file path ending in .png, such as {tmp_path / 'pictures' / 'plan.png'}."),
+        "no_suffix": (tmp_path / "plan", f"--png {tmp_path / 'plan'} does not end in .png: the "
+                      f"picture is a PNG file, so give a path such as {tmp_path / 'plan.png'}."),
+        "jpg": (tmp_path / "plan.jpg", f"--png {tmp_path / 'plan.jpg'} does not end in .png: the "
+                f"picture is a PNG file, so give a path such as {tmp_path / 'plan.png'}."),
+        "missing_parent": (tmp_path / "nowhere" / "plan.png", f"--png {tmp_path / 'nowhere' / 'plan.png'}"
+                           f": directory {tmp_path / 'nowhere'} does not exist."),
+        "file_parent": (tmp_path / "notes.txt" / "plan.png", f"--png {tmp_path / 'notes.txt' / 'plan.png'}"
+                        f": {tmp_path / 'notes.txt'} is a file, not a directory."),
+    }[where]
+    before = sorted(p.name for p in tmp_path.rglob("*"))
+    result = runner.invoke(app, ["plan", str(stl_files["sphere"]), "--mass-kg", "0.1", "--png", str(png)])
+    assert result.exit_code == 2, result.output
+    assert result.stderr == f"error: {message}\n"
+    assert sorted(p.name for p in tmp_path.rglob("*")) == before  # nothing written, no probe left
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="/proc takes no new files on Linux")
+def test_plan_refuses_an_unwritable_picture_path(stl_files, monkeypatch):
+    monkeypatch.setattr("graspcampaign.rig.plan.plan_mesh", _never_plan)
+    result = runner.invoke(app, ["plan", str(stl_files["sphere"]), "--mass-kg", "0.1",
+                                 "--png", "/proc/x.png"])
+    assert result.exit_code == 2
+    assert result.stderr == ("error: --png /proc/x.png: cannot write there (No such file or "
+                             "directory).\n")
+
+
+@pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() == 0,
+                    reason="permission bits do not stop root")
+def test_plan_refuses_a_read_only_directory(stl_files, tmp_path, monkeypatch):
+    monkeypatch.setattr("graspcampaign.rig.plan.plan_mesh", _never_plan)
+    locked = tmp_path / "locked"
+    locked.mkdir(mode=0o500)
+    result = runner.invoke(app, ["plan", str(stl_files["sphere"]), "--mass-kg", "0.1",
+                                 "--png", str(locked / "plan.png")])
+    assert result.exit_code == 2
+    assert result.stderr == f"error: --png {locked / 'plan.png'}: cannot write there (Permission denied).\n"
+
+
+def test_plan_names_the_default_picture_it_cannot_write(stl_files, tmp_path, monkeypatch):
+    monkeypatch.setattr("graspcampaign.rig.plan.plan_mesh", _never_plan)
+    mesh = tmp_path / "ball.stl"
+    mesh.write_bytes(stl_files["sphere"].read_bytes())
+    (tmp_path / "ball.plan.png").mkdir()  # where the default picture would go
+    result = runner.invoke(app, ["plan", str(mesh), "--mass-kg", "0.1"])
+    assert result.exit_code == 2
+    assert result.stderr == (f"error: the default picture {tmp_path / 'ball.plan.png'} is a directory: "
+                             f"give a file path ending in .png, such as "
+                             f"{tmp_path / 'ball.plan.png' / 'plan.png'}; pass --png with a path where "
+                             "the picture can be written.\n")
+
+
+def test_plan_prints_the_path_it_wrote(stl_files, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    result = runner.invoke(app, ["plan", str(stl_files["sphere"]), "--mass-kg", "0.1",
+                                 "--png", "Plan.PNG"])
+    assert result.exit_code == 0, result.output
+    assert result.stdout.endswith("\npicture: Plan.PNG\n")
+    assert sorted(p.name for p in Path().iterdir()) == ["Plan.PNG"]
+    assert Path("Plan.PNG").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

@@ -1,5 +1,7 @@
 """Tests for the quasi-static evaluator (Algorithms 1-2, §6.1)."""
 
+import warnings
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -126,6 +128,19 @@ def test_all_vertical_normals_give_empty_slip_minimum():
     normals = np.array([[0.0, 0.0, -1.0]] * 3)
     result = static_checks(RADIUS * normals, normals, ORIGIN, 0.1, 0.5, [[1e-3] * 3], 0.3, 1.5)
     assert np.isnan(result.eta[0]) and result.slip_margin[0] == np.inf and result.slip_ok[0]
+
+
+def test_frictionless_contacts_are_judged_without_numpy_warnings():
+    # mu = 0 (allowed: core.plausible): 1 - |eta|/mu takes its limits, -inf for any tangential
+    # demand (friction is needed and there is none); an unloaded row keeps the empty minimum
+    points, normals = ring(-30.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        result = static_checks(np.stack([points] * 2), np.stack([normals] * 2), ORIGIN, 0.3, 0.0,
+                               [[1e-3] * 3, [0.0] * 3], 0.3, 1.5)
+    assert result.eta[0] != 0.0 and result.slip_margin_ratio[0] == -np.inf
+    assert not result.slip_ok[0]
+    assert np.isnan(result.eta[1]) and result.slip_margin_ratio[1] == np.inf
 
 
 def test_torque_about_centroid():

@@ -15,6 +15,7 @@ from graspcampaign.core.feature import (
     CoarseMeshWarning,
     FeatureThresholds,
     distance_to_sharp_edges,
+    is_coarse,
     near_sharp_edge,
     sharp_features,
     smooth_mean_defect,
@@ -139,10 +140,13 @@ def test_distance_matches_dense_sampling_of_segments():
     assert (dense - exact <= step).all()
 
 
-def test_coarse_mesh_warning_and_resolution_aware_option():
+def test_coarse_mesh_warning_and_resolution_aware_option(caplog):
     coarse = make_object("sphere", 50)
-    with pytest.warns(CoarseMeshWarning, match="only 50 vertices.*resolution_aware=True"):
+    with pytest.warns(CoarseMeshWarning, match="only 50 vertices.*resolution_aware=True") as caught:
         fixed = sharp_features(coarse)
+    assert len(caught) == 1 and not caplog.records  # said once: a warning, not also a log record
+    assert is_coarse(50) and not is_coarse(50, FeatureThresholds(resolution_aware=True))
+    assert not is_coarse(144)
     assert fixed.n_sharp_vertices == 50  # 4*pi/50 = 0.25 rad > 0.2 rad: every vertex trips
     with warnings.catch_warnings():
         warnings.simplefilter("error")

@@ -49,6 +49,32 @@ def test_plan_on_each_shape_predicts_the_shared_budget_limits(stl_files, shape, 
     json.dumps(out)  # the CLI prints it with --json
 
 
+def test_plan_mesh_states_the_residual_check_apart_from_the_stability_verdict(stl_files):
+    out = rp.plan_mesh(stl_files["sphere"], mass_kg=0.05)
+    assert out["predicted_stable"] and out["residual_n"] > 0.0886  # the verdict is not the residual's
+    assert out["predicted_stable"] is (out["sf_predicted"] > 1.0 and not out["unloaded_fingers"])  # §9.5
+    assert out["tau_f_n"] == 0.0886  # §8.1
+    assert out["predicted_stable_residual"] is False
+
+
+def test_plan_warns_once_of_a_coarse_mesh_with_a_remedy_outside_python(tmp_path, caplog):
+    import trimesh
+
+    from graspcampaign.core.feature import CoarseMeshWarning
+
+    box = trimesh.creation.box(extents=(40.0, 30.0, 20.0))  # 8 vertices, in mm
+    box.export(tmp_path / "box.stl")
+    with pytest.warns(CoarseMeshWarning) as caught:
+        rp.plan_mesh(tmp_path / "box.stl", mass_kg=0.1)
+    assert len(caught) == 1 and not caplog.records
+    message = str(caught[0].message)
+    assert message.startswith("mesh 'box.stl' has only 8 vertices and the planner places fingers")
+    assert message.endswith("remesh or subdivide it finer for a better plan (the paper's objects "
+                            "have 390 vertices)")
+    assert "FeatureThresholds" not in message
+    assert caught[0].filename == __file__  # points at the caller of plan_mesh
+
+
 def test_plan_with_mu_overrides_the_material(stl_files):
     out = rp.plan_mesh(stl_files["sphere"], mass_kg=0.05, mu=0.9)
     assert out["mu_s"] == 0.9 and out["material"] == rp.DEFAULT_PLAN_MATERIAL

@@ -413,15 +413,21 @@ def plan(
     mu: Annotated[float | None, typer.Option(help="Static friction; overrides the material's.")] = None,
     fingertip_radius_mm: Annotated[float, typer.Option("--fingertip-radius-mm")] = 5.0,
     unit: Annotated[str, typer.Option(help="Length unit of the mesh file: m, cm or mm.")] = "mm",
-    png: Annotated[Path | None, typer.Option(help="Picture path (default: <mesh>.plan.png).")] = None,
+    png: Annotated[Path | None, typer.Option(
+        help="Picture path, ending in .png (default: <mesh>.plan.png beside the mesh).")] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
 ) -> None:
     """Plan a three-finger grasp on a mesh and predict the disturbances it resists."""
-    from graspcampaign.rig.plan import plan_mesh
+    from graspcampaign.rig.plan import check_picture_path, plan_mesh
 
     if not mesh.is_file():
         _fail(f"{mesh}: no such mesh file.")
-    png = png or mesh.with_suffix(".plan.png")
+    try:  # before any planning work
+        png = check_picture_path(png, "--png") if png is not None else \
+            check_picture_path(mesh.with_suffix(".plan.png"), "the default picture")
+    except ValueError as exc:
+        _fail(str(exc) if png is not None else
+              f"{str(exc).rstrip('.')}; pass --png with a path where the picture can be written.")
     try:
         result = plan_mesh(mesh, mass_kg=mass_kg, material=material, mu=mu,
                            fingertip_radius_mm=fingertip_radius_mm, unit=unit, png_path=png)

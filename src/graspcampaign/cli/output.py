@@ -37,13 +37,22 @@ def print_plan(r: dict[str, Any]) -> None:
                    f"normal {_vector(c['normal'], '.2f')}, f_n = {c['normal_force_n']:.3f} N, "
                    f"deformation = {c['deformation_mm']:.2f} mm")
     typer.echo("H: " + ", ".join(f"{k} = {v:.3f}" for k, v in r["h"].items()))
-    stable = "yes" if r["predicted_stable"] else "no"
     if r["unloaded_fingers"]:
         fingers = ", ".join(map(str, r["unloaded_fingers"]))
-        stable += f" (finger {fingers} carries no load, so the grasp is not a three-finger grasp)"
+        stable = f"no (finger {fingers} carries no load, so the grasp is not a three-finger grasp)"
+    elif r["predicted_stable"]:
+        stable = "yes (SF > 1 with every finger loaded, §9.5)"
+    else:
+        stable = "no (SF <= 1: friction does not carry the weight, §9.5)"
     typer.echo(f"G_geo = {r['g_geo']:.3f}  grip = {r['grip_force_n']:.3f} N"
                f"{' (capped at the damage depth)' if r['grip_capped'] else ''}  "
                f"SF = {r['sf_predicted']:.3f}  predicted stable: {stable}")
+    # the paper's residual check judges another quantity: say which, so the two never read as
+    # one verdict contradicting its own number
+    within = r["predicted_stable_residual"]
+    typer.echo(f"residual check (§8.1: Algorithm 2, normal forces only, friction ignored): |R| = "
+               f"{r['residual_n']:.3f} N {'<=' if within else '>'} tau_F = {r['tau_f_n']} N, "
+               f"{'passed' if within else 'not passed'}; not part of the verdict above")
     typer.echo(f"predicted limits: F_lat = {r['f_lat_n']:.3f} N, F_down = {r['f_down_n']:.3f} N, "
                f"T = {r['torque_nm']:.4f} N m (r_eff = {r['r_eff_mm']:.1f} mm)")
     first = ", ".join(f"{k.replace('_', ' ')}: finger {v}" if v else f"{k.replace('_', ' ')}: none"

@@ -16,14 +16,11 @@ edges, ``m`` query points.
 
 from __future__ import annotations
 
-import logging
 import warnings
 from dataclasses import dataclass
 
 import numpy as np
 import trimesh
-
-logger = logging.getLogger(__name__)
 
 __all__ = [
     "CoarseMeshWarning",
@@ -32,6 +29,7 @@ __all__ = [
     "sharp_features",
     "distance_to_sharp_edges",
     "near_sharp_edge",
+    "is_coarse",
     "smooth_mean_defect",
     "smooth_mean_dihedral",
 ]
@@ -163,21 +161,36 @@ class SharpFeatures:
         return len(self.sharp_edges)
 
 
-def _warn_if_coarse(n_vertices: int, thresholds: FeatureThresholds) -> None:
-    """Warn when smooth regions come within a factor 2 of the fixed thresholds."""
+def is_coarse(n_vertices: int, thresholds: FeatureThresholds | None = None) -> bool:
+    """Return whether a smooth closed surface of ``n_vertices`` comes within a factor 2 of the
+    fixed sharpness thresholds (never with ``resolution_aware`` thresholds, which scale with it).
+
+    Parameters
+    ----------
+    n_vertices : int
+        Vertex count of the mesh.
+    thresholds : FeatureThresholds, optional
+        Defaults to the paper's (§3.1).
+    """
+    thresholds = FeatureThresholds() if thresholds is None else thresholds
     if thresholds.resolution_aware:
-        return
-    mean_defect = smooth_mean_defect(n_vertices)
-    mean_dihedral = smooth_mean_dihedral(n_vertices)
-    if (mean_defect > 0.5 * thresholds.vertex_defect_rad
-            or np.degrees(mean_dihedral) > 0.5 * thresholds.edge_dihedral_deg):
+        return False
+    return bool(smooth_mean_defect(n_vertices) > 0.5 * thresholds.vertex_defect_rad
+                or np.degrees(smooth_mean_dihedral(n_vertices)) > 0.5 * thresholds.edge_dihedral_deg)
+
+
+def _warn_if_coarse(n_vertices: int, thresholds: FeatureThresholds) -> None:
+    """Warn (once, as a :class:`CoarseMeshWarning`) when :func:`is_coarse` holds."""
+    if is_coarse(n_vertices, thresholds):
+        mean_defect = smooth_mean_defect(n_vertices)
         message = (
             f"mesh has only {n_vertices} vertices: a smooth closed surface this coarse has mean "
             f"angular defect {mean_defect:.3f} rad (4*pi/N) against the "
             f"{thresholds.vertex_defect_rad} rad sharp-vertex threshold, so smooth regions may be "
             "flagged sharp; use a finer mesh or FeatureThresholds(resolution_aware=True)"
         )
-        logger.warning(message)
+        # a warning, not also a log record: without a handler, logging's last resort printed the
+        # same sentence a second time beside Python's warning
         warnings.warn(message, CoarseMeshWarning, stacklevel=3)
 
 

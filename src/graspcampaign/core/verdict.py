@@ -213,6 +213,7 @@ class EquilibriumResult:
         vacuously and the normal-only residual check alone decides).
     slip_margin_ratio : (b,) float
         ``1 - |eta|/mu`` over the same contacts (§6.4's normalised margin) [-]; same conventions.
+        At ``mu = 0`` its limits: 1 when no friction is demanded (``eta = 0``), ``-inf`` otherwise.
     eta : (b,) float
         Uniform utilisation ``-R_z / sum_j f_n,j t_hat_j,z`` (not capped at mu; negative when
         the normal forces over-support the weight) [-]; ``nan`` when no loaded contact has a
@@ -387,7 +388,11 @@ def resolve(batch: CandidateBatch, depths, friction=None) -> Resolved:
     if friction is None:
         abs_eta = np.where(loaded, np.abs(eta), 0.0)
         per_contact = np.where(carrying, forces * (mu[:, None] - abs_eta[:, None]), np.inf)
-        ratio = np.where(loaded, 1.0 - abs_eta / mu, np.inf)
+        # 1 - |eta|/mu and its limits at mu = 0: no demand uses none of the cone, any demand
+        # exceeds it (-inf); np.where evaluates every row, so the unloaded rows' 0/0 is kept out
+        with np.errstate(divide="ignore"):
+            used = np.where(abs_eta > 0.0, abs_eta / np.where(abs_eta > 0.0, mu, 1.0), 0.0)
+        ratio = np.where(loaded, 1.0 - used, np.inf)
         scale = np.where(carrying, np.where(loaded, eta, 0.0)[:, None] * forces, 0.0)
         friction = scale[..., None] * batch.tangents
     else:

@@ -67,6 +67,7 @@ from graspcampaign.rig.plan_predict import (
 __all__ = [
     # the graspcampaign plan MESH computation (this module)
     "plan_mesh",
+    "check_picture_path",
     # re-exported: they live in graspcampaign.rig.belief
     "CHARACTERISTIC_Z",
     "COATING_MU_S",
@@ -131,6 +132,85 @@ def _check_size(mesh, name: str, unit: str) -> float:
 
 
 _UNIT_WORDS = {"m": "metres", "cm": "centimetres", "mm": "millimetres"}
+
+
+def _coarse_checked_body(mesh, name: str):
+    """Return the planning body of ``mesh``, warning once, in the planner's words, if it is coarse.
+
+    The core's :class:`~graspcampaign.core.feature.CoarseMeshWarning` names a Python remedy
+    (resolution-aware thresholds); for a plan the remedy is a finer mesh, because the planner's
+    contacts are mesh vertices: raising the thresholds would call a coarse cube's corners smooth
+    and still leave the fingers only its corners to choose from.
+    """
+    import warnings
+
+    from graspcampaign.core.feature import (
+        CoarseMeshWarning,
+        FeatureThresholds,
+        is_coarse,
+        smooth_mean_defect,
+    )
+
+    n_vertices = len(mesh.vertices)
+    if is_coarse(n_vertices):
+        warnings.warn(
+            f"mesh {name!r} has only {n_vertices} vertices and the planner places fingers on "
+            f"vertices only: a surface this coarse leaves it few places to choose from and its "
+            f"smooth regions look sharp (mean angular defect {smooth_mean_defect(n_vertices):.3f} "
+            f"rad against the {FeatureThresholds().vertex_defect_rad} rad sharp-vertex threshold); "
+            f"remesh or subdivide it finer for a better plan (the paper's objects have {N_NODES} "
+            "vertices)", CoarseMeshWarning, stacklevel=3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CoarseMeshWarning)  # said above, in the planner's words
+        return _make_body(mesh)
+
+
+def check_picture_path(path, option: str = "picture path") -> Path:
+    """Return ``path`` as a Path a PNG can be written at, exactly; refuse any other, naming it.
+
+    Checked before any work: a directory, a name not ending in ``.png`` (matplotlib would pick
+    another format or append ``.png``, so the file written would not be the path named), a
+    missing parent directory, or one where no file can be created (probed by creating and
+    removing a temporary file: permission bits do not tell, e.g. for root or on ``/proc``).
+
+    Parameters
+    ----------
+    path : str or path
+        Where the picture goes.
+    option : str
+        How the messages name the path (the command line passes ``--png``).
+
+    Raises
+    ------
+    ValueError
+        One sentence naming the path and what is wrong with it.
+    """
+    import os
+    import tempfile
+
+    path = Path(path)
+    if path.is_dir():
+        raise ValueError(f"{option} {path} is a directory: give a file path ending in .png, such as "
+                         f"{path / 'plan.png'}.")
+    if path.suffix.lower() != ".png":
+        raise ValueError(f"{option} {path} does not end in .png: the picture is a PNG file, so give "
+                         f"a path such as {path.with_suffix('.png')}.")
+    parent = path.parent
+    if parent.exists() and not parent.is_dir():
+        raise ValueError(f"{option} {path}: {parent} is a file, not a directory.")
+    if not parent.is_dir():
+        raise ValueError(f"{option} {path}: directory {parent} does not exist.")
+    try:
+        handle, probe = tempfile.mkstemp(suffix=".png", prefix=".plan-probe-", dir=parent)
+        os.close(handle)
+        os.unlink(probe)
+        if path.exists():
+            with path.open("ab"):
+                pass
+    except OSError as exc:
+        raise ValueError(f"{option} {path}: cannot write there "
+                         f"({exc.strerror or type(exc).__name__}).") from None
+    return path
 UNLOADED_N = 1e-6
 """A finger pressing with less than this [N] carries no load (the plan's forces are N-scale)."""
 
@@ -155,7 +235,8 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
     unit : str
         Length unit of the mesh file.
     png_path : path, optional
-        Where to write the picture (mesh, contacts, force arrows); none when omitted.
+        Where to write the picture (mesh, contacts, force arrows), exactly this path; none when
+        omitted. Checked first (:func:`check_picture_path`).
     seed : int
         Candidate sampling seed.
 
@@ -167,20 +248,28 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
         ``h`` (``h_tilde, s1, s2, s3, pc_mag, pe_mag``), ``g_geo``, ``grip_force_n``,
         ``grip_capped``, ``sf_predicted``, ``f_lat_n``, ``f_down_n``, ``torque_nm``, ``r_eff_mm``,
         ``first_finger`` (per disturbance: lateral +x, +y, down, yaw), ``predicted_stable``
-        (the residual criterion, and every finger loaded), ``unloaded_fingers`` (1-based, fingers
-        whose normal force is not above :data:`UNLOADED_N`), ``png``.
+        (§9.5, as :func:`predict_trial`: the believed margin ``sf_predicted > 1``, and every finger
+        loaded), ``unloaded_fingers`` (1-based, fingers whose normal force is not above
+        :data:`UNLOADED_N`), ``residual_n`` (Algorithm 2's normal-only residual ``|R|`` at the
+        planned contacts under the material's contact law, friction ignored [N]; a different
+        quantity from the one ``predicted_stable`` judges), ``tau_f_n`` (0.0886 N, §8.1),
+        ``predicted_stable_residual`` (the paper's §8.1 check ``residual_n <= tau_f_n``, friction-
+        blind; at SI constants it almost never holds, see docs/decisions.md), ``png``.
 
     Raises
     ------
     graspcampaign.core.mesh.MeshError
-        Unreadable or invalid mesh.
+        Unreadable or invalid mesh, or one of more than one body or with an internal cavity
+        (:func:`graspcampaign.core.mesh_file.check_one_body`).
     ValueError
-        Out-of-range mass, friction, radius, an unknown material, or an object whose size no
+        Out-of-range mass, friction, radius, an unknown material, an object whose size no
         three-finger hand grasps (``core.plausible.OBJECT_SIZE_MM``; the message names the unit
-        its coordinates look like).
+        its coordinates look like), or a picture path that cannot be written.
     """
-    from graspcampaign.core.mesh import load_mesh
+    from graspcampaign.core.mesh import check_one_body, load_mesh
 
+    if png_path is not None:  # before any work: a plan whose picture cannot be written is lost
+        png_path = check_picture_path(png_path)
     mass = _check_plausible(mass_kg, "mass_kg", "mass_kg", "kg")
     radius_mm = _check_plausible(fingertip_radius_mm, "fingertip_radius_mm", "fingertip_radius_mm",
                                  "mm")
@@ -196,8 +285,9 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
     else:
         mesh = mesh_or_path
         name = "mesh"
+        check_one_body(mesh, name)  # load_mesh checks a file's mesh; the planner grasps one body
     size_mm = _check_size(mesh, name, unit)
-    body = _make_body(mesh)
+    body = _coarse_checked_body(mesh, name)
     ctx = replace(body.ctx, mass=mass, mu=mat.mu_s,
                   contact=mat.contact_params(radius_mm * 1e-3), n_cand=DEFAULT_N_CAND,
                   evaluator=EvaluatorParams())
@@ -232,12 +322,18 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
         "r_eff_mm": pred["r_eff_mm"], "first_finger": first,
         "predicted_stable": bool(pred["predicted_stable"]) and not unloaded,
         "unloaded_fingers": unloaded, "residual_n": pred["residual_pred_n"],
+        "tau_f_n": STABLE_RESIDUAL_N,
+        "predicted_stable_residual": bool(pred["predicted_stable_residual"]),
         "png": None,
     }
     if png_path is not None:
-        out["png"] = str(plot_plan(mesh, plan.points, plan.normals, forces, png_path,
-                                   title=f"{name}: SF {out['sf_predicted']:.2f}, "
-                                         f"F_lat {out['f_lat_n']:.2f} N"))
+        try:
+            out["png"] = str(plot_plan(mesh, plan.points, plan.normals, forces, png_path,
+                                       title=f"{name}: SF {out['sf_predicted']:.2f}, "
+                                             f"F_lat {out['f_lat_n']:.2f} N"))
+        except OSError as exc:  # a full disk, or the directory changed since the check
+            raise ValueError(f"picture path {png_path}: cannot write there "
+                             f"({exc.strerror or type(exc).__name__}).") from None
     return out
 
 
@@ -275,5 +371,5 @@ def plot_plan(mesh, points, normals, forces, path, title: str = "") -> Path:
     ax.set_box_aspect(np.ptp(v, axis=0))
     ax.set_title(title, fontsize=9)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=100)
+    fig.savefig(path, dpi=100, format="png")  # at exactly this path, whatever its suffix
     return path

@@ -1,0 +1,357 @@
+"""User meshes: reading STL, OBJ and PLY files and validating closed surfaces (SPEC §2.1).
+
+Every mesh leaving :func:`load_mesh` or :func:`check_mesh` is a closed, outward-wound
+triangulated surface in metres whose solid's volume centroid (``mesh.center_mass``) sits at the
+origin. Every refusal is a :class:`MeshError` whose message is one sentence naming the file and
+what is wrong. :mod:`graspcampaign.core.mesh` re-exports the public names.
+
+Shape letters used in this module: ``n`` vertices (nodes), ``f`` faces, ``p`` query points.
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+
+import numpy as np
+import trimesh
+
+logger = logging.getLogger(__name__)
+
+__all__ = [
+    "MeshError",
+    "UNITS",
+    "MESH_SUFFIXES",
+    "MAX_COORDINATE_M",
+    "load_mesh",
+    "check_mesh",
+    "check_one_body",
+    "winding_numbers",
+]
+
+#: Length units accepted by :func:`load_mesh`, as metres per unit.
+UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3}
+#: File types read by :func:`load_mesh`.
+MESH_SUFFIXES = (".stl", ".obj", ".ply")
+
+
+class MeshError(ValueError):
+    """A mesh or shape request that cannot be used; the message says what is wrong."""
+
+
+def _finish(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
+    """Centre a constructed mesh on its volume centroid."""
+    # Assign rather than apply_translation: trimesh skips transforms within 1e-8 of identity,
+    # and the second pass removes the ~1e-9 m left by the first.
+    for _ in range(2):
+        mesh.vertices = np.asarray(mesh.vertices) - np.asarray(mesh.center_mass)
+    return mesh
+
+
+def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
+    """Read a user mesh (STL, OBJ or PLY), convert it to metres and validate it.
+
+    Parameters
+    ----------
+    path : str or path-like
+        Mesh file.
+    unit : str
+        Length unit of the file's coordinates: ``"m"``, ``"cm"`` or ``"mm"``.
+
+    Returns
+    -------
+    mesh : trimesh.Trimesh
+        Validated by :func:`check_mesh`: watertight, consistently and outward wound, no degenerate
+        faces, in metres, centred on its volume centroid.
+
+    Raises
+    ------
+    MeshError
+        Unknown unit, missing or unreadable file, or a mesh that fails :func:`check_mesh`.
+    """
+    if unit not in UNITS:
+        raise MeshError(f"unknown unit {unit!r}: use one of {', '.join(repr(u) for u in UNITS)}")
+    name = os.fspath(path)
+    base = os.path.basename(name)
+    if not os.path.isfile(name):
+        raise MeshError(f"mesh file {name!r} does not exist")
+    suffix = os.path.splitext(name)[1].lower()
+    if suffix not in MESH_SUFFIXES:
+        raise MeshError(
+            f"mesh file {name!r} has unsupported type {suffix or '(none)'!r}: "
+            f"use {', '.join(MESH_SUFFIXES)}"
+        )
+    n_bytes = os.path.getsize(name)
+    if n_bytes == 0:
+        raise MeshError(f"mesh {base!r} is empty: the file has 0 bytes")
+    if suffix == ".stl":
+        _check_stl_layout(name, base, n_bytes)
+    if suffix == ".obj":
+        _check_obj_indices(name, base)
+    try:
+        # validate=False, process=False: keep non-finite values, degenerate faces and bad winding
+        # so that they are reported here and by check_mesh instead of silently dropped
+        with np.errstate(all="ignore"):  # non-finite values are reported below, not warned about
+            mesh = trimesh.load(name, force="mesh", process=False, validate=False)
+    except Exception as exc:  # trimesh raises many types for unreadable files
+        text = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        raise MeshError(f"mesh {base!r} cannot be read as {suffix[1:].upper()} ({text})") from exc
+    if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
+        raise MeshError(f"mesh {base!r} is empty: it has no faces")
+    _check_coordinates(np.asarray(mesh.vertices), base, unit, per_triangle=suffix == ".stl")
+    mesh.process(validate=False)  # merge the duplicated corners of STL triangle soups
+    mesh.apply_scale(UNITS[unit])
+    return check_mesh(mesh, base)
+
+
+#: Largest coordinate accepted from a mesh file [m]: a kilometre is no graspable object, and
+#: bounding coordinates keeps areas and volumes (cubes of lengths) far from float overflow.
+MAX_COORDINATE_M = 1e3
+
+
+def _check_stl_layout(name: str, base: str, n_bytes: int) -> None:
+    """Tell an STL from other bytes before trimesh guesses (it would try text decodings)."""
+    with open(name, "rb") as fh:
+        head = fh.read(84)
+    if len(head) == 84 and 84 + 50 * int.from_bytes(head[80:84], "little") == n_bytes:
+        return  # binary STL: 80-byte header, triangle count, 50 bytes per triangle
+    if head.lstrip()[:5].lower() == b"solid":
+        try:
+            with open(name, encoding="ascii") as fh:
+                fh.read()
+            return
+        except UnicodeDecodeError:
+            pass
+    raise MeshError(f"mesh {base!r} is not an STL file: {n_bytes} bytes are neither a binary STL "
+                    "(84 bytes plus 50 per triangle) nor an ASCII STL (text starting with 'solid')")
+
+
+def _check_obj_indices(name: str, base: str) -> None:
+    """Refuse an OBJ whose faces refer to missing vertices, or that has vertices but no faces.
+
+    trimesh reports both as "could not be read to its end due to unmatched data". A face's
+    vertex index is 1-based, or negative counting back from the vertices read so far (the OBJ
+    format); a positive index is checked against every vertex of the file, as readers do.
+    """
+    n_vertices = n_faces = 0
+    largest = (0, 0)  # (positive vertex index, line)
+    with open(name, encoding="utf-8", errors="replace") as fh:
+        for line_no, line in enumerate(fh, 1):
+            words = line.split()
+            if words[:1] == ["v"]:
+                n_vertices += 1
+            elif words[:1] == ["f"]:
+                n_faces += 1
+                for token in words[1:]:
+                    try:
+                        index = int(token.split("/", 1)[0])  # v, v/vt, v//vn or v/vt/vn
+                    except ValueError:
+                        continue  # not a number: trimesh's own message says what it could not read
+                    if index > largest[0]:
+                        largest = (index, line_no)
+                    elif index == 0 or index < -n_vertices:  # a positive index passes both
+                        raise MeshError(f"mesh {base!r} has a face (line {line_no}) that refers to "
+                                        f"vertex {index}, but {n_vertices} vertices precede it: OBJ "
+                                        "indices count from 1, or back from -1")
+    if largest[0] > n_vertices:
+        raise MeshError(f"mesh {base!r} has a face (line {largest[1]}) that refers to vertex "
+                        f"{largest[0]}, but the file has only {n_vertices} vertices")
+    if n_vertices and not n_faces:
+        raise MeshError(f"mesh {base!r} has {n_vertices} vertices but no faces: a point cloud is no "
+                        "surface; export the mesh with its faces (OBJ 'f' lines)")
+
+
+def _check_coordinates(vertices: np.ndarray, base: str, unit: str, per_triangle: bool) -> None:
+    """Refuse non-finite or absurdly large coordinates, naming the first vertex (or triangle)."""
+    def where(i: int) -> str:
+        return f"triangle {i // 3 + 1}" if per_triangle else f"vertex {i + 1}"
+
+    finite = np.isfinite(vertices).all(axis=1)
+    if not finite.all():
+        i = int(np.flatnonzero(~finite)[0])
+        raise MeshError(f"mesh {base!r} has a non-finite coordinate at {where(i)} "
+                        f"({', '.join(f'{x:g}' for x in vertices[i])}): every coordinate must be a "
+                        "finite number")
+    limit = MAX_COORDINATE_M / UNITS[unit]
+    far = np.abs(vertices).max(axis=1) > limit
+    if far.any():
+        i = int(np.flatnonzero(far)[0])
+        raise MeshError(f"mesh {base!r} has a coordinate of {np.abs(vertices[i]).max():.3g} {unit} "
+                        f"at {where(i)}, beyond the {limit:g} {unit} ({MAX_COORDINATE_M:g} m) any "
+                        "graspable object fits in; check the file and its unit (--unit)")
+
+
+def check_mesh(mesh: trimesh.Trimesh, name: str = "mesh", centre: bool = True) -> trimesh.Trimesh:
+    """Validate a closed surface mesh and return an outward-wound, centred copy.
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+        Candidate mesh in metres.
+    name : str
+        Name used in error messages (e.g. the file name).
+    centre : bool
+        Translate the result so its volume centroid is at the origin.
+
+    Returns
+    -------
+    mesh : trimesh.Trimesh
+        A copy; winding flipped if it was consistently inward.
+
+    Raises
+    ------
+    MeshError
+        Empty mesh, non-finite coordinates, degenerate (zero-area) faces, open or non-manifold
+        edges, inconsistent winding, more than one closed surface (:func:`check_one_body`), or
+        zero enclosed volume.
+    """
+    if len(mesh.faces) == 0 or len(mesh.vertices) == 0:
+        raise MeshError(f"mesh {name!r} is empty: it has no faces")
+    vertices = np.asarray(mesh.vertices, dtype=float)
+    faces = np.asarray(mesh.faces, dtype=np.int64)
+    bad_coords = ~np.isfinite(vertices).all(axis=1)
+    if bad_coords.any():
+        raise MeshError(
+            f"mesh {name!r} has non-finite coordinates at {int(bad_coords.sum())} vertices"
+        )
+    scale = float(np.ptp(vertices, axis=0).max())
+    tri = vertices[faces]
+    double_area = np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+    degenerate = double_area <= 1e-12 * max(scale, 1e-300) ** 2
+    if degenerate.any():
+        raise MeshError(
+            f"mesh {name!r} has {int(degenerate.sum())} degenerate (zero-area) faces"
+        )
+    edges = np.sort(mesh.edges, axis=1)
+    _, counts = np.unique(edges, axis=0, return_counts=True)
+    n_boundary = int((counts == 1).sum())
+    n_nonmanifold = int((counts > 2).sum())
+    if n_boundary:
+        raise MeshError(f"mesh {name!r} is not watertight: {n_boundary} boundary edges")
+    if n_nonmanifold:
+        raise MeshError(
+            f"mesh {name!r} is not watertight: {n_nonmanifold} non-manifold edges "
+            "(shared by more than two faces)"
+        )
+    # On a closed manifold every undirected edge is used twice; consistent winding traverses it
+    # once in each direction, so a repeated *directed* edge marks a flipped neighbour.
+    n_directed = len(np.unique(mesh.edges, axis=0))
+    n_inconsistent = len(mesh.edges) - n_directed
+    if n_inconsistent:
+        raise MeshError(
+            f"mesh {name!r} is inconsistently wound: {n_inconsistent} edges are traversed in the "
+            "same direction by both of their faces"
+        )
+    check_one_body(mesh, name)
+    out = mesh.copy()
+    volume = out.volume
+    if abs(volume) <= 1e-12 * scale**3:
+        raise MeshError(f"mesh {name!r} encloses no volume")
+    if volume < 0.0:
+        logger.info("mesh %r was wound inward; inverted to outward winding", name)
+        out.invert()
+    if centre:
+        out = _finish(out)
+    return out
+
+
+#: Vertices of each surface tested against the others by :func:`check_one_body` (evenly spaced).
+NESTING_SAMPLES = 64
+
+
+def winding_numbers(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """Return the winding number of a closed triangulated surface about each point.
+
+    Parameters
+    ----------
+    points : (p, 3) float
+        Query points [m].
+    triangles : (f, 3, 3) float
+        Corners of the surface's faces [m], in their winding order.
+
+    Returns
+    -------
+    (p,) float
+        The signed solid angle the surface subtends at each point over ``4 pi``: +1 inside an
+        outward-wound closed surface, -1 inside an inward-wound one, 0 outside (up to rounding).
+
+    References
+    ----------
+    Van Oosterom, A. & Strackee, J. (1983). The solid angle of a plane triangle. IEEE Trans.
+    Biomed. Eng. 30(2), 125-126 (``tan(Omega / 2) = a.(b x c) / (|a||b||c| + (a.b)|c| +
+    (b.c)|a| + (c.a)|b|)``). Jacobson, A., Kavan, L. & Sorkine-Hornung, O. (2013). Robust
+    inside-outside segmentation using generalized winding numbers. ACM TOG 32(4), 33.
+    """
+    points = np.asarray(points, dtype=float).reshape(-1, 3)
+    triangles = np.asarray(triangles, dtype=float).reshape(-1, 3, 3)
+    out = np.empty(len(points))
+    block = max(1, 2**20 // max(len(triangles), 1))  # about 2**20 point-face pairs at a time
+    for start in range(0, len(points), block):
+        rel = triangles[None, :, :, :] - points[start:start + block, None, None, :]
+        a, b, c = rel[:, :, 0], rel[:, :, 1], rel[:, :, 2]
+        la, lb, lc = (np.linalg.norm(v, axis=-1) for v in (a, b, c))
+        det = np.einsum("pfi,pfi->pf", a, np.cross(b, c))
+        dots = (np.einsum("pfi,pfi->pf", a, b) * lc + np.einsum("pfi,pfi->pf", b, c) * la
+                + np.einsum("pfi,pfi->pf", c, a) * lb)
+        out[start:start + block] = (2.0 * np.arctan2(det, la * lb * lc + dots)).sum(axis=1)
+    return out / (4.0 * np.pi)
+
+
+def check_one_body(mesh: trimesh.Trimesh, name: str = "mesh") -> None:
+    """Refuse a closed mesh made of more than one surface, saying what the surfaces are.
+
+    The surfaces are the face-connected components (``trimesh.Trimesh.split``). A surface lies
+    inside another when its sampled vertices have winding number ``|w| > 1/2`` about it
+    (:func:`winding_numbers`); a surface inside an odd number of others bounds a cavity, one
+    inside an even number (none: the outside) is a body of its own.
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+        A closed mesh (every edge shared by two faces).
+    name : str
+        Name used in error messages (e.g. the file name).
+
+    Raises
+    ------
+    MeshError
+        Surfaces passing through each other; more than one separate body (side by side, or one
+        inside another's cavity); or one body with an internal cavity.
+    """
+    labels = trimesh.graph.connected_component_labels(mesh.face_adjacency,
+                                                      node_count=len(mesh.faces))
+    n_surfaces = int(labels.max()) + 1 if len(labels) else 0
+    if n_surfaces <= 1:
+        return
+    triangles = np.asarray(mesh.triangles)
+    faces = np.asarray(mesh.faces)
+    vertices = np.asarray(mesh.vertices)
+    inside = np.zeros((n_surfaces, n_surfaces), dtype=bool)  # [i, j]: surface i inside surface j
+    for i in range(n_surfaces):
+        ids = np.unique(faces[labels == i])
+        samples = vertices[ids[np.linspace(0, len(ids) - 1, min(len(ids), NESTING_SAMPLES))
+                               .astype(np.int64)]]
+        for j in range(n_surfaces):
+            if i == j:
+                continue
+            other = triangles[labels == j]
+            # a point outside the surface's bounding box is outside it: no solid angles needed
+            boxed = ((samples >= other.min(axis=(0, 1))) & (samples <= other.max(axis=(0, 1)))).all(1)
+            enclosed = np.zeros(len(samples), dtype=bool)
+            if boxed.any():
+                enclosed[boxed] = np.abs(winding_numbers(samples[boxed], other)) > 0.5
+            if enclosed.any() and not enclosed.all():
+                raise MeshError(f"mesh {name!r} has {n_surfaces} closed surfaces that pass through "
+                                "each other: merge them into one closed surface (a boolean union) "
+                                "before planning")
+            inside[i, j] = enclosed.all()
+    depth = inside.sum(axis=1)
+    n_bodies = int((depth % 2 == 0).sum())
+    if n_bodies > 1:
+        raise MeshError(f"mesh {name!r} has {n_bodies} separate bodies: the planner grasps one "
+                        "object, so put each body in a file of its own and plan it alone")
+    n_cavities = n_surfaces - n_bodies
+    lies = "lies" if n_cavities == 1 else "lie"
+    raise MeshError(f"mesh {name!r} has an internal cavity ({n_cavities} of its {n_surfaces} closed "
+                    f"surfaces {lies} inside the outer one), whose surface no finger reaches: keep "
+                    "only the outer surface in the file (the plan then takes the object as solid)")

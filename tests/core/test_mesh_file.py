@@ -1,0 +1,127 @@
+"""Tests for core.mesh_file: user meshes made of more than one closed surface, OBJ structure.
+
+References: trimesh's own component count (``Trimesh.split``, ``body_count``) and the closed form
+of a point inside or outside a ball (winding number 1 or 0).
+"""
+
+import numpy as np
+import pytest
+import trimesh
+
+from graspcampaign.core.mesh_file import (
+    MeshError,
+    check_mesh,
+    check_one_body,
+    load_mesh,
+    winding_numbers,
+)
+
+
+def _ball(radius: float, centre=(0.0, 0.0, 0.0), inward: bool = False) -> trimesh.Trimesh:
+    ball = trimesh.creation.icosphere(subdivisions=2, radius=radius)
+    ball.apply_translation(centre)
+    if inward:
+        ball.invert()
+    return ball
+
+
+def test_winding_numbers_of_a_ball_are_one_inside_and_zero_outside():
+    ball = _ball(0.02)
+    inscribed = 0.02 * np.cos(np.radians(20.0))  # the subdivision-2 icosphere's faces lie beyond
+    points = np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 0.9 * inscribed], [0.0, 0.03, 0.0],
+                       [1.0, 0.0, 0.0]])
+    assert winding_numbers(points, ball.triangles) == pytest.approx([1.0, 1.0, 0.0, 0.0], abs=1e-9)
+    inverted = _ball(0.02, inward=True)
+    assert winding_numbers(points[:2], inverted.triangles) == pytest.approx([-1.0, -1.0], abs=1e-9)
+
+
+def test_one_ball_passes():
+    check_one_body(_ball(0.02))
+    assert check_mesh(_ball(0.02)).is_watertight
+
+
+@pytest.mark.parametrize("n_balls", [2, 3])
+def test_separate_bodies_are_refused_with_trimesh_count(n_balls):
+    mesh = trimesh.util.concatenate([_ball(0.02, (0.1 * k, 0.0, 0.0)) for k in range(n_balls)])
+    count = len(mesh.split(only_watertight=False))  # trimesh's own count of the bodies
+    assert count == mesh.body_count == n_balls
+    with pytest.raises(MeshError) as info:
+        check_mesh(mesh, "balls.stl")
+    assert str(info.value) == (f"mesh 'balls.stl' has {count} separate bodies: the planner grasps "
+                               "one object, so put each body in a file of its own and plan it alone")
+
+
+@pytest.mark.parametrize("inward", [True, False])  # a well-wound cavity, and one wound like a body
+def test_a_hollow_shell_is_refused_as_a_cavity(inward):
+    mesh = trimesh.util.concatenate([_ball(0.04), _ball(0.03, inward=inward)])
+    assert len(mesh.split(only_watertight=False)) == 2
+    with pytest.raises(MeshError, match=r"^mesh 'shell.stl' has an internal cavity \(1 of its 2 "
+                                        r"closed surfaces lies inside the outer one\), whose surface "
+                                        r"no finger reaches: keep only the outer surface in the file "
+                                        r"\(the plan then takes the object as solid\)$"):
+        check_mesh(mesh, "shell.stl")
+
+
+def test_a_ball_in_a_cavity_is_a_second_body():
+    rattle = trimesh.util.concatenate([_ball(0.04), _ball(0.03, inward=True), _ball(0.01)])
+    with pytest.raises(MeshError, match="^mesh 'rattle.stl' has 2 separate bodies: "):
+        check_one_body(rattle, "rattle.stl")
+
+
+def test_surfaces_passing_through_each_other_are_refused():
+    mesh = trimesh.util.concatenate([_ball(0.02), _ball(0.02, (0.03, 0.0, 0.0))])
+    with pytest.raises(MeshError, match=r"^mesh 'pair.stl' has 2 closed surfaces that pass through "
+                                        r"each other: merge them into one closed surface \(a boolean "
+                                        r"union\) before planning$"):
+        check_one_body(mesh, "pair.stl")
+
+
+def _sphere_obj(path, extra: str = "") -> int:
+    """Write a trimesh icosphere (mm) as OBJ plus ``extra`` lines; return its vertex count."""
+    sphere = trimesh.creation.icosphere(subdivisions=2, radius=40.0)
+    path.write_text(sphere.export(file_type="obj") + extra)
+    return len(sphere.vertices)
+
+
+def test_an_obj_face_beyond_the_vertices_is_named(tmp_path):
+    path = tmp_path / "bad_index.obj"
+    n_vertices = _sphere_obj(path, "f 1 2 99999\n")
+    line = len(path.read_text().splitlines())  # the appended face is the last line
+    with pytest.raises(MeshError) as info:
+        load_mesh(path)
+    assert str(info.value) == (f"mesh 'bad_index.obj' has a face (line {line}) that refers to vertex "
+                               f"99999, but the file has only {n_vertices} vertices")
+
+
+@pytest.mark.parametrize("index", [0, -9999])
+def test_an_obj_face_before_the_first_vertex_is_named(tmp_path, index):
+    path = tmp_path / "back.obj"
+    n_vertices = _sphere_obj(path, f"f 1 2 {index}\n")
+    line = len(path.read_text().splitlines())
+    with pytest.raises(MeshError, match=rf"^mesh 'back.obj' has a face \(line {line}\) that refers to "
+                                        rf"vertex {index}, but {n_vertices} vertices precede it: OBJ "
+                                        r"indices count from 1, or back from -1$"):
+        load_mesh(path)
+
+
+def test_an_obj_of_vertices_only_is_named(tmp_path):
+    path = tmp_path / "points_only.obj"
+    sphere = trimesh.creation.icosphere(subdivisions=2, radius=40.0)
+    path.write_text("".join(f"v {x} {y} {z}\n" for x, y, z in sphere.vertices))
+    with pytest.raises(MeshError) as info:
+        load_mesh(path)
+    assert str(info.value) == (f"mesh 'points_only.obj' has {len(sphere.vertices)} vertices but no "
+                               "faces: a point cloud is no surface; export the mesh with its faces "
+                               "(OBJ 'f' lines)")
+
+
+def test_obj_faces_with_slashes_and_negative_indices_are_read(tmp_path):
+    box = trimesh.creation.box(extents=(30.0, 30.0, 30.0))  # mm
+    lines = [f"v {x} {y} {z}" for x, y, z in box.vertices] + ["vn 0 0 1"]
+    n = len(box.vertices)
+    lines += [f"f {a - n}//1 {b - n}//1 {c - n}//1" for a, b, c in box.faces]  # -n..-1 is 0..n-1
+    path = tmp_path / "box.obj"
+    path.write_text("\n".join(lines) + "\n")
+    mesh = load_mesh(path)
+    assert len(mesh.faces) == len(box.faces)
+    assert mesh.volume == pytest.approx(box.volume * 1e-9)  # trimesh's own volume, mm^3 -> m^3
