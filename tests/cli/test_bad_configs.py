@@ -1,0 +1,170 @@
+"""Bad configs, class by class: exit 2, the whole one-sentence message, nothing stored changed.
+
+The classes a tester found accepted, hanging or answered with a traceback: a Dask address that is
+no scheduler, designs too large to hold, ``runner.n_jobs=0``, null factor levels, factors missing
+for the trial kind, bad ``GRASPCAMPAIGN_HOME``/``_PATH``/``_CACHE``, silent acceptances
+(``pso.enabled=2``, Hydra's own keys, broken files listed as runnable, ``show`` accepting what
+``run`` refuses, ``plan --material ''``), the drift message, study-file errors without their file,
+name collisions, and override messages. Pattern of ``test_bad_input.py``.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import http.server
+import shutil
+import signal
+import socket
+import threading
+import time
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from graspcampaign.campaign import studyfile
+from graspcampaign.cli.main import app
+
+runner = CliRunner()
+PROJECT = Path(studyfile.project_dirs()[0]).parent
+CAMPAIGNS = PROJECT / "campaigns"
+SMOKE = ["shape=[sphere]", "nodes=[144]"]
+HEADER = "# @package _global_\n# schema: StudyCfg\n"
+BODY = "kind: mesh_features\nfactors:\n  shape: [sphere]\n  nodes: [144]\n"
+RUN_NAME = "(output.run=NAME or --run NAME) or pass --allow-drift to mix them."
+
+
+@contextlib.contextmanager
+def _deadline(seconds: float):
+    """Fail (instead of hanging or filling the memory) if the block takes longer than this."""
+    def expired(signum, frame):
+        raise TimeoutError(f"still running after {seconds} s")
+
+    previous = signal.signal(signal.SIGALRM, expired)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+
+
+def _invoke(*args, seconds: float = 20.0):
+    with _deadline(seconds):
+        return runner.invoke(app, [str(a) for a in args], catch_exceptions=False)
+
+
+def _snapshot(root: Path) -> dict[str, str]:
+    return {p.relative_to(root).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest()
+            for p in sorted(root.rglob("*")) if p.is_file()}
+
+
+@pytest.fixture(scope="module")
+def results(tmp_path_factory):
+    """A results root holding one finished smoke run (so 'nothing changed' has something to keep)."""
+    root = tmp_path_factory.mktemp("bad_configs") / "results"
+    done = _invoke("run", "smoke", *SMOKE, "runner.backend=sequential", "--root", root)
+    assert done.exit_code == 0, done.output
+    return root
+
+
+def _refused(results: Path, args, message: str, warnings: str = "", seconds: float = 20.0) -> None:
+    before = _snapshot(results)
+    result = _invoke(*args, "--root", results, seconds=seconds)
+    assert result.exit_code == 2, result.output
+    assert result.stderr == f"{warnings}error: {message}\n"
+    assert _snapshot(results) == before
+
+
+@pytest.fixture
+def user_dir(tmp_path, monkeypatch):
+    """A directory of the user's own study files on GRASPCAMPAIGN_PATH."""
+    folder = tmp_path / "my_studies"
+    folder.mkdir()
+    monkeypatch.setenv("GRASPCAMPAIGN_PATH", str(folder))
+    return folder
+
+
+@pytest.fixture
+def home(tmp_path, monkeypatch):
+    """A GRASPCAMPAIGN_HOME copy of conf/ and campaigns/ that a test may break."""
+    root = tmp_path / "home"
+    shutil.copytree(PROJECT / "conf", root / "conf")
+    shutil.copytree(CAMPAIGNS, root / "campaigns")
+    monkeypatch.setenv("GRASPCAMPAIGN_HOME", str(root))
+    studyfile.project_dirs.cache_clear()
+    yield root
+    studyfile.project_dirs.cache_clear()
+
+
+# -- 1. a Dask address that accepts connections but is no scheduler -------------------------------
+@contextlib.contextmanager
+def _silent_server():
+    """Accepts every connection and never sends a byte."""
+    server = socket.create_server(("127.0.0.1", 0))
+    held = []
+
+    def accept():
+        with contextlib.suppress(OSError):
+            while True:
+                held.append(server.accept()[0])
+
+    threading.Thread(target=accept, daemon=True).start()
+    try:
+        yield server.getsockname()[1]
+    finally:
+        server.close()
+        for conn in held:
+            conn.close()
+
+
+@contextlib.contextmanager
+def _http_server(eager: bool):
+    """An HTTP server: Python's (it waits for a request line), or one answering at once."""
+    if not eager:
+        quiet = type("Quiet", (http.server.BaseHTTPRequestHandler,),
+                     {"log_message": lambda self, *args: None})
+        server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), quiet)
+        threading.Thread(target=server.serve_forever, daemon=True).start()
+        try:
+            yield server.server_address[1]
+        finally:
+            server.shutdown()
+            server.server_close()
+        return
+    listener = socket.create_server(("127.0.0.1", 0))
+
+    def answer():
+        with contextlib.suppress(OSError):
+            while True:
+                conn = listener.accept()[0]
+                conn.sendall(b"HTTP/1.1 400 Bad Request\r\nContent-Length: 0\r\n\r\n")
+                conn.close()
+
+    threading.Thread(target=answer, daemon=True).start()
+    try:
+        yield listener.getsockname()[1]
+    finally:
+        listener.close()
+
+
+DASK = {"silent": (_silent_server, "it accepted the connection but did not answer Dask's handshake"),
+        "http": (lambda: _http_server(eager=False),
+                 "it accepted the connection but did not answer Dask's handshake"),
+        "http_eager": (lambda: _http_server(eager=True), "it answered, but not in Dask's protocol")}
+
+
+@pytest.mark.parametrize("server", sorted(DASK))
+def test_a_dask_address_that_is_no_scheduler_is_refused_within_its_timeout(results, server):
+    pytest.importorskip("distributed")
+    serve, why = DASK[server]
+    with serve() as port:
+        address = f"tcp://127.0.0.1:{port}"
+        start = time.perf_counter()
+        _refused(results, ["run", "smoke", *SMOKE, "runner=dask", f"runner.address={address}",
+                           "runner.connect_timeout_s=0.5", "--run", "on_dask"],
+                 f"runner.address = '{address}': no Dask scheduler answered within 0.5 s ({why}); "
+                 "start one (dask scheduler) or drop runner.address to run on a local cluster.",
+                 seconds=10)
+        assert time.perf_counter() - start < 4.0
