@@ -168,3 +168,41 @@ def test_a_dask_address_that_is_no_scheduler_is_refused_within_its_timeout(resul
                  "start one (dask scheduler) or drop runner.address to run on a local cluster.",
                  seconds=10)
         assert time.perf_counter() - start < 4.0
+
+
+# -- 2. designs too large to hold ------------------------------------------------------------------
+def test_seeds_beyond_any_design_are_refused_before_expanding(results):
+    for command in ("show", "run"):
+        _refused(results, [command, "baseline_grid", "seeds=99999999999999999999999"],
+                 "seeds = 99999999999999999999999 is out of range; allowed: >= 1 and <= 1000000 (a "
+                 "study holds at most 1,000,000 trials, docs/decisions.md).", seconds=3)
+
+
+def test_a_design_beyond_the_trial_limit_is_refused_before_expanding(results):
+    _refused(results, ["show", "smoke", "seeds=200000"],
+             "study smoke has 2,000,000 trials (5 x 2 x 200000), more than the 1,000,000 a study may "
+             "hold (each costs ~0.8 KB of memory before it runs, docs/decisions.md); reduce seeds, "
+             "repeats or the factor levels, or split the study.", seconds=3)
+
+
+# -- 3. runner.n_jobs = 0 --------------------------------------------------------------------------
+def test_n_jobs_zero_is_refused_at_compose(results):
+    for command in ("show", "run"):
+        _refused(results, [command, "smoke", *SMOKE, "runner.n_jobs=0"],
+                 "runner.n_jobs = 0 is out of range; allowed: != 0 (joblib's n_jobs: a number of "
+                 "worker processes, or -1 for every core, -2 for every core but one).")
+
+
+# -- 4. null factor levels -------------------------------------------------------------------------
+NULLS = {"mu=null": "factors.mu[0] must be of type float, got null; give the factor's levels, e.g. "
+                    "mu: [0.3, 0.5].",
+         "mu=[0.3,null]": "factors.mu[1] must be of type float, got null; give the factor's levels, "
+                          "e.g. mu: [0.3, 0.5].",
+         "mass_kg=null": "factors.mass_kg[0] must be of type float, got null; give the factor's "
+                         "levels, e.g. mass_kg: [0.2, 0.4]."}
+
+
+@pytest.mark.parametrize("override", sorted(NULLS))
+def test_a_null_factor_level_is_refused(results, override):
+    for command in ("show", "run") if override == "mu=null" else ("show",):
+        _refused(results, [command, "baseline_grid", override], NULLS[override])
