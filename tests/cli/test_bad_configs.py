@@ -206,3 +206,14 @@ NULLS = {"mu=null": "factors.mu[0] must be of type float, got null; give the fac
 def test_a_null_factor_level_is_refused(results, override):
     for command in ("show", "run") if override == "mu=null" else ("show",):
         _refused(results, [command, "baseline_grid", override], NULLS[override])
+
+
+# -- 8. the drift message names what changed -------------------------------------------------------
+def test_drift_names_the_first_changed_keys(results):
+    _refused(results, ["run", "smoke", *SMOKE, "features.edge_dihedral_deg=31"],
+             f"run {results / 'smoke' / 'default'} was started with a different resolved study "
+             "config (features.edge_dihedral_deg 30.0 -> 31.0); use a new run name " + RUN_NAME)
+    _refused(results, ["run", "smoke", "shape=[sphere,pear]", "nodes=[144]", "seeds=2"],
+             f"run {results / 'smoke' / 'default'} was started with a different resolved study "
+             'config (seeds 1 -> 2, factors.shape ["sphere"] -> ["sphere", "pear"]); use a new run '
+             "name " + RUN_NAME)

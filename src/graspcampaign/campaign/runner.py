@@ -261,7 +261,8 @@ def _check_drift(manifest: dict[str, Any], study: StudyCfg, allow_drift: bool, p
         return
     changes = []
     if manifest.get("config_hash") != provenance.config_hash(study):
-        changes.append("resolved study config")
+        keys = provenance.config_changes(manifest.get("config"), study)
+        changes.append("resolved study config" + (f" ({', '.join(keys)})" if keys else ""))
     if manifest.get("code_version") != provenance.code_version():
         changes.append(f"code version ({manifest.get('code_version')} -> "
                        f"{provenance.code_version()})")
