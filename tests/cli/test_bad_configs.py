@@ -208,6 +208,70 @@ def test_a_null_factor_level_is_refused(results, override):
         _refused(results, [command, "baseline_grid", override], NULLS[override])
 
 
+# -- 6. the environment variables ------------------------------------------------------------------
+HOME_HINT = ("; point it at a directory holding conf/ (with conf/config.yaml and the config groups) "
+             "and campaigns/ (the study files), e.g. a copy of the shipped ones, or unset it to use "
+             "those.")
+
+
+@pytest.mark.parametrize("case", ["missing", "file", "empty", "no_conf", "no_campaigns"])
+def test_a_bad_graspcampaign_home_is_named(results, tmp_path, monkeypatch, case):
+    home = tmp_path / "home"
+    problem = {"missing": "does not exist", "file": "is a file, not a directory",
+               "empty": "has no conf/ directory", "no_conf": "has no conf/ directory",
+               "no_campaigns": "has no campaigns/ directory"}[case]
+    if case == "file":
+        home.write_text("not a directory")
+    elif case != "missing":
+        home.mkdir()
+        if case == "no_campaigns":
+            shutil.copytree(PROJECT / "conf", home / "conf")
+        if case == "no_conf":
+            shutil.copytree(CAMPAIGNS, home / "campaigns")
+    monkeypatch.setenv("GRASPCAMPAIGN_HOME", str(home))
+    studyfile.project_dirs.cache_clear()
+    try:
+        for command in ("show", "run") if case == "missing" else ("show",):
+            _refused(results, [command, "smoke", *SMOKE], f"GRASPCAMPAIGN_HOME={home} {problem}"
+                                                          f"{HOME_HINT}")
+        listing = _invoke("list")
+        assert listing.exit_code == 2
+        assert listing.stderr == f"error: GRASPCAMPAIGN_HOME={home} {problem}{HOME_HINT}\n"
+    finally:
+        studyfile.project_dirs.cache_clear()
+
+
+@pytest.mark.parametrize("case", ["missing", "file", "study_file"])
+def test_a_bad_graspcampaign_path_entry_is_warned_about(results, tmp_path, monkeypatch, case):
+    entry = {"missing": tmp_path / "nowhere", "file": tmp_path / "notes.txt",
+             "study_file": tmp_path / "mine.yaml"}[case]
+    if case != "missing":
+        entry.write_text(HEADER + "name: mine\n" + BODY)
+    monkeypatch.setenv("GRASPCAMPAIGN_PATH", str(entry))
+    problem = {"missing": "does not exist",
+               "file": "is a file, not a directory of study files",
+               "study_file": f"is a file, not a directory of study files (run a study file by "
+                             f"giving its path: graspcampaign run {entry})"}[case]
+    studies = ", ".join(p.stem for p in sorted(CAMPAIGNS.glob("*.yaml")))
+    short = problem.split(" (")[0]
+    _refused(results, ["show", "mine"],
+             f"unknown study 'mine'; available studies: {studies} (searched: {CAMPAIGNS}; "
+             f"GRASPCAMPAIGN_PATH entries skipped: {entry} ({short})).",
+             warnings=f"warning: GRASPCAMPAIGN_PATH entry {entry} {problem}; it is skipped.\n")
+
+
+def test_a_cache_that_cannot_be_kept_is_said_once(tmp_path, monkeypatch):
+    blocker = tmp_path / "cache_file"
+    blocker.write_text("a file, not a directory")
+    monkeypatch.setenv("GRASPCAMPAIGN_CACHE", str(blocker))
+    listing = _invoke("list")
+    assert listing.exit_code == 0, listing.output
+    assert listing.stderr == (f"warning: GRASPCAMPAIGN_CACHE={blocker} is not a directory, so the "
+                              "catalog cache is not kept; list and show work without it, "
+                              "recomputing what they need (slower).\n")
+    assert "baseline_grid" in listing.stdout
+
+
 # -- 8. the drift message names what changed -------------------------------------------------------
 def test_drift_names_the_first_changed_keys(results):
     _refused(results, ["run", "smoke", *SMOKE, "features.edge_dihedral_deg=31"],

@@ -48,6 +48,23 @@ def cache_path() -> Path:
     return Path(base) / "catalog.json"
 
 
+def _cache_unusable(path: Path, exc: OSError) -> None:
+    """Say that the cache cannot be written (``list`` and ``show`` then recompute their facts,
+    slower): a warning, printed once per command, where the user chose the place; quietly
+    otherwise."""
+    chosen = os.environ.get("GRASPCAMPAIGN_CACHE")
+    if not chosen:
+        log.debug("catalog cache not written (%s)", exc)
+        return
+    import warnings
+
+    base = Path(chosen).expanduser()
+    reason = ("is not a directory" if base.exists() and not base.is_dir()
+              else f"cannot be written ({exc.strerror or type(exc).__name__})")
+    warnings.warn(f"GRASPCAMPAIGN_CACHE={chosen} {reason}, so the catalog cache is not kept; list "
+                  "and show work without it, recomputing what they need (slower).", stacklevel=3)
+
+
 def _load() -> dict[str, Any]:
     try:
         data = json.loads(cache_path().read_text())
@@ -67,7 +84,7 @@ def _remember(section: str, key: str, value: Any) -> None:
         tmp.write_text(json.dumps(data, sort_keys=True))
         os.replace(tmp, path)
     except OSError as exc:
-        log.debug("catalog cache not written (%s)", exc)
+        _cache_unusable(path, exc)
 
 
 def _fact(section: str, key: str, compute) -> Any:
