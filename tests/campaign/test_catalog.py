@@ -22,7 +22,10 @@ def test_cached_facts_equal_the_code(tmp_path, monkeypatch):
         facts = catalog.kind_facts("test2_grasp")
         kind = get_kind("test2_grasp")
         assert facts == {"seconds_per_trial": kind.seconds_per_trial, "design": True,
-                         "source": kind.source}
+                         "source": kind.source, "factors": list(kind.factors),
+                         "params": catalog.params_spec(kind.params)}
+        assert [f[0] for f in facts["params"]["fields"]] == ["objects", "groups", "fraction",
+                                                             "belief_error"]
         study = compose_study("test2_grasp", ["params.fraction=0.1"])
         assert catalog.design_size(study) == len(study_trials(study, kind, kind_params(study, kind)))
     data = json.loads((tmp_path / "catalog.json").read_text())

@@ -115,17 +115,34 @@ def registry_names(name: str) -> tuple[str, ...]:
 
 
 def kind_facts(name: str) -> dict[str, Any]:
-    """Return ``{"seconds_per_trial", "design", "source"}`` of an available trial kind."""
+    """Return ``{"seconds_per_trial", "design", "source", "factors", "params"}`` of an available
+    trial kind: ``factors`` the factors a Cartesian design must have, ``params`` its params schema
+    as ``{"name", "fields": [[name, annotation, metadata], ...]}`` (None: it takes none), so that
+    ``show`` checks a study's params as ``run`` does without importing the kind."""
     from graspcampaign.campaign.kind import _EXTRA, get_kind
 
     def compute() -> dict[str, Any]:
         kind = get_kind(name)
         return {"seconds_per_trial": kind.seconds_per_trial, "design": kind.design is not None,
-                "source": kind.source}
+                "source": kind.source, "factors": list(kind.factors),
+                "params": params_spec(kind.params)}
 
     if name in _EXTRA:  # kinds registered at run time (tests) are never cached
         return compute()
     return _fact("kinds", name, compute)
+
+
+def params_spec(schema: type | None) -> dict[str, Any] | None:
+    """Describe a params dataclass in JSON terms: its name, and each field's name, annotation
+    (``'int'``, ``'list[str]'``) and validation metadata (tuples as lists)."""
+    import dataclasses
+
+    if schema is None:
+        return None
+    fields = [[f.name, f.type if isinstance(f.type, str) else getattr(f.type, "__name__", str(f.type)),
+               json.loads(json.dumps(dict(f.metadata), default=str))]
+              for f in dataclasses.fields(schema)]
+    return {"name": schema.__name__, "fields": fields}
 
 
 def design_size(study) -> int:
