@@ -208,6 +208,28 @@ def test_a_null_factor_level_is_refused(results, override):
         _refused(results, [command, "baseline_grid", override], NULLS[override])
 
 
+# -- 5. factors the trial kind needs ---------------------------------------------------------------
+def test_a_study_file_without_its_kinds_factors_is_named_with_its_line(results, user_dir):
+    path = user_dir / "mine.yaml"
+    path.write_text(HEADER + "name: mine\nkind: quasi_static\nfactors:\n  shape: [sphere]\n")
+    _refused(results, ["show", "mine"],
+             f"{path}, line 5: trial kind 'quasi_static' needs the factors mass_kg, mu and planner "
+             "on every trial, which this study does not set (its factors: shape); give each a list "
+             "of levels under factors, e.g. mass_kg: [0.2, 0.4].")
+
+
+def test_factors_missing_for_the_trial_kind_are_named(results):
+    for command in ("show", "run"):
+        _refused(results, [command, "baseline_grid", "~factors"],
+                 "trial kind 'quasi_static' needs the factors shape, mass_kg, mu and planner on "
+                 "every trial, which this study does not set (its factors: none); give each a list "
+                 "of levels under factors, e.g. shape: [sphere, pear].")
+        _refused(results, [command, "smoke", "kind=quasi_static"],
+                 "trial kind 'quasi_static' needs the factors mass_kg, mu and planner on every "
+                 "trial, which this study does not set (its factors: shape, nodes); give each a "
+                 "list of levels under factors, e.g. mass_kg: [0.2, 0.4].")
+
+
 # -- 6. the environment variables ------------------------------------------------------------------
 HOME_HINT = ("; point it at a directory holding conf/ (with conf/config.yaml and the config groups) "
              "and campaigns/ (the study files), e.g. a copy of the shipped ones, or unset it to use "
@@ -241,6 +263,15 @@ def test_a_bad_graspcampaign_home_is_named(results, tmp_path, monkeypatch, case)
         studyfile.project_dirs.cache_clear()
 
 
+def test_an_empty_group_file_of_graspcampaign_home_is_named(results, home):
+    table2 = home / "conf" / "model" / "table2.yaml"
+    table2.write_text("")
+    _refused(results, ["show", "smoke", *SMOKE],
+             f"{table2} is empty; a file of config group model sets the keys of ContactModelCfg "
+             "(lambda1, lambda2, n_exp, fingertip_radius_m, e_finger_pa, e_object_pa, nu_finger, "
+             "nu_object, damping_law, alpha_hc_s_per_m).")
+
+
 @pytest.mark.parametrize("case", ["missing", "file", "study_file"])
 def test_a_bad_graspcampaign_path_entry_is_warned_about(results, tmp_path, monkeypatch, case):
     entry = {"missing": tmp_path / "nowhere", "file": tmp_path / "notes.txt",
@@ -272,6 +303,82 @@ def test_a_cache_that_cannot_be_kept_is_said_once(tmp_path, monkeypatch):
     assert "baseline_grid" in listing.stdout
 
 
+# -- 7. silent acceptances -------------------------------------------------------------------------
+SILENT = {
+    "pso.enabled=2": "pso.enabled must be true or false, got 2 (override 'pso.enabled=2').",
+    "hydra.run.dir=/tmp": "override 'hydra.run.dir=/tmp' sets hydra.run.dir, a key of Hydra's own "
+                          "runtime; this tool uses Hydra to compose studies and runs them itself, "
+                          "so hydra keys have no effect: leave it out.",
+    "+hydra.x=1": "override '+hydra.x=1' sets hydra.x, a key of Hydra's own runtime; this tool uses "
+                  "Hydra to compose studies and runs them itself, so hydra keys have no effect: "
+                  "leave it out.",
+}
+
+
+@pytest.mark.parametrize("override", sorted(SILENT))
+def test_overrides_once_accepted_silently_are_refused(results, override):
+    for command in ("show", "run") if override == "pso.enabled=2" else ("show",):
+        _refused(results, [command, "smoke", *SMOKE, override], SILENT[override])
+
+
+def test_list_says_which_study_files_are_broken(user_dir):
+    (user_dir / "bad_model.yaml").write_text(HEADER + "name: bad_model\n" + BODY + "model: nosuch\n")
+    (user_dir / "bad_eval.yaml").write_text(HEADER + "name: bad_eval\n" + BODY
+                                            + "evaluator:\n  n_cand: -3\n")
+    (user_dir / "fine.yaml").write_text(HEADER + "name: fine\n" + BODY)
+    result = _invoke("list")
+    assert result.exit_code == 0, result.output
+    assert result.stderr == (
+        f"warning: study bad_eval is broken: {user_dir / 'bad_eval.yaml'}, line 9: "
+        "evaluator.n_cand = -3 is out of range; allowed: >= 1.\n"
+        f"warning: study bad_model is broken: {user_dir / 'bad_model.yaml'}, line 8: model must be "
+        "a mapping of ContactModelCfg keys (lambda1, lambda2, n_exp, fingertip_radius_m, "
+        "e_finger_pa, e_object_pa, nu_finger, nu_object, damping_law, alpha_hc_s_per_m), got "
+        "'nosuch' (str); a preset of conf/model/ (firm, nominal, table2) is chosen on the command "
+        "line, e.g. model=firm.\n")
+    rows = {line.split("│")[1].strip(): line.split("│")[4].strip()
+            for line in result.stdout.splitlines() if line.count("│") > 4}
+    assert (rows["bad_model"], rows["bad_eval"], rows["fine"]) == ("broken", "broken", "yes")
+    names = _invoke("list", "--names").stdout.split()
+    assert "fine" in names and "bad_model" not in names and "bad_eval" not in names
+
+
+def test_list_says_when_it_cannot_check_a_study(results, user_dir):
+    path = user_dir / "mine.yaml"
+    path.write_text(HEADER + "name: mine\n" + BODY + "seeds: ${nosuch}\n")
+    listing = _invoke("list")
+    assert listing.exit_code == 0 and listing.stderr == ""
+    row = next(line for line in listing.stdout.splitlines() if line.startswith("│ mine "))
+    assert row.split("│")[4].strip() == "yes (not checked)"  # only composing resolves ${...}
+    _refused(results, ["show", "mine"], f"{path}, line 8: seeds refers to ${{nosuch}}, which is "
+                                        "not a key of the study config.")
+
+
+SHOW_LIKE_RUN = {
+    "kind: teleport": ("kind: teleport\nfactors:\n  shape: [sphere]\n", 4,
+                       "trial kind 'teleport' is unknown; known kinds: dynamic_check, dynamic_grasp, "
+                       "gravity_settle, heuristic_weights, mesh_features, mesh_resolution, "
+                       "pso_repeatability, quasi_static, sensitivity, surrogate, test1_bench, "
+                       "test2_grasp, test3_disturbance, wrench_balance."),
+    "params: {bogus: 1}": (BODY + "params:\n  bogus: 1\n", 9,
+                           "params.bogus is not a parameter of trial kind 'mesh_features', which "
+                           "takes none."),
+    "params of a kind that has some": (BODY.replace("mesh_features", "quasi_static").replace(
+        "nodes: [144]", "mass_kg: [0.2]\n  mu: [0.3]\n  planner: [heuristic]") + "params:\n  bogus: 1\n",
+        11, "params.bogus is not a known key of QuasiStaticParams; known keys: nodes, stream_study, "
+            "candidate_sample."),
+}
+
+
+@pytest.mark.parametrize("case", sorted(SHOW_LIKE_RUN))
+def test_show_refuses_what_run_refuses(results, user_dir, case):
+    body, line, message = SHOW_LIKE_RUN[case]
+    path = user_dir / "mine.yaml"
+    path.write_text(HEADER + "name: mine\n" + body)
+    for command in ("show", "run"):
+        _refused(results, [command, "mine"], f"{path}, line {line}: {message}")
+
+
 # -- 8. the drift message names what changed -------------------------------------------------------
 def test_drift_names_the_first_changed_keys(results):
     _refused(results, ["run", "smoke", *SMOKE, "features.edge_dihedral_deg=31"],
@@ -281,3 +388,126 @@ def test_drift_names_the_first_changed_keys(results):
              f"run {results / 'smoke' / 'default'} was started with a different resolved study "
              'config (seeds 1 -> 2, factors.shape ["sphere"] -> ["sphere", "pear"]); use a new run '
              "name " + RUN_NAME)
+
+
+# -- 9. study-file errors name the file, the line, the key and what it takes -----------------------
+STUDY_FILES = {
+    "factors_a_list": ("kind: mesh_features\nfactors: [shape, nodes]\n", 5,
+                       "factors must be a mapping of factor names to lists of levels (e.g. shape: "
+                       "[sphere, pear]), got ['shape', 'nodes'] (list)."),
+    "level_not_a_list": ("kind: mesh_features\nfactors:\n  shape: sphere\n  nodes: [144]\n", 6,
+                         "factors.shape must be a list of levels, e.g. shape: [sphere, pear], got "
+                         "'sphere' (str)."),
+    "model_a_name": (BODY + "model: nosuch\n", 8,
+                     "model must be a mapping of ContactModelCfg keys (lambda1, lambda2, n_exp, "
+                     "fingertip_radius_m, e_finger_pa, e_object_pa, nu_finger, nu_object, "
+                     "damping_law, alpha_hc_s_per_m), got 'nosuch' (str); a preset of conf/model/ "
+                     "(firm, nominal, table2) is chosen on the command line, e.g. model=firm."),
+    "evaluator_out_of_range": (BODY + "evaluator:\n  n_cand: -3\n", 9,
+                               "evaluator.n_cand = -3 is out of range; allowed: >= 1."),
+    "seeds_interpolation": (BODY + "seeds: ${nosuch}\n", 8,
+                            "seeds refers to ${nosuch}, which is not a key of the study config."),
+    "extension_maybe": (BODY + "extension: maybe\n", 8, "extension must be true or false, got "
+                                                        "'maybe' (str)."),
+}
+
+
+@pytest.mark.parametrize("case", sorted(STUDY_FILES))
+@pytest.mark.parametrize("how", ["name", "path"])
+def test_a_study_file_error_names_the_file_line_and_key(results, user_dir, case, how):
+    body, line, message = STUDY_FILES[case]
+    path = user_dir / "mine.yaml"
+    path.write_text(HEADER + "name: mine\n" + body)
+    for command in ("show", "run") if how == "name" else ("show",):
+        _refused(results, [command, "mine" if how == "name" else path],
+                 f"{path}, line {line}: {message}")
+
+
+HOME_FILES = {
+    "lambda1: -3": ("lambda1: 0.332", "lambda1: -3", 4,
+                    "model.lambda1 = -3.0 is out of range; allowed: > 0.0 and <= 15.0 (the "
+                    "identification scale factors stay within 10x their PSO bounds)."),
+    "bogus: 1": ("nu_object: 0.45\n", "nu_object: 0.45\nbogus: 1\n", 12,
+                 "model.bogus is not a known key of ContactModelCfg; known keys: lambda1, lambda2, "
+                 "n_exp, fingertip_radius_m, e_finger_pa, e_object_pa, nu_finger, nu_object, "
+                 "damping_law, alpha_hc_s_per_m."),
+}
+
+
+@pytest.mark.parametrize("case", sorted(HOME_FILES))
+def test_a_group_file_error_names_the_file_and_line(results, home, case):
+    old, new, line, message = HOME_FILES[case]
+    table2 = home / "conf" / "model" / "table2.yaml"
+    table2.write_text(table2.read_text().replace(old, new))
+    for command in ("show", "run"):
+        _refused(results, [command, "smoke", *SMOKE], f"{table2}, line {line}: {message}")
+
+
+# -- 10. names: a study that hides a tool study, a renamed study, a file named otherwise -----------
+def test_a_study_hiding_a_tool_study_needs_its_paper_block(results, user_dir):
+    path = user_dir / "baseline_grid.yaml"
+    path.write_text(HEADER + "name: baseline_grid\n" + BODY)
+    for command in ("show", "run"):
+        _refused(results, [command, "baseline_grid"],
+                 f"{path}: paper.figure is missing (BaselineGridPaper requires it): this file takes "
+                 "the name of the tool's study baseline_grid (campaigns/baseline_grid.yaml), which "
+                 "it hides, so its runs are reported as that study and its paper block must hold "
+                 "that study's values; copy the paper block of campaigns/baseline_grid.yaml, or "
+                 "give your study a name of its own.")
+
+
+def test_a_renamed_study_keeps_comparing_with_its_paper_values(results):
+    result = _invoke("show", "baseline_grid", "name=my_grid", "--root", results)
+    assert result.exit_code == 0, result.output
+    assert result.stdout.startswith("study: my_grid\n")
+    assert f"run: {results / 'my_grid' / 'default'} (0 of 3375 recorded)" in result.stdout
+    from graspcampaign.campaign.compose import compose_study
+
+    assert compose_study("baseline_grid", ["name=my_grid"]).compare_with == "baseline_grid"
+
+
+def test_a_study_file_named_otherwise_than_its_name_is_refused(results, user_dir):
+    path = user_dir / "named_file.yaml"
+    path.write_text(HEADER + "name: other_name\n" + BODY)
+    for command in ("show", "run"):
+        _refused(results, [command, "named_file"],
+                 f"{path}, line 3: name: other_name is not the file's name named_file; a study is "
+                 "listed, run and reported by its file name (status and report look for "
+                 "named_file), so write name: named_file or rename the file to other_name.yaml.")
+
+
+# -- 11. override messages -------------------------------------------------------------------------
+OVERRIDES = {
+    "=3": "override '=3' has no key before '='; write KEY=VALUE, e.g. seeds=3 or mu=[0.3,0.5].",
+    "evaluator.nosuch=1": "evaluator.nosuch is not a known key of EvaluatorCfg (override "
+                          "'evaluator.nosuch=1' rejected); known keys: seed_depth_m, n_max, alpha, "
+                          "eps, tau_f_n, tau_t_nm, n_cand, residual_check, grip_law, "
+                          "grip_safety_factor, grip_cap_depth_m, oracle_cone_facets, fc_cone_edges.",
+    "runner.nosuch=3": "runner.nosuch is not a known key of RunnerCfg (override 'runner.nosuch=3' "
+                       "rejected); known keys: backend, n_jobs, address, batch_size, target_task_s, "
+                       "progress, progress_interval_s, connect_timeout_s.",
+    "factors.nosuch=[1,2]": "factors.nosuch is not a known factor (override 'factors.nosuch=[1,2]' "
+                            "rejected); known factors: b_n_s_per_m, budget, damping_law, dt_s, "
+                            "grip_law, integrator, lambda1, lambda2, mass_kg, model_preset, mu, "
+                            "n_cand, n_exp, n_max, nodes, planner, pso_seed, shape, variant, w1, w2, "
+                            "w3, weight_scale.",
+    "factors.mu=50": "factors.mu takes a list of levels, e.g. factors.mu=[0.3,0.5] (or the bare "
+                     "mu=0.3), got 50.",
+    "mu=" + "x" * 100_000: "factors.mu[0] must be of type float, got '" + "x" * 60
+                           + "... (100000 characters)' (str).",
+}
+
+
+@pytest.mark.parametrize("override", sorted(OVERRIDES), ids=lambda o: o[:24])
+def test_override_messages_name_the_override_in_plain_words(results, override):
+    for command in ("show", "run") if override == "=3" else ("show",):
+        _refused(results, [command, "baseline_grid", override], OVERRIDES[override])
+
+
+def test_a_study_file_with_a_byte_order_mark_is_read(results, user_dir):
+    (user_dir / "mine.yaml").write_bytes(b"\xef\xbb\xbf" + (HEADER + "name: mine\n" + BODY).encode())
+    shown = _invoke("show", "mine", "--root", results)
+    assert shown.exit_code == 0, shown.output
+    assert "axes: 1 x 1 x 1 = 1 trials" in shown.stdout
+    listing = _invoke("list")
+    assert listing.stderr == ""

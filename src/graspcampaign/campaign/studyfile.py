@@ -26,6 +26,7 @@ from typing import Any
 from graspcampaign.errors import ConfigError, UserInputError
 
 _RUN_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
+_SCHEMA_LINE = re.compile(r"^#\s*schema:\s*(\w+)")
 _SUFFIXES = (".yaml", ".yml")
 
 
@@ -172,12 +173,29 @@ def find_study(study: str) -> Path:
     return files[study]
 
 
+def schema_of(path: Path) -> str | None:
+    """Return the schema a YAML file names in its header (``# schema: Name``).
+
+    The header is the leading block of comment lines (a study's first line is Hydra's
+    ``# @package _global_``); a UTF-8 byte-order mark before it is allowed.
+    """
+    with open(path, encoding="utf-8-sig") as fh:
+        for line in fh:
+            if not line.startswith("#"):
+                break
+            match = _SCHEMA_LINE.match(line)
+            if match:
+                return match.group(1)
+    return None
+
+
 def check_package_header(path: Path) -> None:
     """Refuse a study file without Hydra's ``# @package _global_`` in its leading comments.
 
-    Without it Hydra would nest the whole study under a ``campaigns:`` key.
+    Without it Hydra would nest the whole study under a ``campaigns:`` key. A UTF-8 byte-order
+    mark before it is allowed (the composition reads a copy without it).
     """
-    with open(path) as fh:
+    with open(path, encoding="utf-8-sig") as fh:
         for line in fh:
             if not line.startswith("#"):
                 break
@@ -234,7 +252,7 @@ def read_yaml(path: Path, *, study: bool = False) -> dict[str, Any]:
     import yaml
 
     try:
-        text = Path(path).read_text()
+        text = Path(path).read_text(encoding="utf-8-sig")  # a byte-order mark is no content
     except (OSError, UnicodeDecodeError) as exc:
         raise ConfigError(f"{path} cannot be read as a text file ({type(exc).__name__}).") from None
     try:
@@ -276,7 +294,7 @@ def check_name(value: Any, key: str) -> str:
     if not _RUN_NAME.fullmatch(text):
         raise ConfigError(f"{key} = {text!r} is not allowed; use letters, digits, '.', '_' and '-' "
                           "(starting with a letter or digit, at most 100), so the run stays "
-                          "inside the results directory.")
+                          "inside the results directory.", key=key)
     return text
 
 
