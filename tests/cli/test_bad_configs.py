@@ -379,6 +379,16 @@ def test_show_refuses_what_run_refuses(results, user_dir, case):
         _refused(results, [command, "mine"], f"{path}, line {line}: {message}")
 
 
+def test_plan_refuses_an_empty_material(tmp_path):
+    mesh = tmp_path / "object.stl"
+    mesh.write_text("solid nothing\nendsolid nothing\n")
+    result = _invoke("plan", mesh, "--mass-kg", "0.3", "--material", "")
+    assert result.exit_code == 2, result.output
+    assert result.stderr == ("error: unknown material '': use one of gel, silicone_soft, bio_foam, "
+                             "silicone_ref\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["object.stl"]  # no picture either
+
+
 # -- 8. the drift message names what changed -------------------------------------------------------
 def test_drift_names_the_first_changed_keys(results):
     _refused(results, ["run", "smoke", *SMOKE, "features.edge_dihedral_deg=31"],
