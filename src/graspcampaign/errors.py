@@ -1,16 +1,52 @@
 """Exceptions that mean "bad usage or bad input" (exit code 2 on the command line)."""
 
+from __future__ import annotations
+
+import re
+
+#: A value longer than this is shown by its start and its length (a 100,000-character override
+#: echoed in full buries the sentence; longer than any path or key list a message names:
+#: docs/decisions.md, "Long values in messages").
+LONG_VALUE = 200
+_LONG_QUOTED = re.compile(rf"'([^'\n]{{{LONG_VALUE + 1},}})'")
+_LONG_WORD = re.compile(rf"[^\s']{{{LONG_VALUE + 1},}}")
+
+
+def shorten(message: str) -> str:
+    """Return ``message`` with every quoted value or word longer than :data:`LONG_VALUE`
+    characters cut to its first 60 and its length: ``'xxxx...' (100000 characters)``."""
+    def cut(text: str) -> str:
+        return f"{text[:60]}... ({len(text)} characters)"
+
+    message = _LONG_QUOTED.sub(lambda m: f"'{cut(m.group(1))}'", message)
+    return _LONG_WORD.sub(lambda m: cut(m.group(0)), message)
+
 
 class UserInputError(Exception):
     """Bad usage or bad input: a config, an override, a file or a command-line value.
 
-    The message is one sentence naming what is wrong and where. The command line prints it
-    and exits with code 2; nothing already stored is changed.
+    The message is one sentence naming what is wrong and where (long values shortened,
+    :func:`shorten`). The command line prints it and exits with code 2; nothing already stored is
+    changed.
     """
+
+    def __init__(self, message: str = "", *args):
+        super().__init__(shorten(str(message)), *args)
 
 
 class ConfigError(UserInputError):
-    """A study or group config is malformed: unknown key, wrong type or out-of-range value."""
+    """A study or group config is malformed: unknown key, wrong type or out-of-range value.
+
+    Attributes
+    ----------
+    key : str or None
+        The dotted key the sentence is about (``factors.mu[1]``, ``model.lambda1``), if one: the
+        composition names the file and line it came from.
+    """
+
+    def __init__(self, message: str = "", key: str | None = None):
+        super().__init__(message)
+        self.key = key
 
 
 class StudyNotRunnableError(UserInputError):

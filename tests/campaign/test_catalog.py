@@ -22,7 +22,10 @@ def test_cached_facts_equal_the_code(tmp_path, monkeypatch):
         facts = catalog.kind_facts("test2_grasp")
         kind = get_kind("test2_grasp")
         assert facts == {"seconds_per_trial": kind.seconds_per_trial, "design": True,
-                         "source": kind.source}
+                         "source": kind.source, "factors": list(kind.factors),
+                         "params": catalog.params_spec(kind.params)}
+        assert [f[0] for f in facts["params"]["fields"]] == ["objects", "groups", "fraction",
+                                                             "belief_error"]
         study = compose_study("test2_grasp", ["params.fraction=0.1"])
         assert catalog.design_size(study) == len(study_trials(study, kind, kind_params(study, kind)))
     data = json.loads((tmp_path / "catalog.json").read_text())
@@ -41,7 +44,9 @@ def test_an_unwritable_cache_only_costs_time(tmp_path, monkeypatch):
     blocker = tmp_path / "file"
     blocker.write_text("not a directory")
     monkeypatch.setenv("GRASPCAMPAIGN_CACHE", str(blocker / "cache"))
-    assert catalog.registry_names("planner") == tuple(PLANNERS)
+    with pytest.warns(UserWarning, match=r"GRASPCAMPAIGN_CACHE=.*/file/cache cannot be written "
+                                         r"\(Not a directory\), so the catalog cache is not kept"):
+        assert catalog.registry_names("planner") == tuple(PLANNERS)
 
 
 def _rows_equal_composed(names):

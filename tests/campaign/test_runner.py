@@ -96,8 +96,8 @@ def test_resume_skips_recorded_and_matches_uninterrupted(study_factory):
 
 def test_changed_config_is_refused_without_allow_drift(study_factory):
     run_study(study_factory())
-    with pytest.raises(DriftError, match="was started with a different resolved study config; "
-                                         "use a new run name.*--allow-drift"):
+    with pytest.raises(DriftError, match=r"was started with a different resolved study config "
+                                         r"\(seed 7 -> 8\); use a new run name.*--allow-drift"):
         run_study(study_factory(seed=8))
     run_study(study_factory(seed=8), allow_drift=True)
 

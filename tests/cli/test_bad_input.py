@@ -113,7 +113,7 @@ def test_broken_study_file(results, user_dir, case, how):
                  f"{path}{tail}")
 
 
-# keys and values inside a study file that composes: the schema names them
+# keys and values inside a study file: the schema names them, with the file and line
 STUDY_VALUES = {
     "unknown_key": ("colour: red\n", "{path}, line 8: colour is not a known key of StudyCfg; known "
                                      "keys: name, kind, description, seed, seeds, repeats, factors, "
@@ -125,19 +125,20 @@ STUDY_VALUES = {
                           "known keys: lambda1, lambda2, n_exp, fingertip_radius_m, e_finger_pa, "
                           "e_object_pa, nu_finger, nu_object, damping_law, alpha_hc_s_per_m."),
     "impossible_friction": ("factors:\n  mu: [0.3, 50]\n",
-                            "factors.mu[1] = 50.0 is out of range; allowed: >= 0.0 and <= 3.0 (dry "
-                            "friction of soft materials stays below 3)."),
+                            "{path}, line 6: factors.mu[1] = 50.0 is out of range; allowed: >= "
+                            "0.0 and <= 3.0 (dry friction of soft materials stays below 3)."),
     "negative_mass": ("factors:\n  mass_kg: [-0.2]\n",
-                      "factors.mass_kg[0] = -0.2 is out of range; allowed: > 0.0 and <= 10.0 (a "
-                      "mass must be positive and a three-finger hand lifts at most ~10 kg)."),
+                      "{path}, line 6: factors.mass_kg[0] = -0.2 is out of range; allowed: > "
+                      "0.0 and <= 10.0 (a mass must be positive and a three-finger hand lifts at "
+                      "most ~10 kg)."),
     "run_escaping_results": ("output:\n  run: ../../elsewhere\n",
-                             "output.run = '../../elsewhere' is not allowed; use letters, digits, "
-                             "'.', '_' and '-' (starting with a letter or digit, at most 100), so "
-                             "the run stays inside the results directory."),
+                             "{path}, line 9: output.run = '../../elsewhere' is not allowed; use "
+                             "letters, digits, '.', '_' and '-' (starting with a letter or digit, "
+                             "at most 100), so the run stays inside the results directory."),
     "name_escaping_results": ("name: ../mine\n",
-                              "name = '../mine' is not allowed; use letters, digits, '.', '_' and "
-                              "'-' (starting with a letter or digit, at most 100), so the run stays "
-                              "inside the results directory."),
+                              "{path}, line 7: name = '../mine' is not allowed; use letters, "
+                              "digits, '.', '_' and '-' (starting with a letter or digit, at most "
+                              "100), so the run stays inside the results directory."),
 }
 
 

@@ -48,6 +48,23 @@ def cache_path() -> Path:
     return Path(base) / "catalog.json"
 
 
+def _cache_unusable(path: Path, exc: OSError) -> None:
+    """Say that the cache cannot be written (``list`` and ``show`` then recompute their facts,
+    slower): a warning, printed once per command, where the user chose the place; quietly
+    otherwise."""
+    chosen = os.environ.get("GRASPCAMPAIGN_CACHE")
+    if not chosen:
+        log.debug("catalog cache not written (%s)", exc)
+        return
+    import warnings
+
+    base = Path(chosen).expanduser()
+    reason = ("is not a directory" if base.exists() and not base.is_dir()
+              else f"cannot be written ({exc.strerror or type(exc).__name__})")
+    warnings.warn(f"GRASPCAMPAIGN_CACHE={chosen} {reason}, so the catalog cache is not kept; list "
+                  "and show work without it, recomputing what they need (slower).", stacklevel=3)
+
+
 def _load() -> dict[str, Any]:
     try:
         data = json.loads(cache_path().read_text())
@@ -67,7 +84,7 @@ def _remember(section: str, key: str, value: Any) -> None:
         tmp.write_text(json.dumps(data, sort_keys=True))
         os.replace(tmp, path)
     except OSError as exc:
-        log.debug("catalog cache not written (%s)", exc)
+        _cache_unusable(path, exc)
 
 
 def _fact(section: str, key: str, compute) -> Any:
@@ -98,17 +115,34 @@ def registry_names(name: str) -> tuple[str, ...]:
 
 
 def kind_facts(name: str) -> dict[str, Any]:
-    """Return ``{"seconds_per_trial", "design", "source"}`` of an available trial kind."""
+    """Return ``{"seconds_per_trial", "design", "source", "factors", "params"}`` of an available
+    trial kind: ``factors`` the factors a Cartesian design must have, ``params`` its params schema
+    as ``{"name", "fields": [[name, annotation, metadata], ...]}`` (None: it takes none), so that
+    ``show`` checks a study's params as ``run`` does without importing the kind."""
     from graspcampaign.campaign.kind import _EXTRA, get_kind
 
     def compute() -> dict[str, Any]:
         kind = get_kind(name)
         return {"seconds_per_trial": kind.seconds_per_trial, "design": kind.design is not None,
-                "source": kind.source}
+                "source": kind.source, "factors": list(kind.factors),
+                "params": params_spec(kind.params)}
 
     if name in _EXTRA:  # kinds registered at run time (tests) are never cached
         return compute()
     return _fact("kinds", name, compute)
+
+
+def params_spec(schema: type | None) -> dict[str, Any] | None:
+    """Describe a params dataclass in JSON terms: its name, and each field's name, annotation
+    (``'int'``, ``'list[str]'``) and validation metadata (tuples as lists)."""
+    import dataclasses
+
+    if schema is None:
+        return None
+    fields = [[f.name, f.type if isinstance(f.type, str) else getattr(f.type, "__name__", str(f.type)),
+               json.loads(json.dumps(dict(f.metadata), default=str))]
+              for f in dataclasses.fields(schema)]
+    return {"name": schema.__name__, "fields": fields}
 
 
 def design_size(study) -> int:
@@ -146,41 +180,56 @@ def _read_or_none(path: Path) -> bytes:
 
 
 def _light_study(path: Path, data: dict[str, Any]):
-    """A StudyCfg from a study file's own keys, without Hydra (the groups keep their defaults).
+    """A StudyCfg from a study file's own keys, without Hydra (the groups keep their defaults),
+    and whether every value could be checked.
 
-    Enough for ``list``: names, kind, description, design keys and factor levels are checked;
-    ``show`` and ``run`` compose the file with Hydra and check everything.
+    ``list`` checks what it can without composing: every key, type and range of the file (groups
+    included, :func:`studycheck.check_study_file`), the design and its size, the trial kind, its
+    factors and params, the paper block. A value holding an interpolation (``${...}``) is
+    resolved by ``show`` and ``run`` only: such a study is listed as not checked.
     """
+    import copy
     import dataclasses
 
-    from graspcampaign.campaign.schema import StudyCfg, check_study
+    from graspcampaign.campaign import studycheck
+    from graspcampaign.campaign.kind import kind_available
+    from graspcampaign.campaign.schema import SCHEMAS, StudyCfg, check_study
+    from graspcampaign.campaign.studyfile import project_dirs
     from graspcampaign.errors import ConfigError
 
-    fields = {f.name for f in dataclasses.fields(StudyCfg)}
-    unknown = [k for k in data if k not in fields]
-    if unknown:
-        raise ConfigError(f"{path}: {unknown[0]} is not a known key of StudyCfg; known keys: "
-                          f"{', '.join(sorted(fields))}.")
-    plain = {"name": str, "kind": str, "description": str, "seed": int, "seeds": int,
-             "repeats": int, "factors": dict, "zip": list, "method_factors": list, "params": dict,
-             "paper": dict, "compare_with": str, "extension": bool}
-    kwargs = {}
-    for key, typ in plain.items():
-        if key not in data or data[key] is None:
-            continue
-        value = data[key]
-        if not isinstance(value, typ) or (isinstance(value, bool) and typ is not bool):
-            raise ConfigError(f"{path}: {key} must be of type {typ.__name__}, got {value!r}.")
-        kwargs[key] = value
-    factors = kwargs.get("factors", {})
-    for name, levels in factors.items():
-        factors[name] = levels if isinstance(levels, list) else [levels]
+    studycheck.check_study_file(path, data)
+    plain = {"name", "kind", "description", "seed", "seeds", "repeats", "factors", "zip",
+             "method_factors", "params", "paper", "compare_with", "extension"}
+    kwargs = {k: copy.deepcopy(v) for k, v in data.items()
+              if k in plain and v is not None and not _interpolated(v)}
+    checked = all(not _interpolated(v) for v in data.values())
     study = StudyCfg(**kwargs)
+    for group in (f.name for f in dataclasses.fields(StudyCfg) if f.type in SCHEMAS):
+        if isinstance(data.get(group), dict) and not _interpolated(data[group]):
+            for key, value in data[group].items():
+                setattr(getattr(study, group), key, value)
     try:
         check_study(study)
+        if kind_available(study.kind) and checked:
+            facts = kind_facts(study.kind)
+            if not facts["design"]:
+                studycheck.check_kind_factors(study.factors, study.kind, facts["factors"])
+            studycheck.check_params(study.params, facts["params"], study.kind)
     except ConfigError as exc:
-        raise ConfigError(f"{path}: {exc}") from None
-    return study
+        raise studycheck.in_file(path, exc) from None
+    studycheck.check_paper_block(study, data.get("name"), path, project_dirs()[1])
+    return study, checked
+
+
+def _interpolated(value: Any) -> bool:
+    """Whether a value holds an OmegaConf interpolation (``${...}``) anywhere."""
+    if isinstance(value, str):
+        return "${" in value
+    if isinstance(value, dict):
+        return any(map(_interpolated, value.values()))
+    if isinstance(value, list):
+        return any(map(_interpolated, value))
+    return False
 
 
 def study_row(path: Path) -> dict[str, Any]:
@@ -193,12 +242,14 @@ def study_row(path: Path) -> dict[str, Any]:
     """
     from graspcampaign.campaign.grid import n_trials
     from graspcampaign.campaign.kind import KINDS, kind_available
+    from graspcampaign.campaign.studycheck import check_conf
     from graspcampaign.campaign.studyfile import check_package_header, project_dirs, read_yaml
     from graspcampaign.errors import MissingSourceRunError
 
     data = read_yaml(path, study=True)
     check_package_header(path)
-    study = _light_study(path, data)
+    study, checked = _light_study(path, data)
+    check_conf(project_dirs()[0])  # the group files every study composes with (cached by content)
     ready = kind_available(study.kind)
     if ready and kind_facts(study.kind)["design"]:
         digest = hashlib.sha256(path.read_bytes())
@@ -225,5 +276,7 @@ def study_row(path: Path) -> dict[str, Any]:
         n, state = "?", n
     else:
         state = "yes" if ready else "not yet" if study.kind in KINDS else "unknown kind"
+        if not checked:  # a ${...} value: composing resolves it, and show or run check it
+            state += " (not checked)"
     return {"study": path.stem, "kind": study.kind, "trials": n, "runnable": state,
             "extension": study.extension, "description": " ".join(study.description.split())}

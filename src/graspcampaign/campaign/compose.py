@@ -15,8 +15,6 @@ import contextlib
 import copy
 import functools
 import hashlib
-import re
-import shutil
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
@@ -26,8 +24,24 @@ from hydra import compose, initialize_config_dir
 from hydra.core.config_store import ConfigStore
 from omegaconf import OmegaConf
 
-from graspcampaign.campaign.paper import check_paper
+from graspcampaign.campaign.override import (  # noqa: F401  (omegaconf_error_sentence: public here too)
+    check_overrides,
+    omegaconf_error_sentence,
+    override_sentence,
+    rewrite,
+)
 from graspcampaign.campaign.schema import SCHEMAS, StudyCfg, check_config, check_study
+from graspcampaign.campaign.studycheck import (
+    check_conf,
+    check_kind_factors,
+    check_kind_name,
+    check_paper_block,
+    check_params,
+    check_study_file,
+    in_file,
+    known_keys_sentence,
+    line_of,
+)
 from graspcampaign.campaign.studyfile import (  # noqa: F401  (project_dirs, list_studies: public here too)
     check_group_files,
     check_package_header,
@@ -36,10 +50,9 @@ from graspcampaign.campaign.studyfile import (  # noqa: F401  (project_dirs, lis
     list_studies,
     project_dirs,
     read_yaml,
+    schema_of,
 )
 from graspcampaign.errors import ConfigError, UserInputError
-
-_SCHEMA_LINE = re.compile(r"^#\s*schema:\s*(\w+)")
 
 
 @functools.cache
@@ -71,80 +84,41 @@ def group_config(group: str, name: str):
     return obj
 
 
-def schema_of(path: Path) -> str | None:
-    """Return the schema a YAML file names in its header (``# schema: Name``).
-
-    The header is the leading block of comment lines (a study's first line is Hydra's
-    ``# @package _global_``).
-    """
-    with open(path) as fh:
-        for line in fh:
-            if not line.startswith("#"):
-                break
-            match = _SCHEMA_LINE.match(line)
-            if match:
-                return match.group(1)
-    return None
-
-
 @functools.cache
 def _register_schema() -> None:
     """Put StudyCfg in Hydra's ConfigStore (once per process: converting it costs ~50 ms)."""
     ConfigStore.instance().store(name="study_schema", node=StudyCfg)
 
 
-def omegaconf_error_sentence(exc: BaseException, prefix: str = "") -> str:
-    """Turn an OmegaConf/Hydra exception into one sentence naming the key."""
-    while not hasattr(exc, "full_key") and (exc.__cause__ or exc.__context__) is not None:
-        exc = exc.__cause__ or exc.__context__
-    key = getattr(exc, "full_key", None) or getattr(exc, "key", None)
-    text = str(getattr(exc, "msg", None) or exc).strip().splitlines()[0].rstrip(".")
-    type_name = type(exc).__name__
-    if key:
-        key = f"{prefix}{key}"
-        if type_name == "ConfigKeyError" or "not in struct" in text or "not in '" in text:
-            parent = getattr(exc, "object_type_str", None) or "the schema"
-            return f"{key} is not a known key of {parent}."
-        return f"{key}: {text}."
-    return f"{text}."
-
-
-def _rewrite_overrides(factors: set[str], overrides: list[str]) -> list[str]:
-    """Map bare factor names to ``factors.<name>`` and scalars to one-level lists."""
-    out = []
-    for item in overrides:
-        key, sep, value = item.partition("=")
-        if sep and key in factors:
-            value = value.strip()
-            out.append(f"factors.{key}={value if value.startswith('[') else f'[{value}]'}")
-        else:
-            out.append(item)
-    return out
-
-
 def compose_study(study: str, overrides: list[str] | None = None) -> StudyCfg:
     """Compose a study with the ``conf/`` groups and ``overrides``.
 
     ``study`` is a name on the config search path (``campaigns/`` and ``$GRASPCAMPAIGN_PATH``, see
-    :mod:`graspcampaign.campaign.studyfile`) or the path of a study file.
+    :mod:`graspcampaign.campaign.studyfile`) or the path of a study file. The study file and every
+    config-group file are checked first in plain words with their lines
+    (:mod:`~graspcampaign.campaign.studycheck`), the overrides next
+    (:mod:`~graspcampaign.campaign.override`); then Hydra composes, and the result is checked as
+    a whole: ranges, the design's size, the trial kind's factors and params, the paper block.
 
     Raises
     ------
     ConfigError
         Unknown study, invalid YAML (file and line), unknown key, wrong type or out-of-range
-        value; one sentence naming it.
+        value; one sentence naming it (and the file and line it is written on).
     """
     conf_dir, campaigns_dir = project_dirs()
     path = find_study(study)
     data = read_yaml(path, study=True)
     check_package_header(path)
-    _check_file_keys(path, data)
+    check_study_file(path, data)
     given = list(overrides or [])
+    check_conf(conf_dir)
+    check_overrides(given)
     key = _inputs_key(path, conf_dir, given)
     if key in _COMPOSED:
         return copy.deepcopy(_COMPOSED[key])
     factors = data.get("factors")
-    overrides = _rewrite_overrides(set(factors) if isinstance(factors, dict) else set(), given)
+    overrides = rewrite(set(factors) if isinstance(factors, dict) else set(), given)
     _register_schema()
     with _study_search_dir(path, campaigns_dir) as (search_dir, option):
         try:
@@ -161,15 +135,71 @@ def compose_study(study: str, overrides: list[str] | None = None) -> StudyCfg:
         except Exception as exc:  # Hydra/OmegaConf raise many unrelated types; all mean bad input
             check_group_files()  # a broken group file is named with its line
             names = sorted(factors) if isinstance(factors, dict) else []
-            raise ConfigError(_override_sentence(exc, overrides, given, names)) from None
-    check_study(obj)
-    where = f"{campaigns_dir.name}/{path.name}" if path.parent == campaigns_dir else str(path)
-    check_paper(obj.compare_with or obj.name, obj.paper, f"{where}: paper",
-                compare_with=bool(obj.compare_with))
+            sentence = override_sentence(exc, overrides, given, names)
+            raise _blamed(ConfigError(sentence, key=_error_key(exc)), path, overrides) from None
+    try:
+        check_study(obj)
+    except ConfigError as exc:
+        raise _blamed(exc, path, overrides) from None
+    try:
+        check_kind(obj)
+    except ConfigError as exc:  # about the kind as much as its factors or params
+        raise _blamed(exc, path, overrides, also=("kind",)) from None
+    check_paper_block(obj, data.get("name"), path, campaigns_dir)
     if len(_COMPOSED) >= _COMPOSED_MAX:
         _COMPOSED.pop(next(iter(_COMPOSED)))
     _COMPOSED[key] = copy.deepcopy(obj)
     return obj
+
+
+def check_kind(study: StudyCfg) -> None:
+    """Check what the study's trial kind needs, without importing its numerical code: a known
+    kind, the factors a Cartesian design must have on every trial, and ``params`` against the
+    kind's params schema (both read from the catalog, :func:`catalog.kind_facts`).
+
+    Raises
+    ------
+    ConfigError
+        Naming the kind and the missing factor, or the params key and what it takes.
+    """
+    from graspcampaign.campaign.catalog import kind_facts
+    from graspcampaign.campaign.kind import kind_available
+
+    check_kind_name(study.kind)
+    if not kind_available(study.kind):  # a kind not implemented yet: `run` says so
+        return
+    facts = kind_facts(study.kind)
+    if not facts["design"]:
+        check_kind_factors(study.factors, study.kind, facts["factors"])
+    check_params(study.params, facts["params"], study.kind)
+
+
+def _error_key(exc: BaseException) -> str | None:
+    while not hasattr(exc, "full_key") and (exc.__cause__ or exc.__context__) is not None:
+        exc = exc.__cause__ or exc.__context__
+    key = getattr(exc, "full_key", None)
+    return str(key) if key else None
+
+
+def _blamed(exc: ConfigError, path: Path, overrides: list[str],
+            also: tuple[str, ...] = ()) -> ConfigError:
+    """``exc`` naming the study file and line when its key is written there and no override
+    sets it, nor any of the keys ``also`` (an override's error names the override instead)."""
+    from graspcampaign.campaign.override import split
+
+    key = exc.key
+    if not key or str(exc).startswith(str(path)):
+        return exc
+    for item in overrides:
+        set_key = split(item)[1]
+        for blamed in (key, *also):
+            if set_key == blamed.split("[")[0] or blamed.startswith((f"{set_key}.", f"{set_key}[")) \
+                    or set_key.startswith(f"{blamed}."):
+                return exc
+    for blamed in (key, *also):  # a factor the file lacks: the line of its kind
+        if line_of(path, blamed) is not None:
+            return in_file(path, ConfigError(str(exc), key=blamed))
+    return exc
 
 
 # Compositions of this process by their inputs: the bytes of every conf/ file and of the study file,
@@ -187,19 +217,25 @@ def _inputs_key(path: Path, conf_dir: Path, overrides: list[str]) -> tuple:
     return str(Path(path).resolve()), str(conf_dir.resolve()), digest.hexdigest(), tuple(overrides)
 
 
+_BOM = b"\xef\xbb\xbf"
+
+
 @contextlib.contextmanager
 def _study_search_dir(path: Path, campaigns_dir: Path) -> Iterator[tuple[Path, str]]:
     """Yield a Hydra search directory and the ``campaigns/<option>`` that is the study file.
 
-    A study of the tool's own ``campaigns/`` is used in place; any other file is copied into a
-    temporary ``campaigns/`` (under a name no study can have) for the composition only.
+    A study of the tool's own ``campaigns/`` is used in place; any other file (or one starting
+    with a UTF-8 byte-order mark, which hides the ``# @package`` line from Hydra) is copied,
+    without the mark, into a temporary ``campaigns/`` (under a name no study can have) for the
+    composition only.
     """
-    if path.resolve().parent == campaigns_dir.resolve():
+    text = Path(path).read_bytes()
+    if path.resolve().parent == campaigns_dir.resolve() and not text.startswith(_BOM):
         yield campaigns_dir.parent, path.stem
         return
     with tempfile.TemporaryDirectory(prefix="graspcampaign-") as tmp:
         (Path(tmp) / "campaigns").mkdir()
-        shutil.copyfile(path, Path(tmp) / "campaigns" / "_user_study.yaml")
+        (Path(tmp) / "campaigns" / "_user_study.yaml").write_bytes(text.removeprefix(_BOM))
         yield Path(tmp), "_user_study"
 
 
@@ -222,79 +258,13 @@ def _unknown_key(cfg: Any, schema: type, prefix: str = "") -> tuple[str, type] |
     return None
 
 
-def _known_keys_sentence(key: str, schema: type) -> str:
-    import dataclasses
-
-    return (f"{key} is not a known key of {schema.__name__}; known keys: "
-            f"{', '.join(f.name for f in dataclasses.fields(schema))}.")
-
-
-def _check_file_keys(path: Path, data: dict[str, Any]) -> None:
-    """Refuse a key of a study file outside the schema, naming the file and its line."""
-    found = _unknown_key(data, StudyCfg)
-    if found:
-        key, schema = found
-        leaf = key.rsplit(".", 1)[-1]
-        lines = Path(path).read_text().splitlines()
-        line = next((i + 1 for i, text in enumerate(lines)
-                     if re.match(rf"\s*{re.escape(leaf)}\s*:", text)), None)
-        where = f"{path}, line {line}" if line else f"{path}"
-        raise ConfigError(f"{where}: {_known_keys_sentence(key, schema)}")
-
-
 def _check_known_keys(cfg: Any, given: list[str]) -> None:
     """Refuse keys a ``+key=value`` override added outside the schema (Hydra accepts them)."""
     found = _unknown_key(cfg, StudyCfg)
     if found:
         key, schema = found
         typed = next((o for o in given if o.lstrip("+~").partition("=")[0] == key), None)
-        sentence = _known_keys_sentence(key, schema)
-        if typed:
-            sentence = sentence.replace(f"of {schema.__name__};",
-                                        f"of {schema.__name__} (override {typed!r} rejected);")
-        raise ConfigError(sentence)
-
-
-def _override_sentence(exc: BaseException, overrides: list[str], given: list[str],
-                       factors: list[str] = ()) -> str:
-    """One sentence for a composition error, naming the user's override as they typed it (and, for a
-    bare key, the study's factors: ``shape=[...]`` works only where shape is a factor)."""
-    text = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-    if type(exc).__name__ == "OverrideParseException":
-        from hydra.core.override_parser.overrides_parser import OverridesParser
-
-        parser = OverridesParser.create()
-        for item, typed in zip(overrides, given, strict=True):
-            try:
-                parser.parse_overrides([item])
-            except Exception:  # the one that fails is the one to name
-                return f"cannot parse override {typed!r}: {text.rstrip('.')}."
-        return f"cannot parse overrides: {text.rstrip('.')}."
-    match = re.match(r"Could not override '([^']+)'", text)
-    if match:
-        key = match.group(1)
-        if "." in key:
-            return f"{key} is not a known key of the study config (override rejected)."
-        return (f"{key} is neither a known key of the study config nor a factor of this study "
-                f"(factors: {', '.join(factors) or 'none'}); override rejected.")
-    match = re.match(r"Could not append to config\. An item is already at '([^']+)'", text)
-    if match:
-        return f"{match.group(1)} already exists; override it without the leading '+'."
-    match = re.search(r"Could not find '([\w-]+)/([^']+)'", text)
-    if match:
-        return _missing_option_sentence(match.group(1), match.group(2))
-    return omegaconf_error_sentence(exc)
-
-
-def _missing_option_sentence(group: str, option: str) -> str:
-    """``model=nosuch``: name the group's options (the files of ``conf/<group>/``)."""
-    directory = project_dirs()[0] / group
-    options = sorted(p.stem for p in directory.glob("*.yaml")) if directory.is_dir() else []
-    if not options:
-        groups = sorted(p.name for p in project_dirs()[0].iterdir() if p.is_dir())
-        return f"{group} is not a config group; config groups: {', '.join(groups)}."
-    return (f"{group}={option} is not an option of config group {group}; available options: "
-            f"{', '.join(options)}.")
+        raise ConfigError(known_keys_sentence(key, schema, typed))
 
 
 def check_yaml_schemas() -> list[tuple[Path, str]]:

@@ -12,11 +12,12 @@ from __future__ import annotations
 import hashlib
 import itertools
 import json
+import math
 from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from graspcampaign.campaign.schema import StudyCfg
+from graspcampaign.campaign.schema import StudyCfg, design_shape
 
 if TYPE_CHECKING:
     import numpy as np
@@ -126,8 +127,5 @@ def expand(study: StudyCfg, rows: list[dict[str, Any]] | None = None) -> list[Tr
 
 
 def n_trials(study: StudyCfg) -> int:
-    """Return the trial count without expanding."""
-    count = 1
-    for axis in design_axes(study):
-        count *= len(axis)
-    return count
+    """Return the trial count without expanding (nor listing the seeds)."""
+    return math.prod(design_shape(study))

@@ -56,6 +56,10 @@ class TrialKind:
     naming file, row and column), and ``template(study, params, schedule) -> (sheet, columns)``:
     the measured-records sheet to fill in (every column, empty) and a table of its columns with
     type, unit, allowed values and when required (``graspcampaign schedule --template``).
+
+    ``factors`` names the factors ``run`` reads on every trial of a Cartesian design; a study
+    without one of them is refused when it is composed, naming it (a ``KeyError`` in every trial
+    otherwise).
     """
 
     name: str
@@ -71,6 +75,7 @@ class TrialKind:
     ingest: Callable[[StudyCfg, Any, list[str], Any], list[dict[str, Any]]] | None = None
     template: Callable[[StudyCfg, Any, Any], tuple[Any, Any]] | None = None
     description: str = ""
+    factors: tuple[str, ...] = ()
     extra: dict[str, Any] = field(default_factory=dict)
 
 

@@ -102,3 +102,32 @@ def write_manifest(path: Path, manifest: dict[str, Any]) -> None:
     tmp = path.with_name(f".{path.name}.tmp")
     tmp.write_text(json.dumps(manifest, indent=2, default=str))
     os.replace(tmp, path)
+
+
+def config_changes(recorded: dict[str, Any] | None, study: StudyCfg, limit: int = 3) -> list[str]:
+    """The first keys where ``study`` differs from a manifest's recorded ``config``, as
+    ``'evaluator.n_cand 1000 -> 10'`` (only the parts that can change a result, as
+    :func:`config_hash`); empty when the manifest holds no config to compare."""
+    if not isinstance(recorded, dict):
+        return []
+    now = json.loads(json.dumps(study_dict(study), default=str))  # as the manifest stores it
+    changes: list[str] = []
+
+    def walk(old: Any, new: Any, key: str) -> None:
+        if len(changes) >= limit or old == new:
+            return
+        if isinstance(old, dict) and isinstance(new, dict):
+            for sub in [*old, *(k for k in new if k not in old)]:
+                if key == "" and sub in _RESULT_FREE:
+                    continue
+                walk(old.get(sub, "<unset>"), new.get(sub, "<unset>"), f"{key}.{sub}" if key else sub)
+            return
+        changes.append(f"{key} {_text(old)} -> {_text(new)}")
+
+    walk(recorded, now, "")
+    return changes
+
+
+def _text(value: Any) -> str:
+    text = json.dumps(value, default=str) if not isinstance(value, str) else value
+    return text if len(text) <= 60 else f"{text[:57]}..."

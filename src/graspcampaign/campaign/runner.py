@@ -210,7 +210,11 @@ def _executor(study: StudyCfg):
 
 def _connect(client_type: type, address: str, timeout_s: float):
     """Connect to a Dask scheduler, or say in one sentence that none answers (the address's
-    form is checked with the config, ``schema.check_study``)."""
+    form is checked with the config, ``schema.check_study``; the handshake within the timeout by
+    ``scheduler.check_scheduler``, since the client waits for it without one)."""
+    from graspcampaign.campaign.scheduler import check_scheduler
+
+    check_scheduler(address, timeout_s)
     try:
         return client_type(address, timeout=timeout_s)
     except (OSError, TimeoutError) as exc:
@@ -219,6 +223,22 @@ def _connect(client_type: type, address: str, timeout_s: float):
             f"({type(exc).__name__}); start one (dask scheduler) or drop runner.address to run "
             "on a local cluster."
         ) from None
+
+
+def _preflight(study: StudyCfg) -> None:
+    """Check the backend before anything is written: Dask importable, its scheduler answering."""
+    if study.runner.backend != "dask":
+        return
+    try:
+        import distributed  # noqa: F401
+    except ImportError:
+        raise UserInputError(
+            "runner.backend=dask needs the dask extra: pip install 'graspcampaign[dask]'."
+        ) from None
+    if study.runner.address:
+        from graspcampaign.campaign.scheduler import check_scheduler
+
+        check_scheduler(study.runner.address, study.runner.connect_timeout_s)
 
 
 def _chunks(items: list, size: int) -> Iterator[list]:
@@ -241,7 +261,8 @@ def _check_drift(manifest: dict[str, Any], study: StudyCfg, allow_drift: bool, p
         return
     changes = []
     if manifest.get("config_hash") != provenance.config_hash(study):
-        changes.append("resolved study config")
+        keys = provenance.config_changes(manifest.get("config"), study)
+        changes.append("resolved study config" + (f" ({', '.join(keys)})" if keys else ""))
     if manifest.get("code_version") != provenance.code_version():
         changes.append(f"code version ({manifest.get('code_version')} -> "
                        f"{provenance.code_version()})")
@@ -336,6 +357,7 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
     session = {"started_at": provenance.now_utc(), "host": socket.gethostname(),
                "backend": study.runner.backend, "n_jobs": study.runner.n_jobs,
                "config_hash": provenance.config_hash(study)}
+    _preflight(study)  # a Dask scheduler that does not answer changes nothing stored
     store.clean()
     store.repair()  # a damaged file is quarantined before anything in it counts as recorded
     provenance.write_manifest(store.manifest_path, manifest)

@@ -23,6 +23,14 @@ from graspcampaign.errors import ConfigError
 
 _LAMBDA = PLAUSIBLE["lambda"].meta()
 
+#: The most trials one study may hold. A trial in memory costs ~0.8 KB before it runs (its factor
+#: dict, ids and random-stream key; 813 B measured on baseline_grid at 450,000 trials, expanded in
+#: 15 s on one core), so 10^6 trials are ~0.8 GB and ~35 s before the first one runs: 52 times
+#: the largest study of the paper (test1_bench, 19,168 events), and the most a 2-core machine
+#: with a few GB should be asked to hold (docs/decisions.md, "At most 10^6 trials per study").
+MAX_TRIALS = 1_000_000
+_MAX_TRIALS_WHY = f"a study holds at most {MAX_TRIALS:,} trials, docs/decisions.md"
+
 
 def _f(default: Any, **meta: Any) -> Any:
     """Declare a dataclass field with validation metadata."""
@@ -99,7 +107,9 @@ class RunnerCfg:
     """Where and how trials run."""
 
     backend: str = _f("loky", choices=("loky", "dask", "sequential"))
-    n_jobs: int = _f(-1, ge=-1)  # -1: all cores
+    # joblib's n_jobs: N worker processes, -1 every core, -2 every core but one, ...; 0 means nothing
+    n_jobs: int = _f(-1, ne=0, why="joblib's n_jobs: a number of worker processes, or -1 for every "
+                                   "core, -2 for every core but one")
     address: str | None = None  # Dask scheduler address; None starts a LocalCluster
     batch_size: int = _f(0, ge=0)  # trials per task; 0 sizes tasks to ~target_task_s
     target_task_s: float = _f(0.5, gt=0.0)  # SPEC Sec. 5: 0.2-1 s of compute per task
@@ -112,12 +122,15 @@ class RunnerCfg:
     connect_timeout_s: float = _f(5.0, gt=0.0)
 
     def workers(self) -> int:
-        """Worker processes a run uses (``n_jobs`` -1 or 0: every core)."""
+        """Worker processes a run uses (joblib's reading of ``n_jobs``: -1 every core, -2 every
+        core but one, ..., at least one)."""
         import os
 
         if self.backend == "sequential":
             return 1
-        return (os.cpu_count() or 1) if self.n_jobs in (-1, 0) else self.n_jobs
+        if self.n_jobs < 0:
+            return max(1, (os.cpu_count() or 1) + 1 + self.n_jobs)
+        return self.n_jobs
 
 
 @dataclass
@@ -136,8 +149,8 @@ class StudyCfg:
     kind: str = "???"
     description: str = ""
     seed: int = _f(0, ge=0)  # study seed: root of every trial's random stream
-    seeds: int = _f(1, ge=1)  # seed indices 0..seeds-1, a first-class axis
-    repeats: int = _f(1, ge=1)  # repeats of each scene, a first-class axis
+    seeds: int = _f(1, ge=1, le=MAX_TRIALS, why=_MAX_TRIALS_WHY)  # seed indices 0..seeds-1
+    repeats: int = _f(1, ge=1, le=MAX_TRIALS, why=_MAX_TRIALS_WHY)  # repeats of each scene
     factors: dict[str, list[Any]] = field(default_factory=dict)
     zip: list[list[str]] = field(default_factory=list)  # factor groups advanced together
     method_factors: list[str] = field(default_factory=lambda: ["planner", "variant"])
@@ -217,6 +230,8 @@ def _fmt_allowed(meta: dict[str, Any]) -> str:
         parts.append(f">= {meta['ge']}")
     if "le" in meta:
         parts.append(f"<= {meta['le']}")
+    if "ne" in meta:
+        parts.append(f"!= {meta['ne']}")
     return " and ".join(parts)
 
 
@@ -239,27 +254,28 @@ def check_value(key: str, value: Any, meta: dict[str, Any]) -> Any:
         else:
             raise ConfigError(
                 f"{key} must be of type {typ.__name__}, got {value!r} "
-                f"({type(value).__name__})."
+                f"({type(value).__name__}).", key=key
             )
     choices = meta.get("choices")
     if choices is not None:
         allowed = _registry_names(choices) if isinstance(choices, str) else tuple(choices)
         if value not in allowed:
             raise ConfigError(
-                f"{key} has unknown value {value!r}; allowed values: {', '.join(map(str, allowed))}."
-            )
+                f"{key} has unknown value {value!r}; allowed values: {', '.join(map(str, allowed))}.",
+                key=key)
     if isinstance(value, (int, float)) and not isinstance(value, bool):
         if isinstance(value, float) and not math.isfinite(value):
-            raise ConfigError(f"{key} must be finite, got {value!r}.")
+            raise ConfigError(f"{key} must be finite, got {value!r}.", key=key)
         bad = (
             ("gt" in meta and not value > meta["gt"])
             or ("ge" in meta and not value >= meta["ge"])
             or ("le" in meta and not value <= meta["le"])
+            or ("ne" in meta and value == meta["ne"])
         )
         if bad:
             why = f" ({meta['why']})" if meta.get("why") else ""
             raise ConfigError(f"{key} = {value!r} is out of range; allowed: {_fmt_allowed(meta)}"
-                              f"{why}.")
+                              f"{why}.", key=key)
     return value
 
 
@@ -291,35 +307,99 @@ def check_study(study: StudyCfg) -> None:
     if address is not None and not re.fullmatch(
             r"(tcp|tls|ucx|inproc|ws|wss)://[^\s/:]+(:\d+)?/?", str(address)):
         raise ConfigError(f"runner.address = {address!r} is not a Dask scheduler address; "
-                          "expected e.g. tcp://host:8786.")
+                          "expected e.g. tcp://host:8786.", key="runner.address")
     for name, levels in study.factors.items():
-        if name not in FACTOR_SPECS:
-            raise ConfigError(
-                f"factors.{name} is not a known factor; known factors: "
-                f"{', '.join(sorted(FACTOR_SPECS))}."
-            )
-        if not isinstance(levels, list) or not levels:
-            raise ConfigError(f"factors.{name} must be a non-empty list of levels.")
-        levels[:] = [
-            check_value(f"factors.{name}[{i}]", v, FACTOR_SPECS[name]) for i, v in enumerate(levels)
-        ]
-        if len(set(map(repr, levels))) != len(levels):
-            raise ConfigError(f"factors.{name} lists a level twice: {levels!r}.")
+        check_factor(name, levels)
     seen: set[str] = set()
     for i, group in enumerate(study.zip):
         for name in group:
             if name not in study.factors:
-                raise ConfigError(f"zip[{i}] names {name!r}, which is not among the factors.")
+                raise ConfigError(f"zip[{i}] names {name!r}, which is not among the factors.",
+                                  key=f"zip[{i}]")
             if name in seen:
-                raise ConfigError(f"zip[{i}] names {name!r}, which is already zipped.")
+                raise ConfigError(f"zip[{i}] names {name!r}, which is already zipped.",
+                                  key=f"zip[{i}]")
             seen.add(name)
         lengths = {len(study.factors[n]) for n in group}
         if len(lengths) > 1:
             raise ConfigError(
                 f"zip[{i}] groups factors of different lengths: "
                 + ", ".join(f"{n} has {len(study.factors[n])}" for n in group)
-                + "."
+                + ".", key=f"zip[{i}]"
             )
+    check_design_size(study)
+
+
+def check_factor(name: str, levels: Any) -> None:
+    """Check one factor: a known name and a non-empty list of distinct levels, each of its type
+    (null is no level) and in its range; levels are coerced in place (``1`` -> ``1.0``).
+
+    Raises
+    ------
+    ConfigError
+        Naming ``factors.<name>`` (or the level ``factors.<name>[i]``) and what is allowed.
+    """
+    key = f"factors.{name}"
+    if name not in FACTOR_SPECS:
+        raise ConfigError(f"{key} is not a known factor; known factors: "
+                          f"{', '.join(sorted(FACTOR_SPECS))}.", key=key)
+    if not isinstance(levels, list) or not levels:
+        raise ConfigError(f"{key} must be a non-empty list of levels.", key=key)
+    spec = FACTOR_SPECS[name]
+    for i, value in enumerate(levels):
+        if value is None:  # a factor's level is a value: null would reach a trial as None
+            raise ConfigError(f"{key}[{i}] must be of type {spec['type'].__name__}, got null; "
+                              f"give the factor's levels, e.g. {name}: {example(name)}.",
+                              key=f"{key}[{i}]")
+    levels[:] = [check_value(f"{key}[{i}]", v, spec) for i, v in enumerate(levels)]
+    if len(set(map(repr, levels))) != len(levels):
+        raise ConfigError(f"{key} lists a level twice: {levels!r}.", key=key)
+
+
+def example(name: str) -> str:
+    """A level list to show in a message about factor ``name``."""
+    spec = FACTOR_SPECS.get(name, {})
+    if spec.get("type") is str:
+        return {"shape": "[sphere, pear]", "planner": "[heuristic, random]"}.get(name, "[a, b]")
+    return {"mu": "[0.3, 0.5]", "mass_kg": "[0.2, 0.4]", "nodes": "[144, 390]"}.get(
+        name, "[1, 2]" if spec.get("type") is int else "[0.5, 1.0]")
+
+
+def design_shape(study: StudyCfg) -> list[int]:
+    """Return the length of every design axis (see ``grid.design_axes``), computed from the
+    level counts alone: nothing is expanded, so a design of 10^20 trials costs nothing."""
+    zipped = {name: group for group in study.zip for name in group}
+    sizes, done = [], set()
+    for name in study.factors:
+        if name in done:
+            continue
+        group = zipped.get(name, [name])
+        sizes.append(min(len(study.factors[g]) for g in group))
+        done.update(group)
+    sizes.append(study.seeds)
+    if study.repeats > 1:
+        sizes.append(study.repeats)
+    return sizes
+
+
+def check_design_size(study: StudyCfg, n: int | None = None) -> None:
+    """Refuse a design of more than :data:`MAX_TRIALS` trials before it is expanded.
+
+    ``n`` is the size of an explicit design (a kind's schedule); by default the Cartesian product.
+
+    Raises
+    ------
+    ConfigError
+        Naming the trial count, its axes and the limit.
+    """
+    sizes = design_shape(study)
+    count = math.prod(sizes) if n is None else n
+    if count > MAX_TRIALS:
+        axes = f" ({' x '.join(map(str, sizes))})" if n is None else ""
+        raise ConfigError(
+            f"study {study.name} has {count:,} trials{axes}, more than the {MAX_TRIALS:,} a study "
+            f"may hold (each costs ~0.8 KB of memory before it runs, docs/decisions.md); reduce "
+            f"seeds, repeats or the factor levels, or split the study.")
 
 
 def check_design_rows(rows: list[dict[str, Any]]) -> None:

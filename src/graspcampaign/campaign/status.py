@@ -11,10 +11,9 @@ from pathlib import Path
 from typing import Any
 
 from graspcampaign.campaign.catalog import design_size, kind_facts
-from graspcampaign.campaign.grid import design_axes
 from graspcampaign.campaign.kind import KINDS, kind_available
 from graspcampaign.campaign.provenance import read_manifest
-from graspcampaign.campaign.schema import StudyCfg
+from graspcampaign.campaign.schema import StudyCfg, design_shape
 from graspcampaign.campaign.studyfile import check_name, list_studies, run_dir
 from graspcampaign.errors import UserInputError
 
@@ -87,7 +86,7 @@ def design_text(study: StudyCfg, run: str | None = None) -> str:
     if facts and facts["design"]:
         lines.append(f"design: the protocol's schedule = {total} trials")
     else:
-        lines.append(f"axes: {' x '.join(str(len(a)) for a in design_axes(study))} = {total} trials")
+        lines.append(f"axes: {' x '.join(map(str, design_shape(study)))} = {total} trials")
     done = recorded_in(study, run) if ready else 0
     lines.append(f"run: {_run_dir(study, run)} ({done} of {total} recorded)")
     if facts:

@@ -26,6 +26,7 @@ from typing import Any
 from graspcampaign.errors import ConfigError, UserInputError
 
 _RUN_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
+_SCHEMA_LINE = re.compile(r"^#\s*schema:\s*(\w+)")
 _SUFFIXES = (".yaml", ".yml")
 
 
@@ -33,38 +34,107 @@ _SUFFIXES = (".yaml", ".yml")
 def project_dirs() -> tuple[Path, Path]:
     """Return ``(conf_dir, campaigns_dir)``.
 
-    Looked up in order: ``$GRASPCAMPAIGN_HOME``, the source checkout the package is imported from
-    (editable installs), then the copies shipped inside the wheel.
+    ``$GRASPCAMPAIGN_HOME`` when set (non-empty): it must hold both, or the error says what it
+    lacks (a home that is silently passed over would run the shipped configs instead of the
+    user's). Otherwise the source checkout the package is imported from (editable installs), then
+    the copies shipped inside the wheel.
+
+    Raises
+    ------
+    UserInputError
+        ``GRASPCAMPAIGN_HOME`` does not exist, is not a directory, or lacks ``conf/config.yaml``
+        or ``campaigns/``; or no copy of them is found at all.
     """
-    candidates = []
-    home = os.environ.get("GRASPCAMPAIGN_HOME")
+    home = os.environ.get("GRASPCAMPAIGN_HOME", "").strip()
     if home:
-        candidates.append(Path(home).expanduser())
+        root = Path(home).expanduser()
+        problem = _home_problem(root)
+        if problem:
+            raise UserInputError(f"GRASPCAMPAIGN_HOME={home} {problem}; point it at a directory "
+                                 "holding conf/ (with conf/config.yaml and the config groups) and "
+                                 "campaigns/ (the study files), e.g. a copy of the shipped ones, "
+                                 "or unset it to use those.")
+        return root / "conf", root / "campaigns"
     here = Path(__file__).resolve()
-    candidates += [here.parents[3], here.parents[1] / "_data"]
-    for root in candidates:
+    for root in (here.parents[3], here.parents[1] / "_data"):
         if (root / "conf" / "config.yaml").is_file() and (root / "campaigns").is_dir():
             return root / "conf", root / "campaigns"
-    if home:
-        raise UserInputError(f"GRASPCAMPAIGN_HOME={home} holds no conf/config.yaml and "
-                             "campaigns/; point it at a directory that has both.")
     raise UserInputError("cannot find conf/config.yaml and campaigns/; set GRASPCAMPAIGN_HOME to "
                          "a directory that has both.")
 
 
+def _home_problem(root: Path) -> str | None:
+    """What a ``GRASPCAMPAIGN_HOME`` directory lacks, in words (None: nothing)."""
+    if not root.exists():
+        return "does not exist"
+    if not root.is_dir():
+        return "is a file, not a directory"
+    if not (root / "conf").is_dir():
+        return "has no conf/ directory"
+    if not (root / "conf" / "config.yaml").is_file():
+        return "has no conf/config.yaml"
+    if not (root / "campaigns").is_dir():
+        return "has no campaigns/ directory"
+    return None
+
+
 def study_dirs() -> list[Path]:
-    """Return the directories searched for study files: ``$GRASPCAMPAIGN_PATH``, then campaigns/."""
-    extra = [Path(p).expanduser() for p in os.environ.get("GRASPCAMPAIGN_PATH", "").split(os.pathsep)
-             if p.strip()]
+    """Return the directories searched for study files: ``$GRASPCAMPAIGN_PATH``, then campaigns/.
+
+    An entry of ``GRASPCAMPAIGN_PATH`` that is not a directory is skipped with a warning naming
+    it.
+    """
+    extra = []
+    for entry in os.environ.get("GRASPCAMPAIGN_PATH", "").split(os.pathsep):
+        if not entry.strip():
+            continue
+        path = Path(entry).expanduser()
+        problem = _path_problem(path)
+        if problem:
+            _warn(f"GRASPCAMPAIGN_PATH entry {entry} {problem}; it is skipped.")
+            continue
+        extra.append(path)
     return [*extra, project_dirs()[1]]
+
+
+def _path_problem(path: Path) -> str | None:
+    if not path.exists():
+        return "does not exist"
+    if not path.is_dir():
+        hint = (" (run a study file by giving its path: graspcampaign run " + str(path) + ")"
+                if path.suffix in _SUFFIXES else "")
+        return f"is a file, not a directory of study files{hint}"
+    return None
+
+
+def _warn(message: str) -> None:
+    """A warning the command line prints once per command as ``warning: ...``."""
+    import warnings
+
+    warnings.warn(message, stacklevel=3)
+
+
+def search_path_text() -> str:
+    """The study search path in words, for a message: the directories searched, in order, and
+    the ``GRASPCAMPAIGN_PATH`` entries skipped with why."""
+    searched, skipped = [], []
+    for entry in os.environ.get("GRASPCAMPAIGN_PATH", "").split(os.pathsep):
+        if entry.strip():
+            problem = _path_problem(Path(entry).expanduser())
+            (skipped.append(f"{entry} ({problem.split(' (')[0]})") if problem
+             else searched.append(entry))
+    text = ", ".join([*searched, str(project_dirs()[1])])
+    if skipped:
+        text += f"; GRASPCAMPAIGN_PATH entries skipped: {', '.join(skipped)}"
+    elif not searched:
+        text += "; GRASPCAMPAIGN_PATH adds directories of your own"
+    return text
 
 
 def study_files() -> dict[str, Path]:
     """Return ``{study name: file}`` over the search path (the first directory holding a name wins)."""
     out: dict[str, Path] = {}
     for directory in study_dirs():
-        if not directory.is_dir():
-            continue
         for path in sorted(directory.iterdir()):
             if path.suffix in _SUFFIXES and path.is_file():
                 out.setdefault(path.stem, path)
@@ -98,16 +168,34 @@ def find_study(study: str) -> Path:
         return path
     files = study_files()
     if study not in files:
-        raise ConfigError(f"unknown study {study!r}; available studies: {', '.join(files)}.")
+        raise ConfigError(f"unknown study {study!r}; available studies: {', '.join(files)} "
+                          f"(searched: {search_path_text()}).")
     return files[study]
+
+
+def schema_of(path: Path) -> str | None:
+    """Return the schema a YAML file names in its header (``# schema: Name``).
+
+    The header is the leading block of comment lines (a study's first line is Hydra's
+    ``# @package _global_``); a UTF-8 byte-order mark before it is allowed.
+    """
+    with open(path, encoding="utf-8-sig") as fh:
+        for line in fh:
+            if not line.startswith("#"):
+                break
+            match = _SCHEMA_LINE.match(line)
+            if match:
+                return match.group(1)
+    return None
 
 
 def check_package_header(path: Path) -> None:
     """Refuse a study file without Hydra's ``# @package _global_`` in its leading comments.
 
-    Without it Hydra would nest the whole study under a ``campaigns:`` key.
+    Without it Hydra would nest the whole study under a ``campaigns:`` key. A UTF-8 byte-order
+    mark before it is allowed (the composition reads a copy without it).
     """
-    with open(path) as fh:
+    with open(path, encoding="utf-8-sig") as fh:
         for line in fh:
             if not line.startswith("#"):
                 break
@@ -164,7 +252,7 @@ def read_yaml(path: Path, *, study: bool = False) -> dict[str, Any]:
     import yaml
 
     try:
-        text = Path(path).read_text()
+        text = Path(path).read_text(encoding="utf-8-sig")  # a byte-order mark is no content
     except (OSError, UnicodeDecodeError) as exc:
         raise ConfigError(f"{path} cannot be read as a text file ({type(exc).__name__}).") from None
     try:
@@ -206,7 +294,7 @@ def check_name(value: Any, key: str) -> str:
     if not _RUN_NAME.fullmatch(text):
         raise ConfigError(f"{key} = {text!r} is not allowed; use letters, digits, '.', '_' and '-' "
                           "(starting with a letter or digit, at most 100), so the run stays "
-                          "inside the results directory.")
+                          "inside the results directory.", key=key)
     return text
 
 

@@ -275,7 +275,7 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
                                  "mm")
     if mu is not None:
         mu = _check_plausible(mu, "mu", "mu", "")
-    name_material = material or DEFAULT_PLAN_MATERIAL
+    name_material = DEFAULT_PLAN_MATERIAL if material is None else material  # "" is no material
     mat = material_model(name_material, "natural", radius_mm * 1e-3)
     if mu is not None:
         mat = replace(mat, mu_s=mu, mu_k=mu * mat.mu_k / mat.mu_s, friction_level="user")

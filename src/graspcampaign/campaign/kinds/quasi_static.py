@@ -313,4 +313,5 @@ QUASI_STATIC = TrialKind(
     body_key=body_key,
     prepare=prepare,
     description="plan with one planner, judge with the quasi-static evaluator (Algorithms 1-2)",
+    factors=("shape", "mass_kg", "mu", "planner"),
 )

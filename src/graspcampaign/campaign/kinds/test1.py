@@ -25,7 +25,6 @@ fits them through the same code as the virtual path.
 
 from __future__ import annotations
 
-import os
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -190,10 +189,7 @@ def run(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
 
 # -- study-level tables ------------------------------------------------------------------------
 def _n_jobs(study: StudyCfg) -> int:
-    if study.runner.backend == "sequential":
-        return 1
-    n = study.runner.n_jobs
-    return (os.cpu_count() or 1) if n in (-1, 0) else n
+    return study.runner.workers()  # joblib's reading of n_jobs (-2: every core but one)
 
 
 def completed_fits(records: pd.DataFrame) -> pd.DataFrame:

@@ -1,0 +1,193 @@
+"""Command-line overrides of a study: what is refused before Hydra sees it, bare factor names, and
+one plain sentence for every error Hydra or OmegaConf raises about an override.
+
+Refused up front: an override without a key (``=3``); Hydra's own keys (``hydra.run.dir=/tmp``,
+``+hydra.x=1``), which the Compose API accepts and ignores because this tool runs the study
+itself; a bool set to anything but ``true``/``false`` (OmegaConf reads ``pso.enabled=2`` as true).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+from typing import Any
+
+from graspcampaign.campaign.schema import FACTOR_SPECS, example
+from graspcampaign.campaign.studycheck import _split, field_at, known_keys_sentence, schema_at
+from graspcampaign.errors import ConfigError
+
+
+def split(item: str) -> tuple[str, str, str, str]:
+    """``'+factors.mu=[0.3]'`` -> ``('+', 'factors.mu', '=', '[0.3]')``."""
+    prefix = re.match(r"[+~]*", item).group(0)
+    key, sep, value = item[len(prefix):].partition("=")
+    return prefix, key.strip(), sep, value
+
+
+def check_overrides(given: list[str]) -> None:
+    """Refuse, before composition, overrides Hydra would misread or silently ignore.
+
+    Raises
+    ------
+    ConfigError
+        Naming the override as typed and what to write instead.
+    """
+    for item in given:
+        prefix, key, sep, value = split(item)
+        if not key:
+            raise ConfigError(f"override {item!r} has no key before '='; write KEY=VALUE, e.g. "
+                              "seeds=3 or mu=[0.3,0.5].")
+        if key == "hydra" or key.startswith(("hydra.", "hydra/")):
+            raise ConfigError(f"override {item!r} sets {key}, a key of Hydra's own runtime; this "
+                              "tool uses Hydra to compose studies and runs them itself, so hydra "
+                              "keys have no effect: leave it out.", key=key)
+        found = field_at(key) if sep and "~" not in prefix else None
+        if found and _split(str(found[1].type))[0] == "bool":
+            parsed = _parsed_value(item)
+            if parsed is not _UNPARSED and not isinstance(parsed, bool):
+                raise ConfigError(f"{key} must be true or false, got {parsed!r} (override "
+                                  f"{item!r}).", key=key)
+
+
+_UNPARSED = object()
+
+
+def _parsed_value(item: str) -> Any:
+    """The value Hydra's grammar reads from an override (``'2'`` -> 2), or ``_UNPARSED``."""
+    from hydra.core.override_parser.overrides_parser import OverridesParser
+
+    try:
+        value = OverridesParser.create().parse_overrides([item])[0].value()
+    except Exception:  # noqa: BLE001  (a parse error is Hydra's to report, with its position)
+        return _UNPARSED
+    return _UNPARSED if isinstance(value, str) and "${" in value else value
+
+
+def rewrite(factors: set[str], overrides: list[str]) -> list[str]:
+    """Map bare factor names to ``factors.<name>`` and scalars to one-level lists."""
+    out = []
+    for item in overrides:
+        key, sep, value = item.partition("=")
+        if sep and key in factors:
+            value = value.strip()
+            out.append(f"factors.{key}={value if value.startswith('[') else f'[{value}]'}")
+        else:
+            out.append(item)
+    return out
+
+
+def _typed(key: str, overrides: list[str], given: list[str]) -> str | None:
+    """The override as the user typed it that sets ``key`` (after bare-name rewriting)."""
+    return next((typed for item, typed in zip(overrides, given, strict=True)
+                 if split(item)[1] == key), None)
+
+
+def override_sentence(exc: BaseException, overrides: list[str], given: list[str],
+                      factors: list[str] = ()) -> str:
+    """One sentence for a composition error, naming the user's override as they typed it (and, for a
+    bare key, the study's factors: ``shape=[...]`` works only where shape is a factor)."""
+    text = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+    if type(exc).__name__ == "OverrideParseException":
+        from hydra.core.override_parser.overrides_parser import OverridesParser
+
+        parser = OverridesParser.create()
+        for item, typed in zip(overrides, given, strict=True):
+            try:
+                parser.parse_overrides([item])
+            except Exception:  # the one that fails is the one to name
+                return f"cannot parse override {typed!r}: {text.rstrip('.')}."
+        return f"cannot parse overrides: {text.rstrip('.')}."
+    match = re.match(r"Could not override '([^']+)'", text)
+    if match:
+        return _unknown_override(match.group(1), _typed(match.group(1), overrides, given),
+                                 factors)
+    match = re.match(r"Could not append to config\. An item is already at '([^']+)'", text)
+    if match:
+        return f"{match.group(1)} already exists; override it without the leading '+'."
+    match = re.search(r"Could not find '([\w-]+)/([^']+)'", text)
+    if match:
+        return missing_option_sentence(match.group(1), match.group(2))
+    return omegaconf_error_sentence(exc)
+
+
+def _unknown_override(key: str, typed: str | None, factors: list[str]) -> str:
+    """``evaluator.nosuch=1``: name the section's known keys, as the ``+`` form does."""
+    if "." not in key:
+        return (f"{key} is neither a known key of the study config nor a factor of this study "
+                f"(factors: {', '.join(factors) or 'none'}); override rejected.")
+    parent, name = key.rsplit(".", 1)
+    schema = schema_at(parent)
+    rejected = f"override {typed!r} rejected" if typed else "override rejected"
+    if schema is not None:
+        return known_keys_sentence(key, schema, typed)
+    if parent == "factors":
+        if name not in FACTOR_SPECS:
+            return (f"{key} is not a known factor ({rejected}); known factors: "
+                    f"{', '.join(sorted(FACTOR_SPECS))}.")
+        return (f"{name} is not a factor of this study ({rejected}; its factors: "
+                f"{', '.join(factors) or 'none'}); add it with +factors.{name}={example(name)}.")
+    if parent in ("params", "paper"):
+        return (f"{key} is not set by this study ({rejected}); add it with a leading '+' "
+                f"(+{key}=...), and its trial kind's schema checks it.")
+    return f"{key} is not a known key of the study config ({rejected})."
+
+
+def missing_option_sentence(group: str, option: str) -> str:
+    """``model=nosuch``: name the group's options (the files of ``conf/<group>/``)."""
+    from graspcampaign.campaign.studyfile import project_dirs
+
+    directory = project_dirs()[0] / group
+    options = sorted(p.stem for p in directory.glob("*.yaml")) if directory.is_dir() else []
+    if not options:
+        groups = sorted(p.name for p in project_dirs()[0].iterdir() if p.is_dir())
+        return f"{group} is not a config group; config groups: {', '.join(groups)}."
+    return (f"{group}={option} is not an option of config group {group}; available options: "
+            f"{', '.join(options)}.")
+
+
+def omegaconf_error_sentence(exc: BaseException, prefix: str = "") -> str:
+    """Turn an OmegaConf/Hydra exception into one sentence in plain words naming the key."""
+    while not hasattr(exc, "full_key") and (exc.__cause__ or exc.__context__) is not None:
+        exc = exc.__cause__ or exc.__context__
+    key = getattr(exc, "full_key", None) or getattr(exc, "key", None)
+    text = str(getattr(exc, "msg", None) or exc).strip().splitlines()[0].rstrip(".")
+    if not key:
+        return f"{text}."
+    key = f"{prefix}{key}"
+    schema = getattr(exc, "object_type", None)
+    value = getattr(exc, "value", None)
+    if type(exc).__name__ == "ConfigKeyError" or "not in struct" in text or "not in '" in text:
+        if dataclasses.is_dataclass(schema):
+            return known_keys_sentence(key, schema)
+        parent = getattr(exc, "object_type_str", None) or "the schema"
+        return f"{key} is not a known key of {parent}."
+    match = re.search(r"Interpolation key '([^']+)' not found", text)
+    if match:
+        return f"{key} refers to ${{{match.group(1)}}}, which is not a key of the study config."
+    found = None if prefix else field_at(key)
+    base = _split(str(found[1].type))[0] if found else None
+    if "is not Optional" in text:
+        return f"{key} cannot be null; it takes {_takes(key, base)}."
+    if "is not a valid bool" in text:
+        return f"{key} must be true or false, got {value!r}."
+    if key.startswith("factors.") and key.count(".") == 1 and "[" not in key:
+        name = key.split(".", 1)[1]
+        return (f"{key} takes a list of levels, e.g. {key}={example(name).replace(' ', '')} (or "
+                f"the bare {name}={example(name)[1:].split(',')[0]}), got {value!r}.")
+    if re.search(r"Cannot merge|incompatible with type hint|is not a ListConfig|is not a subclass",
+                 text):
+        got = f", got {value!r}" if value is not None else ""
+        return f"{key} must be {_takes(key, base)}{got}."
+    return f"{key}: {text}."
+
+
+def _takes(key: str, base: str | None) -> str:
+    if key == "factors":
+        return "a mapping of factor names to lists of levels (e.g. factors.mu=[0.3])"
+    if base is None:
+        return "a value"
+    if base in ("int", "float", "str"):
+        return f"a value of type {base}"
+    from graspcampaign.campaign.studycheck import _words
+
+    return _words(base, key)

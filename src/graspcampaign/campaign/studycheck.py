@@ -1,0 +1,392 @@
+"""Check a study file, a config-group file or a ``params`` block against its schema in plain
+Python, before Hydra sees it: unknown keys, types (a bool is ``true`` or ``false``, never ``2``),
+ranges, factor levels, the trial kind, and the study's name against its file name. Every error is
+one sentence naming the file and the line of the key (PyYAML node marks).
+
+OmegaConf would convert ``2`` to ``True`` and say "Merge error: str is not a subclass of
+ContactModelCfg" where a user wrote ``model: nosuch``; these checks say it in plain words first.
+A value holding an interpolation (``${...}``) is left to OmegaConf, which resolves it.
+
+Nothing here imports Hydra, OmegaConf or the numerical layers: ``graspcampaign list`` checks
+every study file with it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+from pathlib import Path
+from typing import Any
+
+from graspcampaign.campaign.schema import SCHEMAS, StudyCfg, check_factor, check_value, example
+from graspcampaign.errors import ConfigError
+
+_SCALARS = {"int": int, "float": float, "str": str, "bool": bool}
+_GROUPS = ("model", "evaluator", "features", "pso", "runner", "output")  # conf/<group>/
+
+
+# -- where a key is written ----------------------------------------------------------------------
+def key_lines(text: str) -> dict[str, int]:
+    """Return ``{dotted key: 1-based line}`` of every mapping key and list item of a YAML text
+    (``factors.mu`` and ``factors.mu[1]``); empty if the text does not parse."""
+    import yaml
+
+    try:
+        root = yaml.compose(text, Loader=yaml.SafeLoader)
+    except yaml.YAMLError:
+        return {}
+    out: dict[str, int] = {}
+
+    def walk(node: Any, key: str) -> None:
+        if isinstance(node, yaml.MappingNode):
+            for key_node, value in node.value:
+                sub = f"{key}.{key_node.value}" if key else str(key_node.value)
+                out.setdefault(sub, key_node.start_mark.line + 1)
+                walk(value, sub)
+        elif isinstance(node, yaml.SequenceNode):
+            for i, item in enumerate(node.value):
+                sub = f"{key}[{i}]"
+                out.setdefault(sub, item.start_mark.line + 1)
+                walk(item, sub)
+
+    walk(root, "")
+    return out
+
+
+def line_of(path: Path, key: str | None) -> int | None:
+    """The line of ``path`` that writes ``key`` or, failing that, its nearest parent."""
+    if not key:
+        return None
+    try:
+        lines = key_lines(Path(path).read_text(encoding="utf-8-sig"))
+    except (OSError, UnicodeDecodeError):
+        return None
+    while key:
+        if key in lines:
+            return lines[key]
+        cut = max(key.rfind("."), key.rfind("["))
+        key = key[:cut] if cut > 0 else ""
+    return None
+
+
+def in_file(path: Path, exc: ConfigError, key_prefix: str = "") -> ConfigError:
+    """``exc`` with the file (and the line of its key) in front: ``<path>, line 7: ...``."""
+    line = line_of(path, exc.key[len(key_prefix):] if exc.key and key_prefix else exc.key)
+    where = f"{path}, line {line}" if line else f"{path}"
+    return ConfigError(f"{where}: {exc}", key=exc.key)
+
+
+# -- types -----------------------------------------------------------------------------------------
+def _split(typ: str) -> tuple[str, bool]:
+    """``'float | None'`` -> ``('float', True)``: the type and whether null is allowed."""
+    t = typ.replace(" ", "")
+    if t.startswith("Optional[") and t.endswith("]"):
+        return t[9:-1], True
+    parts = [p for p in t.split("|") if p != "None"]
+    return "|".join(parts), len(parts) < len(t.split("|"))
+
+
+def _args(typ: str) -> list[str]:
+    """``'dict[str,list[Any]]'`` -> ``['str', 'list[Any]']`` (top-level commas only)."""
+    inner, depth, out, start = typ[typ.index("[") + 1:-1], 0, [], 0
+    for i, ch in enumerate(inner):
+        depth += ch == "["
+        depth -= ch == "]"
+        if ch == "," and depth == 0:
+            out.append(inner[start:i])
+            start = i + 1
+    return [*out, inner[start:]]
+
+
+def _is_interpolation(value: Any) -> bool:
+    return isinstance(value, str) and "${" in value
+
+
+def _got(value: Any) -> str:
+    return "null" if value is None else f"{value!r} ({type(value).__name__})"
+
+
+def check_typed(key: str, value: Any, typ: str, meta: dict[str, Any] | None = None) -> None:
+    """Check ``value`` of ``key`` against a field's annotation (``'int'``, ``'float | None'``,
+    ``'list[str]'``, ``'dict[str, Any]'``, a schema name) and its range metadata.
+
+    Raises
+    ------
+    ConfigError
+        One sentence naming ``key``, what it takes and what it got.
+    """
+    base, optional = _split(typ)
+    if _is_interpolation(value) or base in ("Any", ""):
+        return
+    if value is None:
+        if optional:
+            return
+        raise ConfigError(f"{key} must be {_words(base, key)}, got null.", key=key)
+    if base in SCHEMAS:
+        if not isinstance(value, dict):
+            raise ConfigError(_mapping_sentence(key, SCHEMAS[base], value), key=key)
+        check_fields(value, SCHEMAS[base], f"{key}.")
+        return
+    if base.startswith("list["):
+        if not isinstance(value, list):
+            raise ConfigError(f"{key} must be a list, got {_got(value)}.", key=key)
+        for i, item in enumerate(value):
+            check_typed(f"{key}[{i}]", item, _args(base)[0])
+        return
+    if base.startswith("dict["):
+        if not isinstance(value, dict):
+            raise ConfigError(f"{key} must be a mapping of keys, got {_got(value)}.", key=key)
+        for sub, item in value.items():
+            check_typed(f"{key}.{sub}", item, _args(base)[1])
+        return
+    scalar = _SCALARS.get(base)
+    if scalar is None:  # an annotation these checks do not know: OmegaConf checks it
+        return
+    if scalar is bool:
+        if not isinstance(value, bool):
+            raise ConfigError(f"{key} must be true or false, got {_got(value)}.", key=key)
+    elif isinstance(value, bool) or not isinstance(value, (int, float, str)) or (
+            scalar is int and not isinstance(value, int)) or (
+            scalar is float and isinstance(value, str)):
+        # a str field takes a number as its text (output.run: 2), as OmegaConf does
+        raise ConfigError(f"{key} must be of type {base}, got {_got(value)}.", key=key)
+    if meta:  # ranges and choices, on the value as the schema will hold it (2 -> 2.0, '2')
+        meta = {k: v for k, v in meta.items() if k != "type"}
+        check_value(key, str(value) if scalar is str else value,
+                    {**meta, "type": scalar} if scalar is float else meta)
+
+
+def _words(base: str, key: str) -> str:
+    if base == "bool":
+        return "true or false"
+    if base in SCHEMAS:
+        return f"a mapping of {base} keys"
+    if base.startswith("list["):
+        return "a list"
+    if base.startswith("dict["):
+        return "a mapping of keys"
+    return f"of type {base}"
+
+
+def _mapping_sentence(key: str, schema: type, value: Any) -> str:
+    names = ", ".join(f.name for f in dataclasses.fields(schema))
+    sentence = f"{key} must be a mapping of {schema.__name__} keys ({names}), got {_got(value)}"
+    if key in _GROUPS and isinstance(value, str):
+        from graspcampaign.campaign.studyfile import group_options
+
+        options = group_options(key)
+        sentence += (f"; a preset of conf/{key}/ ({', '.join(options)}) is chosen on the command "
+                     f"line, e.g. {key}={options[0] if options else 'NAME'}")
+    return sentence + "."
+
+
+def known_keys_sentence(key: str, schema: type, typed: str | None = None) -> str:
+    """``<key> is not a known key of <Schema>[ (override '<typed>' rejected)]; known keys: ...``."""
+    rejected = f" (override {typed!r} rejected)" if typed else ""
+    return (f"{key} is not a known key of {schema.__name__}{rejected}; known keys: "
+            f"{', '.join(f.name for f in dataclasses.fields(schema))}.")
+
+
+def check_fields(data: dict[str, Any], schema: type, prefix: str = "") -> None:
+    """Check a mapping against a dataclass schema: every key known, every value typed."""
+    fields = {f.name: f for f in dataclasses.fields(schema)}
+    for name, value in data.items():
+        key = f"{prefix}{name}"
+        if name not in fields:
+            raise ConfigError(known_keys_sentence(key, schema), key=key)
+        if key == "factors":
+            check_factors(value)
+        else:
+            check_typed(key, value, str(fields[name].type), dict(fields[name].metadata))
+
+
+def check_factors(factors: Any) -> None:
+    """A mapping of known factor names to non-empty lists of levels of the factor's type."""
+    if not isinstance(factors, dict):
+        raise ConfigError("factors must be a mapping of factor names to lists of levels (e.g. "
+                          f"shape: [sphere, pear]), got {_got(factors)}.", key="factors")
+    for name, levels in factors.items():
+        if not isinstance(levels, list) and not _is_interpolation(levels):
+            raise ConfigError(f"factors.{name} must be a list of levels, e.g. {name}: "
+                              f"{example(name)}, got {_got(levels)}.", key=f"factors.{name}")
+        if isinstance(levels, list) and not any(map(_is_interpolation, levels)):
+            check_factor(str(name), list(levels))
+
+
+# -- files -----------------------------------------------------------------------------------------
+def check_study_data(data: dict[str, Any]) -> None:
+    """Check a study file's own keys (its mapping as parsed) against ``StudyCfg``, its factors
+    and its trial kind's name."""
+    check_fields(data, StudyCfg)
+    kind = data.get("kind")
+    if isinstance(kind, str) and not _is_interpolation(kind):
+        check_kind_name(kind)
+
+
+def check_kind_name(kind: str) -> None:
+    """Refuse a trial kind that is not registered (one not yet implemented is known)."""
+    from graspcampaign.campaign.kind import _EXTRA, KINDS
+
+    if kind not in KINDS and kind not in _EXTRA:
+        raise ConfigError(f"trial kind {kind!r} is unknown; known kinds: "
+                          f"{', '.join(sorted(KINDS))}.", key="kind")
+
+
+def check_study_file(path: Path, data: dict[str, Any]) -> None:
+    """Check a study file before composition (see :func:`check_study_data`), and that its
+    ``name:`` is its file name: a study is listed, run, shown and reported by that name.
+
+    Raises
+    ------
+    ConfigError
+        Naming the file, the line, the key and what is allowed.
+    """
+    from graspcampaign.campaign.studyfile import check_name
+
+    try:
+        check_study_data(data)
+        name = data.get("name")
+        if isinstance(name, str) and not _is_interpolation(name):
+            check_name(name, "name")
+            if name != Path(path).stem:
+                raise ConfigError(
+                    f"name: {name} is not the file's name {Path(path).stem}; a study is listed, "
+                    f"run and reported by its file name (status and report look for "
+                    f"{Path(path).stem}), so write name: {Path(path).stem} or rename the file "
+                    f"to {name}.yaml.", key="name")
+    except ConfigError as exc:
+        raise in_file(path, exc) from None
+
+
+def check_group_file(path: Path, group: str, schema: type, data: dict[str, Any]) -> None:
+    """Check one option of a config group (``conf/<group>/<option>.yaml``): not empty, its keys
+    known to ``schema``, its values typed and in range; errors name the file and line."""
+    if not data:
+        names = ", ".join(f.name for f in dataclasses.fields(schema))
+        raise ConfigError(f"{path} is empty; a file of config group {group} sets the keys "
+                          f"of {schema.__name__} ({names}).")
+    try:
+        check_fields(data, schema, f"{group}.")
+    except ConfigError as exc:
+        raise in_file(path, exc, key_prefix=f"{group}.") from None
+
+
+@functools.cache
+def _checked_conf(conf_dir: str, digest: str) -> None:
+    """Check every config-group file of ``conf_dir`` once per content (``digest``)."""
+    from graspcampaign.campaign.studyfile import read_yaml, schema_of
+
+    for path in sorted(Path(conf_dir).glob("*/*.yaml")):
+        data = read_yaml(path)
+        schema = SCHEMAS.get(schema_of(path) or "")
+        if schema is None and data:
+            raise ConfigError(f"{path} does not name a known schema in its header (# schema: "
+                              f"Name); known schemas: {', '.join(SCHEMAS)}.")
+        check_group_file(path, path.parent.name, schema or schema_at(path.parent.name) or StudyCfg,
+                         data)
+
+
+def check_conf(conf_dir: Path) -> None:
+    """Check every config-group file under ``conf_dir`` (once per content of its files).
+
+    Raises
+    ------
+    ConfigError
+        The first empty file, unknown key, wrong type or out-of-range value, naming the file and
+        the line.
+    """
+    import hashlib
+
+    digest = hashlib.sha256()
+    for path in sorted(Path(conf_dir).glob("*/*.yaml")):
+        digest.update(path.as_posix().encode())
+        digest.update(path.read_bytes())
+    _checked_conf(str(conf_dir), digest.hexdigest())
+
+
+def check_paper_block(obj: StudyCfg, written: Any, path: Path, campaigns_dir: Path) -> None:
+    """Check the paper block against the paper values of the study it compares with
+    (``written``: the name the study file gives).
+
+    A study renamed on the command line (``name=other``) keeps comparing with the study its file
+    holds (its paper block is that study's); a user's file that takes a tool study's name (and
+    hides it on the search path) is that study for ``report``, so it needs that study's paper
+    block, and the message says so (docs/decisions.md, "A study's name").
+    """
+    from graspcampaign.campaign.paper import check_paper, paper_types
+
+    if not obj.compare_with and obj.name != written and written in paper_types():
+        obj.compare_with = str(written)
+    where = f"{campaigns_dir.name}/{path.name}" if path.parent == campaigns_dir else str(path)
+    like = obj.compare_with or obj.name
+    try:
+        check_paper(like, obj.paper, f"{where}: paper", compare_with=bool(obj.compare_with))
+    except ConfigError as exc:
+        hidden = campaigns_dir / f"{obj.name}.yaml"
+        if obj.compare_with or path.resolve() == hidden.resolve() or not hidden.is_file():
+            raise
+        raise ConfigError(
+            f"{str(exc).rstrip('.')}: this file takes the name of the tool's study {obj.name} "
+            f"({campaigns_dir.name}/{hidden.name}), which it hides, so its runs are reported as "
+            f"that study and its paper block must hold that study's values; copy the paper block "
+            f"of {campaigns_dir.name}/{hidden.name}, or give your study a name of its own.") from None
+
+
+# -- the trial kind's needs ------------------------------------------------------------------------
+def check_params(params: dict[str, Any], spec: dict[str, Any] | None, kind: str) -> None:
+    """Check a study's ``params`` against its kind's params schema, described by ``spec``
+    (``{"name": class name, "fields": [[name, annotation, metadata], ...]}``, see
+    ``catalog.kind_facts``), so that ``show`` refuses what ``run`` would without importing the
+    kind's numerical code."""
+    if spec is None:
+        if params:
+            first = next(iter(params))
+            raise ConfigError(f"params.{first} is not a parameter of trial kind {kind!r}, which "
+                              "takes none.", key=f"params.{first}")
+        return
+    fields = {name: (typ, meta) for name, typ, meta in spec["fields"]}
+    for name, value in params.items():
+        key = f"params.{name}"
+        if name not in fields:
+            raise ConfigError(f"{key} is not a known key of {spec['name']}; known keys: "
+                              f"{', '.join(fields)}.", key=key)
+        typ, meta = fields[name]
+        check_typed(key, value, typ, meta)
+
+
+def check_kind_factors(factors: dict[str, Any], kind: str, required: list[str]) -> None:
+    """Refuse a Cartesian design without a factor its trial kind reads on every trial."""
+    missing = [name for name in required if name not in factors]
+    if missing:
+        names = missing[0] if len(missing) == 1 else f"{', '.join(missing[:-1])} and {missing[-1]}"
+        have = ", ".join(factors) or "none"
+        raise ConfigError(f"trial kind {kind!r} needs the factor{'s' if len(missing) > 1 else ''} "
+                          f"{names} on every trial, which this study does not set (its factors: "
+                          f"{have}); give each a list of levels under factors, e.g. "
+                          f"{missing[0]}: {example(missing[0])}.", key="factors")
+
+
+def field_at(key: str) -> tuple[type, dataclasses.Field] | None:
+    """Return ``(schema, field)`` of a dotted key of the study config (``pso.enabled`` ->
+    ``(PsoCfg, enabled)``), or None where the key is not a schema field (``factors.mu``)."""
+    schema: type = StudyCfg
+    parts = key.split(".")
+    for i, part in enumerate(parts):
+        fields = {f.name: f for f in dataclasses.fields(schema)}
+        if part not in fields:
+            return None
+        if i == len(parts) - 1:
+            return schema, fields[part]
+        sub = SCHEMAS.get(_split(str(fields[part].type))[0])
+        if sub is None:
+            return None
+        schema = sub
+    return None
+
+
+def schema_at(key: str) -> type | None:
+    """The schema of a dotted section of the study config (``evaluator`` -> ``EvaluatorCfg``)."""
+    if not key:
+        return StudyCfg
+    found = field_at(key)
+    return SCHEMAS.get(_split(str(found[1].type))[0]) if found else None

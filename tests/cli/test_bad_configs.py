@@ -1,0 +1,523 @@
+"""Bad configs, class by class: exit 2, the whole one-sentence message, nothing stored changed.
+
+The classes a tester found accepted, hanging or answered with a traceback: a Dask address that is
+no scheduler, designs too large to hold, ``runner.n_jobs=0``, null factor levels, factors missing
+for the trial kind, bad ``GRASPCAMPAIGN_HOME``/``_PATH``/``_CACHE``, silent acceptances
+(``pso.enabled=2``, Hydra's own keys, broken files listed as runnable, ``show`` accepting what
+``run`` refuses, ``plan --material ''``), the drift message, study-file errors without their file,
+name collisions, and override messages. Pattern of ``test_bad_input.py``.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import http.server
+import shutil
+import signal
+import socket
+import threading
+import time
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from graspcampaign.campaign import studyfile
+from graspcampaign.cli.main import app
+
+runner = CliRunner()
+PROJECT = Path(studyfile.project_dirs()[0]).parent
+CAMPAIGNS = PROJECT / "campaigns"
+SMOKE = ["shape=[sphere]", "nodes=[144]"]
+HEADER = "# @package _global_\n# schema: StudyCfg\n"
+BODY = "kind: mesh_features\nfactors:\n  shape: [sphere]\n  nodes: [144]\n"
+RUN_NAME = "(output.run=NAME or --run NAME) or pass --allow-drift to mix them."
+
+
+@contextlib.contextmanager
+def _deadline(seconds: float):
+    """Fail (instead of hanging or filling the memory) if the block takes longer than this."""
+    def expired(signum, frame):
+        raise TimeoutError(f"still running after {seconds} s")
+
+    previous = signal.signal(signal.SIGALRM, expired)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+
+
+def _invoke(*args, seconds: float = 20.0):
+    with _deadline(seconds):
+        return runner.invoke(app, [str(a) for a in args], catch_exceptions=False)
+
+
+def _snapshot(root: Path) -> dict[str, str]:
+    return {p.relative_to(root).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest()
+            for p in sorted(root.rglob("*")) if p.is_file()}
+
+
+@pytest.fixture(scope="module")
+def results(tmp_path_factory):
+    """A results root holding one finished smoke run (so 'nothing changed' has something to keep)."""
+    root = tmp_path_factory.mktemp("bad_configs") / "results"
+    done = _invoke("run", "smoke", *SMOKE, "runner.backend=sequential", "--root", root)
+    assert done.exit_code == 0, done.output
+    return root
+
+
+def _refused(results: Path, args, message: str, warnings: str = "", seconds: float = 20.0) -> None:
+    before = _snapshot(results)
+    result = _invoke(*args, "--root", results, seconds=seconds)
+    assert result.exit_code == 2, result.output
+    assert result.stderr == f"{warnings}error: {message}\n"
+    assert _snapshot(results) == before
+
+
+@pytest.fixture
+def user_dir(tmp_path, monkeypatch):
+    """A directory of the user's own study files on GRASPCAMPAIGN_PATH."""
+    folder = tmp_path / "my_studies"
+    folder.mkdir()
+    monkeypatch.setenv("GRASPCAMPAIGN_PATH", str(folder))
+    return folder
+
+
+@pytest.fixture
+def home(tmp_path, monkeypatch):
+    """A GRASPCAMPAIGN_HOME copy of conf/ and campaigns/ that a test may break."""
+    root = tmp_path / "home"
+    shutil.copytree(PROJECT / "conf", root / "conf")
+    shutil.copytree(CAMPAIGNS, root / "campaigns")
+    monkeypatch.setenv("GRASPCAMPAIGN_HOME", str(root))
+    studyfile.project_dirs.cache_clear()
+    yield root
+    studyfile.project_dirs.cache_clear()
+
+
+# -- 1. a Dask address that accepts connections but is no scheduler -------------------------------
+@contextlib.contextmanager
+def _silent_server():
+    """Accepts every connection and never sends a byte."""
+    server = socket.create_server(("127.0.0.1", 0))
+    held = []
+
+    def accept():
+        with contextlib.suppress(OSError):
+            while True:
+                held.append(server.accept()[0])
+
+    threading.Thread(target=accept, daemon=True).start()
+    try:
+        yield server.getsockname()[1]
+    finally:
+        server.close()
+        for conn in held:
+            conn.close()
+
+
+@contextlib.contextmanager
+def _http_server(eager: bool):
+    """An HTTP server: Python's (it waits for a request line), or one answering at once."""
+    if not eager:
+        quiet = type("Quiet", (http.server.BaseHTTPRequestHandler,),
+                     {"log_message": lambda self, *args: None})
+        server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), quiet)
+        threading.Thread(target=server.serve_forever, daemon=True).start()
+        try:
+            yield server.server_address[1]
+        finally:
+            server.shutdown()
+            server.server_close()
+        return
+    listener = socket.create_server(("127.0.0.1", 0))
+
+    def answer():
+        with contextlib.suppress(OSError):
+            while True:
+                conn = listener.accept()[0]
+                conn.sendall(b"HTTP/1.1 400 Bad Request\r\nContent-Length: 0\r\n\r\n")
+                conn.close()
+
+    threading.Thread(target=answer, daemon=True).start()
+    try:
+        yield listener.getsockname()[1]
+    finally:
+        listener.close()
+
+
+DASK = {"silent": (_silent_server, "it accepted the connection but did not answer Dask's handshake"),
+        "http": (lambda: _http_server(eager=False),
+                 "it accepted the connection but did not answer Dask's handshake"),
+        "http_eager": (lambda: _http_server(eager=True), "it answered, but not in Dask's protocol")}
+
+
+@pytest.mark.parametrize("server", sorted(DASK))
+def test_a_dask_address_that_is_no_scheduler_is_refused_within_its_timeout(results, server):
+    pytest.importorskip("distributed")
+    serve, why = DASK[server]
+    with serve() as port:
+        address = f"tcp://127.0.0.1:{port}"
+        start = time.perf_counter()
+        _refused(results, ["run", "smoke", *SMOKE, "runner=dask", f"runner.address={address}",
+                           "runner.connect_timeout_s=0.5", "--run", "on_dask"],
+                 f"runner.address = '{address}': no Dask scheduler answered within 0.5 s ({why}); "
+                 "start one (dask scheduler) or drop runner.address to run on a local cluster.",
+                 seconds=10)
+        assert time.perf_counter() - start < 4.0
+
+
+# -- 2. designs too large to hold ------------------------------------------------------------------
+def test_seeds_beyond_any_design_are_refused_before_expanding(results):
+    for command in ("show", "run"):
+        _refused(results, [command, "baseline_grid", "seeds=99999999999999999999999"],
+                 "seeds = 99999999999999999999999 is out of range; allowed: >= 1 and <= 1000000 (a "
+                 "study holds at most 1,000,000 trials, docs/decisions.md).", seconds=3)
+
+
+def test_a_design_beyond_the_trial_limit_is_refused_before_expanding(results):
+    _refused(results, ["show", "smoke", "seeds=200000"],
+             "study smoke has 2,000,000 trials (5 x 2 x 200000), more than the 1,000,000 a study may "
+             "hold (each costs ~0.8 KB of memory before it runs, docs/decisions.md); reduce seeds, "
+             "repeats or the factor levels, or split the study.", seconds=3)
+
+
+# -- 3. runner.n_jobs = 0 --------------------------------------------------------------------------
+def test_n_jobs_zero_is_refused_at_compose(results):
+    for command in ("show", "run"):
+        _refused(results, [command, "smoke", *SMOKE, "runner.n_jobs=0"],
+                 "runner.n_jobs = 0 is out of range; allowed: != 0 (joblib's n_jobs: a number of "
+                 "worker processes, or -1 for every core, -2 for every core but one).")
+
+
+# -- 4. null factor levels -------------------------------------------------------------------------
+NULLS = {"mu=null": "factors.mu[0] must be of type float, got null; give the factor's levels, e.g. "
+                    "mu: [0.3, 0.5].",
+         "mu=[0.3,null]": "factors.mu[1] must be of type float, got null; give the factor's levels, "
+                          "e.g. mu: [0.3, 0.5].",
+         "mass_kg=null": "factors.mass_kg[0] must be of type float, got null; give the factor's "
+                         "levels, e.g. mass_kg: [0.2, 0.4]."}
+
+
+@pytest.mark.parametrize("override", sorted(NULLS))
+def test_a_null_factor_level_is_refused(results, override):
+    for command in ("show", "run") if override == "mu=null" else ("show",):
+        _refused(results, [command, "baseline_grid", override], NULLS[override])
+
+
+# -- 5. factors the trial kind needs ---------------------------------------------------------------
+def test_a_study_file_without_its_kinds_factors_is_named_with_its_line(results, user_dir):
+    path = user_dir / "mine.yaml"
+    path.write_text(HEADER + "name: mine\nkind: quasi_static\nfactors:\n  shape: [sphere]\n")
+    _refused(results, ["show", "mine"],
+             f"{path}, line 5: trial kind 'quasi_static' needs the factors mass_kg, mu and planner "
+             "on every trial, which this study does not set (its factors: shape); give each a list "
+             "of levels under factors, e.g. mass_kg: [0.2, 0.4].")
+
+
+def test_factors_missing_for_the_trial_kind_are_named(results):
+    for command in ("show", "run"):
+        _refused(results, [command, "baseline_grid", "~factors"],
+                 "trial kind 'quasi_static' needs the factors shape, mass_kg, mu and planner on "
+                 "every trial, which this study does not set (its factors: none); give each a list "
+                 "of levels under factors, e.g. shape: [sphere, pear].")
+        _refused(results, [command, "smoke", "kind=quasi_static"],
+                 "trial kind 'quasi_static' needs the factors mass_kg, mu and planner on every "
+                 "trial, which this study does not set (its factors: shape, nodes); give each a "
+                 "list of levels under factors, e.g. mass_kg: [0.2, 0.4].")
+
+
+# -- 6. the environment variables ------------------------------------------------------------------
+HOME_HINT = ("; point it at a directory holding conf/ (with conf/config.yaml and the config groups) "
+             "and campaigns/ (the study files), e.g. a copy of the shipped ones, or unset it to use "
+             "those.")
+
+
+@pytest.mark.parametrize("case", ["missing", "file", "empty", "no_conf", "no_campaigns"])
+def test_a_bad_graspcampaign_home_is_named(results, tmp_path, monkeypatch, case):
+    home = tmp_path / "home"
+    problem = {"missing": "does not exist", "file": "is a file, not a directory",
+               "empty": "has no conf/ directory", "no_conf": "has no conf/ directory",
+               "no_campaigns": "has no campaigns/ directory"}[case]
+    if case == "file":
+        home.write_text("not a directory")
+    elif case != "missing":
+        home.mkdir()
+        if case == "no_campaigns":
+            shutil.copytree(PROJECT / "conf", home / "conf")
+        if case == "no_conf":
+            shutil.copytree(CAMPAIGNS, home / "campaigns")
+    monkeypatch.setenv("GRASPCAMPAIGN_HOME", str(home))
+    studyfile.project_dirs.cache_clear()
+    try:
+        for command in ("show", "run") if case == "missing" else ("show",):
+            _refused(results, [command, "smoke", *SMOKE], f"GRASPCAMPAIGN_HOME={home} {problem}"
+                                                          f"{HOME_HINT}")
+        listing = _invoke("list")
+        assert listing.exit_code == 2
+        assert listing.stderr == f"error: GRASPCAMPAIGN_HOME={home} {problem}{HOME_HINT}\n"
+    finally:
+        studyfile.project_dirs.cache_clear()
+
+
+def test_an_empty_group_file_of_graspcampaign_home_is_named(results, home):
+    table2 = home / "conf" / "model" / "table2.yaml"
+    table2.write_text("")
+    _refused(results, ["show", "smoke", *SMOKE],
+             f"{table2} is empty; a file of config group model sets the keys of ContactModelCfg "
+             "(lambda1, lambda2, n_exp, fingertip_radius_m, e_finger_pa, e_object_pa, nu_finger, "
+             "nu_object, damping_law, alpha_hc_s_per_m).")
+
+
+@pytest.mark.parametrize("case", ["missing", "file", "study_file"])
+def test_a_bad_graspcampaign_path_entry_is_warned_about(results, tmp_path, monkeypatch, case):
+    entry = {"missing": tmp_path / "nowhere", "file": tmp_path / "notes.txt",
+             "study_file": tmp_path / "mine.yaml"}[case]
+    if case != "missing":
+        entry.write_text(HEADER + "name: mine\n" + BODY)
+    monkeypatch.setenv("GRASPCAMPAIGN_PATH", str(entry))
+    problem = {"missing": "does not exist",
+               "file": "is a file, not a directory of study files",
+               "study_file": f"is a file, not a directory of study files (run a study file by "
+                             f"giving its path: graspcampaign run {entry})"}[case]
+    studies = ", ".join(p.stem for p in sorted(CAMPAIGNS.glob("*.yaml")))
+    short = problem.split(" (")[0]
+    _refused(results, ["show", "mine"],
+             f"unknown study 'mine'; available studies: {studies} (searched: {CAMPAIGNS}; "
+             f"GRASPCAMPAIGN_PATH entries skipped: {entry} ({short})).",
+             warnings=f"warning: GRASPCAMPAIGN_PATH entry {entry} {problem}; it is skipped.\n")
+
+
+def test_a_cache_that_cannot_be_kept_is_said_once(tmp_path, monkeypatch):
+    blocker = tmp_path / "cache_file"
+    blocker.write_text("a file, not a directory")
+    monkeypatch.setenv("GRASPCAMPAIGN_CACHE", str(blocker))
+    listing = _invoke("list")
+    assert listing.exit_code == 0, listing.output
+    assert listing.stderr == (f"warning: GRASPCAMPAIGN_CACHE={blocker} is not a directory, so the "
+                              "catalog cache is not kept; list and show work without it, "
+                              "recomputing what they need (slower).\n")
+    assert "baseline_grid" in listing.stdout
+
+
+# -- 7. silent acceptances -------------------------------------------------------------------------
+SILENT = {
+    "pso.enabled=2": "pso.enabled must be true or false, got 2 (override 'pso.enabled=2').",
+    "hydra.run.dir=/tmp": "override 'hydra.run.dir=/tmp' sets hydra.run.dir, a key of Hydra's own "
+                          "runtime; this tool uses Hydra to compose studies and runs them itself, "
+                          "so hydra keys have no effect: leave it out.",
+    "+hydra.x=1": "override '+hydra.x=1' sets hydra.x, a key of Hydra's own runtime; this tool uses "
+                  "Hydra to compose studies and runs them itself, so hydra keys have no effect: "
+                  "leave it out.",
+}
+
+
+@pytest.mark.parametrize("override", sorted(SILENT))
+def test_overrides_once_accepted_silently_are_refused(results, override):
+    for command in ("show", "run") if override == "pso.enabled=2" else ("show",):
+        _refused(results, [command, "smoke", *SMOKE, override], SILENT[override])
+
+
+def test_list_says_which_study_files_are_broken(user_dir):
+    (user_dir / "bad_model.yaml").write_text(HEADER + "name: bad_model\n" + BODY + "model: nosuch\n")
+    (user_dir / "bad_eval.yaml").write_text(HEADER + "name: bad_eval\n" + BODY
+                                            + "evaluator:\n  n_cand: -3\n")
+    (user_dir / "fine.yaml").write_text(HEADER + "name: fine\n" + BODY)
+    result = _invoke("list")
+    assert result.exit_code == 0, result.output
+    assert result.stderr == (
+        f"warning: study bad_eval is broken: {user_dir / 'bad_eval.yaml'}, line 9: "
+        "evaluator.n_cand = -3 is out of range; allowed: >= 1.\n"
+        f"warning: study bad_model is broken: {user_dir / 'bad_model.yaml'}, line 8: model must be "
+        "a mapping of ContactModelCfg keys (lambda1, lambda2, n_exp, fingertip_radius_m, "
+        "e_finger_pa, e_object_pa, nu_finger, nu_object, damping_law, alpha_hc_s_per_m), got "
+        "'nosuch' (str); a preset of conf/model/ (firm, nominal, table2) is chosen on the command "
+        "line, e.g. model=firm.\n")
+    rows = {line.split("│")[1].strip(): line.split("│")[4].strip()
+            for line in result.stdout.splitlines() if line.count("│") > 4}
+    assert (rows["bad_model"], rows["bad_eval"], rows["fine"]) == ("broken", "broken", "yes")
+    names = _invoke("list", "--names").stdout.split()
+    assert "fine" in names and "bad_model" not in names and "bad_eval" not in names
+
+
+def test_list_says_when_it_cannot_check_a_study(results, user_dir):
+    path = user_dir / "mine.yaml"
+    path.write_text(HEADER + "name: mine\n" + BODY + "seeds: ${nosuch}\n")
+    listing = _invoke("list")
+    assert listing.exit_code == 0 and listing.stderr == ""
+    row = next(line for line in listing.stdout.splitlines() if line.startswith("│ mine "))
+    assert row.split("│")[4].strip() == "yes (not checked)"  # only composing resolves ${...}
+    _refused(results, ["show", "mine"], f"{path}, line 8: seeds refers to ${{nosuch}}, which is "
+                                        "not a key of the study config.")
+
+
+SHOW_LIKE_RUN = {
+    "kind: teleport": ("kind: teleport\nfactors:\n  shape: [sphere]\n", 4,
+                       "trial kind 'teleport' is unknown; known kinds: dynamic_check, dynamic_grasp, "
+                       "gravity_settle, heuristic_weights, mesh_features, mesh_resolution, "
+                       "pso_repeatability, quasi_static, sensitivity, surrogate, test1_bench, "
+                       "test2_grasp, test3_disturbance, wrench_balance."),
+    "params: {bogus: 1}": (BODY + "params:\n  bogus: 1\n", 9,
+                           "params.bogus is not a parameter of trial kind 'mesh_features', which "
+                           "takes none."),
+    "params of a kind that has some": (BODY.replace("mesh_features", "quasi_static").replace(
+        "nodes: [144]", "mass_kg: [0.2]\n  mu: [0.3]\n  planner: [heuristic]") + "params:\n  bogus: 1\n",
+        11, "params.bogus is not a known key of QuasiStaticParams; known keys: nodes, stream_study, "
+            "candidate_sample."),
+}
+
+
+@pytest.mark.parametrize("case", sorted(SHOW_LIKE_RUN))
+def test_show_refuses_what_run_refuses(results, user_dir, case):
+    body, line, message = SHOW_LIKE_RUN[case]
+    path = user_dir / "mine.yaml"
+    path.write_text(HEADER + "name: mine\n" + body)
+    for command in ("show", "run"):
+        _refused(results, [command, "mine"], f"{path}, line {line}: {message}")
+
+
+def test_plan_refuses_an_empty_material(tmp_path):
+    mesh = tmp_path / "object.stl"
+    mesh.write_text("solid nothing\nendsolid nothing\n")
+    result = _invoke("plan", mesh, "--mass-kg", "0.3", "--material", "")
+    assert result.exit_code == 2, result.output
+    assert result.stderr == ("error: unknown material '': use one of gel, silicone_soft, bio_foam, "
+                             "silicone_ref\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["object.stl"]  # no picture either
+
+
+# -- 8. the drift message names what changed -------------------------------------------------------
+def test_drift_names_the_first_changed_keys(results):
+    _refused(results, ["run", "smoke", *SMOKE, "features.edge_dihedral_deg=31"],
+             f"run {results / 'smoke' / 'default'} was started with a different resolved study "
+             "config (features.edge_dihedral_deg 30.0 -> 31.0); use a new run name " + RUN_NAME)
+    _refused(results, ["run", "smoke", "shape=[sphere,pear]", "nodes=[144]", "seeds=2"],
+             f"run {results / 'smoke' / 'default'} was started with a different resolved study "
+             'config (seeds 1 -> 2, factors.shape ["sphere"] -> ["sphere", "pear"]); use a new run '
+             "name " + RUN_NAME)
+
+
+# -- 9. study-file errors name the file, the line, the key and what it takes -----------------------
+STUDY_FILES = {
+    "factors_a_list": ("kind: mesh_features\nfactors: [shape, nodes]\n", 5,
+                       "factors must be a mapping of factor names to lists of levels (e.g. shape: "
+                       "[sphere, pear]), got ['shape', 'nodes'] (list)."),
+    "level_not_a_list": ("kind: mesh_features\nfactors:\n  shape: sphere\n  nodes: [144]\n", 6,
+                         "factors.shape must be a list of levels, e.g. shape: [sphere, pear], got "
+                         "'sphere' (str)."),
+    "model_a_name": (BODY + "model: nosuch\n", 8,
+                     "model must be a mapping of ContactModelCfg keys (lambda1, lambda2, n_exp, "
+                     "fingertip_radius_m, e_finger_pa, e_object_pa, nu_finger, nu_object, "
+                     "damping_law, alpha_hc_s_per_m), got 'nosuch' (str); a preset of conf/model/ "
+                     "(firm, nominal, table2) is chosen on the command line, e.g. model=firm."),
+    "evaluator_out_of_range": (BODY + "evaluator:\n  n_cand: -3\n", 9,
+                               "evaluator.n_cand = -3 is out of range; allowed: >= 1."),
+    "seeds_interpolation": (BODY + "seeds: ${nosuch}\n", 8,
+                            "seeds refers to ${nosuch}, which is not a key of the study config."),
+    "extension_maybe": (BODY + "extension: maybe\n", 8, "extension must be true or false, got "
+                                                        "'maybe' (str)."),
+}
+
+
+@pytest.mark.parametrize("case", sorted(STUDY_FILES))
+@pytest.mark.parametrize("how", ["name", "path"])
+def test_a_study_file_error_names_the_file_line_and_key(results, user_dir, case, how):
+    body, line, message = STUDY_FILES[case]
+    path = user_dir / "mine.yaml"
+    path.write_text(HEADER + "name: mine\n" + body)
+    for command in ("show", "run") if how == "name" else ("show",):
+        _refused(results, [command, "mine" if how == "name" else path],
+                 f"{path}, line {line}: {message}")
+
+
+HOME_FILES = {
+    "lambda1: -3": ("lambda1: 0.332", "lambda1: -3", 4,
+                    "model.lambda1 = -3.0 is out of range; allowed: > 0.0 and <= 15.0 (the "
+                    "identification scale factors stay within 10x their PSO bounds)."),
+    "bogus: 1": ("nu_object: 0.45\n", "nu_object: 0.45\nbogus: 1\n", 12,
+                 "model.bogus is not a known key of ContactModelCfg; known keys: lambda1, lambda2, "
+                 "n_exp, fingertip_radius_m, e_finger_pa, e_object_pa, nu_finger, nu_object, "
+                 "damping_law, alpha_hc_s_per_m."),
+}
+
+
+@pytest.mark.parametrize("case", sorted(HOME_FILES))
+def test_a_group_file_error_names_the_file_and_line(results, home, case):
+    old, new, line, message = HOME_FILES[case]
+    table2 = home / "conf" / "model" / "table2.yaml"
+    table2.write_text(table2.read_text().replace(old, new))
+    for command in ("show", "run"):
+        _refused(results, [command, "smoke", *SMOKE], f"{table2}, line {line}: {message}")
+
+
+# -- 10. names: a study that hides a tool study, a renamed study, a file named otherwise -----------
+def test_a_study_hiding_a_tool_study_needs_its_paper_block(results, user_dir):
+    path = user_dir / "baseline_grid.yaml"
+    path.write_text(HEADER + "name: baseline_grid\n" + BODY)
+    for command in ("show", "run"):
+        _refused(results, [command, "baseline_grid"],
+                 f"{path}: paper.figure is missing (BaselineGridPaper requires it): this file takes "
+                 "the name of the tool's study baseline_grid (campaigns/baseline_grid.yaml), which "
+                 "it hides, so its runs are reported as that study and its paper block must hold "
+                 "that study's values; copy the paper block of campaigns/baseline_grid.yaml, or "
+                 "give your study a name of its own.")
+
+
+def test_a_renamed_study_keeps_comparing_with_its_paper_values(results):
+    result = _invoke("show", "baseline_grid", "name=my_grid", "--root", results)
+    assert result.exit_code == 0, result.output
+    assert result.stdout.startswith("study: my_grid\n")
+    assert f"run: {results / 'my_grid' / 'default'} (0 of 3375 recorded)" in result.stdout
+    from graspcampaign.campaign.compose import compose_study
+
+    assert compose_study("baseline_grid", ["name=my_grid"]).compare_with == "baseline_grid"
+
+
+def test_a_study_file_named_otherwise_than_its_name_is_refused(results, user_dir):
+    path = user_dir / "named_file.yaml"
+    path.write_text(HEADER + "name: other_name\n" + BODY)
+    for command in ("show", "run"):
+        _refused(results, [command, "named_file"],
+                 f"{path}, line 3: name: other_name is not the file's name named_file; a study is "
+                 "listed, run and reported by its file name (status and report look for "
+                 "named_file), so write name: named_file or rename the file to other_name.yaml.")
+
+
+# -- 11. override messages -------------------------------------------------------------------------
+OVERRIDES = {
+    "=3": "override '=3' has no key before '='; write KEY=VALUE, e.g. seeds=3 or mu=[0.3,0.5].",
+    "evaluator.nosuch=1": "evaluator.nosuch is not a known key of EvaluatorCfg (override "
+                          "'evaluator.nosuch=1' rejected); known keys: seed_depth_m, n_max, alpha, "
+                          "eps, tau_f_n, tau_t_nm, n_cand, residual_check, grip_law, "
+                          "grip_safety_factor, grip_cap_depth_m, oracle_cone_facets, fc_cone_edges.",
+    "runner.nosuch=3": "runner.nosuch is not a known key of RunnerCfg (override 'runner.nosuch=3' "
+                       "rejected); known keys: backend, n_jobs, address, batch_size, target_task_s, "
+                       "progress, progress_interval_s, connect_timeout_s.",
+    "factors.nosuch=[1,2]": "factors.nosuch is not a known factor (override 'factors.nosuch=[1,2]' "
+                            "rejected); known factors: b_n_s_per_m, budget, damping_law, dt_s, "
+                            "grip_law, integrator, lambda1, lambda2, mass_kg, model_preset, mu, "
+                            "n_cand, n_exp, n_max, nodes, planner, pso_seed, shape, variant, w1, w2, "
+                            "w3, weight_scale.",
+    "factors.mu=50": "factors.mu takes a list of levels, e.g. factors.mu=[0.3,0.5] (or the bare "
+                     "mu=0.3), got 50.",
+    "mu=" + "x" * 100_000: "factors.mu[0] must be of type float, got '" + "x" * 60
+                           + "... (100000 characters)' (str).",
+}
+
+
+@pytest.mark.parametrize("override", sorted(OVERRIDES), ids=lambda o: o[:24])
+def test_override_messages_name_the_override_in_plain_words(results, override):
+    for command in ("show", "run") if override == "=3" else ("show",):
+        _refused(results, [command, "baseline_grid", override], OVERRIDES[override])
+
+
+def test_a_study_file_with_a_byte_order_mark_is_read(results, user_dir):
+    (user_dir / "mine.yaml").write_bytes(b"\xef\xbb\xbf" + (HEADER + "name: mine\n" + BODY).encode())
+    shown = _invoke("show", "mine", "--root", results)
+    assert shown.exit_code == 0, shown.output
+    assert "axes: 1 x 1 x 1 = 1 trials" in shown.stdout
+    listing = _invoke("list")
+    assert listing.stderr == ""
