@@ -47,19 +47,17 @@ SPEC §4 (ingest), paper §8.1 (outcome classes, flags, aborted attempts enter n
 
 from __future__ import annotations
 
-import csv
 import logging
 import math
 import re
-from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass
-from difflib import get_close_matches
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
+from graspcampaign.rig.measured_file import IngestError, _fail, header_problems, read_table, table_and_label
 from graspcampaign.rig.protocol import STUDY_TEST2, STUDY_TEST3
 
 __all__ = [
@@ -92,11 +90,6 @@ MAX_ATTEMPT = 99
 """The largest attempt number of a re-run (``<slot_id>-a<k>``, Test 1's ``attempt``): the paper re-ran
 each aborted slot once (§7.1, §8.1, §9.1), the virtual bench at most 4 times; a larger number is a
 typing error, which would otherwise be stored as that many aborted attempts (docs/decisions.md)."""
-
-
-class IngestError(ValueError):
-    """A measured file (trial records, Test 1 waveforms) failed validation; the message names the
-    file, row and column."""
 
 
 @dataclass(frozen=True)
@@ -180,76 +173,6 @@ def record_columns(study: str) -> list[str]:
     return [f.name for f in schema_for(study)]
 
 
-def _fail(label: str, row: int | None, column: str, problem: str) -> IngestError:
-    where = "header" if row is None else f"row {row}"
-    return IngestError(f"{label}, {where}, column '{column}': {problem}.")
-
-
-def read_table(path: str | Path, *, csv_options: dict | None = None,
-               excel_options: dict | None = None) -> pd.DataFrame:
-    """Read a measured table (``.csv``, ``.parquet``/``.pq``, ``.xlsx``) without checks.
-
-    The one reader of the rig's ingest paths (trial records here, Test 1 waveforms in
-    :mod:`graspcampaign.rig.test1`); ``csv_options`` and ``excel_options`` go to
-    :func:`pandas.read_csv` and :func:`pandas.read_excel`.
-
-    Raises
-    ------
-    IngestError
-        Unsupported file type, missing or unreadable file.
-    """
-    path = Path(path)
-    suffix = path.suffix.lower()
-    if suffix not in (".csv", ".parquet", ".pq", ".xlsx"):
-        raise IngestError(f"{path.name}, header, column '-': unsupported file type "
-                          f"'{suffix or '(none)'}' (expected .csv, .parquet or .xlsx).")
-    if path.is_dir():
-        raise IngestError(f"{path.name}: is a directory, not a file.")
-    if not path.is_file():
-        raise IngestError(f"{path.name}, header, column '-': the file does not exist.")
-    if suffix == ".csv":
-        _check_csv(path)
-    try:
-        if suffix == ".csv":
-            return pd.read_csv(path, **(csv_options or {}))
-        if suffix == ".xlsx":
-            return pd.read_excel(path, **(excel_options or {}))
-        return pd.read_parquet(path)
-    except Exception as exc:  # the readers raise many types for corrupt files
-        raise IngestError(f"{path.name}, header, column '-': the file cannot be read as "
-                          f"{suffix[1:]} ({type(exc).__name__}).") from exc
-
-
-def _check_csv(path: Path) -> None:
-    """Refuse a CSV that pandas would misread or describe only by an exception's name: not UTF-8,
-    empty, cells separated by ';' or tabs (a spreadsheet's regional export), or a data row with
-    more or fewer cells than the header (pandas shifts a longer first row into an index and pads
-    a shorter row, a truncated file's last row, with empty cells)."""
-    data = path.read_bytes()
-    try:
-        text = data.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        line = data[:exc.start].count(b"\n") + 1
-        raise IngestError(f"{path.name}, line {line}: the file is not UTF-8 text (byte "
-                          f"0x{data[exc.start]:02x}); save it as CSV UTF-8.") from None
-    try:
-        rows = [r for r in csv.reader(text.splitlines()) if any(c.strip() for c in r)]
-    except csv.Error as exc:  # a cell over the csv module's field limit, a stray NUL byte
-        raise IngestError(f"{path.name}: the file cannot be read as CSV ({exc}).") from None
-    if not rows:
-        raise IngestError(f"{path.name}, header, column '-': the file is empty.")
-    header = rows[0]
-    for sep, name in ((";", "';'"), ("\t", "tabs")):
-        if len(header) == 1 and sep in header[0]:
-            raise IngestError(f"{path.name}, header: the cells are separated by {name}, not commas; "
-                              "save the sheet as comma-separated CSV (decimal point '.').")
-    for i, row in enumerate(rows[1:], start=1):
-        if len(row) != len(header):
-            raise IngestError(f"{path.name}, row {i}: {len(row)} cells where the header has "
-                              f"{len(header)} columns (a cell with a comma needs quotes; a "
-                              "truncated file loses its last row's cells).")
-
-
 def read_records(path: str | Path) -> pd.DataFrame:
     """Read a records file (``.csv``, ``.parquet``/``.pq``, ``.xlsx``) without checks.
 
@@ -257,18 +180,6 @@ def read_records(path: str | Path) -> pd.DataFrame:
     """
     return read_table(path, csv_options={"dtype": str, "keep_default_na": False},
                       excel_options={"dtype": object})
-
-
-def _table_and_label(data: pd.DataFrame | str | Path, file_label: str | None,
-                    reader) -> tuple[pd.DataFrame, str]:
-    """Return the table to validate and the file name its messages use.
-
-    ``data`` is a table (label ``file_label`` or ``"<dataframe>"``) or a path read with
-    ``reader`` (label ``file_label`` or the file name).
-    """
-    if isinstance(data, (str, Path)):
-        return reader(data), file_label or Path(data).name
-    return data, file_label or "<dataframe>"
 
 
 def _blank(value) -> bool:
@@ -303,59 +214,6 @@ def _as_float(value) -> float | None:
         return float(value)
     except (TypeError, ValueError):
         return None
-
-
-def header_problems(columns: list[str], required: list[str], units: dict[str, str],
-                    unit_re: re.Pattern, optional: Sequence[str] = ()) -> list[str]:
-    """Describe every problem of a header, all at once.
-
-    Missing required columns; a missing column whose quantity is present under another unit suffix
-    (``peak_slip_cm`` for ``peak_slip_mm``, ``units`` maps a column to its suffix) as wrong units;
-    a column given twice (pandas reads the second ``x`` of a CSV or XLSX header as ``x.1``); any
-    other column the sheet does not have (a misspelt optional column such as ``Source`` would
-    otherwise be dropped and its rows stored as measured), with the closest known name.
-
-    Returns
-    -------
-    list of str
-        One phrase per kind of problem; empty when the header is complete.
-    """
-    known = list(dict.fromkeys([*required, *units, *optional]))
-    counts = Counter(columns)
-    twice = [c for c, k in counts.items() if k > 1]
-    twice += [m[1] for c in counts if (m := re.fullmatch(r"(.+)\.[0-9]+", c)) and m[1] in counts
-              and m[1] not in twice]
-    unknown = [c for c in counts if c not in known and c not in twice
-               and not ((m := re.fullmatch(r"(.+)\.[0-9]+", c)) and m[1] in twice)]
-    wrong, missing, explained = [], [], set()
-    for name in required:
-        if name in counts:
-            continue
-        want = unit_re.match(name) if units.get(name) else None
-        other = next((c for c in unknown if want and (m := unit_re.match(c))
-                      and m["stem"] == want["stem"] and m["unit"] != want["unit"]), None)
-        if other:
-            explained.add(other)
-            wrong.append(f"'{other}' has unit '{unit_re.match(other)['unit']}' where '{name}' "
-                         f"({units[name]}) is expected")
-        else:
-            missing.append(name)
-    out = []
-    if missing:
-        out.append(f"{'a required column is' if len(missing) == 1 else 'required columns are'} "
-                   f"missing: {', '.join(missing)}")
-    out += wrong
-    if twice:
-        out.append(f"{'a column appears' if len(twice) == 1 else 'columns appear'} more than once: "
-                   f"{', '.join(twice)}")
-    if unknown := [c for c in unknown if c not in explained]:
-        def hint(c: str) -> str:
-            near = [k for k in known if k.lower() == c.lower().strip()] or get_close_matches(
-                c.lower(), known, n=1, cutoff=0.75)
-            return f"'{c}'" + (f" (did you mean '{near[0]}'?)" if near else "")
-        out.append(f"{'a column is' if len(unknown) == 1 else 'columns are'} not part of the sheet: "
-                   f"{', '.join(map(hint, unknown))}; its columns are {', '.join(known)}")
-    return out
 
 
 def _check_header(df: pd.DataFrame, schema, label: str) -> None:
@@ -401,7 +259,7 @@ def validate_records(data: pd.DataFrame | str | Path, schedule: pd.DataFrame,
     IngestError
         One sentence naming the file, the 1-based data row (header excluded) and the column.
     """
-    df, label = _table_and_label(data, file_label, read_records)
+    df, label = table_and_label(data, file_label, read_records)
     if not isinstance(df, pd.DataFrame):
         raise IngestError(f"{label}, header, column '-': expected a table, got "
                           f"{type(df).__name__}.")

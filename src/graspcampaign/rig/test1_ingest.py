@@ -20,16 +20,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from graspcampaign.rig.ingest import (
-    MAX_ATTEMPT,
-    SOURCES,
-    IngestError,
-    _fail,
-    _table_and_label,
-    check_one_source,
-    header_problems,
-    read_table,
-)
+from graspcampaign.rig.ingest import MAX_ATTEMPT, SOURCES, check_one_source
+from graspcampaign.rig.measured_file import IngestError, _fail, header_problems, read_table, table_and_label
 from graspcampaign.rig.test1_summary import WAVEFORM_COLUMNS
 
 __all__ = ["read_waveforms", "validate_waveforms", "waveform_template"]
@@ -88,7 +80,7 @@ def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterabl
     IngestError
         One sentence naming the file, the 1-based data row (header excluded) and the column.
     """
-    df, label = _table_and_label(data, file_label, read_waveforms)
+    df, label = table_and_label(data, file_label, read_waveforms)
     df = df.reset_index(drop=True)
     df.columns = [str(c).strip() for c in df.columns]
     units = {c: _EXPECTED_UNIT[c.rsplit("_", 1)[0]] for c in WAVEFORM_COLUMNS[1:]}
