@@ -51,11 +51,13 @@ def load_records(study: str, run: str | None = None, *, root: str | Path = "resu
     graspcampaign.errors.UserInputError
         No such run, a run name leaving ``root``, or a damaged file (``DamagedRunError``).
     """
+    from graspcampaign.campaign.paths import check_root
     from graspcampaign.campaign.records import RunStore
     from graspcampaign.campaign.studyfile import configured_run, run_dir
     from graspcampaign.errors import UserInputError
 
-    store = RunStore(run_dir(root, study, run or configured_run(study)))
+    check_root(root, "root")
+    store = RunStore(run_dir(root, study, configured_run(study) if run is None else run))
     if not store.exists():
         raise UserInputError(f"no run at {store.path}; run `graspcampaign run {study}` first.")
     return store.dataset() if dataset else store.read().to_pandas()

@@ -14,6 +14,7 @@ from pathlib import Path
 from graspcampaign.campaign import provenance
 from graspcampaign.campaign.grid import content_hash
 from graspcampaign.campaign.kind import get_kind
+from graspcampaign.campaign.paths import check_root
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.runner import ERROR_COLUMNS, kind_params, run_path, study_trials
 from graspcampaign.campaign.schema import StudyCfg
@@ -34,6 +35,7 @@ def ingest_files(study: StudyCfg, paths: list[str], run: str = "measured") -> tu
     for path in paths:
         if not Path(path).is_file():
             raise UserInputError(f"{path}: no such file.")
+    check_root(study.output.root, "output.root", write=True)
     params = kind_params(study, kind)
     store = RunStore(run_path(study, run))
     stored = store.read().to_pandas() if store.exists() else None

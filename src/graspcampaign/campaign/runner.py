@@ -25,6 +25,7 @@ from omegaconf import OmegaConf
 from graspcampaign.campaign import provenance
 from graspcampaign.campaign.grid import Trial, content_hash, expand
 from graspcampaign.campaign.kind import TrialInput, TrialKind, get_kind
+from graspcampaign.campaign.paths import check_root
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.schema import StudyCfg, check_config, check_design_rows
 from graspcampaign.campaign.studyfile import run_dir
@@ -69,7 +70,7 @@ def run_path(study: StudyCfg, run: str | None = None) -> Path:
         A run name that is not one plain path component (``../elsewhere``): runs stay inside the
         results root.
     """
-    if run:
+    if run is not None:  # an empty name is refused, never the default run
         return run_dir(study.output.root, study.name, run)
     return run_dir(study.output.root, study.name, study.output.run, "output.run")
 
@@ -322,9 +323,10 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
     DriftError
         If the run exists with a different resolved config or code version.
     """
+    check_root(study.output.root, "output.root", write=True)
     kind = get_kind(study.kind)
     params = kind_params(study, kind)
-    run = run or study.output.run
+    run = study.output.run if run is None else run
     trials = study_trials(study, kind, params)
     path = run_path(study, run)
     store = RunStore(path)

@@ -13,6 +13,7 @@ from typing import Any
 from graspcampaign.campaign.catalog import design_size, kind_facts
 from graspcampaign.campaign.grid import design_axes
 from graspcampaign.campaign.kind import KINDS, kind_available
+from graspcampaign.campaign.paths import check_root
 from graspcampaign.campaign.provenance import read_manifest
 from graspcampaign.campaign.schema import StudyCfg
 from graspcampaign.campaign.studyfile import check_name, list_studies, run_dir
@@ -33,7 +34,7 @@ def study_size(study: StudyCfg) -> int:
 
 
 def _run_dir(study: StudyCfg, run: str | None) -> Path:
-    if run:
+    if run is not None:  # an empty name is refused, never the default run
         return run_dir(study.output.root, study.name, run)
     return run_dir(study.output.root, study.name, study.output.run, "output.run")
 
@@ -121,6 +122,7 @@ def run_status(root: Path | str, study: str, run: str = "default") -> dict[str, 
     UserInputError
         No such run; for a study that is neither known nor in ``root``, the available studies.
     """
+    check_root(root)
     check_name(run, "--run")
     check_name(study, "study")
     if not (Path(root) / study).is_dir() and study not in list_studies():

@@ -9,6 +9,7 @@ from typing import Any
 
 import pandas as pd
 
+from graspcampaign.campaign.paths import check_root
 from graspcampaign.campaign.provenance import read_manifest
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.errors import ConfigError, UserInputError
@@ -150,7 +151,7 @@ def build_reports(studies: list[str] | None = None, run: str | None = None,
 
     The runs' reports are independent: with ``n_jobs`` other than 1 they are written in that
     many processes (joblib loky; -1: one per core), the same files as one by one."""
-    root, formats = Path(root), D.check_formats(formats)
+    root, formats = check_root(root), D.check_formats(formats)
     figure_format, batch = D.check_figure_format(figure_format), ReportBatch()
     stores = _runs(root, studies, run)
     if n_jobs == 1 or len(stores) < 2:

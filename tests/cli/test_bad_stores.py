@@ -1,0 +1,152 @@
+"""Bad places and damaged runs, class by class: exit 2, the whole one-sentence message, nothing
+stored changed; what ``run`` can repair it repairs without deleting a stored file.
+
+One tiny finished ``baseline_grid`` run (two trials: the proposed planner and Ferrari-Canny, whose
+candidates fill ``tables/candidates``) and one ``smoke`` run, both reported, are made once per
+module; every damaged case works on its own copy (``shutil.copytree``). The classes: a bad
+``--root`` (a file, a path under a file, a device, an empty name, a read-only file system) and
+an empty ``--run``; a damaged or missing ``manifest.json``; a run whose stored files are not
+what its manifest says (layout, files that are not shards, duplicate, foreign and missing
+records); reports that must not overwrite good pages; output paths checked before work; the
+advice for a damaged trace table; a directory given where a file belongs.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import shutil
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from graspcampaign.cli.main import app
+
+runner = CliRunner()
+#: the tiny baseline_grid run: one scene, the proposed planner and Ferrari-Canny, a cheap PSO
+BG = ["seeds=1", "shape=[sphere]", "mass_kg=[0.2]", "mu=[0.3]", "planner=[heuristic,ferrari_canny]",
+      "pso.n_particles=2", "pso.n_iterations=1", "runner.backend=sequential", "runner.batch_size=1"]
+SMOKE = ["shape=[sphere]", "nodes=[144]", "runner.backend=sequential"]
+RUN_NAME = ("is not allowed; use letters, digits, '.', '_' and '-' (starting with a letter or "
+            "digit, at most 100), so the run stays inside the results directory.")
+EMPTY_ROOT = ("is empty; give the results directory (for example results): an empty root would "
+              "mean the current directory.")
+
+
+def _invoke(*args):
+    return runner.invoke(app, [str(a) for a in args], catch_exceptions=False)
+
+
+def _snapshot(root: Path) -> dict[str, str]:
+    return {p.relative_to(root).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest()
+            for p in sorted(root.rglob("*")) if p.is_file()}
+
+
+def _refused(root: Path, args, message: str) -> None:
+    before = _snapshot(root) if root.is_dir() else None
+    result = _invoke(*args)
+    assert result.exit_code == 2, result.output
+    assert result.stderr == f"error: {message}\n" and result.stdout == ""
+    assert (_snapshot(root) if root.is_dir() else None) == before
+
+
+@pytest.fixture(scope="module")
+def finished(tmp_path_factory):
+    """A results root with a finished tiny baseline_grid run and a smoke run, both reported."""
+    root = tmp_path_factory.mktemp("bad_stores") / "results"
+    for args in (["run", "baseline_grid", *BG], ["run", "smoke", *SMOKE], ["report"]):
+        done = _invoke(*args, "--root", root)
+        assert done.exit_code == 0, done.output
+    return root
+
+
+@pytest.fixture
+def results(finished, tmp_path):
+    """A copy of the finished results root this test may damage."""
+    return Path(shutil.copytree(finished, tmp_path / "results"))
+
+
+def _grid(root: Path) -> Path:
+    return root / "baseline_grid" / "default"
+
+
+def _advice(root: Path, then: str = "quarantine the file and run its trials again") -> str:
+    return f"resume the run (graspcampaign run baseline_grid --run default --root {root}) to {then}."
+
+
+# -- 1 and 5. the results root, the run name and output paths ------------------------------------
+def test_a_root_that_is_not_a_directory_is_refused_before_any_work(finished, tmp_path):
+    blocker = tmp_path / "afile"
+    blocker.write_text("a file, not a folder")
+    records = tmp_path / "m.csv"
+    records.write_text("trial_id\n")
+    cases = {blocker: f"--root {blocker}: is a file, not a directory.",
+             blocker / "sub": f"--root {blocker / 'sub'}: {blocker} is a file, not a directory.",
+             Path("/dev/null"): "--root /dev/null: is not a directory."}
+    for root, message in cases.items():
+        for args in (["run", "smoke", *SMOKE], ["show", "smoke"], ["status", "smoke"], ["report"],
+                     ["report", "smoke"], ["reproduce"], ["ingest", "test2_grasp", records],
+                     ["schedule", "test2_grasp"]):
+            _refused(finished, [*args, "--root", root], message)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["afile", "m.csv"]
+
+
+def test_an_empty_root_or_run_name_is_refused(finished, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # an empty root would have meant here
+    records = tmp_path / "m.csv"
+    records.write_text("trial_id\n")
+    for args in (["run", "smoke", *SMOKE], ["show", "smoke"], ["status", "smoke"], ["report"],
+                 ["reproduce"], ["ingest", "test2_grasp", records], ["schedule", "test2_grasp"]):
+        _refused(finished, [*args, "--root", ""], f"--root {EMPTY_ROOT}")
+    _refused(finished, ["run", "smoke", *SMOKE, "output.root="], f"output.root {EMPTY_ROOT}")
+    for args in (["run", "smoke", *SMOKE], ["show", "smoke"], ["status", "smoke"],
+                 ["report", "smoke"], ["ingest", "test2_grasp", records]):
+        _refused(finished, [*args, "--run", "", "--root", finished], f"--run = '' {RUN_NAME}")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["m.csv"]
+
+
+@pytest.fixture
+def read_only(tmp_path, monkeypatch):
+    """A directory on a read-only file system (as root, chmod would not stop a write)."""
+    folder = tmp_path / "ro"
+    folder.mkdir()
+    access, statvfs = os.access, os.statvfs
+
+    def inside(path) -> bool:
+        return Path(path) == folder or folder in Path(path).parents
+
+    class ReadOnly:
+        f_flag = os.ST_RDONLY
+
+    monkeypatch.setattr(os, "access", lambda p, mode, **kw: False if inside(p) and mode & os.W_OK
+                        else access(p, mode, **kw))
+    monkeypatch.setattr(os, "statvfs", lambda p: ReadOnly() if inside(p) else statvfs(p))
+    return folder
+
+
+def test_a_read_only_root_or_output_is_refused_before_any_work(finished, read_only, tmp_path):
+    ro = "cannot write there (Read-only file system)."
+    records = tmp_path / "m.csv"
+    records.write_text("trial_id\n")
+    for root in (read_only, read_only / "results"):
+        for args in (["run", "smoke", *SMOKE], ["reproduce"], ["ingest", "test2_grasp", records],
+                     ["schedule", "test2_grasp"]):
+            _refused(finished, [*args, "--root", root], f"--root {root}: {ro}")
+    # the --times file is checked before the first study runs, not after it
+    fresh = tmp_path / "fresh"
+    _refused(finished, ["reproduce", "--root", fresh, "--times", read_only / "t.txt"],
+             f"--times {read_only / 't.txt'}: {ro}")
+    _refused(finished, ["schedule", "test2_grasp", "--out", read_only / "sheet", "--root", fresh],
+             f"--out {read_only / 'sheet'}: {ro}")
+    assert not fresh.exists() and not any(read_only.iterdir())
+    # reading a run needs no write: a read-only root is answered
+    shutil.copytree(finished / "smoke", read_only / "smoke")
+    assert _invoke("status", "smoke", "--root", read_only).exit_code == 0
+
+
+def test_an_output_file_that_is_a_directory_gets_the_options_own_hint(finished, tmp_path):
+    _refused(finished, ["reproduce", "--root", tmp_path / "fresh", "--times", tmp_path],
+             f"--times {tmp_path} is a directory; give a file such as "
+             f"{tmp_path / 'reproduce_times.txt'}.")
+    assert not (tmp_path / "fresh").exists()
