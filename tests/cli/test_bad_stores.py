@@ -14,6 +14,7 @@ advice for a damaged trace table; a directory given where a file belongs.
 from __future__ import annotations
 
 import hashlib
+import json
 import os
 import shutil
 from pathlib import Path
@@ -150,3 +151,49 @@ def test_an_output_file_that_is_a_directory_gets_the_options_own_hint(finished, 
              f"--times {tmp_path} is a directory; give a file such as "
              f"{tmp_path / 'reproduce_times.txt'}.")
     assert not (tmp_path / "fresh").exists()
+
+
+# -- 2. a damaged or missing manifest ----------------------------------------------------------------
+def _json_error(text: str) -> str:
+    try:
+        json.loads(text)
+    except json.JSONDecodeError as exc:
+        return f"not valid JSON: {exc.msg} (line {exc.lineno}, column {exc.colno})"
+    raise AssertionError(text)
+
+
+def _manifest(results: Path) -> dict:
+    return json.loads((_grid(results) / "manifest.json").read_text())
+
+
+MANIFESTS = {
+    "truncated": (lambda m: json.dumps(m, indent=2)[:300], None),
+    "garbled": (lambda m: json.dumps(m).encode()[:40] + b"\xff\xfe" + json.dumps(m).encode()[42:],
+                "not UTF-8 text: byte 40 is 0xff"),
+    "zero_bytes": (lambda m: b"", "it is empty"),
+    "a_list": (lambda m: "[1, 2]", "it holds a JSON list, not an object of the run's fields"),
+    "n_trials_many": (lambda m: json.dumps({**m, "n_trials": "many"}),
+                      'n_trials is "many", not a whole number of trials'),
+    "config_hash_null": (lambda m: json.dumps({**m, "config_hash": None}),
+                         "config_hash is null, not a hash"),
+    "no_sessions": (lambda m: json.dumps({k: v for k, v in m.items() if k != "sessions"}),
+                    "it has no sessions field"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(MANIFESTS))
+def test_a_damaged_manifest_is_refused_by_every_command(results, case):
+    make, why = MANIFESTS[case]
+    text = make(_manifest(results))
+    path = _grid(results) / "manifest.json"
+    if isinstance(text, bytes):
+        path.write_bytes(text)
+    else:
+        path.write_text(text)
+    why = why or _json_error(text)
+    message = (f"run baseline_grid/default at {_grid(results)} has a damaged manifest.json ({why}); "
+               "its records cannot be checked without it, so restore the file from a backup or "
+               "move the run directory aside and run the study again.")
+    for args in (["status", "baseline_grid"], ["show", "baseline_grid", *BG[:5]],
+                 ["report", "baseline_grid"], ["run", "baseline_grid", *BG]):
+        _refused(results, [*args, "--root", results], message)

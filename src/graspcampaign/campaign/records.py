@@ -206,13 +206,11 @@ class RunStore:
                 raise self._damage_error(*bad[0])
 
     def _damage_error(self, path: Path, reason: str) -> DamagedRunError:
-        from graspcampaign.campaign.provenance import read_manifest
-
         study, run, root = self.path.parent.name, self.path.name, self.path.parent.parent
         rel = path.relative_to(self.path).as_posix()
-        try:
-            source = (read_manifest(self.manifest_path) or {}).get("source")
-        except (OSError, ValueError):
+        try:  # a partial manifest is enough to choose the advice
+            source = json.loads(self.manifest_path.read_text()).get("source")
+        except (OSError, ValueError, AttributeError):
             source = None
         if source == "measured":
             advice = ("move it out of the run directory and ingest the file that held its "

@@ -81,10 +81,7 @@ def _paper(run_paper: dict | None, study: str, notes: list[str]) -> Any:
 
 def report_run(store: RunStore, root: Path, formats: list[str], figure_format: str) -> Path:
     """Write one run's report under ``<run>/report/``; return its main page."""
-    try:
-        manifest = read_manifest(store.manifest_path)
-    except ValueError as exc:
-        raise UserInputError(f"{store.manifest_path} is not valid JSON ({exc}).") from None
+    manifest = read_manifest(store.manifest_path)  # a damaged one: DamagedRunError, one sentence
     if not manifest:
         raise UserInputError(f"{store.manifest_path} is missing.")
     records, notes = store.read("records").to_pandas(), []
@@ -116,6 +113,8 @@ def _runs(root: Path, studies: list[str] | None, run: str | None) -> list[RunSto
             raise UserInputError(f"no records for study {name!r} under {root}; run it first.")
         for r in [run] if run else sorted(p.name for p in (root / name).iterdir() if p.is_dir()):
             store = RunStore(root / name / r)
+            if run:  # a named run: its manifest is checked before anything is written
+                read_manifest(store.manifest_path)
             if not store.exists():
                 if run:
                     raise UserInputError(f"no run {r!r} of study {name!r} under {root}.")
@@ -180,7 +179,7 @@ def write_index(root: Path, formats: list[str]) -> None:
         for report in sorted(root.glob(f"*/*/report/report.{page}")):
             try:
                 m = read_manifest(report.parent.parent / "manifest.json") or {}
-            except (OSError, ValueError):
+            except (OSError, ValueError, UserInputError):
                 m = {}
             rows.append([m.get("study"), m.get("run"), SOURCE_SHORT.get(m.get("source"), m.get("source")),
                          m.get("n_trials"),
