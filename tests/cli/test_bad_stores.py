@@ -19,9 +19,12 @@ import os
 import shutil
 from pathlib import Path
 
+import pyarrow as pa
+import pyarrow.parquet as pq
 import pytest
 from typer.testing import CliRunner
 
+from graspcampaign.campaign.records import RunStore
 from graspcampaign.cli.main import app
 
 runner = CliRunner()
@@ -197,3 +200,204 @@ def test_a_damaged_manifest_is_refused_by_every_command(results, case):
     for args in (["status", "baseline_grid"], ["show", "baseline_grid", *BG[:5]],
                  ["report", "baseline_grid"], ["run", "baseline_grid", *BG]):
         _refused(results, [*args, "--root", results], message)
+
+
+# -- 3. stored files that are not what the manifest says --------------------------------------------
+def test_records_without_a_manifest_are_refused_alike_by_every_command(results):
+    (_grid(results) / "manifest.json").unlink()
+    message = (f"run baseline_grid/default at {_grid(results)} has stored files but no "
+               "manifest.json, so what they hold cannot be checked; restore the file from a "
+               "backup, or move the run directory aside and run the study again.")
+    for args in (["status", "baseline_grid"], ["show", "baseline_grid", *BG[:5]],
+                 ["report", "baseline_grid"], ["run", "baseline_grid", *BG]):
+        _refused(results, [*args, "--root", results], message)
+
+
+def test_a_run_refused_before_it_starts_writes_nothing(results, monkeypatch):
+    import contextlib
+
+    from graspcampaign.campaign import runner as runner_module
+    from graspcampaign.errors import UserInputError
+
+    @contextlib.contextmanager
+    def unreachable(study):  # what an unreachable Dask scheduler does, without the wait
+        raise UserInputError("runner.address = 'tcp://127.0.0.1:9': no Dask scheduler answered.")
+        yield
+
+    monkeypatch.setattr(runner_module, "_executor", unreachable)
+    message = "runner.address = 'tcp://127.0.0.1:9': no Dask scheduler answered."
+    _refused(results, ["run", "smoke", *SMOKE, "--run", "fresh", "--root", results], message)
+    _refused(results, ["run", "baseline_grid", *BG, "--root", results], message)
+    assert not (results / "smoke" / "fresh").exists()
+
+
+def _compact(results: Path) -> Path:
+    (path,) = (_grid(results) / "records").glob("compact-*.parquet")
+    return path
+
+
+def _rewritten(source: Path, target: Path, edit) -> None:
+    """Write ``edit(table)`` of a verified shard as ``target`` (with ``source``'s metadata)."""
+    table = pq.read_table(source)
+    pq.write_table(edit(table), target, write_page_checksum=True)
+
+
+def _with_run(table: pa.Table, run: str) -> pa.Table:
+    i = table.schema.get_field_index("run")
+    return table.set_column(i, "run", pa.array([run] * table.num_rows))
+
+
+def _damage_records_file(results):
+    records = _grid(results) / "records"
+    shutil.rmtree(records)
+    records.write_text("not a directory")
+    return ("a file records where its records directory belongs", _advice(results),
+            records, "file {path} moved to {target} (a file where a directory belongs); its "
+                     "trials will run again")
+
+
+def _renamed_to_csv(results):
+    compact = _compact(results)
+    renamed = compact.with_suffix(".csv")
+    compact.rename(renamed)
+    return (f"a file records/{renamed.name} that is not a Parquet shard of the run",
+            _advice(results), renamed, "file {path} moved to {target} (not a Parquet shard of "
+                                       "the run); its trials will run again")
+
+
+def _duplicate(results):
+    compact = _compact(results)
+    copy = compact.with_name("part-dup.parquet")
+    shutil.copyfile(compact, copy)
+    why = f"every trial also in records/{compact.name}"
+    return (f"a duplicate file records/part-dup.parquet ({why})",
+            _advice(results, "quarantine the duplicate"), copy,
+            "duplicate file {path} moved to {target} (" + why + "); its trials stay recorded in "
+            f"records/{compact.name}")
+
+
+def _foreign_study(results):
+    (shard,) = (results / "smoke" / "default" / "records").glob("*.parquet")
+    copy = _grid(results) / "records" / "part-foreign.parquet"
+    shutil.copyfile(shard, copy)
+    return ("a file records/part-foreign.parquet holding records of another study (smoke)",
+            _advice(results), copy, "file {path} moved to {target} (records of another study "
+                                    "(smoke)); its trials will run again")
+
+
+def _another_run(results):
+    copy = _grid(results) / "records" / "part-other.parquet"
+    _rewritten(_compact(results), copy, lambda t: _with_run(t, "other"))
+    return ("a file records/part-other.parquet holding records of another run (other)",
+            _advice(results), copy, "file {path} moved to {target} (records of another run "
+                                    "(other)); its trials will run again")
+
+
+def _another_config(results):
+    copy = _grid(results) / "records" / "part-config.parquet"
+    _rewritten(_compact(results), copy, lambda t: t.replace_schema_metadata(
+        {b"graspcampaign.config_hashes": b'["0123456789abcdef"]'}))
+    why = "records run with another config (hash 0123456789abcdef, not one this run ran with)"
+    return (f"a file records/part-config.parquet holding {why}", _advice(results), copy,
+            "file {path} moved to {target} (" + why + "); its trials will run again")
+
+
+def _twice_in_one_file(results):
+    compact = _compact(results)
+    table = pq.read_table(compact)
+    pq.write_table(pa.concat_tables([table, table]), compact, write_page_checksum=True)
+    return (f"a file records/{compact.name} that records 2 trials twice", _advice(results),
+            compact, "file {path} moved to {target} (it records 2 trials twice); its trials will "
+                     "run again")
+
+
+def _records_removed(results):
+    shutil.rmtree(_grid(results) / "records")
+    return ("missing records: its manifest counts 2 recorded trials but 0 are stored (records/ is "
+            "missing)", _advice(results, "run the missing trials again"), None,
+            f"run baseline_grid/default at {_grid(results)}: its manifest counts 2 recorded trials "
+            "but 0 are stored; the missing ones run again")
+
+
+def _records_emptied(results):
+    _compact(results).unlink()
+    return ("missing records: its manifest counts 2 recorded trials but 0 are stored (records/ is "
+            "empty)", _advice(results, "run the missing trials again"), None,
+            f"run baseline_grid/default at {_grid(results)}: its manifest counts 2 recorded trials "
+            "but 0 are stored; the missing ones run again")
+
+
+def _partly_duplicated(results):
+    compact = _compact(results)
+    table = pq.read_table(compact)
+    first, both = compact.with_name("part-a.parquet"), compact.with_name("part-b.parquet")
+    pq.write_table(table.slice(0, 1), first, write_page_checksum=True)
+    pq.write_table(table, both, write_page_checksum=True)
+    compact.unlink()
+    why = "1 of its 2 trials also in records/part-a.parquet"
+    return (f"a duplicate file records/part-b.parquet ({why})", _advice(results), both,
+            "file {path} moved to {target} (" + why + "); its trials will run again")
+
+
+DAMAGES = {f.__name__.lstrip("_"): f for f in (
+    _damage_records_file, _renamed_to_csv, _duplicate, _partly_duplicated, _foreign_study,
+    _another_run, _another_config, _twice_in_one_file, _records_removed, _records_emptied)}
+#: trials that run again after the repair: none where the file was added beside the run's own
+#: records, the other trial of a partly duplicated file, every trial where the run's file went
+RERUN = {"duplicate": 0, "foreign_study": 0, "another_run": 0, "another_config": 0,
+         "partly_duplicated": 1}
+
+
+@pytest.mark.parametrize("case", sorted(DAMAGES))
+def test_a_run_not_what_its_manifest_says_is_refused_then_repaired_by_run(results, case):
+    text, advice, offending, warning = DAMAGES[case](results)
+    kept = offending.read_bytes() if offending is not None else None
+    message = f"run baseline_grid/default at {_grid(results)} has {text}; {advice}"
+    for args in (["status", "baseline_grid"], ["show", "baseline_grid", *BG[:5]],
+                 ["report", "baseline_grid"]):
+        _refused(results, [*args, "--root", results], message)
+    # the advice works: resuming the run moves the file aside (never deletes it), then every
+    # command reads the run again
+    repaired = _invoke("run", "baseline_grid", *BG, "runner.progress=false", "--root", results)
+    assert repaired.exit_code == 0, repaired.output
+    quarantined = None
+    if offending is not None:
+        quarantined = _grid(results) / "quarantine" / offending.relative_to(_grid(results)) \
+            .as_posix().replace("/", "__")
+        assert quarantined.read_bytes() == kept
+    assert repaired.stderr == "warning: " + warning.format(path=offending, target=quarantined) + "\n"
+    ran = RERUN.get(case, 2)
+    assert f"2 trials, {2 - ran} already recorded, {ran} ran" in repaired.stdout
+    status = _invoke("status", "baseline_grid", "--root", results, "--json")
+    assert status.exit_code == 0, status.output
+    assert json.loads(status.stdout)["n_recorded"] == 2
+    assert RunStore(_grid(results)).check() is not None
+
+
+def test_a_file_in_place_of_the_run_directory_is_refused_by_every_command(results):
+    shutil.rmtree(_grid(results))
+    _grid(results).write_text("not a run")
+    message = (f"run baseline_grid/default at {_grid(results)} is a file, not a run directory; "
+               "move it aside or choose another run name (--run NAME).")
+    for args in (["status", "baseline_grid"], ["show", "baseline_grid", *BG[:5]],
+                 ["report", "baseline_grid"], ["run", "baseline_grid", *BG]):
+        _refused(results, [*args, "--root", results], message)
+
+
+def test_run_never_writes_into_measured_records_nor_ingest_into_simulated_ones(results, tmp_path):
+    measured = results / "baseline_grid" / "measured"
+    shutil.copytree(_grid(results), measured)
+    manifest = json.loads((measured / "manifest.json").read_text())
+    (measured / "manifest.json").write_text(json.dumps({**manifest, "source": "measured"}))
+    _refused(results, ["run", "baseline_grid", *BG, "--run", "measured", "--root", results],
+             f"run baseline_grid/measured at {measured} holds measured records (ingested); `run` "
+             "never adds simulated or virtual trials to them, so choose another run name "
+             "(--run NAME).")
+    simulated = results / "test2_grasp" / "default"
+    shutil.copytree(_grid(results), simulated)
+    sheet = tmp_path / "m.csv"
+    sheet.write_text("trial_id\n")
+    _refused(results, ["ingest", "test2_grasp", sheet, "--run", "default", "--root", results],
+             f"run test2_grasp/default at {simulated} holds simulation records (from `graspcampaign "
+             "run`); measured records are stored in a run of their own, so choose another run "
+             "name (--run NAME; default measured).")

@@ -81,7 +81,7 @@ def _paper(run_paper: dict | None, study: str, notes: list[str]) -> Any:
 
 def report_run(store: RunStore, root: Path, formats: list[str], figure_format: str) -> Path:
     """Write one run's report under ``<run>/report/``; return its main page."""
-    manifest = read_manifest(store.manifest_path)  # a damaged one: DamagedRunError, one sentence
+    manifest = store.check()  # never a report of records that are not what the manifest says
     if not manifest:
         raise UserInputError(f"{store.manifest_path} is missing.")
     records, notes = store.read("records").to_pandas(), []
@@ -104,24 +104,38 @@ def report_run(store: RunStore, root: Path, formats: list[str], figure_format: s
     return doc.write(store.path / "report", formats, figure_format)
 
 
-def _runs(root: Path, studies: list[str] | None, run: str | None) -> list[RunStore]:
+def _runs(root: Path, studies: list[str] | None, run: str | None,
+          ) -> tuple[list[RunStore], list[tuple[str, str, bool]]]:
+    """The runs to report, each checked against its manifest first (``RunStore.check``), and the
+    ``(label, reason, True)`` of those that cannot be read.
+
+    A named study or run (``studies`` or ``run`` given) that is missing or cannot be read raises
+    before anything is written; with neither, every run under ``root`` is looked at and one that
+    cannot be read is a failure while the others are reported.
+    """
     if not root.is_dir():
         raise UserInputError(f"no results directory at {root}; run a study first.")
-    stores = []
+    named, stores, failed = bool(studies) or run is not None, [], []
     for name in studies or sorted(p.name for p in root.iterdir() if p.is_dir()):
         if studies and not (root / name).is_dir():
             raise UserInputError(f"no records for study {name!r} under {root}; run it first.")
-        for r in [run] if run else sorted(p.name for p in (root / name).iterdir() if p.is_dir()):
+        wanted = run
+        for r in [wanted] if wanted is not None else sorted(p.name for p in (root / name).iterdir()
+                                                             if p.is_dir()):
             store = RunStore(root / name / r)
-            if run:  # a named run: its manifest is checked before anything is written
-                read_manifest(store.manifest_path)
-            if not store.exists():
-                if run:
+            try:  # a damaged file, a foreign or duplicate shard, missing records: never reported
+                manifest = store.check()
+            except UserInputError as exc:
+                if named:
+                    raise
+                failed.append((f"{name}/{r}", reason(exc), True))
+                continue
+            if manifest is None:
+                if wanted is not None:
                     raise UserInputError(f"no run {r!r} of study {name!r} under {root}.")
                 continue
-            store.verify()  # a damaged file: refuse (DamagedRunError, exit 2), never report around it
             stores.append(store)
-    return stores
+    return stores, failed
 
 
 def _report_or_failure(store: RunStore, root: Path, formats: list[str], figure_format: str):
@@ -152,7 +166,8 @@ def build_reports(studies: list[str] | None = None, run: str | None = None,
     many processes (joblib loky; -1: one per core), the same files as one by one."""
     root, formats = check_root(root), D.check_formats(formats)
     figure_format, batch = D.check_figure_format(figure_format), ReportBatch()
-    stores = _runs(root, studies, run)
+    stores, unreadable = _runs(root, studies, run)
+    batch.failed += unreadable
     if n_jobs == 1 or len(stores) < 2:
         outcomes = [_report_or_failure(store, root, formats, figure_format) for store in stores]
     else:
