@@ -401,3 +401,22 @@ def test_run_never_writes_into_measured_records_nor_ingest_into_simulated_ones(r
              f"run test2_grasp/default at {simulated} holds simulation records (from `graspcampaign "
              "run`); measured records are stored in a run of their own, so choose another run "
              "name (--run NAME; default measured).")
+
+
+# -- 6. a damaged trace table: the advice works -------------------------------------------------------
+def test_the_advice_for_an_unidentifiable_trace_file_is_true(results):
+    (trace,) = (_grid(results) / "tables" / "candidates").glob("*.parquet")
+    trace.write_bytes(b"x" * 100)  # neither its footer nor its trial ids can be read
+    why = ("Parquet magic bytes not found in footer. Either the file is corrupted or this is not a "
+           "parquet file.")
+    _refused(results, ["report", "baseline_grid", "--root", results],
+             f"run baseline_grid/default at {_grid(results)} has a damaged file "
+             f"tables/candidates/{trace.name} ({why}); {_advice(results)}")
+    repaired = _invoke("run", "baseline_grid", *BG, "runner.progress=false", "--root", results)
+    assert repaired.exit_code == 0, repaired.output
+    target = _grid(results) / "quarantine" / f"tables__candidates__{trace.name}"
+    assert repaired.stderr == (f"warning: damaged file {trace} moved to {target} ({why}); its "
+                               "trials will run again\n")
+    assert "2 ran" in repaired.stdout and target.read_bytes() == b"x" * 100
+    store = RunStore(_grid(results))
+    assert store.check() is not None and len(store.read("tables/candidates")) > 0

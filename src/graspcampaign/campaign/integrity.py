@@ -269,9 +269,10 @@ def _holds_files(path: Path) -> bool:
     return path.is_dir() and any(p.is_file() for p in path.rglob("*") if not _hidden(p))
 
 
-def _trials_of_trace(store, path: Path, part: str) -> set[str]:
+def _trials_of_trace(store, path: Path, others: list[Path]) -> set[str]:
     """The trials whose traces a trace file moved aside held: from its key pages, else from the
-    records file of the same task."""
+    records file of the same task, else every recorded trial without a row in the table's other
+    files (re-running a trial that had none costs time, never a wrong record)."""
     try:
         return set(pq.read_table(path, columns=["trial_id"],
                                  page_checksum_verification=True).column("trial_id").to_pylist())
@@ -280,8 +281,7 @@ def _trials_of_trace(store, path: Path, part: str) -> set[str]:
     twin = store.path / "records" / path.name  # a task's traces and records share its name
     if twin.is_file() and SHARD.fullmatch(twin.name) and verify_file(twin) is None:
         return _ids(twin)[1]
-    raise refusal(store, [Problem(path, f"a damaged file {_rel(store, path)} (its trials cannot be "
-                                        "identified, so start a new run)", "quarantine", part)])
+    return store.recorded_ids() - set().union(*(_ids(other)[1] for other in others))
 
 
 def repair(store, manifest: dict | None = None, config_hash: str | None = None,
@@ -316,7 +316,9 @@ def repair(store, manifest: dict | None = None, config_hash: str | None = None,
         for problem in found:
             group = problem.part.split("/")[0]
             if group == "tables" and problem.fix != "duplicate" and problem.part != "tables":
-                lost |= _trials_of_trace(store, problem.path, problem.part)
+                others = [p for p in store._listing(problem.part)[0]
+                          if p not in {q.path for q in found}]
+                lost |= _trials_of_trace(store, problem.path, others)
             if group == "summary":
                 (store.path / "summary" / "complete.json").unlink(missing_ok=True)
             what = {"duplicate": "duplicate file"}.get(
