@@ -403,6 +403,37 @@ def test_run_never_writes_into_measured_records_nor_ingest_into_simulated_ones(r
              "name (--run NAME; default measured).")
 
 
+# -- 4. reports check first and never overwrite good pages ------------------------------------------
+def test_report_checks_every_named_study_before_writing_any(results):
+    shutil.rmtree(_grid(results) / "report")  # so that a report written before failing shows
+    _refused(results, ["report", "baseline_grid", "nosuch_study", "--root", results],
+             f"no records for study 'nosuch_study' under {results}; run it first.")
+    _refused(results, ["report", "smoke", "baseline_grid", "--run", "nosuch", "--root", results],
+             f"no run 'nosuch' of study 'smoke' under {results}.")
+
+
+def test_a_run_that_cannot_be_read_never_replaces_what_the_root_pages_say(results):
+    _duplicate(results)
+    pages = {p.name: p.read_bytes() for p in results.glob("*.*")}
+    assert sorted(pages) == ["headline.csv", "headline.md", "index.md"]
+    why = (f"run baseline_grid/default at {_grid(results)} has a duplicate file "
+           f"records/part-dup.parquet (every trial also in records/{_compact(results).name}); "
+           + _advice(results, "quarantine the duplicate")[:-1])
+    left = f"warning: the headline and index pages were left as they were: run " \
+           f"baseline_grid/default cannot be read ({why})\n"
+    # every run: the others are reported, the damaged one is named, the pages stay as they were
+    every = _invoke("report", "--root", results)
+    assert every.exit_code == 2
+    assert every.stdout == f"report: {results / 'smoke' / 'default' / 'report' / 'report.md'}\n"
+    assert every.stderr == left + f"error: the report of baseline_grid/default could not be " \
+                                  f"written: {why}\n"
+    assert {p.name: p.read_bytes() for p in results.glob("*.*")} == pages
+    # another study's report is written; the pages still say what they said of the damaged run
+    other = _invoke("report", "smoke", "--root", results)
+    assert other.exit_code == 0 and other.stderr == left
+    assert {p.name: p.read_bytes() for p in results.glob("*.*")} == pages
+
+
 # -- 6. a damaged trace table: the advice works -------------------------------------------------------
 def test_the_advice_for_an_unidentifiable_trace_file_is_true(results):
     (trace,) = (_grid(results) / "tables" / "candidates").glob("*.parquet")

@@ -329,15 +329,10 @@ def report(
         check_name(run, "--run")
     if jobs == 0 or jobs < -1:
         _fail(f"--jobs {jobs}: give a number of processes (1 or more), or -1 for one per core.")
-    runs = [(None, run)] if not studies else [([s], run or configured_run(s)) for s in studies]
-    failed = []
-    for names, run_name in runs:
-        batch = build_reports(names, run=run_name, root=root, formats=fmt.split(","),
-                              figure_format=figure_format, n_jobs=1 if _state["debug"] else jobs)
-        for path in batch:
-            typer.echo(f"report: {path}")
-        failed += batch.failed
-    _exit_if_failed(failed)
+    # one batch: every named study and run is checked before any report is written
+    runs = {s: configured_run(s) if run is None else run for s in studies} if studies else run
+    _report_paths(build_reports(studies or None, run=runs, root=root, formats=fmt.split(","),
+                                figure_format=figure_format, n_jobs=1 if _state["debug"] else jobs))
 
 
 def _report_paths(batch) -> None:

@@ -13,7 +13,7 @@ from graspcampaign.analysis.records import data_source, rate_table
 from graspcampaign.analysis.vocabulary import PROPOSED
 from graspcampaign.campaign.paper import check_paper, study_paper
 from graspcampaign.campaign.records import RunStore
-from graspcampaign.errors import ConfigError, DamagedRunError
+from graspcampaign.errors import ConfigError, DamagedRunError, UserInputError
 from graspcampaign.report import format as fmt
 from graspcampaign.report.document import Col, Document, Table, Text
 from graspcampaign.report.render import reason
@@ -132,8 +132,10 @@ def _is_run(path: Path) -> bool:
     return path.is_dir() and any((path / p).exists() for p in ("manifest.json", "records"))
 
 
-def headline_rows(root: Path | str) -> pd.DataFrame:
-    """Return the headline table over every run under ``root`` (one row per entry and run)."""
+def headline_rows(root: Path | str, unreadable: list[tuple[str, str]] | None = None,
+                  ) -> pd.DataFrame:
+    """Return the headline table over every run under ``root`` (one row per entry and run); a run
+    that cannot be read gets a row saying so and is added to ``unreadable``."""
     root, rows = Path(root), []
     for h in TABLE1:
         study_dir = root / h.study
@@ -144,6 +146,9 @@ def headline_rows(root: Path | str) -> pd.DataFrame:
                 row = _run_row(h, RunStore(r), root)
                 rows += [] if row is None else [row]
             except Exception as exc:  # noqa: BLE001 - a broken run is named, not fatal
+                if unreadable is not None and isinstance(exc, UserInputError):
+                    label = r.relative_to(root).as_posix()
+                    unreadable += [] if label in dict(unreadable) else [(label, reason(exc))]
                 # what is wrong, not where: the page is the same wherever the root lies
                 what = f"it {exc.what}" if isinstance(exc, DamagedRunError) else reason(exc)
                 rows.append(_row(h, study_paper(h.study), run=r.name,
@@ -154,9 +159,11 @@ def headline_rows(root: Path | str) -> pd.DataFrame:
     return frame
 
 
-def write_headline(root: Path | str, formats: list[str] | None = None) -> Path:
-    """Write ``headline.csv``, ``headline.md`` (and ``headline.html``); return the md path."""
-    frame = headline_rows(root)
+def write_headline(root: Path | str, formats: list[str] | None = None,
+                   frame: pd.DataFrame | None = None) -> Path:
+    """Write ``headline.csv``, ``headline.md`` (and ``headline.html``) of ``frame`` (default:
+    :func:`headline_rows`); return the md path."""
+    frame = headline_rows(root) if frame is None else frame
     frame.to_csv(Path(root) / "headline.csv", index=False)
     return Document("Headline success rates (paper Table 1)", "", [], [
         Text(INTRO), Table("headline", "Table 1, ours beside the paper", frame, COLUMNS,
