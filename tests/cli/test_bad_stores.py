@@ -451,3 +451,14 @@ def test_the_advice_for_an_unidentifiable_trace_file_is_true(results):
     assert "2 ran" in repaired.stdout and target.read_bytes() == b"x" * 100
     store = RunStore(_grid(results))
     assert store.check() is not None and len(store.read("tables/candidates")) > 0
+
+
+# -- 7. a directory where a file belongs -------------------------------------------------------------
+def test_a_directory_given_for_a_file_is_named_as_one(results, tmp_path):
+    folder = tmp_path / "adir.yaml"
+    folder.mkdir()
+    for command in ("show", "run"):
+        _refused(results, [command, folder, "--root", results],
+                 f"study file {folder} is a directory, not a file.")
+    _refused(results, ["ingest", "test2_grasp", tmp_path, "--root", results],
+             f"{tmp_path} is a directory, not a file of measured records.")

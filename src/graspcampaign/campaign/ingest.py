@@ -33,6 +33,8 @@ def ingest_files(study: StudyCfg, paths: list[str], run: str = "measured") -> tu
         raise UserInputError(f"study {study.name!r} has no measured records to ingest "
                              "(only hardware protocols do).")
     for path in paths:
+        if Path(path).is_dir():
+            raise UserInputError(f"{path} is a directory, not a file of measured records.")
         if not Path(path).is_file():
             raise UserInputError(f"{path}: no such file.")
     check_root(study.output.root, "output.root", write=True)
