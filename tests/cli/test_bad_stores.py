@@ -156,7 +156,7 @@ def test_an_output_file_that_is_a_directory_gets_the_options_own_hint(finished, 
     assert not (tmp_path / "fresh").exists()
 
 
-# -- 2. a damaged or missing manifest ----------------------------------------------------------------
+# -- 2. a damaged manifest ----------------------------------------------------------------------------
 def _json_error(text: str) -> str:
     try:
         json.loads(text)
@@ -202,7 +202,7 @@ def test_a_damaged_manifest_is_refused_by_every_command(results, case):
         _refused(results, [*args, "--root", results], message)
 
 
-# -- 3. stored files that are not what the manifest says --------------------------------------------
+# -- 3 (and 2, 4). stored files not what the manifest says, or none; a run refused before it starts
 def test_records_without_a_manifest_are_refused_alike_by_every_command(results):
     (_grid(results) / "manifest.json").unlink()
     message = (f"run baseline_grid/default at {_grid(results)} has stored files but no "
