@@ -462,3 +462,20 @@ def test_a_directory_given_for_a_file_is_named_as_one(results, tmp_path):
                  f"study file {folder} is a directory, not a file.")
     _refused(results, ["ingest", "test2_grasp", tmp_path, "--root", results],
              f"{tmp_path} is a directory, not a file of measured records.")
+
+
+def test_a_report_reading_another_run_skips_one_that_cannot_be_read(results):
+    """mesh_resolution cross-checks its re-derived trials against the baseline_grid runs beside
+    it: a duplicated baseline shard is not compared with (its trials would count twice)."""
+    import pandas as pd
+
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies.mesh_resolution import _cross_check
+
+    _duplicate(results)
+    records = pd.DataFrame({"trial_id": ["t"], "status": ["ok"], "panel": ["n_max"],
+                            "success": [True]})
+    run = Run(records, {}, store=RunStore(results / "mesh_resolution" / "default"))
+    assert _cross_check(run) == ("No `baseline_grid` records beside this run (run default skipped: "
+                                 "it cannot be read): the re-derived trials were not cross-checked "
+                                 "against them.")
