@@ -324,7 +324,8 @@ def repair(store, manifest: dict | None = None, config_hash: str | None = None,
             what = {"duplicate": "duplicate file"}.get(
                 problem.fix, "damaged file" if problem.text.startswith("a damaged") else "file")
             then = ("its trials stay recorded in " + problem.reason.split(" also in ")[-1]
-                    if problem.fix == "duplicate" else _THEN[group])
+                    if problem.fix == "duplicate" else "it held no part of the run"
+                    if problem.part in ("tables", "summary") else _THEN[group])
             target = store._quarantine(problem.path, problem.reason, what, then)
             moved.append((problem.path, target, problem.reason))
     if not moved and not (store.path / "tables").is_dir():
