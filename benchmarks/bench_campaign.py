@@ -49,6 +49,7 @@ def main() -> None:
         for k in range(COPIES):
             copy = records.copy()
             copy["trial_id"] = copy["trial_id"] + f"-c{k}"
+            copy["run"] = "big"  # the records of run big (another run's would be refused)
             copy["scene_id"] = copy["scene_id"] + f"-c{k}"
             copy["seed"] = copy["seed"] + k * int(records["seed"].max() + 1)
             copies.append(copy)

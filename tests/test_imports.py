@@ -6,7 +6,8 @@ Rules (STYLE.md "Layout and the direction of imports", issue 14):
 * analysis imports only core and itself (besides the libraries it is built on);
 * rig and report never import each other;
 * report never imports a campaign trial kind, the runner, or rig; it reads runs through
-  ``campaign.records`` / ``campaign.provenance`` and the typed paper values of ``campaign.paper``;
+  ``campaign.records`` / ``campaign.provenance`` and the typed paper values of ``campaign.paper``,
+  and checks a results root with ``campaign.paths``;
 * nothing but cli (and ``python -m``'s ``__main__``) imports cli.
 
 The checker walks every module's ``import`` statements (top level and inside functions, relative
@@ -29,7 +30,7 @@ STDLIB = set(sys.stdlib_module_names)
 CORE_LIBRARIES = {"numpy", "scipy", "trimesh", "numba"}
 ANALYSIS_LIBRARIES = CORE_LIBRARIES | {"pandas", "statsmodels"}
 REPORT_CAMPAIGN = ("campaign.records", "campaign.provenance", "campaign.paper",
-                   "campaign.paper_hardware")
+                   "campaign.paper_hardware", "campaign.paths")
 
 
 def imports(path: Path) -> list[str]:
@@ -99,7 +100,7 @@ def violations(package_dir: Path, package: str = "graspcampaign") -> list[str]:
                 elif target == "campaign" and not any(
                         full == f"{package}.{m}" or full.startswith(f"{package}.{m}.")
                         for m in REPORT_CAMPAIGN):
-                    bad = "report reads runs through campaign.records/provenance/paper only"
+                    bad = "report reads runs through campaign.records/provenance/paper/paths only"
             if target == "cli" and mine != "cli" and me != f"{package}.__main__":
                 bad = "only cli imports cli"
             if bad:

@@ -58,7 +58,17 @@ class DamagedRunError(UserInputError):
 
     Reading a run never changes it: the report and the status refuse such a run, naming it and
     the file; resuming the run quarantines the file and runs its trials again.
+
+    Attributes
+    ----------
+    what : str
+        What is wrong, without the run's path or the advice ("has a duplicate file ..."), for a
+        page that names the run itself.
     """
+
+    def __init__(self, message: str, what: str | None = None):
+        super().__init__(message)
+        self.what = what or message
 
 
 class MissingSourceRunError(UserInputError):

@@ -204,8 +204,9 @@ def test_one_broken_run_never_stops_the_others(tmp_path):
     result = cli.invoke(app, ["report", "--root", str(tmp_path)])
     assert result.exit_code == 2
     assert (tmp_path / "ablation" / "good" / "report" / "report.md").exists()
-    assert f"error: the report of ablation/broken could not be written: {broken.manifest_path} " \
-           "is not valid JSON" in result.output.replace("\n", "")
+    assert (f"error: the report of ablation/broken could not be written: run ablation/broken at "
+            f"{broken.path} has a damaged manifest.json (not valid JSON: Expecting property name "
+            "enclosed in double quotes (line 1, column 2))") in result.output.replace("\n", "")
     assert (tmp_path / "index.md").exists() and (tmp_path / "headline.md").exists()
 
 

@@ -14,7 +14,8 @@ from pathlib import Path
 from graspcampaign.campaign import provenance
 from graspcampaign.campaign.grid import content_hash
 from graspcampaign.campaign.kind import get_kind
-from graspcampaign.campaign.records import RunStore
+from graspcampaign.campaign.paths import check_root
+from graspcampaign.campaign.records import RunStore, config_metadata
 from graspcampaign.campaign.runner import ERROR_COLUMNS, kind_params, run_path, study_trials
 from graspcampaign.campaign.schema import StudyCfg
 from graspcampaign.errors import UserInputError
@@ -32,30 +33,39 @@ def ingest_files(study: StudyCfg, paths: list[str], run: str = "measured") -> tu
         raise UserInputError(f"study {study.name!r} has no measured records to ingest "
                              "(only hardware protocols do).")
     for path in paths:
+        if Path(path).is_dir():
+            raise UserInputError(f"{path} is a directory, not a file of measured records.")
         if not Path(path).is_file():
             raise UserInputError(f"{path}: no such file.")
+    check_root(study.output.root, "output.root", write=True)
     params = kind_params(study, kind)
     store = RunStore(run_path(study, run))
-    stored = store.read().to_pandas() if store.exists() else None
+    manifest = store.check(["records"])  # a run that is not what its manifest says: refused
+    if manifest is not None and manifest["source"] != "measured":
+        raise UserInputError(
+            f"run {study.name}/{run} at {store.path} holds {manifest['source']} records (from "
+            "`graspcampaign run`); measured records are stored in a run of their own, so choose "
+            "another run name (--run NAME; default measured).")
+    stored = store.read().to_pandas() if manifest is not None else None
     rows = kind.ingest(study, params, paths, stored)
     stored_ids = set() if stored is None or "trial_id" not in stored else set(stored["trial_id"])
     clash = sorted({r["trial_id"] for r in rows} & stored_ids)
     if clash:
         raise UserInputError(f"trial {clash[0]!r} is already stored in {store.path}; measured "
                              f"records are never overwritten ({len(clash)} such trials).")
-    manifest = provenance.read_manifest(store.manifest_path)
     if manifest is None:
         manifest = provenance.new_manifest(study, run, len(study_trials(study, kind, params)),
                                            "measured")
     for row in rows:
         row.setdefault("source", "measured")
         row.setdefault("status", "ok")
-        row.setdefault("study", study.name)
-        row.setdefault("run", run)
+        row["study"], row["run"] = study.name, run  # the records of this run, whatever the file says
+    chash = provenance.config_hash(study)
     store.write_shard("records", content_hash(sorted(r["trial_id"] for r in rows)), rows,
-                      strings=ERROR_COLUMNS)
+                      metadata=config_metadata(chash), strings=ERROR_COLUMNS)
     manifest["sessions"].append({"ingested": [str(p) for p in paths], "rows": len(rows),
-                                 "at": provenance.now_utc()})
+                                 "at": provenance.now_utc(), "config_hash": chash})
+    manifest["n_recorded"] = len(stored_ids) + len(rows)
     provenance.write_manifest(store.manifest_path, manifest)
     return len(rows), store.path
 

@@ -17,6 +17,7 @@ from typing import Any
 import graspcampaign
 from graspcampaign.campaign.grid import content_hash
 from graspcampaign.campaign.schema import StudyCfg
+from graspcampaign.errors import DamagedRunError
 
 _PACKAGES = ("numpy", "scipy", "trimesh", "pandas", "pyarrow", "joblib", "hydra-core",
              "omegaconf", "statsmodels", "matplotlib", "dask", "distributed", "scikit-learn")
@@ -90,10 +91,82 @@ def new_manifest(study: StudyCfg, run: str, n_trials: int, source: str) -> dict[
     }
 
 
+#: The manifest's fields every command relies on, and what each must hold.
+_COUNT = "a whole number of trials"
+_FIELDS: dict[str, tuple[tuple[type, ...], str]] = {
+    "study": ((str,), "a name"), "run": ((str,), "a name"), "kind": ((str,), "a trial kind"),
+    "source": ((str,), "a data source"), "n_trials": ((int,), _COUNT),
+    "config_hash": ((str,), "a hash"), "code_version": ((str,), "a version"),
+    "started_at": ((str,), "a time"), "finished_at": ((str, type(None)), "a time or null"),
+    "sessions": ((list,), "a list of sessions"), "config": ((dict,), "the resolved config"),
+}
+_OPTIONAL = {"n_recorded": ((int,), _COUNT)}
+
+
 def read_manifest(path: Path) -> dict[str, Any] | None:
-    if not path.exists():
+    """Return a run's manifest, or None if the run has none.
+
+    Raises
+    ------
+    DamagedRunError
+        A manifest that cannot be read or is not what the tool writes (not JSON, not an object, a
+        field missing or of the wrong type), in one sentence naming the file and what to do: the
+        run's records cannot be checked or used without it.
+    """
+    if not (path.exists() or path.is_symlink()):
         return None
-    return json.loads(path.read_text())
+    why = None
+    try:
+        text = path.read_bytes().decode("utf-8")
+    except IsADirectoryError:
+        why = "it is a directory, not a file"
+    except OSError as exc:
+        why = f"it cannot be read: {exc.strerror or type(exc).__name__}"
+    except UnicodeDecodeError as exc:
+        why = f"not UTF-8 text: byte {exc.start} is 0x{exc.object[exc.start]:02x}"
+    if why is None:
+        try:
+            manifest = json.loads(text) if text.strip() else None
+        except json.JSONDecodeError as exc:
+            why = f"not valid JSON: {exc.msg} (line {exc.lineno}, column {exc.colno})"
+        else:
+            why = _manifest_problem(manifest) if text.strip() else "it is empty"
+    if why is not None:
+        raise manifest_error(path, why)
+    return manifest
+
+
+def _manifest_problem(manifest: Any) -> str | None:
+    """What is wrong with a parsed manifest, or None."""
+    if not isinstance(manifest, dict):
+        return f"it holds a JSON {_json_type(manifest)}, not an object of the run's fields"
+    for key, (types, what) in [*_FIELDS.items(), *((k, v) for k, v in _OPTIONAL.items()
+                                                     if k in manifest)]:
+        if key not in manifest:
+            return f"it has no {key} field"
+        value = manifest[key]
+        if not isinstance(value, types) or isinstance(value, bool) or (
+                types == (int,) and value < 0):
+            shown = json.dumps(value)
+            return f"{key} is {shown if len(shown) <= 40 else shown[:37] + '...'}, not {what}"
+    if not all(isinstance(s, dict) for s in manifest["sessions"]):
+        return "sessions holds an entry that is not an object"
+    return None
+
+
+def _json_type(value: Any) -> str:
+    return {list: "list", str: "string", int: "number", float: "number", bool: "boolean",
+            type(None): "null"}.get(type(value), type(value).__name__)
+
+
+def manifest_error(path: Path, why: str) -> DamagedRunError:
+    """The one sentence for a run whose manifest cannot be used."""
+    run_path = path.parent
+    return DamagedRunError(
+        f"run {run_path.parent.name}/{run_path.name} at {run_path} has a damaged manifest.json "
+        f"({why}); its records cannot be checked without it, so restore the file from a backup "
+        "or move the run directory aside and run the study again.",
+        f"has a damaged manifest.json ({why})")
 
 
 def write_manifest(path: Path, manifest: dict[str, Any]) -> None:

@@ -8,7 +8,7 @@ Layout of ``<root>/<study>/<run>/``::
     prepared/...                      shared preparations (e.g. PSO identifications), same scheme
     tables/<name>/part-<task>.parquet per-step traces keyed by trial_id, named after their task
     summary/<name>/part-final.parquet study-level tables computed once every trial is recorded
-    quarantine/                       damaged files moved aside (their trials re-run)
+    quarantine/                       files moved aside by a repair (their trials re-run)
 
 A shard is written to a hidden temporary name (``.part-….parquet.tmp``, skipped by every reader)
 and renamed into place, so a reader never sees half a file and a run killed at any moment loses
@@ -21,12 +21,15 @@ with valid checksums.
 A file that names other files in its metadata (``graspcampaign.sources``) supersedes them: a
 compacted file lists its source shards, a rewritten file the file it replaces. A superseded file
 still present after a crash between "write the new file" and "delete the old ones" is ignored and
-removed, so no trial is ever read twice.
+removed, so no trial is ever read twice. A records file also names the configs of the sessions
+that wrote it (``graspcampaign.config_hashes``), so a shard of another config is recognised.
 
 Reading never changes a run: a damaged file raises :class:`~graspcampaign.errors.DamagedRunError`
-naming the run and the file. Only :meth:`RunStore.repair` (called by the runner when a run starts
-or resumes) moves damaged files to ``quarantine/`` and makes the rest consistent, so that exactly
-the damaged file's trials run again.
+naming the run and the file. Whether the run as a whole is what its manifest says (its layout, no
+file that is not a shard, no foreign or duplicate records, none missing) is
+:meth:`RunStore.check`; only :meth:`RunStore.repair` (called by the runner when a run starts or
+resumes) moves files to ``quarantine/`` and makes the rest consistent, so that exactly the
+trials no longer recorded run again (both in :mod:`graspcampaign.campaign.integrity`).
 """
 
 from __future__ import annotations
@@ -49,11 +52,19 @@ from graspcampaign.errors import DamagedRunError
 log = logging.getLogger(__name__)
 
 _SOURCES_KEY = b"graspcampaign.sources"
+#: Metadata of a records file: the config hashes of the sessions that wrote its rows (a shard of
+#: another config is not the run's, campaign.integrity), kept through compactions and rewrites.
+CONFIG_KEY = b"graspcampaign.config_hashes"
 # What pyarrow raises for a file it cannot read (bad footer, bad page, failed checksum, bad codec).
 _READ_ERRORS = (pa.ArrowException, OSError, ValueError, EOFError)
 # Files that passed full verification, keyed by (path, size, mtime): a file is read in full once
 # per process however often it is listed.
 _VERIFIED: set[tuple[str, int, int]] = set()
+
+
+def config_metadata(config_hash: str) -> dict[str, str]:
+    """Metadata of a records shard written by a session of config ``config_hash``."""
+    return {CONFIG_KEY.decode(): json.dumps([config_hash])}
 
 
 def table_from_rows(rows: list[dict[str, Any]], metadata: dict[str, str] | None = None,
@@ -206,23 +217,26 @@ class RunStore:
                 raise self._damage_error(*bad[0])
 
     def _damage_error(self, path: Path, reason: str) -> DamagedRunError:
-        from graspcampaign.campaign.provenance import read_manifest
+        from graspcampaign.campaign.integrity import Problem, refusal
 
-        study, run, root = self.path.parent.name, self.path.name, self.path.parent.parent
         rel = path.relative_to(self.path).as_posix()
-        try:
-            source = (read_manifest(self.manifest_path) or {}).get("source")
-        except (OSError, ValueError):
-            source = None
-        if source == "measured":
-            advice = ("move it out of the run directory and ingest the file that held its "
-                      "records again")
-        else:
-            where = "" if root == Path("results") else f" --root {root}"
-            advice = (f"resume the run (graspcampaign run {study} --run {run}{where}) to "
-                      "quarantine the file and run its trials again")
-        return DamagedRunError(f"run {study}/{run} at {self.path} has a damaged file {rel} "
-                               f"({reason}); {advice}.")
+        return refusal(self, [Problem(path, f"a damaged file {rel} ({reason})", "quarantine",
+                                      rel.rsplit("/", 1)[0], reason)])
+
+    def check(self, parts: list[str] | None = None) -> dict | None:
+        """Return the run's manifest after checking the run is what it says (None: no run).
+
+        Layout, every file of ``parts`` (default all) verified in full, records of this run and
+        config only, no trial twice, none missing (:mod:`graspcampaign.campaign.integrity`).
+
+        Raises
+        ------
+        DamagedRunError
+            Naming the run, the first offending file and what to do; nothing is changed.
+        """
+        from graspcampaign.campaign.integrity import check_run
+
+        return check_run(self, parts)
 
     # -- reading --------------------------------------------------------------------------------
     def _verified_files(self, part: str) -> list[Path]:
@@ -295,64 +309,24 @@ class RunStore:
         for part in self._parts(summaries=False):
             live, unreadable = self._listing(part)
             keep = {p.name for p in live} | {p.name for p, _ in unreadable}
-            for path in self._dir(part).glob("*.parquet"):
-                if path.name not in keep:
-                    path.unlink(missing_ok=True)
+            # only shards a compaction or rewrite superseded: any other file is quarantined
+            for pattern in ("compact-*.parquet", "part-*.parquet"):
+                for path in self._dir(part).glob(pattern):
+                    if path.name not in keep and path.is_file():
+                        path.unlink(missing_ok=True)
 
-    def repair(self) -> list[tuple[Path, Path, str]]:
-        """Quarantine every damaged file and make the rest of the run consistent.
+    def repair(self, manifest: dict | None = None,
+               config_hash: str | None = None) -> list[tuple[Path, Path, str]]:
+        """Quarantine what makes the run differ from its manifest and make the rest consistent
+        (:func:`graspcampaign.campaign.integrity.repair`); return (file, moved to, reason)."""
+        from graspcampaign.campaign.integrity import repair
 
-        - a damaged records file: moved aside; its trials are no longer recorded, so they run again;
-        - a damaged trace file (``tables/``): moved aside, and the records of the trials it held are
-          dropped so that they run again with their traces;
-        - trace rows of a trial that has no record (its records file was damaged, or a kill landed
-          between writing a task's traces and its records) are dropped;
-        - a damaged preparation is recomputed; a damaged summary table is recomputed once every
-          trial is recorded.
+        return repair(self, manifest, config_hash)
 
-        Returns
-        -------
-        list of (file, quarantined as, reason)
-
-        Raises
-        ------
-        DamagedRunError
-            If the trials of a damaged trace file cannot be identified.
-        """
-        moved = []
-        lost: set[str] = set()
-        for part in self._parts():
-            for path, reason in self.damaged(part):
-                if part.startswith("tables/"):
-                    lost |= self._trials_of_damaged_trace(path, reason)
-                if part.startswith("summary/"):
-                    (self.path / "summary" / "complete.json").unlink(missing_ok=True)
-                moved.append((path, self._quarantine(path, reason), reason))
-        if not moved and not self._dir("tables").is_dir():
-            return moved
-        if lost:
-            self._drop_rows("records", lost)
-        recorded = self.recorded_ids()
-        for part in self._parts(summaries=False):
-            if part.startswith("tables/"):
-                self._keep_rows(part, recorded)
-        return moved
-
-    def _trials_of_damaged_trace(self, path: Path, reason: str) -> set[str]:
-        """The trials whose traces a damaged trace file held."""
-        try:  # the key pages are usually intact when a value page is not
-            ids = pq.read_table(path, columns=["trial_id"], page_checksum_verification=True)
-            return set(ids.column("trial_id").to_pylist())
-        except _READ_ERRORS:
-            pass
-        twin = self._dir("records") / path.name  # a task's traces and records share its name
-        if twin.exists() and verify_file(twin) is None:
-            return set(pq.read_table(twin, columns=["trial_id"]).column("trial_id").to_pylist())
-        raise self._damage_error(path, f"{reason}; its trials cannot be identified, so start a "
-                                       "new run")
-
-    def _quarantine(self, path: Path, reason: str) -> Path:
-        """Move ``path`` to ``quarantine/``, never over an earlier quarantined file."""
+    def _quarantine(self, path: Path, reason: str, what: str = "damaged file",
+                    then: str = "its trials will run again") -> Path:
+        """Move ``path`` to ``quarantine/``, never over an earlier quarantined file, and warn:
+        "<what> <path> moved to <target> (<reason>); <then>"."""
         directory = self._dir("quarantine")
         directory.mkdir(parents=True, exist_ok=True)
         stem = path.relative_to(self.path).as_posix().replace("/", "__")
@@ -362,8 +336,7 @@ class RunStore:
             target = directory / (f"{base}~{k}.{suffix}" if dot else f"{stem}~{k}")
             k += 1
         shutil.move(str(path), target)
-        warnings.warn(f"damaged file {path} moved to {target} ({reason}); its trials will run "
-                      "again", stacklevel=3)
+        warnings.warn(f"{what} {path} moved to {target} ({reason}); {then}", stacklevel=3)
         log.warning("quarantined %s as %s: %s", path, target, reason)
         return target
 
@@ -371,10 +344,13 @@ class RunStore:
         """Replace ``path`` by ``table`` crash-safely: the new file supersedes the old one and
         whatever the old one superseded, so no crash in between can make a row count twice."""
         if table.num_rows:
-            raw = (pq.read_schema(path).metadata or {}).get(_SOURCES_KEY)
+            meta = pq.read_schema(path).metadata or {}
+            raw = meta.get(_SOURCES_KEY)
             sources = [path.name, *(json.loads(raw) if raw else [])]
             name = f"compact-{content_hash([path.name, tag])}.parquet"
-            table = table.replace_schema_metadata({_SOURCES_KEY: json.dumps(sources).encode()})
+            table = table.replace_schema_metadata(
+                {_SOURCES_KEY: json.dumps(sources).encode(),
+                 **({CONFIG_KEY: meta[CONFIG_KEY]} if CONFIG_KEY in meta else {})})
             _write_atomic(table, path.parent / name)
         path.unlink(missing_ok=True)
 
@@ -424,11 +400,15 @@ class RunStore:
                 raise self._damage_error(path, _reason(exc)) from None
         schema = pa.unify_schemas([t.schema.remove_metadata() for t in tables],
                                   promote_options="permissive")
+        configs = sorted({h for t in tables for h in json.loads(
+            (t.schema.metadata or {}).get(CONFIG_KEY) or b"[]")})
         merged = pa.concat_tables(
             [t.replace_schema_metadata(None) for t in tables], promote_options="permissive"
         ).cast(schema)
         names = sorted(p.name for p in parts)
-        merged = merged.replace_schema_metadata({_SOURCES_KEY: json.dumps(names).encode()})
+        merged = merged.replace_schema_metadata(
+            {_SOURCES_KEY: json.dumps(names).encode(),
+             **({CONFIG_KEY: json.dumps(configs).encode()} if configs else {})})
         _write_atomic(merged, directory / f"compact-{content_hash(names)}.parquet")
         for path in parts:
             path.unlink(missing_ok=True)

@@ -15,6 +15,7 @@ import socket
 import sys
 import time
 import traceback
+import warnings
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -24,8 +25,10 @@ from omegaconf import OmegaConf
 
 from graspcampaign.campaign import provenance
 from graspcampaign.campaign.grid import Trial, content_hash, expand
+from graspcampaign.campaign.integrity import check_run, expected_records
 from graspcampaign.campaign.kind import TrialInput, TrialKind, get_kind
-from graspcampaign.campaign.records import RunStore
+from graspcampaign.campaign.paths import check_root
+from graspcampaign.campaign.records import RunStore, config_metadata
 from graspcampaign.campaign.schema import StudyCfg, check_config, check_design_rows
 from graspcampaign.campaign.studyfile import run_dir
 from graspcampaign.errors import ConfigError, UserInputError
@@ -69,7 +72,7 @@ def run_path(study: StudyCfg, run: str | None = None) -> Path:
         A run name that is not one plain path component (``../elsewhere``): runs stay inside the
         results root.
     """
-    if run:
+    if run is not None:  # an empty name is refused, never the default run
         return run_dir(study.output.root, study.name, run)
     return run_dir(study.output.root, study.name, study.output.run, "output.run")
 
@@ -225,22 +228,6 @@ def _connect(client_type: type, address: str, timeout_s: float):
         ) from None
 
 
-def _preflight(study: StudyCfg) -> None:
-    """Check the backend before anything is written: Dask importable, its scheduler answering."""
-    if study.runner.backend != "dask":
-        return
-    try:
-        import distributed  # noqa: F401
-    except ImportError:
-        raise UserInputError(
-            "runner.backend=dask needs the dask extra: pip install 'graspcampaign[dask]'."
-        ) from None
-    if study.runner.address:
-        from graspcampaign.campaign.scheduler import check_scheduler
-
-        check_scheduler(study.runner.address, study.runner.connect_timeout_s)
-
-
 def _chunks(items: list, size: int) -> Iterator[list]:
     for i in range(0, len(items), size):
         yield items[i : i + size]
@@ -336,39 +323,61 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
               fail_fast: bool = False, progress: bool | None = None) -> RunSummary:
     """Run every trial of ``study`` not yet recorded in its run directory.
 
+    Nothing is written before the run can start: the results root, the run's manifest and the
+    layout of its files are checked, and the backend is up (a Dask scheduler answered), first.
+    Then what makes the run differ from its manifest is quarantined (``campaign.integrity``)
+    and the trials not recorded run.
+
     Raises
     ------
     StudyNotRunnableError
         If the study's trial kind is not implemented (nothing is written).
     DriftError
         If the run exists with a different resolved config or code version.
+    DamagedRunError
+        If the run cannot be repaired safely (a damaged or missing manifest, a file in place of
+        the run directory); nothing is written.
     """
+    check_root(study.output.root, "output.root", write=True)
     kind = get_kind(study.kind)
     params = kind_params(study, kind)
-    run = run or study.output.run
+    run = study.output.run if run is None else run
     trials = study_trials(study, kind, params)
     path = run_path(study, run)
     store = RunStore(path)
-    manifest = provenance.read_manifest(store.manifest_path)
+    manifest = check_run(store, repairable=True)
     if manifest is not None:
+        if manifest["source"] == "measured":
+            raise UserInputError(
+                f"run {study.name}/{run} at {path} holds measured records (ingested); `run` "
+                "never adds simulated or virtual trials to them, so choose another run name "
+                "(--run NAME).")
         _check_drift(manifest, study, allow_drift, path)
-    else:
-        manifest = provenance.new_manifest(study, run, len(trials), kind.source)
+    chash = provenance.config_hash(study)
     session = {"started_at": provenance.now_utc(), "host": socket.gethostname(),
                "backend": study.runner.backend, "n_jobs": study.runner.n_jobs,
-               "config_hash": provenance.config_hash(study)}
-    _preflight(study)  # a Dask scheduler that does not answer changes nothing stored
-    store.clean()
-    store.repair()  # a damaged file is quarantined before anything in it counts as recorded
-    provenance.write_manifest(store.manifest_path, manifest)
-
-    t0 = time.perf_counter()
-    done = store.recorded_ids()
-    pending = [t for t in trials if t.trial_id not in done]
-    summary = RunSummary(study.name, run, path, len(trials), n_already=len(trials) - len(pending))
+               "config_hash": chash, "finished_at": None}
     show = study.runner.progress if progress is None else progress
+    t0 = time.perf_counter()
 
-    with _executor(study) as map_unordered:
+    with _executor(study) as map_unordered:  # refused (no scheduler): nothing written yet
+        expected = expected_records(manifest) if manifest is not None else 0
+        manifest = manifest or provenance.new_manifest(study, run, len(trials), kind.source)
+        # a file that differs from the manifest is moved aside before anything in it counts as
+        # recorded; only then are superseded shards removed (a foreign file supersedes nothing)
+        moved = store.repair(manifest, chash)
+        store.clean()
+        done = store.recorded_ids()
+        if len(done) < expected and not moved:  # what was moved aside said so itself
+            warnings.warn(f"run {study.name}/{run} at {path}: its manifest counts {expected} "
+                          f"recorded trials but {len(done)} are stored; the missing ones run "
+                          "again", stacklevel=2)
+        manifest["sessions"].append(session)
+        manifest["n_recorded"] = len(done)
+        provenance.write_manifest(store.manifest_path, manifest)
+
+        pending = [t for t in trials if t.trial_id not in done]
+        summary = RunSummary(study.name, run, path, len(trials), n_already=len(trials) - len(pending))
         prepared = _prepare_bodies(kind, study, params, pending, store, map_unordered, summary)
         size = task_size(study, kind, len(pending))
         tasks = [
@@ -386,7 +395,8 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
                 for table_name, table_rows in tables.items():
                     if table_rows:
                         store.write_shard(f"tables/{table_name}", name, table_rows)
-                store.write_shard("records", name, rows, strings=ERROR_COLUMNS)
+                store.write_shard("records", name, rows, metadata=config_metadata(chash),
+                                  strings=ERROR_COLUMNS)
                 n_err = sum(r["status"] == "error" for r in rows)
                 summary.n_ran += len(rows)
                 summary.n_error += n_err
@@ -407,7 +417,7 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
     store.compact_all()
     summary.wall_time_s = time.perf_counter() - t0
     session.update(finished_at=provenance.now_utc(), ran=summary.n_ran, errors=summary.n_error)
-    manifest["sessions"].append(session)
+    manifest["n_recorded"] = len(done) + summary.n_ran
     if complete:
         manifest["finished_at"] = session["finished_at"]
     provenance.write_manifest(store.manifest_path, manifest)

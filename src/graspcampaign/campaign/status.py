@@ -12,7 +12,7 @@ from typing import Any
 
 from graspcampaign.campaign.catalog import design_size, kind_facts
 from graspcampaign.campaign.kind import KINDS, kind_available
-from graspcampaign.campaign.provenance import read_manifest
+from graspcampaign.campaign.paths import check_root
 from graspcampaign.campaign.schema import StudyCfg, design_shape
 from graspcampaign.campaign.studyfile import check_name, list_studies, run_dir
 from graspcampaign.errors import UserInputError
@@ -32,7 +32,7 @@ def study_size(study: StudyCfg) -> int:
 
 
 def _run_dir(study: StudyCfg, run: str | None) -> Path:
-    if run:
+    if run is not None:  # an empty name is refused, never the default run
         return run_dir(study.output.root, study.name, run)
     return run_dir(study.output.root, study.name, study.output.run, "output.run")
 
@@ -44,15 +44,19 @@ def recorded_in(study: StudyCfg, run: str | None = None) -> int:
     full grid holds 2700 records, but ``mu=[0.3] seeds=2`` asks about 120 of them.
     """
     path = _run_dir(study, run)
-    manifest = read_manifest(path / "manifest.json")
+    if not (path.exists() or path.is_symlink()):
+        return 0
+    from graspcampaign.campaign.records import RunStore
+
+    store = RunStore(path)
+    manifest = store.check(["records"])  # a run that is not what its manifest says: refused
     if manifest is None:
         return 0
     from graspcampaign.campaign.kind import get_kind
     from graspcampaign.campaign.provenance import config_hash
-    from graspcampaign.campaign.records import RunStore
     from graspcampaign.campaign.runner import kind_params, study_trials
 
-    recorded = RunStore(path).recorded_ids()
+    recorded = store.recorded_ids()
     if not recorded:
         return 0
     # every session of the run had this very config: its records are all of this design (this
@@ -120,6 +124,7 @@ def run_status(root: Path | str, study: str, run: str = "default") -> dict[str, 
     UserInputError
         No such run; for a study that is neither known nor in ``root``, the available studies.
     """
+    check_root(root)
     check_name(run, "--run")
     check_name(study, "study")
     if not (Path(root) / study).is_dir() and study not in list_studies():
@@ -129,7 +134,7 @@ def run_status(root: Path | str, study: str, run: str = "default") -> dict[str, 
     from graspcampaign.campaign.records import RunStore
 
     store = RunStore(run_dir(root, study, run))
-    manifest = read_manifest(store.manifest_path)
+    manifest = store.check(["records"])  # a run that is not what its manifest says: refused
     if manifest is None:
         raise UserInputError(f"no run at {store.path}; run `graspcampaign run {study}` first.")
     table = store.read(columns=["status"])

@@ -161,6 +161,8 @@ def find_study(study: str) -> Path:
     """
     if is_path_argument(study):
         path = Path(study).expanduser()
+        if path.is_dir():
+            raise ConfigError(f"study file {study} is a directory, not a file.")
         if not path.is_file():
             raise ConfigError(f"study file {study} does not exist.")
         if path.suffix not in _SUFFIXES:

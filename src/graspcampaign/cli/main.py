@@ -37,8 +37,17 @@ Overrides = Annotated[
     typer.Argument(help="Hydra overrides, e.g. mu=[0.3] seeds=2 runner.n_jobs=2.", show_default=False),
 ]
 RunOpt = Annotated[str | None, typer.Option("--run", help="Run name (default: the study's output.run).")]
+
+
+def _path_or_empty(value: str) -> Path | str:
+    """A path option's value, ``""`` kept as given (as a Path it would read as "."), so that an
+    empty ``--root`` is refused instead of meaning the current directory."""
+    return Path(value) if value else value
+
+
 RootOpt = Annotated[Path | None, typer.Option("--root", help="Results root (default: output.root, "
-                                                             "i.e. results).")]
+                                                             "i.e. results).",
+                                              parser=_path_or_empty, metavar="path")]
 
 # ValueErrors from the core and rig layers that mean bad input (a mesh, an ingested file).
 _INPUT_ERRORS = {"MeshError", "IngestError"}
@@ -98,6 +107,14 @@ def _configure(cfg, root: Path | None):
     if root is not None:
         cfg.output.root = str(root)
     return cfg
+
+
+def _check_root(root: Path | None, write: bool = False) -> None:
+    """Refuse a bad ``--root`` (empty, a file, unwritable when ``write``) before any work."""
+    if root is not None:
+        from graspcampaign.campaign.paths import check_root
+
+        check_root(root, "--root", write=write)
 
 
 def _compose(study: str, overrides: list[str] | None, root: Path | None = None):
@@ -169,6 +186,7 @@ def show(study: StudyArg, overrides: Overrides = None, run: RunOpt = None,
     """Print a study's design, factor levels, trial count, progress and estimated time."""
     from graspcampaign.campaign.status import design_text
 
+    _check_root(root)
     typer.echo(design_text(_compose(study, overrides, root), run))
 
 
@@ -186,6 +204,7 @@ def run_cmd(
     """Run a study (resuming a run that already has records)."""
     from graspcampaign.campaign.runner import run_path, run_study
 
+    _check_root(root, write=True)
     cfg = _compose(study, overrides, root)
     path = run_path(cfg, run)
     try:
@@ -218,8 +237,9 @@ def reproduce(
     from graspcampaign.campaign.runner import run_path, run_study
     from graspcampaign.report.build import build_reports
 
+    _check_root(root, write=True)
     if times is not None:  # checked before the first study runs, not after it
-        _writable_stem(times, "--times")
+        _writable_stem(times, "--times", "a file such as", "reproduce_times.txt")
         times.parent.mkdir(parents=True, exist_ok=True)
 
     def timed(step: str, start: float) -> None:
@@ -270,13 +290,14 @@ def status(
     study: Annotated[str, typer.Argument(help="Study name.", show_default=False)],
     run: RunOpt = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
-    root: Annotated[Path, typer.Option(help="Results root.")] = Path("results"),
+    root: Annotated[Path, typer.Option(help="Results root.", parser=_path_or_empty,
+                                       metavar="path")] = Path("results"),
 ) -> None:
     """Summarise a run from its records only (never runs anything)."""
     from graspcampaign.campaign.status import run_status
     from graspcampaign.campaign.studyfile import configured_run
 
-    info = run_status(root, study, run or configured_run(study))
+    info = run_status(root, study, configured_run(study) if run is None else run)
     if as_json:
         typer.echo(json.dumps(info, indent=2, default=str))
         return
@@ -290,7 +311,8 @@ def report(
     studies: Annotated[list[str] | None, typer.Argument(
         help="Studies (default: every run of every study under the root).")] = None,
     run: RunOpt = None,
-    root: Annotated[Path, typer.Option(help="Results root.")] = Path("results"),
+    root: Annotated[Path, typer.Option(help="Results root.", parser=_path_or_empty,
+                                       metavar="path")] = Path("results"),
     fmt: Annotated[str, typer.Option("--format", help="Comma-separated: md,csv,json,html.")] = "md,csv",
     figure_format: Annotated[str, typer.Option("--figure-format", help="png, svg or pdf.")] = "png",
     jobs: Annotated[int, typer.Option(
@@ -307,15 +329,10 @@ def report(
         check_name(run, "--run")
     if jobs == 0 or jobs < -1:
         _fail(f"--jobs {jobs}: give a number of processes (1 or more), or -1 for one per core.")
-    runs = [(None, run)] if not studies else [([s], run or configured_run(s)) for s in studies]
-    failed = []
-    for names, run_name in runs:
-        batch = build_reports(names, run=run_name, root=root, formats=fmt.split(","),
-                              figure_format=figure_format, n_jobs=1 if _state["debug"] else jobs)
-        for path in batch:
-            typer.echo(f"report: {path}")
-        failed += batch.failed
-    _exit_if_failed(failed)
+    # one batch: every named study and run is checked before any report is written
+    runs = {s: configured_run(s) if run is None else run for s in studies} if studies else run
+    _report_paths(build_reports(studies or None, run=runs, root=root, formats=fmt.split(","),
+                                figure_format=figure_format, n_jobs=1 if _state["debug"] else jobs))
 
 
 def _report_paths(batch) -> None:
@@ -332,15 +349,17 @@ def _exit_if_failed(failed) -> None:
         raise typer.Exit(2 if all(bad for _, _, bad in failed) else 1)
 
 
-def _writable_stem(out: Path, option: str) -> Path:
-    """Check that files ``<out>.<ext>`` can be created (a parent that is a file is bad input)."""
-    for parent in [out.parent, *out.parent.parents]:
-        if parent.exists():
-            if not parent.is_dir():
-                _fail(f"{option} {out}: {parent} is a file, not a directory.")
-            break
-    if out.is_dir():
-        _fail(f"{option} {out} is a directory; give a file stem such as {out / 'schedule'}.")
+def _writable_stem(out: Path, option: str, hint: str = "a file stem such as",
+                   example: str = "schedule") -> Path:
+    """Check that files ``<out>.<ext>`` (or ``out``) can be written, before any work: a directory
+    in its place, a file on its path or a directory that cannot be written is bad input."""
+    from graspcampaign.campaign.paths import path_problem
+
+    why = path_problem(out, write=True, directory=False)
+    if why == "is a directory, not a file":
+        _fail(f"{option} {out} is a directory; give {hint} {out / example}.")
+    if why is not None:
+        _fail(f"{option} {out}: {why}.")
     return out
 
 
@@ -361,6 +380,7 @@ def schedule(
     from graspcampaign.campaign.kind import get_kind
     from graspcampaign.campaign.runner import kind_params
 
+    _check_root(root, write=out is None)
     cfg = _compose(study, overrides, root)
     kind = get_kind(cfg.kind)
     if kind.schedule is None:
@@ -399,6 +419,7 @@ def ingest(
     """Validate measured records and store them as a run with source = measured."""
     from graspcampaign.campaign.ingest import ingest_files
 
+    _check_root(root, write=True)
     cfg = _compose(study, overrides, root)
     n, path = ingest_files(cfg, [str(f) for f in files], run)
     typer.echo(f"{n} measured records stored in {path}")

@@ -4,11 +4,15 @@ from __future__ import annotations
 
 import importlib
 import logging
+import re
+import warnings
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
 import pandas as pd
 
+from graspcampaign.campaign.paths import check_root
 from graspcampaign.campaign.provenance import read_manifest
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.errors import ConfigError, UserInputError
@@ -80,10 +84,7 @@ def _paper(run_paper: dict | None, study: str, notes: list[str]) -> Any:
 
 def report_run(store: RunStore, root: Path, formats: list[str], figure_format: str) -> Path:
     """Write one run's report under ``<run>/report/``; return its main page."""
-    try:
-        manifest = read_manifest(store.manifest_path)
-    except ValueError as exc:
-        raise UserInputError(f"{store.manifest_path} is not valid JSON ({exc}).") from None
+    manifest = store.check()  # never a report of records that are not what the manifest says
     if not manifest:
         raise UserInputError(f"{store.manifest_path} is missing.")
     records, notes = store.read("records").to_pandas(), []
@@ -106,22 +107,39 @@ def report_run(store: RunStore, root: Path, formats: list[str], figure_format: s
     return doc.write(store.path / "report", formats, figure_format)
 
 
-def _runs(root: Path, studies: list[str] | None, run: str | None) -> list[RunStore]:
+def _runs(root: Path, studies: list[str] | None, run: str | Mapping[str, str] | None,
+          ) -> tuple[list[RunStore], list[tuple[str, str, bool]]]:
+    """The runs to report, each checked against its manifest first (``RunStore.check``), and the
+    ``(label, reason, True)`` of those that cannot be read.
+
+    A named study or run (``studies`` or ``run`` given) that is missing or cannot be read raises
+    before anything is written; with neither, every run under ``root`` is looked at and one that
+    cannot be read is a failure while the others are reported.
+    """
     if not root.is_dir():
         raise UserInputError(f"no results directory at {root}; run a study first.")
-    stores = []
-    for name in studies or sorted(p.name for p in root.iterdir() if p.is_dir()):
+    named, stores, failed = bool(studies) or run is not None, [], []
+    for name in dict.fromkeys(studies) if studies else sorted(p.name for p in root.iterdir()
+                                                               if p.is_dir()):
         if studies and not (root / name).is_dir():
             raise UserInputError(f"no records for study {name!r} under {root}; run it first.")
-        for r in [run] if run else sorted(p.name for p in (root / name).iterdir() if p.is_dir()):
+        wanted = run.get(name) if isinstance(run, Mapping) else run
+        for r in [wanted] if wanted is not None else sorted(p.name for p in (root / name).iterdir()
+                                                             if p.is_dir()):
             store = RunStore(root / name / r)
-            if not store.exists():
-                if run:
+            try:  # a damaged file, a foreign or duplicate shard, missing records: never reported
+                manifest = store.check()
+            except UserInputError as exc:
+                if named:
+                    raise
+                failed.append((f"{name}/{r}", reason(exc), True))
+                continue
+            if manifest is None:
+                if wanted is not None:
                     raise UserInputError(f"no run {r!r} of study {name!r} under {root}.")
                 continue
-            store.verify()  # a damaged file: refuse (DamagedRunError, exit 2), never report around it
             stores.append(store)
-    return stores
+    return stores, failed
 
 
 def _report_or_failure(store: RunStore, root: Path, formats: list[str], figure_format: str):
@@ -142,17 +160,22 @@ def _report_in_worker(*args):
     return _report_or_failure(*args)
 
 
-def build_reports(studies: list[str] | None = None, run: str | None = None,
+def build_reports(studies: list[str] | None = None, run: str | Mapping[str, str] | None = None,
                   root: Path | str = "results", formats: list[str] | str | None = None,
                   figure_format: str = "png", n_jobs: int = 1) -> ReportBatch:
     """Write every selected run's report, then the headline page and the index; ``.failed`` of
     the result lists the runs whose report could not be written (the others are written).
 
-    The runs' reports are independent: with ``n_jobs`` other than 1 they are written in that
-    many processes (joblib loky; -1: one per core), the same files as one by one."""
-    root, formats = Path(root), D.check_formats(formats)
+    ``run``: the run of every study, or ``{study: run}``. Every named study and run is checked
+    before anything is written. The headline and index pages summarise every run under ``root``:
+    they are rewritten only when a report was written and every run they summarise can be read,
+    else left as they were (a warning names the run), so a damaged run never replaces what they
+    said of it. The runs' reports are independent: with ``n_jobs`` other than 1 they are written
+    in that many processes (joblib loky; -1: one per core), the same files as one by one."""
+    root, formats = check_root(root), D.check_formats(formats)
     figure_format, batch = D.check_figure_format(figure_format), ReportBatch()
-    stores = _runs(root, studies, run)
+    stores, unreadable = _runs(root, studies, run)
+    batch.failed += unreadable
     if n_jobs == 1 or len(stores) < 2:
         outcomes = [_report_or_failure(store, root, formats, figure_format) for store in stores]
     else:
@@ -165,28 +188,70 @@ def build_reports(studies: list[str] | None = None, run: str | None = None,
             batch.append(page)
         else:
             batch.failed.append(failure)
-    from graspcampaign.report.headline import write_headline
-
-    write_headline(root, formats)
-    write_index(root, formats)
+    if len(batch):
+        write_root_pages(root, formats)
     return batch
+
+
+def write_root_pages(root: Path, formats: list[str]) -> bool:
+    """Write the headline and index pages, unless a run they summarise cannot be read and the
+    pages as they are show it: then leave both as they were (what they said of the run was
+    computed from it when it could be read), warn naming the run, and return False. A run the
+    pages do not show yet is written with its row marked "the run cannot be read"."""
+    from graspcampaign.report.headline import headline_rows, write_headline
+
+    unreadable: list[tuple[str, str]] = []
+    frame = headline_rows(root, unreadable)
+    index = {page: index_rows(root, page, unreadable) for page in _index_pages(formats)}
+    pages = [root / f"{name}.{ext}" for name in ("headline", "index") for ext in ("csv", "md", "html")]
+    shown = " ".join(p.read_text(errors="replace") for p in pages if p.is_file())
+    unreadable = [(label, why) for label, why in unreadable
+                  if re.search(rf"(?<![\w.-]){re.escape(label)}/report/report\.", shown)]
+    if unreadable:
+        label, why = unreadable[0]
+        more = f" (and {len(unreadable) - 1} more)" if len(unreadable) > 1 else ""
+        warnings.warn(f"the headline and index pages were left as they were: run {label} cannot "
+                      f"be read{more} ({why})", stacklevel=2)
+        return False
+    write_headline(root, formats, frame)
+    for page, rows in index.items():
+        write_index_page(root, page, rows)
+    return True
+
+
+def _index_pages(formats: list[str]) -> list[str]:
+    return [f for f in ("md", "html") if f in formats] or ["md"]
+
+
+def index_rows(root: Path, page: str, unreadable: list[tuple[str, str]] | None = None,
+               ) -> pd.DataFrame:
+    """The index rows: every run's report page (``page``: md or html) with its study, run, source
+    and trial count; a run whose manifest cannot be read is added to ``unreadable``."""
+    rows = []
+    for report in sorted(root.glob(f"*/*/report/report.{page}")):
+        run_dir = report.parent.parent
+        try:
+            m = read_manifest(run_dir / "manifest.json") or {}
+        except UserInputError as exc:
+            if unreadable is not None:
+                unreadable.append((run_dir.relative_to(root).as_posix(), reason(exc)))
+            m = {}
+        rows.append([m.get("study", run_dir.parent.name), m.get("run", run_dir.name),
+                     SOURCE_SHORT.get(m.get("source"), m.get("source")), m.get("n_trials"),
+                     report.with_suffix(".html").relative_to(root).as_posix()])
+    return pd.DataFrame(rows, columns=["study", "run", "source", "trials", "report"])
+
+
+def write_index_page(root: Path, page: str, frame: pd.DataFrame) -> None:
+    """Write ``index.<page>`` (md or html) linking every run's report page and the headline."""
+    Document("Reports", "", [], [
+        Text("Headline success rates beside the paper's Table 1: [Table 1 headline](headline.md)"),
+        Table("index", "Every run's report", frame, [
+            Col("study", "study"), Col("run", "run", link="report"), Col("source", "source"),
+            Col("trials", "trials")], csv=None)]).write_pages(root / "index", [page])
 
 
 def write_index(root: Path, formats: list[str]) -> None:
     """Write ``index.md`` (and ``index.html``) linking every run's report page and the headline."""
-    for page in [f for f in ("md", "html") if f in formats] or ["md"]:
-        rows = []
-        for report in sorted(root.glob(f"*/*/report/report.{page}")):
-            try:
-                m = read_manifest(report.parent.parent / "manifest.json") or {}
-            except (OSError, ValueError):
-                m = {}
-            rows.append([m.get("study"), m.get("run"), SOURCE_SHORT.get(m.get("source"), m.get("source")),
-                         m.get("n_trials"),
-                         report.with_suffix(".html").relative_to(root).as_posix()])
-        frame = pd.DataFrame(rows, columns=["study", "run", "source", "trials", "report"])
-        Document("Reports", "", [], [
-            Text("Headline success rates beside the paper's Table 1: [Table 1 headline](headline.md)"),
-            Table("index", "Every run's report", frame, [
-                Col("study", "study"), Col("run", "run", link="report"), Col("source", "source"),
-                Col("trials", "trials")], csv=None)]).write_pages(root / "index", [page])
+    for page in _index_pages(formats):
+        write_index_page(root, page, index_rows(root, page))

@@ -12,9 +12,8 @@ import pandas as pd
 from graspcampaign.analysis.records import data_source, rate_table
 from graspcampaign.analysis.vocabulary import PROPOSED
 from graspcampaign.campaign.paper import check_paper, study_paper
-from graspcampaign.campaign.provenance import read_manifest
 from graspcampaign.campaign.records import RunStore
-from graspcampaign.errors import ConfigError
+from graspcampaign.errors import ConfigError, DamagedRunError, UserInputError
 from graspcampaign.report import format as fmt
 from graspcampaign.report.document import Col, Document, Table, Text
 from graspcampaign.report.render import reason
@@ -97,8 +96,10 @@ def _row(h: Headline, paper: Any, **extra) -> dict:
     return {**row, **extra}
 
 
-def _run_row(h: Headline, store: RunStore, root: Path) -> dict:
-    manifest = read_manifest(store.manifest_path) or {}
+def _run_row(h: Headline, store: RunStore, root: Path) -> dict | None:
+    manifest = store.check(["records"])  # duplicate, foreign or missing records: not read
+    if manifest is None:  # an empty directory, not a run
+        return None
     config = manifest.get("config") or {}
     try:
         paper = check_paper(h.study, config.get("paper"))
@@ -126,29 +127,43 @@ def _run_row(h: Headline, store: RunStore, root: Path) -> dict:
                 why=mine["rate_why"], ours_baselines=_ranked(others["rate_pct"].to_dict()), **common)
 
 
-def headline_rows(root: Path | str) -> pd.DataFrame:
-    """Return the headline table over every run under ``root`` (one row per entry and run)."""
+def _is_run(path: Path) -> bool:
+    """A directory holding a run (its manifest, or stored files a missing manifest leaves)."""
+    return path.is_dir() and any((path / p).exists() for p in ("manifest.json", "records"))
+
+
+def headline_rows(root: Path | str, unreadable: list[tuple[str, str]] | None = None,
+                  ) -> pd.DataFrame:
+    """Return the headline table over every run under ``root`` (one row per entry and run); a run
+    that cannot be read gets a row saying so and is added to ``unreadable``."""
     root, rows = Path(root), []
     for h in TABLE1:
         study_dir = root / h.study
-        runs = sorted(p for p in study_dir.iterdir() if (p / "manifest.json").exists()) \
-            if study_dir.is_dir() else []
+        runs = sorted(p for p in study_dir.iterdir() if _is_run(p)) if study_dir.is_dir() else []
         rows += [] if runs else [_row(h, study_paper(h.study), why="no records yet")]
         for r in runs:
             try:
-                rows.append(_run_row(h, RunStore(r), root))
+                row = _run_row(h, RunStore(r), root)
+                rows += [] if row is None else [row]
             except Exception as exc:  # noqa: BLE001 - a broken run is named, not fatal
+                if unreadable is not None and isinstance(exc, UserInputError):
+                    label = r.relative_to(root).as_posix()
+                    unreadable += [] if label in dict(unreadable) else [(label, reason(exc))]
+                # what is wrong, not where: the page is the same wherever the root lies
+                what = f"it {exc.what}" if isinstance(exc, DamagedRunError) else reason(exc)
                 rows.append(_row(h, study_paper(h.study), run=r.name,
-                                 why=f"the run cannot be read: {reason(exc)}"))
+                                 why=f"the run cannot be read: {what}"))
     frame = verdicts(pd.DataFrame(rows, columns=ROW), "rate_pct", "paper_pct", "wilson_low_pct",
                      "wilson_high_pct", unit="%")
     frame["verdict"] = [w or v for w, v in zip(frame["why"], frame["verdict"], strict=True)]
     return frame
 
 
-def write_headline(root: Path | str, formats: list[str] | None = None) -> Path:
-    """Write ``headline.csv``, ``headline.md`` (and ``headline.html``); return the md path."""
-    frame = headline_rows(root)
+def write_headline(root: Path | str, formats: list[str] | None = None,
+                   frame: pd.DataFrame | None = None) -> Path:
+    """Write ``headline.csv``, ``headline.md`` (and ``headline.html``) of ``frame`` (default:
+    :func:`headline_rows`); return the md path."""
+    frame = headline_rows(root) if frame is None else frame
     frame.to_csv(Path(root) / "headline.csv", index=False)
     return Document("Headline success rates (paper Table 1)", "", [], [
         Text(INTRO), Table("headline", "Table 1, ours beside the paper", frame, COLUMNS,

@@ -86,14 +86,13 @@ def load_source(root: str, name: str, run: str) -> Source:
     from omegaconf import OmegaConf
 
     from graspcampaign.campaign.kind import get_kind
-    from graspcampaign.campaign.provenance import read_manifest
     from graspcampaign.campaign.records import RunStore
     from graspcampaign.campaign.runner import kind_params, study_trials
     from graspcampaign.campaign.schema import StudyCfg
 
     path = Path(root) / name / run
     store = RunStore(path)
-    manifest = read_manifest(store.manifest_path)
+    manifest = store.check(["records"])  # the source's records as its manifest says
     source = name + ("" if run == "default" else f" --run {run}")
     command = f"graspcampaign run {source}"
     if manifest is None:

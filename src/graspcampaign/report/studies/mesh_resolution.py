@@ -10,6 +10,7 @@ import pandas as pd
 from graspcampaign.analysis.records import Estimate
 from graspcampaign.analysis.vocabulary import OTHER_COLOURS, PROPOSED, colour
 from graspcampaign.campaign.records import RunStore
+from graspcampaign.errors import UserInputError
 from graspcampaign.report import style
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Claims, Figure, Finding, GateRemoved, ReportSpec, Table, Text, Value
@@ -69,18 +70,25 @@ def _n_max(run: Run) -> pd.DataFrame:
 def _cross_check(run: Run) -> str:
     nm = panel_rows(run, "n_max")
     base = Path(run.store.path).parents[1] / "baseline_grid" if run.store and len(nm) else None
-    frames = [RunStore(d).read().to_pandas() for d in sorted(base.iterdir()) if RunStore(d).exists()] \
-        if base is not None and base.is_dir() else []
+    frames, unread = [], []
+    for store in map(RunStore, sorted(base.iterdir()) if base is not None and base.is_dir() else []):
+        try:  # a baseline run that is not what its manifest says is not compared with
+            if store.check(["records"]) is not None:
+                frames.append(store.read().to_pandas())
+        except UserInputError:
+            unread.append(store.path.name)
+    skipped = f" (run {', '.join(unread)} skipped: it cannot be read)" if unread else ""
     if not frames:
-        return "No `baseline_grid` records beside this run: the re-derived trials were not cross-checked " \
-               "against them." if len(nm) else ""
+        return f"No `baseline_grid` records beside this run{skipped}: the re-derived trials were not " \
+               "cross-checked against them." if len(nm) else ""
     base = pd.concat(frames, ignore_index=True)
     merged = nm.merge(base[base["status"] == "ok"], on=["shape", "mass_kg", "mu", "planner", "seed"],
                       suffixes=("", "_baseline"))
     same = (merged["success"].astype(bool) == merged["success_baseline"].astype(bool)).sum()
     close = np.isclose(merged["residual_norm_n"], merged["residual_norm_n_baseline"], rtol=1e-9).sum()
-    return (f"Cross-check against the `baseline_grid` records beside this run: {same} of {len(merged)} "
-            f"re-derived trials have the baseline's verdict and {close} its residual (relative 1e-9).")
+    return (f"Cross-check against the `baseline_grid` records beside this run{skipped}: {same} of "
+            f"{len(merged)} re-derived trials have the baseline's verdict and {close} its residual "
+            "(relative 1e-9).")
 
 
 def finding(run: Run) -> str:

@@ -1,0 +1,339 @@
+"""Whether a run's stored files are what its manifest says: what commands trust, what `run` repairs.
+
+:func:`graspcampaign.campaign.records.verify_file` says one file is intact (every page read, its
+checksums verified). This module says the *run* is what its manifest says, before anything counts
+or reports its records:
+
+- its layout: the run directory, ``records/``, ``prepared/``, ``tables/<name>/`` and
+  ``summary/<name>/`` are directories holding only Parquet shards (``part-*.parquet``,
+  ``compact-*.parquet``; hidden temporary files aside), each intact;
+- every record is the run's own: its ``study`` and ``run`` are the manifest's (or the directory's,
+  for a run moved aside), and the configs its shard was written under (``CONFIG_KEY`` in the
+  shard's metadata) are ones the run ran with;
+- no trial is recorded twice, in one records file or across files, and no trial's traces are in
+  two files of one trace table;
+- no recorded trial went missing: the run stores at least the ``n_recorded`` trials its manifest
+  counted when they were last written.
+
+Reading never changes a run: :func:`check_run` raises :class:`DamagedRunError`, one sentence naming
+the run, the first offending file and what to do. Only :func:`repair`, called by the runner when a
+run starts or resumes, changes it, and it deletes no stored file: a damaged file, a file that is
+not a shard, a shard of another run or config and a duplicate shard are moved to ``quarantine/``,
+and the trials whose records are then missing run again (a duplicate's trials stay recorded in
+the shard it duplicates). What cannot be repaired safely (a file in place of the run directory,
+of ``tables/`` or of ``quarantine/``; a damaged or missing manifest) is refused.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import pyarrow.compute as pc
+import pyarrow.parquet as pq
+
+from graspcampaign.campaign.records import CONFIG_KEY, verify_file
+from graspcampaign.errors import DamagedRunError
+
+#: Names of stored shards; anything else in a part directory (hidden files aside) is not a shard.
+SHARD = re.compile(r"(part|compact)-[^/]+\.parquet")
+_PARTS = ("records", "prepared", "tables", "summary")
+#: What happens to the trials of a file moved aside, by the part it was in.
+_THEN = {"records": "its trials will run again", "tables": "its trials will run again",
+         "prepared": "it is computed again", "summary": "it is computed again"}
+
+
+@dataclass(frozen=True)
+class Problem:
+    """One way a run's stored files differ from what its manifest says.
+
+    ``text`` completes "run S/R at P has ..."; ``reason`` is what the quarantine warning says.
+    ``fix`` is what ``run`` does about it: "quarantine" (move the file aside; trials missing then
+    run again), "duplicate" (move it aside; its trials stay recorded elsewhere), "missing" (run
+    the missing trials again) or "refuse".
+    """
+
+    path: Path
+    text: str
+    fix: str
+    part: str = "records"
+    reason: str = ""
+
+
+def _rel(store, path: Path) -> str:
+    return path.relative_to(store.path).as_posix()
+
+
+def _hidden(path: Path) -> bool:
+    return path.name.startswith((".", "_"))
+
+
+def layout_problems(store) -> list[Problem]:
+    """Files where the run's directories belong, and entries of part directories that are not
+    shards (a renamed or foreign file, a stray directory)."""
+    out = []
+    for name in ("quarantine", *_PARTS):
+        where = store.path / name
+        if where.exists() and not where.is_dir():
+            fix = "refuse" if name in ("quarantine", "tables") else "quarantine"
+            out.append(Problem(where, f"a file {name} where its {name} directory belongs", fix,
+                               name, "a file where a directory belongs"))
+    dirs = [store.path / p for p in ("records", "prepared")]
+    for group in ("tables", "summary"):
+        top = store.path / group
+        for entry in sorted(top.iterdir()) if top.is_dir() else []:
+            if entry.is_dir():
+                dirs.append(entry)
+            elif not _hidden(entry) and not (group == "summary" and entry.name == "complete.json"):
+                out.append(Problem(entry, f"a file {_rel(store, entry)} that is not a directory "
+                                          f"of {group}", "quarantine", group, "not a directory"))
+    for directory in (d for d in dirs if d.is_dir()):
+        for entry in sorted(directory.iterdir()):
+            if not _hidden(entry) and not SHARD.fullmatch(entry.name):
+                out.append(Problem(entry, f"a file {_rel(store, entry)} that is not a Parquet "
+                                          "shard of the run", "quarantine",
+                                   _rel(store, directory), "not a Parquet shard of the run"))
+    return out
+
+
+def _ids(path: Path) -> tuple[int, set[str]]:
+    """The row count and the distinct ``trial_id`` values of a verified file (a trace table holds
+    many rows per trial: its ids are made distinct in Arrow, not in Python)."""
+    if "trial_id" not in pq.read_schema(path).names:
+        return 0, set()
+    column = pq.ParquetFile(path).read(columns=["trial_id"]).column("trial_id")
+    return len(column), set(pc.unique(column).to_pylist())
+
+
+def owners(store, manifest: dict | None, config_hash: str | None = None) -> dict[str, set]:
+    """The study and run names and config hashes the run's records may carry."""
+    hashes = {config_hash} if config_hash else set()
+    if manifest:
+        hashes |= {manifest.get("config_hash")} | {s.get("config_hash") for s in
+                                                   manifest.get("sessions") or []}
+    return {"study": {store.path.parent.name, *([manifest["study"]] if manifest else [])},
+            "run": {store.path.name, *([manifest["run"]] if manifest else [])},
+            "config_hash": hashes - {None}}
+
+
+def _foreign(path: Path, allowed: dict[str, set]) -> str | None:
+    """Why the records of ``path`` are not the run's own (another study, run or config), or None."""
+    schema = pq.read_schema(path)
+    names = [c for c in ("study", "run") if c in schema.names]
+    table = pq.ParquetFile(path).read(columns=names) if names else None
+    for column in names:
+        other = sorted(set(table.column(column).to_pylist()) - allowed[column] - {None})
+        if other:
+            return f"records of another {column} ({other[0]})"
+    raw = (schema.metadata or {}).get(CONFIG_KEY)
+    other = sorted(set(json.loads(raw) if raw else []) - allowed["config_hash"])
+    if other and allowed["config_hash"]:
+        return f"records run with another config (hash {other[0]}, not one this run ran with)"
+    return None
+
+
+def file_problems(store, part: str, allowed: dict[str, set]) -> list[Problem]:
+    """Damaged files of ``part``; in records also foreign files and files recording a trial
+    twice; in records and trace tables trials stored in two files (the earlier file is kept:
+    compacted files first, then shards, each by name)."""
+    out = [Problem(path, f"a damaged file {_rel(store, path)} ({why})", "quarantine", part, why)
+           for path, why in store.damaged(part)]
+    if part != "records" and not part.startswith("tables/"):
+        return out
+    bad = {p.path for p in out}
+    seen: dict[str, Path] = {}
+    for path in (p for p in store._listing(part)[0] if p not in bad):
+        rel = _rel(store, path)
+        foreign = _foreign(path, allowed) if part == "records" else None
+        if foreign:
+            out.append(Problem(path, f"a file {rel} holding {foreign}", "quarantine", part, foreign))
+            continue
+        n, unique = _ids(path)
+        if part == "records" and len(unique) < n:
+            why = f"it records {n - len(unique)} trials twice"
+            out.append(Problem(path, f"a file {rel} that records {n - len(unique)} trials twice",
+                               "quarantine", part, why))
+            continue
+        twice = unique & seen.keys()
+        if twice:
+            first = _rel(store, seen[min(twice)])
+            scope = "every trial" if twice == unique else f"{len(twice)} of its {len(unique)} trials"
+            why = f"{scope} also in {first}"
+            out.append(Problem(path, f"a duplicate file {rel} ({why})",
+                               "duplicate" if twice == unique else "quarantine", part, why))
+            continue
+        seen.update(dict.fromkeys(unique, path))
+    return out
+
+
+def expected_records(manifest: dict) -> int:
+    """How many trials the manifest says are stored at least (0 if it cannot tell)."""
+    if "n_recorded" in manifest:
+        return manifest["n_recorded"]
+    # a manifest of an earlier version: a run finished under one config recorded every trial
+    same = all(s.get("config_hash") in (None, manifest["config_hash"]) for s in manifest["sessions"])
+    return manifest["n_trials"] if manifest["finished_at"] and same else 0
+
+
+def problems(store, manifest: dict | None, parts: list[str] | None = None) -> list[Problem]:
+    """Every problem of the run's ``parts`` (default: all), layout first; reads only."""
+    found = [p for p in layout_problems(store)
+             if parts is None or p.fix == "refuse" or p.part in parts]
+    flagged = {p.path for p in found}
+    allowed = owners(store, manifest)
+    for part in (p for p in store._parts() if parts is None or p in parts):
+        found += [p for p in file_problems(store, part, allowed) if p.path not in flagged]
+    # trials missing besides those of a records file named above (they run again with it)
+    if manifest is not None and (parts is None or "records" in parts) and not any(
+            p.part == "records" for p in found):
+        stored = set().union(*(_ids(path)[1] for path in store._listing("records")[0]))
+        want = expected_records(manifest)
+        if len(stored) < want:
+            records = store.path / "records"
+            empty = "" if stored else " (records/ is missing)" if not records.is_dir() else \
+                " (records/ is empty)"
+            found.append(Problem(records, f"missing records: its manifest counts {want} recorded "
+                                          f"trials but {len(stored)} are stored{empty}", "missing"))
+    return found
+
+
+def _advice(store, problem: Problem, source: str | None) -> str:
+    study, run, root = store.path.parent.name, store.path.name, store.path.parent.parent
+    if problem.fix == "refuse":
+        return "move it aside, then resume the run"
+    if source == "measured":
+        if problem.fix == "missing":
+            return ("restore the records from a backup, or move the run directory aside and ingest "
+                    "every file again")
+        if problem.text.startswith("a damaged file records/"):
+            return "move it out of the run directory and ingest the file that held its records again"
+        return "move it out of the run directory"
+    where = "" if root == Path("results") else f" --root {root}"
+    resume = f"resume the run (graspcampaign run {study} --run {run}{where}) to"
+    return {"duplicate": f"{resume} quarantine the duplicate",
+            "missing": f"{resume} run the missing trials again"}.get(
+                problem.fix, f"{resume} quarantine the file and run its trials again")
+
+
+def refusal(store, found: list[Problem], manifest: dict | None = None) -> DamagedRunError:
+    """The one sentence for a run with ``found`` problems: the first named, the others counted."""
+    if manifest is None:
+        try:  # a partial manifest is enough to choose the advice
+            manifest = json.loads(store.manifest_path.read_text())
+        except (OSError, ValueError):
+            manifest = None
+    source = manifest.get("source") if isinstance(manifest, dict) else None
+    n = len(found) - 1
+    more = f" (and {n} more problem{'s' if n > 1 else ''})" if n else ""
+    return DamagedRunError(f"run {store.path.parent.name}/{store.path.name} at {store.path} has "
+                           f"{found[0].text}{more}; {_advice(store, found[0], source)}.",
+                           f"has {found[0].text}{more}")
+
+
+def check_run(store, parts: list[str] | None = None, *, repairable: bool = False) -> dict | None:
+    """Return the run's manifest after checking that the run is what it says; None if no run.
+
+    ``parts``: the parts to check (default all; ``status`` and ``show`` check ``["records"]``).
+    ``repairable``: refuse only what :func:`repair` cannot fix (the runner's check).
+
+    Raises
+    ------
+    DamagedRunError
+        The run cannot be trusted as stored; nothing is changed.
+    """
+    from graspcampaign.campaign.provenance import read_manifest
+
+    label = f"run {store.path.parent.name}/{store.path.name} at {store.path}"
+    if store.path.exists() and not store.path.is_dir():
+        raise DamagedRunError(f"{label} is a file, not a run directory; move it aside or choose "
+                              "another run name (--run NAME).", "is a file, not a run directory")
+    manifest = read_manifest(store.manifest_path)
+    if manifest is None:
+        if any(_holds_files(store.path / p) for p in _PARTS):
+            raise DamagedRunError(
+                f"{label} has stored files but no manifest.json, so what they hold cannot be "
+                "checked; restore the file from a backup, or move the run directory aside and run "
+                "the study again.", "has stored files but no manifest.json")
+        return None
+    found = [p for p in problems(store, manifest, parts) if not repairable or p.fix == "refuse"]
+    if found:
+        raise refusal(store, found, manifest)
+    return manifest
+
+
+def _holds_files(path: Path) -> bool:
+    if path.is_file():
+        return True
+    return path.is_dir() and any(p.is_file() for p in path.rglob("*") if not _hidden(p))
+
+
+def _trials_of_trace(store, path: Path, others: list[Path]) -> set[str]:
+    """The trials whose traces a trace file moved aside held: from its key pages, else from the
+    records file of the same task, else every recorded trial without a row in the table's other
+    files (re-running a trial that had none costs time, never a wrong record)."""
+    try:
+        return set(pq.read_table(path, columns=["trial_id"],
+                                 page_checksum_verification=True).column("trial_id").to_pylist())
+    except Exception:  # noqa: BLE001 - pyarrow raises several types for a damaged or foreign file
+        pass
+    twin = store.path / "records" / path.name  # a task's traces and records share its name
+    if twin.is_file() and SHARD.fullmatch(twin.name) and verify_file(twin) is None:
+        return _ids(twin)[1]
+    return store.recorded_ids() - set().union(*(_ids(other)[1] for other in others))
+
+
+def repair(store, manifest: dict | None = None, config_hash: str | None = None,
+           ) -> list[tuple[Path, Path, str]]:
+    """Quarantine what makes the run differ from its manifest and make the rest consistent.
+
+    - a records file that is damaged, foreign, not a shard or records a trial twice: moved
+      aside; its trials are no longer recorded, so they run again; a duplicate records file:
+      moved aside, its trials stay recorded in the file it duplicates;
+    - the same in a trace table (``tables/``), and the records of the trials it held are dropped
+      so that they run again with their traces (an exact duplicate drops nothing);
+    - trace rows of a trial that has no record are dropped;
+    - a preparation moved aside is recomputed; a summary table once every trial is recorded.
+
+    ``config_hash`` is the config of the session about to run (its shards are the run's own).
+    What :func:`check_run` refuses is left to it (the runner calls it first).
+
+    Returns
+    -------
+    list of (file, quarantined as, reason)
+    """
+    moved: list[tuple[Path, Path, str]] = []
+    lost: set[str] = set()
+    for _ in range(10):  # moving a file aside can make superseded shards live again: look again
+        allowed = owners(store, manifest, config_hash)
+        found = [p for p in layout_problems(store) if p.fix != "refuse"]
+        flagged = {p.path for p in found}
+        for part in store._parts():
+            found += [p for p in file_problems(store, part, allowed) if p.path not in flagged]
+        if not found:
+            break
+        for problem in found:
+            group = problem.part.split("/")[0]
+            if group == "tables" and problem.fix != "duplicate" and problem.part != "tables":
+                others = [p for p in store._listing(problem.part)[0]
+                          if p not in {q.path for q in found}]
+                lost |= _trials_of_trace(store, problem.path, others)
+            if group == "summary":
+                (store.path / "summary" / "complete.json").unlink(missing_ok=True)
+            what = {"duplicate": "duplicate file"}.get(
+                problem.fix, "damaged file" if problem.text.startswith("a damaged") else "file")
+            then = ("its trials stay recorded in " + problem.reason.split(" also in ")[-1]
+                    if problem.fix == "duplicate" else "it held no part of the run"
+                    if problem.part in ("tables", "summary") else _THEN[group])
+            target = store._quarantine(problem.path, problem.reason, what, then)
+            moved.append((problem.path, target, problem.reason))
+    if not moved and not (store.path / "tables").is_dir():
+        return moved
+    if lost:
+        store._drop_rows("records", lost)
+    recorded = store.recorded_ids()
+    for part in store._parts(summaries=False):
+        if part.startswith("tables/"):
+            store._keep_rows(part, recorded)
+    return moved

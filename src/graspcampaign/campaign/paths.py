@@ -1,0 +1,67 @@
+"""Where commands read and write: the results root and output files, checked before any work.
+
+A bad place (an empty name, a file where a directory belongs, a directory where a file belongs, a
+read-only file system) is one sentence naming the option and why, given before anything runs or
+is written. Standard library only: ``show`` and ``status`` answer without the numerical layers.
+"""
+
+from __future__ import annotations
+
+import errno
+import os
+from pathlib import Path
+
+from graspcampaign.errors import UserInputError
+
+
+def path_problem(path: Path, *, write: bool = False, directory: bool = True) -> str | None:
+    """Say why ``path`` cannot serve as a directory (or, ``directory=False``, a file) to read or
+    ``write``, without creating anything; None if it can.
+
+    The nearest existing one of ``path`` and its parents decides: a file where a directory must be
+    ("/x: is a file, not a directory", "/x: /x/a is a file ..."), a directory where a file must
+    be, or (``write``) a directory this process may not write into: a read-only file system or
+    missing permissions (``os.access``, which root passes except on a read-only file system).
+    """
+    for i, where in enumerate([path, *path.parents]):
+        if not (where.exists() or where.is_symlink()):
+            continue
+        if i == 0 and not directory:
+            if where.is_dir():
+                return "is a directory, not a file"
+        elif not where.is_dir():
+            what = "is a file, not a directory" if where.is_file() else "is not a directory"
+            return what if i == 0 else f"{where} {what}"
+        return _write_denied(where) if write else None
+    return None
+
+
+def _write_denied(where: Path) -> str | None:
+    """Why this process cannot write into (or over) ``where``, or None."""
+    if os.access(where, os.W_OK | (os.X_OK if where.is_dir() else 0)):
+        return None
+    try:
+        read_only = bool(os.statvfs(where).f_flag & os.ST_RDONLY)
+    except (OSError, AttributeError):
+        read_only = False
+    return f"cannot write there ({os.strerror(errno.EROFS if read_only else errno.EACCES)})"
+
+
+def check_root(root: str | Path, key: str = "--root", *, write: bool = False) -> Path:
+    """Return the results root ``root`` after checking it can hold (``write``: receive) runs.
+
+    Checked before any work, so that a bad root is one sentence naming it and nothing is written.
+
+    Raises
+    ------
+    UserInputError
+        An empty root (it would mean the current directory), a file in its place or on its path,
+        or (``write``) a directory that cannot be written.
+    """
+    if not str(root).strip():
+        raise UserInputError(f"{key} is empty; give the results directory (for example "
+                             "results): an empty root would mean the current directory.")
+    why = path_problem(Path(root), write=write)
+    if why is not None:
+        raise UserInputError(f"{key} {root}: {why}.")
+    return Path(root)
