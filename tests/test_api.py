@@ -33,6 +33,11 @@ def test_bad_input_raises_the_command_line_sentence(tmp_path):
     with pytest.raises(UserInputError, match=rf"^no run at {tmp_path}/smoke/default; run "
                                              r"`graspcampaign run smoke` first\.$"):
         gc.load_records("smoke", root=tmp_path)
+    # an unknown study is not one to run (as `graspcampaign status nosuch` says)
+    with pytest.raises(UserInputError, match=rf"^unknown study 'nosuch': not on the config search "
+                                             rf"path and no records under {tmp_path}; available "
+                                             r"studies: ablation, baseline_grid, "):
+        gc.load_records("nosuch", root=tmp_path)
 
 
 def test_import_graspcampaign_loads_no_layer():

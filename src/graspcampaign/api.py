@@ -52,13 +52,8 @@ def load_records(study: str, run: str | None = None, *, root: str | Path = "resu
         No such run, a run name leaving ``root``, or a run whose stored files are not what its
         manifest says (``DamagedRunError``: a damaged file, a duplicate or foreign shard).
     """
-    from graspcampaign.campaign.paths import check_root
-    from graspcampaign.campaign.records import RunStore
-    from graspcampaign.campaign.studyfile import configured_run, run_dir
-    from graspcampaign.errors import UserInputError
+    from graspcampaign.campaign.status import open_run
+    from graspcampaign.campaign.studyfile import configured_run
 
-    check_root(root, "root")
-    store = RunStore(run_dir(root, study, configured_run(study) if run is None else run))
-    if store.check(["records"]) is None:  # records that are not what the manifest says: refused
-        raise UserInputError(f"no run at {store.path}; run `graspcampaign run {study}` first.")
+    store, _ = open_run(root, study, configured_run(study) if run is None else run, "root")
     return store.dataset() if dataset else store.read().to_pandas()

@@ -116,15 +116,17 @@ def _paper_text(paper: dict[str, Any], prefix: str = "") -> str:
     return ", ".join(parts)
 
 
-def run_status(root: Path | str, study: str, run: str = "default") -> dict[str, Any]:
-    """Summarise a run from its manifest and records only.
+def open_run(root: Path | str, study: str, run: str, root_option: str = "--root"):
+    """Return ``(RunStore, manifest)`` of a stored run whose records are what its manifest says.
 
     Raises
     ------
     UserInputError
-        No such run; for a study that is neither known nor in ``root``, the available studies.
+        A bad root or run name; a study that is neither known nor in ``root`` (with the available
+        studies); no run there (with the command that makes one); a run whose records are not what
+        its manifest says (``DamagedRunError``).
     """
-    check_root(root)
+    check_root(root, root_option)
     check_name(run, "--run")
     check_name(study, "study")
     if not (Path(root) / study).is_dir() and study not in list_studies():
@@ -137,6 +139,18 @@ def run_status(root: Path | str, study: str, run: str = "default") -> dict[str, 
     manifest = store.check(["records"])  # a run that is not what its manifest says: refused
     if manifest is None:
         raise UserInputError(f"no run at {store.path}; run `graspcampaign run {study}` first.")
+    return store, manifest
+
+
+def run_status(root: Path | str, study: str, run: str = "default") -> dict[str, Any]:
+    """Summarise a run from its manifest and records only.
+
+    Raises
+    ------
+    UserInputError
+        No such run; for a study that is neither known nor in ``root``, the available studies.
+    """
+    store, manifest = open_run(root, study, run)
     table = store.read(columns=["status"])
     statuses = table.column("status").to_pylist() if table.num_rows else []
     return {
