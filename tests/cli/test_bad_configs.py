@@ -77,27 +77,6 @@ def _refused(results: Path, args, message: str, warnings: str = "", seconds: flo
     assert _snapshot(results) == before
 
 
-@pytest.fixture
-def user_dir(tmp_path, monkeypatch):
-    """A directory of the user's own study files on GRASPCAMPAIGN_PATH."""
-    folder = tmp_path / "my_studies"
-    folder.mkdir()
-    monkeypatch.setenv("GRASPCAMPAIGN_PATH", str(folder))
-    return folder
-
-
-@pytest.fixture
-def home(tmp_path, monkeypatch):
-    """A GRASPCAMPAIGN_HOME copy of conf/ and campaigns/ that a test may break."""
-    root = tmp_path / "home"
-    shutil.copytree(PROJECT / "conf", root / "conf")
-    shutil.copytree(CAMPAIGNS, root / "campaigns")
-    monkeypatch.setenv("GRASPCAMPAIGN_HOME", str(root))
-    studyfile.project_dirs.cache_clear()
-    yield root
-    studyfile.project_dirs.cache_clear()
-
-
 # -- 1. a Dask address that accepts connections but is no scheduler -------------------------------
 @contextlib.contextmanager
 def _silent_server():

@@ -9,7 +9,6 @@ config search path (``GRASPCAMPAIGN_PATH``) or are given as paths; broken group 
 from __future__ import annotations
 
 import hashlib
-import shutil
 from pathlib import Path
 
 import pytest
@@ -53,27 +52,6 @@ def _refused(results: Path, args, message: str) -> None:
     assert result.exit_code == 2, result.output
     assert result.stderr == f"error: {message}\n"
     assert _snapshot(results) == before
-
-
-@pytest.fixture
-def user_dir(tmp_path, monkeypatch):
-    """A directory of the user's own study files on GRASPCAMPAIGN_PATH."""
-    folder = tmp_path / "my_studies"
-    folder.mkdir()
-    monkeypatch.setenv("GRASPCAMPAIGN_PATH", str(folder))
-    return folder
-
-
-@pytest.fixture
-def home(tmp_path, monkeypatch):
-    """A GRASPCAMPAIGN_HOME copy of conf/ and campaigns/ whose group files a test may break."""
-    root = tmp_path / "home"
-    shutil.copytree(PROJECT / "conf", root / "conf")
-    shutil.copytree(PROJECT / "campaigns", root / "campaigns")
-    monkeypatch.setenv("GRASPCAMPAIGN_HOME", str(root))
-    studyfile.project_dirs.cache_clear()
-    yield root
-    studyfile.project_dirs.cache_clear()
 
 
 HEADER = "# @package _global_\n# schema: StudyCfg\n"
