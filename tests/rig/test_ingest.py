@@ -159,6 +159,24 @@ def test_an_unknown_column_is_refused_with_the_nearest_name(good, tmp_path):
            r"\(did you mean 'source'\?\), 'operator_notes'" + KNOWN + TEMPLATE)
 
 
+def test_measurements_filled_in_beside_the_commanded_sheet_are_read_as_the_records_alone(good, tmp_path):
+    """The sheet `schedule` writes, with the measured columns added: its own columns are not read."""
+    schedule, rec, _ = good
+    filled = schedule.merge(rec, on="trial_id", validate="one_to_one")
+    assert len(filled) == len(rec) and len(filled.columns) == len(schedule.columns) + len(rec.columns) - 1
+    alone, beside = (validate_records(_file(df, tmp_path / f"{name}.csv", "csv"), schedule)
+                     for name, df in (("alone", rec), ("beside", filled)))
+    pd.testing.assert_frame_equal(beside.set_index("trial_id").sort_index(),
+                                  alone.set_index("trial_id").sort_index())
+
+
+def test_a_long_list_of_unknown_columns_is_cut_short(good, tmp_path):
+    schedule, rec, _ = good
+    bad = rec.assign(**{f"x{i}": 0 for i in range(20)})
+    _check(schedule, bad, tmp_path, r"^bad\.csv, header: columns are not part of the sheet: 'x0', 'x1', "
+           r"'x2', 'x3', 'x4', 'x5', 'x6', 'x7' and 12 more" + KNOWN + TEMPLATE)
+
+
 @pytest.mark.parametrize("kind", ["csv", "xlsx"])
 def test_a_column_given_twice_is_refused(good, tmp_path, kind):
     schedule, rec, _ = good

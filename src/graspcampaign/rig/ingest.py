@@ -50,7 +50,7 @@ from __future__ import annotations
 import logging
 import math
 import re
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -216,11 +216,11 @@ def _as_float(value) -> float | None:
         return None
 
 
-def _check_header(df: pd.DataFrame, schema, label: str) -> None:
+def _check_header(df: pd.DataFrame, schema, label: str, commanded: Collection[str]) -> None:
     columns = [str(c) for c in df.columns]
     problems = header_problems(columns, [s.name for s in schema if not s.optional],
                                {s.name: s.unit for s in schema}, _UNIT_RE,
-                               [s.name for s in schema if s.optional])
+                               [s.name for s in schema if s.optional], commanded)
     if problems:
         raise IngestError(f"{label}, header: {'; '.join(problems)} (`graspcampaign schedule "
                           "<study> --template` writes a sheet with every column).")
@@ -231,7 +231,8 @@ def validate_records(data: pd.DataFrame | str | Path, schedule: pd.DataFrame,
     """Validate measured per-trial records against the schedule and the study's schema.
 
     Checks, in order: file type and readability, at least one row, the header (every schema
-    column present; a known quantity with another unit suffix is reported as wrong units),
+    column present; a known quantity with another unit suffix is reported as wrong units; no
+    column outside the schema but the commanded sheet's own, which are accepted and not read),
     ``trial_id`` present, ``aborted`` a boolean, then per executed row every column's type and
     range (booleans, numbers, allowed strings, required cells non-empty), known trial ids (the
     schedule's, or a re-run ``<slot_id>-a<k>`` of a known slot), no duplicate ``trial_id``, at
@@ -271,7 +272,7 @@ def validate_records(data: pd.DataFrame | str | Path, schedule: pd.DataFrame,
     df.columns = [str(c).strip() for c in df.columns]
     if len(df) == 0:
         raise _fail(label, None, "trial_id", "the file has no data rows")
-    _check_header(df, schema, label)
+    _check_header(df, schema, label, schedule.columns)
 
     n = len(df)
     ids = []

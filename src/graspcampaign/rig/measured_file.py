@@ -11,7 +11,7 @@ from __future__ import annotations
 import csv
 import re
 from collections import Counter
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 from difflib import get_close_matches
 from pathlib import Path
 
@@ -108,7 +108,8 @@ def table_and_label(data: pd.DataFrame | str | Path, file_label: str | None,
 
 
 def header_problems(columns: list[str], required: list[str], units: dict[str, str],
-                    unit_re: re.Pattern, optional: Sequence[str] = ()) -> list[str]:
+                    unit_re: re.Pattern, optional: Sequence[str] = (),
+                    ignored: Collection[str] = ()) -> list[str]:
     """Describe every problem of a header, all at once.
 
     Missing required columns; a missing column whose quantity is present under another unit suffix
@@ -116,6 +117,8 @@ def header_problems(columns: list[str], required: list[str], units: dict[str, st
     a column given twice (pandas reads the second ``x`` of a CSV or XLSX header as ``x.1``); any
     other column the sheet does not have (a misspelt optional column such as ``Source`` would
     otherwise be dropped and its rows stored as measured), with the closest known name.
+    ``ignored`` columns are accepted and not read (the commanded sheet's own columns, when a rig
+    fills in its measurements beside its commands).
 
     Returns
     -------
@@ -123,12 +126,10 @@ def header_problems(columns: list[str], required: list[str], units: dict[str, st
         One phrase per kind of problem; empty when the header is complete.
     """
     known = list(dict.fromkeys([*required, *units, *optional]))
-    counts = Counter(columns)
+    counts = Counter(m[1] if (m := re.fullmatch(r"(.+)\.[0-9]+", c)) and m[1] in columns else c
+                     for c in columns)
     twice = [c for c, k in counts.items() if k > 1]
-    twice += [m[1] for c in counts if (m := re.fullmatch(r"(.+)\.[0-9]+", c)) and m[1] in counts
-              and m[1] not in twice]
-    unknown = [c for c in counts if c not in known and c not in twice
-               and not ((m := re.fullmatch(r"(.+)\.[0-9]+", c)) and m[1] in twice)]
+    unknown = [c for c in counts if c not in known and c not in ignored and c not in twice]
     wrong, missing, explained = [], [], set()
     for name in required:
         if name in counts:
@@ -155,6 +156,7 @@ def header_problems(columns: list[str], required: list[str], units: dict[str, st
             near = [k for k in known if k.lower() == c.lower().strip()] or get_close_matches(
                 c.lower(), known, n=1, cutoff=0.75)
             return f"'{c}'" + (f" (did you mean '{near[0]}'?)" if near else "")
+        more = f" and {len(unknown) - 8} more" if len(unknown) > 8 else ""
         out.append(f"{'a column is' if len(unknown) == 1 else 'columns are'} not part of the sheet: "
-                   f"{', '.join(map(hint, unknown))}; its columns are {', '.join(known)}")
+                   f"{', '.join(map(hint, unknown[:8]))}{more}; its columns are {', '.join(known)}")
     return out
