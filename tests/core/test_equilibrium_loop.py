@@ -3,9 +3,9 @@
 Reference: :func:`graspcampaign.core.equilibrium.algorithm2_numpy`, the numpy loop the evaluator
 ran before the loop was compiled (and still runs for traces); depths and iteration counts must be
 the same bit for bit where numpy's elementary functions round as the C library does (the
-``same_floats`` fixture). Elsewhere the loops that reach a floating-point fixed point agree to 1e-9
-and every verdict is the same; a loop still moving at N_max (an unstable gain) amplifies the ulp
-differences without bound, so only its bit-for-bit comparison means anything.
+``same_floats`` fixture). Elsewhere depths agree to 1e-12 at stable gains, most iteration counts
+agree and every verdict is the same; a loop still moving at N_max under an unstable gain amplifies
+the ulp differences without bound, so there only the settled candidates are compared (``_agree``).
 """
 
 from __future__ import annotations
@@ -33,13 +33,23 @@ def _random_batch(rng, n_batch, params, horizontal=False):
                            rng.uniform(0.05, 0.6, n_batch), k, n, params)
 
 
-def _agree(same_floats, got, want, n_max):
-    """The compiled loop's ``(depths, last_change)`` against numpy's (see the module docstring)."""
+def _agree(same_floats, got, want, n_max, unstable=False):
+    """The compiled loop's ``(depths, last_change)`` against numpy's (see the module docstring).
+
+    Where numpy rounds as libm: bit for bit. Elsewhere every depth to 1e-12 (measured worst
+    9e-14 over 3200 batches at the stable gains) and, where at least 20 candidates settled in both
+    loops, the same last change for at least half of them (measured: 70 % at worst, 95 % overall;
+    an off-by-one in the kernel's count gives ~0 %). Under an unstable gain only the settled
+    candidates are compared, to 1e-9.
+    """
     (depths, last_change), (ref_depths, ref_last_change) = got, want
     settled = (last_change < n_max) & (ref_last_change < n_max)
-    if same_floats(depths[settled], ref_depths[settled], rtol=1e-9):
+    compared = settled if unstable else np.ones_like(settled)
+    if same_floats(depths[compared], ref_depths[compared], rtol=1e-9 if unstable else 1e-12):
         assert np.array_equal(depths, ref_depths, equal_nan=True)
         assert np.array_equal(last_change, ref_last_change)
+    elif settled.sum() >= 20:
+        assert np.mean(last_change[settled] == ref_last_change[settled]) >= 0.5
 
 
 def _compiled(batch, params):
@@ -61,7 +71,8 @@ def test_compiled_loop_equals_numpy_loop_bit_for_bit(same_floats, seed, n_batch,
 def test_compiled_loop_equals_numpy_loop_for_other_gains(same_floats, alpha, eps):
     params = EvaluatorParams(alpha=alpha, eps=eps)
     batch = _random_batch(np.random.default_rng(7), 40, params, horizontal=True)
-    _agree(same_floats, _compiled(batch, params), algorithm2_numpy(batch, params), params.n_max)
+    _agree(same_floats, _compiled(batch, params), algorithm2_numpy(batch, params), params.n_max,
+           unstable=alpha > 1.0)
 
 
 def test_traced_and_untraced_evaluations_agree(same_floats):

@@ -206,6 +206,15 @@ def test_a_csv_pandas_would_misread_is_refused_with_the_reason(good, tmp_path, t
         validate_records(path, schedule)
 
 
+def test_a_cell_holding_a_line_separator_is_one_cell(good, tmp_path):
+    """U+2028 inside a quoted cell ends no CSV row (str.splitlines would break there)."""
+    schedule, rec, i = good
+    bad = rec.astype({"abort_reason": object})
+    bad.loc[i, "abort_reason"] = "gripper\u2028note"
+    path = _file(bad, tmp_path / "notes.csv", "csv")
+    assert validate_records(path, schedule).loc[i, "abort_reason"] == "gripper\u2028note"
+
+
 def test_a_directory_is_not_a_file(good, tmp_path):
     schedule, _, _ = good
     (tmp_path / "day1.csv").mkdir()

@@ -31,6 +31,7 @@ from graspcampaign.core.bench_fit_backend import (
 from graspcampaign.core.bench_specimen import _f05
 from graspcampaign.core.contact import normal_force
 from graspcampaign.core.fit_kernel import MODEL_NORMAL, MODEL_SHIFTED
+from graspcampaign.core.plausible import PLAUSIBLE
 
 __all__ = [
     "MIN_FIT_FORCE",
@@ -52,11 +53,12 @@ RMSE_REVIEW_THRESHOLD_PCT = 5.0
 """Normal-fit RMSE (% of peak) above which a fit is flagged for review (§7.2; decision)."""
 MIN_FIT_FORCE = 2e-3
 """Smallest force entering the normal fit window [N] (two load-cell LSBs)."""
-EXPONENT_RANGE = (0.05, 5.0)
-"""Contact exponents n [-] a normal fit may end at and still be a fit: below 0.05 the force grows
+EXPONENT_RANGE = (0.05, PLAUSIBLE["n_exp"].high)
+"""Contact exponents n [-] a normal fit may end at and still be a fit. Below 0.05 the force grows
 by less than 12 % over a tenfold indentation (10^0.05), i.e. it does not depend on the indentation
-and is no contact law (a constant force trace fits n ~ 1e-17 with zero RMSE); above 5 no soft
-contact (Hertz 1.5; §7.2's n = 0.46 ± 0.07). The lower end is also the floor of the start value."""
+and is no contact law (a constant force trace fits n ~ 1e-17 with zero RMSE); the upper end is the
+plausible range of soft-contact exponents (:data:`graspcampaign.core.plausible.PLAUSIBLE`, Hertz
+1.5, §7.2's n = 0.46 ± 0.07). The lower end is also the floor of the start value."""
 
 
 @dataclass(frozen=True)
@@ -298,7 +300,7 @@ def fit_normal(time: np.ndarray, displacement: np.ndarray, normal_force_: np.nda
     if np.count_nonzero(upper) < 3:
         upper = np.ones_like(y, dtype=bool)
     slope, icpt = np.polyfit(np.log(d_mm[upper]), np.log(y[upper]), 1)
-    x0 = np.array([math.exp(icpt), float(np.clip(slope, EXPONENT_RANGE[0], 3.0)), 0.0])
+    x0 = np.array([math.exp(icpt), float(np.clip(slope, *EXPONENT_RANGE)), 0.0])
     log_d = np.log(d_mm)
 
     def resid(p: np.ndarray) -> np.ndarray:
@@ -321,7 +323,7 @@ def fit_normal(time: np.ndarray, displacement: np.ndarray, normal_force_: np.nda
         log.debug("normal fit failed: %s", exc)
         return _nan_normal(peak, int(d_mm.size))
     k, n, c = (float(v) for v in p_fit)
-    ok = success and k > 0 and EXPONENT_RANGE[0] <= n < EXPONENT_RANGE[1]
+    ok = success and k > 0 and EXPONENT_RANGE[0] <= n <= EXPONENT_RANGE[1]
     rmse = float(np.sqrt(np.mean(fun**2)) / peak * 100.0)
     dof = max(d_mm.size - 3, 1)
     try:

@@ -124,6 +124,8 @@ class FieldSpec:
 
 
 _FLAGS = ("slip_flag", "drop_flag", "damage_flag", "contact_loss_flag")
+_DECISIVE = ("drop_flag", "damage_flag", "contact_loss_flag")
+"""Failure events that class a trial as a failure whatever its hold (§8.1)."""
 TEST2_SCHEMA: tuple[FieldSpec, ...] = (
     FieldSpec("trial_id", "str"),
     FieldSpec("aborted", "bool"),
@@ -431,9 +433,10 @@ def _check_consistency(df: pd.DataFrame, label: str) -> None:
         if getattr(row, "threshold_censored", None) and finger == finger and finger != 0:
             raise _fail(label, i + 1, "first_finger_measured", f"finger {finger:g} slipped first but "
                         "threshold_censored is true (a censored ramp ended without slip: 0)")
-        # a drop, damage or contact loss classes the trial as that failure whatever else (§8.1);
-        # slip is graded by its amount (a partial hold may carry a slip flag)
-        if not flag and (raised := next((f for f in _FLAGS[1:] if getattr(row, f)), None)):
+        # a drop, damage or contact loss classes the trial as a failure whatever its hold (§8.1);
+        # several may co-occur under one failure class; slip is graded by its amount (a partial
+        # hold may carry a slip flag)
+        if not flag and (raised := next((f for f in _DECISIVE if getattr(row, f)), None)):
             raise _fail(label, i + 1, raised, f"{raised} is true but outcome is '{outcome}' (a "
                         "measured drop, damage or contact loss classes the trial as that failure, "
                         "§8.1)")

@@ -9,6 +9,7 @@ excluded) or line, and the column.
 from __future__ import annotations
 
 import csv
+import io
 import re
 from collections import Counter
 from collections.abc import Collection, Sequence
@@ -52,11 +53,10 @@ def read_table(path: str | Path, *, csv_options: dict | None = None,
         raise IngestError(f"{path.name}: is a directory, not a file.")
     if not path.is_file():
         raise IngestError(f"{path.name}, header, column '-': the file does not exist.")
-    if suffix == ".csv":
-        _check_csv(path)
+    text = _checked_csv(path) if suffix == ".csv" else None
     try:
-        if suffix == ".csv":
-            return pd.read_csv(path, **(csv_options or {}))
+        if text is not None:  # the text the check read: the file is read once
+            return pd.read_csv(io.StringIO(text), **(csv_options or {}))
         if suffix == ".xlsx":
             return pd.read_excel(path, **(excel_options or {}))
         return pd.read_parquet(path)
@@ -65,11 +65,11 @@ def read_table(path: str | Path, *, csv_options: dict | None = None,
                           f"{suffix[1:]} ({type(exc).__name__}).") from exc
 
 
-def _check_csv(path: Path) -> None:
-    """Refuse a CSV that pandas would misread or describe only by an exception's name: not UTF-8,
-    empty, cells separated by ';' or tabs (a spreadsheet's regional export), or a data row with
-    more or fewer cells than the header (pandas shifts a longer first row into an index and pads
-    a shorter row, a truncated file's last row, with empty cells)."""
+def _checked_csv(path: Path) -> str:
+    """Return a CSV's text, or refuse one that pandas would misread or describe only by an
+    exception's name: not UTF-8, empty, cells separated by ';' or tabs (a spreadsheet's regional
+    export), or a data row with more or fewer cells than the header (pandas shifts a longer first
+    row into an index and pads a shorter row, a truncated file's last row, with empty cells)."""
     data = path.read_bytes()
     try:
         text = data.decode("utf-8-sig")
@@ -78,7 +78,9 @@ def _check_csv(path: Path) -> None:
         raise IngestError(f"{path.name}, line {line}: the file is not UTF-8 text (byte "
                           f"0x{data[exc.start]:02x}); save it as CSV UTF-8.") from None
     try:
-        rows = [r for r in csv.reader(text.splitlines()) if any(c.strip() for c in r)]
+        # lines as the csv module (and pandas) end them: not str.splitlines, which also breaks
+        # at U+2028 and other separators a cell may hold
+        rows = [r for r in csv.reader(io.StringIO(text, newline="")) if any(c.strip() for c in r)]
     except csv.Error as exc:  # a cell over the csv module's field limit, a stray NUL byte
         raise IngestError(f"{path.name}: the file cannot be read as CSV ({exc}).") from None
     if not rows:
@@ -93,6 +95,7 @@ def _check_csv(path: Path) -> None:
             raise IngestError(f"{path.name}, row {i}: {len(row)} cells where the header has "
                               f"{len(header)} columns (a cell with a comma needs quotes; a "
                               "truncated file loses its last row's cells).")
+    return text
 
 
 def table_and_label(data: pd.DataFrame | str | Path, file_label: str | None,

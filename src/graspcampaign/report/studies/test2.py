@@ -430,7 +430,8 @@ SPEC = ReportSpec("test2_grasp", [
     Figure("fig28_outcomes", "Fig. 28 (paper in black): proposed success per shape (dashed: the paper's 75% "
            "reference), success per material, proposed outcome classes; Wilson 95%", fig28, (12.0, 4.0)),
     Figure("fig29_prediction_accuracy", "Fig. 29: (a) measured against predicted trial-mean normal force; "
-           "(b) normal-force and (c) deformation errors with their medians (log axis: every trial shown)", fig29, (12.0, 3.8)),
+           "(b) normal-force and (c) deformation errors with their medians (log axis: every trial "
+           "shown)", fig29, (12.0, 3.8)),
     Figure("fig30_representative_grasp", "Fig. 30 (schematic of the median-force stable proposed sphere "
            "grasp): commanded phases, recorded hold forces and peak slip as levels", fig30, (9.5, 5.4)),
     Figure("fig31_planner_comparison", "Fig. 31: success per planner (a) with own and exact beliefs "
