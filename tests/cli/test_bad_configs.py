@@ -248,6 +248,12 @@ def test_an_empty_group_file_of_graspcampaign_home_is_named(results, home):
              f"{table2} is empty; a file of config group model sets the keys of ContactModelCfg "
              "(lambda1, lambda2, n_exp, fingertip_radius_m, e_finger_pa, e_object_pa, nu_finger, "
              "nu_object, damping_law, alpha_hc_s_per_m).")
+    # `list` says it once, not once per study, and lists every study as broken
+    listing = _invoke("list")
+    message = f"{table2} is empty; a file of config group model sets the keys of ContactModelCfg"
+    assert listing.stderr.count(message) == 1, listing.stderr
+    assert listing.stderr.startswith(f"warning: every study is broken: {message}")
+    assert listing.stdout.count("broken") == len(studyfile.study_files())
 
 
 @pytest.mark.parametrize("case", ["missing", "file", "study_file"])

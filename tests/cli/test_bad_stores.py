@@ -479,3 +479,21 @@ def test_a_report_reading_another_run_skips_one_that_cannot_be_read(results):
     assert _cross_check(run) == ("No `baseline_grid` records beside this run (run default skipped: "
                                  "it cannot be read): the re-derived trials were not cross-checked "
                                  "against them.")
+
+
+def test_a_trial_in_two_baseline_runs_is_cross_checked_once(results):
+    """Two readable baseline_grid runs holding the same trials (a copy kept under another name):
+    each re-derived trial is compared once, not once per run."""
+
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies.mesh_resolution import _cross_check
+
+    shutil.copytree(_grid(results), _grid(results).with_name("again"))
+    base = RunStore(_grid(results)).read().to_pandas()
+    key = ["shape", "mass_kg", "mu", "planner", "seed"]
+    records = base[key + ["success", "residual_norm_n"]].assign(
+        trial_id=[f"t{i}" for i in range(len(base))], status="ok", panel="n_max")
+    run = Run(records, {}, store=RunStore(results / "mesh_resolution" / "default"))
+    assert _cross_check(run) == (f"Cross-check against the `baseline_grid` records beside this run: "
+                                 f"{len(base)} of {len(base)} re-derived trials have the baseline's "
+                                 f"verdict and {len(base)} its residual (relative 1e-9).")

@@ -233,7 +233,8 @@ def _interpolated(value: Any) -> bool:
 
 
 def study_row(path: Path) -> dict[str, Any]:
-    """Return what ``graspcampaign list`` shows of a study file: name, kind, trials, runnable.
+    """Return what ``graspcampaign list`` shows of a study file: name, kind, trials, runnable
+    (the group files it composes with are checked once for every study, by the caller).
 
     Raises
     ------
@@ -242,14 +243,12 @@ def study_row(path: Path) -> dict[str, Any]:
     """
     from graspcampaign.campaign.grid import n_trials
     from graspcampaign.campaign.kind import KINDS, kind_available
-    from graspcampaign.campaign.studycheck import check_conf
     from graspcampaign.campaign.studyfile import check_package_header, project_dirs, read_yaml
     from graspcampaign.errors import MissingSourceRunError
 
     data = read_yaml(path, study=True)
     check_package_header(path)
     study, checked = _light_study(path, data)
-    check_conf(project_dirs()[0])  # the group files every study composes with (cached by content)
     ready = kind_available(study.kind)
     if ready and kind_facts(study.kind)["design"]:
         digest = hashlib.sha256(path.read_bytes())

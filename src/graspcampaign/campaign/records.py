@@ -148,9 +148,6 @@ class RunStore:
     def _dir(self, part: str) -> Path:
         return self.path / part
 
-    def exists(self) -> bool:
-        return self.manifest_path.exists()
-
     def _parts(self, summaries: bool = True) -> list[str]:
         parts = [p for p in ("records", "prepared") if self._dir(p).is_dir()]
         for group in ("tables", "summary") if summaries else ("tables",):

@@ -30,7 +30,7 @@ from graspcampaign.campaign.kind import TrialInput, TrialKind, get_kind
 from graspcampaign.campaign.paths import check_root
 from graspcampaign.campaign.records import RunStore, config_metadata
 from graspcampaign.campaign.schema import StudyCfg, check_config, check_design_rows
-from graspcampaign.campaign.studyfile import run_dir
+from graspcampaign.campaign.studyfile import run_path
 from graspcampaign.errors import ConfigError, UserInputError
 
 BASE_COLUMNS = ("trial_id", "study", "run", "kind", "trial_index", "scene_id", "status",
@@ -61,20 +61,6 @@ class RunSummary:
     first_error: str | None = None
     wall_time_s: float = 0.0
     errors: list[str] = field(default_factory=list)
-
-
-def run_path(study: StudyCfg, run: str | None = None) -> Path:
-    """Return ``<output.root>/<study>/<run>``.
-
-    Raises
-    ------
-    ConfigError
-        A run name that is not one plain path component (``../elsewhere``): runs stay inside the
-        results root.
-    """
-    if run is not None:  # an empty name is refused, never the default run
-        return run_dir(study.output.root, study.name, run)
-    return run_dir(study.output.root, study.name, study.output.run, "output.run")
 
 
 def kind_params(study: StudyCfg, kind: TrialKind) -> Any:

@@ -14,7 +14,7 @@ from graspcampaign.campaign.catalog import design_size, kind_facts
 from graspcampaign.campaign.kind import KINDS, kind_available
 from graspcampaign.campaign.paths import check_root
 from graspcampaign.campaign.schema import StudyCfg, design_shape
-from graspcampaign.campaign.studyfile import check_name, list_studies, run_dir
+from graspcampaign.campaign.studyfile import check_name, list_studies, run_dir, run_path
 from graspcampaign.errors import UserInputError
 
 
@@ -31,19 +31,13 @@ def study_size(study: StudyCfg) -> int:
     return design_size(study)
 
 
-def _run_dir(study: StudyCfg, run: str | None) -> Path:
-    if run is not None:  # an empty name is refused, never the default run
-        return run_dir(study.output.root, study.name, run)
-    return run_dir(study.output.root, study.name, study.output.run, "output.run")
-
-
 def recorded_in(study: StudyCfg, run: str | None = None) -> int:
     """Return how many of the study's current trials the run has recorded.
 
     Only the trial ids of the design as configured now (overrides included) count: a run of the
     full grid holds 2700 records, but ``mu=[0.3] seeds=2`` asks about 120 of them.
     """
-    path = _run_dir(study, run)
+    path = run_path(study, run)
     if not (path.exists() or path.is_symlink()):
         return 0
     from graspcampaign.campaign.records import RunStore
@@ -92,7 +86,7 @@ def design_text(study: StudyCfg, run: str | None = None) -> str:
     else:
         lines.append(f"axes: {' x '.join(map(str, design_shape(study)))} = {total} trials")
     done = recorded_in(study, run) if ready else 0
-    lines.append(f"run: {_run_dir(study, run)} ({done} of {total} recorded)")
+    lines.append(f"run: {run_path(study, run)} ({done} of {total} recorded)")
     if facts:
         per, workers = facts["seconds_per_trial"], study.runner.workers()
         remaining = (total - done) * per / workers

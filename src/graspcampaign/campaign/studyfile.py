@@ -305,6 +305,20 @@ def run_dir(root: str | Path, study: str, run: str, key: str = "--run") -> Path:
     return Path(root) / check_name(study, "study name") / check_name(run, key)
 
 
+def run_path(study: Any, run: str | None = None) -> Path:
+    """Return a composed study's ``<output.root>/<study>/<run>`` (``run`` None: ``output.run``).
+
+    Raises
+    ------
+    ConfigError
+        A run name that is not one plain path component (``../elsewhere``): runs stay inside the
+        results root; an empty name is refused, never taken for the default run.
+    """
+    if run is not None:
+        return run_dir(study.output.root, study.name, run)
+    return run_dir(study.output.root, study.name, study.output.run, "output.run")
+
+
 def configured_run(study: str) -> str:
     """Return the run a study writes to by default (``output.run``), read without Hydra.
 

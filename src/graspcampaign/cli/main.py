@@ -145,16 +145,26 @@ def list_cmd(
 
 def _study_rows() -> list[dict]:
     from graspcampaign.campaign.catalog import study_row
-    from graspcampaign.campaign.studyfile import study_files
+    from graspcampaign.campaign.studycheck import check_conf
+    from graspcampaign.campaign.studyfile import project_dirs, study_files
     from graspcampaign.errors import UserInputError
 
+    def broken(name: str, why: str) -> dict:
+        return {"study": name, "kind": "?", "trials": "?", "runnable": "broken", "extension": False,
+                "description": why}
+
+    conf = project_dirs()[0]  # a bad GRASPCAMPAIGN_HOME stops here: it is the command's error
+    try:  # the group files every study composes with: one broken file is said once, not per study
+        check_conf(conf)
+    except UserInputError as exc:
+        typer.echo(f"warning: every study is broken: {exc}", err=True)
+        return [broken(name, str(exc)) for name in study_files()]
     rows = []
     for name, path in study_files().items():
         try:
             rows.append(study_row(path))
         except UserInputError as exc:
-            rows.append({"study": name, "kind": "?", "trials": "?", "runnable": "broken",
-                         "extension": False, "description": str(exc)})
+            rows.append(broken(name, str(exc)))
             typer.echo(f"warning: study {name} is broken: {exc}", err=True)
     return rows
 

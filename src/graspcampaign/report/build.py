@@ -249,9 +249,3 @@ def write_index_page(root: Path, page: str, frame: pd.DataFrame) -> None:
         Table("index", "Every run's report", frame, [
             Col("study", "study"), Col("run", "run", link="report"), Col("source", "source"),
             Col("trials", "trials")], csv=None)]).write_pages(root / "index", [page])
-
-
-def write_index(root: Path, formats: list[str]) -> None:
-    """Write ``index.md`` (and ``index.html``) linking every run's report page and the headline."""
-    for page in _index_pages(formats):
-        write_index_page(root, page, index_rows(root, page))

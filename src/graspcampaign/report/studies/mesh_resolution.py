@@ -81,9 +81,10 @@ def _cross_check(run: Run) -> str:
     if not frames:
         return f"No `baseline_grid` records beside this run{skipped}: the re-derived trials were not " \
                "cross-checked against them." if len(nm) else ""
-    base = pd.concat(frames, ignore_index=True)
-    merged = nm.merge(base[base["status"] == "ok"], on=["shape", "mass_kg", "mu", "planner", "seed"],
-                      suffixes=("", "_baseline"))
+    key = ["shape", "mass_kg", "mu", "planner", "seed"]
+    base = pd.concat(frames, ignore_index=True)  # a trial in several baseline runs counts once
+    base = base[base["status"] == "ok"].drop_duplicates(key)
+    merged = nm.merge(base, on=key, suffixes=("", "_baseline"))
     same = (merged["success"].astype(bool) == merged["success_baseline"].astype(bool)).sum()
     close = np.isclose(merged["residual_norm_n"], merged["residual_norm_n_baseline"], rtol=1e-9).sum()
     return (f"Cross-check against the `baseline_grid` records beside this run{skipped}: {same} of "
