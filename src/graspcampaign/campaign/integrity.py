@@ -98,13 +98,43 @@ def layout_problems(store) -> list[Problem]:
     return out
 
 
-def _ids(path: Path) -> tuple[int, set[str]]:
-    """The row count and the distinct ``trial_id`` values of a verified file (a trace table holds
-    many rows per trial: its ids are made distinct in Arrow, not in Python)."""
-    if "trial_id" not in pq.read_schema(path).names:
-        return 0, set()
-    column = pq.ParquetFile(path).read(columns=["trial_id"]).column("trial_id")
-    return len(column), set(pc.unique(column).to_pylist())
+@dataclass(frozen=True)
+class _Facts:
+    """What the checks read of a verified file: rows, distinct ``trial_id`` values (a trace table
+    holds many rows per trial: made distinct in Arrow, not in Python), the ``study``/``run``
+    values and the config hashes of its metadata."""
+
+    n_rows: int
+    ids: frozenset
+    owners: dict
+    config_hashes: frozenset
+
+
+_FACTS: dict[tuple[str, int, int], _Facts] = {}
+"""Facts by (path, size, mtime), as ``records._VERIFIED``: a file is read once per process
+however often a command checks its run (status, then report; the runner's check, then repair)."""
+
+
+def _facts(path: Path) -> _Facts:
+    st = path.stat()
+    key = (str(path.resolve()), st.st_size, st.st_mtime_ns)
+    if key not in _FACTS:
+        schema = pq.read_schema(path)
+        names = [c for c in ("trial_id", "study", "run") if c in schema.names]
+        table = pq.ParquetFile(path).read(columns=names) if names else None
+        ids = table.column("trial_id") if "trial_id" in names else None
+        raw = (schema.metadata or {}).get(CONFIG_KEY)
+        _FACTS[key] = _Facts(
+            0 if ids is None else len(ids), frozenset(() if ids is None else pc.unique(ids).to_pylist()),
+            {c: set(pc.unique(table.column(c)).to_pylist()) for c in names if c != "trial_id"},
+            frozenset(json.loads(raw) if raw else ()))
+    return _FACTS[key]
+
+
+def _ids(path: Path) -> tuple[int, frozenset]:
+    """The row count and the distinct ``trial_id`` values of a verified file."""
+    facts = _facts(path)
+    return facts.n_rows, facts.ids
 
 
 def owners(store, manifest: dict | None, config_hash: str | None = None) -> dict[str, set]:
@@ -120,15 +150,12 @@ def owners(store, manifest: dict | None, config_hash: str | None = None) -> dict
 
 def _foreign(path: Path, allowed: dict[str, set]) -> str | None:
     """Why the records of ``path`` are not the run's own (another study, run or config), or None."""
-    schema = pq.read_schema(path)
-    names = [c for c in ("study", "run") if c in schema.names]
-    table = pq.ParquetFile(path).read(columns=names) if names else None
-    for column in names:
-        other = sorted(set(table.column(column).to_pylist()) - allowed[column] - {None})
+    facts = _facts(path)
+    for column, values in facts.owners.items():
+        other = sorted(values - allowed[column] - {None})
         if other:
             return f"records of another {column} ({other[0]})"
-    raw = (schema.metadata or {}).get(CONFIG_KEY)
-    other = sorted(set(json.loads(raw) if raw else []) - allowed["config_hash"])
+    other = sorted(facts.config_hashes - allowed["config_hash"])
     if other and allowed["config_hash"]:
         return f"records run with another config (hash {other[0]}, not one this run ran with)"
     return None
