@@ -62,7 +62,7 @@ from graspcampaign.rig.protocol import STUDY_TEST2, STUDY_TEST3
 
 __all__ = [
     "IngestError",
-    "MAX_ATTEMPT",
+    "ATTEMPT_TYPO_LIMIT",
     "check_one_source",
     "header_problems",
     "record_template",
@@ -86,10 +86,12 @@ _FLAG_OF = {"failure_slip": "slip_flag", "failure_drop": "drop_flag",
             "failure_damage": "damage_flag", "failure_contact_loss": "contact_loss_flag"}
 
 
-MAX_ATTEMPT = 99
-"""The largest attempt number of a re-run (``<slot_id>-a<k>``, Test 1's ``attempt``): the paper re-ran
-each aborted slot once (§7.1, §8.1, §9.1), the virtual bench at most 4 times; a larger number is a
-typing error, which would otherwise be stored as that many aborted attempts (docs/decisions.md)."""
+ATTEMPT_TYPO_LIMIT = 99
+"""The largest attempt number ingest accepts (``<slot_id>-a<k>``, Test 1's ``attempt``): a guard
+against typing errors, not a protocol rule (the virtual bench's own retry budget is
+``rig.test1_bench.MAX_ATTEMPTS``). The paper re-ran each aborted slot once (§7.1, §8.1, §9.1); a
+number past two digits is a slip of the keyboard, which would otherwise be stored as that many
+aborted attempts (``attempt = 1e6``: 999,999; docs/decisions.md)."""
 
 
 @dataclass(frozen=True)
@@ -381,13 +383,13 @@ def _check_ids(df: pd.DataFrame, schedule: pd.DataFrame, label: str) -> None:
             attempt_col.append(int(attempts[tid]))
             continue
         m = re.fullmatch(r"(?P<slot>.+)-a(?P<k>[0-9]+)", tid)
-        if m and m["slot"] in slots and 2 <= int(m["k"]) <= MAX_ATTEMPT:
+        if m and m["slot"] in slots and 2 <= int(m["k"]) <= ATTEMPT_TYPO_LIMIT:
             slot_col.append(m["slot"])
             attempt_col.append(int(m["k"]))
             continue
         if m and m["slot"] in slots:
             raise _fail(label, i + 1, "trial_id", f"trial id '{tid}' names attempt {m['k']} of slot "
-                        f"'{m['slot']}'; a re-run is attempt 2 to {MAX_ATTEMPT}")
+                        f"'{m['slot']}'; a re-run is attempt 2 to {ATTEMPT_TYPO_LIMIT}")
         raise _fail(label, i + 1, "trial_id", f"trial id '{tid}' is not in the schedule")
     dup = df["trial_id"].duplicated(keep="first")
     if dup.any():

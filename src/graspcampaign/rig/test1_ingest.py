@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from graspcampaign.rig.ingest import MAX_ATTEMPT, SOURCES, check_one_source
+from graspcampaign.rig.ingest import ATTEMPT_TYPO_LIMIT, SOURCES, check_one_source
 from graspcampaign.rig.measured_file import IngestError, _fail, header_problems, read_table, table_and_label
 from graspcampaign.rig.test1_summary import WAVEFORM_COLUMNS
 
@@ -164,10 +164,10 @@ def _attempts(raw: pd.Series, label: str) -> np.ndarray:
             number = float(text)
         except ValueError:
             number = math.nan
-        if not (math.isfinite(number) and number == int(number) and 1 <= number <= MAX_ATTEMPT):
+        if not (math.isfinite(number) and number == int(number) and 1 <= number <= ATTEMPT_TYPO_LIMIT):
             shown = value.item() if isinstance(value, np.generic) else value  # no np reprs
             raise _fail(label, i + 1, "attempt", f"value {shown!r} is not an attempt number (an "
-                        f"integer 1 to {MAX_ATTEMPT} counting the tries of the event)")
+                        f"integer 1 to {ATTEMPT_TYPO_LIMIT} counting the tries of the event)")
         values.append(int(number))
     return np.asarray(values, dtype=np.int64)
 
@@ -220,7 +220,7 @@ def waveform_template() -> tuple[pd.DataFrame, pd.DataFrame]:
                      "allowed": f"float in [{lo:g}, {hi:g}] ({what})", "required": "every row"})
     rows += [
         {"column": "attempt", "type": "int", "unit": "1",
-         "allowed": f"integer 1 to {MAX_ATTEMPT}, one value per event", "required": "optional column (1)"},
+         "allowed": f"integer 1 to {ATTEMPT_TYPO_LIMIT}, one value per event", "required": "optional column (1)"},
         {"column": "anomaly", "type": "str", "unit": "-", "allowed": "rig-log note, one per event",
          "required": "optional column"},
         {"column": "source", "type": "str", "unit": "-", "allowed": ", ".join(SOURCES),
