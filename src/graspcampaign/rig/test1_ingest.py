@@ -220,7 +220,8 @@ def waveform_template() -> tuple[pd.DataFrame, pd.DataFrame]:
                      "allowed": f"float in [{lo:g}, {hi:g}] ({what})", "required": "every row"})
     rows += [
         {"column": "attempt", "type": "int", "unit": "1",
-         "allowed": f"integer 1 to {ATTEMPT_TYPO_LIMIT}, one value per event", "required": "optional column (1)"},
+         "allowed": f"integer 1 to {ATTEMPT_TYPO_LIMIT}, one value per event",
+         "required": "optional column (1)"},
         {"column": "anomaly", "type": "str", "unit": "-", "allowed": "rig-log note, one per event",
          "required": "optional column"},
         {"column": "source", "type": "str", "unit": "-", "allowed": ", ".join(SOURCES),
