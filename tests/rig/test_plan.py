@@ -112,6 +112,26 @@ def test_plan_rejects_bad_meshes(tmp_path):
         rp.plan_mesh(path, mass_kg=0.1)
     with pytest.raises(MeshError, match="does not exist"):
         rp.plan_mesh(tmp_path / "missing.stl", mass_kg=0.1)
+    with pytest.raises(MeshError, match="'mesh' is not watertight"):  # a Trimesh: the same checks
+        rp.plan_mesh(mesh, mass_kg=0.1)
+
+
+def test_plan_of_a_trimesh_is_the_plan_of_its_file(stl_files):
+    """A Trimesh given directly is checked and centred as a file's mesh is: moved and wound inward,
+    it plans the grasp the file does (the contacts in the centred frame)."""
+    import trimesh
+
+    from graspcampaign.core.mesh import load_mesh
+
+    mesh = load_mesh(stl_files["sphere"], unit="mm")
+    moved = mesh.copy()
+    moved.apply_translation([0.3, -0.2, 0.1])
+    moved.invert()
+    assert isinstance(moved, trimesh.Trimesh) and moved.volume < 0
+    ours, file = rp.plan_mesh(moved, mass_kg=0.05), rp.plan_mesh(stl_files["sphere"], mass_kg=0.05)
+    np.testing.assert_allclose([c["point_mm"] for c in ours["contacts"]],
+                               [c["point_mm"] for c in file["contacts"]], atol=2e-3)  # rounded to µm
+    assert ours["sf_predicted"] == pytest.approx(file["sf_predicted"], rel=1e-9)
 
 
 # ------------------------------------------------------------------ predictions

@@ -223,7 +223,9 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
     Parameters
     ----------
     mesh_or_path : str, path or trimesh.Trimesh
-        Mesh file (STL/OBJ/PLY, read with :func:`graspcampaign.core.mesh.load_mesh`) or a mesh.
+        Mesh file (STL/OBJ/PLY, read with :func:`graspcampaign.core.mesh.load_mesh`) or a mesh in
+        metres; either is validated by :func:`graspcampaign.core.mesh.check_mesh` and centred on
+        its volume centroid, the frame of the returned contacts.
     mass_kg : float
         Object mass, in its plausible range (``core.plausible.PLAUSIBLE``: (0, 10] kg).
     material : str, optional
@@ -233,7 +235,7 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
     fingertip_radius_mm : float
         Fingertip radius (0, 50] mm (K scales with sqrt(R), Eq. 14).
     unit : str
-        Length unit of the mesh file.
+        Length unit of the mesh file (a ``Trimesh`` is in metres, the package's unit).
     png_path : path, optional
         Where to write the picture (mesh, contacts, force arrows), exactly this path; none when
         omitted. Checked first (:func:`check_picture_path`).
@@ -266,7 +268,7 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
         three-finger hand grasps (``core.plausible.OBJECT_SIZE_MM``; the message names the unit
         its coordinates look like), or a picture path that cannot be written.
     """
-    from graspcampaign.core.mesh import check_one_body, load_mesh
+    from graspcampaign.core.mesh import check_mesh, load_mesh
 
     if png_path is not None:  # before any work: a plan whose picture cannot be written is lost
         png_path = check_picture_path(png_path)
@@ -282,10 +284,9 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
     if isinstance(mesh_or_path, (str, Path)):
         mesh = load_mesh(mesh_or_path, unit=unit)
         name = Path(mesh_or_path).name
-    else:
-        mesh = mesh_or_path
+    else:  # the checks load_mesh makes of a file's mesh (closed, outward, one body, centred)
         name = "mesh"
-        check_one_body(mesh, name)  # load_mesh checks a file's mesh; the planner grasps one body
+        mesh = check_mesh(mesh_or_path, name)
     size_mm = _check_size(mesh, name, unit)
     body = _coarse_checked_body(mesh, name)
     ctx = replace(body.ctx, mass=mass, mu=mat.mu_s,
