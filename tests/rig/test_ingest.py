@@ -325,6 +325,24 @@ def test_unsupported_file_type(good, tmp_path):
         validate_records(path, schedule)
 
 
+def test_records_behind_a_cover_sheet_name_their_sheet(good, tmp_path):
+    """A workbook whose first sheet is not the records (a cover page) is refused naming the
+    sheet that has them; with the records sheet first, the same workbook reads."""
+    schedule, rec, _ = good
+    path = tmp_path / "book.xlsx"
+    with pd.ExcelWriter(path) as book:
+        pd.DataFrame({"operator": ["A. B."], "date": ["2026-11-29"]}).to_excel(book, sheet_name="cover", index=False)
+        rec.to_excel(book, sheet_name="trials", index=False)
+    with pytest.raises(IngestError, match=r"^book\.xlsx, header: ingest reads the workbook's first "
+                       r"sheet, which lacks the required columns; sheet 'trials' has them all: move "
+                       r"it to the front or save it as CSV \(`graspcampaign schedule"):
+        validate_records(path, schedule)
+    with pd.ExcelWriter(path) as book:
+        rec.to_excel(book, sheet_name="trials", index=False)
+        pd.DataFrame({"operator": ["A. B."]}).to_excel(book, sheet_name="cover", index=False)
+    assert len(validate_records(path, schedule)) == len(rec)
+
+
 def test_missing_file(good, tmp_path):
     schedule, _, _ = good
     with pytest.raises(IngestError, match=r"^nope\.csv, header, column '-': the file does not "

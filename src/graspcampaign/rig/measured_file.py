@@ -12,7 +12,7 @@ import csv
 import io
 import re
 from collections import Counter
-from collections.abc import Collection, Sequence
+from collections.abc import Collection, Mapping, Sequence
 from difflib import get_close_matches
 from pathlib import Path
 
@@ -58,7 +58,13 @@ def read_table(path: str | Path, *, csv_options: dict | None = None,
         if text is not None:  # the text the check read: the file is read once
             return pd.read_csv(io.StringIO(text), **(csv_options or {}))
         if suffix == ".xlsx":
-            return pd.read_excel(path, **(excel_options or {}))
+            with pd.ExcelFile(path) as book:
+                frame = pd.read_excel(book, book.sheet_names[0], **(excel_options or {}))
+                # the headers of the other sheets, for a header check to say where records are
+                frame.attrs["other_sheets"] = {
+                    str(name): [str(c) for c in pd.read_excel(book, name, nrows=0).columns]
+                    for name in book.sheet_names[1:]}
+            return frame
         return pd.read_parquet(path)
     except Exception as exc:  # the readers raise many types for corrupt files
         raise IngestError(f"{path.name}, header, column '-': the file cannot be read as "
@@ -112,7 +118,8 @@ def table_and_label(data: pd.DataFrame | str | Path, file_label: str | None,
 
 def header_problems(columns: list[str], required: list[str], units: dict[str, str],
                     unit_re: re.Pattern, optional: Sequence[str] = (),
-                    ignored: Collection[str] = ()) -> list[str]:
+                    ignored: Collection[str] = (),
+                    other_sheets: Mapping[str, Sequence[str]] | None = None) -> list[str]:
     """Describe every problem of a header, all at once.
 
     Missing required columns; a missing column whose quantity is present under another unit suffix
@@ -121,7 +128,9 @@ def header_problems(columns: list[str], required: list[str], units: dict[str, st
     other column the sheet does not have (a misspelt optional column such as ``Source`` would
     otherwise be dropped and its rows stored as measured), with the closest known name.
     ``ignored`` columns are accepted and not read (the commanded sheet's own columns, when a rig
-    fills in its measurements beside its commands).
+    fills in its measurements beside its commands). ``other_sheets`` (a workbook's other sheets'
+    headers, ``read_table``'s ``attrs["other_sheets"]``): when the first sheet, the one read,
+    misses required columns that another sheet has, the problem names that sheet.
 
     Returns
     -------
@@ -150,6 +159,10 @@ def header_problems(columns: list[str], required: list[str], units: dict[str, st
     if missing:
         out.append(f"{'a required column is' if len(missing) == 1 else 'required columns are'} "
                    f"missing: {', '.join(missing)}")
+        if holder := next((n for n, cols in (other_sheets or {}).items()
+                           if set(required) <= set(cols)), None):
+            return [f"ingest reads the workbook's first sheet, which lacks the required columns; "
+                    f"sheet '{holder}' has them all: move it to the front or save it as CSV"]
     out += wrong
     if twice:
         out.append(f"{'a column appears' if len(twice) == 1 else 'columns appear'} more than once: "

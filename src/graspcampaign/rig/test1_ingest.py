@@ -85,7 +85,8 @@ def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterabl
     df.columns = [str(c).strip() for c in df.columns]
     units = {c: _EXPECTED_UNIT[c.rsplit("_", 1)[0]] for c in WAVEFORM_COLUMNS[1:]}
     problems = header_problems(list(df.columns), list(WAVEFORM_COLUMNS), units, _UNIT_RE,
-                               ("attempt", "anomaly", "source"))
+                               ("attempt", "anomaly", "source"),
+                               other_sheets=df.attrs.get("other_sheets"))
     if problems:
         raise IngestError(f"{label}, header: {'; '.join(problems)} (`graspcampaign schedule "
                           "test1_bench --template` writes a sheet with every column).")
