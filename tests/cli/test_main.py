@@ -64,7 +64,9 @@ def test_show_prints_design_without_running(tmp_path):
                          r"ellipsoid, rounded_cube, pear, handle\.$"),
         ("colour=red", r"colour is neither a known key of the study config nor a factor of this study "
                        r"\(factors: nodes, shape\); override rejected\.$"),
-        ("model.lambda1=soft", r"model\.lambda1: Value 'soft' of type 'str' could not be converted"),
+        ("model.lambda1=soft", r"model\.lambda1 must be a number, got 'soft'\.$"),
+        ("seeds=abc", r"seeds must be a whole number, got 'abc'\.$"),
+        ("evaluator.n_cand=1.5", r"evaluator\.n_cand must be a whole number, got 1\.5\.$"),
         ("runner.backend=spark", r"runner\.backend has unknown value 'spark'; allowed values: loky"),
         ("+factors.flavour=[1]", r"factors\.flavour is not a known factor; known factors:"),
         ("nodes=[144", r"cannot parse override 'nodes=\[144'"),
