@@ -294,6 +294,20 @@ def test_status_of_an_unknown_study_does_not_suggest_running_it(results):
              "baseline_grid` first.")
 
 
+def test_a_misspelt_study_name_suggests_the_nearest(results):
+    from graspcampaign.campaign.studyfile import list_studies
+
+    known = ", ".join(list_studies())
+    for command in ("status", "report"):
+        _refused(results, [command, "baselin_grid", "--root", results],
+                 f"unknown study 'baselin_grid': not on the config search path and no records "
+                 f"under {results}; did you mean 'baseline_grid'? available studies: {known}.")
+    result = _invoke("run", "baselin_grid", "--root", results)
+    assert result.exit_code == 2
+    assert result.stderr.startswith("error: unknown study 'baselin_grid'; did you mean "
+                                    f"'baseline_grid'? available studies: {known} (searched: ")
+
+
 @pytest.mark.parametrize("jobs", [0, -2])
 def test_report_jobs_must_be_a_process_count(results, jobs):
     before = _snapshot(results)

@@ -406,8 +406,13 @@ def test_run_never_writes_into_measured_records_nor_ingest_into_simulated_ones(r
 # -- 4. reports check first and never overwrite good pages ------------------------------------------
 def test_report_checks_every_named_study_before_writing_any(results):
     shutil.rmtree(_grid(results) / "report")  # so that a report written before failing shows
+    from graspcampaign.campaign.studyfile import list_studies
+
     _refused(results, ["report", "baseline_grid", "nosuch_study", "--root", results],
-             f"no records for study 'nosuch_study' under {results}; run it first.")
+             f"unknown study 'nosuch_study': not on the config search path and no records under "
+             f"{results}; available studies: {', '.join(list_studies())}.")
+    _refused(results, ["report", "ablation", "--root", results],  # known, never run here
+             f"no records for study 'ablation' under {results}; run it first.")
     _refused(results, ["report", "smoke", "baseline_grid", "--run", "nosuch", "--root", results],
              f"no run 'nosuch' of study 'smoke' under {results}.")
 

@@ -151,7 +151,8 @@ def test_report_without_run_reports_the_configured_run(smoke_run, tmp_path):
     shutil.copytree(root / "smoke" / "default", root / "smoke" / "other")
     result = _invoke("report", "smoke", "--root", str(root))
     assert result.exit_code == 0, result.output
-    assert result.stdout == f"report: {root / 'smoke' / 'default' / 'report' / 'report.md'}\n"
+    assert result.stdout.splitlines() == [f"report: {root / 'smoke' / 'default' / 'report' / 'report.md'}",
+                                          f"index: {root / 'index.md'}", f"headline: {root / 'headline.md'}"]
     assert not (root / "smoke" / "other" / "report").exists()
 
 

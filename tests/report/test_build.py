@@ -96,6 +96,28 @@ def test_formats_md_csv_json_html(tmp_path):
     assert "ablation/r1/report/report.md" in (tmp_path / "index.md").read_text()
 
 
+def test_an_html_report_keeps_every_run_in_the_markdown_index(tmp_path):
+    """Each index page lists the runs with a report page of its format: an HTML report of one
+    run had rewritten index.md with the HTML runs only; the command names every page written."""
+    write_run(tmp_path, run="r1"), write_run(tmp_path, run="r2")
+    build_reports(["ablation"], run="r2", root=tmp_path)
+    result = cli.invoke(app, ["report", "ablation", "--run", "r1", "--root", str(tmp_path),
+                              "--format", "md,html"])
+    assert result.exit_code == 0, result.output
+    md, html = (tmp_path / "index.md").read_text(), (tmp_path / "index.html").read_text()
+    assert "ablation/r1/report/report.md" in md and "ablation/r2/report/report.md" in md
+    assert "ablation/r1/report/report.html" in html and "r2/report" not in html
+    assert result.stdout.splitlines() == [
+        f"{page}: {tmp_path / path} (and .html)" for page, path in (
+            ("report", "ablation/r1/report/report.md"), ("index", "index.md"),
+            ("headline", "headline.md"))]
+    result = cli.invoke(app, ["report", "ablation", "--run", "r1", "--root", str(tmp_path),
+                              "--format", "json"])
+    assert result.stdout.splitlines() == [
+        f"report: {tmp_path / 'ablation/r1/report/tables.json'}",
+        f"index: {tmp_path / 'index.md'}", f"headline: {tmp_path / 'headline.md'}"]
+
+
 def test_unknown_format_is_bad_input_and_writes_nothing(tmp_path):
     store = write_run(tmp_path)
     with pytest.raises(UserInputError, match="unknown report format 'pdf'; choose from md, csv"):

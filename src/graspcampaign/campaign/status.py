@@ -7,6 +7,7 @@ imports the numerical layers (the kind facts and explicit design sizes come from
 
 from __future__ import annotations
 
+import difflib
 from pathlib import Path
 from typing import Any
 
@@ -110,6 +111,18 @@ def _paper_text(paper: dict[str, Any], prefix: str = "") -> str:
     return ", ".join(parts)
 
 
+def check_known(root: Path | str, study: str) -> None:
+    """Refuse a study name that is neither on the config search path nor stored under ``root``,
+    naming the available studies (and the nearest one)."""
+    check_name(study, "study")
+    if (Path(root) / study).is_dir() or study in (known := list_studies()):
+        return
+    near = difflib.get_close_matches(study, known, n=1)
+    raise UserInputError(f"unknown study {study!r}: not on the config search path and no records "
+                         f"under {root}; {f'did you mean {near[0]!r}? ' if near else ''}available "
+                         f"studies: {', '.join(known)}.")
+
+
 def open_run(root: Path | str, study: str, run: str, root_option: str = "--root"):
     """Return ``(RunStore, manifest)`` of a stored run whose records are what its manifest says.
 
@@ -122,11 +135,7 @@ def open_run(root: Path | str, study: str, run: str, root_option: str = "--root"
     """
     check_root(root, root_option)
     check_name(run, "--run")
-    check_name(study, "study")
-    if not (Path(root) / study).is_dir() and study not in list_studies():
-        raise UserInputError(f"unknown study {study!r}: not on the config search path and no "
-                             f"records under {root}; available studies: "
-                             f"{', '.join(list_studies())}.")
+    check_known(root, study)
     from graspcampaign.campaign.records import RunStore
 
     store = RunStore(run_dir(root, study, run))

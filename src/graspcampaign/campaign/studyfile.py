@@ -17,6 +17,7 @@ module alone.
 
 from __future__ import annotations
 
+import difflib
 import os
 import re
 from functools import cache
@@ -170,8 +171,9 @@ def find_study(study: str) -> Path:
         return path
     files = study_files()
     if study not in files:
-        raise ConfigError(f"unknown study {study!r}; available studies: {', '.join(files)} "
-                          f"(searched: {search_path_text()}).")
+        near = difflib.get_close_matches(study, files, n=1)
+        raise ConfigError(f"unknown study {study!r}; {f'did you mean {near[0]!r}? ' if near else ''}"
+                          f"available studies: {', '.join(files)} (searched: {search_path_text()}).")
     return files[study]
 
 

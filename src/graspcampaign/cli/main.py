@@ -332,11 +332,14 @@ def report(
 
     With studies and no ``--run``, each study's configured run (its ``output.run``) is reported.
     """
+    from graspcampaign.campaign.status import check_known
     from graspcampaign.campaign.studyfile import check_name, configured_run
     from graspcampaign.report.build import build_reports
 
     if run is not None:
         check_name(run, "--run")
+    for study in studies or []:
+        check_known(root, study)
     if jobs == 0 or jobs < -1:
         _fail(f"--jobs {jobs}: give a number of processes (1 or more), or -1 for one per core.")
     # one batch: every named study and run is checked before any report is written
@@ -346,9 +349,12 @@ def report(
 
 
 def _report_paths(batch) -> None:
-    """Print the written reports; name every run whose report failed and exit non-zero."""
-    for path in batch:
-        typer.echo(f"report: {path}")
+    """Print the written reports and root pages (an HTML page beside its Markdown one); name
+    every run whose report failed and exit non-zero."""
+    html = "html" in batch.formats
+    for label, path in [*(("report", p) for p in batch), *((p.stem, p) for p in batch.pages)]:
+        if path.suffix == ".md" or path.with_suffix(".md") not in batch.pages:  # a page once
+            typer.echo(f"{label}: {path}{' (and .html)' if html and path.suffix == '.md' else ''}")
     _exit_if_failed(batch.failed)
 
 

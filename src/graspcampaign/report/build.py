@@ -40,11 +40,15 @@ KIND_SPECS: dict[str, str] = {"quasi_static": "quasi_static:PLANNERS", "mesh_fea
 
 
 class ReportBatch(list):
-    """The written report paths; ``failed``: ``(run label, reason, bad input)`` of runs not written."""
+    """The written report paths (``report.md``); ``failed``: ``(run label, reason, bad input)`` of
+    runs not written; ``pages``: the root pages written (index and headline, each format);
+    ``formats``: the formats written."""
 
-    def __init__(self, written=(), failed=()):
+    def __init__(self, written=(), failed=(), formats=("md", "csv")):
         super().__init__(written)
         self.failed: list[tuple[str, str, bool]] = list(failed)
+        self.pages: list[Path] = []
+        self.formats = list(formats)
 
 
 def spec_for(study: str, kind: str) -> S.ReportSpec | None:
@@ -173,7 +177,7 @@ def build_reports(studies: list[str] | None = None, run: str | Mapping[str, str]
     said of it. The runs' reports are independent: with ``n_jobs`` other than 1 they are written
     in that many processes (joblib loky; -1: one per core), the same files as one by one."""
     root, formats = check_root(root), D.check_formats(formats)
-    figure_format, batch = D.check_figure_format(figure_format), ReportBatch()
+    figure_format, batch = D.check_figure_format(figure_format), ReportBatch(formats=formats)
     stores, unreadable = _runs(root, studies, run)
     batch.failed += unreadable
     if n_jobs == 1 or len(stores) < 2:
@@ -188,8 +192,9 @@ def build_reports(studies: list[str] | None = None, run: str | Mapping[str, str]
             batch.append(page)
         else:
             batch.failed.append(failure)
-    if len(batch):
-        write_root_pages(root, formats)
+    if len(batch) and write_root_pages(root, formats):
+        batch.pages = [root / f"index.{ext}" for ext in _index_pages(formats)] + [
+            root / f"headline.{ext}" for ext in ("md", "html") if ext == "md" or ext in formats]
     return batch
 
 
@@ -243,9 +248,11 @@ def index_rows(root: Path, page: str, unreadable: list[tuple[str, str]] | None =
 
 
 def write_index_page(root: Path, page: str, frame: pd.DataFrame) -> None:
-    """Write ``index.<page>`` (md or html) linking every run's report page and the headline."""
-    Document("Reports", "", [], [
+    """Write ``index.<page>`` (md or html) linking every run's report page of that format and the
+    headline (only that page: the other format's index lists the runs with a page of its own)."""
+    doc = Document("Reports", "", [], [
         Text("Headline success rates beside the paper's Table 1: [Table 1 headline](headline.md)"),
         Table("index", "Every run's report", frame, [
             Col("study", "study"), Col("run", "run", link="report"), Col("source", "source"),
-            Col("trials", "trials")], csv=None)]).write_pages(root / "index", [page])
+            Col("trials", "trials")], csv=None)])
+    (root / f"index.{page}").write_text(doc.html() if page == "html" else doc.markdown())
