@@ -140,6 +140,13 @@ def test_show_counts_only_the_overridden_design_as_recorded(smoke_run):
     assert "(5 of 5 recorded)" in same.stdout and "estimated time: 0 s for 0 trials" in same.stdout
     full = _invoke("show", "smoke", "--root", str(smoke_run))
     assert "(5 of 10 recorded)" in full.stdout and "for 5 trials" in full.stdout
+    # ... and says that `run` would not add them to this run, in run's own words
+    refused = _invoke("run", "smoke", "--root", str(smoke_run))
+    assert refused.exit_code == 2 and "factors.nodes [144] -> [144, 390]" in refused.stderr
+    assert f"note: `run` would refuse: {refused.stderr.removeprefix('error: ')}" in full.stdout
+    assert "note:" not in same.stdout
+    # the time per trial is the median of the run's own records once it has some
+    assert "each, median of the trials recorded, on" in full.stdout
     assert "{" not in full.stdout and "'" not in full.stdout  # no Python reprs
 
 

@@ -331,7 +331,8 @@ def test_records_behind_a_cover_sheet_name_their_sheet(good, tmp_path):
     schedule, rec, _ = good
     path = tmp_path / "book.xlsx"
     with pd.ExcelWriter(path) as book:
-        pd.DataFrame({"operator": ["A. B."], "date": ["2026-11-29"]}).to_excel(book, sheet_name="cover", index=False)
+        cover = pd.DataFrame({"operator": ["A. B."], "date": ["2026-11-29"]})
+        cover.to_excel(book, sheet_name="cover", index=False)
         rec.to_excel(book, sheet_name="trials", index=False)
     with pytest.raises(IngestError, match=r"^book\.xlsx, header: ingest reads the workbook's first "
                        r"sheet, which lacks the required columns; sheet 'trials' has them all: move "

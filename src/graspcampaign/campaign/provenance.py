@@ -17,7 +17,7 @@ from typing import Any
 import graspcampaign
 from graspcampaign.campaign.grid import content_hash
 from graspcampaign.campaign.schema import StudyCfg
-from graspcampaign.errors import DamagedRunError
+from graspcampaign.errors import DamagedRunError, UserInputError
 
 _PACKAGES = ("numpy", "scipy", "trimesh", "pandas", "pyarrow", "joblib", "hydra-core",
              "omegaconf", "statsmodels", "matplotlib", "dask", "distributed", "scikit-learn")
@@ -204,3 +204,26 @@ def config_changes(recorded: dict[str, Any] | None, study: StudyCfg, limit: int 
 def _text(value: Any) -> str:
     text = json.dumps(value, default=str) if not isinstance(value, str) else value
     return text if len(text) <= 60 else f"{text[:57]}..."
+
+
+class DriftError(UserInputError):
+    """The resolved config or code changed since the run started."""
+
+
+def check_drift(manifest: dict[str, Any], study: StudyCfg, allow_drift: bool, path: Path) -> None:
+    """Refuse to add ``study``'s trials to a run started with another resolved config or code
+    version (unless ``allow_drift``), naming what changed."""
+    if allow_drift:
+        return
+    changes = []
+    if manifest.get("config_hash") != config_hash(study):
+        keys = config_changes(manifest.get("config"), study)
+        changes.append("resolved study config" + (f" ({', '.join(keys)})" if keys else ""))
+    if manifest.get("code_version") != code_version():
+        changes.append(f"code version ({manifest.get('code_version')} -> "
+                       f"{code_version()})")
+    if changes:
+        raise DriftError(
+            f"run {path} was started with a different {' and '.join(changes)}; use a new run "
+            "name (output.run=NAME or --run NAME) or pass --allow-drift to mix them."
+        )

@@ -28,6 +28,7 @@ from graspcampaign.campaign.grid import Trial, content_hash, expand
 from graspcampaign.campaign.integrity import check_run, expected_records
 from graspcampaign.campaign.kind import TrialInput, TrialKind, get_kind
 from graspcampaign.campaign.paths import check_root
+from graspcampaign.campaign.provenance import DriftError, check_drift  # noqa: F401 - DriftError: API
 from graspcampaign.campaign.records import RunStore, config_metadata
 from graspcampaign.campaign.schema import StudyCfg, check_config, check_design_rows
 from graspcampaign.campaign.studyfile import run_path
@@ -38,10 +39,6 @@ BASE_COLUMNS = ("trial_id", "study", "run", "kind", "trial_index", "scene_id", "
                 "source")
 #: Record columns stored as strings in every shard, even when no trial of the shard errored.
 ERROR_COLUMNS = ("error_type", "error_message", "error_traceback")
-
-
-class DriftError(UserInputError):
-    """The resolved config or code changed since the run started."""
 
 
 @dataclass
@@ -229,23 +226,6 @@ def task_size(study: StudyCfg, kind: TrialKind, n_pending: int) -> int:
 
 
 # -- the campaign -------------------------------------------------------------------------------
-def _check_drift(manifest: dict[str, Any], study: StudyCfg, allow_drift: bool, path: Path) -> None:
-    if allow_drift:
-        return
-    changes = []
-    if manifest.get("config_hash") != provenance.config_hash(study):
-        keys = provenance.config_changes(manifest.get("config"), study)
-        changes.append("resolved study config" + (f" ({', '.join(keys)})" if keys else ""))
-    if manifest.get("code_version") != provenance.code_version():
-        changes.append(f"code version ({manifest.get('code_version')} -> "
-                       f"{provenance.code_version()})")
-    if changes:
-        raise DriftError(
-            f"run {path} was started with a different {' and '.join(changes)}; use a new run "
-            "name (output.run=NAME or --run NAME) or pass --allow-drift to mix them."
-        )
-
-
 class _Progress:
     """Progress of a run: a bar on a terminal, else one line at most every ``interval_s``.
 
@@ -338,7 +318,7 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
                 f"run {study.name}/{run} at {path} holds measured records (ingested); `run` "
                 "never adds simulated or virtual trials to them, so choose another run name "
                 "(--run NAME).")
-        _check_drift(manifest, study, allow_drift, path)
+        check_drift(manifest, study, allow_drift, path)
     chash = provenance.config_hash(study)
     session = {"started_at": provenance.now_utc(), "host": socket.gethostname(),
                "backend": study.runner.backend, "n_jobs": study.runner.n_jobs,

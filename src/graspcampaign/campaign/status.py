@@ -8,6 +8,7 @@ imports the numerical layers (the kind facts and explicit design sizes come from
 from __future__ import annotations
 
 import difflib
+import statistics
 from pathlib import Path
 from typing import Any
 
@@ -20,6 +21,8 @@ from graspcampaign.errors import UserInputError
 
 
 def _fmt_seconds(seconds: float) -> str:
+    if seconds < 1:
+        return f"{seconds * 1e3:.0f} ms" if seconds else "0 s"
     if seconds < 120:
         return f"{seconds:.0f} s"
     if seconds < 7200:
@@ -66,6 +69,34 @@ def recorded_in(study: StudyCfg, run: str | None = None) -> int:
     return len(ids & recorded)
 
 
+def _median_trial_s(study: StudyCfg, run: str | None) -> float | None:
+    """The median wall time [s] of the run's recorded trials (None: none timed)."""
+    from graspcampaign.campaign.records import RunStore
+
+    times = RunStore(run_path(study, run)).read(columns=["wall_time_s"]).column(0).drop_null()
+    return statistics.median(times.to_pylist()) if len(times) else None
+
+
+def drift_refusal(study: StudyCfg, run: str | None = None) -> str | None:
+    """What ``run`` would say, refusing to add ``study``'s trials to its run (started with another
+    config or code version: :func:`graspcampaign.campaign.provenance.check_drift`); None if it would
+    not, or there is no simulated run yet."""
+    path = run_path(study, run)
+    if not path.is_dir():
+        return None
+    from graspcampaign.campaign.provenance import DriftError, check_drift
+    from graspcampaign.campaign.records import RunStore
+
+    manifest = RunStore(path).check(["records"])
+    if manifest is None or manifest.get("source") == "measured":  # ingest's runs: no drift
+        return None
+    try:
+        check_drift(manifest, study, False, path)
+    except DriftError as exc:
+        return str(exc)
+    return None
+
+
 def design_text(study: StudyCfg, run: str | None = None) -> str:
     """Return the human-readable design of a study and the progress of its run."""
     ready = kind_available(study.kind)
@@ -88,11 +119,17 @@ def design_text(study: StudyCfg, run: str | None = None) -> str:
         lines.append(f"axes: {' x '.join(map(str, design_shape(study)))} = {total} trials")
     done = recorded_in(study, run) if ready else 0
     lines.append(f"run: {run_path(study, run)} ({done} of {total} recorded)")
+    if ready and (refusal := drift_refusal(study, run)):
+        lines.append(f"note: `run` would refuse: {refusal}")
     if facts:
         per, workers = facts["seconds_per_trial"], study.runner.workers()
+        basis = "as the trial kind estimates"
+        if done and (measured := _median_trial_s(study, run)) is not None:
+            per, basis = measured, "median of the trials recorded"
         remaining = (total - done) * per / workers
         lines.append(f"estimated time: {_fmt_seconds(remaining)} for {total - done} trials "
-                     f"(~{per * 1e3:.0f} ms each on {workers} workers)")
+                     f"(~{_fmt_seconds(per)} each, {basis}, on {workers} worker"
+                     f"{'s' if workers != 1 else ''}; setup and finalize stages not counted)")
     if study.paper:
         lines.append("paper: " + _paper_text(study.paper))
     return "\n".join(lines)
