@@ -12,14 +12,18 @@ def print_list(rows: list[dict[str, Any]]) -> None:
     from rich.console import Console
     from rich.table import Table
 
+    import sys
+    import textwrap
+
     table = Table("study", "kind", "trials", "runnable", "of", "description")
     for row in rows:
         description = row["description"]
-        if row["runnable"] != "broken":
-            description = description[:70]
+        if row["runnable"] != "broken":  # a broken file's reason is shown whole
+            description = textwrap.shorten(description, 70, placeholder=" …")
         table.add_row(row["study"], row["kind"], str(row["trials"]), row["runnable"],
                       "extension" if row["extension"] else "paper", description)
-    Console(width=160).print(table)
+    # a terminal's own width (the description wraps); a pipe or file gets one line per study
+    Console(width=None if sys.stdout.isatty() else 160).print(table)
 
 
 def _vector(values, fmt: str) -> str:
