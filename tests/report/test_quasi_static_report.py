@@ -250,3 +250,27 @@ def test_h_epsilon_histogram_counts_trials_in_whole_numbers(runs):
     ticks = fig.axes[1].get_yticks()
     plt.close(fig)
     assert len(ticks) >= 2 and np.array_equal(ticks, np.round(ticks))
+
+
+def test_headline_rows_are_algorithm_2s_trials_only(runs):
+    from statsmodels.stats.proportion import proportion_confint
+
+    root = runs["ablation"].path.parent.parent
+    rows = pd.read_csv(root / "headline.csv").set_index("headline")
+    for headline, store in (("Heuristic ablation", runs["ablation"]), ("Baseline grid", runs["grid"])):
+        ok = ok_records(store)
+        paper = ok[ok["grip_law"] == "paper"]  # the paper's rates are Algorithm 2's
+        mine = paper[paper["planner"] == "heuristic"]
+        row = rows.loc[headline]
+        low, high = proportion_confint(mine["success"].sum(), len(mine), method="wilson")
+        assert (row["n"], row["rate_pct"]) == (len(mine), pytest.approx(100 * mine["success"].mean()))
+        assert (row["wilson_low_pct"], row["wilson_high_pct"]) == pytest.approx((100 * low, 100 * high))
+        baselines = paper[(paper["planner"] != "heuristic") & ~paper["planner"].str.startswith("no_s")]
+        rates = baselines.groupby("planner")["success"].mean() * 100  # ablation variants are no baseline
+        assert set(row["ours_baselines"].split(", ")) == {f"{label('planner', p)} {r:.1f}%"
+                                                          for p, r in rates.items()}
+        shown = [float(x.rsplit(" ", 1)[1].rstrip("%")) for x in row["ours_baselines"].split(", ")]
+        assert shown == sorted(shown, reverse=True)
+    assert rows.loc["Heuristic ablation", "testbed"].endswith("; grip law Algorithm 2 (paper) only")
+    # a count is an integer in the CSV (675, not 675.0)
+    assert ",675," in (root / "headline.csv").read_text() and ",675.0," not in (root / "headline.csv").read_text()
