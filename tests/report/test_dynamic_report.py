@@ -26,7 +26,8 @@ def friction_mass_run(mus) -> Run:
             for p in ("table2", "firm") for mu in mus for m in (0.2, 0.4, 0.6)]
     t = np.linspace(0.0, 0.4, 5)
     steps = pd.DataFrame([{"trial_id": r["trial_id"], "time_s": x, "residual_z_n": -x,
-                           "total_penetration_m": 1e-3 * x, **{f"normal_force_{j}_n": j * x for j in (1, 2, 3)}}
+                           "total_penetration_m": 1e-3 * x,
+                           **{f"normal_force_{j}_n": j * x for j in (1, 2, 3)}}
                           for r in rows for x in t])
     run = Run(pd.DataFrame(rows), {"config": {"factors": {"model_preset": ["table2", "firm"]}}}, PAPER)
     run.memo("tables/steps", lambda: steps)

@@ -273,4 +273,5 @@ def test_headline_rows_are_algorithm_2s_trials_only(runs):
         assert shown == sorted(shown, reverse=True)
     assert rows.loc["Heuristic ablation", "testbed"].endswith("; grip law Algorithm 2 (paper) only")
     # a count is an integer in the CSV (675, not 675.0)
-    assert ",675," in (root / "headline.csv").read_text() and ",675.0," not in (root / "headline.csv").read_text()
+    text = (root / "headline.csv").read_text()
+    assert ",675," in text and ",675.0," not in text

@@ -164,7 +164,7 @@ def _case_text(run: Run) -> str:
 
 
 def mass_finding(run: Run) -> str:
-    p, parts = run.paper, []
+    parts = []
     for preset, g in in_order(run, FM).groupby("model_preset", sort=False):
         stable, other = g[g.dynamic_status == "stable"], g[g.dynamic_status != "stable"]
         text = f"**{label('model_preset', preset)}**: {len(stable)} of {len(g)} μ × m runs hold (`stable`)"
@@ -199,10 +199,10 @@ def _thick(run: Run) -> str:
     """What the figure's thick case is and where its lift-off is shaded."""
     mu, mass, exact = shown_case(run)
     lifted = run.ok[np.isclose(run.ok.mu, mu) & np.isclose(run.ok.mass_kg, mass)].lift_start_s.notna()
-    return (("the paper's representative case" if exact else f"the case nearest the paper's representative "
+    return (("the paper's representative case" if exact else "the case nearest the paper's representative "
              f"μ = {run.paper.representative_mu:g}, m = {run.paper.representative_mass_kg:g} kg (not run)")
-            + f", μ = {mu:g}, m = {mass:g} kg; grey: its lift-off" + (
-                "" if lifted.all() else f" (in {lifted.sum()} of {len(lifted)} presets; the others never lift)"))
+            + f", μ = {mu:g}, m = {mass:g} kg; grey: its lift-off" + ("" if lifted.all() else
+                f" (in {lifted.sum()} of {len(lifted)} presets; the others never lift)"))
 
 
 def fig12_13(run: Run, fig) -> None:
@@ -211,7 +211,8 @@ def fig12_13(run: Run, fig) -> None:
         raise ValueError("the run has no `steps` table")
     mu, mass, exact = shown_case(run)
     case = f"μ={mu:g}, m={mass:g} kg" + ("" if exact else "\nthe run's case nearest the paper's "
-                                               f"μ={p.representative_mu:g}, m={p.representative_mass_kg:g} kg")
+                                               f"μ={p.representative_mu:g}, "
+                                               f"m={p.representative_mass_kg:g} kg")
     axes = fig.subplots(ok.model_preset.nunique(), 3, squeeze=False)
     for ax, (preset, g) in zip(axes, ok.groupby("model_preset", sort=False), strict=True):
         for i, row in enumerate(g.itertuples()):
