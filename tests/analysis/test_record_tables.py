@@ -113,3 +113,25 @@ def test_groups_partition_the_rows_with_a_complete_key(rows, by):
         keys.append(tuple(key.values()))
     complete = frame[by].notna().all(axis=1)
     assert sorted(seen) == frame.loc[complete, "row"].tolist() and len(set(keys)) == len(keys)
+
+
+def test_design_limit_counts_depths_beyond_the_fingertip_radius_apart():
+    # 860 m, 85 km: a fingertip of r = 5 mm buried that deep is no contact (issue 13)
+    d = np.array([0.4, 2.0, 5.0, 8.6e5, 8.53e7])
+    records = pd.DataFrame({"status": "ok", "planner": ["a"] * 4 + ["b"], "delta_max_mm": d,
+                            "success": [True, True, False, False, False]})
+    table = rec.design_limit_table(records, ["planner"], radius_mm=5.0).set_index("planner")
+    assert table.loc["a", ["exceeds", "beyond_radius"]].tolist() == [3, 1]  # 5.0 is within r
+    assert table.loc["a", ["delta_max_median_mm", "delta_max_max_mm"]].tolist() == [2.0, 5.0]
+    assert table.loc["a", "delta_max_p95_mm"] == pytest.approx(np.quantile([0.4, 2.0, 5.0], 0.95))
+    assert table.loc["b", "beyond_radius"] == 1 and np.isnan(table.loc["b", "delta_max_max_mm"])
+    assert "beyond_radius" not in rec.design_limit_table(records, ["planner"])  # no radius given
+
+
+def test_failure_checks_show_geometry_for_gated_records_even_at_zero():
+    records = pd.DataFrame({"status": "ok", "planner": "a", "failure_check": ["none", "residual"],
+                            "valid_geometry": [True, True]})
+    table = rec.failure_check_table(records, ["planner"])
+    assert table[["none", "residual", "torque", "slip", "geometry"]].iloc[0].tolist() == [1, 1, 0, 0, 0]
+    # a run recorded before the validity gate has no geometry column
+    assert "geometry" not in rec.failure_check_table(records.drop(columns="valid_geometry"), ["planner"])

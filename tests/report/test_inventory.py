@@ -10,6 +10,7 @@ from __future__ import annotations
 import pandas as pd
 import pytest
 
+from graspcampaign.analysis.vocabulary import label
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.report.build import SPECS
 
@@ -105,7 +106,8 @@ def test_dynamic_tables_match_their_records(sim_root):
     assert stable.loc["firm", "successes"] == records.query("model_preset == 'firm'").success.sum()
     md = (fm / "report" / "report.md").read_text()
     for preset, g in records.groupby("model_preset"):
-        assert f"**{preset}**: {int((g.dynamic_status == 'stable').sum())} of {len(g)}" in md
+        stable = int((g.dynamic_status == "stable").sum())
+        assert f"**{label('model_preset', preset)}**: {stable} of {len(g)}" in md  # its label
 
     settle = sim_root / "gravity_settle" / "default"
     audit = pd.read_csv(settle / "report" / "tables" / "integrator_audit.csv")

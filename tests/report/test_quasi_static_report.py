@@ -88,12 +88,20 @@ def test_grid_opening_paragraph_numbers_are_the_records(runs):
     passes = ok[ok["success"]]
     one = int((passes["support_share_max"] >= 0.95).sum())
     loaded = int((passes["n_loaded"] == 1).sum())
-    assert f"{one} of {len(passes)} have one contact giving ≥ 95% of the vertical support ({loaded} a" in text
+    assert (f"{one} of {len(passes)} passes rest on one near-vertical fingertip, one contact giving "
+            f"≥ 95% of the vertical support ({loaded} a single loaded one): ") in text
+    # the claim is scoped per planner: each planner's share, not one sentence for all
+    share = (passes["support_share_max"] >= 0.95).groupby(passes["planner"]).agg(["sum", "size"])
+    assert ", ".join(f"{label('planner', p)} {share.loc[p, 'sum']} of {share.loc[p, 'size']}"
+                     for p in PLANNERS if p in share.index) + "." in text
     passable = ok.assign(p=ok["rho"] * ok["mass_kg"] * G < 0.5).groupby("planner")["p"].mean() * 100
     assert f"proposed H(G) ≤ {passable['heuristic']:.1f}% (paper 67.6%)" in text
     unbounded = ok["success_unbounded"].astype(bool)
     removed = int((unbounded & ~ok["success"]).sum())
     assert f"the validity gate removed {removed} of {int(unbounded.sum())}" in text
+    beyond = int((ok["delta_max_mm"] > 5.0).sum())  # Table 2's fingertip radius r = 5 mm
+    assert (f"Under Algorithm 2, {int((ok['delta_max_mm'] > 1).sum())} of {len(ok)} trials exceed the "
+            f"paper's 1 mm design limit, {beyond} of them deeper than the fingertip radius r = 5 mm") in text
     assert "docs/decisions.md" in text and "cannot come from its own Algorithm 2" in text
 
 
@@ -189,3 +197,81 @@ def test_ablation_gains_its_grip_law_columns(runs):
     assert "roughly ±12 pp" in text and "not computed" not in text
     assert figures(store) == {"fig16_ablation", "h_epsilon"}
 
+
+
+def caption(store, name: str) -> str:
+    """The bold caption line above table ``name`` in report.md."""
+    return next(line for line in md(store).splitlines() if f"(`tables/{name}.csv`)" in line)
+
+
+def test_readings_caption_sets_the_papers_tau_t_claim_beside_the_records(runs):
+    for store in runs.values():
+        ok = ok_records(store)
+        alone = ok["success_no_torque"].astype(bool) & ~ok["success"]
+        first = int((ok["failure_check"] == "torque").sum())
+        assert alone.any()  # the synthetic records let τ_T bind, so the caption must say so
+        text = caption(store, "readings")
+        assert "τ_T off (Sec. 3.7: τ_T never binds; here it does: τ_T alone removed " \
+               f"{int(alone.sum())} passes" in text
+        assert f"torque is the first failing check of {first} of {len(ok)} trials" in text
+
+
+def test_ablation_finding_scopes_its_numbers_to_each_grip_law(runs):
+    store = runs["ablation"]
+    ok, text = ok_records(store), finding(store)
+    paper = ok[ok["grip_law"] == "paper"]
+    assert (f"Under Algorithm 2, {int((paper['delta_max_mm'] > 1).sum())} of {len(paper)} trials "
+            "exceed the paper's 1 mm design limit") in text
+    for law, words in (("slip", "slip-margin grip"), ("oracle", "oracle equal grip")):
+        g = ok[ok["grip_law"] == law]
+        capped = g["grip_capped"].astype(bool)
+        checks = g["failure_check"].value_counts()
+        assert (f"under {words} {int(g['success'].sum())} of {len(g)} pass, the equal grip reaches "
+                f"its cap in {int(capped.sum())} (no equal grip holds in "
+                f"{int(np.isinf(g['grip_needed_n']).sum())}), where δmax = "
+                f"{g.loc[capped, 'delta_max_mm'].min():.3g}–{g.loc[capped, 'delta_max_mm'].max():.3g} mm"
+                "; first failing check " + ", ".join(
+                    f"{c} {checks[c]}" for c in ("none", "residual", "torque", "slip", "geometry")
+                    if c in checks)) in text
+
+
+def test_h_epsilon_histogram_counts_trials_in_whole_numbers(runs):
+    import json
+
+    import matplotlib.pyplot as plt
+
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies.quasi_static import h_epsilon_figure
+
+    store = runs["ablation"]
+    fig = plt.figure()
+    h_epsilon_figure(Run(store.read().to_pandas(), json.loads(store.manifest_path.read_text()),
+                         store=store), fig)
+    ticks = fig.axes[1].get_yticks()
+    plt.close(fig)
+    assert len(ticks) >= 2 and np.array_equal(ticks, np.round(ticks))
+
+
+def test_headline_rows_are_algorithm_2s_trials_only(runs):
+    from statsmodels.stats.proportion import proportion_confint
+
+    root = runs["ablation"].path.parent.parent
+    rows = pd.read_csv(root / "headline.csv").set_index("headline")
+    for headline, store in (("Heuristic ablation", runs["ablation"]), ("Baseline grid", runs["grid"])):
+        ok = ok_records(store)
+        paper = ok[ok["grip_law"] == "paper"]  # the paper's rates are Algorithm 2's
+        mine = paper[paper["planner"] == "heuristic"]
+        row = rows.loc[headline]
+        low, high = proportion_confint(mine["success"].sum(), len(mine), method="wilson")
+        assert (row["n"], row["rate_pct"]) == (len(mine), pytest.approx(100 * mine["success"].mean()))
+        assert (row["wilson_low_pct"], row["wilson_high_pct"]) == pytest.approx((100 * low, 100 * high))
+        baselines = paper[(paper["planner"] != "heuristic") & ~paper["planner"].str.startswith("no_s")]
+        rates = baselines.groupby("planner")["success"].mean() * 100  # ablation variants are no baseline
+        assert set(row["ours_baselines"].split(", ")) == {f"{label('planner', p)} {r:.1f}%"
+                                                          for p, r in rates.items()}
+        shown = [float(x.rsplit(" ", 1)[1].rstrip("%")) for x in row["ours_baselines"].split(", ")]
+        assert shown == sorted(shown, reverse=True)
+    assert rows.loc["Heuristic ablation", "testbed"].endswith("; grip law Algorithm 2 (paper) only")
+    # a count is an integer in the CSV (675, not 675.0)
+    text = (root / "headline.csv").read_text()
+    assert ",675," in text and ",675.0," not in text

@@ -15,6 +15,7 @@ from graspcampaign.analysis import records as rec
 from graspcampaign.analysis.rank_kernel import sorted_pairs, weighted_rho
 from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
 from graspcampaign.core.statics import GRAVITY
+from graspcampaign.core.verdict import FAILURE_CHECKS
 
 #: A pass rests on one fingertip when one contact gives >= this share of the vertical support
 #: (``support_share_max``; descriptive, beside ``n_loaded == 1``; docs/decisions.md).
@@ -80,6 +81,25 @@ def grip_need(records: pd.DataFrame, order: dict | None = None) -> pd.DataFrame:
                       steepest=ok.filter(like="contact_normal_z_").abs().max(axis=1))
     return _counts(frame, ["grip_law", "planner"], ["holdable", "no_equal_grip", "capped_passes"],
                    ("steepest_normal_z_median", "steepest"), order)
+
+
+def law_outcomes(records: pd.DataFrame, order: dict | None = None) -> pd.DataFrame:
+    """Return per grip law other than ``paper`` the counts ``n``, ``successes``, ``capped`` (the
+    grip at its cap), ``no_equal_grip`` (``grip_needed_n`` infinite), the smallest and largest
+    ``delta_max_mm`` of the capped trials, and the count of each first failing check."""
+    ok = rec.executed(records)
+    rows = []
+    for key, g in rec.groups(ok[ok["grip_law"] != "paper"] if "grip_law" in ok else ok.iloc[:0],
+                             ["grip_law"], order):
+        capped, checks = rec.flag(g, "grip_capped"), g["failure_check"].value_counts()
+        depth = g.loc[capped, "delta_max_mm"]
+        rows.append({**key, "n": len(g), "successes": int(g["success"].sum()),
+                     "capped": int(capped.sum()),
+                     "no_equal_grip": int(np.isinf(g["grip_needed_n"].astype(float)).sum()),
+                     "capped_delta_min_mm": depth.min(), "capped_delta_max_mm": depth.max(),
+                     **{c: int(checks.get(c, 0)) for c in FAILURE_CHECKS}})
+    return pd.DataFrame(rows, columns=["grip_law", "n", "successes", "capped", "no_equal_grip",
+                                       "capped_delta_min_mm", "capped_delta_max_mm", *FAILURE_CHECKS])
 
 
 def epsilon_table(records: pd.DataFrame, order: dict | None = None) -> pd.DataFrame:

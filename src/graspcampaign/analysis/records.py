@@ -195,37 +195,47 @@ def mcnemar_table(records: pd.DataFrame, reference: str, others: Sequence[str], 
 
 
 def design_limit_table(records: pd.DataFrame, by: Sequence[str], *,
-                       limit_mm: float = DESIGN_LIMIT_MM,
+                       limit_mm: float = DESIGN_LIMIT_MM, radius_mm: float | None = None,
                        order: Mapping[str, Sequence] | None = None) -> pd.DataFrame:
     """Return per group how often ``delta_max_mm`` exceeds (strictly) the 1 mm design limit
-    (paper Sec. 4, 5.5; SPEC Sec. 2.7), with Wilson 95 %."""
+    (paper Sec. 4, 5.5; SPEC Sec. 2.7), with Wilson 95 %, and the median, 95th percentile and
+    maximum of ``delta_max_mm``. With the fingertip radius ``radius_mm``: ``beyond_radius`` counts
+    the trials deeper than it (non-physical: the fingertip's centre inside the object, issue 13)
+    and the three statistics are over the other, physical trials (nan when there are none)."""
     ok = executed(records)
     ok = ok[ok["delta_max_mm"].notna()] if "delta_max_mm" in ok else ok.iloc[:0]
     rows = []
     for key, g in groups(ok, list(by), order):
         d = g["delta_max_mm"].to_numpy(float)
-        over = d > limit_mm
+        over, beyond = d > limit_mm, d > (np.inf if radius_mm is None else radius_mm)
         w = rates.wilson_interval(int(over.sum()), len(g))
         success = g["success"].to_numpy(bool) if "success" in g else np.zeros(len(g), bool)
+        shown = d[~beyond]
+        stats = (np.median(shown), np.quantile(shown, 0.95), shown.max()) if len(shown) \
+            else (math.nan,) * 3
         rows.append({**key, "n": len(g), "exceeds": w.successes, "exceeds_pct": 100 * w.estimate,
                      "wilson_low_pct": 100 * w.low, "wilson_high_pct": 100 * w.high,
                      "successes_exceeding": int((over & success).sum()),
-                     "delta_max_median_mm": float(np.median(d)),
-                     "delta_max_p95_mm": float(np.quantile(d, 0.95)),
-                     "delta_max_max_mm": float(d.max())})
-    return pd.DataFrame(rows, columns=[
+                     "beyond_radius": int(beyond.sum()),
+                     **dict(zip(("delta_max_median_mm", "delta_max_p95_mm", "delta_max_max_mm"),
+                                map(float, stats), strict=True))})
+    frame = pd.DataFrame(rows, columns=[
         *by, "n", "exceeds", "exceeds_pct", "wilson_low_pct", "wilson_high_pct",
-        "successes_exceeding", "delta_max_median_mm", "delta_max_p95_mm", "delta_max_max_mm"])
+        "successes_exceeding", "beyond_radius", "delta_max_median_mm", "delta_max_p95_mm",
+        "delta_max_max_mm"])
+    return frame if radius_mm is not None else frame.drop(columns="beyond_radius")
 
 
 def failure_check_table(records: pd.DataFrame, by: Sequence[str],
                         order: Mapping[str, Sequence] | None = None) -> pd.DataFrame:
-    """Return per group the count and share [%] of each first failing check."""
+    """Return per group the count and share [%] of each first failing check: every check of
+    ``FAILURE_CHECKS`` (0 where it never failed first); ``geometry`` only for records of the
+    validity gate (``valid_geometry``; runs recorded before it have none)."""
     ok = executed(records)
     ok = ok if "failure_check" in ok else ok.assign(failure_check="unknown")
     found = sorted(map(str, set(ok["failure_check"].dropna()) - set(FAILURE_CHECKS)))
-    checks = [c for c in FAILURE_CHECKS if c != "geometry" or (ok["failure_check"] == c).any()]
-    names, rows = [*checks, *found], []
+    gated = "valid_geometry" in ok or (ok["failure_check"] == "geometry").any()  # runs with the gate
+    names, rows = [*(c for c in FAILURE_CHECKS if gated or c != "geometry"), *found], []
     for key, g in groups(ok, list(by), order):
         counts, row = g["failure_check"].value_counts(), {**key, "n": len(g)}
         for c in names:

@@ -10,7 +10,7 @@ from typing import Any
 import pandas as pd
 
 from graspcampaign.analysis.records import data_source, rate_table
-from graspcampaign.analysis.vocabulary import PROPOSED
+from graspcampaign.analysis.vocabulary import PROPOSED, label
 from graspcampaign.campaign.paper import check_paper, study_paper
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.errors import ConfigError, DamagedRunError, UserInputError
@@ -47,11 +47,13 @@ def _table_rates(table: dict) -> dict[str, float]:
     return {k: row.success_pct for k, row in table.items() if k != PROPOSED}
 
 
+#: The paper's rates of the quasi-static studies are Algorithm 2's (grip law ``paper``).
+ALGORITHM_2 = ("grip_law", frozenset({"paper"}))
 TABLE1: tuple[Headline, ...] = (
     Headline("ablation", "Heuristic ablation", "Sec. 6.3", lambda p: p.success_pct[PROPOSED],
-             lambda p: p.trials_per_variant, _rates),
+             lambda p: p.trials_per_variant, _rates, ALGORITHM_2),
     Headline("baseline_grid", "Baseline grid", "Sec. 6.5", lambda p: p.success_pct[PROPOSED],
-             lambda p: p.trials_per_planner, _rates),
+             lambda p: p.trials_per_planner, _rates, ALGORITHM_2),
     Headline("test2_grasp", "Grasp validation, nominal", "Sec. 8.2",
              lambda p: p.validation_success_pct, subset=("group", frozenset({"A", "B", "D"}))),
     Headline("test2_grasp", "Grasp validation, all", "Sec. 8.5", lambda p: p.proposed_success_pct,
@@ -83,8 +85,14 @@ INTRO = ("Each row is the proposed planner's success rate over executed trials (
 
 
 def _ranked(rates: dict[str, float]) -> str:
-    return ", ".join(f"{k} {fmt.number(v, 1)}%" for k, v in sorted(rates.items(), key=lambda kv: -kv[1])) \
-        or fmt.MISSING
+    return ", ".join(f"{label('planner', k)} {fmt.number(v, 1)}%"
+                     for k, v in sorted(rates.items(), key=lambda kv: -kv[1])) or fmt.MISSING
+
+
+def _unset(column: str, config: dict) -> Any:
+    """The level of a record that does not name ``column``: a quasi-static trial is judged by the
+    evaluator's grip law (Algorithm 2 unless configured; a factor names it in every record)."""
+    return (config.get("evaluator") or {}).get("grip_law", "paper") if column == "grip_law" else None
 
 
 def _row(h: Headline, paper: Any, **extra) -> dict:
@@ -108,18 +116,24 @@ def _run_row(h: Headline, store: RunStore, root: Path) -> dict | None:
     records = store.read("records", columns=["status", "planner", "success", "aborted", "source",
                                              *([h.subset[0]] if h.subset else [])]).to_pandas()
     source = data_source(records, manifest.get("source"))
+    column, levels = h.subset or (None, frozenset())
     design = " × ".join([f"{len(v)} {FACTOR_NOUNS.get(k, k + ' levels')}" for k, v in (
-        config.get("factors") or {}).items() if k not in ("planner", "variant") and len(v) > 1]
-        + ([f"{config['seeds']} seeds"] if int(config.get("seeds", 1)) > 1 else []))
+        config.get("factors") or {}).items() if k not in ("planner", "variant", column) and len(v) > 1]
+        + ([f"{config['seeds']} seeds"] if int(config.get("seeds", 1)) > 1 else [])) + (
+        f"; {column.replace('_', ' ')} {', '.join(label(column, v) for v in sorted(levels))} only"
+        if column and len((config.get("factors") or {}).get(column, ())) > 1 else "")
     common = {"run": manifest.get("run"), "source": source,
               "testbed": SOURCE_SHORT.get(source, source) + (f": {design}" if design else ""),
               "report": (store.path / "report" / "report.html").relative_to(root).as_posix()}
-    if h.subset is not None and h.subset[0] not in records:
-        return _row(h, paper, why=f"the records lack the `{h.subset[0]}` column this "
+    if column and (unset := _unset(column, config)) is not None:
+        records[column] = records[column].fillna(unset) if column in records else unset
+    if column and column not in records:
+        return _row(h, paper, why=f"the records lack the `{column}` column this "
                                   "sub-population needs", **common)
-    records = records[records[h.subset[0]].isin(h.subset[1])] if h.subset else records
+    records = records[records[column].isin(levels)] if column else records
     if "planner" not in records or PROPOSED not in set(records["planner"]):
-        return _row(h, paper, why="no trial of the proposed planner", **common)
+        return _row(h, paper, why="no trial of the proposed planner" + (
+            f" with {column} = {', '.join(sorted(levels))}" if column else ""), **common)
     rates = rate_table(records, ["planner"]).set_index("planner")
     mine, others = rates.loc[PROPOSED], rates[(rates["n"] > 0) & rates.index.map(_baseline).to_numpy(bool)]
     return _row(h, paper, **{k: mine[k] for k in ("n", "n_error", "n_aborted", "rate_pct",
@@ -153,8 +167,8 @@ def headline_rows(root: Path | str, unreadable: list[tuple[str, str]] | None = N
                 what = f"it {exc.what}" if isinstance(exc, DamagedRunError) else reason(exc)
                 rows.append(_row(h, study_paper(h.study), run=r.name,
                                  why=f"the run cannot be read: {what}"))
-    frame = verdicts(pd.DataFrame(rows, columns=ROW), "rate_pct", "paper_pct", "wilson_low_pct",
-                     "wilson_high_pct", unit="%")
+    frame = verdicts(pd.DataFrame(rows, columns=ROW).astype({"paper_n": "Int64"}), "rate_pct",
+                     "paper_pct", "wilson_low_pct", "wilson_high_pct", unit="%")
     frame["verdict"] = [w or v for w, v in zip(frame["why"], frame["verdict"], strict=True)]
     return frame
 

@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.ticker import LogLocator, NullFormatter
 
-from graspcampaign.analysis.vocabulary import colour, ordered
+from graspcampaign.analysis.vocabulary import colour, label, ordered
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
 from graspcampaign.report.document import cols
@@ -143,11 +143,31 @@ GRAVITY_SETTLE = ReportSpec("gravity_settle", [
 FM = ["model_preset", "mu", "mass_kg"]
 
 
+def shown_case(run: Run) -> tuple[float, float, bool]:
+    """The μ and m Figs. 12-13 (ours) single out: the paper's representative case if the run has it,
+    else the run's nearest case (relative distance in μ and m); and whether it is the paper's."""
+    p, ok = run.paper, run.ok
+    paper = np.array([p.representative_mu, p.representative_mass_kg], dtype=float)
+    cases = ok[["mu", "mass_kg"]].drop_duplicates().to_numpy(float)
+    if not len(cases):
+        raise ValueError("no executed trial")
+    best = cases[np.argmin(np.abs(cases / paper - 1.0).sum(axis=1))]
+    return float(best[0]), float(best[1]), bool(np.isclose(best, paper).all())
+
+
+def _case_text(run: Run) -> str:
+    mu, mass, exact = shown_case(run)
+    p = run.paper
+    text = f"μ = {p.representative_mu:g}, m = {p.representative_mass_kg:g} kg"
+    return text if exact else (f"{text}, not in this run; Figs. 12-13 (ours) single out its nearest "
+                               f"case, μ = {mu:g}, m = {mass:g} kg")
+
+
 def mass_finding(run: Run) -> str:
-    p, parts = run.paper, []
+    parts = []
     for preset, g in in_order(run, FM).groupby("model_preset", sort=False):
         stable, other = g[g.dynamic_status == "stable"], g[g.dynamic_status != "stable"]
-        text = f"**{preset}**: {len(stable)} of {len(g)} μ × m runs hold (`stable`)"
+        text = f"**{label('model_preset', preset)}**: {len(stable)} of {len(g)} μ × m runs hold (`stable`)"
         if len(stable):
             text += f" at δ_max {_span(stable.delta_max_mm, 'mm')}"
         if len(other):
@@ -172,19 +192,32 @@ def mass_finding(run: Run) -> str:
                 f"{ok.normal_off_radial_max_deg.max():.1f}° off radial), and in "
                 f"{(ok.lp_status_mu0_ideal == 'feasible').sum()} of {len(ok)} on the ideal sphere along the "
                 "same directions, the paper's argument (Sec. 6.1)" if len(why) else "")
-            + f". Representative case of Figs. 12-13: μ = {p.representative_mu:g}, m = "
-            f"{p.representative_mass_kg:g} kg. {DECISION}.")
+            + f". Representative case of Figs. 12-13: {_case_text(run)}. {DECISION}.")
+
+
+def _thick(run: Run) -> str:
+    """What the figure's thick case is and where its lift-off is shaded."""
+    mu, mass, exact = shown_case(run)
+    lifted = run.ok[np.isclose(run.ok.mu, mu) & np.isclose(run.ok.mass_kg, mass)].lift_start_s.notna()
+    return (("the paper's representative case" if exact else "the case nearest the paper's representative "
+             f"μ = {run.paper.representative_mu:g}, m = {run.paper.representative_mass_kg:g} kg (not run)")
+            + f", μ = {mu:g}, m = {mass:g} kg; grey: its lift-off" + ("" if lifted.all() else
+                f" (in {lifted.sum()} of {len(lifted)} presets; the others never lift)"))
 
 
 def fig12_13(run: Run, fig) -> None:
     steps, p, ok = run.aux("steps"), run.paper, in_order(run, FM)
     if not len(steps):
         raise ValueError("the run has no `steps` table")
+    mu, mass, exact = shown_case(run)
+    case = f"μ={mu:g}, m={mass:g} kg" + ("" if exact else "\nthe run's case nearest the paper's "
+                                               f"μ={p.representative_mu:g}, "
+                                               f"m={p.representative_mass_kg:g} kg")
     axes = fig.subplots(ok.model_preset.nunique(), 3, squeeze=False)
     for ax, (preset, g) in zip(axes, ok.groupby("model_preset", sort=False), strict=True):
         for i, row in enumerate(g.itertuples()):
             s = steps[steps["trial_id"] == row.trial_id]
-            rep = np.isclose([row.mu, row.mass_kg], [p.representative_mu, p.representative_mass_kg]).all()
+            rep = np.isclose([row.mu, row.mass_kg], [mu, mass]).all()
             kw = {"linewidth": 2.0 if rep else 0.8, "alpha": 1.0 if rep else 0.5, "color": f"C{i}",
                   "label": f"μ={row.mu:g}, m={row.mass_kg:g} kg"}
             ax[0].plot(s["time_s"], s["residual_z_n"], **kw)
@@ -196,12 +229,12 @@ def fig12_13(run: Run, fig) -> None:
                 for a in ax if not np.isnan(row.lift_start_s) else ():
                     a.axvspan(row.lift_start_s, end, color="0.9", zorder=0, label="lift-off")
         ax[0].axhline(0.0, color=style.CRITERION, linestyle="--", linewidth=1)
-        ax[0].set(xlabel="time [s]", ylabel="vertical residual R_z [N]", title=f"({preset}) Fig. 12 top")
+        preset = label("model_preset", preset)
+        ax[0].set(xlabel="time [s]", ylabel="vertical residual R_z [N]", title=f"{preset}: Fig. 12 top")
         ax[1].axhline(1e3 * p.total_penetration_below_m, color=style.PAPER, linewidth=2,
                       label=f"paper: settles below {1e3 * p.total_penetration_below_m:g} mm")
-        ax[1].set(xlabel="time [s]", ylabel="total penetration [mm]", title=f"({preset}) Fig. 12 bottom")
-        ax[2].set(xlabel="time [s]", ylabel="normal force [N]", title=f"({preset}) Fig. 13: "
-                  f"μ={p.representative_mu:g}, m={p.representative_mass_kg:g} kg")
+        ax[1].set(xlabel="time [s]", ylabel="total penetration [mm]", title=f"{preset}: Fig. 12 bottom")
+        ax[2].set(xlabel="time [s]", ylabel="normal force [N]", title=f"{preset}: Fig. 13, {case}")
         ax[1].legend(handles=ax[1].get_legend_handles_labels()[0][-1:], loc="upper right")
         if ax[2].lines:
             ax[2].legend()
@@ -210,7 +243,7 @@ def fig12_13(run: Run, fig) -> None:
 
 def _fm_table(name: str, caption: str, *columns: str, **extra) -> Table:
     """A table of every preset × μ × m run in design order (``extra``: columns added first)."""
-    return Table(name, caption, lambda run: in_order(run, FM).assign(**extra), cols(*FM, *columns))
+    return Table(name, caption, lambda run: in_order(run, FM).assign(**extra), cols(*columns), by=FM)
 
 
 FRICTION_MASS = ReportSpec("friction_mass", [
@@ -240,7 +273,7 @@ FRICTION_MASS = ReportSpec("friction_mass", [
               "and the ideal sphere along the same directions", "lp_status", "lp_status_mu0", "lp_mu0_reason",
               "lp_mu0_force_only_status", "lp_mu0_torque_residual_nm", "normal_off_radial_max_deg",
               "lp_status_mu0_ideal"),
-    Figure("fig12_13_dynamic", "Figs. 12-13 (ours), one row per preset: vertical residual and total "
-           "penetration for every μ × m (thick: the paper's representative case; grey: its lift-off), and "
-           "the per-finger normal forces of the representative case", fig12_13, (15.0, 8.8)),
+    Figure("fig12_13_dynamic", lambda run: "Figs. 12-13 (ours), one row per preset: vertical residual "
+           "and total penetration for every μ × m, and the per-finger normal forces of the thick case, "
+           + _thick(run), fig12_13, (15.0, 8.8)),
 ])

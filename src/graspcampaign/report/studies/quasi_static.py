@@ -12,9 +12,11 @@ import numpy as np
 import pandas as pd
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
+from matplotlib.ticker import MaxNLocator
 
 from graspcampaign.analysis import quasi_static as qs
-from graspcampaign.analysis.records import DESIGN_LIMIT_MM, Estimate
+from graspcampaign.analysis import records as rec
+from graspcampaign.analysis.records import DESIGN_LIMIT_MM, FAILURE_CHECKS, Estimate
 from graspcampaign.analysis.vocabulary import colour, label, ordered
 from graspcampaign.campaign.paper import study_paper
 from graspcampaign.report import format as fmt
@@ -64,15 +66,50 @@ def readings(by: list[str]) -> S.Table:
     """Success under every reading per group, and the passes the gate and τ_T alone removed."""
     heads = {"success": "success", "success_unbounded": "without the validity gate",
              "success_vertical": "|R_z| reading", "success_no_torque": "torque check off"}
+
+    def compute(run: Run) -> pd.DataFrame:
+        return run.memo(f"readings{by}", lambda: qs.readings(run.records, by, run.order))
+
+    def torque(run: Run) -> str:
+        """Sec. 3.7's claim that τ_T never binds, beside what the records show."""
+        t, first = compute(run), int((run.ok["failure_check"] == "torque").sum())
+        binds = t["torque_binds"] > 0
+        return ("; τ_T off (Sec. 3.7: τ_T never binds" + (
+            f"; here it does: τ_T alone removed {int(t['torque_binds'].sum())} passes, in "
+            f"{int(binds.sum())} of {len(t)} groups, and torque is the first failing check of {first} "
+            f"of {len(run.ok)} trials, table failure_checks)" if binds.any() else
+            f"; here τ_T alone removed no pass; torque is the first failing check of {first} of "
+            f"{len(run.ok)} trials)"))
+
     return S.Table("readings", lambda run: (
         "Success per reading (Wilson 95%): as configured (‖R‖ < τ_F, ‖τ‖ < τ_T = "
         f"{run.config['evaluator']['tau_t_nm']:g} N·m, slip margin > 0, no active contact deeper "
-        "than the fingertip radius); without that validity gate; |R_z| < τ_F (the paper's prose); "
-        "τ_T off (Sec. 3.7: it never binds); the passes the gate alone and τ_T alone removed"),
-        lambda run: qs.readings(run.records, by, run.order), [Col("n", "n"), *(
+        "than the fingertip radius); without that validity gate; |R_z| < τ_F (the paper's prose)"
+        + torque(run) + "; the passes the gate alone and τ_T alone removed"),
+        compute, [Col("n", "n"), *(
             Col(f"{r}_pct", f"{h} % (95%)", 1, low=f"{r}_low_pct", high=f"{r}_high_pct")
             for r, h in heads.items()), Col("gate_removed", "removed by the gate"),
             Col("torque_binds", "failed only τ_T")], by=by)
+
+
+def _radius_mm(run: Run) -> float:
+    """The fingertip radius r [mm] of the run (Table 2's 5 mm for a run that does not record it)."""
+    return 1e3 * float((run.config.get("model") or {}).get("fingertip_radius_m", 5e-3))
+
+
+def design_limit(by: list[str]) -> S.Table:
+    """:func:`~graspcampaign.report.spec.DesignLimit` with the trials deeper than the fingertip
+    radius counted apart (non-physical) and the δmax statistics over the physical ones."""
+    base = S.DesignLimit(by)
+    return replace(base, caption=lambda run: base.caption + (
+        f"; δmax > r: trials with a contact deeper than the fingertip radius r = {_radius_mm(run):g} "
+        "mm, whose fingertip centre lies inside the object (non-physical; the validity gate makes "
+        "them failures); the δmax statistics are over the physical trials, δmax ≤ r (— where none)"),
+        compute=lambda run: rec.design_limit_table(
+            run.records, by, radius_mm=_radius_mm(run), order=run.order).assign(
+            paper=f"within {rec.DESIGN_LIMIT_MM:g} mm"),
+        cols=[*base.cols[:5], Col("beyond_radius", "δmax > r (non-physical)"),
+              *(replace(c, label=c.label.replace(" [mm]", ", δmax ≤ r [mm]")) for c in base.cols[5:])])
 
 
 MECHANISM = S.Table("mechanism", lambda run: (
@@ -97,6 +134,7 @@ def grid_finding(run: Run) -> str:
              for p, r in m.iterrows()
              if r["n"] and 100 * r["rho_passable"] / r["n"] < paper_pct.get(p, -1)]
     paired = _paper_law(run.tables.get("mcnemar", pd.DataFrame()))
+    limit = _paper_law(run.tables["design_limit"])
     return (
         "**The paper's rates cannot come from its own Algorithm 2.** Line 7 moves each depth by "
         f"sgn(g_k)·(−R_z) and so drives every upper contact (n_out,z > 0) to δ = 0: {t.released} of "
@@ -106,10 +144,12 @@ def grid_finding(run: Run) -> str:
         "ρ " + ", ".join(f"{label('planner', p)} {r['rho_median']:.2f}" for p, r in m.iterrows()) +
         "). Only triples with ρ·W < τ_F can pass ‖R‖ < τ_F, which bounds each rate" + (
             ": " + "; ".join(bound) + "." if bound else " (here no bound is below a paper rate).") + (
-            " Passes are objects resting on one near-vertical fingertip: "
-            f"{t.single_fingertip} of {t.successes} have one contact giving ≥ "
-            f"{100 * qs.SINGLE_FINGERTIP_SHARE:g}% of the vertical support ({t.single_loaded} a "
-            "single loaded one)." if t.successes else " No triple passes.") +
+            f" {t.single_fingertip} of {t.successes} passes rest on one near-vertical fingertip, "
+            f"one contact giving ≥ {100 * qs.SINGLE_FINGERTIP_SHARE:g}% of the vertical support ("
+            f"{t.single_loaded} a single loaded one): " + ", ".join(
+                f"{label('planner', p)} {r['single_fingertip']} of {r['successes']}"
+                for p, r in m.iterrows() if r["successes"]) + "." if t.successes
+            else " No triple passes.") +
         " Ours (Algorithm 2): " + "; ".join(f"{label('planner', r.planner)} {r.rate_pct:.1f}%"
                                             for r in rates.itertuples() if r.n) +
         f"; {int(rates['differs'].eq(True).sum())} of {int(rates['differs'].notna().sum())} differ "
@@ -117,10 +157,11 @@ def grid_finding(run: Run) -> str:
             "Paired, the proposed planner won–lost " + ", ".join(
                 f"{r.reference_only}–{r.compared_only} against {label('planner', r.compared)}"
                 for r in paired.itertuples()) + ". " if len(paired) else "") +
-        f"{int(_paper_law(run.tables['design_limit'])['exceeds'].sum())} trials exceed the paper's "
-        f"{DESIGN_LIMIT_MM:g} mm design limit; the validity gate removed "
-        f"{int(gate['gate_removed'].sum())} of {int(gate['success_unbounded'].sum())} passes of the "
-        f"published checks. SPEC §8; {DECISION}.")
+        f"Under Algorithm 2, {limit['exceeds'].sum()} of {limit['n'].sum()} trials exceed the "
+        f"paper's {DESIGN_LIMIT_MM:g} mm design limit, {limit['beyond_radius'].sum()} of them deeper "
+        f"than the fingertip radius r = {_radius_mm(run):g} mm (non-physical, never a success); the "
+        f"validity gate removed {int(gate['gate_removed'].sum())} of "
+        f"{int(gate['success_unbounded'].sum())} passes of the published checks. SPEC §8; {DECISION}.")
 
 
 def LawPaired() -> S.Table:
@@ -152,6 +193,7 @@ def h_epsilon_figure(run: Run, fig) -> None:
     b.axvline(0.0, color=style.CRITERION, linestyle="--", linewidth=1.0)
     b.set(xlabel="Spearman ρ of H and ε over one trial's candidates", ylabel="trials",
           title="(b) per trial (ρ < 0: H agrees with ε)")
+    b.yaxis.set_major_locator(MaxNLocator(integer=True))  # trials are counted
 
 
 def _rho_text(run: Run) -> str:
@@ -255,16 +297,35 @@ SHAPES = S.ReportSpec("shapes", [
     S.Figure("fig15_shape_metrics", "Fig. 15 (ours): chosen grasp's metrics per shape (medians); "
              "green = success, red = failure; our and the paper's outcome above panel (a)", fig15,
              (9.0, 6.4)),
-    S.DesignLimit(["shape"]), S.FailureChecks(["shape"], lambda p, k: p.failure_check.get(
+    design_limit(["shape"]), S.FailureChecks(["shape"], lambda p, k: p.failure_check.get(
         k["shape"], "none" if p.success.get(k["shape"]) else "not reported")),
     readings(["shape"]), IDENTIFICATIONS,
 ])
 
 
 # --------------------------------------------------------------------- ablation, grid, grip laws
+def other_laws(run: Run) -> str:
+    """What the slip and oracle grip laws (named, not run, by the paper) did, from the records."""
+    t = qs.law_outcomes(run.records, run.order)
+    span = lambda r: fmt.number(r.capped_delta_min_mm, sig=3) + (  # noqa: E731
+        "" if r.capped_delta_min_mm == r.capped_delta_max_mm
+        else "–" + fmt.number(r.capped_delta_max_mm, sig=3))
+    return "" if not len(t) else (
+        " The numbers above are Algorithm 2's. The tables also hold the grip laws the paper names "
+        "but did not run (Sec. 6.5, 12), every planner on the same scenes: " + "; ".join(
+            f"under {label('grip_law', r.grip_law)} {r.successes} of {r.n} pass, the equal grip "
+            f"reaches its cap in {r.capped} (no equal grip holds in {r.no_equal_grip})"
+            + (f", where δmax = {span(r)} mm" if r.capped else "") + "; first failing check "
+            + ", ".join(f"{c} {getattr(r, c)}" for c in FAILURE_CHECKS if getattr(r, c))
+            for r in t.itertuples()) + ". A capped grip presses every finger to the cap depth "
+        f"(the material's damage depth, at most r = {_radius_mm(run):g} mm), so δmax is the cap "
+        "whatever the planner; a trial whose first failing check is slip balanced force and torque "
+        "only with a tangential force of at least μ·f_n at some contact (slip margin ≤ 0).")
+
+
 def ablation_finding(run: Run) -> str:
     full = _paper_law(run.tables["success_by_planner"]).set_index("planner").loc["heuristic"]
-    return grid_finding(run) + (
+    return grid_finding(run) + other_laws(run) + (
         f" Power: at the paper's {run.paper.trials_per_variant} trials per variant its interval is "
         f"roughly ±{run.paper.interval_half_width_pp:g} pp (Sec. 6.3); ours on the full heuristic is "
         f"±{(full['wilson_high_pct'] - full['wilson_low_pct']) / 2:.1f} pp at n = {full['n']}.")
@@ -283,7 +344,7 @@ def law_items(figure: str, name: str, what: str) -> list:
 
 ABLATION = S.ReportSpec("ablation", [
     S.Finding(ablation_finding), *law_items("Fig. 16", "fig16_ablation", "variant"), MECHANISM,
-    readings(BY_LAW), *EPSILON, S.DesignLimit(BY_LAW), S.FailureChecks(BY_LAW), IDENTIFICATIONS,
+    readings(BY_LAW), *EPSILON, design_limit(BY_LAW), S.FailureChecks(BY_LAW), IDENTIFICATIONS,
 ])
 
 
@@ -303,7 +364,7 @@ BASELINE_GRID = S.ReportSpec("baseline_grid", [
             "only the rounded cube's values; a planner at 0% overall is 0% on every shape)",
             ["shape", "planner"], lambda p, k: _carried(p.success_by_shape_pct.get(k["shape"], {}),
                                                         p, k), bootstrap=False),
-    S.Paired(), S.DesignLimit(["planner"]),
+    S.Paired(), design_limit(["planner"]),
     S.Figure("fig18_baselines", "Fig. 18 (ours): (a) overall success per planner, (b) per shape; "
              f"Wilson 95% whiskers; {PAPER_MARKS}", fig18, (10.5, 4.2)),
     *(S.Rates(f"success_by_{f}", f"Success per planner and {w} (not printed in the paper except "
@@ -360,12 +421,12 @@ GRIP_LAWS = S.ReportSpec("grip_laws", [
                 Col("n", "n"), Col("holdable", "within the cap"),
                 Col("no_equal_grip", "no equal grip holds"), Col("capped_passes", "passes at the cap"),
                 Col("steepest_normal_z_median", "median steepest |n_z|", 2)], by=BY_LAW),
-    MECHANISM, *EPSILON, S.DesignLimit(BY_LAW), IDENTIFICATIONS,
+    MECHANISM, *EPSILON, design_limit(BY_LAW), IDENTIFICATIONS,
 ])
 
 PLANNERS = S.ReportSpec("quasi_static", [
     S.Rates("success_rates", "Success per planner", ["planner"],
             lambda p, k: getattr(p, "success_pct", {}).get(k["planner"])),
-    S.Paired(), S.DesignLimit(["planner"]), S.FailureChecks(["planner"]), readings(["planner"]),
+    S.Paired(), design_limit(["planner"]), S.FailureChecks(["planner"]), readings(["planner"]),
     IDENTIFICATIONS,
 ])

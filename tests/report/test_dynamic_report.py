@@ -1,0 +1,63 @@
+"""friction_mass report: the case Figs. 12-13 (ours) single out, when the paper's is not run.
+
+A small synthetic run (records and the ``steps`` trace as docs/records.md specifies) is rendered
+through the report's own figure function; the expected case is the paper's Sec. 5.5 values.
+"""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import matplotlib.pyplot as plt
+import numpy as np
+import pandas as pd
+
+from graspcampaign.analysis.vocabulary import label
+from graspcampaign.report.render import Run
+from graspcampaign.report.studies.dynamic import fig12_13, mass_finding, shown_case
+
+PAPER = SimpleNamespace(representative_mu=0.1, representative_mass_kg=0.4,  # Sec. 5.5, Figs. 12-13
+                        total_penetration_below_m=5e-4)
+
+
+def friction_mass_run(mus) -> Run:
+    rows = [{"trial_id": f"{p}-{mu}-{m}", "status": "ok", "model_preset": p, "mu": mu, "mass_kg": m,
+             "lift_start_s": 0.2, "lift_end_s": 0.3, "simulated_time_s": 0.4}
+            for p in ("table2", "firm") for mu in mus for m in (0.2, 0.4, 0.6)]
+    t = np.linspace(0.0, 0.4, 5)
+    steps = pd.DataFrame([{"trial_id": r["trial_id"], "time_s": x, "residual_z_n": -x,
+                           "total_penetration_m": 1e-3 * x,
+                           **{f"normal_force_{j}_n": j * x for j in (1, 2, 3)}}
+                          for r in rows for x in t])
+    run = Run(pd.DataFrame(rows), {"config": {"factors": {"model_preset": ["table2", "firm"]}}}, PAPER)
+    run.memo("tables/steps", lambda: steps)
+    return run
+
+
+def test_the_papers_case_is_shown_when_the_run_has_it():
+    assert shown_case(friction_mass_run([0.1, 0.3])) == (0.1, 0.4, True)
+
+
+def test_a_run_without_the_papers_case_says_so_and_draws_its_nearest():
+    run = friction_mass_run([0.3])
+    assert shown_case(run) == (0.3, 0.4, False)
+    fig = plt.figure()
+    fig12_13(run, fig)
+    right = [ax for ax in fig.axes if "Fig. 13" in ax.get_title()]
+    titles = [ax.get_title() for ax in right]
+    plt.close(fig)
+    assert len(right) == 2 and all(len(ax.lines) == 3 for ax in right)  # three fingers, not empty
+    assert all("μ=0.3, m=0.4 kg" in t and "nearest the paper's μ=0.1, m=0.4 kg" in t for t in titles)
+    assert titles[0].startswith(label("model_preset", "table2"))  # one label for a preset
+
+
+def test_the_finding_names_the_case_it_shows():
+    run = friction_mass_run([0.3])
+    ok = run.ok.assign(dynamic_status="stable", final_phase="hold", delta_max_mm=1.0, success=True,
+                       qs_success=True, qs_success_unbounded=True, lp_status_mu0="feasible",
+                       lp_status_mu0_ideal="feasible", lp_mu0_reason="", normal_off_radial_max_deg=1.0)
+    run.__dict__["ok"] = ok  # the executed trials with their outcome columns
+    text = mass_finding(run)
+    assert ("Representative case of Figs. 12-13: μ = 0.1, m = 0.4 kg, not in this run; Figs. 12-13 "
+            "(ours) single out its nearest case, μ = 0.3, m = 0.4 kg.") in text
+    assert f"**{label('model_preset', 'table2')}**" in text and "**table2**" not in text
