@@ -166,7 +166,41 @@ def test_the_checker_catches_a_wrong_cell():
         check_cell("proposed", ["heuristic"], {})
 
 
+def _narrow_table_page(tmp_path: Path) -> Path:
+    import pandas as pd
+
+    from graspcampaign.report.document import Document, Table
+
+    table = Table("status", "Trials by status (errored trials enter no success denominator)",
+                  pd.DataFrame({"status": ["ok"], "n": [225]}))
+    page = tmp_path / "page.html"
+    page.write_text(Document("t", "simulation", [], table.render(None)).html())
+    return page
+
+
+def test_a_caption_sits_above_its_table_not_inside_it(tmp_path):
+    """A ``<caption>`` is as wide as its table: over a narrow one it wrapped one word per line."""
+    text = _narrow_table_page(tmp_path).read_text()
+    table = text[text.index("<table"):text.index("</table>")]
+    assert "Trials by status" not in table and "<caption" not in text
+    assert "aria-labelledby='c-status'" in table and "id='c-status'" in text
+
+
 CHROMIUM = Path("/usr/bin/chromium")
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not CHROMIUM.exists(), reason="/usr/bin/chromium is not installed")
+def test_chromium_lays_a_narrow_tables_caption_on_one_line(tmp_path):
+    page = _narrow_table_page(tmp_path)
+    script = ("const c = document.querySelector('#t-status caption, #c-status'), s = getComputedStyle(c); "
+              "document.body.dataset.lines = Math.round((c.getBoundingClientRect().height - parseFloat("
+              "s.paddingTop) - parseFloat(s.paddingBottom)) / parseFloat(s.lineHeight));")
+    page.write_text(page.read_text().replace("</body>", f"<script>{script}</script></body>"))
+    out = subprocess.run([str(CHROMIUM), "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
+                          f"--user-data-dir={tmp_path / 'profile'}", "--window-size=1400,900",
+                          "--dump-dom", page.as_uri()], capture_output=True, text=True, timeout=120)
+    assert re.search(r"<body data-lines=\"1\">", out.stdout), re.findall(r"<body[^>]*>", out.stdout)
 
 
 @pytest.mark.slow

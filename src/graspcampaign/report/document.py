@@ -178,8 +178,10 @@ class Table:
                        + "</tr>" for r in self.cells())
         attrs = f" data-table='{self.name}'" if self.csv else ""
         csv = f" <span class='csv'>{self.csv.format(name=self.name)}</span>" if self.csv else ""
-        return (f"<div class='table' id='t-{self.name}'><table{attrs}><caption>{inline(self.caption)}{csv}"
-                f"</caption><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table></div>")
+        # the caption above the table, not its <caption>: that one wraps to a narrow table's width
+        return (f"<div class='table' id='t-{self.name}'><p class='caption' id='c-{self.name}'>"
+                f"{inline(self.caption)}{csv}</p><table{attrs} aria-labelledby='c-{self.name}'><thead><tr>"
+                f"{head}</tr></thead><tbody>{body}</tbody></table></div>")
 
 
 @dataclass(frozen=True)
@@ -352,7 +354,7 @@ dl.provenance{display:grid;grid-template-columns:max-content auto;gap:2px 14px;f
 dl.provenance dt{font-weight:600}dl.provenance dd{margin:0}p.finding{font-size:16px;background:#fff;
 border-left:4px solid #1f5aa6;padding:10px 14px}p.note{color:#8a4b00;font-style:italic}
 .table{overflow-x:auto;margin:14px 0}table{border-collapse:collapse;background:#fff;font-size:13.5px}
-caption{text-align:left;padding:6px 0;font-weight:600;caption-side:top}caption .csv{font-weight:400;
+p.caption{margin:0;padding:6px 0;font-weight:600;font-size:14px}p.caption .csv{font-weight:400;
 color:#777;font-family:monospace;font-size:12px}th,td{border:1px solid #d5dbe1;padding:4px 8px;
 text-align:left;vertical-align:top}th{background:#eef2f6}tbody tr:nth-child(even){background:#f6f8fa}
 figure{margin:18px 0;background:#fff;padding:10px;border:1px solid #e1e5ea}figure img{max-width:100%;
