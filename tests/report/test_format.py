@@ -38,14 +38,19 @@ def test_number_variants():
 
 @pytest.mark.parametrize(("args", "kwargs", "expected"), [
     # Table 9 random planner: 17/100 against the paper's 17.0 -> inside the interval
-    ((17.0, 17.0), {"low": 10.9, "high": 25.5, "unit": " pp"},
+    ((17.0, 17.0), {"low": 10.9, "high": 25.5, "unit": "%"},
      (False, "consistent: the paper's value lies inside our 95% interval (0.0 pp)")),
-    ((50.6, 72.0), {"low": 37.0, "high": 64.0, "unit": " pp"},
+    ((50.6, 72.0), {"low": 37.0, "high": 64.0, "unit": "%"},
      (True, "differs by \u221221.4 pp: the paper's value lies outside our 95% interval")),
     ((0.41666, 0.416), {"digits": 3}, (False, "matches to the paper's printed precision")),
     ((0.512, 0.833), {"digits": 3}, (True, "differs by \u22120.321")),
     ((35.0, (30, 40)), {"digits": 0}, (False, "inside the paper's range 30–40")),
     ((20.0, (30, 40)), {"digits": 0}, (True, "differs: below the paper's range 30–40")),
+    # a percentage and a range of percentages are "%"; only a difference of two is "pp"
+    ((85.0, (90, 100)), {"unit": "%"}, (True, "differs: below the paper's range 90.0–100.0%")),
+    ((2.0, (0, 4)), {"unit": "%"}, (False, "inside the paper's range 0.0–4.0%")),
+    ((2.0, (0, 4)), {"unit": "pp"}, (False, "inside the paper's range 0.0–4.0 pp")),
+    ((2.5, (0, 2)), {"digits": 2, "unit": "N"}, (True, "differs: above the paper's range 0.00–2.00 N")),
     ((True, True), {}, (False, "as in the paper (yes)")),
     ((False, True), {}, (True, "differs: the paper reports yes, ours is no")),
     ((1.0, None), {}, (None, "the paper reports no value")),
@@ -74,3 +79,15 @@ def test_fixed_decimals_agree_with_python_at_any_magnitude(x, digits):
     expected = f"{x:.{digits}f}"
     expected = expected.lstrip("-") if not expected.strip("-0.") else expected  # no "-0.00"
     assert fmt.number(x, digits) == expected.replace("-", fmt.MINUS)
+
+
+def test_verdicts_say_percent_for_a_value_and_pp_for_a_difference():
+    """spec.verdicts turned unit "%" into "pp" everywhere: a range of percentages read "pp"."""
+    import pandas as pd
+
+    from graspcampaign.report.spec import verdicts
+
+    frame = pd.DataFrame({"ours": [85.0, 2.0, 50.6], "paper": [(90.0, 100.0), (0.0, 4.0), 72.0]})
+    out = verdicts(frame, "ours", "paper", unit="%")["verdict"].tolist()
+    assert out == ["differs: below the paper's range 90.0–100.0%", "inside the paper's range 0.0–4.0%",
+                   "differs by \u221221.4 pp"]

@@ -79,22 +79,25 @@ def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits:
             unit: str = "") -> tuple[bool | None, str]:
     """Say how ours stands against the paper's value: ``(differs, words)``, the one rule: a range agrees
     inside it; a word when equal; ours with a 95 % interval when it holds the paper's value; otherwise
-    within one unit of the paper's last printed digit (``10**-digits``)."""
+    within one unit of the paper's last printed digit (``10**-digits``). ``unit`` is the values' unit:
+    a value or range of percentages prints ``%``, a difference of two percentages ``pp``."""
     if is_missing(paper):
         return None, "the paper reports no value"
     if is_missing(ours):
         return None, "not computed"
+    unit = unit.strip()
     if isinstance(paper, tuple | list):
         lo, hi = float(paper[0]), float(paper[1])
+        where = f"the paper's range {interval(lo, hi, digits)}{'' if unit in ('', '%') else ' '}{unit}"
         if lo <= float(ours) <= hi:
-            return False, f"inside the paper's range {interval(lo, hi, digits)}{unit}"
-        return True, (f"differs: {'below' if float(ours) < lo else 'above'} the paper's range "
-                      f"{interval(lo, hi, digits)}{unit}")
+            return False, f"inside {where}"
+        return True, f"differs: {'below' if float(ours) < lo else 'above'} {where}"
     if isinstance(paper, bool | str) or isinstance(ours, bool | str):
         if str(ours) == str(paper):
             return False, f"as in the paper ({number(paper)})"
         return True, f"differs: the paper reports {number(paper)}, ours is {number(ours)}"
-    diff = number(float(ours) - float(paper), digits, signed=True, unit=unit)
+    unit = "pp" if unit == "%" else unit
+    diff = number(float(ours) - float(paper), digits, signed=True, unit=f" {unit}" if unit else "")
     if not is_missing(low) and not is_missing(high):
         if float(low) <= float(paper) <= float(high):
             return False, f"consistent: the paper's value lies inside our 95% interval ({diff})"

@@ -55,7 +55,6 @@ def verdicts(frame: pd.DataFrame, ours: str, paper: str, low: str | None = None,
     out = []
     for r in frame.to_dict("records"):
         u = str(r[unit] or "") if unit in r else unit
-        u = " pp" if u in ("%", " pp") else (f" {u}" if u else "")
         o, p = r[ours], r[paper]
         number = isinstance(p, int | float) and not isinstance(p, bool) and not fmt.is_missing(p)
         verdict = fmt.verdict(o, p, low=r.get(low) if low else None, high=r.get(high) if high else None,
