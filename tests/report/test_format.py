@@ -91,3 +91,61 @@ def test_verdicts_say_percent_for_a_value_and_pp_for_a_difference():
     out = verdicts(frame, "ours", "paper", unit="%")["verdict"].tolist()
     assert out == ["differs: below the paper's range 90.0–100.0%", "inside the paper's range 0.0–4.0%",
                    "differs by \u221221.4 pp"]
+
+
+def _shown(frame, cols=None, name="t"):
+    """The rendered table of ``frame`` (default columns): its headers and cell texts."""
+    from graspcampaign.report.document import Table
+
+    [table] = Table(name, "caption", frame, cols).render(None)
+    return [c.label for c in table.cols], [[t for t, _ in r] for r in table.cells()]
+
+
+@pytest.mark.parametrize("p", [2.947e-62, 9.005e-16, 6.642e-64, 0.00099, 2.4e-4])
+def test_small_p_values_print_in_scientific_form(p):
+    text = fmt.p_value(p)
+    assert "e-" in text and len(text) <= 8 and float(text) == pytest.approx(p, rel=0.06)
+
+
+def test_p_values_at_or_above_a_thousandth_print_two_significant_digits():
+    assert [fmt.p_value(p) for p in (0.0472, 0.5, 1.0, 0.001)] == ["0.047", "0.50", "1.0", "0.0010"]
+    assert fmt.p_value(math.nan) == fmt.MISSING
+
+
+def test_every_p_value_column_and_claim_uses_the_one_rule():
+    """p columns (``p``, ``p_exact``, ``ols_p``) whatever their Col says, and a Claims row whose
+    digits are ``fmt.P`` (a Kruskal-Wallis p of 9e-16 printed "0.000" at 3 decimals)."""
+    import pandas as pd
+
+    from graspcampaign.report.document import Col
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.spec import Claims
+
+    ps = [2.947e-62, 0.0472, 9.005e-16]
+    frame = pd.DataFrame({"p": ps, "p_exact": ps, "ols_p": ps})
+    _, rows = _shown(frame, ["p", Col("p_exact", "p (exact)", sig=2), "ols_p"])
+    assert all(r == [fmt.p_value(p)] * 3 for r, p in zip(rows, ps, strict=True))
+    run = Run(pd.DataFrame(), {}, paper=object())
+    claims = Claims("c", "claims", lambda run: [("Kruskal-Wallis p", "§8", 9.005e-16, 0.002, "", fmt.P)])
+    [table] = claims.render(run)
+    row = dict(zip([c.label for c in table.cols], [t for t, _ in table.cells()[0]], strict=True))
+    assert (row["paper"], row["ours (95%)"]) == ("0.0020", "9.0e-16")
+    assert table.frame["value"].iloc[0] == 9.005e-16  # the CSV keeps the full value
+
+
+def test_an_undefined_mcnemar_test_shows_no_p():
+    """No discordant pair: the test is undefined, so its p is missing, not 1.0."""
+    import pandas as pd
+
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.spec import Paired
+
+    records = pd.DataFrame({"status": "ok", "trial_index": range(8), "scene_id": [0, 0, 1, 1, 2, 2, 3, 3],
+                            "planner": ["heuristic", "random"] * 4,
+                            "success": [True, True, False, False, True, True, True, False]})
+    run = Run(records, {"config": {"factors": {"planner": ["heuristic", "random", "centroid"]}}})
+    [table] = Paired().render(Run(records[records["scene_id"] < 3], run.manifest))
+    row = dict(zip([c.label for c in table.cols], [t for t, _ in table.cells()[0]], strict=True))
+    assert row["p (exact)"] == fmt.MISSING and row["χ² (cc)"] == "no discordant pair: the test is undefined"
+    [table] = Paired().render(run)  # one discordant pair: binomial p = 1
+    assert [t for t, _ in table.cells()[0]][[c.label for c in table.cols].index("p (exact)")] == "1.0"

@@ -21,7 +21,7 @@ import pytest
 
 from graspcampaign.report.format import MISSING
 
-NUMBER = re.compile(r"[+\u2212-]?(?:\d+(?:\.\d+)?|inf)")
+NUMBER = re.compile(r"[+\u2212-]?(?:\d+(?:\.\d+)?(?:e-\d+)?|inf)")  # p-values: 2.9e-16
 
 
 class Page(HTMLParser):
@@ -75,7 +75,9 @@ def _missing(text: str) -> bool:
 
 def _unit(number: str) -> float:
     """Half the unit of the last printed digit (trailing zeros of an integer count as rounded)."""
-    digits = number.lstrip("+\u2212-")
+    digits, _, exponent = number.lstrip("+\u2212-").partition("e")
+    if exponent:
+        return _unit(digits) * 10.0 ** int(exponent)
     if "." in digits:
         return 0.5 * 10.0 ** -len(digits.split(".")[1])
     return 0.5 * 10.0 ** (len(digits) - len(digits.rstrip("0"))) if digits != "0" else 0.5
@@ -101,7 +103,7 @@ def check_cell(text: str, values: list[str], row: dict[str, str]) -> None:
         if math.isinf(value) or math.isinf(shown):
             assert shown == value, (text, values)
         else:
-            assert abs(shown - value) <= _unit(printed) * (1 + 1e-9) + 1e-12, (text, values)
+            assert abs(shown - value) <= _unit(printed) * (1 + 1e-9) + 1e-12 * abs(value), (text, values)
 
 
 def pages(root: Path) -> list[Path]:
@@ -162,6 +164,9 @@ def test_the_checker_catches_a_wrong_cell():
     with pytest.raises(AssertionError):
         check_cell("407000", ["406400.0"], {})
     check_cell("407000", ["406600.0"], {})
+    check_cell("2.9e-62", ["2.947e-62"], {})
+    with pytest.raises(AssertionError):
+        check_cell("2.9e-62", ["2.97e-62"], {})
     with pytest.raises(AssertionError):
         check_cell("proposed", ["heuristic"], {})
 

@@ -98,13 +98,17 @@ def pct_col(name: str, head: str) -> Col:
 
 
 def cell(row: Mapping[str, Any], col: Col) -> str:
-    """Return the displayed text of ``row`` under ``col`` (the one formatting of every table)."""
+    """Return the displayed text of ``row`` under ``col`` (the one formatting of every table); a
+    p-value (:func:`~graspcampaign.report.format.is_p_value`, or a row whose digits are ``fmt.P``)
+    by :func:`~graspcampaign.report.format.p_value`."""
     value = row.get(col.key)
     if fmt.is_missing(value):
         why = row.get(col.why) if col.why else None
         return str(why) if isinstance(why, str) and why else fmt.MISSING
     digits = row.get(col.digits) if isinstance(col.digits, str) else col.digits
-    digits = None if fmt.is_missing(digits) else int(digits)
+    if fmt.is_p_value(col.key) or (digits == fmt.P and not col.signed):
+        return fmt.p_value(value)
+    digits = None if fmt.is_missing(digits) or digits == fmt.P else int(digits)
     if col.low and col.low == col.key:
         return fmt.interval(value, row.get(col.high), digits, sig=col.sig)
     if col.low:

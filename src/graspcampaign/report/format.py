@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import sys
 from decimal import ROUND_HALF_EVEN, Context, Decimal
 from typing import Any
 
@@ -11,6 +12,9 @@ MISSING = "\u2014"
 """The mark of a value that is missing or could not be computed (its reason stands beside it)."""
 MINUS = "\u2212"
 DASH = "\u2013"
+P = "p"
+"""The digits of a value that is a p-value (a :func:`~graspcampaign.report.spec.Claims` row's): printed
+by :func:`p_value`, compared with the paper's at 3 decimals."""
 
 
 def is_missing(value: Any) -> bool:
@@ -50,6 +54,21 @@ def number(value: Any, digits: int | None = None, *, sig: int | None = None,
     text = text[1:] if text.startswith("-") and not _nonzero(text) else text  # no "-0.0"
     text = "+" + text if signed and not text.startswith("-") and _nonzero(text) else text
     return text.replace("-", MINUS) + unit
+
+
+def p_value(p: Any) -> str:
+    """Return a p-value by the one rule: two significant digits, written out from 0.001 up
+    (``0.047``, ``0.50``, ``1.0``) and in scientific form below (``2.9e-16``); an underflow ``< 2e-308``."""
+    if is_missing(p) or isinstance(p, str):
+        return number(p)
+    if float(p) >= 1e-3:
+        return number(p, sig=2)
+    return f"{float(p):.1e}".replace("e-0", "e-") if p > 0 else f"< {sys.float_info.min:.0e}"
+
+
+def is_p_value(name: str) -> bool:
+    """Whether the column ``name`` holds p-values: ``p``, ``p_<test>`` or ``<test>_p`` (docs/records.md)."""
+    return name == "p" or name.startswith("p_") or name.endswith("_p")
 
 
 def interval(low: Any, high: Any, digits: int | None = None, *, sig: int | None = None) -> str:
