@@ -81,24 +81,45 @@ def test_fixed_decimals_agree_with_python_at_any_magnitude(x, digits):
     assert fmt.number(x, digits) == expected.replace("-", fmt.MINUS)
 
 
-def test_verdicts_say_percent_for_a_value_and_pp_for_a_difference():
-    """spec.verdicts turned unit "%" into "pp" everywhere: a range of percentages read "pp"."""
-    import pandas as pd
-
-    from graspcampaign.report.spec import verdicts
-
-    frame = pd.DataFrame({"ours": [85.0, 2.0, 50.6], "paper": [(90.0, 100.0), (0.0, 4.0), 72.0]})
-    out = verdicts(frame, "ours", "paper", unit="%")["verdict"].tolist()
-    assert out == ["differs: below the paper's range 90.0–100.0%", "inside the paper's range 0.0–4.0%",
-                   "differs by \u221221.4 pp"]
-
-
 def _shown(frame, cols=None, name="t"):
     """The rendered table of ``frame`` (default columns): its headers and cell texts."""
     from graspcampaign.report.document import Table
 
     [table] = Table(name, "caption", frame, cols).render(None)
     return [c.label for c in table.cols], [[t for t, _ in r] for r in table.cells()]
+
+
+def test_a_count_named_like_newtons_prints_as_a_count():
+    """``hardware.summary``'s ``<column>_n`` and ``parity_n`` count rows: no [N], whole numbers never
+    rounded to 3 significant digits (1272 stayed 1270); a float ``_n`` column is still in newtons."""
+    import pandas as pd
+
+    frame = pd.DataFrame({"threshold": [1.215, 1.355], "threshold_n": [18, 1272],
+                          "parity_n": [1272, 653], "parity_slope": [1.02, 0.99], "bias_n": [0.0998, 0.333]})
+    heads, rows = _shown(frame)
+    assert heads == ["threshold", "n (threshold)", "n (parity)", "parity slope", "bias [N]"]
+    assert [r[1] for r in rows] == [str(v) for v in frame["threshold_n"]]
+    assert [r[2] for r in rows] == [str(v) for v in frame["parity_n"]]
+    # a count that is float (missing groups) beside its rate is a count too
+    heads, rows = _shown(pd.DataFrame({"stable_pct": [50.0, 25.0], "stable_n": [1272.0, math.nan]}))
+    assert heads[1] == "n (stable)" and [r[1] for r in rows] == ["1272", fmt.MISSING]
+
+
+@pytest.mark.parametrize("name", ["x", "x_deg"])  # unitless (was 4 digits), with a unit (was 3 per value)
+@pytest.mark.parametrize("values", [[1.215, 1.22, 1.07, 1.355], [0.0, 45.0, 135.0, 315.0],
+                                    [0.0, 0.00486, 0.0292, 0.124], [2.07, 1272.5, 0.3]])
+def test_one_rounding_per_column(values, name):
+    """Every cell of a column has the same decimals, enough for 3 significant digits of its largest
+    value, and each is the value rounded once (Python's own rounding at those decimals)."""
+    import pandas as pd
+
+    _, rows = _shown(pd.DataFrame({name: values}))
+    cells = [r[0] for r in rows]
+    places = {len(c.partition(".")[2]) for c in cells}
+    assert len(places) == 1, cells
+    d = places.pop()
+    assert cells == [f"{v:.{d}f}" for v in values]
+    assert len(f"{max(values):.{d}f}".replace(".", "").lstrip("0")) >= 3
 
 
 @pytest.mark.parametrize("p", [2.947e-62, 9.005e-16, 6.642e-64, 0.00099, 2.4e-4])
@@ -131,6 +152,18 @@ def test_every_p_value_column_and_claim_uses_the_one_rule():
     row = dict(zip([c.label for c in table.cols], [t for t, _ in table.cells()[0]], strict=True))
     assert (row["paper"], row["ours (95%)"]) == ("0.0020", "9.0e-16")
     assert table.frame["value"].iloc[0] == 9.005e-16  # the CSV keeps the full value
+
+
+def test_verdicts_say_percent_for_a_value_and_pp_for_a_difference():
+    """spec.verdicts turned unit "%" into "pp" everywhere: a range of percentages read "pp"."""
+    import pandas as pd
+
+    from graspcampaign.report.spec import verdicts
+
+    frame = pd.DataFrame({"ours": [85.0, 2.0, 50.6], "paper": [(90.0, 100.0), (0.0, 4.0), 72.0]})
+    out = verdicts(frame, "ours", "paper", unit="%")["verdict"].tolist()
+    assert out == ["differs: below the paper's range 90.0–100.0%", "inside the paper's range 0.0–4.0%",
+                   "differs by \u221221.4 pp"]
 
 
 def test_an_undefined_mcnemar_test_shows_no_p():

@@ -71,6 +71,16 @@ def is_p_value(name: str) -> bool:
     return name == "p" or name.startswith("p_") or name.endswith("_p")
 
 
+def decimals(values: Any, sig: int = 3) -> int | None:
+    """The one rounding of a column: no decimals for whole numbers, else those giving its largest
+    finite magnitude ``sig`` significant digits, the same for every value (None: no number)."""
+    values = [abs(float(v)) for v in values if isinstance(v, numbers.Real) and not isinstance(v, bool)
+              and not is_missing(v) and math.isfinite(float(v))]
+    if not values or all(v.is_integer() for v in values):
+        return 0 if values else None
+    return max(0, sig - 1 - (math.floor(math.log10(top)) if (top := max(values)) else 0))
+
+
 def interval(low: Any, high: Any, digits: int | None = None, *, sig: int | None = None) -> str:
     """Return ``"low–high"`` (``"low to high"`` when a bound is negative), each rounded once."""
     if is_missing(low) or is_missing(high):
