@@ -64,6 +64,15 @@ def test_mcnemar_pairs_occurrences_and_skips_errors():
     assert row["chi2_cc"] == 0.0 and row["p_exact"] == 1.0
 
 
+def test_mcnemar_without_a_discordant_pair_has_no_p():
+    """Every pair concordant: no test, so no statistic and no p (was p = 1.0 beside "undefined")."""
+    records = pd.DataFrame({"scene_id": ["s1", "s1", "s2", "s2"], "trial_index": range(4),
+                            "planner": ["a", "b"] * 2, "status": "ok", "success": [True, True, False, False]})
+    row = rec.mcnemar_table(records, "a", ["b"]).iloc[0]
+    assert row["pairs"] == 2 and row["test_why"]
+    assert all(math.isnan(row[c]) for c in ("chi2_cc", "p_chi2", "p_exact", "odds_ratio"))
+
+
 def test_design_limit_counts_exceedances_strictly():
     d = np.array([0.2, 0.9, 1.0, 1.01, 5.0])
     records = pd.DataFrame({"status": "ok", "planner": "a", "delta_max_mm": d,

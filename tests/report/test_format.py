@@ -38,14 +38,19 @@ def test_number_variants():
 
 @pytest.mark.parametrize(("args", "kwargs", "expected"), [
     # Table 9 random planner: 17/100 against the paper's 17.0 -> inside the interval
-    ((17.0, 17.0), {"low": 10.9, "high": 25.5, "unit": " pp"},
+    ((17.0, 17.0), {"low": 10.9, "high": 25.5, "unit": "%"},
      (False, "consistent: the paper's value lies inside our 95% interval (0.0 pp)")),
-    ((50.6, 72.0), {"low": 37.0, "high": 64.0, "unit": " pp"},
+    ((50.6, 72.0), {"low": 37.0, "high": 64.0, "unit": "%"},
      (True, "differs by \u221221.4 pp: the paper's value lies outside our 95% interval")),
     ((0.41666, 0.416), {"digits": 3}, (False, "matches to the paper's printed precision")),
     ((0.512, 0.833), {"digits": 3}, (True, "differs by \u22120.321")),
     ((35.0, (30, 40)), {"digits": 0}, (False, "inside the paper's range 30–40")),
     ((20.0, (30, 40)), {"digits": 0}, (True, "differs: below the paper's range 30–40")),
+    # a percentage and a range of percentages are "%"; only a difference of two is "pp"
+    ((85.0, (90, 100)), {"unit": "%"}, (True, "differs: below the paper's range 90.0–100.0%")),
+    ((2.0, (0, 4)), {"unit": "%"}, (False, "inside the paper's range 0.0–4.0%")),
+    ((2.0, (0, 4)), {"unit": "pp"}, (False, "inside the paper's range 0.0–4.0 pp")),
+    ((2.5, (0, 2)), {"digits": 2, "unit": "N"}, (True, "differs: above the paper's range 0.00–2.00 N")),
     ((True, True), {}, (False, "as in the paper (yes)")),
     ((False, True), {}, (True, "differs: the paper reports yes, ours is no")),
     ((1.0, None), {}, (None, "the paper reports no value")),
@@ -74,3 +79,106 @@ def test_fixed_decimals_agree_with_python_at_any_magnitude(x, digits):
     expected = f"{x:.{digits}f}"
     expected = expected.lstrip("-") if not expected.strip("-0.") else expected  # no "-0.00"
     assert fmt.number(x, digits) == expected.replace("-", fmt.MINUS)
+
+
+def _shown(frame, cols=None, name="t"):
+    """The rendered table of ``frame`` (default columns): its headers and cell texts."""
+    from graspcampaign.report.document import Table
+
+    [table] = Table(name, "caption", frame, cols).render(None)
+    return [c.label for c in table.cols], [[t for t, _ in r] for r in table.cells()]
+
+
+def test_a_count_named_like_newtons_prints_as_a_count():
+    """``hardware.summary``'s ``<column>_n`` and ``parity_n`` count rows: no [N], whole numbers never
+    rounded to 3 significant digits (1272 stayed 1270); a float ``_n`` column is still in newtons."""
+    import pandas as pd
+
+    frame = pd.DataFrame({"threshold": [1.215, 1.355], "threshold_n": [18, 1272],
+                          "parity_n": [1272, 653], "parity_slope": [1.02, 0.99], "bias_n": [0.0998, 0.333]})
+    heads, rows = _shown(frame)
+    assert heads == ["threshold", "n (threshold)", "n (parity)", "parity slope", "bias [N]"]
+    assert [r[1] for r in rows] == [str(v) for v in frame["threshold_n"]]
+    assert [r[2] for r in rows] == [str(v) for v in frame["parity_n"]]
+    # a count that is float (missing groups) beside its rate is a count too
+    heads, rows = _shown(pd.DataFrame({"stable_pct": [50.0, 25.0], "stable_n": [1272.0, math.nan]}))
+    assert heads[1] == "n (stable)" and [r[1] for r in rows] == ["1272", fmt.MISSING]
+
+
+@pytest.mark.parametrize("name", ["x", "x_deg"])  # unitless (was 4 digits), with a unit (was 3 per value)
+@pytest.mark.parametrize("values", [[1.215, 1.22, 1.07, 1.355], [0.0, 45.0, 135.0, 315.0],
+                                    [0.0, 0.00486, 0.0292, 0.124], [2.07, 1272.5, 0.3]])
+def test_one_rounding_per_column(values, name):
+    """Every cell of a column has the same decimals, enough for 3 significant digits of its largest
+    value, and each is the value rounded once (Python's own rounding at those decimals)."""
+    import pandas as pd
+
+    _, rows = _shown(pd.DataFrame({name: values}))
+    cells = [r[0] for r in rows]
+    places = {len(c.partition(".")[2]) for c in cells}
+    assert len(places) == 1, cells
+    d = places.pop()
+    assert cells == [f"{v:.{d}f}" for v in values]
+    assert len(f"{max(values):.{d}f}".replace(".", "").lstrip("0")) >= 3
+
+
+@pytest.mark.parametrize("p", [2.947e-62, 9.005e-16, 6.642e-64, 0.00099, 2.4e-4])
+def test_small_p_values_print_in_scientific_form(p):
+    text = fmt.p_value(p)
+    assert "e-" in text and len(text) <= 8 and float(text) == pytest.approx(p, rel=0.06)
+
+
+def test_p_values_at_or_above_a_thousandth_print_two_significant_digits():
+    assert [fmt.p_value(p) for p in (0.0472, 0.5, 1.0, 0.001)] == ["0.047", "0.50", "1.0", "0.0010"]
+    assert fmt.p_value(math.nan) == fmt.MISSING
+
+
+def test_every_p_value_column_and_claim_uses_the_one_rule():
+    """p columns (``p``, ``p_exact``, ``ols_p``) whatever their Col says, and a Claims row whose
+    digits are ``fmt.P`` (a Kruskal-Wallis p of 9e-16 printed "0.000" at 3 decimals)."""
+    import pandas as pd
+
+    from graspcampaign.report.document import Col
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.spec import Claims
+
+    ps = [2.947e-62, 0.0472, 9.005e-16]
+    frame = pd.DataFrame({"p": ps, "p_exact": ps, "ols_p": ps})
+    _, rows = _shown(frame, ["p", Col("p_exact", "p (exact)", sig=2), "ols_p"])
+    assert all(r == [fmt.p_value(p)] * 3 for r, p in zip(rows, ps, strict=True))
+    run = Run(pd.DataFrame(), {}, paper=object())
+    claims = Claims("c", "claims", lambda run: [("Kruskal-Wallis p", "§8", 9.005e-16, 0.002, "", fmt.P)])
+    [table] = claims.render(run)
+    row = dict(zip([c.label for c in table.cols], [t for t, _ in table.cells()[0]], strict=True))
+    assert (row["paper"], row["ours (95%)"]) == ("0.0020", "9.0e-16")
+    assert table.frame["value"].iloc[0] == 9.005e-16  # the CSV keeps the full value
+
+
+def test_verdicts_say_percent_for_a_value_and_pp_for_a_difference():
+    """spec.verdicts turned unit "%" into "pp" everywhere: a range of percentages read "pp"."""
+    import pandas as pd
+
+    from graspcampaign.report.spec import verdicts
+
+    frame = pd.DataFrame({"ours": [85.0, 2.0, 50.6], "paper": [(90.0, 100.0), (0.0, 4.0), 72.0]})
+    out = verdicts(frame, "ours", "paper", unit="%")["verdict"].tolist()
+    assert out == ["differs: below the paper's range 90.0–100.0%", "inside the paper's range 0.0–4.0%",
+                   "differs by \u221221.4 pp"]
+
+
+def test_an_undefined_mcnemar_test_shows_no_p():
+    """No discordant pair: the test is undefined, so its p is missing, not 1.0."""
+    import pandas as pd
+
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.spec import Paired
+
+    records = pd.DataFrame({"status": "ok", "trial_index": range(8), "scene_id": [0, 0, 1, 1, 2, 2, 3, 3],
+                            "planner": ["heuristic", "random"] * 4,
+                            "success": [True, True, False, False, True, True, True, False]})
+    run = Run(records, {"config": {"factors": {"planner": ["heuristic", "random", "centroid"]}}})
+    [table] = Paired().render(Run(records[records["scene_id"] < 3], run.manifest))
+    row = dict(zip([c.label for c in table.cols], [t for t, _ in table.cells()[0]], strict=True))
+    assert row["p (exact)"] == fmt.MISSING and row["χ² (cc)"] == "no discordant pair: the test is undefined"
+    [table] = Paired().render(run)  # one discordant pair: binomial p = 1
+    assert [t for t, _ in table.cells()[0]][[c.label for c in table.cols].index("p (exact)")] == "1.0"

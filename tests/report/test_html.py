@@ -21,7 +21,7 @@ import pytest
 
 from graspcampaign.report.format import MISSING
 
-NUMBER = re.compile(r"[+\u2212-]?(?:\d+(?:\.\d+)?|inf)")
+NUMBER = re.compile(r"[+\u2212-]?(?:\d+(?:\.\d+)?(?:e-\d+)?|inf)")  # p-values: 2.9e-16
 
 
 class Page(HTMLParser):
@@ -75,7 +75,9 @@ def _missing(text: str) -> bool:
 
 def _unit(number: str) -> float:
     """Half the unit of the last printed digit (trailing zeros of an integer count as rounded)."""
-    digits = number.lstrip("+\u2212-")
+    digits, _, exponent = number.lstrip("+\u2212-").partition("e")
+    if exponent:
+        return _unit(digits) * 10.0 ** int(exponent)
     if "." in digits:
         return 0.5 * 10.0 ** -len(digits.split(".")[1])
     return 0.5 * 10.0 ** (len(digits) - len(digits.rstrip("0"))) if digits != "0" else 0.5
@@ -101,7 +103,7 @@ def check_cell(text: str, values: list[str], row: dict[str, str]) -> None:
         if math.isinf(value) or math.isinf(shown):
             assert shown == value, (text, values)
         else:
-            assert abs(shown - value) <= _unit(printed) * (1 + 1e-9) + 1e-12, (text, values)
+            assert abs(shown - value) <= _unit(printed) * (1 + 1e-9) + 1e-12 * abs(value), (text, values)
 
 
 def pages(root: Path) -> list[Path]:
@@ -162,11 +164,48 @@ def test_the_checker_catches_a_wrong_cell():
     with pytest.raises(AssertionError):
         check_cell("407000", ["406400.0"], {})
     check_cell("407000", ["406600.0"], {})
+    check_cell("2.9e-62", ["2.947e-62"], {})
+    with pytest.raises(AssertionError):
+        check_cell("2.9e-62", ["2.97e-62"], {})
     with pytest.raises(AssertionError):
         check_cell("proposed", ["heuristic"], {})
 
 
+def _narrow_table_page(tmp_path: Path) -> Path:
+    import pandas as pd
+
+    from graspcampaign.report.document import Document, Table
+
+    table = Table("status", "Trials by status (errored trials enter no success denominator)",
+                  pd.DataFrame({"status": ["ok"], "n": [225]}))
+    page = tmp_path / "page.html"
+    page.write_text(Document("t", "simulation", [], table.render(None)).html())
+    return page
+
+
+def test_a_caption_sits_above_its_table_not_inside_it(tmp_path):
+    """A ``<caption>`` is as wide as its table: over a narrow one it wrapped one word per line."""
+    text = _narrow_table_page(tmp_path).read_text()
+    table = text[text.index("<table"):text.index("</table>")]
+    assert "Trials by status" not in table and "<caption" not in text
+    assert "aria-labelledby='c-status'" in table and "id='c-status'" in text
+
+
 CHROMIUM = Path("/usr/bin/chromium")
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not CHROMIUM.exists(), reason="/usr/bin/chromium is not installed")
+def test_chromium_lays_a_narrow_tables_caption_on_one_line(tmp_path):
+    page = _narrow_table_page(tmp_path)
+    script = ("const c = document.querySelector('#t-status caption, #c-status'), s = getComputedStyle(c); "
+              "document.body.dataset.lines = Math.round((c.getBoundingClientRect().height - parseFloat("
+              "s.paddingTop) - parseFloat(s.paddingBottom)) / parseFloat(s.lineHeight));")
+    page.write_text(page.read_text().replace("</body>", f"<script>{script}</script></body>"))
+    out = subprocess.run([str(CHROMIUM), "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
+                          f"--user-data-dir={tmp_path / 'profile'}", "--window-size=1400,900",
+                          "--dump-dom", page.as_uri()], capture_output=True, text=True, timeout=120)
+    assert re.search(r"<body data-lines=\"1\">", out.stdout), re.findall(r"<body[^>]*>", out.stdout)
 
 
 @pytest.mark.slow

@@ -173,7 +173,8 @@ def mcnemar_table(records: pd.DataFrame, reference: str, others: Sequence[str], 
     ``reference_only`` counts the pairs it won, an odds ratio above 1 favours it.
 
     The k-th executed trial of a method within a ``pair_on`` group (trial order, paper Sec. 11)
-    pairs with the k-th of every other method there; an errored trial leaves its pair unpaired."""
+    pairs with the k-th of every other method there; an errored trial leaves its pair unpaired.
+    Without a discordant pair the test is undefined: no statistic, no p, the reason in ``test_why``."""
     ok = executed(records)
     ok = ok.sort_values("trial_index", kind="stable") if "trial_index" in ok else ok
     wide = (ok.assign(_occurrence=ok.groupby([pair_on, method], sort=False).cumcount())
@@ -184,8 +185,9 @@ def mcnemar_table(records: pd.DataFrame, reference: str, others: Sequence[str], 
         a, b = (wide.loc[complete, c].astype(bool).to_numpy() for c in (reference, other))
         n01, n10 = rates.discordant_pairs(a, b) if a.size else (0, 0)
         res = rates.mcnemar(n01, n10)
+        p = (res.pvalue_chi2, res.pvalue_exact) if n01 + n10 else (math.nan, math.nan)  # no test, no p
         rows.append([reference, other, a.size, n10, n01, int(np.sum(a & b)), int(np.sum(~a & ~b)),
-                     int((~complete).sum()), res.statistic, res.pvalue_chi2, res.pvalue_exact,
+                     int((~complete).sum()), res.statistic, *p,
                      res.odds_ratio, res.odds_ratio_low, res.odds_ratio_high,
                      "" if n01 + n10 else "no discordant pair: the test is undefined"])
     return pd.DataFrame(rows, columns=[

@@ -77,19 +77,35 @@ def cols(*names: str, frame: pd.DataFrame | None = None) -> list[Col]:
     """Shown columns of record-convention names ``<words>_<unit>``: header ``words [unit]``, 3
     significant digits (1 decimal for %); factor levels and other columns print as they are. With
     ``frame``, its interval ``<words>_low_<unit>``/``_high_<unit>`` (or ``<name>_low``/``_high``)
-    and reason ``<name>_why`` (or ``<words>_why``) join a column when the frame has them."""
+    and reason ``<name>_why`` (or ``<words>_why``) join a column when the frame has them, and a
+    ``<words>_n`` that counts (:func:`is_count`) is the count ``n (words)``, not newtons."""
     out, has = [], (lambda c: frame is not None and c in frame)
     for name in names:
         words, _, suffix = name.rpartition("_")
-        unit = UNITS.get(suffix) if words and name not in FACTOR_LABELS else None
-        head = FACTOR_LABELS.get(name) or (f"{words.replace('_', ' ')} [{unit}]" if unit
+        unit = UNITS.get(suffix) if words and name not in FACTOR_LABELS and not is_count(name, frame) \
+            else None
+        head = FACTOR_LABELS.get(name) or (f"{words.replace('_', ' ')} [{unit}]" if unit else
+                                           f"n ({words.replace('_', ' ')})" if words and suffix == "n"
                                            else name.replace("_", " "))
         low, high = (f"{words}_low_{suffix}", f"{words}_high_{suffix}") if unit else (f"{name}_low",
                                                                                        f"{name}_high")
         ci, why = has(low) and has(high), next((w for w in (f"{name}_why", f"{words}_why") if has(w)), None)
-        out.append(Col(name, head, 1 if unit == "%" else None, sig=3 if unit and unit != "%" else None,
-                       low=low if ci else None, high=high if ci else None, why=why))
+        out.append(Col(name, head, 1 if unit == "%" else 0 if suffix == "n" and not unit else None,
+                       sig=3 if unit and unit != "%" else None, low=low if ci else None,
+                       high=high if ci else None, why=why))
     return out
+
+
+def is_count(name: str, frame: pd.DataFrame | None) -> bool:
+    """Whether ``frame``'s ``<words>_n`` counts rows (``hardware.summary``'s ``<column>_n`` beside
+    ``<column>`` or ``<column>_pct``, ``parity_n``: whole numbers of an integer type) rather than
+    holding newtons; without a frame a ``_n`` column is in newtons (docs/records.md)."""
+    words, _, suffix = name.rpartition("_")
+    if suffix != "n" or frame is None or name not in frame:
+        return False
+    column = frame[name]
+    return (pd.api.types.is_integer_dtype(column) and not pd.api.types.is_bool_dtype(column)) or \
+        words in frame or f"{words}_pct" in frame
 
 
 def pct_col(name: str, head: str) -> Col:
@@ -98,13 +114,17 @@ def pct_col(name: str, head: str) -> Col:
 
 
 def cell(row: Mapping[str, Any], col: Col) -> str:
-    """Return the displayed text of ``row`` under ``col`` (the one formatting of every table)."""
+    """Return the displayed text of ``row`` under ``col`` (the one formatting of every table); a
+    p-value (:func:`~graspcampaign.report.format.is_p_value`, or a row whose digits are ``fmt.P``)
+    by :func:`~graspcampaign.report.format.p_value`."""
     value = row.get(col.key)
     if fmt.is_missing(value):
         why = row.get(col.why) if col.why else None
         return str(why) if isinstance(why, str) and why else fmt.MISSING
     digits = row.get(col.digits) if isinstance(col.digits, str) else col.digits
-    digits = None if fmt.is_missing(digits) else int(digits)
+    if fmt.is_p_value(col.key) or (digits == fmt.P and not col.signed):
+        return fmt.p_value(value)
+    digits = None if fmt.is_missing(digits) or digits == fmt.P else int(digits)
     if col.low and col.low == col.key:
         return fmt.interval(value, row.get(col.high), digits, sig=col.sig)
     if col.low:
@@ -112,6 +132,15 @@ def cell(row: Mapping[str, Any], col: Col) -> str:
     if col.share:
         return f"{fmt.number(value, digits)} ({fmt.number(row.get(col.share), 1)}%)"
     return fmt.number(value, digits, sig=col.sig, signed=col.signed)
+
+
+def rounded(col: Col, frame: pd.DataFrame) -> Col:
+    """``col`` with one rounding for the whole column (:func:`~graspcampaign.report.format.decimals`
+    at its ``sig``, default 3) unless its digits are fixed."""
+    if col.digits is not None or col.share or fmt.is_p_value(col.key) or col.key not in frame:
+        return col
+    digits = fmt.decimals([v for k in col.keys if k in frame for v in frame[k]], col.sig or 3)
+    return col if digits is None else replace(col, digits=digits, sig=None)
 
 
 def labelled(frame: pd.DataFrame, by: Sequence[str]) -> tuple[pd.DataFrame, list[Col]]:
@@ -157,8 +186,9 @@ class Table:
 
     def cells(self) -> list[list[tuple[str, str | None]]]:
         """Every row's ``(text, link target or None)`` per shown column."""
+        shown = [rounded(c, self.frame) for c in self.cols]
         return [[(cell(r, c), None if not c.link or fmt.is_missing(r.get(c.link)) else str(r[c.link]))
-                 for c in self.cols] for r in self.frame.to_dict("records")]
+                 for c in shown] for r in self.frame.to_dict("records")]
 
     def md(self, figure_format: str) -> str:
         def line(cells: Sequence[str]) -> str:
@@ -178,8 +208,10 @@ class Table:
                        + "</tr>" for r in self.cells())
         attrs = f" data-table='{self.name}'" if self.csv else ""
         csv = f" <span class='csv'>{self.csv.format(name=self.name)}</span>" if self.csv else ""
-        return (f"<div class='table' id='t-{self.name}'><table{attrs}><caption>{inline(self.caption)}{csv}"
-                f"</caption><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table></div>")
+        # the caption above the table, not its <caption>: that one wraps to a narrow table's width
+        return (f"<div class='table' id='t-{self.name}'><p class='caption' id='c-{self.name}'>"
+                f"{inline(self.caption)}{csv}</p><table{attrs} aria-labelledby='c-{self.name}'><thead><tr>"
+                f"{head}</tr></thead><tbody>{body}</tbody></table></div>")
 
 
 @dataclass(frozen=True)
@@ -352,7 +384,7 @@ dl.provenance{display:grid;grid-template-columns:max-content auto;gap:2px 14px;f
 dl.provenance dt{font-weight:600}dl.provenance dd{margin:0}p.finding{font-size:16px;background:#fff;
 border-left:4px solid #1f5aa6;padding:10px 14px}p.note{color:#8a4b00;font-style:italic}
 .table{overflow-x:auto;margin:14px 0}table{border-collapse:collapse;background:#fff;font-size:13.5px}
-caption{text-align:left;padding:6px 0;font-weight:600;caption-side:top}caption .csv{font-weight:400;
+p.caption{margin:0;padding:6px 0;font-weight:600;font-size:14px}p.caption .csv{font-weight:400;
 color:#777;font-family:monospace;font-size:12px}th,td{border:1px solid #d5dbe1;padding:4px 8px;
 text-align:left;vertical-align:top}th{background:#eef2f6}tbody tr:nth-child(even){background:#f6f8fa}
 figure{margin:18px 0;background:#fff;padding:10px;border:1px solid #e1e5ea}figure img{max-width:100%;

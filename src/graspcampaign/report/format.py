@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import sys
 from decimal import ROUND_HALF_EVEN, Context, Decimal
 from typing import Any
 
@@ -11,6 +12,9 @@ MISSING = "\u2014"
 """The mark of a value that is missing or could not be computed (its reason stands beside it)."""
 MINUS = "\u2212"
 DASH = "\u2013"
+P = "p"
+"""The digits of a value that is a p-value (a :func:`~graspcampaign.report.spec.Claims` row's): printed
+by :func:`p_value`, compared with the paper's at 3 decimals."""
 
 
 def is_missing(value: Any) -> bool:
@@ -52,6 +56,31 @@ def number(value: Any, digits: int | None = None, *, sig: int | None = None,
     return text.replace("-", MINUS) + unit
 
 
+def p_value(p: Any) -> str:
+    """Return a p-value by the one rule: two significant digits, written out from 0.001 up
+    (``0.047``, ``0.50``, ``1.0``) and in scientific form below (``2.9e-16``); an underflow ``< 2e-308``."""
+    if is_missing(p) or isinstance(p, str):
+        return number(p)
+    if float(p) >= 1e-3:
+        return number(p, sig=2)
+    return f"{float(p):.1e}".replace("e-0", "e-") if p > 0 else f"< {sys.float_info.min:.0e}"
+
+
+def is_p_value(name: str) -> bool:
+    """Whether the column ``name`` holds p-values: ``p``, ``p_<test>`` or ``<test>_p`` (docs/records.md)."""
+    return name == "p" or name.startswith("p_") or name.endswith("_p")
+
+
+def decimals(values: Any, sig: int = 3) -> int | None:
+    """The one rounding of a column: no decimals for whole numbers, else those giving its largest
+    finite magnitude ``sig`` significant digits, the same for every value (None: no number)."""
+    values = [abs(float(v)) for v in values if isinstance(v, numbers.Real) and not isinstance(v, bool)
+              and not is_missing(v) and math.isfinite(float(v))]
+    if not values or all(v.is_integer() for v in values):
+        return 0 if values else None
+    return max(0, sig - 1 - (math.floor(math.log10(top)) if (top := max(values)) else 0))
+
+
 def interval(low: Any, high: Any, digits: int | None = None, *, sig: int | None = None) -> str:
     """Return ``"low–high"`` (``"low to high"`` when a bound is negative), each rounded once."""
     if is_missing(low) or is_missing(high):
@@ -79,22 +108,25 @@ def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits:
             unit: str = "") -> tuple[bool | None, str]:
     """Say how ours stands against the paper's value: ``(differs, words)``, the one rule: a range agrees
     inside it; a word when equal; ours with a 95 % interval when it holds the paper's value; otherwise
-    within one unit of the paper's last printed digit (``10**-digits``)."""
+    within one unit of the paper's last printed digit (``10**-digits``). ``unit`` is the values' unit:
+    a value or range of percentages prints ``%``, a difference of two percentages ``pp``."""
     if is_missing(paper):
         return None, "the paper reports no value"
     if is_missing(ours):
         return None, "not computed"
+    unit = unit.strip()
     if isinstance(paper, tuple | list):
         lo, hi = float(paper[0]), float(paper[1])
+        where = f"the paper's range {interval(lo, hi, digits)}{'' if unit in ('', '%') else ' '}{unit}"
         if lo <= float(ours) <= hi:
-            return False, f"inside the paper's range {interval(lo, hi, digits)}{unit}"
-        return True, (f"differs: {'below' if float(ours) < lo else 'above'} the paper's range "
-                      f"{interval(lo, hi, digits)}{unit}")
+            return False, f"inside {where}"
+        return True, f"differs: {'below' if float(ours) < lo else 'above'} {where}"
     if isinstance(paper, bool | str) or isinstance(ours, bool | str):
         if str(ours) == str(paper):
             return False, f"as in the paper ({number(paper)})"
         return True, f"differs: the paper reports {number(paper)}, ours is {number(ours)}"
-    diff = number(float(ours) - float(paper), digits, signed=True, unit=unit)
+    unit = "pp" if unit == "%" else unit
+    diff = number(float(ours) - float(paper), digits, signed=True, unit=f" {unit}" if unit else "")
     if not is_missing(low) and not is_missing(high):
         if float(low) <= float(paper) <= float(high):
             return False, f"consistent: the paper's value lies inside our 95% interval ({diff})"

@@ -55,11 +55,11 @@ def verdicts(frame: pd.DataFrame, ours: str, paper: str, low: str | None = None,
     out = []
     for r in frame.to_dict("records"):
         u = str(r[unit] or "") if unit in r else unit
-        u = " pp" if u in ("%", " pp") else (f" {u}" if u else "")
         o, p = r[ours], r[paper]
         number = isinstance(p, int | float) and not isinstance(p, bool) and not fmt.is_missing(p)
+        d = r[digits] if isinstance(digits, str) else digits
         verdict = fmt.verdict(o, p, low=r.get(low) if low else None, high=r.get(high) if high else None,
-                              digits=int(r[digits]) if isinstance(digits, str) else digits, unit=u)
+                              digits=3 if d == fmt.P else int(d), unit=u)
         out.append((float(o) - float(p) if number and not fmt.is_missing(o) else math.nan,
                     *((None, str(r[why])) if fmt.is_missing(o) and r.get(why) else verdict)))
     return frame.assign(**{c: [row[i] for row in out] for i, c in enumerate(("difference", "differs",
@@ -160,7 +160,7 @@ def Claims(name: str, caption: str | Callable[[Run], str],
     """A table of single quantities beside the paper's: :func:`Rate` and :class:`Value` rows, or
     ``rows(run)`` yielding ``(quantity, section, value, paper, unit, digits)`` with the paper's value
     itself and ours a number, an Estimate or a function of nothing giving one (its ValueError: the
-    row's reason); ``empty`` as for :class:`Table`."""
+    row's reason); ``digits`` the decimals, or ``fmt.P`` for a p-value; ``empty`` as for :class:`Table`."""
     def compute(run: Run) -> pd.DataFrame:
         out = []
         for r in rows(run) if callable(rows) else rows:
@@ -202,7 +202,7 @@ def Paired(name: str = "mcnemar", caption: str = (
         Col("compared_label", "compared"), Col("pairs", "pairs"),
         Col("reference_only", f"{label('planner', reference)} only"), Col("compared_only", "compared only"),
         Col("both_success", "both succeed"), Col("both_fail", "both fail"),
-        Col("chi2_cc", "χ² (cc)", 1, why="test_why"), Col("p_exact", "p (exact)", sig=2),
+        Col("chi2_cc", "χ² (cc)", 1, why="test_why"), Col("p_exact", "p (exact)"),
         Col("odds_ratio", "odds ratio (95%)", 2, low="odds_ratio_low", high="odds_ratio_high",
             why="test_why"), Col("paper", "paper")])
 
