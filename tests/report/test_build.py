@@ -118,6 +118,15 @@ def test_an_html_report_keeps_every_run_in_the_markdown_index(tmp_path):
         f"index: {tmp_path / 'index.md'}", f"headline: {tmp_path / 'headline.md'}"]
 
 
+def test_the_header_states_the_design_the_run_ran(tmp_path):
+    """A reduced run (overrides) is told apart from the study's full design: the header lists the
+    levels its manifest's config holds, counted beyond four."""
+    store = write_run(tmp_path, planners=("heuristic", "random", "antipodal", "centroid", "no_pso"))
+    build_reports(["ablation"], root=tmp_path)
+    md = (store.path / "report" / "report.md").read_text()
+    assert "- **Design:** shape sphere; planner (5 levels); seeds 10\n" in md
+
+
 def test_unknown_format_is_bad_input_and_writes_nothing(tmp_path):
     store = write_run(tmp_path)
     with pytest.raises(UserInputError, match="unknown report format 'pdf'; choose from md, csv"):

@@ -98,6 +98,15 @@ def render(spec, run: Run, document: Document) -> Document:
     return document
 
 
+def design_text(config: dict) -> str:
+    """The run's design as it was run (its manifest's config, overrides included): each factor's
+    levels (their count beyond four), then the seeds and repeats; "" for a protocol's schedule."""
+    factors = [f"{k} {', '.join(map(str, v)) if len(v) <= 4 else f'({len(v)} levels)'}"
+               for k, v in (config.get("factors") or {}).items() if isinstance(v, list)]
+    return "; ".join([*factors, *(f"{k} {config[k]}" for k in ("seeds", "repeats")
+                                  if factors and config.get(k, 1) != 1)])
+
+
 def provenance(run: Run) -> list[tuple[str, str]]:
     """Return the provenance lines every report starts with."""
     m, counts = run.manifest, status_counts(run.records)
@@ -105,6 +114,7 @@ def provenance(run: Run) -> list[tuple[str, str]]:
         ("error", "errored"), ("aborted", "aborted"), ("other", "with another status")) if counts[k])
     return [("Trials", f"{len(run.records)} recorded of {m.get('n_trials')}; {counts['executed']} "
                        "executed" + (f"; {excluded}, excluded from every denominator" if excluded else "")),
+            *([("Design", design)] if (design := design_text(m.get("config") or {})) else []),
             ("Config hash", f"`{m.get('config_hash')}`"),
             ("Code", f"`{m.get('code_version')}`" + (" (dirty tree)" if (m.get("git") or {}).get("dirty")
                                                      else "")),
