@@ -228,3 +228,145 @@ def test_power_table_equals_statsmodels(sim_root):
         n = NormalIndPower().solve_power(effect_size=abs(proportion_effectsize(row["p1"], row["p2"])),
                                          alpha=0.05, power=row["power"])
         assert row["n_per_arm"] == int(np.ceil(n))
+
+
+def test_share_of_large_threshold_errors_counts_the_records(sim_root):
+    """§9.3's share of lateral thresholds off by > 50 %: k of n uncensored proposed block-A ramps from the
+    records (pandas), equal to the agreement table's count and shown with its Wilson interval (a share of
+    ``range(k)`` summed 0 + 1 + ... + (k - 1) successes instead of k)."""
+    a = _both(sim_root, "test3_disturbance").query(
+        "belief_error == 'paper' and planner == 'heuristic' and block == 'A'")
+    m, p = a["threshold_measured_n"].astype(float), a["threshold_pred_n"].astype(float)
+    ok = (m > 0) & p.notna() & ~a["threshold_censored"].astype("boolean").fillna(False).astype(bool)
+    k, n = int((100 * (p - m).abs() / m)[ok].gt(50).sum()), int(ok.sum())
+    agree = _table(sim_root, "test3_disturbance", "test3_threshold_agreement").iloc[0]
+    assert (agree["n"], agree["n_err_over_50pct"]) == (n, k)
+    row = _table(sim_root, "test3_disturbance", "test3_claims").set_index("quantity").loc[
+        "lateral thresholds with error > 50 %"]
+    low, high = proportion_confint(k, n, method="wilson")
+    assert (row["value"], row["low"], row["high"], row["n"]) == (
+        pytest.approx(100 * k / n), pytest.approx(100 * low), pytest.approx(100 * high), n)
+
+
+def _md_cells(root, study) -> list[str]:
+    md = (root / study / "default" / "report" / "report.md").read_text()
+    return [c.strip() for line in md.splitlines() if line.startswith("|") and not line.startswith("|---")
+            for c in line.strip("|").split("|")]
+
+
+@pytest.mark.parametrize("study", sorted(STUDIES))
+def test_tables_name_planners_and_outcomes_in_the_vocabulary_words(sim_root, study):
+    """No table shows a record id (``heuristic``, ``no_pso``, ``failure_drop``) where the vocabulary has
+    words for it; the outcome class ``success`` is the paper's "marginal success"."""
+    from graspcampaign.analysis.vocabulary import OUTCOMES, PLANNERS
+
+    raw = {k for v in (PLANNERS, OUTCOMES) for k, t in v.items() if t.label != k}
+    cells = _md_cells(sim_root, study)
+    assert not [c for c in cells if c in raw or any(f"({k}," in c or f" {k})" in c for k in raw)]
+    if study == "test2_grasp":
+        assert "marginal success" in cells and label("outcome", "success") == "marginal success"
+
+
+def _drawn(root, study: str, name: str):
+    """Figure ``name`` of the run, drawn on an Agg canvas (the report's tables rendered first)."""
+    import matplotlib as mpl
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    from graspcampaign.campaign.paper import study_paper
+    from graspcampaign.report import style
+    from graspcampaign.report.build import spec_for
+    from graspcampaign.report.document import Document
+    from graspcampaign.report.render import Run, render
+
+    store = RunStore(root / study / "default")
+    run = Run(store.read().to_pandas(), store.check(), study_paper(study), store)
+    spec = spec_for(study, "")
+    render(spec, run, Document("", run.source, []))
+    item = next(i for i in spec.items if getattr(i, "name", None) == name)
+    with mpl.rc_context(style.RC):
+        fig = Figure(figsize=item.size, layout="constrained")
+        FigureCanvasAgg(fig)
+        item.draw(run, fig)
+        fig.canvas.draw()
+    return run, fig
+
+
+FIGURES = {"test2_grasp": ["fig28_outcomes", "fig29_prediction_accuracy", "fig31_planner_comparison"],
+           "test3_disturbance": ["fig33_thresholds", "fig34_threshold_prediction", "fig36_robustness"]}
+
+
+@pytest.mark.parametrize(("study", "name"), [(s, f) for s, fs in FIGURES.items() for f in fs])
+def test_no_legend_covers_a_mark_or_line_and_panels_are_lettered_once(sim_root, study, name):
+    """Every legend box is clear of the lines and markers drawn in its axes (the paper's marks, our
+    whiskers, reference lines), and the panel letters (a), (b), ... are each used once."""
+    from matplotlib.collections import LineCollection
+    from matplotlib.lines import Line2D
+
+    _, fig = _drawn(sim_root, study, name)
+    renderer = fig.canvas.get_renderer()
+    for ax in fig.axes:
+        legend = ax.get_legend()
+        if legend is None:
+            continue
+        box = legend.get_window_extent(renderer).shrunk(0.98, 0.9)
+        paths = [a.get_transform().transform_path(a.get_path()) for a in ax.get_children()
+                 if isinstance(a, Line2D) and a.get_visible() and len(a.get_xdata())]
+        paths += [ax.transData.transform_path(p) for c in ax.collections if isinstance(c, LineCollection)
+                  for p in c.get_paths()]
+        hits = [p for p in paths if p.intersects_bbox(box, filled=False)
+                or any(box.contains(*v) for v in p.vertices)]
+        assert not hits, f"{name}, {ax.get_title('left')}: the legend covers {len(hits)} drawn lines or marks"
+        texts = [t for t in (*ax.get_xticklabels(), ax.xaxis.label) if t.get_text()]
+        assert not [t for t in texts if box.overlaps(t.get_window_extent(renderer))], ax.get_title("left")
+    letters = [t.split(")")[0] for t in (ax.get_title("left") for ax in fig.axes) if t.startswith("(")]
+    assert len(letters) == len(set(letters)), letters
+
+
+@pytest.mark.parametrize("study", sorted(STUDIES))
+def test_virtual_rig_figures_are_not_labelled_measured(sim_root, study):
+    """A virtual run's axes and captions call its data virtual-rig data, never measured."""
+    run, texts = None, []
+    for name in FIGURES[study]:
+        run, fig = _drawn(sim_root, study, name)
+        texts += [t for ax in fig.axes for t in (ax.get_xlabel(), ax.get_ylabel(), ax.get_title("left"))]
+    assert run.source == "virtual"
+    md = (sim_root / study / "default" / "report" / "report.md").read_text()
+    texts += [line for line in md.splitlines() if line.startswith("*Fig.")]
+    assert not [t for t in texts if "measured" in t]
+    assert any("virtual-rig" in t for t in texts)
+
+
+CONSTANTS = {"0.0886", "0.7", "1.4"}
+"""Numbers of the opening paragraphs that are model constants, not results: τ_F, Table 4's μ_k/μ_s and
+the slip-arrest safety factor."""
+
+
+@pytest.mark.parametrize("study", sorted(STUDIES))
+def test_every_result_in_the_opening_paragraph_is_in_a_table(sim_root, study):
+    """Each decimal number the opening paragraph cites is a value of one of the report's tables (as
+    printed, or in % of a fraction), a gap "x pp" the difference of two values of one column; no table
+    is per shape and planner, so it cites no shape's number (it cited the proposed planner's median
+    G_geo on the rounded cube)."""
+    import re
+
+    from graspcampaign.analysis.vocabulary import SHAPES
+
+    shapes = "|".join(re.escape(t.label) for t in SHAPES.values())
+    assert not re.search(rf"\d \w* ?(on|for) the ({shapes})", _finding(sim_root, study))
+    folder = sim_root / study / "default" / "report" / "tables"
+    columns = [v[np.isfinite(v)] for f in map(pd.read_csv, folder.glob("*.csv")) for c in f
+               for v in [pd.to_numeric(f[c], errors="coerce").dropna().to_numpy(float)]]
+    for token, pp in set(re.findall(r"(?<![§\d.])(\d+\.\d+)( pp)?", _finding(sim_root, study))):
+        if token in CONSTANTS:
+            continue
+        d, t = len(token.split(".")[1]), float(token)
+        candidates = [x for v in columns for x in ((np.subtract.outer(v, v),) if pp else (v, 100 * v))]
+        assert any(np.isclose(np.round(np.abs(x), d), t, atol=1e-9).any() for x in candidates), token
+
+
+def test_first_finger_table_names_its_interval(sim_root):
+    md = (sim_root / "test3_disturbance" / "default" / "report" / "report.md").read_text()
+    caption, header = md.split("(`tables/test3_first_finger.csv`)")[0].rsplit("**", 2)[1], \
+        md.split("(`tables/test3_first_finger.csv`)")[1].split("\n")[2]
+    assert "Wilson 95%" in caption and "Wilson 95%" in header

@@ -12,7 +12,7 @@ import pandas as pd
 
 from graspcampaign.analysis import agreement, association, rates
 from graspcampaign.analysis.records import executed, mcnemar_table, rate_table
-from graspcampaign.analysis.vocabulary import ordered
+from graspcampaign.analysis.vocabulary import label, ordered
 from graspcampaign.core.statics import GRAVITY
 
 CLASSES = {"stable": "stable", "marginal": "success", "partial": "partial", "slip": "failure_slip",
@@ -159,7 +159,7 @@ def chi2_planners(df: pd.DataFrame, planners: Sequence[str] = ("heuristic", "cen
     g = df[df["planner"].isin(planners)]
     res = association.chi2_contingency_test(pd.crosstab(g["planner"], g["success"]).reindex(
         columns=[True, False], fill_value=0).to_numpy())
-    return {"test": f"χ² planner × success ({', '.join(planners)})", "n": len(g),
+    return {"test": f"χ² planner × success ({', '.join(label('planner', p) for p in planners)})", "n": len(g),
             "statistic": res.statistic, "dof": res.dof, "p": res.pvalue}
 
 

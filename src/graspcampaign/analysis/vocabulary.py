@@ -54,7 +54,7 @@ INTEGRATORS = _terms(  # gravity_settle's factor (Sec. 12)
     ("rk4", "RK4 (explicit, the paper's)", "#1f5aa6"), ("implicit", "implicit midpoint", "#e08a1e"),
 )
 OUTCOMES = _terms(
-    ("stable", "stable", "#2e7d32"), ("success", "success (marginal)", "#81c784"),
+    ("stable", "stable", "#2e7d32"), ("success", "marginal success", "#81c784"),
     ("partial", "partial", "#ffb74d"), ("failure_slip", "slip", "#e57373"),
     ("failure_drop", "drop", "#c62828"), ("failure_damage", "damage", "#6d4c41"),
     ("failure_contact_loss", "contact loss", "#9e9e9e"),
@@ -74,6 +74,9 @@ VOCABULARIES: dict[str, dict[str, Term]] = {
     "planner": PLANNERS, "shape": SHAPES, "material": MATERIALS, "grip_law": GRIP_LAWS,
     "model_preset": MODEL_PRESETS, "integrator": INTEGRATORS, "outcome": OUTCOMES,
     "block": BLOCKS, "parameter": PARAMETERS,
+    # a McNemar table's compared planner; a table's scope of trials (a planner, or "all", "baselines" ...
+    # that print as they are)
+    "compared": PLANNERS, "scope": PLANNERS,
 }
 #: Header of a factor column outside the vocabularies (its unit in brackets).
 FACTOR_LABELS = {"mu": "μ", "mass_kg": "mass [kg]", "nodes": "nodes", "weight_scale":

@@ -27,6 +27,11 @@ WHY_NOT = {"predicted_stable_residual": "it is the paper's §8.1 flag (Algorithm
 
 
 # --------------------------------------------------------------------------- shared with Test 3
+def rig(run: Run) -> str:
+    """What the rig's values are, for axis labels and captions: "measured" only on hardware."""
+    return "measured" if run.source == "measured" else "virtual-rig"
+
+
 def frames(run: Run) -> pd.DataFrame:
     """Executed trials of both belief readings with the derived columns (computed once per run)."""
     return run.memo("hardware", lambda: hw.derive(hw.beliefs(run.records, run.aux("belief_none"))))
@@ -113,7 +118,7 @@ def belief_tables(prefix: str) -> list[Table]:
 
 
 def classifier(name: str, caption: str, scopes, paper) -> Table:
-    """The flags against measured success per belief reading and scope, beside the paper's scores
+    """The flags against the rig's success per belief reading and scope, beside the paper's scores
     (``paper(p)``: scope -> (accuracy, precision, recall), None where not printed)."""
     def compute(run: Run) -> pd.DataFrame:
         d, ref = frames(run), paper_of(run, paper) or {}
@@ -128,15 +133,24 @@ def classifier(name: str, caption: str, scopes, paper) -> Table:
                            why="why" if k == "precision" else None),
                        *[Col(f"paper_{k}", "paper", 2)] * (k != "base"))]
     return Table(name, caption, compute, [
-        *(Col(c, c.replace("_", " ")) for c in ("flag", "belief_error", "scope", "n", "flagged", "fp")),
-        *fracs, Col("above_base", "precision above base"), Col("accuracy", "accuracy", 3),
-        Col("paper_accuracy", "paper", 2), Col("verdict", "verdict (precision)")])
+        *(Col(c, c) for c in ("n", "flagged", "fp")), *fracs, Col("above_base", "precision above base"),
+        Col("accuracy", "accuracy", 3), Col("paper_accuracy", "paper", 2),
+        Col("verdict", "verdict (precision)")], by=["flag", "belief_error", "scope"])
 
 
-def matched_mcnemar(run: Run) -> pd.DataFrame:
-    d = ex(run)[ex(run)["matched"].astype(bool)]
-    return mcnemar_table(d, PROPOSED, [q for q in PLANNERS[1:] if q in set(d["planner"])],
-                         pair_on="match_key")
+def matched_mcnemar(name: str, caption: str) -> Table:
+    """McNemar of the proposed planner against each baseline on the occurrence-matched pairs."""
+    def compute(run: Run) -> pd.DataFrame:
+        d = ex(run)[ex(run)["matched"].astype(bool)]
+        return mcnemar_table(d, PROPOSED, [q for q in PLANNERS[1:] if q in set(d["planner"])],
+                             pair_on="match_key")
+    return Table(name, caption, compute, [
+        Col("pairs", "pairs"), Col("reference_only", f"{label('planner', PROPOSED)} only"),
+        Col("compared_only", "compared only"), *cols("both_success", "both_fail"),
+        Col("chi2_cc", "χ² (cc)", 2, why="test_why"), Col("p_chi2", "p (χ²)", sig=2),
+        Col("p_exact", "p (exact)", sig=2),
+        Col("odds_ratio", "odds ratio (exact 95%)", 2, low="odds_ratio_low", high="odds_ratio_high",
+            why="test_why")], by=["compared"])
 
 
 def finding(run: Run, extra=lambda run: "") -> str:
@@ -170,19 +184,30 @@ def finding(run: Run, extra=lambda run: "") -> str:
         text += "This run has no `belief_error = none` counterfactual (a real rig has no oracle). "
     g, gap = (e.groupby("planner")[c].median().reindex(paper.index) for c in ("g_geo_actual", "g_geo_gap"))
     cap = e.groupby("planner")["grip_capped"].mean() * 100
-    cube = e.query(f"planner == '{PROPOSED}' and shape == 'rounded_cube'")["g_geo_actual"].median()
     text += ("Median G_geo of the realised contacts (true μ_s): " + ", ".join(
         f"{lab(q)} {n2(v)}" for q, v in g.items()) + "; the proposed score H~ has no gravity term, so "
-        f"its triples give friction less vertical reach than a horizontal triangle ({n2(cube)} on the "
-        f"rounded cube), and its calibrated grip hits the damage cap on {n1(cap[PROPOSED])} % of its "
-        f"trials ({lab(top)} {n1(cap[top])} %). The beliefs differ as documented: median believed − "
-        "actual G_geo " + ", ".join(f"{lab(q)} {n2(v)}" for q, v in gap.items()) + ". ")
+        "its triples give friction less vertical reach than a horizontal triangle, and its calibrated grip "
+        f"hits the damage cap on {n1(cap[PROPOSED])} % of its trials ({lab(top)} {n1(cap[top])} %). The "
+        "beliefs differ as documented: median believed − actual G_geo " + ", ".join(
+            f"{lab(q)} {n2(v)}" for q, v in gap.items()) + ". ")
     for f, r in hw.classifier_table(e, FLAGS, ["belief_error"]).set_index("flag").iterrows():
         text += (f"`{f}` has precision {n2(r['precision'])} ({r['flagged']} of {r['n']} trials flagged, "
                  f"recall {n2(r['recall'])}) against a base success rate of {n2(r['base'])}: "
                  + ("above it. " if r["above_base"] else f"not above it, because {WHY_NOT[f]}. "))
     return text + extra(run) + ("See `docs/decisions.md`, *Planner beliefs on the virtual rig (issue "
                                 "13, item 5)* and *Tests 2-3 protocols and virtual rig (issue 9)*.")
+
+
+def legends_below(fig) -> None:
+    """Every panel's legend moved under its axes (:func:`style.legend_below`), with the panel's other
+    labelled lines: inside, over rates up to 100 %, it covered the paper's marks."""
+    for ax in fig.axes:
+        if (old := ax.get_legend()) is not None:
+            for handle, text in zip(old.legend_handles, old.texts, strict=True):
+                handle.set_label(text.get_text())
+            handles = [*old.legend_handles, *(h for h, t in zip(*ax.get_legend_handles_labels(), strict=True)
+                                               if t not in {x.get_text() for x in old.texts})]
+            style.legend_below(ax, handles, ncol=min(len(handles), 3))
 
 
 def planner_bars(table: str):
@@ -204,7 +229,7 @@ def planner_bars(table: str):
 
 
 def confusion(paper):
-    """Panel: ``predicted_stable`` against measured success, with ours and the paper's scores."""
+    """Panel: ``predicted_stable`` against the rig's outcome, with ours and the paper's scores."""
     def draw(run: Run, ax) -> None:
         m = hw.classifier_table(ex(run).assign(all=1), ["predicted_stable"], ["all"]).iloc[0]
         cells, ref = np.array([[m["tn"], m["fn"]], [m["fp"], m["tp"]]]), paper_of(run, paper)
@@ -212,7 +237,7 @@ def confusion(paper):
         for (i, j), v in np.ndenumerate(cells):
             ax.text(j, i, v, ha="center", va="center", color="white" if v > 0.6 * cells.max() else "k")
         ax.set(xticks=[0, 1], xticklabels=["failed", "succeeded"], yticks=[0, 1], yticklabels=["no", "yes"],
-               xlabel="measured outcome [trials]", ylabel="predicted_stable", title="(c) flag vs outcome")
+               xlabel=f"{rig(run)} outcome [trials]", ylabel="predicted_stable", title="(c) flag vs outcome")
         ax.grid(False)
         ax.plot([], [], " ", label="\n".join([f"n = {m['n']}", *(
             f"{k}: ours {fmt.number(m[k], 2)}, paper {fmt.number(getattr(ref, k), 2)}"
@@ -247,7 +272,8 @@ def fig28(run: Run, fig) -> None:
            "material", "(b) by material, all planners"), ("test2_outcomes", None, "outcome",
            "(c) outcome classes, proposed", "share of trials [%]"))(run, fig)
     reference = paper_of(run, lambda p: p.fig28_reference_pct) or np.nan
-    fig.axes[0].axhline(reference, color=style.CRITERION, ls="--")
+    fig.axes[0].axhline(reference, color=style.CRITERION, ls="--", label=f"paper's {reference:g} % reference")
+    legends_below(fig)
 
 
 def fig29(run: Run, fig) -> None:
@@ -258,6 +284,7 @@ def fig29(run: Run, fig) -> None:
          {"color": colour("planner", PROPOSED)}),
         (0, paper_of(run, lambda p: p.parity_slope), "paper", {"ls": "--", "color": style.PAPER})],
         "trial-mean normal force [N]", "(a) parity, all planners")
+    a.set_ylabel(f"{rig(run)} trial-mean normal force [N]")
     for ax, col, what, key in zip(hist, ("force_err_pct", "deformation_err_pct"), ("normal-force",
                                   "deformation"), ("force_err_median_pct", "deformation_err_median_pct"),
                                   strict=True):
@@ -398,19 +425,26 @@ SPEC = ReportSpec("test2_grasp", [
               Col("scope", "group"), Col("n", "n"), Col("paper_text", "paper %"),
               pct_col("success", "success"), pct_col("stable", "stable"),
               Col("verdict", "verdict (success)")]),
-    Table("test2_outcomes", "Outcome classes of the proposed planner (§8.2, Fig. 28c; slip, drop, damage: "
-          "Table 7)", outcomes, [Col("outcome", "outcome"), Col("n", "n"), pct_col("success", "share"),
-                                 Col("paper_success_pct", "paper %", 1), Col("verdict", "verdict")]),
+    Table("test2_outcomes", "Primary outcome class of each trial of the proposed planner (§8.2, Fig. 28c; "
+          "slip, drop, damage: Table 7); success = stable + marginal success", outcomes, [
+              Col("n", "n"), pct_col("success", "share"), Col("paper_success_pct", "paper %", 1),
+              Col("verdict", "verdict")], by=["outcome"]),
     Rates("test2_materials", "Success per material, all planners (§8.2, Fig. 28b)", ["material"],
           lambda p, k: p.success_by_material_pct[k["material"]]),
     Rates("test2_matched", "Matched ablation: success per planner on the same objects and conditions (§8.5, "
           "Fig. 31b)", ["planner"], lambda p, k: p.matched_pct[k["planner"]],
           where=lambda r: r["matched"].astype(bool)),
     Table("test2_force_accuracy", "Prediction accuracy (§8.3): normal-force parity through the origin "
-          "(uncentred, centred R²), median absolute errors", lambda run: hw.force_accuracy(ex(run))),
-    classifier("test2_classifier", "Pre-execution flags against measured success (§8.4, Fig. 31c): "
-               "`predicted_stable` is §9.5's SF_predicted > 1, `predicted_stable_residual` §8.1's residual "
-               "≤ τ_F = 0.0886 N, the flag the paper's scores belong to", lambda d: {
+          "(uncentred, centred R²), median absolute errors", lambda run: hw.force_accuracy(ex(run)), [
+              Col("parity_n", "n"), Col("parity_slope", "parity slope", 3),
+              Col("parity_r2", "parity R² (uncentred)", 3),
+              Col("parity_r2_centred", "parity R² (centred)", 3),
+              Col("force_err_pct", "median |F_n| error [%]", 1),
+              Col("deformation_err_pct", "median deformation error [%]", 1),
+              Col("contact_point_error_mm", "median contact-point error [mm]", 2)], by=["scope"]),
+    classifier("test2_classifier", lambda run: f"Pre-execution flags against {rig(run)} success (§8.4, "
+               "Fig. 31c): `predicted_stable` is §9.5's SF_predicted > 1, `predicted_stable_residual` §8.1's "
+               "residual ≤ τ_F = 0.0886 N, the flag the paper's scores belong to", lambda d: {
                    **per_planner(d), "baselines": d["planner"] != PROPOSED,
                    "group C": d.eval(f"{ME} and group == 'C'"),
                    "outside C": d.eval(f"{ME} and group != 'C'")},
@@ -418,18 +452,21 @@ SPEC = ReportSpec("test2_grasp", [
                    p.classifier_proposed).values()],
                           "baselines": (None, p.classifier_baselines_precision, None),
                           "group C": (None, p.classifier_group_c_precision, None)}),
-    Table("test2_mcnemar", "Matched ablation (§8.5): McNemar, proposed against each baseline on "
-          "occurrence-matched pairs (object, condition, repeat)", matched_mcnemar),
+    matched_mcnemar("test2_mcnemar", "Matched ablation (§8.5): McNemar, proposed against each baseline on "
+                    "occurrence-matched pairs (object, condition, repeat)"),
     Table("test2_tests", "χ² of planner × success; Kruskal–Wallis of the force error across planners, "
           "the peak slip across friction levels (§8.5-8.6; no multiplicity correction, as the paper)",
           lambda run: pd.DataFrame([hw.chi2_planners(ex(run)), *(hw.kruskal(ex(run), v, k) for v, k in (
-              ("force_err_pct", "planner"), ("peak_slip_mm", "friction_level")))])),
+              ("force_err_pct", "planner"), ("peak_slip_mm", "friction_level")))]), lambda run, f: [
+                  *cols("test", "n", "statistic", "dof", "p"),
+                  *(Col(c, f"median, {label('planner', c[7:])}", sig=3) for c in f if c[:7] == "median_")]),
     Claims("test2_claims", "§8 numbers not in a table above, beside the paper's", claims),
     Table("test2_power", "Power (§8.5, §11): trials per arm to detect p1 vs p2 at α = 0.05 (independent: "
           "Cohen's h; matched pairs: McNemar, Connor 1987)", power),
     Figure("fig28_outcomes", "Fig. 28 (paper in black): proposed success per shape (dashed: the paper's 75% "
            "reference), success per material, proposed outcome classes; Wilson 95%", fig28, (12.0, 4.0)),
-    Figure("fig29_prediction_accuracy", "Fig. 29: (a) measured against predicted trial-mean normal force; "
+    Figure("fig29_prediction_accuracy", lambda run: f"Fig. 29: (a) {rig(run)} against predicted trial-mean "
+           "normal force; "
            "(b) normal-force and (c) deformation errors with their medians (log axis: every trial "
            "shown)", fig29, (12.0, 3.8)),
     Figure("fig30_representative_grasp", "Fig. 30 (schematic of the median-force stable proposed sphere "

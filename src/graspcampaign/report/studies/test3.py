@@ -12,7 +12,7 @@ from graspcampaign.analysis.records import Estimate
 from graspcampaign.analysis.vocabulary import PROPOSED, colour, label
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
-from graspcampaign.report.document import Col, pct_col
+from graspcampaign.report.document import Col, cols, pct_col
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Claims, Figure, Finding, ReportSpec, Table, paper_of, share, verdicts
 from graspcampaign.report.studies import test2 as t2
@@ -41,6 +41,13 @@ def table9(run: Run, d: pd.DataFrame, out: pd.DataFrame) -> pd.DataFrame:
     w = [None if b != "paper" else paper_of(run, lambda p, k: p.table9[k].wilson_pct, k)
          for k, b in zip(out["planner"], out["belief_error"], strict=True)]
     return out.assign(paper_wilson=[x and fmt.paper_text(x, 1) for x in w])
+
+
+def first_finger(run: Run) -> pd.DataFrame:
+    scopes = t2.per_planner(e := t2.ex(run))
+    out = hw.summary(hw.scoped(e, scopes).dropna(subset=["first_finger_correct"]), ["scope"],
+                     ["first_finger_correct"], order={"scope": list(scopes)})
+    return out[["scope", "n", *(f"first_finger_correct_{s}" for s in ("pct", "low_pct", "high_pct"))]]
 
 
 def coating(run: Run) -> pd.DataFrame:
@@ -78,13 +85,14 @@ def claims(run: Run):
            p.yaw_rotation_median_deg, "°", 1)
     a = t["test3_threshold_agreement"].iloc[0]
     for q, col, key, unit in (
-            ("OLS slope, measured on predicted", "ols_slope", "threshold_ols_slope", ""),
+            (f"OLS slope, {t2.rig(run)} on predicted", "ols_slope", "threshold_ols_slope", ""),
             ("OLS R²", "ols_r2", "threshold_ols_r2", ""),
-            ("Bland–Altman bias (measured − predicted)", "bias_n", "bland_altman_bias_n", "N"),
+            (f"Bland–Altman bias ({t2.rig(run)} − predicted)", "bias_n", "bland_altman_bias_n", "N"),
             ("Bland–Altman limits, half width", "loa_half_n", "bland_altman_loa_half_width_n", "N")):
         yield q, "§9.3, Fig. 34", Estimate(a.get(col, np.nan), n=a["n"]), getattr(p, key), unit, 2
-    yield ("lateral thresholds with error > 50 %", "§9.3", lambda: share(range(a["n"]), range(a.get(
-        "n_err_over_50pct", 0))), 100 * p.threshold_err_over_50pct / p.lateral_threshold_trials, "%", 1)
+    ramps = d.dropna(subset=["lat_threshold_n"])  # the agreement table's uncensored block-A ramps
+    yield ("lateral thresholds with error > 50 %", "§9.3", lambda: share(ramps, ramps[
+        "lat_threshold_err_pct"] > 50), 100 * p.threshold_err_over_50pct / p.lateral_threshold_trials, "%", 1)
     yield ("median torque-threshold error", "§9.3", Estimate(c["threshold_err_pct"].median(), n=c[
         "threshold_err_pct"].count()), p.torque_threshold_err_pct, "%", 1)
     ff = e.dropna(subset=["first_finger_correct"])
@@ -143,7 +151,7 @@ def directions(run: Run, ax) -> None:
     ax.plot(d["direction_deg"], d["threshold"], "o-", color=colour("planner", PROPOSED), label="ours")
     ax.axhspan(*(rng or (np.nan,) * 2), color=style.PAPER, alpha=0.15, label="paper: range")
     ax.set(xticks=np.arange(0, 360, 45), xlabel="pull direction (azimuth) [°]", ylim=(0, None),
-           ylabel="median lateral threshold [N]", title="(b) natural friction, by direction")
+           ylabel="median lateral threshold [N]", title="(c) natural friction, by direction")
     ax.legend(loc="lower right")
 
 
@@ -161,6 +169,12 @@ def survival(run: Run, ax) -> None:
     ax.legend(loc="upper right")
 
 
+def fig33(run: Run, fig) -> None:
+    style.panels(thresholds, ("test3_coating", None, "friction_level", "(b) block A: success"), directions,
+                 ("table8", t2.PAPER_ROWS, "block", "(d) proposed, by block"))(run, fig)
+    t2.legends_below(fig)
+
+
 def fig34(run: Run, fig) -> None:
     a, b, c = fig.subplots(1, 3)
     d = t2.ex(run, PROPOSED).dropna(subset=["lat_threshold_n"])
@@ -170,6 +184,7 @@ def fig34(run: Run, fig) -> None:
                      (0, paper_of(run, lambda p: p.threshold_ols_slope), "paper's slope",
                       {"ls": "--", "color": style.PAPER})], "lateral threshold [N]",
            "(a) parity, proposed, block A")
+    a.set_ylabel(f"{t2.rig(run)} lateral threshold [N]")
     b.scatter((m + p) / 2, m - p, s=7, alpha=0.5, color=ours, label="ours")
     bias, half = (paper_of(run, getattr, k) for k in ("bland_altman_bias_n", "bland_altman_loa_half_width_n"))
     lines = [(g.get(k), ls, ours, "ours") for k, ls in (("bias_n", "-"), ("loa_low_n", "--"),
@@ -179,17 +194,17 @@ def fig34(run: Run, fig) -> None:
     for v, ls, col, who in lines:
         b.axhline(np.nan if v is None else v, ls=ls, lw=1, color=col,
                   label=f"{who}: bias, 95% limits" if ls == "-" else None)
-    b.set(xlabel="mean of measured and predicted [N]", ylabel="measured − predicted [N]",
+    b.set(xlabel=f"mean of {t2.rig(run)} and predicted [N]", ylabel=f"{t2.rig(run)} − predicted [N]",
           title="(b) Bland–Altman")
-    b.legend(loc="lower right")
+    style.legend_below(b, ncol=2)
     t = run.tables["table9"].query(t2.PAPER_ROWS)
     x = np.arange(len(t))
     c.bar(x, t["lat_threshold_err_pct"], 0.7, color=[colour("planner", q) for q in t["planner"]])
     style.paper_marks(c, x, list(t["paper_lat_threshold_err_pct"]), 0.7)
-    c.set(xticks=x, xticklabels=[f"{style.tick(label('planner', q))}\nn={n}" for q, n in zip(
-        t["planner"], t["lat_threshold_n_n"], strict=True)], ylabel="median |lateral-threshold error| [%]",
-          title="(c) by planner, uncensored block A")
-    c.legend(handles=[style.paper_handle()], loc="upper center")
+    c.set_xticks(x, [f"{style.tick(label('planner', q))}\nn={n}" for q, n in zip(
+        t["planner"], t["lat_threshold_n_n"], strict=True)], fontsize=7)  # as style.rate_bars
+    c.set(ylabel="median |lateral-threshold error| [%]", title="(c) by planner, uncensored block A")
+    style.legend_below(c, [style.paper_handle()])
 
 
 def fig35(run: Run, fig) -> None:
@@ -248,14 +263,21 @@ SPEC = ReportSpec("test3_disturbance", [
     Table("test3_directions", "Natural-friction block A of the proposed planner per pull direction (§9.2, "
           "Fig. 33b)", lambda run: hw.summary(t2.ex(run, PROPOSED).query(f"block == 'A' and {NATURAL}"), [
               "direction_deg"], medians=["threshold"]).sort_values("direction_deg")[[
-                  "direction_deg", "n", "success_pct", "threshold", "threshold_n"]]),
-    Table("test3_threshold_agreement", "Predicted against measured lateral thresholds of the proposed "
-          "planner (§9.3, Fig. 34): Bland–Altman [N], OLS with intercept, median absolute error [%]",
-          lambda run: pd.DataFrame([ds.threshold_agreement(t2.ex(run))])),
-    Table("test3_first_finger", "First finger to slip, predicted against measured, over the trials whose "
-          "first finger is known (§9.3)", lambda run: hw.summary(hw.scoped(e := t2.ex(run), t2.per_planner(
-              e)).dropna(subset=["first_finger_correct"]), ["scope"], ["first_finger_correct"])[[
-                  "scope", "n", *(f"first_finger_correct_{s}" for s in ("pct", "low_pct", "high_pct"))]]),
+                  "direction_deg", "n", "success_pct", "threshold", "threshold_n"]], [
+              Col("direction_deg", "pull direction [°]", 0), Col("n", "n"),
+              Col("success_pct", "success [%]", 1), Col("threshold_n", "thresholds"),
+              Col("threshold", "median threshold [N]", 2)]),
+    Table("test3_threshold_agreement", lambda run: f"Predicted against {t2.rig(run)} lateral thresholds of "
+          "the proposed planner (§9.3, Fig. 34): Bland–Altman [N], OLS with intercept, median absolute error",
+          lambda run: pd.DataFrame([ds.threshold_agreement(t2.ex(run))]), [
+              Col("n", "n"), *cols("bias_n", "sd_n", "loa_low_n", "loa_high_n"),
+              Col("ols_slope", "OLS slope", 3), Col("ols_intercept", "OLS intercept [N]", 3),
+              Col("ols_r2", "OLS R²", 3), Col("ols_p", "OLS p", sig=2),
+              Col("median_err_pct", "median |error| [%]", 1), Col("n_err_over_50pct", "errors > 50 %")],
+          by=["planner"]),
+    Table("test3_first_finger", lambda run: f"First finger to slip, predicted against the {t2.rig(run)} "
+          "one, over the trials whose first finger is known (§9.3); Wilson 95% intervals", first_finger,
+          [Col("n", "n"), pct_col("first_finger_correct", "first finger correct")], by=["scope"]),
     t2.classifier("test3_retention_classifier", "The retention flag against success (§9.5, Fig. 36c): "
                "`predicted_stable` (= `retention_pred`) is the believed retention margin under the "
                "commanded disturbance > 1; `predicted_stable_residual` Algorithm 2's residual ≤ τ_F",
@@ -264,27 +286,24 @@ SPEC = ReportSpec("test3_disturbance", [
     Table("test3_logistic", "Logistic regression of failure over the fixed-load blocks B, D, E (§9.5): "
           "applied load [N], mass [kg], believed μ_s, proposed-planner indicator (Wald 95%)",
           lambda run: ds.failure_logistic(t2.ex(run))),
-    Table("test3_mcnemar", "Matched paired set (§9.5): McNemar tests of the proposed planner against each "
-          "baseline on occurrence-matched pairs", t2.matched_mcnemar),
+    t2.matched_mcnemar("test3_mcnemar", "Matched paired set (§9.5): McNemar tests of the proposed planner "
+                       "against each baseline on occurrence-matched pairs"),
     Table("test3_chi2", "χ² of planner × retention over the proposed, centroid and random arms (§9.5)",
           lambda run: pd.DataFrame([hw.chi2_planners(t2.ex(run))])),
     Claims("test3_claims", "§9 headline numbers not in a table above, beside the paper's (rates with "
            "Wilson 95% intervals, logistic coefficients with their Wald intervals)", claims),
-    Figure("fig33_thresholds", "Fig. 33 (the paper's values in black): block A median threshold and "
-           "success per surface, natural-friction threshold per pull direction, proposed success per block "
-           "at natural friction", style.panels(thresholds, ("test3_coating", None, "friction_level",
-                                                      "(a) block A: success"), directions,
-                                         ("table8", t2.PAPER_ROWS, "block", "(c) proposed, by block")),
-           (15.0, 4.0)),
-    Figure("fig34_threshold_prediction", "Fig. 34: (a) predicted against measured lateral thresholds of "
-           "the proposed planner with the OLS fit, (b) Bland–Altman, (c) median lateral-threshold error "
-           "per planner", fig34, (13.0, 4.0)),
+    Figure("fig33_thresholds", "Fig. 33 (the paper's values in black): block A (a) median threshold and (b) "
+           "success per surface (the paper's Fig. 33a), (c) natural-friction threshold per pull direction "
+           "(33b), (d) proposed success per block at natural friction (33c)", fig33, (15.0, 4.2)),
+    Figure("fig34_threshold_prediction", lambda run: f"Fig. 34: (a) predicted against {t2.rig(run)} lateral "
+           "thresholds of the proposed planner with the OLS fit, (b) Bland–Altman, (c) median "
+           "lateral-threshold error per planner", fig34, (13.0, 4.0)),
     Figure("fig35_representative_pull", "Fig. 35 (schematic of one recorded trial, the median-threshold "
            "proposed natural-friction pull): hold, commanded ramp to the recorded threshold at 2 mm slip, "
            "predicted threshold, recorded peak slip", fig35, (9.5, 5.2)),
-    Figure("fig36_robustness", "Fig. 36: (a) success per planner with the planners' own beliefs and with "
-           "exact ones (hatched), (b) share of natural-friction pulls holding each level (a grasp lost "
-           "before the pull counts as 0 N), (c) the retention flag against the measured outcome",
+    Figure("fig36_robustness", lambda run: "Fig. 36: (a) success per planner with the planners' own beliefs "
+           "and with exact ones (hatched), (b) share of natural-friction pulls holding each level (a grasp "
+           f"lost before the pull counts as 0 N), (c) the retention flag against the {t2.rig(run)} outcome",
            style.panels(t2.planner_bars("table9"), survival, t2.confusion(lambda p: p.retention_classifier)),
            (13.0, 4.0)),
 ])
