@@ -9,11 +9,11 @@ import typer
 
 def print_list(rows: list[dict[str, Any]]) -> None:
     """Print the study table of ``graspcampaign list``."""
-    from rich.console import Console
-    from rich.table import Table
-
     import sys
     import textwrap
+
+    from rich.console import Console
+    from rich.table import Table
 
     table = Table("study", "kind", "trials", "runnable", "of", "description")
     for row in rows:

@@ -157,12 +157,13 @@ def panels(*specs):
     return draw
 
 
-def parity(ax, x, y, lines, xlabel: str, title: str) -> None:
-    """Parity panel: ``y`` against ``x``, the identity and lines ``(intercept, slope, label, style)``."""
+def parity(ax, x, y, lines, xlabel: str, title: str, observed: str) -> None:
+    """Parity panel: ``y`` (``observed``: "measured" or "virtual-rig") against ``x``, the predicted,
+    with the identity and lines ``(intercept, slope, label, style)``."""
     ax.scatter(x, y, s=7, alpha=0.5, color=colour("planner", PROPOSED), label=f"ours, n={len(x)}",
                rasterized=True)
     grid = np.array([0.0, np.nanmax(np.r_[1.0, np.asarray(x, float), np.asarray(y, float)])])
     for a, b, what, kw in [(0.0, 1.0, "identity", {"ls": ":", "color": "#777777"}), *lines]:
         ax.plot(grid, (a or 0.0) + (np.nan if b is None else b) * grid, label=what, **kw)
-    ax.set(xlabel=f"predicted {xlabel}", ylabel=f"measured {xlabel}", title=title)
+    ax.set(xlabel=f"predicted {xlabel}", ylabel=f"{observed} {xlabel}", title=title)
     ax.legend(loc="upper left")

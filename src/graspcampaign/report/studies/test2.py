@@ -283,8 +283,7 @@ def fig29(run: Run, fig) -> None:
         (0, run.tables["test2_force_accuracy"]["parity_slope"].iloc[0], "ours, through the origin",
          {"color": colour("planner", PROPOSED)}),
         (0, paper_of(run, lambda p: p.parity_slope), "paper", {"ls": "--", "color": style.PAPER})],
-        "trial-mean normal force [N]", "(a) parity, all planners")
-    a.set_ylabel(f"{rig(run)} trial-mean normal force [N]")
+        "trial-mean normal force [N]", "(a) parity, all planners", rig(run))
     for ax, col, what, key in zip(hist, ("force_err_pct", "deformation_err_pct"), ("normal-force",
                                   "deformation"), ("force_err_median_pct", "deformation_err_median_pct"),
                                   strict=True):

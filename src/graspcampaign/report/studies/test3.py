@@ -183,8 +183,7 @@ def fig34(run: Run, fig) -> None:
     style.parity(a, p, m, [(g.get("ols_intercept"), g.get("ols_slope"), "ours: OLS", {"color": ours}),
                      (0, paper_of(run, lambda p: p.threshold_ols_slope), "paper's slope",
                       {"ls": "--", "color": style.PAPER})], "lateral threshold [N]",
-           "(a) parity, proposed, block A")
-    a.set_ylabel(f"{t2.rig(run)} lateral threshold [N]")
+           "(a) parity, proposed, block A", t2.rig(run))
     b.scatter((m + p) / 2, m - p, s=7, alpha=0.5, color=ours, label="ours")
     bias, half = (paper_of(run, getattr, k) for k in ("bland_altman_bias_n", "bland_altman_loa_half_width_n"))
     lines = [(g.get(k), ls, ours, "ours") for k, ls in (("bias_n", "-"), ("loa_low_n", "--"),
