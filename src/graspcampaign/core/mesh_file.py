@@ -232,8 +232,10 @@ def _ply_layout(name: str, base: str) -> dict | None:
     ASCII PLY that ends before the elements its header declares (one element a line)."""
     elements: list[list] = []
     ascii_format = False
+    n_header = 0  # header lines, end_header included
     with open(name, "rb") as fh:
-        for n_header, raw in enumerate(fh, 1):
+        for raw in fh:
+            n_header += 1
             words = raw.decode("ascii", errors="replace").split()
             if words[:1] == ["format"]:
                 ascii_format = words[1:2] == ["ascii"]
