@@ -344,6 +344,40 @@ def test_records_behind_a_cover_sheet_name_their_sheet(good, tmp_path):
     assert len(validate_records(path, schedule)) == len(rec)
 
 
+def test_records_behind_an_empty_first_sheet_name_their_sheet(good, tmp_path):
+    """The tester's workbook: an empty first sheet (a spreadsheet's default 'Sheet1'), the records
+    on sheet 'data'; was "the file has no data rows"."""
+    schedule, rec, _ = good
+    path = tmp_path / "book.xlsx"
+    with pd.ExcelWriter(path) as book:
+        pd.DataFrame().to_excel(book, sheet_name="Sheet1", index=False)
+        rec.to_excel(book, sheet_name="data", index=False)
+    with pytest.raises(IngestError) as info:
+        validate_records(path, schedule)
+    assert str(info.value) == (
+        "book.xlsx, header: ingest reads the workbook's first sheet, which is empty; sheet 'data' "
+        "has every required column: move it to the front or save it as CSV (`graspcampaign "
+        "schedule <study> --template` writes a sheet with every column).")
+
+
+@pytest.mark.parametrize("column", ["peak_slip_mm", "sf_actual"])  # optional cell, required cell
+def test_a_formula_without_its_computed_value_is_refused(good, tmp_path, column):
+    """openpyxl writes a formula without a value; pandas reads the cell as empty (not measured)."""
+    from openpyxl import load_workbook
+
+    schedule, rec, i = good
+    path = _file(rec, tmp_path / "book.xlsx", "xlsx")
+    book = load_workbook(path)
+    book.active.cell(row=i + 2, column=list(rec.columns).index(column) + 1).value = "=12.5*2"
+    book.save(path)
+    assert pd.isna(pd.read_excel(path)[column].iloc[i])  # what pandas alone reads: an empty cell
+    with pytest.raises(IngestError) as info:
+        validate_records(path, schedule)
+    assert str(info.value) == (
+        f"book.xlsx, row {i + 1}, column '{column}': the cell holds a formula (=12.5*2) with no "
+        "computed value; open and save the file in a spreadsheet program, which stores the values.")
+
+
 def test_missing_file(good, tmp_path):
     schedule, _, _ = good
     with pytest.raises(IngestError, match=r"^nope\.csv, header, column '-': the file does not "

@@ -355,6 +355,36 @@ def test_ingest_rejects(good, tmp_path, case):
         T.validate_waveforms(path, ids)
 
 
+def test_ingest_names_the_sheet_behind_an_empty_first_sheet(good, tmp_path):
+    ids, df = good
+    path = tmp_path / "waves.xlsx"
+    with pd.ExcelWriter(path) as book:
+        pd.DataFrame().to_excel(book, sheet_name="Sheet1", index=False)
+        df.to_excel(book, sheet_name="data", index=False)
+    with pytest.raises(T.IngestError) as info:
+        T.validate_waveforms(path, ids)
+    assert str(info.value) == (
+        "waves.xlsx, header: ingest reads the workbook's first sheet, which is empty; sheet 'data' "
+        "has every required column: move it to the front or save it as CSV (`graspcampaign "
+        "schedule test1_bench --template` writes a sheet with every column).")
+
+
+def test_ingest_refuses_a_formula_without_its_computed_value(good, tmp_path):
+    from openpyxl import load_workbook
+
+    ids, df = good
+    path = tmp_path / "waves.xlsx"
+    df.to_excel(path, index=False)
+    book = load_workbook(path)
+    book.active.cell(row=5, column=list(df.columns).index("displacement_mm") + 1).value = "=0.1*2"
+    book.save(path)
+    with pytest.raises(T.IngestError) as info:
+        T.validate_waveforms(path, ids)
+    assert str(info.value) == (
+        "waves.xlsx, row 4, column 'displacement_mm': the cell holds a formula (=0.1*2) with no "
+        "computed value; open and save the file in a spreadsheet program, which stores the values.")
+
+
 def test_ingest_rejects_unknown_file_type(good, tmp_path):
     ids, df = good
     path = tmp_path / "waves.txt"

@@ -275,9 +275,9 @@ def validate_records(data: pd.DataFrame | str | Path, schedule: pd.DataFrame,
     schema = schema_for(str(studies[0]))
     df = df.reset_index(drop=True)
     df.columns = [str(c).strip() for c in df.columns]
+    _check_header(df, schema, label, schedule.columns)  # first: it names a sheet holding records
     if len(df) == 0:
         raise _fail(label, None, "trial_id", "the file has no data rows")
-    _check_header(df, schema, label, schedule.columns)
 
     n = len(df)
     ids = []
