@@ -270,6 +270,12 @@ FAILURES = {
                        r"bad\.csv, row 3, column 'event_id': event id is empty\."),
     "duplicate_sample": (_bad_duplicate, r"bad\.csv, row 31, column 'time_s': duplicate sample "
                                          r"of event .* \(first seen in row 30\)\."),
+    "displacement_in_metres": (  # the tester's file: accepted with K = 17.9 instead of 0.548
+        lambda d: d.assign(displacement_mm=d["displacement_mm"] / 1e3, tangential_displacement_mm=
+                           d["tangential_displacement_mm"] / 1e3),
+        r"bad\.csv, row \d+, column '(tangential_)?displacement_mm': event 't1-[0-9a-f]{12}' peaks "
+        r"at .* mm where the schedule commands a (depth|stroke) of .* mm \(ratio 0\.00\d+, outside "
+        r"1/3 to 3: wrong units\?\)\."),
 }
 
 

@@ -489,6 +489,18 @@ OVERRIDES = {
                      "mu=0.3), got 50.",
     "mu=" + "x" * 100_000: "factors.mu[0] must be of type float, got '" + "x" * 60
                            + "... (100000 characters)' (str).",
+    # Hydra's lexer stops at a character its unquoted values or keys do not take (its grammar,
+    # hydra/grammar/OverrideLexer.g4): the message names it and the fix
+    "shape=[sphère]": "cannot parse override 'shape=[sphère]': 'è' (character 11) is not allowed in "
+                      "an unquoted value (only ASCII letters, digits, spaces and _-+.$%*@?|/\\ "
+                      "are); quote it: shape=[\"sphère\"], typed in single quotes on the shell.",
+    "shape=[pear,sph\u00a0ere]": "cannot parse override 'shape=[pear,sph\\xa0ere]': U+00A0 "
+                                 "(no-break space) (character 16) is not allowed in an unquoted "
+                                 "value (only ASCII letters, digits, spaces and "
+                                 "_-+.$%*@?|/\\ are); quote it: shape=[pear,\"sph\u00a0ere\"], "
+                                 "typed in single quotes on the shell.",
+    "seeds =2": "cannot parse override 'seeds =2': its key has ' ' at character 6, but a key takes "
+                "only ASCII letters, digits, '_', '-', '.' and '/'; write 'seeds=2'.",
 }
 
 
@@ -496,6 +508,13 @@ OVERRIDES = {
 def test_override_messages_name_the_override_in_plain_words(results, override):
     for command in ("show", "run") if override == "=3" else ("show",):
         _refused(results, [command, "baseline_grid", override], OVERRIDES[override])
+
+
+def test_the_quoted_form_an_override_message_suggests_is_read(results):
+    """The fix the message gives parses: the value then meets the factor's own check."""
+    _refused(results, ["show", "baseline_grid", 'shape=["sphère"]'],
+             "factors.shape[0] has unknown value 'sphère'; allowed values: sphere, ellipsoid, "
+             "rounded_cube, pear, handle.")
 
 
 def test_a_study_file_with_a_byte_order_mark_is_read(results, user_dir):

@@ -220,6 +220,9 @@ def test_schedule_out_into_a_path_whose_parent_is_a_file(results, tmp_path):
                                  "a directory.")
     _refused(results, ["schedule", "test2_grasp", "--out", tmp_path, "--root", results],
              f"--out {tmp_path} is a directory; give a file stem such as {tmp_path / 'schedule'}.")
+    missing = tmp_path / "no_such_dir" / "deeper"  # as plan --png: a mistyped directory grows no tree
+    _refused(results, ["schedule", "test2_grasp", "--out", missing / "x", "--root", results],
+             f"--out {missing / 'x'}: directory {missing} does not exist.")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["notes.txt"]
 
 

@@ -228,6 +228,7 @@ def test_schedule_template_has_every_column_and_its_unit(tmp_path):
 
     from graspcampaign.rig.ingest import record_columns
 
+    (tmp_path / "t3").mkdir()  # --out's directory must exist, as plan --png's
     result = _invoke("schedule", "test3_disturbance", "params.fraction=0.05", "--template",
                      "--out", str(tmp_path / "t3" / "sheet"))
     assert result.exit_code == 0, result.output

@@ -190,13 +190,46 @@ def _mesh_file(tmp_path, name: str) -> tuple:
         path.write_text("".join(f"v {x} {y} {z}\n" for x, y, z in sphere.vertices))
         return path, (f"mesh 'points_only.obj' has {len(sphere.vertices)} vertices but no faces: a "
                       "point cloud is no surface; export the mesh with its faces (OBJ 'f' lines)")
+    if name == "bad_index.ply":  # the tester's file: a face refers to vertex 7 of 3
+        path.write_text("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                        "property float y\nproperty float z\nelement face 1\n"
+                        "property list uchar int vertex_indices\nend_header\n"
+                        "0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n")
+        return path, ("mesh 'bad_index.ply' has a face (face 1, line 13) that refers to vertex 7, but "
+                      "the file has only 3 vertices: PLY indices count from 0")
+    if name == "truncated.ply":  # the header declares every face, the file ends after the first
+        text = sphere.export(file_type="ply", encoding="ascii").decode()
+        lines = text.splitlines()
+        header = lines.index("end_header") + 1
+        path.write_text("\n".join(lines[:header + len(sphere.vertices) + 1]) + "\n")
+        return path, (f"mesh 'truncated.ply' is truncated: its header declares {len(sphere.faces)} "
+                      f"face elements, but the file ends after 1 of them (line "
+                      f"{header + len(sphere.vertices) + 1})")
+    if name == "letter.obj":
+        path.write_text("v 0 0 x\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+        return path, "mesh 'letter.obj' has a vertex (line 1) whose coordinate 'x' is not a number"
+    if name == "nano.stl":  # a 60 nm ball: trimesh's fixed 1e-8 merge fused its corners
+        trimesh.creation.icosphere(subdivisions=2, radius=3e-8).export(path)
+        return path, ("mesh 'nano.stl' is 6e-08 mm across read with --unit mm, outside the 10-500 mm "
+                      "a three-finger hand grasps; no length unit makes it graspable.")
+    if name == "nano.obj":  # the same ball, written to 8 decimals: its faces are lost in rounding
+        trimesh.creation.icosphere(subdivisions=2, radius=3e-8).export(path)
+        merged = trimesh.load(path, process=True)
+        n_zero = int((merged.area_faces == 0.0).sum())  # trimesh's own areas of the rounded faces
+        return path, (f"mesh 'nano.obj' has {n_zero} degenerate (zero-area) faces and is only 6e-08 "
+                      "mm across read with --unit mm: check the file and its unit (--unit)")
+    if name == "stl_as.obj":  # a binary STL saved under the wrong suffix
+        path.write_bytes(sphere.export(file_type="stl"))
+        return path, ("mesh 'stl_as.obj' is not an OBJ file: it looks like a binary STL (84 bytes "
+                      "plus 50 per triangle); rename it to .stl")
     raise AssertionError(name)
 
 
 @pytest.mark.parametrize("name", ["huge.obj", "nan.obj", "inf.stl", "garbage.stl", "empty.stl",
                                   "facetless.stl", "text.ply", "sphere.step", "open.stl",
                                   "metres.stl", "two_spheres.stl", "hollow.stl", "bad_index.obj",
-                                  "points_only.obj"])
+                                  "points_only.obj", "bad_index.ply", "truncated.ply", "letter.obj",
+                                  "nano.stl", "nano.obj", "stl_as.obj"])
 def test_plan_bad_mesh_exit_2(tmp_path, name):
     path, message = _mesh_file(tmp_path, name)
     before = sorted(p.name for p in tmp_path.iterdir())
@@ -307,3 +340,24 @@ def test_plan_prints_the_path_it_wrote(stl_files, tmp_path, monkeypatch):
     assert result.stdout.endswith("\npicture: Plan.PNG\n")
     assert sorted(p.name for p in Path().iterdir()) == ["Plan.PNG"]
     assert Path("Plan.PNG").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_an_inside_out_stl_plans_exactly_what_the_outward_stl_plans(tmp_path):
+    """The tester's file: an icosphere exported after ``invert()`` (every triangle's corners
+    reversed). load_mesh turns it outward; the plan must not depend on the file's winding."""
+    import trimesh
+
+    ball = trimesh.creation.icosphere(subdivisions=2, radius=30.0)  # mm
+    ball.export(tmp_path / "out.stl")
+    ball.invert()
+    ball.export(tmp_path / "inv.stl")
+    assert trimesh.load(tmp_path / "inv.stl").volume < 0.0  # the file really is inside out
+    plans = []
+    for name in ("out.stl", "inv.stl"):
+        result = runner.invoke(app, ["plan", str(tmp_path / name), "--mass-kg", "0.3",
+                                     "--material", "gel", "--json"])
+        assert result.exit_code == 0, result.output
+        plan = json.loads(result.stdout)
+        assert plan.pop("mesh")["name"] == name and plan.pop("png").endswith(".plan.png")
+        plans.append(plan)
+    assert plans[1] == plans[0]

@@ -125,3 +125,22 @@ def test_obj_faces_with_slashes_and_negative_indices_are_read(tmp_path):
     mesh = load_mesh(path)
     assert len(mesh.faces) == len(box.faces)
     assert mesh.volume == pytest.approx(box.volume * 1e-9)  # trimesh's own volume, mm^3 -> m^3
+
+
+def test_an_stl_numbers_its_vertices_whatever_the_winding_or_triangle_order(tmp_path):
+    """An STL has no vertex list: the merged vertices must not depend on corner or triangle
+    order, or an inside-out copy of a file plans differently (the planner samples vertices)."""
+    ball = _ball(30.0)
+    ball.export(tmp_path / "out.stl")
+    shuffled = _ball(30.0, inward=True)
+    shuffled.faces = shuffled.faces[np.random.default_rng(1).permutation(len(shuffled.faces))]
+    shuffled.export(tmp_path / "inv.stl")
+    outward, inward = load_mesh(tmp_path / "out.stl"), load_mesh(tmp_path / "inv.stl")
+    # the same numbering (coordinates equal up to the centring's summation order, ~1e-19 m)
+    np.testing.assert_allclose(inward.vertices, outward.vertices, rtol=0.0, atol=1e-15)
+    # the same triangles (each a cyclic turn of the other's, wound the same way)
+    def triangles(mesh):
+        turned = [np.roll(f, -int(np.argmin(f))) for f in np.asarray(mesh.faces)]
+        return sorted(map(tuple, turned))
+    assert triangles(inward) == triangles(outward)
+    assert inward.volume == pytest.approx(ball.volume * 1e-9)  # outward, in m^3

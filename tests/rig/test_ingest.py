@@ -344,6 +344,40 @@ def test_records_behind_a_cover_sheet_name_their_sheet(good, tmp_path):
     assert len(validate_records(path, schedule)) == len(rec)
 
 
+def test_records_behind_an_empty_first_sheet_name_their_sheet(good, tmp_path):
+    """The tester's workbook: an empty first sheet (a spreadsheet's default 'Sheet1'), the records
+    on sheet 'data'; was "the file has no data rows"."""
+    schedule, rec, _ = good
+    path = tmp_path / "book.xlsx"
+    with pd.ExcelWriter(path) as book:
+        pd.DataFrame().to_excel(book, sheet_name="Sheet1", index=False)
+        rec.to_excel(book, sheet_name="data", index=False)
+    with pytest.raises(IngestError) as info:
+        validate_records(path, schedule)
+    assert str(info.value) == (
+        "book.xlsx, header: ingest reads the workbook's first sheet, which is empty; sheet 'data' "
+        "has every required column: move it to the front or save it as CSV (`graspcampaign "
+        "schedule <study> --template` writes a sheet with every column).")
+
+
+@pytest.mark.parametrize("column", ["peak_slip_mm", "sf_actual"])  # optional cell, required cell
+def test_a_formula_without_its_computed_value_is_refused(good, tmp_path, column):
+    """openpyxl writes a formula without a value; pandas reads the cell as empty (not measured)."""
+    from openpyxl import load_workbook
+
+    schedule, rec, i = good
+    path = _file(rec, tmp_path / "book.xlsx", "xlsx")
+    book = load_workbook(path)
+    book.active.cell(row=i + 2, column=list(rec.columns).index(column) + 1).value = "=12.5*2"
+    book.save(path)
+    assert pd.isna(pd.read_excel(path)[column].iloc[i])  # what pandas alone reads: an empty cell
+    with pytest.raises(IngestError) as info:
+        validate_records(path, schedule)
+    assert str(info.value) == (
+        f"book.xlsx, row {i + 1}, column '{column}': the cell holds a formula (=12.5*2) with no "
+        "computed value; open and save the file in a spreadsheet program, which stores the values.")
+
+
 def test_missing_file(good, tmp_path):
     schedule, _, _ = good
     with pytest.raises(IngestError, match=r"^nope\.csv, header, column '-': the file does not "
@@ -403,3 +437,56 @@ def test_record_template_has_every_column_with_its_unit(t3):
     # the template read back, every measured cell still empty, fails only on what is missing
     with pytest.raises(IngestError, match=r"row 1, column 'aborted': value '' is not a boolean"):
         validate_records(sheet, schedule, "template.csv")
+
+
+# ------------------------------------------------------------------ self-contradicting records
+def test_a_mean_force_that_is_not_the_fingers_mean_is_refused(good, tmp_path):
+    """The tester's record: fingers 1, 1, 1 N beside a 15 N mean was stored."""
+    schedule, rec, i = good
+    bad = rec.copy()
+    bad.loc[i, ["normal_force_1_n", "normal_force_2_n", "normal_force_3_n"]] = 1.0
+    bad.loc[i, "normal_force_mean_n"] = 15.0
+    path = _file(bad, tmp_path / "bad.csv", "csv")
+    with pytest.raises(IngestError) as info:
+        validate_records(path, schedule)
+    assert str(info.value) == (
+        f"bad.csv, row {i + 1}, column 'normal_force_mean_n': value 15 N is not the mean of "
+        "normal_force_1_n, normal_force_2_n, normal_force_3_n (1, 1, 1: mean 1 N) within 5% + "
+        "0.01 N.")
+
+
+@pytest.mark.parametrize(("fingers", "mean", "accepted"), [
+    ((1.000, 1.005, 1.010), 1.000, True),    # each rounded to the 5 mN step: 5 mN off
+    ((4.0, 4.0, 4.1), 4.24, True),           # 4.033 N: 0.207 N off, inside 5 % + 0.01 N = 0.212 N
+    ((4.0, 4.0, 4.1), 4.30, False),          # 0.267 N off
+    ((2.0, float("nan"), 4.0), 3.0, True),   # a finger not recorded: the mean of the others
+], ids=["rounding", "edge", "beyond", "two_fingers"])
+def test_the_mean_force_tolerance(good, tmp_path, fingers, mean, accepted):
+    schedule, rec, i = good
+    bad = rec.copy()
+    bad.loc[i, ["normal_force_1_n", "normal_force_2_n", "normal_force_3_n"]] = fingers
+    bad.loc[i, "normal_force_mean_n"] = mean
+    recorded = [f for f in fingers if f == f]
+    limit = 0.05 * abs(sum(recorded) / len(recorded)) + 0.01  # docs/decisions.md: 5 % + 2 x 5 mN
+    assert (abs(mean - sum(recorded) / len(recorded)) <= limit) is accepted  # the case is what it says
+    path = _file(bad, tmp_path / "bad.csv", "csv")
+    if accepted:
+        assert validate_records(path, schedule)["normal_force_mean_n"].iloc[i] == mean
+    else:
+        with pytest.raises(IngestError, match=rf"^bad\.csv, row {i + 1}, column "
+                                              r"'normal_force_mean_n': value 4\.3 N is not the mean"):
+            validate_records(path, schedule)
+
+
+def test_a_mean_deformation_that_is_not_the_fingers_mean_is_refused(good, tmp_path):
+    schedule, rec, i = good
+    bad = rec.copy()
+    bad.loc[i, ["deformation_1_mm", "deformation_2_mm", "deformation_3_mm"]] = (0.5, 0.6, 0.7)
+    bad.loc[i, "deformation_mean_mm"] = 6.0  # the mean written in tenths of a millimetre
+    path = _file(bad, tmp_path / "bad.csv", "csv")
+    with pytest.raises(IngestError) as info:
+        validate_records(path, schedule)
+    assert str(info.value) == (
+        f"bad.csv, row {i + 1}, column 'deformation_mean_mm': value 6 mm is not the mean of "
+        "deformation_1_mm, deformation_2_mm, deformation_3_mm (0.5, 0.6, 0.7: mean 0.6 mm) within "
+        "5% + 0.2 mm.")

@@ -16,6 +16,7 @@ import pytest
 
 from graspcampaign.core.bench import SensorParams
 from graspcampaign.rig import test1 as T
+from graspcampaign.rig.test1_ingest import PEAK_FACTOR
 
 SEED = 7
 KEY = ["material", "specimen", "environment"]
@@ -247,10 +248,45 @@ def test_ingest_gives_the_in_process_fits(small, tmp_path, suffix):
         wav.to_csv(path, index=False)
     else:
         wav.to_parquet(path, index=False)
-    valid = T.validate_waveforms(path, schedule["event_id"])
+    valid = T.validate_waveforms(path, schedule["event_id"], schedule=schedule)
     fits = T.fit_waveforms(valid, schedule).set_index("event_id").sort_index()
     ref = res.fits.set_index("event_id").loc[fits.index]
     pd.testing.assert_frame_equal(fits, ref[fits.columns], check_dtype=False)
+
+
+def test_the_bench_reaches_its_commanded_depth_and_stroke_within_the_peak_factor(small):
+    """The virtual bench's own events, the rule's reference: peak over command per block, from
+    the waveforms with pandas (an oblique press at 45 deg reaches 1/cos 45 of its depth)."""
+    schedule, _, wav = small
+    peaks = wav.assign(d=wav["displacement_mm"].abs(), t=wav["tangential_displacement_mm"].abs())
+    peaks = peaks.groupby("event_id")[["d", "t"]].max().join(schedule.set_index("event_id"))
+    ratios = pd.concat([peaks["d"] / peaks["depth_mm"], peaks["t"] / peaks["stroke_mm"]]).dropna()
+    assert ratios.max() == pytest.approx(1.0 / math.cos(math.radians(45.0)), rel=0.01)
+    assert 1.0 / PEAK_FACTOR < ratios.min() and ratios.max() < PEAK_FACTOR
+
+
+@pytest.mark.parametrize(("column", "scale", "what"), [
+    ("displacement_mm", 1e-3, "depth"),               # the tester's file: written in metres
+    ("displacement_mm", 10.0, "depth"),               # in tenths of a millimetre
+    ("tangential_displacement_mm", 0.1, "stroke"),    # in centimetres
+], ids=["m", "tenths", "cm"])
+def test_ingest_refuses_a_displacement_in_another_unit(small, tmp_path, column, scale, what):
+    schedule, _, wav = small
+    command = {"depth": "depth_mm", "stroke": "stroke_mm"}[what]
+    events = schedule.set_index("event_id")[command].dropna()
+    one = wav[wav["event_id"] == next(e for e in wav["event_id"] if e in events.index)]
+    bad = one.assign(**{column: one[column] * scale}).reset_index(drop=True)
+    path = tmp_path / "w.csv"
+    bad.to_csv(path, index=False)
+    row = int(bad[column].abs().idxmax())  # the peak sample
+    event = bad["event_id"].iloc[0]
+    peak, commanded = abs(bad[column].iloc[row]), events[event]
+    with pytest.raises(T.IngestError) as info:
+        T.validate_waveforms(path, schedule["event_id"], schedule=schedule)
+    assert str(info.value) == (
+        f"w.csv, row {row + 1}, column '{column}': event '{event}' peaks at {peak:g} mm where the "
+        f"schedule commands a {what} of {commanded:g} mm (ratio {peak / commanded:.3g}, outside "
+        "1/3 to 3: wrong units?).")
 
 
 @pytest.fixture
@@ -353,6 +389,36 @@ def test_ingest_rejects(good, tmp_path, case):
     message = message.format(event=re.escape(df["event_id"].iloc[0]))
     with pytest.raises(T.IngestError, match=rf"^bad\.csv, {message}$"):
         T.validate_waveforms(path, ids)
+
+
+def test_ingest_names_the_sheet_behind_an_empty_first_sheet(good, tmp_path):
+    ids, df = good
+    path = tmp_path / "waves.xlsx"
+    with pd.ExcelWriter(path) as book:
+        pd.DataFrame().to_excel(book, sheet_name="Sheet1", index=False)
+        df.to_excel(book, sheet_name="data", index=False)
+    with pytest.raises(T.IngestError) as info:
+        T.validate_waveforms(path, ids)
+    assert str(info.value) == (
+        "waves.xlsx, header: ingest reads the workbook's first sheet, which is empty; sheet 'data' "
+        "has every required column: move it to the front or save it as CSV (`graspcampaign "
+        "schedule test1_bench --template` writes a sheet with every column).")
+
+
+def test_ingest_refuses_a_formula_without_its_computed_value(good, tmp_path):
+    from openpyxl import load_workbook
+
+    ids, df = good
+    path = tmp_path / "waves.xlsx"
+    df.to_excel(path, index=False)
+    book = load_workbook(path)
+    book.active.cell(row=5, column=list(df.columns).index("displacement_mm") + 1).value = "=0.1*2"
+    book.save(path)
+    with pytest.raises(T.IngestError) as info:
+        T.validate_waveforms(path, ids)
+    assert str(info.value) == (
+        "waves.xlsx, row 4, column 'displacement_mm': the cell holds a formula (=0.1*2) with no "
+        "computed value; open and save the file in a spreadsheet program, which stores the values.")
 
 
 def test_ingest_rejects_unknown_file_type(good, tmp_path):

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import re
+import unicodedata
 from typing import Any
 
 from graspcampaign.campaign.schema import FACTOR_SPECS, example
@@ -94,8 +95,9 @@ def override_sentence(exc: BaseException, overrides: list[str], given: list[str]
         for item, typed in zip(overrides, given, strict=True):
             try:
                 parser.parse_overrides([item])
-            except Exception:  # the one that fails is the one to name
-                return f"cannot parse override {typed!r}: {text.rstrip('.')}."
+            except Exception as error:  # noqa: BLE001  (the one that fails is the one to name)
+                return (_character_sentence(item, typed, str(error))
+                        or f"cannot parse override {typed!r}: {text.rstrip('.')}.")
         return f"cannot parse overrides: {text.rstrip('.')}."
     match = re.match(r"Could not override '([^']+)'", text)
     if match:
@@ -108,6 +110,42 @@ def override_sentence(exc: BaseException, overrides: list[str], given: list[str]
     if match:
         return missing_option_sentence(match.group(1), match.group(2))
     return omegaconf_error_sentence(exc)
+
+
+_LEXER = "LexerNoViableAltException: "
+
+
+def _character_sentence(item: str, typed: str, error: str) -> str | None:
+    """Name the character Hydra's lexer stopped at (its message marks it with a caret under the
+    override) and the fix: a key of ASCII characters without spaces, or a quoted value."""
+    lines = error.splitlines()
+    if len(lines) < 2 or not lines[0].startswith(_LEXER) or "^" not in lines[1]:
+        return None
+    at = lines[1].index("^") - len(_LEXER)
+    if not 0 <= at < len(item):
+        return None
+    char = item[at]
+    shown = (repr(char) if char.isprintable() and not char.isspace() or char == " " else
+             f"U+{ord(char):04X} ({unicodedata.name(char, 'a control character').lower()})")
+    equal = typed.find("=")
+    if equal < 0 or at < item.find("="):  # in the key (or the prefix before it)
+        where = typed.find(char) + 1
+        fix = f"; write {''.join(typed.split())!r}" if char.isspace() else ""
+        return (f"cannot parse override {typed!r}: its key has {shown} at character {where}, but "
+                f"a key takes only ASCII letters, digits, '_', '-', '.' and '/'{fix}.")
+    where = typed.find(char, equal + 1) + 1
+    start, end = at, at + 1  # the unquoted word holding the character, between [ ] { } , =
+    while start > 0 and item[start - 1] not in "[]{},=\"'":
+        start -= 1
+    while end < len(item) and item[end] not in "[]{},=\"'":
+        end += 1
+    word = item[start:end].strip()
+    quote = "'" if '"' in word else '"'
+    fixed = typed[:equal + 1] + typed[equal + 1:].replace(word, f"{quote}{word}{quote}", 1)
+    shell = "" if "'" in fixed else ", typed in single quotes on the shell"
+    return (f"cannot parse override {typed!r}: {shown} (character {where}) is not allowed in an "
+            "unquoted value (only ASCII letters, digits, spaces and _-+.$%*@?|/\\ are); quote "
+            f"it: {fixed}{shell}.")
 
 
 def _unknown_override(key: str, typed: str | None, factors: list[str]) -> str:

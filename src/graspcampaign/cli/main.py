@@ -402,6 +402,8 @@ def schedule(
     if kind.schedule is None:
         _fail(f"study {cfg.name!r} is a simulation study; only hardware protocols have a schedule.")
     stem = _writable_stem(out or Path(cfg.output.root) / cfg.name / "schedule", "--out")
+    if out is not None and not out.parent.is_dir():  # as plan --png: a typo grows no tree
+        _fail(f"--out {out}: directory {out.parent} does not exist.")
     params = kind_params(cfg, kind)
     sheet = kind.schedule(cfg, params)
     sheets = {"": sheet}

@@ -16,6 +16,8 @@ import os
 import numpy as np
 import trimesh
 
+from graspcampaign.core.plausible import OBJECT_SIZE_MM
+
 logger = logging.getLogger(__name__)
 
 __all__ = [
@@ -84,10 +86,17 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
     n_bytes = os.path.getsize(name)
     if n_bytes == 0:
         raise MeshError(f"mesh {base!r} is empty: the file has 0 bytes")
+    with open(name, "rb") as fh:
+        head = fh.read(4096)
+    other = _other_format(head, n_bytes)
     if suffix == ".stl":
         _check_stl_layout(name, base, n_bytes)
+    elif other and other[1] != suffix:
+        raise MeshError(f"mesh {base!r} is not {'an' if suffix == '.obj' else 'a'} "
+                        f"{suffix[1:].upper()} file: it looks like {other[0]}; rename it to {other[1]}")
     if suffix == ".obj":
-        _check_obj_indices(name, base)
+        _check_obj_lines(name, base)
+    ply = _ply_layout(name, base) if suffix == ".ply" else None
     try:
         # validate=False, process=False: keep non-finite values, degenerate faces and bad winding
         # so that they are reported here and by check_mesh instead of silently dropped
@@ -98,10 +107,40 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
         raise MeshError(f"mesh {base!r} cannot be read as {suffix[1:].upper()} ({text})") from exc
     if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
         raise MeshError(f"mesh {base!r} is empty: it has no faces")
-    _check_coordinates(np.asarray(mesh.vertices), base, unit, per_triangle=suffix == ".stl")
-    mesh.process(validate=False)  # merge the duplicated corners of STL triangle soups
+    if ply is not None:
+        _check_ply_faces(np.asarray(mesh.faces), len(mesh.vertices), base, ply)
+    vertices = np.asarray(mesh.vertices)
+    _check_coordinates(vertices, base, unit, per_triangle=suffix == ".stl")
+    # merge the duplicated corners of STL triangle soups; trimesh's fixed 1e-8 (file units) would
+    # also merge distinct corners of a mesh a few 1e-8 across, so the tolerance shrinks with it
+    extent = float(np.ptp(vertices, axis=0).max())
+    digits = trimesh.util.decimal_to_digits(trimesh.tol.merge * min(1.0, max(extent, 1e-290)))
+    mesh.merge_vertices(digits_vertex=digits)
+    if suffix == ".stl":
+        mesh = _coordinate_order(mesh)
+    size_mm = extent * UNITS[unit] * 1e3
+    n_degenerate = int(_degenerate(np.asarray(mesh.vertices), np.asarray(mesh.faces)).sum())
+    if n_degenerate and size_mm < OBJECT_SIZE_MM.low:  # a unit slip, not a bad surface
+        raise MeshError(f"mesh {base!r} has {n_degenerate} degenerate (zero-area) faces and is only "
+                        f"{size_mm:.3g} mm across read with --unit {unit}: check the file and its "
+                        "unit (--unit)")
     mesh.apply_scale(UNITS[unit])
     return check_mesh(mesh, base)
+
+
+def _coordinate_order(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
+    """Number an STL's merged vertices in coordinate order (x, then y, then z).
+
+    An STL stores triangles, not a vertex list; trimesh numbers the corners in the order they
+    first appear, which depends on each triangle's corner order, so an inward-wound copy of a
+    file (corners reversed) would number them differently and the planner, which samples
+    vertices, would plan differently. The coordinate order depends on the surface alone.
+    """
+    vertices = np.asarray(mesh.vertices)
+    order = np.lexsort(vertices.T[::-1])
+    rank = np.empty_like(order)
+    rank[order] = np.arange(len(order))
+    return trimesh.Trimesh(vertices[order], rank[np.asarray(mesh.faces)], process=False)
 
 
 #: Largest coordinate accepted from a mesh file [m]: a kilometre is no graspable object, and
@@ -126,27 +165,54 @@ def _check_stl_layout(name: str, base: str, n_bytes: int) -> None:
                     "(84 bytes plus 50 per triangle) nor an ASCII STL (text starting with 'solid')")
 
 
-def _check_obj_indices(name: str, base: str) -> None:
-    """Refuse an OBJ whose faces refer to missing vertices, or that has vertices but no faces.
+def _other_format(head: bytes, n_bytes: int) -> tuple[str, str] | None:
+    """Recognise an STL or PLY file by its first bytes: (what it looks like, its suffix)."""
+    if len(head) >= 84 and 84 + 50 * int.from_bytes(head[80:84], "little") == n_bytes:
+        return "a binary STL (84 bytes plus 50 per triangle)", ".stl"
+    if head.lstrip()[:5].lower() == b"solid" and b"facet" in head:
+        return "an ASCII STL (text starting with 'solid')", ".stl"
+    if head[:4] in (b"ply\n", b"ply\r"):
+        return "a PLY file (its first line is 'ply')", ".ply"
+    return None
 
-    trimesh reports both as "could not be read to its end due to unmatched data". A face's
-    vertex index is 1-based, or negative counting back from the vertices read so far (the OBJ
-    format); a positive index is checked against every vertex of the file, as readers do.
+
+def _check_obj_lines(name: str, base: str) -> None:
+    """Refuse an OBJ with a vertex or face it cannot read, naming the line.
+
+    Refused: binary data (OBJ is text), a 'v' line without three numbers, a face index that is
+    not a whole number or refers to a missing vertex, vertices without faces. trimesh reports
+    each as "could not be read to its end due to unmatched data". A face's vertex index is
+    1-based, or negative counting back from the vertices read so far (the OBJ format); a
+    positive index is checked against every vertex of the file, as readers do.
     """
     n_vertices = n_faces = 0
     largest = (0, 0)  # (positive vertex index, line)
+    with open(name, "rb") as fh:
+        if b"\0" in fh.read(4096):
+            raise MeshError(f"mesh {base!r} is not an OBJ file: OBJ is text, but the file holds "
+                            "binary data")
     with open(name, encoding="utf-8", errors="replace") as fh:
         for line_no, line in enumerate(fh, 1):
             words = line.split()
             if words[:1] == ["v"]:
                 n_vertices += 1
+                if len(words) < 4:
+                    raise MeshError(f"mesh {base!r} has a vertex (line {line_no}) with "
+                                    f"{len(words) - 1} coordinates: an OBJ 'v' line gives x, y and z")
+                for token in words[1:]:
+                    try:
+                        float(token)
+                    except ValueError:
+                        raise MeshError(f"mesh {base!r} has a vertex (line {line_no}) whose "
+                                        f"coordinate {token!r} is not a number") from None
             elif words[:1] == ["f"]:
                 n_faces += 1
                 for token in words[1:]:
                     try:
                         index = int(token.split("/", 1)[0])  # v, v/vt, v//vn or v/vt/vn
                     except ValueError:
-                        continue  # not a number: trimesh's own message says what it could not read
+                        raise MeshError(f"mesh {base!r} has a face (line {line_no}) whose vertex "
+                                        f"{token!r} is not a whole number") from None
                     if index > largest[0]:
                         largest = (index, line_no)
                     elif index == 0 or index < -n_vertices:  # a positive index passes both
@@ -159,6 +225,60 @@ def _check_obj_indices(name: str, base: str) -> None:
     if n_vertices and not n_faces:
         raise MeshError(f"mesh {base!r} has {n_vertices} vertices but no faces: a point cloud is no "
                         "surface; export the mesh with its faces (OBJ 'f' lines)")
+
+
+def _ply_layout(name: str, base: str) -> dict | None:
+    """Read a PLY header (``None`` if there is none: trimesh's reader says why) and refuse an
+    ASCII PLY that ends before the elements its header declares (one element a line)."""
+    elements: list[list] = []
+    ascii_format = False
+    n_header = 0  # header lines, end_header included
+    with open(name, "rb") as fh:
+        for raw in fh:
+            n_header += 1
+            words = raw.decode("ascii", errors="replace").split()
+            if words[:1] == ["format"]:
+                ascii_format = words[1:2] == ["ascii"]
+            elif words[:1] == ["element"] and len(words) == 3 and words[2].isdigit():
+                elements.append([words[1], int(words[2])])
+            elif words == ["end_header"]:
+                break
+        else:
+            return None
+        if not ascii_format:
+            return {"ascii": False, "elements": elements}
+        n_lines = sum(1 for raw in fh if raw.strip())
+    line = n_header
+    for element, count in elements:
+        if n_lines < count:
+            raise MeshError(f"mesh {base!r} is truncated: its header declares {count} "
+                            f"{element} elements, but the file ends after {n_lines} of them "
+                            f"(line {line + n_lines})")
+        n_lines -= count
+        line += count
+    return {"ascii": True, "elements": elements, "header_lines": n_header}
+
+
+def _check_ply_faces(faces: np.ndarray, n_vertices: int, base: str, ply: dict | None) -> None:
+    """Refuse a PLY face that refers to a missing vertex, naming the face (and its line)."""
+    bad = (faces < 0) | (faces >= n_vertices)
+    if not bad.any():
+        return
+    row = int(np.flatnonzero(bad.any(axis=1))[0])
+    index = int(faces[row][bad[row]][0])
+    counts = dict(ply["elements"]) if ply else {}
+    where = ""
+    if counts.get("face") == len(faces):  # no polygon was split into triangles: rows are faces
+        where = f" (face {row + 1})"
+        if ply["ascii"]:
+            before = 0
+            for element, count in ply["elements"]:
+                if element == "face":
+                    break
+                before += count
+            where = f" (face {row + 1}, line {ply['header_lines'] + before + row + 1})"
+    raise MeshError(f"mesh {base!r} has a face{where} that refers to vertex {index}, but the file "
+                    f"has only {n_vertices} vertices: PLY indices count from 0")
 
 
 def _check_coordinates(vertices: np.ndarray, base: str, unit: str, per_triangle: bool) -> None:
@@ -179,6 +299,14 @@ def _check_coordinates(vertices: np.ndarray, base: str, unit: str, per_triangle:
         raise MeshError(f"mesh {base!r} has a coordinate of {np.abs(vertices[i]).max():.3g} {unit} "
                         f"at {where(i)}, beyond the {limit:g} {unit} ({MAX_COORDINATE_M:g} m) any "
                         "graspable object fits in; check the file and its unit (--unit)")
+
+
+def _degenerate(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """(f,) bool: faces of (nearly) zero area, relative to the mesh's extent squared."""
+    scale = float(np.ptp(vertices, axis=0).max())
+    tri = vertices[faces]
+    double_area = np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+    return double_area <= 1e-12 * max(scale, 1e-300) ** 2
 
 
 def check_mesh(mesh: trimesh.Trimesh, name: str = "mesh", centre: bool = True) -> trimesh.Trimesh:
@@ -215,9 +343,7 @@ def check_mesh(mesh: trimesh.Trimesh, name: str = "mesh", centre: bool = True) -
             f"mesh {name!r} has non-finite coordinates at {int(bad_coords.sum())} vertices"
         )
     scale = float(np.ptp(vertices, axis=0).max())
-    tri = vertices[faces]
-    double_area = np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
-    degenerate = double_area <= 1e-12 * max(scale, 1e-300) ** 2
+    degenerate = _degenerate(vertices, faces)
     if degenerate.any():
         raise MeshError(
             f"mesh {name!r} has {int(degenerate.sum())} degenerate (zero-area) faces"

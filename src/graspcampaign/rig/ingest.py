@@ -36,9 +36,11 @@ optional: abort_reason (str), environment (str), source (measured | virtual)
 =========================  ======  =======================================================
 
 Float cells may be empty (not measured) except ``sf_actual``, ``g_geo_actual`` and the flags of
-an executed row. Validation stops at the first problem and raises :class:`IngestError` with one
-sentence naming the file, the 1-based data row (header excluded) and the column; nothing is
-returned, so a caller that stores only after validation changes nothing on bad input.
+an executed row. ``normal_force_mean_n`` and ``deformation_mean_mm`` are the means of the fingers'
+values recorded beside them, within :data:`MEAN_REL_TOL` plus :data:`MEAN_ABS_TOL`. Validation
+stops at the first problem and raises :class:`IngestError` with one sentence naming the file, the
+1-based data row (header excluded) and the column; nothing is returned, so a caller that stores
+only after validation changes nothing on bad input.
 
 References
 ----------
@@ -275,9 +277,9 @@ def validate_records(data: pd.DataFrame | str | Path, schedule: pd.DataFrame,
     schema = schema_for(str(studies[0]))
     df = df.reset_index(drop=True)
     df.columns = [str(c).strip() for c in df.columns]
+    _check_header(df, schema, label, schedule.columns)  # first: it names a sheet holding records
     if len(df) == 0:
         raise _fail(label, None, "trial_id", "the file has no data rows")
-    _check_header(df, schema, label, schedule.columns)
 
     n = len(df)
     ids = []
@@ -319,6 +321,7 @@ def validate_records(data: pd.DataFrame | str | Path, schedule: pd.DataFrame,
 
     _check_ids(clean_df, schedule, label)
     _check_consistency(clean_df, label)
+    _check_means(clean_df, label)
     sources = clean_df["source"].where(clean_df["source"].fillna("") != "", "measured")
     clean_df["source"] = sources.astype(object)
     check_one_source([(label, i + 1, v) for i, v in enumerate(clean_df["source"])])
@@ -443,6 +446,36 @@ def _check_consistency(df: pd.DataFrame, label: str) -> None:
             raise _fail(label, i + 1, raised, f"{raised} is true but outcome is '{outcome}' (a "
                         "measured drop, damage or contact loss classes the trial as that failure, "
                         "§8.1)")
+
+
+MEAN_REL_TOL = 0.05
+"""Relative tolerance of a recorded mean against the mean of its per-finger values: a judgement,
+a third of the 13.8 % median normal-force prediction error the mean is judged by (§8, Fig. 29b),
+so a tolerated difference moves no reported statistic; a unit or column slip is far outside it
+(docs/decisions.md)."""
+MEAN_ABS_TOL = {"normal_force": 2 * 5e-3, "deformation": 2 * 0.1}
+"""Absolute tolerance of a recorded mean [N, mm]: two resolution steps of its sensor (finger force
+5 mN, vision 0.1 mm; §8.1, Fig. 27), what rounding the four values separately can leave."""
+
+
+def _check_means(df: pd.DataFrame, label: str) -> None:
+    """Refuse a recorded mean that is not the mean of its per-finger values (those recorded)."""
+    for stem, unit in (("normal_force", "n"), ("deformation", "mm")):
+        fingers = [f"{stem}_{j}_{unit}" for j in (1, 2, 3)]
+        column = f"{stem}_mean_{unit}"
+        values = df[fingers].to_numpy(dtype=float)
+        given = df[column].to_numpy(dtype=float)
+        mean = df[fingers].astype(float).mean(axis=1).to_numpy()  # NaN: no finger recorded
+        recorded = ~np.isnan(given) & ~np.isnan(mean) & ~df["aborted"].to_numpy(bool)
+        tol = MEAN_REL_TOL * np.abs(mean) + MEAN_ABS_TOL[stem]
+        off = recorded & (np.abs(given - mean) > tol)
+        if off.any():
+            i = int(np.flatnonzero(off)[0])
+            name = _UNIT_NAMES[unit]
+            shown = ", ".join("empty" if np.isnan(v) else f"{v:g}" for v in values[i])
+            raise _fail(label, i + 1, column, f"value {given[i]:g} {name} is not the mean of "
+                        f"{', '.join(fingers)} ({shown}: mean {mean[i]:.4g} {name}) within "
+                        f"{MEAN_REL_TOL:.0%} + {MEAN_ABS_TOL[stem]:g} {name}")
 
 
 _UNIT_NAMES = {"mm": "mm", "n": "N", "nm": "N m", "deg": "deg"}

@@ -64,11 +64,40 @@ def read_table(path: str | Path, *, csv_options: dict | None = None,
                 frame.attrs["other_sheets"] = {
                     str(name): [str(c) for c in pd.read_excel(book, name, nrows=0).columns]
                     for name in book.sheet_names[1:]}
+            if frame.isna().to_numpy().any():  # an uncomputed formula reads as an empty cell
+                _check_formulas(path, book.sheet_names[0], frame)
             return frame
         return pd.read_parquet(path)
+    except IngestError:
+        raise
     except Exception as exc:  # the readers raise many types for corrupt files
         raise IngestError(f"{path.name}, header, column '-': the file cannot be read as "
                           f"{suffix[1:]} ({type(exc).__name__}).") from exc
+
+
+def _check_formulas(path: Path, sheet: str, frame: pd.DataFrame) -> None:
+    """Refuse a formula cell without a computed value, which pandas reads as an empty cell.
+
+    An XLSX stores a formula and, once a spreadsheet program has computed it, its value; a file
+    written by a program (openpyxl) and never opened in one has the formula only. pandas reads the
+    stored values, so the cell would be taken as not measured. The frame's row ``k`` is the
+    sheet's row ``k + 2`` (header in row 1: pandas keeps leading empty rows and columns).
+    """
+    from openpyxl import load_workbook
+
+    book = load_workbook(path, read_only=True, data_only=False)
+    try:
+        rows = book[sheet].iter_rows(min_row=2, max_row=len(frame) + 1, min_col=1,
+                                     max_col=len(frame.columns))
+        for k, cells in enumerate(rows):
+            for j, cell in enumerate(cells):
+                if getattr(cell, "data_type", None) == "f" and pd.isna(frame.iat[k, j]):
+                    raise _fail(path.name, k + 1, str(frame.columns[j]),
+                                f"the cell holds a formula ({cell.value}) with no computed value; "
+                                "open and save the file in a spreadsheet program, which stores "
+                                "the values")
+    finally:
+        book.close()
 
 
 def _checked_csv(path: Path) -> str:
@@ -161,8 +190,10 @@ def header_problems(columns: list[str], required: list[str], units: dict[str, st
                    f"missing: {', '.join(missing)}")
         if holder := next((n for n, cols in (other_sheets or {}).items()
                            if set(required) <= set(cols)), None):
-            return [f"ingest reads the workbook's first sheet, which lacks the required columns; "
-                    f"sheet '{holder}' has them all: move it to the front or save it as CSV"]
+            first = ("is empty; sheet '{}' has every required column" if not columns else
+                     "lacks the required columns; sheet '{}' has them all").format(holder)
+            return [f"ingest reads the workbook's first sheet, which {first}: move it to the front "
+                    "or save it as CSV"]
     out += wrong
     if twice:
         out.append(f"{'a column appears' if len(twice) == 1 else 'columns appear'} more than once: "

@@ -24,7 +24,7 @@ from graspcampaign.rig.ingest import ATTEMPT_TYPO_LIMIT, SOURCES, check_one_sour
 from graspcampaign.rig.measured_file import IngestError, _fail, header_problems, read_table, table_and_label
 from graspcampaign.rig.test1_summary import WAVEFORM_COLUMNS
 
-__all__ = ["read_waveforms", "validate_waveforms", "waveform_template"]
+__all__ = ["PEAK_FACTOR", "read_waveforms", "validate_waveforms", "waveform_template"]
 
 
 _UNIT_RE = re.compile(r"^(?P<stem>time|displacement|normal_force|tangential_force|"
@@ -52,14 +52,25 @@ def read_waveforms(path: str | Path) -> pd.DataFrame:
                       excel_options={"dtype": {"event_id": str}})
 
 
+PEAK_FACTOR = 3.0
+"""An event's peak displacement lies within this factor of its commanded depth (tangential: of its
+commanded stroke), both ways. A displacement-controlled actuator (1 um, §7.1) reaches what it is
+commanded: along an oblique press at 45 deg that is up to 1/cos 45 = 1.41 of the depth, and a
+cyclic event overshoots by some 20 % (the virtual bench: 1.00 to 1.42). A factor of 3 (about half
+a decade) passes those with a margin of 2 and catches a unit slip (10x: cm, 1000x: m or um)."""
+
+
 def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterable[str],
-                       file_label: str | None = None) -> pd.DataFrame:
+                       file_label: str | None = None, schedule: pd.DataFrame | None = None
+                       ) -> pd.DataFrame:
     """Validate a waveform table and return it with clean dtypes.
 
     Checks, in order: required columns (a column with the right quantity but another unit
     suffix is reported as wrong units), numbers, finite values, the rig's physical ranges
     (values outside them usually mean wrong units), known event ids, duplicate samples
-    (same ``event_id`` and ``time_s``), strictly increasing time within each event.
+    (same ``event_id`` and ``time_s``), strictly increasing time within each event, and, given
+    the ``schedule``, each event's peak displacement against its commanded depth and stroke
+    (within :data:`PEAK_FACTOR`).
 
     Parameters
     ----------
@@ -69,6 +80,8 @@ def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterabl
         Event ids of the study's schedule.
     file_label : str, optional
         Name used in messages; default the file name (or ``"<dataframe>"``).
+    schedule : pandas.DataFrame, optional
+        The study's schedule (``event_id``, ``depth_mm``, ``stroke_mm``).
 
     Returns
     -------
@@ -142,6 +155,8 @@ def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterabl
         raise _fail(label, i + 1, "time_s", f"time {out['time_s'].iloc[i]:g} s does not "
                     f"increase within event '{out['event_id'].iloc[i]}' (previous sample "
                     f"{prev.iloc[i]:g} s)")
+    if schedule is not None:
+        _check_commanded(out, schedule, label)
     if "attempt" in df.columns:
         out["attempt"] = _attempts(df["attempt"], label)
     if "anomaly" in df.columns:
@@ -154,6 +169,29 @@ def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterabl
         if extra in out:
             _check_constant(out, extra, label)
     return out
+
+
+def _check_commanded(table: pd.DataFrame, schedule: pd.DataFrame, label: str) -> None:
+    """Refuse an event whose peak displacement is not within :data:`PEAK_FACTOR` of what the
+    schedule commands (a depth for the pressing blocks, a stroke for the tangential slide)."""
+    commands = schedule.drop_duplicates("event_id").set_index("event_id")
+    for column, target, what in (("displacement_mm", "depth_mm", "depth"),
+                                 ("tangential_displacement_mm", "stroke_mm", "stroke")):
+        if target not in commands:
+            continue
+        size = table[column].abs()
+        at = size.groupby(table["event_id"], sort=False).idxmax()  # each event's peak sample
+        commanded = commands[target].reindex(at.index).to_numpy(dtype=float)
+        peak = size.to_numpy()[at.to_numpy()]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = peak / commanded
+        off = (commanded > 0) & ((ratio > PEAK_FACTOR) | (ratio < 1.0 / PEAK_FACTOR))
+        if off.any():
+            i = int(at.to_numpy()[off].min())
+            k = int(np.flatnonzero(at.to_numpy() == i)[0])
+            raise _fail(label, i + 1, column, f"event '{at.index[k]}' peaks at {peak[k]:g} mm where "
+                        f"the schedule commands a {what} of {commanded[k]:g} mm (ratio "
+                        f"{ratio[k]:.3g}, outside 1/{PEAK_FACTOR:g} to {PEAK_FACTOR:g}: wrong units?)")
 
 
 def _attempts(raw: pd.Series, label: str) -> np.ndarray:

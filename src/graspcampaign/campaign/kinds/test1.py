@@ -307,7 +307,7 @@ def ingest(study: StudyCfg, params: Test1BenchParams, paths: list[str],
     frames, owner, sources = [], {}, []
     for path in paths:
         label = Path(path).name
-        table = T.validate_waveforms(path, known, file_label=label)
+        table = T.validate_waveforms(path, known, file_label=label, schedule=sched)
         first = table.drop_duplicates("event_id")
         for i, eid in zip(first.index, first["event_id"], strict=True):
             if eid in owner:
