@@ -623,6 +623,22 @@ def test_a_full_disk_anywhere_else_is_one_sentence(results, monkeypatch):
                              "free some space there and run the command again.\n")
 
 
+# -- a directory given as the results root that holds no runs -------------------------------------
+def test_report_on_a_root_without_runs_says_so(finished, tmp_path):
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    _refused(finished, ["report", "--root", empty],
+             f"no runs under {empty}; run a study first (graspcampaign run STUDY --root {empty}).")
+    for args in (["report"], ["report", "smoke"]):
+        _refused(finished, [*args, "--root", _grid(finished)],
+                 f"no runs under {_grid(finished)}: it is the directory of run "
+                 f"baseline_grid/default; give the results root that holds it (--root {finished}).")
+        _refused(finished, [*args, "--root", finished / "smoke"],
+                 f"no runs under {finished / 'smoke'}: it holds the runs of study smoke; give the "
+                 f"results root that holds it (--root {finished}).")
+    assert not any(empty.iterdir())
+
+
 def test_a_file_in_place_of_the_run_directory_is_refused_by_every_command(results):
     shutil.rmtree(_grid(results))
     _grid(results).write_text("not a run")
