@@ -83,3 +83,8 @@ class MissingSourceRunError(UserInputError):
     def __init__(self, message: str, source: str):
         super().__init__(message)
         self.source = source
+
+
+class StoreWriteError(UserInputError):
+    """A file of the results store could not be written (a full disk, a failing device): the
+    temporary file is removed and nothing stored before is changed."""

@@ -13,6 +13,7 @@ advice for a damaged trace table; a directory given where a file belongs.
 
 from __future__ import annotations
 
+import errno
 import hashlib
 import json
 import os
@@ -24,7 +25,7 @@ import pyarrow.parquet as pq
 import pytest
 from typer.testing import CliRunner
 
-from graspcampaign.campaign.records import RunStore
+from graspcampaign.campaign.records import CONTENT_KEY, RunStore, content_digest
 from graspcampaign.cli.main import app
 
 runner = CliRunner()
@@ -236,10 +237,17 @@ def _compact(results: Path) -> Path:
     return path
 
 
+def _as_written(table: pa.Table, target: Path) -> None:
+    """Write ``table`` as ``target`` as the tool writes a file: with the digest of its values."""
+    digest = {CONTENT_KEY: content_digest(table).encode()}
+    pq.write_table(table.replace_schema_metadata({**(table.schema.metadata or {}), **digest}),
+                   target, write_page_checksum=True)
+
+
 def _rewritten(source: Path, target: Path, edit) -> None:
-    """Write ``edit(table)`` of a verified shard as ``target`` (with ``source``'s metadata)."""
-    table = pq.read_table(source)
-    pq.write_table(edit(table), target, write_page_checksum=True)
+    """Write ``edit(table)`` of a verified shard as ``target`` (with ``source``'s metadata and
+    the digest of its own values: a file the tool wrote)."""
+    _as_written(edit(pq.read_table(source)), target)
 
 
 def _with_run(table: pa.Table, run: str) -> pa.Table:
@@ -305,7 +313,7 @@ def _another_config(results):
 def _twice_in_one_file(results):
     compact = _compact(results)
     table = pq.read_table(compact)
-    pq.write_table(pa.concat_tables([table, table]), compact, write_page_checksum=True)
+    _as_written(pa.concat_tables([table, table]), compact)
     return (f"a file records/{compact.name} that records 2 trials twice", _advice(results),
             compact, "file {path} moved to {target} (it records 2 trials twice); its trials will "
                      "run again")
@@ -331,17 +339,80 @@ def _partly_duplicated(results):
     compact = _compact(results)
     table = pq.read_table(compact)
     first, both = compact.with_name("part-a.parquet"), compact.with_name("part-b.parquet")
-    pq.write_table(table.slice(0, 1), first, write_page_checksum=True)
-    pq.write_table(table, both, write_page_checksum=True)
+    _as_written(table.slice(0, 1), first)
+    _as_written(table, both)
     compact.unlink()
     why = "1 of its 2 trials also in records/part-a.parquet"
     return (f"a duplicate file records/part-b.parquet ({why})", _advice(results), both,
             "file {path} moved to {target} (" + why + "); its trials will run again")
 
 
-DAMAGES = {f.__name__.lstrip("_"): f for f in (
+def _edited(results, edit, digest: bool | None):
+    """The run's records file rewritten as ``edit(table)`` with valid page checksums and its
+    metadata (``digest``: True the digest of the new values, as the tool writes a file; None the
+    file's own stale digest; False none), the way a script or another tool rewrites it."""
+    compact = _compact(results)
+    table = edit(pq.read_table(compact))
+    if digest:
+        _as_written(table, compact)
+    else:
+        meta = {k: v for k, v in table.schema.metadata.items() if digest is None or k != CONTENT_KEY}
+        pq.write_table(table.replace_schema_metadata(meta), compact, write_page_checksum=True)
+    return compact
+
+
+def _set(table: pa.Table, column: str, values) -> pa.Table:
+    i = table.schema.get_field_index(column)
+    return table.set_column(i, column, pa.array(values, table.schema.field(i).type)
+                            if isinstance(values, list) else values)
+
+
+_STALE = "its values differ from those written: their SHA-256 is not the one stored with them"
+
+
+def _edit_case(edit, digest: bool | None, why: str, damaged: bool = False):
+    def case(results):
+        compact = _edited(results, edit, digest)
+        text = f"a damaged file records/{compact.name} ({why})" if damaged else \
+            f"a file records/{compact.name} {why}"
+        reason = why if damaged else why.split(" ", 1)[1]
+        return (text, _advice(results), compact, ("damaged file" if damaged else "file") +
+                " {path} moved to {target} (" + reason + "); its trials will run again")
+    return case
+
+
+_EDITS = {
+    # the tester's edit: a row removed, the file rewritten with its metadata (a stale digest)
+    "row_removed": _edit_case(lambda t: t.slice(1), None, _STALE, damaged=True),
+    "value_edited": _edit_case(lambda t: _set(t, "residual_norm_n", [999.0] * len(t)), None,
+                               _STALE, damaged=True),
+    "column_added": _edit_case(lambda t: t.append_column("extra", pa.array([1] * len(t))), None,
+                               _STALE, damaged=True),
+    # rewritten without the digest: what every record has is still checked
+    "status_unknown": _edit_case(lambda t: _set(t, "status", ["weird"] * len(t)), False,
+                                 "with status 'weird', not ok or error"),
+    "column_dropped": _edit_case(lambda t: t.drop(["trial_index"]), False,
+                                 "with no column trial_index, which every record has"),
+    "column_retyped": _edit_case(
+        lambda t: _set(t, "trial_index", t.column("trial_index").cast(pa.string())), False,
+        "with column trial_index of type string, not whole numbers"),
+    "trial_id_null": _edit_case(lambda t: _set(t, "trial_id", [None, *t["trial_id"].to_pylist()[1:]]),
+                                False, "with 1 record without a trial_id"),
+    "trial_id_renamed": _edit_case(
+        lambda t: _set(t, "trial_id", ["bogus-123", *t["trial_id"].to_pylist()[1:]]), False,
+        "with trial_id 'bogus-123', which the tool never makes: its ids end in '-' and the "
+        "10-digit hash of the trial's factors"),
+    "output_retyped": _edit_case(
+        lambda t: _set(t, "residual_norm_n", t.column("residual_norm_n").cast(pa.string())), False,
+        "with no digest of its values, which every file of this run gets when it is written"),
+    # a file as the tool writes it, of another source
+    "source_measured": _edit_case(lambda t: _set(t, "source", ["measured"] * len(t)), True,
+                                  "holding records of another source (measured)"),
+}
+DAMAGES = {**{f.__name__.lstrip("_"): f for f in (
     _damage_records_file, _renamed_to_csv, _duplicate, _partly_duplicated, _foreign_study,
-    _another_run, _another_config, _twice_in_one_file, _records_removed, _records_emptied)}
+    _another_run, _another_config, _twice_in_one_file, _records_removed, _records_emptied)},
+    **_EDITS}
 #: trials that run again after the repair: none where the file was added beside the run's own
 #: records, the other trial of a partly duplicated file, every trial where the run's file went
 RERUN = {"duplicate": 0, "foreign_study": 0, "another_run": 0, "another_config": 0,
@@ -374,6 +445,200 @@ def test_a_run_not_what_its_manifest_says_is_refused_then_repaired_by_run(result
     assert RunStore(_grid(results)).check() is not None
 
 
+def test_a_trial_run_again_counts_though_a_compaction_listed_its_shard_name(results):
+    """A row removed from a compacted file (rewritten as the tool writes files) whose sources
+    list the name the trial's shard once had: the trial runs again and counts (its new shard was
+    ignored as superseded, and every `run` said "1 ran" while `status` refused the run)."""
+    from graspcampaign.campaign.grid import content_hash
+
+    compact = _compact(results)
+    table = pq.read_table(compact)
+    gone = table["trial_id"][0].as_py()
+    meta = dict(table.schema.metadata)
+    sources = json.loads(meta[b"graspcampaign.sources"]) + [f"part-{content_hash([gone])}.parquet"]
+    meta[b"graspcampaign.sources"] = json.dumps(sources).encode()
+    _as_written(table.slice(1).replace_schema_metadata(meta), compact)
+    missing = "its manifest counts 2 recorded trials but 1 are stored"
+    _refused(results, ["status", "baseline_grid", "--root", results],
+             f"run baseline_grid/default at {_grid(results)} has missing records: {missing}; "
+             f"{_advice(results, 'run the missing trials again')}")
+    for already, ran in ((1, 1), (2, 0)):  # the advice works once, then nothing is left to run
+        again = _invoke("run", "baseline_grid", *BG, "runner.progress=false", "--root", results)
+        assert again.exit_code == 0, again.output
+        assert f"2 trials, {already} already recorded, {ran} ran" in again.stdout
+    status = _invoke("status", "baseline_grid", "--root", results, "--json")
+    assert status.exit_code == 0 and json.loads(status.stdout)["n_recorded"] == 2
+    assert gone in RunStore(_grid(results)).recorded_ids()
+
+
+def test_a_run_never_ends_with_exit_0_on_a_run_its_own_checks_refuse(results, monkeypatch):
+    """Records that do not reach the store (here: never written) make `run` fail naming what is
+    missing, not report success over a run that every other command then refuses."""
+    write = RunStore.write_shard
+
+    def lost(self, part, name, rows, *args, **kwargs):
+        if part == "records":
+            return self.path / part / f"part-{name}.parquet"
+        return write(self, part, name, rows, *args, **kwargs)
+
+    _compact(results).unlink()
+    monkeypatch.setattr(RunStore, "write_shard", lost)
+    result = _invoke("run", "baseline_grid", *BG, "runner.progress=false", "--root", results)
+    assert result.exit_code == 2
+    missing = "its manifest counts 2 recorded trials but 0 are stored"
+    assert result.stderr == (
+        f"warning: run baseline_grid/default at {_grid(results)}: {missing}; the missing ones run "
+        f"again\nerror: run baseline_grid/default at {_grid(results)} has missing records: "
+        f"{missing} (records/ is empty); {_advice(results, 'run the missing trials again')}\n")
+
+
+def test_run_quarantines_records_of_a_trial_outside_its_design(results):
+    """A well-formed trial id no trial of the design has (the file rewritten as the tool writes
+    files): `status` cannot tell without composing the design, `run` does and repairs."""
+    foreign = "sphere_0.2_0.3_heuristic_s0-0123456789"
+    compact = _edited(results, lambda t: _set(t, "trial_id", [foreign, *t["trial_id"].to_pylist()[1:]]),
+                      True)
+    kept = compact.read_bytes()
+    repaired = _invoke("run", "baseline_grid", *BG, "runner.progress=false", "--root", results)
+    assert repaired.exit_code == 0, repaired.output
+    target = _grid(results) / "quarantine" / f"records__{compact.name}"
+    assert repaired.stderr == (f"warning: file {compact} moved to {target} (records of 1 trial not "
+                               f"in the study's design ({foreign})); its trials will run again\n")
+    assert "2 trials, 0 already recorded, 2 ran" in repaired.stdout
+    assert target.read_bytes() == kept
+    store = RunStore(_grid(results))
+    assert store.check() is not None and foreign not in store.recorded_ids()
+    assert len(store.recorded_ids()) == 2
+
+
+def _config_edited(m: dict) -> dict:
+    config = json.loads(json.dumps(m["config"]))
+    config["factors"]["mu"] = [0.4]
+    return {**m, "config": config}
+
+
+_RESTORE = "restore the file from a backup"
+#: manifest edits that make it describe another run than the one stored, and why that is seen
+MISMATCHES = {
+    "source_measured": (lambda m: {**m, "source": "measured"},
+                        "source is 'measured', but trial kind quasi_static makes simulation records",
+                        _RESTORE),
+    "study_renamed": (lambda m: {**m, "study": "shapes"},
+                      "study is 'shapes', but the run is stored as baseline_grid/default",
+                      f"{_RESTORE}, or put a moved run directory back as shapes/default"),
+    "run_renamed": (lambda m: {**m, "run": "other"},
+                    "run is 'other', but the run is stored as baseline_grid/default",
+                    f"{_RESTORE}, or put a moved run directory back as baseline_grid/other"),
+    "kind_changed": (lambda m: {**m, "kind": "mesh_features"},
+                     "kind is 'mesh_features', but its config says 'quasi_static'", _RESTORE),
+    "fewer_trials": (lambda m: {**m, "n_trials": 1},
+                     "n_trials is 1, but it stores 2 trials of its one config", _RESTORE),
+    "more_trials": (lambda m: {**m, "n_trials": 5},
+                    "n_trials is 5, but the finished run stores 2 trials of its one config",
+                    _RESTORE),
+    "config_edited": (_config_edited, None, _RESTORE),
+}
+
+
+@pytest.mark.parametrize("case", sorted(MISMATCHES))
+def test_a_manifest_that_does_not_describe_its_run_is_refused_by_every_command(results, case):
+    edit, why, advice = MISMATCHES[case]
+    path = _grid(results) / "manifest.json"
+    manifest = json.loads(path.read_text())
+    path.write_text(json.dumps(edit(manifest), indent=2))
+    if why is None:  # the hash of the edited config, as composing that config gives it
+        from graspcampaign.campaign.compose import compose_study
+        from graspcampaign.campaign.provenance import config_hash
+
+        edited = config_hash(compose_study("baseline_grid", [*BG, "mu=[0.4]"]))
+        why = f"config_hash is {manifest['config_hash']}, but its config hashes to {edited}"
+    message = (f"run baseline_grid/default at {_grid(results)} has a manifest.json that does not "
+               f"match the run ({why}); {advice}.")
+    for args in (["status", "baseline_grid"], ["show", "baseline_grid", *BG[:5]],
+                 ["report", "baseline_grid"], ["run", "baseline_grid", *BG]):
+        _refused(results, [*args, "--root", results], message)
+
+
+# -- a full disk: one sentence, no temporary file left, nothing stored lost --------------------------
+def _disk_full(path) -> OSError:
+    return OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(path))
+
+
+def test_a_full_disk_while_writing_the_manifest_changes_nothing(results, monkeypatch):
+    write_text = Path.write_text
+
+    def full(self, *args, **kwargs):
+        if self.name.endswith(".tmp"):
+            write_text(self, "")  # what a full disk leaves: an empty file
+            raise _disk_full(self)
+        return write_text(self, *args, **kwargs)
+
+    monkeypatch.setattr(Path, "write_text", full)
+    smoke = results / "smoke" / "default"
+    _refused(results, ["run", "smoke", *SMOKE, "--root", results],
+             f"cannot write {smoke / 'manifest.json'}: no space left on device; what was stored "
+             "before is kept, so free some space there and run the command again.")
+
+
+def test_a_full_disk_while_writing_records_loses_nothing_and_the_run_resumes(results, monkeypatch):
+    import re
+
+    write_table = pq.write_table
+
+    def full(table, where, *args, **kwargs):
+        Path(where).write_bytes(b"PAR1")  # a partly written file
+        raise _disk_full(where)
+
+    before = _snapshot(results)
+    monkeypatch.setattr(pq, "write_table", full)
+    fresh = results / "smoke" / "fresh"
+    result = _invoke("run", "smoke", *SMOKE, "runner.progress=false", "--run", "fresh",
+                     "--root", results)
+    assert result.exit_code == 2 and result.stdout == ""
+    assert re.fullmatch(rf"error: cannot write {re.escape(str(fresh / 'records'))}/part-[0-9a-f]{{10}}"
+                        r"\.parquet: no space left on device; what was stored before is kept, so "
+                        r"free some space there and run the command again\.\n", result.stderr)
+    after = _snapshot(results)
+    assert not [p for p in after if p.endswith(".tmp")]
+    assert {p: h for p, h in after.items() if not p.startswith("smoke/fresh/")} == before
+    assert sorted(p for p in after if p.startswith("smoke/fresh/")) == ["smoke/fresh/manifest.json"]
+    monkeypatch.setattr(pq, "write_table", write_table)
+    resumed = _invoke("run", "smoke", *SMOKE, "runner.progress=false", "--run", "fresh",
+                      "--root", results)
+    assert resumed.exit_code == 0 and "1 trials, 0 already recorded, 1 ran" in resumed.stdout
+
+
+def test_a_full_disk_anywhere_else_is_one_sentence(results, monkeypatch):
+    write_text = Path.write_text
+
+    def full(self, *args, **kwargs):
+        if self.name == "index.md":  # the root pages, written after the runs' reports
+            raise _disk_full(self)
+        return write_text(self, *args, **kwargs)
+
+    monkeypatch.setattr(Path, "write_text", full)
+    result = _invoke("report", "smoke", "--root", results)
+    assert result.exit_code == 2 and result.stdout == ""
+    assert result.stderr == (f"error: cannot write {results / 'index.md'}: no space left on device; "
+                             "free some space there and run the command again.\n")
+
+
+# -- a directory given as the results root that holds no runs -------------------------------------
+def test_report_on_a_root_without_runs_says_so(finished, tmp_path):
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    _refused(finished, ["report", "--root", empty],
+             f"no runs under {empty}; run a study first (graspcampaign run STUDY --root {empty}).")
+    for args in (["report"], ["report", "smoke"]):
+        _refused(finished, [*args, "--root", _grid(finished)],
+                 f"no runs under {_grid(finished)}: it is the directory of run "
+                 f"baseline_grid/default; give the results root that holds it (--root {finished}).")
+        _refused(finished, [*args, "--root", finished / "smoke"],
+                 f"no runs under {finished / 'smoke'}: it holds the runs of study smoke; give the "
+                 f"results root that holds it (--root {finished}).")
+    assert not any(empty.iterdir())
+
+
 def test_a_file_in_place_of_the_run_directory_is_refused_by_every_command(results):
     shutil.rmtree(_grid(results))
     _grid(results).write_text("not a run")
@@ -385,22 +650,24 @@ def test_a_file_in_place_of_the_run_directory_is_refused_by_every_command(result
 
 
 def test_run_never_writes_into_measured_records_nor_ingest_into_simulated_ones(results, tmp_path):
-    measured = results / "baseline_grid" / "measured"
-    shutil.copytree(_grid(results), measured)
-    manifest = json.loads((measured / "manifest.json").read_text())
-    (measured / "manifest.json").write_text(json.dumps({**manifest, "source": "measured"}))
-    _refused(results, ["run", "baseline_grid", *BG, "--run", "measured", "--root", results],
-             f"run baseline_grid/measured at {measured} holds measured records (ingested); `run` "
-             "never adds simulated or virtual trials to them, so choose another run name "
-             "(--run NAME).")
-    simulated = results / "test2_grasp" / "default"
-    shutil.copytree(_grid(results), simulated)
+    from graspcampaign.campaign.compose import compose_study
+    from graspcampaign.campaign.provenance import new_manifest, write_manifest
+
+    # a protocol's runs as `ingest` (measured) and `run` (the virtual rig) start them
+    study = compose_study("test2_grasp", [f"output.root={results}"])
+    for run, source in (("measured", "measured"), ("default", "virtual")):
+        write_manifest(results / "test2_grasp" / run / "manifest.json",
+                       new_manifest(study, run, 10, source))
+    _refused(results, ["run", "test2_grasp", "--run", "measured", "--root", results],
+             f"run test2_grasp/measured at {results / 'test2_grasp' / 'measured'} holds measured "
+             "records (ingested); `run` never adds simulated or virtual trials to them, so choose "
+             "another run name (--run NAME).")
     sheet = tmp_path / "m.csv"
     sheet.write_text("trial_id\n")
     _refused(results, ["ingest", "test2_grasp", sheet, "--run", "default", "--root", results],
-             f"run test2_grasp/default at {simulated} holds simulation records (from `graspcampaign "
-             "run`); measured records are stored in a run of their own, so choose another run "
-             "name (--run NAME; default measured).")
+             f"run test2_grasp/default at {results / 'test2_grasp' / 'default'} holds virtual "
+             "records (from `graspcampaign run`); measured records are stored in a run of their "
+             "own, so choose another run name (--run NAME; default measured).")
 
 
 # -- 4. reports check first and never overwrite good pages ------------------------------------------
@@ -493,7 +760,9 @@ def test_a_trial_in_two_baseline_runs_is_cross_checked_once(results):
     from graspcampaign.report.render import Run
     from graspcampaign.report.studies.mesh_resolution import _cross_check
 
-    shutil.copytree(_grid(results), _grid(results).with_name("again"))
+    again = _invoke("run", "baseline_grid", *BG, "runner.progress=false", "--run", "again",
+                    "--root", results)
+    assert again.exit_code == 0, again.output
     base = RunStore(_grid(results)).read().to_pandas()
     key = ["shape", "mass_kg", "mu", "planner", "seed"]
     records = base[key + ["success", "residual_norm_n"]].assign(

@@ -18,7 +18,7 @@ from typer.testing import CliRunner
 
 from graspcampaign.campaign.compose import project_dirs
 from graspcampaign.campaign.grid import expand
-from graspcampaign.campaign.provenance import new_manifest, write_manifest
+from graspcampaign.campaign.provenance import config_digest, new_manifest, write_manifest
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.schema import StudyCfg
 from graspcampaign.cli.main import app
@@ -259,6 +259,7 @@ def test_a_mistyped_paper_block_of_an_old_run_falls_back_to_the_study_file(tmp_p
     store = write_run(tmp_path)
     manifest = json.loads(store.manifest_path.read_text())
     manifest["config"]["paper"]["sucess_pct"] = manifest["config"]["paper"].pop("success_pct")
+    manifest["config_hash"] = config_digest(manifest["config"])  # as that run hashed its config
     store.manifest_path.write_text(json.dumps(manifest))
     build_reports(["ablation"], root=tmp_path)
     md = (store.path / "report" / "report.md").read_text()

@@ -90,6 +90,7 @@ def test_a_non_finite_sweep_level_is_reported_not_raised(runs, tmp_path):
 
     from typer.testing import CliRunner
 
+    from graspcampaign.campaign.runner import ERROR_COLUMNS
     from graspcampaign.cli.main import app
 
     source = runs["sensitivity"]
@@ -102,7 +103,9 @@ def test_a_non_finite_sweep_level_is_reported_not_raised(runs, tmp_path):
                 "delta_max_mm"] = np.inf
     records.loc[records["panel"] == "n_b", "runtime_ms"] = np.nan
     shutil.rmtree(copy / "records")
-    store.write_shard("records", "a", records.to_dict("records"))
+    for column in ERROR_COLUMNS:  # text as the runner stores it, not pandas' NaN
+        records[column] = records[column].astype(object).where(records[column].notna(), None)
+    store.write_shard("records", "a", records.to_dict("records"), strings=ERROR_COLUMNS)
     result = CliRunner().invoke(app, ["report", "--root", str(tmp_path / "results"),
                                       "--figure-format", "svg"])
     assert result.exit_code == 0, result.output

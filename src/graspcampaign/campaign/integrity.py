@@ -7,9 +7,16 @@ or reports its records:
 - its layout: the run directory, ``records/``, ``prepared/``, ``tables/<name>/`` and
   ``summary/<name>/`` are directories holding only Parquet shards (``part-*.parquet``,
   ``compact-*.parquet``; hidden temporary files aside), each intact;
-- every record is the run's own: its ``study`` and ``run`` are the manifest's (or the directory's,
-  for a run moved aside), and the configs its shard was written under (``CONFIG_KEY`` in the
-  shard's metadata) are ones the run ran with;
+- the manifest describes the run: its ``study`` and ``run`` are the directory's, its ``kind`` and
+  ``study`` its config's, its ``config_hash`` the hash of its config, its ``source`` one its trial
+  kind makes, and (a Cartesian design run under one config) it counts the trials stored;
+- every record file is one the tool wrote: it has the columns every record has
+  (:data:`RECORD_COLUMNS`) with their types, a ``status`` of :data:`STATUSES`, a well-formed
+  ``trial_id`` on every row and, in a run that says so (``digests`` in the manifest), the digest of
+  its values (checked by ``verify_file``);
+- every record is the run's own: its ``study``, ``run``, ``kind`` and ``source`` are the
+  manifest's, and the configs its shard was written under (``CONFIG_KEY`` in the shard's
+  metadata) are ones the run ran with (and, for ``run``, its trial is in the design);
 - no trial is recorded twice, in one records file or across files, and no trial's traces are in
   two files of one trace table;
 - no recorded trial went missing: the run stores at least the ``n_recorded`` trials its manifest
@@ -31,10 +38,12 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
+import pyarrow as pa
 import pyarrow.compute as pc
 import pyarrow.parquet as pq
 
-from graspcampaign.campaign.records import CONFIG_KEY, verify_file
+from graspcampaign.campaign.provenance import MISMATCH, kind_facts_or_none, read_manifest
+from graspcampaign.campaign.records import CONFIG_KEY, CONTENT_KEY, verify_file
 from graspcampaign.errors import DamagedRunError
 
 #: Names of stored shards; anything else in a part directory (hidden files aside) is not a shard.
@@ -43,6 +52,20 @@ _PARTS = ("records", "prepared", "tables", "summary")
 #: What happens to the trials of a file moved aside, by the part it was in.
 _THEN = {"records": "its trials will run again", "tables": "its trials will run again",
          "prepared": "it is computed again", "summary": "it is computed again"}
+#: The columns every record has (docs/records.md, written by the runner and by ``ingest``) and
+#: what they hold; the optional ones hold it when present (a column of missing values: any type).
+RECORD_COLUMNS = {"trial_id": "text", "study": "text", "run": "text", "kind": "text",
+                  "trial_index": "whole numbers", "scene_id": "text", "status": "text",
+                  "source": "text"}
+_OPTIONAL_COLUMNS = {"error_type": "text", "error_message": "text", "error_traceback": "text",
+                     "wall_time_s": "numbers"}
+_HOLDS = {"text": lambda t: pa.types.is_string(t) or pa.types.is_large_string(t),
+          "whole numbers": pa.types.is_integer,
+          "numbers": lambda t: pa.types.is_integer(t) or pa.types.is_floating(t)}
+#: A record's ``status`` (docs/records.md).
+STATUSES = ("ok", "error")
+#: A trial id as ``grid.expand`` makes it: a readable key, "-", the 10-digit hash of the factors.
+TRIAL_ID = r"^.+-[0-9a-f]{10}$"
 
 
 @dataclass(frozen=True)
@@ -60,6 +83,7 @@ class Problem:
     fix: str
     part: str = "records"
     reason: str = ""
+    advice: str = ""
 
 
 def _rel(store, path: Path) -> str:
@@ -101,13 +125,19 @@ def layout_problems(store) -> list[Problem]:
 @dataclass(frozen=True)
 class _Facts:
     """What the checks read of a verified file: rows, distinct ``trial_id`` values (a trace table
-    holds many rows per trial: made distinct in Arrow, not in Python), the ``study``/``run``
-    values and the config hashes of its metadata."""
+    holds many rows per trial: made distinct in Arrow, not in Python), the
+    ``study``/``run``/``kind``/``source``/``status`` values, the config hashes of its metadata and
+    whether it carries the digest of its values, its column types, the rows without a trial id
+    and the first malformed one."""
 
     n_rows: int
     ids: frozenset
     owners: dict
     config_hashes: frozenset
+    digest: bool = False
+    types: dict | None = None
+    n_null_ids: int = 0
+    bad_id: str | None = None
 
 
 _FACTS: dict[tuple[str, int, int], _Facts] = {}
@@ -120,14 +150,21 @@ def _facts(path: Path) -> _Facts:
     key = (str(path.resolve()), st.st_size, st.st_mtime_ns)
     if key not in _FACTS:
         schema = pq.read_schema(path)
-        names = [c for c in ("trial_id", "study", "run") if c in schema.names]
+        names = [c for c in ("trial_id", "study", "run", "kind", "source", "status")
+                 if c in schema.names]
         table = pq.ParquetFile(path).read(columns=names) if names else None
         ids = table.column("trial_id") if "trial_id" in names else None
+        bad = None
+        if ids is not None and pa.types.is_string(ids.type):
+            wrong = ids.filter(pc.invert(pc.match_substring_regex(ids, TRIAL_ID)))
+            bad = wrong[0].as_py() if len(wrong) else None
         raw = (schema.metadata or {}).get(CONFIG_KEY)
         _FACTS[key] = _Facts(
-            0 if ids is None else len(ids), frozenset(() if ids is None else pc.unique(ids).to_pylist()),
+            0 if ids is None else len(ids),
+            frozenset(() if ids is None else pc.unique(ids.drop_null()).to_pylist()),
             {c: set(pc.unique(table.column(c)).to_pylist()) for c in names if c != "trial_id"},
-            frozenset(json.loads(raw) if raw else ()))
+            frozenset(json.loads(raw) if raw else ()), CONTENT_KEY in (schema.metadata or {}),
+            {f.name: f.type for f in schema}, 0 if ids is None else ids.null_count, bad)
     return _FACTS[key]
 
 
@@ -137,27 +174,72 @@ def _ids(path: Path) -> tuple[int, frozenset]:
     return facts.n_rows, facts.ids
 
 
-def owners(store, manifest: dict | None, config_hash: str | None = None) -> dict[str, set]:
-    """The study and run names and config hashes the run's records may carry."""
+def owners(store, manifest: dict | None, config_hash: str | None = None,
+           design: set[str] | None = None) -> dict[str, set]:
+    """The study and run names, trial kind, sources and config hashes the run's records may
+    carry, whether its files must carry the digest of their values, and (``design``: the trial
+    ids of a Cartesian design every session of the run ran) the trials they may record."""
     hashes = {config_hash} if config_hash else set()
     if manifest:
         hashes |= {manifest.get("config_hash")} | {s.get("config_hash") for s in
                                                    manifest.get("sessions") or []}
+    source = manifest["source"] if manifest else None
     return {"study": {store.path.parent.name, *([manifest["study"]] if manifest else [])},
             "run": {store.path.name, *([manifest["run"]] if manifest else [])},
-            "config_hash": hashes - {None}}
+            "kind": {manifest["kind"]} if manifest else set(),
+            # an ingested run holds measured records, or a virtual rig's exported ones
+            "source": set() if source is None else {"measured", "virtual"} if source == "measured"
+            else {source},
+            "config_hash": hashes - {None}, "digests": bool(manifest and manifest.get("digests")),
+            "design": design or set()}
 
 
 def _foreign(path: Path, allowed: dict[str, set]) -> str | None:
-    """Why the records of ``path`` are not the run's own (another study, run or config), or None."""
+    """Why the records of ``path`` are not the run's own (another study, run, kind, source or
+    config; a trial not in the design), or None."""
     facts = _facts(path)
-    for column, values in facts.owners.items():
-        other = sorted(values - allowed[column] - {None})
-        if other:
+    for column, values in facts.owners.items():  # status: a vocabulary, not an owner
+        other = sorted(values - allowed.get(column, set()) - {None}, key=str)
+        if other and allowed.get(column):
             return f"records of another {column} ({other[0]})"
     other = sorted(facts.config_hashes - allowed["config_hash"])
     if other and allowed["config_hash"]:
         return f"records run with another config (hash {other[0]}, not one this run ran with)"
+    other = sorted(facts.ids - allowed["design"])
+    if other and allowed["design"]:
+        return (f"records of {len(other)} trial{'s' if len(other) > 1 else ''} not in the study's "
+                f"design ({other[0]})")
+    return None
+
+
+def _not_records(path: Path, allowed: dict) -> str | None:
+    """Why ``path`` is not a records file the tool wrote (a column every record has missing or of
+    another type, a status or trial id it never writes, no digest where the run has them), or
+    None. Only for a run (a manifest)."""
+    if not allowed["kind"]:
+        return None
+    facts = _facts(path)
+    for column, holds in [*RECORD_COLUMNS.items(), *_OPTIONAL_COLUMNS.items()]:
+        kind = facts.types.get(column)
+        if kind is None:
+            if column in RECORD_COLUMNS:
+                return f"no column {column}, which every record has"
+        elif not _HOLDS[holds](kind) and not (column in _OPTIONAL_COLUMNS and pa.types.is_null(kind)):
+            return f"column {column} of type {kind}, not {holds}"
+    other = sorted(facts.owners.get("status", set()) - set(STATUSES), key=str)
+    if other:
+        return f"status {other[0]!r}, not {' or '.join(STATUSES)}"
+    if facts.n_null_ids:
+        return f"{facts.n_null_ids} record{'s' if facts.n_null_ids > 1 else ''} without a trial_id"
+    if facts.bad_id is not None:
+        return (f"trial_id {facts.bad_id!r}, which the tool never makes: its ids end in '-' and "
+                "the 10-digit hash of the trial's factors")
+    return None
+
+
+def _no_digest(path: Path, allowed: dict) -> str | None:
+    if allowed["digests"] and not _facts(path).digest:
+        return "no digest of its values, which every file of this run gets when it is written"
     return None
 
 
@@ -167,15 +249,21 @@ def file_problems(store, part: str, allowed: dict[str, set]) -> list[Problem]:
     compacted files first, then shards, each by name)."""
     out = [Problem(path, f"a damaged file {_rel(store, path)} ({why})", "quarantine", part, why)
            for path, why in store.damaged(part)]
-    if part != "records" and not part.startswith("tables/"):
-        return out
     bad = {p.path for p in out}
+    if part != "records" and not part.startswith("tables/"):
+        return out + [Problem(path, f"a file {_rel(store, path)} with {why}", "quarantine", part,
+                              why) for path in store._listing(part)[0] if path not in bad
+                      and (why := _no_digest(path, allowed))]
     seen: dict[str, Path] = {}
     for path in (p for p in store._listing(part)[0] if p not in bad):
         rel = _rel(store, path)
-        foreign = _foreign(path, allowed) if part == "records" else None
-        if foreign:
-            out.append(Problem(path, f"a file {rel} holding {foreign}", "quarantine", part, foreign))
+        unlike = _not_records(path, allowed) if part == "records" else None
+        foreign = None if unlike else _foreign(path, allowed) if part == "records" else None
+        unlike = unlike or (None if foreign else _no_digest(path, allowed))
+        if unlike or foreign:
+            out.append(Problem(path, f"a file {rel} with {unlike}" if unlike else
+                               f"a file {rel} holding {foreign}", "quarantine", part,
+                               unlike or foreign))
             continue
         n, unique = _ids(path)
         if part == "records" and len(unique) < n:
@@ -223,11 +311,40 @@ def problems(store, manifest: dict | None, parts: list[str] | None = None) -> li
                 " (records/ is empty)"
             found.append(Problem(records, f"missing records: its manifest counts {want} recorded "
                                           f"trials but {len(stored)} are stored{empty}", "missing"))
+        elif counted := _miscounted(manifest, len(stored)):
+            found.append(Problem(store.manifest_path, MISMATCH.format(counted), "refuse",
+                                 advice="restore the file from a backup"))
     return found
+
+
+
+
+def _one_config(manifest: dict) -> bool:
+    return all(s.get("config_hash") in (None, manifest["config_hash"]) for s in manifest["sessions"])
+
+
+def _cartesian(kind: str) -> bool:
+    """Whether trial kind ``kind`` has a Cartesian design (False: an explicit one, or unknown)."""
+    return kind_facts_or_none(kind).get("design") is False
+
+
+def _miscounted(manifest: dict, n_stored: int) -> str | None:
+    """Why the manifest's ``n_trials`` cannot be the run's, or None: a Cartesian design run under
+    one config stores at most ``n_trials`` trials, and exactly that many once finished (an
+    explicit design may grow with its source, ``dynamic_check``; another config has another)."""
+    if not (_one_config(manifest) and _cartesian(manifest["kind"])):
+        return None
+    n = manifest["n_trials"]
+    if n_stored > n or (manifest["finished_at"] and n_stored != n):
+        return (f"n_trials is {n}, but {'the finished run stores' if n_stored < n else 'it stores'} "
+                f"{n_stored} trials of its one config")
+    return None
 
 
 def _advice(store, problem: Problem, source: str | None) -> str:
     study, run, root = store.path.parent.name, store.path.name, store.path.parent.parent
+    if problem.advice:
+        return problem.advice
     if problem.fix == "refuse":
         return "move it aside, then resume the run"
     if source == "measured":
@@ -270,8 +387,6 @@ def check_run(store, parts: list[str] | None = None, *, repairable: bool = False
     DamagedRunError
         The run cannot be trusted as stored; nothing is changed.
     """
-    from graspcampaign.campaign.provenance import read_manifest
-
     label = f"run {store.path.parent.name}/{store.path.name} at {store.path}"
     if store.path.exists() and not store.path.is_dir():
         raise DamagedRunError(f"{label} is a file, not a run directory; move it aside or choose "
@@ -312,7 +427,7 @@ def _trials_of_trace(store, path: Path, others: list[Path]) -> set[str]:
 
 
 def repair(store, manifest: dict | None = None, config_hash: str | None = None,
-           ) -> list[tuple[Path, Path, str]]:
+           design: set[str] | None = None) -> list[tuple[Path, Path, str]]:
     """Quarantine what makes the run differ from its manifest and make the rest consistent.
 
     - a records file that is damaged, foreign, not a shard or records a trial twice: moved
@@ -323,7 +438,9 @@ def repair(store, manifest: dict | None = None, config_hash: str | None = None,
     - trace rows of a trial that has no record are dropped;
     - a preparation moved aside is recomputed; a summary table once every trial is recorded.
 
-    ``config_hash`` is the config of the session about to run (its shards are the run's own).
+    ``config_hash`` is the config of the session about to run (its shards are the run's own);
+    ``design`` the trial ids of its design when every session ran it (a file recording another
+    trial is not the run's).
     What :func:`check_run` refuses is left to it (the runner calls it first).
 
     Returns
@@ -333,7 +450,7 @@ def repair(store, manifest: dict | None = None, config_hash: str | None = None,
     moved: list[tuple[Path, Path, str]] = []
     lost: set[str] = set()
     for _ in range(10):  # moving a file aside can make superseded shards live again: look again
-        allowed = owners(store, manifest, config_hash)
+        allowed = owners(store, manifest, config_hash, design)
         found = [p for p in layout_problems(store) if p.fix != "refuse"]
         flagged = {p.path for p in found}
         for part in store._parts():

@@ -36,8 +36,12 @@ def study_dict(study: StudyCfg) -> dict[str, Any]:
 
 def config_hash(study: StudyCfg) -> str:
     """Hash the parts of the resolved config that can change a trial's result."""
-    data = {k: v for k, v in study_dict(study).items() if k not in _RESULT_FREE}
-    return content_hash(data, length=16)
+    return config_digest(study_dict(study))
+
+
+def config_digest(config: dict[str, Any]) -> str:
+    """:func:`config_hash` of a resolved config as plain data (a manifest's ``config``)."""
+    return content_hash({k: v for k, v in config.items() if k not in _RESULT_FREE}, length=16)
 
 
 def git_state() -> dict[str, Any]:
@@ -87,6 +91,7 @@ def new_manifest(study: StudyCfg, run: str, n_trials: int, source: str) -> dict[
         "started_at": now_utc(),
         "finished_at": None,
         "sessions": [],
+        "digests": True,  # every file of the run carries the digest of its values (records.py)
         "config": study_dict(study),
     }
 
@@ -100,7 +105,7 @@ _FIELDS: dict[str, tuple[tuple[type, ...], str]] = {
     "started_at": ((str,), "a time"), "finished_at": ((str, type(None)), "a time or null"),
     "sessions": ((list,), "a list of sessions"), "config": ((dict,), "the resolved config"),
 }
-_OPTIONAL = {"n_recorded": ((int,), _COUNT)}
+_OPTIONAL = {"n_recorded": ((int,), _COUNT), "digests": ((bool,), "true or false")}
 
 
 def read_manifest(path: Path) -> dict[str, Any] | None:
@@ -133,7 +138,56 @@ def read_manifest(path: Path) -> dict[str, Any] | None:
             why = _manifest_problem(manifest) if text.strip() else "it is empty"
     if why is not None:
         raise manifest_error(path, why)
+    mismatch = manifest_mismatch(path.parent, manifest)
+    if mismatch:
+        run_path, what = path.parent, MISMATCH.format(mismatch[0])
+        raise DamagedRunError(f"run {run_path.parent.name}/{run_path.name} at {run_path} has "
+                              f"{what}; {mismatch[1]}.", f"has {what}")
     return manifest
+
+
+#: How a run's problem names a manifest that does not describe the run.
+MISMATCH = "a manifest.json that does not match the run ({})"
+
+
+def kind_facts_or_none(kind: str) -> dict[str, Any]:
+    """The facts of trial kind ``kind`` (``catalog.kind_facts``: cached, nothing numerical
+    imported), or {} for a kind not available here."""
+    from graspcampaign.campaign.catalog import kind_facts
+    from graspcampaign.campaign.kind import kind_available
+
+    return kind_facts(kind) if kind_available(kind) else {}
+
+
+def manifest_mismatch(run_path: Path, manifest: dict[str, Any]) -> tuple[str, str] | None:
+    """``(why, advice)`` if a well-formed manifest does not describe the run at ``run_path``, else
+    None: its ``study`` and ``run`` are the directory's (where the run is stored is what every
+    page calls it), its ``study`` and ``kind`` its config's, its ``config_hash`` the hash of its
+    config (the drift check and the records' configs rely on it), its ``source`` one its trial
+    kind makes (a simulated run labelled measured would be reported as hardware data)."""
+    restore = "restore the file from a backup"
+    stored_as = f"{run_path.parent.name}/{run_path.name}"
+    for field, truth in (("study", run_path.parent.name), ("run", run_path.name)):
+        if manifest[field] != truth:
+            where = {"study": f"{manifest['study']}/{run_path.name}",
+                     "run": f"{run_path.parent.name}/{manifest['run']}"}[field]
+            return (f"{field} is {manifest[field]!r}, but the run is stored as {stored_as}",
+                    f"{restore}, or put a moved run directory back as {where}")
+    config = manifest["config"]
+    for field, key in (("study", "name"), ("kind", "kind")):
+        if key in config and config[key] != manifest[field]:
+            return f"{field} is {manifest[field]!r}, but its config says {config[key]!r}", restore
+    digest = config_digest(config)
+    if digest != manifest["config_hash"]:
+        return (f"config_hash is {manifest['config_hash']}, but its config hashes to {digest}",
+                restore)
+    made = kind_facts_or_none(manifest["kind"]).get("source")
+    # ingest stores measured records of a virtual rig's protocol in a run of their own
+    if made is not None and manifest["source"] not in (
+            {made, "measured"} if made == "virtual" else {made}):
+        return (f"source is {manifest['source']!r}, but trial kind {manifest['kind']} makes {made} "
+                "records", restore)
+    return None
 
 
 def _manifest_problem(manifest: Any) -> str | None:
@@ -145,7 +199,7 @@ def _manifest_problem(manifest: Any) -> str | None:
         if key not in manifest:
             return f"it has no {key} field"
         value = manifest[key]
-        if not isinstance(value, types) or isinstance(value, bool) or (
+        if not isinstance(value, types) or (isinstance(value, bool) and bool not in types) or (
                 types == (int,) and value < 0):
             shown = json.dumps(value)
             return f"{key} is {shown if len(shown) <= 40 else shown[:37] + '...'}, not {what}"
@@ -170,11 +224,15 @@ def manifest_error(path: Path, why: str) -> DamagedRunError:
 
 
 def write_manifest(path: Path, manifest: dict[str, Any]) -> None:
-    """Write the manifest atomically."""
-    path.parent.mkdir(parents=True, exist_ok=True)
+    """Write the manifest atomically; a failed write (a full disk) leaves the file as it was and
+    no temporary file behind (:class:`~graspcampaign.errors.StoreWriteError`)."""
+    from graspcampaign.campaign.records import writing
+
     tmp = path.with_name(f".{path.name}.tmp")
-    tmp.write_text(json.dumps(manifest, indent=2, default=str))
-    os.replace(tmp, path)
+    with writing(path, tmp):
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp.write_text(json.dumps(manifest, indent=2, default=str))
+        os.replace(tmp, path)
 
 
 def config_changes(recorded: dict[str, Any] | None, study: StudyCfg, limit: int = 3) -> list[str]:

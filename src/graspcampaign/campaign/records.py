@@ -23,6 +23,9 @@ compacted file lists its source shards, a rewritten file the file it replaces. A
 still present after a crash between "write the new file" and "delete the old ones" is ignored and
 removed, so no trial is ever read twice. A records file also names the configs of the sessions
 that wrote it (``graspcampaign.config_hashes``), so a shard of another config is recognised.
+Every file the tool writes carries the SHA-256 of its values (``graspcampaign.content_sha256``,
+:func:`content_digest`), checked whenever the file is verified: a file rewritten with other values
+(a row removed, a value or a column changed) is damaged even though its page checksums are valid.
 
 Reading never changes a run: a damaged file raises :class:`~graspcampaign.errors.DamagedRunError`
 naming the run and the file. Whether the run as a whole is what its manifest says (its layout, no
@@ -34,6 +37,9 @@ trials no longer recorded run again (both in :mod:`graspcampaign.campaign.integr
 
 from __future__ import annotations
 
+import errno
+import hashlib
+import contextlib
 import json
 import logging
 import os
@@ -47,7 +53,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from graspcampaign.campaign.grid import content_hash
-from graspcampaign.errors import DamagedRunError
+from graspcampaign.errors import DamagedRunError, StoreWriteError
 
 log = logging.getLogger(__name__)
 
@@ -55,6 +61,8 @@ _SOURCES_KEY = b"graspcampaign.sources"
 #: Metadata of a records file: the config hashes of the sessions that wrote its rows (a shard of
 #: another config is not the run's, campaign.integrity), kept through compactions and rewrites.
 CONFIG_KEY = b"graspcampaign.config_hashes"
+#: Metadata of every file the tool writes: the SHA-256 of its values (:func:`content_digest`).
+CONTENT_KEY = b"graspcampaign.content_sha256"
 # What pyarrow raises for a file it cannot read (bad footer, bad page, failed checksum, bad codec).
 _READ_ERRORS = (pa.ArrowException, OSError, ValueError, EOFError)
 # Files that passed full verification, keyed by (path, size, mtime): a file is read in full once
@@ -98,12 +106,75 @@ def _cell(value: Any, flag: bool) -> Any:
     return None if flag and isinstance(value, float | np.floating) and np.isnan(value) else value
 
 
+def content_digest(table: pa.Table) -> str:
+    """The SHA-256 of ``table``'s values: every column (by name) as its kind (integer, float,
+    boolean, text, other), its null mask and its values in a fixed byte form, so that the digest
+    is the same for the table written and the table read back, whatever the chunking, column
+    order or integer width; any changed, removed or added row, column or value changes it."""
+    digest = hashlib.sha256()
+    for name in sorted(table.column_names):
+        column = table.column(name).combine_chunks()
+        kind = column.type
+        valid = _values(column.is_valid(), pa.uint8(), "u1")
+        if pa.types.is_integer(kind) or pa.types.is_floating(kind) or pa.types.is_boolean(kind):
+            tag, width, dtype = ("i", pa.int64(), "<i8") if pa.types.is_integer(kind) else (
+                ("f", pa.float64(), "<f8") if pa.types.is_floating(kind) else ("b", pa.uint8(), "u1"))
+            data = _values(column, width, dtype, valid).tobytes()
+        else:  # text and anything else, as JSON (nulls are in the mask)
+            tag = "n" if pa.types.is_null(kind) else "s" if (
+                pa.types.is_string(kind) or pa.types.is_large_string(kind)) else "j"
+            data = json.dumps(column.to_pylist(), default=str).encode()
+        for part in (name.encode(), tag.encode(), len(column).to_bytes(8, "little"),
+                     np.packbits(valid).tobytes(), len(data).to_bytes(8, "little"), data):
+            digest.update(part)
+    return digest.hexdigest()
+
+
+def _values(array: pa.Array, width: pa.DataType, dtype: str,
+            valid: np.ndarray | None = None) -> np.ndarray:
+    """The values of ``array`` cast to ``width`` as numpy ``dtype``, 0 where ``valid`` is 0 (read
+    from the Arrow buffer: ``to_numpy`` and ``fill_null`` import pandas, which ``status`` never
+    needs)."""
+    array = array.cast(width, safe=False)
+    data = array.buffers()[1]
+    if data is None:
+        return np.zeros(len(array), dtype=dtype)
+    out = np.frombuffer(data, dtype=dtype, count=len(array),
+                        offset=array.offset * np.dtype(dtype).itemsize)
+    if array.null_count:
+        out = np.where(valid.astype(bool), out, np.zeros(1, dtype=dtype))
+    return out
+
+
 def _write_atomic(table: pa.Table, path: Path) -> None:
+    """Write ``table`` (stamped with its :func:`content_digest`) as ``path`` via a hidden temporary
+    file; a failed write (a full disk) removes it, leaves ``path`` as it was and raises
+    :class:`StoreWriteError` naming the file and why."""
     tmp = path.with_name(f".{path.name}.tmp")
-    pq.write_table(table, tmp, compression="zstd", write_page_checksum=True)
-    with open(tmp, "rb") as fh:
-        os.fsync(fh.fileno())
-    os.replace(tmp, path)
+    table = table.replace_schema_metadata(
+        {**(table.schema.metadata or {}), CONTENT_KEY: content_digest(table).encode()})
+    with writing(path, tmp):
+        pq.write_table(table, tmp, compression="zstd", write_page_checksum=True)
+        with open(tmp, "rb") as fh:
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+
+
+@contextlib.contextmanager
+def writing(path: Path, tmp: Path | None = None):
+    """Turn an ``OSError`` while writing ``path`` into a :class:`StoreWriteError` naming it,
+    after removing the temporary file ``tmp`` (nothing half-written stays behind)."""
+    try:
+        yield
+    except OSError as exc:
+        if tmp is not None:
+            with contextlib.suppress(OSError):
+                tmp.unlink(missing_ok=True)
+        why = os.strerror(exc.errno) if exc.errno else str(exc) or type(exc).__name__
+        free = exc.errno in (errno.ENOSPC, errno.EDQUOT)
+        raise StoreWriteError(
+            f"cannot write {path}: {why[:1].lower()}{why[1:]}; what was stored before is kept, so "
+            f"{'free some space there and ' if free else ''}run the command again.") from None
 
 
 def _reason(exc: BaseException) -> str:
@@ -112,7 +183,8 @@ def _reason(exc: BaseException) -> str:
 
 
 def verify_file(path: Path) -> str | None:
-    """Read every column of every page of ``path`` with page checksums verified.
+    """Read every column of every page of ``path`` with page checksums verified, and check its
+    values against the digest stored with them (a file the tool wrote; older files have none).
 
     Returns
     -------
@@ -127,9 +199,12 @@ def verify_file(path: Path) -> str | None:
     if key in _VERIFIED:
         return None
     try:
-        pq.ParquetFile(path, page_checksum_verification=True).read(use_threads=False)
+        table = pq.ParquetFile(path, page_checksum_verification=True).read(use_threads=False)
     except _READ_ERRORS as exc:
         return _reason(exc)
+    written = (table.schema.metadata or {}).get(CONTENT_KEY)
+    if written is not None and written.decode(errors="replace") != content_digest(table):
+        return "its values differ from those written: their SHA-256 is not the one stored with them"
     _VERIFIED.add(key)
     return None
 
@@ -160,10 +235,17 @@ class RunStore:
     def write_shard(self, part: str, name: str, rows: list[dict[str, Any]],
                     metadata: dict[str, str] | None = None,
                     strings: tuple[str, ...] = ()) -> Path:
-        """Write ``rows`` as ``<part>/part-<name>.parquet`` atomically and return its path."""
-        directory = self._dir(part)
-        directory.mkdir(parents=True, exist_ok=True)
-        path = directory / f"part-{name}.parquet"
+        """Write ``rows`` as ``<part>/part-<name>.parquet`` atomically and return its path.
+
+        A name a compacted file lists as superseded gets a suffix (``part-<name>-1.parquet``):
+        a file of that name would be ignored as a leftover of the compaction.
+        """
+        directory, superseded, k = self._dir(part), self._superseded(part)[0], 0
+        while f"part-{name}{f'-{k}' if k else ''}.parquet" in superseded:
+            k += 1
+        path = directory / f"part-{name}{f'-{k}' if k else ''}.parquet"
+        with writing(path):
+            directory.mkdir(parents=True, exist_ok=True)
         _write_atomic(table_from_rows(rows, metadata, strings), path)
         return path
 
@@ -177,19 +259,23 @@ class RunStore:
         if not directory.is_dir():
             return [], []
         files = sorted(directory.glob("compact-*.parquet")) + sorted(directory.glob("part-*.parquet"))
+        sources, unreadable = self._superseded(part)
+        bad = {p for p, _ in unreadable}
+        return [p for p in files if p.name not in sources and p not in bad], unreadable
+
+    def _superseded(self, part: str) -> tuple[set[str], list[tuple[Path, str]]]:
+        """The names the compacted files of ``part`` supersede, and the compacted files whose
+        footer cannot be read."""
         sources: set[str] = set()
         unreadable = []
-        for path in files:
-            if not path.name.startswith("compact-"):
-                continue
+        for path in sorted(self._dir(part).glob("compact-*.parquet")):
             try:
                 raw = (pq.read_schema(path).metadata or {}).get(_SOURCES_KEY)
             except _READ_ERRORS as exc:
                 unreadable.append((path, _reason(exc)))
                 continue
             sources.update(json.loads(raw) if raw else [])
-        bad = {p for p, _ in unreadable}
-        return [p for p in files if p.name not in sources and p not in bad], unreadable
+        return sources, unreadable
 
     def damaged(self, part: str) -> list[tuple[Path, str]]:
         """Return ``(file, reason)`` for every live file of ``part`` that fails full verification."""
@@ -312,13 +398,13 @@ class RunStore:
                     if path.name not in keep and path.is_file():
                         path.unlink(missing_ok=True)
 
-    def repair(self, manifest: dict | None = None,
-               config_hash: str | None = None) -> list[tuple[Path, Path, str]]:
+    def repair(self, manifest: dict | None = None, config_hash: str | None = None,
+               design: set[str] | None = None) -> list[tuple[Path, Path, str]]:
         """Quarantine what makes the run differ from its manifest and make the rest consistent
         (:func:`graspcampaign.campaign.integrity.repair`); return (file, moved to, reason)."""
         from graspcampaign.campaign.integrity import repair
 
-        return repair(self, manifest, config_hash)
+        return repair(self, manifest, config_hash, design)
 
     def _quarantine(self, path: Path, reason: str, what: str = "damaged file",
                     then: str = "its trials will run again") -> Path:

@@ -330,8 +330,12 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
         expected = expected_records(manifest) if manifest is not None else 0
         manifest = manifest or provenance.new_manifest(study, run, len(trials), kind.source)
         # a file that differs from the manifest is moved aside before anything in it counts as
-        # recorded; only then are superseded shards removed (a foreign file supersedes nothing)
-        moved = store.repair(manifest, chash)
+        # recorded; only then are superseded shards removed (a foreign file supersedes nothing).
+        # Every session so far ran this config and the design is Cartesian: a recorded trial
+        # outside it is no trial of this run (an explicit design may follow its source run)
+        same = all(s.get("config_hash") in (None, chash) for s in manifest["sessions"]) and \
+            manifest["config_hash"] == chash and kind.design is None
+        moved = store.repair(manifest, chash, {t.trial_id for t in trials} if same else None)
         store.clean()
         done = store.recorded_ids()
         if len(done) < expected and not moved:  # what was moved aside said so itself
@@ -343,6 +347,9 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
         provenance.write_manifest(store.manifest_path, manifest)
 
         pending = [t for t in trials if t.trial_id not in done]
+        # shards are named after their trials and this session: a name a compacted file lists as
+        # superseded (the same trials recorded before) would make the new shard invisible
+        salt = content_hash([session["started_at"], os.getpid(), time.time_ns()])
         summary = RunSummary(study.name, run, path, len(trials), n_already=len(trials) - len(pending))
         prepared = _prepare_bodies(kind, study, params, pending, store, map_unordered, summary)
         size = task_size(study, kind, len(pending))
@@ -357,7 +364,7 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
             results = map_unordered(run_task, [(kind, study, run, params, items, fail_fast)
                                                for items in tasks])
             for rows, tables in results:
-                name = content_hash([r["trial_id"] for r in rows])
+                name = content_hash([[r["trial_id"] for r in rows], salt])
                 for table_name, table_rows in tables.items():
                     if table_rows:
                         store.write_shard(f"tables/{table_name}", name, table_rows)
@@ -387,6 +394,7 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
     if complete:
         manifest["finished_at"] = session["finished_at"]
     provenance.write_manifest(store.manifest_path, manifest)
+    check_run(store)  # never a run its own checks refuse: DamagedRunError (exit 2) if it is
     return summary
 
 

@@ -9,8 +9,10 @@ unless ``--debug``.
 
 from __future__ import annotations
 
+import errno
 import json
 import logging
+import os
 import shlex
 import sys
 import traceback
@@ -76,6 +78,13 @@ def _guard(fn):
             if isinstance(exc, UserInputError) or type(exc).__name__ in _INPUT_ERRORS:
                 _fail(str(exc))
             raise
+        except OSError as exc:  # a full disk where no layer said so itself (a report's figure)
+            if exc.errno not in (errno.ENOSPC, errno.EDQUOT):
+                raise
+            if _state["debug"]:
+                traceback.print_exc()
+            _fail(f"cannot write {exc.filename or 'a file'}: {os.strerror(exc.errno).lower()}; free "
+                  "some space there and run the command again.")
     return wrapper
 
 

@@ -122,6 +122,14 @@ def _runs(root: Path, studies: list[str] | None, run: str | Mapping[str, str] | 
     """
     if not root.is_dir():
         raise UserInputError(f"no results directory at {root}; run a study first.")
+    # a run's or a study's directory given as the root: its folders are no studies, nor runs
+    if (root / "manifest.json").exists():
+        raise UserInputError(f"no runs under {root}: it is the directory of run {root.parent.name}/"
+                             f"{root.name}; give the results root that holds it "
+                             f"(--root {root.parent.parent}).")
+    if any((d / "manifest.json").exists() for d in root.iterdir() if d.is_dir()):
+        raise UserInputError(f"no runs under {root}: it holds the runs of study {root.name}; give "
+                             f"the results root that holds it (--root {root.parent}).")
     named, stores, failed = bool(studies) or run is not None, [], []
     for name in dict.fromkeys(studies) if studies else sorted(p.name for p in root.iterdir()
                                                                if p.is_dir()):
@@ -143,6 +151,9 @@ def _runs(root: Path, studies: list[str] | None, run: str | Mapping[str, str] | 
                     raise UserInputError(f"no run {r!r} of study {name!r} under {root}.")
                 continue
             stores.append(store)
+    if not stores and not failed:
+        raise UserInputError(f"no runs under {root}; run a study first (graspcampaign run STUDY "
+                             f"--root {root}).")
     return stores, failed
 
 
