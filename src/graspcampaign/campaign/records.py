@@ -37,9 +37,9 @@ trials no longer recorded run again (both in :mod:`graspcampaign.campaign.integr
 
 from __future__ import annotations
 
+import contextlib
 import errno
 import hashlib
-import contextlib
 import json
 import logging
 import os
