@@ -136,6 +136,8 @@ def test_dynamic_check_tables_match_their_records(sim_root):
                    "preset_unbounded": ("qs_preset_success_unbounded", "success_unbounded"),
                    }[r.comparison]
         g = records[records["model_preset"] == r.model_preset]
+        g = g[g["shape"] == "sphere"] if r.scope == "sphere" else g  # the claim's scope; else context
+        assert pd.isna(r.differs) == (r.scope != "sphere")  # a verdict on the sphere's rows only
         counts = pd.crosstab(g[qs].astype(bool), g[dyn].astype(bool)).reindex(
             index=[True, False], columns=[True, False], fill_value=0).to_numpy()
         assert [[r.both_success, r.qs_only], [r.dynamic_only, r.both_failure]] == counts.tolist()
