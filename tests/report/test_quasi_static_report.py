@@ -181,11 +181,34 @@ def test_grip_laws_rates_readings_checks_and_need(runs):
             f"satisfies it on {int(np.isinf(oracle['grip_needed_n']).sum())}") in text
     slip = ok[ok["grip_law"] == "slip"].groupby("planner")["success"].mean().reindex(PLANNERS)
     slip = slip.sort_values(ascending=False, kind="stable")  # ties keep the study's planner order
-    assert "slip: " + ", ".join(f"{label('planner', p)} {100 * r:.1f}%" for p, r in slip.items()) in text
+    assert "slip-margin grip: " + ", ".join(f"{label('planner', p)} {100 * r:.1f}%" for p, r in slip.items()) in text
     torque = int((ok["success_no_torque"].astype(bool) & ~ok["success"]).sum())
     assert f"the torque check alone removed {torque} passes" in text
     assert "not computed" not in md(store)
     assert figures(store) == {"fig18_grip_laws", "h_epsilon"}
+
+
+def test_successes_beyond_the_design_limit_are_counted_in_the_finding_and_captions(runs):
+    """Under every grip law, the successes deeper than 1 mm and at the grip cap, from the records,
+    are said in the opening paragraph and in the success table's and figure's captions."""
+    for store, figure in ((runs["laws"], "fig18_grip_laws"), (runs["ablation"], "fig16_ablation")):
+        ok = ok_records(store)
+        parts = []
+        for law in LAWS:
+            g = ok[(ok["grip_law"] == law) & ok["success"].astype(bool)]
+            cap = g["grip_capped"].astype(bool)
+            over = f"{label('grip_law', law)} {int((g['delta_max_mm'] > 1).sum())} of {len(g)}"
+            if cap.any():
+                lo, hi = g.loc[cap, "delta_max_mm"].min(), g.loc[cap, "delta_max_mm"].max()
+                span = f"{lo:.3g}" if f"{lo:.3g}" == f"{hi:.3g}" else f"{lo:.3g}–{hi:.3g}"
+                over += f" ({int(cap.sum())} at the grip cap, δmax = {span} mm ≤ r = 5 mm)"
+            parts.append(over)
+        sentence = "Successes deeper than the paper's 1 mm design limit: " + "; ".join(parts)
+        assert sentence in caption(store, "success_by_planner")
+        assert f"*{sentence}" not in md(store)  # (the figure caption continues a sentence)
+        assert next(line for line in md(store).splitlines() if line.startswith(f"![")
+                    and f"{figure}.png" in line).count(sentence) == 1
+    assert finding(runs["laws"]).startswith("Successes deeper than the paper's 1 mm design limit: ")
 
 
 def test_ablation_gains_its_grip_law_columns(runs):

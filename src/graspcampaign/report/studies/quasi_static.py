@@ -173,10 +173,10 @@ def LawPaired() -> S.Table:
 
     def compute(run: Run) -> pd.DataFrame:
         return pd.concat([base.compute(Run(run.records[run.records["grip_law"] == law], run.manifest,
-                                           run.paper)).assign(grip_law=law)
+                                           run.paper)).assign(grip_law=law, grip_law_label=label("grip_law", law))
                           for law in run.order.get("grip_law", ["paper"])])
 
-    return replace(base, compute=compute, cols=[Col("grip_law", "grip law"), *base.cols])
+    return replace(base, compute=compute, cols=[Col("grip_law_label", "grip law"), *base.cols])
 
 
 def h_epsilon_figure(run: Run, fig) -> None:
@@ -204,7 +204,7 @@ def _rho_text(run: Run) -> str:
 
 EPSILON = [
     S.Table("epsilon", "Ferrari–Canny ε of each planner's chosen triples (paper law; ε is geometric) "
-            "and their share in force closure (ε > 0); ferrari_canny takes the largest ε of the "
+            "and their share in force closure (ε > 0); the Ferrari–Canny ε planner takes the largest ε of the "
             "candidates the heuristic scores",
             lambda run: qs.epsilon_table(run.records, run.order), [
                 Col("n", "n"), Col("rate_pct", "force closure % (Wilson 95%)", 1,
@@ -212,12 +212,12 @@ EPSILON = [
                 *(Col(f"epsilon_{s}", f"{s} ε", sig=3) for s in ("median", "mean", "max"))],
             by=["planner"]),
     S.Table("h_epsilon", "Does H(G) rank grasps as the classical metric does? Spearman ρ of H(G) "
-            "and ε (ρ < 0: agreement) over the ferrari_canny trials' candidates, per trial and pooled; "
+            "and ε (ρ < 0: agreement) over the Ferrari–Canny ε planner's trials' candidates, per trial and pooled; "
             "percentile bootstrap over trials (a trial's candidates share a body)",
             lambda run: qs.h_epsilon_correlation(run.records, run.aux("candidates"), seed=run.seed),
             [Col("reading", "reading"), Col("rho", "ρ (95%)", 3, low="low", high="high"),
              Col("n_trials", "trials"), Col("n_pairs", "candidates")]),
-    S.Figure("h_epsilon", lambda run: "H(G) against Ferrari–Canny ε: (a) the ferrari_canny trials' "
+    S.Figure("h_epsilon", lambda run: "H(G) against Ferrari–Canny ε: (a) the Ferrari–Canny ε planner's trials' "
              "sampled candidates (log colour scale), (b) each trial's rank correlation; "
              + _rho_text(run), h_epsilon_figure, (10.0, 3.8)),
 ]
@@ -307,15 +307,13 @@ SHAPES = S.ReportSpec("shapes", [
 def other_laws(run: Run) -> str:
     """What the slip and oracle grip laws (named, not run, by the paper) did, from the records."""
     t = qs.law_outcomes(run.records, run.order)
-    span = lambda r: fmt.number(r.capped_delta_min_mm, sig=3) + (  # noqa: E731
-        "" if r.capped_delta_min_mm == r.capped_delta_max_mm
-        else "–" + fmt.number(r.capped_delta_max_mm, sig=3))
     return "" if not len(t) else (
         " The numbers above are Algorithm 2's. The tables also hold the grip laws the paper names "
         "but did not run (Sec. 6.5, 12), every planner on the same scenes: " + "; ".join(
             f"under {label('grip_law', r.grip_law)} {r.successes} of {r.n} pass, the equal grip "
             f"reaches its cap in {r.capped} (no equal grip holds in {r.no_equal_grip})"
-            + (f", where δmax = {span(r)} mm" if r.capped else "") + "; first failing check "
+            + (f", where δmax = {_span(pd.Series([r.capped_delta_min_mm, r.capped_delta_max_mm]))} mm"
+               if r.capped else "") + "; first failing check "
             + ", ".join(f"{c} {getattr(r, c)}" for c in FAILURE_CHECKS if getattr(r, c))
             for r in t.itertuples()) + ". A capped grip presses every finger to the cap depth "
         f"(the material's damage depth, at most r = {_radius_mm(run):g} mm), so δmax is the cap "
@@ -331,13 +329,38 @@ def ablation_finding(run: Run) -> str:
         f"±{(full['wilson_high_pct'] - full['wilson_low_pct']) / 2:.1f} pp at n = {full['n']}.")
 
 
+def _span(v: pd.Series) -> str:
+    lo, hi = fmt.number(v.min(), sig=3), fmt.number(v.max(), sig=3)
+    return lo if lo == hi else f"{lo}–{hi}"
+
+
+def over_limit(run: Run) -> str:
+    """Per grip law, how many successes exceed the paper's 1 mm design limit and how many sit at the
+    grip cap δmax = r (from the records); they stay successes: SPEC §2.7 reports the limit, never rescales it."""
+    ok, r = run.ok[run.ok["success"].astype(bool)], _radius_mm(run)
+    laws = run.order.get("grip_law", ["paper"]) if "grip_law" in ok else [None]
+    parts = []
+    for law in laws:
+        g = ok if law is None else ok[ok["grip_law"] == law]
+        cap = g["grip_capped"].fillna(False).astype(bool) if "grip_capped" in g else np.isclose(
+            g["delta_max_mm"], r, rtol=0, atol=1e-6)
+        parts.append(("" if law is None else f"{label('grip_law', law)} ") + (
+            f"{int((g['delta_max_mm'] > DESIGN_LIMIT_MM).sum())} of {len(g)}") + (
+            f" ({int(cap.sum())} at the grip cap, δmax = {_span(g.loc[cap, 'delta_max_mm'])} mm ≤ r = "
+            f"{r:g} mm)" if cap.any() else ""))
+    return (f"Successes deeper than the paper's {DESIGN_LIMIT_MM:g} mm design limit: " + "; ".join(parts)
+            + f"; counted as successes (the limit is reported, never rescaled, SPEC §2.7; δ ≤ r is valid "
+            "contact; table design_limit)")
+
+
 def law_items(figure: str, name: str, what: str) -> list:
     """Success per planner and grip law beside the paper, its figure, McNemar within each law."""
-    return [S.Rates("success_by_planner", f"Success per {what} and grip law beside {figure} (the "
+    rates = S.Rates("success_by_planner", f"Success per {what} and grip law beside {figure} (the "
                     "paper's values are Algorithm 2's, shown beside every law)", LAWS,
-                    lambda p, k: p.success_pct.get(k["planner"])),
-            S.Figure(name, f"{figure} (ours): success per {what} under each grip law, Wilson 95% "
-                     f"whiskers; {PAPER_MARKS}", lambda run, fig: style.grouped_bars(
+                    lambda p, k: p.success_pct.get(k["planner"]))
+    return [replace(rates, caption=lambda run: rates.caption(run) + " " + over_limit(run) + "."),
+            S.Figure(name, lambda run: f"{figure} (ours): success per {what} under each grip law, Wilson "
+                     f"95% whiskers; {PAPER_MARKS}. {over_limit(run)}", lambda run, fig: style.grouped_bars(
                          fig.subplots(), run.tables["success_by_planner"], "planner", "grip_law"),
                      (10.0, 3.8)), LawPaired()]
 
@@ -388,13 +411,14 @@ def grip_finding(run: Run) -> str:
     same = [law for law, g in rank.items()
             if [p for p in g["planner"] if p in paper] == sorted(paper, key=lambda p: -paper[p])]
     return (
-        "Success per grip law, highest first — " + "; ".join(f"{law}: " + ", ".join(
+        over_limit(run) + ". Success per grip law, highest first — " + "; ".join(
+            f"{label('grip_law', law)}: " + ", ".join(
             f"{label('planner', r.planner)} {r.rate_pct:.1f}%" for r in g.itertuples())
             for law, g in rank.items()) + " — against the paper's " + ", ".join(
             f"{label('planner', p)} {v:g}%" for p, v in paper.items()) + " (Fig. 18): its ordering "
-        f"appears under {', '.join(same) or 'none of the laws'}. Within each law (McNemar, exact "
+        f"appears under {', '.join(label('grip_law', law) for law in same) or 'none of the laws'}. Within each law (McNemar, exact "
         "p < 0.05) the proposed planner " + ("; ".join(
-            f"under {law} beats {names(s.query('reference_only > compared_only').compared)} and "
+            f"under {label('grip_law', law)} beats {names(s.query('reference_only > compared_only').compared)} and "
             f"loses to {names(s.query('reference_only < compared_only').compared)}"
             for law, s in sig.groupby("grip_law", sort=False)) or "differs from no planner") + ". "
         "Why: H(G) is geometric (S1–S3, P_c, P_e) and sees neither gravity nor the tilt of the "
