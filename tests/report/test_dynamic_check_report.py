@@ -18,7 +18,8 @@ from graspcampaign.analysis.vocabulary import label
 from graspcampaign.report.render import Run
 from graspcampaign.report.studies import dynamic_check as report
 
-CLAIM = "Sec. 6.1: the dynamic and quasi-static evaluators agree on the success label (sphere, their respective optima)"
+CLAIM = ("Sec. 6.1: the dynamic and quasi-static evaluators agree on the success label (sphere, their "
+         "respective optima)")
 
 
 def _run() -> Run:
