@@ -370,7 +370,9 @@ def _span(v: pd.Series) -> str:
 def over_limit(run: Run) -> str:
     """Per grip law, how many successes exceed the paper's 1 mm design limit and how many sit at the
     grip cap δmax ≤ r (from the records); they stay successes: SPEC §2.7 reports the limit, never
-    rescales it."""
+    rescales it. "" when the records have no outcome (every trial errored)."""
+    if not {"success", "delta_max_mm"} <= set(run.ok):
+        return ""
     ok, r = run.ok[run.ok["success"].astype(bool)], _radius_mm(run)
     laws = run.order.get("grip_law", ["paper"]) if "grip_law" in ok else [None]
     parts = []
@@ -384,7 +386,7 @@ def over_limit(run: Run) -> str:
             f"{r:g} mm)" if cap.any() else ""))
     return (f"Successes deeper than the paper's {DESIGN_LIMIT_MM:g} mm design limit: " + "; ".join(parts)
             + "; counted as successes (the limit is reported, never rescaled, SPEC §2.7; δ ≤ r is valid "
-            "contact; table design_limit)")
+            "contact; table design_limit).")
 
 
 def law_items(figure: str, name: str, what: str) -> list:
@@ -392,9 +394,10 @@ def law_items(figure: str, name: str, what: str) -> list:
     rates = S.Rates("success_by_planner", f"Success per {what} and grip law beside {figure} (the "
                     "paper's values are Algorithm 2's, shown beside every law)", LAWS,
                     lambda p, k: p.success_pct.get(k["planner"]))
-    return [replace(rates, caption=lambda run: rates.caption(run) + " " + over_limit(run) + "."),
+    return [replace(rates, caption=lambda run: f"{rates.caption(run)} {over_limit(run)}".strip()),
             S.Figure(name, lambda run: f"{figure} (ours): success per {what} under each grip law, Wilson "
-                     f"95% whiskers; {PAPER_MARKS}. {over_limit(run)}", lambda run, fig: style.grouped_bars(
+                     f"95% whiskers; {PAPER_MARKS}. {over_limit(run)}".strip(),
+                     lambda run, fig: style.grouped_bars(
                          fig.subplots(), run.tables["success_by_planner"], "planner", "grip_law"),
                      (10.0, 3.8)), LawPaired()]
 
@@ -445,7 +448,7 @@ def grip_finding(run: Run) -> str:
     same = [law for law, g in rank.items()
             if [p for p in g["planner"] if p in paper] == sorted(paper, key=lambda p: -paper[p])]
     return (
-        over_limit(run) + ". Success per grip law, highest first — " + "; ".join(
+        f"{over_limit(run)} ".lstrip() + "Success per grip law, highest first — " + "; ".join(
             f"{label('grip_law', law)}: " + ", ".join(
             f"{label('planner', r.planner)} {r.rate_pct:.1f}%" for r in g.itertuples())
             for law, g in rank.items()) + " — against the paper's " + ", ".join(
