@@ -119,7 +119,13 @@ def test_dynamic_tables_match_their_records(sim_root):
     assert shapes["shape_difference_max_mm"].iloc[0] == 0.0  # rk4 against itself
     md = (settle / "report" / "report.md").read_text()
     assert "Sec. 12 lists both as missing" in md and "step [µs]" not in md  # the unit is in PNG
-    assert f"rk4 observed order {records.loc['rk4', 'observed_order']:.2f} (expected 4)" in md
+    rk4 = label("integrator", "rk4")  # the vocabulary's words, not the id
+    assert f"{rk4} observed order {records.loc['rk4', 'observed_order']:.2f} (expected 4)" in md
+    settled = pd.read_csv(settle / "report" / "tables" / "settle.csv").set_index("integrator")
+    assert settled["final_kinetic_energy_uj"].to_dict() == pytest.approx(  # shown in µJ, not 0.0000000151 J
+        (1e6 * records["final_kinetic_energy_j"]).to_dict())
+    assert "final kinetic energy [µJ]" in md and "0.0000000" not in md
+    assert "departs" not in md  # no claim about step sizes the records do not hold
 
 
 def test_dynamic_check_tables_match_their_records(sim_root):
@@ -136,6 +142,8 @@ def test_dynamic_check_tables_match_their_records(sim_root):
                    "preset_unbounded": ("qs_preset_success_unbounded", "success_unbounded"),
                    }[r.comparison]
         g = records[records["model_preset"] == r.model_preset]
+        g = g[g["shape"] == "sphere"] if r.scope == "sphere" else g  # the claim's scope; else context
+        assert pd.isna(r.differs) == (r.scope != "sphere")  # a verdict on the sphere's rows only
         counts = pd.crosstab(g[qs].astype(bool), g[dyn].astype(bool)).reindex(
             index=[True, False], columns=[True, False], fill_value=0).to_numpy()
         assert [[r.both_success, r.qs_only], [r.dynamic_only, r.both_failure]] == counts.tolist()

@@ -181,11 +181,35 @@ def test_grip_laws_rates_readings_checks_and_need(runs):
             f"satisfies it on {int(np.isinf(oracle['grip_needed_n']).sum())}") in text
     slip = ok[ok["grip_law"] == "slip"].groupby("planner")["success"].mean().reindex(PLANNERS)
     slip = slip.sort_values(ascending=False, kind="stable")  # ties keep the study's planner order
-    assert "slip: " + ", ".join(f"{label('planner', p)} {100 * r:.1f}%" for p, r in slip.items()) in text
+    assert "slip-margin grip: " + ", ".join(
+        f"{label('planner', p)} {100 * r:.1f}%" for p, r in slip.items()) in text
     torque = int((ok["success_no_torque"].astype(bool) & ~ok["success"]).sum())
     assert f"the torque check alone removed {torque} passes" in text
     assert "not computed" not in md(store)
     assert figures(store) == {"fig18_grip_laws", "h_epsilon"}
+
+
+def test_successes_beyond_the_design_limit_are_counted_in_the_finding_and_captions(runs):
+    """Under every grip law, the successes deeper than 1 mm and at the grip cap, from the records,
+    are said in the opening paragraph and in the success table's and figure's captions."""
+    for store, figure in ((runs["laws"], "fig18_grip_laws"), (runs["ablation"], "fig16_ablation")):
+        ok = ok_records(store)
+        parts = []
+        for law in LAWS:
+            g = ok[(ok["grip_law"] == law) & ok["success"].astype(bool)]
+            cap = g["grip_capped"].astype(bool)
+            over = f"{label('grip_law', law)} {int((g['delta_max_mm'] > 1).sum())} of {len(g)}"
+            if cap.any():
+                lo, hi = g.loc[cap, "delta_max_mm"].min(), g.loc[cap, "delta_max_mm"].max()
+                span = f"{lo:.3g}" if f"{lo:.3g}" == f"{hi:.3g}" else f"{lo:.3g}–{hi:.3g}"
+                over += f" ({int(cap.sum())} at the grip cap, δmax = {span} mm ≤ r = 5 mm)"
+            parts.append(over)
+        sentence = "Successes deeper than the paper's 1 mm design limit: " + "; ".join(parts)
+        assert sentence in caption(store, "success_by_planner")
+        assert f"*{sentence}" not in md(store)  # (the figure caption continues a sentence)
+        assert next(line for line in md(store).splitlines() if line.startswith("![")
+                    and f"{figure}.png" in line).count(sentence) == 1
+    assert finding(runs["laws"]).startswith("Successes deeper than the paper's 1 mm design limit: ")
 
 
 def test_ablation_gains_its_grip_law_columns(runs):
@@ -275,3 +299,53 @@ def test_headline_rows_are_algorithm_2s_trials_only(runs):
     # a count is an integer in the CSV (675, not 675.0)
     text = (root / "headline.csv").read_text()
     assert ",675," in text and ",675.0," not in text
+
+
+def test_shapes_table_checks_and_fig15_mark_contacts_beyond_the_fingertip_radius(tmp_path):
+    """A trial with a contact deeper than r = 5 mm (valid_geometry false) fails the gate whatever its
+    first failing check: counted per shape, out of the δmax median, said in the failure-check
+    caption, hatched in Fig. 15, whose panel (c) draws τ_T (the rounded cube fails on torque)."""
+    import json
+
+    import matplotlib.pyplot as plt
+    from test_studies import make_run
+
+    from graspcampaign.campaign.paper import study_paper
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies import quasi_static as report
+
+    def outputs(factors, rng):
+        out = quasi_static_outputs(factors, rng)
+        shape = factors["shape"]
+        deep = shape in ("sphere", "pear") or (shape == "ellipsoid" and rng.random() < 0.5)
+        out.update(success=False, failure_check="torque" if shape == "rounded_cube" else "residual",
+                   success_unbounded=False, valid_geometry=not deep,
+                   delta_max_mm=float(rng.uniform(6, 20) if deep else rng.uniform(0.5, 4.5)))
+        return out
+
+    store = make_run(tmp_path, "shapes", "quasi_static",
+                     {"shape": SHAPES, "mass_kg": [0.4], "mu": [0.3], "planner": ["heuristic"]},
+                     seeds=4, paper=None, outputs=outputs)
+    build_reports(["shapes"], root=tmp_path)
+    ok = ok_records(store)
+    table = read_table(store, "shapes").set_index("shape")
+    deep = ~ok["valid_geometry"].astype(bool)
+    assert table["beyond_radius"].to_dict() == deep.groupby(ok["shape"]).sum().to_dict()
+    physical = ok[~deep].groupby("shape")["delta_max_mm"].median().reindex(table.index)
+    pd.testing.assert_series_equal(table["delta_max_mm"], physical, check_names=False)
+    assert table.loc["sphere", "delta_max_mm"] != table.loc["sphere", "delta_max_mm"]  # none: nan
+    assert (f"{int(deep.sum())} of {len(ok)} trials have a contact deeper than r = 5 mm"
+            in caption(store, "failure_checks"))
+    manifest = json.loads(store.manifest_path.read_text())
+    run = Run(store.read().to_pandas(), manifest, study_paper("shapes"))
+    run.tables["shapes"] = table.reset_index()
+    fig = plt.figure()
+    report.fig15(run, fig)
+    torque_axis = fig.axes[2]
+    lines = {round(float(line.get_ydata()[0]), 6) for line in torque_axis.get_lines()}
+    hatched = [bool(p.get_hatch()) for p in torque_axis.patches]
+    legend = [t.get_text() for t in fig.legends[0].get_texts()]
+    plt.close(fig)
+    assert manifest["config"]["evaluator"]["tau_t_nm"] in lines
+    assert hatched == (table["beyond_radius"] > 0).tolist()
+    assert any("τ_T" in t for t in legend) and any("deeper than r" in t for t in legend)

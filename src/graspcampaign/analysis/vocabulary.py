@@ -59,6 +59,10 @@ OUTCOMES = _terms(
     ("failure_drop", "drop", "#c62828"), ("failure_damage", "damage", "#6d4c41"),
     ("failure_contact_loss", "contact loss", "#9e9e9e"),
 )
+DYNAMIC_STATUSES = _terms(  # how a dynamic grasp ended (core.grasp_phases.STATUSES)
+    ("stable", "held (stable)", "#2e7d32"), ("not_settled", "not settled by t_max", "#ffb74d"),
+    ("penetration_limit", "penetration limit", "#6d4c41"), ("dropped", "dropped", "#c62828"),
+)
 BLOCKS = _terms(
     ("A", "lateral pull", "#1f5aa6"), ("B", "vertical load", "#e08a1e"),
     ("C", "yaw torque", "#2e7d32"), ("D", "impulse", "#7b4ea3"), ("E", "sinusoid", "#c9a227"),
@@ -74,6 +78,7 @@ VOCABULARIES: dict[str, dict[str, Term]] = {
     "planner": PLANNERS, "shape": SHAPES, "material": MATERIALS, "grip_law": GRIP_LAWS,
     "model_preset": MODEL_PRESETS, "integrator": INTEGRATORS, "outcome": OUTCOMES,
     "block": BLOCKS, "parameter": PARAMETERS,
+    "dynamic_status": DYNAMIC_STATUSES,
     # a McNemar table's compared planner; a table's scope of trials (a planner, or "all", "baselines" ...
     # that print as they are)
     "compared": PLANNERS, "scope": PLANNERS,

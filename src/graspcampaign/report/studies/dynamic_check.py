@@ -7,6 +7,7 @@ import numpy as np
 import pandas as pd
 
 from graspcampaign.analysis import dynamic_check as dc
+from graspcampaign.analysis.vocabulary import label
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
 from graspcampaign.report.document import Col
@@ -14,6 +15,7 @@ from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, verdicts
 from graspcampaign.report.studies.dynamic import in_order
 
+CLAIM_SHAPE, ALL = "sphere", "all shapes"  # Sec. 6.1's claim is the sphere's
 DECISION = "`docs/decisions.md`, *Dynamic check report (issue 16, item 3, report side)*"
 PAIRS = {"source": "source study's label", "preset": "Algorithms 1–2 under the preset",
          "source_unbounded": "source label, no validity gate",
@@ -25,44 +27,65 @@ AGREE = [Col("n", "n"), Col("both_success", "both succeed"), Col("qs_only", "qua
          Col("kappa", "Cohen's κ (95%)", 2, low="kappa_low", high="kappa_high"), Col("kappa_why", "κ note")]
 
 
-def agreement(run: Run, by: list[str], pairs=("source",)) -> pd.DataFrame:
-    """Agreement of each label pair per group of ``by`` (presets and groups in design order)."""
-    t = pd.concat([dc.agreement_table(run.records, *dc.LABEL_PAIRS[p], by=by).assign(comparison=p)
+def agreement(run: Run, by: list[str], pairs=("source",), records=None) -> pd.DataFrame:
+    """Agreement of each label pair per group of ``by`` (presets and groups in design order) over
+    ``records`` (default the run's)."""
+    records = run.records if records is None else records
+    t = pd.concat([dc.agreement_table(records, *dc.LABEL_PAIRS[p], by=by).assign(comparison=p)
                    for p in pairs], ignore_index=True)
     t = t.assign(**{f"{c}_pct": 100 * t[c] for c in ("agreement", "agreement_low", "agreement_high")})
     return in_order(run, by, t, [t.comparison.map(list(PAIRS).index)])
 
 
 def _kappa(run: Run) -> pd.DataFrame:
-    t = agreement(run, ["model_preset"], PAIRS).assign(paper_pct=100.0)
+    """Per preset and label pair: the claim's scope (the sphere's trials) judged against full agreement,
+    then every trial as context, without a verdict (the claim is the sphere's)."""
+    sphere = run.records[run.records["shape"] == CLAIM_SHAPE]
+    t = pd.concat([agreement(run, ["model_preset"], PAIRS, sphere).assign(scope=CLAIM_SHAPE, paper_pct=100.0),
+                   agreement(run, ["model_preset"], PAIRS).assign(scope=ALL)], ignore_index=True)
     t["comparison_label"] = t.comparison.map(PAIRS)
-    return verdicts(t, "agreement_pct", "paper_pct", "agreement_low_pct", "agreement_high_pct", unit="%")
+    t = verdicts(t, "agreement_pct", "paper_pct", "agreement_low_pct", "agreement_high_pct", unit="%")
+    context = t.scope == ALL
+    t.loc[context, "verdict"] = f"no verdict: context (the claim is on the {CLAIM_SHAPE})"
+    return t.assign(differs=t.differs.where(~context, None))
+
+
+def _labels(r) -> str:
+    """One row's agreement, κ and the labels each evaluator gave, in words."""
+    kappa = fmt.estimate(r.kappa, r.kappa_low, r.kappa_high, 2) + (f" ({r.kappa_why})" if r.kappa_why else "")
+    return (f"the labels agree on {r.both_success + r.both_failure} of {r.n} ({r.agreement_pct:.1f}%, Wilson "
+            f"95% {fmt.interval(r.agreement_low_pct, r.agreement_high_pct, 1)}), κ = {kappa}; quasi-static "
+            f"passes {r.both_success + r.qs_only}, the dynamic grasp holds {r.both_success + r.dynamic_only}")
 
 
 def finding(run: Run) -> str:
-    k, ok, parts = run.tables["kappa"], run.ok, []
-    for r in k[k.comparison == "source"].itertuples():
-        g = ok[ok.model_preset == r.model_preset]
-        status = ", ".join(f"{v} `{s}`" for s, v in g.dynamic_status.value_counts().items())
-        kappa = fmt.estimate(r.kappa, r.kappa_low, r.kappa_high, 2) + (
-            f" ({r.kappa_why})" if r.kappa_why else "")
-        parts.append(f"**{r.model_preset}**: the labels agree on {r.both_success + r.both_failure} of {r.n} "
-                     f"({r.agreement_pct:.1f}%, Wilson 95% "
-                     f"{fmt.interval(r.agreement_low_pct, r.agreement_high_pct, 1)}), κ = {kappa}; "
-                     f"quasi-static passes {r.both_success + r.qs_only}, the dynamic grasp holds "
-                     f"{r.both_success + r.dynamic_only} ({status})")
-    like = k[k.comparison == "preset"]
-    return (f"The paper: \"{run.paper.claim}\". Re-simulating {ok.source_trial_id.nunique()} "
-            f"{', '.join(sorted(set(ok.source_study)))} trials: " + "; ".join(parts) + ". Like for like "
-            "(Algorithms 1–2 under the same preset): agreement " + ", ".join(
-                f"{r.model_preset} {r.agreement_pct:.1f}%" for r in like.itertuples()) + ". "
-            f"{int(k.differs.eq(True).sum())} of {len(k)} comparisons differ from full agreement (its 100% "
-            "outside our Wilson interval); agreement by mutual failure gives κ near 0, not evidence that the "
-            f"evaluators agree. {DECISION}.")
+    k, ok = run.tables["kappa"], run.ok
+    claim, context = (k[(k.comparison == "source") & (k.scope == s)] for s in (CLAIM_SHAPE, ALL))
+    judged = k[k.scope == CLAIM_SHAPE]
+    verdict = "; ".join(
+        f"**{label('model_preset', r.model_preset)}**: " + (_labels(r) + f" — {r.verdict}" if r.n else
+                                                            f"no {CLAIM_SHAPE} trial executed")
+        for r in claim.itertuples())
+    status = lambda g: ", ".join(f"{v} {label('dynamic_status', s)}"  # noqa: E731
+                                 for s, v in g.dynamic_status.value_counts().items())
+    return (
+        f"The paper: \"{run.paper.claim}\". Re-simulating {ok.source_trial_id.nunique()} "
+        f"{', '.join(sorted(set(ok.source_study)))} trials, judged on the claim's scope, the "
+        f"{CLAIM_SHAPE}'s trials "
+        f"(source study's label against the dynamic label): {verdict}. Like for like on the {CLAIM_SHAPE} "
+        "(Algorithms 1–2 under the same preset): agreement " + ", ".join(
+            f"{label('model_preset', r.model_preset)} {r.agreement_pct:.1f}%"
+            for r in judged[judged.comparison == "preset"].itertuples() if r.n) + ". "
+        f"{int(judged.differs.eq(True).sum())} of {len(judged)} {CLAIM_SHAPE} comparisons differ from full "
+        "agreement (its 100% outside our Wilson interval). For context only (beyond the claim's scope, no "
+        f"verdict), over every shape and planner: " + "; ".join(
+            f"{label('model_preset', r.model_preset)}: {_labels(r)} (dynamic grasps: "
+            f"{status(ok[ok.model_preset == r.model_preset])})" for r in context.itertuples()) +
+        f". Agreement by mutual failure gives κ near 0, not evidence that the evaluators agree. {DECISION}.")
 
 
 def confusion_figure(run: Run, fig) -> None:
-    k = run.tables["kappa"].query("comparison in ['source', 'preset']")
+    k = run.tables["kappa"].query(f"comparison in ['source', 'preset'] and scope == '{CLAIM_SHAPE}'")
     axes = fig.subplots(2, k.model_preset.nunique(), squeeze=False)
     for ax, r in zip(axes.ravel(), k.itertuples(), strict=True):  # rows: pair, columns: preset
         table = np.array([[r.both_success, r.qs_only], [r.dynamic_only, r.both_failure]])
@@ -71,15 +94,17 @@ def confusion_figure(run: Run, fig) -> None:
             ax.text(j, i, str(v), ha="center", va="center", color="white" if v > table.max() / 2 else "black")
         ax.grid(False)
         ax.set(xticks=[0, 1], yticks=[0, 1], xticklabels=["success", "failure"],
-               yticklabels=["success", "failure"], xlabel="dynamic label", ylabel="quasi-static label",
-               title=f"{r.model_preset}: {PAIRS[r.comparison]}")
+               yticklabels=["success", "failure"], xlabel="dynamic label", ylabel="quasi-static label")
+        ax.set_title(f"{label('model_preset', r.model_preset)}:\n{PAIRS[r.comparison]}", fontsize=9)
 
 
 def group_figure(run: Run, fig) -> None:
-    for ax, by in zip(fig.subplots(1, 2), ("planner", "shape"), strict=True):
+    axes = fig.subplots(1, 2)
+    for ax, by in zip(axes, ("planner", "shape"), strict=True):
         style.grouped_bars(ax, run.tables[f"agreement_by_{by}"], by, "model_preset",
              ("agreement_pct", "agreement_low_pct", "agreement_high_pct"))
         ax.set(ylabel="labels agree [%]", title=f"per {by} (Wilson 95%)")
+    axes[0].get_legend().remove()  # both panels share the presets' legend
 
 
 def _by(by: str) -> Table:
@@ -94,16 +119,20 @@ SPEC = ReportSpec("dynamic_check", [
     Finding(finding),
     Table("kappa", lambda run: f"Confusion matrix (rows quasi-static, columns dynamic), agreement and "
           f"Cohen's κ (asymptotic 95% interval, statsmodels) per preset and label pair, beside the paper's "
-          f"claim \"{run.paper.claim}\" read as full agreement (100%)", _kappa, [
-              Col("model_preset", "model preset"), Col("comparison_label", "quasi-static label"), *AGREE,
-              Col("paper_pct", "paper %", 1), Col("verdict", "verdict")]),
-    Figure("confusion", "Confusion matrices per preset: the source study's label and Algorithms 1–2 under "
-           "the preset (rows) against the dynamic label (columns)", confusion_figure, (8.0, 7.0)),
+          f"claim \"{run.paper.claim}\" read as full agreement (100%): judged on the {CLAIM_SHAPE}'s trials "
+          f"(the claim's scope); the rows over {ALL} are context, with no verdict", _kappa, [
+              Col("scope", "trials"), Col("comparison_label", "quasi-static label"), *AGREE,
+              Col("paper_pct", "paper %", 1), Col("verdict", "verdict")], by=["model_preset"]),
+    Figure("confusion", f"Confusion matrices per preset on the {CLAIM_SHAPE} (the claim's scope): the "
+           "source study's label and Algorithms 1–2 under the preset (rows) against the dynamic label "
+           "(columns); every shape's counts are in table kappa", confusion_figure, (8.0, 7.0)),
     _by("planner"), _by("shape"),
     Figure("agreement_by_group", "Share of trials whose labels agree per planner and per shape, per preset",
            group_figure, (11.0, 4.0)),
     Table("dynamic_status", "How the dynamic grasps ended, per preset and planner",
           lambda run: in_order(run, ["model_preset", "planner"], pd.crosstab(
               [run.ok.model_preset, run.ok.planner], run.ok.dynamic_status).reset_index()),
+          lambda run, t: [Col(c, label("dynamic_status", c)) for c in t if c not in
+                          ("model_preset", "planner") and not c.endswith("_label")],
           by=["model_preset", "planner"]),
 ])

@@ -112,6 +112,24 @@ def design_limit(by: list[str]) -> S.Table:
               *(replace(c, label=c.label.replace(" [mm]", ", δmax ≤ r [mm]")) for c in base.cols[5:])])
 
 
+def _beyond(g: pd.DataFrame) -> pd.Series:
+    """Trials with an active contact deeper than the fingertip radius (the validity gate's records)."""
+    if "valid_geometry" not in g:
+        return pd.Series(False, g.index)
+    return ~g["valid_geometry"].fillna(True).astype(bool)
+
+
+def failure_checks(by: list[str], paper=None) -> S.Table:
+    """:func:`~graspcampaign.report.spec.FailureChecks`, its caption saying where the trials with a
+    contact deeper than r are counted (under their first failing published check)."""
+    base = S.FailureChecks(by, paper)
+    return replace(base, caption=lambda run: base.caption + (
+        f"; the checks run in that order and the first failing one is counted, so geometry counts only "
+        f"trials passing every published check: {int(_beyond(run.ok).sum())} of {len(run.ok)} trials have a "
+        f"contact deeper than r = {_radius_mm(run):g} mm (non-physical, failed by the gate too) and are "
+        "counted under their first failing published check (table design_limit)"))
+
+
 MECHANISM = S.Table("mechanism", lambda run: (
     "How Algorithm 2 ends each planner's triples (paper law): a contact released to δ = 0 by line "
     "7; as many released as upper (n_out,z > 0) contacts; median ρ = |R_xy|/W; ρ·W < τ_F = "
@@ -173,10 +191,11 @@ def LawPaired() -> S.Table:
 
     def compute(run: Run) -> pd.DataFrame:
         return pd.concat([base.compute(Run(run.records[run.records["grip_law"] == law], run.manifest,
-                                           run.paper)).assign(grip_law=law)
+                                           run.paper)).assign(grip_law=law,
+                                                              grip_law_label=label("grip_law", law))
                           for law in run.order.get("grip_law", ["paper"])])
 
-    return replace(base, compute=compute, cols=[Col("grip_law", "grip law"), *base.cols])
+    return replace(base, compute=compute, cols=[Col("grip_law_label", "grip law"), *base.cols])
 
 
 def h_epsilon_figure(run: Run, fig) -> None:
@@ -204,21 +223,21 @@ def _rho_text(run: Run) -> str:
 
 EPSILON = [
     S.Table("epsilon", "Ferrari–Canny ε of each planner's chosen triples (paper law; ε is geometric) "
-            "and their share in force closure (ε > 0); ferrari_canny takes the largest ε of the "
-            "candidates the heuristic scores",
+            "and their share in force closure (ε > 0); the Ferrari–Canny ε planner takes the largest ε "
+            "of the candidates the heuristic scores",
             lambda run: qs.epsilon_table(run.records, run.order), [
                 Col("n", "n"), Col("rate_pct", "force closure % (Wilson 95%)", 1,
                                    low="wilson_low_pct", high="wilson_high_pct"),
                 *(Col(f"epsilon_{s}", f"{s} ε", sig=3) for s in ("median", "mean", "max"))],
             by=["planner"]),
     S.Table("h_epsilon", "Does H(G) rank grasps as the classical metric does? Spearman ρ of H(G) "
-            "and ε (ρ < 0: agreement) over the ferrari_canny trials' candidates, per trial and pooled; "
-            "percentile bootstrap over trials (a trial's candidates share a body)",
+            "and ε (ρ < 0: agreement) over the Ferrari–Canny ε planner's trials' candidates, per trial "
+            "and pooled; percentile bootstrap over trials (a trial's candidates share a body)",
             lambda run: qs.h_epsilon_correlation(run.records, run.aux("candidates"), seed=run.seed),
             [Col("reading", "reading"), Col("rho", "ρ (95%)", 3, low="low", high="high"),
              Col("n_trials", "trials"), Col("n_pairs", "candidates")]),
-    S.Figure("h_epsilon", lambda run: "H(G) against Ferrari–Canny ε: (a) the ferrari_canny trials' "
-             "sampled candidates (log colour scale), (b) each trial's rank correlation; "
+    S.Figure("h_epsilon", lambda run: "H(G) against Ferrari–Canny ε: (a) the Ferrari–Canny ε "
+             "planner's trials' sampled candidates (log colour scale), (b) each trial's rank correlation; "
              + _rho_text(run), h_epsilon_figure, (10.0, 3.8)),
 ]
 
@@ -235,8 +254,10 @@ def _shapes(run: Run) -> pd.DataFrame:
             "n_error": len(run.records.query("shape == @shape and status == 'error'")),
             "ours_success": bool(g["success"].mean() >= 0.5) if len(g) else None,
             "failure_check": ", ".join(f"{c} {v}" for c, v in g["failure_check"].value_counts().items()),
-            "exceeds_1mm": int((g["delta_max_mm"] > DESIGN_LIMIT_MM).sum()), **g[[
-                "h_total", "residual_norm_n", "torque_norm_nm", "slip_margin_n", "delta_max_mm"]].median()})
+            "exceeds_1mm": int((g["delta_max_mm"] > DESIGN_LIMIT_MM).sum()), "beyond_radius":
+            int(_beyond(g).sum()),
+            **g[["h_total", "residual_norm_n", "torque_norm_nm", "slip_margin_n"]].median(),
+            "delta_max_mm": g.loc[~_beyond(g), "delta_max_mm"].median()})
     return S.verdicts(pd.DataFrame(rows), "ours_success", "paper_success")
 
 
@@ -247,19 +268,23 @@ def shapes_finding(run: Run) -> str:
         f": {', '.join(label('shape', s) for s in agree['shape'])}" if len(agree) else "") + ". " + (
         "Ours differs on " + "; ".join(
             f"{label('shape', r.shape)} (paper {'success' if r.paper_success else 'fails'}, ours "
-            f"{r.successes}/{r.n}, first failing check {r.failure_check or '—'})"
+            f"{r.successes}/{r.n}, first failing check {r.failure_check or '—'}"
+            + (f"; {r.beyond_radius} with a contact deeper than r, non-physical" if r.beyond_radius else "")
+            + ")"
             for r in differ.itertuples()) + ". " if len(differ) else "") +
         "In SI the paper's contact constants cannot carry the object at a sane indentation, and "
         f"Algorithm 2 releases the upper contacts (SPEC §8; {DECISION}).")
 
 
 def fig15(run: Run, fig) -> None:
-    t, tau = run.tables["shapes"], float(run.config["evaluator"]["tau_f_n"])
+    t, ev, r = run.tables["shapes"], run.config["evaluator"], _radius_mm(run)
+    tau, tau_t = float(ev["tau_f_n"]), float(ev["tau_t_nm"])
     axes, x, good, bad = fig.subplots(2, 2, sharex=True).ravel(), np.arange(len(t)), "#2e7d32", "#c62828"
+    hatch = ["//" if b else None for b in t["beyond_radius"] > 0]  # a non-physical state (δ > r)
     for ax, col, title, line in zip(axes, ("h_total", "residual_norm_n", "torque_norm_nm", "slip_margin_n"), (
             "(a) heuristic H(G) [–]", "(b) force residual ‖R‖ [N]", "(c) torque residual ‖τ‖ [N·m]",
-            "(d) slip margin [N]"), (None, tau, None, 0.0), strict=True):
-        ax.bar(x, np.nan_to_num(t[col].to_numpy(float)), 0.7,
+            "(d) slip margin [N]"), (None, tau, tau_t, 0.0), strict=True):
+        ax.bar(x, np.nan_to_num(t[col].to_numpy(float)), 0.7, hatch=hatch, edgecolor="white",
                color=[good if s else bad for s in t["ours_success"]])
         ax.set_title(title)
         if line is not None:
@@ -275,29 +300,37 @@ def fig15(run: Run, fig) -> None:
         ax.set_xticks(x, [style.tick(label("shape", s)) for s in t["shape"]])
     fig.legend(handles=[
         Patch(color=good, label="ours: success"), Patch(color=bad, label="ours: failure"),
+        Patch(facecolor="0.6", hatch="//", edgecolor="white", label=f"contact deeper than r = {r:g} mm "
+              "(non-physical; the validity gate fails it)"),
         Patch(color=style.PAPER, alpha=0.12, label=f"paper's H range {lo}–{hi}"),
-        Line2D([], [], color=style.CRITERION, linestyle="--",
-               label=f"criterion: ‖R‖ < {tau:g} N; slip margin > 0")], loc="outside lower center", ncol=4)
+        Line2D([], [], color=style.CRITERION, linestyle="--", label=f"criteria: ‖R‖ < τ_F = {tau:g} N; "
+               f"‖τ‖ < τ_T = {tau_t:g} N·m; slip margin > 0")], loc="outside lower center", ncol=2)
 
 
 SHAPES = S.ReportSpec("shapes", [
     S.Finding(shapes_finding),
-    S.Table("shapes", "Outcome and grasp metrics per shape beside Fig. 15 (medians over executed "
-            "trials)", _shapes, [
+    S.Table("shapes", lambda run: "Outcome and grasp metrics per shape beside Fig. 15 (medians over "
+            "executed trials); δ > r: trials with a contact deeper than the fingertip radius r = "
+            f"{_radius_mm(run):g} mm (non-physical: the validity gate fails them, whatever their first "
+            "failing check; their metrics are of no physical contact), δmax the median over the others "
+            "(— where none)",
+            _shapes, [
                 Col("paper_success", "paper: success"), Col("paper_failure_check", "paper: check"),
                 Col("ours_success", "ours: success"), Col("successes", "successes"), Col("n", "n"),
                 Col("n_error", "errors"), Col("failure_check", "ours: checks"),
-                Col("h_total", "H(G)", 3), *cols("residual_norm_n", "torque_norm_nm", "slip_margin_n",
-                                                 "delta_max_mm"),
-                Col("exceeds_1mm", "> 1 mm"), Col("verdict", "verdict")], by=["shape"]),
+                Col("h_total", "H(G)", 3), *cols("residual_norm_n", "torque_norm_nm", "slip_margin_n"),
+                Col("delta_max_mm", "δmax, δ ≤ r [mm]", 1),
+                Col("exceeds_1mm", "> 1 mm"), Col("beyond_radius", "δ > r (non-physical)"),
+                Col("verdict", "verdict")], by=["shape"]),
     S.Claims("h_range", "Heuristic value range across shapes beside the Fig. 15 caption", [S.Value(
         f"H(G) of the chosen grasps, {w} over shapes", "Fig. 15", lambda run, f=f: Estimate(
             float(getattr(run.ok["h_total"], f)()), n=len(run.ok)), lambda p: p.h_range, digits=2)
         for w, f in (("lowest", "min"), ("highest", "max"))]),
     S.Figure("fig15_shape_metrics", "Fig. 15 (ours): chosen grasp's metrics per shape (medians); "
-             "green = success, red = failure; our and the paper's outcome above panel (a)", fig15,
-             (9.0, 6.4)),
-    design_limit(["shape"]), S.FailureChecks(["shape"], lambda p, k: p.failure_check.get(
+             "green = success, red = failure, hatched = a contact deeper than the fingertip radius "
+             "(non-physical); dashed: each check's threshold; our and the paper's outcome above panel (a)",
+             fig15, (9.0, 7.0)),
+    design_limit(["shape"]), failure_checks(["shape"], lambda p, k: p.failure_check.get(
         k["shape"], "none" if p.success.get(k["shape"]) else "not reported")),
     readings(["shape"]), IDENTIFICATIONS,
 ])
@@ -307,15 +340,13 @@ SHAPES = S.ReportSpec("shapes", [
 def other_laws(run: Run) -> str:
     """What the slip and oracle grip laws (named, not run, by the paper) did, from the records."""
     t = qs.law_outcomes(run.records, run.order)
-    span = lambda r: fmt.number(r.capped_delta_min_mm, sig=3) + (  # noqa: E731
-        "" if r.capped_delta_min_mm == r.capped_delta_max_mm
-        else "–" + fmt.number(r.capped_delta_max_mm, sig=3))
     return "" if not len(t) else (
         " The numbers above are Algorithm 2's. The tables also hold the grip laws the paper names "
         "but did not run (Sec. 6.5, 12), every planner on the same scenes: " + "; ".join(
             f"under {label('grip_law', r.grip_law)} {r.successes} of {r.n} pass, the equal grip "
             f"reaches its cap in {r.capped} (no equal grip holds in {r.no_equal_grip})"
-            + (f", where δmax = {span(r)} mm" if r.capped else "") + "; first failing check "
+            + (f", where δmax = {_span(pd.Series([r.capped_delta_min_mm, r.capped_delta_max_mm]))} mm"
+               if r.capped else "") + "; first failing check "
             + ", ".join(f"{c} {getattr(r, c)}" for c in FAILURE_CHECKS if getattr(r, c))
             for r in t.itertuples()) + ". A capped grip presses every finger to the cap depth "
         f"(the material's damage depth, at most r = {_radius_mm(run):g} mm), so δmax is the cap "
@@ -331,20 +362,49 @@ def ablation_finding(run: Run) -> str:
         f"±{(full['wilson_high_pct'] - full['wilson_low_pct']) / 2:.1f} pp at n = {full['n']}.")
 
 
+def _span(v: pd.Series) -> str:
+    lo, hi = fmt.number(v.min(), sig=3), fmt.number(v.max(), sig=3)
+    return lo if lo == hi else f"{lo}–{hi}"
+
+
+def over_limit(run: Run) -> str:
+    """Per grip law, how many successes exceed the paper's 1 mm design limit and how many sit at the
+    grip cap δmax ≤ r (from the records); they stay successes: SPEC §2.7 reports the limit, never
+    rescales it. "" when the records have no outcome (every trial errored)."""
+    if not {"success", "delta_max_mm"} <= set(run.ok):
+        return ""
+    ok, r = run.ok[run.ok["success"].astype(bool)], _radius_mm(run)
+    laws = run.order.get("grip_law", ["paper"]) if "grip_law" in ok else [None]
+    parts = []
+    for law in laws:
+        g = ok if law is None else ok[ok["grip_law"] == law]
+        cap = g["grip_capped"].fillna(False).astype(bool) if "grip_capped" in g else np.isclose(
+            g["delta_max_mm"], r, rtol=0, atol=1e-6)
+        parts.append(("" if law is None else f"{label('grip_law', law)} ") + (
+            f"{int((g['delta_max_mm'] > DESIGN_LIMIT_MM).sum())} of {len(g)}") + (
+            f" ({int(cap.sum())} at the grip cap, δmax = {_span(g.loc[cap, 'delta_max_mm'])} mm ≤ r = "
+            f"{r:g} mm)" if cap.any() else ""))
+    return (f"Successes deeper than the paper's {DESIGN_LIMIT_MM:g} mm design limit: " + "; ".join(parts)
+            + "; counted as successes (the limit is reported, never rescaled, SPEC §2.7; δ ≤ r is valid "
+            "contact; table design_limit).")
+
+
 def law_items(figure: str, name: str, what: str) -> list:
     """Success per planner and grip law beside the paper, its figure, McNemar within each law."""
-    return [S.Rates("success_by_planner", f"Success per {what} and grip law beside {figure} (the "
+    rates = S.Rates("success_by_planner", f"Success per {what} and grip law beside {figure} (the "
                     "paper's values are Algorithm 2's, shown beside every law)", LAWS,
-                    lambda p, k: p.success_pct.get(k["planner"])),
-            S.Figure(name, f"{figure} (ours): success per {what} under each grip law, Wilson 95% "
-                     f"whiskers; {PAPER_MARKS}", lambda run, fig: style.grouped_bars(
+                    lambda p, k: p.success_pct.get(k["planner"]))
+    return [replace(rates, caption=lambda run: f"{rates.caption(run)} {over_limit(run)}".strip()),
+            S.Figure(name, lambda run: f"{figure} (ours): success per {what} under each grip law, Wilson "
+                     f"95% whiskers; {PAPER_MARKS}. {over_limit(run)}".strip(),
+                     lambda run, fig: style.grouped_bars(
                          fig.subplots(), run.tables["success_by_planner"], "planner", "grip_law"),
                      (10.0, 3.8)), LawPaired()]
 
 
 ABLATION = S.ReportSpec("ablation", [
     S.Finding(ablation_finding), *law_items("Fig. 16", "fig16_ablation", "variant"), MECHANISM,
-    readings(BY_LAW), *EPSILON, design_limit(BY_LAW), S.FailureChecks(BY_LAW), IDENTIFICATIONS,
+    readings(BY_LAW), *EPSILON, design_limit(BY_LAW), failure_checks(BY_LAW), IDENTIFICATIONS,
 ])
 
 
@@ -371,7 +431,7 @@ BASELINE_GRID = S.ReportSpec("baseline_grid", [
               "where a planner's overall rate is 0% or 100%)", ["planner", f],
               lambda p, k: _carried({}, p, k)) for f, w in (("mu", "friction coefficient μ"),
                                                            ("mass_kg", "object mass"))),
-    S.FailureChecks(["planner"], lambda p, k: "residual (normal forces stay at seed level, Sec. "
+    failure_checks(["planner"], lambda p, k: "residual (normal forces stay at seed level, Sec. "
                     "6.5)" if k["planner"] == "centroid" else None),
     MECHANISM, readings(["planner"]), *EPSILON, IDENTIFICATIONS,
 ])
@@ -388,13 +448,15 @@ def grip_finding(run: Run) -> str:
     same = [law for law, g in rank.items()
             if [p for p in g["planner"] if p in paper] == sorted(paper, key=lambda p: -paper[p])]
     return (
-        "Success per grip law, highest first — " + "; ".join(f"{law}: " + ", ".join(
+        f"{over_limit(run)} ".lstrip() + "Success per grip law, highest first — " + "; ".join(
+            f"{label('grip_law', law)}: " + ", ".join(
             f"{label('planner', r.planner)} {r.rate_pct:.1f}%" for r in g.itertuples())
             for law, g in rank.items()) + " — against the paper's " + ", ".join(
             f"{label('planner', p)} {v:g}%" for p, v in paper.items()) + " (Fig. 18): its ordering "
-        f"appears under {', '.join(same) or 'none of the laws'}. Within each law (McNemar, exact "
-        "p < 0.05) the proposed planner " + ("; ".join(
-            f"under {law} beats {names(s.query('reference_only > compared_only').compared)} and "
+        f"appears under {', '.join(label('grip_law', law) for law in same) or 'none of the laws'}. "
+        "Within each law (McNemar, exact p < 0.05) the proposed planner " + ("; ".join(
+            f"under {label('grip_law', law)} beats "
+            f"{names(s.query('reference_only > compared_only').compared)} and "
             f"loses to {names(s.query('reference_only < compared_only').compared)}"
             for law, s in sig.groupby("grip_law", sort=False)) or "differs from no planner") + ". "
         "Why: H(G) is geometric (S1–S3, P_c, P_e) and sees neither gravity nor the tilt of the "
@@ -413,7 +475,7 @@ def grip_finding(run: Run) -> str:
 
 GRIP_LAWS = S.ReportSpec("grip_laws", [
     S.Finding(grip_finding), *law_items("Fig. 18", "fig18_grip_laws", "planner"), readings(BY_LAW),
-    S.FailureChecks(BY_LAW),
+    failure_checks(BY_LAW),
     S.Table("grip_need", "What an equal grip needs under slip and oracle: triples whose needed grip "
             "(with the design margin) fits within the grip cap, triples no equal grip holds, passes "
             "at the capped grip, median steepest contact |n_out,z| (0: horizontal normals)",
@@ -427,6 +489,6 @@ GRIP_LAWS = S.ReportSpec("grip_laws", [
 PLANNERS = S.ReportSpec("quasi_static", [
     S.Rates("success_rates", "Success per planner", ["planner"],
             lambda p, k: getattr(p, "success_pct", {}).get(k["planner"])),
-    S.Paired(), design_limit(["planner"]), S.FailureChecks(["planner"]), readings(["planner"]),
+    S.Paired(), design_limit(["planner"]), failure_checks(["planner"]), readings(["planner"]),
     IDENTIFICATIONS,
 ])

@@ -1,0 +1,67 @@
+"""dynamic_check report: Sec. 6.1's claim is the sphere's, so its verdict is the sphere's.
+
+A small synthetic run (the record columns docs/records.md gives dynamic_check) where the sphere's
+labels all agree and the other shapes' do not: the kappa table's counts are recomputed with pandas
+from the records, the verdict is judged on the sphere alone, every-shape rows carry none.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+from types import SimpleNamespace
+
+import pandas as pd
+import yaml
+
+from graspcampaign.analysis.vocabulary import label
+from graspcampaign.report.render import Run
+from graspcampaign.report.studies import dynamic_check as report
+
+CLAIM = ("Sec. 6.1: the dynamic and quasi-static evaluators agree on the success label (sphere, their "
+         "respective optima)")
+
+
+def _run() -> Run:
+    rows = []
+    for preset in ("table2", "firm"):
+        for shape in ("sphere", "pear"):
+            for i in range(20):
+                qs = i % 2 == 0
+                dyn = qs if shape == "sphere" else i % 4 == 0  # the pear disagrees on a quarter
+                rows.append({"trial_id": f"{preset}-{shape}-{i}", "status": "ok", "model_preset": preset,
+                             "shape": shape, "planner": "heuristic", "source_trial_id": f"{shape}-{i}",
+                             "source_study": "baseline_grid", "qs_success": qs, "success": dyn,
+                             "qs_preset_success": qs, "qs_success_unbounded": qs,
+                             "success_unbounded": dyn, "qs_preset_success_unbounded": qs,
+                             "dynamic_status": "stable" if dyn else "not_settled"})
+    return Run(pd.DataFrame(rows), {"config": {"factors": {"model_preset": ["table2", "firm"]}}},
+               SimpleNamespace(claim=CLAIM))
+
+
+def test_the_verdict_is_on_the_sphere_and_every_shape_is_context():
+    run = _run()
+    kappa = report._kappa(run)
+    records = run.records
+    for r in kappa.itertuples():
+        g = records[records.model_preset == r.model_preset]
+        g = g[g["shape"] == "sphere"] if r.scope == "sphere" else g
+        assert r.n == len(g) and r.both_success + r.both_failure == int((g.qs_success == g.success).sum())
+    sphere, every = kappa[kappa.scope == "sphere"], kappa[kappa.scope != "sphere"]
+    assert len(sphere) == len(every) == 8  # 2 presets x 4 label pairs
+    assert sphere.agreement_pct.eq(100).all() and sphere.differs.eq(False).all()  # the sphere agrees
+    assert every.differs.isna().all() and every.paper_pct.isna().all()
+    assert all(v.startswith("no verdict") for v in every.verdict)
+    run.tables["kappa"] = kappa
+    text = report.finding(run)
+    assert "0 of 8 sphere comparisons differ" in text and "For context only" in text
+    assert "`not_settled`" not in text and "**table2**" not in text  # the vocabulary's words
+    assert f"**{label('model_preset', 'table2')}**" in text
+    assert f"{label('dynamic_status', 'not_settled')}" in text
+
+
+def test_the_description_states_no_stale_trial_count():
+    """dynamic_check's size is the source run's (the design depends on it), not a fixed count."""
+    path = Path(__file__).parents[2] / "campaigns" / "dynamic_check.yaml"
+    description = yaml.safe_load(path.read_text())["description"]
+    assert not re.search(r"\d+\s*(x|×)\s*\d+\s*trials", description), description

@@ -1,0 +1,30 @@
+"""gravity_settle finding: only what the records show (one settle step per integrator), in words.
+
+A two-row settle table (the columns docs/records.md gives gravity_settle) is read by the report's
+finding; its numbers are the rows' own.
+"""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import pandas as pd
+
+from graspcampaign.analysis.vocabulary import label
+from graspcampaign.report.render import Run
+from graspcampaign.report.studies.dynamic import settle_finding
+
+
+def test_the_finding_claims_nothing_about_steps_the_records_do_not_hold():
+    rows = [{"integrator": i, "dt_s": dt, "dt_over_rk4_limit": ratio, "settled": True, "squash_ratio": 0.855,
+             "newton_iterations_per_step": nit, "lu_factorizations": lu, "shape_difference_max_mm": diff,
+             "observed_order": order, "expected_order": order, "energy_balance_rel_error": 1e-4,
+             "energy_balance_rel_error_half_dt": 1e-5, "energy_audit_steps": 100, "energy_increases": 0}
+            for i, dt, ratio, nit, lu, diff, order in (("rk4", 1.08e-4, 0.5, float("nan"), 0, 0.0, 4),
+                                                       ("implicit", 2.5e-4, 1.16, 5.3, 607, 0.0585, 2))]
+    run = Run(pd.DataFrame(rows), {}, SimpleNamespace(settles=True))
+    run.tables["settle"] = pd.DataFrame(rows)
+    text = settle_finding(run)
+    assert "departs" not in text and "larger steps" not in text  # one step per integrator recorded
+    assert "The implicit rule settles at 1.16× RK4's stable step, its settled shape within 0.0585 mm" in text
+    assert f"{label('integrator', 'implicit')} at dt = 250 µs" in text and "rk4 " not in text
