@@ -81,7 +81,11 @@ def test_mesh_resolution_report_prints_the_cost_ratio(runs):
     ratio = _table(store, "cost_ratio")
     expected = res.loc[res["nodes"] == 1750, "cost_ratio_vs_reference"].median()
     assert ratio["value"].tolist() == pytest.approx([expected, expected], rel=1e-12)
-    assert ratio["paper"].tolist() == ["1.95", "0.00–1.50"]  # the paper's ratio; its target
+    assert ratio["paper"].tolist() == ["1.95", "≤ 1.50"]  # the paper's ratio; its target, a bound
+    assert ratio["verdict"].iloc[1] == ("within the paper's target ≤ 1.50" if expected <= 1.5
+                                        else "differs: above the paper's target ≤ 1.50")
+    runtime = _table(store, "mesh_resolution_runtime").set_index("nodes")["loop_at_n_max_pct"]
+    assert runtime.to_dict() == pytest.approx((100 * res.groupby("nodes")["loop_capped"].mean()).to_dict())
     md = (store.path / "report" / "report.md").read_text()
     assert f"grows {expected:.2f}-fold from the smallest to the largest mesh" in md
     rerun = _table(store, "n_max_rerun").set_index("planner")
@@ -93,6 +97,7 @@ def test_mesh_resolution_report_prints_the_cost_ratio(runs):
     assert set(budget["planner"]) == {"heuristic", "reference"}
     assert set(budget.loc[budget["planner"] == "heuristic", "n_cand"]) == {1, 30}
     assert (budget["h_gap_to_reference"] >= -1e-12).all()
+    assert "| reference search | every triple (exhaustive) |" in md  # not "N_cand 0"
     assert (budget["vertical_low_pct"] <= budget["vertical_pct"]).all()
     assert (budget["vertical_pct"] <= budget["vertical_high_pct"]).all()
     assert "were not cross-checked" in md  # the baseline_grid records are absent here
