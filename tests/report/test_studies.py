@@ -410,7 +410,8 @@ def test_wrench_balance_never_settling_differs_and_non_physical_depths_flagged(t
     assert command["differs"].isna().all() and command["verdict"].str.startswith("commanded").all()
     compared = table[table["differs"].notna()]
     md = (store.path / "report" / "report.md").read_text()
-    assert f"{int(compared['differs'].astype(bool).sum())} of {len(compared)} compared quantities differ" in md
+    differ = int(compared["differs"].astype(bool).sum())
+    assert f"{differ} of {len(compared)} compared quantities differ" in md
     assert f"deeper than the fingertip radius r = {r_mm:g} mm from iteration {cross} on" in md
     limit = read_table(store, "design_limit").set_index("mu")
     ok = ok_records(store).set_index("mu")["delta_max_mm"]
