@@ -377,6 +377,49 @@ def test_wrench_balance_settling_from_trace(tmp_path):
     assert (store.path / "report" / "figures" / "fig17_wrench.png").exists()
 
 
+def test_wrench_balance_never_settling_differs_and_non_physical_depths_flagged(tmp_path):
+    """A residual that never settles differs from the paper; the commanded finger force is no
+    agreement; depths beyond the fingertip radius are counted apart, and the finding names the
+    iteration where the contact law's own forward force puts finger 1 deeper than r."""
+    from graspcampaign.core.contact import TABLE3_CONTACT, normal_force
+
+    r_mm = 5.0  # Table 2; depths ramp 0.5 -> 20 mm
+    depth_mm = np.linspace(0.5, 20.0, 30)
+    force = normal_force(depth_mm * 1e-3, 0.0, TABLE3_CONTACT.k_n_per_mm_n, TABLE3_CONTACT.n, 0.0)
+    cross = int(np.flatnonzero(depth_mm > r_mm)[0]) + 1
+
+    def outputs(factors, rng):
+        out = quasi_static_outputs({**factors, "planner": "heuristic"}, rng)
+        return {**out, "delta_max_mm": {0.1: 20.0, 0.3: 3.0, 0.5: 0.6}[factors["mu"]]}
+
+    def trace(trial_id, factors, out):
+        res = np.full(30, 5.0) if factors["mu"] < 0.5 else np.where(np.arange(30) < 10, 5.0, 0.1)
+        return {"iterations": [{"trial_id": trial_id, "iteration": i + 1, "residual_norm_n": float(res[i]),
+                                "torque_norm_nm": 1e-4, "slip_margin_n": 1.0, "slip_margin_rel": 0.9,
+                                "normal_force_1_n": float(force[i])} for i in range(30)]}
+
+    store = make_run(tmp_path, "wrench_balance", "wrench_balance",
+                     {"shape": ["sphere"], "mass_kg": [0.4], "mu": [0.1, 0.3, 0.5]}, seeds=1,
+                     paper=None, outputs=outputs, tables=trace)
+    build_reports(["wrench_balance"], root=tmp_path)
+    table = read_table(store, "wrench_balance")
+    settle = table[table["quantity"].str.startswith("iteration")].set_index("mu")
+    assert settle.loc[[0.1, 0.3], "differs"].tolist() == [True, True]  # never settles: differs
+    assert settle.loc[0.1, "verdict"].startswith("differs: never settles")
+    command = table[table["quantity"].str.startswith("final finger-1")]
+    assert command["differs"].isna().all() and command["verdict"].str.startswith("commanded").all()
+    compared = table[table["differs"].notna()]
+    md = (store.path / "report" / "report.md").read_text()
+    differ = int(compared["differs"].astype(bool).sum())
+    assert f"{differ} of {len(compared)} compared quantities differ" in md
+    assert f"deeper than the fingertip radius r = {r_mm:g} mm from iteration {cross} on" in md
+    limit = read_table(store, "design_limit").set_index("mu")
+    ok = ok_records(store).set_index("mu")["delta_max_mm"]
+    assert limit["beyond_radius"].to_dict() == (ok > r_mm).astype(int).to_dict()
+    assert limit.loc[0.1, ["delta_max_median_mm"]].isna().all()  # only a non-physical trial: no statistic
+    assert limit.loc[0.3, "delta_max_median_mm"] == pytest.approx(3.0)
+
+
 def test_heuristic_weights_invariance(tmp_path):
     def outputs(factors, rng):
         s = factors["weight_scale"]

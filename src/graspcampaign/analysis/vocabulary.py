@@ -72,12 +72,17 @@ PARAMETERS = _terms(
     ("n", "n", "#2e7d32"), ("n_exp", "n", "#2e7d32"), ("b", "b", "#7b4ea3"),
     ("k", "k", "#c9a227"), ("c", "c", "#8c8c8c"),
 )
+STUDY_PANELS = _terms(  # sensitivity (Fig. 19) and mesh_resolution (Fig. 20) panels
+    ("mu_mass", "(a) \u03bc \u00d7 m", "#1f5aa6"), ("lambda", "(b) \u03bb1 \u00d7 \u03bb2", "#e08a1e"),
+    ("n_b", "(c) n \u00d7 b", "#2e7d32"), ("resolution", "mesh resolution", "#1f5aa6"),
+    ("budget", "candidate budget N_cand", "#e08a1e"), ("n_max", "doubled N_max re-run", "#2e7d32"),
+)
 
 #: Record column -> its vocabulary.
 VOCABULARIES: dict[str, dict[str, Term]] = {
     "planner": PLANNERS, "shape": SHAPES, "material": MATERIALS, "grip_law": GRIP_LAWS,
     "model_preset": MODEL_PRESETS, "integrator": INTEGRATORS, "outcome": OUTCOMES,
-    "block": BLOCKS, "parameter": PARAMETERS,
+    "block": BLOCKS, "parameter": PARAMETERS, "panel": STUDY_PANELS,
     "dynamic_status": DYNAMIC_STATUSES,
     # a McNemar table's compared planner; a table's scope of trials (a planner, or "all", "baselines" ...
     # that print as they are)

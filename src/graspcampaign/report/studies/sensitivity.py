@@ -3,24 +3,27 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import matplotlib as mpl
 import numpy as np
 import pandas as pd
 from matplotlib.lines import Line2D
 
-from graspcampaign.analysis.records import Estimate, at_bound, rate
+from graspcampaign.analysis.records import DESIGN_LIMIT_MM, Estimate, at_bound, rate
 from graspcampaign.report import style
+from graspcampaign.report.document import Col
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Claims, Figure, Finding, GateRemoved, Rate, ReportSpec, Table, Value
+from graspcampaign.report.studies.quasi_static import _radius_mm
 
 PANELS = {"mu_mass": ("mu", "mass_kg", "friction coefficient μ [–]", "object mass m [kg]"),
           "lambda": ("lambda1", "lambda2", "λ1 [–]", "λ2 [–]"),
           "n_b": ("n_exp", "b_n_s_per_m", "contact exponent n [–]", "nodal damping b [internal units]")}
 EPS = 1e-9  # level comparisons of float factors
+LOOP_AT_N_MAX = "still moving at N_max [%]"  # the header of this share in every study
 #: how a heatmap aggregates its cells: aggregation, scale, colour-scale top (None: the largest), cell text
-CELLS = {"rate": ("mean", 100.0, 100.0, "{:.0f}"), "median": ("median", 1.0, None, "{:.1f}"),
-         "log": ("median", 1.0, None, "{:.0e}")}
+CELLS = {"rate": ("mean", 100.0, 100.0, "{:.0f}"), "median": ("median", 1.0, None, "{:.1f}")}
 
 
 def panel_rows(run: Run, name: str) -> pd.DataFrame:
@@ -51,14 +54,13 @@ def heatmap(ax, fig, run: Run, panel: str, value: str, label: str, cmap: str = "
         index=y, columns=x, values=value, aggfunc=how).sort_index().sort_index(axis=1)
     ax.set(xlabel=xl, ylabel=yl)
     values = g.to_numpy(dtype=float)
-    finite = values[np.isfinite(values) & ((values > 0) if cells == "log" else True)]
+    finite = values[np.isfinite(values)]
     if not finite.size:  # the panel says why instead of failing the figure
         ax.text(0.5, 0.5, f"not drawn: no finite value of\n{label}", ha="center", va="center",
                 transform=ax.transAxes)
         return
     xs, ys = g.columns.to_numpy(float), g.index.to_numpy(float)
-    norm = mpl.colors.LogNorm(finite.min(), max(finite.max(), 10 * finite.min())) if cells == "log" else \
-        mpl.colors.Normalize(0.0, vmax if vmax is not None else finite.max())
+    norm = mpl.colors.Normalize(0.0, vmax if vmax is not None else finite.max())
     mesh = ax.pcolormesh(_edges(xs), _edges(ys), np.ma.masked_invalid(values), cmap=cmap, norm=norm)
     for (r, c), v in np.ndenumerate(values) if values.size <= 225 else ():
         ax.text(xs[c], ys[r], text.format(v) if math.isfinite(v) else "n/a", ha="center", va="center",
@@ -67,13 +69,21 @@ def heatmap(ax, fig, run: Run, panel: str, value: str, label: str, cmap: str = "
     fig.colorbar(mesh, ax=ax, label=label, shrink=0.85)
 
 
+def beyond_radius(run: Run, g: pd.DataFrame) -> pd.Series:
+    """Whether each trial of ``g`` has a contact deeper than the fingertip radius (non-physical)."""
+    return g["delta_max_mm"] > _radius_mm(run)
+
+
 def _panels(run: Run) -> pd.DataFrame:
     rows = []
     for panel in [k for k in PANELS if len(panel_rows(run, k))]:
         g, (x, y) = panel_rows(run, panel), PANELS[panel][:2]
+        deep = beyond_radius(run, g)
         rows.append({"panel": panel, "cells": g.groupby([x, y]).ngroups, "trials": len(g),
-                     "loop_at_n_max_pct": 100 * g["loop_capped"].mean(),
-                     "delta_max_median_mm": g["delta_max_mm"].median(),
+                     "loop_at_n_max_pct": 100 * g["loop_capped"].mean(), "beyond_radius": int(deep.sum()),
+                     "beyond_radius_pct": 100 * deep.mean(),
+                     "delta_max_median_mm": g.loc[~deep, "delta_max_mm"].median(),
+                     "delta_max_why": "no physical trial" if deep.all() else "",
                      "runtime_median_ms": g["runtime_ms"].median(), **rate_cols(g, "success", "success"),
                      **rate_cols(g, "success_vertical", "vertical")})
     return pd.DataFrame(rows)
@@ -84,12 +94,14 @@ def _figure(run: Run, fig) -> None:
     for ax, panel in zip(np.atleast_1d(fig.subplots(1, len(panels))), panels, strict=True):
         xl, yl = PANELS[panel][2:]
         tag, handles = "abc"[list(PANELS).index(panel)], []
+        deep = 100 * beyond_radius(run, panel_rows(run, panel)).mean()
+        caveat = f"\n{deep:.0f}% of trials deeper than r = {_radius_mm(run):g} mm (non-physical)" * bool(deep)
         if panel == "n_b":
             heatmap(ax, fig, run, panel, "runtime_ms", "median runtime [ms]", "viridis", "median")
-            ax.set_title(f"({tag}) runtime, n × b (paper: flat)")
+            ax.set_title(f"({tag}) runtime, n × b (paper: flat){caveat}")
         else:
             heatmap(ax, fig, run, panel, "success", "success rate [%]")
-            ax.set_title(f"({tag}) success, {xl.split(' [')[0]} × {yl.split(' [')[0]}")
+            ax.set_title(f"({tag}) success, {xl.split(' [')[0]} × {yl.split(' [')[0]}{caveat}")
         if panel == "mu_mass":
             ax.plot([p.stable_mu_min, p.stable_mu_min, ax.get_xlim()[1]],
                     [ax.get_ylim()[0], p.stable_mass_max_kg, p.stable_mass_max_kg], color=style.PAPER,
@@ -108,12 +120,12 @@ def _figure(run: Run, fig) -> None:
 
 SUPPLEMENT = (("mu_mass", "success_vertical", "success, |R_z| reading [%]", "RdYlGn", "rate"),
               ("lambda", "loop_capped", "loop still moving at N_max [%]", "magma_r", "rate"),
-              ("lambda", "delta_max_mm", "median δ_max [mm] (log)", "cividis", "log"),
+              ("lambda", "valid_geometry", "trials with every contact within r [%]", "RdYlGn", "rate"),
               ("n_b", "success_vertical", "success, |R_z| reading, n × b [%]", "RdYlGn", "rate"))
 
 
 def _supplement(run: Run, fig) -> None:
-    tiles = [t for t in SUPPLEMENT if len(panel_rows(run, t[0]))]
+    tiles = [t for t in SUPPLEMENT if len(panel_rows(run, t[0])) and t[1] in run.ok]
     axes = np.atleast_1d(fig.subplots(math.ceil(len(tiles) / 2), 2)).ravel()
     for ax, tile in zip(axes, tiles, strict=False):
         heatmap(ax, fig, run, *tile)
@@ -122,24 +134,47 @@ def _supplement(run: Run, fig) -> None:
         ax.set_visible(False)
 
 
+def _depths(run: Run, g: pd.DataFrame, name: str) -> str:
+    """How many trials of ``g`` lie deeper than r (non-physical) and δmax over the physical ones."""
+    deep, r = beyond_radius(run, g), _radius_mm(run)
+    physical = g.loc[~deep, "delta_max_mm"]
+    return (f"{int(deep.sum())} of {len(g)} {name} trials have a contact deeper than the fingertip radius "
+            f"r = {r:g} mm (non-physical: the fingertip centre inside the object)" + (
+                f"; δ_max over the physical ones: median {physical.median():.3g} mm" if len(physical) else
+                "; no trial is physical"))
+
+
 def finding(run: Run) -> str:
     (a, b, c), p, text = (panel_rows(run, k) for k in PANELS), run.paper, []
+    n_max = run.config["evaluator"]["n_max"]
     if len(a):
         by_mu, by_m = a.groupby("mu")["success"].mean(), a.groupby("mass_kg")["success"].mean()
-        text.append(f"(a) Our success varies with mass ({100 * by_m.iloc[0]:.0f}% at {by_m.index[0]:g} "
-                    f"kg, {100 * by_m.iloc[-1]:.0f}% at {by_m.index[-1]:g} kg) and hardly with friction "
-                    f"(per-μ rates {100 * by_mu.min():.0f}–{100 * by_mu.max():.0f}%): Algorithm 2 releases "
-                    "contacts until the remaining normals carry the weight (η ≈ 0), so the slip check rarely "
-                    f"binds and the paper's μ ≥ {p.stable_mu_min} boundary does not appear.")
+        friction = (f"not at all with friction ({100 * by_mu.iloc[0]:.1f}% at each of the {len(by_mu)} "
+                    "μ levels)" if by_mu.nunique() == 1 else f"with friction between "
+                    f"{100 * by_mu.min():.1f}% and {100 * by_mu.max():.1f}% per μ level")
+        won = a.loc[a["success"].astype(bool), ["delta_max_mm", "loop_capped"]]
+        text.append(f"(a) Our success varies with mass ({100 * by_m.iloc[0]:.0f}% at {by_m.index[0]:g} kg, "
+                    f"{100 * by_m.iloc[-1]:.0f}% at {by_m.index[-1]:g} kg) and {friction}: Algorithm 2 "
+                    "releases contacts until the remaining normals carry the weight (η ≈ 0), so the slip "
+                    f"check rarely binds and the paper's μ ≥ {p.stable_mu_min} boundary does not appear" + (
+                        f". Its {len(won)} successes reach δ_max {won['delta_max_mm'].min():.2g}–"
+                        f"{won['delta_max_mm'].max():.2g} mm ({(won['delta_max_mm'] > DESIGN_LIMIT_MM).sum()}"
+                        f" above the paper's {DESIGN_LIMIT_MM:g} mm design limit) and "
+                        f"{won['loop_capped'].sum()} of them end with Algorithm 2 still moving at N_max = "
+                        f"{n_max}" if len(won) else "")
+                    + f"; {_depths(run, a, 'panel-(a)')}.")
     if len(b):
         text.append("(b) λ2 scales only the damping C, whose rate term vanishes in the static loop, and "
                     "Algorithm 2 is invariant to a common scale of K except through the 0.5 mm seed: λ1 "
-                    f"moves the penetration (median δ_max {b['delta_max_mm'].median():.3g} mm) but barely "
-                    f"the verdict ({100 * b['success'].mean():.0f}% over the panel); no λ1 ≈ "
-                    f"{p.lambda1_stable_below} boundary and no non-convergence strip appear.")
+                    "moves the penetration " + ("but no trial succeeds" if not b["success"].any() else
+                                                f"but barely the verdict ({100 * b['success'].mean():.1f}% "
+                                                "succeed)") + f"; no λ1 ≈ {p.lambda1_stable_below} boundary "
+                    f"and no non-convergence strip appear; {_depths(run, b, 'panel-(b)')}.")
     if len(c):
         text.append("(c) b is an MSD constant the quasi-static evaluator never reads, so the b axis is flat "
-                    "by construction.")
+                    f"by construction; {_depths(run, c, 'panel-(c)')}" + (
+                        ", so the runtimes of Fig. 19c are mostly the cost of evaluating non-physical states."
+                        if beyond_radius(run, c).mean() > 0.5 else "."))
     return " ".join(text) + (" (`docs/decisions.md`, *Sensitivity, mesh resolution, surrogate (issue 7)*; "
                              "SPEC §8.)")
 
@@ -173,6 +208,23 @@ def _identified(low_mu: bool, what: str):
     return value
 
 
+BOUND = "(a) identified λ1 on its PSO search bound at μ "
+
+
+def _bound_claims(frame: pd.DataFrame) -> pd.DataFrame:
+    """Compare the paper's Sec. 6.6 words on λ1's bound: pushed to it at μ < 0.1, so not at μ ≥ 0.1."""
+    low, high = (frame["quantity"] == BOUND + w for w in ("< 0.1", "≥ 0.1"))
+    if not low.any() or not high.any() or frame.loc[low | high, "value"].isna().any():
+        return frame
+    a, b = float(frame.loc[low, "value"].iloc[0]), float(frame.loc[high, "value"].iloc[0])
+    frame.loc[low, ["paper", "differs", "verdict"]] = ["pushed toward the bound", a <= 50, (
+        f"as in the paper: {a:.0f}% on the bound" if a > 50 else f"differs: only {a:.0f}% on the bound")]
+    frame.loc[high, ["paper", "differs", "verdict"]] = ["fewer than at μ < 0.1", b >= a and b > 50, (
+        f"differs: {b:.0f}% on the bound, as often as at μ < 0.1 ({a:.0f}%): the bound does not single out "
+        "low friction" if b >= a and b > 50 else f"as in the paper: {b:.0f}% against {a:.0f}% at μ < 0.1")]
+    return frame
+
+
 def _runtime_ratio(axis: str):
     def value(run: Run) -> float:
         med = panel_rows(run, "n_b").groupby(axis)["runtime_ms"].median()
@@ -180,45 +232,55 @@ def _runtime_ratio(axis: str):
     return value
 
 
+CLAIMS = Claims("sensitivity_claims", "The paper's Fig. 19 statements (in words) beside the matching "
+                "counts of ours; rates over executed trials with Wilson 95%. The paper's Sec. 6.6 words on "
+                "λ1 (pushed toward its bound at μ < 0.1, the low-friction failure mode) are compared as: "
+                "most (> 50%) identifications on the bound at μ < 0.1, and fewer at μ ≥ 0.1", [
+           Rate("(a) stable region: success inside it", "Fig. 19a", _where("mu_mass", _inside)),
+           Rate("(a) stable region: success outside it", "Fig. 19a", _where("mu_mass", _inside, False)),
+           Rate("(a) stable region: |R_z| reading inside it", "Fig. 19a", _where("mu_mass", _inside),
+                outcome="success_vertical"),
+           Rate("(a) sharp drop above the mass limit when μ < the friction limit", "Sec. 6.6",
+                _where("mu_mass", lambda ok, p: (ok["mu"] < p.stable_mu_min - EPS)
+                       & (ok["mass_kg"] > p.stable_mass_max_kg + EPS))),
+           Value("(a) median identified λ1 at μ < 0.1", "Sec. 6.6",
+                 _identified(True, "median"), digits=3),
+           Value("(a) identified λ1 on its PSO search bound at μ < 0.1", "Sec. 6.6",
+                 _identified(True, "bound"), unit="%", digits=1),
+           Value("(a) median identified λ1 at μ ≥ 0.1", "Sec. 6.6", _identified(False, "median"),
+                 digits=3),
+           Value("(a) identified λ1 on its PSO search bound at μ ≥ 0.1", "Sec. 6.6",
+                 _identified(False, "bound"), unit="%", digits=1),
+           Rate("(b) stable for λ1 below the paper's boundary: success there", "Fig. 19b",
+                _where("lambda", _below)),
+           Rate("(b) success above the boundary", "Fig. 19b", _where("lambda", _below, False)),
+           Rate("(b) non-convergence strip: loop still moving at N_max inside it", "Sec. 10",
+                _where("lambda", _strip), outcome="loop_capped"),
+           Rate("(b) loop still moving at N_max outside the strip", "Sec. 10",
+                _where("lambda", _strip, False), outcome="loop_capped"),
+           Value("(c) runtime max/min over n levels (the paper: nearly flat)", "Fig. 19c",
+                 _runtime_ratio("n_exp"), digits=2),
+           Value("(c) runtime max/min over b levels", "Fig. 19c", _runtime_ratio("b_n_s_per_m"),
+                 digits=2)])
+
+
 SPEC = ReportSpec("sensitivity", [
     Finding(finding),
     Table("sensitivity_panels", "Sensitivity panels: success under both residual readings (vertical: the "
-          "|R_z| reading; Wilson 95%), trials whose Algorithm 2 was still moving at N_max, median "
-          "penetration and runtime per evaluation",
-          _panels, ["panel", "cells", "trials", "success_pct", "vertical_pct", "loop_at_n_max_pct",
-                    "delta_max_median_mm", "runtime_median_ms"]),
+          "|R_z| reading; Wilson 95%), trials whose Algorithm 2 was still moving at N_max, trials with a "
+          "contact deeper than the fingertip radius r (non-physical: the fingertip centre inside the "
+          "object), the median penetration over the physical trials (δmax ≤ r) and runtime per evaluation",
+          _panels, ["cells", "trials", "success_pct", "vertical_pct",
+                    Col("loop_at_n_max_pct", LOOP_AT_N_MAX, 1),
+                    Col("beyond_radius", "δmax > r (non-physical)", share="beyond_radius_pct"),
+                    Col("delta_max_median_mm", "median δmax, δmax ≤ r [mm]", sig=3, why="delta_max_why"),
+                    "runtime_median_ms"], by=["panel"]),
     Figure("fig19_sensitivity", "Fig. 19 (ours): (a) success over μ × m with the paper's stable region "
            "(dashed); (b) success over λ1 × λ2 with the paper's λ1 boundary (dashed) and non-convergence "
            "strip (dotted); (c) median runtime over n × b; per-cell values", _figure, (15.0, 4.9)),
     Figure("fig19_supplement", "Beyond Fig. 19: the |R_z| reading over μ × m and n × b; trials still moving "
-           "at N_max and median penetration over λ1 × λ2", _supplement, (10.0, 8.6)),
-    Claims("sensitivity_claims", "The paper's Fig. 19 statements (in words) beside the matching counts of "
-           "ours; rates over executed trials with Wilson 95%", [
-               Rate("(a) stable region: success inside it", "Fig. 19a", _where("mu_mass", _inside)),
-               Rate("(a) stable region: success outside it", "Fig. 19a", _where("mu_mass", _inside, False)),
-               Rate("(a) stable region: |R_z| reading inside it", "Fig. 19a", _where("mu_mass", _inside),
-                    outcome="success_vertical"),
-               Rate("(a) sharp drop above the mass limit when μ < the friction limit", "Sec. 6.6",
-                    _where("mu_mass", lambda ok, p: (ok["mu"] < p.stable_mu_min - EPS)
-                           & (ok["mass_kg"] > p.stable_mass_max_kg + EPS))),
-               Value("(a) median identified λ1 at μ < 0.1 (the paper: pushed to its bound)", "Sec. 6.6",
-                     _identified(True, "median"), digits=3),
-               Value("(a) identified λ1 on its PSO search bound at μ < 0.1", "Sec. 6.6",
-                     _identified(True, "bound"), unit="%", digits=1),
-               Value("(a) median identified λ1 at μ ≥ 0.1", "Sec. 6.6", _identified(False, "median"),
-                     digits=3),
-               Value("(a) identified λ1 on its PSO search bound at μ ≥ 0.1", "Sec. 6.6",
-                     _identified(False, "bound"), unit="%", digits=1),
-               Rate("(b) stable for λ1 below the paper's boundary: success there", "Fig. 19b",
-                    _where("lambda", _below)),
-               Rate("(b) success above the boundary", "Fig. 19b", _where("lambda", _below, False)),
-               Rate("(b) non-convergence strip: loop still moving at N_max inside it", "Sec. 10",
-                    _where("lambda", _strip), outcome="loop_capped"),
-               Rate("(b) loop still moving at N_max outside the strip", "Sec. 10",
-                    _where("lambda", _strip, False), outcome="loop_capped"),
-               Value("(c) runtime max/min over n levels (the paper: nearly flat)", "Fig. 19c",
-                     _runtime_ratio("n_exp"), digits=2),
-               Value("(c) runtime max/min over b levels", "Fig. 19c", _runtime_ratio("b_n_s_per_m"),
-                     digits=2)]),
+           "at N_max and trials whose every contact lies within the fingertip radius (physical) over λ1 × λ2",
+           _supplement, (10.0, 8.6)),
+    replace(CLAIMS, compute=lambda run: _bound_claims(CLAIMS.compute(run))),
     GateRemoved(["panel"]),
 ])

@@ -13,11 +13,22 @@ from graspcampaign.report import style
 from graspcampaign.report.document import Col, cols
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, verdicts
-from graspcampaign.report.studies.sensitivity import rate_cols
+from graspcampaign.report.studies.quasi_static import _radius_mm
+from graspcampaign.report.studies.sensitivity import beyond_radius, rate_cols
 
 MODELS = {"pso_call": ("brief PSO call", "#7b4ea3"), "mlp": ("MLP 64-32", "#1f5aa6"),
           "random_forest": ("random forest", "#e08a1e")}
 LABELS = ("success", "success_unbounded", "success_vertical")
+#: Readable names of the run's labels, regression targets and features (record ids in the CSVs).
+NAMES = {"success": "configured check (validity gate)", "success_unbounded": "Algorithm 1 as published",
+         "success_vertical": "|R_z| reading", "abs_residual_z_n": "|R_z| [N]",
+         "log10_residual_norm_n": "log10 ‖R‖ [log10 N]", "log10_delta_max_mm": "log10 δmax [log10 mm]",
+         "mass_kg": "mass [kg]", "mu": "μ", "lambda1": "λ1", "lambda2": "λ2", "msd_b": "MSD damping b"}
+
+
+def name(key: str) -> str:
+    """The readable name of a label, target or feature (``shape_<s>``: the shape's label)."""
+    return f"shape: {label('shape', key[6:])}" if key.startswith("shape_") else NAMES.get(key, key)
 PAPER_LABEL = "success_unbounded"  # Algorithm 1 as published, no validity gate: the paper's label
 WHY = ("`docs/decisions.md`, *Sensitivity, mesh resolution, surrogate (issue 7)*, *Contact law, "
        "evaluator, planners, PSO (issue 4)* and *Physical validity, grip laws, Ferrari–Canny ε (issues 13 "
@@ -58,66 +69,111 @@ def _classification(run: Run) -> pd.DataFrame:
     acc = verdicts(t.copy(), "accuracy_pct", "paper_accuracy", "accuracy_low_pct", "accuracy_high_pct",
                    unit="%", why="note")
     return verdicts(t, "roc_auc", "paper_auc", digits=2, why="note").assign(
-        accuracy_verdict=acc["verdict"]).drop(columns="paper_accuracy")
+        accuracy_verdict=acc["verdict"], label_name=t["label"].map(name)).drop(columns="paper_accuracy")
 
 
 def _regression(run: Run) -> pd.DataFrame:
     t = _read("regression", "r2")(run)
     t["paper_r2"] = [run.paper.residual_r2 if (g, m) == ("abs_residual_z_n", "mlp") else None
                      for g, m in zip(t["target"], t["model"], strict=True)]
-    return verdicts(t, "r2", "paper_r2", digits=2, why="note")
+    return verdicts(t, "r2", "paper_r2", digits=2, why="note").assign(target_name=t["target"].map(name))
+
+
+def _importance(run: Run) -> pd.DataFrame:
+    t = _read("importance")(run)
+    return t.assign(label_name=t["label"].map(name), feature_name=t["feature"].map(name)) if len(t) else t
 
 
 def _timing(run: Run) -> pd.DataFrame:
     t, p = _read("timing", "time_s")(run), run.paper
     t["paper_time_s"] = t["what"].map({"pso_call": p.pso_call_time_s, "mlp": p.prediction_time_ms * 1e-3})
+    t = t.assign(time_ms=1e3 * t["time_s"], time_us=1e6 * t["time_s"], paper_time_us=1e6 * t["paper_time_s"],
+                 predicts=t["predicts"].map(lambda v: f"P(success), {name(v.split()[0])}"
+                                            if isinstance(v, str) and v.endswith(" probability") else v))
     t["speedup"] = float(t.loc[t["what"] == "pso_call", "time_s"].iloc[0]) / t["time_s"]
     t["paper_speedup"] = t["what"].map({"mlp": p.speedup})
-    return verdicts(t, "speedup", "paper_speedup", digits=0)
+    t = verdicts(t, "speedup", "paper_speedup", digits=0)
+    ratio = t["differs"].notna()  # a ratio is compared as a ratio, not by its difference
+    t.loc[ratio, "verdict"] = [f"{'differs' if d else 'as in the paper'}: ours {o:.3g}× faster, the paper's "
+                               f"{q:g}× ({q / o:.3g} times ours)" for d, o, q in
+                               t.loc[ratio, ["differs", "speedup", "paper_speedup"]].itertuples(index=False)]
+    return t
 
 
 def finding(run: Run) -> str:
     d, p, t = run.tables["surrogate_dataset"].iloc[0], run.paper, run.tables
+    deep, won = beyond_radius(run, run.ok), run.ok["success_unbounded"].astype(bool)
+    physical = run.ok.loc[~deep, "delta_max_mm"]
     text = (f"{int(d['n'])} scenarios (paper {p.n_scenarios}): {d['success_unbounded_pct']:.1f}% are "
             f"successes under Algorithm 1 as published (Wilson {d['success_unbounded_low_pct']:.1f}–"
             f"{d['success_unbounded_high_pct']:.1f}%; paper {p.class_balance_pct:g}%), "
             f"{d['success_pct']:.1f}% once a fingertip buried deeper than its radius is no contact (the "
-            f"configured check; median δmax {run.ok['delta_max_mm'].median():.3g} mm) and "
-            f"{d['success_vertical_pct']:.1f}% under the gated |R_z| reading. ")
+            f"configured check) and {d['success_vertical_pct']:.1f}% under the gated |R_z| reading. "
+            f"{int(deep.sum())} of {len(deep)} scenarios end with a contact deeper than the fingertip radius "
+            f"r = {_radius_mm(run):g} mm (non-physical: the fingertip centre inside the object), "
+            f"{int((deep & won).sum())} of the {int(won.sum())} published-algorithm successes among them" + (
+                f"; δmax over the physical ones: median {physical.median():.3g} mm. " if len(physical) else
+                ". "))
     cls = t["surrogate_classification"].query(f"label == '{PAPER_LABEL}'")
     fit = cls[cls["roc_auc"].notna()]
     aucs = ", ".join(f"AUC {r['roc_auc']:.2f} ({r['model_label']}; paper {r['paper_auc']:g}) at "
                      f"{r['accuracy_pct']:.1f}% accuracy" for _, r in fit.iterrows())
-    text += (f"Scored on {int(fit['test_positives'].iloc[0])} held-out positives, the success classifiers "
+    buried = ("every positive they learn is a non-physical state, not a grasp. " if won.any() and
+              (deep | ~won).all() else "some of their positives are non-physical states. "
+              if (deep & won).any() else "")
+    text += (("The success classifiers learn that label, so " + buried if buried else "") +
+             f"Scored on {int(fit['test_positives'].iloc[0])} held-out positives, they "
              f"reach {aucs}, against {fit['majority_class_accuracy_pct'].iloc[0]:.1f}% for always saying "
              "'fails'. " if len(fit) else
              f"The success classifiers were {cls['note'].iloc[0]}. ")
     if len(reg := t["surrogate_regression"].dropna(subset=["r2"])):
         best = reg.loc[reg["r2"].idxmax()]
-        text += (f"The best regression R² is {best['r2']:.2f} ({best['target']}, {best['model_label']}; "
-                 f"paper {p.residual_r2:g} for |R_z|)" + (": the residual depends on the sampled contact "
-                                                          "triple more than on the scenario's inputs. "
-                                                          if best["r2"] < p.residual_r2 else ". "))
+        text += (f"The best regression R² is {best['r2']:.2f} ({name(best['target'])}, "
+                 f"{best['model_label']}; paper {p.residual_r2:g} for |R_z|)" + (
+                     f", a target whose value is a non-physical depth in {int(deep.sum())} of {len(deep)} "
+                     "scenarios" if "delta" in best["target"] and deep.any() else "") + (
+                     ": the residual depends on the sampled contact triple more than on the scenario's "
+                     "inputs. " if best["r2"] < p.residual_r2 else ". "))
     else:
         text += f"No regression R² could be computed ({t['surrogate_regression']['note'].iloc[0]}). "
     if "mlp" in (tm := t["surrogate_timing"].set_index("what")).index:
-        text += (f"One MLP prediction takes {1e3 * tm.loc['mlp', 'time_s']:.3g} ms against "
-                 f"{tm.loc['pso_call', 'time_s']:.3g} s for the brief PSO call, "
-                 f"{tm.loc['mlp', 'speedup']:.0f}× (paper {p.prediction_time_ms:g} ms vs "
-                 f"{p.pso_call_time_s:g} s, {p.speedup:g}×): our swarm iteration is one vectorised "
+        text += (f"One MLP prediction takes {tm.loc['mlp', 'time_ms']:.3g} ms against "
+                 f"{tm.loc['pso_call', 'time_ms']:.3g} ms for the brief PSO call, "
+                 f"{tm.loc['mlp', 'speedup']:.3g}× (paper {p.prediction_time_ms:g} ms vs "
+                 f"{1e3 * p.pso_call_time_s:g} ms, {p.speedup:g}×): our swarm iteration is one vectorised "
                  "evaluator call. ")
     return text + ("Both timings were measured by the run, not by this report. Why ours differs from the "
                    "paper (Algorithm 2 as published passes few grasps under ‖R‖, and those bury a fingertip "
                    f"in SI): {WHY}.")
 
 
+LINES = dict(zip(LABELS, ("-", "--", ":"), strict=True))
+
+
+def _caption(run: Run) -> str:
+    """Fig. A.1's caption: the curves drawn in (a), by line style, and the labels not fitted."""
+    cls = run.tables.get("surrogate_classification", pd.DataFrame(columns=["label", "roc_auc"]))
+    fitted = [lab for lab in LABELS if cls.loc[cls["label"] == lab, "roc_auc"].notna().any()]
+    words = {"-": "solid", "--": "dashed", ":": "dotted"}
+    won = run.ok["success_unbounded"].astype(bool)
+    buried = int((won & beyond_radius(run, run.ok)).sum())
+    return ("Fig. A.1 (ours): (a) ROC curves of the fitted classifiers (" + (", ".join(
+        f"{words[LINES[lab]]}: {name(lab)}" for lab in fitted) or "none fitted") + (
+        "; not fitted, fewer than 10 trials of one class: " + ", ".join(
+            name(lab) for lab in LABELS if lab not in fitted) if len(fitted) < len(LABELS) else "") +
+        ")" + (f", whose {buried} of {int(won.sum())} positives of Algorithm 1 as published have a "
+               "contact deeper than the fingertip radius (non-physical)" if PAPER_LABEL in fitted and buried
+               else "") +
+        "; (b) parity of the MLP regressor for log10 ‖R‖; (c) one prediction against a brief PSO call "
+        "(the paper's values in black)")
+
+
 def figA1(run: Run, fig) -> None:
     ax_a, ax_b, ax_c = fig.subplots(1, 3)
     roc, cls = _read("roc")(run), run.tables["surrogate_classification"].set_index(["label", "model"])
     for (lab, m), g in roc.groupby(["label", "model"], sort=False) if len(roc) else ():
-        ls = dict(zip(LABELS, ("-", "--", ":"), strict=True))[lab]
-        ax_a.plot(g["fpr"], g["tpr"], color=MODELS[m][1], ls=ls,
-                  label=f"{MODELS[m][0]}, {lab}: AUC {cls.loc[(lab, m), 'roc_auc']:.2f}")
+        ax_a.plot(g["fpr"], g["tpr"], color=MODELS[m][1], ls=LINES[lab],
+                  label=f"{MODELS[m][0]}, {name(lab)}: AUC {cls.loc[(lab, m), 'roc_auc']:.2f}")
     if not len(roc):
         ax_a.text(0.5, 0.5, "not fitted: too few trials of one class", ha="center", transform=ax_a.transAxes)
     ax_a.plot([0, 1], [0, 1], color=style.CRITERION, ls=":", label="chance")
@@ -154,15 +210,16 @@ def figA1(run: Run, fig) -> None:
 SPEC = ReportSpec("surrogate", [
     Finding(finding),
     Table("surrogate_dataset", "Class balance of the scenarios (Wilson 95%): Algorithm 1 as published "
-          "(`success_unbounded`, the paper's label) beside the paper's positives; the configured check "
-          "`success` (a contact deeper than the fingertip radius is invalid) and the |R_z| reading", _dataset,
+          "(the paper's label) beside the paper's positives; the configured check (a contact deeper than "
+          "the fingertip radius is invalid) and the |R_z| reading", _dataset,
           [Col("group_label", "group"), Col("n", "scenarios"), Col("paper_pct", "paper %", 1),
-           *(Col(f"{o}_pct", f"{o} % (95%)", 1, low=f"{o}_low_pct", high=f"{o}_high_pct") for o in LABELS),
+           *(Col(f"{o}_pct", f"{name(o)} % (95%)", 1, low=f"{o}_low_pct", high=f"{o}_high_pct")
+             for o in LABELS),
            Col("difference", "difference [pp]", 1, signed=True), Col("verdict", "verdict")]),
     Table("surrogate_classification", lambda run: "Success classifiers scored by the run on its held-out "
           f"{100 * run.params.get('test_fraction', 0.2):g}% (stratified split, seed {run.seed}); accuracy "
           "with its Wilson 95% interval", _classification, [
-              Col("label", "label"), Col("model_label", "model"), Col("positives", "positives"),
+              Col("label_name", "label"), Col("model_label", "model"), Col("positives", "positives"),
               Col("trials", "trials"), Col("test_trials", "held out"),
               Col("test_positives", "held-out positives"), Col("paper_auc", "paper AUC", 2),
               Col("roc_auc", "AUC", 2, why="note"), Col("verdict", "AUC verdict"),
@@ -172,19 +229,20 @@ SPEC = ReportSpec("surrogate", [
                   why="note"),
               Col("majority_class_accuracy_pct", "majority class %", 1), Col("accuracy_verdict", "verdict")]),
     Table("surrogate_regression", "Regression R² on the held-out scenarios (the paper's is the MLP on the "
-          "vertical residual |R_z|)", _regression, [*cols("target", "model_label", "test_trials"), Col(
+          "vertical residual |R_z|)", _regression, [Col("target_name", "target"), Col("model_label", "model"),
+                                                   *cols("test_trials"), Col(
               "paper_r2", "paper R²", 2), Col("r2", "R²", 2, why="note"), *cols("verdict")]),
     Table("surrogate_feature_importance", "Random-forest impurity importances of the first fitted classifier "
           "(λ2 and b cannot affect a quasi-static outcome: their share is what a forest gives to noise)",
-          _read("importance"), [*cols("label", "feature"), Col("importance", "importance", sig=3)],
+          _importance,
+          [Col("label_name", "label"), Col("feature_name", "feature"),
+           Col("importance", "importance", sig=3)],
           empty="no classifier was fitted (too few trials of one class)"),
     Table("surrogate_timing", "Wall time of one call, measured by the run: the brief PSO call (median over "
           "the trials) and one single-row prediction per model (median of up to 200)", _timing, [
-              Col("model_label", "call"), *cols("predicts", "paper_time_s", "time_s", "n_timed"),
-              Col("paper_speedup", "paper PSO/this", 0), Col("speedup", "ours PSO/this", sig=3),
+              Col("model_label", "call"), *cols("predicts"), Col("paper_time_us", "paper time [µs]", sig=3),
+              Col("time_us", "time [µs]", sig=3), *cols("n_timed"),
+              Col("paper_speedup", "paper PSO/this [×]", 0), Col("speedup", "ours PSO/this [×]", sig=3),
               *cols("verdict", "host", "sklearn_version")]),
-    Figure("figA1_surrogate", "Fig. A.1 (ours): (a) ROC curves of the fitted classifiers (solid: the "
-           "configured check, dashed: Algorithm 1 as published, dotted: the |R_z| reading); (b) parity of "
-           "the MLP regressor for log10 ‖R‖; (c) one prediction against a brief PSO call (the paper's values "
-           "in black)", figA1, (12.0, 3.9)),
+    Figure("figA1_surrogate", _caption, figA1, (12.0, 3.9)),
 ])

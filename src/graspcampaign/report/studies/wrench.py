@@ -8,10 +8,15 @@ import numpy as np
 import pandas as pd
 
 from graspcampaign.analysis.vocabulary import colour
+from graspcampaign.core.contact import ContactParams, depth_for_force
 from graspcampaign.report import style
 from graspcampaign.report.document import Col
 from graspcampaign.report.render import Run
-from graspcampaign.report.spec import DesignLimit, Figure, Finding, GateRemoved, ReportSpec, Table, verdicts
+from graspcampaign.report.spec import Figure, Finding, GateRemoved, ReportSpec, Table, verdicts
+from graspcampaign.report.studies.quasi_static import _radius_mm, design_limit
+
+NEVER = "never settles within the trace"
+COMMANDED = "commanded, not a result: the closing ramp ends at the grip command by construction"
 
 
 def settle_iteration(residual: np.ndarray, iterations: np.ndarray, limit: float) -> float:
@@ -27,9 +32,21 @@ def _tau(run: Run) -> float:
 
 
 def _traces(run: Run) -> pd.DataFrame:
+    """The per-iteration traces with μ and finger 1's depth ``depth_1_mm``, from its normal force by
+    the configured contact law (the static loop has no damping term)."""
     if not len(trace := run.aux("iterations")):
         raise ValueError("the run has no `iterations` trace table")
-    return trace.merge(run.ok[["trial_id", "mu"]], on="trial_id").sort_values(["mu", "iteration"])
+    m = run.config["model"]
+    law = ContactParams(m["lambda1"], m["lambda2"], m["n_exp"], m["fingertip_radius_m"], m["e_finger_pa"],
+                        m["e_object_pa"], m["nu_finger"], m["nu_object"])
+    return trace.merge(run.ok[["trial_id", "mu"]], on="trial_id").sort_values(["mu", "iteration"]).assign(
+        depth_1_mm=lambda t: 1e3 * depth_for_force(t["normal_force_1_n"], law.k_n_per_mm_n, law.n))
+
+
+def _beyond_radius_from(run: Run, trace: pd.DataFrame) -> float:
+    """The first iteration at which finger 1 lies deeper than the fingertip radius (nan: never)."""
+    deep = trace.loc[trace["depth_1_mm"] > _radius_mm(run), "iteration"]
+    return float(deep.min()) if len(deep) else math.nan
 
 
 def _per_mu(run: Run) -> pd.DataFrame:
@@ -38,7 +55,8 @@ def _per_mu(run: Run) -> pd.DataFrame:
         settle = settle_iteration(tr["residual_norm_n"].to_numpy(float), tr["iteration"].to_numpy(), tau)
         rec = run.ok[run.ok["mu"] == mu]
         rows += [{"mu": mu, "quantity": q, "paper": paper, "ours": ours, "digits": d, "n": len(rec),
-                  "why": "never settles within the trace" if ours != ours else ""} for q, paper, ours, d in (
+                  "why": NEVER if ours != ours else COMMANDED if "finger-1" in q else ""}
+                 for q, paper, ours, d in (
             (f"iteration from which ‖R‖ stays < {tau:g} N", p.residual_settles_within_iterations, settle, 0),
             ("final slip margin (μf_n − ‖f_t‖)/(μf_n) [–]", (p.slip_margin_saturates_above, 1.0)
              if mu >= p.slip_margin_saturates_from_mu else None, float(tr["slip_margin_rel"].iloc[-1]), 2),
@@ -47,21 +65,33 @@ def _per_mu(run: Run) -> pd.DataFrame:
             ("largest torque residual ‖τ‖ [N·m]", p.torque_residual_nm, float(tr["torque_norm_nm"].max()), 3),
             ("final residual ‖R‖ of the record [N]", (0.0, tau), float(rec["residual_norm_n"].median()), 2))]
     frame = verdicts(pd.DataFrame(rows), "ours", "paper", digits="digits")
+    never = (frame["why"] == NEVER) & frame["paper"].notna()  # never settling is the disagreement
+    frame.loc[never, "differs"] = True
+    frame.loc[never, "verdict"] = [f"differs: {NEVER} (paper: settles in {lo}–{hi})"
+                                   for lo, hi in frame.loc[never, "paper"]]
+    frame.loc[frame["why"] == COMMANDED, ["difference", "differs", "verdict"]] = [math.nan, None, COMMANDED]
     return frame.assign(paper=[f"{v[0]:g}–{v[1]:g}" if isinstance(v, tuple) else v for v in frame["paper"]])
 
 
 def finding(run: Run) -> str:
     table, p = _per_mu(run), run.paper
-    settle = table[table["quantity"].str.startswith("iteration")]
+    settle, compared = table[table["quantity"].str.startswith("iteration")], table["differs"].notna()
+    deep, r = _beyond_radius_from(run, _traces(run)), _radius_mm(run)
     return (f"Under the fixed {p.finger_force_command_n:g} N grip command the force residual settles below "
             f"τ_F = {_tau(run):g} N at {settle['ours'].notna().sum()} of {len(settle)} friction levels "
             f"(paper: by iteration {p.residual_settles_within_iterations[1]} at every level), and "
-            f"{int((table['differs'] == True).sum())} of {len(table)} quantities differ from the paper's "  # noqa: E712
-            f"statements. At Table 3's contact constants this command needs a penetration of "
-            f"{run.ok['delta_max_mm'].max() / 1e3:.3g} m, far outside the contact law's range (the paper "
-            "calls the study a robustness test outside the validated envelope, Sec. 6.4); we record it "
-            "rather than rescale (`docs/decisions.md`, *Simulation studies (issue 4, campaign side)*: "
-            "wrench_balance).")
+            f"{int(table.loc[compared, 'differs'].astype(bool).sum())} of {int(compared.sum())} compared "
+            "quantities differ from the paper's statements (a residual that never settles differs; the "
+            "final finger-1 normal force is the command, reached by construction, not a result). At "
+            "Table 3's contact constants this command drives the contacts "
+            f"{run.ok['delta_max_mm'].max() / 1e3:.3g} m deep, "
+            + (f"deeper than the fingertip radius r = {r:g} mm from iteration {deep:.0f} on (shaded in "
+               "Fig. 17): a non-physical state, the fingertip centre inside the object, so these traces "
+               "are the published algorithm's arithmetic, not a grasp. " if deep == deep else
+               f"within the fingertip radius r = {r:g} mm. ")
+            + "The paper calls the study a robustness test outside the validated envelope (Sec. 6.4); we "
+            "record it rather than rescale (`docs/decisions.md`, *Simulation studies (issue 4, campaign "
+            "side)*: wrench_balance).")
 
 
 PANELS = (("residual_norm_n", "(a) force residual ‖R‖ [N]"),
@@ -87,6 +117,15 @@ def fig17(run: Run, fig) -> None:
         axes[2].set(ylim=(-1.0, 1.1), title=PANELS[2][1] + ", clipped at −1")
     axes[3].axhline(p.finger_force_command_n, color=style.PAPER, linestyle=":",
                     label=f"paper: ≈{p.finger_force_command_n:g} N command")
+    if (deep := _beyond_radius_from(run, trace)) == deep:  # mark the non-physical part of the traces
+        for ax in axes:
+            ax.axvspan(deep, trace["iteration"].max(), facecolor="white", edgecolor="#bbbbbb", hatch="//",
+                       linewidth=0.5, zorder=0, label=f"non-physical: contact deeper than r = "
+                       f"{_radius_mm(run):g} mm (from iteration {deep:.0f})" if ax is axes[3] else None)
+        last = trace.loc[trace["iteration"].idxmax()]
+        axes[3].annotate(f"finger-1 depth at iteration {last['iteration']:.0f}: "
+                         f"{last['depth_1_mm'] / 1e3:.3g} m", xy=(0.98, 0.55), xycoords="axes fraction",
+                         ha="right", fontsize=7, color=style.CRITERION)
     for ax in axes:
         ax.legend(loc="best")
     for ax in axes[2:]:
@@ -96,15 +135,18 @@ def fig17(run: Run, fig) -> None:
 SPEC = ReportSpec("wrench_balance", [
     Finding(finding),
     Table("wrench_balance", "Wrench balance per friction level beside Sec. 6.4 (fixed grip command; one "
-          "trial per μ; traces from tables/iterations)", _per_mu, [
+          "trial per μ; traces from tables/iterations). Verdict: a residual that never settles "
+          "within the trace differs from the paper's settling window; the final finger-1 normal force is "
+          "the grip command, which the closing ramp reaches by construction, and is not compared", _per_mu, [
               Col("mu", "μ"), Col("quantity", "quantity"), Col("paper", "paper", "digits"),
               Col("ours", "ours", "digits", why="why"),
               Col("difference", "difference", "digits", signed=True), Col("n", "n"),
               Col("verdict", "verdict")]),
     Figure("fig17_wrench", "Fig. 17 (ours): (a) force residual, (b) torque residual, (c) friction-cone slip "
-           "margin, (d) finger-1 normal force per iteration; the paper's statements in black", fig17,
+           "margin, (d) finger-1 normal force per iteration; the paper's statements in black; hatched: "
+           "iterations whose contact lies deeper than the fingertip radius (non-physical: the fingertip "
+           "centre inside the object)", fig17,
            (9.0, 6.0)),
-    DesignLimit(["mu"], caption="Penetration against the paper's 1 mm design limit (Sec. 4); the paper notes "
-                "this study's command lies far outside the validated envelope (Sec. 6.4)"),
+    design_limit(["mu"]),
     GateRemoved(["mu"]),
 ])
