@@ -9,8 +9,9 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 import pytest
+from statsmodels.stats.weightstats import DescrStatsW
 
-from graspcampaign.analysis.calibration import damage_summary, table5, transfer_summary
+from graspcampaign.analysis.calibration import damage_summary, table4, table5, transfer_summary
 
 
 def test_transfer_summary_per_quantity_and_split_in_the_papers_order():
@@ -40,6 +41,20 @@ def test_damage_summary_per_family_with_the_error_against_the_truth():
         pytest.approx((np.mean([2.0, 3.0, 4.5]), 2.0, 4.5))
     assert row["abs_error_median_mm"] == pytest.approx(np.median([0.5, 1.0, 0.5]))
     assert "abs_error_median_mm" not in damage_summary(depths)  # ingested: no truths
+    # 5.5 mm is deeper than the 5 mm fingertip radius: no contact is that deep
+    assert damage_summary(depths.assign(damage_depth_mm=[2.0, 5.5, 6.0]))["beyond_radius"].tolist() == [2]
+
+
+def test_table4_damping_is_the_median_with_the_negative_fits_counted():
+    """A few wild per-event C (here -5 N s/m) ruled the family mean: Table 4 printed C = -1.2 beside
+    the paper's 0.06; the median and the count of non-physical negative C say what the fits hold."""
+    c = [-5.0, 0.05, 0.06, 0.07, -0.01]
+    fits = pd.DataFrame({"material": "gel", "block": "normal", "fit_ok": True, "accepted": True,
+                         "exponent_n": 0.5, "k_n_per_mm_n": 0.3, "f05_n": 0.2, "c_n_s_per_m": c,
+                         **dict.fromkeys(["mu_s", "mu_k", "k_t_n_per_mm", "rho", "tau_s"], np.nan)})
+    row = table4(fits).iloc[0]
+    assert row["c_n_s_per_m"] == pytest.approx(np.median(c)) and row["c_negative"] == 2
+    assert row["n_accepted_fits"] == 5
 
 
 def test_table5_over_the_converged_runs_and_their_bounds():
@@ -52,4 +67,7 @@ def test_table5_over_the_converged_runs_and_their_bounds():
     assert np.isnan(t.loc["b", "cv_pct"])  # mean 0: CV undefined
     assert t.loc["lambda2", "sd"] == pytest.approx(0, abs=1e-15)
     assert t["n_runs"].eq(3).all()
+    # the mean's 95% interval: Student t over the 3 converged runs (statsmodels)
+    assert (t.loc["lambda1", "mean_low"], t.loc["lambda1", "mean_high"]) == pytest.approx(
+        DescrStatsW(np.array([1.0, 2.0, 4.0])).tconfint_mean(0.05))
     assert t["n_at_bound"].to_dict() == {"lambda1": 0, "lambda2": 2, "n": 0, "b": 1, "k": 0, "c": 0}

@@ -46,6 +46,10 @@ def test_number_variants():
     ((0.512, 0.833), {"digits": 3}, (True, "differs by \u22120.321")),
     ((35.0, (30, 40)), {"digits": 0}, (False, "inside the paper's range 30–40")),
     ((20.0, (30, 40)), {"digits": 0}, (True, "differs: below the paper's range 30–40")),
+    # Test 1's lowest family n 0.4252 prints 0.43: inside 0.43–0.48 as printed; 0.4249 prints 0.42
+    ((0.4252, (0.43, 0.48)), {"digits": 2},
+     (False, "inside the paper's range 0.43–0.48 at its printed precision")),
+    ((0.4249, (0.43, 0.48)), {"digits": 2}, (True, "differs: below the paper's range 0.43–0.48")),
     # a percentage and a range of percentages are "%"; only a difference of two is "pp"
     ((85.0, (90, 100)), {"unit": "%"}, (True, "differs: below the paper's range 90.0–100.0%")),
     ((2.0, (0, 4)), {"unit": "%"}, (False, "inside the paper's range 0.0–4.0%")),

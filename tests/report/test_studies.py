@@ -310,6 +310,13 @@ def test_shapes_section_flags_disagreement(tmp_path):
 TABLE3 = {"lambda1": 0.332, "lambda2": 0.880, "n": 0.487, "b": 0.646, "k": 0.138, "c": 0.00247}
 
 
+def _md_table(md: str, name: str) -> pd.DataFrame:
+    """The Markdown table printed above ``tables/<name>.csv`` as text cells (minus signs as "-")."""
+    lines = md.split(f"(`tables/{name}.csv`)", 1)[1].strip().split("\n\n", 1)[0].splitlines()
+    rows = [[c.strip().replace("\u2212", "-") for c in line.strip("|").split("|")] for line in lines]
+    return pd.DataFrame(rows[2:], columns=rows[0])
+
+
 def test_pso_cv_table3_and_trace(tmp_path):
     def outputs(factors, rng):
         return {"lambda1": rng.uniform(0.1, 0.6), "lambda2": rng.uniform(0.3, 1.4),
@@ -340,6 +347,15 @@ def test_pso_cv_table3_and_trace(tmp_path):
     assert t3.loc["c", "ours_mean"] == pytest.approx(ok["c"].mean())
     best = ok.loc[ok["best_cost"].idxmin()]
     assert t3.loc["k", "ours_best_run"] == pytest.approx(best["k"])
+    # each row keeps 3 significant digits: c ~ 0.005 beside b ~ 1 printed "0.01 | 0.00 | 0.00" when a
+    # column was rounded once; the shown parameter is its label (λ1), the CSV keeps the id
+    md = (store.path / "report" / "report.md").read_text()
+    shown = _md_table(md, "table3").set_index("parameter")
+    assert list(shown.index) == ["λ1", "λ2", "n", "b", "k", "c"]
+    for p, label_ in zip(t3.index, shown.index, strict=True):
+        for col, head in (("paper", "paper (Table 3)"), ("ours_mean", "ours mean"),
+                          ("ours_median", "ours median")):
+            assert float(shown.loc[label_, head]) == pytest.approx(t3.loc[p, col], rel=5e-3), (p, col)
     bands = read_table(store, "convergence")
     trace_df = store.read("tables/pso_trace").to_pandas()
     assert bands["p25"].to_numpy() == pytest.approx(
@@ -509,7 +525,7 @@ def test_pso_budgets_split_and_pinned_parameters(tmp_path):
     t3 = read_table(store, "table3").set_index("parameter")
     assert t3.loc["c", "ours_mean"] == pytest.approx(0.002) and t3.loc["c", "n"] == len(conv)
     md = (store.path / "report" / "report.md").read_text()
-    assert "Pinned in every run (CV 0, a bound of the search box): lambda1 at 1.5" in md
+    assert "Pinned in every run (CV 0, a bound of the search box): λ1 at 1.5" in md  # the label, not the id
     assert cv.loc["lambda1", "why"] == "every value is the same: a zero spread has no interval"
     assert "| lambda1 | 60.0 | 0.0 (every value is the same" not in md  # no interval shown
     assert "restarts at the paper's 8 × 15 budget" in md

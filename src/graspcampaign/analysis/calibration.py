@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 import pandas as pd
+from scipy import stats
 
 from graspcampaign.core import bench
 from graspcampaign.core.bench import FAMILIES
@@ -16,6 +17,8 @@ from graspcampaign.core.bench import FAMILIES
 MATERIALS = tuple(FAMILIES)
 """Material families in Table 4 order."""
 KEY = ["material", "specimen", "environment"]
+ENVIRONMENTS = {"cool_dry": "cool/dry", "normal_lab": "normal-lab", "warm_humid": "warm/humid"}
+"""Environmental groups in the paper's words (§7.1)."""
 
 
 def fitted(records: pd.DataFrame) -> pd.DataFrame:
@@ -52,13 +55,16 @@ def cyclic_summary(fits: pd.DataFrame) -> pd.DataFrame:
 
 
 def table4(fits: pd.DataFrame, truths: pd.DataFrame | None = None) -> pd.DataFrame:
-    """Per-family means in Table 4's layout: accepted normal fits (n, K, f0.5, C, their count),
-    fitted slides (μs, μk, kt) and holds (ρ, τ); E (mean, SD over specimens) from the virtual
-    bench's ``truths`` when given (the bench measures no modulus)."""
+    """Per-family means in Table 4's layout: accepted normal fits (n, K, f0.5, their count; C their
+    median, a mean being ruled by a few wild per-event C, and ``c_negative`` the fits whose C < 0,
+    non-physical), fitted slides (μs, μk, kt) and holds (ρ, τ); E (mean, SD over specimens) from
+    the virtual bench's ``truths`` when given (the bench measures no modulus)."""
     fits = fits[fits["fit_ok"].astype(bool)]
-    nf = fits[(fits["block"] == "normal") & fits["accepted"].astype(bool)].groupby("material")
+    nf = fits[(fits["block"] == "normal") & fits["accepted"].astype(bool)]
+    c, nf = nf["c_n_s_per_m"].groupby(nf["material"]), nf.groupby("material")
     sl, rl = (fits[fits["block"] == b].groupby("material") for b in ("sliding", "relaxation"))
-    out = pd.concat([nf[["exponent_n", "k_n_per_mm_n", "f05_n", "c_n_s_per_m"]].mean(),
+    out = pd.concat([nf[["exponent_n", "k_n_per_mm_n", "f05_n"]].mean(), c.median(),
+                     c.agg(lambda v: int((v < 0).sum())).rename("c_negative"),
                      nf.size().rename("n_accepted_fits"), sl[["mu_s", "mu_k", "k_t_n_per_mm"]].mean(),
                      rl[["rho", "tau_s"]].mean()], axis=1)
     if truths is not None and len(truths):
@@ -68,12 +74,15 @@ def table4(fits: pd.DataFrame, truths: pd.DataFrame | None = None) -> pd.DataFra
 
 
 def table5(runs: pd.DataFrame) -> pd.DataFrame:
-    """Mean, SD, CV (%) of each identified parameter over the converged runs (Table 5), and
-    ``n_at_bound``: converged runs that ended with that parameter on a search bound."""
+    """Mean (with its 95% Student-t interval ``mean_low``/``mean_high``), SD, CV (%) of each
+    identified parameter over the converged runs (Table 5), and ``n_at_bound``: converged runs
+    that ended with that parameter on a search bound."""
     ok = runs[runs["converged"].astype(bool)]
     p = ["lambda1", "lambda2", "n", "b", "k", "c"]
     out = pd.DataFrame({"parameter": p, "mean": ok[p].mean().to_numpy(),
                         "sd": ok[p].std(ddof=1).to_numpy(), "n_runs": len(ok)})
+    half = stats.t.ppf(0.975, len(ok) - 1) * out["sd"] / np.sqrt(len(ok)) if len(ok) > 1 else np.nan
+    out["mean_low"], out["mean_high"] = out["mean"] - half, out["mean"] + half
     out["cv_pct"] = 100.0 * out["sd"] / out["mean"].where(out["mean"] != 0)
     bound = ok["at_bound"].fillna("").str.split(",") if "at_bound" in ok else None
     out["n_at_bound"] = [int(bound.map(lambda b, q=q: q in b).sum()) if bound is not None else None
@@ -88,21 +97,26 @@ ORDER = {"quantity": ("normal_force", "friction", "relaxation", "flat_to_curved"
 
 def transfer_summary(errors: pd.DataFrame) -> pd.DataFrame:
     """Transfer errors (``rig.test1_summary.transfer_errors``) per quantity and split: events, mean,
-    median and 95th percentile of ``error_pct``, in :data:`ORDER`."""
+    median and 95th percentile of ``error_pct``, in :data:`ORDER`; ``<quantity|split>_label`` in words."""
     if not len(errors):
         return errors
     t = errors.groupby(["quantity", "split"])["error_pct"].agg(
         events="size", mean_error_pct="mean", median_error_pct="median",
         p95_error_pct=lambda e: e.quantile(0.95)).reset_index()
+    t["quantity_label"], t["split_label"] = (t[c].str.replace("_", " ") for c in ("quantity", "split"))
     return t.sort_values(["quantity", "split"], key=lambda c: c.map(ORDER[c.name].index))
 
 
-def damage_summary(depths: pd.DataFrame, truths: pd.DataFrame | None = None) -> pd.DataFrame:
+def damage_summary(depths: pd.DataFrame, truths: pd.DataFrame | None = None,
+                   radius_mm: float = bench.FINGERTIP_RADIUS * 1e3) -> pd.DataFrame:
     """Damage depths (``rig.test1_summary.damage_depths``) per family: specimens, mean/min/max depth,
-    how many were set-limited or extrapolated, the criteria, and with the virtual bench's ``truths``
-    the median absolute error against each specimen's true threshold."""
+    how many were set-limited, extrapolated (beyond the deepest cycled level) or beyond the
+    fingertip radius ``radius_mm`` (``beyond_radius``: deeper is not a contact), the criteria, and
+    with the virtual bench's ``truths`` the median absolute error against each specimen's true
+    threshold."""
     if not len(d := depths):
         return d
+    d = d.assign(beyond_radius=d["damage_depth_mm"] > radius_mm)
     if truths is not None and len(truths):
         d = d.merge(truths[[*KEY, "damage_depth_mm"]], "left", KEY, suffixes=("", "_true"))
         d["abs_error_median_mm"] = (d["damage_depth_mm"] - d["damage_depth_mm_true"]).abs()
@@ -110,7 +124,8 @@ def damage_summary(depths: pd.DataFrame, truths: pd.DataFrame | None = None) -> 
         .sort_values("material", key=lambda m: m.map(MATERIALS.index)).groupby("material", sort=False)
     depth = g["damage_depth_mm"].agg(damage_depth_mean_mm="mean", damage_depth_min_mm="min",
                                      damage_depth_max_mm="max")
-    return pd.concat([g.size().rename("specimens"), depth, g[["set_limited", "extrapolated"]].sum(),
+    return pd.concat([g.size().rename("specimens"), depth,
+                      g[["set_limited", "extrapolated", "beyond_radius"]].sum(),
                       g[["abs_error_median_mm"]].median() if "abs_error_median_mm" in d else None,
                       g[["stiffness_target", "set_limit_mm"]].first() if "set_limit_mm" in d else None],
                      axis=1).reset_index()

@@ -107,9 +107,10 @@ def paper_text(paper: Any, digits: int | None = None) -> str:
 def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits: int = 1,
             unit: str = "") -> tuple[bool | None, str]:
     """Say how ours stands against the paper's value: ``(differs, words)``, the one rule: a range agrees
-    inside it; a word when equal; ours with a 95 % interval when it holds the paper's value; otherwise
-    within one unit of the paper's last printed digit (``10**-digits``). ``unit`` is the values' unit:
-    a value or range of percentages prints ``%``, a difference of two percentages ``pp``."""
+    inside it (ours rounded to ``digits``, as printed); a word when equal; ours with a 95 % interval
+    when it holds the paper's value; otherwise within one unit of the paper's last printed digit
+    (``10**-digits``). ``unit`` is the values' unit: a value or range of percentages prints ``%``, a
+    difference of two percentages ``pp``."""
     if is_missing(paper):
         return None, "the paper reports no value"
     if is_missing(ours):
@@ -120,6 +121,8 @@ def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits:
         where = f"the paper's range {interval(lo, hi, digits)}{'' if unit in ('', '%') else ' '}{unit}"
         if lo <= float(ours) <= hi:
             return False, f"inside {where}"
+        if lo <= round(float(ours), digits) <= hi:  # ours as printed (0.4252 -> 0.43 in 0.43-0.48)
+            return False, f"inside {where} at its printed precision"
         return True, f"differs: {'below' if float(ours) < lo else 'above'} {where}"
     if isinstance(paper, bool | str) or isinstance(ours, bool | str):
         if str(ours) == str(paper):

@@ -11,6 +11,7 @@ from graspcampaign.analysis import agreement
 from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
 from graspcampaign.analysis.records import at_bound
 from graspcampaign.analysis.vocabulary import PROPOSED, colour, label
+from graspcampaign.report import format as fmt
 from graspcampaign.report import style
 from graspcampaign.report.document import Col
 from graspcampaign.report.render import Run
@@ -18,7 +19,15 @@ from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, Text, 
 
 #: Identified parameters in Table 3's order (record columns; the paper calls ``n_exp`` n).
 PARAMETERS = ("lambda1", "lambda2", "n_exp", "b", "k", "c")
+NAME = {"n_exp": "n"}
+"""Table 3's name of a record column."""
 BOUND = Col("at_bound", "on a search bound", share="at_bound_pct")
+
+
+def _digits(table3, parameter: str) -> int | None:
+    """A parameter row's decimals: 3 significant digits of Table 3's value (b ~ 0.6 and c ~ 0.002 share
+    a column; one rounding per column hid c)."""
+    return fmt.decimals([getattr(table3, NAME.get(parameter, parameter))])
 
 
 def _budgets(run: Run) -> tuple[pd.DataFrame, pd.DataFrame]:
@@ -49,9 +58,11 @@ def _cv(run: Run) -> pd.DataFrame:
             why = str(exc)
         ref = paper.n if p == "n_exp" else paper.lambda_approx if p.startswith("lambda") \
             else paper.others_range
-        rows.append({"parameter": p, "paper_cv_pct": ref, "low_pct": 100 * low, "high_pct": 100 * high,
-                     "cv_pct": 100 * agreement.coefficient_of_variation(v), "why": why, "n": v.size,
-                     "mean": v.mean(), "sd": v.std(ddof=1), **_bound(ok[ok[p].notna()], p)})
+        rows.append({"parameter": p, "parameter_label": label("parameter", p), "paper_cv_pct": ref,
+                     "low_pct": 100 * low, "high_pct": 100 * high, "why": why, "n": v.size,
+                     "cv_pct": 100 * agreement.coefficient_of_variation(v), "mean": v.mean(),
+                     "sd": v.std(ddof=1), "digits": _digits(run.paper.table3, p),
+                     **_bound(ok[ok[p].notna()], p)})
     frame = verdicts(pd.DataFrame(rows), "cv_pct", "paper_cv_pct", "low_pct", "high_pct", unit="%")
     paper = frame["paper_cv_pct"]
     return frame.assign(paper_range_pct=[f"{v[0]:g}–{v[1]:g} (range)" if isinstance(v, tuple) else ""
@@ -67,8 +78,9 @@ def table3(name: str, caption: str, identified, paper_from, empty: str | None = 
         best = ident.loc[ident["best_cost"].astype(float).idxmin()] \
             if "best_cost" in ident and ident["best_cost"].notna().any() else None
         for p in [p for p in PARAMETERS if p in ident and ident[p].notna().any()]:
-            v, pv = ident[p].dropna().to_numpy(float), getattr(ref, {"n_exp": "n"}.get(p, p))
-            rows.append({"parameter": p, "paper": pv, "ours_mean": v.mean(), "ours_median": np.median(v),
+            v, pv = ident[p].dropna().to_numpy(float), getattr(ref, NAME.get(p, p))
+            rows.append({"parameter": p, "parameter_label": label("parameter", p), "paper": pv,
+                         "digits": _digits(ref, p), "ours_mean": v.mean(), "ours_median": np.median(v),
                          "ours_best_run": float(best[p]) if best is not None else math.nan,
                          "difference_mean": v.mean() - pv, "n": v.size,
                          "relative_difference_pct": 100 * (v.mean() - pv) / pv,
@@ -76,10 +88,10 @@ def table3(name: str, caption: str, identified, paper_from, empty: str | None = 
         return pd.DataFrame(rows)
 
     return Table(name, caption, compute, [
-        Col("parameter", "parameter"), Col("paper", "paper (Table 3)", sig=3),
-        Col("ours_mean", "ours mean", sig=3), Col("ours_median", "ours median", sig=3),
-        Col("ours_best_run", "ours best-cost run", sig=3),
-        Col("difference_mean", "difference (mean − paper)", sig=3, signed=True),
+        Col("parameter_label", "parameter"), Col("paper", "paper (Table 3)", "digits"),
+        Col("ours_mean", "ours mean", "digits"), Col("ours_median", "ours median", "digits"),
+        Col("ours_best_run", "ours best-cost run", "digits"),
+        Col("difference_mean", "difference (mean − paper)", "digits", signed=True),
         Col("relative_difference_pct", "relative [%]", 0, signed=True), Col("n", "n"), BOUND], empty=empty)
 
 
@@ -110,16 +122,18 @@ def finding(run: Run) -> str:
                  f"{label('parameter', tight['parameter'])} has the smallest CV ({tight['cv_pct']:.1f}%). ")
     if len(pinned):
         text += "Pinned in every run (CV 0, a bound of the search box): " + ", ".join(
-            f"{p} at {m:.4g}" for p, m in zip(pinned["parameter"], pinned["mean"], strict=True)) + ". "
+            f"{label('parameter', p)} at {m:.4g}"
+            for p, m in zip(pinned["parameter"], pinned["mean"], strict=True)) + ". "
     if len(bound):
         text += "Ended on a PSO search bound (`at_bound`): " + ", ".join(
             f"{label('parameter', p)} in {k:.0f} of {n} runs"
             for p, k, n in bound[["parameter", "at_bound", "n"]].itertuples(index=False)) + \
             "; such a value is the box's edge, not an identified optimum. "
     if len(flat):
-        text += (f"The cost J does not depend on {flat.iloc[0].replace(',', ', ')} in the quasi-static "
-                 "evaluator (the damping term vanishes in the static loop; the MSD constants do not enter "
-                 "Algorithms 1-2), so their spread is where the swarm stopped, not a measure of "
+        flat_in = ", ".join(label("parameter", p) for p in flat.iloc[0].split(","))
+        text += (f"The cost J does not depend on {flat_in} in the quasi-static evaluator (the damping "
+                 "term vanishes in the static loop; the MSD constants do not enter Algorithms 1-2), so "
+                 "their spread is where the swarm stopped, not a measure of "
                  "identifiability (`docs/decisions.md`, *Report (issue 5)*: PSO).")
     return text
 
@@ -165,10 +179,12 @@ SPEC = ReportSpec("pso_repeatability", [
     Table("cv", lambda run: "Coefficient of variation of each identified parameter over the PSO restarts "
           "beside Sec. 6.8 (sample SD / mean; 95% percentile bootstrap over runs, "
           f"{BOOTSTRAP_RESAMPLES} resamples, seed {run.seed}); runs ending on a search bound", _cv, [
-              Col("parameter", "parameter"), Col("paper_cv_pct", "paper CV %", 1, why="paper_range_pct"),
+              Col("parameter_label", "parameter"),
+              Col("paper_cv_pct", "paper CV %", 1, why="paper_range_pct"),
               Col("cv_pct", "ours CV % (95%)", 1, low="low_pct", high="high_pct", why="why"),
-              Col("difference", "difference [pp]", 1, signed=True), Col("n", "n"), Col("mean", "mean", sig=4),
-              Col("sd", "SD", sig=4), BOUND, Col("verdict", "verdict")]),
+              Col("difference", "difference [pp]", 1, signed=True), Col("n", "n"),
+              Col("mean", "mean", "digits"),
+              Col("sd", "SD", "digits"), BOUND, Col("verdict", "verdict")]),
     table3("table3", "Table 3 beside our identified values (converged-budget restarts when the run has "
            "them); b, k and c are in the paper's internal unit system (Table 3 caption), so only their order "
            "of magnitude is comparable; a value on a search bound is the box's edge",

@@ -14,16 +14,18 @@ from graspcampaign.analysis.records import Estimate
 from graspcampaign.analysis.vocabulary import colour, label
 from graspcampaign.core.bench import RMSE_REVIEW_THRESHOLD_PCT as REVIEW_PCT
 from graspcampaign.core.contact import normal_force
+from graspcampaign.report import format as fmt
 from graspcampaign.report.document import Col, cols
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Claims, Figure, Finding, ReportSpec, Table, Text, Value, share, verdicts
+from graspcampaign.report.studies.test2 import rig
 from graspcampaign.report.style import CRITERION, PAPER, legend_below, paper_handle, paper_marks
 
 WHY = "`docs/decisions.md`, *Test 1 bench protocol (issue 8)* and *Test 1 in the engine (issue 8)*"
 BLUE, ORANGE, RED, GREY = "#1f5aa6", "#e08a1e", "#c62828", "#8c8c8c"
 T4 = {"modulus_kpa": "E [kPa]", "modulus_sd_kpa": "E SD [kPa]", "exponent_n": "n", "k_n_per_mm_n":
-      "K [N mm⁻ⁿ]", "f05_n": "f0.5 [N]", "c_n_s_per_m": "C [N s/m]", "mu_s": "μs", "mu_k": "μk",
-      "k_t_n_per_mm": "kt [N/mm]", "rho": "ρ", "tau_s": "τ [s]"}
+      "K [N mm⁻ⁿ]", "f05_n": "f0.5 [N]", "c_n_s_per_m": "C [N s/m]", "c_negative": "fits with C < 0",
+      "mu_s": "μs", "mu_k": "μk", "k_t_n_per_mm": "kt [N/mm]", "rho": "ρ", "tau_s": "τ [s]"}
 
 
 def _fits(run: Run, block: str | None = None, *need: str) -> pd.DataFrame:
@@ -40,6 +42,7 @@ FRAMES = {
     "cool_dry": lambda r: FRAMES["sliding"](r).query("environment == 'cool_dry'"),
     "warm_humid": lambda r: FRAMES["sliding"](r).query("environment == 'warm_humid'"),
     "oblique": lambda r: cal.oblique_summary(_fits(r)), "cyclic": lambda r: cal.cyclic_summary(_fits(r)),
+    "damage": lambda r: cal.damage_summary(r.part("summary/damage_depth"), r.part("summary/truths")),
     "last_cycle": lambda r: FRAMES["cyclic"](r).sort_values("cycle_index").groupby("specimen_id").tail(1)}
 
 
@@ -85,7 +88,7 @@ CLAIMS = [
           _v("normal", "c_n_s_per_m", "median"), _t4("c_n_s_per_m"), "N s/m", 3),
     Value("standard error of per-event C: median", "§7.2", _v("normal", "c_se_n_s_per_m", "median"),
           None, "N s/m"),
-    *(Value(f"μs {e.replace('_', '/')}: campaign mean", "§7.3", _v(e, "mu_s"),
+    *(Value(f"μs {cal.ENVIRONMENTS[e]}: campaign mean", "§7.3", _v(e, "mu_s"),
             lambda p, e=e: p.mu_s_environment[e]) for e in ("cool_dry", "warm_humid")),
     Value("μs > μk in every family", "Table 4", lambda r: bool(r.tables["table4"].query("row == 'ours'").eval(
         "mu_s > mu_k").all()), lambda p: all(r.mu_s > r.mu_k for r in p.table4.values())),
@@ -145,7 +148,9 @@ def _table5(run: Run) -> pd.DataFrame:
     for k in ("simulation", "mean", "sd", "cv_pct"):
         t[f"paper_{k}"] = [getattr(ref[p], k) for p in t["parameter"]]
     t["parameter_label"] = [label("parameter", p) for p in t["parameter"]]
-    return verdicts(t, "cv_pct", "paper_cv_pct", unit="%")
+    t["digits"] = [fmt.decimals([v]) for v in t[["paper_simulation", "paper_mean"]].min(axis=1)]  # 3 sig.
+    mean = verdicts(t, "mean", "paper_mean", "mean_low", "mean_high", "digits")
+    return verdicts(t.assign(mean_verdict=mean["verdict"]), "cv_pct", "paper_cv_pct", unit="%")
 
 
 def _pso_rows(run: Run):
@@ -205,6 +210,18 @@ def _transfer(run: Run) -> pd.DataFrame:
     return verdicts(t, "mean_error_pct", "paper_pct", unit="%")
 
 
+def _damage_caption(run: Run) -> str:
+    d, deepest = FRAMES["damage"](run), FRAMES["cyclic"](run)["depth_mm"].max()
+    k, r, n = (int(d[c].sum()) for c in ("extrapolated", "beyond_radius", "specimens"))
+    return ("Damage-depth threshold per fatigued specimen (§7.4: K/K1 below the stiffness target or set "
+            "above the set limit, whichever first, on power laws fitted through the cycled levels), with the "
+            f"virtual bench's median error against the true one; the paper gives no numbers. {k} of {n} lie "
+            f"beyond the deepest cycled level ({deepest:g} mm) and {r} beyond the "
+            f"{cal.bench.FINGERTIP_RADIUS * 1e3:g} mm fingertip radius (no contact is that deep): "
+            "extrapolations of the fitted laws, not measured depths. Tests 2-3 do not read this table: "
+            "they use the family's closed-form depth (`bench.true_damage_depth`, as far extrapolated)")
+
+
 def _note(run: Run) -> str:
     ingested = run.manifest.get("source") == "measured" and run.source == "virtual"
     return ("*This run was filled by `graspcampaign ingest`, but its files carried `source = virtual`: "
@@ -237,8 +254,8 @@ def finding(run: Run) -> str:
                      "identified. " if bound else "no converged run ended on a search bound. "))
     if len(tr := t.get("transfer", [])):
         worst = tr.loc[tr["mean_error_pct"].idxmax()]
-        text += (f"The largest transfer error is {worst['quantity'].replace('_', ' ')} on "
-                 f"{worst['split'].replace('_', ' ')} ({worst['mean_error_pct']:.1f}%). ")
+        text += (f"The largest transfer error is {worst['quantity_label']} on {worst['split_label']} "
+                 f"({worst['mean_error_pct']:.1f}%). ")
     return text + ("Where and why the virtual bench differs by construction (smaller fit errors and loops, "
                    "C not identifiable at 1 mN, λ1 near 2.1 because Eq. 14 with Table 4's moduli needs it, "
                    "new specimens drawn with Table 4's modulus SD that a family calibration cannot know): "
@@ -332,7 +349,7 @@ def fig24(run: Run, fig) -> None:
                                                 "normal_force_n"))
         on = np.where((x > x.min() + 0.01) & (x < x.max() - 0.01) & (fn > 0.5 * row["mean_normal_force_n"]),
                       1, np.nan)  # the limits only while the preload is on
-        ax_b.plot(x, ft, color=BLUE, lw=0.9, label=f"measured ft ({row['environment'].replace('_', ' ')})")
+        ax_b.plot(x, ft, color=BLUE, lw=0.9, label=f"{rig(run)} ft ({cal.ENVIRONMENTS[row['environment']]})")
         for col, ls in (("mu_s", "--"), ("mu_k", ":")):
             mu = col.replace("mu_", "μ")
             ax_b.plot(x, row[col] * fn * on, color=RED, ls=ls, label=f"{mu} fn ({mu} = {row[col]:.3f})")
@@ -414,9 +431,8 @@ def fig26(run: Run, fig) -> None:
     legend_below(ax_b, ncol=2)
     xs, held = np.arange(len(tr)), tr["split"] != "train"
     _bars(ax_c, xs, tr.get("mean_error_pct", []), tr.get("paper_pct", []), np.where(held, BLUE, GREY), 0.6)
-    ax_c.set_xticks(xs, [f"{q}\n{s}".replace("_", " ") for q, s in zip(tr["quantity"], tr["split"],
-                                                                       strict=True)],
-                    rotation=60, ha="right", fontsize=6.5)
+    ax_c.set_xticks(xs, [s if q in s else f"{q}\n{s}" for q, s in zip(tr.get("quantity_label", []), tr.get(
+        "split_label", []), strict=True)], rotation=60, ha="right", fontsize=6.5)  # split naming its quantity
     ax_c.set(ylabel="mean transfer error [%]", title="(c) training (grey) vs held-out splits (blue)")
     ax_c.legend(handles=[paper_handle("paper §7.6")], loc="upper left")
 
@@ -430,9 +446,11 @@ SPEC = ReportSpec("test1_bench", [
           f"{REVIEW_PCT:g}% of peak and no logged anomaly; a reduced study has proportionally fewer events",
           _counts, [*cols("quantity", "paper"), Col("ours", "ours", 0), *cols("verdict")]),
     Table("table4", "Table 4, ours beside the paper's: family means of the accepted normal fits (n, K, "
-          "f0.5, C) and of the fitted slides and holds. Our E is the virtual bench's drawn specimen modulus "
-          "(the bench measures none), mean and SD over specimens; per-event C is not identifiable at 1 mN "
-          "(its median standard error is below)", _table4, [
+          "f0.5) and of the fitted slides and holds. Our E is the virtual bench's drawn specimen modulus "
+          "(the bench measures none), mean and SD over specimens. Our C is the median of the accepted "
+          "fits' per-event C: per-event C is not identifiable at 1 mN (its median standard error is "
+          "below), a few wild fits rule its mean, and a negative C, non-physical (a damper cannot add "
+          "energy), is a fit of the noise; 'fits with C < 0' counts them", _table4, [
               Col("row", "row"), Col("n_accepted_fits", "accepted normal fits", 0),
               *(Col(k, v, sig=3) for k, v in T4.items())], by=["material"]),
     Claims("test1_claims", "§7 figures in the text beside the paper's (accepted fits unless stated; "
@@ -453,29 +471,30 @@ SPEC = ReportSpec("test1_bench", [
            f"over the fatigue cycles with the {run.paper.k_ratio_target:g} target; (c) permanent set with "
            "the paper's range", fig25, (13.0, 4.3)),
     Table("table5", "Table 5 beside the paper's: PSO re-identification on the training split's normal "
-          "traces, mean, SD and CV over the converged runs; 'at bound': converged runs that ended on a "
-          "search bound (their value is the box, not an identification). b, k and c do not enter a "
+          "traces, mean (95% Student-t interval), SD and CV over the converged runs, each parameter to 3 "
+          "significant digits of the paper's; the mean's verdict sets the paper's mean against our "
+          "interval, the CV's the two CVs; 'at bound': converged runs that ended on a search bound "
+          "(their value is the box, not an identification). b, k and c do not enter a "
           "single-contact trace and λ2 (C) is unresolved at 1 mN: their spread is the search prior",
           _table5, [
-              Col("parameter_label", "parameter"), *(Col(k, v, sig=3) for k, v in (
-                  ("paper_simulation", "Table 3"), ("paper_mean", "paper mean"), ("paper_sd", "paper SD"),
-                  ("mean", "ours mean"), ("sd", "ours SD"))),
-              *cols("paper_cv_pct", "cv_pct", "n_runs", "n_at_bound", "verdict")], empty=None),
+              Col("parameter_label", "parameter"), *(Col(k, v, "digits") for k, v in (
+                  ("paper_simulation", "Table 3"), ("paper_mean", "paper mean"), ("paper_sd", "paper SD"))),
+              Col("mean", "ours mean (95%)", "digits", low="mean_low", high="mean_high"),
+              Col("sd", "ours SD", "digits"), Col("mean_verdict", "mean: verdict"),
+              *cols("paper_cv_pct", "cv_pct", "n_runs", "n_at_bound"), Col("verdict", "CV: verdict")],
+          empty=None),
     Claims("pso_summary", _pso_caption, _pso_rows, empty=None),  # both left out without the PSO log
     Table("transfer", "§7.6 transfer errors of the training-split calibration (per-event fits), training "
           "beside the held-out splits (paper: friction 'near or below ~1%', read as 1.0)", _transfer,
-          cols("quantity", "split", "events", "paper_pct", "mean_error_pct", "median_error_pct",
-               "p95_error_pct", "verdict"), empty=None),
+          [Col("quantity_label", "quantity"), Col("split_label", "split"), *cols(
+              "events", "paper_pct", "mean_error_pct", "median_error_pct", "p95_error_pct", "verdict")],
+          empty=None),
     _Finalized(Figure("fig26_identification", "Fig. 26 (ours): (a) CV of each PSO-identified parameter "
                       "over the converged runs with Table 5's; (b) identified values relative to Table 3 "
                       "(ours and the paper's experiment); (c) mean transfer error per quantity and split "
                       "with the paper's §7.6 values", fig26, (13.0, 4.8))),
-    Table("damage_depth", "Damage-depth threshold per fatigued specimen (§7.4: K/K1 below the stiffness "
-          "target or permanent set above the set limit, whichever comes first; Tests 2-3 read "
-          "summary/damage_depth): family summaries and, on the virtual bench, the median error against "
-          "each specimen's true threshold; the paper gives no numbers", lambda run: cal.damage_summary(
-              run.part("summary/damage_depth"), run.part("summary/truths")), cols(
-              "specimens", "damage_depth_mean_mm", "damage_depth_min_mm", "damage_depth_max_mm",
-              "set_limited", "extrapolated", "abs_error_median_mm", "stiffness_target", "set_limit_mm"),
-          by=["material"], empty=None),
+    Table("damage_depth", _damage_caption, lambda run: FRAMES["damage"](run), cols(
+        "specimens", "damage_depth_mean_mm", "damage_depth_min_mm", "damage_depth_max_mm", "set_limited",
+        "extrapolated", "beyond_radius", "abs_error_median_mm", "stiffness_target", "set_limit_mm"),
+        by=["material"], empty=None),
 ])
