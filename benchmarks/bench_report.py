@@ -1,23 +1,23 @@
 """Benchmark the report at campaign scale: ~10^5 real engine records per run.
 
 Run: ``python benchmarks/bench_report.py``. Where the records come from: each of the
-``baseline_grid`` and ``ablation`` studies is run by the engine (``run_study``, sequential
-backend) with one seed over its full factor grid (a few hundred trials each, ~10 s) in a
-temporary results root. Its records, its ``tables/candidates`` (the ferrari_canny trials' sampled
-candidates, keyed by ``trial_id``, which the ``h_epsilon`` table and figure read) and its
-``prepared/`` identifications (one per body, shared by every seed, so copied as they are) are then
-tiled into a run ``bench`` of about 10^5 records: copy ``k`` of every record gets ``-c<k>``
-appended to ``trial_id`` and ``scene_id`` (its candidates follow its ``trial_id``), ``seed``
-offset by ``k`` seeds and ``trial_index`` by ``k`` runs, so ids stay unique and matched pairs
-(McNemar pairs planners, and grip laws, on one ``scene_id``) stay matched within each copy. Copies
-are therefore exact repeats of one seed's outcomes: the timings are at campaign scale, the
+``baseline_grid`` and ``ablation`` studies is run by the engine (``run_study``, sequential backend)
+with one seed over its full factor grid (a few hundred trials each, ~10 s) in a temporary results
+root. Its records, its ``tables/candidates`` (the ferrari_canny trials' sampled candidates, keyed
+by ``trial_id``, which the ``h_epsilon`` table and figure read) and its ``prepared/``
+identifications (one per body, shared by every seed, so copied as they are) are then tiled into a
+run ``bench`` of about 10^5 records: copy ``k`` of every record gets ``c<k>`` in its ``trial_id``
+(before the hash) and ``-c<k>`` after its ``scene_id`` (its candidates follow its ``trial_id``),
+``seed`` offset by ``k`` seeds and ``trial_index`` by ``k`` runs, so ids stay unique and matched
+pairs (McNemar pairs planners, and grip laws, on one ``scene_id``) stay matched within each copy.
+Copies are therefore exact repeats of one seed's outcomes: the timings are at campaign scale, the
 statistics are not a campaign's. The records are written in 20 shards as a run writes them; the
-manifest is the real run's with the run name, ``n_trials`` and ``seeds`` (= copies) changed, so
-the report finds the study's paper values and evaluator config. Then ``build_reports`` is timed
-for each run (every table, the shape-clustered bootstraps, McNemar on matched pairs, the figures,
-the headline page) and a Markdown table printed. Reference measured in the same run: reading the
-same records back into pandas (the least any report must do). Issue 5 target: the full report
-under 10 s. No asserts on time.
+manifest is the real run's with the run name, ``n_trials`` and ``seeds`` (= copies, and so its
+``config_hash``) changed, so the report finds the study's paper values and evaluator config. Then
+``build_reports`` is timed for each run (every table, the shape-clustered bootstraps, McNemar on
+matched pairs, the figures, the headline page) and a Markdown table printed. Reference measured in
+the same run: reading the same records back into pandas (the least any report must do). Issue 5
+target: the full report under 10 s. No asserts on time.
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ import pyarrow as pa
 from _common import best_of, print_table
 
 from graspcampaign.campaign.compose import compose_study
-from graspcampaign.campaign.provenance import read_manifest, write_manifest
+from graspcampaign.campaign.provenance import config_digest, read_manifest, write_manifest
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.runner import run_study
 from graspcampaign.report.build import build_reports
@@ -57,11 +57,18 @@ def _string_columns(table: pa.Table) -> tuple[str, ...]:
                  or pa.types.is_large_string(f.type))
 
 
+def _tiled(trial_id: str, k: int) -> str:
+    """Copy ``k``'s id of ``trial_id``: ``c<k>`` before its hash, so it keeps the tool's id form
+    (``<name>-<10 hex>``, which a run's check requires)."""
+    name, digest = trial_id.rsplit("-", 1)
+    return f"{name}c{k:04d}-{digest}"
+
+
 def _copy(rows: list[dict], k: int, n_seeds: int, n_trials: int) -> list[dict]:
-    """Copy ``k`` of ``rows``: ids suffixed, seed and trial index offset by ``k`` runs."""
+    """Copy ``k`` of ``rows``: ids marked, seed and trial index offset by ``k`` runs."""
     out = []
     for r in rows:
-        c = {**r, "trial_id": f"{r['trial_id']}-c{k:04d}", "run": "bench"}
+        c = {**r, "trial_id": _tiled(r["trial_id"], k), "run": "bench"}
         if "scene_id" in r:
             c["scene_id"] = f"{r['scene_id']}-c{k:04d}"
         if r.get("seed") is not None:
@@ -89,13 +96,14 @@ def tiled_run(real: RunStore, root: Path, name: str) -> tuple[RunStore, int]:
         aux = real.read(f"tables/{table}")
         aux_rows, aux_strings = aux.to_pylist(), _string_columns(aux)
         for s, ks in enumerate(np.array_split(np.arange(copies), N_SHARDS)):
-            part = [{**r, "trial_id": f"{r['trial_id']}-c{int(k):04d}"} for k in ks for r in aux_rows]
+            part = [{**r, "trial_id": _tiled(r["trial_id"], int(k))} for k in ks for r in aux_rows]
             store.write_shard(f"tables/{table}", f"{s:03d}", part, strings=aux_strings)
     if (real.path / "prepared").is_dir():
         shutil.copytree(real.path / "prepared", store.path / "prepared")
     manifest = read_manifest(real.manifest_path)
     manifest.update(run="bench", n_trials=n_real * copies)
     manifest["config"]["seeds"] = n_seeds * copies
+    manifest["config_hash"] = config_digest(manifest["config"])  # what the run's check recomputes
     write_manifest(store.manifest_path, manifest)
     return store, n_real * copies
 
