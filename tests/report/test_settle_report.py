@@ -26,5 +26,12 @@ def test_the_finding_claims_nothing_about_steps_the_records_do_not_hold():
     run.tables["settle"] = pd.DataFrame(rows)
     text = settle_finding(run)
     assert "departs" not in text and "larger steps" not in text  # one step per integrator recorded
-    assert "The implicit rule settles at 1.16× RK4's stable step, its settled shape within 0.0585 mm" in text
+    assert "The implicit rule ran at 1.16× RK4's stable step and settled, its shape within 0.0585 mm" in text
+    # a rule that did not settle is never said to settle (the report said so beside 'settled = no')
+    unsettled = [{**r, "settled": r["integrator"] == "rk4"} for r in rows]
+    run = Run(pd.DataFrame(unsettled), {}, SimpleNamespace(settles=True))
+    run.tables["settle"] = pd.DataFrame(unsettled)
+    text = settle_finding(run)
+    assert "The implicit rule ran at 1.16× RK4's stable step and did not settle (" in text
+    assert "settles at" not in text and "its shape within" not in text
     assert f"{label('integrator', 'implicit')} at dt = 250 µs" in text and "rk4 " not in text

@@ -77,8 +77,9 @@ def settle_finding(run: Run) -> str:
         f"(2^{r.expected_order} = {2 ** r.expected_order}), {r.energy_increases} energy increases"
         for r in t.itertuples())
     same = "".join(  # each integrator ran at one settle step: no claim about other steps
-        f". The implicit rule settles at {r.dt_over_rk4_limit:.2f}× RK4's stable step, its settled shape "
-        f"within {r.shape_difference_max_mm:.3g} mm of RK4's (one settle step per integrator; {IMPLICIT})"
+        f". The implicit rule ran at {r.dt_over_rk4_limit:.2f}× RK4's stable step and "
+        + (f"settled, its shape within {r.shape_difference_max_mm:.3g} mm of RK4's" if r.settled
+           else "did not settle") + f" (one settle step per integrator; {IMPLICIT})"
         for r in t[t.integrator == "implicit"].itertuples())
     return text + same + f". Body constants are SI, not the paper's ({DECISION})."
 
