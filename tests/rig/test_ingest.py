@@ -466,9 +466,6 @@ def test_the_mean_force_tolerance(good, tmp_path, fingers, mean, accepted):
     bad = rec.copy()
     bad.loc[i, ["normal_force_1_n", "normal_force_2_n", "normal_force_3_n"]] = fingers
     bad.loc[i, "normal_force_mean_n"] = mean
-    recorded = [f for f in fingers if f == f]
-    limit = 0.05 * abs(sum(recorded) / len(recorded)) + 0.01  # docs/decisions.md: 5 % + 2 x 5 mN
-    assert (abs(mean - sum(recorded) / len(recorded)) <= limit) is accepted  # the case is what it says
     path = _file(bad, tmp_path / "bad.csv", "csv")
     if accepted:
         assert validate_records(path, schedule)["normal_force_mean_n"].iloc[i] == mean
