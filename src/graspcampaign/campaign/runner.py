@@ -347,9 +347,6 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
         provenance.write_manifest(store.manifest_path, manifest)
 
         pending = [t for t in trials if t.trial_id not in done]
-        # shards are named after their trials and this session: a name a compacted file lists as
-        # superseded (the same trials recorded before) would make the new shard invisible
-        salt = content_hash([session["started_at"], os.getpid(), time.time_ns()])
         summary = RunSummary(study.name, run, path, len(trials), n_already=len(trials) - len(pending))
         prepared = _prepare_bodies(kind, study, params, pending, store, map_unordered, summary)
         size = task_size(study, kind, len(pending))
@@ -364,7 +361,8 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
             results = map_unordered(run_task, [(kind, study, run, params, items, fail_fast)
                                                for items in tasks])
             for rows, tables in results:
-                name = content_hash([[r["trial_id"] for r in rows], salt])
+                # named after its trials; a name a compacted file supersedes gets a suffix (write_shard)
+                name = content_hash([r["trial_id"] for r in rows])
                 for table_name, table_rows in tables.items():
                     if table_rows:
                         store.write_shard(f"tables/{table_name}", name, table_rows)
