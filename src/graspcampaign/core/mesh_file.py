@@ -119,8 +119,8 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
     if suffix == ".stl":
         mesh = _coordinate_order(mesh)
     size_mm = extent * UNITS[unit] * 1e3
-    n_degenerate = int(_degenerate(np.asarray(mesh.vertices), np.asarray(mesh.faces)).sum())
-    if n_degenerate and size_mm < OBJECT_SIZE_MM.low:  # a unit slip, not a bad surface
+    if size_mm < OBJECT_SIZE_MM.low and (n_degenerate := int(_degenerate(  # a unit slip, not a
+            np.asarray(mesh.vertices), np.asarray(mesh.faces)).sum())):  # bad surface: scanned once
         raise MeshError(f"mesh {base!r} has {n_degenerate} degenerate (zero-area) faces and is only "
                         f"{size_mm:.3g} mm across read with --unit {unit}: check the file and its "
                         "unit (--unit)")

@@ -371,6 +371,5 @@ def plot_plan(mesh, points, normals, forces, path, title: str = "") -> Path:
     ax.set_zlabel("z [mm]")
     ax.set_box_aspect(np.ptp(v, axis=0))
     ax.set_title(title, fontsize=9)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=100, format="png")  # at exactly this path, whatever its suffix
+    fig.savefig(path, dpi=100, format="png")  # the path check_picture_path accepted: its parent exists
     return path
