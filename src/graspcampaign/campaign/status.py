@@ -35,25 +35,36 @@ def study_size(study: StudyCfg) -> int:
     return design_size(study)
 
 
-def recorded_in(study: StudyCfg, run: str | None = None) -> int:
+def opened_run(study: StudyCfg, run: str | None = None):
+    """``(RunStore, manifest)`` of the study's run, checked against its manifest (a run that is not
+    what its manifest says is refused); None when there is no run yet."""
+    path = run_path(study, run)
+    if not (path.exists() or path.is_symlink()):
+        return None
+    from graspcampaign.campaign.records import RunStore
+
+    store = RunStore(path)
+    manifest = store.check(["records"])
+    return None if manifest is None else (store, manifest)
+
+
+_OPEN = object()  # "open the run here": callers that opened it pass what opened_run returned
+
+
+def recorded_in(study: StudyCfg, run: str | None = None, opened=_OPEN) -> int:
     """Return how many of the study's current trials the run has recorded.
 
     Only the trial ids of the design as configured now (overrides included) count: a run of the
     full grid holds 2700 records, but ``mu=[0.3] seeds=2`` asks about 120 of them.
     """
-    path = run_path(study, run)
-    if not (path.exists() or path.is_symlink()):
-        return 0
-    from graspcampaign.campaign.records import RunStore
-
-    store = RunStore(path)
-    manifest = store.check(["records"])  # a run that is not what its manifest says: refused
-    if manifest is None:
+    opened = opened_run(study, run) if opened is _OPEN else opened
+    if opened is None:
         return 0
     from graspcampaign.campaign.kind import get_kind
     from graspcampaign.campaign.provenance import config_hash
     from graspcampaign.campaign.runner import kind_params, study_trials
 
+    store, manifest = opened
     recorded = store.recorded_ids()
     if not recorded:
         return 0
@@ -69,29 +80,23 @@ def recorded_in(study: StudyCfg, run: str | None = None) -> int:
     return len(ids & recorded)
 
 
-def _median_trial_s(study: StudyCfg, run: str | None) -> float | None:
+def _median_trial_s(store) -> float | None:
     """The median wall time [s] of the run's recorded trials (None: none timed)."""
-    from graspcampaign.campaign.records import RunStore
-
-    times = RunStore(run_path(study, run)).read(columns=["wall_time_s"]).column(0).drop_null()
+    times = store.read(columns=["wall_time_s"]).column(0).drop_null()
     return statistics.median(times.to_pylist()) if len(times) else None
 
 
-def drift_refusal(study: StudyCfg, run: str | None = None) -> str | None:
+def drift_refusal(study: StudyCfg, run: str | None = None, opened=_OPEN) -> str | None:
     """What ``run`` would say, refusing to add ``study``'s trials to its run (started with another
     config or code version: :func:`graspcampaign.campaign.provenance.check_drift`); None if it would
     not, or there is no simulated run yet."""
-    path = run_path(study, run)
-    if not path.is_dir():
+    opened = opened_run(study, run) if opened is _OPEN else opened
+    if opened is None or opened[1].get("source") == "measured":  # ingest's runs: no drift
         return None
     from graspcampaign.campaign.provenance import DriftError, check_drift
-    from graspcampaign.campaign.records import RunStore
 
-    manifest = RunStore(path).check(["records"])
-    if manifest is None or manifest.get("source") == "measured":  # ingest's runs: no drift
-        return None
     try:
-        check_drift(manifest, study, False, path)
+        check_drift(opened[1], study, False, opened[0].path)
     except DriftError as exc:
         return str(exc)
     return None
@@ -117,14 +122,15 @@ def design_text(study: StudyCfg, run: str | None = None) -> str:
         lines.append(f"design: the protocol's schedule = {total} trials")
     else:
         lines.append(f"axes: {' x '.join(map(str, design_shape(study)))} = {total} trials")
-    done = recorded_in(study, run) if ready else 0
+    opened = opened_run(study, run) if ready else None  # the run opened and checked once
+    done = recorded_in(study, run, opened)
     lines.append(f"run: {run_path(study, run)} ({done} of {total} recorded)")
-    if ready and (refusal := drift_refusal(study, run)):
+    if refusal := drift_refusal(study, run, opened):
         lines.append(f"note: `run` would refuse: {refusal}")
     if facts:
         per, workers = facts["seconds_per_trial"], study.runner.workers()
         basis = "as the trial kind estimates"
-        if done and (measured := _median_trial_s(study, run)) is not None:
+        if done and (measured := _median_trial_s(opened[0])) is not None:
             per, basis = measured, "median of the trials recorded"
         remaining = (total - done) * per / workers
         lines.append(f"estimated time: {_fmt_seconds(remaining)} for {total - done} trials "
