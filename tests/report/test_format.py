@@ -111,7 +111,7 @@ def test_a_count_named_like_newtons_prints_as_a_count():
 
 @pytest.mark.parametrize("name", ["x", "x_deg"])  # unitless (was 4 digits), with a unit (was 3 per value)
 @pytest.mark.parametrize("values", [[1.215, 1.22, 1.07, 1.355], [0.0, 45.0, 135.0, 315.0],
-                                    [0.0, 0.00486, 0.0292, 0.124], [2.07, 1272.5, 0.3]])
+                                    [0.0, 0.00486, 0.0292, 0.124], [20.7, 1272.5, 30.1]])
 def test_one_rounding_per_column(values, name):
     """Every cell of a column has the same decimals, enough for 3 significant digits of its largest
     value, and each is the value rounded once (Python's own rounding at those decimals)."""
@@ -124,6 +124,16 @@ def test_one_rounding_per_column(values, name):
     d = places.pop()
     assert cells == [f"{v:.{d}f}" for v in values]
     assert len(f"{max(values):.{d}f}".replace(".", "").lstrip("0")) >= 3
+
+
+@pytest.mark.parametrize("name", ["x", "x_deg"])
+def test_a_column_spanning_decades_rounds_each_value_alone(name):
+    """One rounding for [2.07, 1272.5, 0.3] printed 0.3 as '0' and 2.8e-05 beside 1.2 as '0.00003':
+    each value then keeps 3 significant digits of its own, never rounded left of the point."""
+    import pandas as pd
+
+    _, rows = _shown(pd.DataFrame({name: [2.07, 1272.5, 0.3, 2.8e-05, 0.0]}))
+    assert [r[0] for r in rows] == ["2.07", f"{1272.5:.0f}", "0.300", "0.0000280", "0"]
 
 
 @pytest.mark.parametrize("p", [2.947e-62, 9.005e-16, 6.642e-64, 0.00099, 2.4e-4])

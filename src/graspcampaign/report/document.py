@@ -121,7 +121,8 @@ def cell(row: Mapping[str, Any], col: Col) -> str:
     if fmt.is_missing(value):
         why = row.get(col.why) if col.why else None
         return str(why) if isinstance(why, str) and why else fmt.MISSING
-    digits = row.get(col.digits) if isinstance(col.digits, str) else col.digits
+    digits = fmt.decimals([value], col.sig or 3) if col.digits == fmt.EACH else \
+        row.get(col.digits) if isinstance(col.digits, str) else col.digits
     if fmt.is_p_value(col.key) or (digits == fmt.P and not col.signed):
         return fmt.p_value(value)
     digits = None if fmt.is_missing(digits) or digits == fmt.P else int(digits)
@@ -136,10 +137,17 @@ def cell(row: Mapping[str, Any], col: Col) -> str:
 
 def rounded(col: Col, frame: pd.DataFrame) -> Col:
     """``col`` with one rounding for the whole column (:func:`~graspcampaign.report.format.decimals`
-    at its ``sig``, default 3) unless its digits are fixed."""
+    at its ``sig``, default 3) unless its digits are fixed; a column whose non-zero values span more
+    than two decades rounds each value alone (``fmt.EACH``: one rounding would print its small
+    values as 0)."""
     if col.digits is not None or col.share or fmt.is_p_value(col.key) or col.key not in frame:
         return col
-    digits = fmt.decimals([v for k in col.keys if k in frame for v in frame[k]], col.sig or 3)
+    values = [v for k in col.keys if k in frame for v in frame[k]]
+    sizes = [abs(float(v)) for v in values if isinstance(v, int | float) and not isinstance(v, bool)
+             and math.isfinite(v) and v != 0]
+    if sizes and min(sizes) < 1e-2 * max(sizes):
+        return replace(col, digits=fmt.EACH)
+    digits = fmt.decimals(values, col.sig or 3)
     return col if digits is None else replace(col, digits=digits, sig=None)
 
 
