@@ -18,6 +18,8 @@ import hashlib
 import json
 import os
 import shutil
+import sys
+import tempfile
 from pathlib import Path
 
 import pyarrow as pa
@@ -116,17 +118,14 @@ def read_only(tmp_path, monkeypatch):
     """A directory on a read-only file system (as root, chmod would not stop a write)."""
     folder = tmp_path / "ro"
     folder.mkdir()
-    access, statvfs = os.access, os.statvfs
+    mkstemp = tempfile.mkstemp
 
-    def inside(path) -> bool:
-        return Path(path) == folder or folder in Path(path).parents
+    def probe(*args, dir=None, **kwargs):
+        if dir is not None and (Path(dir) == folder or folder in Path(dir).parents):
+            raise OSError(errno.EROFS, os.strerror(errno.EROFS))
+        return mkstemp(*args, dir=dir, **kwargs)
 
-    class ReadOnly:
-        f_flag = os.ST_RDONLY
-
-    monkeypatch.setattr(os, "access", lambda p, mode, **kw: False if inside(p) and mode & os.W_OK
-                        else access(p, mode, **kw))
-    monkeypatch.setattr(os, "statvfs", lambda p: ReadOnly() if inside(p) else statvfs(p))
+    monkeypatch.setattr(tempfile, "mkstemp", probe)
     return folder
 
 
@@ -148,6 +147,17 @@ def test_a_read_only_root_or_output_is_refused_before_any_work(finished, read_on
     # reading a run needs no write: a read-only root is answered
     shutil.copytree(finished / "smoke", read_only / "smoke")
     assert _invoke("status", "smoke", "--root", read_only).exit_code == 0
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="/proc takes no new files on Linux")
+def test_a_root_where_no_file_can_be_created_is_refused_before_any_work(finished):
+    # permission bits let root write into /proc, yet no file can be created there: the root is
+    # judged by the rule the picture path of plan obeys (a probe), not by os.access
+    no_files = "cannot write there (No such file or directory)."
+    for args in (["run", "smoke", *SMOKE], ["schedule", "test2_grasp"]):
+        _refused(finished, [*args, "--root", "/proc/results"], f"--root /proc/results: {no_files}")
+    _refused(finished, ["schedule", "test2_grasp", "--out", "/proc/sheet", "--root", finished],
+             f"--out /proc/sheet: {no_files}")
 
 
 def test_an_output_file_that_is_a_directory_gets_the_options_own_hint(finished, tmp_path):

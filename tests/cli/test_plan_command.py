@@ -275,7 +275,7 @@ def _never_plan(*args, **kwargs):
 
 @pytest.mark.parametrize("where", ["directory", "no_suffix", "jpg", "missing_parent", "file_parent"])
 def test_plan_refuses_a_picture_path_before_planning(stl_files, tmp_path, monkeypatch, where):
-    monkeypatch.setattr("graspcampaign.rig.plan.plan_mesh", _never_plan)
+    monkeypatch.setattr("graspcampaign.core.mesh.load_mesh", _never_plan)
     (tmp_path / "pictures").mkdir()
     (tmp_path / "notes.txt").write_text("")
     png, message = {
@@ -299,7 +299,7 @@ def test_plan_refuses_a_picture_path_before_planning(stl_files, tmp_path, monkey
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="/proc takes no new files on Linux")
 def test_plan_refuses_an_unwritable_picture_path(stl_files, monkeypatch):
-    monkeypatch.setattr("graspcampaign.rig.plan.plan_mesh", _never_plan)
+    monkeypatch.setattr("graspcampaign.core.mesh.load_mesh", _never_plan)
     result = runner.invoke(app, ["plan", str(stl_files["sphere"]), "--mass-kg", "0.1",
                                  "--png", "/proc/x.png"])
     assert result.exit_code == 2
@@ -310,7 +310,7 @@ def test_plan_refuses_an_unwritable_picture_path(stl_files, monkeypatch):
 @pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() == 0,
                     reason="permission bits do not stop root")
 def test_plan_refuses_a_read_only_directory(stl_files, tmp_path, monkeypatch):
-    monkeypatch.setattr("graspcampaign.rig.plan.plan_mesh", _never_plan)
+    monkeypatch.setattr("graspcampaign.core.mesh.load_mesh", _never_plan)
     locked = tmp_path / "locked"
     locked.mkdir(mode=0o500)
     result = runner.invoke(app, ["plan", str(stl_files["sphere"]), "--mass-kg", "0.1",
@@ -320,7 +320,7 @@ def test_plan_refuses_a_read_only_directory(stl_files, tmp_path, monkeypatch):
 
 
 def test_plan_names_the_default_picture_it_cannot_write(stl_files, tmp_path, monkeypatch):
-    monkeypatch.setattr("graspcampaign.rig.plan.plan_mesh", _never_plan)
+    monkeypatch.setattr("graspcampaign.core.mesh.load_mesh", _never_plan)
     mesh = tmp_path / "ball.stl"
     mesh.write_bytes(stl_files["sphere"].read_bytes())
     (tmp_path / "ball.plan.png").mkdir()  # where the default picture would go
@@ -330,6 +330,18 @@ def test_plan_names_the_default_picture_it_cannot_write(stl_files, tmp_path, mon
                              f"give a file path ending in .png, such as "
                              f"{tmp_path / 'ball.plan.png' / 'plan.png'}; pass --png with a path where "
                              "the picture can be written.\n")
+
+
+def test_plan_checks_the_picture_path_once(stl_files, tmp_path, monkeypatch):
+    import graspcampaign.rig.plan as rp
+
+    checked = []
+    check = rp.check_picture_path
+    monkeypatch.setattr(rp, "check_picture_path", lambda *a: checked.append(a) or check(*a))
+    result = runner.invoke(app, ["plan", str(stl_files["sphere"]), "--mass-kg", "0.1",
+                                 "--png", str(tmp_path / "plan.png")])
+    assert result.exit_code == 0, result.output
+    assert checked == [(tmp_path / "plan.png", "--png")]
 
 
 def test_plan_prints_the_path_it_wrote(stl_files, tmp_path, monkeypatch):

@@ -7,8 +7,8 @@ is written. Standard library only: ``show`` and ``status`` answer without the nu
 
 from __future__ import annotations
 
-import errno
 import os
+import tempfile
 from pathlib import Path
 
 from graspcampaign.errors import UserInputError
@@ -16,12 +16,13 @@ from graspcampaign.errors import UserInputError
 
 def path_problem(path: Path, *, write: bool = False, directory: bool = True) -> str | None:
     """Say why ``path`` cannot serve as a directory (or, ``directory=False``, a file) to read or
-    ``write``, without creating anything; None if it can.
+    ``write``, without leaving anything behind; None if it can.
 
     The nearest existing one of ``path`` and its parents decides: a file where a directory must be
     ("/x: is a file, not a directory", "/x: /x/a is a file ..."), a directory where a file must
-    be, or (``write``) a directory this process may not write into: a read-only file system or
-    missing permissions (``os.access``, which root passes except on a read-only file system).
+    be, or (``write``) a place this process cannot write: probed by creating and removing a
+    temporary file in that directory (or opening the existing file to append), because permission
+    bits do not tell (root passes them, yet cannot create a file in ``/proc``).
     """
     for i, where in enumerate([path, *path.parents]):
         if not (where.exists() or where.is_symlink()):
@@ -37,14 +38,18 @@ def path_problem(path: Path, *, write: bool = False, directory: bool = True) -> 
 
 
 def _write_denied(where: Path) -> str | None:
-    """Why this process cannot write into (or over) ``where``, or None."""
-    if os.access(where, os.W_OK | (os.X_OK if where.is_dir() else 0)):
-        return None
+    """Why this process cannot write into (or over) ``where``, or None: a probe, not a guess."""
     try:
-        read_only = bool(os.statvfs(where).f_flag & os.ST_RDONLY)
-    except (OSError, AttributeError):
-        read_only = False
-    return f"cannot write there ({os.strerror(errno.EROFS if read_only else errno.EACCES)})"
+        if where.is_dir():
+            handle, probe = tempfile.mkstemp(prefix=".graspcampaign-probe-", dir=where)
+            os.close(handle)
+            os.unlink(probe)
+        else:
+            with where.open("ab"):
+                pass
+    except OSError as exc:
+        return f"cannot write there ({exc.strerror or type(exc).__name__})"
+    return None
 
 
 def check_root(root: str | Path, key: str = "--root", *, write: bool = False) -> Path:

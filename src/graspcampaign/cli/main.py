@@ -466,19 +466,18 @@ def plan(
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
 ) -> None:
     """Plan a three-finger grasp on a mesh and predict the disturbances it resists."""
-    from graspcampaign.rig.plan import check_picture_path, plan_mesh
+    from graspcampaign.rig.plan import PicturePathError, plan_mesh
 
     if not mesh.is_file():
         _fail(f"{mesh}: no such mesh file.")
-    try:  # before any planning work
-        png = check_picture_path(png, "--png") if png is not None else \
-            check_picture_path(mesh.with_suffix(".plan.png"), "the default picture")
-    except ValueError as exc:
+    try:  # plan_mesh checks the picture path before any planning work
+        result = plan_mesh(mesh, mass_kg=mass_kg, material=material, mu=mu,
+                           fingertip_radius_mm=fingertip_radius_mm, unit=unit,
+                           png_path=mesh.with_suffix(".plan.png") if png is None else png,
+                           png_option="the default picture" if png is None else "--png")
+    except PicturePathError as exc:
         _fail(str(exc) if png is not None else
               f"{str(exc).rstrip('.')}; pass --png with a path where the picture can be written.")
-    try:
-        result = plan_mesh(mesh, mass_kg=mass_kg, material=material, mu=mu,
-                           fingertip_radius_mm=fingertip_radius_mm, unit=unit, png_path=png)
     except ValueError as exc:  # MeshError and out-of-range values are bad input
         if _state["debug"]:
             traceback.print_exc()

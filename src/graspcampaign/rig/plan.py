@@ -68,6 +68,7 @@ __all__ = [
     # the graspcampaign plan MESH computation (this module)
     "plan_mesh",
     "check_picture_path",
+    "PicturePathError",
     # re-exported: they live in graspcampaign.rig.belief
     "CHARACTERISTIC_Z",
     "COATING_MU_S",
@@ -165,13 +166,17 @@ def _coarse_checked_body(mesh, name: str):
         return _make_body(mesh)
 
 
+class PicturePathError(ValueError):
+    """A picture path that cannot be written exactly (one sentence naming it)."""
+
+
 def check_picture_path(path, option: str = "picture path") -> Path:
     """Return ``path`` as a Path a PNG can be written at, exactly; refuse any other, naming it.
 
     Checked before any work: a directory, a name not ending in ``.png`` (matplotlib would pick
     another format or append ``.png``, so the file written would not be the path named), a
-    missing parent directory, or one where no file can be created (probed by creating and
-    removing a temporary file: permission bits do not tell, e.g. for root or on ``/proc``).
+    missing parent directory (a mistyped one grows no tree), or a place where no file can be
+    written (:func:`graspcampaign.campaign.paths.path_problem`, the rule every output path obeys).
 
     Parameters
     ----------
@@ -182,42 +187,33 @@ def check_picture_path(path, option: str = "picture path") -> Path:
 
     Raises
     ------
-    ValueError
+    PicturePathError
         One sentence naming the path and what is wrong with it.
     """
-    import os
-    import tempfile
+    from graspcampaign.campaign.paths import path_problem
 
     path = Path(path)
     if path.is_dir():
-        raise ValueError(f"{option} {path} is a directory: give a file path ending in .png, such as "
-                         f"{path / 'plan.png'}.")
+        raise PicturePathError(f"{option} {path} is a directory: give a file path ending in .png, "
+                               f"such as {path / 'plan.png'}.")
     if path.suffix.lower() != ".png":
-        raise ValueError(f"{option} {path} does not end in .png: the picture is a PNG file, so give "
-                         f"a path such as {path.with_suffix('.png')}.")
-    parent = path.parent
-    if parent.exists() and not parent.is_dir():
-        raise ValueError(f"{option} {path}: {parent} is a file, not a directory.")
-    if not parent.is_dir():
-        raise ValueError(f"{option} {path}: directory {parent} does not exist.")
-    try:
-        handle, probe = tempfile.mkstemp(suffix=".png", prefix=".plan-probe-", dir=parent)
-        os.close(handle)
-        os.unlink(probe)
-        if path.exists():
-            with path.open("ab"):
-                pass
-    except OSError as exc:
-        raise ValueError(f"{option} {path}: cannot write there "
-                         f"({exc.strerror or type(exc).__name__}).") from None
+        raise PicturePathError(f"{option} {path} does not end in .png: the picture is a PNG file, "
+                               f"so give a path such as {path.with_suffix('.png')}.")
+    if not path.parent.exists():
+        raise PicturePathError(f"{option} {path}: directory {path.parent} does not exist.")
+    why = path_problem(path, write=True, directory=False)
+    if why is not None:
+        raise PicturePathError(f"{option} {path}: {why}.")
     return path
+
+
 UNLOADED_N = 1e-6
 """A finger pressing with less than this [N] carries no load (the plan's forces are N-scale)."""
 
 
 def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: float | None = None,
               fingertip_radius_mm: float = 5.0, unit: str = "mm", png_path=None,
-              seed: int = 0) -> dict[str, Any]:
+              png_option: str = "picture path", seed: int = 0) -> dict[str, Any]:
     """Plan a proposed-planner grasp on a user's mesh and predict its disturbance limits.
 
     Parameters
@@ -239,6 +235,8 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
     png_path : path, optional
         Where to write the picture (mesh, contacts, force arrows), exactly this path; none when
         omitted. Checked first (:func:`check_picture_path`).
+    png_option : str
+        How a refusal of ``png_path`` names it (the command line passes ``--png``).
     seed : int
         Candidate sampling seed.
 
@@ -266,12 +264,13 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
     ValueError
         Out-of-range mass, friction, radius, an unknown material, an object whose size no
         three-finger hand grasps (``core.plausible.OBJECT_SIZE_MM``; the message names the unit
-        its coordinates look like), or a picture path that cannot be written.
+        its coordinates look like); :class:`PicturePathError` for a picture path that cannot be
+        written.
     """
     from graspcampaign.core.mesh import check_mesh, load_mesh
 
     if png_path is not None:  # before any work: a plan whose picture cannot be written is lost
-        png_path = check_picture_path(png_path)
+        png_path = check_picture_path(png_path, png_option)
     mass = _check_plausible(mass_kg, "mass_kg", "mass_kg", "kg")
     radius_mm = _check_plausible(fingertip_radius_mm, "fingertip_radius_mm", "fingertip_radius_mm",
                                  "mm")
@@ -333,7 +332,7 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
                                        title=f"{name}: SF {out['sf_predicted']:.2f}, "
                                              f"F_lat {out['f_lat_n']:.2f} N"))
         except OSError as exc:  # a full disk, or the directory changed since the check
-            raise ValueError(f"picture path {png_path}: cannot write there "
+            raise PicturePathError(f"{png_option} {png_path}: cannot write there "
                              f"({exc.strerror or type(exc).__name__}).") from None
     return out
 
