@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 import re
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -328,6 +329,22 @@ def test_records_of_another_source_are_refused_in_a_run(t2_export, tmp_path):
                              "--run.\n")
     assert _snapshot(store.path) == before
     assert _ingest(root, tmp_path / "rig.csv", run="rig").exit_code == 0
+
+
+def test_files_of_two_sources_in_one_ingest_are_refused(t2_export, tmp_path):
+    """Each file holds one source; the second file, of the other source, is named at its row 1."""
+    root, folder, _, export, _ = t2_export
+    day1 = set(pd.read_csv(folder / "day1.csv")["trial_id"])
+    new = export[~export["trial_id"].isin(day1)]
+    new.iloc[:2].to_csv(tmp_path / "exported.csv", index=False)
+    new.iloc[2:4].drop(columns="source").to_csv(tmp_path / "rig.csv", index=False)
+    result = _ingest(root, tmp_path / "exported.csv", tmp_path / "rig.csv", run="mixed")
+    assert result.exit_code == 2, result.output
+    assert result.stderr == ("error: rig.csv, row 1, column 'source': value 'measured' differs from "
+                             "'virtual' in exported.csv, row 1; a run holds the records of one "
+                             "source (measured or virtual): ingest the others into another run with "
+                             "--run.\n")
+    assert not list(Path(root).rglob("mixed"))
 
 
 TEMPLATE = (r" \(`graspcampaign schedule <study> --template` writes a sheet with every "

@@ -346,8 +346,8 @@ def ingest(study: StudyCfg, params: Any, paths: list[str],
             entries.append((label, i + 1, tid, slot, bool(aborted)))
         frames.append((label, table))
     _check_against_stored(entries, stored)
-    check_one_source([(label, i + 1, v) for label, table in frames for i, v in enumerate(table["source"])],
-                     stored)
+    # each file holds one source (validate_records); the files and the stored records must agree
+    check_one_source([(label, 1, table["source"].iloc[0]) for label, table in frames], stored)
     trials = {t.factors[SHEET_ID]: t for t in study_trials(study, get_kind(study.kind), params)}
     rows = []
     for _, table in frames:

@@ -318,7 +318,8 @@ def ingest(study: StudyCfg, params: Test1BenchParams, paths: list[str],
                                     "stored in this run; measured records are never overwritten "
                                     "(ingest a corrected file into another run with --run).")
             owner[eid] = label
-            sources.append((label, i + 1, table["source"].iloc[i] if "source" in table else "measured"))
+        # each file holds one source (validate_waveforms); the files and the stored records must agree
+        sources.append((label, 1, table["source"].iloc[0] if "source" in table else "measured"))
         frames.append(table)
     check_one_source(sources, stored)
     fits = T.fit_waveforms(pd.concat(frames, ignore_index=True), sched)
