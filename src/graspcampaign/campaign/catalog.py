@@ -192,7 +192,6 @@ def _light_study(path: Path, data: dict[str, Any]):
     import dataclasses
 
     from graspcampaign.campaign import studycheck
-    from graspcampaign.campaign.kind import kind_available
     from graspcampaign.campaign.schema import SCHEMAS, StudyCfg, check_study
     from graspcampaign.campaign.studyfile import project_dirs
     from graspcampaign.errors import ConfigError
@@ -210,11 +209,8 @@ def _light_study(path: Path, data: dict[str, Any]):
                 setattr(getattr(study, group), key, value)
     try:
         check_study(study)
-        if kind_available(study.kind) and checked:
-            facts = kind_facts(study.kind)
-            if not facts["design"]:
-                studycheck.check_kind_factors(study.factors, study.kind, facts["factors"])
-            studycheck.check_params(study.params, facts["params"], study.kind)
+        if checked:
+            studycheck.check_kind(study)
     except ConfigError as exc:
         raise studycheck.in_file(path, exc) from None
     studycheck.check_paper_block(study, data.get("name"), path, project_dirs()[1])

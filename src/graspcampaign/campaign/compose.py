@@ -29,14 +29,13 @@ from graspcampaign.campaign.override import (  # noqa: F401  (omegaconf_error_se
     omegaconf_error_sentence,
     override_sentence,
     rewrite,
+    split,
 )
 from graspcampaign.campaign.schema import SCHEMAS, StudyCfg, check_config, check_study
 from graspcampaign.campaign.studycheck import (
     check_conf,
-    check_kind_factors,
-    check_kind_name,
+    check_kind,
     check_paper_block,
-    check_params,
     check_study_file,
     in_file,
     known_keys_sentence,
@@ -112,9 +111,10 @@ def compose_study(study: str, overrides: list[str] | None = None) -> StudyCfg:
     check_package_header(path)
     check_study_file(path, data)
     given = list(overrides or [])
-    check_conf(conf_dir)
+    conf_digest = check_conf(conf_dir)
     check_overrides(given)
-    key = _inputs_key(path, conf_dir, given)
+    key = (str(path.resolve()), str(conf_dir.resolve()), conf_digest,
+           hashlib.sha256(path.read_bytes()).hexdigest(), tuple(given))
     if key in _COMPOSED:
         return copy.deepcopy(_COMPOSED[key])
     factors = data.get("factors")
@@ -152,28 +152,6 @@ def compose_study(study: str, overrides: list[str] | None = None) -> StudyCfg:
     return obj
 
 
-def check_kind(study: StudyCfg) -> None:
-    """Check what the study's trial kind needs, without importing its numerical code: a known
-    kind, the factors a Cartesian design must have on every trial, and ``params`` against the
-    kind's params schema (both read from the catalog, :func:`catalog.kind_facts`).
-
-    Raises
-    ------
-    ConfigError
-        Naming the kind and the missing factor, or the params key and what it takes.
-    """
-    from graspcampaign.campaign.catalog import kind_facts
-    from graspcampaign.campaign.kind import kind_available
-
-    check_kind_name(study.kind)
-    if not kind_available(study.kind):  # a kind not implemented yet: `run` says so
-        return
-    facts = kind_facts(study.kind)
-    if not facts["design"]:
-        check_kind_factors(study.factors, study.kind, facts["factors"])
-    check_params(study.params, facts["params"], study.kind)
-
-
 def _error_key(exc: BaseException) -> str | None:
     while not hasattr(exc, "full_key") and (exc.__cause__ or exc.__context__) is not None:
         exc = exc.__cause__ or exc.__context__
@@ -185,8 +163,6 @@ def _blamed(exc: ConfigError, path: Path, overrides: list[str],
             also: tuple[str, ...] = ()) -> ConfigError:
     """``exc`` naming the study file and line when its key is written there and no override
     sets it, nor any of the keys ``also`` (an override's error names the override instead)."""
-    from graspcampaign.campaign.override import split
-
     key = exc.key
     if not key or str(exc).startswith(str(path)):
         return exc
@@ -207,14 +183,6 @@ def _blamed(exc: ConfigError, path: Path, overrides: list[str],
 # composes the same inputs again gets a copy of the first result (failures are never kept).
 _COMPOSED: dict[tuple, StudyCfg] = {}
 _COMPOSED_MAX = 64
-
-
-def _inputs_key(path: Path, conf_dir: Path, overrides: list[str]) -> tuple:
-    digest = hashlib.sha256()
-    for file in [*sorted(conf_dir.rglob("*.yaml")), path]:
-        digest.update(file.as_posix().encode())
-        digest.update(file.read_bytes())
-    return str(Path(path).resolve()), str(conf_dir.resolve()), digest.hexdigest(), tuple(overrides)
 
 
 _BOM = b"\xef\xbb\xbf"
@@ -263,7 +231,7 @@ def _check_known_keys(cfg: Any, given: list[str]) -> None:
     found = _unknown_key(cfg, StudyCfg)
     if found:
         key, schema = found
-        typed = next((o for o in given if o.lstrip("+~").partition("=")[0] == key), None)
+        typed = next((o for o in given if split(o)[1] == key), None)
         raise ConfigError(known_keys_sentence(key, schema, typed))
 
 

@@ -65,11 +65,15 @@ def _parsed_value(item: str) -> Any:
 
 
 def rewrite(factors: set[str], overrides: list[str]) -> list[str]:
-    """Map bare factor names to ``factors.<name>`` and scalars to one-level lists."""
+    """Map bare factor names to ``factors.<name>`` and scalars to one-level lists.
+
+    Only ``name=value`` exactly: a prefix (``+name=``) or a space around the key is left to Hydra,
+    which refuses it, as it does for every other key.
+    """
     out = []
     for item in overrides:
-        key, sep, value = item.partition("=")
-        if sep and key in factors:
+        _, key, _, value = split(item)
+        if key in factors and item.startswith(f"{key}="):
             value = value.strip()
             out.append(f"factors.{key}={value if value.startswith('[') else f'[{value}]'}")
         else:

@@ -213,6 +213,28 @@ def check_factors(factors: Any) -> None:
             check_factor(str(name), list(levels))
 
 
+def check_kind(study: StudyCfg) -> None:
+    """Check what the study's trial kind needs, without importing its numerical code: a known
+    kind, the factors a Cartesian design must have on every trial, and ``params`` against the
+    kind's params schema (both read from the catalog, :func:`catalog.kind_facts`).
+
+    Raises
+    ------
+    ConfigError
+        Naming the kind and the missing factor, or the params key and what it takes.
+    """
+    from graspcampaign.campaign.catalog import kind_facts
+    from graspcampaign.campaign.kind import kind_available
+
+    check_kind_name(study.kind)
+    if not kind_available(study.kind):  # a kind not implemented yet: `run` says so
+        return
+    facts = kind_facts(study.kind)
+    if not facts["design"]:
+        check_kind_factors(study.factors, study.kind, facts["factors"])
+    check_params(study.params, facts["params"], study.kind)
+
+
 # -- files -----------------------------------------------------------------------------------------
 def check_study_data(data: dict[str, Any]) -> None:
     """Check a study file's own keys (its mapping as parsed) against ``StudyCfg``, its factors
@@ -286,8 +308,9 @@ def _checked_conf(conf_dir: str, digest: str) -> None:
                          data)
 
 
-def check_conf(conf_dir: Path) -> None:
-    """Check every config-group file under ``conf_dir`` (once per content of its files).
+def check_conf(conf_dir: Path) -> str:
+    """Check every config-group file under ``conf_dir`` (once per content of its files) and
+    return the digest of that content: every YAML file under ``conf_dir``, path and bytes.
 
     Raises
     ------
@@ -298,10 +321,11 @@ def check_conf(conf_dir: Path) -> None:
     import hashlib
 
     digest = hashlib.sha256()
-    for path in sorted(Path(conf_dir).glob("*/*.yaml")):
+    for path in sorted(Path(conf_dir).rglob("*.yaml")):
         digest.update(path.as_posix().encode())
         digest.update(path.read_bytes())
     _checked_conf(str(conf_dir), digest.hexdigest())
+    return digest.hexdigest()
 
 
 def check_paper_block(obj: StudyCfg, written: Any, path: Path, campaigns_dir: Path) -> None:
