@@ -4,132 +4,36 @@ Exit codes: 0 success, 1 trial errors occurred, 2 bad usage or bad input, 130 in
 Errors are one sentence on stderr; ``--debug`` adds the traceback. Layers are imported inside
 commands so that ``--help``, ``list``, ``show`` and ``status`` answer in well under a second.
 Warnings of the layers are printed once each as ``warning: ...``; their loggers stay quiet
-unless ``--debug``.
+unless ``--debug``. The application, its shared options and checks are in
+:mod:`graspcampaign.cli.app`; this module has the study, run and report commands, and
+:mod:`graspcampaign.cli.hardware` the hardware and mesh ones.
 """
 
 from __future__ import annotations
 
-import errno
 import json
-import logging
-import os
 import shlex
 import sys
-import traceback
-import warnings
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
-from graspcampaign.cli.output import print_list, print_plan
-
-app = typer.Typer(
-    add_completion=True,
-    no_args_is_help=True,
-    help="Reproducible experiment campaigns for soft-object grasp planning.",
-    pretty_exceptions_enable=False,
+from graspcampaign.cli.app import (
+    Overrides,
+    RootOpt,
+    RunOpt,
+    StudyArg,
+    _check_root,
+    _compose,
+    _fail,
+    _guard,
+    _path_or_empty,
+    _state,
+    _writable_stem,
+    app,
 )
-_state = {"debug": False}
-
-StudyArg = Annotated[str, typer.Argument(help="Study name (see `list`) or path of a study file.",
-                                         show_default=False)]
-Overrides = Annotated[
-    list[str] | None,
-    typer.Argument(help="Hydra overrides, e.g. mu=[0.3] seeds=2 runner.n_jobs=2.", show_default=False),
-]
-RunOpt = Annotated[str | None, typer.Option("--run", help="Run name (default: the study's output.run).")]
-
-
-def _path_or_empty(value: str) -> Path | str:
-    """A path option's value, ``""`` kept as given (as a Path it would read as "."), so that an
-    empty ``--root`` is refused instead of meaning the current directory."""
-    return Path(value) if value else value
-
-
-RootOpt = Annotated[Path | None, typer.Option("--root", help="Results root (default: output.root, "
-                                                             "i.e. results).",
-                                              parser=_path_or_empty, metavar="path")]
-
-# ValueErrors from the core and rig layers that mean bad input (a mesh, an ingested file).
-_INPUT_ERRORS = {"MeshError", "IngestError"}
-
-
-def _fail(message: str, code: int = 2) -> None:
-    typer.echo(f"error: {message}", err=True)
-    raise typer.Exit(code)
-
-
-def _guard(fn):
-    """Turn bad-input exceptions into one sentence and exit 2 (traceback with --debug)."""
-    import functools
-
-    @functools.wraps(fn)
-    def wrapper(*args, **kwargs):
-        from graspcampaign.errors import UserInputError
-
-        try:
-            return fn(*args, **kwargs)
-        except typer.Exit:
-            raise
-        except (UserInputError, ValueError) as exc:
-            if _state["debug"]:
-                traceback.print_exc()
-            if isinstance(exc, UserInputError) or type(exc).__name__ in _INPUT_ERRORS:
-                _fail(str(exc))
-            raise
-        except OSError as exc:  # a full disk where no layer said so itself (a report's figure)
-            if exc.errno not in (errno.ENOSPC, errno.EDQUOT):
-                raise
-            if _state["debug"]:
-                traceback.print_exc()
-            _fail(f"cannot write {exc.filename or 'a file'}: {os.strerror(exc.errno).lower()}; free "
-                  "some space there and run the command again.")
-    return wrapper
-
-
-def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
-    """Print a warning of the layers as one ``warning: ...`` line (no file, no line, no class)."""
-    text = str(message)
-    if text not in _shown:
-        _shown.add(text)
-        print(f"warning: {text}", file=sys.stderr)
-
-
-_shown: set[str] = set()
-
-
-@app.callback()
-def _main(debug: Annotated[bool, typer.Option("--debug", help="Show tracebacks and logs.")] = False):
-    _state["debug"] = debug
-    _shown.clear()
-    package_log = logging.getLogger("graspcampaign")
-    if debug:
-        logging.basicConfig(level=logging.INFO, format="%(levelname)s %(name)s: %(message)s")
-    elif not package_log.handlers:
-        package_log.addHandler(logging.NullHandler())  # warnings reach the user once, below
-    warnings.showwarning = _show_warning
-
-
-def _configure(cfg, root: Path | None):
-    """Apply ``--root`` to a composed study (where records go never changes a result)."""
-    if root is not None:
-        cfg.output.root = str(root)
-    return cfg
-
-
-def _check_root(root: Path | None, write: bool = False) -> None:
-    """Refuse a bad ``--root`` (empty, a file, unwritable when ``write``) before any work."""
-    if root is not None:
-        from graspcampaign.campaign.paths import check_root
-
-        check_root(root, "--root", write=write)
-
-
-def _compose(study: str, overrides: list[str] | None, root: Path | None = None):
-    from graspcampaign.campaign.compose import compose_study
-
-    return _configure(compose_study(study, overrides or []), root)
+from graspcampaign.cli.output import print_list
 
 
 @app.command("list")
@@ -374,118 +278,7 @@ def _exit_if_failed(failed) -> None:
         raise typer.Exit(2 if all(bad for _, _, bad in failed) else 1)
 
 
-def _writable_stem(out: Path, option: str, hint: str = "a file stem such as",
-                   example: str = "schedule") -> Path:
-    """Check that files ``<out>.<ext>`` (or ``out``) can be written, before any work: a directory
-    in its place, a file on its path or a directory that cannot be written is bad input."""
-    from graspcampaign.campaign.paths import path_problem
-
-    why = path_problem(out, write=True, directory=False)
-    if why == "is a directory, not a file":
-        _fail(f"{option} {out} is a directory; give {hint} {out / example}.")
-    if why is not None:
-        _fail(f"{option} {out}: {why}.")
-    return out
-
-
-@app.command()
-@_guard
-def schedule(
-    study: StudyArg,
-    overrides: Overrides = None,
-    out: Annotated[
-        Path | None, typer.Option(help="Output file stem (default: <root>/<study>/schedule).")
-    ] = None,
-    template: Annotated[bool, typer.Option(
-        "--template", help="Also write the measured-records sheet to fill in (every column, empty, "
-                           "with its unit in <stem>-template-columns.csv).")] = False,
-    root: RootOpt = None,
-) -> None:
-    """Write a hardware protocol's commanded-trial sheet (CSV and Parquet)."""
-    from graspcampaign.campaign.kind import get_kind
-    from graspcampaign.campaign.runner import kind_params
-
-    _check_root(root, write=out is None)
-    cfg = _compose(study, overrides, root)
-    kind = get_kind(cfg.kind)
-    if kind.schedule is None:
-        _fail(f"study {cfg.name!r} is a simulation study; only hardware protocols have a schedule.")
-    stem = _writable_stem(out or Path(cfg.output.root) / cfg.name / "schedule", "--out")
-    if out is not None and not out.parent.is_dir():  # as plan --png: a typo grows no tree
-        _fail(f"--out {out}: directory {out.parent} does not exist.")
-    params = kind_params(cfg, kind)
-    sheet = kind.schedule(cfg, params)
-    sheets = {"": sheet}
-    if template:
-        fill, columns = kind.template(cfg, params, sheet)
-        sheets.update({"-template": fill, "-template-columns": columns})
-    try:
-        stem.parent.mkdir(parents=True, exist_ok=True)
-        for suffix, table in sheets.items():
-            path = stem.with_name(stem.name + suffix)
-            table.to_csv(path.with_suffix(".csv"), index=False)
-            if not suffix:
-                table.to_parquet(path.with_suffix(".parquet"), index=False)
-    except OSError as exc:  # permissions, a full disk
-        _fail(f"--out {stem}: cannot write there ({exc.strerror or type(exc).__name__}).")
-    typer.echo(f"{len(sheet)} commanded trials -> {stem.with_suffix('.csv')} and .parquet")
-    if template:
-        typer.echo(f"measured-records template -> {stem}-template.csv (columns and units: "
-                   f"{stem}-template-columns.csv)")
-
-
-@app.command()
-@_guard
-def ingest(
-    study: StudyArg,
-    files: Annotated[list[Path], typer.Argument(help="Measured records (CSV, XLSX or Parquet).")],
-    run: Annotated[str, typer.Option("--run", help="Run that receives the measured records.")] = "measured",
-    overrides: Annotated[list[str] | None, typer.Option("--set", help="Hydra override (repeatable).")] = None,
-    root: RootOpt = None,
-) -> None:
-    """Validate measured records and store them as a run with source = measured."""
-    from graspcampaign.campaign.ingest import ingest_files
-
-    _check_root(root, write=True)
-    cfg = _compose(study, overrides, root)
-    n, path = ingest_files(cfg, [str(f) for f in files], run)
-    typer.echo(f"{n} measured records stored in {path}")
-
-
-@app.command()
-@_guard
-def plan(
-    mesh: Annotated[Path, typer.Argument(help="Object mesh (STL, OBJ or PLY).")],
-    mass_kg: Annotated[float, typer.Option("--mass-kg", help="Object mass [kg].")],
-    material: Annotated[str | None, typer.Option(help="Table 4 material family.")] = None,
-    mu: Annotated[float | None, typer.Option(help="Static friction; overrides the material's.")] = None,
-    fingertip_radius_mm: Annotated[float, typer.Option("--fingertip-radius-mm")] = 5.0,
-    unit: Annotated[str, typer.Option(help="Length unit of the mesh file: m, cm or mm.")] = "mm",
-    png: Annotated[Path | None, typer.Option(
-        help="Picture path, ending in .png (default: <mesh>.plan.png beside the mesh).")] = None,
-    as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
-) -> None:
-    """Plan a three-finger grasp on a mesh and predict the disturbances it resists."""
-    from graspcampaign.rig.plan import PicturePathError, plan_mesh
-
-    if not mesh.is_file():
-        _fail(f"{mesh}: no such mesh file.")
-    try:  # plan_mesh checks the picture path before any planning work
-        result = plan_mesh(mesh, mass_kg=mass_kg, material=material, mu=mu,
-                           fingertip_radius_mm=fingertip_radius_mm, unit=unit,
-                           png_path=mesh.with_suffix(".plan.png") if png is None else png,
-                           png_option="the default picture" if png is None else "--png")
-    except PicturePathError as exc:
-        _fail(str(exc) if png is not None else
-              f"{str(exc).rstrip('.')}; pass --png with a path where the picture can be written.")
-    except ValueError as exc:  # MeshError and out-of-range values are bad input
-        if _state["debug"]:
-            traceback.print_exc()
-        _fail(str(exc))
-    if as_json:
-        typer.echo(json.dumps(result, indent=2, default=str))
-        return
-    print_plan(result)
+from graspcampaign.cli import hardware  # noqa: E402, F401  (registers schedule, ingest, plan after these)
 
 
 def main() -> None:

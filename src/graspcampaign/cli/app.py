@@ -1,0 +1,141 @@
+"""The ``graspcampaign`` Typer application and what every command shares: the options, the
+one-sentence errors (exit 2, traceback with ``--debug``), the warnings printed once, and the checks
+of ``--root`` and output paths made before any work.
+
+The commands are in :mod:`graspcampaign.cli.main` (studies, runs, reports) and
+:mod:`graspcampaign.cli.hardware` (schedule, ingest, plan).
+"""
+
+from __future__ import annotations
+
+import errno
+import logging
+import os
+import sys
+import traceback
+import warnings
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+app = typer.Typer(
+    add_completion=True,
+    no_args_is_help=True,
+    help="Reproducible experiment campaigns for soft-object grasp planning.",
+    pretty_exceptions_enable=False,
+)
+_state = {"debug": False}
+
+StudyArg = Annotated[str, typer.Argument(help="Study name (see `list`) or path of a study file.",
+                                         show_default=False)]
+Overrides = Annotated[
+    list[str] | None,
+    typer.Argument(help="Hydra overrides, e.g. mu=[0.3] seeds=2 runner.n_jobs=2.", show_default=False),
+]
+RunOpt = Annotated[str | None, typer.Option("--run", help="Run name (default: the study's output.run).")]
+
+
+def _path_or_empty(value: str) -> Path | str:
+    """A path option's value, ``""`` kept as given (as a Path it would read as "."), so that an
+    empty ``--root`` is refused instead of meaning the current directory."""
+    return Path(value) if value else value
+
+
+RootOpt = Annotated[Path | None, typer.Option("--root", help="Results root (default: output.root, "
+                                                             "i.e. results).",
+                                              parser=_path_or_empty, metavar="path")]
+
+# ValueErrors from the core and rig layers that mean bad input (a mesh, an ingested file).
+_INPUT_ERRORS = {"MeshError", "IngestError"}
+
+
+def _fail(message: str, code: int = 2) -> None:
+    typer.echo(f"error: {message}", err=True)
+    raise typer.Exit(code)
+
+
+def _guard(fn):
+    """Turn bad-input exceptions into one sentence and exit 2 (traceback with --debug)."""
+    import functools
+
+    @functools.wraps(fn)
+    def wrapper(*args, **kwargs):
+        from graspcampaign.errors import UserInputError
+
+        try:
+            return fn(*args, **kwargs)
+        except typer.Exit:
+            raise
+        except (UserInputError, ValueError) as exc:
+            if _state["debug"]:
+                traceback.print_exc()
+            if isinstance(exc, UserInputError) or type(exc).__name__ in _INPUT_ERRORS:
+                _fail(str(exc))
+            raise
+        except OSError as exc:  # a full disk where no layer said so itself (a report's figure)
+            if exc.errno not in (errno.ENOSPC, errno.EDQUOT):
+                raise
+            if _state["debug"]:
+                traceback.print_exc()
+            _fail(f"cannot write {exc.filename or 'a file'}: {os.strerror(exc.errno).lower()}; free "
+                  "some space there and run the command again.")
+    return wrapper
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """Print a warning of the layers as one ``warning: ...`` line (no file, no line, no class)."""
+    text = str(message)
+    if text not in _shown:
+        _shown.add(text)
+        print(f"warning: {text}", file=sys.stderr)
+
+
+_shown: set[str] = set()
+
+
+@app.callback()
+def _main(debug: Annotated[bool, typer.Option("--debug", help="Show tracebacks and logs.")] = False):
+    _state["debug"] = debug
+    _shown.clear()
+    package_log = logging.getLogger("graspcampaign")
+    if debug:
+        logging.basicConfig(level=logging.INFO, format="%(levelname)s %(name)s: %(message)s")
+    elif not package_log.handlers:
+        package_log.addHandler(logging.NullHandler())  # warnings reach the user once, below
+    warnings.showwarning = _show_warning
+
+
+def _configure(cfg, root: Path | None):
+    """Apply ``--root`` to a composed study (where records go never changes a result)."""
+    if root is not None:
+        cfg.output.root = str(root)
+    return cfg
+
+
+def _check_root(root: Path | None, write: bool = False) -> None:
+    """Refuse a bad ``--root`` (empty, a file, unwritable when ``write``) before any work."""
+    if root is not None:
+        from graspcampaign.campaign.paths import check_root
+
+        check_root(root, "--root", write=write)
+
+
+def _compose(study: str, overrides: list[str] | None, root: Path | None = None):
+    from graspcampaign.campaign.compose import compose_study
+
+    return _configure(compose_study(study, overrides or []), root)
+
+
+def _writable_stem(out: Path, option: str, hint: str = "a file stem such as",
+                   example: str = "schedule") -> Path:
+    """Check that files ``<out>.<ext>`` (or ``out``) can be written, before any work: a directory
+    in its place, a file on its path or a directory that cannot be written is bad input."""
+    from graspcampaign.campaign.paths import path_problem
+
+    why = path_problem(out, write=True, directory=False)
+    if why == "is a directory, not a file":
+        _fail(f"{option} {out} is a directory; give {hint} {out / example}.")
+    if why is not None:
+        _fail(f"{option} {out}: {why}.")
+    return out

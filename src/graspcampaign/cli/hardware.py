@@ -1,0 +1,125 @@
+"""The hardware and mesh commands: ``schedule`` (a protocol's commanded-trial sheet), ``ingest``
+(measured records into a run) and ``plan`` (a grasp on a user's mesh)."""
+
+from __future__ import annotations
+
+import json
+import traceback
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from graspcampaign.cli.app import (
+    Overrides,
+    RootOpt,
+    StudyArg,
+    _check_root,
+    _compose,
+    _fail,
+    _guard,
+    _state,
+    _writable_stem,
+    app,
+)
+from graspcampaign.cli.output import print_plan
+
+
+@app.command()
+@_guard
+def schedule(
+    study: StudyArg,
+    overrides: Overrides = None,
+    out: Annotated[
+        Path | None, typer.Option(help="Output file stem (default: <root>/<study>/schedule).")
+    ] = None,
+    template: Annotated[bool, typer.Option(
+        "--template", help="Also write the measured-records sheet to fill in (every column, empty, "
+                           "with its unit in <stem>-template-columns.csv).")] = False,
+    root: RootOpt = None,
+) -> None:
+    """Write a hardware protocol's commanded-trial sheet (CSV and Parquet)."""
+    from graspcampaign.campaign.kind import get_kind
+    from graspcampaign.campaign.runner import kind_params
+
+    _check_root(root, write=out is None)
+    cfg = _compose(study, overrides, root)
+    kind = get_kind(cfg.kind)
+    if kind.schedule is None:
+        _fail(f"study {cfg.name!r} is a simulation study; only hardware protocols have a schedule.")
+    stem = _writable_stem(out or Path(cfg.output.root) / cfg.name / "schedule", "--out")
+    if out is not None and not out.parent.is_dir():  # as plan --png: a typo grows no tree
+        _fail(f"--out {out}: directory {out.parent} does not exist.")
+    params = kind_params(cfg, kind)
+    sheet = kind.schedule(cfg, params)
+    sheets = {"": sheet}
+    if template:
+        fill, columns = kind.template(cfg, params, sheet)
+        sheets.update({"-template": fill, "-template-columns": columns})
+    try:
+        stem.parent.mkdir(parents=True, exist_ok=True)
+        for suffix, table in sheets.items():
+            path = stem.with_name(stem.name + suffix)
+            table.to_csv(path.with_suffix(".csv"), index=False)
+            if not suffix:
+                table.to_parquet(path.with_suffix(".parquet"), index=False)
+    except OSError as exc:  # permissions, a full disk
+        _fail(f"--out {stem}: cannot write there ({exc.strerror or type(exc).__name__}).")
+    typer.echo(f"{len(sheet)} commanded trials -> {stem.with_suffix('.csv')} and .parquet")
+    if template:
+        typer.echo(f"measured-records template -> {stem}-template.csv (columns and units: "
+                   f"{stem}-template-columns.csv)")
+
+
+@app.command()
+@_guard
+def ingest(
+    study: StudyArg,
+    files: Annotated[list[Path], typer.Argument(help="Measured records (CSV, XLSX or Parquet).")],
+    run: Annotated[str, typer.Option("--run", help="Run that receives the measured records.")] = "measured",
+    overrides: Annotated[list[str] | None, typer.Option("--set", help="Hydra override (repeatable).")] = None,
+    root: RootOpt = None,
+) -> None:
+    """Validate measured records and store them as a run with source = measured."""
+    from graspcampaign.campaign.ingest import ingest_files
+
+    _check_root(root, write=True)
+    cfg = _compose(study, overrides, root)
+    n, path = ingest_files(cfg, [str(f) for f in files], run)
+    typer.echo(f"{n} measured records stored in {path}")
+
+
+@app.command()
+@_guard
+def plan(
+    mesh: Annotated[Path, typer.Argument(help="Object mesh (STL, OBJ or PLY).")],
+    mass_kg: Annotated[float, typer.Option("--mass-kg", help="Object mass [kg].")],
+    material: Annotated[str | None, typer.Option(help="Table 4 material family.")] = None,
+    mu: Annotated[float | None, typer.Option(help="Static friction; overrides the material's.")] = None,
+    fingertip_radius_mm: Annotated[float, typer.Option("--fingertip-radius-mm")] = 5.0,
+    unit: Annotated[str, typer.Option(help="Length unit of the mesh file: m, cm or mm.")] = "mm",
+    png: Annotated[Path | None, typer.Option(
+        help="Picture path, ending in .png (default: <mesh>.plan.png beside the mesh).")] = None,
+    as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
+) -> None:
+    """Plan a three-finger grasp on a mesh and predict the disturbances it resists."""
+    from graspcampaign.rig.plan import PicturePathError, plan_mesh
+
+    if not mesh.is_file():
+        _fail(f"{mesh}: no such mesh file.")
+    try:  # plan_mesh checks the picture path before any planning work
+        result = plan_mesh(mesh, mass_kg=mass_kg, material=material, mu=mu,
+                           fingertip_radius_mm=fingertip_radius_mm, unit=unit,
+                           png_path=mesh.with_suffix(".plan.png") if png is None else png,
+                           png_option="the default picture" if png is None else "--png")
+    except PicturePathError as exc:
+        _fail(str(exc) if png is not None else
+              f"{str(exc).rstrip('.')}; pass --png with a path where the picture can be written.")
+    except ValueError as exc:  # MeshError and out-of-range values are bad input
+        if _state["debug"]:
+            traceback.print_exc()
+        _fail(str(exc))
+    if as_json:
+        typer.echo(json.dumps(result, indent=2, default=str))
+        return
+    print_plan(result)
