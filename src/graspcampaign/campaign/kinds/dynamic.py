@@ -222,11 +222,8 @@ def like_for_like(study, mesh, mass: float, mu: float, contact) -> dict[str, Any
     """
     from graspcampaign.core.equilibrium import evaluate_grasps
     from graspcampaign.core.hand import hand_contact_directions, planned_contacts
-    from graspcampaign.core.statics import (
-        friction_cone_feasibility,
-        frictionless_diagnosis,
-        sphere_contacts_from_directions,
-    )
+    from graspcampaign.core.statics import friction_cone_feasibility, sphere_contacts_from_directions
+    from graspcampaign.core.statics_audit import frictionless_diagnosis
 
     directions = hand_contact_directions()
     points, _, normals = planned_contacts(mesh, directions)
