@@ -36,7 +36,8 @@ from _common import print_table
 
 from graspcampaign.core import bench
 from graspcampaign.core.bench import SensorParams, SpreadParams
-from graspcampaign.core.identify import paper_bounds, pso_minimize
+from graspcampaign.core.identify import paper_bounds
+from graspcampaign.core.pso import pso_minimize
 from graspcampaign.rig import test1 as T
 
 SEED = 701  # campaigns/test1_bench.yaml

@@ -13,8 +13,8 @@ from graspcampaign.core.identify import (
     identification_terms,
     identify_body,
     paper_bounds,
-    pso_minimize,
 )
+from graspcampaign.core.pso import pso_minimize
 
 LOWER, UPPER = paper_bounds()
 

@@ -1,6 +1,6 @@
 """Tests of graspcampaign.core.pso_kernel: the compiled swarm update against numpy's.
 
-Reference: the numpy loop that :func:`graspcampaign.core.identify.pso_minimize` ran before the
+Reference: the numpy loop that :func:`graspcampaign.core.pso.pso_minimize` ran before the
 update was compiled (kept here verbatim); the swarm must be the same bit for bit.
 """
 
@@ -9,7 +9,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from graspcampaign.core.identify import paper_bounds, pso_minimize
+from graspcampaign.core.identify import paper_bounds
+from graspcampaign.core.pso import pso_minimize
 
 
 def _pso_numpy(cost, lower, upper, n_particles, n_iterations, rng, inertia=0.7, c1=1.5,

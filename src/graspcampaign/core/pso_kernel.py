@@ -1,4 +1,4 @@
-"""Compiled (numba) swarm update of :func:`graspcampaign.core.identify.pso_minimize`.
+"""Compiled (numba) swarm update of :func:`graspcampaign.core.pso.pso_minimize`.
 
 A PSO iteration is a handful of elementwise operations on (p, d) arrays; in numpy each is a
 separate call costing ~1 us whatever its size, ~40-55 us per iteration for 40 particles x 6

@@ -70,7 +70,7 @@ def _pso_run(traces: list[tuple], psi: float, rng: np.random.Generator,
              bounds: tuple[np.ndarray, np.ndarray], n_particles: int, n_iterations: int):
     """Minimise :func:`_pso_cost` over ``traces`` with the swarm drawn from ``rng`` (a task:
     it carries its own traces and generator state, not the material's pool)."""
-    from graspcampaign.core.identify import pso_minimize
+    from graspcampaign.core.pso import pso_minimize
 
     return pso_minimize(_pso_cost(traces, psi), *bounds, n_particles=n_particles,
                         n_iterations=n_iterations, rng=rng)
