@@ -11,21 +11,17 @@ name collisions, and override messages. Pattern of ``test_bad_input.py``.
 from __future__ import annotations
 
 import contextlib
-import hashlib
 import http.server
 import shutil
-import signal
 import socket
 import threading
 from pathlib import Path
 
 import pytest
-from typer.testing import CliRunner
+from cli_checks import invoke, refused
 
 from graspcampaign.campaign import studyfile
-from graspcampaign.cli.main import app
 
-runner = CliRunner()
 PROJECT = Path(studyfile.project_dirs()[0]).parent
 CAMPAIGNS = PROJECT / "campaigns"
 SMOKE = ["shape=[sphere]", "nodes=[144]"]
@@ -34,46 +30,13 @@ BODY = "kind: mesh_features\nfactors:\n  shape: [sphere]\n  nodes: [144]\n"
 RUN_NAME = "(output.run=NAME or --run NAME) or pass --allow-drift to mix them."
 
 
-@contextlib.contextmanager
-def _deadline(seconds: float):
-    """Fail (instead of hanging or filling the memory) if the block takes longer than this."""
-    def expired(signum, frame):
-        raise TimeoutError(f"still running after {seconds} s")
-
-    previous = signal.signal(signal.SIGALRM, expired)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
-    try:
-        yield
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, previous)
-
-
-def _invoke(*args, seconds: float = 20.0):
-    with _deadline(seconds):
-        return runner.invoke(app, [str(a) for a in args], catch_exceptions=False)
-
-
-def _snapshot(root: Path) -> dict[str, str]:
-    return {p.relative_to(root).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest()
-            for p in sorted(root.rglob("*")) if p.is_file()}
-
-
 @pytest.fixture(scope="module")
 def results(tmp_path_factory):
     """A results root holding one finished smoke run (so 'nothing changed' has something to keep)."""
     root = tmp_path_factory.mktemp("bad_configs") / "results"
-    done = _invoke("run", "smoke", *SMOKE, "runner.backend=sequential", "--root", root)
+    done = invoke("run", "smoke", *SMOKE, "runner.backend=sequential", "--root", root)
     assert done.exit_code == 0, done.output
     return root
-
-
-def _refused(results: Path, args, message: str, warnings: str = "", seconds: float = 20.0) -> None:
-    before = _snapshot(results)
-    result = _invoke(*args, "--root", results, seconds=seconds)
-    assert result.exit_code == 2, result.output
-    assert result.stderr == f"{warnings}error: {message}\n"
-    assert _snapshot(results) == before
 
 
 # -- 1. a Dask address that accepts connections but is no scheduler -------------------------------
@@ -141,34 +104,34 @@ def test_a_dask_address_that_is_no_scheduler_is_refused_within_its_timeout(resul
         address = f"tcp://127.0.0.1:{port}"
         # the deadline is the bound: the old code hung for good (or asked for 3 EiB); a loaded
         # machine may take seconds to refuse, so no tighter wall-clock assert
-        _refused(results, ["run", "smoke", *SMOKE, "runner=dask", f"runner.address={address}",
-                           "runner.connect_timeout_s=0.5", "--run", "on_dask"],
-                 f"runner.address = '{address}': no Dask scheduler answered within 0.5 s ({why}); "
-                 "start one (dask scheduler) or drop runner.address to run on a local cluster.",
-                 seconds=20)
+        refused(results, ["run", "smoke", *SMOKE, "runner=dask", f"runner.address={address}",
+                          "runner.connect_timeout_s=0.5", "--run", "on_dask", "--root", results],
+                f"runner.address = '{address}': no Dask scheduler answered within 0.5 s ({why}); "
+                "start one (dask scheduler) or drop runner.address to run on a local cluster.",
+                seconds=20)
 
 
 # -- 2. designs too large to hold ------------------------------------------------------------------
 def test_seeds_beyond_any_design_are_refused_before_expanding(results):
     for command in ("show", "run"):
-        _refused(results, [command, "baseline_grid", "seeds=99999999999999999999999"],
-                 "seeds = 99999999999999999999999 is out of range; allowed: >= 1 and <= 1000000 (a "
-                 "study holds at most 1,000,000 trials, docs/decisions.md).", seconds=15)
+        refused(results, [command, "baseline_grid", "seeds=99999999999999999999999", "--root", results],
+                "seeds = 99999999999999999999999 is out of range; allowed: >= 1 and <= 1000000 (a "
+                "study holds at most 1,000,000 trials, docs/decisions.md).", seconds=15)
 
 
 def test_a_design_beyond_the_trial_limit_is_refused_before_expanding(results):
-    _refused(results, ["show", "smoke", "seeds=200000"],
-             "study smoke has 2,000,000 trials (5 x 2 x 200000), more than the 1,000,000 a study may "
-             "hold (each costs ~0.8 KB of memory before it runs, docs/decisions.md); reduce seeds, "
-             "repeats or the factor levels, or split the study.", seconds=15)
+    refused(results, ["show", "smoke", "seeds=200000", "--root", results],
+            "study smoke has 2,000,000 trials (5 x 2 x 200000), more than the 1,000,000 a study may "
+            "hold (each costs ~0.8 KB of memory before it runs, docs/decisions.md); reduce seeds, "
+            "repeats or the factor levels, or split the study.", seconds=15)
 
 
 # -- 3. runner.n_jobs = 0 --------------------------------------------------------------------------
 def test_n_jobs_zero_is_refused_at_compose(results):
     for command in ("show", "run"):
-        _refused(results, [command, "smoke", *SMOKE, "runner.n_jobs=0"],
-                 "runner.n_jobs = 0 is out of range; allowed: != 0 (joblib's n_jobs: a number of "
-                 "worker processes, or -1 for every core, -2 for every core but one).")
+        refused(results, [command, "smoke", *SMOKE, "runner.n_jobs=0", "--root", results],
+                "runner.n_jobs = 0 is out of range; allowed: != 0 (joblib's n_jobs: a number of "
+                "worker processes, or -1 for every core, -2 for every core but one).")
 
 
 # -- 4. null factor levels -------------------------------------------------------------------------
@@ -183,29 +146,29 @@ NULLS = {"mu=null": "factors.mu[0] must be of type float, got null; give the fac
 @pytest.mark.parametrize("override", sorted(NULLS))
 def test_a_null_factor_level_is_refused(results, override):
     for command in ("show", "run") if override == "mu=null" else ("show",):
-        _refused(results, [command, "baseline_grid", override], NULLS[override])
+        refused(results, [command, "baseline_grid", override, "--root", results], NULLS[override])
 
 
 # -- 5. factors the trial kind needs ---------------------------------------------------------------
 def test_a_study_file_without_its_kinds_factors_is_named_with_its_line(results, user_dir):
     path = user_dir / "mine.yaml"
     path.write_text(HEADER + "name: mine\nkind: quasi_static\nfactors:\n  shape: [sphere]\n")
-    _refused(results, ["show", "mine"],
-             f"{path}, line 5: trial kind 'quasi_static' needs the factors mass_kg, mu and planner "
-             "on every trial, which this study does not set (its factors: shape); give each a list "
-             "of levels under factors, e.g. mass_kg: [0.2, 0.4].")
+    refused(results, ["show", "mine", "--root", results],
+            f"{path}, line 5: trial kind 'quasi_static' needs the factors mass_kg, mu and planner "
+            "on every trial, which this study does not set (its factors: shape); give each a list "
+            "of levels under factors, e.g. mass_kg: [0.2, 0.4].")
 
 
 def test_factors_missing_for_the_trial_kind_are_named(results):
     for command in ("show", "run"):
-        _refused(results, [command, "baseline_grid", "~factors"],
-                 "trial kind 'quasi_static' needs the factors shape, mass_kg, mu and planner on "
-                 "every trial, which this study does not set (its factors: none); give each a list "
-                 "of levels under factors, e.g. shape: [sphere, pear].")
-        _refused(results, [command, "smoke", "kind=quasi_static"],
-                 "trial kind 'quasi_static' needs the factors mass_kg, mu and planner on every "
-                 "trial, which this study does not set (its factors: shape, nodes); give each a "
-                 "list of levels under factors, e.g. mass_kg: [0.2, 0.4].")
+        refused(results, [command, "baseline_grid", "~factors", "--root", results],
+                "trial kind 'quasi_static' needs the factors shape, mass_kg, mu and planner on "
+                "every trial, which this study does not set (its factors: none); give each a list "
+                "of levels under factors, e.g. shape: [sphere, pear].")
+        refused(results, [command, "smoke", "kind=quasi_static", "--root", results],
+                "trial kind 'quasi_static' needs the factors mass_kg, mu and planner on every "
+                "trial, which this study does not set (its factors: shape, nodes); give each a "
+                "list of levels under factors, e.g. mass_kg: [0.2, 0.4].")
 
 
 # -- 6. the environment variables ------------------------------------------------------------------
@@ -232,9 +195,9 @@ def test_a_bad_graspcampaign_home_is_named(results, tmp_path, monkeypatch, case)
     studyfile.project_dirs.cache_clear()
     try:
         for command in ("show", "run") if case == "missing" else ("show",):
-            _refused(results, [command, "smoke", *SMOKE], f"GRASPCAMPAIGN_HOME={home} {problem}"
-                                                          f"{HOME_HINT}")
-        listing = _invoke("list")
+            refused(results, [command, "smoke", *SMOKE, "--root", results],
+                    f"GRASPCAMPAIGN_HOME={home} {problem}{HOME_HINT}")
+        listing = invoke("list")
         assert listing.exit_code == 2
         assert listing.stderr == f"error: GRASPCAMPAIGN_HOME={home} {problem}{HOME_HINT}\n"
     finally:
@@ -244,12 +207,12 @@ def test_a_bad_graspcampaign_home_is_named(results, tmp_path, monkeypatch, case)
 def test_an_empty_group_file_of_graspcampaign_home_is_named(results, home):
     table2 = home / "conf" / "model" / "table2.yaml"
     table2.write_text("")
-    _refused(results, ["show", "smoke", *SMOKE],
-             f"{table2} is empty; a file of config group model sets the keys of ContactModelCfg "
-             "(lambda1, lambda2, n_exp, fingertip_radius_m, e_finger_pa, e_object_pa, nu_finger, "
-             "nu_object, damping_law, alpha_hc_s_per_m).")
+    refused(results, ["show", "smoke", *SMOKE, "--root", results],
+            f"{table2} is empty; a file of config group model sets the keys of ContactModelCfg "
+            "(lambda1, lambda2, n_exp, fingertip_radius_m, e_finger_pa, e_object_pa, nu_finger, "
+            "nu_object, damping_law, alpha_hc_s_per_m).")
     # `list` says it once, not once per study, and lists every study as broken
-    listing = _invoke("list")
+    listing = invoke("list")
     message = f"{table2} is empty; a file of config group model sets the keys of ContactModelCfg"
     assert listing.stderr.count(message) == 1, listing.stderr
     assert listing.stderr.startswith(f"warning: every study is broken: {message}")
@@ -269,17 +232,17 @@ def test_a_bad_graspcampaign_path_entry_is_warned_about(results, tmp_path, monke
                              f"giving its path: graspcampaign run {entry})"}[case]
     studies = ", ".join(p.stem for p in sorted(CAMPAIGNS.glob("*.yaml")))
     short = problem.split(" (")[0]
-    _refused(results, ["show", "mine"],
-             f"unknown study 'mine'; available studies: {studies} (searched: {CAMPAIGNS}; "
-             f"GRASPCAMPAIGN_PATH entries skipped: {entry} ({short})).",
-             warnings=f"warning: GRASPCAMPAIGN_PATH entry {entry} {problem}; it is skipped.\n")
+    refused(results, ["show", "mine", "--root", results],
+            f"unknown study 'mine'; available studies: {studies} (searched: {CAMPAIGNS}; "
+            f"GRASPCAMPAIGN_PATH entries skipped: {entry} ({short})).",
+            warnings=f"warning: GRASPCAMPAIGN_PATH entry {entry} {problem}; it is skipped.\n")
 
 
 def test_a_cache_that_cannot_be_kept_is_said_once(tmp_path, monkeypatch):
     blocker = tmp_path / "cache_file"
     blocker.write_text("a file, not a directory")
     monkeypatch.setenv("GRASPCAMPAIGN_CACHE", str(blocker))
-    listing = _invoke("list")
+    listing = invoke("list")
     assert listing.exit_code == 0, listing.output
     assert listing.stderr == (f"warning: GRASPCAMPAIGN_CACHE={blocker} is not a directory, so the "
                               "catalog cache is not kept; list and show work without it, "
@@ -302,7 +265,7 @@ SILENT = {
 @pytest.mark.parametrize("override", sorted(SILENT))
 def test_overrides_once_accepted_silently_are_refused(results, override):
     for command in ("show", "run") if override == "pso.enabled=2" else ("show",):
-        _refused(results, [command, "smoke", *SMOKE, override], SILENT[override])
+        refused(results, [command, "smoke", *SMOKE, override, "--root", results], SILENT[override])
 
 
 def test_list_says_which_study_files_are_broken(user_dir):
@@ -310,7 +273,7 @@ def test_list_says_which_study_files_are_broken(user_dir):
     (user_dir / "bad_eval.yaml").write_text(HEADER + "name: bad_eval\n" + BODY
                                             + "evaluator:\n  n_cand: -3\n")
     (user_dir / "fine.yaml").write_text(HEADER + "name: fine\n" + BODY)
-    result = _invoke("list")
+    result = invoke("list")
     assert result.exit_code == 0, result.output
     assert result.stderr == (
         f"warning: study bad_eval is broken: {user_dir / 'bad_eval.yaml'}, line 9: "
@@ -323,19 +286,19 @@ def test_list_says_which_study_files_are_broken(user_dir):
     rows = {line.split("│")[1].strip(): line.split("│")[4].strip()
             for line in result.stdout.splitlines() if line.count("│") > 4}
     assert (rows["bad_model"], rows["bad_eval"], rows["fine"]) == ("broken", "broken", "yes")
-    names = _invoke("list", "--names").stdout.split()
+    names = invoke("list", "--names").stdout.split()
     assert "fine" in names and "bad_model" not in names and "bad_eval" not in names
 
 
 def test_list_says_when_it_cannot_check_a_study(results, user_dir):
     path = user_dir / "mine.yaml"
     path.write_text(HEADER + "name: mine\n" + BODY + "seeds: ${nosuch}\n")
-    listing = _invoke("list")
+    listing = invoke("list")
     assert listing.exit_code == 0 and listing.stderr == ""
     row = next(line for line in listing.stdout.splitlines() if line.startswith("│ mine "))
     assert row.split("│")[4].strip() == "yes (not checked)"  # only composing resolves ${...}
-    _refused(results, ["show", "mine"], f"{path}, line 8: seeds refers to ${{nosuch}}, which is "
-                                        "not a key of the study config.")
+    refused(results, ["show", "mine", "--root", results],
+            f"{path}, line 8: seeds refers to ${{nosuch}}, which is not a key of the study config.")
 
 
 SHOW_LIKE_RUN = {
@@ -360,13 +323,13 @@ def test_show_refuses_what_run_refuses(results, user_dir, case):
     path = user_dir / "mine.yaml"
     path.write_text(HEADER + "name: mine\n" + body)
     for command in ("show", "run"):
-        _refused(results, [command, "mine"], f"{path}, line {line}: {message}")
+        refused(results, [command, "mine", "--root", results], f"{path}, line {line}: {message}")
 
 
 def test_plan_refuses_an_empty_material(tmp_path):
     mesh = tmp_path / "object.stl"
     mesh.write_text("solid nothing\nendsolid nothing\n")
-    result = _invoke("plan", mesh, "--mass-kg", "0.3", "--material", "")
+    result = invoke("plan", mesh, "--mass-kg", "0.3", "--material", "")
     assert result.exit_code == 2, result.output
     assert result.stderr == ("error: unknown material '': use one of gel, silicone_soft, bio_foam, "
                              "silicone_ref\n")
@@ -375,13 +338,13 @@ def test_plan_refuses_an_empty_material(tmp_path):
 
 # -- 8. the drift message names what changed -------------------------------------------------------
 def test_drift_names_the_first_changed_keys(results):
-    _refused(results, ["run", "smoke", *SMOKE, "features.edge_dihedral_deg=31"],
-             f"run {results / 'smoke' / 'default'} was started with a different resolved study "
-             "config (features.edge_dihedral_deg 30.0 -> 31.0); use a new run name " + RUN_NAME)
-    _refused(results, ["run", "smoke", "shape=[sphere,pear]", "nodes=[144]", "seeds=2"],
-             f"run {results / 'smoke' / 'default'} was started with a different resolved study "
-             'config (seeds 1 -> 2, factors.shape ["sphere"] -> ["sphere", "pear"]); use a new run '
-             "name " + RUN_NAME)
+    refused(results, ["run", "smoke", *SMOKE, "features.edge_dihedral_deg=31", "--root", results],
+            f"run {results / 'smoke' / 'default'} was started with a different resolved study "
+            "config (features.edge_dihedral_deg 30.0 -> 31.0); use a new run name " + RUN_NAME)
+    refused(results, ["run", "smoke", "shape=[sphere,pear]", "nodes=[144]", "seeds=2", "--root", results],
+            f"run {results / 'smoke' / 'default'} was started with a different resolved study "
+            'config (seeds 1 -> 2, factors.shape ["sphere"] -> ["sphere", "pear"]); use a new run '
+            "name " + RUN_NAME)
 
 
 # -- 9. study-file errors name the file, the line, the key and what it takes -----------------------
@@ -413,8 +376,8 @@ def test_a_study_file_error_names_the_file_line_and_key(results, user_dir, case,
     path = user_dir / "mine.yaml"
     path.write_text(HEADER + "name: mine\n" + body)
     for command in ("show", "run") if how == "name" else ("show",):
-        _refused(results, [command, "mine" if how == "name" else path],
-                 f"{path}, line {line}: {message}")
+        refused(results, [command, "mine" if how == "name" else path, "--root", results],
+                f"{path}, line {line}: {message}")
 
 
 HOME_FILES = {
@@ -434,7 +397,7 @@ def test_a_group_file_error_names_the_file_and_line(results, home, case):
     table2 = home / "conf" / "model" / "table2.yaml"
     table2.write_text(table2.read_text().replace(old, new))
     for command in ("show", "run"):
-        _refused(results, [command, "smoke", *SMOKE], f"{table2}, line {line}: {message}")
+        refused(results, [command, "smoke", *SMOKE, "--root", results], f"{table2}, line {line}: {message}")
 
 
 # -- 10. names: a study that hides a tool study, a renamed study, a file named otherwise -----------
@@ -442,16 +405,16 @@ def test_a_study_hiding_a_tool_study_needs_its_paper_block(results, user_dir):
     path = user_dir / "baseline_grid.yaml"
     path.write_text(HEADER + "name: baseline_grid\n" + BODY)
     for command in ("show", "run"):
-        _refused(results, [command, "baseline_grid"],
-                 f"{path}: paper.figure is missing (BaselineGridPaper requires it): this file takes "
-                 "the name of the tool's study baseline_grid (campaigns/baseline_grid.yaml), which "
-                 "it hides, so its runs are reported as that study and its paper block must hold "
-                 "that study's values; copy the paper block of campaigns/baseline_grid.yaml, or "
-                 "give your study a name of its own.")
+        refused(results, [command, "baseline_grid", "--root", results],
+                f"{path}: paper.figure is missing (BaselineGridPaper requires it): this file takes "
+                "the name of the tool's study baseline_grid (campaigns/baseline_grid.yaml), which "
+                "it hides, so its runs are reported as that study and its paper block must hold "
+                "that study's values; copy the paper block of campaigns/baseline_grid.yaml, or "
+                "give your study a name of its own.")
 
 
 def test_a_renamed_study_keeps_comparing_with_its_paper_values(results):
-    result = _invoke("show", "baseline_grid", "name=my_grid", "--root", results)
+    result = invoke("show", "baseline_grid", "name=my_grid", "--root", results)
     assert result.exit_code == 0, result.output
     assert result.stdout.startswith("study: my_grid\n")
     assert f"run: {results / 'my_grid' / 'default'} (0 of 3375 recorded)" in result.stdout
@@ -464,10 +427,10 @@ def test_a_study_file_named_otherwise_than_its_name_is_refused(results, user_dir
     path = user_dir / "named_file.yaml"
     path.write_text(HEADER + "name: other_name\n" + BODY)
     for command in ("show", "run"):
-        _refused(results, [command, "named_file"],
-                 f"{path}, line 3: name: other_name is not the file's name named_file; a study is "
-                 "listed, run and reported by its file name (status and report look for "
-                 "named_file), so write name: named_file or rename the file to other_name.yaml.")
+        refused(results, [command, "named_file", "--root", results],
+                f"{path}, line 3: name: other_name is not the file's name named_file; a study is "
+                "listed, run and reported by its file name (status and report look for "
+                "named_file), so write name: named_file or rename the file to other_name.yaml.")
 
 
 # -- 11. override messages -------------------------------------------------------------------------
@@ -507,20 +470,20 @@ OVERRIDES = {
 @pytest.mark.parametrize("override", sorted(OVERRIDES), ids=lambda o: o[:24])
 def test_override_messages_name_the_override_in_plain_words(results, override):
     for command in ("show", "run") if override == "=3" else ("show",):
-        _refused(results, [command, "baseline_grid", override], OVERRIDES[override])
+        refused(results, [command, "baseline_grid", override, "--root", results], OVERRIDES[override])
 
 
 def test_the_quoted_form_an_override_message_suggests_is_read(results):
     """The fix the message gives parses: the value then meets the factor's own check."""
-    _refused(results, ["show", "baseline_grid", 'shape=["sphère"]'],
-             "factors.shape[0] has unknown value 'sphère'; allowed values: sphere, ellipsoid, "
-             "rounded_cube, pear, handle.")
+    refused(results, ["show", "baseline_grid", 'shape=["sphère"]', "--root", results],
+            "factors.shape[0] has unknown value 'sphère'; allowed values: sphere, ellipsoid, "
+            "rounded_cube, pear, handle.")
 
 
 def test_a_study_file_with_a_byte_order_mark_is_read(results, user_dir):
     (user_dir / "mine.yaml").write_bytes(b"\xef\xbb\xbf" + (HEADER + "name: mine\n" + BODY).encode())
-    shown = _invoke("show", "mine", "--root", results)
+    shown = invoke("show", "mine", "--root", results)
     assert shown.exit_code == 0, shown.output
     assert "axes: 1 x 1 x 1 = 1 trials" in shown.stdout
-    listing = _invoke("list")
+    listing = invoke("list")
     assert listing.stderr == ""

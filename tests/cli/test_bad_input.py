@@ -8,34 +8,22 @@ config search path (``GRASPCAMPAIGN_PATH``) or are given as paths; broken group 
 
 from __future__ import annotations
 
-import hashlib
 from pathlib import Path
 
 import pytest
-from typer.testing import CliRunner
+from cli_checks import invoke, refused, snapshot
 
 from graspcampaign.campaign import studyfile
-from graspcampaign.cli.main import app
 
-runner = CliRunner()
 PROJECT = Path(studyfile.project_dirs()[0]).parent
 SMOKE = ["shape=[sphere]", "nodes=[144]", "runner.backend=sequential"]
-
-
-def _invoke(*args):
-    return runner.invoke(app, [str(a) for a in args], catch_exceptions=False)
-
-
-def _snapshot(root: Path) -> dict[str, str]:
-    return {p.relative_to(root).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest()
-            for p in sorted(root.rglob("*")) if p.is_file()}
 
 
 @pytest.fixture(scope="module")
 def results(tmp_path_factory):
     """A results root holding one finished smoke run (so 'nothing changed' has something to keep)."""
     root = tmp_path_factory.mktemp("bad_input") / "results"
-    done = _invoke("run", "smoke", *SMOKE, "--root", root)
+    done = invoke("run", "smoke", *SMOKE, "--root", root)
     assert done.exit_code == 0, done.output
     return root
 
@@ -44,14 +32,6 @@ def _commands(case: str, first: str) -> tuple[str, ...]:
     """``run`` for every case (it is the command that could write); ``show`` for the first case
     of a class too (it composes the same way, and must refuse the same way)."""
     return ("show", "run") if case == first else ("run",)
-
-
-def _refused(results: Path, args, message: str) -> None:
-    before = _snapshot(results)
-    result = _invoke(*args)
-    assert result.exit_code == 2, result.output
-    assert result.stderr == f"error: {message}\n"
-    assert _snapshot(results) == before
 
 
 HEADER = "# @package _global_\n# schema: StudyCfg\n"
@@ -87,8 +67,8 @@ def test_broken_study_file(results, user_dir, case, how):
     path = user_dir / "mine.yaml"
     path.write_text(text)
     for command in _commands(case, "tab_indented"):
-        _refused(results, [command, "mine" if how == "name" else path, "--root", results],
-                 f"{path}{tail}")
+        refused(results, [command, "mine" if how == "name" else path, "--root", results],
+                f"{path}{tail}")
 
 
 # keys and values inside a study file: the schema names them, with the file and line
@@ -129,7 +109,7 @@ def test_bad_value_in_a_study_file(results, user_dir, case):
     path = user_dir / "mine.yaml"
     path.write_text(HEADER + body + extra)
     for command in _commands(case, "impossible_friction"):
-        _refused(results, [command, "mine", "--root", results], message.format(path=path))
+        refused(results, [command, "mine", "--root", results], message.format(path=path))
 
 
 GROUP_FILES = {
@@ -147,8 +127,8 @@ def test_broken_group_file_is_named_with_its_line(results, home, name):
     text, overrides, tail = GROUP_FILES[name]
     (home / "conf" / name).write_text(text)
     for command in _commands(name, "model/table2.yaml"):
-        _refused(results, [command, "smoke", *overrides, "--root", results],
-                 f"{home / 'conf' / name}{tail}")
+        refused(results, [command, "smoke", *overrides, "--root", results],
+                f"{home / 'conf' / name}{tail}")
 
 
 def test_one_broken_study_file_does_not_break_list(user_dir):
@@ -156,7 +136,7 @@ def test_one_broken_study_file_does_not_break_list(user_dir):
     (user_dir / "mine.yaml").write_text(HEADER + GOOD_BODY)
     message = (f"{user_dir / 'broken.yaml'}, line 4: this is not valid YAML (while parsing a flow "
                "sequence: expected ',' or ']', but got '<stream end>').")
-    result = _invoke("list")
+    result = invoke("list")
     assert result.exit_code == 0, result.output
     assert result.stderr == f"warning: study broken is broken: {message}\n"
     lines = {line.split("│")[1].strip(): line for line in result.stdout.splitlines()
@@ -164,7 +144,7 @@ def test_one_broken_study_file_does_not_break_list(user_dir):
     assert "broken" in lines["broken"].split("│")[4]
     assert lines["mine"].split("│")[3].strip() == "1"  # its own trial count
     assert "baseline_grid" in lines and lines["baseline_grid"].split("│")[3].strip() == "3375"
-    names = _invoke("list", "--names")
+    names = invoke("list", "--names")
     assert "broken" not in names.stdout.split() and "mine" in names.stdout.split()
 
 
@@ -186,7 +166,7 @@ PLUS = {
 @pytest.mark.parametrize("override", sorted(PLUS))
 def test_unknown_keys_added_with_plus_and_unknown_options(results, override):
     for command in _commands(override, "+sedes=3"):
-        _refused(results, [command, "smoke", override, "--root", results], PLUS[override])
+        refused(results, [command, "smoke", override, "--root", results], PLUS[override])
 
 
 RUN_NAME = ("is not allowed; use letters, digits, '.', '_' and '-' (starting with a letter or "
@@ -200,29 +180,29 @@ def test_run_names_never_leave_the_results_root(results, tmp_path, name):
     if name == "../../elsewhere":
         commands.append(["show", "smoke"])
     for args in commands:
-        _refused(results, [*args, "--run", name, "--root", results], message)
+        refused(results, [*args, "--run", name, "--root", results], message)
     records = tmp_path / "m.csv"
     records.write_text("trial_id\n")
-    _refused(results, ["ingest", "test2_grasp", records, "--run", name, "--root", results], message)
-    _refused(results, ["run", "smoke", *SMOKE, f"output.run={name}", "--root", results],
-             f"output.run = {name!r} {RUN_NAME}")
+    refused(results, ["ingest", "test2_grasp", records, "--run", name, "--root", results], message)
+    refused(results, ["run", "smoke", *SMOKE, f"output.run={name}", "--root", results],
+            f"output.run = {name!r} {RUN_NAME}")
 
 
 def test_schedule_out_into_a_path_whose_parent_is_a_file(results, tmp_path):
     blocker = tmp_path / "notes.txt"
     blocker.write_text("a file, not a folder")
-    _refused(results, ["reproduce", "--times", blocker / "times.txt", "--root", results],
-             f"--times {blocker / 'times.txt'}: {blocker} is a file, not a directory.")
-    _refused(results, ["schedule", "test2_grasp", "--out", blocker / "sheet", "--root", results],
-             f"--out {blocker / 'sheet'}: {blocker} is a file, not a directory.")
-    _refused(results, ["schedule", "test2_grasp", "--out", blocker / "deeper" / "sheet", "--root",
-                       results], f"--out {blocker / 'deeper' / 'sheet'}: {blocker} is a file, not "
+    refused(results, ["reproduce", "--times", blocker / "times.txt", "--root", results],
+            f"--times {blocker / 'times.txt'}: {blocker} is a file, not a directory.")
+    refused(results, ["schedule", "test2_grasp", "--out", blocker / "sheet", "--root", results],
+            f"--out {blocker / 'sheet'}: {blocker} is a file, not a directory.")
+    refused(results, ["schedule", "test2_grasp", "--out", blocker / "deeper" / "sheet", "--root",
+                      results], f"--out {blocker / 'deeper' / 'sheet'}: {blocker} is a file, not "
                                  "a directory.")
-    _refused(results, ["schedule", "test2_grasp", "--out", tmp_path, "--root", results],
-             f"--out {tmp_path} is a directory; give a file stem such as {tmp_path / 'schedule'}.")
+    refused(results, ["schedule", "test2_grasp", "--out", tmp_path, "--root", results],
+            f"--out {tmp_path} is a directory; give a file stem such as {tmp_path / 'schedule'}.")
     missing = tmp_path / "no_such_dir" / "deeper"  # as plan --png: a mistyped directory grows no tree
-    _refused(results, ["schedule", "test2_grasp", "--out", missing / "x", "--root", results],
-             f"--out {missing / 'x'}: directory {missing} does not exist.")
+    refused(results, ["schedule", "test2_grasp", "--out", missing / "x", "--root", results],
+            f"--out {missing / 'x'}: directory {missing} does not exist.")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["notes.txt"]
 
 
@@ -233,10 +213,10 @@ UNREACHABLE = ("runner.address = 'tcp://127.0.0.1:9': no Dask scheduler answered
 
 def test_a_malformed_dask_address_is_refused_before_anything_runs(results):
     for command in ("show", "run"):
-        _refused(results, [command, "smoke", "runner.backend=dask", "runner.address=localhost",
-                           "--root", results],
-                 "runner.address = 'localhost' is not a Dask scheduler address; expected e.g. "
-                 "tcp://host:8786.")
+        refused(results, [command, "smoke", "runner.backend=dask", "runner.address=localhost",
+                          "--root", results],
+                "runner.address = 'localhost' is not a Dask scheduler address; expected e.g. "
+                "tcp://host:8786.")
 
 
 def test_an_unreachable_dask_scheduler_is_one_sentence():
@@ -256,8 +236,8 @@ def test_an_unreachable_dask_scheduler_is_one_sentence():
 def test_unreachable_dask_scheduler_fails_fast_in_one_sentence(results):
     pytest.importorskip("distributed")
     # port 9 (discard) on the loopback: nothing listens
-    _refused(results, ["run", "smoke", "shape=[sphere]", "nodes=[144]", "runner.backend=dask",
-                       "runner.connect_timeout_s=1", "runner.address=tcp://127.0.0.1:9", "--root",
+    refused(results, ["run", "smoke", "shape=[sphere]", "nodes=[144]", "runner.backend=dask",
+                      "runner.connect_timeout_s=1", "runner.address=tcp://127.0.0.1:9", "--root",
                        results], UNREACHABLE)
 
 
@@ -283,18 +263,18 @@ IMPOSSIBLE = {
 @pytest.mark.parametrize("override", sorted(IMPOSSIBLE))
 def test_physically_impossible_values_are_refused_with_the_range(results, override):
     for command in _commands(override, "mu=50"):
-        _refused(results, [command, "shapes", override, "--root", results], IMPOSSIBLE[override])
+        refused(results, [command, "shapes", override, "--root", results], IMPOSSIBLE[override])
 
 
 def test_status_of_an_unknown_study_does_not_suggest_running_it(results):
     from graspcampaign.campaign.studyfile import list_studies
 
-    _refused(results, ["status", "nosuch", "--root", results],
-             f"unknown study 'nosuch': not on the config search path and no records under "
-             f"{results}; available studies: {', '.join(list_studies())}.")
-    _refused(results, ["status", "baseline_grid", "--root", results],
-             f"no run at {results / 'baseline_grid' / 'default'}; run `graspcampaign run "
-             "baseline_grid` first.")
+    refused(results, ["status", "nosuch", "--root", results],
+            f"unknown study 'nosuch': not on the config search path and no records under "
+            f"{results}; available studies: {', '.join(list_studies())}.")
+    refused(results, ["status", "baseline_grid", "--root", results],
+            f"no run at {results / 'baseline_grid' / 'default'}; run `graspcampaign run "
+            "baseline_grid` first.")
 
 
 def test_a_misspelt_study_name_suggests_the_nearest(results):
@@ -302,10 +282,10 @@ def test_a_misspelt_study_name_suggests_the_nearest(results):
 
     known = ", ".join(list_studies())
     for command in ("status", "report"):
-        _refused(results, [command, "baselin_grid", "--root", results],
-                 f"unknown study 'baselin_grid': not on the config search path and no records "
-                 f"under {results}; did you mean 'baseline_grid'? available studies: {known}.")
-    result = _invoke("run", "baselin_grid", "--root", results)
+        refused(results, [command, "baselin_grid", "--root", results],
+                f"unknown study 'baselin_grid': not on the config search path and no records "
+                f"under {results}; did you mean 'baseline_grid'? available studies: {known}.")
+    result = invoke("run", "baselin_grid", "--root", results)
     assert result.exit_code == 2
     assert result.stderr.startswith("error: unknown study 'baselin_grid'; did you mean "
                                     f"'baseline_grid'? available studies: {known} (searched: ")
@@ -313,9 +293,9 @@ def test_a_misspelt_study_name_suggests_the_nearest(results):
 
 @pytest.mark.parametrize("jobs", [0, -2])
 def test_report_jobs_must_be_a_process_count(results, jobs):
-    before = _snapshot(results)
-    result = _invoke("report", "--root", results, "--jobs", jobs)
+    before = snapshot(results)
+    result = invoke("report", "--root", results, "--jobs", jobs)
     assert result.exit_code == 2
     assert result.output == (f"error: --jobs {jobs}: give a number of processes (1 or more), or -1 "
                              "for one per core.\n")
-    assert _snapshot(results) == before
+    assert snapshot(results) == before

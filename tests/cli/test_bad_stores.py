@@ -14,7 +14,6 @@ advice for a damaged trace table; a directory given where a file belongs.
 from __future__ import annotations
 
 import errno
-import hashlib
 import json
 import os
 import shutil
@@ -25,12 +24,10 @@ from pathlib import Path
 import pyarrow as pa
 import pyarrow.parquet as pq
 import pytest
-from typer.testing import CliRunner
+from cli_checks import invoke, refused, snapshot
 
 from graspcampaign.campaign.records import CONTENT_KEY, RunStore, content_digest
-from graspcampaign.cli.main import app
 
-runner = CliRunner()
 #: the tiny baseline_grid run: one scene, the proposed planner and Ferrari-Canny, a cheap PSO
 BG = ["seeds=1", "shape=[sphere]", "mass_kg=[0.2]", "mu=[0.3]", "planner=[heuristic,ferrari_canny]",
       "pso.n_particles=2", "pso.n_iterations=1", "runner.backend=sequential", "runner.batch_size=1"]
@@ -41,29 +38,12 @@ EMPTY_ROOT = ("is empty; give the results directory (for example results): an em
               "mean the current directory.")
 
 
-def _invoke(*args):
-    return runner.invoke(app, [str(a) for a in args], catch_exceptions=False)
-
-
-def _snapshot(root: Path) -> dict[str, str]:
-    return {p.relative_to(root).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest()
-            for p in sorted(root.rglob("*")) if p.is_file()}
-
-
-def _refused(root: Path, args, message: str) -> None:
-    before = _snapshot(root) if root.is_dir() else None
-    result = _invoke(*args)
-    assert result.exit_code == 2, result.output
-    assert result.stderr == f"error: {message}\n" and result.stdout == ""
-    assert (_snapshot(root) if root.is_dir() else None) == before
-
-
 @pytest.fixture(scope="module")
 def finished(tmp_path_factory):
     """A results root with a finished tiny baseline_grid run and a smoke run, both reported."""
     root = tmp_path_factory.mktemp("bad_stores") / "results"
     for args in (["run", "baseline_grid", *BG], ["run", "smoke", *SMOKE], ["report"]):
-        done = _invoke(*args, "--root", root)
+        done = invoke(*args, "--root", root)
         assert done.exit_code == 0, done.output
     return root
 
@@ -95,21 +75,21 @@ def test_a_root_that_is_not_a_directory_is_refused_before_any_work(finished, tmp
         for args in (["run", "smoke", *SMOKE], ["show", "smoke"], ["status", "smoke"], ["report"],
                      ["report", "smoke"], ["reproduce"], ["ingest", "test2_grasp", records],
                      ["schedule", "test2_grasp"]):
-            _refused(finished, [*args, "--root", root], message)
+            refused(finished, [*args, "--root", root], message)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["afile", "m.csv"]
 
 
-def test_an_empty_root_or_run_name_is_refused(finished, tmp_path, monkeypatch):
+def test_an_empty_root_or_run_name_isrefused(finished, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)  # an empty root would have meant here
     records = tmp_path / "m.csv"
     records.write_text("trial_id\n")
     for args in (["run", "smoke", *SMOKE], ["show", "smoke"], ["status", "smoke"], ["report"],
                  ["reproduce"], ["ingest", "test2_grasp", records], ["schedule", "test2_grasp"]):
-        _refused(finished, [*args, "--root", ""], f"--root {EMPTY_ROOT}")
-    _refused(finished, ["run", "smoke", *SMOKE, "output.root="], f"output.root {EMPTY_ROOT}")
+        refused(finished, [*args, "--root", ""], f"--root {EMPTY_ROOT}")
+    refused(finished, ["run", "smoke", *SMOKE, "output.root="], f"output.root {EMPTY_ROOT}")
     for args in (["run", "smoke", *SMOKE], ["show", "smoke"], ["status", "smoke"],
                  ["report", "smoke"], ["ingest", "test2_grasp", records]):
-        _refused(finished, [*args, "--run", "", "--root", finished], f"--run = '' {RUN_NAME}")
+        refused(finished, [*args, "--run", "", "--root", finished], f"--run = '' {RUN_NAME}")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["m.csv"]
 
 
@@ -136,17 +116,17 @@ def test_a_read_only_root_or_output_is_refused_before_any_work(finished, read_on
     for root in (read_only, read_only / "results"):
         for args in (["run", "smoke", *SMOKE], ["reproduce"], ["ingest", "test2_grasp", records],
                      ["schedule", "test2_grasp"]):
-            _refused(finished, [*args, "--root", root], f"--root {root}: {ro}")
+            refused(finished, [*args, "--root", root], f"--root {root}: {ro}")
     # the --times file is checked before the first study runs, not after it
     fresh = tmp_path / "fresh"
-    _refused(finished, ["reproduce", "--root", fresh, "--times", read_only / "t.txt"],
-             f"--times {read_only / 't.txt'}: {ro}")
-    _refused(finished, ["schedule", "test2_grasp", "--out", read_only / "sheet", "--root", fresh],
-             f"--out {read_only / 'sheet'}: {ro}")
+    refused(finished, ["reproduce", "--root", fresh, "--times", read_only / "t.txt"],
+            f"--times {read_only / 't.txt'}: {ro}")
+    refused(finished, ["schedule", "test2_grasp", "--out", read_only / "sheet", "--root", fresh],
+            f"--out {read_only / 'sheet'}: {ro}")
     assert not fresh.exists() and not any(read_only.iterdir())
     # reading a run needs no write: a read-only root is answered
     shutil.copytree(finished / "smoke", read_only / "smoke")
-    assert _invoke("status", "smoke", "--root", read_only).exit_code == 0
+    assert invoke("status", "smoke", "--root", read_only).exit_code == 0
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="/proc takes no new files on Linux")
@@ -155,15 +135,15 @@ def test_a_root_where_no_file_can_be_created_is_refused_before_any_work(finished
     # judged by the rule the picture path of plan obeys (a probe), not by os.access
     no_files = "cannot write there (No such file or directory)."
     for args in (["run", "smoke", *SMOKE], ["schedule", "test2_grasp"]):
-        _refused(finished, [*args, "--root", "/proc/results"], f"--root /proc/results: {no_files}")
-    _refused(finished, ["schedule", "test2_grasp", "--out", "/proc/sheet", "--root", finished],
-             f"--out /proc/sheet: {no_files}")
+        refused(finished, [*args, "--root", "/proc/results"], f"--root /proc/results: {no_files}")
+    refused(finished, ["schedule", "test2_grasp", "--out", "/proc/sheet", "--root", finished],
+            f"--out /proc/sheet: {no_files}")
 
 
 def test_an_output_file_that_is_a_directory_gets_the_options_own_hint(finished, tmp_path):
-    _refused(finished, ["reproduce", "--root", tmp_path / "fresh", "--times", tmp_path],
-             f"--times {tmp_path} is a directory; give a file such as "
-             f"{tmp_path / 'reproduce_times.txt'}.")
+    refused(finished, ["reproduce", "--root", tmp_path / "fresh", "--times", tmp_path],
+            f"--times {tmp_path} is a directory; give a file such as "
+            f"{tmp_path / 'reproduce_times.txt'}.")
     assert not (tmp_path / "fresh").exists()
 
 
@@ -210,7 +190,7 @@ def test_a_damaged_manifest_is_refused_by_every_command(results, case):
                "move the run directory aside and run the study again.")
     for args in (["status", "baseline_grid"], ["show", "baseline_grid", *BG[:5]],
                  ["report", "baseline_grid"], ["run", "baseline_grid", *BG]):
-        _refused(results, [*args, "--root", results], message)
+        refused(results, [*args, "--root", results], message)
 
 
 # -- 3 (and 2, 4). stored files not what the manifest says, or none; a run refused before it starts
@@ -221,7 +201,7 @@ def test_records_without_a_manifest_are_refused_alike_by_every_command(results):
                "backup, or move the run directory aside and run the study again.")
     for args in (["status", "baseline_grid"], ["show", "baseline_grid", *BG[:5]],
                  ["report", "baseline_grid"], ["run", "baseline_grid", *BG]):
-        _refused(results, [*args, "--root", results], message)
+        refused(results, [*args, "--root", results], message)
 
 
 def test_a_run_refused_before_it_starts_writes_nothing(results, monkeypatch):
@@ -237,8 +217,8 @@ def test_a_run_refused_before_it_starts_writes_nothing(results, monkeypatch):
 
     monkeypatch.setattr(runner_module, "_executor", unreachable)
     message = "runner.address = 'tcp://127.0.0.1:9': no Dask scheduler answered."
-    _refused(results, ["run", "smoke", *SMOKE, "--run", "fresh", "--root", results], message)
-    _refused(results, ["run", "baseline_grid", *BG, "--root", results], message)
+    refused(results, ["run", "smoke", *SMOKE, "--run", "fresh", "--root", results], message)
+    refused(results, ["run", "baseline_grid", *BG, "--root", results], message)
     assert not (results / "smoke" / "fresh").exists()
 
 
@@ -436,10 +416,10 @@ def test_a_run_not_what_its_manifest_says_is_refused_then_repaired_by_run(result
     message = f"run baseline_grid/default at {_grid(results)} has {text}; {advice}"
     for args in (["status", "baseline_grid"], ["show", "baseline_grid", *BG[:5]],
                  ["report", "baseline_grid"]):
-        _refused(results, [*args, "--root", results], message)
+        refused(results, [*args, "--root", results], message)
     # the advice works: resuming the run moves the file aside (never deletes it), then every
     # command reads the run again
-    repaired = _invoke("run", "baseline_grid", *BG, "runner.progress=false", "--root", results)
+    repaired = invoke("run", "baseline_grid", *BG, "runner.progress=false", "--root", results)
     assert repaired.exit_code == 0, repaired.output
     quarantined = None
     if offending is not None:
@@ -449,7 +429,7 @@ def test_a_run_not_what_its_manifest_says_is_refused_then_repaired_by_run(result
     assert repaired.stderr == "warning: " + warning.format(path=offending, target=quarantined) + "\n"
     ran = RERUN.get(case, 2)
     assert f"2 trials, {2 - ran} already recorded, {ran} ran" in repaired.stdout
-    status = _invoke("status", "baseline_grid", "--root", results, "--json")
+    status = invoke("status", "baseline_grid", "--root", results, "--json")
     assert status.exit_code == 0, status.output
     assert json.loads(status.stdout)["n_recorded"] == 2
     assert RunStore(_grid(results)).check() is not None
@@ -469,14 +449,14 @@ def test_a_trial_run_again_counts_though_a_compaction_listed_its_shard_name(resu
     meta[b"graspcampaign.sources"] = json.dumps(sources).encode()
     _as_written(table.slice(1).replace_schema_metadata(meta), compact)
     missing = "its manifest counts 2 recorded trials but 1 are stored"
-    _refused(results, ["status", "baseline_grid", "--root", results],
-             f"run baseline_grid/default at {_grid(results)} has missing records: {missing}; "
-             f"{_advice(results, 'run the missing trials again')}")
+    refused(results, ["status", "baseline_grid", "--root", results],
+            f"run baseline_grid/default at {_grid(results)} has missing records: {missing}; "
+            f"{_advice(results, 'run the missing trials again')}")
     for already, ran in ((1, 1), (2, 0)):  # the advice works once, then nothing is left to run
-        again = _invoke("run", "baseline_grid", *BG, "runner.progress=false", "--root", results)
+        again = invoke("run", "baseline_grid", *BG, "runner.progress=false", "--root", results)
         assert again.exit_code == 0, again.output
         assert f"2 trials, {already} already recorded, {ran} ran" in again.stdout
-    status = _invoke("status", "baseline_grid", "--root", results, "--json")
+    status = invoke("status", "baseline_grid", "--root", results, "--json")
     assert status.exit_code == 0 and json.loads(status.stdout)["n_recorded"] == 2
     assert gone in RunStore(_grid(results)).recorded_ids()
 
@@ -493,7 +473,7 @@ def test_a_run_never_ends_with_exit_0_on_a_run_its_own_checks_refuse(results, mo
 
     _compact(results).unlink()
     monkeypatch.setattr(RunStore, "write_shard", lost)
-    result = _invoke("run", "baseline_grid", *BG, "runner.progress=false", "--root", results)
+    result = invoke("run", "baseline_grid", *BG, "runner.progress=false", "--root", results)
     assert result.exit_code == 2
     missing = "its manifest counts 2 recorded trials but 0 are stored"
     assert result.stderr == (
@@ -509,7 +489,7 @@ def test_run_quarantines_records_of_a_trial_outside_its_design(results):
     compact = _edited(results, lambda t: _set(t, "trial_id", [foreign, *t["trial_id"].to_pylist()[1:]]),
                       True)
     kept = compact.read_bytes()
-    repaired = _invoke("run", "baseline_grid", *BG, "runner.progress=false", "--root", results)
+    repaired = invoke("run", "baseline_grid", *BG, "runner.progress=false", "--root", results)
     assert repaired.exit_code == 0, repaired.output
     target = _grid(results) / "quarantine" / f"records__{compact.name}"
     assert repaired.stderr == (f"warning: file {compact} moved to {target} (records of 1 trial not "
@@ -566,7 +546,7 @@ def test_a_manifest_that_does_not_describe_its_run_is_refused_by_every_command(r
                f"match the run ({why}); {advice}.")
     for args in (["status", "baseline_grid"], ["show", "baseline_grid", *BG[:5]],
                  ["report", "baseline_grid"], ["run", "baseline_grid", *BG]):
-        _refused(results, [*args, "--root", results], message)
+        refused(results, [*args, "--root", results], message)
 
 
 # -- a full disk: one sentence, no temporary file left, nothing stored lost --------------------------
@@ -585,9 +565,9 @@ def test_a_full_disk_while_writing_the_manifest_changes_nothing(results, monkeyp
 
     monkeypatch.setattr(Path, "write_text", full)
     smoke = results / "smoke" / "default"
-    _refused(results, ["run", "smoke", *SMOKE, "--root", results],
-             f"cannot write {smoke / 'manifest.json'}: no space left on device; what was stored "
-             "before is kept, so free some space there and run the command again.")
+    refused(results, ["run", "smoke", *SMOKE, "--root", results],
+            f"cannot write {smoke / 'manifest.json'}: no space left on device; what was stored "
+            "before is kept, so free some space there and run the command again.")
 
 
 def test_a_full_disk_while_writing_records_loses_nothing_and_the_run_resumes(results, monkeypatch):
@@ -599,22 +579,22 @@ def test_a_full_disk_while_writing_records_loses_nothing_and_the_run_resumes(res
         Path(where).write_bytes(b"PAR1")  # a partly written file
         raise _disk_full(where)
 
-    before = _snapshot(results)
+    before = snapshot(results)
     monkeypatch.setattr(pq, "write_table", full)
     fresh = results / "smoke" / "fresh"
-    result = _invoke("run", "smoke", *SMOKE, "runner.progress=false", "--run", "fresh",
-                     "--root", results)
+    result = invoke("run", "smoke", *SMOKE, "runner.progress=false", "--run", "fresh",
+                    "--root", results)
     assert result.exit_code == 2 and result.stdout == ""
     assert re.fullmatch(rf"error: cannot write {re.escape(str(fresh / 'records'))}/part-[0-9a-f]{{10}}"
                         r"\.parquet: no space left on device; what was stored before is kept, so "
                         r"free some space there and run the command again\.\n", result.stderr)
-    after = _snapshot(results)
+    after = snapshot(results)
     assert not [p for p in after if p.endswith(".tmp")]
     assert {p: h for p, h in after.items() if not p.startswith("smoke/fresh/")} == before
     assert sorted(p for p in after if p.startswith("smoke/fresh/")) == ["smoke/fresh/manifest.json"]
     monkeypatch.setattr(pq, "write_table", write_table)
-    resumed = _invoke("run", "smoke", *SMOKE, "runner.progress=false", "--run", "fresh",
-                      "--root", results)
+    resumed = invoke("run", "smoke", *SMOKE, "runner.progress=false", "--run", "fresh",
+                     "--root", results)
     assert resumed.exit_code == 0 and "1 trials, 0 already recorded, 1 ran" in resumed.stdout
 
 
@@ -627,7 +607,7 @@ def test_a_full_disk_anywhere_else_is_one_sentence(results, monkeypatch):
         return write_text(self, *args, **kwargs)
 
     monkeypatch.setattr(Path, "write_text", full)
-    result = _invoke("report", "smoke", "--root", results)
+    result = invoke("report", "smoke", "--root", results)
     assert result.exit_code == 2 and result.stdout == ""
     assert result.stderr == (f"error: cannot write {results / 'index.md'}: no space left on device; "
                              "free some space there and run the command again.\n")
@@ -637,15 +617,15 @@ def test_a_full_disk_anywhere_else_is_one_sentence(results, monkeypatch):
 def test_report_on_a_root_without_runs_says_so(finished, tmp_path):
     empty = tmp_path / "empty"
     empty.mkdir()
-    _refused(finished, ["report", "--root", empty],
-             f"no runs under {empty}; run a study first (graspcampaign run STUDY --root {empty}).")
+    refused(finished, ["report", "--root", empty],
+            f"no runs under {empty}; run a study first (graspcampaign run STUDY --root {empty}).")
     for args in (["report"], ["report", "smoke"]):
-        _refused(finished, [*args, "--root", _grid(finished)],
-                 f"no runs under {_grid(finished)}: it is the directory of run "
-                 f"baseline_grid/default; give the results root that holds it (--root {finished}).")
-        _refused(finished, [*args, "--root", finished / "smoke"],
-                 f"no runs under {finished / 'smoke'}: it holds the runs of study smoke; give the "
-                 f"results root that holds it (--root {finished}).")
+        refused(finished, [*args, "--root", _grid(finished)],
+                f"no runs under {_grid(finished)}: it is the directory of run "
+                f"baseline_grid/default; give the results root that holds it (--root {finished}).")
+        refused(finished, [*args, "--root", finished / "smoke"],
+                f"no runs under {finished / 'smoke'}: it holds the runs of study smoke; give the "
+                f"results root that holds it (--root {finished}).")
     assert not any(empty.iterdir())
 
 
@@ -656,7 +636,7 @@ def test_a_file_in_place_of_the_run_directory_is_refused_by_every_command(result
                "move it aside or choose another run name (--run NAME).")
     for args in (["status", "baseline_grid"], ["show", "baseline_grid", *BG[:5]],
                  ["report", "baseline_grid"], ["run", "baseline_grid", *BG]):
-        _refused(results, [*args, "--root", results], message)
+        refused(results, [*args, "--root", results], message)
 
 
 def test_run_never_writes_into_measured_records_nor_ingest_into_simulated_ones(results, tmp_path):
@@ -668,16 +648,16 @@ def test_run_never_writes_into_measured_records_nor_ingest_into_simulated_ones(r
     for run, source in (("measured", "measured"), ("default", "virtual")):
         write_manifest(results / "test2_grasp" / run / "manifest.json",
                        new_manifest(study, run, 10, source))
-    _refused(results, ["run", "test2_grasp", "--run", "measured", "--root", results],
-             f"run test2_grasp/measured at {results / 'test2_grasp' / 'measured'} holds measured "
-             "records (ingested); `run` never adds simulated or virtual trials to them, so choose "
-             "another run name (--run NAME).")
+    refused(results, ["run", "test2_grasp", "--run", "measured", "--root", results],
+            f"run test2_grasp/measured at {results / 'test2_grasp' / 'measured'} holds measured "
+            "records (ingested); `run` never adds simulated or virtual trials to them, so choose "
+            "another run name (--run NAME).")
     sheet = tmp_path / "m.csv"
     sheet.write_text("trial_id\n")
-    _refused(results, ["ingest", "test2_grasp", sheet, "--run", "default", "--root", results],
-             f"run test2_grasp/default at {results / 'test2_grasp' / 'default'} holds virtual "
-             "records (from `graspcampaign run`); measured records are stored in a run of their "
-             "own, so choose another run name (--run NAME; default measured).")
+    refused(results, ["ingest", "test2_grasp", sheet, "--run", "default", "--root", results],
+            f"run test2_grasp/default at {results / 'test2_grasp' / 'default'} holds virtual "
+            "records (from `graspcampaign run`); measured records are stored in a run of their "
+            "own, so choose another run name (--run NAME; default measured).")
 
 
 # -- 4. reports check first and never overwrite good pages ------------------------------------------
@@ -685,13 +665,13 @@ def test_report_checks_every_named_study_before_writing_any(results):
     shutil.rmtree(_grid(results) / "report")  # so that a report written before failing shows
     from graspcampaign.campaign.studyfile import list_studies
 
-    _refused(results, ["report", "baseline_grid", "nosuch_study", "--root", results],
-             f"unknown study 'nosuch_study': not on the config search path and no records under "
-             f"{results}; available studies: {', '.join(list_studies())}.")
-    _refused(results, ["report", "ablation", "--root", results],  # known, never run here
-             f"no records for study 'ablation' under {results}; run it first.")
-    _refused(results, ["report", "smoke", "baseline_grid", "--run", "nosuch", "--root", results],
-             f"no run 'nosuch' of study 'smoke' under {results}.")
+    refused(results, ["report", "baseline_grid", "nosuch_study", "--root", results],
+            f"unknown study 'nosuch_study': not on the config search path and no records under "
+            f"{results}; available studies: {', '.join(list_studies())}.")
+    refused(results, ["report", "ablation", "--root", results],  # known, never run here
+            f"no records for study 'ablation' under {results}; run it first.")
+    refused(results, ["report", "smoke", "baseline_grid", "--run", "nosuch", "--root", results],
+            f"no run 'nosuch' of study 'smoke' under {results}.")
 
 
 def test_a_run_that_cannot_be_read_never_replaces_what_the_root_pages_say(results):
@@ -704,14 +684,14 @@ def test_a_run_that_cannot_be_read_never_replaces_what_the_root_pages_say(result
     left = f"warning: the headline and index pages were left as they were: run " \
            f"baseline_grid/default cannot be read ({why})\n"
     # every run: the others are reported, the damaged one is named, the pages stay as they were
-    every = _invoke("report", "--root", results)
+    every = invoke("report", "--root", results)
     assert every.exit_code == 2
     assert every.stdout == f"report: {results / 'smoke' / 'default' / 'report' / 'report.md'}\n"
     assert every.stderr == left + f"error: the report of baseline_grid/default could not be " \
                                   f"written: {why}\n"
     assert {p.name: p.read_bytes() for p in results.glob("*.*")} == pages
     # another study's report is written; the pages still say what they said of the damaged run
-    other = _invoke("report", "smoke", "--root", results)
+    other = invoke("report", "smoke", "--root", results)
     assert other.exit_code == 0 and other.stderr == left
     assert {p.name: p.read_bytes() for p in results.glob("*.*")} == pages
 
@@ -722,10 +702,10 @@ def test_the_advice_for_an_unidentifiable_trace_file_is_true(results):
     trace.write_bytes(b"x" * 100)  # neither its footer nor its trial ids can be read
     why = ("Parquet magic bytes not found in footer. Either the file is corrupted or this is not a "
            "parquet file.")
-    _refused(results, ["report", "baseline_grid", "--root", results],
-             f"run baseline_grid/default at {_grid(results)} has a damaged file "
-             f"tables/candidates/{trace.name} ({why}); {_advice(results)}")
-    repaired = _invoke("run", "baseline_grid", *BG, "runner.progress=false", "--root", results)
+    refused(results, ["report", "baseline_grid", "--root", results],
+            f"run baseline_grid/default at {_grid(results)} has a damaged file "
+            f"tables/candidates/{trace.name} ({why}); {_advice(results)}")
+    repaired = invoke("run", "baseline_grid", *BG, "runner.progress=false", "--root", results)
     assert repaired.exit_code == 0, repaired.output
     target = _grid(results) / "quarantine" / f"tables__candidates__{trace.name}"
     assert repaired.stderr == (f"warning: damaged file {trace} moved to {target} ({why}); its "
@@ -740,10 +720,10 @@ def test_a_directory_given_for_a_file_is_named_as_one(results, tmp_path):
     folder = tmp_path / "adir.yaml"
     folder.mkdir()
     for command in ("show", "run"):
-        _refused(results, [command, folder, "--root", results],
-                 f"study file {folder} is a directory, not a file.")
-    _refused(results, ["ingest", "test2_grasp", tmp_path, "--root", results],
-             f"{tmp_path} is a directory, not a file of measured records.")
+        refused(results, [command, folder, "--root", results],
+                f"study file {folder} is a directory, not a file.")
+    refused(results, ["ingest", "test2_grasp", tmp_path, "--root", results],
+            f"{tmp_path} is a directory, not a file of measured records.")
 
 
 def test_a_report_reading_another_run_skips_one_that_cannot_be_read(results):
@@ -770,8 +750,8 @@ def test_a_trial_in_two_baseline_runs_is_cross_checked_once(results):
     from graspcampaign.report.render import Run
     from graspcampaign.report.studies.mesh_resolution import _cross_check
 
-    again = _invoke("run", "baseline_grid", *BG, "runner.progress=false", "--run", "again",
-                    "--root", results)
+    again = invoke("run", "baseline_grid", *BG, "runner.progress=false", "--run", "again",
+                   "--root", results)
     assert again.exit_code == 0, again.output
     base = RunStore(_grid(results)).read().to_pandas()
     key = ["shape", "mass_kg", "mu", "planner", "seed"]

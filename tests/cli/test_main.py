@@ -7,19 +7,11 @@ import re
 from pathlib import Path
 
 import pytest
-from typer.testing import CliRunner
-
-from graspcampaign.cli.main import app
-
-runner = CliRunner()
-
-
-def _invoke(*args):
-    return runner.invoke(app, list(args), catch_exceptions=False)
+from cli_checks import invoke
 
 
 def test_list_shows_every_study_and_runnability():
-    result = _invoke("list")
+    result = invoke("list")
     assert result.exit_code == 0
     for study in ("smoke", "baseline_grid", "test2_grasp", "surrogate"):
         assert study in result.stdout
@@ -30,12 +22,12 @@ def test_list_shows_every_study_and_runnability():
 
 def test_list_separates_the_papers_studies_from_the_extensions(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)  # no results/: dynamic_check's source run does not exist
-    listing = _invoke("list")
+    listing = invoke("list")
     assert listing.exit_code == 0 and "broken" not in listing.output
     row = next(line for line in listing.stdout.splitlines() if "dynamic_check" in line)
     assert "after baseline_grid" in row and "extension" in row
-    paper = _invoke("list", "--names").stdout.split()
-    extensions = _invoke("list", "--names", "--extensions").stdout.split()
+    paper = invoke("list", "--names").stdout.split()
+    extensions = invoke("list", "--names", "--extensions").stdout.split()
     # make reproduce runs the first list, make extensions the second (after baseline_grid)
     assert {"baseline_grid", "test1_bench", "friction_mass"} <= set(paper)
     assert extensions == ["dynamic_check", "grip_laws"]
@@ -43,7 +35,7 @@ def test_list_separates_the_papers_studies_from_the_extensions(tmp_path, monkeyp
 
 
 def test_show_prints_design_without_running(tmp_path):
-    result = _invoke("show", "smoke", "nodes=[144]", f"output.root={tmp_path}")
+    result = invoke("show", "smoke", "nodes=[144]", f"output.root={tmp_path}")
     assert result.exit_code == 0, result.output
     assert "= 5 trials" in result.stdout
     assert "(0 of 5 recorded)" in result.stdout
@@ -74,7 +66,7 @@ def test_show_prints_design_without_running(tmp_path):
 )
 def test_bad_overrides_exit_2_naming_the_key_and_write_nothing(tmp_path, override, message):
     for command in ("run", "show"):
-        result = _invoke(command, "smoke", override, f"output.root={tmp_path}")
+        result = invoke(command, "smoke", override, f"output.root={tmp_path}")
         assert result.exit_code == 2, result.output
         assert re.match(r"error: " + message, result.stderr), result.stderr
         assert result.stderr.count("\n") == 1  # one sentence, no traceback
@@ -82,7 +74,7 @@ def test_bad_overrides_exit_2_naming_the_key_and_write_nothing(tmp_path, overrid
 
 
 def test_unknown_study_is_bad_input():
-    result = _invoke("run", "warp_drive")
+    result = invoke("run", "warp_drive")
     assert result.exit_code == 2
     assert "unknown study 'warp_drive'; available studies: ablation" in result.stderr
 
@@ -91,9 +83,9 @@ def test_not_yet_runnable_study_is_refused_and_writes_nothing(tmp_path, monkeypa
     from graspcampaign.campaign import kind
 
     monkeypatch.setitem(kind.KINDS, "test3_disturbance", None)  # as before its kind existed
-    listing = _invoke("list")
+    listing = invoke("list")
     assert "not yet" in listing.stdout
-    result = _invoke("run", "test3_disturbance", f"output.root={tmp_path}")
+    result = invoke("run", "test3_disturbance", f"output.root={tmp_path}")
     assert result.exit_code == 2
     assert "trial kind 'test3_disturbance' is not implemented yet" in result.stderr
     assert not any(tmp_path.iterdir())
@@ -101,15 +93,15 @@ def test_not_yet_runnable_study_is_refused_and_writes_nothing(tmp_path, monkeypa
 
 def test_run_status_and_report_smoke(tmp_path):
     args = ("smoke", "nodes=[144]", "runner.backend=sequential", f"output.root={tmp_path}")
-    result = _invoke("run", *args)
+    result = invoke("run", *args)
     assert result.exit_code == 0, result.output
     assert "5 trials, 0 already recorded, 5 ran (5 ok, 0 errors)" in result.stdout
-    again = _invoke("run", *args)
+    again = invoke("run", *args)
     assert "5 already recorded, 0 ran" in again.stdout
-    status = _invoke("status", "smoke", "--json", "--root", str(tmp_path))
+    status = invoke("status", "smoke", "--json", "--root", str(tmp_path))
     info = json.loads(status.stdout)
     assert info["n_ok"] == 5 and info["complete"] and info["source"] == "simulation"
-    report = _invoke("report", "smoke", "--root", str(tmp_path))
+    report = invoke("report", "smoke", "--root", str(tmp_path))
     assert report.exit_code == 0, report.output
     md = (tmp_path / "smoke" / "default" / "report" / "report.md").read_text()
     assert "Data source:** simulation" in md
@@ -123,25 +115,25 @@ SMOKE = ["nodes=[144]", "runner.backend=sequential"]
 def smoke_run(tmp_path_factory):
     """One finished smoke run (5 shapes at 144 nodes) under its own results root."""
     root = tmp_path_factory.mktemp("smoke") / "results"
-    result = _invoke("run", "smoke", *SMOKE, "--root", str(root))
+    result = invoke("run", "smoke", *SMOKE, "--root", str(root))
     assert result.exit_code == 0, result.output
     return root
 
 
 def test_show_counts_only_the_overridden_design_as_recorded(smoke_run):
     # the run holds 5 trials (every shape); asking about two shapes counts two, at 144 nodes
-    out = _invoke("show", "smoke", "nodes=[144]", "shape=[sphere,pear]", "--root", str(smoke_run))
+    out = invoke("show", "smoke", "nodes=[144]", "shape=[sphere,pear]", "--root", str(smoke_run))
     assert "= 2 trials" in out.stdout and "(2 of 2 recorded)" in out.stdout
     assert "estimated time: 0 s for 0 trials" in out.stdout
     # a design the run never covered: nothing recorded, every trial still to run
-    out = _invoke("show", "smoke", "nodes=[390]", "--root", str(smoke_run))
+    out = invoke("show", "smoke", "nodes=[390]", "--root", str(smoke_run))
     assert "(0 of 5 recorded)" in out.stdout and "for 5 trials" in out.stdout
-    same = _invoke("show", "smoke", "nodes=[144]", "--root", str(smoke_run))  # the run's config
+    same = invoke("show", "smoke", "nodes=[144]", "--root", str(smoke_run))  # the run's config
     assert "(5 of 5 recorded)" in same.stdout and "estimated time: 0 s for 0 trials" in same.stdout
-    full = _invoke("show", "smoke", "--root", str(smoke_run))
+    full = invoke("show", "smoke", "--root", str(smoke_run))
     assert "(5 of 10 recorded)" in full.stdout and "for 5 trials" in full.stdout
     # ... and says that `run` would not add them to this run, in run's own words
-    refused = _invoke("run", "smoke", "--root", str(smoke_run))
+    refused = invoke("run", "smoke", "--root", str(smoke_run))
     assert refused.exit_code == 2 and "factors.nodes [144] -> [144, 390]" in refused.stderr
     assert f"note: `run` would refuse: {refused.stderr.removeprefix('error: ')}" in full.stdout
     assert "note:" not in same.stdout
@@ -156,7 +148,7 @@ def test_report_without_run_reports_the_configured_run(smoke_run, tmp_path):
 
     shutil.copytree(smoke_run, root)
     shutil.copytree(root / "smoke" / "default", root / "smoke" / "other")
-    result = _invoke("report", "smoke", "--root", str(root))
+    result = invoke("report", "smoke", "--root", str(root))
     assert result.exit_code == 0, result.output
     assert result.stdout.splitlines() == [f"report: {root / 'smoke' / 'default' / 'report' / 'report.md'}",
                                           f"index: {root / 'index.md'}", f"headline: {root / 'headline.md'}"]
@@ -164,7 +156,7 @@ def test_report_without_run_reports_the_configured_run(smoke_run, tmp_path):
 
 
 def test_status_reads_the_configured_run(smoke_run):
-    info = json.loads(_invoke("status", "smoke", "--json", "--root", str(smoke_run)).stdout)
+    info = json.loads(invoke("status", "smoke", "--json", "--root", str(smoke_run)).stdout)
     assert (info["run"], info["n_recorded"], info["n_ok"], info["complete"]) == ("default", 5, 5,
                                                                                  True)
 
@@ -178,19 +170,19 @@ def test_a_study_file_of_ones_own_runs_by_path_and_on_the_search_path(tmp_path, 
         text.replace("name: smoke", "name: my_smoke\ncompare_with: smoke"))
     root = tmp_path / "results"
     monkeypatch.chdir(tmp_path)
-    by_path = _invoke("run", "./mine/my_smoke.yaml", "shape=[sphere]", *SMOKE, "--root", str(root))
+    by_path = invoke("run", "./mine/my_smoke.yaml", "shape=[sphere]", *SMOKE, "--root", str(root))
     assert by_path.exit_code == 0, by_path.output
     assert "my_smoke/default: 1 trials, 0 already recorded, 1 ran" in by_path.stdout
     monkeypatch.setenv("GRASPCAMPAIGN_PATH", str(studies))
-    listing = _invoke("list", "--names")
+    listing = invoke("list", "--names")
     assert "my_smoke" in listing.stdout.split()
-    again = _invoke("run", "my_smoke", "shape=[sphere]", *SMOKE, "--root", str(root))
+    again = invoke("run", "my_smoke", "shape=[sphere]", *SMOKE, "--root", str(root))
     assert "1 already recorded, 0 ran" in again.stdout  # the same study, found by name
 
 
 def test_progress_lines_without_a_terminal(tmp_path):
-    result = _invoke("run", "smoke", "shape=[sphere,pear]", *SMOKE, "runner.progress=true",
-                     "runner.progress_interval_s=0", "runner.batch_size=1", "--root",
+    result = invoke("run", "smoke", "shape=[sphere,pear]", *SMOKE, "runner.progress=true",
+                    "runner.progress_interval_s=0", "runner.batch_size=1", "--root",
                      str(tmp_path))
     assert result.exit_code == 0, result.output
     lines = result.stderr.splitlines()
@@ -212,14 +204,14 @@ def test_ctrl_c_says_what_is_recorded_and_how_to_resume(tmp_path, monkeypatch):
 
     monkeypatch.setattr(runner_module._Progress, "advance", advance)
     args = ["smoke", "shape=[sphere,pear,handle]", *SMOKE, "runner.batch_size=1"]
-    result = _invoke("run", *args, "--run", "try1", "--root", str(tmp_path))
+    result = invoke("run", *args, "--run", "try1", "--root", str(tmp_path))
     assert result.exit_code == 130
     assert result.stderr == (
         f"interrupted: 2 of 3 trials are recorded in {tmp_path / 'smoke' / 'try1'}; resume with: "
         f"graspcampaign run smoke 'shape=[sphere,pear,handle]' 'nodes=[144]' "
         f"runner.backend=sequential runner.batch_size=1 --run try1 --root {tmp_path}\n")
     monkeypatch.undo()
-    resumed = _invoke("run", *args, "--run", "try1", "--root", str(tmp_path))
+    resumed = invoke("run", *args, "--run", "try1", "--root", str(tmp_path))
     assert "3 trials, 2 already recorded, 1 ran" in resumed.stdout
 
 
@@ -229,8 +221,8 @@ def test_schedule_template_has_every_column_and_its_unit(tmp_path):
     from graspcampaign.rig.ingest import record_columns
 
     (tmp_path / "t3").mkdir()  # --out's directory must exist, as plan --png's
-    result = _invoke("schedule", "test3_disturbance", "params.fraction=0.05", "--template",
-                     "--out", str(tmp_path / "t3" / "sheet"))
+    result = invoke("schedule", "test3_disturbance", "params.fraction=0.05", "--template",
+                    "--out", str(tmp_path / "t3" / "sheet"))
     assert result.exit_code == 0, result.output
     sheet = pd.read_csv(tmp_path / "t3" / "sheet.csv")
     fill = pd.read_csv(tmp_path / "t3" / "sheet-template.csv", keep_default_na=False)
@@ -239,8 +231,8 @@ def test_schedule_template_has_every_column_and_its_unit(tmp_path):
     assert fill["trial_id"].tolist() == sheet["trial_id"].tolist()
     assert (fill.drop(columns="trial_id") == "").all().all()
     assert set(columns["unit"]) == {"-", "1", "mm", "N", "N m", "deg"}
-    bench = _invoke("schedule", "test1_bench", "--template", "--out", str(tmp_path / "t1"),
-                    "params.materials=[gel]", "params.specimens=[1]", "params.environments=[normal_lab]")
+    bench = invoke("schedule", "test1_bench", "--template", "--out", str(tmp_path / "t1"),
+                   "params.materials=[gel]", "params.specimens=[1]", "params.environments=[normal_lab]")
     assert bench.exit_code == 0, bench.output
     waves = pd.read_csv(tmp_path / "t1-template-columns.csv")
     assert waves["column"].tolist()[:6] == ["event_id", "time_s", "displacement_mm",
@@ -250,7 +242,7 @@ def test_schedule_template_has_every_column_and_its_unit(tmp_path):
 
 
 def test_help_is_quick_to_import_and_offers_completion():
-    result = _invoke("--help")
+    result = invoke("--help")
     assert result.exit_code == 0 and "--install-completion" in result.stdout
 
 
@@ -273,7 +265,7 @@ def test_answering_commands_import_no_numerical_layer(smoke_run, args, allowed):
 
     args = [a.format(root=smoke_run) for a in args]
     # warm the catalog cache of this test process first, as a user's second call would find it
-    _invoke(*args)
+    invoke(*args)
     code = ("import sys\nfrom graspcampaign.cli.main import app\n"
             f"try:\n    app({args!r}, standalone_mode=False)\nexcept SystemExit:\n    pass\n"
             f"print([m for m in {HEAVY!r} if m in sys.modules])")
@@ -292,7 +284,7 @@ def test_reproduce_runs_the_listed_studies_then_every_report(tmp_path, monkeypat
     monkeypatch.setattr(main, "_compose", lambda study, overrides, root=None: compose(
         study, [*overrides, "shape=[sphere]", "nodes=[144]", "runner.backend=sequential"], root))
     root, times = tmp_path / "results", tmp_path / "times"
-    result = _invoke("reproduce", "--root", str(root), "--times", str(times))
+    result = invoke("reproduce", "--root", str(root), "--times", str(times))
     assert result.exit_code == 0, result.output
     assert [line.split(":")[0] for line in times.read_text().splitlines()] == \
         ["== smoke", "== report"]

@@ -1,0 +1,62 @@
+"""What the bad-input tests of the command line share: run a command, fingerprint a results root,
+and assert a refusal (exit 2, the whole one-sentence message, nothing stored changed).
+
+Imported by name (``from cli_checks import ...``), as pytest puts this directory on the path.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import signal
+from pathlib import Path
+
+from typer.testing import CliRunner
+
+from graspcampaign.cli.main import app
+
+runner = CliRunner()
+
+
+@contextlib.contextmanager
+def deadline(seconds: float | None):
+    """Fail (instead of hanging or filling the memory) if the block takes longer than this."""
+    if seconds is None:
+        yield
+        return
+
+    def expired(signum, frame):
+        raise TimeoutError(f"still running after {seconds} s")
+
+    previous = signal.signal(signal.SIGALRM, expired)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+
+
+def invoke(*args, seconds: float | None = None):
+    """Run ``graspcampaign *args`` (each as a string), exceptions propagating, within ``seconds``."""
+    with deadline(seconds):
+        return runner.invoke(app, [str(a) for a in args], catch_exceptions=False)
+
+
+def snapshot(root: Path) -> dict[str, str] | None:
+    """Every file under ``root`` by its content hash (None when ``root`` is no directory)."""
+    if not root.is_dir():
+        return None
+    return {p.relative_to(root).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest()
+            for p in sorted(root.rglob("*")) if p.is_file()}
+
+
+def refused(root: Path, args, message: str, *, warnings: str = "", seconds: float = 20.0) -> None:
+    """``graspcampaign *args`` exits 2 with ``error: message`` (after ``warnings``) on stderr,
+    nothing on stdout, and no file under ``root`` created, changed or removed, within ``seconds``
+    (bad input is refused before any work: a slow refusal is a hang or a design being built)."""
+    before = snapshot(root)
+    result = invoke(*args, seconds=seconds)
+    assert result.exit_code == 2, result.output
+    assert result.stderr == f"{warnings}error: {message}\n" and result.stdout == ""
+    assert snapshot(root) == before
