@@ -25,8 +25,8 @@ from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.runner import kind_params, run_study, study_trials
 from graspcampaign.cli.main import app
 from graspcampaign.rig import protocol
-from graspcampaign.rig.ingest import record_columns
 from graspcampaign.rig.plan import predict_trial
+from graspcampaign.rig.record_schema import record_columns
 from graspcampaign.rig.virtual import virtual_trial
 
 SEEDS = {"test2_grasp": 801, "test3_disturbance": 901}  # campaigns/*.yaml

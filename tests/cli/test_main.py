@@ -218,7 +218,7 @@ def test_ctrl_c_says_what_is_recorded_and_how_to_resume(tmp_path, monkeypatch):
 def test_schedule_template_has_every_column_and_its_unit(tmp_path):
     import pandas as pd
 
-    from graspcampaign.rig.ingest import record_columns
+    from graspcampaign.rig.record_schema import record_columns
 
     (tmp_path / "t3").mkdir()  # --out's directory must exist, as plan --png's
     result = invoke("schedule", "test3_disturbance", "params.fraction=0.05", "--template",

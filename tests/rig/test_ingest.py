@@ -9,8 +9,9 @@ import pytest
 
 from graspcampaign.analysis import hardware as analysis
 from graspcampaign.rig import protocol
-from graspcampaign.rig.ingest import IngestError, record_columns, validate_records
+from graspcampaign.rig.ingest import IngestError, validate_records
 from graspcampaign.rig.plan import predict_trial
+from graspcampaign.rig.record_schema import record_columns
 from graspcampaign.rig.virtual import virtual_trial
 
 
@@ -423,7 +424,7 @@ def test_test3_specific_columns(t3, tmp_path):
 
 
 def test_record_template_has_every_column_with_its_unit(t3):
-    from graspcampaign.rig.ingest import record_template
+    from graspcampaign.rig.record_schema import record_template
 
     schedule = t3[0]
     sheet, columns = record_template(schedule)

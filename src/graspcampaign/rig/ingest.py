@@ -33,31 +33,16 @@ from graspcampaign.rig.record_schema import (
     _FLAG_OF,
     _UNIT_NAMES,
     ATTEMPT_TYPO_LIMIT,
-    OUTCOME_VALUES,
-    SOURCES,
-    TEST2_SCHEMA,
-    TEST3_SCHEMA,
     FieldSpec,
-    record_columns,
-    record_template,
     schema_for,
 )
 
 __all__ = [
     "IngestError",
-    "ATTEMPT_TYPO_LIMIT",
-    "SOURCES",
     "check_one_source",
     "header_problems",
-    "record_template",
-    "OUTCOME_VALUES",
-    "TEST2_SCHEMA",
-    "TEST3_SCHEMA",
-    "FieldSpec",
     "read_records",
     "read_table",
-    "record_columns",
-    "schema_for",
     "validate_records",
 ]
 

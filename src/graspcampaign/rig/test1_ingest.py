@@ -20,8 +20,9 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from graspcampaign.rig.ingest import ATTEMPT_TYPO_LIMIT, SOURCES, check_one_source
+from graspcampaign.rig.ingest import check_one_source
 from graspcampaign.rig.measured_file import IngestError, _fail, header_problems, read_table, table_and_label
+from graspcampaign.rig.record_schema import ATTEMPT_TYPO_LIMIT, SOURCES
 from graspcampaign.rig.test1_summary import WAVEFORM_COLUMNS
 
 __all__ = ["PEAK_FACTOR", "read_waveforms", "validate_waveforms", "waveform_template"]

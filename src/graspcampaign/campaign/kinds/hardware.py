@@ -260,9 +260,9 @@ def export_records(records: pd.DataFrame, study: str) -> pd.DataFrame:
 
     Used to hand the virtual rig's records to ``graspcampaign ingest`` (and as a template for a
     rig's own files): one row per recorded attempt, the columns of
-    :func:`graspcampaign.rig.ingest.record_columns`, ``trial_id`` the sheet's id.
+    :func:`graspcampaign.rig.record_schema.record_columns`, ``trial_id`` the sheet's id.
     """
-    from graspcampaign.rig.ingest import record_columns
+    from graspcampaign.rig.record_schema import record_columns
 
     ok = records[records["status"] == "ok"] if "status" in records else records
     out = pd.DataFrame({c: ok[c] if c in ok else None for c in record_columns(study)
@@ -274,7 +274,7 @@ def export_records(records: pd.DataFrame, study: str) -> pd.DataFrame:
 def template(study: StudyCfg, params: Any, sheet: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame]:
     """The measured-records sheet to fill in: one row per commanded trial (its sheet id), every
     measured column empty; and its columns with type, unit, allowed values (the ingest schema)."""
-    from graspcampaign.rig.ingest import record_template
+    from graspcampaign.rig.record_schema import record_template
 
     schedule = pd.DataFrame({"study": study.kind, "trial_id": sheet["trial_id"]})
     return record_template(schedule)
@@ -320,8 +320,9 @@ def ingest(study: StudyCfg, params: Any, paths: list[str],
     """
     from graspcampaign.campaign.kind import get_kind
     from graspcampaign.campaign.runner import study_trials
-    from graspcampaign.rig.ingest import IngestError, check_one_source, schema_for, validate_records
+    from graspcampaign.rig.ingest import IngestError, check_one_source, validate_records
     from graspcampaign.rig.plan import predict_trial
+    from graspcampaign.rig.record_schema import schema_for
 
     sheet = protocol_schedule(study, params)
     kinds = {f.name: f.kind for f in schema_for(study.kind)}
