@@ -27,11 +27,6 @@ WHY_NOT = {"predicted_stable_residual": "it is the paper's §8.1 flag (Algorithm
 
 
 # --------------------------------------------------------------------------- shared with Test 3
-def rig(run: Run) -> str:
-    """What the rig's values are, for axis labels and captions: "measured" only on hardware."""
-    return "measured" if run.source == "measured" else "virtual-rig"
-
-
 def frames(run: Run) -> pd.DataFrame:
     """Executed trials of both belief readings with the derived columns (computed once per run)."""
     return run.memo("hardware", lambda: hw.derive(hw.beliefs(run.records, run.aux("belief_none"))))
@@ -237,7 +232,7 @@ def confusion(paper):
         for (i, j), v in np.ndenumerate(cells):
             ax.text(j, i, v, ha="center", va="center", color="white" if v > 0.6 * cells.max() else "k")
         ax.set(xticks=[0, 1], xticklabels=["failed", "succeeded"], yticks=[0, 1], yticklabels=["no", "yes"],
-               xlabel=f"{rig(run)} outcome [trials]", ylabel="predicted_stable", title="(c) flag vs outcome")
+               xlabel=f"{run.rig} outcome [trials]", ylabel="predicted_stable", title="(c) flag vs outcome")
         ax.grid(False)
         ax.plot([], [], " ", label="\n".join([f"n = {m['n']}", *(
             f"{k}: ours {fmt.number(m[k], 2)}, paper {fmt.number(getattr(ref, k), 2)}"
@@ -283,7 +278,7 @@ def fig29(run: Run, fig) -> None:
         (0, run.tables["test2_force_accuracy"]["parity_slope"].iloc[0], "ours, through the origin",
          {"color": colour("planner", PROPOSED)}),
         (0, paper_of(run, lambda p: p.parity_slope), "paper", {"ls": "--", "color": style.PAPER})],
-        "trial-mean normal force [N]", "(a) parity, all planners", rig(run))
+        "trial-mean normal force [N]", "(a) parity, all planners", run.rig)
     for ax, col, what, key in zip(hist, ("force_err_pct", "deformation_err_pct"), ("normal-force",
                                   "deformation"), ("force_err_median_pct", "deformation_err_median_pct"),
                                   strict=True):
@@ -441,7 +436,7 @@ SPEC = ReportSpec("test2_grasp", [
               Col("force_err_pct", "median |F_n| error [%]", 1),
               Col("deformation_err_pct", "median deformation error [%]", 1),
               Col("contact_point_error_mm", "median contact-point error [mm]", 2)], by=["scope"]),
-    classifier("test2_classifier", lambda run: f"Pre-execution flags against {rig(run)} success (§8.4, "
+    classifier("test2_classifier", lambda run: f"Pre-execution flags against {run.rig} success (§8.4, "
                "Fig. 31c): `predicted_stable` is §9.5's SF_predicted > 1, `predicted_stable_residual` §8.1's "
                "residual ≤ τ_F = 0.0886 N, the flag the paper's scores belong to", lambda d: {
                    **per_planner(d), "baselines": d["planner"] != PROPOSED,
@@ -464,7 +459,7 @@ SPEC = ReportSpec("test2_grasp", [
           "Cohen's h; matched pairs: McNemar, Connor 1987)", power),
     Figure("fig28_outcomes", "Fig. 28 (paper in black): proposed success per shape (dashed: the paper's 75% "
            "reference), success per material, proposed outcome classes; Wilson 95%", fig28, (12.0, 4.0)),
-    Figure("fig29_prediction_accuracy", lambda run: f"Fig. 29: (a) {rig(run)} against predicted trial-mean "
+    Figure("fig29_prediction_accuracy", lambda run: f"Fig. 29: (a) {run.rig} against predicted trial-mean "
            "normal force; "
            "(b) normal-force and (c) deformation errors with their medians (log axis: every trial "
            "shown)", fig29, (12.0, 3.8)),
