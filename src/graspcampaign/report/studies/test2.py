@@ -10,13 +10,13 @@ import pandas as pd
 
 from graspcampaign.analysis import hardware as hw
 from graspcampaign.analysis.rates import power_two_proportions
-from graspcampaign.analysis.records import Estimate, mcnemar_table
+from graspcampaign.analysis.records import Estimate
 from graspcampaign.analysis.vocabulary import PROPOSED, colour, label
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
 from graspcampaign.report.document import Col, Figure, Table, cols, pct_col
 from graspcampaign.report.render import Run
-from graspcampaign.report.spec import Claims, Finding, Rates, ReportSpec, paper_of, share, verdicts
+from graspcampaign.report.spec import Claims, Finding, Paired, Rates, ReportSpec, paper_of, share, verdicts
 
 PLANNERS, ME = ("heuristic", "centroid", "no_pso", "force_balance", "random"), f"planner == '{PROPOSED}'"
 FLAGS = ("predicted_stable", "predicted_stable_residual")
@@ -134,18 +134,14 @@ def classifier(name: str, caption: str, scopes, paper) -> Table:
 
 
 def matched_mcnemar(name: str, caption: str) -> Table:
-    """McNemar of the proposed planner against each baseline on the occurrence-matched pairs."""
-    def compute(run: Run) -> pd.DataFrame:
-        d = ex(run)[ex(run)["matched"].astype(bool)]
-        return mcnemar_table(d, PROPOSED, [q for q in PLANNERS[1:] if q in set(d["planner"])],
-                             pair_on="match_key")
-    return Table(name, caption, compute, [
-        Col("pairs", "pairs"), Col("reference_only", f"{label('planner', PROPOSED)} only"),
-        Col("compared_only", "compared only"), *cols("both_success", "both_fail"),
-        Col("chi2_cc", "χ² (cc)", 2, why="test_why"), Col("p_chi2", "p (χ²)", sig=2),
-        Col("p_exact", "p (exact)", sig=2),
-        Col("odds_ratio", "odds ratio (exact 95%)", 2, low="odds_ratio_low", high="odds_ratio_high",
-            why="test_why")], by=["compared"])
+    """McNemar of the proposed planner against each baseline on the occurrence-matched pairs, beside
+    the paper's (against the centroid planner only)."""
+    def paper(p, compared: str) -> str | None:
+        m = p.mcnemar_centroid
+        return f"χ² {m.chi2:g}; {m.won} won, {m.lost} lost" if compared == "centroid" else None
+
+    return Paired(name, caption, pair_on="match_key", paper=paper,
+                  trials=lambda run: ex(run)[ex(run)["matched"].astype(bool)])
 
 
 def finding(run: Run, extra=lambda run: "") -> str:
