@@ -41,13 +41,19 @@ def ex(run: Run, planner: str | None = None) -> pd.DataFrame:
 def paper_table(name, caption, key, row, items, rates=(), medians=(), *, where=None, boot=False,
                 extra=None) -> Table:
     """A :func:`hw.summary` table per ``key`` and belief reading; items ``(column, paper, header, digits)``: a
-    rate (digits None), number or text ("") beside ``paper``: ``row(p, key)``'s attribute or ``f(p, key)``."""
+    rate (digits None), number or text ("") beside ``paper``: ``row(p, key)``'s attribute or ``f(p, key)``
+    (column ``paper_<column>``; the paper's count of trials ``n_paper``)."""
+    def columns(col: str, digits) -> tuple[str, str]:
+        """An item's column and the column of the paper's value beside it."""
+        c = f"{col}{'_pct' * (digits is None)}"
+        return c, "n_paper" if c == "n" else f"paper_{c}"
+
     def compute(run: Run) -> pd.DataFrame:
         d = frames(run) if where is None else where(frames(run))
         out = hw.summary(d, [key, "belief_error"], rates, medians, order=READINGS, seed=run.seed,
                          cluster="object_id" if boot else None)
         for col, paper, _, digits in (i for i in items if i[1]):
-            out[f"paper_{col}{'_pct' * (digits is None)}"] = [None if b != "paper" else paper_of(
+            out[columns(col, digits)[1]] = [None if b != "paper" else paper_of(
                 run, paper if callable(paper) else lambda p, k, a=paper: getattr(row(p, k), a), k)
                 for k, b in zip(out[key], out["belief_error"], strict=True)]
         out = extra(run, d, out) if extra else out
@@ -55,9 +61,9 @@ def paper_table(name, caption, key, row, items, rates=(), medians=(), *, where=N
                         unit="%")
     cols = [Col("belief_error", "belief error")]
     for col, paper, head, digits in items:
-        c = f"{col}{'_pct' * (digits is None)}"
+        c, paper_c = columns(col, digits)
         cols += [pct_col(col, head) if digits is None else Col(c, head, digits if digits != "" else None),
-                 *[Col(f"paper_{c}", "paper", 1 if digits is None else digits)] * bool(paper),
+                 *[Col(paper_c, "paper", 1 if digits is None else digits)] * bool(paper),
                  *[Col("difference", "difference [pp]", 1, signed=True)] * (col == "success"),
                  *[Col("bootstrap_low_pct", "object bootstrap 95% [%]", 1, low="bootstrap_low_pct",
                        high="bootstrap_high_pct", why="bootstrap_why")] * (col == "success" and boot)]
@@ -340,7 +346,7 @@ def groups(run: Run) -> pd.DataFrame:
 
 def outcomes(run: Run) -> pd.DataFrame:
     o = hw.summary(ex(run, PROPOSED), ["planner"], [f"is_{k}" for k in hw.CLASSES]).iloc[0]
-    out = pd.DataFrame([{"outcome": v, "n": o[f"{k}_n"], **{f"success{s}": o[f"{k}{s}"] for s in (
+    out = pd.DataFrame([{"outcome": v, "n": o[f"n_{k}"], **{f"success{s}": o[f"{k}{s}"] for s in (
         "_pct", "_low_pct", "_high_pct")}} for k, v in hw.CLASSES.items()])
     ref = {"stable": "proposed_stable_pct", "success": "proposed_marginal_pct"}
     t7 = {"failure_slip": "slip_pct", "failure_drop": "drop_pct", "failure_damage": "damage_pct"}
@@ -382,7 +388,7 @@ def claims(run: Run):
             ("median |normal-force error|", "force_err_pct", "force_err_median_pct", "%"),
             ("median |deformation error|", "deformation_err_pct", "deformation_err_median_pct", "%"),
             ("median contact-point error", "contact_point_error_mm", "contact_point_err_median_mm", "mm")):
-        yield q, "§8.3, Fig. 29", Estimate(acc[col], n=acc["parity_n"]), getattr(p, key), unit, 2
+        yield q, "§8.3, Fig. 29", Estimate(acc[col], n=acc["n_parity"]), getattr(p, key), unit, 2
     yield from mcnemar_rows(mc, p.mcnemar_centroid, "§8.5")
     yield ("discordant-pair odds ratio", "§8.5", Estimate(*mc[["odds_ratio", "odds_ratio_low",
            "odds_ratio_high", "pairs"]]), p.mcnemar_centroid.odds_ratio, "", 1)
@@ -426,7 +432,7 @@ SPEC = ReportSpec("test2_grasp", [
           where=lambda r: r["matched"].astype(bool)),
     Table("test2_force_accuracy", "Prediction accuracy (§8.3): normal-force parity through the origin "
           "(uncentred, centred R²), median absolute errors", lambda run: hw.force_accuracy(ex(run)), [
-              Col("parity_n", "n"), Col("parity_slope", "parity slope", 3),
+              Col("n_parity", "n"), Col("parity_slope", "parity slope", 3),
               Col("parity_r2", "parity R² (uncentred)", 3),
               Col("parity_r2_centred", "parity R² (centred)", 3),
               Col("force_err_pct", "median |F_n| error [%]", 1),

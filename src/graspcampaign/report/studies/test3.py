@@ -140,7 +140,7 @@ def thresholds(run: Run, ax) -> None:
     x = np.arange(len(t))
     ax.bar(x, t["threshold"], 0.7, color=colour("planner", PROPOSED), label="ours, uncensored ramps")
     style.paper_marks(ax, x, list(t["paper_threshold_n"]), 0.7)
-    ax.set(xticks=x, xticklabels=[f"{k}\nn={n}" for k, n in zip(t["friction_level"], t["threshold_n"],
+    ax.set(xticks=x, xticklabels=[f"{k}\nn={n}" for k, n in zip(t["friction_level"], t["n_threshold"],
                                                                   strict=True)],
            ylabel="median lateral threshold at slip [N]", title="(a) block A: median threshold")
     ax.legend(handles=[*ax.get_legend_handles_labels()[0], style.paper_handle()], loc="upper right")
@@ -201,7 +201,7 @@ def fig34(run: Run, fig) -> None:
     c.bar(x, t["lat_threshold_err_pct"], 0.7, color=[colour("planner", q) for q in t["planner"]])
     style.paper_marks(c, x, list(t["paper_lat_threshold_err_pct"]), 0.7)
     c.set_xticks(x, [f"{style.tick(label('planner', q))}\nn={n}" for q, n in zip(
-        t["planner"], t["lat_threshold_n_n"], strict=True)], fontsize=7)  # as style.rate_bars
+        t["planner"], t["n_lat_threshold_n"], strict=True)], fontsize=7)  # as style.rate_bars
     c.set(ylabel="median |lateral-threshold error| [%]", title="(c) by planner, uncensored block A")
     style.legend_below(c, [style.paper_handle()])
 
@@ -235,7 +235,7 @@ SPEC = ReportSpec("test3_disturbance", [
                 "uncensored thresholds", "block", lambda p, k: p.table8[k], [
                     ("n", "n", "n", 0), ("success", "success_pct", "success", None),
                     ("headline", "headline", "headline", 3), ("unit", None, "unit", ""),
-                    ("headline_n", None, "thresholds", 0),
+                    ("n_headline", None, "thresholds", 0),
                     ("threshold_err_pct", "pred_err_pct", "median |prediction error| [%]", 1),
                     ("parity_r2_centred", lambda p, k: p.block_parity_r2[k], "parity R² (centred)", 2)],
                 medians=["headline", "threshold_err_pct"], extra=table8,
@@ -247,7 +247,7 @@ SPEC = ReportSpec("test3_disturbance", [
                     ("n", "n", "n", 0), ("success", "success_pct", "success", None),
                     ("paper_wilson", None, "paper Wilson 95%", ""),
                     *((k, f"{k}_pct", k, None) for k in ("stable", "drop", "damage")),
-                    ("lat_threshold_n_n", None, "thresholds", 0),
+                    ("n_lat_threshold_n", None, "thresholds", 0),
                     ("lat_threshold_n", "lat_threshold_n", "median lateral threshold [N]", 2),
                     ("lat_threshold_err_pct", "threshold_err_pct", "median |threshold error| [%]", 1)],
                 ["is_stable", "is_drop", "is_damage"], ["lat_threshold_n", "lat_threshold_err_pct"],
@@ -256,15 +256,15 @@ SPEC = ReportSpec("test3_disturbance", [
     Table("test3_coating", "Block A of the proposed planner per surface (§9.2, Fig. 33a): success and "
           "median uncensored lateral threshold beside the paper's", coating, [
               Col("friction_level", "surface"), Col("n", "n"), pct_col("success", "success"),
-              Col("paper_success_pct", "paper %", 1), Col("threshold_n", "thresholds"),
+              Col("paper_success_pct", "paper %", 1), Col("n_threshold", "thresholds"),
               Col("threshold", "median threshold [N]", 2), Col("paper_threshold_n", "paper", 2),
               Col("verdict", "verdict (success)")]),
     Table("test3_directions", "Natural-friction block A of the proposed planner per pull direction (§9.2, "
           "Fig. 33b)", lambda run: hw.summary(t2.ex(run, PROPOSED).query(f"block == 'A' and {NATURAL}"), [
               "direction_deg"], medians=["threshold"]).sort_values("direction_deg")[[
-                  "direction_deg", "n", "success_pct", "threshold", "threshold_n"]], [
+                  "direction_deg", "n", "success_pct", "threshold", "n_threshold"]], [
               Col("direction_deg", "pull direction [°]", 0), Col("n", "n"),
-              Col("success_pct", "success [%]", 1), Col("threshold_n", "thresholds"),
+              Col("success_pct", "success [%]", 1), Col("n_threshold", "thresholds"),
               Col("threshold", "median threshold [N]", 2)]),
     Table("test3_threshold_agreement", lambda run: f"Predicted against {run.rig} lateral thresholds of "
           "the proposed planner (§9.3, Fig. 34): Bland–Altman [N], OLS with intercept, median absolute error",
