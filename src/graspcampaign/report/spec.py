@@ -187,13 +187,12 @@ def Claims(name: str, caption: str | Callable[[Run], str],
 
 def Paired(name: str = "mcnemar", caption: str = (
         "Paired comparison, McNemar on occurrence-matched pairs (rows paired by scene_id: same "
-        "object, mass, friction and seed); χ² with continuity correction, exact binomial p, "
-        "discordant-pair odds ratio (> 1 favours the proposed planner) with its exact 95% interval"),
-        reference: str = PROPOSED, pair_on: str = "scene_id",
+        "object, mass, friction and seed)"), reference: str = PROPOSED, pair_on: str = "scene_id",
         paper: Callable[[Any, str], Any] | None = None,
         trials: Callable[[Run], pd.DataFrame] | None = None) -> Table:
     """McNemar (1947) of ``reference`` against every other planner on occurrence-matched pairs of
-    ``trials(run)`` (default the run's records), in the design's planner order."""
+    ``trials(run)`` (default the run's records), in the design's planner order; ``caption`` says
+    which pairs, the statistics' description follows it."""
     def compute(run: Run) -> pd.DataFrame:
         frame = run.records if trials is None else trials(run)
         planners = [p for p in ordered("planner", frame["planner"], run.order.get("planner", []))
@@ -202,7 +201,8 @@ def Paired(name: str = "mcnemar", caption: str = (
         return frame.assign(paper=[_paper(paper, run.paper, p) or "not reported" for p in frame["compared"]],
                             compared_label=[label("planner", p) for p in frame["compared"]])
 
-    return Table(name, caption, compute, [
+    return Table(name, f"{caption}; χ² with continuity correction, exact binomial p, discordant-pair odds "
+                 "ratio (> 1 favours the proposed planner) with its exact 95% interval", compute, [
         Col("compared_label", "compared"), Col("pairs", "pairs"),
         Col("reference_only", f"{label('planner', reference)} only"), Col("compared_only", "compared only"),
         Col("both_success", "both succeed"), Col("both_fail", "both fail"),
