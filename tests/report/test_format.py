@@ -93,20 +93,17 @@ def _shown(frame, cols=None, name="t"):
     return [c.label for c in table.cols], [[t for t, _ in r] for r in table.cells()]
 
 
-def test_a_count_named_like_newtons_prints_as_a_count():
-    """``hardware.summary``'s ``<column>_n`` and ``parity_n`` count rows: no [N], whole numbers never
-    rounded to 3 significant digits (1272 stayed 1270); a float ``_n`` column is still in newtons."""
+def test_a_columns_unit_follows_from_its_name_alone():
+    """``<words>_n`` is newtons whatever its values (an integer ``threshold_n`` beside ``threshold`` was
+    guessed to be a count); counts are ``n_<things>`` (``hardware.summary``) and print whole, never
+    rounded to 3 significant digits (1272 stays 1272, not 1270)."""
     import pandas as pd
 
-    frame = pd.DataFrame({"threshold": [1.215, 1.355], "threshold_n": [18, 1272],
-                          "parity_n": [1272, 653], "parity_slope": [1.02, 0.99], "bias_n": [0.0998, 0.333]})
+    frame = pd.DataFrame({"threshold": [1.215, 1.355], "threshold_n": [18, 1272], "n_threshold": [18, 1272],
+                          "n_parity": [1272.0, math.nan], "bias_n": [0.0998, 0.333]})
     heads, rows = _shown(frame)
-    assert heads == ["threshold", "n (threshold)", "n (parity)", "parity slope", "bias [N]"]
-    assert [r[1] for r in rows] == [str(v) for v in frame["threshold_n"]]
-    assert [r[2] for r in rows] == [str(v) for v in frame["parity_n"]]
-    # a count that is float (missing groups) beside its rate is a count too
-    heads, rows = _shown(pd.DataFrame({"stable_pct": [50.0, 25.0], "stable_n": [1272.0, math.nan]}))
-    assert heads[1] == "n (stable)" and [r[1] for r in rows] == ["1272", fmt.MISSING]
+    assert heads == ["threshold", "threshold [N]", "n threshold", "n parity", "bias [N]"]
+    assert [r[2] for r in rows] == ["18", "1272"] and [r[3] for r in rows] == ["1272", fmt.MISSING]
 
 
 @pytest.mark.parametrize("name", ["x", "x_deg"])  # unitless (was 4 digits), with a unit (was 3 per value)

@@ -150,6 +150,22 @@ def test_belief_tables_equal_a_pandas_recomputation(sim_root, study):
             assert r["p_exact"] == pytest.approx(mcnemar(table.to_numpy(), exact=True).pvalue)
 
 
+@pytest.mark.parametrize("study", sorted(STUDIES))
+def test_matched_mcnemar_shows_the_papers_centroid_test_and_both_p_values(sim_root, study):
+    """The matched McNemar table is the quasi-static studies' (spec.Paired): the paper's proposed vs
+    centroid test beside ours (it reports no other pair), p of χ² and of the exact test."""
+    prefix, ref = study.split("_")[0], _paper(study)["mcnemar_centroid"]
+    t = _table(sim_root, study, f"{prefix}_mcnemar").set_index("compared")
+    assert all(f"{v}" in t.loc["centroid", "paper"] for v in (ref["chi2"], f"{ref['won']} won",
+                                                               f"{ref['lost']} lost"))
+    assert (t.drop(index="centroid")["paper"] == "not reported").all()
+    md = (sim_root / study / "default" / "report" / "report.md").read_text()
+    caption, head = md.split(f"(`tables/{prefix}_mcnemar.csv`)\n\n")[0].split("\n")[-1], \
+        md.split(f"(`tables/{prefix}_mcnemar.csv`)\n\n")[1].split("\n")[0]
+    assert "χ² with continuity correction, exact binomial p, discordant-pair odds ratio" in caption
+    assert "| both succeed | both fail | χ² (cc) | p (χ²) | p (exact) | odds ratio (95%) | paper |" in head
+
+
 @pytest.mark.parametrize(("study", "name"), [("test2_grasp", "test2_classifier"),
                                              ("test3_disturbance", "test3_retention_classifier")])
 def test_flag_precision_recall_and_base_rate(sim_root, study, name):

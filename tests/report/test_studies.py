@@ -487,7 +487,7 @@ def test_headline_page_gathers_rates(grid_run):
     mine = ok[ok["planner"] == "heuristic"]
     assert grid["n"] == len(mine)
     assert grid["rate_pct"] == pytest.approx(100 * mine["success"].mean())
-    assert grid["paper_pct"] == 67.6 and grid["paper_n"] == 675
+    assert grid["paper_pct"] == 67.6 and grid["n_paper"] == 675
     assert grid["paper_baselines"].startswith("antipodal 40.0%")
     missing = headline[headline["study"] == "test3_disturbance"]
     assert set(missing["verdict"]) == {"no records yet"}

@@ -17,8 +17,6 @@ from graspcampaign.core.bench import FAMILIES
 MATERIALS = tuple(FAMILIES)
 """Material families in Table 4 order."""
 KEY = ["material", "specimen", "environment"]
-ENVIRONMENTS = {"cool_dry": "cool/dry", "normal_lab": "normal-lab", "warm_humid": "warm/humid"}
-"""Environmental groups in the paper's words (§7.1)."""
 
 
 def fitted(records: pd.DataFrame) -> pd.DataFrame:

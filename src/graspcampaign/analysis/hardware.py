@@ -99,19 +99,21 @@ def scoped(df: pd.DataFrame, parts: Mapping[str, pd.Series]) -> pd.DataFrame:
 def summary(df: pd.DataFrame, by: Sequence[str], rates: Sequence[str] = (), medians: Sequence[str] = (),
             *, cluster: str | None = None, seed: int = 0, order: Mapping | None = None) -> pd.DataFrame:
     """Return per group of ``by`` the success :func:`~.records.rate_table` (``success_pct``, ``_low_pct``,
-    ``_high_pct``), each boolean column of ``rates`` likewise as ``<name>_pct``, ... and ``<name>_n`` over
-    its non-missing rows (``is_`` dropped), and the median and count ``<column>_n`` of ``medians``."""
-    by, names = list(by), ("n", "pct", "low_pct", "high_pct")
+    ``_high_pct``), each boolean column of ``rates`` likewise as ``<name>_pct``, ... and the count
+    ``n_<name>`` of its non-missing rows (``is_`` dropped), and the median and count ``n_<column>`` of
+    ``medians``."""
+    by = list(by)
     out = rate_table(df, by, cluster=cluster, seed=seed, order=order).rename(columns=lambda c: c.replace(
         "rate_pct", "success_pct").replace("wilson", "success"))
     for col in rates:
+        name = col.removeprefix("is_")
         t = rate_table(df[df[col].notna()].astype({col: bool}), by, outcome=col, order=order)
         t = t[[*by, "n", "rate_pct", "wilson_low_pct", "wilson_high_pct"]]
-        out = out.merge(t.set_axis([*by, *(f"{col.removeprefix('is_')}_{s}" for s in names)], axis=1),
-                        on=by, how="left")
+        out = out.merge(t.set_axis([*by, f"n_{name}", f"{name}_pct", f"{name}_low_pct", f"{name}_high_pct"],
+                                   axis=1), on=by, how="left")
     if medians:
         g = df.groupby(by, sort=False)[list(medians)]
-        out = out.merge(g.median().join(g.count().add_suffix("_n")).reset_index(), on=by, how="left")
+        out = out.merge(g.median().join(g.count().add_prefix("n_")).reset_index(), on=by, how="left")
     return out
 
 
@@ -120,10 +122,10 @@ def parity_by(df: pd.DataFrame, by: str, measured: str, predicted: str) -> pd.Da
     rows = []
     for key, g in df.dropna(subset=[measured, predicted]).groupby(by, sort=False):
         fit = agreement.parity_fit(g[measured], g[predicted]) if len(g) >= 3 else None
-        rows.append({by: key, "parity_n": len(g), **({} if fit is None else {
+        rows.append({by: key, "n_parity": len(g), **({} if fit is None else {
             "parity_slope": fit.slope_through_origin, "parity_r2": fit.r2_uncentred,
             "parity_r2_centred": fit.r2_centred})})
-    return pd.DataFrame(rows, columns=[by, "parity_n", "parity_slope", "parity_r2", "parity_r2_centred"])
+    return pd.DataFrame(rows, columns=[by, "n_parity", "parity_slope", "parity_r2", "parity_r2_centred"])
 
 
 def force_accuracy(df: pd.DataFrame) -> pd.DataFrame:

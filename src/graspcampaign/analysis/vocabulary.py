@@ -9,14 +9,14 @@ from typing import NamedTuple
 
 
 class Term(NamedTuple):
-    """One entry of a vocabulary: its record value, display label and colour."""
+    """One entry of a vocabulary: its record value, display label and colour (none: a label only)."""
 
     key: str
     label: str
-    colour: str
+    colour: str = ""
 
 
-def _terms(*rows: tuple[str, str, str]) -> dict[str, Term]:
+def _terms(*rows: tuple[str, ...]) -> dict[str, Term]:
     return {row[0]: Term(*row) for row in rows}
 
 
@@ -72,6 +72,21 @@ PARAMETERS = _terms(
     ("n", "n", "#2e7d32"), ("n_exp", "n", "#2e7d32"), ("b", "b", "#7b4ea3"),
     ("k", "k", "#c9a227"), ("c", "c", "#8c8c8c"),
 )
+ENVIRONMENTS = _terms(  # Test 1's environmental groups in the paper's words (Sec. 7.1)
+    ("cool_dry", "cool/dry", "#4c78b5"), ("normal_lab", "normal-lab", "#8c8c8c"),
+    ("warm_humid", "warm/humid", "#e08a1e"),
+)
+SURROGATE_MODELS = _terms(  # Appendix A's models, and the brief PSO call they are timed against
+    ("pso_call", "brief PSO call", "#7b4ea3"), ("mlp", "MLP 64-32", "#1f5aa6"),
+    ("random_forest", "random forest", "#e08a1e"),
+)
+SURROGATE_VARIABLES = _terms(  # Appendix A's labels, regression targets and features (record ids)
+    ("success", "configured check (validity gate)"), ("success_unbounded", "Algorithm 1 as published"),
+    ("success_vertical", "|R_z| reading"), ("abs_residual_z_n", "|R_z| [N]"),
+    ("log10_residual_norm_n", "log10 \u2016R\u2016 [log10 N]"),
+    ("log10_delta_max_mm", "log10 \u03b4max [log10 mm]"), ("mass_kg", "mass [kg]"), ("mu", "\u03bc"),
+    ("lambda1", "\u03bb1"), ("lambda2", "\u03bb2"), ("msd_b", "MSD damping b"),
+)
 STUDY_PANELS = _terms(  # sensitivity (Fig. 19) and mesh_resolution (Fig. 20) panels
     ("mu_mass", "(a) \u03bc \u00d7 m", "#1f5aa6"), ("lambda", "(b) \u03bb1 \u00d7 \u03bb2", "#e08a1e"),
     ("n_b", "(c) n \u00d7 b", "#2e7d32"), ("resolution", "mesh resolution", "#1f5aa6"),
@@ -83,7 +98,8 @@ VOCABULARIES: dict[str, dict[str, Term]] = {
     "planner": PLANNERS, "shape": SHAPES, "material": MATERIALS, "grip_law": GRIP_LAWS,
     "model_preset": MODEL_PRESETS, "integrator": INTEGRATORS, "outcome": OUTCOMES,
     "block": BLOCKS, "parameter": PARAMETERS, "panel": STUDY_PANELS,
-    "dynamic_status": DYNAMIC_STATUSES,
+    "dynamic_status": DYNAMIC_STATUSES, "environment": ENVIRONMENTS, "model": SURROGATE_MODELS,
+    "variable": SURROGATE_VARIABLES,
     # a McNemar table's compared planner; a table's scope of trials (a planner, or "all", "baselines" ...
     # that print as they are)
     "compared": PLANNERS, "scope": PLANNERS,
@@ -104,7 +120,7 @@ def label(column: str, value: object) -> str:
 def colour(column: str, value: object, index: int = 0) -> str:
     """Return the colour of ``value`` in ``column``; unknown values cycle ``OTHER_COLOURS``."""
     term = VOCABULARIES.get(column, {}).get(str(value))
-    return term.colour if term else OTHER_COLOURS[index % len(OTHER_COLOURS)]
+    return term.colour if term and term.colour else OTHER_COLOURS[index % len(OTHER_COLOURS)]
 
 
 def ordered(column: str, values: Iterable, first: Iterable = ()) -> list:

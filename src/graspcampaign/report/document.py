@@ -75,37 +75,22 @@ UNITS = {"pct": "%", "mm": "mm", "m": "m", "n": "N", "nm": "N·m", "s": "s", "ms
 
 def cols(*names: str, frame: pd.DataFrame | None = None) -> list[Col]:
     """Shown columns of record-convention names ``<words>_<unit>``: header ``words [unit]``, 3
-    significant digits (1 decimal for %); factor levels and other columns print as they are. With
-    ``frame``, its interval ``<words>_low_<unit>``/``_high_<unit>`` (or ``<name>_low``/``_high``)
-    and reason ``<name>_why`` (or ``<words>_why``) join a column when the frame has them, and a
-    ``<words>_n`` that counts (:func:`is_count`) is the count ``n (words)``, not newtons."""
+    significant digits (1 decimal for %); factor levels and other columns (counts are ``n_<things>``)
+    print as they are. With ``frame``, its interval ``<words>_low_<unit>``/``_high_<unit>`` (or
+    ``<name>_low``/``_high``) and reason ``<name>_why`` (or ``<words>_why``) join a column when the
+    frame has them."""
     out, has = [], (lambda c: frame is not None and c in frame)
     for name in names:
         words, _, suffix = name.rpartition("_")
-        unit = UNITS.get(suffix) if words and name not in FACTOR_LABELS and not is_count(name, frame) \
-            else None
+        unit = UNITS.get(suffix) if words and name not in FACTOR_LABELS else None
         head = FACTOR_LABELS.get(name) or (f"{words.replace('_', ' ')} [{unit}]" if unit else
-                                           f"n ({words.replace('_', ' ')})" if words and suffix == "n"
-                                           else name.replace("_", " "))
+                                           name.replace("_", " "))
         low, high = (f"{words}_low_{suffix}", f"{words}_high_{suffix}") if unit else (f"{name}_low",
                                                                                        f"{name}_high")
         ci, why = has(low) and has(high), next((w for w in (f"{name}_why", f"{words}_why") if has(w)), None)
-        out.append(Col(name, head, 1 if unit == "%" else 0 if suffix == "n" and not unit else None,
-                       sig=3 if unit and unit != "%" else None, low=low if ci else None,
-                       high=high if ci else None, why=why))
+        out.append(Col(name, head, 1 if unit == "%" else None, sig=3 if unit and unit != "%" else None,
+                       low=low if ci else None, high=high if ci else None, why=why))
     return out
-
-
-def is_count(name: str, frame: pd.DataFrame | None) -> bool:
-    """Whether ``frame``'s ``<words>_n`` counts rows (``hardware.summary``'s ``<column>_n`` beside
-    ``<column>`` or ``<column>_pct``, ``parity_n``: whole numbers of an integer type) rather than
-    holding newtons; without a frame a ``_n`` column is in newtons (docs/records.md)."""
-    words, _, suffix = name.rpartition("_")
-    if suffix != "n" or frame is None or name not in frame:
-        return False
-    column = frame[name]
-    return (pd.api.types.is_integer_dtype(column) and not pd.api.types.is_bool_dtype(column)) or \
-        words in frame or f"{words}_pct" in frame
 
 
 def pct_col(name: str, head: str) -> Col:

@@ -34,7 +34,7 @@ class Headline:
     label: str
     section: str
     paper: Callable[[Any], float]
-    paper_n: Callable[[Any], int] | None = None
+    n_paper: Callable[[Any], int] | None = None
     baselines: Callable[[Any], dict[str, float]] | None = None
     subset: tuple[str, frozenset] | None = None  # (record column, accepted values)
 
@@ -66,14 +66,14 @@ TABLE1: tuple[Headline, ...] = (
 FACTOR_NOUNS = {"shape": "shapes", "mass_kg": "masses", "mu": "frictions", "nodes": "meshes"}
 COLUMNS = [
     Col("headline", "headline (proposed planner)"), Col("testbed", "testbed (ours)"),
-    Col("run", "run", link="report"), Col("paper_pct", "paper %", 1), Col("paper_n", "paper n", 0),
+    Col("run", "run", link="report"), Col("paper_pct", "paper %", 1), Col("n_paper", "paper n", 0),
     Col("rate_pct", "ours % (Wilson 95%)", 1, low="wilson_low_pct", high="wilson_high_pct", why="why"),
     Col("n", "n"), Col("n_error", "errors"), Col("n_aborted", "aborted"),
     Col("difference", "difference [pp]", 1, signed=True),
     Col("paper_baselines", "baselines: paper"), Col("ours_baselines", "baselines: ours"),
     Col("verdict", "verdict"), Col("section", "section"),
 ]
-ROW = ["headline", "section", "study", "run", "source", "testbed", "paper_pct", "paper_n",
+ROW = ["headline", "section", "study", "run", "source", "testbed", "paper_pct", "n_paper",
        "paper_baselines", "n", "n_error", "n_aborted", "rate_pct", "wilson_low_pct",
        "wilson_high_pct", "ours_baselines", "why", "report"]
 INTRO = ("Each row is the proposed planner's success rate over executed trials (errored trials "
@@ -99,7 +99,7 @@ def _row(h: Headline, paper: Any, **extra) -> dict:
     row = {"headline": h.label, "section": h.section, "study": h.study, "n": 0, "n_error": 0,
            "n_aborted": 0, "paper_baselines": fmt.MISSING, "ours_baselines": fmt.MISSING, "why": ""}
     if paper is not None:
-        row.update(paper_pct=h.paper(paper), paper_n=h.paper_n(paper) if h.paper_n else None,
+        row.update(paper_pct=h.paper(paper), n_paper=h.n_paper(paper) if h.n_paper else None,
                    paper_baselines=_ranked(h.baselines(paper)) if h.baselines else fmt.MISSING)
     return {**row, **extra}
 
@@ -167,7 +167,7 @@ def headline_rows(root: Path | str, unreadable: list[tuple[str, str]] | None = N
                 what = f"it {exc.what}" if isinstance(exc, DamagedRunError) else reason(exc)
                 rows.append(_row(h, study_paper(h.study), run=r.name,
                                  why=f"the run cannot be read: {what}"))
-    frame = verdicts(pd.DataFrame(rows, columns=ROW).astype({"paper_n": "Int64"}), "rate_pct",
+    frame = verdicts(pd.DataFrame(rows, columns=ROW).astype({"n_paper": "Int64"}), "rate_pct",
                      "paper_pct", "wilson_low_pct", "wilson_high_pct", unit="%")
     frame["verdict"] = [w or v for w, v in zip(frame["why"], frame["verdict"], strict=True)]
     return frame

@@ -47,6 +47,11 @@ class Run:
         return data_source(self.records, self.manifest.get("source"))
 
     @property
+    def rig(self) -> str:
+        """What a rig's values are, for axis labels and captions: "measured" only on hardware."""
+        return "measured" if self.source == "measured" else "virtual-rig"
+
+    @property
     def cluster(self) -> str:
         """The object column trials cluster in: the shape in simulation, the object on a rig."""
         return "shape" if self.source == "simulation" else "object_id"

@@ -13,7 +13,7 @@ import pandas as pd
 from graspcampaign.analysis import records as rec
 from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES, wilson_interval
 from graspcampaign.analysis.records import Estimate
-from graspcampaign.analysis.vocabulary import PROPOSED, label
+from graspcampaign.analysis.vocabulary import PROPOSED, label, ordered
 from graspcampaign.report import format as fmt
 from graspcampaign.report.document import Col, Figure, Section, Table, Text, labelled, pct_col  # noqa: F401 - API
 from graspcampaign.report.render import Run, reason
@@ -187,22 +187,26 @@ def Claims(name: str, caption: str | Callable[[Run], str],
 
 def Paired(name: str = "mcnemar", caption: str = (
         "Paired comparison, McNemar on occurrence-matched pairs (rows paired by scene_id: same "
-        "object, mass, friction and seed); χ² with continuity correction, exact binomial p, "
-        "discordant-pair odds ratio (> 1 favours the proposed planner) with its exact 95% interval"),
-        reference: str = PROPOSED, pair_on: str = "scene_id",
-        paper: Callable[[Any, str], Any] | None = None) -> Table:
-    """McNemar (1947) of ``reference`` against every other planner on occurrence-matched pairs."""
+        "object, mass, friction and seed)"), reference: str = PROPOSED, pair_on: str = "scene_id",
+        paper: Callable[[Any, str], Any] | None = None,
+        trials: Callable[[Run], pd.DataFrame] | None = None) -> Table:
+    """McNemar (1947) of ``reference`` against every other planner on occurrence-matched pairs of
+    ``trials(run)`` (default the run's records), in the design's planner order; ``caption`` says
+    which pairs, the statistics' description follows it."""
     def compute(run: Run) -> pd.DataFrame:
-        planners = [p for p in run.order.get("planner", []) if p != reference]
-        frame = rec.mcnemar_table(run.records, reference, planners, pair_on=pair_on)
+        frame = run.records if trials is None else trials(run)
+        planners = [p for p in ordered("planner", frame["planner"], run.order.get("planner", []))
+                    if p != reference]
+        frame = rec.mcnemar_table(frame, reference, planners, pair_on=pair_on)
         return frame.assign(paper=[_paper(paper, run.paper, p) or "not reported" for p in frame["compared"]],
                             compared_label=[label("planner", p) for p in frame["compared"]])
 
-    return Table(name, caption, compute, [
+    return Table(name, f"{caption}; χ² with continuity correction, exact binomial p, discordant-pair odds "
+                 "ratio (> 1 favours the proposed planner) with its exact 95% interval", compute, [
         Col("compared_label", "compared"), Col("pairs", "pairs"),
         Col("reference_only", f"{label('planner', reference)} only"), Col("compared_only", "compared only"),
         Col("both_success", "both succeed"), Col("both_fail", "both fail"),
-        Col("chi2_cc", "χ² (cc)", 1, why="test_why"), Col("p_exact", "p (exact)"),
+        Col("chi2_cc", "χ² (cc)", 1, why="test_why"), Col("p_chi2", "p (χ²)"), Col("p_exact", "p (exact)"),
         Col("odds_ratio", "odds ratio (95%)", 2, low="odds_ratio_low", high="odds_ratio_high",
             why="test_why"), Col("paper", "paper")])
 

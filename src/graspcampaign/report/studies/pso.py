@@ -11,23 +11,22 @@ from graspcampaign.analysis import agreement
 from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
 from graspcampaign.analysis.records import at_bound
 from graspcampaign.analysis.vocabulary import PROPOSED, colour, label
+from graspcampaign.core.identify import PARAMETER_NAMES
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
 from graspcampaign.report.document import Col
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, Text, verdicts
 
-#: Identified parameters in Table 3's order (record columns; the paper calls ``n_exp`` n).
-PARAMETERS = ("lambda1", "lambda2", "n_exp", "b", "k", "c")
-NAME = {"n_exp": "n"}
-"""Table 3's name of a record column."""
+#: Identified parameters in Table 3's order: record column -> Table 3's name (the identification's, §4).
+PARAMETERS = dict(zip(("lambda1", "lambda2", "n_exp", "b", "k", "c"), PARAMETER_NAMES, strict=True))
 BOUND = Col("at_bound", "on a search bound", share="at_bound_pct")
 
 
 def _digits(table3, parameter: str) -> int | None:
     """A parameter row's decimals: 3 significant digits of Table 3's value (b ~ 0.6 and c ~ 0.002 share
     a column; one rounding per column hid c)."""
-    return fmt.decimals([getattr(table3, NAME.get(parameter, parameter))])
+    return fmt.decimals([getattr(table3, PARAMETERS[parameter])])
 
 
 def _budgets(run: Run) -> tuple[pd.DataFrame, pd.DataFrame]:
@@ -78,7 +77,7 @@ def table3(name: str, caption: str, identified, paper_from, empty: str | None = 
         best = ident.loc[ident["best_cost"].astype(float).idxmin()] \
             if "best_cost" in ident and ident["best_cost"].notna().any() else None
         for p in [p for p in PARAMETERS if p in ident and ident[p].notna().any()]:
-            v, pv = ident[p].dropna().to_numpy(float), getattr(ref, NAME.get(p, p))
+            v, pv = ident[p].dropna().to_numpy(float), getattr(ref, PARAMETERS[p])
             rows.append({"parameter": p, "parameter_label": label("parameter", p), "paper": pv,
                          "digits": _digits(ref, p), "ours_mean": v.mean(), "ours_median": np.median(v),
                          "ours_best_run": float(best[p]) if best is not None else math.nan,

@@ -184,10 +184,8 @@ def grid_finding(run: Run) -> str:
 
 def LawPaired() -> S.Table:
     """McNemar of the proposed planner against each other, within each grip law."""
-    base = S.Paired(caption=(
-        "Paired comparison within each grip law, McNemar on pairs matched by (scene_id, grip_law); "
-        "χ² with continuity correction, exact binomial p, discordant-pair odds ratio (> 1 favours "
-        "the proposed planner) with its exact 95% interval"))
+    base = S.Paired(caption="Paired comparison within each grip law, McNemar on pairs matched by "
+                    "(scene_id, grip_law)")
 
     def compute(run: Run) -> pd.DataFrame:
         return pd.concat([base.compute(Run(run.records[run.records["grip_law"] == law], run.manifest,

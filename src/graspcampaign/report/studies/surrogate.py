@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pandas as pd
 
-from graspcampaign.analysis.vocabulary import label, ordered
+from graspcampaign.analysis.vocabulary import colour, label, ordered
 from graspcampaign.report import style
 from graspcampaign.report.document import Col, cols
 from graspcampaign.report.render import Run
@@ -16,19 +16,14 @@ from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, verdic
 from graspcampaign.report.studies.quasi_static import _radius_mm
 from graspcampaign.report.studies.sensitivity import beyond_radius, rate_cols
 
-MODELS = {"pso_call": ("brief PSO call", "#7b4ea3"), "mlp": ("MLP 64-32", "#1f5aa6"),
-          "random_forest": ("random forest", "#e08a1e")}
 LABELS = ("success", "success_unbounded", "success_vertical")
-#: Readable names of the run's labels, regression targets and features (record ids in the CSVs).
-NAMES = {"success": "configured check (validity gate)", "success_unbounded": "Algorithm 1 as published",
-         "success_vertical": "|R_z| reading", "abs_residual_z_n": "|R_z| [N]",
-         "log10_residual_norm_n": "log10 ‖R‖ [log10 N]", "log10_delta_max_mm": "log10 δmax [log10 mm]",
-         "mass_kg": "mass [kg]", "mu": "μ", "lambda1": "λ1", "lambda2": "λ2", "msd_b": "MSD damping b"}
 
 
 def name(key: str) -> str:
     """The readable name of a label, target or feature (``shape_<s>``: the shape's label)."""
-    return f"shape: {label('shape', key[6:])}" if key.startswith("shape_") else NAMES.get(key, key)
+    return f"shape: {label('shape', key[6:])}" if key.startswith("shape_") else label("variable", key)
+
+
 PAPER_LABEL = "success_unbounded"  # Algorithm 1 as published, no validity gate: the paper's label
 WHY = ("`docs/decisions.md`, *Sensitivity, mesh resolution, surrogate (issue 7)*, *Contact law, "
        "evaluator, planners, PSO (issue 4)* and *Physical validity, grip laws, Ferrari–Canny ε (issues 13 "
@@ -43,7 +38,8 @@ def _read(name: str, *need: str):
                              "the models once every scenario is recorded")
         t = t.assign(**{c: t.get(c) for c in need})
         key = t.get("model", t.get("what"))
-        return t if key is None else t.assign(model_label=[MODELS.get(m, ("—",))[0] for m in key])
+        return t if key is None else t.assign(model_label=[label("model", m) if isinstance(m, str) else "—"
+                                                           for m in key])
     return read
 
 
@@ -172,19 +168,19 @@ def figA1(run: Run, fig) -> None:
     ax_a, ax_b, ax_c = fig.subplots(1, 3)
     roc, cls = _read("roc")(run), run.tables["surrogate_classification"].set_index(["label", "model"])
     for (lab, m), g in roc.groupby(["label", "model"], sort=False) if len(roc) else ():
-        ax_a.plot(g["fpr"], g["tpr"], color=MODELS[m][1], ls=LINES[lab],
-                  label=f"{MODELS[m][0]}, {name(lab)}: AUC {cls.loc[(lab, m), 'roc_auc']:.2f}")
+        ax_a.plot(g["fpr"], g["tpr"], color=colour("model", m), ls=LINES[lab],
+                  label=f"{label('model', m)}, {name(lab)}: AUC {cls.loc[(lab, m), 'roc_auc']:.2f}")
     if not len(roc):
         ax_a.text(0.5, 0.5, "not fitted: too few trials of one class", ha="center", transform=ax_a.transAxes)
     ax_a.plot([0, 1], [0, 1], color=style.CRITERION, ls=":", label="chance")
-    ax_a.plot([], [], " ", label="paper AUC: " + ", ".join(f"{MODELS[m][0]} {v:g}" for m, v in
+    ax_a.plot([], [], " ", label="paper AUC: " + ", ".join(f"{label('model', m)} {v:g}" for m, v in
                                                           run.paper.auc.items()))
     ax_a.set(xlabel="false positive rate [–]", ylabel="true positive rate [–]",
              title="(a) ROC, success classifiers (held out)")
     ax_a.legend(loc="lower right", fontsize=6.5)
     par, r2 = _read("parity")(run), run.tables["surrogate_regression"].set_index(["target", "model"])
     if len(par):
-        ax_b.scatter(par["simulated"], par["predicted"], s=8, alpha=0.5, color=MODELS["mlp"][1],
+        ax_b.scatter(par["simulated"], par["predicted"], s=8, alpha=0.5, color=colour("model", "mlp"),
                      label=f"MLP, held out: R² {r2.loc[('log10_residual_norm_n', 'mlp'), 'r2']:.2f}")
         lim = [par[["simulated", "predicted"]].min().min(), par[["simulated", "predicted"]].max().max()]
         ax_b.plot(lim, lim, color="black", lw=1.0, label="parity")
@@ -196,7 +192,7 @@ def figA1(run: Run, fig) -> None:
     ax_b.legend(loc="upper left", fontsize=6.5)
     t = run.tables["surrogate_timing"]
     x, ms = np.arange(len(t)), 1e3 * t["time_s"].to_numpy(float)
-    ax_c.bar(x, ms, color=[MODELS[w][1] for w in t["what"]])
+    ax_c.bar(x, ms, color=[colour("model", w) for w in t["what"]])
     style.paper_marks(ax_c, x, list(1e3 * t["paper_time_s"]), 0.8)
     for xi, v in zip(x, ms, strict=True):
         ax_c.annotate(f"{v:.3g} ms", (xi, v), xytext=(0, 3), textcoords="offset points", ha="center",

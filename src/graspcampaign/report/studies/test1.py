@@ -18,7 +18,6 @@ from graspcampaign.report import format as fmt
 from graspcampaign.report.document import Col, cols
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Claims, Figure, Finding, ReportSpec, Table, Text, Value, share, verdicts
-from graspcampaign.report.studies.test2 import rig
 from graspcampaign.report.style import CRITERION, PAPER, legend_below, paper_handle, paper_marks
 
 WHY = "`docs/decisions.md`, *Test 1 bench protocol (issue 8)* and *Test 1 in the engine (issue 8)*"
@@ -88,7 +87,7 @@ CLAIMS = [
           _v("normal", "c_n_s_per_m", "median"), _t4("c_n_s_per_m"), "N s/m", 3),
     Value("standard error of per-event C: median", "§7.2", _v("normal", "c_se_n_s_per_m", "median"),
           None, "N s/m"),
-    *(Value(f"μs {cal.ENVIRONMENTS[e]}: campaign mean", "§7.3", _v(e, "mu_s"),
+    *(Value(f"μs {label('environment', e)}: campaign mean", "§7.3", _v(e, "mu_s"),
             lambda p, e=e: p.mu_s_environment[e]) for e in ("cool_dry", "warm_humid")),
     Value("μs > μk in every family", "Table 4", lambda r: bool(r.tables["table4"].query("row == 'ours'").eval(
         "mu_s > mu_k").all()), lambda p: all(r.mu_s > r.mu_k for r in p.table4.values())),
@@ -349,7 +348,8 @@ def fig24(run: Run, fig) -> None:
                                                 "normal_force_n"))
         on = np.where((x > x.min() + 0.01) & (x < x.max() - 0.01) & (fn > 0.5 * row["mean_normal_force_n"]),
                       1, np.nan)  # the limits only while the preload is on
-        ax_b.plot(x, ft, color=BLUE, lw=0.9, label=f"{rig(run)} ft ({cal.ENVIRONMENTS[row['environment']]})")
+        ax_b.plot(x, ft, color=BLUE, lw=0.9,
+                  label=f"{run.rig} ft ({label('environment', row['environment'])})")
         for col, ls in (("mu_s", "--"), ("mu_k", ":")):
             mu = col.replace("mu_", "μ")
             ax_b.plot(x, row[col] * fn * on, color=RED, ls=ls, label=f"{mu} fn ({mu} = {row[col]:.3f})")

@@ -10,13 +10,13 @@ import pandas as pd
 
 from graspcampaign.analysis import hardware as hw
 from graspcampaign.analysis.rates import power_two_proportions
-from graspcampaign.analysis.records import Estimate, mcnemar_table
+from graspcampaign.analysis.records import Estimate
 from graspcampaign.analysis.vocabulary import PROPOSED, colour, label
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
 from graspcampaign.report.document import Col, Figure, Table, cols, pct_col
 from graspcampaign.report.render import Run
-from graspcampaign.report.spec import Claims, Finding, Rates, ReportSpec, paper_of, share, verdicts
+from graspcampaign.report.spec import Claims, Finding, Paired, Rates, ReportSpec, paper_of, share, verdicts
 
 PLANNERS, ME = ("heuristic", "centroid", "no_pso", "force_balance", "random"), f"planner == '{PROPOSED}'"
 FLAGS = ("predicted_stable", "predicted_stable_residual")
@@ -27,11 +27,6 @@ WHY_NOT = {"predicted_stable_residual": "it is the paper's §8.1 flag (Algorithm
 
 
 # --------------------------------------------------------------------------- shared with Test 3
-def rig(run: Run) -> str:
-    """What the rig's values are, for axis labels and captions: "measured" only on hardware."""
-    return "measured" if run.source == "measured" else "virtual-rig"
-
-
 def frames(run: Run) -> pd.DataFrame:
     """Executed trials of both belief readings with the derived columns (computed once per run)."""
     return run.memo("hardware", lambda: hw.derive(hw.beliefs(run.records, run.aux("belief_none"))))
@@ -46,13 +41,19 @@ def ex(run: Run, planner: str | None = None) -> pd.DataFrame:
 def paper_table(name, caption, key, row, items, rates=(), medians=(), *, where=None, boot=False,
                 extra=None) -> Table:
     """A :func:`hw.summary` table per ``key`` and belief reading; items ``(column, paper, header, digits)``: a
-    rate (digits None), number or text ("") beside ``paper``: ``row(p, key)``'s attribute or ``f(p, key)``."""
+    rate (digits None), number or text ("") beside ``paper``: ``row(p, key)``'s attribute or ``f(p, key)``
+    (column ``paper_<column>``; the paper's count of trials ``n_paper``)."""
+    def columns(col: str, digits) -> tuple[str, str]:
+        """An item's column and the column of the paper's value beside it."""
+        c = f"{col}{'_pct' * (digits is None)}"
+        return c, "n_paper" if c == "n" else f"paper_{c}"
+
     def compute(run: Run) -> pd.DataFrame:
         d = frames(run) if where is None else where(frames(run))
         out = hw.summary(d, [key, "belief_error"], rates, medians, order=READINGS, seed=run.seed,
                          cluster="object_id" if boot else None)
         for col, paper, _, digits in (i for i in items if i[1]):
-            out[f"paper_{col}{'_pct' * (digits is None)}"] = [None if b != "paper" else paper_of(
+            out[columns(col, digits)[1]] = [None if b != "paper" else paper_of(
                 run, paper if callable(paper) else lambda p, k, a=paper: getattr(row(p, k), a), k)
                 for k, b in zip(out[key], out["belief_error"], strict=True)]
         out = extra(run, d, out) if extra else out
@@ -60,9 +61,9 @@ def paper_table(name, caption, key, row, items, rates=(), medians=(), *, where=N
                         unit="%")
     cols = [Col("belief_error", "belief error")]
     for col, paper, head, digits in items:
-        c = f"{col}{'_pct' * (digits is None)}"
+        c, paper_c = columns(col, digits)
         cols += [pct_col(col, head) if digits is None else Col(c, head, digits if digits != "" else None),
-                 *[Col(f"paper_{c}", "paper", 1 if digits is None else digits)] * bool(paper),
+                 *[Col(paper_c, "paper", 1 if digits is None else digits)] * bool(paper),
                  *[Col("difference", "difference [pp]", 1, signed=True)] * (col == "success"),
                  *[Col("bootstrap_low_pct", "object bootstrap 95% [%]", 1, low="bootstrap_low_pct",
                        high="bootstrap_high_pct", why="bootstrap_why")] * (col == "success" and boot)]
@@ -139,18 +140,14 @@ def classifier(name: str, caption: str, scopes, paper) -> Table:
 
 
 def matched_mcnemar(name: str, caption: str) -> Table:
-    """McNemar of the proposed planner against each baseline on the occurrence-matched pairs."""
-    def compute(run: Run) -> pd.DataFrame:
-        d = ex(run)[ex(run)["matched"].astype(bool)]
-        return mcnemar_table(d, PROPOSED, [q for q in PLANNERS[1:] if q in set(d["planner"])],
-                             pair_on="match_key")
-    return Table(name, caption, compute, [
-        Col("pairs", "pairs"), Col("reference_only", f"{label('planner', PROPOSED)} only"),
-        Col("compared_only", "compared only"), *cols("both_success", "both_fail"),
-        Col("chi2_cc", "χ² (cc)", 2, why="test_why"), Col("p_chi2", "p (χ²)", sig=2),
-        Col("p_exact", "p (exact)", sig=2),
-        Col("odds_ratio", "odds ratio (exact 95%)", 2, low="odds_ratio_low", high="odds_ratio_high",
-            why="test_why")], by=["compared"])
+    """McNemar of the proposed planner against each baseline on the occurrence-matched pairs, beside
+    the paper's (against the centroid planner only)."""
+    def paper(p, compared: str) -> str | None:
+        m = p.mcnemar_centroid
+        return f"χ² {m.chi2:g}; {m.won} won, {m.lost} lost" if compared == "centroid" else None
+
+    return Paired(name, caption, pair_on="match_key", paper=paper,
+                  trials=lambda run: ex(run)[ex(run)["matched"].astype(bool)])
 
 
 def finding(run: Run, extra=lambda run: "") -> str:
@@ -237,7 +234,7 @@ def confusion(paper):
         for (i, j), v in np.ndenumerate(cells):
             ax.text(j, i, v, ha="center", va="center", color="white" if v > 0.6 * cells.max() else "k")
         ax.set(xticks=[0, 1], xticklabels=["failed", "succeeded"], yticks=[0, 1], yticklabels=["no", "yes"],
-               xlabel=f"{rig(run)} outcome [trials]", ylabel="predicted_stable", title="(c) flag vs outcome")
+               xlabel=f"{run.rig} outcome [trials]", ylabel="predicted_stable", title="(c) flag vs outcome")
         ax.grid(False)
         ax.plot([], [], " ", label="\n".join([f"n = {m['n']}", *(
             f"{k}: ours {fmt.number(m[k], 2)}, paper {fmt.number(getattr(ref, k), 2)}"
@@ -283,7 +280,7 @@ def fig29(run: Run, fig) -> None:
         (0, run.tables["test2_force_accuracy"]["parity_slope"].iloc[0], "ours, through the origin",
          {"color": colour("planner", PROPOSED)}),
         (0, paper_of(run, lambda p: p.parity_slope), "paper", {"ls": "--", "color": style.PAPER})],
-        "trial-mean normal force [N]", "(a) parity, all planners", rig(run))
+        "trial-mean normal force [N]", "(a) parity, all planners", run.rig)
     for ax, col, what, key in zip(hist, ("force_err_pct", "deformation_err_pct"), ("normal-force",
                                   "deformation"), ("force_err_median_pct", "deformation_err_median_pct"),
                                   strict=True):
@@ -349,7 +346,7 @@ def groups(run: Run) -> pd.DataFrame:
 
 def outcomes(run: Run) -> pd.DataFrame:
     o = hw.summary(ex(run, PROPOSED), ["planner"], [f"is_{k}" for k in hw.CLASSES]).iloc[0]
-    out = pd.DataFrame([{"outcome": v, "n": o[f"{k}_n"], **{f"success{s}": o[f"{k}{s}"] for s in (
+    out = pd.DataFrame([{"outcome": v, "n": o[f"n_{k}"], **{f"success{s}": o[f"{k}{s}"] for s in (
         "_pct", "_low_pct", "_high_pct")}} for k, v in hw.CLASSES.items()])
     ref = {"stable": "proposed_stable_pct", "success": "proposed_marginal_pct"}
     t7 = {"failure_slip": "slip_pct", "failure_drop": "drop_pct", "failure_damage": "damage_pct"}
@@ -391,7 +388,7 @@ def claims(run: Run):
             ("median |normal-force error|", "force_err_pct", "force_err_median_pct", "%"),
             ("median |deformation error|", "deformation_err_pct", "deformation_err_median_pct", "%"),
             ("median contact-point error", "contact_point_error_mm", "contact_point_err_median_mm", "mm")):
-        yield q, "§8.3, Fig. 29", Estimate(acc[col], n=acc["parity_n"]), getattr(p, key), unit, 2
+        yield q, "§8.3, Fig. 29", Estimate(acc[col], n=acc["n_parity"]), getattr(p, key), unit, 2
     yield from mcnemar_rows(mc, p.mcnemar_centroid, "§8.5")
     yield ("discordant-pair odds ratio", "§8.5", Estimate(*mc[["odds_ratio", "odds_ratio_low",
            "odds_ratio_high", "pairs"]]), p.mcnemar_centroid.odds_ratio, "", 1)
@@ -435,13 +432,13 @@ SPEC = ReportSpec("test2_grasp", [
           where=lambda r: r["matched"].astype(bool)),
     Table("test2_force_accuracy", "Prediction accuracy (§8.3): normal-force parity through the origin "
           "(uncentred, centred R²), median absolute errors", lambda run: hw.force_accuracy(ex(run)), [
-              Col("parity_n", "n"), Col("parity_slope", "parity slope", 3),
+              Col("n_parity", "n"), Col("parity_slope", "parity slope", 3),
               Col("parity_r2", "parity R² (uncentred)", 3),
               Col("parity_r2_centred", "parity R² (centred)", 3),
               Col("force_err_pct", "median |F_n| error [%]", 1),
               Col("deformation_err_pct", "median deformation error [%]", 1),
               Col("contact_point_error_mm", "median contact-point error [mm]", 2)], by=["scope"]),
-    classifier("test2_classifier", lambda run: f"Pre-execution flags against {rig(run)} success (§8.4, "
+    classifier("test2_classifier", lambda run: f"Pre-execution flags against {run.rig} success (§8.4, "
                "Fig. 31c): `predicted_stable` is §9.5's SF_predicted > 1, `predicted_stable_residual` §8.1's "
                "residual ≤ τ_F = 0.0886 N, the flag the paper's scores belong to", lambda d: {
                    **per_planner(d), "baselines": d["planner"] != PROPOSED,
@@ -464,7 +461,7 @@ SPEC = ReportSpec("test2_grasp", [
           "Cohen's h; matched pairs: McNemar, Connor 1987)", power),
     Figure("fig28_outcomes", "Fig. 28 (paper in black): proposed success per shape (dashed: the paper's 75% "
            "reference), success per material, proposed outcome classes; Wilson 95%", fig28, (12.0, 4.0)),
-    Figure("fig29_prediction_accuracy", lambda run: f"Fig. 29: (a) {rig(run)} against predicted trial-mean "
+    Figure("fig29_prediction_accuracy", lambda run: f"Fig. 29: (a) {run.rig} against predicted trial-mean "
            "normal force; "
            "(b) normal-force and (c) deformation errors with their medians (log axis: every trial "
            "shown)", fig29, (12.0, 3.8)),

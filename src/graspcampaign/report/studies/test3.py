@@ -85,9 +85,9 @@ def claims(run: Run):
            p.yaw_rotation_median_deg, "°", 1)
     a = t["test3_threshold_agreement"].iloc[0]
     for q, col, key, unit in (
-            (f"OLS slope, {t2.rig(run)} on predicted", "ols_slope", "threshold_ols_slope", ""),
+            (f"OLS slope, {run.rig} on predicted", "ols_slope", "threshold_ols_slope", ""),
             ("OLS R²", "ols_r2", "threshold_ols_r2", ""),
-            (f"Bland–Altman bias ({t2.rig(run)} − predicted)", "bias_n", "bland_altman_bias_n", "N"),
+            (f"Bland–Altman bias ({run.rig} − predicted)", "bias_n", "bland_altman_bias_n", "N"),
             ("Bland–Altman limits, half width", "loa_half_n", "bland_altman_loa_half_width_n", "N")):
         yield q, "§9.3, Fig. 34", Estimate(a.get(col, np.nan), n=a["n"]), getattr(p, key), unit, 2
     ramps = d.dropna(subset=["lat_threshold_n"])  # the agreement table's uncensored block-A ramps
@@ -140,7 +140,7 @@ def thresholds(run: Run, ax) -> None:
     x = np.arange(len(t))
     ax.bar(x, t["threshold"], 0.7, color=colour("planner", PROPOSED), label="ours, uncensored ramps")
     style.paper_marks(ax, x, list(t["paper_threshold_n"]), 0.7)
-    ax.set(xticks=x, xticklabels=[f"{k}\nn={n}" for k, n in zip(t["friction_level"], t["threshold_n"],
+    ax.set(xticks=x, xticklabels=[f"{k}\nn={n}" for k, n in zip(t["friction_level"], t["n_threshold"],
                                                                   strict=True)],
            ylabel="median lateral threshold at slip [N]", title="(a) block A: median threshold")
     ax.legend(handles=[*ax.get_legend_handles_labels()[0], style.paper_handle()], loc="upper right")
@@ -183,7 +183,7 @@ def fig34(run: Run, fig) -> None:
     style.parity(a, p, m, [(g.get("ols_intercept"), g.get("ols_slope"), "ours: OLS", {"color": ours}),
                      (0, paper_of(run, lambda p: p.threshold_ols_slope), "paper's slope",
                       {"ls": "--", "color": style.PAPER})], "lateral threshold [N]",
-           "(a) parity, proposed, block A", t2.rig(run))
+           "(a) parity, proposed, block A", run.rig)
     b.scatter((m + p) / 2, m - p, s=7, alpha=0.5, color=ours, label="ours")
     bias, half = (paper_of(run, getattr, k) for k in ("bland_altman_bias_n", "bland_altman_loa_half_width_n"))
     lines = [(g.get(k), ls, ours, "ours") for k, ls in (("bias_n", "-"), ("loa_low_n", "--"),
@@ -193,7 +193,7 @@ def fig34(run: Run, fig) -> None:
     for v, ls, col, who in lines:
         b.axhline(np.nan if v is None else v, ls=ls, lw=1, color=col,
                   label=f"{who}: bias, 95% limits" if ls == "-" else None)
-    b.set(xlabel=f"mean of {t2.rig(run)} and predicted [N]", ylabel=f"{t2.rig(run)} − predicted [N]",
+    b.set(xlabel=f"mean of {run.rig} and predicted [N]", ylabel=f"{run.rig} − predicted [N]",
           title="(b) Bland–Altman")
     style.legend_below(b, ncol=2)
     t = run.tables["table9"].query(t2.PAPER_ROWS)
@@ -201,7 +201,7 @@ def fig34(run: Run, fig) -> None:
     c.bar(x, t["lat_threshold_err_pct"], 0.7, color=[colour("planner", q) for q in t["planner"]])
     style.paper_marks(c, x, list(t["paper_lat_threshold_err_pct"]), 0.7)
     c.set_xticks(x, [f"{style.tick(label('planner', q))}\nn={n}" for q, n in zip(
-        t["planner"], t["lat_threshold_n_n"], strict=True)], fontsize=7)  # as style.rate_bars
+        t["planner"], t["n_lat_threshold_n"], strict=True)], fontsize=7)  # as style.rate_bars
     c.set(ylabel="median |lateral-threshold error| [%]", title="(c) by planner, uncensored block A")
     style.legend_below(c, [style.paper_handle()])
 
@@ -235,7 +235,7 @@ SPEC = ReportSpec("test3_disturbance", [
                 "uncensored thresholds", "block", lambda p, k: p.table8[k], [
                     ("n", "n", "n", 0), ("success", "success_pct", "success", None),
                     ("headline", "headline", "headline", 3), ("unit", None, "unit", ""),
-                    ("headline_n", None, "thresholds", 0),
+                    ("n_headline", None, "thresholds", 0),
                     ("threshold_err_pct", "pred_err_pct", "median |prediction error| [%]", 1),
                     ("parity_r2_centred", lambda p, k: p.block_parity_r2[k], "parity R² (centred)", 2)],
                 medians=["headline", "threshold_err_pct"], extra=table8,
@@ -247,7 +247,7 @@ SPEC = ReportSpec("test3_disturbance", [
                     ("n", "n", "n", 0), ("success", "success_pct", "success", None),
                     ("paper_wilson", None, "paper Wilson 95%", ""),
                     *((k, f"{k}_pct", k, None) for k in ("stable", "drop", "damage")),
-                    ("lat_threshold_n_n", None, "thresholds", 0),
+                    ("n_lat_threshold_n", None, "thresholds", 0),
                     ("lat_threshold_n", "lat_threshold_n", "median lateral threshold [N]", 2),
                     ("lat_threshold_err_pct", "threshold_err_pct", "median |threshold error| [%]", 1)],
                 ["is_stable", "is_drop", "is_damage"], ["lat_threshold_n", "lat_threshold_err_pct"],
@@ -256,17 +256,17 @@ SPEC = ReportSpec("test3_disturbance", [
     Table("test3_coating", "Block A of the proposed planner per surface (§9.2, Fig. 33a): success and "
           "median uncensored lateral threshold beside the paper's", coating, [
               Col("friction_level", "surface"), Col("n", "n"), pct_col("success", "success"),
-              Col("paper_success_pct", "paper %", 1), Col("threshold_n", "thresholds"),
+              Col("paper_success_pct", "paper %", 1), Col("n_threshold", "thresholds"),
               Col("threshold", "median threshold [N]", 2), Col("paper_threshold_n", "paper", 2),
               Col("verdict", "verdict (success)")]),
     Table("test3_directions", "Natural-friction block A of the proposed planner per pull direction (§9.2, "
           "Fig. 33b)", lambda run: hw.summary(t2.ex(run, PROPOSED).query(f"block == 'A' and {NATURAL}"), [
               "direction_deg"], medians=["threshold"]).sort_values("direction_deg")[[
-                  "direction_deg", "n", "success_pct", "threshold", "threshold_n"]], [
+                  "direction_deg", "n", "success_pct", "threshold", "n_threshold"]], [
               Col("direction_deg", "pull direction [°]", 0), Col("n", "n"),
-              Col("success_pct", "success [%]", 1), Col("threshold_n", "thresholds"),
+              Col("success_pct", "success [%]", 1), Col("n_threshold", "thresholds"),
               Col("threshold", "median threshold [N]", 2)]),
-    Table("test3_threshold_agreement", lambda run: f"Predicted against {t2.rig(run)} lateral thresholds of "
+    Table("test3_threshold_agreement", lambda run: f"Predicted against {run.rig} lateral thresholds of "
           "the proposed planner (§9.3, Fig. 34): Bland–Altman [N], OLS with intercept, median absolute error",
           lambda run: pd.DataFrame([ds.threshold_agreement(t2.ex(run))]), [
               Col("n", "n"), *cols("bias_n", "sd_n", "loa_low_n", "loa_high_n"),
@@ -274,7 +274,7 @@ SPEC = ReportSpec("test3_disturbance", [
               Col("ols_r2", "OLS R²", 3), Col("ols_p", "OLS p", sig=2),
               Col("median_err_pct", "median |error| [%]", 1), Col("n_err_over_50pct", "errors > 50 %")],
           by=["planner"]),
-    Table("test3_first_finger", lambda run: f"First finger to slip, predicted against the {t2.rig(run)} "
+    Table("test3_first_finger", lambda run: f"First finger to slip, predicted against the {run.rig} "
           "one, over the trials whose first finger is known (§9.3); Wilson 95% intervals", first_finger,
           [Col("n", "n"), pct_col("first_finger_correct", "first finger correct")], by=["scope"]),
     t2.classifier("test3_retention_classifier", "The retention flag against success (§9.5, Fig. 36c): "
@@ -294,7 +294,7 @@ SPEC = ReportSpec("test3_disturbance", [
     Figure("fig33_thresholds", "Fig. 33 (the paper's values in black): block A (a) median threshold and (b) "
            "success per surface (the paper's Fig. 33a), (c) natural-friction threshold per pull direction "
            "(33b), (d) proposed success per block at natural friction (33c)", fig33, (15.0, 4.2)),
-    Figure("fig34_threshold_prediction", lambda run: f"Fig. 34: (a) predicted against {t2.rig(run)} lateral "
+    Figure("fig34_threshold_prediction", lambda run: f"Fig. 34: (a) predicted against {run.rig} lateral "
            "thresholds of the proposed planner with the OLS fit, (b) Bland–Altman, (c) median "
            "lateral-threshold error per planner", fig34, (13.0, 4.0)),
     Figure("fig35_representative_pull", "Fig. 35 (schematic of one recorded trial, the median-threshold "
@@ -302,7 +302,7 @@ SPEC = ReportSpec("test3_disturbance", [
            "predicted threshold, recorded peak slip", fig35, (9.5, 5.2)),
     Figure("fig36_robustness", lambda run: "Fig. 36: (a) success per planner with the planners' own beliefs "
            "and with exact ones (hatched), (b) share of natural-friction pulls holding each level (a grasp "
-           f"lost before the pull counts as 0 N), (c) the retention flag against the {t2.rig(run)} outcome",
+           f"lost before the pull counts as 0 N), (c) the retention flag against the {run.rig} outcome",
            style.panels(t2.planner_bars("table9"), survival, t2.confusion(lambda p: p.retention_classifier)),
            (13.0, 4.0)),
 ])
