@@ -1,10 +1,11 @@
-"""A stored file is read in full and hashed once per process while its (path, size, mtime) holds;
-a file changed since it was verified is verified again."""
+"""A stored file is read in full and hashed once per process while it is unchanged (path, inode,
+size, mtime, ctime); a file changed since it was verified is verified again."""
 
 from __future__ import annotations
 
 import collections
 import os
+import time
 from pathlib import Path
 
 import kinds_for_tests  # noqa: F401  (registers the test kinds)
@@ -95,9 +96,21 @@ def _verified_shard(tmp_path) -> tuple[RunStore, Path]:
 
 def test_a_file_damaged_in_place_after_it_was_verified_is_verified_again(tmp_path):
     store, path = _verified_shard(tmp_path)
-    size = path.stat().st_size
-    corrupt_value_column(path, "x")  # same size, a new mtime
-    assert path.stat().st_size == size
+    before = path.stat()
+    corrupt_value_column(path, "x")  # same size
+    os.utime(path, ns=(before.st_atime_ns, before.st_mtime_ns + 10**9))  # a new mtime
+    assert path.stat().st_size == before.st_size
+    with pytest.raises(DamagedRunError, match="CRC checksum verification failed"):
+        store.read()
+
+
+def test_a_file_damaged_at_its_old_size_and_mtime_is_verified_again(tmp_path):
+    store, path = _verified_shard(tmp_path)
+    before = path.stat()
+    time.sleep(0.05)  # past the file system's clock tick: the damage gets a new ctime
+    corrupt_value_column(path, "x")
+    os.utime(path, ns=(before.st_atime_ns, before.st_mtime_ns))  # only the ctime tells
+    assert (path.stat().st_size, path.stat().st_mtime_ns) == (before.st_size, before.st_mtime_ns)
     with pytest.raises(DamagedRunError, match="CRC checksum verification failed"):
         store.read()
 
@@ -107,7 +120,7 @@ def test_a_file_rewritten_after_it_was_verified_is_verified_again_at_its_old_mti
     before = path.stat()
     table = pq.read_table(path)  # one more row under the digest stored for the 20 written
     pq.write_table(pa.concat_tables([table, table.slice(0, 1)]), path)
-    os.utime(path, ns=(before.st_atime_ns, before.st_mtime_ns))  # only the size tells
+    os.utime(path, ns=(before.st_atime_ns, before.st_mtime_ns))  # the size tells
     assert path.stat().st_size != before.st_size
     with pytest.raises(DamagedRunError, match="its values differ from those written"):
         store.read()

@@ -1,15 +1,16 @@
 """One stored file verified: every page read with its checksum, its values against their digest.
 
-A file is read in full and hashed once per process for each (path, size, mtime) it has: what the
-run checks need of it (:class:`Facts`: its schema and metadata, its trial ids, the owners of its
-records) is kept from that one read, and any later read of the same file reads only the columns
-asked for. A file changed since (a new size or mtime) is verified again.
+A file is read in full and hashed once per process while it is unchanged (its path, inode, size,
+mtime and ctime): what the run checks need of it (:class:`Facts`: its schema and metadata, its
+trial ids, the owners of its records) is kept from that one read, and any later read of the same
+file reads only the columns asked for. A file changed since is verified again.
 """
 
 from __future__ import annotations
 
 import hashlib
 import json
+import os
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -50,7 +51,8 @@ def content_digest(table: pa.Table) -> str:
     for name in sorted(table.column_names):
         column = table.column(name).combine_chunks()
         kind = column.type
-        valid = _values(column.is_valid(), pa.uint8(), "u1")
+        valid = _values(column.is_valid(), pa.uint8(), "u1") if column.null_count else \
+            np.ones(len(column), dtype="u1")
         if pa.types.is_integer(kind) or pa.types.is_floating(kind) or pa.types.is_boolean(kind):
             tag, width, dtype = ("i", pa.int64(), "<i8") if pa.types.is_integer(kind) else (
                 ("f", pa.float64(), "<f8") if pa.types.is_floating(kind) else ("b", pa.uint8(), "u1"))
@@ -136,13 +138,14 @@ def _facts(table: pa.Table) -> Facts:
     return Facts(table.schema, len(ids), frozenset(unique.to_pylist()), owners, ids.null_count, bad)
 
 
-_VERIFIED: dict[tuple[str, int, int], Facts] = {}
-"""Facts of the files verified in this process, by (path, size, mtime)."""
+_VERIFIED: dict[tuple, Facts] = {}
+"""Facts of the files verified in this process, by path, inode, size, mtime and ctime (a file
+replaced, or rewritten with its old mtime set back, is another key: ``os.utime`` sets no ctime)."""
 
 
-def _key(path: Path) -> tuple[str, int, int]:
-    st = path.stat()
-    return str(path.resolve()), st.st_size, st.st_mtime_ns
+def _key(path: Path) -> tuple:
+    st = os.stat(path)
+    return os.path.abspath(path), st.st_ino, st.st_size, st.st_mtime_ns, st.st_ctime_ns
 
 
 def cached(path: Path) -> Facts | None:
