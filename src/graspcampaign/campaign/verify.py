@@ -159,7 +159,7 @@ def cached(path: Path) -> Facts | None:
 def read_file(path: Path, columns: list[str] | None = None) -> tuple[pa.Table, Facts]:
     """The columns of ``path`` (default all; those it lacks are left out) and its facts.
 
-    The first read of the file as it is (its size and mtime) reads every column of every page
+    The first read of the file as it is now (:data:`_VERIFIED`) reads every column of every page
     with page checksums verified and checks its values against the digest stored with them (a
     file the tool wrote; older files have none); later reads read only ``columns``.
 
@@ -170,10 +170,10 @@ def read_file(path: Path, columns: list[str] | None = None) -> tuple[pa.Table, F
     """
     try:
         key = _key(path)
-        facts = _VERIFIED.get(key)
+        known = _VERIFIED.get(key)
         file = pq.ParquetFile(path, page_checksum_verification=True)
-        if facts is not None:
-            return file.read(columns=_present(columns, facts.schema)), facts
+        if known is not None:
+            return file.read(columns=_present(columns, known.schema)), known
         table = file.read(use_threads=False)
     except READ_ERRORS as exc:
         raise Damaged(reason(exc)) from None
@@ -181,8 +181,8 @@ def read_file(path: Path, columns: list[str] | None = None) -> tuple[pa.Table, F
     if written is not None and written.decode(errors="replace") != content_digest(table):
         raise Damaged("its values differ from those written: their SHA-256 is not the one stored "
                       "with them")
-    facts = _VERIFIED[key] = _facts(table)
-    return table.select(_present(columns, table.schema)), facts
+    known = _VERIFIED[key] = _facts(table)
+    return table.select(_present(columns, table.schema)), known
 
 
 def _present(columns: list[str] | None, schema: pa.Schema) -> list[str]:
@@ -191,10 +191,8 @@ def _present(columns: list[str] | None, schema: pa.Schema) -> list[str]:
 
 def verify_file(path: Path) -> str | None:
     """Why ``path`` cannot be trusted (:func:`read_file`), or None if it is intact."""
-    if cached(path) is not None:
-        return None
     try:
-        read_file(path, [])
+        facts(path)
     except Damaged as exc:
         return str(exc)
     return None
