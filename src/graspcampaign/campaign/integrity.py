@@ -1,8 +1,8 @@
 """Whether a run's stored files are what its manifest says: what commands trust, what `run` repairs.
 
-:func:`graspcampaign.campaign.records.verify_file` says one file is intact (every page read, its
-checksums verified). This module says the *run* is what its manifest says, before anything counts
-or reports its records:
+:func:`graspcampaign.campaign.verify.verify_file` says one file is intact (every page read, its
+checksums verified, its values against their digest). This module says the *run* is what its
+manifest says, before anything counts or reports its records:
 
 - its layout: the run directory, ``records/``, ``prepared/``, ``tables/<name>/`` and
   ``summary/<name>/`` are directories holding only Parquet shards (``part-*.parquet``,
@@ -39,11 +39,10 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pyarrow as pa
-import pyarrow.compute as pc
 import pyarrow.parquet as pq
 
 from graspcampaign.campaign.provenance import MISMATCH, kind_facts_or_none, read_manifest
-from graspcampaign.campaign.records import CONFIG_KEY, CONTENT_KEY, verify_file
+from graspcampaign.campaign.verify import facts, verify_file
 from graspcampaign.errors import DamagedRunError
 
 #: Names of stored shards; anything else in a part directory (hidden files aside) is not a shard.
@@ -64,8 +63,6 @@ _HOLDS = {"text": lambda t: pa.types.is_string(t) or pa.types.is_large_string(t)
           "numbers": lambda t: pa.types.is_integer(t) or pa.types.is_floating(t)}
 #: A record's ``status`` (docs/records.md).
 STATUSES = ("ok", "error")
-#: A trial id as ``grid.expand`` makes it: a readable key, "-", the 10-digit hash of the factors.
-TRIAL_ID = r"^.+-[0-9a-f]{10}$"
 
 
 @dataclass(frozen=True)
@@ -122,56 +119,10 @@ def layout_problems(store) -> list[Problem]:
     return out
 
 
-@dataclass(frozen=True)
-class _Facts:
-    """What the checks read of a verified file: rows, distinct ``trial_id`` values (a trace table
-    holds many rows per trial: made distinct in Arrow, not in Python), the
-    ``study``/``run``/``kind``/``source``/``status`` values, the config hashes of its metadata and
-    whether it carries the digest of its values, its column types, the rows without a trial id
-    and the first malformed one."""
-
-    n_rows: int
-    ids: frozenset
-    owners: dict
-    config_hashes: frozenset
-    digest: bool = False
-    types: dict | None = None
-    n_null_ids: int = 0
-    bad_id: str | None = None
-
-
-_FACTS: dict[tuple[str, int, int], _Facts] = {}
-"""Facts by (path, size, mtime), as ``records._VERIFIED``: a file is read once per process
-however often a command checks its run (status, then report; the runner's check, then repair)."""
-
-
-def _facts(path: Path) -> _Facts:
-    st = path.stat()
-    key = (str(path.resolve()), st.st_size, st.st_mtime_ns)
-    if key not in _FACTS:
-        schema = pq.read_schema(path)
-        names = [c for c in ("trial_id", "study", "run", "kind", "source", "status")
-                 if c in schema.names]
-        table = pq.ParquetFile(path).read(columns=names) if names else None
-        ids = table.column("trial_id") if "trial_id" in names else None
-        bad = None
-        if ids is not None and pa.types.is_string(ids.type):
-            wrong = ids.filter(pc.invert(pc.match_substring_regex(ids, TRIAL_ID)))
-            bad = wrong[0].as_py() if len(wrong) else None
-        raw = (schema.metadata or {}).get(CONFIG_KEY)
-        _FACTS[key] = _Facts(
-            0 if ids is None else len(ids),
-            frozenset(() if ids is None else pc.unique(ids.drop_null()).to_pylist()),
-            {c: set(pc.unique(table.column(c)).to_pylist()) for c in names if c != "trial_id"},
-            frozenset(json.loads(raw) if raw else ()), CONTENT_KEY in (schema.metadata or {}),
-            {f.name: f.type for f in schema}, 0 if ids is None else ids.null_count, bad)
-    return _FACTS[key]
-
-
 def _ids(path: Path) -> tuple[int, frozenset]:
     """The row count and the distinct ``trial_id`` values of a verified file."""
-    facts = _facts(path)
-    return facts.n_rows, facts.ids
+    own = facts(path)
+    return own.n_rows, own.ids
 
 
 def owners(store, manifest: dict | None, config_hash: str | None = None,
@@ -197,15 +148,15 @@ def owners(store, manifest: dict | None, config_hash: str | None = None,
 def _foreign(path: Path, allowed: dict[str, set]) -> str | None:
     """Why the records of ``path`` are not the run's own (another study, run, kind, source or
     config; a trial not in the design), or None."""
-    facts = _facts(path)
-    for column, values in facts.owners.items():  # status: a vocabulary, not an owner
+    own = facts(path)
+    for column, values in own.owners.items():  # status: a vocabulary, not an owner
         other = sorted(values - allowed.get(column, set()) - {None}, key=str)
         if other and allowed.get(column):
             return f"records of another {column} ({other[0]})"
-    other = sorted(facts.config_hashes - allowed["config_hash"])
+    other = sorted(own.config_hashes - allowed["config_hash"])
     if other and allowed["config_hash"]:
         return f"records run with another config (hash {other[0]}, not one this run ran with)"
-    other = sorted(facts.ids - allowed["design"])
+    other = sorted(own.ids - allowed["design"])
     if other and allowed["design"]:
         return (f"records of {len(other)} trial{'s' if len(other) > 1 else ''} not in the study's "
                 f"design ({other[0]})")
@@ -218,27 +169,27 @@ def _not_records(path: Path, allowed: dict) -> str | None:
     None. Only for a run (a manifest)."""
     if not allowed["kind"]:
         return None
-    facts = _facts(path)
+    own = facts(path)
     for column, holds in [*RECORD_COLUMNS.items(), *_OPTIONAL_COLUMNS.items()]:
-        kind = facts.types.get(column)
+        kind = own.schema.field(column).type if column in own.schema.names else None
         if kind is None:
             if column in RECORD_COLUMNS:
                 return f"no column {column}, which every record has"
         elif not _HOLDS[holds](kind) and not (column in _OPTIONAL_COLUMNS and pa.types.is_null(kind)):
             return f"column {column} of type {kind}, not {holds}"
-    other = sorted(facts.owners.get("status", set()) - set(STATUSES), key=str)
+    other = sorted(own.owners.get("status", set()) - set(STATUSES), key=str)
     if other:
         return f"status {other[0]!r}, not {' or '.join(STATUSES)}"
-    if facts.n_null_ids:
-        return f"{facts.n_null_ids} record{'s' if facts.n_null_ids > 1 else ''} without a trial_id"
-    if facts.bad_id is not None:
-        return (f"trial_id {facts.bad_id!r}, which the tool never makes: its ids end in '-' and "
+    if own.n_null_ids:
+        return f"{own.n_null_ids} record{'s' if own.n_null_ids > 1 else ''} without a trial_id"
+    if own.bad_id is not None:
+        return (f"trial_id {own.bad_id!r}, which the tool never makes: its ids end in '-' and "
                 "the 10-digit hash of the trial's factors")
     return None
 
 
 def _no_digest(path: Path, allowed: dict) -> str | None:
-    if allowed["digests"] and not _facts(path).digest:
+    if allowed["digests"] and not facts(path).digest:
         return "no digest of its values, which every file of this run gets when it is written"
     return None
 
@@ -399,7 +350,10 @@ def check_run(store, parts: list[str] | None = None, *, repairable: bool = False
                 "checked; restore the file from a backup, or move the run directory aside and run "
                 "the study again.", "has stored files but no manifest.json")
         return None
-    found = [p for p in problems(store, manifest, parts) if not repairable or p.fix == "refuse"]
+    # what repair cannot fix is in the layout or the manifest's count, which needs the records
+    # checked (no other part can make it refuse)
+    found = problems(store, manifest, ["records"] if repairable else parts)
+    found = [p for p in found if not repairable or p.fix == "refuse"]
     if found:
         raise refusal(store, found, manifest)
     return manifest

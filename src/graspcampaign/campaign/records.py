@@ -16,7 +16,8 @@ at most the tasks in flight. Page checksums are written, and every file is read 
 column, every page, checksums verified) before anything uses it: before its trials count as
 recorded, before it is compacted, before a report reads it. Verifying only the key column would
 let a damaged value column through, and a compaction would then copy the garbage into a new file
-with valid checksums.
+with valid checksums. A file is read in full once per process while its size and mtime hold
+(:mod:`graspcampaign.campaign.verify`, which keeps what the checks need of it from that read).
 
 A file that names other files in its metadata (``graspcampaign.sources``) supersedes them: a
 compacted file lists its source shards, a rewritten file the file it replaces. A superseded file
@@ -39,7 +40,6 @@ from __future__ import annotations
 
 import contextlib
 import errno
-import hashlib
 import json
 import logging
 import os
@@ -53,21 +53,23 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from graspcampaign.campaign.grid import content_hash
+from graspcampaign.campaign.verify import (
+    CONFIG_KEY,
+    CONTENT_KEY,
+    READ_ERRORS,
+    SOURCES_KEY,
+    Damaged,
+    Facts,
+    content_digest,
+    facts,
+    read_file,
+    reason,
+    supersedes,
+    verify_file,
+)
 from graspcampaign.errors import DamagedRunError, StoreWriteError
 
 log = logging.getLogger(__name__)
-
-_SOURCES_KEY = b"graspcampaign.sources"
-#: Metadata of a records file: the config hashes of the sessions that wrote its rows (a shard of
-#: another config is not the run's, campaign.integrity), kept through compactions and rewrites.
-CONFIG_KEY = b"graspcampaign.config_hashes"
-#: Metadata of every file the tool writes: the SHA-256 of its values (:func:`content_digest`).
-CONTENT_KEY = b"graspcampaign.content_sha256"
-# What pyarrow raises for a file it cannot read (bad footer, bad page, failed checksum, bad codec).
-_READ_ERRORS = (pa.ArrowException, OSError, ValueError, EOFError)
-# Files that passed full verification, keyed by (path, size, mtime): a file is read in full once
-# per process however often it is listed.
-_VERIFIED: set[tuple[str, int, int]] = set()
 
 
 def config_metadata(config_hash: str) -> dict[str, str]:
@@ -106,46 +108,6 @@ def _cell(value: Any, flag: bool) -> Any:
     return None if flag and isinstance(value, float | np.floating) and np.isnan(value) else value
 
 
-def content_digest(table: pa.Table) -> str:
-    """The SHA-256 of ``table``'s values: every column (by name) as its kind (integer, float,
-    boolean, text, other), its null mask and its values in a fixed byte form, so that the digest
-    is the same for the table written and the table read back, whatever the chunking, column
-    order or integer width; any changed, removed or added row, column or value changes it."""
-    digest = hashlib.sha256()
-    for name in sorted(table.column_names):
-        column = table.column(name).combine_chunks()
-        kind = column.type
-        valid = _values(column.is_valid(), pa.uint8(), "u1")
-        if pa.types.is_integer(kind) or pa.types.is_floating(kind) or pa.types.is_boolean(kind):
-            tag, width, dtype = ("i", pa.int64(), "<i8") if pa.types.is_integer(kind) else (
-                ("f", pa.float64(), "<f8") if pa.types.is_floating(kind) else ("b", pa.uint8(), "u1"))
-            data = _values(column, width, dtype, valid).tobytes()
-        else:  # text and anything else, as JSON (nulls are in the mask)
-            tag = "n" if pa.types.is_null(kind) else "s" if (
-                pa.types.is_string(kind) or pa.types.is_large_string(kind)) else "j"
-            data = json.dumps(column.to_pylist(), default=str).encode()
-        for part in (name.encode(), tag.encode(), len(column).to_bytes(8, "little"),
-                     np.packbits(valid).tobytes(), len(data).to_bytes(8, "little"), data):
-            digest.update(part)
-    return digest.hexdigest()
-
-
-def _values(array: pa.Array, width: pa.DataType, dtype: str,
-            valid: np.ndarray | None = None) -> np.ndarray:
-    """The values of ``array`` cast to ``width`` as numpy ``dtype``, 0 where ``valid`` is 0 (read
-    from the Arrow buffer: ``to_numpy`` and ``fill_null`` import pandas, which ``status`` never
-    needs)."""
-    array = array.cast(width, safe=False)
-    data = array.buffers()[1]
-    if data is None:
-        return np.zeros(len(array), dtype=dtype)
-    out = np.frombuffer(data, dtype=dtype, count=len(array),
-                        offset=array.offset * np.dtype(dtype).itemsize)
-    if array.null_count:
-        out = np.where(valid.astype(bool), out, np.zeros(1, dtype=dtype))
-    return out
-
-
 def _write_atomic(table: pa.Table, path: Path) -> None:
     """Write ``table`` (stamped with its :func:`content_digest`) as ``path`` via a hidden temporary
     file; a failed write (a full disk) removes it, leaves ``path`` as it was and raises
@@ -175,38 +137,6 @@ def writing(path: Path, tmp: Path | None = None):
         raise StoreWriteError(
             f"cannot write {path}: {why[:1].lower()}{why[1:]}; what was stored before is kept, so "
             f"{'free some space there and ' if free else ''}run the command again.") from None
-
-
-def _reason(exc: BaseException) -> str:
-    text = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-    return text if len(text) <= 120 else text[:117] + "..."
-
-
-def verify_file(path: Path) -> str | None:
-    """Read every column of every page of ``path`` with page checksums verified, and check its
-    values against the digest stored with them (a file the tool wrote; older files have none).
-
-    Returns
-    -------
-    str or None
-        Why the file cannot be trusted (first line of pyarrow's error), or None if it is intact.
-    """
-    try:
-        st = path.stat()
-    except OSError as exc:
-        return _reason(exc)
-    key = (str(path.resolve()), st.st_size, st.st_mtime_ns)
-    if key in _VERIFIED:
-        return None
-    try:
-        table = pq.ParquetFile(path, page_checksum_verification=True).read(use_threads=False)
-    except _READ_ERRORS as exc:
-        return _reason(exc)
-    written = (table.schema.metadata or {}).get(CONTENT_KEY)
-    if written is not None and written.decode(errors="replace") != content_digest(table):
-        return "its values differ from those written: their SHA-256 is not the one stored with them"
-    _VERIFIED.add(key)
-    return None
 
 
 class RunStore:
@@ -270,20 +200,18 @@ class RunStore:
         unreadable = []
         for path in sorted(self._dir(part).glob("compact-*.parquet")):
             try:
-                raw = (pq.read_schema(path).metadata or {}).get(_SOURCES_KEY)
-            except _READ_ERRORS as exc:
-                unreadable.append((path, _reason(exc)))
-                continue
-            sources.update(json.loads(raw) if raw else [])
+                sources.update(supersedes(path))
+            except READ_ERRORS as exc:
+                unreadable.append((path, reason(exc)))
         return sources, unreadable
 
     def damaged(self, part: str) -> list[tuple[Path, str]]:
         """Return ``(file, reason)`` for every live file of ``part`` that fails full verification."""
         live, out = self._listing(part)
         for path in live:
-            reason = verify_file(path)
-            if reason is not None:
-                out.append((path, reason))
+            why = verify_file(path)
+            if why is not None:
+                out.append((path, why))
         return out
 
     def verify(self) -> None:
@@ -322,39 +250,55 @@ class RunStore:
         return check_run(self, parts)
 
     # -- reading --------------------------------------------------------------------------------
-    def _verified_files(self, part: str) -> list[Path]:
-        """The live files of ``part``, each verified in full (raises DamagedRunError)."""
+    @contextlib.contextmanager
+    def _refusing(self, path: Path):
+        """Turn :class:`~graspcampaign.campaign.verify.Damaged` for ``path`` into the run's
+        DamagedRunError naming it."""
+        try:
+            yield
+        except Damaged as exc:
+            raise self._damage_error(path, str(exc)) from None
+
+    def _live(self, part: str) -> list[Path]:
+        """The live files of ``part`` (raises DamagedRunError for an unreadable compacted file)."""
         live, unreadable = self._listing(part)
         if unreadable:
             raise self._damage_error(*unreadable[0])
-        for path in live:
-            reason = verify_file(path)
-            if reason is not None:
-                raise self._damage_error(path, reason)
         return live
+
+    def _verified(self, part: str) -> dict[Path, Facts]:
+        """The live files of ``part`` and their facts, each verified in full (raises
+        DamagedRunError)."""
+        out = {}
+        for path in self._live(part):
+            with self._refusing(path):
+                out[path] = facts(path)
+        return out
 
     def read(self, part: str = "records", columns: list[str] | None = None) -> pa.Table:
         """Read every live file of ``part`` into one table with the union of their schemas.
 
-        Every file is verified in full first, whatever ``columns`` asks for; a column that some
-        files lack is null there.
+        Every file is verified in full first, whatever ``columns`` asks for (once per process,
+        :func:`~graspcampaign.campaign.verify.read_file`); a column that some files lack is null
+        there.
 
         Raises
         ------
         DamagedRunError
             If a file of ``part`` is damaged (nothing is moved; see :meth:`repair`).
         """
-        live = self._verified_files(part)
-        if not live:
+        read = []
+        for path in self._live(part):
+            with self._refusing(path):
+                read.append(read_file(path, columns))
+        if not read:
             return pa.table({})
-        schemas = [pq.read_schema(p).remove_metadata() for p in live]
-        schema = pa.unify_schemas(schemas, promote_options="permissive")
+        schema = pa.unify_schemas([own.schema.remove_metadata() for _, own in read],
+                                  promote_options="permissive")
         if columns is not None:
             schema = pa.schema([schema.field(c) for c in columns if c in schema.names])
         tables = []
-        for path, own in zip(live, schemas, strict=True):
-            # ParquetFile, not pq.read_table: the latter goes through pyarrow.dataset and pandas
-            table = pq.ParquetFile(path).read(columns=[c for c in schema.names if c in own.names])
+        for table, _ in read:
             for field in schema:
                 if field.name not in table.column_names:
                     table = table.append_column(field, pa.nulls(table.num_rows, field.type))
@@ -368,19 +312,16 @@ class RunStore:
         """
         import pyarrow.dataset as ds
 
-        live = self._verified_files(part)
-        schema = pa.unify_schemas([pq.read_schema(p).remove_metadata() for p in live],
+        live = self._verified(part)
+        schema = pa.unify_schemas([own.schema.remove_metadata() for own in live.values()],
                                   promote_options="permissive") if live else pa.schema([])
         fmt = ds.ParquetFileFormat(default_fragment_scan_options=ds.ParquetFragmentScanOptions(
             page_checksum_verification=True))
         return ds.dataset([str(p) for p in live], schema=schema, format=fmt)
 
-    def recorded_ids(self, part: str = "records", key: str = "trial_id") -> set[str]:
-        """Return the ids stored in ``part`` (every file verified in full first)."""
-        table = self.read(part, columns=[key])
-        if key not in table.column_names:
-            return set()
-        return set(table.column(key).to_pylist())
+    def recorded_ids(self, part: str = "records") -> set[str]:
+        """Return the trial ids stored in ``part`` (every file verified in full first)."""
+        return set().union(*(own.ids for own in self._verified(part).values()))
 
     # -- maintenance ----------------------------------------------------------------------------
     def clean(self) -> None:
@@ -424,51 +365,48 @@ class RunStore:
         return target
 
     def _rewrite(self, path: Path, table: pa.Table, tag: Any) -> None:
-        """Replace ``path`` by ``table`` crash-safely: the new file supersedes the old one and
-        whatever the old one superseded, so no crash in between can make a row count twice."""
+        """Replace ``path`` by ``table`` (read from it, with its metadata) crash-safely: the new
+        file supersedes the old one and whatever the old one superseded, so no crash in between
+        can make a row count twice."""
         if table.num_rows:
-            meta = pq.read_schema(path).metadata or {}
-            raw = meta.get(_SOURCES_KEY)
-            sources = [path.name, *(json.loads(raw) if raw else [])]
+            meta = table.schema.metadata or {}
+            sources = [path.name, *json.loads(meta.get(SOURCES_KEY) or b"[]")]
             name = f"compact-{content_hash([path.name, tag])}.parquet"
             table = table.replace_schema_metadata(
-                {_SOURCES_KEY: json.dumps(sources).encode(),
+                {SOURCES_KEY: json.dumps(sources).encode(),
                  **({CONFIG_KEY: meta[CONFIG_KEY]} if CONFIG_KEY in meta else {})})
             _write_atomic(table, path.parent / name)
         path.unlink(missing_ok=True)
 
     def _drop_rows(self, part: str, ids: set[str]) -> None:
         """Remove the rows of trials ``ids`` from every file of ``part``."""
-        import pyarrow.compute as pc
-
-        live, _ = self._listing(part)
-        for path in live:
-            table = pq.read_table(path, page_checksum_verification=True)
-            keep = pc.invert(pc.is_in(table.column("trial_id"), value_set=pa.array(sorted(ids))))
-            if not pc.all(keep).as_py():
-                self._rewrite(path, table.filter(keep).replace_schema_metadata(None),
-                              ["drop", sorted(ids)])
+        self._filter_rows(part, ids, keep=False)
 
     def _keep_rows(self, part: str, ids: set[str]) -> None:
         """Keep only the rows of trials ``ids`` in every file of ``part``."""
+        self._filter_rows(part, ids, keep=True)
+
+    def _filter_rows(self, part: str, ids: set[str], keep: bool) -> None:
+        """Keep only (``keep``) or remove the rows of trials ``ids`` in every file of ``part``;
+        a file is read again only if its trial ids say that it changes."""
         import pyarrow.compute as pc
 
-        live, _ = self._listing(part)
         value_set = pa.array(sorted(ids), pa.string())
-        for path in live:
-            keys = pq.read_table(path, columns=["trial_id"]).column("trial_id")
-            if pc.all(pc.is_in(keys, value_set=value_set)).as_py() in (True, None):
-                continue
-            table = pq.read_table(path, page_checksum_verification=True)
-            keep = pc.is_in(table.column("trial_id"), value_set=value_set)
-            self._rewrite(path, table.filter(keep).replace_schema_metadata(None),
-                          ["keep", content_hash(sorted(ids))])
+        tag = ["keep", content_hash(sorted(ids))] if keep else ["drop", sorted(ids)]
+        for path in self._listing(part)[0]:
+            with self._refusing(path):
+                own = facts(path)
+                if (own.ids <= ids and not own.n_null_ids) if keep else own.ids.isdisjoint(ids):
+                    continue
+                table = read_file(path)[0]
+            rows = pc.is_in(table.column("trial_id"), value_set=value_set)
+            self._rewrite(path, table.filter(rows if keep else pc.invert(rows)), tag)
 
     def compact(self, part: str = "records") -> None:
         """Merge the live part shards of ``part`` into one compacted file, crash-safely.
 
-        Every shard is read with its page checksums verified: a compacted file is never written
-        from a shard that was not checked.
+        Every shard is verified in full (:func:`~graspcampaign.campaign.verify.read_file`): a
+        compacted file is never written from a shard that was not checked.
         """
         directory = self._dir(part)
         live, _ = self._listing(part)
@@ -477,10 +415,8 @@ class RunStore:
             return
         tables = []
         for path in parts:
-            try:
-                tables.append(pq.read_table(path, page_checksum_verification=True))
-            except _READ_ERRORS as exc:
-                raise self._damage_error(path, _reason(exc)) from None
+            with self._refusing(path):
+                tables.append(read_file(path)[0])
         schema = pa.unify_schemas([t.schema.remove_metadata() for t in tables],
                                   promote_options="permissive")
         configs = sorted({h for t in tables for h in json.loads(
@@ -490,7 +426,7 @@ class RunStore:
         ).cast(schema)
         names = sorted(p.name for p in parts)
         merged = merged.replace_schema_metadata(
-            {_SOURCES_KEY: json.dumps(names).encode(),
+            {SOURCES_KEY: json.dumps(names).encode(),
              **({CONFIG_KEY: json.dumps(configs).encode()} if configs else {})})
         _write_atomic(merged, directory / f"compact-{content_hash(names)}.parquet")
         for path in parts:

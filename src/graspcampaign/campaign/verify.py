@@ -1,0 +1,203 @@
+"""One stored file verified: every page read with its checksum, its values against their digest.
+
+A file is read in full and hashed once per process while it is unchanged (its path, inode, size,
+mtime and ctime): what the run checks need of it (:class:`Facts`: its schema and metadata, its
+trial ids, the owners of its records) is kept from that one read, and any later read of the same
+file reads only the columns asked for. A file changed since is verified again.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pyarrow as pa
+import pyarrow.compute as pc
+import pyarrow.parquet as pq
+
+SOURCES_KEY = b"graspcampaign.sources"
+#: Metadata of a records file: the config hashes of the sessions that wrote its rows (a shard of
+#: another config is not the run's, campaign.integrity), kept through compactions and rewrites.
+CONFIG_KEY = b"graspcampaign.config_hashes"
+#: Metadata of every file the tool writes: the SHA-256 of its values (:func:`content_digest`).
+CONTENT_KEY = b"graspcampaign.content_sha256"
+# What pyarrow raises for a file it cannot read (bad footer, bad page, failed checksum, bad codec).
+READ_ERRORS = (pa.ArrowException, OSError, ValueError, EOFError)
+#: A trial id as ``grid.expand`` makes it: a readable key, "-", the 10-digit hash of the factors.
+TRIAL_ID = r"^.+-[0-9a-f]{10}$"
+_OWNERS = ("study", "run", "kind", "source", "status")
+
+
+class Damaged(Exception):
+    """A file that cannot be trusted; its text says why."""
+
+
+def reason(exc: BaseException) -> str:
+    """The first line of ``exc``'s text (at most 120 characters)."""
+    text = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+    return text if len(text) <= 120 else text[:117] + "..."
+
+
+def content_digest(table: pa.Table) -> str:
+    """The SHA-256 of ``table``'s values: every column (by name) as its kind (integer, float,
+    boolean, text, other), its null mask and its values in a fixed byte form, so that the digest
+    is the same for the table written and the table read back, whatever the chunking, column
+    order or integer width; any changed, removed or added row, column or value changes it."""
+    digest = hashlib.sha256()
+    for name in sorted(table.column_names):
+        column = table.column(name).combine_chunks()
+        kind = column.type
+        valid = _values(column.is_valid(), pa.uint8(), "u1") if column.null_count else \
+            np.ones(len(column), dtype="u1")
+        if pa.types.is_integer(kind) or pa.types.is_floating(kind) or pa.types.is_boolean(kind):
+            tag, width, dtype = ("i", pa.int64(), "<i8") if pa.types.is_integer(kind) else (
+                ("f", pa.float64(), "<f8") if pa.types.is_floating(kind) else ("b", pa.uint8(), "u1"))
+            data = _values(column, width, dtype, valid).tobytes()
+        else:  # text and anything else, as JSON (nulls are in the mask)
+            tag = "n" if pa.types.is_null(kind) else "s" if (
+                pa.types.is_string(kind) or pa.types.is_large_string(kind)) else "j"
+            data = json.dumps(column.to_pylist(), default=str).encode()
+        for part in (name.encode(), tag.encode(), len(column).to_bytes(8, "little"),
+                     np.packbits(valid).tobytes(), len(data).to_bytes(8, "little"), data):
+            digest.update(part)
+    return digest.hexdigest()
+
+
+def _values(array: pa.Array, width: pa.DataType, dtype: str,
+            valid: np.ndarray | None = None) -> np.ndarray:
+    """The values of ``array`` cast to ``width`` as numpy ``dtype``, 0 where ``valid`` is 0 (read
+    from the Arrow buffer: ``to_numpy`` and ``fill_null`` import pandas, which ``status`` never
+    needs)."""
+    array = array.cast(width, safe=False)
+    data = array.buffers()[1]
+    if data is None:
+        return np.zeros(len(array), dtype=dtype)
+    out = np.frombuffer(data, dtype=dtype, count=len(array),
+                        offset=array.offset * np.dtype(dtype).itemsize)
+    if array.null_count:
+        out = np.where(valid.astype(bool), out, np.zeros(1, dtype=dtype))
+    return out
+
+
+@dataclass(frozen=True)
+class Facts:
+    """What the run checks need of a verified file: its schema (with its metadata), its rows with
+    a ``trial_id`` column (0 without one), distinct ``trial_id`` values (a trace table holds many
+    rows per trial: made distinct in Arrow, not in Python), the ``study``/``run``/``kind``/
+    ``source``/``status`` values, the rows without a trial id and the first malformed one."""
+
+    schema: pa.Schema
+    n_rows: int
+    ids: frozenset
+    owners: dict
+    n_null_ids: int = 0
+    bad_id: str | None = None
+
+    @property
+    def config_hashes(self) -> frozenset:
+        """The configs of the sessions that wrote its records (``CONFIG_KEY``)."""
+        return frozenset(_listed(self.schema, CONFIG_KEY))
+
+    @property
+    def digest(self) -> bool:
+        """Whether it carries the digest of its values."""
+        return CONTENT_KEY in (self.schema.metadata or {})
+
+
+def _listed(schema: pa.Schema, key: bytes) -> list:
+    raw = (schema.metadata or {}).get(key)
+    return json.loads(raw) if raw else []
+
+
+def supersedes(path: Path) -> list[str]:
+    """The names of the files ``path`` supersedes (``SOURCES_KEY``): from its facts (the file is
+    verified if it was not yet), or, if it is damaged, from its footer (raises one of
+    :data:`READ_ERRORS` if that cannot be read either)."""
+    try:
+        schema = facts(path).schema
+    except Damaged:
+        schema = pq.read_schema(path)
+    return _listed(schema, SOURCES_KEY)
+
+
+def _facts(table: pa.Table) -> Facts:
+    ids = table.column("trial_id") if "trial_id" in table.column_names else None
+    owners = {c: set(pc.unique(table.column(c)).to_pylist()) for c in _OWNERS
+              if c in table.column_names}
+    if ids is None:
+        return Facts(table.schema, 0, frozenset(), owners)
+    unique = pc.unique(ids.drop_null())
+    bad = None
+    if pa.types.is_string(ids.type):  # the first malformed id: unique keeps the order of rows
+        wrong = unique.filter(pc.invert(pc.match_substring_regex(unique, TRIAL_ID)))
+        bad = wrong[0].as_py() if len(wrong) else None
+    return Facts(table.schema, len(ids), frozenset(unique.to_pylist()), owners, ids.null_count, bad)
+
+
+_VERIFIED: dict[tuple, Facts] = {}
+"""Facts of the files verified in this process, by path, inode, size, mtime and ctime (a file
+replaced, or rewritten with its old mtime set back, is another key: ``os.utime`` sets no ctime)."""
+
+
+def _key(path: Path) -> tuple:
+    st = os.stat(path)
+    return os.path.abspath(path), st.st_ino, st.st_size, st.st_mtime_ns, st.st_ctime_ns
+
+
+def cached(path: Path) -> Facts | None:
+    """The facts of ``path`` if it was verified in this process as it is now, else None."""
+    try:
+        return _VERIFIED.get(_key(path))
+    except OSError:
+        return None
+
+
+def read_file(path: Path, columns: list[str] | None = None) -> tuple[pa.Table, Facts]:
+    """The columns of ``path`` (default all; those it lacks are left out) and its facts.
+
+    The first read of the file as it is now (:data:`_VERIFIED`) reads every column of every page
+    with page checksums verified and checks its values against the digest stored with them (a
+    file the tool wrote; older files have none); later reads read only ``columns``.
+
+    Raises
+    ------
+    Damaged
+        Why the file cannot be trusted (first line of pyarrow's error).
+    """
+    try:
+        key = _key(path)
+        known = _VERIFIED.get(key)
+        file = pq.ParquetFile(path, page_checksum_verification=True)
+        if known is not None:
+            return file.read(columns=_present(columns, known.schema)), known
+        table = file.read(use_threads=False)
+    except READ_ERRORS as exc:
+        raise Damaged(reason(exc)) from None
+    written = (table.schema.metadata or {}).get(CONTENT_KEY)
+    if written is not None and written.decode(errors="replace") != content_digest(table):
+        raise Damaged("its values differ from those written: their SHA-256 is not the one stored "
+                      "with them")
+    known = _VERIFIED[key] = _facts(table)
+    return table.select(_present(columns, table.schema)), known
+
+
+def _present(columns: list[str] | None, schema: pa.Schema) -> list[str]:
+    return schema.names if columns is None else [c for c in columns if c in schema.names]
+
+
+def verify_file(path: Path) -> str | None:
+    """Why ``path`` cannot be trusted (:func:`read_file`), or None if it is intact."""
+    try:
+        facts(path)
+    except Damaged as exc:
+        return str(exc)
+    return None
+
+
+def facts(path: Path) -> Facts:
+    """The facts of ``path``, verified (raises :class:`Damaged`)."""
+    return cached(path) or read_file(path, [])[1]
