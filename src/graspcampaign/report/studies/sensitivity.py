@@ -10,12 +10,11 @@ import numpy as np
 import pandas as pd
 from matplotlib.lines import Line2D
 
-from graspcampaign.analysis.records import DESIGN_LIMIT_MM, Estimate, at_bound, rate
+from graspcampaign.analysis.records import DESIGN_LIMIT_MM, Estimate, at_bound, beyond_radius, rate
 from graspcampaign.report import style
 from graspcampaign.report.document import Col
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Claims, Figure, Finding, GateRemoved, Rate, ReportSpec, Table, Value
-from graspcampaign.report.studies.quasi_static import _radius_mm
 
 PANELS = {"mu_mass": ("mu", "mass_kg", "friction coefficient μ [–]", "object mass m [kg]"),
           "lambda": ("lambda1", "lambda2", "λ1 [–]", "λ2 [–]"),
@@ -69,16 +68,11 @@ def heatmap(ax, fig, run: Run, panel: str, value: str, label: str, cmap: str = "
     fig.colorbar(mesh, ax=ax, label=label, shrink=0.85)
 
 
-def beyond_radius(run: Run, g: pd.DataFrame) -> pd.Series:
-    """Whether each trial of ``g`` has a contact deeper than the fingertip radius (non-physical)."""
-    return g["delta_max_mm"] > _radius_mm(run)
-
-
 def _panels(run: Run) -> pd.DataFrame:
     rows = []
     for panel in [k for k in PANELS if len(panel_rows(run, k))]:
         g, (x, y) = panel_rows(run, panel), PANELS[panel][:2]
-        deep = beyond_radius(run, g)
+        deep = beyond_radius(g, run.radius_mm)
         rows.append({"panel": panel, "cells": g.groupby([x, y]).ngroups, "trials": len(g),
                      "loop_at_n_max_pct": 100 * g["loop_capped"].mean(), "beyond_radius": int(deep.sum()),
                      "beyond_radius_pct": 100 * deep.mean(),
@@ -94,8 +88,8 @@ def _figure(run: Run, fig) -> None:
     for ax, panel in zip(np.atleast_1d(fig.subplots(1, len(panels))), panels, strict=True):
         xl, yl = PANELS[panel][2:]
         tag, handles = "abc"[list(PANELS).index(panel)], []
-        deep = 100 * beyond_radius(run, panel_rows(run, panel)).mean()
-        caveat = f"\n{deep:.0f}% of trials deeper than r = {_radius_mm(run):g} mm (non-physical)" * bool(deep)
+        deep = 100 * beyond_radius(panel_rows(run, panel), run.radius_mm).mean()
+        caveat = f"\n{deep:.0f}% of trials deeper than r = {run.radius_mm:g} mm (non-physical)" * bool(deep)
         if panel == "n_b":
             heatmap(ax, fig, run, panel, "runtime_ms", "median runtime [ms]", "viridis", "median")
             ax.set_title(f"({tag}) runtime, n × b (paper: flat){caveat}")
@@ -136,7 +130,7 @@ def _supplement(run: Run, fig) -> None:
 
 def _depths(run: Run, g: pd.DataFrame, name: str) -> str:
     """How many trials of ``g`` lie deeper than r (non-physical) and δmax over the physical ones."""
-    deep, r = beyond_radius(run, g), _radius_mm(run)
+    deep, r = beyond_radius(g, run.radius_mm), run.radius_mm
     physical = g.loc[~deep, "delta_max_mm"]
     return (f"{int(deep.sum())} of {len(g)} {name} trials have a contact deeper than the fingertip radius "
             f"r = {r:g} mm (non-physical: the fingertip centre inside the object)" + (
@@ -174,7 +168,7 @@ def finding(run: Run) -> str:
         text.append("(c) b is an MSD constant the quasi-static evaluator never reads, so the b axis is flat "
                     f"by construction; {_depths(run, c, 'panel-(c)')}" + (
                         ", so the runtimes of Fig. 19c are mostly the cost of evaluating non-physical states."
-                        if beyond_radius(run, c).mean() > 0.5 else "."))
+                        if beyond_radius(c, run.radius_mm).mean() > 0.5 else "."))
     return " ".join(text) + (" (`docs/decisions.md`, *Sensitivity, mesh resolution, surrogate (issue 7)*; "
                              "SPEC §8.)")
 
