@@ -375,5 +375,6 @@ def test_shapes_table_counts_depths_beyond_the_radius_in_records_without_the_gat
 def test_run_radius_reads_the_model_config_and_defaults_to_table_2():
     from graspcampaign.report.render import Run
 
-    assert Run(pd.DataFrame(), {"config": {"model": {"fingertip_radius_m": 4e-3}}}).radius_mm == pytest.approx(4.0)
+    configured = Run(pd.DataFrame(), {"config": {"model": {"fingertip_radius_m": 4e-3}}})
+    assert configured.radius_mm == pytest.approx(4.0)
     assert Run(pd.DataFrame(), {"config": {}}).radius_mm == 5.0  # Table 2's fingertip radius
