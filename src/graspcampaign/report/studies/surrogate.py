@@ -92,12 +92,7 @@ def _timing(run: Run) -> pd.DataFrame:
                                             if isinstance(v, str) and v.endswith(" probability") else v))
     t["speedup"] = float(t.loc[t["what"] == "pso_call", "time_s"].iloc[0]) / t["time_s"]
     t["paper_speedup"] = t["what"].map({"mlp": p.speedup})
-    t = verdicts(t, "speedup", "paper_speedup", digits=0)
-    ratio = t["differs"].notna()  # a ratio is compared as a ratio, not by its difference
-    t.loc[ratio, "verdict"] = [f"{'differs' if d else 'as in the paper'}: ours {o:.3g}× faster, the paper's "
-                               f"{q:g}× ({q / o:.3g} times ours)" for d, o, q in
-                               t.loc[ratio, ["differs", "speedup", "paper_speedup"]].itertuples(index=False)]
-    return t
+    return verdicts(t, "speedup", "paper_speedup", digits=0, ratio="faster")
 
 
 def finding(run: Run) -> str:

@@ -16,7 +16,7 @@ from graspcampaign.report.spec import Figure, Finding, GateRemoved, ReportSpec, 
 from graspcampaign.report.studies.quasi_static import design_limit
 
 NEVER = "never settles within the trace"
-COMMANDED = "commanded, not a result: the closing ramp ends at the grip command by construction"
+COMMANDED = "the closing ramp ends at the grip command by construction"
 
 
 def settle_iteration(residual: np.ndarray, iterations: np.ndarray, limit: float) -> float:
@@ -55,7 +55,7 @@ def _per_mu(run: Run) -> pd.DataFrame:
         settle = settle_iteration(tr["residual_norm_n"].to_numpy(float), tr["iteration"].to_numpy(), tau)
         rec = run.ok[run.ok["mu"] == mu]
         rows += [{"mu": mu, "quantity": q, "paper": paper, "ours": ours, "digits": d, "n": len(rec),
-                  "why": NEVER if ours != ours else COMMANDED if "finger-1" in q else ""}
+                  "why": NEVER if ours != ours else "", "commanded": COMMANDED if "finger-1" in q else ""}
                  for q, paper, ours, d in (
             (f"iteration from which ‖R‖ stays < {tau:g} N", p.residual_settles_within_iterations, settle, 0),
             ("final slip margin (μf_n − ‖f_t‖)/(μf_n) [–]", (p.slip_margin_saturates_above, 1.0)
@@ -64,12 +64,10 @@ def _per_mu(run: Run) -> pd.DataFrame:
              float(tr["normal_force_1_n"].iloc[-1]), 0),
             ("largest torque residual ‖τ‖ [N·m]", p.torque_residual_nm, float(tr["torque_norm_nm"].max()), 3),
             ("final residual ‖R‖ of the record [N]", (0.0, tau), float(rec["residual_norm_n"].median()), 2))]
-    frame = verdicts(pd.DataFrame(rows), "ours", "paper", digits="digits")
-    never = (frame["why"] == NEVER) & frame["paper"].notna()  # never settling is the disagreement
-    frame.loc[never, "differs"] = True
-    frame.loc[never, "verdict"] = [f"differs: {NEVER} (paper: settles in {lo}–{hi})"
-                                   for lo, hi in frame.loc[never, "paper"]]
-    frame.loc[frame["why"] == COMMANDED, ["difference", "differs", "verdict"]] = [math.nan, None, COMMANDED]
+    frame = pd.DataFrame(rows)
+    settles = frame["ours"].where(frame["why"] != NEVER, math.inf)  # never: later than any window
+    frame = verdicts(frame.assign(settles=settles), "settles", "paper", digits="digits",
+                     commanded="commanded").drop(columns=["settles", "commanded"])
     return frame.assign(paper=[f"{v[0]:g}–{v[1]:g}" if isinstance(v, tuple) else v for v in frame["paper"]])
 
 
