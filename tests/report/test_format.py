@@ -59,6 +59,22 @@ def test_number_variants():
     ((False, True), {}, (True, "differs: the paper reports yes, ours is no")),
     ((1.0, None), {}, (None, "the paper reports no value")),
     ((math.nan, 3.0), {}, (None, "not computed")),
+    # one-sided bounds: Sec. 11's cost-ratio target "at most 1.5"; 1.504 prints 1.50, within it
+    ((1.24, (None, 1.5)), {"digits": 2}, (False, "within the paper's target ≤ 1.50")),
+    ((1.504, (None, 1.5)), {"digits": 2},
+     (False, "within the paper's target ≤ 1.50 at its printed precision")),
+    ((1.51, (None, 1.5)), {"digits": 2}, (True, "differs: above the paper's target ≤ 1.50")),
+    ((40.0, (50, None)), {"digits": 0, "unit": "%"}, (True, "differs: below the paper's target ≥ 50%")),
+    # a residual that never settles (an infinite settling iteration) lies above the window 30-40
+    ((math.inf, (30, 40)), {"digits": 0}, (True, "differs: above the paper's range 30–40")),
+    # ratios: 17000 / 9.17 = 1853.87 -> 1.85e+03 times ours; |17000.4 - 17000| = 0.4 < 1 (digits 0)
+    ((9.17, 17000), {"digits": 0, "ratio": "faster"},
+     (True, "differs: ours 9.17× faster, the paper's 17000× (1.85e+03 times ours)")),
+    ((17000.4, 17000), {"digits": 0, "ratio": "faster"},
+     (False, "as in the paper: ours 1.7e+04× faster, the paper's 17000× (1 times ours)")),
+    # a commanded value is the run's own input: not compared, whatever the paper says
+    ((65.0, 65.0), {"commanded": "the ramp ends at the command"},
+     (None, "commanded, not a result: the ramp ends at the command")),
 ])
 def test_one_verdict_rule(args, kwargs, expected):
     assert fmt.verdict(*args, **kwargs) == expected
@@ -175,6 +191,19 @@ def test_verdicts_say_percent_for_a_value_and_pp_for_a_difference():
     out = verdicts(frame, "ours", "paper", unit="%")["verdict"].tolist()
     assert out == ["differs: below the paper's range 90.0–100.0%", "inside the paper's range 0.0–4.0%",
                    "differs by \u221221.4 pp"]
+
+
+def test_verdicts_leave_no_difference_for_a_row_not_compared():
+    """A commanded row has no verdict, so no difference (65.2 - 65 would read as a disagreement)."""
+    import pandas as pd
+
+    from graspcampaign.report.spec import verdicts
+
+    frame = pd.DataFrame({"ours": [65.2, 3.0], "paper": [65.0, 2.5], "set": ["by the ramp", ""]})
+    out = verdicts(frame, "ours", "paper", commanded="set")
+    assert out["differs"].tolist() == [None, True]
+    assert math.isnan(out["difference"].iloc[0]) and out["difference"].iloc[1] == 0.5  # 3.0 - 2.5
+    assert fmt.paper_text((None, 1.5), 2) == "≤ 1.50" and fmt.paper_text((50, None), 0) == "≥ 50"
 
 
 def test_an_undefined_mcnemar_test_shows_no_p():

@@ -349,3 +349,32 @@ def test_shapes_table_checks_and_fig15_mark_contacts_beyond_the_fingertip_radius
     assert manifest["config"]["evaluator"]["tau_t_nm"] in lines
     assert hatched == (table["beyond_radius"] > 0).tolist()
     assert any("τ_T" in t for t in legend) and any("deeper than r" in t for t in legend)
+
+
+def test_shapes_table_counts_depths_beyond_the_radius_in_records_without_the_gate(tmp_path):
+    """Records written before the validity gate have no ``valid_geometry``: a trial is still beyond
+    the fingertip radius when its δmax exceeds r (the shapes table counted none of them)."""
+    def outputs(factors, rng):
+        out = quasi_static_outputs(factors, rng)
+        out.pop("valid_geometry")
+        deep = factors["shape"] in ("sphere", "pear")
+        return {**out, "delta_max_mm": float(rng.uniform(6, 20) if deep else rng.uniform(0.5, 4.5))}
+
+    store = make_run(tmp_path, "shapes", "quasi_static",
+                     {"shape": SHAPES, "mass_kg": [0.4], "mu": [0.3], "planner": ["heuristic"]},
+                     seeds=6, paper=None, outputs=outputs)
+    build_reports(["shapes"], root=tmp_path)
+    ok = ok_records(store)
+    assert "valid_geometry" not in ok
+    deep = ok["delta_max_mm"] > 5.0  # Table 2's r = 5 mm: the run's config names no other
+    table = read_table(store, "shapes").set_index("shape")
+    assert deep.sum() > 0
+    assert table["beyond_radius"].to_dict() == deep.groupby(ok["shape"]).sum().to_dict()
+
+
+def test_run_radius_reads_the_model_config_and_defaults_to_table_2():
+    from graspcampaign.report.render import Run
+
+    configured = Run(pd.DataFrame(), {"config": {"model": {"fingertip_radius_m": 4e-3}}})
+    assert configured.radius_mm == pytest.approx(4.0)
+    assert Run(pd.DataFrame(), {"config": {}}).radius_mm == 5.0  # Table 2's fingertip radius

@@ -136,3 +136,25 @@ def test_a_non_finite_sweep_level_is_reported_not_raised(runs, tmp_path):
     svg = (copy / "report" / "figures" / "fig19_sensitivity.svg").read_text()
     assert "not drawn: no finite value of" in svg  # panel (c) says why; (a), (b) are drawn
     assert (copy / "report" / "tables" / "sensitivity_panels.csv").exists()
+
+
+@pytest.mark.parametrize(("a", "b", "expected"), [
+    # 80% on the bound at μ < 0.1 (a majority), 20% at μ ≥ 0.1 (fewer): both as in the paper
+    (80.0, 20.0, [(False, "as in the paper (pushed toward the bound)"),
+                  (False, "as in the paper (fewer than at μ < 0.1)")]),
+    # 100% at both: not fewer, so the bound does not single out low friction
+    (100.0, 100.0, [(False, "as in the paper (pushed toward the bound)"),
+                    (True, "differs: the paper reports fewer than at μ < 0.1, ours is 100% on the bound "
+                           "against 100% at μ < 0.1")]),
+    # 30% then 40%: no majority, and more (not fewer) at μ ≥ 0.1 -- both differ
+    (30.0, 40.0, [(True, "differs: the paper reports pushed toward the bound, ours is 30% on the bound"),
+                  (True, "differs: the paper reports fewer than at μ < 0.1, ours is 40% on the bound "
+                         "against 30% at μ < 0.1")]),
+])
+def test_lambda1_bound_words_are_judged_by_the_verdict_rule(a, b, expected):
+    from graspcampaign.report.studies.sensitivity import BOUND, _bound_claims
+
+    frame = pd.DataFrame({"quantity": [BOUND + "< 0.1", BOUND + "≥ 0.1"], "value": [a, b],
+                          "paper": None, "differs": None, "verdict": ""})
+    out = _bound_claims(frame)
+    assert list(zip(out["differs"], out["verdict"], strict=True)) == expected

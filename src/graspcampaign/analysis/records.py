@@ -196,6 +196,18 @@ def mcnemar_table(records: pd.DataFrame, reference: str, others: Sequence[str], 
         "odds_ratio_high", "test_why"])
 
 
+def beyond_radius(records: pd.DataFrame, radius_mm: float) -> pd.Series:
+    """Return whether each record's deepest contact lies deeper than the fingertip radius
+    ``radius_mm`` (``delta_max_mm`` > r): the fingertip's centre inside the object, a non-physical
+    state (issue 13). The one rule of the reports; a missing ``delta_max_mm`` is not beyond.
+
+    The validity gate's ``valid_geometry`` column is the same condition on the same depths (every
+    contact within r, :func:`graspcampaign.core.verdict.geometry_valid`; a released contact has
+    δ = 0), so the two agree on every gated record; this rule reads ``delta_max_mm`` because every
+    kind records it, while records written before the gate have no ``valid_geometry``."""
+    return records["delta_max_mm"] > radius_mm
+
+
 def design_limit_table(records: pd.DataFrame, by: Sequence[str], *,
                        limit_mm: float = DESIGN_LIMIT_MM, radius_mm: float | None = None,
                        order: Mapping[str, Sequence] | None = None) -> pd.DataFrame:
@@ -209,7 +221,8 @@ def design_limit_table(records: pd.DataFrame, by: Sequence[str], *,
     rows = []
     for key, g in groups(ok, list(by), order):
         d = g["delta_max_mm"].to_numpy(float)
-        over, beyond = d > limit_mm, d > (np.inf if radius_mm is None else radius_mm)
+        over = d > limit_mm
+        beyond = beyond_radius(g, np.inf if radius_mm is None else radius_mm).to_numpy()
         w = rates.wilson_interval(int(over.sum()), len(g))
         success = g["success"].to_numpy(bool) if "success" in g else np.zeros(len(g), bool)
         shown = d[~beyond]

@@ -11,6 +11,7 @@ from typing import Any
 import pandas as pd
 
 from graspcampaign.analysis.records import data_source, executed, status_counts
+from graspcampaign.core.bench_specimen import FINGERTIP_RADIUS
 from graspcampaign.errors import UserInputError
 from graspcampaign.report.document import Document, Table, Text
 
@@ -35,6 +36,11 @@ class Run:
     params = property(lambda self: self.config.get("params") or {})
     seed = property(lambda self: int(self.config.get("seed", 0)))
     study = property(lambda self: str(self.manifest.get("study")))
+
+    @property
+    def radius_mm(self) -> float:
+        """The fingertip radius r [mm] of the run's model (Table 2's 5 mm where the config has none)."""
+        return 1e3 * float((self.config.get("model") or {}).get("fingertip_radius_m", FINGERTIP_RADIUS))
 
     @cached_property
     def ok(self) -> pd.DataFrame:

@@ -50,8 +50,10 @@ def _paper_by(fn: PaperKey | None, run: Run, frame: pd.DataFrame, by: Sequence[s
 
 def verdicts(frame: pd.DataFrame, ours: str, paper: str, low: str | None = None,
              high: str | None = None, digits: int | str = 1, unit: str = "",
-             why: str = "why") -> pd.DataFrame:
-    """Add ``difference``, ``differs`` and ``verdict`` columns by the one verdict rule."""
+             why: str = "why", **forms: str) -> pd.DataFrame:
+    """Add ``difference``, ``differs`` and ``verdict`` columns by the one verdict rule; ``unit`` and
+    ``forms`` (:func:`~graspcampaign.report.format.verdict`'s ``ratio``, ``commanded``) are each a
+    column of ``frame`` or the value itself. A row not compared has no difference."""
     out = []
     for r in frame.to_dict("records"):
         u = str(r[unit] or "") if unit in r else unit
@@ -59,9 +61,11 @@ def verdicts(frame: pd.DataFrame, ours: str, paper: str, low: str | None = None,
         number = isinstance(p, int | float) and not isinstance(p, bool) and not fmt.is_missing(p)
         d = r[digits] if isinstance(digits, str) else digits
         verdict = fmt.verdict(o, p, low=r.get(low) if low else None, high=r.get(high) if high else None,
-                              digits=3 if d == fmt.P else int(d), unit=u)
-        out.append((float(o) - float(p) if number and not fmt.is_missing(o) else math.nan,
-                    *((None, str(r[why])) if fmt.is_missing(o) and r.get(why) else verdict)))
+                              digits=3 if d == fmt.P else int(d), unit=u,
+                              **{k: (r[v] or "") if v in r else v for k, v in forms.items()})
+        verdict = (None, str(r[why])) if fmt.is_missing(o) and r.get(why) else verdict
+        compared = number and not fmt.is_missing(o) and verdict[0] is not None
+        out.append((float(o) - float(p) if compared else math.nan, *verdict))
     return frame.assign(**{c: [row[i] for row in out] for i, c in enumerate(("difference", "differs",
                                                                           "verdict"))})
 

@@ -92,31 +92,19 @@ def readings(by: list[str]) -> S.Table:
             Col("torque_binds", "failed only τ_T")], by=by)
 
 
-def _radius_mm(run: Run) -> float:
-    """The fingertip radius r [mm] of the run (Table 2's 5 mm for a run that does not record it)."""
-    return 1e3 * float((run.config.get("model") or {}).get("fingertip_radius_m", 5e-3))
-
-
 def design_limit(by: list[str]) -> S.Table:
     """:func:`~graspcampaign.report.spec.DesignLimit` with the trials deeper than the fingertip
     radius counted apart (non-physical) and the δmax statistics over the physical ones."""
     base = S.DesignLimit(by)
     return replace(base, caption=lambda run: base.caption + (
-        f"; δmax > r: trials with a contact deeper than the fingertip radius r = {_radius_mm(run):g} "
+        f"; δmax > r: trials with a contact deeper than the fingertip radius r = {run.radius_mm:g} "
         "mm, whose fingertip centre lies inside the object (non-physical; the validity gate makes "
         "them failures); the δmax statistics are over the physical trials, δmax ≤ r (— where none)"),
         compute=lambda run: rec.design_limit_table(
-            run.records, by, radius_mm=_radius_mm(run), order=run.order).assign(
+            run.records, by, radius_mm=run.radius_mm, order=run.order).assign(
             paper=f"within {rec.DESIGN_LIMIT_MM:g} mm"),
         cols=[*base.cols[:5], Col("beyond_radius", "δmax > r (non-physical)"),
               *(replace(c, label=c.label.replace(" [mm]", ", δmax ≤ r [mm]")) for c in base.cols[5:])])
-
-
-def _beyond(g: pd.DataFrame) -> pd.Series:
-    """Trials with an active contact deeper than the fingertip radius (the validity gate's records)."""
-    if "valid_geometry" not in g:
-        return pd.Series(False, g.index)
-    return ~g["valid_geometry"].fillna(True).astype(bool)
 
 
 def failure_checks(by: list[str], paper=None) -> S.Table:
@@ -125,8 +113,9 @@ def failure_checks(by: list[str], paper=None) -> S.Table:
     base = S.FailureChecks(by, paper)
     return replace(base, caption=lambda run: base.caption + (
         f"; the checks run in that order and the first failing one is counted, so geometry counts only "
-        f"trials passing every published check: {int(_beyond(run.ok).sum())} of {len(run.ok)} trials have a "
-        f"contact deeper than r = {_radius_mm(run):g} mm (non-physical, failed by the gate too) and are "
+        f"trials passing every published check: {int(rec.beyond_radius(run.ok, run.radius_mm).sum())} "
+        f"of {len(run.ok)} trials have a "
+        f"contact deeper than r = {run.radius_mm:g} mm (non-physical, failed by the gate too) and are "
         "counted under their first failing published check (table design_limit)"))
 
 
@@ -177,7 +166,7 @@ def grid_finding(run: Run) -> str:
                 for r in paired.itertuples()) + ". " if len(paired) else "") +
         f"Under Algorithm 2, {limit['exceeds'].sum()} of {limit['n'].sum()} trials exceed the "
         f"paper's {DESIGN_LIMIT_MM:g} mm design limit, {limit['beyond_radius'].sum()} of them deeper "
-        f"than the fingertip radius r = {_radius_mm(run):g} mm (non-physical, never a success); the "
+        f"than the fingertip radius r = {run.radius_mm:g} mm (non-physical, never a success); the "
         f"validity gate removed {int(gate['gate_removed'].sum())} of "
         f"{int(gate['success_unbounded'].sum())} passes of the published checks. SPEC §8; {DECISION}.")
 
@@ -245,6 +234,7 @@ def _shapes(run: Run) -> pd.DataFrame:
     p, rows = run.paper, []
     for shape in ordered("shape", run.records["shape"], run.order.get("shape", ())):
         g = run.ok[run.ok["shape"] == shape]
+        deep = rec.beyond_radius(g, run.radius_mm)
         rows.append({
             "shape": shape, "paper_success": p.success.get(shape), "paper_failure_check":
             p.failure_check.get(shape, "none" if p.success.get(shape) else None), "n": len(g),
@@ -252,10 +242,10 @@ def _shapes(run: Run) -> pd.DataFrame:
             "n_error": len(run.records.query("shape == @shape and status == 'error'")),
             "ours_success": bool(g["success"].mean() >= 0.5) if len(g) else None,
             "failure_check": ", ".join(f"{c} {v}" for c, v in g["failure_check"].value_counts().items()),
-            "exceeds_1mm": int((g["delta_max_mm"] > DESIGN_LIMIT_MM).sum()), "beyond_radius":
-            int(_beyond(g).sum()),
+            "exceeds_1mm": int((g["delta_max_mm"] > DESIGN_LIMIT_MM).sum()),
+            "beyond_radius": int(deep.sum()),
             **g[["h_total", "residual_norm_n", "torque_norm_nm", "slip_margin_n"]].median(),
-            "delta_max_mm": g.loc[~_beyond(g), "delta_max_mm"].median()})
+            "delta_max_mm": g.loc[~deep, "delta_max_mm"].median()})
     return S.verdicts(pd.DataFrame(rows), "ours_success", "paper_success")
 
 
@@ -275,7 +265,7 @@ def shapes_finding(run: Run) -> str:
 
 
 def fig15(run: Run, fig) -> None:
-    t, ev, r = run.tables["shapes"], run.config["evaluator"], _radius_mm(run)
+    t, ev, r = run.tables["shapes"], run.config["evaluator"], run.radius_mm
     tau, tau_t = float(ev["tau_f_n"]), float(ev["tau_t_nm"])
     axes, x, good, bad = fig.subplots(2, 2, sharex=True).ravel(), np.arange(len(t)), "#2e7d32", "#c62828"
     hatch = ["//" if b else None for b in t["beyond_radius"] > 0]  # a non-physical state (δ > r)
@@ -309,7 +299,7 @@ SHAPES = S.ReportSpec("shapes", [
     S.Finding(shapes_finding),
     S.Table("shapes", lambda run: "Outcome and grasp metrics per shape beside Fig. 15 (medians over "
             "executed trials); δ > r: trials with a contact deeper than the fingertip radius r = "
-            f"{_radius_mm(run):g} mm (non-physical: the validity gate fails them, whatever their first "
+            f"{run.radius_mm:g} mm (non-physical: the validity gate fails them, whatever their first "
             "failing check; their metrics are of no physical contact), δmax the median over the others "
             "(— where none)",
             _shapes, [
@@ -347,7 +337,7 @@ def other_laws(run: Run) -> str:
                if r.capped else "") + "; first failing check "
             + ", ".join(f"{c} {getattr(r, c)}" for c in FAILURE_CHECKS if getattr(r, c))
             for r in t.itertuples()) + ". A capped grip presses every finger to the cap depth "
-        f"(the material's damage depth, at most r = {_radius_mm(run):g} mm), so δmax is the cap "
+        f"(the material's damage depth, at most r = {run.radius_mm:g} mm), so δmax is the cap "
         "whatever the planner; a trial whose first failing check is slip balanced force and torque "
         "only with a tangential force of at least μ·f_n at some contact (slip margin ≤ 0).")
 
@@ -371,7 +361,7 @@ def over_limit(run: Run) -> str:
     rescales it. "" when the records have no outcome (every trial errored)."""
     if not {"success", "delta_max_mm"} <= set(run.ok):
         return ""
-    ok, r = run.ok[run.ok["success"].astype(bool)], _radius_mm(run)
+    ok, r = run.ok[run.ok["success"].astype(bool)], run.radius_mm
     laws = run.order.get("grip_law", ["paper"]) if "grip_law" in ok else [None]
     parts = []
     for law in laws:

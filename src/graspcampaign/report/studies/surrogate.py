@@ -8,13 +8,13 @@ import math
 import numpy as np
 import pandas as pd
 
+from graspcampaign.analysis.records import beyond_radius
 from graspcampaign.analysis.vocabulary import colour, label, ordered
 from graspcampaign.report import style
 from graspcampaign.report.document import Col, cols
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, verdicts
-from graspcampaign.report.studies.quasi_static import _radius_mm
-from graspcampaign.report.studies.sensitivity import beyond_radius, rate_cols
+from graspcampaign.report.studies.sensitivity import rate_cols
 
 LABELS = ("success", "success_unbounded", "success_vertical")
 
@@ -88,17 +88,12 @@ def _timing(run: Run) -> pd.DataFrame:
                                             if isinstance(v, str) and v.endswith(" probability") else v))
     t["speedup"] = float(t.loc[t["what"] == "pso_call", "time_s"].iloc[0]) / t["time_s"]
     t["paper_speedup"] = t["what"].map({"mlp": p.speedup})
-    t = verdicts(t, "speedup", "paper_speedup", digits=0)
-    ratio = t["differs"].notna()  # a ratio is compared as a ratio, not by its difference
-    t.loc[ratio, "verdict"] = [f"{'differs' if d else 'as in the paper'}: ours {o:.3g}× faster, the paper's "
-                               f"{q:g}× ({q / o:.3g} times ours)" for d, o, q in
-                               t.loc[ratio, ["differs", "speedup", "paper_speedup"]].itertuples(index=False)]
-    return t
+    return verdicts(t, "speedup", "paper_speedup", digits=0, ratio="faster")
 
 
 def finding(run: Run) -> str:
     d, p, t = run.tables["surrogate_dataset"].iloc[0], run.paper, run.tables
-    deep, won = beyond_radius(run, run.ok), run.ok["success_unbounded"].astype(bool)
+    deep, won = beyond_radius(run.ok, run.radius_mm), run.ok["success_unbounded"].astype(bool)
     physical = run.ok.loc[~deep, "delta_max_mm"]
     text = (f"{int(d['n'])} scenarios (paper {p.n_scenarios}): {d['success_unbounded_pct']:.1f}% are "
             f"successes under Algorithm 1 as published (Wilson {d['success_unbounded_low_pct']:.1f}–"
@@ -106,7 +101,7 @@ def finding(run: Run) -> str:
             f"{d['success_pct']:.1f}% once a fingertip buried deeper than its radius is no contact (the "
             f"configured check) and {d['success_vertical_pct']:.1f}% under the gated |R_z| reading. "
             f"{int(deep.sum())} of {len(deep)} scenarios end with a contact deeper than the fingertip radius "
-            f"r = {_radius_mm(run):g} mm (non-physical: the fingertip centre inside the object), "
+            f"r = {run.radius_mm:g} mm (non-physical: the fingertip centre inside the object), "
             f"{int((deep & won).sum())} of the {int(won.sum())} published-algorithm successes among them" + (
                 f"; δmax over the physical ones: median {physical.median():.3g} mm. " if len(physical) else
                 ". "))
@@ -152,7 +147,7 @@ def _caption(run: Run) -> str:
     fitted = [lab for lab in LABELS if cls.loc[cls["label"] == lab, "roc_auc"].notna().any()]
     words = {"-": "solid", "--": "dashed", ":": "dotted"}
     won = run.ok["success_unbounded"].astype(bool)
-    buried = int((won & beyond_radius(run, run.ok)).sum())
+    buried = int((won & beyond_radius(run.ok, run.radius_mm)).sum())
     return ("Fig. A.1 (ours): (a) ROC curves of the fitted classifiers (" + (", ".join(
         f"{words[LINES[lab]]}: {name(lab)}" for lab in fitted) or "none fitted") + (
         "; not fitted, fewer than 10 trials of one class: " + ", ".join(

@@ -13,10 +13,10 @@ from graspcampaign.report import style
 from graspcampaign.report.document import Col
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Figure, Finding, GateRemoved, ReportSpec, Table, verdicts
-from graspcampaign.report.studies.quasi_static import _radius_mm, design_limit
+from graspcampaign.report.studies.quasi_static import design_limit
 
 NEVER = "never settles within the trace"
-COMMANDED = "commanded, not a result: the closing ramp ends at the grip command by construction"
+COMMANDED = "the closing ramp ends at the grip command by construction"
 
 
 def settle_iteration(residual: np.ndarray, iterations: np.ndarray, limit: float) -> float:
@@ -45,7 +45,7 @@ def _traces(run: Run) -> pd.DataFrame:
 
 def _beyond_radius_from(run: Run, trace: pd.DataFrame) -> float:
     """The first iteration at which finger 1 lies deeper than the fingertip radius (nan: never)."""
-    deep = trace.loc[trace["depth_1_mm"] > _radius_mm(run), "iteration"]
+    deep = trace.loc[trace["depth_1_mm"] > run.radius_mm, "iteration"]
     return float(deep.min()) if len(deep) else math.nan
 
 
@@ -55,7 +55,7 @@ def _per_mu(run: Run) -> pd.DataFrame:
         settle = settle_iteration(tr["residual_norm_n"].to_numpy(float), tr["iteration"].to_numpy(), tau)
         rec = run.ok[run.ok["mu"] == mu]
         rows += [{"mu": mu, "quantity": q, "paper": paper, "ours": ours, "digits": d, "n": len(rec),
-                  "why": NEVER if ours != ours else COMMANDED if "finger-1" in q else ""}
+                  "why": NEVER if ours != ours else "", "commanded": COMMANDED if "finger-1" in q else ""}
                  for q, paper, ours, d in (
             (f"iteration from which ‖R‖ stays < {tau:g} N", p.residual_settles_within_iterations, settle, 0),
             ("final slip margin (μf_n − ‖f_t‖)/(μf_n) [–]", (p.slip_margin_saturates_above, 1.0)
@@ -64,19 +64,17 @@ def _per_mu(run: Run) -> pd.DataFrame:
              float(tr["normal_force_1_n"].iloc[-1]), 0),
             ("largest torque residual ‖τ‖ [N·m]", p.torque_residual_nm, float(tr["torque_norm_nm"].max()), 3),
             ("final residual ‖R‖ of the record [N]", (0.0, tau), float(rec["residual_norm_n"].median()), 2))]
-    frame = verdicts(pd.DataFrame(rows), "ours", "paper", digits="digits")
-    never = (frame["why"] == NEVER) & frame["paper"].notna()  # never settling is the disagreement
-    frame.loc[never, "differs"] = True
-    frame.loc[never, "verdict"] = [f"differs: {NEVER} (paper: settles in {lo}–{hi})"
-                                   for lo, hi in frame.loc[never, "paper"]]
-    frame.loc[frame["why"] == COMMANDED, ["difference", "differs", "verdict"]] = [math.nan, None, COMMANDED]
+    frame = pd.DataFrame(rows)
+    settles = frame["ours"].where(frame["why"] != NEVER, math.inf)  # never: later than any window
+    frame = verdicts(frame.assign(settles=settles), "settles", "paper", digits="digits",
+                     commanded="commanded").drop(columns=["settles", "commanded"])
     return frame.assign(paper=[f"{v[0]:g}–{v[1]:g}" if isinstance(v, tuple) else v for v in frame["paper"]])
 
 
 def finding(run: Run) -> str:
     table, p = _per_mu(run), run.paper
     settle, compared = table[table["quantity"].str.startswith("iteration")], table["differs"].notna()
-    deep, r = _beyond_radius_from(run, _traces(run)), _radius_mm(run)
+    deep, r = _beyond_radius_from(run, _traces(run)), run.radius_mm
     return (f"Under the fixed {p.finger_force_command_n:g} N grip command the force residual settles below "
             f"τ_F = {_tau(run):g} N at {settle['ours'].notna().sum()} of {len(settle)} friction levels "
             f"(paper: by iteration {p.residual_settles_within_iterations[1]} at every level), and "
@@ -121,7 +119,7 @@ def fig17(run: Run, fig) -> None:
         for ax in axes:
             ax.axvspan(deep, trace["iteration"].max(), facecolor="white", edgecolor="#bbbbbb", hatch="//",
                        linewidth=0.5, zorder=0, label=f"non-physical: contact deeper than r = "
-                       f"{_radius_mm(run):g} mm (from iteration {deep:.0f})" if ax is axes[3] else None)
+                       f"{run.radius_mm:g} mm (from iteration {deep:.0f})" if ax is axes[3] else None)
         last = trace.loc[trace["iteration"].idxmax()]
         axes[3].annotate(f"finger-1 depth at iteration {last['iteration']:.0f}: "
                          f"{last['depth_1_mm'] / 1e3:.3g} m", xy=(0.98, 0.55), xycoords="axes fraction",
