@@ -106,12 +106,15 @@ def _synthetic(n_trials=60, n_candidates=40, seed=2):
 
 def _many(n_trials: int, seed: int = 3):
     """Many two-candidate trials whose per-trial rho is drawn directly (only its median is
-    bootstrapped), enough of them that scipy's median bootstrap runs in batches."""
+    bootstrapped), enough of them that scipy's median bootstrap runs in batches; the force-closure
+    rho in tenths (ties) and missing in one trial (an odd count where n_trials is even)."""
     rng = np.random.default_rng(seed)
     ids = [f"fc{t}" for t in range(n_trials)]
+    rho_fc = np.round(rng.uniform(-1, 1, n_trials), 1)
+    rho_fc[0] = np.nan
     records = pd.DataFrame({"trial_id": ids, "status": "ok", "planner": "ferrari_canny",
                             "grip_law": "paper", "spearman_h_epsilon": rng.uniform(-1, 1, n_trials),
-                            "spearman_h_epsilon_fc": rng.uniform(-1, 1, n_trials)})
+                            "spearman_h_epsilon_fc": rho_fc})
     candidates = pd.DataFrame({"trial_id": np.repeat(ids, 2),
                                "h_total": np.round(rng.uniform(0, 1, 2 * n_trials), 2),
                                "epsilon_fc": np.round(rng.uniform(0, 1, 2 * n_trials), 2)})

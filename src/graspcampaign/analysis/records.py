@@ -71,9 +71,8 @@ def groups(frame: pd.DataFrame, by: Sequence[str], order: Mapping[str, Sequence]
            keys_from: pd.DataFrame | None = None) -> Iterator[tuple[dict, pd.DataFrame]]:
     """Yield ``(key, rows)`` per group of ``by`` in display order (keys of ``keys_from``); a key
     with a missing value is no group (its rows match no key, as in :func:`select`)."""
-    source = frame if keys_from is None else keys_from
-    keys = [k for k in dict.fromkeys(zip(*(source[c] for c in by), strict=True))
-            if not any(pd.isna(v) for v in k)] if len(source) else []
+    source = (frame if keys_from is None else keys_from)[list(by)].drop_duplicates()
+    keys = [k for k in zip(*(source[c] for c in by), strict=True) if not any(pd.isna(v) for v in k)]
     ranks = [{v: i for i, v in enumerate(ordered(c, [k[j] for k in keys], (order or {}).get(c, ())))}
              for j, c in enumerate(by)]
     index = _index(frame, by) if keys else {}
