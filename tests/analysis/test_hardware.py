@@ -101,7 +101,7 @@ def test_threshold_agreement_and_summary():
     assert d["first_finger_correct"].isna().all()  # no finger slipped: nothing to score
     summary = hardware.summary(d, ["block"], medians=["lat_threshold_n"]).iloc[0]
     assert summary["lat_threshold_n"] == pytest.approx(np.median(meas[10:]))
-    assert summary["n_lat_threshold_n"] == 290
+    assert summary["n_lat_threshold"] == 290
 
 
 def test_lateral_survival_counts_failures_as_zero():

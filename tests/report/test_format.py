@@ -222,3 +222,28 @@ def test_an_undefined_mcnemar_test_shows_no_p():
     assert row["p (exact)"] == fmt.MISSING and row["χ² (cc)"] == "no discordant pair: the test is undefined"
     [table] = Paired().render(run)  # one discordant pair: binomial p = 1
     assert [t for t, _ in table.cells()[0]][[c.label for c in table.cols].index("p (exact)")] == "1.0"
+
+
+def test_every_count_a_summary_makes_prints_as_a_whole_number():
+    """A count ``n_<things>`` carries no unit suffix, so ``cols`` prints it as an integer, never as
+    newtons (a count of ``lat_threshold_n`` was ``n_lat_threshold_n``, shown as ``[N]``)."""
+    import numpy as np
+    import pandas as pd
+
+    from graspcampaign.analysis import hardware
+    from graspcampaign.analysis.vocabulary import UNITS
+    from graspcampaign.report.document import Table
+
+    rng = np.random.default_rng(0)
+    medians = [f"q{i}_{unit}" for i, unit in enumerate(UNITS)]
+    d = pd.DataFrame({"status": "ok", "aborted": False, "success": rng.random(40) < 0.5,
+                      "is_drop": rng.random(40) < 0.3, "block": ["A"] * 25 + ["B"] * 15,
+                      **{c: np.where(rng.random(40) < 0.2, np.nan, rng.random(40) * 9) for c in medians}})
+    out = hardware.summary(d, ["block"], ["is_drop"], medians)
+    counts = [c for c in out if c == "n" or c.startswith("n_")]  # also n_drop, n_error, n_clusters ...
+    [table] = Table("t", "", out, counts).render(None)
+    assert not any("[" in c.label for c in table.cols)
+    shown = pd.DataFrame([[text for text, _ in row] for row in table.cells()], columns=counts)
+    assert (shown[counts] == out[counts].astype(int).astype(str)).all().all()
+    expected = d.groupby("block")[medians].count().astype(str).to_numpy()
+    assert (shown[[f"n_q{i}" for i in range(len(medians))]].to_numpy() == expected).all()

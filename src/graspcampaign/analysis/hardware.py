@@ -12,7 +12,7 @@ import pandas as pd
 
 from graspcampaign.analysis import agreement, association, rates
 from graspcampaign.analysis.records import executed, mcnemar_table, rate_table
-from graspcampaign.analysis.vocabulary import label, ordered
+from graspcampaign.analysis.vocabulary import label, ordered, things
 from graspcampaign.core.statics import GRAVITY
 
 CLASSES = {"stable": "stable", "marginal": "success", "partial": "partial", "slip": "failure_slip",
@@ -100,8 +100,9 @@ def summary(df: pd.DataFrame, by: Sequence[str], rates: Sequence[str] = (), medi
             *, cluster: str | None = None, seed: int = 0, order: Mapping | None = None) -> pd.DataFrame:
     """Return per group of ``by`` the success :func:`~.records.rate_table` (``success_pct``, ``_low_pct``,
     ``_high_pct``), each boolean column of ``rates`` likewise as ``<name>_pct``, ... and the count
-    ``n_<name>`` of its non-missing rows (``is_`` dropped), and the median and count ``n_<column>`` of
-    ``medians``."""
+    ``n_<name>`` of its non-missing rows (``is_`` dropped), and the median and count ``n_<things>`` of
+    ``medians`` (the column without its unit suffix: a count of ``lat_threshold_n`` is ``n_lat_threshold``,
+    not newtons)."""
     by = list(by)
     out = rate_table(df, by, cluster=cluster, seed=seed, order=order).rename(columns=lambda c: c.replace(
         "rate_pct", "success_pct").replace("wilson", "success"))
@@ -113,7 +114,8 @@ def summary(df: pd.DataFrame, by: Sequence[str], rates: Sequence[str] = (), medi
                                    axis=1), on=by, how="left")
     if medians:
         g = df.groupby(by, sort=False)[list(medians)]
-        out = out.merge(g.median().join(g.count().add_prefix("n_")).reset_index(), on=by, how="left")
+        counts = g.count().rename(columns=lambda c: f"n_{things(c)}")
+        out = out.merge(g.median().join(counts).reset_index(), on=by, how="left")
     return out
 
 

@@ -107,6 +107,9 @@ VOCABULARIES: dict[str, dict[str, Term]] = {
 #: Header of a factor column outside the vocabularies (its unit in brackets).
 FACTOR_LABELS = {"mu": "μ", "mass_kg": "mass [kg]", "nodes": "nodes", "weight_scale":
                  "weight scale", "n_cand": "N_cand", "friction_level": "friction"}
+#: Unit suffixes of record columns ``<words>_<unit>`` (docs/records.md) and how headers print them.
+UNITS = {"pct": "%", "mm": "mm", "m": "m", "n": "N", "nm": "N·m", "s": "s", "ms": "ms",
+         "kg": "kg", "j": "J", "mj": "mJ", "deg": "°", "rad": "rad", "kpa": "kPa"}
 #: Colours of levels outside every vocabulary (friction levels, node counts), in level order.
 OTHER_COLOURS = ("#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#e6ab02")
 
@@ -115,6 +118,13 @@ def label(column: str, value: object) -> str:
     """Return the display label of ``value`` in ``column`` (the value itself if unknown)."""
     term = VOCABULARIES.get(column, {}).get(str(value))
     return term.label if term else str(value)
+
+
+def things(column: str) -> str:
+    """Return ``column`` without its unit suffix (``lat_threshold_n`` -> ``lat_threshold``): the
+    things a count ``n_<things>`` of it counts."""
+    words, _, suffix = column.rpartition("_")
+    return words if words and suffix in UNITS else column
 
 
 def colour(column: str, value: object, index: int = 0) -> str:

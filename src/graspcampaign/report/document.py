@@ -14,7 +14,7 @@ from typing import Any
 
 import pandas as pd
 
-from graspcampaign.analysis.vocabulary import FACTOR_LABELS, VOCABULARIES, label
+from graspcampaign.analysis.vocabulary import FACTOR_LABELS, UNITS, VOCABULARIES, label
 from graspcampaign.errors import UserInputError
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
@@ -66,11 +66,6 @@ class Col:
     @property
     def keys(self) -> list[str]:
         return list(dict.fromkeys(k for k in (self.key, self.low, self.high, self.share) if k))
-
-
-#: Unit suffixes of record columns (docs/records.md) and how their headers print them.
-UNITS = {"pct": "%", "mm": "mm", "m": "m", "n": "N", "nm": "N·m", "s": "s", "ms": "ms",
-         "kg": "kg", "j": "J", "mj": "mJ", "deg": "°", "rad": "rad", "kpa": "kPa"}
 
 
 def cols(*names: str, frame: pd.DataFrame | None = None) -> list[Col]:

@@ -201,7 +201,7 @@ def fig34(run: Run, fig) -> None:
     c.bar(x, t["lat_threshold_err_pct"], 0.7, color=[colour("planner", q) for q in t["planner"]])
     style.paper_marks(c, x, list(t["paper_lat_threshold_err_pct"]), 0.7)
     c.set_xticks(x, [f"{style.tick(label('planner', q))}\nn={n}" for q, n in zip(
-        t["planner"], t["n_lat_threshold_n"], strict=True)], fontsize=7)  # as style.rate_bars
+        t["planner"], t["n_lat_threshold"], strict=True)], fontsize=7)  # as style.rate_bars
     c.set(ylabel="median |lateral-threshold error| [%]", title="(c) by planner, uncensored block A")
     style.legend_below(c, [style.paper_handle()])
 
@@ -247,7 +247,7 @@ SPEC = ReportSpec("test3_disturbance", [
                     ("n", "n", "n", 0), ("success", "success_pct", "success", None),
                     ("paper_wilson", None, "paper Wilson 95%", ""),
                     *((k, f"{k}_pct", k, None) for k in ("stable", "drop", "damage")),
-                    ("n_lat_threshold_n", None, "thresholds", 0),
+                    ("n_lat_threshold", None, "thresholds", 0),
                     ("lat_threshold_n", "lat_threshold_n", "median lateral threshold [N]", 2),
                     ("lat_threshold_err_pct", "threshold_err_pct", "median |threshold error| [%]", 1)],
                 ["is_stable", "is_drop", "is_damage"], ["lat_threshold_n", "lat_threshold_err_pct"],
