@@ -279,9 +279,9 @@ def test_reproduce_runs_the_listed_studies_then_every_report(tmp_path, monkeypat
     timing each step into --times."""
     from graspcampaign.cli import main
 
-    compose = main._compose
+    compose = main.compose
     monkeypatch.setattr(main, "_runnable", lambda rows, extensions: ["smoke"])
-    monkeypatch.setattr(main, "_compose", lambda study, overrides, root=None: compose(
+    monkeypatch.setattr(main, "compose", lambda study, overrides, root=None: compose(
         study, [*overrides, "shape=[sphere]", "nodes=[144]", "runner.backend=sequential"], root))
     root, times = tmp_path / "results", tmp_path / "times"
     result = invoke("reproduce", "--root", str(root), "--times", str(times))

@@ -25,7 +25,7 @@ app = typer.Typer(
     help="Reproducible experiment campaigns for soft-object grasp planning.",
     pretty_exceptions_enable=False,
 )
-_state = {"debug": False}
+state = {"debug": False}
 
 StudyArg = Annotated[str, typer.Argument(help="Study name (see `list`) or path of a study file.",
                                          show_default=False)]
@@ -36,7 +36,7 @@ Overrides = Annotated[
 RunOpt = Annotated[str | None, typer.Option("--run", help="Run name (default: the study's output.run).")]
 
 
-def _path_or_empty(value: str) -> Path | str:
+def path_or_empty(value: str) -> Path | str:
     """A path option's value, ``""`` kept as given (as a Path it would read as "."), so that an
     empty ``--root`` is refused instead of meaning the current directory."""
     return Path(value) if value else value
@@ -44,18 +44,18 @@ def _path_or_empty(value: str) -> Path | str:
 
 RootOpt = Annotated[Path | None, typer.Option("--root", help="Results root (default: output.root, "
                                                              "i.e. results).",
-                                              parser=_path_or_empty, metavar="path")]
+                                              parser=path_or_empty, metavar="path")]
 
 # ValueErrors from the core and rig layers that mean bad input (a mesh, an ingested file).
 _INPUT_ERRORS = {"MeshError", "IngestError"}
 
 
-def _fail(message: str, code: int = 2) -> None:
+def fail(message: str, code: int = 2) -> None:
     typer.echo(f"error: {message}", err=True)
     raise typer.Exit(code)
 
 
-def _guard(fn):
+def guard(fn):
     """Turn bad-input exceptions into one sentence and exit 2 (traceback with --debug)."""
     import functools
 
@@ -68,17 +68,17 @@ def _guard(fn):
         except typer.Exit:
             raise
         except (UserInputError, ValueError) as exc:
-            if _state["debug"]:
+            if state["debug"]:
                 traceback.print_exc()
             if isinstance(exc, UserInputError) or type(exc).__name__ in _INPUT_ERRORS:
-                _fail(str(exc))
+                fail(str(exc))
             raise
         except OSError as exc:  # a full disk where no layer said so itself (a report's figure)
             if exc.errno not in (errno.ENOSPC, errno.EDQUOT):
                 raise
-            if _state["debug"]:
+            if state["debug"]:
                 traceback.print_exc()
-            _fail(f"cannot write {exc.filename or 'a file'}: {os.strerror(exc.errno).lower()}; free "
+            fail(f"cannot write {exc.filename or 'a file'}: {os.strerror(exc.errno).lower()}; free "
                   "some space there and run the command again.")
     return wrapper
 
@@ -96,7 +96,7 @@ _shown: set[str] = set()
 
 @app.callback()
 def _main(debug: Annotated[bool, typer.Option("--debug", help="Show tracebacks and logs.")] = False):
-    _state["debug"] = debug
+    state["debug"] = debug
     _shown.clear()
     package_log = logging.getLogger("graspcampaign")
     if debug:
@@ -113,21 +113,21 @@ def _configure(cfg, root: Path | None):
     return cfg
 
 
-def _check_root(root: Path | None, write: bool = False) -> None:
+def check_root(root: Path | None, write: bool = False) -> None:
     """Refuse a bad ``--root`` (empty, a file, unwritable when ``write``) before any work."""
     if root is not None:
-        from graspcampaign.campaign.paths import check_root
+        from graspcampaign.campaign import paths
 
-        check_root(root, "--root", write=write)
+        paths.check_root(root, "--root", write=write)
 
 
-def _compose(study: str, overrides: list[str] | None, root: Path | None = None):
+def compose(study: str, overrides: list[str] | None, root: Path | None = None):
     from graspcampaign.campaign.compose import compose_study
 
     return _configure(compose_study(study, overrides or []), root)
 
 
-def _writable_stem(out: Path, option: str, hint: str = "a file stem such as",
+def writable_stem(out: Path, option: str, hint: str = "a file stem such as",
                    example: str = "schedule") -> Path:
     """Check that files ``<out>.<ext>`` (or ``out``) can be written, before any work: a directory
     in its place, a file on its path or a directory that cannot be written is bad input."""
@@ -135,7 +135,7 @@ def _writable_stem(out: Path, option: str, hint: str = "a file stem such as",
 
     why = path_problem(out, write=True, directory=False)
     if why == "is a directory, not a file":
-        _fail(f"{option} {out} is a directory; give {hint} {out / example}.")
+        fail(f"{option} {out} is a directory; give {hint} {out / example}.")
     if why is not None:
-        _fail(f"{option} {out}: {why}.")
+        fail(f"{option} {out}: {why}.")
     return out

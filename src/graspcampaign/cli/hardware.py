@@ -14,19 +14,19 @@ from graspcampaign.cli.app import (
     Overrides,
     RootOpt,
     StudyArg,
-    _check_root,
-    _compose,
-    _fail,
-    _guard,
-    _state,
-    _writable_stem,
     app,
+    check_root,
+    compose,
+    fail,
+    guard,
+    state,
+    writable_stem,
 )
 from graspcampaign.cli.output import print_plan
 
 
 @app.command()
-@_guard
+@guard
 def schedule(
     study: StudyArg,
     overrides: Overrides = None,
@@ -42,14 +42,14 @@ def schedule(
     from graspcampaign.campaign.kind import get_kind
     from graspcampaign.campaign.runner import kind_params
 
-    _check_root(root, write=out is None)
-    cfg = _compose(study, overrides, root)
+    check_root(root, write=out is None)
+    cfg = compose(study, overrides, root)
     kind = get_kind(cfg.kind)
     if kind.schedule is None:
-        _fail(f"study {cfg.name!r} is a simulation study; only hardware protocols have a schedule.")
-    stem = _writable_stem(out or Path(cfg.output.root) / cfg.name / "schedule", "--out")
+        fail(f"study {cfg.name!r} is a simulation study; only hardware protocols have a schedule.")
+    stem = writable_stem(out or Path(cfg.output.root) / cfg.name / "schedule", "--out")
     if out is not None and not out.parent.is_dir():  # as plan --png: a typo grows no tree
-        _fail(f"--out {out}: directory {out.parent} does not exist.")
+        fail(f"--out {out}: directory {out.parent} does not exist.")
     params = kind_params(cfg, kind)
     sheet = kind.schedule(cfg, params)
     sheets = {"": sheet}
@@ -64,7 +64,7 @@ def schedule(
             if not suffix:
                 table.to_parquet(path.with_suffix(".parquet"), index=False)
     except OSError as exc:  # permissions, a full disk
-        _fail(f"--out {stem}: cannot write there ({exc.strerror or type(exc).__name__}).")
+        fail(f"--out {stem}: cannot write there ({exc.strerror or type(exc).__name__}).")
     typer.echo(f"{len(sheet)} commanded trials -> {stem.with_suffix('.csv')} and .parquet")
     if template:
         typer.echo(f"measured-records template -> {stem}-template.csv (columns and units: "
@@ -72,7 +72,7 @@ def schedule(
 
 
 @app.command()
-@_guard
+@guard
 def ingest(
     study: StudyArg,
     files: Annotated[list[Path], typer.Argument(help="Measured records (CSV, XLSX or Parquet).")],
@@ -83,14 +83,14 @@ def ingest(
     """Validate measured records and store them as a run with source = measured."""
     from graspcampaign.campaign.ingest import ingest_files
 
-    _check_root(root, write=True)
-    cfg = _compose(study, overrides, root)
+    check_root(root, write=True)
+    cfg = compose(study, overrides, root)
     n, path = ingest_files(cfg, [str(f) for f in files], run)
     typer.echo(f"{n} measured records stored in {path}")
 
 
 @app.command()
-@_guard
+@guard
 def plan(
     mesh: Annotated[Path, typer.Argument(help="Object mesh (STL, OBJ or PLY).")],
     mass_kg: Annotated[float, typer.Option("--mass-kg", help="Object mass [kg].")],
@@ -106,19 +106,19 @@ def plan(
     from graspcampaign.rig.plan import PicturePathError, plan_mesh
 
     if not mesh.is_file():
-        _fail(f"{mesh}: no such mesh file.")
+        fail(f"{mesh}: no such mesh file.")
     try:  # plan_mesh checks the picture path before any planning work
         result = plan_mesh(mesh, mass_kg=mass_kg, material=material, mu=mu,
                            fingertip_radius_mm=fingertip_radius_mm, unit=unit,
                            png_path=mesh.with_suffix(".plan.png") if png is None else png,
                            png_option="the default picture" if png is None else "--png")
     except PicturePathError as exc:
-        _fail(str(exc) if png is not None else
+        fail(str(exc) if png is not None else
               f"{str(exc).rstrip('.')}; pass --png with a path where the picture can be written.")
     except ValueError as exc:  # MeshError and out-of-range values are bad input
-        if _state["debug"]:
+        if state["debug"]:
             traceback.print_exc()
-        _fail(str(exc))
+        fail(str(exc))
     if as_json:
         typer.echo(json.dumps(result, indent=2, default=str))
         return

@@ -24,20 +24,20 @@ from graspcampaign.cli.app import (
     RootOpt,
     RunOpt,
     StudyArg,
-    _check_root,
-    _compose,
-    _fail,
-    _guard,
-    _path_or_empty,
-    _state,
-    _writable_stem,
     app,
+    check_root,
+    compose,
+    fail,
+    guard,
+    path_or_empty,
+    state,
+    writable_stem,
 )
 from graspcampaign.cli.output import print_list
 
 
 @app.command("list")
-@_guard
+@guard
 def list_cmd(
     names: Annotated[bool, typer.Option("--names", help="Print runnable study names only.")] = False,
     extensions: Annotated[bool, typer.Option(
@@ -103,18 +103,18 @@ def _echo_summary(summary) -> None:
 
 
 @app.command()
-@_guard
+@guard
 def show(study: StudyArg, overrides: Overrides = None, run: RunOpt = None,
          root: RootOpt = None) -> None:
     """Print a study's design, factor levels, trial count, progress and estimated time."""
     from graspcampaign.campaign.status import design_text
 
-    _check_root(root)
-    typer.echo(design_text(_compose(study, overrides, root), run))
+    check_root(root)
+    typer.echo(design_text(compose(study, overrides, root), run))
 
 
 @app.command("run")
-@_guard
+@guard
 def run_cmd(
     study: StudyArg,
     overrides: Overrides = None,
@@ -127,8 +127,8 @@ def run_cmd(
     """Run a study (resuming a run that already has records)."""
     from graspcampaign.campaign.runner import run_path, run_study
 
-    _check_root(root, write=True)
-    cfg = _compose(study, overrides, root)
+    check_root(root, write=True)
+    cfg = compose(study, overrides, root)
     path = run_path(cfg, run)
     try:
         summary = run_study(cfg, run=run, allow_drift=allow_drift, fail_fast=fail_fast)
@@ -144,7 +144,7 @@ def run_cmd(
 
 
 @app.command()
-@_guard
+@guard
 def reproduce(
     root: RootOpt = None,
     times: Annotated[Path | None, typer.Option(
@@ -160,9 +160,9 @@ def reproduce(
     from graspcampaign.campaign.runner import run_path, run_study
     from graspcampaign.report.build import build_reports
 
-    _check_root(root, write=True)
+    check_root(root, write=True)
     if times is not None:  # checked before the first study runs, not after it
-        _writable_stem(times, "--times", "a file such as", "reproduce_times.txt")
+        writable_stem(times, "--times", "a file such as", "reproduce_times.txt")
         times.parent.mkdir(parents=True, exist_ok=True)
 
     def timed(step: str, start: float) -> None:
@@ -174,7 +174,7 @@ def reproduce(
 
     for name in _runnable(_study_rows(), extensions=False):
         start = time.perf_counter()
-        cfg = _compose(name, [], root)
+        cfg = compose(name, [], root)
         try:
             summary = run_study(cfg)
         except KeyboardInterrupt:  # say what is recorded and how to resume, as `run` does
@@ -184,7 +184,7 @@ def reproduce(
             raise typer.Exit(1)
         timed(name, start)
     start = time.perf_counter()
-    batch = build_reports(None, root=root or Path("results"), n_jobs=1 if _state["debug"] else -1)
+    batch = build_reports(None, root=root or Path("results"), n_jobs=1 if state["debug"] else -1)
     timed("report", start)
     _report_paths(batch)
 
@@ -208,12 +208,12 @@ def _interrupted(cfg, path: Path, study: str, overrides, run, root) -> None:
 
 
 @app.command()
-@_guard
+@guard
 def status(
     study: Annotated[str, typer.Argument(help="Study name.", show_default=False)],
     run: RunOpt = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
-    root: Annotated[Path, typer.Option(help="Results root.", parser=_path_or_empty,
+    root: Annotated[Path, typer.Option(help="Results root.", parser=path_or_empty,
                                        metavar="path")] = Path("results"),
 ) -> None:
     """Summarise a run from its records only (never runs anything)."""
@@ -229,12 +229,12 @@ def status(
 
 
 @app.command()
-@_guard
+@guard
 def report(
     studies: Annotated[list[str] | None, typer.Argument(
         help="Studies (default: every run of every study under the root).")] = None,
     run: RunOpt = None,
-    root: Annotated[Path, typer.Option(help="Results root.", parser=_path_or_empty,
+    root: Annotated[Path, typer.Option(help="Results root.", parser=path_or_empty,
                                        metavar="path")] = Path("results"),
     fmt: Annotated[str, typer.Option("--format", help="Comma-separated: md,csv,json,html.")] = "md,csv",
     figure_format: Annotated[str, typer.Option("--figure-format", help="png, svg or pdf.")] = "png",
@@ -254,11 +254,11 @@ def report(
     for study in studies or []:
         check_known(root, study)
     if jobs == 0 or jobs < -1:
-        _fail(f"--jobs {jobs}: give a number of processes (1 or more), or -1 for one per core.")
+        fail(f"--jobs {jobs}: give a number of processes (1 or more), or -1 for one per core.")
     # one batch: every named study and run is checked before any report is written
     runs = {s: configured_run(s) if run is None else run for s in studies} if studies else run
     _report_paths(build_reports(studies or None, run=runs, root=root, formats=fmt.split(","),
-                                figure_format=figure_format, n_jobs=1 if _state["debug"] else jobs))
+                                figure_format=figure_format, n_jobs=1 if state["debug"] else jobs))
 
 
 def _report_paths(batch) -> None:

@@ -27,12 +27,18 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from graspcampaign.rig.measured_file import IngestError, _fail, header_problems, read_table, table_and_label
+from graspcampaign.rig.measured_file import (
+    IngestError,
+    header_problems,
+    ingest_error,
+    read_table,
+    table_and_label,
+)
 from graspcampaign.rig.record_schema import (
-    _DECISIVE,
-    _FLAG_OF,
-    _UNIT_NAMES,
     ATTEMPT_TYPO_LIMIT,
+    DECISIVE,
+    FLAG_OF,
+    UNIT_NAMES,
     FieldSpec,
     schema_for,
 )
@@ -153,20 +159,20 @@ def validate_records(data: pd.DataFrame | str | Path, schedule: pd.DataFrame,
     df.columns = [str(c).strip() for c in df.columns]
     _check_header(df, schema, label, schedule.columns)  # first: it names a sheet holding records
     if len(df) == 0:
-        raise _fail(label, None, "trial_id", "the file has no data rows")
+        raise ingest_error(label, None, "trial_id", "the file has no data rows")
 
     n = len(df)
     ids = []
     for i, value in enumerate(df["trial_id"].tolist()):
         if _blank(value):
-            raise _fail(label, i + 1, "trial_id", "trial id is empty")
+            raise ingest_error(label, i + 1, "trial_id", "trial id is empty")
         ids.append(str(value).strip())
     aborted = []
     for i, value in enumerate(df["aborted"].tolist()):
         flag = _as_bool(value)
         if flag is None:
-            raise _fail(label, i + 1, "aborted", f"value {value!r} is not a boolean "
-                        "(true/false, 1/0, yes/no)")
+            raise ingest_error(label, i + 1, "aborted", f"value {value!r} is not a boolean "
+                               "(true/false, 1/0, yes/no)")
         aborted.append(flag)
 
     out: dict[str, list] = {"trial_id": ids, "aborted": aborted}
@@ -182,8 +188,8 @@ def validate_records(data: pd.DataFrame | str | Path, schedule: pd.DataFrame,
             executed = not aborted[i]
             if _blank(value):
                 if executed and spec.executed_required:
-                    raise _fail(label, i + 1, spec.name, "value is empty but the trial was "
-                                "executed (aborted is false)")
+                    raise ingest_error(label, i + 1, spec.name, "value is empty but the trial was "
+                                       "executed (aborted is false)")
                 if spec.kind in ("float", "int"):
                     clean.append(math.nan)
                 else:
@@ -218,35 +224,35 @@ def check_one_source(rows: Sequence[tuple[str, int, str]], stored: pd.DataFrame 
         if first is None:
             first, where = source, f"{label}, row {row}"
         elif source != first:
-            raise _fail(label, row, "source", f"value '{source}' differs from '{first}' in {where}; "
-                        "a run holds the records of one source (measured or virtual): ingest the "
-                        "others into another run with --run")
+            raise ingest_error(label, row, "source", f"value '{source}' differs from '{first}' in {where}; "
+                               "a run holds the records of one source (measured or virtual): ingest the "
+                               "others into another run with --run")
 
 
 def _parse(spec: FieldSpec, value, label: str, row: int):
     if spec.kind == "bool":
         flag = _as_bool(value)
         if flag is None:
-            raise _fail(label, row, spec.name, f"value {value!r} is not a boolean "
-                        "(true/false, 1/0, yes/no)")
+            raise ingest_error(label, row, spec.name, f"value {value!r} is not a boolean "
+                               "(true/false, 1/0, yes/no)")
         return flag
     if spec.kind == "str":
         text = str(value).strip()
         if spec.choices and text not in spec.choices:
-            raise _fail(label, row, spec.name, f"value {text!r} is not one of "
-                        f"{', '.join(spec.choices)}")
+            raise ingest_error(label, row, spec.name, f"value {text!r} is not one of "
+                               f"{', '.join(spec.choices)}")
         return text
     number = _as_float(value)
     if number is None:
-        raise _fail(label, row, spec.name, f"value {value!r} is not a number")
+        raise ingest_error(label, row, spec.name, f"value {value!r} is not a number")
     if not math.isfinite(number):
-        raise _fail(label, row, spec.name, f"value {value!r} is not finite")
+        raise ingest_error(label, row, spec.name, f"value {value!r} is not finite")
     if spec.kind == "int" and number != int(number):
-        raise _fail(label, row, spec.name, f"value {value!r} is not an integer")
+        raise ingest_error(label, row, spec.name, f"value {value!r} is not an integer")
     if not spec.low <= number <= spec.high:
-        unit = f" {_UNIT_NAMES.get(spec.unit, spec.unit)}" if spec.unit else ""
-        raise _fail(label, row, spec.name, f"value {number:g} lies outside "
-                    f"[{spec.low:g}, {spec.high:g}]{unit} (wrong units?)")
+        unit = f" {UNIT_NAMES.get(spec.unit, spec.unit)}" if spec.unit else ""
+        raise ingest_error(label, row, spec.name, f"value {number:g} lies outside "
+                           f"[{spec.low:g}, {spec.high:g}]{unit} (wrong units?)")
     return number
 
 
@@ -266,15 +272,15 @@ def _check_ids(df: pd.DataFrame, schedule: pd.DataFrame, label: str) -> None:
             attempt_col.append(int(m["k"]))
             continue
         if m and m["slot"] in slots:
-            raise _fail(label, i + 1, "trial_id", f"trial id '{tid}' names attempt {m['k']} of slot "
-                        f"'{m['slot']}'; a re-run is attempt 2 to {ATTEMPT_TYPO_LIMIT}")
-        raise _fail(label, i + 1, "trial_id", f"trial id '{tid}' is not in the schedule")
+            raise ingest_error(label, i + 1, "trial_id", f"trial id '{tid}' names attempt {m['k']} of slot "
+                               f"'{m['slot']}'; a re-run is attempt 2 to {ATTEMPT_TYPO_LIMIT}")
+        raise ingest_error(label, i + 1, "trial_id", f"trial id '{tid}' is not in the schedule")
     dup = df["trial_id"].duplicated(keep="first")
     if dup.any():
         i = int(np.flatnonzero(dup.to_numpy())[0])
         first = int(np.flatnonzero((df["trial_id"] == df["trial_id"].iloc[i]).to_numpy())[0])
-        raise _fail(label, i + 1, "trial_id", f"duplicate trial id '{df['trial_id'].iloc[i]}' "
-                    f"(first seen in row {first + 1})")
+        raise ingest_error(label, i + 1, "trial_id", f"duplicate trial id '{df['trial_id'].iloc[i]}' "
+                           f"(first seen in row {first + 1})")
     df["slot_id"] = slot_col
     df["attempt"] = attempt_col
     executed = ~df["aborted"].astype(bool)
@@ -283,43 +289,43 @@ def _check_ids(df: pd.DataFrame, schedule: pd.DataFrame, label: str) -> None:
         i = int(np.flatnonzero(twice.to_numpy())[0])
         slot = df["slot_id"].iloc[i]
         first = int(np.flatnonzero(((df["slot_id"] == slot) & executed).to_numpy())[0])
-        raise _fail(label, i + 1, "aborted", f"slot '{slot}' already has an executed record in "
-                    f"row {first + 1}; only one attempt per slot may be executed")
+        raise ingest_error(label, i + 1, "aborted", f"slot '{slot}' already has an executed record in "
+                           f"row {first + 1}; only one attempt per slot may be executed")
 
 
 def _check_consistency(df: pd.DataFrame, label: str) -> None:
     for i, row in enumerate(df.itertuples(index=False)):
         if row.aborted:
             if row.outcome not in (None, "aborted"):
-                raise _fail(label, i + 1, "outcome", f"outcome is '{row.outcome}' on a row whose "
-                            "aborted flag is true (an aborted attempt has no outcome: leave it empty "
-                            "or write aborted)")
+                raise ingest_error(label, i + 1, "outcome", f"outcome is '{row.outcome}' on a row whose "
+                                   "aborted flag is true (an aborted attempt has no outcome: leave it empty "
+                                   "or write aborted)")
             continue
         outcome = row.outcome
         if outcome == "aborted":
-            raise _fail(label, i + 1, "outcome", "outcome 'aborted' on a row whose aborted flag "
-                        "is false")
+            raise ingest_error(label, i + 1, "outcome", "outcome 'aborted' on a row whose aborted flag "
+                               "is false")
         if bool(row.success) != (outcome in ("stable", "success")):
-            raise _fail(label, i + 1, "success", f"success is {row.success} but outcome is "
-                        f"'{outcome}' (success means outcome stable or success, §8.1)")
+            raise ingest_error(label, i + 1, "success", f"success is {row.success} but outcome is "
+                               f"'{outcome}' (success means outcome stable or success, §8.1)")
         if bool(row.stable) != (outcome == "stable"):
-            raise _fail(label, i + 1, "stable", f"stable is {row.stable} but outcome is "
-                        f"'{outcome}'")
-        flag = _FLAG_OF.get(outcome)
+            raise ingest_error(label, i + 1, "stable", f"stable is {row.stable} but outcome is "
+                               f"'{outcome}'")
+        flag = FLAG_OF.get(outcome)
         if flag and not getattr(row, flag):
-            raise _fail(label, i + 1, flag, f"outcome is '{outcome}' but {flag} is false "
-                        "(every failure class carries its flag, §8.1)")
+            raise ingest_error(label, i + 1, flag, f"outcome is '{outcome}' but {flag} is false "
+                               "(every failure class carries its flag, §8.1)")
         finger = getattr(row, "first_finger_measured", math.nan)
         if getattr(row, "threshold_censored", None) and finger == finger and finger != 0:
-            raise _fail(label, i + 1, "first_finger_measured", f"finger {finger:g} slipped first but "
-                        "threshold_censored is true (a censored ramp ended without slip: 0)")
+            raise ingest_error(label, i + 1, "first_finger_measured", f"finger {finger:g} slipped first but "
+                               "threshold_censored is true (a censored ramp ended without slip: 0)")
         # a drop, damage or contact loss classes the trial as a failure whatever its hold (§8.1);
         # several may co-occur under one failure class; slip is graded by its amount (a partial
         # hold may carry a slip flag)
-        if not flag and (raised := next((f for f in _DECISIVE if getattr(row, f)), None)):
-            raise _fail(label, i + 1, raised, f"{raised} is true but outcome is '{outcome}' (a "
-                        "measured drop, damage or contact loss classes the trial as that failure, "
-                        "§8.1)")
+        if not flag and (raised := next((f for f in DECISIVE if getattr(row, f)), None)):
+            raise ingest_error(label, i + 1, raised, f"{raised} is true but outcome is '{outcome}' (a "
+                               "measured drop, damage or contact loss classes the trial as that failure, "
+                               "§8.1)")
 
 
 MEAN_REL_TOL = 0.05
@@ -345,8 +351,8 @@ def _check_means(df: pd.DataFrame, label: str) -> None:
         off = recorded & (np.abs(given - mean) > tol)
         if off.any():
             i = int(np.flatnonzero(off)[0])
-            name = _UNIT_NAMES[unit]
+            name = UNIT_NAMES[unit]
             shown = ", ".join("empty" if np.isnan(v) else f"{v:g}" for v in values[i])
-            raise _fail(label, i + 1, column, f"value {given[i]:g} {name} is not the mean of "
-                        f"{', '.join(fingers)} ({shown}: mean {mean[i]:.4g} {name}) within "
-                        f"{MEAN_REL_TOL:.0%} + {MEAN_ABS_TOL[stem]:g} {name}")
+            raise ingest_error(label, i + 1, column, f"value {given[i]:g} {name} is not the mean of "
+                               f"{', '.join(fingers)} ({shown}: mean {mean[i]:.4g} {name}) within "
+                               f"{MEAN_REL_TOL:.0%} + {MEAN_ABS_TOL[stem]:g} {name}")

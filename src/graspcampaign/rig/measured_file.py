@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pandas as pd
 
-__all__ = ["IngestError", "header_problems", "read_table", "table_and_label"]
+__all__ = ["IngestError", "header_problems", "ingest_error", "read_table", "table_and_label"]
 
 
 class IngestError(ValueError):
@@ -26,7 +26,8 @@ class IngestError(ValueError):
     file, row and column."""
 
 
-def _fail(label: str, row: int | None, column: str, problem: str) -> IngestError:
+def ingest_error(label: str, row: int | None, column: str, problem: str) -> IngestError:
+    """The error naming the file ``label``, its ``row`` (None: the header) and ``column``."""
     where = "header" if row is None else f"row {row}"
     return IngestError(f"{label}, {where}, column '{column}': {problem}.")
 
@@ -92,7 +93,7 @@ def _check_formulas(path: Path, sheet: str, frame: pd.DataFrame) -> None:
         for k, cells in enumerate(rows):
             for j, cell in enumerate(cells):
                 if getattr(cell, "data_type", None) == "f" and pd.isna(frame.iat[k, j]):
-                    raise _fail(path.name, k + 1, str(frame.columns[j]),
+                    raise ingest_error(path.name, k + 1, str(frame.columns[j]),
                                 f"the cell holds a formula ({cell.value}) with no computed value; "
                                 "open and save the file in a spreadsheet program, which stores "
                                 "the values")

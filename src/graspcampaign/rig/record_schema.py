@@ -53,11 +53,14 @@ from graspcampaign.rig.protocol import STUDY_TEST2, STUDY_TEST3
 
 __all__ = [
     "ATTEMPT_TYPO_LIMIT",
+    "DECISIVE",
+    "FLAG_OF",
     "FieldSpec",
     "OUTCOME_VALUES",
     "SOURCES",
     "TEST2_SCHEMA",
     "TEST3_SCHEMA",
+    "UNIT_NAMES",
     "record_columns",
     "record_template",
     "schema_for",
@@ -66,8 +69,9 @@ __all__ = [
 OUTCOME_VALUES = ("stable", "success", "partial", "failure_slip", "failure_drop",
                   "failure_damage", "failure_contact_loss", "aborted")
 SOURCES = ("measured", "virtual")
-_FLAG_OF = {"failure_slip": "slip_flag", "failure_drop": "drop_flag",
-            "failure_damage": "damage_flag", "failure_contact_loss": "contact_loss_flag"}
+#: The failure flag each failure outcome must raise.
+FLAG_OF = {"failure_slip": "slip_flag", "failure_drop": "drop_flag",
+           "failure_damage": "damage_flag", "failure_contact_loss": "contact_loss_flag"}
 
 
 ATTEMPT_TYPO_LIMIT = 99
@@ -110,7 +114,7 @@ class FieldSpec:
 
 
 _FLAGS = ("slip_flag", "drop_flag", "damage_flag", "contact_loss_flag")
-_DECISIVE = ("drop_flag", "damage_flag", "contact_loss_flag")
+DECISIVE = ("drop_flag", "damage_flag", "contact_loss_flag")
 """Failure events that class a trial as a failure whatever its hold (§8.1)."""
 TEST2_SCHEMA: tuple[FieldSpec, ...] = (
     FieldSpec("trial_id", "str"),
@@ -156,7 +160,8 @@ def record_columns(study: str) -> list[str]:
     return [f.name for f in schema_for(study)]
 
 
-_UNIT_NAMES = {"mm": "mm", "n": "N", "nm": "N m", "deg": "deg"}
+#: How an ingest message and the record template name each unit suffix.
+UNIT_NAMES = {"mm": "mm", "n": "N", "nm": "N m", "deg": "deg"}
 
 
 def record_template(schedule: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame]:
@@ -178,7 +183,7 @@ def record_template(schedule: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame]
     rows = []
     for spec in schema:
         if spec.kind in ("float", "int"):
-            unit = _UNIT_NAMES.get(spec.unit, spec.unit) or "1"
+            unit = UNIT_NAMES.get(spec.unit, spec.unit) or "1"
             allowed = f"{spec.kind} in [{spec.low:g}, {spec.high:g}]"
         else:
             unit = "-"

@@ -21,7 +21,13 @@ import numpy as np
 import pandas as pd
 
 from graspcampaign.rig.ingest import check_one_source
-from graspcampaign.rig.measured_file import IngestError, _fail, header_problems, read_table, table_and_label
+from graspcampaign.rig.measured_file import (
+    IngestError,
+    header_problems,
+    ingest_error,
+    read_table,
+    table_and_label,
+)
 from graspcampaign.rig.record_schema import ATTEMPT_TYPO_LIMIT, SOURCES
 from graspcampaign.rig.test1_summary import WAVEFORM_COLUMNS
 
@@ -105,13 +111,13 @@ def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterabl
         raise IngestError(f"{label}, header: {'; '.join(problems)} (`graspcampaign schedule "
                           "test1_bench --template` writes a sheet with every column).")
     if len(df) == 0:
-        raise _fail(label, None, "event_id", "the file has no data rows")
+        raise ingest_error(label, None, "event_id", "the file has no data rows")
     out = pd.DataFrame({"event_id": df["event_id"]})
     ids = df["event_id"]
     bad = ids.isna() | (ids.astype(str).str.strip() == "")
     if bad.any():
-        raise _fail(label, int(np.flatnonzero(bad.to_numpy())[0]) + 1, "event_id",
-                    "event id is empty")
+        raise ingest_error(label, int(np.flatnonzero(bad.to_numpy())[0]) + 1, "event_id",
+                           "event id is empty")
     out["event_id"] = ids.astype(str).str.strip()
     for c in WAVEFORM_COLUMNS[1:]:
         raw = df[c]
@@ -120,42 +126,42 @@ def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterabl
             ["nan", "inf", "-inf", "+inf", "infinity", "-infinity"])
         if nonnum.any():
             i = int(np.flatnonzero(nonnum.to_numpy())[0])
-            raise _fail(label, i + 1, c, f"value {raw.iloc[i]!r} is not a number")
+            raise ingest_error(label, i + 1, c, f"value {raw.iloc[i]!r} is not a number")
         vals = num.to_numpy(dtype=float)
         notfinite = ~np.isfinite(vals)
         if notfinite.any():
             i = int(np.flatnonzero(notfinite)[0])
             problem = ("value nan (an empty cell or NaN) is not finite" if np.isnan(vals[i])
                        else f"value {vals[i]:g} is not finite")  # not np.float64(inf)
-            raise _fail(label, i + 1, c, problem)
+            raise ingest_error(label, i + 1, c, problem)
         lo, hi, what = _RANGES[c]
         outside = (vals < lo) | (vals > hi)
         if outside.any():
             i = int(np.flatnonzero(outside)[0])
-            raise _fail(label, i + 1, c, f"value {vals[i]:g} lies outside {what} "
-                        "(wrong units?)")
+            raise ingest_error(label, i + 1, c, f"value {vals[i]:g} lies outside {what} "
+                               "(wrong units?)")
         out[c] = vals
     known = set(known_event_ids)
     unknown = ~out["event_id"].isin(known)
     if unknown.any():
         i = int(np.flatnonzero(unknown.to_numpy())[0])
-        raise _fail(label, i + 1, "event_id",
-                    f"event id '{out['event_id'].iloc[i]}' is not in the schedule")
+        raise ingest_error(label, i + 1, "event_id",
+                           f"event id '{out['event_id'].iloc[i]}' is not in the schedule")
     dup = out.duplicated(["event_id", "time_s"], keep="first")
     if dup.any():
         i = int(np.flatnonzero(dup.to_numpy())[0])
         key = out.iloc[i]
         first = out.index[(out["event_id"] == key["event_id"])
                           & (out["time_s"] == key["time_s"])][0]
-        raise _fail(label, i + 1, "time_s", f"duplicate sample of event '{key['event_id']}' "
-                    f"at {key['time_s']:g} s (first seen in row {first + 1})")
+        raise ingest_error(label, i + 1, "time_s", f"duplicate sample of event '{key['event_id']}' "
+                           f"at {key['time_s']:g} s (first seen in row {first + 1})")
     prev = out.groupby("event_id", sort=False)["time_s"].shift()
     back = (out["time_s"] <= prev).to_numpy()
     if back.any():
         i = int(np.flatnonzero(back)[0])
-        raise _fail(label, i + 1, "time_s", f"time {out['time_s'].iloc[i]:g} s does not "
-                    f"increase within event '{out['event_id'].iloc[i]}' (previous sample "
-                    f"{prev.iloc[i]:g} s)")
+        raise ingest_error(label, i + 1, "time_s", f"time {out['time_s'].iloc[i]:g} s does not "
+                           f"increase within event '{out['event_id'].iloc[i]}' (previous sample "
+                           f"{prev.iloc[i]:g} s)")
     if schedule is not None:
         _check_commanded(out, schedule, label)
     if "attempt" in df.columns:
@@ -190,9 +196,9 @@ def _check_commanded(table: pd.DataFrame, schedule: pd.DataFrame, label: str) ->
         if off.any():
             i = int(at.to_numpy()[off].min())
             k = int(np.flatnonzero(at.to_numpy() == i)[0])
-            raise _fail(label, i + 1, column, f"event '{at.index[k]}' peaks at {peak[k]:g} mm where "
-                        f"the schedule commands a {what} of {commanded[k]:g} mm (ratio "
-                        f"{ratio[k]:.3g}, outside 1/{PEAK_FACTOR:g} to {PEAK_FACTOR:g}: wrong units?)")
+            raise ingest_error(label, i + 1, column, f"event '{at.index[k]}' peaks at {peak[k]:g} mm where "
+                               f"the schedule commands a {what} of {commanded[k]:g} mm (ratio "
+                               f"{ratio[k]:.3g}, outside 1/{PEAK_FACTOR:g} to {PEAK_FACTOR:g}: wrong units?)")
 
 
 def _attempts(raw: pd.Series, label: str) -> np.ndarray:
@@ -206,8 +212,8 @@ def _attempts(raw: pd.Series, label: str) -> np.ndarray:
             number = math.nan
         if not (math.isfinite(number) and number == int(number) and 1 <= number <= ATTEMPT_TYPO_LIMIT):
             shown = value.item() if isinstance(value, np.generic) else value  # no np reprs
-            raise _fail(label, i + 1, "attempt", f"value {shown!r} is not an attempt number (an "
-                        f"integer 1 to {ATTEMPT_TYPO_LIMIT} counting the tries of the event)")
+            raise ingest_error(label, i + 1, "attempt", f"value {shown!r} is not an attempt number (an "
+                               f"integer 1 to {ATTEMPT_TYPO_LIMIT} counting the tries of the event)")
         values.append(int(number))
     return np.asarray(values, dtype=np.int64)
 
@@ -219,11 +225,11 @@ def _sources(raw: pd.Series, label: str) -> np.ndarray:
         text = "" if value is None or (isinstance(value, float) and math.isnan(value)) \
             else str(value).strip()
         if not text:
-            raise _fail(label, i + 1, "source", f"value is empty; expected one of "
-                        f"{', '.join(SOURCES)}")
+            raise ingest_error(label, i + 1, "source", f"value is empty; expected one of "
+                               f"{', '.join(SOURCES)}")
         if text not in SOURCES:
-            raise _fail(label, i + 1, "source", f"value {text!r} is not one of "
-                        f"{', '.join(SOURCES)}")
+            raise ingest_error(label, i + 1, "source", f"value {text!r} is not one of "
+                               f"{', '.join(SOURCES)}")
         values.append(text)
     return np.asarray(values, dtype=object)
 
@@ -236,8 +242,8 @@ def _check_constant(table: pd.DataFrame, column: str, label: str) -> None:
         i = int(np.flatnonzero(changed)[0])
         value, before = (v.item() if isinstance(v, np.generic) else v  # no np reprs
                          for v in (table[column].iloc[i], first.iloc[i]))
-        raise _fail(label, i + 1, column, f"value {value!r} differs from {before!r} earlier in "
-                    f"event '{table['event_id'].iloc[i]}' (one value per event)")
+        raise ingest_error(label, i + 1, column, f"value {value!r} differs from {before!r} earlier in "
+                           f"event '{table['event_id'].iloc[i]}' (one value per event)")
 
 
 def waveform_template() -> tuple[pd.DataFrame, pd.DataFrame]:
