@@ -395,6 +395,10 @@ _EDITS = {
     "output_retyped": _edit_case(
         lambda t: _set(t, "residual_norm_n", t.column("residual_norm_n").cast(pa.string())), False,
         "with no digest of its values, which every file of this run gets when it is written"),
+    # a file as the tool writes it, with a column of lists where the run's records have text
+    "study_listed": _edit_case(lambda t: _set(t, "study", pa.array([["baseline_grid"]] * len(t))),
+                               True, "its study column holds values of type list<element: string>, "
+                                     "not text", damaged=True),
     # a file as the tool writes it, of another source
     "source_measured": _edit_case(lambda t: _set(t, "source", ["measured"] * len(t)), True,
                                   "holding records of another source (measured)"),
