@@ -147,6 +147,17 @@ def test_an_output_file_that_is_a_directory_gets_the_options_own_hint(finished, 
     assert not (tmp_path / "fresh").exists()
 
 
+@pytest.mark.parametrize("option", ["--out", "--times"])
+def test_a_named_pipe_given_for_an_output_file_is_refused_at_once(finished, tmp_path, option):
+    pipe = tmp_path / "pipe"
+    os.mkfifo(pipe)  # opening it to write would wait for a reader
+    args = {"--out": ["schedule", "test2_grasp", "--out", pipe, "--root", finished],
+            "--times": ["reproduce", "--root", tmp_path / "fresh", "--times", pipe]}[option]
+    refused(finished, args, f"{option} {pipe}: is a named pipe (FIFO), not a regular file.",
+            seconds=5)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["pipe"]
+
+
 # -- 2. a damaged manifest ----------------------------------------------------------------------------
 def _json_error(text: str) -> str:
     try:
