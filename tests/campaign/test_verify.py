@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import collections
 import os
+import shutil
 import time
 from pathlib import Path
 
@@ -22,15 +23,30 @@ from graspcampaign.errors import DamagedRunError
 
 
 @pytest.fixture
-def opened(monkeypatch):
-    """Count every opening of a Parquet file (by path relative to the results root) from here on,
-    in a process that has verified no file yet (an empty cache)."""
-    counts: collections.Counter = collections.Counter()
+def past_the_tick(monkeypatch):
+    """A process that has verified no file yet (an empty cache), every read of which comes long
+    past the clock tick of the file's last change (a file read within it is read again)."""
     monkeypatch.setattr(verify, "_VERIFIED", {})
+    monkeypatch.setattr(verify, "TICK_NS", {True: -10**12, False: -10**12})
+
+
+@pytest.fixture
+def within_the_tick(monkeypatch):
+    """A process whose file system clock ticks once a test: every read is within the tick."""
+    monkeypatch.setattr(verify, "_VERIFIED", {})
+    monkeypatch.setattr(verify, "TICK_NS", {True: 10**12, False: 10**12})
+
+
+@pytest.fixture
+def opened(monkeypatch, past_the_tick):
+    """Count every opening of a Parquet file (by path relative to the results root) from here on
+    (:func:`past_the_tick`: a file read within the tick of its last change is read again)."""
+    counts: collections.Counter = collections.Counter()
 
     def counting(real):
         def opening(source, *args, **kwargs):
-            counts[Path(source).as_posix().split("/results/")[-1]] += 1
+            name = getattr(source, "name", source)  # a path, or the file opened to read it
+            counts[Path(name).as_posix().split("/results/")[-1]] += 1
             return real(source, *args, **kwargs)
         return opening
 
@@ -94,7 +110,7 @@ def _verified_shard(tmp_path) -> tuple[RunStore, Path]:
     return store, path
 
 
-def test_a_file_damaged_in_place_after_it_was_verified_is_verified_again(tmp_path):
+def test_a_file_damaged_in_place_after_it_was_verified_is_verified_again(tmp_path, past_the_tick):
     store, path = _verified_shard(tmp_path)
     before = path.stat()
     corrupt_value_column(path, "x")  # same size
@@ -104,7 +120,7 @@ def test_a_file_damaged_in_place_after_it_was_verified_is_verified_again(tmp_pat
         store.read()
 
 
-def test_a_file_damaged_at_its_old_size_and_mtime_is_verified_again(tmp_path):
+def test_a_file_damaged_at_its_old_size_and_mtime_is_verified_again(tmp_path, past_the_tick):
     store, path = _verified_shard(tmp_path)
     before = path.stat()
     time.sleep(0.05)  # past the file system's clock tick: the damage gets a new ctime
@@ -115,7 +131,7 @@ def test_a_file_damaged_at_its_old_size_and_mtime_is_verified_again(tmp_path):
         store.read()
 
 
-def test_a_file_rewritten_after_it_was_verified_is_verified_again_at_its_old_mtime(tmp_path):
+def test_a_file_rewritten_after_it_was_verified_is_verified_again_at_its_old_mtime(tmp_path, past_the_tick):
     store, path = _verified_shard(tmp_path)
     before = path.stat()
     table = pq.read_table(path)  # one more row under the digest stored for the 20 written
@@ -124,3 +140,77 @@ def test_a_file_rewritten_after_it_was_verified_is_verified_again_at_its_old_mti
     assert path.stat().st_size != before.st_size
     with pytest.raises(DamagedRunError, match="its values differ from those written"):
         store.read()
+
+
+def _keeping_its_key(path: Path, change) -> None:
+    """Make ``change`` to ``path`` as if it left the file's key (inode, size, mtime, ctime) as
+    this process knows it: a same-size rewrite within one tick of a coarse clock, simulated (here
+    the change gets a new ctime, so the key this process holds, if any, is moved to it)."""
+    change()
+    name = os.path.abspath(path)
+    if name in verify._VERIFIED:
+        verify._VERIFIED[name] = (verify._key(os.stat(path)), verify._VERIFIED[name][1])
+
+
+def _same_size_new_values(path: Path) -> None:
+    """Rewrite ``path`` with other values in column x, under the digest of the old ones."""
+    table = pq.read_table(path)
+    changed = table.set_column(table.schema.get_field_index("x"), "x",
+                               pa.array([99.0] * len(table))).replace_schema_metadata(
+        table.schema.metadata)
+    pq.write_table(changed, path, compression="zstd", write_page_checksum=True)
+
+
+@pytest.mark.parametrize("rewrite", ["compact", "drop rows"])
+def test_values_changed_under_an_unchanged_key_never_get_a_digest_of_their_own(
+        tmp_path, past_the_tick, rewrite):
+    """Compaction and row removal write what they read under a new digest: they verify the file
+    again, whatever the key says (a column read trusts the key; a rewrite would launder)."""
+    store = RunStore(tmp_path / "results" / "unit" / "r1")
+    a = store.write_shard("records", "a", [{"trial_id": f"a{i}", "x": 0.5 * i} for i in range(5)])
+    store.write_shard("records", "b", [{"trial_id": f"b{i}", "x": 0.5 * i} for i in range(5)])
+    assert len(store.read()) == 10  # verified and remembered
+    _keeping_its_key(a, lambda: _same_size_new_values(a))
+    before = {p.name: p.read_bytes() for p in a.parent.iterdir()}
+    with pytest.raises(DamagedRunError, match="its values differ from those written"):
+        store.compact() if rewrite == "compact" else store._drop_rows("records", {"a0"})
+    assert {p.name: p.read_bytes() for p in a.parent.iterdir()} == before  # nothing written
+    with pytest.raises(DamagedRunError, match="its values differ from those written"):
+        store.read()  # nor is the file trusted any longer
+    verify._VERIFIED.clear()  # a new process
+    assert verify.verify_file(a).startswith("its values differ from those written")
+
+
+def test_a_file_changed_within_the_clock_tick_of_its_verification_is_verified_again(
+        tmp_path, within_the_tick):
+    store, path = _verified_shard(tmp_path)  # not remembered: verified within the tick
+    _keeping_its_key(path, lambda: _same_size_new_values(path))
+    with pytest.raises(DamagedRunError, match="its values differ from those written"):
+        store.read()
+
+
+def test_a_file_replaced_while_it_is_read_is_read_as_the_version_it_was_known_by(
+        tmp_path, past_the_tick, monkeypatch):
+    store, path = _verified_shard(tmp_path)
+    replacement = path.with_name("other.parquet")
+    shutil.copy(path, replacement)
+    _same_size_new_values(replacement)
+    real = pq.ParquetFile
+
+    def replaced_then_read(source, *args, **kwargs):  # an os.replace just before the read
+        if replacement.exists():
+            os.replace(replacement, path)
+        return real(source, *args, **kwargs)
+
+    monkeypatch.setattr(pq, "ParquetFile", replaced_then_read)
+    assert store.read().column("x").to_pylist() == [0.5 * i for i in range(20)]  # not 99.0
+    with pytest.raises(DamagedRunError, match="its values differ from those written"):
+        store.read()  # the file now at its path: another inode, verified
+
+
+def test_each_path_keeps_only_the_version_last_verified(tmp_path, past_the_tick):
+    store = RunStore(tmp_path / "results" / "unit" / "r1")
+    for k in range(3):  # the same shard rewritten (replaced) three times, each read back
+        store.write_shard("records", "a", [{"trial_id": f"a{i}", "x": k} for i in range(4)])
+        assert store.read().column("x").to_pylist() == [k] * 4
+    assert list(verify._VERIFIED) == [os.path.abspath(store.path / "records" / "part-a.parquet")]

@@ -8,7 +8,9 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
+import os
 import signal
+import stat
 from pathlib import Path
 
 from typer.testing import CliRunner
@@ -44,11 +46,21 @@ def invoke(*args, seconds: float | None = None):
 
 
 def snapshot(root: Path) -> dict[str, str] | None:
-    """Every file under ``root`` by its content hash (None when ``root`` is no directory)."""
+    """Everything under ``root`` (None when ``root`` is no directory), as it is, not as what it
+    points to: a regular file by its content hash, a symlink by its target, a directory, a named
+    pipe or other special file by its kind."""
     if not root.is_dir():
         return None
-    return {p.relative_to(root).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest()
-            for p in sorted(root.rglob("*")) if p.is_file()}
+    return {p.relative_to(root).as_posix(): _entry(p) for p in sorted(root.rglob("*"))}
+
+
+def _entry(path: Path) -> str:
+    mode = path.lstat().st_mode
+    if stat.S_ISREG(mode):
+        return hashlib.sha256(path.read_bytes()).hexdigest()
+    if stat.S_ISLNK(mode):
+        return f"symlink to {os.readlink(path)}"
+    return "directory" if stat.S_ISDIR(mode) else stat.filemode(mode)
 
 
 def refused(root: Path, args, message: str, *, warnings: str = "", seconds: float = 20.0) -> None:

@@ -147,6 +147,17 @@ def test_an_output_file_that_is_a_directory_gets_the_options_own_hint(finished, 
     assert not (tmp_path / "fresh").exists()
 
 
+@pytest.mark.parametrize("option", ["--out", "--times"])
+def test_a_named_pipe_given_for_an_output_file_is_refused_at_once(finished, tmp_path, option):
+    pipe = tmp_path / "pipe"
+    os.mkfifo(pipe)  # opening it to write would wait for a reader
+    args = {"--out": ["schedule", "test2_grasp", "--out", pipe, "--root", finished],
+            "--times": ["reproduce", "--root", tmp_path / "fresh", "--times", pipe]}[option]
+    refused(finished, args, f"{option} {pipe}: is a named pipe (FIFO), not a regular file.",
+            seconds=5)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["pipe"]
+
+
 # -- 2. a damaged manifest ----------------------------------------------------------------------------
 def _json_error(text: str) -> str:
     try:
@@ -395,6 +406,10 @@ _EDITS = {
     "output_retyped": _edit_case(
         lambda t: _set(t, "residual_norm_n", t.column("residual_norm_n").cast(pa.string())), False,
         "with no digest of its values, which every file of this run gets when it is written"),
+    # a file as the tool writes it, with a column of lists where the run's records have text
+    "study_listed": _edit_case(lambda t: _set(t, "study", pa.array([["baseline_grid"]] * len(t))),
+                               True, "its study column holds values of type list<element: string>, "
+                                     "not text", damaged=True),
     # a file as the tool writes it, of another source
     "source_measured": _edit_case(lambda t: _set(t, "source", ["measured"] * len(t)), True,
                                   "holding records of another source (measured)"),
@@ -590,8 +605,9 @@ def test_a_full_disk_while_writing_records_loses_nothing_and_the_run_resumes(res
                         r"free some space there and run the command again\.\n", result.stderr)
     after = snapshot(results)
     assert not [p for p in after if p.endswith(".tmp")]
-    assert {p: h for p, h in after.items() if not p.startswith("smoke/fresh/")} == before
-    assert sorted(p for p in after if p.startswith("smoke/fresh/")) == ["smoke/fresh/manifest.json"]
+    assert {p: h for p, h in after.items() if not p.startswith("smoke/fresh")} == before
+    assert sorted(p for p in after if p.startswith("smoke/fresh/")) == [
+        "smoke/fresh/manifest.json", "smoke/fresh/records"]  # the started run, no record file
     monkeypatch.setattr(pq, "write_table", write_table)
     resumed = invoke("run", "smoke", *SMOKE, "runner.progress=false", "--run", "fresh",
                      "--root", results)

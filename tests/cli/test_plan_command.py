@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from cli_checks import refused
 from typer.testing import CliRunner
 
 from graspcampaign.cli.main import app
@@ -295,6 +296,28 @@ def test_plan_refuses_a_picture_path_before_planning(stl_files, tmp_path, monkey
     assert result.exit_code == 2, result.output
     assert result.stderr == f"error: {message}\n"
     assert sorted(p.name for p in tmp_path.rglob("*")) == before  # nothing written, no probe left
+
+
+@pytest.mark.parametrize("target", ["pic.png", "nowhere/pic.png"])
+def test_a_picture_path_through_a_dangling_symlink_is_probed_where_it_would_be_written(
+        stl_files, tmp_path, target):
+    """The probe creates nothing through the link (opening it to append would create its
+    target) and probes the directory the target would be created in."""
+    link = tmp_path / "link.png"
+    link.symlink_to(target)
+    bad_mass = f"mass_kg = -1.0 is out of range; allowed: > 0 and <= 10 kg ({MASS})."
+    message = bad_mass if target == "pic.png" else \
+        f"--png {link}: cannot write there (No such file or directory)."
+    refused(tmp_path, ["plan", stl_files["sphere"], "--mass-kg", "-1", "--png", link], message)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["link.png"]
+
+
+def test_a_named_pipe_as_the_picture_path_is_refused_at_once(stl_files, tmp_path, monkeypatch):
+    monkeypatch.setattr("graspcampaign.core.mesh.load_mesh", _never_plan)
+    pipe = tmp_path / "pipe.png"
+    os.mkfifo(pipe)  # opening it to write would wait for a reader
+    refused(tmp_path, ["plan", stl_files["sphere"], "--mass-kg", "0.1", "--png", pipe],
+            f"--png {pipe}: is a named pipe (FIFO), not a regular file.", seconds=5)
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="/proc takes no new files on Linux")

@@ -268,8 +268,6 @@ def problems(store, manifest: dict | None, parts: list[str] | None = None) -> li
     return found
 
 
-
-
 def _one_config(manifest: dict) -> bool:
     return all(s.get("config_hash") in (None, manifest["config_hash"]) for s in manifest["sessions"])
 

@@ -1,13 +1,15 @@
 """Where commands read and write: the results root and output files, checked before any work.
 
-A bad place (an empty name, a file where a directory belongs, a directory where a file belongs, a
-read-only file system) is one sentence naming the option and why, given before anything runs or
-is written. Standard library only: ``show`` and ``status`` answer without the numerical layers.
+A bad place (an empty name, a file where a directory belongs, a directory, named pipe, device or
+socket where a file belongs, a read-only file system) is one sentence naming the option and why,
+given before anything runs or is written. Standard library only: ``show`` and ``status`` answer
+without the numerical layers.
 """
 
 from __future__ import annotations
 
 import os
+import stat
 import tempfile
 from pathlib import Path
 
@@ -16,20 +18,24 @@ from graspcampaign.errors import UserInputError
 
 def path_problem(path: Path, *, write: bool = False, directory: bool = True) -> str | None:
     """Say why ``path`` cannot serve as a directory (or, ``directory=False``, a file) to read or
-    ``write``, without leaving anything behind; None if it can.
+    ``write``, without leaving anything behind or waiting; None if it can.
 
-    The nearest existing one of ``path`` and its parents decides: a file where a directory must be
-    ("/x: is a file, not a directory", "/x: /x/a is a file ..."), a directory where a file must
-    be, or (``write``) a place this process cannot write: probed by creating and removing a
-    temporary file in that directory (or opening the existing file to append), because permission
-    bits do not tell (root passes them, yet cannot create a file in ``/proc``).
+    The nearest existing one of ``path`` and its parents (a symlink exists, dangling or not)
+    decides: a file where a directory must be ("/x: is a file, not a directory", "/x: /x/a is a
+    file ..."), a directory, named pipe, device or socket where a file must be, or (``write``) a
+    place this process cannot write: probed by creating and removing a temporary file in the
+    directory the file would be created in (or opening the existing regular file to append,
+    never to create), because permission bits do not tell (root passes them, yet cannot create a
+    file in ``/proc``).
     """
     for i, where in enumerate([path, *path.parents]):
-        if not (where.exists() or where.is_symlink()):
+        if not os.path.lexists(where):
             continue
         if i == 0 and not directory:
             if where.is_dir():
                 return "is a directory, not a file"
+            if where.exists() and not where.is_file():
+                return f"is {_special(where.stat().st_mode)}, not a regular file"
         elif not where.is_dir():
             what = "is a file, not a directory" if where.is_file() else "is not a directory"
             return what if i == 0 else f"{where} {what}"
@@ -37,16 +43,25 @@ def path_problem(path: Path, *, write: bool = False, directory: bool = True) -> 
     return None
 
 
+def _special(mode: int) -> str:
+    """What a file that is neither a directory nor a regular file is."""
+    return ("a named pipe (FIFO)" if stat.S_ISFIFO(mode) else "a socket" if stat.S_ISSOCK(mode)
+            else "a character device" if stat.S_ISCHR(mode) else "a block device"
+            if stat.S_ISBLK(mode) else "a special file")
+
+
 def _write_denied(where: Path) -> str | None:
-    """Why this process cannot write into (or over) ``where``, or None: a probe, not a guess."""
+    """Why this process cannot write into (or over) ``where``, or None: a probe, not a guess. An
+    existing regular file is opened to append (without creating it, without waiting); anything
+    else is probed in the directory its file would be created in (a dangling symlink's target's)."""
     try:
-        if where.is_dir():
-            handle, probe = tempfile.mkstemp(prefix=".graspcampaign-probe-", dir=where)
+        if where.is_file():
+            os.close(os.open(where, os.O_WRONLY | os.O_APPEND | os.O_NONBLOCK))
+        else:
+            parent = where if where.is_dir() else Path(os.path.realpath(where)).parent
+            handle, probe = tempfile.mkstemp(prefix=".graspcampaign-probe-", dir=parent)
             os.close(handle)
             os.unlink(probe)
-        else:
-            with where.open("ab"):
-                pass
     except OSError as exc:
         return f"cannot write there ({exc.strerror or type(exc).__name__})"
     return None

@@ -16,8 +16,9 @@ at most the tasks in flight. Page checksums are written, and every file is read 
 column, every page, checksums verified) before anything uses it: before its trials count as
 recorded, before it is compacted, before a report reads it. Verifying only the key column would
 let a damaged value column through, and a compaction would then copy the garbage into a new file
-with valid checksums. A file is read in full once per process while its size and mtime hold
-(:mod:`graspcampaign.campaign.verify`, which keeps what the checks need of it from that read).
+with valid checksums. A file is read in full once per process while it is unchanged (its inode,
+size, mtime and ctime; :mod:`graspcampaign.campaign.verify`, which keeps what the checks need of it
+from that read), and again whenever it is read to be rewritten (compaction, removing rows).
 
 A file that names other files in its metadata (``graspcampaign.sources``) supersedes them: a
 compacted file lists its source shards, a rewritten file the file it replaces. A superseded file
@@ -398,15 +399,15 @@ class RunStore:
                 own = facts(path)
                 if (own.ids <= ids and not own.n_null_ids) if keep else own.ids.isdisjoint(ids):
                     continue
-                table = read_file(path)[0]
+                table = read_file(path, again=True)[0]
             rows = pc.is_in(table.column("trial_id"), value_set=value_set)
             self._rewrite(path, table.filter(rows if keep else pc.invert(rows)), tag)
 
     def compact(self, part: str = "records") -> None:
         """Merge the live part shards of ``part`` into one compacted file, crash-safely.
 
-        Every shard is verified in full (:func:`~graspcampaign.campaign.verify.read_file`): a
-        compacted file is never written from a shard that was not checked.
+        Every shard is verified in full again (:func:`~graspcampaign.campaign.verify.read_file`):
+        a compacted file is never written from a shard that was not checked as it is read.
         """
         directory = self._dir(part)
         live, _ = self._listing(part)
@@ -416,7 +417,7 @@ class RunStore:
         tables = []
         for path in parts:
             with self._refusing(path):
-                tables.append(read_file(path)[0])
+                tables.append(read_file(path, again=True)[0])
         schema = pa.unify_schemas([t.schema.remove_metadata() for t in tables],
                                   promote_options="permissive")
         configs = sorted({h for t in tables for h in json.loads(

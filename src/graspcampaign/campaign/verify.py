@@ -3,7 +3,9 @@
 A file is read in full and hashed once per process while it is unchanged (its path, inode, size,
 mtime and ctime): what the run checks need of it (:class:`Facts`: its schema and metadata, its
 trial ids, the owners of its records) is kept from that one read, and any later read of the same
-file reads only the columns asked for. A file changed since is verified again.
+file reads only the columns asked for. A file changed since is verified again, and so is a file
+changed within a clock tick of its verification (git's "racily clean" rule: a change in the same
+tick could leave its key as it was) and a file read in full to be rewritten under a new digest.
 """
 
 from __future__ import annotations
@@ -11,6 +13,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import time
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -30,6 +33,10 @@ READ_ERRORS = (pa.ArrowException, OSError, ValueError, EOFError)
 #: A trial id as ``grid.expand`` makes it: a readable key, "-", the 10-digit hash of the factors.
 TRIAL_ID = r"^.+-[0-9a-f]{10}$"
 _OWNERS = ("study", "run", "kind", "source", "status")
+#: A verified file is remembered only if its last change (mtime, ctime) precedes the read by more
+#: than this [ns], by whether its timestamps are whole seconds: FAT keeps 2 s ones, ext3 and HFS+
+#: 1 s; finer ones may lag the change by a tick of the kernel's coarse clock (up to 10 ms).
+TICK_NS = {True: 2 * 10**9, False: 50 * 10**6}
 
 
 class Damaged(Exception):
@@ -126,11 +133,10 @@ def supersedes(path: Path) -> list[str]:
 
 def _facts(table: pa.Table) -> Facts:
     ids = table.column("trial_id") if "trial_id" in table.column_names else None
-    owners = {c: set(pc.unique(table.column(c)).to_pylist()) for c in _OWNERS
-              if c in table.column_names}
+    owners = {c: set(_unique(table, c).to_pylist()) for c in _OWNERS if c in table.column_names}
     if ids is None:
         return Facts(table.schema, 0, frozenset(), owners)
-    unique = pc.unique(ids.drop_null())
+    unique = _unique(table, "trial_id").drop_null()
     bad = None
     if pa.types.is_string(ids.type):  # the first malformed id: unique keeps the order of rows
         wrong = unique.filter(pc.invert(pc.match_substring_regex(unique, TRIAL_ID)))
@@ -138,51 +144,75 @@ def _facts(table: pa.Table) -> Facts:
     return Facts(table.schema, len(ids), frozenset(unique.to_pylist()), owners, ids.null_count, bad)
 
 
-_VERIFIED: dict[tuple, Facts] = {}
-"""Facts of the files verified in this process, by path, inode, size, mtime and ctime (a file
-replaced, or rewritten with its old mtime set back, is another key: ``os.utime`` sets no ctime)."""
+def _unique(table: pa.Table, name: str) -> pa.Array:
+    """The distinct values of column ``name`` (raises :class:`Damaged` naming a column of lists
+    or structs: no record holds one there)."""
+    try:
+        return pc.unique(table.column(name))
+    except READ_ERRORS:
+        raise Damaged(f"its {name} column holds values of type {table.column(name).type}, "
+                      "not text") from None
 
 
-def _key(path: Path) -> tuple:
-    st = os.stat(path)
-    return os.path.abspath(path), st.st_ino, st.st_size, st.st_mtime_ns, st.st_ctime_ns
+_VERIFIED: dict[str, tuple[tuple, Facts]] = {}
+"""The files verified in this process: by absolute path, the key of the version verified (inode,
+size, mtime, ctime: a file replaced, or rewritten with its old mtime set back, is another key, as
+``os.utime`` sets no ctime) and its facts. Storing a new version of a path evicts the old one."""
+
+
+def _key(stat: os.stat_result) -> tuple:
+    return stat.st_ino, stat.st_size, stat.st_mtime_ns, stat.st_ctime_ns
 
 
 def cached(path: Path) -> Facts | None:
     """The facts of ``path`` if it was verified in this process as it is now, else None."""
     try:
-        return _VERIFIED.get(_key(path))
-    except OSError:
+        key, known = _VERIFIED[os.path.abspath(path)]
+        return known if key == _key(os.stat(path)) else None
+    except (KeyError, OSError):
         return None
 
 
-def read_file(path: Path, columns: list[str] | None = None) -> tuple[pa.Table, Facts]:
+def read_file(path: Path, columns: list[str] | None = None, *,
+              again: bool = False) -> tuple[pa.Table, Facts]:
     """The columns of ``path`` (default all; those it lacks are left out) and its facts.
 
     The first read of the file as it is now (:data:`_VERIFIED`) reads every column of every page
     with page checksums verified and checks its values against the digest stored with them (a
-    file the tool wrote; older files have none); later reads read only ``columns``.
+    file the tool wrote; older files have none); later reads read only ``columns``, unless
+    ``again``: a table read to be rewritten under a new digest (compaction, removing rows) is
+    verified whatever this process knows of it, so that no value changed since it was verified
+    gets a digest of its own. The file is opened once: what is read is the version keyed. It is
+    remembered as verified only if it did not change during the read nor within a clock tick
+    (:data:`TICK_NS`) before it.
 
     Raises
     ------
     Damaged
         Why the file cannot be trusted (first line of pyarrow's error).
     """
+    name, start = os.path.abspath(path), time.time_ns()
     try:
-        key = _key(path)
-        known = _VERIFIED.get(key)
-        file = pq.ParquetFile(path, page_checksum_verification=True)
-        if known is not None:
-            return file.read(columns=_present(columns, known.schema)), known
-        table = file.read(use_threads=False)
+        with open(path, "rb") as handle:
+            key = _key(os.fstat(handle.fileno()))
+            file = pq.ParquetFile(handle, page_checksum_verification=True)
+            known = _VERIFIED.pop(name, (None, None))  # put back if verified
+            if known[0] == key and not again:
+                _VERIFIED[name] = known
+                return file.read(columns=_present(columns, known[1].schema)), known[1]
+            table = file.read(use_threads=False)
+            settled = _key(os.fstat(handle.fileno())) == key
+        written = (table.schema.metadata or {}).get(CONTENT_KEY)
+        if written is not None and written.decode(errors="replace") != content_digest(table):
+            raise Damaged("its values differ from those written: their SHA-256 is not the one "
+                          "stored with them")
+        own = _facts(table)
     except READ_ERRORS as exc:
         raise Damaged(reason(exc)) from None
-    written = (table.schema.metadata or {}).get(CONTENT_KEY)
-    if written is not None and written.decode(errors="replace") != content_digest(table):
-        raise Damaged("its values differ from those written: their SHA-256 is not the one stored "
-                      "with them")
-    known = _VERIFIED[key] = _facts(table)
-    return table.select(_present(columns, table.schema)), known
+    changed = max(key[2:])
+    if settled and changed < start - TICK_NS[changed % 10**9 == 0]:
+        _VERIFIED[name] = key, own
+    return table.select(_present(columns, table.schema)), own
 
 
 def _present(columns: list[str] | None, schema: pa.Schema) -> list[str]:
