@@ -278,9 +278,26 @@ def test_load_sharing_is_the_least_squares_projection(values, degenerate, comman
     a = -unit[:, :2].T
     c = np.asarray(commanded)
     gram = a @ a.T
+    # below 1e-12 horizontal components numpy's pinv divides by a subnormal (inf); such a normal
+    # is vertical (the next test)
+    assume(np.trace(gram) == 0.0 or np.trace(gram) > 1e-20)
     expected = c - a.T @ (np.linalg.pinv(gram) @ (a @ c))
     got, _ = d.load_shared_forces(c, normals)
     # both lose ~eps * cond digits on a nearly rank-one Gram matrix (two nearly vertical normals)
     sv = np.linalg.svd(gram, compute_uv=False)
     cond = sv[0] / sv[1] if sv[1] > 1e-15 * sv[0] else 1.0
     np.testing.assert_allclose(got, expected, atol=(1e-9 + 1e-14 * cond) * np.abs(c).max())
+
+
+def test_a_normal_vertical_to_round_off_carries_no_horizontal_force():
+    # hypothesis found (0, 7.9e-159, 1): numpy's pinv of its 6e-317 Gram matrix overflows to inf;
+    # vertical normals balance horizontally already, so the commands stand unchanged
+    normals = np.array([[0.0, 7.852299121474925e-159, 1.0], [0.0, 0.0, 1.0], [0.0, 0.0, 1.0]])
+    got, feasible = d.load_shared_forces([1.0, 2.0, 3.0], normals)
+    np.testing.assert_array_equal(got, [1.0, 2.0, 3.0])
+    assert feasible
+    # a horizontal part of 1e-6 is a direction: finger 1 alone pushes along it, so it lets go
+    tilted = normals + [[1e-6, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]]
+    got, feasible = d.load_shared_forces([1.0, 2.0, 3.0], tilted)
+    np.testing.assert_allclose(got, [0.0, 2.0, 3.0], atol=1e-12)
+    assert not feasible

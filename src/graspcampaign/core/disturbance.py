@@ -136,6 +136,10 @@ def _shares(commanded, normals) -> np.ndarray:
     return c - np.einsum("...ji,...j->...i", a, np.einsum("...ij,...j->...i", _pinv2(gram), ac))
 
 
+#: Sum of squared horizontal normal components below which the normals are vertical (1e-12 each).
+VERTICAL_TRACE = 1e-24
+
+
 def _pinv2(m: np.ndarray) -> np.ndarray:
     """Moore-Penrose inverse of symmetric PSD (..., 2, 2) matrices in closed form.
 
@@ -143,8 +147,12 @@ def _pinv2(m: np.ndarray) -> np.ndarray:
     the determinant; rank one (``m = lambda u u^T``), ``m / t^2``; zero, zero. Rank is judged as
     ``numpy.linalg.pinv`` does, a singular value below 1e-15 times the largest counting as zero.
     Written out because ``pinv`` (an SVD) of a 2 x 2 costs ~0.1 ms and this runs per prediction.
+    A trace below :data:`VERTICAL_TRACE` is zero: the Gram matrix of unit normals' horizontal parts,
+    whose components are then below 1e-12 (round-off of a vertical normal; ``pinv`` would divide by
+    a subnormal and return inf).
     """
     tr = m[..., 0, 0] + m[..., 1, 1]
+    tr = np.where(tr > VERTICAL_TRACE, tr, 0.0)
     scale = np.where(tr > 0.0, tr, 1.0)[..., None, None]
     u = m / scale  # trace 1 (or a zero matrix)
     det = u[..., 0, 0] * u[..., 1, 1] - u[..., 0, 1] * u[..., 1, 0]
