@@ -247,7 +247,7 @@ def failure_check_table(records: pd.DataFrame, by: Sequence[str],
     validity gate (``valid_geometry``; runs recorded before it have none)."""
     ok = executed(records)
     ok = ok if "failure_check" in ok else ok.assign(failure_check="unknown")
-    found = sorted(map(str, set(ok["failure_check"].dropna()) - set(FAILURE_CHECKS)))
+    found = sorted(map(str, set(ok["failure_check"].dropna().unique()) - set(FAILURE_CHECKS)))
     gated = "valid_geometry" in ok or (ok["failure_check"] == "geometry").any()  # runs with the gate
     names, rows = [*(c for c in FAILURE_CHECKS if gated or c != "geometry"), *found], []
     for key, g in groups(ok, list(by), order):

@@ -137,6 +137,8 @@ def ordered(column: str, values: Iterable, first: Iterable = ()) -> list:
     """Return the distinct ``values`` in display order: ``first``, the vocabulary's, then by text."""
     import pandas as pd  # here: composing a study reads VOCABULARIES, and `show` needs no pandas
 
+    if isinstance(values, pd.Series):  # a column of ~10^5 records: each distinct value once
+        values = values.unique()
     values = list(dict.fromkeys(v for v in values if not pd.isna(v)))
     rank: dict = {}
     for v in [*first, *VOCABULARIES.get(column, {})]:

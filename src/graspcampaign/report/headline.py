@@ -131,7 +131,7 @@ def _run_row(h: Headline, store: RunStore, root: Path) -> dict | None:
         return _row(h, paper, why=f"the records lack the `{column}` column this "
                                   "sub-population needs", **common)
     records = records[records[column].isin(levels)] if column else records
-    if "planner" not in records or PROPOSED not in set(records["planner"]):
+    if "planner" not in records or not records["planner"].eq(PROPOSED).any():
         return _row(h, paper, why="no trial of the proposed planner" + (
             f" with {column} = {', '.join(sorted(levels))}" if column else ""), **common)
     rates = rate_table(records, ["planner"]).set_index("planner")
