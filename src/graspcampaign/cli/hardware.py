@@ -80,13 +80,16 @@ def ingest(
     overrides: Annotated[list[str] | None, typer.Option("--set", help="Hydra override (repeatable).")] = None,
     root: RootOpt = None,
 ) -> None:
-    """Validate measured records and store them as a run with source = measured."""
+    """Validate measured records and store them as a run of their source: measured, or virtual
+    for a virtual rig's exports."""
     from graspcampaign.campaign.ingest import ingest_files
 
     check_root(root, write=True)
     cfg = compose(study, overrides, root)
-    n, path = ingest_files(cfg, [str(f) for f in files], run)
-    typer.echo(f"{n} measured records stored in {path}")
+    n, path, source = ingest_files(cfg, [str(f) for f in files], run)
+    typer.echo(f"{n} measured records stored in {path}" if source == "measured" else
+               f"{n} virtual-rig records (source = {source}: exports, not rig measurements) "
+               f"stored in {path}")
 
 
 @app.command()

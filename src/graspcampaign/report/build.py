@@ -12,6 +12,7 @@ from typing import Any
 
 import pandas as pd
 
+from graspcampaign.analysis.records import data_source
 from graspcampaign.campaign.paths import check_root
 from graspcampaign.campaign.provenance import read_manifest
 from graspcampaign.campaign.records import RunStore
@@ -242,18 +243,21 @@ def _index_pages(formats: list[str]) -> list[str]:
 def index_rows(root: Path, page: str, unreadable: list[tuple[str, str]] | None = None,
                ) -> pd.DataFrame:
     """The index rows: every run's report page (``page``: md or html) with its study, run, source
-    and trial count; a run whose manifest cannot be read is added to ``unreadable``."""
+    (its records', as its page says) and trial count; a run whose manifest or records cannot be
+    read is added to ``unreadable``."""
     rows = []
     for report in sorted(root.glob(f"*/*/report/report.{page}")):
         run_dir = report.parent.parent
         try:
             m = read_manifest(run_dir / "manifest.json") or {}
+            source = data_source(RunStore(run_dir).read("records", ["source"]).to_pandas(),
+                                 m.get("source"))
         except UserInputError as exc:
             if unreadable is not None:
                 unreadable.append((run_dir.relative_to(root).as_posix(), reason(exc)))
-            m = {}
+            m, source = {}, None
         rows.append([m.get("study", run_dir.parent.name), m.get("run", run_dir.name),
-                     SOURCE_SHORT.get(m.get("source"), m.get("source")), m.get("n_trials"),
+                     SOURCE_SHORT.get(source, source), m.get("n_trials"),
                      report.with_suffix(".html").relative_to(root).as_posix()])
     return pd.DataFrame(rows, columns=["study", "run", "source", "trials", "report"])
 
