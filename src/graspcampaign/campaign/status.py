@@ -197,16 +197,16 @@ def run_status(root: Path | str, study: str, run: str = "default") -> dict[str, 
     UserInputError
         No such run; for a study that is neither known nor in ``root``, the available studies.
     """
-    from graspcampaign.analysis.records import data_source
-
     store, manifest = open_run(root, study, run)
-    table = store.read(columns=["status", "source"]).to_pandas()
-    statuses = table["status"].tolist() if len(table) else []
+    table = store.read(columns=["status", "source"])  # pyarrow only: status answers fast
+    statuses = table.column("status").to_pylist() if table.num_rows else []
+    sources = set(table.column("source").to_pylist()) if "source" in table.column_names else set()
     return {
         "study": study,
         "run": run,
         "path": str(store.path),
-        "source": data_source(table, manifest.get("source")),  # as the run's report says
+        # the records' source, as the run's report says (analysis.records.data_source)
+        "source": "virtual" if "virtual" in sources else manifest.get("source"),
         "n_trials": manifest.get("n_trials"),
         "n_recorded": len(statuses),
         "n_ok": statuses.count("ok"),
