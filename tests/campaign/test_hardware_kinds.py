@@ -404,14 +404,14 @@ def _bad(export: pd.DataFrame, kind: str, folder, store):
     if kind == "file_type":
         path = folder / "records.txt"
         path.write_text("trial_id\n")
-        return [path], (r"records\.txt, header, column '-': unsupported file type '\.txt' "
+        return [path], (r"records\.txt: unsupported file type '\.txt' "
                         r"\(expected \.csv, \.parquet or \.xlsx\)\.")
     if kind == "missing_file":
         return [folder / "nowhere.csv"], re.escape(f"{folder / 'nowhere.csv'}: no such file.")
     if kind == "corrupt":
         path = folder / "broken.parquet"
         path.write_bytes(b"PAR1 not really parquet")
-        return [path], (r"broken\.parquet, header, column '-': the file cannot be read as parquet "
+        return [path], (r"broken\.parquet: the file cannot be read as parquet "
                         r"\(\w+\)\.")
     if kind == "no_rows":
         df = df.iloc[:0]

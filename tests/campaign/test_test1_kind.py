@@ -302,7 +302,7 @@ def test_unsupported_file_type_is_rejected(ingested, good_event, tmp_path):
     before = _snapshot(root)
     result = _ingest(root, path)
     assert result.exit_code == 2
-    assert result.stderr == ("error: bad.json, header, column '-': unsupported file type '.json' "
+    assert result.stderr == ("error: bad.json: unsupported file type '.json' "
                              "(expected .csv, .parquet or .xlsx).\n")
     assert _snapshot(root) == before
 
