@@ -9,6 +9,7 @@ code touches. Ingest goes through the command line, one test per malformed-file 
 
 from __future__ import annotations
 
+import json
 import math
 import re
 from pathlib import Path
@@ -278,6 +279,47 @@ def test_ingest_stores_the_engine_records_under_the_same_ids(t2_export):
     assert record_columns("test2_grasp")[0] == "trial_id" == export.columns[0]
 
 
+def _listed_source(root, run):
+    """The source column of ``run``'s row in the root's index page."""
+    from graspcampaign.report.build import build_reports
+
+    assert not build_reports(["test2_grasp"], run=run, root=root, formats=["md"]).failed
+    index = (Path(root) / "index.md").read_text()
+    return re.search(rf"^\| test2_grasp \| \[{run}\]\([^)]*\) \| ([^|]+) \|", index, re.M)[1]
+
+
+def test_a_virtual_rigs_exports_are_stored_and_listed_as_virtual(t2_export, tmp_path):
+    """The exports say source = virtual in every row: the manifest, the ingest message, status
+    and the index say what the records are, never "measured"."""
+    root, folder, *_ = t2_export
+    result = _ingest(root, folder / "day2.parquet", run="exported")
+    assert result.exit_code == 0, result.output
+    n = len(pd.read_parquet(folder / "day2.parquet"))
+    path = Path(root) / "test2_grasp" / "exported"
+    assert result.stdout == (f"{n} virtual-rig records (source = virtual: exports, not rig "
+                             f"measurements) stored in {path}\n")
+    assert json.loads((path / "manifest.json").read_text())["source"] == "virtual"
+    status = cli.invoke(app, ["status", "test2_grasp", "--run", "exported", "--root", str(root)])
+    assert "\nsource: virtual\n" in status.stdout, status.output
+    assert _listed_source(root, "exported") == "VIRTUAL RIG (synthetic data)"
+    # a second file goes into the same run (ingest's, not `run`'s), and a rig's is still refused
+    assert _ingest(root, folder / "day1.csv", run="exported").exit_code == 0
+    refused = cli.invoke(app, ["run", "test2_grasp", "--root", str(root), "--run", "exported",
+                               *REDUCED, "runner.progress=false"])
+    assert refused.exit_code == 2 and "holds virtual records (ingested)" in refused.stderr
+
+
+def test_an_older_ingest_of_exports_is_shown_by_its_records(t2_export, tmp_path):
+    """A run stored before the manifest said virtual (manifest: measured, records: virtual)."""
+    root, folder, *_ = t2_export
+    assert _ingest(root, folder / "day1.csv", run="older").exit_code == 0
+    manifest = Path(root) / "test2_grasp" / "older" / "manifest.json"
+    manifest.write_text(manifest.read_text().replace('"source": "virtual"', '"source": "measured"'))
+    status = cli.invoke(app, ["status", "test2_grasp", "--run", "older", "--root", str(root)])
+    assert "\nsource: virtual\n" in status.stdout, status.output
+    assert _listed_source(root, "older") == "VIRTUAL RIG (synthetic data)"
+
+
 def test_an_unforeseen_rerun_gets_its_own_trial(t2_export, tmp_path):
     root, _, records, export, _ = t2_export
     plain = records[~records["rig_fault"].astype(bool) & (records["attempt"] == 1)].iloc[0]
@@ -362,14 +404,14 @@ def _bad(export: pd.DataFrame, kind: str, folder, store):
     if kind == "file_type":
         path = folder / "records.txt"
         path.write_text("trial_id\n")
-        return [path], (r"records\.txt, header, column '-': unsupported file type '\.txt' "
+        return [path], (r"records\.txt: unsupported file type '\.txt' "
                         r"\(expected \.csv, \.parquet or \.xlsx\)\.")
     if kind == "missing_file":
         return [folder / "nowhere.csv"], re.escape(f"{folder / 'nowhere.csv'}: no such file.")
     if kind == "corrupt":
         path = folder / "broken.parquet"
         path.write_bytes(b"PAR1 not really parquet")
-        return [path], (r"broken\.parquet, header, column '-': the file cannot be read as parquet "
+        return [path], (r"broken\.parquet: the file cannot be read as parquet "
                         r"\(\w+\)\.")
     if kind == "no_rows":
         df = df.iloc[:0]

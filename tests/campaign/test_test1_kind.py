@@ -9,6 +9,7 @@ Ingest goes through the command line (``graspcampaign ingest``), one test per fa
 from __future__ import annotations
 
 import hashlib
+import json
 import re
 
 import numpy as np
@@ -202,6 +203,7 @@ def test_ingest_gives_the_same_fits_as_the_in_process_path(engine, ingested):
             .to_numpy()).all()
     # virtual-bench exports say so: never relabelled as hardware data
     assert (measured["source"] == "virtual").all() and (measured["status"] == "ok").all()
+    assert json.loads(store.manifest_path.read_text())["source"] == "virtual"  # and so does the run
 
 
 def _snapshot(root):
@@ -300,7 +302,7 @@ def test_unsupported_file_type_is_rejected(ingested, good_event, tmp_path):
     before = _snapshot(root)
     result = _ingest(root, path)
     assert result.exit_code == 2
-    assert result.stderr == ("error: bad.json, header, column '-': unsupported file type '.json' "
+    assert result.stderr == ("error: bad.json: unsupported file type '.json' "
                              "(expected .csv, .parquet or .xlsx).\n")
     assert _snapshot(root) == before
 

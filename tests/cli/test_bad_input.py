@@ -291,6 +291,22 @@ def test_a_misspelt_study_name_suggests_the_nearest(results):
                                     f"'baseline_grid'? available studies: {known} (searched: ")
 
 
+@pytest.mark.parametrize(("args", "message"), [
+    (["report", "--jobs", "two"], "--jobs 'two' is not a whole number; see graspcampaign report --help."),
+    (["report", "--jobs", "1.5"], "--jobs '1.5' is not a whole number; see graspcampaign report --help."),
+    (["run", "smoke", "--set", "seeds=1"], "no such option: --set (Possible options: --report); see "
+                                           "graspcampaign run --help."),
+    (["status"], "missing argument 'study'; see graspcampaign status --help."),
+    (["schedule", "test2_grasp", "--out"], "option '--out' requires an argument; see graspcampaign "
+                                           "schedule --help."),
+    (["nosuch"], "no such command 'nosuch'; see graspcampaign --help."),
+])
+def test_a_command_line_that_cannot_be_parsed_is_one_sentence(results, args, message):
+    """Typer's own errors (a typed option's bad value, an unknown option, a missing argument) are
+    one sentence and exit 2, as the tool's are, not a box of usage lines."""
+    refused(results, [*args, "--root", results] if args[0] == "report" else args, message)
+
+
 @pytest.mark.parametrize("jobs", [0, -2])
 def test_report_jobs_must_be_a_process_count(results, jobs):
     before = snapshot(results)

@@ -645,6 +645,38 @@ def test_report_on_a_root_without_runs_says_so(finished, tmp_path):
     assert not any(empty.iterdir())
 
 
+def test_report_skips_what_cannot_be_read_and_folders_that_are_no_runs(finished, tmp_path,
+                                                                        monkeypatch):
+    """As under /proc (an entry that cannot even be looked at) and /sys (folders of folders, none
+    a run: /sys/firmware/acpi/tables): no traceback, no "broken run", the root holds no runs."""
+    junk = tmp_path / "junk"
+    (junk / "firmware" / "acpi" / "tables").mkdir(parents=True)
+    (junk / "firmware" / "acpi" / "tables" / "DSDT").write_bytes(b"\0")
+    (junk / "firmware" / "acpi" / "pm_profile").write_text("0\n")
+    (junk / "1" / "cwd").mkdir(parents=True)
+    stat = os.stat
+
+    def locked(path, *args, **kwargs):
+        if os.fspath(path).endswith("cwd"):
+            raise PermissionError(13, "Permission denied", os.fspath(path))
+        return stat(path, *args, **kwargs)
+
+    def unlisted(path):
+        raise PermissionError(13, "Permission denied", os.fspath(path))
+
+    before = snapshot(junk)
+    none = f"no runs under {junk}; run a study first (graspcampaign run STUDY --root {junk})."
+    for patch, message in (((), none), (("stat", locked), none),
+                           (("listdir", unlisted), f"cannot list the runs under {junk} "
+                                                   "(Permission denied).")):
+        if patch:
+            monkeypatch.setattr(os, *patch)
+        result = invoke("report", "--root", junk)
+        monkeypatch.undo()
+        assert (result.exit_code, result.stdout, result.stderr) == (2, "", f"error: {message}\n")
+    assert snapshot(junk) == before
+
+
 def test_a_file_in_place_of_the_run_directory_is_refused_by_every_command(results):
     shutil.rmtree(_grid(results))
     _grid(results).write_text("not a run")

@@ -62,6 +62,7 @@ def test_show_prints_design_without_running(tmp_path):
         ("runner.backend=spark", r"runner\.backend has unknown value 'spark'; allowed values: loky"),
         ("+factors.flavour=[1]", r"factors\.flavour is not a known factor; known factors:"),
         ("nodes=[144", r"cannot parse override 'nodes=\[144'"),
+        ("mu", r"cannot parse override 'mu': expected key=value, e\.g\. mu=0\.3\.$"),
     ],
 )
 def test_bad_overrides_exit_2_naming_the_key_and_write_nothing(tmp_path, override, message):

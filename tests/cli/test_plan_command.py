@@ -104,6 +104,9 @@ MASS = "a mass must be positive and a three-finger hand lifts at most ~10 kg"
         (["--mass-kg", "0.1", "--material", "unobtainium"],
          "unknown material 'unobtainium': use one of gel, silicone_soft, bio_foam, silicone_ref"),
         (["--mass-kg", "0.1", "--unit", "furlong"], "unknown unit 'furlong': use one of 'm', 'cm', 'mm'"),
+        (["--mass-kg", "abc"], "--mass-kg 'abc' is not a number; see graspcampaign plan --help."),
+        (["--mass-kg", "0.1", "--png", ""], "--png is empty; give a picture path ending in .png, such "
+                                            "as plan.png."),
         (["--mass-kg", "0.1", "--unit", "m"],
          "mesh 'sphere.stl' is 99.8 m across read with --unit m, outside the 10-500 mm a "
          "three-finger hand grasps; its coordinates look like millimetres: pass --unit mm."),
@@ -113,6 +116,41 @@ def test_plan_bad_values_exit_2(stl_files, args, message):
     result = runner.invoke(app, ["plan", str(stl_files["sphere"]), *args])
     assert result.exit_code == 2
     assert result.stderr == f"error: {message}\n"
+
+
+def test_plan_names_a_folder_or_an_empty_path_given_as_the_mesh(tmp_path):
+    for mesh, message in ((tmp_path, f"{tmp_path} is a directory; give a mesh file (STL, OBJ or PLY)."),
+                          ("", "the mesh path is empty; give a mesh file (STL, OBJ or PLY).")):
+        result = runner.invoke(app, ["plan", str(mesh), "--mass-kg", "0.1"])
+        assert (result.exit_code, result.stdout, result.stderr) == (2, "", f"error: {message}\n")
+    assert not any(tmp_path.iterdir())
+
+
+def test_plan_help_names_units_and_the_default_material():
+    from graspcampaign.rig.plan import DEFAULT_PLAN_MATERIAL
+
+    text = " ".join(runner.invoke(app, ["plan", "--help"], env={"COLUMNS": "200"}).stdout.split())
+    assert "Object mass in kg. [required]" in text and " . " not in text
+    assert f"Table 4 material family. [default: {DEFAULT_PLAN_MATERIAL}]" in text
+    assert "Fingertip radius in mm. [default: 5.0]" in text
+
+
+def test_plan_picture_has_one_scale_on_every_axis(stl_files, tmp_path, monkeypatch):
+    """A sphere is drawn round: every axis spans the same length in a cubic box, and holds the
+    mesh's extent (so no axis is stretched, whatever the arrows and labels add)."""
+    from matplotlib.figure import Figure
+
+    drawn, savefig = [], Figure.savefig
+    monkeypatch.setattr(Figure, "savefig", lambda fig, *a, **k: drawn.append(fig) or savefig(fig, *a, **k))
+    result = runner.invoke(app, ["plan", str(stl_files["sphere"]), "--mass-kg", "0.1", "--png",
+                                 str(tmp_path / "plan.png")])
+    assert result.exit_code == 0, result.output
+    (ax,) = drawn[0].axes
+    spans = [np.ptp(limits) for limits in (ax.get_xlim(), ax.get_ylim(), ax.get_zlim())]
+    assert np.allclose(spans, spans[0]) and np.allclose(ax.get_box_aspect(), ax.get_box_aspect()[0])
+    import trimesh
+
+    assert spans[0] >= np.ptp(trimesh.load(stl_files["sphere"]).vertices, axis=0).max()  # mm
 
 
 def _mesh_file(tmp_path, name: str) -> tuple:

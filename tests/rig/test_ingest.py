@@ -3,6 +3,8 @@ malformed-file kind with its message asserted."""
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -193,7 +195,6 @@ def test_a_column_given_twice_is_refused(good, tmp_path, kind):
      r"save the sheet as comma-separated CSV \(decimal point '\.'\)\."),
     ("trial_id,aborted\nt\u00e4,false\n".encode("latin-1"), r"line 2: the file is not UTF-8 text "
      r"\(byte 0xe4\); save it as CSV UTF-8\."),
-    (b"  \n\n", r"header, column '-': the file is empty\."),
     (b"trial_id,aborted\nx,false\ny,false,3,4\n", r"row 2: 4 cells where the header has 2 columns "
      r"\(a cell with a comma needs quotes; a truncated file loses its last row's cells\)\."),
     (b"trial_id,aborted,outcome\nx,false,stable\ny,fal\n", r"row 2: 2 cells where the header has 3 "
@@ -205,6 +206,16 @@ def test_a_csv_pandas_would_misread_is_refused_with_the_reason(good, tmp_path, t
     path.write_bytes(text)
     with pytest.raises(IngestError, match=rf"^bad\.csv, {message}$"):
         validate_records(path, schedule)
+
+
+@pytest.mark.parametrize("name, data", [("blank.csv", b"  \n\n"), ("empty.csv", b""),
+                                        ("empty.parquet", b""), ("empty.xlsx", b"")])
+def test_an_empty_file_is_named_and_called_empty(good, tmp_path, name, data):
+    """No header to point at: the file and what is wrong with it, not a column '-'."""
+    schedule, _, _ = good
+    (tmp_path / name).write_bytes(data)
+    with pytest.raises(IngestError, match=rf"^{re.escape(name)}: the file is empty\.$"):
+        validate_records(tmp_path / name, schedule)
 
 
 def test_a_cell_holding_a_line_separator_is_one_cell(good, tmp_path):
@@ -321,7 +332,7 @@ def test_unsupported_file_type(good, tmp_path):
     schedule, rec, _ = good
     path = tmp_path / "records.json"
     rec.to_json(path)
-    with pytest.raises(IngestError, match=r"^records\.json, header, column '-': unsupported file "
+    with pytest.raises(IngestError, match=r"^records\.json: unsupported file "
                        r"type '\.json' \(expected \.csv, \.parquet or \.xlsx\)\.$"):
         validate_records(path, schedule)
 
@@ -381,7 +392,7 @@ def test_a_formula_without_its_computed_value_is_refused(good, tmp_path, column)
 
 def test_missing_file(good, tmp_path):
     schedule, _, _ = good
-    with pytest.raises(IngestError, match=r"^nope\.csv, header, column '-': the file does not "
+    with pytest.raises(IngestError, match=r"^nope\.csv: the file does not "
                        r"exist\.$"):
         validate_records(tmp_path / "nope.csv", schedule)
 
@@ -390,7 +401,7 @@ def test_corrupt_file(good, tmp_path):
     schedule, _, _ = good
     path = tmp_path / "records.parquet"
     path.write_bytes(b"not parquet at all")
-    with pytest.raises(IngestError, match=r"^records\.parquet, header, column '-': the file cannot "
+    with pytest.raises(IngestError, match=r"^records\.parquet: the file cannot "
                        r"be read as parquet \([A-Za-z]+\)\.$"):
         validate_records(path, schedule)
 

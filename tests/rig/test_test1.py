@@ -425,7 +425,7 @@ def test_ingest_rejects_unknown_file_type(good, tmp_path):
     ids, df = good
     path = tmp_path / "waves.txt"
     path.write_text("x")
-    with pytest.raises(T.IngestError, match=r"^waves\.txt, header, column '-': unsupported file "
+    with pytest.raises(T.IngestError, match=r"^waves\.txt: unsupported file "
                                             r"type '\.txt' \(expected \.csv, \.parquet or "
                                             r"\.xlsx\)\.$"):
         T.validate_waveforms(path, ids)

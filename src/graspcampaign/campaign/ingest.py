@@ -1,4 +1,5 @@
-"""Store validated measured records of a hardware protocol as a run (``source = measured``).
+"""Store validated records of a hardware protocol as a run: a rig's measurements
+(``source = measured``) or a virtual rig's exports (``source = virtual``), one source per run.
 
 The protocol's kind validates every file completely (``TrialKind.ingest``) before anything is
 written, so bad input leaves what is stored untouched. Re-ingesting a trial that is already stored
@@ -21,12 +22,14 @@ from graspcampaign.campaign.schema import StudyCfg
 from graspcampaign.errors import UserInputError
 
 
-def ingest_files(study: StudyCfg, paths: list[str], run: str = "measured") -> tuple[int, Path]:
+def ingest_files(study: StudyCfg, paths: list[str], run: str = "measured") -> tuple[int, Path, str]:
     """Validate ``paths`` with the study's protocol and append them to ``run``.
 
     Returns
     -------
-    n_rows, run_path
+    n_rows, run_path, source
+        ``source``: the records' (``measured``, or ``virtual`` for a virtual rig's exports), which
+        the run's manifest says too.
     """
     kind = get_kind(study.kind)
     if kind.ingest is None:
@@ -41,7 +44,7 @@ def ingest_files(study: StudyCfg, paths: list[str], run: str = "measured") -> tu
     params = kind_params(study, kind)
     store = RunStore(run_path(study, run))
     manifest = store.check(["records"])  # a run that is not what its manifest says: refused
-    if manifest is not None and manifest["source"] != "measured":
+    if manifest is not None and not provenance.ingested(manifest):
         raise UserInputError(
             f"run {study.name}/{run} at {store.path} holds {manifest['source']} records (from "
             "`graspcampaign run`); measured records are stored in a run of their own, so choose "
@@ -53,13 +56,13 @@ def ingest_files(study: StudyCfg, paths: list[str], run: str = "measured") -> tu
     if clash:
         raise UserInputError(f"trial {clash[0]!r} is already stored in {store.path}; measured "
                              f"records are never overwritten ({len(clash)} such trials).")
-    if manifest is None:
-        manifest = provenance.new_manifest(study, run, len(study_trials(study, kind, params)),
-                                           "measured")
     for row in rows:
         row.setdefault("source", "measured")
         row.setdefault("status", "ok")
         row["study"], row["run"] = study.name, run  # the records of this run, whatever the file says
+    source = rows[0]["source"] if rows else "measured"  # one source per run (check_one_source)
+    if manifest is None:
+        manifest = provenance.new_manifest(study, run, len(study_trials(study, kind, params)), source)
     chash = provenance.config_hash(study)
     store.write_shard("records", content_hash(sorted(r["trial_id"] for r in rows)), rows,
                       metadata=config_metadata(chash), strings=ERROR_COLUMNS)
@@ -67,5 +70,5 @@ def ingest_files(study: StudyCfg, paths: list[str], run: str = "measured") -> tu
                                  "at": provenance.now_utc(), "config_hash": chash})
     manifest["n_recorded"] = len(stored_ids) + len(rows)
     provenance.write_manifest(store.manifest_path, manifest)
-    return len(rows), store.path
+    return len(rows), store.path, manifest["source"]
 

@@ -100,6 +100,8 @@ def override_sentence(exc: BaseException, overrides: list[str], given: list[str]
             try:
                 parser.parse_overrides([item])
             except Exception as error:  # noqa: BLE001  (the one that fails is the one to name)
+                if "=" not in item and not item.startswith("~"):  # ~key deletes: no value
+                    return f"cannot parse override {typed!r}: expected key=value, e.g. mu=0.3."
                 return (_character_sentence(item, typed, str(error))
                         or f"cannot parse override {typed!r}: {text.rstrip('.')}.")
         return f"cannot parse overrides: {text.rstrip('.')}."

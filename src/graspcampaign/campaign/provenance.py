@@ -96,6 +96,14 @@ def new_manifest(study: StudyCfg, run: str, n_trials: int, source: str) -> dict[
     }
 
 
+def ingested(manifest: dict[str, Any]) -> bool:
+    """Whether ``ingest`` stored the run (its sessions name the files they ingested): a rig's
+    measurements or a virtual rig's exports, never added to by ``run``."""
+    sessions = manifest.get("sessions") if isinstance(manifest.get("sessions"), list) else []
+    return manifest.get("source") == "measured" or any(
+        isinstance(s, dict) and "ingested" in s for s in sessions)
+
+
 #: The manifest's fields every command relies on, and what each must hold.
 _COUNT = "a whole number of trials"
 _FIELDS: dict[str, tuple[tuple[type, ...], str]] = {

@@ -313,10 +313,10 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
     store = RunStore(path)
     manifest = check_run(store, repairable=True)
     if manifest is not None:
-        if manifest["source"] == "measured":
+        if provenance.ingested(manifest):
             raise UserInputError(
-                f"run {study.name}/{run} at {path} holds measured records (ingested); `run` "
-                "never adds simulated or virtual trials to them, so choose another run name "
+                f"run {study.name}/{run} at {path} holds {manifest['source']} records (ingested); "
+                "`run` never adds simulated or virtual trials to them, so choose another run name "
                 "(--run NAME).")
         check_drift(manifest, study, allow_drift, path)
     chash = provenance.config_hash(study)

@@ -91,9 +91,10 @@ def drift_refusal(study: StudyCfg, run: str | None = None, opened=_OPEN) -> str 
     config or code version: :func:`graspcampaign.campaign.provenance.check_drift`); None if it would
     not, or there is no simulated run yet."""
     opened = opened_run(study, run) if opened is _OPEN else opened
-    if opened is None or opened[1].get("source") == "measured":  # ingest's runs: no drift
+    from graspcampaign.campaign.provenance import DriftError, check_drift, ingested
+
+    if opened is None or ingested(opened[1]):  # ingest's runs: no drift
         return None
-    from graspcampaign.campaign.provenance import DriftError, check_drift
 
     try:
         check_drift(opened[1], study, False, opened[0].path)
@@ -197,13 +198,15 @@ def run_status(root: Path | str, study: str, run: str = "default") -> dict[str, 
         No such run; for a study that is neither known nor in ``root``, the available studies.
     """
     store, manifest = open_run(root, study, run)
-    table = store.read(columns=["status"])
+    table = store.read(columns=["status", "source"])  # pyarrow only: status answers fast
     statuses = table.column("status").to_pylist() if table.num_rows else []
+    sources = set(table.column("source").to_pylist()) if "source" in table.column_names else set()
     return {
         "study": study,
         "run": run,
         "path": str(store.path),
-        "source": manifest.get("source"),
+        # the records' source, as the run's report says (analysis.records.data_source)
+        "source": "virtual" if "virtual" in sources else manifest.get("source"),
         "n_trials": manifest.get("n_trials"),
         "n_recorded": len(statuses),
         "n_ok": statuses.count("ok"),

@@ -18,8 +18,49 @@ from pathlib import Path
 from typing import Annotated
 
 import typer
+from typer.core import TyperGroup
+
+try:  # typer >= 0.2x carries its own click
+    from typer._click.exceptions import BadParameter, UsageError
+except ImportError:  # pragma: no cover - older typer on click
+    from click.exceptions import BadParameter, UsageError
+
+#: what a value Typer could not convert should have been (pydantic's error type)
+_WANTED = {"float_parsing": "a number", "int_parsing": "a whole number",
+           "int_from_float": "a whole number", "bool_parsing": "true or false"}
+
+
+def usage_sentence(exc: UsageError, command: str | None) -> str:
+    """One sentence for a ``command`` line Typer cannot parse (a value of the wrong type, an
+    unknown option, a missing argument), pointing to the command's help."""
+    errors = getattr(exc.__cause__, "errors", lambda: [])()
+    if isinstance(exc, BadParameter) and exc.param is not None and errors:
+        hint = exc.param.opts[0] if exc.param.opts else exc.param.name
+        what = _WANTED.get(errors[0]["type"], errors[0]["msg"].lower())
+        text = f"{hint} {errors[0]['input']!r} is not {what}"
+    else:
+        text = exc.format_message().rstrip(".")
+        text = text[:1].lower() + text[1:]
+    return f"{text}; see graspcampaign {command + ' ' if command else ''}--help."
+
+
+class _Commands(TyperGroup):
+    """The commands, whose command-line errors are one sentence like every other refusal."""
+
+    def invoke(self, ctx):
+        # the command's name, before click parses its arguments (``_protected_args``: click 8.2)
+        command = next(iter(getattr(ctx, "_protected_args", None)
+                            or getattr(ctx, "protected_args", [])), None)
+        try:
+            return super().invoke(ctx)
+        except UsageError as exc:
+            if type(exc).__name__ == "NoArgsIsHelpError":  # help was shown
+                raise
+            fail(usage_sentence(exc, command if command in self.commands else None))
+
 
 app = typer.Typer(
+    cls=_Commands,
     add_completion=True,
     no_args_is_help=True,
     help="Reproducible experiment campaigns for soft-object grasp planning.",

@@ -19,6 +19,7 @@ from graspcampaign.cli.app import (
     compose,
     fail,
     guard,
+    path_or_empty,
     state,
     writable_stem,
 )
@@ -80,31 +81,43 @@ def ingest(
     overrides: Annotated[list[str] | None, typer.Option("--set", help="Hydra override (repeatable).")] = None,
     root: RootOpt = None,
 ) -> None:
-    """Validate measured records and store them as a run with source = measured."""
+    """Validate measured records and store them as a run of their source: measured, or virtual
+    for a virtual rig's exports."""
     from graspcampaign.campaign.ingest import ingest_files
 
     check_root(root, write=True)
     cfg = compose(study, overrides, root)
-    n, path = ingest_files(cfg, [str(f) for f in files], run)
-    typer.echo(f"{n} measured records stored in {path}")
+    n, path, source = ingest_files(cfg, [str(f) for f in files], run)
+    typer.echo(f"{n} measured records stored in {path}" if source == "measured" else
+               f"{n} virtual-rig records (source = {source}: exports, not rig measurements) "
+               f"stored in {path}")
 
 
 @app.command()
 @guard
 def plan(
-    mesh: Annotated[Path, typer.Argument(help="Object mesh (STL, OBJ or PLY).")],
-    mass_kg: Annotated[float, typer.Option("--mass-kg", help="Object mass [kg].")],
-    material: Annotated[str | None, typer.Option(help="Table 4 material family.")] = None,
+    mesh: Annotated[Path, typer.Argument(
+        help="Object mesh (STL, OBJ or PLY).", parser=path_or_empty, metavar="mesh")],
+    mass_kg: Annotated[float, typer.Option("--mass-kg", help="Object mass in kg.")],
+    material: Annotated[str, typer.Option(help="Table 4 material family.")] = "silicone_ref",
     mu: Annotated[float | None, typer.Option(help="Static friction; overrides the material's.")] = None,
-    fingertip_radius_mm: Annotated[float, typer.Option("--fingertip-radius-mm")] = 5.0,
+    fingertip_radius_mm: Annotated[float, typer.Option("--fingertip-radius-mm",
+                                                       help="Fingertip radius in mm.")] = 5.0,
     unit: Annotated[str, typer.Option(help="Length unit of the mesh file: m, cm or mm.")] = "mm",
     png: Annotated[Path | None, typer.Option(
-        help="Picture path, ending in .png (default: <mesh>.plan.png beside the mesh).")] = None,
+        help="Picture path, ending in .png (default: <mesh>.plan.png beside the mesh).",
+        parser=path_or_empty, metavar="path")] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
 ) -> None:
     """Plan a three-finger grasp on a mesh and predict the disturbances it resists."""
     from graspcampaign.rig.plan import PicturePathError, plan_mesh
 
+    if mesh == "":  # as a Path, "" would read "." (path_or_empty)
+        fail("the mesh path is empty; give a mesh file (STL, OBJ or PLY).")
+    if png == "":
+        fail("--png is empty; give a picture path ending in .png, such as plan.png.")
+    if mesh.is_dir():
+        fail(f"{mesh} is a directory; give a mesh file (STL, OBJ or PLY).")
     if not mesh.is_file():
         fail(f"{mesh}: no such mesh file.")
     try:  # plan_mesh checks the picture path before any planning work

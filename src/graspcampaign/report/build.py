@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import importlib
 import logging
+import os
 import re
 import warnings
 from collections.abc import Mapping
@@ -12,6 +13,7 @@ from typing import Any
 
 import pandas as pd
 
+from graspcampaign.analysis.records import data_source
 from graspcampaign.campaign.paths import check_root
 from graspcampaign.campaign.provenance import read_manifest
 from graspcampaign.campaign.records import RunStore
@@ -19,6 +21,7 @@ from graspcampaign.errors import ConfigError, UserInputError
 from graspcampaign.report import document as D
 from graspcampaign.report import spec as S
 from graspcampaign.report.document import NAV, Col, Document, Table, Text
+from graspcampaign.report.headline import folders, headline_rows, is_run, write_headline
 from graspcampaign.report.render import Run, provenance, reason, render
 from graspcampaign.report.style import SOURCE_SHORT
 
@@ -122,22 +125,27 @@ def _runs(root: Path, studies: list[str] | None, run: str | Mapping[str, str] | 
     """
     if not root.is_dir():
         raise UserInputError(f"no results directory at {root}; run a study first.")
+    try:
+        os.listdir(root)
+    except OSError as exc:
+        raise UserInputError(f"cannot list the runs under {root} "
+                             f"({exc.strerror or type(exc).__name__}).") from None
     # a run's or a study's directory given as the root: its folders are no studies, nor runs
     if (root / "manifest.json").exists():
         raise UserInputError(f"no runs under {root}: it is the directory of run {root.parent.name}/"
                              f"{root.name}; give the results root that holds it "
                              f"(--root {root.parent.parent}).")
-    if any((d / "manifest.json").exists() for d in root.iterdir() if d.is_dir()):
+    if any(os.path.exists(d / "manifest.json") for d in folders(root)):
         raise UserInputError(f"no runs under {root}: it holds the runs of study {root.name}; give "
                              f"the results root that holds it (--root {root.parent}).")
     named, stores, failed = bool(studies) or run is not None, [], []
-    for name in dict.fromkeys(studies) if studies else sorted(p.name for p in root.iterdir()
-                                                               if p.is_dir()):
-        if studies and not (root / name).is_dir():
+    for name in dict.fromkeys(studies) if studies else [d.name for d in folders(root)]:
+        if studies and not os.path.isdir(root / name):
             raise UserInputError(f"no records for study {name!r} under {root}; run it first.")
         wanted = run.get(name) if isinstance(run, Mapping) else run
-        for r in [wanted] if wanted is not None else sorted(p.name for p in (root / name).iterdir()
-                                                             if p.is_dir()):
+        # walking, a folder is a run only if it looks like one (/sys/firmware/acpi is none)
+        for r in [wanted] if wanted is not None else [d.name for d in folders(root / name)
+                                                      if is_run(d)]:
             store = RunStore(root / name / r)
             try:  # a damaged file, a foreign or duplicate shard, missing records: never reported
                 manifest = store.check()
@@ -214,8 +222,6 @@ def write_root_pages(root: Path, formats: list[str]) -> bool:
     pages as they are show it: then leave both as they were (what they said of the run was
     computed from it when it could be read), warn naming the run, and return False. A run the
     pages do not show yet is written with its row marked "the run cannot be read"."""
-    from graspcampaign.report.headline import headline_rows, write_headline
-
     unreadable: list[tuple[str, str]] = []
     frame = headline_rows(root, unreadable)
     index = {page: index_rows(root, page, unreadable) for page in _index_pages(formats)}
@@ -242,18 +248,21 @@ def _index_pages(formats: list[str]) -> list[str]:
 def index_rows(root: Path, page: str, unreadable: list[tuple[str, str]] | None = None,
                ) -> pd.DataFrame:
     """The index rows: every run's report page (``page``: md or html) with its study, run, source
-    and trial count; a run whose manifest cannot be read is added to ``unreadable``."""
+    (its records', as its page says) and trial count; a run whose manifest or records cannot be
+    read is added to ``unreadable``."""
     rows = []
     for report in sorted(root.glob(f"*/*/report/report.{page}")):
         run_dir = report.parent.parent
         try:
             m = read_manifest(run_dir / "manifest.json") or {}
+            source = data_source(RunStore(run_dir).read("records", ["source"]).to_pandas(),
+                                 m.get("source"))
         except UserInputError as exc:
             if unreadable is not None:
                 unreadable.append((run_dir.relative_to(root).as_posix(), reason(exc)))
-            m = {}
+            m, source = {}, None
         rows.append([m.get("study", run_dir.parent.name), m.get("run", run_dir.name),
-                     SOURCE_SHORT.get(m.get("source"), m.get("source")), m.get("n_trials"),
+                     SOURCE_SHORT.get(source, source), m.get("n_trials"),
                      report.with_suffix(".html").relative_to(root).as_posix()])
     return pd.DataFrame(rows, columns=["study", "run", "source", "trials", "report"])
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -141,9 +142,18 @@ def _run_row(h: Headline, store: RunStore, root: Path) -> dict | None:
                 why=mine["rate_why"], ours_baselines=_ranked(others["rate_pct"].to_dict()), **common)
 
 
-def _is_run(path: Path) -> bool:
+def folders(path: Path) -> list[Path]:
+    """The directories in ``path``, sorted; an entry that cannot be read (as under /proc) is none."""
+    try:
+        names = os.listdir(path)
+    except OSError:
+        return []
+    return sorted(path / name for name in names if os.path.isdir(path / name))
+
+
+def is_run(path: Path) -> bool:
     """A directory holding a run (its manifest, or stored files a missing manifest leaves)."""
-    return path.is_dir() and any((path / p).exists() for p in ("manifest.json", "records"))
+    return os.path.isdir(path) and any(os.path.exists(path / p) for p in ("manifest.json", "records"))
 
 
 def headline_rows(root: Path | str, unreadable: list[tuple[str, str]] | None = None,
@@ -153,7 +163,7 @@ def headline_rows(root: Path | str, unreadable: list[tuple[str, str]] | None = N
     root, rows = Path(root), []
     for h in TABLE1:
         study_dir = root / h.study
-        runs = sorted(p for p in study_dir.iterdir() if _is_run(p)) if study_dir.is_dir() else []
+        runs = [p for p in folders(study_dir) if is_run(p)]
         rows += [] if runs else [_row(h, study_paper(h.study), why="no records yet")]
         for r in runs:
             try:

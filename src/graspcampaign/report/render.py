@@ -11,6 +11,7 @@ from typing import Any
 import pandas as pd
 
 from graspcampaign.analysis.records import data_source, executed, status_counts
+from graspcampaign.campaign.provenance import ingested
 from graspcampaign.core.bench_specimen import FINGERTIP_RADIUS
 from graspcampaign.errors import UserInputError
 from graspcampaign.report.document import Document, Table, Text
@@ -36,6 +37,8 @@ class Run:
     params = property(lambda self: self.config.get("params") or {})
     seed = property(lambda self: int(self.config.get("seed", 0)))
     study = property(lambda self: str(self.manifest.get("study")))
+    #: a virtual rig's exports stored by ``graspcampaign ingest`` (not rig measurements)
+    ingested_exports = property(lambda self: self.source == "virtual" and ingested(self.manifest))
 
     @property
     def radius_mm(self) -> float:

@@ -149,7 +149,7 @@ def validate_records(data: pd.DataFrame | str | Path, schedule: pd.DataFrame,
     """
     df, label = table_and_label(data, file_label, read_records)
     if not isinstance(df, pd.DataFrame):
-        raise IngestError(f"{label}, header, column '-': expected a table, got "
+        raise IngestError(f"{label}: expected a table, got "
                           f"{type(df).__name__}.")
     studies = schedule["study"].unique().tolist() if "study" in schedule else []
     if len(studies) != 1:

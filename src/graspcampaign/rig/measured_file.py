@@ -43,17 +43,19 @@ def read_table(path: str | Path, *, csv_options: dict | None = None,
     Raises
     ------
     IngestError
-        Unsupported file type, missing or unreadable file.
+        Unsupported file type, missing, empty or unreadable file.
     """
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix not in (".csv", ".parquet", ".pq", ".xlsx"):
-        raise IngestError(f"{path.name}, header, column '-': unsupported file type "
+        raise IngestError(f"{path.name}: unsupported file type "
                           f"'{suffix or '(none)'}' (expected .csv, .parquet or .xlsx).")
     if path.is_dir():
         raise IngestError(f"{path.name}: is a directory, not a file.")
     if not path.is_file():
-        raise IngestError(f"{path.name}, header, column '-': the file does not exist.")
+        raise IngestError(f"{path.name}: the file does not exist.")
+    if path.stat().st_size == 0:
+        raise IngestError(f"{path.name}: the file is empty.")
     text = _checked_csv(path) if suffix == ".csv" else None
     try:
         if text is not None:  # the text the check read: the file is read once
@@ -72,7 +74,7 @@ def read_table(path: str | Path, *, csv_options: dict | None = None,
     except IngestError:
         raise
     except Exception as exc:  # the readers raise many types for corrupt files
-        raise IngestError(f"{path.name}, header, column '-': the file cannot be read as "
+        raise IngestError(f"{path.name}: the file cannot be read as "
                           f"{suffix[1:]} ({type(exc).__name__}).") from exc
 
 
@@ -120,7 +122,7 @@ def _checked_csv(path: Path) -> str:
     except csv.Error as exc:  # a cell over the csv module's field limit, a stray NUL byte
         raise IngestError(f"{path.name}: the file cannot be read as CSV ({exc}).") from None
     if not rows:
-        raise IngestError(f"{path.name}, header, column '-': the file is empty.")
+        raise IngestError(f"{path.name}: the file is empty.")  # blank lines only
     header = rows[0]
     for sep, name in ((";", "';'"), ("\t", "tabs")):
         if len(header) == 1 and sep in header[0]:

@@ -368,7 +368,12 @@ def plot_plan(mesh, points, normals, forces, path, title: str = "") -> Path:
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("y [mm]")
     ax.set_zlabel("z [mm]")
-    ax.set_box_aspect(np.ptp(v, axis=0))
+    # one scale on every axis (a sphere drawn round): a cube around the mesh and the arrows' tails
+    drawn = np.vstack([v, p - 1.1 * arrows])
+    centre, half = drawn.min(axis=0) / 2 + drawn.max(axis=0) / 2, float(np.ptp(drawn, axis=0).max()) / 2
+    ax.set(xlim=(centre[0] - half, centre[0] + half), ylim=(centre[1] - half, centre[1] + half),
+           zlim=(centre[2] - half, centre[2] + half))
+    ax.set_box_aspect((1, 1, 1))
     ax.set_title(title, fontsize=9)
     fig.savefig(path, dpi=100, format="png")  # the path check_picture_path accepted: its parent exists
     return path

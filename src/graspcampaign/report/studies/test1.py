@@ -222,9 +222,8 @@ def _damage_caption(run: Run) -> str:
 
 
 def _note(run: Run) -> str:
-    ingested = run.manifest.get("source") == "measured" and run.source == "virtual"
     return ("*This run was filled by `graspcampaign ingest`, but its files carried `source = virtual`: "
-            "they are virtual-bench exports, not rig measurements.* " if ingested else "") + (
+            "they are virtual-bench exports, not rig measurements.* " if run.ingested_exports else "") + (
         "" if len(_runs(run)) else "The PSO re-identification (§7.5, Table 5, Fig. 26) and the §7.6 "
         "transfer errors are computed by the finalize stage of `graspcampaign run`; this run has none "
         "(ingested records, or a run that has not finished).")

@@ -161,8 +161,7 @@ def finding(run: Run, extra=lambda run: "") -> str:
             "no constant of the rig was tuned towards the paper. " if run.source == "virtual" else
             "Measured on hardware. ") + ("This run was filled by `graspcampaign ingest`, but its files "
                                          "carried `source = virtual`: they are virtual-rig exports, not rig "
-                                         "measurements. " if run.manifest.get("source") == "measured" and
-                                         run.source == "virtual" else "")
+                                         "measurements. " if run.ingested_exports else "")
     text += "Success over the executed trials, ours (paper): " + ", ".join(
         f"{lab(q)} {n1(v)} % ({n1(paper_of(run, lambda p, q: getattr(p, table)[q].success_pct, q))} %)"
         for q, v in paper.items()) + f"; the {lab(top)} planner ranks first. "
