@@ -140,6 +140,20 @@ def test_a_damaged_measured_run_is_refused_with_the_ingest_advice(tmp_path):
         "run directory and ingest the file that held its records again.")
 
 
+
+def test_a_damaged_ingested_virtual_run_is_refused_with_the_ingest_advice(tmp_path):
+    # a virtual rig's exports are ingested as source = virtual; `run` refuses to add to the run,
+    # so its advice is ingest's, never "resume the run"
+    from graspcampaign.campaign.provenance import write_manifest
+
+    store, path = _two_shards(tmp_path)
+    write_manifest(store.manifest_path, {"source": "virtual",
+                                         "sessions": [{"ingested": ["day1.csv"]}]})
+    corrupt_value_column(path, "residual_norm_n")
+    with pytest.raises(DamagedRunError, match=r"; move it out of the run directory and ingest the "
+                       r"file that held its records again\.$"):
+        store.verify()
+
 def test_trace_rows_without_a_record_are_dropped_on_repair(tmp_path):
     store = RunStore(tmp_path / "run")
     store.write_shard("records", "a", [{"trial_id": "a"}])

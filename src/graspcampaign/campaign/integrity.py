@@ -41,7 +41,7 @@ from pathlib import Path
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from graspcampaign.campaign.provenance import MISMATCH, kind_facts_or_none, read_manifest
+from graspcampaign.campaign.provenance import MISMATCH, ingested, kind_facts_or_none, read_manifest
 from graspcampaign.campaign.verify import facts, verify_file
 from graspcampaign.errors import DamagedRunError
 
@@ -290,13 +290,13 @@ def _miscounted(manifest: dict, n_stored: int) -> str | None:
     return None
 
 
-def _advice(store, problem: Problem, source: str | None) -> str:
+def _advice(store, problem: Problem, by_ingest: bool) -> str:
     study, run, root = store.path.parent.name, store.path.name, store.path.parent.parent
     if problem.advice:
         return problem.advice
     if problem.fix == "refuse":
         return "move it aside, then resume the run"
-    if source == "measured":
+    if by_ingest:  # run would refuse to add to it: the files are ingested again
         if problem.fix == "missing":
             return ("restore the records from a backup, or move the run directory aside and ingest "
                     "every file again")
@@ -317,11 +317,11 @@ def refusal(store, found: list[Problem], manifest: dict | None = None) -> Damage
             manifest = json.loads(store.manifest_path.read_text())
         except (OSError, ValueError):
             manifest = None
-    source = manifest.get("source") if isinstance(manifest, dict) else None
+    by_ingest = isinstance(manifest, dict) and ingested(manifest)
     n = len(found) - 1
     more = f" (and {n} more problem{'s' if n > 1 else ''})" if n else ""
     return DamagedRunError(f"run {store.path.parent.name}/{store.path.name} at {store.path} has "
-                           f"{found[0].text}{more}; {_advice(store, found[0], source)}.",
+                           f"{found[0].text}{more}; {_advice(store, found[0], by_ingest)}.",
                            f"has {found[0].text}{more}")
 
 
