@@ -63,7 +63,7 @@ def test_sensitivity_report(runs):
     assert panels["delta_max_median_mm"].to_dict() == pytest.approx(
         {p: physical.get(p, np.nan) for p in panels.index}, nan_ok=True)
     per_mu = ok[ok["panel"] == "mu_mass"].groupby("mu")["success"].mean()
-    assert ("not at all with friction" in md) == (per_mu.nunique() == 1)
+    assert ("does not vary with friction" in md) == (per_mu.nunique() == 1)
     assert "(a) μ × m" in md and "| mu_mass |" not in md  # panels by their words
     bound = claims.loc[[q for q in claims.index if "on its PSO search bound" in q]]
     if bound["value"].notna().all() and len(bound) == 2:
@@ -158,3 +158,25 @@ def test_lambda1_bound_words_are_judged_by_the_verdict_rule(a, b, expected):
                           "paper": None, "differs": None, "verdict": ""})
     out = _bound_claims(frame)
     assert list(zip(out["differs"], out["verdict"], strict=True)) == expected
+
+
+# success per cell (m, μ) in the order (0.1, 0.05), (0.1, 0.5), (0.8, 0.05), (0.8, 0.5)
+@pytest.mark.parametrize("success", [(False, True, False, True), (True, True, False, False)])
+def test_the_finding_says_whether_success_varies_by_one_rule_for_mass_and_friction(success):
+    """Both halves read the records: equal shares per level "do not vary", unequal ones "vary"."""
+    from types import SimpleNamespace
+
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies.sensitivity import finding
+
+    cells = [(m, mu) for m in (0.1, 0.8) for mu in (0.05, 0.5)]
+    records = pd.DataFrame([{"panel": "mu_mass", "status": "ok", "mass_kg": m, "mu": mu, "success": won,
+                             "delta_max_mm": 1.0, "loop_capped": False}
+                            for (m, mu), won in zip(cells, success, strict=True)])
+    paper = SimpleNamespace(stable_mu_min=0.2, stable_mass_max_kg=0.5)
+    text = finding(Run(records, {"config": {"evaluator": {"n_max": 50}}}, paper))
+    for column, words in (("mass_kg", "mass"), ("mu", "friction")):
+        constant = records.groupby(column)["success"].mean().nunique() == 1
+        assert (f"does not vary with {words}" in text) == constant
+        varies = f"success varies with {words}" in text or f"and varies with {words}" in text
+        assert varies == (not constant)

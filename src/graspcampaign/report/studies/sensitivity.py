@@ -139,17 +139,23 @@ def _depths(run: Run, g: pd.DataFrame, name: str) -> str:
                 "; no trial is physical"))
 
 
+def _varies(by_level: pd.Series, factor: str) -> str:
+    """Whether the success share per level of ``factor`` varies, in the finding's words."""
+    if by_level.nunique() == 1:
+        return (f"does not vary with {factor} ({100 * by_level.iloc[0]:.1f}% at each of its "
+                f"{len(by_level)} levels)")
+    return (f"varies with {factor} (between {100 * by_level.min():.1f}% and {100 * by_level.max():.1f}% "
+            f"over its {len(by_level)} levels)")
+
+
 def finding(run: Run) -> str:
     (a, b, c), p, text = (panel_rows(run, k) for k in PANELS), run.paper, []
     n_max = run.config["evaluator"]["n_max"]
     if len(a):
-        by_mu, by_m = a.groupby("mu")["success"].mean(), a.groupby("mass_kg")["success"].mean()
-        friction = (f"not at all with friction ({100 * by_mu.iloc[0]:.1f}% at each of the {len(by_mu)} "
-                    "μ levels)" if by_mu.nunique() == 1 else f"with friction between "
-                    f"{100 * by_mu.min():.1f}% and {100 * by_mu.max():.1f}% per μ level")
+        mass, friction = (_varies(a.groupby(k)["success"].mean(), words) for k, words in
+                          (("mass_kg", "mass"), ("mu", "friction")))
         won = a.loc[a["success"].astype(bool), ["delta_max_mm", "loop_capped"]]
-        text.append(f"(a) Our success varies with mass ({100 * by_m.iloc[0]:.0f}% at {by_m.index[0]:g} kg, "
-                    f"{100 * by_m.iloc[-1]:.0f}% at {by_m.index[-1]:g} kg) and {friction}: Algorithm 2 "
+        text.append(f"(a) Our success {mass} and {friction}: Algorithm 2 "
                     "releases contacts until the remaining normals carry the weight (η ≈ 0), so the slip "
                     f"check rarely binds and the paper's μ ≥ {p.stable_mu_min} boundary does not appear" + (
                         f". Its {len(won)} successes reach δ_max {won['delta_max_mm'].min():.2g}–"
