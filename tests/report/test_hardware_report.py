@@ -386,3 +386,27 @@ def test_first_finger_table_names_its_interval(sim_root):
     caption, header = md.split("(`tables/test3_first_finger.csv`)")[0].rsplit("**", 2)[1], \
         md.split("(`tables/test3_first_finger.csv`)")[1].split("\n")[2]
     assert "Wilson 95%" in caption and "Wilson 95%" in header
+
+
+def test_test3_threshold_columns_carry_their_unit_and_equal_the_records(sim_root):
+    """The block-A thresholds per surface and per direction, and the OLS intercept, are in newtons
+    and named so (``lat_threshold_n``, ``ols_intercept_n``); their values are the records' medians and
+    scipy's fit of measured on predicted over the uncensored proposed ramps."""
+    from scipy.stats import linregress
+
+    a = _both(sim_root, "test3_disturbance").query(
+        "belief_error == 'paper' and planner == 'heuristic' and block == 'A'")
+    m, p = a["threshold_measured_n"].astype(float), a["threshold_pred_n"].astype(float)
+    ramps = a.assign(m=m)[(m > 0) & p.notna() & ~a["threshold_censored"].astype("boolean").fillna(False)]
+    coating = _table(sim_root, "test3_disturbance", "test3_coating").set_index("friction_level")
+    assert coating["lat_threshold_n"].to_dict() == pytest.approx(
+        ramps.groupby("friction_level")["m"].median().reindex(coating.index).to_dict(), nan_ok=True)
+    directions = _table(sim_root, "test3_disturbance", "test3_directions").set_index("direction_deg")
+    natural = ramps.query("friction_level == 'natural'")
+    assert directions["lat_threshold_n"].to_dict() == pytest.approx(
+        natural.groupby(natural["direction_deg"].astype(float))["m"].median().reindex(directions.index)
+        .to_dict(), nan_ok=True)
+    fit = linregress(ramps["threshold_pred_n"].astype(float), ramps["m"])
+    agree = _table(sim_root, "test3_disturbance", "test3_threshold_agreement").iloc[0]
+    assert agree["ols_intercept_n"] == pytest.approx(fit.intercept)
+    assert "threshold" not in coating and "ols_intercept" not in agree  # no column without its unit
