@@ -222,3 +222,19 @@ def test_an_undefined_mcnemar_test_shows_no_p():
     assert row["p (exact)"] == fmt.MISSING and row["χ² (cc)"] == "no discordant pair: the test is undefined"
     [table] = Paired().render(run)  # one discordant pair: binomial p = 1
     assert [t for t, _ in table.cells()[0]][[c.label for c in table.cols].index("p (exact)")] == "1.0"
+
+
+def test_claims_write_counts_as_whole_numbers(tmp_path):
+    """A Claims row's ``n`` is a count: ``3`` in the CSV (not ``3.0``), empty where a value has none."""
+    import pandas as pd
+
+    from graspcampaign.analysis.records import Estimate
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.spec import Claims
+
+    rows = [("a share", "§8", Estimate(50.0, 20.0, 80.0, 3), 40.0, "%", 1),
+            ("a ratio", "§8", 1.5, None, "", 2)]
+    claims = Claims("c", "claims", lambda run: rows)
+    [table] = claims.render(Run(pd.DataFrame(), {}, paper=object()))
+    table.frame.to_csv(tmp_path / "c.csv", index=False)
+    assert pd.read_csv(tmp_path / "c.csv", dtype=str, keep_default_na=False)["n"].tolist() == ["3", ""]

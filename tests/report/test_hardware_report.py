@@ -410,3 +410,16 @@ def test_test3_threshold_columns_carry_their_unit_and_equal_the_records(sim_root
     agree = _table(sim_root, "test3_disturbance", "test3_threshold_agreement").iloc[0]
     assert agree["ols_intercept_n"] == pytest.approx(fit.intercept)
     assert "threshold" not in coating and "ols_intercept" not in agree  # no column without its unit
+
+
+@pytest.mark.parametrize("study", sorted(STUDIES))
+def test_the_papers_trial_counts_are_whole_numbers_in_the_csv(sim_root, study):
+    """``n_paper`` (Tables 6 and 9: the paper's trials per row) prints 830, not 830.0; empty where the
+    paper has no row (the counterfactual belief reading)."""
+    name, key = ("table6", "shape") if study == "test2_grasp" else ("table9", "planner")
+    path = sim_root / study / "default" / "report" / "tables" / f"{name}.csv"
+    text = pd.read_csv(path, dtype=str, keep_default_na=False)
+    rows = _paper(study)[name]
+    expected = [str(rows[k]["n"]) if b == "paper" and k in rows else ""
+                for k, b in zip(text[key], text["belief_error"], strict=True)]
+    assert text["n_paper"].tolist() == expected

@@ -179,7 +179,7 @@ def Claims(name: str, caption: str | Callable[[Run], str],
             out.append([r.label, r.section, fmt.paper_text(p, r.digits) if isinstance(p, tuple | list) else p,
                         e.value, e.low, e.high, e.n, r.unit, r.digits, why, p])
         frame = pd.DataFrame(out, columns=["quantity", "section", "paper", "value", "low", "high", "n",
-                                           "unit", "digits", "why", "_paper"])
+                                           "unit", "digits", "why", "_paper"]).astype({"n": "Int64"})
         return verdicts(frame, "value", "_paper", "low", "high", "digits", "unit").drop(columns="_paper")
 
     return Table(name, caption, compute, [

@@ -56,6 +56,7 @@ def paper_table(name, caption, key, row, items, rates=(), medians=(), *, where=N
             out[columns(col, digits)[1]] = [None if b != "paper" else paper_of(
                 run, paper if callable(paper) else lambda p, k, a=paper: getattr(row(p, k), a), k)
                 for k, b in zip(out[key], out["belief_error"], strict=True)]
+        out = out.astype({"n_paper": "Int64"}) if "n_paper" in out else out  # a count, missing where none
         out = extra(run, d, out) if extra else out
         return verdicts(out, "success_pct", "paper_success_pct", "success_low_pct", "success_high_pct",
                         unit="%")
