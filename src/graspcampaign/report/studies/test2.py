@@ -151,6 +151,32 @@ def matched_mcnemar(name: str, caption: str) -> Table:
                   trials=lambda run: ex(run)[ex(run)["matched"].astype(bool)])
 
 
+def first(rates: pd.Series) -> str:
+    """Who ranks first by ``rates`` (per planner, %): one planner, or the planners tying first (equal
+    rates share a rank, as in the belief-pairs table)."""
+    top = [label("planner", q) for q, v in rates.items() if v == rates.max()]
+    if len(top) == 1:
+        return f"the {top[0]} planner ranks first"
+    return f"{', '.join(top[:-1])} and {top[-1]} tie first at {fmt.number(rates.max(), 1)} %"
+
+
+def belief_gap(paper: pd.Series, none: pd.Series) -> str:
+    """What the counterfactual shows: how far the proposed planner trails the first with the planners'
+    own beliefs (``paper``) and with exact ones (``none``), and how much of that exact beliefs close."""
+    gap, gap0 = paper.max() - paper[PROPOSED], none.max() - none[PROPOSED]
+    ranks = [r.rank(ascending=False, method="min") for r in (paper, none.reindex(paper.index))]
+    closed = fmt.number(gap - gap0, 1)
+    return (f"{first(none)} and the ranks {'do not ' * ranks[0].equals(ranks[1])}change. The proposed "
+            f"planner trails the first by {fmt.number(gap, 1)} pp with the planners' own beliefs and by "
+            f"{fmt.number(gap0, 1)} pp with exact ones: " + (
+                "exact beliefs do not narrow the gap, so its deficit comes from where it places its "
+                "contacts, not from what it believes about them. " if gap0 >= gap else
+                f"exact beliefs close {closed} pp of it, less than half, so most of its deficit comes from "
+                "where it places its contacts, not from what it believes about them. " if gap0 > gap / 2
+                else f"exact beliefs close {closed} pp of it, at least half, so most of its deficit comes "
+                "from what the planners believe, not from where they place their contacts. "))
+
+
 def finding(run: Run, extra=lambda run: "") -> str:
     """The opening paragraph: the ranking with and without belief errors, and why, from the records."""
     d, e, n1, n2 = frames(run), ex(run), (lambda v: fmt.number(v, 1)), (lambda v: fmt.number(v, 2))
@@ -166,18 +192,12 @@ def finding(run: Run, extra=lambda run: "") -> str:
                                          run.source == "virtual" else "")
     text += "Success over the executed trials, ours (paper): " + ", ".join(
         f"{lab(q)} {n1(v)} % ({n1(paper_of(run, lambda p, q: getattr(p, table)[q].success_pct, q))} %)"
-        for q, v in paper.items()) + f"; the {lab(top)} planner ranks first. "
-    if "none" in s and top != PROPOSED:
+        for q, v in paper.items()) + f"; {first(paper)}. "
+    if "none" in s and paper[PROPOSED] < paper.max():
         none = s["none"].reindex(paper.index)
-        gap, gap0 = paper[top] - paper[PROPOSED], none[top] - none[PROPOSED]
-        same = list(none.sort_values(ascending=False).index) == list(paper.index)
         text += ("Removing the belief errors (`belief_error = none`: every planner sizes its grip from the "
                  "trial's actual μ_s, G_geo and contact law, same execution noise) gives " + ", ".join(
-                     f"{lab(q)} {n1(v)} %" for q, v in none.items()) + f"; the order is "
-                 f"{'un' * same}changed and the {lab(top)} planner leads the proposed one by {n1(gap)} pp "
-                 f"with the planners' own beliefs and by {n1(gap0)} pp with exact ones, so " + (
-                     "the ranking comes from where each planner places its contacts, not from what it "
-                     "believes. " if gap0 > gap / 2 else "the beliefs explain most of it. "))
+                     f"{lab(q)} {n1(v)} %" for q, v in none.items()) + ": " + belief_gap(paper, none))
     elif "none" not in s:
         text += "This run has no `belief_error = none` counterfactual (a real rig has no oracle). "
     g, gap = (e.groupby("planner")[c].median().reindex(paper.index) for c in ("g_geo_actual", "g_geo_gap"))
