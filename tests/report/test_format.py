@@ -238,3 +238,21 @@ def test_claims_write_counts_as_whole_numbers(tmp_path):
     [table] = claims.render(Run(pd.DataFrame(), {}, paper=object()))
     table.frame.to_csv(tmp_path / "c.csv", index=False)
     assert pd.read_csv(tmp_path / "c.csv", dtype=str, keep_default_na=False)["n"].tolist() == ["3", ""]
+
+
+def test_the_mcnemar_caption_says_how_equal_discordant_counts_are_tested():
+    """b = c = 1: the table prints χ² 0.0, p 1.0 (R's rule), statsmodels gives 1/(b + c) = 0.5; the
+    caption says which rule, once."""
+    import pandas as pd
+    from statsmodels.stats.contingency_tables import mcnemar
+
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.spec import Paired
+
+    records = pd.DataFrame({"status": "ok", "scene_id": [0, 0, 1, 1], "planner": ["heuristic", "random"] * 2,
+                            "success": [True, False, False, True]})
+    [table] = Paired().render(Run(records, {"config": {"factors": {"planner": ["heuristic", "random"]}}}))
+    row = dict(zip([c.label for c in table.cols], [t for t, _ in table.cells()[0]], strict=True))
+    assert (row["χ² (cc)"], row["p (χ²)"]) == ("0.0", "1.0")
+    assert mcnemar([[0, 1], [1, 0]], exact=False, correction=True).statistic == 1 / (1 + 1)
+    assert table.caption.count("1/(b + c)") == 1 and "R's mcnemar.test" in table.caption
