@@ -256,3 +256,15 @@ def test_the_mcnemar_caption_says_how_equal_discordant_counts_are_tested():
     assert (row["χ² (cc)"], row["p (χ²)"]) == ("0.0", "1.0")
     assert mcnemar([[0, 1], [1, 0]], exact=False, correction=True).statistic == 1 / (1 + 1)
     assert table.caption.count("1/(b + c)") == 1 and "R's mcnemar.test" in table.caption
+
+
+def test_an_estimate_and_its_standard_error_share_decimals():
+    """Test 3's logistic table printed coefficient 0.7 beside its se 0.56: a column's decimals came
+    from its largest value alone (11.96: 1 decimal). Each value now keeps 2 significant digits at
+    least, so both columns print 2 decimals here."""
+    import pandas as pd
+
+    coef, se = [-9.975, 0.7095, 8.693, 11.957, 1.2268], [6.335, 0.5584, 8.181, 7.964, 0.7801]
+    _, rows = _shown(pd.DataFrame({"coef": coef, "se": se}))
+    assert [r[0] for r in rows] == [f"{v:.2f}".replace("-", fmt.MINUS) for v in coef]
+    assert [r[1] for r in rows] == [f"{v:.2f}" for v in se]

@@ -27,6 +27,7 @@ from graspcampaign.campaign.kinds.hardware import export_records
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.cli.main import app
 from graspcampaign.report.build import build_reports
+from graspcampaign.report.format import MISSING
 
 STUDIES = {"test2_grasp": "params.fraction=0.08", "test3_disturbance": "params.fraction=0.1"}  # conftest
 OVERRIDES = ["runner.backend=sequential", "runner.progress=false"]
@@ -212,6 +213,13 @@ def test_tables_6_and_8_carry_the_papers_values(sim_root):
     p8 = _paper("test3_disturbance")["table8"]
     assert dict(zip(t8["block"], t8["paper_success_pct"], strict=True)) == {
         b: p8[b]["success_pct"] for b in t8["block"]}
+    # the headline mixes units per block (N, % W, N·m, mm): each value has 3 significant digits of its
+    # own, the paper's as printed (54, 4.34, 0.115; "54.000 % W" at one column's 3 decimals before)
+    md = (sim_root / "test3_disturbance" / "default" / "report" / "report.md").read_text()
+    rows = md.split("tables/table8.csv")[1].split("\n\n")[1].splitlines()[2:]
+    paper_cells = {r.split(" | ")[0].strip("| "): r.split(" | ")[8] for r in rows if " | paper | " in r}
+    assert paper_cells == {label("block", b): f"{p8[b]['headline']:.3g}" if "headline" in p8[b] else
+                           MISSING for b in t8["block"]}
     claims = _table(sim_root, "test3_disturbance", "test3_claims").set_index("quantity")
     row = claims.loc["proposed success, natural friction"]
     assert row["paper"] == 86.0 and row["difference"] == pytest.approx(row["value"] - 86.0)

@@ -235,7 +235,7 @@ SPEC = ReportSpec("test3_disturbance", [
                 "peak slip (D, E: no threshold); prediction error and centred parity R² over the "
                 "uncensored thresholds", "block", lambda p, k: p.table8[k], [
                     ("n", "n", "n", 0), ("success", "success_pct", "success", None),
-                    ("headline", "headline", "headline", 3), ("unit", None, "unit", ""),
+                    ("headline", "headline", "headline", fmt.EACH), ("unit", None, "unit", ""),
                     ("n_headline", None, "thresholds", 0),
                     ("threshold_err_pct", "pred_err_pct", "median |prediction error| [%]", 1),
                     ("parity_r2_centred", lambda p, k: p.block_parity_r2[k], "parity R² (centred)", 2)],
