@@ -268,3 +268,17 @@ def test_an_estimate_and_its_standard_error_share_decimals():
     _, rows = _shown(pd.DataFrame({"coef": coef, "se": se}))
     assert [r[0] for r in rows] == [f"{v:.2f}".replace("-", fmt.MINUS) for v in coef]
     assert [r[1] for r in rows] == [f"{v:.2f}" for v in se]
+
+
+def test_provenance_marks_a_missing_entry_as_missing():
+    """An ingested run's manifest has no finish time, host or code version: "—", never "None"."""
+    import pandas as pd
+
+    from graspcampaign.report.render import Run, provenance
+
+    manifest = {"n_trials": 2, "config_hash": "abc", "started_at": "2026-01-01T00:00:00+00:00",
+                "finished_at": None, "code_version": None, "host": {}}
+    lines = dict(provenance(Run(pd.DataFrame({"status": ["ok", "ok"]}), manifest)))
+    assert lines["Started / finished"] == f"2026-01-01T00:00:00+00:00 / {fmt.MISSING}"
+    assert (lines["Code"], lines["Host"], lines["Config hash"]) == (fmt.MISSING, fmt.MISSING, "`abc`")
+    assert not any("None" in v for v in lines.values())
