@@ -461,3 +461,14 @@ def test_the_finding_names_ties_and_says_what_the_counterfactual_shows(paper, no
     assert words in text
     same = (paper.rank(ascending=False, method="min") == none.rank(ascending=False, method="min")).all()
     assert ("the ranks do not change" in text) == same
+
+
+def test_outcome_shares_are_named_as_shares_of_each_class(sim_root):
+    """test2_outcomes.csv: the share of the proposed planner's trials in each primary outcome class is
+    ``rate_pct`` (with ``wilson_*`` and ``paper_pct``), not ``success_pct``: only two of the classes are
+    successes."""
+    ex = _both(sim_root, "test2_grasp").query("belief_error == 'paper' and planner == 'heuristic'")
+    table = _table(sim_root, "test2_grasp", "test2_outcomes").set_index("outcome")
+    shares = 100 * ex["outcome"].value_counts(normalize=True)
+    assert table["rate_pct"].to_dict() == pytest.approx({k: shares.get(k, 0.0) for k in table.index})
+    assert not {"success_pct", "paper_success_pct"} & set(table.columns)

@@ -367,13 +367,13 @@ def groups(run: Run) -> pd.DataFrame:
 
 def outcomes(run: Run) -> pd.DataFrame:
     o = hw.summary(ex(run, PROPOSED), ["planner"], [f"is_{k}" for k in hw.CLASSES]).iloc[0]
-    out = pd.DataFrame([{"outcome": v, "n": o[f"n_{k}"], **{f"success{s}": o[f"{k}{s}"] for s in (
-        "_pct", "_low_pct", "_high_pct")}} for k, v in hw.CLASSES.items()])
+    out = pd.DataFrame([{"outcome": v, "n": o[f"n_{k}"], "rate_pct": o[f"{k}_pct"], "wilson_low_pct": o[
+        f"{k}_low_pct"], "wilson_high_pct": o[f"{k}_high_pct"]} for k, v in hw.CLASSES.items()])
     ref = {"stable": "proposed_stable_pct", "success": "proposed_marginal_pct"}
     t7 = {"failure_slip": "slip_pct", "failure_drop": "drop_pct", "failure_damage": "damage_pct"}
-    out["paper_success_pct"] = [paper_of(run, getattr, ref[v]) if v in ref else paper_of(
+    out["paper_pct"] = [paper_of(run, getattr, ref[v]) if v in ref else paper_of(
         run, lambda p, v: getattr(p.table7[PROPOSED], t7[v]), v) if v in t7 else None for v in out["outcome"]]
-    return verdicts(out, "success_pct", "paper_success_pct", "success_low_pct", "success_high_pct", unit="%")
+    return verdicts(out, "rate_pct", "paper_pct", "wilson_low_pct", "wilson_high_pct", unit="%")
 
 
 def power(run: Run) -> pd.DataFrame:
@@ -444,7 +444,8 @@ SPEC = ReportSpec("test2_grasp", [
               Col("verdict", "verdict (success)")]),
     Table("test2_outcomes", "Primary outcome class of each trial of the proposed planner (§8.2, Fig. 28c; "
           "slip, drop, damage: Table 7); success = stable + marginal success", outcomes, [
-              Col("n", "n"), pct_col("success", "share"), Col("paper_success_pct", "paper %", 1),
+              Col("n", "n"), Col("rate_pct", "share % (Wilson 95%)", 1, low="wilson_low_pct",
+                                 high="wilson_high_pct"), Col("paper_pct", "paper %", 1),
               Col("verdict", "verdict")], by=["outcome"]),
     Rates("test2_materials", "Success per material, all planners (§8.2, Fig. 28b)", ["material"],
           lambda p, k: p.success_by_material_pct[k["material"]]),
