@@ -472,3 +472,29 @@ def test_outcome_shares_are_named_as_shares_of_each_class(sim_root):
     shares = 100 * ex["outcome"].value_counts(normalize=True)
     assert table["rate_pct"].to_dict() == pytest.approx({k: shares.get(k, 0.0) for k in table.index})
     assert not {"success_pct", "paper_success_pct"} & set(table.columns)
+
+
+@pytest.mark.parametrize(("study", "name"), [("test2_grasp", "fig30_representative_grasp"),
+                                             ("test3_disturbance", "fig35_representative_pull")])
+def test_schematic_slip_axis_has_readable_ticks_and_no_finger_hides_another(sim_root, study, name):
+    """Fig. 35's slip axis had a single tick label (10¹) and Fig. 30's finger 1 lay hidden under finger 3
+    (0.51 and 0.52 N): the slip axis now labels at least three plain values in view (the 2 mm criterion
+    among them), and of two finger lines less than 5 % of the axis apart the later drawn is thinner, so
+    both show; each finger's legend entry gives its recorded force."""
+    run, fig = _drawn(sim_root, study, name)
+    slip = fig.axes[1]
+    low, high = slip.get_ylim()
+    shown = [t.get_text() for t in slip.get_yticklabels()
+             if t.get_text() and low <= t.get_position()[1] <= high]
+    assert len(shown) >= 3 and "2" in shown and not any("^" in s for s in shown), shown
+    if study == "test2_grasp":
+        force = fig.axes[0]
+        fingers = [line for line in force.get_lines() if line.get_label().startswith("finger ")]
+        assert len(fingers) == 3
+        span = np.diff(force.get_ylim())[0]
+        for i, under in enumerate(fingers):
+            for over in fingers[i + 1:]:
+                if abs(under.get_ydata()[0] - over.get_ydata()[0]) < 0.05 * span:
+                    assert over.get_linewidth() < under.get_linewidth()
+        for line in fingers:
+            assert f"({line.get_ydata()[0]:.3g} N)" in line.get_label()

@@ -155,9 +155,8 @@ def first(rates: pd.Series) -> str:
     """Who ranks first by ``rates`` (per planner, %): one planner, or the planners tying first (equal
     rates share a rank, as in the belief-pairs table)."""
     top = [label("planner", q) for q, v in rates.items() if v == rates.max()]
-    if len(top) == 1:
-        return f"the {top[0]} planner ranks first"
-    return f"{', '.join(top[:-1])} and {top[-1]} tie first at {fmt.number(rates.max(), 1)} %"
+    return f"the {top[0]} planner ranks first" if len(top) == 1 else \
+        f"{', '.join(top[:-1])} and {top[-1]} tie first at {fmt.number(rates.max(), 1)} %"
 
 
 def belief_gap(paper: pd.Series, none: pd.Series) -> str:
@@ -165,16 +164,14 @@ def belief_gap(paper: pd.Series, none: pd.Series) -> str:
     own beliefs (``paper``) and with exact ones (``none``), and how much of that exact beliefs close."""
     gap, gap0 = paper.max() - paper[PROPOSED], none.max() - none[PROPOSED]
     ranks = [r.rank(ascending=False, method="min") for r in (paper, none.reindex(paper.index))]
-    closed = fmt.number(gap - gap0, 1)
+    closed = "exact beliefs do not narrow the gap" if gap0 >= gap else f"exact beliefs close " \
+        f"{fmt.number(gap - gap0, 1)} pp of it, {'less than' if gap0 > gap / 2 else 'at least'} half"
     return (f"{first(none)} and the ranks {'do not ' * ranks[0].equals(ranks[1])}change. The proposed "
             f"planner trails the first by {fmt.number(gap, 1)} pp with the planners' own beliefs and by "
-            f"{fmt.number(gap0, 1)} pp with exact ones: " + (
-                "exact beliefs do not narrow the gap, so its deficit comes from where it places its "
-                "contacts, not from what it believes about them. " if gap0 >= gap else
-                f"exact beliefs close {closed} pp of it, less than half, so most of its deficit comes from "
-                "where it places its contacts, not from what it believes about them. " if gap0 > gap / 2
-                else f"exact beliefs close {closed} pp of it, at least half, so most of its deficit comes "
-                "from what the planners believe, not from where they place their contacts. "))
+            f"{fmt.number(gap0, 1)} pp with exact ones: {closed}, so " + (
+                "its deficit comes mostly from where it places its contacts, not from what it believes "
+                "about them. " if gap0 > gap / 2 else "its deficit comes mostly from what the planners "
+                "believe, not from where they place their contacts. "))
 
 
 def finding(run: Run, extra=lambda run: "") -> str:
@@ -270,20 +267,6 @@ def median_trial(trials: pd.DataFrame, column: str) -> pd.Series:
     return t.loc[(t[column] - t[column].median()).abs().idxmin()]
 
 
-def schematic(fig, t: pd.Series, spans, top, bottom, title: str) -> None:
-    """Fig. 30/35: one recorded trial over its commanded phases ``(start, end, name, colour)``, lines
-    ``(x, y, label, style)`` on ``top``/``bottom`` (x None: the band y); no time series is recorded."""
-    axes = fig.subplots(2, 1, sharex=True)
-    for ax, lines in zip(axes, (top, bottom), strict=True):
-        for a, b, what, c in spans:
-            ax.axvspan(a, b, color=c, zorder=0, label=what if ax is axes[0] else None)
-        for x, y, what, kw in lines:
-            ax.axhspan(*y, label=what, **kw) if x is None else ax.plot(x, y, label=what, **kw)
-        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))
-    axes[0].set_title(f"{t['rig_trial_id']}: {title}")
-    axes[1].set_yscale("symlog", linthresh=1.0)
-
-
 # --------------------------------------------------------------------------- Test 2
 def fig28(run: Run, fig) -> None:
     style.panels(("table6", PAPER_ROWS, "shape", "(a) proposed, by shape"), ("test2_materials", None,
@@ -327,6 +310,11 @@ CLOSING_TRAVEL_MM = 10.0
 closing travel (the figure is labelled a schematic of the commanded phases)."""
 
 
+FINGER_LINES = ((1, "-", 3.2), (2, "--", 2.2), (3, "-.", 1.4))
+"""Fig. 30's finger, line style and width: each drawn thinner over the one before, so fingers with equal
+or near-equal forces all stay visible."""
+
+
 def fig30(run: Run, fig) -> None:
     e = ex(run, PROPOSED).query("shape == 'sphere' and outcome == 'stable' and friction_level == 'natural'")
     t = median_trial(e, "normal_force_mean_n")
@@ -334,10 +322,11 @@ def fig30(run: Run, fig) -> None:
     t0 = CLOSING_TRAVEL_MM / t["closing_speed_mm_per_s"]
     t1 = t0 + lift / t["lift_speed_mm_per_s"]
     t2, band, slip = t1 + t["hold_s"], paper_of(run, lambda p: p.hold_force_per_finger_n), "#c62828"
-    schematic(fig, t, ((0, t0, "closing", "#e3f2fd"), (t0, t1, "lift", "#fff8e1"), (t1, t2, "hold",
+    force = {j: float(t[f"normal_force_{j}_n"]) for j in (1, 2, 3)}
+    style.schematic(fig, t, ((0, t0, "closing", "#e3f2fd"), (t0, t1, "lift", "#fff8e1"), (t1, t2, "hold",
                                                                                    "#e8f5e9")), [
-        *(([t0, t2], [t[f"normal_force_{j}_n"]] * 2, f"finger {j}, recorded", {"color": f"C{j + 1}"})
-          for j in (1, 2, 3)),
+        *(([t0, t2], [force[j]] * 2, f"finger {j}, recorded ({force[j]:.3g} N)",
+           {"color": f"C{j + 1}", "ls": ls, "lw": lw}) for j, ls, lw in FINGER_LINES),
         ([t0, t2], [t["normal_force_pred_mean_n"]] * 2, "predicted, mean", {"ls": ":", "color": "#333333"}),
         *[(None, band, "paper: steady hold", {"color": style.PAPER, "alpha": 0.12})] * bool(band)], [
         ([0, t0, t1, t2], [0, 0, lift, lift], "lift height, commanded [mm]", {"color": "#333333"}),

@@ -213,7 +213,7 @@ def fig35(run: Run, fig) -> None:
     h, thr, paper = t["hold_s"], t["lat_threshold_n"], paper_of(run, lambda p: p.lateral_threshold_median_n)
     t1 = h + thr / t["ramp_rate_n_per_s"]
     end = 1.15 * t1
-    t2.schematic(fig, t, ((0, h, "hold", "#e8f5e9"), (h, t1, "ramp to slip", "#fff8e1")), [
+    style.schematic(fig, t, ((0, h, "hold", "#e8f5e9"), (h, t1, "ramp to slip", "#fff8e1")), [
         ([0, h, t1, t1, end], [0, 0, thr, 0, 0], "applied force, commanded ramp", {"color": "#333333"}),
         ([h, end], [thr] * 2, "recorded threshold at slip", {"color": "#c62828"}),
         ([h, end], [t["threshold_pred"]] * 2, "predicted F_lat", {"ls": "--", "color": colour(
