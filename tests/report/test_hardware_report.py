@@ -439,13 +439,13 @@ def test_the_papers_trial_counts_are_whole_numbers_in_the_csv(sim_root, study):
     # Test 3's reduced run: three planners tie first, exact beliefs widen the proposed planner's gap
     ({"centroid": 40.0, "force_balance": 40.0, "no_pso": 40.0, "heuristic": 9.7, "random": 0.0},
      {"centroid": 40.0, "force_balance": 60.0, "no_pso": 40.0, "heuristic": 16.7, "random": 0.0},
-     "exact beliefs do not narrow the gap, so its deficit comes from where it places its contacts"),
+     "exact beliefs do not narrow the gap, so its deficit comes mostly from where it places its contacts"),
     # exact beliefs close 10 of 30 pp: less than half
     ({"centroid": 60.0, "heuristic": 30.0}, {"centroid": 60.0, "heuristic": 40.0},
-     "exact beliefs close 10.0 pp of it, less than half, so most of its deficit comes from where"),
+     "exact beliefs close 10.0 pp of it, less than half, so its deficit comes mostly from where"),
     # exact beliefs close 25 of 30 pp: the beliefs explain most of the gap
     ({"centroid": 60.0, "heuristic": 30.0}, {"centroid": 60.0, "heuristic": 55.0},
-     "exact beliefs close 25.0 pp of it, at least half, so most of its deficit comes from what the "
+     "exact beliefs close 25.0 pp of it, at least half, so its deficit comes mostly from what the "
      "planners believe"),
 ])
 def test_the_finding_names_ties_and_says_what_the_counterfactual_shows(paper, none, words):
