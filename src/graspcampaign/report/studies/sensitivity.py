@@ -52,18 +52,12 @@ def _category_axis(axis, levels) -> None:
     axis.set_ticks(range(0, len(levels), step), [f"{v:.3g}" for v in levels[::step]])
 
 
-CELL_TEXT_PT = (7.0, 9.0)  # the smallest legible cell text and the largest useful one
-
-
 def _cell_text_pt(ax, fig, shape: tuple[int, int]) -> float | None:
-    """Cell text size [pt] fitting a three-character value into a cell of ``ax`` (about 80 % of its
-    pre-layout box: constrained layout makes room for the colour bar), or None when it would be below
-    7 pt."""
-    box = ax.get_position()
-    width, height = (0.8 * 72 * extent * size for extent, size in
-                     zip((box.width, box.height), fig.get_size_inches(), strict=True))
-    size = min(CELL_TEXT_PT[1], width / shape[1] / 2.2, height / shape[0] / 1.5)
-    return size if size >= CELL_TEXT_PT[0] else None
+    """Cell text size [pt] (≤ 9) fitting a three-character value into a cell of ``ax`` (about 80 % of its
+    pre-layout box: constrained layout makes room for the colour bar); None below a legible 7 pt."""
+    width, height = 0.8 * 72 * ax.get_position().size * fig.get_size_inches()
+    size = min(9.0, width / shape[1] / 2.2, height / shape[0] / 1.5)
+    return size if size >= 7.0 else None
 
 
 def heatmap(ax, fig, run: Run, panel: str, value: str, label: str, cmap: str = "RdYlGn",
