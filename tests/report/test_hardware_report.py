@@ -163,7 +163,8 @@ def test_matched_mcnemar_shows_the_papers_centroid_test_and_both_p_values(sim_ro
     md = (sim_root / study / "default" / "report" / "report.md").read_text()
     caption, head = md.split(f"(`tables/{prefix}_mcnemar.csv`)\n\n")[0].split("\n")[-1], \
         md.split(f"(`tables/{prefix}_mcnemar.csv`)\n\n")[1].split("\n")[0]
-    assert "χ² with continuity correction, exact binomial p, discordant-pair odds ratio" in caption
+    assert "χ² with continuity correction (none when the two discordant counts b and c are equal" in caption
+    assert "exact binomial p, discordant-pair odds ratio" in caption
     assert "| both succeed | both fail | χ² (cc) | p (χ²) | p (exact) | odds ratio (95%) | paper |" in head
 
 
