@@ -247,3 +247,63 @@ def test_every_count_a_summary_makes_prints_as_a_whole_number():
     assert (shown[counts] == out[counts].astype(int).astype(str)).all().all()
     expected = d.groupby("block")[medians].count().astype(str).to_numpy()
     assert (shown[[f"n_q{i}" for i in range(len(medians))]].to_numpy() == expected).all()
+
+
+def test_claims_write_counts_as_whole_numbers(tmp_path):
+    """A Claims row's ``n`` is a count: ``3`` in the CSV (not ``3.0``), empty where a value has none."""
+    import pandas as pd
+
+    from graspcampaign.analysis.records import Estimate
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.spec import Claims
+
+    rows = [("a share", "§8", Estimate(50.0, 20.0, 80.0, 3), 40.0, "%", 1),
+            ("a ratio", "§8", 1.5, None, "", 2)]
+    claims = Claims("c", "claims", lambda run: rows)
+    [table] = claims.render(Run(pd.DataFrame(), {}, paper=object()))
+    table.frame.to_csv(tmp_path / "c.csv", index=False)
+    assert pd.read_csv(tmp_path / "c.csv", dtype=str, keep_default_na=False)["n"].tolist() == ["3", ""]
+
+
+def test_the_mcnemar_caption_says_how_equal_discordant_counts_are_tested():
+    """b = c = 1: the table prints χ² 0.0, p 1.0 (R's rule), statsmodels gives 1/(b + c) = 0.5; the
+    caption says which rule, once."""
+    import pandas as pd
+    from statsmodels.stats.contingency_tables import mcnemar
+
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.spec import Paired
+
+    records = pd.DataFrame({"status": "ok", "scene_id": [0, 0, 1, 1], "planner": ["heuristic", "random"] * 2,
+                            "success": [True, False, False, True]})
+    [table] = Paired().render(Run(records, {"config": {"factors": {"planner": ["heuristic", "random"]}}}))
+    row = dict(zip([c.label for c in table.cols], [t for t, _ in table.cells()[0]], strict=True))
+    assert (row["χ² (cc)"], row["p (χ²)"]) == ("0.0", "1.0")
+    assert mcnemar([[0, 1], [1, 0]], exact=False, correction=True).statistic == 1 / (1 + 1)
+    assert table.caption.count("1/(b + c)") == 1 and "R's mcnemar.test" in table.caption
+
+
+def test_an_estimate_and_its_standard_error_share_decimals():
+    """Test 3's logistic table printed coefficient 0.7 beside its se 0.56: a column's decimals came
+    from its largest value alone (11.96: 1 decimal). Each value now keeps 2 significant digits at
+    least, so both columns print 2 decimals here."""
+    import pandas as pd
+
+    coef, se = [-9.975, 0.7095, 8.693, 11.957, 1.2268], [6.335, 0.5584, 8.181, 7.964, 0.7801]
+    _, rows = _shown(pd.DataFrame({"coef": coef, "se": se}))
+    assert [r[0] for r in rows] == [f"{v:.2f}".replace("-", fmt.MINUS) for v in coef]
+    assert [r[1] for r in rows] == [f"{v:.2f}" for v in se]
+
+
+def test_provenance_marks_a_missing_entry_as_missing():
+    """An ingested run's manifest has no finish time, host or code version: "—", never "None"."""
+    import pandas as pd
+
+    from graspcampaign.report.render import Run, provenance
+
+    manifest = {"n_trials": 2, "config_hash": "abc", "started_at": "2026-01-01T00:00:00+00:00",
+                "finished_at": None, "code_version": None, "host": {}}
+    lines = dict(provenance(Run(pd.DataFrame({"status": ["ok", "ok"]}), manifest)))
+    assert lines["Started / finished"] == f"2026-01-01T00:00:00+00:00 / {fmt.MISSING}"
+    assert (lines["Code"], lines["Host"], lines["Config hash"]) == (fmt.MISSING, fmt.MISSING, "`abc`")
+    assert not any("None" in v for v in lines.values())

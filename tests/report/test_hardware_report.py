@@ -27,6 +27,7 @@ from graspcampaign.campaign.kinds.hardware import export_records
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.cli.main import app
 from graspcampaign.report.build import build_reports
+from graspcampaign.report.format import MISSING
 
 STUDIES = {"test2_grasp": "params.fraction=0.08", "test3_disturbance": "params.fraction=0.1"}  # conftest
 OVERRIDES = ["runner.backend=sequential", "runner.progress=false"]
@@ -162,7 +163,8 @@ def test_matched_mcnemar_shows_the_papers_centroid_test_and_both_p_values(sim_ro
     md = (sim_root / study / "default" / "report" / "report.md").read_text()
     caption, head = md.split(f"(`tables/{prefix}_mcnemar.csv`)\n\n")[0].split("\n")[-1], \
         md.split(f"(`tables/{prefix}_mcnemar.csv`)\n\n")[1].split("\n")[0]
-    assert "χ² with continuity correction, exact binomial p, discordant-pair odds ratio" in caption
+    assert "χ² with continuity correction (none when the two discordant counts b and c are equal" in caption
+    assert "exact binomial p, discordant-pair odds ratio" in caption
     assert "| both succeed | both fail | χ² (cc) | p (χ²) | p (exact) | odds ratio (95%) | paper |" in head
 
 
@@ -194,7 +196,9 @@ def test_the_opening_paragraph_gives_the_records_numbers(sim_root, study):
     paper = _paper(study)[table]
     assert f"{label('planner', 'heuristic')} {rates['heuristic']:.1f} % " \
            f"({paper['heuristic']['success_pct']:.1f} %)" in finding
-    assert f"the {label('planner', rates.index[0])} planner ranks first" in finding
+    top = [label("planner", q) for q in rates.index if rates[q] == rates.max()]  # ties share rank 1
+    assert (f"the {top[0]} planner ranks first" if len(top) == 1 else
+            f"{', '.join(top[:-1])} and {top[-1]} tie first at {rates.max():.1f} %") in finding.split(". ")[1]
     assert "belief_error = none" in finding and "`predicted_stable` has precision" in finding
     assert "docs/decisions.md" in finding and "Planner beliefs on the virtual rig" in finding
 
@@ -210,6 +214,13 @@ def test_tables_6_and_8_carry_the_papers_values(sim_root):
     p8 = _paper("test3_disturbance")["table8"]
     assert dict(zip(t8["block"], t8["paper_success_pct"], strict=True)) == {
         b: p8[b]["success_pct"] for b in t8["block"]}
+    # the headline mixes units per block (N, % W, N·m, mm): each value has 3 significant digits of its
+    # own, the paper's as printed (54, 4.34, 0.115; "54.000 % W" at one column's 3 decimals before)
+    md = (sim_root / "test3_disturbance" / "default" / "report" / "report.md").read_text()
+    rows = md.split("tables/table8.csv")[1].split("\n\n")[1].splitlines()[2:]
+    paper_cells = {r.split(" | ")[0].strip("| "): r.split(" | ")[8] for r in rows if " | paper | " in r}
+    assert paper_cells == {label("block", b): f"{p8[b]['headline']:.3g}" if "headline" in p8[b] else
+                           MISSING for b in t8["block"]}
     claims = _table(sim_root, "test3_disturbance", "test3_claims").set_index("quantity")
     row = claims.loc["proposed success, natural friction"]
     assert row["paper"] == 86.0 and row["difference"] == pytest.approx(row["value"] - 86.0)
@@ -386,3 +397,105 @@ def test_first_finger_table_names_its_interval(sim_root):
     caption, header = md.split("(`tables/test3_first_finger.csv`)")[0].rsplit("**", 2)[1], \
         md.split("(`tables/test3_first_finger.csv`)")[1].split("\n")[2]
     assert "Wilson 95%" in caption and "Wilson 95%" in header
+
+
+def test_test3_threshold_columns_carry_their_unit_and_equal_the_records(sim_root):
+    """The block-A thresholds per surface and per direction, and the OLS intercept, are in newtons
+    and named so (``lat_threshold_n``, ``ols_intercept_n``); their values are the records' medians and
+    scipy's fit of measured on predicted over the uncensored proposed ramps."""
+    from scipy.stats import linregress
+
+    a = _both(sim_root, "test3_disturbance").query(
+        "belief_error == 'paper' and planner == 'heuristic' and block == 'A'")
+    m, p = a["threshold_measured_n"].astype(float), a["threshold_pred_n"].astype(float)
+    ramps = a.assign(m=m)[(m > 0) & p.notna() & ~a["threshold_censored"].astype("boolean").fillna(False)]
+    coating = _table(sim_root, "test3_disturbance", "test3_coating").set_index("friction_level")
+    assert coating["lat_threshold_n"].to_dict() == pytest.approx(
+        ramps.groupby("friction_level")["m"].median().reindex(coating.index).to_dict(), nan_ok=True)
+    directions = _table(sim_root, "test3_disturbance", "test3_directions").set_index("direction_deg")
+    natural = ramps.query("friction_level == 'natural'")
+    assert directions["lat_threshold_n"].to_dict() == pytest.approx(
+        natural.groupby(natural["direction_deg"].astype(float))["m"].median().reindex(directions.index)
+        .to_dict(), nan_ok=True)
+    fit = linregress(ramps["threshold_pred_n"].astype(float), ramps["m"])
+    agree = _table(sim_root, "test3_disturbance", "test3_threshold_agreement").iloc[0]
+    assert agree["ols_intercept_n"] == pytest.approx(fit.intercept)
+    assert "threshold" not in coating and "ols_intercept" not in agree  # no column without its unit
+
+
+@pytest.mark.parametrize("study", sorted(STUDIES))
+def test_the_papers_trial_counts_are_whole_numbers_in_the_csv(sim_root, study):
+    """``n_paper`` (Tables 6 and 9: the paper's trials per row) prints 830, not 830.0; empty where the
+    paper has no row (the counterfactual belief reading)."""
+    name, key = ("table6", "shape") if study == "test2_grasp" else ("table9", "planner")
+    path = sim_root / study / "default" / "report" / "tables" / f"{name}.csv"
+    text = pd.read_csv(path, dtype=str, keep_default_na=False)
+    rows = _paper(study)[name]
+    expected = [str(rows[k]["n"]) if b == "paper" and k in rows else ""
+                for k, b in zip(text[key], text["belief_error"], strict=True)]
+    assert text["n_paper"].tolist() == expected
+
+
+@pytest.mark.parametrize(("paper", "none", "words"), [
+    # Test 3's reduced run: three planners tie first, exact beliefs widen the proposed planner's gap
+    ({"centroid": 40.0, "force_balance": 40.0, "no_pso": 40.0, "heuristic": 9.7, "random": 0.0},
+     {"centroid": 40.0, "force_balance": 60.0, "no_pso": 40.0, "heuristic": 16.7, "random": 0.0},
+     "exact beliefs do not narrow the gap, so its deficit comes mostly from where it places its contacts"),
+    # exact beliefs close 10 of 30 pp: less than half
+    ({"centroid": 60.0, "heuristic": 30.0}, {"centroid": 60.0, "heuristic": 40.0},
+     "exact beliefs close 10.0 pp of it, less than half, so its deficit comes mostly from where"),
+    # exact beliefs close 25 of 30 pp: the beliefs explain most of the gap
+    ({"centroid": 60.0, "heuristic": 30.0}, {"centroid": 60.0, "heuristic": 55.0},
+     "exact beliefs close 25.0 pp of it, at least half, so its deficit comes mostly from what the "
+     "planners believe"),
+])
+def test_the_finding_names_ties_and_says_what_the_counterfactual_shows(paper, none, words):
+    from graspcampaign.report.studies.test2 import belief_gap, first
+
+    paper, none = pd.Series(paper), pd.Series(none)
+    ties = [label("planner", q) for q in paper.index if paper.rank(ascending=False, method="min")[q] == 1]
+    assert first(paper) == (f"the {ties[0]} planner ranks first" if len(ties) == 1 else
+                            f"{', '.join(ties[:-1])} and {ties[-1]} tie first at {paper.max():.1f} %")
+    text = belief_gap(paper, none)
+    gap, gap0 = paper.max() - paper["heuristic"], none.max() - none["heuristic"]
+    assert f"trails the first by {gap:.1f} pp with the planners' own beliefs and by {gap0:.1f} pp" in text
+    assert words in text
+    same = (paper.rank(ascending=False, method="min") == none.rank(ascending=False, method="min")).all()
+    assert ("the ranks do not change" in text) == same
+
+
+def test_outcome_shares_are_named_as_shares_of_each_class(sim_root):
+    """test2_outcomes.csv: the share of the proposed planner's trials in each primary outcome class is
+    ``rate_pct`` (with ``wilson_*`` and ``paper_pct``), not ``success_pct``: only two of the classes are
+    successes."""
+    ex = _both(sim_root, "test2_grasp").query("belief_error == 'paper' and planner == 'heuristic'")
+    table = _table(sim_root, "test2_grasp", "test2_outcomes").set_index("outcome")
+    shares = 100 * ex["outcome"].value_counts(normalize=True)
+    assert table["rate_pct"].to_dict() == pytest.approx({k: shares.get(k, 0.0) for k in table.index})
+    assert not {"success_pct", "paper_success_pct"} & set(table.columns)
+
+
+@pytest.mark.parametrize(("study", "name"), [("test2_grasp", "fig30_representative_grasp"),
+                                             ("test3_disturbance", "fig35_representative_pull")])
+def test_schematic_slip_axis_has_readable_ticks_and_no_finger_hides_another(sim_root, study, name):
+    """Fig. 35's slip axis had a single tick label (10¹) and Fig. 30's finger 1 lay hidden under finger 3
+    (0.51 and 0.52 N): the slip axis now labels at least three plain values in view (the 2 mm criterion
+    among them), and of two finger lines less than 5 % of the axis apart the later drawn is thinner, so
+    both show; each finger's legend entry gives its recorded force."""
+    run, fig = _drawn(sim_root, study, name)
+    slip = fig.axes[1]
+    low, high = slip.get_ylim()
+    shown = [t.get_text() for t in slip.get_yticklabels()
+             if t.get_text() and low <= t.get_position()[1] <= high]
+    assert len(shown) >= 3 and "2" in shown and not any("^" in s for s in shown), shown
+    if study == "test2_grasp":
+        force = fig.axes[0]
+        fingers = [line for line in force.get_lines() if line.get_label().startswith("finger ")]
+        assert len(fingers) == 3
+        span = np.diff(force.get_ylim())[0]
+        for i, under in enumerate(fingers):
+            for over in fingers[i + 1:]:
+                if abs(under.get_ydata()[0] - over.get_ydata()[0]) < 0.05 * span:
+                    assert over.get_linewidth() < under.get_linewidth()
+        for line in fingers:
+            assert f"({line.get_ydata()[0]:.3g} N)" in line.get_label()

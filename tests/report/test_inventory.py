@@ -200,3 +200,19 @@ def test_real_reduced_runs_state_their_records(sim_root):
             assert int((ok["n_released"] == ok["n_upper"]).sum()) == len(ok)  # issue 13: upper = released
         rank = ok.groupby("planner")["success"].mean()
         assert f"{100 * rank['centroid']:.1f}%" in text
+
+
+def test_a_paper_range_prints_alike_in_its_cell_and_its_verdict(sim_root):
+    """One rounding of the paper's value: where a verdict names the paper's range or target, the row
+    shows that same text (wrench_balance printed 0–0.5 beside "the paper's range 0.00–0.50")."""
+    import re
+
+    checked = 0
+    for md in sim_root.glob("*/default/report/report.md"):
+        rows = [line.strip("|").split(" | ") for line in md.read_text().splitlines()
+                if line.startswith("| ") and "the paper's " in line]
+        for cells in rows:
+            for found in re.finditer(r"the paper's (?:range|target) ((?:[≤≥] )?[^ ,%]+)", cells[-1]):
+                assert any(c.strip().startswith(found[1]) for c in cells[:-1]), (md, cells)
+                checked += 1
+    assert checked

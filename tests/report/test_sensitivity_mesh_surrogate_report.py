@@ -63,7 +63,7 @@ def test_sensitivity_report(runs):
     assert panels["delta_max_median_mm"].to_dict() == pytest.approx(
         {p: physical.get(p, np.nan) for p in panels.index}, nan_ok=True)
     per_mu = ok[ok["panel"] == "mu_mass"].groupby("mu")["success"].mean()
-    assert ("not at all with friction" in md) == (per_mu.nunique() == 1)
+    assert ("does not vary with friction" in md) == (per_mu.nunique() == 1)
     assert "(a) μ × m" in md and "| mu_mass |" not in md  # panels by their words
     bound = claims.loc[[q for q in claims.index if "on its PSO search bound" in q]]
     if bound["value"].notna().all() and len(bound) == 2:
@@ -158,3 +158,57 @@ def test_lambda1_bound_words_are_judged_by_the_verdict_rule(a, b, expected):
                           "paper": None, "differs": None, "verdict": ""})
     out = _bound_claims(frame)
     assert list(zip(out["differs"], out["verdict"], strict=True)) == expected
+
+
+# success per cell (m, μ) in the order (0.1, 0.05), (0.1, 0.5), (0.8, 0.05), (0.8, 0.5)
+@pytest.mark.parametrize("success", [(False, True, False, True), (True, True, False, False)])
+def test_the_finding_says_whether_success_varies_by_one_rule_for_mass_and_friction(success):
+    """Both halves read the records: equal shares per level "do not vary", unequal ones "vary"."""
+    from types import SimpleNamespace
+
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies.sensitivity import finding
+
+    cells = [(m, mu) for m in (0.1, 0.8) for mu in (0.05, 0.5)]
+    records = pd.DataFrame([{"panel": "mu_mass", "status": "ok", "mass_kg": m, "mu": mu, "success": won,
+                             "delta_max_mm": 1.0, "loop_capped": False}
+                            for (m, mu), won in zip(cells, success, strict=True)])
+    paper = SimpleNamespace(stable_mu_min=0.2, stable_mass_max_kg=0.5)
+    text = finding(Run(records, {"config": {"evaluator": {"n_max": 50}}}, paper))
+    for column, words in (("mass_kg", "mass"), ("mu", "friction")):
+        constant = records.groupby(column)["success"].mean().nunique() == 1
+        assert (f"does not vary with {words}" in text) == constant
+        varies = f"success varies with {words}" in text or f"and varies with {words}" in text
+        assert varies == (not constant)
+
+
+@pytest.mark.parametrize("levels", [2, 12, 40])
+def test_fig19_draws_one_cell_per_level_with_legible_or_no_cell_text(levels):
+    """Category axes (the tick labels are the swept levels, no axis beyond them), cell text ≥ 7 pt
+    or none at all."""
+    from types import SimpleNamespace
+
+    from matplotlib.figure import Figure
+
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies.sensitivity import PANELS, _figure
+
+    grid = np.linspace(0.1, 0.8, levels)
+    rows = [{"panel": panel, "status": "ok", x: a, y: b, "success": a < 0.4, "runtime_ms": 1.0 + a,
+             "delta_max_mm": 1.0, "loop_capped": False}
+            for panel, (x, y, *_) in PANELS.items() for a in grid for b in grid]
+    paper = SimpleNamespace(stable_mu_min=0.2, stable_mass_max_kg=0.5, lambda1_stable_below=0.35,
+                            nonconvergence_strip_lambda1_from=0.9)
+    fig = Figure(figsize=(15.0, 4.9), layout="constrained")
+    _figure(Run(pd.DataFrame(rows), {}, paper), fig)
+    fig.canvas.draw()
+    heatmaps = [ax for ax in fig.axes if ax.get_xlabel()]
+    assert len(heatmaps) == 3
+    for ax in heatmaps:
+        assert ax.get_xlim() == (-0.5, levels - 0.5) and ax.get_ylim() == (-0.5, levels - 0.5)
+        labels = [float(t.get_text()) for t in ax.get_xticklabels()]
+        assert 2 <= len(labels) <= 7 and labels[0] == pytest.approx(grid[0])
+        assert all(np.isclose(grid, label, rtol=5e-3).any() for label in labels)  # each one a level
+        sizes = [t.get_fontsize() for t in ax.texts]
+        assert len(sizes) in (0, levels ** 2) and all(size >= 7 for size in sizes)
+    assert any(ax.texts for ax in heatmaps) == (levels <= 12)

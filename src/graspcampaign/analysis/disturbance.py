@@ -25,7 +25,7 @@ def threshold_agreement(df: pd.DataFrame, planner: str = PROPOSED) -> dict:
     ba, lin = agreement.bland_altman(m, p), stats.linregress(p, m)
     return {"planner": planner, "n": m.size, "bias_n": ba.bias, "sd_n": ba.sd, "loa_low_n": ba.lower,
             "loa_high_n": ba.upper, "loa_half_n": (ba.upper - ba.lower) / 2, "ols_slope": lin.slope,
-            "ols_intercept": lin.intercept, "ols_r2": lin.rvalue**2, "ols_p": lin.pvalue,
+            "ols_intercept_n": lin.intercept, "ols_r2": lin.rvalue**2, "ols_p": lin.pvalue,
             "median_err_pct": np.median(err), "n_err_over_50pct": int(np.sum(err > 50.0))}
 
 

@@ -74,12 +74,14 @@ def is_p_value(name: str) -> bool:
 
 def decimals(values: Any, sig: int = 3) -> int | None:
     """The one rounding of a column: no decimals for whole numbers, else those giving its largest
-    finite magnitude ``sig`` significant digits, the same for every value (None: no number)."""
+    finite magnitude ``sig`` significant digits and its smallest non-zero one at least two (a column
+    of 11.96 and 0.709 prints 0.71, not 0.7), the same for every value (None: no number)."""
     values = [abs(float(v)) for v in values if isinstance(v, numbers.Real) and not isinstance(v, bool)
               and not is_missing(v) and math.isfinite(float(v))]
     if not values or all(v.is_integer() for v in values):
         return 0 if values else None
-    return max(0, sig - 1 - (math.floor(math.log10(top)) if (top := max(values)) else 0))
+    exponents = [math.floor(math.log10(v)) for v in values if v]
+    return max(0, sig - 1 - max(exponents), 1 - min(exponents))
 
 
 def interval(low: Any, high: Any, digits: int | None = None, *, sig: int | None = None) -> str:

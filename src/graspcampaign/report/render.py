@@ -14,6 +14,7 @@ from graspcampaign.analysis.records import data_source, executed, status_counts
 from graspcampaign.campaign.provenance import ingested
 from graspcampaign.core.bench_specimen import FINGERTIP_RADIUS
 from graspcampaign.errors import UserInputError
+from graspcampaign.report import format as fmt
 from graspcampaign.report.document import Document, Table, Text
 
 log = logging.getLogger(__name__)
@@ -126,11 +127,15 @@ def provenance(run: Run) -> list[tuple[str, str]]:
     m, counts = run.manifest, status_counts(run.records)
     excluded = ", ".join(f"{counts[k]} {w}" for k, w in (
         ("error", "errored"), ("aborted", "aborted"), ("other", "with another status")) if counts[k])
-    return [("Trials", f"{len(run.records)} recorded of {m.get('n_trials')}; {counts['executed']} "
+
+    def given(value: Any, code: bool = False) -> str:  # a missing entry (an ingested run's) marked "—"
+        return fmt.MISSING if fmt.is_missing(value) else f"`{value}`" if code else str(value)
+
+    return [("Trials", f"{len(run.records)} recorded of {given(m.get('n_trials'))}; {counts['executed']} "
                        "executed" + (f"; {excluded}, excluded from every denominator" if excluded else "")),
             *([("Design", design)] if (design := design_text(m.get("config") or {})) else []),
-            ("Config hash", f"`{m.get('config_hash')}`"),
-            ("Code", f"`{m.get('code_version')}`" + (" (dirty tree)" if (m.get("git") or {}).get("dirty")
-                                                     else "")),
-            ("Started / finished", f"{m.get('started_at')} / {m.get('finished_at')}"),
-            ("Host", str((m.get("host") or {}).get("name"))), ("Seed", str(run.seed))]
+            ("Config hash", given(m.get("config_hash"), code=True)),
+            ("Code", given(m.get("code_version"), code=True) + (" (dirty tree)" if (m.get("git") or {}).get(
+                "dirty") else "")),
+            ("Started / finished", f"{given(m.get('started_at'))} / {given(m.get('finished_at'))}"),
+            ("Host", given((m.get("host") or {}).get("name"))), ("Seed", str(run.seed))]

@@ -179,7 +179,7 @@ def Claims(name: str, caption: str | Callable[[Run], str],
             out.append([r.label, r.section, fmt.paper_text(p, r.digits) if isinstance(p, tuple | list) else p,
                         e.value, e.low, e.high, e.n, r.unit, r.digits, why, p])
         frame = pd.DataFrame(out, columns=["quantity", "section", "paper", "value", "low", "high", "n",
-                                           "unit", "digits", "why", "_paper"])
+                                           "unit", "digits", "why", "_paper"]).astype({"n": "Int64"})
         return verdicts(frame, "value", "_paper", "low", "high", "digits", "unit").drop(columns="_paper")
 
     return Table(name, caption, compute, [
@@ -205,7 +205,9 @@ def Paired(name: str = "mcnemar", caption: str = (
         return frame.assign(paper=[_paper(paper, run.paper, p) or "not reported" for p in frame["compared"]],
                             compared_label=[label("planner", p) for p in frame["compared"]])
 
-    return Table(name, f"{caption}; χ² with continuity correction, exact binomial p, discordant-pair odds "
+    return Table(name, f"{caption}; χ² with continuity correction (none when the two discordant counts "
+                 "b and c are equal: χ² = 0, p = 1, as R's mcnemar.test; statsmodels' corrected χ² gives "
+                 "1/(b + c) there), exact binomial p, discordant-pair odds "
                  "ratio (> 1 favours the proposed planner) with its exact 95% interval", compute, [
         Col("compared_label", "compared"), Col("pairs", "pairs"),
         Col("reference_only", f"{label('planner', reference)} only"), Col("compared_only", "compared only"),

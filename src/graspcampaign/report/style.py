@@ -1,4 +1,5 @@
-"""The one figure style: rcParams, the data-source label, the paper's marks, rate bars, panels, parity."""
+"""The one figure style: rcParams, the data-source label, the paper's marks, rate bars, panels, parity,
+one trial's schematic."""
 
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
+from matplotlib.ticker import FuncFormatter, SymmetricalLogLocator
 
 from graspcampaign.analysis.vocabulary import PROPOSED, colour, label
 from graspcampaign.report import format as fmt
@@ -167,3 +169,19 @@ def parity(ax, x, y, lines, xlabel: str, title: str, observed: str) -> None:
         ax.plot(grid, (a or 0.0) + (np.nan if b is None else b) * grid, label=what, **kw)
     ax.set(xlabel=f"predicted {xlabel}", ylabel=f"{observed} {xlabel}", title=title)
     ax.legend(loc="upper left")
+
+
+def schematic(fig, t: pd.Series, spans, top, bottom, title: str) -> None:
+    """Fig. 30/35: one recorded trial over its commanded phases ``(start, end, name, colour)``, lines
+    ``(x, y, label, style)`` on ``top``/``bottom`` (x None: the band y); no time series is recorded."""
+    axes = fig.subplots(2, 1, sharex=True)
+    for ax, lines in zip(axes, (top, bottom), strict=True):
+        for a, b, what, c in spans:
+            ax.axvspan(a, b, color=c, zorder=0, label=what if ax is axes[0] else None)
+        for x, y, what, kw in lines:
+            ax.axhspan(*y, label=what, **kw) if x is None else ax.plot(x, y, label=what, **kw)
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    axes[0].set_title(f"{t['rig_trial_id']}: {title}")
+    axes[1].set_yscale("symlog", linthresh=1.0)  # millimetres of slip beside tens of lift: 1-2-5 ticks
+    axes[1].yaxis.set_major_locator(SymmetricalLogLocator(base=10, linthresh=1.0, subs=(1.0, 2.0, 5.0)))
+    axes[1].yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))

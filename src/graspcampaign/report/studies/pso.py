@@ -64,7 +64,7 @@ def _cv(run: Run) -> pd.DataFrame:
                      **_bound(ok[ok[p].notna()], p)})
     frame = verdicts(pd.DataFrame(rows), "cv_pct", "paper_cv_pct", "low_pct", "high_pct", unit="%")
     paper = frame["paper_cv_pct"]
-    return frame.assign(paper_range_pct=[f"{v[0]:g}–{v[1]:g} (range)" if isinstance(v, tuple) else ""
+    return frame.assign(paper_range_pct=[f"{fmt.paper_text(v, 1)} (range)" if isinstance(v, tuple) else ""
                                          for v in paper],
                         paper_cv_pct=[np.nan if isinstance(v, tuple) else v for v in paper])
 

@@ -36,37 +36,58 @@ def rate_cols(g: pd.DataFrame, outcome: str, prefix: str) -> dict:
     return {f"{prefix}_pct": e.value, f"{prefix}_low_pct": e.low, f"{prefix}_high_pct": e.high}
 
 
-def _edges(levels) -> np.ndarray:
+def _position(levels, value: float) -> float:
+    """Where ``value`` falls on a category axis of ``levels`` (cell i centred at i): linear between the
+    two nearest levels, and beyond the ends along the end gaps."""
     v = np.asarray(levels, dtype=float)
     if v.size == 1:
-        return np.array([v[0] - 0.5, v[0] + 0.5])
-    mid = 0.5 * (v[1:] + v[:-1])
-    return np.concatenate([[2 * v[0] - mid[0]], mid, [2 * v[-1] - mid[-1]]])
+        return 0.0
+    i = int(np.clip(np.searchsorted(v, value), 1, v.size - 1))
+    return i - 1 + (value - v[i - 1]) / (v[i] - v[i - 1])
+
+
+def _category_axis(axis, levels) -> None:
+    """One cell per level, at most about six tick labels (every k-th level), each the level's value."""
+    step = math.ceil(len(levels) / 6)
+    axis.set_ticks(range(0, len(levels), step), [f"{v:.3g}" for v in levels[::step]])
+
+
+def _cell_text_pt(ax, fig, shape: tuple[int, int]) -> float | None:
+    """Cell text size [pt] (≤ 9) fitting a three-character value into a cell of ``ax`` (about 80 % of its
+    pre-layout box: constrained layout makes room for the colour bar); None below a legible 7 pt."""
+    width, height = 0.8 * 72 * ax.get_position().size * fig.get_size_inches()
+    size = min(9.0, width / shape[1] / 2.2, height / shape[0] / 1.5)
+    return size if size >= 7.0 else None
 
 
 def heatmap(ax, fig, run: Run, panel: str, value: str, label: str, cmap: str = "RdYlGn",
-            cells: str = "rate") -> None:
-    """``value`` per cell of ``panel`` (:data:`CELLS`) at the factors' true axis values; non-finite cells
-    blank and marked n/a."""
+            cells: str = "rate") -> tuple[np.ndarray, np.ndarray]:
+    """``value`` per cell of ``panel`` (:data:`CELLS`) on category axes, one cell per level (tick labels
+    the levels); non-finite cells blank and marked n/a; per-cell values where they are legible. Return
+    the x and y levels (place other marks with :func:`_position`)."""
     (x, y, xl, yl), (how, scale, vmax, text) = PANELS[panel], CELLS[cells]
     part = panel_rows(run, panel)
     g = scale * part.assign(**{value: part[value].astype(float)}).pivot_table(
         index=y, columns=x, values=value, aggfunc=how).sort_index().sort_index(axis=1)
     ax.set(xlabel=xl, ylabel=yl)
-    values = g.to_numpy(dtype=float)
+    xs, ys, values = g.columns.to_numpy(float), g.index.to_numpy(float), g.to_numpy(dtype=float)
     finite = values[np.isfinite(values)]
     if not finite.size:  # the panel says why instead of failing the figure
         ax.text(0.5, 0.5, f"not drawn: no finite value of\n{label}", ha="center", va="center",
                 transform=ax.transAxes)
-        return
-    xs, ys = g.columns.to_numpy(float), g.index.to_numpy(float)
+        return xs, ys
     norm = mpl.colors.Normalize(0.0, vmax if vmax is not None else finite.max())
-    mesh = ax.pcolormesh(_edges(xs), _edges(ys), np.ma.masked_invalid(values), cmap=cmap, norm=norm)
-    for (r, c), v in np.ndenumerate(values) if values.size <= 225 else ():
-        ax.text(xs[c], ys[r], text.format(v) if math.isfinite(v) else "n/a", ha="center", va="center",
-                fontsize=5.5)
+    mesh = ax.pcolormesh(np.arange(len(xs) + 1) - 0.5, np.arange(len(ys) + 1) - 0.5,
+                         np.ma.masked_invalid(values), cmap=cmap, norm=norm)
+    _category_axis(ax.xaxis, xs)
+    _category_axis(ax.yaxis, ys)
+    size = _cell_text_pt(ax, fig, values.shape)
+    for (r, c), v in np.ndenumerate(values) if size else ():
+        ax.text(c, r, text.format(v) if math.isfinite(v) else "n/a", ha="center", va="center", fontsize=size)
+    ax.set(xlim=(-0.5, len(xs) - 0.5), ylim=(-0.5, len(ys) - 0.5))
     ax.grid(False)
     fig.colorbar(mesh, ax=ax, label=label, shrink=0.85)
+    return xs, ys
 
 
 def _panels(run: Run) -> pd.DataFrame:
@@ -95,18 +116,17 @@ def _figure(run: Run, fig) -> None:
             heatmap(ax, fig, run, panel, "runtime_ms", "median runtime [ms]", "viridis", "median")
             ax.set_title(f"({tag}) runtime, n × b (paper: flat){caveat}")
         else:
-            heatmap(ax, fig, run, panel, "success", "success rate [%]")
+            xs, ys = heatmap(ax, fig, run, panel, "success", "success rate [%]")
             ax.set_title(f"({tag}) success, {xl.split(' [')[0]} × {yl.split(' [')[0]}{caveat}")
         if panel == "mu_mass":
-            ax.plot([p.stable_mu_min, p.stable_mu_min, ax.get_xlim()[1]],
-                    [ax.get_ylim()[0], p.stable_mass_max_kg, p.stable_mass_max_kg], color=style.PAPER,
-                    linewidth=2, linestyle="--")
+            mu, mass = _position(xs, p.stable_mu_min), _position(ys, p.stable_mass_max_kg)
+            ax.plot([mu, mu, len(xs)], [-1, mass, mass], color=style.PAPER, linewidth=2, linestyle="--")
             handles.append(Line2D([], [], color=style.PAPER, linestyle="--", label=f"paper: stable for "
                                   f"μ ≥ {p.stable_mu_min}, m ≤ {p.stable_mass_max_kg}"))
         elif panel == "lambda":
             for value, ls, words in ((p.lambda1_stable_below, "--", "stable for λ1 ≲"),
                                      (p.nonconvergence_strip_lambda1_from, ":", "non-convergence for λ1 ≥")):
-                ax.axvline(value, color=style.PAPER, linestyle=ls, linewidth=2)
+                ax.axvline(_position(xs, value), color=style.PAPER, linestyle=ls, linewidth=2)
                 handles.append(Line2D([], [], color=style.PAPER, linestyle=ls,
                                       label=f"paper: {words} {value}"))
         if handles:
@@ -139,17 +159,23 @@ def _depths(run: Run, g: pd.DataFrame, name: str) -> str:
                 "; no trial is physical"))
 
 
+def _varies(by_level: pd.Series, factor: str) -> str:
+    """Whether the success share per level of ``factor`` varies, in the finding's words."""
+    if by_level.nunique() == 1:
+        return (f"does not vary with {factor} ({100 * by_level.iloc[0]:.1f}% at each of its "
+                f"{len(by_level)} levels)")
+    return (f"varies with {factor} (between {100 * by_level.min():.1f}% and {100 * by_level.max():.1f}% "
+            f"over its {len(by_level)} levels)")
+
+
 def finding(run: Run) -> str:
     (a, b, c), p, text = (panel_rows(run, k) for k in PANELS), run.paper, []
     n_max = run.config["evaluator"]["n_max"]
     if len(a):
-        by_mu, by_m = a.groupby("mu")["success"].mean(), a.groupby("mass_kg")["success"].mean()
-        friction = (f"not at all with friction ({100 * by_mu.iloc[0]:.1f}% at each of the {len(by_mu)} "
-                    "μ levels)" if by_mu.nunique() == 1 else f"with friction between "
-                    f"{100 * by_mu.min():.1f}% and {100 * by_mu.max():.1f}% per μ level")
+        mass, friction = (_varies(a.groupby(k)["success"].mean(), words) for k, words in
+                          (("mass_kg", "mass"), ("mu", "friction")))
         won = a.loc[a["success"].astype(bool), ["delta_max_mm", "loop_capped"]]
-        text.append(f"(a) Our success varies with mass ({100 * by_m.iloc[0]:.0f}% at {by_m.index[0]:g} kg, "
-                    f"{100 * by_m.iloc[-1]:.0f}% at {by_m.index[-1]:g} kg) and {friction}: Algorithm 2 "
+        text.append(f"(a) Our success {mass} and {friction}: Algorithm 2 "
                     "releases contacts until the remaining normals carry the weight (η ≈ 0), so the slip "
                     f"check rarely binds and the paper's μ ≥ {p.stable_mu_min} boundary does not appear" + (
                         f". Its {len(won)} successes reach δ_max {won['delta_max_mm'].min():.2g}–"
@@ -273,7 +299,8 @@ SPEC = ReportSpec("sensitivity", [
                     "runtime_median_ms"], by=["panel"]),
     Figure("fig19_sensitivity", "Fig. 19 (ours): (a) success over μ × m with the paper's stable region "
            "(dashed); (b) success over λ1 × λ2 with the paper's λ1 boundary (dashed) and non-convergence "
-           "strip (dotted); (c) median runtime over n × b; per-cell values", _figure, (15.0, 4.9)),
+           "strip (dotted); (c) median runtime over n × b; one cell per level, its value printed where it "
+           "fits", _figure, (15.0, 4.9)),
     Figure("fig19_supplement", "Beyond Fig. 19: the |R_z| reading over μ × m and n × b; trials still moving "
            "at N_max and trials whose every contact lies within the fingertip radius (physical) over λ1 × λ2",
            _supplement, (10.0, 8.6)),

@@ -56,6 +56,7 @@ def paper_table(name, caption, key, row, items, rates=(), medians=(), *, where=N
             out[columns(col, digits)[1]] = [None if b != "paper" else paper_of(
                 run, paper if callable(paper) else lambda p, k, a=paper: getattr(row(p, k), a), k)
                 for k, b in zip(out[key], out["belief_error"], strict=True)]
+        out = out.astype({"n_paper": "Int64"}) if "n_paper" in out else out  # a count, missing where none
         out = extra(run, d, out) if extra else out
         return verdicts(out, "success_pct", "paper_success_pct", "success_low_pct", "success_high_pct",
                         unit="%")
@@ -150,6 +151,29 @@ def matched_mcnemar(name: str, caption: str) -> Table:
                   trials=lambda run: ex(run)[ex(run)["matched"].astype(bool)])
 
 
+def first(rates: pd.Series) -> str:
+    """Who ranks first by ``rates`` (per planner, %): one planner, or the planners tying first (equal
+    rates share a rank, as in the belief-pairs table)."""
+    top = [label("planner", q) for q, v in rates.items() if v == rates.max()]
+    return f"the {top[0]} planner ranks first" if len(top) == 1 else \
+        f"{', '.join(top[:-1])} and {top[-1]} tie first at {fmt.number(rates.max(), 1)} %"
+
+
+def belief_gap(paper: pd.Series, none: pd.Series) -> str:
+    """What the counterfactual shows: how far the proposed planner trails the first with the planners'
+    own beliefs (``paper``) and with exact ones (``none``), and how much of that exact beliefs close."""
+    gap, gap0 = paper.max() - paper[PROPOSED], none.max() - none[PROPOSED]
+    ranks = [r.rank(ascending=False, method="min") for r in (paper, none.reindex(paper.index))]
+    closed = "exact beliefs do not narrow the gap" if gap0 >= gap else f"exact beliefs close " \
+        f"{fmt.number(gap - gap0, 1)} pp of it, {'less than' if gap0 > gap / 2 else 'at least'} half"
+    return (f"{first(none)} and the ranks {'do not ' * ranks[0].equals(ranks[1])}change. The proposed "
+            f"planner trails the first by {fmt.number(gap, 1)} pp with the planners' own beliefs and by "
+            f"{fmt.number(gap0, 1)} pp with exact ones: {closed}, so " + (
+                "its deficit comes mostly from where it places its contacts, not from what it believes "
+                "about them. " if gap0 > gap / 2 else "its deficit comes mostly from what the planners "
+                "believe, not from where they place their contacts. "))
+
+
 def finding(run: Run, extra=lambda run: "") -> str:
     """The opening paragraph: the ranking with and without belief errors, and why, from the records."""
     d, e, n1, n2 = frames(run), ex(run), (lambda v: fmt.number(v, 1)), (lambda v: fmt.number(v, 2))
@@ -164,18 +188,12 @@ def finding(run: Run, extra=lambda run: "") -> str:
                                          "measurements. " if run.ingested_exports else "")
     text += "Success over the executed trials, ours (paper): " + ", ".join(
         f"{lab(q)} {n1(v)} % ({n1(paper_of(run, lambda p, q: getattr(p, table)[q].success_pct, q))} %)"
-        for q, v in paper.items()) + f"; the {lab(top)} planner ranks first. "
-    if "none" in s and top != PROPOSED:
+        for q, v in paper.items()) + f"; {first(paper)}. "
+    if "none" in s and paper[PROPOSED] < paper.max():
         none = s["none"].reindex(paper.index)
-        gap, gap0 = paper[top] - paper[PROPOSED], none[top] - none[PROPOSED]
-        same = list(none.sort_values(ascending=False).index) == list(paper.index)
         text += ("Removing the belief errors (`belief_error = none`: every planner sizes its grip from the "
                  "trial's actual μ_s, G_geo and contact law, same execution noise) gives " + ", ".join(
-                     f"{lab(q)} {n1(v)} %" for q, v in none.items()) + f"; the order is "
-                 f"{'un' * same}changed and the {lab(top)} planner leads the proposed one by {n1(gap)} pp "
-                 f"with the planners' own beliefs and by {n1(gap0)} pp with exact ones, so " + (
-                     "the ranking comes from where each planner places its contacts, not from what it "
-                     "believes. " if gap0 > gap / 2 else "the beliefs explain most of it. "))
+                     f"{lab(q)} {n1(v)} %" for q, v in none.items()) + ": " + belief_gap(paper, none))
     elif "none" not in s:
         text += "This run has no `belief_error = none` counterfactual (a real rig has no oracle). "
     g, gap = (e.groupby("planner")[c].median().reindex(paper.index) for c in ("g_geo_actual", "g_geo_gap"))
@@ -248,20 +266,6 @@ def median_trial(trials: pd.DataFrame, column: str) -> pd.Series:
     return t.loc[(t[column] - t[column].median()).abs().idxmin()]
 
 
-def schematic(fig, t: pd.Series, spans, top, bottom, title: str) -> None:
-    """Fig. 30/35: one recorded trial over its commanded phases ``(start, end, name, colour)``, lines
-    ``(x, y, label, style)`` on ``top``/``bottom`` (x None: the band y); no time series is recorded."""
-    axes = fig.subplots(2, 1, sharex=True)
-    for ax, lines in zip(axes, (top, bottom), strict=True):
-        for a, b, what, c in spans:
-            ax.axvspan(a, b, color=c, zorder=0, label=what if ax is axes[0] else None)
-        for x, y, what, kw in lines:
-            ax.axhspan(*y, label=what, **kw) if x is None else ax.plot(x, y, label=what, **kw)
-        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))
-    axes[0].set_title(f"{t['rig_trial_id']}: {title}")
-    axes[1].set_yscale("symlog", linthresh=1.0)
-
-
 # --------------------------------------------------------------------------- Test 2
 def fig28(run: Run, fig) -> None:
     style.panels(("table6", PAPER_ROWS, "shape", "(a) proposed, by shape"), ("test2_materials", None,
@@ -305,6 +309,11 @@ CLOSING_TRAVEL_MM = 10.0
 closing travel (the figure is labelled a schematic of the commanded phases)."""
 
 
+FINGER_LINES = ((1, "-", 3.2), (2, "--", 2.2), (3, "-.", 1.4))
+"""Fig. 30's finger, line style and width: each drawn thinner over the one before, so fingers with equal
+or near-equal forces all stay visible."""
+
+
 def fig30(run: Run, fig) -> None:
     e = ex(run, PROPOSED).query("shape == 'sphere' and outcome == 'stable' and friction_level == 'natural'")
     t = median_trial(e, "normal_force_mean_n")
@@ -312,10 +321,11 @@ def fig30(run: Run, fig) -> None:
     t0 = CLOSING_TRAVEL_MM / t["closing_speed_mm_per_s"]
     t1 = t0 + lift / t["lift_speed_mm_per_s"]
     t2, band, slip = t1 + t["hold_s"], paper_of(run, lambda p: p.hold_force_per_finger_n), "#c62828"
-    schematic(fig, t, ((0, t0, "closing", "#e3f2fd"), (t0, t1, "lift", "#fff8e1"), (t1, t2, "hold",
+    force = {j: float(t[f"normal_force_{j}_n"]) for j in (1, 2, 3)}
+    style.schematic(fig, t, ((0, t0, "closing", "#e3f2fd"), (t0, t1, "lift", "#fff8e1"), (t1, t2, "hold",
                                                                                    "#e8f5e9")), [
-        *(([t0, t2], [t[f"normal_force_{j}_n"]] * 2, f"finger {j}, recorded", {"color": f"C{j + 1}"})
-          for j in (1, 2, 3)),
+        *(([t0, t2], [force[j]] * 2, f"finger {j}, recorded ({force[j]:.3g} N)",
+           {"color": f"C{j + 1}", "ls": ls, "lw": lw}) for j, ls, lw in FINGER_LINES),
         ([t0, t2], [t["normal_force_pred_mean_n"]] * 2, "predicted, mean", {"ls": ":", "color": "#333333"}),
         *[(None, band, "paper: steady hold", {"color": style.PAPER, "alpha": 0.12})] * bool(band)], [
         ([0, t0, t1, t2], [0, 0, lift, lift], "lift height, commanded [mm]", {"color": "#333333"}),
@@ -345,13 +355,13 @@ def groups(run: Run) -> pd.DataFrame:
 
 def outcomes(run: Run) -> pd.DataFrame:
     o = hw.summary(ex(run, PROPOSED), ["planner"], [f"is_{k}" for k in hw.CLASSES]).iloc[0]
-    out = pd.DataFrame([{"outcome": v, "n": o[f"n_{k}"], **{f"success{s}": o[f"{k}{s}"] for s in (
-        "_pct", "_low_pct", "_high_pct")}} for k, v in hw.CLASSES.items()])
+    out = pd.DataFrame([{"outcome": v, "n": o[f"n_{k}"], "rate_pct": o[f"{k}_pct"], "wilson_low_pct": o[
+        f"{k}_low_pct"], "wilson_high_pct": o[f"{k}_high_pct"]} for k, v in hw.CLASSES.items()])
     ref = {"stable": "proposed_stable_pct", "success": "proposed_marginal_pct"}
     t7 = {"failure_slip": "slip_pct", "failure_drop": "drop_pct", "failure_damage": "damage_pct"}
-    out["paper_success_pct"] = [paper_of(run, getattr, ref[v]) if v in ref else paper_of(
+    out["paper_pct"] = [paper_of(run, getattr, ref[v]) if v in ref else paper_of(
         run, lambda p, v: getattr(p.table7[PROPOSED], t7[v]), v) if v in t7 else None for v in out["outcome"]]
-    return verdicts(out, "success_pct", "paper_success_pct", "success_low_pct", "success_high_pct", unit="%")
+    return verdicts(out, "rate_pct", "paper_pct", "wilson_low_pct", "wilson_high_pct", unit="%")
 
 
 def power(run: Run) -> pd.DataFrame:
@@ -422,7 +432,8 @@ SPEC = ReportSpec("test2_grasp", [
               Col("verdict", "verdict (success)")]),
     Table("test2_outcomes", "Primary outcome class of each trial of the proposed planner (§8.2, Fig. 28c; "
           "slip, drop, damage: Table 7); success = stable + marginal success", outcomes, [
-              Col("n", "n"), pct_col("success", "share"), Col("paper_success_pct", "paper %", 1),
+              Col("n", "n"), Col("rate_pct", "share % (Wilson 95%)", 1, low="wilson_low_pct",
+                                 high="wilson_high_pct"), Col("paper_pct", "paper %", 1),
               Col("verdict", "verdict")], by=["outcome"]),
     Rates("test2_materials", "Success per material, all planners (§8.2, Fig. 28b)", ["material"],
           lambda p, k: p.success_by_material_pct[k["material"]]),

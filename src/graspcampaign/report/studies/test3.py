@@ -51,7 +51,8 @@ def first_finger(run: Run) -> pd.DataFrame:
 
 
 def coating(run: Run) -> pd.DataFrame:
-    out = hw.summary(t2.ex(run, PROPOSED).query("block == 'A'"), ["friction_level"], medians=["threshold"],
+    out = hw.summary(t2.ex(run, PROPOSED).query("block == 'A'"), ["friction_level"],
+                     medians=["lat_threshold_n"],
                      order={"friction_level": ["natural", "high", "medium", "low"]})
     ref = [paper_of(run, lambda p, k: p.coating[k], k) for k in out["friction_level"]]
     out["paper_success_pct"] = [r and r.success_pct for r in ref]
@@ -70,7 +71,7 @@ def claims(run: Run):
            p.natural_success_pct, "%", 1)
     for i, f in enumerate((min, max)):
         yield (f"{('lowest', 'highest')[i]} median threshold over pull directions", "§9.2, Fig. 33b",
-               f(t["test3_directions"]["threshold"], default=np.nan), p.direction_threshold_range_n[i],
+               f(t["test3_directions"]["lat_threshold_n"], default=np.nan), p.direction_threshold_range_n[i],
                "N", 2)
     for key, v in p.vertical_levels_pct.items():
         g = nat.query(f"block == 'B' and disturbance_kind == '{key.split('_')[0]}'")
@@ -138,9 +139,9 @@ def claims(run: Run):
 def thresholds(run: Run, ax) -> None:
     t = run.tables["test3_coating"]
     x = np.arange(len(t))
-    ax.bar(x, t["threshold"], 0.7, color=colour("planner", PROPOSED), label="ours, uncensored ramps")
+    ax.bar(x, t["lat_threshold_n"], 0.7, color=colour("planner", PROPOSED), label="ours, uncensored ramps")
     style.paper_marks(ax, x, list(t["paper_threshold_n"]), 0.7)
-    ax.set(xticks=x, xticklabels=[f"{k}\nn={n}" for k, n in zip(t["friction_level"], t["n_threshold"],
+    ax.set(xticks=x, xticklabels=[f"{k}\nn={n}" for k, n in zip(t["friction_level"], t["n_lat_threshold_n"],
                                                                   strict=True)],
            ylabel="median lateral threshold at slip [N]", title="(a) block A: median threshold")
     ax.legend(handles=[*ax.get_legend_handles_labels()[0], style.paper_handle()], loc="upper right")
@@ -148,7 +149,7 @@ def thresholds(run: Run, ax) -> None:
 
 def directions(run: Run, ax) -> None:
     d, rng = run.tables["test3_directions"], paper_of(run, lambda p: p.direction_threshold_range_n)
-    ax.plot(d["direction_deg"], d["threshold"], "o-", color=colour("planner", PROPOSED), label="ours")
+    ax.plot(d["direction_deg"], d["lat_threshold_n"], "o-", color=colour("planner", PROPOSED), label="ours")
     ax.axhspan(*(rng or (np.nan,) * 2), color=style.PAPER, alpha=0.15, label="paper: range")
     ax.set(xticks=np.arange(0, 360, 45), xlabel="pull direction (azimuth) [°]", ylim=(0, None),
            ylabel="median lateral threshold [N]", title="(c) natural friction, by direction")
@@ -180,7 +181,7 @@ def fig34(run: Run, fig) -> None:
     d = t2.ex(run, PROPOSED).dropna(subset=["lat_threshold_n"])
     m, p, g = d["lat_threshold_n"], d["threshold_pred"], run.tables["test3_threshold_agreement"].iloc[0]
     ours = colour("planner", PROPOSED)
-    style.parity(a, p, m, [(g.get("ols_intercept"), g.get("ols_slope"), "ours: OLS", {"color": ours}),
+    style.parity(a, p, m, [(g.get("ols_intercept_n"), g.get("ols_slope"), "ours: OLS", {"color": ours}),
                      (0, paper_of(run, lambda p: p.threshold_ols_slope), "paper's slope",
                       {"ls": "--", "color": style.PAPER})], "lateral threshold [N]",
            "(a) parity, proposed, block A", run.rig)
@@ -212,7 +213,7 @@ def fig35(run: Run, fig) -> None:
     h, thr, paper = t["hold_s"], t["lat_threshold_n"], paper_of(run, lambda p: p.lateral_threshold_median_n)
     t1 = h + thr / t["ramp_rate_n_per_s"]
     end = 1.15 * t1
-    t2.schematic(fig, t, ((0, h, "hold", "#e8f5e9"), (h, t1, "ramp to slip", "#fff8e1")), [
+    style.schematic(fig, t, ((0, h, "hold", "#e8f5e9"), (h, t1, "ramp to slip", "#fff8e1")), [
         ([0, h, t1, t1, end], [0, 0, thr, 0, 0], "applied force, commanded ramp", {"color": "#333333"}),
         ([h, end], [thr] * 2, "recorded threshold at slip", {"color": "#c62828"}),
         ([h, end], [t["threshold_pred"]] * 2, "predicted F_lat", {"ls": "--", "color": colour(
@@ -234,7 +235,7 @@ SPEC = ReportSpec("test3_disturbance", [
                 "peak slip (D, E: no threshold); prediction error and centred parity R² over the "
                 "uncensored thresholds", "block", lambda p, k: p.table8[k], [
                     ("n", "n", "n", 0), ("success", "success_pct", "success", None),
-                    ("headline", "headline", "headline", 3), ("unit", None, "unit", ""),
+                    ("headline", "headline", "headline", fmt.EACH), ("unit", None, "unit", ""),
                     ("n_headline", None, "thresholds", 0),
                     ("threshold_err_pct", "pred_err_pct", "median |prediction error| [%]", 1),
                     ("parity_r2_centred", lambda p, k: p.block_parity_r2[k], "parity R² (centred)", 2)],
@@ -256,21 +257,21 @@ SPEC = ReportSpec("test3_disturbance", [
     Table("test3_coating", "Block A of the proposed planner per surface (§9.2, Fig. 33a): success and "
           "median uncensored lateral threshold beside the paper's", coating, [
               Col("friction_level", "surface"), Col("n", "n"), pct_col("success", "success"),
-              Col("paper_success_pct", "paper %", 1), Col("n_threshold", "thresholds"),
-              Col("threshold", "median threshold [N]", 2), Col("paper_threshold_n", "paper", 2),
+              Col("paper_success_pct", "paper %", 1), Col("n_lat_threshold_n", "thresholds"),
+              Col("lat_threshold_n", "median threshold [N]", 2), Col("paper_threshold_n", "paper", 2),
               Col("verdict", "verdict (success)")]),
     Table("test3_directions", "Natural-friction block A of the proposed planner per pull direction (§9.2, "
           "Fig. 33b)", lambda run: hw.summary(t2.ex(run, PROPOSED).query(f"block == 'A' and {NATURAL}"), [
-              "direction_deg"], medians=["threshold"]).sort_values("direction_deg")[[
-                  "direction_deg", "n", "success_pct", "threshold", "n_threshold"]], [
+              "direction_deg"], medians=["lat_threshold_n"]).sort_values("direction_deg")[[
+                  "direction_deg", "n", "success_pct", "lat_threshold_n", "n_lat_threshold_n"]], [
               Col("direction_deg", "pull direction [°]", 0), Col("n", "n"),
-              Col("success_pct", "success [%]", 1), Col("n_threshold", "thresholds"),
-              Col("threshold", "median threshold [N]", 2)]),
+              Col("success_pct", "success [%]", 1), Col("n_lat_threshold_n", "thresholds"),
+              Col("lat_threshold_n", "median threshold [N]", 2)]),
     Table("test3_threshold_agreement", lambda run: f"Predicted against {run.rig} lateral thresholds of "
           "the proposed planner (§9.3, Fig. 34): Bland–Altman [N], OLS with intercept, median absolute error",
           lambda run: pd.DataFrame([ds.threshold_agreement(t2.ex(run))]), [
               Col("n", "n"), *cols("bias_n", "sd_n", "loa_low_n", "loa_high_n"),
-              Col("ols_slope", "OLS slope", 3), Col("ols_intercept", "OLS intercept [N]", 3),
+              Col("ols_slope", "OLS slope", 3), Col("ols_intercept_n", "OLS intercept [N]", 3),
               Col("ols_r2", "OLS R²", 3), Col("ols_p", "OLS p", sig=2),
               Col("median_err_pct", "median |error| [%]", 1), Col("n_err_over_50pct", "errors > 50 %")],
           by=["planner"]),

@@ -9,6 +9,7 @@ import pandas as pd
 
 from graspcampaign.analysis.vocabulary import colour
 from graspcampaign.core.contact import ContactParams, depth_for_force
+from graspcampaign.report import format as fmt
 from graspcampaign.report import style
 from graspcampaign.report.document import Col
 from graspcampaign.report.render import Run
@@ -68,7 +69,8 @@ def _per_mu(run: Run) -> pd.DataFrame:
     settles = frame["ours"].where(frame["why"] != NEVER, math.inf)  # never: later than any window
     frame = verdicts(frame.assign(settles=settles), "settles", "paper", digits="digits",
                      commanded="commanded").drop(columns=["settles", "commanded"])
-    return frame.assign(paper=[f"{v[0]:g}–{v[1]:g}" if isinstance(v, tuple) else v for v in frame["paper"]])
+    return frame.assign(paper=[fmt.paper_text(v, d) if isinstance(v, tuple) else v  # as the verdict prints it
+                               for v, d in zip(frame["paper"], frame["digits"], strict=True)])
 
 
 def finding(run: Run) -> str:
