@@ -90,10 +90,11 @@ def test_grip_need_and_epsilon():
     assert need.loc[("oracle", "centroid"), ["no_equal_grip", "capped_passes"]].tolist() == [0, 1]
     assert need.loc[("slip", "heuristic"), "steepest_normal_z_median"] == pytest.approx(0.6)
     eps = epsilon_table(records()).set_index("planner")  # paper law: t0-t3, t6
-    assert eps.loc["heuristic", ["n", "successes"]].tolist() == [2, 1]
-    assert eps.loc["random", "successes"] == 0
+    assert eps.loc["heuristic", ["n", "force_closure"]].tolist() == [2, 1]
+    assert eps.loc["random", "force_closure"] == 0
     assert eps.loc["ferrari_canny", "epsilon_median"] == pytest.approx(0.05)
-    assert eps.loc["heuristic", "rate_pct"] == 50.0
+    assert eps.loc["heuristic", "force_closure_pct"] == 50.0
+    assert not {"successes", "rate_why", "bootstrap_why", "bootstrap_low_pct"} & set(eps)
 
 
 @settings(max_examples=60, deadline=None)

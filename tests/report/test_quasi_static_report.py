@@ -119,7 +119,7 @@ def test_grid_mechanism_readings_and_epsilon_tables(runs):
     no_torque_only = ok["success_no_torque"].astype(bool) & ~ok["success"]
     assert reading["torque_binds"].to_dict() == no_torque_only.groupby(ok["planner"]).sum().to_dict()
     eps = read_table(store, "epsilon").set_index("planner")
-    assert eps["successes"].to_dict() == (ok["epsilon_fc"] > 0).groupby(ok["planner"]).sum().to_dict()
+    assert eps["force_closure"].to_dict() == (ok["epsilon_fc"] > 0).groupby(ok["planner"]).sum().to_dict()
     median = ok.groupby("planner")["epsilon_fc"].median()
     assert eps["epsilon_median"].to_dict() == pytest.approx(median.to_dict())
     fc = ok[ok["planner"] == "ferrari_canny"]

@@ -108,6 +108,9 @@ def epsilon_table(records: pd.DataFrame, order: dict | None = None) -> pd.DataFr
     rows = paper_law(records)
     out = rec.rate_table(rows.assign(force_closure=rows["epsilon_fc"] > 0), ["planner"],
                          outcome="force_closure", order=order)
+    out = out[["planner", "n", "successes", "rate_pct", "wilson_low_pct", "wilson_high_pct"]].rename(
+        columns={"successes": "force_closure", "rate_pct": "force_closure_pct",
+                 "wilson_low_pct": "force_closure_low_pct", "wilson_high_pct": "force_closure_high_pct"})
     eps = rows.groupby("planner")["epsilon_fc"].agg(["median", "mean", "max"])
     return out.join(eps.add_prefix("epsilon_"), on="planner")
 

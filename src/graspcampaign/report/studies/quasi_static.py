@@ -213,8 +213,8 @@ EPSILON = [
             "and their share in force closure (ε > 0); the Ferrari–Canny ε planner takes the largest ε "
             "of the candidates the heuristic scores",
             lambda run: qs.epsilon_table(run.records, run.order), [
-                Col("n", "n"), Col("rate_pct", "force closure % (Wilson 95%)", 1,
-                                   low="wilson_low_pct", high="wilson_high_pct"),
+                Col("n", "n"), Col("force_closure_pct", "force closure % (Wilson 95%)", 1,
+                                   low="force_closure_low_pct", high="force_closure_high_pct"),
                 *(Col(f"epsilon_{s}", f"{s} ε", sig=3) for s in ("median", "mean", "max"))],
             by=["planner"]),
     S.Table("h_epsilon", "Does H(G) rank grasps as the classical metric does? Spearman ρ of H(G) "
