@@ -141,7 +141,7 @@ def thresholds(run: Run, ax) -> None:
     x = np.arange(len(t))
     ax.bar(x, t["lat_threshold_n"], 0.7, color=colour("planner", PROPOSED), label="ours, uncensored ramps")
     style.paper_marks(ax, x, list(t["paper_threshold_n"]), 0.7)
-    ax.set(xticks=x, xticklabels=[f"{k}\nn={n}" for k, n in zip(t["friction_level"], t["n_lat_threshold_n"],
+    ax.set(xticks=x, xticklabels=[f"{k}\nn={n}" for k, n in zip(t["friction_level"], t["n_lat_threshold"],
                                                                   strict=True)],
            ylabel="median lateral threshold at slip [N]", title="(a) block A: median threshold")
     ax.legend(handles=[*ax.get_legend_handles_labels()[0], style.paper_handle()], loc="upper right")
@@ -257,15 +257,15 @@ SPEC = ReportSpec("test3_disturbance", [
     Table("test3_coating", "Block A of the proposed planner per surface (§9.2, Fig. 33a): success and "
           "median uncensored lateral threshold beside the paper's", coating, [
               Col("friction_level", "surface"), Col("n", "n"), pct_col("success", "success"),
-              Col("paper_success_pct", "paper %", 1), Col("n_lat_threshold_n", "thresholds"),
+              Col("paper_success_pct", "paper %", 1), Col("n_lat_threshold", "thresholds"),
               Col("lat_threshold_n", "median threshold [N]", 2), Col("paper_threshold_n", "paper", 2),
               Col("verdict", "verdict (success)")]),
     Table("test3_directions", "Natural-friction block A of the proposed planner per pull direction (§9.2, "
           "Fig. 33b)", lambda run: hw.summary(t2.ex(run, PROPOSED).query(f"block == 'A' and {NATURAL}"), [
               "direction_deg"], medians=["lat_threshold_n"]).sort_values("direction_deg")[[
-                  "direction_deg", "n", "success_pct", "lat_threshold_n", "n_lat_threshold_n"]], [
+                  "direction_deg", "n", "success_pct", "lat_threshold_n", "n_lat_threshold"]], [
               Col("direction_deg", "pull direction [°]", 0), Col("n", "n"),
-              Col("success_pct", "success [%]", 1), Col("n_lat_threshold_n", "thresholds"),
+              Col("success_pct", "success [%]", 1), Col("n_lat_threshold", "thresholds"),
               Col("lat_threshold_n", "median threshold [N]", 2)]),
     Table("test3_threshold_agreement", lambda run: f"Predicted against {run.rig} lateral thresholds of "
           "the proposed planner (§9.3, Fig. 34): Bland–Altman [N], OLS with intercept, median absolute error",
