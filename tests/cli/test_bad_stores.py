@@ -809,3 +809,12 @@ def test_a_trial_in_two_baseline_runs_is_cross_checked_once(results):
     assert _cross_check(run) == (f"Cross-check against the `baseline_grid` records beside this run: "
                                  f"{len(base)} of {len(base)} re-derived trials have the baseline's "
                                  f"verdict and {len(base)} its residual (relative 1e-9).")
+
+
+def test_a_named_pipe_in_place_of_a_schedule_file_is_refused_at_once(finished, tmp_path):
+    # --out is a stem: schedule writes <stem>.csv and <stem>.parquet, each checked before any work
+    os.mkfifo(tmp_path / "sheet.csv")
+    refused(finished, ["schedule", "test2_grasp", "--out", tmp_path / "sheet", "--root", finished],
+            f"--out {tmp_path / 'sheet'}: sheet.csv is a named pipe (FIFO), not a regular file.",
+            seconds=5)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["sheet.csv"]

@@ -41,6 +41,7 @@ def schedule(
 ) -> None:
     """Write a hardware protocol's commanded-trial sheet (CSV and Parquet)."""
     from graspcampaign.campaign.kind import get_kind
+    from graspcampaign.campaign.paths import path_problem
     from graspcampaign.campaign.runner import kind_params
 
     check_root(root, write=out is None)
@@ -51,6 +52,10 @@ def schedule(
     stem = writable_stem(out or Path(cfg.output.root) / cfg.name / "schedule", "--out")
     if out is not None and not out.parent.is_dir():  # as plan --png: a typo grows no tree
         fail(f"--out {out}: directory {out.parent} does not exist.")
+    names = [".csv", ".parquet", *(["-template.csv", "-template-columns.csv"] if template else [])]
+    for name in names:  # the files themselves (one may be a directory or a named pipe)
+        if (why := path_problem(stem.with_name(stem.name + name), write=True, directory=False)):
+            fail(f"--out {stem}: {stem.name + name} {why}.")
     params = kind_params(cfg, kind)
     sheet = kind.schedule(cfg, params)
     sheets = {"": sheet}
