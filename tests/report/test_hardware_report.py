@@ -499,3 +499,15 @@ def test_schematic_slip_axis_has_readable_ticks_and_no_finger_hides_another(sim_
                     assert over.get_linewidth() < under.get_linewidth()
         for line in fingers:
             assert f"({line.get_ydata()[0]:.3g} N)" in line.get_label()
+
+
+@pytest.mark.parametrize("study", sorted(STUDIES))
+def test_the_findings_rates_carry_their_trial_counts(sim_root, study):
+    """Every rate of the opening paragraph says of how many executed trials it is (a 40 % of 5
+    reads otherwise as a 40 % of 500), counted here from the records of each belief reading."""
+    text, both = _finding(sim_root, study), _both(sim_root, study)
+    for reading, words in (("paper", "Success over the executed trials"), ("none", "Removing the belief")):
+        part = text.split(words)[1].split(":")[1].split(";")[0]
+        rates = both[both["belief_error"] == reading].groupby("planner")["success"].agg(["mean", "size"])
+        for q, r in rates.iterrows():
+            assert f"{label('planner', q)} {100 * r['mean']:.1f} % of {r['size']}" in part

@@ -177,7 +177,8 @@ def belief_gap(paper: pd.Series, none: pd.Series) -> str:
 def finding(run: Run, extra=lambda run: "") -> str:
     """The opening paragraph: the ranking with and without belief errors, and why, from the records."""
     d, e, n1, n2 = frames(run), ex(run), (lambda v: fmt.number(v, 1)), (lambda v: fmt.number(v, 2))
-    s, lab = d.groupby(["belief_error", "planner"])["success"].mean() * 100, (lambda q: label("planner", q))
+    by = d.groupby(["belief_error", "planner"])["success"]
+    s, n, lab = by.mean() * 100, by.size(), (lambda q: label("planner", q))
     paper, table = s["paper"].sort_values(ascending=False), f"table{7 + 2 * (run.study != 'test2_grasp')}"
     top = paper.index[0]
     text = ("**VIRTUAL RIG data**: every number below is the output of the virtual rig's stochastic model "
@@ -186,14 +187,16 @@ def finding(run: Run, extra=lambda run: "") -> str:
             "Measured on hardware. ") + ("This run was filled by `graspcampaign ingest`, but its files "
                                          "carried `source = virtual`: they are virtual-rig exports, not rig "
                                          "measurements. " if run.ingested_exports else "")
-    text += "Success over the executed trials, ours (paper): " + ", ".join(
-        f"{lab(q)} {n1(v)} % ({n1(paper_of(run, lambda p, q: getattr(p, table)[q].success_pct, q))} %)"
-        for q, v in paper.items()) + f"; {first(paper)}. "
+    text += "Success over the executed trials, ours of n trials (paper): " + ", ".join(
+        f"{lab(q)} {n1(v)} % of {n['paper'][q]} "
+        f"({n1(paper_of(run, lambda p, q: getattr(p, table)[q].success_pct, q))} %)"
+        for q, v in paper.items()) + f"; {first(paper)} (Wilson intervals: Table {table[5:]}). "
     if "none" in s and paper[PROPOSED] < paper.max():
         none = s["none"].reindex(paper.index)
         text += ("Removing the belief errors (`belief_error = none`: every planner sizes its grip from the "
                  "trial's actual μ_s, G_geo and contact law, same execution noise) gives " + ", ".join(
-                     f"{lab(q)} {n1(v)} %" for q, v in none.items()) + ": " + belief_gap(paper, none))
+                     f"{lab(q)} {n1(v)} % of {n['none'][q]}" for q, v in none.items()) + ": "
+                 + belief_gap(paper, none))
     elif "none" not in s:
         text += "This run has no `belief_error = none` counterfactual (a real rig has no oracle). "
     g, gap = (e.groupby("planner")[c].median().reindex(paper.index) for c in ("g_geo_actual", "g_geo_gap"))
