@@ -46,6 +46,7 @@ def test_every_page_and_figure_says_virtual_rig(run, sim_root, tmp_path_factory)
     for name in FIGURES:
         svg = (copy / "report" / "figures" / f"{name}.svg").read_text()
         assert "data: VIRTUAL RIG (synthetic data)" in svg, name
+        assert "measured" not in svg, name  # legends too (Fig. 25a said "measured F/F0")
 
 
 def test_table4_is_the_records_beside_the_paper(run):
@@ -83,7 +84,7 @@ def test_section_7_claims_against_the_records(run):
     assert warm["value"] == pytest.approx(slides.loc[slides["environment"] == "warm_humid", "mu_s"].mean())
     assert claims.loc["kt per family: lowest family", "paper"] == "2.00–5.00"
     # a share carries n and its Wilson interval (statsmodels)
-    share = claims.loc["Coulomb prediction = measured slip"]
+    share = claims.loc["Coulomb prediction = slip on the bench"]
     k = round(share["value"] / 100 * share["n"])
     low, high = proportion_confint(k, share["n"], method="wilson")
     assert (share["low"], share["high"]) == pytest.approx((100 * low, 100 * high))

@@ -95,7 +95,7 @@ CLAIMS = [
     Value("Coulomb prediction = sign of the slip margin", "§7.3",
           _v("oblique", "classification_matches_margin", "share"),
           lambda p: p.oblique_classification_match_pct, "%", 1),
-    Value("Coulomb prediction = measured slip", "§7.3",
+    Value("Coulomb prediction = slip on the bench", "§7.3",
           _v("oblique", "classification_matches_measured", "share"), None, "%", 1),
     *_pair("ρ per family", "§7.4", "relaxation", "rho", _t4("rho")),
     *_pair("τ per family", "§7.4", "relaxation", "tau_s", _t4("tau_s"), "s", 1),
@@ -379,7 +379,7 @@ def fig25(run: Run, fig) -> None:
         idx = np.flatnonzero(x >= x.max() - 0.003)  # the hold: within 3 µm of the peak, first contiguous run
         idx = idx[: np.argmax(np.diff(np.r_[idx, idx[-1] + 2]) > 1) + 1]
         g = np.linspace(0, t[idx[-1]] - t[idx[0]], 300)
-        ax_a.plot(t[idx] - t[idx[0]], f[idx] / row["f0_n"], color=BLUE, lw=0.9, label="measured F/F0")
+        ax_a.plot(t[idx] - t[idx[0]], f[idx] / row["f0_n"], color=BLUE, lw=0.9, label=f"{run.rig} F/F0")
         ax_a.plot(g, row["rho"] + (1 - row["rho"]) * np.exp(-g / row["tau_s"]), color=RED,
                   label=f"fit ρ + (1−ρ)e^(−t/τ): ρ = {row['rho']:.2f}, τ = {row['tau_s']:.1f} s")
     ax_a.axhline(p.relaxation_ratio_fig25a, color=PAPER, ls="--",
