@@ -363,6 +363,17 @@ def test_pso_cv_table3_and_trace(tmp_path):
     assert (store.path / "report" / "figures" / "fig21_pso.png").exists()
 
 
+def _wrench_report(tmp_path, outputs, trace):
+    """A wrench_balance run at μ 0.1, 0.3, 0.5 from ``outputs``/``trace``, reported: its store, the
+    wrench_balance table and that table's settling rows by μ."""
+    store = make_run(tmp_path, "wrench_balance", "wrench_balance",
+                     {"shape": ["sphere"], "mass_kg": [0.4], "mu": [0.1, 0.3, 0.5]}, seeds=1,
+                     paper=None, outputs=outputs, tables=trace)
+    build_reports(["wrench_balance"], root=tmp_path)
+    table = read_table(store, "wrench_balance")
+    return store, table, table[table["quantity"].str.startswith("iteration")].set_index("mu")
+
+
 def test_wrench_balance_settling_from_trace(tmp_path):
     def outputs(factors, rng):
         return quasi_static_outputs({**factors, "planner": "heuristic"}, rng)
@@ -376,12 +387,7 @@ def test_wrench_balance_settling_from_trace(tmp_path):
                                 "slip_margin_n": 1.0, "slip_margin_rel": factors["mu"] * 1.9,
                                 "normal_force_1_n": 64.0} for i, r in zip(it, res, strict=True)]}
 
-    store = make_run(tmp_path, "wrench_balance", "wrench_balance",
-                     {"shape": ["sphere"], "mass_kg": [0.4], "mu": [0.1, 0.3, 0.5]}, seeds=1,
-                     paper=None, outputs=outputs, tables=trace)
-    build_reports(["wrench_balance"], root=tmp_path)
-    table = read_table(store, "wrench_balance")
-    settle = table[table["quantity"].str.startswith("iteration")].set_index("mu")
+    store, table, settle = _wrench_report(tmp_path, outputs, trace)
     assert settle["ours"].to_dict() == {0.1: 20.0, 0.3: 35.0, 0.5: 50.0}
     assert settle.loc[0.3, "verdict"] == "inside the paper's range 30–40"
     assert settle.loc[0.1, "verdict"] == "differs: below the paper's range 30–40"
@@ -414,12 +420,7 @@ def test_wrench_balance_never_settling_differs_and_non_physical_depths_flagged(t
                                 "torque_norm_nm": 1e-4, "slip_margin_n": 1.0, "slip_margin_rel": 0.9,
                                 "normal_force_1_n": float(force[i])} for i in range(30)]}
 
-    store = make_run(tmp_path, "wrench_balance", "wrench_balance",
-                     {"shape": ["sphere"], "mass_kg": [0.4], "mu": [0.1, 0.3, 0.5]}, seeds=1,
-                     paper=None, outputs=outputs, tables=trace)
-    build_reports(["wrench_balance"], root=tmp_path)
-    table = read_table(store, "wrench_balance")
-    settle = table[table["quantity"].str.startswith("iteration")].set_index("mu")
+    store, table, settle = _wrench_report(tmp_path, outputs, trace)
     assert settle.loc[[0.1, 0.3], "differs"].tolist() == [True, True]  # never settles: differs
     assert settle.loc[0.1, "ours"] != settle.loc[0.1, "ours"]  # nan: shown as "never settles"
     assert settle.loc[0.1, "verdict"].startswith("differs: above the paper's range")

@@ -452,19 +452,24 @@ def test_record_template_has_every_column_with_its_unit(t3):
 
 
 # ------------------------------------------------------------------ self-contradicting records
-def test_a_mean_force_that_is_not_the_fingers_mean_is_refused(good, tmp_path):
-    """The tester's record: fingers 1, 1, 1 N beside a 15 N mean was stored."""
+@pytest.mark.parametrize(("stem", "fingers", "mean", "message"), [
+    # the tester's record: fingers 1, 1, 1 N beside a 15 N mean was stored
+    ("normal_force", (1.0, 1.0, 1.0), 15.0, "value 15 N is not the mean of normal_force_1_n, "
+     "normal_force_2_n, normal_force_3_n (1, 1, 1: mean 1 N) within 5% + 0.01 N."),
+    # the mean written in tenths of a millimetre
+    ("deformation", (0.5, 0.6, 0.7), 6.0, "value 6 mm is not the mean of deformation_1_mm, "
+     "deformation_2_mm, deformation_3_mm (0.5, 0.6, 0.7: mean 0.6 mm) within 5% + 0.2 mm."),
+], ids=["force", "deformation"])
+def test_a_mean_that_is_not_the_fingers_mean_is_refused(good, tmp_path, stem, fingers, mean, message):
     schedule, rec, i = good
+    unit = "n" if stem == "normal_force" else "mm"
     bad = rec.copy()
-    bad.loc[i, ["normal_force_1_n", "normal_force_2_n", "normal_force_3_n"]] = 1.0
-    bad.loc[i, "normal_force_mean_n"] = 15.0
+    bad.loc[i, [f"{stem}_{k}_{unit}" for k in (1, 2, 3)]] = fingers
+    bad.loc[i, f"{stem}_mean_{unit}"] = mean
     path = _file(bad, tmp_path / "bad.csv", "csv")
     with pytest.raises(IngestError) as info:
         validate_records(path, schedule)
-    assert str(info.value) == (
-        f"bad.csv, row {i + 1}, column 'normal_force_mean_n': value 15 N is not the mean of "
-        "normal_force_1_n, normal_force_2_n, normal_force_3_n (1, 1, 1: mean 1 N) within 5% + "
-        "0.01 N.")
+    assert str(info.value) == f"bad.csv, row {i + 1}, column '{stem}_mean_{unit}': {message}"
 
 
 @pytest.mark.parametrize(("fingers", "mean", "accepted"), [
@@ -486,16 +491,3 @@ def test_the_mean_force_tolerance(good, tmp_path, fingers, mean, accepted):
                                               r"'normal_force_mean_n': value 4\.3 N is not the mean"):
             validate_records(path, schedule)
 
-
-def test_a_mean_deformation_that_is_not_the_fingers_mean_is_refused(good, tmp_path):
-    schedule, rec, i = good
-    bad = rec.copy()
-    bad.loc[i, ["deformation_1_mm", "deformation_2_mm", "deformation_3_mm"]] = (0.5, 0.6, 0.7)
-    bad.loc[i, "deformation_mean_mm"] = 6.0  # the mean written in tenths of a millimetre
-    path = _file(bad, tmp_path / "bad.csv", "csv")
-    with pytest.raises(IngestError) as info:
-        validate_records(path, schedule)
-    assert str(info.value) == (
-        f"bad.csv, row {i + 1}, column 'deformation_mean_mm': value 6 mm is not the mean of "
-        "deformation_1_mm, deformation_2_mm, deformation_3_mm (0.5, 0.6, 0.7: mean 0.6 mm) within "
-        "5% + 0.2 mm.")
