@@ -42,7 +42,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from graspcampaign.campaign.provenance import MISMATCH, ingested, kind_facts_or_none, read_manifest
-from graspcampaign.campaign.verify import facts, verify_file
+from graspcampaign.campaign.verify import Facts, facts, verify_file
 from graspcampaign.errors import DamagedRunError
 
 #: Names of stored shards; anything else in a part directory (hidden files aside) is not a shard.
@@ -145,10 +145,9 @@ def owners(store, manifest: dict | None, config_hash: str | None = None,
             "design": design or set()}
 
 
-def _foreign(path: Path, allowed: dict[str, set]) -> str | None:
-    """Why the records of ``path`` are not the run's own (another study, run, kind, source or
-    config; a trial not in the design), or None."""
-    own = facts(path)
+def _foreign(own: Facts, allowed: dict[str, set]) -> str | None:
+    """Why the records of a file (its verified facts ``own``) are not the run's own (another
+    study, run, kind, source or config; a trial not in the design), or None."""
     for column, values in own.owners.items():  # status: a vocabulary, not an owner
         other = sorted(values - allowed.get(column, set()) - {None}, key=str)
         if other and allowed.get(column):
@@ -163,13 +162,12 @@ def _foreign(path: Path, allowed: dict[str, set]) -> str | None:
     return None
 
 
-def _not_records(path: Path, allowed: dict) -> str | None:
-    """Why ``path`` is not a records file the tool wrote (a column every record has missing or of
-    another type, a status or trial id it never writes, no digest where the run has them), or
-    None. Only for a run (a manifest)."""
+def _not_records(own: Facts, allowed: dict) -> str | None:
+    """Why a file (its verified facts ``own``) is not a records file the tool wrote (a column
+    every record has missing or of another type, a status or trial id it never writes, no digest
+    where the run has them), or None. Only for a run (a manifest)."""
     if not allowed["kind"]:
         return None
-    own = facts(path)
     for column, holds in [*RECORD_COLUMNS.items(), *_OPTIONAL_COLUMNS.items()]:
         kind = own.schema.field(column).type if column in own.schema.names else None
         if kind is None:
@@ -188,8 +186,8 @@ def _not_records(path: Path, allowed: dict) -> str | None:
     return None
 
 
-def _no_digest(path: Path, allowed: dict) -> str | None:
-    if allowed["digests"] and not facts(path).digest:
+def _no_digest(own: Facts, allowed: dict) -> str | None:
+    if allowed["digests"] and not own.digest:
         return "no digest of its values, which every file of this run gets when it is written"
     return None
 
@@ -204,19 +202,19 @@ def file_problems(store, part: str, allowed: dict[str, set]) -> list[Problem]:
     if part != "records" and not part.startswith("tables/"):
         return out + [Problem(path, f"a file {_rel(store, path)} with {why}", "quarantine", part,
                               why) for path in store._listing(part)[0] if path not in bad
-                      and (why := _no_digest(path, allowed))]
+                      and (why := _no_digest(facts(path), allowed))]
     seen: dict[str, Path] = {}
     for path in (p for p in store._listing(part)[0] if p not in bad):
-        rel = _rel(store, path)
-        unlike = _not_records(path, allowed) if part == "records" else None
-        foreign = None if unlike else _foreign(path, allowed) if part == "records" else None
-        unlike = unlike or (None if foreign else _no_digest(path, allowed))
+        rel, own = _rel(store, path), facts(path)  # one read of a file too new to be remembered
+        unlike = _not_records(own, allowed) if part == "records" else None
+        foreign = None if unlike else _foreign(own, allowed) if part == "records" else None
+        unlike = unlike or (None if foreign else _no_digest(own, allowed))
         if unlike or foreign:
             out.append(Problem(path, f"a file {rel} with {unlike}" if unlike else
                                f"a file {rel} holding {foreign}", "quarantine", part,
                                unlike or foreign))
             continue
-        n, unique = _ids(path)
+        n, unique = own.n_rows, own.ids
         if part == "records" and len(unique) < n:
             why = f"it records {n - len(unique)} trials twice"
             out.append(Problem(path, f"a file {rel} that records {n - len(unique)} trials twice",
