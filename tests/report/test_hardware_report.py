@@ -194,7 +194,8 @@ def test_the_opening_paragraph_gives_the_records_numbers(sim_root, study):
     rates = ex.groupby("planner")["success"].mean().sort_values(ascending=False) * 100
     table = "table7" if study == "test2_grasp" else "table9"
     paper = _paper(study)[table]
-    assert f"{label('planner', 'heuristic')} {rates['heuristic']:.1f} % " \
+    n = int((ex["planner"] == "heuristic").sum())
+    assert f"{label('planner', 'heuristic')} {rates['heuristic']:.1f} % of {n} " \
            f"({paper['heuristic']['success_pct']:.1f} %)" in finding
     top = [label("planner", q) for q in rates.index if rates[q] == rates.max()]  # ties share rank 1
     assert (f"the {top[0]} planner ranks first" if len(top) == 1 else
