@@ -378,3 +378,26 @@ def test_run_radius_reads_the_model_config_and_defaults_to_table_2():
     configured = Run(pd.DataFrame(), {"config": {"model": {"fingertip_radius_m": 4e-3}}})
     assert configured.radius_mm == pytest.approx(4.0)
     assert Run(pd.DataFrame(), {"config": {}}).radius_mm == 5.0  # Table 2's fingertip radius
+
+
+def test_design_limit_and_failure_checks_count_the_trials_deeper_than_the_run_radius():
+    """The spec items themselves split off the trials deeper than the run's fingertip radius (a
+    study once had to wrap them for it): counted from the records with pandas."""
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.spec import DesignLimit, FailureChecks
+
+    records = pd.DataFrame({"status": ["ok"] * 6 + ["error"], "planner": ["a"] * 4 + ["b"] * 3,
+                            "delta_max_mm": [0.5, 3.9, 4.1, 900.0, 2.0, 4.5, 50.0],
+                            "success": [True, False, False, False, True, False, None],
+                            "failure_check": ["none", "slip", "residual", "residual", "none", "torque",
+                                              None]})
+    run = Run(records, {"config": {"model": {"fingertip_radius_m": 4e-3}}})
+    [limit] = DesignLimit(["planner"]).render(run)
+    ok = records[records["status"] == "ok"]
+    deep = ok["delta_max_mm"] > 4.0
+    assert limit.frame.set_index("planner")["beyond_radius"].to_dict() == \
+        deep.groupby(ok["planner"]).sum().to_dict()
+    assert limit.frame.set_index("planner").loc["a", "delta_max_max_mm"] == 3.9  # δmax ≤ r only
+    assert "δmax > r (non-physical)" in [c.label for c in limit.cols] and "r = 4 mm" in limit.caption
+    [checks] = FailureChecks(["planner"]).render(run)
+    assert f"{int(deep.sum())} of {len(ok)} trials have a contact deeper than r = 4 mm" in checks.caption

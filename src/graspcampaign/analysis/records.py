@@ -208,20 +208,20 @@ def beyond_radius(records: pd.DataFrame, radius_mm: float) -> pd.Series:
 
 
 def design_limit_table(records: pd.DataFrame, by: Sequence[str], *,
-                       limit_mm: float = DESIGN_LIMIT_MM, radius_mm: float | None = None,
+                       radius_mm: float, limit_mm: float = DESIGN_LIMIT_MM,
                        order: Mapping[str, Sequence] | None = None) -> pd.DataFrame:
     """Return per group how often ``delta_max_mm`` exceeds (strictly) the 1 mm design limit
     (paper Sec. 4, 5.5; SPEC Sec. 2.7), with Wilson 95 %, and the median, 95th percentile and
-    maximum of ``delta_max_mm``. With the fingertip radius ``radius_mm``: ``beyond_radius`` counts
-    the trials deeper than it (non-physical: the fingertip's centre inside the object, issue 13)
-    and the three statistics are over the other, physical trials (nan when there are none)."""
+    maximum of ``delta_max_mm``; ``beyond_radius`` counts the trials deeper than the fingertip radius
+    ``radius_mm`` (non-physical: the fingertip's centre inside the object, issue 13) and the three
+    statistics are over the other, physical trials (nan when there are none)."""
     ok = executed(records)
     ok = ok[ok["delta_max_mm"].notna()] if "delta_max_mm" in ok else ok.iloc[:0]
     rows = []
     for key, g in groups(ok, list(by), order):
         d = g["delta_max_mm"].to_numpy(float)
         over = d > limit_mm
-        beyond = beyond_radius(g, np.inf if radius_mm is None else radius_mm).to_numpy()
+        beyond = beyond_radius(g, radius_mm).to_numpy()
         w = rates.wilson_interval(int(over.sum()), len(g))
         success = g["success"].to_numpy(bool) if "success" in g else np.zeros(len(g), bool)
         shown = d[~beyond]
@@ -233,11 +233,10 @@ def design_limit_table(records: pd.DataFrame, by: Sequence[str], *,
                      "beyond_radius": int(beyond.sum()),
                      **dict(zip(("delta_max_median_mm", "delta_max_p95_mm", "delta_max_max_mm"),
                                 map(float, stats), strict=True))})
-    frame = pd.DataFrame(rows, columns=[
+    return pd.DataFrame(rows, columns=[
         *by, "n", "exceeds", "exceeds_pct", "wilson_low_pct", "wilson_high_pct",
         "successes_exceeding", "beyond_radius", "delta_max_median_mm", "delta_max_p95_mm",
         "delta_max_max_mm"])
-    return frame if radius_mm is not None else frame.drop(columns="beyond_radius")
 
 
 def failure_check_table(records: pd.DataFrame, by: Sequence[str],

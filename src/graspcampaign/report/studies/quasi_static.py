@@ -92,33 +92,6 @@ def readings(by: list[str]) -> S.Table:
             Col("torque_binds", "failed only τ_T")], by=by)
 
 
-def design_limit(by: list[str]) -> S.Table:
-    """:func:`~graspcampaign.report.spec.DesignLimit` with the trials deeper than the fingertip
-    radius counted apart (non-physical) and the δmax statistics over the physical ones."""
-    base = S.DesignLimit(by)
-    return replace(base, caption=lambda run: base.caption + (
-        f"; δmax > r: trials with a contact deeper than the fingertip radius r = {run.radius_mm:g} "
-        "mm, whose fingertip centre lies inside the object (non-physical; the validity gate makes "
-        "them failures); the δmax statistics are over the physical trials, δmax ≤ r (— where none)"),
-        compute=lambda run: rec.design_limit_table(
-            run.records, by, radius_mm=run.radius_mm, order=run.order).assign(
-            paper=f"within {rec.DESIGN_LIMIT_MM:g} mm"),
-        cols=[*base.cols[:5], Col("beyond_radius", "δmax > r (non-physical)"),
-              *(replace(c, label=c.label.replace(" [mm]", ", δmax ≤ r [mm]")) for c in base.cols[5:])])
-
-
-def failure_checks(by: list[str], paper=None) -> S.Table:
-    """:func:`~graspcampaign.report.spec.FailureChecks`, its caption saying where the trials with a
-    contact deeper than r are counted (under their first failing published check)."""
-    base = S.FailureChecks(by, paper)
-    return replace(base, caption=lambda run: base.caption + (
-        f"; the checks run in that order and the first failing one is counted, so geometry counts only "
-        f"trials passing every published check: {int(rec.beyond_radius(run.ok, run.radius_mm).sum())} "
-        f"of {len(run.ok)} trials have a "
-        f"contact deeper than r = {run.radius_mm:g} mm (non-physical, failed by the gate too) and are "
-        "counted under their first failing published check (table design_limit)"))
-
-
 MECHANISM = S.Table("mechanism", lambda run: (
     "How Algorithm 2 ends each planner's triples (paper law): a contact released to δ = 0 by line "
     "7; as many released as upper (n_out,z > 0) contacts; median ρ = |R_xy|/W; ρ·W < τ_F = "
@@ -318,7 +291,7 @@ SHAPES = S.ReportSpec("shapes", [
              "green = success, red = failure, hatched = a contact deeper than the fingertip radius "
              "(non-physical); dashed: each check's threshold; our and the paper's outcome above panel (a)",
              fig15, (9.0, 7.0)),
-    design_limit(["shape"]), failure_checks(["shape"], lambda p, k: p.failure_check.get(
+    S.DesignLimit(["shape"]), S.FailureChecks(["shape"], lambda p, k: p.failure_check.get(
         k["shape"], "none" if p.success.get(k["shape"]) else "not reported")),
     readings(["shape"]), IDENTIFICATIONS,
 ])
@@ -392,7 +365,7 @@ def law_items(figure: str, name: str, what: str) -> list:
 
 ABLATION = S.ReportSpec("ablation", [
     S.Finding(ablation_finding), *law_items("Fig. 16", "fig16_ablation", "variant"), MECHANISM,
-    readings(BY_LAW), *EPSILON, design_limit(BY_LAW), failure_checks(BY_LAW), IDENTIFICATIONS,
+    readings(BY_LAW), *EPSILON, S.DesignLimit(BY_LAW), S.FailureChecks(BY_LAW), IDENTIFICATIONS,
 ])
 
 
@@ -412,14 +385,14 @@ BASELINE_GRID = S.ReportSpec("baseline_grid", [
             "only the rounded cube's values; a planner at 0% overall is 0% on every shape)",
             ["shape", "planner"], lambda p, k: _carried(p.success_by_shape_pct.get(k["shape"], {}),
                                                         p, k), bootstrap=False),
-    S.Paired(), design_limit(["planner"]),
+    S.Paired(), S.DesignLimit(["planner"]),
     S.Figure("fig18_baselines", "Fig. 18 (ours): (a) overall success per planner, (b) per shape; "
              f"Wilson 95% whiskers; {PAPER_MARKS}", fig18, (10.5, 4.2)),
     *(S.Rates(f"success_by_{f}", f"Success per planner and {w} (not printed in the paper except "
               "where a planner's overall rate is 0% or 100%)", ["planner", f],
               lambda p, k: _carried({}, p, k)) for f, w in (("mu", "friction coefficient μ"),
                                                            ("mass_kg", "object mass"))),
-    failure_checks(["planner"], lambda p, k: "residual (normal forces stay at seed level, Sec. "
+    S.FailureChecks(["planner"], lambda p, k: "residual (normal forces stay at seed level, Sec. "
                     "6.5)" if k["planner"] == "centroid" else None),
     MECHANISM, readings(["planner"]), *EPSILON, IDENTIFICATIONS,
 ])
@@ -463,7 +436,7 @@ def grip_finding(run: Run) -> str:
 
 GRIP_LAWS = S.ReportSpec("grip_laws", [
     S.Finding(grip_finding), *law_items("Fig. 18", "fig18_grip_laws", "planner"), readings(BY_LAW),
-    failure_checks(BY_LAW),
+    S.FailureChecks(BY_LAW),
     S.Table("grip_need", "What an equal grip needs under slip and oracle: triples whose needed grip "
             "(with the design margin) fits within the grip cap, triples no equal grip holds, passes "
             "at the capped grip, median steepest contact |n_out,z| (0: horizontal normals)",
@@ -471,12 +444,12 @@ GRIP_LAWS = S.ReportSpec("grip_laws", [
                 Col("n", "n"), Col("holdable", "within the cap"),
                 Col("no_equal_grip", "no equal grip holds"), Col("capped_passes", "passes at the cap"),
                 Col("steepest_normal_z_median", "median steepest |n_z|", 2)], by=BY_LAW),
-    MECHANISM, *EPSILON, design_limit(BY_LAW), IDENTIFICATIONS,
+    MECHANISM, *EPSILON, S.DesignLimit(BY_LAW), IDENTIFICATIONS,
 ])
 
 PLANNERS = S.ReportSpec("quasi_static", [
     S.Rates("success_rates", "Success per planner", ["planner"],
             lambda p, k: getattr(p, "success_pct", {}).get(k["planner"])),
-    S.Paired(), design_limit(["planner"]), failure_checks(["planner"]), readings(["planner"]),
+    S.Paired(), S.DesignLimit(["planner"]), S.FailureChecks(["planner"]), readings(["planner"]),
     IDENTIFICATIONS,
 ])

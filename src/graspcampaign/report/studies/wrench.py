@@ -13,8 +13,7 @@ from graspcampaign.report import format as fmt
 from graspcampaign.report import style
 from graspcampaign.report.document import Col
 from graspcampaign.report.render import Run
-from graspcampaign.report.spec import Figure, Finding, GateRemoved, ReportSpec, Table, verdicts
-from graspcampaign.report.studies.quasi_static import design_limit
+from graspcampaign.report.spec import DesignLimit, Figure, Finding, GateRemoved, ReportSpec, Table, verdicts
 
 NEVER = "never settles within the trace"
 COMMANDED = "the closing ramp ends at the grip command by construction"
@@ -147,6 +146,6 @@ SPEC = ReportSpec("wrench_balance", [
            "iterations whose contact lies deeper than the fingertip radius (non-physical: the fingertip "
            "centre inside the object)", fig17,
            (9.0, 6.0)),
-    design_limit(["mu"]),
+    DesignLimit(["mu"]),
     GateRemoved(["mu"]),
 ])
