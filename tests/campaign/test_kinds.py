@@ -78,6 +78,17 @@ def test_wrench_balance_reaches_the_grip_command(tmp_path):
     assert np.all(np.diff(trace["normal_force_1_n"]) >= 0)
 
 
+def test_wrench_balance_stores_finger_1_depth_in_its_trace(tmp_path):
+    """The trace's ``depth_1_mm`` is the closing ramp the forces came from: linear from the 0.5 mm
+    seed to the record's deepest contact, each force f = K·δ_mm^n, so f/f_last = (δ/δ_last)^n."""
+    summary, store, df = _run("wrench_balance", tmp_path, "mu=[0.3]")
+    trace = store.read("tables/iterations").to_pandas().sort_values("iteration")
+    depth, force = trace["depth_1_mm"].to_numpy(), trace["normal_force_1_n"].to_numpy()
+    assert depth[0] == pytest.approx(0.5) and depth[-1] == pytest.approx(df["delta_max_mm"].iloc[0])
+    assert np.allclose(np.diff(depth), (depth[-1] - depth[0]) / (len(depth) - 1))
+    assert np.allclose(force / force[-1], (depth / depth[-1]) ** df["n_exp"].iloc[0])
+
+
 def test_pso_repeatability_trace_and_bounds(tmp_path):
     from graspcampaign.core.identify import PAPER_BOUNDS
 

@@ -397,17 +397,18 @@ def test_wrench_balance_settling_from_trace(tmp_path):
     assert slip.loc[0.1, "verdict"] == "the paper reports no value"  # stated for μ ≥ 0.3 only
     assert slip.loc[0.3, "verdict"].startswith("differs")  # 0.57 is not above 0.8
     assert (store.path / "report" / "figures" / "fig17_wrench.png").exists()
+    # a trace stored before the kind recorded finger 1's depth: the report says it has none
+    md = (store.path / "report" / "report.md").read_text()
+    assert "this run's trace has no finger-1 depth (stored before the kind recorded it)" in md
 
 
 def test_wrench_balance_never_settling_differs_and_non_physical_depths_flagged(tmp_path):
     """A residual that never settles differs from the paper; the commanded finger force is no
     agreement; depths beyond the fingertip radius are counted apart, and the finding names the
-    iteration where the contact law's own forward force puts finger 1 deeper than r."""
-    from graspcampaign.core.contact import TABLE3_CONTACT, normal_force
-
+    iteration where the trace's stored finger-1 depth first exceeds r (the force, constant here,
+    is not inverted for it)."""
     r_mm = 5.0  # Table 2; depths ramp 0.5 -> 20 mm
     depth_mm = np.linspace(0.5, 20.0, 30)
-    force = normal_force(depth_mm * 1e-3, 0.0, TABLE3_CONTACT.k_n_per_mm_n, TABLE3_CONTACT.n, 0.0)
     cross = int(np.flatnonzero(depth_mm > r_mm)[0]) + 1
 
     def outputs(factors, rng):
@@ -418,7 +419,8 @@ def test_wrench_balance_never_settling_differs_and_non_physical_depths_flagged(t
         res = np.full(30, 5.0) if factors["mu"] < 0.5 else np.where(np.arange(30) < 10, 5.0, 0.1)
         return {"iterations": [{"trial_id": trial_id, "iteration": i + 1, "residual_norm_n": float(res[i]),
                                 "torque_norm_nm": 1e-4, "slip_margin_n": 1.0, "slip_margin_rel": 0.9,
-                                "normal_force_1_n": float(force[i])} for i in range(30)]}
+                                "normal_force_1_n": 64.0, "depth_1_mm": float(depth_mm[i])}
+                               for i in range(30)]}
 
     store, table, settle = _wrench_report(tmp_path, outputs, trace)
     assert settle.loc[[0.1, 0.3], "differs"].tolist() == [True, True]  # never settles: differs

@@ -68,6 +68,7 @@ def run(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
         "slip_margin_n": res.slip_margin.tolist(),
         "slip_margin_rel": res.slip_margin_ratio.tolist(),
         "normal_force_1_n": res.normal_forces[:, 0].tolist(),
+        "depth_1_mm": (1e3 * depths[:, 0]).tolist(),
     }}
     return out
 

@@ -8,7 +8,6 @@ import numpy as np
 import pandas as pd
 
 from graspcampaign.analysis.vocabulary import colour
-from graspcampaign.core.contact import ContactParams, depth_for_force
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
 from graspcampaign.report.document import Col
@@ -32,19 +31,17 @@ def _tau(run: Run) -> float:
 
 
 def _traces(run: Run) -> pd.DataFrame:
-    """The per-iteration traces with μ and finger 1's depth ``depth_1_mm``, from its normal force by
-    the configured contact law (the static loop has no damping term)."""
+    """The per-iteration traces with μ (and finger 1's depth ``depth_1_mm`` as the kind stored it)."""
     if not len(trace := run.aux("iterations")):
         raise ValueError("the run has no `iterations` trace table")
-    m = run.config["model"]
-    law = ContactParams(m["lambda1"], m["lambda2"], m["n_exp"], m["fingertip_radius_m"], m["e_finger_pa"],
-                        m["e_object_pa"], m["nu_finger"], m["nu_object"])
-    return trace.merge(run.ok[["trial_id", "mu"]], on="trial_id").sort_values(["mu", "iteration"]).assign(
-        depth_1_mm=lambda t: 1e3 * depth_for_force(t["normal_force_1_n"], law.k_n_per_mm_n, law.n))
+    return trace.merge(run.ok[["trial_id", "mu"]], on="trial_id").sort_values(["mu", "iteration"])
 
 
-def _beyond_radius_from(run: Run, trace: pd.DataFrame) -> float:
-    """The first iteration at which finger 1 lies deeper than the fingertip radius (nan: never)."""
+def _beyond_radius_from(run: Run, trace: pd.DataFrame) -> float | None:
+    """The first iteration at which finger 1 lies deeper than the fingertip radius (nan: never;
+    None: a trace stored before the kind recorded ``depth_1_mm``)."""
+    if "depth_1_mm" not in trace or trace["depth_1_mm"].isna().any():
+        return None
     deep = trace.loc[trace["depth_1_mm"] > run.radius_mm, "iteration"]
     return float(deep.min()) if len(deep) else math.nan
 
@@ -83,11 +80,13 @@ def finding(run: Run) -> str:
             "quantities differ from the paper's statements (a residual that never settles differs; the "
             "final finger-1 normal force is the command, reached by construction, not a result). At "
             "Table 3's contact constants this command drives the contacts "
-            f"{run.ok['delta_max_mm'].max() / 1e3:.3g} m deep, "
-            + (f"deeper than the fingertip radius r = {r:g} mm from iteration {deep:.0f} on (shaded in "
+            f"{run.ok['delta_max_mm'].max() / 1e3:.3g} m deep"
+            + (f" (fingertip radius r = {r:g} mm); this run's trace has no finger-1 depth (stored before "
+               "the kind recorded it), so the iteration from which it lies deeper than r is not shown. "
+               if deep is None else f", within the fingertip radius r = {r:g} mm. " if math.isnan(deep) else
+               f", deeper than the fingertip radius r = {r:g} mm from iteration {deep:.0f} on (shaded in "
                "Fig. 17): a non-physical state, the fingertip centre inside the object, so these traces "
-               "are the published algorithm's arithmetic, not a grasp. " if deep == deep else
-               f"within the fingertip radius r = {r:g} mm. ")
+               "are the published algorithm's arithmetic, not a grasp. ")
             + "The paper calls the study a robustness test outside the validated envelope (Sec. 6.4); we "
             "record it rather than rescale (`docs/decisions.md`, *Simulation studies (issue 4, campaign "
             "side)*: wrench_balance).")
@@ -116,7 +115,7 @@ def fig17(run: Run, fig) -> None:
         axes[2].set(ylim=(-1.0, 1.1), title=PANELS[2][1] + ", clipped at −1")
     axes[3].axhline(p.finger_force_command_n, color=style.PAPER, linestyle=":",
                     label=f"paper: ≈{p.finger_force_command_n:g} N command")
-    if (deep := _beyond_radius_from(run, trace)) == deep:  # mark the non-physical part of the traces
+    if (deep := _beyond_radius_from(run, trace)) is not None and not math.isnan(deep):  # non-physical
         for ax in axes:
             ax.axvspan(deep, trace["iteration"].max(), facecolor="white", edgecolor="#bbbbbb", hatch="//",
                        linewidth=0.5, zorder=0, label=f"non-physical: contact deeper than r = "
