@@ -41,7 +41,8 @@ from pathlib import Path
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from graspcampaign.campaign.provenance import MISMATCH, ingested, kind_facts_or_none, read_manifest
+from graspcampaign.campaign.provenance import (MISMATCH, ingested, kind_facts_or_none, one_config,
+                                               read_manifest)
 from graspcampaign.campaign.verify import Facts, facts, verify_file
 from graspcampaign.errors import DamagedRunError
 
@@ -237,8 +238,7 @@ def expected_records(manifest: dict) -> int:
     if "n_recorded" in manifest:
         return manifest["n_recorded"]
     # a manifest of an earlier version: a run finished under one config recorded every trial
-    same = all(s.get("config_hash") in (None, manifest["config_hash"]) for s in manifest["sessions"])
-    return manifest["n_trials"] if manifest["finished_at"] and same else 0
+    return manifest["n_trials"] if manifest["finished_at"] and one_config(manifest) else 0
 
 
 def problems(store, manifest: dict | None, parts: list[str] | None = None) -> list[Problem]:
@@ -266,10 +266,6 @@ def problems(store, manifest: dict | None, parts: list[str] | None = None) -> li
     return found
 
 
-def _one_config(manifest: dict) -> bool:
-    return all(s.get("config_hash") in (None, manifest["config_hash"]) for s in manifest["sessions"])
-
-
 def _cartesian(kind: str) -> bool:
     """Whether trial kind ``kind`` has a Cartesian design (False: an explicit one, or unknown)."""
     return kind_facts_or_none(kind).get("design") is False
@@ -279,7 +275,7 @@ def _miscounted(manifest: dict, n_stored: int) -> str | None:
     """Why the manifest's ``n_trials`` cannot be the run's, or None: a Cartesian design run under
     one config stores at most ``n_trials`` trials, and exactly that many once finished (an
     explicit design may grow with its source, ``dynamic_check``; another config has another)."""
-    if not (_one_config(manifest) and _cartesian(manifest["kind"])):
+    if not (one_config(manifest) and _cartesian(manifest["kind"])):
         return None
     n = manifest["n_trials"]
     if n_stored > n or (manifest["finished_at"] and n_stored != n):

@@ -104,6 +104,14 @@ def ingested(manifest: dict[str, Any]) -> bool:
         isinstance(s, dict) and "ingested" in s for s in sessions)
 
 
+def one_config(manifest: dict[str, Any], config_hash: str | None = None) -> bool:
+    """Whether every session of the run ran one config: the manifest's (and ``config_hash``, when
+    given). A session that names no config (an ``ingest`` of an earlier version) may have run any."""
+    want = manifest["config_hash"] if config_hash is None else config_hash
+    return manifest["config_hash"] == want and all(
+        s.get("config_hash") == want for s in manifest["sessions"])
+
+
 #: The manifest's fields every command relies on, and what each must hold.
 _COUNT = "a whole number of trials"
 _FIELDS: dict[str, tuple[tuple[type, ...], str]] = {

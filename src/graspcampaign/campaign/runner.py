@@ -333,8 +333,7 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
         # recorded; only then are superseded shards removed (a foreign file supersedes nothing).
         # Every session so far ran this config and the design is Cartesian: a recorded trial
         # outside it is no trial of this run (an explicit design may follow its source run)
-        same = all(s.get("config_hash") in (None, chash) for s in manifest["sessions"]) and \
-            manifest["config_hash"] == chash and kind.design is None
+        same = provenance.one_config(manifest, chash) and kind.design is None
         moved = store.repair(manifest, chash, {t.trial_id for t in trials} if same else None)
         store.clean()
         done = store.recorded_ids()
