@@ -43,6 +43,7 @@ import pyarrow.parquet as pq
 
 from graspcampaign.campaign.provenance import (MISMATCH, ingested, kind_facts_or_none, one_config,
                                                read_manifest)
+from graspcampaign.campaign.records import OPTIONAL_COLUMNS, RECORD_COLUMNS
 from graspcampaign.campaign.verify import Facts, facts, verify_file
 from graspcampaign.errors import DamagedRunError
 
@@ -52,13 +53,6 @@ _PARTS = ("records", "prepared", "tables", "summary")
 #: What happens to the trials of a file moved aside, by the part it was in.
 _THEN = {"records": "its trials will run again", "tables": "its trials will run again",
          "prepared": "it is computed again", "summary": "it is computed again"}
-#: The columns every record has (docs/records.md, written by the runner and by ``ingest``) and
-#: what they hold; the optional ones hold it when present (a column of missing values: any type).
-RECORD_COLUMNS = {"trial_id": "text", "study": "text", "run": "text", "kind": "text",
-                  "trial_index": "whole numbers", "scene_id": "text", "status": "text",
-                  "source": "text"}
-_OPTIONAL_COLUMNS = {"error_type": "text", "error_message": "text", "error_traceback": "text",
-                     "wall_time_s": "numbers"}
 _HOLDS = {"text": lambda t: pa.types.is_string(t) or pa.types.is_large_string(t),
           "whole numbers": pa.types.is_integer,
           "numbers": lambda t: pa.types.is_integer(t) or pa.types.is_floating(t)}
@@ -169,12 +163,12 @@ def _not_records(own: Facts, allowed: dict) -> str | None:
     where the run has them), or None. Only for a run (a manifest)."""
     if not allowed["kind"]:
         return None
-    for column, holds in [*RECORD_COLUMNS.items(), *_OPTIONAL_COLUMNS.items()]:
+    for column, holds in [*RECORD_COLUMNS.items(), *OPTIONAL_COLUMNS.items()]:
         kind = own.schema.field(column).type if column in own.schema.names else None
         if kind is None:
             if column in RECORD_COLUMNS:
                 return f"no column {column}, which every record has"
-        elif not _HOLDS[holds](kind) and not (column in _OPTIONAL_COLUMNS and pa.types.is_null(kind)):
+        elif not _HOLDS[holds](kind) and not (column in OPTIONAL_COLUMNS and pa.types.is_null(kind)):
             return f"column {column} of type {kind}, not {holds}"
     other = sorted(own.owners.get("status", set()) - set(STATUSES), key=str)
     if other:

@@ -29,16 +29,10 @@ from graspcampaign.campaign.integrity import check_run, expected_records
 from graspcampaign.campaign.kind import TrialInput, TrialKind, get_kind
 from graspcampaign.campaign.paths import check_root
 from graspcampaign.campaign.provenance import DriftError, check_drift  # noqa: F401 - DriftError: API
-from graspcampaign.campaign.records import RunStore, config_metadata
+from graspcampaign.campaign.records import ERROR_COLUMNS, RunStore, config_metadata
 from graspcampaign.campaign.schema import StudyCfg, check_config, check_design_rows
 from graspcampaign.campaign.studyfile import run_path
 from graspcampaign.errors import ConfigError, UserInputError
-
-BASE_COLUMNS = ("trial_id", "study", "run", "kind", "trial_index", "scene_id", "status",
-                "error_type", "error_message", "error_traceback", "wall_time_s", "worker", "host",
-                "source")
-#: Record columns stored as strings in every shard, even when no trial of the shard errored.
-ERROR_COLUMNS = ("error_type", "error_message", "error_traceback")
 
 
 @dataclass
