@@ -42,7 +42,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from graspcampaign.campaign.provenance import (MISMATCH, ingested, kind_facts_or_none, one_config,
-                                               read_manifest)
+                                               read_manifest, record_sources)
 from graspcampaign.campaign.records import OPTIONAL_COLUMNS, RECORD_COLUMNS
 from graspcampaign.campaign.verify import Facts, facts, verify_file
 from graspcampaign.errors import DamagedRunError
@@ -133,9 +133,7 @@ def owners(store, manifest: dict | None, config_hash: str | None = None,
     return {"study": {store.path.parent.name, *([manifest["study"]] if manifest else [])},
             "run": {store.path.name, *([manifest["run"]] if manifest else [])},
             "kind": {manifest["kind"]} if manifest else set(),
-            # an ingested run holds measured records, or a virtual rig's exported ones
-            "source": set() if source is None else {"measured", "virtual"} if source == "measured"
-            else {source},
+            "source": set() if source is None else record_sources(source),
             "config_hash": hashes - {None}, "digests": bool(manifest and manifest.get("digests")),
             "design": design or set()}
 
