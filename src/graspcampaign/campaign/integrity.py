@@ -44,7 +44,7 @@ import pyarrow.parquet as pq
 from graspcampaign.campaign.provenance import (MISMATCH, ingested, kind_facts_or_none, one_config,
                                                read_manifest, record_sources)
 from graspcampaign.campaign.records import OPTIONAL_COLUMNS, RECORD_COLUMNS
-from graspcampaign.campaign.verify import Facts, facts, verify_file
+from graspcampaign.campaign.verify import Facts, facts, one_check, verify_file
 from graspcampaign.errors import DamagedRunError
 
 #: Names of stored shards; anything else in a part directory (hidden files aside) is not a shard.
@@ -311,6 +311,7 @@ def refusal(store, found: list[Problem], manifest: dict | None = None) -> Damage
                            f"has {found[0].text}{more}")
 
 
+@one_check()
 def check_run(store, parts: list[str] | None = None, *, repairable: bool = False) -> dict | None:
     """Return the run's manifest after checking that the run is what it says; None if no run.
 
@@ -364,6 +365,7 @@ def _trials_of_trace(store, path: Path, others: list[Path]) -> set[str]:
     return store.recorded_ids() - set().union(*(_ids(other)[1] for other in others))
 
 
+@one_check()
 def repair(store, manifest: dict | None = None, config_hash: str | None = None,
            design: set[str] | None = None) -> list[tuple[Path, Path, str]]:
     """Quarantine what makes the run differ from its manifest and make the rest consistent.
