@@ -39,6 +39,16 @@ def test_dask_gives_the_records_of_the_sequential_run(study_factory):
                                   _records(dask).drop(columns=["run"]))
 
 
+def test_the_runner_writes_every_declared_record_column_with_its_type(study_factory):
+    from graspcampaign.campaign.records import OPTIONAL_COLUMNS, RECORD_COLUMNS
+
+    schema = pq.read_schema(next((run_study(study_factory()).path / "records").glob("*.parquet")))
+    arrow = {"text": "string", "whole numbers": "int64", "numbers": "double"}
+    declared = {**RECORD_COLUMNS, **OPTIONAL_COLUMNS}
+    assert {c: str(schema.field(c).type) for c in declared} == {
+        c: arrow[holds] for c, holds in declared.items()}
+
+
 def test_planners_of_a_scene_see_the_same_draws(study_factory):
     df = _records(run_study(study_factory()))
     per_scene = df.groupby("scene_id")["first_draw"].nunique()

@@ -85,17 +85,17 @@ def test_checking_a_run_reads_each_file_once_and_its_ids_need_no_read(study_fact
 
 def test_checking_files_too_new_to_remember_asks_each_files_facts_once(study_factory, opened,
                                                                          monkeypatch):
-    # as the run's last check finds its freshly compacted files: none is remembered, so every
-    # question asked of a file is a full read. file_problems asked four (records 9 reads, trace 5);
-    # it now reads the facts once (6 and 4: the damage check, the facts, the design's ids and the
-    # manifest counts still read apart -- noted as left)
+    # as the run's last check finds its freshly compacted files: none is remembered past the
+    # check, but within it every question asked of a file (superseding what? damaged? whose
+    # records? which trials?) is answered from one read (was 9 records and 5 trace reads, then
+    # 6 and 4)
     summary = run_study(_trace_study(study_factory))
     monkeypatch.setattr(verify, "_VERIFIED", {})
     monkeypatch.setattr(verify, "TICK_NS", {True: 10**12, False: 10**12})  # every read within it
     opened.clear()
     assert check_run(RunStore(summary.path)) is not None
     assert opened.keys() == _stored(summary.path).keys()
-    assert {name.split("/")[2]: n for name, n in opened.items()} == {"records": 6, "tables": 4}
+    assert {name.split("/")[2]: n for name, n in opened.items()} == {"records": 1, "tables": 1}
 
 def test_resuming_a_finished_run_reads_each_file_once(study_factory, opened):
     study = _trace_study(study_factory)

@@ -564,6 +564,20 @@ def test_a_manifest_that_does_not_describe_its_run_is_refused_by_every_command(r
         refused(results, [*args, "--root", results], message)
 
 
+def test_a_session_that_names_no_config_is_not_held_to_the_runs_one_config(results):
+    """A session of an earlier ``ingest`` named no config: it may have run another design, so the
+    manifest's n_trials is not the count of a run under one config (integrity, as status counts)."""
+    path = _grid(results) / "manifest.json"
+    manifest = json.loads(path.read_text())
+    earlier = {k: v for k, v in manifest["sessions"][0].items() if k != "config_hash"}
+    path.write_text(json.dumps({**manifest, "n_trials": 5,
+                                "sessions": [*manifest["sessions"], earlier]}, indent=2))
+    status = invoke("status", "baseline_grid", "--json", "--root", results)
+    assert status.exit_code == 0, status.output
+    assert json.loads(status.stdout)["n_recorded"] == len(pq.read_table(
+        _grid(results) / "records", columns=["trial_id"]))
+
+
 # -- a full disk: one sentence, no temporary file left, nothing stored lost --------------------------
 def _disk_full(path) -> OSError:
     return OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(path))

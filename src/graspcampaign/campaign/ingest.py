@@ -16,8 +16,8 @@ from graspcampaign.campaign import provenance
 from graspcampaign.campaign.grid import content_hash
 from graspcampaign.campaign.kind import get_kind
 from graspcampaign.campaign.paths import check_root
-from graspcampaign.campaign.records import RunStore, config_metadata
-from graspcampaign.campaign.runner import ERROR_COLUMNS, kind_params, run_path, study_trials
+from graspcampaign.campaign.records import ERROR_COLUMNS, RunStore, config_metadata
+from graspcampaign.campaign.runner import kind_params, run_path, study_trials
 from graspcampaign.campaign.schema import StudyCfg
 from graspcampaign.errors import UserInputError
 

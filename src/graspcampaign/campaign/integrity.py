@@ -41,8 +41,10 @@ from pathlib import Path
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from graspcampaign.campaign.provenance import MISMATCH, ingested, kind_facts_or_none, read_manifest
-from graspcampaign.campaign.verify import Facts, facts, verify_file
+from graspcampaign.campaign.provenance import (MISMATCH, ingested, kind_facts_or_none, one_config,
+                                               read_manifest, record_sources)
+from graspcampaign.campaign.records import OPTIONAL_COLUMNS, RECORD_COLUMNS
+from graspcampaign.campaign.verify import Facts, facts, one_check, verify_file
 from graspcampaign.errors import DamagedRunError
 
 #: Names of stored shards; anything else in a part directory (hidden files aside) is not a shard.
@@ -51,13 +53,6 @@ _PARTS = ("records", "prepared", "tables", "summary")
 #: What happens to the trials of a file moved aside, by the part it was in.
 _THEN = {"records": "its trials will run again", "tables": "its trials will run again",
          "prepared": "it is computed again", "summary": "it is computed again"}
-#: The columns every record has (docs/records.md, written by the runner and by ``ingest``) and
-#: what they hold; the optional ones hold it when present (a column of missing values: any type).
-RECORD_COLUMNS = {"trial_id": "text", "study": "text", "run": "text", "kind": "text",
-                  "trial_index": "whole numbers", "scene_id": "text", "status": "text",
-                  "source": "text"}
-_OPTIONAL_COLUMNS = {"error_type": "text", "error_message": "text", "error_traceback": "text",
-                     "wall_time_s": "numbers"}
 _HOLDS = {"text": lambda t: pa.types.is_string(t) or pa.types.is_large_string(t),
           "whole numbers": pa.types.is_integer,
           "numbers": lambda t: pa.types.is_integer(t) or pa.types.is_floating(t)}
@@ -138,9 +133,7 @@ def owners(store, manifest: dict | None, config_hash: str | None = None,
     return {"study": {store.path.parent.name, *([manifest["study"]] if manifest else [])},
             "run": {store.path.name, *([manifest["run"]] if manifest else [])},
             "kind": {manifest["kind"]} if manifest else set(),
-            # an ingested run holds measured records, or a virtual rig's exported ones
-            "source": set() if source is None else {"measured", "virtual"} if source == "measured"
-            else {source},
+            "source": set() if source is None else record_sources(source),
             "config_hash": hashes - {None}, "digests": bool(manifest and manifest.get("digests")),
             "design": design or set()}
 
@@ -168,12 +161,12 @@ def _not_records(own: Facts, allowed: dict) -> str | None:
     where the run has them), or None. Only for a run (a manifest)."""
     if not allowed["kind"]:
         return None
-    for column, holds in [*RECORD_COLUMNS.items(), *_OPTIONAL_COLUMNS.items()]:
+    for column, holds in [*RECORD_COLUMNS.items(), *OPTIONAL_COLUMNS.items()]:
         kind = own.schema.field(column).type if column in own.schema.names else None
         if kind is None:
             if column in RECORD_COLUMNS:
                 return f"no column {column}, which every record has"
-        elif not _HOLDS[holds](kind) and not (column in _OPTIONAL_COLUMNS and pa.types.is_null(kind)):
+        elif not _HOLDS[holds](kind) and not (column in OPTIONAL_COLUMNS and pa.types.is_null(kind)):
             return f"column {column} of type {kind}, not {holds}"
     other = sorted(own.owners.get("status", set()) - set(STATUSES), key=str)
     if other:
@@ -237,8 +230,7 @@ def expected_records(manifest: dict) -> int:
     if "n_recorded" in manifest:
         return manifest["n_recorded"]
     # a manifest of an earlier version: a run finished under one config recorded every trial
-    same = all(s.get("config_hash") in (None, manifest["config_hash"]) for s in manifest["sessions"])
-    return manifest["n_trials"] if manifest["finished_at"] and same else 0
+    return manifest["n_trials"] if manifest["finished_at"] and one_config(manifest) else 0
 
 
 def problems(store, manifest: dict | None, parts: list[str] | None = None) -> list[Problem]:
@@ -266,10 +258,6 @@ def problems(store, manifest: dict | None, parts: list[str] | None = None) -> li
     return found
 
 
-def _one_config(manifest: dict) -> bool:
-    return all(s.get("config_hash") in (None, manifest["config_hash"]) for s in manifest["sessions"])
-
-
 def _cartesian(kind: str) -> bool:
     """Whether trial kind ``kind`` has a Cartesian design (False: an explicit one, or unknown)."""
     return kind_facts_or_none(kind).get("design") is False
@@ -279,7 +267,7 @@ def _miscounted(manifest: dict, n_stored: int) -> str | None:
     """Why the manifest's ``n_trials`` cannot be the run's, or None: a Cartesian design run under
     one config stores at most ``n_trials`` trials, and exactly that many once finished (an
     explicit design may grow with its source, ``dynamic_check``; another config has another)."""
-    if not (_one_config(manifest) and _cartesian(manifest["kind"])):
+    if not (one_config(manifest) and _cartesian(manifest["kind"])):
         return None
     n = manifest["n_trials"]
     if n_stored > n or (manifest["finished_at"] and n_stored != n):
@@ -323,6 +311,7 @@ def refusal(store, found: list[Problem], manifest: dict | None = None) -> Damage
                            f"has {found[0].text}{more}")
 
 
+@one_check()
 def check_run(store, parts: list[str] | None = None, *, repairable: bool = False) -> dict | None:
     """Return the run's manifest after checking that the run is what it says; None if no run.
 
@@ -376,6 +365,7 @@ def _trials_of_trace(store, path: Path, others: list[Path]) -> set[str]:
     return store.recorded_ids() - set().union(*(_ids(other)[1] for other in others))
 
 
+@one_check()
 def repair(store, manifest: dict | None = None, config_hash: str | None = None,
            design: set[str] | None = None) -> list[tuple[Path, Path, str]]:
     """Quarantine what makes the run differ from its manifest and make the rest consistent.

@@ -104,6 +104,14 @@ def ingested(manifest: dict[str, Any]) -> bool:
         isinstance(s, dict) and "ingested" in s for s in sessions)
 
 
+def one_config(manifest: dict[str, Any], config_hash: str | None = None) -> bool:
+    """Whether every session of the run ran one config: the manifest's (and ``config_hash``, when
+    given). A session that names no config (an ``ingest`` of an earlier version) may have run any."""
+    want = manifest["config_hash"] if config_hash is None else config_hash
+    return manifest["config_hash"] == want and all(
+        s.get("config_hash") == want for s in manifest["sessions"])
+
+
 #: The manifest's fields every command relies on, and what each must hold.
 _COUNT = "a whole number of trials"
 _FIELDS: dict[str, tuple[tuple[type, ...], str]] = {
@@ -167,6 +175,13 @@ def kind_facts_or_none(kind: str) -> dict[str, Any]:
     return kind_facts(kind) if kind_available(kind) else {}
 
 
+def record_sources(source: str) -> set[str]:
+    """The sources of the records a run stored as ``source`` may hold: its own, and in a run
+    stored as measured a virtual rig's too (``ingest`` stores measured records of a virtual rig's
+    protocol, or its exports, in a run of their own)."""
+    return {source, "virtual"} if source == "measured" else {source}
+
+
 def manifest_mismatch(run_path: Path, manifest: dict[str, Any]) -> tuple[str, str] | None:
     """``(why, advice)`` if a well-formed manifest does not describe the run at ``run_path``, else
     None: its ``study`` and ``run`` are the directory's (where the run is stored is what every
@@ -190,9 +205,7 @@ def manifest_mismatch(run_path: Path, manifest: dict[str, Any]) -> tuple[str, st
         return (f"config_hash is {manifest['config_hash']}, but its config hashes to {digest}",
                 restore)
     made = kind_facts_or_none(manifest["kind"]).get("source")
-    # ingest stores measured records of a virtual rig's protocol in a run of their own
-    if made is not None and manifest["source"] not in (
-            {made, "measured"} if made == "virtual" else {made}):
+    if made is not None and made not in record_sources(manifest["source"]):
         return (f"source is {manifest['source']!r}, but trial kind {manifest['kind']} makes {made} "
                 "records", restore)
     return None

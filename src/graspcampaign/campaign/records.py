@@ -72,6 +72,15 @@ from graspcampaign.errors import DamagedRunError, StoreWriteError
 
 log = logging.getLogger(__name__)
 
+#: The columns every record has (docs/records.md; written by the runner and by ``ingest``) and
+#: what they hold; the optional ones hold it when present (a column of missing values: any type).
+RECORD_COLUMNS = {"trial_id": "text", "study": "text", "run": "text", "kind": "text",
+                  "trial_index": "whole numbers", "scene_id": "text", "status": "text",
+                  "source": "text"}
+#: Record columns stored as strings in every shard, even when no trial of the shard errored.
+ERROR_COLUMNS = ("error_type", "error_message", "error_traceback")
+OPTIONAL_COLUMNS = {**dict.fromkeys(ERROR_COLUMNS, "text"), "wall_time_s": "numbers"}
+
 
 def config_metadata(config_hash: str) -> dict[str, str]:
     """Metadata of a records shard written by a session of config ``config_hash``."""

@@ -29,16 +29,10 @@ from graspcampaign.campaign.integrity import check_run, expected_records
 from graspcampaign.campaign.kind import TrialInput, TrialKind, get_kind
 from graspcampaign.campaign.paths import check_root
 from graspcampaign.campaign.provenance import DriftError, check_drift  # noqa: F401 - DriftError: API
-from graspcampaign.campaign.records import RunStore, config_metadata
+from graspcampaign.campaign.records import ERROR_COLUMNS, RunStore, config_metadata
 from graspcampaign.campaign.schema import StudyCfg, check_config, check_design_rows
 from graspcampaign.campaign.studyfile import run_path
 from graspcampaign.errors import ConfigError, UserInputError
-
-BASE_COLUMNS = ("trial_id", "study", "run", "kind", "trial_index", "scene_id", "status",
-                "error_type", "error_message", "error_traceback", "wall_time_s", "worker", "host",
-                "source")
-#: Record columns stored as strings in every shard, even when no trial of the shard errored.
-ERROR_COLUMNS = ("error_type", "error_message", "error_traceback")
 
 
 @dataclass
@@ -333,8 +327,7 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
         # recorded; only then are superseded shards removed (a foreign file supersedes nothing).
         # Every session so far ran this config and the design is Cartesian: a recorded trial
         # outside it is no trial of this run (an explicit design may follow its source run)
-        same = all(s.get("config_hash") in (None, chash) for s in manifest["sessions"]) and \
-            manifest["config_hash"] == chash and kind.design is None
+        same = provenance.one_config(manifest, chash) and kind.design is None
         moved = store.repair(manifest, chash, {t.trial_id for t in trials} if same else None)
         store.clean()
         done = store.recorded_ids()

@@ -61,7 +61,7 @@ def recorded_in(study: StudyCfg, run: str | None = None, opened=_OPEN) -> int:
     if opened is None:
         return 0
     from graspcampaign.campaign.kind import get_kind
-    from graspcampaign.campaign.provenance import config_hash
+    from graspcampaign.campaign.provenance import config_hash, one_config
     from graspcampaign.campaign.runner import kind_params, study_trials
 
     store, manifest = opened
@@ -70,10 +70,7 @@ def recorded_in(study: StudyCfg, run: str | None = None, opened=_OPEN) -> int:
         return 0
     # every session of the run had this very config: its records are all of this design (this
     # spares building a 19,168-event schedule just to count)
-    wanted = config_hash(study)
-    sessions = manifest.get("sessions") or []
-    if manifest.get("config_hash") == wanted and sessions and all(
-            s.get("config_hash") == wanted for s in sessions):
+    if one_config(manifest, config_hash(study)):
         return len(recorded)
     kind = get_kind(study.kind)
     ids = {t.trial_id for t in study_trials(study, kind, kind_params(study, kind))}

@@ -6,10 +6,13 @@ trial ids, the owners of its records) is kept from that one read, and any later 
 file reads only the columns asked for. A file changed since is verified again, and so is a file
 changed within a clock tick of its verification (git's "racily clean" rule: a change in the same
 tick could leave its key as it was) and a file read in full to be rewritten under a new digest.
+One check of a run (:func:`one_check`) reads each file once, however new: the tick rule applies
+between checks.
 """
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import os
@@ -164,13 +167,37 @@ def _key(stat: os.stat_result) -> tuple:
     return stat.st_ino, stat.st_size, stat.st_mtime_ns, stat.st_ctime_ns
 
 
-def cached(path: Path) -> Facts | None:
-    """The facts of ``path`` if it was verified in this process as it is now, else None."""
+_CHECK: dict[str, tuple[tuple, Facts]] | None = None
+"""The files verified in the check under way (:func:`one_check`), as :data:`_VERIFIED`, including
+those too new to be remembered past it."""
+
+
+@contextlib.contextmanager
+def one_check():
+    """Within it, a file is verified once while its key is unchanged, even one changed within a
+    clock tick of the read (never remembered past the check): one check asks a file several
+    questions (damaged? superseding what? whose records? which trials?) of one reading of it."""
+    global _CHECK
+    outer = _CHECK
+    _CHECK = {} if outer is None else outer
     try:
-        key, known = _VERIFIED[os.path.abspath(path)]
-        return known if key == _key(os.stat(path)) else None
-    except (KeyError, OSError):
+        yield
+    finally:
+        _CHECK = outer
+
+
+def cached(path: Path) -> Facts | None:
+    """The facts of ``path`` if it was verified in this process (or this check) as it is now,
+    else None."""
+    name = os.path.abspath(path)
+    try:
+        key = _key(os.stat(path))
+    except OSError:
         return None
+    for known in (_VERIFIED.get(name), (_CHECK or {}).get(name)):
+        if known is not None and known[0] == key:
+            return known[1]
+    return None
 
 
 def read_file(path: Path, columns: list[str] | None = None, *,
@@ -212,6 +239,8 @@ def read_file(path: Path, columns: list[str] | None = None, *,
     changed = max(key[2:])
     if settled and changed < start - TICK_NS[changed % 10**9 == 0]:
         _VERIFIED[name] = key, own
+    elif settled and _CHECK is not None:
+        _CHECK[name] = key, own
     return table.select(_present(columns, table.schema)), own
 
 
