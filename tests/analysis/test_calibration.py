@@ -35,14 +35,15 @@ def test_damage_summary_per_family_with_the_error_against_the_truth():
                            "criterion": ["set", "stiffness", "set"], "extrapolated": [False, True, False],
                            "stiffness_target": 0.85, "set_limit_mm": 0.5})
     truths = pd.DataFrame({**key, "damage_depth_mm": [2.5, 2.0, 4.0], "modulus_kpa": 100.0})
-    row = damage_summary(depths, truths).set_index("material").loc["gel"]
+    row = damage_summary(depths, truths, 5.0).set_index("material").loc["gel"]
     assert row["specimens"] == 3 and row["set_limited"] == 2 and row["extrapolated"] == 1
     assert (row["damage_depth_mean_mm"], row["damage_depth_min_mm"], row["damage_depth_max_mm"]) == \
         pytest.approx((np.mean([2.0, 3.0, 4.5]), 2.0, 4.5))
     assert row["abs_error_median_mm"] == pytest.approx(np.median([0.5, 1.0, 0.5]))
-    assert "abs_error_median_mm" not in damage_summary(depths)  # ingested: no truths
+    assert "abs_error_median_mm" not in damage_summary(depths, None, 5.0)  # ingested: no truths
     # 5.5 mm is deeper than the 5 mm fingertip radius: no contact is that deep
-    assert damage_summary(depths.assign(damage_depth_mm=[2.0, 5.5, 6.0]))["beyond_radius"].tolist() == [2]
+    deep = depths.assign(damage_depth_mm=[2.0, 5.5, 6.0])
+    assert damage_summary(deep, None, 5.0)["beyond_radius"].tolist() == [2]
 
 
 def test_table4_damping_is_the_median_with_the_negative_fits_counted():

@@ -349,6 +349,46 @@ def test_chi2_validation():
         S.chi2_contingency_test([[1, -2], [3, 4]])
 
 
+@pytest.mark.parametrize("successes, trials", [([40, 10], [100, 100]), ([26, 24, 30], [100, 100, 90])])
+def test_equal_rates_with_large_counts_is_scipys_pearson_chi_square(successes, trials):
+    table = pd.DataFrame({"won": successes, "lost": np.subtract(trials, successes)})
+    reference = sps.chi2_contingency(table, correction=False)
+    res = S.equal_rates_test(successes, trials)
+    assert (res.statistic, res.pvalue) == pytest.approx((reference.statistic, reference.pvalue), rel=1e-12)
+    assert (res.method, res.groups, res.n) == ("χ²", len(trials), sum(trials))
+
+
+def test_equal_rates_with_small_counts_is_the_exact_conditional_p_value_within_monte_carlo_error():
+    """Expected counts below 5: the p-value over tables with the observed margins, against the exact
+    one enumerated from the multivariate hypergeometric distribution of the success counts."""
+    successes, trials = [0, 1, 4], [4, 4, 4]
+    total, observed = sum(successes), sps.chi2_contingency(
+        np.column_stack([successes, np.subtract(trials, successes)]), correction=False).statistic
+    exact = 0.0
+    for s in np.ndindex(*(n + 1 for n in trials)):
+        if sum(s) == total:
+            table = np.column_stack([s, np.subtract(trials, s)])
+            stat = sps.chi2_contingency(table, correction=False).statistic
+            ways = math.prod(math.comb(n, k) for n, k in zip(trials, s, strict=True))
+            exact += (stat >= observed - 1e-9) * ways
+    exact /= math.comb(sum(trials), total)
+    res = S.equal_rates_test(successes, trials)
+    assert res.method == "Monte Carlo χ²" and res.pvalue == pytest.approx(exact, abs=0.02)
+    assert S.equal_rates_test(successes, trials).pvalue == res.pvalue  # seeded: one report, one p
+
+
+def test_equal_rates_without_a_success_or_failure_needs_no_test():
+    assert S.equal_rates_test([0, 0], [3, 5]) == S.RatesTest(0.0, 1.0, "", 2, 8)
+    assert S.equal_rates_test([3, 5], [3, 5]).pvalue == 1.0
+
+
+def test_equal_rates_validation():
+    with pytest.raises(ValueError, match="at least 2 groups are needed, got 1"):
+        S.equal_rates_test([1], [4])
+    with pytest.raises(ValueError, match="successes_per_group must not exceed trials_per_group"):
+        S.equal_rates_test([5, 1], [4, 4])
+
+
 def test_kruskal_matches_r_example():
     # R: example(kruskal.test) (Hollander & Wolfe 1973, p. 116):
     #   kruskal.test(list(c(2.9, 3.0, 2.5, 2.6, 3.2), c(3.8, 2.7, 4.0, 2.4),

@@ -307,3 +307,18 @@ def test_provenance_marks_a_missing_entry_as_missing():
     assert lines["Started / finished"] == f"2026-01-01T00:00:00+00:00 / {fmt.MISSING}"
     assert (lines["Code"], lines["Host"], lines["Config hash"]) == (fmt.MISSING, fmt.MISSING, "`abc`")
     assert not any("None" in v for v in lines.values())
+
+
+@pytest.mark.parametrize("values, unit, expected", [
+    ([5.0, 5.0], " mm", "5 mm"),             # a whole number without trailing zeros (was "5.00 mm")
+    ([1683.2], " mm", "1683 mm"),            # no rounding left of the point (was "1680 mm")
+    ([0.709, 12.3], "", "0.71–12.30"),       # both ends at one rounding (was "0.709–12.3")
+    ([10.0, 40.0, 25.0], "%", "10–40%"),
+    ([-1.5, 2.0], "", f"{fmt.MINUS}1.50 to 2.00"),
+    ([0.00012, 5.0], "", "0.000120–5.00"),   # > 2 decades apart: each end to 3 significant digits
+    ([4.9996, 5.0004], "", "5.00"),          # ends that print alike are one value
+    ([math.nan, 2.0, 3.0], "", "2–3"),
+    ([math.nan], " mm", fmt.MISSING),
+])
+def test_span_prints_a_range_at_the_reports_one_rounding(values, unit, expected):
+    assert fmt.span(values, unit) == expected

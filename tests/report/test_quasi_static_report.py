@@ -17,6 +17,7 @@ from statsmodels.stats.contingency_tables import mcnemar as sm_mcnemar
 from test_studies import SHAPES, make_run, ok_records, quasi_static_outputs, read_table
 
 from graspcampaign.analysis.vocabulary import label
+from graspcampaign.report import format as fmt
 from graspcampaign.report.build import build_reports
 
 PLANNERS = ["heuristic", "antipodal", "random", "centroid", "ferrari_canny"]
@@ -200,8 +201,7 @@ def test_successes_beyond_the_design_limit_are_counted_in_the_finding_and_captio
             cap = g["grip_capped"].astype(bool)
             over = f"{label('grip_law', law)} {int((g['delta_max_mm'] > 1).sum())} of {len(g)}"
             if cap.any():
-                lo, hi = g.loc[cap, "delta_max_mm"].min(), g.loc[cap, "delta_max_mm"].max()
-                span = f"{lo:.3g}" if f"{lo:.3g}" == f"{hi:.3g}" else f"{lo:.3g}–{hi:.3g}"
+                span = fmt.span(g.loc[cap, "delta_max_mm"])  # the records' range, one rounding
                 over += f" ({int(cap.sum())} at the grip cap, δmax = {span} mm ≤ r = 5 mm)"
             parts.append(over)
         sentence = "Successes deeper than the paper's 1 mm design limit: " + "; ".join(parts)
@@ -253,7 +253,7 @@ def test_ablation_finding_scopes_its_numbers_to_each_grip_law(runs):
         assert (f"under {words} {int(g['success'].sum())} of {len(g)} pass, the equal grip reaches "
                 f"its cap in {int(capped.sum())} (no equal grip holds in "
                 f"{int(np.isinf(g['grip_needed_n']).sum())}), where δmax = "
-                f"{g.loc[capped, 'delta_max_mm'].min():.3g}–{g.loc[capped, 'delta_max_mm'].max():.3g} mm"
+                f"{fmt.span(g.loc[capped, 'delta_max_mm'])} mm"
                 "; first failing check " + ", ".join(
                     f"{c} {checks[c]}" for c in ("none", "residual", "torque", "slip", "geometry")
                     if c in checks)) in text

@@ -12,6 +12,7 @@ from graspcampaign.campaign.compose import compose_study
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.runner import run_study
 from graspcampaign.report.build import build_reports
+from graspcampaign.report.render import Run
 
 REDUCED = {
     "sensitivity": ["params.levels=2", "seeds=2"],
@@ -160,26 +161,44 @@ def test_lambda1_bound_words_are_judged_by_the_verdict_rule(a, b, expected):
     assert list(zip(out["differs"], out["verdict"], strict=True)) == expected
 
 
-# success per cell (m, μ) in the order (0.1, 0.05), (0.1, 0.5), (0.8, 0.05), (0.8, 0.5)
-@pytest.mark.parametrize("success", [(False, True, False, True), (True, True, False, False)])
-def test_the_finding_says_whether_success_varies_by_one_rule_for_mass_and_friction(success):
-    """Both halves read the records: equal shares per level "do not vary", unequal ones "vary"."""
+def _panel_a(cells: dict) -> Run:
+    """A sensitivity run of panel (a) from ``{(mass, μ): (successes, trials)}``."""
     from types import SimpleNamespace
 
-    from graspcampaign.report.render import Run
+    records = pd.DataFrame([{"panel": "mu_mass", "status": "ok", "mass_kg": m, "mu": mu, "success": i < won,
+                             "delta_max_mm": 1.0, "loop_capped": False}
+                            for (m, mu), (won, n) in cells.items() for i in range(n)])
+    paper = SimpleNamespace(stable_mu_min=0.2, stable_mass_max_kg=0.5)
+    return Run(records, {"config": {"evaluator": {"n_max": 50}}}, paper)
+
+
+def test_the_finding_says_success_varies_only_where_a_test_of_equal_rates_says_so():
+    """Mass 40 of 100 against 10 of 100 varies; friction 26 of 100 against 24 of 100 does not detectably
+    (p from scipy's chi-square on the records' own table); one success in 200 is no variation."""
+    from scipy.stats import chi2_contingency
+
+    from graspcampaign.report import format as fmt
     from graspcampaign.report.studies.sensitivity import finding
 
-    cells = [(m, mu) for m in (0.1, 0.8) for mu in (0.05, 0.5)]
-    records = pd.DataFrame([{"panel": "mu_mass", "status": "ok", "mass_kg": m, "mu": mu, "success": won,
-                             "delta_max_mm": 1.0, "loop_capped": False}
-                            for (m, mu), won in zip(cells, success, strict=True)])
-    paper = SimpleNamespace(stable_mu_min=0.2, stable_mass_max_kg=0.5)
-    text = finding(Run(records, {"config": {"evaluator": {"n_max": 50}}}, paper))
-    for column, words in (("mass_kg", "mass"), ("mu", "friction")):
-        constant = records.groupby(column)["success"].mean().nunique() == 1
-        assert (f"does not vary with {words}" in text) == constant
-        varies = f"success varies with {words}" in text or f"and varies with {words}" in text
-        assert varies == (not constant)
+    run = _panel_a({(0.1, 0.05): (20, 50), (0.1, 0.5): (20, 50), (0.8, 0.05): (6, 50), (0.8, 0.5): (4, 50)})
+    p = {k: chi2_contingency(pd.crosstab(run.ok[k], run.ok["success"]), correction=False).pvalue
+         for k in ("mass_kg", "mu")}
+    text = finding(run)
+    assert (f"Our success varies with mass (10–40% over its 2 levels; χ² p = {fmt.p_value(p['mass_kg'])})"
+            f" and does not detectably vary with friction (24–26% over its 2 levels; χ² p = "
+            f"{fmt.p_value(p['mu'])}):") in text
+    text = finding(_panel_a({(0.1, 0.05): (1, 100), (0.8, 0.05): (0, 100)}))
+    assert "does not detectably vary with mass (0–1% over its 2 levels; Monte Carlo χ² p = 1.0)" in text
+    assert "is 0.500% at the one friction level (nothing to compare)" in text
+    text = finding(_panel_a({(0.1, 0.05): (0, 3), (0.8, 0.5): (0, 3)}))
+    assert "does not vary with mass (0% at each of its 2 levels)" in text
+
+
+def test_the_panels_are_selected_once_per_run():
+    from graspcampaign.report.studies.sensitivity import panel_rows
+
+    run = _panel_a({(0.1, 0.05): (1, 2)})
+    assert panel_rows(run, "mu_mass") is panel_rows(run, "mu_mass") and len(panel_rows(run, "mu_mass")) == 2
 
 
 @pytest.mark.parametrize("levels", [2, 12, 40])

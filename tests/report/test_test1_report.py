@@ -170,3 +170,20 @@ def test_ingested_traces_are_reported_without_finalize_tables(run, tmp_path):
     assert {p.stem for p in (out / "figures").glob("*.png")} == FIGURES - {"fig26_identification"}
     assert _table(out.parent, "test1_counts").set_index("quantity").loc[
         "completed events (fitted)", "ours"] == waves["event_id"].nunique()
+
+
+def test_the_damage_table_is_computed_once_at_the_bench_fingertip_radius(monkeypatch):
+    """Test 1's bench never reads the config's model: its radius is the bench's (the damage table and
+    its caption read ``Run.radius_mm``), whatever the model says; other runs keep the model's."""
+    from graspcampaign.analysis import calibration
+    from graspcampaign.core import bench
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies.test1 import FRAMES
+
+    calls = []
+    monkeypatch.setattr(calibration, "damage_summary", lambda *args: calls.append(args) or pd.DataFrame())
+    manifest = {"kind": "test1_bench", "config": {"model": {"fingertip_radius_m": 4e-3}}}
+    run = Run(pd.DataFrame(), manifest)
+    FRAMES["damage"](run), FRAMES["damage"](run)
+    assert len(calls) == 1 and calls[0][2] == run.radius_mm == pytest.approx(1e3 * bench.FINGERTIP_RADIUS)
+    assert Run(pd.DataFrame(), {**manifest, "kind": "quasi_static"}).radius_mm == pytest.approx(4.0)

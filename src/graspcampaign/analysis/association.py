@@ -6,7 +6,8 @@ Pearson, K. (1900). Phil. Mag. Ser. 5, 50(302), 157-175. Yates, F. (1934). Suppl
 1(2), 217-235. Kruskal, W. H. & Wallis, W. A. (1952). J. Am. Stat. Assoc. 47(260), 583-621.
 Albert, A. & Anderson, J. A. (1984). Biometrika 71(1), 1-10. Konis, K. (2007). Linear programming
 algorithms for detecting separated data in binary logistic regression models, DPhil thesis,
-Oxford, ch. 4. Firth, D. (1993). Biometrika 80(1), 27-38.
+Oxford, ch. 4. Firth, D. (1993). Biometrika 80(1), 27-38. Cochran, W. G. (1954). Biometrics 10(4),
+417-451. Hope, A. C. A. (1968). J. R. Stat. Soc. B 30(3), 582-598.
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ from statsmodels.tools.sm_exceptions import PerfectSeparationError
 
 from graspcampaign.analysis.checks import (
     check_1d,
+    check_cluster_counts,
     check_count,
     check_fraction,
     check_frame,
@@ -35,6 +37,13 @@ from graspcampaign.analysis.checks import (
 Chi2Result = result(
     "Chi2Result", "Pearson chi-square test of independence; ``expected`` (r, c) under independence.",
     statistic=float, pvalue=float, dof=int, expected=np.ndarray, yates_correction=bool)
+RatesTest = result(
+    "RatesTest", "Test that ``groups`` groups of ``n`` trials share one success rate (their k x 2 table "
+    "of successes and failures); ``method`` names how ``pvalue`` was found, \"\" when every trial or "
+    "none succeeded (equal rates: no test, ``pvalue`` 1).", statistic=float, pvalue=float, method=str,
+    groups=int, n=int)
+#: Smallest expected count of a table whose chi-square p-value is read from the distribution (Cochran 1954).
+MIN_EXPECTED = 5.0
 KruskalResult = result(
     "KruskalResult", "Kruskal-Wallis H test; ``statistic`` is nan (and ``pvalue`` 1) when all "
     "values tie.", statistic=float, pvalue=float, n_groups=int, n=int)
@@ -55,6 +64,25 @@ def chi2_contingency_test(table: ArrayLike, *, yates: bool = False) -> Chi2Resul
     expected.setflags(write=False)
     return Chi2Result(float(res.statistic), float(res.pvalue), int(res.dof), expected,
                       bool(yates) and counts.shape == (2, 2))
+
+
+def equal_rates_test(successes: ArrayLike, trials: ArrayLike, *, n_resamples: int = 9999,
+                     seed: int = 0) -> RatesTest:
+    """Return Pearson's chi-square test (``scipy.stats.chi2_contingency``, no correction) that groups
+    with ``successes`` of ``trials`` share one success rate: its p-value from the chi-square
+    distribution when every expected count is at least :data:`MIN_EXPECTED`, else the Monte Carlo
+    p-value of the same statistic over ``n_resamples`` random tables with the observed margins
+    (Hope 1968; R's ``chisq.test(simulate.p.value = TRUE)``), drawn from ``seed``."""
+    s, t = check_cluster_counts(successes, trials, group="group")
+    n_resamples = check_count(n_resamples, "n_resamples", positive=True)
+    if s.sum() in (0, t.sum()):
+        return RatesTest(0.0, 1.0, "", int(s.size), int(t.sum()))
+    table = np.column_stack([s, t - s])
+    asymptotic = stats.contingency.expected_freq(table).min() >= MIN_EXPECTED
+    resampled = stats.MonteCarloMethod(n_resamples=n_resamples, rng=np.random.default_rng(seed))
+    res = stats.chi2_contingency(table, correction=False, method=None if asymptotic else resampled)
+    return RatesTest(float(res.statistic), float(res.pvalue), "χ²" if asymptotic else "Monte Carlo χ²",
+                     int(s.size), int(t.sum()))
 
 
 def kruskal_wallis(*groups: ArrayLike) -> KruskalResult:

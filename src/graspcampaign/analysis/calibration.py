@@ -105,8 +105,7 @@ def transfer_summary(errors: pd.DataFrame) -> pd.DataFrame:
     return t.sort_values(["quantity", "split"], key=lambda c: c.map(ORDER[c.name].index))
 
 
-def damage_summary(depths: pd.DataFrame, truths: pd.DataFrame | None = None,
-                   radius_mm: float = bench.FINGERTIP_RADIUS * 1e3) -> pd.DataFrame:
+def damage_summary(depths: pd.DataFrame, truths: pd.DataFrame | None, radius_mm: float) -> pd.DataFrame:
     """Damage depths (``rig.test1_summary.damage_depths``) per family: specimens, mean/min/max depth,
     how many were set-limited, extrapolated (beyond the deepest cycled level) or beyond the
     fingertip radius ``radius_mm`` (``beyond_radius``: deeper is not a contact), the criteria, and

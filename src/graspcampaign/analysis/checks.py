@@ -75,20 +75,21 @@ def check_binary(x: object, name: str) -> np.ndarray:
     return arr.astype(bool)
 
 
-def check_cluster_counts(successes: object, trials: object) -> tuple[np.ndarray, np.ndarray]:
-    """Return per-cluster successes and trials as int64 arrays (at least two clusters)."""
+def check_cluster_counts(successes: object, trials: object, group: str = "cluster"
+                         ) -> tuple[np.ndarray, np.ndarray]:
+    """Return per-``group`` successes and trials as int64 arrays (at least two groups)."""
     s, t = np.asarray(successes), np.asarray(trials)
-    for arr, name in ((s, "successes_per_cluster"), (t, "trials_per_cluster")):
-        require(arr.ndim == 1, f"{name} must be 1-D (one count per cluster), got shape {arr.shape}.")
+    for arr, name in ((s, f"successes_per_{group}"), (t, f"trials_per_{group}")):
+        require(arr.ndim == 1, f"{name} must be 1-D (one count per {group}), got shape {arr.shape}.")
         require(arr.dtype.kind in "iuf" and np.isfinite(arr).all() and (arr >= 0).all()
                 and (arr == np.round(arr)).all(), f"{name} must hold non-negative integer counts.")
-    require(s.shape == t.shape, "successes_per_cluster and trials_per_cluster must have the same "
+    require(s.shape == t.shape, f"successes_per_{group} and trials_per_{group} must have the same "
                                 f"length, got {s.size} and {t.size}.")
-    require(s.size >= 2, f"at least 2 clusters are needed to resample clusters, got {s.size}.")
-    require((t > 0).all(), "trials_per_cluster must be positive for every cluster (drop clusters "
+    require(s.size >= 2, f"at least 2 {group}s are needed, got {s.size}.")
+    require((t > 0).all(), f"trials_per_{group} must be positive for every {group} (drop {group}s "
                            "with no executed trials).")
-    require((s <= t).all(), "successes_per_cluster must not exceed trials_per_cluster in any "
-                            "cluster.")
+    require((s <= t).all(), f"successes_per_{group} must not exceed trials_per_{group} in any "
+                            f"{group}.")
     return s.astype(np.int64), t.astype(np.int64)
 
 

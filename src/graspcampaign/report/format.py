@@ -92,6 +92,20 @@ def interval(low: Any, high: Any, digits: int | None = None, *, sig: int | None 
     return f"{number(low, digits, sig=sig)}{sep}{number(high, digits, sig=sig)}"
 
 
+def span(values: Any, unit: str = "") -> str:
+    """Return the range ``"min–max"`` of ``values`` then ``unit`` (one value when both ends print alike):
+    both ends at one rounding (:func:`decimals`), or each to 3 significant digits when they lie more
+    than two decades apart (as a table column); missing values are left out."""
+    ends = [float(v) for v in values if not is_missing(v)]
+    if not ends:
+        return MISSING
+    lo, hi = min(ends), max(ends)
+    apart = 0 < min(abs(lo), abs(hi)) < 1e-2 * max(abs(lo), abs(hi))
+    digits, sig = (None, 3) if apart else (decimals([lo, hi]), None)
+    first, last = (number(v, digits, sig=sig) for v in (lo, hi))
+    return (first if first == last else interval(lo, hi, digits, sig=sig)) + unit
+
+
 def estimate(value: Any, low: Any = None, high: Any = None, digits: int | None = None, *,
              sig: int | None = None) -> str:
     """Return ``"value (low–high)"`` as the paper's tables print it (the value without interval)."""

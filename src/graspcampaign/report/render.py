@@ -43,8 +43,10 @@ class Run:
 
     @property
     def radius_mm(self) -> float:
-        """The fingertip radius r [mm] of the run's model (Table 2's 5 mm where the config has none)."""
-        return 1e3 * float((self.config.get("model") or {}).get("fingertip_radius_m", FINGERTIP_RADIUS))
+        """The fingertip radius r [mm] of the run: the bench's for Test 1 (its indenter; the bench never
+        reads the config's model), else the model's (Table 2's 5 mm where the config has none)."""
+        model = {} if self.manifest.get("kind") == "test1_bench" else self.config.get("model") or {}
+        return 1e3 * float(model.get("fingertip_radius_m", FINGERTIP_RADIUS))
 
     @cached_property
     def ok(self) -> pd.DataFrame:

@@ -41,11 +41,6 @@ def _trial(run: Run, table: str, trial_id: str) -> pd.DataFrame:
     return data[data["trial_id"] == trial_id]
 
 
-def _span(values: pd.Series, unit: str) -> str:
-    lo, hi = (fmt.number(v, sig=3) for v in (values.min(), values.max()))
-    return f"{lo} {unit}" if lo == hi else f"{lo}–{hi} {unit}"
-
-
 # --------------------------------------------------------------------------- gravity settle
 def _settle(run: Run) -> pd.DataFrame:
     """Settle rows per integrator; each settled shape's largest node distance from the first's."""
@@ -181,7 +176,7 @@ def mass_finding(run: Run) -> str:
         stable, other = g[g.dynamic_status == "stable"], g[g.dynamic_status != "stable"]
         text = f"**{label('model_preset', preset)}**: {len(stable)} of {len(g)} μ × m runs hold (`stable`)"
         if len(stable):
-            text += f" at δ_max {_span(stable.delta_max_mm, 'mm')}"
+            text += f" at δ_max {fmt.span(stable.delta_max_mm, ' mm')}"
         if len(other):
             phase = other.groupby("dynamic_status")["final_phase"].agg(lambda s: "/".join(set(s)))
             text += "; " + ", ".join(f"{v} end `{k}` (in {phase[k]})"
@@ -189,9 +184,9 @@ def mass_finding(run: Run) -> str:
         if "delta_required_mm" in g:
             beyond = (g.delta_required_mm > g.fingertip_radius_mm).mean()
             text += (f"; one fingertip alone carries the weight at δ = (mg/K)^(1/n) = "
-                     f"{_span(g.delta_required_mm, 'mm')}, " + {1.0: "**beyond**", 0.0: "within"}.get(
+                     f"{fmt.span(g.delta_required_mm, ' mm')}, " + {1.0: "**beyond**", 0.0: "within"}.get(
                          beyond, "partly beyond") + f" the fingertip radius "
-                     f"{_span(g.fingertip_radius_mm, 'mm')}")
+                     f"{fmt.span(g.fingertip_radius_mm, ' mm')}")
         parts.append(text + f"; the quasi-static evaluator on the same contacts passes {g.qs_success.sum()} "
                      f"({g.qs_success_unbounded.sum()} without the validity gate), so the labels agree on "
                      f"{(g.success == g.qs_success).sum()} of {len(g)}")

@@ -306,7 +306,7 @@ def other_laws(run: Run) -> str:
         "but did not run (Sec. 6.5, 12), every planner on the same scenes: " + "; ".join(
             f"under {label('grip_law', r.grip_law)} {r.successes} of {r.n} pass, the equal grip "
             f"reaches its cap in {r.capped} (no equal grip holds in {r.no_equal_grip})"
-            + (f", where δmax = {_span(pd.Series([r.capped_delta_min_mm, r.capped_delta_max_mm]))} mm"
+            + (f", where δmax = {fmt.span([r.capped_delta_min_mm, r.capped_delta_max_mm])} mm"
                if r.capped else "") + "; first failing check "
             + ", ".join(f"{c} {getattr(r, c)}" for c in FAILURE_CHECKS if getattr(r, c))
             for r in t.itertuples()) + ". A capped grip presses every finger to the cap depth "
@@ -321,11 +321,6 @@ def ablation_finding(run: Run) -> str:
         f" Power: at the paper's {run.paper.trials_per_variant} trials per variant its interval is "
         f"roughly ±{run.paper.interval_half_width_pp:g} pp (Sec. 6.3); ours on the full heuristic is "
         f"±{(full['wilson_high_pct'] - full['wilson_low_pct']) / 2:.1f} pp at n = {full['n']}.")
-
-
-def _span(v: pd.Series) -> str:
-    lo, hi = fmt.number(v.min(), sig=3), fmt.number(v.max(), sig=3)
-    return lo if lo == hi else f"{lo}–{hi}"
 
 
 def over_limit(run: Run) -> str:
@@ -343,7 +338,7 @@ def over_limit(run: Run) -> str:
             g["delta_max_mm"], r, rtol=0, atol=1e-6)
         parts.append(("" if law is None else f"{label('grip_law', law)} ") + (
             f"{int((g['delta_max_mm'] > DESIGN_LIMIT_MM).sum())} of {len(g)}") + (
-            f" ({int(cap.sum())} at the grip cap, δmax = {_span(g.loc[cap, 'delta_max_mm'])} mm ≤ r = "
+            f" ({int(cap.sum())} at the grip cap, δmax = {fmt.span(g.loc[cap, 'delta_max_mm'])} mm ≤ r = "
             f"{r:g} mm)" if cap.any() else ""))
     return (f"Successes deeper than the paper's {DESIGN_LIMIT_MM:g} mm design limit: " + "; ".join(parts)
             + "; counted as successes (the limit is reported, never rescaled, SPEC §2.7; δ ≤ r is valid "

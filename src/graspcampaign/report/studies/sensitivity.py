@@ -10,6 +10,8 @@ import numpy as np
 import pandas as pd
 from matplotlib.lines import Line2D
 
+from graspcampaign.analysis.association import equal_rates_test
+from graspcampaign.analysis.rates import CONFIDENCE_LEVEL
 from graspcampaign.analysis.records import DESIGN_LIMIT_MM, Estimate, at_bound, beyond_radius, rate
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
@@ -27,7 +29,9 @@ CELLS = {"rate": ("mean", 100.0, 100.0, "{:.0f}"), "median": ("median", 1.0, Non
 
 
 def panel_rows(run: Run, name: str) -> pd.DataFrame:
-    return run.ok[run.ok["panel"] == name] if "panel" in run.ok else run.ok.iloc[:0]
+    """The executed trials of panel ``name``, selected once per run."""
+    return run.memo(f"panel/{name}", lambda: run.ok[run.ok["panel"] == name] if "panel" in run.ok
+                    else run.ok.iloc[:0])
 
 
 def rate_cols(g: pd.DataFrame, outcome: str, prefix: str) -> dict:
@@ -159,27 +163,32 @@ def _depths(run: Run, g: pd.DataFrame, name: str) -> str:
                 "; no trial is physical"))
 
 
-def _varies(by_level: pd.Series, factor: str) -> str:
-    """Whether the success share per level of ``factor`` varies, in the finding's words."""
-    if by_level.nunique() == 1:
-        return (f"does not vary with {factor} ({100 * by_level.iloc[0]:.1f}% at each of its "
-                f"{len(by_level)} levels)")
-    return (f"varies with {factor} (between {100 * by_level.min():.1f}% and {100 * by_level.max():.1f}% "
-            f"over its {len(by_level)} levels)")
+def _varies(a: pd.DataFrame, column: str, factor: str) -> str:
+    """Whether panel (a)'s success share differs between the levels of ``column`` (a test of equal
+    rates at the report's 95 % level), in the finding's words with the per-level range."""
+    g = a.groupby(column)["success"].agg(["sum", "size"])
+    shares = fmt.span(100 * g["sum"] / g["size"], "%")
+    if len(g) < 2:
+        return f"is {shares} at the one {factor} level (nothing to compare)"
+    test = equal_rates_test(g["sum"], g["size"])
+    if not test.method:
+        return f"does not vary with {factor} ({shares} at each of its {test.groups} levels)"
+    verb = "varies" if test.pvalue < 1 - CONFIDENCE_LEVEL else "does not detectably vary"
+    return (f"{verb} with {factor} ({shares} over its {test.groups} levels; {test.method} "
+            f"p = {fmt.p_value(test.pvalue)})")
 
 
 def finding(run: Run) -> str:
     (a, b, c), p, text = (panel_rows(run, k) for k in PANELS), run.paper, []
     n_max = run.config["evaluator"]["n_max"]
     if len(a):
-        mass, friction = (_varies(a.groupby(k)["success"].mean(), words) for k, words in
-                          (("mass_kg", "mass"), ("mu", "friction")))
+        mass, friction = _varies(a, "mass_kg", "mass"), _varies(a, "mu", "friction")
         won = a.loc[a["success"].astype(bool), ["delta_max_mm", "loop_capped"]]
         text.append(f"(a) Our success {mass} and {friction}: Algorithm 2 "
                     "releases contacts until the remaining normals carry the weight (η ≈ 0), so the slip "
                     f"check rarely binds and the paper's μ ≥ {p.stable_mu_min} boundary does not appear" + (
-                        f". Its {len(won)} successes reach δ_max {won['delta_max_mm'].min():.2g}–"
-                        f"{won['delta_max_mm'].max():.2g} mm ({(won['delta_max_mm'] > DESIGN_LIMIT_MM).sum()}"
+                        f". Its {len(won)} successes reach δ_max {fmt.span(won['delta_max_mm'], ' mm')} "
+                        f"({(won['delta_max_mm'] > DESIGN_LIMIT_MM).sum()}"
                         f" above the paper's {DESIGN_LIMIT_MM:g} mm design limit) and "
                         f"{won['loop_capped'].sum()} of them end with Algorithm 2 still moving at N_max = "
                         f"{n_max}" if len(won) else "")

@@ -41,7 +41,8 @@ FRAMES = {
     "cool_dry": lambda r: FRAMES["sliding"](r).query("environment == 'cool_dry'"),
     "warm_humid": lambda r: FRAMES["sliding"](r).query("environment == 'warm_humid'"),
     "oblique": lambda r: cal.oblique_summary(_fits(r)), "cyclic": lambda r: cal.cyclic_summary(_fits(r)),
-    "damage": lambda r: cal.damage_summary(r.part("summary/damage_depth"), r.part("summary/truths")),
+    "damage": lambda r: r.memo("damage", lambda: cal.damage_summary(
+        r.part("summary/damage_depth"), r.part("summary/truths"), r.radius_mm)),
     "last_cycle": lambda r: FRAMES["cyclic"](r).sort_values("cycle_index").groupby("specimen_id").tail(1)}
 
 
@@ -216,7 +217,7 @@ def _damage_caption(run: Run) -> str:
             "above the set limit, whichever first, on power laws fitted through the cycled levels), with the "
             f"virtual bench's median error against the true one; the paper gives no numbers. {k} of {n} lie "
             f"beyond the deepest cycled level ({deepest:g} mm) and {r} beyond the "
-            f"{cal.bench.FINGERTIP_RADIUS * 1e3:g} mm fingertip radius (no contact is that deep): "
+            f"{run.radius_mm:g} mm fingertip radius (no contact is that deep): "
             "extrapolations of the fitted laws, not measured depths. Tests 2-3 do not read this table: "
             "they use the family's closed-form depth (`bench.true_damage_depth`, as far extrapolated)")
 
