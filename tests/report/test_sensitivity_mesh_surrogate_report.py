@@ -184,14 +184,14 @@ def test_the_finding_says_success_varies_only_where_a_test_of_equal_rates_says_s
     p = {k: chi2_contingency(pd.crosstab(run.ok[k], run.ok["success"]), correction=False).pvalue
          for k in ("mass_kg", "mu")}
     text = finding(run)
-    assert (f"Our success varies with mass (10–40% over its 2 levels; χ² p = {fmt.p_value(p['mass_kg'])})"
-            f" and does not detectably vary with friction (24–26% over its 2 levels; χ² p = "
+    assert (f"Our success varies with mass (10.0–40.0% over its 2 levels; χ² p = {fmt.p_value(p['mass_kg'])})"
+            f" and does not detectably vary with friction (24.0–26.0% over its 2 levels; χ² p = "
             f"{fmt.p_value(p['mu'])}):") in text
     text = finding(_panel_a({(0.1, 0.05): (1, 100), (0.8, 0.05): (0, 100)}))
-    assert "does not detectably vary with mass (0–1% over its 2 levels; Monte Carlo χ² p = 1.0)" in text
-    assert "is 0.500% at the one friction level (nothing to compare)" in text
+    assert "does not detectably vary with mass (0.0–1.0% over its 2 levels; Monte Carlo χ² p = 1.0)" in text
+    assert "is 0.5% at the one friction level (nothing to compare)" in text
     text = finding(_panel_a({(0.1, 0.05): (0, 3), (0.8, 0.5): (0, 3)}))
-    assert "does not vary with mass (0% at each of its 2 levels)" in text
+    assert "does not vary with mass (0.0% at each of its 2 levels)" in text
 
 
 def test_the_panels_are_selected_once_per_run():

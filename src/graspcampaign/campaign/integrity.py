@@ -41,8 +41,14 @@ from pathlib import Path
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from graspcampaign.campaign.provenance import (MISMATCH, ingested, kind_facts_or_none, one_config,
-                                               read_manifest, record_sources)
+from graspcampaign.campaign.provenance import (
+    MISMATCH,
+    ingested,
+    kind_facts_or_none,
+    one_config,
+    read_manifest,
+    record_sources,
+)
 from graspcampaign.campaign.records import OPTIONAL_COLUMNS, RECORD_COLUMNS
 from graspcampaign.campaign.verify import Facts, facts, one_check, verify_file
 from graspcampaign.errors import DamagedRunError

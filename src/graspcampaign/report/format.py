@@ -92,16 +92,20 @@ def interval(low: Any, high: Any, digits: int | None = None, *, sig: int | None 
     return f"{number(low, digits, sig=sig)}{sep}{number(high, digits, sig=sig)}"
 
 
-def span(values: Any, unit: str = "") -> str:
+def span(values: Any, unit: str = "", digits: int | None = None) -> str:
     """Return the range ``"min–max"`` of ``values`` then ``unit`` (one value when both ends print alike):
-    both ends at one rounding (:func:`decimals`), or each to 3 significant digits when they lie more
-    than two decades apart (as a table column); missing values are left out."""
+    both ends at ``digits`` decimals if given (a percentage's 1), else at one rounding
+    (:func:`decimals`), or each to 3 significant digits when they lie more than two decades apart (as
+    a table column); missing values are left out."""
     ends = [float(v) for v in values if not is_missing(v)]
     if not ends:
         return MISSING
     lo, hi = min(ends), max(ends)
-    apart = 0 < min(abs(lo), abs(hi)) < 1e-2 * max(abs(lo), abs(hi))
-    digits, sig = (None, 3) if apart else (decimals([lo, hi]), None)
+    sig = None
+    if digits is None and 0 < min(abs(lo), abs(hi)) < 1e-2 * max(abs(lo), abs(hi)):
+        sig = 3
+    elif digits is None:
+        digits = decimals([lo, hi])
     first, last = (number(v, digits, sig=sig) for v in (lo, hi))
     return (first if first == last else interval(lo, hi, digits, sig=sig)) + unit
 

@@ -167,7 +167,7 @@ def _varies(a: pd.DataFrame, column: str, factor: str) -> str:
     """Whether panel (a)'s success share differs between the levels of ``column`` (a test of equal
     rates at the report's 95 % level), in the finding's words with the per-level range."""
     g = a.groupby(column)["success"].agg(["sum", "size"])
-    shares = fmt.span(100 * g["sum"] / g["size"], "%")
+    shares = fmt.span(100 * g["sum"] / g["size"], "%", digits=1)
     if len(g) < 2:
         return f"is {shares} at the one {factor} level (nothing to compare)"
     test = equal_rates_test(g["sum"], g["size"])
