@@ -324,7 +324,7 @@ def test_span_prints_a_range_at_the_reports_one_rounding(values, unit, expected)
     assert fmt.span(values, unit) == expected
 
 
-@pytest.mark.parametrize("values, expected", [([0.5], "0.5%"), ([0.5, 0.5], "0.5%"), ([10.0, 40.0], "10.0–40.0%"),
-                                              ([0.04, 12.0], "0.0–12.0%")])
+@pytest.mark.parametrize("values, expected", [([0.5], "0.5%"), ([0.5, 0.5], "0.5%"),
+                                              ([10.0, 40.0], "10.0–40.0%"), ([0.04, 12.0], "0.0–12.0%")])
 def test_span_of_percentages_keeps_the_reports_one_decimal(values, expected):
     assert fmt.span(values, "%", digits=1) == expected  # not "0.500%" from 3 significant digits
