@@ -132,3 +132,17 @@ def test_h_epsilon_correlation_is_its_plain_bootstrap(n_resamples, n_trials):
     assert got[["n_trials", "n_pairs"]].equals(expected[["n_trials", "n_pairs"]])
     np.testing.assert_allclose(got[["rho", "low", "high"]].to_numpy(float),
                                expected[["rho", "low", "high"]].to_numpy(float), rtol=0, atol=1e-12)
+
+
+def test_kernel_weighs_each_row_of_counts_as_if_alone():
+    """The rows of ``counts`` share the passes over the pairs, never a sum: each rho is the one
+    its row gives alone, to the bit (real weights, an empty and a one-cluster row among them)."""
+    rng = np.random.default_rng(5)
+    x, y = np.round(rng.normal(size=3000), 1), np.round(rng.normal(size=3000), 1)
+    pairs = sorted_pairs(x, y, rng.uniform(0.1, 3.0, 3000), rng.integers(0, 40, 3000))
+    counts = rng.integers(0, 4, (70, 40)).astype(float)
+    counts[3], counts[4] = 0.0, np.eye(40)[0]
+    together = weighted_rho(*pairs, counts)
+    alone = np.concatenate([weighted_rho(*pairs, row[None]) for row in counts])
+    assert np.array_equal(together, alone, equal_nan=True)
+    assert np.isnan(together[3]) and not np.isnan(np.delete(together, 3)).any()  # row 3 is empty

@@ -67,31 +67,43 @@ def sorted_pairs(x: np.ndarray, y: np.ndarray, weight: np.ndarray, cluster: np.n
 
 @njit(cache=True)
 def _average_ranks(w, r):
-    """Fill ``r`` with the average rank of each tie group of weight ``w`` (in the order of the
-    values); return the weighted mean rank and the number of groups with positive weight."""
-    below, total_wr, occupied = 0.0, 0.0, 0
-    for g in range(w.size):
-        s = w[g]
-        r[g] = below + (s + 1.0) / 2.0  # positions below+1 .. below+s, averaged
-        below += s
-        total_wr += s * r[g]
-        if s > 0.0:
-            occupied += 1
-    return (total_wr / below if below > 0.0 else np.nan), occupied
+    """Fill ``r[g, b]`` with the average rank of tie group ``g`` (in the order of the values) of
+    weight ``w[g, b]`` in weighting ``b``; return per weighting the weighted mean rank and the
+    number of groups with positive weight."""
+    n_b = w.shape[1]
+    below, total_wr, occupied = np.zeros(n_b), np.zeros(n_b), np.zeros(n_b, dtype=np.int64)
+    for g in range(w.shape[0]):
+        for b in range(n_b):
+            s = w[g, b]
+            r[g, b] = below[b] + (s + 1.0) / 2.0  # positions below+1 .. below+s, averaged
+            below[b] += s
+            total_wr[b] += s * r[g, b]
+            if s > 0.0:
+                occupied[b] += 1
+    mean = np.full(n_b, np.nan)
+    for b in range(n_b):
+        if below[b] > 0.0:
+            mean[b] = total_wr[b] / below[b]
+    return mean, occupied
 
 
 @njit(cache=True)
 def _sum_squares(w, r, mean):
-    out = 0.0
-    for g in range(w.size):
-        d = r[g] - mean
-        out += w[g] * d * d
+    out = np.zeros(w.shape[1])
+    for g in range(w.shape[0]):
+        for b in range(w.shape[1]):
+            d = r[g, b] - mean[b]
+            out[b] += w[g, b] * d * d
     return out
 
 
 @njit(cache=True)
 def weighted_rho(group_x, n_x, group_y, n_y, weight, cluster, counts):
     """Return Spearman's rho for each row of ``counts`` (NaN where x or y is constant).
+
+    Every weighting is carried along one pass over the pairs (the weightings side by side in
+    memory): the pairs' arrays, far larger than the caches at campaign scale, are read twice per
+    call instead of twice per weighting. Each weighting's sums still add the pairs in their order.
 
     Parameters
     ----------
@@ -108,24 +120,25 @@ def weighted_rho(group_x, n_x, group_y, n_y, weight, cluster, counts):
     -------
     rho : ndarray of float64, shape (B,)
     """
-    wx, rx = np.empty(n_x), np.empty(n_x)
-    wy, ry = np.empty(n_y), np.empty(n_y)
-    out = np.empty(counts.shape[0])
-    for b in range(counts.shape[0]):
-        c = counts[b]
-        wx[:] = 0.0
-        wy[:] = 0.0
-        for i in range(group_x.size):  # each tie group's weight
-            wi = weight[i] * c[cluster[i]]
-            wx[group_x[i]] += wi
-            wy[group_y[i]] += wi
-        mx, occupied_x = _average_ranks(wx, rx)
-        my, occupied_y = _average_ranks(wy, ry)
-        if occupied_x < 2 or occupied_y < 2:  # a constant sample: no rank correlation
+    n_b = counts.shape[0]
+    c = np.ascontiguousarray(counts.T)  # c[k]: cluster k's count in every weighting
+    wx, rx = np.zeros((n_x, n_b)), np.empty((n_x, n_b))
+    wy, ry = np.zeros((n_y, n_b)), np.empty((n_y, n_b))
+    for i in range(group_x.size):  # each tie group's weight
+        ci, wxi, wyi = c[cluster[i]], wx[group_x[i]], wy[group_y[i]]
+        for b in range(n_b):
+            wi = weight[i] * ci[b]
+            wxi[b] += wi
+            wyi[b] += wi
+    mx, occupied_x = _average_ranks(wx, rx)
+    my, occupied_y = _average_ranks(wy, ry)
+    sxy = np.zeros(n_b)
+    for i in range(group_x.size):
+        ci, rxi, ryi = c[cluster[i]], rx[group_x[i]], ry[group_y[i]]
+        for b in range(n_b):
+            sxy[b] += weight[i] * ci[b] * (rxi[b] - mx[b]) * (ryi[b] - my[b])
+    out = sxy / np.sqrt(_sum_squares(wx, rx, mx) * _sum_squares(wy, ry, my))
+    for b in range(n_b):
+        if occupied_x[b] < 2 or occupied_y[b] < 2:  # a constant sample: no rank correlation
             out[b] = np.nan
-            continue
-        sxy = 0.0
-        for i in range(group_x.size):
-            sxy += weight[i] * c[cluster[i]] * (rx[group_x[i]] - mx) * (ry[group_y[i]] - my)
-        out[b] = sxy / np.sqrt(_sum_squares(wx, rx, mx) * _sum_squares(wy, ry, my))
     return out
