@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 from scipy import stats
 
 from graspcampaign.analysis.quasi_static import h_epsilon_correlation, paper_law, weighted_spearman
-from graspcampaign.analysis.rank_kernel import sorted_pairs, tie_groups, weighted_rho
+from graspcampaign.analysis.rank_kernel import row_medians, sorted_pairs, tie_groups, weighted_rho
 
 
 def _h_epsilon_reference(records, candidates, confidence=0.95, n_resamples=10_000, seed=0):
@@ -73,6 +73,16 @@ def test_tie_groups_order_the_values_and_share_a_group_exactly_when_equal(values
     assert n == len(np.unique(x))
     # the dense rank of x: the index of each value among the sorted distinct values
     assert group.tolist() == np.searchsorted(np.unique(x), x).tolist()
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.integers(-3, 3), min_size=1, max_size=9), st.integers(1, 4), st.integers(0, 99))
+def test_row_medians_are_numpys_medians_of_the_resampled_values(values, n_rows, seed):
+    """Each row resamples the values (ties among them) with replacement; even and odd lengths."""
+    v = np.array(values, dtype=float) / 4
+    group, _ = tie_groups(v)
+    rows = np.random.default_rng(seed).integers(0, len(v), (n_rows, len(v)))
+    assert row_medians(group[rows], np.unique(v)).tolist() == np.median(v[rows], axis=1).tolist()
 
 
 def test_kernel_without_ties_at_scale_matches_scipy():

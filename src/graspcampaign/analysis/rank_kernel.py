@@ -1,4 +1,5 @@
-"""Compiled weighted Spearman rho: the rank correlation of a sample with integer or real weights.
+"""Compiled weighted Spearman rho (the rank correlation of a sample with integer or real weights)
+and the medians of resampled tie groups: the H(G)-epsilon bootstraps at campaign scale.
 
 Spearman's rho of the sample in which the pair (x_i, y_i) occurs ``w_i`` times is Pearson's r of
 the average ranks of that repeated sample (ties share the mean of their positions). The ranks are
@@ -141,4 +142,38 @@ def weighted_rho(group_x, n_x, group_y, n_y, weight, cluster, counts):
     for b in range(n_b):
         if occupied_x[b] < 2 or occupied_y[b] < 2:  # a constant sample: no rank correlation
             out[b] = np.nan
+    return out
+
+
+@njit(cache=True)
+def row_medians(groups, distinct):
+    """Return ``np.median`` of each row of ``distinct[groups]``, counted: one pass over a row
+    tallies its tie groups, one over the tallies finds the two middle order statistics.
+
+    Parameters
+    ----------
+    groups : ndarray of int, shape (B, n)
+        Indices into ``distinct`` (a bootstrap resample of tie groups per row).
+    distinct : ndarray of float64, shape (m,)
+        The sorted distinct values.
+
+    Returns
+    -------
+    median : ndarray of float64, shape (B,)
+        The mean of the 0-based order statistics ``(n - 1) // 2`` and ``n // 2`` (one for odd n).
+    """
+    n_rows, n = groups.shape
+    out, tally = np.empty(n_rows), np.empty(distinct.size, dtype=np.int64)
+    for row in range(n_rows):
+        tally[:] = 0
+        for i in range(n):
+            tally[groups[row, i]] += 1
+        low, seen = -1, 0
+        for g in range(distinct.size):
+            seen += tally[g]
+            if low < 0 and seen > (n - 1) // 2:
+                low = g
+            if seen > n // 2:
+                out[row] = (distinct[low] + distinct[g]) / 2
+                break
     return out
