@@ -152,7 +152,7 @@ def row_medians(groups, distinct):
 
     Parameters
     ----------
-    groups : ndarray of int, shape (B, n)
+    groups : ndarray of int32, shape (B, n)
         Indices into ``distinct`` (a bootstrap resample of tie groups per row).
     distinct : ndarray of float64, shape (m,)
         The sorted distinct values.

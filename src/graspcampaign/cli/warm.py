@@ -59,7 +59,7 @@ def main() -> int:
     from graspcampaign.analysis.rank_kernel import row_medians
 
     weighted_spearman([0.0, 1.0], [1.0, 0.0], [1.0, 1.0])  # the report's rank kernels (analysis)
-    row_medians(np.zeros((1, 2), dtype=np.int64), np.zeros(1))
+    row_medians(np.zeros((1, 2), dtype=np.int32), np.zeros(1))
     jobs = max(1, min(len(WARM_RUNS), os.cpu_count() or 1))
     with tempfile.TemporaryDirectory(prefix="graspcampaign-warm-") as root:
         with ProcessPoolExecutor(jobs) as pool:
