@@ -67,10 +67,10 @@ def sorted_pairs(x: np.ndarray, y: np.ndarray, weight: np.ndarray, cluster: np.n
 
 
 @njit(cache=True)
-def _average_ranks(w, r):
+def _centred_ranks(w, r):
     """Fill ``r[g, b]`` with the average rank of tie group ``g`` (in the order of the values) of
-    weight ``w[g, b]`` in weighting ``b``; return per weighting the weighted mean rank and the
-    number of groups with positive weight."""
+    weight ``w[g, b]`` in weighting ``b``, less the weighting's weighted mean rank (NaN if it
+    weighs nothing); return per weighting the number of groups with positive weight."""
     n_b = w.shape[1]
     below, total_wr, occupied = np.zeros(n_b), np.zeros(n_b), np.zeros(n_b, dtype=np.int64)
     for g in range(w.shape[0]):
@@ -85,16 +85,18 @@ def _average_ranks(w, r):
     for b in range(n_b):
         if below[b] > 0.0:
             mean[b] = total_wr[b] / below[b]
-    return mean, occupied
+    for g in range(w.shape[0]):
+        for b in range(n_b):
+            r[g, b] -= mean[b]
+    return occupied
 
 
 @njit(cache=True)
-def _sum_squares(w, r, mean):
+def _sum_squares(w, d):
     out = np.zeros(w.shape[1])
     for g in range(w.shape[0]):
         for b in range(w.shape[1]):
-            d = r[g, b] - mean[b]
-            out[b] += w[g, b] * d * d
+            out[b] += w[g, b] * d[g, b] * d[g, b]
     return out
 
 
@@ -102,9 +104,9 @@ def _sum_squares(w, r, mean):
 def weighted_rho(group_x, n_x, group_y, n_y, weight, cluster, counts):
     """Return Spearman's rho for each row of ``counts`` (NaN where x or y is constant).
 
-    Every weighting is carried along one pass over the pairs (the weightings side by side in
-    memory): the pairs' arrays, far larger than the caches at campaign scale, are read twice per
-    call instead of twice per weighting. Each weighting's sums still add the pairs in their order.
+    Each pass over the pairs carries every weighting (side by side in memory, so the loop over
+    them runs in vector lanes) and each tie group's rank is centred once, not once per pair;
+    each weighting's sums still add the pairs in their order.
 
     Parameters
     ----------
@@ -123,22 +125,21 @@ def weighted_rho(group_x, n_x, group_y, n_y, weight, cluster, counts):
     """
     n_b = counts.shape[0]
     c = np.ascontiguousarray(counts.T)  # c[k]: cluster k's count in every weighting
-    wx, rx = np.zeros((n_x, n_b)), np.empty((n_x, n_b))
-    wy, ry = np.zeros((n_y, n_b)), np.empty((n_y, n_b))
+    wx, dx = np.zeros((n_x, n_b)), np.empty((n_x, n_b))
+    wy, dy = np.zeros((n_y, n_b)), np.empty((n_y, n_b))
     for i in range(group_x.size):  # each tie group's weight
         ci, wxi, wyi = c[cluster[i]], wx[group_x[i]], wy[group_y[i]]
         for b in range(n_b):
             wi = weight[i] * ci[b]
             wxi[b] += wi
             wyi[b] += wi
-    mx, occupied_x = _average_ranks(wx, rx)
-    my, occupied_y = _average_ranks(wy, ry)
+    occupied_x, occupied_y = _centred_ranks(wx, dx), _centred_ranks(wy, dy)
     sxy = np.zeros(n_b)
     for i in range(group_x.size):
-        ci, rxi, ryi = c[cluster[i]], rx[group_x[i]], ry[group_y[i]]
+        ci, dxi, dyi = c[cluster[i]], dx[group_x[i]], dy[group_y[i]]
         for b in range(n_b):
-            sxy[b] += weight[i] * ci[b] * (rxi[b] - mx[b]) * (ryi[b] - my[b])
-    out = sxy / np.sqrt(_sum_squares(wx, rx, mx) * _sum_squares(wy, ry, my))
+            sxy[b] += weight[i] * ci[b] * dxi[b] * dyi[b]
+    out = sxy / np.sqrt(_sum_squares(wx, dx) * _sum_squares(wy, dy))
     for b in range(n_b):
         if occupied_x[b] < 2 or occupied_y[b] < 2:  # a constant sample: no rank correlation
             out[b] = np.nan
