@@ -34,7 +34,7 @@ def _counts(frame: pd.DataFrame, by: list[str], counts: list[str], median: tuple
             order: dict | None) -> pd.DataFrame:
     """Return per group ``n``, the sums of the boolean ``counts`` and ``median = (name, column)``."""
     rows = [{**key, "n": len(g), **g[counts].sum().astype(int), median[0]: g[median[1]].median()}
-            for key, g in rec.groups(frame, by, order)]
+            for key, g in rec.groups(frame[[*by, *counts, median[1]]], by, order)]  # columns read
     return pd.DataFrame(rows, columns=[*by, "n", *counts, median[0]])
 
 
