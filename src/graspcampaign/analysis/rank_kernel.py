@@ -81,10 +81,7 @@ def _centred_ranks(w, r):
             total_wr[b] += s * r[g, b]
             if s > 0.0:
                 occupied[b] += 1
-    mean = np.full(n_b, np.nan)
-    for b in range(n_b):
-        if below[b] > 0.0:
-            mean[b] = total_wr[b] / below[b]
+    mean = total_wr / below  # NaN (0 / 0) where the weighting weighs nothing
     for g in range(w.shape[0]):
         for b in range(n_b):
             r[g, b] -= mean[b]
@@ -148,21 +145,10 @@ def weighted_rho(group_x, n_x, group_y, n_y, weight, cluster, counts):
 
 @njit(cache=True)
 def row_medians(groups, distinct):
-    """Return ``np.median`` of each row of ``distinct[groups]``, counted: one pass over a row
-    tallies its tie groups, one over the tallies finds the two middle order statistics.
-
-    Parameters
-    ----------
-    groups : ndarray of int32, shape (B, n)
-        Indices into ``distinct`` (a bootstrap resample of tie groups per row).
-    distinct : ndarray of float64, shape (m,)
-        The sorted distinct values.
-
-    Returns
-    -------
-    median : ndarray of float64, shape (B,)
-        The mean of the 0-based order statistics ``(n - 1) // 2`` and ``n // 2`` (one for odd n).
-    """
+    """Return ``np.median`` of each row of ``distinct[groups]`` (``groups``: int32 (B, n), a
+    resample of tie groups per row; ``distinct``: the sorted distinct values): one pass over a
+    row tallies its groups, one over the tallies finds the order statistics ``(n - 1) // 2`` and
+    ``n // 2`` (one for odd n), whose mean is the median."""
     n_rows, n = groups.shape
     out, tally = np.empty(n_rows), np.empty(distinct.size, dtype=np.int64)
     for row in range(n_rows):
