@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 from scipy import stats
 
 from graspcampaign.analysis.quasi_static import h_epsilon_correlation, paper_law, weighted_spearman
-from graspcampaign.analysis.rank_kernel import sorted_pairs, tie_groups, weighted_rho
+from graspcampaign.analysis.rank_kernel import row_medians, sorted_pairs, tie_groups, weighted_rho
 
 
 def _h_epsilon_reference(records, candidates, confidence=0.95, n_resamples=10_000, seed=0):
@@ -75,6 +75,16 @@ def test_tie_groups_order_the_values_and_share_a_group_exactly_when_equal(values
     assert group.tolist() == np.searchsorted(np.unique(x), x).tolist()
 
 
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.integers(-3, 3), min_size=1, max_size=9), st.integers(1, 4), st.integers(0, 99))
+def test_row_medians_are_numpys_medians_of_the_resampled_values(values, n_rows, seed):
+    """Each row resamples the values (ties among them) with replacement; even and odd lengths."""
+    v = np.array(values, dtype=float) / 4
+    group, _ = tie_groups(v)
+    rows = np.random.default_rng(seed).integers(0, len(v), (n_rows, len(v)))
+    assert row_medians(group.astype(np.int32)[rows], np.unique(v)).tolist() == np.median(v[rows], axis=1).tolist()
+
+
 def test_kernel_without_ties_at_scale_matches_scipy():
     rng = np.random.default_rng(4)
     x, y = rng.normal(size=5000), rng.normal(size=5000)
@@ -132,3 +142,17 @@ def test_h_epsilon_correlation_is_its_plain_bootstrap(n_resamples, n_trials):
     assert got[["n_trials", "n_pairs"]].equals(expected[["n_trials", "n_pairs"]])
     np.testing.assert_allclose(got[["rho", "low", "high"]].to_numpy(float),
                                expected[["rho", "low", "high"]].to_numpy(float), rtol=0, atol=1e-12)
+
+
+def test_kernel_weighs_each_row_of_counts_as_if_alone():
+    """The rows of ``counts`` share the passes over the pairs, never a sum: each rho is the one
+    its row gives alone, to the bit (real weights, an empty and a one-cluster row among them)."""
+    rng = np.random.default_rng(5)
+    x, y = np.round(rng.normal(size=3000), 1), np.round(rng.normal(size=3000), 1)
+    pairs = sorted_pairs(x, y, rng.uniform(0.1, 3.0, 3000), rng.integers(0, 40, 3000))
+    counts = rng.integers(0, 4, (70, 40)).astype(float)
+    counts[3], counts[4] = 0.0, np.eye(40)[0]
+    together = weighted_rho(*pairs, counts)
+    alone = np.concatenate([weighted_rho(*pairs, row[None]) for row in counts])
+    assert np.array_equal(together, alone, equal_nan=True)
+    assert np.isnan(together[3]) and not np.isnan(np.delete(together, 3)).any()  # row 3 is empty

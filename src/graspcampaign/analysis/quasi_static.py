@@ -12,7 +12,7 @@ import pandas as pd
 from scipy import stats
 
 from graspcampaign.analysis import records as rec
-from graspcampaign.analysis.rank_kernel import sorted_pairs, tie_groups, weighted_rho
+from graspcampaign.analysis.rank_kernel import row_medians, sorted_pairs, tie_groups, weighted_rho
 from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
 from graspcampaign.core.statics import GRAVITY
 from graspcampaign.core.verdict import FAILURE_CHECKS
@@ -34,7 +34,7 @@ def _counts(frame: pd.DataFrame, by: list[str], counts: list[str], median: tuple
             order: dict | None) -> pd.DataFrame:
     """Return per group ``n``, the sums of the boolean ``counts`` and ``median = (name, column)``."""
     rows = [{**key, "n": len(g), **g[counts].sum().astype(int), median[0]: g[median[1]].median()}
-            for key, g in rec.groups(frame, by, order)]
+            for key, g in rec.groups(frame[[*by, *counts, median[1]]], by, order)]  # columns read
     return pd.DataFrame(rows, columns=[*by, "n", *counts, median[0]])
 
 
@@ -123,19 +123,6 @@ def weighted_spearman(x, y, w) -> float:
                               np.ones((1, 1)))[0])
 
 
-def _median_of_groups(groups: np.ndarray, distinct: np.ndarray) -> np.ndarray:
-    """Return ``np.median`` of each row of ``distinct[groups]`` (``distinct``: sorted values,
-    ``groups`` indices into it) from each row's counts of every value: a linear pass where the
-    median's partition of ~4·10^6 floats per resample batch took most of the report's time."""
-    rows = groups.reshape(-1, groups.shape[-1])
-    n_rows, n = rows.shape
-    cumulative = np.bincount((rows + len(distinct) * np.arange(n_rows)[:, None]).ravel(),
-                             minlength=n_rows * len(distinct)).reshape(n_rows, -1).cumsum(axis=1)
-    # the 0-based order statistics (n - 1) // 2 and n // 2 (one for odd n): np.median's mean of them
-    low, high = ((cumulative <= k).sum(axis=1) for k in ((n - 1) // 2, n // 2))
-    return ((distinct[low] + distinct[high]) / 2).reshape(groups.shape[:-1])
-
-
 def h_epsilon_correlation(records: pd.DataFrame, candidates: pd.DataFrame, *, confidence: float = 0.95,
                           n_resamples: int = BOOTSTRAP_RESAMPLES, seed: int = 0) -> pd.DataFrame:
     """Return Spearman's rho of H(G) and epsilon (rho < 0: agreement) with bootstrap intervals.
@@ -151,13 +138,13 @@ def h_epsilon_correlation(records: pd.DataFrame, candidates: pd.DataFrame, *, co
                             ("median per trial, force closure", "spearman_h_epsilon_fc")):
         v = rows[column].dropna().to_numpy(float)
         if len(v) >= 2:
-            # v's tie groups are resampled, their medians counted (_median_of_groups); in batches
-            # of ~4·10^6 values (32 MB): the same draws as one call, which at 2·10^4 trials
-            # allocates ~3 GB and runs 3x slower
+            # v's tie groups (int32: half the bytes scipy copies per resample) are resampled,
+            # their medians counted (row_medians); in batches of ~4·10^6 values (16 MB): the same
+            # draws as one call, which at 2·10^4 trials allocates ~3 GB and runs 3x slower
             group, n_groups = tie_groups(v)
             distinct = np.empty(n_groups)
             distinct[group] = v
-            ci = stats.bootstrap((group,), lambda g, axis, d=distinct: _median_of_groups(g, d),
+            ci = stats.bootstrap((group.astype(np.int32),), lambda g, axis, d=distinct: row_medians(g, d),
                                  confidence_level=confidence, method="percentile",
                                  n_resamples=n_resamples, random_state=rng,
                                  batch=max(1, 2**22 // len(v))).confidence_interval

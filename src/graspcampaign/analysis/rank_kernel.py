@@ -1,4 +1,5 @@
-"""Compiled weighted Spearman rho: the rank correlation of a sample with integer or real weights.
+"""Compiled weighted Spearman rho (the rank correlation of a sample with integer or real weights)
+and the medians of resampled tie groups: the H(G)-epsilon bootstraps at campaign scale.
 
 Spearman's rho of the sample in which the pair (x_i, y_i) occurs ``w_i`` times is Pearson's r of
 the average ranks of that repeated sample (ties share the mean of their positions). The ranks are
@@ -66,32 +67,43 @@ def sorted_pairs(x: np.ndarray, y: np.ndarray, weight: np.ndarray, cluster: np.n
 
 
 @njit(cache=True)
-def _average_ranks(w, r):
-    """Fill ``r`` with the average rank of each tie group of weight ``w`` (in the order of the
-    values); return the weighted mean rank and the number of groups with positive weight."""
-    below, total_wr, occupied = 0.0, 0.0, 0
-    for g in range(w.size):
-        s = w[g]
-        r[g] = below + (s + 1.0) / 2.0  # positions below+1 .. below+s, averaged
-        below += s
-        total_wr += s * r[g]
-        if s > 0.0:
-            occupied += 1
-    return (total_wr / below if below > 0.0 else np.nan), occupied
+def _centred_ranks(w, r):
+    """Fill ``r[g, b]`` with the average rank of tie group ``g`` (in the order of the values) of
+    weight ``w[g, b]`` in weighting ``b``, less the weighting's weighted mean rank (NaN if it
+    weighs nothing); return per weighting the number of groups with positive weight."""
+    n_b = w.shape[1]
+    below, total_wr, occupied = np.zeros(n_b), np.zeros(n_b), np.zeros(n_b, dtype=np.int64)
+    for g in range(w.shape[0]):
+        for b in range(n_b):
+            s = w[g, b]
+            r[g, b] = below[b] + (s + 1.0) / 2.0  # positions below+1 .. below+s, averaged
+            below[b] += s
+            total_wr[b] += s * r[g, b]
+            if s > 0.0:
+                occupied[b] += 1
+    mean = total_wr / below  # NaN (0 / 0) where the weighting weighs nothing
+    for g in range(w.shape[0]):
+        for b in range(n_b):
+            r[g, b] -= mean[b]
+    return occupied
 
 
 @njit(cache=True)
-def _sum_squares(w, r, mean):
-    out = 0.0
-    for g in range(w.size):
-        d = r[g] - mean
-        out += w[g] * d * d
+def _sum_squares(w, d):
+    out = np.zeros(w.shape[1])
+    for g in range(w.shape[0]):
+        for b in range(w.shape[1]):
+            out[b] += w[g, b] * d[g, b] * d[g, b]
     return out
 
 
 @njit(cache=True)
 def weighted_rho(group_x, n_x, group_y, n_y, weight, cluster, counts):
     """Return Spearman's rho for each row of ``counts`` (NaN where x or y is constant).
+
+    Each pass over the pairs carries every weighting (side by side in memory, so the loop over
+    them runs in vector lanes) and each tie group's rank is centred once, not once per pair;
+    each weighting's sums still add the pairs in their order.
 
     Parameters
     ----------
@@ -108,24 +120,47 @@ def weighted_rho(group_x, n_x, group_y, n_y, weight, cluster, counts):
     -------
     rho : ndarray of float64, shape (B,)
     """
-    wx, rx = np.empty(n_x), np.empty(n_x)
-    wy, ry = np.empty(n_y), np.empty(n_y)
-    out = np.empty(counts.shape[0])
-    for b in range(counts.shape[0]):
-        c = counts[b]
-        wx[:] = 0.0
-        wy[:] = 0.0
-        for i in range(group_x.size):  # each tie group's weight
-            wi = weight[i] * c[cluster[i]]
-            wx[group_x[i]] += wi
-            wy[group_y[i]] += wi
-        mx, occupied_x = _average_ranks(wx, rx)
-        my, occupied_y = _average_ranks(wy, ry)
-        if occupied_x < 2 or occupied_y < 2:  # a constant sample: no rank correlation
+    n_b = counts.shape[0]
+    c = np.ascontiguousarray(counts.T)  # c[k]: cluster k's count in every weighting
+    wx, dx = np.zeros((n_x, n_b)), np.empty((n_x, n_b))
+    wy, dy = np.zeros((n_y, n_b)), np.empty((n_y, n_b))
+    for i in range(group_x.size):  # each tie group's weight
+        ci, wxi, wyi = c[cluster[i]], wx[group_x[i]], wy[group_y[i]]
+        for b in range(n_b):
+            wi = weight[i] * ci[b]
+            wxi[b] += wi
+            wyi[b] += wi
+    occupied_x, occupied_y = _centred_ranks(wx, dx), _centred_ranks(wy, dy)
+    sxy = np.zeros(n_b)
+    for i in range(group_x.size):
+        ci, dxi, dyi = c[cluster[i]], dx[group_x[i]], dy[group_y[i]]
+        for b in range(n_b):
+            sxy[b] += weight[i] * ci[b] * dxi[b] * dyi[b]
+    out = sxy / np.sqrt(_sum_squares(wx, dx) * _sum_squares(wy, dy))
+    for b in range(n_b):
+        if occupied_x[b] < 2 or occupied_y[b] < 2:  # a constant sample: no rank correlation
             out[b] = np.nan
-            continue
-        sxy = 0.0
-        for i in range(group_x.size):
-            sxy += weight[i] * c[cluster[i]] * (rx[group_x[i]] - mx) * (ry[group_y[i]] - my)
-        out[b] = sxy / np.sqrt(_sum_squares(wx, rx, mx) * _sum_squares(wy, ry, my))
+    return out
+
+
+@njit(cache=True)
+def row_medians(groups, distinct):
+    """Return ``np.median`` of each row of ``distinct[groups]`` (``groups``: int32 (B, n), a
+    resample of tie groups per row; ``distinct``: the sorted distinct values): one pass over a
+    row tallies its groups, one over the tallies finds the order statistics ``(n - 1) // 2`` and
+    ``n // 2`` (one for odd n), whose mean is the median."""
+    n_rows, n = groups.shape
+    out, tally = np.empty(n_rows), np.empty(distinct.size, dtype=np.int64)
+    for row in range(n_rows):
+        tally[:] = 0
+        for i in range(n):
+            tally[groups[row, i]] += 1
+        low, seen = -1, 0
+        for g in range(distinct.size):
+            seen += tally[g]
+            if low < 0 and seen > (n - 1) // 2:
+                low = g
+            if seen > n // 2:
+                out[row] = (distinct[low] + distinct[g]) / 2
+                break
     return out

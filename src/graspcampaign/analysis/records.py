@@ -217,8 +217,8 @@ def design_limit_table(records: pd.DataFrame, by: Sequence[str], *,
     statistics are over the other, physical trials (nan when there are none)."""
     ok = executed(records)
     ok = ok[ok["delta_max_mm"].notna()] if "delta_max_mm" in ok else ok.iloc[:0]
-    rows = []
-    for key, g in groups(ok, list(by), order):
+    rows, used = [], [c for c in (*by, "delta_max_mm", "success") if c in ok]  # copied per group
+    for key, g in groups(ok[used], list(by), order):
         d = g["delta_max_mm"].to_numpy(float)
         over = d > limit_mm
         beyond = beyond_radius(g, radius_mm).to_numpy()
@@ -249,7 +249,7 @@ def failure_check_table(records: pd.DataFrame, by: Sequence[str],
     found = sorted(map(str, set(ok["failure_check"].dropna().unique()) - set(FAILURE_CHECKS)))
     gated = "valid_geometry" in ok or (ok["failure_check"] == "geometry").any()  # runs with the gate
     names, rows = [*(c for c in FAILURE_CHECKS if gated or c != "geometry"), *found], []
-    for key, g in groups(ok, list(by), order):
+    for key, g in groups(ok[[*by, "failure_check"]], list(by), order):  # the columns read
         counts, row = g["failure_check"].value_counts(), {**key, "n": len(g)}
         for c in names:
             row[c] = int(counts.get(c, 0))

@@ -4,8 +4,8 @@
 root, which calls every ``njit(cache=True)`` kernel of the core layer with the argument types the
 campaign uses. numba writes each compiled kernel beside its source (``__pycache__``, keyed by the
 source file's modification time and size), so the next process -- a test session, a study run --
-loads it instead of compiling it again; the report's rank kernel (``analysis.rank_kernel``) is
-warmed by one call. Nothing under ``results/`` is touched. The studies run in
+loads it instead of compiling it again; the report's rank kernels (``analysis.rank_kernel``) are
+warmed by one call each. Nothing under ``results/`` is touched. The studies run in
 parallel processes, one per core at most; the output is one line per study.
 
 References
@@ -53,9 +53,13 @@ def warm_one(study: str, root: str) -> str:
 
 def main() -> int:
     """Warm every kernel; return the exit code (0, or 1 if a run failed)."""
-    from graspcampaign.analysis.quasi_static import weighted_spearman
+    import numpy as np
 
-    weighted_spearman([0.0, 1.0], [1.0, 0.0], [1.0, 1.0])  # the report's rank kernel (analysis)
+    from graspcampaign.analysis.quasi_static import weighted_spearman
+    from graspcampaign.analysis.rank_kernel import row_medians
+
+    weighted_spearman([0.0, 1.0], [1.0, 0.0], [1.0, 1.0])  # the report's rank kernels (analysis)
+    row_medians(np.zeros((1, 2), dtype=np.int32), np.zeros(1))
     jobs = max(1, min(len(WARM_RUNS), os.cpu_count() or 1))
     with tempfile.TemporaryDirectory(prefix="graspcampaign-warm-") as root:
         with ProcessPoolExecutor(jobs) as pool:
