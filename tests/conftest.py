@@ -6,8 +6,16 @@ import hashlib
 import os
 import tempfile
 
-import matplotlib
-import pytest
+# One BLAS thread per test process, set before numpy loads OpenBLAS: `make test` runs one pytest
+# worker per core, and OpenBLAS's own thread per core on top made the workers' threads spin
+# against each other (a 486 x 486 eigvalsh 24x slower on a busy 2-core machine). The studies
+# keep their own rule (joblib's loky workers limit their BLAS threads) (docs/decisions.md, "One
+# BLAS thread per test process").
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
+import matplotlib  # noqa: E402
+import pytest  # noqa: E402
 
 matplotlib.use("Agg")
 os.environ.setdefault("MPLBACKEND", "Agg")
