@@ -157,6 +157,7 @@ def check_typed(key: str, value: Any, typ: str, meta: dict[str, Any] | None = No
 
 
 def type_words(base: str, key: str) -> str:
+    """Say what a value of type ``base`` must be, as in "``key`` must be true or false"."""
     if base == "bool":
         return "true or false"
     if base in SCHEMAS:

@@ -70,5 +70,6 @@ def solve_least_squares(resid, jac, x0: np.ndarray, model: int, data: tuple[np.n
 
 
 def check_fit_backend(backend: str) -> None:
+    """Refuse a fit backend not in ``FIT_BACKENDS``."""
     if backend not in FIT_BACKENDS:
         raise ValueError(f"backend must be 'numba' or 'scipy', got {backend!r}")

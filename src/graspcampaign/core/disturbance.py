@@ -121,6 +121,7 @@ DISTURBANCE_KINDS = ("none", "lateral", "down", "up", "yaw")
 # Geometry of the contact set
 # --------------------------------------------------------------------------------------------
 def unit_normals(normals) -> np.ndarray:
+    """Return (..., 3, 3) contact normals scaled to unit length; refuse another shape."""
     normals = np.asarray(normals, dtype=float)
     if normals.shape[-2:] != (3, 3):
         raise ValueError(f"normals must have shape (..., 3, 3), got {normals.shape}")

@@ -57,6 +57,7 @@ class _Body:
 
 
 def make_body(mesh) -> _Body:
+    """The mesh and its planning context at unit mass and friction (the hardware weights)."""
     from graspcampaign.core.feature import sharp_features
 
     feats = sharp_features(mesh)
@@ -67,6 +68,7 @@ def make_body(mesh) -> _Body:
 
 @functools.lru_cache(maxsize=16)
 def shape_body(shape: str, n_nodes: int = N_NODES) -> _Body:
+    """The body of a named shape at ``n_nodes`` (cached; see :func:`make_body`)."""
     from graspcampaign.core.mesh import make_object
 
     return make_body(make_object(shape, n_nodes))
@@ -164,6 +166,7 @@ def _plan_rng(seed: int, plan_key: str) -> np.random.Generator:
 @functools.lru_cache(maxsize=4096)
 def cached_plan(shape: str, planner: str, plan_key: str, seed: int, mass: float, material: str,
                 friction_level: str) -> HardwarePlan:
+    """The planner's contacts on a shape at the object's mass and material (cached per plan key)."""
     body = shape_body(shape)
     mat = material_model(material, friction_level)
     ctx = replace(body.ctx, mass=mass, mu=mat.mu_s, contact=mat.contact_params())

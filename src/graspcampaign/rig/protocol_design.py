@@ -196,6 +196,7 @@ def shape_equivalent_radius(shape: str, n_nodes: int = 390) -> float:
 
 
 def object_row(object_id: str) -> dict[str, Any]:
+    """Id, shape, index, material and mass of one object, e.g. ``object_row("sphere-03")``."""
     shape, k = object_id.rsplit("-", 1)
     k = int(k)
     return {"object_id": object_id, "shape": shape, "object_index": k,
@@ -203,8 +204,10 @@ def object_row(object_id: str) -> dict[str, Any]:
 
 
 def envelope_objects() -> list[str]:
+    """Ids of the envelope objects (``ENVELOPE_INDICES`` of each shape)."""
     return [f"{s}-{k:02d}" for s in SHAPE_ORDER for k in ENVELOPE_INDICES]
 
 
 def all_objects() -> list[str]:
+    """Ids of all 40 objects, shape by shape."""
     return [f"{s}-{k:02d}" for s in SHAPE_ORDER for k in range(1, 9)]

@@ -128,6 +128,7 @@ def schedule_slots(slots: list[dict[str, Any]], study: str, prefix: str, key: st
 
 
 def check_seed(seed: object) -> int:
+    """Return ``seed`` as an int; refuse anything but a non-negative integer."""
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise ValueError(f"seed must be a non-negative int, got {seed!r}")
     return int(seed)

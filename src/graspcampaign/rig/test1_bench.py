@@ -41,6 +41,7 @@ __all__ = [
 @lru_cache(maxsize=4096)
 def specimen_params(seed: int, material: str, specimen: int, environment: str,
                     spread: SpreadParams) -> bench.SpecimenParams:
+    """The drawn constants of one specimen in one environment (the same for every event on it)."""
     rng = keyed_rng(seed, "specimen", material, str(specimen))
     return bench.draw_specimen(FAMILIES[material], specimen, environment, rng, spread)
 
@@ -100,6 +101,7 @@ def _cyclic_states(seed: int, material: str, specimen: int, environment: str,
 
 
 def event_command(row: dict, seed: int, spread: SpreadParams, p: Test1Protocol) -> EventCommand:
+    """The bench command of one schedule row (SI units; cyclic rows carry the specimen's state)."""
     b = row["block"]
     common = {"block": b, "speed": row["speed_mm_per_s"] * 1e-3,
               "accel": row["accel_mm_per_s2"] * 1e-3, "daq_hz": float(row["daq_hz"])}

@@ -88,6 +88,7 @@ META_COLUMNS = ("event_id", "material", "specimen", "specimen_id", "environment"
 
 
 def fit_row(row: dict, a: dict[str, np.ndarray], attempt: int, anomaly: str) -> dict:
+    """One fits row: the schedule row's ``META_COLUMNS``, the attempt and the event's fits."""
     out = {k: row[k] for k in META_COLUMNS}
     out.update(attempt=int(attempt), anomaly=anomaly, source=SOURCE)
     out.update(_fit_arrays(row, a, anomaly))
@@ -95,6 +96,7 @@ def fit_row(row: dict, a: dict[str, np.ndarray], attempt: int, anomaly: str) -> 
 
 
 def order_fit_columns(fits: pd.DataFrame) -> pd.DataFrame:
+    """The fits with ``META_COLUMNS``, attempt, anomaly, source and n_samples first."""
     if fits.empty:
         return fits
     first = [*META_COLUMNS, "attempt", "anomaly", "source", "n_samples"]

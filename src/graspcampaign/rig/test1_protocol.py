@@ -126,6 +126,7 @@ def event_id_for(material: str, specimen: int, environment: str, block: str,
 
 
 def keyed_rng(seed: int, *key: str) -> np.random.Generator:
+    """Generator of one named stream: ``SeedSequence(seed, spawn_key=(h(k) for k in key))``."""
     words = [_hash_int(k, 4) for k in key]
     return np.random.default_rng(np.random.SeedSequence(int(seed), spawn_key=tuple(words)))
 
