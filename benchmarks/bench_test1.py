@@ -39,6 +39,7 @@ from graspcampaign.core.bench import SensorParams, SpreadParams
 from graspcampaign.core.identify import paper_bounds
 from graspcampaign.core.pso import pso_minimize
 from graspcampaign.rig import test1 as T
+from graspcampaign.rig import test1_bench, test1_pso
 
 SEED = 701  # campaigns/test1_bench.yaml
 SAMPLE_EVERY = 16
@@ -56,7 +57,7 @@ def cpu_best(fn, repeat: int = 3) -> float:
 
 
 def _fit(row: dict, a: dict, backend: str) -> None:
-    """The per-event fits of :func:`graspcampaign.rig.test1._fit_arrays` with one solver."""
+    """The per-event fits of :func:`graspcampaign.rig.test1_fits._fit_arrays` with one solver."""
     t, x, f = a["time_s"], a["displacement_mm"] * 1e-3, a["normal_force_n"]
     block = row["block"]
     if block in ("normal", "cyclic"):
@@ -78,8 +79,9 @@ def per_event(schedule) -> list[tuple[str, ...]]:
     T.run_events(rows[:30], SEED)  # load the compiled kernels before timing
     events = defaultdict(list)
     for row in rows:
-        spec = T._specimen(SEED, row["material"], int(row["specimen"]), row["environment"], sp)
-        events[row["block"]].append((row, T._command(row, SEED, sp, p), spec))
+        spec = test1_bench.specimen_params(SEED, row["material"], int(row["specimen"]),
+                                           row["environment"], sp)
+        events[row["block"]].append((row, test1_bench.event_command(row, SEED, sp, p), spec))
 
     def simulate(items):
         return [bench.simulate_event(cmd, spec, T.event_rng(SEED, row["event_id"], 1), se)
@@ -91,8 +93,8 @@ def per_event(schedule) -> list[tuple[str, ...]]:
         items = events[block]
         n_full = int((schedule["block"] == block).sum())
         sim = cpu_best(lambda items=items: simulate(items), 2) / len(items)
-        pairs = [(row, T._table_arrays(w)) for (row, _, _), w in zip(items, simulate(items),
-                                                                       strict=True)]
+        pairs = [(row, test1_bench.waveform_arrays(w)) for (row, _, _), w in zip(items, simulate(items),
+                                                                                   strict=True)]
         fits = {be: cpu_best(lambda be=be, pairs=pairs: [_fit(r, a, be) for r, a in pairs], 2)
                 / len(items) for be in bench.FIT_BACKENDS}
         totals["sim"] += sim * n_full
@@ -121,7 +123,7 @@ def pso(schedule) -> tuple[list[tuple[str, ...]], object]:
     rng = np.random.default_rng(0)
     traces = [pool[i] for i in sorted(rng.choice(len(pool), 12, replace=False))]
     pos = lower + rng.random((40, 6)) * (upper - lower)
-    costs = {be: T._pso_cost(traces, psi, be) for be in ("numba", "numpy")}
+    costs = {be: test1_pso.pso_cost(traces, psi, be) for be in ("numba", "numpy")}
     call = {be: cpu_best(lambda c=c: [c(pos) for _ in range(200)], 3) / 200
             for be, c in costs.items()}
     run = {be: cpu_best(lambda c=c: pso_minimize(c, lower, upper, n_particles=40,

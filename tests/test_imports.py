@@ -8,7 +8,9 @@ Rules (STYLE.md "Layout and the direction of imports", issue 14):
 * report never imports a campaign trial kind, the runner, or rig; it reads runs through
   ``campaign.records`` / ``campaign.provenance`` and the typed paper values of ``campaign.paper``,
   and checks a results root with ``campaign.paths``;
-* nothing but cli (and ``python -m``'s ``__main__``) imports cli.
+* nothing but cli (and ``python -m``'s ``__main__``) imports cli;
+* a name one module takes from another module of the package is public: no module imports an
+  underscore name of another, or reads one as an attribute of an imported module.
 
 The checker walks every module's ``import`` statements (top level and inside functions, relative
 imports resolved) with :mod:`ast`; the last tests run it on a synthetic package that breaks each
@@ -35,18 +37,25 @@ REPORT_CAMPAIGN = ("campaign.records", "campaign.provenance", "campaign.paper",
 
 def imports(path: Path) -> list[str]:
     """Return the absolute module names ``path`` imports (relative ones resolved)."""
+    return [name for name, _ in bound_imports(path)]
+
+
+def bound_imports(path: Path) -> list[tuple[str, str]]:
+    """Return (absolute name imported, local name bound) per import of ``path``: ``import a.b``
+    imports ``a.b`` and binds ``a``; a star import binds ``*``."""
     tree = ast.parse(path.read_text(), filename=str(path))
     here = module_name(path).split(".")
     package = here if path.name == "__init__.py" else here[:-1]
     out = []
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
-            out += [alias.name for alias in node.names]
+            out += [(alias.name, alias.asname or alias.name.split(".")[0])
+                    for alias in node.names]
         elif isinstance(node, ast.ImportFrom):
             base = ".".join(package[: len(package) - node.level + 1]) if node.level else ""
             module = ".".join(filter(None, [base, node.module]))
-            out += [module if alias.name == "*" else f"{module}.{alias.name}"
-                    for alias in node.names]
+            out += [(module if alias.name == "*" else f"{module}.{alias.name}",
+                     alias.asname or alias.name) for alias in node.names]
     return out
 
 
@@ -108,8 +117,43 @@ def violations(package_dir: Path, package: str = "graspcampaign") -> list[str]:
     return out
 
 
+def _private(name: str) -> bool:
+    return name.startswith("_") and not name.startswith("__")
+
+
+def private_uses(package_dir: Path, package: str = "graspcampaign") -> list[str]:
+    """Return one line per underscore name a module takes from another module of the package:
+    imported by name, or read as an attribute of an imported module (``bench._qlv``)."""
+    ROOTS[package_dir] = package
+    modules = {module_name(path) for path in package_dir.rglob("*.py")}
+    out = []
+    for path in sorted(package_dir.rglob("*.py")):
+        me = module_name(path)
+        bound = {local: name for name, local in bound_imports(path)}
+        taken = set(imports(path))
+        for node in ast.walk(ast.parse(path.read_text(), filename=str(path))):
+            if isinstance(node, ast.Attribute) and _private(node.attr):
+                chain = [node.attr]
+                while isinstance(node := node.value, ast.Attribute):
+                    chain.insert(0, node.attr)
+                if isinstance(node, ast.Name) and node.id in bound:
+                    target = bound[node.id]
+                    # ``import a.b`` binds ``a``: the chain is then spelled out from ``a``
+                    head = node.id if target.split(".")[0] == node.id else target
+                    taken.add(".".join([head, *chain]))
+        for name in sorted(taken):
+            owner, _, attr = name.rpartition(".")
+            if _private(attr) and owner in modules and owner != me:
+                out.append(f"{me} takes {name}: a name shared between modules is public")
+    return out
+
+
 def test_the_package_keeps_every_layer_rule():
     assert violations(PACKAGE) == []
+
+
+def test_no_module_takes_a_private_name_of_another():
+    assert private_uses(PACKAGE) == []
 
 
 def test_every_layer_is_walked():
@@ -165,3 +209,28 @@ def test_the_checker_passes_allowed_imports(tmp_path):
         "cli/main.py": "from fakepkg.report import build\nfrom fakepkg.rig import plan\n",
     })
     assert violations(pkg, "fakepkg") == []
+
+
+@pytest.mark.parametrize(("source", "name"), [
+    ("from fakepkg.core.feature import _helper\n", "_helper"),
+    ("from .feature import helper, _helper\n", "_helper"),
+    ("def f():\n    from ..core.feature import _helper\n", "_helper"),
+    ("from fakepkg.core import feature\nx = feature._helper(1)\n", "_helper"),
+    ("from . import feature as f\nx = f._TABLE['a']\n", "_TABLE"),
+    ("import fakepkg.core.feature\nx = fakepkg.core.feature._helper\n", "_helper"),
+])
+def test_the_checker_catches_a_private_name_taken_from_another_module(tmp_path, source, name):
+    pkg = _tree(tmp_path, {"core/feature.py": "", "core/mesh.py": source})
+    assert private_uses(pkg, "fakepkg") == [
+        f"fakepkg.core.mesh takes fakepkg.core.feature.{name}: a name shared between modules "
+        "is public"]
+
+
+def test_the_checker_passes_public_names_and_private_attributes(tmp_path):
+    pkg = _tree(tmp_path, {
+        "core/feature.py": "class Table:\n    _cache = {}\n\ndef _own():\n    return _own\n",
+        "core/mesh.py": "from fakepkg.core import feature\nfrom .feature import Table\n"
+                        "import numpy as np\nx = feature.Table._cache, Table._cache\n"
+                        "y = feature.__name__, np._NoValue\n",
+    })
+    assert private_uses(pkg, "fakepkg") == []

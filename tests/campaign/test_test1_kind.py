@@ -24,6 +24,7 @@ from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.runner import kind_params, run_study, study_trials
 from graspcampaign.cli.main import app
 from graspcampaign.rig import test1 as T
+from graspcampaign.rig.test1_fits import META_COLUMNS
 
 SEED = 701  # campaigns/test1_bench.yaml
 REDUCED = ["params.materials=[gel]", "params.specimens=[1,11]",
@@ -50,7 +51,7 @@ def engine(tmp_path_factory):
 
 
 def _fit_columns(ref_fits: pd.DataFrame) -> list[str]:
-    return [c for c in ref_fits.columns if c not in T._META and c != "source"]
+    return [c for c in ref_fits.columns if c not in META_COLUMNS and c != "source"]
 
 
 def _assert_same_fits(records: pd.DataFrame, ref_fits: pd.DataFrame) -> None:

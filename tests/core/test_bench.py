@@ -15,7 +15,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.optimize import curve_fit
 
-from graspcampaign.core import bench
+from graspcampaign.core import bench, bench_contact, bench_simulate
 from graspcampaign.core.bench import FAMILIES, EventCommand, SensorParams
 from graspcampaign.core.contact import normal_force
 
@@ -58,7 +58,7 @@ def test_qlv_step_response_is_the_relaxation_law():
     dt, rho, tau = 0.02, 0.64, 7.1
     elastic = np.ones(3000)
     t = np.arange(3000) * dt
-    got = bench._qlv(elastic, dt, rho, tau)
+    got = bench_contact.qlv_force(elastic, dt, rho, tau)
     want = rho + (1 - rho) * np.exp(-(t + 0.5 * dt) / tau)
     np.testing.assert_allclose(got, want, rtol=1e-12)
 
@@ -383,11 +383,11 @@ def test_contact_force_kernel_is_the_numpy_model_bit_for_bit(same_floats, family
     for daq, hold in ((50.0, 60.0), (500.0, 0.2)):
         cmd = EventCommand("normal", depth=rng.uniform(0.3e-3, 2e-3), speed=2e-3, hold=hold,
                            daq_hz=daq)
-        t, x, v, _ = bench._press(cmd, 1.0 / daq, cmd.depth, cmd.hold)
+        t, x, v, _ = bench_simulate.press_profile(cmd, 1.0 / daq, cmd.depth, cmd.hold)
         depths = x - rng.normal(0.0, 2e-6)
-        got = bench._contact_force(depths, v, 1.0 / daq, spec, k_scale, adhesion)
-        want = bench._contact_force(depths, v, 1.0 / daq, spec, k_scale, adhesion,
-                                    backend="numpy")
+        got = bench_contact.contact_force(depths, v, 1.0 / daq, spec, k_scale, adhesion)
+        want = bench_contact.contact_force(depths, v, 1.0 / daq, spec, k_scale, adhesion,
+                                           backend="numpy")
         same_floats(got, want)
 
 

@@ -11,7 +11,7 @@ import pytest
 import trimesh
 from scipy.optimize import approx_fprime
 
-from graspcampaign.core import jacobian, msd
+from graspcampaign.core import jacobian, msd, msd_body
 
 
 @pytest.fixture(scope="module")
@@ -67,7 +67,7 @@ def test_rest_jacobian_is_the_rest_stiffness_and_symmetric(small_mesh):
     jac = jacobian.body_jacobian(body, params, msd.state_from_positions(small_mesh.vertices))
     # At rest (no stretch, no motion) dF/dx = -K of msd's own rest stiffness, symmetric.
     np.testing.assert_allclose(jac.d_position.toarray(),
-                               -msd._rest_stiffness_matrix(body, params.k).toarray(), atol=1e-9)
+                               -msd_body.rest_stiffness_matrix(body, params.k).toarray(), atol=1e-9)
     d_v = jac.d_velocity.toarray()
     np.testing.assert_allclose(d_v, d_v.T, atol=1e-12)
     assert np.all(np.linalg.eigvalsh(d_v) <= 1e-12)  # dampers only remove energy

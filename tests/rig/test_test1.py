@@ -16,6 +16,7 @@ import pytest
 
 from graspcampaign.core.bench import SensorParams
 from graspcampaign.rig import test1 as T
+from graspcampaign.rig import test1_pso
 from graspcampaign.rig.test1_ingest import PEAK_FACTOR
 
 SEED = 7
@@ -474,8 +475,8 @@ def test_pso_cost_kernel_matches_the_numpy_reference(reduced):
     pos = lower + np.random.default_rng(3).random((40, 6)) * (upper - lower)
     for pick in (range(12), range(len(pool) - 12, len(pool))):
         traces = [pool[i] for i in pick]
-        np.testing.assert_allclose(T._pso_cost(traces, psi)(pos),
-                                   T._pso_cost(traces, psi, backend="numpy")(pos), rtol=1e-13)
+        np.testing.assert_allclose(test1_pso.pso_cost(traces, psi)(pos),
+                                   test1_pso.pso_cost(traces, psi, backend="numpy")(pos), rtol=1e-13)
 
 
 def _pso_run_by_run(waveforms, schedule, seed, n_restarts, max_reruns, **kw):
@@ -493,15 +494,15 @@ def _pso_run_by_run(waveforms, schedule, seed, n_restarts, max_reruns, **kw):
         psi = T.bench.specimen_effective_modulus(T.FAMILIES[m].modulus_mean)
         runs, costs = [], []
         for r in range(n_restarts + max_reruns):
-            traces, rng = T._pso_draw(pool, seed, m, r, kw["traces_per_run"])
-            res = T._pso_run(traces, psi, rng, (lower, upper), kw["n_particles"],
-                             kw["n_iterations"])
+            traces, rng = test1_pso.pso_draw(pool, seed, m, r, kw["traces_per_run"])
+            res = test1_pso.pso_run(traces, psi, rng, (lower, upper), kw["n_particles"],
+                                    kw["n_iterations"])
             runs.append(res)
-            costs.append(T._pso_cost(traces, psi))
-            if r + 1 >= n_restarts and T._converged(runs, costs).sum() >= n_restarts:
+            costs.append(test1_pso.pso_cost(traces, psi))
+            if r + 1 >= n_restarts and test1_pso.converged_runs(runs, costs).sum() >= n_restarts:
                 break
         out += [(m, r + 1, *res.best_x, bool(ok))
-                for r, (res, ok) in enumerate(zip(runs, T._converged(runs, costs),
+                for r, (res, ok) in enumerate(zip(runs, test1_pso.converged_runs(runs, costs),
                                                   strict=True))]
     return out
 

@@ -119,7 +119,7 @@ def kind_facts(name: str) -> dict[str, Any]:
     trial kind: ``factors`` the factors a Cartesian design must have, ``params`` its params schema
     as ``{"name", "fields": [[name, annotation, metadata], ...]}`` (None: it takes none), so that
     ``show`` checks a study's params as ``run`` does without importing the kind."""
-    from graspcampaign.campaign.kind import _EXTRA, get_kind
+    from graspcampaign.campaign.kind import RUNTIME_KINDS, get_kind
 
     def compute() -> dict[str, Any]:
         kind = get_kind(name)
@@ -127,7 +127,7 @@ def kind_facts(name: str) -> dict[str, Any]:
                 "source": kind.source, "factors": list(kind.factors),
                 "params": params_spec(kind.params)}
 
-    if name in _EXTRA:  # kinds registered at run time (tests) are never cached
+    if name in RUNTIME_KINDS:  # kinds registered at run time (tests) are never cached
         return compute()
     return _fact("kinds", name, compute)
 
@@ -165,9 +165,9 @@ def design_size(study) -> int:
         check_design_rows(rows)
         return len(rows)
 
-    from graspcampaign.campaign.kind import _EXTRA
+    from graspcampaign.campaign.kind import RUNTIME_KINDS
 
-    if study.kind in _EXTRA:
+    if study.kind in RUNTIME_KINDS:
         return compute()
     return int(_fact("designs", f"{study.kind}:{config_hash(study)}", compute))
 

@@ -98,17 +98,18 @@ KINDS: dict[str, str | None] = {
     "test3_disturbance": "graspcampaign.campaign.kinds.hardware:TEST3_DISTURBANCE",
 }
 
-_EXTRA: dict[str, TrialKind] = {}
+RUNTIME_KINDS: dict[str, TrialKind] = {}
+"""Kinds registered at run time by :func:`register_kind` (tests and benchmarks); never cached."""
 
 
 def register_kind(kind: TrialKind) -> None:
     """Register a kind defined outside this package (tests and benchmarks)."""
-    _EXTRA[kind.name] = kind
+    RUNTIME_KINDS[kind.name] = kind
 
 
 def kind_available(name: str) -> bool:
     """Return whether a kind is implemented and importable."""
-    return name in _EXTRA or KINDS.get(name) is not None
+    return name in RUNTIME_KINDS or KINDS.get(name) is not None
 
 
 def get_kind(name: str) -> TrialKind:
@@ -119,8 +120,8 @@ def get_kind(name: str) -> TrialKind:
     StudyNotRunnableError
         When the kind is unknown or not implemented yet.
     """
-    if name in _EXTRA:
-        return _EXTRA[name]
+    if name in RUNTIME_KINDS:
+        return RUNTIME_KINDS[name]
     if name not in KINDS:
         raise StudyNotRunnableError(
             f"trial kind {name!r} is unknown; known kinds: {', '.join(sorted(KINDS))}."

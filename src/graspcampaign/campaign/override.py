@@ -14,7 +14,7 @@ import unicodedata
 from typing import Any
 
 from graspcampaign.campaign.schema import FACTOR_SPECS, example
-from graspcampaign.campaign.studycheck import _split, field_at, known_keys_sentence, schema_at
+from graspcampaign.campaign.studycheck import field_at, known_keys_sentence, schema_at, split_optional
 from graspcampaign.errors import ConfigError
 
 
@@ -43,7 +43,7 @@ def check_overrides(given: list[str]) -> None:
                               "tool uses Hydra to compose studies and runs them itself, so hydra "
                               "keys have no effect: leave it out.", key=key)
         found = field_at(key) if sep and "~" not in prefix else None
-        if found and _split(str(found[1].type))[0] == "bool":
+        if found and split_optional(str(found[1].type))[0] == "bool":
             parsed = _parsed_value(item)
             if parsed is not _UNPARSED and not isinstance(parsed, bool):
                 raise ConfigError(f"{key} must be true or false, got {parsed!r} (override "
@@ -209,7 +209,7 @@ def omegaconf_error_sentence(exc: BaseException, prefix: str = "") -> str:
     if match:
         return f"{key} refers to ${{{match.group(1)}}}, which is not a key of the study config."
     found = None if prefix else field_at(key)
-    base = _split(str(found[1].type))[0] if found else None
+    base = split_optional(str(found[1].type))[0] if found else None
     if "is not Optional" in text:
         return f"{key} cannot be null; it takes {_takes(key, base)}."
     if "is not a valid bool" in text:
@@ -235,6 +235,6 @@ def _takes(key: str, base: str | None) -> str:
         return "a value"
     if base in ("int", "float", "str"):
         return f"a value of type {base}"
-    from graspcampaign.campaign.studycheck import _words
+    from graspcampaign.campaign.studycheck import type_words
 
-    return _words(base, key)
+    return type_words(base, key)

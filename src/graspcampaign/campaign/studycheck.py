@@ -77,7 +77,7 @@ def in_file(path: Path, exc: ConfigError, key_prefix: str = "") -> ConfigError:
 
 
 # -- types -----------------------------------------------------------------------------------------
-def _split(typ: str) -> tuple[str, bool]:
+def split_optional(typ: str) -> tuple[str, bool]:
     """``'float | None'`` -> ``('float', True)``: the type and whether null is allowed."""
     t = typ.replace(" ", "")
     if t.startswith("Optional[") and t.endswith("]"):
@@ -115,13 +115,13 @@ def check_typed(key: str, value: Any, typ: str, meta: dict[str, Any] | None = No
     ConfigError
         One sentence naming ``key``, what it takes and what it got.
     """
-    base, optional = _split(typ)
+    base, optional = split_optional(typ)
     if _is_interpolation(value) or base in ("Any", ""):
         return
     if value is None:
         if optional:
             return
-        raise ConfigError(f"{key} must be {_words(base, key)}, got null.", key=key)
+        raise ConfigError(f"{key} must be {type_words(base, key)}, got null.", key=key)
     if base in SCHEMAS:
         if not isinstance(value, dict):
             raise ConfigError(_mapping_sentence(key, SCHEMAS[base], value), key=key)
@@ -156,7 +156,8 @@ def check_typed(key: str, value: Any, typ: str, meta: dict[str, Any] | None = No
                     {**meta, "type": scalar} if scalar is float else meta)
 
 
-def _words(base: str, key: str) -> str:
+def type_words(base: str, key: str) -> str:
+    """Say what a value of type ``base`` must be, as in "``key`` must be true or false"."""
     if base == "bool":
         return "true or false"
     if base in SCHEMAS:
@@ -247,9 +248,9 @@ def check_study_data(data: dict[str, Any]) -> None:
 
 def check_kind_name(kind: str) -> None:
     """Refuse a trial kind that is not registered (one not yet implemented is known)."""
-    from graspcampaign.campaign.kind import _EXTRA, KINDS
+    from graspcampaign.campaign.kind import KINDS, RUNTIME_KINDS
 
-    if kind not in KINDS and kind not in _EXTRA:
+    if kind not in KINDS and kind not in RUNTIME_KINDS:
         raise ConfigError(f"trial kind {kind!r} is unknown; known kinds: "
                           f"{', '.join(sorted(KINDS))}.", key="kind")
 
@@ -401,7 +402,7 @@ def field_at(key: str) -> tuple[type, dataclasses.Field] | None:
             return None
         if i == len(parts) - 1:
             return schema, fields[part]
-        sub = SCHEMAS.get(_split(str(fields[part].type))[0])
+        sub = SCHEMAS.get(split_optional(str(fields[part].type))[0])
         if sub is None:
             return None
         schema = sub
@@ -413,4 +414,4 @@ def schema_at(key: str) -> type | None:
     if not key:
         return StudyCfg
     found = field_at(key)
-    return SCHEMAS.get(_split(str(found[1].type))[0]) if found else None
+    return SCHEMAS.get(split_optional(str(found[1].type))[0]) if found else None

@@ -40,9 +40,6 @@ from graspcampaign.core import fit_kernel  # noqa: F401  (re-exported: tests pat
 from graspcampaign.core.bench_contact import (
     APPROACH_GAP,
     RETRACT_DWELL,
-    _contact_force,  # noqa: F401  (re-exported, used outside this module)
-    _curvature_scale,  # noqa: F401  (re-exported, used outside this module)
-    _qlv,  # noqa: F401  (re-exported, used outside this module)
     cyclic_state,
     trapezoid_duration,
     trapezoid_move,
@@ -81,7 +78,6 @@ from graspcampaign.core.bench_simulate import (
     EventCommand,
     SensorParams,
     Waveform,
-    _press,  # noqa: F401  (re-exported, used outside this module)
     simulate_event,
 )
 from graspcampaign.core.bench_specimen import (

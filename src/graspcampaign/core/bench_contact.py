@@ -32,7 +32,13 @@ from graspcampaign.core.contact import normal_force
 __all__ = [
     "APPROACH_GAP",
     "RETRACT_DWELL",
+    "axis_motion",
+    "contact_force",
+    "curvature_scale",
     "cyclic_state",
+    "inverse_toe_depth",
+    "qlv_force",
+    "trapezoid_duration",
     "trapezoid_move",
 ]
 
@@ -96,18 +102,13 @@ def trapezoid_move(times: np.ndarray, distance: float, v_max: float, a_max: floa
     return sign * pos, sign * vel, duration
 
 
-def _axis(times: np.ndarray, start: float, moves: list[tuple[float, float, float, float]]
-          ) -> tuple[np.ndarray, np.ndarray]:
+def axis_motion(times: np.ndarray, start: float, moves: list[tuple[float, float, float, float]]
+                ) -> tuple[np.ndarray, np.ndarray]:
     """Position and velocity of one axis driven by sequential moves (t0, target, v, a):
     :func:`trapezoid_move` after move, by the compiled
     :func:`graspcampaign.core.bench_kernels.axis_profile`."""
     return bench_kernels.axis_profile(np.ascontiguousarray(times, dtype=float), float(start),
                                       np.array(moves, dtype=float).reshape(-1, 4))
-
-
-def _move_time(distance: float, v: float, a: float) -> float:
-    """Duration of a trapezoidal move [s] (:func:`trapezoid_move`'s ``duration``)."""
-    return _trapezoid_timing(abs(distance), v, a)[2] if distance != 0 else 0.0
 
 
 # ------------------------------------------------------------------------ contact model
@@ -131,7 +132,7 @@ def _toe_depth(depths: np.ndarray, toe: float) -> np.ndarray:
     return d - toe * -np.expm1(-d / toe)
 
 
-def _qlv(elastic: np.ndarray, dt: float, rho: float, tau: float) -> np.ndarray:
+def qlv_force(elastic: np.ndarray, dt: float, rho: float, tau: float) -> np.ndarray:
     """Quasi-linear viscoelastic force for an elastic force history (Fung 1981).
 
     ``F(t) = int G(t - s) dF_e(s)`` with ``G(t) = rho + (1 - rho) exp(-t / tau)``, the
@@ -145,9 +146,9 @@ def _qlv(elastic: np.ndarray, dt: float, rho: float, tau: float) -> np.ndarray:
     return rho * elastic + h
 
 
-def _contact_force(depths: np.ndarray, rates: np.ndarray, dt: float, spec: SpecimenParams,
-                   k_scale: float = 1.0, adhesion: bool = True, backend: str = "numba"
-                   ) -> np.ndarray:
+def contact_force(depths: np.ndarray, rates: np.ndarray, dt: float, spec: SpecimenParams,
+                  k_scale: float = 1.0, adhesion: bool = True, backend: str = "numba"
+                  ) -> np.ndarray:
     """Normal force of the virtual fingertip-specimen pair for a depth history.
 
     Eq. 13's power term on the toe-smoothed depth passes through the QLV kernel (the slow
@@ -169,7 +170,7 @@ def _contact_force(depths: np.ndarray, rates: np.ndarray, dt: float, spec: Speci
         raise ValueError(f"backend must be 'numba' or 'numpy', got {backend!r}")
     eff = _toe_depth(depths, spec.toe)
     elastic = normal_force(eff, np.zeros_like(eff), k, spec.n, 0.0)
-    relaxed = _qlv(elastic, dt, spec.rho, spec.tau)
+    relaxed = qlv_force(elastic, dt, spec.rho, spec.tau)
     in_contact = depths > 0.0
     force = np.maximum(relaxed + np.where(in_contact, spec.c * rates, 0.0), 0.0)
     force = np.where(in_contact | (relaxed > 0), force, 0.0)
@@ -185,7 +186,7 @@ def _contact_force(depths: np.ndarray, rates: np.ndarray, dt: float, spec: Speci
     return force
 
 
-def _untoe(eff: np.ndarray, toe: float) -> np.ndarray:
+def inverse_toe_depth(eff: np.ndarray, toe: float) -> np.ndarray:
     """Inverse of :func:`_toe_depth` by Newton iteration (monotone, converges in a few)."""
     d = eff + toe
     for _ in range(8):
@@ -197,7 +198,7 @@ def _untoe(eff: np.ndarray, toe: float) -> np.ndarray:
     return np.maximum(d, 0.0)
 
 
-def _curvature_scale(surface_radius: float) -> float:
+def curvature_scale(surface_radius: float) -> float:
     """Stiffness factor of a curved specimen: Eq. 14's sqrt(R) with R_eff = R Rs/(R + Rs)."""
     if not math.isfinite(surface_radius):
         return 1.0

@@ -19,6 +19,12 @@ from graspcampaign.core import fit_kernel
 
 __all__ = [
     "FIT_BACKENDS",
+    "TYPICAL_NORMAL",
+    "TYPICAL_RELAXATION",
+    "TYPICAL_SHIFTED",
+    "UNBOUNDED",
+    "check_fit_backend",
+    "solve_least_squares",
 ]
 
 log = logging.getLogger(__name__)
@@ -30,17 +36,17 @@ FIT_BACKENDS = ("numba", "scipy")
 with its default tolerances (the reference, and the fallback of the compiled path)."""
 
 
-_FREE = np.full(3, -np.inf), np.full(3, np.inf)
+UNBOUNDED = np.full(3, -np.inf), np.full(3, np.inf)
 # typical magnitudes of the parameters (the absolute part of the compiled solver's step test):
 # (K [N mm^-n], n, C [N s/m]) as the reference's x_scale; (K, m, x0 [mm]); (A [N], B [N], tau [s])
-_TYPICAL_NORMAL = np.array([0.1, 0.1, 0.05])
-_TYPICAL_SHIFTED = np.array([0.1, 0.1, 0.01])
-_TYPICAL_RELAXATION = np.array([1e-3, 1e-3, 1e-2])
+TYPICAL_NORMAL = np.array([0.1, 0.1, 0.05])
+TYPICAL_SHIFTED = np.array([0.1, 0.1, 0.01])
+TYPICAL_RELAXATION = np.array([1e-3, 1e-3, 1e-2])
 
 
-def _least_squares(resid, jac, x0: np.ndarray, model: int, data: tuple[np.ndarray, ...],
-                   bounds: tuple[np.ndarray, np.ndarray], typical: np.ndarray, backend: str,
-                   check=None, **scipy_options) -> tuple[np.ndarray, np.ndarray, bool]:
+def solve_least_squares(resid, jac, x0: np.ndarray, model: int, data: tuple[np.ndarray, ...],
+                        bounds: tuple[np.ndarray, np.ndarray], typical: np.ndarray, backend: str,
+                        check=None, **scipy_options) -> tuple[np.ndarray, np.ndarray, bool]:
     """Minimise ``|resid(p)|^2`` from ``x0``; return the solution, its residuals, success.
 
     ``backend="numba"`` runs :func:`graspcampaign.core.fit_kernel.lm_fit` on the model
@@ -56,13 +62,14 @@ def _least_squares(resid, jac, x0: np.ndarray, model: int, data: tuple[np.ndarra
                 and (check is None or check(p))):
             return p, resid(p), True
         log.debug("compiled fit (model %d) ended with status %d; using scipy", model, status)
-    if bounds is _FREE:
+    if bounds is UNBOUNDED:
         sol = least_squares(resid, x0, jac=jac, **scipy_options)
     else:
         sol = least_squares(resid, x0, jac=jac, bounds=bounds, **scipy_options)
     return sol.x, sol.fun, bool(sol.success)
 
 
-def _check_backend(backend: str) -> None:
+def check_fit_backend(backend: str) -> None:
+    """Refuse a fit backend not in ``FIT_BACKENDS``."""
     if backend not in FIT_BACKENDS:
         raise ValueError(f"backend must be 'numba' or 'scipy', got {backend!r}")

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from graspcampaign.core.bench_fit_relaxation import _plateau
+from graspcampaign.core.bench_fit_relaxation import peak_hold
 
 __all__ = [
     "KINETIC_WINDOW",
@@ -175,7 +175,7 @@ def fit_oblique(time: np.ndarray, displacement: np.ndarray, normal_force_: np.nd
     x = np.asarray(displacement, dtype=float)
     if x.size < 5:
         return ObliqueFitResult(math.nan, math.nan, math.nan, False, False)
-    dwell = _plateau(x, tolerance)
+    dwell = peak_hold(x, tolerance)
     fn = float(np.mean(np.asarray(normal_force_)[dwell]))
     ft = float(np.mean(np.asarray(tangential_force)[dwell]))
     xt = np.asarray(tangential_displacement, dtype=float)

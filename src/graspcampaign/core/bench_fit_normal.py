@@ -22,13 +22,13 @@ import numpy as np
 
 from graspcampaign.core import bench_kernels
 from graspcampaign.core.bench_fit_backend import (
-    _FREE,
-    _TYPICAL_NORMAL,
-    _TYPICAL_SHIFTED,
-    _check_backend,
-    _least_squares,
+    TYPICAL_NORMAL,
+    TYPICAL_SHIFTED,
+    UNBOUNDED,
+    check_fit_backend,
+    solve_least_squares,
 )
-from graspcampaign.core.bench_specimen import _f05
+from graspcampaign.core.bench_specimen import force_at_reference_depth
 from graspcampaign.core.contact import normal_force
 from graspcampaign.core.fit_kernel import MODEL_NORMAL, MODEL_SHIFTED
 from graspcampaign.core.plausible import PLAUSIBLE
@@ -277,7 +277,7 @@ def fit_normal(time: np.ndarray, displacement: np.ndarray, normal_force_: np.nda
     ----------
     Paper Eq. 13, §7.2; More (1978) Levenberg-Marquardt, via scipy.optimize.least_squares.
     """
-    _check_backend(backend)
+    check_fit_backend(backend)
     x = np.asarray(displacement, dtype=float)
     f = np.asarray(normal_force_, dtype=float)
     t = np.asarray(time, dtype=float)
@@ -316,8 +316,8 @@ def fit_normal(time: np.ndarray, displacement: np.ndarray, normal_force_: np.nda
         return bool(np.all(p[0] * np.power(d_win * 1e3, p[1]) + p[2] * r > 0.0))
 
     try:
-        p_fit, fun, success = _least_squares(
-            resid, jac, x0, MODEL_NORMAL, (d_mm, r, y), _FREE, _TYPICAL_NORMAL, backend,
+        p_fit, fun, success = solve_least_squares(
+            resid, jac, x0, MODEL_NORMAL, (d_mm, r, y), UNBOUNDED, TYPICAL_NORMAL, backend,
             check=unclamped, method="lm", x_scale=[0.1, 0.1, 0.05], max_nfev=200)
     except (ValueError, np.linalg.LinAlgError) as exc:  # pragma: no cover - defensive
         log.debug("normal fit failed: %s", exc)
@@ -332,8 +332,8 @@ def fit_normal(time: np.ndarray, displacement: np.ndarray, normal_force_: np.nda
         c_se = float(np.sqrt(max(cov[2, 2], 0.0)))
     except np.linalg.LinAlgError:
         c_se = math.inf
-    return NormalFitResult(k, n, c, c_se, _f05(k, n), rmse, peak, float(depth[ipk]), w_load,
-                           w_unload, int(d_mm.size), ok)
+    return NormalFitResult(k, n, c, c_se, force_at_reference_depth(k, n), rmse, peak,
+                           float(depth[ipk]), w_load, w_unload, int(d_mm.size), ok)
 
 
 @dataclass(frozen=True)
@@ -388,7 +388,7 @@ def fit_shifted(time: np.ndarray, displacement: np.ndarray, normal_force_: np.nd
     Paper §7.2 ("a shifted law K(delta - delta_0)^m ... a candidate refinement").
     """
     del time
-    _check_backend(backend)
+    check_fit_backend(backend)
     x = np.asarray(displacement, dtype=float)
     f = np.asarray(normal_force_, dtype=float)
     nan = ShiftedFitResult(math.nan, math.nan, math.nan, math.nan, False)
@@ -414,10 +414,10 @@ def fit_shifted(time: np.ndarray, displacement: np.ndarray, normal_force_: np.nd
         return np.column_stack([pw, p[0] * pw * np.log(d), -p[0] * p[1] * pw / d])
 
     try:
-        p_fit, fun, success = _least_squares(
+        p_fit, fun, success = solve_least_squares(
             resid, jac, x0, MODEL_SHIFTED, (xm, xm, y),
             (np.array([1e-6, 0.05, -1.0]), np.array([100.0, 3.0, first - 1e-6])),
-            _TYPICAL_SHIFTED, backend, method="trf", max_nfev=200)
+            TYPICAL_SHIFTED, backend, method="trf", max_nfev=200)
     except (ValueError, np.linalg.LinAlgError) as exc:  # pragma: no cover - defensive
         log.debug("shifted fit failed: %s", exc)
         return nan

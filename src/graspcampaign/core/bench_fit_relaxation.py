@@ -14,13 +14,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from graspcampaign.core.bench_fit_backend import _TYPICAL_RELAXATION, _check_backend, _least_squares
+from graspcampaign.core.bench_fit_backend import TYPICAL_RELAXATION, check_fit_backend, solve_least_squares
 from graspcampaign.core.fit_kernel import MODEL_RELAXATION
 
 __all__ = [
     "RELAXATION_FIT_POINTS",
     "RelaxationFitResult",
     "fit_relaxation",
+    "peak_hold",
 ]
 
 log = logging.getLogger(__name__)
@@ -55,7 +56,7 @@ class RelaxationFitResult:
     success: bool
 
 
-def _plateau(x: np.ndarray, tolerance: float) -> np.ndarray:
+def peak_hold(x: np.ndarray, tolerance: float) -> np.ndarray:
     """Indices of the hold at peak travel: the span from the first to the last sample within
     ``tolerance`` of the plateau level (median of the samples within 5 um of the maximum, so
     one quantisation outlier neither sets the level nor splits the hold)."""
@@ -90,14 +91,14 @@ def fit_relaxation(time: np.ndarray, displacement: np.ndarray, normal_force_: np
     -------
     RelaxationFitResult
     """
-    _check_backend(backend)
+    check_fit_backend(backend)
     t = np.asarray(time, dtype=float)
     x = np.asarray(displacement, dtype=float)
     f = np.asarray(normal_force_, dtype=float)
     nan = RelaxationFitResult(math.nan, math.nan, math.nan, math.nan, math.nan, False)
     if x.size < 10:
         return nan
-    run = _plateau(x, tolerance)
+    run = peak_hold(x, tolerance)
     if run.size < 10:
         return nan
     th = t[run] - t[run[0]]
@@ -129,10 +130,10 @@ def fit_relaxation(time: np.ndarray, displacement: np.ndarray, normal_force_: np
 
     try:
         # bounded: a drifting baseline must not send tau to infinity with a negative amplitude
-        p_fit, fun, success = _least_squares(
+        p_fit, fun, success = solve_least_squares(
             resid, jac, p0, MODEL_RELAXATION, (th, th, y),
             (np.array([0.0, 0.0, 1e-2]), np.array([np.inf, np.inf, 10.0 * max(hold, 1.0)])),
-            _TYPICAL_RELAXATION, backend, method="trf", max_nfev=200)
+            TYPICAL_RELAXATION, backend, method="trf", max_nfev=200)
     except (ValueError, np.linalg.LinAlgError) as exc:  # pragma: no cover - defensive
         log.debug("relaxation fit failed: %s", exc)
         return nan

@@ -279,7 +279,7 @@ def first_order_filter(x, b0, decay):
 def press_force(depths, rates, k, n, c, toe, rho, b0, decay, adhesion, neck):
     """Normal force of the virtual fingertip-specimen pair over a depth history [N].
 
-    The numpy path of :func:`graspcampaign.core.bench._contact_force` (the reference, and the
+    The numpy path of :func:`graspcampaign.core.bench_contact.contact_force` (the reference, and the
     readable statement of the model) with the same operations in the same order, one pass
     instead of ~40 array temporaries; tests hold both to the same bits.
 

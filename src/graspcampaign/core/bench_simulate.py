@@ -25,11 +25,11 @@ from graspcampaign.core import bench_kernels
 from graspcampaign.core.bench_contact import (
     APPROACH_GAP,
     RETRACT_DWELL,
-    _axis,
-    _contact_force,
-    _curvature_scale,
-    _move_time,
-    _untoe,
+    axis_motion,
+    contact_force,
+    curvature_scale,
+    inverse_toe_depth,
+    trapezoid_duration,
 )
 from graspcampaign.core.bench_specimen import STICK_SLIP_SPEED, SpecimenParams
 from graspcampaign.core.contact import depth_for_force
@@ -41,6 +41,7 @@ __all__ = [
     "EventCommand",
     "SensorParams",
     "Waveform",
+    "press_profile",
     "simulate_event",
 ]
 
@@ -160,16 +161,16 @@ class Waveform:
 # ------------------------------------------------------------------------ simulation
 
 
-def _press(cmd: EventCommand, dt: float, depth_along_axis: float,
-           hold: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+def press_profile(cmd: EventCommand, dt: float, depth_along_axis: float,
+                  hold: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
     """Approach, press to ``depth_along_axis``, hold, retract; return t, x, v, t_unload."""
     start = -APPROACH_GAP
-    t_move = _move_time(depth_along_axis - start, cmd.speed, cmd.accel)  # in and out alike
+    t_move = trapezoid_duration(depth_along_axis - start, cmd.speed, cmd.accel)  # in and out alike
     t_unload = t_move + hold
     total = t_unload + t_move + RETRACT_DWELL
     times = np.arange(0.0, total, dt)
-    x, v = _axis(times, start, [(0.0, depth_along_axis, cmd.speed, cmd.accel),
-                                (t_unload, start, cmd.speed, cmd.accel)])
+    x, v = axis_motion(times, start, [(0.0, depth_along_axis, cmd.speed, cmd.accel),
+                                      (t_unload, start, cmd.speed, cmd.accel)])
     return times, x, v, t_unload
 
 
@@ -177,13 +178,13 @@ def _simulate_press(cmd: EventCommand, spec: SpecimenParams, rng: np.random.Gene
                     sensor: SensorParams) -> dict[str, np.ndarray]:
     dt = 1.0 / cmd.daq_hz
     surface = sensor.touch_off_sd * rng.standard_normal() + cmd.permanent_set
-    k_scale = (1.0 - cmd.softening) * _curvature_scale(cmd.surface_radius)
+    k_scale = (1.0 - cmd.softening) * curvature_scale(cmd.surface_radius)
     if cmd.block == "oblique":
         theta = cmd.angle + sensor.angle_sd * rng.standard_normal()
         axial = cmd.depth / math.cos(cmd.angle)
-        t, x, v, _ = _press(cmd, dt, axial, cmd.hold)
+        t, x, v, _ = press_profile(cmd, dt, axial, cmd.hold)
         depth = x * math.cos(theta) - surface
-        fn = _contact_force(depth, v * math.cos(theta), dt, spec, k_scale)
+        fn = contact_force(depth, v * math.cos(theta), dt, spec, k_scale)
         ft = np.maximum(fn, 0.0) * math.tan(theta)
         # Coulomb test (Eq. 15-16): the applied tangential load tan(theta) f_n sticks while
         # it is within mu_s f_n; past breakaway the tangential share of the probe travel
@@ -196,8 +197,8 @@ def _simulate_press(cmd: EventCommand, spec: SpecimenParams, rng: np.random.Gene
         else:
             slip = ft / spec.k_t
         return {"time": t, "x": x, "fn": fn, "ft": ft, "xt": slip}
-    t, x, v, _ = _press(cmd, dt, cmd.depth + cmd.permanent_set, cmd.hold)
-    fn = _contact_force(x - surface, v, dt, spec, k_scale)
+    t, x, v, _ = press_profile(cmd, dt, cmd.depth + cmd.permanent_set, cmd.hold)
+    fn = contact_force(x - surface, v, dt, spec, k_scale)
     return {"time": t, "x": x, "fn": fn, "ft": np.zeros_like(fn), "xt": np.zeros_like(fn)}
 
 
@@ -212,27 +213,27 @@ def _simulate_sliding(cmd: EventCommand, spec: SpecimenParams, rng: np.random.Ge
     dt = 1.0 / cmd.daq_hz
     surface = sensor.touch_off_sd * rng.standard_normal()
     target = cmd.normal_load
-    depth0 = float(_untoe(depth_for_force(target, spec.k_n_per_mm_n, spec.n), spec.toe))
+    depth0 = float(inverse_toe_depth(depth_for_force(target, spec.k_n_per_mm_n, spec.n), spec.toe))
     start = -APPROACH_GAP
-    t_in = _move_time(depth0 - start, NORMAL_APPROACH_SPEED, cmd.accel)  # retraction alike
+    t_in = trapezoid_duration(depth0 - start, NORMAL_APPROACH_SPEED, cmd.accel)  # retraction alike
     t_slide = t_in + PRELOAD_DWELL
-    t_stroke = _move_time(cmd.stroke, cmd.speed, cmd.accel)
+    t_stroke = trapezoid_duration(cmd.stroke, cmd.speed, cmd.accel)
     t_out = t_slide + t_stroke + 0.2
     total = t_out + t_in + RETRACT_DWELL
     times = np.arange(0.0, total, dt)
-    z, vz = _axis(times, start, [(0.0, depth0 + surface, NORMAL_APPROACH_SPEED, cmd.accel),
-                                 (t_out, start, NORMAL_APPROACH_SPEED, cmd.accel)])
-    fn = _contact_force(z - surface, vz, dt, spec)
+    z, vz = axis_motion(times, start, [(0.0, depth0 + surface, NORMAL_APPROACH_SPEED, cmd.accel),
+                                       (t_out, start, NORMAL_APPROACH_SPEED, cmd.accel)])
+    fn = contact_force(z - surface, vz, dt, spec)
     # force control at the target between the end of approach and retraction; the depth
     # creeps so that the relaxing material keeps carrying the load (first-order QLV creep)
     held = (times >= t_in) & (times < t_out)
     th = times[held] - t_in
     g = spec.rho + (1.0 - spec.rho) * np.exp(-th / spec.tau)
-    z_held = _untoe(depth_for_force(target / g, spec.k_n_per_mm_n, spec.n), spec.toe) + surface
+    z_held = inverse_toe_depth(depth_for_force(target / g, spec.k_n_per_mm_n, spec.n), spec.toe) + surface
     z = z.copy()
     z[held] = z_held
     fn[held] = target
-    xs, vs = _axis(times, 0.0, [(t_slide, cmd.stroke, cmd.speed, cmd.accel)])
+    xs, vs = axis_motion(times, 0.0, [(t_slide, cmd.stroke, cmd.speed, cmd.accel)])
     ft = np.zeros_like(times)
     sl = times >= t_slide
     # breakaway: elastic stick from rest up to mu_s f_n, then the spring-block sawtooth

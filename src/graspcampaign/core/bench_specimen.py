@@ -36,6 +36,7 @@ __all__ = [
     "SpreadParams",
     "draw_specimen",
     "environment_friction_factors",
+    "force_at_reference_depth",
     "specimen_effective_modulus",
     "with_environment",
 ]
@@ -53,7 +54,7 @@ REFERENCE_DEPTH_MM = 0.5
 """Reference indentation of f_0.5 = K (0.5 mm)^n [mm] (Table 4; K is in N mm^-n)."""
 
 
-def _f05(k_n_per_mm_n: float, n: float) -> float:
+def force_at_reference_depth(k_n_per_mm_n: float, n: float) -> float:
     """Return Table 4's force at the reference indentation, ``K (0.5 mm)^n`` [N]."""
     return k_n_per_mm_n * REFERENCE_DEPTH_MM**n
 
@@ -108,7 +109,7 @@ class FamilyParams:
     @property
     def f05(self) -> float:
         """Force at the 0.5 mm reference indentation, K 0.5^n [N] (Table 4)."""
-        return _f05(self.k_n_per_mm_n, self.n)
+        return force_at_reference_depth(self.k_n_per_mm_n, self.n)
 
 
 FAMILIES: dict[str, FamilyParams] = {
@@ -227,7 +228,7 @@ class SpecimenParams:
     @property
     def f05(self) -> float:
         """Force at 0.5 mm, K 0.5^n [N]."""
-        return _f05(self.k_n_per_mm_n, self.n)
+        return force_at_reference_depth(self.k_n_per_mm_n, self.n)
 
 
 @dataclass(frozen=True)

@@ -94,6 +94,7 @@ __all__ = [
     "retention_margin",
     "safety_factor",
     "size_grip",
+    "unit_normals",
     "vertical_capacity",
 ]
 
@@ -119,7 +120,8 @@ DISTURBANCE_KINDS = ("none", "lateral", "down", "up", "yaw")
 # --------------------------------------------------------------------------------------------
 # Geometry of the contact set
 # --------------------------------------------------------------------------------------------
-def _normals(normals) -> np.ndarray:
+def unit_normals(normals) -> np.ndarray:
+    """Return (..., 3, 3) contact normals scaled to unit length; refuse another shape."""
     normals = np.asarray(normals, dtype=float)
     if normals.shape[-2:] != (3, 3):
         raise ValueError(f"normals must have shape (..., 3, 3), got {normals.shape}")
@@ -128,7 +130,7 @@ def _normals(normals) -> np.ndarray:
 
 def _shares(commanded, normals) -> np.ndarray:
     """Batched least-squares horizontal load sharing (:func:`load_shared_forces`), (..., 3)."""
-    n = _normals(normals)
+    n = unit_normals(normals)
     c = np.broadcast_to(np.asarray(commanded, dtype=float), n.shape[:-1])
     a = -np.swapaxes(n[..., :2], -1, -2)  # (..., 2, 3): horizontal force directions -h_j
     gram = a @ np.swapaxes(a, -1, -2)  # (..., 2, 2), symmetric positive semi-definite
@@ -214,7 +216,7 @@ def vertical_capacity(normals, normal_forces, mu_eff) -> np.ndarray | float:
     ----------
     Coulomb cone, Eq. 15; Murray, Li & Sastry (1994) §5.2.
     """
-    n = _normals(normals)
+    n = unit_normals(normals)
     f = np.asarray(normal_forces, dtype=float)
     reach = np.sqrt(np.clip(1.0 - n[..., 2] ** 2, 0.0, 1.0))
     mu = np.asarray(mu_eff, dtype=float)[..., None]
@@ -243,7 +245,7 @@ def geometric_efficiency(normals, mu_s, kappa=KAPPA) -> np.ndarray | float:
         upper contacts' push exceeds the friction reach; capped at 1 for a cradle of lower
         contacts.
     """
-    n = _normals(normals)
+    n = unit_normals(normals)
     shares = _shares(np.ones(3), n)
     mu_eff = kappa * np.asarray(mu_s, dtype=float)
     per_grip = vertical_capacity(n, shares, mu_eff)

@@ -69,19 +69,19 @@ from graspcampaign.core.geometry_cases import (
     closest_point_barycentric,
 )
 from graspcampaign.core.geometry_faces import (
-    _COL_DOUBLE_AREA,
-    _COL_EDGE,
-    _COL_EDGE_NORMAL,
-    _COL_EDGE_SQ,
-    _COL_NORMAL,
-    _COL_TRI,
-    _NEXT,
+    COL_DOUBLE_AREA,
+    COL_EDGE,
+    COL_EDGE_NORMAL,
+    COL_EDGE_SQ,
+    COL_NORMAL,
+    COL_TRI,
+    NEXT_VERTEX,
     FaceGeometry,
-    _dot,
-    _pack,
-    _soup_faces,
     face_frames,
     face_geometry,
+    pack_faces,
+    soup_faces,
+    vecdot,
 )
 from graspcampaign.core.geometry_transfer import (
     barycentric_weights,
@@ -247,7 +247,7 @@ def sphere_triangle_contacts(centers: np.ndarray, radius: float, triangles: np.n
     if geometry is None:
         triangles = np.ascontiguousarray(triangles, dtype=float)
         return sphere_mesh_contacts(centers, radius, triangles.reshape(-1, 3),
-                                    _soup_faces(len(triangles)))
+                                    soup_faces(len(triangles)))
     found = kernels.sphere_faces(centers, float(radius), geometry.vertices, geometry.faces,
                                  geometry.centers, geometry.radii)
     return _from_kernel(found, len(centers), float(radius))
@@ -319,10 +319,10 @@ def _contacts_numpy(centers: np.ndarray, radius: float, triangles: np.ndarray,
         lo = np.minimum(np.minimum(a, b), c)
         hi = np.maximum(np.maximum(a, b), c)
         half = 0.5 * (hi - lo)
-        reach = radius + np.sqrt(_dot(half, half))
+        reach = radius + np.sqrt(vecdot(half, half))
         flat = np.flatnonzero(cdist(centers, lo + half) < reach)
         fingers, faces = np.divmod(flat, len(triangles))
-        data = _pack(triangles[faces])
+        data = pack_faces(triangles[faces])
     else:
         # Broad phase on precomputed bounding spheres, then one gather of the packed rows.
         flat = np.flatnonzero(cdist(centers, geometry.centers) < radius + geometry.radii)
@@ -331,16 +331,16 @@ def _contacts_numpy(centers: np.ndarray, radius: float, triangles: np.ndarray,
 
     # Narrow phase on the k candidates, in each face's local frame.
     k = len(faces)
-    tri = data[:, _COL_TRI].reshape(k, 3, 3)
-    edges = data[:, _COL_EDGE].reshape(k, 3, 3)
+    tri = data[:, COL_TRI].reshape(k, 3, 3)
+    edges = data[:, COL_EDGE].reshape(k, 3, 3)
     p = centers[fingers]
     rel = p[:, None, :] - tri  # P - A, P - B, P - C
-    heights = _dot(rel[:, 0], data[:, _COL_NORMAL])  # z0'
-    perp = _dot(rel, data[:, _COL_EDGE_NORMAL].reshape(k, 3, 3))  # s_i
-    along = _dot(rel, edges)  # (P - V_i) . e_i
-    t = np.minimum(np.maximum(along / data[:, _COL_EDGE_SQ], 0.0), 1.0)
+    heights = vecdot(rel[:, 0], data[:, COL_NORMAL])  # z0'
+    perp = vecdot(rel, data[:, COL_EDGE_NORMAL].reshape(k, 3, 3))  # s_i
+    along = vecdot(rel, edges)  # (P - V_i) . e_i
+    t = np.minimum(np.maximum(along / data[:, COL_EDGE_SQ], 0.0), 1.0)
     offsets = rel - t[:, :, None] * edges  # P minus its clamped projection on edge i
-    offset_sq = _dot(offsets, offsets)
+    offset_sq = vecdot(offsets, offsets)
     inside = perp.min(axis=1) >= 0.0
     dist_sq = np.where(inside, heights * heights, offset_sq.min(axis=1))
     hit = np.flatnonzero(dist_sq < r_sq)  # NaN rows of degenerate faces never hit
@@ -353,12 +353,12 @@ def _contacts_numpy(centers: np.ndarray, radius: float, triangles: np.ndarray,
 
     # Barycentric weights of P_face: inside, the weight of the vertex opposite edge i is
     # s_i |e_i| / (2 area); on edge i = (V_i, V_i+1) at parameter t, (1 - t, t).
-    double_area = data[:, _COL_DOUBLE_AREA]
+    double_area = data[:, COL_DOUBLE_AREA]
     weights = np.zeros((len(hit), 3))
     weights[rows, nearest_edge] = 1.0 - t_edge
-    weights[rows, _NEXT[nearest_edge]] = t_edge
-    inside_weights = perp * np.sqrt(data[:, _COL_EDGE_SQ]) / double_area[:, None]
-    weights = np.where(inside[:, None], inside_weights[:, _NEXT], weights)
+    weights[rows, NEXT_VERTEX[nearest_edge]] = t_edge
+    inside_weights = perp * np.sqrt(data[:, COL_EDGE_SQ]) / double_area[:, None]
+    weights = np.where(inside[:, None], inside_weights[:, NEXT_VERTEX], weights)
     # Key 0: outside, edge region; 1: outside, corner region; 2: inside, disc crosses an edge
     # line; 3: inside, disc within all edge lines. Look-up tables give the subcase and case.
     corner = (t_edge <= 0.0) | (t_edge >= 1.0)
@@ -367,8 +367,8 @@ def _contacts_numpy(centers: np.ndarray, radius: float, triangles: np.ndarray,
     subcases = _SUBCASE_OF_KEY[key]
     cases = _CASE_OF_KEY[key]
 
-    q = _dot(weights[:, :, None], tri, axis=1)
-    normals = data[:, _COL_NORMAL]
+    q = vecdot(weights[:, :, None], tri, axis=1)
+    normals = data[:, COL_NORMAL]
     depths = np.sqrt(r_sq - np.maximum(dist_sq - heights * heights, 0.0)) - heights
     distances = np.sqrt(dist_sq)
     return SphereTriangleResult(

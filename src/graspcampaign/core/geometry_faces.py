@@ -23,13 +23,23 @@ import numpy as np
 from graspcampaign.core import kernels
 
 __all__ = [
+    "COL_DOUBLE_AREA",
+    "COL_EDGE",
+    "COL_EDGE_NORMAL",
+    "COL_EDGE_SQ",
+    "COL_NORMAL",
+    "COL_TRI",
+    "NEXT_VERTEX",
     "FaceGeometry",
     "face_frames",
     "face_geometry",
+    "pack_faces",
+    "soup_faces",
+    "vecdot",
 ]
 
 
-_NEXT = np.array([1, 2, 0])
+NEXT_VERTEX = np.array([1, 2, 0])
 
 
 def _einsum_dot(a: np.ndarray, b: np.ndarray, axis: int = -1) -> np.ndarray:
@@ -38,7 +48,7 @@ def _einsum_dot(a: np.ndarray, b: np.ndarray, axis: int = -1) -> np.ndarray:
 
 # Dot product over one axis with broadcasting: the numpy >= 2.0 gufunc is about twice as fast as
 # einsum on the small batches of the narrow phase.
-_dot = getattr(np, "vecdot", _einsum_dot)
+vecdot = getattr(np, "vecdot", _einsum_dot)
 
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -56,12 +66,12 @@ _TINY = np.finfo(float).tiny
 
 
 # Column layout of FaceGeometry.packed: one gather brings every per-face quantity of a candidate.
-_COL_TRI = slice(0, 9)  # A, B, C
-_COL_EDGE = slice(9, 18)  # AB, BC, CA
-_COL_EDGE_NORMAL = slice(18, 27)  # unit in-plane normals of AB, BC, CA pointing into the face
-_COL_NORMAL = slice(27, 30)  # outward unit face normal
-_COL_EDGE_SQ = slice(30, 33)  # |AB|^2, |BC|^2, |CA|^2
-_COL_DOUBLE_AREA = 33  # |AB x AC|
+COL_TRI = slice(0, 9)  # A, B, C
+COL_EDGE = slice(9, 18)  # AB, BC, CA
+COL_EDGE_NORMAL = slice(18, 27)  # unit in-plane normals of AB, BC, CA pointing into the face
+COL_NORMAL = slice(27, 30)  # outward unit face normal
+COL_EDGE_SQ = slice(30, 33)  # |AB|^2, |BC|^2, |CA|^2
+COL_DOUBLE_AREA = 33  # |AB x AC|
 _N_COLS = 34
 
 
@@ -92,27 +102,27 @@ class FaceGeometry:
     @cached_property
     def faces(self) -> np.ndarray:
         """(f, 3) int64 indices into :attr:`vertices`, ``arange(3 f).reshape(f, 3)``."""
-        return _soup_faces(len(self.triangles))
+        return soup_faces(len(self.triangles))
 
     @cached_property
     def packed(self) -> np.ndarray:
-        """(f, 34) rows of the numpy path, built on first use (layout ``_COL_*``).
+        """(f, 34) rows of the numpy path, built on first use (layout ``COL_*``).
 
         Row-wise: vertices A, B, C; edges AB, BC, CA; the unit in-plane edge normals (pointing into
         the face, ``n x edge / |edge|``); the outward unit normal ``n``; squared edge lengths; twice
         the face area. Degenerate (zero-area) faces hold NaN in every derived column and never
         collide.
         """
-        return _pack(self.triangles)
+        return pack_faces(self.triangles)
 
 
-def _pack(triangles: np.ndarray) -> np.ndarray:
-    """Per-face rows of the local-frame test, layout ``_COL_*`` (see FaceGeometry.packed)."""
+def pack_faces(triangles: np.ndarray) -> np.ndarray:
+    """Per-face rows of the local-frame test, layout ``COL_*`` (see FaceGeometry.packed)."""
     n_faces = len(triangles)
-    edges = triangles[:, _NEXT] - triangles
+    edges = triangles[:, NEXT_VERTEX] - triangles
     raw_normal = _cross(edges[:, 0], -edges[:, 2])
-    double_area = np.sqrt(_dot(raw_normal, raw_normal))
-    edge_sq = _dot(edges, edges)
+    double_area = np.sqrt(vecdot(raw_normal, raw_normal))
+    edge_sq = vecdot(edges, edges)
     # Degenerate (zero-area) faces get NaN normals, edge normals and edge lengths: every distance
     # computed from them is NaN, and NaN < r^2 is false, so they never collide.
     degenerate = double_area <= 0.0
@@ -122,14 +132,14 @@ def _pack(triangles: np.ndarray) -> np.ndarray:
     edge_sq = np.maximum(edge_sq, _TINY)
     normals = raw_normal / double_area[:, None]
     packed = np.empty((n_faces, _N_COLS))
-    packed[:, _COL_TRI] = triangles.reshape(n_faces, 9)
-    packed[:, _COL_EDGE] = edges.reshape(n_faces, 9)
+    packed[:, COL_TRI] = triangles.reshape(n_faces, 9)
+    packed[:, COL_EDGE] = edges.reshape(n_faces, 9)
     # n x e_i / |e_i| is the in-plane normal of edge i pointing into a counter-clockwise face.
     edge_normals = _cross(normals[:, None, :], edges) / np.sqrt(edge_sq)[:, :, None]
-    packed[:, _COL_EDGE_NORMAL] = edge_normals.reshape(n_faces, 9)
-    packed[:, _COL_NORMAL] = normals
-    packed[:, _COL_EDGE_SQ] = edge_sq
-    packed[:, _COL_DOUBLE_AREA] = double_area
+    packed[:, COL_EDGE_NORMAL] = edge_normals.reshape(n_faces, 9)
+    packed[:, COL_NORMAL] = normals
+    packed[:, COL_EDGE_SQ] = edge_sq
+    packed[:, COL_DOUBLE_AREA] = double_area
     return packed
 
 
@@ -147,11 +157,11 @@ def face_geometry(triangles: np.ndarray) -> FaceGeometry:
         Reuse it for every query while the mesh does not move; recompute after it deforms.
     """
     triangles = np.ascontiguousarray(triangles, dtype=float)
-    centers, radii = kernels.face_bounds(triangles.reshape(-1, 3), _soup_faces(len(triangles)))
+    centers, radii = kernels.face_bounds(triangles.reshape(-1, 3), soup_faces(len(triangles)))
     return FaceGeometry(triangles=triangles, centers=centers, radii=radii)
 
 
-def _soup_faces(n_faces: int) -> np.ndarray:
+def soup_faces(n_faces: int) -> np.ndarray:
     """Index array ``arange(3 f).reshape(f, 3)`` that makes a triangle soup an indexed mesh."""
     return np.arange(3 * n_faces, dtype=np.int64).reshape(n_faces, 3)
 

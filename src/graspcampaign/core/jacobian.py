@@ -24,7 +24,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse
 
-from graspcampaign.core.msd import FloorParams, MsdBody, MsdParams, _volume_gradient
+from graspcampaign.core.msd import FloorParams, MsdBody, MsdParams
+from graspcampaign.core.msd_forces import volume_gradient
 
 __all__ = [
     "BodyJacobian",
@@ -191,7 +192,7 @@ def body_jacobian(body: MsdBody, params: MsdParams, state, pattern: JacobianPatt
     vector, scale = None, 0.0
     if params.bulk_modulus > 0.0 and body.faces is not None:
         positions = state.reshape(-1, 6)[:, :3]
-        gradient, volume = _volume_gradient(body, positions)
+        gradient, volume = volume_gradient(body, positions)
         pressure = params.bulk_modulus * (volume - body.rest_volume) / body.rest_volume
         blocks["c_next"] = -pressure * (-skew(positions[body.corner_prev]) / 6.0)
         blocks["c_prev"] = -pressure * (skew(positions[body.corner_next]) / 6.0)

@@ -42,7 +42,7 @@ from graspcampaign.core.mesh_file import (  # noqa: F401  (re-exported: user mes
     MESH_SUFFIXES,
     UNITS,
     MeshError,
-    _finish,
+    centre_mesh,
     check_mesh,
     check_one_body,
     load_mesh,
@@ -183,7 +183,7 @@ def _star_mesh(radius_fn: Callable[[np.ndarray], np.ndarray], n_nodes: int,
 # --------------------------------------------------------------------------------------------
 def _sphere(n_nodes: int) -> trimesh.Trimesh:
     """Sphere of radius 50 mm (§6.2, Table 2)."""
-    return _finish(_star_mesh(lambda u: np.full(len(u), SPHERE_RADIUS), n_nodes, relax=False))
+    return centre_mesh(_star_mesh(lambda u: np.full(len(u), SPHERE_RADIUS), n_nodes, relax=False))
 
 
 def _ellipsoid_radius(u: np.ndarray) -> np.ndarray:
@@ -192,7 +192,7 @@ def _ellipsoid_radius(u: np.ndarray) -> np.ndarray:
 
 def _ellipsoid(n_nodes: int) -> trimesh.Trimesh:
     """Ellipsoid with semi-axes 60 x 45 x 35 mm along x, y, z (§6.2)."""
-    return _finish(_star_mesh(_ellipsoid_radius, n_nodes, relax=True))
+    return centre_mesh(_star_mesh(_ellipsoid_radius, n_nodes, relax=True))
 
 
 def _rounded_cube_radius(u: np.ndarray) -> np.ndarray:
@@ -210,7 +210,7 @@ def _rounded_cube_radius(u: np.ndarray) -> np.ndarray:
 
 def _rounded_cube(n_nodes: int) -> trimesh.Trimesh:
     """Cube of half-side 40 mm with 12 mm fillets on every edge and corner (§6.2)."""
-    return _finish(_star_mesh(_rounded_cube_radius, n_nodes, relax=True))
+    return centre_mesh(_star_mesh(_rounded_cube_radius, n_nodes, relax=True))
 
 
 def _pear_sdf(points: np.ndarray) -> np.ndarray:
@@ -239,7 +239,7 @@ def _pear(n_nodes: int) -> trimesh.Trimesh:
     """Pear: solid of revolution about z, a 32 mm body blended into a 22 mm top lobe (≈ 90 mm tall)."""
     mesh = _star_mesh(_pear_radius, n_nodes, relax=True)
     mesh.apply_translation(_PEAR_STAR_CENTRE)
-    return _finish(mesh)
+    return centre_mesh(mesh)
 
 
 def _handle_grid(n_nodes: int) -> tuple[int, int]:
@@ -313,7 +313,7 @@ def _handle(n_nodes: int) -> trimesh.Trimesh:
     mesh = trimesh.Trimesh(vertices=vertices, faces=faces, process=False)
     if mesh.volume < 0.0:  # orientation of the grid is fixed, but check rather than assume
         mesh.invert()
-    return _finish(mesh)
+    return centre_mesh(mesh)
 
 
 #: Parametric test objects of §6.2 / Fig. 14: ``SHAPES[name](n_nodes) -> Trimesh`` in metres.

@@ -21,13 +21,14 @@ from graspcampaign.core.plausible import OBJECT_SIZE_MM
 logger = logging.getLogger(__name__)
 
 __all__ = [
-    "MeshError",
-    "UNITS",
-    "MESH_SUFFIXES",
     "MAX_COORDINATE_M",
-    "load_mesh",
+    "MESH_SUFFIXES",
+    "UNITS",
+    "MeshError",
+    "centre_mesh",
     "check_mesh",
     "check_one_body",
+    "load_mesh",
     "winding_numbers",
 ]
 
@@ -41,7 +42,7 @@ class MeshError(ValueError):
     """A mesh or shape request that cannot be used; the message says what is wrong."""
 
 
-def _finish(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
+def centre_mesh(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
     """Centre a constructed mesh on its volume centroid."""
     # Assign rather than apply_translation: trimesh skips transforms within 1e-8 of identity,
     # and the second pass removes the ~1e-9 m left by the first.
@@ -377,7 +378,7 @@ def check_mesh(mesh: trimesh.Trimesh, name: str = "mesh", centre: bool = True) -
         logger.info("mesh %r was wound inward; inverted to outward winding", name)
         out.invert()
     if centre:
-        out = _finish(out)
+        out = centre_mesh(out)
     return out
 
 

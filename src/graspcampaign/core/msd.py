@@ -40,14 +40,12 @@ from graspcampaign.core.msd_audit import (
 from graspcampaign.core.msd_body import (
     MsdBody,
     MsdParams,
-    _rest_stiffness_matrix,  # noqa: F401  (re-exported, used outside this module)
     enclosed_volume,
     msd_body_from_arrays,
     msd_body_from_mesh,
     msd_params_from_modulus,
 )
 from graspcampaign.core.msd_forces import (
-    _volume_gradient,  # noqa: F401  (re-exported, used outside this module)
     internal_forces,
     msd_rhs,
     volume_energy,

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from graspcampaign.core.msd_body import MsdBody, MsdParams
-from graspcampaign.core.msd_forces import _edge_terms, msd_rhs, volume_energy
+from graspcampaign.core.msd_forces import edge_terms, msd_rhs, volume_energy
 from graspcampaign.core.msd_integrate import IntegrationResult, integrate_rk4, rk4_step
 from graspcampaign.core.msd_state import (
     check_state,
@@ -63,7 +63,7 @@ def gravitational_energy(body: MsdBody, params: MsdParams, state) -> np.ndarray:
 def dissipation_power(body: MsdBody, params: MsdParams, state) -> float:
     """Return the power dissipated by the nodal and edge dampers ``b sum|v|^2 + c sum l_dot^2`` [W]."""
     state = np.asarray(state, dtype=np.float64).ravel()
-    _, _, stretch_rate = _edge_terms(body, state)
+    _, _, stretch_rate = edge_terms(body, state)
     velocities = velocities_from_state(state)
     return float(params.b * np.sum(velocities * velocities) + params.c * np.sum(stretch_rate**2))
 

@@ -34,6 +34,7 @@ __all__ = [
     "msd_body_from_arrays",
     "msd_body_from_mesh",
     "msd_params_from_modulus",
+    "rest_stiffness_matrix",
 ]
 
 logger = logging.getLogger(__name__)
@@ -223,7 +224,7 @@ class MsdBody:
         """
         if self.n_edges == 0:
             return 0.0
-        unit = _rest_stiffness_matrix(self, 1.0)
+        unit = rest_stiffness_matrix(self, 1.0)
         if unit.shape[0] <= 64:
             return float(np.linalg.eigvalsh(unit.toarray())[-1])
         # Fixed start vector: ARPACK's default is random, and dt (hence every trajectory) must
@@ -350,7 +351,7 @@ def msd_params_from_modulus(
     """
     body = msd_body_from_arrays(mesh.vertices, mesh.edges_unique, mass)
     k = float(youngs_modulus * body.mean_edge_length)
-    stiffness = _rest_stiffness_matrix(body, k).toarray()
+    stiffness = rest_stiffness_matrix(body, k).toarray()
     eig = np.linalg.eigvalsh(stiffness) / body.node_mass
     # Skip the 6 rigid-body modes (numerically ~0).
     omegas = np.sqrt(np.clip(eig, 0.0, None))
@@ -370,7 +371,7 @@ def msd_params_from_modulus(
     return MsdParams(mass=mass, k=k, c=float(beta * k), b=float(alpha * body.node_mass), g=g)
 
 
-def _rest_stiffness_matrix(body: MsdBody, k: float) -> scipy.sparse.csr_matrix:
+def rest_stiffness_matrix(body: MsdBody, k: float) -> scipy.sparse.csr_matrix:
     """Return the (3n, 3n) tangent stiffness at rest: sum over edges of k (D^T D) kron (u u^T)."""
     d = body.rest_positions[body.edges[:, 0]] - body.rest_positions[body.edges[:, 1]]
     u = d / body.rest_lengths[:, None]

@@ -17,10 +17,12 @@ from graspcampaign.core.msd_body import MsdBody, MsdParams
 from graspcampaign.core.msd_state import positions_from_state
 
 __all__ = [
+    "edge_terms",
     "internal_forces",
     "msd_rhs",
     "volume_energy",
     "volume_forces",
+    "volume_gradient",
 ]
 
 
@@ -29,7 +31,7 @@ __all__ = [
 # ----------------------------------------------------------------------------------------------
 
 
-def _edge_terms(body: MsdBody, state: np.ndarray):
+def edge_terms(body: MsdBody, state: np.ndarray):
     """Return component-major relative positions d (3, e), lengths (e,), and stretch rates (e,)."""
     rel = (body.gather6 @ state).reshape(6, -1)  # [x_i - x_j; v_i - v_j]
     d = rel[:3]
@@ -58,7 +60,7 @@ def internal_forces(body: MsdBody, params: MsdParams, state) -> np.ndarray:
     ----------
     Eq. 3-4 (§2.1-2.2).
     """
-    d, lengths, stretch_rate = _edge_terms(body, np.asarray(state, dtype=np.float64).ravel())
+    d, lengths, stretch_rate = edge_terms(body, np.asarray(state, dtype=np.float64).ravel())
     tension_per_length = (params.k * (lengths - body.rest_lengths) + params.c * stretch_rate) / lengths
     return -(body.scatter6 @ (d * tension_per_length).ravel()).reshape(-1, 6)[:, 3:]
 
@@ -85,11 +87,11 @@ def volume_forces(body: MsdBody, params: MsdParams, positions) -> np.ndarray:
     ----------
     Matyka & Ollila (2004); §12 of the paper (pressure term as future work).
     """
-    gradient, volume = _volume_gradient(body, np.asarray(positions, dtype=np.float64))
+    gradient, volume = volume_gradient(body, np.asarray(positions, dtype=np.float64))
     return (-params.bulk_modulus * (volume - body.rest_volume) / body.rest_volume) * gradient
 
 
-def _volume_gradient(body: MsdBody, positions: np.ndarray) -> tuple[np.ndarray, float]:
+def volume_gradient(body: MsdBody, positions: np.ndarray) -> tuple[np.ndarray, float]:
     """Return dV/dx (n, 3) and V: corner a of a face gets ``(x_b x x_c) / 6``, (a, b, c) cyclic."""
     # np.take is several times faster than fancy indexing on small (n, 3) arrays.
     u = np.take(positions, body.corner_next, axis=0)

@@ -17,7 +17,7 @@ from functools import lru_cache
 import numpy as np
 
 from graspcampaign.core.msd_body import MsdBody, MsdParams
-from graspcampaign.core.msd_forces import _volume_gradient
+from graspcampaign.core.msd_forces import volume_gradient
 
 __all__ = [
     "RK4_IMAGINARY_AXIS_LIMIT",
@@ -237,7 +237,7 @@ def body_step_limit(body: MsdBody, params: MsdParams, k_extra: float = 0.0, c_ex
     """
     if params.bulk_modulus > 0.0 and body.faces is not None:
         # Rank-one volume stiffness (K_b / V0) g g^T: its eigenvalue is (K_b / V0) |dV/dx|^2.
-        grads, _ = _volume_gradient(body, body.rest_positions)
+        grads, _ = volume_gradient(body, body.rest_positions)
         k_extra = k_extra + params.bulk_modulus / body.rest_volume * float(np.sum(grads * grads))
     return _shell_step_limit(
         body.unit_stiffness_max, params.k, params.c, params.b, body.node_mass, k_extra, c_extra

@@ -22,7 +22,7 @@ import logging
 
 import numpy as np
 
-from graspcampaign.core.disturbance import DISTURBANCE_KINDS, KAPPA, _normals
+from graspcampaign.core.disturbance import DISTURBANCE_KINDS, KAPPA, unit_normals
 from graspcampaign.core.statics import GRAVITY
 
 __all__ = [
@@ -56,7 +56,7 @@ def _tangent_bases(normals: np.ndarray) -> np.ndarray:
 def _tangential_solve(points, normals, normal_forces, centroid, forces, moments) -> np.ndarray:
     """Tangential forces (w, 3, 3) for w external wrenches ``forces``, ``moments`` (w, 3)."""
     p = np.asarray(points, dtype=float) - np.asarray(centroid, dtype=float)
-    n = _normals(normals)
+    n = unit_normals(normals)
     fn = np.asarray(normal_forces, dtype=float).reshape(3)
     bases = _tangent_bases(n)
     t = np.transpose(bases, (0, 2, 1)).reshape(6, 3)  # row 2j+k: tangent k of contact j

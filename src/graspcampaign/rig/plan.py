@@ -53,9 +53,8 @@ from graspcampaign.rig.plan_contacts import (
     N_NODES,
     STABLE_RESIDUAL_N,
     HardwarePlan,
-    _make_body,
-    _shape_body,  # noqa: F401  (re-exported, used outside this module)
     hardware_plan,
+    make_body,
 )
 from graspcampaign.rig.plan_predict import (
     commanded_disturbance,
@@ -163,7 +162,7 @@ def _coarse_checked_body(mesh, name: str):
             "vertices)", CoarseMeshWarning, stacklevel=3)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", CoarseMeshWarning)  # said above, in the planner's words
-        return _make_body(mesh)
+        return make_body(mesh)
 
 
 class PicturePathError(ValueError):

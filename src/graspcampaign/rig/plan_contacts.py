@@ -32,7 +32,10 @@ __all__ = [
     "N_NODES",
     "STABLE_RESIDUAL_N",
     "HardwarePlan",
+    "cached_plan",
     "hardware_plan",
+    "make_body",
+    "shape_body",
 ]
 
 
@@ -53,7 +56,8 @@ class _Body:
     ctx: PlanContext
 
 
-def _make_body(mesh) -> _Body:
+def make_body(mesh) -> _Body:
+    """The mesh and its planning context at unit mass and friction (the hardware weights)."""
     from graspcampaign.core.feature import sharp_features
 
     feats = sharp_features(mesh)
@@ -63,10 +67,11 @@ def _make_body(mesh) -> _Body:
 
 
 @functools.lru_cache(maxsize=16)
-def _shape_body(shape: str, n_nodes: int = N_NODES) -> _Body:
+def shape_body(shape: str, n_nodes: int = N_NODES) -> _Body:
+    """The body of a named shape at ``n_nodes`` (cached; see :func:`make_body`)."""
     from graspcampaign.core.mesh import make_object
 
-    return _make_body(make_object(shape, n_nodes))
+    return make_body(make_object(shape, n_nodes))
 
 
 @dataclass(frozen=True)
@@ -159,9 +164,10 @@ def _plan_rng(seed: int, plan_key: str) -> np.random.Generator:
 
 
 @functools.lru_cache(maxsize=4096)
-def _cached_plan(shape: str, planner: str, plan_key: str, seed: int, mass: float, material: str,
-                 friction_level: str) -> HardwarePlan:
-    body = _shape_body(shape)
+def cached_plan(shape: str, planner: str, plan_key: str, seed: int, mass: float, material: str,
+                friction_level: str) -> HardwarePlan:
+    """The planner's contacts on a shape at the object's mass and material (cached per plan key)."""
+    body = shape_body(shape)
     mat = material_model(material, friction_level)
     ctx = replace(body.ctx, mass=mass, mu=mat.mu_s, contact=mat.contact_params())
     k, n = believed_contact_law(planner, mat)

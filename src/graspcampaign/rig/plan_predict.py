@@ -22,7 +22,7 @@ from graspcampaign.core import disturbance as dist
 from graspcampaign.core import slip
 from graspcampaign.core.statics import GRAVITY
 from graspcampaign.rig.belief import PlannerBelief, material_model, planner_belief
-from graspcampaign.rig.plan_contacts import STABLE_RESIDUAL_N, HardwarePlan, _cached_plan, _shape_body
+from graspcampaign.rig.plan_contacts import STABLE_RESIDUAL_N, HardwarePlan, cached_plan, shape_body
 
 __all__ = [
     "commanded_disturbance",
@@ -206,11 +206,11 @@ def predict_trial(row: dict, belief: PlannerBelief | None = None) -> dict[str, A
     shape = str(row["shape"])
     mass = float(row["mass_kg"])
     material = material_model(str(row["material"]), str(row.get("friction_level") or "natural"))
-    hits = _cached_plan.cache_info().hits
-    plan = _cached_plan(shape, planner, str(row["plan_key"]), int(row.get("protocol_seed", 0)),
-                        mass, material.material, material.friction_level)
-    cached = _cached_plan.cache_info().hits > hits
-    centroid = _shape_body(shape).ctx.centroid
+    hits = cached_plan.cache_info().hits
+    plan = cached_plan(shape, planner, str(row["plan_key"]), int(row.get("protocol_seed", 0)),
+                       mass, material.material, material.friction_level)
+    cached = cached_plan.cache_info().hits > hits
+    centroid = shape_body(shape).ctx.centroid
     if belief is None:
         belief = planner_belief(planner, plan.points, plan.normals, material, centroid)
     kind, level, direction = commanded_disturbance(row)

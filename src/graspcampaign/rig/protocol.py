@@ -73,15 +73,15 @@ from graspcampaign.rig.protocol_design import (
     TEST3_E_CELLS,
     TEST3_E_DURATION_S,
     TEST3_MATCHED,
-    _all_objects,
-    _envelope_objects,
-    _object,
+    all_objects,
+    envelope_objects,
+    object_row,
     objects_table,
     shape_equivalent_radius,
 )
 from graspcampaign.rig.protocol_order import (
-    _check_seed,
-    _schedule,
+    check_seed,
+    schedule_slots,
 )
 
 __all__ = [
@@ -141,7 +141,7 @@ def _t2_slot(group: str, object_id: str, planner: str = "heuristic", *, friction
              pose: float = 0.0, closing: float = DEFAULT_CLOSING_MM_PER_S,
              lift: float = DEFAULT_LIFT_MM_PER_S, matched: bool = False, condition: str = "",
              unit: str | None = None) -> dict[str, Any]:
-    return {"group": group, **_object(object_id), "planner": planner, "friction_level": friction,
+    return {"group": group, **object_row(object_id), "planner": planner, "friction_level": friction,
             "pose_err_mm": float(pose), "closing_speed_mm_per_s": float(closing),
             "lift_speed_mm_per_s": float(lift), "hold_s": HOLD_S, "matched": matched,
             "condition": condition, "unit": unit}
@@ -185,7 +185,7 @@ def _test2_slots() -> list[dict[str, Any]]:
                                    matched=True, condition=cond, unit=unit)
                           for planner in PLANNER_LABELS]
     # X: further centroid and random trials on the 30 envelope objects, pose alternating.
-    envelope = _envelope_objects()
+    envelope = envelope_objects()
     for planner, count in TEST2_X_COUNTS.items():
         for i in range(count):
             pose = (0.0, 10.0)[(i // len(envelope)) % 2]
@@ -217,8 +217,8 @@ def test2_schedule(seed: int = 0) -> pd.DataFrame:
         material, mass_kg, planner, planner_label, plan_key, friction_level, pose_err_mm,
         closing_speed_mm_per_s, lift_speed_mm_per_s, hold_s, matched, condition, repeat``).
     """
-    seed = _check_seed(seed)
-    return _schedule(_test2_slots(), STUDY_TEST2, "t2", "group", seed, TEST2_COLUMNS)
+    seed = check_seed(seed)
+    return schedule_slots(_test2_slots(), STUDY_TEST2, "t2", "group", seed, TEST2_COLUMNS)
 
 
 # --------------------------------------------------------------------------------------------
@@ -226,7 +226,7 @@ def test2_schedule(seed: int = 0) -> pd.DataFrame:
 # --------------------------------------------------------------------------------------------
 def _t3_slot(block: str, object_id: str, planner: str = "heuristic", *, friction: str = "natural",
              probe: str = "", matched: bool = False, condition: str = "", **levels) -> dict:
-    obj = _object(object_id)
+    obj = object_row(object_id)
     weight = obj["mass_kg"] * GRAVITY
     slot = {"block": block, **obj, "planner": planner, "friction_level": friction, "probe": probe,
             "pose_err_mm": 0.0, "closing_speed_mm_per_s": DEFAULT_CLOSING_MM_PER_S,
@@ -272,8 +272,8 @@ def _matched_condition_key(block: str, levels: dict) -> str:
 def _test3_proposed() -> list[dict[str, Any]]:
     slots: list[dict[str, Any]] = []
     matched_objects = set(MATCHED_OBJECTS)
-    envelope = _envelope_objects()
-    everything = _all_objects()
+    envelope = envelope_objects()
+    everything = all_objects()
 
     def matched_slot(block, object_id, extra=None, **levels):
         key = _matched_condition_key(block, levels)
@@ -376,11 +376,11 @@ def test3_schedule(seed: int = 0) -> pd.DataFrame:
         ``amplitude_n``, ``duration_s`` and the retention proof loads ``proof_force_n`` (A: one
         weight) and ``proof_torque_nm`` (C: the weight at the shape's equivalent radius).
     """
-    seed = _check_seed(seed)
+    seed = check_seed(seed)
     proposed = _test3_proposed()
     baselines = []
     for s in proposed:
         if s["matched"]:
             s["unit"] = f"M|{s['object_id']}|{s['condition']}"
             baselines += [{**s, "planner": p} for p in BASELINES]
-    return _schedule(proposed + baselines, STUDY_TEST3, "t3", "block", seed, TEST3_COLUMNS)
+    return schedule_slots(proposed + baselines, STUDY_TEST3, "t3", "block", seed, TEST3_COLUMNS)

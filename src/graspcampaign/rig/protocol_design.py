@@ -58,6 +58,9 @@ __all__ = [
     "TEST3_E_CELLS",
     "TEST3_E_DURATION_S",
     "TEST3_MATCHED",
+    "all_objects",
+    "envelope_objects",
+    "object_row",
     "objects_table",
     "shape_equivalent_radius",
 ]
@@ -165,9 +168,6 @@ TEST3_MATCHED = (
 SESSION_SLOTS = 45
 """Trial slots per session (decision: a half-day at ~4 min per trial); two sessions per day."""
 
-_HASH_LEN = 10
-
-
 # --------------------------------------------------------------------------------------------
 # Objects
 # --------------------------------------------------------------------------------------------
@@ -195,16 +195,19 @@ def shape_equivalent_radius(shape: str, n_nodes: int = 390) -> float:
     return float(default_d_opt(make_object(shape, n_nodes)) / math.sqrt(3.0))
 
 
-def _object(object_id: str) -> dict[str, Any]:
+def object_row(object_id: str) -> dict[str, Any]:
+    """Id, shape, index, material and mass of one object, e.g. ``object_row("sphere-03")``."""
     shape, k = object_id.rsplit("-", 1)
     k = int(k)
     return {"object_id": object_id, "shape": shape, "object_index": k,
             "material": OBJECT_MATERIALS[k - 1], "mass_kg": OBJECT_MASSES_KG[k - 1]}
 
 
-def _envelope_objects() -> list[str]:
+def envelope_objects() -> list[str]:
+    """Ids of the envelope objects (``ENVELOPE_INDICES`` of each shape)."""
     return [f"{s}-{k:02d}" for s in SHAPE_ORDER for k in ENVELOPE_INDICES]
 
 
-def _all_objects() -> list[str]:
+def all_objects() -> list[str]:
+    """Ids of all 40 objects, shape by shape."""
     return [f"{s}-{k:02d}" for s in SHAPE_ORDER for k in range(1, 9)]

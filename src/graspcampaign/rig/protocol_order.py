@@ -20,15 +20,20 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from graspcampaign.rig.protocol_design import _HASH_LEN, PAPER_COUNTS, PLANNER_LABELS, SESSION_SLOTS
+from graspcampaign.rig.protocol_design import PAPER_COUNTS, PLANNER_LABELS, SESSION_SLOTS
 
 __all__ = [
+    "check_seed",
+    "schedule_slots",
 ]
 
 
 # --------------------------------------------------------------------------------------------
 # Ids, run order, rig faults
 # --------------------------------------------------------------------------------------------
+_HASH_LEN = 10
+
+
 def _canonical(obj: Any) -> str:
     return json.dumps(obj, sort_keys=True, separators=(",", ":"), default=str)
 
@@ -113,8 +118,8 @@ def _finish(rows: list[dict], study: str, seed: int, columns: list[str]) -> pd.D
     return df[front + rest + extra].reset_index(drop=True)
 
 
-def _schedule(slots: list[dict[str, Any]], study: str, prefix: str, key: str, seed: int,
-              columns: list[str]) -> pd.DataFrame:
+def schedule_slots(slots: list[dict[str, Any]], study: str, prefix: str, key: str, seed: int,
+                   columns: list[str]) -> pd.DataFrame:
     """Id, plan-key, order (with the paper's rig faults) and tabulate one study's slots."""
     _with_ids(slots, study, prefix, key)
     _plan_keys(slots)
@@ -122,7 +127,8 @@ def _schedule(slots: list[dict[str, Any]], study: str, prefix: str, key: str, se
     return _finish(rows, study, seed, columns)
 
 
-def _check_seed(seed: object) -> int:
+def check_seed(seed: object) -> int:
+    """Return ``seed`` as an int; refuse anything but a non-negative integer."""
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise ValueError(f"seed must be a non-negative int, got {seed!r}")
     return int(seed)

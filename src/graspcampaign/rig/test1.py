@@ -42,16 +42,13 @@ from graspcampaign.rig.ingest import IngestError
 from graspcampaign.rig.test1_bench import (
     MAX_ATTEMPTS,
     VirtualBenchResult,
-    _command,
-    _specimen,
-    _table_arrays,
     run_events,
     run_virtual_bench,
     specimen_truths,
 )
 
 # re-exported: they live in graspcampaign.rig.test1_fits
-from graspcampaign.rig.test1_fits import _META, REVIEW_RMSE_PCT, fit_waveforms
+from graspcampaign.rig.test1_fits import REVIEW_RMSE_PCT, fit_waveforms
 
 # re-exported: they live in graspcampaign.rig.test1_ingest
 from graspcampaign.rig.test1_ingest import read_waveforms, validate_waveforms, waveform_template
@@ -63,9 +60,9 @@ from graspcampaign.rig.test1_protocol import (
     PUBLISHED,
     SPLITS,
     Test1Protocol,
-    _rng,
     event_id_for,
     event_rng,
+    keyed_rng,
 )
 
 # re-exported: they live in graspcampaign.rig.test1_pso
@@ -73,10 +70,6 @@ from graspcampaign.rig.test1_pso import (
     PSO_CONVERGENCE_FACTOR,
     PSO_LAMBDA1_UPPER,
     PSO_POINTS_PER_TRACE,
-    _converged,
-    _pso_cost,
-    _pso_draw,
-    _pso_run,
     pso_reidentify,
 )
 from graspcampaign.rig.test1_summary import (
@@ -109,13 +102,9 @@ __all__ = [
     "run_events",
     "run_virtual_bench",
     "specimen_truths",
-    "_command",
-    "_specimen",
-    "_table_arrays",
     # re-exported: they live in graspcampaign.rig.test1_fits
     "REVIEW_RMSE_PCT",
     "fit_waveforms",
-    "_META",
     # re-exported: they live in graspcampaign.rig.test1_ingest
     "read_waveforms",
     "validate_waveforms",
@@ -125,10 +114,6 @@ __all__ = [
     "PSO_LAMBDA1_UPPER",
     "PSO_POINTS_PER_TRACE",
     "pso_reidentify",
-    "_converged",
-    "_pso_cost",
-    "_pso_draw",
-    "_pso_run",
     # re-exported: they live in graspcampaign.rig.test1_summary
     "SOURCE",
     "WAVEFORM_COLUMNS",
@@ -304,7 +289,7 @@ def test1_schedule(seed: int = 0, *, protocol: Test1Protocol | None = None,
     for e in envs:
         if e not in ENVIRONMENTS:
             raise ValueError(f"unknown environment {e!r}; expected one of {list(ENVIRONMENTS)}")
-    rng = _rng(seed, "test1-schedule")
+    rng = keyed_rng(seed, "test1-schedule")
     rows: list[dict] = []
     day = session = 0
     env_order = [envs[i] for i in rng.permutation(len(envs))]

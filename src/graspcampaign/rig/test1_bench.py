@@ -19,21 +19,30 @@ import pandas as pd
 from graspcampaign.analysis.calibration import MATERIALS
 from graspcampaign.core import bench
 from graspcampaign.core.bench import FAMILIES, EventCommand, SensorParams, SpreadParams
-from graspcampaign.rig.test1_fits import _fit_row, _order_fit_columns
-from graspcampaign.rig.test1_protocol import ENVIRONMENTS, Test1Protocol, _rng, event_rng
+from graspcampaign.rig.test1_fits import fit_row, order_fit_columns
+from graspcampaign.rig.test1_protocol import ENVIRONMENTS, Test1Protocol, event_rng, keyed_rng
 from graspcampaign.rig.test1_summary import SOURCE, WAVEFORM_COLUMNS
 
-__all__ = ["MAX_ATTEMPTS", "VirtualBenchResult", "run_events", "run_virtual_bench",
-           "specimen_truths"]
+__all__ = [
+    "MAX_ATTEMPTS",
+    "VirtualBenchResult",
+    "event_command",
+    "run_events",
+    "run_virtual_bench",
+    "specimen_params",
+    "specimen_truths",
+    "waveform_arrays",
+]
 
 
 # ------------------------------------------------------------------------ truths
 
 
 @lru_cache(maxsize=4096)
-def _specimen(seed: int, material: str, specimen: int, environment: str,
-              spread: SpreadParams) -> bench.SpecimenParams:
-    rng = _rng(seed, "specimen", material, str(specimen))
+def specimen_params(seed: int, material: str, specimen: int, environment: str,
+                    spread: SpreadParams) -> bench.SpecimenParams:
+    """The drawn constants of one specimen in one environment (the same for every event on it)."""
+    rng = keyed_rng(seed, "specimen", material, str(specimen))
     return bench.draw_specimen(FAMILIES[material], specimen, environment, rng, spread)
 
 
@@ -66,7 +75,7 @@ def specimen_truths(seed: int, schedule: pd.DataFrame | None = None, *,
                        key=lambda c: (MATERIALS.index(c[0]), c[1], ENVIRONMENTS.index(c[2])))
     rows = []
     for m, s, e in cells:
-        t = _specimen(int(seed), m, int(s), e, sp)
+        t = specimen_params(int(seed), m, int(s), e, sp)
         dd = bench.true_damage_depth(t)
         rows.append({
             "material": m, "specimen": int(s), "environment": e,
@@ -87,11 +96,12 @@ def specimen_truths(seed: int, schedule: pd.DataFrame | None = None, *,
 @lru_cache(maxsize=1024)
 def _cyclic_states(seed: int, material: str, specimen: int, environment: str,
                    spread: SpreadParams, p: Test1Protocol) -> tuple[np.ndarray, np.ndarray]:
-    spec = _specimen(seed, material, specimen, environment, spread)
+    spec = specimen_params(seed, material, specimen, environment, spread)
     return bench.cyclic_state(spec, p.cyclic_depths_mm() * 1e-3)
 
 
-def _command(row: dict, seed: int, spread: SpreadParams, p: Test1Protocol) -> EventCommand:
+def event_command(row: dict, seed: int, spread: SpreadParams, p: Test1Protocol) -> EventCommand:
+    """The bench command of one schedule row (SI units; cyclic rows carry the specimen's state)."""
     b = row["block"]
     common = {"block": b, "speed": row["speed_mm_per_s"] * 1e-3,
               "accel": row["accel_mm_per_s2"] * 1e-3, "daq_hz": float(row["daq_hz"])}
@@ -111,7 +121,7 @@ def _command(row: dict, seed: int, spread: SpreadParams, p: Test1Protocol) -> Ev
     return cmd
 
 
-def _table_arrays(w: bench.Waveform) -> dict[str, np.ndarray]:
+def waveform_arrays(w: bench.Waveform) -> dict[str, np.ndarray]:
     """Waveform channels in file units, quantised exactly as the sensors resolve them."""
     return {
         "time_s": np.round(w.time, 9),
@@ -132,9 +142,9 @@ def _run_rows(rows: list[dict], seed: int, spread: SpreadParams, sensor: SensorP
               ) -> tuple[list[dict], list[dict], list[dict]]:
     attempts, fits, waves = [], [], []
     for row in rows:
-        spec = _specimen(seed, row["material"], int(row["specimen"]), row["environment"],
-                         spread)
-        cmd = _command(row, seed, spread, p)
+        spec = specimen_params(seed, row["material"], int(row["specimen"]), row["environment"],
+                               spread)
+        cmd = event_command(row, seed, spread, p)
         for attempt in range(1, MAX_ATTEMPTS + 1):
             w = bench.simulate_event(cmd, spec, event_rng(seed, row["event_id"], attempt),
                                      sensor)
@@ -145,9 +155,9 @@ def _run_rows(rows: list[dict], seed: int, spread: SpreadParams, sensor: SensorP
                              "source": SOURCE})
             if w.aborted:
                 continue
-            a = _table_arrays(w)
+            a = waveform_arrays(w)
             if fit:
-                fits.append(_fit_row(row, a, attempt, w.anomaly))
+                fits.append(fit_row(row, a, attempt, w.anomaly))
             if keep:
                 waves.append({"event_id": row["event_id"], "attempt": attempt,
                               "anomaly": w.anomaly, **a})
@@ -267,7 +277,7 @@ def run_virtual_bench(schedule: pd.DataFrame, seed: int, *, n_jobs: int = 1,
     attempts = pd.DataFrame([a for part in parts for a in part[0]])
     fits = pd.DataFrame([f for part in parts for f in part[1]])
     waves = _waves_frame([w for part in parts for w in part[2]]) if keep_waveforms else None
-    return VirtualBenchResult(attempts=attempts, fits=_order_fit_columns(fits),
+    return VirtualBenchResult(attempts=attempts, fits=order_fit_columns(fits),
                               waveforms=waves, truths=specimen_truths(seed, schedule, spread=sp),
                               meta={"seed": int(seed), "source": SOURCE,
                                     "n_events": len(rows)})

@@ -11,7 +11,13 @@ import pandas as pd
 from graspcampaign.core import bench
 from graspcampaign.rig.test1_summary import SOURCE, channels
 
-__all__ = ["REVIEW_RMSE_PCT", "fit_waveforms"]
+__all__ = [
+    "META_COLUMNS",
+    "REVIEW_RMSE_PCT",
+    "fit_row",
+    "fit_waveforms",
+    "order_fit_columns",
+]
 
 
 REVIEW_RMSE_PCT = bench.RMSE_REVIEW_THRESHOLD_PCT
@@ -76,22 +82,24 @@ def _fit_arrays(row: dict, a: dict[str, np.ndarray], anomaly: str) -> dict:
     return out
 
 
-_META = ("event_id", "material", "specimen", "specimen_id", "environment", "block", "split",
-         "surface", "surface_radius_mm", "angle_deg", "speed_mm_per_s", "depth_mm", "normal_load_n", "hold_s",
-         "cycle_index")
+META_COLUMNS = ("event_id", "material", "specimen", "specimen_id", "environment", "block", "split",
+                "surface", "surface_radius_mm", "angle_deg", "speed_mm_per_s", "depth_mm",
+                "normal_load_n", "hold_s", "cycle_index")
 
 
-def _fit_row(row: dict, a: dict[str, np.ndarray], attempt: int, anomaly: str) -> dict:
-    out = {k: row[k] for k in _META}
+def fit_row(row: dict, a: dict[str, np.ndarray], attempt: int, anomaly: str) -> dict:
+    """One fits row: the schedule row's ``META_COLUMNS``, the attempt and the event's fits."""
+    out = {k: row[k] for k in META_COLUMNS}
     out.update(attempt=int(attempt), anomaly=anomaly, source=SOURCE)
     out.update(_fit_arrays(row, a, anomaly))
     return out
 
 
-def _order_fit_columns(fits: pd.DataFrame) -> pd.DataFrame:
+def order_fit_columns(fits: pd.DataFrame) -> pd.DataFrame:
+    """The fits with ``META_COLUMNS``, attempt, anomaly, source and n_samples first."""
     if fits.empty:
         return fits
-    first = [*_META, "attempt", "anomaly", "source", "n_samples"]
+    first = [*META_COLUMNS, "attempt", "anomaly", "source", "n_samples"]
     rest = [c for c in fits.columns if c not in first]
     return fits[first + rest].reset_index(drop=True)
 
@@ -128,8 +136,8 @@ def fit_waveforms(waveforms: pd.DataFrame, schedule: pd.DataFrame,
         else:
             anomaly = ""
         attempt = int(g["attempt"].iloc[0]) if "attempt" in g else 1
-        fit = _fit_row(row, channels(g), attempt, anomaly)
+        fit = fit_row(row, channels(g), attempt, anomaly)
         # a file without a source column comes from a rig: never label it virtual
         fit["source"] = str(g["source"].iloc[0]) if "source" in g else "measured"
         rows.append(fit)
-    return _order_fit_columns(pd.DataFrame(rows))
+    return order_fit_columns(pd.DataFrame(rows))

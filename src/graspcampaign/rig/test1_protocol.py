@@ -12,8 +12,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["BLOCKS", "ENVIRONMENTS", "PUBLISHED", "SPLITS", "Test1Protocol", "event_id_for",
-           "event_rng"]
+__all__ = [
+    "BLOCKS",
+    "ENVIRONMENTS",
+    "PUBLISHED",
+    "SPLITS",
+    "Test1Protocol",
+    "event_id_for",
+    "event_rng",
+    "keyed_rng",
+]
 
 
 ENVIRONMENTS = ("cool_dry", "normal_lab", "warm_humid")
@@ -117,7 +125,8 @@ def event_id_for(material: str, specimen: int, environment: str, block: str,
     return "t1-" + hashlib.blake2b(key.encode(), digest_size=6).hexdigest()
 
 
-def _rng(seed: int, *key: str) -> np.random.Generator:
+def keyed_rng(seed: int, *key: str) -> np.random.Generator:
+    """Generator of one named stream: ``SeedSequence(seed, spawn_key=(h(k) for k in key))``."""
     words = [_hash_int(k, 4) for k in key]
     return np.random.default_rng(np.random.SeedSequence(int(seed), spawn_key=tuple(words)))
 

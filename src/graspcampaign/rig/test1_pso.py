@@ -11,11 +11,19 @@ from graspcampaign.analysis.calibration import MATERIALS
 from graspcampaign.core import bench
 from graspcampaign.core.bench import FAMILIES
 from graspcampaign.core.contact import contact_damping_c, contact_stiffness_k
-from graspcampaign.rig.test1_protocol import _rng
+from graspcampaign.rig.test1_protocol import keyed_rng
 from graspcampaign.rig.test1_summary import SOURCE, normal_traces
 
-__all__ = ["PSO_CONVERGENCE_FACTOR", "PSO_LAMBDA1_UPPER", "PSO_POINTS_PER_TRACE",
-           "pso_reidentify"]
+__all__ = [
+    "PSO_CONVERGENCE_FACTOR",
+    "PSO_LAMBDA1_UPPER",
+    "PSO_POINTS_PER_TRACE",
+    "converged_runs",
+    "pso_cost",
+    "pso_draw",
+    "pso_reidentify",
+    "pso_run",
+]
 
 
 PSO_LAMBDA1_UPPER = 5.0
@@ -27,7 +35,7 @@ PSO_CONVERGENCE_FACTOR = 1.5
 parameters reach on that restart's own traces (decision)."""
 
 
-def _converged(runs: list, costs: list) -> np.ndarray:
+def converged_runs(runs: list, costs: list) -> np.ndarray:
     """Convergence of each run judged on its own objective (its own traces).
 
     Restarts fit different random trace draws, so their final costs measure different
@@ -40,7 +48,7 @@ def _converged(runs: list, costs: list) -> np.ndarray:
                      for res, cost in zip(runs, costs, strict=True)])
 
 
-def _pso_cost(traces: list[tuple], psi: float, backend: str = "numba"):
+def pso_cost(traces: list[tuple], psi: float, backend: str = "numba"):
     """The §7.5 PSO cost over ``traces``: mean over traces of the Eq. 13 force RMSE (% of
     peak) of each particle's ``K = 2 lambda1 Psi sqrt(R)``, ``C = 4 pi R lambda2`` and ``n``
     (:meth:`graspcampaign.core.bench.TraceSet.mean_rmse_pct`; ``backend="numpy"`` is its
@@ -57,22 +65,22 @@ def _pso_cost(traces: list[tuple], psi: float, backend: str = "numba"):
     return cost
 
 
-def _pso_draw(pool: list[tuple], seed: int, material: str, run: int, traces_per_run: int
-              ) -> tuple[list[tuple], np.random.Generator]:
+def pso_draw(pool: list[tuple], seed: int, material: str, run: int, traces_per_run: int
+             ) -> tuple[list[tuple], np.random.Generator]:
     """The traces of run ``run`` of ``material`` and the generator that then draws its swarm,
     both from ``(seed, "pso", material, run)``."""
-    rng = _rng(seed, "pso", material, str(run))
+    rng = keyed_rng(seed, "pso", material, str(run))
     pick = rng.choice(len(pool), size=min(traces_per_run, len(pool)), replace=False)
     return [pool[i] for i in sorted(pick)], rng
 
 
-def _pso_run(traces: list[tuple], psi: float, rng: np.random.Generator,
-             bounds: tuple[np.ndarray, np.ndarray], n_particles: int, n_iterations: int):
-    """Minimise :func:`_pso_cost` over ``traces`` with the swarm drawn from ``rng`` (a task:
+def pso_run(traces: list[tuple], psi: float, rng: np.random.Generator,
+            bounds: tuple[np.ndarray, np.ndarray], n_particles: int, n_iterations: int):
+    """Minimise :func:`pso_cost` over ``traces`` with the swarm drawn from ``rng`` (a task:
     it carries its own traces and generator state, not the material's pool)."""
     from graspcampaign.core.pso import pso_minimize
 
-    return pso_minimize(_pso_cost(traces, psi), *bounds, n_particles=n_particles,
+    return pso_minimize(pso_cost(traces, psi), *bounds, n_particles=n_particles,
                         n_iterations=n_iterations, rng=rng)
 
 
@@ -99,7 +107,7 @@ def pso_reidentify(waveforms: pd.DataFrame, schedule: pd.DataFrame, seed: int, *
     ``traces_per_run`` traces from the material's normal-indentation traces in
     ``waveforms``, so the spread over restarts reflects trace-to-trace variability. A run
     counts as converged when its cost is within 1.5x the lowest cost that any logged run's
-    parameters reach on its own traces (:func:`_converged`; the restarts' own costs are not
+    parameters reach on its own traces (:func:`converged_runs`; the restarts' own costs are not
     comparable, each fits other traces); diverged runs stay in the log and re-runs are added
     until ``n_restarts`` converge (at most ``max_reruns``).
 
@@ -143,10 +151,10 @@ def pso_reidentify(waveforms: pd.DataFrame, schedule: pd.DataFrame, seed: int, *
             sources[m] = str(g["source"].iloc[0]) if "source" in g else SOURCE
 
     def run_all(tasks: list[tuple[str, int]]) -> list[tuple]:
-        drawn = [_pso_draw(pools[m], int(seed), m, r, traces_per_run) for m, r in tasks]
-        results = _map(_pso_run, [(traces, psis[m], rng, (lower, upper), n_particles,
-                                   n_iterations) for (m, _), (traces, rng)
-                                  in zip(tasks, drawn, strict=True)], n_jobs)
+        drawn = [pso_draw(pools[m], int(seed), m, r, traces_per_run) for m, r in tasks]
+        results = _map(pso_run, [(traces, psis[m], rng, (lower, upper), n_particles,
+                                  n_iterations) for (m, _), (traces, rng)
+                                 in zip(tasks, drawn, strict=True)], n_jobs)
         return [(res, traces) for res, (traces, _) in zip(results, drawn, strict=True)]
 
     # runs are independent streams: compute the first n_restarts of every material at once,
@@ -162,14 +170,14 @@ def pso_reidentify(waveforms: pd.DataFrame, schedule: pd.DataFrame, seed: int, *
         for m, outs in done.items():
             if len(outs) >= limit:
                 continue
-            costs = [_pso_cost(traces, psis[m]) for _, traces in outs]
-            short = n_restarts - int(_converged([res for res, _ in outs], costs).sum())
+            costs = [pso_cost(traces, psis[m]) for _, traces in outs]
+            short = n_restarts - int(converged_runs([res for res, _ in outs], costs).sum())
             if short > 0:
                 todo += [(m, r) for r in range(len(outs), min(len(outs) + short, limit))]
     rows = []
     for m, outs in done.items():
         runs = [res for res, _ in outs]
-        converged = _converged(runs, [_pso_cost(traces, psis[m]) for _, traces in outs])
+        converged = converged_runs(runs, [pso_cost(traces, psis[m]) for _, traces in outs])
         for r, res in enumerate(runs):
             lam1, lam2, n, b, k, c = (float(v) for v in res.best_x)
             rows.append({

@@ -18,7 +18,7 @@ import numpy as np
 import pandas as pd
 
 from graspcampaign.analysis.calibration import cyclic_summary
-from graspcampaign.core import bench
+from graspcampaign.core import bench, bench_contact
 from graspcampaign.core.bench import FAMILIES
 from graspcampaign.core.contact import contact_damping_c, contact_stiffness_k, normal_force
 
@@ -122,7 +122,7 @@ def transfer_errors(fits: pd.DataFrame, waveforms: pd.DataFrame | None = None, *
         law = calibrated(r, n_spec, n_fam)
         radius = r["surface_radius_mm"] if np.isfinite(r["surface_radius_mm"]) else \
             curved_radius_mm
-        scale = bench._curvature_scale(radius * 1e-3)
+        scale = bench_contact.curvature_scale(radius * 1e-3)
         pred = scale * law["k_n_per_mm_n"] * r["depth_mm"] ** law["exponent_n"]
         add(r, "flat_to_curved", abs(pred - r["peak_normal_force_n"])
             / r["peak_normal_force_n"] * 100.0)

@@ -73,6 +73,7 @@ from graspcampaign.core.statics import GRAVITY
 from graspcampaign.rig import belief as rigbelief
 from graspcampaign.rig import plan as rigplan
 from graspcampaign.rig.disturb import disturb, empty_measures, num, quantise
+from graspcampaign.rig.plan_contacts import shape_body
 from graspcampaign.rig.protocol import LIFT_HEIGHT_MM
 from graspcampaign.rig.specimen import (  # noqa: F401  (re-exported: the truth a trial runs on)
     COATING_MU_REL,
@@ -323,7 +324,7 @@ def virtual_trial(row: dict, predictions: dict, rng: np.random.Generator,
     spec = specimen_truth(seed, str(row["object_id"]), str(row["material"]),
                           int(row.get("object_index", 1)), str(row.get("friction_level", "natural")),
                           environment, p.coating_mu_rel)
-    body = rigplan._shape_body(str(row["shape"]))
+    body = shape_body(str(row["shape"]))
     centroid = np.asarray(body.ctx.centroid)
     mass = float(row["mass_kg"])
     weight = mass * GRAVITY
