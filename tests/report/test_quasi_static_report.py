@@ -212,6 +212,25 @@ def test_successes_beyond_the_design_limit_are_counted_in_the_finding_and_captio
     assert finding(runs["laws"]).startswith("Successes deeper than the paper's 1 mm design limit: ")
 
 
+def test_the_papers_ordering_is_claimed_only_where_our_rates_order_the_planners_strictly(runs, tmp_path):
+    """Planners tied at one rate have no ordering: a run where every trial fails (all at 0%, the
+    ties in the study's planner order, which is the paper's) claims the ordering under no law."""
+    paper = ["heuristic", "antipodal", "random", "centroid"]  # Fig. 18, highest first
+    rates = ok_records(runs["laws"]).groupby(["grip_law", "planner"])["success"].mean().unstack()
+    strict = [label("grip_law", law) for law in LAWS if (rates.loc[law, paper].diff().iloc[1:] < 0).all()]
+    assert f"its ordering appears under {', '.join(strict) or 'none of the laws'}." in finding(runs["laws"])
+
+    def fail(factors, rng):
+        return {**quasi_static_outputs(factors, rng), "success": False, "failure_check": "residual"}
+
+    store = make_run(tmp_path / "results", "grip_laws", "quasi_static",
+                     {"shape": SHAPES[:2], "mass_kg": [0.2], "mu": [0.3], "planner": PLANNERS,
+                      "grip_law": LAWS}, seeds=2, paper=None, outputs=fail,
+                     method_factors=["planner", "grip_law"])
+    build_reports(["grip_laws"], root=tmp_path / "results")
+    assert "its ordering appears under none of the laws." in finding(store)
+
+
 def test_ablation_gains_its_grip_law_columns(runs):
     store = runs["ablation"]
     rates = read_table(store, "success_by_planner")

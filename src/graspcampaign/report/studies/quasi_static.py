@@ -401,8 +401,9 @@ def grip_finding(run: Run) -> str:
     names = lambda planners: ", ".join(label("planner", p) for p in planners) or "none"  # noqa: E731
     rank = {law: t[t["grip_law"] == law].sort_values("rate_pct", ascending=False, kind="stable")
             for law in run.order["grip_law"]}
-    same = [law for law, g in rank.items()
-            if [p for p in g["planner"] if p in paper] == sorted(paper, key=lambda p: -paper[p])]
+    ours = t.pivot(index="planner", columns="grip_law", values="rate_pct")  # NaN: a planner not run
+    same = [law for law in rank  # strictly: planners tied at one rate (say all at 0%) show no order
+            if ours[law].reindex(sorted(paper, key=lambda p: -paper[p])).diff().iloc[1:].lt(0).all()]
     return (
         f"{over_limit(run)} ".lstrip() + "Success per grip law, highest first — " + "; ".join(
             f"{label('grip_law', law)}: " + ", ".join(
