@@ -154,6 +154,17 @@ def test_grip_laws_mcnemar_pairs_within_each_law(runs):
             # statsmodels mcnemar: chi2 with continuity correction, and the exact binomial test
             assert row["chi2_cc"] == pytest.approx(sm_mcnemar(cells, exact=False, correction=True).statistic)
             assert row["p_exact"] == pytest.approx(sm_mcnemar(cells, exact=True).pvalue)
+    # the finding names every law, a law with no significant pair too (it was left out)
+    for law in LAWS:
+        won, lost = [], []
+        for other in PLANNERS[1:]:
+            pair = wide.xs(law, level="grip_law")[["heuristic", other]].dropna().astype(bool)
+            n10 = int((pair["heuristic"] & ~pair[other]).sum())
+            n01 = int((~pair["heuristic"] & pair[other]).sum())
+            if n10 + n01 and stats.binomtest(n10, n10 + n01).pvalue < 0.05:
+                (won if n10 > n01 else lost).append(label("planner", other))
+        assert (f"under {label('grip_law', law)} beats {', '.join(won) or 'none'} and loses to "
+                f"{', '.join(lost) or 'none'}") in finding(store)
 
 
 def test_grip_laws_rates_readings_checks_and_need(runs):
@@ -229,6 +240,8 @@ def test_the_papers_ordering_is_claimed_only_where_our_rates_order_the_planners_
                      method_factors=["planner", "grip_law"])
     build_reports(["grip_laws"], root=tmp_path / "results")
     assert "its ordering appears under none of the laws." in finding(store)
+    for law in LAWS:  # no pair differs, and every law is still named (not one 'no planner' for all)
+        assert f"under {label('grip_law', law)} beats none and loses to none" in finding(store)
 
 
 def test_ablation_gains_its_grip_law_columns(runs):

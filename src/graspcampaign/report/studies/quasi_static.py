@@ -411,11 +411,11 @@ def grip_finding(run: Run) -> str:
             for law, g in rank.items()) + " — against the paper's " + ", ".join(
             f"{label('planner', p)} {v:g}%" for p, v in paper.items()) + " (Fig. 18): its ordering "
         f"appears under {', '.join(label('grip_law', law) for law in same) or 'none of the laws'}. "
-        "Within each law (McNemar, exact p < 0.05) the proposed planner " + ("; ".join(
+        "Within each law (McNemar, exact p < 0.05) the proposed planner " + "; ".join(
             f"under {label('grip_law', law)} beats "
             f"{names(s.query('reference_only > compared_only').compared)} and "
             f"loses to {names(s.query('reference_only < compared_only').compared)}"
-            for law, s in sig.groupby("grip_law", sort=False)) or "differs from no planner") + ". "
+            for law, s in ((law, sig[sig["grip_law"] == law]) for law in rank)) + ". "
         "Why: H(G) is geometric (S1–S3, P_c, P_e) and sees neither gravity nor the tilt of the "
         "contact plane. Median steepest contact |n_out,z| of each planner's triples: " + ", ".join(
             f"{label('planner', r.planner)} {r.steepest_normal_z_median:.2f}"
