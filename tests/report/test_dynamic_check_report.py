@@ -74,6 +74,16 @@ def test_the_judged_verdict_says_how_the_spheres_dynamic_grasps_ended():
         assert f"(dynamic grasps: {ended}) — consistent" in judged
 
 
+def test_the_closing_caveat_does_not_call_an_undefined_kappa_near_0():
+    """Every grasp failing both ways leaves κ undefined (the table's '—'), not near 0."""
+    run = _run()
+    run.records[[c for c in run.records if "success" in c]] = False
+    run.tables["kappa"] = kappa = report._kappa(run)
+    assert kappa.kappa.isna().all()
+    assert ("Agreement by mutual failure gives κ near 0, or none when every trial has one label in both "
+            "columns: it is not evidence") in report.finding(run)
+
+
 def test_group_tables_show_each_evaluators_success_as_a_percentage():
     run = _run()
     table = next(i for i in report.SPEC.items if getattr(i, "name", "") == "agreement_by_shape")

@@ -361,6 +361,7 @@ def test_pso_cv_table3_and_trace(tmp_path):
     assert bands["p25"].to_numpy() == pytest.approx(
         trace_df.groupby("iteration")["best_cost"].quantile(0.25).to_numpy())
     assert (store.path / "report" / "figures" / "fig21_pso.png").exists()
+    assert "**Best cost J [–] (the composite cost of Sec. 11) reached by each iteration: its mean" in md
 
 
 def test_pso_cvs_of_parameters_j_does_not_depend_on_get_no_verdict(tmp_path):

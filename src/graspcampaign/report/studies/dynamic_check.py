@@ -82,7 +82,8 @@ def finding(run: Run) -> str:
         f"verdict), over every shape and planner: " + "; ".join(
             f"{label('model_preset', r.model_preset)}: {_labels(r)} (dynamic grasps: "
             f"{status(ok[ok.model_preset == r.model_preset])})" for r in context.itertuples()) +
-        f". Agreement by mutual failure gives κ near 0, not evidence that the evaluators agree. {DECISION}.")
+        f". Agreement by mutual failure gives κ near 0, or none when every trial has one label in both "
+        f"columns: it is not evidence that the evaluators agree. {DECISION}.")
 
 
 def confusion_figure(run: Run, fig) -> None:

@@ -205,6 +205,7 @@ SPEC = ReportSpec("pso_repeatability", [
     Figure("fig21_pso", "Fig. 21 (ours): (a) identified values over the restarts normalised by their mean, "
            "with our CV, the paper's and the runs on a search bound; (b) mean and 25–75% / 10–90% bands of "
            "the best cost", fig21, (10.0, 3.8)),
-    Table("convergence", "Best-cost convergence bands across restarts (Fig. 21b)", convergence_bands,
+    Table("convergence", "Best cost J [–] (the composite cost of Sec. 11) reached by each iteration: its "
+          "mean and 10th, 25th, 75th and 90th percentiles across restarts (Fig. 21b)", convergence_bands,
           empty="the run has no pso_trace table"),
 ])
