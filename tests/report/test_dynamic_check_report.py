@@ -84,6 +84,13 @@ def test_the_closing_caveat_does_not_call_an_undefined_kappa_near_0():
             "columns: it is not evidence") in report.finding(run)
 
 
+def test_the_status_table_gives_the_time_budget_its_not_settled_column_refers_to():
+    run = _run()
+    run.manifest["config"]["params"] = {"t_max_s": 0.05}
+    table = next(i for i in report.SPEC.items if getattr(i, "name", "") == "dynamic_status")
+    assert table.caption(run).endswith("(t_max = 0.05 s of simulated time)")
+
+
 def test_group_tables_show_each_evaluators_success_as_a_percentage():
     run = _run()
     table = next(i for i in report.SPEC.items if getattr(i, "name", "") == "agreement_by_shape")

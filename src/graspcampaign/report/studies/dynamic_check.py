@@ -132,7 +132,8 @@ SPEC = ReportSpec("dynamic_check", [
     _by("planner"), _by("shape"),
     Figure("agreement_by_group", "Share of trials whose labels agree per planner and per shape, per preset",
            group_figure, (11.0, 4.0)),
-    Table("dynamic_status", "How the dynamic grasps ended, per preset and planner",
+    Table("dynamic_status", lambda run: "How the dynamic grasps ended, per preset and planner" + (
+          f" (t_max = {run.params['t_max_s']:g} s of simulated time)" if "t_max_s" in run.params else ""),
           lambda run: in_order(run, ["model_preset", "planner"], pd.crosstab(
               [run.ok.model_preset, run.ok.planner], run.ok.dynamic_status).reset_index()),
           lambda run, t: [Col(c, label("dynamic_status", c)) for c in t if c not in
