@@ -210,7 +210,8 @@ def test_successes_beyond_the_design_limit_are_counted_in_the_finding_and_captio
         for law in LAWS:
             g = ok[(ok["grip_law"] == law) & ok["success"].astype(bool)]
             cap = g["grip_capped"].astype(bool)
-            over = f"{label('grip_law', law)} {int((g['delta_max_mm'] > 1).sum())} of {len(g)}"
+            over = f"{label('grip_law', law)} {int((g['delta_max_mm'] > 1).sum())} of {len(g)}" if len(g) \
+                else f"{label('grip_law', law)} no success"  # not '0 of 0'
             if cap.any():
                 span = fmt.span(g.loc[cap, "delta_max_mm"])  # the records' range, one rounding
                 over += f" ({int(cap.sum())} at the grip cap, δmax = {span} mm ≤ r = 5 mm)"
@@ -240,6 +241,8 @@ def test_the_papers_ordering_is_claimed_only_where_our_rates_order_the_planners_
                      method_factors=["planner", "grip_law"])
     build_reports(["grip_laws"], root=tmp_path / "results")
     assert "its ordering appears under none of the laws." in finding(store)
+    assert "Successes deeper than the paper's 1 mm design limit: Algorithm 2 (paper) no success; " \
+           "slip-margin grip no success; oracle equal grip no success;" in finding(store)
     for law in LAWS:  # no pair differs, and every law is still named (not one 'no planner' for all)
         assert f"under {label('grip_law', law)} beats none and loses to none" in finding(store)
 

@@ -337,7 +337,7 @@ def over_limit(run: Run) -> str:
         cap = g["grip_capped"].fillna(False).astype(bool) if "grip_capped" in g else np.isclose(
             g["delta_max_mm"], r, rtol=0, atol=1e-6)
         parts.append(("" if law is None else f"{label('grip_law', law)} ") + (
-            f"{int((g['delta_max_mm'] > DESIGN_LIMIT_MM).sum())} of {len(g)}") + (
+            f"{int((g['delta_max_mm'] > DESIGN_LIMIT_MM).sum())} of {len(g)}" if len(g) else "no success") + (
             f" ({int(cap.sum())} at the grip cap, δmax = {fmt.span(g.loc[cap, 'delta_max_mm'])} mm ≤ r = "
             f"{r:g} mm)" if cap.any() else ""))
     return (f"Successes deeper than the paper's {DESIGN_LIMIT_MM:g} mm design limit: " + "; ".join(parts)
