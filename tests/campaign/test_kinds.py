@@ -199,6 +199,13 @@ def test_model_preset_factor_rejects_an_unknown_preset(tmp_path):
         _run("friction_mass", tmp_path, "model_preset=[soft]")
 
 
+def test_pso_budget_factor_rejects_a_misspelt_budget():
+    """Any budget but 'converged' ran the 8 x 15 repeatability budget under the misspelt name."""
+    with pytest.raises(UserInputError, match=r"factors.budget\[0\] has unknown value 'convergd'; "
+                                             r"allowed values: repeatability, converged\."):
+        compose_study("pso_repeatability", ["budget=[convergd]"])
+
+
 # ------------------------------------------- sensitivity, mesh_resolution, surrogate (issue 7)
 def test_sensitivity_three_panels_as_one_design(tmp_path):
     summary, store, df = _run("sensitivity", tmp_path, "params.levels=2", "seeds=2")

@@ -15,6 +15,7 @@ import pandas as pd
 import yaml
 
 from graspcampaign.analysis.vocabulary import label
+from graspcampaign.report.document import cell
 from graspcampaign.report.render import Run
 from graspcampaign.report.studies import dynamic_check as report
 
@@ -58,6 +59,47 @@ def test_the_verdict_is_on_the_sphere_and_every_shape_is_context():
     assert "`not_settled`" not in text and "**table2**" not in text  # the vocabulary's words
     assert f"**{label('model_preset', 'table2')}**" in text
     assert f"{label('dynamic_status', 'not_settled')}" in text
+
+
+def test_the_judged_verdict_says_how_the_spheres_dynamic_grasps_ended():
+    """A dynamic grasp stopped by t_max is a failure label: the verdict on the sphere says so
+    beside it, counted from the records, not only the every-shape context does."""
+    run = _run()
+    run.tables["kappa"] = report._kappa(run)
+    judged = report.finding(run).split("For context only", 1)[0]
+    for preset in ("table2", "firm"):
+        sphere = run.records[(run.records.model_preset == preset) & (run.records["shape"] == "sphere")]
+        ended = ", ".join(f"{n} {label('dynamic_status', s)}"
+                          for s, n in sphere.dynamic_status.value_counts().items())
+        assert f"(dynamic grasps: {ended}) — consistent" in judged
+
+
+def test_the_closing_caveat_does_not_call_an_undefined_kappa_near_0():
+    """Every grasp failing both ways leaves κ undefined (the table's '—'), not near 0."""
+    run = _run()
+    run.records[[c for c in run.records if "success" in c]] = False
+    run.tables["kappa"] = kappa = report._kappa(run)
+    assert kappa.kappa.isna().all()
+    assert ("Agreement by mutual failure gives κ near 0, or none when every trial has one label in both "
+            "columns: it is not evidence") in report.finding(run)
+
+
+def test_the_status_table_gives_the_time_budget_its_not_settled_column_refers_to():
+    run = _run()
+    run.manifest["config"]["params"] = {"t_max_s": 0.05}
+    table = next(i for i in report.SPEC.items if getattr(i, "name", "") == "dynamic_status")
+    assert table.caption(run).endswith("(t_max = 0.05 s of simulated time)")
+
+
+def test_group_tables_show_each_evaluators_success_as_a_percentage():
+    run = _run()
+    table = next(i for i in report.SPEC.items if getattr(i, "name", "") == "agreement_by_shape")
+    shown = {c.label: c for c in table.cols}
+    records = run.records
+    for r in table.compute(run).to_dict("records"):
+        g = records[(records.model_preset == r["model_preset"]) & (records["shape"] == r["shape"])]
+        assert cell(r, shown["quasi-static success %"]) == f"{100 * g.qs_success.mean():.1f}"
+        assert cell(r, shown["dynamic success %"]) == f"{100 * g.success.mean():.1f}"
 
 
 def test_the_description_states_no_stale_trial_count():

@@ -154,6 +154,17 @@ def test_grip_laws_mcnemar_pairs_within_each_law(runs):
             # statsmodels mcnemar: chi2 with continuity correction, and the exact binomial test
             assert row["chi2_cc"] == pytest.approx(sm_mcnemar(cells, exact=False, correction=True).statistic)
             assert row["p_exact"] == pytest.approx(sm_mcnemar(cells, exact=True).pvalue)
+    # the finding names every law, a law with no significant pair too (it was left out)
+    for law in LAWS:
+        won, lost = [], []
+        for other in PLANNERS[1:]:
+            pair = wide.xs(law, level="grip_law")[["heuristic", other]].dropna().astype(bool)
+            n10 = int((pair["heuristic"] & ~pair[other]).sum())
+            n01 = int((~pair["heuristic"] & pair[other]).sum())
+            if n10 + n01 and stats.binomtest(n10, n10 + n01).pvalue < 0.05:
+                (won if n10 > n01 else lost).append(label("planner", other))
+        assert (f"under {label('grip_law', law)} beats {', '.join(won) or 'none'} and loses to "
+                f"{', '.join(lost) or 'none'}") in finding(store)
 
 
 def test_grip_laws_rates_readings_checks_and_need(runs):
@@ -199,7 +210,8 @@ def test_successes_beyond_the_design_limit_are_counted_in_the_finding_and_captio
         for law in LAWS:
             g = ok[(ok["grip_law"] == law) & ok["success"].astype(bool)]
             cap = g["grip_capped"].astype(bool)
-            over = f"{label('grip_law', law)} {int((g['delta_max_mm'] > 1).sum())} of {len(g)}"
+            over = f"{label('grip_law', law)} {int((g['delta_max_mm'] > 1).sum())} of {len(g)}" if len(g) \
+                else f"{label('grip_law', law)} no success"  # not '0 of 0'
             if cap.any():
                 span = fmt.span(g.loc[cap, "delta_max_mm"])  # the records' range, one rounding
                 over += f" ({int(cap.sum())} at the grip cap, δmax = {span} mm ≤ r = 5 mm)"
@@ -210,6 +222,29 @@ def test_successes_beyond_the_design_limit_are_counted_in_the_finding_and_captio
         assert next(line for line in md(store).splitlines() if line.startswith("![")
                     and f"{figure}.png" in line).count(sentence) == 1
     assert finding(runs["laws"]).startswith("Successes deeper than the paper's 1 mm design limit: ")
+
+
+def test_the_papers_ordering_is_claimed_only_where_our_rates_order_the_planners_strictly(runs, tmp_path):
+    """Planners tied at one rate have no ordering: a run where every trial fails (all at 0%, the
+    ties in the study's planner order, which is the paper's) claims the ordering under no law."""
+    paper = ["heuristic", "antipodal", "random", "centroid"]  # Fig. 18, highest first
+    rates = ok_records(runs["laws"]).groupby(["grip_law", "planner"])["success"].mean().unstack()
+    strict = [label("grip_law", law) for law in LAWS if (rates.loc[law, paper].diff().iloc[1:] < 0).all()]
+    assert f"its ordering appears under {', '.join(strict) or 'none of the laws'}." in finding(runs["laws"])
+
+    def fail(factors, rng):
+        return {**quasi_static_outputs(factors, rng), "success": False, "failure_check": "residual"}
+
+    store = make_run(tmp_path / "results", "grip_laws", "quasi_static",
+                     {"shape": SHAPES[:2], "mass_kg": [0.2], "mu": [0.3], "planner": PLANNERS,
+                      "grip_law": LAWS}, seeds=2, paper=None, outputs=fail,
+                     method_factors=["planner", "grip_law"])
+    build_reports(["grip_laws"], root=tmp_path / "results")
+    assert "its ordering appears under none of the laws." in finding(store)
+    assert "Successes deeper than the paper's 1 mm design limit: Algorithm 2 (paper) no success; " \
+           "slip-margin grip no success; oracle equal grip no success;" in finding(store)
+    for law in LAWS:  # no pair differs, and every law is still named (not one 'no planner' for all)
+        assert f"under {label('grip_law', law)} beats none and loses to none" in finding(store)
 
 
 def test_ablation_gains_its_grip_law_columns(runs):

@@ -361,6 +361,43 @@ def test_pso_cv_table3_and_trace(tmp_path):
     assert bands["p25"].to_numpy() == pytest.approx(
         trace_df.groupby("iteration")["best_cost"].quantile(0.25).to_numpy())
     assert (store.path / "report" / "figures" / "fig21_pso.png").exists()
+    assert "**Best cost J [–] (the composite cost of Sec. 11) reached by each iteration: its mean" in md
+
+
+def test_pso_cvs_of_parameters_j_does_not_depend_on_get_no_verdict(tmp_path):
+    """λ2, b, k, c do not enter the quasi-static cost J (``flat_parameters``): their CVs are where the
+    swarm stopped, so their rows carry no verdict and the finding counts only the judged ones;
+    Fig. 21a's paper CVs carry their unit beside ours."""
+    import matplotlib.pyplot as plt
+
+    from graspcampaign.campaign.paper import study_paper
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies import pso
+
+    def outputs(factors, rng):
+        return {"lambda1": 1.5, "lambda2": rng.uniform(0.3, 1.4), "n_exp": rng.normal(0.5, 0.05),
+                "b": rng.uniform(0.2, 1.5), "k": rng.uniform(0.05, 0.3), "c": rng.uniform(5e-4, 0.01),
+                "best_cost": rng.uniform(0, 1), "n_evaluations": 120, "flat_parameters": "lambda2,b,k,c"}
+
+    store = make_run(tmp_path, "pso_repeatability", "pso_repeatability", {"shape": ["sphere"]}, seeds=6,
+                     paper=None, outputs=outputs)
+    build_reports(["pso_repeatability"], root=tmp_path)
+    cv = read_table(store, "cv").set_index("parameter")
+    flat = ["lambda2", "b", "k", "c"]
+    assert all(v.startswith("no verdict: J does not depend on it") for v in cv.loc[flat, "verdict"])
+    assert not any(v.startswith("no verdict") for v in cv.loc[["lambda1", "n_exp"], "verdict"])
+    differ = sum(v.startswith("differs") for v in cv.loc[["lambda1", "n_exp"], "verdict"])
+    md = (store.path / "report" / "report.md").read_text()
+    assert f"{differ} of 2 judged parameters' CVs differ from the paper's" in md
+    n_cv = 100 * sps.variation(ok_records(store)["n_exp"], ddof=1)  # λ1 is pinned: n alone varies
+    assert f"among ours that J depends on and vary, n has the smallest CV ({n_cv:.1f}%)" in md
+    run = Run(store.read().to_pandas(), store.check(), study_paper("pso_repeatability"), store)
+    fig = plt.figure()
+    pso.fig21(run, fig)
+    ticks = [t.get_text() for t in fig.axes[0].get_xticklabels()]
+    plt.close(fig)
+    assert [t.split("\n")[2] for t in ticks] == ["paper 60%", "paper 60%", "paper 19%",
+                                                 *3 * ["paper 47–77%"]]
 
 
 def _wrench_report(tmp_path, outputs, trace):

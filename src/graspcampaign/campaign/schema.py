@@ -213,7 +213,7 @@ FACTOR_SPECS: dict[str, dict[str, Any]] = {
     "w3": {"type": float, "ge": 0.0},
     "variant": {"type": str},
     "pso_seed": {"type": int, "ge": 0},
-    "budget": {"type": str},
+    "budget": {"type": str, "choices": ("repeatability", "converged")},  # PSO budget (kinds/pso.py)
     "integrator": {"type": str, "choices": ("rk4", "implicit")},
     "damping_law": {"type": str, "choices": ("linear", "hunt_crossley")},
     # a conf/model preset per trial, in place of the study's model group (dynamic_grasp)

@@ -33,7 +33,8 @@ def agreement(run: Run, by: list[str], pairs=("source",), records=None) -> pd.Da
     records = run.records if records is None else records
     t = pd.concat([dc.agreement_table(records, *dc.LABEL_PAIRS[p], by=by).assign(comparison=p)
                    for p in pairs], ignore_index=True)
-    t = t.assign(**{f"{c}_pct": 100 * t[c] for c in ("agreement", "agreement_low", "agreement_high")})
+    t = t.assign(**{f"{c}_pct": 100 * t[c] for c in ("agreement", "agreement_low", "agreement_high",
+                                                     "qs_success_rate", "dynamic_success_rate")})
     return in_order(run, by, t, [t.comparison.map(list(PAIRS).index)])
 
 
@@ -61,13 +62,13 @@ def _labels(r) -> str:
 def finding(run: Run) -> str:
     k, ok = run.tables["kappa"], run.ok
     claim, context = (k[(k.comparison == "source") & (k.scope == s)] for s in (CLAIM_SHAPE, ALL))
-    judged = k[k.scope == CLAIM_SHAPE]
-    verdict = "; ".join(
-        f"**{label('model_preset', r.model_preset)}**: " + (_labels(r) + f" — {r.verdict}" if r.n else
-                                                            f"no {CLAIM_SHAPE} trial executed")
-        for r in claim.itertuples())
+    judged, sphere = k[k.scope == CLAIM_SHAPE], ok[ok["shape"] == CLAIM_SHAPE]
     status = lambda g: ", ".join(f"{v} {label('dynamic_status', s)}"  # noqa: E731
                                  for s, v in g.dynamic_status.value_counts().items())
+    verdict = "; ".join(  # how the dynamic grasps ended: a run stopped by t_max is a failure label
+        f"**{label('model_preset', r.model_preset)}**: " + (
+            f"{_labels(r)} (dynamic grasps: {status(sphere[sphere.model_preset == r.model_preset])})"
+            f" — {r.verdict}" if r.n else f"no {CLAIM_SHAPE} trial executed") for r in claim.itertuples())
     return (
         f"The paper: \"{run.paper.claim}\". Re-simulating {ok.source_trial_id.nunique()} "
         f"{', '.join(sorted(set(ok.source_study)))} trials, judged on the claim's scope, the "
@@ -81,7 +82,8 @@ def finding(run: Run) -> str:
         f"verdict), over every shape and planner: " + "; ".join(
             f"{label('model_preset', r.model_preset)}: {_labels(r)} (dynamic grasps: "
             f"{status(ok[ok.model_preset == r.model_preset])})" for r in context.itertuples()) +
-        f". Agreement by mutual failure gives κ near 0, not evidence that the evaluators agree. {DECISION}.")
+        f". Agreement by mutual failure gives κ near 0, or none when every trial has one label in both "
+        f"columns: it is not evidence that the evaluators agree. {DECISION}.")
 
 
 def confusion_figure(run: Run, fig) -> None:
@@ -111,8 +113,9 @@ def _by(by: str) -> Table:
     return Table(f"agreement_by_{by}", f"Agreement of the source study's quasi-static label and the dynamic "
                  f"label per preset and {by}; κ undefined where every trial has one label in both columns",
                  lambda run: agreement(run, ["model_preset", by]), [
-                     Col("qs_success_rate", "quasi-static success", 3),
-                     Col("dynamic_success_rate", "dynamic success", 3), *AGREE], by=["model_preset", by])
+                     Col("qs_success_rate_pct", "quasi-static success %", 1),
+                     Col("dynamic_success_rate_pct", "dynamic success %", 1), *AGREE],
+                 by=["model_preset", by])
 
 
 SPEC = ReportSpec("dynamic_check", [
@@ -129,7 +132,8 @@ SPEC = ReportSpec("dynamic_check", [
     _by("planner"), _by("shape"),
     Figure("agreement_by_group", "Share of trials whose labels agree per planner and per shape, per preset",
            group_figure, (11.0, 4.0)),
-    Table("dynamic_status", "How the dynamic grasps ended, per preset and planner",
+    Table("dynamic_status", lambda run: "How the dynamic grasps ended, per preset and planner" + (
+          f" (t_max = {run.params['t_max_s']:g} s of simulated time)" if "t_max_s" in run.params else ""),
           lambda run: in_order(run, ["model_preset", "planner"], pd.crosstab(
               [run.ok.model_preset, run.ok.planner], run.ok.dynamic_status).reset_index()),
           lambda run, t: [Col(c, label("dynamic_status", c)) for c in t if c not in

@@ -38,6 +38,19 @@ def _budgets(run: Run) -> tuple[pd.DataFrame, pd.DataFrame]:
     return ok, ok
 
 
+def _paper_cv(run: Run, parameter: str) -> float | tuple:
+    """The paper's CV [%] of ``parameter`` (Sec. 6.8): n's, the λs' approximate one, the others' range."""
+    cv = run.paper.cv_pct
+    return cv.n if parameter == "n_exp" else cv.lambda_approx if parameter.startswith("lambda") \
+        else cv.others_range
+
+
+def _flat(run: Run) -> list[str]:
+    """The parameters the cost J does not depend on (the identification's ``flat_parameters``)."""
+    flat = run.ok["flat_parameters"].dropna() if "flat_parameters" in run.ok else pd.Series()
+    return flat.iloc[0].split(",") if len(flat) else []
+
+
 def _bound(rows: pd.DataFrame, parameter: str) -> dict:
     """How many ``rows`` ended with ``parameter`` on a search bound (nan: not recorded)."""
     try:
@@ -48,22 +61,23 @@ def _bound(rows: pd.DataFrame, parameter: str) -> dict:
 
 
 def _cv(run: Run) -> pd.DataFrame:
-    ok, paper, rows = _budgets(run)[0], run.paper.cv_pct, []
+    ok, rows = _budgets(run)[0], []
     for p in [p for p in PARAMETERS if p in ok and ok[p].notna().sum() >= 2]:
         v, (low, high), why = ok[p].dropna().to_numpy(float), (math.nan, math.nan), ""
         try:
             low, high = agreement.cv_interval(v, seed=run.seed)
         except ValueError as exc:
             why = str(exc)
-        ref = paper.n if p == "n_exp" else paper.lambda_approx if p.startswith("lambda") \
-            else paper.others_range
-        rows.append({"parameter": p, "parameter_label": label("parameter", p), "paper_cv_pct": ref,
-                     "low_pct": 100 * low, "high_pct": 100 * high, "why": why, "n": v.size,
+        rows.append({"parameter": p, "parameter_label": label("parameter", p),
+                     "paper_cv_pct": _paper_cv(run, p), "low_pct": 100 * low, "high_pct": 100 * high,
+                     "why": why, "n": v.size,
                      "cv_pct": 100 * agreement.coefficient_of_variation(v), "mean": v.mean(),
                      "sd": v.std(ddof=1), "digits": _digits(run.paper.table3, p),
                      **_bound(ok[ok[p].notna()], p)})
     frame = verdicts(pd.DataFrame(rows), "cv_pct", "paper_cv_pct", "low_pct", "high_pct", unit="%")
-    paper = frame["paper_cv_pct"]
+    flat, paper = frame["parameter"].isin(_flat(run)), frame["paper_cv_pct"]
+    frame = frame.assign(differs=frame["differs"].where(~flat, None), verdict=frame["verdict"].where(
+        ~flat, "no verdict: J does not depend on it, so its spread measures no identifiability"))
     return frame.assign(paper_range_pct=[f"{fmt.paper_text(v, 1)} (range)" if isinstance(v, tuple) else ""
                                          for v in paper],
                         paper_cv_pct=[np.nan if isinstance(v, tuple) else v for v in paper])
@@ -109,16 +123,17 @@ def convergence_bands(run: Run) -> pd.DataFrame:
 
 
 def finding(run: Run) -> str:
-    cv = _cv(run)
-    spread, pinned, bound = cv[cv["sd"] > 0], cv[cv["sd"] == 0], cv[cv["at_bound"] > 0]
-    flat = run.ok["flat_parameters"].dropna() if "flat_parameters" in run.ok else pd.Series()
+    cv, flat = _cv(run), _flat(run)
+    judged = cv[~cv["parameter"].isin(flat)]  # a parameter J does not depend on has no verdict
+    spread, pinned, bound = judged[judged["sd"] > 0], cv[cv["sd"] == 0], cv[cv["at_bound"] > 0]
     text = (f"Over {len(_budgets(run)[0])} restarts at the paper's budget, "
-            f"{int((cv['differs'] == True).sum())} of {len(cv)} parameters' CVs differ from the "  # noqa: E712
-            "paper's (Sec. 6.8). ")
+            f"{int((judged['differs'] == True).sum())} of {len(judged)} judged parameters' CVs differ "  # noqa: E712
+            "from the paper's (Sec. 6.8). ")
     if len(spread):
         tight = spread.loc[spread["cv_pct"].idxmin()]
-        text += (f"The paper finds the exponent n the most identifiable; among ours that vary, "
-                 f"{label('parameter', tight['parameter'])} has the smallest CV ({tight['cv_pct']:.1f}%). ")
+        text += ("The paper finds the exponent n the most identifiable; among ours that J depends on and "
+                 f"vary, {label('parameter', tight['parameter'])} has the smallest CV "
+                 f"({tight['cv_pct']:.1f}%). ")
     if len(pinned):
         text += "Pinned in every run (CV 0, a bound of the search box): " + ", ".join(
             f"{label('parameter', p)} at {m:.4g}"
@@ -128,12 +143,12 @@ def finding(run: Run) -> str:
             f"{label('parameter', p)} in {k:.0f} of {n} runs"
             for p, k, n in bound[["parameter", "at_bound", "n"]].itertuples(index=False)) + \
             "; such a value is the box's edge, not an identified optimum. "
-    if len(flat):
-        flat_in = ", ".join(label("parameter", p) for p in flat.iloc[0].split(","))
+    if flat:
+        flat_in = ", ".join(label("parameter", p) for p in flat)
         text += (f"The cost J does not depend on {flat_in} in the quasi-static evaluator (the damping "
                  "term vanishes in the static loop; the MSD constants do not enter Algorithms 1-2), so "
-                 "their spread is where the swarm stopped, not a measure of "
-                 "identifiability (`docs/decisions.md`, *Report (issue 5)*: PSO).")
+                 "their spread is where the swarm stopped, not a measure of identifiability, and their "
+                 "CVs get no verdict (`docs/decisions.md`, *Report (issue 5)*: PSO).")
     return text
 
 
@@ -147,8 +162,7 @@ def fig21(run: Run, fig) -> None:
         ax_a.scatter(i + jitter.uniform(-0.15, 0.15, v.size), v, s=9, alpha=0.6, color=c, zorder=3)
     ax_a.axhline(1.0, color=style.CRITERION, linestyle="--", linewidth=1.0)
     ax_a.set_xticks(range(len(cv)), [
-        f"{label('parameter', p)}\nCV {r['cv_pct']:.0f}%\npaper "
-        f"{r['paper_range_pct'].replace(' (range)', '') or f'{r.paper_cv_pct:g}'}"
+        f"{label('parameter', p)}\nCV {r['cv_pct']:.0f}%\npaper {fmt.paper_text(_paper_cv(run, p), 0)}%"
         + (f"\non bound {r['at_bound']:.0f}/{r['n']}" if r["at_bound"] > 0 else "")
         for p, r in cv.iterrows()], fontsize=7)
     ax_a.set(ylabel="identified value / mean over runs [–]", title=f"(a) identified values, {len(ok)} runs")
@@ -191,6 +205,7 @@ SPEC = ReportSpec("pso_repeatability", [
     Figure("fig21_pso", "Fig. 21 (ours): (a) identified values over the restarts normalised by their mean, "
            "with our CV, the paper's and the runs on a search bound; (b) mean and 25–75% / 10–90% bands of "
            "the best cost", fig21, (10.0, 3.8)),
-    Table("convergence", "Best-cost convergence bands across restarts (Fig. 21b)", convergence_bands,
+    Table("convergence", "Best cost J [–] (the composite cost of Sec. 11) reached by each iteration: its "
+          "mean and 10th, 25th, 75th and 90th percentiles across restarts (Fig. 21b)", convergence_bands,
           empty="the run has no pso_trace table"),
 ])

@@ -337,7 +337,7 @@ def over_limit(run: Run) -> str:
         cap = g["grip_capped"].fillna(False).astype(bool) if "grip_capped" in g else np.isclose(
             g["delta_max_mm"], r, rtol=0, atol=1e-6)
         parts.append(("" if law is None else f"{label('grip_law', law)} ") + (
-            f"{int((g['delta_max_mm'] > DESIGN_LIMIT_MM).sum())} of {len(g)}") + (
+            f"{int((g['delta_max_mm'] > DESIGN_LIMIT_MM).sum())} of {len(g)}" if len(g) else "no success") + (
             f" ({int(cap.sum())} at the grip cap, δmax = {fmt.span(g.loc[cap, 'delta_max_mm'])} mm ≤ r = "
             f"{r:g} mm)" if cap.any() else ""))
     return (f"Successes deeper than the paper's {DESIGN_LIMIT_MM:g} mm design limit: " + "; ".join(parts)
@@ -401,8 +401,9 @@ def grip_finding(run: Run) -> str:
     names = lambda planners: ", ".join(label("planner", p) for p in planners) or "none"  # noqa: E731
     rank = {law: t[t["grip_law"] == law].sort_values("rate_pct", ascending=False, kind="stable")
             for law in run.order["grip_law"]}
-    same = [law for law, g in rank.items()
-            if [p for p in g["planner"] if p in paper] == sorted(paper, key=lambda p: -paper[p])]
+    ours = t.pivot(index="planner", columns="grip_law", values="rate_pct")  # NaN: a planner not run
+    same = [law for law in rank  # strictly: planners tied at one rate (say all at 0%) show no order
+            if ours[law].reindex(sorted(paper, key=lambda p: -paper[p])).diff().iloc[1:].lt(0).all()]
     return (
         f"{over_limit(run)} ".lstrip() + "Success per grip law, highest first — " + "; ".join(
             f"{label('grip_law', law)}: " + ", ".join(
@@ -410,11 +411,11 @@ def grip_finding(run: Run) -> str:
             for law, g in rank.items()) + " — against the paper's " + ", ".join(
             f"{label('planner', p)} {v:g}%" for p, v in paper.items()) + " (Fig. 18): its ordering "
         f"appears under {', '.join(label('grip_law', law) for law in same) or 'none of the laws'}. "
-        "Within each law (McNemar, exact p < 0.05) the proposed planner " + ("; ".join(
+        "Within each law (McNemar, exact p < 0.05) the proposed planner " + "; ".join(
             f"under {label('grip_law', law)} beats "
             f"{names(s.query('reference_only > compared_only').compared)} and "
             f"loses to {names(s.query('reference_only < compared_only').compared)}"
-            for law, s in sig.groupby("grip_law", sort=False)) or "differs from no planner") + ". "
+            for law, s in ((law, sig[sig["grip_law"] == law]) for law in rank)) + ". "
         "Why: H(G) is geometric (S1–S3, P_c, P_e) and sees neither gravity nor the tilt of the "
         "contact plane. Median steepest contact |n_out,z| of each planner's triples: " + ", ".join(
             f"{label('planner', r.planner)} {r.steepest_normal_z_median:.2f}"
