@@ -1,7 +1,8 @@
 """Tests of analysis.dynamic_check: confusion matrix, Cohen's kappa, agreement per group.
 
 Outside references: statsmodels (``cohens_kappa``, ``proportion_confint``) on the constructed
-tables, and kappa worked by hand from its definition (Cohen 1960).
+tables, scikit-learn's ``cohen_kappa_score`` on the labels, and kappa worked by hand from its
+definition (Cohen 1960).
 """
 
 from __future__ import annotations
@@ -9,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 import pytest
+from sklearn.metrics import cohen_kappa_score
 from statsmodels.stats.inter_rater import cohens_kappa as sm_kappa
 from statsmodels.stats.proportion import proportion_confint
 
@@ -18,18 +20,22 @@ from graspcampaign.analysis import dynamic_check as dc
 def _records(both, qs_only, dyn_only, neither, **columns):
     qs = [True] * both + [True] * qs_only + [False] * dyn_only + [False] * neither
     dyn = [True] * both + [False] * qs_only + [True] * dyn_only + [False] * neither
-    return pd.DataFrame({"qs_success": qs, "success": dyn, "status": "ok", **columns})
+    status = ["stable" if d else "penetration_limit" for d in dyn]  # every grasp determined
+    return pd.DataFrame({"qs_success": qs, "success": dyn, "status": "ok", "dynamic_status": status,
+                         **columns})
 
 
 def test_confusion_matrix_orientation_and_error_rows():
     records = _records(20, 5, 10, 15)
     errors = pd.DataFrame({"qs_success": [True, False], "success": [None, None],
-                           "status": ["error", "error"]})
+                           "status": ["error", "error"], "dynamic_status": [None, None]})
     table = dc.confusion_matrix(pd.concat([records, errors], ignore_index=True))
     # rows: quasi-static success / failure; columns: dynamic success / failure
     np.testing.assert_array_equal(table, [[20, 5], [10, 15]])
     with pytest.raises(KeyError, match="dynamic_check records have no column 'qs_preset_success'"):
         dc.confusion_matrix(records, "qs_preset_success")
+    with pytest.raises(KeyError, match="dynamic_check records have no column 'dynamic_status'"):
+        dc.confusion_matrix(records.drop(columns="dynamic_status"))
 
 
 def test_kappa_matches_the_definition_and_statsmodels():
@@ -67,7 +73,7 @@ def test_kappa_is_undefined_when_both_labels_are_constant():
     assert result.observed_agreement == 1.0 and result.expected_agreement == 1.0
     assert np.isnan(result.kappa) and np.isnan(result.ci_low)
     assert result.why == "undefined: every trial has one label in both columns"
-    assert dc.cohens_kappa([[0, 0], [0, 0]]).why == "no executed trial"
+    assert dc.cohens_kappa([[0, 0], [0, 0]]).why == "no trial to compare"
     # one label constant, the other not: p_e = p_o, so kappa = 0 (defined)
     one = dc.cohens_kappa([[0, 0], [3, 37]])
     assert one.kappa == pytest.approx(sm_kappa(np.array([[0, 0], [3, 37]])).kappa) == 0.0
@@ -98,3 +104,32 @@ def test_agreement_per_group():
     assert overall.loc[0, "kappa"] == pytest.approx(sm_kappa(np.array([[20, 5], [10, 55]])).kappa)
     two = dc.agreement_table(records, by=["model_preset", "planner"])
     assert list(two.columns[:2]) == ["model_preset", "planner"] and len(two) == 2
+
+
+def test_a_grasp_not_settled_by_t_max_is_left_out_not_a_failure():
+    """A dynamic grasp stopped by the time budget is undetermined: the agreement and kappa are those
+    of the determined trials alone (scikit-learn on them), the rest counted in ``not_settled``."""
+    rng = np.random.default_rng(7)
+    n = 60
+    qs, dyn = rng.random(n) < 0.4, rng.random(n) < 0.5
+    status = np.where(dyn, "stable", rng.choice(["penetration_limit", "dropped", "not_settled"], n))
+    records = pd.DataFrame({"status": "ok", "qs_success": qs, "success": dyn, "dynamic_status": status,
+                            "planner": np.where(np.arange(n) < 40, "heuristic", "centroid")})
+    records.loc[records.planner == "centroid", ["success", "dynamic_status"]] = [False, "not_settled"]
+    table = dc.agreement_table(records, by="planner").set_index("planner")
+    for planner, group in records.groupby("planner"):
+        kept = group[group.dynamic_status != "not_settled"]
+        row = table.loc[planner]
+        assert row["not_settled"] == len(group) - len(kept)
+        assert row["n"] == len(kept)
+        if len(kept):
+            assert row["agreement"] == pytest.approx((kept.qs_success == kept.success).mean())
+            assert row["kappa"] == pytest.approx(cohen_kappa_score(kept.qs_success, kept.success))
+            assert row["dynamic_success_rate"] == pytest.approx(kept.success.mean())
+    assert 0 < table.loc["heuristic", "not_settled"] < 40
+    # every centroid grasp timed out: nothing to compare, no rate and no kappa (not 100 % "both fail")
+    centroid = table.loc["centroid"]
+    assert centroid["n"] == 0 and centroid["not_settled"] == 20
+    assert np.isnan(centroid[["agreement", "agreement_low", "agreement_high", "kappa",
+                              "qs_success_rate", "dynamic_success_rate"]].astype(float)).all()
+    assert centroid["kappa_why"] == "no trial to compare"

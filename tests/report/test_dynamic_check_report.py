@@ -2,7 +2,8 @@
 
 A small synthetic run (the record columns docs/records.md gives dynamic_check) where the sphere's
 labels all agree and the other shapes' do not: the kappa table's counts are recomputed with pandas
-from the records, the verdict is judged on the sphere alone, every-shape rows carry none.
+from the records, the verdict is judged on the sphere alone, every-shape rows carry none. Two of
+each group's dynamic grasps are not settled by t_max: undetermined, they enter no agreement.
 """
 
 from __future__ import annotations
@@ -35,7 +36,8 @@ def _run() -> Run:
                              "source_study": "baseline_grid", "qs_success": qs, "success": dyn,
                              "qs_preset_success": qs, "qs_success_unbounded": qs,
                              "success_unbounded": dyn, "qs_preset_success_unbounded": qs,
-                             "dynamic_status": "stable" if dyn else "not_settled"})
+                             "dynamic_status": "stable" if dyn else "not_settled" if i in (1, 11)
+                             else "penetration_limit"})
     return Run(pd.DataFrame(rows), {"config": {"factors": {"model_preset": ["table2", "firm"]}}},
                SimpleNamespace(claim=CLAIM))
 
@@ -47,6 +49,8 @@ def test_the_verdict_is_on_the_sphere_and_every_shape_is_context():
     for r in kappa.itertuples():
         g = records[records.model_preset == r.model_preset]
         g = g[g["shape"] == "sphere"] if r.scope == "sphere" else g
+        assert r.not_settled == int((g.dynamic_status == "not_settled").sum())
+        g = g[g.dynamic_status != "not_settled"]
         assert r.n == len(g) and r.both_success + r.both_failure == int((g.qs_success == g.success).sum())
     sphere, every = kappa[kappa.scope == "sphere"], kappa[kappa.scope != "sphere"]
     assert len(sphere) == len(every) == 8  # 2 presets x 4 label pairs
@@ -61,17 +65,35 @@ def test_the_verdict_is_on_the_sphere_and_every_shape_is_context():
     assert f"{label('dynamic_status', 'not_settled')}" in text
 
 
-def test_the_judged_verdict_says_how_the_spheres_dynamic_grasps_ended():
-    """A dynamic grasp stopped by t_max is a failure label: the verdict on the sphere says so
-    beside it, counted from the records, not only the every-shape context does."""
+def test_the_judged_verdict_names_the_grasps_not_settled_by_t_max_it_leaves_out():
+    """A dynamic grasp stopped by t_max is undetermined, not a failure: the verdict on the sphere
+    names how many it leaves out (counted from the records) and the time budget."""
     run = _run()
+    run.manifest["config"]["params"] = {"t_max_s": 0.05}
     run.tables["kappa"] = report._kappa(run)
     judged = report.finding(run).split("For context only", 1)[0]
     for preset in ("table2", "firm"):
         sphere = run.records[(run.records.model_preset == preset) & (run.records["shape"] == "sphere")]
-        ended = ", ".join(f"{n} {label('dynamic_status', s)}"
-                          for s, n in sphere.dynamic_status.value_counts().items())
-        assert f"(dynamic grasps: {ended}) — consistent" in judged
+        out = int((sphere.dynamic_status == "not_settled").sum())
+        assert (f"({out} of {len(sphere)} dynamic grasps not settled by t_max = 0.05 s: left out of the "
+                "agreement) — consistent") in judged
+
+
+def test_a_run_whose_every_grasp_timed_out_gets_no_verdict():
+    """Before, 40 grasps stopped by t_max were 40 'both fail' and a 'consistent' verdict."""
+    run = _run()
+    run.records["dynamic_status"] = "not_settled"
+    run.records[["success", "success_unbounded"]] = False
+    run.tables["kappa"] = kappa = report._kappa(run)
+    assert kappa.n.eq(0).all() and kappa.not_settled.eq(20).sum() == 8  # the sphere's 20, all 40
+    assert kappa.differs.isna().all() and kappa.agreement_pct.isna().all()
+    sphere = kappa[kappa.scope == "sphere"]
+    assert sphere.verdict.eq("no verdict: nothing to compare").all()
+    text = report.finding(run)
+    assert "consistent" not in text and "the labels agree on" not in text
+    assert ("**Tables 2–3 constants**: 20 of 20 dynamic grasps not settled by t_max: left out of the "
+            "agreement — no verdict: nothing to compare") in text
+    assert "0 of 0 sphere comparisons differ" in text
 
 
 def test_the_closing_caveat_does_not_call_an_undefined_kappa_near_0():
@@ -97,7 +119,8 @@ def test_group_tables_show_each_evaluators_success_as_a_percentage():
     shown = {c.label: c for c in table.cols}
     records = run.records
     for r in table.compute(run).to_dict("records"):
-        g = records[(records.model_preset == r["model_preset"]) & (records["shape"] == r["shape"])]
+        g = records[(records.model_preset == r["model_preset"]) & (records["shape"] == r["shape"])
+                    & (records.dynamic_status != "not_settled")]
         assert cell(r, shown["quasi-static success %"]) == f"{100 * g.qs_success.mean():.1f}"
         assert cell(r, shown["dynamic success %"]) == f"{100 * g.success.mean():.1f}"
 

@@ -4,7 +4,9 @@ Every 2 x 2 table has the quasi-static label in its rows and the dynamic label i
 success first: ``[[both succeed, quasi-static only], [dynamic only, both fail]]``. :data:`LABEL_PAIRS`
 pairs the dynamic ``success`` with the source study's label (``qs_success``, the paper's) and with
 Algorithms 1-2 re-run on the same contacts under the trial's preset (``qs_preset_success``), each
-also without the validity gate (``*_unbounded``). Only executed trials carry a label.
+also without the validity gate (``*_unbounded``). Only executed trials carry a label, and only a
+*determined* dynamic grasp enters a table: one stopped by the time budget (``dynamic_status ==
+"not_settled"``) neither held nor failed, so it is counted apart (``not_settled``), never as a failure.
 
 References
 ----------
@@ -27,6 +29,8 @@ from graspcampaign.analysis.records import executed
 LABEL_PAIRS = {"source": ("qs_success", "success"), "preset": ("qs_preset_success", "success"),
                "source_unbounded": ("qs_success_unbounded", "success_unbounded"),
                "preset_unbounded": ("qs_preset_success_unbounded", "success_unbounded")}
+#: The dynamic status of a grasp the simulation did not finish (t_max reached): undetermined.
+UNDETERMINED = "not_settled"
 
 KappaResult = result(
     "KappaResult", "Cohen's kappa ``(p_o - p_e) / (1 - p_e)`` of a 2 x 2 table with its asymptotic "
@@ -38,11 +42,12 @@ KappaResult = result(
 
 def confusion_matrix(records: pd.DataFrame, qs_column: str = "qs_success",
                      dynamic_column: str = "success") -> np.ndarray:
-    """Return the (2, 2) counts of two boolean label columns over the executed trials."""
+    """Return the (2, 2) counts of two boolean label columns over the executed, determined trials."""
     rows = executed(records)
-    for column in (qs_column, dynamic_column):
+    for column in (qs_column, dynamic_column, "dynamic_status"):
         if column not in rows.columns:
             raise KeyError(f"dynamic_check records have no column {column!r}")
+    rows = rows[rows["dynamic_status"] != UNDETERMINED]
     qs, dyn = (rows[c].astype(bool).to_numpy() for c in (qs_column, dynamic_column))
     return np.array([[np.sum(qs & dyn), np.sum(qs & ~dyn)],
                      [np.sum(~qs & dyn), np.sum(~qs & ~dyn)]], dtype=np.int64)
@@ -58,7 +63,7 @@ def cohens_kappa(table, confidence_level: float = 0.95) -> KappaResult:
     expected = float(table.sum(axis=1) @ table.sum(axis=0)) / n**2 if n else nan
     constant = [w for w, m in (("quasi-static", table.sum(axis=1)), ("dynamic", table.sum(axis=0)))
                 if m.min() == 0]
-    why = ("no executed trial" if not n else "undefined: every trial has one label in both "
+    why = ("no trial to compare" if not n else "undefined: every trial has one label in both "
            "columns" if expected >= 1.0 else f"0 by construction: the {constant[0]} label is "
            "constant" if constant else "")
     if not n or expected >= 1.0:  # kappa = 0/0
@@ -75,7 +80,9 @@ def agreement_table(records: pd.DataFrame, qs_column: str = "qs_success",
                     dynamic_column: str = "success", by=None,
                     confidence_level: float = 0.95) -> pd.DataFrame:
     """Return the :func:`confusion_matrix` counts, both success rates, the agreement (Wilson
-    interval) and :func:`cohens_kappa` of two label columns, overall or per group of ``by``."""
+    interval) and :func:`cohens_kappa` of two label columns over the determined trials, and the
+    executed trials left out as undetermined (``not_settled``), overall or per group of ``by``;
+    the rates are nan in a group with no determined trial."""
     rows = executed(records)
     keys = [] if by is None else ([by] if isinstance(by, str) else list(by))
     out = []
@@ -83,14 +90,15 @@ def agreement_table(records: pd.DataFrame, qs_column: str = "qs_success",
     for key, group in groups:
         table = confusion_matrix(group, qs_column, dynamic_column)
         k, agree = cohens_kappa(table, confidence_level), int(np.trace(table))
-        w = wilson_interval(agree, k.n, confidence_level)
+        w = wilson_interval(agree, k.n, confidence_level) if k.n else None
+        n = k.n or np.nan  # no determined trial: no rate
         out.append({
             **dict(zip(keys, key if isinstance(key, tuple) else (key,), strict=True)),
-            "n": k.n, "both_success": int(table[0, 0]), "qs_only": int(table[0, 1]),
-            "dynamic_only": int(table[1, 0]), "both_failure": int(table[1, 1]),
-            "qs_success_rate": table[0].sum() / k.n,
-            "dynamic_success_rate": table[:, 0].sum() / k.n,
-            "agreement": agree / k.n, "agreement_low": w.low, "agreement_high": w.high,
+            "n": k.n, "not_settled": len(group) - k.n, "both_success": int(table[0, 0]),
+            "qs_only": int(table[0, 1]), "dynamic_only": int(table[1, 0]),
+            "both_failure": int(table[1, 1]), "qs_success_rate": table[0].sum() / n,
+            "dynamic_success_rate": table[:, 0].sum() / n, "agreement": agree / n,
+            "agreement_low": w.low if w else np.nan, "agreement_high": w.high if w else np.nan,
             "kappa": k.kappa, "kappa_std_error": k.std_error, "kappa_low": k.ci_low,
             "kappa_high": k.ci_high, "kappa_why": k.why,
             "expected_agreement": k.expected_agreement})

@@ -20,11 +20,24 @@ DECISION = "`docs/decisions.md`, *Dynamic check report (issue 16, item 3, report
 PAIRS = {"source": "source study's label", "preset": "Algorithms 1–2 under the preset",
          "source_unbounded": "source label, no validity gate",
          "preset_unbounded": "Algorithms 1–2 under the preset, no validity gate"}
-AGREE = [Col("n", "n"), Col("both_success", "both succeed"), Col("qs_only", "quasi-static only"),
+NOT_SETTLED = label("dynamic_status", dc.UNDETERMINED)
+AGREE = [Col("n", "n determined"), Col("not_settled", f"{NOT_SETTLED} (left out)"),
+         Col("both_success", "both succeed"), Col("qs_only", "quasi-static only"),
          Col("dynamic_only", "dynamic only"), Col("both_failure", "both fail"),
          Col("agreement_pct", "agreement % (Wilson 95%)", 1, low="agreement_low_pct",
              high="agreement_high_pct"),
          Col("kappa", "Cohen's κ (95%)", 2, low="kappa_low", high="kappa_high"), Col("kappa_why", "κ note")]
+
+
+def _t_max(run: Run) -> str:
+    """`` = t_max s`` of the run, if its config gives it."""
+    return f" = {run.params['t_max_s']:g} s" if "t_max_s" in run.params else ""
+
+
+def _left_out(run: Run) -> str:
+    """The caption's words on the undetermined dynamic grasps."""
+    return (f"dynamic grasps {NOT_SETTLED}{_t_max(run)} are counted in their own column, left out of the "
+            "agreement")
 
 
 def agreement(run: Run, by: list[str], pairs=("source",), records=None) -> pd.DataFrame:
@@ -45,43 +58,46 @@ def _kappa(run: Run) -> pd.DataFrame:
     t = pd.concat([agreement(run, ["model_preset"], PAIRS, sphere).assign(scope=CLAIM_SHAPE, paper_pct=100.0),
                    agreement(run, ["model_preset"], PAIRS).assign(scope=ALL)], ignore_index=True)
     t["comparison_label"] = t.comparison.map(PAIRS)
+    t["why"] = np.where(t.n == 0, "no verdict: nothing to compare", "")  # every grasp not settled
     t = verdicts(t, "agreement_pct", "paper_pct", "agreement_low_pct", "agreement_high_pct", unit="%")
     context = t.scope == ALL
     t.loc[context, "verdict"] = f"no verdict: context (the claim is on the {CLAIM_SHAPE})"
     return t.assign(differs=t.differs.where(~context, None))
 
 
-def _labels(r) -> str:
-    """One row's agreement, κ and the labels each evaluator gave, in words."""
+def _labels(run: Run, r) -> str:
+    """One row's agreement, κ and the labels each evaluator gave over its determined trials, and the
+    dynamic grasps left out as not settled, in words."""
+    left_out = (f"{r.not_settled} of {r.n + r.not_settled} dynamic grasps {NOT_SETTLED}{_t_max(run)}: left "
+                "out of the agreement")
+    if not r.n:
+        return left_out
     kappa = fmt.estimate(r.kappa, r.kappa_low, r.kappa_high, 2) + (f" ({r.kappa_why})" if r.kappa_why else "")
     return (f"the labels agree on {r.both_success + r.both_failure} of {r.n} ({r.agreement_pct:.1f}%, Wilson "
             f"95% {fmt.interval(r.agreement_low_pct, r.agreement_high_pct, 1)}), κ = {kappa}; quasi-static "
-            f"passes {r.both_success + r.qs_only}, the dynamic grasp holds {r.both_success + r.dynamic_only}")
+            f"passes {r.both_success + r.qs_only}, the dynamic grasp holds {r.both_success + r.dynamic_only}"
+            + (f" ({left_out})" if r.not_settled else ""))
 
 
 def finding(run: Run) -> str:
     k, ok = run.tables["kappa"], run.ok
     claim, context = (k[(k.comparison == "source") & (k.scope == s)] for s in (CLAIM_SHAPE, ALL))
-    judged, sphere = k[k.scope == CLAIM_SHAPE], ok[ok["shape"] == CLAIM_SHAPE]
-    status = lambda g: ", ".join(f"{v} {label('dynamic_status', s)}"  # noqa: E731
-                                 for s, v in g.dynamic_status.value_counts().items())
-    verdict = "; ".join(  # how the dynamic grasps ended: a run stopped by t_max is a failure label
-        f"**{label('model_preset', r.model_preset)}**: " + (
-            f"{_labels(r)} (dynamic grasps: {status(sphere[sphere.model_preset == r.model_preset])})"
-            f" — {r.verdict}" if r.n else f"no {CLAIM_SHAPE} trial executed") for r in claim.itertuples())
+    judged = k[k.scope == CLAIM_SHAPE]
+    verdict = "; ".join(f"**{label('model_preset', r.model_preset)}**: {_labels(run, r)} — {r.verdict}"
+                        for r in claim.itertuples())
     return (
         f"The paper: \"{run.paper.claim}\". Re-simulating {ok.source_trial_id.nunique()} "
         f"{', '.join(sorted(set(ok.source_study)))} trials, judged on the claim's scope, the "
         f"{CLAIM_SHAPE}'s trials "
         f"(source study's label against the dynamic label): {verdict}. Like for like on the {CLAIM_SHAPE} "
         "(Algorithms 1–2 under the same preset): agreement " + ", ".join(
-            f"{label('model_preset', r.model_preset)} {r.agreement_pct:.1f}%"
-            for r in judged[judged.comparison == "preset"].itertuples() if r.n) + ". "
-        f"{int(judged.differs.eq(True).sum())} of {len(judged)} {CLAIM_SHAPE} comparisons differ from full "
-        "agreement (its 100% outside our Wilson interval). For context only (beyond the claim's scope, no "
-        f"verdict), over every shape and planner: " + "; ".join(
-            f"{label('model_preset', r.model_preset)}: {_labels(r)} (dynamic grasps: "
-            f"{status(ok[ok.model_preset == r.model_preset])})" for r in context.itertuples()) +
+            f"{label('model_preset', r.model_preset)} "
+            + (f"{r.agreement_pct:.1f}%" if r.n else "nothing to compare")
+            for r in judged[judged.comparison == "preset"].itertuples()) + ". "
+        f"{int(judged.differs.eq(True).sum())} of {int(judged.differs.notna().sum())} {CLAIM_SHAPE} "
+        "comparisons differ from full agreement (its 100% outside our Wilson interval). For context only "
+        f"(beyond the claim's scope, no verdict), over every shape and planner: " + "; ".join(
+            f"{label('model_preset', r.model_preset)}: {_labels(run, r)}" for r in context.itertuples()) +
         f". Agreement by mutual failure gives κ near 0, or none when every trial has one label in both "
         f"columns: it is not evidence that the evaluators agree. {DECISION}.")
 
@@ -97,21 +113,27 @@ def confusion_figure(run: Run, fig) -> None:
         ax.grid(False)
         ax.set(xticks=[0, 1], yticks=[0, 1], xticklabels=["success", "failure"],
                yticklabels=["success", "failure"], xlabel="dynamic label", ylabel="quasi-static label")
-        ax.set_title(f"{label('model_preset', r.model_preset)}:\n{PAIRS[r.comparison]}", fontsize=9)
+        left_out = f"\n({r.not_settled} {NOT_SETTLED}, left out)" if r.not_settled else ""
+        ax.set_title(f"{label('model_preset', r.model_preset)}:\n{PAIRS[r.comparison]}{left_out}", fontsize=9)
 
 
 def group_figure(run: Run, fig) -> None:
     axes = fig.subplots(1, 2)
     for ax, by in zip(axes, ("planner", "shape"), strict=True):
-        style.grouped_bars(ax, run.tables[f"agreement_by_{by}"], by, "model_preset",
-             ("agreement_pct", "agreement_low_pct", "agreement_high_pct"))
+        t = run.tables[f"agreement_by_{by}"]
+        style.grouped_bars(ax, t, by, "model_preset",
+                           ("agreement_pct", "agreement_low_pct", "agreement_high_pct"))
         ax.set(ylabel="labels agree [%]", title=f"per {by} (Wilson 95%)")
+        if not t.n.any():
+            ax.text(0.5, 0.5, f"nothing to compare: every dynamic grasp {NOT_SETTLED}",
+                    transform=ax.transAxes, ha="center")
     axes[0].get_legend().remove()  # both panels share the presets' legend
 
 
 def _by(by: str) -> Table:
-    return Table(f"agreement_by_{by}", f"Agreement of the source study's quasi-static label and the dynamic "
-                 f"label per preset and {by}; κ undefined where every trial has one label in both columns",
+    return Table(f"agreement_by_{by}", lambda run: f"Agreement of the source study's quasi-static label and "
+                 f"the dynamic label per preset and {by}; κ undefined where every trial has one label in "
+                 f"both columns; {_left_out(run)}",
                  lambda run: agreement(run, ["model_preset", by]), [
                      Col("qs_success_rate_pct", "quasi-static success %", 1),
                      Col("dynamic_success_rate_pct", "dynamic success %", 1), *AGREE],
@@ -123,17 +145,20 @@ SPEC = ReportSpec("dynamic_check", [
     Table("kappa", lambda run: f"Confusion matrix (rows quasi-static, columns dynamic), agreement and "
           f"Cohen's κ (asymptotic 95% interval, statsmodels) per preset and label pair, beside the paper's "
           f"claim \"{run.paper.claim}\" read as full agreement (100%): judged on the {CLAIM_SHAPE}'s trials "
-          f"(the claim's scope); the rows over {ALL} are context, with no verdict", _kappa, [
+          f"(the claim's scope); the rows over {ALL} are context, with no verdict; {_left_out(run)}",
+          _kappa, [
               Col("scope", "trials"), Col("comparison_label", "quasi-static label"), *AGREE,
               Col("paper_pct", "paper %", 1), Col("verdict", "verdict")], by=["model_preset"]),
     Figure("confusion", f"Confusion matrices per preset on the {CLAIM_SHAPE} (the claim's scope): the "
            "source study's label and Algorithms 1–2 under the preset (rows) against the dynamic label "
-           "(columns); every shape's counts are in table kappa", confusion_figure, (8.0, 7.0)),
+           f"(columns); every shape's counts are in table kappa; grasps {NOT_SETTLED} are left out "
+           "(their count in the panel's title)", confusion_figure, (8.0, 7.0)),
     _by("planner"), _by("shape"),
-    Figure("agreement_by_group", "Share of trials whose labels agree per planner and per shape, per preset",
+    Figure("agreement_by_group", "Share of the determined trials whose labels agree per planner and per "
+           f"shape, per preset (a group whose dynamic grasps are all {NOT_SETTLED} has no bar)",
            group_figure, (11.0, 4.0)),
     Table("dynamic_status", lambda run: "How the dynamic grasps ended, per preset and planner" + (
-          f" (t_max = {run.params['t_max_s']:g} s of simulated time)" if "t_max_s" in run.params else ""),
+          f" (t_max{_t_max(run)} of simulated time)" if _t_max(run) else ""),
           lambda run: in_order(run, ["model_preset", "planner"], pd.crosstab(
               [run.ok.model_preset, run.ok.planner], run.ok.dynamic_status).reset_index()),
           lambda run, t: [Col(c, label("dynamic_status", c)) for c in t if c not in
