@@ -83,8 +83,14 @@ def finding(run: Run) -> str:
     k, ok = run.tables["kappa"], run.ok
     claim, context = (k[(k.comparison == "source") & (k.scope == s)] for s in (CLAIM_SHAPE, ALL))
     judged = k[k.scope == CLAIM_SHAPE]
+    n_judged = int(judged.differs.notna().sum())
     verdict = "; ".join(f"**{label('model_preset', r.model_preset)}**: {_labels(run, r)} — {r.verdict}"
                         for r in claim.itertuples())
+    differ = (f"{int(judged.differs.eq(True).sum())} of {n_judged} {CLAIM_SHAPE} comparisons differ from "
+              "full agreement (its 100% outside our Wilson interval). " if n_judged else
+              f"No {CLAIM_SHAPE} comparison can be judged: none has a settled dynamic grasp. ")
+    mutual = ("Agreement by mutual failure gives κ near 0, or none when every trial has one label in both "
+              "columns: it is not evidence that the evaluators agree. " if n_judged else "")
     return (
         f"The paper: \"{run.paper.claim}\". Re-simulating {ok.source_trial_id.nunique()} "
         f"{', '.join(sorted(set(ok.source_study)))} trials, judged on the claim's scope, the "
@@ -94,12 +100,9 @@ def finding(run: Run) -> str:
             f"{label('model_preset', r.model_preset)} "
             + (f"{r.agreement_pct:.1f}%" if r.n else "nothing to compare")
             for r in judged[judged.comparison == "preset"].itertuples()) + ". "
-        f"{int(judged.differs.eq(True).sum())} of {int(judged.differs.notna().sum())} {CLAIM_SHAPE} "
-        "comparisons differ from full agreement (its 100% outside our Wilson interval). For context only "
-        f"(beyond the claim's scope, no verdict), over every shape and planner: " + "; ".join(
-            f"{label('model_preset', r.model_preset)}: {_labels(run, r)}" for r in context.itertuples()) +
-        f". Agreement by mutual failure gives κ near 0, or none when every trial has one label in both "
-        f"columns: it is not evidence that the evaluators agree. {DECISION}.")
+        + differ + "For context only (beyond the claim's scope, no verdict), over every shape and planner: "
+        + "; ".join(f"{label('model_preset', r.model_preset)}: {_labels(run, r)}"
+                    for r in context.itertuples()) + f". {mutual}{DECISION}.")
 
 
 def confusion_figure(run: Run, fig) -> None:
