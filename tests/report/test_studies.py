@@ -400,6 +400,30 @@ def test_pso_cvs_of_parameters_j_does_not_depend_on_get_no_verdict(tmp_path):
                                                  *3 * ["paper 47–77%"]]
 
 
+def test_pso_cv_of_a_parameter_on_its_bound_in_every_run_says_it_measures_the_bound(tmp_path):
+    """λ1 sits on its upper search bound in every run: its CV of 0 measures the bound, so its verdict says
+    so; n, constant but inside the box, and b, on a bound but not in every run, keep the bare rule."""
+    def outputs(factors, rng):
+        b_on_bound = rng.uniform() < 0.5
+        return {"lambda1": 1.5, "lambda2": rng.uniform(0.3, 1.4), "n_exp": 0.7,
+                "b": 2.0 if b_on_bound else rng.uniform(0.2, 1.5), "k": rng.uniform(0.05, 0.3),
+                "c": rng.uniform(5e-4, 0.01), "best_cost": rng.uniform(0, 1), "n_evaluations": 120,
+                **{f"at_bound_{p}": p == "lambda1" or (p == "b" and b_on_bound)
+                   for p in ("lambda1", "lambda2", "n", "b", "k", "c")}}
+
+    store = make_run(tmp_path, "pso_repeatability", "pso_repeatability", {"shape": ["sphere"]}, seeds=8,
+                     paper=None, outputs=outputs)
+    build_reports(["pso_repeatability"], root=tmp_path)
+    ok = ok_records(store)
+    every_run = {p for p in ("lambda1", "lambda2", "n", "b", "k", "c") if ok[f"at_bound_{p}"].all()}
+    assert every_run == {"lambda1"} and 0 < ok["at_bound_b"].sum() < len(ok)
+    verdict = read_table(store, "cv").set_index("parameter")["verdict"]
+    assert verdict["lambda1"] == ("differs by −60.0 pp; on its search bound (1.500) in every run, so CV 0.0% "
+                                  "measures the bound, not repeatability")
+    assert [p for p in verdict.index if "search bound" in verdict[p]] == ["lambda1"]
+    assert verdict["n_exp"] == "differs by −19.0 pp"  # CV 0 inside the box: a bare verdict
+
+
 def _wrench_report(tmp_path, outputs, trace):
     """A wrench_balance run at μ 0.1, 0.3, 0.5 from ``outputs``/``trace``, reported: its store, the
     wrench_balance table and that table's settling rows by μ."""
