@@ -501,7 +501,9 @@ def test_wrench_balance_never_settling_differs_and_non_physical_depths_flagged(t
     assert limit.loc[0.3, "delta_max_median_mm"] == pytest.approx(3.0)
 
 
-def test_heuristic_weights_invariance(tmp_path):
+@pytest.mark.parametrize(("scales", "words"), [([1.0, 0.5, 2.0], "unit weights"),
+                                               ([0.5, 2.0], "weight scale 0.5")])  # no unit-weight trial
+def test_heuristic_weights_invariance(tmp_path, scales, words):
     def outputs(factors, rng):
         s = factors["weight_scale"]
         key = f"{factors['seed']}-2-3"  # differs between seeds, never between scales of one seed
@@ -513,10 +515,16 @@ def test_heuristic_weights_invariance(tmp_path):
                 "s2_reachable": 0.25, "s3_reachable": 1 / 3}
 
     store = make_run(tmp_path, "heuristic_weights", "heuristic_weights",
-                     {"weight_scale": [1.0, 0.5, 2.0]}, seeds=3,
+                     {"weight_scale": scales}, seeds=3,
                      paper=None, outputs=outputs,
                      method_factors=["weight_scale"])
     build_reports(["heuristic_weights"], root=tmp_path)
+    ok = ok_records(store)
+    nearest = min(scales, key=lambda v: abs(v - 1))  # the finding's H is the scale nearest unit weights
+    paper = {1.0: 0.833, 0.5: 0.416}[nearest]
+    h_nearest = ok.loc[ok["weight_scale"] == nearest, "h_reachable"].median()
+    assert f"H is {h_nearest:.3f} at {words} (paper {paper})" in \
+        (store.path / "report" / "report.md").read_text()
     h = read_table(store, "h_by_scale").set_index("weight_scale")
     assert h.loc[2.0, "h_reachable"] == pytest.approx(2 * (0.5 + 1 / 3))
     assert h["verdict"].str.startswith("matches").all()

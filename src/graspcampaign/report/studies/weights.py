@@ -57,7 +57,9 @@ def finding(run: Run) -> str:
             f"the chosen triple unchanged ({inv.n} seeds) and "
             f"{'scales' if prop.value else 'does not always scale'} H by the factor; the paper states both "
             "(Sec. 5.2). On the hand-reachable 45°/45°/−90° set H "
-            f"is {unit['h_reachable']:.3f} at unit weights (paper {unit['paper_h_reachable']}); "
+            f"is {unit['h_reachable']:.3f} at "
+            f"{'unit weights' if unit['weight_scale'] == 1 else f'weight scale {unit.weight_scale:g}'} "
+            f"(paper {unit['paper_h_reachable']}); "
             f"{int((scale['differs'] == False).sum())} of {len(scale)} scales match the paper's value to "  # noqa: E712
             "its printed precision. S1 follows Eq. 7, which the paper publishes; S2 and S3 rest on a bounded "
             "s2ᵢ and a triangle geometry the paper does not publish, so our H differs wherever they do "
