@@ -96,6 +96,13 @@ def test_mesh_resolution_report_prints_the_cost_ratio(runs):
     failed = nm[~nm["success"].astype(bool)]
     assert rerun["failures_at_n_max"].sum() == len(failed)
     assert rerun["budget_capped"].sum() == failed["budget_capped"].sum()
+    # the finding's "horizontal residual" count, from the records: failing the ‖R‖ check at the doubled
+    # budget with |R_z| at most 1% of ‖R‖ (was: "what remains is the horizontal part", for every failure)
+    flat = failed[(failed["failure_check_rerun"] == "residual")
+                  & (np.abs(failed["residual_z_rerun_n"]) <= 0.01 * failed["residual_norm_rerun_n"])]
+    assert rerun["horizontal_residual_rerun"].sum() == len(flat)
+    assert (f"{len(failed)} baseline-grid failures, {int(failed['budget_capped'].sum())} pass at the doubled "
+            f"N_max; {len(flat)} still fail there on a horizontal force residual (|R_z| ≤ 1% of ‖R‖)") in md
     budget = _table(store, "success_vs_n_cand")
     assert set(budget["planner"]) == {"heuristic", "reference"}
     assert set(budget.loc[budget["planner"] == "heuristic", "n_cand"]) == {1, 30}
