@@ -471,8 +471,8 @@ def test_mesh_resolution_cost_ratio_ignores_repeats_slowed_by_machine_load(tmp_p
     monkeypatch.setattr(mesh_resolution, "_timed", loaded)
     _, _, df = _run("mesh_resolution", tmp_path, "seeds=1", "params.resolutions=[144,390]",
                     "params.budget_shapes=[sphere]", "params.budget_nodes=[144]", "params.budget_seeds=1",
-                    "params.budgets=[1]", "params.baseline_shapes=[sphere]", "params.baseline_masses_kg=[0.4]",
-                    "params.baseline_mus=[0.3]", "params.baseline_seeds=1")
+                    "params.budgets=[1]", "params.baseline_shapes=[sphere]",
+                    "params.baseline_masses_kg=[0.4]", "params.baseline_mus=[0.3]", "params.baseline_seeds=1")
     res = df[df["panel"] == "resolution"]
     assert (res["timing_repeats"] == 7).all() and (res["eval_time_s"] == 0.005).all()  # the median: load
     assert (res["cost_ratio_vs_reference"] == 1.0).all()

@@ -117,8 +117,9 @@ def test_the_pso_call_is_the_reference_of_the_ratios_not_a_row_without_a_paper_v
 
     from graspcampaign.report.studies.surrogate import _timing
 
+    predicts = "success_unbounded probability"
     stored = pd.DataFrame({"what": ["pso_call", "mlp", "random_forest"], "time_s": [0.006, 0.0002, 0.03],
-                           "predicts": ["", "success_unbounded probability", "success_unbounded probability"]})
+                           "predicts": ["", predicts, predicts]})
     paper = SimpleNamespace(pso_call_time_s=0.99, prediction_time_ms=0.06, speedup=17000)
     timing = _timing(SimpleNamespace(part=lambda name: stored, paper=paper)).set_index("what")
     assert timing.loc["pso_call", "paper_time_s"] == 0.99 and pd.isna(timing.loc["pso_call", "speedup"])
