@@ -251,7 +251,7 @@ def test_mesh_resolution_panels_and_baseline_reproduction(tmp_path):
     assert res["contact_lambda1"].nunique() == 1 and res["contact_n_exp"].nunique() == 1
     assert (res["cost_ratio_vs_reference"] > 0).all()
     np.testing.assert_allclose(res["cost_ratio_vs_reference"],
-                               res["eval_time_s"] / res["eval_time_reference_s"])
+                               res["eval_time_min_s"] / res["eval_time_reference_min_s"])
     # the exhaustive reference scores every triple of the 144-node mesh: C(144, 3) = 487344,
     # so no sampled budget can find a lower H on the same body
     bud = df[df["panel"] == "budget"]
@@ -452,3 +452,27 @@ def test_dynamic_grasp_runs_the_numpy_reference_by_param(tmp_path):
     with pytest.raises(UserInputError, match=r"params.step has unknown value 'gpu'; allowed "
                                              r"values: compiled, numpy\."):
         _run("friction_mass", tmp_path / "bad", *cut, "+params.step=gpu")
+
+
+def test_mesh_resolution_cost_ratio_ignores_repeats_slowed_by_machine_load(tmp_path, monkeypatch):
+    """Another process slows 4 of the 7 timed repeats of the mesh (5 ms instead of 1 ms; the reference
+    mesh's stay 1 ms): the per-trial median ratio said 5x growth, from load alone (seen on a shared
+    2-core machine: 0.14-6.7 between trials of one mesh). The fastest repeats give the cost, 1."""
+    import itertools
+
+    from graspcampaign.campaign.kinds import mesh_resolution
+
+    calls = itertools.count()
+
+    def loaded(fn, *args):  # calls alternate: this mesh, then the reference mesh, 7 repeats a trial
+        i = next(calls)
+        return 0.005 if i % 2 == 0 and (i // 2) % 7 < 4 else 0.001
+
+    monkeypatch.setattr(mesh_resolution, "_timed", loaded)
+    _, _, df = _run("mesh_resolution", tmp_path, "seeds=1", "params.resolutions=[144,390]",
+                    "params.budget_shapes=[sphere]", "params.budget_nodes=[144]", "params.budget_seeds=1",
+                    "params.budgets=[1]", "params.baseline_shapes=[sphere]",
+                    "params.baseline_masses_kg=[0.4]", "params.baseline_mus=[0.3]", "params.baseline_seeds=1")
+    res = df[df["panel"] == "resolution"]
+    assert (res["timing_repeats"] == 7).all() and (res["eval_time_s"] == 0.005).all()  # the median: load
+    assert (res["cost_ratio_vs_reference"] == 1.0).all()

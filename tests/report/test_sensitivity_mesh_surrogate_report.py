@@ -88,12 +88,21 @@ def test_mesh_resolution_report_prints_the_cost_ratio(runs):
     runtime = _table(store, "mesh_resolution_runtime").set_index("nodes")["loop_at_n_max_pct"]
     assert runtime.to_dict() == pytest.approx((100 * res.groupby("nodes")["loop_capped"].mean()).to_dict())
     md = (store.path / "report" / "report.md").read_text()
-    assert f"grows {expected:.2f}-fold from the smallest to the largest mesh" in md
+    # a ratio below 1 does not "grow": the sentence names both meshes and the number of trials
+    assert (f"One evaluation on the largest mesh (1750 nodes) costs {expected:.2f} times one on the 144-node "
+            f"reference mesh (median over {(res['nodes'] == 1750).sum()} trials;") in md
     rerun = _table(store, "n_max_rerun").set_index("planner")
     nm = records[records["panel"] == "n_max"]
     failed = nm[~nm["success"].astype(bool)]
     assert rerun["failures_at_n_max"].sum() == len(failed)
     assert rerun["budget_capped"].sum() == failed["budget_capped"].sum()
+    # the finding's "horizontal residual" count, from the records: failing the ‖R‖ check at the doubled
+    # budget with |R_z| at most 1% of ‖R‖ (was: "what remains is the horizontal part", for every failure)
+    flat = failed[(failed["failure_check_rerun"] == "residual")
+                  & (np.abs(failed["residual_z_rerun_n"]) <= 0.01 * failed["residual_norm_rerun_n"])]
+    assert rerun["horizontal_residual_rerun"].sum() == len(flat)
+    assert (f"{len(failed)} baseline-grid failures, {int(failed['budget_capped'].sum())} pass at the doubled "
+            f"N_max; {len(flat)} still fail there on a horizontal force residual (|R_z| ≤ 1% of ‖R‖)") in md
     budget = _table(store, "success_vs_n_cand")
     assert set(budget["planner"]) == {"heuristic", "reference"}
     assert set(budget.loc[budget["planner"] == "heuristic", "n_cand"]) == {1, 30}
@@ -231,3 +240,21 @@ def test_fig19_draws_one_cell_per_level_with_legible_or_no_cell_text(levels):
         sizes = [t.get_fontsize() for t in ax.texts]
         assert len(sizes) in (0, levels ** 2) and all(size >= 7 for size in sizes)
     assert any(ax.texts for ax in heatmaps) == (levels <= 12)
+
+
+@pytest.mark.parametrize(("passed", "deep", "expected"), [
+    # no trial passed without the gate: nothing to remove, not "0 of 0 successes"
+    ([False] * 4, [True, True, False, False], "removed none: no trial succeeded without it; 2 of 4 executed"),
+    ([True, True, True, False], [True, False, False, True], "removed 1 of 3 successes; 2 of 4 executed"),
+])
+def test_the_gate_sentence_counts_only_successes_there_were(passed, deep, expected):
+    from types import SimpleNamespace
+
+    from graspcampaign.analysis.records import gate_table
+    from graspcampaign.report.spec import gate_text
+
+    records = pd.DataFrame({"panel": "resolution", "status": "ok", "success_unbounded": passed,
+                            "valid_geometry": [not d for d in deep],
+                            "success": [p and not d for p, d in zip(passed, deep, strict=True)]})
+    text = gate_text(SimpleNamespace(tables={"gate_removed": gate_table(records, ["panel"])}))
+    assert f"(a contact deeper than the fingertip radius is no contact, issue 13) {expected} trials" in text

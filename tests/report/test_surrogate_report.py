@@ -108,3 +108,21 @@ def test_a_run_without_its_summary_says_how_to_get_it(sim_root, tmp_path):
     md = (root / "surrogate" / "default" / "report" / "report.md").read_text()
     assert ("Table surrogate_classification not computed: the run has no summary/surrogate_classification: "
             "`graspcampaign run surrogate` fits the models once every scenario is recorded.") in md
+
+
+def test_the_pso_call_is_the_reference_of_the_ratios_not_a_row_without_a_paper_value():
+    """The PSO call's ratio to itself (1) is no result; its verdict said "the paper reports no value"
+    beside the paper's 990 ms. A model's ratio is the PSO call's time over its own."""
+    from types import SimpleNamespace
+
+    from graspcampaign.report.studies.surrogate import _timing
+
+    predicts = "success_unbounded probability"
+    stored = pd.DataFrame({"what": ["pso_call", "mlp", "random_forest"], "time_s": [0.006, 0.0002, 0.03],
+                           "predicts": ["", predicts, predicts]})
+    paper = SimpleNamespace(pso_call_time_s=0.99, prediction_time_ms=0.06, speedup=17000)
+    timing = _timing(SimpleNamespace(part=lambda name: stored, paper=paper)).set_index("what")
+    assert timing.loc["pso_call", "paper_time_s"] == 0.99 and pd.isna(timing.loc["pso_call", "speedup"])
+    assert timing.loc["pso_call", "verdict"] == "the reference of the PSO/this ratios, not compared"
+    assert timing.loc[["mlp", "random_forest"], "speedup"].tolist() == pytest.approx([30.0, 0.2])
+    assert timing.loc["random_forest", "verdict"] == "the paper reports no value"

@@ -261,9 +261,12 @@ def gate_text(run: Run, name: str = "gate_removed") -> str:
     """The Finding's sentence on the :func:`GateRemoved` table ``name`` ("" without one)."""
     if (g := run.tables.get(name)) is None or not len(g):
         return ""
+    successes = int(g["success_unbounded"].sum())
+    removed = f"removed {int(g['removed'].sum())} of {successes} successes" if successes \
+        else "removed none: no trial succeeded without it"
     return (f" The validity gate (a contact deeper than the fingertip radius is no contact, issue 13) "
-            f"removed {int(g['removed'].sum())} of {int(g['success_unbounded'].sum())} successes; "
-            f"{int(g['invalid_geometry'].sum())} of {int(g['n'].sum())} executed trials have such a contact.")
+            f"{removed}; {int(g['invalid_geometry'].sum())} of {int(g['n'].sum())} executed trials have such "
+            "a contact.")
 
 
 def GateRemoved(by: Sequence[str], name: str = "gate_removed", caption: str = (

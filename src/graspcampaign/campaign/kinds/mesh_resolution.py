@@ -7,8 +7,8 @@ Panels (the ``panel`` column), emitted as one trial list by :func:`design`:
     the ``identify_nodes`` mesh, and held fixed across resolutions (Sec. 12: "holds the identified
     parameters fixed across resolutions"). Each trial records its grasp outcome (final residual,
     Fig. 20b) and the cost of one evaluation, timed ``timing_repeats`` times *interleaved* with
-    the same evaluation on the ``reference_nodes`` mesh inside the same trial, so the ratio
-    ``cost_ratio_vs_reference`` is measured under identical machine load (Fig. 20a).
+    the same evaluation on the ``reference_nodes`` mesh inside the same trial; the ratio
+    ``cost_ratio_vs_reference`` is that of the two meshes' fastest repeats (Fig. 20a).
 ``budget``
     Success against the candidate budget N_cand (Algorithm 1 line 1) on each shape, plus the
     ``reference`` planner (exhaustive on meshes with at most 3e6 triples, e.g. 144 nodes).
@@ -185,7 +185,9 @@ def _resolution(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
         "eval_time_s": float(np.median(own)),
         "eval_time_min_s": float(np.min(own)),
         "eval_time_reference_s": float(np.median(ref)),
-        "cost_ratio_vs_reference": float(np.median(own) / np.median(ref)),
+        "eval_time_reference_min_s": float(np.min(ref)),
+        # the fastest repeats: a repeat another process slowed is slower, never faster (docs/decisions.md)
+        "cost_ratio_vs_reference": float(np.min(own) / np.min(ref)),
         "reference_nodes": params.reference_nodes,
         "search_time_s": float(np.median(search)),
         "equilibrium_time_s": float(np.median(loop)),

@@ -75,6 +75,14 @@ def _cv(run: Run) -> pd.DataFrame:
                      "sd": v.std(ddof=1), "digits": _digits(run.paper.table3, p),
                      **_bound(ok[ok[p].notna()], p)})
     frame = verdicts(pd.DataFrame(rows), "cv_pct", "paper_cv_pct", "low_pct", "high_pct", unit="%")
+    # a parameter on a search bound in every run: its CV measures the bound, not repeatability
+    def bound_values(r) -> str:
+        return ", ".join(fmt.number(v, r.digits) for v in ok[r.parameter].dropna().unique())
+
+    frame = frame.assign(verdict=[  # on a search bound in every run: the CV measures the bound
+        f"{r.verdict}; on its search bound ({bound_values(r)}) in every run, so CV {r.cv_pct:.1f}% "
+        "measures the bound, not repeatability" if r.at_bound == r.n else r.verdict
+        for r in frame.itertuples()])
     flat, paper = frame["parameter"].isin(_flat(run)), frame["paper_cv_pct"]
     frame = frame.assign(differs=frame["differs"].where(~flat, None), verdict=frame["verdict"].where(
         ~flat, "no verdict: J does not depend on it, so its spread measures no identifiability"))

@@ -86,8 +86,10 @@ def _timing(run: Run) -> pd.DataFrame:
     t = t.assign(time_ms=1e3 * t["time_s"], time_us=1e6 * t["time_s"], paper_time_us=1e6 * t["paper_time_s"],
                  predicts=t["predicts"].map(lambda v: f"P(success), {name(v.split()[0])}"
                                             if isinstance(v, str) and v.endswith(" probability") else v))
-    t["speedup"] = float(t.loc[t["what"] == "pso_call", "time_s"].iloc[0]) / t["time_s"]
+    pso = t["what"] == "pso_call"  # the ratios' reference: its ratio to itself is no result
+    t["speedup"] = (float(t.loc[pso, "time_s"].iloc[0]) / t["time_s"]).where(~pso)
     t["paper_speedup"] = t["what"].map({"mlp": p.speedup})
+    t["why"] = pso.map({True: "the reference of the PSO/this ratios, not compared", False: ""})
     return verdicts(t, "speedup", "paper_speedup", digits=0, ratio="faster")
 
 
