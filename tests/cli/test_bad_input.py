@@ -266,6 +266,17 @@ def test_physically_impossible_values_are_refused_with_the_range(results, overri
         refused(results, [command, "shapes", override, "--root", results], IMPOSSIBLE[override])
 
 
+@pytest.mark.parametrize(("study", "override"), [
+    ("gravity_settle", "+params.settle_t_max_s=-1"), ("gravity_settle", "+params.implicit_dt_s=0"),
+    ("friction_mass", "+params.t_max_s=0"), ("friction_mass", "+params.grip_speed_m_per_s=-0.02")])
+def test_a_dynamic_time_budget_or_step_must_be_positive(results, study, override):
+    # a negative settle time ran RK4 to an "ok" record and failed the implicit trial with a bare
+    # ZeroDivisionError; a zero grasp time failed every trial at run time instead of at load
+    key, _, value = override.removeprefix("+").partition("=")
+    refused(results, ["run", study, override, "--root", results],
+            f"{key} = {float(value)} is out of range; allowed: > 0.0.")
+
+
 def test_status_of_an_unknown_study_does_not_suggest_running_it(results):
     from graspcampaign.campaign.studyfile import list_studies
 
