@@ -56,17 +56,18 @@ def settle_finding(run: Run) -> str:
     t = run.tables["settle"]
     parts = [f"{label('integrator', r.integrator)} at dt = {1e6 * r.dt_s:.0f} µs ({r.dt_over_rk4_limit:.2f}× "
              f"RK4's stable step "
-             f"with the floor) {'settles' if r.settled else '**does not settle**'}, squash ratio "
+             f"with the floor) {'settles' if r.settled else '**does not settle**'} within "
+             f"{r.simulated_time_s:.3g} s, squash ratio "
              f"{r.squash_ratio:.3f}" + (f", {r.newton_iterations_per_step:.1f} Newton iterations per step "
                                         f"and {r.lu_factorizations} LU factorisations"
                                         if r.lu_factorizations else "") for r in t.itertuples()]
     like = "as" if t["settled"].all() == run.paper.settles else "unlike"
     text = f"The sphere on the floor, {like} the paper's Fig. 10: " + "; ".join(parts) + ". "
-    text += (f"The settled shapes differ by at most {t.shape_difference_max_mm.max():.3g} mm per node and "
+    text += (f"The final shapes differ by at most {t.shape_difference_max_mm.max():.3g} mm per node and "
              f"{np.ptp(t.squash_ratio):.2g} in squash ratio. ") if len(t) > 1 else ""
     text += "Integrator audit (Sec. 12 lists it as missing): " + "; ".join(
         f"{label('integrator', r.integrator)} observed order {r.observed_order:.2f} (expected "
-        f"{r.expected_order}), energy-balance error {r.energy_balance_rel_error:.2g} over "
+        f"{r.expected_order}), relative energy-balance error {r.energy_balance_rel_error:.2g} over "
         f"{r.energy_audit_steps:.0f} steps shrinking "
         f"{r.energy_balance_rel_error / r.energy_balance_rel_error_half_dt:.1f}-fold at half the step "
         f"(2^{r.expected_order} = {2 ** r.expected_order}), {r.energy_increases} energy increases"
@@ -88,7 +89,8 @@ def fig10(run: Run, fig) -> None:
         shape, trace = _trial(run, "shape", r.trial_id), _trial(run, "settle", r.trial_id)
         c = colour("integrator", r.integrator, i)
         a.scatter(1e3 * shape["x_m"], 1e3 * shape["z_m"], s=12, c=c, marker="o+x"[i % 3],
-                  label=f"settled, {label('integrator', r.integrator)} (ratio {r.squash_ratio:.3f})")
+                  label=f"{'settled' if r.settled else 'unsettled'}, {label('integrator', r.integrator)} "
+                  f"(ratio {r.squash_ratio:.3f})")
         b.semilogy(trace["time_s"], np.maximum(trace["kinetic_energy_j"], 1e-12), color=c,
                    label=label("integrator", r.integrator))
     a.axhline(1e3 * shape0["z_m"].min(), color=style.PAPER, linewidth=1.0, label="floor")
@@ -124,12 +126,12 @@ STEP = [Col("dt_us", "dt [µs]", sig=3), Col("dt_over_rk4_limit", "dt / RK4's st
 GRAVITY_SETTLE = ReportSpec("gravity_settle", [
     Finding(settle_finding),
     Table("settle", "Gravity settling per integrator beside Sec. 5.4 (the paper reports it qualitatively); "
-          "shape difference: largest distance of a node from its place in the first integrator's settled "
-          "shape", _settle, [*cols("nodes", "mass_kg", "paper_settles", "settled", "squash_ratio",
+          "squash ratio: final height over undeformed height; shape difference: largest distance of a node "
+          "from its place in the first integrator's final shape", _settle, [*cols("nodes", "mass_kg", "paper_settles", "settled", "squash_ratio",
                                    "shape_difference_max_mm", "simulated_time_s"),
                               Col("final_kinetic_energy_uj", "final kinetic energy [µJ]", sig=3),
                               *cols("max_floor_penetration_mm"), *STEP], by=["integrator"]),
-    Figure("fig10_settle", "Fig. 10 (ours): undeformed and settled sphere per integrator; kinetic-energy "
+    Figure("fig10_settle", "Fig. 10 (ours): undeformed and final sphere per integrator; kinetic-energy "
            "decay", fig10, (10.0, 4.4)),
     Table("integrator_audit", "Step-size study and energy audit of each integrator on the settle body (Sec. "
           "12 lists both as missing from the paper; no paper values to compare); expected order: RK4 4, "
