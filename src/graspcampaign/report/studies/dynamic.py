@@ -127,10 +127,10 @@ GRAVITY_SETTLE = ReportSpec("gravity_settle", [
     Finding(settle_finding),
     Table("settle", "Gravity settling per integrator beside Sec. 5.4 (the paper reports it qualitatively); "
           "squash ratio: final height over undeformed height; shape difference: largest distance of a node "
-          "from its place in the first integrator's final shape", _settle, [*cols("nodes", "mass_kg", "paper_settles", "settled", "squash_ratio",
-                                   "shape_difference_max_mm", "simulated_time_s"),
-                              Col("final_kinetic_energy_uj", "final kinetic energy [µJ]", sig=3),
-                              *cols("max_floor_penetration_mm"), *STEP], by=["integrator"]),
+          "from its place in the first integrator's final shape", _settle, [
+              *cols("nodes", "mass_kg", "paper_settles", "settled", "squash_ratio", "shape_difference_max_mm",
+                    "simulated_time_s"), Col("final_kinetic_energy_uj", "final kinetic energy [µJ]", sig=3),
+              *cols("max_floor_penetration_mm"), *STEP], by=["integrator"]),
     Figure("fig10_settle", "Fig. 10 (ours): undeformed and final sphere per integrator; kinetic-energy "
            "decay", fig10, (10.0, 4.4)),
     Table("integrator_audit", "Step-size study and energy audit of each integrator on the settle body (Sec. "
