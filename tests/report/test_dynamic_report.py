@@ -14,7 +14,7 @@ import pandas as pd
 
 from graspcampaign.analysis.vocabulary import label
 from graspcampaign.report.render import Run
-from graspcampaign.report.studies.dynamic import fig12_13, mass_finding, shown_case
+from graspcampaign.report.studies.dynamic import FRICTION_MASS, fig12_13, mass_finding, shown_case
 
 PAPER = SimpleNamespace(representative_mu=0.1, representative_mass_kg=0.4,  # Sec. 5.5, Figs. 12-13
                         total_penetration_below_m=5e-4)
@@ -61,3 +61,33 @@ def test_the_finding_names_the_case_it_shows():
     assert ("Representative case of Figs. 12-13: μ = 0.1, m = 0.4 kg, not in this run; Figs. 12-13 "
             "(ours) single out its nearest case, μ = 0.3, m = 0.4 kg.") in text
     assert f"**{label('model_preset', 'table2')}**" in text and "**table2**" not in text
+
+
+def test_the_caption_shades_no_lift_off_when_the_case_never_lifts():
+    # a run whose every preset stops before lift-off read "grey: its lift-off (in 0 of 2 presets;
+    # the others never lift)", while the figure has no grey at all
+    run = friction_mass_run([0.1])
+    run.__dict__["ok"] = run.ok.assign(lift_start_s=np.nan, lift_end_s=np.nan)
+    fig = plt.figure()
+    fig12_13(run, fig)
+    shaded = sum(len(ax.patches) for ax in fig.axes)
+    plt.close(fig)
+    figure = next(i for i in FRICTION_MASS.items if getattr(i, "name", "") == "fig12_13_dynamic")
+    caption = figure.caption(run)
+    assert shaded == 0 and "grey" not in caption and "0 of" not in caption
+    assert caption.endswith("μ = 0.1, m = 0.4 kg; it never lifts off")
+    run.__dict__["ok"] = run.ok.assign(lift_start_s=np.where(run.ok.model_preset == "firm", 0.2, np.nan))
+    assert figure.caption(run).endswith("grey: its lift-off (in 1 of 2 presets; the others never lift)")
+
+
+def test_the_paper_limit_legend_does_not_cover_the_paper_limit_line():
+    # on a run whose penetration stays below 0.5 mm, the legend pinned upper right sat on that line
+    run = friction_mass_run([0.1])
+    fig = plt.figure(figsize=(15.0, 8.8))
+    fig12_13(run, fig)
+    fig.canvas.draw()
+    for ax in (ax for ax in fig.axes if ax.get_title().endswith("Fig. 12 bottom")):
+        box = ax.get_legend().get_window_extent()
+        line_y = ax.transData.transform((0.0, 1e3 * PAPER.total_penetration_below_m))[1]
+        assert not box.y0 <= line_y <= box.y1
+    plt.close(fig)

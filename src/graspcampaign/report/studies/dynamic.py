@@ -208,10 +208,11 @@ def _thick(run: Run) -> str:
     """What the figure's thick case is and where its lift-off is shaded."""
     mu, mass, exact = shown_case(run)
     lifted = run.ok[np.isclose(run.ok.mu, mu) & np.isclose(run.ok.mass_kg, mass)].lift_start_s.notna()
+    some = "" if lifted.all() else f" (in {lifted.sum()} of {len(lifted)} presets; the others never lift)"
     return (("the paper's representative case" if exact else "the case nearest the paper's representative "
              f"μ = {run.paper.representative_mu:g}, m = {run.paper.representative_mass_kg:g} kg (not run)")
-            + f", μ = {mu:g}, m = {mass:g} kg; grey: its lift-off" + ("" if lifted.all() else
-                f" (in {lifted.sum()} of {len(lifted)} presets; the others never lift)"))
+            + f", μ = {mu:g}, m = {mass:g} kg; " + (f"grey: its lift-off{some}" if lifted.any() else
+                                                     "it never lifts off"))
 
 
 def fig12_13(run: Run, fig) -> None:
@@ -244,7 +245,7 @@ def fig12_13(run: Run, fig) -> None:
                       label=f"paper: settles below {1e3 * p.total_penetration_below_m:g} mm")
         ax[1].set(xlabel="time [s]", ylabel="total penetration [mm]", title=f"{preset}: Fig. 12 bottom")
         ax[2].set(xlabel="time [s]", ylabel="normal force [N]", title=f"{preset}: Fig. 13, {case}")
-        ax[1].legend(handles=ax[1].get_legend_handles_labels()[0][-1:], loc="upper right")
+        ax[1].legend(handles=ax[1].get_legend_handles_labels()[0][-1:], loc="best")
         if ax[2].lines:
             ax[2].legend()
     fig.legend(handles=axes[0, 0].get_legend_handles_labels()[0], loc="outside lower center", ncol=6)
