@@ -54,8 +54,9 @@ def test_a_run_without_the_papers_case_says_so_and_draws_its_nearest():
 def test_the_finding_names_the_case_it_shows():
     run = friction_mass_run([0.3])
     ok = run.ok.assign(dynamic_status="stable", final_phase="hold", delta_max_mm=1.0, success=True,
-                       qs_success=True, qs_success_unbounded=True, lp_status_mu0="feasible",
-                       lp_status_mu0_ideal="feasible", lp_mu0_reason="", normal_off_radial_max_deg=1.0)
+                       qs_success=True, qs_success_unbounded=True, lp_status="feasible",
+                       lp_status_mu0="feasible", lp_status_mu0_ideal="feasible", lp_mu0_reason="",
+                       normal_off_radial_max_deg=1.0)
     run.__dict__["ok"] = ok  # the executed trials with their outcome columns
     text = mass_finding(run)
     assert ("Representative case of Figs. 12-13: μ = 0.1, m = 0.4 kg, not in this run; Figs. 12-13 "
@@ -91,3 +92,19 @@ def test_the_paper_limit_legend_does_not_cover_the_paper_limit_line():
         line_y = ax.transData.transform((0.0, 1e3 * PAPER.total_penetration_below_m))[1]
         assert not box.y0 <= line_y <= box.y1
     plt.close(fig)
+
+
+def test_the_finding_reports_the_lp_at_the_runs_own_mu_not_only_at_zero():
+    # the finding gave only the μ = 0 LP, while the table showed it infeasible at μ = 0.1 too,
+    # against the paper's 'feasible at every μ'
+    run = friction_mass_run([0.1, 0.3])
+    ok = run.ok.assign(dynamic_status="stable", final_phase="hold", delta_max_mm=1.0, success=True,
+                       qs_success=True, qs_success_unbounded=True, lp_status_mu0="infeasible",
+                       lp_mu0_reason="torque_balance", lp_status_mu0_ideal="feasible",
+                       normal_off_radial_max_deg=6.7)
+    run.__dict__["ok"] = ok.assign(lp_status=np.where(ok.mu == 0.1, "infeasible", "feasible"))
+    low = int((run.ok.mu == 0.1).sum())
+    text = mass_finding(run)
+    assert (f"feasible at the run's μ in {len(ok) - low} of {len(ok)} runs (not in {low}, at μ = 0.1; the "
+            f"paper: feasible at every μ) and at μ = 0 in 0 of {len(ok)} runs on the meshed sphere "
+            f"({len(ok)} fail torque balance;") in text

@@ -194,10 +194,15 @@ def mass_finding(run: Run) -> str:
                      f"{(g.success == g.qs_success).sum()} of {len(g)}")
     ok = run.ok
     why = ok.loc[ok.lp_status_mu0 != "feasible", "lp_mu0_reason"].value_counts()
+    short = ok.loc[ok.lp_status != "feasible", "mu"]
     return ("The paper ran six of the nine μ × m cases and reports every one stable (Sec. 5.5). "
-            + "; ".join(parts) + f" ({GRASP}). The friction-cone LP is feasible at μ = 0 in "
+            + "; ".join(parts) + f" ({GRASP}). The friction-cone LP on the same contacts is feasible at "
+            f"the run's μ in {len(ok) - len(short)} of {len(ok)} runs" + (
+                f" (not in {len(short)}, at μ = {', '.join(f'{m:g}' for m in sorted(set(short)))}; the "
+                "paper: feasible at every μ)" if len(short) else "") + " and at μ = 0 in "
             f"{(ok.lp_status_mu0 == 'feasible').sum()} of {len(ok)} runs on the meshed sphere" + (
-                " (" + ", ".join(f"{k} {v}" for k, v in why.items()) + "; facet normals up to "
+                " (" + ", ".join(f"{v} fail {k.replace('_', ' ')}" for k, v in why.items())
+                + "; facet normals up to "
                 f"{ok.normal_off_radial_max_deg.max():.1f}° off radial), and in "
                 f"{(ok.lp_status_mu0_ideal == 'feasible').sum()} of {len(ok)} on the ideal sphere along the "
                 "same directions, the paper's argument (Sec. 6.1)" if len(why) else "")
