@@ -108,3 +108,17 @@ def test_the_finding_reports_the_lp_at_the_runs_own_mu_not_only_at_zero():
     assert (f"feasible at the run's μ in {len(ok) - low} of {len(ok)} runs (not in {low}, at μ = 0.1; the "
             f"paper: feasible at every μ) and at μ = 0 in 0 of {len(ok)} runs on the meshed sphere "
             f"({len(ok)} fail torque balance;") in text
+
+
+def test_the_finding_says_how_and_when_the_unheld_runs_ended_in_words():
+    # "2 end `not_settled` (in closure)": a record token, and no word of the 0.03 s the run had
+    run = friction_mass_run([0.1])
+    ok = run.ok.assign(dynamic_status="not_settled", final_phase="closure", delta_max_mm=0.0,
+                       success=False, qs_success=False, qs_success_unbounded=True, lp_status="feasible",
+                       lp_status_mu0="feasible", lp_status_mu0_ideal="feasible", lp_mu0_reason="",
+                       normal_off_radial_max_deg=1.0, simulated_time_s=0.03)
+    run.__dict__["ok"] = ok
+    per_preset = int((ok.model_preset == "firm").sum())
+    text = mass_finding(run)
+    assert f"{per_preset} end not settled by t_max (in closure, at 0.0300 s)" in text
+    assert "`not_settled`" not in text

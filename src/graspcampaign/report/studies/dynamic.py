@@ -180,8 +180,10 @@ def mass_finding(run: Run) -> str:
         if len(stable):
             text += f" at δ_max {fmt.span(stable.delta_max_mm, ' mm')}"
         if len(other):
-            phase = other.groupby("dynamic_status")["final_phase"].agg(lambda s: "/".join(set(s)))
-            text += "; " + ", ".join(f"{v} end `{k}` (in {phase[k]})"
+            ended = other.groupby("dynamic_status")
+            phase = ended["final_phase"].agg(lambda s: "/".join(set(s)))
+            text += "; " + ", ".join(f"{v} end {label('dynamic_status', k)} (in {phase[k]}, at "
+                                     f"{fmt.span(ended.get_group(k).simulated_time_s, ' s')})"
                                      for k, v in other.dynamic_status.value_counts().items())
         if "delta_required_mm" in g:
             beyond = (g.delta_required_mm > g.fingertip_radius_mm).mean()
