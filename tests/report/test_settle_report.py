@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from types import SimpleNamespace
 
+import numpy as np
 import pandas as pd
 
 from graspcampaign.analysis.vocabulary import label
@@ -51,3 +52,26 @@ def test_an_unsettled_run_says_within_what_time_and_calls_no_shape_settled():
     assert text.count("**does not settle** within 0.2 s") == 2 and "settled shape" not in text
     assert "The final shapes differ by at most 0.0181 mm" in text
     assert "relative energy-balance error 0.0014 over 200 steps" in text  # the record's relative error
+
+
+def test_fig10_draws_the_floor_at_the_lowest_rest_node_not_at_the_deepest_settled_one():
+    # core.msd.settle_on_floor sets the floor at the lowest rest node; the figure drew it at the
+    # lowest settled node, i.e. below the floor by the penetration
+    import matplotlib.pyplot as plt
+
+    from graspcampaign.report.studies.dynamic import fig10
+
+    z0 = np.array([-0.05, 0.0, 0.05])
+    shape = pd.DataFrame({"trial_id": "t", "node": range(3), "x0_m": 0.0, "z0_m": z0, "x_m": 0.0,
+                          "y_m": 0.0, "z_m": z0 * 0.9 - 0.006})  # 1.0 mm below the floor at the bottom
+    run = Run(pd.DataFrame({"trial_id": ["t"]}), {}, SimpleNamespace(settles=True))
+    run.tables["settle"] = pd.DataFrame([{"trial_id": "t", "integrator": "rk4", "settled": True,
+                                          "squash_ratio": 0.9}])
+    run.memo("tables/shape", lambda: shape)
+    run.memo("tables/settle", lambda: pd.DataFrame({"trial_id": "t", "time_s": [0.0, 1.0],
+                                                    "kinetic_energy_j": [1e-3, 1e-9]}))
+    fig = plt.figure()
+    fig10(run, fig)
+    floor = [line for line in fig.axes[0].get_lines() if line.get_label() == "floor"]
+    plt.close(fig)
+    assert len(floor) == 1 and floor[0].get_ydata()[0] == 1e3 * z0.min()

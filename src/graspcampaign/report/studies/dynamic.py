@@ -93,7 +93,7 @@ def fig10(run: Run, fig) -> None:
                   f"(ratio {r.squash_ratio:.3f})")
         b.semilogy(trace["time_s"], np.maximum(trace["kinetic_energy_j"], 1e-12), color=c,
                    label=label("integrator", r.integrator))
-    a.axhline(1e3 * shape0["z_m"].min(), color=style.PAPER, linewidth=1.0, label="floor")
+    a.axhline(1e3 * shape0["z0_m"].min(), color=style.PAPER, linewidth=1.0, label="floor")  # lowest rest node
     a.set(xlabel="x [mm]", ylabel="z [mm]", aspect="equal", title="(a) side view")
     b.set(xlabel="time [s]", ylabel="kinetic energy [J]", title="(b) settling")
     style.legend_below(a, ncol=2), b.legend()
