@@ -266,6 +266,21 @@ def test_physically_impossible_values_are_refused_with_the_range(results, overri
         refused(results, [command, "shapes", override, "--root", results], IMPOSSIBLE[override])
 
 
+@pytest.mark.parametrize(("study", "override", "allowed"), [
+    ("gravity_settle", "+params.settle_t_max_s=-1.0", "> 0.0"),
+    ("gravity_settle", "+params.implicit_dt_s=0.0", "> 0.0"),
+    ("friction_mass", "+params.t_max_s=0.0", "> 0.0"),
+    ("friction_mass", "+params.grip_speed_m_per_s=-0.02", "> 0.0"),
+    ("shapes", "+params.nodes=5", ">= 12"), ("shapes", "+params.candidate_sample=-3", ">= 0")])
+def test_a_kind_parameter_out_of_range_is_refused_before_the_run_starts(results, study, override, allowed):
+    # a negative settle time ran RK4 to an "ok" record and failed the implicit trial with a bare
+    # ZeroDivisionError; a zero grasp time failed every trial at run time instead of at load;
+    # params.nodes=5 wrote the run's manifest, then failed with "n_nodes must be at least 12", so
+    # the corrected command was refused as config drift; a negative candidate sample ran
+    refused(results, ["run", study, override, "--root", results],
+            f"{override.removeprefix('+').replace('=', ' = ')} is out of range; allowed: {allowed}.")
+
+
 def test_status_of_an_unknown_study_does_not_suggest_running_it(results):
     from graspcampaign.campaign.studyfile import list_studies
 

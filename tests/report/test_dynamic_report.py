@@ -14,7 +14,7 @@ import pandas as pd
 
 from graspcampaign.analysis.vocabulary import label
 from graspcampaign.report.render import Run
-from graspcampaign.report.studies.dynamic import fig12_13, mass_finding, shown_case
+from graspcampaign.report.studies.dynamic import FRICTION_MASS, fig12_13, mass_finding, shown_case
 
 PAPER = SimpleNamespace(representative_mu=0.1, representative_mass_kg=0.4,  # Sec. 5.5, Figs. 12-13
                         total_penetration_below_m=5e-4)
@@ -54,10 +54,71 @@ def test_a_run_without_the_papers_case_says_so_and_draws_its_nearest():
 def test_the_finding_names_the_case_it_shows():
     run = friction_mass_run([0.3])
     ok = run.ok.assign(dynamic_status="stable", final_phase="hold", delta_max_mm=1.0, success=True,
-                       qs_success=True, qs_success_unbounded=True, lp_status_mu0="feasible",
-                       lp_status_mu0_ideal="feasible", lp_mu0_reason="", normal_off_radial_max_deg=1.0)
+                       qs_success=True, qs_success_unbounded=True, lp_status="feasible",
+                       lp_status_mu0="feasible", lp_status_mu0_ideal="feasible", lp_mu0_reason="",
+                       normal_off_radial_max_deg=1.0)
     run.__dict__["ok"] = ok  # the executed trials with their outcome columns
     text = mass_finding(run)
     assert ("Representative case of Figs. 12-13: μ = 0.1, m = 0.4 kg, not in this run; Figs. 12-13 "
             "(ours) single out its nearest case, μ = 0.3, m = 0.4 kg.") in text
     assert f"**{label('model_preset', 'table2')}**" in text and "**table2**" not in text
+
+
+def test_the_caption_shades_no_lift_off_when_the_case_never_lifts():
+    # a run whose every preset stops before lift-off read "grey: its lift-off (in 0 of 2 presets;
+    # the others never lift)", while the figure has no grey at all
+    run = friction_mass_run([0.1])
+    run.__dict__["ok"] = run.ok.assign(lift_start_s=np.nan, lift_end_s=np.nan)
+    fig = plt.figure()
+    fig12_13(run, fig)
+    shaded = sum(len(ax.patches) for ax in fig.axes)
+    plt.close(fig)
+    figure = next(i for i in FRICTION_MASS.items if getattr(i, "name", "") == "fig12_13_dynamic")
+    caption = figure.caption(run)
+    assert shaded == 0 and "grey" not in caption and "0 of" not in caption
+    assert caption.endswith("μ = 0.1, m = 0.4 kg; it never lifts off")
+    run.__dict__["ok"] = run.ok.assign(lift_start_s=np.where(run.ok.model_preset == "firm", 0.2, np.nan))
+    assert figure.caption(run).endswith("grey: its lift-off (in 1 of 2 presets; the others never lift)")
+
+
+def test_the_paper_limit_legend_does_not_cover_the_paper_limit_line():
+    # on a run whose penetration stays below 0.5 mm, the legend pinned upper right sat on that line
+    run = friction_mass_run([0.1])
+    fig = plt.figure(figsize=(15.0, 8.8))
+    fig12_13(run, fig)
+    fig.canvas.draw()
+    for ax in (ax for ax in fig.axes if ax.get_title().endswith("Fig. 12 bottom")):
+        box = ax.get_legend().get_window_extent()
+        line_y = ax.transData.transform((0.0, 1e3 * PAPER.total_penetration_below_m))[1]
+        assert not box.y0 <= line_y <= box.y1
+    plt.close(fig)
+
+
+def test_the_finding_reports_the_lp_at_the_runs_own_mu_not_only_at_zero():
+    # the finding gave only the μ = 0 LP, while the table showed it infeasible at μ = 0.1 too,
+    # against the paper's 'feasible at every μ'
+    run = friction_mass_run([0.1, 0.3])
+    ok = run.ok.assign(dynamic_status="stable", final_phase="hold", delta_max_mm=1.0, success=True,
+                       qs_success=True, qs_success_unbounded=True, lp_status_mu0="infeasible",
+                       lp_mu0_reason="torque_balance", lp_status_mu0_ideal="feasible",
+                       normal_off_radial_max_deg=6.7)
+    run.__dict__["ok"] = ok.assign(lp_status=np.where(ok.mu == 0.1, "infeasible", "feasible"))
+    low = int((run.ok.mu == 0.1).sum())
+    text = mass_finding(run)
+    assert (f"feasible at the run's μ in {len(ok) - low} of {len(ok)} runs (not in {low}, at μ = 0.1; the "
+            f"paper: feasible at every μ) and at μ = 0 in 0 of {len(ok)} runs on the meshed sphere "
+            f"({len(ok)} fail torque balance;") in text
+
+
+def test_the_finding_says_how_and_when_the_unheld_runs_ended_in_words():
+    # "2 end `not_settled` (in closure)": a record token, and no word of the 0.03 s the run had
+    run = friction_mass_run([0.1])
+    ok = run.ok.assign(dynamic_status="not_settled", final_phase="closure", delta_max_mm=0.0,
+                       success=False, qs_success=False, qs_success_unbounded=True, lp_status="feasible",
+                       lp_status_mu0="feasible", lp_status_mu0_ideal="feasible", lp_mu0_reason="",
+                       normal_off_radial_max_deg=1.0, simulated_time_s=0.03)
+    run.__dict__["ok"] = ok
+    per_preset = int((ok.model_preset == "firm").sum())
+    text = mass_finding(run)
+    assert f"{per_preset} end not settled by t_max (in closure, at 0.0300 s)" in text
+    assert "`not_settled`" not in text

@@ -386,6 +386,47 @@ def test_shapes_table_checks_and_fig15_mark_contacts_beyond_the_fingertip_radius
     assert any("τ_T" in t for t in legend) and any("deeper than r" in t for t in legend)
 
 
+def test_shapes_finding_names_another_failing_check_and_counts_deep_contacts_from_the_records(tmp_path):
+    """Two shapes that fail as the paper's do: the one failing on another check says so; the SI
+    explanation (contacts deeper than r, released contacts) is given with the records' counts, and
+    not at all on a run without them (it was printed whatever the run held)."""
+    import json
+
+    from graspcampaign.campaign.paper import study_paper
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies.quasi_static import shapes_finding
+
+    def finding(deep_shapes):
+        def outputs(factors, rng):
+            out = quasi_static_outputs(factors, rng)
+            deep = factors["shape"] in deep_shapes
+            return {**out, "success": False, "failure_check": "residual", "valid_geometry": not deep,
+                    "n_released": int(deep), "delta_max_mm": 8.0 if deep else 2.0}
+
+        root = tmp_path / "-".join(deep_shapes or ["none"])
+        store = make_run(root, "shapes", "quasi_static",
+                         {"shape": SHAPES, "mass_kg": [0.4], "mu": [0.3], "planner": ["heuristic"]},
+                         seeds=2, paper=None, outputs=outputs)
+        build_reports(["shapes"], root=root)
+        manifest = json.loads(store.manifest_path.read_text())
+        run = Run(store.read().to_pandas(), manifest, study_paper("shapes"))
+        run.tables["shapes"] = read_table(store, "shapes")
+        return shapes_finding(run), ok_records(store)
+
+    text, ok = finding([])
+    paper = study_paper("shapes")
+    n = int((ok["shape"] == "handle").sum())
+    assert paper.failure_check["handle"] == "slip" and paper.failure_check["ellipsoid"] == "residual"
+    assert f"{label('shape', 'handle')} (paper fails on slip, ours residual ×{n})" in text
+    assert f"{label('shape', 'ellipsoid')} (" not in text  # the same check: nothing to add
+    assert "deeper than r" not in text and "SPEC §8" not in text and "released" not in text
+    text, ok = finding(["sphere", "pear"])
+    deep = int(ok["shape"].isin(["sphere", "pear"]).sum())
+    assert (f"{deep} of {len(ok)} trials have a contact deeper than r = 5 mm: in SI the paper's contact "
+            f"constants cannot carry the object at a sane indentation; Algorithm 2's sign step released a "
+            f"contact in {deep} of {len(ok)} trials (SPEC §8;") in text
+
+
 def test_shapes_table_counts_depths_beyond_the_radius_in_records_without_the_gate(tmp_path):
     """Records written before the validity gate have no ``valid_geometry``: a trial is still beyond
     the fingertip radius when its δmax exceeds r (the shapes table counted none of them)."""

@@ -22,7 +22,7 @@ def mesh_outputs(factors: dict, rng: np.random.Generator) -> dict:
             "max_edge_deviation_deg": 10.0, "build_time_s": 0.01}
 
 
-def test_smoke_labels_shapes_and_keeps_its_legend_off_the_lines(tmp_path):
+def test_smoke_labels_shapes_and_keeps_its_legend_off_the_bars(tmp_path):
     store = make_run(tmp_path, "smoke", "mesh_features", {"shape": SHAPES, "nodes": [144, 390]}, seeds=1,
                      paper=None, outputs=mesh_outputs)
     build_reports(["smoke"], root=tmp_path)
@@ -30,10 +30,35 @@ def test_smoke_labels_shapes_and_keeps_its_legend_off_the_lines(tmp_path):
     rows = [line.split(" | ")[0].lstrip("| ") for line in md.splitlines()
             if line.startswith("| ") and " | 144 | " in line]
     assert rows == [label("shape", s) for s in SHAPES]  # "rounded cube", not rounded_cube, in order
-    fig = plt.figure(figsize=(6.4, 4.8))
+    fig = plt.figure(figsize=(9.0, 4.2), layout="constrained")
     _features(Run(store.read().to_pandas(), {"config": {"factors": {}}}), fig)
     fig.canvas.draw()
-    ax = fig.axes[0]
-    legend, axes_box = ax.get_legend().get_window_extent(), ax.get_window_extent()
+    legend = fig.legends[0].get_window_extent()
+    assert all(legend.y1 < ax.get_window_extent().y0 for ax in fig.axes)  # below the axes
     plt.close(fig)
-    assert legend.y1 < axes_box.y0  # below the axes: no line runs through its text
+
+
+def test_smoke_figure_shows_every_count_even_equal_ones_and_the_table_says_what_sharp_means(tmp_path):
+    # the line plot drew a shape's sharp edges over its equal vertex count, and the sphere's, the
+    # ellipsoid's and the pear's zeros on one another; one resolution spread 142-144 built nodes
+    # over an axis of decimals, and the finding said "1 resolutions"
+    def outputs(factors, rng):
+        return {**mesh_outputs(factors, rng), "n_sharp_vertex": 0 if factors["shape"] != "handle" else 28,
+                "n_sharp_edge": 0 if factors["shape"] != "handle" else 28}
+
+    store = make_run(tmp_path, "smoke", "mesh_features", {"shape": SHAPES, "nodes": [144]}, seeds=1,
+                     paper=None, outputs=outputs)
+    build_reports(["smoke"], root=tmp_path)
+    records = store.read().to_pandas()
+    fig = plt.figure()
+    _features(Run(records, {"config": {"factors": {}}}), fig)
+    shown = {(ax.get_title(), t.get_text()) for ax in fig.axes for t in ax.texts}
+    heights = sorted(int(p.get_height()) for ax in fig.axes for p in ax.patches)
+    plt.close(fig)
+    assert heights == sorted([*records["n_sharp_vertex"], *records["n_sharp_edge"]])
+    assert ("sharp vertices", "28") in shown and ("sharp edges", "0") in shown
+    md = (store.path / "report" / "report.md").read_text()
+    assert f"across {len(SHAPES)} shapes and 1 resolution;" in md and "at this resolution" in md
+    assert "| shape | nodes | built nodes |" in md
+    assert ("a vertex is sharp when its angular defect (2π minus the sum of its face angles) exceeds 0.2 "
+            "rad, an edge when its dihedral angle departs from 180° by more than 30°") in md  # paper.yaml

@@ -27,16 +27,18 @@ MAX_TRACE_ROWS = 2000  # per trial; longer runs are decimated evenly (the last s
 @dataclass
 class DynamicParams:
     nodes: int = 356  # Sec. 5.1: the 356-node sphere
-    bulk_modulus_pa: float = 0.0  # 0: the paper's pure spring shell (Sec. 2.1); see msd.MsdParams
-    t_max_s: float = 1.0  # simulated time budget of one grasp
-    grip_speed_m_per_s: float = 0.02  # finger advance rate while |R_z| >= tau_F
-    settle_t_max_s: float = 2.0  # gravity_settle time budget
+    # 0: the paper's pure spring shell (Sec. 2.1); see msd.MsdParams
+    bulk_modulus_pa: float = field(default=0.0, metadata={"ge": 0.0})
+    t_max_s: float = field(default=1.0, metadata={"gt": 0.0})  # simulated time budget of one grasp
+    # finger advance rate while |R_z| >= tau_F
+    grip_speed_m_per_s: float = field(default=0.02, metadata={"gt": 0.0})
+    settle_t_max_s: float = field(default=2.0, metadata={"gt": 0.0})  # gravity_settle time budget
     # gravity_settle, Sec. 12 energy audit: RK4 steps at the settle step (twice as many at half);
     # 2000 is the former fixed AUDIT_STEPS (docs/decisions.md, audit length as a param)
     audit_steps: int = field(default=2000, metadata={"ge": 1})
     # gravity_settle, factor integrator=implicit: step of the implicit midpoint rule [s]; the
     # largest tested step whose settled shape matches RK4's (docs/decisions.md, implicit settle)
-    implicit_dt_s: float = 2.5e-4
+    implicit_dt_s: float = field(default=2.5e-4, metadata={"gt": 0.0})
     # dynamic grasp phases (Fig. 11); sources in core.dynamics.GraspParams
     lift_time_s: float = field(default=0.1, metadata={"gt": 0.0})  # lift-off ramp of the load
     open_gap_m: float = field(default=1e-3, metadata={"ge": 0.0})  # fingers start this far out

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import time
 from collections import OrderedDict
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -33,9 +33,11 @@ from graspcampaign.campaign.kinds import common
 class QuasiStaticParams:
     """Fixed parameters of the quasi-static kind."""
 
-    nodes: int = common.DEFAULT_NODES  # mesh resolution when `nodes` is not a factor (Sec. 6.2)
+    # mesh resolution when `nodes` is not a factor (Sec. 6.2); the factor's bound
+    nodes: int = field(default=common.DEFAULT_NODES, metadata={"ge": 12})
     stream_study: str = ""  # replay this study's scene streams (same seed and scene factors)
-    candidate_sample: int = 50  # (H, epsilon) pairs per ferrari_canny trial kept for the figure
+    # (H, epsilon) pairs per ferrari_canny trial kept for the figure (0: none)
+    candidate_sample: int = field(default=50, metadata={"ge": 0})
 
 
 def body_key(factors: dict[str, Any]) -> dict[str, Any]:

@@ -56,17 +56,18 @@ def settle_finding(run: Run) -> str:
     t = run.tables["settle"]
     parts = [f"{label('integrator', r.integrator)} at dt = {1e6 * r.dt_s:.0f} µs ({r.dt_over_rk4_limit:.2f}× "
              f"RK4's stable step "
-             f"with the floor) {'settles' if r.settled else '**does not settle**'}, squash ratio "
+             f"with the floor) {'settles' if r.settled else '**does not settle**'} within "
+             f"{r.simulated_time_s:.3g} s, squash ratio "
              f"{r.squash_ratio:.3f}" + (f", {r.newton_iterations_per_step:.1f} Newton iterations per step "
                                         f"and {r.lu_factorizations} LU factorisations"
                                         if r.lu_factorizations else "") for r in t.itertuples()]
     like = "as" if t["settled"].all() == run.paper.settles else "unlike"
     text = f"The sphere on the floor, {like} the paper's Fig. 10: " + "; ".join(parts) + ". "
-    text += (f"The settled shapes differ by at most {t.shape_difference_max_mm.max():.3g} mm per node and "
+    text += (f"The final shapes differ by at most {t.shape_difference_max_mm.max():.3g} mm per node and "
              f"{np.ptp(t.squash_ratio):.2g} in squash ratio. ") if len(t) > 1 else ""
     text += "Integrator audit (Sec. 12 lists it as missing): " + "; ".join(
         f"{label('integrator', r.integrator)} observed order {r.observed_order:.2f} (expected "
-        f"{r.expected_order}), energy-balance error {r.energy_balance_rel_error:.2g} over "
+        f"{r.expected_order}), relative energy-balance error {r.energy_balance_rel_error:.2g} over "
         f"{r.energy_audit_steps:.0f} steps shrinking "
         f"{r.energy_balance_rel_error / r.energy_balance_rel_error_half_dt:.1f}-fold at half the step "
         f"(2^{r.expected_order} = {2 ** r.expected_order}), {r.energy_increases} energy increases"
@@ -88,10 +89,11 @@ def fig10(run: Run, fig) -> None:
         shape, trace = _trial(run, "shape", r.trial_id), _trial(run, "settle", r.trial_id)
         c = colour("integrator", r.integrator, i)
         a.scatter(1e3 * shape["x_m"], 1e3 * shape["z_m"], s=12, c=c, marker="o+x"[i % 3],
-                  label=f"settled, {label('integrator', r.integrator)} (ratio {r.squash_ratio:.3f})")
+                  label=f"{'settled' if r.settled else 'unsettled'}, {label('integrator', r.integrator)} "
+                  f"(ratio {r.squash_ratio:.3f})")
         b.semilogy(trace["time_s"], np.maximum(trace["kinetic_energy_j"], 1e-12), color=c,
                    label=label("integrator", r.integrator))
-    a.axhline(1e3 * shape0["z_m"].min(), color=style.PAPER, linewidth=1.0, label="floor")
+    a.axhline(1e3 * shape0["z0_m"].min(), color=style.PAPER, linewidth=1.0, label="floor")  # lowest rest node
     a.set(xlabel="x [mm]", ylabel="z [mm]", aspect="equal", title="(a) side view")
     b.set(xlabel="time [s]", ylabel="kinetic energy [J]", title="(b) settling")
     style.legend_below(a, ncol=2), b.legend()
@@ -124,12 +126,12 @@ STEP = [Col("dt_us", "dt [µs]", sig=3), Col("dt_over_rk4_limit", "dt / RK4's st
 GRAVITY_SETTLE = ReportSpec("gravity_settle", [
     Finding(settle_finding),
     Table("settle", "Gravity settling per integrator beside Sec. 5.4 (the paper reports it qualitatively); "
-          "shape difference: largest distance of a node from its place in the first integrator's settled "
-          "shape", _settle, [*cols("nodes", "mass_kg", "paper_settles", "settled", "squash_ratio",
-                                   "shape_difference_max_mm", "simulated_time_s"),
-                              Col("final_kinetic_energy_uj", "final kinetic energy [µJ]", sig=3),
-                              *cols("max_floor_penetration_mm"), *STEP], by=["integrator"]),
-    Figure("fig10_settle", "Fig. 10 (ours): undeformed and settled sphere per integrator; kinetic-energy "
+          "squash ratio: final height over undeformed height; shape difference: largest distance of a node "
+          "from its place in the first integrator's final shape", _settle, [
+              *cols("nodes", "mass_kg", "paper_settles", "settled", "squash_ratio", "shape_difference_max_mm",
+                    "simulated_time_s"), Col("final_kinetic_energy_uj", "final kinetic energy [µJ]", sig=3),
+              *cols("max_floor_penetration_mm"), *STEP], by=["integrator"]),
+    Figure("fig10_settle", "Fig. 10 (ours): undeformed and final sphere per integrator; kinetic-energy "
            "decay", fig10, (10.0, 4.4)),
     Table("integrator_audit", "Step-size study and energy audit of each integrator on the settle body (Sec. "
           "12 lists both as missing from the paper; no paper values to compare); expected order: RK4 4, "
@@ -178,8 +180,10 @@ def mass_finding(run: Run) -> str:
         if len(stable):
             text += f" at δ_max {fmt.span(stable.delta_max_mm, ' mm')}"
         if len(other):
-            phase = other.groupby("dynamic_status")["final_phase"].agg(lambda s: "/".join(set(s)))
-            text += "; " + ", ".join(f"{v} end `{k}` (in {phase[k]})"
+            ended = other.groupby("dynamic_status")
+            phase = ended["final_phase"].agg(lambda s: "/".join(set(s)))
+            text += "; " + ", ".join(f"{v} end {label('dynamic_status', k)} (in {phase[k]}, at "
+                                     f"{fmt.span(ended.get_group(k).simulated_time_s, ' s')})"
                                      for k, v in other.dynamic_status.value_counts().items())
         if "delta_required_mm" in g:
             beyond = (g.delta_required_mm > g.fingertip_radius_mm).mean()
@@ -192,10 +196,15 @@ def mass_finding(run: Run) -> str:
                      f"{(g.success == g.qs_success).sum()} of {len(g)}")
     ok = run.ok
     why = ok.loc[ok.lp_status_mu0 != "feasible", "lp_mu0_reason"].value_counts()
+    short = ok.loc[ok.lp_status != "feasible", "mu"]
     return ("The paper ran six of the nine μ × m cases and reports every one stable (Sec. 5.5). "
-            + "; ".join(parts) + f" ({GRASP}). The friction-cone LP is feasible at μ = 0 in "
+            + "; ".join(parts) + f" ({GRASP}). The friction-cone LP on the same contacts is feasible at "
+            f"the run's μ in {len(ok) - len(short)} of {len(ok)} runs" + (
+                f" (not in {len(short)}, at μ = {', '.join(f'{m:g}' for m in sorted(set(short)))}; the "
+                "paper: feasible at every μ)" if len(short) else "") + " and at μ = 0 in "
             f"{(ok.lp_status_mu0 == 'feasible').sum()} of {len(ok)} runs on the meshed sphere" + (
-                " (" + ", ".join(f"{k} {v}" for k, v in why.items()) + "; facet normals up to "
+                " (" + ", ".join(f"{v} fail {k.replace('_', ' ')}" for k, v in why.items())
+                + "; facet normals up to "
                 f"{ok.normal_off_radial_max_deg.max():.1f}° off radial), and in "
                 f"{(ok.lp_status_mu0_ideal == 'feasible').sum()} of {len(ok)} on the ideal sphere along the "
                 "same directions, the paper's argument (Sec. 6.1)" if len(why) else "")
@@ -206,10 +215,11 @@ def _thick(run: Run) -> str:
     """What the figure's thick case is and where its lift-off is shaded."""
     mu, mass, exact = shown_case(run)
     lifted = run.ok[np.isclose(run.ok.mu, mu) & np.isclose(run.ok.mass_kg, mass)].lift_start_s.notna()
+    some = "" if lifted.all() else f" (in {lifted.sum()} of {len(lifted)} presets; the others never lift)"
     return (("the paper's representative case" if exact else "the case nearest the paper's representative "
              f"μ = {run.paper.representative_mu:g}, m = {run.paper.representative_mass_kg:g} kg (not run)")
-            + f", μ = {mu:g}, m = {mass:g} kg; grey: its lift-off" + ("" if lifted.all() else
-                f" (in {lifted.sum()} of {len(lifted)} presets; the others never lift)"))
+            + f", μ = {mu:g}, m = {mass:g} kg; " + (f"grey: its lift-off{some}" if lifted.any() else
+                                                     "it never lifts off"))
 
 
 def fig12_13(run: Run, fig) -> None:
@@ -242,7 +252,7 @@ def fig12_13(run: Run, fig) -> None:
                       label=f"paper: settles below {1e3 * p.total_penetration_below_m:g} mm")
         ax[1].set(xlabel="time [s]", ylabel="total penetration [mm]", title=f"{preset}: Fig. 12 bottom")
         ax[2].set(xlabel="time [s]", ylabel="normal force [N]", title=f"{preset}: Fig. 13, {case}")
-        ax[1].legend(handles=ax[1].get_legend_handles_labels()[0][-1:], loc="upper right")
+        ax[1].legend(handles=ax[1].get_legend_handles_labels()[0][-1:], loc="best")
         if ax[2].lines:
             ax[2].legend()
     fig.legend(handles=axes[0, 0].get_legend_handles_labels()[0], loc="outside lower center", ncol=6)

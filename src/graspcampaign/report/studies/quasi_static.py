@@ -214,7 +214,7 @@ def _shapes(run: Run) -> pd.DataFrame:
             "successes": int(g["success"].sum()),
             "n_error": len(run.records.query("shape == @shape and status == 'error'")),
             "ours_success": bool(g["success"].mean() >= 0.5) if len(g) else None,
-            "failure_check": ", ".join(f"{c} {v}" for c, v in g["failure_check"].value_counts().items()),
+            "failure_check": ", ".join(f"{c} ×{v}" for c, v in g["failure_check"].value_counts().items()),
             "exceeds_1mm": int((g["delta_max_mm"] > DESIGN_LIMIT_MM).sum()),
             "beyond_radius": int(deep.sum()),
             **g[["h_total", "residual_norm_n", "torque_norm_nm", "slip_margin_n"]].median(),
@@ -223,18 +223,24 @@ def _shapes(run: Run) -> pd.DataFrame:
 
 
 def shapes_finding(run: Run) -> str:
-    t = run.tables["shapes"]
+    t, ok = run.tables["shapes"], run.ok
     agree, differ = t[t["differs"].eq(False)], t[t["differs"].eq(True)]
+    named = [label("shape", r.shape) + ("" if str(r.failure_check).startswith(str(r.paper_failure_check)) else
+                                        f" (paper fails on {r.paper_failure_check}, ours {r.failure_check})")
+             for r in agree.itertuples()]
+    deep, released = int(t["beyond_radius"].sum()), int((ok.get("n_released", pd.Series()) > 0).sum())
     return (f"{len(agree)} of {len(t)} shapes reach the paper's outcome (Fig. 15)" + (
-        f": {', '.join(label('shape', s) for s in agree['shape'])}" if len(agree) else "") + ". " + (
+        f": {', '.join(named)}" if len(agree) else "") + ". " + (
         "Ours differs on " + "; ".join(
             f"{label('shape', r.shape)} (paper {'success' if r.paper_success else 'fails'}, ours "
             f"{r.successes}/{r.n}, first failing check {r.failure_check or '—'}"
             + (f"; {r.beyond_radius} with a contact deeper than r, non-physical" if r.beyond_radius else "")
             + ")"
             for r in differ.itertuples()) + ". " if len(differ) else "") +
-        "In SI the paper's contact constants cannot carry the object at a sane indentation, and "
-        f"Algorithm 2 releases the upper contacts (SPEC §8; {DECISION}).")
+        (f"{deep} of {len(ok)} trials have a contact deeper than r = {run.radius_mm:g} mm: in SI the paper's "
+         "contact constants cannot carry the object at a sane indentation" if deep else "") + (
+        f"{'; ' if deep else ''}Algorithm 2's sign step released a contact in {released} of {len(ok)} trials"
+        if released else "") + (f" (SPEC §8; {DECISION})." if deep or released else ""))
 
 
 def fig15(run: Run, fig) -> None:
