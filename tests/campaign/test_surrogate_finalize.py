@@ -98,3 +98,14 @@ def test_r2_of_a_constant_held_out_target_is_missing_with_its_reason(surrogate_s
     assert flat["r2"].isna().all()
     assert (flat["note"] == "held-out target constant to round-off: R² undefined").all()
     assert reg.loc["log10_delta_max_mm", "r2"].notna().all()
+
+
+def test_the_held_out_scores_are_stored_for_the_auc_interval(fitted):
+    """The report bootstraps the AUC from these; they are the held-out trials the AUC was scored on."""
+    from sklearn.metrics import roc_auc_score
+
+    scores = fitted["surrogate_scores"]
+    for (label, model), row in fitted["surrogate_classification"].set_index(["label", "model"]).iterrows():
+        g = scores[(scores["label"] == label) & (scores["model"] == model)]
+        assert len(g) == row["test_trials"] and g["positive"].sum() == row["test_positives"]
+        assert roc_auc_score(g["positive"], g["score"]) == pytest.approx(row["roc_auc"])

@@ -212,6 +212,8 @@ def finalize(study, params: SurrogateParams, records: pd.DataFrame, store=None
     dict
         ``surrogate_classification``, ``surrogate_regression``, ``surrogate_importance``
         (random-forest impurity importances), ``surrogate_roc`` (curve points),
+        ``surrogate_scores`` (each held-out trial's label and predicted probability: the AUC's
+        bootstrap interval is computed from them by the report),
         ``surrogate_parity`` (the MLP's held-out log10 ‖R‖ against the simulated one) and
         ``surrogate_timing`` (the PSO call, then one prediction per model), stored in
         ``summary/<name>/``.
@@ -225,7 +227,7 @@ def finalize(study, params: SurrogateParams, records: pd.DataFrame, store=None
     x = frame.to_numpy()  # plain arrays: what a deployed surrogate would be fed
     out: dict[str, list[dict[str, Any]]] = {k: [] for k in (
         "surrogate_classification", "surrogate_regression", "surrogate_importance",
-        "surrogate_roc", "surrogate_parity", "surrogate_timing")}
+        "surrogate_roc", "surrogate_scores", "surrogate_parity", "surrogate_timing")}
     # the splits first, then every model fitted at once (over the run's cores), then scored
     splits, split, timed = {}, None, {}
     for label in LABELS:
@@ -260,6 +262,8 @@ def finalize(study, params: SurrogateParams, records: pd.DataFrame, store=None
             fpr, tpr, _ = roc_curve(y[test], score)
             out["surrogate_roc"] += [{"label": label, "model": name, "fpr": float(a),
                                       "tpr": float(b)} for a, b in zip(fpr, tpr, strict=True)]
+            out["surrogate_scores"] += [{"label": label, "model": name, "positive": bool(a),
+                                         "score": float(b)} for a, b in zip(y[test], score, strict=True)]
             hits = int(np.sum(model.predict(x[test]) == y[test]))
             w = wilson_interval(hits, len(test))
             out["surrogate_classification"].append({

@@ -8,6 +8,8 @@ import math
 import numpy as np
 import pandas as pd
 
+from graspcampaign.analysis.agreement import auc_interval
+from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
 from graspcampaign.analysis.records import beyond_radius
 from graspcampaign.analysis.vocabulary import colour, label, ordered
 from graspcampaign.report import style
@@ -62,9 +64,14 @@ def _classification(run: Run) -> pd.DataFrame:
     t["paper_accuracy"] = [p.accuracy_pct if ok else None for ok in main]  # a range: (low, high)
     for i, end in enumerate(("low", "high")):
         t[f"paper_accuracy_{end}_pct"] = [r[i] if r else None for r in t["paper_accuracy"]]
+    scores = run.part("summary/surrogate_scores")  # none in a run finalized before it was stored
+    ci = {key: auc_interval(g["positive"], g["score"], seed=run.seed, n_resamples=BOOTSTRAP_RESAMPLES)[1:]
+          for key, g in scores.groupby(["label", "model"])} if len(scores) else {}
+    interval = [ci.get(key, (math.nan, math.nan)) for key in zip(t["label"], t["model"], strict=True)]
+    t = t.join(pd.DataFrame(interval, index=t.index, columns=["roc_auc_low", "roc_auc_high"]))
     acc = verdicts(t.copy(), "accuracy_pct", "paper_accuracy", "accuracy_low_pct", "accuracy_high_pct",
                    unit="%", why="note")
-    return verdicts(t, "roc_auc", "paper_auc", digits=2, why="note").assign(
+    return verdicts(t, "roc_auc", "paper_auc", "roc_auc_low", "roc_auc_high", digits=2, why="note").assign(
         accuracy_verdict=acc["verdict"], label_name=t["label"].map(name)).drop(columns="paper_accuracy")
 
 
@@ -109,14 +116,16 @@ def finding(run: Run) -> str:
                 ". "))
     cls = t["surrogate_classification"].query(f"label == '{PAPER_LABEL}'")
     fit = cls[cls["roc_auc"].notna()]
-    aucs = ", ".join(f"AUC {r['roc_auc']:.2f} ({r['model_label']}; paper {r['paper_auc']:g}) at "
-                     f"{r['accuracy_pct']:.1f}% accuracy" for _, r in fit.iterrows())
+    aucs = "; ".join(f"{r['model_label']} AUC {r['roc_auc']:.2f} (" + (
+        f"95% {r['roc_auc_low']:.2f}–{r['roc_auc_high']:.2f}; " if pd.notna(r["roc_auc_low"]) else "") +
+        f"paper {r['paper_auc']:g}, {r['verdict']}) at {r['accuracy_pct']:.1f}% accuracy"
+        for _, r in fit.iterrows())
     buried = ("every positive they learn is a non-physical state, not a grasp. " if won.any() and
               (deep | ~won).all() else "some of their positives are non-physical states. "
               if (deep & won).any() else "")
     text += (("The success classifiers learn that label, so " + buried if buried else "") +
              f"Scored on {int(fit['test_positives'].iloc[0])} held-out positives, they "
-             f"reach {aucs}, against {fit['majority_class_accuracy_pct'].iloc[0]:.1f}% for always saying "
+             f"reach: {aucs}; against {fit['majority_class_accuracy_pct'].iloc[0]:.1f}% for always saying "
              "'fails'. " if len(fit) else
              f"The success classifiers were {cls['note'].iloc[0]}. ")
     if len(reg := t["surrogate_regression"].dropna(subset=["r2"])):
@@ -125,8 +134,8 @@ def finding(run: Run) -> str:
                  f"{best['model_label']}; paper {p.residual_r2:g} for |R_z|)" + (
                      f", a target whose value is a non-physical depth in {int(deep.sum())} of {len(deep)} "
                      "scenarios" if "delta" in best["target"] and deep.any() else "") + (
-                     ": the residual depends on the sampled contact triple more than on the scenario's "
-                     "inputs. " if best["r2"] < p.residual_r2 else ". "))
+                     ": below 0, it predicts the held-out scenarios worse than their mean does. "
+                     if best["r2"] < 0 else ". "))
     else:
         text += f"No regression R² could be computed ({t['surrogate_regression']['note'].iloc[0]}). "
     if "mlp" in (tm := t["surrogate_timing"].set_index("what")).index:
@@ -138,6 +147,21 @@ def finding(run: Run) -> str:
     return text + ("Both timings were measured by the run, not by this report. Why ours differs from the "
                    "paper (Algorithm 2 as published passes few grasps under ‖R‖, and those bury a fingertip "
                    f"in SI): {WHY}.")
+
+
+NOISE = ("lambda2", "msd_b")  # inputs a quasi-static outcome does not depend on
+
+
+def _importance_caption(run: Run) -> str:
+    """The importances' caption: which inputs the forest ranks above the larger noise input's share."""
+    t = _read("importance")(run)
+    text = ("Random-forest impurity importances of the first fitted classifier (λ2 and b cannot affect a "
+            "quasi-static outcome: their share is what a forest gives to noise")
+    if not len(t):
+        return text + ")"
+    noise = t.loc[t["feature"].isin(NOISE), "importance"].max()
+    above = [name(f) for f in t.loc[t["importance"] > noise, "feature"]]
+    return text + f"; above the larger of the two ({noise:.3g}): {', '.join(above) or 'no input'})"
 
 
 LINES = dict(zip(LABELS, ("-", "--", ":"), strict=True))
@@ -210,12 +234,14 @@ SPEC = ReportSpec("surrogate", [
              for o in LABELS),
            Col("difference", "difference [pp]", 1, signed=True), Col("verdict", "verdict")]),
     Table("surrogate_classification", lambda run: "Success classifiers scored by the run on its held-out "
-          f"{100 * run.params.get('test_fraction', 0.2):g}% (stratified split, seed {run.seed}); accuracy "
-          "with its Wilson 95% interval", _classification, [
+          f"{100 * run.params.get('test_fraction', 0.2):g}% (stratified split, seed {run.seed}); AUC with "
+          f"its 95% percentile interval ({BOOTSTRAP_RESAMPLES} resamples of the held-out positives and, "
+          "apart, negatives), accuracy with its Wilson 95% interval", _classification, [
               Col("label_name", "label"), Col("model_label", "model"), Col("positives", "positives"),
               Col("trials", "trials"), Col("test_trials", "held out"),
               Col("test_positives", "held-out positives"), Col("paper_auc", "paper AUC", 2),
-              Col("roc_auc", "AUC", 2, why="note"), Col("verdict", "AUC verdict"),
+              Col("roc_auc", "AUC (95%)", 2, low="roc_auc_low", high="roc_auc_high", why="note"),
+              Col("verdict", "AUC verdict"),
               Col("paper_accuracy_low_pct", "paper accuracy %", 1, low="paper_accuracy_low_pct",
                   high="paper_accuracy_high_pct"),
               Col("accuracy_pct", "accuracy % (95%)", 1, low="accuracy_low_pct", high="accuracy_high_pct",
@@ -225,9 +251,7 @@ SPEC = ReportSpec("surrogate", [
           "vertical residual |R_z|)", _regression, [Col("target_name", "target"), Col("model_label", "model"),
                                                    *cols("test_trials"), Col(
               "paper_r2", "paper R²", 2), Col("r2", "R²", 2, why="note"), *cols("verdict")]),
-    Table("surrogate_feature_importance", "Random-forest impurity importances of the first fitted classifier "
-          "(λ2 and b cannot affect a quasi-static outcome: their share is what a forest gives to noise)",
-          _importance,
+    Table("surrogate_feature_importance", _importance_caption, _importance,
           [Col("label_name", "label"), Col("feature_name", "feature"),
            Col("importance", "importance", sig=3)],
           empty="no classifier was fitted (too few trials of one class)"),
