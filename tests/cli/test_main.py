@@ -291,3 +291,18 @@ def test_reproduce_runs_the_listed_studies_then_every_report(tmp_path, monkeypat
         ["== smoke", "== report"]
     assert (root / "smoke" / "default" / "report" / "report.md").exists()
     assert (root / "index.md").exists()
+
+
+def test_show_never_prints_an_empty_factors_heading():
+    """A study without factors says `factors: none`; one with factors lists one per line."""
+    names = invoke("list", "--names").stdout.split() + ["smoke"]
+    names += invoke("list", "--names", "--extensions").stdout.split()
+    for name in names:
+        result = invoke("show", name)
+        if result.exit_code:  # dynamic_check needs its source run
+            continue
+        lines = result.stdout.splitlines()
+        at = next(i for i, line in enumerate(lines) if line.startswith("factors:"))
+        listed = lines[at] == "factors:" and lines[at + 1].startswith("  ")
+        assert listed or lines[at] == "factors: none", (name, lines[at:at + 2])
+    assert "factors: none" in invoke("show", "surrogate").stdout

@@ -110,7 +110,7 @@ def design_text(study: StudyCfg, run: str | None = None) -> str:
     lines.append(f"trial kind: {study.kind} ({state})")
     lines.append(f"study seed: {study.seed}   seeds per scene: {study.seeds}   "
                  f"repeats: {study.repeats}")
-    lines.append("factors:")
+    lines.append("factors:" if study.factors else "factors: none")
     for name, levels in study.factors.items():
         role = " (method: shares scene draws)" if name in study.method_factors else ""
         lines.append(f"  {name} [{len(levels)}]{role}: {', '.join(map(str, levels))}")
