@@ -62,10 +62,12 @@ def _classification(run: Run) -> pd.DataFrame:
     t["paper_accuracy"] = [p.accuracy_pct if ok else None for ok in main]  # a range: (low, high)
     for i, end in enumerate(("low", "high")):
         t[f"paper_accuracy_{end}_pct"] = [r[i] if r else None for r in t["paper_accuracy"]]
+    t["fit"] = ["not fitted" if isinstance(n, str) and n else "" for n in t["note"]]  # its reason: AUC cell
     acc = verdicts(t.copy(), "accuracy_pct", "paper_accuracy", "accuracy_low_pct", "accuracy_high_pct",
-                   unit="%", why="note")
-    return verdicts(t, "roc_auc", "paper_auc", digits=2, why="note").assign(
-        accuracy_verdict=acc["verdict"], label_name=t["label"].map(name)).drop(columns="paper_accuracy")
+                   unit="%", why="fit")
+    return verdicts(t, "roc_auc", "paper_auc", digits=2, why="fit").assign(
+        accuracy_verdict=acc["verdict"], label_name=t["label"].map(name)).drop(
+        columns=["paper_accuracy", "fit"])
 
 
 def _regression(run: Run) -> pd.DataFrame:
@@ -218,8 +220,7 @@ SPEC = ReportSpec("surrogate", [
               Col("roc_auc", "AUC", 2, why="note"), Col("verdict", "AUC verdict"),
               Col("paper_accuracy_low_pct", "paper accuracy %", 1, low="paper_accuracy_low_pct",
                   high="paper_accuracy_high_pct"),
-              Col("accuracy_pct", "accuracy % (95%)", 1, low="accuracy_low_pct", high="accuracy_high_pct",
-                  why="note"),
+              Col("accuracy_pct", "accuracy % (95%)", 1, low="accuracy_low_pct", high="accuracy_high_pct"),
               Col("majority_class_accuracy_pct", "majority class %", 1), Col("accuracy_verdict", "verdict")]),
     Table("surrogate_regression", "Regression R² on the held-out scenarios (the paper's is the MLP on the "
           "vertical residual |R_z|)", _regression, [Col("target_name", "target"), Col("model_label", "model"),
