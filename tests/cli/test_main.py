@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import re
 from pathlib import Path
 
@@ -306,3 +307,14 @@ def test_show_never_prints_an_empty_factors_heading():
         listed = lines[at] == "factors:" and lines[at + 1].startswith("  ")
         assert listed or lines[at] == "factors: none", (name, lines[at:at + 2])
     assert "factors: none" in invoke("show", "surrogate").stdout
+
+
+def test_show_names_every_design_axis():
+    """The axes line read "5 x 2 x 1 x 3": which number is the seeds was left to guess."""
+    out = invoke("show", "smoke", "seeds=4", "repeats=3").stdout
+    axes = next(line for line in out.splitlines() if line.startswith("axes: "))
+    names = re.findall(r"^  (\w+) \[(\d+)\]", out, flags=re.M)  # the factors as listed above it
+    expected = [*(f"{name} {n}" for name, n in names), "seeds 4", "repeats 3"]
+    total = 4 * 3 * math.prod(int(n) for _, n in names)
+    assert axes == f"axes: {' x '.join(expected)} = {total} trials"
+    assert invoke("show", "surrogate").stdout.count("axes: seeds 1500 = 1500 trials") == 1

@@ -119,7 +119,8 @@ def design_text(study: StudyCfg, run: str | None = None) -> str:
     if facts and facts["design"]:
         lines.append(f"design: the protocol's schedule = {total} trials")
     else:
-        lines.append(f"axes: {' x '.join(map(str, design_shape(study)))} = {total} trials")
+        axes = " x ".join(f"{name} {size}" for name, size in design_shape(study).items())
+        lines.append(f"axes: {axes} = {total} trials")
     opened = opened_run(study, run) if ready else None  # the run opened and checked once
     done = recorded_in(study, run, opened)
     lines.append(f"run: {run_path(study, run)} ({done} of {total} recorded)")
