@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import re
 from pathlib import Path
 
@@ -291,3 +292,29 @@ def test_reproduce_runs_the_listed_studies_then_every_report(tmp_path, monkeypat
         ["== smoke", "== report"]
     assert (root / "smoke" / "default" / "report" / "report.md").exists()
     assert (root / "index.md").exists()
+
+
+def test_show_never_prints_an_empty_factors_heading():
+    """A study without factors says `factors: none`; one with factors lists one per line."""
+    names = invoke("list", "--names").stdout.split() + ["smoke"]
+    names += invoke("list", "--names", "--extensions").stdout.split()
+    for name in names:
+        result = invoke("show", name)
+        if result.exit_code:  # dynamic_check needs its source run
+            continue
+        lines = result.stdout.splitlines()
+        at = next(i for i, line in enumerate(lines) if line.startswith("factors:"))
+        listed = lines[at] == "factors:" and lines[at + 1].startswith("  ")
+        assert listed or lines[at] == "factors: none", (name, lines[at:at + 2])
+    assert "factors: none" in invoke("show", "surrogate").stdout
+
+
+def test_show_names_every_design_axis():
+    """The axes line read "5 x 2 x 1 x 3": which number is the seeds was left to guess."""
+    out = invoke("show", "smoke", "seeds=4", "repeats=3").stdout
+    axes = next(line for line in out.splitlines() if line.startswith("axes: "))
+    names = re.findall(r"^  (\w+) \[(\d+)\]", out, flags=re.M)  # the factors as listed above it
+    expected = [*(f"{name} {n}" for name, n in names), "seeds 4", "repeats 3"]
+    total = 4 * 3 * math.prod(int(n) for _, n in names)
+    assert axes == f"axes: {' x '.join(expected)} = {total} trials"
+    assert invoke("show", "surrogate").stdout.count("axes: seeds 1500 = 1500 trials") == 1

@@ -177,7 +177,7 @@ def test_every_p_value_column_and_claim_uses_the_one_rule():
     claims = Claims("c", "claims", lambda run: [("Kruskal-Wallis p", "§8", 9.005e-16, 0.002, "", fmt.P)])
     [table] = claims.render(run)
     row = dict(zip([c.label for c in table.cols], [t for t, _ in table.cells()[0]], strict=True))
-    assert (row["paper"], row["ours (95%)"]) == ("0.0020", "9.0e-16")
+    assert (row["paper"], row["ours"]) == ("0.0020", "9.0e-16")
     assert table.frame["value"].iloc[0] == 9.005e-16  # the CSV keeps the full value
 
 
@@ -263,6 +263,25 @@ def test_claims_write_counts_as_whole_numbers(tmp_path):
     [table] = claims.render(Run(pd.DataFrame(), {}, paper=object()))
     table.frame.to_csv(tmp_path / "c.csv", index=False)
     assert pd.read_csv(tmp_path / "c.csv", dtype=str, keep_default_na=False)["n"].tolist() == ["3", ""]
+
+
+def test_claims_header_says_95_only_when_a_row_shows_an_interval():
+    """The value column read "ours (95%)" over rows that show no interval."""
+    import pandas as pd
+
+    from graspcampaign.analysis.records import Estimate
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.spec import Claims
+
+    run = Run(pd.DataFrame(), {}, paper=object())
+    plain = [("a ratio", "§8", 1.5, None, "", 2), ("a p", "§8", 0.01, None, "", fmt.P)]
+    mixed = [*plain, ("a share", "§8", Estimate(50.0, 20.0, 80.0, 3), 40.0, "%", 1)]
+    for rows, header, shown in ((plain, "ours", "1.50"), (mixed, "ours (95%)", "50.0 (20.0–80.0)")):
+        [table] = Claims("c", "claims", lambda run, rows=rows: rows).render(run)
+        labels = [c.label for c in table.cols]
+        assert header in labels and not {"ours", "ours (95%)"} - {header} & set(labels)
+        column = [r[labels.index(header)][0] for r in table.cells()]
+        assert shown in column
 
 
 def test_the_mcnemar_caption_says_how_equal_discordant_counts_are_tested():

@@ -161,3 +161,20 @@ def test_the_importance_caption_names_the_inputs_above_the_noise_inputs(importan
     caption = _importance_caption(SimpleNamespace(part=lambda name: stored))
     noise = max(importances["lambda2"], importances["msd_b"])
     assert caption.endswith(f"gives to noise; above the larger of the two ({noise:g}): {above})")
+
+
+def test_an_unfitted_classifier_gives_its_reason_once_per_row():
+    """The stored note "not fitted: ..." filled four cells of one row (AUC, both verdicts, accuracy)."""
+    from graspcampaign.campaign.paper import study_paper
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies.surrogate import PAPER_LABEL, SPEC
+
+    note = "not fitted: fewer than 10 trials of one class"
+    run = Run(pd.DataFrame(), {"config": {}}, paper=study_paper("surrogate"))
+    run.memo("summary/surrogate_classification", lambda: pd.DataFrame(
+        {"label": ["success", PAPER_LABEL], "positives": [0, 0], "trials": [16, 16], "note": [note] * 2}))
+    item = next(i for i in SPEC.items if getattr(i, "name", "") == "surrogate_classification")
+    [table] = item.render(run)
+    for row in table.cells():
+        assert sum(note in text for text, _ in row) == 1, row
+    assert (table.frame[["verdict", "accuracy_verdict"]] == "not fitted").all().all()

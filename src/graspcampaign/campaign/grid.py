@@ -128,4 +128,4 @@ def expand(study: StudyCfg, rows: list[dict[str, Any]] | None = None) -> list[Tr
 
 def n_trials(study: StudyCfg) -> int:
     """Return the trial count without expanding (nor listing the seeds)."""
-    return math.prod(design_shape(study))
+    return math.prod(design_shape(study).values())

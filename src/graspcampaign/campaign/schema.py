@@ -365,20 +365,18 @@ def example(name: str) -> str:
         name, "[1, 2]" if spec.get("type") is int else "[0.5, 1.0]")
 
 
-def design_shape(study: StudyCfg) -> list[int]:
-    """Return the length of every design axis (see ``grid.design_axes``), computed from the
-    level counts alone: nothing is expanded, so a design of 10^20 trials costs nothing."""
+def design_shape(study: StudyCfg) -> dict[str, int]:
+    """Return the length of every design axis by its name (see ``grid.design_axes``; a zipped group
+    ``a + b``, then ``seeds`` and ``repeats`` when more than one), computed from the level counts
+    alone: nothing is expanded, so a design of 10^20 trials costs nothing."""
     zipped = {name: group for group in study.zip for name in group}
-    sizes, done = [], set()
+    sizes = {}
     for name in study.factors:
-        if name in done:
-            continue
         group = zipped.get(name, [name])
-        sizes.append(min(len(study.factors[g]) for g in group))
-        done.update(group)
-    sizes.append(study.seeds)
+        sizes[" + ".join(group)] = min(len(study.factors[g]) for g in group)
+    sizes["seeds"] = study.seeds
     if study.repeats > 1:
-        sizes.append(study.repeats)
+        sizes["repeats"] = study.repeats
     return sizes
 
 
@@ -392,7 +390,7 @@ def check_design_size(study: StudyCfg, n: int | None = None) -> None:
     ConfigError
         Naming the trial count, its axes and the limit.
     """
-    sizes = design_shape(study)
+    sizes = design_shape(study).values()
     count = math.prod(sizes) if n is None else n
     if count > MAX_TRIALS:
         axes = f" ({' x '.join(map(str, sizes))})" if n is None else ""

@@ -110,7 +110,7 @@ def design_text(study: StudyCfg, run: str | None = None) -> str:
     lines.append(f"trial kind: {study.kind} ({state})")
     lines.append(f"study seed: {study.seed}   seeds per scene: {study.seeds}   "
                  f"repeats: {study.repeats}")
-    lines.append("factors:")
+    lines.append("factors:" if study.factors else "factors: none")
     for name, levels in study.factors.items():
         role = " (method: shares scene draws)" if name in study.method_factors else ""
         lines.append(f"  {name} [{len(levels)}]{role}: {', '.join(map(str, levels))}")
@@ -119,7 +119,8 @@ def design_text(study: StudyCfg, run: str | None = None) -> str:
     if facts and facts["design"]:
         lines.append(f"design: the protocol's schedule = {total} trials")
     else:
-        lines.append(f"axes: {' x '.join(map(str, design_shape(study)))} = {total} trials")
+        axes = " x ".join(f"{name} {size}" for name, size in design_shape(study).items())
+        lines.append(f"axes: {axes} = {total} trials")
     opened = opened_run(study, run) if ready else None  # the run opened and checked once
     done = recorded_in(study, run, opened)
     lines.append(f"run: {run_path(study, run)} ({done} of {total} recorded)")

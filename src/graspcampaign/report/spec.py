@@ -182,11 +182,14 @@ def Claims(name: str, caption: str | Callable[[Run], str],
                                            "unit", "digits", "why", "_paper"]).astype({"n": "Int64"})
         return verdicts(frame, "value", "_paper", "low", "high", "digits", "unit").drop(columns="_paper")
 
-    return Table(name, caption, compute, [
-        Col("quantity", "quantity"), Col("section", "paper §"), Col("paper", "paper", "digits"),
-        Col("value", "ours (95%)", "digits", low="low", high="high", why="why"), Col("unit", "unit"),
-        Col("n", "n", 0), Col("difference", "difference", "digits", signed=True), Col("verdict", "verdict")],
-        empty=empty)
+    def shown(run: Run, frame: pd.DataFrame) -> list[Col]:
+        ours = "ours (95%)" if (frame["low"].notna() & frame["high"].notna()).any() else "ours"
+        return [Col("quantity", "quantity"), Col("section", "paper §"), Col("paper", "paper", "digits"),
+                Col("value", ours, "digits", low="low", high="high", why="why"), Col("unit", "unit"),
+                Col("n", "n", 0), Col("difference", "difference", "digits", signed=True),
+                Col("verdict", "verdict")]
+
+    return Table(name, caption, compute, shown, empty=empty)
 
 
 def Paired(name: str = "mcnemar", caption: str = (

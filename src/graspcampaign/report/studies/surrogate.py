@@ -69,10 +69,12 @@ def _classification(run: Run) -> pd.DataFrame:
           for key, g in scores.groupby(["label", "model"])} if len(scores) else {}
     interval = [ci.get(key, (math.nan, math.nan)) for key in zip(t["label"], t["model"], strict=True)]
     t = t.join(pd.DataFrame(interval, index=t.index, columns=["roc_auc_low", "roc_auc_high"]))
+    t["fit"] = ["not fitted" if isinstance(n, str) and n else "" for n in t["note"]]  # its reason: AUC cell
     acc = verdicts(t.copy(), "accuracy_pct", "paper_accuracy", "accuracy_low_pct", "accuracy_high_pct",
-                   unit="%", why="note")
-    return verdicts(t, "roc_auc", "paper_auc", "roc_auc_low", "roc_auc_high", digits=2, why="note").assign(
-        accuracy_verdict=acc["verdict"], label_name=t["label"].map(name)).drop(columns="paper_accuracy")
+                   unit="%", why="fit")
+    return verdicts(t, "roc_auc", "paper_auc", "roc_auc_low", "roc_auc_high", digits=2, why="fit").assign(
+        accuracy_verdict=acc["verdict"], label_name=t["label"].map(name)).drop(
+        columns=["paper_accuracy", "fit"])
 
 
 def _regression(run: Run) -> pd.DataFrame:
@@ -244,8 +246,7 @@ SPEC = ReportSpec("surrogate", [
               Col("verdict", "AUC verdict"),
               Col("paper_accuracy_low_pct", "paper accuracy %", 1, low="paper_accuracy_low_pct",
                   high="paper_accuracy_high_pct"),
-              Col("accuracy_pct", "accuracy % (95%)", 1, low="accuracy_low_pct", high="accuracy_high_pct",
-                  why="note"),
+              Col("accuracy_pct", "accuracy % (95%)", 1, low="accuracy_low_pct", high="accuracy_high_pct"),
               Col("majority_class_accuracy_pct", "majority class %", 1), Col("accuracy_verdict", "verdict")]),
     Table("surrogate_regression", "Regression R² on the held-out scenarios (the paper's is the MLP on the "
           "vertical residual |R_z|)", _regression, [Col("target_name", "target"), Col("model_label", "model"),

@@ -80,7 +80,8 @@ SPEC = ReportSpec("heuristic_weights", [
           "the unconstrained argmin's median over seeds; H/scale must be constant)", _by_scale, [
               Col("weight_scale", "weight scale", sig=2), Col("paper_h_reachable", "paper H", 3),
               Col("h_reachable", "H, reachable set", 3), Col("difference", "difference", 3, signed=True),
-              Col("h_reachable_per_scale", "H/scale", 3), Col("h_reachable_spread", "spread over seeds", 3),
+              Col("h_reachable_per_scale", "H/scale", 3),
+              Col("h_reachable_spread", "H range over seeds (max − min)", 3),
               Col("h_total_median", "H of the argmin (median)", 3),
               Col("h_total_per_scale_median", "argmin H/scale", 3), Col("n", "n"),
               Col("verdict", "verdict")]),
