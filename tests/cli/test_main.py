@@ -318,3 +318,13 @@ def test_show_names_every_design_axis():
     total = 4 * 3 * math.prod(int(n) for _, n in names)
     assert axes == f"axes: {' x '.join(expected)} = {total} trials"
     assert invoke("show", "surrogate").stdout.count("axes: seeds 1500 = 1500 trials") == 1
+
+
+def test_schedule_writes_the_files_it_checked_for_a_stem_with_a_dot(tmp_path):
+    """`--out sched.v1` was checked as sched.v1.csv but written as sched.csv (Path.with_suffix replaced
+    '.v1'): the files written are the ones named, and the message names the written file."""
+    result = invoke("schedule", "test3_disturbance", "params.fraction=0.05",
+                    "--out", str(tmp_path / "sched.v1"))
+    assert result.exit_code == 0, result.output
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["sched.v1.csv", "sched.v1.parquet"]
+    assert f"-> {tmp_path / 'sched.v1.csv'} and .parquet" in result.output

@@ -52,9 +52,12 @@ def schedule(
     stem = writable_stem(out or Path(cfg.output.root) / cfg.name / "schedule", "--out")
     if out is not None and not out.parent.is_dir():  # as plan --png: a typo grows no tree
         fail(f"--out {out}: directory {out.parent} does not exist.")
+    def file(name: str) -> Path:  # one naming for the check and the writes: '<stem><name>'
+        return stem.with_name(stem.name + name)
+
     names = [".csv", ".parquet", *(["-template.csv", "-template-columns.csv"] if template else [])]
     for name in names:  # the files themselves (one may be a directory or a named pipe)
-        if (why := path_problem(stem.with_name(stem.name + name), write=True, directory=False)):
+        if (why := path_problem(file(name), write=True, directory=False)):
             fail(f"--out {stem}: {stem.name + name} {why}.")
     params = kind_params(cfg, kind)
     sheet = kind.schedule(cfg, params)
@@ -65,13 +68,12 @@ def schedule(
     try:
         stem.parent.mkdir(parents=True, exist_ok=True)
         for suffix, table in sheets.items():
-            path = stem.with_name(stem.name + suffix)
-            table.to_csv(path.with_suffix(".csv"), index=False)
+            table.to_csv(file(f"{suffix}.csv"), index=False)
             if not suffix:
-                table.to_parquet(path.with_suffix(".parquet"), index=False)
+                table.to_parquet(file(".parquet"), index=False)
     except OSError as exc:  # permissions, a full disk
         fail(f"--out {stem}: cannot write there ({exc.strerror or type(exc).__name__}).")
-    typer.echo(f"{len(sheet)} commanded trials -> {stem.with_suffix('.csv')} and .parquet")
+    typer.echo(f"{len(sheet)} commanded trials -> {file('.csv')} and .parquet")
     if template:
         typer.echo(f"measured-records template -> {stem}-template.csv (columns and units: "
                    f"{stem}-template-columns.csv)")
