@@ -388,7 +388,7 @@ def test_pso_cvs_of_parameters_j_does_not_depend_on_get_no_verdict(tmp_path):
     assert not any(v.startswith("no verdict") for v in cv.loc[["lambda1", "n_exp"], "verdict"])
     differ = sum(v.startswith("differs") for v in cv.loc[["lambda1", "n_exp"], "verdict"])
     md = (store.path / "report" / "report.md").read_text()
-    assert f"{differ} of 2 judged parameters' CVs differ from the paper's" in md
+    assert f"{differ} of 2 judged parameters' CVs differ from the paper's (Sec. 6.8). " in md  # none pinned
     n_cv = 100 * sps.variation(ok_records(store)["n_exp"], ddof=1)  # λ1 is pinned: n alone varies
     assert f"among ours that J depends on and vary, n has the smallest CV ({n_cv:.1f}%)" in md
     run = Run(store.read().to_pandas(), store.check(), study_paper("pso_repeatability"), store)
@@ -422,6 +422,9 @@ def test_pso_cv_of_a_parameter_on_its_bound_in_every_run_says_it_measures_the_bo
                                   "measures the bound, not repeatability")
     assert [p for p in verdict.index if "search bound" in verdict[p]] == ["lambda1"]
     assert verdict["n_exp"] == "differs by −19.0 pp"  # CV 0 inside the box: a bare verdict
+    md = (store.path / "report" / "report.md").read_text()  # the count names the bound's share of it
+    assert ("4 of 6 judged parameters' CVs differ from the paper's (Sec. 6.8), 1 of them because they sit "
+            "on a search bound in every run.") in md
 
 
 def _wrench_report(tmp_path, outputs, trace):
