@@ -115,6 +115,26 @@ def test_mesh_resolution_report_prints_the_cost_ratio(runs):
     assert (store.path / "report" / "figures" / "fig20_mesh_resolution.png").exists()
 
 
+def test_fig20s_load_corrected_line_scales_the_fastest_reference_by_the_fastest_ratio(runs):
+    """The stored ratio is of fastest repeats; Fig. 20a had scaled the reference's median by it, mixing
+    the two estimators. The line is recomputed from the records with pandas."""
+    import matplotlib.pyplot as plt
+
+    from graspcampaign.campaign.paper import study_paper
+    from graspcampaign.report.studies.mesh_resolution import fig20
+
+    store = runs["mesh_resolution"]
+    run = Run(store.read().to_pandas(), store.check(), study_paper("mesh_resolution"), store)
+    res = run.ok[run.ok["panel"] == "resolution"]
+    fig = plt.figure()
+    fig20(run, fig)
+    [line] = [h for h in fig.axes[0].lines if h.get_label().startswith("ours, load-corrected (fastest")]
+    expected = 1e3 * res["eval_time_reference_min_s"].median() * res.groupby("nodes")[
+        "cost_ratio_vs_reference"].median()
+    assert line.get_ydata() == pytest.approx(expected.to_numpy())
+    plt.close(fig)
+
+
 def test_a_run_without_the_papers_meshes_is_not_compared_with_the_papers_ratio(sim_root):
     """The reduced run's largest mesh is 390 nodes: its ratio was compared with the paper's 1750/144
     one, "neither stage touches the mesh" was said whatever the ratio, and one trial was "trials"."""

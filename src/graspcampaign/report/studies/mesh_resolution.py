@@ -149,8 +149,13 @@ def fig20(run: Run, fig) -> None:
         ax.scatter(res["nodes"], 1e3 * res["eval_time_s"], s=10, alpha=0.35, color=c,
                    label="ours, single trials")
         ax.plot(per["nodes"], per["eval_median_ms"], marker="o", color=c, label="ours, median")
-        ax.plot(per["nodes"], 1e3 * res["eval_time_reference_s"].median() * per["cost_ratio_vs_reference"],
-                marker="s", color=OTHER_COLOURS[1], label="ours, load-corrected (interleaved ratio)")
+        # the ratio is of fastest repeats (the kind), so it scales the reference's fastest repeat; a run
+        # stored before that column scaled its median reference by its median ratio
+        fastest = "eval_time_reference_min_s" in res and res["eval_time_reference_min_s"].notna().all()
+        ref = res["eval_time_reference_min_s" if fastest else "eval_time_reference_s"].median()
+        ax.plot(per["nodes"], 1e3 * ref * per["cost_ratio_vs_reference"], marker="s", color=OTHER_COLOURS[1],
+                label=f"ours, load-corrected ({'fastest' if fastest else 'median'} repeats, "
+                      "interleaved ratio)")
         n0, t0 = per["nodes"].iloc[0], per["eval_median_ms"].iloc[0]
         grid = np.geomspace(per["nodes"].min(), per["nodes"].max(), 50)
         ax.plot(grid, t0 * grid / n0, color="#888888", linestyle="-.", label="O(n) guide")
