@@ -507,6 +507,8 @@ def test_wrench_balance_never_settling_differs_and_non_physical_depths_flagged(t
 @pytest.mark.parametrize(("scales", "words"), [([1.0, 0.5, 2.0], "unit weights"),
                                                ([0.5, 2.0], "weight scale 0.5")])  # no unit-weight trial
 def test_heuristic_weights_invariance(tmp_path, scales, words):
+    from graspcampaign.campaign.paper import study_paper
+
     def outputs(factors, rng):
         s = factors["weight_scale"]
         key = f"{factors['seed']}-2-3"  # differs between seeds, never between scales of one seed
@@ -525,7 +527,7 @@ def test_heuristic_weights_invariance(tmp_path, scales, words):
     build_reports(["heuristic_weights"], root=tmp_path)
     ok = ok_records(store)
     nearest = min(scales, key=lambda v: abs(v - 1))  # the finding's H is the scale nearest unit weights
-    paper = {1.0: 0.833, 0.5: 0.416}[nearest]
+    paper = study_paper("heuristic_weights").h_at_scale[str(nearest)]  # the study file's, not re-typed
     h_nearest = ok.loc[ok["weight_scale"] == nearest, "h_reachable"].median()
     assert f"H is {h_nearest:.3f} at {words} (paper {paper})" in \
         (store.path / "report" / "report.md").read_text()

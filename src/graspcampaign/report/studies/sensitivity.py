@@ -163,14 +163,14 @@ def _depths(run: Run, g: pd.DataFrame, name: str) -> str:
                 "; no trial is physical"))
 
 
-def _varies(a: pd.DataFrame, column: str, factor: str) -> str:
+def _varies(run: Run, a: pd.DataFrame, column: str, factor: str) -> str:
     """Whether panel (a)'s success share differs between the levels of ``column`` (a test of equal
     rates at the report's 95 % level), in the finding's words with the per-level range."""
     g = a.groupby(column)["success"].agg(["sum", "size"])
     shares = fmt.span(100 * g["sum"] / g["size"], "%", digits=1)
     if len(g) < 2:
         return f"is {shares} at the one {factor} level (nothing to compare)"
-    test = equal_rates_test(g["sum"], g["size"])
+    test = equal_rates_test(g["sum"], g["size"], seed=run.seed)  # the run's seed, as every resampling
     if not test.method:
         return f"does not vary with {factor} ({shares} at each of its {test.groups} levels)"
     verb = "varies" if test.pvalue < 1 - CONFIDENCE_LEVEL else "does not detectably vary"
@@ -182,7 +182,7 @@ def finding(run: Run) -> str:
     (a, b, c), p, text = (panel_rows(run, k) for k in PANELS), run.paper, []
     n_max = run.config["evaluator"]["n_max"]
     if len(a):
-        mass, friction = _varies(a, "mass_kg", "mass"), _varies(a, "mu", "friction")
+        mass, friction = _varies(run, a, "mass_kg", "mass"), _varies(run, a, "mu", "friction")
         won = a.loc[a["success"].astype(bool), ["delta_max_mm", "loop_capped"]]
         text.append(f"(a) Our success {mass} and {friction}: Algorithm 2 "
                     "releases contacts until the remaining normals carry the weight (η ≈ 0), so the slip "
