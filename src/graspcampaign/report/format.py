@@ -130,7 +130,8 @@ def paper_text(paper: Any, digits: int | None = None) -> str:
 
 
 def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits: int = 1,
-            unit: str = "", ratio: str = "", commanded: str = "") -> tuple[bool | None, str]:
+            unit: str = "", ratio: str = "", commanded: str = "", because: str = "",
+            pinned: str = "") -> tuple[bool | None, str]:
     """Say how ours stands against the paper's value: ``(differs, words)``, the one rule: a range agrees
     inside it and a one-sided bound (a range with a None end, ``(None, hi)``: at most hi) within it
     (ours rounded to ``digits``, as printed; ours ``inf`` lies above every range); a word when equal;
@@ -139,7 +140,16 @@ def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits:
     percentages prints ``%``, a difference of two percentages ``pp``. ``ratio`` (e.g. "faster"): the
     values are ratios, said as ratios ("ours 9.17× faster, the paper's 17000× (1.85e+03 times
     ours)"). ``commanded``: ours is the run's own command, reached by construction (the words say
-    how), so it is not compared."""
+    how), so it is not compared. ``because``: why ours is not compared (the words are that reason).
+    ``pinned``: ours is a CV over runs that all ended on a search bound, at these values (as printed):
+    the words add that it measures the bound."""
+    if because:
+        return None, because
+    if pinned:
+        differs, words = verdict(ours, paper, low=low, high=high, digits=digits, unit=unit, ratio=ratio,
+                                 commanded=commanded)
+        return differs, (f"{words}; on its search bound ({pinned}) in every run, so CV "
+                         f"{number(ours, digits)}{unit.strip()} measures the bound, not repeatability")
     if commanded:
         return None, f"commanded, not a result: {commanded}"
     if is_missing(paper):
