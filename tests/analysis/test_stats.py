@@ -377,6 +377,18 @@ def test_equal_rates_with_small_counts_is_the_exact_conditional_p_value_within_m
     assert S.equal_rates_test(successes, trials).pvalue == res.pvalue  # seeded: one report, one p
 
 
+def test_chi2_monte_carlo_p_only_for_small_expected_counts_and_keeps_the_tables_dof():
+    """Given n_resamples, a table with every expected count >= 5 keeps scipy's asymptotic test; a
+    smaller one is resampled, its statistic and degrees of freedom still scipy's."""
+    large, small = [[40, 60], [10, 90]], [[0, 4], [1, 3], [4, 0]]
+    res = S.chi2_contingency_test(large, n_resamples=999)
+    assert (res.method, res.pvalue) == ("χ²", sps.chi2_contingency(large, correction=False).pvalue)
+    res, reference = S.chi2_contingency_test(small, n_resamples=999), sps.chi2_contingency(small)
+    assert (res.method, res.statistic, res.dof) == ("Monte Carlo χ²", reference.statistic, reference.dof)
+    with pytest.raises(ValueError, match="must be an integer"):  # scipy's: resampling needs whole counts
+        S.chi2_contingency_test([[0.5, 4], [1, 3]], n_resamples=999)
+
+
 def test_equal_rates_without_a_success_or_failure_needs_no_test():
     assert S.equal_rates_test([0, 0], [3, 5]) == S.RatesTest(0.0, 1.0, "", 2, 8)
     assert S.equal_rates_test([3, 5], [3, 5]).pvalue == 1.0

@@ -57,3 +57,20 @@ def sim_root(tmp_path_factory):
     batch = build_reports(root=root, formats=["md", "csv", "json", "html"])
     assert batch.failed == []
     return root
+
+
+@pytest.fixture
+def verdict_calls(monkeypatch):
+    """Every call of the one verdict rule (``format.verdict``) while the test runs: its ``ours``, its
+    keywords and the words it returned; a verdict cell that no call returned was written by a spec."""
+    from graspcampaign.report import format as fmt
+
+    calls, rule = [], fmt.verdict
+
+    def spy(ours, paper, **kw):
+        differs, words = rule(ours, paper, **kw)
+        calls.append({"ours": ours, "paper": paper, **kw, "words": words})
+        return differs, words
+
+    monkeypatch.setattr(fmt, "verdict", spy)
+    return calls

@@ -65,6 +65,22 @@ def test_the_verdict_is_on_the_sphere_and_every_shape_is_context():
     assert f"{label('dynamic_status', 'not_settled')}" in text
 
 
+def test_every_kappa_verdict_is_the_rules_words_told_why_context_rows_are_not_compared(verdict_calls):
+    """The kappa table's verdicts are the one verdict rule's words, unedited: the rule is told that the
+    every-shape rows are context (not compared), and a sphere row with no settled grasp why it has none."""
+    run = _run()
+    run.records.loc[run.records.model_preset == "firm", "dynamic_status"] = "not_settled"  # none settled
+    kappa = report._kappa(run)
+    for r in kappa.itertuples():
+        told = [c for c in verdict_calls if c["words"] == r.verdict]
+        assert told, f"verdict {r.verdict!r} is no word of the verdict rule"
+        context, empty = r.scope != "sphere", r.model_preset == "firm"
+        assert told[-1].get("because", "").startswith("no verdict") == (context or empty)
+        if context or empty:
+            assert r.verdict == ("no verdict: context (the claim is on the sphere)" if context else
+                                 "no verdict: nothing to compare")
+
+
 def test_the_judged_verdict_names_the_grasps_not_settled_by_t_max_it_leaves_out():
     """A dynamic grasp stopped by t_max is undetermined, not a failure: the verdict on the sphere
     names how many it leaves out (counted from the records) and the time budget."""

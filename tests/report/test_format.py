@@ -334,13 +334,27 @@ def test_provenance_marks_a_missing_entry_as_missing():
     ([0.709, 12.3], "", "0.71–12.30"),       # both ends at one rounding (was "0.709–12.3")
     ([10.0, 40.0, 25.0], "%", "10–40%"),
     ([-1.5, 2.0], "", f"{fmt.MINUS}1.50 to 2.00"),
-    ([0.00012, 5.0], "", "0.000120–5.00"),   # > 2 decades apart: each end to 3 significant digits
+    ([0.00012, 5.0], "", "0.000120–5"),      # > 2 decades apart: each end alone, as its table cell
     ([4.9996, 5.0004], "", "5.00"),          # ends that print alike are one value
     ([math.nan, 2.0, 3.0], "", "2–3"),
     ([math.nan], " mm", fmt.MISSING),
 ])
 def test_span_prints_a_range_at_the_reports_one_rounding(values, unit, expected):
     assert fmt.span(values, unit) == expected
+
+
+@pytest.mark.parametrize("values", [[0.0, 0.001, 1.5], [0.5, 5.0, 1234.5], [0.709, 3.2, 12.3],
+                                    [0.00012, 5.0], [-0.02, 0.3, 7.0], [2.0, 7.0]])
+def test_a_findings_range_prints_its_ends_as_the_tables_cells(values):
+    """A finding's range of a column (``span``) and the table's cells of that column share one rounding:
+    its ends are the cells of the column's least and greatest value (span's own two-decade test printed
+    "0.00–1.50" beside the cells "0" and "1.50", and "1230" beside the cell "1234")."""
+    import pandas as pd
+
+    _, rows = _shown(pd.DataFrame({"x": values}))
+    cells = dict(zip(values, (r[0] for r in rows), strict=True))
+    lo, hi = cells[min(values)], cells[max(values)]
+    assert fmt.span(values) == (lo if lo == hi else f"{lo}{' to ' if min(values) < 0 else fmt.DASH}{hi}")
 
 
 @pytest.mark.parametrize("values, expected", [([0.5], "0.5%"), ([0.5, 0.5], "0.5%"),

@@ -427,6 +427,35 @@ def test_pso_cv_of_a_parameter_on_its_bound_in_every_run_says_it_measures_the_bo
             "on a search bound in every run.") in md
 
 
+def test_pso_cv_verdicts_are_the_rules_words_told_the_records_bound_flags(tmp_path, verdict_calls):
+    """Each CV row's verdict is the words the one verdict rule returned, not edited by the spec after it:
+    the rule is told which parameters the records put on a search bound in every run (``at_bound_*``
+    all true: pinned) and which J does not depend on (``flat_parameters``: not compared)."""
+    from graspcampaign.campaign.paper import study_paper
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies import pso
+
+    def outputs(factors, rng):
+        return {"lambda1": 1.5, "lambda2": 0.2, "n_exp": rng.normal(0.5, 0.05), "b": rng.uniform(0.2, 1.5),
+                "k": rng.uniform(0.05, 0.3), "c": rng.uniform(5e-4, 0.01), "best_cost": rng.uniform(0, 1),
+                "n_evaluations": 120, "flat_parameters": "lambda2,b,k,c",
+                **{f"at_bound_{p}": p in ("lambda1", "lambda2") for p in ("lambda1", "lambda2", "n", "b",
+                                                                          "k", "c")}}
+
+    store = make_run(tmp_path, "pso_repeatability", "pso_repeatability", {"shape": ["sphere"]}, seeds=6,
+                     paper=None, outputs=outputs)
+    ok = ok_records(store)
+    cv = pso._cv(Run(store.read().to_pandas(), store.check(), study_paper("pso_repeatability"), store))
+    for r in cv.itertuples():
+        told = [c for c in verdict_calls if c["words"] == r.verdict and c["ours"] == r.cv_pct]
+        assert told, f"{r.parameter}: verdict {r.verdict!r} is no word of the verdict rule"
+        on_bound = bool(ok[f"at_bound_{'n' if r.parameter == 'n_exp' else r.parameter}"].all())
+        flat = r.parameter in ok["flat_parameters"].iloc[0].split(",")
+        assert bool(told[-1].get("pinned")) == on_bound and bool(told[-1].get("because")) == flat, r.parameter
+        assert (r.differs is None) == flat
+        assert ("search bound (1.500)" in r.verdict) == (r.parameter == "lambda1")
+
+
 def _wrench_report(tmp_path, outputs, trace):
     """A wrench_balance run at μ 0.1, 0.3, 0.5 from ``outputs``/``trace``, reported: its store, the
     wrench_balance table and that table's settling rows by μ."""

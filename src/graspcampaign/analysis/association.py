@@ -35,8 +35,9 @@ from graspcampaign.analysis.checks import (
 )
 
 Chi2Result = result(
-    "Chi2Result", "Pearson chi-square test of independence; ``expected`` (r, c) under independence.",
-    statistic=float, pvalue=float, dof=int, expected=np.ndarray, yates_correction=bool)
+    "Chi2Result", "Pearson chi-square test of independence; ``expected`` (r, c) under independence; "
+    "``method`` names how ``pvalue`` was found.", statistic=float, pvalue=float, dof=int,
+    expected=np.ndarray, yates_correction=bool, method=str)
 RatesTest = result(
     "RatesTest", "Test that ``groups`` groups of ``n`` trials share one success rate (their k x 2 table "
     "of successes and failures); ``method`` names how ``pvalue`` was found, \"\" when every trial or "
@@ -55,34 +56,37 @@ LogisticResult = result(
     messages=tuple)
 
 
-def chi2_contingency_test(table: ArrayLike, *, yates: bool = False) -> Chi2Result:
+def chi2_contingency_test(table: ArrayLike, *, yates: bool = False, n_resamples: int | None = None,
+                          seed: int = 0) -> Chi2Result:
     """Return Pearson's chi-square test of independence (``scipy.stats.chi2_contingency``) of an
-    r x c table of counts; ``yates``: Yates' correction of a 2 x 2 table (off by default)."""
+    r x c table of counts; ``yates``: Yates' correction of a 2 x 2 table (off by default). Given
+    ``n_resamples``, a table with an expected count below :data:`MIN_EXPECTED` gets the Monte Carlo
+    p-value of the same statistic over ``n_resamples`` random tables with the observed margins
+    (Hope 1968; R's ``chisq.test(simulate.p.value = TRUE)``), drawn from ``seed``; else the chi-square
+    distribution's."""
     counts = check_table(table)
-    res = stats.chi2_contingency(counts, correction=bool(yates))
+    n_resamples = None if n_resamples is None else check_count(n_resamples, "n_resamples", positive=True)
+    resampled = n_resamples is not None and stats.contingency.expected_freq(counts).min() < MIN_EXPECTED
+    method = stats.MonteCarloMethod(n_resamples=n_resamples, rng=np.random.default_rng(seed))
+    res = stats.chi2_contingency(counts, correction=bool(yates), method=method if resampled else None)
     expected = np.array(res.expected_freq, dtype=np.float64)
     expected.setflags(write=False)
-    return Chi2Result(float(res.statistic), float(res.pvalue), int(res.dof), expected,
-                      bool(yates) and counts.shape == (2, 2))
+    dof = (counts.shape[0] - 1) * (counts.shape[1] - 1)  # scipy's is nan for a Monte Carlo p
+    return Chi2Result(float(res.statistic), float(res.pvalue), dof, expected,
+                      bool(yates) and counts.shape == (2, 2), "Monte Carlo χ²" if resampled else "χ²")
 
 
 def equal_rates_test(successes: ArrayLike, trials: ArrayLike, *, n_resamples: int = 9999,
                      seed: int = 0) -> RatesTest:
-    """Return Pearson's chi-square test (``scipy.stats.chi2_contingency``, no correction) that groups
-    with ``successes`` of ``trials`` share one success rate: its p-value from the chi-square
-    distribution when every expected count is at least :data:`MIN_EXPECTED`, else the Monte Carlo
-    p-value of the same statistic over ``n_resamples`` random tables with the observed margins
-    (Hope 1968; R's ``chisq.test(simulate.p.value = TRUE)``), drawn from ``seed``."""
+    """Return the chi-square test (:func:`chi2_contingency_test`, no correction, its Monte Carlo
+    p-value for small expected counts) that groups with ``successes`` of ``trials`` share one success
+    rate, on their k x 2 table of successes and failures."""
     s, t = check_cluster_counts(successes, trials, group="group")
-    n_resamples = check_count(n_resamples, "n_resamples", positive=True)
+    check_count(n_resamples, "n_resamples", positive=True)
     if s.sum() in (0, t.sum()):
         return RatesTest(0.0, 1.0, "", int(s.size), int(t.sum()))
-    table = np.column_stack([s, t - s])
-    asymptotic = stats.contingency.expected_freq(table).min() >= MIN_EXPECTED
-    resampled = stats.MonteCarloMethod(n_resamples=n_resamples, rng=np.random.default_rng(seed))
-    res = stats.chi2_contingency(table, correction=False, method=None if asymptotic else resampled)
-    return RatesTest(float(res.statistic), float(res.pvalue), "χ²" if asymptotic else "Monte Carlo χ²",
-                     int(s.size), int(t.sum()))
+    res = chi2_contingency_test(np.column_stack([s, t - s]), n_resamples=n_resamples, seed=seed)
+    return RatesTest(res.statistic, res.pvalue, res.method, int(s.size), int(t.sum()))
 
 
 def kruskal_wallis(*groups: ArrayLike) -> KruskalResult:

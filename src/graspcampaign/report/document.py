@@ -117,18 +117,12 @@ def cell(row: Mapping[str, Any], col: Col) -> str:
 
 def rounded(col: Col, frame: pd.DataFrame) -> Col:
     """``col`` with one rounding for the whole column (:func:`~graspcampaign.report.format.decimals`
-    at its ``sig``, default 3) unless its digits are fixed; a column whose non-zero values span more
-    than two decades rounds each value alone (``fmt.EACH``: one rounding would print its small
-    values as 0)."""
+    at its ``sig``, default 3: ``fmt.EACH`` value alone when they span more than two decades) unless
+    its digits are fixed."""
     if col.digits is not None or col.share or fmt.is_p_value(col.key) or col.key not in frame:
         return col
-    values = [v for k in col.keys if k in frame for v in frame[k]]
-    sizes = [abs(float(v)) for v in values if isinstance(v, int | float) and not isinstance(v, bool)
-             and math.isfinite(v) and v != 0]
-    if sizes and min(sizes) < 1e-2 * max(sizes):
-        return replace(col, digits=fmt.EACH)
-    digits = fmt.decimals(values, col.sig or 3)
-    return col if digits is None else replace(col, digits=digits, sig=None)
+    digits = fmt.decimals([v for k in col.keys if k in frame for v in frame[k]], col.sig or 3)
+    return col if digits is None else replace(col, digits=digits, sig=col.sig if digits == fmt.EACH else None)
 
 
 def labelled(frame: pd.DataFrame, by: Sequence[str]) -> tuple[pd.DataFrame, list[Col]]:

@@ -41,6 +41,7 @@ def number(value: Any, digits: int | None = None, *, sig: int | None = None,
         return MISSING
     if isinstance(value, bool):
         return "yes" if value else "no"
+    digits = decimals([value]) if digits == EACH else digits
     if isinstance(value, numbers.Integral) and digits is None and sig is None:
         text = str(int(value))
     elif math.isinf(float(value)):
@@ -72,15 +73,20 @@ def is_p_value(name: str) -> bool:
     return name == "p" or name.startswith("p_") or name.endswith("_p")
 
 
-def decimals(values: Any, sig: int = 3) -> int | None:
-    """The one rounding of a column: no decimals for whole numbers, else those giving its largest
-    finite magnitude ``sig`` significant digits and its smallest non-zero one at least two (a column
-    of 11.96 and 0.709 prints 0.71, not 0.7), the same for every value (None: no number)."""
+def decimals(values: Any, sig: int = 3) -> int | str | None:
+    """The one rounding of a column or a range: no decimals for whole numbers; :data:`EACH` value
+    alone when its non-zero magnitudes lie more than two decades apart (one rounding would print the
+    small ones as 0); else those giving its largest finite magnitude ``sig`` significant digits and
+    its smallest non-zero one at least two (a column of 11.96 and 0.709 prints 0.71, not 0.7), the
+    same for every value (None: no number)."""
     values = [abs(float(v)) for v in values if isinstance(v, numbers.Real) and not isinstance(v, bool)
               and not is_missing(v) and math.isfinite(float(v))]
     if not values or all(v.is_integer() for v in values):
         return 0 if values else None
-    exponents = [math.floor(math.log10(v)) for v in values if v]
+    sizes = [v for v in values if v]
+    if min(sizes) < 1e-2 * max(sizes):
+        return EACH
+    exponents = [math.floor(math.log10(v)) for v in sizes]
     return max(0, sig - 1 - max(exponents), 1 - min(exponents))
 
 
@@ -94,20 +100,14 @@ def interval(low: Any, high: Any, digits: int | None = None, *, sig: int | None 
 
 def span(values: Any, unit: str = "", digits: int | None = None) -> str:
     """Return the range ``"min–max"`` of ``values`` then ``unit`` (one value when both ends print alike):
-    both ends at ``digits`` decimals if given (a percentage's 1), else at one rounding
-    (:func:`decimals`), or each to 3 significant digits when they lie more than two decades apart (as
-    a table column); missing values are left out."""
+    both ends at ``digits`` decimals if given (a percentage's 1), else rounded as a table column of
+    ``values`` (:func:`decimals`); missing values are left out."""
     ends = [float(v) for v in values if not is_missing(v)]
     if not ends:
         return MISSING
-    lo, hi = min(ends), max(ends)
-    sig = None
-    if digits is None and 0 < min(abs(lo), abs(hi)) < 1e-2 * max(abs(lo), abs(hi)):
-        sig = 3
-    elif digits is None:
-        digits = decimals([lo, hi])
-    first, last = (number(v, digits, sig=sig) for v in (lo, hi))
-    return (first if first == last else interval(lo, hi, digits, sig=sig)) + unit
+    digits = decimals(ends) if digits is None else digits
+    first, last = (number(v, digits) for v in (min(ends), max(ends)))
+    return (first if first == last else interval(min(ends), max(ends), digits)) + unit
 
 
 def estimate(value: Any, low: Any = None, high: Any = None, digits: int | None = None, *,
@@ -130,7 +130,8 @@ def paper_text(paper: Any, digits: int | None = None) -> str:
 
 
 def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits: int = 1,
-            unit: str = "", ratio: str = "", commanded: str = "") -> tuple[bool | None, str]:
+            unit: str = "", ratio: str = "", commanded: str = "", because: str = "",
+            pinned: str = "") -> tuple[bool | None, str]:
     """Say how ours stands against the paper's value: ``(differs, words)``, the one rule: a range agrees
     inside it and a one-sided bound (a range with a None end, ``(None, hi)``: at most hi) within it
     (ours rounded to ``digits``, as printed; ours ``inf`` lies above every range); a word when equal;
@@ -139,7 +140,16 @@ def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits:
     percentages prints ``%``, a difference of two percentages ``pp``. ``ratio`` (e.g. "faster"): the
     values are ratios, said as ratios ("ours 9.17× faster, the paper's 17000× (1.85e+03 times
     ours)"). ``commanded``: ours is the run's own command, reached by construction (the words say
-    how), so it is not compared."""
+    how), so it is not compared. ``because``: why ours is not compared (the words are that reason).
+    ``pinned``: ours is a CV over runs that all ended on a search bound, at these values (as printed):
+    the words add that it measures the bound."""
+    if because:
+        return None, because
+    if pinned:
+        differs, words = verdict(ours, paper, low=low, high=high, digits=digits, unit=unit, ratio=ratio,
+                                 commanded=commanded)
+        return differs, (f"{words}; on its search bound ({pinned}) in every run, so CV "
+                         f"{number(ours, digits)}{unit.strip()} measures the bound, not repeatability")
     if commanded:
         return None, f"commanded, not a result: {commanded}"
     if is_missing(paper):

@@ -177,10 +177,8 @@ def headline_rows(root: Path | str, unreadable: list[tuple[str, str]] | None = N
                 what = f"it {exc.what}" if isinstance(exc, DamagedRunError) else reason(exc)
                 rows.append(_row(h, study_paper(h.study), run=r.name,
                                  why=f"the run cannot be read: {what}"))
-    frame = verdicts(pd.DataFrame(rows, columns=ROW).astype({"n_paper": "Int64"}), "rate_pct",
-                     "paper_pct", "wilson_low_pct", "wilson_high_pct", unit="%")
-    frame["verdict"] = [w or v for w, v in zip(frame["why"], frame["verdict"], strict=True)]
-    return frame
+    return verdicts(pd.DataFrame(rows, columns=ROW).astype({"n_paper": "Int64"}), "rate_pct",
+                    "paper_pct", "wilson_low_pct", "wilson_high_pct", unit="%")
 
 
 def write_headline(root: Path | str, formats: list[str] | None = None,

@@ -52,18 +52,20 @@ def verdicts(frame: pd.DataFrame, ours: str, paper: str, low: str | None = None,
              high: str | None = None, digits: int | str = 1, unit: str = "",
              why: str = "why", **forms: str) -> pd.DataFrame:
     """Add ``difference``, ``differs`` and ``verdict`` columns by the one verdict rule; ``unit`` and
-    ``forms`` (:func:`~graspcampaign.report.format.verdict`'s ``ratio``, ``commanded``) are each a
-    column of ``frame`` or the value itself. A row not compared has no difference."""
+    ``forms`` (:func:`~graspcampaign.report.format.verdict`'s ``ratio``, ``commanded``, ``because``,
+    ``pinned``) are each a column of ``frame`` or the value itself; a row whose ours is missing is not
+    compared because of its ``why`` text, if any. A row not compared has no difference."""
     out = []
     for r in frame.to_dict("records"):
         u = str(r[unit] or "") if unit in r else unit
         o, p = r[ours], r[paper]
         number = isinstance(p, int | float) and not isinstance(p, bool) and not fmt.is_missing(p)
         d = r[digits] if isinstance(digits, str) else digits
+        words = {k: (r[v] or "") if v in r else v for k, v in forms.items()}
+        if fmt.is_missing(o) and r.get(why):
+            words["because"] = words.get("because") or str(r[why])
         verdict = fmt.verdict(o, p, low=r.get(low) if low else None, high=r.get(high) if high else None,
-                              digits=3 if d == fmt.P else int(d), unit=u,
-                              **{k: (r[v] or "") if v in r else v for k, v in forms.items()})
-        verdict = (None, str(r[why])) if fmt.is_missing(o) and r.get(why) else verdict
+                              digits=3 if d == fmt.P else int(d), unit=u, **words)
         compared = number and not fmt.is_missing(o) and verdict[0] is not None
         out.append((float(o) - float(p) if compared else math.nan, *verdict))
     return frame.assign(**{c: [row[i] for row in out] for i, c in enumerate(("difference", "differs",

@@ -59,10 +59,9 @@ def _kappa(run: Run) -> pd.DataFrame:
                    agreement(run, ["model_preset"], PAIRS).assign(scope=ALL)], ignore_index=True)
     t["comparison_label"] = t.comparison.map(PAIRS)
     t["why"] = np.where(t.n == 0, "no verdict: nothing to compare", "")  # every grasp not settled
-    t = verdicts(t, "agreement_pct", "paper_pct", "agreement_low_pct", "agreement_high_pct", unit="%")
-    context = t.scope == ALL
-    t.loc[context, "verdict"] = f"no verdict: context (the claim is on the {CLAIM_SHAPE})"
-    return t.assign(differs=t.differs.where(~context, None))
+    context = np.where(t.scope == ALL, f"no verdict: context (the claim is on the {CLAIM_SHAPE})", "")
+    return verdicts(t.assign(context=context), "agreement_pct", "paper_pct", "agreement_low_pct",
+                    "agreement_high_pct", unit="%", because="context").drop(columns="context")
 
 
 def _labels(run: Run, r) -> str:

@@ -21,6 +21,7 @@ from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, Text, 
 #: Identified parameters in Table 3's order: record column -> Table 3's name (the identification's, §4).
 PARAMETERS = dict(zip(("lambda1", "lambda2", "n_exp", "b", "k", "c"), PARAMETER_NAMES, strict=True))
 BOUND = Col("at_bound", "on a search bound", share="at_bound_pct")
+NOT_IDENTIFIABLE = "no verdict: J does not depend on it, so its spread measures no identifiability"
 
 
 def _digits(table3, parameter: str) -> int | None:
@@ -61,31 +62,25 @@ def _bound(rows: pd.DataFrame, parameter: str) -> dict:
 
 
 def _cv(run: Run) -> pd.DataFrame:
-    ok, rows = _budgets(run)[0], []
+    ok, rows, flat = _budgets(run)[0], [], _flat(run)
     for p in [p for p in PARAMETERS if p in ok and ok[p].notna().sum() >= 2]:
         v, (low, high), why = ok[p].dropna().to_numpy(float), (math.nan, math.nan), ""
         try:
             low, high = agreement.cv_interval(v, seed=run.seed)
         except ValueError as exc:
             why = str(exc)
+        digits, bound = _digits(run.paper.table3, p), _bound(ok[ok[p].notna()], p)
+        pinned = ", ".join(fmt.number(x, digits) for x in ok[p].dropna().unique())  # on a bound in every run
         rows.append({"parameter": p, "parameter_label": label("parameter", p),
                      "paper_cv_pct": _paper_cv(run, p), "low_pct": 100 * low, "high_pct": 100 * high,
                      "why": why, "n": v.size,
                      "cv_pct": 100 * agreement.coefficient_of_variation(v), "mean": v.mean(),
-                     "sd": v.std(ddof=1), "digits": _digits(run.paper.table3, p),
-                     **_bound(ok[ok[p].notna()], p)})
-    frame = verdicts(pd.DataFrame(rows), "cv_pct", "paper_cv_pct", "low_pct", "high_pct", unit="%")
-    # a parameter on a search bound in every run: its CV measures the bound, not repeatability
-    def bound_values(r) -> str:
-        return ", ".join(fmt.number(v, r.digits) for v in ok[r.parameter].dropna().unique())
-
-    frame = frame.assign(verdict=[  # on a search bound in every run: the CV measures the bound
-        f"{r.verdict}; on its search bound ({bound_values(r)}) in every run, so CV {r.cv_pct:.1f}% "
-        "measures the bound, not repeatability" if r.at_bound == r.n else r.verdict
-        for r in frame.itertuples()])
-    flat, paper = frame["parameter"].isin(_flat(run)), frame["paper_cv_pct"]
-    frame = frame.assign(differs=frame["differs"].where(~flat, None), verdict=frame["verdict"].where(
-        ~flat, "no verdict: J does not depend on it, so its spread measures no identifiability"))
+                     "sd": v.std(ddof=1), "digits": digits, **bound,
+                     "pinned": pinned if bound["at_bound"] == v.size else "",
+                     "flat": NOT_IDENTIFIABLE if p in flat else ""})
+    frame = verdicts(pd.DataFrame(rows), "cv_pct", "paper_cv_pct", "low_pct", "high_pct", unit="%",
+                     pinned="pinned", because="flat").drop(columns=["pinned", "flat"])
+    paper = frame["paper_cv_pct"]
     return frame.assign(paper_range_pct=[f"{fmt.paper_text(v, 1)} (range)" if isinstance(v, tuple) else ""
                                          for v in paper],
                         paper_cv_pct=[np.nan if isinstance(v, tuple) else v for v in paper])
