@@ -24,6 +24,7 @@ from graspcampaign.cli.app import (
     writable_stem,
 )
 from graspcampaign.cli.output import print_plan
+from graspcampaign.rig import DEFAULT_PLAN_MATERIAL
 
 
 @app.command()
@@ -106,7 +107,7 @@ def plan(
     mesh: Annotated[Path, typer.Argument(
         help="Object mesh (STL, OBJ or PLY).", parser=path_or_empty, metavar="mesh")],
     mass_kg: Annotated[float, typer.Option("--mass-kg", help="Object mass in kg.")],
-    material: Annotated[str, typer.Option(help="Table 4 material family.")] = "silicone_ref",
+    material: Annotated[str, typer.Option(help="Table 4 material family.")] = DEFAULT_PLAN_MATERIAL,
     mu: Annotated[float | None, typer.Option(help="Static friction; overrides the material's.")] = None,
     fingertip_radius_mm: Annotated[float, typer.Option("--fingertip-radius-mm",
                                                        help="Fingertip radius in mm.")] = 5.0,
