@@ -44,6 +44,7 @@ def schedule(
     from graspcampaign.campaign.kind import get_kind
     from graspcampaign.campaign.paths import path_problem
     from graspcampaign.campaign.runner import kind_params
+    from graspcampaign.campaign.status import counted
 
     check_root(root, write=out is None)
     cfg = compose(study, overrides, root)
@@ -74,7 +75,7 @@ def schedule(
                 table.to_parquet(file(".parquet"), index=False)
     except OSError as exc:  # permissions, a full disk
         fail(f"--out {stem}: cannot write there ({exc.strerror or type(exc).__name__}).")
-    typer.echo(f"{len(sheet)} commanded trials -> {file('.csv')} and .parquet")
+    typer.echo(f"{counted(len(sheet), 'commanded trial')} -> {file('.csv')} and .parquet")
     if template:
         typer.echo(f"measured-records template -> {stem}-template.csv (columns and units: "
                    f"{stem}-template-columns.csv)")
