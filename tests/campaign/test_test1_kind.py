@@ -23,6 +23,7 @@ from graspcampaign.campaign.kinds import test1 as K
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.runner import kind_params, run_study, study_trials
 from graspcampaign.cli.main import app
+from graspcampaign.core import bench
 from graspcampaign.rig import test1 as T
 from graspcampaign.rig.test1_fits import META_COLUMNS
 
@@ -78,6 +79,7 @@ def test_design_is_the_schedule_one_trial_per_event(engine):
             records.set_index("event_id")[col].loc[schedule["event_id"]].reset_index(drop=True),
             schedule[col], check_names=False, check_dtype=False)
     assert (records["source"] == "virtual").all() and (records["kind"] == "test1_bench").all()
+    assert (records["indenter_radius_mm"] == 1e3 * bench.FINGERTIP_RADIUS).all()  # the bench's
 
 
 def test_full_protocol_design_counts_and_retained_traces():
@@ -198,6 +200,7 @@ def test_ingest_gives_the_same_fits_as_the_in_process_path(engine, ingested):
     assert len(records) == 284 and len(measured) == 30
     assert sorted(measured["block"].unique()) == sorted(T.BLOCKS)
     _assert_same_fits(measured, ref.fits)
+    assert (measured["indenter_radius_mm"] == 1e3 * bench.FINGERTIP_RADIUS).all()
     # keyed by the engine's trial ids of the same planned events
     ids = records.set_index("event_id")["trial_id"]
     assert (measured.set_index("event_id")["trial_id"] == ids.loc[measured["event_id"]]

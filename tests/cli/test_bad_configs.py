@@ -484,6 +484,6 @@ def test_a_study_file_with_a_byte_order_mark_is_read(results, user_dir):
     (user_dir / "mine.yaml").write_bytes(b"\xef\xbb\xbf" + (HEADER + "name: mine\n" + BODY).encode())
     shown = invoke("show", "mine", "--root", results)
     assert shown.exit_code == 0, shown.output
-    assert "axes: shape 1 x nodes 1 x seeds 1 = 1 trials" in shown.stdout
+    assert "axes: shape 1 x nodes 1 x seeds 1 = 1 trial" in shown.stdout
     listing = invoke("list")
     assert listing.stderr == ""

@@ -625,7 +625,7 @@ def test_a_full_disk_while_writing_records_loses_nothing_and_the_run_resumes(res
     monkeypatch.setattr(pq, "write_table", write_table)
     resumed = invoke("run", "smoke", *SMOKE, "runner.progress=false", "--run", "fresh",
                      "--root", results)
-    assert resumed.exit_code == 0 and "1 trials, 0 already recorded, 1 ran" in resumed.stdout
+    assert resumed.exit_code == 0 and "1 trial, 0 already recorded, 1 ran" in resumed.stdout
 
 
 def test_a_full_disk_anywhere_else_is_one_sentence(results, monkeypatch):

@@ -174,7 +174,7 @@ def test_a_study_file_of_ones_own_runs_by_path_and_on_the_search_path(tmp_path, 
     monkeypatch.chdir(tmp_path)
     by_path = invoke("run", "./mine/my_smoke.yaml", "shape=[sphere]", *SMOKE, "--root", str(root))
     assert by_path.exit_code == 0, by_path.output
-    assert "my_smoke/default: 1 trials, 0 already recorded, 1 ran" in by_path.stdout
+    assert "my_smoke/default: 1 trial, 0 already recorded, 1 ran" in by_path.stdout
     monkeypatch.setenv("GRASPCAMPAIGN_PATH", str(studies))
     listing = invoke("list", "--names")
     assert "my_smoke" in listing.stdout.split()
@@ -320,6 +320,20 @@ def test_show_names_every_design_axis():
     total = 4 * 3 * math.prod(int(n) for _, n in names)
     assert axes == f"axes: {' x '.join(expected)} = {total} trials"
     assert invoke("show", "surrogate").stdout.count("axes: seeds 1500 = 1500 trials") == 1
+
+
+def test_one_trial_is_counted_in_the_singular(tmp_path):
+    """`show` of a one-trial study printed "= 1 trials" (and "for 1 trials"), `run` "1 trials"."""
+    one = ["shape=[sphere]", "nodes=[144]", "runner.backend=sequential", "runner.n_jobs=1",
+           "--root", str(tmp_path)]
+    lines = invoke("show", "smoke", *one).stdout.splitlines()
+    assert "axes: shape 1 x nodes 1 x seeds 1 = 1 trial" in lines
+    estimate = next(line for line in lines if line.startswith("estimated time: "))
+    assert re.fullmatch(r"estimated time: \S+ m?s for 1 trial \(~\S+ m?s each, as the trial kind "
+                        r"estimates, on 1 worker; setup and finalize stages not counted\)", estimate)
+    ran = invoke("run", "smoke", *one)
+    assert ran.exit_code == 0, ran.output
+    assert ran.stdout.startswith("smoke/default: 1 trial, 0 already recorded, 1 ran (1 ok, 0 errors) in ")
 
 
 def test_schedule_writes_the_files_it_checked_for_a_stem_with_a_dot(tmp_path):

@@ -127,7 +127,7 @@ def test_plan_names_a_folder_or_an_empty_path_given_as_the_mesh(tmp_path):
 
 
 def test_plan_help_names_units_and_the_default_material():
-    from graspcampaign.rig.plan import DEFAULT_PLAN_MATERIAL
+    from graspcampaign.rig import DEFAULT_PLAN_MATERIAL
 
     text = " ".join(runner.invoke(app, ["plan", "--help"], env={"COLUMNS": "200"}).stdout.split())
     assert "Object mass in kg. [required]" in text and " . " not in text

@@ -187,3 +187,26 @@ def test_the_damage_table_is_computed_once_at_the_bench_fingertip_radius(monkeyp
     FRAMES["damage"](run), FRAMES["damage"](run)
     assert len(calls) == 1 and calls[0][2] == run.radius_mm == pytest.approx(1e3 * bench.FINGERTIP_RADIUS)
     assert Run(pd.DataFrame(), {**manifest, "kind": "quasi_static"}).radius_mm == pytest.approx(4.0)
+
+
+def test_the_radius_is_the_indenter_radius_the_records_carry(monkeypatch):
+    """A Test 1 run's records carry its bench's indenter radius: the damage table reads that, not the
+    bench constant (the fallback of a run stored before the column); two radii in one run are refused."""
+    from graspcampaign.analysis import calibration
+    from graspcampaign.core import bench
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies.test1 import FRAMES
+
+    calls = []
+    monkeypatch.setattr(calibration, "damage_summary", lambda *args: calls.append(args) or pd.DataFrame())
+    manifest = {"kind": "test1_bench", "config": {}}
+    records = pd.DataFrame({"status": ["ok", "ok", "error"], "indenter_radius_mm": [7.5, 7.5, None]})
+    assert 1e3 * bench.FINGERTIP_RADIUS != 7.5  # the column disagrees with the fallback
+    FRAMES["damage"](Run(records, manifest))
+    assert calls[0][2] == 7.5
+    old = Run(records.drop(columns="indenter_radius_mm"), manifest)
+    assert old.radius_mm == pytest.approx(1e3 * bench.FINGERTIP_RADIUS)
+    mixed = Run(records.assign(indenter_radius_mm=[7.5, 5.0, None]), manifest)
+    two = r"^the records hold more than one indenter radius: \[5\.0, 7\.5\] mm$"
+    with pytest.raises(ValueError, match=two):
+        _ = mixed.radius_mm

@@ -192,6 +192,10 @@ def _registry_names(name: str) -> tuple[str, ...]:
     return registry_names(name)
 
 
+PSO_BUDGETS = ("repeatability", "converged")
+"""pso_repeatability's ``budget`` levels: the study's ``pso`` group (Sec. 6.8's 8 x 15), or the
+kind's converged budget of Sec. 11 (``campaign.kinds.pso``)."""
+
 # Known factors: name -> validation metadata. A factor not listed here is rejected, so a typo in a
 # study file or an override fails at load instead of silently adding an axis.
 FACTOR_SPECS: dict[str, dict[str, Any]] = {
@@ -213,7 +217,7 @@ FACTOR_SPECS: dict[str, dict[str, Any]] = {
     "w3": {"type": float, "ge": 0.0},
     "variant": {"type": str},
     "pso_seed": {"type": int, "ge": 0},
-    "budget": {"type": str, "choices": ("repeatability", "converged")},  # PSO budget (kinds/pso.py)
+    "budget": {"type": str, "choices": PSO_BUDGETS},
     "integrator": {"type": str, "choices": ("rk4", "implicit")},
     "damping_law": {"type": str, "choices": ("linear", "hunt_crossley")},
     # a conf/model preset per trial, in place of the study's model group (dynamic_grasp)

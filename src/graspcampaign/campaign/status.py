@@ -20,6 +20,11 @@ from graspcampaign.campaign.studyfile import check_name, list_studies, run_dir, 
 from graspcampaign.errors import UserInputError
 
 
+def counted(n: int, noun: str) -> str:
+    """``n`` and ``noun``, plural unless ``n`` is 1 ("1 trial", "0 trials", "5 trials")."""
+    return f"{n} {noun}" if n == 1 else f"{n} {noun}s"
+
+
 def _fmt_seconds(seconds: float) -> str:
     if seconds < 1:
         return f"{seconds * 1e3:.0f} ms" if seconds else "0 s"
@@ -117,10 +122,10 @@ def design_text(study: StudyCfg, run: str | None = None) -> str:
     if study.zip:
         lines.append("zipped: " + "; ".join(" + ".join(g) for g in study.zip))
     if facts and facts["design"]:
-        lines.append(f"design: the protocol's schedule = {total} trials")
+        lines.append(f"design: the protocol's schedule = {counted(total, 'trial')}")
     else:
         axes = " x ".join(f"{name} {size}" for name, size in design_shape(study).items())
-        lines.append(f"axes: {axes} = {total} trials")
+        lines.append(f"axes: {axes} = {counted(total, 'trial')}")
     opened = opened_run(study, run) if ready else None  # the run opened and checked once
     done = recorded_in(study, run, opened)
     lines.append(f"run: {run_path(study, run)} ({done} of {total} recorded)")
@@ -132,9 +137,9 @@ def design_text(study: StudyCfg, run: str | None = None) -> str:
         if done and (measured := _median_trial_s(opened[0])) is not None:
             per, basis = measured, "median of the trials recorded"
         remaining = (total - done) * per / workers
-        lines.append(f"estimated time: {_fmt_seconds(remaining)} for {total - done} trials "
-                     f"(~{_fmt_seconds(per)} each, {basis}, on {workers} worker"
-                     f"{'s' if workers != 1 else ''}; setup and finalize stages not counted)")
+        lines.append(f"estimated time: {_fmt_seconds(remaining)} for {counted(total - done, 'trial')} "
+                     f"(~{_fmt_seconds(per)} each, {basis}, on {counted(workers, 'worker')}; "
+                     "setup and finalize stages not counted)")
     if study.paper:
         lines.append("paper: " + _paper_text(study.paper))
     return "\n".join(lines)

@@ -24,6 +24,7 @@ from graspcampaign.cli.app import (
     writable_stem,
 )
 from graspcampaign.cli.output import print_plan
+from graspcampaign.rig import DEFAULT_PLAN_MATERIAL
 
 
 @app.command()
@@ -43,6 +44,7 @@ def schedule(
     from graspcampaign.campaign.kind import get_kind
     from graspcampaign.campaign.paths import path_problem
     from graspcampaign.campaign.runner import kind_params
+    from graspcampaign.campaign.status import counted
 
     check_root(root, write=out is None)
     cfg = compose(study, overrides, root)
@@ -73,7 +75,7 @@ def schedule(
                 table.to_parquet(file(".parquet"), index=False)
     except OSError as exc:  # permissions, a full disk
         fail(f"--out {stem}: cannot write there ({exc.strerror or type(exc).__name__}).")
-    typer.echo(f"{len(sheet)} commanded trials -> {file('.csv')} and .parquet")
+    typer.echo(f"{counted(len(sheet), 'commanded trial')} -> {file('.csv')} and .parquet")
     if template:
         typer.echo(f"measured-records template -> {stem}-template.csv (columns and units: "
                    f"{stem}-template-columns.csv)")
@@ -106,7 +108,7 @@ def plan(
     mesh: Annotated[Path, typer.Argument(
         help="Object mesh (STL, OBJ or PLY).", parser=path_or_empty, metavar="mesh")],
     mass_kg: Annotated[float, typer.Option("--mass-kg", help="Object mass in kg.")],
-    material: Annotated[str, typer.Option(help="Table 4 material family.")] = "silicone_ref",
+    material: Annotated[str, typer.Option(help="Table 4 material family.")] = DEFAULT_PLAN_MATERIAL,
     mu: Annotated[float | None, typer.Option(help="Static friction; overrides the material's.")] = None,
     fingertip_radius_mm: Annotated[float, typer.Option("--fingertip-radius-mm",
                                                        help="Fingertip radius in mm.")] = 5.0,

@@ -93,9 +93,11 @@ def _runnable(rows: list[dict], extensions: bool) -> list[str]:
 
 def _echo_summary(summary) -> None:
     """One line per run (trials, already recorded, ran, ok, errors, time, path), then its first errors."""
+    from graspcampaign.campaign.status import counted
+
     typer.echo(
-        f"{summary.study}/{summary.run}: {summary.n_trials} trials, {summary.n_already} already "
-        f"recorded, {summary.n_ran} ran ({summary.n_ok} ok, {summary.n_error} errors) in "
+        f"{summary.study}/{summary.run}: {counted(summary.n_trials, 'trial')}, {summary.n_already} already "
+        f"recorded, {summary.n_ran} ran ({summary.n_ok} ok, {counted(summary.n_error, 'error')}) in "
         f"{summary.wall_time_s:.1f} s -> {summary.path}"
     )
     for line in summary.errors[:5]:

@@ -43,8 +43,14 @@ class Run:
 
     @property
     def radius_mm(self) -> float:
-        """The fingertip radius r [mm] of the run: the bench's for Test 1 (its indenter; the bench never
-        reads the config's model), else the model's (Table 2's 5 mm where the config has none)."""
+        """The fingertip radius r [mm] of the run: the indenter radius its records carry (Test 1's
+        ``indenter_radius_mm``), else the model's (Table 2's 5 mm where the config has none). A Test 1
+        run stored before that column has the bench's (the bench never reads the config's model)."""
+        recorded = set(self.records.get("indenter_radius_mm", pd.Series(dtype=float)).dropna())
+        if len(recorded) > 1:
+            raise ValueError(f"the records hold more than one indenter radius: {sorted(recorded)} mm")
+        if recorded:
+            return float(recorded.pop())
         model = {} if self.manifest.get("kind") == "test1_bench" else self.config.get("model") or {}
         return 1e3 * float(model.get("fingertip_radius_m", FINGERTIP_RADIUS))
 

@@ -38,6 +38,7 @@ from graspcampaign.core import slip
 from graspcampaign.core.equilibrium import EvaluatorParams
 from graspcampaign.core.planner import DEFAULT_N_CAND
 from graspcampaign.core.statics import GRAVITY
+from graspcampaign.rig import DEFAULT_PLAN_MATERIAL
 from graspcampaign.rig.belief import (  # noqa: F401  (re-exported: the planners' knowledge)
     CHARACTERISTIC_Z,
     COATING_MU_S,
@@ -93,10 +94,6 @@ logger = logging.getLogger(__name__)
 # --------------------------------------------------------------------------------------------
 # graspcampaign plan MESH
 # --------------------------------------------------------------------------------------------
-DEFAULT_PLAN_MATERIAL = "silicone_ref"
-"""Contact law used by ``plan`` when only ``--mu`` is given (the stiffest, Table 4 reference)."""
-
-
 def _check_plausible(value: object, name: str, quantity: str, unit: str) -> float:
     """Return ``value`` as a float inside its plausible range (``core.plausible.PLAUSIBLE``)."""
     from graspcampaign.core.plausible import PLAUSIBLE
@@ -224,7 +221,8 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
     mass_kg : float
         Object mass, in its plausible range (``core.plausible.PLAUSIBLE``: (0, 10] kg).
     material : str, optional
-        Table 4 family; default ``silicone_ref`` for the contact law when only ``mu`` is given.
+        Table 4 family; default :data:`~graspcampaign.rig.DEFAULT_PLAN_MATERIAL` (also for the contact
+        law when only ``mu`` is given).
     mu : float, optional
         Static friction [0, 3]; overrides the material's mu_s.
     fingertip_radius_mm : float

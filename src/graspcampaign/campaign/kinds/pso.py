@@ -17,6 +17,9 @@ import numpy as np
 from graspcampaign.campaign.grid import stream_key
 from graspcampaign.campaign.kind import TrialInput, TrialKind
 from graspcampaign.campaign.kinds import common
+from graspcampaign.campaign.schema import PSO_BUDGETS
+
+REPEATABILITY, CONVERGED = PSO_BUDGETS
 
 
 @dataclass
@@ -38,7 +41,7 @@ def run(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
     body = {k: f.get(k) for k in ("shape", "nodes", "mass_kg", "mu")}
     body_rng = np.random.default_rng(np.random.SeedSequence(study.seed, spawn_key=stream_key(body)))
     _, points, normals = identification_contacts(ctx, body_rng)
-    converged = f.get("budget", "repeatability") == "converged"
+    converged = f.get("budget", REPEATABILITY) == CONVERGED
     particles = params.converged_particles if converged else study.pso.n_particles
     iterations = params.converged_iterations if converged else study.pso.n_iterations
     result = identify_body(points, normals, ctx.centroid, ctx.mass, ctx.mu, rng, material=material,

@@ -35,10 +35,15 @@ import pandas as pd
 
 from graspcampaign.campaign.kind import TrialInput, TrialKind
 from graspcampaign.campaign.schema import StudyCfg, check_value
+from graspcampaign.core.bench_specimen import FINGERTIP_RADIUS
 from graspcampaign.errors import ConfigError
 
 N_SPECIMENS = 12
 """Specimens per family (§7.1)."""
+
+INDENTER_RADIUS_MM = 1e3 * FINGERTIP_RADIUS
+"""The indenter radius [mm] the bench's fits and conversions use; every record carries it
+(``indenter_radius_mm``), so the report reads it from the records."""
 
 
 def _list(default: list) -> Any:
@@ -161,6 +166,7 @@ def run(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
     event = inp.trial.factors
     attempts, fits, waves = run_events([event], inp.study.seed, keep_waveforms=True)
     out: dict[str, Any] = {
+        "indenter_radius_mm": INDENTER_RADIUS_MM,
         "event_status": "completed" if fits else "not_completed",
         "n_attempts": len(attempts),
         "n_aborted": sum(a["status"] == "aborted" for a in attempts),
@@ -331,8 +337,9 @@ def ingest(study: StudyCfg, params: Test1BenchParams, paths: list[str],
         row = {"trial_id": trial.trial_id, "kind": study.kind, "trial_index": trial.index,
                "scene_id": trial.scene_id, **trial.factors,
                "source": str(fit.get("source") or "measured"),
-               "event_status": "completed", "n_attempts": int(fit["attempt"]),
-               "n_aborted": int(fit["attempt"]) - 1, "trace_kept": False}
+               "indenter_radius_mm": INDENTER_RADIUS_MM, "event_status": "completed",
+               "n_attempts": int(fit["attempt"]), "n_aborted": int(fit["attempt"]) - 1,
+               "trace_kept": False}
         row.update(fit_outputs(fit, trial.factors))
         rows.append(row)
     return rows
