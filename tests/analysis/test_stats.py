@@ -743,31 +743,3 @@ def test_power_validation():
         S.power_two_proportions(0.8, 0.4, discordant=0.5)
     with pytest.raises(ValueError, match="alternative must be"):
         S.power_two_proportions(0.8, 0.4, alternative="less")
-
-
-def test_auc_interval_is_the_percentile_of_sklearn_aucs_over_stratified_resamples():
-    from sklearn.metrics import roc_auc_score
-
-    from graspcampaign.analysis.agreement import auc_interval
-
-    rng = np.random.default_rng(4)
-    actual = np.r_[np.ones(6, bool), np.zeros(70, bool)]  # a surrogate run's few held-out positives
-    score = np.round(rng.random(76) + 0.4 * actual, 1)  # rounded: ties between the classes
-    auc, low, high = auc_interval(actual, score, seed=9, n_resamples=400)
-    assert auc == pytest.approx(roc_auc_score(actual, score))
-    draw = np.random.default_rng(9)  # the documented draws: positives, then negatives
-    pos = np.flatnonzero(actual)[draw.integers(0, 6, (400, 6))]
-    neg = np.flatnonzero(~actual)[draw.integers(0, 70, (400, 70))]
-    labels = np.r_[np.ones(6), np.zeros(70)]
-    aucs = [roc_auc_score(labels, score[np.r_[p, n]]) for p, n in zip(pos, neg, strict=True)]
-    assert (low, high) == pytest.approx(tuple(np.quantile(aucs, [0.025, 0.975])))
-    assert low < auc < high
-
-
-def test_auc_interval_of_separated_classes_is_the_point_one():
-    from graspcampaign.analysis.agreement import auc_interval
-
-    assert auc_interval([1, 1, 0, 0, 0], [0.9, 0.8, 0.1, 0.2, 0.3], seed=0) == (1.0, 1.0, 1.0)
-    with pytest.raises(ValueError, match="actual must hold both classes: an AUC needs a positive and a "
-                                         "negative"):
-        auc_interval([0, 0], [0.1, 0.2], seed=0)

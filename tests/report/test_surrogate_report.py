@@ -9,7 +9,6 @@ import pandas as pd
 import pytest
 from statsmodels.stats.proportion import proportion_confint
 
-from graspcampaign.analysis.agreement import auc_interval
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.report.build import build_reports
 
@@ -57,16 +56,26 @@ def test_model_tables_are_the_stored_summary(sim_root):
 
 
 @pytest.fixture(scope="module")
-def fitted_run(sim_root, tmp_path_factory, surrogate_scenarios, surrogate_finalize):
-    """The reduced run with the summary of a dataset that does fit (finalize on known structure)."""
-    root = tmp_path_factory.mktemp("surrogate") / "results"
+def summary(surrogate_scenarios, surrogate_finalize):
+    """finalize's tables for a dataset that does fit (known structure)."""
+    return surrogate_finalize(surrogate_scenarios())
+
+
+def _reported(sim_root, root, tables):
+    """The reduced run's records with ``tables`` as its summary, reported under ``root``."""
     shutil.copytree(sim_root / "surrogate" / "default", root / "surrogate" / "default",
                     ignore=shutil.ignore_patterns("report", "summary"))
     store = RunStore(root / "surrogate" / "default")
-    for name, table in surrogate_finalize(surrogate_scenarios()).items():
+    for name, table in tables.items():
         store.write_shard(f"summary/{name}", "final", table.to_dict("records"))
     assert build_reports(["surrogate"], root=root).failed == []
     return store.path
+
+
+@pytest.fixture(scope="module")
+def fitted_run(sim_root, tmp_path_factory, summary):
+    """The reduced run with the summary of a dataset that does fit."""
+    return _reported(sim_root, tmp_path_factory.mktemp("surrogate") / "results", summary)
 
 
 def test_a_fitted_run_shows_every_table_and_its_paper_values(fitted_run):
@@ -78,11 +87,11 @@ def test_a_fitted_run_shows_every_table_and_its_paper_values(fitted_run):
     assert cls.loc[("success_unbounded", "mlp"), "paper_auc"] == 0.69
     assert cls.loc[("success_unbounded", "random_forest"), "paper_auc"] == 0.65
     assert cls.loc[("success", "mlp"), ["paper_auc", "paper_accuracy_low_pct"]].isna().all()
-    # the AUC's interval is the stratified bootstrap of the stored held-out scores (the run's seed)
-    scores = RunStore(fitted_run).read("summary/surrogate_scores").to_pandas()
-    for (lab, model), g in scores.groupby(["label", "model"]):
-        ci = auc_interval(g["positive"], g["score"], seed=901, n_resamples=10_000)
-        assert tuple(cls.loc[(lab, model), ["roc_auc", "roc_auc_low", "roc_auc_high"]]) == pytest.approx(ci)
+    # the AUC and its interval are the ones the run stored; nothing is resampled here
+    stored = RunStore(fitted_run).read("summary/surrogate_classification").to_pandas().set_index(
+        ["label", "model"])
+    columns = ["roc_auc", "roc_auc_low", "roc_auc_high"]
+    assert cls[columns].to_numpy() == pytest.approx(stored.loc[cls.index, columns].to_numpy())
     assert cls.loc[("success_unbounded", "mlp"), "verdict"] == \
         "differs by +0.31: the paper's value lies outside our 95% interval"  # 1.00 (1.00–1.00) − 0.69
     timing = _table(fitted_run, "surrogate_timing").set_index("what")
@@ -105,6 +114,27 @@ def test_a_fitted_run_shows_every_table_and_its_paper_values(fitted_run):
     for lab, style in styles.items():
         assert (f"{style}:" in caption) == cls.loc[cls["label"] == lab, "roc_auc"].notna().any()
     assert (fitted_run / "report" / "figures" / "figA1_surrogate.png").stat().st_size > 30_000
+
+
+@pytest.mark.parametrize("stored, sentence", [
+    ("surrogate_scores", "Their AUC verdicts are judged on the point value because the run stored no AUC "
+                         "interval (it was finalized before the run computed one)."),
+    (None, "Their AUC verdicts are judged on the point value because the run stored no held-out scores (it "
+           "was finalized before they were stored).")])
+def test_a_run_finalized_before_the_interval_says_its_verdicts_use_the_point_value(
+        sim_root, tmp_path, summary, stored, sentence):
+    """A run finalized before finalize stored the AUC interval (with or without its held-out scores)
+    was judged on the point value in silence; it says so, and shows no interval."""
+    old = {name: table for name, table in summary.items() if name != "surrogate_scores" or stored}
+    old["surrogate_classification"] = summary["surrogate_classification"].drop(
+        columns=["roc_auc_low", "roc_auc_high", "roc_auc_interval", "roc_auc_resamples"])
+    run = _reported(sim_root, tmp_path / "results", old)
+    md = (run / "report" / "report.md").read_text()
+    assert sentence in md
+    assert "AUC with no interval (the run stored none)" in md
+    cls = _table(run, "surrogate_classification").set_index(["label", "model"])
+    assert cls["roc_auc_low"].isna().all()
+    assert cls.loc[("success_unbounded", "mlp"), "verdict"] == "differs by +0.31"  # 1.00 − 0.69, no interval
 
 
 def test_a_run_without_its_summary_says_how_to_get_it(sim_root, tmp_path):

@@ -21,7 +21,7 @@ from numpy.typing import ArrayLike
 from scipy import stats
 from statsmodels.regression.linear_model import OLS
 
-from graspcampaign.analysis.checks import check_1d, check_binary, check_paired, require, result
+from graspcampaign.analysis.checks import check_1d, check_paired, require, result
 
 #: Multiplier of the SD for the 95 % limits of agreement (Bland & Altman 1986, p. 308).
 LIMITS_OF_AGREEMENT_Z = 1.96
@@ -63,29 +63,6 @@ def classifier_metrics(predicted: ArrayLike, actual: ArrayLike) -> ClassifierMet
     return ClassifierMetrics((tp + tn) / p.size, _ratio(tp, tp + fp), _ratio(tp, tp + fn),
                              _ratio(2 * tp, 2 * tp + fp + fn),
                              _frozen([[tn, fp], [fn, tp]], np.int64), int(p.size))
-
-
-def auc_interval(actual: ArrayLike, score: ArrayLike, *, seed: int, n_resamples: int = 10_000,
-                 confidence_level: float = 0.95) -> tuple[float, float, float]:
-    """Return the ROC AUC of ``score`` for the ``actual`` positives and its stratified percentile
-    bootstrap interval: each resample draws the positives, then the negatives, with replacement
-    (``default_rng(seed).integers``, one ``(n_resamples, n)`` draw each), so every resample keeps
-    the held-out class counts. The AUC is the share of (positive, negative) pairs the score ranks
-    right, a tie counting one half (Mann-Whitney), as ``sklearn.metrics.roc_auc_score``."""
-    actual, score = check_binary(actual, "actual"), check_1d(score, "score")
-    require(actual.size == score.size, f"actual and score must have the same length, got {actual.size} "
-                                       f"and {score.size}.")
-    require(actual.any() and not actual.all(), "actual must hold both classes: an AUC needs a positive "
-                                               "and a negative.")
-    positive, negative = score[actual], score[~actual]
-    right = (positive[:, None] > negative) + 0.5 * (positive[:, None] == negative)  # pair (i, j)
-    rng = np.random.default_rng(seed)
-    counts = [np.apply_along_axis(np.bincount, 1, rng.integers(0, n, (n_resamples, n)), minlength=n)
-              for n in (positive.size, negative.size)]
-    aucs = ((counts[0] @ right) * counts[1]).sum(axis=1) / (positive.size * negative.size)
-    tail = (1.0 - confidence_level) / 2.0
-    low, high = np.quantile(aucs, [tail, 1.0 - tail])
-    return float(right.mean()), float(low), float(high)
 
 
 def bland_altman(measured: ArrayLike, predicted: ArrayLike) -> BlandAltmanResult:

@@ -24,8 +24,9 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
+from scipy import stats
 
-from graspcampaign.analysis.rates import wilson_interval
+from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES, wilson_interval
 from graspcampaign.analysis.records import executed
 from graspcampaign.campaign.kind import TrialInput, TrialKind
 from graspcampaign.campaign.kinds import common
@@ -126,6 +127,8 @@ LOG_FLOOR = 1e-3  # floor before log10 of a residual [N] or a penetration [mm] t
 LABELS = ("success", "success_unbounded", "success_vertical")
 """The configured check (with the validity gate), Algorithm 1 as published (no gate: the paper's
 label) and the |R_z| reading (docs/records.md)."""
+AUC_INTERVAL = "percentile"
+"""The held-out AUC's bootstrap interval (not BCa: docs/decisions.md, issue 14 surrogate entry)."""
 
 
 def features(df: pd.DataFrame, shapes: list[str]) -> pd.DataFrame:
@@ -158,6 +161,24 @@ def models(params: SurrogateParams, seed: int, regression: bool) -> dict[str, An
         n_estimators=params.n_trees, random_state=seed, n_jobs=1)
     return {"mlp": make_pipeline(StandardScaler(), mlp),
             "random_forest": make_pipeline(StandardScaler(), forest)}
+
+
+def auc(positive: np.ndarray, negative: np.ndarray, axis: int = -1) -> np.ndarray:
+    """ROC AUC along ``axis``: the share of (positive, negative) score pairs ranked right, a tie
+    counting one half (Mann-Whitney U / (n_pos n_neg); Hanley & McNeil 1982)."""
+    u = stats.mannwhitneyu(positive, negative, axis=axis, method="asymptotic").statistic
+    return u / (positive.shape[axis] * negative.shape[axis])
+
+
+def auc_interval(positive: np.ndarray, negative: np.ndarray, seed: int) -> dict[str, Any]:
+    """The AUC's 95 % bootstrap interval from the held-out scores of the positives and negatives,
+    resampled apart (``paired=False``: every resample keeps the stratified split's class counts),
+    :data:`BOOTSTRAP_RESAMPLES` resamples drawn from ``seed``; the classification row's columns."""
+    ci = stats.bootstrap((positive, negative), auc, paired=False, vectorized=True,
+                         n_resamples=BOOTSTRAP_RESAMPLES, method=AUC_INTERVAL,
+                         rng=np.random.default_rng(seed)).confidence_interval
+    return {"roc_auc_low": float(ci.low), "roc_auc_high": float(ci.high),
+            "roc_auc_interval": AUC_INTERVAL, "roc_auc_resamples": BOOTSTRAP_RESAMPLES}
 
 
 def prediction_time_s(model, row: np.ndarray, repeats: int = 200, budget_s: float = 0.5
@@ -201,19 +222,19 @@ def finalize(study, params: SurrogateParams, records: pd.DataFrame, store=None
     Features: the shape one-hot and m, μ, λ1, λ2, b (standardised in the pipeline). For each
     label of :data:`LABELS` with at least :data:`MIN_POSITIVES` of either class, a stratified
     ``1 - test_fraction`` / ``test_fraction`` split (``random_state`` = study seed) trains both
-    classifiers; the held-out trials give ROC AUC, accuracy (with its Wilson 95 % interval),
-    the majority-class accuracy and the ROC curve. Both regressors predict |R_z|, log10 ‖R‖ and
-    log10 δ_max on the first label's split (R² held out). One single-row prediction of the first
-    fitted label's classifiers (else of the |R_z| regressors) is timed here, beside the median
-    of the brief PSO calls timed in the trials.
+    classifiers; the held-out trials give ROC AUC (with its :func:`auc_interval`, seed = study
+    seed), accuracy (with its Wilson 95 % interval), the majority-class accuracy and the ROC curve.
+    Both regressors predict |R_z|, log10 ‖R‖ and log10 δ_max on the first label's split (R² held
+    out). One single-row prediction of the first fitted label's classifiers (else of the |R_z|
+    regressors) is timed here, beside the median of the brief PSO calls timed in the trials.
 
     Returns
     -------
     dict
         ``surrogate_classification``, ``surrogate_regression``, ``surrogate_importance``
         (random-forest impurity importances), ``surrogate_roc`` (curve points),
-        ``surrogate_scores`` (each held-out trial's label and predicted probability: the AUC's
-        bootstrap interval is computed from them by the report),
+        ``surrogate_scores`` (each held-out trial's label and predicted probability, which the
+        AUC and its interval are computed from),
         ``surrogate_parity`` (the MLP's held-out log10 ‖R‖ against the simulated one) and
         ``surrogate_timing`` (the PSO call, then one prediction per model), stored in
         ``summary/<name>/``.
@@ -269,7 +290,8 @@ def finalize(study, params: SurrogateParams, records: pd.DataFrame, store=None
             out["surrogate_classification"].append({
                 **base, "model": name, "test_trials": len(test),
                 "test_positives": int(y[test].sum()), "roc_auc": float(roc_auc_score(
-                    y[test], score)), "accuracy_pct": 100 * w.estimate,
+                    y[test], score)), **auc_interval(score[y[test]], score[~y[test]], seed),
+                "accuracy_pct": 100 * w.estimate,
                 "accuracy_low_pct": 100 * w.low, "accuracy_high_pct": 100 * w.high,
                 "majority_class_accuracy_pct": 100 * max(y[test].mean(), 1 - y[test].mean()),
                 "note": ""})
