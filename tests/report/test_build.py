@@ -214,6 +214,16 @@ def test_headline_page_and_index(tmp_path):
     assert "[Table 1 headline](headline.md)" in index and "other/r1/report/report.md" in index
 
 
+def test_the_index_pages_read_no_run_again(tmp_path, opened):
+    # a run's source comes from the facts its check kept of each records file: the file is opened
+    # to verify it and once for its report, no more (was once more for each index page)
+    write_run(tmp_path / "results", name="other", kind="no_section_kind", planners=("heuristic",))
+    build_reports(root=tmp_path / "results", formats=["md", "html"])
+    assert opened == {"other/r1/records/part-a.parquet": 2}
+    assert "| other | [r1](other/r1/report/report.md) | simulation | 10 |" in \
+        (tmp_path / "results" / "index.md").read_text()
+
+
 def test_virtual_rig_rows_say_so(tmp_path):
     # the Test 2 section needs the full protocol columns; the headline needs only these
     write_run(tmp_path, name="test2_grasp", kind="no_section_kind", source="virtual",

@@ -329,6 +329,13 @@ class RunStore:
             page_checksum_verification=True))
         return ds.dataset([str(p) for p in live], schema=schema, format=fmt)
 
+    def source(self, manifest: dict) -> str:
+        """The data source of the run's records (SPEC §4): ``virtual`` as soon as one record says
+        so, else the manifest's (``analysis.records.data_source``), from the sources each records
+        file's verified facts hold: no column is read again."""
+        held = set().union(*(own.owners.get("source", ()) for own in self._verified("records").values()))
+        return "virtual" if "virtual" in held else str(manifest.get("source") or "simulation")
+
     def recorded_ids(self, part: str = "records") -> set[str]:
         """Return the trial ids stored in ``part`` (every file verified in full first)."""
         return set().union(*(own.ids for own in self._verified(part).values()))

@@ -13,7 +13,6 @@ from typing import Any
 
 import pandas as pd
 
-from graspcampaign.analysis.records import data_source
 from graspcampaign.campaign.paths import check_root
 from graspcampaign.campaign.provenance import read_manifest
 from graspcampaign.campaign.records import RunStore
@@ -255,8 +254,7 @@ def index_rows(root: Path, page: str, unreadable: list[tuple[str, str]] | None =
         run_dir = report.parent.parent
         try:
             m = read_manifest(run_dir / "manifest.json") or {}
-            source = data_source(RunStore(run_dir).read("records", ["source"]).to_pandas(),
-                                 m.get("source"))
+            source = RunStore(run_dir).source(m)
         except UserInputError as exc:
             if unreadable is not None:
                 unreadable.append((run_dir.relative_to(root).as_posix(), reason(exc)))
