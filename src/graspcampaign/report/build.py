@@ -125,7 +125,7 @@ def _runs(root: Path, studies: list[str] | None, run: str | Mapping[str, str] | 
     if not root.is_dir():
         raise UserInputError(f"no results directory at {root}; run a study first.")
     try:
-        os.listdir(root)
+        directories = folders(root, strict=True)
     except OSError as exc:
         raise UserInputError(f"cannot list the runs under {root} "
                              f"({exc.strerror or type(exc).__name__}).") from None
@@ -134,11 +134,11 @@ def _runs(root: Path, studies: list[str] | None, run: str | Mapping[str, str] | 
         raise UserInputError(f"no runs under {root}: it is the directory of run {root.parent.name}/"
                              f"{root.name}; give the results root that holds it "
                              f"(--root {root.parent.parent}).")
-    if any(os.path.exists(d / "manifest.json") for d in folders(root)):
+    if any(os.path.exists(d / "manifest.json") for d in directories):
         raise UserInputError(f"no runs under {root}: it holds the runs of study {root.name}; give "
                              f"the results root that holds it (--root {root.parent}).")
     named, stores, failed = bool(studies) or run is not None, [], []
-    for name in dict.fromkeys(studies) if studies else [d.name for d in folders(root)]:
+    for name in dict.fromkeys(studies) if studies else [d.name for d in directories]:
         if studies and not os.path.isdir(root / name):
             raise UserInputError(f"no records for study {name!r} under {root}; run it first.")
         wanted = run.get(name) if isinstance(run, Mapping) else run

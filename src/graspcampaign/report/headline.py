@@ -142,11 +142,14 @@ def _run_row(h: Headline, store: RunStore, root: Path) -> dict | None:
                 why=mine["rate_why"], ours_baselines=_ranked(others["rate_pct"].to_dict()), **common)
 
 
-def folders(path: Path) -> list[Path]:
-    """The directories in ``path``, sorted; an entry that cannot be read (as under /proc) is none."""
+def folders(path: Path, strict: bool = False) -> list[Path]:
+    """The directories in ``path``, sorted; an entry that cannot be read (as under /proc) is none,
+    a ``path`` that cannot be listed has none (``strict``: raises the OSError)."""
     try:
         names = os.listdir(path)
     except OSError:
+        if strict:
+            raise
         return []
     return sorted(path / name for name in names if os.path.isdir(path / name))
 
