@@ -218,3 +218,13 @@ def test_status_reads_only_the_status_column_of_a_checked_run(study_factory, pas
     status = run_status(summary.path.parent.parent, "unit", "r1")
     assert (status["source"], status["n_recorded"]) == ("simulation", 16)
     assert asked == [["status"]]
+
+
+def test_removing_rows_reads_a_file_not_yet_verified_once(tmp_path, opened):
+    # its verifying read is the table rewritten (was read once to verify it, again to rewrite it)
+    store = RunStore(tmp_path / "results" / "unit" / "r1")
+    store.write_shard("records", "a", [{"trial_id": f"a{i}"} for i in range(3)])
+    store.write_shard("records", "b", [{"trial_id": "b1"}])
+    store._drop_rows("records", {"a1"})
+    assert opened == {"unit/r1/records/part-a.parquet": 1, "unit/r1/records/part-b.parquet": 1}
+    assert store.recorded_ids() == {"a0", "a2", "b1"}

@@ -61,6 +61,7 @@ from graspcampaign.campaign.verify import (
     SOURCES_KEY,
     Damaged,
     Facts,
+    cached,
     content_digest,
     facts,
     read_file,
@@ -405,17 +406,19 @@ class RunStore:
 
     def _filter_rows(self, part: str, ids: set[str], keep: bool) -> None:
         """Keep only (``keep``) or remove the rows of trials ``ids`` in every file of ``part``;
-        a file is read again only if its trial ids say that it changes."""
+        a verified file is read again only if its trial ids say that it changes, one not yet
+        verified is read once."""
         import pyarrow.compute as pc
 
         value_set = pa.array(sorted(ids), pa.string())
         tag = ["keep", content_hash(sorted(ids))] if keep else ["drop", sorted(ids)]
         for path in self._listing(part)[0]:
             with self._refusing(path):
-                own = facts(path)
+                known = cached(path)  # else the one full read that verifies it is its table
+                table, own = (None, known) if known else read_file(path, again=True)
                 if (own.ids <= ids and not own.n_null_ids) if keep else own.ids.isdisjoint(ids):
                     continue
-                table = read_file(path, again=True)[0]
+                table = read_file(path, again=True)[0] if table is None else table
             rows = pc.is_in(table.column("trial_id"), value_set=value_set)
             self._rewrite(path, table.filter(rows if keep else pc.invert(rows)), tag)
 
