@@ -228,3 +228,19 @@ def test_removing_rows_reads_a_file_not_yet_verified_once(tmp_path, opened):
     store._drop_rows("records", {"a1"})
     assert opened == {"unit/r1/records/part-a.parquet": 1, "unit/r1/records/part-b.parquet": 1}
     assert store.recorded_ids() == {"a0", "a2", "b1"}
+
+
+def test_writing_shards_asks_a_compacted_file_too_new_to_remember_once(tmp_path, opened,
+                                                                       monkeypatch):
+    # was once a task: verified in full each time, being too new to be remembered
+    monkeypatch.setattr(verify, "TICK_NS", {True: 10**12, False: 10**12})  # every read within it
+    store = RunStore(tmp_path / "results" / "unit" / "r1")
+    for name in "ab":
+        store.write_shard("records", name, [{"trial_id": f"{name}1"}])
+    store.compact()
+    opened.clear()
+    for name in "cdefg":
+        store.write_shard("records", name, [{"trial_id": f"{name}1"}])
+    assert list(opened.values()) == [1]
+    store.compact()
+    assert store.recorded_ids() == {f"{name}1" for name in "abcdefg"}

@@ -155,6 +155,7 @@ class RunStore:
 
     def __init__(self, path: Path | str):
         self.path = Path(path)
+        self._sources: dict[Path, list[str]] = {}  # compacted file -> the names it supersedes
 
     # -- layout ---------------------------------------------------------------------------------
     @property
@@ -179,9 +180,17 @@ class RunStore:
         """Write ``rows`` as ``<part>/part-<name>.parquet`` atomically and return its path.
 
         A name a compacted file lists as superseded gets a suffix (``part-<name>-1.parquet``):
-        a file of that name would be ignored as a leftover of the compaction.
+        a file of that name would be ignored as a leftover of the compaction. What a compacted
+        file supersedes is asked once per file by this store, not once a task: its name is the
+        hash of what it supersedes (docs/decisions.md).
         """
-        directory, superseded, k = self._dir(part), self._superseded(part)[0], 0
+        directory, k = self._dir(part), 0
+        superseded = set()
+        for compacted in directory.glob("compact-*.parquet"):  # each asked once by this store
+            if compacted not in self._sources:
+                with contextlib.suppress(*READ_ERRORS):
+                    self._sources[compacted] = supersedes(compacted)
+            superseded.update(self._sources.get(compacted, ()))
         while f"part-{name}{f'-{k}' if k else ''}.parquet" in superseded:
             k += 1
         path = directory / f"part-{name}{f'-{k}' if k else ''}.parquet"
