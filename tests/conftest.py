@@ -160,3 +160,36 @@ def surrogate_finalize():
         return {k: pd.DataFrame(v) for k, v in tables.items()}
 
     return run
+
+
+@pytest.fixture
+def past_the_tick(monkeypatch):
+    """A process that has verified no file yet (an empty cache), every read of which comes long
+    past the clock tick of the file's last change (a file read within it is read again)."""
+    from graspcampaign.campaign import verify
+
+    monkeypatch.setattr(verify, "_VERIFIED", {})
+    monkeypatch.setattr(verify, "TICK_NS", {True: -10**12, False: -10**12})
+
+
+@pytest.fixture
+def opened(monkeypatch, past_the_tick):
+    """Count every opening of a Parquet file (by path relative to the results root) from here on
+    (:func:`past_the_tick`: a file read within the tick of its last change is read again)."""
+    import collections
+    from pathlib import Path
+
+    import pyarrow.parquet as pq
+
+    counts: collections.Counter = collections.Counter()
+
+    def counting(real):
+        def opening(source, *args, **kwargs):
+            name = getattr(source, "name", source)  # a path, or the file opened to read it
+            counts[Path(name).as_posix().split("/results/")[-1]] += 1
+            return real(source, *args, **kwargs)
+        return opening
+
+    for name in ("ParquetFile", "read_schema", "read_table"):
+        monkeypatch.setattr(pq, name, counting(getattr(pq, name)))
+    return counts

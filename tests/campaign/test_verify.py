@@ -3,7 +3,6 @@ size, mtime, ctime); a file changed since it was verified is verified again."""
 
 from __future__ import annotations
 
-import collections
 import os
 import shutil
 import time
@@ -23,36 +22,10 @@ from graspcampaign.errors import DamagedRunError
 
 
 @pytest.fixture
-def past_the_tick(monkeypatch):
-    """A process that has verified no file yet (an empty cache), every read of which comes long
-    past the clock tick of the file's last change (a file read within it is read again)."""
-    monkeypatch.setattr(verify, "_VERIFIED", {})
-    monkeypatch.setattr(verify, "TICK_NS", {True: -10**12, False: -10**12})
-
-
-@pytest.fixture
 def within_the_tick(monkeypatch):
     """A process whose file system clock ticks once a test: every read is within the tick."""
     monkeypatch.setattr(verify, "_VERIFIED", {})
     monkeypatch.setattr(verify, "TICK_NS", {True: 10**12, False: 10**12})
-
-
-@pytest.fixture
-def opened(monkeypatch, past_the_tick):
-    """Count every opening of a Parquet file (by path relative to the results root) from here on
-    (:func:`past_the_tick`: a file read within the tick of its last change is read again)."""
-    counts: collections.Counter = collections.Counter()
-
-    def counting(real):
-        def opening(source, *args, **kwargs):
-            name = getattr(source, "name", source)  # a path, or the file opened to read it
-            counts[Path(name).as_posix().split("/results/")[-1]] += 1
-            return real(source, *args, **kwargs)
-        return opening
-
-    for name in ("ParquetFile", "read_schema", "read_table"):
-        monkeypatch.setattr(pq, name, counting(getattr(pq, name)))
-    return counts
 
 
 def _stored(run: Path) -> dict[str, int]:
@@ -229,3 +202,45 @@ def test_each_path_keeps_only_the_version_last_verified(tmp_path, past_the_tick)
         store.write_shard("records", "a", [{"trial_id": f"a{i}", "x": k} for i in range(4)])
         assert store.read().column("x").to_pylist() == [k] * 4
     assert list(verify._VERIFIED) == [os.path.abspath(store.path / "records" / "part-a.parquet")]
+
+
+def test_status_reads_only_the_status_column_of_a_checked_run(study_factory, past_the_tick,
+                                                               monkeypatch):
+    # the records' source comes from the facts the run's check kept of each file (was read
+    # again as a column)
+    from graspcampaign.campaign import records
+    from graspcampaign.campaign.status import run_status
+
+    summary = run_study(study_factory())
+    asked = []
+    monkeypatch.setattr(records, "read_file", lambda path, columns=None, **kw: (
+        asked.append(columns), verify.read_file(path, columns, **kw))[1])
+    status = run_status(summary.path.parent.parent, "unit", "r1")
+    assert (status["source"], status["n_recorded"]) == ("simulation", 16)
+    assert asked == [["status"]]
+
+
+def test_removing_rows_reads_a_file_not_yet_verified_once(tmp_path, opened):
+    # its verifying read is the table rewritten (was read once to verify it, again to rewrite it)
+    store = RunStore(tmp_path / "results" / "unit" / "r1")
+    store.write_shard("records", "a", [{"trial_id": f"a{i}"} for i in range(3)])
+    store.write_shard("records", "b", [{"trial_id": "b1"}])
+    store._drop_rows("records", {"a1"})
+    assert opened == {"unit/r1/records/part-a.parquet": 1, "unit/r1/records/part-b.parquet": 1}
+    assert store.recorded_ids() == {"a0", "a2", "b1"}
+
+
+def test_writing_shards_asks_a_compacted_file_too_new_to_remember_once(tmp_path, opened,
+                                                                       monkeypatch):
+    # was once a task: verified in full each time, being too new to be remembered
+    monkeypatch.setattr(verify, "TICK_NS", {True: 10**12, False: 10**12})  # every read within it
+    store = RunStore(tmp_path / "results" / "unit" / "r1")
+    for name in "ab":
+        store.write_shard("records", name, [{"trial_id": f"{name}1"}])
+    store.compact()
+    opened.clear()
+    for name in "cdefg":
+        store.write_shard("records", name, [{"trial_id": f"{name}1"}])
+    assert list(opened.values()) == [1]
+    store.compact()
+    assert store.recorded_ids() == {f"{name}1" for name in "abcdefg"}

@@ -8,7 +8,9 @@ intervals come from statsmodels.
 from __future__ import annotations
 
 import json
+import os
 import shutil
+from pathlib import Path
 
 import pandas as pd
 import pytest
@@ -212,6 +214,25 @@ def test_headline_page_and_index(tmp_path):
     assert "href='baseline_grid/r1/report/report.html'" in (tmp_path / "headline.html").read_text()
     index = (tmp_path / "index.md").read_text()
     assert "[Table 1 headline](headline.md)" in index and "other/r1/report/report.md" in index
+
+
+def test_the_index_pages_read_no_run_again(tmp_path, opened):
+    # a run's source comes from the facts its check kept of each records file: the file is opened
+    # to verify it and once for its report, no more (was once more for each index page)
+    write_run(tmp_path / "results", name="other", kind="no_section_kind", planners=("heuristic",))
+    build_reports(root=tmp_path / "results", formats=["md", "html"])
+    assert opened == {"other/r1/records/part-a.parquet": 2}
+    assert "| other | [r1](other/r1/report/report.md) | simulation | 10 |" in \
+        (tmp_path / "results" / "index.md").read_text()
+
+
+def test_a_report_lists_the_results_root_once(tmp_path, monkeypatch):
+    # was three times: to check it can be listed, that it holds no run, and for its studies
+    write_run(tmp_path, run="r1")
+    listed, real = [], os.listdir
+    monkeypatch.setattr(os, "listdir", lambda path=".": (listed.append(Path(path)), real(path))[1])
+    assert len(build_reports(root=tmp_path)) == 1
+    assert listed.count(tmp_path) == 1
 
 
 def test_virtual_rig_rows_say_so(tmp_path):

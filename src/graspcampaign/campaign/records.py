@@ -61,6 +61,7 @@ from graspcampaign.campaign.verify import (
     SOURCES_KEY,
     Damaged,
     Facts,
+    cached,
     content_digest,
     facts,
     read_file,
@@ -154,6 +155,7 @@ class RunStore:
 
     def __init__(self, path: Path | str):
         self.path = Path(path)
+        self._sources: dict[Path, list[str]] = {}  # compacted file -> the names it supersedes
 
     # -- layout ---------------------------------------------------------------------------------
     @property
@@ -178,9 +180,17 @@ class RunStore:
         """Write ``rows`` as ``<part>/part-<name>.parquet`` atomically and return its path.
 
         A name a compacted file lists as superseded gets a suffix (``part-<name>-1.parquet``):
-        a file of that name would be ignored as a leftover of the compaction.
+        a file of that name would be ignored as a leftover of the compaction. What a compacted
+        file supersedes is asked once per file by this store, not once a task: its name is the
+        hash of what it supersedes (docs/decisions.md).
         """
-        directory, superseded, k = self._dir(part), self._superseded(part)[0], 0
+        directory, k = self._dir(part), 0
+        superseded = set()
+        for compacted in directory.glob("compact-*.parquet"):  # each asked once by this store
+            if compacted not in self._sources:
+                with contextlib.suppress(*READ_ERRORS):
+                    self._sources[compacted] = supersedes(compacted)
+            superseded.update(self._sources.get(compacted, ()))
         while f"part-{name}{f'-{k}' if k else ''}.parquet" in superseded:
             k += 1
         path = directory / f"part-{name}{f'-{k}' if k else ''}.parquet"
@@ -329,6 +339,13 @@ class RunStore:
             page_checksum_verification=True))
         return ds.dataset([str(p) for p in live], schema=schema, format=fmt)
 
+    def source(self, manifest: dict) -> str:
+        """The data source of the run's records (SPEC §4): ``virtual`` as soon as one record says
+        so, else the manifest's (``analysis.records.data_source``), from the sources each records
+        file's verified facts hold: no column is read again."""
+        held = set().union(*(own.owners.get("source", ()) for own in self._verified("records").values()))
+        return "virtual" if "virtual" in held else str(manifest.get("source") or "simulation")
+
     def recorded_ids(self, part: str = "records") -> set[str]:
         """Return the trial ids stored in ``part`` (every file verified in full first)."""
         return set().union(*(own.ids for own in self._verified(part).values()))
@@ -398,17 +415,19 @@ class RunStore:
 
     def _filter_rows(self, part: str, ids: set[str], keep: bool) -> None:
         """Keep only (``keep``) or remove the rows of trials ``ids`` in every file of ``part``;
-        a file is read again only if its trial ids say that it changes."""
+        a verified file is read again only if its trial ids say that it changes, one not yet
+        verified is read once."""
         import pyarrow.compute as pc
 
         value_set = pa.array(sorted(ids), pa.string())
         tag = ["keep", content_hash(sorted(ids))] if keep else ["drop", sorted(ids)]
         for path in self._listing(part)[0]:
             with self._refusing(path):
-                own = facts(path)
+                known = cached(path)  # else the one full read that verifies it is its table
+                table, own = (None, known) if known else read_file(path, again=True)
                 if (own.ids <= ids and not own.n_null_ids) if keep else own.ids.isdisjoint(ids):
                     continue
-                table = read_file(path, again=True)[0]
+                table = read_file(path, again=True)[0] if table is None else table
             rows = pc.is_in(table.column("trial_id"), value_set=value_set)
             self._rewrite(path, table.filter(rows if keep else pc.invert(rows)), tag)
 

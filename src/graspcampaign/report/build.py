@@ -13,7 +13,6 @@ from typing import Any
 
 import pandas as pd
 
-from graspcampaign.analysis.records import data_source
 from graspcampaign.campaign.paths import check_root
 from graspcampaign.campaign.provenance import read_manifest
 from graspcampaign.campaign.records import RunStore
@@ -126,7 +125,7 @@ def _runs(root: Path, studies: list[str] | None, run: str | Mapping[str, str] | 
     if not root.is_dir():
         raise UserInputError(f"no results directory at {root}; run a study first.")
     try:
-        os.listdir(root)
+        directories = folders(root, strict=True)
     except OSError as exc:
         raise UserInputError(f"cannot list the runs under {root} "
                              f"({exc.strerror or type(exc).__name__}).") from None
@@ -135,11 +134,11 @@ def _runs(root: Path, studies: list[str] | None, run: str | Mapping[str, str] | 
         raise UserInputError(f"no runs under {root}: it is the directory of run {root.parent.name}/"
                              f"{root.name}; give the results root that holds it "
                              f"(--root {root.parent.parent}).")
-    if any(os.path.exists(d / "manifest.json") for d in folders(root)):
+    if any(os.path.exists(d / "manifest.json") for d in directories):
         raise UserInputError(f"no runs under {root}: it holds the runs of study {root.name}; give "
                              f"the results root that holds it (--root {root.parent}).")
     named, stores, failed = bool(studies) or run is not None, [], []
-    for name in dict.fromkeys(studies) if studies else [d.name for d in folders(root)]:
+    for name in dict.fromkeys(studies) if studies else [d.name for d in directories]:
         if studies and not os.path.isdir(root / name):
             raise UserInputError(f"no records for study {name!r} under {root}; run it first.")
         wanted = run.get(name) if isinstance(run, Mapping) else run
@@ -255,8 +254,7 @@ def index_rows(root: Path, page: str, unreadable: list[tuple[str, str]] | None =
         run_dir = report.parent.parent
         try:
             m = read_manifest(run_dir / "manifest.json") or {}
-            source = data_source(RunStore(run_dir).read("records", ["source"]).to_pandas(),
-                                 m.get("source"))
+            source = RunStore(run_dir).source(m)
         except UserInputError as exc:
             if unreadable is not None:
                 unreadable.append((run_dir.relative_to(root).as_posix(), reason(exc)))

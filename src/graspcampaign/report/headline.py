@@ -10,7 +10,7 @@ from typing import Any
 
 import pandas as pd
 
-from graspcampaign.analysis.records import data_source, rate_table
+from graspcampaign.analysis.records import rate_table
 from graspcampaign.analysis.vocabulary import PROPOSED, label
 from graspcampaign.campaign.paper import check_paper, study_paper
 from graspcampaign.campaign.records import RunStore
@@ -114,9 +114,9 @@ def _run_row(h: Headline, store: RunStore, root: Path) -> dict | None:
         paper = check_paper(h.study, config.get("paper"))
     except ConfigError:
         paper = study_paper(h.study)
-    records = store.read("records", columns=["status", "planner", "success", "aborted", "source",
+    records = store.read("records", columns=["status", "planner", "success", "aborted",
                                              *([h.subset[0]] if h.subset else [])]).to_pandas()
-    source = data_source(records, manifest.get("source"))
+    source = store.source(manifest)
     column, levels = h.subset or (None, frozenset())
     design = " × ".join([f"{len(v)} {FACTOR_NOUNS.get(k, k + ' levels')}" for k, v in (
         config.get("factors") or {}).items() if k not in ("planner", "variant", column) and len(v) > 1]
@@ -142,11 +142,14 @@ def _run_row(h: Headline, store: RunStore, root: Path) -> dict | None:
                 why=mine["rate_why"], ours_baselines=_ranked(others["rate_pct"].to_dict()), **common)
 
 
-def folders(path: Path) -> list[Path]:
-    """The directories in ``path``, sorted; an entry that cannot be read (as under /proc) is none."""
+def folders(path: Path, strict: bool = False) -> list[Path]:
+    """The directories in ``path``, sorted; an entry that cannot be read (as under /proc) is none,
+    a ``path`` that cannot be listed has none (``strict``: raises the OSError)."""
     try:
         names = os.listdir(path)
     except OSError:
+        if strict:
+            raise
         return []
     return sorted(path / name for name in names if os.path.isdir(path / name))
 
