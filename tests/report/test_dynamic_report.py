@@ -122,3 +122,33 @@ def test_the_finding_says_how_and_when_the_unheld_runs_ended_in_words():
     text = mass_finding(run)
     assert f"{per_preset} end not settled by t_max (in closure, at 0.0300 s)" in text
     assert "`not_settled`" not in text
+
+
+def rendered_tables(run: Run) -> dict[str, tuple[list[str], list[list[str]]]]:
+    """Each friction_mass table as its Markdown page shows it: (headers, rows of cells)."""
+    out = {}
+    for item in (i for i in FRICTION_MASS.items if type(i).__name__ == "Table"):
+        lines = item.render(run)[0].md("png").splitlines()[2:]
+        head, *rows = [[c.strip() for c in line.strip("|").split("|")] for line in lines if line != lines[1]]
+        out[item.name] = head, rows
+    return out
+
+
+def test_the_tables_show_words_not_record_names():
+    # the friction-cone table was headed `lp status mu0`, `lp mu0 reason` ... and showed `torque_balance`
+    run = friction_mass_run([0.1])
+    run.__dict__["ok"] = run.ok.assign(
+        dynamic_status="not_settled", lp_status="feasible", lp_status_mu0="infeasible",
+        lp_mu0_reason=np.where(run.ok.mass_kg == 0.2, "force_balance", "torque_balance"),
+        lp_mu0_force_only_status="feasible", lp_status_mu0_ideal="feasible", qs_success=True,
+        qs_success_unbounded=True, qs_failure_check="none", success=False)
+    tables = rendered_tables(run)
+    record_words = {"lp", "qs", "mu0", "unbounded", "wrench"}  # docs/records.md abbreviations
+    for name, (head, _) in tables.items():
+        assert not [h for h in head if record_words & set(h.split())], name
+    head, rows = tables["friction_cone"]
+    reasons = [r[head.index("at μ = 0 fails")] for r in rows]
+    expected = {"force_balance": "force balance", "torque_balance": "torque balance"}  # docs/records.md
+    assert sorted(reasons) == sorted(expected[v] for v in run.ok.lp_mu0_reason)
+    head, rows = tables["like_for_like"]
+    assert {r[head.index("dynamic status")] for r in rows} == {label("dynamic_status", "not_settled")}
