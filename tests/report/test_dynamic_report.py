@@ -20,11 +20,11 @@ PAPER = SimpleNamespace(representative_mu=0.1, representative_mass_kg=0.4,  # Se
                         total_penetration_below_m=5e-4)
 
 
-def friction_mass_run(mus) -> Run:
+def friction_mass_run(mus, points=5) -> Run:
     rows = [{"trial_id": f"{p}-{mu}-{m}", "status": "ok", "model_preset": p, "mu": mu, "mass_kg": m,
              "lift_start_s": 0.2, "lift_end_s": 0.3, "simulated_time_s": 0.4}
             for p in ("table2", "firm") for mu in mus for m in (0.2, 0.4, 0.6)]
-    t = np.linspace(0.0, 0.4, 5)
+    t = np.linspace(0.0, 0.4, points)
     steps = pd.DataFrame([{"trial_id": r["trial_id"], "time_s": x, "residual_z_n": -x,
                            "total_penetration_m": 1e-3 * x,
                            **{f"normal_force_{j}_n": j * x for j in (1, 2, 3)}}
@@ -152,3 +152,22 @@ def test_the_tables_show_words_not_record_names():
     assert sorted(reasons) == sorted(expected[v] for v in run.ok.lp_mu0_reason)
     head, rows = tables["like_for_like"]
     assert {r[head.index("dynamic status")] for r in rows} == {label("dynamic_status", "not_settled")}
+
+
+def test_every_case_stays_visible_where_curves_coincide():
+    # every μ × m case has the same trace here (as μ = 0.1 and 0.5 before slip): μ = 0.5 hid under 0.1
+    run = friction_mass_run([0.1, 0.5], points=200)
+    fig = plt.figure()
+    fig12_13(run, fig)
+    panels = [ax for ax in fig.axes if "Fig. 12" in ax.get_title()]
+    for ax in panels:
+        cases = [line for line in ax.lines if line.get_label().startswith("μ=")]
+        assert len(cases) == 6  # two μ × three m
+        shown = []
+        for line in cases:
+            start, step = line.get_markevery() or (0, 1)  # none: a marker at every point
+            shown.append((line.get_marker(), set(line.get_xdata()[start::step])))
+        assert len({marker for marker, _ in shown}) == len(cases)  # a marker shape per case
+        for i, (_, times) in enumerate(shown):  # each case's markers at times no other case marks
+            assert times and not times & set().union(*(t for j, (_, t) in enumerate(shown) if j != i))
+    plt.close(fig)

@@ -235,7 +235,9 @@ def fig12_13(run: Run, fig) -> None:
         for i, row in enumerate(g.itertuples()):
             s = steps[steps["trial_id"] == row.trial_id]
             rep = np.isclose([row.mu, row.mass_kg], [mu, mass]).all()
+            every = max(len(g), len(s) // 8)  # markers staggered per case: coinciding curves stay visible
             kw = {"linewidth": 2.0 if rep else 0.8, "alpha": 1.0 if rep else 0.5, "color": f"C{i}",
+                  "marker": "os^Dv<>ph*"[i % 10], "markevery": (i * every // len(g), every),
                   "label": f"μ={row.mu:g}, m={row.mass_kg:g} kg"}
             ax[0].plot(s["time_s"], s["residual_z_n"], **kw)
             ax[1].plot(s["time_s"], 1e3 * s["total_penetration_m"], **kw)
@@ -300,6 +302,7 @@ FRICTION_MASS = ReportSpec("friction_mass", [
               Col("normal_off_radial_max_deg", "largest normal off radial [°]", sig=3),
               Col("lp_status_mu0_ideal", "ideal sphere: LP at μ = 0")),
     Figure("fig12_13_dynamic", lambda run: "Figs. 12-13 (ours), one row per preset: vertical residual "
-           "and total penetration for every μ × m, and the per-finger normal forces of the thick case, "
+           "and total penetration for every μ × m (each its own marker, at staggered times, so curves that "
+           "coincide stay visible), and the per-finger normal forces of the thick case, "
            + _thick(run), fig12_13, (15.0, 8.8)),
 ])
