@@ -1,4 +1,5 @@
-"""friction_mass report: the case Figs. 12-13 (ours) single out, when the paper's is not run.
+"""friction_mass report: the case Figs. 12-13 (ours) single out, when the paper's is not run;
+gravity_settle's figures against their records.
 
 A small synthetic run (records and the ``steps`` trace as docs/records.md specifies) is rendered
 through the report's own figure function; the expected case is the paper's Sec. 5.5 values.
@@ -11,10 +12,18 @@ from types import SimpleNamespace
 import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
+import pytest
 
 from graspcampaign.analysis.vocabulary import label
 from graspcampaign.report.render import Run
-from graspcampaign.report.studies.dynamic import FRICTION_MASS, fig12_13, mass_finding, shown_case
+from graspcampaign.report.studies.dynamic import (
+    FRICTION_MASS,
+    fig10,
+    fig12_13,
+    integrator_figure,
+    mass_finding,
+    shown_case,
+)
 
 PAPER = SimpleNamespace(representative_mu=0.1, representative_mass_kg=0.4,  # Sec. 5.5, Figs. 12-13
                         total_penetration_below_m=5e-4)
@@ -171,3 +180,52 @@ def test_every_case_stays_visible_where_curves_coincide():
         for i, (_, times) in enumerate(shown):  # each case's markers at times no other case marks
             assert times and not times & set().union(*(t for j, (_, t) in enumerate(shown) if j != i))
     plt.close(fig)
+
+
+def gravity_settle_run() -> tuple[Run, dict[str, list[float]]]:
+    """A run of two integrators and their step sizes [s]: a step-size study at steps that are not
+    1-2-5 µs, a settle trace released at rest (zero kinetic energy at t = 0) and a two-node shape."""
+    settle = pd.DataFrame({"trial_id": ["rk4", "implicit"], "integrator": ["rk4", "implicit"],
+                           "expected_order": [4, 2], "settled": True, "squash_ratio": 0.9})
+    steps = {"rk4": [23.6e-6, 47.2e-6, 94.3e-6, 189e-6], "implicit": [31.2e-6, 62.5e-6, 250e-6]}
+    run = Run(pd.DataFrame(), {})
+    run.tables["settle"] = settle
+    run.memo("tables/step_convergence", lambda: pd.DataFrame(
+        [{"trial_id": t, "dt_s": dt, "max_position_error_m": dt ** 2}
+         for t, dts in steps.items() for dt in dts]))
+    run.memo("tables/energy_audit", lambda: pd.DataFrame(
+        [{"trial_id": t, "step": s, "time_s": x, "balance_error_j": x} for t in steps for s in ("dt", "dt/2")
+         for x in (0.0, 0.1)]))
+    run.memo("tables/settle", lambda: pd.DataFrame(
+        [{"trial_id": t, "time_s": x, "kinetic_energy_j": 0.0 if x == 0 else x * 1e-3} for t in steps
+         for x in np.linspace(0.0, 0.2, 11)]))
+    run.memo("tables/shape", lambda: pd.DataFrame(
+        [{"trial_id": t, "node": n, "x0_m": 0.0, "z0_m": n * 0.1, "x_m": 0.0, "y_m": 0.0, "z_m": n * 0.09}
+         for t in steps for n in (0, 1)]))
+    return run, steps
+
+
+def test_the_step_axis_labels_every_step_size_run():
+    # the axis labelled only 50/100/200 µs, none of which the run used
+    run, steps = gravity_settle_run()
+    fig = plt.figure()
+    integrator_figure(run, fig)
+    axis = fig.axes[0]
+    fig.canvas.draw()
+    labels = [float(t.get_text()) for t in axis.get_xticklabels() if t.get_text()]
+    plt.close(fig)
+    assert labels == pytest.approx(sorted(1e6 * dt for dts in steps.values() for dt in dts), rel=5e-3)
+
+
+def test_the_kinetic_energy_plot_starts_at_the_first_moving_step():
+    # the log plot clipped zero energy at 1e-12 J, drawing a plunge at t = 0 that no record holds
+    run, _ = gravity_settle_run()
+    fig = plt.figure()
+    fig10(run, fig)
+    lines = fig.axes[1].get_lines()
+    plt.close(fig)
+    trace = run.aux("settle")
+    moving = trace[(trace.trial_id == "rk4") & (trace.kinetic_energy_j > 0)]
+    assert len(lines) == 2
+    assert list(lines[0].get_xdata()) == list(moving.time_s)
+    assert list(lines[0].get_ydata()) == list(moving.kinetic_energy_j)
