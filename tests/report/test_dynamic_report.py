@@ -1,4 +1,5 @@
-"""friction_mass report: the case Figs. 12-13 (ours) single out, when the paper's is not run.
+"""friction_mass report: the case Figs. 12-13 (ours) single out, when the paper's is not run;
+gravity_settle's figures against their records.
 
 A small synthetic run (records and the ``steps`` trace as docs/records.md specifies) is rendered
 through the report's own figure function; the expected case is the paper's Sec. 5.5 values.
@@ -11,20 +12,28 @@ from types import SimpleNamespace
 import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
+import pytest
 
 from graspcampaign.analysis.vocabulary import label
 from graspcampaign.report.render import Run
-from graspcampaign.report.studies.dynamic import FRICTION_MASS, fig12_13, mass_finding, shown_case
+from graspcampaign.report.studies.dynamic import (
+    FRICTION_MASS,
+    fig10,
+    fig12_13,
+    integrator_figure,
+    mass_finding,
+    shown_case,
+)
 
 PAPER = SimpleNamespace(representative_mu=0.1, representative_mass_kg=0.4,  # Sec. 5.5, Figs. 12-13
                         total_penetration_below_m=5e-4)
 
 
-def friction_mass_run(mus) -> Run:
+def friction_mass_run(mus, points=5) -> Run:
     rows = [{"trial_id": f"{p}-{mu}-{m}", "status": "ok", "model_preset": p, "mu": mu, "mass_kg": m,
              "lift_start_s": 0.2, "lift_end_s": 0.3, "simulated_time_s": 0.4}
             for p in ("table2", "firm") for mu in mus for m in (0.2, 0.4, 0.6)]
-    t = np.linspace(0.0, 0.4, 5)
+    t = np.linspace(0.0, 0.4, points)
     steps = pd.DataFrame([{"trial_id": r["trial_id"], "time_s": x, "residual_z_n": -x,
                            "total_penetration_m": 1e-3 * x,
                            **{f"normal_force_{j}_n": j * x for j in (1, 2, 3)}}
@@ -122,3 +131,101 @@ def test_the_finding_says_how_and_when_the_unheld_runs_ended_in_words():
     text = mass_finding(run)
     assert f"{per_preset} end not settled by t_max (in closure, at 0.0300 s)" in text
     assert "`not_settled`" not in text
+
+
+def rendered_tables(run: Run) -> dict[str, tuple[list[str], list[list[str]]]]:
+    """Each friction_mass table as its Markdown page shows it: (headers, rows of cells)."""
+    out = {}
+    for item in (i for i in FRICTION_MASS.items if type(i).__name__ == "Table"):
+        lines = item.render(run)[0].md("png").splitlines()[2:]
+        head, *rows = [[c.strip() for c in line.strip("|").split("|")] for line in lines if line != lines[1]]
+        out[item.name] = head, rows
+    return out
+
+
+def test_the_tables_show_words_not_record_names():
+    # the friction-cone table was headed `lp status mu0`, `lp mu0 reason` ... and showed `torque_balance`
+    run = friction_mass_run([0.1])
+    run.__dict__["ok"] = run.ok.assign(
+        dynamic_status="not_settled", lp_status="feasible", lp_status_mu0="infeasible",
+        lp_mu0_reason=np.where(run.ok.mass_kg == 0.2, "force_balance", "torque_balance"),
+        lp_mu0_force_only_status="feasible", lp_status_mu0_ideal="feasible", qs_success=True,
+        qs_success_unbounded=True, qs_failure_check="none", success=False)
+    tables = rendered_tables(run)
+    record_words = {"lp", "qs", "mu0", "unbounded", "wrench"}  # docs/records.md abbreviations
+    for name, (head, _) in tables.items():
+        assert not [h for h in head if record_words & set(h.split())], name
+    head, rows = tables["friction_cone"]
+    reasons = [r[head.index("at μ = 0 fails")] for r in rows]
+    expected = {"force_balance": "force balance", "torque_balance": "torque balance"}  # docs/records.md
+    assert sorted(reasons) == sorted(expected[v] for v in run.ok.lp_mu0_reason)
+    head, rows = tables["like_for_like"]
+    assert {r[head.index("dynamic status")] for r in rows} == {label("dynamic_status", "not_settled")}
+
+
+def test_every_case_stays_visible_where_curves_coincide():
+    # every μ × m case has the same trace here (as μ = 0.1 and 0.5 before slip): μ = 0.5 hid under 0.1
+    run = friction_mass_run([0.1, 0.5], points=200)
+    fig = plt.figure()
+    fig12_13(run, fig)
+    panels = [ax for ax in fig.axes if "Fig. 12" in ax.get_title()]
+    for ax in panels:
+        cases = [line for line in ax.lines if line.get_label().startswith("μ=")]
+        assert len(cases) == 6  # two μ × three m
+        shown = []
+        for line in cases:
+            start, step = line.get_markevery() or (0, 1)  # none: a marker at every point
+            shown.append((line.get_marker(), set(line.get_xdata()[start::step])))
+        assert len({marker for marker, _ in shown}) == len(cases)  # a marker shape per case
+        for i, (_, times) in enumerate(shown):  # each case's markers at times no other case marks
+            assert times and not times & set().union(*(t for j, (_, t) in enumerate(shown) if j != i))
+    plt.close(fig)
+
+
+def gravity_settle_run() -> tuple[Run, dict[str, list[float]]]:
+    """A run of two integrators and their step sizes [s]: a step-size study at steps that are not
+    1-2-5 µs, a settle trace released at rest (zero kinetic energy at t = 0) and a two-node shape."""
+    settle = pd.DataFrame({"trial_id": ["rk4", "implicit"], "integrator": ["rk4", "implicit"],
+                           "expected_order": [4, 2], "settled": True, "squash_ratio": 0.9})
+    steps = {"rk4": [23.6e-6, 47.2e-6, 94.3e-6, 189e-6], "implicit": [31.2e-6, 62.5e-6, 250e-6]}
+    run = Run(pd.DataFrame(), {})
+    run.tables["settle"] = settle
+    run.memo("tables/step_convergence", lambda: pd.DataFrame(
+        [{"trial_id": t, "dt_s": dt, "max_position_error_m": dt ** 2}
+         for t, dts in steps.items() for dt in dts]))
+    run.memo("tables/energy_audit", lambda: pd.DataFrame(
+        [{"trial_id": t, "step": s, "time_s": x, "balance_error_j": x} for t in steps for s in ("dt", "dt/2")
+         for x in (0.0, 0.1)]))
+    run.memo("tables/settle", lambda: pd.DataFrame(
+        [{"trial_id": t, "time_s": x, "kinetic_energy_j": 0.0 if x == 0 else x * 1e-3} for t in steps
+         for x in np.linspace(0.0, 0.2, 11)]))
+    run.memo("tables/shape", lambda: pd.DataFrame(
+        [{"trial_id": t, "node": n, "x0_m": 0.0, "z0_m": n * 0.1, "x_m": 0.0, "y_m": 0.0, "z_m": n * 0.09}
+         for t in steps for n in (0, 1)]))
+    return run, steps
+
+
+def test_the_step_axis_labels_every_step_size_run():
+    # the axis labelled only 50/100/200 µs, none of which the run used
+    run, steps = gravity_settle_run()
+    fig = plt.figure()
+    integrator_figure(run, fig)
+    axis = fig.axes[0]
+    fig.canvas.draw()
+    labels = [float(t.get_text()) for t in axis.get_xticklabels() if t.get_text()]
+    plt.close(fig)
+    assert labels == pytest.approx(sorted(1e6 * dt for dts in steps.values() for dt in dts), rel=5e-3)
+
+
+def test_the_kinetic_energy_plot_starts_at_the_first_moving_step():
+    # the log plot clipped zero energy at 1e-12 J, drawing a plunge at t = 0 that no record holds
+    run, _ = gravity_settle_run()
+    fig = plt.figure()
+    fig10(run, fig)
+    lines = fig.axes[1].get_lines()
+    plt.close(fig)
+    trace = run.aux("settle")
+    moving = trace[(trace.trial_id == "rk4") & (trace.kinetic_energy_j > 0)]
+    assert len(lines) == 2
+    assert list(lines[0].get_xdata()) == list(moving.time_s)
+    assert list(lines[0].get_ydata()) == list(moving.kinetic_energy_j)

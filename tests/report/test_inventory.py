@@ -98,6 +98,8 @@ def test_dynamic_tables_match_their_records(sim_root):
     for column in ("trial_id", "dynamic_status", "delta_required_mm"):
         assert list(table[column]) == list(records[column])
     assert (table["paper"] == "stable").all()
+    assert (records[["touch_1_s", "touch_2_s", "touch_3_s"]].notna().all(axis=1)  # the contact path runs
+            & (records[["normal_force_1_n", "normal_force_2_n", "normal_force_3_n"]] > 0).any(axis=1)).any()
     like = pd.read_csv(fm / "report" / "tables" / "like_for_like.csv")
     assert list(like["labels_agree"]) == list(records["success"] == records["qs_success"])
     cone = pd.read_csv(fm / "report" / "tables" / "friction_cone.csv")

@@ -63,6 +63,10 @@ DYNAMIC_STATUSES = _terms(  # how a dynamic grasp ended (core.grasp_phases.STATU
     ("stable", "held (stable)", "#2e7d32"), ("not_settled", "not settled by t_max", "#ffb74d"),
     ("penetration_limit", "penetration limit", "#6d4c41"), ("dropped", "dropped", "#c62828"),
 )
+LP_MU0_REASONS = _terms(  # why the friction-cone LP at mu = 0 fails (docs/records.md, lp_mu0_reason)
+    ("feasible", "nothing (feasible)"), ("force_balance", "force balance"),
+    ("torque_balance", "torque balance"),
+)
 BLOCKS = _terms(
     ("A", "lateral pull", "#1f5aa6"), ("B", "vertical load", "#e08a1e"),
     ("C", "yaw torque", "#2e7d32"), ("D", "impulse", "#7b4ea3"), ("E", "sinusoid", "#c9a227"),
@@ -99,7 +103,7 @@ VOCABULARIES: dict[str, dict[str, Term]] = {
     "model_preset": MODEL_PRESETS, "integrator": INTEGRATORS, "outcome": OUTCOMES,
     "block": BLOCKS, "parameter": PARAMETERS, "panel": STUDY_PANELS,
     "dynamic_status": DYNAMIC_STATUSES, "environment": ENVIRONMENTS, "model": SURROGATE_MODELS,
-    "variable": SURROGATE_VARIABLES,
+    "variable": SURROGATE_VARIABLES, "lp_mu0_reason": LP_MU0_REASONS,
     # a McNemar table's compared planner; a table's scope of trials (a planner, or "all", "baselines" ...
     # that print as they are)
     "compared": PLANNERS, "scope": PLANNERS,

@@ -101,6 +101,8 @@ def cell(row: Mapping[str, Any], col: Col) -> str:
     if fmt.is_missing(value):
         why = row.get(col.why) if col.why else None
         return str(why) if isinstance(why, str) and why else fmt.MISSING
+    if col.key in VOCABULARIES:  # a level prints in the vocabulary's words, as a grouping column's does
+        return label(col.key, value)
     digits = fmt.decimals([value], col.sig or 3) if col.digits == fmt.EACH else \
         row.get(col.digits) if isinstance(col.digits, str) else col.digits
     if fmt.is_p_value(col.key) or (digits == fmt.P and not col.signed):

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 import pandas as pd
-from matplotlib.ticker import LogLocator, NullFormatter
+from matplotlib.ticker import NullFormatter
 
 from graspcampaign.analysis.vocabulary import colour, label, ordered
 from graspcampaign.report import format as fmt
@@ -91,7 +91,8 @@ def fig10(run: Run, fig) -> None:
         a.scatter(1e3 * shape["x_m"], 1e3 * shape["z_m"], s=12, c=c, marker="o+x"[i % 3],
                   label=f"{'settled' if r.settled else 'unsettled'}, {label('integrator', r.integrator)} "
                   f"(ratio {r.squash_ratio:.3f})")
-        b.semilogy(trace["time_s"], np.maximum(trace["kinetic_energy_j"], 1e-12), color=c,
+        moving = trace[trace["kinetic_energy_j"] > 0]  # a log axis has no zero (the release at rest)
+        b.semilogy(moving["time_s"], moving["kinetic_energy_j"], color=c,
                    label=label("integrator", r.integrator))
     a.axhline(1e3 * shape0["z0_m"].min(), color=style.PAPER, linewidth=1.0, label="floor")  # lowest rest node
     a.set(xlabel="x [mm]", ylabel="z [mm]", aspect="equal", title="(a) side view")
@@ -101,17 +102,18 @@ def fig10(run: Run, fig) -> None:
 
 def integrator_figure(run: Run, fig) -> None:
     a, b = fig.subplots(1, 2)
+    steps_us = set()
     for i, r in enumerate(run.tables["settle"].itertuples()):
         conv = _trial(run, "step_convergence", r.trial_id).sort_values("dt_s")
         dt_us, err = 1e6 * conv["dt_s"].to_numpy(float), conv["max_position_error_m"].to_numpy()
-        c = colour("integrator", r.integrator, i)
+        c, steps_us = colour("integrator", r.integrator, i), steps_us | set(dt_us)
         a.loglog(dt_us, err, "o-", color=c, label=label("integrator", r.integrator))
         a.loglog(dt_us, err[0] * (dt_us / dt_us[0]) ** r.expected_order, "--", linewidth=1, color=c,
                  label=f"slope {r.expected_order}")
         for j, (step, rows) in enumerate(_trial(run, "energy_audit", r.trial_id).groupby("step", sort=False)):
             b.plot(rows["time_s"], rows["balance_error_j"], color=c, linestyle="-:"[j % 2],
                    label=f"{label('integrator', r.integrator)}, step {step}")
-    a.xaxis.set(major_locator=LogLocator(subs=(1, 2, 5)), major_formatter=lambda v, _: f"{v:g}")
+    a.set_xticks(sorted(steps_us), [f"{v:.3g}" for v in sorted(steps_us)])  # every step size run
     a.xaxis.set_minor_formatter(NullFormatter())
     a.set(xlabel="step [µs]", ylabel="largest position error at t_end [m]",
           title="(a) step-size study (reference DOP853)")
@@ -132,7 +134,7 @@ GRAVITY_SETTLE = ReportSpec("gravity_settle", [
                     "simulated_time_s"), Col("final_kinetic_energy_uj", "final kinetic energy [µJ]", sig=3),
               *cols("max_floor_penetration_mm"), *STEP], by=["integrator"]),
     Figure("fig10_settle", "Fig. 10 (ours): undeformed and final sphere per integrator; kinetic-energy "
-           "decay", fig10, (10.0, 4.4)),
+           "decay (log scale: the release at rest, zero energy, is not drawn)", fig10, (10.0, 4.4)),
     Table("integrator_audit", "Step-size study and energy audit of each integrator on the settle body (Sec. "
           "12 lists both as missing from the paper; no paper values to compare); expected order: RK4 4, "
           "implicit midpoint 2", lambda run: run.tables["settle"], [
@@ -203,7 +205,7 @@ def mass_finding(run: Run) -> str:
                 f" (not in {len(short)}, at μ = {', '.join(f'{m:g}' for m in sorted(set(short)))}; the "
                 "paper: feasible at every μ)" if len(short) else "") + " and at μ = 0 in "
             f"{(ok.lp_status_mu0 == 'feasible').sum()} of {len(ok)} runs on the meshed sphere" + (
-                " (" + ", ".join(f"{v} fail {k.replace('_', ' ')}" for k, v in why.items())
+                " (" + ", ".join(f"{v} fail {label('lp_mu0_reason', k)}" for k, v in why.items())
                 + "; facet normals up to "
                 f"{ok.normal_off_radial_max_deg.max():.1f}° off radial), and in "
                 f"{(ok.lp_status_mu0_ideal == 'feasible').sum()} of {len(ok)} on the ideal sphere along the "
@@ -235,7 +237,9 @@ def fig12_13(run: Run, fig) -> None:
         for i, row in enumerate(g.itertuples()):
             s = steps[steps["trial_id"] == row.trial_id]
             rep = np.isclose([row.mu, row.mass_kg], [mu, mass]).all()
+            every = max(len(g), len(s) // 8)  # markers staggered per case: coinciding curves stay visible
             kw = {"linewidth": 2.0 if rep else 0.8, "alpha": 1.0 if rep else 0.5, "color": f"C{i}",
+                  "marker": "os^Dv<>ph*"[i % 10], "markevery": (i * every // len(g), every),
                   "label": f"μ={row.mu:g}, m={row.mass_kg:g} kg"}
             ax[0].plot(s["time_s"], s["residual_z_n"], **kw)
             ax[1].plot(s["time_s"], 1e3 * s["total_penetration_m"], **kw)
@@ -258,11 +262,12 @@ def fig12_13(run: Run, fig) -> None:
     fig.legend(handles=axes[0, 0].get_legend_handles_labels()[0], loc="outside lower center", ncol=6)
 
 
-def _fm_table(name: str, caption: str, *columns: str, **extra) -> Table:
+def _fm_table(name: str, caption: str, *columns: Col | str, **extra) -> Table:
     """A table of every preset × μ × m run in design order (``extra``: columns added first)."""
-    return Table(name, caption, lambda run: in_order(run, FM).assign(**extra), cols(*columns), by=FM)
+    return Table(name, caption, lambda run: in_order(run, FM).assign(**extra), columns, by=FM)
 
 
+DELTA_MAX, QS = Col("delta_max_mm", "δmax [mm]", sig=3), "quasi-static"
 FRICTION_MASS = ReportSpec("friction_mass", [
     Finding(mass_finding),
     Rates("stable_by_preset", "Stable, physically valid grasps per material preset beside Sec. 5.5 (the "
@@ -271,26 +276,36 @@ FRICTION_MASS = ReportSpec("friction_mass", [
     _fm_table("friction_mass", "Dynamic grasp at every preset × μ × m beside Sec. 5.5; δ required: the "
               "closed form (mg/K)^(1/n) at which one fingertip alone carries the weight, beside the "
               "fingertip radius (the validity limit); final six-component wrench residual (the paper checked "
-              "only the vertical part)", "paper", "dynamic_status", "final_phase", "success", "delta_max_mm",
-              "delta_required_mm",
-              "fingertip_radius_mm", "final_residual_z_n", "wrench_force_norm_n", "wrench_torque_norm_nm",
-              *(f"normal_force_{j}_n" for j in (1, 2, 3)), paper="stable"),
+              "only the vertical part)", "paper", "dynamic_status", "final_phase", "success", DELTA_MAX,
+              Col("delta_required_mm", "δ required [mm]", sig=3), "fingertip_radius_mm",
+              Col("final_residual_z_n", "final R_z [N]", sig=3), Col("wrench_force_norm_n", "‖F‖ [N]", sig=3),
+              Col("wrench_torque_norm_nm", "‖τ‖ [N·m]", sig=3),
+              *(Col(f"normal_force_{j}_n", f"finger {j} normal force [N]", sig=3) for j in (1, 2, 3)),
+              paper="stable"),
     _fm_table("phases", "Phase timings in the order of Fig. 11: closure on the held object (first touch of "
               "each finger), lift-off, the settled window of Eq. 19 (— unless stable)", "closure_start_s",
-              *(f"touch_{j}_s" for j in (1, 2, 3)), "closure_end_s", "lift_end_s", "hold_start_s",
-              "hold_end_s", "simulated_time_s"),
+              *(Col(f"touch_{j}_s", f"finger {j} touches [s]", sig=3) for j in (1, 2, 3)), "closure_end_s",
+              "lift_end_s", "hold_start_s", "hold_end_s", "simulated_time_s"),
     _fm_table("like_for_like", "Like-for-like labels on the dynamic pipeline's 45°/45°/−90° contact set "
               "(Sec. 6.1, Sec. 12): the dynamic label and Algorithms 1-2 on the same contacts under the same "
               "preset, with and without the validity gate (δ ≤ fingertip radius)", "dynamic_status",
-              "success", "qs_success", "labels_agree", "qs_success_unbounded", "qs_failure_check",
-              "qs_residual_norm_n", "qs_delta_max_mm", labels_agree=lambda d: d.success == d.qs_success),
+              Col("success", "dynamic success"), Col("qs_success", f"{QS} success"), "labels_agree",
+              Col("qs_success_unbounded", f"{QS} success without the gate"),
+              Col("qs_failure_check", f"{QS} failing check"),
+              Col("qs_residual_norm_n", f"{QS} ‖R‖ [N]", sig=3),
+              Col("qs_delta_max_mm", f"{QS} δmax [mm]", sig=3),
+              labels_agree=lambda d: d.success == d.qs_success),
     _fm_table("friction_cone", "Friction-cone LP on the same contacts at μ and at μ = 0 (the paper: feasible "
               "at every μ and as μ → 0 on the sphere): why μ = 0 fails on the meshed sphere (force or torque "
               "balance), the force-only LP's torque residual, the facet normals' largest angle off radial, "
-              "and the ideal sphere along the same directions", "lp_status", "lp_status_mu0", "lp_mu0_reason",
-              "lp_mu0_force_only_status", "lp_mu0_torque_residual_nm", "normal_off_radial_max_deg",
-              "lp_status_mu0_ideal"),
+              "and the ideal sphere along the same directions", Col("lp_status", "LP at μ"),
+              Col("lp_status_mu0", "LP at μ = 0"), Col("lp_mu0_reason", "at μ = 0 fails"),
+              Col("lp_mu0_force_only_status", "force-only LP at μ = 0"),
+              Col("lp_mu0_torque_residual_nm", "its torque residual [N·m]", sig=3),
+              Col("normal_off_radial_max_deg", "largest normal off radial [°]", sig=3),
+              Col("lp_status_mu0_ideal", "ideal sphere: LP at μ = 0")),
     Figure("fig12_13_dynamic", lambda run: "Figs. 12-13 (ours), one row per preset: vertical residual "
-           "and total penetration for every μ × m, and the per-finger normal forces of the thick case, "
+           "and total penetration for every μ × m (each its own marker, at staggered times, so curves that "
+           "coincide stay visible), and the per-finger normal forces of the thick case, "
            + _thick(run), fig12_13, (15.0, 8.8)),
 ])
