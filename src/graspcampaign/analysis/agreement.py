@@ -105,10 +105,20 @@ def cv_interval(x: ArrayLike, *, seed: int, n_resamples: int = 10_000,
     """Return the percentile interval of the CV of ``x`` by ``scipy.stats.bootstrap`` (n >= 3)."""
     arr = check_1d(x, "x", 3)
     require(np.ptp(arr) > 0, "every value is the same: a zero spread has no interval")
-    res = stats.bootstrap((arr,), lambda v, axis=-1: np.std(v, axis=axis, ddof=1)
-                          / np.mean(v, axis=axis), n_resamples=n_resamples,
-                          confidence_level=confidence_level, method="percentile",
-                          rng=np.random.default_rng(seed), vectorized=True)
+    return _percentile_interval(arr, lambda v, axis=-1: np.std(v, axis=axis, ddof=1) / np.mean(v, axis=axis),
+                                seed, n_resamples, confidence_level)
+
+
+def median_interval(x: ArrayLike, *, seed: int, n_resamples: int = 10_000,
+                    confidence_level: float = 0.95) -> tuple[float, float]:
+    """Return the percentile interval of the median of ``x`` by ``scipy.stats.bootstrap`` (n >= 3)."""
+    return _percentile_interval(check_1d(x, "x", 3), np.median, seed, n_resamples, confidence_level)
+
+
+def _percentile_interval(arr: np.ndarray, statistic, seed: int, n_resamples: int,
+                         confidence_level: float) -> tuple[float, float]:
+    res = stats.bootstrap((arr,), statistic, n_resamples=n_resamples, confidence_level=confidence_level,
+                          method="percentile", rng=np.random.default_rng(seed), vectorized=True)
     return float(res.confidence_interval.low), float(res.confidence_interval.high)
 
 

@@ -147,6 +147,7 @@ class Value:
     paper: Callable[[Any], Any] | None = None
     unit: str = ""
     digits: int = 2
+    because: str = ""  # why ours is not compared (a context row), as the verdict rule's ``because``
 
     def estimate(self, run: Run) -> Estimate:
         return v if isinstance(v := self.value(run), Estimate) else Estimate(v)
@@ -164,25 +165,28 @@ def Claims(name: str, caption: str | Callable[[Run], str],
            rows: Sequence[Value] | Callable[[Run], Iterable[tuple]] = (),
            empty: str | None = "no executed trial has its data") -> Table:
     """A table of single quantities beside the paper's: :func:`Rate` and :class:`Value` rows, or
-    ``rows(run)`` yielding ``(quantity, section, value, paper, unit, digits)`` with the paper's value
-    itself and ours a number, an Estimate or a function of nothing giving one (its ValueError: the
-    row's reason); ``digits`` the decimals, or ``fmt.P`` for a p-value; ``empty`` as for :class:`Table`."""
+    ``rows(run)`` yielding ``(quantity, section, value, paper, unit, digits[, because])`` with the paper's
+    value itself and ours a number, an Estimate or a function of nothing giving one (its ValueError: the
+    row's reason); ``digits`` the decimals, or ``fmt.P`` for a p-value; ``because`` why a context row is
+    not compared; ``empty`` as for :class:`Table`."""
     def compute(run: Run) -> pd.DataFrame:
         out = []
         for r in rows(run) if callable(rows) else rows:
             if not isinstance(r, Value):
-                q, s, v, x, unit, digits = r
-                r = Value(q, s, lambda run, v=v: v() if callable(v) else v, lambda p, x=x: x, unit, digits)
+                q, s, v, x, unit, digits, *because = r
+                r = Value(q, s, lambda run, v=v: v() if callable(v) else v, lambda p, x=x: x, unit, digits,
+                          *because)
             try:
                 e, why = r.estimate(run), ""
             except (ValueError, KeyError, ZeroDivisionError) as exc:
                 e, why = Estimate(math.nan), f"not computed: {reason(exc)}"
             p = _paper(r.paper, run.paper)
             out.append([r.label, r.section, fmt.paper_text(p, r.digits) if isinstance(p, tuple | list) else p,
-                        e.value, e.low, e.high, e.n, r.unit, r.digits, why, p])
+                        e.value, e.low, e.high, e.n, r.unit, r.digits, why, p, r.because])
         frame = pd.DataFrame(out, columns=["quantity", "section", "paper", "value", "low", "high", "n",
-                                           "unit", "digits", "why", "_paper"]).astype({"n": "Int64"})
-        return verdicts(frame, "value", "_paper", "low", "high", "digits", "unit").drop(columns="_paper")
+                                           "unit", "digits", "why", "_paper", "_because"]).astype({"n": "Int64"})
+        return verdicts(frame, "value", "_paper", "low", "high", "digits", "unit",
+                        because="_because").drop(columns=["_paper", "_because"])
 
     def shown(run: Run, frame: pd.DataFrame) -> list[Col]:
         ours = "ours (95%)" if (frame["low"].notna() & frame["high"].notna()).any() else "ours"

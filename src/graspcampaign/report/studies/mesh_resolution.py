@@ -2,15 +2,19 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
+from graspcampaign.analysis import agreement
+from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
 from graspcampaign.analysis.records import Estimate
 from graspcampaign.analysis.vocabulary import OTHER_COLOURS, PROPOSED, colour
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.errors import UserInputError
+from graspcampaign.report import format as fmt
 from graspcampaign.report import style
 from graspcampaign.report.document import Col
 from graspcampaign.report.render import Run
@@ -34,12 +38,28 @@ def _runtime(run: Run) -> pd.DataFrame:
 
 #: The largest and reference meshes of the paper's cost ratio and its target (Sec. 6.7, Sec. 11).
 PAPER_MESHES = (1750, 144)
+#: Trials a cost ratio's bootstrap interval needs (agreement.median_interval); fewer: no interval.
+MIN_TRIALS = 3
 
 
 def _meshes(run: Run) -> tuple[int, int]:
     """The run's largest and reference mesh sizes [nodes] (its resolution panel)."""
     res = panel_rows(run, "resolution")
     return int(res["nodes"].max()), int(res["reference_nodes"].iloc[0])
+
+
+def _unlike_paper(run: Run) -> str:
+    """Why the run's cost ratio is not compared with the paper's ("" when its meshes are the paper's)."""
+    (top, ref), (paper_top, paper_ref) = _meshes(run), PAPER_MESHES
+    if top < paper_top:
+        why = f"this run has no {paper_top}-node mesh"
+    elif top > paper_top:
+        why = f"this run's largest mesh has {top} nodes"
+    elif ref != paper_ref:
+        why = f"this run's reference mesh has {ref} nodes"
+    else:
+        return ""
+    return f"not compared: {why} (the paper's ratio is {paper_top} / {paper_ref} nodes)"
 
 
 def _estimators(run: Run) -> list[str]:
@@ -50,15 +70,38 @@ def _estimators(run: Run) -> list[str]:
     return ["fastest", "median"] if fastest else ["median"]
 
 
-def _cost_ratio(run: Run, repeats: str) -> Estimate:
-    """Median over the largest mesh's trials of its per-trial cost ratio of ``repeats`` repeats."""
+def _cost_ratio(run: Run, repeats: str, nodes: int | None = None) -> Estimate:
+    """Median over the trials on the ``nodes`` mesh (default the largest) of each trial's cost ratio of
+    ``repeats`` repeats, with its percentile-bootstrap 95 % interval from :data:`MIN_TRIALS` trials on."""
     res = panel_rows(run, "resolution")
-    top = res[res["nodes"] == res["nodes"].max()]
-    if not len(top):
+    at = res[res["nodes"] == (res["nodes"].max() if nodes is None else nodes)]
+    if not len(at):
         raise ValueError("no resolution trial")
-    per_trial = top["cost_ratio_vs_reference"] if repeats == "fastest" else \
-        top["eval_time_s"] / top["eval_time_reference_s"]
-    return Estimate(float(per_trial.median()), n=len(top))
+    per_trial = at["cost_ratio_vs_reference"] if repeats == "fastest" else \
+        at["eval_time_s"] / at["eval_time_reference_s"]
+    low, high = agreement.median_interval(per_trial, seed=run.seed) if len(at) >= MIN_TRIALS \
+        else (math.nan, math.nan)
+    return Estimate(float(per_trial.median()), low, high, n=len(at))
+
+
+def _growth(run: Run, repeats: str) -> tuple[bool, str]:
+    """Whether the cost ratio of ``repeats`` repeats shows growth, and the words: only when its 95 %
+    interval lies above 1 and above the reference mesh's ratio against itself (docs/decisions.md)."""
+    ratio, ref = _cost_ratio(run, repeats), _meshes(run)[1]
+    if math.isnan(ratio.low):
+        return False, f"no growth detectable at this n ({ratio.n} trial{'s' * (ratio.n != 1)}; a 95% " \
+                      f"interval needs {MIN_TRIALS})"
+    try:
+        itself = _cost_ratio(run, repeats, ref)
+    except ValueError:  # the reference mesh is not a level of the panel
+        itself = Estimate(math.nan)
+    bar = 1.0 if math.isnan(itself.high) else max(1.0, itself.high)
+    spread = "" if math.isnan(itself.high) else \
+        f"the reference mesh against itself {fmt.interval(itself.low, itself.high, 2)}"
+    interval = f"95% interval {fmt.interval(ratio.low, ratio.high, 2)}"
+    if ratio.low > bar:
+        return True, f"a growth ({interval}, above 1{' and ' + spread if spread else ''})"
+    return False, f"no growth detectable at this n ({interval}{'; ' + spread if spread else ''})"
 
 
 def _budget(run: Run) -> pd.DataFrame:
@@ -124,39 +167,35 @@ def _cross_check(run: Run) -> str:
             "(relative 1e-9).")
 
 
-def _verdict(ratio: float, target: float | None) -> str:
-    """The finding's reading of a cost ratio, against the paper's target where it applies (``target``)."""
-    growth = "no growth" if ratio <= 1 else "growth"
-    if target is None:
-        return growth
-    return f"{growth}, {'within' if ratio <= target else 'above'} the paper's target"
+def _reading(run: Run) -> str:
+    """The finding's sentence on the cost ratio, from the cost_ratio table's verdicts (one rule): the
+    verdict's estimator against the paper, whether the median repeats read the same, and growth."""
+    p, (top, ref), estimators, unlike = run.paper, _meshes(run), _estimators(run), _unlike_paper(run)
+    table = COST.compute(run)
+    (verdict, target), differs = table["verdict"].iloc[[0, len(estimators)]], table["differs"].iloc[len(estimators)]
+    ratio, (grows, growth) = _cost_ratio(run, estimators[0]), _growth(run, estimators[0])
+    paper = f"paper {p.runtime_ratio_1750_144}, target ≤ {p.runtime_ratio_target}, {verdict}" if unlike \
+        else f"paper {p.runtime_ratio_1750_144}: {verdict}; target ≤ {p.runtime_ratio_target}: {target}"
+    repeats = "median repeats, the only ones of a run stored before the fastest repeat was recorded"
+    if estimators[0] == "fastest":  # the median repeats judged by the target row's rule, as printed
+        median, (median_grows, median_growth) = _cost_ratio(run, "median").value, _growth(run, "median")
+        other = (None, "") if unlike else fmt.verdict(median, (None, p.runtime_ratio_target), digits=2)
+        repeats = f"fastest repeats; by their median repeats {fmt.number(median, 2)}, " + (
+            "the same reading at printed precision" if (other[0], median_grows) == (differs, grows) else
+            f"which reads {', '.join(w for w in (other[1], median_growth) if w)}: the choice of estimator "
+            "decides the verdict")
+    trials = f"{ratio.n} trial{'s' if ratio.n != 1 else ''}"
+    return (f"One evaluation on the largest mesh ({top} nodes) costs {fmt.number(ratio.value, 2)} times one "
+            f"on the {ref}-node reference mesh (median over {trials} of each trial's ratio of the two "
+            f"meshes' {repeats}; {paper}): {growth}, " + (
+                "which the design does not predict, since" if grows else "as the design predicts, since") +
+            " neither stage's work depends on the mesh size (the candidate search scores a fixed "
+            "N_cand of vertex triples from precomputed data, Algorithm 2 works on three contacts), "
+            "while the paper's growth comes from per-candidate collision queries (Sec. 6.7).")
 
 
 def finding(run: Run) -> str:
-    p, text = run.paper, []
-    if len(panel_rows(run, "resolution")):
-        (top, ref), ratios = _meshes(run), {r: _cost_ratio(run, r) for r in _estimators(run)}
-        ratio, median = next(iter(ratios.values())), ratios["median"].value
-        repeats = "median repeats, the only ones of a run stored before the fastest repeat was recorded"
-        if "fastest" in ratios:
-            target = p.runtime_ratio_target if (top, ref) == PAPER_MESHES else None
-            verdict, other = _verdict(ratio.value, target), _verdict(median, target)
-            repeats = (f"fastest repeats, which this verdict uses; by their median repeats {median:.2f}, " + (
-                f"the same verdict ({verdict})" if other == verdict else
-                f"which would read {other}: the choice of estimator decides the verdict"))
-        paper = (f"paper {p.runtime_ratio_1750_144}, target ≤ {p.runtime_ratio_target}" if (top, ref) ==
-                 PAPER_MESHES else f"the paper's {p.runtime_ratio_1750_144} and target ≤ "
-                 f"{p.runtime_ratio_target} are for {PAPER_MESHES[0]} against {PAPER_MESHES[1]} nodes: not "
-                 "compared")
-        trials = f"{ratio.n} trial{'s' if ratio.n != 1 else ''}"
-        text.append(f"One evaluation on the largest mesh ({top} nodes) costs {ratio.value:.2f} times one on "
-                    f"the {ref}-node reference mesh (median over {trials} of each trial's ratio of the two "
-                    f"meshes' {repeats}; {paper}): " + (
-                        "no growth, as expected since" if ratio.value <= 1 else
-                        "a growth the design does not predict, since") +
-                    " neither stage's work depends on the mesh size (the candidate search scores a fixed "
-                    "N_cand of vertex triples from precomputed data, Algorithm 2 works on three contacts), "
-                    "while the paper's growth comes from per-candidate collision queries (Sec. 6.7).")
+    text = [_reading(run)] if len(panel_rows(run, "resolution")) else []
     if len(panel_rows(run, "n_max")):
         t = _n_max(run)
         text.append(f"Of {int(t['failures_at_n_max'].sum())} baseline-grid failures, "
@@ -226,26 +265,29 @@ def fig20(run: Run, fig) -> None:
 
 
 def _cost_rows(run: Run):
-    """The cost ratio of each estimator beside the paper's and its target, compared only on the paper's
-    meshes."""
+    """The cost ratio of each estimator beside the paper's and its target; compared only on the paper's
+    meshes and for the verdict's estimator (the other's rows are context)."""
     meshes = _meshes(run) if len(panel_rows(run, "resolution")) else None
-    paper = meshes == PAPER_MESHES
+    unlike = _unlike_paper(run) if meshes else ""
     sizes = "{} / {} nodes".format(*meshes) if meshes else "largest / reference"
-    for r in _estimators(run):
+    estimators = _estimators(run)
+    because = {r: unlike or ("not compared: shown to check the estimator choice" if i else "")
+               for i, r in enumerate(estimators)}
+    for r in estimators:
         yield (f"cost ratio, {sizes}, {r} repeats", "Sec. 6.7", lambda r=r: _cost_ratio(run, r),
-               run.paper.runtime_ratio_1750_144 if paper else None, "", 2)
-    for r in _estimators(run):
+               run.paper.runtime_ratio_1750_144, "", 2, because[r])
+    for r in estimators:
         yield (f"cost ratio, {sizes}, {r} repeats, against the paper's target (≤)", "Sec. 11",
-               lambda r=r: _cost_ratio(run, r), (None, run.paper.runtime_ratio_target) if paper else None,
-               "", 2)
+               lambda r=r: _cost_ratio(run, r), (None, run.paper.runtime_ratio_target), "", 2, because[r])
 
 
 COST = Claims("cost_ratio", "Per-evaluation cost ratio, largest against reference mesh (median over the "
               "trials of each trial's ratio of the two meshes' fastest, and of their median, repeats, timed "
-              "interleaved in the same process so slow drift of the machine load cancels; the finding's "
-              "verdict uses the fastest, a run stored before they were recorded has the median only; no "
-              "interval); the paper's ratio and target are for 1750 against 144 nodes, compared only on "
-              "those meshes", _cost_rows)
+              "interleaved in the same process so slow drift of the machine load cancels; percentile-"
+              f"bootstrap 95% interval over the trials from {MIN_TRIALS} trials on, {BOOTSTRAP_RESAMPLES} "
+              "resamples); the verdict uses the fastest repeats, the median ones are context, and a run stored "
+              "before the fastest were recorded has the median only; the paper's ratio and target are for "
+              "1750 against 144 nodes, compared only on those meshes", _cost_rows)
 
 
 SPEC = ReportSpec("mesh_resolution", [
