@@ -136,6 +136,12 @@ def test_fig20s_load_corrected_line_scales_the_fastest_reference_by_the_fastest_
     expected = 1e3 * res["eval_time_reference_min_s"].median() * res.groupby("nodes")[
         "cost_ratio_vs_reference"].median()
     assert line.get_ydata() == pytest.approx(expected.to_numpy())
+    # node counts read plainly at the meshes run (were 2×10², 3×10²...); the |R_z| reading is drawn
+    # beside the ‖R‖ check, not under it (both 0 hid it)
+    assert [t.get_text() for t in fig.axes[0].get_xticklabels()] == [str(n) for n in sorted(res["nodes"].unique())]
+    checks = {h.get_label(): h.get_xdata() for h in fig.axes[2].lines}
+    [reading] = [x for k, x in checks.items() if k.endswith("|R_z| reading")]
+    assert not set(reading) & set(np.concatenate([x for k, x in checks.items() if not k.endswith("reading")]))
     plt.close(fig)
 
 

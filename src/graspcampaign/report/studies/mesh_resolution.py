@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
 from graspcampaign.analysis import agreement
 from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
@@ -241,16 +242,23 @@ def fig20(run: Run, fig) -> None:
         ax_b.set(xscale="log", yscale="log", xlabel="mesh nodes n [–]", ylabel="final force residual ‖R‖ [N]",
                  title="(b) final residual")
         ax_b.legend(loc="best", fontsize=6.5)
+        for a in (ax, ax_b):  # plain node counts at the meshes run, not 2×10²
+            a.set_xticks(per["nodes"], [str(n) for n in per["nodes"]])
+            a.xaxis.set_minor_formatter(NullFormatter())
+        ax_b.yaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))  # plain 1-2-5 residuals, not 3×10⁻¹
+        ax_b.yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+        ax_b.yaxis.set_minor_formatter(NullFormatter())
         axes = axes[2:]
     if tab is not None:
         ax_c, ax_d = axes[:2]
         for i, (nodes, g) in enumerate(tab[tab["planner"] != "reference"].groupby("nodes")):
-            col, x = OTHER_COLOURS[i % len(OTHER_COLOURS)], g["n_cand"] * 1.12 ** i  # offset: no series hides
+            # each series its own offset, the |R_z| reading beside its ‖R‖ check: no series hides
+            col, x = OTHER_COLOURS[i % len(OTHER_COLOURS)], g["n_cand"] * 1.12 ** (2 * i)
             ax_c.errorbar(x, g["success_pct"], yerr=[g["success_pct"] - g["success_low_pct"],
                                                      g["success_high_pct"] - g["success_pct"]],
                           marker="os^D"[i % 4], color=col, capsize=2, mfc="none" if i else col,
                           label=f"{nodes} nodes, ‖R‖ check (Wilson 95%)")
-            ax_c.plot(x, g["vertical_pct"], marker="os^D"[i % 4], linestyle="--", color=col, mfc="none",
+            ax_c.plot(x * 1.12, g["vertical_pct"], marker="os^D"[i % 4], linestyle="--", color=col, mfc="none",
                       label=f"{nodes} nodes, |R_z| reading")
             ax_d.plot(g["n_cand"], np.maximum(g["h_gap_to_reference"], 1e-4), marker="o", color=col,
                       label=f"{nodes} nodes")
