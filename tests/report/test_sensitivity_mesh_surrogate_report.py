@@ -138,7 +138,8 @@ def test_fig20s_load_corrected_line_scales_the_fastest_reference_by_the_fastest_
     assert line.get_ydata() == pytest.approx(expected.to_numpy())
     # node counts read plainly at the meshes run (were 2×10², 3×10²...); the |R_z| reading is drawn
     # beside the ‖R‖ check, not under it (both 0 hid it)
-    assert [t.get_text() for t in fig.axes[0].get_xticklabels()] == [str(n) for n in sorted(res["nodes"].unique())]
+    ticks = [t.get_text() for t in fig.axes[0].get_xticklabels()]
+    assert ticks == [str(n) for n in sorted(res["nodes"].unique())]
     checks = {h.get_label(): h.get_xdata() for h in fig.axes[2].lines}
     [reading] = [x for k, x in checks.items() if k.endswith("|R_z| reading")]
     assert not set(reading) & set(np.concatenate([x for k, x in checks.items() if not k.endswith("reading")]))
@@ -155,14 +156,15 @@ def test_a_run_without_the_papers_meshes_is_not_compared_with_the_papers_ratio(s
     ratio = _table(store, "cost_ratio")
     # the paper gives a ratio and a target, for meshes this run lacks (was: "the paper reports no value")
     assert ratio["paper"].tolist() == ["1.95"] * 2 + ["≤ 1.50"] * 2
-    assert (ratio["verdict"] == "not compared: this run has no 1750-node mesh (the paper's ratio is 1750 / 144 "
-            "nodes)").all()
+    assert (ratio["verdict"] == "not compared: this run has no 1750-node mesh (the paper's ratio is "
+                                "1750 / 144 nodes)").all()
     assert ratio["quantity"].iloc[0] == f"cost ratio, {res['nodes'].max()} / 144 nodes, fastest repeats"
     md = (store.path / "report" / "report.md").read_text()
     assert (f"costs {top.median():.2f} times one on the 144-node reference mesh (median over 1 trial of each "
             "trial's ratio of the two meshes' fastest repeats; by their median repeats ") in md
-    assert ("; paper 1.95, target ≤ 1.5, not compared: this run has no 1750-node mesh (the paper's ratio is 1750 "
-            "/ 144 nodes)): no growth detectable at this n (1 trial; a 95% interval needs 3)") in md
+    assert ("; paper 1.95, target ≤ 1.5, not compared: this run has no 1750-node mesh (the paper's "
+            "ratio is 1750 / 144 nodes)): no growth detectable at this n (1 trial; a 95% interval "
+            "needs 3)") in md
 
 
 def test_a_non_finite_sweep_level_is_reported_not_raised(runs, tmp_path):
@@ -336,26 +338,30 @@ DESIGN = (" neither stage's work depends on the mesh size")
     # said the estimator decides)
     ([1.50, 1.503, 1.51], [1.48, 1.49, 1.50], True,
      "costs 1.50 times one on the 144-node reference mesh (median over 3 trials of each trial's ratio of the "
-     "two meshes' fastest repeats; by their median repeats 1.49, the same reading at printed precision; paper "
+     "two meshes' fastest repeats; by their median repeats 1.49, the same reading at printed "
+     "precision; paper "
      "1.95: differs by −0.45: the paper's value lies outside our 95% interval; target ≤ 1.5: within the "
      "paper's target ≤ 1.50 at its printed precision): a growth (95% interval 1.50–1.51, above 1), which the "
      "design does not predict, since" + DESIGN),
     # 0.999 and 1.004 both print 1.00 (the finding had read the second as growth)
     ([0.99, 0.999, 1.01], [0.995, 1.004, 1.02], True,
      "costs 1.00 times one on the 144-node reference mesh (median over 3 trials of each trial's ratio of the "
-     "two meshes' fastest repeats; by their median repeats 1.00, the same reading at printed precision; paper "
+     "two meshes' fastest repeats; by their median repeats 1.00, the same reading at printed "
+     "precision; paper "
      "1.95: differs by −0.95: the paper's value lies outside our 95% interval; target ≤ 1.5: within the "
      "paper's target ≤ 1.50): no growth detectable at this n (95% interval 0.99–1.01), as the design "
      "predicts, since" + DESIGN),
     ([1.1, 1.2, 1.3], [3.0, 3.68, 4.0], True,
      "costs 1.20 times one on the 144-node reference mesh (median over 3 trials of each trial's ratio of the "
-     "two meshes' fastest repeats; by their median repeats 3.68, which reads differs: above the paper's target "
+     "two meshes' fastest repeats; by their median repeats 3.68, which reads differs: above the "
+     "paper's target "
      "≤ 1.50, a growth (95% interval 3.00–4.00, above 1): the choice of estimator decides the verdict; paper "
      "1.95: differs by −0.75: the paper's value lies outside our 95% interval; target ≤ 1.5: within the "
      "paper's target ≤ 1.50): a growth (95% interval 1.10–1.30, above 1), which the design does not predict"),
     ([1.1, 1.2, 1.3], [3.0, 3.68, 4.0], False,
      "costs 3.68 times one on the 144-node reference mesh (median over 3 trials of each trial's ratio of the "
-     "two meshes' median repeats, the only ones of a run stored before the fastest repeat was recorded; paper "
+     "two meshes' median repeats, the only ones of a run stored before the fastest repeat was "
+     "recorded; paper "
      "1.95: differs by +1.73: the paper's value lies outside our 95% interval; target ≤ 1.5: differs: above "
      "the paper's target ≤ 1.50): a growth (95% interval 3.00–4.00, above 1), which the design does not "
      "predict"),
@@ -388,7 +394,8 @@ def test_the_cost_ratio_finding_reads_the_tables_verdicts_and_the_median_rows_ar
 
 @pytest.mark.parametrize(("fastest", "itself", "expected"), [
     # the brief's seeds=2 run: 1.09 had read "a growth the design does not predict"
-    ([1.05, 1.13], [(0.99, 0.99)], "no growth detectable at this n (2 trials; a 95% interval needs 3), as the "
+    ([1.05, 1.13], [(0.99, 0.99)], "no growth detectable at this n (2 trials; a 95% interval needs "
+                                   "3), as the "
      "design predicts"),
     # above 1 but not above the reference mesh's own spread against itself
     ([1.1, 1.15, 1.2], [(0.9, 0.9), (1.0, 1.0), (1.2, 1.2)], "no growth detectable at this n (95% interval "

@@ -183,8 +183,9 @@ def Claims(name: str, caption: str | Callable[[Run], str],
             p = _paper(r.paper, run.paper)
             out.append([r.label, r.section, fmt.paper_text(p, r.digits) if isinstance(p, tuple | list) else p,
                         e.value, e.low, e.high, e.n, r.unit, r.digits, why, p, r.because])
-        frame = pd.DataFrame(out, columns=["quantity", "section", "paper", "value", "low", "high", "n",
-                                           "unit", "digits", "why", "_paper", "_because"]).astype({"n": "Int64"})
+        columns = ["quantity", "section", "paper", "value", "low", "high", "n", "unit", "digits", "why",
+                   "_paper", "_because"]
+        frame = pd.DataFrame(out, columns=columns).astype({"n": "Int64"})
         return verdicts(frame, "value", "_paper", "low", "high", "digits", "unit",
                         because="_because").drop(columns=["_paper", "_because"])
 

@@ -173,7 +173,8 @@ def _reading(run: Run) -> str:
     verdict's estimator against the paper, whether the median repeats read the same, and growth."""
     p, (top, ref), estimators, unlike = run.paper, _meshes(run), _estimators(run), _unlike_paper(run)
     table = COST.compute(run)
-    (verdict, target), differs = table["verdict"].iloc[[0, len(estimators)]], table["differs"].iloc[len(estimators)]
+    (verdict, target) = table["verdict"].iloc[[0, len(estimators)]]
+    differs = table["differs"].iloc[len(estimators)]
     ratio, (grows, growth) = _cost_ratio(run, estimators[0]), _growth(run, estimators[0])
     paper = f"paper {p.runtime_ratio_1750_144}, target ≤ {p.runtime_ratio_target}, {verdict}" if unlike \
         else f"paper {p.runtime_ratio_1750_144}: {verdict}; target ≤ {p.runtime_ratio_target}: {target}"
@@ -258,8 +259,8 @@ def fig20(run: Run, fig) -> None:
                                                      g["success_high_pct"] - g["success_pct"]],
                           marker="os^D"[i % 4], color=col, capsize=2, mfc="none" if i else col,
                           label=f"{nodes} nodes, ‖R‖ check (Wilson 95%)")
-            ax_c.plot(x * 1.12, g["vertical_pct"], marker="os^D"[i % 4], linestyle="--", color=col, mfc="none",
-                      label=f"{nodes} nodes, |R_z| reading")
+            ax_c.plot(x * 1.12, g["vertical_pct"], marker="os^D"[i % 4], linestyle="--", color=col,
+                      mfc="none", label=f"{nodes} nodes, |R_z| reading")
             ax_d.plot(g["n_cand"], np.maximum(g["h_gap_to_reference"], 1e-4), marker="o", color=col,
                       label=f"{nodes} nodes")
         lo, hi = p.effective_budget_triples
@@ -293,9 +294,9 @@ COST = Claims("cost_ratio", "Per-evaluation cost ratio, largest against referenc
               "trials of each trial's ratio of the two meshes' fastest, and of their median, repeats, timed "
               "interleaved in the same process so slow drift of the machine load cancels; percentile-"
               f"bootstrap 95% interval over the trials from {MIN_TRIALS} trials on, {BOOTSTRAP_RESAMPLES} "
-              "resamples); the verdict uses the fastest repeats, the median ones are context, and a run stored "
-              "before the fastest were recorded has the median only; the paper's ratio and target are for "
-              "1750 against 144 nodes, compared only on those meshes", _cost_rows)
+              "resamples); the verdict uses the fastest repeats, the median ones are context, and a run "
+              "stored before the fastest were recorded has the median only; the paper's ratio and target "
+              "are for 1750 against 144 nodes, compared only on those meshes", _cost_rows)
 
 
 SPEC = ReportSpec("mesh_resolution", [
