@@ -46,6 +46,22 @@ def test_paper_test2_counts_reproduce_its_chi2():
     assert (out["dof"], out["n"]) == (2, 819 + 474 + 282)
 
 
+def test_chi2_planners_takes_the_monte_carlo_p_below_five_expected():
+    # 6/8, 2/6, 1/5: every expected failure count < 5, so the asymptotic p is not trusted; the p is
+    # scipy's Monte Carlo p of the same table from the given seed, as equal_rates_test's (the old
+    # code reported the chi-square distribution's p regardless)
+    from scipy import stats
+
+    rec = _records({"heuristic": (6, 8), "centroid": (2, 6), "random": (1, 5)})
+    out = hardware.chi2_planners(hardware.derive(rec), seed=7)
+    table = np.array([[2, 4], [6, 2], [1, 4]])  # planners sorted: centroid, heuristic, random
+    ref = stats.chi2_contingency(table, correction=False, method=stats.MonteCarloMethod(
+        n_resamples=9999, rng=np.random.default_rng(7)))
+    assert out["p"] == pytest.approx(ref.pvalue, rel=1e-12)
+    assert out["statistic"] == pytest.approx(ref.statistic, rel=1e-12) and out["dof"] == 2
+    assert out["test"].startswith("Monte Carlo χ² planner × success")
+
+
 def test_planner_summary_rates_and_intervals():
     rec = _records({"heuristic": (637, 819), "centroid": (213, 474)})
     rec = pd.concat([rec, _records({"heuristic": (0, 1)}).assign(aborted=True, trial_id="ab")])

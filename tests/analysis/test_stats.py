@@ -340,6 +340,16 @@ def test_chi2_2x2_is_plain_pearson_unless_yates_requested():
     assert res_y.statistic == pytest.approx(yates, rel=1e-12) and res_y.yates_correction
 
 
+def test_chi2_refuses_yates_with_monte_carlo_up_front():
+    # scipy refuses correction=True with MonteCarloMethod, but only once a small table resampled, in
+    # its own words; the combination is refused on its arguments, whatever the table
+    for table in ([[12, 5], [3, 10]], [[1, 2], [3, 1]]):
+        with pytest.raises(ValueError) as err:
+            S.chi2_contingency_test(table, yates=True, n_resamples=99)
+        assert str(err.value) == ("yates=True cannot be combined with n_resamples: the Monte Carlo "
+                                  "p-value has no Yates correction (scipy refuses it); pass one of them.")
+
+
 def test_chi2_validation():
     with pytest.raises(ValueError, match="table must be a 2-D array of at least 2 x 2"):
         S.chi2_contingency_test([1, 2, 3])

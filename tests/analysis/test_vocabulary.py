@@ -3,6 +3,8 @@ campaign can run has a label, a place in the order and its own colour."""
 
 from __future__ import annotations
 
+import pandas as pd
+
 from graspcampaign.analysis import vocabulary as V
 from graspcampaign.campaign.schema import FACTOR_SPECS
 from graspcampaign.core.planner import PLANNERS
@@ -24,3 +26,12 @@ def test_the_factor_levels_of_the_campaign_are_in_the_vocabulary():
     assert presets == set(V.MODEL_PRESETS)
     assert V.ordered("grip_law", ["oracle", "paper", "slip"]) == ["paper", "slip", "oracle"]
     assert all(isinstance(t.label, str) and t.label for voc in V.VOCABULARIES.values() for t in voc.values())
+
+
+def test_data_source_is_one_rule_over_record_sources_and_the_manifest():
+    # the report (its records' column) and RunStore.source (the sources its checked files hold)
+    # both call it: virtual as soon as one record says so, else the declared source
+    assert V.data_source({"measured", "virtual"}, "measured") == "virtual"
+    assert V.data_source(pd.Series(["measured", None]), "measured") == "measured"
+    assert V.data_source((), "simulation") == "simulation"
+    assert V.data_source((), None) == "simulation"

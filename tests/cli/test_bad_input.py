@@ -266,12 +266,18 @@ def test_physically_impossible_values_are_refused_with_the_range(results, overri
         refused(results, [command, "shapes", override, "--root", results], IMPOSSIBLE[override])
 
 
+NODES_ALLOWED = (">= 12 and <= 20000 (a closed mesh needs 12 nodes, and one finer than 20,000 "
+                 "resolves nothing a 5 mm fingertip feels)")
+SIM_TIME_ALLOWED = ("> 0.0 and <= 60.0 (a grasp closes, lifts and holds within seconds; 60 s is "
+                    "~2x10^6 RK4 steps)")
+
+
 @pytest.mark.parametrize(("study", "override", "allowed"), [
-    ("gravity_settle", "+params.settle_t_max_s=-1.0", "> 0.0"),
+    ("gravity_settle", "+params.settle_t_max_s=-1.0", SIM_TIME_ALLOWED),
     ("gravity_settle", "+params.implicit_dt_s=0.0", "> 0.0"),
-    ("friction_mass", "+params.t_max_s=0.0", "> 0.0"),
+    ("friction_mass", "+params.t_max_s=0.0", SIM_TIME_ALLOWED),
     ("friction_mass", "+params.grip_speed_m_per_s=-0.02", "> 0.0"),
-    ("shapes", "+params.nodes=5", ">= 12"), ("shapes", "+params.candidate_sample=-3", ">= 0")])
+    ("shapes", "+params.nodes=5", NODES_ALLOWED), ("shapes", "+params.candidate_sample=-3", ">= 0")])
 def test_a_kind_parameter_out_of_range_is_refused_before_the_run_starts(results, study, override, allowed):
     # a negative settle time ran RK4 to an "ok" record and failed the implicit trial with a bare
     # ZeroDivisionError; a zero grasp time failed every trial at run time instead of at load;
@@ -279,6 +285,27 @@ def test_a_kind_parameter_out_of_range_is_refused_before_the_run_starts(results,
     # the corrected command was refused as config drift; a negative candidate sample ran
     refused(results, ["run", study, override, "--root", results],
             f"{override.removeprefix('+').replace('=', ' = ')} is out of range; allowed: {allowed}.")
+
+
+@pytest.mark.parametrize("command", ["show", "run"])
+@pytest.mark.parametrize(("study", "override", "value", "allowed"), [
+    ("mesh_resolution", "params.resolutions=[10]", "params.resolutions[0] = 10", NODES_ALLOWED),
+    ("mesh_resolution", "params.resolutions=[100000]", "params.resolutions[0] = 100000",
+     NODES_ALLOWED),
+    ("mesh_resolution", "params.budget_nodes=[144,5]", "params.budget_nodes[1] = 5", NODES_ALLOWED),
+    ("friction_mass", "nodes=[100000]", "factors.nodes[0] = 100000", NODES_ALLOWED),
+    ("friction_mass", "+params.t_max_s=1e9", "params.t_max_s = 1000000000.0", SIM_TIME_ALLOWED),
+    ("surrogate", "params.mu_range=[0.05,9]", "params.mu_range[1] = 9.0",
+     ">= 0.0 and <= 3.0 (dry friction of soft materials stays below 3)"),
+    ("sensitivity", "params.mu_range=[0.05,9]", "params.mu_range[1] = 9.0",
+     ">= 0.0 and <= 3.0 (dry friction of soft materials stays below 3)")])
+def test_kind_param_lists_and_time_budgets_are_bounded_as_their_factors(
+        results, command, study, override, value, allowed):
+    # show accepted these and run failed after running (MeshError: n_nodes must be at least 12), or
+    # ran a 100,000-node mesh, 10^9 simulated seconds, or a friction of 9; each list item now takes
+    # the bound of the factor it stands for (nodes, mu), the time budget a 60 s bound
+    refused(results, [command, study, override, "--root", results],
+            f"{value} is out of range; allowed: {allowed}.")
 
 
 def test_status_of_an_unknown_study_does_not_suggest_running_it(results):

@@ -183,6 +183,10 @@ MANIFESTS = {
                          "config_hash is null, not a hash"),
     "no_sessions": (lambda m: json.dumps({k: v for k, v in m.items() if k != "sessions"}),
                     "it has no sessions field"),
+    # status once reported such a run's source as null, then as "simulation" (the report's
+    # fallback): neither, the run is refused as every command refuses it (docs/decisions.md)
+    "no_source": (lambda m: json.dumps({k: v for k, v in m.items() if k != "source"}),
+                  "it has no source field"),
 }
 
 

@@ -434,3 +434,19 @@ def test_an_inside_out_stl_plans_exactly_what_the_outward_stl_plans(tmp_path):
         assert plan.pop("mesh")["name"] == name and plan.pop("png").endswith(".plan.png")
         plans.append(plan)
     assert plans[1] == plans[0]
+
+
+def test_the_fingertip_radius_default_is_one_constant_the_simulated_fingertip():
+    # the CLI option and plan_mesh each wrote 5.0; both now read rig.DEFAULT_FINGERTIP_RADIUS_MM,
+    # which is the simulated fingertip of the model config (Table 2, R = 5 mm)
+    import inspect
+
+    from graspcampaign.campaign.schema import ContactModelCfg
+    from graspcampaign.cli.hardware import plan
+    from graspcampaign.rig import DEFAULT_FINGERTIP_RADIUS_MM
+    from graspcampaign.rig.plan import plan_mesh
+
+    assert DEFAULT_FINGERTIP_RADIUS_MM == pytest.approx(1e3 * ContactModelCfg().fingertip_radius_m)
+    for function in (plan, plan_mesh):
+        default = inspect.signature(function).parameters["fingertip_radius_mm"].default
+        assert default is DEFAULT_FINGERTIP_RADIUS_MM

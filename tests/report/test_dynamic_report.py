@@ -182,12 +182,12 @@ def test_every_case_stays_visible_where_curves_coincide():
     plt.close(fig)
 
 
-def gravity_settle_run() -> tuple[Run, dict[str, list[float]]]:
+def gravity_settle_run(steps: dict[str, list[float]] | None = None) -> tuple[Run, dict[str, list[float]]]:
     """A run of two integrators and their step sizes [s]: a step-size study at steps that are not
     1-2-5 µs, a settle trace released at rest (zero kinetic energy at t = 0) and a two-node shape."""
     settle = pd.DataFrame({"trial_id": ["rk4", "implicit"], "integrator": ["rk4", "implicit"],
                            "expected_order": [4, 2], "settled": True, "squash_ratio": 0.9})
-    steps = {"rk4": [23.6e-6, 47.2e-6, 94.3e-6, 189e-6], "implicit": [31.2e-6, 62.5e-6, 250e-6]}
+    steps = steps or {"rk4": [23.6e-6, 47.2e-6, 94.3e-6, 189e-6], "implicit": [31.2e-6, 62.5e-6, 250e-6]}
     run = Run(pd.DataFrame(), {})
     run.tables["settle"] = settle
     run.memo("tables/step_convergence", lambda: pd.DataFrame(
@@ -215,6 +215,18 @@ def test_the_step_axis_labels_every_step_size_run():
     labels = [float(t.get_text()) for t in axis.get_xticklabels() if t.get_text()]
     plt.close(fig)
     assert labels == pytest.approx(sorted(1e6 * dt for dts in steps.values() for dt in dts), rel=5e-3)
+
+
+def test_the_step_ticks_read_as_the_report_writes_numbers():
+    # 31.25 µs (the implicit settle step / 8) was labelled "31.2" (f"{v:.3g}"): ticks take the
+    # report's number format, 4 significant digits or the exact value when shorter
+    run, _ = gravity_settle_run({"rk4": [15.625e-6, 47.2e-6], "implicit": [31.25e-6, 62.5e-6, 250e-6]})
+    fig = plt.figure()
+    integrator_figure(run, fig)
+    fig.canvas.draw()
+    labels = [t.get_text() for t in fig.axes[0].get_xticklabels() if t.get_text()]
+    plt.close(fig)
+    assert labels == ["15.62", "31.25", "47.2", "62.5", "250"]
 
 
 def test_the_kinetic_energy_plot_starts_at_the_first_moving_step():

@@ -64,6 +64,8 @@ def chi2_contingency_test(table: ArrayLike, *, yates: bool = False, n_resamples:
     p-value of the same statistic over ``n_resamples`` random tables with the observed margins
     (Hope 1968; R's ``chisq.test(simulate.p.value = TRUE)``), drawn from ``seed``; else the chi-square
     distribution's."""
+    require(not (yates and n_resamples is not None), "yates=True cannot be combined with n_resamples: "
+            "the Monte Carlo p-value has no Yates correction (scipy refuses it); pass one of them.")
     counts = check_table(table)
     n_resamples = None if n_resamples is None else check_count(n_resamples, "n_resamples", positive=True)
     resampled = n_resamples is not None and stats.contingency.expected_freq(counts).min() < MIN_EXPECTED

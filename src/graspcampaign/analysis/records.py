@@ -51,13 +51,6 @@ def executed(records: pd.DataFrame) -> pd.DataFrame:
     return ok.assign(**{c: flag(ok, c) for c in BOOLEAN_COLUMNS if c in ok}).reset_index(drop=True)
 
 
-def data_source(records: pd.DataFrame, declared: str | None) -> str:
-    """Return ``virtual`` if one record says so (SPEC §4), else the declared source (simulation)."""
-    if "source" in records and (records["source"] == "virtual").any():
-        return "virtual"
-    return str(declared or "simulation")
-
-
 def status_counts(records: pd.DataFrame) -> dict[str, int]:
     """Return the number of executed, errored, aborted and otherwise excluded trials."""
     n_ok = int((records["status"] == "ok").sum()) if "status" in records else len(records)

@@ -148,3 +148,10 @@ def ordered(column: str, values: Iterable, first: Iterable = ()) -> list:
     for v in [*first, *VOCABULARIES.get(column, {})]:
         rank.setdefault(v, len(rank))
     return sorted(values, key=lambda v: (rank.get(v, rank.get(str(v), len(rank))), str(v)))
+
+
+def data_source(sources: Iterable, declared: str | None) -> str:
+    """The data source a run is reported as (SPEC §4), from the ``source`` values its records hold
+    and the source its manifest declares: ``virtual`` as soon as one record says so, else the
+    declared source (``simulation`` if none). Pure Python, so ``status`` answers without pandas."""
+    return "virtual" if "virtual" in set(sources) else str(declared or "simulation")

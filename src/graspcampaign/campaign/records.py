@@ -53,6 +53,7 @@ import numpy as np
 import pyarrow as pa
 import pyarrow.parquet as pq
 
+from graspcampaign.analysis.vocabulary import data_source
 from graspcampaign.campaign.grid import content_hash
 from graspcampaign.campaign.verify import (
     CONFIG_KEY,
@@ -341,10 +342,10 @@ class RunStore:
 
     def source(self, manifest: dict) -> str:
         """The data source of the run's records (SPEC §4): ``virtual`` as soon as one record says
-        so, else the manifest's (``analysis.records.data_source``), from the sources each records
+        so, else the manifest's (``analysis.vocabulary.data_source``), from the sources each records
         file's verified facts hold: no column is read again."""
         held = set().union(*(own.owners.get("source", ()) for own in self._verified("records").values()))
-        return "virtual" if "virtual" in held else str(manifest.get("source") or "simulation")
+        return data_source(held, manifest.get("source"))
 
     def recorded_ids(self, part: str = "records") -> set[str]:
         """Return the trial ids stored in ``part`` (every file verified in full first)."""

@@ -196,6 +196,21 @@ PSO_BUDGETS = ("repeatability", "converged")
 """pso_repeatability's ``budget`` levels: the study's ``pso`` group (Sec. 6.8's 8 x 15), or the
 kind's converged budget of Sec. 11 (``campaign.kinds.pso``)."""
 
+#: Mesh resolution bounds of the ``nodes`` factor and of every kind parameter that names a node
+#: count. 12 is ``core.mesh.MIN_NODES`` (the smallest closed mesh the generators build); 20,000 is
+#: 11x the paper's finest mesh (1750 nodes, Sec. 6.7): on a 120 mm object its nodes lie 1.5 mm
+#: apart, a third of the 5 mm fingertip radius (Table 2), so a finer mesh resolves nothing a
+#: fingertip feels, while each body costs ~4 s to build (docs/decisions.md, "Mesh and time bounds").
+NODES = {"ge": 12, "le": 20_000,
+         "why": "a closed mesh needs 12 nodes, and one finer than 20,000 resolves nothing a 5 mm "
+                "fingertip feels"}
+
+#: Bound of a dynamic kind's simulated time budget [s]: a grasp closes, lifts and holds within about
+#: a second (the default 1 s; 1 mm gap at 20 mm/s, a 0.1 s lift), so 60 s is 60x that and, at the
+#: ~31 us RK4 step, ~2x10^6 steps per trial (docs/decisions.md, "Mesh and time bounds").
+SIM_TIME_S = {"gt": 0.0, "le": 60.0,
+              "why": "a grasp closes, lifts and holds within seconds; 60 s is ~2x10^6 RK4 steps"}
+
 # Known factors: name -> validation metadata. A factor not listed here is rejected, so a typo in a
 # study file or an override fails at load instead of silently adding an axis.
 FACTOR_SPECS: dict[str, dict[str, Any]] = {
@@ -203,7 +218,7 @@ FACTOR_SPECS: dict[str, dict[str, Any]] = {
     "planner": {"type": str, "choices": "planner"},
     "mass_kg": {"type": float, **PLAUSIBLE["mass_kg"].meta()},
     "mu": {"type": float, **PLAUSIBLE["mu"].meta()},
-    "nodes": {"type": int, "ge": 12},
+    "nodes": {"type": int, **NODES},
     "n_cand": {"type": int, "ge": 1},
     "lambda1": {"type": float, **_LAMBDA},
     "lambda2": {"type": float, **_LAMBDA},

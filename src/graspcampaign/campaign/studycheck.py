@@ -130,8 +130,8 @@ def check_typed(key: str, value: Any, typ: str, meta: dict[str, Any] | None = No
     if base.startswith("list["):
         if not isinstance(value, list):
             raise ConfigError(f"{key} must be a list, got {_got(value)}.", key=key)
-        for i, item in enumerate(value):
-            check_typed(f"{key}[{i}]", item, _args(base)[0])
+        for i, item in enumerate(value):  # a list field's ranges hold for each item
+            check_typed(f"{key}[{i}]", item, _args(base)[0], meta)
         return
     if base.startswith("dict["):
         if not isinstance(value, dict):

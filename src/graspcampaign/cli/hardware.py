@@ -24,7 +24,7 @@ from graspcampaign.cli.app import (
     writable_stem,
 )
 from graspcampaign.cli.output import print_plan
-from graspcampaign.rig import DEFAULT_PLAN_MATERIAL
+from graspcampaign.rig import DEFAULT_FINGERTIP_RADIUS_MM, DEFAULT_PLAN_MATERIAL
 
 
 @app.command()
@@ -110,8 +110,8 @@ def plan(
     mass_kg: Annotated[float, typer.Option("--mass-kg", help="Object mass in kg.")],
     material: Annotated[str, typer.Option(help="Table 4 material family.")] = DEFAULT_PLAN_MATERIAL,
     mu: Annotated[float | None, typer.Option(help="Static friction; overrides the material's.")] = None,
-    fingertip_radius_mm: Annotated[float, typer.Option("--fingertip-radius-mm",
-                                                       help="Fingertip radius in mm.")] = 5.0,
+    fingertip_radius_mm: Annotated[float, typer.Option(
+        "--fingertip-radius-mm", help="Fingertip radius in mm.")] = DEFAULT_FINGERTIP_RADIUS_MM,
     unit: Annotated[str, typer.Option(help="Length unit of the mesh file: m, cm or mm.")] = "mm",
     png: Annotated[Path | None, typer.Option(
         help="Picture path, ending in .png (default: <mesh>.plan.png beside the mesh).",

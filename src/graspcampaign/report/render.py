@@ -10,7 +10,8 @@ from typing import Any
 
 import pandas as pd
 
-from graspcampaign.analysis.records import data_source, executed, status_counts
+from graspcampaign.analysis.records import executed, status_counts
+from graspcampaign.analysis.vocabulary import data_source
 from graspcampaign.campaign.provenance import ingested
 from graspcampaign.core.bench_specimen import FINGERTIP_RADIUS
 from graspcampaign.errors import UserInputError
@@ -62,7 +63,7 @@ class Run:
     @cached_property
     def source(self) -> str:
         """simulation, virtual or measured (virtual as soon as one record says so)."""
-        return data_source(self.records, self.manifest.get("source"))
+        return data_source(self.records.get("source", ()), self.manifest.get("source"))
 
     @property
     def rig(self) -> str:

@@ -38,7 +38,7 @@ from graspcampaign.core import slip
 from graspcampaign.core.equilibrium import EvaluatorParams
 from graspcampaign.core.planner import DEFAULT_N_CAND
 from graspcampaign.core.statics import GRAVITY
-from graspcampaign.rig import DEFAULT_PLAN_MATERIAL
+from graspcampaign.rig import DEFAULT_FINGERTIP_RADIUS_MM, DEFAULT_PLAN_MATERIAL
 from graspcampaign.rig.belief import (  # noqa: F401  (re-exported: the planners' knowledge)
     CHARACTERISTIC_Z,
     COATING_MU_S,
@@ -208,7 +208,7 @@ UNLOADED_N = 1e-6
 
 
 def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: float | None = None,
-              fingertip_radius_mm: float = 5.0, unit: str = "mm", png_path=None,
+              fingertip_radius_mm: float = DEFAULT_FINGERTIP_RADIUS_MM, unit: str = "mm", png_path=None,
               png_option: str = "picture path", seed: int = 0) -> dict[str, Any]:
     """Plan a proposed-planner grasp on a user's mesh and predict its disturbance limits.
 

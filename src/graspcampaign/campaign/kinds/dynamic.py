@@ -20,19 +20,20 @@ import numpy as np
 
 from graspcampaign.campaign.kind import TrialInput, TrialKind
 from graspcampaign.campaign.kinds import common
+from graspcampaign.campaign.schema import NODES, SIM_TIME_S
 
 MAX_TRACE_ROWS = 2000  # per trial; longer runs are decimated evenly (the last step is kept)
 
 
 @dataclass
 class DynamicParams:
-    nodes: int = 356  # Sec. 5.1: the 356-node sphere
+    nodes: int = field(default=356, metadata=NODES)  # Sec. 5.1: the 356-node sphere
     # 0: the paper's pure spring shell (Sec. 2.1); see msd.MsdParams
     bulk_modulus_pa: float = field(default=0.0, metadata={"ge": 0.0})
-    t_max_s: float = field(default=1.0, metadata={"gt": 0.0})  # simulated time budget of one grasp
+    t_max_s: float = field(default=1.0, metadata=SIM_TIME_S)  # simulated time budget of one grasp
     # finger advance rate while |R_z| >= tau_F
     grip_speed_m_per_s: float = field(default=0.02, metadata={"gt": 0.0})
-    settle_t_max_s: float = field(default=2.0, metadata={"gt": 0.0})  # gravity_settle time budget
+    settle_t_max_s: float = field(default=2.0, metadata=SIM_TIME_S)  # gravity_settle time budget
     # gravity_settle, Sec. 12 energy audit: RK4 steps at the settle step (twice as many at half);
     # 2000 is the former fixed AUDIT_STEPS (docs/decisions.md, audit length as a param)
     audit_steps: int = field(default=2000, metadata={"ge": 1})

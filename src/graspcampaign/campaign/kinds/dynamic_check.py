@@ -34,6 +34,7 @@ import numpy as np
 
 from graspcampaign.campaign.kind import TrialInput, TrialKind
 from graspcampaign.campaign.kinds import common
+from graspcampaign.campaign.schema import SIM_TIME_S
 from graspcampaign.errors import MissingSourceRunError, UserInputError
 
 SOURCE_ID = "source_trial_id"
@@ -50,7 +51,7 @@ class DynamicCheckParams:
     source_study: str = "baseline_grid"  # a quasi-static study whose records are checked
     source_run: str = "default"  # its run name under output.root
     bulk_modulus_pa: float = field(default=0.0, metadata={"ge": 0.0})  # 0: the paper's shell
-    t_max_s: float = field(default=1.0, metadata={"gt": 0.0})  # simulated budget of one grasp
+    t_max_s: float = field(default=1.0, metadata=SIM_TIME_S)  # simulated budget of one grasp
     grip_speed_m_per_s: float = field(default=0.02, metadata={"gt": 0.0})
     lift_time_s: float = field(default=0.1, metadata={"gt": 0.0})
     open_gap_m: float = field(default=1e-3, metadata={"ge": 0.0})

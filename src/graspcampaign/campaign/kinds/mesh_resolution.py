@@ -33,6 +33,7 @@ from graspcampaign.campaign.grid import stream_key
 from graspcampaign.campaign.kind import TrialInput, TrialKind
 from graspcampaign.campaign.kinds import common, quasi_static
 from graspcampaign.campaign.kinds.sensitivity import plan_and_evaluate
+from graspcampaign.campaign.schema import NODES
 from graspcampaign.errors import ConfigError
 
 PANELS = ("resolution", "budget", "n_max")
@@ -43,8 +44,9 @@ BASELINE_STUDY = "baseline_grid"
 FIVE_SHAPES = ["sphere", "ellipsoid", "rounded_cube", "pear", "handle"]
 
 
-def _list(default: list) -> Any:
-    return field(default_factory=lambda: list(default))
+def _list(default: list, meta: dict | None = None) -> Any:
+    """A list field; ``meta`` (ranges) applies to each of its items."""
+    return field(default_factory=lambda: list(default), metadata=meta or {})
 
 
 @dataclass
@@ -57,14 +59,14 @@ class MeshResolutionParams:
     mass_kg: float = field(default=0.4, metadata={"gt": 0.0})
     mu: float = field(default=0.3, metadata={"ge": 0.0})
     # resolution panel (Sec. 6.7)
-    resolutions: list[int] = _list([144, 250, 356, 390, 600, 900, 1300, 1750])
-    identify_nodes: int = field(default=356, metadata={"ge": 12})  # Sec. 5.1 operating mesh
-    reference_nodes: int = field(default=144, metadata={"ge": 12})  # timing reference
+    resolutions: list[int] = _list([144, 250, 356, 390, 600, 900, 1300, 1750], NODES)
+    identify_nodes: int = field(default=356, metadata=NODES)  # Sec. 5.1 operating mesh
+    reference_nodes: int = field(default=144, metadata=NODES)  # timing reference
     timing_repeats: int = field(default=7, metadata={"ge": 1})
     # budget panel (Sec. 11: success vs N_cand, future work in the paper)
     budgets: list[int] = _list([1, 3, 10, 30, 100, 300, 1000])
     budget_shapes: list[str] = _list(FIVE_SHAPES)
-    budget_nodes: list[int] = _list([144, 390])
+    budget_nodes: list[int] = _list([144, 390], NODES)
     budget_seeds: int = field(default=20, metadata={"ge": 1})
     # n_max panel (Sec. 11: doubled-budget re-run of the baseline grid)
     nmax_rerun: int = field(default=200, metadata={"ge": 1})

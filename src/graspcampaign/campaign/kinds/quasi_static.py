@@ -27,6 +27,7 @@ import numpy as np
 
 from graspcampaign.campaign.kind import TrialInput, TrialKind
 from graspcampaign.campaign.kinds import common
+from graspcampaign.campaign.schema import NODES
 
 
 @dataclass
@@ -34,7 +35,7 @@ class QuasiStaticParams:
     """Fixed parameters of the quasi-static kind."""
 
     # mesh resolution when `nodes` is not a factor (Sec. 6.2); the factor's bound
-    nodes: int = field(default=common.DEFAULT_NODES, metadata={"ge": 12})
+    nodes: int = field(default=common.DEFAULT_NODES, metadata=NODES)
     stream_study: str = ""  # replay this study's scene streams (same seed and scene factors)
     # (H, epsilon) pairs per ferrari_canny trial kept for the figure (0: none)
     candidate_sample: int = field(default=50, metadata={"ge": 0})

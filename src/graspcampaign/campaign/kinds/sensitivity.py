@@ -29,6 +29,8 @@ import numpy as np
 
 from graspcampaign.campaign.kind import TrialInput, TrialKind
 from graspcampaign.campaign.kinds import common, quasi_static
+from graspcampaign.campaign.schema import NODES
+from graspcampaign.core.plausible import PLAUSIBLE
 from graspcampaign.errors import ConfigError
 
 PANELS = ("mu_mass", "lambda", "n_b")
@@ -42,8 +44,9 @@ PANEL_AXES = {
 """Panel -> (x factor, y factor) as recorded."""
 
 
-def _range(default: list[float]) -> Any:
-    return field(default_factory=lambda: list(default))
+def _range(default: list[float], meta: dict | None = None) -> Any:
+    """A [low, high] field; ``meta`` (ranges) applies to each bound."""
+    return field(default_factory=lambda: list(default), metadata=meta or {})
 
 
 def check_range(key: str, values: list[float], lower: float = 0.0) -> tuple[float, float]:
@@ -62,12 +65,12 @@ def levels(low: float, high: float, n: int) -> list[float]:
 class SensitivityParams:
     """Fixed parameters and grid of the sensitivity sweeps (Sec. 6.6)."""
 
-    nodes: int = field(default=common.DEFAULT_NODES, metadata={"ge": 12})
+    nodes: int = field(default=common.DEFAULT_NODES, metadata=NODES)
     shape: str = field(default="sphere", metadata={"choices": "shape"})
     planner: str = field(default="heuristic", metadata={"choices": "planner"})
     levels: int = field(default=12, metadata={"ge": 2})  # grid values per axis
     panels: list[str] = field(default_factory=lambda: list(PANELS))
-    mu_range: list[float] = _range([0.05, 0.6])  # Sec. 6.6
+    mu_range: list[float] = _range([0.05, 0.6], PLAUSIBLE["mu"].meta())  # Sec. 6.6
     mass_range_kg: list[float] = _range([0.1, 0.8])  # Sec. 6.6
     lambda_range: list[float] = _range([0.1, 1.5])  # Sec. 6.6
     n_range: list[float] = _range([0.1, 1.0])  # Sec. 11 PSO bounds

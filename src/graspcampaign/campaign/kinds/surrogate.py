@@ -31,6 +31,8 @@ from graspcampaign.analysis.records import executed
 from graspcampaign.campaign.kind import TrialInput, TrialKind
 from graspcampaign.campaign.kinds import common
 from graspcampaign.campaign.kinds.sensitivity import check_range, plan_and_evaluate
+from graspcampaign.campaign.schema import NODES
+from graspcampaign.core.plausible import PLAUSIBLE
 from graspcampaign.errors import UserInputError
 
 ML_MISSING = ("the surrogate study needs scikit-learn, which is not installed: install the `ml` "
@@ -54,11 +56,12 @@ def _list(default: list) -> Any:
 class SurrogateParams:
     """Scenario distribution of Appendix A and the brief PSO call's budget."""
 
-    nodes: int = field(default=common.DEFAULT_NODES, metadata={"ge": 12})
+    nodes: int = field(default=common.DEFAULT_NODES, metadata=NODES)
     planner: str = field(default="heuristic", metadata={"choices": "planner"})
     shapes: list[str] = _list(["sphere", "ellipsoid", "rounded_cube", "pear", "handle"])
     mass_range_kg: list[float] = _list([0.1, 0.8])  # Appendix A
-    mu_range: list[float] = _list([0.05, 0.6])  # Appendix A
+    mu_range: list[float] = field(default_factory=lambda: [0.05, 0.6],  # Appendix A
+                                  metadata=PLAUSIBLE["mu"].meta())
     lambda1_range: list[float] = _list([0.05, 1.5])  # Sec. 11 bounds
     lambda2_range: list[float] = _list([0.05, 1.5])  # Sec. 11 bounds
     b_range: list[float] = _list([0.1, 2.0])  # Sec. 11 bounds (internal units)

@@ -113,7 +113,7 @@ def integrator_figure(run: Run, fig) -> None:
         for j, (step, rows) in enumerate(_trial(run, "energy_audit", r.trial_id).groupby("step", sort=False)):
             b.plot(rows["time_s"], rows["balance_error_j"], color=c, linestyle="-:"[j % 2],
                    label=f"{label('integrator', r.integrator)}, step {step}")
-    a.set_xticks(sorted(steps_us), [f"{v:.3g}" for v in sorted(steps_us)])  # every step size run
+    a.set_xticks(sorted(steps_us), [fmt.number(v) for v in sorted(steps_us)])  # every step size run
     a.xaxis.set_minor_formatter(NullFormatter())
     a.set(xlabel="step [µs]", ylabel="largest position error at t_end [m]",
           title="(a) step-size study (reference DOP853)")

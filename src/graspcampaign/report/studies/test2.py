@@ -470,8 +470,9 @@ SPEC = ReportSpec("test2_grasp", [
                     "occurrence-matched pairs (object, condition, repeat)"),
     Table("test2_tests", "χ² of planner × success; Kruskal–Wallis of the force error across planners, "
           "the peak slip across friction levels (§8.5-8.6; no multiplicity correction, as the paper)",
-          lambda run: pd.DataFrame([hw.chi2_planners(ex(run)), *(hw.kruskal(ex(run), v, k) for v, k in (
-              ("force_err_pct", "planner"), ("peak_slip_mm", "friction_level")))]), lambda run, f: [
+          lambda run: pd.DataFrame([hw.chi2_planners(ex(run), seed=run.seed), *(
+              hw.kruskal(ex(run), v, k) for v, k in (("force_err_pct", "planner"),
+                                                    ("peak_slip_mm", "friction_level")))]), lambda run, f: [
                   *cols("test", "n", "statistic", "dof", "p"),
                   *(Col(c, f"median, {label('planner', c[7:])}", sig=3) for c in f if c[:7] == "median_")]),
     Claims("test2_claims", "§8 numbers not in a table above, beside the paper's", claims),

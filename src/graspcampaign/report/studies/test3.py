@@ -289,7 +289,7 @@ SPEC = ReportSpec("test3_disturbance", [
     t2.matched_mcnemar("test3_mcnemar", "Matched paired set (§9.5): McNemar tests of the proposed planner "
                        "against each baseline on occurrence-matched pairs"),
     Table("test3_chi2", "χ² of planner × retention over the proposed, centroid and random arms (§9.5)",
-          lambda run: pd.DataFrame([hw.chi2_planners(t2.ex(run))])),
+          lambda run: pd.DataFrame([hw.chi2_planners(t2.ex(run), seed=run.seed)])),
     Claims("test3_claims", "§9 headline numbers not in a table above, beside the paper's (rates with "
            "Wilson 95% intervals, logistic coefficients with their Wald intervals)", claims),
     Figure("fig33_thresholds", "Fig. 33 (the paper's values in black): block A (a) median threshold and (b) "
