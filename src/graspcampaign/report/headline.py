@@ -196,7 +196,7 @@ def write_headline(root: Path | str, formats: list[str] | None = None,
     :func:`headline_rows`); return the md path."""
     frame = headline_rows(root) if frame is None else frame
     frame.to_csv(Path(root) / "headline.csv", index=False)
-    reduced = frame["testbed"].fillna("").str.contains(REDUCED_MARK).any()
+    reduced = frame["testbed"].astype(str).str.contains(REDUCED_MARK).any()
     return Document("Headline success rates (paper Table 1)", "", [], [
         Text(INTRO), Table("headline", "Table 1, ours beside the paper", frame, COLUMNS,
                            csv="headline.csv"), *([Text(REDUCED_NOTE, "note")] if reduced else [])
