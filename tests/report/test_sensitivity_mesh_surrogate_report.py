@@ -310,7 +310,8 @@ def test_the_gate_sentence_counts_only_successes_there_were(passed, deep, expect
                             "valid_geometry": [not d for d in deep],
                             "success": [p and not d for p, d in zip(passed, deep, strict=True)]})
     text = gate_text(SimpleNamespace(tables={"gate_removed": gate_table(records, ["panel"])}))
-    assert f"(a contact deeper than the fingertip radius is no contact, issue 13) {expected} trials" in text
+    assert ("(a contact deeper than the fingertip radius is no contact; `docs/decisions.md`, *Physical "
+            f"validity, grip laws, Ferrari–Canny ε*) {expected} trials") in text
 
 
 def _timings(fastest, median, min_column=True, itself=((1.0, 1.0),)):

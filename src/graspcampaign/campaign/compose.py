@@ -251,3 +251,24 @@ def check_yaml_schemas() -> list[tuple[Path, str]]:
             raise ConfigError(f"{path} does not name a known schema in its header (# schema: Name).")
         out.append((path, name))
     return out
+
+
+def as_given(study: str, overrides: list[str], composed: StudyCfg) -> dict[str, Any]:
+    """What a run's manifest keeps of its command: the ``overrides`` as given, and the design the
+    study file composes to without them (``default_design``: its config hash and trial count; the
+    count None where it cannot be counted, as a design read from a run that is not stored; no
+    ``default_design`` for a study file that needs overrides to compose)."""
+    from graspcampaign.campaign.catalog import design_size
+    from graspcampaign.campaign.provenance import config_hash
+
+    given: dict[str, Any] = {"overrides": list(overrides)}
+    try:
+        default = compose_study(study, [])
+    except UserInputError:
+        return given
+    default.output = composed.output  # a design read from another run reads it where this one is
+    try:
+        size = design_size(default)
+    except UserInputError:
+        size = None
+    return {**given, "default_design": {"config_hash": config_hash(default), "n_trials": size}}

@@ -112,6 +112,18 @@ def one_config(manifest: dict[str, Any], config_hash: str | None = None) -> bool
         s.get("config_hash") == want for s in manifest["sessions"])
 
 
+def design_change(manifest: dict[str, Any]) -> tuple[str, str] | None:
+    """How a run's design differs from its study file's default, as its manifest records it: the
+    overrides as given, and its trial count ("4 of the study's 18 trials"); None for a run of the
+    default design, or one stored before manifests recorded the default."""
+    default = manifest.get("default_design")
+    if not isinstance(default, dict) or default.get("config_hash") == manifest.get("config_hash"):
+        return None
+    size = default.get("n_trials")
+    of = f" of the study's {size}" if isinstance(size, int) else ""
+    return " ".join(map(str, manifest.get("overrides") or [])), f"{manifest.get('n_trials')}{of} trials"
+
+
 #: The manifest's fields every command relies on, and what each must hold.
 _COUNT = "a whole number of trials"
 _FIELDS: dict[str, tuple[tuple[type, ...], str]] = {
@@ -121,7 +133,9 @@ _FIELDS: dict[str, tuple[tuple[type, ...], str]] = {
     "started_at": ((str,), "a time"), "finished_at": ((str, type(None)), "a time or null"),
     "sessions": ((list,), "a list of sessions"), "config": ((dict,), "the resolved config"),
 }
-_OPTIONAL = {"n_recorded": ((int,), _COUNT), "digests": ((bool,), "true or false")}
+_OPTIONAL = {"n_recorded": ((int,), _COUNT), "digests": ((bool,), "true or false"),
+             "overrides": ((list,), "a list of overrides"),
+             "default_design": ((dict,), "the study file's default design")}
 
 
 def read_manifest(path: Path) -> dict[str, Any] | None:

@@ -280,8 +280,12 @@ class _Progress:
 
 
 def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = False,
-              fail_fast: bool = False, progress: bool | None = None) -> RunSummary:
+              fail_fast: bool = False, progress: bool | None = None,
+              given: tuple[str, list[str]] | None = None) -> RunSummary:
     """Run every trial of ``study`` not yet recorded in its run directory.
+
+    ``given``, the study and overrides as the command line gave them, goes into a new run's
+    manifest with the design they change (:func:`~graspcampaign.campaign.compose.as_given`).
 
     Nothing is written before the run can start: the results root, the run's manifest and the
     layout of its files are checked, and the backend is up (a Dask scheduler answered), first.
@@ -322,7 +326,11 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
 
     with _executor(study) as map_unordered:  # refused (no scheduler): nothing written yet
         expected = expected_records(manifest) if manifest is not None else 0
-        manifest = manifest or provenance.new_manifest(study, run, len(trials), kind.source)
+        if manifest is None:
+            from graspcampaign.campaign.compose import as_given
+
+            manifest = provenance.new_manifest(study, run, len(trials), kind.source)
+            manifest.update(as_given(*given, study) if given else {})
         # a file that differs from the manifest is moved aside before anything in it counts as
         # recorded; only then are superseded shards removed (a foreign file supersedes nothing).
         # Every session so far ran this config and the design is Cartesian: a recorded trial

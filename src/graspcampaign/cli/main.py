@@ -133,7 +133,8 @@ def run_cmd(
     cfg = compose(study, overrides, root)
     path = run_path(cfg, run)
     try:
-        summary = run_study(cfg, run=run, allow_drift=allow_drift, fail_fast=fail_fast)
+        summary = run_study(cfg, run=run, allow_drift=allow_drift, fail_fast=fail_fast,
+                            given=(study, overrides or []))
     except KeyboardInterrupt:
         _interrupted(cfg, path, study, overrides, run, root)
     _echo_summary(summary)
@@ -178,7 +179,7 @@ def reproduce(
         start = time.perf_counter()
         cfg = compose(name, [], root)
         try:
-            summary = run_study(cfg)
+            summary = run_study(cfg, given=(name, []))
         except KeyboardInterrupt:  # say what is recorded and how to resume, as `run` does
             _interrupted(cfg, run_path(cfg, None), name, [], None, root)
         _echo_summary(summary)

@@ -13,6 +13,7 @@ import pandas as pd
 from graspcampaign.analysis.records import rate_table
 from graspcampaign.analysis.vocabulary import PROPOSED, label
 from graspcampaign.campaign.paper import check_paper, study_paper
+from graspcampaign.campaign.provenance import design_change
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.errors import ConfigError, DamagedRunError, UserInputError
 from graspcampaign.report import format as fmt
@@ -64,6 +65,9 @@ TABLE1: tuple[Headline, ...] = (
     Headline("test3_disturbance", "Disturbance, all", "Sec. 9.5", lambda p: p.proposed_success_pct,
              lambda p: p.proposed_trials, lambda p: _table_rates(p.table9)),
 )
+REDUCED_MARK = "†"
+REDUCED_NOTE = (f"{REDUCED_MARK} A reduced or modified run: its design is not the study file's "
+                "default, so its rate is not the paper-scale result (its report names the overrides).")
 FACTOR_NOUNS = {"shape": "shapes", "mass_kg": "masses", "mu": "frictions", "nodes": "meshes"}
 COLUMNS = [
     Col("headline", "headline (proposed planner)"), Col("testbed", "testbed (ours)"),
@@ -123,8 +127,10 @@ def _run_row(h: Headline, store: RunStore, root: Path) -> dict | None:
         + ([f"{config['seeds']} seeds"] if int(config.get("seeds", 1)) > 1 else [])) + (
         f"; {column.replace('_', ' ')} {', '.join(label(column, v) for v in sorted(levels))} only"
         if column and len((config.get("factors") or {}).get(column, ())) > 1 else "")
+    change = design_change(manifest)
     common = {"run": manifest.get("run"), "source": source,
-              "testbed": SOURCE_SHORT.get(source, source) + (f": {design}" if design else ""),
+              "testbed": SOURCE_SHORT.get(source, source) + (f": {design}" if design else "")
+              + (f" {REDUCED_MARK} (reduced run: {change[1]})" if change else ""),
               "report": (store.path / "report" / "report.html").relative_to(root).as_posix()}
     if column and (unset := _unset(column, config)) is not None:
         records[column] = records[column].fillna(unset) if column in records else unset
@@ -190,6 +196,8 @@ def write_headline(root: Path | str, formats: list[str] | None = None,
     :func:`headline_rows`); return the md path."""
     frame = headline_rows(root) if frame is None else frame
     frame.to_csv(Path(root) / "headline.csv", index=False)
+    reduced = frame["testbed"].astype(str).str.contains(REDUCED_MARK).any()
     return Document("Headline success rates (paper Table 1)", "", [], [
         Text(INTRO), Table("headline", "Table 1, ours beside the paper", frame, COLUMNS,
-                           csv="headline.csv")]).write_pages(Path(root) / "headline", formats or [])
+                           csv="headline.csv"), *([Text(REDUCED_NOTE, "note")] if reduced else [])
+    ]).write_pages(Path(root) / "headline", formats or [])

@@ -12,7 +12,7 @@ import pandas as pd
 
 from graspcampaign.analysis.records import executed, status_counts
 from graspcampaign.analysis.vocabulary import data_source
-from graspcampaign.campaign.provenance import ingested
+from graspcampaign.campaign.provenance import design_change, ingested
 from graspcampaign.core.bench_specimen import FINGERTIP_RADIUS
 from graspcampaign.errors import UserInputError
 from graspcampaign.report import format as fmt
@@ -143,6 +143,8 @@ def provenance(run: Run) -> list[tuple[str, str]]:
     return [("Trials", f"{len(run.records)} recorded of {given(m.get('n_trials'))}; {counts['executed']} "
                        "executed" + (f"; {excluded}, excluded from every denominator" if excluded else "")),
             *([("Design", design)] if (design := design_text(m.get("config") or {})) else []),
+            *([("Reduced/modified run", f"overrides `{change[0]}`; {change[1]}")]
+              if (change := design_change(m)) else []),
             ("Config hash", given(m.get("config_hash"), code=True)),
             ("Code", given(m.get("code_version"), code=True) + (" (dirty tree)" if (m.get("git") or {}).get(
                 "dirty") else "")),

@@ -267,6 +267,10 @@ def FailureChecks(by: Sequence[str], paper: PaperKey | None = None, name: str = 
         Col("paper", "paper")], by)
 
 
+#: The `docs/decisions.md` heading of the validity gate, as the reports cite it.
+VALIDITY = "Physical validity, grip laws, Ferrari–Canny ε"
+
+
 def gate_text(run: Run, name: str = "gate_removed") -> str:
     """The Finding's sentence on the :func:`GateRemoved` table ``name`` ("" without one)."""
     if (g := run.tables.get(name)) is None or not len(g):
@@ -274,15 +278,16 @@ def gate_text(run: Run, name: str = "gate_removed") -> str:
     successes = int(g["success_unbounded"].sum())
     removed = f"removed {int(g['removed'].sum())} of {successes} successes" if successes \
         else "removed none: no trial succeeded without it"
-    return (f" The validity gate (a contact deeper than the fingertip radius is no contact, issue 13) "
+    return (f" The validity gate (a contact deeper than the fingertip radius is no contact; "
+            f"`docs/decisions.md`, *{VALIDITY}*) "
             f"{removed}; {int(g['invalid_geometry'].sum())} of {int(g['n'].sum())} executed trials have such "
             "a contact.")
 
 
 def GateRemoved(by: Sequence[str], name: str = "gate_removed", caption: str = (
-        "Successes the validity gate removed (issue 13): trials passing every check (success "
-        "without the gate) with a contact deeper than the fingertip radius, which is no contact "
-        "any more, count as failures; Wilson 95%")) -> Table:
+        f"Successes the validity gate removed (`docs/decisions.md`, *{VALIDITY}*): trials passing "
+        "every check (success without the gate) with a contact deeper than the fingertip radius, "
+        "which is no contact any more, count as failures; Wilson 95%")) -> Table:
     """How many successes the validity gate removed per group (issue 13 item 1), from the records'
     ``success_unbounded`` and ``valid_geometry``: add ``GateRemoved(["planner"])`` to a spec."""
     return Table(name, caption, lambda run: rec.gate_table(run.records, by, run.order), [

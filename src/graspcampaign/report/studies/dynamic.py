@@ -15,11 +15,11 @@ from graspcampaign.report.document import Col, cols
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Figure, Finding, Rates, ReportSpec, Table, Text
 
-DECISION = ("`docs/decisions.md`, *Dynamic studies (issue 6, campaign side)*: SI body constants from the "
+DECISION = ("`docs/decisions.md`, *Dynamic studies*: SI body constants from the "
             "object modulus; the paper's b, k, c are in unpublished internal units")
-GRASP = "`docs/decisions.md`, *Dynamic grasp in the paper's order (issue 13, item 4)*"
+GRASP = "`docs/decisions.md`, *Dynamic grasp in the paper's order*"
 IMPLICIT = ("`docs/decisions.md`, *Classical references: implicit integrator and original Hunt–Crossley "
-            "damping (issue 17, items 2–3)*")
+            "damping*")
 #: order of accuracy of each integrator: classical RK4; the implicit midpoint rule (theta = 1/2)
 ORDER = {"rk4": 4, "implicit": 2}
 #: the level of a factor in runs recorded before it existed (issues 13, 17)

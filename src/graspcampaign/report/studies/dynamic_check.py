@@ -16,7 +16,7 @@ from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, verdic
 from graspcampaign.report.studies.dynamic import in_order
 
 CLAIM_SHAPE, ALL = "sphere", "all shapes"  # Sec. 6.1's claim is the sphere's
-DECISION = "`docs/decisions.md`, *Dynamic check report (issue 16, item 3, report side)*"
+DECISION = "`docs/decisions.md`, *Dynamic check report*"
 PAIRS = {"source": "source study's label", "preset": "Algorithms 1–2 under the preset",
          "source_unbounded": "source label, no validity gate",
          "preset_unbounded": "Algorithms 1–2 under the preset, no validity gate"}

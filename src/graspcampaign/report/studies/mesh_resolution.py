@@ -206,7 +206,7 @@ def finding(run: Run) -> str:
                     f"residual (|R_z| ≤ {100 * HORIZONTAL:g}% of ‖R‖), the part of the normal-only residual "
                     "Algorithm 2 does not act on, which more iterations cannot remove (the paper did not run "
                     "this).")
-    return " ".join(text) + " (`docs/decisions.md`, *Sensitivity, mesh resolution, surrogate (issue 7)*.)"
+    return " ".join(text) + " (`docs/decisions.md`, *Sensitivity, mesh resolution, surrogate*.)"
 
 
 def fig20(run: Run, fig) -> None:

@@ -154,7 +154,7 @@ def finding(run: Run) -> str:
         text += (f"The cost J does not depend on {flat_in} in the quasi-static evaluator (the damping "
                  "term vanishes in the static loop; the MSD constants do not enter Algorithms 1-2), so "
                  "their spread is where the swarm stopped, not a measure of identifiability, and their "
-                 "CVs get no verdict (`docs/decisions.md`, *Report (issue 5)*: PSO).")
+                 "CVs get no verdict (`docs/decisions.md`, *Report*: PSO).")
     return text
 
 

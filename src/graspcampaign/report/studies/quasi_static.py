@@ -26,8 +26,7 @@ from graspcampaign.report.document import Col, cols
 from graspcampaign.report.render import Run
 from graspcampaign.report.studies.pso import table3
 
-DECISION = ("`docs/decisions.md`, *Physical validity, grip laws, Ferrari–Canny ε (issues 13 and 17, "
-            "quasi-static side)*")
+DECISION = f"`docs/decisions.md`, *{S.VALIDITY}*"
 LAWS, BY_LAW = ["planner", "grip_law"], ["grip_law", "planner"]
 PAPER_MARKS = "black marks are the paper's (Algorithm 2) values"
 

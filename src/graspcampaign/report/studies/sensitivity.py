@@ -205,7 +205,7 @@ def finding(run: Run) -> str:
                     f"by construction; {_depths(run, c, 'panel-(c)')}" + (
                         ", so the runtimes of Fig. 19c are mostly the cost of evaluating non-physical states."
                         if beyond_radius(c, run.radius_mm).mean() > 0.5 else "."))
-    return " ".join(text) + (" (`docs/decisions.md`, *Sensitivity, mesh resolution, surrogate (issue 7)*; "
+    return " ".join(text) + (" (`docs/decisions.md`, *Sensitivity, mesh resolution, surrogate*; "
                              "SPEC §8.)")
 
 

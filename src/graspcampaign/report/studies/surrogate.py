@@ -25,9 +25,8 @@ def name(key: str) -> str:
 
 
 PAPER_LABEL = "success_unbounded"  # Algorithm 1 as published, no validity gate: the paper's label
-WHY = ("`docs/decisions.md`, *Sensitivity, mesh resolution, surrogate (issue 7)*, *Contact law, "
-       "evaluator, planners, PSO (issue 4)* and *Physical validity, grip laws, Ferrari–Canny ε (issues 13 "
-       "and 17, quasi-static side)*")
+WHY = ("`docs/decisions.md`, *Sensitivity, mesh resolution, surrogate*, *Contact law, evaluator, "
+       "planners, PSO* and *Physical validity, grip laws, Ferrari–Canny ε*")
 
 
 def _read(name: str, *need: str):

@@ -20,7 +20,7 @@ from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Claims, Figure, Finding, ReportSpec, Table, Text, Value, share, verdicts
 from graspcampaign.report.style import CRITERION, PAPER, legend_below, paper_handle, paper_marks
 
-WHY = "`docs/decisions.md`, *Test 1 bench protocol (issue 8)* and *Test 1 in the engine (issue 8)*"
+WHY = "`docs/decisions.md`, *Test 1 bench protocol* and *Test 1 in the engine*"
 BLUE, ORANGE, RED, GREY = "#1f5aa6", "#e08a1e", "#c62828", "#8c8c8c"
 T4 = {"modulus_kpa": "E [kPa]", "modulus_sd_kpa": "E SD [kPa]", "exponent_n": "n", "k_n_per_mm_n":
       "K [N mm⁻ⁿ]", "f05_n": "f0.5 [N]", "c_n_s_per_m": "C [N s/m]", "c_negative": "fits with C < 0",

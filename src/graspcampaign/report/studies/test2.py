@@ -216,8 +216,8 @@ def finding(run: Run, extra=lambda run: "") -> str:
         text += (f"`{f}` has precision {n2(r['precision'])} ({r['flagged']} of {r['n']} trials flagged, "
                  f"recall {n2(r['recall'])}) against a base success rate of {n2(r['base'])}: "
                  + ("above it. " if r["above_base"] else f"not above it, because {WHY_NOT[f]}. "))
-    return text + extra(run) + ("See `docs/decisions.md`, *Planner beliefs on the virtual rig (issue "
-                                "13, item 5)* and *Tests 2-3 protocols and virtual rig (issue 9)*.")
+    return text + extra(run) + ("See `docs/decisions.md`, *Planner beliefs on the virtual rig* and "
+                                "*Tests 2-3 protocols and virtual rig*.")
 
 
 def legends_below(fig) -> None:

@@ -66,7 +66,7 @@ def finding(run: Run) -> str:
             f"{int((scale['differs'] == False).sum())} of {len(scale)} scales match the paper's value to "  # noqa: E712
             "its printed precision. S1 follows Eq. 7, which the paper publishes; S2 and S3 rest on a bounded "
             "s2ᵢ and a triangle geometry the paper does not publish, so our H differs wherever they do "
-            "(`docs/decisions.md`, *Geometry and metric (issue 3)*: bounded s2ᵢ, §5.2 reachable optimum). ")
+            "(`docs/decisions.md`, *Geometry and metric*: bounded s2ᵢ, §5.2 reachable optimum). ")
     if len(sweep):
         top = sweep.loc[sweep["argmin_moves_pct"].idxmax()]
         text += (f"Changing the weight *ratio*, which the paper did not probe, moves the argmin in up to "

@@ -88,8 +88,8 @@ def finding(run: Run) -> str:
                "Fig. 17): a non-physical state, the fingertip centre inside the object, so these traces "
                "are the published algorithm's arithmetic, not a grasp. ")
             + "The paper calls the study a robustness test outside the validated envelope (Sec. 6.4); we "
-            "record it rather than rescale (`docs/decisions.md`, *Simulation studies (issue 4, campaign "
-            "side)*: wrench_balance).")
+            "record it rather than rescale (`docs/decisions.md`, *Simulation studies*: "
+            "wrench_balance).")
 
 
 PANELS = (("residual_norm_n", "(a) force residual ‖R‖ [N]"),

@@ -1,0 +1,44 @@
+"""The reports cite design decisions by their `docs/decisions.md` heading, never by an internal
+issue number: every string of report/ and analysis/ (docstrings aside) is read with :mod:`ast`."""
+
+from __future__ import annotations
+
+import ast
+import re
+from pathlib import Path
+
+import graspcampaign
+
+PACKAGE = Path(graspcampaign.__file__).parent
+DECISIONS = PACKAGE.parents[1] / "docs" / "decisions.md"
+
+
+def report_strings() -> list[tuple[str, str]]:
+    """``(module, text)`` of every string literal of report/ and analysis/ but docstrings."""
+    out = []
+    for path in sorted([*(PACKAGE / "report").rglob("*.py"), *(PACKAGE / "analysis").rglob("*.py")]):
+        tree = ast.parse(path.read_text())
+        docs = {id(node.body[0].value) for node in ast.walk(tree)
+                if isinstance(node, ast.Module | ast.ClassDef | ast.FunctionDef)
+                and node.body and isinstance(node.body[0], ast.Expr)}
+        out += [(path.name, node.value) for node in ast.walk(tree) if isinstance(node, ast.Constant)
+                and isinstance(node.value, str) and id(node) not in docs]
+    return out
+
+
+def headings() -> set[str]:
+    """Every heading of docs/decisions.md, also without its trailing "(issue ...)" tag."""
+    found = re.findall(r"^#+ (.+)$", DECISIONS.read_text(), flags=re.M)
+    return set(found) | {re.sub(r" \(issues? [^)]*\)$", "", h) for h in found}
+
+
+def test_no_report_text_cites_an_issue_number():
+    assert [(m, s) for m, s in report_strings() if re.search(r"\bissues? \d", s)] == []
+
+
+def test_every_cited_decision_is_a_heading():
+    from graspcampaign.report.spec import VALIDITY
+
+    cited = {VALIDITY} | {title for _, s in report_strings() if "docs/decisions.md" in s
+                          for title in re.findall(r"\*([^*{}]+)\*", s.split("docs/decisions.md", 1)[1])}
+    assert len(cited) > 10 and cited - headings() == set()
