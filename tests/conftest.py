@@ -154,9 +154,9 @@ def surrogate_finalize():
     from graspcampaign.campaign.kinds.surrogate import SurrogateParams, finalize
     from graspcampaign.campaign.schema import RunnerCfg
 
-    def run(df, n_jobs: int = 1):
+    def run(df, n_jobs: int = 1, **params):
         study = SimpleNamespace(seed=5, runner=RunnerCfg(backend="loky", n_jobs=n_jobs))
-        tables = finalize(study, SurrogateParams(shapes=["sphere", "pear"]), df)
+        tables = finalize(study, SurrogateParams(shapes=["sphere", "pear"], **params), df)
         return {k: pd.DataFrame(v) for k, v in tables.items()}
 
     return run

@@ -111,34 +111,31 @@ def test_the_held_out_scores_are_stored_for_the_auc_interval(fitted):
         assert roc_auc_score(g["positive"], g["score"]) == pytest.approx(row["roc_auc"])
 
 
-def test_the_auc_statistic_is_sklearn_roc_auc_score_ties_included():
-    from sklearn.metrics import roc_auc_score
-
-    from graspcampaign.campaign.kinds.surrogate import auc
-
-    rng = np.random.default_rng(4)
-    actual = np.r_[np.ones(6, bool), np.zeros(70, bool)]  # a run's few held-out positives
-    scores = np.round(rng.random((3, 76)) + 0.4 * actual, 1)  # rounded: ties between the classes
-    assert auc(scores[:, actual], scores[:, ~actual]) == pytest.approx(
-        [roc_auc_score(actual, s) for s in scores], abs=1e-12)  # one row per resample, vectorised
-
-
 def test_the_auc_interval_is_stored_beside_the_auc(fitted):
-    """finalize stores each AUC's 95% percentile interval of 10 000 stratified resamples (seed = the
-    study's, 5 here), which the report reads. Recomputed from the stored held-out scores with the
-    AUC as a count of the (positive, negative) pairs ranked right, one resample at a time."""
-    from scipy import stats
-
-    def pairs_ranked_right(positive, negative):
-        return ((positive[:, None] > negative) + 0.5 * (positive[:, None] == negative)).mean()
+    """finalize stores each AUC's interval from its stored held-out scores (seed = the study's, 5
+    here; the interval itself is checked in tests/analysis/test_auc_interval.py)."""
+    from graspcampaign.analysis.agreement import auc_interval
 
     cls, scores = fitted["surrogate_classification"], fitted["surrogate_scores"]
     assert (cls["roc_auc_interval"] == "percentile").all() and (cls["roc_auc_resamples"] == 10_000).all()
     assert (cls["roc_auc_low"] <= cls["roc_auc"]).all() and (cls["roc_auc"] <= cls["roc_auc_high"]).all()
+    assert (cls["roc_auc_interval_note"] == "").all()
     row = cls.set_index(["label", "model"]).loc[("success_vertical", "mlp")]
     g = scores[(scores["label"] == "success_vertical") & (scores["model"] == "mlp")]
-    positive, negative = g.loc[g["positive"], "score"].to_numpy(), g.loc[~g["positive"], "score"].to_numpy()
-    ci = stats.bootstrap((positive, negative), pairs_ranked_right, paired=False, vectorized=False,
-                         n_resamples=10_000, method="percentile", rng=np.random.default_rng(5))
-    assert (row["roc_auc_low"], row["roc_auc_high"]) == pytest.approx(tuple(ci.confidence_interval))
+    ci = auc_interval(g.loc[g["positive"], "score"], g.loc[~g["positive"], "score"], seed=5)
+    assert (row["roc_auc_low"], row["roc_auc_high"]) == (ci.low, ci.high)
     assert row["roc_auc_low"] < row["roc_auc_high"]  # not a degenerate interval
+
+
+def test_a_split_holding_out_one_positive_stores_the_auc_without_an_interval(surrogate_scenarios,
+                                                                              surrogate_finalize):
+    """10 positives (the fitting minimum) with a 10% held-out share leave 1 held-out positive, which
+    no bootstrap can resample: finalize stored nothing and crashed after every trial had run."""
+    df = surrogate_scenarios(200)
+    df["success_unbounded"] = df.index < 10
+    out = surrogate_finalize(df, test_fraction=0.1)
+    cls = out["surrogate_classification"].set_index(["label", "model"]).loc["success_unbounded"]
+    assert (cls["test_positives"] == 1).all() and cls["roc_auc"].between(0, 1).all()
+    assert cls[["roc_auc_low", "roc_auc_high"]].isna().all().all()
+    assert (cls["roc_auc_interval_note"] == "only 1 held-out positive, too few for an interval").all()
+    assert (cls["roc_auc_resamples"] == 0).all() and (cls["roc_auc_interval"] == "").all()

@@ -67,11 +67,12 @@ def test_number_variants():
     ((40.0, (50, None)), {"digits": 0, "unit": "%"}, (True, "differs: below the paper's target ≥ 50%")),
     # a residual that never settles (an infinite settling iteration) lies above the window 30-40
     ((math.inf, (30, 40)), {"digits": 0}, (True, "differs: above the paper's range 30–40")),
-    # ratios: 17000 / 9.17 = 1853.87 -> 1.85e+03 times ours; |17000.4 - 17000| = 0.4 < 1 (digits 0)
+    # ratios, 3 significant digits written out as the tables do: 17000 / 9.17 = 1853.87 -> 1850 times
+    # ours (was "1.85e+03"); |17000.4 - 17000| = 0.4 < 1 (digits 0); 17000 / 17000.4 = 0.99998 -> 1.000
     ((9.17, 17000), {"digits": 0, "ratio": "faster"},
-     (True, "differs: ours 9.17× faster, the paper's 17000× (1.85e+03 times ours)")),
+     (True, "differs: ours 9.17× faster, the paper's 17000× (1850 times ours)")),
     ((17000.4, 17000), {"digits": 0, "ratio": "faster"},
-     (False, "as in the paper: ours 1.7e+04× faster, the paper's 17000× (1 times ours)")),
+     (False, "as in the paper: ours 17000× faster, the paper's 17000× (1.000 times ours)")),
     # a commanded value is the run's own input: not compared, whatever the paper says
     ((65.0, 65.0), {"commanded": "the ramp ends at the command"},
      (None, "commanded, not a result: the ramp ends at the command")),

@@ -138,9 +138,9 @@ def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits:
     ours with a 95 % interval when it holds the paper's value; otherwise within one unit of the
     paper's last printed digit (``10**-digits``). ``unit`` is the values' unit: a value or range of
     percentages prints ``%``, a difference of two percentages ``pp``. ``ratio`` (e.g. "faster"): the
-    values are ratios, said as ratios ("ours 9.17× faster, the paper's 17000× (1.85e+03 times
-    ours)"). ``commanded``: ours is the run's own command, reached by construction (the words say
-    how), so it is not compared. ``because``: why ours is not compared (the words are that reason).
+    values are ratios, said as ratios ("ours 9.17× faster, the paper's 17000× (1850 times ours)").
+    ``commanded``: ours is the run's own command, reached by construction (the words say how), so it
+    is not compared. ``because``: why ours is not compared (the words are that reason).
     ``pinned``: ours is a CV over runs that all ended on a search bound, at these values (as printed):
     the words add that it measures the bound."""
     if because:
@@ -180,6 +180,7 @@ def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits:
         return True, f"differs by {diff}: the paper's value lies outside our 95% interval"
     differs = abs(float(ours) - float(paper)) >= 10.0 ** -digits
     if ratio:
-        return differs, (f"{'differs' if differs else 'as in the paper'}: ours {float(ours):.3g}× {ratio}, "
-                         f"the paper's {float(paper):g}× ({float(paper) / float(ours):.3g} times ours)")
+        times = number(float(paper) / float(ours), sig=3)
+        return differs, (f"{'differs' if differs else 'as in the paper'}: ours {number(ours, sig=3)}× "
+                         f"{ratio}, the paper's {number(paper)}× ({times} times ours)")
     return (True, f"differs by {diff}") if differs else (False, "matches to the paper's printed precision")

@@ -24,9 +24,9 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
-from scipy import stats
 
-from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES, wilson_interval
+from graspcampaign.analysis.agreement import auc_interval
+from graspcampaign.analysis.rates import wilson_interval
 from graspcampaign.analysis.records import executed
 from graspcampaign.campaign.kind import TrialInput, TrialKind
 from graspcampaign.campaign.kinds import common
@@ -130,8 +130,6 @@ LOG_FLOOR = 1e-3  # floor before log10 of a residual [N] or a penetration [mm] t
 LABELS = ("success", "success_unbounded", "success_vertical")
 """The configured check (with the validity gate), Algorithm 1 as published (no gate: the paper's
 label) and the |R_z| reading (docs/records.md)."""
-AUC_INTERVAL = "percentile"
-"""The held-out AUC's bootstrap interval (not BCa: docs/decisions.md, issue 14 surrogate entry)."""
 
 
 def features(df: pd.DataFrame, shapes: list[str]) -> pd.DataFrame:
@@ -164,24 +162,6 @@ def models(params: SurrogateParams, seed: int, regression: bool) -> dict[str, An
         n_estimators=params.n_trees, random_state=seed, n_jobs=1)
     return {"mlp": make_pipeline(StandardScaler(), mlp),
             "random_forest": make_pipeline(StandardScaler(), forest)}
-
-
-def auc(positive: np.ndarray, negative: np.ndarray, axis: int = -1) -> np.ndarray:
-    """ROC AUC along ``axis``: the share of (positive, negative) score pairs ranked right, a tie
-    counting one half (Mann-Whitney U / (n_pos n_neg); Hanley & McNeil 1982)."""
-    u = stats.mannwhitneyu(positive, negative, axis=axis, method="asymptotic").statistic
-    return u / (positive.shape[axis] * negative.shape[axis])
-
-
-def auc_interval(positive: np.ndarray, negative: np.ndarray, seed: int) -> dict[str, Any]:
-    """The AUC's 95 % bootstrap interval from the held-out scores of the positives and negatives,
-    resampled apart (``paired=False``: every resample keeps the stratified split's class counts),
-    :data:`BOOTSTRAP_RESAMPLES` resamples drawn from ``seed``; the classification row's columns."""
-    ci = stats.bootstrap((positive, negative), auc, paired=False, vectorized=True,
-                         n_resamples=BOOTSTRAP_RESAMPLES, method=AUC_INTERVAL,
-                         rng=np.random.default_rng(seed)).confidence_interval
-    return {"roc_auc_low": float(ci.low), "roc_auc_high": float(ci.high),
-            "roc_auc_interval": AUC_INTERVAL, "roc_auc_resamples": BOOTSTRAP_RESAMPLES}
 
 
 def prediction_time_s(model, row: np.ndarray, repeats: int = 200, budget_s: float = 0.5
@@ -225,8 +205,9 @@ def finalize(study, params: SurrogateParams, records: pd.DataFrame, store=None
     Features: the shape one-hot and m, μ, λ1, λ2, b (standardised in the pipeline). For each
     label of :data:`LABELS` with at least :data:`MIN_POSITIVES` of either class, a stratified
     ``1 - test_fraction`` / ``test_fraction`` split (``random_state`` = study seed) trains both
-    classifiers; the held-out trials give ROC AUC (with its :func:`auc_interval`, seed = study
-    seed), accuracy (with its Wilson 95 % interval), the majority-class accuracy and the ROC curve.
+    classifiers; the held-out trials give ROC AUC (with its
+    :func:`~graspcampaign.analysis.agreement.auc_interval`, seed = study seed, or the reason it has
+    none), accuracy (with its Wilson 95 % interval), the majority-class accuracy and the ROC curve.
     Both regressors predict |R_z|, log10 ‖R‖ and log10 δ_max on the first label's split (R² held
     out). One single-row prediction of the first fitted label's classifiers (else of the |R_z|
     regressors) is timed here, beside the median of the brief PSO calls timed in the trials.
@@ -289,11 +270,12 @@ def finalize(study, params: SurrogateParams, records: pd.DataFrame, store=None
             out["surrogate_scores"] += [{"label": label, "model": name, "positive": bool(a),
                                          "score": float(b)} for a, b in zip(y[test], score, strict=True)]
             hits = int(np.sum(model.predict(x[test]) == y[test]))
-            w = wilson_interval(hits, len(test))
+            w, ci = wilson_interval(hits, len(test)), auc_interval(score[y[test]], score[~y[test]], seed=seed)
             out["surrogate_classification"].append({
                 **base, "model": name, "test_trials": len(test),
-                "test_positives": int(y[test].sum()), "roc_auc": float(roc_auc_score(
-                    y[test], score)), **auc_interval(score[y[test]], score[~y[test]], seed),
+                "test_positives": int(y[test].sum()), "roc_auc": float(roc_auc_score(y[test], score)),
+                "roc_auc_low": ci.low, "roc_auc_high": ci.high, "roc_auc_interval": ci.method,
+                "roc_auc_resamples": ci.n_resamples, "roc_auc_interval_note": ci.reason,
                 "accuracy_pct": 100 * w.estimate,
                 "accuracy_low_pct": 100 * w.low, "accuracy_high_pct": 100 * w.high,
                 "majority_class_accuracy_pct": 100 * max(y[test].mean(), 1 - y[test].mean()),

@@ -1,5 +1,6 @@
 """Report of ``surrogate`` (Appendix A, Fig. A.1): the scenarios, and the models the run's finalize stage
-fitted, scored and timed (``summary/surrogate_*``); nothing is fitted or timed here."""
+fitted, scored and timed (``summary/surrogate_*``); nothing is fitted or timed here (a run finalized
+before finalize computed the AUC interval gets it from its stored held-out scores)."""
 
 from __future__ import annotations
 
@@ -8,8 +9,11 @@ import math
 import numpy as np
 import pandas as pd
 
+from graspcampaign.analysis.agreement import AUC_INTERVAL_MIN_CLASS, auc_interval
+from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
 from graspcampaign.analysis.records import beyond_radius
 from graspcampaign.analysis.vocabulary import colour, label, ordered
+from graspcampaign.report import format as fmt
 from graspcampaign.report import style
 from graspcampaign.report.document import Col, cols
 from graspcampaign.report.render import Run
@@ -53,10 +57,26 @@ def _dataset(run: Run) -> pd.DataFrame:
                     "success_unbounded_high_pct", unit="%")
 
 
+def _auc_intervals(run: Run, t: pd.DataFrame) -> pd.DataFrame:
+    """The AUC intervals: the run's; for a run finalized before finalize computed them (no
+    ``roc_auc_interval_note``), computed here from its stored held-out scores by the run's rule."""
+    scores = run.part("summary/surrogate_scores")
+    t = t.assign(interval_from_stored_scores=False)
+    if t["roc_auc_interval_note"].notna().any() or not len(scores):
+        return t
+    for i, r in t[t["roc_auc"].notna()].iterrows():
+        g = scores[(scores["label"] == r["label"]) & (scores["model"] == r["model"])]
+        ci = auc_interval(g.loc[g["positive"], "score"], g.loc[~g["positive"], "score"], seed=run.seed)
+        t.loc[i, ["roc_auc_low", "roc_auc_high", "roc_auc_interval_note"]] = ci.low, ci.high, ci.reason
+        t.loc[i, "interval_from_stored_scores"] = pd.isna(r["roc_auc_low"]) and not ci.reason
+    return t
+
+
 def _classification(run: Run) -> pd.DataFrame:
     t, p = _read("classification", "model", "roc_auc", "roc_auc_low", "roc_auc_high", "accuracy_pct",
                  "accuracy_low_pct", "test_trials", "test_positives", "majority_class_accuracy_pct",
-                 "accuracy_high_pct")(run), run.paper
+                 "accuracy_high_pct", "roc_auc_interval_note")(run), run.paper
+    t = _auc_intervals(run, t)
     main = t["label"] == PAPER_LABEL
     t["paper_auc"] = [p.auc.get(m) if ok else None for m, ok in zip(t["model"], main, strict=True)]
     t["paper_accuracy"] = [p.accuracy_pct if ok else None for ok in main]  # a range: (low, high)
@@ -65,9 +85,12 @@ def _classification(run: Run) -> pd.DataFrame:
     t["fit"] = ["not fitted" if isinstance(n, str) and n else "" for n in t["note"]]  # its reason: AUC cell
     acc = verdicts(t.copy(), "accuracy_pct", "paper_accuracy", "accuracy_low_pct", "accuracy_high_pct",
                    unit="%", why="fit")
-    return verdicts(t, "roc_auc", "paper_auc", "roc_auc_low", "roc_auc_high", digits=2, why="fit").assign(
+    t["too_few"] = [f"not compared: {n}" if isinstance(n, str) and n else ""
+                    for n in t["roc_auc_interval_note"]]
+    return verdicts(t, "roc_auc", "paper_auc", "roc_auc_low", "roc_auc_high", digits=2, why="fit",
+                    because="too_few").assign(
         accuracy_verdict=acc["verdict"], label_name=t["label"].map(name)).drop(
-        columns=["paper_accuracy", "fit"])
+        columns=["paper_accuracy", "fit", "too_few"])
 
 
 def _regression(run: Run) -> pd.DataFrame:
@@ -112,7 +135,9 @@ def finding(run: Run) -> str:
     cls = t["surrogate_classification"].query(f"label == '{PAPER_LABEL}'")
     fit = cls[cls["roc_auc"].notna()]
     aucs = "; ".join(f"{r['model_label']} AUC {r['roc_auc']:.2f} (" + (
-        f"95% {r['roc_auc_low']:.2f}–{r['roc_auc_high']:.2f}; " if pd.notna(r["roc_auc_low"]) else "") +
+        f"95% {r['roc_auc_low']:.2f}–{r['roc_auc_high']:.2f}" + (
+            ", computed from the stored held-out scores" if r["interval_from_stored_scores"] else "") + "; "
+        if pd.notna(r["roc_auc_low"]) else "") +
         f"paper {r['paper_auc']:g}, {r['verdict']}) at {r['accuracy_pct']:.1f}% accuracy"
         for _, r in fit.iterrows())
     buried = ("every positive they learn is a non-physical state, not a grasp. " if won.any() and
@@ -125,7 +150,7 @@ def finding(run: Run) -> str:
              f"The success classifiers were {cls['note'].iloc[0]}. ")
     if len(reg := t["surrogate_regression"].dropna(subset=["r2"])):
         best = reg.loc[reg["r2"].idxmax()]
-        text += (f"The best regression R² is {best['r2']:.2f} ({name(best['target'])}, "
+        text += (f"The best regression R² is {fmt.number(best['r2'], 2)} ({name(best['target'])}, "
                  f"{best['model_label']}; paper {p.residual_r2:g} for |R_z|)" + (
                      f", a target whose value is a non-physical depth in {int(deep.sum())} of {len(deep)} "
                      "scenarios" if "delta" in best["target"] and deep.any() else "") + (
@@ -136,7 +161,7 @@ def finding(run: Run) -> str:
     if "mlp" in (tm := t["surrogate_timing"].set_index("what")).index:
         text += (f"One MLP prediction takes {tm.loc['mlp', 'time_ms']:.3g} ms against "
                  f"{tm.loc['pso_call', 'time_ms']:.3g} ms for the brief PSO call, "
-                 f"{tm.loc['mlp', 'speedup']:.3g}× (paper {p.prediction_time_ms:g} ms vs "
+                 f"{fmt.number(tm.loc['mlp', 'speedup'], sig=3)}× (paper {p.prediction_time_ms:g} ms vs "
                  f"{1e3 * p.pso_call_time_s:g} ms, {p.speedup:g}×): our swarm iteration is one vectorised "
                  "evaluator call. ")
     return text + ("Both timings were measured by the run, not by this report. Why ours differs from the "
@@ -145,21 +170,24 @@ def finding(run: Run) -> str:
 
 
 def _point_verdict(run: Run, fit: pd.DataFrame) -> str:
-    """Why the AUC verdicts have no interval, when the run (finalized before it stored them) has none."""
-    if fit["roc_auc_low"].notna().any():
+    """Why the AUC verdicts have no interval, when the run stored none nor the scores to compute it."""
+    if fit["roc_auc_low"].notna().any() or fit["roc_auc_interval_note"].fillna("").astype(bool).any():
         return ""
-    return "Their AUC verdicts are judged on the point value because the run stored no " + (
-        "AUC interval (it was finalized before the run computed one). " if len(run.part(
-            "summary/surrogate_scores")) else "held-out scores (it was finalized before they were stored). ")
+    return ("Their AUC verdicts are judged on the point value because the run stored no held-out scores (it "
+            "was finalized before they were stored). ")
 
 
 def _classification_caption(run: Run) -> str:
-    """The classifiers' caption: the split, and the AUC interval the run stored (if it stored one)."""
+    """The classifiers' caption: the split, and who computed the AUC interval (if anyone could)."""
     t = run.part("summary/surrogate_classification")
-    t = t.dropna(subset=["roc_auc_low"]) if "roc_auc_low" in t else t.iloc[:0]
-    interval = (f"its 95% {t['roc_auc_interval'].iloc[0]} interval ({int(t['roc_auc_resamples'].iloc[0])}"
-                " resamples of the held-out positives and, apart, negatives, computed by the run)" if len(t)
-                else "no interval (the run stored none)")
+    stored = "roc_auc_interval_note" in t or ("roc_auc_low" in t and t["roc_auc_low"].notna().any())
+    scores = len(run.part("summary/surrogate_scores"))
+    by = ("computed by the run" if stored else
+          "computed by this report from the held-out scores the run stored" if scores else "")
+    interval = (f"its 95% percentile interval ({BOOTSTRAP_RESAMPLES} resamples of the held-out positives "
+                f"and, apart, negatives, {by}; none, and no verdict, below {AUC_INTERVAL_MIN_CLASS} "
+                "of either)"
+                if by else "no interval (the run stored none)")
     held_out = 100 * run.params.get("test_fraction", 0.2)
     return (f"Success classifiers scored by the run on its held-out {held_out:g}% (stratified split, seed "
             f"{run.seed}); AUC with {interval}, accuracy with its Wilson 95% interval")
@@ -206,7 +234,8 @@ def figA1(run: Run, fig) -> None:
     roc, cls = _read("roc")(run), run.tables["surrogate_classification"].set_index(["label", "model"])
     for (lab, m), g in roc.groupby(["label", "model"], sort=False) if len(roc) else ():
         ax_a.plot(g["fpr"], g["tpr"], color=colour("model", m), ls=LINES[lab],
-                  label=f"{label('model', m)}, {name(lab)}: AUC {cls.loc[(lab, m), 'roc_auc']:.2f}")
+                  label=f"{label('model', m)}, {name(lab)}: AUC {fmt.number(cls.loc[(lab, m), 'roc_auc'], 2)}"
+                        f" ({int(cls.loc[(lab, m), 'test_positives'])} held-out positives)")
     if not len(roc):
         ax_a.text(0.5, 0.5, "not fitted: too few trials of one class", ha="center", transform=ax_a.transAxes)
     ax_a.plot([0, 1], [0, 1], color=style.CRITERION, ls=":", label="chance")
@@ -214,11 +243,12 @@ def figA1(run: Run, fig) -> None:
                                                           run.paper.auc.items()))
     ax_a.set(xlabel="false positive rate [–]", ylabel="true positive rate [–]",
              title="(a) ROC, success classifiers (held out)")
-    ax_a.legend(loc="lower right", fontsize=6.5)
+    ax_a.legend(loc="upper center", bbox_to_anchor=(0.5, -0.2), fontsize=6.5)
     par, r2 = _read("parity")(run), run.tables["surrogate_regression"].set_index(["target", "model"])
     if len(par):
+        fit = fmt.number(r2.loc[("log10_residual_norm_n", "mlp"), "r2"], 2)
         ax_b.scatter(par["simulated"], par["predicted"], s=8, alpha=0.5, color=colour("model", "mlp"),
-                     label=f"MLP, held out: R² {r2.loc[('log10_residual_norm_n', 'mlp'), 'r2']:.2f}")
+                     label=f"MLP, held out: R² {fit}")
         lim = [par[["simulated", "predicted"]].min().min(), par[["simulated", "predicted"]].max().max()]
         ax_b.plot(lim, lim, color="black", lw=1.0, label="parity")
         tau = float(run.config["evaluator"]["tau_f_n"])
@@ -226,7 +256,7 @@ def figA1(run: Run, fig) -> None:
     ax_b.plot([], [], " ", label=f"paper: R² {run.paper.residual_r2:g} (|R_z|)")
     ax_b.set(xlabel="simulated log10 ‖R‖ [log10 N]", ylabel="predicted log10 ‖R‖ [log10 N]",
              title="(b) MLP regressor, force residual")
-    ax_b.legend(loc="upper left", fontsize=6.5)
+    ax_b.legend(loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2, fontsize=6.5)  # clear of τ_F
     t = run.tables["surrogate_timing"]
     x, ms = np.arange(len(t)), 1e3 * t["time_s"].to_numpy(float)
     ax_c.bar(x, ms, color=[colour("model", w) for w in t["what"]])
