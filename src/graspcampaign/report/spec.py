@@ -139,7 +139,8 @@ def Rates(name: str, caption: str, by: Sequence[str], paper: PaperKey | None = N
 @dataclass(frozen=True)
 class Value:
     """One value beside the paper's (a row of :func:`Claims`): ``value(run)`` returns a number or an
-    :class:`~graspcampaign.analysis.records.Estimate`; raising ValueError gives the reason."""
+    :class:`~graspcampaign.analysis.records.Estimate`; raising ValueError gives the reason; ``because``:
+    why the paper's value is shown but not compared (a different quantity)."""
 
     label: str
     section: str
@@ -147,6 +148,7 @@ class Value:
     paper: Callable[[Any], Any] | None = None
     unit: str = ""
     digits: int = 2
+    because: str = ""
 
     def estimate(self, run: Run) -> Estimate:
         return v if isinstance(v := self.value(run), Estimate) else Estimate(v)
@@ -179,10 +181,12 @@ def Claims(name: str, caption: str | Callable[[Run], str],
                 e, why = Estimate(math.nan), f"not computed: {reason(exc)}"
             p = _paper(r.paper, run.paper)
             out.append([r.label, r.section, fmt.paper_text(p, r.digits) if isinstance(p, tuple | list) else p,
-                        e.value, e.low, e.high, e.n, r.unit, r.digits, why, p])
+                        e.value, e.low, e.high, e.n, r.unit, r.digits, why, p, r.because])
         frame = pd.DataFrame(out, columns=["quantity", "section", "paper", "value", "low", "high", "n",
-                                           "unit", "digits", "why", "_paper"]).astype({"n": "Int64"})
-        return verdicts(frame, "value", "_paper", "low", "high", "digits", "unit").drop(columns="_paper")
+                                           "unit", "digits", "why", "_paper", "_because"])
+        frame = frame.astype({"n": "Int64"})
+        return verdicts(frame, "value", "_paper", "low", "high", "digits", "unit",
+                        because="_because").drop(columns=["_paper", "_because"])
 
     def shown(run: Run, frame: pd.DataFrame) -> list[Col]:
         ours = "ours (95%)" if (frame["low"].notna() & frame["high"].notna()).any() else "ours"
