@@ -33,7 +33,7 @@ INVENTORY = {
                   {"fig18_grip_laws", "h_epsilon"}),
     "pso_repeatability": ({"cv", "table3", "convergence"}, {"fig21_pso"}),
     "gravity_settle": ({"settle", "integrator_audit"}, {"fig10_settle", "integrator_audit"}),
-    "friction_mass": ({"stable_by_preset", "friction_mass", "phases", "like_for_like",
+    "friction_mass": ({"stable_by_preset", "paper_values", "friction_mass", "phases", "like_for_like",
                        "friction_cone"}, {"fig12_13_dynamic"}),
     "dynamic_check": ({"kappa", "agreement_by_planner", "agreement_by_shape", "dynamic_status"},
                       {"confusion", "agreement_by_group"}),

@@ -139,7 +139,8 @@ def Rates(name: str, caption: str, by: Sequence[str], paper: PaperKey | None = N
 @dataclass(frozen=True)
 class Value:
     """One value beside the paper's (a row of :func:`Claims`): ``value(run)`` returns a number or an
-    :class:`~graspcampaign.analysis.records.Estimate`; raising ValueError gives the reason."""
+    :class:`~graspcampaign.analysis.records.Estimate`; raising ValueError gives the reason; ``because``:
+    why the paper's value is shown but not compared (a different quantity)."""
 
     label: str
     section: str

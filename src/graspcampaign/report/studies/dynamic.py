@@ -8,12 +8,14 @@ import numpy as np
 import pandas as pd
 from matplotlib.ticker import NullFormatter
 
+from graspcampaign.analysis.records import DESIGN_LIMIT_MM
 from graspcampaign.analysis.vocabulary import colour, label, ordered
+from graspcampaign.core.statics import GRAVITY
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
 from graspcampaign.report.document import Col, cols
 from graspcampaign.report.render import Run
-from graspcampaign.report.spec import Figure, Finding, Rates, ReportSpec, Table, Text
+from graspcampaign.report.spec import Claims, Figure, Finding, Rates, ReportSpec, Table, Text, Value
 
 DECISION = ("`docs/decisions.md`, *Dynamic studies*: SI body constants from the "
             "object modulus; the paper's b, k, c are in unpublished internal units")
@@ -174,13 +176,85 @@ def _case_text(run: Run) -> str:
                                f"case, μ = {mu:g}, m = {mass:g} kg")
 
 
+def ends(run: Run) -> pd.DataFrame:
+    """The runs in design order with what Figs. 12-13 (ours) end on: the last total penetration Σδ
+    [mm], the largest |R_z| [N] over the recorded steps of the settled window and the steps before
+    it, and the share [%] of the summed normal force on the most loaded finger."""
+    steps = run.aux("steps")
+    if not len(steps):
+        raise ValueError("the run has no `steps` table")
+    t, by = in_order(run, FM), steps.sort_values("time_s").groupby("trial_id")
+    hold = steps.merge(t[["trial_id", "hold_start_s", "hold_end_s"]], on="trial_id")
+    hold = hold[hold.time_s.between(hold.hold_start_s, hold.hold_end_s)].groupby("trial_id")
+    forces = t[[f"normal_force_{j}_n" for j in (1, 2, 3)]]
+    return t.assign(total_penetration_mm=1e3 * t.trial_id.map(by.total_penetration_m.last()),
+                    settled_amplitude_n=t.trial_id.map(hold.residual_z_n.apply(lambda r: r.abs().max())),
+                    steps_to_settle=(t.hold_start_s / t.dt_s).round(),
+                    top_finger_pct=100 * forces.max(axis=1) / forces.sum(axis=1))
+
+
+UNITS = "not compared: the paper's forces are in its internal units, not commensurate with mg (Sec. 5.5)"
+
+
+def paper_rows(run: Run):
+    """Sec. 5.5's values beside ours per preset: the penetrations over every μ × m run past closure
+    (the paper: the same behaviour "for all tested combinations"), the rest at the case Figs. 12-13
+    (ours) show, if it held; ours is left empty, and the verdict says why, where there is none."""
+    mu, mass, _ = shown_case(run)
+    for preset, g in ends(run).groupby("model_preset", sort=False):
+        name = label("model_preset", preset)
+        rep = g[np.isclose(g.mu, mu) & np.isclose(g.mass_kg, mass)].iloc[0]
+        case, lifted = f"{name}, μ = {mu:g}, m = {mass:g} kg", g[g.final_phase != "closure"]
+        never = "" if len(lifted) else "not compared: no run got past closure"
+        yield Value(f"{name}: final total penetration Σδ, largest over its lifted runs", "Sec. 5.5",
+                    lambda run, g=lifted: g.total_penetration_mm.max(),
+                    lambda p: (None, 1e3 * p.total_penetration_below_m), "mm", because=never)
+        yield Value(f"{name}: deepest contact δmax, largest over its lifted runs (paper: the design limit "
+                    "per contact)", "Sec. 5.5", lambda run, g=lifted: g.delta_max_mm.max(),
+                    lambda p: (None, DESIGN_LIMIT_MM), "mm", because=never)
+        held = rep.dynamic_status == "stable"
+        unheld = f"not compared: no settled hold ({label('dynamic_status', rep.dynamic_status)})"
+        steps = (f"not compared: steps of another size (ours {1e6 * rep.dt_s:.3g} µs; the paper's is not "
+                 "published)")
+        settled = [("steps before the settled window", "steps_to_settle",
+                    lambda p: p.settle_within_iterations, "", steps),
+                   ("largest |R_z| in the settled window", "settled_amplitude_n",
+                    lambda p: p.residual_amplitude_internal_units, "N", UNITS)]
+        settled += [(f"finger {j} normal force at the end", f"normal_force_{j}_n",
+                     lambda p, j=j: p.finger_forces_internal_units[f"finger{j}"], "N", UNITS)
+                    for j in (1, 2, 3)]
+        for quantity, column, paper, unit, why in settled:
+            yield Value(f"{case}: {quantity}", "Sec. 5.5", lambda run, v=rep[column] if held else np.nan: v,
+                        paper, unit, 3 if unit else 0, because=why if held else unheld)
+
+
+def _penetration(g: pd.DataFrame, p) -> str:
+    """The finding's words on one preset's penetrations against Sec. 5.5 (the rule of the table)."""
+    if not len(g := g[g.final_phase != "closure"]):
+        return "; no run got past closure, so no penetration to set beside the paper's"
+    total, deepest = g.total_penetration_mm.max(), g.delta_max_mm.max()
+    below, side = 1e3 * p.total_penetration_below_m, {True: "above", False: "within"}
+    over_total = fmt.verdict(total, (None, below), digits=2)[0]
+    over_limit = fmt.verdict(deepest, (None, DESIGN_LIMIT_MM), digits=2)[0]
+    return (f"; final total penetration Σδ up to {total:.3g} mm, {side[over_total]} the paper's "
+            f"'settles below {below:g} mm', and δ_max up to {deepest:.3g} mm, {side[over_limit]} its "
+            f"{DESIGN_LIMIT_MM:g} mm design limit per contact")
+
+
 def mass_finding(run: Run) -> str:
     parts = []
-    for preset, g in in_order(run, FM).groupby("model_preset", sort=False):
+    for preset, g in ends(run).groupby("model_preset", sort=False):
         stable, other = g[g.dynamic_status == "stable"], g[g.dynamic_status != "stable"]
         text = f"**{label('model_preset', preset)}**: {len(stable)} of {len(g)} μ × m runs hold (`stable`)"
         if len(stable):
-            text += f" at δ_max {fmt.span(stable.delta_max_mm, ' mm')}"
+            weight = 100 * stable.wrench_force_norm_n / (stable.mass_kg * GRAVITY)
+            text += (f" at δ_max {fmt.span(stable.delta_max_mm, ' mm')}, by the paper's rule (|R_z| < τ_F, "
+                     "Eq. 19 along z; Sec. 3.7) while the whole force residual ‖F‖ left is "
+                     f"{fmt.span(stable.wrench_force_norm_n, ' N')} "
+                     f"({fmt.span(weight, ' %', 0)} of the weight mg) and the most loaded finger carries "
+                     f"{fmt.span(stable.top_finger_pct, ' %')} of the summed normal force (the paper: "
+                     "fingers 1 and 3 pinch, finger 2 nearly unloaded)")
+        text += _penetration(g, run.paper)
         if len(other):
             ended = other.groupby("dynamic_status")
             phase = ended["final_phase"].agg(lambda s: "/".join(set(s)))
@@ -193,9 +267,15 @@ def mass_finding(run: Run) -> str:
                      f"{fmt.span(g.delta_required_mm, ' mm')}, " + {1.0: "**beyond**", 0.0: "within"}.get(
                          beyond, "partly beyond") + f" the fingertip radius "
                      f"{fmt.span(g.fingertip_radius_mm, ' mm')}")
-        parts.append(text + f"; the quasi-static evaluator on the same contacts passes {g.qs_success.sum()} "
-                     f"({g.qs_success_unbounded.sum()} without the validity gate), so the labels agree on "
-                     f"{(g.success == g.qs_success).sum()} of {len(g)}")
+        text += (f"; the quasi-static evaluator on the same contacts passes {g.qs_success.sum()} "
+                 f"({g.qs_success_unbounded.sum()} without the validity gate), so the labels agree on "
+                 f"{(g.success == g.qs_success).sum()} of {len(g)}")
+        if (deep := g.qs_delta_max_mm > g.fingertip_radius_mm).any():
+            text += (f"; its δmax of {fmt.span(g.qs_delta_max_mm[deep], ' mm')} in {deep.sum()} runs "
+                     "is **non-physical** (a fingertip centre that far inside a 5 cm sphere): Algorithm 2 "
+                     "deepens the contacts until they carry the weight, which at this preset's K takes "
+                     "metres, as the closed form above says; the validity gate fails every one")
+        parts.append(text)
     ok = run.ok
     why = ok.loc[ok.lp_status_mu0 != "feasible", "lp_mu0_reason"].value_counts()
     short = ok.loc[ok.lp_status != "feasible", "mu"]
@@ -251,15 +331,20 @@ def fig12_13(run: Run, fig) -> None:
                     a.axvspan(row.lift_start_s, end, color="0.9", zorder=0, label="lift-off")
         ax[0].axhline(0.0, color=style.CRITERION, linestyle="--", linewidth=1)
         preset = label("model_preset", preset)
-        ax[0].set(xlabel="time [s]", ylabel="vertical residual R_z [N]", title=f"{preset}: Fig. 12 top")
+        ax[0].set(xlabel="time [s]", ylabel="vertical residual R_z [N]",
+                  title=f"{preset}\nvertical force residual R_z, Fig. 12 top")
         ax[1].axhline(1e3 * p.total_penetration_below_m, color=style.PAPER, linewidth=2,
                       label=f"paper: settles below {1e3 * p.total_penetration_below_m:g} mm")
-        ax[1].set(xlabel="time [s]", ylabel="total penetration [mm]", title=f"{preset}: Fig. 12 bottom")
-        ax[2].set(xlabel="time [s]", ylabel="normal force [N]", title=f"{preset}: Fig. 13, {case}")
+        ax[1].set(xlabel="time [s]", ylabel="total penetration Σδ [mm]",
+                  title=f"{preset}\nsum of the three contact depths, Fig. 12 bottom")
+        ax[2].set(xlabel="time [s]", ylabel="normal force [N]",
+                  title=f"{preset}\nper-finger normal force, Fig. 13, {case}")
         ax[1].legend(handles=ax[1].get_legend_handles_labels()[0][-1:], loc="best")
         if ax[2].lines:
             ax[2].legend()
-    fig.legend(handles=axes[0, 0].get_legend_handles_labels()[0], loc="outside lower center", ncol=6)
+    handles = axes[0, 0].get_legend_handles_labels()[0]  # the cases in design order, then the shading
+    fig.legend(handles=sorted(handles, key=lambda h: h.get_label() == "lift-off"), loc="outside lower center",
+               ncol=6)
 
 
 def _fm_table(name: str, caption: str, *columns: Col | str, **extra) -> Table:
@@ -273,6 +358,9 @@ FRICTION_MASS = ReportSpec("friction_mass", [
     Rates("stable_by_preset", "Stable, physically valid grasps per material preset beside Sec. 5.5 (the "
           "paper ran six of the nine μ × m and reports every one stable)", ["model_preset"],
           lambda p, key: 100.0, bootstrap=False),
+    Claims("paper_values", "Sec. 5.5's numbers beside ours per preset (penetrations: the largest over its "
+           "μ × m runs that got past closure, Fig. 12 bottom's last value; the rest at the case Figs. 12-13 "
+           "(ours) show; Σδ: the sum of the three contact depths)", paper_rows),
     _fm_table("friction_mass", "Dynamic grasp at every preset × μ × m beside Sec. 5.5; δ required: the "
               "closed form (mg/K)^(1/n) at which one fingertip alone carries the weight, beside the "
               "fingertip radius (the validity limit); final six-component wrench residual (the paper checked "
@@ -288,7 +376,11 @@ FRICTION_MASS = ReportSpec("friction_mass", [
               "lift_end_s", "hold_start_s", "hold_end_s", "simulated_time_s"),
     _fm_table("like_for_like", "Like-for-like labels on the dynamic pipeline's 45°/45°/−90° contact set "
               "(Sec. 6.1, Sec. 12): the dynamic label and Algorithms 1-2 on the same contacts under the same "
-              "preset, with and without the validity gate (δ ≤ fingertip radius)", "dynamic_status",
+              "preset, with and without the validity gate (δ ≤ fingertip radius); a quasi-static δmax beyond "
+              "the fingertip radius is non-physical (the fingertip centre inside the object) and a failure; "
+              "‖R‖ is the normal-only residual after Algorithm 2 has balanced R_z: it moves the three depths "
+              "together, so each contact carries the same force, set by the weight, and ‖R‖ is the contact "
+              "normals' horizontal imbalance, the same at every μ and preset", "dynamic_status",
               Col("success", "dynamic success"), Col("qs_success", f"{QS} success"), "labels_agree",
               Col("qs_success_unbounded", f"{QS} success without the gate"),
               Col("qs_failure_check", f"{QS} failing check"),
@@ -306,6 +398,6 @@ FRICTION_MASS = ReportSpec("friction_mass", [
               Col("lp_status_mu0_ideal", "ideal sphere: LP at μ = 0")),
     Figure("fig12_13_dynamic", lambda run: "Figs. 12-13 (ours), one row per preset: vertical residual "
            "and total penetration for every μ × m (each its own marker, at staggered times, so curves that "
-           "coincide stay visible), and the per-finger normal forces of the thick case, "
+           "coincide stay visible), and the per-finger normal forces of the case drawn with a thick line, "
            + _thick(run), fig12_13, (15.0, 8.8)),
 ])
