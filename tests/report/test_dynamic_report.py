@@ -273,7 +273,8 @@ def test_the_papers_penetration_and_force_values_are_rows_beside_ours():
     ours = {r[0]: r[head.index("ours")] for r in rows}
     assert ours[f"{case}: steps before the settled window"] == "3000"  # 0.3 s / 100 µs
     for j, paper in ((1, "5.000"), (2, "0.400"), (3, "12.000")):
-        row = next(r for r in rows if r[0] == f"{case}: finger {j} normal force at the end")
+        row = next(r for r in rows
+                   if r[0] == f"{case}: finger {j} normal force at the end (paper: internal units)")
         assert row[head.index("paper")] == paper and "internal units" in row[head.index("verdict")]
 
 

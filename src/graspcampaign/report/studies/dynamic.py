@@ -218,9 +218,9 @@ def paper_rows(run: Run):
                  "published)")
         settled = [("steps before the settled window", "steps_to_settle",
                     lambda p: p.settle_within_iterations, "", steps),
-                   ("largest |R_z| in the settled window", "settled_amplitude_n",
+                   ("largest |R_z| in the settled window (paper: internal units)", "settled_amplitude_n",
                     lambda p: p.residual_amplitude_internal_units, "N", UNITS)]
-        settled += [(f"finger {j} normal force at the end", f"normal_force_{j}_n",
+        settled += [(f"finger {j} normal force at the end (paper: internal units)", f"normal_force_{j}_n",
                      lambda p, j=j: p.finger_forces_internal_units[f"finger{j}"], "N", UNITS)
                     for j in (1, 2, 3)]
         for quantity, column, paper, unit, why in settled:
