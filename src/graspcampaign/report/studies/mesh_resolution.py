@@ -90,8 +90,8 @@ def _growth(run: Run, repeats: str) -> tuple[bool, str]:
     interval lies above 1 and above the reference mesh's ratio against itself (docs/decisions.md)."""
     ratio, ref = _cost_ratio(run, repeats), _meshes(run)[1]
     if math.isnan(ratio.low):
-        return False, f"no growth detectable at this n ({ratio.n} trial{'s' * (ratio.n != 1)}; a 95% " \
-                      f"interval needs {MIN_TRIALS})"
+        return False, f"too few trials to tell growth from timing noise ({ratio.n} trial" \
+                      f"{'s' * (ratio.n != 1)}; a 95% interval needs {MIN_TRIALS})"
     try:
         itself = _cost_ratio(run, repeats, ref)
     except ValueError:  # the reference mesh is not a level of the panel
@@ -190,7 +190,8 @@ def _reading(run: Run) -> str:
     return (f"One evaluation on the largest mesh ({top} nodes) costs {fmt.number(ratio.value, 2)} times one "
             f"on the {ref}-node reference mesh (median over {trials} of each trial's ratio of the two "
             f"meshes' {repeats}; {paper}): {growth}, " + (
-                "which the design does not predict, since" if grows else "as the design predicts, since") +
+                "which the design does not predict, since" if grows else "the design predicts none, since"
+                if math.isnan(ratio.low) else "as the design predicts, since") +
             " neither stage's work depends on the mesh size (the candidate search scores a fixed "
             "N_cand of vertex triples from precomputed data, Algorithm 2 works on three contacts), "
             "while the paper's growth comes from per-candidate collision queries (Sec. 6.7).")
