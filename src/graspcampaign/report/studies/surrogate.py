@@ -128,8 +128,9 @@ def finding(run: Run) -> str:
             f"{d['success_pct']:.1f}% once a fingertip buried deeper than its radius is no contact (the "
             f"configured check) and {d['success_vertical_pct']:.1f}% under the gated |R_z| reading. "
             f"{int(deep.sum())} of {len(deep)} scenarios end with a contact deeper than the fingertip radius "
-            f"r = {run.radius_mm:g} mm (non-physical: the fingertip centre inside the object), "
-            f"{int((deep & won).sum())} of the {int(won.sum())} published-algorithm successes among them" + (
+            f"r = {run.radius_mm:g} mm (non-physical: the fingertip centre inside the object), " +
+            (f"{int((deep & won).sum())} of the {int(won.sum())} published-algorithm successes among them"
+             if won.any() else "none of them a published-algorithm success (there is none)") + (
                 f"; δmax over the physical ones: median {physical.median():.3g} mm. " if len(physical) else
                 ". "))
     cls = t["surrogate_classification"].query(f"label == '{PAPER_LABEL}'")
