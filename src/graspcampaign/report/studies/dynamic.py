@@ -249,9 +249,12 @@ def mass_finding(run: Run) -> str:
         if len(stable):
             weight = 100 * stable.wrench_force_norm_n / (stable.mass_kg * GRAVITY)
             text += (f" at δ_max {fmt.span(stable.delta_max_mm, ' mm')}, by the paper's rule (|R_z| < τ_F, "
-                     "Eq. 19 along z; Sec. 3.7) while the whole force residual ‖F‖ left is "
+                     "Eq. 19 along z; Sec. 3.7) while at the last step the contact forces (normal and "
+                     "friction) and the weight sum to ‖F‖ = "
                      f"{fmt.span(stable.wrench_force_norm_n, ' N')} "
-                     f"({fmt.span(weight, ' %', 0)} of the weight mg) and the most loaded finger carries "
+                     f"({fmt.span(weight, ' %', 0)} of the weight mg; one step's value: a centroid at rest "
+                     "over the settled window bounds the force's mean there, not its swing from step to "
+                     "step) and the most loaded finger carries "
                      f"{fmt.span(stable.top_finger_pct, ' %')} of the summed normal force (the paper: "
                      "fingers 1 and 3 pinch, finger 2 nearly unloaded)")
         text += _penetration(g, run.paper)
@@ -364,10 +367,12 @@ FRICTION_MASS = ReportSpec("friction_mass", [
     _fm_table("friction_mass", "Dynamic grasp at every preset × μ × m beside Sec. 5.5; δ required: the "
               "closed form (mg/K)^(1/n) at which one fingertip alone carries the weight, beside the "
               "fingertip radius (the validity limit); final six-component wrench residual (the paper checked "
-              "only the vertical part)", "paper", "dynamic_status", "final_phase", "success", DELTA_MAX,
+              "only the vertical part): ‖F‖ and ‖τ‖ of the contact forces (normal and friction) plus the "
+              "weight at the last step", "paper", "dynamic_status", "final_phase", "success", DELTA_MAX,
               Col("delta_required_mm", "δ required [mm]", sig=3), "fingertip_radius_mm",
-              Col("final_residual_z_n", "final R_z [N]", sig=3), Col("wrench_force_norm_n", "‖F‖ [N]", sig=3),
-              Col("wrench_torque_norm_nm", "‖τ‖ [N·m]", sig=3),
+              Col("final_residual_z_n", "final R_z [N]", sig=3),
+              Col("wrench_force_norm_n", "final ‖F‖ [N]", sig=3),
+              Col("wrench_torque_norm_nm", "final ‖τ‖ [N·m]", sig=3),
               *(Col(f"normal_force_{j}_n", f"finger {j} normal force [N]", sig=3) for j in (1, 2, 3)),
               paper="stable"),
     _fm_table("phases", "Phase timings in the order of Fig. 11: closure on the held object (first touch of "
