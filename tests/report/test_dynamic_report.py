@@ -134,7 +134,7 @@ def test_the_finding_says_how_and_when_the_unheld_runs_ended_in_words():
     run.__dict__["ok"] = ok
     per_preset = int((ok.model_preset == "firm").sum())
     text = mass_finding(run)
-    assert f"{per_preset} end not settled by t_max (in closure, at 0.0300 s)" in text
+    assert f"{per_preset} end: not settled by t_max (in closure, at 0.0300 s)" in text
     assert "`not_settled`" not in text
 
 
@@ -308,3 +308,18 @@ def test_the_figure_legend_lists_the_cases_before_the_lift_off_shading():
     labels = [t.get_text() for t in fig.legends[0].get_texts()]
     plt.close(fig)
     assert labels[-1] == "lift-off" and labels.count("lift-off") == 1
+
+
+def test_the_phases_a_status_ended_in_are_named_in_one_order():
+    # the phases were joined from a set of strings, whose order changes with the hash seed, so two
+    # reports of the same records could differ; and "2 end penetration limit" read as broken English
+    run = friction_mass_run([0.1])
+    ok = run.ok.assign(dynamic_status="penetration_limit", simulated_time_s=0.4, delta_max_mm=6.0,
+                       final_phase=["lift" if i % 2 else "closure" for i in range(len(run.ok))],
+                       success=False, qs_success=False, qs_success_unbounded=True, lp_status="feasible",
+                       lp_status_mu0="feasible", lp_status_mu0_ideal="feasible", lp_mu0_reason="",
+                       normal_off_radial_max_deg=1.0)
+    run.__dict__["ok"] = ok
+    per_preset = int((ok.model_preset == "firm").sum())
+    assert per_preset > 1
+    assert f"{per_preset} end: penetration limit (in closure/lift, at 0.400 s)" in mass_finding(run)

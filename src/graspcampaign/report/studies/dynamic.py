@@ -260,8 +260,8 @@ def mass_finding(run: Run) -> str:
         text += _penetration(g, run.paper)
         if len(other):
             ended = other.groupby("dynamic_status")
-            phase = ended["final_phase"].agg(lambda s: "/".join(set(s)))
-            text += "; " + ", ".join(f"{v} end {label('dynamic_status', k)} (in {phase[k]}, at "
+            phase = ended["final_phase"].agg(lambda s: "/".join(sorted(set(s))))
+            text += "; " + ", ".join(f"{v} end: {label('dynamic_status', k)} (in {phase[k]}, at "
                                      f"{fmt.span(ended.get_group(k).simulated_time_s, ' s')})"
                                      for k, v in other.dynamic_status.value_counts().items())
         if "delta_required_mm" in g:
