@@ -146,7 +146,7 @@ def h_epsilon_correlation(records: pd.DataFrame, candidates: pd.DataFrame, *, co
             distinct[group] = v
             ci = stats.bootstrap((group.astype(np.int32),), lambda g, axis, d=distinct: row_medians(g, d),
                                  confidence_level=confidence, method="percentile",
-                                 n_resamples=n_resamples, random_state=rng,
+                                 n_resamples=n_resamples, rng=rng,
                                  batch=max(1, 2**22 // len(v))).confidence_interval
             out.append((reading, float(np.median(v)), ci.low, ci.high, len(v), np.nan))
     pooled = candidates[candidates["trial_id"].isin(rows["trial_id"])]
