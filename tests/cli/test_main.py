@@ -271,7 +271,8 @@ def test_answering_commands_import_no_numerical_layer(smoke_run, args, allowed):
     code = ("import sys\nfrom graspcampaign.cli.main import app\n"
             f"try:\n    app({args!r}, standalone_mode=False)\nexcept SystemExit:\n    pass\n"
             f"print([m for m in {HEAVY!r} if m in sys.modules])")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert out.returncode == 0, f"exit {out.returncode}; stderr: {out.stderr[-2000:]}"
     imported = eval(out.stdout.strip().splitlines()[-1])  # noqa: S307  (our own print)
     assert set(imported) <= set(allowed), imported
 
