@@ -46,6 +46,15 @@ def test_paper_test2_counts_reproduce_its_chi2():
     assert (out["dof"], out["n"]) == (2, 819 + 474 + 282)
 
 
+def test_chi2_planners_says_no_test_ran_when_every_trial_has_one_outcome():
+    # 6/6 and 4/4 succeed: scipy has no table to test; the row had read "χ² planner × success
+    # (proposed H(G), centroid, random)" with p 1.0, naming a planner with no trial
+    rec = _records({"heuristic": (6, 6), "centroid": (4, 4)})
+    out = hardware.chi2_planners(hardware.derive(rec))
+    assert out["test"] == "no test: every trial has one outcome (proposed H(G), centroid)"
+    assert np.isnan(out["p"]) and np.isnan(out["statistic"]) and out["n"] == 10
+
+
 def test_chi2_planners_takes_the_monte_carlo_p_below_five_expected():
     # 6/8, 2/6, 1/5: every expected failure count < 5, so the asymptotic p is not trusted; the p is
     # scipy's Monte Carlo p of the same table from the given seed, as equal_rates_test's (the old

@@ -166,8 +166,11 @@ def chi2_planners(df: pd.DataFrame, planners: Sequence[str] = ("heuristic", "cen
     g = df[df["planner"].isin(planners)]
     counts = g.groupby("planner")["success"].agg(["sum", "size"])
     res = association.equal_rates_test(counts["sum"], counts["size"], seed=seed)
-    names = ", ".join(label("planner", p) for p in planners)
-    return {"test": f"{res.method or 'χ²'} planner × success ({names})", "n": len(g),
+    names = ", ".join(label("planner", p) for p in planners if p in counts.index)
+    if not res.method:  # every trial has one outcome: nothing was tested
+        return {"test": f"no test: every trial has one outcome ({names})", "n": len(g),
+                "statistic": np.nan, "dof": res.groups - 1, "p": np.nan}
+    return {"test": f"{res.method} planner × success ({names})", "n": len(g),
             "statistic": res.statistic, "dof": res.groups - 1, "p": res.pvalue}
 
 
