@@ -109,7 +109,7 @@ def coefficient_of_variation(x: ArrayLike, axis: int | None = None) -> float | n
     return float(cv) if cv.ndim == 0 else cv
 
 
-def cv_interval(x: ArrayLike, *, seed: int, n_resamples: int = 10_000,
+def cv_interval(x: ArrayLike, *, seed: int, n_resamples: int = BOOTSTRAP_RESAMPLES,
                 confidence_level: float = 0.95) -> tuple[float, float]:
     """Return the percentile interval of the CV of ``x`` by ``scipy.stats.bootstrap`` (n >= 3)."""
     arr = check_1d(x, "x", 3)
@@ -118,7 +118,7 @@ def cv_interval(x: ArrayLike, *, seed: int, n_resamples: int = 10_000,
                                 seed, n_resamples, confidence_level)
 
 
-def median_interval(x: ArrayLike, *, seed: int, n_resamples: int = 10_000,
+def median_interval(x: ArrayLike, *, seed: int, n_resamples: int = BOOTSTRAP_RESAMPLES,
                     confidence_level: float = 0.95) -> tuple[float, float]:
     """Return the percentile interval of the median of ``x`` by ``scipy.stats.bootstrap`` (n >= 3)."""
     return _percentile_interval(check_1d(x, "x", 3), np.median, seed, n_resamples, confidence_level)
