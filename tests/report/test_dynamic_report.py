@@ -323,3 +323,17 @@ def test_the_phases_a_status_ended_in_are_named_in_one_order():
     per_preset = int((ok.model_preset == "firm").sum())
     assert per_preset > 1
     assert f"{per_preset} end: penetration limit (in closure/lift, at 0.400 s)" in mass_finding(run)
+
+
+def test_a_preset_without_the_shown_case_says_so_row_by_row():
+    # the firm preset's μ = 0.1, m = 0.4 kg run errored: the table raised IndexError and was lost
+    run = held_run()
+    firm = label("model_preset", "firm")
+    run.__dict__["ok"] = run.ok[~((run.ok.model_preset == "firm") & (run.ok.mass_kg == 0.4))]
+    head, rows = rendered_tables(run)["paper_values"]
+    verdict = {r[0]: r[head.index("verdict")] for r in rows}
+    case = f"{firm}, μ = 0.1, m = 0.4 kg"
+    assert verdict[f"{case}: steps before the settled window"] == \
+        "not compared: this preset has no executed run of this case"
+    assert verdict[f"{case}: finger 1 normal force at the end (paper: internal units)"] == \
+        "not compared: this preset has no executed run of this case"

@@ -203,7 +203,8 @@ def paper_rows(run: Run):
     mu, mass, _ = shown_case(run)
     for preset, g in ends(run).groupby("model_preset", sort=False):
         name = label("model_preset", preset)
-        rep = g[np.isclose(g.mu, mu) & np.isclose(g.mass_kg, mass)].iloc[0]
+        at = g[np.isclose(g.mu, mu) & np.isclose(g.mass_kg, mass)]
+        rep = at.iloc[0] if len(at) else None
         case, lifted = f"{name}, μ = {mu:g}, m = {mass:g} kg", g[g.final_phase != "closure"]
         never = "" if len(lifted) else "not compared: no run got past closure"
         yield Value(f"{name}: final total penetration Σδ, largest over its lifted runs", "Sec. 5.5",
@@ -212,10 +213,11 @@ def paper_rows(run: Run):
         yield Value(f"{name}: deepest contact δmax, largest over its lifted runs (paper: the design limit "
                     "per contact)", "Sec. 5.5", lambda run, g=lifted: g.delta_max_mm.max(),
                     lambda p: (None, DESIGN_LIMIT_MM), "mm", because=never)
-        held = rep.dynamic_status == "stable"
-        unheld = f"not compared: no settled hold ({label('dynamic_status', rep.dynamic_status)})"
+        held = rep is not None and rep.dynamic_status == "stable"
+        unheld = ("not compared: this preset has no executed run of this case" if rep is None else
+                  f"not compared: no settled hold ({label('dynamic_status', rep.dynamic_status)})")
         steps = (f"not compared: steps of another size (ours {1e6 * rep.dt_s:.3g} µs; the paper's is not "
-                 "published)")
+                 "published)") if held else ""
         settled = [("steps before the settled window", "steps_to_settle",
                     lambda p: p.settle_within_iterations, "", steps),
                    ("largest |R_z| in the settled window (paper: internal units)", "settled_amplitude_n",
