@@ -73,7 +73,12 @@ def _estimators(run: Run) -> list[str]:
 
 def _cost_ratio(run: Run, repeats: str, nodes: int | None = None) -> Estimate:
     """Median over the trials on the ``nodes`` mesh (default the largest) of each trial's cost ratio of
-    ``repeats`` repeats, with its percentile-bootstrap 95 % interval from :data:`MIN_TRIALS` trials on."""
+    ``repeats`` repeats, with its percentile-bootstrap 95 % interval from :data:`MIN_TRIALS` trials on;
+    computed once per run (the table, the finding and the growth test read it)."""
+    return run.memo(f"cost_ratio/{repeats}/{nodes}", lambda: _median_ratio(run, repeats, nodes))
+
+
+def _median_ratio(run: Run, repeats: str, nodes: int | None) -> Estimate:
     res = panel_rows(run, "resolution")
     at = res[res["nodes"] == (res["nodes"].max() if nodes is None else nodes)]
     if not len(at):
