@@ -287,6 +287,9 @@ def test_a_kind_parameter_out_of_range_is_refused_before_the_run_starts(results,
             f"{override.removeprefix('+').replace('=', ' = ')} is out of range; allowed: {allowed}.")
 
 
+MASS_ALLOWED = "> 0.0 and <= 10.0 (a mass must be positive and a three-finger hand lifts at most ~10 kg)"
+
+
 @pytest.mark.parametrize("command", ["show", "run"])
 @pytest.mark.parametrize(("study", "override", "value", "allowed"), [
     ("mesh_resolution", "params.resolutions=[10]", "params.resolutions[0] = 10", NODES_ALLOWED),
@@ -298,7 +301,9 @@ def test_a_kind_parameter_out_of_range_is_refused_before_the_run_starts(results,
     ("surrogate", "params.mu_range=[0.05,9]", "params.mu_range[1] = 9.0",
      ">= 0.0 and <= 3.0 (dry friction of soft materials stays below 3)"),
     ("sensitivity", "params.mu_range=[0.05,9]", "params.mu_range[1] = 9.0",
-     ">= 0.0 and <= 3.0 (dry friction of soft materials stays below 3)")])
+     ">= 0.0 and <= 3.0 (dry friction of soft materials stays below 3)"),
+    ("surrogate", "params.mass_range_kg=[0.1,50]", "params.mass_range_kg[1] = 50.0", MASS_ALLOWED),
+    ("sensitivity", "params.mass_range_kg=[0.1,50]", "params.mass_range_kg[1] = 50.0", MASS_ALLOWED)])
 def test_kind_param_lists_and_time_budgets_are_bounded_as_their_factors(
         results, command, study, override, value, allowed):
     # show accepted these and run failed after running (MeshError: n_nodes must be at least 12), or

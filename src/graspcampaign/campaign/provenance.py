@@ -121,7 +121,9 @@ def design_change(manifest: dict[str, Any]) -> tuple[str, str] | None:
         return None
     size = default.get("n_trials")
     of = f" of the study's {size}" if isinstance(size, int) else ""
-    return " ".join(map(str, manifest.get("overrides") or [])), f"{manifest.get('n_trials')}{of} trials"
+    changed = [o for o in map(str, manifest.get("overrides") or [])  # not where or how trials ran
+               if o.lstrip("+~").split("=")[0].split(".")[0] not in _RESULT_FREE]
+    return " ".join(changed), f"{manifest.get('n_trials')}{of} trials"
 
 
 #: The manifest's fields every command relies on, and what each must hold.

@@ -71,7 +71,7 @@ class SensitivityParams:
     levels: int = field(default=12, metadata={"ge": 2})  # grid values per axis
     panels: list[str] = field(default_factory=lambda: list(PANELS))
     mu_range: list[float] = _range([0.05, 0.6], PLAUSIBLE["mu"].meta())  # Sec. 6.6
-    mass_range_kg: list[float] = _range([0.1, 0.8])  # Sec. 6.6
+    mass_range_kg: list[float] = _range([0.1, 0.8], PLAUSIBLE["mass_kg"].meta())  # Sec. 6.6
     lambda_range: list[float] = _range([0.1, 1.5])  # Sec. 6.6
     n_range: list[float] = _range([0.1, 1.0])  # Sec. 11 PSO bounds
     b_range: list[float] = _range([0.1, 2.0])  # Sec. 11 PSO bounds (internal units)

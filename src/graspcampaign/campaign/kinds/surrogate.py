@@ -59,7 +59,8 @@ class SurrogateParams:
     nodes: int = field(default=common.DEFAULT_NODES, metadata=NODES)
     planner: str = field(default="heuristic", metadata={"choices": "planner"})
     shapes: list[str] = _list(["sphere", "ellipsoid", "rounded_cube", "pear", "handle"])
-    mass_range_kg: list[float] = _list([0.1, 0.8])  # Appendix A
+    mass_range_kg: list[float] = field(default_factory=lambda: [0.1, 0.8],  # Appendix A
+                                       metadata=PLAUSIBLE["mass_kg"].meta())
     mu_range: list[float] = field(default_factory=lambda: [0.05, 0.6],  # Appendix A
                                   metadata=PLAUSIBLE["mu"].meta())
     lambda1_range: list[float] = _list([0.05, 1.5])  # Sec. 11 bounds
