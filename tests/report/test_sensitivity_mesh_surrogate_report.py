@@ -146,6 +146,46 @@ def test_fig20s_load_corrected_line_scales_the_fastest_reference_by_the_fastest_
     plt.close(fig)
 
 
+def test_a_run_resumed_across_the_fastest_repeat_change_gives_the_median_repeat_ratio_everywhere():
+    """A run resumed across the change of ``cost_ratio_vs_reference`` (median over median repeats, then
+    fastest over fastest) has rows with and without ``eval_time_reference_min_s``; the cost_ratio table
+    then used the median repeats, but the runtime table's ratio and Fig. 20a's load-corrected line took
+    the column's median, mixing the two estimators. Both are recomputed from the records with pandas."""
+    from types import SimpleNamespace
+
+    import matplotlib.pyplot as plt
+
+    from graspcampaign.report.studies.mesh_resolution import SPEC, fig20
+
+    rng = np.random.default_rng(4)
+    rows = []
+    for nodes in (144, 1750):
+        for i in range(4):
+            own, own_min, ref, ref_min = rng.uniform([1e-3, 0.5e-3, 1e-3, 0.5e-3], [9e-3, 1e-3, 9e-3, 1e-3])
+            stored_before = i % 2 == 0  # its ratio is of the median repeats, with no fastest repeat
+            rows.append({"panel": "resolution", "status": "ok", "nodes": nodes, "reference_nodes": 144,
+                         "n_faces": 2 * nodes - 4, "eval_time_s": own, "eval_time_reference_s": ref,
+                         "eval_time_min_s": np.nan if stored_before else own_min,
+                         "eval_time_reference_min_s": np.nan if stored_before else ref_min,
+                         "cost_ratio_vs_reference": own / ref if stored_before else own_min / ref_min,
+                         "search_time_s": 1e-4, "equilibrium_time_s": 1e-4, "residual_norm_n": 0.1,
+                         "loop_capped": False, "success": True})
+    records = pd.DataFrame(rows)
+    run = Run(records, {"config": {"evaluator": {"tau_f_n": 0.5}}},
+              SimpleNamespace(runtime_ms={"144": 1.0, "1750": 2.0}, residual_scatter_n=(0.1, 1.0)))
+    expected = (records["eval_time_s"] / records["eval_time_reference_s"]).groupby(records["nodes"]).median()
+    assert not np.allclose(expected, records.groupby("nodes")["cost_ratio_vs_reference"].median())
+    runtime = next(i for i in SPEC.items if getattr(i, "name", "") == "mesh_resolution_runtime")
+    table = runtime.compute(run).set_index("nodes")["cost_ratio_vs_reference"]
+    assert table.to_numpy() == pytest.approx(expected.to_numpy())
+    fig = plt.figure()
+    fig20(run, fig)
+    [line] = [h for h in fig.axes[0].lines if h.get_label().startswith("ours, load-corrected (median")]
+    reference_ms = 1e3 * records["eval_time_reference_s"].median()
+    assert line.get_ydata() == pytest.approx(reference_ms * expected.to_numpy())
+    plt.close(fig)
+
+
 def test_a_run_without_the_papers_meshes_is_not_compared_with_the_papers_ratio(sim_root):
     """The reduced run's largest mesh is 390 nodes: its ratio was compared with the paper's 1750/144
     one, "neither stage touches the mesh" was said whatever the ratio, and one trial was "trials"."""
