@@ -43,8 +43,20 @@ def test_too_few_of_a_class_gives_no_interval_and_says_why(n_pos, n_neg, reason)
     ci = auc_interval(np.linspace(0.5, 1, n_pos), np.linspace(0, 0.6, n_neg), seed=0)
     assert math.isnan(ci.low) and math.isnan(ci.high)
     assert (ci.method, ci.n_resamples, ci.reason) == ("", 0, reason)
-    assert AUC_INTERVAL_MIN_CLASS == 10
-    assert not auc_interval(np.linspace(0.5, 1, 10), np.linspace(0, 0.6, 10), seed=0, n_resamples=99).reason
+
+
+@pytest.mark.parametrize("short", ["positive", "negative"])
+def test_the_interval_is_refused_one_below_the_minimum_class_size_and_given_at_it(short):
+    """The cutoff the surrogate report's caption names (AUC_INTERVAL_MIN_CLASS) is the one applied."""
+    n = AUC_INTERVAL_MIN_CLASS
+    below = {"positive": n, "negative": n, short: n - 1}
+    refused = auc_interval(np.linspace(0.5, 1, below["positive"]), np.linspace(0, 0.6, below["negative"]),
+                           seed=0, n_resamples=99)
+    assert math.isnan(refused.low)
+    assert refused.reason == f"only {n - 1} held-out {short}s, too few for an interval"
+    given = auc_interval(np.linspace(0.5, 1, n), np.linspace(0, 0.6, n), seed=0, n_resamples=99)
+    assert (given.method, given.n_resamples, given.reason) == ("percentile", 99, "")
+    assert given.low <= given.high
 
 
 def test_an_auc_needs_both_classes():

@@ -23,9 +23,9 @@ from graspcampaign.campaign.kinds import test1 as K
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.runner import kind_params, run_study, study_trials
 from graspcampaign.cli.main import app
-from graspcampaign.core import bench
 from graspcampaign.rig import test1 as T
 from graspcampaign.rig.test1_fits import META_COLUMNS
+from graspcampaign.rig.virtual import RigParams
 
 SEED = 701  # campaigns/test1_bench.yaml
 REDUCED = ["params.materials=[gel]", "params.specimens=[1,11]",
@@ -69,7 +69,7 @@ def _assert_same_fits(records: pd.DataFrame, ref_fits: pd.DataFrame) -> None:
 
 
 def test_design_is_the_schedule_one_trial_per_event(engine):
-    _, study, summary, _, records, schedule, _ = engine
+    _, study, summary, store, records, schedule, _ = engine
     assert summary.n_trials == len(schedule) == 284 and summary.n_error == 0
     kind = get_kind("test1_bench")
     trials = study_trials(study, kind, kind_params(study, kind))
@@ -79,7 +79,12 @@ def test_design_is_the_schedule_one_trial_per_event(engine):
             records.set_index("event_id")[col].loc[schedule["event_id"]].reset_index(drop=True),
             schedule[col], check_names=False, check_dtype=False)
     assert (records["source"] == "virtual").all() and (records["kind"] == "test1_bench").all()
-    assert (records["indenter_radius_mm"] == 1e3 * bench.FINGERTIP_RADIUS).all()  # the bench's
+    # the indenter radius the records carry is the one the PSO fits converted lambda2 to C with
+    # (C = 4 pi R lambda2, Eq. 14) and the one the virtual rig's contact model uses (Tests 2-3)
+    runs = store.read("summary/pso_runs").to_pandas()
+    fitted_mm = 1e3 * runs["c_n_s_per_m"] / (4 * np.pi * runs["lambda2"])
+    assert records["indenter_radius_mm"].to_numpy() == pytest.approx(fitted_mm.iloc[0], rel=1e-12)
+    assert fitted_mm.to_numpy() == pytest.approx(1e3 * RigParams().fingertip_radius, rel=1e-12)
 
 
 def test_full_protocol_design_counts_and_retained_traces():
@@ -200,7 +205,7 @@ def test_ingest_gives_the_same_fits_as_the_in_process_path(engine, ingested):
     assert len(records) == 284 and len(measured) == 30
     assert sorted(measured["block"].unique()) == sorted(T.BLOCKS)
     _assert_same_fits(measured, ref.fits)
-    assert (measured["indenter_radius_mm"] == 1e3 * bench.FINGERTIP_RADIUS).all()
+    assert (measured["indenter_radius_mm"] == records["indenter_radius_mm"].iloc[0]).all()  # the engine's
     # keyed by the engine's trial ids of the same planned events
     ids = records.set_index("event_id")["trial_id"]
     assert (measured.set_index("event_id")["trial_id"] == ids.loc[measured["event_id"]]
