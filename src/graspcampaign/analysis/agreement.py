@@ -139,15 +139,17 @@ def auc(positive: np.ndarray, negative: np.ndarray, axis: int = -1) -> np.ndarra
 
 
 def auc_interval(positive: ArrayLike, negative: ArrayLike, *, seed: int,
-                 n_resamples: int = BOOTSTRAP_RESAMPLES) -> AucInterval:
+                 n_resamples: int = BOOTSTRAP_RESAMPLES,
+                 min_class: int = AUC_INTERVAL_MIN_CLASS) -> AucInterval:
     """Return the AUC's 95 % percentile bootstrap interval from the held-out scores of the positives
     and negatives, resampled apart (every resample keeps the stratified split's class counts); none,
-    with its reason, below :data:`AUC_INTERVAL_MIN_CLASS` of either class."""
+    with its reason, below ``min_class`` of either class (lowered only by
+    benchmarks/auc_interval_coverage.py, which measures the coverage the default guards)."""
     positive, negative = check_1d(positive, "positive", 0), check_1d(negative, "negative", 0)
     require(positive.size and negative.size, "an AUC needs both classes among the held-out scores, got "
                                              f"{positive.size} positives and {negative.size} negatives.")
     few = [f"only {a.size} held-out {word}{'s' if a.size != 1 else ''}"
-           for a, word in ((positive, "positive"), (negative, "negative")) if a.size < AUC_INTERVAL_MIN_CLASS]
+           for a, word in ((positive, "positive"), (negative, "negative")) if a.size < min_class]
     if few:
         return AucInterval(math.nan, math.nan, "", 0, " and ".join(few) + ", too few for an interval")
     ci = stats.bootstrap((positive, negative), auc, paired=False, vectorized=True, n_resamples=n_resamples,
