@@ -18,7 +18,7 @@ import re
 from dataclasses import dataclass, field
 from typing import Any
 
-from graspcampaign.core.plausible import PLAUSIBLE
+from graspcampaign.core.plausible import FINGERTIP_RADIUS, PLAUSIBLE
 from graspcampaign.errors import ConfigError
 
 _LAMBDA = PLAUSIBLE["lambda"].meta()
@@ -51,7 +51,7 @@ class ContactModelCfg:
     lambda2: float = config_field(0.880, **_LAMBDA)  # Table 3
     n_exp: float = config_field(0.487, **PLAUSIBLE["n_exp"].meta())  # Table 3 (Hunt-Crossley exponent)
     fingertip_radius_m: float = config_field(  # Table 2
-        5e-3, gt=0.0, le=PLAUSIBLE["fingertip_radius_mm"].high * 1e-3,
+        FINGERTIP_RADIUS, gt=0.0, le=PLAUSIBLE["fingertip_radius_mm"].high * 1e-3,
         why=PLAUSIBLE["fingertip_radius_mm"].why)
     e_finger_pa: float = config_field(0.0893e6, gt=0.0)  # Table 2
     e_object_pa: float = config_field(0.14e6, gt=0.0)  # Table 2
