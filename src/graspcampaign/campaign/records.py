@@ -156,7 +156,6 @@ class RunStore:
 
     def __init__(self, path: Path | str):
         self.path = Path(path)
-        self._sources: dict[Path, list[str]] = {}  # compacted file -> the names it supersedes
 
     # -- layout ---------------------------------------------------------------------------------
     @property
@@ -182,16 +181,12 @@ class RunStore:
 
         A name a compacted file lists as superseded gets a suffix (``part-<name>-1.parquet``):
         a file of that name would be ignored as a leftover of the compaction. What a compacted
-        file supersedes is asked once per file by this store, not once a task: its name is the
-        hash of what it supersedes (docs/decisions.md).
+        file supersedes comes from its verified facts (:func:`~graspcampaign.campaign.verify.facts`:
+        read once while it is unchanged; a run session writes its shards within one check, so
+        even a file too new to be remembered is read once, docs/decisions.md).
         """
         directory, k = self._dir(part), 0
-        superseded = set()
-        for compacted in directory.glob("compact-*.parquet"):  # each asked once by this store
-            if compacted not in self._sources:
-                with contextlib.suppress(*READ_ERRORS):
-                    self._sources[compacted] = supersedes(compacted)
-            superseded.update(self._sources.get(compacted, ()))
+        superseded = self._superseded(part)[0]
         while f"part-{name}{f'-{k}' if k else ''}.parquet" in superseded:
             k += 1
         path = directory / f"part-{name}{f'-{k}' if k else ''}.parquet"
