@@ -220,6 +220,20 @@ def test_status_reads_only_the_status_column_of_a_checked_run(study_factory, pas
     assert asked == [["status"]]
 
 
+def test_status_lists_the_records_once_after_the_runs_check(study_factory, monkeypatch):
+    # was twice: reading the statuses and asking the records' source each listed the files
+    from graspcampaign.campaign import status
+
+    summary = run_study(study_factory())
+    listed, listing, opening = [], RunStore._listing, status.open_run
+    monkeypatch.setattr(RunStore, "_listing", lambda self, part: (
+        listed.append(part), listing(self, part))[1])
+    monkeypatch.setattr(status, "open_run", lambda *args: (opening(*args), listed.clear())[0])
+    got = status.run_status(summary.path.parent.parent, "unit", "r1")
+    assert (got["source"], got["n_recorded"], got["n_ok"]) == ("simulation", 16, 16)
+    assert listed == ["records"]
+
+
 def test_removing_rows_reads_a_file_not_yet_verified_once(tmp_path, opened):
     # its verifying read is the table rewritten (was read once to verify it, again to rewrite it)
     store = RunStore(tmp_path / "results" / "unit" / "r1")

@@ -46,6 +46,7 @@ import logging
 import os
 import shutil
 import warnings
+from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
@@ -303,12 +304,22 @@ class RunStore:
         DamagedRunError
             If a file of ``part`` is damaged (nothing is moved; see :meth:`repair`).
         """
+        return self._read(part, columns)[0]
+
+    def read_records(self, manifest: dict, columns: list[str]) -> tuple[pa.Table, str]:
+        """The records' ``columns`` (:meth:`read`) and the run's data source (:meth:`source`),
+        from one listing of its files (raises DamagedRunError)."""
+        table, read = self._read("records", columns)
+        return table, self._source(read, manifest)
+
+    def _read(self, part: str, columns: list[str] | None) -> tuple[pa.Table, list[Facts]]:
+        """:meth:`read`'s table and the facts of the files it was read from."""
         read = []
         for path in self._live(part):
             with self._refusing(path):
                 read.append(read_file(path, columns))
         if not read:
-            return pa.table({})
+            return pa.table({}), []
         schema = pa.unify_schemas([own.schema.remove_metadata() for _, own in read],
                                   promote_options="permissive")
         if columns is not None:
@@ -319,7 +330,7 @@ class RunStore:
                 if field.name not in table.column_names:
                     table = table.append_column(field, pa.nulls(table.num_rows, field.type))
             tables.append(table.select(schema.names).replace_schema_metadata(None))
-        return pa.concat_tables(tables, promote_options="permissive").cast(schema)
+        return pa.concat_tables(tables, promote_options="permissive").cast(schema), [own for _, own in read]
 
     def dataset(self, part: str = "records"):
         """Return a ``pyarrow.dataset.Dataset`` over the verified files of ``part`` (large runs).
@@ -339,7 +350,11 @@ class RunStore:
         """The data source of the run's records (SPEC §4): ``virtual`` as soon as one record says
         so, else the manifest's (``analysis.vocabulary.data_source``), from the sources each records
         file's verified facts hold: no column is read again."""
-        held = set().union(*(own.owners.get("source", ()) for own in self._verified("records").values()))
+        return self._source(self._verified("records").values(), manifest)
+
+    @staticmethod
+    def _source(records: Iterable[Facts], manifest: dict) -> str:
+        held = set().union(*(own.owners.get("source", ()) for own in records))
         return data_source(held, manifest.get("source"))
 
     def recorded_ids(self, part: str = "records") -> set[str]:
