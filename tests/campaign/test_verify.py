@@ -220,6 +220,20 @@ def test_status_reads_only_the_status_column_of_a_checked_run(study_factory, pas
     assert asked == [["status"]]
 
 
+def test_status_lists_the_records_once_after_the_runs_check(study_factory, monkeypatch):
+    # was twice: reading the statuses and asking the records' source each listed the files
+    from graspcampaign.campaign import status
+
+    summary = run_study(study_factory())
+    listed, listing, opening = [], RunStore._listing, status.open_run
+    monkeypatch.setattr(RunStore, "_listing", lambda self, part: (
+        listed.append(part), listing(self, part))[1])
+    monkeypatch.setattr(status, "open_run", lambda *args: (opening(*args), listed.clear())[0])
+    got = status.run_status(summary.path.parent.parent, "unit", "r1")
+    assert (got["source"], got["n_recorded"], got["n_ok"]) == ("simulation", 16, 16)
+    assert listed == ["records"]
+
+
 def test_removing_rows_reads_a_file_not_yet_verified_once(tmp_path, opened):
     # its verifying read is the table rewritten (was read once to verify it, again to rewrite it)
     store = RunStore(tmp_path / "results" / "unit" / "r1")
@@ -230,17 +244,24 @@ def test_removing_rows_reads_a_file_not_yet_verified_once(tmp_path, opened):
     assert store.recorded_ids() == {"a0", "a2", "b1"}
 
 
-def test_writing_shards_asks_a_compacted_file_too_new_to_remember_once(tmp_path, opened,
-                                                                       monkeypatch):
-    # was once a task: verified in full each time, being too new to be remembered
+def test_a_session_asks_a_compacted_file_too_new_to_remember_once(study_factory, opened,
+                                                                 monkeypatch):
+    # each task's write_shard asks what the compacted files supersede; the session writes within
+    # one check (was once a task: verified in full each time, being too new to be remembered)
+    one = {"batch_size": 1}
+    run_study(study_factory(factors={"mass_kg": [0.2], "mu": [0.1, 0.3],
+                                     "planner": ["heuristic", "random"]}, runner=one), run="r")
+    monkeypatch.setattr(verify, "_VERIFIED", {})  # a new process
     monkeypatch.setattr(verify, "TICK_NS", {True: 10**12, False: 10**12})  # every read within it
-    store = RunStore(tmp_path / "results" / "unit" / "r1")
-    for name in "ab":
-        store.write_shard("records", name, [{"trial_id": f"{name}1"}])
-    store.compact()
-    opened.clear()
-    for name in "cdefg":
-        store.write_shard("records", name, [{"trial_id": f"{name}1"}])
-    assert list(opened.values()) == [1]
-    store.compact()
-    assert store.recorded_ids() == {f"{name}1" for name in "abcdefg"}
+    asked, write = [], RunStore.write_shard
+
+    def counting(self, *args, **kwargs):
+        before = sum(n for name, n in opened.items() if "/compact-" in name)
+        path = write(self, *args, **kwargs)
+        asked.append(sum(n for name, n in opened.items() if "/compact-" in name) - before)
+        return path
+
+    monkeypatch.setattr(RunStore, "write_shard", counting)
+    resumed = run_study(study_factory(runner=one), run="r", allow_drift=True)
+    assert resumed.n_ran == len(asked) == 8
+    assert asked[0] >= 1 and sum(asked[1:]) == 0, asked

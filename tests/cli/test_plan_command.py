@@ -436,17 +436,15 @@ def test_an_inside_out_stl_plans_exactly_what_the_outward_stl_plans(tmp_path):
     assert plans[1] == plans[0]
 
 
-def test_the_fingertip_radius_default_is_one_constant_the_simulated_fingertip():
-    # the CLI option and plan_mesh each wrote 5.0; both now read rig.DEFAULT_FINGERTIP_RADIUS_MM,
-    # which is the simulated fingertip of the model config (Table 2, R = 5 mm)
-    import inspect
-
+def test_plan_and_the_simulated_fingertip_default_to_the_papers_5_mm_radius(stl_files):
+    # Table 2: R = 5 mm, for the simulated fingertip and for what `plan` assumes unless told
     from graspcampaign.campaign.schema import ContactModelCfg
-    from graspcampaign.cli.hardware import plan
-    from graspcampaign.rig import DEFAULT_FINGERTIP_RADIUS_MM
-    from graspcampaign.rig.plan import plan_mesh
 
-    assert DEFAULT_FINGERTIP_RADIUS_MM == pytest.approx(1e3 * ContactModelCfg().fingertip_radius_m)
-    for function in (plan, plan_mesh):
-        default = inspect.signature(function).parameters["fingertip_radius_mm"].default
-        assert default is DEFAULT_FINGERTIP_RADIUS_MM
+    assert ContactModelCfg().fingertip_radius_m == pytest.approx(5e-3)
+    args = ["plan", str(stl_files["sphere"]), "--mass-kg", "0.2", "--json"]
+    default, explicit = (json.loads(runner.invoke(app, args + extra).stdout)
+                         for extra in ([], ["--fingertip-radius-mm", "5"]))
+    assert default["fingertip_radius_mm"] == pytest.approx(5.0)
+    for plan in (default, explicit):
+        plan.pop("png")
+    assert default == explicit

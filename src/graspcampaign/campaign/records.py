@@ -46,6 +46,7 @@ import logging
 import os
 import shutil
 import warnings
+from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
@@ -156,7 +157,6 @@ class RunStore:
 
     def __init__(self, path: Path | str):
         self.path = Path(path)
-        self._sources: dict[Path, list[str]] = {}  # compacted file -> the names it supersedes
 
     # -- layout ---------------------------------------------------------------------------------
     @property
@@ -182,16 +182,12 @@ class RunStore:
 
         A name a compacted file lists as superseded gets a suffix (``part-<name>-1.parquet``):
         a file of that name would be ignored as a leftover of the compaction. What a compacted
-        file supersedes is asked once per file by this store, not once a task: its name is the
-        hash of what it supersedes (docs/decisions.md).
+        file supersedes comes from its verified facts (:func:`~graspcampaign.campaign.verify.facts`:
+        read once while it is unchanged; a run session writes its shards within one check, so
+        even a file too new to be remembered is read once, docs/decisions.md).
         """
         directory, k = self._dir(part), 0
-        superseded = set()
-        for compacted in directory.glob("compact-*.parquet"):  # each asked once by this store
-            if compacted not in self._sources:
-                with contextlib.suppress(*READ_ERRORS):
-                    self._sources[compacted] = supersedes(compacted)
-            superseded.update(self._sources.get(compacted, ()))
+        superseded = self._superseded(part)[0]
         while f"part-{name}{f'-{k}' if k else ''}.parquet" in superseded:
             k += 1
         path = directory / f"part-{name}{f'-{k}' if k else ''}.parquet"
@@ -308,12 +304,22 @@ class RunStore:
         DamagedRunError
             If a file of ``part`` is damaged (nothing is moved; see :meth:`repair`).
         """
+        return self._read(part, columns)[0]
+
+    def read_records(self, manifest: dict, columns: list[str]) -> tuple[pa.Table, str]:
+        """The records' ``columns`` (:meth:`read`) and the run's data source (:meth:`source`),
+        from one listing of its files (raises DamagedRunError)."""
+        table, read = self._read("records", columns)
+        return table, self._source(read, manifest)
+
+    def _read(self, part: str, columns: list[str] | None) -> tuple[pa.Table, list[Facts]]:
+        """:meth:`read`'s table and the facts of the files it was read from."""
         read = []
         for path in self._live(part):
             with self._refusing(path):
                 read.append(read_file(path, columns))
         if not read:
-            return pa.table({})
+            return pa.table({}), []
         schema = pa.unify_schemas([own.schema.remove_metadata() for _, own in read],
                                   promote_options="permissive")
         if columns is not None:
@@ -324,7 +330,7 @@ class RunStore:
                 if field.name not in table.column_names:
                     table = table.append_column(field, pa.nulls(table.num_rows, field.type))
             tables.append(table.select(schema.names).replace_schema_metadata(None))
-        return pa.concat_tables(tables, promote_options="permissive").cast(schema)
+        return pa.concat_tables(tables, promote_options="permissive").cast(schema), [own for _, own in read]
 
     def dataset(self, part: str = "records"):
         """Return a ``pyarrow.dataset.Dataset`` over the verified files of ``part`` (large runs).
@@ -344,7 +350,11 @@ class RunStore:
         """The data source of the run's records (SPEC §4): ``virtual`` as soon as one record says
         so, else the manifest's (``analysis.vocabulary.data_source``), from the sources each records
         file's verified facts hold: no column is read again."""
-        held = set().union(*(own.owners.get("source", ()) for own in self._verified("records").values()))
+        return self._source(self._verified("records").values(), manifest)
+
+    @staticmethod
+    def _source(records: Iterable[Facts], manifest: dict) -> str:
+        held = set().union(*(own.owners.get("source", ()) for own in records))
         return data_source(held, manifest.get("source"))
 
     def recorded_ids(self, part: str = "records") -> set[str]:

@@ -32,6 +32,7 @@ from graspcampaign.campaign.provenance import DriftError, check_drift  # noqa: F
 from graspcampaign.campaign.records import ERROR_COLUMNS, RunStore, config_metadata
 from graspcampaign.campaign.schema import StudyCfg, check_config, check_design_rows
 from graspcampaign.campaign.studyfile import run_path
+from graspcampaign.campaign.verify import one_check
 from graspcampaign.errors import ConfigError, UserInputError
 
 
@@ -359,28 +360,29 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
         bar = _Progress(len(trials), summary.n_already, show, f"{study.name}/{run}",
                         study.runner.progress_interval_s)
         try:
-            results = map_unordered(run_task, [(kind, study, run, params, items, fail_fast)
-                                               for items in tasks])
-            for rows, tables in results:
-                # named after its trials; a name a compacted file supersedes gets a suffix (write_shard)
-                name = content_hash([r["trial_id"] for r in rows])
-                for table_name, table_rows in tables.items():
-                    if table_rows:
-                        store.write_shard(f"tables/{table_name}", name, table_rows)
-                store.write_shard("records", name, rows, metadata=config_metadata(chash),
-                                  strings=ERROR_COLUMNS)
-                n_err = sum(r["status"] == "error" for r in rows)
-                summary.n_ran += len(rows)
-                summary.n_error += n_err
-                summary.n_ok += len(rows) - n_err
-                bar.advance(len(rows), n_err)
-                for r in rows:
-                    if r["status"] == "error":
-                        summary.errors.append(f"{r['trial_id']}: {r['error_type']}: "
-                                              f"{r['error_message']}")
-                if fail_fast and n_err:
-                    summary.stopped_early = True
-                    break
+            with one_check():  # each task's write_shard asks the compacted files: read each once
+                results = map_unordered(run_task, [(kind, study, run, params, items, fail_fast)
+                                                   for items in tasks])
+                for rows, tables in results:
+                    # named after its trials; a name a compacted file supersedes gets a suffix (write_shard)
+                    name = content_hash([r["trial_id"] for r in rows])
+                    for table_name, table_rows in tables.items():
+                        if table_rows:
+                            store.write_shard(f"tables/{table_name}", name, table_rows)
+                    store.write_shard("records", name, rows, metadata=config_metadata(chash),
+                                      strings=ERROR_COLUMNS)
+                    n_err = sum(r["status"] == "error" for r in rows)
+                    summary.n_ran += len(rows)
+                    summary.n_error += n_err
+                    summary.n_ok += len(rows) - n_err
+                    bar.advance(len(rows), n_err)
+                    for r in rows:
+                        if r["status"] == "error":
+                            summary.errors.append(f"{r['trial_id']}: {r['error_type']}: "
+                                                  f"{r['error_message']}")
+                    if fail_fast and n_err:
+                        summary.stopped_early = True
+                        break
         finally:
             bar.close()
     complete = not summary.stopped_early and summary.n_already + summary.n_ran == len(trials)

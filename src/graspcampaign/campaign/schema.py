@@ -18,7 +18,7 @@ import re
 from dataclasses import dataclass, field
 from typing import Any
 
-from graspcampaign.core.plausible import PLAUSIBLE
+from graspcampaign.core.plausible import FINGERTIP_RADIUS, PLAUSIBLE
 from graspcampaign.errors import ConfigError
 
 _LAMBDA = PLAUSIBLE["lambda"].meta()
@@ -32,8 +32,12 @@ MAX_TRIALS = 1_000_000
 _MAX_TRIALS_WHY = f"a study holds at most {MAX_TRIALS:,} trials, docs/decisions.md"
 
 
-def _f(default: Any, **meta: Any) -> Any:
-    """Declare a dataclass field with validation metadata."""
+def config_field(default: Any, **meta: Any) -> Any:
+    """Declare a config dataclass field with the validation metadata :func:`check_value` reads.
+
+    A list or dict default is copied for each instance; a list field's ``meta`` applies to each
+    of its items.
+    """
     if isinstance(default, (list, dict)):
         return field(default_factory=lambda d=default: type(d)(d), metadata=meta)
     return field(default=default, metadata=meta)
@@ -43,50 +47,50 @@ def _f(default: Any, **meta: Any) -> Any:
 class ContactModelCfg:
     """Contact-law constants (Eq. 13-14, Table 2, Table 3)."""
 
-    lambda1: float = _f(0.332, **_LAMBDA)  # Table 3
-    lambda2: float = _f(0.880, **_LAMBDA)  # Table 3
-    n_exp: float = _f(0.487, **PLAUSIBLE["n_exp"].meta())  # Table 3 (Hunt-Crossley exponent)
-    fingertip_radius_m: float = _f(  # Table 2
-        5e-3, gt=0.0, le=PLAUSIBLE["fingertip_radius_mm"].high * 1e-3,
+    lambda1: float = config_field(0.332, **_LAMBDA)  # Table 3
+    lambda2: float = config_field(0.880, **_LAMBDA)  # Table 3
+    n_exp: float = config_field(0.487, **PLAUSIBLE["n_exp"].meta())  # Table 3 (Hunt-Crossley exponent)
+    fingertip_radius_m: float = config_field(  # Table 2
+        FINGERTIP_RADIUS, gt=0.0, le=PLAUSIBLE["fingertip_radius_mm"].high * 1e-3,
         why=PLAUSIBLE["fingertip_radius_mm"].why)
-    e_finger_pa: float = _f(0.0893e6, gt=0.0)  # Table 2
-    e_object_pa: float = _f(0.14e6, gt=0.0)  # Table 2
-    nu_finger: float = _f(0.5, ge=0.0, le=0.5)  # Table 2
-    nu_object: float = _f(0.45, ge=0.0, le=0.5)  # Table 2
+    e_finger_pa: float = config_field(0.0893e6, gt=0.0)  # Table 2
+    e_object_pa: float = config_field(0.14e6, gt=0.0)  # Table 2
+    nu_finger: float = config_field(0.5, ge=0.0, le=0.5)  # Table 2
+    nu_object: float = config_field(0.45, ge=0.0, le=0.5)  # Table 2
     # Rate term of Eq. 13: linear C*delta_dot (the paper) or the original Hunt-Crossley form
-    damping_law: str = _f("linear", choices=("linear", "hunt_crossley"))
-    alpha_hc_s_per_m: float = _f(5.9, ge=0.0)  # (1 - e)/v_i, e = 0.882 (Sec. 7.2), v_i = 20 mm/s
+    damping_law: str = config_field("linear", choices=("linear", "hunt_crossley"))
+    alpha_hc_s_per_m: float = config_field(5.9, ge=0.0)  # (1 - e)/v_i, e = 0.882 (Sec. 7.2), v_i = 20 mm/s
 
 
 @dataclass
 class EvaluatorCfg:
     """Quasi-static evaluator (Algorithms 1-2, Sec. 6.1, Sec. 11)."""
 
-    seed_depth_m: float = _f(5e-4, gt=0.0)  # Alg. 2 line 1
-    n_max: int = _f(100, ge=1)  # Sec. 11
-    alpha: float = _f(1.0, gt=0.0)  # documented in docs/decisions.md
-    eps: float = _f(1e-6, gt=0.0)  # N/m; documented in docs/decisions.md
-    tau_f_n: float = _f(0.5, gt=0.0)  # Sec. 3.7: simulation criterion
-    tau_t_nm: float = _f(0.025, gt=0.0)  # documented in docs/decisions.md
-    n_cand: int = _f(1000, ge=1)  # documented in docs/decisions.md
-    residual_check: str = _f("norm", choices=("norm", "vertical"))  # SPEC 2.7: |R|
+    seed_depth_m: float = config_field(5e-4, gt=0.0)  # Alg. 2 line 1
+    n_max: int = config_field(100, ge=1)  # Sec. 11
+    alpha: float = config_field(1.0, gt=0.0)  # documented in docs/decisions.md
+    eps: float = config_field(1e-6, gt=0.0)  # N/m; documented in docs/decisions.md
+    tau_f_n: float = config_field(0.5, gt=0.0)  # Sec. 3.7: simulation criterion
+    tau_t_nm: float = config_field(0.025, gt=0.0)  # documented in docs/decisions.md
+    n_cand: int = config_field(1000, ge=1)  # documented in docs/decisions.md
+    residual_check: str = config_field("norm", choices=("norm", "vertical"))  # SPEC 2.7: |R|
     # Grip laws (issue 13; SPEC 8): paper = Algorithm 2 as published (the default).
-    grip_law: str = _f("paper", choices=("paper", "slip", "oracle"))
-    grip_safety_factor: float = _f(1.5, gt=1.0)  # slip/oracle design margin; docs/decisions.md
+    grip_law: str = config_field("paper", choices=("paper", "slip", "oracle"))
+    grip_safety_factor: float = config_field(1.5, gt=1.0)  # slip/oracle design margin; docs/decisions.md
     # Deepest penetration slip/oracle may command [m]; None: the Table 4 damage depth of the
     # family nearest in modulus to model.e_object_pa, bounded by the fingertip radius.
-    grip_cap_depth_m: float | None = _f(None, gt=0.0)
-    oracle_cone_facets: int = _f(16, ge=3)  # facets of the oracle's polyhedral cones (statics)
-    fc_cone_edges: int = _f(8, ge=3)  # Ferrari-Canny linearised cone edges (issue 17)
+    grip_cap_depth_m: float | None = config_field(None, gt=0.0)
+    oracle_cone_facets: int = config_field(16, ge=3)  # facets of the oracle's polyhedral cones (statics)
+    fc_cone_edges: int = config_field(8, ge=3)  # Ferrari-Canny linearised cone edges (issue 17)
 
 
 @dataclass
 class FeatureCfg:
     """Sharp-feature thresholds (Sec. 3.1, Sec. 11)."""
 
-    vertex_defect_rad: float = _f(0.2, gt=0.0)
-    edge_dihedral_deg: float = _f(30.0, gt=0.0, le=180.0)
-    edge_proximity_factor: float = _f(0.5, ge=0.0)
+    vertex_defect_rad: float = config_field(0.2, gt=0.0)
+    edge_dihedral_deg: float = config_field(30.0, gt=0.0, le=180.0)
+    edge_proximity_factor: float = config_field(0.5, ge=0.0)
     resolution_aware: bool = False
 
 
@@ -95,31 +99,31 @@ class PsoCfg:
     """Particle swarm identification (Sec. 4, Sec. 11)."""
 
     enabled: bool = True
-    n_particles: int = _f(8, ge=1)  # Sec. 6.8 repeatability budget
-    n_iterations: int = _f(15, ge=1)  # Sec. 6.8
-    inertia: float = _f(0.7, ge=0.0)  # Sec. 11
-    c1: float = _f(1.5, ge=0.0)  # Sec. 11
-    c2: float = _f(1.5, ge=0.0)  # Sec. 11
+    n_particles: int = config_field(8, ge=1)  # Sec. 6.8 repeatability budget
+    n_iterations: int = config_field(15, ge=1)  # Sec. 6.8
+    inertia: float = config_field(0.7, ge=0.0)  # Sec. 11
+    c1: float = config_field(1.5, ge=0.0)  # Sec. 11
+    c2: float = config_field(1.5, ge=0.0)  # Sec. 11
 
 
 @dataclass
 class RunnerCfg:
     """Where and how trials run."""
 
-    backend: str = _f("loky", choices=("loky", "dask", "sequential"))
+    backend: str = config_field("loky", choices=("loky", "dask", "sequential"))
     # joblib's n_jobs: N worker processes, -1 every core, -2 every core but one, ...; 0 means nothing
-    n_jobs: int = _f(-1, ne=0, why="joblib's n_jobs: a number of worker processes, or -1 for every "
+    n_jobs: int = config_field(-1, ne=0, why="joblib's n_jobs: a number of worker processes, or -1 for every "
                                    "core, -2 for every core but one")
     address: str | None = None  # Dask scheduler address; None starts a LocalCluster
-    batch_size: int = _f(0, ge=0)  # trials per task; 0 sizes tasks to ~target_task_s
-    target_task_s: float = _f(0.5, gt=0.0)  # SPEC Sec. 5: 0.2-1 s of compute per task
+    batch_size: int = config_field(0, ge=0)  # trials per task; 0 sizes tasks to ~target_task_s
+    target_task_s: float = config_field(0.5, gt=0.0)  # SPEC Sec. 5: 0.2-1 s of compute per task
     progress: bool = True
     # without a terminal (make, CI, batch jobs): one progress line at most this often; 30 s keeps a
     # 10-minute study at ~20 lines of log (docs/decisions.md)
-    progress_interval_s: float = _f(30.0, ge=0.0)
+    progress_interval_s: float = config_field(30.0, ge=0.0)
     # a Dask scheduler that does not answer within this time is reported, not waited for; 5 s is
     # ~100x a LAN round trip (docs/decisions.md)
-    connect_timeout_s: float = _f(5.0, gt=0.0)
+    connect_timeout_s: float = config_field(5.0, gt=0.0)
 
     def workers(self) -> int:
         """Worker processes a run uses (joblib's reading of ``n_jobs``: -1 every core, -2 every
@@ -148,9 +152,9 @@ class StudyCfg:
     name: str = "???"
     kind: str = "???"
     description: str = ""
-    seed: int = _f(0, ge=0)  # study seed: root of every trial's random stream
-    seeds: int = _f(1, ge=1, le=MAX_TRIALS, why=_MAX_TRIALS_WHY)  # seed indices 0..seeds-1
-    repeats: int = _f(1, ge=1, le=MAX_TRIALS, why=_MAX_TRIALS_WHY)  # repeats of each scene
+    seed: int = config_field(0, ge=0)  # study seed: root of every trial's random stream
+    seeds: int = config_field(1, ge=1, le=MAX_TRIALS, why=_MAX_TRIALS_WHY)  # seed indices 0..seeds-1
+    repeats: int = config_field(1, ge=1, le=MAX_TRIALS, why=_MAX_TRIALS_WHY)  # repeats of each scene
     factors: dict[str, list[Any]] = field(default_factory=dict)
     zip: list[list[str]] = field(default_factory=list)  # factor groups advanced together
     method_factors: list[str] = field(default_factory=lambda: ["planner", "variant"])

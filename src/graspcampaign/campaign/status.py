@@ -201,13 +201,13 @@ def run_status(root: Path | str, study: str, run: str = "default") -> dict[str, 
         No such run; for a study that is neither known nor in ``root``, the available studies.
     """
     store, manifest = open_run(root, study, run)
-    table = store.read(columns=["status"])  # pyarrow only: status answers fast
+    table, source = store.read_records(manifest, ["status"])  # pyarrow only: status answers fast
     statuses = table.column("status").to_pylist() if table.num_rows else []
     return {
         "study": study,
         "run": run,
         "path": str(store.path),
-        "source": store.source(manifest),  # as the run's report says
+        "source": source,  # as the run's report says
         "n_trials": manifest.get("n_trials"),
         "n_recorded": len(statuses),
         "n_ok": statuses.count("ok"),

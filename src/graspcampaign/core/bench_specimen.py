@@ -17,6 +17,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from graspcampaign.core.contact import effective_modulus as _psi
+from graspcampaign.core.plausible import FINGERTIP_RADIUS
 
 __all__ = [
     "CYCLES_TO_STABILISE",
@@ -42,8 +43,6 @@ __all__ = [
 ]
 
 
-FINGERTIP_RADIUS = 5e-3
-"""Fingertip radius R [m] (§7.1, Table 2)."""
 FINGERTIP_MODULUS = 89.3e3
 """Fingertip Young's modulus E_1 [Pa] (§7.1 "about 89 kPa", Table 2: 0.0893 MPa)."""
 FINGERTIP_POISSON = 0.5

@@ -11,7 +11,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-__all__ = ["PLAUSIBLE", "PlausibleRange", "OBJECT_SIZE_MM"]
+__all__ = ["FINGERTIP_RADIUS", "PLAUSIBLE", "PlausibleRange", "OBJECT_SIZE_MM"]
+
+FINGERTIP_RADIUS = 5e-3
+"""The paper's fingertip radius R [m] (Table 2, §7.1): the simulated fingertip's default, the Test 1
+indenter and ``plan``'s default. Kept here, free of numpy, so the command line's help shows it."""
 
 
 @dataclass(frozen=True)

@@ -12,7 +12,7 @@ of a 45/45/-90 grasp, which needs penetrations far beyond the fingertip radius: 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any
 
@@ -20,32 +20,32 @@ import numpy as np
 
 from graspcampaign.campaign.kind import TrialInput, TrialKind
 from graspcampaign.campaign.kinds import common
-from graspcampaign.campaign.schema import NODES, SIM_TIME_S
+from graspcampaign.campaign.schema import NODES, SIM_TIME_S, config_field
 
 MAX_TRACE_ROWS = 2000  # per trial; longer runs are decimated evenly (the last step is kept)
 
 
 @dataclass
 class DynamicParams:
-    nodes: int = field(default=356, metadata=NODES)  # Sec. 5.1: the 356-node sphere
+    nodes: int = config_field(356, **NODES)  # Sec. 5.1: the 356-node sphere
     # 0: the paper's pure spring shell (Sec. 2.1); see msd.MsdParams
-    bulk_modulus_pa: float = field(default=0.0, metadata={"ge": 0.0})
-    t_max_s: float = field(default=1.0, metadata=SIM_TIME_S)  # simulated time budget of one grasp
+    bulk_modulus_pa: float = config_field(0.0, ge=0.0)
+    t_max_s: float = config_field(1.0, **SIM_TIME_S)  # simulated time budget of one grasp
     # finger advance rate while |R_z| >= tau_F
-    grip_speed_m_per_s: float = field(default=0.02, metadata={"gt": 0.0})
-    settle_t_max_s: float = field(default=2.0, metadata=SIM_TIME_S)  # gravity_settle time budget
+    grip_speed_m_per_s: float = config_field(0.02, gt=0.0)
+    settle_t_max_s: float = config_field(2.0, **SIM_TIME_S)  # gravity_settle time budget
     # gravity_settle, Sec. 12 energy audit: RK4 steps at the settle step (twice as many at half);
     # 2000 is the former fixed AUDIT_STEPS (docs/decisions.md, audit length as a param)
-    audit_steps: int = field(default=2000, metadata={"ge": 1})
+    audit_steps: int = config_field(2000, ge=1)
     # gravity_settle, factor integrator=implicit: step of the implicit midpoint rule [s]; the
     # largest tested step whose settled shape matches RK4's (docs/decisions.md, implicit settle)
-    implicit_dt_s: float = field(default=2.5e-4, metadata={"gt": 0.0})
+    implicit_dt_s: float = config_field(2.5e-4, gt=0.0)
     # dynamic grasp phases (Fig. 11); sources in core.dynamics.GraspParams
-    lift_time_s: float = field(default=0.1, metadata={"gt": 0.0})  # lift-off ramp of the load
-    open_gap_m: float = field(default=1e-3, metadata={"ge": 0.0})  # fingers start this far out
+    lift_time_s: float = config_field(0.1, gt=0.0)  # lift-off ramp of the load
+    open_gap_m: float = config_field(1e-3, ge=0.0)  # fingers start this far out
     # how a grasp runs (core.phase_kernel.GRASP_RUNNERS): the compiled loop and step, or the
     # Python driver on the numpy reference step (docs/decisions.md, compiled dynamic step)
-    step: str = field(default="compiled", metadata={"choices": ("compiled", "numpy")})
+    step: str = config_field("compiled", choices=("compiled", "numpy"))
 
 
 @lru_cache(maxsize=64)

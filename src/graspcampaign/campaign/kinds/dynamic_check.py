@@ -25,7 +25,7 @@ the like-for-like label, same contact law as the dynamic run), and the dynamic o
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 from typing import Any
@@ -34,7 +34,7 @@ import numpy as np
 
 from graspcampaign.campaign.kind import TrialInput, TrialKind
 from graspcampaign.campaign.kinds import common
-from graspcampaign.campaign.schema import SIM_TIME_S
+from graspcampaign.campaign.schema import SIM_TIME_S, config_field
 from graspcampaign.errors import MissingSourceRunError, UserInputError
 
 SOURCE_ID = "source_trial_id"
@@ -50,12 +50,12 @@ class DynamicCheckParams:
 
     source_study: str = "baseline_grid"  # a quasi-static study whose records are checked
     source_run: str = "default"  # its run name under output.root
-    bulk_modulus_pa: float = field(default=0.0, metadata={"ge": 0.0})  # 0: the paper's shell
-    t_max_s: float = field(default=1.0, metadata=SIM_TIME_S)  # simulated budget of one grasp
-    grip_speed_m_per_s: float = field(default=0.02, metadata={"gt": 0.0})
-    lift_time_s: float = field(default=0.1, metadata={"gt": 0.0})
-    open_gap_m: float = field(default=1e-3, metadata={"ge": 0.0})
-    step: str = field(default="compiled", metadata={"choices": ("compiled", "numpy")})
+    bulk_modulus_pa: float = config_field(0.0, ge=0.0)  # 0: the paper's shell
+    t_max_s: float = config_field(1.0, **SIM_TIME_S)  # simulated budget of one grasp
+    grip_speed_m_per_s: float = config_field(0.02, gt=0.0)
+    lift_time_s: float = config_field(0.1, gt=0.0)
+    open_gap_m: float = config_field(1e-3, ge=0.0)
+    step: str = config_field("compiled", choices=("compiled", "numpy"))
 
 
 @dataclass(frozen=True)

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import hashlib
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 from typing import Any
@@ -33,7 +33,7 @@ import numpy as np
 import pandas as pd
 
 from graspcampaign.campaign.kind import TrialInput, TrialKind
-from graspcampaign.campaign.schema import StudyCfg, check_value
+from graspcampaign.campaign.schema import StudyCfg, check_value, config_field
 from graspcampaign.errors import ConfigError
 
 TEST2 = "test2_grasp"
@@ -47,10 +47,6 @@ so a study's params validate without importing the rig)."""
 COUNTERFACTUAL_TABLE = "belief_none"
 """Trace table holding each trial's ``belief_error = none`` record."""
 TEST3_BLOCKS = ("A", "B", "C", "D", "E")
-
-
-def _list(default: list) -> Any:
-    return field(default_factory=lambda: list(default))
 
 
 def _object_ids() -> tuple[str, ...]:
@@ -89,10 +85,10 @@ class Test2GraspParams:
     kept in the trace table ``belief_none`` (module docstring).
     """
 
-    objects: list[str] = _list([])
-    groups: list[str] = _list([])
-    fraction: float = field(default=1.0, metadata={"gt": 0.0, "le": 1.0})
-    belief_error: list[str] = _list(list(BELIEF_ERRORS))
+    objects: list[str] = config_field([])
+    groups: list[str] = config_field([])
+    fraction: float = config_field(1.0, gt=0.0, le=1.0)
+    belief_error: list[str] = config_field(list(BELIEF_ERRORS))
 
     def __post_init__(self) -> None:
         _check_lists((("objects", self.objects, {"type": str, "choices": _object_ids()}),
@@ -111,10 +107,10 @@ class Test3DisturbanceParams:
     object and disturbance for all five planners; ``belief_error`` as there.
     """
 
-    objects: list[str] = _list([])
-    blocks: list[str] = _list([])
-    fraction: float = field(default=1.0, metadata={"gt": 0.0, "le": 1.0})
-    belief_error: list[str] = _list(list(BELIEF_ERRORS))
+    objects: list[str] = config_field([])
+    blocks: list[str] = config_field([])
+    fraction: float = config_field(1.0, gt=0.0, le=1.0)
+    belief_error: list[str] = config_field(list(BELIEF_ERRORS))
 
     def __post_init__(self) -> None:
         _check_lists((("objects", self.objects, {"type": str, "choices": _object_ids()}),

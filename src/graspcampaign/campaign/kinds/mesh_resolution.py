@@ -24,7 +24,7 @@ Panels (the ``panel`` column), emitted as one trial list by :func:`design`:
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -33,7 +33,7 @@ from graspcampaign.campaign.grid import stream_key
 from graspcampaign.campaign.kind import TrialInput, TrialKind
 from graspcampaign.campaign.kinds import common, quasi_static
 from graspcampaign.campaign.kinds.sensitivity import plan_and_evaluate
-from graspcampaign.campaign.schema import NODES
+from graspcampaign.campaign.schema import NODES, config_field
 from graspcampaign.errors import ConfigError
 
 PANELS = ("resolution", "budget", "n_max")
@@ -44,38 +44,33 @@ BASELINE_STUDY = "baseline_grid"
 FIVE_SHAPES = ["sphere", "ellipsoid", "rounded_cube", "pear", "handle"]
 
 
-def _list(default: list, meta: dict | None = None) -> Any:
-    """A list field; ``meta`` (ranges) applies to each of its items."""
-    return field(default_factory=lambda: list(default), metadata=meta or {})
-
-
 @dataclass
 class MeshResolutionParams:
     """Design of the three panels; the ``baseline_*`` values must equal baseline_grid.yaml."""
 
-    panels: list[str] = _list(PANELS)
-    shape: str = field(default="sphere", metadata={"choices": "shape"})
-    planner: str = field(default="heuristic", metadata={"choices": "planner"})
-    mass_kg: float = field(default=0.4, metadata={"gt": 0.0})
-    mu: float = field(default=0.3, metadata={"ge": 0.0})
+    panels: list[str] = config_field(list(PANELS))
+    shape: str = config_field("sphere", choices="shape")
+    planner: str = config_field("heuristic", choices="planner")
+    mass_kg: float = config_field(0.4, gt=0.0)
+    mu: float = config_field(0.3, ge=0.0)
     # resolution panel (Sec. 6.7)
-    resolutions: list[int] = _list([144, 250, 356, 390, 600, 900, 1300, 1750], NODES)
-    identify_nodes: int = field(default=356, metadata=NODES)  # Sec. 5.1 operating mesh
-    reference_nodes: int = field(default=144, metadata=NODES)  # timing reference
-    timing_repeats: int = field(default=7, metadata={"ge": 1})
+    resolutions: list[int] = config_field([144, 250, 356, 390, 600, 900, 1300, 1750], **NODES)
+    identify_nodes: int = config_field(356, **NODES)  # Sec. 5.1 operating mesh
+    reference_nodes: int = config_field(144, **NODES)  # timing reference
+    timing_repeats: int = config_field(7, ge=1)
     # budget panel (Sec. 11: success vs N_cand, future work in the paper)
-    budgets: list[int] = _list([1, 3, 10, 30, 100, 300, 1000])
-    budget_shapes: list[str] = _list(FIVE_SHAPES)
-    budget_nodes: list[int] = _list([144, 390], NODES)
-    budget_seeds: int = field(default=20, metadata={"ge": 1})
+    budgets: list[int] = config_field([1, 3, 10, 30, 100, 300, 1000])
+    budget_shapes: list[str] = config_field(FIVE_SHAPES)
+    budget_nodes: list[int] = config_field([144, 390], **NODES)
+    budget_seeds: int = config_field(20, ge=1)
     # n_max panel (Sec. 11: doubled-budget re-run of the baseline grid)
-    nmax_rerun: int = field(default=200, metadata={"ge": 1})
-    baseline_seed: int = field(default=605, metadata={"ge": 0})
-    baseline_shapes: list[str] = _list(FIVE_SHAPES)
-    baseline_masses_kg: list[float] = _list([0.2, 0.4, 0.6])
-    baseline_mus: list[float] = _list([0.1, 0.3, 0.5])
-    baseline_seeds: int = field(default=15, metadata={"ge": 1})
-    baseline_planners: list[str] = _list(["heuristic", "antipodal", "random", "centroid",
+    nmax_rerun: int = config_field(200, ge=1)
+    baseline_seed: int = config_field(605, ge=0)
+    baseline_shapes: list[str] = config_field(FIVE_SHAPES)
+    baseline_masses_kg: list[float] = config_field([0.2, 0.4, 0.6])
+    baseline_mus: list[float] = config_field([0.1, 0.3, 0.5])
+    baseline_seeds: int = config_field(15, ge=1)
+    baseline_planners: list[str] = config_field(["heuristic", "antipodal", "random", "centroid",
                                           "ferrari_canny"])
 
     def __post_init__(self) -> None:

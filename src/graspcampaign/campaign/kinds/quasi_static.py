@@ -20,14 +20,14 @@ from __future__ import annotations
 
 import time
 from collections import OrderedDict
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any, NamedTuple
 
 import numpy as np
 
 from graspcampaign.campaign.kind import TrialInput, TrialKind
 from graspcampaign.campaign.kinds import common
-from graspcampaign.campaign.schema import NODES
+from graspcampaign.campaign.schema import NODES, config_field
 
 
 @dataclass
@@ -35,10 +35,10 @@ class QuasiStaticParams:
     """Fixed parameters of the quasi-static kind."""
 
     # mesh resolution when `nodes` is not a factor (Sec. 6.2); the factor's bound
-    nodes: int = field(default=common.DEFAULT_NODES, metadata=NODES)
+    nodes: int = config_field(common.DEFAULT_NODES, **NODES)
     stream_study: str = ""  # replay this study's scene streams (same seed and scene factors)
     # (H, epsilon) pairs per ferrari_canny trial kept for the figure (0: none)
-    candidate_sample: int = field(default=50, metadata={"ge": 0})
+    candidate_sample: int = config_field(50, ge=0)
 
 
 def body_key(factors: dict[str, Any]) -> dict[str, Any]:

@@ -22,14 +22,14 @@ One trial plans one grasp with ``params.planner`` (heuristic by default) on ``pa
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from graspcampaign.campaign.kind import TrialInput, TrialKind
 from graspcampaign.campaign.kinds import common, quasi_static
-from graspcampaign.campaign.schema import NODES
+from graspcampaign.campaign.schema import NODES, config_field
 from graspcampaign.core.plausible import PLAUSIBLE
 from graspcampaign.errors import ConfigError
 
@@ -42,11 +42,6 @@ PANEL_AXES = {
     "n_b": ("n_exp", "b_n_s_per_m"),
 }
 """Panel -> (x factor, y factor) as recorded."""
-
-
-def _range(default: list[float], meta: dict | None = None) -> Any:
-    """A [low, high] field; ``meta`` (ranges) applies to each bound."""
-    return field(default_factory=lambda: list(default), metadata=meta or {})
 
 
 def check_range(key: str, values: list[float], lower: float = 0.0) -> tuple[float, float]:
@@ -65,18 +60,18 @@ def levels(low: float, high: float, n: int) -> list[float]:
 class SensitivityParams:
     """Fixed parameters and grid of the sensitivity sweeps (Sec. 6.6)."""
 
-    nodes: int = field(default=common.DEFAULT_NODES, metadata=NODES)
-    shape: str = field(default="sphere", metadata={"choices": "shape"})
-    planner: str = field(default="heuristic", metadata={"choices": "planner"})
-    levels: int = field(default=12, metadata={"ge": 2})  # grid values per axis
-    panels: list[str] = field(default_factory=lambda: list(PANELS))
-    mu_range: list[float] = _range([0.05, 0.6], PLAUSIBLE["mu"].meta())  # Sec. 6.6
-    mass_range_kg: list[float] = _range([0.1, 0.8], PLAUSIBLE["mass_kg"].meta())  # Sec. 6.6
-    lambda_range: list[float] = _range([0.1, 1.5])  # Sec. 6.6
-    n_range: list[float] = _range([0.1, 1.0])  # Sec. 11 PSO bounds
-    b_range: list[float] = _range([0.1, 2.0])  # Sec. 11 PSO bounds (internal units)
-    fixed_mass_kg: float = field(default=0.4, metadata={"gt": 0.0})  # panels b, c
-    fixed_mu: float = field(default=0.3, metadata={"ge": 0.0})  # panels b, c
+    nodes: int = config_field(common.DEFAULT_NODES, **NODES)
+    shape: str = config_field("sphere", choices="shape")
+    planner: str = config_field("heuristic", choices="planner")
+    levels: int = config_field(12, ge=2)  # grid values per axis
+    panels: list[str] = config_field(list(PANELS))
+    mu_range: list[float] = config_field([0.05, 0.6], **PLAUSIBLE["mu"].meta())  # Sec. 6.6
+    mass_range_kg: list[float] = config_field([0.1, 0.8], **PLAUSIBLE["mass_kg"].meta())  # Sec. 6.6
+    lambda_range: list[float] = config_field([0.1, 1.5])  # Sec. 6.6
+    n_range: list[float] = config_field([0.1, 1.0])  # Sec. 11 PSO bounds
+    b_range: list[float] = config_field([0.1, 2.0])  # Sec. 11 PSO bounds (internal units)
+    fixed_mass_kg: float = config_field(0.4, gt=0.0)  # panels b, c
+    fixed_mu: float = config_field(0.3, ge=0.0)  # panels b, c
 
     def __post_init__(self) -> None:
         unknown = [p for p in self.panels if p not in PANELS]

@@ -19,7 +19,7 @@ from __future__ import annotations
 import socket
 import time
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -31,7 +31,7 @@ from graspcampaign.analysis.records import executed
 from graspcampaign.campaign.kind import TrialInput, TrialKind
 from graspcampaign.campaign.kinds import common
 from graspcampaign.campaign.kinds.sensitivity import check_range, plan_and_evaluate
-from graspcampaign.campaign.schema import NODES
+from graspcampaign.campaign.schema import NODES, config_field
 from graspcampaign.core.plausible import PLAUSIBLE
 from graspcampaign.errors import UserInputError
 
@@ -48,29 +48,23 @@ def sklearn_available() -> bool:
     return True
 
 
-def _list(default: list) -> Any:
-    return field(default_factory=lambda: list(default))
-
-
 @dataclass
 class SurrogateParams:
     """Scenario distribution of Appendix A and the brief PSO call's budget."""
 
-    nodes: int = field(default=common.DEFAULT_NODES, metadata=NODES)
-    planner: str = field(default="heuristic", metadata={"choices": "planner"})
-    shapes: list[str] = _list(["sphere", "ellipsoid", "rounded_cube", "pear", "handle"])
-    mass_range_kg: list[float] = field(default_factory=lambda: [0.1, 0.8],  # Appendix A
-                                       metadata=PLAUSIBLE["mass_kg"].meta())
-    mu_range: list[float] = field(default_factory=lambda: [0.05, 0.6],  # Appendix A
-                                  metadata=PLAUSIBLE["mu"].meta())
-    lambda1_range: list[float] = _list([0.05, 1.5])  # Sec. 11 bounds
-    lambda2_range: list[float] = _list([0.05, 1.5])  # Sec. 11 bounds
-    b_range: list[float] = _list([0.1, 2.0])  # Sec. 11 bounds (internal units)
-    pso_particles: int = field(default=5, metadata={"ge": 1})  # 5 x 5 = 25 evaluations
-    pso_iterations: int = field(default=5, metadata={"ge": 1})
-    test_fraction: float = field(default=0.2, metadata={"gt": 0.0, "le": 0.5})  # 80/20 split
-    hidden_layers: list[int] = _list([64, 32])  # Appendix A
-    n_trees: int = field(default=100, metadata={"ge": 1})  # Appendix A
+    nodes: int = config_field(common.DEFAULT_NODES, **NODES)
+    planner: str = config_field("heuristic", choices="planner")
+    shapes: list[str] = config_field(["sphere", "ellipsoid", "rounded_cube", "pear", "handle"])
+    mass_range_kg: list[float] = config_field([0.1, 0.8], **PLAUSIBLE["mass_kg"].meta())  # Appendix A
+    mu_range: list[float] = config_field([0.05, 0.6], **PLAUSIBLE["mu"].meta())  # Appendix A
+    lambda1_range: list[float] = config_field([0.05, 1.5])  # Sec. 11 bounds
+    lambda2_range: list[float] = config_field([0.05, 1.5])  # Sec. 11 bounds
+    b_range: list[float] = config_field([0.1, 2.0])  # Sec. 11 bounds (internal units)
+    pso_particles: int = config_field(5, ge=1)  # 5 x 5 = 25 evaluations
+    pso_iterations: int = config_field(5, ge=1)
+    test_fraction: float = config_field(0.2, gt=0.0, le=0.5)  # 80/20 split
+    hidden_layers: list[int] = config_field([64, 32])  # Appendix A
+    n_trees: int = config_field(100, ge=1)  # Appendix A
 
     def __post_init__(self) -> None:
         # Here, not in ``design``: params are validated by `run` before anything is written, but

@@ -26,7 +26,7 @@ fits them through the same code as the virtual path.
 from __future__ import annotations
 
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any
 
@@ -34,7 +34,7 @@ import numpy as np
 import pandas as pd
 
 from graspcampaign.campaign.kind import TrialInput, TrialKind
-from graspcampaign.campaign.schema import StudyCfg, check_value
+from graspcampaign.campaign.schema import StudyCfg, check_value, config_field
 from graspcampaign.core.bench_specimen import FINGERTIP_RADIUS
 from graspcampaign.errors import ConfigError
 
@@ -46,10 +46,6 @@ INDENTER_RADIUS_MM = 1e3 * FINGERTIP_RADIUS
 (``indenter_radius_mm``), so the report reads it from the records."""
 
 
-def _list(default: list) -> Any:
-    return field(default_factory=lambda: list(default))
-
-
 @dataclass
 class Test1BenchParams:
     """Size of the protocol and the §7.5 PSO budget.
@@ -59,14 +55,14 @@ class Test1BenchParams:
     splits of the kept events do not change. Specimens 11-12 are the unseen-specimen split.
     """
 
-    materials: list[str] = _list([])
-    specimens: list[int] = _list([])
-    environments: list[str] = _list([])
-    pso_restarts: int = field(default=30, metadata={"ge": 1})  # §7.5: 30 per material
-    pso_particles: int = field(default=40, metadata={"ge": 2})  # 40 x 1250 = 5e4 evaluations
-    pso_iterations: int = field(default=1250, metadata={"ge": 1})
-    pso_traces_per_run: int = field(default=12, metadata={"ge": 1})
-    pso_max_reruns: int = field(default=30, metadata={"ge": 0})  # re-runs of diverged runs
+    materials: list[str] = config_field([])
+    specimens: list[int] = config_field([])
+    environments: list[str] = config_field([])
+    pso_restarts: int = config_field(30, ge=1)  # §7.5: 30 per material
+    pso_particles: int = config_field(40, ge=2)  # 40 x 1250 = 5e4 evaluations
+    pso_iterations: int = config_field(1250, ge=1)
+    pso_traces_per_run: int = config_field(12, ge=1)
+    pso_max_reruns: int = config_field(30, ge=0)  # re-runs of diverged runs
 
     def __post_init__(self) -> None:
         from graspcampaign.rig.test1 import ENVIRONMENTS, MATERIALS
