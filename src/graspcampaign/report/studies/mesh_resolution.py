@@ -9,9 +9,8 @@ import numpy as np
 import pandas as pd
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
-from graspcampaign.analysis import agreement
 from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
-from graspcampaign.analysis.records import Estimate
+from graspcampaign.analysis.records import MIN_TRIALS, Estimate, median
 from graspcampaign.analysis.vocabulary import OTHER_COLOURS, PROPOSED, colour
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.errors import UserInputError
@@ -39,8 +38,6 @@ def _runtime(run: Run) -> pd.DataFrame:
 
 #: The largest and reference meshes of the paper's cost ratio and its target (Sec. 6.7, Sec. 11).
 PAPER_MESHES = (1750, 144)
-#: Trials a cost ratio's bootstrap interval needs (agreement.median_interval); fewer: no interval.
-MIN_TRIALS = 3
 
 
 def _meshes(run: Run) -> tuple[int, int]:
@@ -85,9 +82,7 @@ def _median_ratio(run: Run, repeats: str, nodes: int | None) -> Estimate:
         raise ValueError("no resolution trial")
     per_trial = at["cost_ratio_vs_reference"] if repeats == "fastest" else \
         at["eval_time_s"] / at["eval_time_reference_s"]
-    low, high = agreement.median_interval(per_trial, seed=run.seed) if len(at) >= MIN_TRIALS \
-        else (math.nan, math.nan)
-    return Estimate(float(per_trial.median()), low, high, n=len(at))
+    return median(per_trial, run.seed)
 
 
 def _growth(run: Run, repeats: str) -> tuple[bool, str]:
