@@ -15,13 +15,13 @@ import pandas as pd
 import pytest
 
 from graspcampaign.analysis.vocabulary import label
-from graspcampaign.report.render import Run
+from graspcampaign.report.document import Document
+from graspcampaign.report.render import Run, render
 from graspcampaign.report.studies.dynamic import (
     FRICTION_MASS,
     fig10,
     fig12_13,
     integrator_figure,
-    mass_finding,
     shown_case,
 )
 
@@ -72,7 +72,7 @@ def test_the_finding_names_the_case_it_shows():
                        lp_status_mu0="feasible", lp_status_mu0_ideal="feasible", lp_mu0_reason="",
                        normal_off_radial_max_deg=1.0)
     run.__dict__["ok"] = ok  # the executed trials with their outcome columns
-    text = mass_finding(run)
+    text = finding(run)
     assert ("Representative case of Figs. 12-13: μ = 0.1, m = 0.4 kg, not in this run; Figs. 12-13 "
             "(ours) single out its nearest case, μ = 0.3, m = 0.4 kg.") in text
     assert f"**{label('model_preset', 'table2')}**" in text and "**table2**" not in text
@@ -118,7 +118,7 @@ def test_the_finding_reports_the_lp_at_the_runs_own_mu_not_only_at_zero():
                        normal_off_radial_max_deg=6.7)
     run.__dict__["ok"] = ok.assign(lp_status=np.where(ok.mu == 0.1, "infeasible", "feasible"))
     low = int((run.ok.mu == 0.1).sum())
-    text = mass_finding(run)
+    text = finding(run)
     assert (f"feasible at the run's μ in {len(ok) - low} of {len(ok)} runs (not in {low}, at μ = 0.1; the "
             f"paper: feasible at every μ) and at μ = 0 in 0 of {len(ok)} runs on the meshed sphere "
             f"({len(ok)} fail torque balance;") in text
@@ -133,9 +133,15 @@ def test_the_finding_says_how_and_when_the_unheld_runs_ended_in_words():
                        normal_off_radial_max_deg=1.0, simulated_time_s=0.03)
     run.__dict__["ok"] = ok
     per_preset = int((ok.model_preset == "firm").sum())
-    text = mass_finding(run)
+    text = finding(run)
     assert f"{per_preset} end: not settled by t_max (in closure, at 0.0300 s)" in text
     assert "`not_settled`" not in text
+
+
+def finding(run: Run) -> str:
+    """The friction_mass finding as the report computes it: last, after the tables it reads."""
+    return next(b.markdown for b in render(FRICTION_MASS, run, Document("", "", [])).blocks
+                if getattr(b, "kind", "") == "finding")
 
 
 def rendered_tables(run: Run) -> dict[str, tuple[list[str], list[list[str]]]]:
@@ -281,7 +287,7 @@ def test_the_papers_penetration_and_force_values_are_rows_beside_ours():
 def test_the_finding_compares_penetration_and_says_what_a_hold_leaves():
     # "2 of 2 hold at δ_max 1.21 mm", no word of the 1 mm limit, of the 0.935 N left (16 % of
     # 0.6 kg × 9.81 to 48 % of 0.2 kg × 9.81) or of one finger carrying 3.95 of 4.0 N (98.75 %)
-    text = mass_finding(held_run())
+    text = finding(held_run())
     assert "δ_max up to 1.21 mm, above its 1 mm design limit per contact" in text
     assert "final total penetration Σδ up to 0.4 mm, within the paper's 'settles below 0.5 mm'" in text
     # ‖F‖ sums the friction forces too, and it is the last step's value of a force that may swing from
@@ -299,7 +305,7 @@ def test_a_quasi_static_depth_beyond_the_fingertip_is_called_non_physical():
     table2 = run.ok.model_preset == "table2"
     run.__dict__["ok"] = run.ok.assign(qs_delta_max_mm=np.where(table2, 1693.0, 1.17), qs_success=~table2)
     n = int((run.ok.model_preset == "table2").sum())
-    assert f"its δmax of 1693 mm in {n} runs is **non-physical**" in mass_finding(run)
+    assert f"its δmax of 1693 mm in {n} runs is **non-physical**" in finding(run)
 
 
 def test_the_figure_legend_lists_the_cases_before_the_lift_off_shading():
@@ -322,7 +328,7 @@ def test_the_phases_a_status_ended_in_are_named_in_one_order():
     run.__dict__["ok"] = ok
     per_preset = int((ok.model_preset == "firm").sum())
     assert per_preset > 1
-    assert f"{per_preset} end: penetration limit (in closure/lift, at 0.400 s)" in mass_finding(run)
+    assert f"{per_preset} end: penetration limit (in closure/lift, at 0.400 s)" in finding(run)
 
 
 def test_a_preset_without_the_shown_case_says_so_row_by_row():

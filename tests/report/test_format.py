@@ -42,6 +42,12 @@ def test_number_variants():
      (False, "consistent: the paper's value lies inside our 95% interval (0.0 pp)")),
     ((50.6, 72.0), {"low": 37.0, "high": 64.0, "unit": "%"},
      (True, "differs by \u221221.4 pp: the paper's value lies outside our 95% interval")),
+    # a zero-width interval (the same value in every seed): 1/3 prints 0.33-0.33, holding the paper's
+    # 0.33 as printed (it read "differs by 0.00"); 0.2412 prints 0.24-0.24, not holding 0.25
+    ((1 / 3, 0.33), {"low": 1 / 3, "high": 1 / 3, "digits": 2},
+     (False, "consistent: the paper's value lies inside our 95% interval as printed (0.00)")),
+    ((0.2412, 0.25), {"low": 0.2412, "high": 0.2412, "digits": 2},
+     (True, "differs by \u22120.01: the paper's value lies outside our 95% interval")),
     ((0.41666, 0.416), {"digits": 3}, (False, "matches to the paper's printed precision")),
     ((0.512, 0.833), {"digits": 3}, (True, "differs by \u22120.321")),
     ((35.0, (30, 40)), {"digits": 0}, (False, "inside the paper's range 30–40")),

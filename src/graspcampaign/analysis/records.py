@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from graspcampaign.analysis import rates
+from graspcampaign.analysis import agreement, rates
 from graspcampaign.analysis.vocabulary import ordered
 from graspcampaign.core.verdict import FAILURE_CHECKS  # none, residual, torque, slip, geometry
 
@@ -157,6 +157,18 @@ def rate(records: pd.DataFrame, mask=None, outcome: str = "success") -> Estimate
     if cells["rate_why"]:
         raise ValueError(cells["rate_why"])
     return Estimate(cells["rate_pct"], cells["wilson_low_pct"], cells["wilson_high_pct"], len(g))
+
+
+#: Values a median's bootstrap interval needs (agreement.median_interval); fewer: no interval.
+MIN_TRIALS = 3
+
+
+def median(values: pd.Series, seed: int) -> Estimate:
+    """Return the median of ``values`` with its percentile-bootstrap 95 % interval
+    (:func:`~graspcampaign.analysis.agreement.median_interval`) from :data:`MIN_TRIALS` values on."""
+    low, high = agreement.median_interval(values, seed=seed) if len(values) >= MIN_TRIALS \
+        else (math.nan, math.nan)
+    return Estimate(float(values.median()), low, high, n=len(values))
 
 
 def mcnemar_table(records: pd.DataFrame, reference: str, others: Sequence[str], *,

@@ -135,9 +135,10 @@ def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits:
     """Say how ours stands against the paper's value: ``(differs, words)``, the one rule: a range agrees
     inside it and a one-sided bound (a range with a None end, ``(None, hi)``: at most hi) within it
     (ours rounded to ``digits``, as printed; ours ``inf`` lies above every range); a word when equal;
-    ours with a 95 % interval when it holds the paper's value; otherwise within one unit of the
-    paper's last printed digit (``10**-digits``). ``unit`` is the values' unit: a value or range of
-    percentages prints ``%``, a difference of two percentages ``pp``. ``ratio`` (e.g. "faster"): the
+    ours with a 95 % interval when it holds the paper's value (or the interval as printed, rounded to
+    ``digits``); otherwise within one unit of the paper's last printed digit (``10**-digits``).
+    ``unit`` is the values' unit: a value or range of percentages prints ``%``, a difference of two
+    percentages ``pp``. ``ratio`` (e.g. "faster"): the
     values are ratios, said as ratios ("ours 9.17× faster, the paper's 17000× (1850 times ours)").
     ``commanded``: ours is the run's own command, reached by construction (the words say how), so it
     is not compared. ``because``: why ours is not compared (the words are that reason).
@@ -177,6 +178,8 @@ def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits:
     if not is_missing(low) and not is_missing(high):
         if float(low) <= float(paper) <= float(high):
             return False, f"consistent: the paper's value lies inside our 95% interval ({diff})"
+        if round(float(low), digits) <= float(paper) <= round(float(high), digits):  # as printed (1/3: 0.33)
+            return False, f"consistent: the paper's value lies inside our 95% interval as printed ({diff})"
         return True, f"differs by {diff}: the paper's value lies outside our 95% interval"
     differs = abs(float(ours) - float(paper)) >= 10.0 ** -digits
     if ratio:

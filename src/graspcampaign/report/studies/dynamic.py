@@ -179,20 +179,24 @@ def _case_text(run: Run) -> str:
 def ends(run: Run) -> pd.DataFrame:
     """The runs in design order with what Figs. 12-13 (ours) end on: the last total penetration Σδ
     [mm], the largest |R_z| [N] over the recorded steps of the settled window and the steps before
-    it, and the share [%] of the summed normal force on the most loaded finger."""
-    steps = run.aux("steps")
-    if not len(steps):
-        raise ValueError("the run has no `steps` table")
-    t, by = in_order(run, FM), steps.sort_values("time_s").groupby("trial_id")
-    hold = steps.merge(t[["trial_id", "hold_start_s", "hold_end_s"]], on="trial_id")
-    hold = hold[hold.time_s.between(hold.hold_start_s, hold.hold_end_s)].groupby("trial_id")
-    forces = t[[f"normal_force_{j}_n" for j in (1, 2, 3)]]
-    return t.assign(total_penetration_mm=1e3 * t.trial_id.map(by.total_penetration_m.last()),
-                    settled_amplitude_n=t.trial_id.map(hold.residual_z_n.apply(lambda r: r.abs().max())),
-                    steps_to_settle=(t.hold_start_s / t.dt_s).round(),
-                    top_finger_pct=100 * forces.max(axis=1) / forces.sum(axis=1))
+    it, and the share [%] of the summed normal force on the most loaded finger (once per run)."""
+    def compute() -> pd.DataFrame:
+        steps = run.aux("steps")
+        if not len(steps):
+            raise ValueError("the run has no `steps` table")
+        t, by = in_order(run, FM), steps.sort_values("time_s").groupby("trial_id")
+        hold = steps.merge(t[["trial_id", "hold_start_s", "hold_end_s"]], on="trial_id")
+        hold = hold[hold.time_s.between(hold.hold_start_s, hold.hold_end_s)].groupby("trial_id")
+        forces = t[[f"normal_force_{j}_n" for j in (1, 2, 3)]]
+        return t.assign(total_penetration_mm=1e3 * t.trial_id.map(by.total_penetration_m.last()),
+                        settled_amplitude_n=t.trial_id.map(hold.residual_z_n.apply(lambda r: r.abs().max())),
+                        steps_to_settle=(t.hold_start_s / t.dt_s).round(),
+                        top_finger_pct=100 * forces.max(axis=1) / forces.sum(axis=1))
+    return run.memo("ends", compute)
 
 
+TOTAL = "final total penetration Σδ, largest over its lifted runs"
+DEEPEST = "deepest contact δmax, largest over its lifted runs (paper: the design limit per contact)"
 UNITS = "not compared: the paper's forces are in its internal units, not commensurate with mg (Sec. 5.5)"
 
 
@@ -207,11 +211,9 @@ def paper_rows(run: Run):
         rep = at.iloc[0] if len(at) else None
         case, lifted = f"{name}, μ = {mu:g}, m = {mass:g} kg", g[g.final_phase != "closure"]
         never = "" if len(lifted) else "not compared: no run got past closure"
-        yield Value(f"{name}: final total penetration Σδ, largest over its lifted runs", "Sec. 5.5",
-                    lambda run, g=lifted: g.total_penetration_mm.max(),
+        yield Value(f"{name}: {TOTAL}", "Sec. 5.5", lambda run, g=lifted: g.total_penetration_mm.max(),
                     lambda p: (None, 1e3 * p.total_penetration_below_m), "mm", because=never)
-        yield Value(f"{name}: deepest contact δmax, largest over its lifted runs (paper: the design limit "
-                    "per contact)", "Sec. 5.5", lambda run, g=lifted: g.delta_max_mm.max(),
+        yield Value(f"{name}: {DEEPEST}", "Sec. 5.5", lambda run, g=lifted: g.delta_max_mm.max(),
                     lambda p: (None, DESIGN_LIMIT_MM), "mm", because=never)
         held = rep is not None and rep.dynamic_status == "stable"
         unheld = ("not compared: this preset has no executed run of this case" if rep is None else
@@ -230,21 +232,20 @@ def paper_rows(run: Run):
                         paper, unit, 3 if unit else 0, because=why if held else unheld)
 
 
-def _penetration(g: pd.DataFrame, p) -> str:
-    """The finding's words on one preset's penetrations against Sec. 5.5 (the rule of the table)."""
-    if not len(g := g[g.final_phase != "closure"]):
-        return "; no run got past closure, so no penetration to set beside the paper's"
-    total, deepest = g.total_penetration_mm.max(), g.delta_max_mm.max()
-    below, side = 1e3 * p.total_penetration_below_m, {True: "above", False: "within"}
-    over_total = fmt.verdict(total, (None, below), digits=2)[0]
-    over_limit = fmt.verdict(deepest, (None, DESIGN_LIMIT_MM), digits=2)[0]
-    return (f"; final total penetration Σδ up to {total:.3g} mm, {side[over_total]} the paper's "
-            f"'settles below {below:g} mm', and δ_max up to {deepest:.3g} mm, {side[over_limit]} its "
-            f"{DESIGN_LIMIT_MM:g} mm design limit per contact")
+def _penetration(rows: pd.DataFrame, name: str, p) -> str:
+    """The finding's words on one preset's penetrations: the paper_values table's ``rows`` and verdicts."""
+    total, deepest = rows.loc[[f"{name}: {TOTAL}", f"{name}: {DEEPEST}"]].itertuples()
+    if fmt.is_missing(total.differs):  # not compared: the table says why (no run got past closure)
+        return (f"; {total.verdict.removeprefix('not compared: ')}, so no penetration to set beside "
+                "the paper's")
+    side = {True: "above", False: "within"}
+    return (f"; final total penetration Σδ up to {total.value:.3g} mm, {side[total.differs]} the paper's "
+            f"'settles below {1e3 * p.total_penetration_below_m:g} mm', and δ_max up to {deepest.value:.3g} "
+            f"mm, {side[deepest.differs]} its {DESIGN_LIMIT_MM:g} mm design limit per contact")
 
 
 def mass_finding(run: Run) -> str:
-    parts = []
+    parts, rows = [], run.tables["paper_values"].set_index("quantity")
     for preset, g in ends(run).groupby("model_preset", sort=False):
         stable, other = g[g.dynamic_status == "stable"], g[g.dynamic_status != "stable"]
         text = f"**{label('model_preset', preset)}**: {len(stable)} of {len(g)} μ × m runs hold (`stable`)"
@@ -259,7 +260,7 @@ def mass_finding(run: Run) -> str:
                      "step) and the most loaded finger carries "
                      f"{fmt.span(stable.top_finger_pct, ' %')} of the summed normal force (the paper: "
                      "fingers 1 and 3 pinch, finger 2 nearly unloaded)")
-        text += _penetration(g, run.paper)
+        text += _penetration(rows, label("model_preset", preset), run.paper)
         if len(other):
             ended = other.groupby("dynamic_status")
             phase = ended["final_phase"].agg(lambda s: "/".join(sorted(set(s))))
@@ -310,9 +311,7 @@ def _thick(run: Run) -> str:
 
 
 def fig12_13(run: Run, fig) -> None:
-    steps, p, ok = run.aux("steps"), run.paper, in_order(run, FM)
-    if not len(steps):
-        raise ValueError("the run has no `steps` table")
+    steps, p, ok = run.aux("steps"), run.paper, ends(run)
     mu, mass, exact = shown_case(run)
     case = f"μ={mu:g}, m={mass:g} kg" + ("" if exact else "\nthe run's case nearest the paper's "
                                                f"μ={p.representative_mu:g}, "

@@ -9,9 +9,8 @@ import numpy as np
 import pandas as pd
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
-from graspcampaign.analysis import agreement
 from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
-from graspcampaign.analysis.records import Estimate
+from graspcampaign.analysis.records import MIN_TRIALS, Estimate, median
 from graspcampaign.analysis.vocabulary import OTHER_COLOURS, PROPOSED, colour
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.errors import UserInputError
@@ -40,8 +39,6 @@ def _runtime(run: Run) -> pd.DataFrame:
 
 #: The largest and reference meshes of the paper's cost ratio and its target (Sec. 6.7, Sec. 11).
 PAPER_MESHES = (1750, 144)
-#: Trials a cost ratio's bootstrap interval needs (agreement.median_interval); fewer: no interval.
-MIN_TRIALS = 3
 
 
 def _meshes(run: Run) -> tuple[int, int]:
@@ -92,10 +89,7 @@ def _median_ratio(run: Run, repeats: str, nodes: int | None) -> Estimate:
     at = res[res["nodes"] == (res["nodes"].max() if nodes is None else nodes)]
     if not len(at):
         raise ValueError("no resolution trial")
-    per_trial = _trial_ratios(at, repeats)
-    low, high = agreement.median_interval(per_trial, seed=run.seed) if len(at) >= MIN_TRIALS \
-        else (math.nan, math.nan)
-    return Estimate(float(per_trial.median()), low, high, n=len(at))
+    return median(_trial_ratios(at, repeats), run.seed)
 
 
 def _growth(run: Run, repeats: str) -> tuple[bool, str]:
