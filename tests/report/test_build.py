@@ -319,3 +319,19 @@ def test_reports_written_in_two_processes_are_the_files_written_one_by_one(tmp_p
               if p.is_file()} for root in roots]
     assert "ablation/r1/report/report.md" in files[0]
     assert files[0] == files[1]
+
+
+def test_the_headline_lists_a_runs_records_once_after_its_check(tmp_path, monkeypatch):
+    # was twice: reading the records' columns and asking their data source each listed the files
+    from graspcampaign.campaign.records import RunStore
+    from graspcampaign.report import headline
+
+    write_run(tmp_path, name="baseline_grid", planners=("heuristic", "random"),
+              n_success={"heuristic": 6, "random": 1})
+    listed, listing, check = [], RunStore._listing, RunStore.check
+    monkeypatch.setattr(RunStore, "_listing", lambda self, part: (
+        listed.append(part), listing(self, part))[1])
+    monkeypatch.setattr(RunStore, "check", lambda self, *a, **k: (check(self, *a, **k), listed.clear())[0])
+    rows = headline.headline_rows(tmp_path).set_index("headline")
+    assert rows.loc["Baseline grid", "n"] == 10  # the run was read
+    assert listed == ["records"]

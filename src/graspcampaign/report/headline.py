@@ -118,9 +118,9 @@ def _run_row(h: Headline, store: RunStore, root: Path) -> dict | None:
         paper = check_paper(h.study, config.get("paper"))
     except ConfigError:
         paper = study_paper(h.study)
-    records = store.read("records", columns=["status", "planner", "success", "aborted",
-                                             *([h.subset[0]] if h.subset else [])]).to_pandas()
-    source = store.source(manifest)
+    records, source = store.read_records(manifest, ["status", "planner", "success", "aborted",
+                                                    *([h.subset[0]] if h.subset else [])])
+    records = records.to_pandas()
     column, levels = h.subset or (None, frozenset())
     design = " × ".join([f"{len(v)} {FACTOR_NOUNS.get(k, k + ' levels')}" for k, v in (
         config.get("factors") or {}).items() if k not in ("planner", "variant", column) and len(v) > 1]
