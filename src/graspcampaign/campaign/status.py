@@ -75,7 +75,7 @@ def recorded_in(study: StudyCfg, run: str | None = None, opened=_OPEN) -> int:
         return 0
     # every session of the run had this very config: its records are all of this design (this
     # spares building a 19,168-event schedule just to count)
-    if one_config(manifest, config_hash(study)):
+    if one_config(manifest, config_hash(study, manifest)):
         return len(recorded)
     kind = get_kind(study.kind)
     ids = {t.trial_id for t in study_trials(study, kind, kind_params(study, kind))}
