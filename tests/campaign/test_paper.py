@@ -28,14 +28,14 @@ def test_every_study_file_has_a_valid_paper_block():
 
 @pytest.mark.parametrize(("edit", "message"), [
     (lambda p: p.update(trials_per_varian=p.pop("trials_per_variant")),
-     "campaigns/ablation.yaml: paper.trials_per_varian is not a known key of AblationPaper; "
+     "campaigns/ablation.yaml: paper.trials_per_varian is not a known key; "
      "allowed: figure, trials_per_variant, interval_half_width_pp, success_pct."),
     (lambda p: p.pop("figure"),
-     "campaigns/ablation.yaml: paper.figure is missing (AblationPaper requires it)."),
+     "campaigns/ablation.yaml: paper.figure is missing (a required key)."),
     (lambda p: p["success_pct"].update(heuristc=p["success_pct"].pop("heuristic")),
      "campaigns/ablation.yaml: paper.success_pct.heuristc is not a known planner; allowed: "),
     (lambda p: p.update(trials_per_variant="fifty"),
-     "campaigns/ablation.yaml: paper.trials_per_variant must be int; got 'fifty'."),
+     "campaigns/ablation.yaml: paper.trials_per_variant must be a whole number; got 'fifty'."),
 ])
 def test_a_wrong_paper_key_exits_2_naming_it(tmp_path, monkeypatch, edit, message):
     conf, campaigns = project_dirs()
@@ -62,8 +62,8 @@ def test_a_wrong_paper_key_exits_2_naming_it(tmp_path, monkeypatch, edit, messag
 def test_nested_and_optional_fields():
     block = yaml.safe_load((project_dirs()[1] / "test3_disturbance.yaml").read_text())["paper"]
     block["table8"]["A"]["pred_err_pc"] = 1.0
-    with pytest.raises(ConfigError, match=r"^p\.table8\.A\.pred_err_pc is not a known key of "
-                                          r"Table8Row"):
+    with pytest.raises(ConfigError, match=r"^p\.table8\.A\.pred_err_pc is not a known key; "
+                                          r"allowed: "):
         check_paper("test3_disturbance", block, "p")
     del block["table8"]["A"]["pred_err_pc"]
     assert "headline" not in block["table8"]["D"]  # optional: no headline printed for D

@@ -40,9 +40,11 @@ def deadline(seconds: float | None):
 
 
 def invoke(*args, seconds: float | None = None):
-    """Run ``graspcampaign *args`` (each as a string), exceptions propagating, within ``seconds``."""
+    """Run ``graspcampaign *args`` (each as a string), exceptions propagating, within ``seconds``,
+    printing as into a pipe: COLUMNS unset (pytest-xdist's workers set it to 80)."""
     with deadline(seconds):
-        return runner.invoke(app, [str(a) for a in args], catch_exceptions=False)
+        return runner.invoke(app, [str(a) for a in args], catch_exceptions=False,
+                             env={"COLUMNS": None})
 
 
 def snapshot(root: Path) -> dict[str, str] | None:

@@ -208,12 +208,12 @@ def test_an_empty_group_file_of_graspcampaign_home_is_named(results, home):
     table2 = home / "conf" / "model" / "table2.yaml"
     table2.write_text("")
     refused(results, ["show", "smoke", *SMOKE, "--root", results],
-            f"{table2} is empty; a file of config group model sets the keys of ContactModelCfg "
+            f"{table2} is empty; a file of config group model sets keys of model "
             "(lambda1, lambda2, n_exp, fingertip_radius_m, e_finger_pa, e_object_pa, nu_finger, "
             "nu_object, damping_law, alpha_hc_s_per_m).")
     # `list` says it once, not once per study, and lists every study as broken
     listing = invoke("list")
-    message = f"{table2} is empty; a file of config group model sets the keys of ContactModelCfg"
+    message = f"{table2} is empty; a file of config group model sets keys of model"
     assert listing.stderr.count(message) == 1, listing.stderr
     assert listing.stderr.startswith(f"warning: every study is broken: {message}")
     assert listing.stdout.count("broken") == len(studyfile.study_files())
@@ -279,7 +279,7 @@ def test_list_says_which_study_files_are_broken(user_dir):
         f"warning: study bad_eval is broken: {user_dir / 'bad_eval.yaml'}, line 9: "
         "evaluator.n_cand = -3 is out of range; allowed: >= 1.\n"
         f"warning: study bad_model is broken: {user_dir / 'bad_model.yaml'}, line 8: model must be "
-        "a mapping of ContactModelCfg keys (lambda1, lambda2, n_exp, fingertip_radius_m, "
+        "a mapping of its keys (lambda1, lambda2, n_exp, fingertip_radius_m, "
         "e_finger_pa, e_object_pa, nu_finger, nu_object, damping_law, alpha_hc_s_per_m), got "
         "'nosuch' (str); a preset of conf/model/ (firm, nominal, table2) is chosen on the command "
         "line, e.g. model=firm.\n")
@@ -312,7 +312,7 @@ SHOW_LIKE_RUN = {
                            "takes none."),
     "params of a kind that has some": (BODY.replace("mesh_features", "quasi_static").replace(
         "nodes: [144]", "mass_kg: [0.2]\n  mu: [0.3]\n  planner: [heuristic]") + "params:\n  bogus: 1\n",
-        11, "params.bogus is not a known key of QuasiStaticParams; known keys: nodes, stream_study, "
+        11, "params.bogus is not a known key of params; known keys: nodes, stream_study, "
             "candidate_sample."),
 }
 
@@ -356,7 +356,7 @@ STUDY_FILES = {
                          "factors.shape must be a list of levels, e.g. shape: [sphere, pear], got "
                          "'sphere' (str)."),
     "model_a_name": (BODY + "model: nosuch\n", 8,
-                     "model must be a mapping of ContactModelCfg keys (lambda1, lambda2, n_exp, "
+                     "model must be a mapping of its keys (lambda1, lambda2, n_exp, "
                      "fingertip_radius_m, e_finger_pa, e_object_pa, nu_finger, nu_object, "
                      "damping_law, alpha_hc_s_per_m), got 'nosuch' (str); a preset of conf/model/ "
                      "(firm, nominal, table2) is chosen on the command line, e.g. model=firm."),
@@ -385,7 +385,7 @@ HOME_FILES = {
                     "model.lambda1 = -3.0 is out of range; allowed: > 0.0 and <= 15.0 (the "
                     "identification scale factors stay within 10x their PSO bounds)."),
     "bogus: 1": ("nu_object: 0.45\n", "nu_object: 0.45\nbogus: 1\n", 12,
-                 "model.bogus is not a known key of ContactModelCfg; known keys: lambda1, lambda2, "
+                 "model.bogus is not a known key of model; known keys: lambda1, lambda2, "
                  "n_exp, fingertip_radius_m, e_finger_pa, e_object_pa, nu_finger, nu_object, "
                  "damping_law, alpha_hc_s_per_m."),
 }
@@ -406,7 +406,7 @@ def test_a_study_hiding_a_tool_study_needs_its_paper_block(results, user_dir):
     path.write_text(HEADER + "name: baseline_grid\n" + BODY)
     for command in ("show", "run"):
         refused(results, [command, "baseline_grid", "--root", results],
-                f"{path}: paper.figure is missing (BaselineGridPaper requires it): this file takes "
+                f"{path}: paper.figure is missing (a required key): this file takes "
                 "the name of the tool's study baseline_grid (campaigns/baseline_grid.yaml), which "
                 "it hides, so its runs are reported as that study and its paper block must hold "
                 "that study's values; copy the paper block of campaigns/baseline_grid.yaml, or "
@@ -436,11 +436,16 @@ def test_a_study_file_named_otherwise_than_its_name_is_refused(results, user_dir
 # -- 11. override messages -------------------------------------------------------------------------
 OVERRIDES = {
     "=3": "override '=3' has no key before '='; write KEY=VALUE, e.g. seeds=3 or mu=[0.3,0.5].",
-    "evaluator.nosuch=1": "evaluator.nosuch is not a known key of EvaluatorCfg (override "
+    "evaluator.nosuch=1": "evaluator.nosuch is not a known key of evaluator (override "
                           "'evaluator.nosuch=1' rejected); known keys: seed_depth_m, n_max, alpha, "
                           "eps, tau_f_n, tau_t_nm, n_cand, residual_check, grip_law, "
                           "grip_safety_factor, grip_cap_depth_m, oracle_cone_facets, fc_cone_edges.",
-    "runner.nosuch=3": "runner.nosuch is not a known key of RunnerCfg (override 'runner.nosuch=3' "
+    # a config group takes a preset's name: Hydra's own sentence named neither key nor presets
+    "evaluator=3": "evaluator=3 is not an option of config group evaluator; available options: "
+                   "default.",
+    "+paper.nosuch=1": "campaigns/baseline_grid.yaml: paper.nosuch is not a known key; allowed: "
+                       "figure, trials_per_planner, success_pct, success_by_shape_pct.",
+    "runner.nosuch=3": "runner.nosuch is not a known key of runner (override 'runner.nosuch=3' "
                        "rejected); known keys: backend, n_jobs, address, batch_size, target_task_s, "
                        "progress, progress_interval_s, connect_timeout_s.",
     "factors.nosuch=[1,2]": "factors.nosuch is not a known factor (override 'factors.nosuch=[1,2]' "
@@ -469,7 +474,7 @@ OVERRIDES = {
 
 @pytest.mark.parametrize("override", sorted(OVERRIDES), ids=lambda o: o[:24])
 def test_override_messages_name_the_override_in_plain_words(results, override):
-    for command in ("show", "run") if override == "=3" else ("show",):
+    for command in ("show", "run") if override in ("=3", "evaluator.nosuch=1") else ("show",):
         refused(results, [command, "baseline_grid", override, "--root", results], OVERRIDES[override])
 
 

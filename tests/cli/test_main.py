@@ -295,6 +295,39 @@ def test_reproduce_runs_the_listed_studies_then_every_report(tmp_path, monkeypat
     assert (root / "index.md").exists()
 
 
+def test_list_fits_the_terminal_and_never_cuts_a_name(monkeypatch):
+    """With COLUMNS=80 the table was 157 columns wide (a terminal's own narrow width cut names to
+    "baseline_g…"): every line fits, each study and kind appears whole, the kind column gives way
+    (``show`` prints it) where it would leave the description no room."""
+    from cli_checks import runner
+
+    from graspcampaign.campaign.studyfile import read_yaml, study_files
+    from graspcampaign.cli.main import app
+
+    kinds = {name: read_yaml(path)["kind"] for name, path in study_files().items()}
+    for columns, with_kind in (("80", False), ("120", True)):
+        monkeypatch.setenv("COLUMNS", columns)
+        lines = runner.invoke(app, ["list"]).stdout.splitlines()
+        assert max(map(len, lines)) <= int(columns)
+        cells = [[c.strip() for c in line.split("│")[1:-1]] for line in lines if "│" in line]
+        rows = {row[0]: row for row in cells if row[0]}
+        assert set(rows) == set(kinds)
+        header = [c.strip() for c in next(line for line in lines if "study" in line).split("┃")]
+        assert ("kind" in header) == with_kind
+        if with_kind:
+            assert {name: row[1] for name, row in rows.items()} == kinds
+
+
+def test_show_prints_the_overrides_after_the_description_it_changes():
+    lines = invoke("show", "baseline_grid", "seeds=2", "mu=[0.3]").stdout.splitlines()
+    assert lines[1].startswith("description: Sec. 6.5, Fig. 18: 5 shapes x 3 masses x 3 frictions")
+    assert lines[2] == ("overrides: seeds=2 mu=[0.3] (the description is of the study file's "
+                        "design; what follows is with them)")
+    assert lines[3].startswith("trial kind: ")
+    assert "axes: shape 5 x mass_kg 3 x mu 1 x planner 5 x seeds 2 = 150 trials" in lines
+    assert not any(line.startswith("overrides:") for line in invoke("show", "smoke").stdout.splitlines())
+
+
 def test_show_never_prints_an_empty_factors_heading():
     """A study without factors says `factors: none`; one with factors lists one per line."""
     names = invoke("list", "--names").stdout.split() + ["smoke"]

@@ -63,7 +63,7 @@ def ingest_files(study: StudyCfg, paths: list[str], run: str = "measured") -> tu
     source = rows[0]["source"] if rows else "measured"  # one source per run (check_one_source)
     if manifest is None:
         manifest = provenance.new_manifest(study, run, len(study_trials(study, kind, params)), source)
-    chash = provenance.config_hash(study)
+    chash = provenance.config_hash(study, manifest)
     store.write_shard("records", content_hash(sorted(r["trial_id"] for r in rows)), rows,
                       metadata=config_metadata(chash), strings=ERROR_COLUMNS)
     manifest["sessions"].append({"ingested": [str(p) for p in paths], "rows": len(rows),

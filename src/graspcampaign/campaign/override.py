@@ -14,7 +14,14 @@ import unicodedata
 from typing import Any
 
 from graspcampaign.campaign.schema import FACTOR_SPECS, example
-from graspcampaign.campaign.studycheck import field_at, known_keys_sentence, schema_at, split_optional
+from graspcampaign.campaign.studycheck import (
+    GROUPS,
+    field_at,
+    known_keys_sentence,
+    schema_at,
+    section_of,
+    split_optional,
+)
 from graspcampaign.errors import ConfigError
 
 
@@ -115,6 +122,11 @@ def override_sentence(exc: BaseException, overrides: list[str], given: list[str]
     match = re.search(r"Could not find '([\w-]+)/([^']+)'", text)
     if match:
         return missing_option_sentence(match.group(1), match.group(2))
+    if text.startswith("Config group override must be"):  # evaluator=3: Hydra names no group
+        for item in overrides:
+            _, key, _, value = split(item)
+            if key in GROUPS and not re.fullmatch(r"[A-Za-z_][\w-]*", value.strip()):
+                return missing_option_sentence(key, value.strip())
     return omegaconf_error_sentence(exc)
 
 
@@ -203,8 +215,7 @@ def omegaconf_error_sentence(exc: BaseException, prefix: str = "") -> str:
     if type(exc).__name__ == "ConfigKeyError" or "not in struct" in text or "not in '" in text:
         if dataclasses.is_dataclass(schema):
             return known_keys_sentence(key, schema)
-        parent = getattr(exc, "object_type_str", None) or "the schema"
-        return f"{key} is not a known key of {parent}."
+        return f"{key} is not a known key of {section_of(key)}."
     match = re.search(r"Interpolation key '([^']+)' not found", text)
     if match:
         return f"{key} refers to ${{{match.group(1)}}}, which is not a key of the study config."

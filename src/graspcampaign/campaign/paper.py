@@ -58,13 +58,13 @@ def _convert(typ: Any, value: Any, where: str) -> Any:
         fields = {f.name: f for f in dataclasses.fields(typ)}
         unknown = sorted(set(map(str, value)) - set(fields))
         if unknown:
-            raise ConfigError(f"{where}.{unknown[0]} is not a known key of {typ.__name__}; "
+            raise ConfigError(f"{where}.{unknown[0]} is not a known key; "
                               f"allowed: {', '.join(fields)}.")
         out = {}
         for name, f in fields.items():
             if name not in value:
                 if f.default is dataclasses.MISSING:
-                    raise ConfigError(f"{where}.{name} is missing ({typ.__name__} requires it).")
+                    raise ConfigError(f"{where}.{name} is missing (a required key).")
                 continue
             out[name] = _convert(hints[name], value[name], f"{where}.{name}")
             if "keys" in f.metadata:
@@ -101,7 +101,8 @@ def _convert(typ: Any, value: Any, where: str) -> Any:
             return value
     elif isinstance(value, typ):
         return value
-    raise ConfigError(f"{where} must be {getattr(typ, '__name__', typ)}; got {value!r}.")
+    words = {int: "a whole number", float: "a number", str: "text", bool: "true or false"}
+    raise ConfigError(f"{where} must be {words.get(typ, typ)}; got {value!r}.")
 
 
 # --------------------------------------------------------------------------------------------

@@ -21,7 +21,11 @@ from graspcampaign.errors import DamagedRunError, UserInputError
 
 _PACKAGES = ("numpy", "scipy", "trimesh", "pandas", "pyarrow", "joblib", "hydra-core",
              "omegaconf", "statsmodels", "matplotlib", "dask", "distributed", "scikit-learn")
-_RESULT_FREE = ("runner", "output")  # where and how trials run never changes their results
+#: What never changes a trial's result: where and how trials run, and the text describing them.
+_RESULT_FREE = ("runner", "output", "description")
+#: What the hash left out before the description left it too (docs/decisions.md): runs stored
+#: then carry this legacy digest, which still names their config.
+_LEGACY_FREE = ("runner", "output")
 
 
 def now_utc() -> str:
@@ -34,14 +38,21 @@ def study_dict(study: StudyCfg) -> dict[str, Any]:
     return dataclasses.asdict(study)
 
 
-def config_hash(study: StudyCfg) -> str:
-    """Hash the parts of the resolved config that can change a trial's result."""
-    return config_digest(study_dict(study))
+def config_hash(study: StudyCfg, manifest: dict[str, Any] | None = None) -> str:
+    """Hash the parts of the resolved config that can change a trial's result.
+
+    With the (verified) ``manifest`` of a run that stored this same config under its legacy
+    digest, return that digest: the run keeps one name for its config across sessions."""
+    digest = config_digest(study_dict(study))
+    if manifest and manifest["config_hash"] != digest and config_digest(manifest["config"]) == digest:
+        return manifest["config_hash"]
+    return digest
 
 
-def config_digest(config: dict[str, Any]) -> str:
-    """:func:`config_hash` of a resolved config as plain data (a manifest's ``config``)."""
-    return content_hash({k: v for k, v in config.items() if k not in _RESULT_FREE}, length=16)
+def config_digest(config: dict[str, Any], free: tuple[str, ...] = _RESULT_FREE) -> str:
+    """:func:`config_hash` of a resolved config as plain data (a manifest's ``config``), leaving
+    out the top-level keys ``free``."""
+    return content_hash({k: v for k, v in config.items() if k not in free}, length=16)
 
 
 def git_state() -> dict[str, Any]:
@@ -217,7 +228,7 @@ def manifest_mismatch(run_path: Path, manifest: dict[str, Any]) -> tuple[str, st
         if key in config and config[key] != manifest[field]:
             return f"{field} is {manifest[field]!r}, but its config says {config[key]!r}", restore
     digest = config_digest(config)
-    if digest != manifest["config_hash"]:
+    if manifest["config_hash"] not in (digest, config_digest(config, _LEGACY_FREE)):
         return (f"config_hash is {manifest['config_hash']}, but its config hashes to {digest}",
                 restore)
     made = kind_facts_or_none(manifest["kind"]).get("source")
@@ -311,7 +322,7 @@ def check_drift(manifest: dict[str, Any], study: StudyCfg, allow_drift: bool, pa
     if allow_drift:
         return
     changes = []
-    if manifest.get("config_hash") != config_hash(study):
+    if manifest.get("config_hash") != config_hash(study, manifest):
         keys = config_changes(manifest.get("config"), study)
         changes.append("resolved study config" + (f" ({', '.join(keys)})" if keys else ""))
     if manifest.get("code_version") != code_version():

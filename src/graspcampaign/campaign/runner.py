@@ -318,7 +318,7 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
                 "`run` never adds simulated or virtual trials to them, so choose another run name "
                 "(--run NAME).")
         check_drift(manifest, study, allow_drift, path)
-    chash = provenance.config_hash(study)
+    chash = provenance.config_hash(study, manifest)
     session = {"started_at": provenance.now_utc(), "host": socket.gethostname(),
                "backend": study.runner.backend, "n_jobs": study.runner.n_jobs,
                "config_hash": chash, "finished_at": None}

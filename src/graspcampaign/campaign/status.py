@@ -75,7 +75,7 @@ def recorded_in(study: StudyCfg, run: str | None = None, opened=_OPEN) -> int:
         return 0
     # every session of the run had this very config: its records are all of this design (this
     # spares building a 19,168-event schedule just to count)
-    if one_config(manifest, config_hash(study)):
+    if one_config(manifest, config_hash(study, manifest)):
         return len(recorded)
     kind = get_kind(study.kind)
     ids = {t.trial_id for t in study_trials(study, kind, kind_params(study, kind))}
@@ -105,12 +105,16 @@ def drift_refusal(study: StudyCfg, run: str | None = None, opened=_OPEN) -> str 
     return None
 
 
-def design_text(study: StudyCfg, run: str | None = None) -> str:
-    """Return the human-readable design of a study and the progress of its run."""
+def design_text(study: StudyCfg, run: str | None = None, overrides: list[str] = ()) -> str:
+    """Return the human-readable design of a study and the progress of its run; ``overrides``, as
+    typed, follow the description (which tells the study file's design, not theirs)."""
     ready = kind_available(study.kind)
     facts = kind_facts(study.kind) if ready else None
     total = study_size(study)
     lines = [f"study: {study.name}", f"description: {' '.join(study.description.split())}"]
+    if overrides:
+        lines.append(f"overrides: {' '.join(overrides)} (the description is of the study file's "
+                     "design; what follows is with them)")
     state = "runnable" if ready else ("not yet runnable" if study.kind in KINDS else "unknown kind")
     lines.append(f"trial kind: {study.kind} ({state})")
     lines.append(f"study seed: {study.seed}   seeds per scene: {study.seeds}   "

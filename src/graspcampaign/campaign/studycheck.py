@@ -22,7 +22,7 @@ from graspcampaign.campaign.schema import SCHEMAS, StudyCfg, check_factor, check
 from graspcampaign.errors import ConfigError
 
 _SCALARS = {"int": int, "float": float, "str": str, "bool": bool}
-_GROUPS = ("model", "evaluator", "features", "pso", "runner", "output")  # conf/<group>/
+GROUPS = ("model", "evaluator", "features", "pso", "runner", "output")  # conf/<group>/
 
 
 # -- where a key is written ----------------------------------------------------------------------
@@ -124,7 +124,7 @@ def check_typed(key: str, value: Any, typ: str, meta: dict[str, Any] | None = No
         raise ConfigError(f"{key} must be {type_words(base, key)}, got null.", key=key)
     if base in SCHEMAS:
         if not isinstance(value, dict):
-            raise ConfigError(_mapping_sentence(key, SCHEMAS[base], value), key=key)
+            raise ConfigError(_mapping_sentence(key, base, value), key=key)
         check_fields(value, SCHEMAS[base], f"{key}.")
         return
     if base.startswith("list["):
@@ -161,7 +161,7 @@ def type_words(base: str, key: str) -> str:
     if base == "bool":
         return "true or false"
     if base in SCHEMAS:
-        return f"a mapping of {base} keys"
+        return f"a mapping of its keys ({', '.join(f.name for f in dataclasses.fields(SCHEMAS[base]))})"
     if base.startswith("list["):
         return "a list"
     if base.startswith("dict["):
@@ -169,10 +169,9 @@ def type_words(base: str, key: str) -> str:
     return f"of type {base}"
 
 
-def _mapping_sentence(key: str, schema: type, value: Any) -> str:
-    names = ", ".join(f.name for f in dataclasses.fields(schema))
-    sentence = f"{key} must be a mapping of {schema.__name__} keys ({names}), got {_got(value)}"
-    if key in _GROUPS and isinstance(value, str):
+def _mapping_sentence(key: str, base: str, value: Any) -> str:
+    sentence = f"{key} must be {type_words(base, key)}, got {_got(value)}"
+    if key in GROUPS and isinstance(value, str):
         from graspcampaign.campaign.studyfile import group_options
 
         options = group_options(key)
@@ -182,10 +181,17 @@ def _mapping_sentence(key: str, schema: type, value: Any) -> str:
 
 
 def known_keys_sentence(key: str, schema: type, typed: str | None = None) -> str:
-    """``<key> is not a known key of <Schema>[ (override '<typed>' rejected)]; known keys: ...``."""
+    """``<key> is not a known key of <its section>[ (override '<typed>' rejected)]; known keys:
+    ...``: the section as the user writes it (``evaluator``; the study config at the top)."""
     rejected = f" (override {typed!r} rejected)" if typed else ""
-    return (f"{key} is not a known key of {schema.__name__}{rejected}; known keys: "
+    return (f"{key} is not a known key of {section_of(key)}{rejected}; known keys: "
             f"{', '.join(f.name for f in dataclasses.fields(schema))}.")
+
+
+def section_of(key: str) -> str:
+    """The config section holding ``key`` as the user writes it: ``evaluator`` for
+    ``evaluator.tau_f``, ``the study config`` for a top-level key."""
+    return key.rsplit(".", 1)[0] if "." in key else "the study config"
 
 
 def check_fields(data: dict[str, Any], schema: type, prefix: str = "") -> None:
@@ -286,8 +292,8 @@ def check_group_file(path: Path, group: str, schema: type, data: dict[str, Any])
     known to ``schema``, its values typed and in range; errors name the file and line."""
     if not data:
         names = ", ".join(f.name for f in dataclasses.fields(schema))
-        raise ConfigError(f"{path} is empty; a file of config group {group} sets the keys "
-                          f"of {schema.__name__} ({names}).")
+        raise ConfigError(f"{path} is empty; a file of config group {group} sets keys of "
+                          f"{group} ({names}).")
     try:
         check_fields(data, schema, f"{group}.")
     except ConfigError as exc:
@@ -373,7 +379,7 @@ def check_params(params: dict[str, Any], spec: dict[str, Any] | None, kind: str)
     for name, value in params.items():
         key = f"params.{name}"
         if name not in fields:
-            raise ConfigError(f"{key} is not a known key of {spec['name']}; known keys: "
+            raise ConfigError(f"{key} is not a known key of params; known keys: "
                               f"{', '.join(fields)}.", key=key)
         typ, meta = fields[name]
         check_typed(key, value, typ, meta)

@@ -112,7 +112,7 @@ def show(study: StudyArg, overrides: Overrides = None, run: RunOpt = None,
     from graspcampaign.campaign.status import design_text
 
     check_root(root)
-    typer.echo(design_text(compose(study, overrides, root), run))
+    typer.echo(design_text(compose(study, overrides, root), run, overrides or []))
 
 
 @app.command("run")

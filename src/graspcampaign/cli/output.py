@@ -8,22 +8,34 @@ import typer
 
 
 def print_list(rows: list[dict[str, Any]]) -> None:
-    """Print the study table of ``graspcampaign list``."""
+    """Print the study table of ``graspcampaign list``, as wide as the terminal (or ``COLUMNS``);
+    a pipe or file gets one line per study (160 columns). Study and kind names are never cut (they
+    are what the user types); where they leave the description under 16 columns, the kind is left
+    out (``show`` names it)."""
+    import os
     import sys
     import textwrap
 
     from rich.console import Console
-    from rich.table import Table
+    from rich.measure import Measurement
+    from rich.table import Column, Table
 
-    table = Table("study", "kind", "trials", "runnable", "of", "description")
-    for row in rows:
-        description = row["description"]
-        if row["runnable"] != "broken":  # a broken file's reason is shown whole
-            description = textwrap.shorten(description, 70, placeholder=" …")
-        table.add_row(row["study"], row["kind"], str(row["trials"]), row["runnable"],
-                      "extension" if row["extension"] else "paper", description)
-    # a terminal's own width (the description wraps); a pipe or file gets one line per study
-    Console(width=None if sys.stdout.isatty() else 160).print(table)
+    console = Console(width=None if sys.stdout.isatty() or os.environ.get("COLUMNS") else 160)
+    for names in (("study", "kind", "trials", "runnable", "of"), ("study", "trials", "runnable", "of")):
+        table = Table(*(Column(name, no_wrap=name in ("study", "kind")) for name in names),
+                      Column("description", width=16, overflow="fold"))  # a path folds, whole
+        for row in rows:
+            description = row["description"]
+            if row["runnable"] != "broken":  # a broken file's reason is shown whole
+                description = textwrap.shorten(description, 70, placeholder=" …")
+            cells = {**row, "trials": str(row["trials"]),
+                     "of": "extension" if row["extension"] else "paper"}
+            table.add_row(*(cells[name] for name in names), description)
+        unbounded = console.options.update_width(10_000)  # Measurement.get clamps to the width
+        if Measurement.get(console, unbounded, table).minimum <= console.width:
+            break
+    table.columns[-1].width, table.columns[-1].min_width = None, 16  # measured at 16; takes the rest
+    console.print(table)
 
 
 def _vector(values, fmt: str) -> str:
