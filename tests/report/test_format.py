@@ -42,12 +42,14 @@ def test_number_variants():
      (False, "consistent: the paper's value lies inside our 95% interval (0.0 pp)")),
     ((50.6, 72.0), {"low": 37.0, "high": 64.0, "unit": "%"},
      (True, "differs by \u221221.4 pp: the paper's value lies outside our 95% interval")),
-    # a zero-width interval (the same value in every seed): 1/3 prints 0.33-0.33, holding the paper's
-    # 0.33 as printed (it read "differs by 0.00"); 0.2412 prints 0.24-0.24, not holding 0.25
+    # a zero-width interval (the same value in every seed) reads as the point value: 1/3 against the
+    # paper's 0.33 (it read "differs by 0.00"); a paper value one printed unit or more from the
+    # interval's nearest end differs
     ((1 / 3, 0.33), {"low": 1 / 3, "high": 1 / 3, "digits": 2},
-     (False, "consistent: the paper's value lies inside our 95% interval as printed (0.00)")),
-    ((0.2412, 0.25), {"low": 0.2412, "high": 0.2412, "digits": 2},
-     (True, "differs by \u22120.01: the paper's value lies outside our 95% interval")),
+     (False, "consistent: the paper's value lies within the printed precision of our 95% interval "
+             "(0.00)")),
+    ((0.2412, 0.26), {"low": 0.2412, "high": 0.2412, "digits": 2},
+     (True, "differs by \u22120.02: the paper's value lies outside our 95% interval")),
     ((0.41666, 0.416), {"digits": 3}, (False, "matches to the paper's printed precision")),
     ((0.512, 0.833), {"digits": 3}, (True, "differs by \u22120.321")),
     ((35.0, (30, 40)), {"digits": 0}, (False, "inside the paper's range 30–40")),
@@ -85,6 +87,14 @@ def test_number_variants():
 ])
 def test_one_verdict_rule(args, kwargs, expected):
     assert fmt.verdict(*args, **kwargs) == expected
+
+
+@given(st.floats(-1e3, 1e3), st.floats(-1e3, 1e3), st.floats(0, 10), st.integers(0, 3))
+def test_an_interval_is_judged_as_its_nearest_end_when_the_paper_lies_outside(ours, paper, width, digits):
+    # a zero-width interval reads as the point value; a wider one can only bring the paper's value in
+    point = fmt.verdict(ours, paper, digits=digits)[0]
+    assert fmt.verdict(ours, paper, low=ours, high=ours, digits=digits)[0] == point
+    assert fmt.verdict(ours, paper, low=ours - width, high=ours + width, digits=digits)[0] <= point
 
 
 def test_a_cell_shows_the_reason_of_a_missing_value():

@@ -135,8 +135,9 @@ def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits:
     """Say how ours stands against the paper's value: ``(differs, words)``, the one rule: a range agrees
     inside it and a one-sided bound (a range with a None end, ``(None, hi)``: at most hi) within it
     (ours rounded to ``digits``, as printed; ours ``inf`` lies above every range); a word when equal;
-    ours with a 95 % interval when it holds the paper's value (or the interval as printed, rounded to
-    ``digits``); otherwise within one unit of the paper's last printed digit (``10**-digits``).
+    ours with a 95 % interval when it holds the paper's value, or its nearest end is within one unit
+    of the paper's last printed digit (``10**-digits``), as a point value is (so a zero-width interval
+    reads as the value).
     ``unit`` is the values' unit: a value or range of percentages prints ``%``, a difference of two
     percentages ``pp``. ``ratio`` (e.g. "faster"): the
     values are ratios, said as ratios ("ours 9.17× faster, the paper's 17000× (1850 times ours)").
@@ -175,13 +176,16 @@ def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits:
         return True, f"differs: the paper reports {number(paper)}, ours is {number(ours)}"
     unit = "pp" if unit == "%" else unit
     diff = number(float(ours) - float(paper), digits, signed=True, unit=f" {unit}" if unit else "")
+    nearest = float(ours) if is_missing(low) or is_missing(high) else \
+        min(max(float(paper), float(low)), float(high))
+    differs = abs(nearest - float(paper)) >= 10.0 ** -digits
     if not is_missing(low) and not is_missing(high):
         if float(low) <= float(paper) <= float(high):
             return False, f"consistent: the paper's value lies inside our 95% interval ({diff})"
-        if round(float(low), digits) <= float(paper) <= round(float(high), digits):  # as printed (1/3: 0.33)
-            return False, f"consistent: the paper's value lies inside our 95% interval as printed ({diff})"
+        if not differs:  # e.g. 1/3 in every seed against the paper's 0.33
+            return False, f"consistent: the paper's value lies within the printed precision of our 95% " \
+                          f"interval ({diff})"
         return True, f"differs by {diff}: the paper's value lies outside our 95% interval"
-    differs = abs(float(ours) - float(paper)) >= 10.0 ** -digits
     if ratio:
         times = number(float(paper) / float(ours), sig=3)
         return differs, (f"{'differs' if differs else 'as in the paper'}: ours {number(ours, sig=3)}× "
