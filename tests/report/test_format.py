@@ -46,11 +46,14 @@ def test_number_variants():
     # paper's 0.33 (it read "differs by 0.00"); a paper value one printed unit or more from the
     # interval's nearest end differs
     ((1 / 3, 0.33), {"low": 1 / 3, "high": 1 / 3, "digits": 2},
-     (False, "consistent: the paper's value lies within the printed precision of our 95% interval "
+     (False, "consistent: the paper's value lies within one printed digit (0.01) of our 95% interval "
              "(0.00)")),
     ((0.2412, 0.26), {"low": 0.2412, "high": 0.2412, "digits": 2},
      (True, "differs by \u22120.02: the paper's value lies outside our 95% interval")),
-    ((0.41666, 0.416), {"digits": 3}, (False, "matches to the paper's printed precision")),
+    ((0.41666, 0.416), {"digits": 3},
+     (False, "matches: within one printed digit (0.001) of the paper's value")),
+    ((60.0, 60.05), {"unit": "%"},
+     (False, "matches: within one printed digit (0.1 pp) of the paper's value")),
     ((0.512, 0.833), {"digits": 3}, (True, "differs by \u22120.321")),
     ((35.0, (30, 40)), {"digits": 0}, (False, "inside the paper's range 30–40")),
     ((20.0, (30, 40)), {"digits": 0}, (True, "differs: below the paper's range 30–40")),

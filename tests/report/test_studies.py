@@ -574,7 +574,7 @@ def test_heuristic_weights_invariance(tmp_path, scales, words):
         "as in the paper (yes)"
     # 1/3 in every seed against the printed 0.33: the zero-width interval reads as the value
     assert comp.loc["S3 of the reachable set at unit weights", "verdict"] == \
-        "consistent: the paper's value lies within the printed precision of our 95% interval (0.00)"
+        "consistent: the paper's value lies within one printed digit (0.01) of our 95% interval (0.00)"
     # S1 varies by seed: the median over every trial at the nearest scale, with its n (was one trial, no n)
     at = ok[ok["weight_scale"] == nearest]
     s1 = comp.loc["S1 of the reachable set at unit weights"]

@@ -179,15 +179,18 @@ def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits:
     nearest = float(ours) if is_missing(low) or is_missing(high) else \
         min(max(float(paper), float(low)), float(high))
     differs = abs(nearest - float(paper)) >= 10.0 ** -digits
+    tol = number(10.0 ** -digits, digits, unit=f" {unit}" if unit else "")
     if not is_missing(low) and not is_missing(high):
         if float(low) <= float(paper) <= float(high):
             return False, f"consistent: the paper's value lies inside our 95% interval ({diff})"
         if not differs:  # e.g. 1/3 in every seed against the paper's 0.33
-            return False, f"consistent: the paper's value lies within the printed precision of our 95% " \
+            return False, f"consistent: the paper's value lies within one printed digit ({tol}) of our 95% " \
                           f"interval ({diff})"
         return True, f"differs by {diff}: the paper's value lies outside our 95% interval"
     if ratio:
         times = number(float(paper) / float(ours), sig=3)
         return differs, (f"{'differs' if differs else 'as in the paper'}: ours {number(ours, sig=3)}× "
                          f"{ratio}, the paper's {number(paper)}× ({times} times ours)")
-    return (True, f"differs by {diff}") if differs else (False, "matches to the paper's printed precision")
+    if differs:
+        return True, f"differs by {diff}"
+    return False, f"matches: within one printed digit ({tol}) of the paper's value"
