@@ -193,4 +193,6 @@ def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits:
                          f"{ratio}, the paper's {number(paper)}× ({times} times ours)")
     if differs:
         return True, f"differs by {diff}"
+    if round(float(ours), digits) == round(float(paper), digits):
+        return False, "matches as printed"
     return False, f"matches: within one printed digit ({tol}) of the paper's value"
