@@ -1,5 +1,6 @@
 """What the bad-input tests of the command line share: run a command, fingerprint a results root,
-and assert a refusal (exit 2, the whole one-sentence message, nothing stored changed).
+and assert a refusal (exit 2, the whole one-sentence message, nothing stored changed); the tiny
+runs the bad-store tests damage, and the advice a damaged run is refused with.
 
 Imported by name (``from cli_checks import ...``), as pytest puts this directory on the path.
 """
@@ -18,6 +19,21 @@ from typer.testing import CliRunner
 from graspcampaign.cli.main import app
 
 runner = CliRunner()
+
+#: the tiny baseline_grid run: one scene, the proposed planner and Ferrari-Canny, a cheap PSO
+BG = ["seeds=1", "shape=[sphere]", "mass_kg=[0.2]", "mu=[0.3]", "planner=[heuristic,ferrari_canny]",
+      "pso.n_particles=2", "pso.n_iterations=1", "runner.backend=sequential", "runner.batch_size=1"]
+SMOKE = ["shape=[sphere]", "nodes=[144]", "runner.backend=sequential"]
+
+
+def grid_run(root: Path) -> Path:
+    """The directory of the tiny baseline_grid run under ``root``."""
+    return root / "baseline_grid" / "default"
+
+
+def resume_advice(root: Path, then: str = "quarantine the file and run its trials again") -> str:
+    """The advice a damaged baseline_grid run is refused with: resume it to ``then``."""
+    return f"resume the run (graspcampaign run baseline_grid --run default --root {root}) to {then}."
 
 
 @contextlib.contextmanager

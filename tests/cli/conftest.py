@@ -1,4 +1,5 @@
-"""Fixtures of the command-line tests: a user's own study directory and a breakable config home."""
+"""Fixtures of the command-line tests: a user's own study directory, a breakable config home, and
+finished runs (made once) that a bad-store test damages a copy of."""
 
 from __future__ import annotations
 
@@ -6,6 +7,7 @@ import shutil
 from pathlib import Path
 
 import pytest
+from cli_checks import BG, SMOKE, invoke
 
 from graspcampaign.campaign import studyfile
 
@@ -31,3 +33,19 @@ def home(tmp_path, monkeypatch):
     studyfile.project_dirs.cache_clear()
     yield root
     studyfile.project_dirs.cache_clear()
+
+
+@pytest.fixture(scope="session")
+def finished(tmp_path_factory):
+    """A results root with a finished tiny baseline_grid run and a smoke run, both reported."""
+    root = tmp_path_factory.mktemp("bad_stores") / "results"
+    for args in (["run", "baseline_grid", *BG], ["run", "smoke", *SMOKE], ["report"]):
+        done = invoke(*args, "--root", root)
+        assert done.exit_code == 0, done.output
+    return root
+
+
+@pytest.fixture
+def results(finished, tmp_path):
+    """A copy of the finished results root this test may damage."""
+    return Path(shutil.copytree(finished, tmp_path / "results"))

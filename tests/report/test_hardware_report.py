@@ -1,4 +1,4 @@
-"""Reports of ``test2_grasp`` and ``test3_disturbance`` (Tables 6-9, Figs. 28-31 and 33-36).
+"""Reports of ``test2_grasp`` and ``test3_disturbance`` (Tables 6-9; the figures: test_hardware_figures.py).
 
 The reduced virtual-rig runs of the shared results tree (conftest.py) are reported as they are and,
 exported in the measured-records schema, ingested into a second root and reported again: the
@@ -295,76 +295,6 @@ def test_tables_name_planners_and_outcomes_in_the_vocabulary_words(sim_root, stu
         assert "marginal success" in cells and label("outcome", "success") == "marginal success"
 
 
-def _drawn(root, study: str, name: str):
-    """Figure ``name`` of the run, drawn on an Agg canvas (the report's tables rendered first)."""
-    import matplotlib as mpl
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    from graspcampaign.campaign.paper import study_paper
-    from graspcampaign.report import style
-    from graspcampaign.report.build import spec_for
-    from graspcampaign.report.document import Document
-    from graspcampaign.report.render import Run, render
-
-    store = RunStore(root / study / "default")
-    run = Run(store.read().to_pandas(), store.check(), study_paper(study), store)
-    spec = spec_for(study, "")
-    render(spec, run, Document("", run.source, []))
-    item = next(i for i in spec.items if getattr(i, "name", None) == name)
-    with mpl.rc_context(style.RC):
-        fig = Figure(figsize=item.size, layout="constrained")
-        FigureCanvasAgg(fig)
-        item.draw(run, fig)
-        fig.canvas.draw()
-    return run, fig
-
-
-FIGURES = {"test2_grasp": ["fig28_outcomes", "fig29_prediction_accuracy", "fig31_planner_comparison"],
-           "test3_disturbance": ["fig33_thresholds", "fig34_threshold_prediction", "fig36_robustness"]}
-
-
-@pytest.mark.parametrize(("study", "name"), [(s, f) for s, fs in FIGURES.items() for f in fs])
-def test_no_legend_covers_a_mark_or_line_and_panels_are_lettered_once(sim_root, study, name):
-    """Every legend box is clear of the lines and markers drawn in its axes (the paper's marks, our
-    whiskers, reference lines), and the panel letters (a), (b), ... are each used once."""
-    from matplotlib.collections import LineCollection
-    from matplotlib.lines import Line2D
-
-    _, fig = _drawn(sim_root, study, name)
-    renderer = fig.canvas.get_renderer()
-    for ax in fig.axes:
-        legend = ax.get_legend()
-        if legend is None:
-            continue
-        box = legend.get_window_extent(renderer).shrunk(0.98, 0.9)
-        paths = [a.get_transform().transform_path(a.get_path()) for a in ax.get_children()
-                 if isinstance(a, Line2D) and a.get_visible() and len(a.get_xdata())]
-        paths += [ax.transData.transform_path(p) for c in ax.collections if isinstance(c, LineCollection)
-                  for p in c.get_paths()]
-        hits = [p for p in paths if p.intersects_bbox(box, filled=False)
-                or any(box.contains(*v) for v in p.vertices)]
-        assert not hits, f"{name}, {ax.get_title('left')}: the legend covers {len(hits)} drawn lines or marks"
-        texts = [t for t in (*ax.get_xticklabels(), ax.xaxis.label) if t.get_text()]
-        assert not [t for t in texts if box.overlaps(t.get_window_extent(renderer))], ax.get_title("left")
-    letters = [t.split(")")[0] for t in (ax.get_title("left") for ax in fig.axes) if t.startswith("(")]
-    assert len(letters) == len(set(letters)), letters
-
-
-@pytest.mark.parametrize("study", sorted(STUDIES))
-def test_virtual_rig_figures_are_not_labelled_measured(sim_root, study):
-    """A virtual run's axes and captions call its data virtual-rig data, never measured."""
-    run, texts = None, []
-    for name in FIGURES[study]:
-        run, fig = _drawn(sim_root, study, name)
-        texts += [t for ax in fig.axes for t in (ax.get_xlabel(), ax.get_ylabel(), ax.get_title("left"))]
-    assert run.source == "virtual"
-    md = (sim_root / study / "default" / "report" / "report.md").read_text()
-    texts += [line for line in md.splitlines() if line.startswith("*Fig.")]
-    assert not [t for t in texts if "measured" in t]
-    assert any("virtual-rig" in t for t in texts)
-
-
 CONSTANTS = {"0.0886", "0.7", "1.4"}
 """Numbers of the opening paragraphs that are model constants, not results: τ_F, Table 4's μ_k/μ_s and
 the slip-arrest safety factor."""
@@ -486,32 +416,6 @@ def test_outcome_shares_are_named_as_shares_of_each_class(sim_root):
     shares = 100 * ex["outcome"].value_counts(normalize=True)
     assert table["rate_pct"].to_dict() == pytest.approx({k: shares.get(k, 0.0) for k in table.index})
     assert not {"success_pct", "paper_success_pct"} & set(table.columns)
-
-
-@pytest.mark.parametrize(("study", "name"), [("test2_grasp", "fig30_representative_grasp"),
-                                             ("test3_disturbance", "fig35_representative_pull")])
-def test_schematic_slip_axis_has_readable_ticks_and_no_finger_hides_another(sim_root, study, name):
-    """Fig. 35's slip axis had a single tick label (10¹) and Fig. 30's finger 1 lay hidden under finger 3
-    (0.51 and 0.52 N): the slip axis now labels at least three plain values in view (the 2 mm criterion
-    among them), and of two finger lines less than 5 % of the axis apart the later drawn is thinner, so
-    both show; each finger's legend entry gives its recorded force."""
-    run, fig = _drawn(sim_root, study, name)
-    slip = fig.axes[1]
-    low, high = slip.get_ylim()
-    shown = [t.get_text() for t in slip.get_yticklabels()
-             if t.get_text() and low <= t.get_position()[1] <= high]
-    assert len(shown) >= 3 and "2" in shown and not any("^" in s for s in shown), shown
-    if study == "test2_grasp":
-        force = fig.axes[0]
-        fingers = [line for line in force.get_lines() if line.get_label().startswith("finger ")]
-        assert len(fingers) == 3
-        span = np.diff(force.get_ylim())[0]
-        for i, under in enumerate(fingers):
-            for over in fingers[i + 1:]:
-                if abs(under.get_ydata()[0] - over.get_ydata()[0]) < 0.05 * span:
-                    assert over.get_linewidth() < under.get_linewidth()
-        for line in fingers:
-            assert f"({line.get_ydata()[0]:.3g} N)" in line.get_label()
 
 
 @pytest.mark.parametrize("study", sorted(STUDIES))

@@ -194,8 +194,8 @@ def test_real_reduced_runs_state_their_records(sim_root):
     (Kept here, beside the other checks of the shared tree, rather than in
     test_quasi_static_report.py: a module naming ``sim_root`` runs in that tree's xdist scope
     (tests/conftest.py), and the quasi-static module's own synthetic runs need no place there.)"""
+    from synthetic_runs import ok_records
     from test_quasi_static_report import finding
-    from test_studies import ok_records
 
     for study in ("baseline_grid", "grip_laws"):
         store = RunStore(sim_root / study / "default")

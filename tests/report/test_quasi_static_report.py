@@ -14,7 +14,7 @@ import pandas as pd
 import pytest
 from scipy import stats
 from statsmodels.stats.contingency_tables import mcnemar as sm_mcnemar
-from test_studies import SHAPES, make_run, ok_records, quasi_static_outputs, read_table
+from synthetic_runs import SHAPES, make_run, ok_records, quasi_static_outputs, read_table
 
 from graspcampaign.analysis.vocabulary import label
 from graspcampaign.report import format as fmt
@@ -343,7 +343,7 @@ def test_shapes_table_checks_and_fig15_mark_contacts_beyond_the_fingertip_radius
     import json
 
     import matplotlib.pyplot as plt
-    from test_studies import make_run
+    from synthetic_runs import make_run
 
     from graspcampaign.campaign.paper import study_paper
     from graspcampaign.report.render import Run

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import matplotlib.pyplot as plt
 import numpy as np
-from test_studies import SHAPES, make_run
+from synthetic_runs import SHAPES, make_run
 
 from graspcampaign.analysis.vocabulary import label
 from graspcampaign.report.build import build_reports

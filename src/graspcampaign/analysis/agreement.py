@@ -24,6 +24,7 @@ from statsmodels.regression.linear_model import OLS
 
 from graspcampaign.analysis.checks import check_1d, check_paired, require, result
 from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
+from graspcampaign.analysis.vocabulary import counted
 
 #: Fewer held-out positives or negatives than this and the AUC gets no interval: the percentile
 #: interval's coverage is below 90 % with 5 positives (docs/decisions.md, surrogate AUC interval).
@@ -148,7 +149,7 @@ def auc_interval(positive: ArrayLike, negative: ArrayLike, *, seed: int,
     positive, negative = check_1d(positive, "positive", 0), check_1d(negative, "negative", 0)
     require(positive.size and negative.size, "an AUC needs both classes among the held-out scores, got "
                                              f"{positive.size} positives and {negative.size} negatives.")
-    few = [f"only {a.size} held-out {word}{'s' if a.size != 1 else ''}"
+    few = [f"only {counted(a.size, f'held-out {word}')}"
            for a, word in ((positive, "positive"), (negative, "negative")) if a.size < min_class]
     if few:
         return AucInterval(math.nan, math.nan, "", 0, " and ".join(few) + ", too few for an interval")

@@ -41,6 +41,7 @@ from pathlib import Path
 import pyarrow as pa
 import pyarrow.parquet as pq
 
+from graspcampaign.analysis.vocabulary import counted
 from graspcampaign.campaign.provenance import (
     MISMATCH,
     ingested,
@@ -156,8 +157,7 @@ def _foreign(own: Facts, allowed: dict[str, set]) -> str | None:
         return f"records run with another config (hash {other[0]}, not one this run ran with)"
     other = sorted(own.ids - allowed["design"])
     if other and allowed["design"]:
-        return (f"records of {len(other)} trial{'s' if len(other) > 1 else ''} not in the study's "
-                f"design ({other[0]})")
+        return f"records of {counted(len(other), 'trial')} not in the study's design ({other[0]})"
     return None
 
 
@@ -178,7 +178,7 @@ def _not_records(own: Facts, allowed: dict) -> str | None:
     if other:
         return f"status {other[0]!r}, not {' or '.join(STATUSES)}"
     if own.n_null_ids:
-        return f"{own.n_null_ids} record{'s' if own.n_null_ids > 1 else ''} without a trial_id"
+        return f"{counted(own.n_null_ids, 'record')} without a trial_id"
     if own.bad_id is not None:
         return (f"trial_id {own.bad_id!r}, which the tool never makes: its ids end in '-' and "
                 "the 10-digit hash of the trial's factors")
@@ -311,7 +311,7 @@ def refusal(store, found: list[Problem], manifest: dict | None = None) -> Damage
             manifest = None
     by_ingest = isinstance(manifest, dict) and ingested(manifest)
     n = len(found) - 1
-    more = f" (and {n} more problem{'s' if n > 1 else ''})" if n else ""
+    more = f" (and {counted(n, 'more problem')})" if n else ""
     return DamagedRunError(f"run {store.path.parent.name}/{store.path.name} at {store.path} has "
                            f"{found[0].text}{more}; {_advice(store, found[0], by_ingest)}.",
                            f"has {found[0].text}{more}")

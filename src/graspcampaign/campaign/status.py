@@ -12,17 +12,13 @@ import statistics
 from pathlib import Path
 from typing import Any
 
+from graspcampaign.analysis.vocabulary import counted
 from graspcampaign.campaign.catalog import design_size, kind_facts
 from graspcampaign.campaign.kind import KINDS, kind_available
 from graspcampaign.campaign.paths import check_root
 from graspcampaign.campaign.schema import StudyCfg, design_shape
 from graspcampaign.campaign.studyfile import check_name, list_studies, run_dir, run_path
 from graspcampaign.errors import UserInputError
-
-
-def counted(n: int, noun: str) -> str:
-    """``n`` and ``noun``, plural unless ``n`` is 1 ("1 trial", "0 trials", "5 trials")."""
-    return f"{n} {noun}" if n == 1 else f"{n} {noun}s"
 
 
 def _fmt_seconds(seconds: float) -> str:

@@ -18,6 +18,7 @@ import functools
 from pathlib import Path
 from typing import Any
 
+from graspcampaign.analysis.vocabulary import plural
 from graspcampaign.campaign.schema import SCHEMAS, StudyCfg, check_factor, check_value, example
 from graspcampaign.errors import ConfigError
 
@@ -391,7 +392,7 @@ def check_kind_factors(factors: dict[str, Any], kind: str, required: list[str]) 
     if missing:
         names = missing[0] if len(missing) == 1 else f"{', '.join(missing[:-1])} and {missing[-1]}"
         have = ", ".join(factors) or "none"
-        raise ConfigError(f"trial kind {kind!r} needs the factor{'s' if len(missing) > 1 else ''} "
+        raise ConfigError(f"trial kind {kind!r} needs the {plural('factor', len(missing))} "
                           f"{names} on every trial, which this study does not set (its factors: "
                           f"{have}); give each a list of levels under factors, e.g. "
                           f"{missing[0]}: {example(missing[0])}.", key="factors")

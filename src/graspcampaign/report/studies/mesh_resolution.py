@@ -11,7 +11,7 @@ from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
 from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
 from graspcampaign.analysis.records import MIN_TRIALS, Estimate, median
-from graspcampaign.analysis.vocabulary import OTHER_COLOURS, PROPOSED, colour
+from graspcampaign.analysis.vocabulary import OTHER_COLOURS, PROPOSED, colour, counted
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.errors import UserInputError
 from graspcampaign.report import format as fmt
@@ -97,8 +97,8 @@ def _growth(run: Run, repeats: str) -> tuple[bool, str]:
     interval lies above 1 and above the reference mesh's ratio against itself (docs/decisions.md)."""
     ratio, ref = _cost_ratio(run, repeats), _meshes(run)[1]
     if math.isnan(ratio.low):
-        return False, f"too few trials to tell growth from timing noise ({ratio.n} trial" \
-                      f"{'s' * (ratio.n != 1)}; a 95% interval needs {MIN_TRIALS})"
+        return False, (f"too few trials to tell growth from timing noise ({counted(ratio.n, 'trial')}; "
+                       f"a 95% interval needs {MIN_TRIALS})")
     try:
         itself = _cost_ratio(run, repeats, ref)
     except ValueError:  # the reference mesh is not a level of the panel
@@ -193,7 +193,7 @@ def _reading(run: Run) -> str:
             "the same reading at printed precision" if (other[0], median_grows) == (differs, grows) else
             f"which reads {', '.join(w for w in (other[1], median_growth) if w)}: the choice of estimator "
             "decides the verdict")
-    trials = f"{ratio.n} trial{'s' if ratio.n != 1 else ''}"
+    trials = counted(ratio.n, "trial")
     return (f"One evaluation on the largest mesh ({top} nodes) costs {fmt.number(ratio.value, 2)} times one "
             f"on the {ref}-node reference mesh (median over {trials} of each trial's ratio of the two "
             f"meshes' {repeats}; {paper}): {growth}, " + (

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pandas as pd
 
-from graspcampaign.analysis.vocabulary import colour, label, ordered
+from graspcampaign.analysis.vocabulary import colour, counted, label, ordered
 from graspcampaign.report.document import Col, cols
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, Value
@@ -23,7 +23,7 @@ def finding(run: Run) -> str:
     ok = run.ok
     levels = ok["nodes"].nunique()
     text = (f"{int(ok['watertight'].astype(bool).sum())} of {len(ok)} meshes are closed (watertight) across "
-            f"{ok['shape'].nunique()} shapes and {levels} resolution{'s' * (levels > 1)}; their built node "
+            f"{ok['shape'].nunique()} shapes and {counted(levels, 'resolution')}; their built node "
             f"counts lie within {ok['node_count_error_pct'].abs().max():.1f}% of the requested ones. ")
     if (ok["shape"] == "sphere").any():
         n = _worst("n_sharp_vertex")(run) + _worst("n_sharp_edge")(run)

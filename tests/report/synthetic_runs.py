@@ -1,0 +1,134 @@
+"""Small synthetic runs for the report tests, and readers of what their reports write.
+
+The records are built column for column as docs/records.md specifies (base columns, factors, the
+kind's outputs, trace tables), written through ``RunStore`` with a manifest from
+``campaign.provenance``; trial ids and scene ids come from the campaign's own design expansion.
+
+Imported by name (``from synthetic_runs import ...``), as pytest puts this directory on the path.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+import pandas as pd
+
+from graspcampaign.campaign.grid import expand
+from graspcampaign.campaign.provenance import new_manifest, now_utc, write_manifest
+from graspcampaign.campaign.records import RunStore
+from graspcampaign.campaign.schema import StudyCfg
+
+SHAPES = ["sphere", "ellipsoid", "rounded_cube", "pear", "handle"]
+P_SUCCESS = {"heuristic": 0.7, "antipodal": 0.4, "random": 0.1, "centroid": 0.0, "no_s1": 0.7,
+             "no_s2": 0.65}
+
+
+def make_run(root, name: str, kind: str, factors: dict, seeds: int, paper: dict | None,
+             outputs: Callable[[dict, np.random.Generator], dict], *, seed: int = 11,
+             error_every: int = 0, tables: Callable[[str, dict, dict], dict] | None = None,
+             prepared: list[dict] | None = None, source: str = "simulation",
+             **study_kw) -> RunStore:
+    """Write a run of ``name`` like the runner does: records (+ traces), then the manifest.
+
+    ``paper`` None takes the study file's paper block (the typed values a real run carries).
+    """
+    if paper is None:
+        from test_build import study_paper_block
+
+        paper = study_paper_block(name)
+    study = StudyCfg(name=name, kind=kind, seed=seed, seeds=seeds, factors=factors, paper=paper,
+                     **study_kw)
+    trials = expand(study)
+    rng = np.random.default_rng(seed)
+    rows, traces = [], {}
+    for trial in trials:
+        row = {"trial_id": trial.trial_id, "study": name, "run": "r1", "kind": kind,
+               "trial_index": trial.index, "scene_id": trial.scene_id, "status": "ok",
+               "error_type": None, "error_message": None, "wall_time_s": 0.01,
+               "worker": "pid1", "host": "test", "source": source, **trial.factors}
+        if error_every and trial.index % error_every == error_every - 1:
+            row.update(status="error", error_type="RuntimeError", error_message="boom")
+        else:
+            out = outputs(trial.factors, rng)
+            row.update(out)
+            if tables:
+                for tname, cols in tables(trial.trial_id, trial.factors, out).items():
+                    traces.setdefault(tname, []).extend(cols)
+        rows.append(row)
+    store = RunStore(root / name / "r1")
+    half = len(rows) // 2
+    store.write_shard("records", "a", rows[:half])
+    store.write_shard("records", "b", rows[half:])
+    for tname, trows in traces.items():
+        store.write_shard(f"tables/{tname}", "a", trows)
+    if prepared:
+        store.write_shard("prepared", "a", prepared)
+    manifest = new_manifest(study, "r1", len(trials), source)
+    manifest["finished_at"] = now_utc()
+    write_manifest(store.manifest_path, manifest)
+    return store
+
+
+def quasi_static_outputs(factors: dict, rng: np.random.Generator) -> dict:
+    """One quasi_static record (docs/records.md), outcome drawn per planner."""
+    planner = factors.get("planner", "heuristic")
+    success = bool(rng.random() < P_SUCCESS.get(planner, 0.5))
+    check = "none" if success else str(rng.choice(["residual", "torque", "slip"]))
+    deltas = rng.lognormal(np.log(0.8), 0.6, 3)
+    forces = rng.uniform(1, 10, 3)
+    out = {
+        "nodes": factors.get("nodes", 390), "n_cand": 200, "success": success,
+        "failure_check": check,
+        "residual_norm_n": float(rng.uniform(0, 0.45) if success else rng.uniform(0.5, 4)),
+        "torque_norm_nm": float(rng.uniform(0, 0.01)),
+        "slip_margin_n": float(rng.uniform(0.1, 2) if success else rng.uniform(-2, 0.5)),
+        "eta": float(rng.uniform(0, 0.8)), "delta_max_mm": float(deltas.max()),
+        "exceeds_1mm": bool(deltas.max() > 1.0), "iterations": int(rng.integers(5, 100)),
+        "h_total": float(rng.uniform(0.15, 0.28)), "s1": 0.1, "s2": 0.1, "s3": 0.05,
+        "n_c": 0, "n_e": 0, "believed_quality": 0.5, "n_sharp_vertex": 0, "n_sharp_edge": 0,
+        "lambda1": 0.332, "lambda2": 0.88, "n_exp": 0.487,
+        "plan_time_s": 0.01 * (1 + factors.get("nodes", 390) / 1000) + rng.uniform(0, 1e-3),
+        "eval_time_s": 0.02 + rng.uniform(0, 1e-3),
+    }
+    for j in range(3):
+        out[f"delta_{j + 1}_mm"] = float(deltas[j])
+        out[f"normal_force_{j + 1}_n"] = float(forces[j])
+        out[f"vertex_{j + 1}"] = int(rng.integers(0, 390))
+        out[f"contact_normal_z_{j + 1}"] = float(rng.uniform(-1, 1))
+    # issue 13/17 columns (docs/records.md): the gate only removes passes, torque only binds
+    unbounded = success or bool(rng.random() < 0.15)
+    upper = int(rng.integers(0, 3))
+    law = factors.get("grip_law", "paper")
+    out.update({
+        "grip_law": law, "success_unbounded": unbounded, "valid_geometry": success or not unbounded,
+        "success_vertical": unbounded or bool(rng.random() < 0.2),
+        "success_no_torque": success or check == "torque",
+        "failure_check": "geometry" if unbounded and not success else check,
+        "n_upper": upper, "n_released": upper if law == "paper" else 0, "n_loaded": 3 - upper,
+        "support_share_max": float(rng.uniform(0.3, 1.0)), "rho": float(rng.uniform(0.0, 1.0)),
+        "epsilon_fc": float(max(0.0, rng.normal(0.02, 0.05))), "pso_at_bound": "lambda1,n",
+        "grip_capped": law != "paper" and bool(rng.random() < 0.8),
+        "grip_needed_n": float("nan") if law == "paper" else float(rng.choice([2.0, 40.0, np.inf])),
+    })
+    if planner == "ferrari_canny":
+        out.update(spearman_h_epsilon=float(rng.uniform(-0.8, 0.1)),
+                   spearman_h_epsilon_fc=float(rng.uniform(-0.9, 0.2)))
+    return out
+
+
+def read_table(store: RunStore, name: str) -> pd.DataFrame:
+    return pd.read_csv(store.path / "report" / "tables" / f"{name}.csv")
+
+
+def ok_records(store: RunStore) -> pd.DataFrame:
+    df = store.read().to_pandas()
+    ok = df[df["status"] == "ok"]
+    return ok.assign(success=ok["success"].astype(bool)) if "success" in ok else ok
+
+
+def md_table(md: str, name: str) -> pd.DataFrame:
+    """The Markdown table printed above ``tables/<name>.csv`` as text cells (minus signs as "-")."""
+    lines = md.split(f"(`tables/{name}.csv`)", 1)[1].strip().split("\n\n", 1)[0].splitlines()
+    rows = [[c.strip().replace("\u2212", "-") for c in line.strip("|").split("|")] for line in lines]
+    return pd.DataFrame(rows[2:], columns=rows[0])
