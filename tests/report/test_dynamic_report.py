@@ -300,6 +300,16 @@ def test_the_finding_compares_penetration_and_says_what_a_hold_leaves():
     assert "the most loaded finger carries 98.8 % of the summed normal force" in text
 
 
+def test_a_depth_not_computed_leaves_the_finding_without_penetration_words():
+    # δmax missing in every lifted run: the table's row is "not computed"; the finding read that row's
+    # empty verdict as a key and failed whole ("the records have no `None` column")
+    run = held_run()
+    run.__dict__["ok"] = run.ok.assign(delta_max_mm=np.nan)
+    text = finding(run)
+    assert "; not computed, so no penetration to set beside the paper's" in text
+    assert "3 of 3 μ × m runs hold" in text and not run.failures
+
+
 def test_a_quasi_static_depth_beyond_the_fingertip_is_called_non_physical():
     run = held_run()
     table2 = run.ok.model_preset == "table2"
