@@ -310,6 +310,20 @@ def test_a_depth_not_computed_leaves_the_finding_without_penetration_words():
     assert "3 of 3 μ × m runs hold" in text and not run.failures
 
 
+def unexecuted_run() -> Run:
+    """held_run with no executed trial, rendered."""
+    run = held_run()
+    run.__dict__["ok"] = run.ok.iloc[:0]
+    render(FRICTION_MASS, run, Document("", "", []))
+    return run
+
+
+def test_a_run_without_an_executed_trial_says_so_in_its_figure():
+    # Figs. 12-13 now read ends(), which took the arithmetic of an empty text column first:
+    # "TypeError: Can only string multiply by an integer"
+    assert "Figure fig12_13_dynamic: no executed trial" in unexecuted_run().failures
+
+
 def test_a_quasi_static_depth_beyond_the_fingertip_is_called_non_physical():
     run = held_run()
     table2 = run.ok.model_preset == "table2"

@@ -185,6 +185,8 @@ def ends(run: Run) -> pd.DataFrame:
         if not len(steps):
             raise ValueError("the run has no `steps` table")
         t, by = in_order(run, FM), steps.sort_values("time_s").groupby("trial_id")
+        if not len(t):
+            raise ValueError("no executed trial")
         hold = steps.merge(t[["trial_id", "hold_start_s", "hold_end_s"]], on="trial_id")
         hold = hold[hold.time_s.between(hold.hold_start_s, hold.hold_end_s)].groupby("trial_id")
         forces = t[[f"normal_force_{j}_n" for j in (1, 2, 3)]]
