@@ -324,6 +324,14 @@ def test_a_run_without_an_executed_trial_says_so_in_its_figure():
     assert "Figure fig12_13_dynamic: no executed trial" in unexecuted_run().failures
 
 
+def test_a_finding_reading_a_table_not_computed_says_so():
+    # the finding read the paper_values table, which its note says was not computed, and blamed a
+    # column: "the records have no `paper_values` column"
+    failures = unexecuted_run().failures
+    assert "Table paper_values: no executed trial" in failures
+    assert "The main finding: its table paper_values was not computed" in failures
+
+
 def test_a_quasi_static_depth_beyond_the_fingertip_is_called_non_physical():
     run = held_run()
     table2 = run.ok.model_preset == "table2"
