@@ -300,6 +300,38 @@ def test_the_finding_compares_penetration_and_says_what_a_hold_leaves():
     assert "the most loaded finger carries 98.8 % of the summed normal force" in text
 
 
+def test_a_depth_not_computed_leaves_the_finding_without_penetration_words():
+    # δmax missing in every lifted run: the table's row is "not computed"; the finding read that row's
+    # empty verdict as a key and failed whole ("the records have no `None` column")
+    run = held_run()
+    run.__dict__["ok"] = run.ok.assign(delta_max_mm=np.nan)
+    text = finding(run)
+    assert "; not computed, so no penetration to set beside the paper's" in text
+    assert "3 of 3 μ × m runs hold" in text and not run.failures
+
+
+def unexecuted_run() -> Run:
+    """held_run with no executed trial, rendered."""
+    run = held_run()
+    run.__dict__["ok"] = run.ok.iloc[:0]
+    render(FRICTION_MASS, run, Document("", "", []))
+    return run
+
+
+def test_a_run_without_an_executed_trial_says_so_in_its_figure():
+    # Figs. 12-13 now read ends(), which took the arithmetic of an empty text column first:
+    # "TypeError: Can only string multiply by an integer"
+    assert "Figure fig12_13_dynamic: no executed trial" in unexecuted_run().failures
+
+
+def test_a_finding_reading_a_table_not_computed_says_so():
+    # the finding read the paper_values table, which its note says was not computed, and blamed a
+    # column: "the records have no `paper_values` column"
+    failures = unexecuted_run().failures
+    assert "Table paper_values: no executed trial" in failures
+    assert "The main finding: its table paper_values was not computed" in failures
+
+
 def test_a_quasi_static_depth_beyond_the_fingertip_is_called_non_physical():
     run = held_run()
     table2 = run.ok.model_preset == "table2"

@@ -21,6 +21,13 @@ from graspcampaign.report.document import Document, Table, Text
 log = logging.getLogger(__name__)
 
 
+class Tables(dict):
+    """The tables rendered so far, by name; one not rendered (its note says why) raises ValueError."""
+
+    def __missing__(self, name: str):
+        raise ValueError(f"its table {name} was not computed")
+
+
 @dataclass
 class Run:
     """One run as the items see it: records, manifest, typed paper values, the run's store (for
@@ -31,7 +38,7 @@ class Run:
     paper: Any = None
     store: Any = None  # campaign.records.RunStore
     figure_format: str = "png"
-    tables: dict[str, pd.DataFrame] = field(default_factory=dict)
+    tables: dict[str, pd.DataFrame] = field(default_factory=Tables)
     failures: list[str] = field(default_factory=list)
     _parts: dict[str, pd.DataFrame] = field(default_factory=dict, init=False, repr=False)
 

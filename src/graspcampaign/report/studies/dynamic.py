@@ -185,6 +185,8 @@ def ends(run: Run) -> pd.DataFrame:
         if not len(steps):
             raise ValueError("the run has no `steps` table")
         t, by = in_order(run, FM), steps.sort_values("time_s").groupby("trial_id")
+        if not len(t):
+            raise ValueError("no executed trial")
         hold = steps.merge(t[["trial_id", "hold_start_s", "hold_end_s"]], on="trial_id")
         hold = hold[hold.time_s.between(hold.hold_start_s, hold.hold_end_s)].groupby("trial_id")
         forces = t[[f"normal_force_{j}_n" for j in (1, 2, 3)]]
@@ -235,9 +237,9 @@ def paper_rows(run: Run):
 def _penetration(rows: pd.DataFrame, name: str, p) -> str:
     """The finding's words on one preset's penetrations: the paper_values table's ``rows`` and verdicts."""
     total, deepest = rows.loc[[f"{name}: {TOTAL}", f"{name}: {DEEPEST}"]].itertuples()
-    if fmt.is_missing(total.differs):  # not compared: the table says why (no run got past closure)
-        return (f"; {total.verdict.removeprefix('not compared: ')}, so no penetration to set beside "
-                "the paper's")
+    why = next((r.verdict for r in (total, deepest) if fmt.is_missing(r.differs)), None)
+    if why is not None:  # the table says why: no run got past closure, or a depth not computed
+        return f"; {why.removeprefix('not compared: ')}, so no penetration to set beside the paper's"
     side = {True: "above", False: "within"}
     return (f"; final total penetration Σδ up to {total.value:.3g} mm, {side[total.differs]} the paper's "
             f"'settles below {1e3 * p.total_penetration_below_m:g} mm', and δ_max up to {deepest.value:.3g} "
