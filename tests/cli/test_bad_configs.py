@@ -443,8 +443,12 @@ OVERRIDES = {
     # a config group takes a preset's name: Hydra's own sentence named neither key nor presets
     "evaluator=3": "evaluator=3 is not an option of config group evaluator; available options: "
                    "default.",
-    "+paper.nosuch=1": "campaigns/baseline_grid.yaml: paper.nosuch is not a known key; allowed: "
-                       "figure, trials_per_planner, success_pct, success_by_shape_pct.",
+    # a paper value set on the command line is named beside the file (it blamed the file alone)
+    "+paper.nosuch=1": "campaigns/baseline_grid.yaml with override +paper.nosuch=1: paper.nosuch is "
+                       "not a known key; allowed: figure, trials_per_planner, success_pct, "
+                       "success_by_shape_pct.",
+    "paper.figure=3": "campaigns/baseline_grid.yaml with override paper.figure=3: paper.figure must be "
+                      "text; got 3.",
     "runner.nosuch=3": "runner.nosuch is not a known key of runner (override 'runner.nosuch=3' "
                        "rejected); known keys: backend, n_jobs, address, batch_size, target_task_s, "
                        "progress, progress_interval_s, connect_timeout_s.",

@@ -145,7 +145,8 @@ def compose_study(study: str, overrides: list[str] | None = None) -> StudyCfg:
         check_kind(obj)
     except ConfigError as exc:  # about the kind as much as its factors or params
         raise _blamed(exc, path, overrides, also=("kind",)) from None
-    check_paper_block(obj, data.get("name"), path, campaigns_dir)
+    check_paper_block(obj, data.get("name"), path, campaigns_dir,
+                      [o for o in given if split(o)[1].split(".")[0] == "paper"])
     if len(_COMPOSED) >= _COMPOSED_MAX:
         _COMPOSED.pop(next(iter(_COMPOSED)))
     _COMPOSED[key] = copy.deepcopy(obj)

@@ -336,20 +336,25 @@ def check_conf(conf_dir: Path) -> str:
     return digest.hexdigest()
 
 
-def check_paper_block(obj: StudyCfg, written: Any, path: Path, campaigns_dir: Path) -> None:
+def check_paper_block(obj: StudyCfg, written: Any, path: Path, campaigns_dir: Path,
+                      overrides: list[str] = ()) -> None:
     """Check the paper block against the paper values of the study it compares with
-    (``written``: the name the study file gives).
+    (``written``: the name the study file gives; ``overrides``: those that set paper values,
+    named in the message beside the file).
 
     A study renamed on the command line (``name=other``) keeps comparing with the study its file
     holds (its paper block is that study's); a user's file that takes a tool study's name (and
     hides it on the search path) is that study for ``report``, so it needs that study's paper
     block, and the message says so (docs/decisions.md, "A study's name").
     """
+    from graspcampaign.analysis.vocabulary import plural
     from graspcampaign.campaign.paper import check_paper, paper_types
 
     if not obj.compare_with and obj.name != written and written in paper_types():
         obj.compare_with = str(written)
     where = f"{campaigns_dir.name}/{path.name}" if path.parent == campaigns_dir else str(path)
+    if overrides:
+        where += f" with {plural('override', len(overrides))} {' '.join(overrides)}"
     like = obj.compare_with or obj.name
     try:
         check_paper(like, obj.paper, f"{where}: paper", compare_with=bool(obj.compare_with))
