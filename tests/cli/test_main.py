@@ -312,6 +312,8 @@ def test_list_fits_the_terminal_and_never_cuts_a_name(monkeypatch):
         cells = [[c.strip() for c in line.split("│")[1:-1]] for line in lines if "│" in line]
         rows = {row[0]: row for row in cells if row[0]}
         assert set(rows) == set(kinds)
+        # one line of description per study (it wrapped to five at 80 columns); show prints it whole
+        assert sum(1 for row in cells if row[-1]) == len(kinds)
         header = [c.strip() for c in next(line for line in lines if "study" in line).split("┃")]
         assert ("kind" in header) == with_kind
         if with_kind:

@@ -8,7 +8,8 @@ import typer
 
 
 def print_list(rows: list[dict[str, Any]]) -> None:
-    """Print the study table of ``graspcampaign list``, as wide as the terminal (or ``COLUMNS``);
+    """Print the study table of ``graspcampaign list``, one line per study (a broken file's reason
+    folds, whole), as wide as the terminal (or ``COLUMNS``);
     a pipe or file gets one line per study (160 columns). Study and kind names are never cut (they
     are what the user types); where they leave the description under 16 columns, the kind is left
     out (``show`` names it)."""
@@ -19,15 +20,17 @@ def print_list(rows: list[dict[str, Any]]) -> None:
     from rich.console import Console
     from rich.measure import Measurement
     from rich.table import Column, Table
+    from rich.text import Text
 
     console = Console(width=None if sys.stdout.isatty() or os.environ.get("COLUMNS") else 160)
     for names in (("study", "kind", "trials", "runnable", "of"), ("study", "trials", "runnable", "of")):
         table = Table(*(Column(name, no_wrap=name in ("study", "kind")) for name in names),
                       Column("description", width=16, overflow="fold"))  # a path folds, whole
         for row in rows:
-            description = row["description"]
-            if row["runnable"] != "broken":  # a broken file's reason is shown whole
-                description = textwrap.shorten(description, 70, placeholder=" …")
+            description = Text(row["description"], overflow="fold")  # a broken file's reason: whole
+            if row["runnable"] != "broken":  # one line per study (show prints the whole description)
+                description = Text(textwrap.shorten(row["description"], 70, placeholder=" …"),
+                                   no_wrap=True, overflow="ellipsis")
             cells = {**row, "trials": str(row["trials"]),
                      "of": "extension" if row["extension"] else "paper"}
             table.add_row(*(cells[name] for name in names), description)
