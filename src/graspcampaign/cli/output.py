@@ -10,7 +10,7 @@ import typer
 def print_list(rows: list[dict[str, Any]]) -> None:
     """Print the study table of ``graspcampaign list``, one line per study (a broken file's reason
     folds, whole), as wide as the terminal (or ``COLUMNS``);
-    a pipe or file gets one line per study (160 columns). Study and kind names are never cut (they
+    a pipe or file gets 160 columns. Study and kind names are never cut (they
     are what the user types); where they leave the description under 16 columns, the kind is left
     out (``show`` names it)."""
     import os
