@@ -449,6 +449,19 @@ OVERRIDES = {
                        "success_by_shape_pct.",
     "paper.figure=3": "campaigns/baseline_grid.yaml with override paper.figure=3: paper.figure must be "
                       "text; got 3.",
+    # a key below an unknown one names the first unknown part in its section (it said only "not a
+    # known key of the study config")
+    "evaluator.tau.x=1": "evaluator.tau is not a known key of evaluator (override 'evaluator.tau.x=1' "
+                         "rejected); known keys: seed_depth_m, n_max, alpha, eps, tau_f_n, tau_t_nm, "
+                         "n_cand, residual_check, grip_law, grip_safety_factor, grip_cap_depth_m, "
+                         "oracle_cone_facets, fc_cone_edges.",
+    "nosuch.a=1": "nosuch is not a known key of the study config (override 'nosuch.a=1' rejected); known "
+                  "keys: name, kind, description, seed, seeds, repeats, factors, zip, method_factors, "
+                  "params, paper, compare_with, extension, model, evaluator, features, pso, runner, "
+                  "output.",
+    "paper.rates.x=1": "paper.rates.x is not set by this study (override 'paper.rates.x=1' rejected); add "
+                       "it with a leading '+' (+paper.rates.x=...), and the study's paper schema checks "
+                       "it.",
     "runner.nosuch=3": "runner.nosuch is not a known key of runner (override 'runner.nosuch=3' "
                        "rejected); known keys: backend, n_jobs, address, batch_size, target_task_s, "
                        "progress, progress_interval_s, connect_timeout_s.",

@@ -182,10 +182,15 @@ def _unknown_override(key: str, typed: str | None, factors: list[str]) -> str:
                     f"{', '.join(sorted(FACTOR_SPECS))}.")
         return (f"{name} is not a factor of this study ({rejected}; its factors: "
                 f"{', '.join(factors) or 'none'}); add it with +factors.{name}={example(name)}.")
-    if parent in ("params", "paper"):
+    if (section := parent.split(".")[0]) in ("params", "paper"):
+        checker = "its trial kind's schema" if section == "params" else "the study's paper schema"
         return (f"{key} is not set by this study ({rejected}); add it with a leading '+' "
-                f"(+{key}=...), and its trial kind's schema checks it.")
-    return f"{key} is not a known key of the study config ({rejected})."
+                f"(+{key}=...), and {checker} checks it.")
+    known = parent  # evaluator.tau.x: the first unknown part (tau) in the deepest known section
+    while known and schema_at(known) is None:
+        known = known.rpartition(".")[0]
+    first = f"{known}.{key[len(known) + 1:].split('.')[0]}" if known else key.split(".")[0]
+    return known_keys_sentence(first, schema_at(known), typed)
 
 
 def missing_option_sentence(group: str, option: str) -> str:
