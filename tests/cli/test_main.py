@@ -380,3 +380,15 @@ def test_schedule_writes_the_files_it_checked_for_a_stem_with_a_dot(tmp_path):
     assert result.exit_code == 0, result.output
     assert sorted(p.name for p in tmp_path.iterdir()) == ["sched.v1.csv", "sched.v1.parquet"]
     assert f"-> {tmp_path / 'sched.v1.csv'} and .parquet" in result.output
+
+
+def test_every_commands_short_help_is_one_line_of_its_docstring():
+    # `--help` keeps a docstring's line breaks: 'reproduce' and 'ingest' printed a sentence cut in
+    # two across the command table
+    import typer
+
+    from graspcampaign.cli.main import app
+
+    for name, command in typer.main.get_command(app).commands.items():
+        first = (command.help or "").strip().split("\n\n")[0]
+        assert "\n" not in first, f"{name}: {first!r}"

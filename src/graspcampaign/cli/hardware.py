@@ -90,8 +90,9 @@ def ingest(
     overrides: Annotated[list[str] | None, typer.Option("--set", help="Hydra override (repeatable).")] = None,
     root: RootOpt = None,
 ) -> None:
-    """Validate measured records and store them as a run of their source: measured, or virtual
-    for a virtual rig's exports."""
+    """Validate measured records and store them as a run of their source.
+
+    The source is measured, or virtual for a virtual rig's exports."""
     from graspcampaign.campaign.ingest import ingest_files
 
     check_root(root, write=True)

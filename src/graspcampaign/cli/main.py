@@ -153,10 +153,11 @@ def reproduce(
     times: Annotated[Path | None, typer.Option(
         help="Also append each step's '== <step>: <s> s' line to this file.")] = None,
 ) -> None:
-    """Run every study of `list --names` at paper scale, then write every report (one process
-    per core), in this one process: the workers and their caches serve every study.
+    """Run every study of `list --names` at paper scale, then write every report.
 
-    Prints each step's wall time; stops at the first study with a trial error (exit 1).
+    The studies run in this one process, so the workers and their caches serve every study; the
+    reports are written one process per core. Prints each step's wall time; stops at the first
+    study with a trial error (exit 1).
     """
     import time
 
