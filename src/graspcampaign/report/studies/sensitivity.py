@@ -40,14 +40,12 @@ def rate_cols(g: pd.DataFrame, outcome: str, prefix: str) -> dict:
     return {f"{prefix}_pct": e.value, f"{prefix}_low_pct": e.low, f"{prefix}_high_pct": e.high}
 
 
-def _position(levels, value: float) -> float:
-    """Where ``value`` falls on a category axis of ``levels`` (cell i centred at i): linear between the
-    two nearest levels, and beyond the ends along the end gaps."""
+def _edge(levels, value: float, below_includes: bool) -> float:
+    """The cell edge on a category axis of ``levels`` (cell i centred at i) between the levels below a
+    paper boundary and those above it; ``value`` itself lies below when ``below_includes`` (m ≤ 0.5),
+    above otherwise (μ ≥ 0.2): each cell lies wholly on the side the claims table counts it on."""
     v = np.asarray(levels, dtype=float)
-    if v.size == 1:
-        return 0.0
-    i = int(np.clip(np.searchsorted(v, value), 1, v.size - 1))
-    return i - 1 + (value - v[i - 1]) / (v[i] - v[i - 1])
+    return float(np.sum(v <= value + EPS if below_includes else v < value - EPS)) - 0.5
 
 
 def _category_axis(axis, levels) -> None:
@@ -68,7 +66,7 @@ def heatmap(ax, fig, run: Run, panel: str, value: str, label: str, cmap: str = "
             cells: str = "rate") -> tuple[np.ndarray, np.ndarray]:
     """``value`` per cell of ``panel`` (:data:`CELLS`) on category axes, one cell per level (tick labels
     the levels); non-finite cells blank and marked n/a; per-cell values where they are legible. Return
-    the x and y levels (place other marks with :func:`_position`)."""
+    the x and y levels (place boundaries with :func:`_edge`)."""
     (x, y, xl, yl), (how, scale, vmax, text) = PANELS[panel], CELLS[cells]
     part = panel_rows(run, panel)
     g = scale * part.assign(**{value: part[value].astype(float)}).pivot_table(
@@ -123,14 +121,15 @@ def _figure(run: Run, fig) -> None:
             xs, ys = heatmap(ax, fig, run, panel, "success", "success rate [%]")
             ax.set_title(f"({tag}) success, {xl.split(' [')[0]} × {yl.split(' [')[0]}{caveat}")
         if panel == "mu_mass":
-            mu, mass = _position(xs, p.stable_mu_min), _position(ys, p.stable_mass_max_kg)
+            mu, mass = _edge(xs, p.stable_mu_min, False), _edge(ys, p.stable_mass_max_kg, True)
             ax.plot([mu, mu, len(xs)], [-1, mass, mass], color=style.PAPER, linewidth=2, linestyle="--")
             handles.append(Line2D([], [], color=style.PAPER, linestyle="--", label=f"paper: stable for "
                                   f"μ ≥ {p.stable_mu_min}, m ≤ {p.stable_mass_max_kg}"))
         elif panel == "lambda":
-            for value, ls, words in ((p.lambda1_stable_below, "--", "stable for λ1 ≲"),
-                                     (p.nonconvergence_strip_lambda1_from, ":", "non-convergence for λ1 ≥")):
-                ax.axvline(_position(xs, value), color=style.PAPER, linestyle=ls, linewidth=2)
+            for value, below, ls, words in ((p.lambda1_stable_below, True, "--", "stable for λ1 ≲"),
+                                            (p.nonconvergence_strip_lambda1_from, False, ":",
+                                             "non-convergence for λ1 ≥")):
+                ax.axvline(_edge(xs, value, below), color=style.PAPER, linestyle=ls, linewidth=2)
                 handles.append(Line2D([], [], color=style.PAPER, linestyle=ls,
                                       label=f"paper: {words} {value}"))
         if handles:
