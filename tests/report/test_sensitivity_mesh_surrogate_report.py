@@ -75,6 +75,25 @@ def test_sensitivity_report(runs):
         assert (store.path / "report" / "figures" / f"{name}.png").stat().st_size > 10_000
 
 
+def test_identified_lambda1_rows_count_each_identification_once(runs):
+    """A μ × m cell's seeds share one PSO identification (prepared/): the λ1 rows are over those
+    identifications, not over trials (which counted each one once per seed and narrowed its interval)."""
+    store = runs["sensitivity"]
+    cells = store.read().to_pandas().query("panel == 'mu_mass'")[["shape", "mass_kg", "mu"]].drop_duplicates()
+    bodies = store.read("prepared").to_pandas().merge(cells)
+    claims = _table(store, "sensitivity_claims").set_index("quantity")
+    for words, low in (("< 0.1", True), ("≥ 0.1", False)):
+        part = bodies[(bodies["mu"] < 0.1) == low]
+        median = claims.loc[f"(a) median identified λ1 at μ {words}"]
+        assert (median["n"], median["value"]) == (len(part), pytest.approx(part["lambda1"].median()))
+        on_bound = part["at_bound_lambda1"].astype(bool)
+        k, n = int(on_bound.sum()), len(part)
+        ci = proportion_confint(k, n, method="wilson")
+        row = claims.loc[f"(a) identified λ1 on its PSO search bound at μ {words}"]
+        assert (row["n"], row["value"]) == (n, pytest.approx(100 * k / n))
+        assert [row["low"], row["high"]] == pytest.approx([100 * ci[0], 100 * ci[1]])
+
+
 def test_mesh_resolution_report_prints_the_cost_ratio(runs):
     store = runs["mesh_resolution"]
     records = store.read().to_pandas()
