@@ -14,6 +14,7 @@ import pandas as pd
 import pytest
 from scipy import stats
 from statsmodels.stats.contingency_tables import mcnemar as sm_mcnemar
+from statsmodels.stats.proportion import proportion_confint
 from synthetic_runs import SHAPES, make_run, ok_records, quasi_static_outputs, read_table
 
 from graspcampaign.analysis.vocabulary import label
@@ -254,6 +255,10 @@ def test_ablation_gains_its_grip_law_columns(runs):
     assert set(read_table(store, "mcnemar")["grip_law"]) == set(LAWS)
     text = md(store)
     assert "roughly ±12 pp" in text and "not computed" not in text
+    # ours is the Wilson interval itself: a rate near 0 % has no ± half-width (0.0–7.1 % is not ±3.6)
+    full = ok_records(store).query("planner == 'heuristic' and grip_law == 'paper'")["success"]
+    low, high = proportion_confint(full.sum(), len(full), method="wilson")
+    assert f"ours on the full heuristic is {100 * low:.1f}–{100 * high:.1f}% at n = {len(full)}." in text
     assert figures(store) == {"fig16_ablation", "h_epsilon"}
 
 

@@ -142,6 +142,41 @@ def test_wrench_balance_never_settling_differs_and_non_physical_depths_flagged(t
     assert limit.loc[0.3, "delta_max_median_mm"] == pytest.approx(3.0)
 
 
+def test_fig17_legend_lies_outside_every_panel(tmp_path):
+    """At paper scale the finger force rises steeply through the lower left of panel (d), where the
+    legend's μ entries sat over it (the style draws legends without a frame): no legend may overlap a
+    panel's plotting area."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    from graspcampaign.campaign.paper import study_paper
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies.wrench import SPEC, fig17
+
+    def outputs(factors, rng):
+        return quasi_static_outputs({**factors, "planner": "heuristic"}, rng)
+
+    def trace(trial_id, factors, out):
+        it = np.arange(1, 101)
+        return {"iterations": [{"trial_id": trial_id, "iteration": int(i), "residual_norm_n": 4.0 + i / 10,
+                                "torque_norm_nm": 1e-3 * np.sqrt(i), "slip_margin_n": 1.0,
+                                "slip_margin_rel": 1.0 - 1.0 / i, "normal_force_1_n": 6.5 * np.sqrt(i),
+                                "depth_1_mm": 0.5 * i ** 2} for i in it]}
+
+    store, _, _ = _wrench_report(tmp_path, outputs, trace)
+    size = next(item.size for item in SPEC.items if getattr(item, "name", "") == "fig17_wrench")
+    fig = Figure(figsize=size, layout="constrained")
+    fig17(Run(store.read().to_pandas(), store.check(), study_paper("wrench_balance"), store), fig)
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    renderer = canvas.get_renderer()
+    legends = [*fig.legends, *(ax.get_legend() for ax in fig.axes if ax.get_legend())]
+    assert legends
+    for legend in legends:
+        box = legend.get_window_extent(renderer)
+        assert not any(box.overlaps(ax.get_window_extent(renderer)) for ax in fig.axes), legend
+
+
 @pytest.mark.parametrize(("scales", "words"), [([1.0, 0.5, 2.0], "unit weights"),
                                                ([0.5, 2.0], "weight scale 0.5")])  # no unit-weight trial
 def test_heuristic_weights_invariance(tmp_path, scales, words):

@@ -325,7 +325,7 @@ def ablation_finding(run: Run) -> str:
     return grid_finding(run) + other_laws(run) + (
         f" Power: at the paper's {run.paper.trials_per_variant} trials per variant its interval is "
         f"roughly ±{run.paper.interval_half_width_pp:g} pp (Sec. 6.3); ours on the full heuristic is "
-        f"±{(full['wilson_high_pct'] - full['wilson_low_pct']) / 2:.1f} pp at n = {full['n']}.")
+        f"{fmt.interval(full['wilson_low_pct'], full['wilson_high_pct'], 1)}% at n = {full['n']}.")
 
 
 def over_limit(run: Run) -> str:

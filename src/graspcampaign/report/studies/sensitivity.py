@@ -40,14 +40,12 @@ def rate_cols(g: pd.DataFrame, outcome: str, prefix: str) -> dict:
     return {f"{prefix}_pct": e.value, f"{prefix}_low_pct": e.low, f"{prefix}_high_pct": e.high}
 
 
-def _position(levels, value: float) -> float:
-    """Where ``value`` falls on a category axis of ``levels`` (cell i centred at i): linear between the
-    two nearest levels, and beyond the ends along the end gaps."""
+def _edge(levels, value: float, below_includes: bool) -> float:
+    """The cell edge on a category axis of ``levels`` (cell i centred at i) between the levels below a
+    paper boundary and those above it; ``value`` itself lies below when ``below_includes`` (m ≤ 0.5),
+    above otherwise (μ ≥ 0.2): each cell lies wholly on the side the claims table counts it on."""
     v = np.asarray(levels, dtype=float)
-    if v.size == 1:
-        return 0.0
-    i = int(np.clip(np.searchsorted(v, value), 1, v.size - 1))
-    return i - 1 + (value - v[i - 1]) / (v[i] - v[i - 1])
+    return float(np.sum(v <= value + EPS if below_includes else v < value - EPS)) - 0.5
 
 
 def _category_axis(axis, levels) -> None:
@@ -68,7 +66,7 @@ def heatmap(ax, fig, run: Run, panel: str, value: str, label: str, cmap: str = "
             cells: str = "rate") -> tuple[np.ndarray, np.ndarray]:
     """``value`` per cell of ``panel`` (:data:`CELLS`) on category axes, one cell per level (tick labels
     the levels); non-finite cells blank and marked n/a; per-cell values where they are legible. Return
-    the x and y levels (place other marks with :func:`_position`)."""
+    the x and y levels (place boundaries with :func:`_edge`)."""
     (x, y, xl, yl), (how, scale, vmax, text) = PANELS[panel], CELLS[cells]
     part = panel_rows(run, panel)
     g = scale * part.assign(**{value: part[value].astype(float)}).pivot_table(
@@ -123,14 +121,15 @@ def _figure(run: Run, fig) -> None:
             xs, ys = heatmap(ax, fig, run, panel, "success", "success rate [%]")
             ax.set_title(f"({tag}) success, {xl.split(' [')[0]} × {yl.split(' [')[0]}{caveat}")
         if panel == "mu_mass":
-            mu, mass = _position(xs, p.stable_mu_min), _position(ys, p.stable_mass_max_kg)
+            mu, mass = _edge(xs, p.stable_mu_min, False), _edge(ys, p.stable_mass_max_kg, True)
             ax.plot([mu, mu, len(xs)], [-1, mass, mass], color=style.PAPER, linewidth=2, linestyle="--")
             handles.append(Line2D([], [], color=style.PAPER, linestyle="--", label=f"paper: stable for "
                                   f"μ ≥ {p.stable_mu_min}, m ≤ {p.stable_mass_max_kg}"))
         elif panel == "lambda":
-            for value, ls, words in ((p.lambda1_stable_below, "--", "stable for λ1 ≲"),
-                                     (p.nonconvergence_strip_lambda1_from, ":", "non-convergence for λ1 ≥")):
-                ax.axvline(_position(xs, value), color=style.PAPER, linestyle=ls, linewidth=2)
+            for value, below, ls, words in ((p.lambda1_stable_below, True, "--", "stable for λ1 ≲"),
+                                            (p.nonconvergence_strip_lambda1_from, False, ":",
+                                             "non-convergence for λ1 ≥")):
+                ax.axvline(_edge(xs, value, below), color=style.PAPER, linestyle=ls, linewidth=2)
                 handles.append(Line2D([], [], color=style.PAPER, linestyle=ls,
                                       label=f"paper: {words} {value}"))
         if handles:
@@ -227,14 +226,21 @@ def _strip(ok, p) -> pd.Series:  # panel b inside the paper's non-convergence st
 
 
 def _identified(low_mu: bool, what: str):
-    """The median identified λ1 of panel a's trials at μ < 0.1 (or ≥), or the share on a PSO bound."""
+    """The median λ1 of panel a's PSO identifications (prepared/, one per body, which a cell's seeds
+    share) at μ < 0.1 (or ≥), or the share of them on a PSO bound."""
     def value(run: Run) -> Estimate:
-        part = run.ok[_where("mu_mass", lambda ok, p: (ok["mu"] < 0.1 - EPS) == low_mu)(run)]
+        keys = ["shape", "mass_kg", "mu"]
+        bodies = run.part("prepared")
+        if not len(bodies):
+            raise ValueError("the run has no PSO identifications (prepared/)")
+        cells = panel_rows(run, "mu_mass")[keys].drop_duplicates()
+        part = bodies.merge(cells, on=keys)
+        part = part[(part["mu"] < 0.1 - EPS) == low_mu]
         if not len(part):
-            raise ValueError("no trial in this part of the panel")
+            raise ValueError("no identification in this part of the panel")
         if what == "bound":
             return rate(part.assign(on_bound=at_bound(part, "lambda1")), outcome="on_bound")
-        return Estimate(float(part["contact_lambda1"].median()), n=len(part))
+        return Estimate(float(part["lambda1"].median()), n=len(part))
     return value
 
 
@@ -264,7 +270,8 @@ def _runtime_ratio(axis: str):
 
 
 CLAIMS = Claims("sensitivity_claims", "The paper's Fig. 19 statements (in words) beside the matching "
-                "counts of ours; rates over executed trials with Wilson 95%. The paper's Sec. 6.6 words on "
+                "counts of ours; rates over executed trials with Wilson 95%, the λ1 rows over panel (a)'s "
+                "PSO identifications (one per cell, its seeds share it). The paper's Sec. 6.6 words on "
                 "λ1 (pushed toward its bound at μ < 0.1, the low-friction failure mode) are compared as: "
                 "most (> 50%) identifications on the bound at μ < 0.1, and fewer at μ ≥ 0.1", [
            Rate("(a) stable region: success inside it", "Fig. 19a", _where("mu_mass", _inside)),

@@ -124,10 +124,10 @@ def fig17(run: Run, fig) -> None:
         axes[3].annotate(f"finger-1 depth at iteration {last['iteration']:.0f}: "
                          f"{last['depth_1_mm'] / 1e3:.3g} m", xy=(0.98, 0.55), xycoords="axes fraction",
                          ha="right", fontsize=7, color=style.CRITERION)
-    for ax in axes:
-        ax.legend(loc="best")
     for ax in axes[2:]:
         ax.set_xlabel("iteration of Algorithm 2")
+    handles = {label: h for ax in axes for h, label in zip(*ax.get_legend_handles_labels(), strict=True)}
+    fig.legend(handles.values(), handles.keys(), loc="outside lower center", ncol=3)  # never over a trace
 
 
 SPEC = ReportSpec("wrench_balance", [
@@ -143,8 +143,7 @@ SPEC = ReportSpec("wrench_balance", [
     Figure("fig17_wrench", "Fig. 17 (ours): (a) force residual, (b) torque residual, (c) friction-cone slip "
            "margin, (d) finger-1 normal force per iteration; the paper's statements in black; hatched: "
            "iterations whose contact lies deeper than the fingertip radius (non-physical: the fingertip "
-           "centre inside the object)", fig17,
-           (9.0, 6.0)),
+           "centre inside the object)", fig17, (9.0, 6.8)),
     DesignLimit(["mu"]),
     GateRemoved(["mu"]),
 ])

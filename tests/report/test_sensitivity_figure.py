@@ -1,0 +1,73 @@
+"""Fig. 19 of the sensitivity report drawn from synthetic panels: category axes, legible cell text and
+the paper's boundaries on cell edges."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pandas as pd
+import pytest
+from matplotlib.figure import Figure
+
+from graspcampaign.report import style
+from graspcampaign.report.render import Run
+from graspcampaign.report.studies.sensitivity import PANELS, _figure
+
+PAPER = SimpleNamespace(stable_mu_min=0.2, stable_mass_max_kg=0.5, lambda1_stable_below=0.35,
+                        nonconvergence_strip_lambda1_from=0.9)
+
+
+@pytest.mark.parametrize("levels", [2, 12, 40])
+def test_fig19_draws_one_cell_per_level_with_legible_or_no_cell_text(levels):
+    """Category axes (the tick labels are the swept levels, no axis beyond them), cell text ≥ 7 pt
+    or none at all."""
+    grid = np.linspace(0.1, 0.8, levels)
+    rows = [{"panel": panel, "status": "ok", x: a, y: b, "success": a < 0.4, "runtime_ms": 1.0 + a,
+             "delta_max_mm": 1.0, "loop_capped": False}
+            for panel, (x, y, *_) in PANELS.items() for a in grid for b in grid]
+    fig = Figure(figsize=(15.0, 4.9), layout="constrained")
+    _figure(Run(pd.DataFrame(rows), {}, PAPER), fig)
+    fig.canvas.draw()
+    heatmaps = [ax for ax in fig.axes if ax.get_xlabel()]
+    assert len(heatmaps) == 3
+    for ax in heatmaps:
+        assert ax.get_xlim() == (-0.5, levels - 0.5) and ax.get_ylim() == (-0.5, levels - 0.5)
+        labels = [float(t.get_text()) for t in ax.get_xticklabels()]
+        assert 2 <= len(labels) <= 7 and labels[0] == pytest.approx(grid[0])
+        assert all(np.isclose(grid, label, rtol=5e-3).any() for label in labels)  # each one a level
+        sizes = [t.get_fontsize() for t in ax.texts]
+        assert len(sizes) in (0, levels ** 2) and all(size >= 7 for size in sizes)
+    assert any(ax.texts for ax in heatmaps) == (levels <= 12)
+
+
+def test_fig19_paper_boundaries_run_between_cells_on_the_side_the_claims_count_them():
+    """At the paper-scale grids (12 levels each) every cell lies wholly on one side of each paper
+    boundary, the side the claims table counts it on (μ ≥ 0.2 and m ≤ 0.5 inside; λ1 ≤ 0.35 below;
+    λ1 ≥ 0.9 in the strip); a line through a cell hid which side the μ = 0.2 column was on."""
+    grids = {"mu": np.linspace(0.05, 0.6, 12), "mass_kg": np.linspace(0.1, 0.8, 12),
+             "lambda1": np.linspace(0.1, 1.5, 12)}
+    rows = [{"panel": panel, "status": "ok", x: a, y: b, "success": False, "runtime_ms": 1.0,
+             "delta_max_mm": 1.0, "loop_capped": False}
+            for panel, (x, y, *_) in PANELS.items() for a in grids.get(x, grids["lambda1"])
+            for b in grids.get(y, grids["lambda1"])]
+    fig = Figure(figsize=(15.0, 4.9), layout="constrained")
+    _figure(Run(pd.DataFrame(rows), {}, PAPER), fig)
+    a, b = ([line for line in ax.lines if line.get_color() == style.PAPER]
+            for ax in fig.axes if ax.get_xlabel() in (PANELS["mu_mass"][2], PANELS["lambda"][2]))
+
+    def sides(levels, edge):  # the levels whose cell lies wholly below / above the line
+        cells = np.arange(len(levels))
+        return levels[cells + 0.5 <= edge], levels[cells - 0.5 >= edge]
+
+    def check(levels, edge, below, above):
+        low, high = sides(levels, edge)
+        assert len(low) + len(high) == len(levels)  # no cell cut by the line
+        assert below(low).all() and above(high).all()
+
+    (stable,) = a
+    check(grids["mu"], stable.get_xdata()[0], lambda v: v < 0.2, lambda v: v >= 0.2 - 1e-9)
+    check(grids["mass_kg"], stable.get_ydata()[1], lambda v: v <= 0.5, lambda v: v > 0.5)
+    boundary, strip = b
+    check(grids["lambda1"], boundary.get_xdata()[0], lambda v: v <= 0.35, lambda v: v > 0.35)
+    check(grids["lambda1"], strip.get_xdata()[0], lambda v: v < 0.9, lambda v: v >= 0.9)
