@@ -1,0 +1,76 @@
+"""Override messages: each bad override gets one sentence naming it as typed, exit 2, nothing
+stored changed (``results``: a copy of finished runs, tests/cli/conftest.py). Pattern of
+``test_bad_configs.py``."""
+
+from __future__ import annotations
+
+import pytest
+from cli_checks import refused
+
+# -- override messages ------------------------------------------------------------------------------
+OVERRIDES = {
+    "=3": "override '=3' has no key before '='; write KEY=VALUE, e.g. seeds=3 or mu=[0.3,0.5].",
+    "evaluator.nosuch=1": "evaluator.nosuch is not a known key of evaluator (override "
+                          "'evaluator.nosuch=1' rejected); known keys: seed_depth_m, n_max, alpha, "
+                          "eps, tau_f_n, tau_t_nm, n_cand, residual_check, grip_law, "
+                          "grip_safety_factor, grip_cap_depth_m, oracle_cone_facets, fc_cone_edges.",
+    # a config group takes a preset's name: Hydra's own sentence named neither key nor presets
+    "evaluator=3": "evaluator=3 is not an option of config group evaluator; available options: "
+                   "default.",
+    # a paper value set on the command line is named beside the file (it blamed the file alone)
+    "+paper.nosuch=1": "campaigns/baseline_grid.yaml with override +paper.nosuch=1: paper.nosuch is "
+                       "not a known key; allowed: figure, trials_per_planner, success_pct, "
+                       "success_by_shape_pct.",
+    "paper.figure=3": "campaigns/baseline_grid.yaml with override paper.figure=3: paper.figure must be "
+                      "text; got 3.",
+    # a key below an unknown one names the first unknown part in its section (it said only "not a
+    # known key of the study config")
+    "evaluator.tau.x=1": "evaluator.tau is not a known key of evaluator (override 'evaluator.tau.x=1' "
+                         "rejected); known keys: seed_depth_m, n_max, alpha, eps, tau_f_n, tau_t_nm, "
+                         "n_cand, residual_check, grip_law, grip_safety_factor, grip_cap_depth_m, "
+                         "oracle_cone_facets, fc_cone_edges.",
+    "nosuch.a=1": "nosuch is not a known key of the study config (override 'nosuch.a=1' rejected); known "
+                  "keys: name, kind, description, seed, seeds, repeats, factors, zip, method_factors, "
+                  "params, paper, compare_with, extension, model, evaluator, features, pso, runner, "
+                  "output.",
+    "paper.rates.x=1": "paper.rates.x is not set by this study (override 'paper.rates.x=1' rejected); add "
+                       "it with a leading '+' (+paper.rates.x=...), and the study's paper schema checks "
+                       "it.",
+    "runner.nosuch=3": "runner.nosuch is not a known key of runner (override 'runner.nosuch=3' "
+                       "rejected); known keys: backend, n_jobs, address, batch_size, target_task_s, "
+                       "progress, progress_interval_s, connect_timeout_s.",
+    "factors.nosuch=[1,2]": "factors.nosuch is not a known factor (override 'factors.nosuch=[1,2]' "
+                            "rejected); known factors: b_n_s_per_m, budget, damping_law, dt_s, "
+                            "grip_law, integrator, lambda1, lambda2, mass_kg, model_preset, mu, "
+                            "n_cand, n_exp, n_max, nodes, planner, pso_seed, shape, variant, w1, w2, "
+                            "w3, weight_scale.",
+    "factors.mu=50": "factors.mu takes a list of levels, e.g. factors.mu=[0.3,0.5] (or the bare "
+                     "mu=0.3), got 50.",
+    "mu=" + "x" * 100_000: "factors.mu[0] must be of type float, got '" + "x" * 60
+                           + "... (100000 characters)' (str).",
+    # Hydra's lexer stops at a character its unquoted values or keys do not take (its grammar,
+    # hydra/grammar/OverrideLexer.g4): the message names it and the fix
+    "shape=[sphère]": "cannot parse override 'shape=[sphère]': 'è' (character 11) is not allowed in "
+                      "an unquoted value (only ASCII letters, digits, spaces and _-+.$%*@?|/\\ "
+                      "are); quote it: shape=[\"sphère\"], typed in single quotes on the shell.",
+    "shape=[pear,sph\u00a0ere]": "cannot parse override 'shape=[pear,sph\\xa0ere]': U+00A0 "
+                                 "(no-break space) (character 16) is not allowed in an unquoted "
+                                 "value (only ASCII letters, digits, spaces and "
+                                 "_-+.$%*@?|/\\ are); quote it: shape=[pear,\"sph\u00a0ere\"], "
+                                 "typed in single quotes on the shell.",
+    "seeds =2": "cannot parse override 'seeds =2': its key has ' ' at character 6, but a key takes "
+                "only ASCII letters, digits, '_', '-', '.' and '/'; write 'seeds=2'.",
+}
+
+
+@pytest.mark.parametrize("override", sorted(OVERRIDES), ids=lambda o: o[:24])
+def test_override_messages_name_the_override_in_plain_words(results, override):
+    for command in ("show", "run") if override in ("=3", "evaluator.nosuch=1") else ("show",):
+        refused(results, [command, "baseline_grid", override, "--root", results], OVERRIDES[override])
+
+
+def test_the_quoted_form_an_override_message_suggests_is_read(results):
+    """The fix the message gives parses: the value then meets the factor's own check."""
+    refused(results, ["show", "baseline_grid", 'shape=["sphère"]', "--root", results],
+            "factors.shape[0] has unknown value 'sphère'; allowed values: sphere, ellipsoid, "
+            "rounded_cube, pear, handle.")
