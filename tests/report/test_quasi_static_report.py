@@ -196,7 +196,7 @@ def test_grip_laws_rates_readings_checks_and_need(runs):
     assert "slip-margin grip: " + ", ".join(
         f"{label('planner', p)} {100 * r:.1f}%" for p, r in slip.items()) in text
     torque = int((ok["success_no_torque"].astype(bool) & ~ok["success"]).sum())
-    assert f"the torque check alone removed {torque} passes" in text
+    assert f"The torque check alone removed {torque} passes" in text
     assert "not computed" not in md(store)
     assert figures(store) == {"fig18_grip_laws", "h_epsilon"}
 
@@ -232,8 +232,9 @@ def test_the_papers_ordering_is_claimed_only_where_our_rates_order_the_planners_
     strict = [label("grip_law", law) for law in LAWS if (rates.loc[law, paper].diff().iloc[1:] < 0).all()]
     assert f"its ordering appears under {', '.join(strict) or 'none of the laws'}." in finding(runs["laws"])
 
-    def fail(factors, rng):
-        return {**quasi_static_outputs(factors, rng), "success": False, "failure_check": "residual"}
+    def fail(factors, rng):  # every trial fails its residual check, so τ_T removes no pass either
+        return {**quasi_static_outputs(factors, rng), "success": False, "failure_check": "residual",
+                "success_no_torque": False}
 
     store = make_run(tmp_path / "results", "grip_laws", "quasi_static",
                      {"shape": SHAPES[:2], "mass_kg": [0.2], "mu": [0.3], "planner": PLANNERS,
@@ -245,6 +246,9 @@ def test_the_papers_ordering_is_claimed_only_where_our_rates_order_the_planners_
            "slip-margin grip no success; oracle equal grip no success;" in finding(store)
     for law in LAWS:  # no pair differs, and every law is still named (not one 'no planner' for all)
         assert f"under {label('grip_law', law)} beats none and loses to none" in finding(store)
+    # τ_T removed no pass here: the finding says 0, not that τ_T binds (it said "τ_T binds: ... 0")
+    assert "The torque check alone removed 0 passes" in finding(store)
+    assert "τ_T binds" not in finding(store)
 
 
 def test_ablation_gains_its_grip_law_columns(runs):

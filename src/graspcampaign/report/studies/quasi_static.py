@@ -431,7 +431,7 @@ def grip_finding(run: Run) -> str:
         f"{need['holdable'].sum()} of {need['n'].sum()} triples, no equal grip satisfies it on "
         f"{need['no_equal_grip'].sum()}, and {need['capped_passes'].sum()} of its "
         f"{gate.loc[gate['grip_law'] == 'oracle', 'success'].sum()} passes hold at the capped grip. "
-        f"τ_T binds: the torque check alone removed {gate['torque_binds'].sum()} passes, the validity "
+        f"The torque check alone removed {gate['torque_binds'].sum()} passes, the validity "
         f"gate {gate['gate_removed'].sum()} (table readings). {DECISION}.")
 
 
