@@ -14,6 +14,7 @@ import pandas as pd
 import pytest
 from scipy import stats
 from statsmodels.stats.contingency_tables import mcnemar as sm_mcnemar
+from statsmodels.stats.proportion import proportion_confint
 from synthetic_runs import SHAPES, make_run, ok_records, quasi_static_outputs, read_table
 
 from graspcampaign.analysis.vocabulary import label
@@ -175,6 +176,17 @@ def test_grip_laws_rates_readings_checks_and_need(runs):
     expected = ok.groupby(["planner", "grip_law"])["success"].mean() * 100
     pd.testing.assert_series_equal(rates["rate_pct"].sort_index(), expected.sort_index(), check_names=False)
     assert rates.loc[("heuristic", "oracle"), "paper_pct"] == 67.6  # Fig. 18, beside every law
+    # ... and judged under Algorithm 2 only: the paper ran no other law (Sec. 6.5: "was not run")
+    paper_values = {"heuristic": 67.6, "antipodal": 40.0, "random": 11.0, "centroid": 0.0}
+    for (planner, law), row in rates.iterrows():
+        if law != "paper" or planner not in paper_values:
+            assert pd.isna(row["differs"]) and pd.isna(row["difference"]), (planner, law)
+            continue
+        g = ok[(ok["planner"] == planner) & (ok["grip_law"] == law)]
+        low, high = proportion_confint(int(g["success"].sum()), len(g), method="wilson")
+        assert bool(row["differs"]) == (not 100 * low <= paper_values[planner] <= 100 * high)
+    verdicts = rates.xs("oracle", level="grip_law")["verdict"]
+    assert set(verdicts[verdicts.index != "ferrari_canny"]) == {"no verdict: the paper ran Algorithm 2 only"}
     reading = read_table(store, "readings").set_index(["grip_law", "planner"])
     exp = ok.assign(nt=ok["success_no_torque"].astype(bool)).groupby(["grip_law", "planner"])["nt"].mean()
     assert reading["success_no_torque_pct"].to_dict() == pytest.approx((100 * exp).to_dict())
