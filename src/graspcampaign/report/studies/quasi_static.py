@@ -365,8 +365,8 @@ def law_items(figure: str, name: str, what: str) -> list:
 
     return [replace(rates, compute=compute,
                     caption=lambda run: f"{rates.caption(run)} {over_limit(run)}".strip()),
-            S.Figure(name, lambda run: f"{figure} (ours): success per {what} under each grip law, Wilson "
-                     f"95% whiskers; {PAPER_MARKS}. {over_limit(run)}".strip(),
+            S.Figure(name, f"{figure} (ours): success per {what} under each grip law, Wilson 95% "
+                     f"whiskers; {PAPER_MARKS}",
                      lambda run, fig: style.grouped_bars(
                          fig.subplots(), run.tables["success_by_planner"], "planner", "grip_law"),
                      (10.0, 3.8)), LawPaired()]
