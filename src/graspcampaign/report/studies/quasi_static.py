@@ -353,11 +353,20 @@ def over_limit(run: Run) -> str:
 def law_items(figure: str, name: str, what: str) -> list:
     """Success per planner and grip law beside the paper, its figure, McNemar within each law."""
     rates = S.Rates("success_by_planner", f"Success per {what} and grip law beside {figure} (the "
-                    "paper's values are Algorithm 2's, shown beside every law)", LAWS,
-                    lambda p, k: p.success_pct.get(k["planner"]))
-    return [replace(rates, caption=lambda run: f"{rates.caption(run)} {over_limit(run)}".strip()),
-            S.Figure(name, lambda run: f"{figure} (ours): success per {what} under each grip law, Wilson "
-                     f"95% whiskers; {PAPER_MARKS}. {over_limit(run)}".strip(),
+                    "paper's values are Algorithm 2's, shown beside every law and judged under it only)",
+                    LAWS, lambda p, k: p.success_pct.get(k["planner"]))
+
+    def compute(run: Run) -> pd.DataFrame:
+        """The paper ran Algorithm 2 only: a rate under another law is shown beside its value, unjudged."""
+        t = rates.compute(run)
+        other = np.where(t["grip_law"] == "paper", "", "no verdict: the paper ran Algorithm 2 only")
+        return S.verdicts(t.assign(other=other), "rate_pct", "paper_pct", "wilson_low_pct", "wilson_high_pct",
+                          unit="%", because="other").drop(columns="other")
+
+    return [replace(rates, compute=compute,
+                    caption=lambda run: f"{rates.caption(run)} {over_limit(run)}".strip()),
+            S.Figure(name, f"{figure} (ours): success per {what} under each grip law, Wilson 95% "
+                     f"whiskers; {PAPER_MARKS}",
                      lambda run, fig: style.grouped_bars(
                          fig.subplots(), run.tables["success_by_planner"], "planner", "grip_law"),
                      (10.0, 3.8)), LawPaired()]
@@ -431,7 +440,7 @@ def grip_finding(run: Run) -> str:
         f"{need['holdable'].sum()} of {need['n'].sum()} triples, no equal grip satisfies it on "
         f"{need['no_equal_grip'].sum()}, and {need['capped_passes'].sum()} of its "
         f"{gate.loc[gate['grip_law'] == 'oracle', 'success'].sum()} passes hold at the capped grip. "
-        f"τ_T binds: the torque check alone removed {gate['torque_binds'].sum()} passes, the validity "
+        f"The torque check alone removed {gate['torque_binds'].sum()} passes, the validity "
         f"gate {gate['gate_removed'].sum()} (table readings). {DECISION}.")
 
 
