@@ -56,6 +56,11 @@ def test_number_variants():
     ((60.0, 60.08), {"unit": "%"},
      (False, "matches: within one printed digit (0.1 pp) of the paper's value")),
     ((0.512, 0.833), {"digits": 3}, (True, "differs by \u22120.321")),
+    # a difference that prints as the tolerance (0.01) shows one more digit: it read "differs by
+    # -0.01" beside a "matches: within one printed digit (0.01)" whose difference also prints 0.01
+    ((0.578, 0.59), {"digits": 2}, (True, "differs by \u22120.012")),
+    ((60.14, 60.0), {"unit": "%"}, (True, "differs by +0.14 pp")),
+    ((2, 3), {"digits": 0}, (True, "differs by \u22121")),  # a count one off is exactly one
     ((35.0, (30, 40)), {"digits": 0}, (False, "inside the paper's range 30–40")),
     ((20.0, (30, 40)), {"digits": 0}, (True, "differs: below the paper's range 30–40")),
     # Test 1's lowest family n 0.4252 prints 0.43: inside 0.43–0.48 as printed; 0.4249 prints 0.42

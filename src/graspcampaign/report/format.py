@@ -191,8 +191,11 @@ def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits:
         times = number(float(paper) / float(ours), sig=3)
         return differs, (f"{'differs' if differs else 'as in the paper'}: ours {number(ours, sig=3)}× "
                          f"{ratio}, the paper's {number(paper)}× ({times} times ours)")
-    if differs:
-        return True, f"differs by {diff}"
+    if differs:  # a difference printed as the tolerance but not equal to it gets one more digit
+        gap, step = abs(float(ours) - float(paper)), 10.0 ** -digits  # (−0.012, not −0.01)
+        shown = number(gap, digits) == number(step, digits) and not math.isclose(gap, step)
+        fine = number(float(ours) - float(paper), digits + 1, signed=True, unit=f" {unit}" if unit else "")
+        return True, f"differs by {fine if shown else diff}"
     if round(float(ours), digits) == round(float(paper), digits):
         return False, "matches as printed"
     return False, f"matches: within one printed digit ({tol}) of the paper's value"
