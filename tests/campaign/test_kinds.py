@@ -160,6 +160,10 @@ def test_dynamic_grasp_records_phases_presets_and_like_for_like(tmp_path):
     for _, row in df.iterrows():
         assert row["dynamic_status"] in ("stable", "not_settled", "penetration_limit", "dropped")
         assert row["final_phase"] in ("closure", "lift", "hold")
+        # the budget the grasp ran under is recorded (a report names it), and bounds its time
+        assert row["t_max_s"] == 0.12 and row["simulated_time_s"] <= 0.12 + row["dt_s"]
+        if row["dynamic_status"] == "not_settled":
+            assert row["simulated_time_s"] == pytest.approx(0.12, abs=row["dt_s"])
         # the gate: success needs the Eq. 19 verdict and every penetration within the radius
         assert row["success"] == (row["success_unbounded"] and row["valid_geometry"])
         assert row["valid_geometry"] == (row["delta_max_mm"] <= row["fingertip_radius_mm"])

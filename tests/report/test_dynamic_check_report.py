@@ -130,6 +130,16 @@ def test_the_status_table_gives_the_time_budget_its_not_settled_column_refers_to
     assert table.caption(run).endswith("(t_max = 0.05 s of simulated time)")
 
 
+def test_the_time_budget_is_read_from_the_records_when_the_config_leaves_the_default():
+    # a study file that does not set params.t_max_s left its 1 s default unsaid: "not settled by
+    # t_max" with no value (the kind's default is not in the config; the records now carry it)
+    run = _run()
+    run.manifest["config"]["params"] = {}
+    run.records["t_max_s"] = 1.0
+    table = next(i for i in report.SPEC.items if getattr(i, "name", "") == "dynamic_status")
+    assert table.caption(run).endswith("(t_max = 1 s of simulated time)")
+
+
 def test_group_tables_show_each_evaluators_success_as_a_percentage():
     run = _run()
     table = next(i for i in report.SPEC.items if getattr(i, "name", "") == "agreement_by_shape")

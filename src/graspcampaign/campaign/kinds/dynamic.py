@@ -268,8 +268,9 @@ def grasp_params(study, params):
                        open_gap=params.open_gap_m)
 
 
-def grasp_record(res, contact, msd) -> dict[str, Any]:
-    """Flatten a ``DynamicGraspResult`` into record columns (docs/records.md, friction_mass)."""
+def grasp_record(res, contact, msd, t_max_s: float) -> dict[str, Any]:
+    """Flatten a ``DynamicGraspResult`` of a ``t_max_s`` budget into record columns
+    (docs/records.md, friction_mass)."""
     force, torque = res.wrench[:3], res.wrench[3:]
     times = res.phase_times
     lifted = res.phase != "closure"
@@ -286,6 +287,7 @@ def grasp_record(res, contact, msd) -> dict[str, Any]:
         "lift_start_s": times.lift_start, "lift_end_s": times.lift_end,
         "hold_start_s": times.hold_start, "hold_end_s": times.hold_end,
         "simulated_time_s": float(res.times[-1]),
+        "t_max_s": t_max_s,
         "dt_s": float(res.dt), "n_steps": int(res.n_steps),
         "final_residual_z_n": float(res.residual_z[-1]),
         "delta_max_mm": float(res.delta_max * 1e3),
@@ -324,7 +326,7 @@ def run_grasp(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
                                  body=body)
     res = GRASP_RUNNERS[params.step](setup, state)
     keep = _decimate(len(res.times))
-    out = grasp_record(res, contact, msd)
+    out = grasp_record(res, contact, msd, params.t_max_s)
     out.update(like_for_like(study, mesh, f["mass_kg"], f["mu"], contact))
     out["__tables__"] = {"steps": {
         "step": keep.tolist(),

@@ -234,7 +234,7 @@ def run(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
         "qs_preset_valid_geometry": preset_valid,
         "qs_preset_delta_max_mm": float(preset_eq.delta_max_mm[0]),
         "qs_preset_failure_check": str(preset_eq.failure_labels()[0]),
-        **grasp_record(res, contact, msd),
+        **grasp_record(res, contact, msd, params.t_max_s),
         "plan_time_s": plan_time, "grasp_time_s": grasp_time,
     }
 
