@@ -132,3 +132,13 @@ def md_table(md: str, name: str) -> pd.DataFrame:
     lines = md.split(f"(`tables/{name}.csv`)", 1)[1].strip().split("\n\n", 1)[0].splitlines()
     rows = [[c.strip().replace("\u2212", "-") for c in line.strip("|").split("|")] for line in lines]
     return pd.DataFrame(rows[2:], columns=rows[0])
+
+
+def md(store: RunStore) -> str:
+    """The run's report.md."""
+    return (store.path / "report" / "report.md").read_text()
+
+
+def caption(store: RunStore, name: str) -> str:
+    """The bold caption line above table ``name`` in report.md."""
+    return next(line for line in md(store).splitlines() if f"(`tables/{name}.csv`)" in line)
