@@ -162,7 +162,7 @@ def _pinv2(m: np.ndarray) -> np.ndarray:
     small = np.maximum(t - np.sqrt(np.maximum(t * t - 4.0 * det, 0.0)), 0.0) / 2.0
     adj = np.stack([np.stack([u[..., 1, 1], -u[..., 0, 1]], -1),
                     np.stack([-u[..., 1, 0], u[..., 0, 0]], -1)], -2)
-    full = small > 1e-15 * (t - small)
+    full = (small > 1e-15 * (t - small)) & (tr > 0.0)  # a zero matrix (unscaled u) is not full rank
     inv = np.where(full[..., None, None], adj / np.where(full, det, 1.0)[..., None, None], u)
     return np.where((tr > 0.0)[..., None, None], inv / scale, 0.0)
 
