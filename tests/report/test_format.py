@@ -61,6 +61,9 @@ def test_number_variants():
     ((0.578, 0.59), {"digits": 2}, (True, "differs by \u22120.012")),
     ((60.14, 60.0), {"unit": "%"}, (True, "differs by +0.14 pp")),
     ((2, 3), {"digits": 0}, (True, "differs by \u22121")),  # a count one off is exactly one
+    # a zero-width interval reads as the point value, its difference too (it read "differs by −0.01")
+    ((0.578, 0.59), {"low": 0.578, "high": 0.578, "digits": 2},
+     (True, "differs by \u22120.012: the paper's value lies outside our 95% interval")),
     ((35.0, (30, 40)), {"digits": 0}, (False, "inside the paper's range 30–40")),
     ((20.0, (30, 40)), {"digits": 0}, (True, "differs: below the paper's range 30–40")),
     # Test 1's lowest family n 0.4252 prints 0.43: inside 0.43–0.48 as printed; 0.4249 prints 0.42
@@ -101,8 +104,10 @@ def test_one_verdict_rule(args, kwargs, expected):
 @given(st.floats(-1e3, 1e3), st.floats(-1e3, 1e3), st.floats(0, 10), st.integers(0, 3))
 def test_an_interval_is_judged_as_its_nearest_end_when_the_paper_lies_outside(ours, paper, width, digits):
     # a zero-width interval reads as the point value; a wider one can only bring the paper's value in
-    point = fmt.verdict(ours, paper, digits=digits)[0]
-    assert fmt.verdict(ours, paper, low=ours, high=ours, digits=digits)[0] == point
+    point, words = fmt.verdict(ours, paper, digits=digits)
+    zero_width = fmt.verdict(ours, paper, low=ours, high=ours, digits=digits)
+    assert zero_width[0] == point
+    assert not point or zero_width[1].startswith(f"{words}: ")  # the same difference, as printed
     assert fmt.verdict(ours, paper, low=ours - width, high=ours + width, digits=digits)[0] <= point
 
 

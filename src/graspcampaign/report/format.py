@@ -175,11 +175,14 @@ def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits:
             return False, f"as in the paper ({number(paper)})"
         return True, f"differs: the paper reports {number(paper)}, ours is {number(ours)}"
     unit = "pp" if unit == "%" else unit
-    diff = number(float(ours) - float(paper), digits, signed=True, unit=f" {unit}" if unit else "")
     nearest = float(ours) if is_missing(low) or is_missing(high) else \
         min(max(float(paper), float(low)), float(high))
-    differs = abs(nearest - float(paper)) >= 10.0 ** -digits
-    tol = number(10.0 ** -digits, digits, unit=f" {unit}" if unit else "")
+    gap, step = float(ours) - float(paper), 10.0 ** -digits
+    differs = abs(nearest - float(paper)) >= step
+    tol = number(step, digits, unit=f" {unit}" if unit else "")
+    # a difference printed as the tolerance but not equal to it gets one more digit (−0.012, not −0.01)
+    fine = differs and number(abs(gap), digits) == number(step, digits) and not math.isclose(abs(gap), step)
+    diff = number(gap, digits + 1 if fine else digits, signed=True, unit=f" {unit}" if unit else "")
     if not is_missing(low) and not is_missing(high):
         if float(low) <= float(paper) <= float(high):
             return False, f"consistent: the paper's value lies inside our 95% interval ({diff})"
@@ -191,11 +194,8 @@ def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits:
         times = number(float(paper) / float(ours), sig=3)
         return differs, (f"{'differs' if differs else 'as in the paper'}: ours {number(ours, sig=3)}× "
                          f"{ratio}, the paper's {number(paper)}× ({times} times ours)")
-    if differs:  # a difference printed as the tolerance but not equal to it gets one more digit
-        gap, step = abs(float(ours) - float(paper)), 10.0 ** -digits  # (−0.012, not −0.01)
-        shown = number(gap, digits) == number(step, digits) and not math.isclose(gap, step)
-        fine = number(float(ours) - float(paper), digits + 1, signed=True, unit=f" {unit}" if unit else "")
-        return True, f"differs by {fine if shown else diff}"
+    if differs:
+        return True, f"differs by {diff}"
     if round(float(ours), digits) == round(float(paper), digits):
         return False, "matches as printed"
     return False, f"matches: within one printed digit ({tol}) of the paper's value"
