@@ -25,6 +25,9 @@ def test_number_variants():
     assert fmt.number(-0.00001, 1) == "0.0"  # no "-0.0"
     assert fmt.interval(-3.9, 4.38, 2) == "\u22123.90 to 4.38"  # a negative bound: "to"
     assert fmt.interval(3.45, math.inf, 1) == "3.5–inf"
+    # an infinity keeps its sign (-inf printed "inf", so ours -inf "differs by inf")
+    assert fmt.number(-math.inf, 2) == "\u2212inf" and fmt.number(math.inf, 1, signed=True) == "+inf"
+    assert fmt.verdict(-math.inf, 0.9) == (True, "differs by \u2212inf")
     assert fmt.estimate(77.8, 74.8, 80.49, 0) == "78 (75–80)"
     # 0.805 is stored as 0.80500000000000004885 (exact binary value), so it rounds up, once.
     assert fmt.number(80.5 / 100, 2) == "0.81"

@@ -29,7 +29,7 @@ def is_missing(value: Any) -> bool:
 
 
 def _nonzero(text: str) -> bool:
-    return any(c in "123456789" for c in text)
+    return any(c in "123456789" for c in text) or "inf" in text
 
 
 def number(value: Any, digits: int | None = None, *, sig: int | None = None,
