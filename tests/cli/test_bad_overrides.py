@@ -23,6 +23,9 @@ OVERRIDES = {
                        "success_by_shape_pct.",
     "paper.figure=3": "campaigns/baseline_grid.yaml with override paper.figure=3: paper.figure must be "
                       "text; got 3.",
+    # a section replaced by a scalar says what the section takes (it printed OmegaConf's "paper:
+    # Cannot assign str to Dict[str, Any].")
+    "paper=x": "paper must be a mapping of keys, got 'x'.",
     # a key below an unknown one names the first unknown part in its section (it said only "not a
     # known key of the study config")
     "evaluator.tau.x=1": "evaluator.tau is not a known key of evaluator (override 'evaluator.tau.x=1' "

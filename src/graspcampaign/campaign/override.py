@@ -237,8 +237,8 @@ def omegaconf_error_sentence(exc: BaseException, prefix: str = "") -> str:
         name = key.split(".", 1)[1]
         return (f"{key} takes a list of levels, e.g. {key}={example(name).replace(' ', '')} (or "
                 f"the bare {name}={example(name)[1:].split(',')[0]}), got {value!r}.")
-    if re.search(r"Cannot merge|incompatible with type hint|is not a ListConfig|is not a subclass",
-                 text):
+    if re.search(r"Cannot merge|Cannot assign|incompatible with type hint|is not a ListConfig|"
+                 r"is not a subclass", text):
         got = f", got {value!r}" if value is not None else ""
         return f"{key} must be {_takes(key, base)}{got}."
     return f"{key}: {text}."
