@@ -26,6 +26,9 @@ OVERRIDES = {
     # a section replaced by a scalar says what the section takes (it printed OmegaConf's "paper:
     # Cannot assign str to Dict[str, Any].")
     "paper=x": "paper must be a mapping of keys, got 'x'.",
+    # a name below a list (it printed Python's "invalid literal for int() with base 10: 'x'.")
+    "factors.mu.x=1": "factors.mu is a list, so factors.mu.x is not an item of it (override "
+                      "'factors.mu.x=1' rejected); an item is named by its index, e.g. factors.mu.0.",
     # a key below an unknown one names the first unknown part in its section (it said only "not a
     # known key of the study config")
     "evaluator.tau.x=1": "evaluator.tau is not a known key of evaluator (override 'evaluator.tau.x=1' "

@@ -122,6 +122,13 @@ def override_sentence(exc: BaseException, overrides: list[str], given: list[str]
     match = re.search(r"Could not find '([\w-]+)/([^']+)'", text)
     if match:
         return missing_option_sentence(match.group(1), match.group(2))
+    match = re.fullmatch(r"invalid literal for int\(\) with base 10: '([^']*)'", text)
+    for item, typed in zip(overrides, given, strict=True) if match else ():  # factors.mu.x=1
+        parts = split(item)[1].split(".")
+        if match[1] in parts[1:]:
+            listed = ".".join(parts[:parts.index(match[1], 1)])
+            return (f"{listed} is a list, so {listed}.{match[1]} is not an item of it (override "
+                    f"{typed!r} rejected); an item is named by its index, e.g. {listed}.0.")
     if text.startswith("Config group override must be"):  # evaluator=3: Hydra names no group
         for item in overrides:
             _, key, _, value = split(item)
