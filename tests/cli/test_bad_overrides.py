@@ -42,6 +42,11 @@ OVERRIDES = {
     "paper.rates.x=1": "paper.rates.x is not set by this study (override 'paper.rates.x=1' rejected); add "
                        "it with a leading '+' (+paper.rates.x=...), and the study's paper schema checks "
                        "it.",
+    # a name below a single value: it said "evaluator.alpha must be a number, got {}."
+    "evaluator.alpha.x=1": "evaluator.alpha takes one value, so evaluator.alpha.x names nothing in it "
+                           "(override 'evaluator.alpha.x=1' rejected); set it as evaluator.alpha=VALUE.",
+    "seed.x=1": "seed takes one value, so seed.x names nothing in it (override 'seed.x=1' rejected); set "
+                "it as seed=VALUE.",
     "runner.nosuch=3": "runner.nosuch is not a known key of runner (override 'runner.nosuch=3' "
                        "rejected); known keys: backend, n_jobs, address, batch_size, target_task_s, "
                        "progress, progress_interval_s, connect_timeout_s.",

@@ -49,6 +49,13 @@ def check_overrides(given: list[str]) -> None:
             raise ConfigError(f"override {item!r} sets {key}, a key of Hydra's own runtime; this "
                               "tool uses Hydra to compose studies and runs them itself, so hydra "
                               "keys have no effect: leave it out.", key=key)
+        parts = key.split(".")
+        for i in range(1, len(parts) if sep and "~" not in prefix else 0):  # evaluator.alpha.x=1
+            head = field_at(".".join(parts[:i]))
+            if head and split_optional(str(head[1].type))[0] in ("int", "float", "str", "bool"):
+                single = ".".join(parts[:i])
+                raise ConfigError(f"{single} takes one value, so {key} names nothing in it (override "
+                                  f"{item!r} rejected); set it as {single}=VALUE.", key=single)
         found = field_at(key) if sep and "~" not in prefix else None
         if found and split_optional(str(found[1].type))[0] == "bool":
             parsed = _parsed_value(item)
@@ -197,6 +204,8 @@ def _unknown_override(key: str, typed: str | None, factors: list[str]) -> str:
     while known and schema_at(known) is None:
         known = known.rpartition(".")[0]
     first = f"{known}.{key[len(known) + 1:].split('.')[0]}" if known else key.split(".")[0]
+    if field_at(first) is not None:  # a known key the override goes astray below (factors.mu.0.x)
+        return f"{key} is not a known key of the study config ({rejected})."
     return known_keys_sentence(first, schema_at(known), typed)
 
 
