@@ -49,14 +49,14 @@ def check_overrides(given: list[str]) -> None:
             raise ConfigError(f"override {item!r} sets {key}, a key of Hydra's own runtime; this "
                               "tool uses Hydra to compose studies and runs them itself, so hydra "
                               "keys have no effect: leave it out.", key=key)
-        parts = key.split(".")
-        for i in range(1, len(parts) if sep and "~" not in prefix else 0):  # evaluator.alpha.x=1
-            head = field_at(".".join(parts[:i]))
+        setting, parts = bool(sep) and "~" not in prefix, key.split(".")
+        for i in range(1, len(parts) if setting else 0):  # evaluator.alpha.x=1
+            single = ".".join(parts[:i])
+            head = field_at(single)
             if head and split_optional(str(head[1].type))[0] in ("int", "float", "str", "bool"):
-                single = ".".join(parts[:i])
                 raise ConfigError(f"{single} takes one value, so {key} names nothing in it (override "
                                   f"{item!r} rejected); set it as {single}=VALUE.", key=single)
-        found = field_at(key) if sep and "~" not in prefix else None
+        found = field_at(key) if setting else None
         if found and split_optional(str(found[1].type))[0] == "bool":
             parsed = _parsed_value(item)
             if parsed is not _UNPARSED and not isinstance(parsed, bool):
