@@ -31,6 +31,13 @@ def _manifest(results: Path) -> dict:
     return json.loads((grid_run(results) / "manifest.json").read_text())
 
 
+def refused_by_every_command(results, message: str) -> None:
+    """status, show, report and run of the damaged baseline_grid run each refuse with ``message``."""
+    for args in (["status", "baseline_grid"], ["show", "baseline_grid", *BG[:5]],
+                 ["report", "baseline_grid"], ["run", "baseline_grid", *BG]):
+        refused(results, [*args, "--root", results], message)
+
+
 MANIFESTS = {
     "truncated": (lambda m: json.dumps(m, indent=2)[:300], None),
     "garbled": (lambda m: json.dumps(m).encode()[:40] + b"\xff\xfe" + json.dumps(m).encode()[42:],
@@ -63,9 +70,7 @@ def test_a_damaged_manifest_is_refused_by_every_command(results, case):
     message = (f"run baseline_grid/default at {grid_run(results)} has a damaged manifest.json ({why}); "
                "its records cannot be checked without it, so restore the file from a backup or "
                "move the run directory aside and run the study again.")
-    for args in (["status", "baseline_grid"], ["show", "baseline_grid", *BG[:5]],
-                 ["report", "baseline_grid"], ["run", "baseline_grid", *BG]):
-        refused(results, [*args, "--root", results], message)
+    refused_by_every_command(results, message)
 
 
 # -- 3 (and 2, 4). stored files not what the manifest says, or none; a run refused before it starts
@@ -74,9 +79,7 @@ def test_records_without_a_manifest_are_refused_alike_by_every_command(results):
     message = (f"run baseline_grid/default at {grid_run(results)} has stored files but no "
                "manifest.json, so what they hold cannot be checked; restore the file from a "
                "backup, or move the run directory aside and run the study again.")
-    for args in (["status", "baseline_grid"], ["show", "baseline_grid", *BG[:5]],
-                 ["report", "baseline_grid"], ["run", "baseline_grid", *BG]):
-        refused(results, [*args, "--root", results], message)
+    refused_by_every_command(results, message)
 
 
 def test_a_run_refused_before_it_starts_writes_nothing(results, monkeypatch):
@@ -140,9 +143,7 @@ def test_a_manifest_that_does_not_describe_its_run_is_refused_by_every_command(r
         why = f"config_hash is {manifest['config_hash']}, but its config hashes to {edited}"
     message = (f"run baseline_grid/default at {grid_run(results)} has a manifest.json that does not "
                f"match the run ({why}); {advice}.")
-    for args in (["status", "baseline_grid"], ["show", "baseline_grid", *BG[:5]],
-                 ["report", "baseline_grid"], ["run", "baseline_grid", *BG]):
-        refused(results, [*args, "--root", results], message)
+    refused_by_every_command(results, message)
 
 
 def test_a_session_that_names_no_config_is_not_held_to_the_runs_one_config(results):
@@ -164,9 +165,7 @@ def test_a_file_in_place_of_the_run_directory_is_refused_by_every_command(result
     grid_run(results).write_text("not a run")
     message = (f"run baseline_grid/default at {grid_run(results)} is a file, not a run directory; "
                "move it aside or choose another run name (--run NAME).")
-    for args in (["status", "baseline_grid"], ["show", "baseline_grid", *BG[:5]],
-                 ["report", "baseline_grid"], ["run", "baseline_grid", *BG]):
-        refused(results, [*args, "--root", results], message)
+    refused_by_every_command(results, message)
 
 
 def test_run_never_writes_into_measured_records_nor_ingest_into_simulated_ones(results, tmp_path):
