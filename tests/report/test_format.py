@@ -96,6 +96,12 @@ def test_number_variants():
      (True, "differs: ours 9.17× faster, the paper's 17000× (1850 times ours)")),
     ((17000.4, 17000), {"digits": 0, "ratio": "faster"},
      (False, "as in the paper: ours 17000× faster, the paper's 17000× (1.000 times ours)")),
+    # a zero speed-up (a timer that read 0 s for the reference) forms no ratio (it divided by zero);
+    # nor does the paper's 0 (its "0 times ours" would read as a result): the difference decides
+    ((0.0, 17000), {"digits": 0, "ratio": "faster"},
+     (True, "differs: ours 0.00× faster, the paper's 17000× (no ratio: ours is 0)")),
+    ((9.17, 0), {"digits": 0, "ratio": "faster"},
+     (True, "differs: ours 9.17× faster, the paper's 0× (no ratio: the paper's is 0)")),
     # a commanded value is the run's own input: not compared, whatever the paper says
     ((65.0, 65.0), {"commanded": "the ramp ends at the command"},
      (None, "commanded, not a result: the ramp ends at the command")),

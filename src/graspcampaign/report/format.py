@@ -140,7 +140,8 @@ def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits:
     reads as the value).
     ``unit`` is the values' unit: a value or range of percentages prints ``%``, a difference of two
     percentages ``pp``. ``ratio`` (e.g. "faster"): the
-    values are ratios, said as ratios ("ours 9.17× faster, the paper's 17000× (1850 times ours)").
+    values are ratios, said as ratios ("ours 9.17× faster, the paper's 17000× (1850 times ours)"; no ratio
+    of the two when either is 0, compared by their difference alone).
     ``commanded``: ours is the run's own command, reached by construction (the words say how), so it
     is not compared. ``because``: why ours is not compared (the words are that reason).
     ``pinned``: ours is a CV over runs that all ended on a search bound, at these values (as printed):
@@ -191,9 +192,11 @@ def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits:
                           f"interval ({diff})"
         return True, f"differs by {diff}: the paper's value lies outside our 95% interval"
     if ratio:
-        times = number(float(paper) / float(ours), sig=3)
+        zero = "ours" if not float(ours) else "the paper's" if not float(paper) else ""
+        times = (f"{number(float(paper) / float(ours), sig=3)} times ours" if not zero
+                 else f"no ratio: {zero} is 0")
         return differs, (f"{'differs' if differs else 'as in the paper'}: ours {number(ours, sig=3)}× "
-                         f"{ratio}, the paper's {number(paper)}× ({times} times ours)")
+                         f"{ratio}, the paper's {number(paper)}× ({times})")
     if differs:
         return True, f"differs by {diff}"
     if round(float(ours), digits) == round(float(paper), digits):
