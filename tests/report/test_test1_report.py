@@ -143,6 +143,31 @@ def test_damage_depth_says_the_thresholds_are_extrapolated(run):
     assert "not measured depths" in md and "Tests 2-3 do not read this table" in md
 
 
+def test_damage_depths_print_to_the_hundredth_of_a_millimetre():
+    # an extrapolated 12.3 mm beside a measured 2.66 mm: the column's 3 significant digits of its
+    # largest value gave every depth 1 decimal (2.66 printed 2.7); depths are in 0.01 mm, as the
+    # paper's (a permanent set of 0.08 mm to 0.36 mm, §7.4)
+    from dataclasses import replace
+
+    from graspcampaign.analysis.calibration import damage_summary
+    from graspcampaign.report.studies.test1 import SPEC
+
+    depths = pd.DataFrame({"material": ["gel", "gel", "silicone_soft"], "specimen": [1, 2, 1],
+                           "environment": "normal", "damage_depth_mm": [12.3, 11.9, 2.66],
+                           "criterion": "stiffness", "extrapolated": [True, True, False],
+                           "stiffness_target": 0.85, "set_limit_mm": 0.5})
+    table = next(i for i in SPEC.items if getattr(i, "name", "") == "damage_depth")
+    frame = damage_summary(depths, None, 5.0)
+    [shown] = replace(table, compute=frame, caption="").render(None)
+    heads = [c.label for c in shown.cols]
+    cells = [dict(zip(heads, [text for text, _ in row], strict=True)) for row in shown.cells()]
+    g = depths.groupby("material")["damage_depth_mm"]
+    for row, material in zip(cells, ["gel", "silicone_soft"], strict=True):
+        assert [row[f"damage depth {s} [mm]"] for s in ("mean", "min", "max")] == \
+            [f"{v:.2f}" for v in (g.mean()[material], g.min()[material], g.max()[material])]
+        assert row["set limit [mm]"] == "0.50"
+
+
 def test_figures_23_to_26_are_written(run):
     path, _ = run
     from PIL import Image

@@ -68,12 +68,12 @@ class Col:
         return list(dict.fromkeys(k for k in (self.key, self.low, self.high, self.share) if k))
 
 
-def cols(*names: str, frame: pd.DataFrame | None = None) -> list[Col]:
-    """Shown columns of record-convention names ``<words>_<unit>``: header ``words [unit]``, 3
-    significant digits (1 decimal for %); factor levels and other columns (counts are ``n_<things>``)
-    print as they are. With ``frame``, its interval ``<words>_low_<unit>``/``_high_<unit>`` (or
-    ``<name>_low``/``_high``) and reason ``<name>_why`` (or ``<words>_why``) join a column when the
-    frame has them."""
+def cols(*names: str, frame: pd.DataFrame | None = None, digits: int | None = None) -> list[Col]:
+    """Shown columns of record-convention names ``<words>_<unit>``: header ``words [unit]``, ``digits``
+    decimals when the quantity has a known precision, else 3 significant digits (1 decimal for %);
+    factor levels and other columns (counts are ``n_<things>``) print as they are. With ``frame``,
+    its interval ``<words>_low_<unit>``/``_high_<unit>`` (or ``<name>_low``/``_high``) and reason
+    ``<name>_why`` (or ``<words>_why``) join a column when the frame has them."""
     out, has = [], (lambda c: frame is not None and c in frame)
     for name in names:
         words, _, suffix = name.rpartition("_")
@@ -83,7 +83,8 @@ def cols(*names: str, frame: pd.DataFrame | None = None) -> list[Col]:
         low, high = (f"{words}_low_{suffix}", f"{words}_high_{suffix}") if unit else (f"{name}_low",
                                                                                        f"{name}_high")
         ci, why = has(low) and has(high), next((w for w in (f"{name}_why", f"{words}_why") if has(w)), None)
-        out.append(Col(name, head, 1 if unit == "%" else None, sig=3 if unit and unit != "%" else None,
+        fixed = digits if digits is not None else 1 if unit == "%" else None
+        out.append(Col(name, head, fixed, sig=3 if unit and fixed is None else None,
                        low=low if ci else None, high=high if ci else None, why=why))
     return out
 

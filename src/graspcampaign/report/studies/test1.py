@@ -493,8 +493,8 @@ SPEC = ReportSpec("test1_bench", [
                       "over the converged runs with Table 5's; (b) identified values relative to Table 3 "
                       "(ours and the paper's experiment); (c) mean transfer error per quantity and split "
                       "with the paper's §7.6 values", fig26, (13.0, 4.8))),
-    Table("damage_depth", _damage_caption, lambda run: FRAMES["damage"](run), cols(
-        "specimens", "damage_depth_mean_mm", "damage_depth_min_mm", "damage_depth_max_mm", "set_limited",
-        "extrapolated", "beyond_radius", "abs_error_median_mm", "stiffness_target", "set_limit_mm"),
-        by=["material"], empty=None),
+    Table("damage_depth", _damage_caption, lambda run: FRAMES["damage"](run), [*cols("specimens"), *cols(
+        "damage_depth_mean_mm", "damage_depth_min_mm", "damage_depth_max_mm", digits=2),  # 0.01 mm, §7.4
+        *cols("set_limited", "extrapolated", "beyond_radius", "abs_error_median_mm", "stiffness_target"),
+        *cols("set_limit_mm", digits=2)], by=["material"], empty=None),
 ])
