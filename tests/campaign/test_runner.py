@@ -119,31 +119,22 @@ def test_a_description_is_not_part_of_the_config_hash(study_factory):
     assert config_hash(study_factory(seed=7)) != config_hash(study_factory(seed=8))
 
 
-def _run_stored_by_the_old_hashing(study, monkeypatch):
+def _run_stored_by_the_old_hashing(study):
     """Run ``study`` partly, as the code before the description left the hash stored it."""
-    from graspcampaign.campaign import provenance
-    from graspcampaign.campaign.grid import content_hash
+    from test_legacy_hash import old_hashing
 
-    def old_digest(config, *_):  # provenance.config_digest as commit 073427b had it
-        return content_hash({k: v for k, v in config.items() if k not in ("runner", "output")},
-                            length=16)
-
-    with monkeypatch.context() as patch:
-        patch.setattr(provenance, "config_digest", old_digest)
-        patch.setattr(provenance, "config_hash",
-                      lambda s, *_: old_digest(provenance.study_dict(s)))
+    with old_hashing():
         run_study(study)
 
 
 def test_a_run_stored_under_the_old_hash_resumes_and_reports_after_a_description_fix(
-        study_factory, monkeypatch, tmp_path):
+        study_factory, tmp_path):
     import json
 
     from graspcampaign.report.build import build_reports
 
     partial = {"mass_kg": [0.2], "mu": [0.1, 0.3], "planner": ["heuristic", "random"]}
-    _run_stored_by_the_old_hashing(study_factory(factors=partial, description="stale text"),
-                                   monkeypatch)
+    _run_stored_by_the_old_hashing(study_factory(factors=partial, description="stale text"))
     # the description changed, nothing else: no drift, and the run keeps one name for its config
     resumed = run_study(study_factory(factors=partial, description="the fixed text"))
     assert (resumed.n_already, resumed.n_ran) == (8, 0)
@@ -153,9 +144,8 @@ def test_a_run_stored_under_the_old_hash_resumes_and_reports_after_a_description
     assert not batch.failed and (resumed.path / "report" / "report.md").exists()
 
 
-def test_a_real_change_to_a_run_stored_under_the_old_hash_is_still_drift(study_factory,
-                                                                          monkeypatch):
-    _run_stored_by_the_old_hashing(study_factory(description="stale text"), monkeypatch)
+def test_a_real_change_to_a_run_stored_under_the_old_hash_is_still_drift(study_factory):
+    _run_stored_by_the_old_hashing(study_factory(description="stale text"))
     with pytest.raises(DriftError, match=r"was started with a different resolved study config "
                                          r"\(seed 7 -> 8\); use a new run name"):
         run_study(study_factory(seed=8, description="the fixed text"))

@@ -5,7 +5,9 @@ The protocol's kind validates every file completely (``TrialKind.ingest``) befor
 written, so bad input leaves what is stored untouched. Re-ingesting a trial that is already stored
 is refused: measured records are never overwritten. The kind also sees the run's stored records,
 so its own rules across files (e.g. one executed attempt per slot in Tests 2-3) hold across
-``ingest`` calls too.
+``ingest`` calls too. A run holds the records of one config: an ingest under another resolved
+config (a changed seed; a changed description is none) is refused as drift, as ``run`` refuses it; the
+code version may change between ingests (the rig's records do not depend on it).
 """
 
 from __future__ import annotations
@@ -49,6 +51,10 @@ def ingest_files(study: StudyCfg, paths: list[str], run: str = "measured") -> tu
             f"run {study.name}/{run} at {store.path} holds {manifest['source']} records (from "
             "`graspcampaign run`); measured records are stored in a run of their own, so choose "
             "another run name (--run NAME; default measured).")
+    if manifest is not None and (changed := provenance.config_drift(manifest, study)):
+        raise provenance.DriftError(
+            f"run {study.name}/{run} at {store.path} was started with a different {changed}; records "
+            "of another config are stored in a run of their own, so choose another run name (--run NAME).")
     stored = store.read().to_pandas() if manifest is not None else None
     rows = kind.ingest(study, params, paths, stored)
     stored_ids = set() if stored is None or "trial_id" not in stored else set(stored["trial_id"])

@@ -316,15 +316,21 @@ class DriftError(UserInputError):
     """The resolved config or code changed since the run started."""
 
 
+def config_drift(manifest: dict[str, Any], study: StudyCfg) -> str:
+    """How ``study`` differs from the config the run started with ("" if it is that config, under
+    either digest), naming what changed: ``resolved study config (seed 7 -> 8)``."""
+    if manifest.get("config_hash") == config_hash(study, manifest):
+        return ""
+    keys = config_changes(manifest.get("config"), study)
+    return "resolved study config" + (f" ({', '.join(keys)})" if keys else "")
+
+
 def check_drift(manifest: dict[str, Any], study: StudyCfg, allow_drift: bool, path: Path) -> None:
     """Refuse to add ``study``'s trials to a run started with another resolved config or code
     version (unless ``allow_drift``), naming what changed."""
     if allow_drift:
         return
-    changes = []
-    if manifest.get("config_hash") != config_hash(study, manifest):
-        keys = config_changes(manifest.get("config"), study)
-        changes.append("resolved study config" + (f" ({', '.join(keys)})" if keys else ""))
+    changes = [changed] if (changed := config_drift(manifest, study)) else []
     if manifest.get("code_version") != code_version():
         changes.append(f"code version ({manifest.get('code_version')} -> "
                        f"{code_version()})")
