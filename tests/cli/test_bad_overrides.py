@@ -5,7 +5,7 @@ stored changed (``results``: a copy of finished runs, tests/cli/conftest.py). Pa
 from __future__ import annotations
 
 import pytest
-from cli_checks import refused
+from cli_checks import invoke, refused
 
 # -- override messages ------------------------------------------------------------------------------
 OVERRIDES = {
@@ -45,6 +45,10 @@ OVERRIDES = {
     # a name below a single value: it said "evaluator.alpha must be a number, got {}."
     "evaluator.alpha.x=1": "evaluator.alpha takes one value, so evaluator.alpha.x names nothing in it "
                            "(override 'evaluator.alpha.x=1' rejected); set it as evaluator.alpha=VALUE.",
+    # a name below a factor's level: it blamed the study file's factors line beside the override
+    # ("campaigns/baseline_grid.yaml, line 15: factors.mu.0.x is not a known key of the study config")
+    "factors.mu.0.x=1": "factors.mu.0 takes one value, so factors.mu.0.x names nothing in it (override "
+                        "'factors.mu.0.x=1' rejected); set it as factors.mu.0=VALUE.",
     "seed.x=1": "seed takes one value, so seed.x names nothing in it (override 'seed.x=1' rejected); set "
                 "it as seed=VALUE.",
     "runner.nosuch=3": "runner.nosuch is not a known key of runner (override 'runner.nosuch=3' "
@@ -76,7 +80,8 @@ OVERRIDES = {
 
 @pytest.mark.parametrize("override", sorted(OVERRIDES), ids=lambda o: o[:24])
 def test_override_messages_name_the_override_in_plain_words(results, override):
-    for command in ("show", "run") if override in ("=3", "evaluator.nosuch=1") else ("show",):
+    both = ("=3", "evaluator.nosuch=1", "factors.mu.0.x=1")
+    for command in ("show", "run") if override in both else ("show",):
         refused(results, [command, "baseline_grid", override, "--root", results], OVERRIDES[override])
 
 
@@ -85,3 +90,13 @@ def test_the_quoted_form_an_override_message_suggests_is_read(results):
     refused(results, ["show", "baseline_grid", 'shape=["sphère"]', "--root", results],
             "factors.shape[0] has unknown value 'sphère'; allowed values: sphere, ellipsoid, "
             "rounded_cube, pear, handle.")
+
+
+def test_the_level_a_one_value_message_names_is_set_as_it_says(results):
+    """``set it as factors.mu.0=VALUE`` (the message for factors.mu.0.x=1) sets mu's first level."""
+    from graspcampaign.campaign.compose import compose_study
+
+    levels = [0.2, *compose_study("baseline_grid").factors["mu"][1:]]
+    shown = invoke("show", "baseline_grid", "factors.mu.0=0.2", "--root", results)
+    assert shown.exit_code == 0, shown.output
+    assert f"  mu [{len(levels)}]: {', '.join(map(str, levels))}\n" in shown.stdout

@@ -50,10 +50,9 @@ def check_overrides(given: list[str]) -> None:
                               "tool uses Hydra to compose studies and runs them itself, so hydra "
                               "keys have no effect: leave it out.", key=key)
         setting, parts = bool(sep) and "~" not in prefix, key.split(".")
-        for i in range(1, len(parts) if setting else 0):  # evaluator.alpha.x=1
+        for i in range(1, len(parts) if setting else 0):  # evaluator.alpha.x=1, factors.mu.0.x=1
             single = ".".join(parts[:i])
-            head = field_at(single)
-            if head and split_optional(str(head[1].type))[0] in ("int", "float", "str", "bool"):
+            if _one_value(single):
                 raise ConfigError(f"{single} takes one value, so {key} names nothing in it (override "
                                   f"{item!r} rejected); set it as {single}=VALUE.", key=single)
         found = field_at(key) if setting else None
@@ -62,6 +61,16 @@ def check_overrides(given: list[str]) -> None:
             if parsed is not _UNPARSED and not isinstance(parsed, bool):
                 raise ConfigError(f"{key} must be true or false, got {parsed!r} (override "
                                   f"{item!r}).", key=key)
+
+
+def _one_value(key: str) -> bool:
+    """Whether ``key`` names a single value: a field of a scalar type (``evaluator.alpha``) or a
+    level of a known factor (``factors.mu.0``; every factor's levels are single values)."""
+    parts = key.split(".")
+    if parts[0] == "factors" and len(parts) == 3:
+        return parts[1] in FACTOR_SPECS and parts[2].isdigit()
+    head = field_at(key)
+    return bool(head) and split_optional(str(head[1].type))[0] in ("int", "float", "str", "bool")
 
 
 _UNPARSED = object()
@@ -204,7 +213,7 @@ def _unknown_override(key: str, typed: str | None, factors: list[str]) -> str:
     while known and schema_at(known) is None:
         known = known.rpartition(".")[0]
     first = f"{known}.{key[len(known) + 1:].split('.')[0]}" if known else key.split(".")[0]
-    if field_at(first) is not None:  # a known key the override goes astray below (factors.mu.0.x)
+    if field_at(first) is not None:  # a known key the override goes astray below (factors.nosuch.0.x)
         return f"{key} is not a known key of the study config ({rejected})."
     return known_keys_sentence(first, schema_at(known), typed)
 
