@@ -82,7 +82,9 @@ class ReportSpec:
 
     def __post_init__(self):
         items, rows = [], []
-        for item in [*self.items, None]:
+        for number, item in enumerate([*self.items, None], 1):
+            if item is not None:
+                _check_item(self.study, number, item)
             if isinstance(item, Value):
                 rows.append(item)
                 continue
@@ -91,7 +93,26 @@ class ReportSpec:
                 items.append(Claims(f"paper_comparison{n + 1 if n else ''}", "Ours beside the paper", rows))
                 rows = []
             items += [item] if item is not None else []
+        for kind, names in (("tables", [i.name for i in items if isinstance(i, Table)]),
+                            ("figures", [i.name for i in items if isinstance(i, Figure)])):
+            if twice := sorted({n for n in names if names.count(n) > 1}):
+                raise ValueError(f"report spec {self.study!r}: two {kind} are named {twice[0]!r} (one "
+                                 f"would overwrite the other's file); name them apart.")
         object.__setattr__(self, "items", tuple(items))
+
+
+def _check_item(study: str, number: int, item: Any) -> None:
+    """Raise one sentence naming the spec and item when ``item`` is no report item (a function
+    such as ``Rates`` not called, a column list, a string) or a Finding without its function."""
+    where = f"report spec {study!r}, item {number}"
+    if not (isinstance(item, Value) or callable(getattr(item, "render", None))):  # duck-typed items too
+        what = f"the function {item.__name__}" if callable(item) and hasattr(item, "__name__") \
+            else f"a {type(item).__name__} ({str(item)[:40]})"
+        raise TypeError(f"{where}: {what} is not a report item (Finding, Section, Text, Table, Figure, "
+                        f"Value){'; call it' if callable(item) else ''}.")
+    if isinstance(item, Finding) and not callable(item.text):
+        raise TypeError(f"{where}: Finding takes a function of the run returning its paragraph, "
+                        f"not a {type(item.text).__name__}.")
 
 
 @dataclass(frozen=True)
@@ -114,6 +135,8 @@ def Rates(name: str, caption: str, by: Sequence[str], paper: PaperKey | None = N
     """The rate of ``outcome`` per group of ``by`` beside the paper (Wilson 95 % per row; an
     object-clustered bootstrap when ``bootstrap``) over the trials ``where(records)`` selects."""
     def compute(run: Run) -> pd.DataFrame:
+        if missing := [c for c in by if c not in run.records]:
+            raise KeyError(missing[0])  # "the records have no `<column>` column", not "empty"
         records = run.records[where(run.records)] if where else run.records
         frame = rec.rate_table(records, by, outcome=outcome, cluster=run.cluster if bootstrap else None,
                                seed=run.seed, order=run.order)

@@ -1,0 +1,85 @@
+"""A contributor's mistake in a report spec gets one sentence naming the spec or item and what is
+wrong: at import for an entry that is no item, a Finding without its function or two tables of one
+name; in the item's note for a compute returning no DataFrame or rates grouped by a column the records
+lack; under the table for a shown column its frame lacks. Before, these crashed with a traceback,
+printed '<built-in method title of str ...>', showed '—' in every row unexplained, or said the
+table was empty."""
+
+from __future__ import annotations
+
+import importlib
+import inspect
+import pkgutil
+import re
+
+import pandas as pd
+import pytest
+
+import graspcampaign.report.studies as studies
+from graspcampaign.report.build import KIND_SPECS, SPECS
+from graspcampaign.report.document import Document, cols
+from graspcampaign.report.render import Run, render
+from graspcampaign.report.spec import Finding, Rates, ReportSpec, Table, Value
+
+RECORDS = pd.DataFrame({"trial_id": ["a", "b", "c", "d"], "status": "ok", "shape": "sphere",
+                        "planner": ["heuristic", "heuristic", "random", "random"],
+                        "mass_kg": [0.2, 0.4, 0.2, 0.4], "success": [True, False, False, False]})
+
+
+def by_mass(run: Run) -> pd.DataFrame:
+    return run.ok.groupby("mass_kg")["success"].mean().mul(100).rename("success_pct").reset_index()
+
+
+def notes(*items) -> tuple[list[str], list[str]]:
+    """The notes the page shows and the run's failures after rendering ``items``."""
+    run = Run(RECORDS, {"study": "mini", "config": {"factors": {}}})
+    doc = render(ReportSpec("mini", items), run, Document("mini", "simulation", []))
+    return [b.markdown for b in doc.blocks if getattr(b, "kind", "") == "note"], run.failures
+
+
+@pytest.mark.parametrize("items, message", [
+    ([Finding(lambda run: "x"), Rates], "report spec 'mini', item 2: the function Rates is not a report "
+                                        "item (Finding, Section, Text, Table, Figure, Value); call it."),
+    (["oops"], "report spec 'mini', item 1: a str (oops) is not a report item"),
+    (cols("mass_kg"), "report spec 'mini', item 1: a Col (Col(key='mass_kg'"),
+    ([Finding("the heuristic wins")], "report spec 'mini', item 1: Finding takes a function of the run "
+                                      "returning its paragraph, not a str."),
+])
+def test_an_entry_that_is_no_report_item_is_named_at_import(items, message):
+    with pytest.raises(TypeError, match="^" + re.escape(message)):
+        ReportSpec("mini", items)
+
+
+def test_two_tables_of_one_name_are_refused_at_import():
+    with pytest.raises(ValueError, match=r"^report spec 'mini': two tables are named 'by_mass' \(one would "
+                                         r"overwrite the other's file\); name them apart\.$"):
+        ReportSpec("mini", [Table("by_mass", "a", by_mass), Value("v", "s", lambda run: 1.0),
+                            Table("by_mass", "b", by_mass)])
+
+
+def test_a_shown_column_the_frame_lacks_is_named_under_its_table():
+    # still shown as "—" (a run recorded before a column existed keeps its table), but said
+    shown, _ = notes(Table("by_mass", "c", by_mass, ["mass_kg", "succes_pct", "n_grasps"]))
+    assert shown == ["Table by_mass shows `succes_pct`, `n_grasps`, not in its frame (nearest: "
+                     "`success_pct`): shown as —."]
+
+
+def test_a_compute_returning_a_series_says_so():
+    shown, _ = notes(Table("rate", "c", lambda run: run.ok.groupby("planner")["success"].mean()))
+    assert shown == ["Table rate not computed: its compute returned a Series, not a DataFrame (a grouped "
+                     "result needs .reset_index())."]
+
+
+def test_rates_by_a_column_the_records_lack_name_it_instead_of_an_empty_table():
+    shown, _ = notes(Rates("by_planner", "c", ["plannr"]))
+    assert shown == ["Table by_planner not computed: the records have no `plannr` column."]
+
+
+def test_every_spec_of_the_studies_package_is_registered():
+    # a spec module left out of SPECS is silently replaced by its compare_with or kind spec
+    registered = {*SPECS.values(), *KIND_SPECS.values()}
+    found = {f"{m.name}:{attr}" for m in pkgutil.iter_modules(studies.__path__)
+             for attr, value in inspect.getmembers(importlib.import_module(f"{studies.__name__}.{m.name}"))
+             if isinstance(value, ReportSpec)}
+    assert found - registered == set(), ("report/studies holds specs no entry of build.SPECS or "
+                                         "KIND_SPECS reaches: add them to SPECS")
