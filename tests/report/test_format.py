@@ -401,3 +401,22 @@ def test_a_findings_range_prints_its_ends_as_the_tables_cells(values):
                                               ([10.0, 40.0], "10.0–40.0%"), ([0.04, 12.0], "0.0–12.0%")])
 def test_span_of_percentages_keeps_the_reports_one_decimal(values, expected):
     assert fmt.span(values, "%", digits=1) == expected  # not "0.500%" from 3 significant digits
+
+
+def test_claims_leave_out_a_unit_or_n_column_no_row_fills():
+    """Counts tables (test2_counts, test3_counts) printed a blank "unit" and an all-dash "n" column."""
+    import pandas as pd
+
+    from graspcampaign.analysis.records import Estimate
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.spec import Claims
+
+    run = Run(pd.DataFrame(), {}, paper=object())
+    counts = [("executed trials", "§8.1", 149, 1755, "", 0), ("aborted", "§8.1", 4, 30, "", 0)]
+    [table] = Claims("c", "counts", lambda run: counts).render(run)
+    assert [c.label for c in table.cols] == ["quantity", "paper §", "paper", "ours", "difference", "verdict"]
+    assert {"unit", "n"} <= set(table.frame)  # the CSV keeps them
+    [table] = Claims("c", "shares", lambda run: [*counts, ("a share", "§8", Estimate(50.0, 20.0, 80.0, 3),
+                                                           40.0, "%", 1)]).render(run)
+    assert [c.label for c in table.cols][4:6] == ["unit", "n"]
+    assert [t for t, _ in table.cells()[2]][4:6] == ["%", "3"]

@@ -136,6 +136,10 @@ def test_belief_tables_equal_a_pandas_recomputation(sim_root, study):
     np.testing.assert_allclose(t.xs("none", level="belief_error")["g_geo_gap"], 0.0, atol=1e-12)
     capped = both.groupby(["planner", "belief_error"])["grip_capped"].mean() * 100
     np.testing.assert_allclose(t["grip_capped_pct"].sort_index(), capped.sort_index())
+    # its headers name the quantities as the finding does ("median g geo gap" read as two words)
+    md = (sim_root / study / "default" / "report" / "report.md").read_text()
+    assert "believed − actual G_geo" in md and "| median G_geo gap |" in md and "| median μ_s gap |" in md
+    assert " g geo " not in md and " mu s " not in md
     pairs = _table(sim_root, study, f"{prefix}_belief_pairs").set_index("planner")
     wide = both.pivot_table(index=["planner", "trial_id"], columns="belief_error", values="success",
                             aggfunc="first").astype(bool)

@@ -193,6 +193,40 @@ def test_a_caption_sits_above_its_table_not_inside_it(tmp_path):
     assert "aria-labelledby='c-status'" in table and "id='c-status'" in text
 
 
+class Dashes(HTMLParser):
+    """The classes of the elements around each en dash of a table cell."""
+
+    def __init__(self):
+        super().__init__()
+        self.stack, self.found = [], []
+
+    def handle_starttag(self, tag, attrs):
+        self.stack.append((tag, dict(attrs).get("class") or ""))
+
+    def handle_endtag(self, tag):
+        self.stack.pop()
+
+    def handle_data(self, data):
+        if "td" in [t for t, _ in self.stack]:
+            self.found += [self.stack[-1]] * data.count("\u2013")
+
+
+def test_a_cell_never_breaks_inside_an_interval(tmp_path):
+    """A narrow column broke "35.7 (25.5–47.4)" after its en dash, leaving "47.4)" on a line alone."""
+    import pandas as pd
+
+    from graspcampaign.report.document import CSS, Col, Document, Table
+
+    frame = pd.DataFrame({"planner": ["Ferrari–Canny ε"], "rate_pct": [35.7], "rate_low_pct": [25.5],
+                          "rate_high_pct": [47.4]})
+    table = Table("t", "rates", frame, cols=["planner", Col("rate_pct", "rate", 1, low="rate_low_pct",
+                                                             high="rate_high_pct")])
+    page = Dashes()
+    page.feed(Document("t", "simulation", [], table.render(None)).html())
+    assert page.found == [("span", "nb")] * 2
+    assert ".nb{white-space:nowrap}" in CSS
+
+
 CHROMIUM = Path("/usr/bin/chromium")
 
 

@@ -15,6 +15,7 @@ from statsmodels.stats.proportion import proportion_confint
 from statsmodels.stats.weightstats import DescrStatsW
 from test_report_reads_only import fresh_reports
 
+from graspcampaign.analysis.vocabulary import label
 from graspcampaign.campaign.compose import compose_study
 from graspcampaign.campaign.ingest import ingest_files
 from graspcampaign.campaign.records import RunStore
@@ -128,6 +129,11 @@ def test_table5_says_which_runs_ended_on_a_bound(run):
         assert t5.loc[p, "mean_verdict"].startswith("consistent" if inside else "differs"), p
     md = (path / "report" / "report.md").read_text()
     assert "| mean: verdict |" in md and "| CV: verdict |" in md
+    # the finding counts them in words that agree with the count ("λ2 (1 runs)" did not)
+    for p, k in t5["n_at_bound"].items():
+        if k:
+            assert f"{label('parameter', p)} ({k} run{'' if k == 1 else 's'})" in md, p
+    assert f"over {conv.shape[0]} converged run{'' if len(conv) == 1 else 's'}:" in md
     # display words, not ids, and no split that repeats its quantity in Fig. 26c
     assert "| normal force | unseen speed |" in md and "normal_force" not in md
 

@@ -206,9 +206,11 @@ class Table:
         """A styled HTML table; each header names the CSV columns it shows (``data-cols``)."""
         head = "".join(f"<th data-cols='{' '.join(c.keys)}'>"
                        f"{html.escape(c.label)}</th>" for c in self.cols)
-        body = "".join("<tr>" + "".join(f"<td><a href='{html.escape(h, quote=True)}'>{html.escape(v)}</a>"
-                                        f"</td>" if h else f"<td>{html.escape(v)}</td>" for v, h in r)
-                       + "</tr>" for r in self.cells())
+        # a line never breaks at an en dash: "35.7 (25.5–47.4)" wraps before its interval, not inside it
+        body = "".join("<tr>" + "".join(
+            f"<td><a href='{html.escape(h, quote=True)}'>{html.escape(v)}</a></td>" if h else
+            "<td>" + re.sub(r"\S*–\S*", r"<span class='nb'>\g<0></span>", html.escape(v)) + "</td>"
+            for v, h in r) + "</tr>" for r in self.cells())
         attrs = f" data-table='{self.name}'" if self.csv else ""
         csv = f" <span class='csv'>{self.csv.format(name=self.name)}</span>" if self.csv else ""
         # the caption above the table, not its <caption>: that one wraps to a narrow table's width
@@ -392,5 +394,5 @@ color:#777;font-family:monospace;font-size:12px}th,td{border:1px solid #d5dbe1;p
 text-align:left;vertical-align:top}th{background:#eef2f6}tbody tr:nth-child(even){background:#f6f8fa}
 figure{margin:18px 0;background:#fff;padding:10px;border:1px solid #e1e5ea}figure img{max-width:100%;
 height:auto}figcaption{font-size:13.5px;color:#444;margin-top:6px}footer{color:#666;font-size:13px;
-padding:12px 24px}code{background:#eef2f6;padding:0 3px}
+padding:12px 24px}code{background:#eef2f6;padding:0 3px}.nb{white-space:nowrap}
 """

@@ -215,10 +215,12 @@ def Claims(name: str, caption: str | Callable[[Run], str],
 
     def shown(run: Run, frame: pd.DataFrame) -> list[Col]:
         ours = "ours (95%)" if (frame["low"].notna() & frame["high"].notna()).any() else "ours"
+        # a unit or n column no row fills (counts tables) is left out: it printed blanks or dashes only
+        filled = [c for c in ("unit", "n") if (frame[c].notna() & (frame[c] != "")).any()]
         return [Col("quantity", "quantity"), Col("section", "paper §"), Col("paper", "paper", "digits"),
-                Col("value", ours, "digits", low="low", high="high", why="why"), Col("unit", "unit"),
-                Col("n", "n", 0), Col("difference", "difference", "digits", signed=True),
-                Col("verdict", "verdict")]
+                Col("value", ours, "digits", low="low", high="high", why="why"),
+                *[Col(c, c, 0 if c == "n" else None) for c in filled],
+                Col("difference", "difference", "digits", signed=True), Col("verdict", "verdict")]
 
     return Table(name, caption, compute, shown, empty=empty)
 

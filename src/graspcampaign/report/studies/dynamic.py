@@ -9,7 +9,7 @@ import pandas as pd
 from matplotlib.ticker import NullFormatter
 
 from graspcampaign.analysis.records import DESIGN_LIMIT_MM
-from graspcampaign.analysis.vocabulary import colour, label, ordered
+from graspcampaign.analysis.vocabulary import colour, counted, label, ordered
 from graspcampaign.core.statics import GRAVITY
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
@@ -279,7 +279,8 @@ def mass_finding(run: Run) -> str:
                  f"({g.qs_success_unbounded.sum()} without the validity gate), so the labels agree on "
                  f"{(g.success == g.qs_success).sum()} of {len(g)}")
         if (deep := g.qs_delta_max_mm > g.fingertip_radius_mm).any():
-            text += (f"; its δmax of {fmt.span(g.qs_delta_max_mm[deep], ' mm')} in {deep.sum()} runs "
+            text += (f"; its δmax of {fmt.span(g.qs_delta_max_mm[deep], ' mm')} in "
+                     f"{counted(deep.sum(), 'run')} "
                      "is **non-physical** (a fingertip centre that far inside a 5 cm sphere): Algorithm 2 "
                      "deepens the contacts until they carry the weight, which at this preset's K takes "
                      "metres, as the closed form above says; the validity gate fails every one")

@@ -238,7 +238,8 @@ def figA1(run: Run, fig) -> None:
                   label=f"{label('model', m)}, {name(lab)}: AUC {fmt.number(cls.loc[(lab, m), 'roc_auc'], 2)}"
                         f" ({int(cls.loc[(lab, m), 'test_positives'])} held-out positives)")
     if not len(roc):
-        ax_a.text(0.5, 0.5, "not fitted: too few trials of one class", ha="center", transform=ax_a.transAxes)
+        # in the corner, clear of the chance line
+        ax_a.text(0.05, 0.95, "not fitted:\ntoo few trials of one class", va="top", transform=ax_a.transAxes)
     ax_a.plot([0, 1], [0, 1], color=style.CRITERION, ls=":", label="chance")
     ax_a.plot([], [], " ", label="paper AUC: " + ", ".join(f"{label('model', m)} {v:g}" for m, v in
                                                           run.paper.auc.items()))

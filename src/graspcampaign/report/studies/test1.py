@@ -11,7 +11,7 @@ from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
 from graspcampaign.analysis import calibration as cal
 from graspcampaign.analysis.records import Estimate
-from graspcampaign.analysis.vocabulary import colour, label
+from graspcampaign.analysis.vocabulary import colour, counted, label
 from graspcampaign.core.bench import RMSE_REVIEW_THRESHOLD_PCT as REVIEW_PCT
 from graspcampaign.core.contact import normal_force
 from graspcampaign.report import format as fmt
@@ -245,8 +245,8 @@ def finding(run: Run) -> str:
              f"paper's, among them {'; '.join(differs[:3])}. " if differs else "Every §7 quantity agrees. ")
     if len(t5 := t.get("table5", [])):
         r = t5.set_index("parameter")
-        bound = [f"{label('parameter', q)} ({k} runs)" for q, k in r["n_at_bound"].items() if k]
-        text += (f"PSO re-identification over {r['n_runs'].iloc[0]} converged runs: λ1 = "
+        bound = [f"{label('parameter', q)} ({counted(k, 'run')})" for q, k in r["n_at_bound"].items() if k]
+        text += (f"PSO re-identification over {counted(r['n_runs'].iloc[0], 'converged run')}: λ1 = "
                  f"{r.loc['lambda1', 'mean']:.2f} (paper {p.table5['lambda1'].mean:g}) and CV(n) = "
                  f"{r.loc['n', 'cv_pct']:.1f}% (paper {p.table5['n'].cv_pct:g}%); " + (
                      f"runs ended on a search bound for {', '.join(bound)}: those values are the box, not "

@@ -91,20 +91,22 @@ def counts(table: str):
 
 def belief_tables(prefix: str) -> list[Table]:
     """What each planner believes against what the rig realises; its success under both readings."""
-    med = ("g_geo_believed", "g_geo_actual", "g_geo_gap", "mu_s_believed", "mu_s_actual", "mu_s_gap",
-           "creep_believed", "sf_predicted", "sf_actual")
+    # headers in the finding's symbols (they printed "g geo", "mu s", "sf")
+    med = {"g_geo_believed": "G_geo believed", "g_geo_actual": "G_geo actual", "g_geo_gap": "G_geo gap",
+           "mu_s_believed": "μ_s believed", "mu_s_actual": "μ_s actual", "mu_s_gap": "μ_s gap",
+           "creep_believed": "creep believed", "sf_predicted": "SF predicted", "sf_actual": "SF actual"}
     rates = {c: c.replace("_", " ") for c in ("grip_capped", "valid_geometry", "gate_removed")}
 
     def beliefs(run: Run) -> pd.DataFrame:
         d, by = frames(run), ["planner", "belief_error"]
-        out = hw.summary(d, by, rates, med, order=READINGS)
+        out = hw.summary(d, by, rates, list(med), order=READINGS)
         return out.merge(d.groupby(by)["belief_model"].first(), on=by)
 
     return [Table(f"{prefix}_belief", "What each planner believes and what the rig realises (§8.1, §9.3; "
                   "rig/belief.py): medians (gap = believed − actual), grips at the damage cap, valid "
                   "grasps (fingers within the 5 mm fingertip radius), successes the δ ≤ r gate removed",
                   beliefs, [Col("belief_error", "belief error"), Col("belief_model", "belief model"),
-                            Col("n", "n"), *(Col(c, f"median {c.replace('_', ' ')}", sig=3) for c in med),
+                            Col("n", "n"), *(Col(c, f"median {head}", sig=3) for c, head in med.items()),
                             *(pct_col(c, h) for c, h in rates.items())], by=["planner"]),
             Table(f"{prefix}_belief_pairs", "How much of the ranking the belief mechanism explains: "
                   "success on the same trials with the planners' own beliefs (`paper`) and with the "
