@@ -43,14 +43,17 @@ class Page(HTMLParser):
                 self.links.append((key, a[key]))
         if tag == "table":
             self._table = {"name": a.get("data-table"),
-                           "cols": [], "rows": []}
+                           "cols": [], "rows": [], "right": []}
             self.tables.append(self._table)
         elif tag == "th" and self._table is not None:
             self._table["cols"].append((a.get("data-cols") or "").split())
         elif tag == "tr" and self._table is not None:
             self._table["rows"].append([])
+            self._table["right"].append([])
         elif tag == "td":
             self._cell = ""
+            if self._table is not None:
+                self._table["right"][-1].append(a.get("class") == "num")
 
     def handle_endtag(self, tag):
         if tag == "td" and self._table is not None:
@@ -132,7 +135,7 @@ def test_every_page_is_self_contained(sim_root):
 
 
 def test_every_table_equals_its_csv(sim_root):
-    checked = 0
+    checked = right_aligned = 0
     for path in pages(sim_root):
         for table in parse(path).tables:
             if table["name"] is None:  # the index lists runs; it has no CSV
@@ -148,7 +151,23 @@ def test_every_table_equals_its_csv(sim_root):
                     assert keys and all(k in csv_row for k in keys), (table["name"], keys)
                     check_cell(text, [csv_row[k] for k in keys], csv_row, keys[0])
                     checked += 1
-    assert checked > 500
+            right = [r for r in table["right"] if r]
+            shown = [r for r in table["rows"] if r]
+            for i, keys in enumerate(table["cols"]):  # a column of numbers (or dashes) is right-aligned
+                values = [row[keys[0]] for row in rows]
+                dashes = all(r[i] == MISSING for r, v in zip(shown, values, strict=True) if _missing(v))
+                if _numbers_only(values) and dashes:
+                    right_aligned += 1
+                    assert all(r[i] for r in right), (path, table["name"], keys)
+    assert checked > 500 and right_aligned > 100
+
+
+def _numbers_only(values: list[str]) -> bool:
+    """Whether a CSV column holds numbers only (pandas' parse, not the renderer's pattern)."""
+    import pandas as pd
+
+    parsed = pd.to_numeric(pd.Series(values), errors="coerce")
+    return parsed.notna().any() and bool((parsed.notna() | pd.Series(values).map(_missing)).all())
 
 
 def test_index_links_every_run_and_the_headline(sim_root):
@@ -225,6 +244,23 @@ def test_a_cell_never_breaks_inside_an_interval(tmp_path):
     page.feed(Document("t", "simulation", [], table.render(None)).html())
     assert page.found == [("span", "nb")] * 2
     assert ".nb{white-space:nowrap}" in CSS
+
+
+def test_numbers_are_right_aligned_text_is_not(tmp_path):
+    """Columns of numbers (an interval, a sign, inf, a dash for none) line up on the right in both
+    formats; a column with a word in it stays left (all were left-aligned)."""
+    import pandas as pd
+
+    from graspcampaign.report.document import CSS, Col, Table
+
+    frame = pd.DataFrame({"planner": ["random", "centroid"], "rate_pct": [35.7, None],
+                          "rate_low_pct": [25.5, None], "rate_high_pct": [47.4, None],
+                          "odds": [float("inf"), -2.5], "p": ["no discordant pair", "0.03"]})
+    table = Table("t", "rates", frame, cols=["planner", Col("rate_pct", "rate", 1, low="rate_low_pct",
+                                                             high="rate_high_pct"), "odds", "p"])
+    [shown] = table.render(None)
+    assert shown.md("png").splitlines()[3] == "|---|---:|---:|---|"
+    assert shown.html().count("<td class='num'>") == 4 and "td.num{text-align:right" in CSS
 
 
 CHROMIUM = Path("/usr/bin/chromium")

@@ -27,6 +27,10 @@ SOURCE_LABEL = {"simulation": "simulation (this tool's numerical model)", "measu
                 "hardware measurements"}
 NAV = [("Index", "index.html"), ("Table 1 headline", "headline.html")]
 """The navigation bar of every page (relative to the results root)."""
+# a printed number: a bound, a sign, digits or inf, an exponent, a unit sign, a range or an interval
+# ("35.7 (25.5–47.4)")
+NUMBER = re.compile(r"[<>≤≥]? ?[+−-]?(\d[\d,]*(\.\d+)?(e[+−-]?\d+| ?× ?10[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+)?|inf) ?[%×]?"
+                    r"(–[\d.]+)?( \([^()]*\))?")
 
 
 def check_formats(formats: Sequence[str] | str | None, allowed: Sequence[str] = FORMATS,
@@ -193,24 +197,34 @@ class Table:
         return [[(cell(r, c), None if not c.link or fmt.is_missing(r.get(c.link)) else str(r[c.link]))
                  for c in shown] for r in self.frame.to_dict("records")]
 
+    def numeric(self, rows: list[list[tuple[str, str | None]]]) -> list[bool]:
+        """Whether each shown column holds numbers only (with an interval, unit sign or missing mark):
+        such a column is right-aligned, so digits line up as in a printed table."""
+        return [any(r[i][0] != fmt.MISSING for r in rows) and all(
+            r[i][0] == fmt.MISSING or NUMBER.fullmatch(r[i][0]) for r in rows) for i in range(len(self.cols))]
+
     def md(self, figure_format: str) -> str:
         def line(cells: Sequence[str]) -> str:
             return "| " + " | ".join(str(c).replace("|", "\\|").replace("\n", " ") for c in cells) + " |"
 
-        rows = [[f"[{v}]({h.replace('.html', '.md')})" if h else v for v, h in r] for r in self.cells()]
+        cells = self.cells()
+        rows = [[f"[{v}]({h.replace('.html', '.md')})" if h else v for v, h in r] for r in cells]
+        rule = "|" + "".join("---:|" if n else "---|" for n in self.numeric(cells))
         return "\n".join([f"**{self.caption}**" + (f" (`{self.csv.format(name=self.name)}`)" if self.csv
                                                    else "") + "\n", line([c.label for c in self.cols]),
-                          "|" + "---|" * len(self.cols), *map(line, rows)])
+                          rule, *map(line, rows)])
 
     def html(self) -> str:
         """A styled HTML table; each header names the CSV columns it shows (``data-cols``)."""
         head = "".join(f"<th data-cols='{' '.join(c.keys)}'>"
                        f"{html.escape(c.label)}</th>" for c in self.cols)
         # a line never breaks at an en dash: "35.7 (25.5–47.4)" wraps before its interval, not inside it
+        cells = self.cells()
+        td = ["<td class='num'>" if n else "<td>" for n in self.numeric(cells)]
         body = "".join("<tr>" + "".join(
-            f"<td><a href='{html.escape(h, quote=True)}'>{html.escape(v)}</a></td>" if h else
-            "<td>" + re.sub(r"\S*–\S*", r"<span class='nb'>\g<0></span>", html.escape(v)) + "</td>"
-            for v, h in r) + "</tr>" for r in self.cells())
+            f"{td[i]}<a href='{html.escape(h, quote=True)}'>{html.escape(v)}</a></td>" if h else
+            td[i] + re.sub(r"\S*–\S*", r"<span class='nb'>\g<0></span>", html.escape(v)) + "</td>"
+            for i, (v, h) in enumerate(r)) + "</tr>" for r in cells)
         attrs = f" data-table='{self.name}'" if self.csv else ""
         csv = f" <span class='csv'>{self.csv.format(name=self.name)}</span>" if self.csv else ""
         # the caption above the table, not its <caption>: that one wraps to a narrow table's width
@@ -395,4 +409,5 @@ text-align:left;vertical-align:top}th{background:#eef2f6}tbody tr:nth-child(even
 figure{margin:18px 0;background:#fff;padding:10px;border:1px solid #e1e5ea}figure img{max-width:100%;
 height:auto}figcaption{font-size:13.5px;color:#444;margin-top:6px}footer{color:#666;font-size:13px;
 padding:12px 24px}code{background:#eef2f6;padding:0 3px}.nb{white-space:nowrap}
+td.num{text-align:right;font-variant-numeric:tabular-nums}td:last-child:not(.num){min-width:16em}
 """
