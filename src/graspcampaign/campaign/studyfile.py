@@ -250,15 +250,21 @@ def read_yaml(path: Path, *, study: bool = False) -> dict[str, Any]:
     Raises
     ------
     ConfigError
-        Invalid YAML (naming the file and line), an empty study file, or a file that is not a
+        A file that cannot be read, is not UTF-8 (naming the line and byte), invalid YAML
+        (naming the file and line), an empty study file, or a file that is not a
         mapping of keys.
     """
     import yaml
 
     try:
-        text = Path(path).read_text(encoding="utf-8-sig")  # a byte-order mark is no content
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ConfigError(f"{path} cannot be read as a text file ({type(exc).__name__}).") from None
+        data = Path(path).read_bytes()
+        text = data.decode("utf-8-sig")  # a byte-order mark is no content
+    except OSError as exc:
+        raise ConfigError(f"{path} cannot be read ({exc.strerror or type(exc).__name__}).") from None
+    except UnicodeDecodeError as exc:
+        line = data[:exc.start].count(b"\n") + 1
+        raise ConfigError(f"{path}, line {line}: the file is not UTF-8 text (byte "
+                          f"0x{data[exc.start]:02x}); save it as UTF-8.") from None
     try:
         data = yaml.load(text, Loader=_loader())  # noqa: S506  (a SafeLoader subclass)
     except yaml.YAMLError as exc:
