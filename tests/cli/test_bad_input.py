@@ -54,6 +54,16 @@ STUDY_FILES = {
                                           "a list."),
     "no_kind": (HEADER + "name: mine\n", " has no kind key; a study file needs at least the keys "
                                          "name and kind."),
+    # aliases of aliases expand to billions of values (it hung); nesting beyond Python's
+    # recursion limit (it was a RecursionError traceback, exit 1)
+    "alias_bomb": (HEADER + GOOD_BODY + "params:\n  a: &a [x, x, x, x, x, x, x, x, x]\n"
+                   + "".join(f"  {c}: &{c} [{', '.join([f'*{p}'] * 9)}]\n"
+                             for p, c in zip("abcdefgh", "bcdefghi", strict=True)),
+                   ", line 10: the alias *a repeats a value given elsewhere, and aliases are not "
+                   "read (expanded, a few can make billions of values); write the value out."),
+    "nested_too_deep": (HEADER + GOOD_BODY + "params:\n  x: " + "[" * 3000 + "]" * 3000 + "\n",
+                        ": its lists or mappings are nested too deeply to read (hundreds of levels "
+                        "within each other); a config nests a few."),
     "no_package_header": ("# schema: StudyCfg\n" + GOOD_BODY,
                           " does not start with the comment line '# @package _global_', which "
                           "every study file needs (see campaigns/smoke.yaml)."),
