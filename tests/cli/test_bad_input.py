@@ -54,6 +54,16 @@ STUDY_FILES = {
                                           "a list."),
     "no_kind": (HEADER + "name: mine\n", " has no kind key; a study file needs at least the keys "
                                          "name and kind."),
+    # aliases of aliases expand to billions of values (it hung); nesting beyond Python's
+    # recursion limit (it was a RecursionError traceback, exit 1)
+    "alias_bomb": (HEADER + GOOD_BODY + "params:\n  a: &a [x, x, x, x, x, x, x, x, x]\n"
+                   + "".join(f"  {c}: &{c} [{', '.join([f'*{p}'] * 9)}]\n"
+                             for p, c in zip("abcdefgh", "bcdefghi", strict=True)),
+                   ", line 10: the alias *a repeats a value given elsewhere, and aliases are not "
+                   "read (expanded, a few can make billions of values); write the value out."),
+    "nested_too_deep": (HEADER + GOOD_BODY + "params:\n  x: " + "[" * 3000 + "]" * 3000 + "\n",
+                        ": its lists or mappings are nested too deeply to read (hundreds of levels "
+                        "within each other); a config nests a few."),
     "no_package_header": ("# schema: StudyCfg\n" + GOOD_BODY,
                           " does not start with the comment line '# @package _global_', which "
                           "every study file needs (see campaigns/smoke.yaml)."),
@@ -362,3 +372,28 @@ def test_report_jobs_must_be_a_process_count(results, jobs):
     assert result.output == (f"error: --jobs {jobs}: give a number of processes (1 or more), or -1 "
                              "for one per core.\n")
     assert snapshot(results) == before
+
+
+NOT_UTF8 = {"binary": (b"\xff\xfe\x00binary", "line 1: the file is not UTF-8 text (byte 0xff)"),
+            "latin-1": ((HEADER + GOOD_BODY + "description: caf\u00e9\n").encode("latin-1"),
+                        "line 8: the file is not UTF-8 text (byte 0xe9)")}
+
+
+@pytest.mark.parametrize("case", sorted(NOT_UTF8))
+def test_a_study_file_that_is_not_utf8_names_its_line_and_byte(results, user_dir, case):
+    """It said '<path> cannot be read as a text file (UnicodeDecodeError).'"""
+    data, where = NOT_UTF8[case]
+    path = user_dir / "mine.yaml"
+    path.write_bytes(data)
+    for study in ("mine", path):
+        refused(results, ["show", study, "--root", results], f"{path}, {where}; save it as UTF-8.")
+
+
+def test_status_and_report_given_a_study_files_path_ask_for_its_name(results):
+    """``run`` and ``show`` take a study file's path; what is stored is under the study's name. It
+    said "study = 'campaigns/smoke.yaml' is not allowed; use letters, digits, ..."."""
+    path = PROJECT / "campaigns" / "smoke.yaml"
+    for command in ("status", "report"):
+        refused(results, [command, path, "--root", results],
+                f"study {str(path)!r} is a path; give the study's name (smoke, the name: of a "
+                "study file), under which its runs are stored.")

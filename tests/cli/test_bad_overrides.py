@@ -7,6 +7,10 @@ from __future__ import annotations
 import pytest
 from cli_checks import invoke, refused
 
+PARSE_HINT = "write KEY=VALUE, a list as [a,b], and quote a value holding other characters."
+SWEEP = ("is a sweep (one study per value, Hydra's --multirun), which this tool does not run; give a "
+         "factor its levels as a list (e.g. mu=[0.3,0.5]), or run the study once per value.")
+
 # -- override messages ------------------------------------------------------------------------------
 OVERRIDES = {
     "=3": "override '=3' has no key before '='; write KEY=VALUE, e.g. seeds=3 or mu=[0.3,0.5].",
@@ -75,6 +79,25 @@ OVERRIDES = {
                                  "typed in single quotes on the shell.",
     "seeds =2": "cannot parse override 'seeds =2': its key has ' ' at character 6, but a key takes "
                 "only ASCII letters, digits, '_', '-', '.' and '/'; write 'seeds=2'.",
+    # Hydra's parser gives no reason in its first line ("Error parsing override 'a==b'"), and named
+    # the rewritten 'factors.shape=[sphere]]' rather than the override as typed
+    "a==b": f"cannot parse override 'a==b': unexpected '='; {PARSE_HINT}",
+    "shape=[sphere]]": f"cannot parse override 'shape=[sphere]]': unexpected ']'; {PARSE_HINT}",
+    # a newline was "LexerNoViableAltException: seeds=1."
+    "seeds=1\nseeds=2": "cannot parse override 'seeds=1\\nseeds=2': U+000A (a control character) "
+                         "(character 8) is not allowed in an override; remove it.",
+    # a sweep is many studies: it was "tags: Unexpected type annotation: Set[str].", "Ambiguous
+    # value for argument 'seeds=1,2'." or "... requires --multirun", an option this tool lacks
+    "shape=choice(sphere,pear)": f"override 'shape=choice(sphere,pear)' {SWEEP}",
+    "seeds=1,2": f"override 'seeds=1,2' {SWEEP}",
+    "seeds=range(1,3)": f"override 'seeds=range(1,3)' {SWEEP}",
+    # deleting a key every study needs: it said "name = '???' is not allowed; ..."
+    "~name": "override '~name' deletes name, which every study needs; set it instead (name=...).",
+    # an empty group option: it said "In 'config': Could not find 'model/'."
+    "model=": "model= names no option of config group model; available options: firm, nominal, table2.",
+    # a key too long for a file name: it said "[Errno 36] File name too long: '<hydra's path>/aaa..."
+    "a" * 300 + "=1": "a" * 60 + "... (300 characters) is neither a known key of the study config nor "
+                      "a factor of this study (factors: mass_kg, mu, planner, shape); override rejected.",
 }
 
 

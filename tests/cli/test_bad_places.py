@@ -192,14 +192,25 @@ def test_report_on_a_root_without_runs_says_so(finished, tmp_path):
     empty.mkdir()
     refused(finished, ["report", "--root", empty],
             f"no runs under {empty}; run a study first (graspcampaign run STUDY --root {empty}).")
-    for args in (["report"], ["report", "smoke"]):
-        refused(finished, [*args, "--root", grid_run(finished)],
-                f"no runs under {grid_run(finished)}: it is the directory of run "
-                f"baseline_grid/default; give the results root that holds it (--root {finished}).")
-        refused(finished, [*args, "--root", finished / "smoke"],
-                f"no runs under {finished / 'smoke'}: it holds the runs of study smoke; give the "
-                f"results root that holds it (--root {finished}).")
     assert not any(empty.iterdir())
+
+
+def test_a_root_at_or_inside_a_run_or_a_study_is_refused_by_every_command(finished):
+    """A run's or a study's directory (or a place inside a run) given as the root: ``run`` wrote a
+    run into the records of the run there, which every command then refused (exit 0 first)."""
+    run = grid_run(finished)
+    cases = {run: f"it is the directory of run baseline_grid/default; give the results root that "
+                  f"holds it ({finished}).",
+             run / "records": f"it is inside run baseline_grid/default ({run}); give the results "
+                              f"root that holds it ({finished}).",
+             run / "records" / "new": f"it is inside run baseline_grid/default ({run}); give the "
+                                      f"results root that holds it ({finished}).",
+             finished / "smoke": f"it holds the runs of study smoke; give the results root that "
+                                 f"holds it ({finished})."}
+    for root, why in cases.items():
+        for args in (["run", "smoke", *SMOKE], ["show", "smoke"], ["status", "smoke"], ["report"],
+                     ["report", "smoke"], ["schedule", "test2_grasp"]):
+            refused(finished, [*args, "--root", root], f"--root {root}: {why}")
 
 
 def test_report_skips_what_cannot_be_read_and_folders_that_are_no_runs(finished, tmp_path,

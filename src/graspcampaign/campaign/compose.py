@@ -26,6 +26,7 @@ from omegaconf import OmegaConf
 
 from graspcampaign.campaign.override import (  # noqa: F401  (omegaconf_error_sentence: public here too)
     check_overrides,
+    check_sweeps,
     omegaconf_error_sentence,
     override_sentence,
     rewrite,
@@ -119,6 +120,7 @@ def compose_study(study: str, overrides: list[str] | None = None) -> StudyCfg:
         return copy.deepcopy(_COMPOSED[key])
     factors = data.get("factors")
     overrides = rewrite(set(factors) if isinstance(factors, dict) else set(), given)
+    check_sweeps(overrides, given)
     _register_schema()
     with _study_search_dir(path, campaigns_dir) as (search_dir, option):
         try:

@@ -9,6 +9,7 @@ itself; a bool set to anything but ``true``/``false`` (OmegaConf reads ``pso.ena
 from __future__ import annotations
 
 import dataclasses
+import errno
 import re
 import unicodedata
 from typing import Any
@@ -49,6 +50,10 @@ def check_overrides(given: list[str]) -> None:
             raise ConfigError(f"override {item!r} sets {key}, a key of Hydra's own runtime; this "
                               "tool uses Hydra to compose studies and runs them itself, so hydra "
                               "keys have no effect: leave it out.", key=key)
+        required = field_at(key) if "~" in prefix else None
+        if required and required[1].default == "???":  # ~name: OmegaConf's missing mark, '???'
+            raise ConfigError(f"override {item!r} deletes {key}, which every study needs; set it "
+                              f"instead ({key}=...).", key=key)
         setting, parts = bool(sep) and "~" not in prefix, key.split(".")
         for i in range(1, len(parts) if setting else 0):  # evaluator.alpha.x=1, factors.mu.0.x=1
             single = ".".join(parts[:i])
@@ -104,6 +109,38 @@ def rewrite(factors: set[str], overrides: list[str]) -> list[str]:
     return out
 
 
+def check_sweeps(overrides: list[str], given: list[str]) -> None:
+    """Refuse Hydra's sweeps (``seeds=1,2``, ``choice()``, ``range()``, ``interval()``,
+    ``glob()``, also inside a list): a sweep is many studies (Hydra's ``--multirun``), and this tool
+    composes one study per command. Checked after bare factor names are rewritten, where
+    ``shape=sphere,pear`` is already the list ``factors.shape=[sphere,pear]``.
+
+    Raises
+    ------
+    ConfigError
+        Naming the override as typed and what to write instead.
+    """
+    from hydra.core.override_parser.overrides_parser import OverridesParser
+    from hydra.core.override_parser.types import Glob, Sweep
+
+    def holds_sweep(value: Any) -> bool:
+        if isinstance(value, (list, dict)):
+            return any(holds_sweep(v) for v in (value.values() if isinstance(value, dict) else value))
+        return isinstance(value, (Sweep, Glob))
+
+    parser = OverridesParser.create()
+    for item, typed in zip(overrides, given, strict=True):
+        try:
+            parsed = parser.parse_overrides([item])[0]
+        except Exception:  # noqa: BLE001  (a parse error is named when Hydra composes)
+            continue
+        if parsed.is_sweep_override() or holds_sweep(parsed.value()):
+            raise ConfigError(f"override {typed!r} is a sweep (one study per value, Hydra's "
+                              "--multirun), which this tool does not run; give a factor its "
+                              "levels as a list (e.g. mu=[0.3,0.5]), or run the study once per "
+                              "value.", key=split(item)[1])
+
+
 def _typed(key: str, overrides: list[str], given: list[str]) -> str | None:
     """The override as the user typed it that sets ``key`` (after bare-name rewriting)."""
     return next((typed for item, typed in zip(overrides, given, strict=True)
@@ -126,8 +163,13 @@ def override_sentence(exc: BaseException, overrides: list[str], given: list[str]
                 if "=" not in item and not item.startswith("~"):  # ~key deletes: no value
                     return f"cannot parse override {typed!r}: expected key=value, e.g. mu=0.3."
                 return (_character_sentence(item, typed, str(error))
-                        or f"cannot parse override {typed!r}: {text.rstrip('.')}.")
+                        or f"cannot parse override {typed!r}: {_parse_reason(str(error))}; write "
+                           "KEY=VALUE, a list as [a,b], and quote a value holding other "
+                           "characters.")
         return f"cannot parse overrides: {text.rstrip('.')}."
+    if getattr(exc, "errno", None) == errno.ENAMETOOLONG:  # Hydra looked for the key as a group
+        key = max((split(item)[1] for item in overrides), key=len)
+        return _unknown_override(key, _typed(key, overrides, given), factors)
     match = re.match(r"Could not override '([^']+)'", text)
     if match:
         return _unknown_override(match.group(1), _typed(match.group(1), overrides, given),
@@ -135,7 +177,7 @@ def override_sentence(exc: BaseException, overrides: list[str], given: list[str]
     match = re.match(r"Could not append to config\. An item is already at '([^']+)'", text)
     if match:
         return f"{match.group(1)} already exists; override it without the leading '+'."
-    match = re.search(r"Could not find '([\w-]+)/([^']+)'", text)
+    match = re.search(r"Could not find '([\w-]+)/([^']*)'", text)
     if match:
         return missing_option_sentence(match.group(1), match.group(2))
     match = re.fullmatch(r"invalid literal for int\(\) with base 10: '([^']*)'", text)
@@ -156,19 +198,35 @@ def override_sentence(exc: BaseException, overrides: list[str], given: list[str]
 _LEXER = "LexerNoViableAltException: "
 
 
+def _parse_reason(error: str) -> str:
+    """The reason Hydra's parser gives (its second line), in plain words: ``extraneous input '='
+    expecting {<EOF>, ...}`` -> ``unexpected '='``."""
+    lines = error.splitlines()
+    reason = lines[1] if len(lines) > 1 and not lines[1].startswith("See ") else lines[0]
+    match = re.match(r"(?:extraneous|mismatched) input ('.*') expecting", reason)
+    if match:
+        return f"unexpected {match[1]}"
+    match = re.match(r"no viable alternative at input ('.*')", reason)
+    return f"cannot read {match[1]}" if match else reason.rstrip(".")
+
+
 def _character_sentence(item: str, typed: str, error: str) -> str | None:
     """Name the character Hydra's lexer stopped at (its message marks it with a caret under the
     override) and the fix: a key of ASCII characters without spaces, or a quoted value."""
     lines = error.splitlines()
-    if len(lines) < 2 or not lines[0].startswith(_LEXER) or "^" not in lines[1]:
+    controls = [i for i, c in enumerate(item) if unicodedata.category(c) == "Cc"]
+    if not lines[0].startswith(_LEXER) or not controls and (len(lines) < 2 or "^" not in lines[1]):
         return None
-    at = lines[1].index("^") - len(_LEXER)
+    at = controls[0] if controls else lines[1].index("^") - len(_LEXER)
     if not 0 <= at < len(item):
         return None
     char = item[at]
     shown = (repr(char) if char.isprintable() and not char.isspace() or char == " " else
              f"U+{ord(char):04X} ({unicodedata.name(char, 'a control character').lower()})")
     equal = typed.find("=")
+    if unicodedata.category(char) == "Cc":  # a newline or a control character: no quote helps
+        return (f"cannot parse override {typed!r}: {shown} (character {typed.find(char) + 1}) is "
+                "not allowed in an override; remove it.")
     if equal < 0 or at < item.find("="):  # in the key (or the prefix before it)
         where = typed.find(char) + 1
         fix = f"; write {''.join(typed.split())!r}" if char.isspace() else ""
@@ -223,12 +281,12 @@ def missing_option_sentence(group: str, option: str) -> str:
     from graspcampaign.campaign.studyfile import project_dirs
 
     directory = project_dirs()[0] / group
+    named = f"{group}={option} is not an option" if option else f"{group}= names no option"
     options = sorted(p.stem for p in directory.glob("*.yaml")) if directory.is_dir() else []
     if not options:
         groups = sorted(p.name for p in project_dirs()[0].iterdir() if p.is_dir())
         return f"{group} is not a config group; config groups: {', '.join(groups)}."
-    return (f"{group}={option} is not an option of config group {group}; available options: "
-            f"{', '.join(options)}.")
+    return f"{named} of config group {group}; available options: {', '.join(options)}."
 
 
 def omegaconf_error_sentence(exc: BaseException, prefix: str = "") -> str:

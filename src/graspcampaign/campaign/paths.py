@@ -76,12 +76,32 @@ def check_root(root: str | Path, key: str = "--root", *, write: bool = False) ->
     ------
     UserInputError
         An empty root (it would mean the current directory), a file in its place or on its path,
-        or (``write``) a directory that cannot be written.
+        a run's directory or a place inside one (a run written there would land among its
+        records), a study's directory, or (``write``) a directory that cannot be written.
     """
     if not str(root).strip():
         raise UserInputError(f"{key} is empty; give the results directory (for example "
                              "results): an empty root would mean the current directory.")
-    why = path_problem(Path(root), write=write)
+    why = path_problem(Path(root), write=write) or _not_a_results_root(Path(root))
     if why is not None:
         raise UserInputError(f"{key} {root}: {why}.")
     return Path(root)
+
+
+def _not_a_results_root(root: Path) -> str | None:
+    """Why ``root`` is a run's (a directory holding ``manifest.json``) or a study's place rather
+    than a results root, with the root that holds it; None if it is neither."""
+    absolute = Path(os.path.abspath(root))
+    for i, where in enumerate([absolute, *absolute.parents]):
+        if os.path.lexists(where / "manifest.json"):
+            run = f"run {where.parent.name}/{where.name}"
+            what = f"the directory of {run}" if i == 0 else f"inside {run} ({where})"
+            return f"it is {what}; give the results root that holds it ({where.parent.parent})"
+    try:
+        folders = [entry for entry in os.scandir(absolute) if entry.is_dir()]
+    except OSError:
+        return None
+    if any(os.path.lexists(Path(entry.path) / "manifest.json") for entry in folders):
+        return (f"it holds the runs of study {absolute.name}; give the results root that holds "
+                f"it ({absolute.parent})")
+    return None

@@ -8,6 +8,7 @@ imports the numerical layers (the kind facts and explicit design sizes come from
 from __future__ import annotations
 
 import difflib
+import os
 import statistics
 from pathlib import Path
 from typing import Any
@@ -160,7 +161,17 @@ def _paper_text(paper: dict[str, Any], prefix: str = "") -> str:
 
 def check_known(root: Path | str, study: str) -> None:
     """Refuse a study name that is neither on the config search path nor stored under ``root``,
-    naming the available studies (and the nearest one)."""
+    naming the available studies (and the nearest one), or a study file's path given for its
+    name (``run`` and ``show`` take a path; what is stored is under the study's name)."""
+    if Path(study).suffix in (".yaml", ".yml") or os.sep in study:
+        from graspcampaign.campaign.studyfile import read_yaml
+
+        try:
+            name = read_yaml(Path(study)).get("name") or Path(study).stem
+        except UserInputError:
+            name = Path(study).stem
+        raise UserInputError(f"study {study!r} is a path; give the study's name ({name}, the name: "
+                             "of a study file), under which its runs are stored.")
     check_name(study, "study")
     if (Path(root) / study).is_dir() or study in (known := list_studies()):
         return

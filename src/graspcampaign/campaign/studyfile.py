@@ -215,6 +215,8 @@ def _yaml_error_sentence(path: Path, exc: Exception, n_lines: int) -> str:
     where = f"{path}, line {min(mark.line + 1, max(n_lines, 1))}" if mark is not None else f"{path}"
     problem = (getattr(exc, "problem", None) or str(exc).splitlines()[0]).strip()
     context = (getattr(exc, "context", None) or "").strip()
+    if problem.startswith("the alias *"):
+        return f"{where}: {problem}."
     if "'\\t'" in problem:
         return f"{where}: a tab character where YAML allows only spaces for indentation."
     text = f"{context}: {problem}" if context else problem
@@ -223,11 +225,19 @@ def _yaml_error_sentence(path: Path, exc: Exception, n_lines: int) -> str:
 
 @cache
 def _loader() -> type:
-    """A SafeLoader that refuses a key given twice in one mapping, as OmegaConf does."""
+    """A SafeLoader that refuses a key given twice in one mapping, as OmegaConf does, and an alias
+    (``*name``): expanded, a few lines of aliases of aliases are billions of values."""
     import yaml
 
     class Loader(yaml.SafeLoader):
-        pass
+        def compose_node(self, parent, index):
+            if self.check_event(yaml.events.AliasEvent):
+                event = self.peek_event()
+                raise yaml.composer.ComposerError(
+                    None, None, f"the alias *{event.anchor} repeats a value given elsewhere, and "
+                                "aliases are not read (expanded, a few can make billions of "
+                                "values); write the value out", event.start_mark)
+            return super().compose_node(parent, index)
 
     def mapping(loader: yaml.SafeLoader, node: yaml.MappingNode, deep: bool = False) -> dict:
         seen: dict[Any, int] = {}
@@ -250,19 +260,28 @@ def read_yaml(path: Path, *, study: bool = False) -> dict[str, Any]:
     Raises
     ------
     ConfigError
-        Invalid YAML (naming the file and line), an empty study file, or a file that is not a
+        A file that cannot be read, is not UTF-8 (naming the line and byte), invalid YAML
+        (naming the file and line), an empty study file, or a file that is not a
         mapping of keys.
     """
     import yaml
 
     try:
-        text = Path(path).read_text(encoding="utf-8-sig")  # a byte-order mark is no content
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ConfigError(f"{path} cannot be read as a text file ({type(exc).__name__}).") from None
+        data = Path(path).read_bytes()
+        text = data.decode("utf-8-sig")  # a byte-order mark is no content
+    except OSError as exc:
+        raise ConfigError(f"{path} cannot be read ({exc.strerror or type(exc).__name__}).") from None
+    except UnicodeDecodeError as exc:
+        line = data[:exc.start].count(b"\n") + 1
+        raise ConfigError(f"{path}, line {line}: the file is not UTF-8 text (byte "
+                          f"0x{data[exc.start]:02x}); save it as UTF-8.") from None
     try:
         data = yaml.load(text, Loader=_loader())  # noqa: S506  (a SafeLoader subclass)
     except yaml.YAMLError as exc:
         raise ConfigError(_yaml_error_sentence(Path(path), exc, len(text.splitlines()))) from None
+    except RecursionError:
+        raise ConfigError(f"{path}: its lists or mappings are nested too deeply to read (hundreds "
+                          "of levels within each other); a config nests a few.") from None
     if data is None:
         if study:
             raise ConfigError(f"{path} is empty; a study file needs at least the keys name and "

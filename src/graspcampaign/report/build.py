@@ -129,14 +129,6 @@ def _runs(root: Path, studies: list[str] | None, run: str | Mapping[str, str] | 
     except OSError as exc:
         raise UserInputError(f"cannot list the runs under {root} "
                              f"({exc.strerror or type(exc).__name__}).") from None
-    # a run's or a study's directory given as the root: its folders are no studies, nor runs
-    if (root / "manifest.json").exists():
-        raise UserInputError(f"no runs under {root}: it is the directory of run {root.parent.name}/"
-                             f"{root.name}; give the results root that holds it "
-                             f"(--root {root.parent.parent}).")
-    if any(os.path.exists(d / "manifest.json") for d in directories):
-        raise UserInputError(f"no runs under {root}: it holds the runs of study {root.name}; give "
-                             f"the results root that holds it (--root {root.parent}).")
     named, stores, failed = bool(studies) or run is not None, [], []
     for name in dict.fromkeys(studies) if studies else [d.name for d in directories]:
         if studies and not os.path.isdir(root / name):
