@@ -95,6 +95,15 @@ OVERRIDES = {
     "~name": "override '~name' deletes name, which every study needs; set it instead (name=...).",
     # an empty group option: it said "In 'config': Could not find 'model/'."
     "model=": "model= names no option of config group model; available options: firm, nominal, table2.",
+    # a list given to a config group: Hydra merged every preset, the later winning
+    **{f"{group}=[{options}]": f"{group}=[{options}] is a list, and a study composes one option of "
+                              f"config group {group}; available options: {listed}."
+       for group, options, listed in [("model", "nominal,table2", "firm, nominal, table2"),
+                                      ("evaluator", "default", "default"),
+                                      ("features", "paper,paper", "paper"),
+                                      ("pso", "converged,repeatability", "converged, repeatability"),
+                                      ("runner", "local,dask", "dask, local"),
+                                      ("output", "default", "default")]},
     # a key too long for a file name: it said "[Errno 36] File name too long: '<hydra's path>/aaa..."
     "a" * 300 + "=1": "a" * 60 + "... (300 characters) is neither a known key of the study config nor "
                       "a factor of this study (factors: mass_kg, mu, planner, shape); override rejected.",

@@ -60,6 +60,8 @@ def check_overrides(given: list[str]) -> None:
             if _one_value(single):
                 raise ConfigError(f"{single} takes one value, so {key} names nothing in it (override "
                                   f"{item!r} rejected); set it as {single}=VALUE.", key=single)
+        if setting and key in GROUPS and isinstance(_parsed_value(item), list):  # Hydra merges all
+            raise ConfigError(missing_option_sentence(key, value.strip()), key=key)
         found = field_at(key) if setting else None
         if found and split_optional(str(found[1].type))[0] == "bool":
             parsed = _parsed_value(item)
@@ -281,7 +283,8 @@ def missing_option_sentence(group: str, option: str) -> str:
     from graspcampaign.campaign.studyfile import project_dirs
 
     directory = project_dirs()[0] / group
-    named = f"{group}={option} is not an option" if option else f"{group}= names no option"
+    named = (f"{group}={option} is a list, and a study composes one option" if option[:1] == "["
+             else f"{group}={option} is not an option" if option else f"{group}= names no option")
     options = sorted(p.stem for p in directory.glob("*.yaml")) if directory.is_dir() else []
     if not options:
         groups = sorted(p.name for p in project_dirs()[0].iterdir() if p.is_dir())
