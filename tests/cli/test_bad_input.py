@@ -62,7 +62,11 @@ STUDY_FILES = {
                    ", line 10: the alias *a repeats a value given elsewhere, and aliases are not "
                    "read (expanded, a few can make billions of values); write the value out."),
     "nested_too_deep": (HEADER + GOOD_BODY + "params:\n  x: " + "[" * 3000 + "]" * 3000 + "\n",
-                        ": its lists or mappings are nested too deeply to read (hundreds of levels "
+                        ": its lists or mappings are nested too deeply to read (over 100 levels "
+                        "within each other); a config nests a few."),
+    # within PyYAML's reach but not OmegaConf's: "maximum recursion depth exceeded", without the file
+    "nested_150_deep": (HEADER + GOOD_BODY + "params:\n  x: " + "[" * 150 + "]" * 150 + "\n",
+                        ": its lists or mappings are nested too deeply to read (over 100 levels "
                         "within each other); a config nests a few."),
     # a merge key read as PyYAML's "could not determine a constructor for the tag ...merge", and
     # a null key as "None is not a known key" without its line

@@ -104,6 +104,10 @@ OVERRIDES = {
                                       ("pso", "converged,repeatability", "converged, repeatability"),
                                       ("runner", "local,dask", "dask, local"),
                                       ("output", "default", "default")]},
+    # Hydra's parser recursed beyond Python's limit: "maximum recursion depth exceeded while ..."
+    "shape=" + "[" * 500 + "]" * 500: "override 'shape=" + "[" * 54 + "... (1006 characters)': its "
+                                      "lists or mappings are nested too deeply to read (over 100 "
+                                      "levels within each other); a config nests a few.",
     # a key too long for a file name: it said "[Errno 36] File name too long: '<hydra's path>/aaa..."
     "a" * 300 + "=1": "a" * 60 + "... (300 characters) is neither a known key of the study config nor "
                       "a factor of this study (factors: mass_kg, mu, planner, shape); override rejected.",

@@ -23,6 +23,7 @@ from graspcampaign.campaign.studycheck import (
     section_of,
     split_optional,
 )
+from graspcampaign.campaign.studyfile import NESTED_TOO_DEEPLY
 from graspcampaign.errors import ConfigError
 
 
@@ -154,6 +155,9 @@ def override_sentence(exc: BaseException, overrides: list[str], given: list[str]
     """One sentence for a composition error, naming the user's override as they typed it (and, for a
     bare key, the study's factors: ``shape=[...]`` works only where shape is a factor)."""
     text = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+    if isinstance(exc, RecursionError):  # Hydra's parser recurses once per level of [ or {
+        deepest = max(given, key=lambda typed: typed.count("[") + typed.count("{"))
+        return f"override {deepest!r}: {NESTED_TOO_DEEPLY}"
     if type(exc).__name__ == "OverrideParseException":
         from hydra.core.override_parser.overrides_parser import OverridesParser
 

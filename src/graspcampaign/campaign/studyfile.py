@@ -31,6 +31,9 @@ _RUN_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
 _SCHEMA_LINE = re.compile(r"^#\s*schema:\s*(\w+)")
 _SUFFIXES = (".yaml", ".yml")
 _MAX_BYTES = 2**20  # a study or config-group file (docs/decisions.md)
+_MAX_DEPTH = 100  # lists and mappings within each other: OmegaConf's recursion fails at ~150
+NESTED_TOO_DEEPLY = (f"its lists or mappings are nested too deeply to read (over {_MAX_DEPTH} "
+                     "levels within each other); a config nests a few.")
 
 
 @cache
@@ -304,8 +307,9 @@ def read_yaml(path: Path, *, study: bool = False) -> dict[str, Any]:
     except yaml.YAMLError as exc:
         raise ConfigError(_yaml_error_sentence(Path(path), exc, len(text.splitlines()))) from None
     except RecursionError:
-        raise ConfigError(f"{path}: its lists or mappings are nested too deeply to read (hundreds "
-                          "of levels within each other); a config nests a few.") from None
+        raise ConfigError(f"{path}: {NESTED_TOO_DEEPLY}") from None
+    if _depth(data) > _MAX_DEPTH:
+        raise ConfigError(f"{path}: {NESTED_TOO_DEEPLY}")
     if data is None:
         if study:
             raise ConfigError(f"{path} is empty; a study file needs at least the keys name and "
@@ -320,6 +324,16 @@ def read_yaml(path: Path, *, study: bool = False) -> dict[str, Any]:
             raise ConfigError(f"{path} has no {' and no '.join(missing)} key; a study file needs "
                               "at least the keys name and kind.")
     return data
+
+
+def _depth(data: Any) -> int:
+    """How many lists or mappings are nested within each other in ``data`` (read level by level,
+    without recursion)."""
+    depth, items = 0, [data]
+    while containers := [item for item in items if isinstance(item, (dict, list))]:
+        depth += 1
+        items = [v for c in containers for v in (c.values() if isinstance(c, dict) else c)]
+    return depth
 
 
 def check_group_files() -> None:
