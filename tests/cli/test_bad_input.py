@@ -126,6 +126,13 @@ STUDY_VALUES = {
                              "{path}, line 9: output.run = '../../elsewhere' is not allowed; use "
                              "letters, digits, '.', '_' and '-' (starting with a letter or digit, "
                              "at most 100), so the run stays inside the results directory."),
+    # OmegaConf's 'KeyError raised while resolving interpolation: "Environment variable ..."'
+    "unset_environment_variable": ("description: ${oc.env:GRASPCAMPAIGN_NO_SUCH_VARIABLE}\n",
+                                   "{path}, line 8: description = "
+                                   "'${{oc.env:GRASPCAMPAIGN_NO_SUCH_VARIABLE}}' cannot be resolved: "
+                                   "environment variable GRASPCAMPAIGN_NO_SUCH_VARIABLE is not set "
+                                   "(set it, or give a default: "
+                                   "${{oc.env:GRASPCAMPAIGN_NO_SUCH_VARIABLE,VALUE}})."),
     "name_escaping_results": ("name: ../mine\n",
                               "{path}, line 7: name = '../mine' is not allowed; use letters, "
                               "digits, '.', '_' and '-' (starting with a letter or digit, at most "

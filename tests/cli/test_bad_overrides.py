@@ -108,6 +108,14 @@ OVERRIDES = {
     "shape=" + "[" * 500 + "]" * 500: "override 'shape=" + "[" * 54 + "... (1006 characters)': its "
                                       "lists or mappings are nested too deeply to read (over 100 "
                                       "levels within each other); a config nests a few.",
+    # OmegaConf's 'KeyError raised while resolving interpolation: ...' and 'Unsupported
+    # interpolation type nosuch', naming no value
+    "name=${oc.env:GRASPCAMPAIGN_NO_SUCH_VARIABLE}":
+        "name = '${oc.env:GRASPCAMPAIGN_NO_SUCH_VARIABLE}' cannot be resolved: environment variable "
+        "GRASPCAMPAIGN_NO_SUCH_VARIABLE is not set (set it, or give a default: "
+        "${oc.env:GRASPCAMPAIGN_NO_SUCH_VARIABLE,VALUE}).",
+    "description=${nosuch:x}": "description = '${nosuch:x}' cannot be resolved: OmegaConf has no "
+                               "resolver named nosuch.",
     # a key too long for a file name: it said "[Errno 36] File name too long: '<hydra's path>/aaa..."
     "a" * 300 + "=1": "a" * 60 + "... (300 characters) is neither a known key of the study config nor "
                       "a factor of this study (factors: mass_kg, mu, planner, shape); override rejected.",

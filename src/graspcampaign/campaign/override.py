@@ -314,6 +314,10 @@ def omegaconf_error_sentence(exc: BaseException, prefix: str = "") -> str:
     match = re.search(r"Interpolation key '([^']+)' not found", text)
     if match:
         return f"{key} refers to ${{{match.group(1)}}}, which is not a key of the study config."
+    if "Interpolation" in type(exc).__name__:  # ${oc.env:NOPE}, ${nosuch:x}: as written
+        written = getattr(exc, "child_node", None)
+        shown = f" = {str(written)!r}" if written is not None else ""
+        return f"{key}{shown} cannot be resolved: {_unresolved(text)}."
     found = None if prefix else field_at(key)
     base = split_optional(str(found[1].type))[0] if found else None
     if "is not Optional" in text:
@@ -332,6 +336,16 @@ def omegaconf_error_sentence(exc: BaseException, prefix: str = "") -> str:
         got = f", got {value!r}" if value is not None else ""
         return f"{key} must be {_takes(key, base)}{got}."
     return f"{key}: {text}."
+
+
+def _unresolved(text: str) -> str:
+    """Why OmegaConf could not resolve an interpolation, in plain words."""
+    if match := re.search(r"Environment variable '([^']+)' not found", text):
+        return (f"environment variable {match[1]} is not set (set it, or give a default: "
+                f"${{oc.env:{match[1]},VALUE}})")
+    if match := re.match(r"Unsupported interpolation type (\S+)", text):
+        return f"OmegaConf has no resolver named {match[1]}"
+    return re.sub(r"^\w+ raised while resolving interpolation: ", "", text)
 
 
 def _takes(key: str, base: str | None) -> str:
