@@ -62,8 +62,31 @@ STUDY_FILES = {
                    ", line 10: the alias *a repeats a value given elsewhere, and aliases are not "
                    "read (expanded, a few can make billions of values); write the value out."),
     "nested_too_deep": (HEADER + GOOD_BODY + "params:\n  x: " + "[" * 3000 + "]" * 3000 + "\n",
-                        ": its lists or mappings are nested too deeply to read (hundreds of levels "
+                        ": its lists or mappings are nested too deeply to read (over 100 levels "
                         "within each other); a config nests a few."),
+    # within PyYAML's reach but not OmegaConf's: "maximum recursion depth exceeded", without the file
+    "nested_150_deep": (HEADER + GOOD_BODY + "params:\n  x: " + "[" * 150 + "]" * 150 + "\n",
+                        ": its lists or mappings are nested too deeply to read (over 100 levels "
+                        "within each other); a config nests a few."),
+    # a merge key read as PyYAML's "could not determine a constructor for the tag ...merge", and
+    # a null key as "None is not a known key" without its line
+    "merge_key": (HEADER + GOOD_BODY + "model:\n  <<: {lambda1: 1.0}\n",
+                  ", line 9: the merge key << repeats keys given elsewhere, and merge keys are not "
+                  "read (as aliases are not: expanded, a few can make billions of values); write "
+                  "the keys out."),
+    "merge_key_of_an_alias": (HEADER + "base: &b {seeds: 1}\n" + GOOD_BODY + "  <<: *b\n",
+                              ", line 9: the merge key << repeats keys given elsewhere, and merge "
+                              "keys are not read (as aliases are not: expanded, a few can make "
+                              "billions of values); write the keys out."),
+    "null_key": (HEADER + GOOD_BODY + "~: 1\n",
+                 ", line 8: the key ~ is YAML's null, not a name; write the name of the setting."),
+    "null_factor": (HEADER + GOOD_BODY + "  null: [1]\n", ", line 8: the key null is YAML's null, "
+                                                          "not a name; write the name of the setting."),
+    # 50 MB kept show busy for minutes (PyYAML reads ~1 MB/s, twice per command): refused unread
+    "too_large": (HEADER + GOOD_BODY + "description: >\n" + "  lorem ipsum\n" * (2**20 // 14),
+                  " is 1.1 MiB; a study or config-group file is at most 1 MiB (the shipped ones "
+                  "are under 5 KB, and each command reads YAML at about a second per MB, twice, "
+                  "docs/decisions.md)."),
     "no_package_header": ("# schema: StudyCfg\n" + GOOD_BODY,
                           " does not start with the comment line '# @package _global_', which "
                           "every study file needs (see campaigns/smoke.yaml)."),
@@ -103,6 +126,13 @@ STUDY_VALUES = {
                              "{path}, line 9: output.run = '../../elsewhere' is not allowed; use "
                              "letters, digits, '.', '_' and '-' (starting with a letter or digit, "
                              "at most 100), so the run stays inside the results directory."),
+    # OmegaConf's 'KeyError raised while resolving interpolation: "Environment variable ..."'
+    "unset_environment_variable": ("description: ${oc.env:GRASPCAMPAIGN_NO_SUCH_VARIABLE}\n",
+                                   "{path}, line 8: description = "
+                                   "'${{oc.env:GRASPCAMPAIGN_NO_SUCH_VARIABLE}}' cannot be resolved: "
+                                   "environment variable GRASPCAMPAIGN_NO_SUCH_VARIABLE is not set "
+                                   "(set it, or give a default: "
+                                   "${{oc.env:GRASPCAMPAIGN_NO_SUCH_VARIABLE,VALUE}})."),
     "name_escaping_results": ("name: ../mine\n",
                               "{path}, line 7: name = '../mine' is not allowed; use letters, "
                               "digits, '.', '_' and '-' (starting with a letter or digit, at most "

@@ -95,6 +95,27 @@ OVERRIDES = {
     "~name": "override '~name' deletes name, which every study needs; set it instead (name=...).",
     # an empty group option: it said "In 'config': Could not find 'model/'."
     "model=": "model= names no option of config group model; available options: firm, nominal, table2.",
+    # a list given to a config group: Hydra merged every preset, the later winning
+    **{f"{group}=[{options}]": f"{group}=[{options}] is a list, and a study composes one option of "
+                              f"config group {group}; available options: {listed}."
+       for group, options, listed in [("model", "nominal,table2", "firm, nominal, table2"),
+                                      ("evaluator", "default", "default"),
+                                      ("features", "paper,paper", "paper"),
+                                      ("pso", "converged,repeatability", "converged, repeatability"),
+                                      ("runner", "local,dask", "dask, local"),
+                                      ("output", "default", "default")]},
+    # Hydra's parser recursed beyond Python's limit: "maximum recursion depth exceeded while ..."
+    "shape=" + "[" * 500 + "]" * 500: "override 'shape=" + "[" * 54 + "... (1006 characters)': its "
+                                      "lists or mappings are nested too deeply to read (over 100 "
+                                      "levels within each other); a config nests a few.",
+    # OmegaConf's 'KeyError raised while resolving interpolation: ...' and 'Unsupported
+    # interpolation type nosuch', naming no value
+    "name=${oc.env:GRASPCAMPAIGN_NO_SUCH_VARIABLE}":
+        "name = '${oc.env:GRASPCAMPAIGN_NO_SUCH_VARIABLE}' cannot be resolved: environment variable "
+        "GRASPCAMPAIGN_NO_SUCH_VARIABLE is not set (set it, or give a default: "
+        "${oc.env:GRASPCAMPAIGN_NO_SUCH_VARIABLE,VALUE}).",
+    "description=${nosuch:x}": "description = '${nosuch:x}' cannot be resolved: OmegaConf has no "
+                               "resolver named nosuch.",
     # a key too long for a file name: it said "[Errno 36] File name too long: '<hydra's path>/aaa..."
     "a" * 300 + "=1": "a" * 60 + "... (300 characters) is neither a known key of the study config nor "
                       "a factor of this study (factors: mass_kg, mu, planner, shape); override rejected.",

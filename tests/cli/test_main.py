@@ -392,3 +392,16 @@ def test_every_commands_short_help_is_one_line_of_its_docstring():
     for name, command in typer.main.get_command(app).commands.items():
         first = (command.help or "").strip().split("\n\n")[0]
         assert "\n" not in first, f"{name}: {first!r}"
+
+
+@pytest.mark.parametrize("name", ["sheet.csv", "sheet.parquet"])
+def test_schedule_out_with_a_sheet_suffix_names_the_files_themselves(tmp_path, name):
+    """`--out sheet.csv` wrote sheet.csv.csv and sheet.csv.parquet (the option takes a stem)."""
+    import pandas as pd
+
+    result = invoke("schedule", "test3_disturbance", "params.fraction=0.05", "--out",
+                    str(tmp_path / name))
+    assert result.exit_code == 0, result.output
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["sheet.csv", "sheet.parquet"]
+    ids = pd.read_csv(tmp_path / "sheet.csv")["trial_id"]
+    assert len(ids) > 0 and ids.tolist() == pd.read_parquet(tmp_path / "sheet.parquet")["trial_id"].tolist()

@@ -23,6 +23,7 @@ from graspcampaign.campaign.studycheck import (
     section_of,
     split_optional,
 )
+from graspcampaign.campaign.studyfile import NESTED_TOO_DEEPLY
 from graspcampaign.errors import ConfigError
 
 
@@ -60,6 +61,8 @@ def check_overrides(given: list[str]) -> None:
             if _one_value(single):
                 raise ConfigError(f"{single} takes one value, so {key} names nothing in it (override "
                                   f"{item!r} rejected); set it as {single}=VALUE.", key=single)
+        if setting and key in GROUPS and isinstance(_parsed_value(item), list):  # Hydra merges all
+            raise ConfigError(missing_option_sentence(key, value.strip()), key=key)
         found = field_at(key) if setting else None
         if found and split_optional(str(found[1].type))[0] == "bool":
             parsed = _parsed_value(item)
@@ -152,6 +155,9 @@ def override_sentence(exc: BaseException, overrides: list[str], given: list[str]
     """One sentence for a composition error, naming the user's override as they typed it (and, for a
     bare key, the study's factors: ``shape=[...]`` works only where shape is a factor)."""
     text = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+    if isinstance(exc, RecursionError):  # Hydra's parser recurses once per level of [ or {
+        deepest = max(given, key=lambda typed: typed.count("[") + typed.count("{"))
+        return f"override {deepest!r}: {NESTED_TOO_DEEPLY}"
     if type(exc).__name__ == "OverrideParseException":
         from hydra.core.override_parser.overrides_parser import OverridesParser
 
@@ -281,7 +287,8 @@ def missing_option_sentence(group: str, option: str) -> str:
     from graspcampaign.campaign.studyfile import project_dirs
 
     directory = project_dirs()[0] / group
-    named = f"{group}={option} is not an option" if option else f"{group}= names no option"
+    named = (f"{group}={option} is a list, and a study composes one option" if option[:1] == "["
+             else f"{group}={option} is not an option" if option else f"{group}= names no option")
     options = sorted(p.stem for p in directory.glob("*.yaml")) if directory.is_dir() else []
     if not options:
         groups = sorted(p.name for p in project_dirs()[0].iterdir() if p.is_dir())
@@ -307,6 +314,10 @@ def omegaconf_error_sentence(exc: BaseException, prefix: str = "") -> str:
     match = re.search(r"Interpolation key '([^']+)' not found", text)
     if match:
         return f"{key} refers to ${{{match.group(1)}}}, which is not a key of the study config."
+    if "Interpolation" in type(exc).__name__:  # ${oc.env:NOPE}, ${nosuch:x}: as written
+        written = getattr(exc, "child_node", None)
+        shown = f" = {str(written)!r}" if written is not None else ""
+        return f"{key}{shown} cannot be resolved: {_unresolved(text)}."
     found = None if prefix else field_at(key)
     base = split_optional(str(found[1].type))[0] if found else None
     if "is not Optional" in text:
@@ -325,6 +336,16 @@ def omegaconf_error_sentence(exc: BaseException, prefix: str = "") -> str:
         got = f", got {value!r}" if value is not None else ""
         return f"{key} must be {_takes(key, base)}{got}."
     return f"{key}: {text}."
+
+
+def _unresolved(text: str) -> str:
+    """Why OmegaConf could not resolve an interpolation, in plain words."""
+    if match := re.search(r"Environment variable '([^']+)' not found", text):
+        return (f"environment variable {match[1]} is not set (set it, or give a default: "
+                f"${{oc.env:{match[1]},VALUE}})")
+    if match := re.match(r"Unsupported interpolation type (\S+)", text):
+        return f"OmegaConf has no resolver named {match[1]}"
+    return re.sub(r"^\w+ raised while resolving interpolation: ", "", text)
 
 
 def _takes(key: str, base: str | None) -> str:

@@ -18,6 +18,7 @@ module alone.
 from __future__ import annotations
 
 import difflib
+import math
 import os
 import re
 from functools import cache
@@ -29,6 +30,10 @@ from graspcampaign.errors import ConfigError, UserInputError
 _RUN_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
 _SCHEMA_LINE = re.compile(r"^#\s*schema:\s*(\w+)")
 _SUFFIXES = (".yaml", ".yml")
+_MAX_BYTES = 2**20  # a study or config-group file (docs/decisions.md)
+_MAX_DEPTH = 100  # lists and mappings within each other: OmegaConf's recursion fails at ~150
+NESTED_TOO_DEEPLY = (f"its lists or mappings are nested too deeply to read (over {_MAX_DEPTH} "
+                     "levels within each other); a config nests a few.")
 
 
 @cache
@@ -215,7 +220,7 @@ def _yaml_error_sentence(path: Path, exc: Exception, n_lines: int) -> str:
     where = f"{path}, line {min(mark.line + 1, max(n_lines, 1))}" if mark is not None else f"{path}"
     problem = (getattr(exc, "problem", None) or str(exc).splitlines()[0]).strip()
     context = (getattr(exc, "context", None) or "").strip()
-    if problem.startswith("the alias *"):
+    if problem.startswith(_REFUSALS):
         return f"{where}: {problem}."
     if "'\\t'" in problem:
         return f"{where}: a tab character where YAML allows only spaces for indentation."
@@ -223,14 +228,30 @@ def _yaml_error_sentence(path: Path, exc: Exception, n_lines: int) -> str:
     return f"{where}: this is not valid YAML ({text})."
 
 
+_REFUSALS = ("the alias *", "the merge key <<", "the key ")  # what the loader refuses, in words
+_MERGE, _NULL = "tag:yaml.org,2002:merge", "tag:yaml.org,2002:null"
+
+
 @cache
 def _loader() -> type:
-    """A SafeLoader that refuses a key given twice in one mapping, as OmegaConf does, and an alias
-    (``*name``): expanded, a few lines of aliases of aliases are billions of values."""
+    """A SafeLoader that refuses a key given twice in one mapping, as OmegaConf does, a null key
+    (``~: 1``), and an alias (``*name``) or a merge key (``<<:``): expanded, a few lines of aliases
+    of aliases are billions of values."""
     import yaml
 
     class Loader(yaml.SafeLoader):
-        def compose_node(self, parent, index):
+        def compose_node(self, parent, index):  # index: the key node when composing its value
+            tag = getattr(index, "tag", None)
+            if tag == _MERGE:
+                raise yaml.composer.ComposerError(
+                    None, None, "the merge key << repeats keys given elsewhere, and merge keys are "
+                                "not read (as aliases are not: expanded, a few can make billions "
+                                "of values); write the keys out", index.start_mark)
+            if tag == _NULL:  # ~: 1 or null: 1 (OmegaConf takes it for the key None)
+                written = index.value or "''"
+                raise yaml.composer.ComposerError(
+                    None, None, f"the key {written} is YAML's null, not a name; write the name of "
+                                "the setting", index.start_mark)
             if self.check_event(yaml.events.AliasEvent):
                 event = self.peek_event()
                 raise yaml.composer.ComposerError(
@@ -267,6 +288,12 @@ def read_yaml(path: Path, *, study: bool = False) -> dict[str, Any]:
     import yaml
 
     try:
+        size = Path(path).stat().st_size
+        if size > _MAX_BYTES:  # PyYAML reads ~1 MB/s, and show reads it twice: 50 MB took minutes
+            raise ConfigError(f"{path} is {math.ceil(size / 2**20 * 10) / 10:.1f} MiB; a study or "
+                              "config-group file is at most 1 MiB (the shipped ones are under "
+                              "5 KB, and each command reads YAML at about a second per MB, "
+                              "twice, docs/decisions.md).")
         data = Path(path).read_bytes()
         text = data.decode("utf-8-sig")  # a byte-order mark is no content
     except OSError as exc:
@@ -280,8 +307,9 @@ def read_yaml(path: Path, *, study: bool = False) -> dict[str, Any]:
     except yaml.YAMLError as exc:
         raise ConfigError(_yaml_error_sentence(Path(path), exc, len(text.splitlines()))) from None
     except RecursionError:
-        raise ConfigError(f"{path}: its lists or mappings are nested too deeply to read (hundreds "
-                          "of levels within each other); a config nests a few.") from None
+        raise ConfigError(f"{path}: {NESTED_TOO_DEEPLY}") from None
+    if _depth(data) > _MAX_DEPTH:
+        raise ConfigError(f"{path}: {NESTED_TOO_DEEPLY}")
     if data is None:
         if study:
             raise ConfigError(f"{path} is empty; a study file needs at least the keys name and "
@@ -296,6 +324,16 @@ def read_yaml(path: Path, *, study: bool = False) -> dict[str, Any]:
             raise ConfigError(f"{path} has no {' and no '.join(missing)} key; a study file needs "
                               "at least the keys name and kind.")
     return data
+
+
+def _depth(data: Any) -> int:
+    """How many lists or mappings are nested within each other in ``data`` (read level by level,
+    without recursion)."""
+    depth, items = 0, [data]
+    while containers := [item for item in items if isinstance(item, (dict, list))]:
+        depth += 1
+        items = [v for c in containers for v in (c.values() if isinstance(c, dict) else c)]
+    return depth
 
 
 def check_group_files() -> None:

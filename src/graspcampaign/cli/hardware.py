@@ -33,7 +33,9 @@ def schedule(
     study: StudyArg,
     overrides: Overrides = None,
     out: Annotated[
-        Path | None, typer.Option(help="Output file stem (default: <root>/<study>/schedule).")
+        Path | None, typer.Option(help="Output file stem: writes <stem>.csv and <stem>.parquet "
+                                       "(x.csv or x.parquet names the same two files as x; "
+                                       "default: <root>/<study>/schedule).")
     ] = None,
     template: Annotated[bool, typer.Option(
         "--template", help="Also write the measured-records sheet to fill in (every column, empty, "
@@ -51,6 +53,8 @@ def schedule(
     kind = get_kind(cfg.kind)
     if kind.schedule is None:
         fail(f"study {cfg.name!r} is a simulation study; only hardware protocols have a schedule.")
+    if out is not None and out.suffix in (".csv", ".parquet"):  # --out x.csv: the stem is x
+        out = out.with_suffix("")
     stem = writable_stem(out or Path(cfg.output.root) / cfg.name / "schedule", "--out")
     if out is not None and not out.parent.is_dir():  # as plan --png: a typo grows no tree
         fail(f"--out {out}: directory {out.parent} does not exist.")
