@@ -1,7 +1,8 @@
 """The keys of a paper dict are checked when a study is composed: a key that is no level of the
 factor or param it is keyed by, or no word of its vocabulary, is refused naming the study file, the
 key and the allowed ones. Before, a misspelt key (``"1"`` for the weight scale ``1.0``, a planner
-in a nested dict) passed, and the report silently said "not reported" for that level."""
+in a nested dict) passed, and the report silently said "not reported" for that level. ``show``
+prints an empty paper dict as ``{}`` (it printed a trailing ", ")."""
 
 from __future__ import annotations
 
@@ -46,3 +47,11 @@ def test_a_reduced_design_keeps_the_papers_other_levels(user_dir, tmp_path):
     shown = invoke("show", "mesh_resolution", "params.resolutions=[144,390]", "--root", tmp_path)
     assert shown.exit_code == 0, shown.output
 
+
+def test_show_prints_an_empty_paper_dict_as_such(user_dir, tmp_path):
+    path = copy(user_dir, "ablation", "success_pct: {heuristic: 72.0, no_s1: 72.0, no_s2: 72.0, no_s3: 72.0, "
+                "no_pc: 72.0, no_pe: 72.0,\n                random: 6.0, centroid: 0.0}", "success_pct: {}")
+    shown = invoke("show", path.stem, "--root", tmp_path)
+    assert shown.exit_code == 0, shown.output
+    assert ("paper: figure=Fig. 16, trials_per_variant=50, interval_half_width_pp=12.0, success_pct={}\n"
+            in shown.stdout)
