@@ -3,9 +3,10 @@
 A study file's ``paper:`` block is validated against its study's dataclass when the study is
 composed (:func:`graspcampaign.campaign.compose.compose_study`): a missing key, an unknown key
 (e.g. a typo), a value of the wrong type or a dict key outside its vocabulary (planner, shape,
-material names) is a :class:`~graspcampaign.errors.ConfigError` naming the file and the key, so a
-mistyped key can never show up as a silent dash in a report. A field with a default of ``None``
-is one the paper states only for some variants of the study; every other field is required.
+material names) or outside the levels of the study file's factor or param it is keyed by is a
+:class:`~graspcampaign.errors.ConfigError` naming the file and the key, so a mistyped key can
+never show up as a silent dash in a report. A field with a default of ``None`` is one the paper
+states only for some variants of the study; every other field is required.
 
 Reports receive the parsed object (``run.paper``) and read attributes, never ``dict.get``.
 Tuples are closed ranges or lists the paper prints; numbers keep the precision the paper prints.
@@ -25,29 +26,43 @@ from graspcampaign.errors import ConfigError
 Range = tuple[float, float]
 
 
-def keyed(vocabulary: str) -> Any:
-    """A required dict field whose keys must belong to ``vocabulary`` (planner, shape, ...)."""
-    return field(metadata={"keys": vocabulary})
+def keyed(*keys: str) -> Any:
+    """A required dict field whose keys, and those of each nested dict (one name per depth), must
+    be words of a vocabulary (planner, shape, ...) or levels of a factor or param of the study file
+    (``factors.weight_scale``, ``params.resolutions``), written as the reports look them up."""
+    return field(metadata={"keys": keys})
 
 
-def _vocabulary(name: str) -> tuple[str, ...]:
+def _check_keys(value: dict, keys: tuple[str, ...], where: str, levels: dict[str, list] | None) -> None:
+    """Raise naming the first key of ``value`` (or of a nested dict) that is not allowed; levels of
+    a factor or param are checked only where ``levels`` (the study file's) has them."""
     from graspcampaign.analysis.vocabulary import VOCABULARIES
 
-    return tuple(VOCABULARIES[name])
+    name, *deeper = keys
+    if "." in name:
+        allowed, what = [str(v) for v in (levels or {}).get(name, [])], f"level of {name}"
+    else:
+        allowed, what = list(VOCABULARIES[name]), f"known {name}"
+    for key, item in value.items():
+        if allowed and key not in allowed:
+            raise ConfigError(f"{where}.{key} is not a {what}; allowed: {', '.join(allowed)}.")
+        if deeper:
+            _check_keys(item, tuple(deeper), f"{where}.{key}", levels)
 
 
-def parse_paper(cls: type, data: Any, where: str = "paper") -> Any:
-    """Return ``data`` (the YAML mapping) as an instance of the dataclass ``cls``.
+def parse_paper(cls: type, data: Any, where: str = "paper", levels: dict[str, list] | None = None) -> Any:
+    """Return ``data`` (the YAML mapping) as an instance of the dataclass ``cls``; ``levels``: the
+    study file's factor and param lists by ``factors.<name>``/``params.<name>`` (:func:`keyed`).
 
     Raises
     ------
     ConfigError
         Naming ``where``-relative key paths: missing, unknown, or of the wrong type.
     """
-    return _convert(cls, data, where)
+    return _convert(cls, data, where, levels)
 
 
-def _convert(typ: Any, value: Any, where: str) -> Any:
+def _convert(typ: Any, value: Any, where: str, levels: dict[str, list] | None = None) -> Any:
     origin = typing.get_origin(typ)
     if dataclasses.is_dataclass(typ):
         if not isinstance(value, dict):
@@ -66,24 +81,20 @@ def _convert(typ: Any, value: Any, where: str) -> Any:
                 if f.default is dataclasses.MISSING:
                     raise ConfigError(f"{where}.{name} is missing (a required key).")
                 continue
-            out[name] = _convert(hints[name], value[name], f"{where}.{name}")
+            out[name] = _convert(hints[name], value[name], f"{where}.{name}", levels)
             if "keys" in f.metadata:
-                allowed = _vocabulary(f.metadata["keys"])
-                bad = [k for k in out[name] if k not in allowed]
-                if bad:
-                    raise ConfigError(f"{where}.{name}.{bad[0]} is not a known "
-                                      f"{f.metadata['keys']}; allowed: {', '.join(allowed)}.")
+                _check_keys(out[name], f.metadata["keys"], f"{where}.{name}", levels)
         return typ(**out)
     if origin in (typing.Union, types.UnionType):
         args = typing.get_args(typ)
         if value is None and type(None) in args:
             return None
-        return _convert(next(a for a in args if a is not type(None)), value, where)
+        return _convert(next(a for a in args if a is not type(None)), value, where, levels)
     if origin is dict:
         _, item = typing.get_args(typ)
         if not isinstance(value, dict):
             raise ConfigError(f"{where} must be a mapping; got {value!r}.")
-        return {str(k): _convert(item, v, f"{where}.{k}") for k, v in value.items()}
+        return {str(k): _convert(item, v, f"{where}.{k}", levels) for k, v in value.items()}
     if origin is tuple:
         args = typing.get_args(typ)
         if not isinstance(value, list | tuple) or (args[-1] is not Ellipsis
@@ -91,7 +102,7 @@ def _convert(typ: Any, value: Any, where: str) -> Any:
             size = "a list" if args[-1] is Ellipsis else f"a list of {len(args)} values"
             raise ConfigError(f"{where} must be {size}; got {value!r}.")
         items = [args[0]] * len(value) if args[-1] is Ellipsis else args
-        return tuple(_convert(a, v, f"{where}[{i}]") for i, (a, v) in enumerate(zip(
+        return tuple(_convert(a, v, f"{where}[{i}]", levels) for i, (a, v) in enumerate(zip(
             items, value, strict=True)))
     if typ is float:
         if isinstance(value, int | float) and not isinstance(value, bool):
@@ -123,7 +134,7 @@ class HeuristicWeightsPaper:
     """Sec. 5.2: H of the hand-reachable 45°/45°/−90° set per uniform weight scale, its terms."""
 
     section: str
-    h_at_scale: dict[str, float]
+    h_at_scale: dict[str, float] = keyed("factors.weight_scale")
     s1: float
     s2: float
     s3: float
@@ -173,7 +184,7 @@ class BaselineGridPaper:
     figure: str
     trials_per_planner: int
     success_pct: dict[str, float] = keyed("planner")
-    success_by_shape_pct: dict[str, dict[str, float]] = keyed("shape")
+    success_by_shape_pct: dict[str, dict[str, float]] = keyed("shape", "planner")
 
 
 @dataclass(frozen=True)
@@ -193,7 +204,7 @@ class MeshResolutionPaper:
     """Sec. 6.7, Fig. 20."""
 
     figure: str
-    runtime_ms: dict[str, float]
+    runtime_ms: dict[str, float] = keyed("params.resolutions")
     runtime_ratio_1750_144: float
     runtime_ratio_target: float
     residual_scatter_n: Range
@@ -260,7 +271,7 @@ class SurrogatePaper:
     figure: str
     n_scenarios: int
     class_balance_pct: float
-    auc: dict[str, float]
+    auc: dict[str, float] = keyed("model")
     accuracy_pct: Range
     residual_r2: float
     prediction_time_ms: float
@@ -296,8 +307,9 @@ def paper_types() -> dict[str, type]:
 
 
 def check_paper(study: str, block: dict | None, where: str = "paper", *,
-                compare_with: bool = False) -> Any:
-    """Return the study's typed paper values, or None for a study with no paper block.
+                compare_with: bool = False, levels: dict[str, list] | None = None) -> Any:
+    """Return the study's typed paper values, or None for a study with no paper block; ``levels``
+    as for :func:`parse_paper`.
 
     Raises
     ------
@@ -314,7 +326,7 @@ def check_paper(study: str, block: dict | None, where: str = "paper", *,
                               f"values cannot be checked; remove the block or set compare_with to "
                               f"one of {', '.join(sorted(types_))}.")
         return None
-    return parse_paper(types_[study], block or {}, where)
+    return parse_paper(types_[study], block or {}, where, levels)
 
 
 def study_paper(study: str) -> Any:

@@ -97,7 +97,7 @@ class Test1Paper:
     unloading_work_median_mj: float
     oblique_margin_n: dict[str, float]
     oblique_classification_match_pct: float
-    mu_s_environment: dict[str, float]
+    mu_s_environment: dict[str, float] = keyed("environment")
     stick_slip_transition_mm_per_s: float
     k_t_range_n_per_mm: Range
     relaxation_ratio_fig25a: float
@@ -297,7 +297,7 @@ class Test3Paper:
     yaw_torque_median_nm: float
     yaw_torque_with_probes_nm: float
     yaw_rotation_median_deg: float
-    blocks_pct: dict[str, float]
+    blocks_pct: dict[str, float] = keyed("block")
     lateral_threshold_median_error_pct: float
     lateral_threshold_trials: int
     geometric_baseline_error_pct: float
@@ -309,7 +309,7 @@ class Test3Paper:
     bland_altman_loa_half_width_n: float
     threshold_err_over_50pct: float
     torque_threshold_err_pct: float
-    block_parity_r2: dict[str, float]
+    block_parity_r2: dict[str, float] = keyed("block")
     first_finger_accuracy_pct: float
     impulse_retained_pct: dict[str, float]
     impulse_drop_pct: dict[str, float]

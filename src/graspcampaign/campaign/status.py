@@ -147,10 +147,11 @@ def design_text(study: StudyCfg, run: str | None = None, overrides: list[str] = 
 
 
 def _paper_text(paper: dict[str, Any], prefix: str = "") -> str:
-    """``key=value`` pairs of the paper block, nested keys dotted (no Python reprs)."""
+    """``key=value`` pairs of the paper block, nested keys dotted (no Python reprs); an empty
+    dict as ``key={}``."""
     parts = []
     for key, value in paper.items():
-        if isinstance(value, dict):
+        if isinstance(value, dict) and value:
             parts.append(_paper_text(value, f"{prefix}{key}."))
         elif isinstance(value, list):
             parts.append(f"{prefix}{key}=[{', '.join(map(str, value))}]")

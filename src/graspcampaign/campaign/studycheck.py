@@ -347,6 +347,8 @@ def check_paper_block(obj: StudyCfg, written: Any, path: Path, campaigns_dir: Pa
     hides it on the search path) is that study for ``report``, so it needs that study's paper
     block, and the message says so (docs/decisions.md, "A study's name").
     """
+    import yaml
+
     from graspcampaign.analysis.vocabulary import plural
     from graspcampaign.campaign.paper import check_paper, paper_types
 
@@ -356,8 +358,15 @@ def check_paper_block(obj: StudyCfg, written: Any, path: Path, campaigns_dir: Pa
     if overrides:
         where += f" with {plural('override', len(overrides))} {' '.join(overrides)}"
     like = obj.compare_with or obj.name
+    # the levels a paper dict is keyed by: those of the study the values are of, as its file
+    # gives them (an override reducing the design leaves the paper's other levels valid)
+    tool = campaigns_dir / f"{like}.yaml"
+    data = (yaml.safe_load(tool.read_text()) or {}) if tool.is_file() else {}
+    levels = {f"{group}.{k}": v for group in ("factors", "params")
+              for k, v in (data.get(group) or {}).items() if isinstance(v, list)}
     try:
-        check_paper(like, obj.paper, f"{where}: paper", compare_with=bool(obj.compare_with))
+        check_paper(like, obj.paper, f"{where}: paper", compare_with=bool(obj.compare_with),
+                    levels=levels)
     except ConfigError as exc:
         hidden = campaigns_dir / f"{obj.name}.yaml"
         if obj.compare_with or path.resolve() == hidden.resolve() or not hidden.is_file():

@@ -266,20 +266,21 @@ def report(
 
 
 def _report_paths(batch) -> None:
-    """Print the written reports and root pages (an HTML page beside its Markdown one); name
-    every run whose report failed and exit non-zero."""
+    """Print the written reports and root pages (an HTML page beside its Markdown one), each report
+    with the items whose code failed (their notes say why); name every run whose report failed.
+    Exit non-zero if a report or an item failed (decisions.md, "A report's items that failed")."""
     html = "html" in batch.formats
     for label, path in [*(("report", p) for p in batch), *((p.stem, p) for p in batch.pages)]:
         if path.suffix == ".md" or path.with_suffix(".md") not in batch.pages:  # a page once
-            typer.echo(f"{label}: {path}{' (and .html)' if html and path.suffix == '.md' else ''}")
-    _exit_if_failed(batch.failed)
-
-
-def _exit_if_failed(failed) -> None:
-    for label, why, _ in failed:
+            items, broken = batch.broken.get(path, (0, []))
+            failed = f" ({len(broken)} of {items} items failed: {', '.join(broken)}; their notes in the " \
+                     "report say why)" if broken else ""
+            typer.echo(f"{label}: {path}{' (and .html)' if html and path.suffix == '.md' else ''}{failed}")
+    for label, why, _ in batch.failed:
         typer.echo(f"error: the report of {label} could not be written: {why}", err=True)
-    if failed:
-        raise typer.Exit(2 if all(bad for _, _, bad in failed) else 1)
+    broken = any(titles for _, titles in batch.broken.values())
+    if batch.failed or broken:
+        raise typer.Exit(1 if broken or not all(bad for *_, bad in batch.failed) else 2)
 
 
 from graspcampaign.cli import hardware  # noqa: E402, F401  (registers schedule, ingest, plan after these)

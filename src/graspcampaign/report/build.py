@@ -43,12 +43,14 @@ KIND_SPECS: dict[str, str] = {"quasi_static": "quasi_static:PLANNERS", "mesh_fea
 
 class ReportBatch(list):
     """The written report paths (``report.md``); ``failed``: ``(run label, reason, bad input)`` of
-    runs not written; ``pages``: the root pages written (index and headline, each format);
-    ``formats``: the formats written."""
+    runs not written; ``broken``: a written report's ``(items, titles of those whose code failed)``
+    (:func:`~graspcampaign.report.render.render`) by its path; ``pages``: the root pages written
+    (index and headline, each format); ``formats``: the formats written."""
 
     def __init__(self, written=(), failed=(), formats=("md", "csv")):
         super().__init__(written)
         self.failed: list[tuple[str, str, bool]] = list(failed)
+        self.broken: dict[Path, tuple[int, list[str]]] = {}
         self.pages: list[Path] = []
         self.formats = list(formats)
 
@@ -88,8 +90,10 @@ def _paper(run_paper: dict | None, study: str, notes: list[str]) -> Any:
         return paper
 
 
-def report_run(store: RunStore, root: Path, formats: list[str], figure_format: str) -> Path:
-    """Write one run's report under ``<run>/report/``; return its main page."""
+def report_run(store: RunStore, root: Path, formats: list[str], figure_format: str,
+               ) -> tuple[Path, int, list[str]]:
+    """Write one run's report under ``<run>/report/``; return its main page, its number of items
+    and the titles of those whose code failed (``Run.broken``)."""
     manifest = store.check()  # never a report of records that are not what the manifest says
     if not manifest:
         raise UserInputError(f"{store.manifest_path} is missing.")
@@ -110,7 +114,7 @@ def report_run(store: RunStore, root: Path, formats: list[str], figure_format: s
         render(GENERIC, run, doc)
     for failure in run.failures:
         log.warning("report %s/%s: %s", study, manifest.get("run"), failure)
-    return doc.write(store.path / "report", formats, figure_format)
+    return doc.write(store.path / "report", formats, figure_format), run.items, run.broken
 
 
 def _runs(root: Path, studies: list[str] | None, run: str | Mapping[str, str] | None,
@@ -157,7 +161,8 @@ def _runs(root: Path, studies: list[str] | None, run: str | Mapping[str, str] | 
 
 
 def _report_or_failure(store: RunStore, root: Path, formats: list[str], figure_format: str):
-    """``(report page, None)``, or ``(None, (run label, reason, bad input))`` if it failed."""
+    """``((report page, items, broken), None)``, or ``(None, (run label, reason, bad input))`` if it
+    failed."""
     label = store.path.relative_to(root).as_posix()
     try:
         return report_run(store, root, formats, figure_format), None
@@ -197,9 +202,10 @@ def build_reports(studies: list[str] | None = None, run: str | Mapping[str, str]
 
         outcomes = Parallel(n_jobs=n_jobs)(delayed(_report_in_worker)(store, root, formats, figure_format)
                                            for store in stores)
-    for page, failure in outcomes:
+    for written, failure in outcomes:
         if failure is None:
-            batch.append(page)
+            batch.append(written[0])
+            batch.broken[written[0]] = written[1:]
         else:
             batch.failed.append(failure)
     if len(batch) and write_root_pages(root, formats):

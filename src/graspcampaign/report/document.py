@@ -141,18 +141,6 @@ def labelled(frame: pd.DataFrame, by: Sequence[str]) -> tuple[pd.DataFrame, list
                    else Col(c, FACTOR_LABELS.get(c, c.replace("_", " "))) for c in by]
 
 
-def _absent(name: str, shown: Sequence[Col], frame: pd.DataFrame) -> str:
-    """The note on shown columns ``frame`` lacks (a misspelt name, or a run recorded before the
-    column existed): named, with the frame's nearest column, since each prints as the missing mark."""
-    missing = [c.key for c in shown if c.key not in frame]
-    if not missing:
-        return ""
-    near = [m for c in missing for m in difflib.get_close_matches(c, map(str, frame.columns), 1)]
-    hint = f" (nearest: {', '.join(f'`{m}`' for m in near)})" if near else ""
-    names = ", ".join(f"`{c}`" for c in missing)
-    return f"Table {name} shows {names}, not in its frame{hint}: shown as {fmt.MISSING}."
-
-
 def _text(text: str | Callable, run: Any) -> str:
     return text(run) if callable(text) else text
 
@@ -179,7 +167,7 @@ class Table:
     def render(self, run: Any) -> list:
         frame = self.compute(run) if callable(self.compute) else self.compute
         if frame is not None and not isinstance(frame, pd.DataFrame):
-            raise ValueError(f"its compute returned a {type(frame).__name__}, not a DataFrame" + (
+            raise TypeError(f"its compute returned a {type(frame).__name__}, not a DataFrame" + (
                 " (a grouped result needs .reset_index())" if isinstance(frame, pd.Series) else ""))
         if frame is None or not len(frame):
             return [Text(f"Table {self.name} is empty: {self.empty}.", "note")] if self.empty else []
@@ -187,9 +175,18 @@ class Table:
         shown = self.cols(run, frame) if callable(self.cols) else self.cols if self.cols is not None else [
             c for c in frame if c not in self.by and not re.search(r"_(label|why|low|high)(_[a-z]+)?$", c)]
         shown = [c if isinstance(c, Col) else cols(c, frame=frame)[0] for c in shown]
-        table = replace(self, caption=_text(self.caption, run), compute=frame, cols=[*lead, *shown], by=())
-        absent = _absent(self.name, shown, frame)
-        return [table, Text(absent, "note")] if absent else [table]
+        return [replace(self, caption=_text(self.caption, run), compute=frame, cols=[*lead, *shown], by=())]
+
+    def absent(self) -> str:
+        """The note on shown columns the frame lacks (a misspelt name, or a run recorded before the
+        column existed): named, with the frame's nearest column, since each prints as the missing mark."""
+        missing = [c.key for c in self.cols if c.key not in self.frame]
+        if not missing:
+            return ""
+        near = [m for c in missing for m in difflib.get_close_matches(c, map(str, self.frame.columns), 1)]
+        hint = f" (nearest: {', '.join(f'`{m}`' for m in near)})" if near else ""
+        names = ", ".join(f"`{c}`" for c in missing)
+        return f"Table {self.name} shows {names}, not in its frame{hint}: shown as {fmt.MISSING}."
 
     def cells(self) -> list[list[tuple[str, str | None]]]:
         """Every row's ``(text, link target or None)`` per shown column."""

@@ -16,7 +16,7 @@ from graspcampaign.campaign.provenance import design_change, ingested
 from graspcampaign.core.bench_specimen import FINGERTIP_RADIUS
 from graspcampaign.errors import UserInputError
 from graspcampaign.report import format as fmt
-from graspcampaign.report.document import Document, Table, Text
+from graspcampaign.report.document import Document, Section, Table, Text
 
 log = logging.getLogger(__name__)
 
@@ -31,7 +31,9 @@ class Tables(dict):
 @dataclass
 class Run:
     """One run as the items see it: records, manifest, typed paper values, the run's store (for
-    its auxiliary tables) and the tables rendered so far (``tables``, by name)."""
+    its auxiliary tables) and the tables rendered so far (``tables``, by name). Rendered: ``failures``
+    says why each item not (fully) computed was not; ``items`` counts the tables, figures and
+    findings, ``broken`` names those whose code failed (:func:`render`)."""
 
     records: pd.DataFrame
     manifest: dict
@@ -40,6 +42,8 @@ class Run:
     figure_format: str = "png"
     tables: dict[str, pd.DataFrame] = field(default_factory=Tables)
     failures: list[str] = field(default_factory=list)
+    items: int = 0
+    broken: list[str] = field(default_factory=list)
     _parts: dict[str, pd.DataFrame] = field(default_factory=dict, init=False, repr=False)
 
     config = property(lambda self: self.manifest.get("config") or {})
@@ -113,17 +117,28 @@ def reason(exc: BaseException) -> str:
 
 def render(spec, run: Run, document: Document) -> Document:
     """Append every item of ``spec`` rendered over ``run`` to ``document``; a Finding is computed
-    last (it may read every table of the report) and shown where it is declared."""
+    last (it may read every table of the report) and shown where it is declared.
+
+    An item that raises is replaced by a note saying why, and a table showing a column its frame
+    lacks gets a note under it; each joins ``run.failures``. A ValueError or KeyError, like a missing
+    shown column, is the data's reason (no executed trial, a column a run whose trials all errored
+    or recorded before it existed lacks: the item is legitimately empty); any other exception means
+    the item's code failed: it joins ``run.broken``."""
     from graspcampaign.report.spec import Finding
 
     slots = {}
     for i, item in sorted(enumerate(spec.items), key=lambda e: isinstance(e[1], Finding)):
+        run.items += not isinstance(item, Section | Text)
         try:
             slots[i] = item.render(run)
         except Exception as exc:  # noqa: BLE001 - one failing item is reported, never fatal
             log.debug("report item %s failed", getattr(item, "name", item), exc_info=True)
             run.failures.append(f"{item.title}: {reason(exc)}")
+            run.broken += [] if isinstance(exc, ValueError | KeyError) else [item.title]
             slots[i] = [Text(f"{item.title} not computed: {reason(exc)}.", "note")]
+        for table in [b for b in slots[i] if isinstance(b, Table) and b.absent()]:
+            run.failures.append(table.absent())
+            slots[i].insert(slots[i].index(table) + 1, Text(table.absent(), "note"))
         run.tables.update({b.name: b.frame for b in slots[i] if isinstance(b, Table)})
     document.blocks.extend(b for i in sorted(slots) for b in slots[i])
     return document
