@@ -47,6 +47,9 @@ def test_the_factor_levels_of_the_campaign_are_in_the_vocabulary():
     presets = {p.stem for p in (project_dirs()[0] / "model").glob("*.yaml")}
     assert presets == set(V.MODEL_PRESETS)
     assert V.ordered("grip_law", ["oracle", "paper", "slip"]) == ["paper", "slip", "oracle"]
+    from graspcampaign.rig.belief import BELIEF_MODELS
+
+    assert set(V.BELIEF_MODELS) == {*BELIEF_MODELS.values(), "actual"}  # `none`: the actual quantities
     assert all(isinstance(t.label, str) and t.label for voc in V.VOCABULARIES.values() for t in voc.values())
 
 

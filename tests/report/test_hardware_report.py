@@ -140,6 +140,13 @@ def test_belief_tables_equal_a_pandas_recomputation(sim_root, study):
     md = (sim_root / study / "default" / "report" / "report.md").read_text()
     assert "believed − actual G_geo" in md and "| median G_geo gap |" in md and "| median μ_s gap |" in md
     assert " g geo " not in md and " mu s " not in md
+    # the belief model in decisions.md's words (it printed "nominal_geometry")
+    shown = md.split(f"tables/{prefix}_belief.csv")[1].split("\n\n")[1]
+    for model, words in (("calibrated", "Test 1 calibration"), ("nominal_law", "nominal Hertzian law"),
+                         ("nominal_geometry", "nominal Hertzian law, planar grasp"),
+                         ("actual", "actual quantities")):
+        assert f"| {model} |" not in shown
+        assert (f"| {words} |" in shown) == (model in set(t["belief_model"]))
     pairs = _table(sim_root, study, f"{prefix}_belief_pairs").set_index("planner")
     wide = both.pivot_table(index=["planner", "trial_id"], columns="belief_error", values="success",
                             aggfunc="first").astype(bool)

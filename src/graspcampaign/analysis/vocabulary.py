@@ -69,6 +69,10 @@ LP_MU0_REASONS = _terms(  # why the friction-cone LP at mu = 0 fails (docs/recor
     ("feasible", "nothing (feasible)"), ("force_balance", "force balance"),
     ("torque_balance", "torque balance"),
 )
+BELIEF_MODELS = _terms(  # what a planner knows (rig/belief.py; decisions.md, Planner beliefs ...)
+    ("calibrated", "Test 1 calibration"), ("nominal_law", "nominal Hertzian law"),
+    ("nominal_geometry", "nominal Hertzian law, planar grasp"), ("actual", "actual quantities"),
+)
 BLOCKS = _terms(
     ("A", "lateral pull", "#c2185b"), ("B", "vertical load", "#00838f"),
     ("C", "yaw torque", "#8d6e63"), ("D", "impulse", "#e64a19"), ("E", "sinusoid", "#7cb342"),
@@ -103,7 +107,7 @@ VOCABULARIES: dict[str, dict[str, Term]] = {
     "model_preset": MODEL_PRESETS, "integrator": INTEGRATORS, "outcome": OUTCOMES,
     "block": BLOCKS, "parameter": PARAMETERS, "panel": STUDY_PANELS,
     "dynamic_status": DYNAMIC_STATUSES, "environment": ENVIRONMENTS, "model": SURROGATE_MODELS,
-    "variable": SURROGATE_VARIABLES, "lp_mu0_reason": LP_MU0_REASONS,
+    "variable": SURROGATE_VARIABLES, "lp_mu0_reason": LP_MU0_REASONS, "belief_model": BELIEF_MODELS,
     # a McNemar table's compared planner; a table's scope of trials (a planner, or "all", "baselines" ...
     # that print as they are)
     "compared": PLANNERS, "scope": PLANNERS,
