@@ -21,6 +21,24 @@ def test_every_planner_has_its_own_label_and_colour():
     assert len(set(colours)) == len(colours)
 
 
+def test_no_colour_means_two_things():
+    """A colour is in one vocabulary only (or in OTHER_COLOURS, the levels outside them): Test 3's
+    impulse block was the force-balance planner's purple, Test 2's shapes and materials one palette."""
+    owners: dict[str, set[str]] = {}
+    for name, voc in [*((n, v) for n, v in vars(V).items() if n.isupper() and isinstance(v, dict)
+                         and v and all(isinstance(t, V.Term) for t in v.values())),
+                      ("OTHER_COLOURS", {c: V.Term(c, c, c) for c in V.OTHER_COLOURS})]:
+        for term in voc.values():
+            if term.colour:
+                owners.setdefault(term.colour.lower(), set()).add(name)
+    assert {c: n for c, n in owners.items() if len(n) > 1} == {}
+    assert {"PLANNERS", "BLOCKS", "SHAPES", "MATERIALS", "OUTCOMES"} <= set().union(*owners.values())
+    assert len(V.OTHER_COLOURS) == len(set(V.OTHER_COLOURS))
+    for voc in {id(v): v for v in V.VOCABULARIES.values()}.values():  # and one colour per level
+        colours = [t.colour for t in voc.values() if t.colour]
+        assert len(set(colours)) == len(colours)
+
+
 def test_the_factor_levels_of_the_campaign_are_in_the_vocabulary():
     assert tuple(V.GRIP_LAWS) == FACTOR_SPECS["grip_law"]["choices"] == ("paper", "slip", "oracle")
     assert tuple(V.INTEGRATORS) == FACTOR_SPECS["integrator"]["choices"]
@@ -29,6 +47,9 @@ def test_the_factor_levels_of_the_campaign_are_in_the_vocabulary():
     presets = {p.stem for p in (project_dirs()[0] / "model").glob("*.yaml")}
     assert presets == set(V.MODEL_PRESETS)
     assert V.ordered("grip_law", ["oracle", "paper", "slip"]) == ["paper", "slip", "oracle"]
+    from graspcampaign.rig.belief import BELIEF_MODELS
+
+    assert set(V.BELIEF_MODELS) == {*BELIEF_MODELS.values(), "actual"}  # `none`: the actual quantities
     assert all(isinstance(t.label, str) and t.label for voc in V.VOCABULARIES.values() for t in voc.values())
 
 

@@ -41,17 +41,21 @@ def test_the_finding_claims_nothing_about_steps_the_records_do_not_hold():
 
 def test_an_unsettled_run_says_within_what_time_and_calls_no_shape_settled():
     # a 0.2 s run that did not settle read "does not settle ... The settled shapes differ by ..."
-    rows = [{"integrator": i, "dt_s": 2e-4, "dt_over_rk4_limit": 0.5, "settled": False, "squash_ratio": 0.899,
+    rows = [{"integrator": i, "dt_s": 2e-4, "dt_over_rk4_limit": 0.5, "settled": False, "squash_ratio": q,
              "newton_iterations_per_step": float("nan"), "lu_factorizations": 0, "shape_difference_max_mm": d,
-             "observed_order": 4, "expected_order": 4, "energy_balance_rel_error": 1.4e-3,
+             "observed_order": 4, "expected_order": 4, "energy_balance_rel_error": e,
              "energy_balance_rel_error_half_dt": 7.5e-5, "energy_audit_steps": 200, "energy_increases": 0,
-             "simulated_time_s": 0.2} for i, d in (("rk4", 0.0), ("implicit", 0.0181))]
+             "simulated_time_s": 0.2} for i, d, q, e in (("rk4", 0.0, 0.899, 1.4e-3),
+                                                         ("implicit", 0.0181, 0.899085, 2.8e-5))]
     run = Run(pd.DataFrame(rows), {}, SimpleNamespace(settles=True))
     run.tables["settle"] = pd.DataFrame(rows)
     text = settle_finding(run)
     assert text.count("**does not settle** within 0.2 s") == 2 and "settled shape" not in text
     assert "The final shapes differ by at most 0.0181 mm" in text
     assert "relative energy-balance error 0.0014 over 200 steps" in text  # the record's relative error
+    # small numbers read as plain decimals, as the tables print them (they read 8.5e-05, 2.8e-05)
+    assert "and 0.000085 in squash ratio" in text and "relative energy-balance error 0.000028 over" in text
+    assert "e-0" not in text
 
 
 def test_fig10_draws_the_floor_at_the_lowest_rest_node_not_at_the_deepest_settled_one():

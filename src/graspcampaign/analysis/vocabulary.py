@@ -1,6 +1,8 @@
 """One vocabulary (order, label, colour) for every study, so a level reads and looks the same in every
 table and figure. Orders are the paper's (Table 7 / Fig. 18 planners, Fig. 14 shapes, Table 4
-materials), labels its words; the proposed planner is the report's main blue."""
+materials), labels its words; the proposed planner is the report's main blue. A colour means one
+thing: no two vocabularies (nor ``OTHER_COLOURS``) share one (docs/decisions.md, *One colour, one
+meaning*)."""
 
 from __future__ import annotations
 
@@ -33,56 +35,58 @@ PLANNERS = _terms(
     ("no_pe", "\u2212Pe", "#9bc2e6"), ("reference", "reference search", "#2e7d32"),
 )
 SHAPES = _terms(
-    ("sphere", "sphere", "#1b9e77"), ("ellipsoid", "ellipsoid", "#d95f02"),
-    ("rounded_cube", "rounded cube", "#7570b3"), ("pear", "pear", "#e7298a"),
-    ("handle", "concave handle", "#66a61e"),
+    ("sphere", "sphere", "#1b9e77"), ("ellipsoid", "ellipsoid", "#e7298a"),
+    ("rounded_cube", "rounded cube", "#66a61e"), ("pear", "pear", "#a6761d"),
+    ("handle", "concave handle", "#17becf"),
 )
 MATERIALS = _terms(
-    ("gel", "gel", "#1b9e77"), ("silicone_soft", "silicone, soft", "#d95f02"),
-    ("bio_foam", "bio foam", "#7570b3"), ("silicone_ref", "silicone, ref.", "#e7298a"),
+    ("gel", "gel", "#01665e"), ("silicone_soft", "silicone, soft", "#9c27b0"),
+    ("bio_foam", "bio foam", "#8c510a"), ("silicone_ref", "silicone, ref.", "#f781bf"),
 )
 GRIP_LAWS = _terms(  # issue 13 item 3; paper = Algorithm 2 as published (Sec. 6.5, 12)
-    ("paper", "Algorithm 2 (paper)", "#1f5aa6"), ("slip", "slip-margin grip", "#e08a1e"),
-    ("oracle", "oracle equal grip", "#2e7d32"),
+    ("paper", "Algorithm 2 (paper)", "#283593"), ("slip", "slip-margin grip", "#ad1457"),
+    ("oracle", "oracle equal grip", "#00897b"),
 )
 MODEL_PRESETS = _terms(  # conf/model
-    ("table2", "Tables 2\u20133 constants", "#1f5aa6"),
-    ("firm", "firm preset (Shore 30A/50A, Hertz)", "#b5403a"),
-    ("nominal", "nominal Hertz (uncalibrated)", "#8c8c8c"),
+    ("table2", "Tables 2\u20133 constants", "#004d40"),
+    ("firm", "firm preset (Shore 30A/50A, Hertz)", "#bf360c"),
+    ("nominal", "nominal Hertz (uncalibrated)", "#9e9d24"),
 )
 INTEGRATORS = _terms(  # gravity_settle's factor (Sec. 12)
-    ("rk4", "RK4 (explicit, the paper's)", "#1f5aa6"), ("implicit", "implicit midpoint", "#e08a1e"),
+    ("rk4", "RK4 (explicit, the paper's)", "#311b92"), ("implicit", "implicit midpoint", "#ff8f00"),
 )
 OUTCOMES = _terms(
-    ("stable", "stable", "#2e7d32"), ("success", "marginal success", "#81c784"),
+    ("stable", "stable", "#1b5e20"), ("success", "marginal success", "#81c784"),
     ("partial", "partial", "#ffb74d"), ("failure_slip", "slip", "#e57373"),
     ("failure_drop", "drop", "#c62828"), ("failure_damage", "damage", "#6d4c41"),
-    ("failure_contact_loss", "contact loss", "#9e9e9e"),
+    ("failure_contact_loss", "contact loss", "#37474f"),
 )
 DYNAMIC_STATUSES = _terms(  # how a dynamic grasp ended (core.grasp_phases.STATUSES)
-    ("stable", "held (stable)", "#2e7d32"), ("not_settled", "not settled by t_max", "#ffb74d"),
-    ("penetration_limit", "penetration limit", "#6d4c41"), ("dropped", "dropped", "#c62828"),
+    ("stable", "held (stable)"), ("not_settled", "not settled by t_max"),
+    ("penetration_limit", "penetration limit"), ("dropped", "dropped"),
 )
 LP_MU0_REASONS = _terms(  # why the friction-cone LP at mu = 0 fails (docs/records.md, lp_mu0_reason)
     ("feasible", "nothing (feasible)"), ("force_balance", "force balance"),
     ("torque_balance", "torque balance"),
 )
+BELIEF_MODELS = _terms(  # what a planner knows (rig/belief.py; decisions.md, Planner beliefs ...)
+    ("calibrated", "Test 1 calibration"), ("nominal_law", "nominal Hertzian law"),
+    ("nominal_geometry", "nominal Hertzian law, planar grasp"), ("actual", "actual quantities"),
+)
 BLOCKS = _terms(
-    ("A", "lateral pull", "#1f5aa6"), ("B", "vertical load", "#e08a1e"),
-    ("C", "yaw torque", "#2e7d32"), ("D", "impulse", "#7b4ea3"), ("E", "sinusoid", "#c9a227"),
+    ("A", "lateral pull", "#c2185b"), ("B", "vertical load", "#00838f"),
+    ("C", "yaw torque", "#8d6e63"), ("D", "impulse", "#e64a19"), ("E", "sinusoid", "#7cb342"),
 )
 PARAMETERS = _terms(
-    ("lambda1", "\u03bb1", "#1f5aa6"), ("lambda2", "\u03bb2", "#e08a1e"),
-    ("n", "n", "#2e7d32"), ("n_exp", "n", "#2e7d32"), ("b", "b", "#7b4ea3"),
-    ("k", "k", "#c9a227"), ("c", "c", "#8c8c8c"),
+    ("lambda1", "\u03bb1"), ("lambda2", "\u03bb2"), ("n", "n"), ("n_exp", "n"), ("b", "b"), ("k", "k"),
+    ("c", "c"),
 )
 ENVIRONMENTS = _terms(  # Test 1's environmental groups in the paper's words (Sec. 7.1)
-    ("cool_dry", "cool/dry", "#4c78b5"), ("normal_lab", "normal-lab", "#8c8c8c"),
-    ("warm_humid", "warm/humid", "#e08a1e"),
+    ("cool_dry", "cool/dry"), ("normal_lab", "normal-lab"), ("warm_humid", "warm/humid"),
 )
 SURROGATE_MODELS = _terms(  # Appendix A's models, and the brief PSO call they are timed against
-    ("pso_call", "brief PSO call", "#7b4ea3"), ("mlp", "MLP 64-32", "#1f5aa6"),
-    ("random_forest", "random forest", "#e08a1e"),
+    ("pso_call", "brief PSO call", "#4a148c"), ("mlp", "MLP 64-32", "#006064"),
+    ("random_forest", "random forest", "#827717"),
 )
 SURROGATE_VARIABLES = _terms(  # Appendix A's labels, regression targets and features (record ids)
     ("success", "configured check (validity gate)"), ("success_unbounded", "Algorithm 1 as published"),
@@ -92,9 +96,9 @@ SURROGATE_VARIABLES = _terms(  # Appendix A's labels, regression targets and fea
     ("lambda1", "\u03bb1"), ("lambda2", "\u03bb2"), ("msd_b", "MSD damping b"),
 )
 STUDY_PANELS = _terms(  # sensitivity (Fig. 19) and mesh_resolution (Fig. 20) panels
-    ("mu_mass", "(a) \u03bc \u00d7 m", "#1f5aa6"), ("lambda", "(b) \u03bb1 \u00d7 \u03bb2", "#e08a1e"),
-    ("n_b", "(c) n \u00d7 b", "#2e7d32"), ("resolution", "mesh resolution", "#1f5aa6"),
-    ("budget", "candidate budget N_cand", "#e08a1e"), ("n_max", "doubled N_max re-run", "#2e7d32"),
+    ("mu_mass", "(a) \u03bc \u00d7 m"), ("lambda", "(b) \u03bb1 \u00d7 \u03bb2"), ("n_b", "(c) n \u00d7 b"),
+    ("resolution", "mesh resolution"), ("budget", "candidate budget N_cand"),
+    ("n_max", "doubled N_max re-run"),
 )
 
 #: Record column -> its vocabulary.
@@ -103,7 +107,7 @@ VOCABULARIES: dict[str, dict[str, Term]] = {
     "model_preset": MODEL_PRESETS, "integrator": INTEGRATORS, "outcome": OUTCOMES,
     "block": BLOCKS, "parameter": PARAMETERS, "panel": STUDY_PANELS,
     "dynamic_status": DYNAMIC_STATUSES, "environment": ENVIRONMENTS, "model": SURROGATE_MODELS,
-    "variable": SURROGATE_VARIABLES, "lp_mu0_reason": LP_MU0_REASONS,
+    "variable": SURROGATE_VARIABLES, "lp_mu0_reason": LP_MU0_REASONS, "belief_model": BELIEF_MODELS,
     # a McNemar table's compared planner; a table's scope of trials (a planner, or "all", "baselines" ...
     # that print as they are)
     "compared": PLANNERS, "scope": PLANNERS,
@@ -114,8 +118,9 @@ FACTOR_LABELS = {"mu": "μ", "mass_kg": "mass [kg]", "nodes": "nodes", "weight_s
 #: Unit suffixes of record columns ``<words>_<unit>`` (docs/records.md) and how headers print them.
 UNITS = {"pct": "%", "mm": "mm", "m": "m", "n": "N", "nm": "N·m", "s": "s", "ms": "ms",
          "kg": "kg", "j": "J", "mj": "mJ", "deg": "°", "rad": "rad", "kpa": "kPa"}
-#: Colours of levels outside every vocabulary (friction levels, node counts), in level order.
-OTHER_COLOURS = ("#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#e6ab02")
+#: Colours of levels outside every vocabulary (friction levels, node counts), in level order: a green
+#: ramp, dark to light, as such levels are ordered.
+OTHER_COLOURS = ("#00441b", "#006d2c", "#238b45", "#41ae76", "#66c2a4", "#99d8c9")
 
 
 def label(column: str, value: object) -> str:

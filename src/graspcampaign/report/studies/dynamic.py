@@ -65,19 +65,22 @@ def settle_finding(run: Run) -> str:
                                         if r.lu_factorizations else "") for r in t.itertuples()]
     like = "as" if t["settled"].all() == run.paper.settles else "unlike"
     text = f"The sphere on the floor, {like} the paper's Fig. 10: " + "; ".join(parts) + ". "
-    text += (f"The final shapes differ by at most {t.shape_difference_max_mm.max():.3g} mm per node and "
-             f"{np.ptp(t.squash_ratio):.2g} in squash ratio. ") if len(t) > 1 else ""
+    # the one formatter: plain decimals, as the tables print them (Python's "g" wrote 8.5e-05)
+    if len(t) > 1:
+        text += (f"The final shapes differ by at most {fmt.number(t.shape_difference_max_mm.max(), sig=3)} "
+                 f"mm per node and {fmt.number(np.ptp(t.squash_ratio), sig=2)} in squash ratio. ")
     text += "Integrator audit (Sec. 12 lists it as missing): " + "; ".join(
         f"{label('integrator', r.integrator)} observed order {r.observed_order:.2f} (expected "
-        f"{r.expected_order}), relative energy-balance error {r.energy_balance_rel_error:.2g} over "
+        f"{r.expected_order}), relative energy-balance error "
+        f"{fmt.number(r.energy_balance_rel_error, sig=2)} over "
         f"{r.energy_audit_steps:.0f} steps shrinking "
         f"{r.energy_balance_rel_error / r.energy_balance_rel_error_half_dt:.1f}-fold at half the step "
         f"(2^{r.expected_order} = {2 ** r.expected_order}), {r.energy_increases} energy increases"
         for r in t.itertuples())
     same = "".join(  # each integrator ran at one settle step: no claim about other steps
         f". The implicit rule ran at {r.dt_over_rk4_limit:.2f}× RK4's stable step and "
-        + (f"settled, its shape within {r.shape_difference_max_mm:.3g} mm of RK4's" if r.settled
-           else "did not settle") + f" (one settle step per integrator; {IMPLICIT})"
+        + (f"settled, its shape within {fmt.number(r.shape_difference_max_mm, sig=3)} mm of RK4's"
+           if r.settled else "did not settle") + f" (one settle step per integrator; {IMPLICIT})"
         for r in t[t.integrator == "implicit"].itertuples())
     return text + same + f". Body constants are SI, not the paper's ({DECISION})."
 

@@ -17,27 +17,13 @@ from graspcampaign.report import style
 from graspcampaign.report.document import Col, Figure, Table, cols, pct_col
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Claims, Finding, Paired, Rates, ReportSpec, paper_of, share, verdicts
+from graspcampaign.report.studies.opening import FLAGS, ex, finding, frames
 
 PLANNERS, ME = ("heuristic", "centroid", "no_pso", "force_balance", "random"), f"planner == '{PROPOSED}'"
-FLAGS = ("predicted_stable", "predicted_stable_residual")
 READINGS, PAPER_ROWS = {"belief_error": ["paper", "none"]}, "belief_error == 'paper'"
-WHY_NOT = {"predicted_stable_residual": "it is the paper's §8.1 flag (Algorithm 2's residual ≤ τ_F = "
-           "0.0886 N), friction-blind: it carries no information about a friction hold",
-           "predicted_stable": "the believed margins are optimistic where the beliefs are wrong"}
 
 
 # --------------------------------------------------------------------------- shared with Test 3
-def frames(run: Run) -> pd.DataFrame:
-    """Executed trials of both belief readings with the derived columns (computed once per run)."""
-    return run.memo("hardware", lambda: hw.derive(hw.beliefs(run.records, run.aux("belief_none"))))
-
-
-def ex(run: Run, planner: str | None = None) -> pd.DataFrame:
-    """The executed trials as recorded (the planners' own beliefs), of ``planner`` if given."""
-    d = frames(run)
-    return d[(d["belief_error"] == "paper") & (d["planner"] == planner if planner else True)]
-
-
 def paper_table(name, caption, key, row, items, rates=(), medians=(), *, where=None, boot=False,
                 extra=None) -> Table:
     """A :func:`hw.summary` table per ``key`` and belief reading; items ``(column, paper, header, digits)``: a
@@ -151,75 +137,6 @@ def matched_mcnemar(name: str, caption: str) -> Table:
 
     return Paired(name, caption, pair_on="match_key", paper=paper,
                   trials=lambda run: ex(run)[ex(run)["matched"].astype(bool)])
-
-
-def first(rates: pd.Series) -> str:
-    """Who ranks first by ``rates`` (per planner, %): one planner, or the planners tying first (equal
-    rates share a rank, as in the belief-pairs table)."""
-    top = [label("planner", q) for q, v in rates.items() if v == rates.max()]
-    return f"the {top[0]} planner ranks first" if len(top) == 1 else \
-        f"{', '.join(top[:-1])} and {top[-1]} tie first at {fmt.number(rates.max(), 1)} %"
-
-
-def belief_gap(paper: pd.Series, none: pd.Series) -> str:
-    """What the counterfactual measured: how far the proposed planner trails the first with the planners'
-    own beliefs (``paper``) and with exact ones (``none``), and how much exact beliefs change it (point
-    estimates: which cause makes most of the gap is not tested, docs/decisions.md)."""
-    # rounded as printed, so the printed gaps and their difference add up
-    gap, gap0 = round(paper.max() - paper[PROPOSED], 1), round(none.max() - none[PROPOSED], 1)
-    ranks = [r.rank(ascending=False, method="min") for r in (paper, none.reindex(paper.index))]
-    widened = round(gap0 - gap, 1)
-    if widened > 0:
-        closed = f"exact beliefs widen it by {fmt.number(widened, 1)} pp"
-    elif widened == 0:
-        closed = "exact beliefs leave it as it is"
-    else:
-        closed = (f"exact beliefs close {fmt.number(-widened, 1)} pp of it; the other {fmt.number(gap0, 1)} "
-                  "pp remain when every planner knows the trial's actual μ_s, G_geo and contact law")
-    return (f"{first(none)} and the ranks {'do not ' * ranks[0].equals(ranks[1])}change. The proposed "
-            f"planner trails the first by {fmt.number(gap, 1)} pp with the planners' own beliefs and by "
-            f"{fmt.number(gap0, 1)} pp with exact ones: {closed} (point estimates, no interval). ")
-
-
-def finding(run: Run, extra=lambda run: "") -> str:
-    """The opening paragraph: the ranking with and without belief errors, and why, from the records."""
-    d, e, n1, n2 = frames(run), ex(run), (lambda v: fmt.number(v, 1)), (lambda v: fmt.number(v, 2))
-    by = d.groupby(["belief_error", "planner"])["success"]
-    s, n, lab = by.mean() * 100, by.size(), (lambda q: label("planner", q))
-    paper, table = s["paper"].sort_values(ascending=False), f"table{7 + 2 * (run.study != 'test2_grasp')}"
-    top = paper.index[0]
-    text = ("**VIRTUAL RIG data**: every number below is the output of the virtual rig's stochastic model "
-            "of the gripper executing the commanded sheet (`rig/virtual.py`), not a hardware measurement; "
-            "no constant of the rig was tuned towards the paper. " if run.source == "virtual" else
-            "Measured on hardware. ") + ("This run was filled by `graspcampaign ingest`, but its files "
-                                         "carried `source = virtual`: they are virtual-rig exports, not rig "
-                                         "measurements. " if run.ingested_exports else "")
-    text += "Success over the executed trials, ours of n trials (paper): " + ", ".join(
-        f"{lab(q)} {n1(v)} % of {n['paper'][q]} "
-        f"({n1(paper_of(run, lambda p, q: getattr(p, table)[q].success_pct, q))} %)"
-        for q, v in paper.items()) + f"; {first(paper)} (Wilson intervals: Table {table[5:]}). "
-    if "none" in s and paper[PROPOSED] < paper.max():
-        none = s["none"].reindex(paper.index)
-        text += ("Removing the belief errors (`belief_error = none`: every planner sizes its grip from the "
-                 "trial's actual μ_s, G_geo and contact law, same execution noise) gives " + ", ".join(
-                     f"{lab(q)} {n1(v)} % of {n['none'][q]}" for q, v in none.items()) + ": "
-                 + belief_gap(paper, none))
-    elif "none" not in s:
-        text += "This run has no `belief_error = none` counterfactual (a real rig has no oracle). "
-    g, gap = (e.groupby("planner")[c].median().reindex(paper.index) for c in ("g_geo_actual", "g_geo_gap"))
-    cap = e.groupby("planner")["grip_capped"].mean() * 100
-    text += ("Median G_geo of the realised contacts (true μ_s): " + ", ".join(
-        f"{lab(q)} {n2(v)}" for q, v in g.items()) + "; the proposed score H~ has no gravity term, so "
-        "its triples give friction less vertical reach than a horizontal triangle, and its calibrated grip "
-        f"hits the damage cap on {n1(cap[PROPOSED])} % of its trials ({lab(top)} {n1(cap[top])} %). The "
-        "beliefs differ as documented: median believed − actual G_geo " + ", ".join(
-            f"{lab(q)} {n2(v)}" for q, v in gap.items()) + ". ")
-    for f, r in hw.classifier_table(e, FLAGS, ["belief_error"]).set_index("flag").iterrows():
-        text += (f"`{f}` has precision {n2(r['precision'])} ({r['flagged']} of {r['n']} trials flagged, "
-                 f"recall {n2(r['recall'])}) against a base success rate of {n2(r['base'])}: "
-                 + ("above it. " if r["above_base"] else f"not above it, because {WHY_NOT[f]}. "))
-    return text + extra(run) + ("See `docs/decisions.md`, *Planner beliefs on the virtual rig* and "
-                                "*Tests 2-3 protocols and virtual rig*.")
 
 
 def legends_below(fig) -> None:
