@@ -110,3 +110,17 @@ def test_ingest_refuses_a_real_change_to_a_run_under_the_legacy_digest(copy):
         f"resolved study config (seed {seed} -> {seed + 1}); records of another config are stored in a "
         "run of their own, so choose another run name (--run NAME).\n")
     assert _files(root) == before
+
+
+def test_show_says_what_ingest_would_refuse(copy):
+    # show's drift note skipped measured runs: it said nothing where ingest refuses; and show of a
+    # measured run with records raised IndexError (its records carry no wall time to estimate from)
+    root, manifest, _ = copy
+    seed = manifest["config"]["seed"]
+    refused = _ingest(root, root / "day2.csv", f"seed={seed + 1}")
+    shown = cli.invoke(app, ["show", "test2_grasp", *REDUCED, f"seed={seed + 1}", "--run", "legacy",
+                             "--root", str(root)])
+    same = cli.invoke(app, ["show", "test2_grasp", *REDUCED, "--run", "legacy", "--root", str(root)])
+    assert refused.exit_code == 2 and shown.exit_code == 0 == same.exit_code, shown.output
+    assert f"note: `ingest` would refuse: {refused.stderr.removeprefix('error: ')}" in shown.stdout
+    assert "note:" not in same.stdout

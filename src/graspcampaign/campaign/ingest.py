@@ -51,10 +51,9 @@ def ingest_files(study: StudyCfg, paths: list[str], run: str = "measured") -> tu
             f"run {study.name}/{run} at {store.path} holds {manifest['source']} records (from "
             "`graspcampaign run`); measured records are stored in a run of their own, so choose "
             "another run name (--run NAME; default measured).")
-    if manifest is not None and (changed := provenance.config_drift(manifest, study)):
-        raise provenance.DriftError(
-            f"run {study.name}/{run} at {store.path} was started with a different {changed}; records "
-            "of another config are stored in a run of their own, so choose another run name (--run NAME).")
+    if manifest is not None and (refusal := provenance.ingest_refusal(manifest, study, f"{study.name}/{run}",
+                                                                     store.path)):
+        raise provenance.DriftError(refusal)
     stored = store.read().to_pandas() if manifest is not None else None
     rows = kind.ingest(study, params, paths, stored)
     stored_ids = set() if stored is None or "trial_id" not in stored else set(stored["trial_id"])

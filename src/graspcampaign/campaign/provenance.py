@@ -325,6 +325,14 @@ def config_drift(manifest: dict[str, Any], study: StudyCfg) -> str:
     return "resolved study config" + (f" ({', '.join(keys)})" if keys else "")
 
 
+def ingest_refusal(manifest: dict[str, Any], study: StudyCfg, label: str, path: Path) -> str:
+    """What ``ingest`` says, refusing measured records of ``study`` for the run ``label`` at ``path``
+    ("" if it would not): only the config counts, measured records do not depend on the code."""
+    changed = config_drift(manifest, study)
+    return (f"run {label} at {path} was started with a different {changed}; records of another config "
+            "are stored in a run of their own, so choose another run name (--run NAME).") if changed else ""
+
+
 def check_drift(manifest: dict[str, Any], study: StudyCfg, allow_drift: bool, path: Path) -> None:
     """Refuse to add ``study``'s trials to a run started with another resolved config or code
     version (unless ``allow_drift``), naming what changed."""

@@ -80,25 +80,33 @@ def recorded_in(study: StudyCfg, run: str | None = None, opened=_OPEN) -> int:
 
 
 def _median_trial_s(store) -> float | None:
-    """The median wall time [s] of the run's recorded trials (None: none timed)."""
-    times = store.read(columns=["wall_time_s"]).column(0).drop_null()
+    """The median wall time [s] of the run's recorded trials (None: none timed, e.g. measured
+    records, which carry no wall time)."""
+    table = store.read(columns=["wall_time_s"])
+    if "wall_time_s" not in table.column_names:
+        return None
+    times = table.column("wall_time_s").drop_null()
     return statistics.median(times.to_pylist()) if len(times) else None
 
 
 def drift_refusal(study: StudyCfg, run: str | None = None, opened=_OPEN) -> str | None:
-    """What ``run`` would say, refusing to add ``study``'s trials to its run (started with another
-    config or code version: :func:`graspcampaign.campaign.provenance.check_drift`); None if it would
-    not, or there is no simulated run yet."""
+    """What the command that adds to ``study``'s run would say, refusing: ``run`` for a simulated
+    run started with another config or code version
+    (:func:`graspcampaign.campaign.provenance.check_drift`), ``ingest`` for a measured one started
+    with another config; None if it would not, or there is no run yet."""
     opened = opened_run(study, run) if opened is _OPEN else opened
-    from graspcampaign.campaign.provenance import DriftError, check_drift, ingested
+    from graspcampaign.campaign.provenance import DriftError, check_drift, ingest_refusal, ingested
 
-    if opened is None or ingested(opened[1]):  # ingest's runs: no drift
+    if opened is None:
         return None
-
+    if ingested(opened[1]):
+        label = f"{study.name}/{run or study.output.run}"
+        refusal = ingest_refusal(opened[1], study, label, opened[0].path)
+        return f"`ingest` would refuse: {refusal}" if refusal else None
     try:
         check_drift(opened[1], study, False, opened[0].path)
     except DriftError as exc:
-        return str(exc)
+        return f"`run` would refuse: {exc}"
     return None
 
 
@@ -131,7 +139,7 @@ def design_text(study: StudyCfg, run: str | None = None, overrides: list[str] = 
     done = recorded_in(study, run, opened)
     lines.append(f"run: {run_path(study, run)} ({done} of {total} recorded)")
     if refusal := drift_refusal(study, run, opened):
-        lines.append(f"note: `run` would refuse: {refusal}")
+        lines.append(f"note: {refusal}")
     if facts:
         per, workers = facts["seconds_per_trial"], study.runner.workers()
         basis = "as the trial kind estimates"
