@@ -24,8 +24,10 @@ from graspcampaign.campaign.schema import StudyCfg
 from graspcampaign.errors import UserInputError
 
 
-def ingest_files(study: StudyCfg, paths: list[str], run: str = "measured") -> tuple[int, Path, str]:
-    """Validate ``paths`` with the study's protocol and append them to ``run``.
+def ingest_files(study: StudyCfg, paths: list[str], run: str = "measured",
+                 given: tuple[str, list[str]] | None = None) -> tuple[int, Path, str]:
+    """Validate ``paths`` with the study's protocol and append them to ``run``; ``given`` as in
+    :func:`~graspcampaign.campaign.runner.run_study` (a new run's manifest records the design).
 
     Returns
     -------
@@ -67,7 +69,10 @@ def ingest_files(study: StudyCfg, paths: list[str], run: str = "measured") -> tu
         row["study"], row["run"] = study.name, run  # the records of this run, whatever the file says
     source = rows[0]["source"] if rows else "measured"  # one source per run (check_one_source)
     if manifest is None:
+        from graspcampaign.campaign.compose import as_given
+
         manifest = provenance.new_manifest(study, run, len(study_trials(study, kind, params)), source)
+        manifest.update(as_given(*given, study) if given else {})
     chash = provenance.config_hash(study, manifest)
     store.write_shard("records", content_hash(sorted(r["trial_id"] for r in rows)), rows,
                       metadata=config_metadata(chash), strings=ERROR_COLUMNS)

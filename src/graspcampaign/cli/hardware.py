@@ -101,7 +101,7 @@ def ingest(
 
     check_root(root, write=True)
     cfg = compose(study, overrides, root)
-    n, path, source = ingest_files(cfg, [str(f) for f in files], run)
+    n, path, source = ingest_files(cfg, [str(f) for f in files], run, given=(study, overrides or []))
     typer.echo(f"{n} measured records stored in {path}" if source == "measured" else
                f"{n} virtual-rig records (source = {source}: exports, not rig measurements) "
                f"stored in {path}")

@@ -1,0 +1,49 @@
+"""Every command on a measured run: a virtual rig's records exported without their ``source`` column
+(a rig's own file, so ``source = measured``) and ingested under the reduced overrides of the tests,
+into a results root of its own.
+
+Imported helpers by name (``from hardware_checks import ...``), as pytest puts this directory on the path.
+"""
+
+from __future__ import annotations
+
+import re
+
+import pandas as pd
+import pytest
+from hardware_checks import REDUCED, cli
+
+from graspcampaign.campaign.kinds import hardware as H
+from graspcampaign.campaign.records import RunStore
+from graspcampaign.cli.main import app
+
+SETS = [a for o in REDUCED for a in ("--set", o)]
+
+
+@pytest.fixture(scope="module")
+def t2_measured(study_run, tmp_path_factory):
+    """The first half of a reduced virtual test2_grasp run, ingested as measured under its own root."""
+    _, summary = study_run("test2_grasp", *REDUCED)
+    export = H.export_records(RunStore(summary.path).read().to_pandas(), "test2_grasp")
+    root = tmp_path_factory.mktemp("measured")
+    export.iloc[: len(export) // 2].drop(columns="source").to_csv(root / "day1.csv", index=False)
+    result = cli.invoke(app, ["ingest", "test2_grasp", str(root / "day1.csv"), *SETS, "--root", str(root)])
+    assert result.exit_code == 0, result.output
+    return root, len(export) // 2
+
+
+def test_a_measured_run_under_overrides_is_marked_reduced_as_a_run_is(t2_measured):
+    # ingest kept no overrides in the manifest: the report and the headline presented a reduced
+    # measured run (a sixteenth of the protocol's sheet) as the study's design
+    root, _ = t2_measured
+    result = cli.invoke(app, ["report", "test2_grasp", "--run", "measured", "--root", str(root)])
+    assert result.exit_code == 0, result.output
+    measured = (root / "test2_grasp/measured/report/report.md").read_text().splitlines()
+    sizes = [int(re.search(r"= (\d+) trials", cli.invoke(app, ["show", "test2_grasp", *o]).stdout)[1])
+             for o in ([], REDUCED)]  # the study file's sheet, and the reduced one
+    assert sizes[1] < sizes[0]
+    assert (f"- **Reduced/modified run:** overrides `params.fraction=0.06`; {sizes[1]} of the study's "
+            f"{sizes[0]} trials") in measured
+    assert "> **Data source:** measured on hardware (ingested records)" in measured
+    headline = pd.read_csv(root / "headline.csv").dropna(subset=["run"])
+    assert len(headline) and headline["testbed"].str.startswith("measured on hardware †").all()
