@@ -7,6 +7,7 @@ Imported helpers by name (``from hardware_checks import ...``), as pytest puts t
 
 from __future__ import annotations
 
+import json
 import re
 
 import pandas as pd
@@ -47,3 +48,15 @@ def test_a_measured_run_under_overrides_is_marked_reduced_as_a_run_is(t2_measure
     assert "> **Data source:** measured on hardware (ingested records)" in measured
     headline = pd.read_csv(root / "headline.csv").dropna(subset=["run"])
     assert len(headline) and headline["testbed"].str.startswith("measured on hardware †").all()
+
+
+def test_show_of_a_measured_run_estimates_no_run_time(t2_measured):
+    # show estimated the compute time of the trials not yet measured, which `run` refuses to add
+    root, ingested = t2_measured
+    shown = cli.invoke(app, ["show", "test2_grasp", *REDUCED, "--run", "measured", "--root", str(root)])
+    assert shown.exit_code == 0, shown.output
+    n_trials = json.loads((root / "test2_grasp/measured/manifest.json").read_text())["n_trials"]
+    assert (f"estimated time: none: `run` adds no trials to an ingested run; its {n_trials - ingested} "
+            "trials not recorded come from `ingest`") in shown.stdout.splitlines()
+    refused = cli.invoke(app, ["run", "test2_grasp", *REDUCED, "--run", "measured", "--root", str(root)])
+    assert refused.exit_code == 2 and "never adds simulated or virtual trials" in refused.stderr

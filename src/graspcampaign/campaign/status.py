@@ -135,12 +135,17 @@ def design_text(study: StudyCfg, run: str | None = None, overrides: list[str] = 
     else:
         axes = " x ".join(f"{name} {size}" for name, size in design_shape(study).items())
         lines.append(f"axes: {axes} = {counted(total, 'trial')}")
+    from graspcampaign.campaign.provenance import ingested
+
     opened = opened_run(study, run) if ready else None  # the run opened and checked once
     done = recorded_in(study, run, opened)
     lines.append(f"run: {run_path(study, run)} ({done} of {total} recorded)")
     if refusal := drift_refusal(study, run, opened):
         lines.append(f"note: {refusal}")
-    if facts:
+    if facts and opened is not None and ingested(opened[1]):  # its trials come from a rig, not `run`
+        lines.append(f"estimated time: none: `run` adds no trials to an ingested run; its "
+                     f"{counted(total - done, 'trial')} not recorded come from `ingest`")
+    elif facts:
         per, workers = facts["seconds_per_trial"], study.runner.workers()
         basis = "as the trial kind estimates"
         if done and (measured := _median_trial_s(opened[0])) is not None:
