@@ -17,8 +17,12 @@ from hardware_checks import REDUCED, cli
 from graspcampaign.campaign.kinds import hardware as H
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.cli.main import app
+from graspcampaign.rig import test1 as T
 
 SETS = [a for o in REDUCED for a in ("--set", o)]
+T1_REDUCED = ["params.materials=[gel]", "params.specimens=[1,11]", "params.environments=[normal_lab]",
+              "params.pso_restarts=3", "params.pso_particles=12", "params.pso_iterations=40",
+              "params.pso_max_reruns=2"]
 
 
 @pytest.fixture(scope="module")
@@ -60,3 +64,24 @@ def test_show_of_a_measured_run_estimates_no_run_time(t2_measured):
             "trials not recorded come from `ingest`") in shown.stdout.splitlines()
     refused = cli.invoke(app, ["run", "test2_grasp", *REDUCED, "--run", "measured", "--root", str(root)])
     assert refused.exit_code == 2 and "never adds simulated or virtual trials" in refused.stderr
+
+
+def test_a_measured_bench_report_says_nothing_of_the_virtual_bench(tmp_path):
+    # the finding ended on where the virtual bench differs by construction, and Table 4's caption
+    # called E the virtual bench's drawn modulus, on a run of rig measurements (E is empty there)
+    schedule = T.test1_schedule(701, materials=["gel"], specimens=[1, 11], environments=["normal_lab"])
+    waves = T.run_virtual_bench(schedule, 701, keep_waveforms=True).waveforms
+    first = sorted(schedule.groupby("block").head(2)["event_id"])
+    waves[waves["event_id"].isin(first)].drop(columns="source").to_csv(tmp_path / "rig.csv", index=False)
+    sets = [a for o in T1_REDUCED for a in ("--set", o)]
+    result = cli.invoke(app, ["ingest", "test1_bench", str(tmp_path / "rig.csv"), *sets,
+                              "--root", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    result = cli.invoke(app, ["report", "test1_bench", "--run", "measured", "--root", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    report = tmp_path / "test1_bench/measured/report"
+    text = (report / "report.md").read_text()
+    assert "virtual bench" not in text.lower() and "> **Data source:** measured on hardware" in text
+    table4 = pd.read_csv(report / "tables/table4.csv")
+    assert table4.loc[table4["row"] == "ours", ["modulus_kpa", "modulus_sd_kpa"]].isna().all().all()
+    assert "Our E is empty: the bench measures no modulus." in text
