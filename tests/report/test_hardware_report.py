@@ -212,6 +212,14 @@ def test_the_opening_paragraph_gives_the_records_numbers(sim_root, study):
            f"succeeds on {rates['heuristic']:.1f} % of {n} " in first
     top = [label("planner", q) for q in rates.index if rates[q] == rates.max()]  # ties share rank 1
     assert all(t in first for t in top) and ("tie first" in first) == (len(top) > 1), first
+    # a ranking carries its intervals (statsmodels' Wilson); overlapping ones are said not to separate
+    ok = ex.groupby("planner")["success"].agg(["sum", "size"])
+    ci = {q: proportion_confint(ok["sum"][q], ok["size"][q], method="wilson") for q in ok.index}
+    low, high = ci["heuristic"]
+    assert f"of {n} (Wilson 95 % {100 * low:.1f}–{100 * high:.1f})" in first, first
+    if len(top) == 1 and rates.index[0] != "heuristic":
+        overlap = ci[rates.index[0]][0] <= high
+        assert ("the two intervals overlap" in first) == overlap, first
     assert "belief_error = none" in finding and "`predicted_stable` has precision" in finding
     assert "docs/decisions.md" in finding and "Planner beliefs on the virtual rig" in finding
 

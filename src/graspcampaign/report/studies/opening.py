@@ -6,6 +6,7 @@ from __future__ import annotations
 import pandas as pd
 
 from graspcampaign.analysis import hardware as hw
+from graspcampaign.analysis.rates import wilson_interval
 from graspcampaign.analysis.vocabulary import PROPOSED, label
 from graspcampaign.report import format as fmt
 from graspcampaign.report.render import Run
@@ -70,15 +71,19 @@ def finding(run: Run, extra=lambda run: "") -> str:
     paper, table = s["paper"].sort_values(ascending=False), f"table{7 + 2 * (run.study != 'test2_grasp')}"
     theirs = {q: paper_of(run, lambda p, q: getattr(p, table)[q].success_pct, q) for q in paper.index}
     tops, top, where = list(paper.index[paper == paper.max()]), paper.index[0], f"Table {table[5:]}"
-    ranked = first(paper)
+    ranked, ci = first(paper), {q: wilson_interval(int(by.sum()["paper"][q]), int(n["paper"][q]))
+                                for q in (top, PROPOSED)}
+    wilson = {q: f"Wilson 95 % {fmt.interval(100 * c.low, 100 * c.high, 1)}" for q, c in ci.items()}
     text = (f"{ranked[0].upper()}{ranked[1:]} ({n1(paper.max()) + ' % ' if len(tops) == 1 else ''}of "
-            f"{_and([str(n['paper'][q]) for q in tops])} executed trials; paper "
-            f"{_and([n1(theirs[q]) for q in tops])} %)")
+            f"{_and([str(n['paper'][q]) for q in tops])} executed trials"
+            f"{', ' + wilson[top] if len(tops) == 1 else ''}; paper {_and([n1(theirs[q]) for q in tops])} %)")
     if PROPOSED not in tops:
         best = max(theirs, key=lambda q: -1 if theirs[q] is None else theirs[q])
         text += (f", while the proposed planner, {'first ' * (best == PROPOSED)}in the paper at "
                  f"{n1(theirs[PROPOSED])} %, succeeds on {n1(paper[PROPOSED])} % of "
-                 f"{n['paper'][PROPOSED]}")
+                 f"{n['paper'][PROPOSED]} ({wilson[PROPOSED]})")
+        if len(tops) == 1 and ci[top].low <= ci[PROPOSED].high:
+            text += "; the two intervals overlap, so these trials do not separate the two planners"
     text += f" (every planner with its Wilson interval and the paper's value: {where}). "
     g, gap = (e.groupby("planner")[c].median() for c in ("g_geo_actual", "g_geo_gap"))
     cap = e.groupby("planner")["grip_capped"].mean() * 100
