@@ -125,7 +125,8 @@ def rate_bars(ax, f: pd.DataFrame, key: str, title: str, ylabel: str = "success 
                       for k, n in zip(f[key], f["n"], strict=True)], fontsize=7)
     rate_axes(ax, ylabel)
     ax.set_title(title)
-    ax.legend(handles=[interval_handle(), *[paper_handle()] * marked], loc="upper right")
+    # below the axes: inside, over rates up to 100 %, it covered bars and the paper's marks
+    legend_below(ax, [interval_handle(), *[paper_handle()] * marked], ncol=2)
 
 
 def grouped_bars(ax, t: pd.DataFrame, x: str, hue: str | None = None,

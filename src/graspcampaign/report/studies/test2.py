@@ -165,7 +165,7 @@ def planner_bars(table: str):
                       fontsize=7)
         style.rate_axes(ax)
         ax.set_title("(a) all trials; hatched: exact beliefs")
-        ax.legend(handles=[style.interval_handle(), style.paper_handle()], loc="upper right")
+        style.legend_below(ax, [style.interval_handle(), style.paper_handle()], ncol=2)
     return draw
 
 
