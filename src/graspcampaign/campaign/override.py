@@ -123,21 +123,15 @@ def check_sweeps(overrides: list[str], given: list[str]) -> None:
     ConfigError
         Naming the override as typed and what to write instead.
     """
-    from hydra.core.override_parser.overrides_parser import OverridesParser
     from hydra.core.override_parser.types import Glob, Sweep
 
-    def holds_sweep(value: Any) -> bool:
+    def holds_sweep(value: Any) -> bool:  # the whole value a sweep, or one inside a list or dict
         if isinstance(value, (list, dict)):
             return any(holds_sweep(v) for v in (value.values() if isinstance(value, dict) else value))
         return isinstance(value, (Sweep, Glob))
 
-    parser = OverridesParser.create()
     for item, typed in zip(overrides, given, strict=True):
-        try:
-            parsed = parser.parse_overrides([item])[0]
-        except Exception:  # noqa: BLE001  (a parse error is named when Hydra composes)
-            continue
-        if parsed.is_sweep_override() or holds_sweep(parsed.value()):
+        if holds_sweep(_parsed_value(item)):  # unparsed: Hydra names the error when it composes
             raise ConfigError(f"override {typed!r} is a sweep (one study per value, Hydra's "
                               "--multirun), which this tool does not run; give a factor its "
                               "levels as a list (e.g. mu=[0.3,0.5]), or run the study once per "

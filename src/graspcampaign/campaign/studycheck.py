@@ -347,10 +347,8 @@ def check_paper_block(obj: StudyCfg, written: Any, path: Path, campaigns_dir: Pa
     hides it on the search path) is that study for ``report``, so it needs that study's paper
     block, and the message says so (docs/decisions.md, "A study's name").
     """
-    import yaml
-
-    from graspcampaign.analysis.vocabulary import plural
     from graspcampaign.campaign.paper import check_paper, paper_types
+    from graspcampaign.campaign.studyfile import read_yaml
 
     if not obj.compare_with and obj.name != written and written in paper_types():
         obj.compare_with = str(written)
@@ -361,7 +359,7 @@ def check_paper_block(obj: StudyCfg, written: Any, path: Path, campaigns_dir: Pa
     # the levels a paper dict is keyed by: those of the study the values are of, as its file
     # gives them (an override reducing the design leaves the paper's other levels valid)
     tool = campaigns_dir / f"{like}.yaml"
-    data = (yaml.safe_load(tool.read_text()) or {}) if tool.is_file() else {}
+    data = read_yaml(tool) if tool.is_file() else {}
     levels = {f"{group}.{k}": v for group in ("factors", "params")
               for k, v in (data.get(group) or {}).items() if isinstance(v, list)}
     try:

@@ -294,14 +294,14 @@ def read_yaml(path: Path, *, study: bool = False) -> dict[str, Any]:
                               "config-group file is at most 1 MiB (the shipped ones are under "
                               "5 KB, and each command reads YAML at about a second per MB, "
                               "twice, docs/decisions.md).")
-        data = Path(path).read_bytes()
-        text = data.decode("utf-8-sig")  # a byte-order mark is no content
+        raw = Path(path).read_bytes()
+        text = raw.decode("utf-8-sig")  # a byte-order mark is no content
     except OSError as exc:
         raise ConfigError(f"{path} cannot be read ({exc.strerror or type(exc).__name__}).") from None
     except UnicodeDecodeError as exc:
-        line = data[:exc.start].count(b"\n") + 1
+        line = raw[:exc.start].count(b"\n") + 1
         raise ConfigError(f"{path}, line {line}: the file is not UTF-8 text (byte "
-                          f"0x{data[exc.start]:02x}); save it as UTF-8.") from None
+                          f"0x{raw[exc.start]:02x}); save it as UTF-8.") from None
     try:
         data = yaml.load(text, Loader=_loader())  # noqa: S506  (a SafeLoader subclass)
     except yaml.YAMLError as exc:

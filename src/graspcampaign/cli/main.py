@@ -272,9 +272,9 @@ def _report_paths(batch) -> None:
     html = "html" in batch.formats
     for label, path in [*(("report", p) for p in batch), *((p.stem, p) for p in batch.pages)]:
         if path.suffix == ".md" or path.with_suffix(".md") not in batch.pages:  # a page once
-            items, broken = batch.broken.get(path, (0, []))
-            failed = f" ({len(broken)} of {items} items failed: {', '.join(broken)}; their notes in the " \
-                     "report say why)" if broken else ""
+            items, titles = batch.broken.get(path, (0, []))
+            failed = (f" ({len(titles)} of {items} items failed: {', '.join(titles)}; their notes in "
+                      "the report say why)" if titles else "")
             typer.echo(f"{label}: {path}{' (and .html)' if html and path.suffix == '.md' else ''}{failed}")
     for label, why, _ in batch.failed:
         typer.echo(f"error: the report of {label} could not be written: {why}", err=True)
