@@ -136,9 +136,10 @@ def render(spec, run: Run, document: Document) -> Document:
             run.failures.append(f"{item.title}: {reason(exc)}")
             run.broken += [] if isinstance(exc, ValueError | KeyError) else [item.title]
             slots[i] = [Text(f"{item.title} not computed: {reason(exc)}.", "note")]
-        for table in [b for b in slots[i] if isinstance(b, Table) and b.absent()]:
-            run.failures.append(table.absent())
-            slots[i].insert(slots[i].index(table) + 1, Text(table.absent(), "note"))
+        for table in [b for b in slots[i] if isinstance(b, Table)]:
+            if note := table.absent():
+                run.failures.append(note)
+                slots[i].insert(slots[i].index(table) + 1, Text(note, "note"))
         run.tables.update({b.name: b.frame for b in slots[i] if isinstance(b, Table)})
     document.blocks.extend(b for i in sorted(slots) for b in slots[i])
     return document

@@ -56,13 +56,13 @@ def _settle(run: Run) -> pd.DataFrame:
 
 def settle_finding(run: Run) -> str:
     t = run.tables["settle"]
-    parts = [f"{label('integrator', r.integrator)} at dt = {1e6 * r.dt_s:.0f} µs ({r.dt_over_rk4_limit:.2f}× "
-             f"RK4's stable step "
-             f"with the floor) {'settles' if r.settled else '**does not settle**'} within "
-             f"{r.simulated_time_s:.3g} s, squash ratio "
-             f"{r.squash_ratio:.3f}" + (f", {r.newton_iterations_per_step:.1f} Newton iterations per step "
-                                        f"and {r.lu_factorizations} LU factorisations"
-                                        if r.lu_factorizations else "") for r in t.itertuples()]
+    parts = [f"{label('integrator', r.integrator)} at dt = {fmt.number(1e6 * r.dt_s, 0)} µs "
+             f"({fmt.number(r.dt_over_rk4_limit, 2)}× RK4's stable step with the floor) "
+             f"{'settles' if r.settled else '**does not settle**'} within {r.simulated_time_s:.3g} s, squash "
+             f"ratio {fmt.number(r.squash_ratio, 3)}" + (
+                 f", {fmt.number(r.newton_iterations_per_step, 1)} Newton iterations per step and "
+                 f"{r.lu_factorizations} LU factorisations" if r.lu_factorizations else "")
+             for r in t.itertuples()]
     like = "as" if t["settled"].all() == run.paper.settles else "unlike"
     text = f"The sphere on the floor, {like} the paper's Fig. 10: " + "; ".join(parts) + ". "
     # the one formatter: plain decimals, as the tables print them (Python's "g" wrote 8.5e-05)
@@ -70,15 +70,14 @@ def settle_finding(run: Run) -> str:
         text += (f"The final shapes differ by at most {fmt.number(t.shape_difference_max_mm.max(), sig=3)} "
                  f"mm per node and {fmt.number(np.ptp(t.squash_ratio), sig=2)} in squash ratio. ")
     text += "Integrator audit (Sec. 12 lists it as missing): " + "; ".join(
-        f"{label('integrator', r.integrator)} observed order {r.observed_order:.2f} (expected "
-        f"{r.expected_order}), relative energy-balance error "
-        f"{fmt.number(r.energy_balance_rel_error, sig=2)} over "
-        f"{r.energy_audit_steps:.0f} steps shrinking "
-        f"{r.energy_balance_rel_error / r.energy_balance_rel_error_half_dt:.1f}-fold at half the step "
-        f"(2^{r.expected_order} = {2 ** r.expected_order}), {r.energy_increases} energy increases"
+        f"{label('integrator', r.integrator)} observed order {fmt.number(r.observed_order, 2)} (expected "
+        f"{r.expected_order}), relative energy-balance error {fmt.number(r.energy_balance_rel_error, sig=2)} "
+        f"over {fmt.number(r.energy_audit_steps, 0)} steps shrinking "
+        f"{fmt.number(r.energy_balance_rel_error / r.energy_balance_rel_error_half_dt, 1)}-fold at half "
+        f"the step (2^{r.expected_order} = {2 ** r.expected_order}), {r.energy_increases} energy increases"
         for r in t.itertuples())
     same = "".join(  # each integrator ran at one settle step: no claim about other steps
-        f". The implicit rule ran at {r.dt_over_rk4_limit:.2f}× RK4's stable step and "
+        f". The implicit rule ran at {fmt.number(r.dt_over_rk4_limit, 2)}× RK4's stable step and "
         + (f"settled, its shape within {fmt.number(r.shape_difference_max_mm, sig=3)} mm of RK4's"
            if r.settled else "did not settle") + f" (one settle step per integrator; {IMPLICIT})"
         for r in t[t.integrator == "implicit"].itertuples())

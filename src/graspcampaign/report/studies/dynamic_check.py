@@ -33,8 +33,8 @@ def _t_max(run: Run) -> str:
     """`` = t_max s`` of the run: the budget its records carry (a run stored before they did: its
     config's, if it sets one; the kind's default is not in the config)."""
     if "t_max_s" in run.records and run.records["t_max_s"].notna().any():
-        return f" = {'/'.join(f'{t:g}' for t in sorted(run.records['t_max_s'].dropna().unique()))} s"
-    return f" = {run.params['t_max_s']:g} s" if "t_max_s" in run.params else ""
+        return f" = {'/'.join(map(fmt.number, sorted(run.records['t_max_s'].dropna().unique())))} s"
+    return f" = {fmt.number(run.params['t_max_s'])} s" if "t_max_s" in run.params else ""
 
 
 def _left_out(run: Run) -> str:

@@ -113,4 +113,4 @@ def finding(run: Run, extra=lambda run: "") -> str:
         + ("above it" if r["above_base"] else f"not above it, because {WHY_NOT[f]}")
         for i, (f, r) in enumerate(flags.iterrows())) + " (trials flagged, recall: the classifier table). "
     return text + ("See `docs/decisions.md`, *Planner beliefs on the virtual rig* and "
-                                "*Tests 2-3 protocols and virtual rig*.")
+                   "*Tests 2-3 protocols and virtual rig*.")
