@@ -221,6 +221,8 @@ def test_the_opening_paragraph_gives_the_records_numbers(sim_root, study):
         overlap = ci[rates.index[0]][0] <= high
         assert ("the two intervals overlap" in first) == overlap, first
     assert "belief_error = none" in finding and "`predicted_stable` has precision" in finding
+    # precision against the base rate is judged on point values: the sentence says so
+    assert "(point estimates; their Wilson intervals" in finding.split("`predicted_stable` has precision")[1]
     assert "docs/decisions.md" in finding and "Planner beliefs on the virtual rig" in finding
 
 

@@ -107,10 +107,12 @@ def finding(run: Run, extra=lambda run: "") -> str:
     text += (f"The beliefs differ as documented: median believed − actual G_geo up to {n2(gap[widest])} "
              f"({lab(widest)}; every planner: table `{run.study.split('_')[0]}_belief`). ")
     flags = hw.classifier_table(e, FLAGS, ["belief_error"]).set_index("flag")
-    text += "; ".join(  # the trials flagged and the recall are the classifier table's
+    text += "; ".join(  # the intervals, the trials flagged and the recall are the classifier table's
         f"`{f}` {'has precision ' * (i == 0)}{n2(r['precision'])}"
         f"{f' against a base success rate of {n2(r.base)}' * (i == 0)}: "
         + ("above it" if r["above_base"] else f"not above it, because {WHY_NOT[f]}")
-        for i, (f, r) in enumerate(flags.iterrows())) + " (trials flagged, recall: the classifier table). "
+        for i, (f, r) in enumerate(flags.iterrows()))
+    text += (" (point estimates; their Wilson intervals, the trials flagged and the recall: the classifier "
+             "table). ")
     return text + ("See `docs/decisions.md`, *Planner beliefs on the virtual rig* and "
                    "*Tests 2-3 protocols and virtual rig*.")
