@@ -1,8 +1,9 @@
 """The keys of a paper dict are checked when a study is composed: a key that is no level of the
 factor or param it is keyed by, or no word of its vocabulary, is refused naming the study file, the
 key and the allowed ones. Before, a misspelt key (``"1"`` for the weight scale ``1.0``, a planner
-in a nested dict) passed, and the report silently said "not reported" for that level. ``show``
-prints an empty paper dict as ``{}`` (it printed a trailing ", ")."""
+in a nested dict, a coating or an impulse level the protocol does not have) passed, and the report
+silently said "not reported" for that level. ``show`` prints an empty paper dict as ``{}`` (it
+printed a trailing ", ")."""
 
 from __future__ import annotations
 
@@ -35,6 +36,19 @@ def copy(folder: Path, study: str, old: str, new: str) -> Path:
      "no_pe, reference."),
     ("surrogate", "auc: {mlp:", "auc: {MLP:",
      "paper.auc.MLP is not a known model; allowed: pso_call, mlp, random_forest."),
+    # keyed by the levels the protocols fix (analysis.vocabulary, which rig/ builds its sheets from)
+    ("test1_bench", '"30": 0.05', '"35": 0.05',
+     "paper.oblique_margin_n.35 is not a known press_angle; allowed: 0, 15, 30, 45."),
+    ("test3_disturbance", "coating: {high:", "coating: {hgh:",
+     "paper.coating.hgh is not a known coating; allowed: high, medium, low."),
+    ("test3_disturbance", "down_0.5: 82.0", "down_0.3: 82.0", "paper.vertical_levels_pct.down_0.3 is not a "
+     "known vertical_load; allowed: down_0.25, down_0.5, down_0.75, up_0.5, up_1.0."),
+    ("test3_disturbance", '"0.8": 98.0', '"0.9": 98.0', "paper.impulse_retained_pct.0.9 is not a known "
+     "impulse_load; allowed: 0.8, 1.0, 1.2, 1.4, 1.8."),
+    ("test3_disturbance", '"1.8": 100.0', '"1.6": 100.0', "paper.impulse_drop_pct.1.6 is not a known "
+     "impulse_load; allowed: 0.8, 1.0, 1.2, 1.4, 1.8."),
+    ("friction_mass", "finger3: 12.0", "finger_3: 12.0", "paper.finger_forces_internal_units.finger_3 is "
+     "not a known finger; allowed: finger1, finger2, finger3."),
 ])
 def test_a_paper_key_outside_its_levels_is_refused(user_dir, tmp_path, study, old, new, message):
     path = copy(user_dir, study, old, new)

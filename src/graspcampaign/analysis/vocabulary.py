@@ -100,6 +100,13 @@ STUDY_PANELS = _terms(  # sensitivity (Fig. 19) and mesh_resolution (Fig. 20) pa
     ("resolution", "mesh resolution"), ("budget", "candidate budget N_cand"),
     ("n_max", "doubled N_max re-run"),
 )
+FINGERS = _terms(("finger1", "finger 1"), ("finger2", "finger 2"), ("finger3", "finger 3"))
+# Levels the hardware protocols fix (rig/ builds its sheets from these) and the words a paper block
+# keys them by, as the reports read them (Test 1 §7.3; Test 3 §9.2 coatings, block B, block D)
+OBLIQUE_ANGLES_DEG = (0.0, 15.0, 30.0, 45.0)
+COATINGS = _terms(("high", "high"), ("medium", "medium"), ("low", "low"))
+VERTICAL_LOADS_W = (("down", 0.25), ("down", 0.5), ("down", 0.75), ("up", 0.5), ("up", 1.0))
+IMPULSE_LOADS_W = (0.8, 1.0, 1.2, 1.4, 1.8)
 
 #: Record column -> its vocabulary.
 VOCABULARIES: dict[str, dict[str, Term]] = {
@@ -111,6 +118,11 @@ VOCABULARIES: dict[str, dict[str, Term]] = {
     # a McNemar table's compared planner; a table's scope of trials (a planner, or "all", "baselines" ...
     # that print as they are)
     "compared": PLANNERS, "scope": PLANNERS,
+    # a paper block's keys only: no record column holds these
+    "finger": FINGERS, "coating": COATINGS,
+    "press_angle": _terms(*((f"{a:g}", f"{a:g}°") for a in OBLIQUE_ANGLES_DEG)),
+    "vertical_load": _terms(*((f"{way}_{w}", f"{way} {w:g} W") for way, w in VERTICAL_LOADS_W)),
+    "impulse_load": _terms(*((str(w), f"{w:g} W") for w in IMPULSE_LOADS_W)),
 }
 #: Header of a factor column outside the vocabularies (its unit in brackets).
 FACTOR_LABELS = {"mu": "μ", "mass_kg": "mass [kg]", "nodes": "nodes", "weight_scale":

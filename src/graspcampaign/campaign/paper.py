@@ -258,7 +258,7 @@ class FrictionMassPaper:
     settle_within_iterations: int
     residual_amplitude_internal_units: float
     total_penetration_below_m: float
-    finger_forces_internal_units: dict[str, float]
+    finger_forces_internal_units: dict[str, float] = keyed("finger")
     #: the (μ, m [kg]) case the paper plots in Figs. 12-13
     representative_mu: float
     representative_mass_kg: float

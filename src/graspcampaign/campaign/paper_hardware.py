@@ -95,7 +95,7 @@ class Test1Paper:
     loop_area_median_mj: float
     loading_work_median_mj: float
     unloading_work_median_mj: float
-    oblique_margin_n: dict[str, float]
+    oblique_margin_n: dict[str, float] = keyed("press_angle")
     oblique_classification_match_pct: float
     mu_s_environment: dict[str, float] = keyed("environment")
     stick_slip_transition_mm_per_s: float
@@ -291,9 +291,9 @@ class Test3Paper:
     random_success_pct: float
     lateral_threshold_median_n: float
     direction_threshold_range_n: Range
-    coating: dict[str, CoatingLevel]
+    coating: dict[str, CoatingLevel] = keyed("coating")
     down_payload_median_pct_w: float
-    vertical_levels_pct: dict[str, float]
+    vertical_levels_pct: dict[str, float] = keyed("vertical_load")
     yaw_torque_median_nm: float
     yaw_torque_with_probes_nm: float
     yaw_rotation_median_deg: float
@@ -311,8 +311,8 @@ class Test3Paper:
     torque_threshold_err_pct: float
     block_parity_r2: dict[str, float] = keyed("block")
     first_finger_accuracy_pct: float
-    impulse_retained_pct: dict[str, float]
-    impulse_drop_pct: dict[str, float]
+    impulse_retained_pct: dict[str, float] = keyed("impulse_load")
+    impulse_drop_pct: dict[str, float] = keyed("impulse_load")
     impulse_residual_slip_mm: float
     sinusoid_slip_mm_range: Range
     sinusoid_pct: float

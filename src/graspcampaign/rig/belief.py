@@ -52,6 +52,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from graspcampaign.analysis.vocabulary import COATINGS
 from graspcampaign.core import bench
 from graspcampaign.core import disturbance as dist
 from graspcampaign.core.contact import NOMINAL_CONTACT, ContactParams, effective_modulus
@@ -89,7 +90,7 @@ ambient groups). It knows the object is one of the campaign's soft materials, no
 its coating."""
 
 
-COATING_MU_S = {"high": 0.90, "medium": 0.35, "low": 0.15}
+COATING_MU_S = dict(zip(COATINGS, (0.90, 0.35, 0.15), strict=True))  # high, medium, low
 """Static friction of the surface coatings on the silicone fingertip (decision, docs/decisions.md:
 low = a PTFE-like film, medium = a powdered (talc) skin, high = a tacky rubber coating, at the
 values typical of such pairs; the paper reports only their effect, §9.2)."""

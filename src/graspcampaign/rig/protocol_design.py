@@ -19,6 +19,8 @@ from typing import Any
 
 import pandas as pd
 
+from graspcampaign.analysis.vocabulary import COATINGS, IMPULSE_LOADS_W, VERTICAL_LOADS_W
+
 __all__ = [
     "BASELINES",
     "COATING_LEVELS",
@@ -89,10 +91,10 @@ PLANNER_LABELS = {"heuristic": "proposed", "no_pso": "no-PSO", "centroid": "cent
 """Registry name -> the paper's name of the five planners (§8.1)."""
 BASELINES = ("no_pso", "centroid", "force_balance", "random")
 
-FRICTION_LEVELS = ("natural", "high", "medium", "low")
+FRICTION_LEVELS = ("natural", *COATINGS)
 """Contact surface: the object's own material, or a surface coating (§8.6 three friction levels of
 Test 2: natural/medium/low; §9.2 coatings of Test 3: high/medium/low)."""
-COATING_LEVELS = ("low", "medium", "high")
+COATING_LEVELS = tuple(reversed(COATINGS))
 
 MATCHED_OBJECTS = ("sphere-01", "sphere-05", "ellipsoid-03", "ellipsoid-07", "rounded_cube-02",
                    "rounded_cube-06", "pear-01", "pear-07", "handle-03", "handle-05")
@@ -143,12 +145,13 @@ LIFT_HEIGHT_MM = 50.0
 TEST3_A_DIRECTIONS_DEG = tuple(float(a) for a in range(0, 360, 45))
 TEST3_A_RAMPS_N_PER_S = (0.2, 0.6, 1.0)
 TEST3_A_CAP_N = 15.0
-TEST3_B_CELLS = (("down", 0.25, 40), ("down", 0.50, 60), ("down", 0.75, 40), ("up", 0.50, 20),
-                 ("up", 1.00, 20))
+TEST3_B_CELLS = tuple((way, w, n) for (way, w), n in zip(VERTICAL_LOADS_W, (40, 60, 40, 20, 20), strict=True))
+"""Block B cells (direction, load [W], trials)."""
 TEST3_B_RAMP_N_PER_S = 0.5
 TEST3_C_RAMP_NM_PER_S = 0.01
 TEST3_C_CAP_NM = 1.0
-TEST3_D_CELLS = ((0.8, 40), (1.0, 40), (1.2, 60), (1.4, 10), (1.8, 10))
+TEST3_D_CELLS = tuple(zip(IMPULSE_LOADS_W, (40, 40, 60, 10, 10), strict=True))
+"""Block D cells (impulse peak [W], trials)."""
 TEST3_D_DURATIONS_MS = (100.0, 200.0)
 TEST3_D_OBSERVE_S = 2.0
 TEST3_E_CELLS = ((1.0, 1.0), (1.0, 2.0), (2.0, 1.0), (2.0, 2.0))

@@ -12,6 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from graspcampaign.analysis.vocabulary import OBLIQUE_ANGLES_DEG
+
 __all__ = [
     "BLOCKS",
     "ENVIRONMENTS",
@@ -80,7 +82,7 @@ class Test1Protocol:
     sliding_load_depths_mm: tuple[float, ...] = (0.5, 1.0, 1.5)
     sliding_repeats: int = 3
     sliding_stroke_mm: float = 3.0
-    oblique_angles_deg: tuple[float, ...] = (0.0, 15.0, 30.0, 45.0)
+    oblique_angles_deg: tuple[float, ...] = OBLIQUE_ANGLES_DEG
     oblique_depth_mm: float = 1.5
     oblique_speed_mm_per_s: float = 1.0
     oblique_dwell_s: float = 0.5

@@ -9,7 +9,7 @@ import pandas as pd
 from matplotlib.ticker import NullFormatter
 
 from graspcampaign.analysis.records import DESIGN_LIMIT_MM
-from graspcampaign.analysis.vocabulary import colour, counted, label, ordered
+from graspcampaign.analysis.vocabulary import FINGERS, colour, counted, label, ordered
 from graspcampaign.core.statics import GRAVITY
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
@@ -229,8 +229,8 @@ def paper_rows(run: Run):
                    ("largest |R_z| in the settled window (paper: internal units)", "settled_amplitude_n",
                     lambda p: p.residual_amplitude_internal_units, "N", UNITS)]
         settled += [(f"finger {j} normal force at the end (paper: internal units)", f"normal_force_{j}_n",
-                     lambda p, j=j: p.finger_forces_internal_units[f"finger{j}"], "N", UNITS)
-                    for j in (1, 2, 3)]
+                     lambda p, finger=finger: p.finger_forces_internal_units[finger], "N", UNITS)
+                    for j, finger in enumerate(FINGERS, 1)]
         for quantity, column, paper, unit, why in settled:
             yield Value(f"{case}: {quantity}", "Sec. 5.5", lambda run, v=rep[column] if held else np.nan: v,
                         paper, unit, 3 if unit else 0, because=why if held else unheld)

@@ -9,7 +9,7 @@ import pandas as pd
 from graspcampaign.analysis import disturbance as ds
 from graspcampaign.analysis import hardware as hw
 from graspcampaign.analysis.records import Estimate
-from graspcampaign.analysis.vocabulary import PROPOSED, colour, label
+from graspcampaign.analysis.vocabulary import COATINGS, PROPOSED, colour, label
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
 from graspcampaign.report.document import Col, cols, pct_col
@@ -53,7 +53,7 @@ def first_finger(run: Run) -> pd.DataFrame:
 def coating(run: Run) -> pd.DataFrame:
     out = hw.summary(t2.ex(run, PROPOSED).query("block == 'A'"), ["friction_level"],
                      medians=["lat_threshold_n"],
-                     order={"friction_level": ["natural", "high", "medium", "low"]})
+                     order={"friction_level": ["natural", *COATINGS]})
     ref = [paper_of(run, lambda p, k: p.coating[k], k) for k in out["friction_level"]]
     out["paper_success_pct"] = [r and r.success_pct for r in ref]
     out["paper_threshold_n"] = [r.threshold_n if r else paper_of(run, lambda p: p.lateral_threshold_median_n)
