@@ -270,8 +270,8 @@ def test_a_page_in_both_formats_formats_each_cell_once(tmp_path, monkeypatch):
 
     from graspcampaign.report import document
 
-    calls = []
-    monkeypatch.setattr(document, "cell", lambda row, col, real=document.cell: calls.append(1) or real(row, col))
+    calls, real = [], document.cell
+    monkeypatch.setattr(document, "cell", lambda row, col: calls.append(col.key) or real(row, col))
     frame = pd.DataFrame({"planner": ["random", "centroid", "proposed"], "rate_pct": [35.7, 50.0, 61.2]})
     page = document.Document("t", "simulation", [], document.Table("t", "rates", frame).render(None))
     page.write(tmp_path, ["md", "html"])

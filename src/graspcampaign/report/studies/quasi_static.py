@@ -354,17 +354,10 @@ def law_items(figure: str, name: str, what: str) -> list:
     """Success per planner and grip law beside the paper, its figure, McNemar within each law."""
     rates = S.Rates("success_by_planner", f"Success per {what} and grip law beside {figure} (the "
                     "paper's values are Algorithm 2's, shown beside every law and judged under it only)",
-                    LAWS, lambda p, k: p.success_pct.get(k["planner"]))
+                    LAWS, lambda p, k: p.success_pct.get(k["planner"]), because=lambda t: np.where(
+                        t["grip_law"] == "paper", "", "no verdict: the paper ran Algorithm 2 only"))
 
-    def compute(run: Run) -> pd.DataFrame:
-        """The paper ran Algorithm 2 only: a rate under another law is shown beside its value, unjudged."""
-        t = rates.compute(run)
-        other = np.where(t["grip_law"] == "paper", "", "no verdict: the paper ran Algorithm 2 only")
-        return S.verdicts(t.assign(other=other), "rate_pct", "paper_pct", "wilson_low_pct", "wilson_high_pct",
-                          unit="%", because="other").drop(columns="other")
-
-    return [replace(rates, compute=compute,
-                    caption=lambda run: f"{rates.caption(run)} {over_limit(run)}".strip()),
+    return [replace(rates, caption=lambda run: f"{rates.caption(run)} {over_limit(run)}".strip()),
             S.Figure(name, f"{figure} (ours): success per {what} under each grip law, Wilson 95% "
                      f"whiskers; {PAPER_MARKS}",
                      lambda run, fig: style.grouped_bars(
