@@ -31,10 +31,6 @@ LAWS, BY_LAW = ["planner", "grip_law"], ["grip_law", "planner"]
 PAPER_MARKS = "black marks are the paper's (Algorithm 2) values"
 
 
-def _paper_law(t: pd.DataFrame) -> pd.DataFrame:
-    return t[t["grip_law"] == "paper"] if "grip_law" in t else t
-
-
 def _carried(by_group: dict, p, k: dict):
     """The paper's rate of a planner in a subgroup: printed, or carried from an overall 0 % / 100 %."""
     value = by_group.get(k["planner"], p.success_pct.get(k["planner"]))
@@ -107,13 +103,13 @@ MECHANISM = S.Table("mechanism", lambda run: (
 def grid_finding(run: Run) -> str:
     """Why the paper's rates cannot come from its own Algorithm 2 (from the records), then ours."""
     m = run.tables["mechanism"].set_index("planner")
-    t, rates = m.sum(numeric_only=True).astype(int), _paper_law(run.tables["success_by_planner"])
-    paper_pct, gate = rates.set_index("planner")["paper_pct"], _paper_law(run.tables["readings"])
+    t, rates = m.sum(numeric_only=True).astype(int), qs.algorithm_2(run.tables["success_by_planner"])
+    paper_pct, gate = rates.set_index("planner")["paper_pct"], qs.algorithm_2(run.tables["readings"])
     bound = [f"{label('planner', p)} ≤ {100 * r['rho_passable'] / r['n']:.1f}% (paper {paper_pct[p]:g}%)"
              for p, r in m.iterrows()
              if r["n"] and 100 * r["rho_passable"] / r["n"] < paper_pct.get(p, -1)]
-    paired = _paper_law(run.tables.get("mcnemar", pd.DataFrame()))
-    limit = _paper_law(run.tables["design_limit"])
+    paired = qs.algorithm_2(run.tables.get("mcnemar", pd.DataFrame()))
+    limit = qs.algorithm_2(run.tables["design_limit"])
     return (
         "**The paper's rates cannot come from its own Algorithm 2.** Line 7 moves each depth by "
         f"sgn(g_k)·(−R_z) and so drives every upper contact (n_out,z > 0) to δ = 0: {t.released} of "
@@ -321,7 +317,7 @@ def other_laws(run: Run) -> str:
 
 
 def ablation_finding(run: Run) -> str:
-    full = _paper_law(run.tables["success_by_planner"]).set_index("planner").loc["heuristic"]
+    full = qs.algorithm_2(run.tables["success_by_planner"]).set_index("planner").loc["heuristic"]
     return grid_finding(run) + other_laws(run) + (
         f" Power: at the paper's {run.paper.trials_per_variant} trials per variant its interval is "
         f"roughly ±{run.paper.interval_half_width_pp:g} pp (Sec. 6.3); ours on the full heuristic is "
