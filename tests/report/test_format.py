@@ -146,7 +146,7 @@ def _shown(frame, cols=None, name="t"):
     from graspcampaign.report.document import Table
 
     [table] = Table(name, "caption", frame, cols).render(None)
-    return [c.label for c in table.cols], [[t for t, _ in r] for r in table.cells()]
+    return [c.label for c in table.cols], [[t for t, _ in r] for r in table.grid[0]]
 
 
 def test_a_columns_unit_follows_from_its_name_alone():
@@ -216,7 +216,7 @@ def test_every_p_value_column_and_claim_uses_the_one_rule():
     run = Run(pd.DataFrame(), {}, paper=object())
     claims = Claims("c", "claims", lambda run: [("Kruskal-Wallis p", "§8", 9.005e-16, 0.002, "", fmt.P)])
     [table] = claims.render(run)
-    row = dict(zip([c.label for c in table.cols], [t for t, _ in table.cells()[0]], strict=True))
+    row = dict(zip([c.label for c in table.cols], [t for t, _ in table.grid[0][0]], strict=True))
     assert (row["paper"], row["ours"]) == ("0.0020", "9.0e-16")
     assert table.frame["value"].iloc[0] == 9.005e-16  # the CSV keeps the full value
 
@@ -258,10 +258,10 @@ def test_an_undefined_mcnemar_test_shows_no_p():
                             "success": [True, True, False, False, True, True, True, False]})
     run = Run(records, {"config": {"factors": {"planner": ["heuristic", "random", "centroid"]}}})
     [table] = Paired().render(Run(records[records["scene_id"] < 3], run.manifest))
-    row = dict(zip([c.label for c in table.cols], [t for t, _ in table.cells()[0]], strict=True))
+    row = dict(zip([c.label for c in table.cols], [t for t, _ in table.grid[0][0]], strict=True))
     assert row["p (exact)"] == fmt.MISSING and row["χ² (cc)"] == "no discordant pair: the test is undefined"
     [table] = Paired().render(run)  # one discordant pair: binomial p = 1
-    assert [t for t, _ in table.cells()[0]][[c.label for c in table.cols].index("p (exact)")] == "1.0"
+    assert [t for t, _ in table.grid[0][0]][[c.label for c in table.cols].index("p (exact)")] == "1.0"
 
 
 def test_every_count_a_summary_makes_prints_as_a_whole_number():
@@ -283,7 +283,7 @@ def test_every_count_a_summary_makes_prints_as_a_whole_number():
     counts = [c for c in out if c == "n" or c.startswith("n_")]  # also n_drop, n_error, n_clusters ...
     [table] = Table("t", "", out, counts).render(None)
     assert not any("[" in c.label for c in table.cols)
-    shown = pd.DataFrame([[text for text, _ in row] for row in table.cells()], columns=counts)
+    shown = pd.DataFrame([[text for text, _ in row] for row in table.grid[0]], columns=counts)
     assert (shown[counts] == out[counts].astype(int).astype(str)).all().all()
     expected = d.groupby("block")[medians].count().astype(str).to_numpy()
     assert (shown[[f"n_q{i}" for i in range(len(medians))]].to_numpy() == expected).all()
@@ -320,7 +320,7 @@ def test_claims_header_says_95_only_when_a_row_shows_an_interval():
         [table] = Claims("c", "claims", lambda run, rows=rows: rows).render(run)
         labels = [c.label for c in table.cols]
         assert header in labels and not {"ours", "ours (95%)"} - {header} & set(labels)
-        column = [r[labels.index(header)][0] for r in table.cells()]
+        column = [r[labels.index(header)][0] for r in table.grid[0]]
         assert shown in column
 
 
@@ -336,7 +336,7 @@ def test_the_mcnemar_caption_says_how_equal_discordant_counts_are_tested():
     records = pd.DataFrame({"status": "ok", "scene_id": [0, 0, 1, 1], "planner": ["heuristic", "random"] * 2,
                             "success": [True, False, False, True]})
     [table] = Paired().render(Run(records, {"config": {"factors": {"planner": ["heuristic", "random"]}}}))
-    row = dict(zip([c.label for c in table.cols], [t for t, _ in table.cells()[0]], strict=True))
+    row = dict(zip([c.label for c in table.cols], [t for t, _ in table.grid[0][0]], strict=True))
     assert (row["χ² (cc)"], row["p (χ²)"]) == ("0.0", "1.0")
     assert mcnemar([[0, 1], [1, 0]], exact=False, correction=True).statistic == 1 / (1 + 1)
     assert table.caption.count("1/(b + c)") == 1 and "R's mcnemar.test" in table.caption
@@ -419,4 +419,4 @@ def test_claims_leave_out_a_unit_or_n_column_no_row_fills():
     [table] = Claims("c", "shares", lambda run: [*counts, ("a share", "§8", Estimate(50.0, 20.0, 80.0, 3),
                                                            40.0, "%", 1)]).render(run)
     assert [c.label for c in table.cols][4:6] == ["unit", "n"]
-    assert [t for t, _ in table.cells()[2]][4:6] == ["%", "3"]
+    assert [t for t, _ in table.grid[0][2]][4:6] == ["%", "3"]

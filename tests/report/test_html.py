@@ -263,6 +263,22 @@ def test_numbers_are_right_aligned_text_is_not(tmp_path):
     assert shown.html().count("<td class='num'>") == 4 and "td.num{text-align:right" in CSS
 
 
+
+def test_a_page_in_both_formats_formats_each_cell_once(tmp_path, monkeypatch):
+    """Markdown and HTML wrote the same cells from one formatting: each value was formatted twice."""
+    import pandas as pd
+
+    from graspcampaign.report import document
+
+    calls, real = [], document.cell
+    monkeypatch.setattr(document, "cell", lambda row, col: calls.append(col.key) or real(row, col))
+    frame = pd.DataFrame({"planner": ["random", "centroid", "proposed"], "rate_pct": [35.7, 50.0, 61.2]})
+    page = document.Document("t", "simulation", [], document.Table("t", "rates", frame).render(None))
+    page.write(tmp_path, ["md", "html"])
+    assert len(calls) == frame.size
+    assert "| centroid | 50.0 |" in (tmp_path / "report.md").read_text()
+    assert "<td class='num'>50.0</td>" in (tmp_path / "report.html").read_text()
+
 CHROMIUM = Path("/usr/bin/chromium")
 
 

@@ -257,6 +257,6 @@ def test_an_unfitted_classifier_gives_its_reason_once_per_row():
         {"label": ["success", PAPER_LABEL], "positives": [0, 0], "trials": [16, 16], "note": [note] * 2}))
     item = next(i for i in SPEC.items if getattr(i, "name", "") == "surrogate_classification")
     [table] = item.render(run)
-    for row in table.cells():
+    for row in table.grid[0]:
         assert sum(note in text for text, _ in row) == 1, row
     assert (table.frame[["verdict", "accuracy_verdict"]] == "not fitted").all().all()

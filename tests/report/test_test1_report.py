@@ -166,7 +166,7 @@ def test_damage_depths_print_to_the_hundredth_of_a_millimetre():
     frame = damage_summary(depths, None, 5.0)
     shown = replace(table, compute=frame, caption="").render(None)[0]  # then a note: no truths here
     heads = [c.label for c in shown.cols]
-    cells = [dict(zip(heads, [text for text, _ in row], strict=True)) for row in shown.cells()]
+    cells = [dict(zip(heads, [text for text, _ in row], strict=True)) for row in shown.grid[0]]
     g = depths.groupby("material")["damage_depth_mm"]
     for row, material in zip(cells, ["gel", "silicone_soft"], strict=True):
         assert [row[f"damage depth {s} [mm]"] for s in ("mean", "min", "max")] == \

@@ -24,10 +24,14 @@ SINGLE_FINGERTIP_SHARE = 0.95
 READINGS = ("success", "success_unbounded", "success_vertical", "success_no_torque")
 
 
+def algorithm_2(frame: pd.DataFrame) -> pd.DataFrame:
+    """Return the rows (trials, or a table's groups) judged by Algorithm 2 (``grip_law`` absent or paper)."""
+    return frame[frame["grip_law"] == "paper"] if "grip_law" in frame else frame
+
+
 def paper_law(records: pd.DataFrame) -> pd.DataFrame:
-    """Return the executed trials judged by Algorithm 2 (``grip_law`` absent or ``paper``)."""
-    ok = rec.executed(records)
-    return ok[ok["grip_law"] == "paper"] if "grip_law" in ok else ok
+    """Return the executed trials judged by Algorithm 2."""
+    return algorithm_2(rec.executed(records))
 
 
 def _counts(frame: pd.DataFrame, by: list[str], counts: list[str], median: tuple[str, str],

@@ -10,6 +10,7 @@ import math
 import re
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from pathlib import Path
 from typing import Any
 
@@ -188,25 +189,24 @@ class Table:
         names = ", ".join(f"`{c}`" for c in missing)
         return f"Table {self.name} shows {names}, not in its frame{hint}: shown as {fmt.MISSING}."
 
-    def cells(self) -> list[list[tuple[str, str | None]]]:
-        """Every row's ``(text, link target or None)`` per shown column."""
+    @cached_property
+    def grid(self) -> tuple[list[list[tuple[str, str | None]]], list[bool]]:
+        """Every row's ``(text, link target or None)`` per shown column, formatted once for every
+        writer, and whether each column holds numbers only (with an interval, unit sign or missing
+        mark): such a column is right-aligned, so digits line up as in a printed table."""
         shown = [rounded(c, self.frame) for c in self.cols]
-        return [[(cell(r, c), None if not c.link or fmt.is_missing(r.get(c.link)) else str(r[c.link]))
+        rows = [[(cell(r, c), None if not c.link or fmt.is_missing(r.get(c.link)) else str(r[c.link]))
                  for c in shown] for r in self.frame.to_dict("records")]
-
-    def numeric(self, rows: list[list[tuple[str, str | None]]]) -> list[bool]:
-        """Whether each shown column holds numbers only (with an interval, unit sign or missing mark):
-        such a column is right-aligned, so digits line up as in a printed table."""
-        return [any(r[i][0] != fmt.MISSING for r in rows) and all(
+        return rows, [any(r[i][0] != fmt.MISSING for r in rows) and all(
             r[i][0] == fmt.MISSING or NUMBER.fullmatch(r[i][0]) for r in rows) for i in range(len(self.cols))]
 
     def md(self, figure_format: str) -> str:
         def line(cells: Sequence[str]) -> str:
             return "| " + " | ".join(str(c).replace("|", "\\|").replace("\n", " ") for c in cells) + " |"
 
-        cells = self.cells()
+        cells, numeric = self.grid
         rows = [[f"[{v}]({h.replace('.html', '.md')})" if h else v for v, h in r] for r in cells]
-        rule = "|" + "".join("---:|" if n else "---|" for n in self.numeric(cells))
+        rule = "|" + "".join("---:|" if n else "---|" for n in numeric)
         return "\n".join([f"**{self.caption}**" + (f" (`{self.csv.format(name=self.name)}`)" if self.csv
                                                    else "") + "\n", line([c.label for c in self.cols]),
                           rule, *map(line, rows)])
@@ -216,8 +216,8 @@ class Table:
         head = "".join(f"<th data-cols='{' '.join(c.keys)}'>"
                        f"{html.escape(c.label)}</th>" for c in self.cols)
         # a line never breaks at an en dash: "35.7 (25.5–47.4)" wraps before its interval, not inside it
-        cells = self.cells()
-        td = ["<td class='num'>" if n else "<td>" for n in self.numeric(cells)]
+        cells, numeric = self.grid
+        td = ["<td class='num'>" if n else "<td>" for n in numeric]
         body = "".join("<tr>" + "".join(
             f"{td[i]}<a href='{html.escape(h, quote=True)}'>{html.escape(v)}</a></td>" if h else
             td[i] + re.sub(r"\S*–\S*", r"<span class='nb'>\g<0></span>", html.escape(v)) + "</td>"

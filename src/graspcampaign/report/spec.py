@@ -131,9 +131,11 @@ class Finding:
 # ------------------------------------------------------------------ tables of the records
 def Rates(name: str, caption: str, by: Sequence[str], paper: PaperKey | None = None,
           outcome: str = "success", bootstrap: bool = True,
-          where: Callable[[pd.DataFrame], pd.Series] | None = None) -> Table:
+          where: Callable[[pd.DataFrame], pd.Series] | None = None,
+          because: Callable[[pd.DataFrame], Any] | None = None) -> Table:
     """The rate of ``outcome`` per group of ``by`` beside the paper (Wilson 95 % per row; an
-    object-clustered bootstrap when ``bootstrap``) over the trials ``where(records)`` selects."""
+    object-clustered bootstrap when ``bootstrap``) over the trials ``where(records)`` selects;
+    ``because(table)``: per row, why the paper's value is shown but not judged ("": judged)."""
     def compute(run: Run) -> pd.DataFrame:
         if missing := [c for c in by if c not in run.records]:
             raise KeyError(missing[0])  # "the records have no `<column>` column", not "empty"
@@ -141,7 +143,9 @@ def Rates(name: str, caption: str, by: Sequence[str], paper: PaperKey | None = N
         frame = rec.rate_table(records, by, outcome=outcome, cluster=run.cluster if bootstrap else None,
                                seed=run.seed, order=run.order)
         frame.insert(len(by), "paper_pct", _paper_by(paper, run, frame, by))
-        return verdicts(frame, "rate_pct", "paper_pct", "wilson_low_pct", "wilson_high_pct", unit="%")
+        frame = frame.assign(_because=because(frame) if because else "")
+        return verdicts(frame, "rate_pct", "paper_pct", "wilson_low_pct", "wilson_high_pct", unit="%",
+                        because="_because").drop(columns="_because")
 
     def cols(run: Run, frame: pd.DataFrame) -> list[Col]:
         return [Col("paper_pct", "paper %", 1),

@@ -31,10 +31,6 @@ LAWS, BY_LAW = ["planner", "grip_law"], ["grip_law", "planner"]
 PAPER_MARKS = "black marks are the paper's (Algorithm 2) values"
 
 
-def _paper_law(t: pd.DataFrame) -> pd.DataFrame:
-    return t[t["grip_law"] == "paper"] if "grip_law" in t else t
-
-
 def _carried(by_group: dict, p, k: dict):
     """The paper's rate of a planner in a subgroup: printed, or carried from an overall 0 % / 100 %."""
     value = by_group.get(k["planner"], p.success_pct.get(k["planner"]))
@@ -118,14 +114,15 @@ def _main_rate(rates: pd.DataFrame) -> str:
 
 
 def grid_finding(run: Run) -> str:
-    """Why the paper's rates cannot come from its own Algorithm 2 (from the records), then ours."""
+    """Ours beside the paper, then why the paper's rates cannot come from its own Algorithm 2
+    (from the records)."""
     m = run.tables["mechanism"].set_index("planner")
-    t, rates = m.sum(numeric_only=True).astype(int), _paper_law(run.tables["success_by_planner"])
-    paper_pct, gate = rates.set_index("planner")["paper_pct"], _paper_law(run.tables["readings"])
+    t, rates = m.sum(numeric_only=True).astype(int), qs.algorithm_2(run.tables["success_by_planner"])
+    paper_pct, gate = rates.set_index("planner")["paper_pct"], qs.algorithm_2(run.tables["readings"])
     bound = [f"{label('planner', p)} ≤ {100 * r['rho_passable'] / r['n']:.1f}% (paper {paper_pct[p]:g}%)"
              for p, r in m.iterrows()
              if r["n"] and 100 * r["rho_passable"] / r["n"] < paper_pct.get(p, -1)]
-    limit = _paper_law(run.tables["design_limit"])
+    limit = qs.algorithm_2(run.tables["design_limit"])
     return (
         "**The paper's rates cannot come from its own Algorithm 2.** " + _main_rate(rates) +
         " Why: line 7 moves each depth by "
@@ -327,7 +324,7 @@ def other_laws(run: Run) -> str:
 
 
 def ablation_finding(run: Run) -> str:
-    full = _paper_law(run.tables["success_by_planner"]).set_index("planner").loc["heuristic"]
+    full = qs.algorithm_2(run.tables["success_by_planner"]).set_index("planner").loc["heuristic"]
     return grid_finding(run) + other_laws(run) + (
         f" Power: at the paper's {run.paper.trials_per_variant} trials per variant its interval is "
         f"roughly ±{run.paper.interval_half_width_pp:g} pp (Sec. 6.3); ours on the full heuristic is "
@@ -360,17 +357,10 @@ def law_items(figure: str, name: str, what: str) -> list:
     """Success per planner and grip law beside the paper, its figure, McNemar within each law."""
     rates = S.Rates("success_by_planner", f"Success per {what} and grip law beside {figure} (the "
                     "paper's values are Algorithm 2's, shown beside every law and judged under it only)",
-                    LAWS, lambda p, k: p.success_pct.get(k["planner"]))
+                    LAWS, lambda p, k: p.success_pct.get(k["planner"]), because=lambda t: np.where(
+                        t["grip_law"] == "paper", "", "no verdict: the paper ran Algorithm 2 only"))
 
-    def compute(run: Run) -> pd.DataFrame:
-        """The paper ran Algorithm 2 only: a rate under another law is shown beside its value, unjudged."""
-        t = rates.compute(run)
-        other = np.where(t["grip_law"] == "paper", "", "no verdict: the paper ran Algorithm 2 only")
-        return S.verdicts(t.assign(other=other), "rate_pct", "paper_pct", "wilson_low_pct", "wilson_high_pct",
-                          unit="%", because="other").drop(columns="other")
-
-    return [replace(rates, compute=compute,
-                    caption=lambda run: f"{rates.caption(run)} {over_limit(run)}".strip()),
+    return [replace(rates, caption=lambda run: f"{rates.caption(run)} {over_limit(run)}".strip()),
             S.Figure(name, f"{figure} (ours): success per {what} under each grip law, Wilson 95% "
                      f"whiskers; {PAPER_MARKS}",
                      lambda run, fig: style.grouped_bars(
