@@ -31,7 +31,7 @@ def test_bad_input_raises_the_command_line_sentence(tmp_path):
     with pytest.raises(ConfigError, match=r"^unknown study 'nosuch'; available studies: "):
         gc.compose_study("nosuch")
     with pytest.raises(UserInputError, match=rf"^no run at {tmp_path}/smoke/default; run "
-                                             r"`graspcampaign run smoke` first\.$"):
+                                             rf"`graspcampaign run smoke --root {tmp_path}` first\.$"):
         gc.load_records("smoke", root=tmp_path)
     # an unknown study is not one to run (as `graspcampaign status nosuch` says)
     with pytest.raises(UserInputError, match=rf"^unknown study 'nosuch': not on the config search "

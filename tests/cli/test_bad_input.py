@@ -359,9 +359,13 @@ def test_status_of_an_unknown_study_does_not_suggest_running_it(results):
     refused(results, ["status", "nosuch", "--root", results],
             f"unknown study 'nosuch': not on the config search path and no records under "
             f"{results}; available studies: {', '.join(list_studies())}.")
+    # the command it suggests makes the run asked about: it named neither --root nor --run
     refused(results, ["status", "baseline_grid", "--root", results],
             f"no run at {results / 'baseline_grid' / 'default'}; run `graspcampaign run "
-            "baseline_grid` first.")
+            f"baseline_grid --root {results}` first.")
+    refused(results, ["status", "smoke", "--run", "b", "--root", results],
+            f"no run at {results / 'smoke' / 'b'}; run `graspcampaign run smoke --run b --root "
+            f"{results}` first.")
 
 
 def test_a_misspelt_study_name_suggests_the_nearest(results):

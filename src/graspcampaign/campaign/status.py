@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import difflib
 import os
+import shlex
 import statistics
 from pathlib import Path
 from typing import Any
@@ -18,7 +19,7 @@ from graspcampaign.campaign.catalog import design_size, kind_facts
 from graspcampaign.campaign.kind import KINDS, kind_available
 from graspcampaign.campaign.paths import check_root
 from graspcampaign.campaign.schema import StudyCfg, design_shape
-from graspcampaign.campaign.studyfile import check_name, list_studies, run_dir, run_path
+from graspcampaign.campaign.studyfile import check_name, configured_run, list_studies, run_dir, run_path
 from graspcampaign.errors import UserInputError
 
 
@@ -212,8 +213,11 @@ def open_run(root: Path | str, study: str, run: str, root_option: str = "--root"
 
     store = RunStore(run_dir(root, study, run))
     manifest = store.check(["records"])  # a run that is not what its manifest says: refused
-    if manifest is None:
-        raise UserInputError(f"no run at {store.path}; run `graspcampaign run {study}` first.")
+    if manifest is None:  # the command that makes this run, with the options it needs
+        options = [] if run == configured_run(study) else ["--run", run]
+        options += [] if Path(root) == Path("results") else ["--root", str(root)]
+        command = shlex.join(["graspcampaign", "run", study, *options])
+        raise UserInputError(f"no run at {store.path}; run `{command}` first.")
     return store, manifest
 
 

@@ -209,9 +209,11 @@ def read_file(path: Path, columns: list[str] | None = None, *,
     file the tool wrote; older files have none); later reads read only ``columns``, unless
     ``again``: a table read to be rewritten under a new digest (compaction, removing rows) is
     verified whatever this process knows of it, so that no value changed since it was verified
-    gets a digest of its own. The file is opened once: what is read is the version keyed. It is
-    remembered as verified only if it did not change during the read nor within a clock tick
-    (:data:`TICK_NS`) before it.
+    gets a digest of its own. The file is opened once: what is read is the version keyed, and
+    only by this thread (no pre-buffering, no threads: arrow's workers holding buffers of the
+    Python file could free them after the interpreter began to exit, which aborted the process).
+    It is remembered as verified only if it did not change during the read nor within a clock
+    tick (:data:`TICK_NS`) before it.
 
     Raises
     ------
@@ -222,11 +224,11 @@ def read_file(path: Path, columns: list[str] | None = None, *,
     try:
         with open(path, "rb") as handle:
             key = _key(os.fstat(handle.fileno()))
-            file = pq.ParquetFile(handle, page_checksum_verification=True)
+            file = pq.ParquetFile(handle, page_checksum_verification=True, pre_buffer=False)
             known = _VERIFIED.pop(name, (None, None))  # put back if verified
             if known[0] == key and not again:
                 _VERIFIED[name] = known
-                return file.read(columns=_present(columns, known[1].schema)), known[1]
+                return file.read(columns=_present(columns, known[1].schema), use_threads=False), known[1]
             table = file.read(use_threads=False)
             settled = _key(os.fstat(handle.fileno())) == key
         written = (table.schema.metadata or {}).get(CONTENT_KEY)

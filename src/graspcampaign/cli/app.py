@@ -47,6 +47,12 @@ def usage_sentence(exc: UsageError, command: str | None) -> str:
 class _Commands(TyperGroup):
     """The commands, whose command-line errors are one sentence like every other refusal."""
 
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        for command in self.commands.values():  # typer's --help would keep a docstring's line breaks
+            paragraphs = (command.help or "").split("\n\n")
+            command.help = "\n\n".join(" ".join(paragraph.split()) for paragraph in paragraphs)
+
     def invoke(self, ctx):
         # the command's name, before click parses its arguments (``_protected_args``: click 8.2)
         command = next(iter(getattr(ctx, "_protected_args", None)

@@ -247,7 +247,7 @@ def report(
 ) -> None:
     """Write reports (Markdown, CSV tables, figures, HTML) from the records; never runs a trial.
 
-    With studies and no ``--run``, each study's configured run (its ``output.run``) is reported.
+    With studies and no `--run`, each study's configured run (its `output.run`) is reported.
     """
     from graspcampaign.campaign.status import check_known
     from graspcampaign.campaign.studyfile import check_name, configured_run
