@@ -215,6 +215,10 @@ def test_the_pso_call_is_the_reference_of_the_ratios_not_a_row_without_a_paper_v
     assert timing.loc["pso_call", "verdict"] == "the reference of the PSO/this ratios, not compared"
     assert timing.loc[["mlp", "random_forest"], "speedup"].tolist() == pytest.approx([30.0, 0.2])
     assert timing.loc["random_forest", "verdict"] == "the paper reports no value"
+    # no classifier fitted: the run times the regressor of |R_z|, named as the tables name it
+    regression = _timing(SimpleNamespace(part=lambda name: stored.assign(predicts=[
+        "", "abs_residual_z_n", "abs_residual_z_n"]), paper=paper)).set_index("what")
+    assert regression["predicts"].tolist() == ["", "|R_z| [N]", "|R_z| [N]"]
 
 
 def test_the_regression_sentence_says_only_what_the_r2_shows(sim_root):

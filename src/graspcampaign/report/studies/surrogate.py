@@ -105,12 +105,19 @@ def _importance(run: Run) -> pd.DataFrame:
     return t.assign(label_name=t["label"].map(name), feature_name=t["feature"].map(name)) if len(t) else t
 
 
+def _predicts(stored):
+    """What a timed model predicts, in words: a label's probability, or a regression target (the
+    run falls back to one when no classifier was fitted)."""
+    if not isinstance(stored, str) or not stored:
+        return stored
+    return f"P(success), {name(stored.split()[0])}" if stored.endswith(" probability") else name(stored)
+
+
 def _timing(run: Run) -> pd.DataFrame:
     t, p = _read("timing", "time_s")(run), run.paper
     t["paper_time_s"] = t["what"].map({"pso_call": p.pso_call_time_s, "mlp": p.prediction_time_ms * 1e-3})
     t = t.assign(time_ms=1e3 * t["time_s"], time_us=1e6 * t["time_s"], paper_time_us=1e6 * t["paper_time_s"],
-                 predicts=t["predicts"].map(lambda v: f"P(success), {name(v.split()[0])}"
-                                            if isinstance(v, str) and v.endswith(" probability") else v))
+                 predicts=t["predicts"].map(_predicts))
     pso = t["what"] == "pso_call"  # the ratios' reference: its ratio to itself is no result
     t["speedup"] = (float(t.loc[pso, "time_s"].iloc[0]) / t["time_s"]).where(~pso)
     t["paper_speedup"] = t["what"].map({"mlp": p.speedup})
