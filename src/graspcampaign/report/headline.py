@@ -199,6 +199,7 @@ def write_headline(root: Path | str, formats: list[str] | None = None,
     reduced = frame["testbed"].astype(str).str.contains(REDUCED_MARK).any()
     virtual = frame["source"].eq("virtual").any()
     return Document("Headline success rates (paper Table 1)", "", [], [
-        Text(INTRO + (VIRTUAL_NOTE if virtual else "")), Table("headline", "Table 1, ours beside the paper", frame, COLUMNS,
-                           csv="headline.csv"), *([Text(REDUCED_NOTE, "note")] if reduced else [])
+        Text(INTRO + (VIRTUAL_NOTE if virtual else "")),
+        Table("headline", "Table 1, ours beside the paper", frame, COLUMNS, csv="headline.csv"),
+        *([Text(REDUCED_NOTE, "note")] if reduced else [])
     ]).write_pages(Path(root) / "headline", formats or [])

@@ -232,14 +232,17 @@ def _note(run: Run) -> str:
 
 def finding(run: Run) -> str:
     t, p = run.tables, run.paper
-    c, claims = t["test1_claims"].set_index("quantity")["value"], t["test1_claims"]
+    claims = t["test1_claims"]
+    n, rmse = (claims.set_index("quantity").loc[f"{q}, accepted fits: mean"]  # as the claims table prints
+               for q in ("contact exponent n", "force-fit RMSE"))
     text = ("VIRTUAL RIG data: synthetic waveforms drawn around Table 4 and fitted as a rig's files "
             "would be; they test the protocol and the fitting code and cannot confirm the paper's values. "
             if run.source == "virtual" else "Measured on a rig (ingested records). ") + (
         f"Over {len(_fits(run))} completed events the accepted normal fits give n = "
-        f"{c['contact exponent n, accepted fits: mean']:.3f} (paper {p.n_exp_mean:g} ± {p.n_exp_sd:g}, "
-        f"Table 3 {p.n_exp_simulation:g}) at a mean RMSE of {c['force-fit RMSE, accepted fits: mean']:.2f}% "
-        f"of peak (paper {p.rmse_pct_accepted:g}%). ")
+        f"{fmt.number(n.value, n.digits)} (paper {fmt.number(p.n_exp_mean, n.digits)} ± "
+        f"{fmt.number(p.n_exp_sd, n.digits)}, Table 3 {p.n_exp_simulation:g}) at a mean RMSE of "
+        f"{fmt.number(rmse.value, rmse.digits)}% of peak (paper "
+        f"{fmt.number(p.rmse_pct_accepted, rmse.digits)}%). ")
     differs = claims.query("differs == True")["quantity"].tolist()
     text += (f"{len(differs)} of {int(claims['differs'].notna().sum())} §7 quantities differ from the "
              f"paper's, among them {'; '.join(differs[:3])}. " if differs else "Every §7 quantity agrees. ")
@@ -247,7 +250,8 @@ def finding(run: Run) -> str:
         r = t5.set_index("parameter")
         bound = [f"{label('parameter', q)} ({counted(k, 'run')})" for q, k in r["n_at_bound"].items() if k]
         text += (f"PSO re-identification over {counted(r['n_runs'].iloc[0], 'converged run')}: λ1 = "
-                 f"{r.loc['lambda1', 'mean']:.2f} (paper {p.table5['lambda1'].mean:g}) and CV(n) = "
+                 f"{fmt.number(r.loc['lambda1', 'mean'], r.loc['lambda1', 'digits'])} (paper "
+                 f"{fmt.number(p.table5['lambda1'].mean, r.loc['lambda1', 'digits'])}) and CV(n) = "
                  f"{r.loc['n', 'cv_pct']:.1f}% (paper {p.table5['n'].cv_pct:g}%); " + (
                      f"runs ended on a search bound for {', '.join(bound)}: those values are the box, not "
                      "identified. " if bound else "no converged run ended on a search bound. "))
