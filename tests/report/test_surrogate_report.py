@@ -111,7 +111,7 @@ def test_a_fitted_run_shows_every_table_and_its_paper_values(fitted_run):
     # the table's ratio is the finding's and the verdict's (each value alone: it printed 32.48 beside 32.5×)
     header, _, *rows = md.split("surrogate_timing.csv")[1].split("\n\n")[1].splitlines()
     cells = dict(zip(header.split(" | "), next(r for r in rows if "MLP" in r).split(" | "), strict=True))
-    said = md.split("ms for the brief PSO call, ")[1].split("×")[0]
+    said = md.split("µs for the brief PSO call, ")[1].split("×")[0]
     assert cells["ours PSO/this [×]"] == said and f"ours {said}× faster" in cells["verdict"]
     for raw in ("success_unbounded", "log10_delta_max_mm", "abs_residual_z_n", "msd_b", "shape_handle"):
         assert raw not in md  # readable names in text, tables and captions
