@@ -32,8 +32,8 @@ def copy(folder: Path, study: str, old: str, new: str) -> Path:
      "params.resolutions; allowed: 144, 250, 356, 390, 600, 900, 1300, 1750."),
     ("baseline_grid", "rounded_cube: {heuristic: 56.0", "rounded_cube: {heuristc: 56.0",
      "paper.success_by_shape_pct.rounded_cube.heuristc is not a known planner; allowed: heuristic, "
-     "antipodal, centroid, no_pso, force_balance, random, ferrari_canny, no_s1, no_s2, no_s3, no_pc, "
-     "no_pe, reference."),
+     "no_s1, no_s2, no_s3, no_pc, no_pe, antipodal, centroid, no_pso, force_balance, random, "
+     "ferrari_canny, reference."),
     ("surrogate", "auc: {mlp:", "auc: {MLP:",
      "paper.auc.MLP is not a known model; allowed: pso_call, mlp, random_forest."),
     # keyed by the levels the protocols fix (analysis.vocabulary, which rig/ builds its sheets from)

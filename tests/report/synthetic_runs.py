@@ -9,6 +9,7 @@ Imported by name (``from synthetic_runs import ...``), as pytest puts this direc
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable
 
 import numpy as np
@@ -128,9 +129,11 @@ def ok_records(store: RunStore) -> pd.DataFrame:
 
 
 def md_table(md: str, name: str) -> pd.DataFrame:
-    """The Markdown table printed above ``tables/<name>.csv`` as text cells (minus signs as "-")."""
+    """The Markdown table printed above ``tables/<name>.csv`` as text cells (minus signs as "-"; an
+    escaped ``\\|`` inside a cell is its text)."""
     lines = md.split(f"(`tables/{name}.csv`)", 1)[1].strip().split("\n\n", 1)[0].splitlines()
-    rows = [[c.strip().replace("\u2212", "-") for c in line.strip("|").split("|")] for line in lines]
+    rows = [[c.strip().replace("\\|", "|").replace("\u2212", "-")
+             for c in re.split(r"(?<!\\)\|", line.strip()[1:-1])] for line in lines]
     return pd.DataFrame(rows[2:], columns=rows[0])
 
 

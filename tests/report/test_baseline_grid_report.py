@@ -17,8 +17,9 @@ import pytest
 from scipy import stats as sps
 from statsmodels.stats.contingency_tables import mcnemar as sm_mcnemar
 from statsmodels.stats.proportion import proportion_confint
-from synthetic_runs import SHAPES, make_run, ok_records, quasi_static_outputs, read_table
+from synthetic_runs import SHAPES, make_run, md_table, ok_records, quasi_static_outputs, read_table
 
+from graspcampaign.analysis.vocabulary import label
 from graspcampaign.report.build import build_reports
 
 # --------------------------------------------------------------------------------------------
@@ -48,7 +49,7 @@ def test_grid_rates_match_pandas(grid_run):
     raw = store.read().to_pandas()
     ok = ok_records(store)
     table = read_table(store, "success_by_planner").set_index("planner")
-    assert list(table.index) == ["heuristic", "antipodal", "random", "centroid"]  # config order
+    assert list(table.index) == ["heuristic", "antipodal", "centroid", "random"]  # the vocabulary's
     expected = ok.groupby("planner")["success"].agg(["sum", "size"])
     errors = raw[raw["status"] == "error"].groupby("planner").size()
     assert errors.sum() > 0
@@ -90,7 +91,7 @@ def test_grid_mcnemar_pairs_by_scene(grid_run):
     ok = ok_records(store)
     wide = ok.pivot(index="scene_id", columns="planner", values="success")
     table = read_table(store, "mcnemar").set_index("compared")
-    assert list(table.index) == ["antipodal", "random", "centroid"]
+    assert list(table.index) == ["antipodal", "centroid", "random"]  # the vocabulary's order
     for other, row in table.iterrows():
         pair = wide[["heuristic", other]].dropna().astype(bool)
         n10 = int((pair["heuristic"] & ~pair[other]).sum())
@@ -168,3 +169,24 @@ def test_tables_json_is_strict(grid_run):
     data = json.loads((store.path / "report" / "tables.json").read_text(),
                       parse_constant=lambda c: pytest.fail(f"non-JSON constant {c}"))
     assert {"success_by_planner", "mcnemar", "design_limit"} <= set(data)
+
+
+def test_dynamic_check_lists_the_planners_in_the_order_baseline_grid_lists_them(grid_run):
+    """dynamic_check re-simulates baseline_grid's trials: its per-planner rows read in the grid report's
+    planner order (the vocabulary's; the grid's design order differed from it, and dynamic_check, which
+    has no planner factor, took the vocabulary's)."""
+    from types import SimpleNamespace
+
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies.dynamic_check import agreement
+
+    root, store = grid_run
+    grid = md_table((store.path / "report" / "report.md").read_text(), "success_by_planner")["planner"]
+    ok = ok_records(store)  # one dynamic grasp per source trial and preset, labels as in the source
+    records = pd.concat([ok.assign(model_preset=preset) for preset in ("table2", "firm")], ignore_index=True)
+    records = records.assign(qs_success=records["success"], dynamic_status="stable")
+    run = Run(records, {"config": {"factors": {"model_preset": ["table2", "firm"]}}}, SimpleNamespace())
+    rows = agreement(run, ["model_preset", "planner"])
+    for preset in ("table2", "firm"):
+        planners = rows.loc[rows["model_preset"] == preset, "planner"].map(lambda p: label("planner", p))
+        assert planners.tolist() == grid.tolist()

@@ -211,6 +211,7 @@ def test_headline_page_and_index(tmp_path):
     assert rows.loc["Heuristic ablation", "paper_pct"] == 72.0  # from campaigns/ablation.yaml
     md = (tmp_path / "headline.md").read_text()
     assert "simulation: 10 seeds" in md and "[r1](baseline_grid/r1/report/report.md)" in md
+    assert "virtual rig" not in md.lower()  # no row is the virtual rig's: no note about them
     assert "href='baseline_grid/r1/report/report.html'" in (tmp_path / "headline.html").read_text()
     index = (tmp_path / "index.md").read_text()
     assert "[Table 1 headline](headline.md)" in index and "other/r1/report/report.md" in index
@@ -242,6 +243,8 @@ def test_virtual_rig_rows_say_so(tmp_path):
     build_reports(["test2_grasp"], root=tmp_path)
     rows = pd.read_csv(tmp_path / "headline.csv").set_index("headline")
     assert rows.loc["Grasp validation, all", "testbed"].startswith("VIRTUAL RIG")
+    assert "Rows from the virtual rig are synthetic data, not hardware results." in \
+        (tmp_path / "headline.md").read_text()
     # trials 0-9 are the heuristic's (the seed axis is innermost): one aborted, one random one
     assert rows.loc["Grasp validation, all", ["n", "n_aborted", "rate_pct"]].tolist() == \
         [9, 1, pytest.approx(700 / 9)]

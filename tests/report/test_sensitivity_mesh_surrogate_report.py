@@ -288,11 +288,15 @@ def _panel_a(cells: dict) -> Run:
     """A sensitivity run of panel (a) from ``{(mass, μ): (successes, trials)}``."""
     from types import SimpleNamespace
 
+    from graspcampaign.report.studies.sensitivity import _panels
+
     records = pd.DataFrame([{"panel": "mu_mass", "status": "ok", "mass_kg": m, "mu": mu, "success": i < won,
-                             "delta_max_mm": 1.0, "loop_capped": False}
-                            for (m, mu), (won, n) in cells.items() for i in range(n)])
+                             "success_vertical": i < won, "delta_max_mm": 1.0, "loop_capped": False,
+                             "runtime_ms": 1.0} for (m, mu), (won, n) in cells.items() for i in range(n)])
     paper = SimpleNamespace(stable_mu_min=0.2, stable_mass_max_kg=0.5)
-    return Run(records, {"config": {"evaluator": {"n_max": 50}}}, paper)
+    run = Run(records, {"config": {"evaluator": {"n_max": 50}}}, paper)
+    run.tables["sensitivity_panels"] = _panels(run)  # the finding reads its depths from the panel table
+    return run
 
 
 def test_the_finding_says_success_varies_only_where_a_test_of_equal_rates_says_so():

@@ -50,7 +50,8 @@ def test_an_unsettled_run_says_within_what_time_and_calls_no_shape_settled():
     run = Run(pd.DataFrame(rows), {}, SimpleNamespace(settles=True))
     run.tables["settle"] = pd.DataFrame(rows)
     text = settle_finding(run)
-    assert text.count("**does not settle** within 0.2 s") == 2 and "settled shape" not in text
+    # the simulated time as the settle table prints it (0.200), not Python's "g" (0.2)
+    assert text.count("**does not settle** within 0.200 s") == 2 and "settled shape" not in text
     assert "The final shapes differ by at most 0.0181 mm" in text
     assert "relative energy-balance error 0.0014 over 200 steps" in text  # the record's relative error
     # small numbers read as plain decimals, as the tables print them (they read 8.5e-05, 2.8e-05)

@@ -1,8 +1,9 @@
 """Records (docs/records.md) -> full-precision tables: executed trials, rates, paired outcomes,
 design limit, validity gate. Success denominators are *executed* trials; errored trials and aborted
 hardware attempts are counted apart (paper Sec. 11, 8.1). A statistic that cannot be computed is nan
-with its reason in the matching ``*_why`` column. Groups are ordered by ``order`` (the study's
-levels), then by the vocabulary. The intervals and tests (and their references) are :mod:`.rates`'.
+with its reason in the matching ``*_why`` column. Groups are in :func:`~.vocabulary.ordered`'s order (the
+vocabulary's; ``order``, the study's levels, for levels it lacks). The intervals and tests (and their
+references) are :mod:`.rates`'.
 """
 
 from __future__ import annotations

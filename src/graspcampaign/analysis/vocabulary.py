@@ -25,14 +25,14 @@ def _terms(*rows: tuple[str, ...]) -> dict[str, Term]:
 #: The proposed planner (paper: "proposed", full H(G)).
 PROPOSED = "heuristic"
 
-PLANNERS = _terms(
-    ("heuristic", "proposed H(G)", "#1f5aa6"), ("antipodal", "antipodal", "#e08a1e"),
-    ("centroid", "centroid", "#8c8c8c"), ("no_pso", "no PSO", "#6a8fc7"),
-    ("force_balance", "force balance", "#7b4ea3"), ("random", "random", "#c9a227"),
-    ("ferrari_canny", "Ferrari\u2013Canny \u03b5", "#b5403a"),
+PLANNERS = _terms(  # the heuristic's single-term ablations next to it, as in Fig. 16
+    ("heuristic", "proposed H(G)", "#1f5aa6"),
     ("no_s1", "\u2212S1", "#4c78b5"), ("no_s2", "\u2212S2", "#5f8bc2"),
     ("no_s3", "\u2212S3", "#739ecf"), ("no_pc", "\u2212Pc", "#87b0db"),
-    ("no_pe", "\u2212Pe", "#9bc2e6"), ("reference", "reference search", "#2e7d32"),
+    ("no_pe", "\u2212Pe", "#9bc2e6"), ("antipodal", "antipodal", "#e08a1e"),
+    ("centroid", "centroid", "#8c8c8c"), ("no_pso", "no PSO", "#6a8fc7"),
+    ("force_balance", "force balance", "#7b4ea3"), ("random", "random", "#c9a227"),
+    ("ferrari_canny", "Ferrari\u2013Canny \u03b5", "#b5403a"), ("reference", "reference search", "#2e7d32"),
 )
 SHAPES = _terms(
     ("sphere", "sphere", "#1b9e77"), ("ellipsoid", "ellipsoid", "#e7298a"),
@@ -166,14 +166,16 @@ def colour(column: str, value: object, index: int = 0) -> str:
 
 
 def ordered(column: str, values: Iterable, first: Iterable = ()) -> list:
-    """Return the distinct ``values`` in display order: ``first``, the vocabulary's, then by text."""
+    """Return the distinct ``values`` in display order: the levels of ``first`` (a study's design order)
+    that the vocabulary lacks (a column without one, a table's ``all`` scope), the vocabulary's, then
+    by text: a planner is listed in the vocabulary's order whatever a study's design order."""
     import pandas as pd  # here: composing a study reads VOCABULARIES, and `show` needs no pandas
 
     if isinstance(values, pd.Series):  # a column of ~10^5 records: each distinct value once
         values = values.unique()
     values = list(dict.fromkeys(v for v in values if not pd.isna(v)))
-    rank: dict = {}
-    for v in [*first, *VOCABULARIES.get(column, {})]:
+    vocabulary, rank = VOCABULARIES.get(column, {}), {}
+    for v in [*(v for v in first if v not in vocabulary), *vocabulary]:
         rank.setdefault(v, len(rank))
     return sorted(values, key=lambda v: (rank.get(v, rank.get(str(v), len(rank))), str(v)))
 

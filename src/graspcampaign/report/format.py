@@ -51,7 +51,7 @@ def number(value: Any, digits: int | None = None, *, sig: int | None = None,
         if digits is None:  # significant digits; negative "decimals" round left of the point
             digits = (sig or 4) - 1 - (exact.adjusted() if exact else 0)
         wide = Context(prec=max(28, exact.adjusted() + digits + 2))  # 1e30 to 2 decimals: 33 digits
-        text = f"{exact.quantize(Decimal(1).scaleb(-digits), rounding=ROUND_HALF_EVEN, context=wide):f}"
+        text = f"{exact.quantize(Decimal(1).scaleb(-int(digits)), rounding=ROUND_HALF_EVEN, context=wide):f}"
         text = text.rstrip("0").rstrip(".") if strip and "." in text else text
     text = text[1:] if text.startswith("-") and not _nonzero(text) else text  # no "-0.0"
     text = "+" + text if signed and not text.startswith("-") and _nonzero(text) else text

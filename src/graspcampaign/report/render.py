@@ -88,7 +88,7 @@ class Run:
 
     @property
     def order(self) -> dict[str, list]:
-        """The design's levels of every factor, in config order (table and figure order)."""
+        """The design's levels of every factor, in config order (display order after the vocabulary's)."""
         return {k: list(v) for k, v in (self.config.get("factors") or {}).items()}
 
     def aux(self, name: str) -> pd.DataFrame:

@@ -235,7 +235,7 @@ def Paired(name: str = "mcnemar", caption: str = (
         paper: Callable[[Any, str], Any] | None = None,
         trials: Callable[[Run], pd.DataFrame] | None = None) -> Table:
     """McNemar (1947) of ``reference`` against every other planner on occurrence-matched pairs of
-    ``trials(run)`` (default the run's records), in the design's planner order; ``caption`` says
+    ``trials(run)`` (default the run's records), in the vocabulary's planner order; ``caption`` says
     which pairs, the statistics' description follows it."""
     def compute(run: Run) -> pd.DataFrame:
         frame = run.records if trials is None else trials(run)

@@ -56,10 +56,11 @@ def _settle(run: Run) -> pd.DataFrame:
 
 def settle_finding(run: Run) -> str:
     t = run.tables["settle"]
+    seconds = fmt.decimals(t.simulated_time_s)  # as the table prints them
     parts = [f"{label('integrator', r.integrator)} at dt = {fmt.number(1e6 * r.dt_s, 0)} µs "
              f"({fmt.number(r.dt_over_rk4_limit, 2)}× RK4's stable step with the floor) "
-             f"{'settles' if r.settled else '**does not settle**'} within {r.simulated_time_s:.3g} s, squash "
-             f"ratio {fmt.number(r.squash_ratio, 3)}" + (
+             f"{'settles' if r.settled else '**does not settle**'} within "
+             f"{fmt.number(r.simulated_time_s, seconds)} s, squash ratio {fmt.number(r.squash_ratio, 3)}" + (
                  f", {fmt.number(r.newton_iterations_per_step, 1)} Newton iterations per step and "
                  f"{r.lu_factorizations} LU factorisations" if r.lu_factorizations else "")
              for r in t.itertuples()]
@@ -222,8 +223,8 @@ def paper_rows(run: Run):
         held = rep is not None and rep.dynamic_status == "stable"
         unheld = ("not compared: this preset has no executed run of this case" if rep is None else
                   f"not compared: no settled hold ({label('dynamic_status', rep.dynamic_status)})")
-        steps = (f"not compared: steps of another size (ours {1e6 * rep.dt_s:.3g} µs; the paper's is not "
-                 "published)") if held else ""
+        steps = (f"not compared: steps of another size (ours {fmt.number(1e6 * rep.dt_s, sig=3)} µs; the "
+                 "paper's is not published)") if held else ""
         settled = [("steps before the settled window", "steps_to_settle",
                     lambda p: p.settle_within_iterations, "", steps),
                    ("largest |R_z| in the settled window (paper: internal units)", "settled_amplitude_n",
@@ -243,9 +244,10 @@ def _penetration(rows: pd.DataFrame, name: str, p) -> str:
     if why is not None:  # the table says why: no run got past closure, or a depth not computed
         return f"; {why.removeprefix('not compared: ')}, so no penetration to set beside the paper's"
     side = {True: "above", False: "within"}
-    return (f"; final total penetration Σδ up to {total.value:.3g} mm, {side[total.differs]} the paper's "
-            f"'settles below {1e3 * p.total_penetration_below_m:g} mm', and δ_max up to {deepest.value:.3g} "
-            f"mm, {side[deepest.differs]} its {DESIGN_LIMIT_MM:g} mm design limit per contact")
+    return (f"; final total penetration Σδ up to {fmt.number(total.value, total.digits)} mm, "
+            f"{side[total.differs]} the paper's 'settles below {1e3 * p.total_penetration_below_m:g} mm', "
+            f"and δ_max up to {fmt.number(deepest.value, deepest.digits)} mm, {side[deepest.differs]} its "
+            f"{DESIGN_LIMIT_MM:g} mm design limit per contact")
 
 
 def mass_finding(run: Run) -> str:

@@ -142,8 +142,8 @@ def finding(run: Run) -> str:
                  f"({tight['cv_pct']:.1f}%). ")
     if len(pinned):
         text += "Pinned in every run (CV 0, a bound of the search box): " + ", ".join(
-            f"{label('parameter', p)} at {m:.4g}"
-            for p, m in zip(pinned["parameter"], pinned["mean"], strict=True)) + ". "
+            f"{label('parameter', p)} at {fmt.number(m, d)}"  # as the cv table's mean column
+            for p, m, d in pinned[["parameter", "mean", "digits"]].itertuples(index=False)) + ". "
     if len(bound):
         text += "Ended on a PSO search bound (`at_bound`): " + ", ".join(
             f"{label('parameter', p)} in {k:.0f} of {n} runs"

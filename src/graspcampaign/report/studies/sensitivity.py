@@ -152,14 +152,16 @@ def _supplement(run: Run, fig) -> None:
         ax.set_visible(False)
 
 
-def _depths(run: Run, g: pd.DataFrame, name: str) -> str:
-    """How many trials of ``g`` lie deeper than r (non-physical) and δmax over the physical ones."""
-    deep, r = beyond_radius(g, run.radius_mm), run.radius_mm
-    physical = g.loc[~deep, "delta_max_mm"]
-    return (f"{int(deep.sum())} of {len(g)} {name} trials have a contact deeper than the fingertip radius "
-            f"r = {r:g} mm (non-physical: the fingertip centre inside the object)" + (
-                f"; δ_max over the physical ones: median {physical.median():.3g} mm" if len(physical) else
-                "; no trial is physical"))
+def _depths(run: Run, panel: str, name: str) -> str:
+    """How many trials of ``panel`` lie deeper than r (non-physical) and δmax over the physical ones,
+    as the sensitivity_panels table prints them."""
+    t = run.tables["sensitivity_panels"]
+    row = t.set_index("panel").loc[panel]
+    median = fmt.number(row.delta_max_median_mm, fmt.decimals(t["delta_max_median_mm"]))
+    return (f"{row.beyond_radius} of {row.trials} {name} trials have a contact deeper than the fingertip "
+            f"radius r = {run.radius_mm:g} mm (non-physical: the fingertip centre inside the object)" + (
+                "; no trial is physical" if row.delta_max_why else
+                f"; δ_max over the physical ones: median {median} mm"))
 
 
 def _varies(run: Run, a: pd.DataFrame, column: str, factor: str) -> str:
@@ -191,17 +193,17 @@ def finding(run: Run) -> str:
                         f" above the paper's {DESIGN_LIMIT_MM:g} mm design limit) and "
                         f"{won['loop_capped'].sum()} of them end with Algorithm 2 still moving at N_max = "
                         f"{n_max}" if len(won) else "")
-                    + f"; {_depths(run, a, 'panel-(a)')}.")
+                    + f"; {_depths(run, 'mu_mass', 'panel-(a)')}.")
     if len(b):
         text.append("(b) λ2 scales only the damping C, whose rate term vanishes in the static loop, and "
                     "Algorithm 2 is invariant to a common scale of K except through the 0.5 mm seed: λ1 "
                     "moves the penetration " + ("but no trial succeeds" if not b["success"].any() else
                                                 f"but barely the verdict ({100 * b['success'].mean():.1f}% "
                                                 "succeed)") + f"; no λ1 ≈ {p.lambda1_stable_below} boundary "
-                    f"and no non-convergence strip appear; {_depths(run, b, 'panel-(b)')}.")
+                    f"and no non-convergence strip appear; {_depths(run, 'lambda', 'panel-(b)')}.")
     if len(c):
         text.append("(c) b is an MSD constant the quasi-static evaluator never reads, so the b axis is flat "
-                    f"by construction; {_depths(run, c, 'panel-(c)')}" + (
+                    f"by construction; {_depths(run, 'n_b', 'panel-(c)')}" + (
                         ", so the runtimes of Fig. 19c are mostly the cost of evaluating non-physical states."
                         if beyond_radius(c, run.radius_mm).mean() > 0.5 else "."))
     return " ".join(text) + (" (`docs/decisions.md`, *Sensitivity, mesh resolution, surrogate*; "

@@ -131,22 +131,22 @@ def finding(run: Run) -> str:
     physical = run.ok.loc[~deep, "delta_max_mm"]
     text = (f"{int(d['n'])} scenarios (paper {p.n_scenarios}): {d['success_unbounded_pct']:.1f}% are "
             f"successes under Algorithm 1 as published (Wilson {d['success_unbounded_low_pct']:.1f}–"
-            f"{d['success_unbounded_high_pct']:.1f}%; paper {p.class_balance_pct:g}%), "
+            f"{d['success_unbounded_high_pct']:.1f}%; paper {fmt.number(p.class_balance_pct, 1)}%), "
             f"{d['success_pct']:.1f}% once a fingertip buried deeper than its radius is no contact (the "
             f"configured check) and {d['success_vertical_pct']:.1f}% under the gated |R_z| reading. "
             f"{int(deep.sum())} of {len(deep)} scenarios end with a contact deeper than the fingertip radius "
             f"r = {run.radius_mm:g} mm (non-physical: the fingertip centre inside the object), " +
             (f"{int((deep & won).sum())} of the {int(won.sum())} published-algorithm successes among them"
              if won.any() else "none of them a published-algorithm success (there is none)") + (
-                f"; δmax over the physical ones: median {physical.median():.3g} mm. " if len(physical) else
-                ". "))
+                f"; δmax over the physical ones: median {fmt.number(physical.median(), sig=3)} mm. "
+                if len(physical) else ". "))
     cls = t["surrogate_classification"].query(f"label == '{PAPER_LABEL}'")
     fit = cls[cls["roc_auc"].notna()]
     aucs = "; ".join(f"{r['model_label']} AUC {r['roc_auc']:.2f} (" + (
         f"95% {r['roc_auc_low']:.2f}–{r['roc_auc_high']:.2f}" + (
             ", computed from the stored held-out scores" if r["interval_from_stored_scores"] else "") + "; "
         if pd.notna(r["roc_auc_low"]) else "") +
-        f"paper {r['paper_auc']:g}, {r['verdict']}) at {r['accuracy_pct']:.1f}% accuracy"
+        f"paper {fmt.number(r['paper_auc'], 2)}, {r['verdict']}) at {r['accuracy_pct']:.1f}% accuracy"
         for _, r in fit.iterrows())
     buried = ("every positive they learn is a non-physical state, not a grasp. " if won.any() and
               (deep | ~won).all() else "some of their positives are non-physical states. "
@@ -159,7 +159,7 @@ def finding(run: Run) -> str:
     if len(reg := t["surrogate_regression"].dropna(subset=["r2"])):
         best = reg.loc[reg["r2"].idxmax()]
         text += (f"The best regression R² is {fmt.number(best['r2'], 2)} ({name(best['target'])}, "
-                 f"{best['model_label']}; paper {p.residual_r2:g} for |R_z|)" + (
+                 f"{best['model_label']}; paper {fmt.number(p.residual_r2, 2)} for |R_z|)" + (
                      f", a target whose value is a non-physical depth in {int(deep.sum())} of {len(deep)} "
                      "scenarios" if "delta" in best["target"] and deep.any() else "") + (
                      ": below 0, it predicts the held-out scenarios worse than their mean does. "
@@ -167,11 +167,12 @@ def finding(run: Run) -> str:
     else:
         text += f"No regression R² could be computed ({t['surrogate_regression']['note'].iloc[0]}). "
     if "mlp" in (tm := t["surrogate_timing"].set_index("what")).index:
-        text += (f"One MLP prediction takes {tm.loc['mlp', 'time_ms']:.3g} ms against "
-                 f"{tm.loc['pso_call', 'time_ms']:.3g} ms for the brief PSO call, "
-                 f"{fmt.number(tm.loc['mlp', 'speedup'], sig=3)}× (paper {p.prediction_time_ms:g} ms vs "
-                 f"{1e3 * p.pso_call_time_s:g} ms, {p.speedup:g}×): our swarm iteration is one vectorised "
-                 "evaluator call. ")
+        us = {c: [fmt.number(tm.loc[w, c], fmt.decimals(tm[c])) for w in ("mlp", "pso_call")]
+              for c in ("time_us", "paper_time_us")}  # as the timing table's columns print them
+        text += (f"One MLP prediction takes {us['time_us'][0]} µs against {us['time_us'][1]} µs for the "
+                 f"brief PSO call, {fmt.number(tm.loc['mlp', 'speedup'], sig=3)}× (paper "
+                 f"{us['paper_time_us'][0]} µs vs {us['paper_time_us'][1]} µs, {fmt.number(p.speedup, 0)}×): "
+                 "our swarm iteration is one vectorised evaluator call. ")
     return text + ("Both timings were measured by the run, not by this report. Why ours differs from the "
                    "paper (Algorithm 2 as published passes few grasps under ‖R‖, and those bury a fingertip "
                    f"in SI): {WHY}.")
@@ -213,7 +214,8 @@ def _importance_caption(run: Run) -> str:
         return text + ")"
     noise = t.loc[t["feature"].isin(NOISE), "importance"].max()
     above = [name(f) for f in t.loc[t["importance"] > noise, "feature"]]
-    return text + f"; above the larger of the two ({noise:.3g}): {', '.join(above) or 'no input'})"
+    noise = fmt.number(noise, fmt.decimals(t["importance"]))  # as the importance table prints it
+    return text + f"; above the larger of the two ({noise}): {', '.join(above) or 'no input'})"
 
 
 LINES = dict(zip(LABELS, ("-", "--", ":"), strict=True))

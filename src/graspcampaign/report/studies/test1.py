@@ -182,11 +182,9 @@ def _pso_rows(run: Run):
 def _pso_caption(run: Run) -> str:
     p, caption = run.paper, ("§7.5 PSO log and the identified sets' normal-force RMSE on held-out traces "
                              "(unseen specimens and speed; per run the mean over its traces, % of peak)")
-    if not _runs(run)["converged"].all():
-        return caption
-    return (f"{caption}; no run diverged, so the paper's "
-            f"{'–'.join(f'{v:g}' for v in p.pso_diverged_transfer_rmse_pct)}% of its "
-            f"{p.pso_runs_logged - p.pso_runs_converged} diverged runs has no counterpart here")
+    return caption if not _runs(run)["converged"].all() else (
+        f"{caption}; no run diverged, so the paper's {fmt.paper_text(p.pso_diverged_transfer_rmse_pct)}% of "
+        f"its {p.pso_runs_logged - p.pso_runs_converged} diverged runs has no counterpart here")
 
 
 @dataclass(frozen=True)
@@ -231,24 +229,26 @@ def _note(run: Run) -> str:
 
 
 def finding(run: Run) -> str:
-    t, p = run.tables, run.paper
-    c, claims = t["test1_claims"].set_index("quantity")["value"], t["test1_claims"]
+    t, p, claims = run.tables, run.paper, run.tables["test1_claims"]
+    n, rmse = (claims.set_index("quantity").loc[f"{q}, accepted fits: mean"]  # as the claims table prints
+               for q in ("contact exponent n", "force-fit RMSE"))
     text = ("VIRTUAL RIG data: synthetic waveforms drawn around Table 4 and fitted as a rig's files "
             "would be; they test the protocol and the fitting code and cannot confirm the paper's values. "
             if run.source == "virtual" else "Measured on a rig (ingested records). ") + (
         f"Over {len(_fits(run))} completed events the accepted normal fits give n = "
-        f"{c['contact exponent n, accepted fits: mean']:.3f} (paper {p.n_exp_mean:g} ± {p.n_exp_sd:g}, "
-        f"Table 3 {p.n_exp_simulation:g}) at a mean RMSE of {c['force-fit RMSE, accepted fits: mean']:.2f}% "
-        f"of peak (paper {p.rmse_pct_accepted:g}%). ")
+        f"{fmt.number(n.value, n.digits)} (paper {fmt.number(n.paper, n.digits)} ± "
+        f"{fmt.number(p.n_exp_sd, n.digits)}, Table 3 {p.n_exp_simulation:g}) at a mean RMSE of "
+        f"{fmt.number(rmse.value, rmse.digits)}% of peak (paper {fmt.number(rmse.paper, rmse.digits)}%). ")
     differs = claims.query("differs == True")["quantity"].tolist()
     text += (f"{len(differs)} of {int(claims['differs'].notna().sum())} §7 quantities differ from the "
              f"paper's, among them {'; '.join(differs[:3])}. " if differs else "Every §7 quantity agrees. ")
     if len(t5 := t.get("table5", [])):
         r = t5.set_index("parameter")
         bound = [f"{label('parameter', q)} ({counted(k, 'run')})" for q, k in r["n_at_bound"].items() if k]
+        l1 = r.loc["lambda1"]  # as Table 5 prints it
         text += (f"PSO re-identification over {counted(r['n_runs'].iloc[0], 'converged run')}: λ1 = "
-                 f"{r.loc['lambda1', 'mean']:.2f} (paper {p.table5['lambda1'].mean:g}) and CV(n) = "
-                 f"{r.loc['n', 'cv_pct']:.1f}% (paper {p.table5['n'].cv_pct:g}%); " + (
+                 f"{fmt.number(l1['mean'], l1.digits)} (paper {fmt.number(l1.paper_mean, l1.digits)}) and "
+                 f"CV(n) = {r.loc['n', 'cv_pct']:.1f}% (paper {fmt.number(p.table5['n'].cv_pct, 1)}%); " + (
                      f"runs ended on a search bound for {', '.join(bound)}: those values are the box, not "
                      "identified. " if bound else "no converged run ended on a search bound. "))
     if len(tr := t.get("transfer", [])):

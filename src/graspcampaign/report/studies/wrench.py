@@ -80,7 +80,7 @@ def finding(run: Run) -> str:
             "quantities differ from the paper's statements (a residual that never settles differs; the "
             "final finger-1 normal force is the command, reached by construction, not a result). At "
             "Table 3's contact constants this command drives the contacts "
-            f"{run.ok['delta_max_mm'].max() / 1e3:.3g} m deep"
+            f"{fmt.number(run.ok['delta_max_mm'].max() / 1e3, sig=3)} m deep"
             + (f" (fingertip radius r = {r:g} mm); this run's trace has no finger-1 depth (stored before "
                "the kind recorded it), so the iteration from which it lies deeper than r is not shown. "
                if deep is None else f", within the fingertip radius r = {r:g} mm. " if math.isnan(deep) else

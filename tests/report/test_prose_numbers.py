@@ -1,0 +1,83 @@
+"""A number a finding says reads as the table beside it prints it (the one formatter, the table's digits).
+
+Each case parses the sentence and the table cell from the same report.md of the reduced results tree
+(conftest.py ``sim_root``); the sentence once printed its own rounding ("within 0.2 s" beside a
+table's 0.200, "n = 0.465" beside 0.46, milliseconds beside a table in µs).
+"""
+
+from __future__ import annotations
+
+import re
+
+from synthetic_runs import md_table
+
+NUMBER = r"([−\-]?[\d.]+)"
+
+
+def _report(sim_root, study: str) -> str:
+    return (sim_root / study / "default" / "report" / "report.md").read_text()
+
+
+def _said(text: str, pattern: str) -> list[str]:
+    found = re.search(pattern, text)
+    assert found, f"no sentence matches {pattern!r}"
+    return [g.replace("−", "-") for g in found.groups()]
+
+
+def _first(cell: str) -> str:
+    """A cell's value without its interval: ``2.008 (1.921-2.095)`` is 2.008."""
+    return cell.split(" (")[0]
+
+
+def test_the_settle_finding_says_the_simulated_time_the_table_prints(sim_root):
+    md = _report(sim_root, "gravity_settle")
+    said = [t.replace("−", "-") for t in re.findall(r"settle\** within " + NUMBER + " s", md)]
+    assert said == md_table(md, "settle")["simulated time [s]"].tolist()
+
+
+def test_the_pso_finding_says_each_pinned_mean_as_the_cv_table(sim_root):
+    md = _report(sim_root, "pso_repeatability")
+    pinned = re.search(r"Pinned in every run \(CV 0, a bound of the search box\): (.+?)\.(?:\s|$)", md)
+    assert pinned, "the reduced run pins no parameter: nothing to compare"
+    cv = md_table(md, "cv").set_index("parameter")
+    said = dict(part.rsplit(" at ", 1) for part in pinned.group(1).split(", "))
+    assert said == {p: cv.loc[p, "mean"] for p in said}
+
+
+def test_the_surrogate_finding_says_the_timing_and_r2_tables_numbers(sim_root):
+    md = _report(sim_root, "surrogate")
+    mlp, pso, paper_mlp, paper_pso = _said(
+        md, rf"One MLP prediction takes {NUMBER} µs against {NUMBER} µs for the brief PSO call, "
+            rf"\S+ \(paper {NUMBER} µs vs {NUMBER} µs")
+    timing = md_table(md, "surrogate_timing").set_index("call")
+    assert [mlp, pso] == timing.loc[["MLP 64-32", "brief PSO call"], "time [µs]"].tolist()
+    assert [paper_mlp, paper_pso] == \
+        timing.loc[["MLP 64-32", "brief PSO call"], "paper time [µs]"].tolist()
+    (paper_r2,) = _said(md, rf"; paper {NUMBER} for \|R_z\|\)")
+    regression = md_table(md, "surrogate_regression")
+    mlp_rz = regression.query("target == '|R_z| [N]' and model == 'MLP 64-32'")
+    assert paper_r2 == mlp_rz["paper R²"].item()
+
+
+def test_the_test1_finding_says_n_and_lambda1_as_their_tables(sim_root):
+    md = _report(sim_root, "test1_bench")
+    n, paper_n, paper_sd = _said(md, rf"accepted normal fits give n = {NUMBER} \(paper {NUMBER} ± {NUMBER},")
+    claims = md_table(md, "test1_claims").set_index("quantity")
+    mean, sd = (claims.loc[f"contact exponent n, accepted fits: {s}"] for s in ("mean", "SD"))
+    assert [n, paper_n, paper_sd] == [_first(mean["ours (95%)"]), mean["paper"], sd["paper"]]
+    lambda1, paper_lambda1 = _said(md, rf"λ1 = {NUMBER} \(paper {NUMBER}\)")
+    table5 = md_table(md, "table5").set_index("parameter")
+    row = table5.loc["λ1"]
+    assert [lambda1, paper_lambda1] == [_first(row["ours mean (95%)"]), row["paper mean"]]
+
+
+def test_the_sensitivity_finding_says_each_panels_median_depth_as_the_panel_table(sim_root):
+    md = _report(sim_root, "sensitivity")
+    panels = md_table(md, "sensitivity_panels").set_index("panel")
+    for panel, row in panels.iterrows():
+        name = panel.split(" ")[0]  # "(a) μ × m" -> "(a)"
+        said = re.search(rf"panel-{re.escape(name)} trials have a contact deeper[^;]*; "
+                         rf"(?:δ_max over the physical ones: median {NUMBER} mm|no trial is physical)", md)
+        assert said, f"no depth sentence of panel {name}"
+        cell = row["median δmax, δmax ≤ r [mm]"]
+        assert said.group(1) == (None if cell == "no physical trial" else cell)
