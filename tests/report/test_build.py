@@ -212,6 +212,7 @@ def test_headline_page_and_index(tmp_path):
     md = (tmp_path / "headline.md").read_text()
     assert "simulation: 10 seeds" in md and "[r1](baseline_grid/r1/report/report.md)" in md
     assert "virtual rig" not in md.lower()  # no row is the virtual rig's: no note about them
+    assert "rows differ from the paper" not in md  # the one row with records is consistent
     assert "href='baseline_grid/r1/report/report.html'" in (tmp_path / "headline.html").read_text()
     index = (tmp_path / "index.md").read_text()
     assert "[Table 1 headline](headline.md)" in index and "other/r1/report/report.md" in index
@@ -234,6 +235,18 @@ def test_a_report_lists_the_results_root_once(tmp_path, monkeypatch):
     monkeypatch.setattr(os, "listdir", lambda path=".": (listed.append(Path(path)), real(path))[1])
     assert len(build_reports(root=tmp_path)) == 1
     assert listed.count(tmp_path) == 1
+
+
+def test_the_headline_says_how_many_rows_differ_and_where_to_read_why(tmp_path):
+    # the table alone said "differs by −67.6 pp" and no more: the page now points to the reports
+    write_run(tmp_path, name="baseline_grid", n_success={"heuristic": 0, "random": 1})
+    build_reports(root=tmp_path)
+    rows = pd.read_csv(tmp_path / "headline.csv")
+    low, high = proportion_confint(0, 10, method="wilson")  # 0 of 10: 0.0-27.8 %, not the paper's 67.6
+    assert 67.6 > 100 * high and rows["n"].gt(0).sum() == 1
+    assert (f"1 of {len(rows)} rows differ from the paper (its value outside our 95% interval); "
+            "each run's report, linked in *run*, opens with where and why.") in \
+        (tmp_path / "headline.md").read_text()
 
 
 def test_virtual_rig_rows_say_so(tmp_path):

@@ -198,8 +198,11 @@ def write_headline(root: Path | str, formats: list[str] | None = None,
     frame.to_csv(Path(root) / "headline.csv", index=False)
     reduced = frame["testbed"].astype(str).str.contains(REDUCED_MARK).any()
     virtual = frame["source"].eq("virtual").any()
+    differ = int(frame["differs"].eq(True).sum()) if "differs" in frame else 0
+    why = (f" {differ} of {len(frame)} rows differ from the paper (its value outside our 95% "
+           "interval); each run's report, linked in *run*, opens with where and why." if differ else "")
     return Document("Headline success rates (paper Table 1)", "", [], [
-        Text(INTRO + (VIRTUAL_NOTE if virtual else "")),
+        Text(INTRO + (VIRTUAL_NOTE if virtual else "") + why),
         Table("headline", "Table 1, ours beside the paper", frame, COLUMNS, csv="headline.csv"),
         *([Text(REDUCED_NOTE, "note")] if reduced else [])
     ]).write_pages(Path(root) / "headline", formats or [])
