@@ -11,8 +11,8 @@ import pytest
 from matplotlib.figure import Figure
 
 from graspcampaign.report import style
-from graspcampaign.report.render import Run
 from graspcampaign.report.document import Figure as ReportFigure
+from graspcampaign.report.render import Run
 from graspcampaign.report.studies.sensitivity import PANELS, SPEC, _figure, _supplement
 
 PAPER = SimpleNamespace(stable_mu_min=0.2, stable_mass_max_kg=0.5, lambda1_stable_below=0.35,
@@ -85,7 +85,8 @@ def test_fig19_supplement_panels_carry_the_letters_its_caption_names_them_by():
     _supplement(Run(pd.DataFrame(rows), {}, PAPER), fig)
     titles = [ax.get_title() for ax in fig.axes if ax.get_xlabel()]
     assert [t[:4] for t in titles] == ["(a) ", "(b) ", "(c) ", "(d) "]
-    (caption,) = [i.caption for i in SPEC.items if isinstance(i, ReportFigure) and i.name == "fig19_supplement"]
+    (caption,) = [item.caption for item in SPEC.items
+                  if isinstance(item, ReportFigure) and item.name == "fig19_supplement"]
     for letter, quantity in zip("abcd", ["|R_z|", "N_max", "fingertip radius", "|R_z|"], strict=True):
         named = caption.split(f"({letter}) ")[1].split("(")[0] if f"({letter}) " in caption else ""
         assert quantity in named, (letter, caption)

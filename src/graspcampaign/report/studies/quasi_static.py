@@ -417,7 +417,8 @@ def grip_finding(run: Run) -> str:
     won = run.ok.loc[run.ok["success"].astype(bool), "delta_max_mm"]
     deep = int((won > DESIGN_LIMIT_MM).sum())
     return (
-        "The paper's ordering (Fig. 18: " + ", ".join(f"{label('planner', p)} {v:g}%" for p, v in paper.items())
+        "The paper's ordering (Fig. 18: " + ", ".join(
+            f"{label('planner', p)} {v:g}%" for p, v in paper.items())
         + f") appears under {', '.join(label('grip_law', law) for law in same) or 'none of the laws'}. "
         "Success per grip law, highest first — " + "; ".join(
             f"{label('grip_law', law)}: " + ", ".join(
