@@ -11,8 +11,9 @@ import pytest
 from matplotlib.figure import Figure
 
 from graspcampaign.report import style
+from graspcampaign.report.document import Figure as ReportFigure
 from graspcampaign.report.render import Run
-from graspcampaign.report.studies.sensitivity import PANELS, _figure
+from graspcampaign.report.studies.sensitivity import PANELS, SPEC, _figure, _supplement
 
 PAPER = SimpleNamespace(stable_mu_min=0.2, stable_mass_max_kg=0.5, lambda1_stable_below=0.35,
                         nonconvergence_strip_lambda1_from=0.9)
@@ -71,3 +72,21 @@ def test_fig19_paper_boundaries_run_between_cells_on_the_side_the_claims_count_t
     boundary, strip = b
     check(grids["lambda1"], boundary.get_xdata()[0], lambda v: v <= 0.35, lambda v: v > 0.35)
     check(grids["lambda1"], strip.get_xdata()[0], lambda v: v < 0.9, lambda v: v >= 0.9)
+
+
+def test_fig19_supplement_panels_carry_the_letters_its_caption_names_them_by():
+    """Each supplement tile is titled (a)..(d), as every other multi-panel figure, and the caption names
+    each of those letters with the tile's quantity (the titles had no letters)."""
+    grid = [0.1, 0.8]
+    rows = [{"panel": panel, "status": "ok", x: a, y: b, "success": True, "success_vertical": a < 0.4,
+             "runtime_ms": 1.0, "delta_max_mm": 1.0, "loop_capped": False, "valid_geometry": True}
+            for panel, (x, y, *_) in PANELS.items() for a in grid for b in grid]
+    fig = Figure(figsize=(10.0, 8.6), layout="constrained")
+    _supplement(Run(pd.DataFrame(rows), {}, PAPER), fig)
+    titles = [ax.get_title() for ax in fig.axes if ax.get_xlabel()]
+    assert [t[:4] for t in titles] == ["(a) ", "(b) ", "(c) ", "(d) "]
+    (caption,) = [item.caption for item in SPEC.items
+                  if isinstance(item, ReportFigure) and item.name == "fig19_supplement"]
+    for letter, quantity in zip("abcd", ["|R_z|", "N_max", "fingertip radius", "|R_z|"], strict=True):
+        named = caption.split(f"({letter}) ")[1].split("(")[0] if f"({letter}) " in caption else ""
+        assert quantity in named, (letter, caption)

@@ -95,6 +95,18 @@ def test_section_7_claims_against_the_records(run):
     assert margins["events"].sum() == share["n"]
 
 
+def test_the_finding_counts_the_differing_claims_and_points_to_their_table(run):
+    """The opening counts the §7 quantities that differ and points to the claims table; it had listed
+    three of them as "label: statistic; label: statistic", which did not read as a sentence."""
+    path, _ = run
+    claims = _table(path, "test1_claims")
+    compared = claims["differs"].dropna().astype(str)
+    md = (path / "report" / "report.md").read_text()
+    assert (f"{(compared == 'True').sum()} of {len(compared)} §7 quantities differ from the paper's "
+            "(table `test1_claims`). ") in md
+    assert "among them" not in md
+
+
 def test_counts_table_against_the_records_and_traces(run):
     path, records = run
     counts = _table(path, "test1_counts").set_index("quantity")

@@ -201,3 +201,31 @@ def test_test3_retention_flag(tmp_path):
     # §9.5: the certification flag is the believed retention margin under the commanded load
     assert p["retention_pred"] == p["predicted_stable"] == (expected > 1)
     assert p["threshold_pred_n"] == p["f_lat_pred_n"]
+
+
+def test_plan_picture_force_labels_neither_overlap_nor_leave_the_figure(tmp_path, monkeypatch):
+    """A new user's plan had fingers 1 and 3 close together in the view: their labels "1: 0.33 N" and
+    "3: 0.25 N", drawn at the arrow tails, overlapped. Every force label drawn (measured by the
+    renderer while the PNG is written) lies inside the figure and apart from the others."""
+    import re
+
+    import matplotlib.text
+
+    drawn, draw = [], matplotlib.text.Text.draw
+
+    def record(text, renderer):
+        draw(text, renderer)
+        if re.search(r"\d: \d+\.\d+ N$", text.get_text()):
+            drawn.append((text.get_window_extent(renderer), text.figure.bbox))
+
+    monkeypatch.setattr(matplotlib.text.Text, "draw", record)
+    mesh = make_object("sphere", 390)
+    outward = np.array([[0.0, -0.3, 1.0], [0.7, 0.7, 0.1], [0.05, -0.25, 1.0]])
+    outward /= np.linalg.norm(outward, axis=1, keepdims=True)
+    points = outward * np.abs(mesh.vertices).max()  # fingers 1 and 3 near the top, 2 at the right
+    rp.plot_plan(mesh, points, outward, [0.33, 1.0, 0.25], tmp_path / "plan.png")
+    assert len(drawn) == 3
+    for box, figure in drawn:
+        assert figure.x0 <= box.x0 and box.x1 <= figure.x1 and figure.y0 <= box.y0 and box.y1 <= figure.y1
+    for i, (box, _) in enumerate(drawn):
+        assert not any(box.overlaps(other) for other, _ in drawn[i + 1:])

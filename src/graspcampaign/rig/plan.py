@@ -335,17 +335,20 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
 
 
 def plot_plan(mesh, points, normals, forces, path, title: str = "") -> Path:
-    """Write a PNG of the mesh with the contacts and their force arrows (matplotlib Agg).
+    """Write the PNG of :func:`plan_figure`."""
+    path = Path(path)
+    plan_figure(mesh, points, normals, forces, title).savefig(path, dpi=100, format="png")
+    return path  # the path check_picture_path accepted: its parent exists
+
+
+def plan_figure(mesh, points, normals, forces, title: str = ""):
+    """The mesh with the contacts and their force arrows (a matplotlib Figure, no pyplot).
 
     Arrows start at each contact and point along the applied force ``-n_out``, their length
     proportional to the finger's normal force (the largest drawn at 40 % of the object's size).
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
     from matplotlib.figure import Figure
 
-    path = Path(path)
     v = np.asarray(mesh.vertices) * 1e3
     p = np.asarray(points) * 1e3
     size = float(np.ptp(v, axis=0).max())
@@ -357,20 +360,19 @@ def plot_plan(mesh, points, normals, forces, path, title: str = "") -> Path:
     ax.plot_trisurf(v[:, 0], v[:, 1], v[:, 2], triangles=np.asarray(mesh.faces), color="0.8",
                     alpha=0.35, linewidth=0.1, edgecolor="0.5")
     colours = ("tab:red", "tab:green", "tab:blue")
-    for j in range(3):
-        ax.scatter(*p[j], color=colours[j], s=50, depthshade=False)
+    for j in range(3):  # each finger's force in the legend below the view: labels on it overlapped
+        ax.scatter(*p[j], color=colours[j], s=50, depthshade=False, label=f"finger {j + 1}: {f[j]:.2f} N")
         ax.quiver(*(p[j] - arrows[j]), *arrows[j], color=colours[j], linewidth=2,
                   arrow_length_ratio=0.25)
-        ax.text(*(p[j] - 1.1 * arrows[j]), f"{j + 1}: {f[j]:.2f} N", color=colours[j])
+    fig.legend(loc="lower center", ncols=3, frameon=False)
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("y [mm]")
     ax.set_zlabel("z [mm]")
     # one scale on every axis (a sphere drawn round): a cube around the mesh and the arrows' tails
-    drawn = np.vstack([v, p - 1.1 * arrows])
+    drawn = np.vstack([v, p - arrows])
     centre, half = drawn.min(axis=0) / 2 + drawn.max(axis=0) / 2, float(np.ptp(drawn, axis=0).max()) / 2
     ax.set(xlim=(centre[0] - half, centre[0] + half), ylim=(centre[1] - half, centre[1] + half),
            zlim=(centre[2] - half, centre[2] + half))
     ax.set_box_aspect((1, 1, 1))
     ax.set_title(title, fontsize=9)
-    fig.savefig(path, dpi=100, format="png")  # the path check_picture_path accepted: its parent exists
-    return path
+    return fig

@@ -143,11 +143,13 @@ SUPPLEMENT = (("mu_mass", "success_vertical", "success, |R_z| reading [%]", "RdY
 
 
 def _supplement(run: Run, fig) -> None:
-    tiles = [t for t in SUPPLEMENT if len(panel_rows(run, t[0])) and t[1] in run.ok]
+    """The :data:`SUPPLEMENT` tiles the run has, each titled by its fixed letter (the caption's)."""
+    tiles = [(tag, t) for tag, t in zip("abcd", SUPPLEMENT, strict=True)
+             if len(panel_rows(run, t[0])) and t[1] in run.ok]
     axes = np.atleast_1d(fig.subplots(math.ceil(len(tiles) / 2), 2)).ravel()
-    for ax, tile in zip(axes, tiles, strict=False):
+    for ax, (tag, tile) in zip(axes, tiles, strict=False):
         heatmap(ax, fig, run, *tile)
-        ax.set_title(tile[2])
+        ax.set_title(f"({tag}) {tile[2]}")
     for ax in axes[len(tiles):]:
         ax.set_visible(False)
 
@@ -319,8 +321,9 @@ SPEC = ReportSpec("sensitivity", [
            "(dashed); (b) success over λ1 × λ2 with the paper's λ1 boundary (dashed) and non-convergence "
            "strip (dotted); (c) median runtime over n × b; one cell per level, its value printed where it "
            "fits", _figure, (15.0, 4.9)),
-    Figure("fig19_supplement", "Beyond Fig. 19: the |R_z| reading over μ × m and n × b; trials still moving "
-           "at N_max and trials whose every contact lies within the fingertip radius (physical) over λ1 × λ2",
+    Figure("fig19_supplement", "Beyond Fig. 19: (a) success under the |R_z| reading over μ × m; (b) trials "
+           "still moving at N_max and (c) trials whose every contact lies within the fingertip radius "
+           "(physical) over λ1 × λ2; (d) success under the |R_z| reading over n × b",
            _supplement, (10.0, 8.6)),
     replace(CLAIMS, compute=lambda run: _bound_claims(CLAIMS.compute(run))),
     GateRemoved(["panel"]),
