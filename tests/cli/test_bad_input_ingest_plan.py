@@ -18,3 +18,14 @@ def test_a_dask_address_without_the_dask_backend_is_refused(results, backend):
                 f"runner.address = 'tcp://127.0.0.1:8786' names a Dask scheduler, but "
                 f"runner.backend = {backend} runs the trials on this machine and would ignore it: "
                 "add runner.backend=dask, or drop runner.address.")
+
+
+def test_a_file_of_measured_records_given_twice_is_named(results, tmp_path):
+    # the old code read the file twice and said its first trial 'is already in good.csv'
+    sheet = tmp_path / "day1.csv"
+    sheet.write_text("trial_id\nt2A-sphere-01-prop-0000000000\n")
+    (tmp_path / "link.csv").symlink_to(sheet)
+    for again, message in ((sheet, f"{sheet} is given twice"),
+                           (tmp_path / "link.csv", f"{tmp_path / 'link.csv'} is {sheet} again")):
+        refused(results, ["ingest", "test2_grasp", sheet, again, "--root", results],
+                f"{message}; give each file of measured records once.")
