@@ -29,3 +29,15 @@ def test_a_file_of_measured_records_given_twice_is_named(results, tmp_path):
                            (tmp_path / "link.csv", f"{tmp_path / 'link.csv'} is {sheet} again")):
         refused(results, ["ingest", "test2_grasp", sheet, again, "--root", results],
                 f"{message}; give each file of measured records once.")
+
+
+@pytest.mark.parametrize("study", ["test2_grasp", "test3_disturbance"])
+def test_a_records_file_far_beyond_any_sheet_is_refused_unread(results, tmp_path, study):
+    # the old code read it whole: a 200 MiB file took a minute and 3 GiB before its refusal
+    huge = tmp_path / "export.csv"
+    with huge.open("wb") as out:  # sparse: 33 MiB on the file system, none of it written
+        out.truncate(33 * 2**20)
+    refused(results, ["ingest", study, huge, "--root", results],
+            "export.csv: the file is 33 MiB, and a file of trial records is at most 32 MiB (the "
+            "whole Test 2 sheet with its commanded columns is 2 MiB); check it is the right file.",
+            seconds=10)
