@@ -4,8 +4,11 @@ exit 2 and nothing stored changed (``refused``)."""
 
 from __future__ import annotations
 
+import csv
+
+import pandas as pd
 import pytest
-from cli_checks import SMOKE, refused
+from cli_checks import SMOKE, invoke, refused
 
 
 @pytest.mark.parametrize("backend", ["loky", "sequential"])
@@ -41,3 +44,19 @@ def test_a_records_file_far_beyond_any_sheet_is_refused_unread(results, tmp_path
             "export.csv: the file is 33 MiB, and a file of trial records is at most 32 MiB (the "
             "whole Test 2 sheet with its commanded columns is 2 MiB); check it is the right file.",
             seconds=10)
+
+
+def test_a_decimal_comma_in_a_quoted_cell_is_named(results, tmp_path):
+    # a spreadsheet's regional export with every cell quoted passes the separator check; the old
+    # code said only "value '0,16' is not a number"
+    sheet = tmp_path / "sheet"
+    made = invoke("schedule", "test2_grasp", "params.fraction=0.06", "--template", "--out", sheet)
+    assert made.exit_code == 0, made.output
+    row = pd.read_csv(tmp_path / "sheet-template.csv").iloc[[0]].assign(
+        aborted=False, outcome="stable", success=True, stable=True, slip_flag=False,
+        drop_flag=False, damage_flag=False, contact_loss_flag=False, peak_slip_mm=0.16)
+    row.to_csv(tmp_path / "rig.csv", index=False, decimal=",", quoting=csv.QUOTE_ALL)
+    refused(results, ["ingest", "test2_grasp", tmp_path / "rig.csv", "--set", "params.fraction=0.06",
+                      "--root", results],
+            "rig.csv, row 1, column 'peak_slip_mm': value '0,16' is not a number (a decimal comma: "
+            "save the sheet with a decimal point '.').")

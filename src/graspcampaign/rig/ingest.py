@@ -31,6 +31,7 @@ from graspcampaign.rig.measured_file import (
     IngestError,
     header_problems,
     ingest_error,
+    not_a_number,
     read_table,
     table_and_label,
 )
@@ -255,7 +256,7 @@ def _parse(spec: FieldSpec, value, label: str, row: int):
         return text
     number = _as_float(value)
     if number is None:
-        raise ingest_error(label, row, spec.name, f"value {value!r} is not a number")
+        raise ingest_error(label, row, spec.name, not_a_number(value))
     if not math.isfinite(number):
         raise ingest_error(label, row, spec.name, f"value {value!r} is not finite")
     if spec.kind == "int" and number != int(number):
