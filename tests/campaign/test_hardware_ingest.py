@@ -228,7 +228,8 @@ def _bad(export: pd.DataFrame, kind: str, folder, store):
     elif kind == "not_number":
         df["normal_force_1_n"] = df["normal_force_1_n"].astype(object)
         df.loc[0, "normal_force_1_n"] = "1,5"
-        msg = at + r"row 1, column 'normal_force_1_n': value '1,5' is not a number\."
+        msg = at + (r"row 1, column 'normal_force_1_n': value '1,5' is not a number \(a decimal "
+                    r"comma: save the sheet with a decimal point '\.'\)\.")
     elif kind == "not_finite":
         df.loc[0, "g_geo_actual"] = math.inf
         msg = at + r"row 1, column 'g_geo_actual': value 'inf' is not finite\."

@@ -259,7 +259,8 @@ def test_a_rerun_beyond_the_attempt_limit_is_refused(good, tmp_path, attempt):
 # that row, the file type, the column the message names and the message after that column.
 BAD_ROW = {
     "not_a_number": ({"normal_force_1_n": "1,2"}, "csv", "normal_force_1_n",
-                     r"value '1,2' is not a number\.$"),
+                     r"value '1,2' is not a number \(a decimal comma: save the sheet with a "
+                     r"decimal point '\.'\)\.$"),
     "out_of_range": ({"deformation_2_mm": 4200.0},  # micrometres written into a mm column
                      "csv", "deformation_2_mm",
                      r"value 4200 lies outside \[0, 50\] mm \(wrong units\?\)\.$"),

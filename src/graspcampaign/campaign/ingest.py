@@ -44,6 +44,12 @@ def ingest_files(study: StudyCfg, paths: list[str], run: str = "measured",
             raise UserInputError(f"{path} is a directory, not a file of measured records.")
         if not Path(path).is_file():
             raise UserInputError(f"{path}: no such file.")
+    files = [Path(path).resolve() for path in paths]  # a file named twice clashes with itself
+    for i, path in enumerate(paths):
+        if files[i] in files[:i]:
+            first = paths[files.index(files[i])]
+            again = "is given twice" if first == path else f"is {first} again"
+            raise UserInputError(f"{path} {again}; give each file of measured records once.")
     check_root(study.output.root, "output.root", write=True)
     params = kind_params(study, kind)
     store = RunStore(run_path(study, run))

@@ -331,6 +331,10 @@ def check_study(study: StudyCfg) -> None:
             r"(tcp|tls|ucx|inproc|ws|wss)://[^\s/:]+(:\d+)?/?", str(address)):
         raise ConfigError(f"runner.address = {address!r} is not a Dask scheduler address; "
                           "expected e.g. tcp://host:8786.", key="runner.address")
+    if address is not None and study.runner.backend != "dask":  # else the trials run here, unsaid
+        raise ConfigError(f"runner.address = {address!r} names a Dask scheduler, but runner.backend = "
+                          f"{study.runner.backend} runs the trials on this machine and would ignore "
+                          "it: add runner.backend=dask, or drop runner.address.", key="runner.address")
     for name, levels in study.factors.items():
         check_factor(name, levels)
     seen: set[str] = set()

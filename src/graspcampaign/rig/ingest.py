@@ -31,6 +31,7 @@ from graspcampaign.rig.measured_file import (
     IngestError,
     header_problems,
     ingest_error,
+    not_a_number,
     read_table,
     table_and_label,
 )
@@ -59,11 +60,22 @@ _TRUE = {"true", "1", "yes", "y", "t", "1.0"}
 _FALSE = {"false", "0", "no", "n", "f", "0.0"}
 
 
+MAX_RECORDS_BYTES = 32 * 2**20
+"""The largest records file read: 16x the full Test 2 sheet with every commanded column beside the
+records (2 MiB); a 200 MiB file took a minute and 3 GiB to refuse (docs/decisions.md)."""
+
+
 def read_records(path: str | Path) -> pd.DataFrame:
     """Read a records file (``.csv``, ``.parquet``/``.pq``, ``.xlsx``) without checks.
 
-    Every CSV cell stays a string (the checks parse them); see :func:`read_table`.
+    Every CSV cell stays a string (the checks parse them); see :func:`read_table`. A file over
+    :data:`MAX_RECORDS_BYTES` is refused unread.
     """
+    path = Path(path)
+    if path.is_file() and (size := path.stat().st_size) > MAX_RECORDS_BYTES:
+        raise IngestError(f"{path.name}: the file is {size / 2**20:.0f} MiB, and a file of trial "
+                          f"records is at most {MAX_RECORDS_BYTES // 2**20} MiB (the whole Test 2 "
+                          "sheet with its commanded columns is 2 MiB); check it is the right file.")
     return read_table(path, csv_options={"dtype": str, "keep_default_na": False},
                       excel_options={"dtype": object})
 
@@ -244,7 +256,7 @@ def _parse(spec: FieldSpec, value, label: str, row: int):
         return text
     number = _as_float(value)
     if number is None:
-        raise ingest_error(label, row, spec.name, f"value {value!r} is not a number")
+        raise ingest_error(label, row, spec.name, not_a_number(value))
     if not math.isfinite(number):
         raise ingest_error(label, row, spec.name, f"value {value!r} is not finite")
     if spec.kind == "int" and number != int(number):

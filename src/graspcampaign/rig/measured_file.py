@@ -18,7 +18,8 @@ from pathlib import Path
 
 import pandas as pd
 
-__all__ = ["IngestError", "header_problems", "ingest_error", "read_table", "table_and_label"]
+__all__ = ["IngestError", "header_problems", "ingest_error", "not_a_number", "read_table",
+           "table_and_label"]
 
 
 class IngestError(ValueError):
@@ -30,6 +31,14 @@ def ingest_error(label: str, row: int | None, column: str, problem: str) -> Inge
     """The error naming the file ``label``, its ``row`` (None: the header) and ``column``."""
     where = "header" if row is None else f"row {row}"
     return IngestError(f"{label}, {where}, column '{column}': {problem}.")
+
+
+def not_a_number(value) -> str:
+    """The problem of a cell that is no number; a decimal comma ('1,5', a spreadsheet's regional
+    export with quoted cells) is named as one."""
+    comma = isinstance(value, str) and re.fullmatch(r"\s*[+-]?[0-9]*,[0-9]+\s*", value)
+    return f"value {value!r} is not a number" + (
+        " (a decimal comma: save the sheet with a decimal point '.')" if comma else "")
 
 
 def read_table(path: str | Path, *, csv_options: dict | None = None,

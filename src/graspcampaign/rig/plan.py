@@ -130,9 +130,15 @@ def _check_size(mesh, name: str, unit: str) -> float:
 
 _UNIT_WORDS = {"m": "metres", "cm": "centimetres", "mm": "millimetres"}
 
+DENSE_FACES = 1_000_000
+"""A mesh with more faces is said to be slow: reading, checking, planning on and drawing a mesh take
+time and memory in proportion to its faces (1.3 M faces: 37-88 s and 2 GB; 5.2 M: 162 s and 7 GB;
+80 k: 6 s; docs/decisions.md)."""
+
 
 def _coarse_checked_body(mesh, name: str):
-    """Return the planning body of ``mesh``, warning once, in the planner's words, if it is coarse.
+    """Return the planning body of ``mesh``, warning once, in the planner's words, if it is coarse
+    (or, with more than :data:`DENSE_FACES` faces, that it is slow to plan).
 
     The core's :class:`~graspcampaign.core.feature.CoarseMeshWarning` names a Python remedy
     (resolution-aware thresholds); for a plan the remedy is a finer mesh, because the planner's
@@ -149,6 +155,13 @@ def _coarse_checked_body(mesh, name: str):
     )
 
     n_vertices = len(mesh.vertices)
+    if len(mesh.faces) > DENSE_FACES:
+        warnings.warn(
+            f"mesh {name!r} has {len(mesh.faces)} faces: planning on it takes half a minute or more "
+            "per million faces and gigabytes of memory (every step scales with the faces); a copy "
+            f"decimated to under "
+            f"{DENSE_FACES // 10} faces plans in seconds (the paper's objects have {N_NODES} "
+            "vertices)", stacklevel=3)
     if is_coarse(n_vertices):
         warnings.warn(
             f"mesh {name!r} has only {n_vertices} vertices and the planner places fingers on "

@@ -25,6 +25,7 @@ from graspcampaign.rig.measured_file import (
     IngestError,
     header_problems,
     ingest_error,
+    not_a_number,
     read_table,
     table_and_label,
 )
@@ -126,7 +127,7 @@ def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterabl
             ["nan", "inf", "-inf", "+inf", "infinity", "-infinity"])
         if nonnum.any():
             i = int(np.flatnonzero(nonnum.to_numpy())[0])
-            raise ingest_error(label, i + 1, c, f"value {raw.iloc[i]!r} is not a number")
+            raise ingest_error(label, i + 1, c, not_a_number(raw.iloc[i]))
         vals = num.to_numpy(dtype=float)
         notfinite = ~np.isfinite(vals)
         if notfinite.any():
