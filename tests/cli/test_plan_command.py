@@ -103,7 +103,7 @@ MASS = "a mass must be positive and a three-finger hand lifts at most ~10 kg"
          "few millimetres to a few centimetres in radius)."),
         (["--mass-kg", "0.1", "--material", "unobtainium"],
          "unknown material 'unobtainium': use one of gel, silicone_soft, bio_foam, silicone_ref"),
-        (["--mass-kg", "0.1", "--unit", "furlong"], "unknown unit 'furlong': use one of 'm', 'cm', 'mm'"),
+        (["--mass-kg", "0.1", "--unit", "furlong"], "unknown unit 'furlong': use one of 'm', 'cm', 'mm'."),
         (["--mass-kg", "abc"], "--mass-kg 'abc' is not a number; see graspcampaign plan --help."),
         (["--mass-kg", "0.1", "--png", ""], "--png is empty; give a picture path ending in .png, such "
                                             "as plan.png."),
@@ -164,7 +164,7 @@ def _mesh_file(tmp_path, name: str) -> tuple:
         v[3] = [1e200, 0.0, 0.0]
         trimesh.Trimesh(v, sphere.faces, process=False).export(path)
         return path, ("mesh 'huge.obj' has a coordinate of 1e+200 mm at vertex 4, beyond the 1e+06 mm "
-                      "(1000 m) any graspable object fits in; check the file and its unit (--unit)")
+                      "(1000 m) any graspable object fits in; check the file and its unit (--unit).")
     if name == "nan.obj":
         sphere.export(path)
         lines = path.read_text().splitlines()
@@ -172,34 +172,37 @@ def _mesh_file(tmp_path, name: str) -> tuple:
         lines[first + 1] = "v nan 0 0"
         path.write_text("\n".join(lines) + "\n")
         return path, ("mesh 'nan.obj' has a non-finite coordinate at vertex 2 (nan, 0, 0): every "
-                      "coordinate must be a finite number")
+                      "coordinate must be a finite number.")
     if name == "inf.stl":
         v = sphere.vertices.copy()
         v[sphere.faces[4, 1]] = [0.0, np.inf, 0.0]
         with np.errstate(invalid="ignore"):  # the exporter's face normals of an infinite corner
             trimesh.Trimesh(v, sphere.faces, process=False).export(path)  # binary STL
         return path, ("mesh 'inf.stl' has a non-finite coordinate at triangle 5 (0, inf, 0): every "
-                      "coordinate must be a finite number")
+                      "coordinate must be a finite number.")
     if name == "garbage.stl":
         path.write_bytes(np.random.default_rng(0).integers(0, 256, 3000, dtype=np.uint8).tobytes())
         return path, ("mesh 'garbage.stl' is not an STL file: 3000 bytes are neither a binary STL "
-                      "(84 bytes plus 50 per triangle) nor an ASCII STL (text starting with 'solid')")
+                      "(84 bytes plus 50 per triangle) nor an ASCII STL (text starting with 'solid').")
     if name == "empty.stl":
         path.write_bytes(b"")
-        return path, "mesh 'empty.stl' is empty: the file has 0 bytes"
+        return path, "mesh 'empty.stl' is empty: the file has 0 bytes."
     if name == "facetless.stl":
         path.write_text("solid nothing\nendsolid nothing\n")
-        return path, "mesh 'facetless.stl' is empty: it has no faces"
+        return path, "mesh 'facetless.stl' is empty: it has no faces."
     if name == "text.ply":
         path.write_text("hello\n")
-        return path, "mesh 'text.ply' cannot be read as PLY (Not a ply file!)"
+        return path, "mesh 'text.ply' cannot be read as PLY (Not a ply file!)."
     if name == "sphere.step":
         path.write_text("ISO-10303-21;\n")
-        return path, (f"mesh file '{path}' has unsupported type '.step': use .stl, .obj, .ply")
+        return path, (f"mesh file '{path}' has unsupported type '.step': use .stl, .obj, .ply.")
     if name == "open.stl":
+        hole = sorted(tuple(v) for v in sphere.vertices[sphere.faces[0]].astype(np.float32))  # STL
         sphere.update_faces(np.arange(len(sphere.faces)) > 0)
         sphere.export(path)
-        return path, "mesh 'open.stl' is not watertight: 3 boundary edges"
+        a, b, c = (f"({x:g}, {y:g}, {z:g})" for x, y, z in hole)
+        return path, ("mesh 'open.stl' is not watertight: 3 boundary edges (on one face only) between "
+                      f"the vertices at {a}, {b} and {c} mm.")
     if name == "metres.stl":
         sphere.apply_scale(1e-3)
         sphere.export(path)
@@ -212,30 +215,30 @@ def _mesh_file(tmp_path, name: str) -> tuple:
         both.export(path)
         count = len(trimesh.load(path).split(only_watertight=False))  # trimesh's own count: 2
         return path, (f"mesh 'two_spheres.stl' has {count} separate bodies: the planner grasps one "
-                      "object, so put each body in a file of its own and plan it alone")
+                      "object, so put each body in a file of its own and plan it alone.")
     if name == "hollow.stl":  # a ball with a ball-shaped cavity, the cavity's surface wound inward
         cavity = trimesh.creation.icosphere(subdivisions=2, radius=30.0)
         cavity.invert()
         trimesh.util.concatenate([sphere, cavity]).export(path)
         return path, ("mesh 'hollow.stl' has an internal cavity (1 of its 2 closed surfaces lies "
                       "inside the outer one), whose surface no finger reaches: keep only the outer "
-                      "surface in the file (the plan then takes the object as solid)")
+                      "surface in the file (the plan then takes the object as solid).")
     if name == "bad_index.obj":  # a face beyond the vertices
         path.write_text(sphere.export(file_type="obj") + "f 1 2 99999\n")
         line = len(path.read_text().splitlines())
         return path, (f"mesh 'bad_index.obj' has a face (line {line}) that refers to vertex 99999, "
-                      f"but the file has only {len(sphere.vertices)} vertices")
+                      f"but the file has only {len(sphere.vertices)} vertices.")
     if name == "points_only.obj":
         path.write_text("".join(f"v {x} {y} {z}\n" for x, y, z in sphere.vertices))
         return path, (f"mesh 'points_only.obj' has {len(sphere.vertices)} vertices but no faces: a "
-                      "point cloud is no surface; export the mesh with its faces (OBJ 'f' lines)")
+                      "point cloud is no surface; export the mesh with its faces (OBJ 'f' lines).")
     if name == "bad_index.ply":  # the tester's file: a face refers to vertex 7 of 3
         path.write_text("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
                         "property float y\nproperty float z\nelement face 1\n"
                         "property list uchar int vertex_indices\nend_header\n"
                         "0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n")
         return path, ("mesh 'bad_index.ply' has a face (face 1, line 13) that refers to vertex 7, but "
-                      "the file has only 3 vertices: PLY indices count from 0")
+                      "the file has only 3 vertices: PLY indices count from 0.")
     if name == "truncated.ply":  # the header declares every face, the file ends after the first
         text = sphere.export(file_type="ply", encoding="ascii").decode()
         lines = text.splitlines()
@@ -243,10 +246,10 @@ def _mesh_file(tmp_path, name: str) -> tuple:
         path.write_text("\n".join(lines[:header + len(sphere.vertices) + 1]) + "\n")
         return path, (f"mesh 'truncated.ply' is truncated: its header declares {len(sphere.faces)} "
                       f"face elements, but the file ends after 1 of them (line "
-                      f"{header + len(sphere.vertices) + 1})")
+                      f"{header + len(sphere.vertices) + 1}).")
     if name == "letter.obj":
         path.write_text("v 0 0 x\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
-        return path, "mesh 'letter.obj' has a vertex (line 1) whose coordinate 'x' is not a number"
+        return path, "mesh 'letter.obj' has a vertex (line 1) whose coordinate 'x' is not a number."
     if name == "nano.stl":  # a 60 nm ball: trimesh's fixed 1e-8 merge fused its corners
         trimesh.creation.icosphere(subdivisions=2, radius=3e-8).export(path)
         return path, ("mesh 'nano.stl' is 6e-08 mm across read with --unit mm, outside the 10-500 mm "
@@ -256,11 +259,11 @@ def _mesh_file(tmp_path, name: str) -> tuple:
         merged = trimesh.load(path, process=True)
         n_zero = int((merged.area_faces == 0.0).sum())  # trimesh's own areas of the rounded faces
         return path, (f"mesh 'nano.obj' has {n_zero} degenerate (zero-area) faces and is only 6e-08 "
-                      "mm across read with --unit mm: check the file and its unit (--unit)")
+                      "mm across read with --unit mm: check the file and its unit (--unit).")
     if name == "stl_as.obj":  # a binary STL saved under the wrong suffix
         path.write_bytes(sphere.export(file_type="stl"))
         return path, ("mesh 'stl_as.obj' is not an OBJ file: it looks like a binary STL (84 bytes "
-                      "plus 50 per triangle); rename it to .stl")
+                      "plus 50 per triangle); rename it to .stl.")
     raise AssertionError(name)
 
 

@@ -170,7 +170,7 @@ def test_check_mesh_rejects_bad_meshes():
     vertices = np.vstack([sphere.vertices, sphere.vertices[faces[0, 0]]])
     degenerate_faces = np.vstack([sphere.faces, [[faces[0, 0], len(vertices) - 1, faces[0, 1]]]])
     degenerate = trimesh.Trimesh(vertices, degenerate_faces, process=False)
-    with pytest.raises(MeshError, match=r"'deg' has 1 degenerate \(zero-area\) faces"):
+    with pytest.raises(MeshError, match=r"^mesh 'deg' has 1 degenerate \(zero-area\) face\.$"):
         check_mesh(degenerate, "deg")
 
     doubled = trimesh.Trimesh(sphere.vertices, np.vstack([sphere.faces, sphere.faces[:1]]),
@@ -183,7 +183,7 @@ def test_check_mesh_rejects_bad_meshes():
 
     bad = sphere.vertices.copy()
     bad[0, 0] = np.nan
-    with pytest.raises(MeshError, match="non-finite coordinates at 1 vertices"):
+    with pytest.raises(MeshError, match=r"^mesh 'nan' has non-finite coordinates at 1 vertex\.$"):
         check_mesh(trimesh.Trimesh(bad, sphere.faces, process=False), "nan")
 
 

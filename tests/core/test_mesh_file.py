@@ -48,7 +48,7 @@ def test_separate_bodies_are_refused_with_trimesh_count(n_balls):
     with pytest.raises(MeshError) as info:
         check_mesh(mesh, "balls.stl")
     assert str(info.value) == (f"mesh 'balls.stl' has {count} separate bodies: the planner grasps "
-                               "one object, so put each body in a file of its own and plan it alone")
+                               "one object, so put each body in a file of its own and plan it alone.")
 
 
 @pytest.mark.parametrize("inward", [True, False])  # a well-wound cavity, and one wound like a body
@@ -58,7 +58,7 @@ def test_a_hollow_shell_is_refused_as_a_cavity(inward):
     with pytest.raises(MeshError, match=r"^mesh 'shell.stl' has an internal cavity \(1 of its 2 "
                                         r"closed surfaces lies inside the outer one\), whose surface "
                                         r"no finger reaches: keep only the outer surface in the file "
-                                        r"\(the plan then takes the object as solid\)$"):
+                                        r"\(the plan then takes the object as solid\)\.$"):
         check_mesh(mesh, "shell.stl")
 
 
@@ -72,7 +72,7 @@ def test_surfaces_passing_through_each_other_are_refused():
     mesh = trimesh.util.concatenate([_ball(0.02), _ball(0.02, (0.03, 0.0, 0.0))])
     with pytest.raises(MeshError, match=r"^mesh 'pair.stl' has 2 closed surfaces that pass through "
                                         r"each other: merge them into one closed surface \(a boolean "
-                                        r"union\) before planning$"):
+                                        r"union\) before planning\.$"):
         check_one_body(mesh, "pair.stl")
 
 
@@ -90,7 +90,7 @@ def test_an_obj_face_beyond_the_vertices_is_named(tmp_path):
     with pytest.raises(MeshError) as info:
         load_mesh(path)
     assert str(info.value) == (f"mesh 'bad_index.obj' has a face (line {line}) that refers to vertex "
-                               f"99999, but the file has only {n_vertices} vertices")
+                               f"99999, but the file has only {n_vertices} vertices.")
 
 
 @pytest.mark.parametrize("index", [0, -9999])
@@ -100,7 +100,7 @@ def test_an_obj_face_before_the_first_vertex_is_named(tmp_path, index):
     line = len(path.read_text().splitlines())
     with pytest.raises(MeshError, match=rf"^mesh 'back.obj' has a face \(line {line}\) that refers to "
                                         rf"vertex {index}, but {n_vertices} vertices precede it: OBJ "
-                                        r"indices count from 1, or back from -1$"):
+                                        r"indices count from 1, or back from -1\.$"):
         load_mesh(path)
 
 
@@ -112,7 +112,7 @@ def test_an_obj_of_vertices_only_is_named(tmp_path):
         load_mesh(path)
     assert str(info.value) == (f"mesh 'points_only.obj' has {len(sphere.vertices)} vertices but no "
                                "faces: a point cloud is no surface; export the mesh with its faces "
-                               "(OBJ 'f' lines)")
+                               "(OBJ 'f' lines).")
 
 
 def test_obj_faces_with_slashes_and_negative_indices_are_read(tmp_path):

@@ -17,6 +17,7 @@ import numpy as np
 import trimesh
 
 from graspcampaign.core.plausible import OBJECT_SIZE_MM
+from graspcampaign.core.winding import winding_numbers
 
 logger = logging.getLogger(__name__)
 
@@ -29,7 +30,7 @@ __all__ = [
     "check_mesh",
     "check_one_body",
     "load_mesh",
-    "winding_numbers",
+    "winding_numbers",  # re-exported from core.winding
 ]
 
 #: Length units accepted by :func:`load_mesh`, as metres per unit.
@@ -73,20 +74,20 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
         Unknown unit, missing or unreadable file, or a mesh that fails :func:`check_mesh`.
     """
     if unit not in UNITS:
-        raise MeshError(f"unknown unit {unit!r}: use one of {', '.join(repr(u) for u in UNITS)}")
+        raise MeshError(f"unknown unit {unit!r}: use one of {', '.join(repr(u) for u in UNITS)}.")
     name = os.fspath(path)
     base = os.path.basename(name)
     if not os.path.isfile(name):
-        raise MeshError(f"mesh file {name!r} does not exist")
+        raise MeshError(f"mesh file {name!r} does not exist.")
     suffix = os.path.splitext(name)[1].lower()
     if suffix not in MESH_SUFFIXES:
         raise MeshError(
             f"mesh file {name!r} has unsupported type {suffix or '(none)'!r}: "
-            f"use {', '.join(MESH_SUFFIXES)}"
+            f"use {', '.join(MESH_SUFFIXES)}."
         )
     n_bytes = os.path.getsize(name)
     if n_bytes == 0:
-        raise MeshError(f"mesh {base!r} is empty: the file has 0 bytes")
+        raise MeshError(f"mesh {base!r} is empty: the file has 0 bytes.")
     with open(name, "rb") as fh:
         head = fh.read(4096)
     other = _other_format(head, n_bytes)
@@ -94,9 +95,10 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
         _check_stl_layout(name, base, n_bytes)
     elif other and other[1] != suffix:
         raise MeshError(f"mesh {base!r} is not {'an' if suffix == '.obj' else 'a'} "
-                        f"{suffix[1:].upper()} file: it looks like {other[0]}; rename it to {other[1]}")
-    if suffix == ".obj":
-        _check_obj_lines(name, base)
+                        f"{suffix[1:].upper()} file: it looks like {other[0]}; rename it to {other[1]}.")
+    face_word = "triangle" if suffix == ".stl" else None  # set when the faces keep the file's order
+    if suffix == ".obj" and _check_obj_lines(name, base):
+        face_word = "face"
     ply = _ply_layout(name, base) if suffix == ".ply" else None
     try:
         # validate=False, process=False: keep non-finite values, degenerate faces and bad winding
@@ -105,11 +107,13 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
             mesh = trimesh.load(name, force="mesh", process=False, validate=False)
     except Exception as exc:  # trimesh raises many types for unreadable files
         text = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-        raise MeshError(f"mesh {base!r} cannot be read as {suffix[1:].upper()} ({text})") from exc
+        raise MeshError(f"mesh {base!r} cannot be read as {suffix[1:].upper()} ({text}).") from exc
     if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
-        raise MeshError(f"mesh {base!r} is empty: it has no faces")
+        raise MeshError(f"mesh {base!r} is empty: it has no faces.")
     if ply is not None:
         _check_ply_faces(np.asarray(mesh.faces), len(mesh.vertices), base, ply)
+        if dict(ply["elements"]).get("face") == len(mesh.faces):  # no polygon split in triangles
+            face_word = "face"
     vertices = np.asarray(mesh.vertices)
     _check_coordinates(vertices, base, unit, per_triangle=suffix == ".stl")
     # merge the duplicated corners of STL triangle soups; trimesh's fixed 1e-8 (file units) would
@@ -122,11 +126,12 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
     size_mm = extent * UNITS[unit] * 1e3
     if size_mm < OBJECT_SIZE_MM.low and (n_degenerate := int(_degenerate(  # a unit slip, not a
             np.asarray(mesh.vertices), np.asarray(mesh.faces)).sum())):  # bad surface: scanned once
-        raise MeshError(f"mesh {base!r} has {n_degenerate} degenerate (zero-area) faces and is only "
-                        f"{size_mm:.3g} mm across read with --unit {unit}: check the file and its "
-                        "unit (--unit)")
+        raise MeshError(f"mesh {base!r} has {_counted(n_degenerate, 'degenerate (zero-area) face')} "
+                        f"and is only {size_mm:.3g} mm across read with --unit {unit}: check the "
+                        "file and its unit (--unit).")
     mesh.apply_scale(UNITS[unit])
-    return check_mesh(mesh, base)
+    # merging and renumbering the vertices keep the faces in the file's order
+    return check_mesh(mesh, base, unit=unit, face_word=face_word)
 
 
 def _coordinate_order(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
@@ -163,7 +168,7 @@ def _check_stl_layout(name: str, base: str, n_bytes: int) -> None:
         except UnicodeDecodeError:
             pass
     raise MeshError(f"mesh {base!r} is not an STL file: {n_bytes} bytes are neither a binary STL "
-                    "(84 bytes plus 50 per triangle) nor an ASCII STL (text starting with 'solid')")
+                    "(84 bytes plus 50 per triangle) nor an ASCII STL (text starting with 'solid').")
 
 
 def _other_format(head: bytes, n_bytes: int) -> tuple[str, str] | None:
@@ -177,8 +182,10 @@ def _other_format(head: bytes, n_bytes: int) -> tuple[str, str] | None:
     return None
 
 
-def _check_obj_lines(name: str, base: str) -> None:
-    """Refuse an OBJ with a vertex or face it cannot read, naming the line.
+def _check_obj_lines(name: str, base: str) -> bool:
+    """Refuse an OBJ with a vertex or face it cannot read, naming the line; return whether trimesh
+    keeps its faces in the file's order (it splits polygons into triangles and regroups faces by
+    object, group and material).
 
     Refused: binary data (OBJ is text), a 'v' line without three numbers, a face index that is
     not a whole number or refers to a missing vertex, vertices without faces. trimesh reports
@@ -187,11 +194,12 @@ def _check_obj_lines(name: str, base: str) -> None:
     positive index is checked against every vertex of the file, as readers do.
     """
     n_vertices = n_faces = 0
+    in_order = True
     largest = (0, 0)  # (positive vertex index, line)
     with open(name, "rb") as fh:
         if b"\0" in fh.read(4096):
             raise MeshError(f"mesh {base!r} is not an OBJ file: OBJ is text, but the file holds "
-                            "binary data")
+                            "binary data.")
     with open(name, encoding="utf-8", errors="replace") as fh:
         for line_no, line in enumerate(fh, 1):
             words = line.split()
@@ -199,33 +207,39 @@ def _check_obj_lines(name: str, base: str) -> None:
                 n_vertices += 1
                 if len(words) < 4:
                     raise MeshError(f"mesh {base!r} has a vertex (line {line_no}) with "
-                                    f"{len(words) - 1} coordinates: an OBJ 'v' line gives x, y and z")
+                                    f"{_counted(len(words) - 1, 'coordinate')}: an OBJ 'v' line "
+                                    "gives x, y and z.")
                 for token in words[1:]:
                     try:
                         float(token)
                     except ValueError:
                         raise MeshError(f"mesh {base!r} has a vertex (line {line_no}) whose "
-                                        f"coordinate {token!r} is not a number") from None
+                                        f"coordinate {token!r} is not a number.") from None
+            elif words[:1] in (["o"], ["g"], ["usemtl"]):
+                in_order = False
             elif words[:1] == ["f"]:
                 n_faces += 1
+                in_order &= len(words) == 4
                 for token in words[1:]:
                     try:
                         index = int(token.split("/", 1)[0])  # v, v/vt, v//vn or v/vt/vn
                     except ValueError:
                         raise MeshError(f"mesh {base!r} has a face (line {line_no}) whose vertex "
-                                        f"{token!r} is not a whole number") from None
+                                        f"{token!r} is not a whole number.") from None
                     if index > largest[0]:
                         largest = (index, line_no)
                     elif index == 0 or index < -n_vertices:  # a positive index passes both
                         raise MeshError(f"mesh {base!r} has a face (line {line_no}) that refers to "
-                                        f"vertex {index}, but {n_vertices} vertices precede it: OBJ "
-                                        "indices count from 1, or back from -1")
+                                        f"vertex {index}, but {_counted(n_vertices, 'vertex', 'vertices')} "
+                                        "precede it: OBJ "
+                                        "indices count from 1, or back from -1.")
     if largest[0] > n_vertices:
         raise MeshError(f"mesh {base!r} has a face (line {largest[1]}) that refers to vertex "
-                        f"{largest[0]}, but the file has only {n_vertices} vertices")
+                        f"{largest[0]}, but the file has only {_counted(n_vertices, 'vertex', 'vertices')}.")
     if n_vertices and not n_faces:
-        raise MeshError(f"mesh {base!r} has {n_vertices} vertices but no faces: a point cloud is no "
-                        "surface; export the mesh with its faces (OBJ 'f' lines)")
+        raise MeshError(f"mesh {base!r} has {_counted(n_vertices, 'vertex', 'vertices')} but no "
+                        "faces: a point cloud is no surface; export the mesh with its faces (OBJ 'f' lines).")
+    return in_order
 
 
 def _ply_layout(name: str, base: str) -> dict | None:
@@ -254,7 +268,7 @@ def _ply_layout(name: str, base: str) -> dict | None:
         if n_lines < count:
             raise MeshError(f"mesh {base!r} is truncated: its header declares {count} "
                             f"{element} elements, but the file ends after {n_lines} of them "
-                            f"(line {line + n_lines})")
+                            f"(line {line + n_lines}).")
         n_lines -= count
         line += count
     return {"ascii": True, "elements": elements, "header_lines": n_header}
@@ -279,7 +293,7 @@ def _check_ply_faces(faces: np.ndarray, n_vertices: int, base: str, ply: dict | 
                 before += count
             where = f" (face {row + 1}, line {ply['header_lines'] + before + row + 1})"
     raise MeshError(f"mesh {base!r} has a face{where} that refers to vertex {index}, but the file "
-                    f"has only {n_vertices} vertices: PLY indices count from 0")
+                    f"has only {_counted(n_vertices, 'vertex', 'vertices')}: PLY indices count from 0.")
 
 
 def _check_coordinates(vertices: np.ndarray, base: str, unit: str, per_triangle: bool) -> None:
@@ -292,14 +306,14 @@ def _check_coordinates(vertices: np.ndarray, base: str, unit: str, per_triangle:
         i = int(np.flatnonzero(~finite)[0])
         raise MeshError(f"mesh {base!r} has a non-finite coordinate at {where(i)} "
                         f"({', '.join(f'{x:g}' for x in vertices[i])}): every coordinate must be a "
-                        "finite number")
+                        "finite number.")
     limit = MAX_COORDINATE_M / UNITS[unit]
     far = np.abs(vertices).max(axis=1) > limit
     if far.any():
         i = int(np.flatnonzero(far)[0])
         raise MeshError(f"mesh {base!r} has a coordinate of {np.abs(vertices[i]).max():.3g} {unit} "
                         f"at {where(i)}, beyond the {limit:g} {unit} ({MAX_COORDINATE_M:g} m) any "
-                        "graspable object fits in; check the file and its unit (--unit)")
+                        "graspable object fits in; check the file and its unit (--unit).")
 
 
 def _degenerate(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -310,7 +324,36 @@ def _degenerate(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     return double_area <= 1e-12 * max(scale, 1e-300) ** 2
 
 
-def check_mesh(mesh: trimesh.Trimesh, name: str = "mesh", centre: bool = True) -> trimesh.Trimesh:
+def _counted(n: int, noun: str, nouns: str | None = None) -> str:
+    """``1 face``, ``3 faces``; ``nouns`` for a plural not made with -s (``vertices``)."""
+    return f"{n} {noun if n == 1 else nouns or noun + 's'}"
+
+
+def _joined(words: list[str]) -> str:
+    """``a``, ``a and b``, ``a, b and c``."""
+    return words[0] if len(words) == 1 else f"{', '.join(words[:-1])} and {words[-1]}"
+
+
+def _listed(noun: str, numbers: np.ndarray, few: int = 3) -> str:
+    """``triangle 5``, ``triangles 5 and 9``, ``triangles 5, 9, 12 and 4 more``: the first few."""
+    shown = [str(n) for n in numbers[:few]]
+    if len(numbers) > few:
+        shown.append(f"{len(numbers) - few} more")
+    return f"{noun if len(numbers) == 1 else noun + 's'} {_joined(shown)}"
+
+
+def _located(points: np.ndarray, unit: str) -> str:
+    """Where (p, 3) points lie: each point up to three, else their bounding box (a flat one, such
+    as a scan's open base, by the one value of its flat axis)."""
+    if len(points) <= 3:
+        return f"the vertices at {_joined([f'({x:g}, {y:g}, {z:g})' for x, y, z in points])} {unit}"
+    spans = [f"{axis} {low:g}" if low == high else f"{axis} {low:g} to {high:g}"
+             for axis, low, high in zip("xyz", points.min(0), points.max(0), strict=True)]
+    return f"{len(points)} vertices within {_joined(spans)} {unit}"
+
+
+def check_mesh(mesh: trimesh.Trimesh, name: str = "mesh", centre: bool = True, unit: str = "m",
+               face_word: str | None = None) -> trimesh.Trimesh:
     """Validate a closed surface mesh and return an outward-wound, centred copy.
 
     Parameters
@@ -321,6 +364,11 @@ def check_mesh(mesh: trimesh.Trimesh, name: str = "mesh", centre: bool = True) -
         Name used in error messages (e.g. the file name).
     centre : bool
         Translate the result so its volume centroid is at the origin.
+    unit : str
+        Unit the messages give coordinates in (a key of :data:`UNITS`; the mesh is in metres).
+    face_word : str or None
+        What the file calls a face (``"triangle"``, ``"face"``) when the mesh's faces are the
+        file's, in its order: degenerate faces are then named by their number in the file.
 
     Returns
     -------
@@ -335,45 +383,43 @@ def check_mesh(mesh: trimesh.Trimesh, name: str = "mesh", centre: bool = True) -
         zero enclosed volume.
     """
     if len(mesh.faces) == 0 or len(mesh.vertices) == 0:
-        raise MeshError(f"mesh {name!r} is empty: it has no faces")
+        raise MeshError(f"mesh {name!r} is empty: it has no faces.")
     vertices = np.asarray(mesh.vertices, dtype=float)
     faces = np.asarray(mesh.faces, dtype=np.int64)
     bad_coords = ~np.isfinite(vertices).all(axis=1)
     if bad_coords.any():
-        raise MeshError(
-            f"mesh {name!r} has non-finite coordinates at {int(bad_coords.sum())} vertices"
-        )
+        raise MeshError(f"mesh {name!r} has non-finite coordinates at "
+                        f"{_counted(int(bad_coords.sum()), 'vertex', 'vertices')}.")
     scale = float(np.ptp(vertices, axis=0).max())
-    degenerate = _degenerate(vertices, faces)
-    if degenerate.any():
-        raise MeshError(
-            f"mesh {name!r} has {int(degenerate.sum())} degenerate (zero-area) faces"
-        )
-    edges = np.sort(mesh.edges, axis=1)
-    _, counts = np.unique(edges, axis=0, return_counts=True)
-    n_boundary = int((counts == 1).sum())
-    n_nonmanifold = int((counts > 2).sum())
-    if n_boundary:
-        raise MeshError(f"mesh {name!r} is not watertight: {n_boundary} boundary edges")
-    if n_nonmanifold:
-        raise MeshError(
-            f"mesh {name!r} is not watertight: {n_nonmanifold} non-manifold edges "
-            "(shared by more than two faces)"
-        )
+    degenerate = np.flatnonzero(_degenerate(vertices, faces))
+    if len(degenerate):
+        where = f": {_listed(face_word, degenerate + 1)} of the file" if face_word else ""
+        raise MeshError(f"mesh {name!r} has {_counted(len(degenerate), 'degenerate (zero-area) face')}"
+                        f"{where}.")
+    # every undirected edge of a closed manifold surface is shared by exactly two faces
+    faces_per_edge = np.bincount(mesh.edges_unique_inverse)
+    for bad, what in ((faces_per_edge == 1, "boundary"), (faces_per_edge > 2, "non-manifold")):
+        if bad.any():
+            shared = "on one face only" if what == "boundary" else "shared by more than two faces"
+            corners = vertices[np.unique(mesh.edges_unique[bad])] / UNITS[unit]
+            raise MeshError(f"mesh {name!r} is not watertight: "
+                            f"{_counted(int(bad.sum()), what + ' edge')} ({shared}) between "
+                            f"{_located(corners, unit)}.")
     # On a closed manifold every undirected edge is used twice; consistent winding traverses it
     # once in each direction, so a repeated *directed* edge marks a flipped neighbour.
     n_directed = len(np.unique(mesh.edges, axis=0))
     n_inconsistent = len(mesh.edges) - n_directed
     if n_inconsistent:
         raise MeshError(
-            f"mesh {name!r} is inconsistently wound: {n_inconsistent} edges are traversed in the "
-            "same direction by both of their faces"
+            f"mesh {name!r} is inconsistently wound: {_counted(n_inconsistent, 'edge')} "
+            f"{'is' if n_inconsistent == 1 else 'are'} traversed in the same direction "
+            "by both of their faces."
         )
     check_one_body(mesh, name)
     out = mesh.copy()
     volume = out.volume
     if abs(volume) <= 1e-12 * scale**3:
-        raise MeshError(f"mesh {name!r} encloses no volume")
+        raise MeshError(f"mesh {name!r} encloses no volume.")
     if volume < 0.0:
         logger.info("mesh %r was wound inward; inverted to outward winding", name)
         out.invert()
@@ -384,44 +430,6 @@ def check_mesh(mesh: trimesh.Trimesh, name: str = "mesh", centre: bool = True) -
 
 #: Vertices of each surface tested against the others by :func:`check_one_body` (evenly spaced).
 NESTING_SAMPLES = 64
-
-
-def winding_numbers(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
-    """Return the winding number of a closed triangulated surface about each point.
-
-    Parameters
-    ----------
-    points : (p, 3) float
-        Query points [m].
-    triangles : (f, 3, 3) float
-        Corners of the surface's faces [m], in their winding order.
-
-    Returns
-    -------
-    (p,) float
-        The signed solid angle the surface subtends at each point over ``4 pi``: +1 inside an
-        outward-wound closed surface, -1 inside an inward-wound one, 0 outside (up to rounding).
-
-    References
-    ----------
-    Van Oosterom, A. & Strackee, J. (1983). The solid angle of a plane triangle. IEEE Trans.
-    Biomed. Eng. 30(2), 125-126 (``tan(Omega / 2) = a.(b x c) / (|a||b||c| + (a.b)|c| +
-    (b.c)|a| + (c.a)|b|)``). Jacobson, A., Kavan, L. & Sorkine-Hornung, O. (2013). Robust
-    inside-outside segmentation using generalized winding numbers. ACM TOG 32(4), 33.
-    """
-    points = np.asarray(points, dtype=float).reshape(-1, 3)
-    triangles = np.asarray(triangles, dtype=float).reshape(-1, 3, 3)
-    out = np.empty(len(points))
-    block = max(1, 2**20 // max(len(triangles), 1))  # about 2**20 point-face pairs at a time
-    for start in range(0, len(points), block):
-        rel = triangles[None, :, :, :] - points[start:start + block, None, None, :]
-        a, b, c = rel[:, :, 0], rel[:, :, 1], rel[:, :, 2]
-        la, lb, lc = (np.linalg.norm(v, axis=-1) for v in (a, b, c))
-        det = np.einsum("pfi,pfi->pf", a, np.cross(b, c))
-        dots = (np.einsum("pfi,pfi->pf", a, b) * lc + np.einsum("pfi,pfi->pf", b, c) * la
-                + np.einsum("pfi,pfi->pf", c, a) * lb)
-        out[start:start + block] = (2.0 * np.arctan2(det, la * lb * lc + dots)).sum(axis=1)
-    return out / (4.0 * np.pi)
 
 
 def check_one_body(mesh: trimesh.Trimesh, name: str = "mesh") -> None:
@@ -470,15 +478,15 @@ def check_one_body(mesh: trimesh.Trimesh, name: str = "mesh") -> None:
             if enclosed.any() and not enclosed.all():
                 raise MeshError(f"mesh {name!r} has {n_surfaces} closed surfaces that pass through "
                                 "each other: merge them into one closed surface (a boolean union) "
-                                "before planning")
+                                "before planning.")
             inside[i, j] = enclosed.all()
     depth = inside.sum(axis=1)
     n_bodies = int((depth % 2 == 0).sum())
     if n_bodies > 1:
         raise MeshError(f"mesh {name!r} has {n_bodies} separate bodies: the planner grasps one "
-                        "object, so put each body in a file of its own and plan it alone")
+                        "object, so put each body in a file of its own and plan it alone.")
     n_cavities = n_surfaces - n_bodies
     lies = "lies" if n_cavities == 1 else "lie"
     raise MeshError(f"mesh {name!r} has an internal cavity ({n_cavities} of its {n_surfaces} closed "
                     f"surfaces {lies} inside the outer one), whose surface no finger reaches: keep "
-                    "only the outer surface in the file (the plan then takes the object as solid)")
+                    "only the outer surface in the file (the plan then takes the object as solid).")
