@@ -264,7 +264,8 @@ FAILURES = {
                               r"the 10 N load-cell range \(wrong units\?\)\."),
     "not_a_number": (lambda d: d.astype({"time_s": object}).assign(
         time_s=lambda x: x["time_s"].where(x.index != 3, "abc")),
-        r"bad\.csv, row 4, column 'time_s': value 'abc' is not a number\."),
+        r"bad\.csv, row 4, column 'time_s': value 'abc' is not a number of "
+        r"seconds\."),
     "not_finite": (lambda d: d.assign(tangential_force_n=d["tangential_force_n"].where(
         d.index != 7, np.inf)), r"bad\.csv, row 8, column 'tangential_force_n': value inf is "
                                 r"not finite\."),

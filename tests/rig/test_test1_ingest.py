@@ -149,7 +149,7 @@ BAD_WAVEFORMS = {
     "values_in_wrong_units": (_force_in_mn, r"row 6, column 'normal_force_n': value 250 lies "
                                             r"outside the 10 N load-cell range \(wrong units\?\)\."),
     "non_numeric": (lambda d: _set(d, 3, "time_s", "0.3s"),
-                    r"row 4, column 'time_s': value '0\.3s' is not a number\."),
+                    r"row 4, column 'time_s': value '0\.3s' is not a number of seconds\."),
     "non_finite": (lambda d: _set(d, 7, "tangential_force_n", np.nan),
                    r"row 8, column 'tangential_force_n': value nan \(an empty cell or NaN\) is "
                    r"not finite\."),

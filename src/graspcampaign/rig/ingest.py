@@ -29,9 +29,9 @@ import pandas as pd
 
 from graspcampaign.rig.measured_file import (
     IngestError,
+    cell_problem,
     header_problems,
     ingest_error,
-    not_a_number,
     read_table,
     table_and_label,
 )
@@ -58,6 +58,7 @@ logger = logging.getLogger(__name__)
 _UNIT_RE = re.compile(r"^(?P<stem>.+)_(?P<unit>mm|m|cm|um|n|kn|mn|nm|nmm|deg|rad|s|ms|kg|g)$")
 _TRUE = {"true", "1", "yes", "y", "t", "1.0"}
 _FALSE = {"false", "0", "no", "n", "f", "0.0"}
+_BOOLEAN = "a boolean (true/false, 1/0, yes/no)"  # what a boolean cell must hold
 
 
 MAX_RECORDS_BYTES = 32 * 2**20
@@ -183,8 +184,7 @@ def validate_records(data: pd.DataFrame | str | Path, schedule: pd.DataFrame,
     for i, value in enumerate(df["aborted"].tolist()):
         flag = _as_bool(value)
         if flag is None:
-            raise ingest_error(label, i + 1, "aborted", f"value {value!r} is not a boolean "
-                               "(true/false, 1/0, yes/no)")
+            raise ingest_error(label, i + 1, "aborted", cell_problem(value, _BOOLEAN))
         aborted.append(flag)
 
     out: dict[str, list] = {"trial_id": ids, "aborted": aborted}
@@ -245,8 +245,7 @@ def _parse(spec: FieldSpec, value, label: str, row: int):
     if spec.kind == "bool":
         flag = _as_bool(value)
         if flag is None:
-            raise ingest_error(label, row, spec.name, f"value {value!r} is not a boolean "
-                               "(true/false, 1/0, yes/no)")
+            raise ingest_error(label, row, spec.name, cell_problem(value, _BOOLEAN))
         return flag
     if spec.kind == "str":
         text = str(value).strip()
@@ -256,7 +255,7 @@ def _parse(spec: FieldSpec, value, label: str, row: int):
         return text
     number = _as_float(value)
     if number is None:
-        raise ingest_error(label, row, spec.name, not_a_number(value))
+        raise ingest_error(label, row, spec.name, cell_problem(value))
     if not math.isfinite(number):
         raise ingest_error(label, row, spec.name, f"value {value!r} is not finite")
     if spec.kind == "int" and number != int(number):

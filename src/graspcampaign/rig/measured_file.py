@@ -9,6 +9,7 @@ excluded) or line, and the column.
 from __future__ import annotations
 
 import csv
+import datetime
 import io
 import re
 from collections import Counter
@@ -16,9 +17,10 @@ from collections.abc import Collection, Mapping, Sequence
 from difflib import get_close_matches
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 
-__all__ = ["IngestError", "header_problems", "ingest_error", "not_a_number", "read_table",
+__all__ = ["IngestError", "cell_problem", "header_problems", "ingest_error", "read_table",
            "table_and_label"]
 
 
@@ -33,11 +35,18 @@ def ingest_error(label: str, row: int | None, column: str, problem: str) -> Inge
     return IngestError(f"{label}, {where}, column '{column}': {problem}.")
 
 
-def not_a_number(value) -> str:
-    """The problem of a cell that is no number; a decimal comma ('1,5', a spreadsheet's regional
+def cell_problem(value, expected: str = "a number") -> str:
+    """The problem of a cell that is not ``expected``. A date/time or a list (Parquet keeps both)
+    is named as one, not by its Python repr; a decimal comma ('1,5', a spreadsheet's regional
     export with quoted cells) is named as one."""
+    if isinstance(value, (datetime.date, np.datetime64)):  # pd.Timestamp is a datetime.date
+        return f"value {value} is a date/time, not {expected}"
+    if isinstance(value, (list, tuple, np.ndarray)):
+        shown = ", ".join(str(item) for item in value[:3]) + (", ..." if len(value) > 3 else "")
+        values = "value" if len(value) == 1 else "values"
+        return f"value [{shown}] is a list of {len(value)} {values}, not {expected}"
     comma = isinstance(value, str) and re.fullmatch(r"\s*[+-]?[0-9]*,[0-9]+\s*", value)
-    return f"value {value!r} is not a number" + (
+    return f"value {value!r} is not {expected}" + (
         " (a decimal comma: save the sheet with a decimal point '.')" if comma else "")
 
 

@@ -23,9 +23,9 @@ import pandas as pd
 from graspcampaign.rig.ingest import check_one_source
 from graspcampaign.rig.measured_file import (
     IngestError,
+    cell_problem,
     header_problems,
     ingest_error,
-    not_a_number,
     read_table,
     table_and_label,
 )
@@ -122,12 +122,15 @@ def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterabl
     out["event_id"] = ids.astype(str).str.strip()
     for c in WAVEFORM_COLUMNS[1:]:
         raw = df[c]
+        if pd.api.types.is_datetime64_any_dtype(raw):  # else read as microseconds since 1970
+            raw = raw.astype(object)
         num = pd.to_numeric(raw, errors="coerce")
         nonnum = num.isna() & raw.notna() & ~raw.astype(str).str.strip().str.lower().isin(
             ["nan", "inf", "-inf", "+inf", "infinity", "-infinity"])
         if nonnum.any():
             i = int(np.flatnonzero(nonnum.to_numpy())[0])
-            raise ingest_error(label, i + 1, c, not_a_number(raw.iloc[i]))
+            expected = "a number of seconds" if c == "time_s" else "a number"
+            raise ingest_error(label, i + 1, c, cell_problem(raw.iloc[i], expected))
         vals = num.to_numpy(dtype=float)
         notfinite = ~np.isfinite(vals)
         if notfinite.any():
