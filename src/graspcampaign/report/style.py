@@ -82,10 +82,11 @@ def bars(ax, x: Sequence[float], values, low, high, colours, width: float = 0.7,
          paper: Sequence | None = None, label: str | None = None) -> bool:
     """Bars with interval whiskers (none for a missing value) and, optionally, the paper's marks;
     return whether a paper mark was drawn."""
-    v, lo, hi = (np.asarray(a, dtype=float) for a in (values, low, high))
-    ax.bar(x, np.nan_to_num(v), width, color=colours, edgecolor="white", label=label,
-           yerr=np.vstack([np.nan_to_num(v - lo), np.nan_to_num(hi - v)]), ecolor="#333333",
-           error_kw={"elinewidth": 1.0})
+    x, v, lo, hi = (np.asarray(a, dtype=float) for a in (x, values, low, high))
+    ax.bar(x, np.nan_to_num(v), width, color=colours, edgecolor="white", label=label)
+    shown = np.isfinite(v) & np.isfinite(lo) & np.isfinite(hi)  # a missing value: no mark at 0
+    ax.errorbar(x[shown], v[shown], yerr=np.vstack([v - lo, hi - v])[:, shown], fmt="none",
+                ecolor="#333333", elinewidth=1.0)
     return paper_marks(ax, x, list(paper), width) if paper is not None else False
 
 
