@@ -199,7 +199,7 @@ def write_headline(root: Path | str, formats: list[str] | None = None,
     reduced = frame["testbed"].astype(str).str.contains(REDUCED_MARK).any()
     virtual = frame["source"].eq("virtual").any()
     differ = int(frame["differs"].eq(True).sum()) if "differs" in frame else 0
-    why = (f" {differ} of {len(frame)} rows differ from the paper (its value outside our 95% "
+    why = (f" {differ} of {len(frame)} rows differ from the paper (the paper's value outside our 95% "
            "interval); each run's report, linked in *run*, opens with where and why." if differ else "")
     return Document("Headline success rates (paper Table 1)", "", [], [
         Text(INTRO + (VIRTUAL_NOTE if virtual else "") + why),

@@ -109,8 +109,8 @@ def _main_rate(rates: pd.DataFrame) -> str:
         f"{fmt.interval(h.wilson_low_pct, h.wilson_high_pct, 1)}; paper {fmt.number(h.paper_pct)}%), "
         "and " for h in ours.itertuples())
     return (f"Ours: {proposed}{int(rates['differs'].eq(True).sum())} of "
-            f"{int(rates['differs'].notna().sum())} planners with a paper value differ from it (its "
-            "value outside our 95% interval; table success_by_planner).")
+            f"{int(rates['differs'].notna().sum())} planners with a paper value differ from it (the "
+            "paper's value outside our 95% interval; table success_by_planner).")
 
 
 def grid_finding(run: Run) -> str:
