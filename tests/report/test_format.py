@@ -420,3 +420,10 @@ def test_claims_leave_out_a_unit_or_n_column_no_row_fills():
                                                            40.0, "%", 1)]).render(run)
     assert [c.label for c in table.cols][4:6] == ["unit", "n"]
     assert [t for t, _ in table.grid[0][2]][4:6] == ["%", "3"]
+
+
+def test_a_list_in_a_sentence_reads_as_english():
+    # grip_laws said "loses to antipodal, Ferrari–Canny ε" (a comma where English has "and")
+    assert [fmt.listed(w) for w in ([], ["a"], ["a", "b"], ["a", "b", "c"])] == \
+        [fmt.MISSING, "a", "a and b", "a, b and c"]
+    assert fmt.listed([], "none") == "none"

@@ -98,6 +98,14 @@ def interval(low: Any, high: Any, digits: int | None = None, *, sig: int | None 
     return f"{number(low, digits, sig=sig)}{sep}{number(high, digits, sig=sig)}"
 
 
+def listed(words: list[str], empty: str = MISSING) -> str:
+    """``a``, ``a and b``, ``a, b and c`` (``empty`` for none): a list in a sentence."""
+    words = list(words)
+    if not words:
+        return empty
+    return words[0] if len(words) == 1 else f"{', '.join(words[:-1])} and {words[-1]}"
+
+
 def span(values: Any, unit: str = "", digits: int | None = None) -> str:
     """Return the range ``"min–max"`` of ``values`` then ``unit`` (one value when both ends print alike):
     both ends at ``digits`` decimals if given (a percentage's 1), else rounded as a table column of

@@ -34,7 +34,7 @@ def first(rates: pd.Series) -> str:
     rates share a rank, as in the belief-pairs table)."""
     top = [label("planner", q) for q, v in rates.items() if v == rates.max()]
     return f"the {top[0]} planner ranks first" if len(top) == 1 else \
-        f"{_and(top)} tie first at {fmt.number(rates.max(), 1)} %"
+        f"{fmt.listed(top)} tie first at {fmt.number(rates.max(), 1)} %"
 
 
 def belief_gap(paper: pd.Series, none: pd.Series) -> str:
@@ -57,11 +57,6 @@ def belief_gap(paper: pd.Series, none: pd.Series) -> str:
             f"{fmt.number(gap0, 1)} pp with exact ones: {closed} (point estimates, no interval). ")
 
 
-def _and(words: list[str]) -> str:
-    """``a``, ``a and b``, ``a, b and c``."""
-    return words[0] if len(words) == 1 else f"{', '.join(words[:-1])} and {words[-1]}"
-
-
 def finding(run: Run, extra=lambda run: "") -> str:
     """The opening paragraph, from the records: who ranks first and how the proposed planner stands
     against the paper, why, what exact beliefs change; the per-planner numbers are Table 7's (or 9's)."""
@@ -75,8 +70,9 @@ def finding(run: Run, extra=lambda run: "") -> str:
                                 for q in (top, PROPOSED)}
     wilson = {q: f"Wilson 95 % {fmt.interval(100 * c.low, 100 * c.high, 1)}" for q, c in ci.items()}
     text = (f"{ranked[0].upper()}{ranked[1:]} ({n1(paper.max()) + ' % ' if len(tops) == 1 else ''}of "
-            f"{_and([str(n['paper'][q]) for q in tops])} executed trials"
-            f"{', ' + wilson[top] if len(tops) == 1 else ''}; paper {_and([n1(theirs[q]) for q in tops])} %)")
+            f"{fmt.listed([str(n['paper'][q]) for q in tops])} executed trials"
+            f"{', ' + wilson[top] if len(tops) == 1 else ''}; "
+            f"paper {fmt.listed([n1(theirs[q]) for q in tops])} %)")
     if PROPOSED not in tops:
         best = max(theirs, key=lambda q: -1 if theirs[q] is None else theirs[q])
         text += (f", while the proposed planner, {'first ' * (best == PROPOSED)}in the paper at "

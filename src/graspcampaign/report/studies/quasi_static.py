@@ -141,9 +141,11 @@ def grid_finding(run: Run) -> str:
             else " No triple passes.") +
         f" Under Algorithm 2, {limit['exceeds'].sum()} of {limit['n'].sum()} trials exceed the "
         f"paper's {DESIGN_LIMIT_MM:g} mm design limit, {limit['beyond_radius'].sum()} of them deeper "
-        f"than the fingertip radius r = {run.radius_mm:g} mm (non-physical, never a success); the "
-        f"validity gate removed {int(gate['gate_removed'].sum())} of "
-        f"{int(gate['success_unbounded'].sum())} passes of the published checks. SPEC §8; {DECISION}.")
+        f"than the fingertip radius r = {run.radius_mm:g} mm (non-physical, never a success); " + (
+            f"the validity gate removed {int(gate['gate_removed'].sum())} of {published} passes of the "
+            "published checks" if (published := int(gate["success_unbounded"].sum())) else
+            "no triple passes the published checks either, so the validity gate removed none") +
+        f". SPEC §8; {DECISION}.")
 
 
 def LawPaired() -> S.Table:
@@ -408,7 +410,7 @@ def grip_finding(run: Run) -> str:
     t, sig = run.tables["success_by_planner"], run.tables["mcnemar"].query("p_exact < 0.05")
     gate, paper = run.tables["readings"], run.paper.success_pct
     need = run.tables["grip_need"].query("grip_law == 'oracle'")
-    names = lambda planners: ", ".join(label("planner", p) for p in planners) or "none"  # noqa: E731
+    names = lambda planners: fmt.listed([label("planner", p) for p in planners], "none")  # noqa: E731
     rank = {law: t[t["grip_law"] == law].sort_values("rate_pct", ascending=False, kind="stable")
             for law in run.order["grip_law"]}
     ours = t.pivot(index="planner", columns="grip_law", values="rate_pct")  # NaN: a planner not run
