@@ -106,7 +106,7 @@ def _main_rate(rates: pd.DataFrame) -> str:
     ours = rates[(rates["planner"] == "heuristic") & (rates["n"] > 0)]
     proposed = "".join(
         f"the proposed planner passes {fmt.number(h.rate_pct, 1)}% of {h.n} triples (Wilson 95% "
-        f"{fmt.interval(h.wilson_low_pct, h.wilson_high_pct, 1)}; paper {fmt.number(h.paper_pct)}%), "
+        f"{fmt.interval(h.wilson_low_pct, h.wilson_high_pct, 1)}; paper {fmt.number(h.paper_pct, 1)}%), "
         "and " for h in ours.itertuples())
     return (f"Ours: {proposed}{int(rates['differs'].eq(True).sum())} of "
             f"{int(rates['differs'].notna().sum())} planners with a paper value differ from it (the "
@@ -119,7 +119,8 @@ def grid_finding(run: Run) -> str:
     m = run.tables["mechanism"].set_index("planner")
     t, rates = m.sum(numeric_only=True).astype(int), qs.algorithm_2(run.tables["success_by_planner"])
     paper_pct, gate = rates.set_index("planner")["paper_pct"], qs.algorithm_2(run.tables["readings"])
-    bound = [f"{label('planner', p)} ≤ {100 * r['rho_passable'] / r['n']:.1f}% (paper {paper_pct[p]:g}%)"
+    bound = [f"{label('planner', p)} ≤ {100 * r['rho_passable'] / r['n']:.1f}% "
+             f"(paper {fmt.number(paper_pct[p], 1)}%)"
              for p, r in m.iterrows()
              if r["n"] and 100 * r["rho_passable"] / r["n"] < paper_pct.get(p, -1)]
     limit = qs.algorithm_2(run.tables["design_limit"])
@@ -420,7 +421,7 @@ def grip_finding(run: Run) -> str:
     deep = int((won > DESIGN_LIMIT_MM).sum())
     return (
         "The paper's ordering (Fig. 18: " + ", ".join(
-            f"{label('planner', p)} {v:g}%" for p, v in paper.items())
+            f"{label('planner', p)} {fmt.number(v, 1)}%" for p, v in paper.items())
         + f") appears under {', '.join(label('grip_law', law) for law in same) or 'none of the laws'}. "
         "Success per grip law, highest first — " + "; ".join(
             f"{label('grip_law', law)}: " + ", ".join(
