@@ -38,6 +38,12 @@ def test_bad_input_raises_the_command_line_sentence(tmp_path):
                                              rf"path and no records under {tmp_path}; available "
                                              r"studies: ablation, baseline_grid, "):
         gc.load_records("nosuch", root=tmp_path)
+    # the API's argument names, not the command line's options
+    with pytest.raises(UserInputError, match=r"^run = '\.\./x' is not allowed; use letters, "):
+        gc.load_records("smoke", "../x", root=tmp_path)
+    with pytest.raises(UserInputError, match=rf"^root {tmp_path}/f: is a file, not a directory\.$"):
+        (tmp_path / "f").write_text("")
+        gc.load_records("smoke", root=tmp_path / "f")
 
 
 def test_import_graspcampaign_loads_no_layer():

@@ -55,5 +55,5 @@ def load_records(study: str, run: str | None = None, *, root: str | Path = "resu
     from graspcampaign.campaign.status import open_run
     from graspcampaign.campaign.studyfile import configured_run
 
-    store, _ = open_run(root, study, configured_run(study) if run is None else run, "root")
+    store, _ = open_run(root, study, configured_run(study) if run is None else run, "")
     return store.dataset() if dataset else store.read().to_pandas()

@@ -87,7 +87,7 @@ def quasi_static_outputs(factors: dict, rng: np.random.Generator) -> dict:
         "eta": float(rng.uniform(0, 0.8)), "delta_max_mm": float(deltas.max()),
         "exceeds_1mm": bool(deltas.max() > 1.0), "iterations": int(rng.integers(5, 100)),
         "h_total": float(rng.uniform(0.15, 0.28)), "s1": 0.1, "s2": 0.1, "s3": 0.05,
-        "n_c": 0, "n_e": 0, "believed_quality": 0.5, "n_sharp_vertex": 0, "n_sharp_edge": 0,
+        "n_c": 0, "n_e": 0, "n_sharp_vertex": 0, "n_sharp_edge": 0,
         "lambda1": 0.332, "lambda2": 0.88, "n_exp": 0.487,
         "plan_time_s": 0.01 * (1 + factors.get("nodes", 390) / 1000) + rng.uniform(0, 1e-3),
         "eval_time_s": 0.02 + rng.uniform(0, 1e-3),

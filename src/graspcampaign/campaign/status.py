@@ -196,8 +196,11 @@ def check_known(root: Path | str, study: str) -> None:
                          f"studies: {', '.join(known)}.")
 
 
-def open_run(root: Path | str, study: str, run: str, root_option: str = "--root"):
+def open_run(root: Path | str, study: str, run: str, option_prefix: str = "--"):
     """Return ``(RunStore, manifest)`` of a stored run whose records are what its manifest says.
+
+    ``option_prefix`` starts the names the messages give ``root`` and ``run``: ``--`` for the
+    command line's options, ``""`` for the Python API's arguments.
 
     Raises
     ------
@@ -206,8 +209,8 @@ def open_run(root: Path | str, study: str, run: str, root_option: str = "--root"
         studies); no run there (with the command that makes one); a run whose records are not what
         its manifest says (``DamagedRunError``).
     """
-    check_root(root, root_option)
-    check_name(run, "--run")
+    check_root(root, f"{option_prefix}root")
+    check_name(run, f"{option_prefix}run")
     check_known(root, study)
     from graspcampaign.campaign.records import RunStore
 
