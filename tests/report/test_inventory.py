@@ -22,7 +22,7 @@ INVENTORY = {
     "shapes": ({"shapes", "h_range", "design_limit", "failure_checks", "readings",
                 "identifications"}, {"fig15_shape_metrics"}),
     "ablation": ({"success_by_planner", "mcnemar", "design_limit", "failure_checks", "mechanism",
-                  "readings", "epsilon", "h_epsilon", "identifications"},
+                  "readings", "grip_need", "epsilon", "h_epsilon", "identifications"},
                  {"fig16_ablation", "h_epsilon"}),
     "baseline_grid": ({"success_by_planner", "success_by_shape", "mcnemar", "success_by_mu",
                        "success_by_mass_kg", "design_limit", "failure_checks", "mechanism",

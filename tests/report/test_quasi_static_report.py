@@ -314,13 +314,28 @@ def test_ablation_finding_scopes_its_numbers_to_each_grip_law(runs):
         g = ok[ok["grip_law"] == law]
         capped = g["grip_capped"].astype(bool)
         checks = g["failure_check"].value_counts()
-        assert (f"under {words} {int(g['success'].sum())} of {len(g)} pass, the equal grip reaches "
-                f"its cap in {int(capped.sum())} (no equal grip holds in "
-                f"{int(np.isinf(g['grip_needed_n']).sum())}), where δmax = "
-                f"{fmt.span(g.loc[capped, 'delta_max_mm'])} mm"
+        assert (f"under {words} {int(g['success'].sum())} of {len(g)} pass, the needed grip fits "
+                f"within the cap on {int((~capped).sum())} (no equal grip holds on "
+                f"{int(np.isinf(g['grip_needed_n']).sum())}), the {int(capped.sum())} capped grips end "
+                f"at δmax = {fmt.span(g.loc[capped, 'delta_max_mm'])} mm"
                 "; first failing check " + ", ".join(
                     f"{c} {checks[c]}" for c in ("none", "residual", "torque", "slip", "geometry")
                     if c in checks)) in text
+
+
+def test_ablation_opening_grip_counts_are_in_its_grip_need_table(runs):
+    """Each law's cap and no-equal-grip counts of the opening can be checked in a table of the
+    report: grip_need, per grip law and planner, equals the records' grip_capped and grip_needed_n."""
+    store = runs["ablation"]
+    ok = ok_records(store)
+    other = ok[ok["grip_law"] != "paper"].assign(
+        holdable=~ok["grip_capped"].astype(bool), no_equal_grip=np.isinf(ok["grip_needed_n"]),
+        capped_passes=ok["grip_capped"].astype(bool) & ok["success"].astype(bool))
+    expected = other.groupby(["grip_law", "planner"])[["holdable", "no_equal_grip", "capped_passes"]].sum()
+    need = read_table(store, "grip_need").set_index(["grip_law", "planner"])
+    assert need.loc[expected.index, expected.columns].to_dict() == expected.to_dict()
+    assert need["n"].to_dict() == other.groupby(["grip_law", "planner"]).size().to_dict()
+    assert "(per planner: tables grip_need, design_limit, failure_checks)" in finding(store)
 
 
 def test_h_epsilon_histogram_counts_trials_in_whole_numbers(runs):

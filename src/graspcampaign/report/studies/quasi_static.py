@@ -309,18 +309,30 @@ SHAPES = S.ReportSpec("shapes", [
 
 
 # --------------------------------------------------------------------- ablation, grid, grip laws
+GRIP_NEED = S.Table(
+    "grip_need", "What an equal grip needs under slip and oracle: triples whose needed grip (with the "
+    "design margin) fits within the grip cap, triples no equal grip holds, passes at the capped grip, "
+    "median steepest contact |n_out,z| (0: horizontal normals)",
+    lambda run: qs.grip_need(run.records, run.order), [
+        Col("n", "n"), Col("holdable", "within the cap"), Col("no_equal_grip", "no equal grip holds"),
+        Col("capped_passes", "passes at the cap"),
+        Col("steepest_normal_z_median", "median steepest |n_z|", 2)], by=BY_LAW)
+
+
 def other_laws(run: Run) -> str:
     """What the slip and oracle grip laws (named, not run, by the paper) did, from the records."""
     t = qs.law_outcomes(run.records, run.order)
     return "" if not len(t) else (
         " The numbers above are Algorithm 2's. The tables also hold the grip laws the paper names "
         "but did not run (Sec. 6.5, 12), every planner on the same scenes: " + "; ".join(
-            f"under {label('grip_law', r.grip_law)} {r.successes} of {r.n} pass, the equal grip "
-            f"reaches its cap in {r.capped} (no equal grip holds in {r.no_equal_grip})"
-            + (f", where δmax = {fmt.span([r.capped_delta_min_mm, r.capped_delta_max_mm])} mm"
-               if r.capped else "") + "; first failing check "
+            f"under {label('grip_law', r.grip_law)} {r.successes} of {r.n} pass, the needed grip "
+            f"fits within the cap on {r.n - r.capped} (no equal grip holds on {r.no_equal_grip})"
+            + (f", the {r.capped} capped grips end at δmax = "
+               f"{fmt.span([r.capped_delta_min_mm, r.capped_delta_max_mm])} mm" if r.capped else "")
+            + "; first failing check "
             + ", ".join(f"{c} {getattr(r, c)}" for c in FAILURE_CHECKS if getattr(r, c))
-            for r in t.itertuples()) + ". A capped grip presses every finger to the cap depth "
+            for r in t.itertuples()) + " (per planner: tables grip_need, design_limit, "
+        "failure_checks). A capped grip presses every finger to the cap depth "
         f"(the material's damage depth, at most r = {run.radius_mm:g} mm), so δmax is the cap "
         "whatever the planner; a trial whose first failing check is slip balanced force and torque "
         "only with a tangential force of at least μ·f_n at some contact (slip margin ≤ 0).")
@@ -373,7 +385,8 @@ def law_items(figure: str, name: str, what: str) -> list:
 
 ABLATION = S.ReportSpec("ablation", [
     S.Finding(ablation_finding), *law_items("Fig. 16", "fig16_ablation", "variant"), MECHANISM,
-    readings(BY_LAW), *EPSILON, S.DesignLimit(BY_LAW), S.FailureChecks(BY_LAW), IDENTIFICATIONS,
+    readings(BY_LAW), GRIP_NEED, *EPSILON, S.DesignLimit(BY_LAW), S.FailureChecks(BY_LAW),
+    IDENTIFICATIONS,
 ])
 
 
@@ -452,13 +465,7 @@ def grip_finding(run: Run) -> str:
 GRIP_LAWS = S.ReportSpec("grip_laws", [
     S.Finding(grip_finding), *law_items("Fig. 18", "fig18_grip_laws", "planner"), readings(BY_LAW),
     S.FailureChecks(BY_LAW),
-    S.Table("grip_need", "What an equal grip needs under slip and oracle: triples whose needed grip "
-            "(with the design margin) fits within the grip cap, triples no equal grip holds, passes "
-            "at the capped grip, median steepest contact |n_out,z| (0: horizontal normals)",
-            lambda run: qs.grip_need(run.records, run.order), [
-                Col("n", "n"), Col("holdable", "within the cap"),
-                Col("no_equal_grip", "no equal grip holds"), Col("capped_passes", "passes at the cap"),
-                Col("steepest_normal_z_median", "median steepest |n_z|", 2)], by=BY_LAW),
+    GRIP_NEED,
     MECHANISM, *EPSILON, S.DesignLimit(BY_LAW), IDENTIFICATIONS,
 ])
 
