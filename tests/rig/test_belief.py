@@ -55,6 +55,15 @@ def test_coatings():
         rb.material_model("gel", "oily")
 
 
+def test_coating_friction_is_keyed_by_the_vocabulary_names_and_ordered_physically():
+    # the paper's coating names (the vocabulary's, which a paper block's keys are checked against);
+    # a tacky rubber grips more than a talc skin, which grips more than a PTFE-like film (§9.2)
+    from graspcampaign.analysis.vocabulary import COATINGS
+
+    assert set(rb.COATING_MU_S) == set(COATINGS)
+    assert rb.COATING_MU_S["high"] > rb.COATING_MU_S["medium"] > rb.COATING_MU_S["low"]
+
+
 # ------------------------------------------------------------------ beliefs
 def _contacts():
     """Three contacts on a 50 mm sphere: one upper, one lower, one equatorial."""

@@ -52,7 +52,6 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from graspcampaign.analysis.vocabulary import COATINGS
 from graspcampaign.core import bench
 from graspcampaign.core import disturbance as dist
 from graspcampaign.core.contact import NOMINAL_CONTACT, ContactParams, effective_modulus
@@ -90,10 +89,12 @@ ambient groups). It knows the object is one of the campaign's soft materials, no
 its coating."""
 
 
-COATING_MU_S = dict(zip(COATINGS, (0.90, 0.35, 0.15), strict=True))  # high, medium, low
+COATING_MU_S = {"high": 0.90, "medium": 0.35, "low": 0.15}
 """Static friction of the surface coatings on the silicone fingertip (decision, docs/decisions.md:
 low = a PTFE-like film, medium = a powdered (talc) skin, high = a tacky rubber coating, at the
-values typical of such pairs; the paper reports only their effect, §9.2)."""
+values typical of such pairs; the paper reports only their effect, §9.2). Keyed by name, not by the
+order of the vocabulary's :data:`~graspcampaign.analysis.vocabulary.COATINGS` (a display order);
+the names are its words (tests/rig/test_belief.py)."""
 
 CHARACTERISTIC_Z = 1.645
 """The grip cap uses the 5 % characteristic (lower-fractile) stiffness and damage depth of the
