@@ -159,9 +159,8 @@ def _coarse_checked_body(mesh, name: str):
         warnings.warn(
             f"mesh {name!r} has {len(mesh.faces)} faces: planning on it takes half a minute or more "
             "per million faces and gigabytes of memory (every step scales with the faces); a copy "
-            f"decimated to under "
-            f"{DENSE_FACES // 10} faces plans in seconds (the paper's objects have {N_NODES} "
-            "vertices)", stacklevel=3)
+            f"decimated to under {DENSE_FACES // 10} faces plans in seconds (the paper's objects "
+            f"have {N_NODES} vertices)", stacklevel=3)
     if is_coarse(n_vertices):
         warnings.warn(
             f"mesh {name!r} has only {n_vertices} vertices and the planner places fingers on "
