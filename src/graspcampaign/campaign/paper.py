@@ -331,12 +331,11 @@ def check_paper(study: str, block: dict | None, where: str = "paper", *,
 
 def study_paper(study: str) -> Any:
     """Return the typed paper values of ``campaigns/<study>.yaml`` (None if it has none)."""
-    import yaml
-
     from graspcampaign.campaign.compose import project_dirs
+    from graspcampaign.campaign.studyfile import read_yaml
 
     path = project_dirs()[1] / f"{study}.yaml"
-    data = (yaml.safe_load(path.read_text()) or {}) if path.is_file() else {}
+    data = read_yaml(path) if path.is_file() else {}
     like = data.get("compare_with") or study
     return check_paper(like, data.get("paper"), f"{path.name}: paper",
                        compare_with=like != study)
