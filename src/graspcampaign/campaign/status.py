@@ -81,8 +81,9 @@ def recorded_in(study: StudyCfg, run: str | None = None, opened=_OPEN) -> int:
 
 
 def _median_trial_s(store) -> float | None:
-    """The median wall time [s] of the run's recorded trials (None: none timed, e.g. measured
-    records, which carry no wall time)."""
+    """The median wall time [s] of the run's recorded trials (None: none timed; wall_time_s is an
+    optional record column, records.OPTIONAL_COLUMNS). Measured runs never get here: they have no
+    run-time estimate (:func:`design_text`)."""
     table = store.read(columns=["wall_time_s"])
     if "wall_time_s" not in table.column_names:
         return None
