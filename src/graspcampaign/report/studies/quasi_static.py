@@ -17,7 +17,7 @@ from matplotlib.ticker import MaxNLocator
 from graspcampaign.analysis import quasi_static as qs
 from graspcampaign.analysis import records as rec
 from graspcampaign.analysis.records import DESIGN_LIMIT_MM, FAILURE_CHECKS, Estimate
-from graspcampaign.analysis.vocabulary import colour, label, ordered
+from graspcampaign.analysis.vocabulary import PROPOSED, colour, label, ordered
 from graspcampaign.campaign.paper import study_paper
 from graspcampaign.report import format as fmt
 from graspcampaign.report import spec as S
@@ -103,7 +103,7 @@ MECHANISM = S.Table("mechanism", lambda run: (
 def _main_rate(rates: pd.DataFrame) -> str:
     """The proposed planner's rate under Algorithm 2 beside the paper's, and how many planners
     differ (the success table below has every planner)."""
-    ours = rates[(rates["planner"] == "heuristic") & (rates["n"] > 0)]
+    ours = rates[(rates["planner"] == PROPOSED) & (rates["n"] > 0)]
     proposed = "".join(
         f"the proposed planner passes {fmt.number(h.rate_pct, 1)}% of {h.n} triples (Wilson 95% "
         f"{fmt.interval(h.wilson_low_pct, h.wilson_high_pct, 1)}; paper {fmt.number(h.paper_pct, 1)}%), "
@@ -339,7 +339,7 @@ def other_laws(run: Run) -> str:
 
 
 def ablation_finding(run: Run) -> str:
-    full = qs.algorithm_2(run.tables["success_by_planner"]).set_index("planner").loc["heuristic"]
+    full = qs.algorithm_2(run.tables["success_by_planner"]).set_index("planner").loc[PROPOSED]
     return grid_finding(run) + other_laws(run) + (
         f" Power: at the paper's {run.paper.trials_per_variant} trials per variant its interval is "
         f"roughly ±{run.paper.interval_half_width_pp:g} pp (Sec. 6.3); ours on the full heuristic is "
