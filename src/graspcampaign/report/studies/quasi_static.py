@@ -430,8 +430,7 @@ def grip_finding(run: Run) -> str:
     ours = t.pivot(index="planner", columns="grip_law", values="rate_pct")  # NaN: a planner not run
     same = [law for law in rank  # strictly: planners tied at one rate (say all at 0%) show no order
             if ours[law].reindex(sorted(paper, key=lambda p: -paper[p])).diff().iloc[1:].lt(0).all()]
-    won = run.ok.loc[run.ok["success"].astype(bool), "delta_max_mm"]
-    deep = int((won > DESIGN_LIMIT_MM).sum())
+    deep = int(run.tables["design_limit"]["successes_exceeding"].sum())  # the table it points to
     return (
         "The paper's ordering (Fig. 18: " + ", ".join(
             f"{label('planner', p)} {fmt.number(v, 1)}%" for p, v in paper.items())
@@ -440,8 +439,9 @@ def grip_finding(run: Run) -> str:
             f"{label('grip_law', law)}: " + ", ".join(
             f"{label('planner', r.planner)} {r.rate_pct:.1f}%" for r in g.itertuples())
             for law, g in rank.items()) + ". " + (
-        f"{deep} of the {len(won)} successes lie deeper than the paper's {DESIGN_LIMIT_MM:g} mm design "
-        "limit and count as successes (per law in the success table's caption; table design_limit). "
+        f"{deep} of the {int(t['successes'].sum())} successes lie deeper than the paper's "
+        f"{DESIGN_LIMIT_MM:g} mm design limit and count as successes (per law in the success table's "
+        "caption; table design_limit). "
         if deep else "") +
         "Within each law (McNemar, exact p < 0.05) the proposed planner " + "; ".join(
             f"under {label('grip_law', law)} beats "
