@@ -434,7 +434,7 @@ def grip_finding(run: Run) -> str:
     return (
         "The paper's ordering (Fig. 18: " + ", ".join(
             f"{label('planner', p)} {fmt.number(v, 1)}%" for p, v in paper.items())
-        + f") appears under {', '.join(label('grip_law', law) for law in same) or 'none of the laws'}. "
+        + f") appears under {fmt.listed([label('grip_law', law) for law in same], 'none of the laws')}. "
         "Success per grip law, highest first — " + "; ".join(
             f"{label('grip_law', law)}: " + ", ".join(
             f"{label('planner', r.planner)} {r.rate_pct:.1f}%" for r in g.itertuples())
