@@ -257,7 +257,7 @@ def test_the_papers_ordering_is_claimed_only_where_our_rates_order_the_planners_
     paper = ["heuristic", "antipodal", "random", "centroid"]  # Fig. 18, highest first
     rates = ok_records(runs["laws"]).groupby(["grip_law", "planner"])["success"].mean().unstack()
     strict = [label("grip_law", law) for law in LAWS if (rates.loc[law, paper].diff().iloc[1:] < 0).all()]
-    assert f") appears under {', '.join(strict) or 'none of the laws'}. Success per" in finding(runs["laws"])
+    assert f") appears under {fmt.listed(strict, 'none of the laws')}. Success per" in finding(runs["laws"])
 
     def fail(factors, rng):  # every trial fails its residual check, so τ_T removes no pass either
         return {**quasi_static_outputs(factors, rng), "success": False, "failure_check": "residual",
@@ -275,6 +275,29 @@ def test_the_papers_ordering_is_claimed_only_where_our_rates_order_the_planners_
     # τ_T removed no pass here: the finding says 0, not that τ_T binds (it said "τ_T binds: ... 0")
     assert "The torque check alone removed 0 passes" in finding(store)
     assert "τ_T binds" not in finding(store)
+
+
+def test_the_laws_that_show_the_papers_ordering_are_listed_in_english(tmp_path):
+    """A list in a sentence reads 'a, b and c' (fmt.listed): the laws under which the paper's
+    ordering appears read 'Algorithm 2 (paper), slip-margin grip and oracle equal grip' (they were
+    joined by commas only). Here each planner passes on a fixed number of the three shapes, so every
+    law orders the planners strictly as Fig. 18 does (3, 2, 1, 0 of 3)."""
+    passes = {"heuristic": 3, "antipodal": 2, "random": 1}
+
+    def ordered(factors, rng):
+        won = SHAPES.index(factors["shape"]) < passes.get(factors["planner"], 0)
+        return {**quasi_static_outputs(factors, rng), "success": won, "success_no_torque": won,
+                "failure_check": "none" if won else "residual"}
+
+    store = make_run(tmp_path / "results", "grip_laws", "quasi_static",
+                     {"shape": SHAPES[:3], "mass_kg": [0.2], "mu": [0.3], "planner": PLANNERS,
+                      "grip_law": LAWS}, seeds=1, paper=None, outputs=ordered,
+                     method_factors=["planner", "grip_law"])
+    build_reports(["grip_laws"], root=tmp_path / "results")
+    rates = ok_records(store).groupby(["grip_law", "planner"])["success"].sum().unstack()
+    assert (rates[["heuristic", "antipodal", "random", "centroid"]].diff(axis=1).iloc[:, 1:] < 0).all().all()
+    assert ") appears under Algorithm 2 (paper), slip-margin grip and oracle equal grip. Success per" \
+        in finding(store)
 
 
 def test_ablation_gains_its_grip_law_columns(runs):

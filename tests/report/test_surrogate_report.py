@@ -235,7 +235,7 @@ def test_the_regression_sentence_says_only_what_the_r2_shows(sim_root):
 # noise: the larger noise input's importance as the importance table prints it (3 decimals)
 @pytest.mark.parametrize("importances, noise, above", [
     ({"mass_kg": 0.3, "lambda1": 0.196, "lambda2": 0.17, "msd_b": 0.16, "mu": 0.145}, "0.170",
-     "mass [kg], λ1"),
+     "mass [kg] and λ1"),
     ({"lambda2": 0.4, "mass_kg": 0.3, "msd_b": 0.2, "mu": 0.1}, "0.400", "no input")])
 def test_the_importance_caption_names_the_inputs_above_the_noise_inputs(importances, noise, above):
     """The caption said λ2 and b show what the forest gives to noise, but not that λ1 and μ were no

@@ -204,8 +204,9 @@ def build_reports(studies: list[str] | None = None, run: str | Mapping[str, str]
                                            for store in stores)
     for written, failure in outcomes:
         if failure is None:
-            batch.append(written[0])
-            batch.broken[written[0]] = written[1:]
+            page, items, titles = written
+            batch.append(page)
+            batch.broken[page] = (items, titles)
         else:
             batch.failed.append(failure)
     if len(batch) and write_root_pages(root, formats):

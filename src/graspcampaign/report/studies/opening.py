@@ -6,7 +6,6 @@ from __future__ import annotations
 import pandas as pd
 
 from graspcampaign.analysis import hardware as hw
-from graspcampaign.analysis.rates import wilson_interval
 from graspcampaign.analysis.vocabulary import PROPOSED, label
 from graspcampaign.report import format as fmt
 from graspcampaign.report.render import Run
@@ -16,6 +15,8 @@ FLAGS = ("predicted_stable", "predicted_stable_residual")
 WHY_NOT = {"predicted_stable_residual": "it is the paper's §8.1 flag (Algorithm 2's residual ≤ τ_F = "
            "0.0886 N), friction-blind: it carries no information about a friction hold",
            "predicted_stable": "the believed margins are optimistic where the beliefs are wrong"}
+#: The study's table of the flags against success (its ``all`` scope is the opening's)
+CLASSIFIER = {"test2_grasp": "test2_classifier", "test3_disturbance": "test3_retention_classifier"}
 
 
 def frames(run: Run) -> pd.DataFrame:
@@ -66,9 +67,9 @@ def finding(run: Run, extra=lambda run: "") -> str:
     paper, table = s["paper"].sort_values(ascending=False), f"table{7 + 2 * (run.study != 'test2_grasp')}"
     theirs = {q: paper_of(run, lambda p, q: getattr(p, table)[q].success_pct, q) for q in paper.index}
     tops, top, where = list(paper.index[paper == paper.max()]), paper.index[0], f"Table {table[5:]}"
-    ranked, ci = first(paper), {q: wilson_interval(int(by.sum()["paper"][q]), int(n["paper"][q]))
-                                for q in (top, PROPOSED)}
-    wilson = {q: f"Wilson 95 % {fmt.interval(100 * c.low, 100 * c.high, 1)}" for q, c in ci.items()}
+    ranked, ci = first(paper), run.tables[table].query("belief_error == 'paper'").set_index("planner")
+    wilson = {q: f"Wilson 95 % {fmt.interval(ci.success_low_pct[q], ci.success_high_pct[q], 1)}"
+              for q in (top, PROPOSED)}  # as the table prints them
     text = (f"{ranked[0].upper()}{ranked[1:]} ({n1(paper.max()) + ' % ' if len(tops) == 1 else ''}of "
             f"{fmt.listed([str(n['paper'][q]) for q in tops])} executed trials"
             f"{', ' + wilson[top] if len(tops) == 1 else ''}; "
@@ -78,7 +79,7 @@ def finding(run: Run, extra=lambda run: "") -> str:
         text += (f", while the proposed planner, {'first ' * (best == PROPOSED)}in the paper at "
                  f"{n1(theirs[PROPOSED])} %, succeeds on {n1(paper[PROPOSED])} % of "
                  f"{n['paper'][PROPOSED]} ({wilson[PROPOSED]})")
-        if len(tops) == 1 and ci[top].low <= ci[PROPOSED].high:
+        if len(tops) == 1 and ci.success_low_pct[top] <= ci.success_high_pct[PROPOSED]:
             text += "; the two intervals overlap, so these trials do not separate the two planners"
     text += f" (every planner with its Wilson interval and the paper's value: {where}). "
     g, gap = (e.groupby("planner")[c].median() for c in ("g_geo_actual", "g_geo_gap"))
@@ -102,7 +103,8 @@ def finding(run: Run, extra=lambda run: "") -> str:
     widest = gap.abs().idxmax()
     text += (f"The beliefs differ as documented: median believed − actual G_geo up to {n2(gap[widest])} "
              f"({lab(widest)}; every planner: table `{run.study.split('_')[0]}_belief`). ")
-    flags = hw.classifier_table(e, FLAGS, ["belief_error"]).set_index("flag")
+    flags = run.tables[CLASSIFIER[run.study]].query("scope == 'all' and belief_error == 'paper'")
+    flags = flags.set_index("flag")
     text += "; ".join(  # the intervals, the trials flagged and the recall are the classifier table's
         f"`{f}` {'has precision ' * (i == 0)}{n2(r['precision'])}"
         f"{f' against a base success rate of {n2(r.base)}' * (i == 0)}: "

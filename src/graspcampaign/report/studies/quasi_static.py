@@ -17,7 +17,7 @@ from matplotlib.ticker import MaxNLocator
 from graspcampaign.analysis import quasi_static as qs
 from graspcampaign.analysis import records as rec
 from graspcampaign.analysis.records import DESIGN_LIMIT_MM, FAILURE_CHECKS, Estimate
-from graspcampaign.analysis.vocabulary import colour, label, ordered
+from graspcampaign.analysis.vocabulary import PROPOSED, colour, label, ordered
 from graspcampaign.campaign.paper import study_paper
 from graspcampaign.report import format as fmt
 from graspcampaign.report import spec as S
@@ -103,7 +103,7 @@ MECHANISM = S.Table("mechanism", lambda run: (
 def _main_rate(rates: pd.DataFrame) -> str:
     """The proposed planner's rate under Algorithm 2 beside the paper's, and how many planners
     differ (the success table below has every planner)."""
-    ours = rates[(rates["planner"] == "heuristic") & (rates["n"] > 0)]
+    ours = rates[(rates["planner"] == PROPOSED) & (rates["n"] > 0)]
     proposed = "".join(
         f"the proposed planner passes {fmt.number(h.rate_pct, 1)}% of {h.n} triples (Wilson 95% "
         f"{fmt.interval(h.wilson_low_pct, h.wilson_high_pct, 1)}; paper {fmt.number(h.paper_pct, 1)}%), "
@@ -339,7 +339,7 @@ def other_laws(run: Run) -> str:
 
 
 def ablation_finding(run: Run) -> str:
-    full = qs.algorithm_2(run.tables["success_by_planner"]).set_index("planner").loc["heuristic"]
+    full = qs.algorithm_2(run.tables["success_by_planner"]).set_index("planner").loc[PROPOSED]
     return grid_finding(run) + other_laws(run) + (
         f" Power: at the paper's {run.paper.trials_per_variant} trials per variant its interval is "
         f"roughly ±{run.paper.interval_half_width_pp:g} pp (Sec. 6.3); ours on the full heuristic is "
@@ -430,18 +430,18 @@ def grip_finding(run: Run) -> str:
     ours = t.pivot(index="planner", columns="grip_law", values="rate_pct")  # NaN: a planner not run
     same = [law for law in rank  # strictly: planners tied at one rate (say all at 0%) show no order
             if ours[law].reindex(sorted(paper, key=lambda p: -paper[p])).diff().iloc[1:].lt(0).all()]
-    won = run.ok.loc[run.ok["success"].astype(bool), "delta_max_mm"]
-    deep = int((won > DESIGN_LIMIT_MM).sum())
+    deep = int(run.tables["design_limit"]["successes_exceeding"].sum())  # the table it points to
     return (
         "The paper's ordering (Fig. 18: " + ", ".join(
             f"{label('planner', p)} {fmt.number(v, 1)}%" for p, v in paper.items())
-        + f") appears under {', '.join(label('grip_law', law) for law in same) or 'none of the laws'}. "
+        + f") appears under {fmt.listed([label('grip_law', law) for law in same], 'none of the laws')}. "
         "Success per grip law, highest first — " + "; ".join(
             f"{label('grip_law', law)}: " + ", ".join(
             f"{label('planner', r.planner)} {r.rate_pct:.1f}%" for r in g.itertuples())
             for law, g in rank.items()) + ". " + (
-        f"{deep} of the {len(won)} successes lie deeper than the paper's {DESIGN_LIMIT_MM:g} mm design "
-        "limit and count as successes (per law in the success table's caption; table design_limit). "
+        f"{deep} of the {int(t['successes'].sum())} successes lie deeper than the paper's "
+        f"{DESIGN_LIMIT_MM:g} mm design limit and count as successes (per law in the success table's "
+        "caption; table design_limit). "
         if deep else "") +
         "Within each law (McNemar, exact p < 0.05) the proposed planner " + "; ".join(
             f"under {label('grip_law', law)} beats "

@@ -215,7 +215,7 @@ def _importance_caption(run: Run) -> str:
     noise = t.loc[t["feature"].isin(NOISE), "importance"].max()
     above = [name(f) for f in t.loc[t["importance"] > noise, "feature"]]
     noise = fmt.number(noise, fmt.decimals(t["importance"]))  # as the importance table prints it
-    return text + f"; above the larger of the two ({noise}): {', '.join(above) or 'no input'})"
+    return text + f"; above the larger of the two ({noise}): {fmt.listed(above, 'no input')})"
 
 
 LINES = dict(zip(LABELS, ("-", "--", ":"), strict=True))
