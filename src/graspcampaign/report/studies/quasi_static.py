@@ -319,6 +319,12 @@ GRIP_NEED = S.Table(
         Col("steepest_normal_z_median", "median steepest |n_z|", 2)], by=BY_LAW)
 
 
+def _failed_rest(outcome) -> str:
+    """The first failing checks of a law's trials that did not pass (its passes are said before)."""
+    failed = [f"{c} {getattr(outcome, c)}" for c in FAILURE_CHECKS if c != "none" and getattr(outcome, c)]
+    return f"; first failing check of the rest: {fmt.listed(failed)}" if failed else ""
+
+
 def other_laws(run: Run) -> str:
     """What the slip and oracle grip laws (named, not run, by the paper) did, from the records."""
     t = qs.law_outcomes(run.records, run.order)
@@ -329,8 +335,7 @@ def other_laws(run: Run) -> str:
             f"fits within the cap on {r.n - r.capped} (no equal grip holds on {r.no_equal_grip})"
             + (f", the {r.capped} capped grips end at δmax = "
                f"{fmt.span([r.capped_delta_min_mm, r.capped_delta_max_mm])} mm" if r.capped else "")
-            + "; first failing check "
-            + ", ".join(f"{c} {getattr(r, c)}" for c in FAILURE_CHECKS if getattr(r, c))
+            + _failed_rest(r)
             for r in t.itertuples()) + " (per planner: tables grip_need, design_limit, "
         "failure_checks). A capped grip presses every finger to the cap depth "
         f"(the material's damage depth, at most r = {run.radius_mm:g} mm), so δmax is the cap "
