@@ -46,13 +46,13 @@ def test_the_pso_finding_says_each_pinned_mean_as_the_cv_table(sim_root):
 
 def test_the_surrogate_finding_says_the_timing_and_r2_tables_numbers(sim_root):
     md = _report(sim_root, "surrogate")
-    mlp, pso, paper_mlp, paper_pso = _said(
-        md, rf"One MLP prediction takes {NUMBER} µs against {NUMBER} µs for the brief PSO call, "
-            rf"\S+ \(paper {NUMBER} µs vs {NUMBER} µs")
+    mlp, ratio, pso, paper_mlp, paper_ratio = _said(
+        md, rf"An MLP prediction \({NUMBER} µs\) is {NUMBER}× faster than the brief PSO call \({NUMBER} µs; "
+            rf"paper {NUMBER} µs, {NUMBER}×")
     timing = md_table(md, "surrogate_timing").set_index("call")
     assert [mlp, pso] == timing.loc[["MLP 64-32", "brief PSO call"], "time [µs]"].tolist()
-    assert [paper_mlp, paper_pso] == \
-        timing.loc[["MLP 64-32", "brief PSO call"], "paper time [µs]"].tolist()
+    assert [ratio, paper_mlp, paper_ratio] == \
+        timing.loc["MLP 64-32", ["ours PSO/this [×]", "paper time [µs]", "paper PSO/this [×]"]].tolist()
     (paper_r2,) = _said(md, rf"; paper {NUMBER} for \|R_z\|\)")
     regression = md_table(md, "surrogate_regression")
     mlp_rz = regression.query("target == '|R_z| [N]' and model == 'MLP 64-32'")

@@ -128,62 +128,31 @@ def _timing(run: Run) -> pd.DataFrame:
 def finding(run: Run) -> str:
     d, p, t = run.tables["surrogate_dataset"].iloc[0], run.paper, run.tables
     deep, won = beyond_radius(run.ok, run.radius_mm), run.ok["success_unbounded"].astype(bool)
-    physical = run.ok.loc[~deep, "delta_max_mm"]
-    text = (f"{int(d['n'])} scenarios (paper {p.n_scenarios}): {d['success_unbounded_pct']:.1f}% are "
-            f"successes under Algorithm 1 as published (Wilson {d['success_unbounded_low_pct']:.1f}–"
-            f"{d['success_unbounded_high_pct']:.1f}%; paper {fmt.number(p.class_balance_pct, 1)}%), "
-            f"{d['success_pct']:.1f}% once a fingertip buried deeper than its radius is no contact (the "
-            f"configured check) and {d['success_vertical_pct']:.1f}% under the gated |R_z| reading. "
-            f"{int(deep.sum())} of {len(deep)} scenarios end with a contact deeper than the fingertip radius "
-            f"r = {run.radius_mm:g} mm (non-physical: the fingertip centre inside the object), " +
-            (f"{int((deep & won).sum())} of the {int(won.sum())} published-algorithm successes among them"
-             if won.any() else "none of them a published-algorithm success (there is none)") + (
-                f"; δmax over the physical ones: median {fmt.number(physical.median(), sig=3)} mm. "
-                if len(physical) else ". "))
+    text = (f"{int(d['n'])} scenarios (paper {p.n_scenarios}): {d['success_unbounded_pct']:.1f}% succeed "
+            f"under Algorithm 1 as published (paper {fmt.number(p.class_balance_pct, 1)}%; table "
+            "surrogate_dataset)")
     cls = t["surrogate_classification"].query(f"label == '{PAPER_LABEL}'")
     fit = cls[cls["roc_auc"].notna()]
-    aucs = "; ".join(f"{r['model_label']} AUC {r['roc_auc']:.2f} (" + (
-        f"95% {r['roc_auc_low']:.2f}–{r['roc_auc_high']:.2f}" + (
-            ", computed from the stored held-out scores" if r["interval_from_stored_scores"] else "") + "; "
-        if pd.notna(r["roc_auc_low"]) else "") +
-        f"paper {fmt.number(r['paper_auc'], 2)}, {r['verdict']}) at {r['accuracy_pct']:.1f}% accuracy"
-        for _, r in fit.iterrows())
-    buried = ("every positive they learn is a non-physical state, not a grasp. " if won.any() and
-              (deep | ~won).all() else "some of their positives are non-physical states. "
-              if (deep & won).any() else "")
-    text += (("The success classifiers learn that label, so " + buried if buried else "") +
-             f"Scored on {int(fit['test_positives'].iloc[0])} held-out positives, they "
-             f"reach: {aucs}; against {fit['majority_class_accuracy_pct'].iloc[0]:.1f}% for always saying "
-             "'fails'. " + _point_verdict(run, fit) if len(fit) else
-             f"The success classifiers were {cls['note'].iloc[0]}. ")
+    aucs = fmt.listed([f"{r['model_label']} {r['roc_auc']:.2f}" for _, r in fit.iterrows()])
+    papers = fmt.listed([fmt.number(v, 2) for v in fit["paper_auc"]])
+    text += (f"; classifier AUC {aucs} (paper {papers}; table surrogate_classification). " if len(fit)
+             else f"; the success classifiers were {cls['note'].iloc[0]}. ")
     if len(reg := t["surrogate_regression"].dropna(subset=["r2"])):
         best = reg.loc[reg["r2"].idxmax()]
         text += (f"The best regression R² is {fmt.number(best['r2'], 2)} ({name(best['target'])}, "
                  f"{best['model_label']}; paper {fmt.number(p.residual_r2, 2)} for |R_z|)" + (
-                     f", a target whose value is a non-physical depth in {int(deep.sum())} of {len(deep)} "
-                     "scenarios" if "delta" in best["target"] and deep.any() else "") + (
-                     ": below 0, it predicts the held-out scenarios worse than their mean does. "
-                     if best["r2"] < 0 else ". "))
-    else:
-        text += f"No regression R² could be computed ({t['surrogate_regression']['note'].iloc[0]}). "
+                     ", worse than predicting the held-out mean. " if best["r2"] < 0 else ". "))
     if "mlp" in (tm := t["surrogate_timing"].set_index("what")).index:
-        us = {c: [fmt.number(tm.loc[w, c], fmt.decimals(tm[c])) for w in ("mlp", "pso_call")]
-              for c in ("time_us", "paper_time_us")}  # as the timing table's columns print them
-        text += (f"One MLP prediction takes {us['time_us'][0]} µs against {us['time_us'][1]} µs for the "
-                 f"brief PSO call, {fmt.number(tm.loc['mlp', 'speedup'], sig=3)}× (paper "
-                 f"{us['paper_time_us'][0]} µs vs {us['paper_time_us'][1]} µs, {fmt.number(p.speedup, 0)}×): "
-                 "our swarm iteration is one vectorised evaluator call. ")
-    return text + ("Both timings were measured by the run, not by this report. Why ours differs from the "
-                   "paper (Algorithm 2 as published passes few grasps under ‖R‖, and those bury a fingertip "
-                   f"in SI): {WHY}.")
-
-
-def _point_verdict(run: Run, fit: pd.DataFrame) -> str:
-    """Why the AUC verdicts have no interval, when the run stored none nor the scores to compute it."""
-    if fit["roc_auc_low"].notna().any() or fit["roc_auc_interval_note"].fillna("").astype(bool).any():
-        return ""
-    return ("Their AUC verdicts are judged on the point value because the run stored no held-out scores (it "
-            "was finalized before they were stored). ")
+        us = [fmt.number(tm.loc[w, "time_us"], fmt.decimals(tm["time_us"])) for w in ("mlp", "pso_call")]
+        paper_us = fmt.number(tm.loc["mlp", "paper_time_us"], fmt.decimals(tm["paper_time_us"]))
+        text += (f"An MLP prediction ({us[0]} µs) is {fmt.number(tm.loc['mlp', 'speedup'], sig=3)}× faster "
+                 f"than the brief PSO call ({us[1]} µs; paper {paper_us} µs, "
+                 f"{fmt.number(tm.loc['mlp', 'paper_speedup'], 0)}×; table surrogate_timing). ")
+    return text + ("Why: in SI, Algorithm 2 as published passes few grasps under ‖R‖ and buries a fingertip "
+                   f"deeper than its radius r = {run.radius_mm:g} mm in {int(deep.sum())} of {len(deep)} "
+                   "scenarios (non-physical" + (
+                       f"; {int((deep & won).sum())} of the {int(won.sum())} published-algorithm successes"
+                       if won.any() else "") + f"; {WHY}).")
 
 
 def _classification_caption(run: Run) -> str:
@@ -193,10 +162,12 @@ def _classification_caption(run: Run) -> str:
     scores = len(run.part("summary/surrogate_scores"))
     by = ("computed by the run" if stored else
           "computed by this report from the held-out scores the run stored" if scores else "")
+    fitted = "roc_auc" in t and t["roc_auc"].notna().any()
+    point = ", so its verdicts are judged on the point value" if fitted else ""
     interval = (f"its 95% percentile interval ({BOOTSTRAP_RESAMPLES} resamples of the held-out positives "
                 f"and, apart, negatives, {by}; none, and no verdict, below {AUC_INTERVAL_MIN_CLASS} "
                 "of either)"
-                if by else "no interval (the run stored none)")
+                if by else f"no interval (the run stored none){point}")
     held_out = 100 * run.params.get("test_fraction", 0.2)
     return (f"Success classifiers scored by the run on its held-out {held_out:g}% (stratified split, seed "
             f"{run.seed}); AUC with {interval}, accuracy with its Wilson 95% interval")
@@ -309,7 +280,8 @@ SPEC = ReportSpec("surrogate", [
            Col("importance", "importance", sig=3)],
           empty="no classifier was fitted (too few trials of one class)"),
     Table("surrogate_timing", "Wall time of one call, measured by the run: the brief PSO call (median over "
-          "the trials) and one single-row prediction per model (median of up to 200)", _timing, [
+          "the trials; each swarm iteration is one vectorised evaluator call) and one single-row prediction "
+          "per model (median of up to 200)", _timing, [
               Col("model_label", "call"), *cols("predicts"), Col("paper_time_us", "paper time [µs]", sig=3),
               Col("time_us", "time [µs]", sig=3), *cols("n_timed"),
               Col("paper_speedup", "paper PSO/this [×]", 0),
