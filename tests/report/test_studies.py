@@ -101,7 +101,7 @@ def test_wrench_balance_settling_from_trace(tmp_path):
     assert (store.path / "report" / "figures" / "fig17_wrench.png").exists()
     # a trace stored before the kind recorded finger 1's depth: the report says it has none
     md = (store.path / "report" / "report.md").read_text()
-    assert "this run's trace has no finger-1 depth (stored before the kind recorded it)" in md
+    assert "this run's trace has no finger-1 depth: stored before the kind recorded it" in md
 
 
 def test_wrench_balance_never_settling_differs_and_non_physical_depths_flagged(tmp_path):

@@ -75,21 +75,16 @@ def finding(run: Run) -> str:
     deep, r = _beyond_radius_from(run, _traces(run)), run.radius_mm
     return (f"Under the fixed {p.finger_force_command_n:g} N grip command the force residual settles below "
             f"τ_F = {_tau(run):g} N at {settle['ours'].notna().sum()} of {len(settle)} friction levels "
-            f"(paper: by iteration {p.residual_settles_within_iterations[1]} at every level), and "
+            f"(paper: all by iteration {p.residual_settles_within_iterations[1]}); "
             f"{int(table.loc[compared, 'differs'].astype(bool).sum())} of {int(compared.sum())} compared "
-            "quantities differ from the paper's statements (a residual that never settles differs; the "
-            "final finger-1 normal force is the command, reached by construction, not a result). At "
-            "Table 3's contact constants this command drives the contacts "
-            f"{fmt.number(run.ok['delta_max_mm'].max() / 1e3, sig=3)} m deep"
-            + (f" (fingertip radius r = {r:g} mm); this run's trace has no finger-1 depth (stored before "
-               "the kind recorded it), so the iteration from which it lies deeper than r is not shown. "
-               if deep is None else f", within the fingertip radius r = {r:g} mm. " if math.isnan(deep) else
-               f", deeper than the fingertip radius r = {r:g} mm from iteration {deep:.0f} on (shaded in "
-               "Fig. 17): a non-physical state, the fingertip centre inside the object, so these traces "
-               "are the published algorithm's arithmetic, not a grasp. ")
-            + "The paper calls the study a robustness test outside the validated envelope (Sec. 6.4); we "
-            "record it rather than rescale (`docs/decisions.md`, *Simulation studies*: "
-            "wrench_balance).")
+            "quantities differ (table wrench_balance). Why: at Table 3's contact constants the command "
+            f"drives contacts {fmt.number(run.ok['delta_max_mm'].max() / 1e3, sig=3)} m deep"
+            + (f" (fingertip radius r = {r:g} mm; this run's trace has no finger-1 depth: stored before "
+               "the kind recorded it)"
+               if deep is None else f", within the fingertip radius r = {r:g} mm" if math.isnan(deep) else
+               f", deeper than the fingertip radius r = {r:g} mm from iteration {deep:.0f} on (hatched in "
+               "Fig. 17): a non-physical state")
+            + ", recorded rather than rescaled (`docs/decisions.md`, *Simulation studies*: wrench_balance).")
 
 
 PANELS = (("residual_norm_n", "(a) force residual ‖R‖ [N]"),
@@ -135,7 +130,8 @@ SPEC = ReportSpec("wrench_balance", [
     Table("wrench_balance", "Wrench balance per friction level beside Sec. 6.4 (fixed grip command; one "
           "trial per μ; traces from tables/iterations). Verdict: a residual that never settles "
           "within the trace differs from the paper's settling window; the final finger-1 normal force is "
-          "the grip command, which the closing ramp reaches by construction, and is not compared", _per_mu, [
+          "the grip command, which the closing ramp reaches by construction, and is not compared. The paper "
+          "calls the study a robustness test outside the validated envelope (Sec. 6.4)", _per_mu, [
               Col("mu", "μ"), Col("quantity", "quantity"), Col("paper", "paper", "digits"),
               Col("ours", "ours", "digits", why="why"),
               Col("difference", "difference", "digits", signed=True), Col("n", "n"),
