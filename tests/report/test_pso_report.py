@@ -86,7 +86,8 @@ def test_pso_cvs_of_parameters_j_does_not_depend_on_get_no_verdict(tmp_path):
     assert not any(v.startswith("no verdict") for v in cv.loc[["lambda1", "n_exp"], "verdict"])
     differ = sum(v.startswith("differs") for v in cv.loc[["lambda1", "n_exp"], "verdict"])
     md = (store.path / "report" / "report.md").read_text()
-    assert f"{differ} of 2 judged parameters' CVs differ from the paper's (Sec. 6.8). " in md  # none pinned
+    # none pinned
+    assert f"{differ} of 2 judged parameters' CVs differ from the paper's (Sec. 6.8; table cv). " in md
     n_cv = 100 * sps.variation(ok_records(store)["n_exp"], ddof=1)  # λ1 is pinned: n alone varies
     assert f"among ours that J depends on and vary, n has the smallest CV ({n_cv:.1f}%)" in md
     run = Run(store.read().to_pandas(), store.check(), study_paper("pso_repeatability"), store)
@@ -121,8 +122,8 @@ def test_pso_cv_of_a_parameter_on_its_bound_in_every_run_says_it_measures_the_bo
     assert [p for p in verdict.index if "search bound" in verdict[p]] == ["lambda1"]
     assert verdict["n_exp"] == "differs by −19.0 pp"  # CV 0 inside the box: a bare verdict
     md = (store.path / "report" / "report.md").read_text()  # the count names the bound's share of it
-    assert ("4 of 6 judged parameters' CVs differ from the paper's (Sec. 6.8), 1 of them because they sit "
-            "on a search bound in every run.") in md
+    assert ("4 of 6 judged parameters' CVs differ from the paper's (Sec. 6.8; table cv), 1 of them because "
+            "they sit on a search bound in every run.") in md
 
 
 def test_pso_cv_verdicts_are_the_rules_words_told_the_records_bound_flags(tmp_path, verdict_calls):
@@ -198,4 +199,4 @@ def test_pso_budgets_split_and_pinned_parameters(tmp_path):
     # issue 13: an identified value on a search bound is said so wherever it is shown
     assert (cv.loc["lambda1", "at_bound"], cv.loc["n_exp", "at_bound"]) == (len(rep), 0)
     assert t3.loc["lambda1", "at_bound"] == len(conv)
-    assert f"Ended on a PSO search bound (`at_bound`): λ1 in {len(rep)} of {len(rep)} runs" in md
+    assert "Runs ending on a search bound: column 'on a search bound' of tables cv and table3." in md

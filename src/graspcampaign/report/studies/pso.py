@@ -16,7 +16,7 @@ from graspcampaign.report import format as fmt
 from graspcampaign.report import style
 from graspcampaign.report.document import Col
 from graspcampaign.report.render import Run
-from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, Text, verdicts
+from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, verdicts
 
 #: Identified parameters in Table 3's order: record column -> Table 3's name (the identification's, §4).
 PARAMETERS = dict(zip(("lambda1", "lambda2", "n_exp", "b", "k", "c"), PARAMETER_NAMES, strict=True))
@@ -128,11 +128,11 @@ def convergence_bands(run: Run) -> pd.DataFrame:
 def finding(run: Run) -> str:
     cv, flat = _cv(run), _flat(run)
     judged = cv[~cv["parameter"].isin(flat)]  # a parameter J does not depend on has no verdict
-    spread, pinned, bound = judged[judged["sd"] > 0], cv[cv["sd"] == 0], cv[cv["at_bound"] > 0]
+    spread, pinned = judged[judged["sd"] > 0], cv[(cv["sd"] == 0) & (cv["at_bound"] == cv["n"])]
     differ = judged[judged["differs"] == True]  # noqa: E712
     on_bound = int((differ["at_bound"] == differ["n"]).sum())  # CV 0 measures the bound (their verdicts)
     text = (f"Over {len(_budgets(run)[0])} restarts at the paper's budget, {len(differ)} of {len(judged)} "
-            "judged parameters' CVs differ from the paper's (Sec. 6.8)" + (
+            "judged parameters' CVs differ from the paper's (Sec. 6.8; table cv)" + (
                 f", {on_bound} of them because they sit on a search bound in every run" if on_bound else "")
             + ". ")
     if len(spread):
@@ -144,18 +144,12 @@ def finding(run: Run) -> str:
         text += "Pinned in every run (CV 0, a bound of the search box): " + ", ".join(
             f"{label('parameter', p)} at {fmt.number(m, d)}"  # as the cv table's mean column
             for p, m, d in pinned[["parameter", "mean", "digits"]].itertuples(index=False)) + ". "
-    if len(bound):
-        text += "Ended on a PSO search bound (`at_bound`): " + ", ".join(
-            f"{label('parameter', p)} in {k:.0f} of {n} runs"
-            for p, k, n in bound[["parameter", "at_bound", "n"]].itertuples(index=False)) + \
-            "; such a value is the box's edge, not an identified optimum. "
     if flat:
-        flat_in = ", ".join(label("parameter", p) for p in flat)
-        text += (f"The cost J does not depend on {flat_in} in the quasi-static evaluator (the damping "
-                 "term vanishes in the static loop; the MSD constants do not enter Algorithms 1-2), so "
-                 "their spread is where the swarm stopped, not a measure of identifiability, and their "
-                 "CVs get no verdict (`docs/decisions.md`, *Report*: PSO).")
-    return text
+        text += (f"Why: J does not depend on {fmt.listed([label('parameter', p) for p in flat])} in the "
+                 "quasi-static evaluator (the damping term vanishes in the static loop; the MSD constants do "
+                 "not enter Algorithms 1-2), so their spread is where the swarm stopped and gets no verdict "
+                 "(`docs/decisions.md`, *Report*: PSO). ")
+    return text + "Runs ending on a search bound: column 'on a search bound' of tables cv and table3."
 
 
 def fig21(run: Run, fig) -> None:
@@ -184,20 +178,18 @@ def fig21(run: Run, fig) -> None:
              title="(b) convergence bands of the best cost")
 
 
-def _budget_note(run: Run) -> str:
+def _cv_caption(run: Run) -> str:
+    """The CV table's caption: its restarts (those at the paper's budget when the run has two budgets)."""
     rep, conv = _budgets(run)
-    return "" if conv is rep else (
-        f"The CV table and Fig. 21 use the {len(rep)} restarts at the paper's 8 × 15 budget (Sec. 6.8); "
-        f"Table 3 uses the {len(conv)} converged-budget restarts (the paper's Table 3 comes from a converged "
-        "run, Sec. 5.3).")
+    restarts = f"{len(rep)} PSO restarts" + ("" if conv is rep else " at the paper's 8 × 15 budget")
+    return (f"Coefficient of variation of each identified parameter over the {restarts} beside Sec. 6.8 "
+            f"(sample SD / mean; 95% percentile bootstrap over runs, {BOOTSTRAP_RESAMPLES} resamples, seed "
+            f"{run.seed}); runs ending on a search bound")
 
 
 SPEC = ReportSpec("pso_repeatability", [
     Finding(finding),
-    Text(_budget_note),
-    Table("cv", lambda run: "Coefficient of variation of each identified parameter over the PSO restarts "
-          "beside Sec. 6.8 (sample SD / mean; 95% percentile bootstrap over runs, "
-          f"{BOOTSTRAP_RESAMPLES} resamples, seed {run.seed}); runs ending on a search bound", _cv, [
+    Table("cv", _cv_caption, _cv, [
               Col("parameter_label", "parameter"),
               Col("paper_cv_pct", "paper CV %", 1, why="paper_range_pct"),
               Col("cv_pct", "ours CV % (95%)", 1, low="low_pct", high="high_pct", why="why"),
@@ -205,8 +197,9 @@ SPEC = ReportSpec("pso_repeatability", [
               Col("mean", "mean", "digits"),
               Col("sd", "SD", "digits"), BOUND, Col("verdict", "verdict")]),
     table3("table3", "Table 3 beside our identified values (converged-budget restarts when the run has "
-           "them); b, k and c are in the paper's internal unit system (Table 3 caption), so only their order "
-           "of magnitude is comparable; a value on a search bound is the box's edge",
+           "them: the paper's Table 3 comes from a converged run, Sec. 5.3); b, k and c are in the paper's "
+           "internal unit system (Table 3 caption), so only their order of magnitude is comparable; a value "
+           "on a search bound is the box's edge",
            lambda run: _budgets(run)[1], lambda run: run.paper.table3),
     Figure("fig21_pso", "Fig. 21 (ours): (a) identified values over the restarts normalised by their mean, "
            "with our CV, the paper's and the runs on a search bound; (b) mean and 25–75% / 10–90% bands of "
