@@ -58,7 +58,8 @@ def test_smoke_figure_shows_every_count_even_equal_ones_and_the_table_says_what_
     assert heights == sorted([*records["n_sharp_vertex"], *records["n_sharp_edge"]])
     assert ("sharp vertices", "28") in shown and ("sharp edges", "0") in shown
     md = (store.path / "report" / "report.md").read_text()
-    assert f"across {len(SHAPES)} shapes and 1 resolution;" in md and "at this resolution" in md
+    assert f"across {len(SHAPES)} shapes and 1 resolution (table meshes);" in md
+    assert "at this resolution" in md
     assert "| shape | nodes | built nodes |" in md
     assert ("a vertex is sharp when its angular defect (2π minus the sum of its face angles) exceeds 0.2 "
             "rad, an edge when its dihedral angle departs from 180° by more than 30°") in md  # paper.yaml

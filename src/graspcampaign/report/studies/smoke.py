@@ -23,14 +23,13 @@ def finding(run: Run) -> str:
     ok = run.ok
     levels = ok["nodes"].nunique()
     text = (f"{int(ok['watertight'].astype(bool).sum())} of {len(ok)} meshes are closed (watertight) across "
-            f"{ok['shape'].nunique()} shapes and {counted(levels, 'resolution')}; their built node "
-            f"counts lie within {ok['node_count_error_pct'].abs().max():.1f}% of the requested ones. ")
-    if (ok["shape"] == "sphere").any():
-        n = _worst("n_sharp_vertex")(run) + _worst("n_sharp_edge")(run)
-        text += (f"The sphere has no sharp vertex or edge at {'any' if levels > 1 else 'this'} resolution, "
-                 "as the paper states (Sec. 3.1)." if n == 0 else "**Unlike the paper (Sec. 3.1)**, the "
-                 f"sphere has sharp features ({n} at the worst resolution).")
-    return text
+            f"{ok['shape'].nunique()} shapes and {counted(levels, 'resolution')} (table meshes)")
+    if not (ok["shape"] == "sphere").any():
+        return text + "."
+    n, which = _worst("n_sharp_vertex")(run) + _worst("n_sharp_edge")(run), "any" if levels > 1 else "this"
+    return text + (f"; the sphere has no sharp vertex or edge at {which} resolution, as the paper states "
+                   "(Sec. 3.1)." if n == 0 else "; **unlike the paper (Sec. 3.1)**, the sphere has sharp "
+                   f"features ({n} at the worst resolution).")
 
 
 def _meshes(run: Run) -> pd.DataFrame:
