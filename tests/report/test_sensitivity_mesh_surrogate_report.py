@@ -330,8 +330,9 @@ def test_the_panels_are_selected_once_per_run():
 
 @pytest.mark.parametrize(("passed", "deep", "expected"), [
     # no trial passed without the gate: nothing to remove, not "0 of 0 successes"
-    ([False] * 4, [True, True, False, False], "removed none: no trial succeeded without it; 2 of 4 executed"),
-    ([True, True, True, False], [True, False, False, True], "removed 1 of 3 successes; 2 of 4 executed"),
+    ([False] * 4, [True, True, False, False],
+     "removed none (no trial succeeded without it): 2 of 4 executed"),
+    ([True, True, True, False], [True, False, False, True], "removed 1 of 3 successes: 2 of 4 executed"),
 ])
 def test_the_gate_sentence_counts_only_successes_there_were(passed, deep, expected):
     from types import SimpleNamespace
@@ -343,8 +344,9 @@ def test_the_gate_sentence_counts_only_successes_there_were(passed, deep, expect
                             "valid_geometry": [not d for d in deep],
                             "success": [p and not d for p, d in zip(passed, deep, strict=True)]})
     text = gate_text(SimpleNamespace(tables={"gate_removed": gate_table(records, ["panel"])}))
-    assert ("(a contact deeper than the fingertip radius is no contact; `docs/decisions.md`, *Physical "
-            f"validity, grip laws, Ferrari–Canny ε*) {expected} trials") in text
+    assert f"The validity gate {expected} trials have a contact deeper than the fingertip radius" in text
+    assert "(table gate_removed; `docs/decisions.md`, *Physical validity, grip laws, Ferrari–Canny ε*)" \
+        in text
 
 
 def _timings(fastest, median, min_column=True, itself=((1.0, 1.0),)):

@@ -307,11 +307,10 @@ def gate_text(run: Run, name: str = "gate_removed") -> str:
         return ""
     successes = int(g["success_unbounded"].sum())
     removed = f"removed {int(g['removed'].sum())} of {successes} successes" if successes \
-        else "removed none: no trial succeeded without it"
-    return (f" The validity gate (a contact deeper than the fingertip radius is no contact; "
-            f"`docs/decisions.md`, *{VALIDITY}*) "
-            f"{removed}; {int(g['invalid_geometry'].sum())} of {int(g['n'].sum())} executed trials have such "
-            "a contact.")
+        else "removed none (no trial succeeded without it)"
+    return (f" The validity gate {removed}: {int(g['invalid_geometry'].sum())} of {int(g['n'].sum())} "
+            f"executed trials have a contact deeper than the fingertip radius, which is no contact (table "
+            f"{name}; `docs/decisions.md`, *{VALIDITY}*).")
 
 
 def GateRemoved(by: Sequence[str], name: str = "gate_removed", caption: str = (
