@@ -38,7 +38,7 @@ def test_every_page_and_figure_says_virtual_rig(run, sim_root, tmp_path_factory)
     path, _ = run
     md = (path / "report" / "report.md").read_text()
     assert "VIRTUAL RIG" in md and "not hardware measurements" in md
-    assert md.index("## What this shows") < md.index("VIRTUAL RIG data: synthetic waveforms")
+    assert md.index("## What this shows") < md.index("Virtual-bench data, not hardware: synthetic waveforms")
     # the run's records (without its report) reported again with SVG figures: that report is
     # written once for test_report_reads_only.py too (in a fresh interpreter)
     root, out = fresh_reports(sim_root, tmp_path_factory)
@@ -107,6 +107,26 @@ def test_the_finding_counts_the_differing_claims_and_points_to_their_table(run):
     assert "among them" not in md
 
 
+def test_the_finding_lists_the_parameters_on_a_search_bound_as_a_sentence(monkeypatch):
+    """Three parameters on a bound read "λ2 (115 runs), b (6 runs) and k (7 runs)" (fmt.listed); the
+    list was joined with commas only. Tables of a stub run, the sentence written out by hand."""
+    from types import SimpleNamespace
+
+    from graspcampaign.report.studies import test1
+
+    monkeypatch.setattr(test1, "_fits", lambda run: range(12))
+    claims = pd.DataFrame({"quantity": [f"{q}, accepted fits: mean" for q in ("contact exponent n",
+                                                                             "force-fit RMSE")],
+                           "value": [0.47, 0.6], "paper": [0.46, 2.66], "digits": [2, 2],
+                           "differs": [False, True]})
+    table5 = pd.DataFrame({"parameter": ["lambda1", "lambda2", "n", "b", "k"],
+                           "n_at_bound": [0, 115, 0, 6, 7], "n_runs": 120, "cv_pct": 6.8,
+                           "mean": [2.107, 1.0, 0.47, 1.0, 1.0], "paper_mean": 0.333, "digits": 3})
+    paper = SimpleNamespace(n_exp_sd=0.07, n_exp_simulation=0.487, table5={"n": SimpleNamespace(cv_pct=20.5)})
+    stub = SimpleNamespace(tables={"test1_claims": claims, "table5": table5}, source="virtual", paper=paper)
+    assert "runs ended on a search bound for λ2 (115 runs), b (6 runs) and k (7 runs)" in test1.finding(stub)
+
+
 def test_counts_table_against_the_records_and_traces(run):
     path, records = run
     counts = _table(path, "test1_counts").set_index("quantity")
@@ -145,7 +165,7 @@ def test_table5_says_which_runs_ended_on_a_bound(run):
     for p, k in t5["n_at_bound"].items():
         if k:
             assert f"{label('parameter', p)} ({k} run{'' if k == 1 else 's'})" in md, p
-    assert f"over {conv.shape[0]} converged run{'' if len(conv) == 1 else 's'}:" in md
+    assert f"over {conv.shape[0]} converged run{'' if len(conv) == 1 else 's'} (table `table5`):" in md
     # display words, not ids, and no split that repeats its quantity in Fig. 26c
     assert "| normal force | unseen speed |" in md and "normal_force" not in md
 

@@ -376,8 +376,10 @@ SPEC = ReportSpec("test2_grasp", [
               Col("deformation_err_pct", "median deformation error [%]", 1),
               Col("contact_point_error_mm", "median contact-point error [mm]", 2)], by=["scope"]),
     classifier("test2_classifier", lambda run: f"Pre-execution flags against {run.rig} success (§8.4, "
-               "Fig. 31c): `predicted_stable` is §9.5's SF_predicted > 1, `predicted_stable_residual` §8.1's "
-               "residual ≤ τ_F = 0.0886 N, the flag the paper's scores belong to", lambda d: {
+               "Fig. 31c): `predicted_stable` is §9.5's SF_predicted > 1, optimistic where the beliefs are "
+               "wrong; `predicted_stable_residual` §8.1's residual ≤ τ_F = 0.0886 N, the flag the paper's "
+               "scores belong to: friction-blind, it carries no information about a friction hold",
+               lambda d: {
                    **per_planner(d), "baselines": d["planner"] != PROPOSED,
                    "group C": d.eval(f"{ME} and group == 'C'"),
                    "outside C": d.eval(f"{ME} and group != 'C'")},

@@ -22,11 +22,8 @@ NATURAL = "friction_level == 'natural'"
 
 def drops(run: Run) -> str:
     d, paper = t2.ex(run, PROPOSED), paper_of(run, lambda p: p.table9[PROPOSED].drop_pct)
-    return (f"The proposed planner drops {fmt.number(100 * d['is_drop'].mean(), 1)} % of its trials "
-            f"(paper {fmt.number(paper, 1)} %): with Table 4's "
-            "μ_k/μ_s ≈ 0.7 the rig's Coulomb contact cannot arrest a slip once SF < ~1.4, and blocks A and "
-            "C succeed only when the threshold reaches the proof load (one weight laterally, the weight "
-            "at the shape's radius in yaw). ")
+    return (f"It drops {fmt.number(100 * d['is_drop'].mean(), 1)} % of its trials (paper "
+            f"{fmt.number(paper, 1)} %): with μ_k/μ_s ≈ 0.7 a slip is not arrested once SF < ~1.4. ")
 
 
 def table8(run: Run, d: pd.DataFrame, out: pd.DataFrame) -> pd.DataFrame:
@@ -233,7 +230,9 @@ SPEC = ReportSpec("test3_disturbance", [
     t2.paper_table("table8", "Table 8: the proposed planner's natural-friction blocks per belief reading; "
                 "headline = median lateral threshold (A), downward payload at slip (B), yaw torque (C), "
                 "peak slip (D, E: no threshold); prediction error and centred parity R² over the "
-                "uncensored thresholds", "block", lambda p, k: p.table8[k], [
+                "uncensored thresholds; blocks A and C succeed only when the threshold reaches the proof "
+                "load (one weight laterally, the weight at the shape's radius in yaw)", "block",
+                lambda p, k: p.table8[k], [
                     ("n", "n", "n", 0), ("success", "success_pct", "success", None),
                     ("headline", "headline", "headline", fmt.EACH), ("unit", None, "unit", ""),
                     ("n_headline", None, "thresholds", 0),
@@ -280,7 +279,9 @@ SPEC = ReportSpec("test3_disturbance", [
           [Col("n", "n"), pct_col("first_finger_correct", "first finger correct")], by=["scope"]),
     t2.classifier("test3_retention_classifier", "The retention flag against success (§9.5, Fig. 36c): "
                "`predicted_stable` (= `retention_pred`) is the believed retention margin under the "
-               "commanded disturbance > 1; `predicted_stable_residual` Algorithm 2's residual ≤ τ_F",
+               "commanded disturbance > 1, optimistic where the beliefs are wrong; "
+               "`predicted_stable_residual` Algorithm 2's residual ≤ τ_F, the paper's §8.1 flag: "
+               "friction-blind, it carries no information about a friction hold",
                t2.per_planner,
                lambda p: {"all": [*vars(p.retention_classifier).values()]}),
     Table("test3_logistic", "Logistic regression of failure over the fixed-load blocks B, D, E (§9.5): "
