@@ -58,8 +58,9 @@ def test_shapes_section_flags_disagreement(tmp_path):
     assert table.loc["handle", "verdict"] == "as in the paper (no)"  # fails, as the paper
     assert table.loc["pear", "h_total"] == pytest.approx(ok.loc["pear", "h_total"])
     md = (store.path / "report" / "report.md").read_text()
-    assert "2 of 5 shapes reach the paper's outcome (Fig. 15): sphere, concave handle." in md
-    assert "Ours differs on ellipsoid (paper fails, ours 1/1" in md
+    # the opening names the shapes that differ; each one's outcome and checks are the table's
+    assert ("2 of 5 shapes reach the paper's outcome (Fig. 15); ours differs on ellipsoid, rounded cube "
+            "and pear (each shape's first failing checks: table shapes).") in md
     checks = read_table(store, "failure_checks").set_index("shape")
     assert checks.loc["handle", "paper"] == "slip" and checks.loc["sphere", "paper"] == "none"
     assert (store.path / "report" / "figures" / "fig15_shape_metrics.png").exists()

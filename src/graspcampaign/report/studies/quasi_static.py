@@ -100,53 +100,27 @@ MECHANISM = S.Table("mechanism", lambda run: (
         Col("single_loaded", "passes, one loaded")], by=["planner"])
 
 
-def _main_rate(rates: pd.DataFrame) -> str:
-    """The proposed planner's rate under Algorithm 2 beside the paper's, and how many planners
-    differ (the success table below has every planner)."""
-    ours = rates[(rates["planner"] == PROPOSED) & (rates["n"] > 0)]
+def grid_finding(run: Run, more: str = "") -> str:
+    """The proposed planner beside the paper, how many planners differ, and why the paper's rates
+    cannot come from its own Algorithm 2 (from the records; per planner: table mechanism); ``more``:
+    sentences before the decision."""
+    m, rates = run.tables["mechanism"], qs.algorithm_2(run.tables["success_by_planner"])
+    t, paper = m.sum(numeric_only=True).astype(int), rates.set_index("planner")["paper_pct"]
+    judged = m[m["n"].gt(0) & m["planner"].isin(paper.dropna().index)]
+    capped = int((100 * judged["rho_passable"] / judged["n"] < judged["planner"].map(paper)).sum())
     proposed = "".join(
-        f"the proposed planner passes {fmt.number(h.rate_pct, 1)}% of {h.n} triples (Wilson 95% "
-        f"{fmt.interval(h.wilson_low_pct, h.wilson_high_pct, 1)}; paper {fmt.number(h.paper_pct, 1)}%), "
-        "and " for h in ours.itertuples())
-    return (f"Ours: {proposed}{int(rates['differs'].eq(True).sum())} of "
-            f"{int(rates['differs'].notna().sum())} planners with a paper value differ from it (the "
-            "paper's value outside our 95% interval; table success_by_planner).")
-
-
-def grid_finding(run: Run) -> str:
-    """Ours beside the paper, then why the paper's rates cannot come from its own Algorithm 2
-    (from the records)."""
-    m = run.tables["mechanism"].set_index("planner")
-    t, rates = m.sum(numeric_only=True).astype(int), qs.algorithm_2(run.tables["success_by_planner"])
-    paper_pct, gate = rates.set_index("planner")["paper_pct"], qs.algorithm_2(run.tables["readings"])
-    bound = [f"{label('planner', p)} ≤ {100 * r['rho_passable'] / r['n']:.1f}% "
-             f"(paper {fmt.number(paper_pct[p], 1)}%)"
-             for p, r in m.iterrows()
-             if r["n"] and 100 * r["rho_passable"] / r["n"] < paper_pct.get(p, -1)]
-    limit = qs.algorithm_2(run.tables["design_limit"])
+        f"The proposed planner passes {fmt.number(h.rate_pct, 1)}% of {h.n} triples (Wilson 95% "
+        f"{fmt.interval(h.wilson_low_pct, h.wilson_high_pct, 1)}; paper {fmt.number(h.paper_pct, 1)}%); "
+        for h in rates[(rates["planner"] == PROPOSED) & (rates["n"] > 0)].itertuples())
     return (
-        "**The paper's rates cannot come from its own Algorithm 2.** " + _main_rate(rates) +
-        " Why: line 7 moves each depth by "
-        f"sgn(g_k)·(−R_z) and so drives every upper contact (n_out,z > 0) to δ = 0: {t.released} of "
-        f"{t.n} triples ({100 * t.released / t.n:.1f}%) end with a released contact; in {t.upper_released} "
-        f"of {t.n} as many are released as are upper. The lower contacts left push along tilted "
-        "normals: a horizontal residual W·ρ that the loop, acting on R_z only, never reduces (median "
-        "ρ per planner: table mechanism). Only triples with ρ·W < τ_F can pass ‖R‖ < τ_F, which "
-        "bounds each rate" + (
-            ": " + "; ".join(bound) + "." if bound else " (here no bound is below a paper rate).") + (
-            f" {t.single_fingertip} of {t.successes} passes rest on one near-vertical fingertip, "
-            f"one contact giving ≥ {100 * qs.SINGLE_FINGERTIP_SHARE:g}% of the vertical support ("
-            f"{t.single_loaded} a single loaded one): " + ", ".join(
-                f"{label('planner', p)} {r['single_fingertip']} of {r['successes']}"
-                for p, r in m.iterrows() if r["successes"]) + "." if t.successes
-            else " No triple passes.") +
-        f" Under Algorithm 2, {limit['exceeds'].sum()} of {limit['n'].sum()} trials exceed the "
-        f"paper's {DESIGN_LIMIT_MM:g} mm design limit, {limit['beyond_radius'].sum()} of them deeper "
-        f"than the fingertip radius r = {run.radius_mm:g} mm (non-physical, never a success); " + (
-            f"the validity gate removed {int(gate['gate_removed'].sum())} of {published} passes of the "
-            "published checks" if (published := int(gate["success_unbounded"].sum())) else
-            "no triple passes the published checks either, so the validity gate removed none") +
-        f". SPEC §8; {DECISION}.")
+        f"**The paper's rates cannot come from its own Algorithm 2.** {proposed}"
+        f"{int(rates['differs'].eq(True).sum())} of {int(rates['differs'].notna().sum())} planners "
+        "with a paper value differ from it (table success_by_planner). Why: line 7 drives every upper "
+        f"contact (n_out,z > 0) to δ = 0 (released in {t.released} of {t.n} triples, "
+        f"{100 * t.released / t.n:.1f}%) and the lower ones leave a horizontal residual W·ρ the loop "
+        "never reduces: only triples with ρ·W < τ_F can pass, which caps "
+        f"{capped} of {len(judged)} planners below the paper's rate (table mechanism).{more} "
+        f"SPEC §8; {DECISION}.")
 
 
 def LawPaired() -> S.Table:
@@ -228,20 +202,14 @@ def _shapes(run: Run) -> pd.DataFrame:
 
 
 def shapes_finding(run: Run) -> str:
+    """How many shapes reach the paper's outcome, which differ, and the SI reason, from the records
+    (each shape's checks and metrics: table shapes)."""
     t, ok = run.tables["shapes"], run.ok
-    agree, differ = t[t["differs"].eq(False)], t[t["differs"].eq(True)]
-    named = [label("shape", r.shape) + ("" if str(r.failure_check).startswith(str(r.paper_failure_check)) else
-                                        f" (paper fails on {r.paper_failure_check}, ours {r.failure_check})")
-             for r in agree.itertuples()]
+    differ = [label("shape", s) for s in t.loc[t["differs"].eq(True), "shape"]]
     deep, released = int(t["beyond_radius"].sum()), int((ok.get("n_released", pd.Series()) > 0).sum())
-    return (f"{len(agree)} of {len(t)} shapes reach the paper's outcome (Fig. 15)" + (
-        f": {', '.join(named)}" if len(agree) else "") + ". " + (
-        "Ours differs on " + "; ".join(
-            f"{label('shape', r.shape)} (paper {'success' if r.paper_success else 'fails'}, ours "
-            f"{r.successes}/{r.n}, first failing check {r.failure_check or '—'}"
-            + (f"; {r.beyond_radius} with a contact deeper than r, non-physical" if r.beyond_radius else "")
-            + ")"
-            for r in differ.itertuples()) + ". " if len(differ) else "") +
+    return (f"{int(t['differs'].eq(False).sum())} of {len(t)} shapes reach the paper's outcome (Fig. 15)"
+            + (f"; ours differs on {fmt.listed(differ)}" if differ else "")
+            + " (each shape's first failing checks: table shapes). " +
         (f"{deep} of {len(ok)} trials have a contact deeper than r = {run.radius_mm:g} mm: in SI the paper's "
          "contact constants cannot carry the object at a sane indentation" if deep else "") + (
         f"{'; ' if deep else ''}Algorithm 2's sign step released a contact in {released} of {len(ok)} trials"
@@ -310,45 +278,34 @@ SHAPES = S.ReportSpec("shapes", [
 
 # --------------------------------------------------------------------- ablation, grid, grip laws
 GRIP_NEED = S.Table(
-    "grip_need", "What an equal grip needs under slip and oracle: triples whose needed grip (with the "
-    "design margin) fits within the grip cap, triples no equal grip holds, passes at the capped grip, "
-    "median steepest contact |n_out,z| (0: horizontal normals)",
+    "grip_need", lambda run: "What an equal grip needs under slip and oracle: triples whose needed grip "
+    f"(with the design margin {run.config['evaluator']['grip_safety_factor']:g}) fits within the grip cap, "
+    "triples no equal grip holds, passes at the capped grip (a capped grip presses every finger to the "
+    f"cap depth, the material's damage depth, at most r = {run.radius_mm:g} mm, so δmax is the cap "
+    "whatever the planner), median steepest contact |n_out,z| (0: horizontal normals)",
     lambda run: qs.grip_need(run.records, run.order), [
         Col("n", "n"), Col("holdable", "within the cap"), Col("no_equal_grip", "no equal grip holds"),
         Col("capped_passes", "passes at the cap"),
         Col("steepest_normal_z_median", "median steepest |n_z|", 2)], by=BY_LAW)
 
 
-def _failed_rest(outcome) -> str:
-    """The first failing checks of a law's trials that did not pass (its passes are said before)."""
-    failed = [f"{c} {getattr(outcome, c)}" for c in FAILURE_CHECKS if c != "none" and getattr(outcome, c)]
-    return f"; first failing check of the rest: {fmt.listed(failed)}" if failed else ""
-
-
-def other_laws(run: Run) -> str:
-    """What the slip and oracle grip laws (named, not run, by the paper) did, from the records."""
-    t = qs.law_outcomes(run.records, run.order)
-    return "" if not len(t) else (
-        " The numbers above are Algorithm 2's. The tables also hold the grip laws the paper names "
-        "but did not run (Sec. 6.5, 12), every planner on the same scenes: " + "; ".join(
-            f"under {label('grip_law', r.grip_law)} {r.successes} of {r.n} pass, the needed grip "
-            f"fits within the cap on {r.n - r.capped} (no equal grip holds on {r.no_equal_grip})"
-            + (f", the {r.capped} capped grips end at δmax = "
-               f"{fmt.span([r.capped_delta_min_mm, r.capped_delta_max_mm])} mm" if r.capped else "")
-            + _failed_rest(r)
-            for r in t.itertuples()) + " (per planner: tables grip_need, design_limit, "
-        "failure_checks). A capped grip presses every finger to the cap depth "
-        f"(the material's damage depth, at most r = {run.radius_mm:g} mm), so δmax is the cap "
-        "whatever the planner; a trial whose first failing check is slip balanced force and torque "
-        "only with a tangential force of at least μ·f_n at some contact (slip margin ≤ 0).")
-
-
 def ablation_finding(run: Run) -> str:
-    full = qs.algorithm_2(run.tables["success_by_planner"]).set_index("planner").loc[PROPOSED]
-    return grid_finding(run) + other_laws(run) + (
-        f" Power: at the paper's {run.paper.trials_per_variant} trials per variant its interval is "
-        f"roughly ±{run.paper.interval_half_width_pp:g} pp (Sec. 6.3); ours on the full heuristic is "
-        f"{fmt.interval(full['wilson_low_pct'], full['wilson_high_pct'], 1)}% at n = {full['n']}.")
+    """The grid's finding and what the grip laws the paper names but did not run did: passes and
+    the most frequent first failing check per law (per planner: tables grip_need, failure_checks)."""
+    laws = qs.law_outcomes(run.records, run.order)
+    top = laws[[c for c in FAILURE_CHECKS if c != "none"]].idxmax(axis=1)  # most frequent, first in order
+    outcomes = [f"{r.successes} of {r.n} ({label('grip_law', r.grip_law)}"
+                + (f"; {r[check]} fail first on {check}" if r[check] else "") + ")"
+                for (_, r), check in zip(laws.iterrows(), top, strict=True)]
+    return grid_finding(run, f" The grip laws the paper did not run (Sec. 6.5, 12) pass "
+                             f"{fmt.listed(outcomes)}; per planner: tables grip_need and failure_checks."
+                        if outcomes else "")
+
+
+def power(run: Run) -> str:
+    """The paper's interval at its ablation's trials per variant (Sec. 6.3), beside ours in the table."""
+    return (f"At the paper's {run.paper.trials_per_variant} trials per variant its interval is roughly "
+            f"±{run.paper.interval_half_width_pp:g} pp (Sec. 6.3).")
 
 
 def over_limit(run: Run) -> str:
@@ -373,14 +330,16 @@ def over_limit(run: Run) -> str:
             "contact; table design_limit).")
 
 
-def law_items(figure: str, name: str, what: str) -> list:
-    """Success per planner and grip law beside the paper, its figure, McNemar within each law."""
+def law_items(figure: str, name: str, what: str, note=lambda run: "") -> list:
+    """Success per planner and grip law beside the paper (``note``: a caption's last sentence), its
+    figure, McNemar within each law."""
     rates = S.Rates("success_by_planner", f"Success per {what} and grip law beside {figure} (the "
                     "paper's values are Algorithm 2's, shown beside every law and judged under it only)",
                     LAWS, lambda p, k: p.success_pct.get(k["planner"]), because=lambda t: np.where(
                         t["grip_law"] == "paper", "", "no verdict: the paper ran Algorithm 2 only"))
 
-    return [replace(rates, caption=lambda run: f"{rates.caption(run)} {over_limit(run)}".strip()),
+    return [replace(rates, caption=lambda run: " ".join(
+        part for part in (rates.caption(run), over_limit(run), note(run)) if part)),
             S.Figure(name, f"{figure} (ours): success per {what} under each grip law, Wilson 95% "
                      f"whiskers; {PAPER_MARKS}",
                      lambda run, fig: style.grouped_bars(
@@ -389,7 +348,7 @@ def law_items(figure: str, name: str, what: str) -> list:
 
 
 ABLATION = S.ReportSpec("ablation", [
-    S.Finding(ablation_finding), *law_items("Fig. 16", "fig16_ablation", "variant"), MECHANISM,
+    S.Finding(ablation_finding), *law_items("Fig. 16", "fig16_ablation", "variant", power), MECHANISM,
     readings(BY_LAW), GRIP_NEED, *EPSILON, S.DesignLimit(BY_LAW), S.FailureChecks(BY_LAW),
     IDENTIFICATIONS,
 ])
@@ -425,46 +384,31 @@ BASELINE_GRID = S.ReportSpec("baseline_grid", [
 
 
 def grip_finding(run: Run) -> str:
-    """The ordering under each grip law, the paired tests and the physical reasons, from records."""
-    t, sig = run.tables["success_by_planner"], run.tables["mcnemar"].query("p_exact < 0.05")
-    gate, paper = run.tables["readings"], run.paper.success_pct
-    need = run.tables["grip_need"].query("grip_law == 'oracle'")
-    names = lambda planners: fmt.listed([label("planner", p) for p in planners], "none")  # noqa: E731
-    rank = {law: t[t["grip_law"] == law].sort_values("rate_pct", ascending=False, kind="stable")
-            for law in run.order["grip_law"]}
+    """Under which grip law the paper's ordering appears, the proposed planner's rate under each,
+    the paired tests counted, and the physical reason, from the records (per planner: the tables)."""
+    t, tests, paper = run.tables["success_by_planner"], run.tables["mcnemar"], run.paper.success_pct
+    sig, need = tests.query("p_exact < 0.05"), run.tables["grip_need"].query("grip_law == 'oracle'")
     ours = t.pivot(index="planner", columns="grip_law", values="rate_pct")  # NaN: a planner not run
-    same = [law for law in rank  # strictly: planners tied at one rate (say all at 0%) show no order
+    laws = run.order["grip_law"]
+    same = [law for law in laws  # strictly: planners tied at one rate (say all at 0%) show no order
             if ours[law].reindex(sorted(paper, key=lambda p: -paper[p])).diff().iloc[1:].lt(0).all()]
-    deep = int(run.tables["design_limit"]["successes_exceeding"].sum())  # the table it points to
+    deep = int(run.tables["design_limit"]["successes_exceeding"].sum())  # per law: the success caption
     return (
         "The paper's ordering (Fig. 18: " + ", ".join(
             f"{label('planner', p)} {fmt.number(v, 1)}%" for p, v in paper.items())
-        + f") appears under {fmt.listed([label('grip_law', law) for law in same], 'none of the laws')}. "
-        "Success per grip law, highest first — " + "; ".join(
-            f"{label('grip_law', law)}: " + ", ".join(
-            f"{label('planner', r.planner)} {r.rate_pct:.1f}%" for r in g.itertuples())
-            for law, g in rank.items()) + ". " + (
-        f"{deep} of the {int(t['successes'].sum())} successes lie deeper than the paper's "
-        f"{DESIGN_LIMIT_MM:g} mm design limit and count as successes (per law in the success table's "
-        "caption; table design_limit). "
-        if deep else "") +
-        "Within each law (McNemar, exact p < 0.05) the proposed planner " + "; ".join(
-            f"under {label('grip_law', law)} beats "
-            f"{names(s.query('reference_only > compared_only').compared)} and "
-            f"loses to {names(s.query('reference_only < compared_only').compared)}"
-            for law, s in ((law, sig[sig["grip_law"] == law]) for law in rank)) + ". "
-        "Why: H(G) is geometric (S1–S3, P_c, P_e) and sees neither gravity nor the tilt of the "
-        "contact plane. Median steepest contact |n_out,z| of each planner's triples: " + ", ".join(
-            f"{label('planner', r.planner)} {r.steepest_normal_z_median:.2f}"
-            for r in need.itertuples()) + "; horizontal normals (the centroid planner's triple) let an "
-        "equal grip balance by symmetry, friction carrying the weight. Under oracle the grip the "
-        "friction-cone LP asks for (design margin "
-        f"{run.config['evaluator']['grip_safety_factor']:g}) fits within the grip cap on "
-        f"{need['holdable'].sum()} of {need['n'].sum()} triples, no equal grip satisfies it on "
-        f"{need['no_equal_grip'].sum()}, and {need['capped_passes'].sum()} of its "
-        f"{gate.loc[gate['grip_law'] == 'oracle', 'success'].sum()} passes hold at the capped grip. "
-        f"The torque check alone removed {gate['torque_binds'].sum()} passes, the validity "
-        f"gate {gate['gate_removed'].sum()} (table readings). {DECISION}.")
+        + f") appears under {fmt.listed([label('grip_law', law) for law in same], 'none of the laws')}: "
+        "the proposed planner passes " + fmt.listed([
+            f"{fmt.number(ours.loc[PROPOSED, law], 1)}% under {label('grip_law', law)}" for law in laws])
+        + " (table success_by_planner). " + (
+            f"{deep} of the {int(t['successes'].sum())} successes lie deeper than the paper's "
+            f"{DESIGN_LIMIT_MM:g} mm design limit (per law: that table's caption). " if deep else "")
+        + "Paired per law (McNemar, exact p < 0.05; "
+        f"table mcnemar), it beats {len(sig.query('reference_only > compared_only'))} and loses to "
+        f"{len(sig.query('reference_only < compared_only'))} of {len(tests)} planner–law pairs. "
+        "Why: H(G) is geometric and sees neither gravity nor the tilt of the contact plane; horizontal "
+        "normals (the centroid planner's triple) let an equal grip balance by symmetry, while under "
+        f"oracle no equal grip holds on {need['no_equal_grip'].sum()} of {need['n'].sum()} triples "
+        f"(normals per planner: table grip_need). {DECISION}.")
 
 
 GRIP_LAWS = S.ReportSpec("grip_laws", [
