@@ -205,8 +205,7 @@ def test_headline_page_and_index(tmp_path):
     assert (grid["n"], grid["rate_pct"], grid["paper_pct"]) == (10, 60.0, 67.6)
     assert grid["ours_baselines"] == "antipodal 40.0%, random 10.0%"
     assert grid["paper_baselines"] == "antipodal 40.0%, random 11.0%, centroid 0.0%"
-    assert grid["verdict"] == ("consistent: the paper's value lies inside our 95% interval "
-                               "(\u22127.6 pp)")
+    assert grid["verdict"] == "consistent (\u22127.6 pp): paper inside our 95% CI"
     assert rows.loc["Heuristic ablation", "verdict"] == "no records yet"
     assert rows.loc["Heuristic ablation", "paper_pct"] == 72.0  # from campaigns/ablation.yaml
     md = (tmp_path / "headline.md").read_text()

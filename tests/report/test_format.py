@@ -42,17 +42,16 @@ def test_number_variants():
 @pytest.mark.parametrize(("args", "kwargs", "expected"), [
     # Table 9 random planner: 17/100 against the paper's 17.0 -> inside the interval
     ((17.0, 17.0), {"low": 10.9, "high": 25.5, "unit": "%"},
-     (False, "consistent: the paper's value lies inside our 95% interval (0.0 pp)")),
+     (False, "consistent (0.0 pp): paper inside our 95% CI")),
     ((50.6, 72.0), {"low": 37.0, "high": 64.0, "unit": "%"},
-     (True, "differs by \u221221.4 pp: the paper's value lies outside our 95% interval")),
+     (True, "differs by \u221221.4 pp: paper outside our 95% CI")),
     # a zero-width interval (the same value in every seed) reads as the point value: 1/3 against the
     # paper's 0.33 (it read "differs by 0.00"); a paper value one printed unit or more from the
     # interval's nearest end differs
     ((1 / 3, 0.33), {"low": 1 / 3, "high": 1 / 3, "digits": 2},
-     (False, "consistent: the paper's value lies within one printed digit (0.01) of our 95% interval "
-             "(0.00)")),
+     (False, "consistent (0.00): paper within one printed digit (0.01) of our 95% CI")),
     ((0.2412, 0.26), {"low": 0.2412, "high": 0.2412, "digits": 2},
-     (True, "differs by \u22120.02: the paper's value lies outside our 95% interval")),
+     (True, "differs by \u22120.02: paper outside our 95% CI")),
     ((0.41666, 0.416), {"digits": 3},
      (False, "matches: within one printed digit (0.001) of the paper's value")),
     ((0.4646, 0.46), {"digits": 2}, (False, "matches as printed")),
@@ -66,7 +65,7 @@ def test_number_variants():
     ((2, 3), {"digits": 0}, (True, "differs by \u22121")),  # a count one off is exactly one
     # a zero-width interval reads as the point value, its difference too (it read "differs by −0.01")
     ((0.578, 0.59), {"low": 0.578, "high": 0.578, "digits": 2},
-     (True, "differs by \u22120.012: the paper's value lies outside our 95% interval")),
+     (True, "differs by \u22120.012: paper outside our 95% CI")),
     ((35.0, (30, 40)), {"digits": 0}, (False, "inside the paper's range 30–40")),
     ((20.0, (30, 40)), {"digits": 0}, (True, "differs: below the paper's range 30–40")),
     # Test 1's lowest family n 0.4252 prints 0.43: inside 0.43–0.48 as printed; 0.4249 prints 0.42
@@ -80,7 +79,7 @@ def test_number_variants():
     ((2.5, (0, 2)), {"digits": 2, "unit": "N"}, (True, "differs: above the paper's range 0.00–2.00 N")),
     ((True, True), {}, (False, "as in the paper (yes)")),
     ((False, True), {}, (True, "differs: the paper reports yes, ours is no")),
-    ((1.0, None), {}, (None, "the paper reports no value")),
+    ((1.0, None), {}, (None, "no paper value")),
     ((math.nan, 3.0), {}, (None, "not computed")),
     # one-sided bounds: Sec. 11's cost-ratio target "at most 1.5"; 1.504 prints 1.50, within it
     ((1.24, (None, 1.5)), {"digits": 2}, (False, "within the paper's target ≤ 1.50")),

@@ -215,7 +215,7 @@ def test_a_run_without_the_papers_meshes_is_not_compared_with_the_papers_ratio(s
     top = res.loc[res["nodes"] == res["nodes"].max(), "cost_ratio_vs_reference"]
     assert res["nodes"].max() != 1750 and len(top) == 1
     ratio = _table(store, "cost_ratio")
-    # the paper gives a ratio and a target, for meshes this run lacks (was: "the paper reports no value")
+    # the paper gives a ratio and a target, for meshes this run lacks (was: "no paper value")
     assert ratio["paper"].tolist() == ["1.95"] * 2 + ["≤ 1.50"] * 2
     assert (ratio["verdict"] == "not compared: this run has no 1750-node mesh (the paper's ratio is "
                                 "1750 / 144 nodes)").all()
@@ -376,7 +376,7 @@ DESIGN = (" neither stage's work depends on the mesh size")
      "costs 1.50 times one on the 144-node reference mesh (median over 3 trials of each trial's ratio of the "
      "two meshes' fastest repeats; by their median repeats 1.49, the same reading at printed "
      "precision; paper "
-     "1.95: differs by −0.45: the paper's value lies outside our 95% interval; target ≤ 1.5: within the "
+     "1.95: differs by −0.45: paper outside our 95% CI; target ≤ 1.5: within the "
      "paper's target ≤ 1.50 at its printed precision): a growth (95% interval 1.50–1.51, above 1), which the "
      "design does not predict, since" + DESIGN),
     # 0.999 and 1.004 both print 1.00 (the finding had read the second as growth)
@@ -384,7 +384,7 @@ DESIGN = (" neither stage's work depends on the mesh size")
      "costs 1.00 times one on the 144-node reference mesh (median over 3 trials of each trial's ratio of the "
      "two meshes' fastest repeats; by their median repeats 1.00, the same reading at printed "
      "precision; paper "
-     "1.95: differs by −0.95: the paper's value lies outside our 95% interval; target ≤ 1.5: within the "
+     "1.95: differs by −0.95: paper outside our 95% CI; target ≤ 1.5: within the "
      "paper's target ≤ 1.50): no growth detectable at this n (95% interval 0.99–1.01), as the design "
      "predicts, since" + DESIGN),
     ([1.1, 1.2, 1.3], [3.0, 3.68, 4.0], True,
@@ -392,13 +392,13 @@ DESIGN = (" neither stage's work depends on the mesh size")
      "two meshes' fastest repeats; by their median repeats 3.68, which reads differs: above the "
      "paper's target "
      "≤ 1.50, a growth (95% interval 3.00–4.00, above 1): the choice of estimator decides the verdict; paper "
-     "1.95: differs by −0.75: the paper's value lies outside our 95% interval; target ≤ 1.5: within the "
+     "1.95: differs by −0.75: paper outside our 95% CI; target ≤ 1.5: within the "
      "paper's target ≤ 1.50): a growth (95% interval 1.10–1.30, above 1), which the design does not predict"),
     ([1.1, 1.2, 1.3], [3.0, 3.68, 4.0], False,
      "costs 3.68 times one on the 144-node reference mesh (median over 3 trials of each trial's ratio of the "
      "two meshes' median repeats, the only ones of a run stored before the fastest repeat was "
      "recorded; paper "
-     "1.95: differs by +1.73: the paper's value lies outside our 95% interval; target ≤ 1.5: differs: above "
+     "1.95: differs by +1.73: paper outside our 95% CI; target ≤ 1.5: differs: above "
      "the paper's target ≤ 1.50): a growth (95% interval 3.00–4.00, above 1), which the design does not "
      "predict"),
 ])

@@ -97,7 +97,7 @@ def test_wrench_balance_settling_from_trace(tmp_path):
     assert settle.loc[0.5, "verdict"] == "differs: above the paper's range 30–40"
     slip = table[table["quantity"].str.startswith("final slip")].set_index("mu")
     assert slip.loc[0.5, "verdict"] == "inside the paper's range 0.80–1.00"
-    assert slip.loc[0.1, "verdict"] == "the paper reports no value"  # stated for μ ≥ 0.3 only
+    assert slip.loc[0.1, "verdict"] == "no paper value"  # stated for μ ≥ 0.3 only
     assert slip.loc[0.3, "verdict"].startswith("differs")  # 0.57 is not above 0.8
     assert (store.path / "report" / "figures" / "fig17_wrench.png").exists()
     # a trace stored before the kind recorded finger 1's depth: the report says it has none
@@ -218,7 +218,7 @@ def test_heuristic_weights_invariance(tmp_path, scales, words):
         "as in the paper (yes)"
     # 1/3 in every seed against the printed 0.33: the zero-width interval reads as the value
     assert comp.loc["S3 of the reachable set at unit weights", "verdict"] == \
-        "consistent: the paper's value lies within one printed digit (0.01) of our 95% interval (0.00)"
+        "consistent (0.00): paper within one printed digit (0.01) of our 95% CI"
     # S1 varies by seed: the median over every trial at the nearest scale, with its n (was one trial, no n)
     at = ok[ok["weight_scale"] == nearest]
     s1 = comp.loc["S1 of the reachable set at unit weights"]
@@ -231,7 +231,7 @@ def test_heuristic_weights_invariance(tmp_path, scales, words):
     median = at["s1_reachable"].median()
     assert shown.loc[s1.name, "ours (95%)"] == f"{median:.2f} ({boot.low:.2f}–{boot.high:.2f})"
     assert shown.loc[s1.name, "verdict"] == \
-        "consistent: the paper's value lies inside our 95% interval (+0.01)"
+        "consistent (+0.01): paper inside our 95% CI"
     contacts = comp.loc["penalised contacts n_c + n_e on the sphere (largest over trials)"]
     assert (contacts["n"], contacts["section"]) == (len(ok), "Sec. 5.2")  # the paper says so in Sec. 5.2
     sweep = read_table(store, "ratio_sweep").set_index("weights_w1_w2_w3")

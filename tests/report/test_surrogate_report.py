@@ -96,7 +96,7 @@ def test_a_fitted_run_shows_every_table_and_its_paper_values(fitted_run):
     columns = ["roc_auc", "roc_auc_low", "roc_auc_high"]
     assert cls[columns].to_numpy() == pytest.approx(stored.loc[cls.index, columns].to_numpy())
     assert cls.loc[("success_unbounded", "mlp"), "verdict"] == \
-        "differs by +0.31: the paper's value lies outside our 95% interval"  # 1.00 (1.00–1.00) − 0.69
+        "differs by +0.31: paper outside our 95% CI"  # 1.00 (1.00–1.00) − 0.69
     timing = _table(fitted_run, "surrogate_timing").set_index("what")
     assert timing.loc["mlp", "speedup"] == pytest.approx(timing.loc["pso_call", "time_s"]
                                                          / timing.loc["mlp", "time_s"])
@@ -199,7 +199,7 @@ def test_a_run_without_its_summary_says_how_to_get_it(sim_root, tmp_path):
 
 
 def test_the_pso_call_is_the_reference_of_the_ratios_not_a_row_without_a_paper_value():
-    """The PSO call's ratio to itself (1) is no result; its verdict said "the paper reports no value"
+    """The PSO call's ratio to itself (1) is no result; its verdict said "no paper value"
     beside the paper's 990 ms. A model's ratio is the PSO call's time over its own."""
     from types import SimpleNamespace
 
@@ -213,7 +213,7 @@ def test_the_pso_call_is_the_reference_of_the_ratios_not_a_row_without_a_paper_v
     assert timing.loc["pso_call", "paper_time_s"] == 0.99 and pd.isna(timing.loc["pso_call", "speedup"])
     assert timing.loc["pso_call", "verdict"] == "the reference of the PSO/this ratios, not compared"
     assert timing.loc[["mlp", "random_forest"], "speedup"].tolist() == pytest.approx([30.0, 0.2])
-    assert timing.loc["random_forest", "verdict"] == "the paper reports no value"
+    assert timing.loc["random_forest", "verdict"] == "no paper value"
     # no classifier fitted: the run times the regressor of |R_z|, named as the tables name it
     regression = _timing(SimpleNamespace(part=lambda name: stored.assign(predicts=[
         "", "abs_residual_z_n", "abs_residual_z_n"]), paper=paper)).set_index("what")

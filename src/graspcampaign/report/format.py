@@ -164,7 +164,7 @@ def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits:
     if commanded:
         return None, f"commanded, not a result: {commanded}"
     if is_missing(paper):
-        return None, "the paper reports no value"
+        return None, "no paper value"
     if is_missing(ours):
         return None, "not computed"
     unit = unit.strip()
@@ -194,11 +194,10 @@ def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits:
     diff = number(gap, digits + 1 if fine else digits, signed=True, unit=f" {unit}" if unit else "")
     if not is_missing(low) and not is_missing(high):
         if float(low) <= float(paper) <= float(high):
-            return False, f"consistent: the paper's value lies inside our 95% interval ({diff})"
+            return False, f"consistent ({diff}): paper inside our 95% CI"
         if not differs:  # e.g. 1/3 in every seed against the paper's 0.33
-            return False, f"consistent: the paper's value lies within one printed digit ({tol}) of our 95% " \
-                          f"interval ({diff})"
-        return True, f"differs by {diff}: the paper's value lies outside our 95% interval"
+            return False, f"consistent ({diff}): paper within one printed digit ({tol}) of our 95% CI"
+        return True, f"differs by {diff}: paper outside our 95% CI"
     if ratio:
         zero = "ours" if not float(ours) else "the paper's" if not float(paper) else ""
         times = (f"{number(float(paper) / float(ours), sig=3)} times ours" if not zero
