@@ -5,11 +5,13 @@ where, nothing stored changed."""
 from __future__ import annotations
 
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
+from cli_checks import grid_run, invoke
 from statsmodels.stats.proportion import proportion_confint
 
 import graspcampaign
@@ -31,3 +33,23 @@ def test_gc_stats_works_after_import_graspcampaign_alone_and_stays_lazy():
     assert lazy == "True"
     assert (float(low), float(high)) == pytest.approx(proportion_confint(3, 10, method="wilson"),
                                                       abs=1e-12)
+
+
+def test_a_file_in_place_of_a_run_directory_is_named_by_report_of_every_run(results):
+    """``report`` of every run once skipped such a file in silence (exit 0) and rewrote the
+    headline and index pages without the run, as if it had no records; now it fails as for a run
+    without its manifest: exit 2 naming the file, the pages left as they were, the others
+    reported."""
+    pages = {p: p.read_bytes() for p in results.glob("*.*")}
+    shutil.rmtree(grid_run(results))
+    grid_run(results).write_text("not a run")
+    (results / "smoke" / ".DS_Store").write_text("hidden: not a run")
+    done = invoke("report", "--root", results)
+    why = (f"run baseline_grid/default at {grid_run(results)} is a file, not a run directory; move "
+           "it aside or choose another run name (--run NAME)")
+    assert done.exit_code == 2, done.output
+    assert done.stderr == ("warning: the headline and index pages were left as they were: run "
+                           f"baseline_grid/default cannot be read ({why})\n"
+                           f"error: the report of baseline_grid/default could not be written: {why}\n")
+    assert done.stdout == f"report: {results}/smoke/default/report/report.md\n"
+    assert {p: p.read_bytes() for p in results.glob("*.*")} == pages
