@@ -11,7 +11,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from cli_checks import grid_run, invoke
+from cli_checks import grid_run, invoke, refused, resume_advice
 from statsmodels.stats.proportion import proportion_confint
 
 import graspcampaign
@@ -53,3 +53,28 @@ def test_a_file_in_place_of_a_run_directory_is_named_by_report_of_every_run(resu
                            f"error: the report of baseline_grid/default could not be written: {why}\n")
     assert done.stdout == f"report: {results}/smoke/default/report/report.md\n"
     assert {p: p.read_bytes() for p in results.glob("*.*")} == pages
+
+
+#: a records file damaged as a disk or a copy damages it -> why, in plain words (pyarrow's were
+#: "Parquet file size is 0 bytes", "Parquet magic bytes not found in footer. Either the file is
+#: corrupted or this is not a parquet file." and "Couldn't deserialize thrift: don't know what
+#: type: ")
+CUT = "it does not end with a Parquet footer: cut short, or not a Parquet file"
+DAMAGED = {
+    "zero_bytes": (lambda data: b"", "it is empty"),
+    "cut_mid_file": (lambda data: data[: len(data) // 2], CUT),
+    "its_footer_cut": (lambda data: data[:-4], CUT),
+    "bytes_appended": (lambda data: data + b"more", CUT),
+    "its_head_cut": (lambda data: data[100:],
+                     "its Parquet structure cannot be decoded: damaged, or not a Parquet file"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(DAMAGED))
+def test_a_damaged_records_file_is_named_in_plain_words(results, case):
+    damage, why = DAMAGED[case]
+    (records,) = (grid_run(results) / "records").glob("*.parquet")
+    records.write_bytes(damage(records.read_bytes()))
+    refused(results, ["status", "baseline_grid", "--root", results],
+            f"run baseline_grid/default at {grid_run(results)} has a damaged file "
+            f"records/{records.name} ({why}); {resume_advice(results)}")
