@@ -11,10 +11,12 @@ import sys
 from pathlib import Path
 
 import pytest
-from cli_checks import grid_run, invoke, refused, resume_advice
+from cli_checks import grid_run, invoke, refused, resume_advice, snapshot
 from statsmodels.stats.proportion import proportion_confint
 
 import graspcampaign
+import graspcampaign as gc
+from graspcampaign.errors import ConfigError, UserInputError
 
 #: this checkout's package first on a child interpreter's path
 SRC = {**os.environ, "PYTHONPATH": str(Path(graspcampaign.__file__).parents[1])}
@@ -78,3 +80,38 @@ def test_a_damaged_records_file_is_named_in_plain_words(results, case):
     refused(results, ["status", "baseline_grid", "--root", results],
             f"run baseline_grid/default at {grid_run(results)} has a damaged file "
             f"records/{records.name} ({why}); {resume_advice(results)}")
+
+
+def test_a_run_name_that_is_no_text_is_refused_before_the_run_writes(tmp_path):
+    """``run_study(study, run=3)`` once ran the trials and stored run 3 as a number in the
+    manifest, which every command then refused as damaged ("run is 3, not a name")."""
+    study = gc.compose_study("smoke", ["shape=[sphere]", "nodes=[144]", "runner.backend=sequential",
+                                       f"output.root={tmp_path / 'results'}"])
+    with pytest.raises(ConfigError, match=r"^--run = 3 is not a name: give it as text \(a str\)\.$"):
+        gc.run_study(study, run=3)
+    assert not (tmp_path / "results").exists()
+
+
+@pytest.mark.parametrize(("call", "error", "message"), [
+    (lambda root: gc.compose_study("smoke", "nodes=[144]"), ConfigError,
+     "overrides = 'nodes=[144]' is not a list of KEY=VALUE texts; give one, e.g. ['seeds=2']."),
+    (lambda root: gc.compose_study("smoke", [5]), ConfigError,
+     "overrides = [5] is not a list of KEY=VALUE texts; give one, e.g. ['seeds=2']."),
+    (lambda root: gc.compose_study(5), ConfigError,
+     "study = 5 is not a study's name or file path: give it as text."),
+    (lambda root: gc.load_records(None, root=root), ConfigError,
+     "study = None is not a name: give it as text (a str)."),
+    (lambda root: gc.load_records("smoke", 3, root=root), ConfigError,
+     "run = 3 is not a name: give it as text (a str)."),
+    (lambda root: gc.load_records("smoke", root=None), UserInputError,
+     "root = None is not a path: give the results directory as text or a Path."),
+], ids=["overrides_a_string", "override_a_number", "study_a_number", "load_study_none",
+        "load_run_a_number", "load_root_none"])
+def test_the_notebook_api_names_an_argument_of_the_wrong_type(results, call, error, message):
+    """A notebook's wrong-typed argument: one sentence naming it (was a TypeError or
+    AttributeError from deep inside, or a string's characters read as overrides)."""
+    before = snapshot(results)
+    with pytest.raises(error) as raised:
+        call(results)
+    assert str(raised.value) == message
+    assert snapshot(results) == before
