@@ -11,7 +11,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from cli_checks import grid_run, invoke, refused, resume_advice, snapshot
+from cli_checks import BG, grid_run, invoke, refused, resume_advice, snapshot
 from statsmodels.stats.proportion import proportion_confint
 
 import graspcampaign
@@ -115,3 +115,16 @@ def test_the_notebook_api_names_an_argument_of_the_wrong_type(results, call, err
         call(results)
     assert str(raised.value) == message
     assert snapshot(results) == before
+
+
+def test_a_file_in_place_of_a_study_directory_is_named_not_run_for_ever(results):
+    """status said "no run ...; run it first", show counted 0 recorded, and run then failed with
+    "cannot write .../manifest.json: not a directory; ... run the command again", for ever."""
+    study = grid_run(results).parent
+    shutil.rmtree(study)
+    study.write_text("not a study")
+    message = (f"run baseline_grid/default at {grid_run(results)} cannot be stored: {study} is a "
+               "file, not the study's directory; move it aside.")
+    for args in (["status", "baseline_grid"], ["show", "baseline_grid", *BG[:5]],
+                 ["run", "baseline_grid", *BG]):
+        refused(results, [*args, "--root", results], message)

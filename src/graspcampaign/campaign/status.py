@@ -42,7 +42,7 @@ def opened_run(study: StudyCfg, run: str | None = None):
     """``(RunStore, manifest)`` of the study's run, checked against its manifest (a run that is not
     what its manifest says is refused); None when there is no run yet."""
     path = run_path(study, run)
-    if not (path.exists() or path.is_symlink()):
+    if not path.parent.exists():  # no study directory, so no run (a file there: refused)
         return None
     from graspcampaign.campaign.records import RunStore
 
