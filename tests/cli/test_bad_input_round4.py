@@ -128,3 +128,21 @@ def test_a_file_in_place_of_a_study_directory_is_named_not_run_for_ever(results)
     for args in (["status", "baseline_grid"], ["show", "baseline_grid", *BG[:5]],
                  ["run", "baseline_grid", *BG]):
         refused(results, [*args, "--root", results], message)
+
+
+@pytest.mark.parametrize("lookup", [
+    lambda frame: frame.pivot(index="a", columns="a", values="success"),  # mcnemar's pairing
+    lambda frame: frame[["success"]],
+    lambda frame: frame.loc[:, ["a", "success"]],
+    lambda frame: frame["success"],
+], ids=["pivot", "list", "loc", "one"])
+def test_a_column_the_records_lack_is_named_by_its_name_alone(lookup):
+    """A report item over records without ``success`` said "the records have no `The following
+    'values' labels are not columns of the DataFrame: ['success']` column"."""
+    import pandas as pd
+
+    from graspcampaign.report.render import reason
+
+    with pytest.raises(KeyError) as raised:
+        lookup(pd.DataFrame({"a": [1, 2]}))
+    assert reason(raised.value) == "the records have no `success` column"
