@@ -343,8 +343,7 @@ def test_a_run_that_cannot_be_read_never_replaces_what_the_root_pages_say(result
 def test_the_advice_for_an_unidentifiable_trace_file_is_true(results):
     (trace,) = (grid_run(results) / "tables" / "candidates").glob("*.parquet")
     trace.write_bytes(b"x" * 100)  # neither its footer nor its trial ids can be read
-    why = ("Parquet magic bytes not found in footer. Either the file is corrupted or this is not a "
-           "parquet file.")
+    why = "it does not end with a Parquet footer: cut short, or not a Parquet file"
     refused(results, ["report", "baseline_grid", "--root", results],
             f"run baseline_grid/default at {grid_run(results)} has a damaged file "
             f"tables/candidates/{trace.name} ({why}); {resume_advice(results)}")

@@ -106,6 +106,9 @@ def compose_study(study: str, overrides: list[str] | None = None) -> StudyCfg:
         Unknown study, invalid YAML (file and line), unknown key, wrong type or out-of-range
         value; one sentence naming it (and the file and line it is written on).
     """
+    if isinstance(overrides, str) or not all(isinstance(o, str) for o in overrides or []):
+        raise ConfigError(f"overrides = {overrides!r} is not a list of KEY=VALUE texts; give one, "
+                          "e.g. ['seeds=2'].")
     conf_dir, campaigns_dir = project_dirs()
     path = find_study(study)
     data = read_yaml(path, study=True)

@@ -330,6 +330,10 @@ def check_run(store, parts: list[str] | None = None, *, repairable: bool = False
         The run cannot be trusted as stored; nothing is changed.
     """
     label = f"run {store.path.parent.name}/{store.path.name} at {store.path}"
+    study = store.path.parent
+    if study.exists() and not study.is_dir():  # "run it first" then failed to write, for ever
+        raise DamagedRunError(f"{label} cannot be stored: {study} is a file, not the study's "
+                              "directory; move it aside.", "lies in a file, not a study directory")
     if store.path.exists() and not store.path.is_dir():
         raise DamagedRunError(f"{label} is a file, not a run directory; move it aside or choose "
                               "another run name (--run NAME).", "is a file, not a run directory")

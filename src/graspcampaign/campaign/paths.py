@@ -79,6 +79,9 @@ def check_root(root: str | Path, key: str = "--root", *, write: bool = False) ->
         a run's directory or a place inside one (a run written there would land among its
         records), a study's directory, or (``write``) a directory that cannot be written.
     """
+    if not isinstance(root, (str, os.PathLike)):
+        raise UserInputError(f"{key} = {root!r} is not a path: give the results directory as text "
+                             "or a Path.")
     if not str(root).strip():
         raise UserInputError(f"{key} is empty; give the results directory (for example "
                              "results): an empty root would mean the current directory.")

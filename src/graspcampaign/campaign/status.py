@@ -42,7 +42,7 @@ def opened_run(study: StudyCfg, run: str | None = None):
     """``(RunStore, manifest)`` of the study's run, checked against its manifest (a run that is not
     what its manifest says is refused); None when there is no run yet."""
     path = run_path(study, run)
-    if not (path.exists() or path.is_symlink()):
+    if not path.parent.exists():  # no study directory, so no run (a file there: refused)
         return None
     from graspcampaign.campaign.records import RunStore
 
@@ -179,7 +179,7 @@ def check_known(root: Path | str, study: str) -> None:
     """Refuse a study name that is neither on the config search path nor stored under ``root``,
     naming the available studies (and the nearest one), or a study file's path given for its
     name (``run`` and ``show`` take a path; what is stored is under the study's name)."""
-    if Path(study).suffix in (".yaml", ".yml") or os.sep in study:
+    if isinstance(study, str) and (Path(study).suffix in (".yaml", ".yml") or os.sep in study):
         from graspcampaign.campaign.studyfile import read_yaml
 
         try:

@@ -165,6 +165,8 @@ def find_study(study: str) -> Path:
     ConfigError
         No such study or file, naming the available studies.
     """
+    if not isinstance(study, str):
+        raise ConfigError(f"study = {study!r} is not a study's name or file path: give it as text.")
     if is_path_argument(study):
         path = Path(study).expanduser()
         if path.is_dir():
@@ -351,7 +353,9 @@ def check_name(value: Any, key: str) -> str:
     ConfigError
         Naming ``key`` and the allowed characters.
     """
-    text = str(value)
+    if not isinstance(value, str):  # a notebook's run=3 was stored as a number, then refused
+        raise ConfigError(f"{key} = {value!r} is not a name: give it as text (a str).", key=key)
+    text = value
     if not _RUN_NAME.fullmatch(text):
         raise ConfigError(f"{key} = {text!r} is not allowed; use letters, digits, '.', '_' and '-' "
                           "(starting with a letter or digit, at most 100), so the run stays "

@@ -46,10 +46,20 @@ class Damaged(Exception):
     """A file that cannot be trusted; its text says why."""
 
 
+#: pyarrow's words for a file that is no whole Parquet file (by how they start), in plain words
+_NOT_PARQUET = "it does not end with a Parquet footer: cut short, or not a Parquet file"
+_ARROW_WORDS = (("Parquet file size is 0 bytes", "it is empty"),
+                ("Parquet magic bytes not found", _NOT_PARQUET), ("Parquet file size is", _NOT_PARQUET),
+                ("Couldn't deserialize thrift", "its Parquet structure cannot be decoded: damaged, or "
+                                                "not a Parquet file"))
+
+
 def reason(exc: BaseException) -> str:
-    """The first line of ``exc``'s text (at most 120 characters)."""
+    """Why a file could not be read: the first line of ``exc``'s text (at most 120 characters),
+    in plain words where pyarrow's are known (:data:`_ARROW_WORDS`)."""
     text = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-    return text if len(text) <= 120 else text[:117] + "..."
+    known = next((words for start, words in _ARROW_WORDS if text.startswith(start)), None)
+    return known or (text if len(text) <= 120 else text[:117] + "...")
 
 
 def content_digest(table: pa.Table) -> str:

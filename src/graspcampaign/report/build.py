@@ -20,7 +20,7 @@ from graspcampaign.errors import ConfigError, UserInputError
 from graspcampaign.report import document as D
 from graspcampaign.report import spec as S
 from graspcampaign.report.document import NAV, Col, Document, Table, Text
-from graspcampaign.report.headline import folders, headline_rows, is_run, write_headline
+from graspcampaign.report.headline import folders, headline_rows, runs_of, write_headline
 from graspcampaign.report.render import Run, provenance, reason, render
 from graspcampaign.report.style import SOURCE_SHORT
 
@@ -139,8 +139,7 @@ def _runs(root: Path, studies: list[str] | None, run: str | Mapping[str, str] | 
             raise UserInputError(f"no records for study {name!r} under {root}; run it first.")
         wanted = run.get(name) if isinstance(run, Mapping) else run
         # walking, a folder is a run only if it looks like one (/sys/firmware/acpi is none)
-        for r in [wanted] if wanted is not None else [d.name for d in folders(root / name)
-                                                      if is_run(d)]:
+        for r in [wanted] if wanted is not None else [d.name for d in runs_of(root / name)]:
             store = RunStore(root / name / r)
             try:  # a damaged file, a foreign or duplicate shard, missing records: never reported
                 manifest = store.check()

@@ -148,21 +148,26 @@ def _run_row(h: Headline, store: RunStore, root: Path) -> dict | None:
                 why=mine["rate_why"], ours_baselines=_ranked(others["rate_pct"].to_dict()), **common)
 
 
-def folders(path: Path, strict: bool = False) -> list[Path]:
-    """The directories in ``path``, sorted; an entry that cannot be read (as under /proc) is none,
-    a ``path`` that cannot be listed has none (``strict``: raises the OSError)."""
+def folders(path: Path, strict: bool = False, files: bool = False) -> list[Path]:
+    """The directories in ``path`` (``files``: and its files but hidden ones), sorted; an entry
+    that cannot be read (as under /proc) is none, a ``path`` that cannot be listed has none
+    (``strict``: raises the OSError)."""
     try:
         names = os.listdir(path)
     except OSError:
         if strict:
             raise
         return []
-    return sorted(path / name for name in names if os.path.isdir(path / name))
+    return sorted(path / name for name in names if os.path.isdir(path / name)
+                  or files and not name.startswith(".") and os.path.isfile(path / name))
 
 
-def is_run(path: Path) -> bool:
-    """A directory holding a run (its manifest, or stored files a missing manifest leaves)."""
-    return os.path.isdir(path) and any(os.path.exists(path / p) for p in ("manifest.json", "records"))
+def runs_of(study_dir: Path) -> list[Path]:
+    """The runs in a study's folder: each directory holding a run (its manifest, or stored files
+    a missing manifest leaves), and each file in place of one (a run that cannot be read: the
+    pages that summarised it must not silently drop it)."""
+    return [path for path in folders(study_dir, files=True) if not os.path.isdir(path)
+            or any(os.path.exists(path / p) for p in ("manifest.json", "records"))]
 
 
 def headline_rows(root: Path | str, unreadable: list[tuple[str, str]] | None = None,
@@ -172,7 +177,7 @@ def headline_rows(root: Path | str, unreadable: list[tuple[str, str]] | None = N
     root, rows = Path(root), []
     for h in TABLE1:
         study_dir = root / h.study
-        runs = [p for p in folders(study_dir) if is_run(p)]
+        runs = runs_of(study_dir)
         rows += [] if runs else [_row(h, study_paper(h.study), why="no records yet")]
         for r in runs:
             try:

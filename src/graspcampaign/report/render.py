@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+import re
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -109,8 +110,10 @@ class Run:
 
 def reason(exc: BaseException) -> str:
     """One sentence saying why a statistic could not be computed."""
-    if isinstance(exc, KeyError):
-        return f"the records have no `{exc.args[0]}` column"
+    if isinstance(exc, KeyError):  # pandas names the columns as a list: "... : ['success']"
+        key = str(exc.args[0]) if exc.args else ""
+        listed = re.search(r"\['([^']+)'", key)
+        return f"the records have no `{listed.group(1) if listed else key}` column"
     text = str(exc).strip().splitlines()[0].rstrip(".") if str(exc).strip() else type(exc).__name__
     return text if isinstance(exc, ValueError | UserInputError) else f"{type(exc).__name__}: {text}"
 
