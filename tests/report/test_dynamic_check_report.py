@@ -59,9 +59,9 @@ def test_the_verdict_is_on_the_sphere_and_every_shape_is_context():
     assert all(v.startswith("no verdict") for v in every.verdict)
     run.tables["kappa"] = kappa
     text = report.finding(run)
-    assert "0 of 8 sphere comparisons differ" in text and "For context only" in text
-    assert "`not_settled`" not in text and "**table2**" not in text  # the vocabulary's words
-    assert f"**{label('model_preset', 'table2')}**" in text
+    assert "0 of 8 sphere comparisons differ (table kappa)" in text and "Why:" not in text  # all agree
+    assert "`not_settled`" not in text and "table2" not in text  # the vocabulary's words
+    assert f"100.0% of the determined trials under {label('model_preset', 'table2')}" in text
     assert f"{label('dynamic_status', 'not_settled')}" in text
 
 
@@ -87,12 +87,9 @@ def test_the_judged_verdict_names_the_grasps_not_settled_by_t_max_it_leaves_out(
     run = _run()
     run.manifest["config"]["params"] = {"t_max_s": 0.05}
     run.tables["kappa"] = report._kappa(run)
-    judged = report.finding(run).split("For context only", 1)[0]
-    for preset in ("table2", "firm"):
-        sphere = run.records[(run.records.model_preset == preset) & (run.records["shape"] == "sphere")]
-        out = int((sphere.dynamic_status == "not_settled").sum())
-        assert (f"({out} of {len(sphere)} dynamic grasps not settled by t_max = 0.05 s: left out of the "
-                "agreement) — consistent") in judged
+    sphere = run.records[run.records["shape"] == "sphere"]
+    out = int((sphere.dynamic_status == "not_settled").sum())
+    assert f"{out} sphere grasps not settled by t_max = 0.05 s are left out." in report.finding(run)
 
 
 def test_a_run_whose_every_grasp_timed_out_gets_no_verdict():
@@ -107,9 +104,10 @@ def test_a_run_whose_every_grasp_timed_out_gets_no_verdict():
     assert sphere.verdict.eq("no verdict: nothing to compare").all()
     text = report.finding(run)
     assert "consistent" not in text and "the labels agree on" not in text
-    assert ("**Tables 2–3 constants**: 20 of 20 dynamic grasps not settled by t_max: left out of the "
-            "agreement — no verdict: nothing to compare") in text
-    assert "No sphere comparison can be judged: none has a settled dynamic grasp." in text
+    assert ("No sphere comparison can be judged against the paper's full agreement (Sec. 6.1): none of the "
+            "baseline_grid trials re-simulated has a "
+            "settled dynamic grasp (table kappa). 40 sphere grasps not settled by t_max are left out.") \
+        in text
     assert "0 of 0" not in text and "mutual failure" not in text  # no count or caveat about no comparison
 
 
@@ -119,8 +117,36 @@ def test_the_closing_caveat_does_not_call_an_undefined_kappa_near_0():
     run.records[[c for c in run.records if "success" in c]] = False
     run.tables["kappa"] = kappa = report._kappa(run)
     assert kappa.kappa.isna().all()
-    assert ("Agreement by mutual failure gives κ near 0, or none when every trial has one label in both "
-            "columns: it is not evidence") in report.finding(run)
+    assert "κ" not in report.finding(run)  # the labels agree: no disagreement to explain
+
+
+def test_the_opening_says_which_way_the_labels_disagree_counted_from_the_records():
+    """The opening once listed every row of table kappa; now, per preset, how many grasps each
+    evaluator accepts on the sphere, and κ's mutual failure where the dynamic grasp holds none."""
+    run = _run()
+    sphere = (run.records["shape"] == "sphere") & (run.records.model_preset == "table2")
+    run.records.loc[sphere, ["success", "success_unbounded"]] = False  # table2: no dynamic hold
+    run.records.loc[sphere, "dynamic_status"] = "penetration_limit"
+    run.tables["kappa"] = report._kappa(run)
+    text = report.finding(run)
+    for preset in ("table2", "firm"):
+        g = run.records[(run.records.model_preset == preset) & (run.records["shape"] == "sphere")]
+        g = g[g.dynamic_status != "not_settled"]
+        words = (f"under {label('model_preset', preset)} the dynamic grasp holds {int(g.success.sum())} "
+                 f"where the quasi-static label passes {int(g.qs_success.sum())}")
+        assert (words in text) == (preset == "table2")  # firm agrees on the sphere: nothing to explain
+    assert "(κ 0.00: agreement by mutual failure)" in text
+
+
+def test_a_partial_run_says_so_in_its_opening():
+    """A run stopped at 5,516 of 6,750 grasps said so only in its header."""
+    run = _run()
+    run.tables["kappa"] = report._kappa(run)
+    run.manifest["n_trials"] = len(run.records) + 20
+    assert f"Partial run: {len(run.records)} of {len(run.records) + 20} dynamic grasps recorded." in \
+        report.finding(run)
+    run.manifest["n_trials"] = len(run.records)
+    assert "Partial run" not in report.finding(run)
 
 
 def test_the_status_table_gives_the_time_budget_its_not_settled_column_refers_to():

@@ -66,7 +66,8 @@ def test_a_run_without_the_papers_case_says_so_and_draws_its_nearest():
     assert titles[0].startswith(label("model_preset", "table2"))  # one label for a preset
 
 
-def test_the_finding_names_the_case_it_shows():
+def test_the_figure_caption_names_the_case_it_shows():
+    # the opening named it too ("Representative case of Figs. 12-13: ..."); the caption is its one place
     run = friction_mass_run([0.3])
     ok = run.ok.assign(dynamic_status="stable", final_phase="hold", delta_max_mm=1.0, success=True,
                        qs_success=True, qs_success_unbounded=True, lp_status="feasible",
@@ -74,9 +75,10 @@ def test_the_finding_names_the_case_it_shows():
                        normal_off_radial_max_deg=1.0)
     run.__dict__["ok"] = ok  # the executed trials with their outcome columns
     text = finding(run)
-    assert ("Representative case of Figs. 12-13: μ = 0.1, m = 0.4 kg, not in this run; Figs. 12-13 "
-            "(ours) single out its nearest case, μ = 0.3, m = 0.4 kg.") in text
-    assert f"**{label('model_preset', 'table2')}**" in text and "**table2**" not in text
+    figure = next(i for i in FRICTION_MASS.items if getattr(i, "name", "") == "fig12_13_dynamic")
+    assert ("the case nearest the paper's representative μ = 0.1, m = 0.4 kg (not run), μ = 0.3, "
+            "m = 0.4 kg") in figure.caption(run)
+    assert f"{label('model_preset', 'table2')} 3 of 3" in text and "table2 " not in text
 
 
 def test_the_caption_shades_no_lift_off_when_the_case_never_lifts():
@@ -118,11 +120,12 @@ def test_the_finding_reports_the_lp_at_the_runs_own_mu_not_only_at_zero():
                        lp_mu0_reason="torque_balance", lp_status_mu0_ideal="feasible",
                        normal_off_radial_max_deg=6.7)
     run.__dict__["ok"] = ok.assign(lp_status=np.where(ok.mu == 0.1, "infeasible", "feasible"))
-    low = int((run.ok.mu == 0.1).sum())
     text = finding(run)
-    assert (f"feasible at the run's μ in {len(ok) - low} of {len(ok)} runs (not in {low}, at μ = 0.1; the "
-            f"paper: feasible at every μ) and at μ = 0 in 0 of {len(ok)} runs on the meshed sphere "
-            f"({len(ok)} fail torque balance;") in text
+    assert (f"the friction-cone LP at μ = 0 is feasible in 0 of {len(ok)} on the meshed sphere and "
+            f"{len(ok)} on the ideal one (table friction_cone)") in text
+    head, rows = rendered_tables(run)["friction_cone"]  # the LP at the run's own μ: the table's
+    mu = [float(r[head.index("μ")]) for r in rows]
+    assert [r[head.index("LP at μ")] for r in rows] == ["infeasible" if m == 0.1 else "feasible" for m in mu]
 
 
 def test_the_finding_says_how_and_when_the_unheld_runs_ended_in_words():
@@ -133,9 +136,8 @@ def test_the_finding_says_how_and_when_the_unheld_runs_ended_in_words():
                        lp_status_mu0="feasible", lp_status_mu0_ideal="feasible", lp_mu0_reason="",
                        normal_off_radial_max_deg=1.0, simulated_time_s=0.03)
     run.__dict__["ok"] = ok
-    per_preset = int((ok.model_preset == "firm").sum())
     text = finding(run)
-    assert f"{per_preset} end: not settled by t_max (in closure, at 0.0300 s)" in text
+    assert f"The other {len(ok)} end: not settled by t_max (table friction_mass)" in text
     assert "`not_settled`" not in text
 
 
@@ -289,20 +291,22 @@ def test_the_finding_compares_penetration_and_says_what_a_hold_leaves():
     # "2 of 2 hold at δ_max 1.21 mm", no word of the 1 mm limit, of the 0.935 N left (16 % of
     # 0.6 kg × 9.81 to 48 % of 0.2 kg × 9.81) or of one finger carrying 3.95 of 4.0 N (98.75 %)
     text = finding(held_run())
-    assert "δ_max up to 1.21 mm, above its 1 mm design limit per contact" in text
+    head, rows = rendered_tables(held_run())["paper_values"]
+    verdicts = [r[head.index("verdict")].split(":")[0].split(" ")[0] for r in rows]
+    differ, judged = verdicts.count("differs"), verdicts.count("differs") + verdicts.count("within")
+    assert f"{differ} of {judged} values compared with Sec. 5.5 differ (table paper_values)" in text
     # the trace's 0.4 mm as the paper_values table prints it (2 decimals), not "0.4"
     head, rows = rendered_tables(held_run())["paper_values"]
     firm = label("model_preset", "firm")
     assert [r[head.index("ours")] for r in rows if r[0] == f"{firm}: {TOTAL}"] == ["0.40"]
-    assert "final total penetration Σδ up to 0.40 mm, within the paper's 'settles below 0.5 mm'" in text
     # ‖F‖ sums the friction forces too, and it is the last step's value of a force that may swing from
     # step to step (a held 0.4 kg body cannot carry a steady 0.935 N: 0.12 m/s in the 0.05 s window)
-    assert ("while at the last step the contact forces (normal and friction) and the weight sum to "
-            "‖F‖ = 0.935 N (16–48 % of the weight mg; one step's value: a centroid at rest over the "
-            "settled window bounds the force's mean there, not its swing from step to step)") in text
+    table = next(i for i in FRICTION_MASS.items if getattr(i, "name", "") == "friction_mass")
+    assert ("the contact forces (normal and friction) plus the weight at the last step (one step's value: a "
+            "centroid at rest over the settled window bounds the force's mean there, not its swing from "
+            "step to step)") in table.caption
     head, _ = rendered_tables(held_run())["friction_mass"]
     assert {"final R_z [N]", "final ‖F‖ [N]", "final ‖τ‖ [N·m]"} <= set(head)
-    assert "the most loaded finger carries 98.8 % of the summed normal force" in text
 
 
 def test_a_depth_not_computed_leaves_the_finding_without_penetration_words():
@@ -311,9 +315,9 @@ def test_a_depth_not_computed_leaves_the_finding_without_penetration_words():
     run = held_run()
     run.__dict__["ok"] = run.ok.assign(delta_max_mm=np.nan)
     text = finding(run)
-    assert "; not computed, so no penetration to set beside the paper's" in text
     # no item raised (the failures are only the notes on columns this synthetic run predates)
-    assert "3 of 3 μ × m runs hold" in text and all("not in its frame" in f for f in run.failures)
+    assert f"{label('model_preset', 'firm')} 3 of 3" in text
+    assert all("not in its frame" in f for f in run.failures)
 
 
 def unexecuted_run() -> Run:
@@ -342,8 +346,11 @@ def test_a_quasi_static_depth_beyond_the_fingertip_is_called_non_physical():
     run = held_run()
     table2 = run.ok.model_preset == "table2"
     run.__dict__["ok"] = run.ok.assign(qs_delta_max_mm=np.where(table2, 1693.0, 1.17), qs_success=~table2)
-    n = int((run.ok.model_preset == "table2").sum())
-    assert f"its δmax of 1693 mm in {n} runs is **non-physical**" in finding(run)
+    head, rows = rendered_tables(run)["like_for_like"]  # the table prints it; its caption names it
+    deep = [r[head.index("quasi-static δmax [mm]")] for r in rows if r[0] == label("model_preset", "table2")]
+    assert deep == ["1693"] * int(table2.sum())
+    table = next(i for i in FRICTION_MASS.items if getattr(i, "name", "") == "like_for_like")
+    assert "a quasi-static δmax beyond the fingertip radius is non-physical" in table.caption
 
 
 def test_the_figure_legend_lists_the_cases_before_the_lift_off_shading():
@@ -364,9 +371,9 @@ def test_the_phases_a_status_ended_in_are_named_in_one_order():
                        lp_status_mu0="feasible", lp_status_mu0_ideal="feasible", lp_mu0_reason="",
                        normal_off_radial_max_deg=1.0)
     run.__dict__["ok"] = ok
-    per_preset = int((ok.model_preset == "firm").sum())
-    assert per_preset > 1
-    assert f"{per_preset} end: penetration limit (in closure/lift, at 0.400 s)" in finding(run)
+    assert f"The other {len(ok)} end: penetration limit (table friction_mass)" in finding(run)
+    head, rows = rendered_tables(run)["friction_mass"]  # each run's phase, in design order
+    assert [r[head.index("final phase")] for r in rows] == list(ok.final_phase)
 
 
 def test_a_preset_without_the_shown_case_says_so_row_by_row():

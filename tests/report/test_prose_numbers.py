@@ -71,13 +71,14 @@ def test_the_test1_finding_says_n_and_lambda1_as_their_tables(sim_root):
     assert [lambda1, paper_lambda1] == [_first(row["ours mean (95%)"]), row["paper mean"]]
 
 
-def test_the_sensitivity_finding_says_each_panels_median_depth_as_the_panel_table(sim_root):
+def test_the_sensitivity_finding_counts_the_boundaries_as_the_claims_table_prints_them(sim_root):
+    from graspcampaign.report.studies.sensitivity import BOUNDARIES
+
     md = _report(sim_root, "sensitivity")
-    panels = md_table(md, "sensitivity_panels").set_index("panel")
-    for panel, row in panels.iterrows():
-        name = panel.split(" ")[0]  # "(a) μ × m" -> "(a)"
-        said = re.search(rf"panel-{re.escape(name)} trials have a contact deeper[^;]*; "
-                         rf"(?:δ_max over the physical ones: median {NUMBER} mm|no trial is physical)", md)
-        assert said, f"no depth sentence of panel {name}"
-        cell = row["median δmax, δmax ≤ r [mm]"]
-        assert said.group(1) == (None if cell == "no physical trial" else cell)
+    ours = md_table(md, "sensitivity_claims").set_index("quantity")["ours (95%)"]
+    intervals = {q: [float(v) for v in re.findall(r"[\d.]+", cell.split(" (")[1])]
+                 for q, cell in ours.items() if " (" in cell}
+    tested = [pair for pair in BOUNDARIES.values() if all(q in intervals for q in pair)]
+    apart = sum(intervals[first][0] > intervals[second][1] for first, second in tested)
+    (said,) = _said(md, rf"{NUMBER} of the {len(tested)} Fig. 19 boundaries tested separate our rates")
+    assert int(said) == apart

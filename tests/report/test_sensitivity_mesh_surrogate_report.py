@@ -111,10 +111,10 @@ def test_mesh_resolution_report_prints_the_cost_ratio(runs):
     md = (store.path / "report" / "report.md").read_text()
     # a ratio below 1 does not "grow": the sentence names both meshes and the number of trials
     assert (f"One evaluation on the largest mesh (1750 nodes) costs {expected:.2f} times one on the 144-node "
-            f"reference mesh (median over {len(top)} trials of each trial's ratio of the two meshes' fastest "
-            f"repeats; by their median repeats {by_median:.2f}, ") in md
-    assert f"target ≤ 1.5: {ratio['verdict'].iloc[2]}): too few trials to tell growth from timing noise (2 " \
-        "trials; a 95% interval needs 3), the design predicts none" in md
+            f"reference mesh (paper 1.95: {ratio['verdict'].iloc[0].split(':')[0]}; target ≤ 1.5: "
+            f"{ratio['verdict'].iloc[2].split(':')[0]}") in md
+    assert ("): too few trials to tell growth from timing noise (2 trials; a 95% interval needs 3), the "
+            "design predicts none:") in md
     rerun = _table(store, "n_max_rerun").set_index("planner")
     nm = records[records["panel"] == "n_max"]
     failed = nm[~nm["success"].astype(bool)]
@@ -126,7 +126,7 @@ def test_mesh_resolution_report_prints_the_cost_ratio(runs):
                   & (np.abs(failed["residual_z_rerun_n"]) <= 0.01 * failed["residual_norm_rerun_n"])]
     assert rerun["horizontal_residual_rerun"].sum() == len(flat)
     assert (f"{len(failed)} baseline-grid failures, {int(failed['budget_capped'].sum())} pass at the doubled "
-            f"N_max; {len(flat)} still fail there on a horizontal force residual (|R_z| ≤ 1% of ‖R‖)") in md
+            f"N_max and {len(flat)} still fail there on a horizontal residual") in md
     budget = _table(store, "success_vs_n_cand")
     assert set(budget["planner"]) == {"heuristic", "reference"}
     assert set(budget.loc[budget["planner"] == "heuristic", "n_cand"]) == {1, 30}
@@ -221,11 +221,9 @@ def test_a_run_without_the_papers_meshes_is_not_compared_with_the_papers_ratio(s
                                 "1750 / 144 nodes)").all()
     assert ratio["quantity"].iloc[0] == f"cost ratio, {res['nodes'].max()} / 144 nodes, fastest repeats"
     md = (store.path / "report" / "report.md").read_text()
-    assert (f"costs {top.median():.2f} times one on the 144-node reference mesh (median over 1 trial of each "
-            "trial's ratio of the two meshes' fastest repeats; by their median repeats ") in md
-    assert ("; paper 1.95, target ≤ 1.5, not compared: this run has no 1750-node mesh (the paper's "
-            "ratio is 1750 / 144 nodes)): too few trials to tell growth from timing noise (1 trial; a "
-            "95% interval needs 3), the design predicts none") in md
+    assert (f"costs {top.median():.2f} times one on the 144-node reference mesh (not compared: this run has "
+            "no 1750-node mesh, paper 1.95; table cost_ratio): too few trials to tell growth from timing "
+            "noise (1 trial; a 95% interval needs 3), the design predicts none") in md
 
 
 def test_a_non_finite_sweep_level_is_reported_not_raised(runs, tmp_path):
@@ -288,14 +286,16 @@ def _panel_a(cells: dict) -> Run:
     """A sensitivity run of panel (a) from ``{(mass, μ): (successes, trials)}``."""
     from types import SimpleNamespace
 
-    from graspcampaign.report.studies.sensitivity import _panels
+    from graspcampaign.report.studies.sensitivity import SPEC, _panels
 
     records = pd.DataFrame([{"panel": "mu_mass", "status": "ok", "mass_kg": m, "mu": mu, "success": i < won,
                              "success_vertical": i < won, "delta_max_mm": 1.0, "loop_capped": False,
                              "runtime_ms": 1.0} for (m, mu), (won, n) in cells.items() for i in range(n)])
     paper = SimpleNamespace(stable_mu_min=0.2, stable_mass_max_kg=0.5)
     run = Run(records, {"config": {"evaluator": {"n_max": 50}}}, paper)
-    run.tables["sensitivity_panels"] = _panels(run)  # the finding reads its depths from the panel table
+    run.tables["sensitivity_panels"] = _panels(run)
+    claims = next(i for i in SPEC.items if getattr(i, "name", "") == "sensitivity_claims")
+    run.tables["sensitivity_claims"] = claims.compute(run)  # the finding reads its boundaries there
     return run
 
 
@@ -311,14 +311,29 @@ def test_the_finding_says_success_varies_only_where_a_test_of_equal_rates_says_s
     p = {k: chi2_contingency(pd.crosstab(run.ok[k], run.ok["success"]), correction=False).pvalue
          for k in ("mass_kg", "mu")}
     text = finding(run)
-    assert (f"Our success varies with mass (10.0–40.0% over its 2 levels; χ² p = {fmt.p_value(p['mass_kg'])})"
+    assert (f"Success varies with mass (10.0–40.0% over its 2 levels; χ² p = {fmt.p_value(p['mass_kg'])})"
             f" and does not detectably vary with friction (24.0–26.0% over its 2 levels; χ² p = "
-            f"{fmt.p_value(p['mu'])}):") in text
+            f"{fmt.p_value(p['mu'])}).") in text
     text = finding(_panel_a({(0.1, 0.05): (1, 100), (0.8, 0.05): (0, 100)}))
     assert "does not detectably vary with mass (0.0–1.0% over its 2 levels; Monte Carlo χ² p = 1.0)" in text
     assert "is 0.5% at the one friction level (nothing to compare)" in text
     text = finding(_panel_a({(0.1, 0.05): (0, 3), (0.8, 0.5): (0, 3)}))
     assert "does not vary with mass (0.0% at each of its 2 levels)" in text
+
+
+def test_the_opening_counts_the_boundaries_whose_wilson_intervals_separate_our_rates():
+    """The opening said "the paper's μ ≥ 0.2 boundary does not appear" whatever the records; now it
+    counts the Fig. 19 boundaries whose two sides' Wilson intervals (statsmodels) do not overlap."""
+    from graspcampaign.report.studies.sensitivity import finding
+
+    for inside, outside in ((50, 0), (26, 24)):  # panel (a): (mass, μ) inside, outside the region
+        run = _panel_a({(0.4, 0.5): (inside, 50), (0.8, 0.05): (outside, 50)})
+        low = proportion_confint(inside, 50, method="wilson")[0]
+        high = proportion_confint(outside, 50, method="wilson")[1]
+        apart = low > high
+        assert (f"{int(apart)} of the 1 Fig. 19 boundaries tested separate our rates (Wilson intervals apart"
+                + (": stable region (a);" if apart else ";")) in finding(run)
+        assert ("Why:" in finding(run)) != apart
 
 
 def test_the_panels_are_selected_once_per_run():
@@ -371,35 +386,24 @@ DESIGN = (" neither stage's work depends on the mesh size")
 
 @pytest.mark.parametrize(("fastest", "median", "min_column", "expected"), [
     # 1.503 prints 1.50, within the target as printed, and so is 1.49: one reading (the finding's own rule
-    # said the estimator decides)
+    # said the estimator decides); the same reading leaves the median repeats to the table
     ([1.50, 1.503, 1.51], [1.48, 1.49, 1.50], True,
-     "costs 1.50 times one on the 144-node reference mesh (median over 3 trials of each trial's ratio of the "
-     "two meshes' fastest repeats; by their median repeats 1.49, the same reading at printed "
-     "precision; paper "
-     "1.95: differs by −0.45: paper outside our 95% CI; target ≤ 1.5: within the "
-     "paper's target ≤ 1.50 at its printed precision): a growth (95% interval 1.50–1.51, above 1), which the "
-     "design does not predict, since" + DESIGN),
+     "costs 1.50 times one on the 144-node reference mesh (paper 1.95: differs by −0.45; target ≤ 1.5: "
+     "within the paper's target ≤ 1.50 at its printed precision; table cost_ratio): a growth (95% interval "
+     "1.50–1.51, above 1), which the design does not predict:" + DESIGN),
     # 0.999 and 1.004 both print 1.00 (the finding had read the second as growth)
     ([0.99, 0.999, 1.01], [0.995, 1.004, 1.02], True,
-     "costs 1.00 times one on the 144-node reference mesh (median over 3 trials of each trial's ratio of the "
-     "two meshes' fastest repeats; by their median repeats 1.00, the same reading at printed "
-     "precision; paper "
-     "1.95: differs by −0.95: paper outside our 95% CI; target ≤ 1.5: within the "
-     "paper's target ≤ 1.50): no growth detectable at this n (95% interval 0.99–1.01), as the design "
-     "predicts, since" + DESIGN),
+     "costs 1.00 times one on the 144-node reference mesh (paper 1.95: differs by −0.95; target ≤ 1.5: "
+     "within the paper's target ≤ 1.50; table cost_ratio): no growth detectable at this n (95% interval "
+     "0.99–1.01), as the design predicts:" + DESIGN),
     ([1.1, 1.2, 1.3], [3.0, 3.68, 4.0], True,
-     "costs 1.20 times one on the 144-node reference mesh (median over 3 trials of each trial's ratio of the "
-     "two meshes' fastest repeats; by their median repeats 3.68, which reads differs: above the "
-     "paper's target "
-     "≤ 1.50, a growth (95% interval 3.00–4.00, above 1): the choice of estimator decides the verdict; paper "
-     "1.95: differs by −0.75: paper outside our 95% CI; target ≤ 1.5: within the "
-     "paper's target ≤ 1.50): a growth (95% interval 1.10–1.30, above 1), which the design does not predict"),
+     "costs 1.20 times one on the 144-node reference mesh (paper 1.95: differs by −0.75; target ≤ 1.5: "
+     "within the paper's target ≤ 1.50; by the median repeats 3.68, which reads differs: above the paper's "
+     "target ≤ 1.50, a growth (95% interval 3.00–4.00, above 1): the estimator decides; table cost_ratio): a "
+     "growth (95% interval 1.10–1.30, above 1), which the design does not predict"),
     ([1.1, 1.2, 1.3], [3.0, 3.68, 4.0], False,
-     "costs 3.68 times one on the 144-node reference mesh (median over 3 trials of each trial's ratio of the "
-     "two meshes' median repeats, the only ones of a run stored before the fastest repeat was "
-     "recorded; paper "
-     "1.95: differs by +1.73: paper outside our 95% CI; target ≤ 1.5: differs: above "
-     "the paper's target ≤ 1.50): a growth (95% interval 3.00–4.00, above 1), which the design does not "
+     "costs 3.68 times one on the 144-node reference mesh (paper 1.95: differs by +1.73; target ≤ 1.5: "
+     "differs; table cost_ratio): a growth (95% interval 3.00–4.00, above 1), which the design does not "
      "predict"),
 ])
 def test_the_cost_ratio_finding_reads_the_tables_verdicts_and_the_median_rows_are_context(
@@ -446,4 +450,4 @@ def test_growth_needs_an_interval_above_1_and_above_the_reference_mesh_against_i
     from graspcampaign.report.studies.mesh_resolution import finding
 
     run = _timings(fastest, fastest, itself=itself)
-    assert f"): {expected}, since" in finding(run)
+    assert f"): {expected}:" in finding(run)

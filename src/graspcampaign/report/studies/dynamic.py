@@ -9,19 +9,13 @@ import pandas as pd
 from matplotlib.ticker import NullFormatter
 
 from graspcampaign.analysis.records import DESIGN_LIMIT_MM
-from graspcampaign.analysis.vocabulary import FINGERS, colour, counted, label, ordered
-from graspcampaign.core.statics import GRAVITY
+from graspcampaign.analysis.vocabulary import FINGERS, colour, label, ordered
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
 from graspcampaign.report.document import Col, cols
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Claims, Figure, Finding, Rates, ReportSpec, Table, Text, Value
 
-DECISION = ("`docs/decisions.md`, *Dynamic studies*: SI body constants from the "
-            "object modulus; the paper's b, k, c are in unpublished internal units")
-GRASP = "`docs/decisions.md`, *Dynamic grasp in the paper's order*"
-IMPLICIT = ("`docs/decisions.md`, *Classical references: implicit integrator and original Hunt–Crossley "
-            "damping*")
 #: order of accuracy of each integrator: classical RK4; the implicit midpoint rule (theta = 1/2)
 ORDER = {"rk4": 4, "implicit": 2}
 #: the level of a factor in runs recorded before it existed (issues 13, 17)
@@ -57,32 +51,19 @@ def _settle(run: Run) -> pd.DataFrame:
 def settle_finding(run: Run) -> str:
     t = run.tables["settle"]
     seconds = fmt.decimals(t.simulated_time_s)  # as the table prints them
-    parts = [f"{label('integrator', r.integrator)} at dt = {fmt.number(1e6 * r.dt_s, 0)} µs "
-             f"({fmt.number(r.dt_over_rk4_limit, 2)}× RK4's stable step with the floor) "
-             f"{'settles' if r.settled else '**does not settle**'} within "
-             f"{fmt.number(r.simulated_time_s, seconds)} s, squash ratio {fmt.number(r.squash_ratio, 3)}" + (
-                 f", {fmt.number(r.newton_iterations_per_step, 1)} Newton iterations per step and "
-                 f"{r.lu_factorizations} LU factorisations" if r.lu_factorizations else "")
-             for r in t.itertuples()]
     like = "as" if t["settled"].all() == run.paper.settles else "unlike"
-    text = f"The sphere on the floor, {like} the paper's Fig. 10: " + "; ".join(parts) + ". "
-    # the one formatter: plain decimals, as the tables print them (Python's "g" wrote 8.5e-05)
-    if len(t) > 1:
-        text += (f"The final shapes differ by at most {fmt.number(t.shape_difference_max_mm.max(), sig=3)} "
-                 f"mm per node and {fmt.number(np.ptp(t.squash_ratio), sig=2)} in squash ratio. ")
-    text += "Integrator audit (Sec. 12 lists it as missing): " + "; ".join(
-        f"{label('integrator', r.integrator)} observed order {fmt.number(r.observed_order, 2)} (expected "
-        f"{r.expected_order}), relative energy-balance error {fmt.number(r.energy_balance_rel_error, sig=2)} "
-        f"over {fmt.number(r.energy_audit_steps, 0)} steps shrinking "
-        f"{fmt.number(r.energy_balance_rel_error / r.energy_balance_rel_error_half_dt, 1)}-fold at half "
-        f"the step (2^{r.expected_order} = {2 ** r.expected_order}), {r.energy_increases} energy increases"
-        for r in t.itertuples())
-    same = "".join(  # each integrator ran at one settle step: no claim about other steps
-        f". The implicit rule ran at {fmt.number(r.dt_over_rk4_limit, 2)}× RK4's stable step and "
-        + (f"settled, its shape within {fmt.number(r.shape_difference_max_mm, sig=3)} mm of RK4's"
-           if r.settled else "did not settle") + f" (one settle step per integrator; {IMPLICIT})"
-        for r in t[t.integrator == "implicit"].itertuples())
-    return text + same + f". Body constants are SI, not the paper's ({DECISION})."
+    text = f"The sphere on the floor, {like} the paper's Fig. 10: " + "; ".join(
+        f"{label('integrator', r.integrator)} {'settles' if r.settled else '**does not settle**'} within "
+        f"{fmt.number(r.simulated_time_s, seconds)} s at {fmt.number(r.dt_over_rk4_limit, 2)}× RK4's "
+        "stable step" for r in t.itertuples()) + " (table settle)"
+    if len(t) > 1:  # the one formatter: plain decimals, as the tables print them
+        shapes = fmt.number(t.shape_difference_max_mm.max(), sig=3)
+        text += f"; the final shapes differ by at most {shapes} mm"
+    return text + (f". The integrator audit (Sec. 12 lists it as missing) finds {t.energy_increases.sum()} "
+                   "energy increases (table integrator_audit). One settle step per integrator; body "
+                   "constants are SI, not the paper's internal units (`docs/decisions.md`, *Dynamic "
+                   "studies* and *Classical references: implicit integrator and original Hunt–Crossley "
+                   "damping*).")
 
 
 def fig10(run: Run, fig) -> None:
@@ -171,14 +152,6 @@ def shown_case(run: Run) -> tuple[float, float, bool]:
     return float(best[0]), float(best[1]), bool(np.isclose(best, paper).all())
 
 
-def _case_text(run: Run) -> str:
-    mu, mass, exact = shown_case(run)
-    p = run.paper
-    text = f"μ = {p.representative_mu:g}, m = {p.representative_mass_kg:g} kg"
-    return text if exact else (f"{text}, not in this run; Figs. 12-13 (ours) single out its nearest "
-                               f"case, μ = {mu:g}, m = {mass:g} kg")
-
-
 def ends(run: Run) -> pd.DataFrame:
     """The runs in design order with what Figs. 12-13 (ours) end on: the last total penetration Σδ
     [mm], the largest |R_z| [N] over the recorded steps of the settled window and the steps before
@@ -237,73 +210,31 @@ def paper_rows(run: Run):
                         paper, unit, 3 if unit else 0, because=why if held else unheld)
 
 
-def _penetration(rows: pd.DataFrame, name: str, p) -> str:
-    """The finding's words on one preset's penetrations: the paper_values table's ``rows`` and verdicts."""
-    total, deepest = rows.loc[[f"{name}: {TOTAL}", f"{name}: {DEEPEST}"]].itertuples()
-    why = next((r.verdict for r in (total, deepest) if fmt.is_missing(r.differs)), None)
-    if why is not None:  # the table says why: no run got past closure, or a depth not computed
-        return f"; {why.removeprefix('not compared: ')}, so no penetration to set beside the paper's"
-    side = {True: "above", False: "within"}
-    return (f"; final total penetration Σδ up to {fmt.number(total.value, total.digits)} mm, "
-            f"{side[total.differs]} the paper's 'settles below {1e3 * p.total_penetration_below_m:g} mm', "
-            f"and δ_max up to {fmt.number(deepest.value, deepest.digits)} mm, {side[deepest.differs]} its "
-            f"{DESIGN_LIMIT_MM:g} mm design limit per contact")
-
-
 def mass_finding(run: Run) -> str:
-    parts, rows = [], run.tables["paper_values"].set_index("quantity")
-    for preset, g in ends(run).groupby("model_preset", sort=False):
-        stable, other = g[g.dynamic_status == "stable"], g[g.dynamic_status != "stable"]
-        text = f"**{label('model_preset', preset)}**: {len(stable)} of {len(g)} μ × m runs hold (`stable`)"
-        if len(stable):
-            weight = 100 * stable.wrench_force_norm_n / (stable.mass_kg * GRAVITY)
-            text += (f" at δ_max {fmt.span(stable.delta_max_mm, ' mm')}, by the paper's rule (|R_z| < τ_F, "
-                     "Eq. 19 along z; Sec. 3.7) while at the last step the contact forces (normal and "
-                     "friction) and the weight sum to ‖F‖ = "
-                     f"{fmt.span(stable.wrench_force_norm_n, ' N')} "
-                     f"({fmt.span(weight, ' %', 0)} of the weight mg; one step's value: a centroid at rest "
-                     "over the settled window bounds the force's mean there, not its swing from step to "
-                     "step) and the most loaded finger carries "
-                     f"{fmt.span(stable.top_finger_pct, ' %')} of the summed normal force (the paper: "
-                     "fingers 1 and 3 pinch, finger 2 nearly unloaded)")
-        text += _penetration(rows, label("model_preset", preset), run.paper)
-        if len(other):
-            ended = other.groupby("dynamic_status")
-            phase = ended["final_phase"].agg(lambda s: "/".join(sorted(set(s))))
-            text += "; " + ", ".join(f"{v} end: {label('dynamic_status', k)} (in {phase[k]}, at "
-                                     f"{fmt.span(ended.get_group(k).simulated_time_s, ' s')})"
-                                     for k, v in other.dynamic_status.value_counts().items())
-        if "delta_required_mm" in g:
-            beyond = (g.delta_required_mm > g.fingertip_radius_mm).mean()
-            text += (f"; one fingertip alone carries the weight at δ = (mg/K)^(1/n) = "
-                     f"{fmt.span(g.delta_required_mm, ' mm')}, " + {1.0: "**beyond**", 0.0: "within"}.get(
-                         beyond, "partly beyond") + f" the fingertip radius "
-                     f"{fmt.span(g.fingertip_radius_mm, ' mm')}")
-        text += (f"; the quasi-static evaluator on the same contacts passes {g.qs_success.sum()} "
-                 f"({g.qs_success_unbounded.sum()} without the validity gate), so the labels agree on "
-                 f"{(g.success == g.qs_success).sum()} of {len(g)}")
-        if (deep := g.qs_delta_max_mm > g.fingertip_radius_mm).any():
-            text += (f"; its δmax of {fmt.span(g.qs_delta_max_mm[deep], ' mm')} in "
-                     f"{counted(deep.sum(), 'run')} "
-                     "is **non-physical** (a fingertip centre that far inside a 5 cm sphere): Algorithm 2 "
-                     "deepens the contacts until they carry the weight, which at this preset's K takes "
-                     "metres, as the closed form above says; the validity gate fails every one")
-        parts.append(text)
-    ok = run.ok
-    why = ok.loc[ok.lp_status_mu0 != "feasible", "lp_mu0_reason"].value_counts()
-    short = ok.loc[ok.lp_status != "feasible", "mu"]
-    return ("The paper ran six of the nine μ × m cases and reports every one stable (Sec. 5.5). "
-            + "; ".join(parts) + f" ({GRASP}). The friction-cone LP on the same contacts is feasible at "
-            f"the run's μ in {len(ok) - len(short)} of {len(ok)} runs" + (
-                f" (not in {len(short)}, at μ = {', '.join(f'{m:g}' for m in sorted(set(short)))}; the "
-                "paper: feasible at every μ)" if len(short) else "") + " and at μ = 0 in "
-            f"{(ok.lp_status_mu0 == 'feasible').sum()} of {len(ok)} runs on the meshed sphere" + (
-                " (" + ", ".join(f"{v} fail {label('lp_mu0_reason', k)}" for k, v in why.items())
-                + "; facet normals up to "
-                f"{ok.normal_off_radial_max_deg.max():.1f}° off radial), and in "
-                f"{(ok.lp_status_mu0_ideal == 'feasible').sum()} of {len(ok)} on the ideal sphere along the "
-                "same directions, the paper's argument (Sec. 6.1)" if len(why) else "")
-            + f". Representative case of Figs. 12-13: {_case_text(run)}. {DECISION}.")
+    values = run.tables["paper_values"]  # first: a table not computed is named as the reason
+    g = ends(run)
+    held = g.dynamic_status == "stable"
+    presets = ", ".join(f"{label('model_preset', k)} {held[p.index].sum()} of {len(p)}"
+                        for k, p in g.groupby("model_preset", sort=False))
+    judged = values.differs.notna()
+    compared = (f"{int(values.differs[judged].sum())} of {judged.sum()} values compared with Sec. 5.5 differ"
+                if judged.any() else "no value of Sec. 5.5 is compared")
+    text = (f"{held.sum()} of {len(g)} μ × m runs hold (`stable`) where the paper reports every run it "
+            f"made stable (Sec. 5.5): {presets} (table stable_by_preset); {compared} (table paper_values). ")
+    if (~held).any():
+        ended = g[~held].dynamic_status.value_counts()
+        how = [label("dynamic_status", k) + f" ({v})" * (len(ended) > 1) for k, v in ended.items()]
+        beyond = g[~held & (g.get("delta_required_mm", np.nan) > g.fingertip_radius_mm)]
+        text += f"The other {(~held).sum()} end: {fmt.listed(how)}" + (
+            f"; in {len(beyond)} one fingertip alone would carry the weight only at δ = (mg/K)^(1/n) of "
+            f"{fmt.span(beyond.delta_required_mm, ' mm')}, beyond the fingertip radius"
+            if len(beyond) else "") + " (table friction_mass). "
+    feasible = [(run.ok[c] == "feasible").sum() for c in ("lp_status_mu0", "lp_status_mu0_ideal")]
+    return text + (f"Quasi-static and dynamic labels agree on {(g.success == g.qs_success).sum()} of "
+                   f"{len(g)} (table like_for_like); the friction-cone LP at μ = 0 is feasible in "
+                   f"{feasible[0]} of {len(run.ok)} on the meshed sphere and {feasible[1]} on the ideal one "
+                   "(table friction_cone). Body constants are SI, not the paper's internal units "
+                   "(`docs/decisions.md`, *Dynamic studies* and *Dynamic grasp in the paper's order*).")
 
 
 def _thick(run: Run) -> str:
@@ -372,11 +303,15 @@ FRICTION_MASS = ReportSpec("friction_mass", [
     Claims("paper_values", "Sec. 5.5's numbers beside ours per preset (penetrations: the largest over its "
            "μ × m runs that got past closure, Fig. 12 bottom's last value; the rest at the case Figs. 12-13 "
            "(ours) show; Σδ: the sum of the three contact depths)", paper_rows),
-    _fm_table("friction_mass", "Dynamic grasp at every preset × μ × m beside Sec. 5.5; δ required: the "
+    _fm_table("friction_mass", "Dynamic grasp at every preset × μ × m beside Sec. 5.5; stable: |R_z| < "
+              "τ_F over the settled window (the paper's rule, Eq. 19 along z; Sec. 3.7); δ required: the "
               "closed form (mg/K)^(1/n) at which one fingertip alone carries the weight, beside the "
               "fingertip radius (the validity limit); final six-component wrench residual (the paper checked "
               "only the vertical part): ‖F‖ and ‖τ‖ of the contact forces (normal and friction) plus the "
-              "weight at the last step", "paper", "dynamic_status", "final_phase", "success", DELTA_MAX,
+              "weight at the last step (one step's value: a centroid at rest over the settled window bounds "
+              "the force's mean there, not its swing from step to step); finger forces: the paper's fingers "
+              "1 and 3 pinch, finger 2 nearly unloaded", "paper", "dynamic_status", "final_phase", "success",
+              DELTA_MAX,
               Col("delta_required_mm", "δ required [mm]", sig=3), "fingertip_radius_mm",
               Col("final_residual_z_n", "final R_z [N]", sig=3),
               Col("wrench_force_norm_n", "final ‖F‖ [N]", sig=3),

@@ -67,44 +67,39 @@ def _kappa(run: Run) -> pd.DataFrame:
                     "agreement_high_pct", unit="%", because="context").drop(columns="context")
 
 
-def _labels(run: Run, r) -> str:
-    """One row's agreement, κ and the labels each evaluator gave over its determined trials, and the
-    dynamic grasps left out as not settled, in words."""
-    left_out = (f"{r.not_settled} of {r.n + r.not_settled} dynamic grasps {NOT_SETTLED}{_t_max(run)}: left "
-                "out of the agreement")
-    if not r.n:
-        return left_out
-    kappa = fmt.estimate(r.kappa, r.kappa_low, r.kappa_high, 2) + (f" ({r.kappa_why})" if r.kappa_why else "")
-    return (f"the labels agree on {r.both_success + r.both_failure} of {r.n} ({r.agreement_pct:.1f}%, Wilson "
-            f"95% {fmt.interval(r.agreement_low_pct, r.agreement_high_pct, 1)}), κ = {kappa}; quasi-static "
-            f"passes {r.both_success + r.qs_only}, the dynamic grasp holds {r.both_success + r.dynamic_only}"
-            + (f" ({left_out})" if r.not_settled else ""))
+def _why(r) -> str:
+    """Which way one preset's labels disagree, from its sphere row of table kappa ("" if they agree)."""
+    holds, passes = r.both_success + r.dynamic_only, r.both_success + r.qs_only
+    mutual = f" (κ {fmt.number(r.kappa, 2)}: agreement by mutual failure)" if not holds else ""
+    return (f"under {label('model_preset', r.model_preset)} the dynamic grasp holds {holds} where the "
+            f"quasi-static label passes {passes}{mutual}") if r.qs_only + r.dynamic_only else ""
 
 
 def finding(run: Run) -> str:
     k, ok = run.tables["kappa"], run.ok
-    claim, context = (k[(k.comparison == "source") & (k.scope == s)] for s in (CLAIM_SHAPE, ALL))
     judged = k[k.scope == CLAIM_SHAPE]
+    claim = judged[(judged.comparison == "source") & (judged.n > 0)]
     n_judged = int(judged.differs.notna().sum())
-    verdict = "; ".join(f"**{label('model_preset', r.model_preset)}**: {_labels(run, r)} — {r.verdict}"
-                        for r in claim.itertuples())
-    differ = (f"{int(judged.differs.eq(True).sum())} of {n_judged} {CLAIM_SHAPE} comparisons differ from "
-              "full agreement (its 100% outside our Wilson interval). " if n_judged else
-              f"No {CLAIM_SHAPE} comparison can be judged: none has a settled dynamic grasp. ")
-    mutual = ("Agreement by mutual failure gives κ near 0, or none when every trial has one label in both "
-              "columns: it is not evidence that the evaluators agree. " if n_judged else "")
-    return (
-        f"The paper: \"{run.paper.claim}\". Re-simulating {ok.source_trial_id.nunique()} "
-        f"{', '.join(sorted(set(ok.source_study)))} trials, judged on the claim's scope, the "
-        f"{CLAIM_SHAPE}'s trials "
-        f"(source study's label against the dynamic label): {verdict}. Like for like on the {CLAIM_SHAPE} "
-        "(Algorithms 1–2 under the same preset): agreement " + ", ".join(
-            f"{label('model_preset', r.model_preset)} "
-            + (f"{r.agreement_pct:.1f}%" if r.n else "nothing to compare")
-            for r in judged[judged.comparison == "preset"].itertuples()) + ". "
-        + differ + "For context only (beyond the claim's scope, no verdict), over every shape and planner: "
-        + "; ".join(f"{label('model_preset', r.model_preset)}: {_labels(run, r)}"
-                    for r in context.itertuples()) + f". {mutual}{DECISION}.")
+    source = ", ".join(sorted(set(ok.source_study)))
+    if n_judged:
+        agree = fmt.listed([f"{fmt.number(r.agreement_pct, 1)}%{' of the determined trials' * (i == 0)} "
+                            f"under {label('model_preset', r.model_preset)}"
+                            for i, r in enumerate(claim.itertuples())])
+        text = (f"On the {CLAIM_SHAPE} (the claim's scope) the {source} label and the dynamic label agree on "
+                f"{agree}, against the paper's full agreement (Sec. 6.1): "
+                f"{int(judged.differs.eq(True).sum())} of {n_judged} {CLAIM_SHAPE} comparisons differ "
+                "(table kappa). ")
+        why = [w for w in map(_why, claim.itertuples()) if w]
+        text += f"Why: {'; '.join(why)}. " if why else ""
+    else:
+        text = (f"No {CLAIM_SHAPE} comparison can be judged against the paper's full agreement (Sec. 6.1): "
+                f"none of the {source} trials re-simulated has a settled dynamic grasp (table kappa). ")
+    planned, out = run.manifest.get("n_trials"), int(judged.query("comparison == 'source'").not_settled.sum())
+    if planned and len(run.records) < planned:
+        text += f"Partial run: {len(run.records)} of {planned} dynamic grasps recorded. "
+    if out:
+        text += f"{out} {CLAIM_SHAPE} grasps {NOT_SETTLED}{_t_max(run)} are left out. "
+    return text + f"{DECISION}."
 
 
 def confusion_figure(run: Run, fig) -> None:
