@@ -137,7 +137,7 @@ def test_the_finding_says_how_and_when_the_unheld_runs_ended_in_words():
                        normal_off_radial_max_deg=1.0, simulated_time_s=0.03)
     run.__dict__["ok"] = ok
     text = finding(run)
-    assert f"The other {len(ok)} end: not settled by t_max (table friction_mass)" in text
+    assert f"All {len(ok)} end: not settled by t_max (table friction_mass)" in text  # none held
     assert "`not_settled`" not in text
 
 
@@ -371,7 +371,7 @@ def test_the_phases_a_status_ended_in_are_named_in_one_order():
                        lp_status_mu0="feasible", lp_status_mu0_ideal="feasible", lp_mu0_reason="",
                        normal_off_radial_max_deg=1.0)
     run.__dict__["ok"] = ok
-    assert f"The other {len(ok)} end: penetration limit (table friction_mass)" in finding(run)
+    assert f"All {len(ok)} end: penetration limit (table friction_mass)" in finding(run)
     head, rows = rendered_tables(run)["friction_mass"]  # each run's phase, in design order
     assert [r[head.index("final phase")] for r in rows] == list(ok.final_phase)
 

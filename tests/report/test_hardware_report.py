@@ -208,8 +208,8 @@ def test_the_opening_paragraph_gives_the_records_numbers(sim_root, study):
     n = int((ex["planner"] == "heuristic").sum())
     first = finding.split(". ")[0]  # the main finding opens the paragraph (its first word capitalised)
     first = first[0].lower() + first[1:]
-    said = f"the proposed planner, first in the paper at {paper['heuristic']['success_pct']:.1f} %, " \
-           f"succeeds on {rates['heuristic']:.1f} % of {n}"
+    said = f"the proposed planner, first in the paper at {paper['heuristic']['success_pct']:.1f}%, " \
+           f"succeeds on {rates['heuristic']:.1f}% of {n}"
     assert f"{said};" in first or f"{said} (" in first, first
     top = [label("planner", q) for q in rates.index if rates[q] == rates.max()]  # ties share rank 1
     assert all(t in first for t in top) and ("tie first" in first) == (len(top) > 1), first
@@ -390,19 +390,19 @@ def test_the_papers_trial_counts_are_whole_numbers_in_the_csv(sim_root, study):
     # Test 3's reduced run: three planners tie first; under exact beliefs force balance leads alone
     ({"centroid": 40.0, "force_balance": 40.0, "no_pso": 40.0, "heuristic": 9.73, "random": 0.0},
      {"centroid": 40.0, "force_balance": 60.0, "no_pso": 40.0, "heuristic": 16.67, "random": 0.0},
-     "centroid, force balance and no PSO tie first at 40.0 %",
+     "centroid, force balance and no PSO tie first at 40.0%",
      "Exact beliefs change the ranks and take the proposed planner's gap to the first from 30.3 pp to "
-     "43.3 pp (table `t`). "),
+     "43.3 pp (table t). "),
     # equal gaps, same order
     ({"centroid": 60.0, "heuristic": 30.0}, {"centroid": 50.0, "heuristic": 20.0},
      "the centroid planner ranks first",
      "Exact beliefs do not change the ranks and take the proposed planner's gap to the first from 30.0 pp "
-     "to 30.0 pp (table `t`). "),
+     "to 30.0 pp (table t). "),
     # exact beliefs narrow the gap
     ({"centroid": 60.0, "heuristic": 30.0}, {"centroid": 60.0, "heuristic": 55.0},
      "the centroid planner ranks first",
      "Exact beliefs do not change the ranks and take the proposed planner's gap to the first from 30.0 pp "
-     "to 5.0 pp (table `t`). "),
+     "to 5.0 pp (table t). "),
 ])
 def test_the_finding_names_ties_and_says_what_the_counterfactual_measured(paper, none, ranked, expected):
     """Sentences written out by hand for each case (not rebuilt with the code's own rule): the two gaps

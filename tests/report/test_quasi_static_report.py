@@ -233,7 +233,7 @@ def test_successes_beyond_the_design_limit_are_counted_in_the_finding_and_captio
     assert opening.startswith("The paper's ordering (Fig. 18: proposed H(G) 67.6%, antipodal 40.0%, "
                               "random 11.0%, centroid 0.0%)")
     assert (f"{(won > 1).sum()} of the {len(won)} successes lie deeper than the paper's 1 mm design limit "
-            "(per law: that table's caption).") in opening
+            "(per law: table design_limit).") in opening
     assert opening.count("design limit") == 1
 
 

@@ -26,7 +26,7 @@ def test_the_opening_counts_the_planners_whose_success_differs_from_the_paper(si
         low, high = (100 * v for v in proportion_confint(g.sum(), g.size, method="wilson"))
         differs.append(not low - 0.1 <= paper[q]["success_pct"] <= high + 0.1)
     assert (f"success differs from the paper's for {sum(differs)} of {len(differs)} planners "
-            f"(table `{table}`). ") in _finding(sim_root, study)
+            f"(table {table}). ") in _finding(sim_root, study)
 
 
 @pytest.mark.parametrize("study", sorted(STUDIES))
@@ -47,7 +47,7 @@ def test_test3_opening_gives_the_drop_rate_and_table8_says_when_blocks_a_and_c_s
     ex = _both(sim_root, "test3_disturbance").query("belief_error == 'paper' and planner == 'heuristic'")
     drop = 100 * (ex["outcome"] == "failure_drop").mean()
     paper = _paper("test3_disturbance")["table9"]["heuristic"]["drop_pct"]
-    assert f"It drops {drop:.1f} % of its trials (paper {paper:.1f} %)" in _finding(sim_root,
+    assert f"It drops {drop:.1f}% of its trials (paper {paper:.1f}%)" in _finding(sim_root,
                                                                                     "test3_disturbance")
     md = _report(sim_root, "test3_disturbance")
     caption = md.split("(`tables/table8.csv`)")[0].rsplit("\n**", 1)[1]

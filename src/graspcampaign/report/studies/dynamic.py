@@ -225,7 +225,7 @@ def mass_finding(run: Run) -> str:
         ended = g[~held].dynamic_status.value_counts()
         how = [label("dynamic_status", k) + f" ({v})" * (len(ended) > 1) for k, v in ended.items()]
         beyond = g[~held & (g.get("delta_required_mm", np.nan) > g.fingertip_radius_mm)]
-        text += f"The other {(~held).sum()} end: {fmt.listed(how)}" + (
+        text += f"{'The other' if held.any() else 'All'} {(~held).sum()} end: {fmt.listed(how)}" + (
             f"; in {len(beyond)} one fingertip alone would carry the weight only at δ = (mg/K)^(1/n) of "
             f"{fmt.span(beyond.delta_required_mm, ' mm')}, beyond the fingertip radius"
             if len(beyond) else "") + " (table friction_mass). "

@@ -29,7 +29,7 @@ def first(rates: pd.Series) -> str:
     rates share a rank, as in the belief-pairs table)."""
     top = [label("planner", q) for q, v in rates.items() if v == rates.max()]
     return f"the {top[0]} planner ranks first" if len(top) == 1 else \
-        f"{fmt.listed(top)} tie first at {fmt.number(rates.max(), 1)} %"
+        f"{fmt.listed(top)} tie first at {fmt.number(rates.max(), 1)}%"
 
 
 def belief_gap(paper: pd.Series, none: pd.Series, table: str) -> str:
@@ -39,7 +39,7 @@ def belief_gap(paper: pd.Series, none: pd.Series, table: str) -> str:
     gap, gap0 = (fmt.number(r.max() - r[PROPOSED], 1) for r in (paper, none))
     ranks = [r.rank(ascending=False, method="min") for r in (paper, none.reindex(paper.index))]
     return (f"Exact beliefs {'do not ' * ranks[0].equals(ranks[1])}change the ranks and take the proposed "
-            f"planner's gap to the first from {gap} pp to {gap0} pp (table `{table}`). ")
+            f"planner's gap to the first from {gap} pp to {gap0} pp (table {table}). ")
 
 
 def finding(run: Run, extra=lambda run: "") -> str:
@@ -53,22 +53,22 @@ def finding(run: Run, extra=lambda run: "") -> str:
     rows = run.tables[table].query("belief_error == 'paper'").set_index("planner")
     theirs = rows["paper_success_pct"]  # as the table prints them
     tops, top, ranked = list(paper.index[paper == paper.max()]), paper.index[0], first(paper)
-    text = (f"{ranked[0].upper()}{ranked[1:]} ({n1(paper.max()) + ' % ' if len(tops) == 1 else ''}of "
+    text = (f"{ranked[0].upper()}{ranked[1:]} ({n1(paper.max()) + '% ' if len(tops) == 1 else ''}of "
             f"{fmt.listed([str(n['paper'][q]) for q in tops])} trials; "
-            f"paper {fmt.listed([n1(theirs[q]) for q in tops])} %)")
+            f"paper {fmt.listed([n1(theirs[q]) for q in tops])}%)")
     if PROPOSED not in tops:
         text += (f"; the proposed planner, {'first ' * (theirs.idxmax() == PROPOSED)}in the paper at "
-                 f"{n1(theirs[PROPOSED])} %, succeeds on {n1(paper[PROPOSED])} % of {n['paper'][PROPOSED]}")
+                 f"{n1(theirs[PROPOSED])}%, succeeds on {n1(paper[PROPOSED])}% of {n['paper'][PROPOSED]}")
         if len(tops) == 1 and rows.success_low_pct[top] <= rows.success_high_pct[PROPOSED]:
             text += " (the Wilson intervals overlap)"
     differs = rows["differs"].dropna().astype(bool)
     text += (f"; success differs from the paper's for {differs.sum()} of {len(differs)} planners (table "
-             f"`{table}`). ")
+             f"{table}). ")
     g = e.groupby("planner")["g_geo_actual"].median()
     cap = e.groupby("planner")["grip_capped"].mean() * 100
     text += (f"Why: the proposed score H~ has no gravity term, so its contacts reach less vertical friction "
              f"(median G_geo {n2(g[PROPOSED])}, {lab(top)} {n2(g[top])}) and its grip hits the damage cap on "
-             f"{n1(cap[PROPOSED])} % of trials ({lab(top)} {n1(cap[top])} %; table `{prefix}_belief`). "
+             f"{n1(cap[PROPOSED])}% of trials ({lab(top)} {n1(cap[top])}%; table {prefix}_belief). "
              ) + extra(run)
     if "none" in s and paper[PROPOSED] < paper.max():
         text += belief_gap(paper, s["none"].reindex(paper.index), f"{prefix}_belief_pairs")

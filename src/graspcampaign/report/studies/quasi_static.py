@@ -108,15 +108,16 @@ def grid_finding(run: Run, more: str = "") -> str:
     t, paper = m.sum(numeric_only=True).astype(int), rates.set_index("planner")["paper_pct"]
     judged = m[m["n"].gt(0) & m["planner"].isin(paper.dropna().index)]
     capped = int((100 * judged["rho_passable"] / judged["n"] < judged["planner"].map(paper)).sum())
+    differ = int(rates["differs"].eq(True).sum())
     proposed = "".join(
         f"The proposed planner passes {fmt.number(h.rate_pct, 1)}% of {h.n} triples (Wilson 95% "
         f"{fmt.interval(h.wilson_low_pct, h.wilson_high_pct, 1)}; paper {fmt.number(h.paper_pct, 1)}%); "
         for h in rates[(rates["planner"] == PROPOSED) & (rates["n"] > 0)].itertuples())
     return (
         f"**The paper's rates cannot come from its own Algorithm 2.** {proposed}"
-        f"{int(rates['differs'].eq(True).sum())} of {int(rates['differs'].notna().sum())} planners "
-        "with a paper value differ from it (table success_by_planner). Why: line 7 drives every upper "
-        f"contact (n_out,z > 0) to δ = 0 (released in {t.released} of {t.n} triples, "
+        f"{differ} of {int(rates['differs'].notna().sum())} planners with a paper value "
+        f"{'differs' if differ == 1 else 'differ'} from it (table success_by_planner). Why: line 7 drives "
+        f"every upper contact (n_out,z > 0) to δ = 0 (released in {t.released} of {t.n} triples, "
         f"{100 * t.released / t.n:.1f}%) and the lower ones leave a horizontal residual W·ρ the loop "
         "never reduces: only triples with ρ·W < τ_F can pass, which caps "
         f"{capped} of {len(judged)} planners below the paper's rate (table mechanism).{more} "
@@ -392,7 +393,7 @@ def grip_finding(run: Run) -> str:
     laws = run.order["grip_law"]
     same = [law for law in laws  # strictly: planners tied at one rate (say all at 0%) show no order
             if ours[law].reindex(sorted(paper, key=lambda p: -paper[p])).diff().iloc[1:].lt(0).all()]
-    deep = int(run.tables["design_limit"]["successes_exceeding"].sum())  # per law: the success caption
+    deep = int(run.tables["design_limit"]["successes_exceeding"].sum())
     return (
         "The paper's ordering (Fig. 18: " + ", ".join(
             f"{label('planner', p)} {fmt.number(v, 1)}%" for p, v in paper.items())
@@ -401,7 +402,7 @@ def grip_finding(run: Run) -> str:
             f"{fmt.number(ours.loc[PROPOSED, law], 1)}% under {label('grip_law', law)}" for law in laws])
         + " (table success_by_planner). " + (
             f"{deep} of the {int(t['successes'].sum())} successes lie deeper than the paper's "
-            f"{DESIGN_LIMIT_MM:g} mm design limit (per law: that table's caption). " if deep else "")
+            f"{DESIGN_LIMIT_MM:g} mm design limit (per law: table design_limit). " if deep else "")
         + "Paired per law (McNemar, exact p < 0.05; "
         f"table mcnemar), it beats {len(sig.query('reference_only > compared_only'))} and loses to "
         f"{len(sig.query('reference_only < compared_only'))} of {len(tests)} planner–law pairs. "

@@ -190,7 +190,8 @@ def finding(run: Run) -> str:
         text += f"Success {_varies(run, a, 'mass_kg', 'mass')} and {_varies(run, a, 'mu', 'friction')}. "
     if len(seen) < len(rows):
         text += ("Why: Algorithm 2 releases contacts until the remaining normals carry the weight (η ≈ 0), "
-                 "so the slip check rarely binds; the static loop never reads the damping λ2 and b scale. ")
+                 "so the slip check rarely binds; the static loop reads neither the contact damping λ2 nor "
+                 "the MSD damping b (panels b and c). ")
     return text + ("Per panel: table sensitivity_panels (`docs/decisions.md`, *Sensitivity, mesh resolution, "
                    "surrogate*).")
 

@@ -238,14 +238,14 @@ def finding(run: Run) -> str:
             f"{fmt.number(p.n_exp_sd, n.digits)}, Table 3 {p.n_exp_simulation:g}) at a mean RMSE of "
             f"{fmt.number(rmse.value, rmse.digits)}% of peak (paper {fmt.number(rmse.paper, rmse.digits)}%); "
             + (f"{differs.sum()} of {len(differs)} §7 quantities differ from the paper's (table "
-               "`test1_claims`). " if differs.any() else "every §7 quantity agrees. "))
+               "test1_claims). " if differs.any() else "every §7 quantity agrees. "))
     if len(t5 := t.get("table5", [])):
         r = t5.set_index("parameter")
         bound = [f"{label('parameter', q)} ({counted(k, 'run')})" for q, k in r["n_at_bound"].items() if k]
         l1 = r.loc["lambda1"]  # as Table 5 prints it
         ends = f"; runs ended on a search bound for {fmt.listed(bound)}" if bound else ""
         text += (f"PSO re-identification over {counted(r['n_runs'].iloc[0], 'converged run')} (table "
-                 f"`table5`): λ1 = {fmt.number(l1['mean'], l1.digits)} (paper "
+                 f"table5): λ1 = {fmt.number(l1['mean'], l1.digits)} (paper "
                  f"{fmt.number(l1.paper_mean, l1.digits)}){ends}. ")
     return text + ("Why: the virtual bench differs by construction (smaller fit errors and loops, C not "
                    "identifiable at 1 mN, λ1 near 2.1 because Eq. 14 with Table 4's moduli needs it): "
