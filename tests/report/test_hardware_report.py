@@ -219,7 +219,7 @@ def test_the_opening_paragraph_gives_the_records_numbers(sim_root, study):
     if len(top) == 1 and rates.index[0] != "heuristic":
         overlap = ci[rates.index[0]][0] <= ci["heuristic"][1]
         assert ("(the Wilson intervals overlap)" in first) == overlap, first
-    assert "Exact beliefs" in finding and f"table `{study.split('_')[0]}_belief_pairs`" in finding
+    assert "Exact beliefs" in finding and f"table {study.split('_')[0]}_belief_pairs" in finding
     assert "docs/decisions.md" in finding and "Planner beliefs on the virtual rig" in finding
 
 
@@ -435,9 +435,9 @@ def test_the_findings_rates_carry_their_trial_counts(sim_root, study):
     rates = both[both["belief_error"] == "paper"].groupby("planner")["success"].agg(["mean", "size"])
     tops = rates.index[rates["mean"] == rates["mean"].max()]
     for q in [*tops, "heuristic"]:
-        assert f"{100 * rates['mean'][q]:.1f} %" in head and str(rates["size"][q]) in head
+        assert f"{100 * rates['mean'][q]:.1f}%" in head and str(rates["size"][q]) in head
     assert len(tops) == 1 or f"of {', '.join(str(rates['size'][q]) for q in tops[:-1])} and " in head
     for q in rates.index.difference([*tops, "heuristic"]):
-        assert f"{label('planner', q)} {100 * rates['mean'][q]:.1f} %" not in text
+        assert f"{label('planner', q)} {100 * rates['mean'][q]:.1f}%" not in text
     table = 9 if study == "test3_disturbance" else 7
-    assert f"(table `table{table}`)" in head
+    assert f"(table table{table})" in head

@@ -12,7 +12,7 @@ import re
 LIMIT = 900
 
 
-#: "table mechanism", "tables grip_need and failure_checks", "table `table7`"
+#: "table mechanism", "tables grip_need and failure_checks", "table table7"
 POINTER = re.compile(r"\btables? ((?:`?[a-z][a-z0-9_]*`?(?:, | and )?)+)")
 
 
