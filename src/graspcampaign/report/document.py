@@ -164,6 +164,7 @@ class Table:
     csv: str | None = "tables/{name}.csv"
     title = property(lambda self: f"Table {self.name}")
     frame = property(lambda self: self.compute)
+    anchor = property(lambda self: f"t-{self.name}")
 
     def render(self, run: Any) -> list:
         frame = self.compute(run) if callable(self.compute) else self.compute
@@ -225,7 +226,7 @@ class Table:
         attrs = f" data-table='{self.name}'" if self.csv else ""
         csv = f" <span class='csv'>{self.csv.format(name=self.name)}</span>" if self.csv else ""
         # the caption above the table, not its <caption>: that one wraps to a narrow table's width
-        return (f"<div class='table' id='t-{self.name}'><p class='caption' id='c-{self.name}'>"
+        return (f"<div class='table' id='{self.anchor}'><p class='caption' id='c-{self.name}'>"
                 f"{inline(self.caption)}{csv}</p><table{attrs} aria-labelledby='c-{self.name}'><thead><tr>"
                 f"{head}</tr></thead><tbody>{body}</tbody></table></div>")
 
@@ -280,6 +281,7 @@ class Figure:
     size: tuple[float, float] = (6.4, 3.6)
     images: dict[str, bytes] | None = None
     title = property(lambda self: f"Figure {self.name}")
+    anchor = property(lambda self: f"f-{self.name}")
 
     def render(self, run: Any) -> list:
         images = style.draw(lambda fig: self.draw(run, fig), self.size, run.source, (run.figure_format,))
@@ -294,7 +296,7 @@ class Figure:
     def html(self) -> str:
         kind = "svg" if "svg" in self.images else "png"
         data = base64.b64encode(self.images[kind]).decode()
-        return (f"<figure id='f-{self.name}'><img src='data:image/{'svg+xml' if kind == 'svg' else 'png'};"
+        return (f"<figure id='{self.anchor}'><img src='data:image/{'svg+xml' if kind == 'svg' else 'png'};"
                 f"base64,{data}' alt='{html.escape(self.caption, quote=True)}'><figcaption>"
                 f"{inline(self.caption)}</figcaption></figure>")
 
@@ -358,23 +360,46 @@ class Document:
             out.append("\n".join(f"- **{k}:** {v}" for k, v in self.provenance))
         return "\n\n".join([*out, *(b.md(figure_format) for b in self.blocks)]) + "\n"
 
+    def contents(self) -> str:
+        """The page's contents: a link to every table and figure by its caption's first clause
+        (:func:`short`; two of one title add their names), "" for fewer than two."""
+        listed = [b for b in self.blocks if isinstance(b, Table | Figure)]
+        titles = [short(b.caption) for b in listed]
+        titles = [f"{short(b.caption, 57 - len(b.name))} ({b.name})" if titles.count(t) > 1 else t
+                  for b, t in zip(listed, titles, strict=True)]
+        links = "".join(f"<li><a href='#{b.anchor}'>{html.escape(t)}</a></li>"
+                        for b, t in zip(listed, titles, strict=True))
+        return f"<div class='contents'><b>On this page</b><ul>{links}</ul></div>" if len(listed) > 1 else ""
+
     def html(self) -> str:
         """A complete self-contained page: navigation bar (the other pages and this page's sections),
-        data-source banner, provenance and blocks."""
+        data-source banner, provenance, blocks and the contents before the first table or figure."""
         toc = "".join(f"<a href='#{b.anchor}'>{html.escape(b.title)}</a>" for b in self.blocks
                       if isinstance(b, Section))
         links = "".join(f"<a href='{html.escape(h, quote=True)}'>{html.escape(t)}</a>" for t, h in self.nav) \
             + (f"<span class='toc'>{toc}</span>" if toc else "")
         banner, title = html.escape(SOURCE_LABEL.get(self.source, self.source) or "see each row"), \
             html.escape(self.title)
+        blocks = [b.html() for b in self.blocks]
+        first = next((i for i, b in enumerate(self.blocks) if isinstance(b, Table | Figure)), 0)
         body = "\n".join(["<dl class='provenance'>" + "".join(f"<dt>{html.escape(k)}</dt><dd>{inline(v)}</dd>"
                                                               for k, v in self.provenance) + "</dl>",
-                          *(b.html() for b in self.blocks)])
+                          *blocks[:first], self.contents(), *blocks[first:]])
         return ("<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'><meta name='viewport' "
                 f"content='width=device-width,initial-scale=1'><title>{title}</title><style>{CSS}</style>"
                 f"</head><body><nav>{links}</nav><div class='source source-{html.escape(self.source)}'>Data: "
                 f"{banner}</div><main><h1>{title}</h1>{body}</main><footer>Data: {banner}. Written by "
                 "graspcampaign from the records only.</footer></body></html>\n")
+
+
+#: where a caption's first clause ends: a colon, a sentence's full stop (not that of "Fig. 28"), an aside
+CLAUSE = re.compile(r":|\.(?= [A-Z][a-z]|$)| \(")
+
+
+def short(caption: str, limit: int = 60) -> str:
+    """A caption's first clause as plain text, at most ``limit`` characters (cut at a word: '…')."""
+    text = CLAUSE.split(re.sub(r"[*`]", "", caption), maxsplit=1)[0].strip()
+    return text if len(text) <= limit else text[:limit].rsplit(" ", 1)[0].rstrip(",;") + "…"
 
 
 def inline(markdown: str) -> str:
@@ -407,4 +432,8 @@ figure{margin:18px 0;background:#fff;padding:10px;border:1px solid #e1e5ea}figur
 height:auto}figcaption{font-size:13.5px;color:#444;margin-top:6px}footer{color:#666;font-size:13px;
 padding:12px 24px}code{background:#eef2f6;padding:0 3px}.nb{white-space:nowrap}
 td.num{text-align:right;font-variant-numeric:tabular-nums}td:last-child:not(.num){min-width:16em}
+.contents{background:#fff;border:1px solid #e1e5ea;padding:8px 14px;margin:14px 0;font-size:13.5px}
+.contents ul{columns:2 26em;margin:4px 0 0;padding:0;list-style:none}.contents li{break-inside:avoid}
+.contents a{color:#1f5aa6;text-decoration:none}.contents a:hover{text-decoration:underline}
+[id]{scroll-margin-top:48px}
 """
