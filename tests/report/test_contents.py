@@ -79,6 +79,10 @@ def check_contents(text: str) -> Contents:
         assert 0 < len(title) <= 60, title
         name = block.split("-", 1)[1]
         begins = title.removesuffix(f" ({name})").removesuffix("…")
+        label = re.match(r"((?:Table|Figs?\.) [\w.–-]+): ", begins)
+        if label and not caption.startswith(begins):  # "Fig. 28 (paper in black): proposed …"
+            assert caption.startswith(label[1]), (title, caption)
+            begins, caption = begins[label.end():], caption.split(":", 1)[1].lstrip()
         assert caption.startswith(begins), (title, caption)
         cut = title.removesuffix(f" ({name})").endswith("…")  # at a word; else where the clause ends
         ends = r"[ ,;]" if cut else r":|\. [A-Z]|\.?\s*$| \("
@@ -110,7 +114,8 @@ def test_contents_follow_the_opening_and_tell_equal_titles_apart():
     text = Document("t", "simulation", [], blocks).html()
     page = check_contents(text)
     assert page.links == [("#t-matched", "Matched ablation (matched)"),
-                          ("#t-mcnemar", "Matched ablation (mcnemar)"), ("#f-fig28", "Fig. 28")]
+                          ("#t-mcnemar", "Matched ablation (mcnemar)"),
+                          ("#f-fig28", "Fig. 28: proposed success per shape")]
     assert text.index("The opening.") < text.index("class='contents'") < text.index("id='t-matched'")
     one = Document("t", "simulation", [], Table("n", "One table", rates).render(None)).html()
     assert "class='contents'" not in one
@@ -118,7 +123,10 @@ def test_contents_follow_the_opening_and_tell_equal_titles_apart():
 
 @pytest.mark.parametrize("caption, title", [
     ("Trial counts beside the paper's (a reduced study has fewer)", "Trial counts beside the paper's"),
-    ("Table 7: executed trials per planner and belief reading", "Table 7"),
+    # a bare label of the paper's says what it shows (the contents read "Table 6", "Table 7", "Fig. 28")
+    ("Table 7: executed trials per planner and belief reading",
+     "Table 7: executed trials per planner and belief reading"),
+    ("Fig. 28 (paper in black): proposed success per shape", "Fig. 28: proposed success per shape"),
     ("Success per planner beside Fig. 18a. Intervals: Wilson 95% per row",
      "Success per planner beside Fig. 18a"),
     ("Figs. 12-13 (ours), one row per preset", "Figs. 12-13"),

@@ -394,11 +394,18 @@ class Document:
 
 #: where a caption's first clause ends: a colon, a sentence's full stop (not that of "Fig. 28"), an aside
 CLAUSE = re.compile(r":|\.(?= [A-Z][a-z]|$)| \(")
+#: a caption that opens with a bare label of the paper's: "Table 7", "Fig. 28", "Figs. 12-13"
+LABEL = re.compile(r"(Table|Figs?\.) [\w.–-]+")
 
 
 def short(caption: str, limit: int = 60) -> str:
-    """A caption's first clause as plain text, at most ``limit`` characters (cut at a word: '…')."""
-    text = CLAUSE.split(re.sub(r"[*`]", "", caption), maxsplit=1)[0].strip()
+    """A caption's first clause as plain text, at most ``limit`` characters (cut at a word: '…'); a bare
+    label ("Table 7", "Fig. 28") with the clause after its colon ("Table 7: executed trials per …")."""
+    caption = re.sub(r"[*`]", "", caption)
+    text = CLAUSE.split(caption, maxsplit=1)[0].strip()
+    if LABEL.fullmatch(text) and ":" in caption:
+        shows = CLAUSE.split(caption.split(":", 1)[1], maxsplit=1)[0].strip()
+        text += f": {shows}" if shows else ""
     return text if len(text) <= limit else text[:limit].rsplit(" ", 1)[0].rstrip(",;") + "…"
 
 
