@@ -22,17 +22,13 @@ PaperKey = Callable[[Any, dict], Any]
 """``(paper, group) -> the paper's value`` for one row of a grouped table (None: not reported)."""
 
 
-def _paper(fn: Callable | None, paper: Any, *args) -> Any:
-    """Return ``fn(paper, *args)``; a missing paper object or key means "not reported"."""
+def paper_of(run: Run, fn: Callable | None, *key) -> Any:
+    """The paper's value ``fn(run.paper, *key)``; None where the paper reports none (no paper
+    object, no ``fn``, or a missing key)."""
     try:
-        return None if fn is None or paper is None else fn(paper, *args)
+        return None if fn is None or run.paper is None else fn(run.paper, *key)
     except (KeyError, IndexError):
         return None
-
-
-def paper_of(run: Run, fn: Callable | None, *key) -> Any:
-    """The paper's value ``fn(run.paper, *key)``; None where the paper reports none."""
-    return _paper(fn, run.paper, *key)
 
 
 def share(frame: Any, event: Any) -> Estimate:
@@ -44,7 +40,7 @@ def share(frame: Any, event: Any) -> Estimate:
 
 
 def _paper_by(fn: PaperKey | None, run: Run, frame: pd.DataFrame, by: Sequence[str]) -> list:
-    return [_paper(fn, run.paper, dict(zip(by, key, strict=True)))
+    return [paper_of(run, fn, dict(zip(by, key, strict=True)))
             for key in frame[list(by)].itertuples(index=False)]
 
 
@@ -208,7 +204,7 @@ def Claims(name: str, caption: str | Callable[[Run], str],
                 e, why = r.estimate(run), ""
             except (ValueError, KeyError, ZeroDivisionError) as exc:
                 e, why = Estimate(math.nan), f"not computed: {reason(exc)}"
-            p = _paper(r.paper, run.paper)
+            p = paper_of(run, r.paper)
             out.append([r.label, r.section, fmt.paper_text(p, r.digits) if isinstance(p, tuple | list) else p,
                         e.value, e.low, e.high, e.n, r.unit, r.digits, why, p, r.because])
         columns = ["quantity", "section", "paper", "value", "low", "high", "n", "unit", "digits", "why",
@@ -242,7 +238,7 @@ def Paired(name: str = "mcnemar", caption: str = (
         planners = [p for p in ordered("planner", frame["planner"], run.order.get("planner", []))
                     if p != reference]
         frame = rec.mcnemar_table(frame, reference, planners, pair_on=pair_on)
-        return frame.assign(paper=[_paper(paper, run.paper, p) or "not reported" for p in frame["compared"]],
+        return frame.assign(paper=[paper_of(run, paper, p) or "not reported" for p in frame["compared"]],
                             compared_label=[label("planner", p) for p in frame["compared"]])
 
     return Table(name, f"{caption}; χ² with continuity correction (none when the two discordant counts "
