@@ -213,8 +213,7 @@ def beyond_radius(records: pd.DataFrame, radius_mm: float) -> pd.Series:
     return records["delta_max_mm"] > radius_mm
 
 
-def design_limit_table(records: pd.DataFrame, by: Sequence[str], *,
-                       radius_mm: float, limit_mm: float = DESIGN_LIMIT_MM,
+def design_limit_table(records: pd.DataFrame, by: Sequence[str], *, radius_mm: float,
                        order: Mapping[str, Sequence] | None = None) -> pd.DataFrame:
     """Return per group how often ``delta_max_mm`` exceeds (strictly) the 1 mm design limit
     (paper Sec. 4, 5.5; SPEC Sec. 2.7), with Wilson 95 %, and the median, 95th percentile and
@@ -226,7 +225,7 @@ def design_limit_table(records: pd.DataFrame, by: Sequence[str], *,
     rows, used = [], [c for c in (*by, "delta_max_mm", "success") if c in ok]  # copied per group
     for key, g in groups(ok[used], list(by), order):
         d = g["delta_max_mm"].to_numpy(float)
-        over = d > limit_mm
+        over = d > DESIGN_LIMIT_MM
         beyond = beyond_radius(g, radius_mm).to_numpy()
         w = rates.wilson_interval(int(over.sum()), len(g))
         success = g["success"].to_numpy(bool) if "success" in g else np.zeros(len(g), bool)
