@@ -15,7 +15,7 @@ from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES, wilson_interval
 from graspcampaign.analysis.records import Estimate
 from graspcampaign.analysis.vocabulary import PROPOSED, label, ordered
 from graspcampaign.report import format as fmt
-from graspcampaign.report.document import Col, Figure, Section, Table, Text, labelled, pct_col  # noqa: F401 - API
+from graspcampaign.report.document import Col, Figure, Section, Table, Text  # noqa: F401 - API
 from graspcampaign.report.render import Run, reason
 
 PaperKey = Callable[[Any, dict], Any]
