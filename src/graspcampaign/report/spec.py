@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
@@ -77,18 +78,15 @@ class ReportSpec:
     items: Sequence[Any]
 
     def __post_init__(self):
-        items, rows = [], []
-        for number, item in enumerate([*self.items, None], 1):
-            if item is not None:
-                _check_item(self.study, number, item)
-            if isinstance(item, Value):
-                rows.append(item)
+        for number, item in enumerate(self.items, 1):
+            _check_item(self.study, number, item)
+        items = []
+        for values, group in itertools.groupby(self.items, lambda item: isinstance(item, Value)):
+            if not values:
+                items += group
                 continue
-            if rows:
-                n = sum(i.name.startswith("paper_comparison") for i in items if isinstance(i, Table))
-                items.append(Claims(f"paper_comparison{n + 1 if n else ''}", "Ours beside the paper", rows))
-                rows = []
-            items += [item] if item is not None else []
+            n = sum(i.name.startswith("paper_comparison") for i in items if isinstance(i, Table))
+            items.append(Claims(f"paper_comparison{n + 1 if n else ''}", "Ours beside the paper", list(group)))
         for kind, names in (("tables", [i.name for i in items if isinstance(i, Table)]),
                             ("figures", [i.name for i in items if isinstance(i, Figure)])):
             if twice := sorted({n for n in names if names.count(n) > 1}):
