@@ -86,7 +86,8 @@ class ReportSpec:
                 items += group
                 continue
             n = sum(i.name.startswith("paper_comparison") for i in items if isinstance(i, Table))
-            items.append(Claims(f"paper_comparison{n + 1 if n else ''}", "Ours beside the paper", list(group)))
+            name = f"paper_comparison{n + 1 if n else ''}"
+            items.append(Claims(name, "Ours beside the paper", list(group)))
         for kind, names in (("tables", [i.name for i in items if isinstance(i, Table)]),
                             ("figures", [i.name for i in items if isinstance(i, Figure)])):
             if twice := sorted({n for n in names if names.count(n) > 1}):
