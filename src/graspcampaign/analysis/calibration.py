@@ -11,6 +11,7 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
+from graspcampaign.analysis.records import at_bound
 from graspcampaign.core import bench
 from graspcampaign.core.bench import FAMILIES
 
@@ -82,9 +83,7 @@ def table5(runs: pd.DataFrame) -> pd.DataFrame:
     half = stats.t.ppf(0.975, len(ok) - 1) * out["sd"] / np.sqrt(len(ok)) if len(ok) > 1 else np.nan
     out["mean_low"], out["mean_high"] = out["mean"] - half, out["mean"] + half
     out["cv_pct"] = 100.0 * out["sd"] / out["mean"].where(out["mean"] != 0)
-    bound = ok["at_bound"].fillna("").str.split(",") if "at_bound" in ok else None
-    out["n_at_bound"] = [int(bound.map(lambda b, q=q: q in b).sum()) if bound is not None else None
-                         for q in p]
+    out["n_at_bound"] = [int(at_bound(ok, q).sum()) if "at_bound" in ok else None for q in p]
     return out
 
 

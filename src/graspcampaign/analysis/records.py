@@ -64,37 +64,21 @@ def status_counts(records: pd.DataFrame) -> dict[str, int]:
 def groups(frame: pd.DataFrame, by: Sequence[str], order: Mapping[str, Sequence] | None = None,
            keys_from: pd.DataFrame | None = None) -> Iterator[tuple[dict, pd.DataFrame]]:
     """Yield ``(key, rows)`` per group of ``by`` in display order (keys of ``keys_from``); a key
-    with a missing value is no group (its rows match no key, as in :func:`select`)."""
+    with a missing value is no group (its rows match no key)."""
     source = (frame if keys_from is None else keys_from)[list(by)].drop_duplicates()
     keys = [k for k in zip(*(source[c] for c in by), strict=True) if not any(pd.isna(v) for v in k)]
     ranks = [{v: i for i, v in enumerate(ordered(c, [k[j] for k in keys], (order or {}).get(c, ())))}
              for j, c in enumerate(by)]
     index = _index(frame, by) if keys else {}
     for key in sorted(keys, key=lambda k: tuple(r[v] for r, v in zip(ranks, k, strict=True))):
-        yield (k := dict(zip(by, key, strict=True))), _select(frame, k, index)
+        yield dict(zip(by, key, strict=True)), frame.iloc[index.get(key, [])]
 
 
-def select(frame: pd.DataFrame, key: Mapping) -> pd.DataFrame:
-    """Return the rows of ``frame`` whose columns equal ``key``'s values."""
-    mask = np.ones(len(frame), bool)
-    for c, v in key.items():
-        mask &= (frame[c] == v).to_numpy()
-    return frame[mask]
-
-
-def _index(frame: pd.DataFrame, by: Sequence[str]) -> dict | None:
+def _index(frame: pd.DataFrame, by: Sequence[str]) -> dict:
     """Row positions per key tuple of ``by`` from one groupby (a missing value is in no group, as
-    ``nan == nan`` is false); None if the columns cannot be grouped."""
-    try:
-        idx = frame.groupby(list(by), sort=False, observed=True).indices if len(frame) else {}
-    except (TypeError, ValueError):
-        return None
+    ``nan == nan`` is false)."""
+    idx = frame.groupby(list(by), sort=False, observed=True).indices if len(frame) else {}
     return {k if len(by) > 1 else (k,): v for k, v in idx.items()}
-
-
-def _select(frame: pd.DataFrame, key: dict, index: dict | None) -> pd.DataFrame:
-    """:func:`select` by ``index`` (:func:`_index`; None: compared row by row)."""
-    return select(frame, key) if index is None else frame.iloc[index.get(tuple(key.values()), [])]
 
 
 def rate_table(records: pd.DataFrame, by: Sequence[str], *, outcome: str = "success",
@@ -112,8 +96,8 @@ def rate_table(records: pd.DataFrame, by: Sequence[str], *, outcome: str = "succ
     aborted = records[(status == "ok") & flag(records, "aborted")] if "aborted" in records \
         else records.iloc[:0]
     e_index, a_index = (_index(err, by), _index(aborted, by)) if set(by) <= set(records) else ({}, {})
-    rows = [{**key, "n": len(g), "n_error": len(_select(err, key, e_index)),
-             "n_aborted": len(_select(aborted, key, a_index)),
+    rows = [{**key, "n": len(g), "n_error": len(e_index.get(tuple(key.values()), ())),
+             "n_aborted": len(a_index.get(tuple(key.values()), ())),
              **rate_cells(g, outcome, cluster, seed, n_resamples)}
             for key, g in (groups(ok, by, order, records) if set(by) <= set(records) else ())]
     return pd.DataFrame(rows, columns=[
@@ -213,8 +197,7 @@ def beyond_radius(records: pd.DataFrame, radius_mm: float) -> pd.Series:
     return records["delta_max_mm"] > radius_mm
 
 
-def design_limit_table(records: pd.DataFrame, by: Sequence[str], *,
-                       radius_mm: float, limit_mm: float = DESIGN_LIMIT_MM,
+def design_limit_table(records: pd.DataFrame, by: Sequence[str], *, radius_mm: float,
                        order: Mapping[str, Sequence] | None = None) -> pd.DataFrame:
     """Return per group how often ``delta_max_mm`` exceeds (strictly) the 1 mm design limit
     (paper Sec. 4, 5.5; SPEC Sec. 2.7), with Wilson 95 %, and the median, 95th percentile and
@@ -226,7 +209,7 @@ def design_limit_table(records: pd.DataFrame, by: Sequence[str], *,
     rows, used = [], [c for c in (*by, "delta_max_mm", "success") if c in ok]  # copied per group
     for key, g in groups(ok[used], list(by), order):
         d = g["delta_max_mm"].to_numpy(float)
-        over = d > limit_mm
+        over = d > DESIGN_LIMIT_MM
         beyond = beyond_radius(g, radius_mm).to_numpy()
         w = rates.wilson_interval(int(over.sum()), len(g))
         success = g["success"].to_numpy(bool) if "success" in g else np.zeros(len(g), bool)

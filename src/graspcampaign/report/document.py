@@ -45,11 +45,6 @@ def check_formats(formats: Sequence[str] | str | None, allowed: Sequence[str] = 
     return items
 
 
-def check_figure_format(figure_format: str) -> str:
-    """Return the figure format, or raise naming the allowed ones."""
-    return check_formats([figure_format], FIGURE_FORMATS, "figure format")[0]
-
-
 @dataclass(frozen=True)
 class Col:
     """A shown column: the CSV column ``key`` under ``label``, rounded once to ``digits`` decimals

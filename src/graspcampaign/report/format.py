@@ -13,9 +13,9 @@ MISSING = "\u2014"
 MINUS = "\u2212"
 DASH = "\u2013"
 P = "p"
-EACH = "each value"  # a Col's digits: each value rounded alone (decimals of its own magnitude)
 """The digits of a value that is a p-value (a :func:`~graspcampaign.report.spec.Claims` row's): printed
 by :func:`p_value`, compared with the paper's at 3 decimals."""
+EACH = "each value"  # a Col's digits: each value rounded alone (decimals of its own magnitude)
 
 
 def is_missing(value: Any) -> bool:

@@ -195,19 +195,17 @@ def headline_rows(root: Path | str, unreadable: list[tuple[str, str]] | None = N
                     "paper_pct", "wilson_low_pct", "wilson_high_pct", unit="%")
 
 
-def write_headline(root: Path | str, formats: list[str] | None = None,
-                   frame: pd.DataFrame | None = None) -> Path:
-    """Write ``headline.csv``, ``headline.md`` (and ``headline.html``) of ``frame`` (default:
-    :func:`headline_rows`); return the md path."""
-    frame = headline_rows(root) if frame is None else frame
-    frame.to_csv(Path(root) / "headline.csv", index=False)
+def write_headline(root: Path, formats: list[str], frame: pd.DataFrame) -> Path:
+    """Write ``headline.csv``, ``headline.md`` (and ``headline.html``) of ``frame``, the
+    :func:`headline_rows` of ``root``; return the md path."""
+    frame.to_csv(root / "headline.csv", index=False)
     reduced = frame["testbed"].astype(str).str.contains(REDUCED_MARK).any()
     virtual = frame["source"].eq("virtual").any()
-    differ = int(frame["differs"].eq(True).sum()) if "differs" in frame else 0
+    differ = int(frame["differs"].eq(True).sum())
     why = (f" {differ} of {len(frame)} rows differ from the paper (the paper's value outside our 95% "
            "interval); each run's report, linked in *run*, opens with where and why." if differ else "")
     return Document("Headline success rates (paper Table 1)", "", [], [
         Text(INTRO + (VIRTUAL_NOTE if virtual else "") + why),
         Table("headline", "Table 1, ours beside the paper", frame, COLUMNS, csv="headline.csv"),
         *([Text(REDUCED_NOTE, "note")] if reduced else [])
-    ]).write_pages(Path(root) / "headline", formats or [])
+    ]).write_pages(root / "headline", formats)

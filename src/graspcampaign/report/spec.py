@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
@@ -15,24 +16,20 @@ from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES, wilson_interval
 from graspcampaign.analysis.records import Estimate
 from graspcampaign.analysis.vocabulary import PROPOSED, label, ordered
 from graspcampaign.report import format as fmt
-from graspcampaign.report.document import Col, Figure, Section, Table, Text, labelled, pct_col  # noqa: F401 - API
+from graspcampaign.report.document import Col, Figure, Section, Table, Text  # noqa: F401 - API
 from graspcampaign.report.render import Run, reason
 
 PaperKey = Callable[[Any, dict], Any]
 """``(paper, group) -> the paper's value`` for one row of a grouped table (None: not reported)."""
 
 
-def _paper(fn: Callable | None, paper: Any, *args) -> Any:
-    """Return ``fn(paper, *args)``; a missing paper object or key means "not reported"."""
+def paper_of(run: Run, fn: Callable | None, *key) -> Any:
+    """The paper's value ``fn(run.paper, *key)``; None where the paper reports none (no paper
+    object, no ``fn``, or a missing key)."""
     try:
-        return None if fn is None or paper is None else fn(paper, *args)
+        return None if fn is None or run.paper is None else fn(run.paper, *key)
     except (KeyError, IndexError):
         return None
-
-
-def paper_of(run: Run, fn: Callable | None, *key) -> Any:
-    """The paper's value ``fn(run.paper, *key)``; None where the paper reports none."""
-    return _paper(fn, run.paper, *key)
 
 
 def share(frame: Any, event: Any) -> Estimate:
@@ -44,7 +41,7 @@ def share(frame: Any, event: Any) -> Estimate:
 
 
 def _paper_by(fn: PaperKey | None, run: Run, frame: pd.DataFrame, by: Sequence[str]) -> list:
-    return [_paper(fn, run.paper, dict(zip(by, key, strict=True)))
+    return [paper_of(run, fn, dict(zip(by, key, strict=True)))
             for key in frame[list(by)].itertuples(index=False)]
 
 
@@ -81,18 +78,16 @@ class ReportSpec:
     items: Sequence[Any]
 
     def __post_init__(self):
-        items, rows = [], []
-        for number, item in enumerate([*self.items, None], 1):
-            if item is not None:
-                _check_item(self.study, number, item)
-            if isinstance(item, Value):
-                rows.append(item)
+        for number, item in enumerate(self.items, 1):
+            _check_item(self.study, number, item)
+        items = []
+        for values, group in itertools.groupby(self.items, lambda item: isinstance(item, Value)):
+            if not values:
+                items += group
                 continue
-            if rows:
-                n = sum(i.name.startswith("paper_comparison") for i in items if isinstance(i, Table))
-                items.append(Claims(f"paper_comparison{n + 1 if n else ''}", "Ours beside the paper", rows))
-                rows = []
-            items += [item] if item is not None else []
+            n = sum(i.name.startswith("paper_comparison") for i in items if isinstance(i, Table))
+            name = f"paper_comparison{n + 1 if n else ''}"
+            items.append(Claims(name, "Ours beside the paper", list(group)))
         for kind, names in (("tables", [i.name for i in items if isinstance(i, Table)]),
                             ("figures", [i.name for i in items if isinstance(i, Figure)])):
             if twice := sorted({n for n in names if names.count(n) > 1}):
@@ -208,7 +203,7 @@ def Claims(name: str, caption: str | Callable[[Run], str],
                 e, why = r.estimate(run), ""
             except (ValueError, KeyError, ZeroDivisionError) as exc:
                 e, why = Estimate(math.nan), f"not computed: {reason(exc)}"
-            p = _paper(r.paper, run.paper)
+            p = paper_of(run, r.paper)
             out.append([r.label, r.section, fmt.paper_text(p, r.digits) if isinstance(p, tuple | list) else p,
                         e.value, e.low, e.high, e.n, r.unit, r.digits, why, p, r.because])
         columns = ["quantity", "section", "paper", "value", "low", "high", "n", "unit", "digits", "why",
@@ -242,7 +237,7 @@ def Paired(name: str = "mcnemar", caption: str = (
         planners = [p for p in ordered("planner", frame["planner"], run.order.get("planner", []))
                     if p != reference]
         frame = rec.mcnemar_table(frame, reference, planners, pair_on=pair_on)
-        return frame.assign(paper=[_paper(paper, run.paper, p) or "not reported" for p in frame["compared"]],
+        return frame.assign(paper=[paper_of(run, paper, p) or "not reported" for p in frame["compared"]],
                             compared_label=[label("planner", p) for p in frame["compared"]])
 
     return Table(name, f"{caption}; χ² with continuity correction (none when the two discordant counts "
