@@ -1,0 +1,23 @@
+"""What a new user meets following README.md: the commands it shows, in its order, keep working
+together (each case once failed or pointed to the wrong next step)."""
+
+from __future__ import annotations
+
+from cli_checks import invoke
+
+
+def test_schedule_by_default_writes_where_report_finds_no_run(results):
+    """README: `schedule <study> --template`, then `report`. The sheets' default place was the
+    study's folder, where `report` of every run takes each file for a run that cannot be read: it
+    exited 2 naming schedule.csv and the headline page gained a row per sheet file."""
+    made = invoke("schedule", "test2_grasp", "params.fraction=0.05", "--template", "--root", results)
+    assert made.exit_code == 0, made.output
+    folder = results / "test2_grasp" / "schedule"
+    assert made.stdout.splitlines()[1] == (f"measured-records template -> {folder}/sheet-template.csv "
+                                           f"(columns and units: {folder}/sheet-template-columns.csv)")
+    assert sorted(p.name for p in folder.iterdir()) == [
+        "sheet-template-columns.csv", "sheet-template.csv", "sheet.csv", "sheet.parquet"]
+    reported = invoke("report", "--root", results)
+    assert reported.exit_code == 0, reported.output
+    assert reported.stderr == ""
+    assert "cannot be read" not in (results / "headline.md").read_text()
