@@ -3,7 +3,7 @@ together (each case once failed or pointed to the wrong next step)."""
 
 from __future__ import annotations
 
-from cli_checks import invoke
+from cli_checks import invoke, refused
 
 
 def test_schedule_by_default_writes_where_report_finds_no_run(results):
@@ -21,3 +21,15 @@ def test_schedule_by_default_writes_where_report_finds_no_run(results):
     assert reported.exit_code == 0, reported.output
     assert reported.stderr == ""
     assert "cannot be read" not in (results / "headline.md").read_text()
+
+
+def test_a_protocols_measured_run_not_yet_ingested_points_to_ingest(results):
+    """README: `ingest <study> FILE…` stores the run `measured`. Before it, `status` advised `run
+    <study> --run measured`, which fills that run with virtual-rig trials, and `ingest` then refuses
+    it as a simulation run; a simulation study's run of that name is still made by `run`."""
+    refused(results, ["status", "test3_disturbance", "--run", "measured", "--root", results],
+            f"no run at {results}/test3_disturbance/measured; store the rig's measured records "
+            f"with `graspcampaign ingest test3_disturbance FILE… --root {results}` first.")
+    refused(results, ["status", "smoke", "--run", "measured", "--root", results],
+            f"no run at {results}/smoke/measured; run `graspcampaign run smoke --run measured "
+            f"--root {results}` first.")
