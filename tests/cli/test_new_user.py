@@ -3,7 +3,13 @@ together (each case once failed or pointed to the wrong next step)."""
 
 from __future__ import annotations
 
+import re
+
+import pandas as pd
+import yaml
 from cli_checks import invoke, refused
+
+from graspcampaign.campaign.studyfile import project_dirs
 
 
 def test_schedule_by_default_writes_where_report_finds_no_run(results):
@@ -33,3 +39,16 @@ def test_a_protocols_measured_run_not_yet_ingested_points_to_ingest(results):
     refused(results, ["status", "smoke", "--run", "measured", "--root", results],
             f"no run at {results}/smoke/measured; run `graspcampaign run smoke --run measured "
             f"--root {results}` first.")
+
+
+def test_show_prints_a_long_paper_block_on_lines_of_about_100_characters():
+    """`show test2_grasp` printed its paper block as one line of 3,000 characters. Now it is
+    broken between pairs; every key of the study file's block is still there."""
+    shown = invoke("show", "test2_grasp")
+    assert shown.exit_code == 0, shown.output
+    block = shown.stdout[shown.stdout.index("\npaper: ") + 1:].splitlines()
+    assert len(block) > 20 and max(map(len, block)) <= 100
+    assert all(line.startswith("  ") for line in block[1:])
+    paper = yaml.safe_load((project_dirs()[1] / "test2_grasp.yaml").read_text())["paper"]
+    keys = re.findall(r"(?:^paper: |, |^  )([\w.]+)=", "\n".join(block), flags=re.MULTILINE)
+    assert sorted(keys) == sorted(pd.json_normalize(paper).columns)

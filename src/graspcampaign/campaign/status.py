@@ -156,23 +156,30 @@ def design_text(study: StudyCfg, run: str | None = None, overrides: list[str] = 
         lines.append(f"estimated time: {_fmt_seconds(remaining)} for {counted(total - done, 'trial')} "
                      f"(~{_fmt_seconds(per)} each, {basis}, on {counted(workers, 'worker')}; "
                      "setup and finalize stages not counted)")
-    if study.paper:
-        lines.append("paper: " + _paper_text(study.paper))
+    if study.paper:  # Test 2's block is 3,000 characters: lines of about 100, no pair split
+        pairs = _paper_pairs(study.paper)
+        lines.append(f"paper: {pairs[0]}")
+        for pair in pairs[1:]:
+            if len(lines[-1]) + len(pair) > 98:
+                lines[-1] += ","
+                lines.append(f"  {pair}")
+            else:
+                lines[-1] += f", {pair}"
     return "\n".join(lines)
 
 
-def _paper_text(paper: dict[str, Any], prefix: str = "") -> str:
+def _paper_pairs(paper: dict[str, Any], prefix: str = "") -> list[str]:
     """``key=value`` pairs of the paper block, nested keys dotted (no Python reprs); an empty
     dict as ``key={}``."""
-    parts = []
+    pairs = []
     for key, value in paper.items():
         if isinstance(value, dict) and value:
-            parts.append(_paper_text(value, f"{prefix}{key}."))
+            pairs += _paper_pairs(value, f"{prefix}{key}.")
         elif isinstance(value, list):
-            parts.append(f"{prefix}{key}=[{', '.join(map(str, value))}]")
+            pairs.append(f"{prefix}{key}=[{', '.join(map(str, value))}]")
         else:
-            parts.append(f"{prefix}{key}={value}")
-    return ", ".join(parts)
+            pairs.append(f"{prefix}{key}={value}")
+    return pairs
 
 
 def check_known(root: Path | str, study: str) -> None:
