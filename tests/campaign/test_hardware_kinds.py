@@ -205,7 +205,7 @@ def test_schedule_command_writes_the_sheet_with_its_plans(tmp_path):
     result = cli.invoke(app, ["schedule", "test3_disturbance", "params.blocks=[C]",
                               f"output.root={tmp_path}"])
     assert result.exit_code == 0, result.output
-    sheet = pd.read_parquet(tmp_path / "test3_disturbance" / "schedule.parquet")
+    sheet = pd.read_parquet(tmp_path / "test3_disturbance" / "schedule" / "sheet.parquet")
     full = protocol.test3_schedule(SEEDS["test3_disturbance"])
     want = full[full["block"] == "C"].reset_index(drop=True)
     pd.testing.assert_frame_equal(sheet[want.columns], want)

@@ -114,10 +114,10 @@ def test_params_are_validated_before_anything_runs(tmp_path):
 def test_schedule_command_writes_the_commanded_sheet(tmp_path):
     result = cli.invoke(app, ["schedule", "test1_bench", *REDUCED, f"output.root={tmp_path}"])
     assert result.exit_code == 0, result.output
-    sheet = pd.read_parquet(tmp_path / "test1_bench" / "schedule.parquet")
+    sheet = pd.read_parquet(tmp_path / "test1_bench" / "schedule" / "sheet.parquet")
     ref = T.test1_schedule(SEED, materials=["gel"], specimens=[1, 11], environments=["normal_lab"])
     pd.testing.assert_frame_equal(sheet, ref)
-    assert len(pd.read_csv(tmp_path / "test1_bench" / "schedule.csv")) == 284
+    assert len(pd.read_csv(tmp_path / "test1_bench" / "schedule" / "sheet.csv")) == 284
 
 
 # ------------------------------------------------------------------- engine = in-process

@@ -217,6 +217,18 @@ def test_headline_page_and_index(tmp_path):
     assert "[Table 1 headline](headline.md)" in index and "other/r1/report/report.md" in index
 
 
+def test_the_headline_links_only_a_report_written(tmp_path):
+    # the headline summarises every run under the root from its records; it linked the report of a
+    # run never reported (`report baseline_grid --run r1` beside r2): a dead link
+    for run in ("r1", "r2"):
+        write_run(tmp_path, name="baseline_grid", planners=("heuristic", "antipodal"), run=run)
+    build_reports(["baseline_grid"], run="r1", root=tmp_path)
+    assert not (tmp_path / "baseline_grid" / "r2" / "report").exists()
+    page = (tmp_path / "headline.md").read_text().splitlines()
+    rows = [line for line in page if line.startswith("| Baseline grid |")]
+    assert [row.split(" | ")[2] for row in rows] == ["[r1](baseline_grid/r1/report/report.md)", "r2"]
+
+
 def test_the_index_pages_read_no_run_again(tmp_path, opened):
     # a run's source comes from the facts its check kept of each records file: the file is opened
     # to verify it and once for its report, no more (was once more for each index page)

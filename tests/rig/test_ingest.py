@@ -447,8 +447,10 @@ def test_record_template_has_every_column_with_its_unit(t3):
     assert (unit["peak_slip_mm"], unit["normal_force_1_n"], unit["threshold_measured_nm"],
             unit["rotation_at_limit_deg"], unit["sf_actual"], unit["outcome"]) == (
         "mm", "N", "N m", "deg", "1", "-")
-    # the template read back, every measured cell still empty, fails only on what is missing
-    with pytest.raises(IngestError, match=r"row 1, column 'aborted': value '' is not a boolean"):
+    # the template read back, every measured cell still empty: its rows are not filled in
+    with pytest.raises(IngestError, match=r"^template.csv, row 1, column 'aborted': the row is not "
+                                          r"filled in \(only its trial_id\); a file holds the trials "
+                                          r"run: delete the rows not run yet\.$"):
         validate_records(sheet, schedule, "template.csv")
 
 

@@ -16,7 +16,7 @@ from typing import Any
 
 from graspcampaign.analysis.vocabulary import counted
 from graspcampaign.campaign.catalog import design_size, kind_facts
-from graspcampaign.campaign.kind import KINDS, kind_available
+from graspcampaign.campaign.kind import KINDS, get_kind, kind_available
 from graspcampaign.campaign.paths import check_root
 from graspcampaign.campaign.schema import StudyCfg, design_shape
 from graspcampaign.campaign.studyfile import check_name, configured_run, list_studies, run_dir, run_path
@@ -156,23 +156,30 @@ def design_text(study: StudyCfg, run: str | None = None, overrides: list[str] = 
         lines.append(f"estimated time: {_fmt_seconds(remaining)} for {counted(total - done, 'trial')} "
                      f"(~{_fmt_seconds(per)} each, {basis}, on {counted(workers, 'worker')}; "
                      "setup and finalize stages not counted)")
-    if study.paper:
-        lines.append("paper: " + _paper_text(study.paper))
+    if study.paper:  # Test 2's block is 3,000 characters: lines of about 100, no pair split
+        pairs = _paper_pairs(study.paper)
+        lines.append(f"paper: {pairs[0]}")
+        for pair in pairs[1:]:
+            if len(lines[-1]) + len(pair) > 98:
+                lines[-1] += ","
+                lines.append(f"  {pair}")
+            else:
+                lines[-1] += f", {pair}"
     return "\n".join(lines)
 
 
-def _paper_text(paper: dict[str, Any], prefix: str = "") -> str:
+def _paper_pairs(paper: dict[str, Any], prefix: str = "") -> list[str]:
     """``key=value`` pairs of the paper block, nested keys dotted (no Python reprs); an empty
     dict as ``key={}``."""
-    parts = []
+    pairs = []
     for key, value in paper.items():
         if isinstance(value, dict) and value:
-            parts.append(_paper_text(value, f"{prefix}{key}."))
+            pairs += _paper_pairs(value, f"{prefix}{key}.")
         elif isinstance(value, list):
-            parts.append(f"{prefix}{key}=[{', '.join(map(str, value))}]")
+            pairs.append(f"{prefix}{key}=[{', '.join(map(str, value))}]")
         else:
-            parts.append(f"{prefix}{key}={value}")
-    return ", ".join(parts)
+            pairs.append(f"{prefix}{key}={value}")
+    return pairs
 
 
 def check_known(root: Path | str, study: str) -> None:
@@ -218,11 +225,28 @@ def open_run(root: Path | str, study: str, run: str, option_prefix: str = "--"):
     store = RunStore(run_dir(root, study, run))
     manifest = store.check(["records"])  # a run that is not what its manifest says: refused
     if manifest is None:  # the command that makes this run, with the options it needs
+        rooted = [] if Path(root) == Path("results") else ["--root", str(root)]
+        if run == "measured" and _ingests(study):  # `ingest`'s run: a rig's files make it
+            command = " ".join(["graspcampaign ingest", shlex.quote(study), "FILE…",
+                                *map(shlex.quote, rooted)])
+            raise UserInputError(f"no run at {store.path}; store the rig's measured records "
+                                 f"with `{command}` first.")
         options = [] if run == configured_run(study) else ["--run", run]
-        options += [] if Path(root) == Path("results") else ["--root", str(root)]
-        command = shlex.join(["graspcampaign", "run", study, *options])
+        command = shlex.join(["graspcampaign", "run", study, *options, *rooted])
         raise UserInputError(f"no run at {store.path}; run `{command}` first.")
     return store, manifest
+
+
+def _ingests(study: str) -> bool:
+    """Whether a study on the search path is a hardware protocol, whose measured records
+    ``ingest`` stores (a study known only by its records is not)."""
+    from graspcampaign.campaign.studyfile import find_study, read_yaml
+
+    try:
+        kind = read_yaml(find_study(study), study=True).get("kind")
+        return get_kind(str(kind)).ingest is not None
+    except UserInputError:  # unknown, broken or not runnable: not a protocol to ingest into
+        return False
 
 
 def run_status(root: Path | str, study: str, run: str = "default") -> dict[str, Any]:

@@ -127,11 +127,12 @@ def _run_row(h: Headline, store: RunStore, root: Path) -> dict | None:
         + ([f"{config['seeds']} seeds"] if int(config.get("seeds", 1)) > 1 else [])) + (
         f"; {column.replace('_', ' ')} {', '.join(label(column, v) for v in sorted(levels))} only"
         if column and len((config.get("factors") or {}).get(column, ())) > 1 else "")
-    change = design_change(manifest)
+    change, page = design_change(manifest), store.path / "report" / "report.html"
     common = {"run": manifest.get("run"), "source": source,
               "testbed": SOURCE_SHORT.get(source, source) + (f": {design}" if design else "")
               + (f" {REDUCED_MARK} (reduced run: {change[1]})" if change else ""),
-              "report": (store.path / "report" / "report.html").relative_to(root).as_posix()}
+              "report": page.relative_to(root).as_posix()  # linked once written, as the index
+              if page.exists() or page.with_suffix(".md").exists() else None}
     if column and (unset := _unset(column, config)) is not None:
         records[column] = records[column].fillna(unset) if column in records else unset
     if column and column not in records:

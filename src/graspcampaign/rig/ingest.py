@@ -183,6 +183,9 @@ def validate_records(data: pd.DataFrame | str | Path, schedule: pd.DataFrame,
     aborted = []
     for i, value in enumerate(df["aborted"].tolist()):
         flag = _as_bool(value)
+        if flag is None and all(_blank(v) for v in df.iloc[i].drop("trial_id")):  # the template's
+            raise ingest_error(label, i + 1, "aborted", "the row is not filled in (only its "
+                               "trial_id); a file holds the trials run: delete the rows not run yet")
         if flag is None:
             raise ingest_error(label, i + 1, "aborted", cell_problem(value, _BOOLEAN))
         aborted.append(flag)
