@@ -312,9 +312,14 @@ def test_report_checks_every_named_study_before_writing_any(results):
             f"unknown study 'nosuch_study': not on the config search path and no records under "
             f"{results}; available studies: {', '.join(list_studies())}.")
     refused(results, ["report", "ablation", "--root", results],  # known, never run here
-            f"no records for study 'ablation' under {results}; run it first.")
+            f"no records for study 'ablation' under {results}; run `graspcampaign run ablation --root "
+            f"{results}` first.")  # the command that makes it (was "run it first")
     refused(results, ["report", "smoke", "baseline_grid", "--run", "nosuch", "--root", results],
-            f"no run 'nosuch' of study 'smoke' under {results}.")
+            f"no run 'nosuch' of study 'smoke' under {results}; run `graspcampaign run smoke --run nosuch "
+            f"--root {results}` first.")
+    refused(results, ["report", "test2_grasp", "--run", "measured", "--root", results],  # a rig's run
+            f"no records for study 'test2_grasp' under {results}; store the rig's measured records with "
+            f"`graspcampaign ingest test2_grasp FILE… --root {results}` first.")
 
 
 def test_a_run_that_cannot_be_read_never_replaces_what_the_root_pages_say(results):

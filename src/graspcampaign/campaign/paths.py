@@ -9,6 +9,7 @@ without the numerical layers.
 from __future__ import annotations
 
 import os
+import shlex
 import stat
 import tempfile
 from pathlib import Path
@@ -108,3 +109,30 @@ def _not_a_results_root(root: Path) -> str | None:
         return (f"it holds the runs of study {absolute.name}; give the results root that holds "
                 f"it ({absolute.parent})")
     return None
+
+
+def how_to_make(root: Path | str, study: str, run: str | None = None) -> str:
+    """The end of a "no such run" message: the command that makes run ``run`` of ``study`` (default:
+    its configured run) under ``root``, with the options it needs (a hardware protocol's ``measured``
+    run: ``ingest``)."""
+    from graspcampaign.campaign.studyfile import configured_run
+
+    rooted = [] if Path(root) == Path("results") else ["--root", str(root)]
+    if run == "measured" and _ingests(study):  # `ingest`'s run: a rig's files make it
+        command = " ".join(["graspcampaign ingest", shlex.quote(study), "FILE…", *map(shlex.quote, rooted)])
+        return f"store the rig's measured records with `{command}` first."
+    options = [] if run in (None, configured_run(study)) else ["--run", run]
+    return f"run `{shlex.join(['graspcampaign', 'run', study, *options, *rooted])}` first."
+
+
+def _ingests(study: str) -> bool:
+    """Whether a study on the search path is a hardware protocol, whose measured records
+    ``ingest`` stores (a study known only by its records is not)."""
+    from graspcampaign.campaign.kind import get_kind
+    from graspcampaign.campaign.studyfile import find_study, read_yaml
+
+    try:
+        kind = read_yaml(find_study(study), study=True).get("kind")
+        return get_kind(str(kind)).ingest is not None
+    except UserInputError:  # unknown, broken or not runnable: not a protocol to ingest into
+        return False

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import difflib
 import os
-import shlex
 import statistics
 from pathlib import Path
 from typing import Any
@@ -17,9 +16,9 @@ from typing import Any
 from graspcampaign.analysis.vocabulary import counted
 from graspcampaign.campaign.catalog import design_size, kind_facts
 from graspcampaign.campaign.kind import KINDS, get_kind, kind_available
-from graspcampaign.campaign.paths import check_root
+from graspcampaign.campaign.paths import check_root, how_to_make
 from graspcampaign.campaign.schema import StudyCfg, design_shape
-from graspcampaign.campaign.studyfile import check_name, configured_run, list_studies, run_dir, run_path
+from graspcampaign.campaign.studyfile import check_name, list_studies, run_dir, run_path
 from graspcampaign.errors import UserInputError
 
 
@@ -63,7 +62,6 @@ def recorded_in(study: StudyCfg, run: str | None = None, opened=_OPEN) -> int:
     opened = opened_run(study, run) if opened is _OPEN else opened
     if opened is None:
         return 0
-    from graspcampaign.campaign.kind import get_kind
     from graspcampaign.campaign.provenance import config_hash, one_config
     from graspcampaign.campaign.runner import kind_params, study_trials
 
@@ -224,29 +222,9 @@ def open_run(root: Path | str, study: str, run: str, option_prefix: str = "--"):
 
     store = RunStore(run_dir(root, study, run))
     manifest = store.check(["records"])  # a run that is not what its manifest says: refused
-    if manifest is None:  # the command that makes this run, with the options it needs
-        rooted = [] if Path(root) == Path("results") else ["--root", str(root)]
-        if run == "measured" and _ingests(study):  # `ingest`'s run: a rig's files make it
-            command = " ".join(["graspcampaign ingest", shlex.quote(study), "FILE…",
-                                *map(shlex.quote, rooted)])
-            raise UserInputError(f"no run at {store.path}; store the rig's measured records "
-                                 f"with `{command}` first.")
-        options = [] if run == configured_run(study) else ["--run", run]
-        command = shlex.join(["graspcampaign", "run", study, *options, *rooted])
-        raise UserInputError(f"no run at {store.path}; run `{command}` first.")
+    if manifest is None:
+        raise UserInputError(f"no run at {store.path}; {how_to_make(root, study, run)}")
     return store, manifest
-
-
-def _ingests(study: str) -> bool:
-    """Whether a study on the search path is a hardware protocol, whose measured records
-    ``ingest`` stores (a study known only by its records is not)."""
-    from graspcampaign.campaign.studyfile import find_study, read_yaml
-
-    try:
-        kind = read_yaml(find_study(study), study=True).get("kind")
-        return get_kind(str(kind)).ingest is not None
-    except UserInputError:  # unknown, broken or not runnable: not a protocol to ingest into
-        return False
 
 
 def run_status(root: Path | str, study: str, run: str = "default") -> dict[str, Any]:

@@ -13,7 +13,7 @@ from typing import Any
 
 import pandas as pd
 
-from graspcampaign.campaign.paths import check_root
+from graspcampaign.campaign.paths import check_root, how_to_make
 from graspcampaign.campaign.provenance import read_manifest
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.errors import ConfigError, UserInputError
@@ -135,9 +135,10 @@ def _runs(root: Path, studies: list[str] | None, run: str | Mapping[str, str] | 
                              f"({exc.strerror or type(exc).__name__}).") from None
     named, stores, failed = bool(studies) or run is not None, [], []
     for name in dict.fromkeys(studies) if studies else [d.name for d in directories]:
-        if studies and not os.path.isdir(root / name):
-            raise UserInputError(f"no records for study {name!r} under {root}; run it first.")
         wanted = run.get(name) if isinstance(run, Mapping) else run
+        if studies and not os.path.isdir(root / name):
+            raise UserInputError(f"no records for study {name!r} under {root}; "
+                                 f"{how_to_make(root, name, wanted)}")
         # walking, a folder is a run only if it looks like one (/sys/firmware/acpi is none)
         for r in [wanted] if wanted is not None else [d.name for d in runs_of(root / name)]:
             store = RunStore(root / name / r)
@@ -150,7 +151,8 @@ def _runs(root: Path, studies: list[str] | None, run: str | Mapping[str, str] | 
                 continue
             if manifest is None:
                 if wanted is not None:
-                    raise UserInputError(f"no run {r!r} of study {name!r} under {root}.")
+                    raise UserInputError(f"no run {r!r} of study {name!r} under {root}; "
+                                         f"{how_to_make(root, name, r)}")
                 continue
             stores.append(store)
     if not stores and not failed:

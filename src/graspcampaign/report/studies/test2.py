@@ -199,7 +199,7 @@ def fig28(run: Run, fig) -> None:
            "material", "(b) by material, all planners"), ("test2_outcomes", None, "outcome",
            "(c) outcome classes, proposed", "share of trials [%]"))(run, fig)
     reference = paper_of(run, lambda p: p.fig28_reference_pct) or np.nan
-    fig.axes[0].axhline(reference, color=style.CRITERION, ls="--", label=f"paper's {reference:g} % reference")
+    fig.axes[0].axhline(reference, color=style.CRITERION, ls="--", label=f"paper's {reference:g}% reference")
     legends_below(fig)
 
 
