@@ -96,7 +96,8 @@ def test_every_study_page_lists_each_table_and_figure_once(sim_root):
         page = check_contents(path.read_text())
         checked += len(page.links)
     test2 = check_contents((sim_root / "test2_grasp" / "default" / "report" / "report.html").read_text())
-    assert ("#t-table7", "Table 7") in test2.links and len(test2.links) >= 15
+    assert ("#t-table7", "Table 7: executed trials per planner and belief reading") in test2.links \
+        and len(test2.links) >= 15
     assert checked > 100
 
 
