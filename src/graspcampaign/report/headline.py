@@ -202,8 +202,10 @@ def write_headline(root: Path, formats: list[str], frame: pd.DataFrame) -> Path:
     frame.to_csv(root / "headline.csv", index=False)
     reduced = frame["testbed"].astype(str).str.contains(REDUCED_MARK).any()
     virtual = frame["source"].eq("virtual").any()
-    differ = int(frame["differs"].eq(True).sum())
-    why = (f" {differ} of {len(frame)} rows differ from the paper (the paper's value outside our 95% "
+    differ, judged = int(frame["differs"].eq(True).sum()), int(frame["differs"].notna().sum())
+    # of the rows compared: a row without records or without a paper value is not a difference
+    why = (f" {differ} of {judged} compared {'row' if judged == 1 else 'rows'} "
+           f"{'differs' if differ == 1 else 'differ'} from the paper (the paper's value outside our 95% "
            "interval); each run's report, linked in *run*, opens with where and why." if differ else "")
     return Document("Headline success rates (paper Table 1)", "", [], [
         Text(INTRO + (VIRTUAL_NOTE if virtual else "") + why),
