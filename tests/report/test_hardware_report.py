@@ -440,4 +440,4 @@ def test_the_findings_rates_carry_their_trial_counts(sim_root, study):
     for q in rates.index.difference([*tops, "heuristic"]):
         assert f"{label('planner', q)} {100 * rates['mean'][q]:.1f}%" not in text
     table = 9 if study == "test3_disturbance" else 7
-    assert f"(table table{table})" in head
+    assert f"(Table {table})" in head

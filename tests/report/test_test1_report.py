@@ -165,7 +165,7 @@ def test_table5_says_which_runs_ended_on_a_bound(run):
     for p, k in t5["n_at_bound"].items():
         if k:
             assert f"{label('parameter', p)} ({k} run{'' if k == 1 else 's'})" in md, p
-    assert f"over {conv.shape[0]} converged run{'' if len(conv) == 1 else 's'} (table table5):" in md
+    assert f"over {conv.shape[0]} converged run{'' if len(conv) == 1 else 's'} (Table 5):" in md
     # display words, not ids, and no split that repeats its quantity in Fig. 26c
     assert "| normal force | unseen speed |" in md and "normal_force" not in md
 

@@ -26,7 +26,7 @@ def test_the_opening_counts_the_planners_whose_success_differs_from_the_paper(si
         low, high = (100 * v for v in proportion_confint(g.sum(), g.size, method="wilson"))
         differs.append(not low - 0.1 <= paper[q]["success_pct"] <= high + 0.1)
     assert (f"success differs from the paper's for {sum(differs)} of {len(differs)} planners "
-            f"(table {table}). ") in _finding(sim_root, study)
+            f"(Table {table[5:]}). ") in _finding(sim_root, study)
 
 
 @pytest.mark.parametrize("study", sorted(STUDIES))

@@ -62,8 +62,8 @@ def finding(run: Run, extra=lambda run: "") -> str:
         if len(tops) == 1 and rows.success_low_pct[top] <= rows.success_high_pct[PROPOSED]:
             text += " (the Wilson intervals overlap)"
     differs = rows["differs"].dropna().astype(bool)
-    text += (f"; success differs from the paper's for {differs.sum()} of {len(differs)} planners (table "
-             f"{table}). ")
+    text += (f"; success differs from the paper's for {differs.sum()} of {len(differs)} planners (Table "
+             f"{table[5:]}). ")
     g = e.groupby("planner")["g_geo_actual"].median()
     cap = e.groupby("planner")["grip_capped"].mean() * 100
     text += (f"Why: the proposed score H~ has no gravity term, so its contacts reach less vertical friction "

@@ -244,8 +244,8 @@ def finding(run: Run) -> str:
         bound = [f"{label('parameter', q)} ({counted(k, 'run')})" for q, k in r["n_at_bound"].items() if k]
         l1 = r.loc["lambda1"]  # as Table 5 prints it
         ends = f"; runs ended on a search bound for {fmt.listed(bound)}" if bound else ""
-        text += (f"PSO re-identification over {counted(r['n_runs'].iloc[0], 'converged run')} (table "
-                 f"table5): λ1 = {fmt.number(l1['mean'], l1.digits)} (paper "
+        text += (f"PSO re-identification over {counted(r['n_runs'].iloc[0], 'converged run')} (Table "
+                 f"5): λ1 = {fmt.number(l1['mean'], l1.digits)} (paper "
                  f"{fmt.number(l1.paper_mean, l1.digits)}){ends}. ")
     return text + ("Why: the virtual bench differs by construction (smaller fit errors and loops, C not "
                    "identifiable at 1 mN, λ1 near 2.1 because Eq. 14 with Table 4's moduli needs it): "
