@@ -146,3 +146,17 @@ def test_a_column_the_records_lack_is_named_by_its_name_alone(lookup):
     with pytest.raises(KeyError) as raised:
         lookup(pd.DataFrame({"a": [1, 2]}))
     assert reason(raised.value) == "the records have no `success` column"
+
+
+@pytest.mark.parametrize(("override", "meant"), [
+    # a typo of a key the study sets was told to add it with '+', which would run with the typo unread
+    ("params.fractoin=0.1", "did you mean params.fraction? A key it does not set is added "),
+    ("paper.table7x=1", "did you mean paper.table7? A key it does not set is added "),
+    ("params.nosuchthing=0.1", "add it "),  # nothing near: the '+' advice alone
+])
+def test_a_mistyped_params_or_paper_key_names_the_key_the_study_sets(tmp_path, override, meant):
+    key, checker = override.split("=")[0], "its trial kind's" if override.startswith("params") \
+        else "the study's paper"
+    refused(tmp_path, ["run", "test2_grasp", override, "--root", tmp_path],
+            f"{key} is not set by this study (override {override!r} rejected); {meant}with a leading "
+            f"'+' (+{key}=...), and {checker} schema checks it.")

@@ -140,7 +140,9 @@ def compose_study(study: str, overrides: list[str] | None = None) -> StudyCfg:
         except Exception as exc:  # Hydra/OmegaConf raise many unrelated types; all mean bad input
             check_group_files()  # a broken group file is named with its line
             names = sorted(factors) if isinstance(factors, dict) else []
-            sentence = override_sentence(exc, overrides, given, names)
+            set_keys = [f"{section}.{k}" for section in ("params", "paper")
+                        if isinstance(data.get(section), dict) for k in data[section]]
+            sentence = override_sentence(exc, overrides, given, names, set_keys)
             raise _blamed(ConfigError(sentence, key=_error_key(exc)), path, overrides) from None
     try:
         check_study(obj)

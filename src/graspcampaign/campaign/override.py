@@ -9,6 +9,7 @@ itself; a bool set to anything but ``true``/``false`` (OmegaConf reads ``pso.ena
 from __future__ import annotations
 
 import dataclasses
+import difflib
 import errno
 import re
 import unicodedata
@@ -145,9 +146,11 @@ def _typed(key: str, overrides: list[str], given: list[str]) -> str | None:
 
 
 def override_sentence(exc: BaseException, overrides: list[str], given: list[str],
-                      factors: list[str] = ()) -> str:
+                      factors: list[str] = (), set_keys: list[str] = ()) -> str:
     """One sentence for a composition error, naming the user's override as they typed it (and, for a
-    bare key, the study's factors: ``shape=[...]`` works only where shape is a factor)."""
+    bare key, the study's factors: ``shape=[...]`` works only where shape is a factor; for a
+    ``params.``/``paper.`` key the study does not set, the nearest of the keys it sets,
+    ``set_keys``)."""
     text = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
     if isinstance(exc, RecursionError):  # Hydra's parser recurses once per level of [ or {
         deepest = max(given, key=lambda typed: typed.count("[") + typed.count("{"))
@@ -169,11 +172,11 @@ def override_sentence(exc: BaseException, overrides: list[str], given: list[str]
         return f"cannot parse overrides: {text.rstrip('.')}."
     if getattr(exc, "errno", None) == errno.ENAMETOOLONG:  # Hydra looked for the key as a group
         key = max((split(item)[1] for item in overrides), key=len)
-        return _unknown_override(key, _typed(key, overrides, given), factors)
+        return _unknown_override(key, _typed(key, overrides, given), factors, set_keys)
     match = re.match(r"Could not override '([^']+)'", text)
     if match:
         return _unknown_override(match.group(1), _typed(match.group(1), overrides, given),
-                                 factors)
+                                 factors, set_keys)
     match = re.match(r"Could not append to config\. An item is already at '([^']+)'", text)
     if match:
         return f"{match.group(1)} already exists; override it without the leading '+'."
@@ -247,8 +250,9 @@ def _character_sentence(item: str, typed: str, error: str) -> str | None:
             f"it: {fixed}{shell}.")
 
 
-def _unknown_override(key: str, typed: str | None, factors: list[str]) -> str:
-    """``evaluator.nosuch=1``: name the section's known keys, as the ``+`` form does."""
+def _unknown_override(key: str, typed: str | None, factors: list[str], set_keys: list[str] = ()) -> str:
+    """``evaluator.nosuch=1``: name the section's known keys, as the ``+`` form does; a ``params.``
+    or ``paper.`` key near one the study sets (``set_keys``) is taken for a typo of it."""
     if "." not in key:
         return (f"{key} is neither a known key of the study config nor a factor of this study "
                 f"(factors: {', '.join(factors) or 'none'}); override rejected.")
@@ -265,7 +269,10 @@ def _unknown_override(key: str, typed: str | None, factors: list[str]) -> str:
                 f"{', '.join(factors) or 'none'}); add it with +factors.{name}={example(name)}.")
     if (section := parent.split(".")[0]) in ("params", "paper"):
         checker = "its trial kind's schema" if section == "params" else "the study's paper schema"
-        return (f"{key} is not set by this study ({rejected}); add it with a leading '+' "
+        near = difflib.get_close_matches(name, [k.rsplit(".", 1)[1] for k in set_keys
+                                                if k.rsplit(".", 1)[0] == parent], n=1)
+        meant = f"did you mean {parent}.{near[0]}? A key it does not set is added " if near else "add it "
+        return (f"{key} is not set by this study ({rejected}); {meant}with a leading '+' "
                 f"(+{key}=...), and {checker} checks it.")
     known = parent  # evaluator.tau.x: the first unknown part (tau) in the deepest known section
     while known and schema_at(known) is None:
