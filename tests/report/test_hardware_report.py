@@ -216,9 +216,13 @@ def test_the_opening_paragraph_gives_the_records_numbers(sim_root, study):
     # overlapping Wilson intervals (statsmodels') are said to overlap; the intervals are Table 7's / 9's
     ok = ex.groupby("planner")["success"].agg(["sum", "size"])
     ci = {q: proportion_confint(ok["sum"][q], ok["size"][q], method="wilson") for q in ok.index}
+    low, high = (100 * v for v in ci["heuristic"])  # the proposed rate is said with its interval
+    assert f"{said} (Wilson 95% {low:.1f}–{high:.1f}" in first, first
     if len(top) == 1 and rates.index[0] != "heuristic":
         overlap = ci[rates.index[0]][0] <= ci["heuristic"][1]
-        assert ("(the Wilson intervals overlap)" in first) == overlap, first
+        assert ("; the intervals overlap)" in first) == overlap, first
+        low, high = (100 * v for v in ci[rates.index[0]])
+        assert f"trials, Wilson 95% {low:.1f}–{high:.1f}; paper" in first, first
     assert "Exact beliefs" in finding and f"table {study.split('_')[0]}_belief_pairs" in finding
     assert "docs/decisions.md" in finding and "Planner beliefs on the virtual rig" in finding
 

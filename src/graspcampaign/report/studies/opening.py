@@ -53,14 +53,19 @@ def finding(run: Run, extra=lambda run: "") -> str:
     rows = run.tables[table].query("belief_error == 'paper'").set_index("planner")
     theirs = rows["paper_success_pct"]  # as the table prints them
     tops, top, ranked = list(paper.index[paper == paper.max()]), paper.index[0], first(paper)
+    def wilson(q: str) -> str:  # as Table 7 (9) prints it
+        return f"Wilson 95% {fmt.interval(rows.success_low_pct[q], rows.success_high_pct[q], 1)}"
+
     text = (f"{ranked[0].upper()}{ranked[1:]} ({n1(paper.max()) + '% ' if len(tops) == 1 else ''}of "
-            f"{fmt.listed([str(n['paper'][q]) for q in tops])} trials; "
+            f"{fmt.listed([str(n['paper'][q]) for q in tops])} trials"
+            f"{', ' + wilson(top) if len(tops) == 1 else ''}; "
             f"paper {fmt.listed([n1(theirs[q]) for q in tops])}%)")
     if PROPOSED not in tops:
         text += (f"; the proposed planner, {'first ' * (theirs.idxmax() == PROPOSED)}in the paper at "
-                 f"{n1(theirs[PROPOSED])}%, succeeds on {n1(paper[PROPOSED])}% of {n['paper'][PROPOSED]}")
-        if len(tops) == 1 and rows.success_low_pct[top] <= rows.success_high_pct[PROPOSED]:
-            text += " (the Wilson intervals overlap)"
+                 f"{n1(theirs[PROPOSED])}%, succeeds on {n1(paper[PROPOSED])}% of {n['paper'][PROPOSED]} "
+                 f"({wilson(PROPOSED)}")
+        overlap = len(tops) == 1 and rows.success_low_pct[top] <= rows.success_high_pct[PROPOSED]
+        text += "; the intervals overlap)" if overlap else ")"
     differs = rows["differs"].dropna().astype(bool)
     text += (f"; success differs from the paper's for {differs.sum()} of {len(differs)} planners (Table "
              f"{table[5:]}). ")
@@ -76,5 +81,5 @@ def finding(run: Run, extra=lambda run: "") -> str:
              "Measured on hardware. ") + ("Filled by `graspcampaign ingest` from files marked `source = "
                                           "virtual`: virtual-rig exports, not rig measurements. "
                                           if run.ingested_exports else "")
-    return text + ("See `docs/decisions.md`, *Planner beliefs on the virtual rig* and "
+    return text + ("`docs/decisions.md`, *Planner beliefs on the virtual rig* and "
                    "*Tests 2-3 protocols and virtual rig*.")
