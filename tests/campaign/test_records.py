@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import shlex
+
 import kinds_for_tests  # noqa: F401
 import pandas as pd
 import pyarrow.dataset as ds
@@ -41,6 +43,18 @@ def _two_shards(tmp_path):
     rows = [{"trial_id": f"b{i}", "residual_norm_n": 0.1 * i, "status": "ok"} for i in range(20)]
     path = store.write_shard("records", "b", rows)
     return store, path
+
+
+def test_advice_for_a_damaged_run_is_a_command_a_shell_runs_as_given(tmp_path):
+    """The resume command names a results root with a space as one argument (was split in two)."""
+    store = RunStore(tmp_path / "my results" / "unit" / "r1")
+    path = store.write_shard("records", "b", [{"trial_id": "b", "residual_norm_n": 0.5}])
+    corrupt_value_column(path, "residual_norm_n")
+    with pytest.raises(DamagedRunError) as info:
+        store.read()
+    advised = str(info.value).split("resume the run (", 1)[1].split(") to ", 1)[0]
+    assert shlex.split(advised) == ["graspcampaign", "run", "unit", "--run", "r1", "--root",
+                                    str(tmp_path / "my results")]
 
 
 def test_damaged_value_column_is_refused_on_read_and_nothing_moves(tmp_path):

@@ -185,3 +185,21 @@ def test_proof_loads(t3):
     sphere = c[c["shape"] == "sphere"]
     np.testing.assert_allclose(sphere["proof_torque_nm"], sphere["mass_kg"] * 9.81 * 0.05,
                                rtol=0.02)
+
+
+def test_test3_coatings_do_not_follow_the_reports_display_order(monkeypatch):
+    """Block A and C trials take coatings in turn from COATING_LEVELS: a report reordering its
+    coatings' display (analysis.vocabulary.COATINGS) must not reorder a rig's schedule."""
+    import importlib
+
+    from graspcampaign.analysis import vocabulary
+    from graspcampaign.rig import protocol_design
+
+    designed = protocol_design.COATING_LEVELS
+    assert set(designed) == set(vocabulary.COATINGS)  # the reports' names for the same coatings
+    monkeypatch.setattr(vocabulary, "COATINGS", dict(reversed(vocabulary.COATINGS.items())))
+    try:
+        assert importlib.reload(protocol_design).COATING_LEVELS == designed
+    finally:
+        monkeypatch.undo()
+        importlib.reload(protocol_design)

@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import json
 import re
+import shlex
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -42,6 +43,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from graspcampaign.analysis.vocabulary import counted
+from graspcampaign.campaign.paths import root_options
 from graspcampaign.campaign.provenance import (
     MISMATCH,
     ingested,
@@ -295,8 +297,8 @@ def _advice(store, problem: Problem, by_ingest: bool) -> str:
         if problem.text.startswith("a damaged file records/"):
             return "move it out of the run directory and ingest the file that held its records again"
         return "move it out of the run directory"
-    where = "" if root == Path("results") else f" --root {root}"
-    resume = f"resume the run (graspcampaign run {study} --run {run}{where}) to"
+    command = shlex.join(["graspcampaign", "run", study, "--run", run, *root_options(root)])
+    resume = f"resume the run ({command}) to"
     return {"duplicate": f"{resume} quarantine the duplicate",
             "missing": f"{resume} run the missing trials again"}.get(
                 problem.fix, f"{resume} quarantine the file and run its trials again")

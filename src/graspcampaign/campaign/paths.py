@@ -117,12 +117,18 @@ def how_to_make(root: Path | str, study: str, run: str | None = None) -> str:
     run: ``ingest``)."""
     from graspcampaign.campaign.studyfile import configured_run
 
-    rooted = [] if Path(root) == Path("results") else ["--root", str(root)]
+    rooted = root_options(root)
     if run == "measured" and _ingests(study):  # `ingest`'s run: a rig's files make it
         command = " ".join(["graspcampaign ingest", shlex.quote(study), "FILE…", *map(shlex.quote, rooted)])
         return f"store the rig's measured records with `{command}` first."
     options = [] if run in (None, configured_run(study)) else ["--run", run]
     return f"run `{shlex.join(['graspcampaign', 'run', study, *options, *rooted])}` first."
+
+
+def root_options(root: Path | str) -> list[str]:
+    """The ``--root`` option a suggested command needs to reach ``root`` (none for the default,
+    ``results``); for :func:`shlex.join`, so that a root with a space stays one argument."""
+    return [] if Path(root) == Path("results") else ["--root", str(root)]
 
 
 def _ingests(study: str) -> bool:

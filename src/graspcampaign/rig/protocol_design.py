@@ -94,7 +94,9 @@ BASELINES = ("no_pso", "centroid", "force_balance", "random")
 FRICTION_LEVELS = ("natural", *COATINGS)
 """Contact surface: the object's own material, or a surface coating (§8.6 three friction levels of
 Test 2: natural/medium/low; §9.2 coatings of Test 3: high/medium/low)."""
-COATING_LEVELS = tuple(reversed(COATINGS))
+COATING_LEVELS = ("low", "medium", "high")
+"""The coatings block A and C trials take in turn: the protocol's order, not the reports' display
+order (:data:`~graspcampaign.analysis.vocabulary.COATINGS`, the same names)."""
 
 MATCHED_OBJECTS = ("sphere-01", "sphere-05", "ellipsoid-03", "ellipsoid-07", "rounded_cube-02",
                    "rounded_cube-06", "pear-01", "pear-07", "handle-03", "handle-05")
