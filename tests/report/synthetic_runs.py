@@ -144,11 +144,11 @@ def md_table(md: str, name: str) -> pd.DataFrame:
     return pd.DataFrame(rows[2:], columns=rows[0])
 
 
-def md(run: RunStore | Path) -> str:
+def report_md(run: RunStore | Path) -> str:
     """The run's report.md."""
     return (report_dir(run) / "report.md").read_text()
 
 
 def caption(store: RunStore, name: str) -> str:
     """The bold caption line above table ``name`` in report.md."""
-    return next(line for line in md(store).splitlines() if f"(`tables/{name}.csv`)" in line)
+    return next(line for line in report_md(store).splitlines() if f"(`tables/{name}.csv`)" in line)

@@ -19,7 +19,7 @@ import yaml
 from statsmodels.stats.contingency_tables import mcnemar
 from statsmodels.stats.power import NormalIndPower
 from statsmodels.stats.proportion import proportion_confint, proportion_effectsize
-from synthetic_runs import read_table
+from synthetic_runs import read_table, report_md
 from typer.testing import CliRunner
 
 from graspcampaign.analysis.vocabulary import label
@@ -234,7 +234,7 @@ def test_tables_6_and_8_carry_the_papers_values(sim_root):
         b: p8[b]["success_pct"] for b in t8["block"]}
     # the headline mixes units per block (N, % W, N·m, mm): each value has 3 significant digits of its
     # own, the paper's as printed (54, 4.34, 0.115; "54.000 % W" at one column's 3 decimals before)
-    md = (sim_root / "test3_disturbance" / "default" / "report" / "report.md").read_text()
+    md = report_md(sim_root / "test3_disturbance" / "default")
     rows = md.split("tables/table8.csv")[1].split("\n\n")[1].splitlines()[2:]
     paper_cells = {r.split(" | ")[0].strip("| "): r.split(" | ")[8] for r in rows if " | paper | " in r}
     assert paper_cells == {label("block", b): f"{p8[b]['headline']:.3g}" if "headline" in p8[b] else
@@ -341,7 +341,7 @@ def test_every_result_in_the_opening_paragraph_is_in_a_table(sim_root, study):
 
 
 def test_first_finger_table_names_its_interval(sim_root):
-    md = (sim_root / "test3_disturbance" / "default" / "report" / "report.md").read_text()
+    md = report_md(sim_root / "test3_disturbance" / "default")
     caption, header = md.split("(`tables/test3_first_finger.csv`)")[0].rsplit("**", 2)[1], \
         md.split("(`tables/test3_first_finger.csv`)")[1].split("\n")[2]
     assert "Wilson 95%" in caption and "Wilson 95%" in header

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import re
 
-from synthetic_runs import md, md_table
+from synthetic_runs import md_table, report_md
 
 NUMBER = r"([−\-]?[\d.]+)"
 
@@ -26,13 +26,13 @@ def _first(cell: str) -> str:
 
 
 def test_the_settle_finding_says_the_simulated_time_the_table_prints(sim_root):
-    page = md(sim_root / "gravity_settle" / "default")
+    page = report_md(sim_root / "gravity_settle" / "default")
     said = [t.replace("−", "-") for t in re.findall(r"settle\** within " + NUMBER + " s", page)]
     assert said == md_table(page, "settle")["simulated time [s]"].tolist()
 
 
 def test_the_pso_finding_says_each_pinned_mean_as_the_cv_table(sim_root):
-    page = md(sim_root / "pso_repeatability" / "default")
+    page = report_md(sim_root / "pso_repeatability" / "default")
     pinned = re.search(r"Pinned in every run \(CV 0, a bound of the search box\): (.+?)\.(?:\s|$)", page)
     assert pinned, "the reduced run pins no parameter: nothing to compare"
     cv = md_table(page, "cv").set_index("parameter")
@@ -41,7 +41,7 @@ def test_the_pso_finding_says_each_pinned_mean_as_the_cv_table(sim_root):
 
 
 def test_the_surrogate_finding_says_the_timing_and_r2_tables_numbers(sim_root):
-    page = md(sim_root / "surrogate" / "default")
+    page = report_md(sim_root / "surrogate" / "default")
     mlp, ratio, pso, paper_mlp, paper_ratio = _said(
         page, rf"An MLP prediction \({NUMBER} µs\) is {NUMBER}× faster than the brief PSO call "
               rf"\({NUMBER} µs; paper {NUMBER} µs, {NUMBER}×")
@@ -56,7 +56,7 @@ def test_the_surrogate_finding_says_the_timing_and_r2_tables_numbers(sim_root):
 
 
 def test_the_test1_finding_says_n_and_lambda1_as_their_tables(sim_root):
-    page = md(sim_root / "test1_bench" / "default")
+    page = report_md(sim_root / "test1_bench" / "default")
     n, paper_n, paper_sd = _said(
         page, rf"accepted normal fits give n = {NUMBER} \(paper {NUMBER} ± {NUMBER},")
     claims = md_table(page, "test1_claims").set_index("quantity")
@@ -71,7 +71,7 @@ def test_the_test1_finding_says_n_and_lambda1_as_their_tables(sim_root):
 def test_the_sensitivity_finding_counts_the_boundaries_as_the_claims_table_prints_them(sim_root):
     from graspcampaign.report.studies.sensitivity import BOUNDARIES
 
-    page = md(sim_root / "sensitivity" / "default")
+    page = report_md(sim_root / "sensitivity" / "default")
     ours = md_table(page, "sensitivity_claims").set_index("quantity")["ours (95%)"]
     intervals = {q: [float(v) for v in re.findall(r"[\d.]+", cell.split(" (")[1])]
                  for q, cell in ours.items() if " (" in cell}

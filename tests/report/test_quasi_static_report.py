@@ -15,7 +15,7 @@ import pytest
 from scipy import stats
 from statsmodels.stats.contingency_tables import mcnemar as sm_mcnemar
 from statsmodels.stats.proportion import proportion_confint
-from synthetic_runs import SHAPES, caption, make_run, md, ok_records, quasi_static_outputs, read_table
+from synthetic_runs import SHAPES, caption, make_run, ok_records, quasi_static_outputs, read_table, report_md
 
 from graspcampaign.analysis.vocabulary import label
 from graspcampaign.report import format as fmt
@@ -71,7 +71,7 @@ def figures(store) -> set[str]:
 
 def finding(store) -> str:
     """The report's opening "What this shows" paragraph."""
-    return md(store).split("## What this shows\n\n", 1)[1].split("\n", 1)[0]
+    return report_md(store).split("## What this shows\n\n", 1)[1].split("\n", 1)[0]
 
 
 def test_grid_opening_paragraph_numbers_are_the_records(runs):
@@ -132,7 +132,7 @@ def test_grid_mechanism_readings_and_epsilon_tables(runs):
     pooled = stats.spearmanr(cand["h_total"], cand["epsilon_fc"]).statistic
     assert table.loc["pooled", "rho"] == pytest.approx(pooled)
     assert table.loc["pooled", "n_pairs"] == len(cand) == 50 * len(fc)
-    text = md(store)
+    text = report_md(store)
     assert "on a PSO search bound: λ1 = 1.5 in 2 of 2, λ2 = 0.05 in 1 of 2, n = 1 in 2 of 2" in text
     assert "J is flat in λ2, b, k, c in 2 of 2 bodies" in text
     assert "not computed" not in text
@@ -204,7 +204,7 @@ def test_grip_laws_rates_readings_checks_and_need(runs):
     assert "the proposed planner passes " + fmt.listed(
         [f"{proposed[law]:.1f}% under {label('grip_law', law)}" for law in LAWS]) in text
     assert "The torque check alone" not in text and len(text) <= 900  # the readings table's counts
-    assert "not computed" not in md(store)
+    assert "not computed" not in report_md(store)
     assert figures(store) == {"fig18_grip_laws", "h_epsilon"}
 
 
@@ -227,8 +227,8 @@ def test_successes_beyond_the_design_limit_are_counted_in_the_finding_and_captio
             parts.append(over)
         sentence = "Successes deeper than the paper's 1 mm design limit: " + "; ".join(parts)
         assert sentence in caption(store, "success_by_planner")
-        assert f"*{sentence}" not in md(store)  # (the figure caption continues a sentence)
-        figure_caption = next(line for line in md(store).splitlines() if line.startswith("![")
+        assert f"*{sentence}" not in report_md(store)  # (the figure caption continues a sentence)
+        figure_caption = next(line for line in report_md(store).splitlines() if line.startswith("![")
                               and f"{figure}.png" in line)  # the rates only: not a third copy
         assert "design limit" not in figure_caption and figure_caption.endswith(
             "black marks are the paper's (Algorithm 2) values](figures/" + f"{figure}.png)")
@@ -291,7 +291,7 @@ def test_ablation_gains_its_grip_law_columns(runs):
     rates = read_table(store, "success_by_planner")
     assert set(rates["grip_law"]) == set(LAWS) and (rates.groupby("planner").size() == 3).all()
     assert set(read_table(store, "mcnemar")["grip_law"]) == set(LAWS)
-    assert "not computed" not in md(store)
+    assert "not computed" not in report_md(store)
     # the paper's power (Sec. 6.3) qualifies the success table, beside our Wilson intervals: its caption
     # says it, the opening does not (it said it beside ours, which the table prints)
     assert ("At the paper's 50 trials per variant its interval is roughly ±12 pp (Sec. 6.3)."

@@ -7,7 +7,7 @@ import numpy as np
 import pandas as pd
 import pytest
 from statsmodels.stats.proportion import proportion_confint
-from synthetic_runs import read_table
+from synthetic_runs import read_table, report_md
 
 from graspcampaign.campaign.compose import compose_study
 from graspcampaign.campaign.records import RunStore
@@ -51,7 +51,7 @@ def test_sensitivity_report(runs):
                      & (records["mass_kg"] <= 0.5)]
     row = claims.loc["(a) stable region: success inside it"]
     assert (row["n"], row["value"]) == (len(inside), 100 * inside["success"].mean())
-    md = (store.path / "report" / "report.md").read_text()
+    md = report_md(store)
     assert "## What this shows" in md and "Where ours differ" not in md
     # contacts deeper than the fingertip radius (5 mm) are counted apart, never a median of metres
     ok = records[records["status"] == "ok"]
@@ -105,7 +105,7 @@ def test_mesh_resolution_report_prints_the_cost_ratio(runs):
                                         else "differs: above the paper's target ≤ 1.50")
     runtime = read_table(store, "mesh_resolution_runtime").set_index("nodes")["loop_at_n_max_pct"]
     assert runtime.to_dict() == pytest.approx((100 * res.groupby("nodes")["loop_capped"].mean()).to_dict())
-    md = (store.path / "report" / "report.md").read_text()
+    md = report_md(store)
     # a ratio below 1 does not "grow": the sentence names both meshes and the number of trials
     assert (f"One evaluation on the largest mesh (1750 nodes) costs {expected:.2f} times one on the 144-node "
             f"reference mesh (paper 1.95: {ratio['verdict'].iloc[0].split(':')[0]}; target ≤ 1.5: "
@@ -217,7 +217,7 @@ def test_a_run_without_the_papers_meshes_is_not_compared_with_the_papers_ratio(s
     assert (ratio["verdict"] == "not compared: this run has no 1750-node mesh (the paper's ratio is "
                                 "1750 / 144 nodes)").all()
     assert ratio["quantity"].iloc[0] == f"cost ratio, {res['nodes'].max()} / 144 nodes, fastest repeats"
-    md = (store.path / "report" / "report.md").read_text()
+    md = report_md(store)
     assert (f"costs {top.median():.2f} times one on the 144-node reference mesh (not compared: this run has "
             "no 1750-node mesh, paper 1.95; table cost_ratio): too few trials to tell growth from timing "
             "noise (1 trial; a 95% interval needs 3), the design predicts none") in md
@@ -248,7 +248,7 @@ def test_a_non_finite_sweep_level_is_reported_not_raised(runs, tmp_path):
     result = CliRunner().invoke(app, ["report", "--root", str(tmp_path / "results"),
                                       "--figure-format", "svg"])
     assert result.exit_code == 0, result.output
-    md = (copy / "report" / "report.md").read_text()
+    md = report_md(copy)
     panels = pd.read_csv(copy / "report" / "tables" / "sensitivity_panels.csv")
     assert panels.set_index("panel")["runtime_median_ms"].isna().loc["n_b"]
     assert "| (c) n × b |" in md and md.split("| (c) n × b |")[1].split("\n")[0].endswith("| — |")

@@ -8,7 +8,7 @@ import shutil
 import pandas as pd
 import pytest
 from statsmodels.stats.proportion import proportion_confint
-from synthetic_runs import read_table
+from synthetic_runs import read_table, report_md
 
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.report.build import build_reports
@@ -32,7 +32,7 @@ def test_depths_beyond_the_fingertip_radius_are_counted_not_summarised(sim_root)
     records = RunStore(run).read().to_pandas()
     ok = records[records["status"] == "ok"]
     deep, won = ok["delta_max_mm"] > 5.0, ok["success_unbounded"].astype(bool)
-    md = (run / "report" / "report.md").read_text()
+    md = report_md(run)
     assert f"deeper than its radius r = 5 mm in {deep.sum()} of {len(ok)} scenarios (non-physical" in md
     if won.any():
         assert f"{(deep & won).sum()} of the {won.sum()} published-algorithm successes" in md
@@ -98,7 +98,7 @@ def test_a_fitted_run_shows_every_table_and_its_paper_values(fitted_run):
     assert timing.loc["mlp", "speedup"] == pytest.approx(timing.loc["pso_call", "time_s"]
                                                          / timing.loc["mlp", "time_s"])
     assert timing.loc["mlp", "paper_speedup"] == 17000
-    md = (fitted_run / "report" / "report.md").read_text()
+    md = report_md(fitted_run)
     assert "Wall time of one call, measured by the run" in md and "held-out positives" in md
     # times in µs, so the paper's 0.06 ms prediction shows (was "0.000" s); a ratio compared as one
     assert timing["time_us"].tolist() == pytest.approx((1e6 * timing["time_s"]).tolist())
@@ -133,7 +133,7 @@ def test_an_old_run_gets_its_interval_from_its_stored_held_out_scores(sim_root, 
     """A run finalized before finalize computed the AUC interval was judged on the point value; its
     report computes the interval from the stored scores, as the run does now, and says so."""
     run = _reported(sim_root, tmp_path / "results", _yesterdays(summary))
-    md = (run / "report" / "report.md").read_text()
+    md = report_md(run)
     cls = read_table(run, "surrogate_classification").set_index(["label", "model"])
     now = summary["surrogate_classification"].set_index(["label", "model"]).loc[cls.index]
     columns = ["roc_auc_low", "roc_auc_high"]
@@ -147,7 +147,7 @@ def test_an_old_run_gets_its_interval_from_its_stored_held_out_scores(sim_root, 
 def test_an_old_run_without_held_out_scores_says_its_verdicts_use_the_point_value(sim_root, tmp_path,
                                                                                    summary):
     run = _reported(sim_root, tmp_path / "results", _yesterdays(summary, scores=False))
-    md = (run / "report" / "report.md").read_text()
+    md = report_md(run)
     assert "AUC with no interval (the run stored none), so its verdicts are judged on the point value" in md
     assert "AUC with no interval (the run stored none)" in md
     cls = read_table(run, "surrogate_classification").set_index(["label", "model"])
@@ -180,7 +180,7 @@ def test_too_few_held_out_positives_show_the_auc_without_a_verdict(sim_root, tmp
     assert k < 10 and (cls["test_positives"] == k).all() and cls["roc_auc"].notna().all()
     reason = f"not compared: only {k} held-out positives, too few for an interval"
     assert (cls["verdict"] == reason).all() and cls[["roc_auc_low", "roc_auc_high"]].isna().all().all()
-    md = (run / "report" / "report.md").read_text()
+    md = report_md(run)
     opening = md.split("## What this shows")[1].split("\n\n**")[0]
     assert f"| {reason} |" in md and "0.81" not in md and "our 95% interval" not in opening
 
@@ -190,7 +190,7 @@ def test_a_run_without_its_summary_says_how_to_get_it(sim_root, tmp_path):
     shutil.copytree(sim_root / "surrogate" / "default", root / "surrogate" / "default",
                     ignore=shutil.ignore_patterns("report", "summary"))
     build_reports(["surrogate"], root=root)
-    md = (root / "surrogate" / "default" / "report" / "report.md").read_text()
+    md = report_md(root / "surrogate" / "default")
     assert ("Table surrogate_classification not computed: the run has no summary/surrogate_classification: "
             "`graspcampaign run surrogate` fits the models once every scenario is recorded.") in md
 
@@ -221,7 +221,7 @@ def test_the_regression_sentence_says_only_what_the_r2_shows(sim_root):
     """It said the residual "depends on the sampled contact triple more than on the inputs" whenever
     R² fell below the paper's: no record tests that. A negative R² is said as what it means."""
     run = sim_root / "surrogate" / "default"
-    md = (run / "report" / "report.md").read_text()
+    md = report_md(run)
     best = read_table(run, "surrogate_regression")["r2"].max()
     assert "contact triple" not in md
     assert (f"The best regression R² is {best:.2f}".replace("-", "\u2212") in md) and (

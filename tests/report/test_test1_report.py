@@ -13,7 +13,7 @@ import pandas as pd
 import pytest
 from statsmodels.stats.proportion import proportion_confint
 from statsmodels.stats.weightstats import DescrStatsW
-from synthetic_runs import read_table
+from synthetic_runs import read_table, report_md
 from test_report_reads_only import fresh_reports
 
 from graspcampaign.analysis.vocabulary import label
@@ -33,7 +33,7 @@ def run(sim_root):
 
 def test_every_page_and_figure_says_virtual_rig(run, sim_root, tmp_path_factory):
     path, _ = run
-    md = (path / "report" / "report.md").read_text()
+    md = report_md(path)
     assert "VIRTUAL RIG" in md and "not hardware measurements" in md
     assert md.index("## What this shows") < md.index("Virtual-bench data, not hardware: synthetic waveforms")
     # the run's records (without its report) reported again with SVG figures: that report is
@@ -98,7 +98,7 @@ def test_the_finding_counts_the_differing_claims_and_points_to_their_table(run):
     path, _ = run
     claims = read_table(path, "test1_claims")
     compared = claims["differs"].dropna().astype(str)
-    md = (path / "report" / "report.md").read_text()
+    md = report_md(path)
     assert (f"{(compared == 'True').sum()} of {len(compared)} §7 quantities differ from the paper's "
             "(table test1_claims). ") in md
     assert "among them" not in md
@@ -156,7 +156,7 @@ def test_table5_says_which_runs_ended_on_a_bound(run):
         assert (t5.loc[p, "mean_low"], t5.loc[p, "mean_high"]) == pytest.approx((low, high), rel=1e-9)
         inside = low <= t5.loc[p, "paper_mean"] <= high
         assert t5.loc[p, "mean_verdict"].startswith("consistent" if inside else "differs"), p
-    md = (path / "report" / "report.md").read_text()
+    md = report_md(path)
     assert "| mean: verdict |" in md and "| CV: verdict |" in md
     # the finding counts them in words that agree with the count ("λ2 (1 runs)" did not)
     for p, k in t5["n_at_bound"].items():
@@ -171,7 +171,7 @@ def test_damage_depth_says_the_thresholds_are_extrapolated(run):
     path, records = run
     depths = RunStore(path).read("summary/damage_depth").to_pandas()
     deepest = records.loc[records["block"] == "cyclic", "depth_mm"].max()
-    md = (path / "report" / "report.md").read_text()
+    md = report_md(path)
     k, r = int(depths["extrapolated"].sum()), int((depths["damage_depth_mm"] > 5.0).sum())
     assert (f"{k} of {len(depths)} lie beyond the deepest cycled level ({deepest:g} mm) and {r} beyond the "
             "5 mm fingertip radius") in md

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import pytest
 from statsmodels.stats.proportion import proportion_confint
-from synthetic_runs import md
+from synthetic_runs import report_md
 from test_hardware_report import STUDIES, _both, _finding, _paper
 
 
@@ -30,7 +30,7 @@ def test_the_opening_counts_the_planners_whose_success_differs_from_the_paper(si
 def test_the_opening_leaves_the_flags_to_their_table_and_their_reasons_to_its_caption(sim_root, study):
     """The flags' precision is the classifier table's (it was restated with a reason in the opening);
     why the residual flag cannot beat the base rate is now said in that table's caption."""
-    finding, page = _finding(sim_root, study), md(sim_root / study / "default")
+    finding, page = _finding(sim_root, study), report_md(sim_root / study / "default")
     assert "`predicted_stable`" not in finding and "precision" not in finding
     name = "test2_classifier" if study == "test2_grasp" else "test3_retention_classifier"
     caption = page.split(f"(`tables/{name}.csv`)")[0].rsplit("\n**", 1)[1]
@@ -46,6 +46,6 @@ def test_test3_opening_gives_the_drop_rate_and_table8_says_when_blocks_a_and_c_s
     paper = _paper("test3_disturbance")["table9"]["heuristic"]["drop_pct"]
     assert f"It drops {drop:.1f}% of its trials (paper {paper:.1f}%)" in _finding(sim_root,
                                                                                     "test3_disturbance")
-    page = md(sim_root / "test3_disturbance" / "default")
+    page = report_md(sim_root / "test3_disturbance" / "default")
     caption = page.split("(`tables/table8.csv`)")[0].rsplit("\n**", 1)[1]
     assert "blocks A and C succeed only when the threshold reaches the proof load" in caption
