@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from cli_checks import invoke
+from cli_checks import refused
 
 #: a tetrahedron 40 x 30 x 20 mm; its faces, outward wound, as 1-based vertex numbers
 CORNERS = [(0, 0, 0), (40, 0, 0), (0, 30, 0), (0, 0, 20)]
@@ -28,10 +28,9 @@ def _obj(faces, corners, head: str = "") -> str:
             + "".join(f"f {a} {b} {c}\n" for a, b, c in faces))
 
 
-def _refused(path, message: str) -> None:
-    result = invoke("plan", path, "--mass-kg", "0.1")
-    assert result.exit_code == 2, result.output
-    assert result.stderr == f"error: {message}\n" and result.stdout == ""
+def _refused(path, message: str, *unit: str) -> None:
+    """``plan`` of the mesh file exits 2 with ``message`` and writes nothing beside it."""
+    refused(path.parent, ["plan", path, "--mass-kg", "0.1", *unit], message)
 
 
 def test_a_hole_is_named_by_its_corners_in_the_file_unit(tmp_path):
@@ -41,8 +40,8 @@ def test_a_hole_is_named_by_its_corners_in_the_file_unit(tmp_path):
     _refused(path, "mesh 'open.stl' is not watertight: 3 boundary edges (on one face only) between "
                    "the vertices at (0, 0, 20), (0, 30, 0) and (40, 0, 0) mm.")
     path.write_text(_stl(FACES[:3], [np.multiply(c, 0.1) for c in CORNERS]))  # the same in cm
-    result = invoke("plan", path, "--mass-kg", "0.1", "--unit", "cm")
-    assert result.stderr.endswith("between the vertices at (0, 0, 2), (0, 3, 0) and (4, 0, 0) cm.\n")
+    _refused(path, "mesh 'open.stl' is not watertight: 3 boundary edges (on one face only) between "
+                   "the vertices at (0, 0, 2), (0, 3, 0) and (4, 0, 0) cm.", "--unit", "cm")
 
 
 def test_a_wide_hole_is_named_by_its_bounding_box(tmp_path):

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -118,8 +119,14 @@ def quasi_static_outputs(factors: dict, rng: np.random.Generator) -> dict:
     return out
 
 
-def read_table(store: RunStore, name: str) -> pd.DataFrame:
-    return pd.read_csv(store.path / "report" / "tables" / f"{name}.csv")
+def report_dir(run: RunStore | Path) -> Path:
+    """The report folder of a run, given its store or its folder (``<root>/<study>/<run>``)."""
+    return (run.path if isinstance(run, RunStore) else run) / "report"
+
+
+def read_table(run: RunStore | Path, name: str) -> pd.DataFrame:
+    """The run's ``tables/<name>.csv``."""
+    return pd.read_csv(report_dir(run) / "tables" / f"{name}.csv")
 
 
 def ok_records(store: RunStore) -> pd.DataFrame:
@@ -137,11 +144,11 @@ def md_table(md: str, name: str) -> pd.DataFrame:
     return pd.DataFrame(rows[2:], columns=rows[0])
 
 
-def md(store: RunStore) -> str:
+def report_md(run: RunStore | Path) -> str:
     """The run's report.md."""
-    return (store.path / "report" / "report.md").read_text()
+    return (report_dir(run) / "report.md").read_text()
 
 
 def caption(store: RunStore, name: str) -> str:
     """The bold caption line above table ``name`` in report.md."""
-    return next(line for line in md(store).splitlines() if f"(`tables/{name}.csv`)" in line)
+    return next(line for line in report_md(store).splitlines() if f"(`tables/{name}.csv`)" in line)

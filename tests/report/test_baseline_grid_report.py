@@ -17,7 +17,7 @@ import pytest
 from scipy import stats as sps
 from statsmodels.stats.contingency_tables import mcnemar as sm_mcnemar
 from statsmodels.stats.proportion import proportion_confint
-from synthetic_runs import SHAPES, make_run, md_table, ok_records, quasi_static_outputs, read_table
+from synthetic_runs import SHAPES, make_run, md_table, ok_records, quasi_static_outputs, read_table, report_md
 
 from graspcampaign.analysis.vocabulary import label
 from graspcampaign.report.build import build_reports
@@ -129,7 +129,7 @@ def test_grid_design_limit_and_failure_checks(grid_run):
 
 def test_grid_markdown_states_differences_and_figure(grid_run):
     root, store = grid_run
-    md = (store.path / "report" / "report.md").read_text()
+    md = report_md(store)
     heuristic = read_table(store, "success_by_planner").set_index("planner").loc["heuristic"]
     assert f"| {heuristic['verdict']} |" in md and f"({_signed(heuristic['difference'])})" in md
     assert "Where we differ" not in md  # the verdicts are in the tables, not repeated as bullets
@@ -181,7 +181,7 @@ def test_dynamic_check_lists_the_planners_in_the_order_baseline_grid_lists_them(
     from graspcampaign.report.studies.dynamic_check import agreement
 
     root, store = grid_run
-    grid = md_table((store.path / "report" / "report.md").read_text(), "success_by_planner")["planner"]
+    grid = md_table(report_md(store), "success_by_planner")["planner"]
     ok = ok_records(store)  # one dynamic grasp per source trial and preset, labels as in the source
     records = pd.concat([ok.assign(model_preset=preset) for preset in ("table2", "firm")], ignore_index=True)
     records = records.assign(qs_success=records["success"], dynamic_status="stable")

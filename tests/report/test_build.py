@@ -16,6 +16,7 @@ import pandas as pd
 import pytest
 import yaml
 from statsmodels.stats.proportion import proportion_confint
+from synthetic_runs import report_md
 from typer.testing import CliRunner
 
 from graspcampaign.campaign.compose import project_dirs
@@ -125,7 +126,7 @@ def test_the_header_states_the_design_the_run_ran(tmp_path):
     levels its manifest's config holds, counted beyond four."""
     store = write_run(tmp_path, planners=("heuristic", "random", "antipodal", "centroid", "no_pso"))
     build_reports(["ablation"], root=tmp_path)
-    md = (store.path / "report" / "report.md").read_text()
+    md = report_md(store)
     assert "- **Design:** shape sphere; planner (5 levels); seeds 10\n" in md
 
 
@@ -166,7 +167,7 @@ def test_errored_trials_enter_no_denominator(tmp_path):
     assert (row["n"], row["n_error"], row["successes"]) == (8, 2, 7)
     low, high = proportion_confint(7, 8, method="wilson")  # statsmodels reference
     assert (row["wilson_low_pct"], row["wilson_high_pct"]) == pytest.approx((100 * low, 100 * high))
-    md = (store.path / "report" / "report.md").read_text()
+    md = report_md(store)
     assert "20 recorded of 20; 18 executed; 2 errored, excluded from every denominator" in md
 
 
@@ -297,7 +298,7 @@ def test_a_run_whose_every_trial_errored_is_reported_with_reasons(tmp_path):
     table = pd.read_csv(store.path / "report" / "tables" / "success_by_planner.csv")
     assert table["rate_why"].tolist() == ["no executed trial"] * 2
     assert table["n_error"].tolist() == [10, 10]
-    md = (store.path / "report" / "report.md").read_text()
+    md = report_md(store)
     assert "| proposed H(G) | Algorithm 2 (paper) | 72.0 | no executed trial |" in md  # law by planner
     assert "20 recorded of 20; 0 executed; 20 errored" in md
     errors = pd.read_csv(store.path / "report" / "tables" / "errors.csv")
@@ -311,7 +312,7 @@ def test_a_mistyped_paper_block_of_an_old_run_falls_back_to_the_study_file(tmp_p
     manifest["config_hash"] = config_digest(manifest["config"])  # as that run hashed its config
     store.manifest_path.write_text(json.dumps(manifest))
     build_reports(["ablation"], root=tmp_path)
-    md = (store.path / "report" / "report.md").read_text()
+    md = report_md(store)
     assert ("this run's paper block does not match the current schema (the run's paper "
             "block.sucess_pct is not a known key") in md
     table = pd.read_csv(store.path / "report" / "tables" / "success_by_planner.csv")
@@ -325,7 +326,7 @@ def test_a_measured_run_filled_with_virtual_exports_is_labelled_virtual(tmp_path
     manifest["source"] = "measured"  # as `ingest` declares it
     store.manifest_path.write_text(json.dumps(manifest))
     build_reports(["test2_grasp"], root=tmp_path, formats=["md", "html"])
-    md = (store.path / "report" / "report.md").read_text()
+    md = report_md(store)
     assert "**Data source:** VIRTUAL RIG: synthetic data" in md
     assert "measured on hardware" not in (store.path / "report" / "report.html").read_text()
     rows = pd.read_csv(tmp_path / "headline.csv").set_index("headline")

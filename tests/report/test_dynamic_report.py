@@ -13,6 +13,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 import pytest
+from synthetic_runs import md_table
 
 from graspcampaign.analysis.vocabulary import label
 from graspcampaign.report.document import Document
@@ -123,9 +124,8 @@ def test_the_finding_reports_the_lp_at_the_runs_own_mu_not_only_at_zero():
     text = finding(run)
     assert (f"the friction-cone LP at μ = 0 is feasible in 0 of {len(ok)} on the meshed sphere and "
             f"{len(ok)} on the ideal one (table friction_cone)") in text
-    head, rows = rendered_tables(run)["friction_cone"]  # the LP at the run's own μ: the table's
-    mu = [float(r[head.index("μ")]) for r in rows]
-    assert [r[head.index("LP at μ")] for r in rows] == ["infeasible" if m == 0.1 else "feasible" for m in mu]
+    cone = rendered_tables(run)["friction_cone"]  # the LP at the run's own μ: the table's
+    assert cone["LP at μ"].tolist() == ["infeasible" if float(m) == 0.1 else "feasible" for m in cone["μ"]]
 
 
 def test_the_finding_says_how_and_when_the_unheld_runs_ended_in_words():
@@ -147,14 +147,10 @@ def finding(run: Run) -> str:
                 if getattr(b, "kind", "") == "finding")
 
 
-def rendered_tables(run: Run) -> dict[str, tuple[list[str], list[list[str]]]]:
-    """Each friction_mass table as its Markdown page shows it: (headers, rows of cells)."""
-    out = {}
-    for item in (i for i in FRICTION_MASS.items if type(i).__name__ == "Table"):
-        lines = item.render(run)[0].md("png").splitlines()[2:]
-        head, *rows = [[c.strip() for c in line.strip("|").split("|")] for line in lines if line != lines[1]]
-        out[item.name] = head, rows
-    return out
+def rendered_tables(run: Run) -> dict[str, pd.DataFrame]:
+    """Each friction_mass table as its Markdown page shows it (text cells, synthetic_runs.md_table)."""
+    return {item.name: md_table(item.render(run)[0].md("png"), item.name)
+            for item in FRICTION_MASS.items if type(item).__name__ == "Table"}
 
 
 def test_the_tables_show_words_not_record_names():
@@ -167,14 +163,12 @@ def test_the_tables_show_words_not_record_names():
         qs_success_unbounded=True, qs_failure_check="none", success=False)
     tables = rendered_tables(run)
     record_words = {"lp", "qs", "mu0", "unbounded", "wrench"}  # docs/records.md abbreviations
-    for name, (head, _) in tables.items():
-        assert not [h for h in head if record_words & set(h.split())], name
-    head, rows = tables["friction_cone"]
-    reasons = [r[head.index("at μ = 0 fails")] for r in rows]
+    for name, table in tables.items():
+        assert not [h for h in table.columns if record_words & set(h.split())], name
+    reasons = tables["friction_cone"]["at μ = 0 fails"]
     expected = {"force_balance": "force balance", "torque_balance": "torque balance"}  # docs/records.md
     assert sorted(reasons) == sorted(expected[v] for v in run.ok.lp_mu0_reason)
-    head, rows = tables["like_for_like"]
-    assert {r[head.index("dynamic status")] for r in rows} == {label("dynamic_status", "not_settled")}
+    assert set(tables["like_for_like"]["dynamic status"]) == {label("dynamic_status", "not_settled")}
 
 
 def test_every_case_stays_visible_where_curves_coincide():
@@ -270,8 +264,8 @@ def held_run() -> Run:
 def test_the_papers_penetration_and_force_values_are_rows_beside_ours():
     # the paper's 0.5 mm total penetration was only a line on the figure, its settle steps, residual
     # amplitude and finger forces nowhere; δmax 1.21 mm passed as 'consistent' beside a 1 mm limit
-    head, rows = rendered_tables(held_run())["paper_values"]
-    verdict = {r[0]: r[head.index("verdict")] for r in rows}
+    values = rendered_tables(held_run())["paper_values"].set_index("quantity")
+    verdict = values["verdict"]
     firm = label("model_preset", "firm")
     assert verdict[f"{firm}: final total penetration Σδ, largest over its lifted runs"] == \
         "within the paper's target ≤ 0.50 mm"  # the trace ends at 1e-3 * 0.4 m = 0.4 mm
@@ -279,34 +273,31 @@ def test_the_papers_penetration_and_force_values_are_rows_beside_ours():
                    "limit per contact)"] == "differs: above the paper's target ≤ 1.00 mm"
     case = f"{firm}, μ = 0.1, m = 0.4 kg"
     assert verdict[f"{case}: steps before the settled window"].startswith("not compared: steps of another")
-    ours = {r[0]: r[head.index("ours")] for r in rows}
-    assert ours[f"{case}: steps before the settled window"] == "3000"  # 0.3 s / 100 µs
+    assert values.loc[f"{case}: steps before the settled window", "ours"] == "3000"  # 0.3 s / 100 µs
     for j, paper in ((1, "5.000"), (2, "0.400"), (3, "12.000")):
-        row = next(r for r in rows
-                   if r[0] == f"{case}: finger {j} normal force at the end (paper: internal units)")
-        assert row[head.index("paper")] == paper and "internal units" in row[head.index("verdict")]
+        row = values.loc[f"{case}: finger {j} normal force at the end (paper: internal units)"]
+        assert row["paper"] == paper and "internal units" in row["verdict"]
 
 
 def test_the_finding_compares_penetration_and_says_what_a_hold_leaves():
     # "2 of 2 hold at δ_max 1.21 mm", no word of the 1 mm limit, of the 0.935 N left (16 % of
     # 0.6 kg × 9.81 to 48 % of 0.2 kg × 9.81) or of one finger carrying 3.95 of 4.0 N (98.75 %)
-    text = finding(held_run())
-    head, rows = rendered_tables(held_run())["paper_values"]
-    verdicts = [r[head.index("verdict")].split(":")[0].split(" ")[0] for r in rows]
+    run = held_run()
+    text, tables = finding(run), rendered_tables(run)
+    values = tables["paper_values"]
+    verdicts = values["verdict"].str.split(":").str[0].str.split(" ").str[0].tolist()
     differ, judged = verdicts.count("differs"), verdicts.count("differs") + verdicts.count("within")
     assert f"{differ} of {judged} values compared with Sec. 5.5 differ (table paper_values)" in text
     # the trace's 0.4 mm as the paper_values table prints it (2 decimals), not "0.4"
-    head, rows = rendered_tables(held_run())["paper_values"]
     firm = label("model_preset", "firm")
-    assert [r[head.index("ours")] for r in rows if r[0] == f"{firm}: {TOTAL}"] == ["0.40"]
+    assert values.loc[values["quantity"] == f"{firm}: {TOTAL}", "ours"].tolist() == ["0.40"]
     # ‖F‖ sums the friction forces too, and it is the last step's value of a force that may swing from
     # step to step (a held 0.4 kg body cannot carry a steady 0.935 N: 0.12 m/s in the 0.05 s window)
     table = next(i for i in FRICTION_MASS.items if getattr(i, "name", "") == "friction_mass")
     assert ("the contact forces (normal and friction) plus the weight at the last step (one step's value: a "
             "centroid at rest over the settled window bounds the force's mean there, not its swing from "
             "step to step)") in table.caption
-    head, _ = rendered_tables(held_run())["friction_mass"]
-    assert {"final R_z [N]", "final ‖F‖ [N]", "final ‖τ‖ [N·m]"} <= set(head)
+    assert {"final R_z [N]", "final ‖F‖ [N]", "final ‖τ‖ [N·m]"} <= set(tables["friction_mass"].columns)
 
 
 def test_a_depth_not_computed_leaves_the_finding_without_penetration_words():
@@ -346,9 +337,9 @@ def test_a_quasi_static_depth_beyond_the_fingertip_is_called_non_physical():
     run = held_run()
     table2 = run.ok.model_preset == "table2"
     run.__dict__["ok"] = run.ok.assign(qs_delta_max_mm=np.where(table2, 1693.0, 1.17), qs_success=~table2)
-    head, rows = rendered_tables(run)["like_for_like"]  # the table prints it; its caption names it
-    deep = [r[head.index("quasi-static δmax [mm]")] for r in rows if r[0] == label("model_preset", "table2")]
-    assert deep == ["1693"] * int(table2.sum())
+    like = rendered_tables(run)["like_for_like"]  # the table prints it; its caption names it
+    deep = like.loc[like["model preset"] == label("model_preset", "table2"), "quasi-static δmax [mm]"]
+    assert deep.tolist() == ["1693"] * int(table2.sum())
     table = next(i for i in FRICTION_MASS.items if getattr(i, "name", "") == "like_for_like")
     assert "a quasi-static δmax beyond the fingertip radius is non-physical" in table.caption
 
@@ -372,8 +363,8 @@ def test_the_phases_a_status_ended_in_are_named_in_one_order():
                        normal_off_radial_max_deg=1.0)
     run.__dict__["ok"] = ok
     assert f"All {len(ok)} end: penetration limit (table friction_mass)" in finding(run)
-    head, rows = rendered_tables(run)["friction_mass"]  # each run's phase, in design order
-    assert [r[head.index("final phase")] for r in rows] == list(ok.final_phase)
+    phases = rendered_tables(run)["friction_mass"]["final phase"]  # each run's phase, in design order
+    assert phases.tolist() == list(ok.final_phase)
 
 
 def test_a_preset_without_the_shown_case_says_so_row_by_row():
@@ -381,8 +372,7 @@ def test_a_preset_without_the_shown_case_says_so_row_by_row():
     run = held_run()
     firm = label("model_preset", "firm")
     run.__dict__["ok"] = run.ok[~((run.ok.model_preset == "firm") & (run.ok.mass_kg == 0.4))]
-    head, rows = rendered_tables(run)["paper_values"]
-    verdict = {r[0]: r[head.index("verdict")] for r in rows}
+    verdict = rendered_tables(run)["paper_values"].set_index("quantity")["verdict"]
     case = f"{firm}, μ = 0.1, m = 0.4 kg"
     assert verdict[f"{case}: steps before the settled window"] == \
         "not compared: this preset has no executed run of this case"

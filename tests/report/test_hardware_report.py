@@ -19,6 +19,7 @@ import yaml
 from statsmodels.stats.contingency_tables import mcnemar
 from statsmodels.stats.power import NormalIndPower
 from statsmodels.stats.proportion import proportion_confint, proportion_effectsize
+from synthetic_runs import read_table, report_md
 from typer.testing import CliRunner
 
 from graspcampaign.analysis.vocabulary import label
@@ -36,10 +37,6 @@ cli = CliRunner()
 
 def _paper(study: str) -> dict:
     return yaml.safe_load((project_dirs()[1] / f"{study}.yaml").read_text())["paper"]
-
-
-def _table(root, study, name, run="default") -> pd.DataFrame:
-    return pd.read_csv(root / study / run / "report" / "tables" / f"{name}.csv")
 
 
 def _both(root, study) -> pd.DataFrame:
@@ -109,7 +106,7 @@ def test_every_page_and_figure_says_virtual_rig(sim_root, study, tmp_path):
 
 @pytest.mark.parametrize(("study", "table"), [("test2_grasp", "table7"), ("test3_disturbance", "table9")])
 def test_planner_tables_are_wilson_rates_of_both_readings(sim_root, study, table):
-    t, both = _table(sim_root, study, table), _both(sim_root, study)
+    t, both = read_table(sim_root / study / "default", table), _both(sim_root, study)
     ref = _paper(study)[table]
     assert set(t["belief_error"]) == {"paper", "none"}
     for row in t.to_dict("records"):
@@ -128,7 +125,7 @@ def test_planner_tables_are_wilson_rates_of_both_readings(sim_root, study, table
 @pytest.mark.parametrize("study", sorted(STUDIES))
 def test_belief_tables_equal_a_pandas_recomputation(sim_root, study):
     prefix, both = study.split("_")[0], _both(sim_root, study)
-    t = _table(sim_root, study, f"{prefix}_belief").set_index(["planner", "belief_error"])
+    t = read_table(sim_root / study / "default", f"{prefix}_belief").set_index(["planner", "belief_error"])
     gap = (both["g_geo_believed"] - both["g_geo_actual"]).groupby([both["planner"],
                                                                    both["belief_error"]]).median()
     np.testing.assert_allclose(t["g_geo_gap"].sort_index(), gap.sort_index(), atol=1e-12)
@@ -147,7 +144,7 @@ def test_belief_tables_equal_a_pandas_recomputation(sim_root, study):
                          ("actual", "actual quantities")):
         assert f"| {model} |" not in shown
         assert (f"| {words} |" in shown) == (model in set(t["belief_model"]))
-    pairs = _table(sim_root, study, f"{prefix}_belief_pairs").set_index("planner")
+    pairs = read_table(sim_root / study / "default", f"{prefix}_belief_pairs").set_index("planner")
     wide = both.pivot_table(index=["planner", "trial_id"], columns="belief_error", values="success",
                             aggfunc="first").astype(bool)
     for planner, g in wide.groupby(level="planner"):
@@ -167,7 +164,7 @@ def test_matched_mcnemar_shows_the_papers_centroid_test_and_both_p_values(sim_ro
     """The matched McNemar table is the quasi-static studies' (spec.Paired): the paper's proposed vs
     centroid test beside ours (it reports no other pair), p of χ² and of the exact test."""
     prefix, ref = study.split("_")[0], _paper(study)["mcnemar_centroid"]
-    t = _table(sim_root, study, f"{prefix}_mcnemar").set_index("compared")
+    t = read_table(sim_root / study / "default", f"{prefix}_mcnemar").set_index("compared")
     assert all(f"{v}" in t.loc["centroid", "paper"] for v in (ref["chi2"], f"{ref['won']} won",
                                                                f"{ref['lost']} lost"))
     assert (t.drop(index="centroid")["paper"] == "not reported").all()
@@ -182,7 +179,8 @@ def test_matched_mcnemar_shows_the_papers_centroid_test_and_both_p_values(sim_ro
 @pytest.mark.parametrize(("study", "name"), [("test2_grasp", "test2_classifier"),
                                              ("test3_disturbance", "test3_retention_classifier")])
 def test_flag_precision_recall_and_base_rate(sim_root, study, name):
-    t = _table(sim_root, study, name).query("scope == 'all'").set_index(["flag", "belief_error"])
+    t = read_table(sim_root / study / "default", name).query("scope == 'all'")
+    t = t.set_index(["flag", "belief_error"])
     both = _both(sim_root, study)
     for (flag, reading), row in t.iterrows():
         g = both[both["belief_error"] == reading]
@@ -228,24 +226,24 @@ def test_the_opening_paragraph_gives_the_records_numbers(sim_root, study):
 
 
 def test_tables_6_and_8_carry_the_papers_values(sim_root):
-    t6 = _table(sim_root, "test2_grasp", "table6").query("belief_error == 'paper'")
+    t6 = read_table(sim_root / "test2_grasp" / "default", "table6").query("belief_error == 'paper'")
     p6 = _paper("test2_grasp")["table6"]
     assert dict(zip(t6["shape"], t6["paper_success_pct"], strict=True)) == {
         s: p6[s]["success_pct"] for s in t6["shape"]}
     ex = _both(sim_root, "test2_grasp").query("belief_error == 'paper' and planner == 'heuristic'")
     assert t6.set_index("shape")["n"].to_dict() == ex.groupby("shape").size().to_dict()
-    t8 = _table(sim_root, "test3_disturbance", "table8").query("belief_error == 'paper'")
+    t8 = read_table(sim_root / "test3_disturbance" / "default", "table8").query("belief_error == 'paper'")
     p8 = _paper("test3_disturbance")["table8"]
     assert dict(zip(t8["block"], t8["paper_success_pct"], strict=True)) == {
         b: p8[b]["success_pct"] for b in t8["block"]}
     # the headline mixes units per block (N, % W, N·m, mm): each value has 3 significant digits of its
     # own, the paper's as printed (54, 4.34, 0.115; "54.000 % W" at one column's 3 decimals before)
-    md = (sim_root / "test3_disturbance" / "default" / "report" / "report.md").read_text()
+    md = report_md(sim_root / "test3_disturbance" / "default")
     rows = md.split("tables/table8.csv")[1].split("\n\n")[1].splitlines()[2:]
     paper_cells = {r.split(" | ")[0].strip("| "): r.split(" | ")[8] for r in rows if " | paper | " in r}
     assert paper_cells == {label("block", b): f"{p8[b]['headline']:.3g}" if "headline" in p8[b] else
                            MISSING for b in t8["block"]}
-    claims = _table(sim_root, "test3_disturbance", "test3_claims").set_index("quantity")
+    claims = read_table(sim_root / "test3_disturbance" / "default", "test3_claims").set_index("quantity")
     row = claims.loc["proposed success, natural friction"]
     assert row["paper"] == 86.0 and row["difference"] == pytest.approx(row["value"] - 86.0)
     assert (claims["n"].notna() | claims["value"].isna() | (claims["unit"] != "%")).all()
@@ -273,7 +271,7 @@ def test_a_partially_ingested_measured_run_is_reported(measured, tmp_path):
 def test_power_table_equals_statsmodels(sim_root):
     """Independent arms: Cohen's h and statsmodels' normal power (the paper's 77.8 % vs 46.7 % gives
     n = ceil(NormalIndPower().solve_power(proportion_effectsize(.778, .467), alpha=.05, power=.8)))."""
-    t = _table(sim_root, "test2_grasp", "test2_power").query("design == 'independent'")
+    t = read_table(sim_root / "test2_grasp" / "default", "test2_power").query("design == 'independent'")
     assert len(t) >= 4
     for row in t.to_dict("records"):
         n = NormalIndPower().solve_power(effect_size=abs(proportion_effectsize(row["p1"], row["p2"])),
@@ -290,9 +288,9 @@ def test_share_of_large_threshold_errors_counts_the_records(sim_root):
     m, p = a["threshold_measured_n"].astype(float), a["threshold_pred_n"].astype(float)
     ok = (m > 0) & p.notna() & ~a["threshold_censored"].astype("boolean").fillna(False).astype(bool)
     k, n = int((100 * (p - m).abs() / m)[ok].gt(50).sum()), int(ok.sum())
-    agree = _table(sim_root, "test3_disturbance", "test3_threshold_agreement").iloc[0]
+    agree = read_table(sim_root / "test3_disturbance" / "default", "test3_threshold_agreement").iloc[0]
     assert (agree["n"], agree["n_err_over_50pct"]) == (n, k)
-    row = _table(sim_root, "test3_disturbance", "test3_claims").set_index("quantity").loc[
+    row = read_table(sim_root / "test3_disturbance" / "default", "test3_claims").set_index("quantity").loc[
         "lateral thresholds with error > 50 %"]
     low, high = proportion_confint(k, n, method="wilson")
     assert (row["value"], row["low"], row["high"], row["n"]) == (
@@ -347,7 +345,7 @@ def test_every_result_in_the_opening_paragraph_is_in_a_table(sim_root, study):
 
 
 def test_first_finger_table_names_its_interval(sim_root):
-    md = (sim_root / "test3_disturbance" / "default" / "report" / "report.md").read_text()
+    md = report_md(sim_root / "test3_disturbance" / "default")
     caption, header = md.split("(`tables/test3_first_finger.csv`)")[0].rsplit("**", 2)[1], \
         md.split("(`tables/test3_first_finger.csv`)")[1].split("\n")[2]
     assert "Wilson 95%" in caption and "Wilson 95%" in header
@@ -363,16 +361,17 @@ def test_test3_threshold_columns_carry_their_unit_and_equal_the_records(sim_root
         "belief_error == 'paper' and planner == 'heuristic' and block == 'A'")
     m, p = a["threshold_measured_n"].astype(float), a["threshold_pred_n"].astype(float)
     ramps = a.assign(m=m)[(m > 0) & p.notna() & ~a["threshold_censored"].astype("boolean").fillna(False)]
-    coating = _table(sim_root, "test3_disturbance", "test3_coating").set_index("friction_level")
+    run = sim_root / "test3_disturbance" / "default"
+    coating = read_table(run, "test3_coating").set_index("friction_level")
     assert coating["lat_threshold_n"].to_dict() == pytest.approx(
         ramps.groupby("friction_level")["m"].median().reindex(coating.index).to_dict(), nan_ok=True)
-    directions = _table(sim_root, "test3_disturbance", "test3_directions").set_index("direction_deg")
+    directions = read_table(run, "test3_directions").set_index("direction_deg")
     natural = ramps.query("friction_level == 'natural'")
     assert directions["lat_threshold_n"].to_dict() == pytest.approx(
         natural.groupby(natural["direction_deg"].astype(float))["m"].median().reindex(directions.index)
         .to_dict(), nan_ok=True)
     fit = linregress(ramps["threshold_pred_n"].astype(float), ramps["m"])
-    agree = _table(sim_root, "test3_disturbance", "test3_threshold_agreement").iloc[0]
+    agree = read_table(run, "test3_threshold_agreement").iloc[0]
     assert agree["ols_intercept_n"] == pytest.approx(fit.intercept)
     assert "threshold" not in coating and "ols_intercept" not in agree  # no column without its unit
 
@@ -423,7 +422,7 @@ def test_outcome_shares_are_named_as_shares_of_each_class(sim_root):
     ``rate_pct`` (with ``wilson_*`` and ``paper_pct``), not ``success_pct``: only two of the classes are
     successes."""
     ex = _both(sim_root, "test2_grasp").query("belief_error == 'paper' and planner == 'heuristic'")
-    table = _table(sim_root, "test2_grasp", "test2_outcomes").set_index("outcome")
+    table = read_table(sim_root / "test2_grasp" / "default", "test2_outcomes").set_index("outcome")
     shares = 100 * ex["outcome"].value_counts(normalize=True)
     assert table["rate_pct"].to_dict() == pytest.approx({k: shares.get(k, 0.0) for k in table.index})
     assert not {"success_pct", "paper_success_pct"} & set(table.columns)

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import pandas as pd
 import pytest
+from synthetic_runs import report_md
 
 from graspcampaign.analysis.vocabulary import label
 from graspcampaign.campaign.records import RunStore
@@ -106,7 +107,7 @@ def test_dynamic_tables_match_their_records(sim_root):
     assert list(cone["lp_mu0_reason"]) == list(records["lp_mu0_reason"])
     stable = pd.read_csv(fm / "report" / "tables" / "stable_by_preset.csv").set_index("model_preset")
     assert stable.loc["firm", "successes"] == records.query("model_preset == 'firm'").success.sum()
-    md = (fm / "report" / "report.md").read_text()
+    md = report_md(fm)
     for preset, g in records.groupby("model_preset"):
         stable = int((g.dynamic_status == "stable").sum())
         assert f"{label('model_preset', preset)} {stable} of {len(g)}" in md  # its label
@@ -119,7 +120,7 @@ def test_dynamic_tables_match_their_records(sim_root):
     assert list(audit["expected_order"]) == [4, 2]
     shapes = pd.read_csv(settle / "report" / "tables" / "settle.csv")
     assert shapes["shape_difference_max_mm"].iloc[0] == 0.0  # rk4 against itself
-    md = (settle / "report" / "report.md").read_text()
+    md = report_md(settle)
     assert "Sec. 12 lists both as missing" in md and "step [µs]" not in md  # the unit is in PNG
     rk4 = label("integrator", "rk4")  # the vocabulary's words, not the id
     opening = md.split("## What this shows", 1)[1].split("**", 1)[0]
@@ -161,7 +162,7 @@ def test_dynamic_check_tables_match_their_records(sim_root):
             assert r.kappa == pytest.approx(cohens_kappa(counts).kappa)
     by_shape = pd.read_csv(run / "report" / "tables" / "agreement_by_shape.csv")
     assert (by_shape["n"] + by_shape["not_settled"]).sum() == len(records)
-    assert "Sec. 6.1" in (run / "report" / "report.md").read_text()
+    assert "Sec. 6.1" in report_md(run)
 
 
 def test_every_figure_is_labelled_with_its_data_source(sim_root):

@@ -9,13 +9,9 @@ from __future__ import annotations
 
 import re
 
-from synthetic_runs import md_table
+from synthetic_runs import md_table, report_md
 
 NUMBER = r"([−\-]?[\d.]+)"
-
-
-def _report(sim_root, study: str) -> str:
-    return (sim_root / study / "default" / "report" / "report.md").read_text()
 
 
 def _said(text: str, pattern: str) -> list[str]:
@@ -30,43 +26,44 @@ def _first(cell: str) -> str:
 
 
 def test_the_settle_finding_says_the_simulated_time_the_table_prints(sim_root):
-    md = _report(sim_root, "gravity_settle")
-    said = [t.replace("−", "-") for t in re.findall(r"settle\** within " + NUMBER + " s", md)]
-    assert said == md_table(md, "settle")["simulated time [s]"].tolist()
+    page = report_md(sim_root / "gravity_settle" / "default")
+    said = [t.replace("−", "-") for t in re.findall(r"settle\** within " + NUMBER + " s", page)]
+    assert said == md_table(page, "settle")["simulated time [s]"].tolist()
 
 
 def test_the_pso_finding_says_each_pinned_mean_as_the_cv_table(sim_root):
-    md = _report(sim_root, "pso_repeatability")
-    pinned = re.search(r"Pinned in every run \(CV 0, a bound of the search box\): (.+?)\.(?:\s|$)", md)
+    page = report_md(sim_root / "pso_repeatability" / "default")
+    pinned = re.search(r"Pinned in every run \(CV 0, a bound of the search box\): (.+?)\.(?:\s|$)", page)
     assert pinned, "the reduced run pins no parameter: nothing to compare"
-    cv = md_table(md, "cv").set_index("parameter")
+    cv = md_table(page, "cv").set_index("parameter")
     said = dict(part.rsplit(" at ", 1) for part in pinned.group(1).split(", "))
     assert said == {p: cv.loc[p, "mean"] for p in said}
 
 
 def test_the_surrogate_finding_says_the_timing_and_r2_tables_numbers(sim_root):
-    md = _report(sim_root, "surrogate")
+    page = report_md(sim_root / "surrogate" / "default")
     mlp, ratio, pso, paper_mlp, paper_ratio = _said(
-        md, rf"An MLP prediction \({NUMBER} µs\) is {NUMBER}× faster than the brief PSO call \({NUMBER} µs; "
-            rf"paper {NUMBER} µs, {NUMBER}×")
-    timing = md_table(md, "surrogate_timing").set_index("call")
+        page, rf"An MLP prediction \({NUMBER} µs\) is {NUMBER}× faster than the brief PSO call "
+              rf"\({NUMBER} µs; paper {NUMBER} µs, {NUMBER}×")
+    timing = md_table(page, "surrogate_timing").set_index("call")
     assert [mlp, pso] == timing.loc[["MLP 64-32", "brief PSO call"], "time [µs]"].tolist()
     assert [ratio, paper_mlp, paper_ratio] == \
         timing.loc["MLP 64-32", ["ours PSO/this [×]", "paper time [µs]", "paper PSO/this [×]"]].tolist()
-    (paper_r2,) = _said(md, rf"; paper {NUMBER} for \|R_z\|\)")
-    regression = md_table(md, "surrogate_regression")
+    (paper_r2,) = _said(page, rf"; paper {NUMBER} for \|R_z\|\)")
+    regression = md_table(page, "surrogate_regression")
     mlp_rz = regression.query("target == '|R_z| [N]' and model == 'MLP 64-32'")
     assert paper_r2 == mlp_rz["paper R²"].item()
 
 
 def test_the_test1_finding_says_n_and_lambda1_as_their_tables(sim_root):
-    md = _report(sim_root, "test1_bench")
-    n, paper_n, paper_sd = _said(md, rf"accepted normal fits give n = {NUMBER} \(paper {NUMBER} ± {NUMBER},")
-    claims = md_table(md, "test1_claims").set_index("quantity")
+    page = report_md(sim_root / "test1_bench" / "default")
+    n, paper_n, paper_sd = _said(
+        page, rf"accepted normal fits give n = {NUMBER} \(paper {NUMBER} ± {NUMBER},")
+    claims = md_table(page, "test1_claims").set_index("quantity")
     mean, sd = (claims.loc[f"contact exponent n, accepted fits: {s}"] for s in ("mean", "SD"))
     assert [n, paper_n, paper_sd] == [_first(mean["ours (95%)"]), mean["paper"], sd["paper"]]
-    lambda1, paper_lambda1 = _said(md, rf"λ1 = {NUMBER} \(paper {NUMBER}\)")
-    table5 = md_table(md, "table5").set_index("parameter")
+    lambda1, paper_lambda1 = _said(page, rf"λ1 = {NUMBER} \(paper {NUMBER}\)")
+    table5 = md_table(page, "table5").set_index("parameter")
     row = table5.loc["λ1"]
     assert [lambda1, paper_lambda1] == [_first(row["ours mean (95%)"]), row["paper mean"]]
 
@@ -74,11 +71,11 @@ def test_the_test1_finding_says_n_and_lambda1_as_their_tables(sim_root):
 def test_the_sensitivity_finding_counts_the_boundaries_as_the_claims_table_prints_them(sim_root):
     from graspcampaign.report.studies.sensitivity import BOUNDARIES
 
-    md = _report(sim_root, "sensitivity")
-    ours = md_table(md, "sensitivity_claims").set_index("quantity")["ours (95%)"]
+    page = report_md(sim_root / "sensitivity" / "default")
+    ours = md_table(page, "sensitivity_claims").set_index("quantity")["ours (95%)"]
     intervals = {q: [float(v) for v in re.findall(r"[\d.]+", cell.split(" (")[1])]
                  for q, cell in ours.items() if " (" in cell}
     tested = [pair for pair in BOUNDARIES.values() if all(q in intervals for q in pair)]
     apart = sum(intervals[first][0] > intervals[second][1] for first, second in tested)
-    (said,) = _said(md, rf"{NUMBER} of the {len(tested)} Fig. 19 boundaries tested separate our rates")
+    (said,) = _said(page, rf"{NUMBER} of the {len(tested)} Fig. 19 boundaries tested separate our rates")
     assert int(said) == apart

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import re
 
-from synthetic_runs import make_run, ok_records
+from synthetic_runs import make_run, ok_records, report_md
 
 from graspcampaign.analysis.vocabulary import label
 from graspcampaign.report.build import build_reports
@@ -30,6 +30,6 @@ def test_a_constant_inside_the_search_box_is_not_called_pinned_to_a_bound(tmp_pa
     ok = ok_records(store)
     on_bound = {label("parameter", p) for p, flag in FLAGS.items()
                 if ok[p].nunique() == 1 and ok[f"at_bound_{flag}"].all()}
-    md = (store.path / "report" / "report.md").read_text()
+    md = report_md(store)
     pinned = re.search(r"Pinned in every run \(CV 0, a bound of the search box\): (.+?)\.(?:\s|$)", md)
     assert {part.rsplit(" at ", 1)[0] for part in pinned.group(1).split(", ")} == on_bound == {"λ1"}

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from scipy import stats as sps
-from synthetic_runs import make_run, md_table, ok_records, quasi_static_outputs, read_table
+from synthetic_runs import make_run, md_table, ok_records, quasi_static_outputs, read_table, report_md
 
 from graspcampaign.report.build import build_reports
 
@@ -47,7 +47,7 @@ def test_pso_cv_table3_and_trace(tmp_path):
     assert t3.loc["k", "ours_best_run"] == pytest.approx(best["k"])
     # each row keeps 3 significant digits: c ~ 0.005 beside b ~ 1 printed "0.01 | 0.00 | 0.00" when a
     # column was rounded once; the shown parameter is its label (λ1), the CSV keeps the id
-    md = (store.path / "report" / "report.md").read_text()
+    md = report_md(store)
     shown = md_table(md, "table3").set_index("parameter")
     assert list(shown.index) == ["λ1", "λ2", "n", "b", "k", "c"]
     for p, label_ in zip(t3.index, shown.index, strict=True):
@@ -85,7 +85,7 @@ def test_pso_cvs_of_parameters_j_does_not_depend_on_get_no_verdict(tmp_path):
     assert all(v.startswith("no verdict: J does not depend on it") for v in cv.loc[flat, "verdict"])
     assert not any(v.startswith("no verdict") for v in cv.loc[["lambda1", "n_exp"], "verdict"])
     differ = sum(v.startswith("differs") for v in cv.loc[["lambda1", "n_exp"], "verdict"])
-    md = (store.path / "report" / "report.md").read_text()
+    md = report_md(store)
     # none pinned
     assert f"{differ} of 2 judged parameters' CVs differ from the paper's (Sec. 6.8; table cv). " in md
     n_cv = 100 * sps.variation(ok_records(store)["n_exp"], ddof=1)  # λ1 is pinned: n alone varies
@@ -121,7 +121,7 @@ def test_pso_cv_of_a_parameter_on_its_bound_in_every_run_says_it_measures_the_bo
                                   "measures the bound, not repeatability")
     assert [p for p in verdict.index if "search bound" in verdict[p]] == ["lambda1"]
     assert verdict["n_exp"] == "differs by −19.0 pp"  # CV 0 inside the box: a bare verdict
-    md = (store.path / "report" / "report.md").read_text()  # the count names the bound's share of it
+    md = report_md(store)  # the count names the bound's share of it
     assert ("4 of 6 judged parameters' CVs differ from the paper's (Sec. 6.8; table cv), 1 of them because "
             "they sit on a search bound in every run.") in md
 
@@ -191,7 +191,7 @@ def test_pso_budgets_split_and_pinned_parameters(tmp_path):
     assert cv.loc["lambda1", "cv_pct"] == 0.0
     t3 = read_table(store, "table3").set_index("parameter")
     assert t3.loc["c", "ours_mean"] == pytest.approx(0.002) and t3.loc["c", "n"] == len(conv)
-    md = (store.path / "report" / "report.md").read_text()
+    md = report_md(store)
     assert "Pinned in every run (CV 0, a bound of the search box): λ1 at 1.5" in md  # the label, not the id
     assert cv.loc["lambda1", "why"] == "every value is the same: a zero spread has no interval"
     assert "| lambda1 | 60.0 | 0.0 (every value is the same" not in md  # no interval shown

@@ -7,6 +7,7 @@ import numpy as np
 import pandas as pd
 import pytest
 from statsmodels.stats.proportion import proportion_confint
+from synthetic_runs import read_table, report_md
 
 from graspcampaign.campaign.compose import compose_study
 from graspcampaign.campaign.records import RunStore
@@ -36,25 +37,21 @@ def runs(tmp_path_factory):
     return stores
 
 
-def _table(store, name):
-    return pd.read_csv(store.path / "report" / "tables" / f"{name}.csv")
-
-
 def test_sensitivity_report(runs):
     store = runs["sensitivity"]
     records = store.read().to_pandas()
-    panels = _table(store, "sensitivity_panels").set_index("panel")
+    panels = read_table(store, "sensitivity_panels").set_index("panel")
     assert panels["trials"].to_dict() == records.groupby("panel").size().to_dict()
     k = int(records.loc[records["panel"] == "mu_mass", "success"].sum())
     low, high = proportion_confint(k, 8, method="wilson")  # statsmodels reference
     assert panels.loc["mu_mass", ["success_pct", "success_low_pct", "success_high_pct"]].tolist() == \
         pytest.approx([100 * k / 8, 100 * low, 100 * high])
-    claims = _table(store, "sensitivity_claims").set_index("quantity")
+    claims = read_table(store, "sensitivity_claims").set_index("quantity")
     inside = records[(records["panel"] == "mu_mass") & (records["mu"] >= 0.2)
                      & (records["mass_kg"] <= 0.5)]
     row = claims.loc["(a) stable region: success inside it"]
     assert (row["n"], row["value"]) == (len(inside), 100 * inside["success"].mean())
-    md = (store.path / "report" / "report.md").read_text()
+    md = report_md(store)
     assert "## What this shows" in md and "Where ours differ" not in md
     # contacts deeper than the fingertip radius (5 mm) are counted apart, never a median of metres
     ok = records[records["status"] == "ok"]
@@ -81,7 +78,7 @@ def test_identified_lambda1_rows_count_each_identification_once(runs):
     store = runs["sensitivity"]
     cells = store.read().to_pandas().query("panel == 'mu_mass'")[["shape", "mass_kg", "mu"]].drop_duplicates()
     bodies = store.read("prepared").to_pandas().merge(cells)
-    claims = _table(store, "sensitivity_claims").set_index("quantity")
+    claims = read_table(store, "sensitivity_claims").set_index("quantity")
     for words, low in (("< 0.1", True), ("≥ 0.1", False)):
         part = bodies[(bodies["mu"] < 0.1) == low]
         median = claims.loc[f"(a) median identified λ1 at μ {words}"]
@@ -98,7 +95,7 @@ def test_mesh_resolution_report_prints_the_cost_ratio(runs):
     store = runs["mesh_resolution"]
     records = store.read().to_pandas()
     res = records[records["panel"] == "resolution"]
-    ratio = _table(store, "cost_ratio")
+    ratio = read_table(store, "cost_ratio")
     top = res[res["nodes"] == 1750]
     expected = (top["eval_time_min_s"] / top["eval_time_reference_min_s"]).median()
     by_median = (top["eval_time_s"] / top["eval_time_reference_s"]).median()
@@ -106,16 +103,16 @@ def test_mesh_resolution_report_prints_the_cost_ratio(runs):
     assert ratio["paper"].tolist() == ["1.95"] * 2 + ["≤ 1.50"] * 2  # the paper's ratio; its target, a bound
     assert ratio["verdict"].iloc[2] == ("within the paper's target ≤ 1.50" if expected <= 1.5
                                         else "differs: above the paper's target ≤ 1.50")
-    runtime = _table(store, "mesh_resolution_runtime").set_index("nodes")["loop_at_n_max_pct"]
+    runtime = read_table(store, "mesh_resolution_runtime").set_index("nodes")["loop_at_n_max_pct"]
     assert runtime.to_dict() == pytest.approx((100 * res.groupby("nodes")["loop_capped"].mean()).to_dict())
-    md = (store.path / "report" / "report.md").read_text()
+    md = report_md(store)
     # a ratio below 1 does not "grow": the sentence names both meshes and the number of trials
     assert (f"One evaluation on the largest mesh (1750 nodes) costs {expected:.2f} times one on the 144-node "
             f"reference mesh (paper 1.95: {ratio['verdict'].iloc[0].split(':')[0]}; target ≤ 1.5: "
             f"{ratio['verdict'].iloc[2].split(':')[0]}") in md
     assert ("): too few trials to tell growth from timing noise (2 trials; a 95% interval needs 3), the "
             "design predicts none:") in md
-    rerun = _table(store, "n_max_rerun").set_index("planner")
+    rerun = read_table(store, "n_max_rerun").set_index("planner")
     nm = records[records["panel"] == "n_max"]
     failed = nm[~nm["success"].astype(bool)]
     assert rerun["failures_at_n_max"].sum() == len(failed)
@@ -127,7 +124,7 @@ def test_mesh_resolution_report_prints_the_cost_ratio(runs):
     assert rerun["horizontal_residual_rerun"].sum() == len(flat)
     assert (f"{len(failed)} baseline-grid failures, {int(failed['budget_capped'].sum())} pass at the doubled "
             f"N_max and {len(flat)} still fail there on a horizontal residual") in md
-    budget = _table(store, "success_vs_n_cand")
+    budget = read_table(store, "success_vs_n_cand")
     assert set(budget["planner"]) == {"heuristic", "reference"}
     assert set(budget.loc[budget["planner"] == "heuristic", "n_cand"]) == {1, 30}
     assert (budget["h_gap_to_reference"] >= -1e-12).all()
@@ -214,13 +211,13 @@ def test_a_run_without_the_papers_meshes_is_not_compared_with_the_papers_ratio(s
     res = store.read().to_pandas().query("panel == 'resolution' and status == 'ok'")
     top = res.loc[res["nodes"] == res["nodes"].max(), "cost_ratio_vs_reference"]
     assert res["nodes"].max() != 1750 and len(top) == 1
-    ratio = _table(store, "cost_ratio")
+    ratio = read_table(store, "cost_ratio")
     # the paper gives a ratio and a target, for meshes this run lacks (was: "no paper value")
     assert ratio["paper"].tolist() == ["1.95"] * 2 + ["≤ 1.50"] * 2
     assert (ratio["verdict"] == "not compared: this run has no 1750-node mesh (the paper's ratio is "
                                 "1750 / 144 nodes)").all()
     assert ratio["quantity"].iloc[0] == f"cost ratio, {res['nodes'].max()} / 144 nodes, fastest repeats"
-    md = (store.path / "report" / "report.md").read_text()
+    md = report_md(store)
     assert (f"costs {top.median():.2f} times one on the 144-node reference mesh (not compared: this run has "
             "no 1750-node mesh, paper 1.95; table cost_ratio): too few trials to tell growth from timing "
             "noise (1 trial; a 95% interval needs 3), the design predicts none") in md
@@ -251,7 +248,7 @@ def test_a_non_finite_sweep_level_is_reported_not_raised(runs, tmp_path):
     result = CliRunner().invoke(app, ["report", "--root", str(tmp_path / "results"),
                                       "--figure-format", "svg"])
     assert result.exit_code == 0, result.output
-    md = (copy / "report" / "report.md").read_text()
+    md = report_md(copy)
     panels = pd.read_csv(copy / "report" / "tables" / "sensitivity_panels.csv")
     assert panels.set_index("panel")["runtime_median_ms"].isna().loc["n_b"]
     assert "| (c) n × b |" in md and md.split("| (c) n × b |")[1].split("\n")[0].endswith("| — |")

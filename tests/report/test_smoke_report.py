@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import matplotlib.pyplot as plt
 import numpy as np
-from synthetic_runs import SHAPES, make_run
+from synthetic_runs import SHAPES, make_run, report_md
 
 from graspcampaign.analysis.vocabulary import label
 from graspcampaign.report.build import build_reports
@@ -26,7 +26,7 @@ def test_smoke_labels_shapes_and_keeps_its_legend_off_the_bars(tmp_path):
     store = make_run(tmp_path, "smoke", "mesh_features", {"shape": SHAPES, "nodes": [144, 390]}, seeds=1,
                      paper=None, outputs=mesh_outputs)
     build_reports(["smoke"], root=tmp_path)
-    md = (store.path / "report" / "report.md").read_text()
+    md = report_md(store)
     rows = [line.split(" | ")[0].lstrip("| ") for line in md.splitlines()
             if line.startswith("| ") and " | 144 | " in line]
     assert rows == [label("shape", s) for s in SHAPES]  # "rounded cube", not rounded_cube, in order
@@ -57,7 +57,7 @@ def test_smoke_figure_shows_every_count_even_equal_ones_and_the_table_says_what_
     plt.close(fig)
     assert heights == sorted([*records["n_sharp_vertex"], *records["n_sharp_edge"]])
     assert ("sharp vertices", "28") in shown and ("sharp edges", "0") in shown
-    md = (store.path / "report" / "report.md").read_text()
+    md = report_md(store)
     assert f"across {len(SHAPES)} shapes and 1 resolution (table meshes);" in md
     assert "at this resolution" in md
     assert "| shape | nodes | built nodes |" in md

@@ -12,7 +12,7 @@ import numpy as np
 import pandas as pd
 import pytest
 from scipy import stats as sps
-from synthetic_runs import SHAPES, make_run, md_table, ok_records, quasi_static_outputs, read_table
+from synthetic_runs import SHAPES, make_run, md_table, ok_records, quasi_static_outputs, read_table, report_md
 
 from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
 from graspcampaign.report.build import build_reports
@@ -35,7 +35,7 @@ def test_ablation_section(tmp_path):
                                    check_names=False)
     assert table.loc["random", "paper_pct"] == 6.0
     assert set(read_table(store, "mcnemar")["compared"]) == {"no_s1", "no_s2", "random"}
-    md = (store.path / "report" / "report.md").read_text()
+    md = report_md(store)
     assert "roughly ±12 pp" in md
     assert (store.path / "report" / "figures" / "fig16_ablation.png").exists()
 
@@ -57,7 +57,7 @@ def test_shapes_section_flags_disagreement(tmp_path):
     assert table.loc["ellipsoid", "verdict"] == "differs: the paper reports no, ours is yes"
     assert table.loc["handle", "verdict"] == "as in the paper (no)"  # fails, as the paper
     assert table.loc["pear", "h_total"] == pytest.approx(ok.loc["pear", "h_total"])
-    md = (store.path / "report" / "report.md").read_text()
+    md = report_md(store)
     # the opening names the shapes that differ; each one's outcome and checks are the table's
     assert ("2 of 5 shapes reach the paper's outcome (Fig. 15); ours differs on ellipsoid, rounded cube "
             "and pear (each shape's first failing checks: table shapes).") in md
@@ -101,7 +101,7 @@ def test_wrench_balance_settling_from_trace(tmp_path):
     assert slip.loc[0.3, "verdict"].startswith("differs")  # 0.57 is not above 0.8
     assert (store.path / "report" / "figures" / "fig17_wrench.png").exists()
     # a trace stored before the kind recorded finger 1's depth: the report says it has none
-    md = (store.path / "report" / "report.md").read_text()
+    md = report_md(store)
     assert "this run's trace has no finger-1 depth: stored before the kind recorded it" in md
 
 
@@ -132,7 +132,7 @@ def test_wrench_balance_never_settling_differs_and_non_physical_depths_flagged(t
     command = table[table["quantity"].str.startswith("final finger-1")]
     assert command["differs"].isna().all() and command["verdict"].str.startswith("commanded").all()
     compared = table[table["differs"].notna()]
-    md = (store.path / "report" / "report.md").read_text()
+    md = report_md(store)
     differ = int(compared["differs"].astype(bool).sum())
     assert f"{differ} of {len(compared)} compared quantities differ" in md
     assert f"deeper than the fingertip radius r = {r_mm:g} mm from iteration {cross} on" in md
@@ -205,11 +205,11 @@ def test_heuristic_weights_invariance(tmp_path, scales, words):
     h_nearest = ok.loc[ok["weight_scale"] == nearest, "h_reachable"].median()
     h = read_table(store, "h_by_scale").set_index("weight_scale")
     assert f"matches the paper's at {len(h)} of {len(h)} scales ({h_nearest:.3f} at {words}, paper {paper};" \
-        in (store.path / "report" / "report.md").read_text()
+        in report_md(store)
     assert h.loc[2.0, "h_reachable"] == pytest.approx(2 * (0.5 + 1 / 3))
     assert h["verdict"].str.startswith("matches").all()
     # the spread column is the range over seeds and says so (it read "spread over seeds")
-    shown = md_table((store.path / "report" / "report.md").read_text(), "h_by_scale")
+    shown = md_table(report_md(store), "h_by_scale")
     ranges = ok.groupby("weight_scale")["h_reachable"].agg(lambda v: v.max() - v.min())
     assert shown["H range over seeds (max - min)"].astype(float).tolist() == \
         pytest.approx(ranges.round(3).tolist())
@@ -227,7 +227,7 @@ def test_heuristic_weights_invariance(tmp_path, scales, words):
     boot = sps.bootstrap((at["s1_reachable"].to_numpy(),), np.median, n_resamples=BOOTSTRAP_RESAMPLES,
                          method="percentile", rng=np.random.default_rng(11)).confidence_interval
     assert (s1["low"], s1["high"]) == (pytest.approx(boot.low), pytest.approx(boot.high))
-    shown = md_table((store.path / "report" / "report.md").read_text(), "components").set_index("quantity")
+    shown = md_table(report_md(store), "components").set_index("quantity")
     median = at["s1_reachable"].median()
     assert shown.loc[s1.name, "ours (95%)"] == f"{median:.2f} ({boot.low:.2f}–{boot.high:.2f})"
     assert shown.loc[s1.name, "verdict"] == \

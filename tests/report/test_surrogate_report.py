@@ -8,19 +8,16 @@ import shutil
 import pandas as pd
 import pytest
 from statsmodels.stats.proportion import proportion_confint
+from synthetic_runs import read_table, report_md
 
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.report.build import build_reports
 
 
-def _table(run, name):
-    return pd.read_csv(run / "report" / "tables" / f"{name}.csv")
-
-
 def test_dataset_rates_are_the_records_with_wilson_intervals(sim_root):
     run = sim_root / "surrogate" / "default"
     records = RunStore(run).read().to_pandas()
-    data = _table(run, "surrogate_dataset").set_index("group_label")
+    data = read_table(run, "surrogate_dataset").set_index("group_label")
     assert data.loc["all", "n"] == len(records) == 16
     for column in ("success", "success_unbounded", "success_vertical"):
         k = int(records[column].sum())
@@ -35,7 +32,7 @@ def test_depths_beyond_the_fingertip_radius_are_counted_not_summarised(sim_root)
     records = RunStore(run).read().to_pandas()
     ok = records[records["status"] == "ok"]
     deep, won = ok["delta_max_mm"] > 5.0, ok["success_unbounded"].astype(bool)
-    md = (run / "report" / "report.md").read_text()
+    md = report_md(run)
     assert f"deeper than its radius r = 5 mm in {deep.sum()} of {len(ok)} scenarios (non-physical" in md
     if won.any():
         assert f"{(deep & won).sum()} of the {won.sum()} published-algorithm successes" in md
@@ -49,12 +46,12 @@ def test_model_tables_are_the_stored_summary(sim_root):
     store = RunStore(run)
     for name in ("classification", "regression", "timing"):
         stored = store.read(f"summary/surrogate_{name}").to_pandas()
-        shown = _table(run, f"surrogate_{name}")
+        shown = read_table(run, f"surrogate_{name}")
         assert len(shown) == len(stored) > 0
         for col in ("r2", "time_s", "positives"):
             if col in stored:
                 assert shown[col].tolist() == pytest.approx(stored[col].tolist(), rel=1e-12, nan_ok=True)
-    reg = _table(run, "surrogate_regression").set_index(["target", "model"])
+    reg = read_table(run, "surrogate_regression").set_index(["target", "model"])
     assert reg["paper_r2"].notna().sum() == 1 and reg.loc[("abs_residual_z_n", "mlp"), "paper_r2"] == 0.5
 
 
@@ -85,7 +82,7 @@ def test_a_fitted_run_shows_every_table_and_its_paper_values(fitted_run):
     tables = {p.stem for p in (fitted_run / "report" / "tables").glob("*.csv")}
     assert tables == {"surrogate_dataset", "surrogate_classification", "surrogate_regression",
                       "surrogate_feature_importance", "surrogate_timing", "status"}
-    cls = _table(fitted_run, "surrogate_classification").set_index(["label", "model"])
+    cls = read_table(fitted_run, "surrogate_classification").set_index(["label", "model"])
     # the paper's values sit on Algorithm 1 as published (no validity gate) only
     assert cls.loc[("success_unbounded", "mlp"), "paper_auc"] == 0.69
     assert cls.loc[("success_unbounded", "random_forest"), "paper_auc"] == 0.65
@@ -97,11 +94,11 @@ def test_a_fitted_run_shows_every_table_and_its_paper_values(fitted_run):
     assert cls[columns].to_numpy() == pytest.approx(stored.loc[cls.index, columns].to_numpy())
     assert cls.loc[("success_unbounded", "mlp"), "verdict"] == \
         "differs by +0.31: paper outside our 95% CI"  # 1.00 (1.00–1.00) − 0.69
-    timing = _table(fitted_run, "surrogate_timing").set_index("what")
+    timing = read_table(fitted_run, "surrogate_timing").set_index("what")
     assert timing.loc["mlp", "speedup"] == pytest.approx(timing.loc["pso_call", "time_s"]
                                                          / timing.loc["mlp", "time_s"])
     assert timing.loc["mlp", "paper_speedup"] == 17000
-    md = (fitted_run / "report" / "report.md").read_text()
+    md = report_md(fitted_run)
     assert "Wall time of one call, measured by the run" in md and "held-out positives" in md
     # times in µs, so the paper's 0.06 ms prediction shows (was "0.000" s); a ratio compared as one
     assert timing["time_us"].tolist() == pytest.approx((1e6 * timing["time_s"]).tolist())
@@ -116,7 +113,7 @@ def test_a_fitted_run_shows_every_table_and_its_paper_values(fitted_run):
     for raw in ("success_unbounded", "log10_delta_max_mm", "abs_residual_z_n", "msd_b", "shape_handle"):
         assert raw not in md  # readable names in text, tables and captions
     # the caption names only the curves drawn: the labels the classification table says were fitted
-    cls = _table(fitted_run, "surrogate_classification")
+    cls = read_table(fitted_run, "surrogate_classification")
     caption = md.split("*Fig. A.1 (ours): (a)")[1].split("; (b)")[0]
     styles = {"success": "solid", "success_unbounded": "dashed", "success_vertical": "dotted"}
     for lab, style in styles.items():
@@ -136,8 +133,8 @@ def test_an_old_run_gets_its_interval_from_its_stored_held_out_scores(sim_root, 
     """A run finalized before finalize computed the AUC interval was judged on the point value; its
     report computes the interval from the stored scores, as the run does now, and says so."""
     run = _reported(sim_root, tmp_path / "results", _yesterdays(summary))
-    md = (run / "report" / "report.md").read_text()
-    cls = _table(run, "surrogate_classification").set_index(["label", "model"])
+    md = report_md(run)
+    cls = read_table(run, "surrogate_classification").set_index(["label", "model"])
     now = summary["surrogate_classification"].set_index(["label", "model"]).loc[cls.index]
     columns = ["roc_auc_low", "roc_auc_high"]
     assert cls[columns].to_numpy() == pytest.approx(now[columns].to_numpy(), abs=1e-12)
@@ -150,10 +147,10 @@ def test_an_old_run_gets_its_interval_from_its_stored_held_out_scores(sim_root, 
 def test_an_old_run_without_held_out_scores_says_its_verdicts_use_the_point_value(sim_root, tmp_path,
                                                                                    summary):
     run = _reported(sim_root, tmp_path / "results", _yesterdays(summary, scores=False))
-    md = (run / "report" / "report.md").read_text()
+    md = report_md(run)
     assert "AUC with no interval (the run stored none), so its verdicts are judged on the point value" in md
     assert "AUC with no interval (the run stored none)" in md
-    cls = _table(run, "surrogate_classification").set_index(["label", "model"])
+    cls = read_table(run, "surrogate_classification").set_index(["label", "model"])
     assert cls["roc_auc_low"].isna().all()
     assert cls.loc[("success_unbounded", "mlp"), "verdict"] == "differs by +0.31"  # 1.00 − 0.69, no interval
 
@@ -178,12 +175,12 @@ def test_too_few_held_out_positives_show_the_auc_without_a_verdict(sim_root, tmp
         tables["surrogate_classification"] = tables["surrogate_classification"].assign(
             roc_auc_low=0.81, roc_auc_high=0.94, roc_auc_interval="percentile", roc_auc_resamples=10_000)
     run = _reported(sim_root, tmp_path / "results", tables)
-    cls = _table(run, "surrogate_classification").set_index(["label", "model"]).loc["success_unbounded"]
+    cls = read_table(run, "surrogate_classification").set_index(["label", "model"]).loc["success_unbounded"]
     k = int(cls["test_positives"].iloc[0])
     assert k < 10 and (cls["test_positives"] == k).all() and cls["roc_auc"].notna().all()
     reason = f"not compared: only {k} held-out positives, too few for an interval"
     assert (cls["verdict"] == reason).all() and cls[["roc_auc_low", "roc_auc_high"]].isna().all().all()
-    md = (run / "report" / "report.md").read_text()
+    md = report_md(run)
     opening = md.split("## What this shows")[1].split("\n\n**")[0]
     assert f"| {reason} |" in md and "0.81" not in md and "our 95% interval" not in opening
 
@@ -193,7 +190,7 @@ def test_a_run_without_its_summary_says_how_to_get_it(sim_root, tmp_path):
     shutil.copytree(sim_root / "surrogate" / "default", root / "surrogate" / "default",
                     ignore=shutil.ignore_patterns("report", "summary"))
     build_reports(["surrogate"], root=root)
-    md = (root / "surrogate" / "default" / "report" / "report.md").read_text()
+    md = report_md(root / "surrogate" / "default")
     assert ("Table surrogate_classification not computed: the run has no summary/surrogate_classification: "
             "`graspcampaign run surrogate` fits the models once every scenario is recorded.") in md
 
@@ -224,8 +221,8 @@ def test_the_regression_sentence_says_only_what_the_r2_shows(sim_root):
     """It said the residual "depends on the sampled contact triple more than on the inputs" whenever
     R² fell below the paper's: no record tests that. A negative R² is said as what it means."""
     run = sim_root / "surrogate" / "default"
-    md = (run / "report" / "report.md").read_text()
-    best = _table(run, "surrogate_regression")["r2"].max()
+    md = report_md(run)
+    best = read_table(run, "surrogate_regression")["r2"].max()
     assert "contact triple" not in md
     assert (f"The best regression R² is {best:.2f}".replace("-", "\u2212") in md) and (
         ("worse than predicting the held-out mean" in md) == (best < 0))

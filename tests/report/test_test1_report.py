@@ -13,6 +13,7 @@ import pandas as pd
 import pytest
 from statsmodels.stats.proportion import proportion_confint
 from statsmodels.stats.weightstats import DescrStatsW
+from synthetic_runs import read_table, report_md
 from test_report_reads_only import fresh_reports
 
 from graspcampaign.analysis.vocabulary import label
@@ -30,13 +31,9 @@ def run(sim_root):
     return path, RunStore(path).read().to_pandas()
 
 
-def _table(path, name):
-    return pd.read_csv(path / "report" / "tables" / f"{name}.csv")
-
-
 def test_every_page_and_figure_says_virtual_rig(run, sim_root, tmp_path_factory):
     path, _ = run
-    md = (path / "report" / "report.md").read_text()
+    md = report_md(path)
     assert "VIRTUAL RIG" in md and "not hardware measurements" in md
     assert md.index("## What this shows") < md.index("Virtual-bench data, not hardware: synthetic waveforms")
     # the run's records (without its report) reported again with SVG figures: that report is
@@ -52,7 +49,7 @@ def test_every_page_and_figure_says_virtual_rig(run, sim_root, tmp_path_factory)
 
 def test_table4_is_the_records_beside_the_paper(run):
     path, records = run
-    t4 = _table(path, "table4")
+    t4 = read_table(path, "table4")
     assert t4["row"].tolist() == ["ours", "paper"]
     ours, paper = t4.iloc[0], t4.iloc[1]
     ok = records[(records["status"] == "ok") & records["fit_ok"].astype(bool)]
@@ -72,7 +69,7 @@ def test_table4_is_the_records_beside_the_paper(run):
 
 def test_section_7_claims_against_the_records(run):
     path, records = run
-    claims = _table(path, "test1_claims").set_index("quantity")
+    claims = read_table(path, "test1_claims").set_index("quantity")
     assert claims.loc["μs > μk in every family", ["value", "paper"]].tolist() == ["True", "True"]
     claims = claims.drop(index="μs > μk in every family").astype({"value": float, "n": float})
     ok = records[records["status"] == "ok"]
@@ -90,7 +87,7 @@ def test_section_7_claims_against_the_records(run):
     low, high = proportion_confint(k, share["n"], method="wilson")
     assert (share["low"], share["high"]) == pytest.approx((100 * low, 100 * high))
     assert share["n"] == (ok["block"] == "oblique").sum()
-    margins = _table(path, "oblique_margin").set_index("angle_deg")
+    margins = read_table(path, "oblique_margin").set_index("angle_deg")
     assert margins.loc[45.0, "paper_n"] == -0.16 and np.isnan(margins.loc[15.0, "paper_n"])
     assert margins["events"].sum() == share["n"]
 
@@ -99,9 +96,9 @@ def test_the_finding_counts_the_differing_claims_and_points_to_their_table(run):
     """The opening counts the §7 quantities that differ and points to the claims table; it had listed
     three of them as "label: statistic; label: statistic", which did not read as a sentence."""
     path, _ = run
-    claims = _table(path, "test1_claims")
+    claims = read_table(path, "test1_claims")
     compared = claims["differs"].dropna().astype(str)
-    md = (path / "report" / "report.md").read_text()
+    md = report_md(path)
     assert (f"{(compared == 'True').sum()} of {len(compared)} §7 quantities differ from the paper's "
             "(table test1_claims). ") in md
     assert "among them" not in md
@@ -129,7 +126,7 @@ def test_the_finding_lists_the_parameters_on_a_search_bound_as_a_sentence(monkey
 
 def test_counts_table_against_the_records_and_traces(run):
     path, records = run
-    counts = _table(path, "test1_counts").set_index("quantity")
+    counts = read_table(path, "test1_counts").set_index("quantity")
     store = RunStore(path)
     assert counts.loc["completed events (fitted)", "ours"] == (records["event_status"] == "completed").sum()
     assert counts.loc["commanded attempts", "ours"] == len(store.read("tables/attempts"))
@@ -139,7 +136,7 @@ def test_counts_table_against_the_records_and_traces(run):
 
 def test_table5_says_which_runs_ended_on_a_bound(run):
     path, _ = run
-    t5 = _table(path, "table5").set_index("parameter")
+    t5 = read_table(path, "table5").set_index("parameter")
     runs = RunStore(path).read("summary/pso_runs").to_pandas()
     conv = runs[runs["converged"]]
     assert list(t5.index) == ["lambda1", "lambda2", "n", "b", "k", "c"]
@@ -147,9 +144,9 @@ def test_table5_says_which_runs_ended_on_a_bound(run):
         assert t5.loc[p, "n_at_bound"] == sum(p in str(b).split(",") for b in conv["at_bound"])
         assert t5.loc[p, "cv_pct"] == pytest.approx(100 * conv[p].std() / conv[p].mean(), rel=1e-12)
     assert (t5.loc["n", "paper_cv_pct"], t5.loc["lambda1", "paper_simulation"]) == (20.5, 0.332)
-    pso = _table(path, "pso_summary").set_index("quantity")
+    pso = read_table(path, "pso_summary").set_index("quantity")
     assert pso.loc["PSO runs logged", "value"] == len(runs)
-    transfer = _table(path, "transfer").set_index(["quantity", "split"])
+    transfer = read_table(path, "transfer").set_index(["quantity", "split"])
     assert transfer.loc[("normal_force", "unseen_speed"), "paper_pct"] == 3.64
     assert transfer.loc[("flat_to_curved", "flat_to_curved"), "paper_pct"] == 4.3
     assert np.isnan(transfer.loc[("friction", "train"), "paper_pct"])
@@ -159,7 +156,7 @@ def test_table5_says_which_runs_ended_on_a_bound(run):
         assert (t5.loc[p, "mean_low"], t5.loc[p, "mean_high"]) == pytest.approx((low, high), rel=1e-9)
         inside = low <= t5.loc[p, "paper_mean"] <= high
         assert t5.loc[p, "mean_verdict"].startswith("consistent" if inside else "differs"), p
-    md = (path / "report" / "report.md").read_text()
+    md = report_md(path)
     assert "| mean: verdict |" in md and "| CV: verdict |" in md
     # the finding counts them in words that agree with the count ("λ2 (1 runs)" did not)
     for p, k in t5["n_at_bound"].items():
@@ -174,7 +171,7 @@ def test_damage_depth_says_the_thresholds_are_extrapolated(run):
     path, records = run
     depths = RunStore(path).read("summary/damage_depth").to_pandas()
     deepest = records.loc[records["block"] == "cyclic", "depth_mm"].max()
-    md = (path / "report" / "report.md").read_text()
+    md = report_md(path)
     k, r = int(depths["extrapolated"].sum()), int((depths["damage_depth_mm"] > 5.0).sum())
     assert (f"{k} of {len(depths)} lie beyond the deepest cycled level ({deepest:g} mm) and {r} beyond the "
             "5 mm fingertip radius") in md
@@ -231,7 +228,7 @@ def test_ingested_traces_are_reported_without_finalize_tables(run, tmp_path):
     assert {p.stem for p in (out / "tables").glob("*.csv")} == {
         "test1_counts", "table4", "test1_claims", "oblique_margin", "status"}
     assert {p.stem for p in (out / "figures").glob("*.png")} == FIGURES - {"fig26_identification"}
-    assert _table(out.parent, "test1_counts").set_index("quantity").loc[
+    assert read_table(out.parent, "test1_counts").set_index("quantity").loc[
         "completed events (fitted)", "ours"] == waves["event_id"].nunique()
 
 

@@ -7,11 +7,8 @@ from __future__ import annotations
 
 import pytest
 from statsmodels.stats.proportion import proportion_confint
+from synthetic_runs import report_md
 from test_hardware_report import STUDIES, _both, _finding, _paper
-
-
-def _report(root, study: str) -> str:
-    return (root / study / "default" / "report" / "report.md").read_text()
 
 
 @pytest.mark.parametrize("study", sorted(STUDIES))
@@ -19,8 +16,8 @@ def test_the_opening_counts_the_planners_whose_success_differs_from_the_paper(si
     """A planner differs when the paper's rate lies outside our Wilson 95 % interval by more than the
     paper's last printed digit (0.1 pp), the verdict rule; counted here from the records."""
     ok = _both(sim_root, study).query("belief_error == 'paper'").groupby("planner")["success"]
-    paper, table = _paper(study)["table7" if study == "test2_grasp" else "table9"], \
-        "table7" if study == "test2_grasp" else "table9"
+    table = "table7" if study == "test2_grasp" else "table9"
+    paper = _paper(study)[table]
     differs = []
     for q, g in ok:
         low, high = (100 * v for v in proportion_confint(g.sum(), g.size, method="wilson"))
@@ -33,10 +30,10 @@ def test_the_opening_counts_the_planners_whose_success_differs_from_the_paper(si
 def test_the_opening_leaves_the_flags_to_their_table_and_their_reasons_to_its_caption(sim_root, study):
     """The flags' precision is the classifier table's (it was restated with a reason in the opening);
     why the residual flag cannot beat the base rate is now said in that table's caption."""
-    finding, md = _finding(sim_root, study), _report(sim_root, study)
+    finding, page = _finding(sim_root, study), report_md(sim_root / study / "default")
     assert "`predicted_stable`" not in finding and "precision" not in finding
     name = "test2_classifier" if study == "test2_grasp" else "test3_retention_classifier"
-    caption = md.split(f"(`tables/{name}.csv`)")[0].rsplit("\n**", 1)[1]
+    caption = page.split(f"(`tables/{name}.csv`)")[0].rsplit("\n**", 1)[1]
     assert "friction-blind, it carries no information about a friction hold" in caption
     assert "optimistic where the beliefs are wrong" in caption
 
@@ -49,6 +46,6 @@ def test_test3_opening_gives_the_drop_rate_and_table8_says_when_blocks_a_and_c_s
     paper = _paper("test3_disturbance")["table9"]["heuristic"]["drop_pct"]
     assert f"It drops {drop:.1f}% of its trials (paper {paper:.1f}%)" in _finding(sim_root,
                                                                                     "test3_disturbance")
-    md = _report(sim_root, "test3_disturbance")
-    caption = md.split("(`tables/table8.csv`)")[0].rsplit("\n**", 1)[1]
+    page = report_md(sim_root / "test3_disturbance" / "default")
+    caption = page.split("(`tables/table8.csv`)")[0].rsplit("\n**", 1)[1]
     assert "blocks A and C succeed only when the threshold reaches the proof load" in caption
