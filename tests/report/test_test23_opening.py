@@ -44,8 +44,9 @@ def test_test3_opening_gives_the_drop_rate_and_table8_says_when_blocks_a_and_c_s
     ex = _both(sim_root, "test3_disturbance").query("belief_error == 'paper' and planner == 'heuristic'")
     drop = 100 * (ex["outcome"] == "failure_drop").mean()
     paper = _paper("test3_disturbance")["table9"]["heuristic"]["drop_pct"]
-    assert f"It drops {drop:.1f}% of its trials (paper {paper:.1f}%)" in _finding(sim_root,
-                                                                                    "test3_disturbance")
+    # named: after the sentence on its grip beside the first planner's, "It" read as either
+    assert f"The proposed planner drops {drop:.1f}% of its trials (paper {paper:.1f}%)" in _finding(
+        sim_root, "test3_disturbance")
     page = report_md(sim_root / "test3_disturbance" / "default")
     caption = page.split("(`tables/table8.csv`)")[0].rsplit("\n**", 1)[1]
     assert "blocks A and C succeed only when the threshold reaches the proof load" in caption

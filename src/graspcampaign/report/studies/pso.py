@@ -126,7 +126,7 @@ def convergence_bands(run: Run) -> pd.DataFrame:
 
 
 def finding(run: Run) -> str:
-    cv, flat = _cv(run), _flat(run)
+    cv, flat = run.tables["cv"], _flat(run)
     judged = cv[~cv["parameter"].isin(flat)]  # a parameter J does not depend on has no verdict
     spread, pinned = judged[judged["sd"] > 0], cv[(cv["sd"] == 0) & (cv["at_bound"] == cv["n"])]
     differ = judged[judged["differs"] == True]  # noqa: E712

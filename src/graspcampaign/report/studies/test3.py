@@ -22,7 +22,7 @@ NATURAL = "friction_level == 'natural'"
 
 def drops(run: Run) -> str:
     d, paper = t2.ex(run, PROPOSED), paper_of(run, lambda p: p.table9[PROPOSED].drop_pct)
-    return (f"It drops {fmt.number(100 * d['is_drop'].mean(), 1)}% of its trials (paper "
+    return (f"The proposed planner drops {fmt.number(100 * d['is_drop'].mean(), 1)}% of its trials (paper "
             f"{fmt.number(paper, 1)}%): with μ_k/μ_s ≈ 0.7 a slip is not arrested once SF < ~1.4. ")
 
 

@@ -57,7 +57,7 @@ def _ratio_sweep(run: Run) -> pd.DataFrame:
 
 
 def finding(run: Run) -> str:
-    inv, prop, scale = _invariant(run), _proportional(run), _by_scale(run)
+    inv, prop, scale = _invariant(run), _proportional(run), run.tables["h_by_scale"]
     unit = scale.iloc[(scale["weight_scale"] - 1).abs().argmin()]
     at = "unit weights" if unit["weight_scale"] == 1 else f"weight scale {unit['weight_scale']:g}"
     leaves, scales = ("leaves" if inv.value else "does not always leave",
