@@ -310,22 +310,19 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
     trials = study_trials(study, kind, params)
     path = run_path(study, run)
     store = RunStore(path)
-    manifest = check_run(store, repairable=True)
-    if manifest is not None:
-        if provenance.ingested(manifest):
-            raise UserInputError(
-                f"run {study.name}/{run} at {path} holds {manifest['source']} records (ingested); "
-                "`run` never adds simulated or virtual trials to them, so choose another run name "
-                "(--run NAME).")
-        check_drift(manifest, study, allow_drift, path)
-    chash = provenance.config_hash(study, manifest)
-    session = {"started_at": provenance.now_utc(), "host": socket.gethostname(),
-               "backend": study.runner.backend, "n_jobs": study.runner.n_jobs,
-               "config_hash": chash, "finished_at": None}
+    _checked_manifest(store, study, run, allow_drift)
     show = study.runner.progress if progress is None else progress
     t0 = time.perf_counter()
 
-    with _executor(study) as map_unordered:  # refused (no scheduler): nothing written yet
+    with contextlib.ExitStack() as held:
+        map_unordered = held.enter_context(_executor(study))  # refused: nothing written yet
+        held.enter_context(_run_lock(store, f"{study.name}/{run}"))
+        # read (again) under the lock: another run of it may have written since the check above
+        manifest = _checked_manifest(store, study, run, allow_drift)
+        chash = provenance.config_hash(study, manifest)
+        session = {"started_at": provenance.now_utc(), "host": socket.gethostname(),
+                   "backend": study.runner.backend, "n_jobs": study.runner.n_jobs,
+                   "config_hash": chash, "finished_at": None}
         expected = expected_records(manifest) if manifest is not None else 0
         if manifest is None:
             from graspcampaign.campaign.compose import as_given
@@ -385,18 +382,52 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
                         break
         finally:
             bar.close()
-    complete = not summary.stopped_early and summary.n_already + summary.n_ran == len(trials)
-    if complete and kind.finalize is not None:
-        _finalize(kind, study, params, store)
-    store.compact_all()
-    summary.wall_time_s = time.perf_counter() - t0
-    session.update(finished_at=provenance.now_utc(), ran=summary.n_ran, errors=summary.n_error)
-    manifest["n_recorded"] = len(done) + summary.n_ran
-    if complete:
-        manifest["finished_at"] = session["finished_at"]
-    provenance.write_manifest(store.manifest_path, manifest)
-    check_run(store)  # never a run its own checks refuse: DamagedRunError (exit 2) if it is
+        complete = not summary.stopped_early and summary.n_already + summary.n_ran == len(trials)
+        if complete and kind.finalize is not None:
+            _finalize(kind, study, params, store)
+        store.compact_all()
+        summary.wall_time_s = time.perf_counter() - t0
+        session.update(finished_at=provenance.now_utc(), ran=summary.n_ran, errors=summary.n_error)
+        manifest["n_recorded"] = len(done) + summary.n_ran
+        if complete:
+            manifest["finished_at"] = session["finished_at"]
+        provenance.write_manifest(store.manifest_path, manifest)
+        check_run(store)  # never a run its own checks refuse: DamagedRunError (exit 2) if it is
     return summary
+
+
+def _checked_manifest(store: RunStore, study: StudyCfg, run: str, allow_drift: bool):
+    """The run's manifest (None for a new run), refused if the run is damaged, holds ingested
+    records or was started with another config."""
+    manifest = check_run(store, repairable=True)
+    if manifest is not None:
+        if provenance.ingested(manifest):
+            raise UserInputError(
+                f"run {study.name}/{run} at {store.path} holds {manifest['source']} records "
+                "(ingested); `run` never adds simulated or virtual trials to them, so choose "
+                "another run name (--run NAME).")
+        check_drift(manifest, study, allow_drift, store.path)
+    return manifest
+
+
+@contextlib.contextmanager
+def _run_lock(store: RunStore, label: str) -> Iterator[None]:
+    """Hold the run directory for this process alone (an advisory lock the system releases when
+    the run ends or its process dies), so two runs of one run never record a trial twice."""
+    import fcntl
+
+    store.path.mkdir(parents=True, exist_ok=True)
+    handle = os.open(store.path, os.O_RDONLY)
+    try:
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            raise UserInputError(f"run {label} at {store.path} is being run by another process; "
+                                 "wait for it to finish (status shows its progress), or choose "
+                                 "another run name (--run NAME).") from None
+        yield
+    finally:
+        os.close(handle)
 
 
 def _finalize(kind: TrialKind, study: StudyCfg, params: Any, store: RunStore) -> None:

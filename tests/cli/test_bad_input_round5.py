@@ -1,0 +1,25 @@
+"""Bad input, round 5: two runs of one run at once, overrides too long to parse in time, a level
+listed twice in a long list. Each case: exit 2, one sentence naming what is wrong and where,
+nothing stored changed (``refused``)."""
+
+from __future__ import annotations
+
+import fcntl
+import os
+
+from cli_checks import SMOKE, refused
+
+
+def test_a_run_already_being_run_is_refused_and_loses_nothing(results):
+    """Two ``run`` of one run at once each ran every pending trial and stored it, so the run held
+    every trial twice and every command then refused it as damaged; now the second is refused
+    while the first holds the run directory."""
+    run = results / "smoke" / "default"
+    holder = os.open(run, os.O_RDONLY)  # as a run in progress holds it
+    try:
+        fcntl.flock(holder, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        refused(results, ["run", "smoke", *SMOKE, "--root", results],
+                f"run smoke/default at {run} is being run by another process; wait for it to "
+                "finish (status shows its progress), or choose another run name (--run NAME).")
+    finally:
+        os.close(holder)
