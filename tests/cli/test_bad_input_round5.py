@@ -23,3 +23,12 @@ def test_a_run_already_being_run_is_refused_and_loses_nothing(results):
                 "finish (status shows its progress), or choose another run name (--run NAME).")
     finally:
         os.close(holder)
+
+
+def test_a_level_listed_twice_is_named_not_the_whole_list(results):
+    """A level given twice printed the whole list back (a 2,000-level override, 10,000 characters
+    of message); now the level and the two places it is given."""
+    levels = ",".join(["0.3", *(f"{0.001 * i:.3f}" for i in range(1, 300)), "0.3"])
+    refused(results, ["show", "shapes", f"mu=[{levels}]", "--root", results],
+            "factors.mu lists the level 0.3 twice (factors.mu[0] and factors.mu[300]); give each "
+            "level once.")

@@ -379,8 +379,12 @@ def check_factor(name: str, levels: Any) -> None:
                               f"give the factor's levels, e.g. {name}: {example(name)}.",
                               key=f"{key}[{i}]")
     levels[:] = [check_value(f"{key}[{i}]", v, spec) for i, v in enumerate(levels)]
-    if len(set(map(repr, levels))) != len(levels):
-        raise ConfigError(f"{key} lists a level twice: {levels!r}.", key=key)
+    first: dict[str, int] = {}
+    for i, value in enumerate(levels):  # the level itself: a long list is never printed whole
+        j = first.setdefault(repr(value), i)
+        if j != i:
+            raise ConfigError(f"{key} lists the level {value!r} twice ({key}[{j}] and {key}[{i}]); "
+                              "give each level once.", key=f"{key}[{i}]")
 
 
 def example(name: str) -> str:
