@@ -113,8 +113,8 @@ def test_missing_or_wrong_source_is_bad_input(tmp_path):
         _run("dynamic_check", tmp_path)
     assert str(info.value) == (
         "dynamic_check re-simulates the records of baseline_grid/default, but "
-        f"{tmp_path}/baseline_grid/default holds no run; run `graspcampaign run baseline_grid` "
-        "first (or set params.source_study / params.source_run).")
+        f"{tmp_path}/baseline_grid/default holds no run; run `graspcampaign run baseline_grid "
+        f"--root {tmp_path}` first (or set params.source_study / params.source_run).")
     assert not any(tmp_path.iterdir())  # nothing written
     _run("smoke", tmp_path, "nodes=[144]")
     with pytest.raises(UserInputError, match=r"^dynamic_check re-simulates quasi-static plans, "

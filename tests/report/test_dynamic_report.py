@@ -213,16 +213,21 @@ def gravity_settle_run(steps: dict[str, list[float]] | None = None) -> tuple[Run
     return run, steps
 
 
-def test_the_step_axis_labels_every_step_size_run():
+def _step_labels(fig):
+    """Panel (a)'s step tick labels per axis (bottom, then the top one), drawn."""
+    fig.canvas.draw()
+    axis = fig.axes[0]
+    return [[t for t in ax.get_xticklabels() if t.get_text()] for ax in (axis, *axis.child_axes)]
+
+
+def test_the_step_axes_label_every_step_size_run_per_integrator():
     # the axis labelled only 50/100/200 µs, none of which the run used
     run, steps = gravity_settle_run()
     fig = plt.figure()
     integrator_figure(run, fig)
-    axis = fig.axes[0]
-    fig.canvas.draw()
-    labels = [float(t.get_text()) for t in axis.get_xticklabels() if t.get_text()]
+    labels = [[float(t.get_text()) for t in axis] for axis in _step_labels(fig)]
     plt.close(fig)
-    assert labels == pytest.approx(sorted(1e6 * dt for dts in steps.values() for dt in dts), rel=5e-3)
+    assert labels == [pytest.approx([1e6 * dt for dt in steps[name]], rel=5e-3) for name in steps]
 
 
 def test_the_step_ticks_read_as_the_report_writes_numbers():
@@ -231,10 +236,22 @@ def test_the_step_ticks_read_as_the_report_writes_numbers():
     run, _ = gravity_settle_run({"rk4": [15.625e-6, 47.2e-6], "implicit": [31.25e-6, 62.5e-6, 250e-6]})
     fig = plt.figure()
     integrator_figure(run, fig)
-    fig.canvas.draw()
-    labels = [t.get_text() for t in fig.axes[0].get_xticklabels() if t.get_text()]
+    labels = [[t.get_text() for t in axis] for axis in _step_labels(fig)]
     plt.close(fig)
-    assert labels == ["15.62", "31.25", "47.2", "62.5", "250"]
+    assert labels == [["15.62", "47.2"], ["31.25", "62.5", "250"]]
+
+
+def test_the_step_labels_of_the_two_integrators_do_not_overprint():
+    # the paper-scale steps interleave (RK4 13.51-108.1 µs, implicit 31.25-250 µs): on one axis
+    # "27.03" and "31.25" printed over each other, as did 54.05/62.5 and 108.1/125
+    run, _ = gravity_settle_run({"rk4": [13.51e-6, 27.03e-6, 54.05e-6, 108.1e-6],
+                                 "implicit": [31.25e-6, 62.5e-6, 125e-6, 250e-6]})
+    fig = plt.figure(figsize=(10.0, 4.0))
+    integrator_figure(run, fig)
+    boxes = [t.get_window_extent() for axis in _step_labels(fig) for t in axis]
+    plt.close(fig)
+    assert len(boxes) == 8
+    assert not [(i, j) for i in range(8) for j in range(i) if boxes[i].overlaps(boxes[j])]
 
 
 def test_the_kinetic_energy_plot_starts_at_the_first_moving_step():

@@ -59,7 +59,8 @@ def test_shapes_section_flags_disagreement(tmp_path):
     assert table.loc["pear", "h_total"] == pytest.approx(ok.loc["pear", "h_total"])
     md = report_md(store)
     # the opening names the shapes that differ; each one's outcome and checks are the table's
-    assert ("2 of 5 shapes reach the paper's outcome (Fig. 15); ours differs on ellipsoid, rounded cube "
+    assert ("Ours succeeds on 2 of 5 shapes (on at least half of a shape's trials; 5 trials), the paper "
+            "on 3 (Fig. 15); 2 of 5 reach the paper's outcome; ours differs on ellipsoid, rounded cube "
             "and pear (each shape's first failing checks: table shapes).") in md
     checks = read_table(store, "failure_checks").set_index("shape")
     assert checks.loc["handle", "paper"] == "slip" and checks.loc["sphere", "paper"] == "none"

@@ -253,9 +253,11 @@ def _character_sentence(item: str, typed: str, error: str) -> str | None:
 def _unknown_override(key: str, typed: str | None, factors: list[str], set_keys: list[str] = ()) -> str:
     """``evaluator.nosuch=1``: name the section's known keys, as the ``+`` form does; a ``params.``
     or ``paper.`` key near one the study sets (``set_keys``) is taken for a typo of it."""
-    if "." not in key:
+    if "." not in key and key not in FACTOR_SPECS:
         return (f"{key} is neither a known key of the study config nor a factor of this study "
                 f"(factors: {', '.join(factors) or 'none'}); override rejected.")
+    if "." not in key:  # a known factor by its bare name (`planner=[...]`), not one of this study's
+        key = f"factors.{key}"
     parent, name = key.rsplit(".", 1)
     schema = schema_at(parent)
     rejected = f"override {typed!r} rejected" if typed else "override rejected"

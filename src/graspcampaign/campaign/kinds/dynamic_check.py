@@ -24,6 +24,7 @@ the like-for-like label, same contact law as the dynamic run), and the dynamic o
 
 from __future__ import annotations
 
+import shlex
 import time
 from dataclasses import dataclass
 from functools import lru_cache
@@ -87,6 +88,7 @@ def load_source(root: str, name: str, run: str) -> Source:
     from omegaconf import OmegaConf
 
     from graspcampaign.campaign.kind import get_kind
+    from graspcampaign.campaign.paths import root_options
     from graspcampaign.campaign.records import RunStore
     from graspcampaign.campaign.runner import kind_params, study_trials
     from graspcampaign.campaign.schema import StudyCfg
@@ -95,7 +97,7 @@ def load_source(root: str, name: str, run: str) -> Source:
     store = RunStore(path)
     manifest = store.check(["records"])  # the source's records as its manifest says
     source = name + ("" if run == "default" else f" --run {run}")
-    command = f"graspcampaign run {source}"
+    command = shlex.join(["graspcampaign", "run", *source.split(), *root_options(root)])
     if manifest is None:
         raise MissingSourceRunError(
             f"dynamic_check re-simulates the records of {name}/{run}, but {path} holds no run; "

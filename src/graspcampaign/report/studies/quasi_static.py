@@ -208,7 +208,10 @@ def shapes_finding(run: Run) -> str:
     t, ok = run.tables["shapes"], run.ok
     differ = [label("shape", s) for s in t.loc[t["differs"].eq(True), "shape"]]
     deep, released = int(t["beyond_radius"].sum()), int((ok.get("n_released", pd.Series()) > 0).sum())
-    return (f"{int(t['differs'].eq(False).sum())} of {len(t)} shapes reach the paper's outcome (Fig. 15)"
+    ours, paper = int(t["ours_success"].eq(True).sum()), int(t["paper_success"].eq(True).sum())
+    return (f"Ours succeeds on {ours} of {len(t)} shapes (on at least half of a shape's trials; {len(ok)} "
+            f"trials), the paper on {paper} (Fig. 15); {int(t['differs'].eq(False).sum())} of {len(t)} "
+            "reach the paper's outcome"
             + (f"; ours differs on {fmt.listed(differ)}" if differ else "")
             + " (each shape's first failing checks: table shapes). " +
         (f"{deep} of {len(ok)} trials have a contact deeper than r = {run.radius_mm:g} mm: in SI the paper's "
