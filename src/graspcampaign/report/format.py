@@ -8,8 +8,8 @@ import sys
 from decimal import ROUND_HALF_EVEN, Context, Decimal
 from typing import Any, NamedTuple
 
-MISSING = "\u2014"
-"""The mark of a value that is missing or could not be computed (its reason stands beside it)."""
+from graspcampaign.core.words import MISSING, listed  # noqa: F401 - fmt.listed: the one joiner
+
 MINUS = "\u2212"
 DASH = "\u2013"
 P = "p"
@@ -96,14 +96,6 @@ def interval(low: Any, high: Any, digits: int | None = None, *, sig: int | None 
         return MISSING
     sep = " to " if float(low) < 0 or float(high) < 0 else DASH
     return f"{number(low, digits, sig=sig)}{sep}{number(high, digits, sig=sig)}"
-
-
-def listed(words: list[str], empty: str = MISSING) -> str:
-    """``a``, ``a and b``, ``a, b and c`` (``empty`` for none): a list in a sentence."""
-    words = list(words)
-    if not words:
-        return empty
-    return words[0] if len(words) == 1 else f"{', '.join(words[:-1])} and {words[-1]}"
 
 
 def span(values: Any, unit: str = "", digits: int | None = None) -> str:
