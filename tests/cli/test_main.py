@@ -5,10 +5,11 @@ from __future__ import annotations
 import json
 import math
 import re
+import shutil
 from pathlib import Path
 
 import pytest
-from cli_checks import invoke, runner
+from cli_checks import grid_run, invoke, runner
 
 
 def test_list_shows_every_study_and_runnability():
@@ -148,8 +149,6 @@ def test_show_counts_only_the_overridden_design_as_recorded(smoke_run):
 
 def test_report_without_run_reports_the_configured_run(smoke_run, tmp_path):
     root = tmp_path / "results"
-    import shutil
-
     shutil.copytree(smoke_run, root)
     shutil.copytree(root / "smoke" / "default", root / "smoke" / "other")
     result = invoke("report", "smoke", "--root", str(root))
@@ -157,6 +156,26 @@ def test_report_without_run_reports_the_configured_run(smoke_run, tmp_path):
     assert result.stdout.splitlines() == [f"report: {root / 'smoke' / 'default' / 'report' / 'report.md'}",
                                           f"index: {root / 'index.md'}", f"headline: {root / 'headline.md'}"]
     assert not (root / "smoke" / "other" / "report").exists()
+
+
+def test_every_link_of_an_html_report_goes_to_a_written_file(results):
+    """``report --format html`` wrote ``headline.md`` too, linking ``report.md`` pages it never
+    wrote, and the HTML headline linked ``report.html`` of a run reported as Markdown only."""
+    page = grid_run(results) / "report" / "report.html"
+    for study in ("smoke", "baseline_grid"):  # the grid run: Markdown, then no report, then HTML
+        if study == "baseline_grid":
+            shutil.rmtree(page.parent)
+        before = {p: p.stat().st_mtime_ns for p in results.rglob("*") if p.is_file()}
+        result = invoke("report", study, "--root", results, "--format", "html")
+        assert result.exit_code == 0, result.output
+        pages = [p for p in results.rglob("*.*") if p.suffix in (".md", ".html")]
+        for written in [p for p in pages if before.get(p) != p.stat().st_mtime_ns]:
+            links = re.findall(r"(?:href|src)='([^']*)'|\]\(([^)]*)\)", written.read_text(errors="replace"))
+            for target in {a or b for a, b in links} - {""}:
+                if not target.startswith(("#", "data:", "http")):
+                    assert (written.parent / target.split("#")[0]).is_file(), f"{written}: {target}"
+    assert result.stdout.splitlines() == [f"report: {page}", f"index: {results / 'index.html'}",
+                                          f"headline: {results / 'headline.html'}"]
 
 
 def test_status_reads_the_configured_run(smoke_run):

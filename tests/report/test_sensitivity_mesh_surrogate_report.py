@@ -448,3 +448,20 @@ def test_growth_needs_an_interval_above_1_and_above_the_reference_mesh_against_i
 
     run = _timings(fastest, fastest, itself=itself)
     assert f"): {expected}:" in finding(run)
+
+
+def test_a_reworded_verdict_sentence_leaves_the_cost_ratio_finding_as_it_was(monkeypatch):
+    """The finding cut each row's word out of the cost_ratio table's verdict sentence (its text up to a
+    colon), so a sentence worded otherwise garbled it; now it takes the verdict rule's word itself."""
+    from graspcampaign.report import format as fmt
+    from graspcampaign.report.studies.mesh_resolution import finding
+
+    before, rule = finding(_timings([1.50, 1.503, 1.51], [1.48, 1.49, 1.50])), fmt.verdict
+
+    def reworded(*args, **kwargs):
+        differs, words = rule(*args, **kwargs)
+        return differs, words.replace(": ", " — ")
+
+    monkeypatch.setattr(fmt, "verdict", reworded)
+    assert "(paper 1.95: differs by −0.45; target ≤ 1.5: within the paper's target ≤ 1.50 at its " in before
+    assert finding(_timings([1.50, 1.503, 1.51], [1.48, 1.49, 1.50])) == before

@@ -3,12 +3,13 @@ run's finalize stage stored (``summary/surrogate_*``); nothing is fitted or time
 
 from __future__ import annotations
 
+import re
 import shutil
 
 import pandas as pd
 import pytest
 from statsmodels.stats.proportion import proportion_confint
-from synthetic_runs import read_table, report_md
+from synthetic_runs import md_table, read_table, report_md
 
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.report.build import build_reports
@@ -119,6 +120,21 @@ def test_a_fitted_run_shows_every_table_and_its_paper_values(fitted_run):
     for lab, style in styles.items():
         assert (f"{style}:" in caption) == cls.loc[cls["label"] == lab, "roc_auc"].notna().any()
     assert (fitted_run / "report" / "figures" / "figA1_surrogate.png").stat().st_size > 30_000
+
+
+def test_the_finding_gives_each_auc_with_its_held_out_counts_as_the_table(fitted_run):
+    """The opening gave the AUCs without their held-out n (the table has it): now each AUC is said with
+    its 95% interval, held-out trials and positives, parsed here from the sentence and from the table."""
+    md = report_md(fitted_run)
+    said = re.search(r"; classifier AUC (.+?) \(paper ", md)
+    assert said, "the finding names no classifier AUC"
+    table = md_table(md, "surrogate_classification").query("label == 'Algorithm 1 as published'")
+    printed = [f"{r['model']} {r['AUC (95%)']} on {r['held out']} held out ({r['held-out positives']} "
+               "positive)" for _, r in table.iterrows()]
+    assert said.group(1).replace("\u2212", "-") == " and ".join(printed)
+    stored = RunStore(fitted_run).read("summary/surrogate_classification").to_pandas()
+    assert table["held out"].astype(int).tolist() == \
+        stored.query("label == 'success_unbounded'")["test_trials"].tolist()
 
 
 def _yesterdays(summary, scores=True):

@@ -18,6 +18,7 @@ import trimesh
 
 from graspcampaign.core.plausible import OBJECT_SIZE_MM
 from graspcampaign.core.winding import winding_numbers
+from graspcampaign.core.words import listed
 
 logger = logging.getLogger(__name__)
 
@@ -329,27 +330,22 @@ def _counted(n: int, noun: str, nouns: str | None = None) -> str:
     return f"{n} {noun if n == 1 else nouns or noun + 's'}"
 
 
-def _joined(words: list[str]) -> str:
-    """``a``, ``a and b``, ``a, b and c``."""
-    return words[0] if len(words) == 1 else f"{', '.join(words[:-1])} and {words[-1]}"
-
-
 def _listed(noun: str, numbers: np.ndarray, few: int = 3) -> str:
     """``triangle 5``, ``triangles 5 and 9``, ``triangles 5, 9, 12 and 4 more``: the first few."""
     shown = [str(n) for n in numbers[:few]]
     if len(numbers) > few:
         shown.append(f"{len(numbers) - few} more")
-    return f"{noun if len(numbers) == 1 else noun + 's'} {_joined(shown)}"
+    return f"{noun if len(numbers) == 1 else noun + 's'} {listed(shown)}"
 
 
 def _located(points: np.ndarray, unit: str) -> str:
     """Where (p, 3) points lie: each point up to three, else their bounding box (a flat one, such
     as a scan's open base, by the one value of its flat axis)."""
     if len(points) <= 3:
-        return f"the vertices at {_joined([f'({x:g}, {y:g}, {z:g})' for x, y, z in points])} {unit}"
+        return f"the vertices at {listed([f'({x:g}, {y:g}, {z:g})' for x, y, z in points])} {unit}"
     spans = [f"{axis} {low:g}" if low == high else f"{axis} {low:g} to {high:g}"
              for axis, low, high in zip("xyz", points.min(0), points.max(0), strict=True)]
-    return f"{len(points)} vertices within {_joined(spans)} {unit}"
+    return f"{len(points)} vertices within {listed(spans)} {unit}"
 
 
 def check_mesh(mesh: trimesh.Trimesh, name: str = "mesh", centre: bool = True, unit: str = "m",

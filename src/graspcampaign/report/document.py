@@ -340,13 +340,6 @@ class Document:
                 written[f].write_text(self.html() if f == "html" else self.markdown(figure_format))
         return next(written[k] for k in ("md", "html", "json", "csv") if k in written)
 
-    def write_pages(self, stem: Path, formats: Sequence[str]) -> Path:
-        """Write a page of the results tree (not a run's): ``<stem>.md``, and ``.html`` if asked."""
-        stem.with_suffix(".md").write_text(self.markdown())
-        if "html" in formats:
-            stem.with_suffix(".html").write_text(self.html())
-        return stem.with_suffix(".md")
-
     def markdown(self, figure_format: str = "png") -> str:
         out = [f"# {self.title}"]
         if self.source:

@@ -6,10 +6,10 @@ import math
 import numbers
 import sys
 from decimal import ROUND_HALF_EVEN, Context, Decimal
-from typing import Any
+from typing import Any, NamedTuple
 
-MISSING = "\u2014"
-"""The mark of a value that is missing or could not be computed (its reason stands beside it)."""
+from graspcampaign.core.words import MISSING, listed  # noqa: F401 - fmt.listed: the one joiner
+
 MINUS = "\u2212"
 DASH = "\u2013"
 P = "p"
@@ -98,14 +98,6 @@ def interval(low: Any, high: Any, digits: int | None = None, *, sig: int | None 
     return f"{number(low, digits, sig=sig)}{sep}{number(high, digits, sig=sig)}"
 
 
-def listed(words: list[str], empty: str = MISSING) -> str:
-    """``a``, ``a and b``, ``a, b and c`` (``empty`` for none): a list in a sentence."""
-    words = list(words)
-    if not words:
-        return empty
-    return words[0] if len(words) == 1 else f"{', '.join(words[:-1])} and {words[-1]}"
-
-
 def span(values: Any, unit: str = "", digits: int | None = None) -> str:
     """Return the range ``"min–max"`` of ``values`` then ``unit`` (one value when both ends print alike):
     both ends at ``digits`` decimals if given (a percentage's 1), else rounded as a table column of
@@ -137,10 +129,29 @@ def paper_text(paper: Any, digits: int | None = None) -> str:
     return interval(paper[0], paper[1], digits)
 
 
-def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits: int = 1,
-            unit: str = "", ratio: str = "", commanded: str = "", because: str = "",
-            pinned: str = "") -> tuple[bool | None, str]:
-    """Say how ours stands against the paper's value: ``(differs, words)``, the one rule: a range agrees
+class Verdict(NamedTuple):
+    """How ours stands against the paper's value (:func:`judge`): whether it differs (None: not
+    compared), the short answer ``word`` ("differs by +0.3", "consistent (+0.02)") and why, if said."""
+
+    differs: bool | None
+    word: str
+    why: str = ""
+
+    @property
+    def words(self) -> str:
+        return f"{self.word}: {self.why}" if self.why else self.word
+
+
+def verdict(ours: Any, paper: Any, **how: Any) -> tuple[bool | None, str]:
+    """``(differs, words)`` of :func:`judge`, the one rule: a table's verdict columns."""
+    judged = judge(ours, paper, **how)
+    return judged.differs, judged.words
+
+
+def judge(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits: int = 1,
+          unit: str = "", ratio: str = "", commanded: str = "", because: str = "",
+          pinned: str = "") -> Verdict:
+    """Say how ours stands against the paper's value, the one rule: a range agrees
     inside it and a one-sided bound (a range with a None end, ``(None, hi)``: at most hi) within it
     (ours rounded to ``digits``, as printed; ours ``inf`` lies above every range); a word when equal;
     ours with a 95 % interval when it holds the paper's value, or its nearest end is within one unit
@@ -155,18 +166,18 @@ def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits:
     ``pinned``: ours is a CV over runs that all ended on a search bound, at these values (as printed):
     the words add that it measures the bound."""
     if because:
-        return None, because
+        return Verdict(None, because)
     if pinned:
         differs, words = verdict(ours, paper, low=low, high=high, digits=digits, unit=unit, ratio=ratio,
                                  commanded=commanded)
-        return differs, (f"{words}; on its search bound ({pinned}) in every run, so CV "
-                         f"{number(ours, digits)}{unit.strip()} measures the bound, not repeatability")
+        return Verdict(differs, f"{words}; on its search bound ({pinned}) in every run, so CV "
+                                f"{number(ours, digits)}{unit.strip()} measures the bound, not repeatability")
     if commanded:
-        return None, f"commanded, not a result: {commanded}"
+        return Verdict(None, "commanded, not a result", commanded)
     if is_missing(paper):
-        return None, "no paper value"
+        return Verdict(None, "no paper value")
     if is_missing(ours):
-        return None, "not computed"
+        return Verdict(None, "not computed")
     unit = unit.strip()
     if isinstance(paper, tuple | list):
         bounded = not is_missing(paper[0]) and not is_missing(paper[1])
@@ -175,14 +186,14 @@ def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits:
         kind, word = ("range", "inside") if bounded else ("target", "within")
         where = f"the paper's {kind} {paper_text(paper, digits)}{'' if unit in ('', '%') else ' '}{unit}"
         if lo <= float(ours) <= hi:
-            return False, f"{word} {where}"
+            return Verdict(False, f"{word} {where}")
         if lo <= round(float(ours), digits) <= hi:  # ours as printed (0.4252 -> 0.43 in 0.43-0.48)
-            return False, f"{word} {where} at its printed precision"
-        return True, f"differs: {'below' if float(ours) < lo else 'above'} {where}"
+            return Verdict(False, f"{word} {where} at its printed precision")
+        return Verdict(True, "differs", f"{'below' if float(ours) < lo else 'above'} {where}")
     if isinstance(paper, bool | str) or isinstance(ours, bool | str):
         if str(ours) == str(paper):
-            return False, f"as in the paper ({number(paper)})"
-        return True, f"differs: the paper reports {number(paper)}, ours is {number(ours)}"
+            return Verdict(False, f"as in the paper ({number(paper)})")
+        return Verdict(True, "differs", f"the paper reports {number(paper)}, ours is {number(ours)}")
     unit = "pp" if unit == "%" else unit
     nearest = float(ours) if is_missing(low) or is_missing(high) else \
         min(max(float(paper), float(low)), float(high))
@@ -194,18 +205,19 @@ def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits:
     diff = number(gap, digits + 1 if fine else digits, signed=True, unit=f" {unit}" if unit else "")
     if not is_missing(low) and not is_missing(high):
         if float(low) <= float(paper) <= float(high):
-            return False, f"consistent ({diff}): paper inside our 95% CI"
+            return Verdict(False, f"consistent ({diff})", "paper inside our 95% CI")
         if not differs:  # e.g. 1/3 in every seed against the paper's 0.33
-            return False, f"consistent ({diff}): paper within one printed digit ({tol}) of our 95% CI"
-        return True, f"differs by {diff}: paper outside our 95% CI"
+            return Verdict(False, f"consistent ({diff})",
+                           f"paper within one printed digit ({tol}) of our 95% CI")
+        return Verdict(True, f"differs by {diff}", "paper outside our 95% CI")
     if ratio:
         zero = "ours" if not float(ours) else "the paper's" if not float(paper) else ""
         times = (f"{number(float(paper) / float(ours), sig=3)} times ours" if not zero
                  else f"no ratio: {zero} is 0")
-        return differs, (f"{'differs' if differs else 'as in the paper'}: ours {number(ours, sig=3)}× "
-                         f"{ratio}, the paper's {number(paper)}× ({times})")
+        return Verdict(differs, "differs" if differs else "as in the paper",
+                       f"ours {number(ours, sig=3)}× {ratio}, the paper's {number(paper)}× ({times})")
     if differs:
-        return True, f"differs by {diff}"
+        return Verdict(True, f"differs by {diff}")
     if round(float(ours), digits) == round(float(paper), digits):
-        return False, "matches as printed"
-    return False, f"matches: within one printed digit ({tol}) of the paper's value"
+        return Verdict(False, "matches as printed")
+    return Verdict(False, "matches", f"within one printed digit ({tol}) of the paper's value")

@@ -196,9 +196,10 @@ def headline_rows(root: Path | str, unreadable: list[tuple[str, str]] | None = N
                     "paper_pct", "wilson_low_pct", "wilson_high_pct", unit="%")
 
 
-def write_headline(root: Path, formats: list[str], frame: pd.DataFrame) -> Path:
-    """Write ``headline.csv``, ``headline.md`` (and ``headline.html``) of ``frame``, the
-    :func:`headline_rows` of ``root``; return the md path."""
+def write_headline(root: Path, pages: list[str], frame: pd.DataFrame) -> None:
+    """Write ``headline.csv`` and, for each of ``pages`` (md, html), ``headline.<page>`` of
+    ``frame``, the :func:`headline_rows` of ``root``: a run is linked from a page only if its
+    report has a page of that format."""
     frame.to_csv(root / "headline.csv", index=False)
     reduced = frame["testbed"].astype(str).str.contains(REDUCED_MARK).any()
     virtual = frame["source"].eq("virtual").any()
@@ -207,8 +208,12 @@ def write_headline(root: Path, formats: list[str], frame: pd.DataFrame) -> Path:
     why = (f" {differ} of {judged} compared {'row' if judged == 1 else 'rows'} "
            f"{'differs' if differ == 1 else 'differ'} from the paper (the paper's value outside our 95% "
            "interval); each run's report, linked in *run*, opens with where and why." if differ else "")
-    return Document("Headline success rates (paper Table 1)", "", [], [
-        Text(INTRO + (VIRTUAL_NOTE if virtual else "") + why),
-        Table("headline", "Table 1, ours beside the paper", frame, COLUMNS, csv="headline.csv"),
-        *([Text(REDUCED_NOTE, "note")] if reduced else [])
-    ]).write_pages(root / "headline", formats)
+    for page in pages:
+        linked = frame.assign(report=[r if isinstance(r, str) and (root / r).with_suffix(f".{page}").is_file()
+                                      else None for r in frame["report"]])
+        doc = Document("Headline success rates (paper Table 1)", "", [], [
+            Text(INTRO + (VIRTUAL_NOTE if virtual else "") + why),
+            Table("headline", "Table 1, ours beside the paper", linked, COLUMNS, csv="headline.csv"),
+            *([Text(REDUCED_NOTE, "note")] if reduced else [])
+        ])
+        (root / f"headline.{page}").write_text(doc.html() if page == "html" else doc.markdown())

@@ -176,21 +176,21 @@ def _cross_check(run: Run) -> str:
 
 
 def _reading(run: Run) -> str:
-    """The finding's sentence on the cost ratio, from the cost_ratio table's verdicts (one rule): the
+    """The finding's sentence on the cost ratio, by the verdict rule of its cost_ratio table's rows: the
     verdict's estimator against the paper, the median repeats only where they read otherwise, and growth."""
     p, (top, ref), estimators, unlike = run.paper, _meshes(run), _estimators(run), _unlike_paper(run)
-    table = COST.compute(run)
-    verdict, target = (v.split(":")[0] for v in table["verdict"].iloc[[0, len(estimators)]])
-    differs = table["differs"].iloc[len(estimators)]
     ratio, (grows, growth) = _cost_ratio(run, estimators[0]), _growth(run, estimators[0])
+    verdict, target = (fmt.judge(ratio.value, paper, low=ratio.low, high=ratio.high, digits=2)
+                       for paper in (p.runtime_ratio_1750_144, (None, p.runtime_ratio_target)))
     paper = f"{unlike.split(' (')[0]}, paper {p.runtime_ratio_1750_144}" if unlike else \
-        f"paper {p.runtime_ratio_1750_144}: {verdict}; target ≤ {p.runtime_ratio_target}: {target}"
+        f"paper {p.runtime_ratio_1750_144}: {verdict.word}; target ≤ {p.runtime_ratio_target}: {target.word}"
     if estimators[0] == "fastest":  # the median repeats judged by the target row's rule, as printed
         median, (median_grows, median_growth) = _cost_ratio(run, "median").value, _growth(run, "median")
-        other = (None, "") if unlike else fmt.verdict(median, (None, p.runtime_ratio_target), digits=2)
-        if (other[0], median_grows) != (differs, grows):
+        other = fmt.Verdict(None, "") if unlike else \
+            fmt.judge(median, (None, p.runtime_ratio_target), digits=2)
+        if (other.differs, median_grows) != (None if unlike else target.differs, grows):
             paper += (f"; by the median repeats {fmt.number(median, 2)}, which reads "
-                      f"{', '.join(w for w in (other[1], median_growth) if w)}: the estimator decides")
+                      f"{', '.join(w for w in (other.words, median_growth) if w)}: the estimator decides")
     design = ("which the design does not predict" if grows else "the design predicts none"
               if math.isnan(ratio.low) else "as the design predicts")
     return (f"One evaluation on the largest mesh ({top} nodes) costs {fmt.number(ratio.value, 2)} times one "
