@@ -154,7 +154,7 @@ def finding(run: Run) -> str:
 
 def fig21(run: Run, fig) -> None:
     ax_a, ax_b = fig.subplots(1, 2, width_ratios=[1.3, 1])
-    ok, cv, c = _budgets(run)[0], _cv(run).set_index("parameter"), colour("planner", PROPOSED)
+    ok, cv, c = _budgets(run)[0], run.tables["cv"].set_index("parameter"), colour("planner", PROPOSED)
     data = [ok[p].dropna().to_numpy(float) / ok[p].mean() for p in cv.index]
     ax_a.boxplot(data, positions=range(len(cv)), widths=0.55, showfliers=False, medianprops={"color": c})
     jitter = np.random.default_rng(run.seed)  # the dots' jitter only; no statistic uses it
