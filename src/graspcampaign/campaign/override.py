@@ -53,7 +53,8 @@ def check_overrides(given: list[str]) -> None:
                               "tool uses Hydra to compose studies and runs them itself, so hydra "
                               "keys have no effect: leave it out.", key=key)
         required = field_at(key) if "~" in prefix else None
-        if required and required[1].default == "???":  # ~name: OmegaConf's missing mark, '???'
+        # ~name: OmegaConf's missing mark, '???'; ~model.lambda1: a section's schema keeps its keys
+        if required and (required[1].default == "???" or "." in key):
             raise ConfigError(f"override {item!r} deletes {key}, which every study needs; set it "
                               f"instead ({key}=...).", key=key)
         setting, parts = bool(sep) and "~" not in prefix, key.split(".")
@@ -177,6 +178,9 @@ def override_sentence(exc: BaseException, overrides: list[str], given: list[str]
     if match:
         return _unknown_override(match.group(1), _typed(match.group(1), overrides, given),
                                  factors, set_keys)
+    match = re.match(r"Could not delete from config\. '([^']+)' does not exist", text)
+    if match:
+        return _nothing_to_delete(match.group(1), _typed(match.group(1), overrides, given), factors)
     match = re.match(r"Could not append to config\. An item is already at '([^']+)'", text)
     if match:
         return f"{match.group(1)} already exists; override it without the leading '+'."
@@ -281,6 +285,15 @@ def _unknown_override(key: str, typed: str | None, factors: list[str], set_keys:
     if field_at(first) is not None:  # a known key the override goes astray below (factors.nosuch.0.x)
         return f"{key} is not a known key of the study config ({rejected})."
     return known_keys_sentence(first, schema_at(known), typed)
+
+
+def _nothing_to_delete(key: str, typed: str | None, factors: list[str]) -> str:
+    """``~nosuch``: the study has no such key (``~mu`` names the factor it means, factors.mu)."""
+    name = key.rpartition(".")[2]
+    meant = (f", or write ~factors.{name} to delete the factor {name}"
+             if name in factors and key != f"factors.{name}" else "")
+    return (f"override {typed or '~' + key!r} deletes {key}, which this study does not have, so "
+            f"there is nothing to delete; leave it out{meant}.")
 
 
 def missing_option_sentence(group: str, option: str) -> str:
