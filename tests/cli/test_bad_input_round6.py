@@ -1,8 +1,12 @@
-"""Bad input, round 6: deleting a key (``~key``) that cannot or need not be deleted, ...
+"""Bad input, round 6: an ingest into a run another process holds, deleting a key (``~key``) that
+cannot or need not be deleted, ...
 Each case: exit 2, one sentence naming what is wrong and where, nothing stored changed
 (``refused``)."""
 
 from __future__ import annotations
+
+import fcntl
+import os
 
 import pytest
 from cli_checks import refused
@@ -23,3 +27,20 @@ DELETIONS = {
 @pytest.mark.parametrize("override", sorted(DELETIONS))
 def test_a_deletion_hydra_words_badly_is_one_sentence(results, override):
     refused(results, ["show", "baseline_grid", override, "--root", results], DELETIONS[override])
+
+
+def test_an_ingest_into_a_run_being_run_is_refused_and_loses_nothing(results, tmp_path):
+    """An ingest read the run's records, and wrote a shard and the manifest, while a run or another
+    ingest of the run was writing them too; now it waits for none and is refused, as a second run is."""
+    sheet = tmp_path / "day1.csv"
+    sheet.write_text("trial_id\nt2A-sphere-01-prop-0000000000\n")
+    run = results / "test2_grasp" / "measured"
+    run.mkdir(parents=True)
+    holder = os.open(run, os.O_RDONLY)  # as a run or ingest in progress holds it
+    try:
+        fcntl.flock(holder, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        refused(results, ["ingest", "test2_grasp", sheet, "--root", results],
+                f"run test2_grasp/measured at {run} is being run by another process; wait for it "
+                "to finish (status shows its progress), or choose another run name (--run NAME).")
+    finally:
+        os.close(holder)
