@@ -1,5 +1,6 @@
 """Bad input, round 6: an ingest into a run another process holds, deleting a key (``~key``) that
-cannot or need not be deleted, ...
+cannot or need not be deleted, a
+list override too long for Hydra's parser, ...
 Each case: exit 2, one sentence naming what is wrong and where, nothing stored changed
 (``refused``)."""
 
@@ -44,3 +45,14 @@ def test_an_ingest_into_a_run_being_run_is_refused_and_loses_nothing(results, tm
                 "to finish (status shows its progress), or choose another run name (--run NAME).")
     finally:
         os.close(holder)
+
+
+def test_a_list_override_too_long_to_parse_in_time_is_refused_unparsed(results):
+    """Hydra's parser is quadratic in a list's items: 20,000 levels took over two minutes before
+    anything was said; now refused before it parses them, within a few seconds."""
+    levels = ",".join(f"{0.00001 * i:.5f}" for i in range(1, 20_001))
+    refused(results, ["show", "shapes", f"mu=[{levels}]", "--root", results],
+            f"override 'mu=[{levels[:56]}... ({len(levels) + 5} characters)' holds 20,000 "
+            "comma-separated values, more than an override can hold (2,000); give them in a study "
+            "file instead (a copy of the study run by its path, e.g. graspcampaign run "
+            "./my_study.yaml; README, Your own studies).", seconds=10)
