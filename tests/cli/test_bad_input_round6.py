@@ -1,6 +1,6 @@
 """Bad input, round 6: an ingest into a run another process holds, deleting a key (``~key``) that
 cannot or need not be deleted, a
-list override too long for Hydra's parser, ...
+list override too long for Hydra's parser, a million worker processes, ...
 Each case: exit 2, one sentence naming what is wrong and where, nothing stored changed
 (``refused``)."""
 
@@ -10,7 +10,7 @@ import fcntl
 import os
 
 import pytest
-from cli_checks import refused
+from cli_checks import SMOKE, refused
 
 NEEDED = "which every study needs; set it instead"
 NOTHING = "which this study does not have, so there is nothing to delete; leave it out"
@@ -56,3 +56,16 @@ def test_a_list_override_too_long_to_parse_in_time_is_refused_unparsed(results):
             "comma-separated values, more than an override can hold (2,000); give them in a study "
             "file instead (a copy of the study run by its path, e.g. graspcampaign run "
             "./my_study.yaml; README, Your own studies).", seconds=10)
+
+
+def test_a_million_workers_are_refused_before_any_starts(results):
+    """``runner.n_jobs=1000000`` had joblib start that many worker processes; now more than four
+    per core of this machine are refused at compose, before a worker or a file is made."""
+    cores = os.cpu_count()
+    for command in ("show", "run"):  # show first: on the old code its assertion stops the test
+        refused(results, [command, "smoke", *SMOKE, "runner.backend=loky", "runner.n_jobs=1000000",
+                          "--root", results],
+                f"runner.n_jobs = 1000000 would start 1,000,000 worker processes, more than 4 per "
+                f"core of this machine ({cores} cores); trials compute, so more workers than cores "
+                f"only share them, each holding its own memory: give at most {4 * cores}, or -1 for "
+                "one per core.")
