@@ -1,6 +1,7 @@
 """Bad input, round 6: an ingest into a run another process holds, deleting a key (``~key``) that
 cannot or need not be deleted, a
-list override too long for Hydra's parser, a million worker processes, ...
+list override too long for Hydra's parser, a million worker processes, a
+workbook named .csv and a CSV named .xlsx.
 Each case: exit 2, one sentence naming what is wrong and where, nothing stored changed
 (``refused``)."""
 
@@ -9,6 +10,7 @@ from __future__ import annotations
 import fcntl
 import os
 
+import pandas as pd
 import pytest
 from cli_checks import SMOKE, refused
 
@@ -69,3 +71,23 @@ def test_a_million_workers_are_refused_before_any_starts(results):
                 f"core of this machine ({cores} cores); trials compute, so more workers than cores "
                 f"only share them, each holding its own memory: give at most {4 * cores}, or -1 for "
                 "one per core.")
+
+
+@pytest.mark.parametrize(("name", "write", "message"), [
+    # it said "the file is not UTF-8 text (byte 0xc7); save it as CSV UTF-8."
+    ("day1.csv", lambda frame, path: frame.to_excel(path, index=False),
+     "day1.csv: the file is an Excel workbook (xlsx), not CSV text as its name says; rename it to "
+     "day1.xlsx."),
+    ("day1.csv", lambda frame, path: frame.to_parquet(path, index=False),
+     "day1.csv: the file is a Parquet table, not CSV text as its name says; rename it to "
+     "day1.parquet."),
+    # it said "the file cannot be read as xlsx (ValueError)."
+    ("day1.xlsx", lambda frame, path: frame.to_csv(path, index=False),
+     "day1.xlsx: the file is not an Excel workbook (xlsx): it does not begin as one does; if it is "
+     "CSV text, rename it to day1.csv."),
+])
+def test_a_file_named_as_another_type_is_named_with_the_type_it_holds(results, tmp_path, name,
+                                                                      write, message):
+    path = tmp_path / name
+    write(pd.DataFrame({"trial_id": ["t2A-sphere-01-prop-0000000000"], "aborted": [True]}), path)
+    refused(results, ["ingest", "test2_grasp", path, "--root", results], message)
