@@ -1,7 +1,7 @@
 """Bad input, round 6: an ingest into a run another process holds, deleting a key (``~key``) that
 cannot or need not be deleted, a
 list override too long for Hydra's parser, a million worker processes, a
-workbook named .csv and a CSV named .xlsx.
+workbook named .csv and a CSV named .xlsx, a header given twice.
 Each case: exit 2, one sentence naming what is wrong and where, nothing stored changed
 (``refused``)."""
 
@@ -91,3 +91,12 @@ def test_a_file_named_as_another_type_is_named_with_the_type_it_holds(results, t
     path = tmp_path / name
     write(pd.DataFrame({"trial_id": ["t2A-sphere-01-prop-0000000000"], "aborted": [True]}), path)
     refused(results, ["ingest", "test2_grasp", path, "--root", results], message)
+
+
+def test_a_header_given_again_as_a_row_is_named(results, tmp_path):
+    # it said "day1.csv, row 1, column 'aborted': value 'aborted' is not a boolean (...)"
+    sheet = tmp_path / "day1.csv"
+    sheet.write_text("trial_id,aborted\ntrial_id,aborted\nt2A-sphere-01-prop-0000000000,true\n")
+    refused(results, ["ingest", "test2_grasp", sheet, "--root", results],
+            "day1.csv, row 1: the row repeats the header (two sheets pasted one after the other?); "
+            "delete it.")

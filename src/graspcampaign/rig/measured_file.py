@@ -168,6 +168,9 @@ def _checked_csv(path: Path) -> str:
             raise IngestError(f"{path.name}, header: the cells are separated by {name}, not commas; "
                               "save the sheet as comma-separated CSV (decimal point '.').")
     for i, row in enumerate(rows[1:], start=1):
+        if row == header:  # it was "value 'aborted' is not a boolean"
+            raise IngestError(f"{path.name}, row {i}: the row repeats the header (two sheets "
+                              "pasted one after the other?); delete it.")
         if len(row) != len(header):
             raise IngestError(f"{path.name}, row {i}: {len(row)} cells where the header has "
                               f"{len(header)} columns (a cell with a comma needs quotes; a "
