@@ -19,7 +19,7 @@ from graspcampaign.campaign.grid import content_hash
 from graspcampaign.campaign.kind import get_kind
 from graspcampaign.campaign.paths import check_root
 from graspcampaign.campaign.records import ERROR_COLUMNS, RunStore, config_metadata
-from graspcampaign.campaign.runner import kind_params, run_path, study_trials
+from graspcampaign.campaign.runner import kind_params, run_lock, run_path, study_trials
 from graspcampaign.campaign.schema import StudyCfg
 from graspcampaign.errors import UserInputError
 
@@ -51,8 +51,16 @@ def ingest_files(study: StudyCfg, paths: list[str], run: str = "measured",
             again = "is given twice" if first == path else f"is {first} again"
             raise UserInputError(f"{path} {again}; give each file of measured records once.")
     check_root(study.output.root, "output.root", write=True)
-    params = kind_params(study, kind)
     store = RunStore(run_path(study, run))
+    with run_lock(store, f"{study.name}/{run}"):  # read, checked and written by this process alone
+        return _ingest(study, paths, store, run, given)
+
+
+def _ingest(study: StudyCfg, paths: list[str], store: RunStore, run: str,
+            given: tuple[str, list[str]] | None) -> tuple[int, Path, str]:
+    """:func:`ingest_files` once the files are found and the run is held."""
+    kind = get_kind(study.kind)
+    params = kind_params(study, kind)
     manifest = store.check(["records"])  # a run that is not what its manifest says: refused
     if manifest is not None and not provenance.ingested(manifest):
         raise UserInputError(

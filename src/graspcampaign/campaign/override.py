@@ -1,9 +1,11 @@
 """Command-line overrides of a study: what is refused before Hydra sees it, bare factor names, and
 one plain sentence for every error Hydra or OmegaConf raises about an override.
 
-Refused up front: an override without a key (``=3``); Hydra's own keys (``hydra.run.dir=/tmp``,
-``+hydra.x=1``), which the Compose API accepts and ignores because this tool runs the study
-itself; a bool set to anything but ``true``/``false`` (OmegaConf reads ``pso.enabled=2`` as true).
+Refused up front: an override without a key (``=3``); one of more than
+:data:`MAX_OVERRIDE_VALUES` values (Hydra's parser is quadratic in them); Hydra's own keys
+(``hydra.run.dir=/tmp``, ``+hydra.x=1``), which the Compose API accepts and ignores because this
+tool runs the study itself; a bool set to anything but ``true``/``false`` (OmegaConf reads
+``pso.enabled=2`` as true).
 """
 
 from __future__ import annotations
@@ -27,6 +29,11 @@ from graspcampaign.campaign.studycheck import (
 from graspcampaign.campaign.studyfile import NESTED_TOO_DEEPLY
 from graspcampaign.errors import ConfigError
 
+#: The most comma-separated values one override holds: Hydra's parser takes a time quadratic in
+#: them (one parse of 2,000 about 1 s, 4,000 about 2.3 s, 20,000 over 2 minutes; a command parses
+#: an override several times: docs/decisions.md, "Long list overrides").
+MAX_OVERRIDE_VALUES = 2000
+
 
 def split(item: str) -> tuple[str, str, str, str]:
     """``'+factors.mu=[0.3]'`` -> ``('+', 'factors.mu', '=', '[0.3]')``."""
@@ -48,12 +55,19 @@ def check_overrides(given: list[str]) -> None:
         if not key:
             raise ConfigError(f"override {item!r} has no key before '='; write KEY=VALUE, e.g. "
                               "seeds=3 or mu=[0.3,0.5].")
+        if (values := value.count(",") + 1) > MAX_OVERRIDE_VALUES:  # before Hydra parses it
+            raise ConfigError(f"override {item!r} holds {values:,} comma-separated values, more "
+                              f"than an override can hold ({MAX_OVERRIDE_VALUES:,}); give them in "
+                              "a study file instead (a copy of the study run by its path, e.g. "
+                              "graspcampaign run ./my_study.yaml; README, Your own studies).",
+                              key=key)
         if key == "hydra" or key.startswith(("hydra.", "hydra/")):
             raise ConfigError(f"override {item!r} sets {key}, a key of Hydra's own runtime; this "
                               "tool uses Hydra to compose studies and runs them itself, so hydra "
                               "keys have no effect: leave it out.", key=key)
         required = field_at(key) if "~" in prefix else None
-        if required and required[1].default == "???":  # ~name: OmegaConf's missing mark, '???'
+        # ~name: OmegaConf's missing mark, '???'; ~model.lambda1: a section's schema keeps its keys
+        if required and (required[1].default == "???" or "." in key):
             raise ConfigError(f"override {item!r} deletes {key}, which every study needs; set it "
                               f"instead ({key}=...).", key=key)
         setting, parts = bool(sep) and "~" not in prefix, key.split(".")
@@ -177,6 +191,9 @@ def override_sentence(exc: BaseException, overrides: list[str], given: list[str]
     if match:
         return _unknown_override(match.group(1), _typed(match.group(1), overrides, given),
                                  factors, set_keys)
+    match = re.match(r"Could not delete from config\. '([^']+)' does not exist", text)
+    if match:
+        return _nothing_to_delete(match.group(1), _typed(match.group(1), overrides, given), factors)
     match = re.match(r"Could not append to config\. An item is already at '([^']+)'", text)
     if match:
         return f"{match.group(1)} already exists; override it without the leading '+'."
@@ -283,6 +300,15 @@ def _unknown_override(key: str, typed: str | None, factors: list[str], set_keys:
     if field_at(first) is not None:  # a known key the override goes astray below (factors.nosuch.0.x)
         return f"{key} is not a known key of the study config ({rejected})."
     return known_keys_sentence(first, schema_at(known), typed)
+
+
+def _nothing_to_delete(key: str, typed: str | None, factors: list[str]) -> str:
+    """``~nosuch``: the study has no such key (``~mu`` names the factor it means, factors.mu)."""
+    name = key.rpartition(".")[2]
+    meant = (f", or write ~factors.{name} to delete the factor {name}"
+             if name in factors and key != f"factors.{name}" else "")
+    return (f"override {typed or '~' + key!r} deletes {key}, which this study does not have, so "
+            f"there is nothing to delete; leave it out{meant}.")
 
 
 def missing_option_sentence(group: str, option: str) -> str:

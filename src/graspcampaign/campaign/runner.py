@@ -316,7 +316,7 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
 
     with contextlib.ExitStack() as held:
         map_unordered = held.enter_context(_executor(study))  # refused: nothing written yet
-        held.enter_context(_run_lock(store, f"{study.name}/{run}"))
+        held.enter_context(run_lock(store, f"{study.name}/{run}"))
         # read (again) under the lock: another run of it may have written since the check above
         manifest = _checked_manifest(store, study, run, allow_drift)
         chash = provenance.config_hash(study, manifest)
@@ -411,11 +411,13 @@ def _checked_manifest(store: RunStore, study: StudyCfg, run: str, allow_drift: b
 
 
 @contextlib.contextmanager
-def _run_lock(store: RunStore, label: str) -> Iterator[None]:
+def run_lock(store: RunStore, label: str) -> Iterator[None]:
     """Hold the run directory for this process alone (an advisory lock the system releases when
-    the run ends or its process dies), so two runs of one run never record a trial twice."""
+    the run ends or its process dies), so two runs or ingests of one run never record a trial
+    twice. The directories it makes are removed again if they stay empty (a refused ingest)."""
     import fcntl
 
+    made = [p for p in (store.path, *store.path.parents) if not p.exists()]  # deepest first
     store.path.mkdir(parents=True, exist_ok=True)
     handle = os.open(store.path, os.O_RDONLY)
     try:
@@ -428,6 +430,9 @@ def _run_lock(store: RunStore, label: str) -> Iterator[None]:
         yield
     finally:
         os.close(handle)
+        for directory in made:
+            with contextlib.suppress(OSError):  # not empty: it holds what was stored
+                directory.rmdir()
 
 
 def _finalize(kind: TrialKind, study: StudyCfg, params: Any, store: RunStore) -> None:

@@ -335,6 +335,7 @@ def check_study(study: StudyCfg) -> None:
         raise ConfigError(f"runner.address = {address!r} names a Dask scheduler, but runner.backend = "
                           f"{study.runner.backend} runs the trials on this machine and would ignore "
                           "it: add runner.backend=dask, or drop runner.address.", key="runner.address")
+    check_workers(study.runner)
     for name, levels in study.factors.items():
         check_factor(name, levels)
     seen: set[str] = set()
@@ -355,6 +356,24 @@ def check_study(study: StudyCfg) -> None:
                 + ".", key=f"zip[{i}]"
             )
     check_design_size(study)
+
+
+#: The most worker processes per core a run starts (docs/decisions.md, "A bound on runner.n_jobs").
+WORKERS_PER_CORE = 4
+
+
+def check_workers(runner: RunnerCfg) -> None:
+    """Refuse more worker processes than :data:`WORKERS_PER_CORE` per core of this machine (joblib
+    and a Dask LocalCluster start as many as ``n_jobs`` says; a remote cluster has its own)."""
+    import os
+
+    most = WORKERS_PER_CORE * (os.cpu_count() or 1)
+    if runner.address is None and runner.workers() > most:
+        raise ConfigError(
+            f"runner.n_jobs = {runner.n_jobs} would start {runner.n_jobs:,} worker processes, more "
+            f"than {WORKERS_PER_CORE} per core of this machine ({os.cpu_count()} cores); trials "
+            "compute, so more workers than cores only share them, each holding its own memory: "
+            f"give at most {most}, or -1 for one per core.", key="runner.n_jobs")
 
 
 def check_factor(name: str, levels: Any) -> None:

@@ -74,6 +74,7 @@ def read_table(path: str | Path, *, csv_options: dict | None = None,
         raise IngestError(f"{path.name}: the file does not exist.")
     if path.stat().st_size == 0:
         raise IngestError(f"{path.name}: the file is empty.")
+    _check_content(path, ".parquet" if suffix == ".pq" else suffix)
     text = _checked_csv(path) if suffix == ".csv" else None
     try:
         if text is not None:  # the text the check read: the file is read once
@@ -94,6 +95,26 @@ def read_table(path: str | Path, *, csv_options: dict | None = None,
     except Exception as exc:  # the readers raise many types for corrupt files
         raise IngestError(f"{path.name}: the file cannot be read as "
                           f"{suffix[1:]} ({type(exc).__name__}).") from exc
+
+
+#: what a file of each type is, and how it begins (an xlsx workbook is a zip archive)
+_TYPES = {".csv": "CSV text", ".xlsx": "an Excel workbook (xlsx)", ".parquet": "a Parquet table"}
+_MAGIC = {b"PK\x03\x04": ".xlsx", b"PAR1": ".parquet"}
+
+
+def _check_content(path: Path, named: str) -> None:
+    """Refuse a file whose content is not the type its name says (a workbook saved as
+    ``.csv`` was 'not UTF-8 text (byte 0xc7)'; a CSV named ``.xlsx`` 'cannot be read as xlsx
+    (ValueError)')."""
+    with path.open("rb") as handle:
+        head = handle.read(4)
+    holds = _MAGIC.get(head)
+    if holds not in (named, None):
+        raise IngestError(f"{path.name}: the file is {_TYPES[holds]}, not {_TYPES[named]} as its "
+                          f"name says; rename it to {path.stem}{holds}.")
+    if holds is None and named != ".csv":
+        raise IngestError(f"{path.name}: the file is not {_TYPES[named]}: it does not begin as "
+                          f"one does; if it is CSV text, rename it to {path.stem}.csv.")
 
 
 def _check_formulas(path: Path, sheet: str, frame: pd.DataFrame) -> None:
@@ -147,6 +168,9 @@ def _checked_csv(path: Path) -> str:
             raise IngestError(f"{path.name}, header: the cells are separated by {name}, not commas; "
                               "save the sheet as comma-separated CSV (decimal point '.').")
     for i, row in enumerate(rows[1:], start=1):
+        if row == header:  # it was "value 'aborted' is not a boolean"
+            raise IngestError(f"{path.name}, row {i}: the row repeats the header (two sheets "
+                              "pasted one after the other?); delete it.")
         if len(row) != len(header):
             raise IngestError(f"{path.name}, row {i}: {len(row)} cells where the header has "
                               f"{len(header)} columns (a cell with a comma needs quotes; a "
