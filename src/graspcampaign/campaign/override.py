@@ -65,6 +65,10 @@ def check_overrides(given: list[str]) -> None:
             raise ConfigError(f"override {item!r} sets {key}, a key of Hydra's own runtime; this "
                               "tool uses Hydra to compose studies and runs them itself, so hydra "
                               "keys have no effect: leave it out.", key=key)
+        if "~" in prefix and key in GROUPS:  # Hydra drops the group's file: the schema's values
+            raise ConfigError(f"override {item!r} deletes the config group {key}, which every "
+                              f"study needs; set one of its options instead ({key}=OPTION; "
+                              f"options: {_group_options(key)}).", key=key)
         required = field_at(key) if "~" in prefix else None
         # ~name: OmegaConf's missing mark, '???'; ~model.lambda1: a section's schema keeps its keys
         if required and (required[1].default == "???" or "." in key):
@@ -315,14 +319,21 @@ def missing_option_sentence(group: str, option: str) -> str:
     """``model=nosuch``: name the group's options (the files of ``conf/<group>/``)."""
     from graspcampaign.campaign.studyfile import project_dirs
 
-    directory = project_dirs()[0] / group
     named = (f"{group}={option} is a list, and a study composes one option" if option[:1] == "["
              else f"{group}={option} is not an option" if option else f"{group}= names no option")
-    options = sorted(p.stem for p in directory.glob("*.yaml")) if directory.is_dir() else []
+    options = _group_options(group)
     if not options:
         groups = sorted(p.name for p in project_dirs()[0].iterdir() if p.is_dir())
         return f"{group} is not a config group; config groups: {', '.join(groups)}."
-    return f"{named} of config group {group}; available options: {', '.join(options)}."
+    return f"{named} of config group {group}; available options: {options}."
+
+
+def _group_options(group: str) -> str:
+    """The options of a config group (the files of ``conf/<group>/``), comma-separated."""
+    from graspcampaign.campaign.studyfile import project_dirs
+
+    directory = project_dirs()[0] / group
+    return ", ".join(sorted(p.stem for p in directory.glob("*.yaml")) if directory.is_dir() else [])
 
 
 def omegaconf_error_sentence(exc: BaseException, prefix: str = "") -> str:
