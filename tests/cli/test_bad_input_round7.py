@@ -22,3 +22,18 @@ def test_deleting_a_config_group_is_refused_naming_its_options(results, override
     refused(results, ["show", "smoke", override, "--root", results],
             f"override {override!r} deletes the config group {group}, which every study needs; set "
             f"one of its options instead ({group}=OPTION; options: {options}).")
+
+
+@pytest.mark.parametrize(("args", "message"), [
+    (["show", "smoke", "--root", "{root}", "--root", "{root}/elsewhere"],
+     "option --root is given twice (--root {root}, then --root {root}/elsewhere); give it once."),
+    (["run", "smoke", "shape=[sphere]", "nodes=[144]", "--report", "--root", "{root}", "--no-report"],
+     "option --report is given twice (--report, then --no-report); give it once."),
+    (["plan", "{root}/smoke.stl", "--mass-kg", "0.1", "--mass-kg=0.2"],
+     "option --mass-kg is given twice (--mass-kg 0.1, then --mass-kg=0.2); give it once."),
+    (["list", "--names", "--names"], "option --names is given twice (--names, then --names); give "
+                                     "it once."),
+])
+def test_an_option_given_twice_is_refused_not_the_last_kept(results, args, message):
+    """click kept the last silently: a run went to the second --root, a plan took the second mass."""
+    refused(results, [arg.format(root=results) for arg in args], message.format(root=results))
