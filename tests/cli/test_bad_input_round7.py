@@ -37,3 +37,13 @@ def test_deleting_a_config_group_is_refused_naming_its_options(results, override
 def test_an_option_given_twice_is_refused_not_the_last_kept(results, args, message):
     """click kept the last silently: a run went to the second --root, a plan took the second mass."""
     refused(results, [arg.format(root=results) for arg in args], message.format(root=results))
+
+
+@pytest.mark.parametrize(("args", "message"), [
+    # it said "--out . is a directory; give a file stem such as schedule."
+    (["schedule", "test2_grasp", "--out", ""], "--out is empty; give a file stem such as schedule."),
+    # it said "--times . is a directory; give a file such as reproduce_times.txt."
+    (["reproduce", "--times", ""], "--times is empty; give a file such as reproduce_times.txt."),
+])
+def test_an_empty_output_path_is_named_empty_not_the_current_directory(results, args, message):
+    refused(results, [*args, "--root", results], message)

@@ -204,6 +204,8 @@ def writable_stem(out: Path, option: str, hint: str = "a file stem such as",
     in its place, a file on its path or a directory that cannot be written is bad input."""
     from graspcampaign.campaign.paths import path_problem
 
+    if out == "":  # as a Path, "" would read "." (path_or_empty)
+        fail(f"{option} is empty; give {hint} {example}.")
     why = path_problem(out, write=True, directory=False)
     if why == "is a directory, not a file":
         fail(f"{option} {out} is a directory; give {hint} {out / example}.")
