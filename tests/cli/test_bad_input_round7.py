@@ -7,8 +7,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pandas as pd
 import pytest
-from cli_checks import refused
+from cli_checks import invoke, refused
 
 CONF = Path(__file__).parents[2] / "conf"  # the project's config groups, one folder each
 
@@ -47,3 +48,24 @@ def test_an_option_given_twice_is_refused_not_the_last_kept(results, args, messa
 ])
 def test_an_empty_output_path_is_named_empty_not_the_current_directory(results, args, message):
     refused(results, [*args, "--root", results], message)
+
+
+def test_a_filled_in_template_or_another_sheet_is_not_written_over(results):
+    """``schedule --template`` wrote the empty template over the one a lab had filled in, and a
+    sheet of other settings over the sheet being run, saying nothing."""
+    command = ["schedule", "test3_disturbance", "params.fraction=0.05", "--template", "--out",
+               results / "day1", "--root", results]
+    assert invoke(*command).exit_code == 0
+    assert invoke(*command).exit_code == 0  # the same sheets again: nothing lost, written again
+    template = results / "day1-template.csv"
+    filled = pd.read_csv(template, keep_default_na=False, dtype=str)
+    filled.loc[0, "aborted"] = "false"
+    filled.to_csv(template, index=False)
+    refused(results, command, f"--out {results / 'day1'}: day1-template.csv already exists and "
+            "differs from the sheet this command writes (filled in, or made with other settings?); "
+            "move it away or give another --out, so that it is not written over.")
+    refused(results, ["schedule", "test3_disturbance", "params.fraction=0.1", "--out",
+                      results / "day1", "--root", results],
+            f"--out {results / 'day1'}: day1.csv already exists and differs from the sheet this "
+            "command writes (filled in, or made with other settings?); move it away or give "
+            "another --out, so that it is not written over.")

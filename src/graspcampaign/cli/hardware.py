@@ -74,6 +74,12 @@ def schedule(
     if template:
         fill, columns = kind.template(cfg, params, sheet)
         sheets.update({"-template": fill, "-template-columns": columns})
+    for suffix, table in sheets.items():  # a sheet filled in or made for other settings stays
+        written = file(f"{suffix}.csv")
+        if written.is_file() and written.read_bytes() != table.to_csv(index=False).encode():
+            fail(f"--out {stem}: {written.name} already exists and differs from the sheet this "
+                 "command writes (filled in, or made with other settings?); move it away or give "
+                 "another --out, so that it is not written over.")
     try:
         stem.parent.mkdir(parents=True, exist_ok=True)
         for suffix, table in sheets.items():
