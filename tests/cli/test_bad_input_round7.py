@@ -69,3 +69,16 @@ def test_a_filled_in_template_or_another_sheet_is_not_written_over(results):
             f"--out {results / 'day1'}: day1.csv already exists and differs from the sheet this "
             "command writes (filled in, or made with other settings?); move it away or give "
             "another --out, so that it is not written over.")
+
+
+@pytest.mark.parametrize(("overrides", "key"), [
+    (["runner.n_jobs=1", "runner.n_jobs=2"], "runner.n_jobs"),
+    (["model=firm", "model=nominal"], "model"),
+    (["nodes=[144]", "factors.nodes=[390]"], "factors.nodes"),  # a factor by either of its names
+])
+def test_an_override_naming_a_key_again_is_refused_not_the_last_kept(results, overrides, key):
+    """Hydra applied both and kept the last: ``show`` and ``run`` exited 0 with the second value."""
+    first, second = overrides
+    refused(results, ["show", "smoke", *overrides, "--root", results],
+            f"overrides {first!r} and {second!r} both name {key}; give it once (Hydra would keep "
+            "the last silently).")

@@ -1,7 +1,8 @@
 """Command-line overrides of a study: what is refused before Hydra sees it, bare factor names, and
 one plain sentence for every error Hydra or OmegaConf raises about an override.
 
-Refused up front: an override without a key (``=3``); one of more than
+Refused up front: an override without a key (``=3``); a key named twice (Hydra keeps the last);
+one of more than
 :data:`MAX_OVERRIDE_VALUES` values (Hydra's parser is quadratic in them); Hydra's own keys
 (``hydra.run.dir=/tmp``, ``+hydra.x=1``), which the Compose API accepts and ignores because this
 tool runs the study itself; a bool set to anything but ``true``/``false`` (OmegaConf reads
@@ -50,11 +51,16 @@ def check_overrides(given: list[str]) -> None:
     ConfigError
         Naming the override as typed and what to write instead.
     """
+    named: dict[str, str] = {}  # a key (a factor by its bare name) -> the override naming it
     for item in given:
         prefix, key, sep, value = split(item)
         if not key:
             raise ConfigError(f"override {item!r} has no key before '='; write KEY=VALUE, e.g. "
                               "seeds=3 or mu=[0.3,0.5].")
+        if (first := named.get(key.removeprefix("factors."))) is not None:
+            raise ConfigError(f"overrides {first!r} and {item!r} both name {key}; give it once "
+                              "(Hydra would keep the last silently).", key=key)
+        named[key.removeprefix("factors.")] = item
         if (values := value.count(",") + 1) > MAX_OVERRIDE_VALUES:  # before Hydra parses it
             raise ConfigError(f"override {item!r} holds {values:,} comma-separated values, more "
                               f"than an override can hold ({MAX_OVERRIDE_VALUES:,}); give them in "
