@@ -2,11 +2,10 @@
 one plain sentence for every error Hydra or OmegaConf raises about an override.
 
 Refused up front: an override without a key (``=3``); a key named twice (Hydra keeps the last);
-one of more than
-:data:`MAX_OVERRIDE_VALUES` values (Hydra's parser is quadratic in them); Hydra's own keys
-(``hydra.run.dir=/tmp``, ``+hydra.x=1``), which the Compose API accepts and ignores because this
-tool runs the study itself; a bool set to anything but ``true``/``false`` (OmegaConf reads
-``pso.enabled=2`` as true).
+one of more than :data:`MAX_OVERRIDE_VALUES` values (Hydra's parser is quadratic in them); Hydra's
+own keys (``hydra.run.dir=/tmp``, ``+hydra.x=1``), which the Compose API accepts and ignores
+because this tool runs the study itself; a whole config group deleted (``~runner``); a bool set
+to anything but ``true``/``false`` (OmegaConf reads ``pso.enabled=2`` as true).
 """
 
 from __future__ import annotations
