@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pandas as pd
 import pytest
+import trimesh
 from cli_checks import invoke, refused
 
 CONF = Path(__file__).parents[2] / "conf"  # the project's config groups, one folder each
@@ -82,3 +83,22 @@ def test_an_override_naming_a_key_again_is_refused_not_the_last_kept(results, ov
     refused(results, ["show", "smoke", *overrides, "--root", results],
             f"overrides {first!r} and {second!r} both name {key}; give it once (Hydra would keep "
             "the last silently).")
+
+
+@pytest.mark.parametrize(("name", "file_type", "message"), [
+    # it said "cannot be read as PLY (Not a ply file!)."
+    ("sphere.ply", "obj", "is not a PLY file: it looks like an OBJ file (text with vertex lines "
+                          "'v x y z'); rename it to .obj."),
+    # these two said "... bytes are neither a binary STL (84 bytes plus 50 per triangle) nor an
+    # ASCII STL (text starting with 'solid')."
+    ("sphere.stl", "obj", "is not an STL file: it looks like an OBJ file (text with vertex lines "
+                          "'v x y z'); rename it to .obj."),
+    ("sphere.stl", "ply", "is not an STL file: it looks like a PLY file (its first line is 'ply'); "
+                          "rename it to .ply."),
+])
+def test_a_mesh_saved_under_another_formats_suffix_is_named_by_the_format_it_holds(
+        tmp_path, name, file_type, message):
+    path = tmp_path / name
+    exported = trimesh.creation.icosphere(subdivisions=2, radius=40.0).export(file_type=file_type)
+    path.write_bytes(exported.encode() if isinstance(exported, str) else exported)  # OBJ is text
+    refused(tmp_path, ["plan", path, "--mass-kg", "0.1"], f"mesh {name!r} {message}")
