@@ -1,5 +1,6 @@
-"""Bad input, round 7: deleting a whole config group (``~runner``), an option given twice, an
-empty output path, a filled-in measured-records template written over.
+"""Bad input, round 7: deleting a whole config group (``~runner``), an option or an override key
+given twice, an empty output path, a filled-in measured-records template written over, a mesh
+saved under another format's suffix.
 Each case: exit 2, one sentence naming what is wrong and where, nothing stored changed
 (``refused``)."""
 
