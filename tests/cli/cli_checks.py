@@ -26,6 +26,12 @@ BG = ["seeds=1", "shape=[sphere]", "mass_kg=[0.2]", "mu=[0.3]", "planner=[heuris
 SMOKE = ["shape=[sphere]", "nodes=[144]", "runner.backend=sequential"]
 
 
+def replaced(overrides: list[str], *new: str) -> list[str]:
+    """``overrides`` with ``new`` in place of those of the same keys (a key is named once)."""
+    keys = {item.partition("=")[0] for item in new}
+    return [item for item in overrides if item.partition("=")[0] not in keys] + list(new)
+
+
 def grid_run(root: Path) -> Path:
     """The directory of the tiny baseline_grid run under ``root``."""
     return root / "baseline_grid" / "default"

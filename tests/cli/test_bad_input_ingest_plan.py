@@ -8,14 +8,14 @@ import csv
 
 import pandas as pd
 import pytest
-from cli_checks import SMOKE, invoke, refused
+from cli_checks import SMOKE, invoke, refused, replaced
 
 
 @pytest.mark.parametrize("backend", ["loky", "sequential"])
 def test_a_dask_address_without_the_dask_backend_is_refused(results, backend):
     # the old code ran the trials on this machine and never said the address went unused
     for command in ("show", "run"):
-        refused(results, [command, "smoke", *SMOKE, f"runner.backend={backend}",
+        refused(results, [command, "smoke", *replaced(SMOKE, f"runner.backend={backend}"),
                           "runner.address=tcp://127.0.0.1:8786", "--run", "elsewhere", "--root",
                           results],
                 f"runner.address = 'tcp://127.0.0.1:8786' names a Dask scheduler, but "

@@ -12,7 +12,7 @@ import os
 
 import pandas as pd
 import pytest
-from cli_checks import SMOKE, refused
+from cli_checks import SMOKE, refused, replaced
 
 NEEDED = "which every study needs; set it instead"
 NOTHING = "which this study does not have, so there is nothing to delete; leave it out"
@@ -65,7 +65,7 @@ def test_a_million_workers_are_refused_before_any_starts(results):
     per core of this machine are refused at compose, before a worker or a file is made."""
     cores = os.cpu_count()
     for command in ("show", "run"):  # show first: on the old code its assertion stops the test
-        refused(results, [command, "smoke", *SMOKE, "runner.backend=loky", "runner.n_jobs=1000000",
+        refused(results, [command, "smoke", *replaced(SMOKE, "runner.backend=loky"), "runner.n_jobs=1000000",
                           "--root", results],
                 f"runner.n_jobs = 1000000 would start 1,000,000 worker processes, more than 4 per "
                 f"core of this machine ({cores} cores); trials compute, so more workers than cores "

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pyarrow.parquet as pq
 import pytest
-from cli_checks import BG, SMOKE, grid_run, invoke, refused
+from cli_checks import BG, SMOKE, grid_run, invoke, refused, replaced
 
 
 # -- 2. a damaged manifest ----------------------------------------------------------------------------
@@ -139,7 +139,7 @@ def test_a_manifest_that_does_not_describe_its_run_is_refused_by_every_command(r
         from graspcampaign.campaign.compose import compose_study
         from graspcampaign.campaign.provenance import config_hash
 
-        edited = config_hash(compose_study("baseline_grid", [*BG, "mu=[0.4]"]))
+        edited = config_hash(compose_study("baseline_grid", replaced(BG, "mu=[0.4]")))
         why = f"config_hash is {manifest['config_hash']}, but its config hashes to {edited}"
     message = (f"run baseline_grid/default at {grid_run(results)} has a manifest.json that does not "
                f"match the run ({why}); {advice}.")

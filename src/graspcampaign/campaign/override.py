@@ -1,11 +1,11 @@
 """Command-line overrides of a study: what is refused before Hydra sees it, bare factor names, and
 one plain sentence for every error Hydra or OmegaConf raises about an override.
 
-Refused up front: an override without a key (``=3``); one of more than
-:data:`MAX_OVERRIDE_VALUES` values (Hydra's parser is quadratic in them); Hydra's own keys
-(``hydra.run.dir=/tmp``, ``+hydra.x=1``), which the Compose API accepts and ignores because this
-tool runs the study itself; a bool set to anything but ``true``/``false`` (OmegaConf reads
-``pso.enabled=2`` as true).
+Refused up front: an override without a key (``=3``); a key named twice (Hydra keeps the last);
+one of more than :data:`MAX_OVERRIDE_VALUES` values (Hydra's parser is quadratic in them); Hydra's
+own keys (``hydra.run.dir=/tmp``, ``+hydra.x=1``), which the Compose API accepts and ignores
+because this tool runs the study itself; a whole config group deleted (``~runner``); a bool set
+to anything but ``true``/``false`` (OmegaConf reads ``pso.enabled=2`` as true).
 """
 
 from __future__ import annotations
@@ -50,11 +50,16 @@ def check_overrides(given: list[str]) -> None:
     ConfigError
         Naming the override as typed and what to write instead.
     """
+    named: dict[str, str] = {}  # a key (a factor by its bare name) -> the override naming it
     for item in given:
         prefix, key, sep, value = split(item)
         if not key:
             raise ConfigError(f"override {item!r} has no key before '='; write KEY=VALUE, e.g. "
                               "seeds=3 or mu=[0.3,0.5].")
+        if (first := named.get(key.removeprefix("factors."))) is not None:
+            raise ConfigError(f"overrides {first!r} and {item!r} both name {key}; give it once "
+                              "(Hydra would keep the last silently).", key=key)
+        named[key.removeprefix("factors.")] = item
         if (values := value.count(",") + 1) > MAX_OVERRIDE_VALUES:  # before Hydra parses it
             raise ConfigError(f"override {item!r} holds {values:,} comma-separated values, more "
                               f"than an override can hold ({MAX_OVERRIDE_VALUES:,}); give them in "
@@ -65,6 +70,10 @@ def check_overrides(given: list[str]) -> None:
             raise ConfigError(f"override {item!r} sets {key}, a key of Hydra's own runtime; this "
                               "tool uses Hydra to compose studies and runs them itself, so hydra "
                               "keys have no effect: leave it out.", key=key)
+        if "~" in prefix and key in GROUPS:  # Hydra drops the group's file: the schema's values
+            raise ConfigError(f"override {item!r} deletes the config group {key}, which every "
+                              f"study needs; set one of its options instead ({key}=OPTION; "
+                              f"options: {_group_options(key)}).", key=key)
         required = field_at(key) if "~" in prefix else None
         # ~name: OmegaConf's missing mark, '???'; ~model.lambda1: a section's schema keeps its keys
         if required and (required[1].default == "???" or "." in key):
@@ -315,14 +324,21 @@ def missing_option_sentence(group: str, option: str) -> str:
     """``model=nosuch``: name the group's options (the files of ``conf/<group>/``)."""
     from graspcampaign.campaign.studyfile import project_dirs
 
-    directory = project_dirs()[0] / group
     named = (f"{group}={option} is a list, and a study composes one option" if option[:1] == "["
              else f"{group}={option} is not an option" if option else f"{group}= names no option")
-    options = sorted(p.stem for p in directory.glob("*.yaml")) if directory.is_dir() else []
+    options = _group_options(group)
     if not options:
         groups = sorted(p.name for p in project_dirs()[0].iterdir() if p.is_dir())
         return f"{group} is not a config group; config groups: {', '.join(groups)}."
-    return f"{named} of config group {group}; available options: {', '.join(options)}."
+    return f"{named} of config group {group}; available options: {options}."
+
+
+def _group_options(group: str) -> str:
+    """The options of a config group (the files of ``conf/<group>/``), comma-separated."""
+    from graspcampaign.campaign.studyfile import project_dirs
+
+    directory = project_dirs()[0] / group
+    return ", ".join(sorted(p.stem for p in directory.glob("*.yaml")) if directory.is_dir() else [])
 
 
 def omegaconf_error_sentence(exc: BaseException, prefix: str = "") -> str:

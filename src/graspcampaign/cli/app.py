@@ -44,6 +44,28 @@ def usage_sentence(exc: UsageError, command: str | None) -> str:
     return f"{text}; see graspcampaign {command + ' ' if command else ''}--help."
 
 
+def repeated_option(command, args: list[str]) -> str | None:
+    """The sentence for an option given twice in a command's ``args`` (click would keep the last
+    silently), or None; a repeatable option (``--set``) and the words after ``--`` aside."""
+    options = {name: param for param in command.params
+               if param.param_type_name == "option" and not param.multiple
+               for name in (*param.opts, *param.secondary_opts)}
+    seen: dict[str, str] = {}
+    words = iter(args)
+    for word in words:
+        if word == "--":
+            return None
+        name, equals, _ = word.partition("=")
+        param = options.get(name)
+        if param is None:
+            continue
+        typed = word if equals or param.is_flag else f"{word} {next(words, '')}".rstrip()
+        if param.name in seen:
+            return f"option {param.opts[0]} is given twice ({seen[param.name]}, then {typed}); give it once."
+        seen[param.name] = typed
+    return None
+
+
 class _Commands(TyperGroup):
     """The commands, whose command-line errors are one sentence like every other refusal."""
 
@@ -54,9 +76,11 @@ class _Commands(TyperGroup):
             command.help = "\n\n".join(" ".join(paragraph.split()) for paragraph in paragraphs)
 
     def invoke(self, ctx):
-        # the command's name, before click parses its arguments (``_protected_args``: click 8.2)
-        command = next(iter(getattr(ctx, "_protected_args", None)
-                            or getattr(ctx, "protected_args", [])), None)
+        # the command's name and words, before click parses them (``_protected_args``: click 8.2)
+        command, *args = [*(getattr(ctx, "_protected_args", None)
+                            or getattr(ctx, "protected_args", [])), *ctx.args] or [None]
+        if command in self.commands and (twice := repeated_option(self.commands[command], args)):
+            fail(twice)
         try:
             return super().invoke(ctx)
         except UsageError as exc:
@@ -180,6 +204,8 @@ def writable_stem(out: Path, option: str, hint: str = "a file stem such as",
     in its place, a file on its path or a directory that cannot be written is bad input."""
     from graspcampaign.campaign.paths import path_problem
 
+    if out == "":  # as a Path, "" would read "." (path_or_empty)
+        fail(f"{option} is empty; give {hint} {example}.")
     why = path_problem(out, write=True, directory=False)
     if why == "is a directory, not a file":
         fail(f"{option} {out} is a directory; give {hint} {out / example}.")

@@ -36,7 +36,8 @@ def schedule(
         Path | None, typer.Option(help="Output file stem: writes <stem>.csv and <stem>.parquet "
                                        "(x.csv or x.parquet names the same two files as x; "
                                        "default: <root>/<study>/schedule/sheet, a folder "
-                                       "that `report` does not take for a run).")
+                                       "that `report` does not take for a run).",
+                                  parser=path_or_empty, metavar="path")
     ] = None,
     template: Annotated[bool, typer.Option(
         "--template", help="Also write the measured-records sheet to fill in (every column, empty, "
@@ -54,9 +55,10 @@ def schedule(
     kind = get_kind(cfg.kind)
     if kind.schedule is None:
         fail(f"study {cfg.name!r} is a simulation study; only hardware protocols have a schedule.")
-    if out is not None and out.suffix in (".csv", ".parquet"):  # --out x.csv: the stem is x
+    if out and out.suffix in (".csv", ".parquet"):  # --out x.csv: the stem is x
         out = out.with_suffix("")
-    stem = writable_stem(out or Path(cfg.output.root) / cfg.name / "schedule" / "sheet", "--out")
+    stem = writable_stem(Path(cfg.output.root) / cfg.name / "schedule" / "sheet" if out is None
+                         else out, "--out")
     if out is not None and not out.parent.is_dir():  # as plan --png: a typo grows no tree
         fail(f"--out {out}: directory {out.parent} does not exist.")
     def file(name: str) -> Path:  # one naming for the check and the writes: '<stem><name>'
@@ -72,6 +74,12 @@ def schedule(
     if template:
         fill, columns = kind.template(cfg, params, sheet)
         sheets.update({"-template": fill, "-template-columns": columns})
+    for suffix, table in sheets.items():  # a sheet filled in or made for other settings stays
+        written = file(f"{suffix}.csv")
+        if written.is_file() and written.read_bytes() != table.to_csv(index=False).encode():
+            fail(f"--out {stem}: {written.name} already exists and differs from the sheet this "
+                 "command writes (filled in, or made with other settings?); move it away or give "
+                 "another --out, so that it is not written over.")
     try:
         stem.parent.mkdir(parents=True, exist_ok=True)
         for suffix, table in sheets.items():

@@ -151,7 +151,8 @@ def run_cmd(
 def reproduce(
     root: RootOpt = None,
     times: Annotated[Path | None, typer.Option(
-        help="Also append each step's '== <step>: <s> s' line to this file.")] = None,
+        help="Also append each step's '== <step>: <s> s' line to this file.",
+        parser=path_or_empty, metavar="path")] = None,
 ) -> None:
     """Run every study of `list --names` at paper scale, then write every report.
 

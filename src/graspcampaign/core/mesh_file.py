@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import logging
 import os
+import re
 
 import numpy as np
 import trimesh
@@ -92,11 +93,11 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
     with open(name, "rb") as fh:
         head = fh.read(4096)
     other = _other_format(head, n_bytes)
+    if other and other[1] != suffix:
+        raise MeshError(f"mesh {base!r} is not {'a' if suffix == '.ply' else 'an'} "
+                        f"{suffix[1:].upper()} file: it looks like {other[0]}; rename it to {other[1]}.")
     if suffix == ".stl":
         _check_stl_layout(name, base, n_bytes)
-    elif other and other[1] != suffix:
-        raise MeshError(f"mesh {base!r} is not {'an' if suffix == '.obj' else 'a'} "
-                        f"{suffix[1:].upper()} file: it looks like {other[0]}; rename it to {other[1]}.")
     face_word = "triangle" if suffix == ".stl" else None  # set when the faces keep the file's order
     if suffix == ".obj" and _check_obj_lines(name, base):
         face_word = "face"
@@ -173,13 +174,15 @@ def _check_stl_layout(name: str, base: str, n_bytes: int) -> None:
 
 
 def _other_format(head: bytes, n_bytes: int) -> tuple[str, str] | None:
-    """Recognise an STL or PLY file by its first bytes: (what it looks like, its suffix)."""
+    """Recognise an STL, PLY or OBJ file by its first bytes: (what it looks like, its suffix)."""
     if len(head) >= 84 and 84 + 50 * int.from_bytes(head[80:84], "little") == n_bytes:
         return "a binary STL (84 bytes plus 50 per triangle)", ".stl"
     if head.lstrip()[:5].lower() == b"solid" and b"facet" in head:
         return "an ASCII STL (text starting with 'solid')", ".stl"
     if head[:4] in (b"ply\n", b"ply\r"):
         return "a PLY file (its first line is 'ply')", ".ply"
+    if re.search(rb"(?m)^[ \t]*v[ \t]+[-+.\d]", head):  # an OBJ vertex line: 'v 1.0 2.0 3.0'
+        return "an OBJ file (text with vertex lines 'v x y z')", ".obj"
     return None
 
 
