@@ -1,0 +1,61 @@
+"""docs/ARCHITECTURE.md's module tree is the code's: every module it names exists, it names every
+module, and numba is imported only where it says (the compiled modules).
+
+A module added, renamed or removed without its line in the tree fails here, so a new reader's map
+of the package cannot drift from the package.
+"""
+
+from __future__ import annotations
+
+import ast
+import re
+from pathlib import Path
+
+import graspcampaign
+
+PACKAGE = Path(graspcampaign.__file__).parent
+DOC = Path(__file__).resolve().parents[1] / "docs" / "ARCHITECTURE.md"
+#: the tree names the trial kinds and the report specs as folders (kinds/, studies/), not one by one
+LISTED_AS_A_FOLDER = ("campaign/kinds", "report/studies")
+#: ARCHITECTURE.md: core imports numba in kernels.py, the *_kernel(s).py modules and
+#: equilibrium_loop.py only; analysis in rank_kernel.py only
+COMPILED = re.compile(r"(core/(kernels|\w+_kernels?|equilibrium_loop)|analysis/rank_kernel)\.py")
+
+
+def tree() -> str:
+    """The package tree at the top of ARCHITECTURE.md (its first code block)."""
+    return DOC.read_text().split("```")[1]
+
+
+def modules() -> list[str]:
+    """Every module of the package as a path under it, ``__init__.py`` files aside."""
+    return sorted(path.relative_to(PACKAGE).as_posix() for path in PACKAGE.rglob("*.py")
+                  if path.name != "__init__.py")
+
+
+def imports_numba(path: Path) -> bool:
+    for node in ast.walk(ast.parse(path.read_text())):
+        names = ([alias.name for alias in node.names] if isinstance(node, ast.Import)
+                 else [node.module or ""] if isinstance(node, ast.ImportFrom) else [])
+        if any(name.split(".")[0] == "numba" for name in names):
+            return True
+    return False
+
+
+def test_every_file_the_tree_names_exists():
+    stems = {path.stem for path in PACKAGE.rglob("*.py")}
+    named = set(re.findall(r"\b(\w+)\.py\b", tree()))
+    assert sorted(named - stems) == []
+
+
+def test_the_tree_names_every_module():
+    text = tree()
+    unnamed = [module for module in modules() if not module.startswith(LISTED_AS_A_FOLDER)
+               and not re.search(rf"\b{Path(module).stem}\b", text)]
+    assert unnamed == [], f"modules docs/ARCHITECTURE.md does not name: {unnamed}"
+
+
+def test_numba_is_imported_by_the_compiled_modules_only():
+    found = [module for module in modules() if imports_numba(PACKAGE / module)]
+    assert [module for module in found if not COMPILED.fullmatch(module)] == []
+    assert "core/kernels.py" in found and "analysis/rank_kernel.py" in found  # the rule is live
