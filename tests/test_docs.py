@@ -1,8 +1,9 @@
-"""docs/ARCHITECTURE.md's module tree is the code's: every module it names exists, it names every
-module, and numba is imported only where it says (the compiled modules).
+"""The docs a new user reads are the code's. docs/ARCHITECTURE.md's module tree: every module it
+names exists, it names every module, and numba is imported only where it says (the compiled
+modules). README.md: every command and option it shows exists.
 
-A module added, renamed or removed without its line in the tree fails here, so a new reader's map
-of the package cannot drift from the package.
+A module or option added, renamed or removed without its line in the docs fails here, so a new
+reader's map of the package cannot drift from the package.
 """
 
 from __future__ import annotations
@@ -59,3 +60,23 @@ def test_numba_is_imported_by_the_compiled_modules_only():
     found = [module for module in modules() if imports_numba(PACKAGE / module)]
     assert [module for module in found if not COMPILED.fullmatch(module)] == []
     assert "core/kernels.py" in found and "analysis/rank_kernel.py" in found  # the rule is live
+
+
+README = DOC.parents[1] / "README.md"
+
+
+def test_every_command_and_option_the_readme_shows_exists():
+    from typer.main import get_command
+
+    from graspcampaign.cli.main import app
+
+    group = get_command(app)
+    options = {name: {o for p in command.params for o in p.opts} for name, command in group.commands.items()}
+    top = {o for p in group.params for o in p.opts}  # --debug, --install-completion, ...
+    shown = re.findall(r"graspcampaign ((?:--[a-z-]+ )*)([a-z]+)([^`#\n]*)", README.read_text())
+    wrong = [f"{name}{rest}" for flags, name, rest in shown if name not in ("as", "import") and (
+        name not in options or set(re.findall(r"--[a-z-]+", flags)) - top
+        or set(re.findall(r"--[a-z-]+", rest)) - options[name])]
+    assert len(shown) > 15 and wrong == []
+    root_commands = re.search(r"`--root DIR` \(([^)]*)\)", README.read_text())[1]
+    assert [c for c in re.findall(r"`(\w+)`", root_commands) if "--root" not in options[c]] == []
