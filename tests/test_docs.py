@@ -1,6 +1,7 @@
 """The docs a new user reads are the code's. docs/ARCHITECTURE.md's module tree: every module it
 names exists, it names every module, and numba is imported only where it says (the compiled
-modules). README.md: every command and option it shows exists.
+modules). README.md: every command and option it shows exists. Every function or module the
+four docs name by its path (`core.x.f`) exists.
 
 A module or option added, renamed or removed without its line in the docs fails here, so a new
 reader's map of the package cannot drift from the package.
@@ -9,6 +10,7 @@ reader's map of the package cannot drift from the package.
 from __future__ import annotations
 
 import ast
+import importlib
 import re
 from pathlib import Path
 
@@ -80,3 +82,26 @@ def test_every_command_and_option_the_readme_shows_exists():
     assert len(shown) > 15 and wrong == []
     root_commands = re.search(r"`--root DIR` \(([^)]*)\)", README.read_text())[1]
     assert [c for c in re.findall(r"`(\w+)`", root_commands) if "--root" not in options[c]] == []
+
+
+def resolve(dotted: str) -> bool:
+    """Whether ``graspcampaign.<dotted>`` is a module or an attribute (path) of one."""
+    parts = f"graspcampaign.{dotted}".split(".")
+    for end in range(len(parts), 1, -1):
+        try:
+            found = importlib.import_module(".".join(parts[:end]))
+        except ImportError:
+            continue
+        for name in parts[end:]:
+            if not hasattr(found, name):
+                return False
+            found = getattr(found, name)
+        return True
+    return False
+
+
+def test_every_function_the_docs_name_by_its_path_exists():
+    docs = [README, DOC, *(DOC.parent / name for name in ("model.md", "records.md"))]
+    names = {name for doc in docs for name in re.findall(
+        r"`((?:core|analysis|campaign|rig|report)\.[A-Za-z_][\w.]*\w)", doc.read_text())}
+    assert len(names) > 100 and sorted(name for name in names if not resolve(name)) == []
