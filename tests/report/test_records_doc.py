@@ -10,6 +10,7 @@ import itertools
 import re
 from pathlib import Path
 
+import pandas as pd
 import pytest
 
 from graspcampaign.api import load_records
@@ -75,3 +76,73 @@ def test_every_record_column_of_every_kind_is_documented(sim_root):
                                           ("dynamic_check", "wrench_fy_n")])
 def test_a_section_includes_the_kind_it_names(kind, column):
     assert column in documented_columns()[1][kind]
+
+
+#: "the `sensitivity` outcome columns but `identified` and `runtime_ms`": another section's Outputs,
+#: less the columns named after "but"
+REFERENCE = re.compile(r"the `(\w+)`\s+outcome\s+columns(?:\s+but\s+((?:`\w+`(?:,|\s+and|\s)*)+))?")
+
+
+#: backticked names in a records table that are no column of the records, and why
+NOT_COLUMNS = {"actual": "belief_model's value in the belief_none trace table only",
+               "g_geo_predicted": "the former name of g_geo_believed"}
+
+
+def outputs(body: str) -> str:
+    """A section's *Outputs* paragraph (the trace and study-level tables after it are no records)."""
+    found = re.search(r"\bOutputs?\b(.*?)(?=Trace tables?\b|Study-level|\n\n|\Z)", body, re.S)
+    return found[1] if found else ""
+
+
+def named(text: str) -> set[str]:
+    """The column-like names of ``text``: backticked, no dotted path, value or comma list."""
+    tokens = re.findall(r"`([a-z][a-z0-9_]*(?:(?:\.\.\d|\{[a-z0-9_,]+\})[a-z0-9_]*)*)`", text)
+    return set().union(*map(expand, tokens))
+
+
+def claimed_columns() -> dict[str, tuple[list[str], set[str], set[str]]]:
+    """Per section: the kinds its heading names, the columns it says their records hold (the first
+    cell of its tables' rows, or the second where the first names no column; the names of its
+    Outputs and of the Outputs it refers to) and the columns it says they lack (after "but")."""
+    sections = {}
+    for block in re.split(r"^## ", DOC.read_text(), flags=re.M)[1:]:
+        heading, _, body = block.partition("\n")
+        sections[heading] = body
+    of_kind = {kind: body for heading, body in sections.items()
+               for kind in re.findall(r"`(\w+)`", heading)}
+    out = {}
+    for heading, body in sections.items():
+        rows = [line.split("|") for line in body.splitlines()
+                if line.startswith("| ") and not line.startswith("| column")]
+        # a row named in words ("measured (virtual rig or ingested file)") lists its columns after
+        cells = "\n".join(row[1] if named(row[1]) else row[2] for row in rows)
+        claimed, lacks = named(cells) | named(outputs(body)), set()
+        for other, but in REFERENCE.findall(outputs(body)):
+            lacks |= named(but)
+            claimed |= named(outputs(of_kind[other])) - lacks
+        out[heading] = (re.findall(r"`(\w+)`", heading), claimed - lacks - set(of_kind), lacks)
+    return out
+
+
+def test_every_column_docs_records_md_names_is_in_the_records(sim_root):
+    kinds: dict[str, pd.DataFrame] = {}
+    for path in sorted(sim_root.iterdir()):
+        if (path / "default").is_dir():
+            records = load_records(path.name, root=sim_root)
+            kinds[records["kind"].iloc[0]] = pd.concat([kinds.get(records["kind"].iloc[0]), records])
+    wrong = {}
+    for heading, (names, claimed, lacks) in claimed_columns().items():
+        base = heading.startswith("Base columns")  # in every kind's records
+        frames = list(kinds.values()) if base else [kinds[name] for name in names if name in kinds]
+        if not frames:  # prepared/ and the run files are no trial kind's records
+            continue
+        column_sets = [set(frame.columns) for frame in frames]
+        columns = set.intersection(*column_sets) if base else set.union(*column_sets)
+        # a name that is a value of the records (`resolution` of `panel`, `ferrari_canny` rows) is no column
+        values = {str(v) for f in frames for c in f.columns if not pd.api.types.is_numeric_dtype(f[c])
+                  for v in f[c].unique()[:50]}
+        missing = sorted(claimed - columns - values - set(NOT_COLUMNS))
+        present = sorted(lacks & columns)
+        if missing or present:
+            wrong[heading] = {"named, not in the records": missing, "said to lack, present": present}
+    assert wrong == {}, f"docs/records.md names columns the records do not hold: {wrong}"
