@@ -174,8 +174,21 @@ def test_every_link_of_an_html_report_goes_to_a_written_file(results):
             for target in {a or b for a, b in links} - {""}:
                 if not target.startswith(("#", "data:", "http")):
                     assert (written.parent / target.split("#")[0]).is_file(), f"{written}: {target}"
-    assert result.stdout.splitlines() == [f"report: {page}", f"index: {results / 'index.html'}",
-                                          f"headline: {results / 'headline.html'}"]
+    assert result.stdout.splitlines() == [f"report: {page}", f"index: {results / 'index.md'} (and .html)",
+                                          f"headline: {results / 'headline.md'} (and .html)"]
+
+
+def test_a_markdown_report_keeps_the_earlier_html_root_pages_true(results):
+    """After ``report --format html``, a Markdown-only report rewrote ``index.md`` and left
+    ``index.html`` as it was: a run deleted since stayed linked there (a dead link) and the HTML
+    headline kept the old numbers. The root pages an earlier report wrote are rewritten too."""
+    assert invoke("report", "--root", results, "--format", "html").exit_code == 0
+    shutil.rmtree(results / "smoke" / "default")  # a user removes a run they no longer need
+    assert invoke("report", "baseline_grid", "--root", results).exit_code == 0
+    for page in ("index.html", "headline.html", "index.md"):
+        for target in re.findall(r"href='([^'#]*)'|\]\(([^)#]*)\)", (results / page).read_text()):
+            target = "".join(target)
+            assert not target or (results / target).is_file(), f"{page}: {target}"
 
 
 def test_status_reads_the_configured_run(smoke_run):

@@ -213,7 +213,7 @@ def build_reports(studies: list[str] | None = None, run: str | Mapping[str, str]
             batch.failed.append(failure)
     if len(batch) and write_root_pages(root, formats):
         batch.pages = [root / f"{name}.{ext}" for name in ("index", "headline")
-                       for ext in _root_pages(formats)]
+                       for ext in _root_pages(root, formats)]
     return batch
 
 
@@ -224,7 +224,7 @@ def write_root_pages(root: Path, formats: list[str]) -> bool:
     pages do not show yet is written with its row marked "the run cannot be read"."""
     unreadable: list[tuple[str, str]] = []
     frame = headline_rows(root, unreadable)
-    index = {page: index_rows(root, page, unreadable) for page in _root_pages(formats)}
+    index = {page: index_rows(root, page, unreadable) for page in _root_pages(root, formats)}
     pages = [root / f"{name}.{ext}" for name in ("headline", "index") for ext in ("csv", "md", "html")]
     shown = " ".join(p.read_text(errors="replace") for p in pages if p.is_file())
     unreadable = [(label, why) for label, why in unreadable
@@ -235,15 +235,16 @@ def write_root_pages(root: Path, formats: list[str]) -> bool:
         warnings.warn(f"the headline and index pages were left as they were: run {label} cannot "
                       f"be read{more} ({why})", stacklevel=2)
         return False
-    write_headline(root, _root_pages(formats), frame)
+    write_headline(root, _root_pages(root, formats), frame)
     for page, rows in index.items():
         write_index_page(root, page, rows)
     return True
 
 
-def _root_pages(formats: list[str]) -> list[str]:
-    """The formats of the index and headline pages: those asked for (md, html), else md."""
-    return [f for f in ("md", "html") if f in formats] or ["md"]
+def _root_pages(root: Path, formats: list[str]) -> list[str]:
+    """The formats of the index and headline pages: those asked for (md, html), else md, and those
+    an earlier report wrote (an index.html left as it was would no longer list every run)."""
+    return [f for f in ("md", "html") if f in formats or (root / f"index.{f}").is_file()] or ["md"]
 
 
 def index_rows(root: Path, page: str, unreadable: list[tuple[str, str]] | None = None,
