@@ -14,7 +14,7 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.ticker import FuncFormatter, SymmetricalLogLocator
 
-from graspcampaign.analysis.vocabulary import PROPOSED, colour, label
+from graspcampaign.analysis.vocabulary import OTHER_COLOURS, PROPOSED, colour, label
 from graspcampaign.report import format as fmt
 
 RC = {
@@ -57,6 +57,14 @@ def draw(build: Callable[[Figure], None], size: tuple[float, float], source: str
         fig = Figure(figsize=size, layout="constrained")
         build(fig)
         return save(fig, source, formats)
+
+
+def level_colours(n: int) -> list[str]:
+    """Colours of ``n`` ordered levels outside every vocabulary (μ, node counts), dark to light: the
+    ramp ``OTHER_COLOURS`` spread over its whole length, since its adjacent steps are hard to tell
+    apart as lines; more levels than the ramp holds cycle it."""
+    steps = np.linspace(0, len(OTHER_COLOURS) - 1, n).round() if n <= len(OTHER_COLOURS) else range(n)
+    return [OTHER_COLOURS[int(i) % len(OTHER_COLOURS)] for i in steps]
 
 
 def paper_handle(label: str = "paper's value") -> Line2D:
