@@ -6,6 +6,7 @@ import matplotlib as mpl
 import numpy as np
 from hypothesis import given
 from hypothesis import strategies as st
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from graspcampaign.analysis.vocabulary import VOCABULARIES, label
@@ -79,3 +80,21 @@ def test_the_mu_lines_of_fig17_are_told_apart_by_lightness():
     assert [line.get_label() for line in lines] == [f"μ = {m:g}" for m in mus]
     light = sorted(_relative_luminance(line.get_color()) for line in lines)
     assert min((b + 0.05) / (a + 0.05) for a, b in zip(light, light[1:])) >= 2.0
+
+
+def test_a_near_zero_bar_stays_visible_under_the_papers_zero_mark():
+    # Fig. 18 (grip_laws, baseline_grid): the paper's 0 % mark, a 2 pt black line over the bar, hid our
+    # 1 % bar; the bar's own pixels (off its whisker) must show its colour
+    with mpl.rc_context(RC):
+        fig = Figure(figsize=(4.0, 3.0), dpi=100)
+        FigureCanvasAgg(fig)
+        ax = fig.add_subplot()
+        bars(ax, [0.0], [1.0], [0.5], [2.0], ["#ff0000"], paper=[0.0])
+        ax.set(ylim=(0, 105))
+        fig.canvas.draw()
+        pixels = np.asarray(fig.canvas.buffer_rgba())[..., :3]
+        (x0, y0), (x1, y1) = ax.transData.transform([(0.15, 0.0), (0.3, 1.0)])  # right of the whisker
+    height = pixels.shape[0]
+    region = pixels[int(height - y1) - 1:int(np.ceil(height - y0)) + 1, int(x0):int(x1)]
+    red = (region[..., 0] > 150) & (region[..., 1] < 150) & (region[..., 2] < 150)
+    assert red.any(axis=0).mean() > 0.9  # the bar shows in (nearly) every pixel column
