@@ -79,7 +79,7 @@ def test_the_mu_lines_of_fig17_are_told_apart_by_lightness():
     lines = [line for line in fig.axes[0].lines if line.get_label().startswith("μ =")]
     assert [line.get_label() for line in lines] == [f"μ = {m:g}" for m in mus]
     light = sorted(_relative_luminance(line.get_color()) for line in lines)
-    assert min((b + 0.05) / (a + 0.05) for a, b in zip(light, light[1:])) >= 2.0
+    assert min((b + 0.05) / (a + 0.05) for a, b in zip(light, light[1:], strict=False)) >= 2.0
 
 
 def test_a_near_zero_bar_stays_visible_under_the_papers_zero_mark():

@@ -141,7 +141,8 @@ GRAVITY_SETTLE = ReportSpec("gravity_settle", [
          "counts such steps (`docs/decisions.md`, energy audit)."),
     Figure("integrator_audit", "Global error against step size (dashed: the expected order's slope) and "
            "energy-balance error over time, per integrator; (b) plots the absolute error in J, the table "
-           "integrator_audit its largest value relative to the largest energy [–]", integrator_figure, (10.0, 4.0)),
+           "integrator_audit its largest value relative to the largest energy [–]", integrator_figure,
+           (10.0, 4.0)),
 ])
 
 
