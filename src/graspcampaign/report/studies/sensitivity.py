@@ -192,9 +192,9 @@ def finding(run: Run) -> str:
     rows = {name: r for name, r in rows.items() if r["value"].notna().all()}
     seen = [name for name, r in rows.items() if r["low"].iloc[0] > r["high"].iloc[1]]
     p, inside, outside = run.paper, *(claims.loc[q] for q in REGION)
-    text = (f"The paper's stable region is μ ≥ {p.stable_mu_min:g}, m ≤ {p.stable_mass_max_kg:g} kg "
-            f"(Fig. 19a caption, Sec. 6.6); ours succeeds on {_rate(inside)} inside it against "
-            f"{_rate(outside)} outside. " if inside[["value"]].notna().all() else "")
+    text = (f"Paper's stable region: μ ≥ {p.stable_mu_min:g}, m ≤ {p.stable_mass_max_kg:g} kg (Fig. 19a); "
+            f"ours succeeds on {fmt.number(inside['value'], 1)}% inside it, "
+            f"{fmt.number(outside['value'], 1)}% outside. " if inside[["value"]].notna().all() else "")
     text += (f"{len(seen)} of the {len(rows)} Fig. 19 boundaries tested separate our rates (Wilson intervals "
              f"apart{': ' + fmt.listed(seen) if seen else ''}; table sensitivity_claims). " if rows else "")
     if len(a):
@@ -202,9 +202,9 @@ def finding(run: Run) -> str:
     if len(seen) < len(rows):
         text += ("Why: Algorithm 2 releases contacts until the remaining normals carry the weight (η ≈ 0), "
                  "so the slip check rarely binds; the static loop reads neither the contact damping λ2 nor "
-                 "the MSD damping b (panels b and c). ")
-    return text + ("Per panel: table sensitivity_panels (`docs/decisions.md`, *Sensitivity, mesh resolution, "
-                   "surrogate*).")
+                 "the MSD damping b (panels b and c; `docs/decisions.md`, *Sensitivity, mesh resolution, "
+                 "surrogate*). ")
+    return text.rstrip()
 
 
 def _where(panel: str, part=None, holds: bool = True):
