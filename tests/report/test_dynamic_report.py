@@ -20,6 +20,7 @@ from graspcampaign.report.document import Document
 from graspcampaign.report.render import Run, render
 from graspcampaign.report.studies.dynamic import (
     FRICTION_MASS,
+    GRAVITY_SETTLE,
     TOTAL,
     fig10,
     fig12_13,
@@ -252,6 +253,23 @@ def test_the_step_labels_of_the_two_integrators_do_not_overprint():
     plt.close(fig)
     assert len(boxes) == 8
     assert not [(i, j) for i in range(8) for j in range(i) if boxes[i].overlaps(boxes[j])]
+
+
+def test_the_relative_energy_error_is_marked_dimensionless_and_the_plotted_one_absolute():
+    # the table's "energy balance rel error" columns had no unit mark while panel (b) plots the absolute
+    # error in J; docs/records.md: the rel error is the largest |balance error| over the largest energy
+    run, _ = gravity_settle_run()
+    run.tables["settle"] = run.tables["settle"].assign(
+        dt_s=1e-4, energy_balance_rel_error=3.5e-4, energy_balance_rel_error_half_dt=2e-5)
+    table, figure = (next(i for i in GRAVITY_SETTLE.items if type(i).__name__ == kind
+                          and i.name == "integrator_audit") for kind in ("Table", "Figure"))
+    shown = md_table(table.render(run)[0].md("png"), "integrator_audit")
+    assert {"energy balance rel error [–]", "energy balance rel error half dt [–]"} <= set(shown.columns)
+    fig = plt.figure()
+    integrator_figure(run, fig)
+    assert fig.axes[1].get_ylabel().endswith("[J]")
+    plt.close(fig)
+    assert "(b) plots the absolute error in J" in figure.caption
 
 
 def test_the_kinetic_energy_plot_starts_at_the_first_moving_step():

@@ -271,11 +271,11 @@ def test_a_non_finite_sweep_level_is_reported_not_raised(runs, tmp_path):
                          "against 30% at μ < 0.1")]),
 ])
 def test_lambda1_bound_words_are_judged_by_the_verdict_rule(a, b, expected):
-    from graspcampaign.report.studies.sensitivity import BOUND, _bound_claims
+    from graspcampaign.report.studies.sensitivity import BOUND, _word_claims
 
     frame = pd.DataFrame({"quantity": [BOUND + "< 0.1", BOUND + "≥ 0.1"], "value": [a, b],
                           "paper": None, "differs": None, "verdict": ""})
-    out = _bound_claims(frame)
+    out = _word_claims(frame)
     assert list(zip(out["differs"], out["verdict"], strict=True)) == expected
 
 

@@ -12,6 +12,7 @@ import numpy as np
 import pandas as pd
 import pytest
 from scipy import stats as sps
+from statsmodels.stats.proportion import proportion_confint
 from synthetic_runs import SHAPES, make_run, md_table, ok_records, quasi_static_outputs, read_table, report_md
 from test_build import study_paper_block
 
@@ -250,3 +251,10 @@ def test_heuristic_weights_invariance(tmp_path, scales, words):
     assert (contacts["n"], contacts["section"]) == (len(ok), "Sec. 5.2")  # the paper says so in Sec. 5.2
     sweep = read_table(store, "ratio_sweep").set_index("weights_w1_w2_w3")
     assert sweep["argmin_moves"].to_dict() == {"2:1:1": 0, "1:1:2": 1}
+    # each share of seeds whose argmin moves carries its Wilson 95% interval, as every rate column (it had
+    # n but no interval): 1 of 3 seeds, statsmodels' Wilson
+    low, high = proportion_confint(1, 3, alpha=0.05, method="wilson")
+    assert (sweep.loc["1:1:2", "argmin_moves_low_pct"], sweep.loc["1:1:2", "argmin_moves_high_pct"]) == \
+        (pytest.approx(100 * low), pytest.approx(100 * high))
+    shown = md_table(report_md(store), "ratio_sweep").set_index("w1:w2:w3")
+    assert shown.loc["1:1:2", "moves % (Wilson 95%)"] == f"{100 / 3:.1f} ({100 * low:.1f}–{100 * high:.1f})"

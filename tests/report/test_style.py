@@ -6,6 +6,7 @@ import matplotlib as mpl
 import numpy as np
 from hypothesis import given
 from hypothesis import strategies as st
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from graspcampaign.analysis.vocabulary import VOCABULARIES, label
@@ -45,3 +46,55 @@ def test_a_missing_rate_draws_no_whisker():
     drawn = points[np.isfinite(points).all(axis=1)]
     assert set(drawn[:, 0].round(1)) <= {-0.1, 0.0, 0.1}, drawn  # only the measured group's whisker
     assert drawn[:, 1].min() == 40.0 and drawn[:, 1].max() == 60.0
+
+
+def _relative_luminance(colour) -> float:
+    """WCAG 2 relative luminance of an sRGB colour (W3C's closed form)."""
+    rgb = np.asarray(mpl.colors.to_rgb(colour))
+    linear = np.where(rgb <= 0.04045, rgb / 12.92, ((rgb + 0.055) / 1.055) ** 2.4)
+    return float(linear @ [0.2126, 0.7152, 0.0722])
+
+
+def test_the_mu_lines_of_fig17_are_told_apart_by_lightness():
+    # Fig. 17's three μ lines took neighbouring steps of one green ramp (WCAG contrast 1.5-1.7:
+    # hard to tell apart); each pair now differs by at least 2:1
+    from types import SimpleNamespace
+
+    import pandas as pd
+
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies.wrench import fig17
+
+    mus = (0.1, 0.3, 0.5)
+    records = pd.DataFrame({"trial_id": [f"t{m}" for m in mus], "status": "ok", "mu": mus})
+    paper = SimpleNamespace(residual_settles_within_iterations=(30, 40), slip_margin_saturates_above=0.8,
+                            slip_margin_saturates_from_mu=0.3, finger_force_command_n=65.0)
+    run = Run(records, {"config": {"evaluator": {"tau_f_n": 0.5}}}, paper)
+    run.memo("tables/iterations", lambda: pd.DataFrame(
+        [{"trial_id": f"t{m}", "iteration": i, "residual_norm_n": 1.0, "torque_norm_nm": 0.0,
+          "slip_margin_rel": 0.5, "normal_force_1_n": 10.0} for m in mus for i in range(5)]))
+    with mpl.rc_context(RC):
+        fig = Figure()
+        fig17(run, fig)
+    lines = [line for line in fig.axes[0].lines if line.get_label().startswith("μ =")]
+    assert [line.get_label() for line in lines] == [f"μ = {m:g}" for m in mus]
+    light = sorted(_relative_luminance(line.get_color()) for line in lines)
+    assert min((b + 0.05) / (a + 0.05) for a, b in zip(light, light[1:], strict=False)) >= 2.0
+
+
+def test_a_near_zero_bar_stays_visible_under_the_papers_zero_mark():
+    # Fig. 18 (grip_laws, baseline_grid): the paper's 0 % mark, a 2 pt black line over the bar, hid our
+    # 1 % bar; the bar's own pixels (off its whisker) must show its colour
+    with mpl.rc_context(RC):
+        fig = Figure(figsize=(4.0, 3.0), dpi=100)
+        FigureCanvasAgg(fig)
+        ax = fig.add_subplot()
+        bars(ax, [0.0], [1.0], [0.5], [2.0], ["#ff0000"], paper=[0.0])
+        ax.set(ylim=(0, 105))
+        fig.canvas.draw()
+        pixels = np.asarray(fig.canvas.buffer_rgba())[..., :3]
+        (x0, y0), (x1, y1) = ax.transData.transform([(0.15, 0.0), (0.3, 1.0)])  # right of the whisker
+    height = pixels.shape[0]
+    region = pixels[int(height - y1) - 1:int(np.ceil(height - y0)) + 1, int(x0):int(x1)]
+    red = (region[..., 0] > 150) & (region[..., 1] < 150) & (region[..., 2] < 150)
+    assert red.any(axis=0).mean() > 0.9  # the bar shows in (nearly) every pixel column

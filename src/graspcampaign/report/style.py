@@ -14,7 +14,7 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.ticker import FuncFormatter, SymmetricalLogLocator
 
-from graspcampaign.analysis.vocabulary import PROPOSED, colour, label
+from graspcampaign.analysis.vocabulary import OTHER_COLOURS, PROPOSED, colour, label
 from graspcampaign.report import format as fmt
 
 RC = {
@@ -59,9 +59,18 @@ def draw(build: Callable[[Figure], None], size: tuple[float, float], source: str
         return save(fig, source, formats)
 
 
+def level_colours(n: int) -> list[str]:
+    """Colours of ``n`` ordered levels outside every vocabulary (μ, node counts), dark to light: the
+    ramp ``OTHER_COLOURS`` spread over its whole length, since its adjacent steps are hard to tell
+    apart as lines; more levels than the ramp holds cycle it."""
+    steps = np.linspace(0, len(OTHER_COLOURS) - 1, n).round() if n <= len(OTHER_COLOURS) else range(n)
+    return [OTHER_COLOURS[int(i) % len(OTHER_COLOURS)] for i in steps]
+
+
 def paper_handle(label: str = "paper's value") -> Line2D:
     """Legend entry of the paper's marks."""
-    return Line2D([], [], color=PAPER, marker="D", markersize=4, linewidth=2, label=label)
+    return Line2D([], [], color=PAPER, marker="D", markersize=5, markerfacecolor="none", linewidth=1.2,
+                  label=label)
 
 
 def interval_handle(label: str = "95% interval") -> Line2D:
@@ -70,11 +79,13 @@ def interval_handle(label: str = "95% interval") -> Line2D:
 
 
 def paper_marks(ax, x: Sequence[float], values: Sequence, width: float) -> bool:
-    """Draw the paper's values as black bars with a diamond; return whether any was drawn."""
+    """Draw the paper's values as black lines behind our bars with a hollow diamond over them, so a
+    bar of ours at the paper's value (a near-zero bar on a paper 0 %) stays visible; return whether any
+    was drawn."""
     shown = [(xi, float(p)) for xi, p in zip(x, values, strict=True) if not fmt.is_missing(p)]
     for xi, p in shown:
-        ax.hlines(p, xi - width * 0.45, xi + width * 0.45, colors=PAPER, linewidth=2.0, zorder=5)
-        ax.plot([xi], [p], marker="D", color=PAPER, markersize=3.5, zorder=6)
+        ax.hlines(p, xi - width * 0.45, xi + width * 0.45, colors=PAPER, linewidth=1.2, zorder=0.9)
+        ax.plot([xi], [p], marker="D", color=PAPER, markerfacecolor="none", markersize=5, zorder=6)
     return bool(shown)
 
 

@@ -177,6 +177,13 @@ STRIP = ("(b) non-convergence strip: loop still moving at N_max inside it",
 BOUNDARIES = {"stable region (a)": REGION, "λ1 boundary (b)": LAMBDA, "non-convergence strip (b)": STRIP}
 
 
+def _rate(row: pd.Series) -> str:
+    """A claims row's rate as the report prints it: ``5.7% (3.6–8.9%)``; ``n/a`` when not computed."""
+    if fmt.is_missing(row["value"]):
+        return "n/a"
+    return f"{fmt.number(row['value'], 1)}% ({fmt.interval(row['low'], row['high'], 1)}%)"
+
+
 def finding(run: Run) -> str:
     """How many of Fig. 19's boundaries separate our rates (Wilson intervals apart, table
     sensitivity_claims), panel (a)'s variation by the test of equal rates, and why."""
@@ -184,16 +191,20 @@ def finding(run: Run) -> str:
     rows = {name: claims.loc[list(pair)] for name, pair in BOUNDARIES.items()}
     rows = {name: r for name, r in rows.items() if r["value"].notna().all()}
     seen = [name for name, r in rows.items() if r["low"].iloc[0] > r["high"].iloc[1]]
-    text = (f"{len(seen)} of the {len(rows)} Fig. 19 boundaries tested separate our rates (Wilson intervals "
-            f"apart{': ' + fmt.listed(seen) if seen else ''}; table sensitivity_claims). " if rows else "")
+    p, inside, outside = run.paper, *(claims.loc[q] for q in REGION)
+    text = (f"Paper's stable region: μ ≥ {p.stable_mu_min:g}, m ≤ {p.stable_mass_max_kg:g} kg (Fig. 19a); "
+            f"ours succeeds on {fmt.number(inside['value'], 1)}% inside it, "
+            f"{fmt.number(outside['value'], 1)}% outside. " if inside[["value"]].notna().all() else "")
+    text += (f"{len(seen)} of the {len(rows)} Fig. 19 boundaries tested separate our rates (Wilson intervals "
+             f"apart{': ' + fmt.listed(seen) if seen else ''}; table sensitivity_claims). " if rows else "")
     if len(a):
         text += f"Success {_varies(run, a, 'mass_kg', 'mass')} and {_varies(run, a, 'mu', 'friction')}. "
     if len(seen) < len(rows):
         text += ("Why: Algorithm 2 releases contacts until the remaining normals carry the weight (η ≈ 0), "
                  "so the slip check rarely binds; the static loop reads neither the contact damping λ2 nor "
-                 "the MSD damping b (panels b and c). ")
-    return text + ("Per panel: table sensitivity_panels (`docs/decisions.md`, *Sensitivity, mesh resolution, "
-                   "surrogate*).")
+                 "the MSD damping b (panels b and c; `docs/decisions.md`, *Sensitivity, mesh resolution, "
+                 "surrogate*). ")
+    return text.rstrip()
 
 
 def _where(panel: str, part=None, holds: bool = True):
@@ -233,21 +244,42 @@ def _identified(low_mu: bool, what: str):
 
 
 BOUND = "(a) identified λ1 on its PSO search bound at μ "
+DROP = ("(a) μ < the friction limit, m ≤ the mass limit: success there",
+        "(a) sharp drop above the mass limit when μ < the friction limit")
+#: The paper's words on a claims row beside another row: (row, other row, words, higher); they hold
+#: when the row's Wilson interval lies wholly above the other's (higher) or wholly below it.
+WORDS = ((REGION[0], REGION[1], "higher than outside it", True),
+         (LAMBDA[0], LAMBDA[1], "higher than above it", True),
+         (STRIP[0], STRIP[1], "higher than outside it", True),
+         (DROP[1], DROP[0], "a drop: lower than at m ≤ the mass limit", False))
 
 
-def _bound_claims(frame: pd.DataFrame) -> pd.DataFrame:
-    """Judge the paper's Sec. 6.6 words on λ1's bound by the one verdict rule, ours read in the same
-    words: pushed toward it at μ < 0.1 (most, > 50 %, on it), and fewer on it at μ ≥ 0.1."""
-    low, high = (frame["quantity"] == BOUND + w for w in ("< 0.1", "≥ 0.1"))
-    if not low.any() or not high.any() or frame.loc[low | high, "value"].isna().any():
-        return frame
-    a, b = float(frame.loc[low, "value"].iloc[0]), float(frame.loc[high, "value"].iloc[0])
-    readings = ((low, "pushed toward the bound", a > 50, f"{a:.0f}% on the bound"),
-                (high, "fewer than at μ < 0.1", b < a, f"{b:.0f}% on the bound against {a:.0f}% at μ < 0.1"))
+def _word_claims(frame: pd.DataFrame) -> pd.DataFrame:
+    """Judge the paper's Fig. 19 and Sec. 6.6 words by the one verdict rule, ours read in the same
+    words: each :data:`WORDS` row against its other row (Wilson intervals apart), and λ1's bound: pushed
+    toward it at μ < 0.1 (most, > 50 %, on it), and fewer on it at μ ≥ 0.1."""
+    rows = frame.set_index("quantity")
+    readings = []
+    for row, other, claim, higher in WORDS:
+        if row in rows.index and other in rows.index and rows.loc[[row, other], "value"].notna().all():
+            r, o = rows.loc[row], rows.loc[other]
+            above, below = r["low"] > o["high"], r["high"] < o["low"]
+            how = "Wilson intervals apart the other way" if above or below else "Wilson intervals overlap"
+            readings.append((row, claim, above if higher else below, f"{_rate(r)} against {_rate(o)}, {how}"))
+    low, high = BOUND + "< 0.1", BOUND + "≥ 0.1"
+    if {low, high} <= set(rows.index) and rows.loc[[low, high], "value"].notna().all():
+        a, b = float(rows.loc[low, "value"]), float(rows.loc[high, "value"])
+        readings += [(low, "pushed toward the bound", a > 50, f"{a:.0f}% on the bound"),
+                     (high, "fewer than at μ < 0.1", b < a,
+                      f"{b:.0f}% on the bound against {a:.0f}% at μ < 0.1")]
     for row, claim, holds, ours in readings:
         differs, words = fmt.verdict(claim if holds else ours, claim)
-        frame.loc[row, ["paper", "differs", "verdict"]] = [claim, differs, words]
+        frame.loc[frame["quantity"] == row, ["paper", "differs", "verdict"]] = [claim, differs, words]
     return frame
+
+
+FLAT = ("not compared: the paper's words are qualitative (Sec. 6.6 'nearly flat', Fig. 19c "
+        "'insensitive'), with no ratio or threshold to judge ours by")
 
 
 def _runtime_ratio(axis: str):
@@ -259,32 +291,33 @@ def _runtime_ratio(axis: str):
 
 CLAIMS = Claims("sensitivity_claims", "The paper's Fig. 19 statements (in words) beside the matching "
                 "counts of ours; rates over executed trials with Wilson 95%, the λ1 rows over panel (a)'s "
-                "PSO identifications (one per cell, its seeds share it). The paper's Sec. 6.6 words on "
-                "λ1 (pushed toward its bound at μ < 0.1, the low-friction failure mode) are compared as: "
-                "most (> 50%) identifications on the bound at μ < 0.1, and fewer at μ ≥ 0.1", [
+                "PSO identifications (one per cell, its seeds share it). The paper's words on a boundary "
+                "(higher, lower) hold where the two rows' Wilson intervals lie apart that way; its Sec. 6.6 "
+                "words on λ1 (pushed toward its bound at μ < 0.1, the low-friction failure mode) are "
+                "compared as: most (> 50%) identifications on the bound at μ < 0.1, and fewer at μ ≥ 0.1", [
            Rate(REGION[0], "Fig. 19a", _where("mu_mass", _inside)),
            Rate(REGION[1], "Fig. 19a", _where("mu_mass", _inside, False)),
            Rate("(a) stable region: |R_z| reading inside it", "Fig. 19a", _where("mu_mass", _inside),
                 outcome="success_vertical"),
-           Rate("(a) sharp drop above the mass limit when μ < the friction limit", "Sec. 6.6",
-                _where("mu_mass", lambda ok, p: (ok["mu"] < p.stable_mu_min - EPS)
-                       & (ok["mass_kg"] > p.stable_mass_max_kg + EPS))),
+           Rate(DROP[0], "Sec. 6.6", _where("mu_mass", lambda ok, p: (ok["mu"] < p.stable_mu_min - EPS)
+                                            & (ok["mass_kg"] <= p.stable_mass_max_kg + EPS))),
+           Rate(DROP[1], "Sec. 6.6", _where("mu_mass", lambda ok, p: (ok["mu"] < p.stable_mu_min - EPS)
+                                            & (ok["mass_kg"] > p.stable_mass_max_kg + EPS))),
            Value("(a) median identified λ1 at μ < 0.1", "Sec. 6.6",
-                 _identified(True, "median"), digits=3),
+                 _identified(True, "median"), unit="–", digits=3),
            Value("(a) identified λ1 on its PSO search bound at μ < 0.1", "Sec. 6.6",
                  _identified(True, "bound"), unit="%", digits=1),
            Value("(a) median identified λ1 at μ ≥ 0.1", "Sec. 6.6", _identified(False, "median"),
-                 digits=3),
+                 unit="–", digits=3),
            Value("(a) identified λ1 on its PSO search bound at μ ≥ 0.1", "Sec. 6.6",
                  _identified(False, "bound"), unit="%", digits=1),
            Rate(LAMBDA[0], "Fig. 19b", _where("lambda", _below)),
            Rate(LAMBDA[1], "Fig. 19b", _where("lambda", _below, False)),
            Rate(STRIP[0], "Sec. 10", _where("lambda", _strip), outcome="loop_capped"),
            Rate(STRIP[1], "Sec. 10", _where("lambda", _strip, False), outcome="loop_capped"),
-           Value("(c) runtime max/min over n levels (the paper: nearly flat)", "Fig. 19c",
-                 _runtime_ratio("n_exp"), digits=2),
-           Value("(c) runtime max/min over b levels", "Fig. 19c", _runtime_ratio("b_n_s_per_m"),
-                 digits=2)])
+           *(Value(f"(c) runtime max/min over {axis} levels", "Sec. 6.6, Fig. 19c", _runtime_ratio(column),
+                   lambda p: "nearly flat", "–", 2, because=FLAT) for axis, column in (("n", "n_exp"),
+                                                                                      ("b", "b_n_s_per_m")))])
 
 
 SPEC = ReportSpec("sensitivity", [
@@ -306,6 +339,6 @@ SPEC = ReportSpec("sensitivity", [
            "still moving at N_max and (c) trials whose every contact lies within the fingertip radius "
            "(physical) over λ1 × λ2; (d) success under the |R_z| reading over n × b",
            _supplement, (10.0, 8.6)),
-    replace(CLAIMS, compute=lambda run: _bound_claims(CLAIMS.compute(run))),
+    replace(CLAIMS, compute=lambda run: _word_claims(CLAIMS.compute(run))),
     GateRemoved(["panel"]),
 ])

@@ -7,9 +7,9 @@ import pandas as pd
 from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
 from graspcampaign.analysis.records import MIN_TRIALS, Estimate, median
 from graspcampaign.report import format as fmt
-from graspcampaign.report.document import Col
+from graspcampaign.report.document import Col, pct_col
 from graspcampaign.report.render import Run
-from graspcampaign.report.spec import Claims, Finding, ReportSpec, Table, Value, verdicts
+from graspcampaign.report.spec import Claims, Finding, ReportSpec, Table, Value, share, verdicts
 
 
 def _scenes(run: Run):
@@ -51,9 +51,13 @@ def _ratio_sweep(run: Run) -> pd.DataFrame:
         "scene_id" if "scene_id" in run.ok else "seed")
     moved = {c.removeprefix("argmin_key_ratio_").replace("_", ":"): unit[c] != unit["argmin_key"]
              for c in unit if c.startswith("argmin_key_ratio_")}
-    return pd.DataFrame([{"weights_w1_w2_w3": k, "paper": "not probed (Sec. 5.2)", "n": len(unit),
-                          "argmin_moves": int(m.sum()), "argmin_moves_pct": 100 * m.mean()}
-                         for k, m in moved.items()])
+    rows = []
+    for k, m in moved.items():
+        e = share(m, m)
+        rows.append({"weights_w1_w2_w3": k, "paper": "not probed (Sec. 5.2)", "n": len(unit),
+                     "argmin_moves": int(m.sum()), "argmin_moves_pct": e.value,
+                     "argmin_moves_low_pct": e.low, "argmin_moves_high_pct": e.high})
+    return pd.DataFrame(rows)
 
 
 def finding(run: Run) -> str:
@@ -101,7 +105,7 @@ SPEC = ReportSpec("heuristic_weights", [
                      lambda p: p.h_scales_with_weights, digits=0)]),
     Table("ratio_sweep", "Weight-ratio sweep: seeds whose argmin moves when the weight ratio changes "
           "(uniform scaling cannot probe this; the paper ran none and points to the single-term ablations "
-          "of Sec. 6.3)", _ratio_sweep, [
+          "of Sec. 6.3); Wilson 95% over seeds", _ratio_sweep, [
               Col("weights_w1_w2_w3", "w1:w2:w3"), Col("paper", "paper"), Col("n", "seeds"),
-              Col("argmin_moves", "argmin moves"), Col("argmin_moves_pct", "moves [%]", 1)]),
+              Col("argmin_moves", "argmin moves"), pct_col("argmin_moves", "moves")]),
 ])

@@ -7,7 +7,6 @@ import math
 import numpy as np
 import pandas as pd
 
-from graspcampaign.analysis.vocabulary import colour
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
 from graspcampaign.report.document import Col
@@ -97,8 +96,9 @@ def fig17(run: Run, fig) -> None:
     axes, p, trace, tau = fig.subplots(2, 2, sharex=True).ravel(), run.paper, _traces(run), _tau(run)
     for ax, (col, title) in zip(axes, PANELS, strict=True):
         ax.set_title(title)
-        for i, (mu, g) in enumerate(trace.groupby("mu", sort=True)):
-            ax.plot(g["iteration"], g[col], color=colour("mu", mu, i), label=f"μ = {mu:g}")
+        levels = trace.groupby("mu", sort=True)
+        for c, (mu, g) in zip(style.level_colours(len(levels)), levels, strict=True):
+            ax.plot(g["iteration"], g[col], color=c, label=f"μ = {mu:g}")
     lo, hi = p.residual_settles_within_iterations
     axes[0].set_yscale("log")
     axes[0].axhline(tau, color=style.CRITERION, linestyle="--", label=f"τ_F {tau:g} N")

@@ -1,0 +1,94 @@
+"""sensitivity: the opening states the paper's stable region beside ours; the paper's Fig. 19 and
+Sec. 6.6 words are judged by the one verdict rule where they are checkable, and said to be qualitative
+where they are not.
+
+Synthetic panel (a) and (c) trials are reported through the spec; rates are recomputed with pandas and
+statsmodels' Wilson interval; the region's bounds are the study file's paper block.
+"""
+
+from __future__ import annotations
+
+import math
+
+import pandas as pd
+from statsmodels.stats.proportion import proportion_confint
+
+from graspcampaign.campaign.paper import study_paper
+from graspcampaign.report.render import Run
+from graspcampaign.report.studies.sensitivity import SPEC, _panels, finding
+
+PAPER = study_paper("sensitivity")
+
+
+def _run(cells: dict) -> Run:
+    """Panel (a) trials from ``{(mass, μ): (successes, trials)}`` and a small panel (c) whose runtime
+    doubles with n."""
+    a = [{"panel": "mu_mass", "mass_kg": m, "mu": mu, "success": i < won, "runtime_ms": 1.0}
+         for (m, mu), (won, n) in cells.items() for i in range(n)]
+    c = [{"panel": "n_b", "n_exp": n, "b_n_s_per_m": b, "success": False, "runtime_ms": n}
+         for n in (1.0, 2.0) for b in (0.1, 0.2)]
+    records = pd.DataFrame(a + c).assign(status="ok", success_vertical=lambda f: f["success"],
+                                         delta_max_mm=1.0, loop_capped=False)
+    run = Run(records, {"config": {"evaluator": {"n_max": 50}}}, PAPER)
+    run.tables["sensitivity_panels"] = _panels(run)
+    claims = next(i for i in SPEC.items if getattr(i, "name", "") == "sensitivity_claims")
+    run.tables["sensitivity_claims"] = claims.compute(run)
+    return run
+
+
+def _wilson(k: int, n: int) -> str:
+    low, high = proportion_confint(k, n, method="wilson")
+    return f"{100 * k / n:.1f}% ({100 * low:.1f}–{100 * high:.1f}%)"
+
+
+def test_the_opening_states_the_papers_stable_region_beside_ours():
+    # the opening counted boundaries but never said where the paper's stable region lies
+    run = _run({(0.4, 0.5): (30, 50), (0.8, 0.5): (5, 50), (0.4, 0.05): (20, 40), (0.8, 0.05): (2, 40)})
+    records = run.records[run.records["panel"] == "mu_mass"]
+    inside = (records["mu"] >= PAPER.stable_mu_min) & (records["mass_kg"] <= PAPER.stable_mass_max_kg)
+    rates = 100 * records.groupby(inside)["success"].mean()
+    assert finding(run).startswith(f"Paper's stable region: μ ≥ {PAPER.stable_mu_min:g}, m ≤ "
+                                   f"{PAPER.stable_mass_max_kg:g} kg (Fig. 19a); ours succeeds on "
+                                   f"{rates[True]:.1f}% inside it, {rates[False]:.1f}% outside. ")
+
+
+def test_the_papers_words_on_the_region_and_the_drop_are_judged_by_wilson_intervals_apart():
+    # the rows printed "—, no paper value" though Fig. 19a and Sec. 6.6 state them in words
+    run = _run({(0.4, 0.5): (30, 50), (0.8, 0.5): (5, 50), (0.4, 0.05): (20, 40), (0.8, 0.05): (2, 40)})
+    claims = run.tables["sensitivity_claims"].set_index("quantity")
+    region = claims.loc["(a) stable region: success inside it"]
+    ok = run.records[run.records["panel"] == "mu_mass"]
+    inside = (ok["mu"] >= 0.2) & (ok["mass_kg"] <= 0.5)
+    apart = proportion_confint(ok.loc[inside, "success"].sum(), inside.sum(), method="wilson")[0] > \
+        proportion_confint(ok.loc[~inside, "success"].sum(), (~inside).sum(), method="wilson")[1]
+    assert apart and (region["paper"], region["differs"]) == ("higher than outside it", False)
+    assert region["verdict"] == "as in the paper (higher than outside it)"
+    # μ < 0.2: 2 of 40 above m = 0.5 against 20 of 40 at or below it, Wilson intervals apart: a drop
+    drop = claims.loc["(a) sharp drop above the mass limit when μ < the friction limit"]
+    assert proportion_confint(2, 40, method="wilson")[1] < proportion_confint(20, 40, method="wilson")[0]
+    assert drop["verdict"] == "as in the paper (a drop: lower than at m ≤ the mass limit)"
+    # no drop: 18 of 40 against 20 of 40, the intervals overlap
+    claims = _run({(0.4, 0.5): (30, 50), (0.8, 0.5): (5, 50), (0.4, 0.05): (20, 40), (0.8, 0.05): (18, 40)}
+                  ).tables["sensitivity_claims"].set_index("quantity")
+    drop = claims.loc["(a) sharp drop above the mass limit when μ < the friction limit"]
+    assert drop["differs"] and drop["verdict"] == (
+        "differs: the paper reports a drop: lower than at m ≤ the mass limit, ours is "
+        f"{_wilson(18, 40)} against {_wilson(20, 40)}, Wilson intervals overlap")
+
+
+def test_the_runtime_claim_is_said_to_be_qualitative_not_given_a_number():
+    run = _run({(0.4, 0.5): (30, 50), (0.8, 0.05): (2, 40)})
+    claims = run.tables["sensitivity_claims"].set_index("quantity")
+    row = claims.loc["(c) runtime max/min over n levels"]
+    runtime = run.records[run.records["panel"] == "n_b"].groupby("n_exp")["runtime_ms"].median()
+    assert row["value"] == runtime.max() / runtime.min() and row["paper"] == "nearly flat"  # Sec. 6.6
+    assert row["differs"] is None and math.isnan(row["difference"])
+    assert row["verdict"].startswith("not compared: the paper's words are qualitative")
+
+
+def test_the_identified_lambda1_rows_carry_the_dimensionless_unit():
+    # Table 3: λ1 is quoted as a pure number; the rows' unit cell was empty
+    claims = SPEC.items[[getattr(i, "name", "") for i in SPEC.items].index("sensitivity_claims")]
+    run = _run({(0.4, 0.5): (30, 50)})
+    frame = claims.compute(run).set_index("quantity")
+    assert frame.loc[[q for q in frame.index if "median identified λ1" in q], "unit"].tolist() == ["–", "–"]
