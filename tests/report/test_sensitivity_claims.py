@@ -46,10 +46,13 @@ def test_the_opening_states_the_papers_stable_region_beside_ours():
     run = _run({(0.4, 0.5): (30, 50), (0.8, 0.5): (5, 50), (0.4, 0.05): (20, 40), (0.8, 0.05): (2, 40)})
     records = run.records[run.records["panel"] == "mu_mass"]
     inside = (records["mu"] >= PAPER.stable_mu_min) & (records["mass_kg"] <= PAPER.stable_mass_max_kg)
-    rates = 100 * records.groupby(inside)["success"].mean()
+    said = {}
+    for side, g in records.groupby(inside)["success"]:  # each rate with statsmodels' Wilson interval
+        low, high = proportion_confint(g.sum(), len(g), method="wilson")
+        said[side] = f"{100 * g.mean():.1f}% ({100 * low:.1f}–{100 * high:.1f}%) of {len(g)}"
     assert finding(run).startswith(f"Paper's stable region: μ ≥ {PAPER.stable_mu_min:g}, m ≤ "
                                    f"{PAPER.stable_mass_max_kg:g} kg (Fig. 19a); ours succeeds on "
-                                   f"{rates[True]:.1f}% inside it, {rates[False]:.1f}% outside. ")
+                                   f"{said[True]} inside it, {said[False]} outside (Wilson 95%). ")
 
 
 def test_the_papers_words_on_the_region_and_the_drop_are_judged_by_wilson_intervals_apart():

@@ -308,11 +308,11 @@ def test_the_finding_says_success_varies_only_where_a_test_of_equal_rates_says_s
     p = {k: chi2_contingency(pd.crosstab(run.ok[k], run.ok["success"]), correction=False).pvalue
          for k in ("mass_kg", "mu")}
     text = finding(run)
-    assert (f"Success varies with mass (10.0–40.0% over its 2 levels; χ² p = {fmt.p_value(p['mass_kg'])})"
-            f" and does not detectably vary with friction (24.0–26.0% over its 2 levels; χ² p = "
+    assert (f"Success varies with mass (10.0–40.0% over 2 levels; χ² p = {fmt.p_value(p['mass_kg'])})"
+            f" and does not detectably vary with friction (24.0–26.0% over 2 levels; χ² p = "
             f"{fmt.p_value(p['mu'])}).") in text
     text = finding(_panel_a({(0.1, 0.05): (1, 100), (0.8, 0.05): (0, 100)}))
-    assert "does not detectably vary with mass (0.0–1.0% over its 2 levels; Monte Carlo χ² p = 1.0)" in text
+    assert "does not detectably vary with mass (0.0–1.0% over 2 levels; Monte Carlo χ² p = 1.0)" in text
     assert "is 0.5% at the one friction level (nothing to compare)" in text
     text = finding(_panel_a({(0.1, 0.05): (0, 3), (0.8, 0.5): (0, 3)}))
     assert "does not vary with mass (0.0% at each of its 2 levels)" in text
@@ -328,8 +328,8 @@ def test_the_opening_counts_the_boundaries_whose_wilson_intervals_separate_our_r
         low = proportion_confint(inside, 50, method="wilson")[0]
         high = proportion_confint(outside, 50, method="wilson")[1]
         apart = low > high
-        assert (f"{int(apart)} of the 1 Fig. 19 boundaries tested separate our rates (Wilson intervals apart"
-                + (": stable region (a);" if apart else ";")) in finding(run)
+        assert (f"{int(apart)} of 1 Fig. 19 boundaries {'separates' if apart else 'separate'} our rates ("
+                + ("stable region (a); " if apart else "") + "table sensitivity_claims)") in finding(run)
         assert ("Why:" in finding(run)) != apart
 
 

@@ -165,7 +165,7 @@ def _varies(run: Run, a: pd.DataFrame, column: str, factor: str) -> str:
     if not test.method:
         return f"does not vary with {factor} ({shares} at each of its {test.groups} levels)"
     verb = "varies" if test.pvalue < 1 - CONFIDENCE_LEVEL else "does not detectably vary"
-    return (f"{verb} with {factor} ({shares} over its {test.groups} levels; {test.method} "
+    return (f"{verb} with {factor} ({shares} over {test.groups} levels; {test.method} "
             f"p = {fmt.p_value(test.pvalue)})")
 
 
@@ -193,16 +193,17 @@ def finding(run: Run) -> str:
     seen = [name for name, r in rows.items() if r["low"].iloc[0] > r["high"].iloc[1]]
     p, inside, outside = run.paper, *(claims.loc[q] for q in REGION)
     text = (f"Paper's stable region: μ ≥ {p.stable_mu_min:g}, m ≤ {p.stable_mass_max_kg:g} kg (Fig. 19a); "
-            f"ours succeeds on {fmt.number(inside['value'], 1)}% inside it, "
-            f"{fmt.number(outside['value'], 1)}% outside. " if inside[["value"]].notna().all() else "")
-    text += (f"{len(seen)} of the {len(rows)} Fig. 19 boundaries tested separate our rates (Wilson intervals "
-             f"apart{': ' + fmt.listed(seen) if seen else ''}; table sensitivity_claims). " if rows else "")
+            f"ours succeeds on {_rate(inside)} of {inside['n']:.0f} inside it, {_rate(outside)} of "
+            f"{outside['n']:.0f} outside (Wilson 95%). " if pd.notna(inside["value"]) else "")
+    verb = "separates" if len(seen) == 1 else "separate"
+    text += (f"{len(seen)} of {len(rows)} Fig. 19 boundaries {verb} our rates "
+             f"({fmt.listed(seen) + '; ' if seen else ''}table sensitivity_claims). " if rows else "")
     if len(a):
         text += f"Success {_varies(run, a, 'mass_kg', 'mass')} and {_varies(run, a, 'mu', 'friction')}. "
     if len(seen) < len(rows):
         text += ("Why: Algorithm 2 releases contacts until the remaining normals carry the weight (η ≈ 0), "
-                 "so the slip check rarely binds; the static loop reads neither the contact damping λ2 nor "
-                 "the MSD damping b (panels b and c; `docs/decisions.md`, *Sensitivity, mesh resolution, "
+                 "so the slip check rarely binds; the static loop reads neither damping, λ2 nor b (panels b, "
+                 "c; `docs/decisions.md`, *Sensitivity, mesh resolution, "
                  "surrogate*). ")
     return text.rstrip()
 
