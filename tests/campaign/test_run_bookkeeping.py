@@ -1,0 +1,107 @@
+"""A run's bookkeeping the mutation run found unpinned: how many trials a manifest vouches for, what
+enters the config hash, the values' digest, the run lock, and the duplicate and missing-trial
+checks at their edge (one trial twice, one trial missing).
+
+Expected values come from the stored records read with pyarrow, not from the tool's own counts.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+
+import kinds_for_tests  # noqa: F401  (registers the test kinds)
+import pyarrow as pa
+import pyarrow.compute as pc
+import pyarrow.parquet as pq
+import pytest
+
+from graspcampaign.campaign import integrity, provenance
+from graspcampaign.campaign.records import RunStore
+from graspcampaign.campaign.runner import _run_lock, run_study
+from graspcampaign.campaign.studyfile import run_path
+from graspcampaign.campaign.verify import CONTENT_KEY, content_digest
+from graspcampaign.errors import UserInputError
+
+
+@pytest.fixture
+def finished(study_factory):
+    """A finished run of the test kind: its store, manifest and compacted records file."""
+    study = study_factory()
+    run_study(study)
+    store = RunStore(run_path(study))
+    (compact,) = (store.path / "records").glob("compact-*.parquet")
+    return study, store, compact
+
+
+def _stored_ids(store: RunStore) -> set:
+    return set(pq.read_table(store.path / "records", columns=["trial_id"])["trial_id"].to_pylist())
+
+
+def _manifest(store: RunStore) -> dict:
+    return json.loads(store.manifest_path.read_text())
+
+
+def _as_written(table: pa.Table, target) -> None:
+    """Write ``table`` as the tool writes a file: with the digest of its values."""
+    meta = {**(table.schema.metadata or {}), CONTENT_KEY: content_digest(table).encode()}
+    pq.write_table(table.replace_schema_metadata(meta), target, write_page_checksum=True)
+
+
+def test_a_resumed_session_keeps_counting_the_trials_stored_before_it(finished):
+    study, store, _ = finished
+    run_study(study)  # nothing left to run: the second session runs 0 trials
+    assert _manifest(store)["n_recorded"] == len(_stored_ids(store)) == 16
+
+
+def test_an_earlier_manifest_vouches_for_every_trial_only_if_one_config_finished_it(finished):
+    _, store, _ = finished
+    legacy = {k: v for k, v in _manifest(store).items() if k != "n_recorded"}  # no count then
+    assert integrity.expected_records(legacy) == legacy["n_trials"] == 16
+    other = {**legacy, "sessions": [*legacy["sessions"], {"config_hash": "0123456789abcdef"}]}
+    assert integrity.expected_records(other) == 0  # which config recorded which trial: unknown
+    assert integrity.expected_records({**legacy, "finished_at": None}) == 0
+
+
+def test_every_part_of_the_config_but_the_runner_output_and_description_enters_its_hash(study_factory):
+    config = provenance.study_dict(study_factory())
+    digest = provenance.config_digest(config)
+    for field in dataclasses.fields(type(study_factory())):
+        changed = provenance.config_digest({**config, field.name: "changed"})
+        assert (changed == digest) == (field.name in ("runner", "output", "description")), field.name
+
+
+def test_the_values_digest_ignores_column_order_and_sees_a_renamed_column(finished):
+    table = pq.read_table(finished[2])
+    digest = content_digest(table)
+    assert content_digest(table.select(table.column_names[::-1])) == digest
+    renamed = table.rename_columns([f"{c}_x" if c == "trial_id" else c for c in table.column_names])
+    assert content_digest(renamed) != digest
+
+
+def test_a_run_held_by_one_lock_refuses_a_second(finished):
+    study, store, _ = finished
+    with _run_lock(store, f"{study.name}/r1"):
+        with pytest.raises(UserInputError, match=rf"^run unit/r1 at {store.path} is being run by "
+                                                 r"another process; wait for it to finish"):
+            with _run_lock(store, f"{study.name}/r1"):
+                pass
+    with _run_lock(store, f"{study.name}/r1"):  # released with the first
+        pass
+
+
+def test_one_trial_recorded_twice_in_a_file_is_found(finished):
+    _, store, compact = finished
+    table = pq.read_table(compact)
+    _as_written(pa.concat_tables([table, table.slice(0, 1)]), compact)
+    found = [p.text for p in integrity.problems(store, _manifest(store))]
+    assert any(f"records/{compact.name} that records 1 trials twice" in t for t in found), found
+
+
+def test_one_missing_trial_is_found(finished):
+    _, store, compact = finished
+    table = pq.read_table(compact)
+    first = table["trial_id"][0]
+    _as_written(table.filter(pc.not_equal(table["trial_id"], first)), compact)
+    found = [p.text for p in integrity.problems(store, _manifest(store))]
+    assert "missing records: its manifest counts 16 recorded trials but 15 are stored" in found, found
