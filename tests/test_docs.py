@@ -20,6 +20,9 @@ PACKAGE = Path(graspcampaign.__file__).parent
 DOC = Path(__file__).resolve().parents[1] / "docs" / "ARCHITECTURE.md"
 #: the tree names the trial kinds and the report specs as folders (kinds/, studies/), not one by one
 LISTED_AS_A_FOLDER = ("campaign/kinds", "report/studies")
+#: modules the tree leaves out, for the docs' owner to add (this test was per layer from round 3 of
+#: the test review on, and found them); each fails here once the tree names it
+NOT_YET_NAMED = {"campaign/kind.py": "the trial-kind registry KINDS; its campaign/ line names kinds/ only"}
 #: ARCHITECTURE.md: core imports numba in kernels.py, the *_kernel(s).py modules and
 #: equilibrium_loop.py only; analysis in rank_kernel.py only
 COMPILED = re.compile(r"(core/(kernels|\w+_kernels?|equilibrium_loop)|analysis/rank_kernel)\.py")
@@ -51,10 +54,23 @@ def test_every_file_the_tree_names_exists():
     assert sorted(named - stems) == []
 
 
-def test_the_tree_names_every_module():
-    text = tree()
-    unnamed = [module for module in modules() if not module.startswith(LISTED_AS_A_FOLDER)
-               and not re.search(rf"\b{Path(module).stem}\b", text)]
+def test_the_tree_names_every_module_in_its_layer():
+    """A module is named in its layer's part of the tree (core/, analysis/, ...): campaign/records.py
+    named does not stand for analysis/records.py, nor rig/ingest.py for campaign/ingest.py; and a part
+    that lists its files names each as a file, not as a word of another line."""
+    parts = re.split(r"^  (\w+)/", tree(), flags=re.M)  # [head, layer, its text, layer, its text, ...]
+    layers = dict(zip(parts[1::2], parts[2::2], strict=True))
+    unnamed = []
+    for module in modules():
+        layer = module.split("/")[0] if "/" in module else None  # errors.py, stats.py: anywhere
+        text = layers.get(layer, tree())
+        # a part that lists its files (core/: ``mesh.py  parametric objects``) names each so; prose by stem
+        listed = layer and re.search(r"\w\.py\b", text)
+        name = re.escape(Path(module).name) if listed else rf"{Path(module).stem}\b"
+        if not module.startswith(LISTED_AS_A_FOLDER) and not re.search(rf"\b{name}", text):
+            unnamed.append(module)
+    assert sorted(NOT_YET_NAMED) == [m for m in unnamed if m in NOT_YET_NAMED]  # named since: drop it here
+    unnamed = [module for module in unnamed if module not in NOT_YET_NAMED]
     assert unnamed == [], f"modules docs/ARCHITECTURE.md does not name: {unnamed}"
 
 

@@ -53,7 +53,7 @@ DEPTHS = np.array([[1e-3, 2e-3, 1e-3]])
 
 
 @pytest.mark.parametrize("law", ["paper", "slip"])
-def test_the_torque_check_reads_the_normal_only_torque_under_the_paper_law(law):
+def test_the_torque_check_reads_the_normal_only_torque_under_the_paper_law_the_full_one_else(law):
     first = static_checks(POINTS, NORMALS, np.zeros(3), 0.5, 0.5, DEPTHS, 0.3, 1.5)
     f = first.normal_forces[0]
     normal_only = np.linalg.norm(sum(np.cross(POINTS[k], -NORMALS[k] * f[k]) for k in range(3)))

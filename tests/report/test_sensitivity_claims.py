@@ -42,8 +42,10 @@ def _wilson(k: int, n: int) -> str:
 
 
 def test_the_opening_states_the_papers_stable_region_beside_ours():
-    # the opening counted boundaries but never said where the paper's stable region lies
-    run = _run({(0.4, 0.5): (30, 50), (0.8, 0.5): (5, 50), (0.4, 0.05): (20, 40), (0.8, 0.05): (2, 40)})
+    # the opening counted boundaries but never said where the paper's stable region lies; its edge
+    # (m = 0.5 kg, μ = 0.2) belongs to it: "μ ≥ 0.2, m ≤ 0.5 kg"
+    run = _run({(0.4, 0.5): (30, 50), (0.8, 0.5): (5, 50), (0.4, 0.05): (20, 40), (0.8, 0.05): (2, 40),
+                (0.5, 0.2): (10, 10)})
     records = run.records[run.records["panel"] == "mu_mass"]
     inside = (records["mu"] >= PAPER.stable_mu_min) & (records["mass_kg"] <= PAPER.stable_mass_max_kg)
     said = {}

@@ -158,6 +158,17 @@ def test_wrench_balance_never_settling_differs_and_non_physical_depths_flagged(t
     assert limit.loc[0.3, "delta_max_median_mm"] == pytest.approx(3.0)
 
 
+
+def test_a_residual_equal_to_tau_has_not_settled():
+    """The paper's residual "settles below a chosen tolerance τ_F": from the iteration after which it
+    stays below τ_F, so a residual equal to τ_F is not yet settled (by hand on iterations 5-9)."""
+    from graspcampaign.report.studies.wrench import settle_iteration
+
+    iterations = np.arange(5, 10)
+    assert settle_iteration(np.array([2.0, 1.0, 0.5, 0.5, 0.25]), iterations, 0.5) == 9
+    assert settle_iteration(np.full(5, 0.25), iterations, 0.5) == 5  # below from the first iteration
+    assert np.isnan(settle_iteration(np.array([0.1, 0.1, 0.1, 0.1, 0.5]), iterations, 0.5))
+
 def test_fig17_legend_lies_outside_every_panel(tmp_path):
     """At paper scale the finger force rises steeply through the lower left of panel (d), where the
     legend's μ entries sat over it (the style draws legends without a frame): no legend may overlap a
