@@ -95,7 +95,7 @@ def test_one_trial_recorded_twice_in_a_file_is_found(finished):
     table = pq.read_table(compact)
     _as_written(pa.concat_tables([table, table.slice(0, 1)]), compact)
     found = [p.text for p in integrity.problems(store, _manifest(store))]
-    assert any(f"records/{compact.name} that records 1 trials twice" in t for t in found), found
+    assert any(f"records/{compact.name} that records 1 trial twice" in t for t in found), found
 
 
 def test_one_missing_trial_is_found(finished):
