@@ -18,7 +18,7 @@ import pytest
 
 from graspcampaign.campaign import integrity, provenance
 from graspcampaign.campaign.records import RunStore
-from graspcampaign.campaign.runner import _run_lock, run_study
+from graspcampaign.campaign.runner import run_lock, run_study
 from graspcampaign.campaign.studyfile import run_path
 from graspcampaign.campaign.verify import CONTENT_KEY, content_digest
 from graspcampaign.errors import UserInputError
@@ -81,12 +81,12 @@ def test_the_values_digest_ignores_column_order_and_sees_a_renamed_column(finish
 
 def test_a_run_held_by_one_lock_refuses_a_second(finished):
     study, store, _ = finished
-    with _run_lock(store, f"{study.name}/r1"):
+    with run_lock(store, f"{study.name}/r1"):
         with pytest.raises(UserInputError, match=rf"^run unit/r1 at {store.path} is being run by "
                                                  r"another process; wait for it to finish"):
-            with _run_lock(store, f"{study.name}/r1"):
+            with run_lock(store, f"{study.name}/r1"):
                 pass
-    with _run_lock(store, f"{study.name}/r1"):  # released with the first
+    with run_lock(store, f"{study.name}/r1"):  # released with the first
         pass
 
 
