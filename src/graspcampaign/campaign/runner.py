@@ -412,14 +412,16 @@ def _checked_manifest(store: RunStore, study: StudyCfg, run: str, allow_drift: b
 
 @contextlib.contextmanager
 def run_lock(store: RunStore, label: str) -> Iterator[None]:
-    """Hold the run directory for this process alone (an advisory lock the system releases when
-    the run ends or its process dies), so two runs or ingests of one run never record a trial
-    twice. The directories it makes are removed again if they stay empty (a refused ingest)."""
+    """Hold the run for this process alone (an advisory lock on ``<run>/.lock`` that the system
+    releases when the run ends or its process dies), so two runs or ingests of one run never record
+    a trial twice. The file is opened for writing, as NFS needs for an exclusive lock; the
+    directories made for a run that stays empty (a refused one) are removed again."""
     import fcntl
 
     made = [p for p in (store.path, *store.path.parents) if not p.exists()]  # deepest first
     store.path.mkdir(parents=True, exist_ok=True)
-    handle = os.open(store.path, os.O_RDONLY)
+    lock = store.path / ".lock"
+    handle = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
     try:
         try:
             fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
@@ -427,8 +429,14 @@ def run_lock(store: RunStore, label: str) -> Iterator[None]:
             raise UserInputError(f"run {label} at {store.path} is being run by another process; "
                                  "wait for it to finish (status shows its progress), or choose "
                                  "another run name (--run NAME).") from None
+        except OSError as exc:  # a file system without locks (NFS mounted with nolock, some SMB)
+            warnings.warn(f"run {label}: {lock} cannot be locked on its file system "
+                          f"({exc.strerror}); run it from one process at a time, since two at "
+                          "once would each record every trial.", stacklevel=3)
         yield
     finally:
+        if made and os.listdir(store.path) == [".lock"]:  # nothing stored: as before the run
+            lock.unlink()
         os.close(handle)
         for directory in made:
             with contextlib.suppress(OSError):  # not empty: it holds what was stored
