@@ -17,6 +17,7 @@ import pytest
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.runner import run_lock, run_study
 from graspcampaign.campaign.studyfile import run_path
+from graspcampaign.errors import UserInputError
 
 
 def test_the_lock_is_held_on_a_descriptor_open_for_writing_as_nfs_needs(tmp_path, monkeypatch):
@@ -53,3 +54,15 @@ def test_a_run_refused_under_the_lock_leaves_no_directory_behind(tmp_path):
     with pytest.raises(RuntimeError), run_lock(store, "study/run"):
         raise RuntimeError("refused")
     assert not (tmp_path / "new").exists()
+
+
+def test_a_held_run_is_refused_before_its_dask_scheduler_is_awaited(study_factory):
+    """A second run of a held run was refused only after its backend came up (a LocalCluster
+    started, or a scheduler awaited up to connect_timeout_s); the lock is now taken first."""
+    study = study_factory(backend="dask", runner={"address": "tcp://127.0.0.1:9",  # nothing listens
+                                                  "connect_timeout_s": 0.5})
+    store = RunStore(run_path(study))
+    with run_lock(store, "held"), pytest.raises(UserInputError, match=r"^run unit/r1 at .* is "
+                                                                      r"being run by another process"):
+        run_study(study)
+    assert not (store.path / "manifest.json").exists()

@@ -289,7 +289,8 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
     manifest with the design they change (:func:`~graspcampaign.campaign.compose.as_given`).
 
     Nothing is written before the run can start: the results root, the run's manifest and the
-    layout of its files are checked, and the backend is up (a Dask scheduler answered), first.
+    layout of its files are checked, the run is locked and the backend is up (a Dask scheduler
+    answered), first; a refused run leaves no directory of its own behind.
     Then what makes the run differ from its manifest is quarantined (``campaign.integrity``)
     and the trials not recorded run.
 
@@ -315,8 +316,10 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
     t0 = time.perf_counter()
 
     with contextlib.ExitStack() as held:
-        map_unordered = held.enter_context(_executor(study))  # refused: nothing written yet
+        # held first: a run held elsewhere is refused before a Dask cluster starts or is awaited;
+        # the lock removes the directories it made if the backend is refused
         held.enter_context(run_lock(store, f"{study.name}/{run}"))
+        map_unordered = held.enter_context(_executor(study))
         # read (again) under the lock: another run of it may have written since the check above
         manifest = _checked_manifest(store, study, run, allow_drift)
         chash = provenance.config_hash(study, manifest)
