@@ -417,18 +417,21 @@ def _checked_manifest(store: RunStore, study: StudyCfg, run: str, allow_drift: b
 def run_lock(store: RunStore, label: str) -> Iterator[None]:
     """Hold the run for this process alone (an advisory lock on ``<run>/.lock`` that the system
     releases when the run ends or its process dies), so two runs or ingests of one run never record
-    a trial twice. The file is opened for writing, as NFS needs for an exclusive lock; the
-    directories made for a run that stays empty (a refused one) are removed again."""
+    a trial twice. The file is opened for writing, as NFS needs for an exclusive lock, and removed
+    by its holder at the end, as are the directories made for a run that stays empty."""
     import fcntl
 
     made = [p for p in (store.path, *store.path.parents) if not p.exists()]  # deepest first
     store.path.mkdir(parents=True, exist_ok=True)
     lock = store.path / ".lock"
     handle = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+    held = False
     try:
         try:
             fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
+            if not os.path.samestat(os.fstat(handle), os.stat(lock)):  # its holder removed it
+                raise BlockingIOError
+        except (BlockingIOError, FileNotFoundError):
             raise UserInputError(f"run {label} at {store.path} is being run by another process; "
                                  "wait for it to finish (status shows its progress), or choose "
                                  "another run name (--run NAME).") from None
@@ -436,9 +439,10 @@ def run_lock(store: RunStore, label: str) -> Iterator[None]:
             warnings.warn(f"run {label}: {lock} cannot be locked on its file system "
                           f"({exc.strerror}); run it from one process at a time, since two at "
                           "once would each record every trial.", stacklevel=3)
+        held = True
         yield
     finally:
-        if made and os.listdir(store.path) == [".lock"]:  # nothing stored: as before the run
+        if held:  # removed while still held: a process that opened it before then is refused
             lock.unlink()
         os.close(handle)
         for directory in made:
