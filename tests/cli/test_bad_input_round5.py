@@ -4,25 +4,21 @@ nothing stored changed (``refused``)."""
 
 from __future__ import annotations
 
-import fcntl
-import os
-
 from cli_checks import SMOKE, refused
+
+from graspcampaign.campaign.records import RunStore
+from graspcampaign.campaign.runner import run_lock
 
 
 def test_a_run_already_being_run_is_refused_and_loses_nothing(results):
     """Two ``run`` of one run at once each ran every pending trial and stored it, so the run held
     every trial twice and every command then refused it as damaged; now the second is refused
-    while the first holds the run directory."""
+    while the first holds the run."""
     run = results / "smoke" / "default"
-    holder = os.open(run, os.O_RDONLY)  # as a run in progress holds it
-    try:
-        fcntl.flock(holder, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    with run_lock(RunStore(run), "held"):  # as a run in progress holds it
         refused(results, ["run", "smoke", *SMOKE, "--root", results],
                 f"run smoke/default at {run} is being run by another process; wait for it to "
                 "finish (status shows its progress), or choose another run name (--run NAME).")
-    finally:
-        os.close(holder)
 
 
 def test_a_level_listed_twice_is_named_not_the_whole_list(results):

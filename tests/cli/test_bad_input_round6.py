@@ -7,12 +7,14 @@ Each case: exit 2, one sentence naming what is wrong and where, nothing stored c
 
 from __future__ import annotations
 
-import fcntl
 import os
 
 import pandas as pd
 import pytest
 from cli_checks import SMOKE, refused, replaced
+
+from graspcampaign.campaign.records import RunStore
+from graspcampaign.campaign.runner import run_lock
 
 NEEDED = "which every study needs; set it instead"
 NOTHING = "which this study does not have, so there is nothing to delete; leave it out"
@@ -39,14 +41,10 @@ def test_an_ingest_into_a_run_being_run_is_refused_and_loses_nothing(results, tm
     sheet.write_text("trial_id\nt2A-sphere-01-prop-0000000000\n")
     run = results / "test2_grasp" / "measured"
     run.mkdir(parents=True)
-    holder = os.open(run, os.O_RDONLY)  # as a run or ingest in progress holds it
-    try:
-        fcntl.flock(holder, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    with run_lock(RunStore(run), "held"):  # as a run or ingest in progress holds it
         refused(results, ["ingest", "test2_grasp", sheet, "--root", results],
                 f"run test2_grasp/measured at {run} is being run by another process; wait for it "
                 "to finish (status shows its progress), or choose another run name (--run NAME).")
-    finally:
-        os.close(holder)
 
 
 def test_a_list_override_too_long_to_parse_in_time_is_refused_unparsed(results):

@@ -289,7 +289,8 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
     manifest with the design they change (:func:`~graspcampaign.campaign.compose.as_given`).
 
     Nothing is written before the run can start: the results root, the run's manifest and the
-    layout of its files are checked, and the backend is up (a Dask scheduler answered), first.
+    layout of its files are checked, the run is locked and the backend is up (a Dask scheduler
+    answered), first; a refused run leaves no directory of its own behind.
     Then what makes the run differ from its manifest is quarantined (``campaign.integrity``)
     and the trials not recorded run.
 
@@ -315,8 +316,10 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
     t0 = time.perf_counter()
 
     with contextlib.ExitStack() as held:
-        map_unordered = held.enter_context(_executor(study))  # refused: nothing written yet
+        # held first: a run held elsewhere is refused before a Dask cluster starts or is awaited;
+        # the lock removes the directories it made if the backend is refused
         held.enter_context(run_lock(store, f"{study.name}/{run}"))
+        map_unordered = held.enter_context(_executor(study))
         # read (again) under the lock: another run of it may have written since the check above
         manifest = _checked_manifest(store, study, run, allow_drift)
         chash = provenance.config_hash(study, manifest)
@@ -412,23 +415,35 @@ def _checked_manifest(store: RunStore, study: StudyCfg, run: str, allow_drift: b
 
 @contextlib.contextmanager
 def run_lock(store: RunStore, label: str) -> Iterator[None]:
-    """Hold the run directory for this process alone (an advisory lock the system releases when
-    the run ends or its process dies), so two runs or ingests of one run never record a trial
-    twice. The directories it makes are removed again if they stay empty (a refused ingest)."""
+    """Hold the run for this process alone (an advisory lock on ``<run>/.lock`` that the system
+    releases when the run ends or its process dies), so two runs or ingests of one run never record
+    a trial twice. The file is opened for writing, as NFS needs for an exclusive lock, and removed
+    by its holder at the end, as are the directories made for a run that stays empty."""
     import fcntl
 
     made = [p for p in (store.path, *store.path.parents) if not p.exists()]  # deepest first
     store.path.mkdir(parents=True, exist_ok=True)
-    handle = os.open(store.path, os.O_RDONLY)
+    lock = store.path / ".lock"
+    handle = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+    held = False
     try:
         try:
             fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
+            if not os.path.samestat(os.fstat(handle), os.stat(lock)):  # its holder removed it
+                raise BlockingIOError
+        except (BlockingIOError, FileNotFoundError):
             raise UserInputError(f"run {label} at {store.path} is being run by another process; "
                                  "wait for it to finish (status shows its progress), or choose "
                                  "another run name (--run NAME).") from None
+        except OSError as exc:  # a file system without locks (NFS mounted with nolock, some SMB)
+            warnings.warn(f"run {label}: {lock} cannot be locked on its file system "
+                          f"({exc.strerror}); run it from one process at a time, since two at "
+                          "once would each record every trial.", stacklevel=3)
+        held = True
         yield
     finally:
+        if held:  # removed while still held: a process that opened it before then is refused
+            lock.unlink()
         os.close(handle)
         for directory in made:
             with contextlib.suppress(OSError):  # not empty: it holds what was stored

@@ -1,0 +1,68 @@
+"""The run lock (``runner.run_lock``) where file systems differ: NFS, which emulates ``flock`` with
+byte-range locks that need a descriptor open for writing, and a file system without locks.
+
+The file systems are imitated by wrapping ``fcntl.flock`` with what flock(2) documents for them.
+"""
+
+from __future__ import annotations
+
+import errno
+import fcntl
+import os
+
+import kinds_for_tests  # noqa: F401  (registers the test kinds)
+import pyarrow.parquet as pq
+import pytest
+
+from graspcampaign.campaign.records import RunStore
+from graspcampaign.campaign.runner import run_lock, run_study
+from graspcampaign.campaign.studyfile import run_path
+from graspcampaign.errors import UserInputError
+
+
+def test_the_lock_is_held_on_a_descriptor_open_for_writing_as_nfs_needs(tmp_path, monkeypatch):
+    flock = fcntl.flock
+
+    def nfs_flock(fd, operation):  # flock(2): an exclusive lock over NFS needs O_WRONLY or O_RDWR
+        if operation & fcntl.LOCK_EX and fcntl.fcntl(fd, fcntl.F_GETFL) & os.O_ACCMODE == os.O_RDONLY:
+            raise OSError(errno.EBADF, os.strerror(errno.EBADF))
+        return flock(fd, operation)
+
+    monkeypatch.setattr(fcntl, "flock", nfs_flock)
+    store = RunStore(tmp_path / "study" / "run")
+    with run_lock(store, "study/run"):
+        (store.path / "manifest.json").write_text("{}")
+    assert (store.path / "manifest.json").is_file()
+
+
+def test_a_file_system_without_locks_is_warned_of_and_the_run_goes_on(study_factory, monkeypatch):
+    def no_locks(fd, operation):
+        raise OSError(errno.ENOLCK, os.strerror(errno.ENOLCK))
+
+    monkeypatch.setattr(fcntl, "flock", no_locks)
+    study = study_factory()
+    lock = run_path(study) / ".lock"
+    with pytest.warns(UserWarning, match=rf"^run unit/r1: {lock} cannot be locked on its file "
+                                         r"system \(No locks available\); run it from one process"):
+        summary = run_study(study)
+    stored = pq.read_table(run_path(study) / "records", columns=["trial_id"]).num_rows
+    assert summary.n_ran == stored == 16
+
+
+def test_a_run_refused_under_the_lock_leaves_no_directory_behind(tmp_path):
+    store = RunStore(tmp_path / "new" / "study" / "run")
+    with pytest.raises(RuntimeError), run_lock(store, "study/run"):
+        raise RuntimeError("refused")
+    assert not (tmp_path / "new").exists()
+
+
+def test_a_held_run_is_refused_before_its_dask_scheduler_is_awaited(study_factory):
+    """A second run of a held run was refused only after its backend came up (a LocalCluster
+    started, or a scheduler awaited up to connect_timeout_s); the lock is now taken first."""
+    study = study_factory(backend="dask", runner={"address": "tcp://127.0.0.1:9",  # nothing listens
+                                                  "connect_timeout_s": 0.5})
+    store = RunStore(run_path(study))
+    with run_lock(store, "held"), pytest.raises(UserInputError, match=r"^run unit/r1 at .* is "
+                                                                      r"being run by another process"):
+        run_study(study)
+    assert not (store.path / "manifest.json").exists()
