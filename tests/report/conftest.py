@@ -70,9 +70,9 @@ def verdict_calls(monkeypatch):
     calls, rule = [], fmt.verdict
 
     def spy(ours, paper, **kw):
-        differs, words = rule(ours, paper, **kw)
-        calls.append({"ours": ours, "paper": paper, **kw, "words": words})
-        return differs, words
+        judged = rule(ours, paper, **kw)
+        calls.append({"ours": ours, "paper": paper, **kw, "words": judged.words, "word": judged.word})
+        return judged
 
     monkeypatch.setattr(fmt, "verdict", spy)
     return calls

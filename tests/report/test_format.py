@@ -27,7 +27,7 @@ def test_number_variants():
     assert fmt.interval(3.45, math.inf, 1) == "3.5–inf"
     # an infinity keeps its sign (-inf printed "inf", so ours -inf "differs by inf")
     assert fmt.number(-math.inf, 2) == "\u2212inf" and fmt.number(math.inf, 1, signed=True) == "+inf"
-    assert fmt.verdict(-math.inf, 0.9) == (True, "differs by \u2212inf")
+    assert fmt.verdict(-math.inf, 0.9).words == "differs by \u2212inf"
     assert fmt.estimate(77.8, 74.8, 80.49, 0) == "78 (75–80)"
     # 0.805 is stored as 0.80500000000000004885 (exact binary value), so it rounds up, once.
     assert fmt.number(80.5 / 100, 2) == "0.81"
@@ -106,16 +106,18 @@ def test_number_variants():
      (None, "commanded, not a result: the ramp ends at the command")),
 ])
 def test_one_verdict_rule(args, kwargs, expected):
-    assert fmt.verdict(*args, **kwargs) == expected
+    judged = fmt.verdict(*args, **kwargs)
+    assert (judged.differs, judged.words) == expected
 
 
 @given(st.floats(-1e3, 1e3), st.floats(-1e3, 1e3), st.floats(0, 10), st.integers(0, 3))
 def test_an_interval_is_judged_as_its_nearest_end_when_the_paper_lies_outside(ours, paper, width, digits):
     # a zero-width interval reads as the point value; a wider one can only bring the paper's value in
-    point, words = fmt.verdict(ours, paper, digits=digits)
+    judged = fmt.verdict(ours, paper, digits=digits)
+    point, words = judged.differs, judged.words
     zero_width = fmt.verdict(ours, paper, low=ours, high=ours, digits=digits)
-    assert zero_width[0] == point
-    assert not point or zero_width[1].startswith(f"{words}: ")  # the same difference, as printed
+    assert zero_width.differs == point
+    assert not point or zero_width.words.startswith(f"{words}: ")  # the same difference, as printed
     assert fmt.verdict(ours, paper, low=ours - width, high=ours + width, digits=digits)[0] <= point
 
 

@@ -11,11 +11,12 @@ from __future__ import annotations
 import math
 
 import pandas as pd
+import pytest
 from statsmodels.stats.proportion import proportion_confint
 
 from graspcampaign.campaign.paper import study_paper
 from graspcampaign.report.render import Run
-from graspcampaign.report.studies.sensitivity import SPEC, _panels, finding
+from graspcampaign.report.studies.sensitivity import BOUND, SPEC, _panels, _word_claims, finding
 
 PAPER = study_paper("sensitivity")
 
@@ -76,9 +77,9 @@ def test_the_papers_words_on_the_region_and_the_drop_are_judged_by_wilson_interv
     claims = _run({(0.4, 0.5): (30, 50), (0.8, 0.5): (5, 50), (0.4, 0.05): (20, 40), (0.8, 0.05): (18, 40)}
                   ).tables["sensitivity_claims"].set_index("quantity")
     drop = claims.loc["(a) sharp drop above the mass limit when μ < the friction limit"]
-    assert drop["differs"] and drop["verdict"] == (
-        "differs: the paper reports a drop: lower than at m ≤ the mass limit, ours is "
-        f"{_wilson(18, 40)} against {_wilson(20, 40)}, Wilson intervals overlap")
+    # overlapping intervals neither show the drop nor contradict it (it read "differs")
+    assert drop["differs"] is None and drop["verdict"] == (
+        f"not shown by ours: {_wilson(18, 40)} against {_wilson(20, 40)}, Wilson intervals overlap")
 
 
 def test_the_runtime_claim_is_said_to_be_qualitative_not_given_a_number():
@@ -97,3 +98,33 @@ def test_the_identified_lambda1_rows_carry_the_dimensionless_unit():
     run = _run({(0.4, 0.5): (30, 50)})
     frame = claims.compute(run).set_index("quantity")
     assert frame.loc[[q for q in frame.index if "median identified λ1" in q], "unit"].tolist() == ["–", "–"]
+
+
+def _on_bound(k: int, n: int) -> dict:
+    """A λ1-bound claims row: k of n identifications on the bound, with statsmodels' Wilson interval."""
+    low, high = proportion_confint(k, n, method="wilson")
+    return {"value": 100 * k / n, "low": 100 * low, "high": 100 * high, "n": n}
+
+
+@pytest.mark.parametrize(("low_mu", "high_mu", "expected"), [
+    # 18 of 20 at μ < 0.1 (interval above 50%: most), 2 of 20 at μ ≥ 0.1 (intervals apart: fewer)
+    ((18, 20), (2, 20), [(False, "as in the paper (pushed toward the bound)"),
+                         (False, "as in the paper (fewer than at μ < 0.1)")]),
+    # 2 of 2 at both (the golden run): neither shown; the point values (100% > 50%, 100% not fewer)
+    # had read "as in the paper" and "differs"
+    ((2, 2), (2, 2), [(None, f"not shown by ours: {_wilson(2, 2)} against 50%, Wilson intervals overlap"),
+                      (None, f"not shown by ours: {_wilson(2, 2)} against {_wilson(2, 2)}, Wilson "
+                             "intervals overlap")]),
+    # 3 of 20 then 18 of 20: a minority on the bound, and more (not fewer) at μ ≥ 0.1: both differ
+    ((3, 20), (18, 20), [(True, "differs: the paper reports pushed toward the bound, ours is "
+                                f"{_wilson(3, 20)} against 50%, Wilson intervals apart the other way"),
+                         (True, "differs: the paper reports fewer than at μ < 0.1, ours is "
+                                f"{_wilson(18, 20)} against {_wilson(3, 20)}, Wilson intervals apart the "
+                                "other way")]),
+])
+def test_lambda1_bound_words_are_judged_by_wilson_intervals_as_the_other_words(low_mu, high_mu, expected):
+    frame = pd.DataFrame([{"quantity": BOUND + "< 0.1", **_on_bound(*low_mu)},
+                          {"quantity": BOUND + "≥ 0.1", **_on_bound(*high_mu)}]).assign(
+        paper=None, differs=None, verdict="")
+    out = _word_claims(frame)
+    assert list(zip(out["differs"], out["verdict"], strict=True)) == expected

@@ -19,15 +19,15 @@ from graspcampaign.report import format as fmt
 def test_a_paper_value_at_an_end_of_our_interval_is_inside_it(successes, end):
     low, high = (100 * v for v in proportion_confint(successes, 100, alpha=0.05, method="wilson"))
     paper = (low, high)[end]
-    differs, words = fmt.verdict(successes, paper, low=low, high=high, unit="%")
-    assert differs is False
-    assert words.endswith("paper inside our 95% CI")
+    judged = fmt.verdict(successes, paper, low=low, high=high, unit="%")
+    assert judged.differs is False
+    assert judged.words.endswith("paper inside our 95% CI")
 
 
 @settings(deadline=None)  # values checked, not time: a loaded machine stalls an example
 @given(st.floats(0.1, 0.9), st.floats(1e-6, 1e-3), st.sampled_from([0, 1]))
 def test_ours_at_an_end_of_the_paper_range_is_inside_it(low, width, end):
     paper = (low, low + width)
-    differs, words = fmt.verdict(paper[end], paper, digits=1)
-    assert differs is False
-    assert words == f"inside the paper's range {fmt.paper_text(paper, 1)}"
+    judged = fmt.verdict(paper[end], paper, digits=1)
+    assert judged.differs is False
+    assert judged.words == f"inside the paper's range {fmt.paper_text(paper, 1)}"

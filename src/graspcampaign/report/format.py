@@ -130,7 +130,7 @@ def paper_text(paper: Any, digits: int | None = None) -> str:
 
 
 class Verdict(NamedTuple):
-    """How ours stands against the paper's value (:func:`judge`): whether it differs (None: not
+    """How ours stands against the paper's value (:func:`verdict`): whether it differs (None: not
     compared), the short answer ``word`` ("differs by +0.3", "consistent (+0.02)") and why, if said."""
 
     differs: bool | None
@@ -142,15 +142,9 @@ class Verdict(NamedTuple):
         return f"{self.word}: {self.why}" if self.why else self.word
 
 
-def verdict(ours: Any, paper: Any, **how: Any) -> tuple[bool | None, str]:
-    """``(differs, words)`` of :func:`judge`, the one rule: a table's verdict columns."""
-    judged = judge(ours, paper, **how)
-    return judged.differs, judged.words
-
-
-def judge(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits: int = 1,
-          unit: str = "", ratio: str = "", commanded: str = "", because: str = "",
-          pinned: str = "") -> Verdict:
+def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits: int = 1,
+            unit: str = "", ratio: str = "", commanded: str = "", because: str = "",
+            pinned: str = "") -> Verdict:
     """Say how ours stands against the paper's value, the one rule: a range agrees
     inside it and a one-sided bound (a range with a None end, ``(None, hi)``: at most hi) within it
     (ours rounded to ``digits``, as printed; ours ``inf`` lies above every range); a word when equal;
@@ -168,10 +162,10 @@ def judge(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits: i
     if because:
         return Verdict(None, because)
     if pinned:
-        differs, words = verdict(ours, paper, low=low, high=high, digits=digits, unit=unit, ratio=ratio,
-                                 commanded=commanded)
-        return Verdict(differs, f"{words}; on its search bound ({pinned}) in every run, so CV "
-                                f"{number(ours, digits)}{unit.strip()} measures the bound, not repeatability")
+        judged = verdict(ours, paper, low=low, high=high, digits=digits, unit=unit, ratio=ratio,
+                         commanded=commanded)
+        return Verdict(judged.differs, f"{judged.words}; on its search bound ({pinned}) in every run, "
+                       f"so CV {number(ours, digits)}{unit.strip()} measures the bound, not repeatability")
     if commanded:
         return Verdict(None, "commanded, not a result", commanded)
     if is_missing(paper):

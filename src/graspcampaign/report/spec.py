@@ -63,8 +63,8 @@ def verdicts(frame: pd.DataFrame, ours: str, paper: str, low: str | None = None,
             words["because"] = words.get("because") or str(r[why])
         verdict = fmt.verdict(o, p, low=r.get(low) if low else None, high=r.get(high) if high else None,
                               digits=3 if d == fmt.P else int(d), unit=u, **words)
-        compared = number and not fmt.is_missing(o) and verdict[0] is not None
-        out.append((float(o) - float(p) if compared else math.nan, *verdict))
+        compared = number and not fmt.is_missing(o) and verdict.differs is not None
+        out.append((float(o) - float(p) if compared else math.nan, verdict.differs, verdict.words))
     return frame.assign(**{c: [row[i] for row in out] for i, c in enumerate(("difference", "differs",
                                                                           "verdict"))})
 

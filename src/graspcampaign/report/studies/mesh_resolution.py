@@ -180,14 +180,14 @@ def _reading(run: Run) -> str:
     verdict's estimator against the paper, the median repeats only where they read otherwise, and growth."""
     p, (top, ref), estimators, unlike = run.paper, _meshes(run), _estimators(run), _unlike_paper(run)
     ratio, (grows, growth) = _cost_ratio(run, estimators[0]), _growth(run, estimators[0])
-    verdict, target = (fmt.judge(ratio.value, paper, low=ratio.low, high=ratio.high, digits=2)
+    verdict, target = (fmt.verdict(ratio.value, paper, low=ratio.low, high=ratio.high, digits=2)
                        for paper in (p.runtime_ratio_1750_144, (None, p.runtime_ratio_target)))
     paper = f"{unlike.split(' (')[0]}, paper {p.runtime_ratio_1750_144}" if unlike else \
         f"paper {p.runtime_ratio_1750_144}: {verdict.word}; target ≤ {p.runtime_ratio_target}: {target.word}"
     if estimators[0] == "fastest":  # the median repeats judged by the target row's rule, as printed
         median, (median_grows, median_growth) = _cost_ratio(run, "median").value, _growth(run, "median")
         other = fmt.Verdict(None, "") if unlike else \
-            fmt.judge(median, (None, p.runtime_ratio_target), digits=2)
+            fmt.verdict(median, (None, p.runtime_ratio_target), digits=2)
         if (other.differs, median_grows) != (None if unlike else target.differs, grows):
             paper += (f"; by the median repeats {fmt.number(median, 2)}, which reads "
                       f"{', '.join(w for w in (other.words, median_growth) if w)}: the estimator decides")

@@ -146,10 +146,11 @@ def finding(run: Run) -> str:
                  f"{best['model_label']}; paper {fmt.number(p.residual_r2, 2)} for |R_z|)" + (
                      ", worse than predicting the held-out mean. " if best["r2"] < 0 else ". "))
     if "mlp" in (tm := t["surrogate_timing"].set_index("what")).index:
-        us = [fmt.number(tm.loc[w, "time_us"], fmt.decimals(tm["time_us"])) for w in ("mlp", "pso_call")]
+        us = [f"{fmt.number(tm.loc[w, 'time_us'], fmt.decimals(tm['time_us']))} µs, median of "
+              f"{tm.loc[w, 'n_timed']:.0f}" for w in ("mlp", "pso_call")]  # as table surrogate_timing
         paper_us = fmt.number(tm.loc["mlp", "paper_time_us"], fmt.decimals(tm["paper_time_us"]))
-        text += (f"An MLP prediction ({us[0]} µs) is {fmt.number(tm.loc['mlp', 'speedup'], sig=3)}× faster "
-                 f"than the brief PSO call ({us[1]} µs; paper {paper_us} µs, "
+        text += (f"An MLP prediction ({us[0]}) is {fmt.number(tm.loc['mlp', 'speedup'], sig=3)}× faster "
+                 f"than the brief PSO call ({us[1]}; paper {paper_us} µs, "
                  f"{fmt.number(tm.loc['mlp', 'paper_speedup'], 0)}×; table surrogate_timing). ")
     return text + ("Why: in SI, Algorithm 2 as published passes few grasps under ‖R‖ and buries a fingertip "
                    f"deeper than its radius r = {run.radius_mm:g} mm in {int(deep.sum())} of {len(deep)} "

@@ -410,7 +410,7 @@ def fig26(run: Run, fig) -> None:
     ax_a.set_xticks(x, names)
     ax_a.set(ylabel="coefficient of variation over converged runs [%]",
              title="(a) identifiability: CV per parameter")
-    ax_a.legend(handles=[paper_handle("paper Table 5")], loc="upper center")
+    legend_below(ax_a, [paper_handle("paper Table 5")])
     for off, pre, c, mk, who in ((-0.12, "", BLUE, "o", "ours"), (0.12, "paper_", PAPER, "D", "paper")):
         ax_b.errorbar(x + off, t5[f"{pre}mean"] / sim, t5[f"{pre}sd"] / sim, fmt=mk, color=c,
                       label=f"{who}: mean ± SD")
@@ -427,7 +427,7 @@ def fig26(run: Run, fig) -> None:
     ax_c.set_xticks(xs, [s if q in s else f"{q}\n{s}" for q, s in zip(tr.get("quantity_label", []), tr.get(
         "split_label", []), strict=True)], rotation=60, ha="right", fontsize=6.5)  # split naming its quantity
     ax_c.set(ylabel="mean transfer error [%]", title="(c) training (grey) vs held-out splits (blue)")
-    ax_c.legend(handles=[paper_handle("paper §7.6")], loc="upper left")
+    ax_c.legend(handles=[paper_handle("paper §7.6")], loc="best")  # below: the slanted split names
 
 
 SPEC = ReportSpec("test1_bench", [
