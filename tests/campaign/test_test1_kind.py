@@ -34,8 +34,8 @@ REDUCED = ["params.materials=[gel]", "params.specimens=[1,11]",
 cli = CliRunner()
 
 
-def _study(root, *extra):
-    return compose_study("test1_bench", ["runner.backend=sequential", "runner.progress=false",
+def _study(root, *extra, backend="sequential"):
+    return compose_study("test1_bench", [f"runner.backend={backend}", "runner.progress=false",
                                          f"output.root={root}", *REDUCED, *extra])
 
 
@@ -356,7 +356,7 @@ def test_finalize_does_not_depend_on_the_worker_count(engine):
     _, study, _, _, records, _, _ = engine
     params = kind_params(study, get_kind(study.kind))
     one = K.finalize(study, params, records)
-    two = K.finalize(_study(study.output.root, "runner.backend=loky", "runner.n_jobs=2"),
+    two = K.finalize(_study(study.output.root, "runner.n_jobs=2", backend="loky"),
                      params, records)
     assert list(one) == list(two)
     for name in one:
