@@ -86,6 +86,28 @@ def test_an_override_naming_a_key_again_is_refused_not_the_last_kept(results, ov
             "the last silently).")
 
 
+@pytest.mark.parametrize(("overrides", "said"), [
+    (["factors={nodes:[144],nodes:[390]}"], "override 'factors={nodes:[144],nodes:[390]}' names "
+                                            "factors.nodes twice"),
+    (["model={lambda1:1,'x':'a,b',lambda1:2}"], "override \"model={lambda1:1,'x':'a,b',lambda1:2}\" "
+                                                "names model.lambda1 twice"),
+    (["factors={nodes:[144]}", "nodes=[390]"], "overrides 'factors={nodes:[144]}' and 'nodes=[390]' "
+                                               "both name nodes"),
+])
+def test_a_key_repeated_inside_a_mapping_value_is_refused(results, overrides, said):
+    """Hydra's parser kept the last of a key repeated inside ``{...}`` (and the mapping's key beside
+    the bare factor): ``show`` exited 0 with ``nodes [1]: 390``."""
+    refused(results, ["show", "smoke", *overrides, "--root", results],
+            f"{said}; give it once (Hydra would keep the last silently).")
+
+
+def test_a_mapping_value_with_distinct_keys_composes(results):
+    shown = invoke("show", "smoke", "factors={nodes:[144],shape:[sphere]}", "model={lambda1:1.5,n_exp:0.5}",
+                   "--root", results)
+    assert shown.exit_code == 0, shown.output
+    assert "nodes [1]: 144" in shown.stdout and "shape [1]: sphere" in shown.stdout
+
+
 @pytest.mark.parametrize(("name", "file_type", "message"), [
     # it said "cannot be read as PLY (Not a ply file!)."
     ("sphere.ply", "obj", "is not a PLY file: it looks like an OBJ file (text with vertex lines "

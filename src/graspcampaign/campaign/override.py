@@ -42,6 +42,30 @@ def split(item: str) -> tuple[str, str, str, str]:
     return prefix, key.strip(), sep, value
 
 
+def _mapping_keys(value: str) -> list[str]:
+    """The top-level keys of a ``{k: v, ...}`` value as typed, repeats kept (Hydra's parser keeps
+    only the last of a repeated key, so a repeat must be seen before it parses)."""
+    if not value.lstrip().startswith("{"):
+        return []
+    keys, depth, quote, start, in_key = [], 0, None, 0, False
+    for i, char in enumerate(value):
+        if quote:
+            quote = None if char == quote else quote
+        elif char in "'\"":
+            quote = char
+        elif char in "[{(":
+            depth += 1
+            start, in_key = (i + 1, True) if depth == 1 else (start, in_key)
+        elif char in "]})":
+            depth -= 1
+        elif depth == 1 and char == ",":
+            start, in_key = i + 1, True
+        elif depth == 1 and char == ":" and in_key:
+            keys.append(value[start:i].strip())
+            in_key = False
+    return keys
+
+
 def check_overrides(given: list[str]) -> None:
     """Refuse, before composition, overrides Hydra would misread or silently ignore.
 
@@ -56,10 +80,12 @@ def check_overrides(given: list[str]) -> None:
         if not key:
             raise ConfigError(f"override {item!r} has no key before '='; write KEY=VALUE, e.g. "
                               "seeds=3 or mu=[0.3,0.5].")
-        if (first := named.get(key.removeprefix("factors."))) is not None:
-            raise ConfigError(f"overrides {first!r} and {item!r} both name {key}; give it once "
-                              "(Hydra would keep the last silently).", key=key)
-        named[key.removeprefix("factors.")] = item
+        for name in [key] + [f"{key}.{inner}" for inner in _mapping_keys(value)]:
+            if (first := named.get(name.removeprefix("factors."))) is not None:
+                said = (f"override {item!r} names {name} twice" if first == item else
+                        f"overrides {first!r} and {item!r} both name {name}")
+                raise ConfigError(f"{said}; give it once (Hydra would keep the last silently).", key=name)
+            named[name.removeprefix("factors.")] = item
         if (values := value.count(",") + 1) > MAX_OVERRIDE_VALUES:  # before Hydra parses it
             raise ConfigError(f"override {item!r} holds {values:,} comma-separated values, more "
                               f"than an override can hold ({MAX_OVERRIDE_VALUES:,}); give them in "
