@@ -224,7 +224,8 @@ def write_root_pages(root: Path, formats: list[str]) -> bool:
     pages do not show yet is written with its row marked "the run cannot be read"."""
     unreadable: list[tuple[str, str]] = []
     frame = headline_rows(root, unreadable)
-    index = {page: index_rows(root, page, unreadable) for page in _root_pages(root, formats)}
+    root_pages = _root_pages(root, formats)
+    index = {page: index_rows(root, page, unreadable) for page in root_pages}
     pages = [root / f"{name}.{ext}" for name in ("headline", "index") for ext in ("csv", "md", "html")]
     shown = " ".join(p.read_text(errors="replace") for p in pages if p.is_file())
     unreadable = [(label, why) for label, why in unreadable
@@ -235,7 +236,7 @@ def write_root_pages(root: Path, formats: list[str]) -> bool:
         warnings.warn(f"the headline and index pages were left as they were: run {label} cannot "
                       f"be read{more} ({why})", stacklevel=2)
         return False
-    write_headline(root, _root_pages(root, formats), frame)
+    write_headline(root, root_pages, frame)
     for page, rows in index.items():
         write_index_page(root, page, rows)
     return True
