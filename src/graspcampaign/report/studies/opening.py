@@ -49,11 +49,13 @@ def finding(run: Run, extra=lambda run: "") -> str:
     d, e, n1, n2 = frames(run), ex(run), (lambda v: fmt.number(v, 1)), (lambda v: fmt.number(v, 2))
     by = d.groupby(["belief_error", "planner"])["success"]
     s, n, lab, prefix = by.mean() * 100, by.size(), (lambda q: label("planner", q)), run.study.split("_")[0]
-    paper, table = s["paper"].sort_values(ascending=False), f"table{7 + 2 * (prefix == 'test3')}"
+    table_number = 7 + 2 * (prefix == "test3")  # the paper's Table 7 (test 2) or 9 (test 3)
+    paper, table = s["paper"].sort_values(ascending=False), f"table{table_number}"
     rows = run.tables[table].query("belief_error == 'paper'").set_index("planner")
     theirs = rows["paper_success_pct"]  # as the table prints them
     tops, top, ranked = list(paper.index[paper == paper.max()]), paper.index[0], first(paper)
-    def wilson(q: str) -> str:  # as Table 7 (9) prints it
+
+    def wilson(q: str) -> str:  # as the table prints it
         return f"Wilson 95% {fmt.interval(rows.success_low_pct[q], rows.success_high_pct[q], 1)}"
 
     text = (f"{ranked[0].upper()}{ranked[1:]} ({n1(paper.max()) + '% ' if len(tops) == 1 else ''}of "
@@ -68,7 +70,7 @@ def finding(run: Run, extra=lambda run: "") -> str:
         text += "; the intervals overlap)" if overlap else ")"
     differs = rows["differs"].dropna().astype(bool)
     text += (f"; success differs from the paper's for {differs.sum()} of {len(differs)} planners (Table "
-             f"{table[5:]}). ")
+             f"{table_number}). ")
     g = e.groupby("planner")["g_geo_actual"].median()
     cap = e.groupby("planner")["grip_capped"].mean() * 100
     text += (f"Why: the proposed score H~ has no gravity term, so its contacts reach less vertical friction "
