@@ -217,9 +217,8 @@ def file_problems(store, part: str, allowed: dict[str, set]) -> list[Problem]:
             continue
         n, unique = own.n_rows, own.ids
         if part == "records" and len(unique) < n:
-            why = f"it records {counted(n - len(unique), 'trial')} twice"
-            out.append(Problem(path, f"a file {rel} that records {counted(n - len(unique), 'trial')} twice",
-                               "quarantine", part, why))
+            said = f"records {counted(n - len(unique), 'trial')} twice"
+            out.append(Problem(path, f"a file {rel} that {said}", "quarantine", part, f"it {said}"))
             continue
         twice = unique & seen.keys()
         if twice:

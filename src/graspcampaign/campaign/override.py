@@ -55,7 +55,8 @@ def _mapping_keys(value: str) -> list[str]:
             quote = char
         elif char in "[{(":
             depth += 1
-            start, in_key = (i + 1, True) if depth == 1 else (start, in_key)
+            if depth == 1:
+                start, in_key = i + 1, True
         elif char in "]})":
             depth -= 1
         elif depth == 1 and char == ",":
