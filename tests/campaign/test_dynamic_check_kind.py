@@ -124,3 +124,22 @@ def test_missing_or_wrong_source_is_bad_input(tmp_path):
                                              r"the filters shape, mass_kg, mu, planner; got "
                                              r"nodes\.$"):
         _run("dynamic_check", tmp_path, "+factors.nodes=[144]")
+
+
+def test_a_missing_source_is_made_by_the_command_named_even_off_its_configured_run(tmp_path, monkeypatch):
+    """The advice said `graspcampaign run S` whenever the source run was named "default", which
+    for a source study whose output.run is another name writes that run and not the one missing."""
+    from pathlib import Path
+
+    studies = tmp_path / "mine"
+    studies.mkdir()
+    text = (Path(__file__).parents[2] / "campaigns" / "baseline_grid.yaml").read_text()
+    (studies / "my_grid.yaml").write_text(text.replace("name: baseline_grid", "name: my_grid\n"
+                                                       "compare_with: baseline_grid\noutput:\n  run: mine"))
+    monkeypatch.setenv("GRASPCAMPAIGN_PATH", str(studies))
+    with pytest.raises(UserInputError) as info:
+        _run("dynamic_check", tmp_path, "params.source_study=my_grid", "params.source_run=default")
+    assert (f"run `graspcampaign run my_grid --run default --root {tmp_path}` first (or set "
+            "params.source_study / params.source_run).") in str(info.value)
+    assert info.value.source == "my_grid --run default"  # what `list` says to run first
+

@@ -24,7 +24,6 @@ the like-for-like label, same contact law as the dynamic run), and the dynamic o
 
 from __future__ import annotations
 
-import shlex
 import time
 from dataclasses import dataclass
 from functools import lru_cache
@@ -88,7 +87,7 @@ def load_source(root: str, name: str, run: str) -> Source:
     from omegaconf import OmegaConf
 
     from graspcampaign.campaign.kind import get_kind
-    from graspcampaign.campaign.paths import root_options
+    from graspcampaign.campaign.paths import how_to_make
     from graspcampaign.campaign.records import RunStore
     from graspcampaign.campaign.runner import kind_params, study_trials
     from graspcampaign.campaign.schema import StudyCfg
@@ -96,12 +95,14 @@ def load_source(root: str, name: str, run: str) -> Source:
     path = Path(root) / name / run
     store = RunStore(path)
     manifest = store.check(["records"])  # the source's records as its manifest says
-    source = name + ("" if run == "default" else f" --run {run}")
-    command = shlex.join(["graspcampaign", "run", *source.split(), *root_options(root)])
     if manifest is None:
+        from graspcampaign.campaign.studyfile import configured_run
+
+        source = name + ("" if run == configured_run(name) else f" --run {run}")
         raise MissingSourceRunError(
             f"dynamic_check re-simulates the records of {name}/{run}, but {path} holds no run; "
-            f"run `{command}` first (or set params.source_study / params.source_run).", source)
+            f"{how_to_make(root, name, run).removesuffix('.')} (or set params.source_study / "
+            "params.source_run).", source)
     if manifest.get("kind") != "quasi_static":
         raise UserInputError(
             f"dynamic_check re-simulates quasi-static plans, but {name}/{run} is a "
@@ -117,7 +118,8 @@ def load_source(root: str, name: str, run: str) -> Source:
     if missing:
         raise UserInputError(
             f"dynamic_check needs every trial of {name}/{run}, but {missing} of {len(trials)} are "
-            f"not recorded under {path}; finish it with `{command}` first.")
+            f"not recorded under {path}; {how_to_make(root, name, run).removesuffix(' first.')} again to "
+            "finish it.")
     records = records[records["status"] == "ok"].set_index("trial_id", drop=False)
     return Source(study=study, path=path, records=records, trials=trials,
                   nodes=int(kind_params(study, kind).nodes), config_hash=manifest["config_hash"])
