@@ -141,6 +141,22 @@ def test_unknown_format_is_bad_input_and_writes_nothing(tmp_path):
     assert check_formats("md, CSV,md") == ["md", "csv"]
 
 
+@pytest.mark.parametrize("figure_format", ["png", "svg", "pdf"])
+def test_every_figure_of_an_html_page_opens_its_file_at_full_size(tmp_path, figure_format):
+    """The page fits each figure to its width (Fig. 19's three panels at about half size, their tick
+    labels unreadable at 1280 px): each image is a link to the figure's file, which the report wrote."""
+    import re
+
+    write_run(tmp_path)
+    build_reports(["ablation"], root=tmp_path, formats=["md", "html"], figure_format=figure_format)
+    out = tmp_path / "ablation" / "r1" / "report"
+    page = (out / "report.html").read_text()
+    links = re.findall(r"<figure id='[^']+'><a href='([^']+)'[^>]*><img ", page)
+    assert len(links) == page.count("<figure ") == len(list((out / "figures").iterdir())) > 0
+    for link in links:
+        assert link.endswith(f".{figure_format}") and (out / link).is_file(), link
+
+
 def test_cli_format_and_figure_format_options(tmp_path):
     write_run(tmp_path)
     bad = cli.invoke(app, ["report", "ablation", "--root", str(tmp_path), "--format", "pdf"])

@@ -291,9 +291,13 @@ class Figure:
     def html(self) -> str:
         kind = "svg" if "svg" in self.images else "png"
         data = base64.b64encode(self.images[kind]).decode()
-        return (f"<figure id='{self.anchor}'><img src='data:image/{'svg+xml' if kind == 'svg' else 'png'};"
-                f"base64,{data}' alt='{html.escape(self.caption, quote=True)}'><figcaption>"
-                f"{inline(self.caption)}</figcaption></figure>")
+        # the page fits a figure to its width, a three-panel one's labels then at half size: a click opens
+        # the figure's file, written beside the page in the figure format, at full size
+        full = f"figures/{self.name}.{next((k for k in self.images if k != 'png'), 'png')}"
+        return (f"<figure id='{self.anchor}'><a href='{full}' title='open at full size'><img src='data:image/"
+                f"{'svg+xml' if kind == 'svg' else 'png'};base64,{data}' alt='"
+                f"{html.escape(self.caption, quote=True)}'></a><figcaption>{inline(self.caption)}"
+                "</figcaption></figure>")
 
 
 def _json(value: Any) -> Any:
