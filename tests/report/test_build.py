@@ -141,6 +141,24 @@ def test_unknown_format_is_bad_input_and_writes_nothing(tmp_path):
     assert check_formats("md, CSV,md") == ["md", "csv"]
 
 
+@pytest.mark.parametrize("figure_format", ["png", "svg", "pdf"])
+def test_every_figure_of_an_html_page_zooms_to_full_size_within_the_page(tmp_path, figure_format):
+    """The page fits each figure to its width (Fig. 19's three panels at about half size, their tick
+    labels unreadable at 1280 px): a click on each image toggles it to full size by a checkbox and its
+    label (one per figure, ids unique), with no link out of the self-contained page."""
+    import re
+
+    write_run(tmp_path)
+    build_reports(["ablation"], root=tmp_path, formats=["md", "html"], figure_format=figure_format)
+    page = (tmp_path / "ablation" / "r1" / "report" / "report.html").read_text()
+    toggles = re.findall(r"<figure id='([^']+)'><input type='checkbox' class='zoom' id='([^']+)' hidden>"
+                         r"<label for='([^']+)'[^>]*><img ", page)
+    assert len(toggles) == page.count("<figure ") > 0
+    assert all(box == target == f"zoom-{anchor}" for anchor, box, target in toggles)
+    assert len({box for _, box, _ in toggles}) == len(toggles)
+    assert ".zoom:checked+label img{max-width:none" in page and "href='figures/" not in page
+
+
 def test_cli_format_and_figure_format_options(tmp_path):
     write_run(tmp_path)
     bad = cli.invoke(app, ["report", "ablation", "--root", str(tmp_path), "--format", "pdf"])

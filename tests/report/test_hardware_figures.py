@@ -109,3 +109,38 @@ def test_schematic_slip_axis_has_readable_ticks_and_no_finger_hides_another(sim_
                     assert over.get_linewidth() < under.get_linewidth()
         for line in fingers:
             assert f"({line.get_ydata()[0]:.3g} N)" in line.get_label()
+
+
+@pytest.mark.parametrize(("study", "name"), [("test2_grasp", "fig30_representative_grasp"),
+                                             ("test3_disturbance", "fig35_representative_pull")])
+def test_every_level_in_a_schematic_legend_gives_its_value(sim_root, study, name):
+    """Fig. 30's legend read "paper: slip below" with no value and gave none for the predicted force,
+    the recorded slip or the paper's hold band, nor did Fig. 35's for the threshold, the prediction or
+    the paper's median, while the fingers' entries gave theirs: every horizontal line and band of a
+    legend names a number, the paper's the value its paper record holds."""
+    import re
+
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Polygon, Rectangle
+
+    from graspcampaign.campaign.paper import study_paper
+
+    _, fig = _drawn(sim_root, study, name)
+    levels = []
+    for ax in fig.axes:
+        for artist in ax.get_children():
+            what = (artist.get_label() if isinstance(artist, Line2D | Polygon | Rectangle) else None) or "_"
+            if what.startswith("_"):
+                continue
+            if isinstance(artist, Line2D) and len(set(artist.get_ydata())) == 1:
+                levels.append(what)
+            elif not isinstance(artist, Line2D) and what.startswith("paper"):  # the paper's band
+                levels.append(what)
+    assert len(levels) >= 5, levels
+    assert not [w for w in levels if not re.search(r"\d", w)], levels
+    paper = study_paper(study)
+    expected = ([f"paper: slip below {paper.hold_slip_max_mm:g} mm",
+                 "paper: steady hold ({:g}–{:g} N)".format(*paper.hold_force_per_finger_n)]
+                if study == "test2_grasp" else
+                [f"paper: natural-friction median ({paper.lateral_threshold_median_n:g} N)"])
+    assert set(expected) <= set(levels), levels

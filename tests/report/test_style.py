@@ -1,4 +1,5 @@
-"""The tick labels of every figure (report.style.tick) and its rate bars (report.style.bars)."""
+"""The tick labels of every figure (report.style.tick, report.style.plain_log) and its rate bars
+(report.style.bars)."""
 
 import re
 
@@ -10,7 +11,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from graspcampaign.analysis.vocabulary import VOCABULARIES, label
-from graspcampaign.report.style import RC, bars, tick
+from graspcampaign.report.style import RC, bars, plain_log, tick
 
 WORDS = st.text(alphabet="abcdefghijklmnopqrstuvwxyz–-()2ε", min_size=1, max_size=14)
 
@@ -98,3 +99,25 @@ def test_a_near_zero_bar_stays_visible_under_the_papers_zero_mark():
     region = pixels[int(height - y1) - 1:int(np.ceil(height - y0)) + 1, int(x0):int(x1)]
     red = (region[..., 0] > 150) & (region[..., 1] < 150) & (region[..., 2] < 150)
     assert red.any(axis=0).mean() > 0.9  # the bar shows in (nearly) every pixel column
+
+
+def _log_labels(low: float, high: float) -> list[str]:
+    """The labels a log axis from ``low`` to ``high`` shows under :func:`plain_log`."""
+    with mpl.rc_context(RC):
+        fig = Figure(figsize=(3.0, 3.0))
+        FigureCanvasAgg(fig)
+        ax = fig.subplots()
+        ax.set_yscale("log")
+        ax.set_ylim(low, high)
+        plain_log(ax.yaxis)
+        fig.canvas.draw()
+    return [t.get_text() for t in (*ax.yaxis.get_majorticklabels(), *ax.yaxis.get_minorticklabels())
+            if t.get_text() and low <= t.get_position()[1] <= high]
+
+
+def test_plain_log_labels_read_as_numbers():
+    """Where matplotlib labels 0.53-1.7 as "6×10⁻¹" and "10⁰", and 1-7 as "2×10⁰" ... "6×10⁰": 1, 2 and 5
+    of each decade, every tenth of the decade where fewer than three of those are in view."""
+    assert _log_labels(0.3, 20.0) == ["0.5", "1", "2", "5", "10", "20"]
+    assert _log_labels(1.0, 7.0) == ["1", "2", "5"]
+    assert _log_labels(0.53, 1.7) == ["0.6", "0.7", "0.8", "0.9", "1"]

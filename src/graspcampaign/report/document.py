@@ -291,9 +291,14 @@ class Figure:
     def html(self) -> str:
         kind = "svg" if "svg" in self.images else "png"
         data = base64.b64encode(self.images[kind]).decode()
-        return (f"<figure id='{self.anchor}'><img src='data:image/{'svg+xml' if kind == 'svg' else 'png'};"
-                f"base64,{data}' alt='{html.escape(self.caption, quote=True)}'><figcaption>"
-                f"{inline(self.caption)}</figcaption></figure>")
+        # the page fits a figure to its width, a three-panel one's labels then at half size: a click on
+        # the image toggles it to full size (scrolling inside the figure), with no link out of the page
+        zoom = f"zoom-{self.anchor}"
+        return (f"<figure id='{self.anchor}'><input type='checkbox' class='zoom' id='{zoom}' hidden>"
+                f"<label for='{zoom}' title='click: full size / fit'><img src='data:image/"
+                f"{'svg+xml' if kind == 'svg' else 'png'};base64,{data}' alt='"
+                f"{html.escape(self.caption, quote=True)}'></label><figcaption>{inline(self.caption)}"
+                "</figcaption></figure>")
 
 
 def _json(value: Any) -> Any:
@@ -423,8 +428,9 @@ border-left:4px solid #1f5aa6;padding:10px 14px}p.note{color:#8a4b00;font-style:
 p.caption{margin:0;padding:6px 0;font-weight:600;font-size:14px}p.caption .csv{font-weight:400;
 color:#777;font-family:monospace;font-size:12px}th,td{border:1px solid #d5dbe1;padding:4px 8px;
 text-align:left;vertical-align:top}th{background:#eef2f6}tbody tr:nth-child(even){background:#f6f8fa}
-figure{margin:18px 0;background:#fff;padding:10px;border:1px solid #e1e5ea}figure img{max-width:100%;
-height:auto}figcaption{font-size:13.5px;color:#444;margin-top:6px}footer{color:#666;font-size:13px;
+figure{margin:18px 0;background:#fff;padding:10px;border:1px solid #e1e5ea;overflow-x:auto}figure img{
+max-width:100%;height:auto;cursor:zoom-in}.zoom:checked+label img{max-width:none;cursor:zoom-out}
+figcaption{font-size:13.5px;color:#444;margin-top:6px}footer{color:#666;font-size:13px;
 padding:12px 24px}code{background:#eef2f6;padding:0 3px}.nb{white-space:nowrap}
 td.num{text-align:right;font-variant-numeric:tabular-nums}td:last-child:not(.num){min-width:16em}
 .contents{background:#fff;border:1px solid #e1e5ea;padding:8px 14px;margin:14px 0;font-size:13.5px}

@@ -12,7 +12,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
-from matplotlib.ticker import FuncFormatter, SymmetricalLogLocator
+from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter, SymmetricalLogLocator
 
 from graspcampaign.analysis.vocabulary import OTHER_COLOURS, PROPOSED, colour, label
 from graspcampaign.report import format as fmt
@@ -109,6 +109,32 @@ def rate_axes(ax, ylabel: str = "success rate [%]") -> None:
 def legend_below(ax, handles=None, ncol: int = 3) -> None:
     """A legend under the axes (never over the data)."""
     ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=ncol)
+
+
+class OneTwoFive(LogLocator):
+    """Log ticks at 1, 2 and 5 of each decade, or at every whole multiple (0.6, 0.7, 0.8) where fewer
+    than three of those fall in view, so a narrow axis still reads."""
+
+    def __init__(self) -> None:
+        super().__init__(subs=(1.0, 2.0, 5.0))
+
+    def tick_values(self, vmin, vmax):
+        ticks, (lo, hi) = super().tick_values(vmin, vmax), sorted((vmin, vmax))
+        if np.count_nonzero((ticks >= lo) & (ticks <= hi)) >= 3:
+            return ticks
+        return LogLocator(subs=np.arange(1.0, 10.0)).tick_values(vmin, vmax)
+
+
+def plain_log(axis, at: Sequence[float] | None = None) -> None:
+    """Label a log ``axis`` (an ``Axis``, a colorbar's too) in plain numbers, "0.6" and "20", never
+    "6×10⁻¹": at the values ``at`` (the levels a run used) or at :class:`OneTwoFive`; no minor labels
+    (matplotlib labels minor ticks as a×10ᵇ where an axis spans less than a decade)."""
+    if at is None:
+        axis.set_major_locator(OneTwoFive())
+        axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+    else:
+        axis.set_ticks(list(at), [f"{v:g}" for v in at])
+    axis.set_minor_formatter(NullFormatter())
 
 
 def tick(text: str, width: int = 9) -> str:

@@ -144,8 +144,9 @@ def h_epsilon_figure(run: Run, fig) -> None:
         raise ValueError("no executed trial of the ferrari_canny planner")
     c = run.aux("candidates").query("trial_id in @trials.trial_id")
     a, b = fig.subplots(1, 2)
-    fig.colorbar(a.hexbin(c["h_total"], c["epsilon_fc"], gridsize=40, bins="log", mincnt=1), ax=a,
-                 label="candidates")
+    bar = fig.colorbar(a.hexbin(c["h_total"], c["epsilon_fc"], gridsize=40, bins="log", mincnt=1), ax=a,
+                       label="candidates")
+    style.plain_log(bar.ax.yaxis)  # counts: 1, 2, 5, not 2×10⁰
     a.set(xlabel="H(G) [–], lower is better", ylabel="Ferrari–Canny ε [–], higher is better",
           title="(a) every sampled candidate")
     b.hist(trials["spearman_h_epsilon"].dropna(), bins=30, color=colour("planner", "ferrari_canny"))

@@ -7,7 +7,6 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 import pandas as pd
-from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
 from graspcampaign.analysis import calibration as cal
 from graspcampaign.analysis.records import Estimate
@@ -18,7 +17,7 @@ from graspcampaign.report import format as fmt
 from graspcampaign.report.document import Col, cols
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Claims, Figure, Finding, ReportSpec, Table, Text, Value, share, verdicts
-from graspcampaign.report.style import CRITERION, PAPER, legend_below, paper_handle, paper_marks
+from graspcampaign.report.style import CRITERION, PAPER, legend_below, paper_handle, paper_marks, plain_log
 
 WHY = "`docs/decisions.md`, *Test 1 bench protocol* and *Test 1 in the engine*"
 BLUE, ORANGE, RED, GREY = "#1f5aa6", "#e08a1e", "#c62828", "#8c8c8c"
@@ -416,9 +415,7 @@ def fig26(run: Run, fig) -> None:
                       label=f"{who}: mean ± SD")
     ax_b.axhline(1.0, color=CRITERION, lw=1.0)
     ax_b.set_yscale("log")
-    ax_b.yaxis.set(major_locator=LogLocator(subs=(1, 2, 5)),
-                   major_formatter=FuncFormatter(lambda v, _: f"{v:g}"))
-    ax_b.yaxis.set_minor_formatter(NullFormatter())
+    plain_log(ax_b.yaxis)
     ax_b.set_xticks(x, names)
     ax_b.set(ylabel="identified / simulation value (Table 3) [–]", title="(b) experiment vs simulation")
     legend_below(ax_b, ncol=2)

@@ -249,16 +249,20 @@ def fig30(run: Run, fig) -> None:
     t1 = t0 + lift / t["lift_speed_mm_per_s"]
     t2, band, slip = t1 + t["hold_s"], paper_of(run, lambda p: p.hold_force_per_finger_n), "#c62828"
     force = {j: float(t[f"normal_force_{j}_n"]) for j in (1, 2, 3)}
+    pred, slip_max = t["normal_force_pred_mean_n"], paper_of(run, lambda p: p.hold_slip_max_mm)
     style.schematic(fig, t, ((0, t0, "closing", "#e3f2fd"), (t0, t1, "lift", "#fff8e1"), (t1, t2, "hold",
                                                                                    "#e8f5e9")), [
         *(([t0, t2], [force[j]] * 2, f"finger {j}, recorded ({force[j]:.3g} N)",
            {"color": f"C{j + 1}", "ls": ls, "lw": lw}) for j, ls, lw in FINGER_LINES),
-        ([t0, t2], [t["normal_force_pred_mean_n"]] * 2, "predicted, mean", {"ls": ":", "color": "#333333"}),
-        *[(None, band, "paper: steady hold", {"color": style.PAPER, "alpha": 0.12})] * bool(band)], [
+        # every level's legend entry gives its value, as the fingers' do
+        ([t0, t2], [pred] * 2, f"predicted, mean ({pred:.3g} N)", {"ls": ":", "color": "#333333"}),
+        *[(None, band, f"paper: steady hold ({fmt.paper_text(band)} N)",
+           {"color": style.PAPER, "alpha": 0.12})] * bool(band)], [
         ([0, t0, t1, t2], [0, 0, lift, lift], "lift height, commanded [mm]", {"color": "#333333"}),
-        ([t1, t2], [t["peak_slip_mm"]] * 2, "peak slip, recorded [mm]", {"color": slip}),
+        ([t1, t2], [t["peak_slip_mm"]] * 2, f"peak slip, recorded ({t['peak_slip_mm']:.3g} mm)",
+         {"color": slip}),
         ([0, t2], [2.0, 2.0], "2 mm success criterion", {"color": slip, "ls": "--"}),
-        ([0, t2], [paper_of(run, lambda p: p.hold_slip_max_mm)] * 2, "paper: slip below",
+        ([0, t2], [slip_max] * 2, f"paper: slip below {fmt.paper_text(slip_max)} mm",
          {"color": style.PAPER, "ls": ":"})],
         "recorded hold values over the commanded phases")
     fig.axes[0].set_ylabel("normal force per finger [N]")

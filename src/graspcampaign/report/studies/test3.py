@@ -212,13 +212,16 @@ def fig35(run: Run, fig) -> None:
     end = 1.15 * t1
     style.schematic(fig, t, ((0, h, "hold", "#e8f5e9"), (h, t1, "ramp to slip", "#fff8e1")), [
         ([0, h, t1, t1, end], [0, 0, thr, 0, 0], "applied force, commanded ramp", {"color": "#333333"}),
-        ([h, end], [thr] * 2, "recorded threshold at slip", {"color": "#c62828"}),
-        ([h, end], [t["threshold_pred"]] * 2, "predicted F_lat", {"ls": "--", "color": colour(
-            "planner", PROPOSED)}),
-        ([0, end], [paper] * 2, "paper: natural-friction median", {"ls": ":", "color": style.PAPER})], [
+        # every level's legend entry gives its value (Fig. 30's fingers do)
+        ([h, end], [thr] * 2, f"recorded threshold at slip ({thr:.3g} N)", {"color": "#c62828"}),
+        ([h, end], [t["threshold_pred"]] * 2, f"predicted F_lat ({t['threshold_pred']:.3g} N)",
+         {"ls": "--", "color": colour("planner", PROPOSED)}),
+        ([0, end], [paper] * 2, f"paper: natural-friction median ({fmt.paper_text(paper)} N)",
+         {"ls": ":", "color": style.PAPER})], [
         ([0, end], [2.0, 2.0], "2 mm slip criterion (detection)", {"color": "#c62828", "ls": "--"}),
-        ([t1, end], [t["peak_slip_mm"]] * 2, "recorded peak slip after release" + " (object lost)" * bool(
-            t["drop_flag"]), {"color": "#333333"})], "lateral pull over the commanded phases")
+        ([t1, end], [t["peak_slip_mm"]] * 2, f"recorded peak slip after release ({t['peak_slip_mm']:.3g} mm"
+         + ", object lost" * bool(t["drop_flag"]) + ")", {"color": "#333333"})],
+        "lateral pull over the commanded phases")
     fig.axes[0].set_ylabel("lateral force [N]")
     fig.axes[1].set(ylabel="slip [mm]", xlabel="time from the start of the hold [s]")
 

@@ -1,0 +1,78 @@
+"""The text of every figure of every study, drawn from the reduced runs of the shared results tree
+(conftest.py): tick labels a researcher reads as numbers, the levels a run used on its axes."""
+
+from __future__ import annotations
+
+from graspcampaign.campaign.records import RunStore
+
+
+def _figure_items(items):
+    """Every ``Figure`` of a spec's items, those wrapped in another item (test1's finalize-stage
+    figures) included."""
+    from graspcampaign.report.spec import Figure
+
+    for item in items:
+        if isinstance(item, Figure):
+            yield item
+        elif isinstance(getattr(item, "item", None), Figure):
+            yield item.item
+
+
+def _draw_all(root, study: str) -> dict:
+    """Each figure of ``study``'s run, drawn on an Agg canvas (the report's tables rendered first)."""
+    import matplotlib as mpl
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    from graspcampaign.campaign.paper import study_paper
+    from graspcampaign.report import style
+    from graspcampaign.report.build import spec_for
+    from graspcampaign.report.document import Document
+    from graspcampaign.report.render import Run, render
+
+    store = RunStore(root / study / "default")
+    run = Run(store.read().to_pandas(), store.check(), study_paper(study), store)
+    spec = spec_for(study, "")
+    render(spec, run, Document("", run.source, []))
+    drawn = {}
+    for item in _figure_items(spec.items):
+        with mpl.rc_context(style.RC):
+            fig = Figure(figsize=item.size, layout="constrained")
+            FigureCanvasAgg(fig)
+            item.draw(run, fig)
+            fig.canvas.draw()
+        drawn[item.name] = fig
+    return drawn
+
+
+def _labels_in_view(axis) -> list[str]:
+    """The tick labels ``axis`` shows (major and minor, inside its view)."""
+    low, high = sorted(axis.get_view_interval())
+    along = 1 if axis.axis_name == "y" else 0
+    return [t.get_text() for t in (*axis.get_majorticklabels(), *axis.get_minorticklabels())
+            if t.get_text() and t.get_visible() and low <= t.get_position()[along] <= high]
+
+
+def test_no_tick_label_reads_a_times_ten_to_the(sim_root):
+    """matplotlib labels a log axis spanning less than a decade with minor ticks as "6×10⁻¹" and
+    "2×10⁰" (the H–ε figure's candidate counts, Fig. 20d's H gap): every tick label of every figure
+    of every study is a plain number or a power of ten."""
+    studies = sorted(p.parent.name for p in sim_root.glob("*/default"))
+    assert len(studies) == 17
+    bad = [(study, name, ax.get_title("left") or ax.get_ylabel(), axis.axis_name, label)
+           for study in studies for name, fig in _draw_all(sim_root, study).items() for ax in fig.axes
+           for axis in (ax.xaxis, ax.yaxis) for label in _labels_in_view(axis) if "times" in label]
+    assert not bad, bad
+
+
+def test_fig20_budget_axes_label_the_budgets_run(sim_root):
+    """Fig. 20c-d's N_cand axes read 10⁰ and 10¹ where the run used budgets 1 and 30: they label the
+    budgets of the run's config."""
+    config = RunStore(sim_root / "mesh_resolution" / "default").check()["config"]
+    expected = [f"{b:g}" for b in sorted(config["params"]["budgets"])]
+    assert expected == ["1", "30"]  # conftest.REDUCED
+    fig = _draw_all(sim_root, "mesh_resolution")["fig20_mesh_resolution"]
+    panels = [ax for ax in fig.axes if ax.get_xlabel().startswith("candidate budget")]
+    assert len(panels) == 2
+    for ax in panels:
+        assert _labels_in_view(ax.xaxis) == expected, ax.get_title("left")
