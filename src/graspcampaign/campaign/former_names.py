@@ -17,8 +17,14 @@ from collections.abc import Mapping
 import pyarrow as pa
 import pyarrow.compute as pc
 
-#: Per trial kind, the former column name -> the current one.
-FORMER_NAMES: dict[str, dict[str, str]] = {}
+#: Per trial kind, the former column name -> the current one (docs/decisions.md, "Record
+#: columns named by what they hold"). The kind decides: ``slip_margin_n`` of the quasi-static
+#: kinds is a margin in newtons and keeps its name.
+FORMER_NAMES: dict[str, dict[str, str]] = {
+    "dynamic_grasp": {"slip_margin_n": "slip_margin_ratio"},
+    "dynamic_check": {"slip_margin_n": "slip_margin_ratio"},
+    "test1_bench": {"exponent_n": "n_exp", "shifted_m": "shifted_m_exp"},
+}
 
 
 def renamed(kind: str | None) -> dict[str, str]:
