@@ -44,7 +44,9 @@ def load_records(study: str, run: str | None = None, *, root: str | Path = "resu
     Returns
     -------
     pandas.DataFrame or pyarrow.dataset.Dataset
-        Every file verified in full first (``docs/records.md`` lists the columns).
+        Every file verified in full first (``docs/records.md`` lists the columns). A run stored
+        before a column was renamed reads under the current name
+        (:mod:`graspcampaign.campaign.former_names`); its dataset is then held in memory.
 
     Raises
     ------

@@ -51,7 +51,7 @@ def test_table4_damping_is_the_median_with_the_negative_fits_counted():
     the paper's 0.06; the median and the count of non-physical negative C say what the fits hold."""
     c = [-5.0, 0.05, 0.06, 0.07, -0.01]
     fits = pd.DataFrame({"material": "gel", "block": "normal", "fit_ok": True, "accepted": True,
-                         "exponent_n": 0.5, "k_n_per_mm_n": 0.3, "f05_n": 0.2, "c_n_s_per_m": c,
+                         "n_exp": 0.5, "k_n_per_mm_n": 0.3, "f05_n": 0.2, "c_n_s_per_m": c,
                          **dict.fromkeys(["mu_s", "mu_k", "k_t_n_per_mm", "rho", "tau_s"], np.nan)})
     row = table4(fits).iloc[0]
     assert row["c_n_s_per_m"] == pytest.approx(np.median(c)) and row["c_negative"] == 2

@@ -16,13 +16,13 @@ def test_table4_averages_the_accepted_normal_fits_only():
     """A fit flagged for review (§7.2 (iii): RMSE above the threshold) stays in the fits but not in
     Table 4's means nor in its count of accepted fits."""
     fits = pd.DataFrame({**KEY, "block": "normal", "fit_ok": True, "accepted": [True, True, False],
-                         "exponent_n": [0.4, 0.6, 3.0], "k_n_per_mm_n": [0.2, 0.4, 9.0],
+                         "n_exp": [0.4, 0.6, 3.0], "k_n_per_mm_n": [0.2, 0.4, 9.0],
                          "f05_n": [0.1, 0.3, 5.0], "c_n_s_per_m": 0.05,
                          **dict.fromkeys(["mu_s", "mu_k", "k_t_n_per_mm", "rho", "tau_s"], np.nan)})
     row = table4(fits).iloc[0]
     accepted = fits[fits["accepted"]]
     assert row["n_accepted_fits"] == 2
-    for column in ("exponent_n", "k_n_per_mm_n", "f05_n"):
+    for column in ("n_exp", "k_n_per_mm_n", "f05_n"):
         assert row[column] == pytest.approx(accepted[column].mean())
 
 

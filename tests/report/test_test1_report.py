@@ -54,7 +54,7 @@ def test_table4_is_the_records_beside_the_paper(run):
     ours, paper = t4.iloc[0], t4.iloc[1]
     ok = records[(records["status"] == "ok") & records["fit_ok"].astype(bool)]
     normal = ok[(ok["block"] == "normal") & ok["accepted"].astype(bool)]
-    assert ours["exponent_n"] == pytest.approx(normal["exponent_n"].mean(), rel=1e-12)
+    assert ours["n_exp"] == pytest.approx(normal["n_exp"].mean(), rel=1e-12)
     assert ours["n_accepted_fits"] == len(normal)
     assert ours["mu_k"] == pytest.approx(ok.loc[ok["block"] == "sliding", "mu_k"].mean(), rel=1e-12)
     assert ours["tau_s"] == pytest.approx(ok.loc[ok["block"] == "relaxation", "tau_s"].mean(), rel=1e-12)
@@ -64,7 +64,7 @@ def test_table4_is_the_records_beside_the_paper(run):
     assert ours["c_negative"] == (normal["c_n_s_per_m"] < 0).sum()
     truths = RunStore(path).read("summary/truths").to_pandas().drop_duplicates("specimen")
     assert ours["modulus_sd_kpa"] == pytest.approx(np.std(truths["modulus_kpa"], ddof=1), rel=1e-12)
-    assert (paper["exponent_n"], paper["modulus_kpa"], paper["tau_s"]) == (0.473, 40.1, 7.1)
+    assert (paper["n_exp"], paper["modulus_kpa"], paper["tau_s"]) == (0.473, 40.1, 7.1)
 
 
 def test_section_7_claims_against_the_records(run):
@@ -75,7 +75,7 @@ def test_section_7_claims_against_the_records(run):
     ok = records[records["status"] == "ok"]
     acc = ok[(ok["block"] == "normal") & ok["fit_ok"].astype(bool) & ok["accepted"].astype(bool)]
     row = claims.loc["contact exponent n, accepted fits: mean"]
-    assert (row["value"], row["n"], row["paper"]) == (pytest.approx(acc["exponent_n"].mean(), rel=1e-12),
+    assert (row["value"], row["n"], row["paper"]) == (pytest.approx(acc["n_exp"].mean(), rel=1e-12),
                                                        len(acc), "0.46")
     slides = ok[(ok["block"] == "sliding") & ok["fit_ok"].astype(bool)]
     warm = claims.loc["μs warm/humid: campaign mean"]

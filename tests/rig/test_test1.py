@@ -133,7 +133,7 @@ def _median_vs_truth(res, block, column, truth_column=None):
 # (docs/decisions.md) and is not tested here.
 @pytest.mark.parametrize("block, column, rel, abs_", [
     ("normal", "k_n_per_mm_n", 0.03, 0.0), ("normal", "f05_n", 0.03, 0.0),
-    ("normal", "exponent_n", 0.0, 0.015), ("sliding", "mu_s", 0.02, 0.0),
+    ("normal", "n_exp", 0.0, 0.015), ("sliding", "mu_s", 0.02, 0.0),
     ("sliding", "mu_k", 0.01, 0.0), ("sliding", "k_t_n_per_mm", 0.04, 0.0),
     ("relaxation", "rho", 0.02, 0.0), ("relaxation", "tau_s", 0.02, 0.0),
 ])
@@ -148,8 +148,8 @@ def test_family_means_track_table4(reduced):
     # one specimen per family: within the specimen spread of the drawn truths
     _, res = reduced
     t4 = T.table4(res.fits, res.truths).set_index("material")
-    truth = res.truths.groupby("material")[["exponent_n", "mu_s", "rho"]].mean()
-    np.testing.assert_allclose(t4["exponent_n"], truth.loc[t4.index, "exponent_n"], atol=0.015)
+    truth = res.truths.groupby("material")[["n_exp", "mu_s", "rho"]].mean()
+    np.testing.assert_allclose(t4["n_exp"], truth.loc[t4.index, "n_exp"], atol=0.015)
     np.testing.assert_allclose(t4["mu_s"], truth.loc[t4.index, "mu_s"], rtol=0.02)
     np.testing.assert_allclose(t4["rho"], truth.loc[t4.index, "rho"], rtol=0.02)
     assert t4["f05_n"].is_monotonic_increasing  # rises with modulus (Table 4)
@@ -233,7 +233,7 @@ def test_pso_reidentification_recovers_n_and_k(reduced):
     assert set(runs["material"]) == set(T.MATERIALS)
     best = runs.loc[runs.groupby("material")["cost_rmse_pct"].idxmin()].set_index("material")
     truth = res.truths[res.truths["environment"] == "normal_lab"].set_index("material")
-    np.testing.assert_allclose(best["n"], truth.loc[best.index, "exponent_n"], atol=0.03)
+    np.testing.assert_allclose(best["n"], truth.loc[best.index, "n_exp"], atol=0.03)
     np.testing.assert_allclose(best["k_n_per_mm_n"], truth.loc[best.index, "k_n_per_mm_n"],
                                rtol=0.06)
     t5 = T.table5(runs)

@@ -62,7 +62,7 @@ def table4(fits: pd.DataFrame, truths: pd.DataFrame | None = None) -> pd.DataFra
     nf = fits[(fits["block"] == "normal") & fits["accepted"].astype(bool)]
     c, nf = nf["c_n_s_per_m"].groupby(nf["material"]), nf.groupby("material")
     sl, rl = (fits[fits["block"] == b].groupby("material") for b in ("sliding", "relaxation"))
-    out = pd.concat([nf[["exponent_n", "k_n_per_mm_n", "f05_n"]].mean(), c.median(),
+    out = pd.concat([nf[["n_exp", "k_n_per_mm_n", "f05_n"]].mean(), c.median(),
                      c.agg(lambda v: int((v < 0).sum())).rename("c_negative"),
                      nf.size().rename("n_accepted_fits"), sl[["mu_s", "mu_k", "k_t_n_per_mm"]].mean(),
                      rl[["rho", "tau_s"]].mean()], axis=1)

@@ -55,6 +55,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from graspcampaign.analysis.vocabulary import data_source
+from graspcampaign.campaign.former_names import current_names, renamed
 from graspcampaign.campaign.grid import content_hash
 from graspcampaign.campaign.verify import (
     CONFIG_KEY,
@@ -297,7 +298,8 @@ class RunStore:
 
         Every file is verified in full first, whatever ``columns`` asks for (once per process,
         :func:`~graspcampaign.campaign.verify.read_file`); a column that some files lack is null
-        there.
+        there. Columns renamed since a file was written read under their current names
+        (:mod:`graspcampaign.campaign.former_names`; ``columns`` names them so too).
 
         Raises
         ------
@@ -313,14 +315,18 @@ class RunStore:
         return table, self._source(read, manifest)
 
     def _read(self, part: str, columns: list[str] | None) -> tuple[pa.Table, list[Facts]]:
-        """:meth:`read`'s table and the facts of the files it was read from."""
-        read = []
+        """:meth:`read`'s table and the facts of the files it was read from; each file's columns
+        under their current names (:func:`~graspcampaign.campaign.former_names.current_names`)."""
+        names, read = self.former_names(), []
+        stored = columns if columns is None else [
+            *columns, *(former for former, current in names.items() if current in columns)]
         for path in self._live(part):
             with self._refusing(path):
-                read.append(read_file(path, columns))
+                table, own = read_file(path, stored)
+                read.append((current_names(table, names), own))
         if not read:
             return pa.table({}), []
-        schema = pa.unify_schemas([own.schema.remove_metadata() for _, own in read],
+        schema = pa.unify_schemas([table.schema.remove_metadata() for table, _ in read],
                                   promote_options="permissive")
         if columns is not None:
             schema = pa.schema([schema.field(c) for c in columns if c in schema.names])
@@ -340,11 +346,21 @@ class RunStore:
         import pyarrow.dataset as ds
 
         live = self._verified(part)
+        if any(former in own.schema.names for own in live.values() for former in self.former_names()):
+            return ds.dataset(self.read(part))  # stored before a rename: its columns renamed, in memory
         schema = pa.unify_schemas([own.schema.remove_metadata() for own in live.values()],
                                   promote_options="permissive") if live else pa.schema([])
         fmt = ds.ParquetFileFormat(default_fragment_scan_options=ds.ParquetFragmentScanOptions(
             page_checksum_verification=True))
         return ds.dataset([str(p) for p in live], schema=schema, format=fmt)
+
+    def former_names(self) -> dict[str, str]:
+        """The former -> current column names of the run's trial kind (its manifest's; none
+        without a manifest), :data:`~graspcampaign.campaign.former_names.FORMER_NAMES`."""
+        from graspcampaign.campaign.provenance import read_manifest
+
+        manifest = read_manifest(self.manifest_path)
+        return renamed(manifest.get("kind") if manifest else None)
 
     def source(self, manifest: dict) -> str:
         """The data source of the run's records (SPEC §4): ``virtual`` as soon as one record says

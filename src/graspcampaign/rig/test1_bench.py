@@ -62,7 +62,7 @@ def specimen_truths(seed: int, schedule: pd.DataFrame | None = None, *,
     Returns
     -------
     pandas.DataFrame
-        ``material, specimen, environment, modulus_kpa, k_n_per_mm_n, exponent_n,
+        ``material, specimen, environment, modulus_kpa, k_n_per_mm_n, n_exp,
         c_n_s_per_m, f05_n, mu_s, mu_k, k_t_n_per_mm, rho, tau_s, toe_um, adhesion_n,
         softening_ref, set_ref_mm, damage_depth_mm, damage_criterion, source``.
     """
@@ -80,7 +80,7 @@ def specimen_truths(seed: int, schedule: pd.DataFrame | None = None, *,
         rows.append({
             "material": m, "specimen": int(s), "environment": e,
             "modulus_kpa": t.modulus / 1e3, "k_n_per_mm_n": t.k_n_per_mm_n,
-            "exponent_n": t.n, "c_n_s_per_m": t.c, "f05_n": t.f05, "mu_s": t.mu_s,
+            "n_exp": t.n, "c_n_s_per_m": t.c, "f05_n": t.f05, "mu_s": t.mu_s,
             "mu_k": t.mu_k, "k_t_n_per_mm": t.k_t / 1e3, "rho": t.rho, "tau_s": t.tau,
             "toe_um": t.toe * 1e6, "adhesion_n": t.adhesion,
             "softening_ref": t.softening_ref, "set_ref_mm": t.set_ref * 1e3,

@@ -40,7 +40,7 @@ def _fit_arrays(row: dict, a: dict[str, np.ndarray], anomaly: str) -> dict:
             out["onset_mm"] = sh.delta0 * 1e3
         r = bench.fit_normal(t, x, fn, onset=onset)
         out.update({
-            "k_n_per_mm_n": r.k_n_per_mm_n, "exponent_n": r.n, "c_n_s_per_m": r.c,
+            "k_n_per_mm_n": r.k_n_per_mm_n, "n_exp": r.n, "c_n_s_per_m": r.c,
             "c_se_n_s_per_m": r.c_se, "f05_n": r.f05, "rmse_pct": r.rmse_pct,
             "peak_force_n": r.peak_force, "max_depth_mm": r.max_depth * 1e3,
             "loading_work_mj": r.loading_work * 1e3, "unloading_work_mj": r.unloading_work * 1e3,
@@ -49,7 +49,7 @@ def _fit_arrays(row: dict, a: dict[str, np.ndarray], anomaly: str) -> dict:
         })
         if b == "normal":
             sh = bench.fit_shifted(t, x, fn)
-            out.update({"shifted_k_n_per_mm_m": sh.k_n_per_mm_m, "shifted_m": sh.m,
+            out.update({"shifted_k_n_per_mm_m": sh.k_n_per_mm_m, "shifted_m_exp": sh.m,
                         "shifted_delta0_mm": sh.delta0 * 1e3,
                         "shifted_rmse_pct": sh.rmse_pct})
     elif b == "relaxation":

@@ -105,7 +105,7 @@ def transfer_errors(fits: pd.DataFrame, waveforms: pd.DataFrame | None = None, *
                      "split": r["split"], "quantity": quantity, "error_pct": float(err),
                      "source": r["source"]})
 
-    n_spec, n_fam = calibration(fits, "normal", ["k_n_per_mm_n", "exponent_n", "c_n_s_per_m"])
+    n_spec, n_fam = calibration(fits, "normal", ["k_n_per_mm_n", "n_exp", "c_n_s_per_m"])
     s_spec, s_fam = calibration(fits, "sliding", ["mu_k"])
     r_spec, r_fam = calibration(fits, "relaxation", ["rho"])
     ok = fits[fits["fit_ok"].astype(bool)]
@@ -123,7 +123,7 @@ def transfer_errors(fits: pd.DataFrame, waveforms: pd.DataFrame | None = None, *
         radius = r["surface_radius_mm"] if np.isfinite(r["surface_radius_mm"]) else \
             curved_radius_mm
         scale = bench_contact.curvature_scale(radius * 1e-3)
-        pred = scale * law["k_n_per_mm_n"] * r["depth_mm"] ** law["exponent_n"]
+        pred = scale * law["k_n_per_mm_n"] * r["depth_mm"] ** law["n_exp"]
         add(r, "flat_to_curved", abs(pred - r["peak_normal_force_n"])
             / r["peak_normal_force_n"] * 100.0)
     if waveforms is not None:
@@ -134,7 +134,7 @@ def transfer_errors(fits: pd.DataFrame, waveforms: pd.DataFrame | None = None, *
             r = {**nrm.loc[eid].to_dict(), "event_id": eid}
             law = calibrated(r, n_spec, n_fam)
             depth, rate, force, peak = trace_points(channels(g))
-            pred = normal_force(depth, rate, law["k_n_per_mm_n"], law["exponent_n"],
+            pred = normal_force(depth, rate, law["k_n_per_mm_n"], law["n_exp"],
                                 law["c_n_s_per_m"])
             add(r, "normal_force", np.sqrt(np.mean((pred - force) ** 2)) / peak * 100.0)
     return pd.DataFrame(rows)

@@ -295,7 +295,7 @@ def grasp_record(res, contact, msd, t_max_s: float) -> dict[str, Any]:
         "fingertip_radius_mm": float(contact.fingertip_radius * 1e3),
         **{f"delta_{j + 1}_mm": float(res.depths[-1, j] * 1e3) for j in range(3)},
         "centroid_drop_mm": float((z_lift - res.centroid[-1, 2]) * 1e3),
-        "slip_margin_n": float(res.slip_margin),
+        "slip_margin_ratio": float(res.slip_margin),
         "wrench_force_norm_n": float(np.linalg.norm(force)),
         "wrench_torque_norm_nm": float(np.linalg.norm(torque)),
         **{f"wrench_{a}": float(v) for a, v in zip(("fx_n", "fy_n", "fz_n", "tx_nm", "ty_nm",

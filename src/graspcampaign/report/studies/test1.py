@@ -21,7 +21,7 @@ from graspcampaign.report.style import CRITERION, PAPER, legend_below, paper_han
 
 WHY = "`docs/decisions.md`, *Test 1 bench protocol* and *Test 1 in the engine*"
 BLUE, ORANGE, RED, GREY = "#1f5aa6", "#e08a1e", "#c62828", "#8c8c8c"
-T4 = {"modulus_kpa": "E [kPa]", "modulus_sd_kpa": "E SD [kPa]", "exponent_n": "n", "k_n_per_mm_n":
+T4 = {"modulus_kpa": "E [kPa]", "modulus_sd_kpa": "E SD [kPa]", "n_exp": "n", "k_n_per_mm_n":
       "K [N mm⁻ⁿ]", "f05_n": "f0.5 [N]", "c_n_s_per_m": "C [N s/m]", "c_negative": "fits with C < 0",
       "mu_s": "μs", "mu_k": "μk", "k_t_n_per_mm": "kt [N/mm]", "rho": "ρ", "tau_s": "τ [s]"}
 
@@ -69,11 +69,11 @@ def _pair(what: str, sec: str, frame: str, col: str, paper, unit: str = "", digi
 
 
 CLAIMS = [
-    Value("contact exponent n, accepted fits: mean", "§7.2", _v("accepted", "exponent_n"),
+    Value("contact exponent n, accepted fits: mean", "§7.2", _v("accepted", "n_exp"),
           lambda p: p.n_exp_mean),
-    Value("contact exponent n, accepted fits: SD", "§7.2", _v("accepted", "exponent_n", "std"),
+    Value("contact exponent n, accepted fits: SD", "§7.2", _v("accepted", "n_exp", "std"),
           lambda p: p.n_exp_sd),
-    *_pair("mean n per family", "§7.2", "accepted", "exponent_n", lambda p: p.n_exp_family_range),
+    *_pair("mean n per family", "§7.2", "accepted", "n_exp", lambda p: p.n_exp_family_range),
     Value("force-fit RMSE, accepted fits: mean", "§7.2", _v("accepted", "rmse_pct"),
           lambda p: p.rmse_pct_accepted, "%"),
     Value("force-fit RMSE, all normal fits: mean", "§7.2", _v("normal", "rmse_pct"),
@@ -125,7 +125,9 @@ def _counts(run: Run) -> pd.DataFrame:
 def _table4(run: Run) -> pd.DataFrame:
     ours = cal.table4(_fits(run), run.part("summary/truths")).assign(row="ours")
     paper = [{"material": m, "row": "paper", **asdict(run.paper.table4[m])} for m in ours["material"]]
-    return pd.concat([ours, pd.DataFrame(paper)]).sort_values(
+    # the paper block's key is exponent_n (in every stored run's config hash); the records' n_exp
+    paper = pd.DataFrame(paper).rename(columns={"exponent_n": "n_exp"})
+    return pd.concat([ours, paper]).sort_values(
         "material", key=lambda m: m.map(cal.MATERIALS.index), kind="stable")
 
 
@@ -292,16 +294,16 @@ def fig23(run: Run, fig) -> None:
         ax_a.plot(x[:i + 1], f[:i + 1], color=BLUE, lw=1.2, label="loading")
         ax_a.plot(x[i:], f[i:], color=BLUE, alpha=0.5, lw=1.2, ls="-.", label="unloading")
         fit = normal_force(g * 1e-3, np.full_like(g, row["speed_mm_per_s"] * 1e-3), row["k_n_per_mm_n"],
-                           row["exponent_n"], row["c_n_s_per_m"])
+                           row["n_exp"], row["c_n_s_per_m"])
         ax_a.plot(g, fit, color=RED, label=f"fit Kδⁿ + Cδ̇: K = {row['k_n_per_mm_n']:.3f}, n = "
-                  f"{row['exponent_n']:.3f} (RMSE {row['rmse_pct']:.1f}%)")
+                  f"{row['n_exp']:.3f} (RMSE {row['rmse_pct']:.1f}%)")
         ax_a.plot(g, law.k_n_per_mm_n * g ** law.exponent_n, color=PAPER, ls="--",
                   label=f"paper Table 4 law: K = {law.k_n_per_mm_n:g}, n = {law.exponent_n:g}")
         ax_a.legend(loc="upper left", fontsize=7)
     ax_a.set(xlabel="indentation δ [mm]", ylabel="normal force fn [N]")
     mats = _mats(acc)
     if mats:
-        parts = ax_b.violinplot([acc.loc[acc["material"] == m, "exponent_n"] for m in mats], showmedians=True)
+        parts = ax_b.violinplot([acc.loc[acc["material"] == m, "n_exp"] for m in mats], showmedians=True)
         for body, m in zip(parts["bodies"], mats, strict=True):
             body.set(facecolor=colour("material", m), alpha=0.55)
     paper_marks(ax_b, range(1, len(mats) + 1), [p.table4[m].exponent_n for m in mats], 0.5)

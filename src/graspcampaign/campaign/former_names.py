@@ -1,0 +1,49 @@
+"""Record columns renamed since runs were stored: the former names, per trial kind, and their
+mapping to the current ones when a run is read.
+
+A stored file keeps the names it was written with (its digest is of its values under them, so a
+renamed column is not a damaged file). Every read for reports, ``status`` and the API goes through
+:meth:`graspcampaign.campaign.records.RunStore.read`, which gives each file's columns their
+current names here: a run stored before a rename reads as one stored after it. A run resumed with
+``--allow-drift`` across a rename holds the former name in its older shards and the current one in
+the newer (a compacted file of both holds both columns, each missing where the other is set);
+the two become one column.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import pyarrow as pa
+import pyarrow.compute as pc
+
+#: Per trial kind, the former column name -> the current one (docs/decisions.md, "Record
+#: columns named by what they hold"). The kind decides: ``slip_margin_n`` of the quasi-static
+#: kinds is a margin in newtons and keeps its name.
+FORMER_NAMES: dict[str, dict[str, str]] = {
+    "dynamic_grasp": {"slip_margin_n": "slip_margin_ratio"},
+    "dynamic_check": {"slip_margin_n": "slip_margin_ratio"},
+    "test1_bench": {"exponent_n": "n_exp", "shifted_m": "shifted_m_exp"},
+}
+
+
+def renamed(kind: str | None) -> dict[str, str]:
+    """The former -> current column names of trial kind ``kind`` (none for another kind)."""
+    return FORMER_NAMES.get(kind or "", {})
+
+
+def current_names(table: pa.Table, names: Mapping[str, str]) -> pa.Table:
+    """Return ``table`` with each former column name of ``names`` (former -> current) replaced by
+    the current one, in the former column's place; a table holding both names gets one column
+    (the current name's place): the current name's value where it has one, else the former's."""
+    for former, current in names.items():
+        if former not in table.column_names:
+            continue
+        i, column = table.column_names.index(former), table.column(former)
+        if current not in table.column_names:
+            table = table.set_column(i, current, column)
+            continue
+        j, kept = table.column_names.index(current), table.column(current)
+        merged = column if pa.types.is_null(kept.type) else pc.coalesce(kept, column.cast(kept.type))
+        table = table.set_column(j, current, merged).remove_column(i)
+    return table

@@ -1,0 +1,229 @@
+"""campaign.former_names: a run stored under a column's former name reads under its current name.
+
+A run "stored before the rename" is made here as the code before it made it (commit c34ea4d): the
+kind as it is now, its outputs written under the names that code wrote, typed out below from that
+code (``dynamic_grasp``'s and ``dynamic_check``'s ``slip_margin_n``; ``test1_bench``'s
+``exponent_n`` and ``shifted_m``, and ``exponent_n`` in its ``truths`` summary table). Its records
+(through every reader: ``load_records``, the dataset, ``status``), its report tables and its
+checks must be those of the same run stored now.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import pandas as pd
+import pyarrow as pa
+import pyarrow.parquet as pq
+import pytest
+
+from graspcampaign.api import load_records
+from graspcampaign.campaign.compose import compose_study
+from graspcampaign.campaign.former_names import current_names, renamed
+from graspcampaign.campaign.kind import RUNTIME_KINDS, get_kind
+from graspcampaign.campaign.records import RunStore
+from graspcampaign.campaign.runner import run_study
+from graspcampaign.campaign.status import run_status
+from graspcampaign.report.build import build_reports
+
+#: What the code before the rename wrote, per kind: current name -> the name it wrote.
+WROTE = {"dynamic_grasp": {"slip_margin_ratio": "slip_margin_n"},
+         "test1_bench": {"n_exp": "exponent_n", "shifted_m_exp": "shifted_m"}}
+#: Columns two runs of one study differ in whatever they store (when and where a trial ran).
+WHEN_WHERE = ["wall_time_s", "worker", "host"]
+DYNAMIC = ["nodes=[144]", "mass_kg=[0.4]", "+params.t_max_s=0.06"]  # ~0.5 s a trial
+TEST1 = ["params.materials=[gel]", "params.specimens=[1]", "params.environments=[normal_lab]",
+         "params.pso_restarts=1", "params.pso_particles=4", "params.pso_iterations=2",
+         "params.pso_max_reruns=0"]  # 162 events and a token PSO: every table of the report
+
+
+# ----------------------------------------------------------------------------- current_names
+
+
+def test_a_former_name_is_renamed_in_its_place():
+    table = pa.table({"a": [1, 2], "exponent_n": [0.4, 0.5], "b": ["x", "y"]})
+    out = current_names(table, {"exponent_n": "n_exp", "shifted_m": "shifted_m_exp"})
+    assert out.column_names == ["a", "n_exp", "b"]
+    assert out.column("n_exp").to_pylist() == [0.4, 0.5]
+
+
+def test_both_names_become_one_column_no_value_lost():
+    # a compacted file of shards written before and after the rename (a resumed run)
+    table = pa.table({"slip_margin_ratio": [None, 0.8, None], "x": [1, 2, 3],
+                      "slip_margin_n": [0.3, None, -0.2]})
+    out = current_names(table, {"slip_margin_n": "slip_margin_ratio"})
+    assert out.column_names == ["slip_margin_ratio", "x"]
+    assert out.column("slip_margin_ratio").to_pylist() == [0.3, 0.8, -0.2]
+    # a current column with no type of its own (all missing) takes the former's values and type
+    table = pa.table({"n_exp": pa.nulls(2), "exponent_n": pa.array([1, 2], pa.int32())})
+    out = current_names(table, {"exponent_n": "n_exp"})
+    assert out.column_names == ["n_exp"] and out.column("n_exp").type == pa.int32()
+
+
+def test_a_table_without_former_names_is_unchanged():
+    table = pa.table({"slip_margin_n": [1.5], "slip_margin_ratio": [0.7]})
+    assert current_names(table, renamed("quasi_static")).equals(table)
+
+
+@pytest.mark.parametrize("kind", ["quasi_static", "wrench_balance", "pso_repeatability",
+                                  "sensitivity"])
+def test_a_newton_slip_margin_keeps_its_name(kind):
+    """The quasi-static kinds' ``slip_margin_n`` is min_j f_n,j (μ − |η|) in newtons; mapping it
+    onto their ``slip_margin_ratio`` would overwrite the ratio."""
+    assert "slip_margin_n" not in renamed(kind)
+
+
+# ---------------------------------------------------------------------- runs stored before
+
+
+def _as_before(kind_name: str, summary_tables: tuple[str, ...] = (), stop_at_mu: float | None = None):
+    """Trial kind ``kind_name`` as the code before the rename ran it: its outputs, and the rows of
+    its finalize tables ``summary_tables``, under the names it wrote (``WROTE``); interrupted
+    (Ctrl-C) at the first trial of ``stop_at_mu``, if given."""
+    kind, names = get_kind(kind_name), WROTE[kind_name]
+
+    def back(row: dict) -> dict:
+        return {names.get(k, k): v for k, v in row.items()}
+
+    def run(inp, rng):
+        if stop_at_mu is not None and inp.trial.factors.get("mu") == stop_at_mu:
+            raise KeyboardInterrupt
+        return back(kind.run(inp, rng))
+
+    def finalize(study, params, records, store=None):
+        tables = kind.finalize(study, params, records, store)
+        return {n: [back(r) for r in rows] if n in summary_tables else rows for n, rows in tables.items()}
+
+    return dataclasses.replace(kind, run=run, finalize=finalize if kind.finalize else None)
+
+
+def _run(root, study: str, overrides: list[str], before: bool = False,
+         summary_tables: tuple[str, ...] = (), stop_at_mu: float | None = None, **kw):
+    """Run ``study`` reduced by ``overrides`` into ``root``; ``before``: by the code before the rename."""
+    cfg = compose_study(study, ["runner.backend=sequential", "runner.progress=false",
+                                f"output.root={root}", *overrides])
+    if before:
+        RUNTIME_KINDS[cfg.kind] = _as_before(cfg.kind, summary_tables, stop_at_mu)
+    try:
+        return run_study(cfg, **kw)
+    finally:
+        RUNTIME_KINDS.pop(cfg.kind, None)
+
+
+def _stored_names(path) -> set[str]:
+    """Every column name of the run's stored records files, as written."""
+    return set().union(*(pq.read_schema(p).names for p in (path / "records").glob("*.parquet")))
+
+
+def _records(root, study: str) -> pd.DataFrame:
+    df = load_records(study, root=root)
+    return df.drop(columns=WHEN_WHERE).sort_values("trial_id").reset_index(drop=True)
+
+
+@pytest.fixture(scope="module")
+def dynamic_runs(tmp_path_factory):
+    """friction_mass (dynamic_grasp) at μ = 0.1 and 0.5 stored now, stored before the rename, and
+    stored before it until interrupted at μ = 0.5, then resumed now (``--allow-drift``: in earnest
+    the code version differs)."""
+    roots = {name: tmp_path_factory.mktemp(name) for name in ("now", "before", "mixed")}
+    both = [*DYNAMIC, "mu=[0.1,0.5]"]
+    _run(roots["now"], "friction_mass", both)
+    _run(roots["before"], "friction_mass", both, before=True)
+    with pytest.raises(KeyboardInterrupt):
+        _run(roots["mixed"], "friction_mass", both, before=True, stop_at_mu=0.5)
+    resumed = _run(roots["mixed"], "friction_mass", both, allow_drift=True)
+    return roots, resumed
+
+
+def test_a_dynamic_run_stored_before_reads_as_one_stored_now(dynamic_runs):
+    roots, _ = dynamic_runs
+    path = roots["before"] / "friction_mass" / "default"
+    assert "slip_margin_n" in _stored_names(path) and "slip_margin_ratio" not in _stored_names(path)
+    written_now = _stored_names(roots["now"] / "friction_mass" / "default")  # the kind's names now
+    assert "slip_margin_ratio" in written_now and "slip_margin_n" not in written_now
+    before, now = _records(roots["before"], "friction_mass"), _records(roots["now"], "friction_mass")
+    assert before.columns.tolist() == now.columns.tolist()  # same names, same places
+    assert "slip_margin_n" not in before and before["slip_margin_ratio"].notna().all()
+    pd.testing.assert_frame_equal(before, now)
+    # the dataset of the API and a read of chosen columns too
+    table = load_records("friction_mass", root=roots["before"], dataset=True).to_table()
+    assert "slip_margin_n" not in table.column_names
+    assert sorted(table.column("slip_margin_ratio").to_pylist()) == sorted(now["slip_margin_ratio"])
+    picked = RunStore(path).read(columns=["trial_id", "slip_margin_ratio", "qs_slip_margin_n"])
+    assert picked.column_names == ["trial_id", "slip_margin_ratio", "qs_slip_margin_n"]
+
+
+def test_a_run_stored_before_is_no_damaged_run(dynamic_runs):
+    """The digest is of the values under the names written; no check reads an output's name."""
+    roots, _ = dynamic_runs
+    store = RunStore(roots["before"] / "friction_mass" / "default")
+    store.verify()
+    assert store.check()["kind"] == "dynamic_grasp"
+    status = run_status(roots["before"], "friction_mass")
+    assert (status["n_recorded"], status["n_ok"], status["complete"]) == (4, 4, True)  # μ x 2 presets
+    # resumed by the code now (same config and code version): nothing to repair or run again
+    summary = _run(roots["before"], "friction_mass", [*DYNAMIC, "mu=[0.1,0.5]"])
+    assert (summary.n_already, summary.n_ran) == (4, 0)
+
+
+def test_a_run_resumed_across_the_rename_has_one_column_and_every_trial(dynamic_runs):
+    roots, resumed = dynamic_runs
+    assert (resumed.n_already, resumed.n_ran) == (2, 2)  # μ = 0.1 before, 0.5 now (2 presets each)
+    stored = list((roots["mixed"] / "friction_mass" / "default" / "records").glob("*.parquet"))
+    # the shards of both sessions were compacted into one file holding both names, each missing
+    # where the other is set
+    assert len(stored) == 1 and {"slip_margin_n", "slip_margin_ratio"} <= set(pq.read_schema(stored[0]).names)
+    mixed, now = _records(roots["mixed"], "friction_mass"), _records(roots["now"], "friction_mass")
+    assert len(mixed) == 4 and "slip_margin_n" not in mixed
+    pd.testing.assert_series_equal(mixed["slip_margin_ratio"], now["slip_margin_ratio"])
+    assert mixed["slip_margin_ratio"].notna().all()
+
+
+def _tables(root, study: str) -> dict[str, pd.DataFrame]:
+    """The report's tables (csv), without the columns of when and where a trial ran."""
+    folder = root / study / "default" / "report" / "tables"
+    return {p.name: pd.read_csv(p).drop(columns=WHEN_WHERE, errors="ignore")
+            for p in sorted(folder.glob("*.csv"))}
+
+
+def test_a_dynamic_run_stored_before_is_reported_as_one_stored_now(dynamic_runs):
+    roots, _ = dynamic_runs
+    for name in ("now", "before"):
+        assert build_reports(["friction_mass"], root=roots[name], formats=["csv"]).failed == []
+    before, now = _tables(roots["before"], "friction_mass"), _tables(roots["now"], "friction_mass")
+    assert before.keys() == now.keys() and len(now) >= 4
+    for name, table in now.items():
+        pd.testing.assert_frame_equal(before[name], table, obj=name)
+
+
+@pytest.fixture(scope="module")
+def test1_runs(tmp_path_factory):
+    """test1_bench (162 events, finalize tables) stored now and stored before the rename."""
+    roots = {name: tmp_path_factory.mktemp(f"t1{name}") for name in ("now", "before")}
+    _run(roots["now"], "test1_bench", TEST1)
+    _run(roots["before"], "test1_bench", TEST1, before=True, summary_tables=("truths",))
+    for root in roots.values():
+        assert build_reports(["test1_bench"], root=root, formats=["csv"]).failed == []
+    return roots
+
+
+def test_a_test1_run_stored_before_reads_and_reports_as_one_stored_now(test1_runs):
+    roots = test1_runs
+    path = roots["before"] / "test1_bench" / "default"
+    assert {"exponent_n", "shifted_m"} <= _stored_names(path)
+    written_now = _stored_names(roots["now"] / "test1_bench" / "default")
+    assert {"n_exp", "shifted_m_exp"} <= written_now and not {"exponent_n", "shifted_m"} & written_now
+    assert "exponent_n" in pq.read_schema(next((path / "summary" / "truths").glob("*.parquet"))).names
+    before, now = _records(roots["before"], "test1_bench"), _records(roots["now"], "test1_bench")
+    assert {"n_exp", "shifted_m_exp"} <= set(before) and not {"exponent_n", "shifted_m"} & set(before)
+    pd.testing.assert_frame_equal(before, now)
+    truths = [RunStore(r / "test1_bench" / "default").read("summary/truths").to_pandas()
+              for r in (roots["before"], roots["now"])]
+    pd.testing.assert_frame_equal(*truths)
+    before, now = _tables(roots["before"], "test1_bench"), _tables(roots["now"], "test1_bench")
+    assert before.keys() == now.keys() and "table4.csv" in now
+    for name, table in now.items():
+        pd.testing.assert_frame_equal(before[name], table, obj=name)
+    # Table 4's paper rows stand in the records' column of n, beside ours
+    table4 = now["table4.csv"].set_index("row")
+    assert table4.loc["paper", "n_exp"] == 0.473 and table4.loc["ours", "n_exp"] > 0
