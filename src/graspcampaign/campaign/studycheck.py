@@ -18,8 +18,8 @@ import functools
 from pathlib import Path
 from typing import Any
 
-from graspcampaign.analysis.vocabulary import plural
 from graspcampaign.campaign.schema import SCHEMAS, StudyCfg, check_factor, check_value, example
+from graspcampaign.core.words import plural
 from graspcampaign.errors import ConfigError
 
 _SCALARS = {"int": int, "float": float, "str": str, "bool": bool}

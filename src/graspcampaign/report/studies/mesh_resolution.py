@@ -11,8 +11,9 @@ from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
 from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
 from graspcampaign.analysis.records import MIN_TRIALS, Estimate, median
-from graspcampaign.analysis.vocabulary import OTHER_COLOURS, PROPOSED, colour, counted
+from graspcampaign.analysis.vocabulary import OTHER_COLOURS, PROPOSED, colour
 from graspcampaign.campaign.records import RunStore
+from graspcampaign.core.words import counted
 from graspcampaign.errors import UserInputError
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style

@@ -11,9 +11,10 @@ from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
 from graspcampaign.analysis import calibration as cal
 from graspcampaign.analysis.records import Estimate
-from graspcampaign.analysis.vocabulary import colour, counted, label
+from graspcampaign.analysis.vocabulary import colour, label
 from graspcampaign.core.bench import RMSE_REVIEW_THRESHOLD_PCT as REVIEW_PCT
 from graspcampaign.core.contact import normal_force
+from graspcampaign.core.words import counted
 from graspcampaign.report import format as fmt
 from graspcampaign.report.document import Col, cols
 from graspcampaign.report.render import Run
