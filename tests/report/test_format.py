@@ -29,6 +29,9 @@ def test_number_variants():
     assert fmt.number(-math.inf, 2) == "\u2212inf" and fmt.number(math.inf, 1, signed=True) == "+inf"
     assert fmt.verdict(-math.inf, 0.9).words == "differs by \u2212inf"
     assert fmt.estimate(77.8, 74.8, 80.49, 0) == "78 (75–80)"
+    # in a sentence the unit follows the value and the interval (sensitivity's claims words)
+    assert fmt.estimate(5.71, 3.6, 8.94, 1, unit="%") == "5.7% (3.6–8.9%)"
+    assert fmt.estimate(5.71, None, None, 1, unit="%") == "5.7%"
     # 0.805 is stored as 0.80500000000000004885 (exact binary value), so it rounds up, once.
     assert fmt.number(80.5 / 100, 2) == "0.81"
     assert fmt.number(0.0024712, sig=3) == "0.00247" and fmt.number(406_600.0, sig=3) == "407000"

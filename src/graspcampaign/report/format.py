@@ -111,12 +111,13 @@ def span(values: Any, unit: str = "", digits: int | None = None) -> str:
 
 
 def estimate(value: Any, low: Any = None, high: Any = None, digits: int | None = None, *,
-             sig: int | None = None) -> str:
-    """Return ``"value (low–high)"`` as the paper's tables print it (the value without interval)."""
-    text = number(value, digits, sig=sig)
+             sig: int | None = None, unit: str = "") -> str:
+    """Return ``"value (low–high)"`` as the paper's tables print it (the value without interval);
+    ``unit`` after the value and after the interval, as a sentence prints it (``5.7% (3.6–8.9%)``)."""
+    text = number(value, digits, sig=sig, unit=unit)
     if is_missing(value) or is_missing(low) or is_missing(high):
         return text
-    return f"{text} ({interval(low, high, digits, sig=sig)})"
+    return f"{text} ({interval(low, high, digits, sig=sig)}{unit})"
 
 
 def paper_text(paper: Any, digits: int | None = None) -> str:

@@ -178,10 +178,8 @@ BOUNDARIES = {"stable region (a)": REGION, "λ1 boundary (b)": LAMBDA, "non-conv
 
 
 def _rate(row: pd.Series) -> str:
-    """A claims row's rate as the report prints it: ``5.7% (3.6–8.9%)``; ``n/a`` when not computed."""
-    if fmt.is_missing(row["value"]):
-        return "n/a"
-    return f"{fmt.number(row['value'], 1)}% ({fmt.interval(row['low'], row['high'], 1)}%)"
+    """A claims row's rate as a sentence prints it: ``5.7% (3.6–8.9%)``."""
+    return fmt.estimate(row["value"], row["low"], row["high"], 1, unit="%")
 
 
 def finding(run: Run) -> str:
