@@ -21,15 +21,24 @@ def test_a_plural_not_made_with_s_is_given():
     assert [plural("vertex", n, "vertices") for n in (1, 0)] == ["vertex", "vertices"]
 
 
+def _lines_matching(pattern: str, but: str = "") -> list[str]:
+    """``file:line`` of every line of the package matching ``pattern`` (outside the module ``but``)."""
+    made, package = re.compile(pattern), Path(graspcampaign.__file__).parent
+    return [f"{p.relative_to(package)}:{i}" for p in sorted(package.rglob("*.py")) if p.name != but
+            for i, line in enumerate(p.read_text().splitlines(), 1) if made.search(line)]
+
+
 def test_no_module_makes_its_own_plural():
     """Every plural of the package goes through ``plural``: no f-string adds its own "s"
-    (``{'s' if n > 1 else ''}``, ``{'s' * (n != 1)}``, ``{'' if n == 1 else 's'}``) and no
-    expression appends one (``noun + 's'``)."""
-    made = re.compile(r"""\{\s*['"]s['"]\s*(if\b|\*)|else\s*['"]s['"]\s*\}|\+\s*['"]s['"]""")
-    package = Path(graspcampaign.__file__).parent
-    found = [f"{p.relative_to(package)}:{i}" for p in sorted(package.rglob("*.py"))
-             for i, line in enumerate(p.read_text().splitlines(), 1) if made.search(line)]
-    assert found == []
+    (``{'s' if n > 1 else ''}``, ``{'s' * (n != 1)}``, ``{'' if n == 1 else 's'}``), no expression
+    appends one (``noun + 's'``) and no choice spells both forms (``'row' if n == 1 else 'rows'``)."""
+    assert _lines_matching(r"""\{\s*['"]s['"]\s*(if\b|\*)|else\s*['"]s['"]\s*\}|\+\s*['"]s['"]"""
+                           r"""|['"](?P<noun>[\w ]+)['"] if [^'"]+ == 1 else ['"](?P=noun)s['"]""") == []
+
+
+def test_no_module_joins_its_own_list():
+    """Every "a, b and c" of the package goes through ``listed`` (a copy joined all but the last)."""
+    assert _lines_matching(r"""join\([^)]*\[:-1\]\)""", but="words.py") == []
 
 
 def test_listed_joins_as_a_sentence_does():
