@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+import pandas as pd
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
@@ -431,3 +433,11 @@ def test_a_list_in_a_sentence_reads_as_english():
     assert [fmt.listed(w) for w in ([], ["a"], ["a", "b"], ["a", "b", "c"])] == \
         [fmt.MISSING, "a", "a and b", "a, b and c"]
     assert fmt.listed([], "none") == "none"
+
+
+def test_differing_counts_the_rows_that_differ_of_those_compared():
+    # a row not compared (differs None or missing) is no difference and not counted as compared;
+    # numpy's bool from a comparison counts as a bool
+    frame = pd.DataFrame({"differs": [True, False, None, np.True_, math.nan]})
+    assert fmt.differing(frame) == (2, 3)
+    assert fmt.differing(pd.DataFrame({"differs": [None, None]})) == (0, 0)

@@ -130,6 +130,12 @@ def paper_text(paper: Any, digits: int | None = None) -> str:
     return interval(paper[0], paper[1], digits)
 
 
+def differing(frame: Any) -> tuple[int, int]:
+    """How many rows of a verdict table (its ``differs`` column) differ from the paper's, of how many
+    were compared (a row not compared, ``differs`` None, is no difference): the count a finding gives."""
+    return int(frame["differs"].eq(True).sum()), int(frame["differs"].notna().sum())
+
+
 class Verdict(NamedTuple):
     """How ours stands against the paper's value (:func:`verdict`): whether it differs (None: not
     compared), the short answer ``word`` ("differs by +0.3", "consistent (+0.02)") and why, if said."""

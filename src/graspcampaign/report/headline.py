@@ -204,7 +204,7 @@ def write_headline(root: Path, pages: list[str], frame: pd.DataFrame) -> None:
     frame.to_csv(root / "headline.csv", index=False)
     reduced = frame["testbed"].astype(str).str.contains(REDUCED_MARK).any()
     virtual = frame["source"].eq("virtual").any()
-    differ, judged = int(frame["differs"].eq(True).sum()), int(frame["differs"].notna().sum())
+    differ, judged = fmt.differing(frame)
     # of the rows compared: a row without records or without a paper value is not a difference
     why = (f" {differ} of {counted(judged, 'compared row')} "
            f"{'differs' if differ == 1 else 'differ'} from the paper (the paper's value outside our 95% "
