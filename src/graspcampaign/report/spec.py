@@ -40,6 +40,13 @@ def share(frame: Any, event: Any) -> Estimate:
     return Estimate(100 * w.estimate, 100 * w.low, 100 * w.high, len(frame))
 
 
+def rate_cols(g: pd.DataFrame, outcome: str, prefix: str) -> dict:
+    """``<prefix>_pct`` and its Wilson 95 % ``<prefix>_low_pct``/``_high_pct`` of ``outcome`` over the
+    executed trials of ``g`` (the columns :func:`~graspcampaign.report.document.pct_col` shows)."""
+    e = rec.rate(g, outcome=outcome)
+    return {f"{prefix}_pct": e.value, f"{prefix}_low_pct": e.low, f"{prefix}_high_pct": e.high}
+
+
 def _paper_by(fn: PaperKey | None, run: Run, frame: pd.DataFrame, by: Sequence[str]) -> list:
     return [paper_of(run, fn, dict(zip(by, key, strict=True)))
             for key in frame[list(by)].itertuples(index=False)]

@@ -19,8 +19,8 @@ from graspcampaign.report import format as fmt
 from graspcampaign.report import style
 from graspcampaign.report.document import Col
 from graspcampaign.report.render import Run
-from graspcampaign.report.spec import Claims, Figure, Finding, GateRemoved, ReportSpec, Table, Text
-from graspcampaign.report.studies.sensitivity import LOOP_AT_N_MAX, panel_rows, rate_cols
+from graspcampaign.report.spec import Claims, Figure, Finding, GateRemoved, ReportSpec, Table, Text, rate_cols
+from graspcampaign.report.studies.sensitivity import LOOP_AT_N_MAX, panel_rows
 
 
 def _runtime(run: Run) -> pd.DataFrame:
