@@ -3,12 +3,8 @@ campaign can run has a label, a place in the order and its own colour."""
 
 from __future__ import annotations
 
-import re
-from pathlib import Path
-
 import pandas as pd
 
-import graspcampaign
 from graspcampaign.analysis import vocabulary as V
 from graspcampaign.campaign.schema import FACTOR_SPECS
 from graspcampaign.core.planner import PLANNERS
@@ -60,19 +56,3 @@ def test_data_source_is_one_rule_over_record_sources_and_the_manifest():
     assert V.data_source(pd.Series(["measured", None]), "measured") == "measured"
     assert V.data_source((), "simulation") == "simulation"
     assert V.data_source((), None) == "simulation"
-
-
-def test_a_count_reads_singular_only_for_one():
-    assert [V.counted(n, "trial") for n in (0, 1, 2)] == ["0 trials", "1 trial", "2 trials"]
-    assert V.counted(1, "held-out positive") == "1 held-out positive"
-    assert [V.plural("factor", n) for n in (1, 3)] == ["factor", "factors"]
-
-
-def test_no_module_makes_its_own_plural():
-    """Every plural of the package goes through ``vocabulary.plural``: no f-string adds its own "s"
-    (``{'s' if n > 1 else ''}``, ``{'s' * (n != 1)}``, ``{'' if n == 1 else 's'}``)."""
-    made = re.compile(r"""\{\s*['"]s['"]\s*(if\b|\*)|else\s*['"]s['"]\s*\}""")
-    package = Path(graspcampaign.__file__).parent
-    found = [f"{p.relative_to(package)}:{i}" for p in sorted(package.rglob("*.py"))
-             for i, line in enumerate(p.read_text().splitlines(), 1) if made.search(line)]
-    assert found == []

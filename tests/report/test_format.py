@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+import pandas as pd
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
@@ -29,6 +31,9 @@ def test_number_variants():
     assert fmt.number(-math.inf, 2) == "\u2212inf" and fmt.number(math.inf, 1, signed=True) == "+inf"
     assert fmt.verdict(-math.inf, 0.9).words == "differs by \u2212inf"
     assert fmt.estimate(77.8, 74.8, 80.49, 0) == "78 (75–80)"
+    # in a sentence the unit follows the value and the interval (sensitivity's claims words)
+    assert fmt.estimate(5.71, 3.6, 8.94, 1, unit="%") == "5.7% (3.6–8.9%)"
+    assert fmt.estimate(5.71, None, None, 1, unit="%") == "5.7%"
     # 0.805 is stored as 0.80500000000000004885 (exact binary value), so it rounds up, once.
     assert fmt.number(80.5 / 100, 2) == "0.81"
     assert fmt.number(0.0024712, sig=3) == "0.00247" and fmt.number(406_600.0, sig=3) == "407000"
@@ -428,3 +433,11 @@ def test_a_list_in_a_sentence_reads_as_english():
     assert [fmt.listed(w) for w in ([], ["a"], ["a", "b"], ["a", "b", "c"])] == \
         [fmt.MISSING, "a", "a and b", "a, b and c"]
     assert fmt.listed([], "none") == "none"
+
+
+def test_differing_counts_the_rows_that_differ_of_those_compared():
+    # a row not compared (differs None or missing) is no difference and not counted as compared;
+    # numpy's bool from a comparison counts as a bool
+    frame = pd.DataFrame({"differs": [True, False, None, np.True_, math.nan]})
+    assert fmt.differing(frame) == (2, 3)
+    assert fmt.differing(pd.DataFrame({"differs": [None, None]})) == (0, 0)

@@ -24,7 +24,7 @@ from statsmodels.regression.linear_model import OLS
 
 from graspcampaign.analysis.checks import check_1d, check_paired, require, result
 from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
-from graspcampaign.analysis.vocabulary import counted
+from graspcampaign.core.words import counted
 
 #: Fewer held-out positives or negatives than this and the AUC gets no interval: the percentile
 #: interval's coverage is below 90 % with 5 positives (docs/decisions.md, surrogate AUC interval).

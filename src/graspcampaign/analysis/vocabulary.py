@@ -148,17 +148,6 @@ def things(column: str) -> str:
     return words if words and suffix in UNITS else column
 
 
-def plural(noun: str, n: int) -> str:
-    """``noun`` as ``n`` of it reads: plural unless ``n`` is 1 ("trial", "trials"; the project's
-    nouns all take an -s)."""
-    return noun if n == 1 else f"{noun}s"
-
-
-def counted(n: int, noun: str) -> str:
-    """``n`` and ``noun``, plural unless ``n`` is 1 ("1 trial", "0 trials", "5 trials")."""
-    return f"{n} {plural(noun, n)}"
-
-
 def colour(column: str, value: object, index: int = 0) -> str:
     """Return the colour of ``value`` in ``column``; unknown values cycle ``OTHER_COLOURS``."""
     term = VOCABULARIES.get(column, {}).get(str(value))

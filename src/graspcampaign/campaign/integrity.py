@@ -42,7 +42,6 @@ from pathlib import Path
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from graspcampaign.analysis.vocabulary import counted
 from graspcampaign.campaign.paths import root_options
 from graspcampaign.campaign.provenance import (
     MISMATCH,
@@ -54,6 +53,7 @@ from graspcampaign.campaign.provenance import (
 )
 from graspcampaign.campaign.records import OPTIONAL_COLUMNS, RECORD_COLUMNS
 from graspcampaign.campaign.verify import Facts, facts, one_check, verify_file
+from graspcampaign.core.words import counted
 from graspcampaign.errors import DamagedRunError
 
 #: Names of stored shards; anything else in a part directory (hidden files aside) is not a shard.

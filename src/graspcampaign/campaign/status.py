@@ -13,12 +13,12 @@ import statistics
 from pathlib import Path
 from typing import Any
 
-from graspcampaign.analysis.vocabulary import counted
 from graspcampaign.campaign.catalog import design_size, kind_facts
 from graspcampaign.campaign.kind import KINDS, get_kind, kind_available
 from graspcampaign.campaign.paths import check_root, how_to_make
 from graspcampaign.campaign.schema import StudyCfg, design_shape
 from graspcampaign.campaign.studyfile import check_name, list_studies, run_dir, run_path
+from graspcampaign.core.words import counted
 from graspcampaign.errors import UserInputError
 
 

@@ -18,8 +18,8 @@ import functools
 from pathlib import Path
 from typing import Any
 
-from graspcampaign.analysis.vocabulary import plural
 from graspcampaign.campaign.schema import SCHEMAS, StudyCfg, check_factor, check_value, example
+from graspcampaign.core.words import listed, plural
 from graspcampaign.errors import ConfigError
 
 _SCALARS = {"int": int, "float": float, "str": str, "bool": bool}
@@ -402,10 +402,9 @@ def check_kind_factors(factors: dict[str, Any], kind: str, required: list[str]) 
     """Refuse a Cartesian design without a factor its trial kind reads on every trial."""
     missing = [name for name in required if name not in factors]
     if missing:
-        names = missing[0] if len(missing) == 1 else f"{', '.join(missing[:-1])} and {missing[-1]}"
         have = ", ".join(factors) or "none"
         raise ConfigError(f"trial kind {kind!r} needs the {plural('factor', len(missing))} "
-                          f"{names} on every trial, which this study does not set (its factors: "
+                          f"{listed(missing)} on every trial, which this study does not set (its factors: "
                           f"{have}); give each a list of levels under factors, e.g. "
                           f"{missing[0]}: {example(missing[0])}.", key="factors")
 

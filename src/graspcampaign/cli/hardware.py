@@ -45,10 +45,10 @@ def schedule(
     root: RootOpt = None,
 ) -> None:
     """Write a hardware protocol's commanded-trial sheet (CSV and Parquet)."""
-    from graspcampaign.analysis.vocabulary import counted
     from graspcampaign.campaign.kind import get_kind
     from graspcampaign.campaign.paths import path_problem
     from graspcampaign.campaign.runner import kind_params
+    from graspcampaign.core.words import counted
 
     check_root(root, write=out is None)
     cfg = compose(study, overrides, root)

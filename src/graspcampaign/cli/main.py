@@ -93,7 +93,7 @@ def _runnable(rows: list[dict], extensions: bool) -> list[str]:
 
 def _echo_summary(summary) -> None:
     """One line per run (trials, already recorded, ran, ok, errors, time, path), then its first errors."""
-    from graspcampaign.analysis.vocabulary import counted
+    from graspcampaign.core.words import counted
 
     typer.echo(
         f"{summary.study}/{summary.run}: {counted(summary.n_trials, 'trial')}, {summary.n_already} already "

@@ -19,7 +19,7 @@ import trimesh
 
 from graspcampaign.core.plausible import OBJECT_SIZE_MM
 from graspcampaign.core.winding import winding_numbers
-from graspcampaign.core.words import listed
+from graspcampaign.core.words import counted, listed, plural
 
 logger = logging.getLogger(__name__)
 
@@ -128,7 +128,7 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
     size_mm = extent * UNITS[unit] * 1e3
     if size_mm < OBJECT_SIZE_MM.low and (n_degenerate := int(_degenerate(  # a unit slip, not a
             np.asarray(mesh.vertices), np.asarray(mesh.faces)).sum())):  # bad surface: scanned once
-        raise MeshError(f"mesh {base!r} has {_counted(n_degenerate, 'degenerate (zero-area) face')} "
+        raise MeshError(f"mesh {base!r} has {counted(n_degenerate, 'degenerate (zero-area) face')} "
                         f"and is only {size_mm:.3g} mm across read with --unit {unit}: check the "
                         "file and its unit (--unit).")
     mesh.apply_scale(UNITS[unit])
@@ -211,7 +211,7 @@ def _check_obj_lines(name: str, base: str) -> bool:
                 n_vertices += 1
                 if len(words) < 4:
                     raise MeshError(f"mesh {base!r} has a vertex (line {line_no}) with "
-                                    f"{_counted(len(words) - 1, 'coordinate')}: an OBJ 'v' line "
+                                    f"{counted(len(words) - 1, 'coordinate')}: an OBJ 'v' line "
                                     "gives x, y and z.")
                 for token in words[1:]:
                     try:
@@ -234,14 +234,14 @@ def _check_obj_lines(name: str, base: str) -> bool:
                         largest = (index, line_no)
                     elif index == 0 or index < -n_vertices:  # a positive index passes both
                         raise MeshError(f"mesh {base!r} has a face (line {line_no}) that refers to "
-                                        f"vertex {index}, but {_counted(n_vertices, 'vertex', 'vertices')} "
+                                        f"vertex {index}, but {counted(n_vertices, 'vertex', 'vertices')} "
                                         "precede it: OBJ "
                                         "indices count from 1, or back from -1.")
     if largest[0] > n_vertices:
         raise MeshError(f"mesh {base!r} has a face (line {largest[1]}) that refers to vertex "
-                        f"{largest[0]}, but the file has only {_counted(n_vertices, 'vertex', 'vertices')}.")
+                        f"{largest[0]}, but the file has only {counted(n_vertices, 'vertex', 'vertices')}.")
     if n_vertices and not n_faces:
-        raise MeshError(f"mesh {base!r} has {_counted(n_vertices, 'vertex', 'vertices')} but no "
+        raise MeshError(f"mesh {base!r} has {counted(n_vertices, 'vertex', 'vertices')} but no "
                         "faces: a point cloud is no surface; export the mesh with its faces (OBJ 'f' lines).")
     return in_order
 
@@ -297,7 +297,7 @@ def _check_ply_faces(faces: np.ndarray, n_vertices: int, base: str, ply: dict | 
                 before += count
             where = f" (face {row + 1}, line {ply['header_lines'] + before + row + 1})"
     raise MeshError(f"mesh {base!r} has a face{where} that refers to vertex {index}, but the file "
-                    f"has only {_counted(n_vertices, 'vertex', 'vertices')}: PLY indices count from 0.")
+                    f"has only {counted(n_vertices, 'vertex', 'vertices')}: PLY indices count from 0.")
 
 
 def _check_coordinates(vertices: np.ndarray, base: str, unit: str, per_triangle: bool) -> None:
@@ -328,17 +328,12 @@ def _degenerate(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     return double_area <= 1e-12 * max(scale, 1e-300) ** 2
 
 
-def _counted(n: int, noun: str, nouns: str | None = None) -> str:
-    """``1 face``, ``3 faces``; ``nouns`` for a plural not made with -s (``vertices``)."""
-    return f"{n} {noun if n == 1 else nouns or noun + 's'}"
-
-
 def _listed(noun: str, numbers: np.ndarray, few: int = 3) -> str:
     """``triangle 5``, ``triangles 5 and 9``, ``triangles 5, 9, 12 and 4 more``: the first few."""
     shown = [str(n) for n in numbers[:few]]
     if len(numbers) > few:
         shown.append(f"{len(numbers) - few} more")
-    return f"{noun if len(numbers) == 1 else noun + 's'} {listed(shown)}"
+    return f"{plural(noun, len(numbers))} {listed(shown)}"
 
 
 def _located(points: np.ndarray, unit: str) -> str:
@@ -388,12 +383,12 @@ def check_mesh(mesh: trimesh.Trimesh, name: str = "mesh", centre: bool = True, u
     bad_coords = ~np.isfinite(vertices).all(axis=1)
     if bad_coords.any():
         raise MeshError(f"mesh {name!r} has non-finite coordinates at "
-                        f"{_counted(int(bad_coords.sum()), 'vertex', 'vertices')}.")
+                        f"{counted(int(bad_coords.sum()), 'vertex', 'vertices')}.")
     scale = float(np.ptp(vertices, axis=0).max())
     degenerate = np.flatnonzero(_degenerate(vertices, faces))
     if len(degenerate):
         where = f": {_listed(face_word, degenerate + 1)} of the file" if face_word else ""
-        raise MeshError(f"mesh {name!r} has {_counted(len(degenerate), 'degenerate (zero-area) face')}"
+        raise MeshError(f"mesh {name!r} has {counted(len(degenerate), 'degenerate (zero-area) face')}"
                         f"{where}.")
     # every undirected edge of a closed manifold surface is shared by exactly two faces
     faces_per_edge = np.bincount(mesh.edges_unique_inverse)
@@ -402,7 +397,7 @@ def check_mesh(mesh: trimesh.Trimesh, name: str = "mesh", centre: bool = True, u
             shared = "on one face only" if what == "boundary" else "shared by more than two faces"
             corners = vertices[np.unique(mesh.edges_unique[bad])] / UNITS[unit]
             raise MeshError(f"mesh {name!r} is not watertight: "
-                            f"{_counted(int(bad.sum()), what + ' edge')} ({shared}) between "
+                            f"{counted(int(bad.sum()), what + ' edge')} ({shared}) between "
                             f"{_located(corners, unit)}.")
     # On a closed manifold every undirected edge is used twice; consistent winding traverses it
     # once in each direction, so a repeated *directed* edge marks a flipped neighbour.
@@ -410,7 +405,7 @@ def check_mesh(mesh: trimesh.Trimesh, name: str = "mesh", centre: bool = True, u
     n_inconsistent = len(mesh.edges) - n_directed
     if n_inconsistent:
         raise MeshError(
-            f"mesh {name!r} is inconsistently wound: {_counted(n_inconsistent, 'edge')} "
+            f"mesh {name!r} is inconsistently wound: {counted(n_inconsistent, 'edge')} "
             f"{'is' if n_inconsistent == 1 else 'are'} traversed in the same direction "
             "by both of their faces."
         )

@@ -1,4 +1,5 @@
-"""Words every layer writes alike: the mark of a missing value and the one way to list items."""
+"""Words every layer writes alike: the mark of a missing value, the one way to list items and to
+count them."""
 
 MISSING = "\u2014"
 """The mark of a value that is missing or could not be computed (its reason stands beside it)."""
@@ -10,3 +11,14 @@ def listed(words, empty: str = MISSING) -> str:
     if not words:
         return empty
     return words[0] if len(words) == 1 else f"{', '.join(words[:-1])} and {words[-1]}"
+
+
+def plural(noun: str, n: int, nouns: str | None = None) -> str:
+    """``noun`` as ``n`` of it reads: plural unless ``n`` is 1 ("trial", "trials"); ``nouns`` for a
+    plural not made with -s ("vertex", "vertices")."""
+    return noun if n == 1 else nouns or f"{noun}s"
+
+
+def counted(n: int, noun: str, nouns: str | None = None) -> str:
+    """``n`` and ``noun``, plural unless ``n`` is 1 ("1 trial", "0 trials", "3 vertices")."""
+    return f"{n} {plural(noun, n, nouns)}"

@@ -111,12 +111,13 @@ def span(values: Any, unit: str = "", digits: int | None = None) -> str:
 
 
 def estimate(value: Any, low: Any = None, high: Any = None, digits: int | None = None, *,
-             sig: int | None = None) -> str:
-    """Return ``"value (low–high)"`` as the paper's tables print it (the value without interval)."""
-    text = number(value, digits, sig=sig)
+             sig: int | None = None, unit: str = "") -> str:
+    """Return ``"value (low–high)"`` as the paper's tables print it (the value without interval);
+    ``unit`` after the value and after the interval, as a sentence prints it (``5.7% (3.6–8.9%)``)."""
+    text = number(value, digits, sig=sig, unit=unit)
     if is_missing(value) or is_missing(low) or is_missing(high):
         return text
-    return f"{text} ({interval(low, high, digits, sig=sig)})"
+    return f"{text} ({interval(low, high, digits, sig=sig)}{unit})"
 
 
 def paper_text(paper: Any, digits: int | None = None) -> str:
@@ -127,6 +128,12 @@ def paper_text(paper: Any, digits: int | None = None) -> str:
     if is_missing(paper[0]) or is_missing(paper[1]):
         return f"≤ {number(paper[1], digits)}" if is_missing(paper[0]) else f"≥ {number(paper[0], digits)}"
     return interval(paper[0], paper[1], digits)
+
+
+def differing(frame: Any) -> tuple[int, int]:
+    """How many rows of a verdict table (its ``differs`` column) differ from the paper's, of how many
+    were compared (a row not compared, ``differs`` None, is no difference): the count a finding gives."""
+    return int(frame["differs"].eq(True).sum()), int(frame["differs"].notna().sum())
 
 
 class Verdict(NamedTuple):

@@ -15,6 +15,7 @@ from graspcampaign.analysis.vocabulary import PROPOSED, label
 from graspcampaign.campaign.paper import check_paper, study_paper
 from graspcampaign.campaign.provenance import design_change
 from graspcampaign.campaign.records import RunStore
+from graspcampaign.core.words import counted
 from graspcampaign.errors import ConfigError, DamagedRunError, UserInputError
 from graspcampaign.report import format as fmt
 from graspcampaign.report.document import Col, Document, Table, Text
@@ -203,9 +204,9 @@ def write_headline(root: Path, pages: list[str], frame: pd.DataFrame) -> None:
     frame.to_csv(root / "headline.csv", index=False)
     reduced = frame["testbed"].astype(str).str.contains(REDUCED_MARK).any()
     virtual = frame["source"].eq("virtual").any()
-    differ, judged = int(frame["differs"].eq(True).sum()), int(frame["differs"].notna().sum())
+    differ, judged = fmt.differing(frame)
     # of the rows compared: a row without records or without a paper value is not a difference
-    why = (f" {differ} of {judged} compared {'row' if judged == 1 else 'rows'} "
+    why = (f" {differ} of {counted(judged, 'compared row')} "
            f"{'differs' if differ == 1 else 'differ'} from the paper (the paper's value outside our 95% "
            "interval); each run's report, linked in *run*, opens with where and why." if differ else "")
     for page in pages:

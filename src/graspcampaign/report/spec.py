@@ -40,6 +40,13 @@ def share(frame: Any, event: Any) -> Estimate:
     return Estimate(100 * w.estimate, 100 * w.low, 100 * w.high, len(frame))
 
 
+def rate_cols(g: pd.DataFrame, outcome: str, prefix: str) -> dict:
+    """``<prefix>_pct`` and its Wilson 95 % ``<prefix>_low_pct``/``_high_pct`` of ``outcome`` over the
+    executed trials of ``g`` (the columns :func:`~graspcampaign.report.document.pct_col` shows)."""
+    e = rec.rate(g, outcome=outcome)
+    return {f"{prefix}_pct": e.value, f"{prefix}_low_pct": e.low, f"{prefix}_high_pct": e.high}
+
+
 def _paper_by(fn: PaperKey | None, run: Run, frame: pd.DataFrame, by: Sequence[str]) -> list:
     return [paper_of(run, fn, dict(zip(by, key, strict=True)))
             for key in frame[list(by)].itertuples(index=False)]
@@ -124,19 +131,18 @@ class Finding:
 
 
 # ------------------------------------------------------------------ tables of the records
-def Rates(name: str, caption: str, by: Sequence[str], paper: PaperKey | None = None,
-          outcome: str = "success", bootstrap: bool = True,
+def Rates(name: str, caption: str, by: Sequence[str], paper: PaperKey | None = None, bootstrap: bool = True,
           where: Callable[[pd.DataFrame], pd.Series] | None = None,
           because: Callable[[pd.DataFrame], Any] | None = None) -> Table:
-    """The rate of ``outcome`` per group of ``by`` beside the paper (Wilson 95 % per row; an
+    """The success rate per group of ``by`` beside the paper (Wilson 95 % per row; an
     object-clustered bootstrap when ``bootstrap``) over the trials ``where(records)`` selects;
     ``because(table)``: per row, why the paper's value is shown but not judged ("": judged)."""
     def compute(run: Run) -> pd.DataFrame:
         if missing := [c for c in by if c not in run.records]:
             raise KeyError(missing[0])  # "the records have no `<column>` column", not "empty"
         records = run.records[where(run.records)] if where else run.records
-        frame = rec.rate_table(records, by, outcome=outcome, cluster=run.cluster if bootstrap else None,
-                               seed=run.seed, order=run.order)
+        frame = rec.rate_table(records, by, cluster=run.cluster if bootstrap else None, seed=run.seed,
+                               order=run.order)
         frame.insert(len(by), "paper_pct", _paper_by(paper, run, frame, by))
         frame = frame.assign(_because=because(frame) if because else "")
         return verdicts(frame, "rate_pct", "paper_pct", "wilson_low_pct", "wilson_high_pct", unit="%",
@@ -176,12 +182,12 @@ class Value:
         return v if isinstance(v := self.value(run), Estimate) else Estimate(v)
 
 
-def Rate(label: str, section: str, where: Callable[[Run], pd.Series] | None = None,
-         paper: Callable[[Any], Any] | None = None, outcome: str = "success", digits: int = 1) -> Value:
-    """One rate beside the paper's (a :class:`Value` row, Wilson 95 %) over the executed trials that
-    ``where(run)`` selects (a boolean mask over ``run.ok``; None: all)."""
-    return Value(label, section, lambda run: rec.rate(run.records, (lambda ok: where(run).to_numpy())
-                                                      if where else None, outcome), paper, "%", digits)
+def Rate(label: str, section: str, where: Callable[[Run], pd.Series], outcome: str = "success") -> Value:
+    """One rate (a :class:`Value` row in %, one decimal, Wilson 95 %) over the executed trials that
+    ``where(run)`` selects (a boolean mask over ``run.ok``); the paper prints words, not a rate, for
+    every such row (sensitivity's, judged in those words), so it has no paper value."""
+    return Value(label, section, lambda run: rec.rate(run.records, lambda ok: where(run).to_numpy(), outcome),
+                 None, "%", 1)
 
 
 def Claims(name: str, caption: str | Callable[[Run], str],
@@ -226,17 +232,17 @@ def Claims(name: str, caption: str | Callable[[Run], str],
 
 def Paired(name: str = "mcnemar", caption: str = (
         "Paired comparison, McNemar on occurrence-matched pairs (rows paired by scene_id: same "
-        "object, mass, friction and seed)"), reference: str = PROPOSED, pair_on: str = "scene_id",
+        "object, mass, friction and seed)"), pair_on: str = "scene_id",
         paper: Callable[[Any, str], Any] | None = None,
         trials: Callable[[Run], pd.DataFrame] | None = None) -> Table:
-    """McNemar (1947) of ``reference`` against every other planner on occurrence-matched pairs of
+    """McNemar (1947) of the proposed planner against every other planner on occurrence-matched pairs of
     ``trials(run)`` (default the run's records), in the vocabulary's planner order; ``caption`` says
     which pairs, the statistics' description follows it."""
     def compute(run: Run) -> pd.DataFrame:
         frame = run.records if trials is None else trials(run)
         planners = [p for p in ordered("planner", frame["planner"], run.order.get("planner", []))
-                    if p != reference]
-        frame = rec.mcnemar_table(frame, reference, planners, pair_on=pair_on)
+                    if p != PROPOSED]
+        frame = rec.mcnemar_table(frame, PROPOSED, planners, pair_on=pair_on)
         return frame.assign(paper=[paper_of(run, paper, p) or "not reported" for p in frame["compared"]],
                             compared_label=[label("planner", p) for p in frame["compared"]])
 
@@ -245,18 +251,18 @@ def Paired(name: str = "mcnemar", caption: str = (
                  "1/(b + c) there), exact binomial p, discordant-pair odds "
                  "ratio (> 1 favours the proposed planner) with its exact 95% interval", compute, [
         Col("compared_label", "compared"), Col("pairs", "pairs"),
-        Col("reference_only", f"{label('planner', reference)} only"), Col("compared_only", "compared only"),
+        Col("reference_only", f"{label('planner', PROPOSED)} only"), Col("compared_only", "compared only"),
         Col("both_success", "both succeed"), Col("both_fail", "both fail"),
         Col("chi2_cc", "χ² (cc)", 1, why="test_why"), Col("p_chi2", "p (χ²)"), Col("p_exact", "p (exact)"),
         Col("odds_ratio", "odds ratio (95%)", 2, low="odds_ratio_low", high="odds_ratio_high",
             why="test_why"), Col("paper", "paper")])
 
 
-def DesignLimit(by: Sequence[str], name: str = "design_limit") -> Table:
+def DesignLimit(by: Sequence[str]) -> Table:
     """How often the deepest contact exceeds the paper's 1 mm design limit (Sec. 4), per group; the
     trials deeper than the fingertip radius r are counted apart (non-physical), the δmax statistics
-    are over the others."""
-    return Table(name, lambda run: (
+    are over the others (table ``design_limit``, which :func:`FailureChecks`' caption names)."""
+    return Table("design_limit", lambda run: (
         "Penetration against the paper's 1 mm design limit (Sec. 4, 5.5): executed trials whose "
         "deepest contact δmax exceeds 1 mm (Wilson 95%); our SI evaluation keeps the published "
         "algorithm, so this is reported, never rescaled (SPEC §2.7); δmax > r: trials with a contact "
@@ -273,14 +279,14 @@ def DesignLimit(by: Sequence[str], name: str = "design_limit") -> Table:
         Col("delta_max_max_mm", "max δmax, δmax ≤ r [mm]", sig=3)], by)
 
 
-def FailureChecks(by: Sequence[str], paper: PaperKey | None = None, name: str = "failure_checks") -> Table:
+def FailureChecks(by: Sequence[str], paper: PaperKey | None = None) -> Table:
     """The first failing check of Algorithm 1 per group (none = success); the caption says where
     the trials with a contact deeper than the fingertip radius are counted."""
     def compute(run: Run) -> pd.DataFrame:
         frame = rec.failure_check_table(run.records, by, order=run.order)
         return frame.assign(paper=[p or "not reported" for p in _paper_by(paper, run, frame, by)])
 
-    return Table(name, lambda run: (
+    return Table("failure_checks", lambda run: (
         "First failing check of Algorithm 1 (none = success; residual ‖R‖ ≥ τ_F, torque, slip margin "
         "≤ 0; geometry = only the validity gate: a contact deeper than the fingertip radius), executed "
         "trials; the checks run in that order and the first failing one is counted, so geometry counts "
@@ -294,26 +300,28 @@ def FailureChecks(by: Sequence[str], paper: PaperKey | None = None, name: str = 
 
 #: The `docs/decisions.md` heading of the validity gate, as the reports cite it.
 VALIDITY = "Physical validity, grip laws, Ferrari–Canny ε"
+GATE = "gate_removed"
+"""The name of the :func:`GateRemoved` table, which :func:`gate_text` reads."""
 
 
-def gate_text(run: Run, name: str = "gate_removed") -> str:
-    """The Finding's sentence on the :func:`GateRemoved` table ``name`` ("" without one)."""
-    if (g := run.tables.get(name)) is None or not len(g):
+def gate_text(run: Run) -> str:
+    """The Finding's sentence on the :func:`GateRemoved` table ("" without one)."""
+    if (g := run.tables.get(GATE)) is None or not len(g):
         return ""
     successes = int(g["success_unbounded"].sum())
     removed = f"removed {int(g['removed'].sum())} of {successes} successes" if successes \
         else "removed none (no trial succeeded without it)"
     return (f" The validity gate {removed}: {int(g['invalid_geometry'].sum())} of {int(g['n'].sum())} "
             f"executed trials have a contact deeper than the fingertip radius, which is no contact (table "
-            f"{name}; `docs/decisions.md`, *{VALIDITY}*).")
+            f"{GATE}; `docs/decisions.md`, *{VALIDITY}*).")
 
 
-def GateRemoved(by: Sequence[str], name: str = "gate_removed", caption: str = (
-        f"Successes the validity gate removed (`docs/decisions.md`, *{VALIDITY}*): trials passing "
-        "every check (success without the gate) with a contact deeper than the fingertip radius, "
-        "which is no contact any more, count as failures; Wilson 95%")) -> Table:
+def GateRemoved(by: Sequence[str]) -> Table:
     """How many successes the validity gate removed per group (issue 13 item 1), from the records'
     ``success_unbounded`` and ``valid_geometry``: add ``GateRemoved(["planner"])`` to a spec."""
-    return Table(name, caption, lambda run: rec.gate_table(run.records, by, run.order), [
+    return Table(GATE, f"Successes the validity gate removed (`docs/decisions.md`, *{VALIDITY}*): trials "
+                 "passing every check (success without the gate) with a contact deeper than the fingertip "
+                 "radius, which is no contact any more, count as failures; Wilson 95%",
+                 lambda run: rec.gate_table(run.records, by, run.order), [
         "n", Col("success_unbounded", "successes without the gate"), "removed_pct", "removed", "success",
         Col("invalid_geometry", "contact deeper than r")], by)

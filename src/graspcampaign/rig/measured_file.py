@@ -20,6 +20,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from graspcampaign.core.words import counted
+
 __all__ = ["IngestError", "cell_problem", "header_problems", "ingest_error", "read_table",
            "table_and_label"]
 
@@ -43,8 +45,7 @@ def cell_problem(value, expected: str = "a number") -> str:
         return f"value {value} is a date/time, not {expected}"
     if isinstance(value, (list, tuple, np.ndarray)):
         shown = ", ".join(str(item) for item in value[:3]) + (", ..." if len(value) > 3 else "")
-        values = "value" if len(value) == 1 else "values"
-        return f"value [{shown}] is a list of {len(value)} {values}, not {expected}"
+        return f"value [{shown}] is a list of {counted(len(value), 'value')}, not {expected}"
     comma = isinstance(value, str) and re.fullmatch(r"\s*[+-]?[0-9]*,[0-9]+\s*", value)
     return f"value {value!r} is not {expected}" + (
         " (a decimal comma: save the sheet with a decimal point '.')" if comma else "")

@@ -226,9 +226,9 @@ def mass_finding(run: Run) -> str:
     held = g.dynamic_status == "stable"
     presets = ", ".join(f"{label('model_preset', k)} {held[p.index].sum()} of {len(p)}"
                         for k, p in g.groupby("model_preset", sort=False))
-    judged = values.differs.notna()
-    compared = (f"{int(values.differs[judged].sum())} of {judged.sum()} values compared with Sec. 5.5 differ"
-                if judged.any() else "no value of Sec. 5.5 is compared")
+    differ, judged = fmt.differing(values)
+    compared = (f"{differ} of {judged} values compared with Sec. 5.5 differ" if judged
+                else "no value of Sec. 5.5 is compared")
     text = (f"{held.sum()} of {len(g)} μ × m runs hold (`stable`) where the paper reports every run it "
             f"made stable (Sec. 5.5): {presets} (table stable_by_preset); {compared} (table paper_values). ")
     if (~held).any():

@@ -79,7 +79,7 @@ def finding(run: Run) -> str:
     k, ok = run.tables["kappa"], run.ok
     judged = k[k.scope == CLAIM_SHAPE]
     claim = judged[(judged.comparison == "source") & (judged.n > 0)]
-    n_judged = int(judged.differs.notna().sum())
+    differ, n_judged = fmt.differing(judged)
     source = ", ".join(sorted(set(ok.source_study)))
     if n_judged:
         agree = fmt.listed([f"{fmt.number(r.agreement_pct, 1)}%{' of the determined trials' * (i == 0)} "
@@ -87,7 +87,7 @@ def finding(run: Run) -> str:
                             for i, r in enumerate(claim.itertuples())])
         text = (f"On the {CLAIM_SHAPE} (the claim's scope) the {source} label and the dynamic label agree on "
                 f"{agree}, against the paper's full agreement (Sec. 6.1): "
-                f"{int(judged.differs.eq(True).sum())} of {n_judged} {CLAIM_SHAPE} comparisons differ "
+                f"{differ} of {n_judged} {CLAIM_SHAPE} comparisons differ "
                 "(table kappa). ")
         why = [w for w in map(_why, claim.itertuples()) if w]
         text += f"Why: {'; '.join(why)}. " if why else ""

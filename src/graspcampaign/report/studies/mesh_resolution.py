@@ -10,15 +10,16 @@ import pandas as pd
 
 from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
 from graspcampaign.analysis.records import MIN_TRIALS, Estimate, median
-from graspcampaign.analysis.vocabulary import OTHER_COLOURS, PROPOSED, colour, counted
+from graspcampaign.analysis.vocabulary import OTHER_COLOURS, PROPOSED, colour
 from graspcampaign.campaign.records import RunStore
+from graspcampaign.core.words import counted
 from graspcampaign.errors import UserInputError
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
 from graspcampaign.report.document import Col
 from graspcampaign.report.render import Run
-from graspcampaign.report.spec import Claims, Figure, Finding, GateRemoved, ReportSpec, Table, Text
-from graspcampaign.report.studies.sensitivity import LOOP_AT_N_MAX, panel_rows, rate_cols
+from graspcampaign.report.spec import Claims, Figure, Finding, GateRemoved, ReportSpec, Table, Text, rate_cols
+from graspcampaign.report.studies.sensitivity import LOOP_AT_N_MAX, panel_rows
 
 
 def _runtime(run: Run) -> pd.DataFrame:

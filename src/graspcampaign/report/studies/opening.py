@@ -68,8 +68,8 @@ def finding(run: Run, extra=lambda run: "") -> str:
                  f"({wilson(PROPOSED)}")
         overlap = len(tops) == 1 and rows.success_low_pct[top] <= rows.success_high_pct[PROPOSED]
         text += "; the intervals overlap)" if overlap else ")"
-    differs = rows["differs"].dropna().astype(bool)
-    text += (f"; success differs from the paper's for {differs.sum()} of {len(differs)} planners (Table "
+    differ, judged = fmt.differing(rows)
+    text += (f"; success differs from the paper's for {differ} of {judged} planners (Table "
              f"{table_number}). ")
     g = e.groupby("planner")["g_geo_actual"].median()
     cap = e.groupby("planner")["grip_capped"].mean() * 100

@@ -108,14 +108,14 @@ def grid_finding(run: Run, more: str = "") -> str:
     t, paper = m.sum(numeric_only=True).astype(int), rates.set_index("planner")["paper_pct"]
     judged = m[m["n"].gt(0) & m["planner"].isin(paper.dropna().index)]
     capped = int((100 * judged["rho_passable"] / judged["n"] < judged["planner"].map(paper)).sum())
-    differ = int(rates["differs"].eq(True).sum())
+    differ, compared = fmt.differing(rates)
     proposed = "".join(
         f"The proposed planner passes {fmt.number(h.rate_pct, 1)}% of {h.n} triples (Wilson 95% "
         f"{fmt.interval(h.wilson_low_pct, h.wilson_high_pct, 1)}; paper {fmt.number(h.paper_pct, 1)}%); "
         for h in rates[(rates["planner"] == PROPOSED) & (rates["n"] > 0)].itertuples())
     return (
         f"**The paper's rates cannot come from its own Algorithm 2.** {proposed}"
-        f"{differ} of {int(rates['differs'].notna().sum())} planners with a paper value "
+        f"{differ} of {compared} planners with a paper value "
         f"{'differs' if differ == 1 else 'differ'} from it (table success_by_planner). Why: line 7 drives "
         f"every upper contact (n_out,z > 0) to δ = 0 (released in {t.released} of {t.n} triples, "
         f"{100 * t.released / t.n:.1f}%) and the lower ones leave a horizontal residual W·ρ the loop "

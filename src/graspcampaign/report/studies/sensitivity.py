@@ -15,9 +15,9 @@ from graspcampaign.analysis.rates import CONFIDENCE_LEVEL
 from graspcampaign.analysis.records import Estimate, at_bound, beyond_radius, rate
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
-from graspcampaign.report.document import Col
+from graspcampaign.report.document import Col, Figure, Table
 from graspcampaign.report.render import Run
-from graspcampaign.report.spec import Claims, Figure, Finding, GateRemoved, Rate, ReportSpec, Table, Value
+from graspcampaign.report.spec import Claims, Finding, GateRemoved, Rate, ReportSpec, Value, rate_cols
 
 PANELS = {"mu_mass": ("mu", "mass_kg", "friction coefficient μ [–]", "object mass m [kg]"),
           "lambda": ("lambda1", "lambda2", "λ1 [–]", "λ2 [–]"),
@@ -32,12 +32,6 @@ def panel_rows(run: Run, name: str) -> pd.DataFrame:
     """The executed trials of panel ``name``, selected once per run."""
     return run.memo(f"panel/{name}", lambda: run.ok[run.ok["panel"] == name] if "panel" in run.ok
                     else run.ok.iloc[:0])
-
-
-def rate_cols(g: pd.DataFrame, outcome: str, prefix: str) -> dict:
-    """``<prefix>_pct`` and its Wilson 95 % ``<prefix>_low_pct``/``_high_pct`` of ``outcome`` in ``g``."""
-    e = rate(g, outcome=outcome)
-    return {f"{prefix}_pct": e.value, f"{prefix}_low_pct": e.low, f"{prefix}_high_pct": e.high}
 
 
 def _edge(levels, value: float, below_includes: bool) -> float:
@@ -178,10 +172,8 @@ BOUNDARIES = {"stable region (a)": REGION, "λ1 boundary (b)": LAMBDA, "non-conv
 
 
 def _rate(row: pd.Series) -> str:
-    """A claims row's rate as the report prints it: ``5.7% (3.6–8.9%)``; ``n/a`` when not computed."""
-    if fmt.is_missing(row["value"]):
-        return "n/a"
-    return f"{fmt.number(row['value'], 1)}% ({fmt.interval(row['low'], row['high'], 1)}%)"
+    """A claims row's rate as a sentence prints it: ``5.7% (3.6–8.9%)``."""
+    return fmt.estimate(row["value"], row["low"], row["high"], 1, unit="%")
 
 
 def finding(run: Run) -> str:

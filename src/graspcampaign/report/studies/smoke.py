@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import pandas as pd
 
-from graspcampaign.analysis.vocabulary import colour, counted, label, ordered
+from graspcampaign.analysis.vocabulary import colour, label, ordered
+from graspcampaign.core.words import counted
 from graspcampaign.report.document import Col, cols
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, Value

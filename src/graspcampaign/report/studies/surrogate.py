@@ -17,8 +17,7 @@ from graspcampaign.report import format as fmt
 from graspcampaign.report import style
 from graspcampaign.report.document import Col, cols
 from graspcampaign.report.render import Run
-from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, verdicts
-from graspcampaign.report.studies.sensitivity import rate_cols
+from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, rate_cols, verdicts
 
 LABELS = ("success", "success_unbounded", "success_vertical")
 

@@ -10,9 +10,10 @@ import pandas as pd
 
 from graspcampaign.analysis import calibration as cal
 from graspcampaign.analysis.records import Estimate
-from graspcampaign.analysis.vocabulary import colour, counted, label
+from graspcampaign.analysis.vocabulary import colour, label
 from graspcampaign.core.bench import RMSE_REVIEW_THRESHOLD_PCT as REVIEW_PCT
 from graspcampaign.core.contact import normal_force
+from graspcampaign.core.words import counted
 from graspcampaign.report import format as fmt
 from graspcampaign.report.document import Col, cols
 from graspcampaign.report.render import Run
@@ -233,13 +234,13 @@ def finding(run: Run) -> str:
     t, p, claims = run.tables, run.paper, run.tables["test1_claims"]
     n, rmse = (claims.set_index("quantity").loc[f"{q}, accepted fits: mean"]  # as the claims table prints
                for q in ("contact exponent n", "force-fit RMSE"))
-    differs = claims["differs"].dropna().astype(bool)
+    differ, judged = fmt.differing(claims)
     text = (f"Over {len(_fits(run))} completed events the accepted normal fits give n = "
             f"{fmt.number(n.value, n.digits)} (paper {fmt.number(n.paper, n.digits)} ± "
             f"{fmt.number(p.n_exp_sd, n.digits)}, Table 3 {p.n_exp_simulation:g}) at a mean RMSE of "
             f"{fmt.number(rmse.value, rmse.digits)}% of peak (paper {fmt.number(rmse.paper, rmse.digits)}%); "
-            + (f"{differs.sum()} of {len(differs)} §7 quantities differ from the paper's (table "
-               "test1_claims). " if differs.any() else "every §7 quantity agrees. "))
+            + (f"{differ} of {judged} §7 quantities differ from the paper's (table "
+               "test1_claims). " if differ else "every §7 quantity agrees. "))
     if len(t5 := t.get("table5", [])):
         r = t5.set_index("parameter")
         bound = [f"{label('parameter', q)} ({counted(k, 'run')})" for q, k in r["n_at_bound"].items() if k]

@@ -9,7 +9,7 @@ from graspcampaign.analysis.records import MIN_TRIALS, Estimate, median
 from graspcampaign.report import format as fmt
 from graspcampaign.report.document import Col, pct_col
 from graspcampaign.report.render import Run
-from graspcampaign.report.spec import Claims, Finding, ReportSpec, Table, Value, share, verdicts
+from graspcampaign.report.spec import Claims, Finding, ReportSpec, Table, Value, rate_cols, verdicts
 
 
 def _scenes(run: Run):
@@ -53,10 +53,9 @@ def _ratio_sweep(run: Run) -> pd.DataFrame:
              for c in unit if c.startswith("argmin_key_ratio_")}
     rows = []
     for k, m in moved.items():
-        e = share(m, m)
         rows.append({"weights_w1_w2_w3": k, "paper": "not probed (Sec. 5.2)", "n": len(unit),
-                     "argmin_moves": int(m.sum()), "argmin_moves_pct": e.value,
-                     "argmin_moves_low_pct": e.low, "argmin_moves_high_pct": e.high})
+                     "argmin_moves": int(m.sum()),
+                     **rate_cols(unit.assign(moves=m), "moves", "argmin_moves")})
     return pd.DataFrame(rows)
 
 

@@ -70,12 +70,12 @@ def _per_mu(run: Run) -> pd.DataFrame:
 
 def finding(run: Run) -> str:
     table, p = _per_mu(run), run.paper
-    settle, compared = table[table["quantity"].str.startswith("iteration")], table["differs"].notna()
+    settle, (differ, judged) = table[table["quantity"].str.startswith("iteration")], fmt.differing(table)
     deep, r = _beyond_radius_from(run, _traces(run)), run.radius_mm
     return (f"Under the fixed {p.finger_force_command_n:g} N grip command the force residual settles below "
             f"τ_F = {_tau(run):g} N at {settle['ours'].notna().sum()} of {len(settle)} friction levels "
             f"(paper: all by iteration {p.residual_settles_within_iterations[1]}); "
-            f"{int(table.loc[compared, 'differs'].astype(bool).sum())} of {int(compared.sum())} compared "
+            f"{differ} of {judged} compared "
             "quantities differ (table wrench_balance). Why: at Table 3's contact constants the command "
             f"drives contacts {fmt.number(run.ok['delta_max_mm'].max() / 1e3, sig=3)} m deep"
             + (f" (fingertip radius r = {r:g} mm; this run's trace has no finger-1 depth: stored before "
