@@ -7,6 +7,7 @@ Each refusal: exit 2, one sentence naming what is wrong and where, nothing store
 
 from __future__ import annotations
 
+import pytest
 from cli_checks import refused
 
 
@@ -17,3 +18,24 @@ def test_a_comma_inside_a_quoted_string_separates_no_values(results):
     refused(results, ["show", "smoke", f"shape=['{text}']", "--root", results],
             f"factors.shape[0] has unknown value '{text[:60]}... ({len(text)} characters)'; "
             "allowed values: sphere, ellipsoid, rounded_cube, pear, handle.", seconds=10)
+
+
+#: how a Microsoft compound document begins ([MS-CFB] 2.2), and a stream name in one (UTF-16)
+COMPOUND = bytes.fromhex("d0cf11e0a1b11ae1") + bytes(504)
+OLD_EXCEL = ("the file is an old-format Excel workbook (.xls), which ingest does not read; open it "
+             "in a spreadsheet program and save it as .xlsx or as CSV UTF-8.")
+ENCRYPTED = ("the file is an Excel workbook saved with a password (encrypted), which cannot be "
+             "read; open it in a spreadsheet program, remove the password and save it again.")
+
+
+@pytest.mark.parametrize(("name", "stream", "message"), [
+    ("day1.xls", "Workbook", OLD_EXCEL),  # it said "unsupported file type '.xls'"
+    # these said "... does not begin as one does; if it is CSV text, rename it to day1.csv."
+    ("day1.xlsx", "Workbook", OLD_EXCEL),
+    ("day1.xlsx", "EncryptedPackage", ENCRYPTED),
+    ("day1.csv", "EncryptedPackage", ENCRYPTED),  # it said "the file is not UTF-8 text (byte 0xd0)"
+])
+def test_an_old_or_encrypted_excel_workbook_is_named_as_one(results, tmp_path, name, stream, message):
+    path = tmp_path / name
+    path.write_bytes(COMPOUND + stream.encode("utf-16-le") + bytes(64))
+    refused(results, ["ingest", "test2_grasp", path, "--root", results], f"{name}: {message}")
