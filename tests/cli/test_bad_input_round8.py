@@ -7,8 +7,10 @@ Each refusal: exit 2, one sentence naming what is wrong and where, nothing store
 
 from __future__ import annotations
 
+import os
+
 import pytest
-from cli_checks import refused
+from cli_checks import SMOKE, refused, replaced
 
 
 def test_a_comma_inside_a_quoted_string_separates_no_values(results):
@@ -39,3 +41,15 @@ def test_an_old_or_encrypted_excel_workbook_is_named_as_one(results, tmp_path, n
     path = tmp_path / name
     path.write_bytes(COMPOUND + stream.encode("utf-16-le") + bytes(64))
     refused(results, ["ingest", "test2_grasp", path, "--root", results], f"{name}: {message}")
+
+
+@pytest.mark.parametrize("n_jobs", [-1_000_000, -(os.cpu_count() + 1)])
+def test_a_negative_n_jobs_beyond_the_cores_is_refused_with_the_range(results, n_jobs):
+    """joblib reads n_jobs < 0 as cores + 1 + n_jobs workers, at least one: -1000000 ran one
+    worker, silently."""
+    cores = os.cpu_count()
+    refused(results, ["run", "smoke", *replaced(SMOKE, "runner.backend=loky"), f"runner.n_jobs={n_jobs}",
+                      "--root", results],
+            f"runner.n_jobs = {n_jobs} would leave {-n_jobs - 1:,} cores unused, and this machine "
+            f"has {cores}; give a number of worker processes (1 to {4 * cores}), or -1 for one "
+            f"per core down to -{cores} for one worker.")
