@@ -10,7 +10,9 @@ from __future__ import annotations
 import os
 
 import pytest
-from cli_checks import SMOKE, refused, replaced
+from cli_checks import BG, SMOKE, invoke, refused, replaced
+
+from graspcampaign.campaign.records import RunStore
 
 
 def test_a_comma_inside_a_quoted_string_separates_no_values(results):
@@ -53,3 +55,26 @@ def test_a_negative_n_jobs_beyond_the_cores_is_refused_with_the_range(results, n
             f"runner.n_jobs = {n_jobs} would leave {-n_jobs - 1:,} cores unused, and this machine "
             f"has {cores}; give a number of worker processes (1 to {4 * cores}), or -1 for one "
             f"per core down to -{cores} for one worker.")
+
+
+def test_dynamic_check_of_an_unfinished_source_run_says_how_to_finish_it(tmp_path, monkeypatch):
+    """The advice named `graspcampaign run baseline_grid` without the source run's overrides, which
+    `run` refuses as a run started with another config."""
+    root = tmp_path / "results"
+    write_shard, written = RunStore.write_shard, []
+
+    def interrupted(self, kind, *args, **kwargs):  # Ctrl-C while the second trial's shard is written
+        if kind == "records" and written.append(kind) is None and len(written) == 2:
+            raise KeyboardInterrupt
+        return write_shard(self, kind, *args, **kwargs)
+
+    monkeypatch.setattr(RunStore, "write_shard", interrupted)
+    assert invoke("run", "baseline_grid", *BG, "--root", root).exit_code == 130
+    monkeypatch.setattr(RunStore, "write_shard", write_shard)
+    source = root / "baseline_grid" / "default"
+    again = " ".join(f"'{o}'" if "[" in o else o for o in BG)
+    refused(root, ["run", "dynamic_check", "runner.backend=sequential", "--root", root],
+            f"dynamic_check needs every trial of baseline_grid/default, but 1 of 2 are not recorded "
+            f"under {source}; run `graspcampaign run baseline_grid {again} --root {root}` again to "
+            "finish it.")
+    assert invoke("run", "baseline_grid", *BG, "--root", root).exit_code == 0  # as it says

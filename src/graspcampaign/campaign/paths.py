@@ -12,6 +12,7 @@ import os
 import shlex
 import stat
 import tempfile
+from collections.abc import Sequence
 from pathlib import Path
 
 from graspcampaign.errors import UserInputError
@@ -111,10 +112,12 @@ def _not_a_results_root(root: Path) -> str | None:
     return None
 
 
-def how_to_make(root: Path | str, study: str, run: str | None = None) -> str:
+def how_to_make(root: Path | str, study: str, run: str | None = None,
+                overrides: Sequence[str] = ()) -> str:
     """The end of a "no such run" message: the command that makes run ``run`` of ``study`` (default:
     its configured run) under ``root``, with the options it needs (a hardware protocol's ``measured``
-    run: ``ingest``)."""
+    run: ``ingest``) and the ``overrides`` a run already started was given (without them `run`
+    refuses it as started with another config)."""
     from graspcampaign.campaign.studyfile import configured_run
 
     rooted = root_options(root)
@@ -122,7 +125,7 @@ def how_to_make(root: Path | str, study: str, run: str | None = None) -> str:
         command = " ".join(["graspcampaign ingest", shlex.quote(study), "FILE…", *map(shlex.quote, rooted)])
         return f"store the rig's measured records with `{command}` first."
     options = [] if run in (None, configured_run(study)) else ["--run", run]
-    return f"run `{shlex.join(['graspcampaign', 'run', study, *options, *rooted])}` first."
+    return f"run `{shlex.join(['graspcampaign', 'run', study, *overrides, *options, *rooted])}` first."
 
 
 def root_options(root: Path | str) -> list[str]:
