@@ -7,6 +7,7 @@ Each refusal: exit 2, one sentence naming what is wrong and where, nothing store
 
 from __future__ import annotations
 
+import fcntl
 import os
 
 import pytest
@@ -78,3 +79,39 @@ def test_dynamic_check_of_an_unfinished_source_run_says_how_to_finish_it(tmp_pat
             f"under {source}; run `graspcampaign run baseline_grid {again} --root {root}` again to "
             "finish it.")
     assert invoke("run", "baseline_grid", *BG, "--root", root).exit_code == 0  # as it says
+
+
+@pytest.mark.parametrize("when", ["before its lock is opened", "after its lock is opened"])
+def test_a_run_whose_directory_another_run_removes_meanwhile_runs(tmp_path, monkeypatch, when):
+    """Two new runs of one run at once, the first refused after it made the run's directory (its
+    backend down): its cleanup removes the lock and the directory while the second is between
+    making the directory and opening the lock (a traceback, FileNotFoundError) or between opening
+    and locking it (refused as "being run by another process", which none was)."""
+    root = tmp_path / "results"
+    run = root / "smoke" / "default"
+    os_open, flock, done = os.open, fcntl.flock, []
+
+    def other_run_cleans_up():  # what the refused run's run_lock does on leaving, once
+        if not done:
+            done.append(True)
+            (run / ".lock").unlink()
+            for directory in (run, run.parent, root):
+                directory.rmdir()
+
+    def opening(path, *args, **kwargs):
+        if str(path).endswith(".lock") and when.startswith("before"):
+            other_run_cleans_up()
+        return os_open(path, *args, **kwargs)
+
+    def locking(handle, operation):
+        if when.startswith("after"):
+            other_run_cleans_up()
+        return flock(handle, operation)
+
+    run.mkdir(parents=True)  # the other run's directory and lock, made first
+    (run / ".lock").touch()
+    monkeypatch.setattr(os, "open", opening)
+    monkeypatch.setattr(fcntl, "flock", locking)
+    done_run = invoke("run", "smoke", *SMOKE, "--root", root)
+    assert done_run.exit_code == 0, done_run.output
+    assert (run / "manifest.json").is_file() and not (run / ".lock").exists()
