@@ -7,11 +7,14 @@ Each refusal: exit 2, one sentence naming what is wrong and where, nothing store
 
 from __future__ import annotations
 
+import errno
 import fcntl
 import os
+import shutil
+from pathlib import Path
 
 import pytest
-from cli_checks import BG, SMOKE, invoke, refused, replaced
+from cli_checks import BG, SMOKE, invoke, refused, replaced, snapshot
 
 from graspcampaign.campaign.records import RunStore
 
@@ -115,3 +118,53 @@ def test_a_run_whose_directory_another_run_removes_meanwhile_runs(tmp_path, monk
     done_run = invoke("run", "smoke", *SMOKE, "--root", root)
     assert done_run.exit_code == 0, done_run.output
     assert (run / "manifest.json").is_file() and not (run / ".lock").exists()
+
+
+# -- round 8's table: what `report`, `status`, `schedule` and the environment were given ----------
+@pytest.mark.parametrize(("place", "make", "message"), [
+    # it said "could not be written: FileExistsError: [Errno 17] File exists: '.../report'", exit 1
+    ("smoke/default/report", Path.touch, "the report of smoke/default could not be written: "
+     "{path} is a file where the report's directory belongs; move it aside and report again"),
+    # a traceback (IsADirectoryError), exit 1
+    ("index.md", Path.mkdir, "{path} is a directory where the report's file belongs; move it aside "
+                             "and report again."),
+])
+def test_a_file_where_a_report_directory_belongs_or_the_reverse_is_named(results, place, make,
+                                                                         message):
+    path = results / place
+    shutil.rmtree(path) if path.is_dir() else path.unlink()
+    make(path)
+    refused(results, ["report", "smoke", "--root", results], message.format(path=path))
+
+
+def _cut_short(monkeypatch, name: str, exc: BaseException) -> None:
+    """Make every write of a file whose name holds ``name`` (or of its temporary file) stop with
+    ``exc``, after writing the first 100 characters of it (as a Ctrl-C or a full disk midway)."""
+    for method in ("write_text", "write_bytes"):
+        write = getattr(Path, method)
+
+        def cut(self, data, *args, write=write, **kwargs):
+            if name not in self.name:
+                return write(self, data, *args, **kwargs)
+            write(self, data[:100], *args, **kwargs)
+            raise exc
+
+        monkeypatch.setattr(Path, method, cut)
+
+
+def test_a_report_interrupted_while_writing_leaves_every_file_whole(results, monkeypatch):
+    """report.md was written in place: a Ctrl-C midway left its first 100 characters, the report
+    before it lost."""
+    before = snapshot(results)
+    _cut_short(monkeypatch, "report.md", KeyboardInterrupt())
+    assert invoke("report", "smoke", "--root", results).exit_code == 130
+    assert snapshot(results) == before  # report.md as it was, no temporary file left
+
+
+def test_a_full_disk_while_writing_a_runs_report_is_one_sentence(results, monkeypatch):
+    """It said "could not be written: OSError: [Errno 28] No space left on device: '...'", exit 1."""
+    path = results / "smoke" / "default" / "report" / "report.md"
+    _cut_short(monkeypatch, "report.md", OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(path)))
+    refused(results, ["report", "smoke", "--root", results],
+            f"the report of smoke/default could not be written: cannot write {path}: no space left "
+            "on device; free some space there and run the command again")

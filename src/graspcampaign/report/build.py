@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import errno
 import importlib
 import logging
 import os
@@ -169,7 +170,8 @@ def _report_or_failure(store: RunStore, root: Path, formats: list[str], figure_f
         return report_run(store, root, formats, figure_format), None
     except Exception as exc:  # noqa: BLE001 - one broken run never stops the others
         log.debug("report of %s failed", label, exc_info=True)
-        return None, (label, reason(exc), isinstance(exc, UserInputError))
+        full = isinstance(exc, OSError) and exc.errno in (errno.ENOSPC, errno.EDQUOT)  # as cli.guard
+        return None, (label, reason(exc), full or isinstance(exc, UserInputError))
 
 
 def _report_in_worker(*args):
@@ -277,4 +279,4 @@ def write_index_page(root: Path, page: str, frame: pd.DataFrame) -> None:
         Table("index", "Every run's report", frame, [
             Col("study", "study"), Col("run", "run", link="report"), Col("source", "source"),
             Col("trials", "trials")], csv=None)])
-    (root / f"index.{page}").write_text(doc.html() if page == "html" else doc.markdown())
+    D.write_file(root / f"index.{page}", doc.html() if page == "html" else doc.markdown())

@@ -17,7 +17,7 @@ from graspcampaign.campaign.provenance import design_change
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.errors import ConfigError, DamagedRunError, UserInputError
 from graspcampaign.report import format as fmt
-from graspcampaign.report.document import Col, Document, Table, Text
+from graspcampaign.report.document import Col, Document, Table, Text, write_file
 from graspcampaign.report.render import reason
 from graspcampaign.report.spec import verdicts
 from graspcampaign.report.style import SOURCE_SHORT
@@ -200,7 +200,7 @@ def write_headline(root: Path, pages: list[str], frame: pd.DataFrame) -> None:
     """Write ``headline.csv`` and, for each of ``pages`` (md, html), ``headline.<page>`` of
     ``frame``, the :func:`headline_rows` of ``root``: a run is linked from a page only if its
     report has a page of that format."""
-    frame.to_csv(root / "headline.csv", index=False)
+    write_file(root / "headline.csv", frame.to_csv(index=False))
     reduced = frame["testbed"].astype(str).str.contains(REDUCED_MARK).any()
     virtual = frame["source"].eq("virtual").any()
     differ, judged = int(frame["differs"].eq(True).sum()), int(frame["differs"].notna().sum())
@@ -216,4 +216,4 @@ def write_headline(root: Path, pages: list[str], frame: pd.DataFrame) -> None:
             Table("headline", "Table 1, ours beside the paper", linked, COLUMNS, csv="headline.csv"),
             *([Text(REDUCED_NOTE, "note")] if reduced else [])
         ])
-        (root / f"headline.{page}").write_text(doc.html() if page == "html" else doc.markdown())
+        write_file(root / f"headline.{page}", doc.html() if page == "html" else doc.markdown())
