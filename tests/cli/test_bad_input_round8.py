@@ -168,3 +168,12 @@ def test_a_full_disk_while_writing_a_runs_report_is_one_sentence(results, monkey
     refused(results, ["report", "smoke", "--root", results],
             f"the report of smoke/default could not be written: cannot write {path}: no space left "
             "on device; free some space there and run the command again")
+
+
+def test_report_jobs_beyond_four_per_core_are_refused_before_any_starts(results):
+    """``report --jobs 100000`` had loky start processes until the command was killed (two runs to
+    report), each left running."""
+    cores, jobs = os.cpu_count(), 4 * os.cpu_count() + 1
+    refused(results, ["report", "--jobs", jobs, "--root", results],
+            f"--jobs {jobs}: more than 4 processes per core of this machine ({cores} cores); give at "
+            f"most {4 * cores}, or -1 for one per core.", seconds=60)

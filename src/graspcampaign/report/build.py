@@ -204,6 +204,7 @@ def build_reports(studies: list[str] | None = None, run: str | Mapping[str, str]
     else:
         from joblib import Parallel, delayed
 
+        n_jobs = min(n_jobs, len(stores)) if n_jobs > 0 else n_jobs  # loky starts every one asked
         outcomes = Parallel(n_jobs=n_jobs)(delayed(_report_in_worker)(store, root, formats, figure_format)
                                            for store in stores)
     for written, failure in outcomes:
