@@ -177,3 +177,14 @@ def test_report_jobs_beyond_four_per_core_are_refused_before_any_starts(results)
     refused(results, ["report", "--jobs", jobs, "--root", results],
             f"--jobs {jobs}: more than 4 processes per core of this machine ({cores} cores); give at "
             f"most {4 * cores}, or -1 for one per core.", seconds=60)
+
+
+@pytest.mark.parametrize(("command", "missing"), [
+    ("status", "no run at {root}/smoke/defualt"),
+    ("report", "no run 'defualt' of study 'smoke' under {root}"),
+])
+def test_a_misspelt_run_is_named_beside_the_command_that_would_make_it(results, command, missing):
+    """Only the command making a run 'defualt' was suggested."""
+    refused(results, [command, "smoke", "--run", "defualt", "--root", results],
+            missing.format(root=results) + " (did you mean --run default, a run of smoke there?); run "
+            f"`graspcampaign run smoke --run defualt --root {results}` first.")

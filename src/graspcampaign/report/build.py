@@ -14,7 +14,7 @@ from typing import Any
 
 import pandas as pd
 
-from graspcampaign.campaign.paths import check_root, how_to_make
+from graspcampaign.campaign.paths import check_root, how_to_make, near_run
 from graspcampaign.campaign.provenance import read_manifest
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.errors import ConfigError, UserInputError
@@ -152,8 +152,8 @@ def _runs(root: Path, studies: list[str] | None, run: str | Mapping[str, str] | 
                 continue
             if manifest is None:
                 if wanted is not None:
-                    raise UserInputError(f"no run {r!r} of study {name!r} under {root}; "
-                                         f"{how_to_make(root, name, r)}")
+                    raise UserInputError(f"no run {r!r} of study {name!r} under {root}"
+                                         f"{near_run(root, name, r)}; {how_to_make(root, name, r)}")
                 continue
             stores.append(store)
     if not stores and not failed:
