@@ -16,6 +16,7 @@ from pathlib import Path
 import pytest
 from cli_checks import BG, SMOKE, invoke, refused, replaced, snapshot
 
+from graspcampaign.campaign import studyfile
 from graspcampaign.campaign.records import RunStore
 
 
@@ -188,3 +189,55 @@ def test_a_misspelt_run_is_named_beside_the_command_that_would_make_it(results, 
     refused(results, [command, "smoke", "--run", "defualt", "--root", results],
             missing.format(root=results) + " (did you mean --run default, a run of smoke there?); run "
             f"`graspcampaign run smoke --run defualt --root {results}` first.")
+
+
+def test_a_catalog_cache_this_code_did_not_write_is_recomputed(tmp_path, monkeypatch):
+    """A cache file holding a JSON list was a traceback (AttributeError) of `list` and `show`."""
+    (tmp_path / "catalog.json").write_text("[1, 2]")
+    monkeypatch.setenv("GRASPCAMPAIGN_CACHE", str(tmp_path))
+    listed = invoke("list", "--names")
+    assert listed.exit_code == 0 and "baseline_grid" in listed.stdout.split()
+
+
+NOBODY = "~graspcampaign-no-such-user"  # no system has this user, so no home directory to read
+
+
+@pytest.mark.parametrize(("variable", "message"), [
+    ("GRASPCAMPAIGN_HOME", "error: GRASPCAMPAIGN_HOME={value} starts with {nobody}, a home directory "
+     "that cannot be found; point it at a directory holding conf/ (with conf/config.yaml and the "
+     "config groups) and campaigns/ (the study files), e.g. a copy of the shipped ones, or unset it "
+     "to use those.\n"),
+    ("GRASPCAMPAIGN_PATH", "warning: GRASPCAMPAIGN_PATH entry {value} starts with {nobody}, a home "
+     "directory that cannot be found; it is skipped.\n"),
+    ("GRASPCAMPAIGN_CACHE", "warning: GRASPCAMPAIGN_CACHE={value} cannot be written (starts with "
+     "{nobody}, a home directory that cannot be found), so the catalog cache is not kept; list and "
+     "show work without it, recomputing what they need (slower).\n"),
+])
+def test_a_home_directory_that_cannot_be_found_is_named(tmp_path, monkeypatch, variable, message):
+    """Each was a traceback (RuntimeError: Could not determine home directory.), and the cache
+    would have been kept in a directory named '~...' under the current one."""
+    value = f"{NOBODY}/x"
+    monkeypatch.setenv(variable, value)
+    monkeypatch.chdir(tmp_path)
+    studyfile.project_dirs.cache_clear()
+    try:
+        listed = invoke("list", "--names")
+    finally:
+        studyfile.project_dirs.cache_clear()
+    assert listed.stderr == message.format(value=value, nobody=NOBODY)
+    assert listed.exit_code == (2 if variable == "GRASPCAMPAIGN_HOME" else 0)
+    assert not any(tmp_path.iterdir())
+
+
+def test_a_study_file_under_an_unknown_home_is_named(tmp_path):
+    refused(tmp_path, ["show", f"{NOBODY}/mine.yaml"], f"study file {NOBODY}/mine.yaml starts with "
+            f"{NOBODY}, a home directory that cannot be found; give its path in full.")
+
+
+def test_the_catalog_cache_under_a_home_is_kept_there_not_in_the_current_directory(tmp_path,
+                                                                                  monkeypatch):
+    monkeypatch.setenv("HOME", str(tmp_path / "home"))
+    monkeypatch.setenv("GRASPCAMPAIGN_CACHE", "~/cache")
+    monkeypatch.chdir(tmp_path)
+    assert invoke("list", "--names").exit_code == 0
+    assert (tmp_path / "home" / "cache" / "catalog.json").is_file() and not (tmp_path / "~").exists()

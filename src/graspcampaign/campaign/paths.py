@@ -112,6 +112,16 @@ def _not_a_results_root(root: Path) -> str | None:
     return None
 
 
+def expand_home(path: str | os.PathLike) -> tuple[Path, str | None]:
+    """``path`` with a leading ``~`` or ``~user`` read as that home directory, as a shell reads it
+    (an environment variable set in a file, or a quoted argument, reaches the tool with it), and
+    None; or ``path`` as given and why it cannot be read so (no such user, no HOME), in words."""
+    try:
+        return Path(path).expanduser(), None
+    except RuntimeError:  # pathlib's "Could not determine home directory."
+        return Path(path), f"starts with {Path(path).parts[0]}, a home directory that cannot be found"
+
+
 def how_to_make(root: Path | str, study: str, run: str | None = None,
                 overrides: Sequence[str] = ()) -> str:
     """The end of a "no such run" message: the command that makes run ``run`` of ``study`` (default:
