@@ -241,3 +241,15 @@ def test_the_catalog_cache_under_a_home_is_kept_there_not_in_the_current_directo
     monkeypatch.chdir(tmp_path)
     assert invoke("list", "--names").exit_code == 0
     assert (tmp_path / "home" / "cache" / "catalog.json").is_file() and not (tmp_path / "~").exists()
+
+
+@pytest.mark.parametrize(("args", "where"), [
+    # it wrote records/sheet.csv and .parquet: every command then refused the run as damaged
+    (["schedule", "test2_grasp", "--out", "{run}/records/sheet"], "--out {run}/records/sheet"),
+    (["reproduce", "--times", "{run}/times.txt"], "--times {run}/times.txt"),
+])
+def test_an_output_inside_a_run_directory_is_refused(results, args, where):
+    run = results / "smoke" / "default"
+    refused(results, [*(a.format(run=run) for a in args), "--root", results],
+            f"{where.format(run=run)} is inside the directory of run smoke/default ({run}), which "
+            "holds that run's files only; give a path outside it.")

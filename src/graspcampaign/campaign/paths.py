@@ -97,11 +97,10 @@ def _not_a_results_root(root: Path) -> str | None:
     """Why ``root`` is a run's (a directory holding ``manifest.json``) or a study's place rather
     than a results root, with the root that holds it; None if it is neither."""
     absolute = Path(os.path.abspath(root))
-    for i, where in enumerate([absolute, *absolute.parents]):
-        if os.path.lexists(where / "manifest.json"):
-            run = f"run {where.parent.name}/{where.name}"
-            what = f"the directory of {run}" if i == 0 else f"inside {run} ({where})"
-            return f"it is {what}; give the results root that holds it ({where.parent.parent})"
+    if (where := run_around(absolute)) is not None:
+        run = f"run {where.parent.name}/{where.name}"
+        what = f"the directory of {run}" if where == absolute else f"inside {run} ({where})"
+        return f"it is {what}; give the results root that holds it ({where.parent.parent})"
     try:
         folders = [entry for entry in os.scandir(absolute) if entry.is_dir()]
     except OSError:
@@ -110,6 +109,13 @@ def _not_a_results_root(root: Path) -> str | None:
         return (f"it holds the runs of study {absolute.name}; give the results root that holds "
                 f"it ({absolute.parent})")
     return None
+
+
+def run_around(path: Path) -> Path | None:
+    """The run directory (one holding ``manifest.json``) that ``path`` is or lies inside, or None."""
+    absolute = Path(os.path.abspath(path))
+    return next((where for where in [absolute, *absolute.parents]
+                 if os.path.lexists(where / "manifest.json")), None)
 
 
 def expand_home(path: str | os.PathLike) -> tuple[Path, str | None]:
