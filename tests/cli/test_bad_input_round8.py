@@ -11,8 +11,10 @@ import errno
 import fcntl
 import os
 import shutil
+import zipfile
 from pathlib import Path
 
+import pandas as pd
 import pytest
 from cli_checks import BG, SMOKE, invoke, refused, replaced, snapshot
 
@@ -47,6 +49,28 @@ ENCRYPTED = ("the file is an Excel workbook saved with a password (encrypted), w
 def test_an_old_or_encrypted_excel_workbook_is_named_as_one(results, tmp_path, name, stream, message):
     path = tmp_path / name
     path.write_bytes(COMPOUND + stream.encode("utf-16-le") + bytes(64))
+    refused(results, ["ingest", "test2_grasp", path, "--root", results], f"{name}: {message}")
+
+
+@pytest.mark.parametrize(("name", "make", "message"), [
+    # these two said "the file cannot be read as xlsx (BadZipFile)." and "... parquet (ArrowInvalid)."
+    ("day1.xlsx", lambda path: pd.DataFrame({"trial_id": ["a"]}).to_excel(path, index=False),
+     "the file cannot be read as xlsx (BadZipFile); it is damaged or incomplete (a copy cut short?): "
+     "copy or save it again."),
+    ("day1.parquet", lambda path: pd.DataFrame({"trial_id": ["a"]}).to_parquet(path),
+     "the file cannot be read as parquet (ArrowInvalid); it is damaged or incomplete (a copy cut "
+     "short?): copy or save it again."),
+    # it said "the file cannot be read as xlsx (KeyError)."
+    ("day1.xlsx", lambda path: zipfile.ZipFile(path, "w").writestr("word/document.xml", "<w/>"),
+     "the file is a zip archive but not an Excel workbook (it holds no xl/workbook.xml); save the "
+     "sheet from the spreadsheet program as .xlsx or as CSV UTF-8."),
+])
+def test_a_workbook_or_table_cut_short_or_a_zip_of_another_kind_is_named(results, tmp_path, name,
+                                                                        make, message):
+    path = tmp_path / name
+    make(path)
+    if "damaged" in message:  # the first half of the file, as a copy stopped midway
+        path.write_bytes(path.read_bytes()[:path.stat().st_size // 2])
     refused(results, ["ingest", "test2_grasp", path, "--root", results], f"{name}: {message}")
 
 

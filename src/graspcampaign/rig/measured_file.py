@@ -95,8 +95,11 @@ def read_table(path: str | Path, *, csv_options: dict | None = None,
     except IngestError:
         raise
     except Exception as exc:  # the readers raise many types for corrupt files
-        raise IngestError(f"{path.name}: the file cannot be read as "
-                          f"{suffix[1:]} ({type(exc).__name__}).") from exc
+        cut = type(exc).__name__ in ("BadZipFile", "ArrowInvalid")  # no zip directory, no footer
+        raise IngestError(f"{path.name}: the file cannot be read as {suffix[1:]} "
+                          f"({type(exc).__name__})" + ("; it is damaged or incomplete (a copy cut "
+                                                        "short?): copy or save it again" if cut else "")
+                          + ".") from exc
 
 
 #: what a file of each type is, and how it begins (an xlsx workbook is a zip archive)
@@ -120,9 +123,25 @@ def _check_content(path: Path, named: str) -> None:
     if holds not in (named, None):
         raise IngestError(f"{path.name}: the file is {_TYPES[holds]}, not {_TYPES[named]} as its "
                           f"name says; rename it to {path.stem}{holds}.")
+    if holds == ".xlsx" == named and not _workbook(path):  # a .docx, an .odt: zip archives too
+        raise IngestError(f"{path.name}: the file is a zip archive but not an Excel workbook (it "
+                          "holds no xl/workbook.xml); save the sheet from the spreadsheet program "
+                          "as .xlsx or as CSV UTF-8.")
     if holds is None and named != ".csv":
         raise IngestError(f"{path.name}: the file is not {_TYPES[named]}: it does not begin as "
                           f"one does; if it is CSV text, rename it to {path.stem}.csv.")
+
+
+def _workbook(path: Path) -> bool:
+    """Whether the zip archive ``path`` holds an Excel workbook's main part (or cannot be listed:
+    the reader then says why)."""
+    import zipfile
+
+    try:
+        with zipfile.ZipFile(path) as archive:
+            return "xl/workbook.xml" in archive.namelist()
+    except (zipfile.BadZipFile, OSError):
+        return True
 
 
 def _check_compound(path: Path) -> None:
