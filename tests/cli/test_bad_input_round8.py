@@ -16,6 +16,7 @@ from pathlib import Path
 
 import pandas as pd
 import pytest
+import trimesh
 from cli_checks import BG, SMOKE, invoke, refused, replaced, snapshot
 
 from graspcampaign.campaign import studyfile
@@ -271,9 +272,13 @@ def test_the_catalog_cache_under_a_home_is_kept_there_not_in_the_current_directo
     # it wrote records/sheet.csv and .parquet: every command then refused the run as damaged
     (["schedule", "test2_grasp", "--out", "{run}/records/sheet"], "--out {run}/records/sheet"),
     (["reproduce", "--times", "{run}/times.txt"], "--times {run}/times.txt"),
+    (["plan", "{mesh}", "--mass-kg", "0.1", "--png", "{run}/records/plan.png"],
+     "--png {run}/records/plan.png"),
 ])
 def test_an_output_inside_a_run_directory_is_refused(results, args, where):
-    run = results / "smoke" / "default"
-    refused(results, [*(a.format(run=run) for a in args), "--root", results],
+    run, mesh = results / "smoke" / "default", results.parent / "sphere.stl"
+    trimesh.creation.icosphere(subdivisions=2, radius=40.0).export(mesh)
+    given = [a.format(run=run, mesh=mesh) for a in args]
+    refused(results, [*given, *(["--root", results] if args[0] != "plan" else [])],
             f"{where.format(run=run)} is inside the directory of run smoke/default ({run}), which "
             "holds that run's files only; give a path outside it.")

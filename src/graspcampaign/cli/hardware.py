@@ -19,6 +19,7 @@ from graspcampaign.cli.app import (
     compose,
     fail,
     guard,
+    outside_runs,
     path_or_empty,
     state,
     writable_stem,
@@ -143,11 +144,13 @@ def plan(
         fail(f"{mesh} is a directory; give a mesh file (STL, OBJ or PLY).")
     if not mesh.is_file():
         fail(f"{mesh}: no such mesh file.")
+    picture, option = ((mesh.with_suffix(".plan.png"), "the default picture") if png is None
+                       else (png, "--png"))
+    outside_runs(picture, option)
     try:  # plan_mesh checks the picture path before any planning work
         result = plan_mesh(mesh, mass_kg=mass_kg, material=material, mu=mu,
                            fingertip_radius_mm=fingertip_radius_mm, unit=unit,
-                           png_path=mesh.with_suffix(".plan.png") if png is None else png,
-                           png_option="the default picture" if png is None else "--png")
+                           png_path=picture, png_option=option)
     except PicturePathError as exc:
         fail(str(exc) if png is not None else
               f"{str(exc).rstrip('.')}; pass --png with a path where the picture can be written.")
