@@ -282,3 +282,20 @@ def test_an_output_inside_a_run_directory_is_refused(results, args, where):
     refused(results, [*given, *(["--root", results] if args[0] != "plan" else [])],
             f"{where.format(run=run)} is inside the directory of run smoke/default ({run}), which "
             "holds that run's files only; give a path outside it.")
+
+
+@pytest.mark.parametrize(("args", "what", "wanted"), [
+    (["ingest", "test2_grasp", "{path}"], "{path}", "a file of measured records (CSV, XLSX or Parquet)"),
+    (["show", "{path}"], "study file {path}", "a YAML file"),
+    (["plan", "{path}", "--mass-kg", "0.1"], "{path}", "a mesh file (STL, OBJ or PLY)"),
+])
+@pytest.mark.parametrize("special", ["named pipe", "/dev/null"])
+def test_a_named_pipe_or_a_device_given_for_a_file_is_named_as_one(results, tmp_path, args, what,
+                                                                   wanted, special):
+    """Each said "no such file" (or "does not exist") of a file that exists."""
+    path = tmp_path / ("given.yaml" if args[0] == "show" else "given.csv")
+    os.mkfifo(path) if special == "named pipe" else path.symlink_to(os.devnull)
+    kind = "a named pipe (FIFO)" if special == "named pipe" else "a character device"
+    rooted = [] if args[0] == "plan" else ["--root", results]
+    refused(results, [*(a.format(path=path) for a in args), *rooted],
+            f"{what.format(path=path)} is {kind}, not a regular file; give {wanted}.")

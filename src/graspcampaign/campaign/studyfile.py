@@ -25,7 +25,7 @@ from functools import cache
 from pathlib import Path
 from typing import Any
 
-from graspcampaign.campaign.paths import expand_home
+from graspcampaign.campaign.paths import expand_home, path_problem
 from graspcampaign.errors import ConfigError, UserInputError
 
 _RUN_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
@@ -175,6 +175,9 @@ def find_study(study: str) -> Path:
             raise ConfigError(f"study file {study} {unknown}; give its path in full.")
         if path.is_dir():
             raise ConfigError(f"study file {study} is a directory, not a file.")
+        if path.exists() and not path.is_file():  # it said "does not exist"
+            raise ConfigError(f"study file {study} {path_problem(path, directory=False)}; give a "
+                              "YAML file.")
         if not path.is_file():
             raise ConfigError(f"study file {study} does not exist.")
         if path.suffix not in _SUFFIXES:

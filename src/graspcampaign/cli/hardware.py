@@ -134,6 +134,7 @@ def plan(
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
 ) -> None:
     """Plan a three-finger grasp on a mesh and predict the disturbances it resists."""
+    from graspcampaign.campaign.paths import path_problem
     from graspcampaign.rig.plan import PicturePathError, plan_mesh
 
     if mesh == "":  # as a Path, "" would read "." (path_or_empty)
@@ -142,6 +143,8 @@ def plan(
         fail("--png is empty; give a picture path ending in .png, such as plan.png.")
     if mesh.is_dir():
         fail(f"{mesh} is a directory; give a mesh file (STL, OBJ or PLY).")
+    if mesh.exists() and not mesh.is_file():  # a named pipe, /dev/null: not "no such file"
+        fail(f"{mesh} {path_problem(mesh, directory=False)}; give a mesh file (STL, OBJ or PLY).")
     if not mesh.is_file():
         fail(f"{mesh}: no such mesh file.")
     picture, option = ((mesh.with_suffix(".plan.png"), "the default picture") if png is None
