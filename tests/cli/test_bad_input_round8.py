@@ -7,8 +7,10 @@ Each refusal: exit 2, one sentence naming what is wrong and where, nothing store
 
 from __future__ import annotations
 
+import builtins
 import errno
 import fcntl
+import io
 import os
 import shutil
 import zipfile
@@ -152,8 +154,8 @@ def test_a_run_whose_directory_another_run_removes_meanwhile_runs(tmp_path, monk
     ("smoke/default/report", Path.touch, "the report of smoke/default could not be written: "
      "{path} is a file where the report's directory belongs; move it aside and report again"),
     # a traceback (IsADirectoryError), exit 1
-    ("index.md", Path.mkdir, "{path} is a directory where the report's file belongs; move it aside "
-                             "and report again."),
+    ("index.md", Path.mkdir, "{path} is a directory where this command writes a file; move it "
+                             "aside and run the command again."),
 ])
 def test_a_file_where_a_report_directory_belongs_or_the_reverse_is_named(results, place, make,
                                                                          message):
@@ -164,18 +166,39 @@ def test_a_file_where_a_report_directory_belongs_or_the_reverse_is_named(results
 
 
 def _cut_short(monkeypatch, name: str, exc: BaseException) -> None:
-    """Make every write of a file whose name holds ``name`` (or of its temporary file) stop with
-    ``exc``, after writing the first 100 characters of it (as a Ctrl-C or a full disk midway)."""
-    for method in ("write_text", "write_bytes"):
-        write = getattr(Path, method)
+    """Make every file opened for writing whose name holds ``name`` (or its temporary file's) stop
+    with ``exc`` after its first 100 bytes or characters, as a Ctrl-C or a full disk midway (by
+    ``open``, which pathlib, pandas and pyarrow's Python files all write through)."""
+    real = io.open
 
-        def cut(self, data, *args, write=write, **kwargs):
-            if name not in self.name:
-                return write(self, data, *args, **kwargs)
-            write(self, data[:100], *args, **kwargs)
+    class Cut:
+        def __init__(self, handle):
+            self.handle = handle
+
+        def write(self, data):
+            self.handle.write(data[:100])
+            self.handle.flush()
             raise exc
 
-        monkeypatch.setattr(Path, method, cut)
+        def __getattr__(self, attribute):
+            return getattr(self.handle, attribute)
+
+        def __enter__(self):
+            return self
+
+        def __exit__(self, *exc_info):
+            return self.handle.__exit__(*exc_info)
+
+        def __iter__(self):
+            return iter(self.handle)
+
+    def opening(file, mode="r", *args, **kwargs):
+        handle = real(file, mode, *args, **kwargs)
+        writing = isinstance(file, (str, os.PathLike)) and set(mode) & set("wax")
+        return Cut(handle) if writing and name in os.path.basename(file) else handle
+
+    monkeypatch.setattr(io, "open", opening)
+    monkeypatch.setattr(builtins, "open", opening)
 
 
 def test_a_report_interrupted_while_writing_leaves_every_file_whole(results, monkeypatch):
@@ -194,6 +217,20 @@ def test_a_full_disk_while_writing_a_runs_report_is_one_sentence(results, monkey
     refused(results, ["report", "smoke", "--root", results],
             f"the report of smoke/default could not be written: cannot write {path}: no space left "
             "on device; free some space there and run the command again")
+
+
+def test_a_schedule_interrupted_while_writing_its_sheet_can_be_written_again(results, tmp_path,
+                                                                            monkeypatch):
+    """The sheet was written in place: a Ctrl-C midway left its first part, and `schedule` again
+    refused it as a sheet that "already exists and differs" (filled in?)."""
+    command = ["schedule", "test3_disturbance", "params.fraction=0.05", "--out", tmp_path / "day1",
+               "--root", results]
+    with monkeypatch.context() as stopped:
+        _cut_short(stopped, "day1.csv", KeyboardInterrupt())
+        invoke(*command)
+    assert not (tmp_path / "day1.csv").exists()
+    again = invoke(*command)
+    assert again.exit_code == 0, again.output
 
 
 def test_report_jobs_beyond_four_per_core_are_refused_before_any_starts(results):

@@ -176,3 +176,20 @@ def _ingests(study: str) -> bool:
         return get_kind(str(kind)).ingest is not None
     except UserInputError:  # unknown, broken or not runnable: not a protocol to ingest into
         return False
+
+
+def write_file(path: Path, data: str | bytes) -> None:
+    """Write ``data`` (text as UTF-8) as ``path`` through a hidden temporary file beside it, so
+    that a write stopped midway (Ctrl-C, a full disk) leaves ``path`` as it was, never half written,
+    and no temporary file behind."""
+    if path.is_dir():  # os.replace would say only "Is a directory"
+        raise UserInputError(f"{path} is a directory where this command writes a file; move it "
+                             "aside and run the command again.")
+    tmp = path.with_name(f".{path.name}.tmp")
+    try:
+        tmp.write_bytes(data.encode("utf-8") if isinstance(data, str) else data)
+        os.replace(tmp, path)
+    except OSError as exc:  # named by the file it was for, not the temporary one
+        raise OSError(exc.errno, exc.strerror, str(path)) from None
+    finally:
+        tmp.unlink(missing_ok=True)

@@ -48,7 +48,7 @@ def schedule(
     """Write a hardware protocol's commanded-trial sheet (CSV and Parquet)."""
     from graspcampaign.analysis.vocabulary import counted
     from graspcampaign.campaign.kind import get_kind
-    from graspcampaign.campaign.paths import path_problem
+    from graspcampaign.campaign.paths import path_problem, write_file
     from graspcampaign.campaign.runner import kind_params
 
     check_root(root, write=out is None)
@@ -83,10 +83,10 @@ def schedule(
                  "another --out, so that it is not written over.")
     try:
         stem.parent.mkdir(parents=True, exist_ok=True)
-        for suffix, table in sheets.items():
-            table.to_csv(file(f"{suffix}.csv"), index=False)
+        for suffix, table in sheets.items():  # each whole or not at all: a Ctrl-C leaves no half
+            write_file(file(f"{suffix}.csv"), table.to_csv(index=False))  # sheet that then "differs"
             if not suffix:
-                table.to_parquet(file(".parquet"), index=False)
+                write_file(file(".parquet"), table.to_parquet(index=False))
     except OSError as exc:  # permissions, a full disk
         fail(f"--out {stem}: cannot write there ({exc.strerror or type(exc).__name__}).")
     typer.echo(f"{counted(len(sheet), 'commanded trial')} -> {file('.csv')} and .parquet")

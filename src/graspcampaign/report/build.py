@@ -14,7 +14,7 @@ from typing import Any
 
 import pandas as pd
 
-from graspcampaign.campaign.paths import check_root, how_to_make, near_run
+from graspcampaign.campaign.paths import check_root, how_to_make, near_run, write_file
 from graspcampaign.campaign.provenance import read_manifest
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.errors import ConfigError, UserInputError
@@ -280,4 +280,4 @@ def write_index_page(root: Path, page: str, frame: pd.DataFrame) -> None:
         Table("index", "Every run's report", frame, [
             Col("study", "study"), Col("run", "run", link="report"), Col("source", "source"),
             Col("trials", "trials")], csv=None)])
-    D.write_file(root / f"index.{page}", doc.html() if page == "html" else doc.markdown())
+    write_file(root / f"index.{page}", doc.html() if page == "html" else doc.markdown())

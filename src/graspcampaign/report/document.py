@@ -18,6 +18,7 @@ from typing import Any
 import pandas as pd
 
 from graspcampaign.analysis.vocabulary import FACTOR_LABELS, UNITS, VOCABULARIES, label
+from graspcampaign.campaign.paths import write_file
 from graspcampaign.errors import UserInputError
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
@@ -302,23 +303,6 @@ def _json(value: Any) -> Any:
     if value is pd.NA or value is pd.NaT or (isinstance(value, float) and math.isnan(value)):
         return None
     return ("inf" if value > 0 else "-inf") if isinstance(value, float) and math.isinf(value) else value
-
-
-def write_file(path: Path, data: str | bytes) -> None:
-    """Write ``data`` (text as UTF-8) as ``path`` through a hidden temporary file beside it, so
-    that a write stopped midway (Ctrl-C, a full disk) leaves ``path`` as it was, never half written,
-    and no temporary file behind."""
-    if path.is_dir():  # os.replace would say only "Is a directory"
-        raise UserInputError(f"{path} is a directory where the report's file belongs; move it "
-                             "aside and report again.")
-    tmp = path.with_name(f".{path.name}.tmp")
-    try:
-        tmp.write_bytes(data.encode("utf-8") if isinstance(data, str) else data)
-        os.replace(tmp, path)
-    except OSError as exc:  # named by the file it was for, not the temporary one
-        raise OSError(exc.errno, exc.strerror, str(path)) from None
-    finally:
-        tmp.unlink(missing_ok=True)
 
 
 @dataclass

@@ -13,11 +13,12 @@ import pandas as pd
 from graspcampaign.analysis.records import rate_table
 from graspcampaign.analysis.vocabulary import PROPOSED, label
 from graspcampaign.campaign.paper import check_paper, study_paper
+from graspcampaign.campaign.paths import write_file
 from graspcampaign.campaign.provenance import design_change
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.errors import ConfigError, DamagedRunError, UserInputError
 from graspcampaign.report import format as fmt
-from graspcampaign.report.document import Col, Document, Table, Text, write_file
+from graspcampaign.report.document import Col, Document, Table, Text
 from graspcampaign.report.render import reason
 from graspcampaign.report.spec import verdicts
 from graspcampaign.report.style import SOURCE_SHORT
