@@ -194,8 +194,8 @@ def _bad(export: pd.DataFrame, kind: str, folder, store):
     if kind == "corrupt":
         path = folder / "broken.parquet"
         path.write_bytes(b"PAR1 not really parquet")
-        return [path], (r"broken\.parquet: the file cannot be read as parquet "
-                        r"\(\w+\)\.")
+        return [path], (r"broken\.parquet: the file cannot be read as parquet \(ArrowInvalid\); it "
+                        r"is damaged or incomplete \(a copy cut short\?\): copy or save it again\.")
     if kind == "no_rows":
         df = df.iloc[:0]
         msg = at + r"header, column 'trial_id': the file has no data rows\."

@@ -172,14 +172,15 @@ def test_a_full_disk_while_writing_records_loses_nothing_and_the_run_resumes(res
 
 
 def test_a_full_disk_anywhere_else_is_one_sentence(results, monkeypatch):
-    write_text = Path.write_text
+    def full(write):
+        def writing(self, *args, **kwargs):
+            if "index.md" in self.name:  # the root pages (or their temporary files), written last
+                raise _disk_full(self)
+            return write(self, *args, **kwargs)
+        return writing
 
-    def full(self, *args, **kwargs):
-        if self.name == "index.md":  # the root pages, written after the runs' reports
-            raise _disk_full(self)
-        return write_text(self, *args, **kwargs)
-
-    monkeypatch.setattr(Path, "write_text", full)
+    monkeypatch.setattr(Path, "write_text", full(Path.write_text))
+    monkeypatch.setattr(Path, "write_bytes", full(Path.write_bytes))
     result = invoke("report", "smoke", "--root", results)
     assert result.exit_code == 2 and result.stdout == ""
     assert result.stderr == (f"error: cannot write {results / 'index.md'}: no space left on device; "

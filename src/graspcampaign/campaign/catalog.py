@@ -15,6 +15,7 @@ unwritable cache directory only makes ``list`` and ``show`` slower.
 
 from __future__ import annotations
 
+import errno
 import hashlib
 import json
 import logging
@@ -24,6 +25,7 @@ from pathlib import Path
 from typing import Any
 
 import graspcampaign
+from graspcampaign.campaign.paths import expand_home
 
 log = logging.getLogger(__name__)
 
@@ -40,15 +42,23 @@ def source_hash() -> str:
 
 
 def cache_path() -> Path:
-    """Return the catalog's cache file (see the module docstring)."""
-    base = os.environ.get("GRASPCAMPAIGN_CACHE")
-    if not base:
-        xdg = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-        base = os.path.join(xdg, "graspcampaign")
-    return Path(base) / "catalog.json"
+    """Return the catalog's cache file (see the module docstring), ``~`` read as a shell reads it.
+
+    Raises
+    ------
+    OSError
+        When its place names a home directory that cannot be found (``~nosuchuser/cache``; no
+        HOME): there is no cache then, as when it cannot be written.
+    """
+    base = os.environ.get("GRASPCAMPAIGN_CACHE") or os.path.join(
+        os.environ.get("XDG_CACHE_HOME") or os.path.join("~", ".cache"), "graspcampaign")
+    path, unknown = expand_home(base)
+    if unknown:
+        raise OSError(errno.ENOENT, unknown)
+    return path / "catalog.json"
 
 
-def _cache_unusable(path: Path, exc: OSError) -> None:
+def _cache_unusable(exc: OSError) -> None:
     """Say that the cache cannot be written (``list`` and ``show`` then recompute their facts,
     slower): a warning, printed once per command, where the user chose the place; quietly
     otherwise."""
@@ -58,7 +68,7 @@ def _cache_unusable(path: Path, exc: OSError) -> None:
         return
     import warnings
 
-    base = Path(chosen).expanduser()
+    base = expand_home(chosen)[0]
     reason = ("is not a directory" if base.exists() and not base.is_dir()
               else f"cannot be written ({exc.strerror or type(exc).__name__})")
     warnings.warn(f"GRASPCAMPAIGN_CACHE={chosen} {reason}, so the catalog cache is not kept; list "
@@ -70,21 +80,25 @@ def _load() -> dict[str, Any]:
         data = json.loads(cache_path().read_text())
     except (OSError, ValueError):
         return {"source": source_hash()}
-    return data if data.get("source") == source_hash() else {"source": source_hash()}
+    # a file this code did not write (valid JSON, but a list, or a section that is no mapping) is
+    # as good as none: the facts are recomputed and the file written over
+    if not isinstance(data, dict) or data.get("source") != source_hash():
+        return {"source": source_hash()}
+    return {k: v for k, v in data.items() if k == "source" or isinstance(v, dict)}
 
 
 def _remember(section: str, key: str, value: Any) -> None:
     """Store one fact (re-reading the file first, so concurrent writers lose little)."""
     data = _load()
     data.setdefault(section, {})[key] = value
-    path = cache_path()
     try:
+        path = cache_path()
         path.parent.mkdir(parents=True, exist_ok=True)
         tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
         tmp.write_text(json.dumps(data, sort_keys=True))
         os.replace(tmp, path)
     except OSError as exc:
-        _cache_unusable(path, exc)
+        _cache_unusable(exc)
 
 
 def _fact(section: str, key: str, compute) -> Any:

@@ -67,6 +67,24 @@ def _mapping_keys(value: str) -> list[str]:
     return keys
 
 
+def _n_values(value: str) -> int:
+    """The comma-separated values of an override's ``value``, as Hydra's grammar splits them: a
+    comma inside a quoted string (``'a,b'``; a backslash escapes the next character) separates
+    nothing, and its parse takes a time linear in the string. A quote never closed is no string
+    to Hydra either: its commas count."""
+    n, i = 1, 0
+    while i < len(value):
+        char = value[i]
+        if char in "'\"":
+            end = re.match(rf"(?:\\.|[^\\{char}])*{char}", value[i + 1:], re.DOTALL)
+            if end:
+                i += 1 + end.end()
+                continue
+        n += char == ","
+        i += 1
+    return n
+
+
 def check_overrides(given: list[str]) -> None:
     """Refuse, before composition, overrides Hydra would misread or silently ignore.
 
@@ -87,7 +105,7 @@ def check_overrides(given: list[str]) -> None:
                         f"overrides {first!r} and {item!r} both name {name}")
                 raise ConfigError(f"{said}; give it once (Hydra would keep the last silently).", key=name)
             named[name.removeprefix("factors.")] = item
-        if (values := value.count(",") + 1) > MAX_OVERRIDE_VALUES:  # before Hydra parses it
+        if (values := _n_values(value)) > MAX_OVERRIDE_VALUES:  # before Hydra parses it
             raise ConfigError(f"override {item!r} holds {values:,} comma-separated values, more "
                               f"than an override can hold ({MAX_OVERRIDE_VALUES:,}); give them in "
                               "a study file instead (a copy of the study run by its path, e.g. "

@@ -12,6 +12,7 @@ import os
 import shlex
 import stat
 import tempfile
+from collections.abc import Sequence
 from pathlib import Path
 
 from graspcampaign.errors import UserInputError
@@ -96,11 +97,10 @@ def _not_a_results_root(root: Path) -> str | None:
     """Why ``root`` is a run's (a directory holding ``manifest.json``) or a study's place rather
     than a results root, with the root that holds it; None if it is neither."""
     absolute = Path(os.path.abspath(root))
-    for i, where in enumerate([absolute, *absolute.parents]):
-        if os.path.lexists(where / "manifest.json"):
-            run = f"run {where.parent.name}/{where.name}"
-            what = f"the directory of {run}" if i == 0 else f"inside {run} ({where})"
-            return f"it is {what}; give the results root that holds it ({where.parent.parent})"
+    if (where := run_around(absolute)) is not None:
+        run = f"run {where.parent.name}/{where.name}"
+        what = f"the directory of {run}" if where == absolute else f"inside {run} ({where})"
+        return f"it is {what}; give the results root that holds it ({where.parent.parent})"
     try:
         folders = [entry for entry in os.scandir(absolute) if entry.is_dir()]
     except OSError:
@@ -111,10 +111,29 @@ def _not_a_results_root(root: Path) -> str | None:
     return None
 
 
-def how_to_make(root: Path | str, study: str, run: str | None = None) -> str:
+def run_around(path: Path) -> Path | None:
+    """The run directory (one holding ``manifest.json``) that ``path`` is or lies inside, or None."""
+    absolute = Path(os.path.abspath(path))
+    return next((where for where in [absolute, *absolute.parents]
+                 if os.path.lexists(where / "manifest.json")), None)
+
+
+def expand_home(path: str | os.PathLike) -> tuple[Path, str | None]:
+    """``path`` with a leading ``~`` or ``~user`` read as that home directory, as a shell reads it
+    (an environment variable set in a file, or a quoted argument, reaches the tool with it), and
+    None; or ``path`` as given and why it cannot be read so (no such user, no HOME), in words."""
+    try:
+        return Path(path).expanduser(), None
+    except RuntimeError:  # pathlib's "Could not determine home directory."
+        return Path(path), f"starts with {Path(path).parts[0]}, a home directory that cannot be found"
+
+
+def how_to_make(root: Path | str, study: str, run: str | None = None,
+                overrides: Sequence[str] = ()) -> str:
     """The end of a "no such run" message: the command that makes run ``run`` of ``study`` (default:
     its configured run) under ``root``, with the options it needs (a hardware protocol's ``measured``
-    run: ``ingest``)."""
+    run: ``ingest``) and the ``overrides`` a run already started was given (without them `run`
+    refuses it as started with another config)."""
     from graspcampaign.campaign.studyfile import configured_run
 
     rooted = root_options(root)
@@ -122,7 +141,22 @@ def how_to_make(root: Path | str, study: str, run: str | None = None) -> str:
         command = " ".join(["graspcampaign ingest", shlex.quote(study), "FILE…", *map(shlex.quote, rooted)])
         return f"store the rig's measured records with `{command}` first."
     options = [] if run in (None, configured_run(study)) else ["--run", run]
-    return f"run `{shlex.join(['graspcampaign', 'run', study, *options, *rooted])}` first."
+    return f"run `{shlex.join(['graspcampaign', 'run', study, *overrides, *options, *rooted])}` first."
+
+
+def near_run(root: Path | str, study: str, run: str) -> str:
+    """For a "no run at PATH" message: `` (did you mean --run NAME, a run of STUDY there?)`` naming
+    the stored run of ``study`` under ``root`` nearest ``run`` (a misspelt --run), or ``""``: the
+    command that makes ``run`` is the advice only when no run there is named alike."""
+    import difflib
+
+    try:
+        runs = [e.name for e in os.scandir(Path(root) / study)
+                if os.path.isfile(os.path.join(e.path, "manifest.json"))]
+    except OSError:
+        return ""
+    near = difflib.get_close_matches(run, runs, n=1)
+    return f" (did you mean --run {near[0]}, a run of {study} there?)" if near else ""
 
 
 def root_options(root: Path | str) -> list[str]:
@@ -142,3 +176,20 @@ def _ingests(study: str) -> bool:
         return get_kind(str(kind)).ingest is not None
     except UserInputError:  # unknown, broken or not runnable: not a protocol to ingest into
         return False
+
+
+def write_file(path: Path, data: str | bytes) -> None:
+    """Write ``data`` (text as UTF-8) as ``path`` through a hidden temporary file beside it, so
+    that a write stopped midway (Ctrl-C, a full disk) leaves ``path`` as it was, never half written,
+    and no temporary file behind."""
+    if path.is_dir():  # os.replace would say only "Is a directory"
+        raise UserInputError(f"{path} is a directory where this command writes a file; move it "
+                             "aside and run the command again.")
+    tmp = path.with_name(f".{path.name}.tmp")
+    try:
+        tmp.write_bytes(data.encode("utf-8") if isinstance(data, str) else data)
+        os.replace(tmp, path)
+    except OSError as exc:  # named by the file it was for, not the temporary one
+        raise OSError(exc.errno, exc.strerror, str(path)) from None
+    finally:
+        tmp.unlink(missing_ok=True)

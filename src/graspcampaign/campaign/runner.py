@@ -418,36 +418,55 @@ def run_lock(store: RunStore, label: str) -> Iterator[None]:
     """Hold the run for this process alone (an advisory lock on ``<run>/.lock`` that the system
     releases when the run ends or its process dies), so two runs or ingests of one run never record
     a trial twice. The file is opened for writing, as NFS needs for an exclusive lock, and removed
-    by its holder at the end, as are the directories made for a run that stays empty."""
+    by its holder at the end, as are the directories made for a run that stays empty: a lock file
+    so removed after this process opened it, or its directory so removed before, is made and
+    opened again (two new runs of one run at once: the one refused by its backend removes both)."""
     import fcntl
 
     made = [p for p in (store.path, *store.path.parents) if not p.exists()]  # deepest first
-    store.path.mkdir(parents=True, exist_ok=True)
-    lock = store.path / ".lock"
-    handle = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
-    held = False
+    lock, handle, held = store.path / ".lock", None, False
     try:
-        try:
-            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
-            if not os.path.samestat(os.fstat(handle), os.stat(lock)):  # its holder removed it
-                raise BlockingIOError
-        except (BlockingIOError, FileNotFoundError):
-            raise UserInputError(f"run {label} at {store.path} is being run by another process; "
-                                 "wait for it to finish (status shows its progress), or choose "
-                                 "another run name (--run NAME).") from None
-        except OSError as exc:  # a file system without locks (NFS mounted with nolock, some SMB)
-            warnings.warn(f"run {label}: {lock} cannot be locked on its file system "
-                          f"({exc.strerror}); run it from one process at a time, since two at "
-                          "once would each record every trial.", stacklevel=3)
-        held = True
+        for _ in range(_LOCK_ATTEMPTS):
+            with contextlib.suppress(FileNotFoundError):  # the directory was removed meanwhile
+                store.path.mkdir(parents=True, exist_ok=True)
+                handle = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+            if handle is None:
+                continue
+            try:
+                fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                raise UserInputError(f"run {label} at {store.path} is being run by another process; "
+                                     "wait for it to finish (status shows its progress), or choose "
+                                     "another run name (--run NAME).") from None
+            except OSError as exc:  # a file system without locks (NFS mounted with nolock, some SMB)
+                warnings.warn(f"run {label}: {lock} cannot be locked on its file system "
+                              f"({exc.strerror}); run it from one process at a time, since two at "
+                              "once would each record every trial.", stacklevel=3)
+                held = True
+            else:
+                with contextlib.suppress(FileNotFoundError):  # its holder removed it on ending
+                    held = os.path.samestat(os.fstat(handle), os.stat(lock))
+            if held:
+                break
+            os.close(handle)  # not the lock file there now: open that one
+            handle = None
+        else:
+            raise UserInputError(f"run {label} at {store.path}: its lock file was removed "
+                                 f"{_LOCK_ATTEMPTS} times while this run opened it; run it from "
+                                 "one process at a time.")
         yield
     finally:
-        if held:  # removed while still held: a process that opened it before then is refused
+        if held:  # removed while still held: a process that opened it before then opens it again
             lock.unlink()
-        os.close(handle)
+        if handle is not None:
+            os.close(handle)
         for directory in made:
             with contextlib.suppress(OSError):  # not empty: it holds what was stored
                 directory.rmdir()
+
+
+#: Times a run opens its lock afresh after another process removed it (or its directory) meanwhile.
+_LOCK_ATTEMPTS = 10
 
 
 def _finalize(kind: TrialKind, study: StudyCfg, params: Any, store: RunStore) -> None:

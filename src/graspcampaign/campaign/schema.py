@@ -364,10 +364,18 @@ WORKERS_PER_CORE = 4
 
 def check_workers(runner: RunnerCfg) -> None:
     """Refuse more worker processes than :data:`WORKERS_PER_CORE` per core of this machine (joblib
-    and a Dask LocalCluster start as many as ``n_jobs`` says; a remote cluster has its own)."""
+    and a Dask LocalCluster start as many as ``n_jobs`` says; a remote cluster has its own), and a
+    negative ``n_jobs`` leaving more cores unused than the machine has (joblib reads it as one
+    worker, silently: -1000000 meant 1)."""
     import os
 
-    most = WORKERS_PER_CORE * (os.cpu_count() or 1)
+    cores = os.cpu_count() or 1
+    most = WORKERS_PER_CORE * cores
+    if runner.address is None and runner.backend != "sequential" and runner.n_jobs < -cores:
+        raise ConfigError(
+            f"runner.n_jobs = {runner.n_jobs} would leave {-runner.n_jobs - 1:,} cores unused, "
+            f"and this machine has {cores}; give a number of worker processes (1 to {most}), or "
+            f"-1 for one per core down to -{cores} for one worker.", key="runner.n_jobs")
     if runner.address is None and runner.workers() > most:
         raise ConfigError(
             f"runner.n_jobs = {runner.n_jobs} would start {runner.n_jobs:,} worker processes, more "

@@ -15,7 +15,7 @@ from typing import Any
 
 from graspcampaign.campaign.catalog import design_size, kind_facts
 from graspcampaign.campaign.kind import KINDS, get_kind, kind_available
-from graspcampaign.campaign.paths import check_root, how_to_make
+from graspcampaign.campaign.paths import check_root, how_to_make, near_run
 from graspcampaign.campaign.schema import StudyCfg, design_shape
 from graspcampaign.campaign.studyfile import check_name, list_studies, run_dir, run_path
 from graspcampaign.core.words import counted
@@ -223,7 +223,8 @@ def open_run(root: Path | str, study: str, run: str, option_prefix: str = "--"):
     store = RunStore(run_dir(root, study, run))
     manifest = store.check(["records"])  # a run that is not what its manifest says: refused
     if manifest is None:
-        raise UserInputError(f"no run at {store.path}; {how_to_make(root, study, run)}")
+        raise UserInputError(f"no run at {store.path}{near_run(root, study, store.path.name)}; "
+                             f"{how_to_make(root, study, run)}")
     return store, manifest
 
 

@@ -25,6 +25,7 @@ from functools import cache
 from pathlib import Path
 from typing import Any
 
+from graspcampaign.campaign.paths import expand_home, path_problem
 from graspcampaign.errors import ConfigError, UserInputError
 
 _RUN_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
@@ -53,8 +54,8 @@ def project_dirs() -> tuple[Path, Path]:
     """
     home = os.environ.get("GRASPCAMPAIGN_HOME", "").strip()
     if home:
-        root = Path(home).expanduser()
-        problem = _home_problem(root)
+        root, unknown = expand_home(home)
+        problem = unknown or _home_problem(root)
         if problem:
             raise UserInputError(f"GRASPCAMPAIGN_HOME={home} {problem}; point it at a directory "
                                  "holding conf/ (with conf/config.yaml and the config groups) and "
@@ -94,8 +95,8 @@ def study_dirs() -> list[Path]:
     for entry in os.environ.get("GRASPCAMPAIGN_PATH", "").split(os.pathsep):
         if not entry.strip():
             continue
-        path = Path(entry).expanduser()
-        problem = _path_problem(path)
+        path, unknown = expand_home(entry)
+        problem = unknown or _path_problem(path)
         if problem:
             _warn(f"GRASPCAMPAIGN_PATH entry {entry} {problem}; it is skipped.")
             continue
@@ -126,7 +127,8 @@ def search_path_text() -> str:
     searched, skipped = [], []
     for entry in os.environ.get("GRASPCAMPAIGN_PATH", "").split(os.pathsep):
         if entry.strip():
-            problem = _path_problem(Path(entry).expanduser())
+            path, unknown = expand_home(entry)
+            problem = unknown or _path_problem(path)
             (skipped.append(f"{entry} ({problem.split(' (')[0]})") if problem
              else searched.append(entry))
     text = ", ".join([*searched, str(project_dirs()[1])])
@@ -168,9 +170,14 @@ def find_study(study: str) -> Path:
     if not isinstance(study, str):
         raise ConfigError(f"study = {study!r} is not a study's name or file path: give it as text.")
     if is_path_argument(study):
-        path = Path(study).expanduser()
+        path, unknown = expand_home(study)
+        if unknown:
+            raise ConfigError(f"study file {study} {unknown}; give its path in full.")
         if path.is_dir():
             raise ConfigError(f"study file {study} is a directory, not a file.")
+        if path.exists() and not path.is_file():  # it said "does not exist"
+            raise ConfigError(f"study file {study} {path_problem(path, directory=False)}; give a "
+                              "YAML file.")
         if not path.is_file():
             raise ConfigError(f"study file {study} does not exist.")
         if path.suffix not in _SUFFIXES:

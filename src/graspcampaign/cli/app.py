@@ -198,6 +198,16 @@ def compose(study: str, overrides: list[str] | None, root: Path | None = None):
     return _configure(compose_study(study, overrides or []), root)
 
 
+def outside_runs(out: Path, option: str) -> None:
+    """Refuse an output ``out`` at or inside a run's directory, which holds that run's files only (a
+    file in its records/ would have every command refuse the run as damaged)."""
+    from graspcampaign.campaign.paths import run_around
+
+    if (run := run_around(out)) is not None:
+        fail(f"{option} {out} is inside the directory of run {run.parent.name}/{run.name} ({run}), "
+             "which holds that run's files only; give a path outside it.")
+
+
 def writable_stem(out: Path, option: str, hint: str = "a file stem such as",
                    example: str = "schedule") -> Path:
     """Check that files ``<out>.<ext>`` (or ``out``) can be written, before any work: a directory
@@ -206,6 +216,7 @@ def writable_stem(out: Path, option: str, hint: str = "a file stem such as",
 
     if out == "":  # as a Path, "" would read "." (path_or_empty)
         fail(f"{option} is empty; give {hint} {example}.")
+    outside_runs(out, option)
     why = path_problem(out, write=True, directory=False)
     if why == "is a directory, not a file":
         fail(f"{option} {out} is a directory; give {hint} {out / example}.")

@@ -19,6 +19,7 @@ from graspcampaign.cli.app import (
     compose,
     fail,
     guard,
+    outside_runs,
     path_or_empty,
     state,
     writable_stem,
@@ -46,7 +47,7 @@ def schedule(
 ) -> None:
     """Write a hardware protocol's commanded-trial sheet (CSV and Parquet)."""
     from graspcampaign.campaign.kind import get_kind
-    from graspcampaign.campaign.paths import path_problem
+    from graspcampaign.campaign.paths import path_problem, write_file
     from graspcampaign.campaign.runner import kind_params
     from graspcampaign.core.words import counted
 
@@ -82,10 +83,10 @@ def schedule(
                  "another --out, so that it is not written over.")
     try:
         stem.parent.mkdir(parents=True, exist_ok=True)
-        for suffix, table in sheets.items():
-            table.to_csv(file(f"{suffix}.csv"), index=False)
+        for suffix, table in sheets.items():  # each whole or not at all: a Ctrl-C leaves no half
+            write_file(file(f"{suffix}.csv"), table.to_csv(index=False))  # sheet that then "differs"
             if not suffix:
-                table.to_parquet(file(".parquet"), index=False)
+                write_file(file(".parquet"), table.to_parquet(index=False))
     except OSError as exc:  # permissions, a full disk
         fail(f"--out {stem}: cannot write there ({exc.strerror or type(exc).__name__}).")
     typer.echo(f"{counted(len(sheet), 'commanded trial')} -> {file('.csv')} and .parquet")
@@ -133,6 +134,7 @@ def plan(
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
 ) -> None:
     """Plan a three-finger grasp on a mesh and predict the disturbances it resists."""
+    from graspcampaign.campaign.paths import path_problem
     from graspcampaign.rig.plan import PicturePathError, plan_mesh
 
     if mesh == "":  # as a Path, "" would read "." (path_or_empty)
@@ -141,13 +143,17 @@ def plan(
         fail("--png is empty; give a picture path ending in .png, such as plan.png.")
     if mesh.is_dir():
         fail(f"{mesh} is a directory; give a mesh file (STL, OBJ or PLY).")
+    if mesh.exists() and not mesh.is_file():  # a named pipe, /dev/null: not "no such file"
+        fail(f"{mesh} {path_problem(mesh, directory=False)}; give a mesh file (STL, OBJ or PLY).")
     if not mesh.is_file():
         fail(f"{mesh}: no such mesh file.")
+    picture, option = ((mesh.with_suffix(".plan.png"), "the default picture") if png is None
+                       else (png, "--png"))
+    outside_runs(picture, option)
     try:  # plan_mesh checks the picture path before any planning work
         result = plan_mesh(mesh, mass_kg=mass_kg, material=material, mu=mu,
                            fingertip_radius_mm=fingertip_radius_mm, unit=unit,
-                           png_path=mesh.with_suffix(".plan.png") if png is None else png,
-                           png_option="the default picture" if png is None else "--png")
+                           png_path=picture, png_option=option)
     except PicturePathError as exc:
         fail(str(exc) if png is not None else
               f"{str(exc).rstrip('.')}; pass --png with a path where the picture can be written.")

@@ -12,6 +12,7 @@ unless ``--debug``. The application, its shared options and checks are in
 from __future__ import annotations
 
 import json
+import os
 import shlex
 import sys
 from pathlib import Path
@@ -250,6 +251,7 @@ def report(
 
     With studies and no `--run`, each study's configured run (its `output.run`) is reported.
     """
+    from graspcampaign.campaign.schema import WORKERS_PER_CORE
     from graspcampaign.campaign.status import check_known
     from graspcampaign.campaign.studyfile import check_name, configured_run
     from graspcampaign.report.build import build_reports
@@ -260,6 +262,9 @@ def report(
         check_known(root, study)
     if jobs == 0 or jobs < -1:
         fail(f"--jobs {jobs}: give a number of processes (1 or more), or -1 for one per core.")
+    if jobs > (most := WORKERS_PER_CORE * (os.cpu_count() or 1)):  # as runner.n_jobs
+        fail(f"--jobs {jobs}: more than {WORKERS_PER_CORE} processes per core of this machine "
+             f"({os.cpu_count()} cores); give at most {most}, or -1 for one per core.")
     # one batch: every named study and run is checked before any report is written
     runs = {s: configured_run(s) if run is None else run for s in studies} if studies else run
     _report_paths(build_reports(studies or None, run=runs, root=root, formats=fmt.split(","),

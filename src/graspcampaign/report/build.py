@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import errno
 import importlib
 import logging
 import os
@@ -13,7 +14,7 @@ from typing import Any
 
 import pandas as pd
 
-from graspcampaign.campaign.paths import check_root, how_to_make
+from graspcampaign.campaign.paths import check_root, how_to_make, near_run, write_file
 from graspcampaign.campaign.provenance import read_manifest
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.errors import ConfigError, UserInputError
@@ -151,8 +152,8 @@ def _runs(root: Path, studies: list[str] | None, run: str | Mapping[str, str] | 
                 continue
             if manifest is None:
                 if wanted is not None:
-                    raise UserInputError(f"no run {r!r} of study {name!r} under {root}; "
-                                         f"{how_to_make(root, name, r)}")
+                    raise UserInputError(f"no run {r!r} of study {name!r} under {root}"
+                                         f"{near_run(root, name, r)}; {how_to_make(root, name, r)}")
                 continue
             stores.append(store)
     if not stores and not failed:
@@ -169,7 +170,8 @@ def _report_or_failure(store: RunStore, root: Path, formats: list[str], figure_f
         return report_run(store, root, formats, figure_format), None
     except Exception as exc:  # noqa: BLE001 - one broken run never stops the others
         log.debug("report of %s failed", label, exc_info=True)
-        return None, (label, reason(exc), isinstance(exc, UserInputError))
+        full = isinstance(exc, OSError) and exc.errno in (errno.ENOSPC, errno.EDQUOT)  # as cli.guard
+        return None, (label, reason(exc), full or isinstance(exc, UserInputError))
 
 
 def _report_in_worker(*args):
@@ -202,6 +204,7 @@ def build_reports(studies: list[str] | None = None, run: str | Mapping[str, str]
     else:
         from joblib import Parallel, delayed
 
+        n_jobs = min(n_jobs, len(stores)) if n_jobs > 0 else n_jobs  # loky starts every one asked
         outcomes = Parallel(n_jobs=n_jobs)(delayed(_report_in_worker)(store, root, formats, figure_format)
                                            for store in stores)
     for written, failure in outcomes:
@@ -277,4 +280,4 @@ def write_index_page(root: Path, page: str, frame: pd.DataFrame) -> None:
         Table("index", "Every run's report", frame, [
             Col("study", "study"), Col("run", "run", link="report"), Col("source", "source"),
             Col("trials", "trials")], csv=None)])
-    (root / f"index.{page}").write_text(doc.html() if page == "html" else doc.markdown())
+    write_file(root / f"index.{page}", doc.html() if page == "html" else doc.markdown())

@@ -7,6 +7,7 @@ import difflib
 import html
 import json
 import math
+import os
 import re
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
@@ -17,6 +18,7 @@ from typing import Any
 import pandas as pd
 
 from graspcampaign.analysis.vocabulary import FACTOR_LABELS, UNITS, VOCABULARIES, label
+from graspcampaign.campaign.paths import write_file
 from graspcampaign.errors import UserInputError
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
@@ -325,24 +327,28 @@ class Document:
     def write(self, out: Path, formats: Sequence[str], figure_format: str = "png") -> Path:
         """Write the requested formats under ``out``; return the main page (md, else html...)."""
         formats, written = check_formats(formats), {}
+        for folder in (out, out / "figures", out / "tables"):  # mkdir says only "File exists"
+            if os.path.lexists(folder) and not folder.is_dir():
+                raise UserInputError(f"{folder} is a file where the report's directory belongs; "
+                                     "move it aside and report again.")
         out.mkdir(parents=True, exist_ok=True)
         for b in (b for b in self.blocks if isinstance(b, Figure)):
             (out / "figures").mkdir(exist_ok=True)
-            (out / "figures" / f"{b.name}.{figure_format}").write_bytes(b.images[figure_format])
+            write_file(out / "figures" / f"{b.name}.{figure_format}", b.images[figure_format])
         if "csv" in formats:
             (out / "tables").mkdir(exist_ok=True)
             for name, frame in self.tables.items():
-                frame.to_csv(out / "tables" / f"{name}.csv", index=False)
+                write_file(out / "tables" / f"{name}.csv", frame.to_csv(index=False))
             written["csv"] = out / "tables"
         if "json" in formats:
             written["json"] = out / "tables.json"
-            written["json"].write_text(json.dumps({k: [{c: _json(v) for c, v in r.items()} for r in
-                                                       f.to_dict("records")] for k, f in self.tables.items()},
-                                                  indent=1, default=str, allow_nan=False))
+            tables = {k: [{c: _json(v) for c, v in r.items()} for r in f.to_dict("records")]
+                      for k, f in self.tables.items()}
+            write_file(written["json"], json.dumps(tables, indent=1, default=str, allow_nan=False))
         for f in ("html", "md"):
             if f in formats:
                 written[f] = out / f"report.{f}"
-                written[f].write_text(self.html() if f == "html" else self.markdown(figure_format))
+                write_file(written[f], self.html() if f == "html" else self.markdown(figure_format))
         return next(written[k] for k in ("md", "html", "json", "csv") if k in written)
 
     def markdown(self, figure_format: str = "png") -> str:

@@ -13,6 +13,7 @@ import pandas as pd
 from graspcampaign.analysis.records import rate_table
 from graspcampaign.analysis.vocabulary import PROPOSED, label
 from graspcampaign.campaign.paper import check_paper, study_paper
+from graspcampaign.campaign.paths import write_file
 from graspcampaign.campaign.provenance import design_change
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.core.words import counted
@@ -201,7 +202,7 @@ def write_headline(root: Path, pages: list[str], frame: pd.DataFrame) -> None:
     """Write ``headline.csv`` and, for each of ``pages`` (md, html), ``headline.<page>`` of
     ``frame``, the :func:`headline_rows` of ``root``: a run is linked from a page only if its
     report has a page of that format."""
-    frame.to_csv(root / "headline.csv", index=False)
+    write_file(root / "headline.csv", frame.to_csv(index=False))
     reduced = frame["testbed"].astype(str).str.contains(REDUCED_MARK).any()
     virtual = frame["source"].eq("virtual").any()
     differ, judged = fmt.differing(frame)
@@ -217,4 +218,4 @@ def write_headline(root: Path, pages: list[str], frame: pd.DataFrame) -> None:
             Table("headline", "Table 1, ours beside the paper", linked, COLUMNS, csv="headline.csv"),
             *([Text(REDUCED_NOTE, "note")] if reduced else [])
         ])
-        (root / f"headline.{page}").write_text(doc.html() if page == "html" else doc.markdown())
+        write_file(root / f"headline.{page}", doc.html() if page == "html" else doc.markdown())

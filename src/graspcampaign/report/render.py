@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import errno
 import logging
+import os
 import re
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -114,6 +116,10 @@ def reason(exc: BaseException) -> str:
         key = str(exc.args[0]) if exc.args else ""
         listed = re.search(r"\['([^']+)'", key)
         return f"the records have no `{listed.group(1) if listed else key}` column"
+    if isinstance(exc, OSError) and exc.filename and exc.errno:  # a full disk, a file's place
+        full = exc.errno in (errno.ENOSPC, errno.EDQUOT)  # what cli.guard says of a full disk
+        return (f"cannot write {exc.filename}: {os.strerror(exc.errno).lower()}"
+                + ("; free some space there and run the command again" if full else ""))
     text = str(exc).strip().splitlines()[0].rstrip(".") if str(exc).strip() else type(exc).__name__
     return text if isinstance(exc, ValueError | UserInputError) else f"{type(exc).__name__}: {text}"
 

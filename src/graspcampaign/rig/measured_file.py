@@ -66,6 +66,8 @@ def read_table(path: str | Path, *, csv_options: dict | None = None,
     """
     path = Path(path)
     suffix = path.suffix.lower()
+    if suffix == ".xls" and path.is_file():  # the old binary format, which no reader here reads
+        _check_compound(path)
     if suffix not in (".csv", ".parquet", ".pq", ".xlsx"):
         raise IngestError(f"{path.name}: unsupported file type "
                           f"'{suffix or '(none)'}' (expected .csv, .parquet or .xlsx).")
@@ -94,28 +96,68 @@ def read_table(path: str | Path, *, csv_options: dict | None = None,
     except IngestError:
         raise
     except Exception as exc:  # the readers raise many types for corrupt files
-        raise IngestError(f"{path.name}: the file cannot be read as "
-                          f"{suffix[1:]} ({type(exc).__name__}).") from exc
+        cut = type(exc).__name__ in ("BadZipFile", "ArrowInvalid")  # no zip directory, no footer
+        raise IngestError(f"{path.name}: the file cannot be read as {suffix[1:]} "
+                          f"({type(exc).__name__})" + ("; it is damaged or incomplete (a copy cut "
+                                                        "short?): copy or save it again" if cut else "")
+                          + ".") from exc
 
 
 #: what a file of each type is, and how it begins (an xlsx workbook is a zip archive)
 _TYPES = {".csv": "CSV text", ".xlsx": "an Excel workbook (xlsx)", ".parquet": "a Parquet table"}
 _MAGIC = {b"PK\x03\x04": ".xlsx", b"PAR1": ".parquet"}
+#: how a Microsoft compound document begins: an old Excel workbook (.xls), or an xlsx workbook
+#: saved with a password, which Excel encrypts into a stream 'EncryptedPackage' of such a document
+#: ([MS-CFB] 2.2, header signature; [MS-OFFCRYPTO] 2.3.4.4, stream names)
+_COMPOUND = b"\xd0\xcf\x11\xe0\xa1\xb1\x1a\xe1"
+_ENCRYPTED = "EncryptedPackage".encode("utf-16-le")  # directory entries name streams in UTF-16
 
 
 def _check_content(path: Path, named: str) -> None:
     """Refuse a file whose content is not the type its name says (a workbook saved as
     ``.csv`` was 'not UTF-8 text (byte 0xc7)'; a CSV named ``.xlsx`` 'cannot be read as xlsx
     (ValueError)')."""
+    _check_compound(path)
     with path.open("rb") as handle:
         head = handle.read(4)
     holds = _MAGIC.get(head)
     if holds not in (named, None):
         raise IngestError(f"{path.name}: the file is {_TYPES[holds]}, not {_TYPES[named]} as its "
                           f"name says; rename it to {path.stem}{holds}.")
+    if holds == ".xlsx" == named and not _workbook(path):  # a .docx, an .odt: zip archives too
+        raise IngestError(f"{path.name}: the file is a zip archive but not an Excel workbook (it "
+                          "holds no xl/workbook.xml); save the sheet from the spreadsheet program "
+                          "as .xlsx or as CSV UTF-8.")
     if holds is None and named != ".csv":
         raise IngestError(f"{path.name}: the file is not {_TYPES[named]}: it does not begin as "
                           f"one does; if it is CSV text, rename it to {path.stem}.csv.")
+
+
+def _workbook(path: Path) -> bool:
+    """Whether the zip archive ``path`` holds an Excel workbook's main part (or cannot be listed:
+    the reader then says why)."""
+    import zipfile
+
+    try:
+        with zipfile.ZipFile(path) as archive:
+            return "xl/workbook.xml" in archive.namelist()
+    except (zipfile.BadZipFile, OSError):
+        return True
+
+
+def _check_compound(path: Path) -> None:
+    """Refuse a compound document, whatever its name says: an old-format Excel workbook or an
+    encrypted xlsx (it was "if it is CSV text, rename it to .csv", or "not UTF-8 text")."""
+    with path.open("rb") as handle:
+        if handle.read(len(_COMPOUND)) != _COMPOUND:
+            return
+    if _ENCRYPTED in path.read_bytes():
+        raise IngestError(f"{path.name}: the file is an Excel workbook saved with a password "
+                          "(encrypted), which cannot be read; open it in a spreadsheet program, "
+                          "remove the password and save it again.")
+    raise IngestError(f"{path.name}: the file is an old-format Excel workbook (.xls), which ingest "
+                      "does not read; open it in a spreadsheet program and save it as .xlsx or as "
+                      "CSV UTF-8.")
 
 
 def _check_formulas(path: Path, sheet: str, frame: pd.DataFrame) -> None:

@@ -116,9 +116,10 @@ def load_source(root: str, name: str, run: str) -> Source:
     recorded = set(records["trial_id"]) if len(records) else set()
     missing = len(set(trials) - recorded)
     if missing:
+        again = how_to_make(root, name, run, manifest.get("overrides", []))
         raise UserInputError(
             f"dynamic_check needs every trial of {name}/{run}, but {missing} of {len(trials)} are "
-            f"not recorded under {path}; {how_to_make(root, name, run).removesuffix(' first.')} again to "
+            f"not recorded under {path}; {again.removesuffix(' first.')} again to "
             "finish it.")
     records = records[records["status"] == "ok"].set_index("trial_id", drop=False)
     return Source(study=study, path=path, records=records, trials=trials,
