@@ -233,6 +233,18 @@ def test_a_schedule_interrupted_while_writing_its_sheet_can_be_written_again(res
     assert again.exit_code == 0, again.output
 
 
+@pytest.mark.parametrize("name", ["day1.xlsx", "day1.XLS", "day1.json"])
+def test_a_schedule_out_in_a_format_it_does_not_write_is_refused(results, tmp_path, name):
+    """``schedule --out day1.xlsx`` wrote day1.xlsx.csv and day1.xlsx.parquet: a sheet asked for as
+    a workbook came out as CSV under a name that says it is none."""
+    (sheets := tmp_path / "sheets").mkdir()
+    out, stem = sheets / name, sheets / "day1"
+    refused(results, ["schedule", "test3_disturbance", "--out", out, "--root", results],
+            f"--out {out}: schedule writes the sheet as CSV and Parquet (<stem>.csv and <stem>.parquet), "
+            f"not as {out.suffix}; give --out {stem} or {stem}.csv.")
+    assert list(sheets.iterdir()) == []
+
+
 def test_report_jobs_beyond_four_per_core_are_refused_before_any_starts(results):
     """``report --jobs 100000`` had loky start processes until the command was killed (two runs to
     report), each left running."""

@@ -58,6 +58,10 @@ def schedule(
         fail(f"study {cfg.name!r} is a simulation study; only hardware protocols have a schedule.")
     if out and out.suffix in (".csv", ".parquet"):  # --out x.csv: the stem is x
         out = out.with_suffix("")
+    elif out and out.suffix.lower() in (".xlsx", ".xls", ".json", ".txt", ".tsv"):  # not x.xlsx.csv
+        fail(f"--out {out}: schedule writes the sheet as CSV and Parquet (<stem>.csv and "
+             f"<stem>.parquet), not as {out.suffix}; give --out {out.with_suffix('')} or "
+             f"{out.with_suffix('.csv')}.")
     stem = writable_stem(Path(cfg.output.root) / cfg.name / "schedule" / "sheet" if out is None
                          else out, "--out")
     if out is not None and not out.parent.is_dir():  # as plan --png: a typo grows no tree
