@@ -245,6 +245,18 @@ def test_a_schedule_out_in_a_format_it_does_not_write_is_refused(results, tmp_pa
     assert list(sheets.iterdir()) == []
 
 
+def test_report_over_a_root_of_files_only_is_one_sentence(tmp_path):
+    """``report --root /etc`` printed one "is a file, not a run directory" error per file two levels
+    down (550 lines); a root whose every entry where a run would be is a file is no results root."""
+    for name in ("app/a.conf", "app/b.conf", "other/c.conf"):
+        (tmp_path / name).parent.mkdir(exist_ok=True)
+        (tmp_path / name).write_text("x")
+    refused(tmp_path, ["report", "--root", tmp_path],
+            f"no runs under {tmp_path}: its 3 entries where runs would be (app/a.conf, …) are files, "
+            f"not run directories; is it a results root? (a run is made by graspcampaign run STUDY "
+            f"--root {tmp_path}).")
+
+
 def test_report_jobs_beyond_four_per_core_are_refused_before_any_starts(results):
     """``report --jobs 100000`` had loky start processes until the command was killed (two runs to
     report), each left running."""
