@@ -33,11 +33,10 @@ WHY = ("`docs/decisions.md`, *Sensitivity, mesh resolution, surrogate*, *Contact
 
 
 def _read(name: str, *need: str):
-    """The finalize table ``summary/surrogate_<name>`` (with the ``need`` columns, empty if absent)."""
+    """The finalize table ``summary/surrogate_<name>`` with the ``need`` columns (absent: the sentence of
+    :meth:`~graspcampaign.report.render.Run.stored`, or empty when ``need`` names no column)."""
     def read(run: Run) -> pd.DataFrame:
-        if not len(t := run.part(f"summary/surrogate_{name}")) and need:
-            raise ValueError(f"the run has no summary/surrogate_{name}: `graspcampaign run surrogate` fits "
-                             "the models once every scenario is recorded")
+        t = run.stored(f"summary/surrogate_{name}") if need else run.part(f"summary/surrogate_{name}")
         t = t.assign(**{c: t.get(c) for c in need})
         key = t.get("model", t.get("what"))
         return t if key is None else t.assign(model_label=[label("model", m) if isinstance(m, str) else "—"
