@@ -307,7 +307,8 @@ SPEC = ReportSpec("test3_disturbance", [
            "predicted threshold, recorded peak slip", fig35, (9.5, 5.2)),
     Figure("fig36_robustness", lambda run: "Fig. 36: (a) success per planner with the planners' own beliefs "
            "and with exact ones (hatched), (b) share of natural-friction pulls holding each level (a grasp "
-           f"lost before the pull counts as 0 N), (c) the retention flag against the {run.rig} outcome",
-           style.panels(t2.planner_bars("table9"), survival, t2.confusion(lambda p: p.retention_classifier)),
+           f"lost before the pull counts as 0 N), (c) the retention flag (`predicted_stable`) against the "
+           f"{run.rig} outcome", style.panels(t2.planner_bars("table9"), survival, t2.confusion(
+               lambda p: p.retention_classifier, "predicted to retain: believed margin > 1")),
            (13.0, 4.0)),
 ])
