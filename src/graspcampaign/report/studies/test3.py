@@ -145,10 +145,18 @@ def thresholds(run: Run, ax) -> None:
 
 
 def directions(run: Run, ax) -> None:
+    """Fig. 33c: the median threshold per pull direction; a direction without one (no trial, or no
+    uncensored ramp: table test3_directions) breaks the line and says why where it lies."""
     d, rng = run.tables["test3_directions"], paper_of(run, lambda p: p.direction_threshold_range_n)
+    design = np.arange(0, 360, 45)  # block A's eight pull directions (§9.2; rig/protocol_design.py)
+    d = d.set_index("direction_deg").reindex(sorted({*design, *d["direction_deg"]})).reset_index()
     ax.plot(d["direction_deg"], d["lat_threshold_n"], "o-", color=colour("planner", PROPOSED), label="ours")
+    for a, n in d.loc[d["lat_threshold_n"].isna(), ["direction_deg", "n"]].itertuples(index=False):
+        ax.annotate(f"{int(n)} trial{'s' * (n > 1)}, no threshold" if n > 0 else "no trial", (a, 0),
+                    xytext=(0, 3), textcoords="offset points", rotation=90, ha="center", va="bottom",
+                    fontsize=7, color=style.CRITERION)
     ax.axhspan(*(rng or (np.nan,) * 2), color=style.PAPER, alpha=0.15, label="paper: range")
-    ax.set(xticks=np.arange(0, 360, 45), xlabel="pull direction (azimuth) [°]", ylim=(0, None),
+    ax.set(xticks=design, xlabel="pull direction (azimuth) [°]", ylim=(0, None),
            ylabel="median lateral threshold [N]", title="(c) natural friction, by direction")
     ax.legend(loc="lower right")
 
