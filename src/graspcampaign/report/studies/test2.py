@@ -49,8 +49,10 @@ def paper_table(name, caption, key, row, items, rates=(), medians=(), *, where=N
     cols = [Col("belief_error", "belief error")]
     for col, paper, head, digits in items:
         c, paper_c = columns(col, digits)
+        # the paper's value headed in the unit of ours: "paper %", "paper n", "paper [N]" (was "paper")
+        unit = "%" if digits is None else "n" if c == "n" else head[head.rfind("["):] * head.endswith("]")
         cols += [pct_col(col, head) if digits is None else Col(c, head, digits if digits != "" else None),
-                 *[Col(paper_c, "paper", 1 if digits is None else digits)] * bool(paper),
+                 *[Col(paper_c, f"paper {unit}".rstrip(), 1 if digits is None else digits)] * bool(paper),
                  *[Col("difference", "difference [pp]", 1, signed=True)] * (col == "success"),
                  *[Col("bootstrap_low_pct", "object bootstrap 95% [%]", 1, low="bootstrap_low_pct",
                        high="bootstrap_high_pct", why="bootstrap_why")] * (col == "success" and boot)]

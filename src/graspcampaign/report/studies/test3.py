@@ -256,7 +256,7 @@ SPEC = ReportSpec("test3_disturbance", [
                 "outcome classes; median lateral threshold and its prediction error (uncensored block A)",
                 "planner", lambda p, k: p.table9[k], [
                     ("n", "n", "n", 0), ("success", "success_pct", "success", None),
-                    ("paper_wilson", None, "paper Wilson 95%", ""),
+                    ("paper_wilson", None, "paper Wilson 95% [%]", ""),
                     *((k, f"{k}_pct", k, None) for k in ("stable", "drop", "damage")),
                     ("n_lat_threshold", None, "thresholds", 0),
                     ("lat_threshold_n", "lat_threshold_n", "median lateral threshold [N]", 2),
@@ -268,7 +268,7 @@ SPEC = ReportSpec("test3_disturbance", [
           "median uncensored lateral threshold beside the paper's", coating, [
               Col("friction_level", "surface"), Col("n", "n"), pct_col("success", "success"),
               Col("paper_success_pct", "paper %", 1), Col("n_lat_threshold", "thresholds"),
-              Col("lat_threshold_n", "median threshold [N]", 2), Col("paper_threshold_n", "paper", 2),
+              Col("lat_threshold_n", "median threshold [N]", 2), Col("paper_threshold_n", "paper [N]", 2),
               Col("verdict", "verdict (success)")]),
     Table("test3_directions", "Natural-friction block A of the proposed planner per pull direction (§9.2, "
           "Fig. 33b)", lambda run: hw.summary(t2.ex(run, PROPOSED).query(f"block == 'A' and {NATURAL}"), [
