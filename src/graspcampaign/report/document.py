@@ -188,13 +188,21 @@ class Table:
     @cached_property
     def grid(self) -> tuple[list[list[tuple[str, str | None]]], list[bool]]:
         """Every row's ``(text, link target or None)`` per shown column, formatted once for every
-        writer, and whether each column holds numbers only (with an interval, unit sign or missing
-        mark): such a column is right-aligned, so digits line up as in a printed table."""
-        shown = [rounded(c, self.frame) for c in self.cols]
+        writer, and whether each column holds numbers (with an interval, unit sign or missing mark),
+        besides which only yes/no or a reason standing for a value not computed (its ``why``): such a
+        column is right-aligned, so digits line up as in a printed table (a claims table's "yes" or
+        one "not computed: …" row left its numbers and ranges left-aligned)."""
+        shown, records = [rounded(c, self.frame) for c in self.cols], self.frame.to_dict("records")
         rows = [[(cell(r, c), None if not c.link or fmt.is_missing(r.get(c.link)) else str(r[c.link]))
-                 for c in shown] for r in self.frame.to_dict("records")]
-        return rows, [any(r[i][0] != fmt.MISSING for r in rows) and all(
-            r[i][0] == fmt.MISSING or NUMBER.fullmatch(r[i][0]) for r in rows) for i in range(len(self.cols))]
+                 for c in shown] for r in records]
+
+        def kind(r: dict, c: Col, text: str) -> str:
+            return "number" if NUMBER.fullmatch(text) else "value" if text in (fmt.MISSING, "yes", "no") or (
+                c.why and fmt.is_missing(r.get(c.key))) else "text"
+        kinds = [[kind(r, c, row[i][0]) for i, c in enumerate(shown)] for r, row in zip(records, rows,
+                                                                                       strict=True)]
+        return rows, [any(k[i] == "number" for k in kinds) and all(k[i] != "text" for k in kinds)
+                      for i in range(len(self.cols))]
 
     def md(self, figure_format: str) -> str:
         def line(cells: Sequence[str]) -> str:
