@@ -350,3 +350,19 @@ def test_a_column_of_numbers_with_a_yes_or_a_reason_is_right_aligned_as_numbers(
     assert len(cells) == 4 * len(head) and [bool(c) for c in cells[:len(head)]] == [
         r == "---:" for r in rule]
     assert "| not computed: no executed trial |" in "\n".join(md)
+
+
+def test_a_wide_tables_row_labels_and_caption_stay_in_view_when_it_scrolls():
+    # the first column scrolled out of view with the rest of a wide table (Tables 6-9): it is sticky
+    # on an opaque background (each row stripe's), as is the caption above the table
+    from graspcampaign.report.document import CSS
+
+    rules = {}
+    for selectors, body in re.findall(r"([^{}]+)\{([^{}]*)\}", CSS):
+        for s in selectors.split(","):
+            rules.setdefault(s.strip(), {}).update(dict(d.split(":", 1) for d in body.split(";") if d))
+    for cell in ("th:first-child", "td:first-child", ".table p.caption"):
+        assert (rules[cell]["position"], rules[cell]["left"]) == ("sticky", "0"), cell
+    stripe = "tbody tr:nth-child(even)"
+    assert rules["th"]["background"] and rules["td:first-child"]["background"] == "#fff"
+    assert rules[f"{stripe} td:first-child"]["background"] == rules[stripe]["background"]

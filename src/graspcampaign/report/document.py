@@ -436,6 +436,9 @@ border-left:4px solid #1f5aa6;padding:10px 14px}p.note{color:#8a4b00;font-style:
 p.caption{margin:0;padding:6px 0;font-weight:600;font-size:14px}p.caption .csv{font-weight:400;
 color:#777;font-family:monospace;font-size:12px}th,td{border:1px solid #d5dbe1;padding:4px 8px;
 text-align:left;vertical-align:top}th{background:#eef2f6}tbody tr:nth-child(even){background:#f6f8fa}
+th:first-child,td:first-child,.table p.caption{position:sticky;left:0;z-index:1}
+th:first-child,td:first-child{box-shadow:1px 0 0 #d5dbe1}
+td:first-child{background:#fff}tbody tr:nth-child(even) td:first-child{background:#f6f8fa}
 figure{margin:18px 0;background:#fff;padding:10px;border:1px solid #e1e5ea;overflow-x:auto}figure img{
 max-width:100%;height:auto;cursor:zoom-in}.zoom:checked+label img{max-width:none;cursor:zoom-out}
 figcaption{font-size:13.5px;color:#444;margin-top:6px}footer{color:#666;font-size:13px;
