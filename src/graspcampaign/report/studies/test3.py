@@ -10,6 +10,7 @@ from graspcampaign.analysis import disturbance as ds
 from graspcampaign.analysis import hardware as hw
 from graspcampaign.analysis.records import Estimate
 from graspcampaign.analysis.vocabulary import COATINGS, PROPOSED, colour, label
+from graspcampaign.core.words import counted
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
 from graspcampaign.report.document import Col, cols, pct_col
@@ -152,7 +153,7 @@ def directions(run: Run, ax) -> None:
     d = d.set_index("direction_deg").reindex(sorted({*design, *d["direction_deg"]})).reset_index()
     ax.plot(d["direction_deg"], d["lat_threshold_n"], "o-", color=colour("planner", PROPOSED), label="ours")
     for a, n in d.loc[d["lat_threshold_n"].isna(), ["direction_deg", "n"]].itertuples(index=False):
-        ax.annotate(f"{int(n)} trial{'s' * (n > 1)}, no threshold" if n > 0 else "no trial", (a, 0),
+        ax.annotate(f"{counted(int(n), 'trial')}, no threshold" if n > 0 else "no trial", (a, 0),
                     xytext=(0, 3), textcoords="offset points", rotation=90, ha="center", va="bottom",
                     fontsize=7, color=style.CRITERION)
     ax.axhspan(*(rng or (np.nan,) * 2), color=style.PAPER, alpha=0.15, label="paper: range")
