@@ -382,3 +382,23 @@ def test_the_headline_lists_a_runs_records_once_after_its_check(tmp_path, monkey
     rows = headline.headline_rows(tmp_path).set_index("headline")
     assert rows.loc["Baseline grid", "n"] == 10  # the run was read
     assert listed == ["records"]
+
+
+def test_the_headline_reads_each_run_once_for_every_row_it_serves(tmp_path, monkeypatch):
+    # Test 2 and Test 3 each serve two Table 1 rows; each row checked and read its run again
+    from graspcampaign.report import headline
+
+    for study in ("test2_grasp", "test3_disturbance"):
+        write_run(tmp_path, name=study, kind="no_section_kind", source="virtual", aborted_rows={0})
+    calls, check, read = [], RunStore.check, RunStore.read_records
+    monkeypatch.setattr(RunStore, "check", lambda self, *a, **k: (
+        calls.append(("check", self.path.parent.name)), check(self, *a, **k))[1])
+    monkeypatch.setattr(RunStore, "read_records", lambda self, *a, **k: (
+        calls.append(("read", self.path.parent.name)), read(self, *a, **k))[1])
+    rows = headline.headline_rows(tmp_path).set_index("headline")
+    assert sorted(calls) == [("check", "test2_grasp"), ("check", "test3_disturbance"),
+                             ("read", "test2_grasp"), ("read", "test3_disturbance")]
+    # each row is still its run's: the proposed planner's 10 trials but the one aborted
+    assert rows.loc[["Grasp validation, all", "Disturbance, all"], "n"].tolist() == [9, 9]
+    assert rows.loc["Disturbance, natural μ", "verdict"] == \
+        "the records lack the `friction_level` column this sub-population needs"

@@ -144,3 +144,71 @@ def test_every_level_in_a_schematic_legend_gives_its_value(sim_root, study, name
                 if study == "test2_grasp" else
                 [f"paper: natural-friction median ({paper.lateral_threshold_median_n:g} N)"])
     assert set(expected) <= set(levels), levels
+
+
+def _panel(draw, run, size=(4.0, 3.0)):
+    """``draw(run, ax)`` on one Agg axes in the report's style."""
+    import matplotlib as mpl
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    from graspcampaign.report import style
+
+    with mpl.rc_context(style.RC):
+        fig = Figure(figsize=size, layout="constrained")
+        FigureCanvasAgg(fig)
+        ax = fig.add_subplot()
+        draw(run, ax)
+        fig.canvas.draw()
+    return ax
+
+
+@pytest.mark.parametrize(("study", "name"), [("test2_grasp", "fig31_planner_comparison"),
+                                             ("test3_disturbance", "fig36_robustness")])
+def test_the_flag_panel_says_in_words_what_the_flag_predicts(study, name):
+    # Figs. 31c and 36c were labelled with the raw column name `predicted_stable`; the caption
+    # still names the column the label describes
+    import inspect
+
+    import pandas as pd
+
+    from graspcampaign.report.build import spec_for
+    from graspcampaign.report.render import Run
+
+    flags = pd.DataFrame({"belief_error": "paper", "planner": "heuristic", "source": "virtual",
+                          "predicted_stable": [True, True, False, False, True],
+                          "success": [True, False, False, True, True]})
+    run = Run(flags, {"study": study, "source": "virtual"})
+    run.memo("hardware", lambda: flags)
+    figure = next(i for i in spec_for(study, "").items if getattr(i, "name", None) == name)
+    confusion = inspect.getclosurevars(figure.draw).nonlocals["specs"][-1]  # style.panels' last panel
+    ax = _panel(confusion, run)
+    assert ax.get_ylabel() == {"test2_grasp": "predicted stable: believed SF > 1",
+                               "test3_disturbance": "predicted to retain: believed margin > 1"}[study]
+    assert [t.get_text() for t in ax.texts] == ["1", "1", "1", "2"]  # tn, fn / fp, tp of the flags above
+    caption = figure.caption(run) if callable(figure.caption) else figure.caption
+    assert "(c) " in caption and "`predicted_stable`" in caption.split("(c) ")[1]
+
+
+def test_a_pull_direction_without_a_threshold_says_why_in_fig_33c():
+    # the line broke at 180° (1 trial, no uncensored ramp) and ran straight over 45° (no trial) with
+    # nothing saying why; each such direction now breaks the line and is marked where it lies
+    import numpy as np
+    import pandas as pd
+
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies.test3 import directions
+
+    run = Run(pd.DataFrame(), {"study": "test3_disturbance"})
+    run.tables["test3_directions"] = pd.DataFrame({
+        "direction_deg": [0.0, 90.0, 180.0, 270.0, 315.0], "n": [2, 2, 1, 3, 2],
+        "success_pct": 0.0, "lat_threshold_n": [1.2, 2.7, np.nan, 1.5, 0.8],
+        "n_lat_threshold": [1, 1, 0, 2, 1]})
+    ax = _panel(directions, run)
+    marks = {t.xy[0]: t.get_text() for t in ax.texts}
+    assert marks == {45.0: "no trial", 135.0: "no trial", 180.0: "1 trial, no threshold",
+                     225.0: "no trial"}
+    line = next(line for line in ax.get_lines() if line.get_label() == "ours")
+    drawn = dict(zip(line.get_xdata(), line.get_ydata(), strict=True))
+    assert [a for a, v in drawn.items() if np.isnan(v)] == [45.0, 135.0, 180.0, 225.0]
+    assert [t.get_text() for t in ax.get_xticklabels()] == [f"{a}" for a in range(0, 360, 45)]

@@ -317,3 +317,52 @@ def test_chromium_renders_the_index_without_errors(sim_root, tmp_path):
                    timeout=120, check=True)
     assert shot.stat().st_size > 20_000
     shutil.rmtree(profile, ignore_errors=True)
+
+
+def _claims_block(rows):
+    import pandas as pd
+
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.spec import Claims
+
+    def broken():
+        raise ValueError("no executed trial")
+
+    run = Run(pd.DataFrame({"status": ["ok"]}), {"study": "mini"}, paper=object())  # the rows give its values
+    return Claims("claims", "c", lambda run: [(*r[:2], broken if r[2] is None else r[2], *r[3:])
+                                              for r in rows]).render(run)[0]
+
+
+def test_a_column_of_numbers_with_a_yes_or_a_reason_is_right_aligned_as_numbers():
+    # test1_claims' "paper" and "ours (95%)" held ranges, numbers and one "yes"; test3_claims' "ours"
+    # one "not computed: ..." row: each column was left-aligned (md "---", html <td>), unlike every
+    # column of numbers; text columns (quantity, verdict) stay left
+    block = _claims_block([("exponent n", "§7.2", 0.46, (0.43, 0.48), "", 2),
+                           ("μs > μk in every family", "Table 4", True, True, "", 0),
+                           ("RMSE", "§7.2", 0.72, 2.66, "%", 2), ("rate", "§9.2", None, 86.0, "%", 1)])
+    md = block.md("png").splitlines()
+    head = [c.strip() for c in md[2].strip("|").split("|")]
+    rule = md[3].strip("|").split("|")
+    aligned = dict(zip(head, rule, strict=True))
+    assert [aligned[c] for c in ("paper", "ours", "difference")] == ["---:"] * 3
+    assert [aligned[c] for c in ("quantity", "paper §", "unit", "verdict")] == ["---"] * 4
+    cells = re.findall(r"<td( class='num')?>", block.html())
+    assert len(cells) == 4 * len(head) and [bool(c) for c in cells[:len(head)]] == [
+        r == "---:" for r in rule]
+    assert "| not computed: no executed trial |" in "\n".join(md)
+
+
+def test_a_wide_tables_row_labels_and_caption_stay_in_view_when_it_scrolls():
+    # the first column scrolled out of view with the rest of a wide table (Tables 6-9): it is sticky
+    # on an opaque background (each row stripe's), as is the caption above the table
+    from graspcampaign.report.document import CSS
+
+    rules = {}
+    for selectors, body in re.findall(r"([^{}]+)\{([^{}]*)\}", CSS):
+        for s in selectors.split(","):
+            rules.setdefault(s.strip(), {}).update(dict(d.split(":", 1) for d in body.split(";") if d))
+    for cell in ("th:first-child", "td:first-child", ".table p.caption"):
+        assert (rules[cell]["position"], rules[cell]["left"]) == ("sticky", "0"), cell
+    stripe = "tbody tr:nth-child(even)"
+    assert rules["th"]["background"] and rules["td:first-child"]["background"] == "#fff"
+    assert rules[f"{stripe} td:first-child"]["background"] == rules[stripe]["background"]

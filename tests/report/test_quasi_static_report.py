@@ -15,7 +15,16 @@ import pytest
 from scipy import stats
 from statsmodels.stats.contingency_tables import mcnemar as sm_mcnemar
 from statsmodels.stats.proportion import proportion_confint
-from synthetic_runs import SHAPES, caption, make_run, ok_records, quasi_static_outputs, read_table, report_md
+from synthetic_runs import (
+    SHAPES,
+    caption,
+    make_run,
+    md_table,
+    ok_records,
+    quasi_static_outputs,
+    read_table,
+    report_md,
+)
 
 from graspcampaign.analysis.vocabulary import label
 from graspcampaign.report import format as fmt
@@ -118,6 +127,10 @@ def test_grid_mechanism_readings_and_epsilon_tables(runs):
         expected = ok[column].astype(bool).groupby(ok["planner"]).agg(["sum", "mean"])
         assert reading[column].to_dict() == expected["sum"].to_dict()
         assert reading[f"{column}_pct"].to_dict() == pytest.approx((100 * expected["mean"]).to_dict())
+    # the Wilson intervals are headed as every other rate's (they printed "success % (95%)")
+    shown = md_table(report_md(store), "readings")
+    assert list(shown.columns[2:6]) == ["success % (Wilson 95%)", "without the validity gate % (Wilson 95%)",
+                                        "|R_z| reading % (Wilson 95%)", "torque check off % (Wilson 95%)"]
     no_torque_only = ok["success_no_torque"].astype(bool) & ~ok["success"]
     assert reading["torque_binds"].to_dict() == no_torque_only.groupby(ok["planner"]).sum().to_dict()
     eps = read_table(store, "epsilon").set_index("planner")

@@ -84,3 +84,41 @@ def test_every_spec_of_the_studies_package_is_registered():
              if isinstance(value, ReportSpec)}
     assert found - registered == set(), ("report/studies holds specs no entry of build.SPECS or "
                                          "KIND_SPECS reaches: add them to SPECS")
+
+
+def test_every_rate_shown_with_its_wilson_interval_is_headed_by_the_one_helper():
+    # readings, the surrogate's class balance and accuracy built the column by hand and printed
+    # "% (95%)" where every other rate printed "% (Wilson 95%)": one interval, two names
+    from graspcampaign.report.build import spec_for
+    from graspcampaign.report.document import Col, pct_col
+
+    by_hand = []
+    for study in {**SPECS, **KIND_SPECS}:
+        for item in spec_for(study, study).items:
+            shown = getattr(item, "cols", None)
+            for c in shown if isinstance(shown, list | tuple) else ():
+                rate = isinstance(c, Col) and c.key.endswith("_pct") and c.key[:-4]
+                if rate and (c.low, c.high) == (f"{rate}_low_pct", f"{rate}_high_pct") and \
+                        c != pct_col(rate, c.label.removesuffix(" % (Wilson 95%)")):
+                    by_hand.append(f"{study}: {item.name}: {c.label!r}")
+    assert by_hand == []
+
+
+def test_a_paper_column_beside_a_value_with_a_unit_is_headed_in_that_unit():
+    # Tables 6-9 and test3_coating headed the paper's n, rates and thresholds "paper" beside
+    # "n", "success % (Wilson 95%)" and "median threshold [N]"
+    import re
+
+    from graspcampaign.report.build import spec_for
+    from graspcampaign.report.document import Col
+
+    bare = []
+    for study in {**SPECS, **KIND_SPECS}:
+        for item in spec_for(study, study).items:
+            shown = [c for c in getattr(item, "cols", None) or () if isinstance(c, Col)] \
+                if not callable(getattr(item, "cols", None)) else []
+            for ours, paper in zip(shown, shown[1:], strict=False):
+                unit = re.search(r"(^n$| %( |$)|\[[^\]]+\]$)", ours.label)  # n, "rate % (…)", "x [N]"
+                if paper.key.startswith(("paper", "n_paper")) and unit and paper.label == "paper":
+                    bare.append(f"{study}: {item.name}: {paper.key} beside {ours.label!r}")
+    assert bare == []

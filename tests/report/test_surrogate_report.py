@@ -207,8 +207,9 @@ def test_a_run_without_its_summary_says_how_to_get_it(sim_root, tmp_path):
                     ignore=shutil.ignore_patterns("report", "summary"))
     build_reports(["surrogate"], root=root)
     md = report_md(root / "surrogate" / "default")
-    assert ("Table surrogate_classification not computed: the run has no summary/surrogate_classification: "
-            "`graspcampaign run surrogate` fits the models once every scenario is recorded.") in md
+    assert ("Table surrogate_classification not computed: run surrogate/default has no "
+            "`summary/surrogate_classification` table: the study writes it once every trial is recorded; "
+            "`graspcampaign run surrogate --run default` completes the run.") in md
 
 
 def test_the_pso_call_is_the_reference_of_the_ratios_not_a_row_without_a_paper_value():
@@ -222,14 +223,17 @@ def test_the_pso_call_is_the_reference_of_the_ratios_not_a_row_without_a_paper_v
     stored = pd.DataFrame({"what": ["pso_call", "mlp", "random_forest"], "time_s": [0.006, 0.0002, 0.03],
                            "predicts": ["", predicts, predicts]})
     paper = SimpleNamespace(pso_call_time_s=0.99, prediction_time_ms=0.06, speedup=17000)
-    timing = _timing(SimpleNamespace(part=lambda name: stored, paper=paper)).set_index("what")
+    def run(frame):  # a run that stored ``frame`` as its summary tables
+        return SimpleNamespace(part=lambda name: frame, stored=lambda name: frame, paper=paper)
+
+    timing = _timing(run(stored)).set_index("what")
     assert timing.loc["pso_call", "paper_time_s"] == 0.99 and pd.isna(timing.loc["pso_call", "speedup"])
     assert timing.loc["pso_call", "verdict"] == "the reference of the PSO/this ratios, not compared"
     assert timing.loc[["mlp", "random_forest"], "speedup"].tolist() == pytest.approx([30.0, 0.2])
     assert timing.loc["random_forest", "verdict"] == "no paper value"
     # no classifier fitted: the run times the regressor of |R_z|, named as the tables name it
-    regression = _timing(SimpleNamespace(part=lambda name: stored.assign(predicts=[
-        "", "abs_residual_z_n", "abs_residual_z_n"]), paper=paper)).set_index("what")
+    regression = _timing(run(stored.assign(predicts=["", "abs_residual_z_n", "abs_residual_z_n"]))
+                         ).set_index("what")
     assert regression["predicts"].tolist() == ["", "|R_z| [N]", "|R_z| [N]"]
 
 

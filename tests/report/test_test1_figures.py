@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import matplotlib as mpl
 import pandas as pd
+import pytest
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
@@ -52,3 +53,34 @@ def test_no_legend_of_fig26_covers_a_bar_or_a_paper_mark():
         assert len(bars) == len(TABLE5 if ax is fig.axes[0] else TRANSFER)
         covered = [b for b in bars + marks if box.overlaps(b)]
         assert not covered, f"{ax.get_title('left')}: the legend covers {len(covered)} bars or marks"
+
+
+@pytest.mark.parametrize("families", [["gel"], ["gel", "silicone_soft"]])
+def test_fig24c_draws_a_family_line_only_beside_other_families(monkeypatch, families):
+    # with one family its mean line lay hidden under "ours, all" (the same means), yet had a legend entry
+    from types import SimpleNamespace
+
+    from graspcampaign.report.studies import test1
+
+    angles = [0.0, 15.0, 30.0, 45.0]
+    oblique = pd.DataFrame([{"material": m, "angle_deg": a, "margin_n": 0.3 - 0.008 * a + 0.01 * i + 1e-3 * k}
+                            for i, m in enumerate(families) for a in angles for k in range(3)])
+    sliding = pd.DataFrame({"material": families, "mu_s": 0.8, "mu_k": 0.5})
+    monkeypatch.setitem(test1.FRAMES, "oblique", lambda run: oblique)
+    monkeypatch.setitem(test1.FRAMES, "sliding", lambda run: sliding)
+    law = SimpleNamespace(mu_s=0.77, mu_k=0.54)
+    run = Run(pd.DataFrame(), {}, SimpleNamespace(table4=dict.fromkeys(families, law),
+                                                  oblique_margin_n={"0": 0.45, "30": 0.05, "45": -0.16}))
+    run.memo("fitted", lambda: pd.DataFrame(columns=["block", "event_id", "material", "speed_mm_per_s",
+                                                     "load_level"]))
+    with mpl.rc_context(style.RC):
+        fig = Figure(figsize=(13.0, 4.6), layout="constrained")
+        FigureCanvasAgg(fig)
+        test1.fig24(run, fig)
+    entries = fig.axes[2].get_legend_handles_labels()[1]
+    expected = [] if len(families) == 1 else ["gel", "silicone, soft"]
+    assert entries[:len(expected)] == expected and entries[len(expected):] == ["paper (mean)",
+                                                                             "ours, all: mean ± SD"]
+    means = oblique.groupby("angle_deg")["margin_n"].mean()  # pandas: the line "ours, all" draws
+    overall = fig.axes[2].containers[0].lines[0]
+    assert list(overall.get_ydata()) == pytest.approx(means.tolist())

@@ -190,13 +190,21 @@ class Table:
     @cached_property
     def grid(self) -> tuple[list[list[tuple[str, str | None]]], list[bool]]:
         """Every row's ``(text, link target or None)`` per shown column, formatted once for every
-        writer, and whether each column holds numbers only (with an interval, unit sign or missing
-        mark): such a column is right-aligned, so digits line up as in a printed table."""
-        shown = [rounded(c, self.frame) for c in self.cols]
+        writer, and whether each column holds numbers (with an interval, unit sign or missing mark),
+        besides which only yes/no or a reason standing for a value not computed (its ``why``): such a
+        column is right-aligned, so digits line up as in a printed table (a claims table's "yes" or
+        one "not computed: …" row left its numbers and ranges left-aligned)."""
+        shown, records = [rounded(c, self.frame) for c in self.cols], self.frame.to_dict("records")
         rows = [[(cell(r, c), None if not c.link or fmt.is_missing(r.get(c.link)) else str(r[c.link]))
-                 for c in shown] for r in self.frame.to_dict("records")]
-        return rows, [any(r[i][0] != fmt.MISSING for r in rows) and all(
-            r[i][0] == fmt.MISSING or NUMBER.fullmatch(r[i][0]) for r in rows) for i in range(len(self.cols))]
+                 for c in shown] for r in records]
+
+        def kind(r: dict, c: Col, text: str) -> str:
+            return "number" if NUMBER.fullmatch(text) else "value" if text in (fmt.MISSING, "yes", "no") or (
+                c.why and fmt.is_missing(r.get(c.key))) else "text"
+        kinds = [[kind(r, c, row[i][0]) for i, c in enumerate(shown)] for r, row in zip(records, rows,
+                                                                                       strict=True)]
+        return rows, [any(k[i] == "number" for k in kinds) and all(k[i] != "text" for k in kinds)
+                      for i in range(len(self.cols))]
 
     def md(self, figure_format: str) -> str:
         def line(cells: Sequence[str]) -> str:
@@ -434,6 +442,9 @@ border-left:4px solid #1f5aa6;padding:10px 14px}p.note{color:#8a4b00;font-style:
 p.caption{margin:0;padding:6px 0;font-weight:600;font-size:14px}p.caption .csv{font-weight:400;
 color:#777;font-family:monospace;font-size:12px}th,td{border:1px solid #d5dbe1;padding:4px 8px;
 text-align:left;vertical-align:top}th{background:#eef2f6}tbody tr:nth-child(even){background:#f6f8fa}
+th:first-child,td:first-child,.table p.caption{position:sticky;left:0;z-index:1}
+th:first-child,td:first-child{box-shadow:1px 0 0 #d5dbe1}
+td:first-child{background:#fff}tbody tr:nth-child(even) td:first-child{background:#f6f8fa}
 figure{margin:18px 0;background:#fff;padding:10px;border:1px solid #e1e5ea;overflow-x:auto}figure img{
 max-width:100%;height:auto;cursor:zoom-in}.zoom:checked+label img{max-width:none;cursor:zoom-out}
 figcaption{font-size:13.5px;color:#444;margin-top:6px}footer{color:#666;font-size:13px;

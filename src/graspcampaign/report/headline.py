@@ -111,18 +111,41 @@ def _row(h: Headline, paper: Any, **extra) -> dict:
     return {**row, **extra}
 
 
-def _run_row(h: Headline, store: RunStore, root: Path) -> dict | None:
+def _read_run(study: str, store: RunStore) -> tuple[dict, Any, pd.DataFrame, str] | None:
+    """The run's manifest, typed paper values, records (the columns every Table 1 row of ``study``
+    reads) and data source; None for an empty directory, not a run."""
     manifest = store.check(["records"])  # duplicate, foreign or missing records: not read
-    if manifest is None:  # an empty directory, not a run
+    if manifest is None:
         return None
     config = manifest.get("config") or {}
     try:
-        paper = check_paper(h.study, config.get("paper"))
+        paper = check_paper(study, config.get("paper"))
     except ConfigError:
-        paper = study_paper(h.study)
-    records, source = store.read_records(manifest, ["status", "planner", "success", "aborted",
-                                                    *([h.subset[0]] if h.subset else [])])
-    records = records.to_pandas()
+        paper = study_paper(study)
+    subsets = [h.subset[0] for h in TABLE1 if h.study == study and h.subset]
+    records, source = store.read_records(manifest, ["status", "planner", "success", "aborted", *subsets])
+    return manifest, paper, records.to_pandas(), source
+
+
+def _read_once(memo: dict, study: str, path: Path) -> tuple | None:
+    """:func:`_read_run` of the run at ``path``, read once for every Table 1 row it serves (Test 2's and
+    Test 3's two): its result, or its error raised again for each row."""
+    if (study, path) not in memo:
+        try:
+            memo[study, path] = _read_run(study, RunStore(path))
+        except Exception as exc:  # noqa: BLE001 - each row that reads the run names it (headline_rows)
+            memo[study, path] = exc
+    if isinstance(memo[study, path], Exception):
+        raise memo[study, path]
+    return memo[study, path]
+
+
+def _run_row(h: Headline, store: RunStore, root: Path, read: tuple | None) -> dict | None:
+    """The row of ``h`` over the run ``read`` (:func:`_read_run` of ``store``; None: no run)."""
+    if read is None:
+        return None
+    manifest, paper, records, source = read
+    config = manifest.get("config") or {}
     column, levels = h.subset or (None, frozenset())
     design = " × ".join([f"{len(v)} {FACTOR_NOUNS.get(k, k + ' levels')}" for k, v in (
         config.get("factors") or {}).items() if k not in ("planner", "variant", column) and len(v) > 1]
@@ -136,7 +159,7 @@ def _run_row(h: Headline, store: RunStore, root: Path) -> dict | None:
               "report": page.relative_to(root).as_posix()  # linked once written, as the index
               if page.exists() or page.with_suffix(".md").exists() else None}
     if column and (unset := _unset(column, config)) is not None:
-        records[column] = records[column].fillna(unset) if column in records else unset
+        records = records.assign(**{column: records[column].fillna(unset) if column in records else unset})
     if column and column not in records:
         return _row(h, paper, why=f"the records lack the `{column}` column this "
                                   "sub-population needs", **common)
@@ -177,14 +200,14 @@ def headline_rows(root: Path | str, unreadable: list[tuple[str, str]] | None = N
                   ) -> pd.DataFrame:
     """Return the headline table over every run under ``root`` (one row per entry and run); a run
     that cannot be read gets a row saying so and is added to ``unreadable``."""
-    root, rows = Path(root), []
+    root, rows, read = Path(root), [], {}
     for h in TABLE1:
         study_dir = root / h.study
         runs = runs_of(study_dir)
         rows += [] if runs else [_row(h, study_paper(h.study), why="no records yet")]
         for r in runs:
             try:
-                row = _run_row(h, RunStore(r), root)
+                row = _run_row(h, RunStore(r), root, _read_once(read, h.study, r))
                 rows += [] if row is None else [row]
             except Exception as exc:  # noqa: BLE001 - a broken run is named, not fatal
                 if unreadable is not None and isinstance(exc, UserInputError):

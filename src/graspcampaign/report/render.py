@@ -103,6 +103,18 @@ class Run:
         return self.memo(name, lambda: self.store.read(name).to_pandas() if self.store is not None
                          else pd.DataFrame())
 
+    def stored(self, name: str) -> pd.DataFrame:
+        """Return the stored part ``name`` (:meth:`part`) an item cannot do without; raise the one
+        ValueError naming the run, the part and what to do when the run has none."""
+        if len(frame := self.part(name)):
+            return frame
+        study, run = self.study, self.manifest.get("run")
+        todo = (f"the study writes it once every trial is recorded; `graspcampaign run {study} --run {run}` "
+                "completes the run" if name.startswith("summary/") else "the study stores it while the run's "
+                f"trials run and this run stored none; record a new run with `graspcampaign run {study} "
+                "--run NEW`")
+        raise ValueError(f"run {study}/{run} has no `{name}` table: {todo}")
+
     def memo(self, name: str, compute: Callable[[], Any]) -> Any:
         """Return ``compute()``, computed once per run under ``name`` (a frame several items read)."""
         if name not in self._parts:

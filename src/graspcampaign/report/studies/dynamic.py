@@ -32,8 +32,7 @@ def in_order(run: Run, by: list[str], frame: pd.DataFrame | None = None, first=(
 
 
 def _trial(run: Run, table: str, trial_id: str) -> pd.DataFrame:
-    if not len(data := run.aux(table)):
-        raise ValueError(f"the run has no `{table}` table")
+    data = run.stored(f"tables/{table}")
     return data[data["trial_id"] == trial_id]
 
 
@@ -167,9 +166,7 @@ def ends(run: Run) -> pd.DataFrame:
     [mm], the largest |R_z| [N] over the recorded steps of the settled window and the steps before
     it, and the share [%] of the summed normal force on the most loaded finger (once per run)."""
     def compute() -> pd.DataFrame:
-        steps = run.aux("steps")
-        if not len(steps):
-            raise ValueError("the run has no `steps` table")
+        steps = run.stored("tables/steps")
         t, by = in_order(run, FM), steps.sort_values("time_s").groupby("trial_id")
         if not len(t):
             raise ValueError("no executed trial")

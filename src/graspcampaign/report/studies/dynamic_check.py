@@ -10,7 +10,7 @@ from graspcampaign.analysis import dynamic_check as dc
 from graspcampaign.analysis.vocabulary import label
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
-from graspcampaign.report.document import Col
+from graspcampaign.report.document import Col, pct_col
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, verdicts
 from graspcampaign.report.studies.dynamic import in_order
@@ -24,8 +24,7 @@ NOT_SETTLED = label("dynamic_status", dc.UNDETERMINED)
 AGREE = [Col("n", "n determined"), Col("not_settled", f"{NOT_SETTLED} (left out)"),
          Col("both_success", "both succeed"), Col("qs_only", "quasi-static only"),
          Col("dynamic_only", "dynamic only"), Col("both_failure", "both fail"),
-         Col("agreement_pct", "agreement % (Wilson 95%)", 1, low="agreement_low_pct",
-             high="agreement_high_pct"),
+         pct_col("agreement", "agreement"),
          Col("kappa", "Cohen's κ (95%)", 2, low="kappa_low", high="kappa_high"), Col("kappa_why", "κ note")]
 
 

@@ -22,7 +22,7 @@ from graspcampaign.campaign.paper import study_paper
 from graspcampaign.report import format as fmt
 from graspcampaign.report import spec as S
 from graspcampaign.report import style
-from graspcampaign.report.document import Col, cols
+from graspcampaign.report.document import Col, cols, pct_col
 from graspcampaign.report.render import Run
 from graspcampaign.report.studies.pso import table3
 
@@ -81,9 +81,8 @@ def readings(by: list[str]) -> S.Table:
         f"{run.config['evaluator']['tau_t_nm']:g} N·m, slip margin > 0, no active contact deeper "
         "than the fingertip radius); without that validity gate; |R_z| < τ_F (the paper's prose)"
         + torque(run) + "; the passes the gate alone and τ_T alone removed"),
-        compute, [Col("n", "n"), *(
-            Col(f"{r}_pct", f"{h} % (95%)", 1, low=f"{r}_low_pct", high=f"{r}_high_pct")
-            for r, h in heads.items()), Col("gate_removed", "removed by the gate"),
+        compute, [Col("n", "n"), *(pct_col(r, h) for r, h in heads.items()),
+            Col("gate_removed", "removed by the gate"),
             Col("torque_binds", "failed only τ_T")], by=by)
 
 
@@ -167,8 +166,7 @@ EPSILON = [
             "and their share in force closure (ε > 0); the Ferrari–Canny ε planner takes the largest ε "
             "of the candidates the heuristic scores",
             lambda run: qs.epsilon_table(run.records, run.order), [
-                Col("n", "n"), Col("force_closure_pct", "force closure % (Wilson 95%)", 1,
-                                   low="force_closure_low_pct", high="force_closure_high_pct"),
+                Col("n", "n"), pct_col("force_closure", "force closure"),
                 *(Col(f"epsilon_{s}", f"{s} ε", sig=3) for s in ("median", "mean", "max"))],
             by=["planner"]),
     S.Table("h_epsilon", "Does H(G) rank grasps as the classical metric does? Spearman ρ of H(G) "

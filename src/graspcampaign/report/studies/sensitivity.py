@@ -223,9 +223,7 @@ def _identified(low_mu: bool, what: str):
     share) at μ < 0.1 (or ≥), or the share of them on a PSO bound."""
     def value(run: Run) -> Estimate:
         keys = ["shape", "mass_kg", "mu"]
-        bodies = run.part("prepared")
-        if not len(bodies):
-            raise ValueError("the run has no PSO identifications (prepared/)")
+        bodies = run.stored("prepared")
         cells = panel_rows(run, "mu_mass")[keys].drop_duplicates()
         part = bodies.merge(cells, on=keys)
         part = part[(part["mu"] < 0.1 - EPS) == low_mu]

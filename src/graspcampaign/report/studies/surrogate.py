@@ -15,7 +15,7 @@ from graspcampaign.analysis.records import beyond_radius
 from graspcampaign.analysis.vocabulary import colour, label, ordered
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
-from graspcampaign.report.document import Col, cols
+from graspcampaign.report.document import Col, cols, pct_col
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, rate_cols, verdicts
 
@@ -33,11 +33,10 @@ WHY = ("`docs/decisions.md`, *Sensitivity, mesh resolution, surrogate*, *Contact
 
 
 def _read(name: str, *need: str):
-    """The finalize table ``summary/surrogate_<name>`` (with the ``need`` columns, empty if absent)."""
+    """The finalize table ``summary/surrogate_<name>`` with the ``need`` columns (absent: the sentence of
+    :meth:`~graspcampaign.report.render.Run.stored`, or empty when ``need`` names no column)."""
     def read(run: Run) -> pd.DataFrame:
-        if not len(t := run.part(f"summary/surrogate_{name}")) and need:
-            raise ValueError(f"the run has no summary/surrogate_{name}: `graspcampaign run surrogate` fits "
-                             "the models once every scenario is recorded")
+        t = run.stored(f"summary/surrogate_{name}") if need else run.part(f"summary/surrogate_{name}")
         t = t.assign(**{c: t.get(c) for c in need})
         key = t.get("model", t.get("what"))
         return t if key is None else t.assign(model_label=[label("model", m) if isinstance(m, str) else "—"
@@ -261,8 +260,7 @@ SPEC = ReportSpec("surrogate", [
           "(the paper's label) beside the paper's positives; the configured check (a contact deeper than "
           "the fingertip radius is invalid) and the |R_z| reading", _dataset,
           [Col("group_label", "group"), Col("n", "scenarios"), Col("paper_pct", "paper %", 1),
-           *(Col(f"{o}_pct", f"{name(o)} % (95%)", 1, low=f"{o}_low_pct", high=f"{o}_high_pct")
-             for o in LABELS),
+           *(pct_col(o, name(o)) for o in LABELS),
            Col("difference", "difference [pp]", 1, signed=True), Col("verdict", "verdict")]),
     Table("surrogate_classification", _classification_caption, _classification, [
               Col("label_name", "label"), Col("model_label", "model"), Col("positives", "positives"),
@@ -272,7 +270,7 @@ SPEC = ReportSpec("surrogate", [
               Col("verdict", "AUC verdict"),
               Col("paper_accuracy_low_pct", "paper accuracy %", 1, low="paper_accuracy_low_pct",
                   high="paper_accuracy_high_pct"),
-              Col("accuracy_pct", "accuracy % (95%)", 1, low="accuracy_low_pct", high="accuracy_high_pct"),
+              pct_col("accuracy", "accuracy"),
               Col("majority_class_accuracy_pct", "majority class %", 1), Col("accuracy_verdict", "verdict")]),
     Table("surrogate_regression", "Regression R² on the held-out scenarios (the paper's is the MLP on the "
           "vertical residual |R_z|)", _regression, [Col("target_name", "target"), Col("model_label", "model"),

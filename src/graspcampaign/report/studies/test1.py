@@ -352,7 +352,8 @@ def fig24(run: Run, fig) -> None:
         ax_b.legend(loc="lower right", fontsize=7)
     ax_b.set(xlabel="stage travel [mm]", ylabel="tangential force ft [N]")
     ob = FRAMES["oblique"](run)
-    _per_family(ax_c, ob, "angle_deg", "margin_n", lw=0.9)
+    if len(_mats(ob)) > 1:  # one family's line is the overall one: drawn once, as "ours, all"
+        _per_family(ax_c, ob, "angle_deg", "margin_n", lw=0.9)
     if len(ob):
         agg = ob.groupby("angle_deg")["margin_n"].agg(["mean", "std"])
         ax_c.errorbar(agg.index, agg["mean"], agg["std"], color=BLUE, lw=2, marker="o",

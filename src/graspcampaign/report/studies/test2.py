@@ -49,8 +49,10 @@ def paper_table(name, caption, key, row, items, rates=(), medians=(), *, where=N
     cols = [Col("belief_error", "belief error")]
     for col, paper, head, digits in items:
         c, paper_c = columns(col, digits)
+        # the paper's value headed in the unit of ours: "paper %", "paper n", "paper [N]" (was "paper")
+        unit = "%" if digits is None else "n" if c == "n" else head[head.rfind("["):] * head.endswith("]")
         cols += [pct_col(col, head) if digits is None else Col(c, head, digits if digits != "" else None),
-                 *[Col(paper_c, "paper", 1 if digits is None else digits)] * bool(paper),
+                 *[Col(paper_c, f"paper {unit}".rstrip(), 1 if digits is None else digits)] * bool(paper),
                  *[Col("difference", "difference [pp]", 1, signed=True)] * (col == "success"),
                  *[Col("bootstrap_low_pct", "object bootstrap 95% [%]", 1, low="bootstrap_low_pct",
                        high="bootstrap_high_pct", why="bootstrap_why")] * (col == "success" and boot)]
@@ -169,8 +171,9 @@ def planner_bars(table: str):
     return draw
 
 
-def confusion(paper):
-    """Panel: ``predicted_stable`` against the rig's outcome, with ours and the paper's scores."""
+def confusion(paper, flag: str):
+    """Panel: ``predicted_stable`` against the rig's outcome, with ours and the paper's scores; ``flag``
+    says in words what the flag predicts (the y label; the caption names the column)."""
     def draw(run: Run, ax) -> None:
         m = hw.classifier_table(ex(run).assign(all=1), ["predicted_stable"], ["all"]).iloc[0]
         cells, ref = np.array([[m["tn"], m["fn"]], [m["fp"], m["tp"]]]), paper_of(run, paper)
@@ -178,7 +181,7 @@ def confusion(paper):
         for (i, j), v in np.ndenumerate(cells):
             ax.text(j, i, v, ha="center", va="center", color="white" if v > 0.6 * cells.max() else "k")
         ax.set(xticks=[0, 1], xticklabels=["failed", "succeeded"], yticks=[0, 1], yticklabels=["no", "yes"],
-               xlabel=f"{run.rig} outcome [trials]", ylabel="predicted_stable", title="(c) flag vs outcome")
+               xlabel=f"{run.rig} outcome [trials]", ylabel=flag, title="(c) flag vs outcome")
         ax.grid(False)
         ax.plot([], [], " ", label="\n".join([f"n = {m['n']}", *(
             f"{k}: ours {fmt.number(m[k], 2)}, paper {fmt.number(getattr(ref, k), 2)}"
@@ -414,5 +417,5 @@ SPEC = ReportSpec("test2_grasp", [
     Figure("fig31_planner_comparison", "Fig. 31: success per planner (a) with own and exact beliefs "
            "(hatched), (b) matched ablation; (c) `predicted_stable` against the outcome", style.panels(
                planner_bars("table7"), ("test2_matched", None, "planner", "(b) matched ablation"),
-               confusion(lambda p: p.classifier)), (13.0, 4.0)),
+               confusion(lambda p: p.classifier, "predicted stable: believed SF > 1")), (13.0, 4.0)),
 ])

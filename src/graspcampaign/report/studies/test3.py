@@ -10,6 +10,7 @@ from graspcampaign.analysis import disturbance as ds
 from graspcampaign.analysis import hardware as hw
 from graspcampaign.analysis.records import Estimate
 from graspcampaign.analysis.vocabulary import COATINGS, PROPOSED, colour, label
+from graspcampaign.core.words import counted
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
 from graspcampaign.report.document import Col, cols, pct_col
@@ -145,10 +146,18 @@ def thresholds(run: Run, ax) -> None:
 
 
 def directions(run: Run, ax) -> None:
+    """Fig. 33c: the median threshold per pull direction; a direction without one (no trial, or no
+    uncensored ramp: table test3_directions) breaks the line and says why where it lies."""
     d, rng = run.tables["test3_directions"], paper_of(run, lambda p: p.direction_threshold_range_n)
+    design = np.arange(0, 360, 45)  # block A's eight pull directions (§9.2; rig/protocol_design.py)
+    d = d.set_index("direction_deg").reindex(sorted({*design, *d["direction_deg"]})).reset_index()
     ax.plot(d["direction_deg"], d["lat_threshold_n"], "o-", color=colour("planner", PROPOSED), label="ours")
+    for a, n in d.loc[d["lat_threshold_n"].isna(), ["direction_deg", "n"]].itertuples(index=False):
+        ax.annotate(f"{counted(int(n), 'trial')}, no threshold" if n > 0 else "no trial", (a, 0),
+                    xytext=(0, 3), textcoords="offset points", rotation=90, ha="center", va="bottom",
+                    fontsize=7, color=style.CRITERION)
     ax.axhspan(*(rng or (np.nan,) * 2), color=style.PAPER, alpha=0.15, label="paper: range")
-    ax.set(xticks=np.arange(0, 360, 45), xlabel="pull direction (azimuth) [°]", ylim=(0, None),
+    ax.set(xticks=design, xlabel="pull direction (azimuth) [°]", ylim=(0, None),
            ylabel="median lateral threshold [N]", title="(c) natural friction, by direction")
     ax.legend(loc="lower right")
 
@@ -248,7 +257,7 @@ SPEC = ReportSpec("test3_disturbance", [
                 "outcome classes; median lateral threshold and its prediction error (uncensored block A)",
                 "planner", lambda p, k: p.table9[k], [
                     ("n", "n", "n", 0), ("success", "success_pct", "success", None),
-                    ("paper_wilson", None, "paper Wilson 95%", ""),
+                    ("paper_wilson", None, "paper Wilson 95% [%]", ""),
                     *((k, f"{k}_pct", k, None) for k in ("stable", "drop", "damage")),
                     ("n_lat_threshold", None, "thresholds", 0),
                     ("lat_threshold_n", "lat_threshold_n", "median lateral threshold [N]", 2),
@@ -260,7 +269,7 @@ SPEC = ReportSpec("test3_disturbance", [
           "median uncensored lateral threshold beside the paper's", coating, [
               Col("friction_level", "surface"), Col("n", "n"), pct_col("success", "success"),
               Col("paper_success_pct", "paper %", 1), Col("n_lat_threshold", "thresholds"),
-              Col("lat_threshold_n", "median threshold [N]", 2), Col("paper_threshold_n", "paper", 2),
+              Col("lat_threshold_n", "median threshold [N]", 2), Col("paper_threshold_n", "paper [N]", 2),
               Col("verdict", "verdict (success)")]),
     Table("test3_directions", "Natural-friction block A of the proposed planner per pull direction (§9.2, "
           "Fig. 33b)", lambda run: hw.summary(t2.ex(run, PROPOSED).query(f"block == 'A' and {NATURAL}"), [
@@ -307,7 +316,8 @@ SPEC = ReportSpec("test3_disturbance", [
            "predicted threshold, recorded peak slip", fig35, (9.5, 5.2)),
     Figure("fig36_robustness", lambda run: "Fig. 36: (a) success per planner with the planners' own beliefs "
            "and with exact ones (hatched), (b) share of natural-friction pulls holding each level (a grasp "
-           f"lost before the pull counts as 0 N), (c) the retention flag against the {run.rig} outcome",
-           style.panels(t2.planner_bars("table9"), survival, t2.confusion(lambda p: p.retention_classifier)),
+           f"lost before the pull counts as 0 N), (c) the retention flag (`predicted_stable`) against the "
+           f"{run.rig} outcome", style.panels(t2.planner_bars("table9"), survival, t2.confusion(
+               lambda p: p.retention_classifier, "predicted to retain: believed margin > 1")),
            (13.0, 4.0)),
 ])

@@ -31,8 +31,7 @@ def _tau(run: Run) -> float:
 
 def _traces(run: Run) -> pd.DataFrame:
     """The per-iteration traces with μ (and finger 1's depth ``depth_1_mm`` as the kind stored it)."""
-    if not len(trace := run.aux("iterations")):
-        raise ValueError("the run has no `iterations` trace table")
+    trace = run.stored("tables/iterations")
     return trace.merge(run.ok[["trial_id", "mu"]], on="trial_id").sort_values(["mu", "iteration"])
 
 

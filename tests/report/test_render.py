@@ -1,0 +1,58 @@
+"""report/render.py: a part an item cannot do without is asked for through ``Run.stored``, which says
+in one sentence which run lacks which table and what to do; before, dynamic (twice), wrench, sensitivity
+and surrogate each raised their own wording ("the run has no `steps` table", "... no PSO
+identifications (prepared/)", ...), some without the run or a remedy."""
+
+from __future__ import annotations
+
+import pandas as pd
+import pyarrow as pa
+import pytest
+
+from graspcampaign.report.render import Run
+from graspcampaign.report.studies import dynamic, sensitivity, surrogate, wrench
+
+
+class NoParts:
+    """A run's store holding no part at all (a run recorded before its kind stored them)."""
+
+    def read(self, part: str) -> pa.Table:
+        return pa.table({})
+
+
+def bare(study: str) -> Run:
+    records = pd.DataFrame({"trial_id": ["t0"], "status": ["ok"], "mu": [0.3], "panel": ["mu_mass"]})
+    return Run(records, {"study": study, "run": "r1", "config": {"factors": {}}}, store=NoParts())
+
+
+TRIALS = ("the study stores it while the run's trials run and this run stored none; record a new run with "
+          "`graspcampaign run {study} --run NEW`")
+
+
+@pytest.mark.parametrize(("study", "name", "read", "todo"), [
+    ("gravity_settle", "tables/shape", lambda run: dynamic._trial(run, "shape", "t0"), TRIALS),
+    ("friction_mass", "tables/steps", dynamic.ends, TRIALS),
+    ("wrench_balance", "tables/iterations", wrench._traces, TRIALS),
+    ("sensitivity", "prepared", sensitivity._identified(True, "median"), TRIALS),
+    ("surrogate", "summary/surrogate_regression", surrogate._read("regression", "r2"),
+     "the study writes it once every trial is recorded; `graspcampaign run {study} --run r1` completes "
+     "the run"),
+])
+def test_a_part_an_item_needs_and_the_run_lacks_is_named_in_one_sentence(study, name, read, todo):
+    with pytest.raises(ValueError) as raised:
+        read(bare(study))
+    assert str(raised.value) == f"run {study}/r1 has no `{name}` table: {todo.format(study=study)}"
+
+
+def test_a_stored_part_is_read_once_and_returned():
+    frame, reads = pd.DataFrame({"trial_id": ["t0"], "x": [1.0]}), []
+
+    class One(NoParts):
+        def read(self, part: str) -> pa.Table:
+            reads.append(part)
+            return pa.Table.from_pandas(frame)
+
+    run = Run(frame, {"study": "s", "run": "r1"}, store=One())
+    pd.testing.assert_frame_equal(run.stored("tables/x"), frame)
+    pd.testing.assert_frame_equal(run.stored("tables/x"), frame)
+    assert reads == ["tables/x"]
