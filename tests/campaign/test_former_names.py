@@ -5,8 +5,10 @@ b3d2459): the kind as it is now, its outputs written under the names that code w
 below from that code (``dynamic_grasp``'s and ``dynamic_check``'s ``slip_margin_n``;
 ``test1_bench``'s ``exponent_n`` and ``shifted_m``, ``exponent_n`` in its ``truths`` summary table
 and ``n`` in its ``pso_runs``; ``wrench_balance``'s ``slip_margin_rel`` in its ``iterations``
-trace). Its records (through every reader: ``load_records``, the dataset, ``status``), its other
-parts, its report tables and its checks must be those of the same run stored now.
+trace; ``test2_grasp``'s and ``test3_disturbance``'s ``n_believed`` in their records and their
+``belief_none`` trace). Its records (through every reader: ``load_records``, the dataset,
+``status``), its other parts, its report tables and its checks must be those of the same run
+stored now.
 """
 
 from __future__ import annotations
@@ -32,7 +34,10 @@ from graspcampaign.report.build import build_reports
 WROTE = {"dynamic_grasp": {"records": {"slip_margin_ratio": "slip_margin_n"}},
          "test1_bench": {"records": {"n_exp": "exponent_n", "shifted_m_exp": "shifted_m"},
                          "summary/truths": {"n_exp": "exponent_n"}, "summary/pso_runs": {"n_exp": "n"}},
-         "wrench_balance": {"tables/iterations": {"slip_margin_ratio": "slip_margin_rel"}}}
+         "wrench_balance": {"tables/iterations": {"slip_margin_ratio": "slip_margin_rel"}},
+         **dict.fromkeys(("test2_grasp", "test3_disturbance"), {
+             "records": {"believed_n_exp": "n_believed"},
+             "tables/belief_none": {"believed_n_exp": "n_believed"}})}
 #: Columns two runs of one study differ in whatever they store (when and where a trial ran).
 WHEN_WHERE = ["wall_time_s", "worker", "host"]
 DYNAMIC = ["nodes=[144]", "mass_kg=[0.4]", "+params.t_max_s=0.06"]  # ~0.5 s a trial
@@ -327,3 +332,28 @@ def test_a_wrench_trace_resumed_across_the_rename_has_one_column(wrench_runs):
     mixed, now = _trace(roots["mixed"]), _trace(roots["now"])
     assert sorted(mixed) == sorted(now) and "slip_margin_rel" not in mixed  # the two names are one column
     pd.testing.assert_frame_equal(mixed[now.columns], now)  # each row's value, none lost
+
+
+@pytest.mark.parametrize("study", ["test2_grasp", "test3_disturbance"])
+def test_a_hardware_run_stored_before_reads_as_one_stored_now(study, tmp_path):
+    """The believed contact exponent was ``n_believed`` in Tests 2-3 and is ``believed_n_exp``, as
+    ``quasi_static`` calls the planner's believed exponent, in the records and the counterfactual
+    ``belief_none`` trace alike (a few dozen attempts, each with its ``belief_none`` reading)."""
+    roots = {name: tmp_path / name for name in ("now", "before")}
+    _run(roots["now"], study, ["params.fraction=0.02"])
+    _run(roots["before"], study, ["params.fraction=0.02"], before=True)
+    path = roots["before"] / study / "default"
+    for part in ("records", "tables/belief_none"):
+        assert "n_believed" in _stored_names(path, part) and "believed_n_exp" not in _stored_names(path, part)
+    names_now = _stored_names(roots["now"] / study / "default")
+    assert "believed_n_exp" in names_now and "n_believed" not in names_now
+    timing = ["plan_time_s"]  # 0 when the worker's cache held the plan: differs run to run
+    before, now = (_records(roots[n], study).drop(columns=timing) for n in ("before", "now"))
+    assert before.columns.tolist() == now.columns.tolist() and "n_believed" not in before
+    pd.testing.assert_frame_equal(before, now)
+    assert now["believed_n_exp"].notna().all()
+    before, now = (RunStore(roots[n] / study / "default").read("tables/belief_none").to_pandas()
+                   .drop(columns=timing).sort_values("trial_id").reset_index(drop=True)
+                   for n in ("before", "now"))
+    assert "n_believed" not in before
+    pd.testing.assert_frame_equal(before, now)

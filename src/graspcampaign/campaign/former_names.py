@@ -28,6 +28,10 @@ FORMER_NAMES: dict[str, dict[str, dict[str, str]]] = {
                     "summary/truths": {"exponent_n": "n_exp"},
                     "summary/pso_runs": {"n": "n_exp"}},
     "wrench_balance": {"tables/iterations": {"slip_margin_rel": "slip_margin_ratio"}},
+    "test2_grasp": {"records": {"n_believed": "believed_n_exp"},
+                    "tables/belief_none": {"n_believed": "believed_n_exp"}},
+    "test3_disturbance": {"records": {"n_believed": "believed_n_exp"},
+                          "tables/belief_none": {"n_believed": "believed_n_exp"}},
 }
 
 
