@@ -60,7 +60,7 @@ def test_table4_damping_is_the_median_with_the_negative_fits_counted():
 
 def test_table5_over_the_converged_runs_and_their_bounds():
     runs = pd.DataFrame({"converged": [True, True, True, False], "lambda1": [1.0, 2.0, 4.0, 99.0],
-                         "lambda2": [0.1, 0.1, 0.1, 0.0], "n": [0.4, 0.5, 0.6, 3.0], "b": 0.0, "k": 1.0,
+                         "lambda2": [0.1, 0.1, 0.1, 0.0], "n_exp": [0.4, 0.5, 0.6, 3.0], "b": 0.0, "k": 1.0,
                          "c": [1.0, 2.0, 3.0, 0.0], "at_bound": ["lambda2", "lambda2,b", None, "n"]})
     t = table5(runs).set_index("parameter")
     assert t.loc["lambda1", "mean"] == pytest.approx(7 / 3)

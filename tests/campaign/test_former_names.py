@@ -1,17 +1,21 @@
 """campaign.former_names: a run stored under a column's former name reads under its current name.
 
-A run "stored before the rename" is made here as the code before it made it (commit c34ea4d): the
-kind as it is now, its outputs written under the names that code wrote, typed out below from that
-code (``dynamic_grasp``'s and ``dynamic_check``'s ``slip_margin_n``; ``test1_bench``'s
-``exponent_n`` and ``shifted_m``, and ``exponent_n`` in its ``truths`` summary table). Its records
-(through every reader: ``load_records``, the dataset, ``status``), its report tables and its
-checks must be those of the same run stored now.
+A run "stored before the rename" is made here as the code before it made it (commits c34ea4d and
+b3d2459): the kind as it is now, its outputs written under the names that code wrote, typed out
+below from that code (``dynamic_grasp``'s and ``dynamic_check``'s ``slip_margin_n``;
+``test1_bench``'s ``exponent_n`` and ``shifted_m``, ``exponent_n`` in its ``truths`` summary table
+and ``n`` in its ``pso_runs``; ``wrench_balance``'s ``slip_margin_rel`` in its ``iterations``
+trace; ``test2_grasp``'s and ``test3_disturbance``'s ``n_believed`` in their records and their
+``belief_none`` trace). Its records (through every reader: ``load_records``, the dataset,
+``status``), its other parts, its report tables and its checks must be those of the same run
+stored now.
 """
 
 from __future__ import annotations
 
 import dataclasses
 
+import numpy as np
 import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
@@ -26,9 +30,14 @@ from graspcampaign.campaign.runner import run_study
 from graspcampaign.campaign.status import run_status
 from graspcampaign.report.build import build_reports
 
-#: What the code before the rename wrote, per kind: current name -> the name it wrote.
-WROTE = {"dynamic_grasp": {"slip_margin_ratio": "slip_margin_n"},
-         "test1_bench": {"n_exp": "exponent_n", "shifted_m_exp": "shifted_m"}}
+#: What the code before the rename wrote, per kind and part: current name -> the name it wrote.
+WROTE = {"dynamic_grasp": {"records": {"slip_margin_ratio": "slip_margin_n"}},
+         "test1_bench": {"records": {"n_exp": "exponent_n", "shifted_m_exp": "shifted_m"},
+                         "summary/truths": {"n_exp": "exponent_n"}, "summary/pso_runs": {"n_exp": "n"}},
+         "wrench_balance": {"tables/iterations": {"slip_margin_ratio": "slip_margin_rel"}},
+         **dict.fromkeys(("test2_grasp", "test3_disturbance"), {
+             "records": {"believed_n_exp": "n_believed"},
+             "tables/belief_none": {"believed_n_exp": "n_believed"}})}
 #: Columns two runs of one study differ in whatever they store (when and where a trial ran).
 WHEN_WHERE = ["wall_time_s", "worker", "host"]
 DYNAMIC = ["nodes=[144]", "mass_kg=[0.4]", "+params.t_max_s=0.06"]  # ~0.5 s a trial
@@ -69,50 +78,65 @@ def test_a_table_without_former_names_is_unchanged():
                                   "sensitivity"])
 def test_a_newton_slip_margin_keeps_its_name(kind):
     """The quasi-static kinds' ``slip_margin_n`` is min_j f_n,j (μ − |η|) in newtons; mapping it
-    onto their ``slip_margin_ratio`` would overwrite the ratio."""
-    assert "slip_margin_n" not in renamed(kind)
+    onto their ``slip_margin_ratio`` would overwrite the ratio (wrench_balance's trace holds both)."""
+    for part in ("records", "tables/iterations", "prepared"):
+        assert "slip_margin_n" not in renamed(kind, part)
+
+
+def test_the_part_decides_a_former_name():
+    """``n`` is Test 1's exponent in its PSO log only: a column ``n`` of another part (a count, in
+    the reports' tables) keeps its name, as does a part of another kind."""
+    table = pa.table({"n": [3, 4], "trial_id": ["a", "b"]})
+    for kind, part in (("test1_bench", "records"), ("test1_bench", "summary/table5"),
+                       ("pso_repeatability", "summary/pso_runs")):
+        assert current_names(table, renamed(kind, part)).equals(table)
+    pso_log = current_names(table, renamed("test1_bench", "summary/pso_runs"))
+    assert pso_log.column_names == ["n_exp", "trial_id"]
 
 
 # ---------------------------------------------------------------------- runs stored before
 
 
-def _as_before(kind_name: str, summary_tables: tuple[str, ...] = (), stop_at_mu: float | None = None):
-    """Trial kind ``kind_name`` as the code before the rename ran it: its outputs, and the rows of
-    its finalize tables ``summary_tables``, under the names it wrote (``WROTE``); interrupted
+def _as_before(kind_name: str, stop_at_mu: float | None = None):
+    """Trial kind ``kind_name`` as the code before the rename ran it: its outputs, its trace
+    tables and the rows of its finalize tables under the names it wrote (``WROTE``); interrupted
     (Ctrl-C) at the first trial of ``stop_at_mu``, if given."""
-    kind, names = get_kind(kind_name), WROTE[kind_name]
+    kind, wrote = get_kind(kind_name), WROTE[kind_name]
 
-    def back(row: dict) -> dict:
-        return {names.get(k, k): v for k, v in row.items()}
+    def back(row: dict, part: str = "records") -> dict:
+        return {wrote.get(part, {}).get(k, k): v for k, v in row.items()}
 
     def run(inp, rng):
         if stop_at_mu is not None and inp.trial.factors.get("mu") == stop_at_mu:
             raise KeyboardInterrupt
-        return back(kind.run(inp, rng))
+        out = back(kind.run(inp, rng))
+        if "__tables__" in out:  # trace tables: column -> values
+            out["__tables__"] = {n: back(t, f"tables/{n}") for n, t in out["__tables__"].items()}
+        return out
 
     def finalize(study, params, records, store=None):
         tables = kind.finalize(study, params, records, store)
-        return {n: [back(r) for r in rows] if n in summary_tables else rows for n, rows in tables.items()}
+        return {n: [back(r, f"summary/{n}") for r in rows] for n, rows in tables.items()}
 
     return dataclasses.replace(kind, run=run, finalize=finalize if kind.finalize else None)
 
 
 def _run(root, study: str, overrides: list[str], before: bool = False,
-         summary_tables: tuple[str, ...] = (), stop_at_mu: float | None = None, **kw):
+         stop_at_mu: float | None = None, **kw):
     """Run ``study`` reduced by ``overrides`` into ``root``; ``before``: by the code before the rename."""
     cfg = compose_study(study, ["runner.backend=sequential", "runner.progress=false",
                                 f"output.root={root}", *overrides])
     if before:
-        RUNTIME_KINDS[cfg.kind] = _as_before(cfg.kind, summary_tables, stop_at_mu)
+        RUNTIME_KINDS[cfg.kind] = _as_before(cfg.kind, stop_at_mu)
     try:
         return run_study(cfg, **kw)
     finally:
         RUNTIME_KINDS.pop(cfg.kind, None)
 
 
-def _stored_names(path) -> set[str]:
-    """Every column name of the run's stored records files, as written."""
-    return set().union(*(pq.read_schema(p).names for p in (path / "records").glob("*.parquet")))
+def _stored_names(path, part: str = "records") -> set[str]:
+    """Every column name of the run's stored ``part`` files, as written."""
+    return set().union(*(pq.read_schema(p).names for p in (path / part).glob("*.parquet")))
 
 
 def _records(root, study: str) -> pd.DataFrame:
@@ -201,7 +225,7 @@ def test1_runs(tmp_path_factory):
     """test1_bench (162 events, finalize tables) stored now and stored before the rename."""
     roots = {name: tmp_path_factory.mktemp(f"t1{name}") for name in ("now", "before")}
     _run(roots["now"], "test1_bench", TEST1)
-    _run(roots["before"], "test1_bench", TEST1, before=True, summary_tables=("truths",))
+    _run(roots["before"], "test1_bench", TEST1, before=True)
     for root in roots.values():
         assert build_reports(["test1_bench"], root=root, formats=["csv"]).failed == []
     return roots
@@ -227,3 +251,109 @@ def test_a_test1_run_stored_before_reads_and_reports_as_one_stored_now(test1_run
     # Table 4's paper rows stand in the records' column of n, beside ours
     table4 = now["table4.csv"].set_index("row")
     assert table4.loc["paper", "n_exp"] == 0.473 and table4.loc["ours", "n_exp"] > 0
+
+
+def test_a_test1_pso_log_stored_before_reads_as_one_stored_now(test1_runs):
+    """``summary/pso_runs`` called the exponent ``n``; read, it is the records' ``n_exp``, and Table 5
+    and the §7.5 rows (its median over the converged runs) are reported from it as now."""
+    roots = test1_runs
+    written = {name: _stored_names(roots[name] / "test1_bench" / "default", "summary/pso_runs")
+               for name in roots}
+    assert "n" in written["before"] and "n_exp" not in written["before"]
+    assert "n_exp" in written["now"] and "n" not in written["now"]
+    runs = [RunStore(roots[name] / "test1_bench" / "default").read("summary/pso_runs").to_pandas()
+            for name in ("before", "now")]
+    assert "n" not in runs[0] and runs[0]["n_exp"].notna().all()
+    pd.testing.assert_frame_equal(*runs)
+    before, now = _tables(roots["before"], "test1_bench"), _tables(roots["now"], "test1_bench")
+    for name in ("table5.csv", "pso_summary.csv"):
+        pd.testing.assert_frame_equal(before[name], now[name], obj=name)
+    median = before["pso_summary.csv"].set_index("quantity").loc["n over the converged runs: median", "value"]
+    assert median == pytest.approx(float(np.median(pq.read_table(
+        next((roots["before"] / "test1_bench" / "default" / "summary" / "pso_runs").glob("*.parquet")),
+        filters=[("converged", "==", True)]).column("n").to_numpy())), rel=1e-12)
+
+
+WRENCH = ["mu=[0.1,0.5]", "evaluator.n_max=12"]  # two friction levels, a short closing ramp
+
+
+@pytest.fixture(scope="module")
+def wrench_runs(tmp_path_factory):
+    """wrench_balance at μ = 0.1 and 0.5 stored now, stored before the trace's rename, and stored
+    before it until interrupted at μ = 0.5, then resumed now (``--allow-drift``)."""
+    roots = {name: tmp_path_factory.mktemp(f"w{name}") for name in ("now", "before", "mixed")}
+    _run(roots["now"], "wrench_balance", WRENCH)
+    _run(roots["before"], "wrench_balance", WRENCH, before=True)
+    with pytest.raises(KeyboardInterrupt):
+        _run(roots["mixed"], "wrench_balance", WRENCH, before=True, stop_at_mu=0.5)
+    _run(roots["mixed"], "wrench_balance", WRENCH, allow_drift=True)
+    for root in roots.values():
+        assert build_reports(["wrench_balance"], root=root, formats=["csv"]).failed == []
+    return roots
+
+
+def _trace(root) -> pd.DataFrame:
+    table = RunStore(root / "wrench_balance" / "default").read("tables/iterations").to_pandas()
+    return table.sort_values(["trial_id", "iteration"]).reset_index(drop=True)
+
+
+def test_a_wrench_trace_stored_before_reads_and_reports_as_one_stored_now(wrench_runs):
+    """The trace's ``slip_margin_rel`` was the records' ``slip_margin_ratio`` per iteration; read, it
+    is that column, the records' own ``slip_margin_ratio`` is left as it is, and the report's
+    tables (the final slip margin of each μ) are those of the run stored now."""
+    roots = wrench_runs
+    path = roots["before"] / "wrench_balance" / "default"
+    assert {"slip_margin_rel", "slip_margin_n"} <= _stored_names(path, "tables/iterations")
+    assert "slip_margin_ratio" not in _stored_names(path, "tables/iterations")
+    assert "slip_margin_ratio" in _stored_names(path)  # the records' ratio, written so then already
+    now = _trace(roots["now"])
+    assert "slip_margin_rel" not in _stored_names(roots["now"] / "wrench_balance" / "default",
+                                                  "tables/iterations")
+    before = _trace(roots["before"])
+    assert before.columns.tolist() == now.columns.tolist() and "slip_margin_rel" not in before
+    pd.testing.assert_frame_equal(before, now)
+    records = _records(roots["now"], "wrench_balance").set_index("trial_id")
+    last = now.groupby("trial_id").last()  # the records are the end of the closing ramp
+    pd.testing.assert_series_equal(last["slip_margin_ratio"], records.loc[last.index, "slip_margin_ratio"])
+    pd.testing.assert_frame_equal(_records(roots["before"], "wrench_balance"),
+                                  _records(roots["now"], "wrench_balance"))
+    before, now = _tables(roots["before"], "wrench_balance"), _tables(roots["now"], "wrench_balance")
+    assert before.keys() == now.keys() and "wrench_balance.csv" in now
+    for name, table in now.items():
+        pd.testing.assert_frame_equal(before[name], table, obj=name)
+
+
+def test_a_wrench_trace_resumed_across_the_rename_has_one_column(wrench_runs):
+    roots = wrench_runs
+    stored = list((roots["mixed"] / "wrench_balance" / "default" / "tables" / "iterations").glob("*.parquet"))
+    # μ = 0.1's trace under the former name, μ = 0.5's under the current one, in one compacted file
+    assert len(stored) == 1
+    assert {"slip_margin_rel", "slip_margin_ratio"} <= set(pq.read_schema(stored[0]).names)
+    mixed, now = _trace(roots["mixed"]), _trace(roots["now"])
+    assert sorted(mixed) == sorted(now) and "slip_margin_rel" not in mixed  # the two names are one column
+    pd.testing.assert_frame_equal(mixed[now.columns], now)  # each row's value, none lost
+
+
+@pytest.mark.parametrize("study", ["test2_grasp", "test3_disturbance"])
+def test_a_hardware_run_stored_before_reads_as_one_stored_now(study, tmp_path):
+    """The believed contact exponent was ``n_believed`` in Tests 2-3 and is ``believed_n_exp``, as
+    ``quasi_static`` calls the planner's believed exponent, in the records and the counterfactual
+    ``belief_none`` trace alike (a few dozen attempts, each with its ``belief_none`` reading)."""
+    roots = {name: tmp_path / name for name in ("now", "before")}
+    _run(roots["now"], study, ["params.fraction=0.02"])
+    _run(roots["before"], study, ["params.fraction=0.02"], before=True)
+    path = roots["before"] / study / "default"
+    for part in ("records", "tables/belief_none"):
+        assert "n_believed" in _stored_names(path, part) and "believed_n_exp" not in _stored_names(path, part)
+    names_now = _stored_names(roots["now"] / study / "default")
+    assert "believed_n_exp" in names_now and "n_believed" not in names_now
+    timing = ["plan_time_s"]  # 0 when the worker's cache held the plan: differs run to run
+    before, now = (_records(roots[n], study).drop(columns=timing) for n in ("before", "now"))
+    assert before.columns.tolist() == now.columns.tolist() and "n_believed" not in before
+    pd.testing.assert_frame_equal(before, now)
+    assert now["believed_n_exp"].notna().all()
+    before, now = (RunStore(roots[n] / study / "default").read("tables/belief_none").to_pandas()
+                   .drop(columns=timing).sort_values("trial_id").reset_index(drop=True)
+                   for n in ("before", "now"))
+    assert "n_believed" not in before
+    pd.testing.assert_frame_equal(before, now)

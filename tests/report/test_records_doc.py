@@ -85,7 +85,8 @@ REFERENCE = re.compile(r"the `(\w+)`\s+outcome\s+columns(?:\s+but\s+((?:`\w+`(?:
 
 #: backticked names in a records table that are no column of the records, and why
 NOT_COLUMNS = {"actual": "belief_model's value in the belief_none trace table only",
-               "g_geo_predicted": "the former name of g_geo_believed"}
+               "g_geo_predicted": "the former name of g_geo_believed",
+               "n_believed": "the former name of believed_n_exp"}
 
 
 def outputs(body: str) -> str:

@@ -90,7 +90,7 @@ def test_wrench_balance_settling_from_trace(tmp_path):
         res = np.where(it < settle, 5.0, 0.1)
         return {"iterations": [{"trial_id": trial_id, "iteration": int(i),
                                 "residual_norm_n": float(r), "torque_norm_nm": 1e-4,
-                                "slip_margin_n": 1.0, "slip_margin_rel": factors["mu"] * 1.9,
+                                "slip_margin_n": 1.0, "slip_margin_ratio": factors["mu"] * 1.9,
                                 "normal_force_1_n": 64.0} for i, r in zip(it, res, strict=True)]}
 
     store, table, settle = _wrench_report(tmp_path, outputs, trace)
@@ -124,7 +124,7 @@ def test_wrench_balance_never_settling_differs_and_non_physical_depths_flagged(t
     def trace(trial_id, factors, out):
         res = np.full(30, 5.0) if factors["mu"] < 0.5 else np.where(np.arange(30) < 10, 5.0, 0.1)
         return {"iterations": [{"trial_id": trial_id, "iteration": i + 1, "residual_norm_n": float(res[i]),
-                                "torque_norm_nm": 1e-4, "slip_margin_n": 1.0, "slip_margin_rel": 0.9,
+                                "torque_norm_nm": 1e-4, "slip_margin_n": 1.0, "slip_margin_ratio": 0.9,
                                 "normal_force_1_n": 64.0, "depth_1_mm": float(depth_mm[i])}
                                for i in range(30)]}
 
@@ -144,7 +144,7 @@ def test_wrench_balance_never_settling_differs_and_non_physical_depths_flagged(t
         settles = np.inf if last in above.values else above.max() + 1 if len(above) else tr["iteration"].min()
         differs.append(not low <= settles <= high)
         if mu >= paper["slip_margin_saturates_from_mu"]:  # a range: ours as printed (2 decimals) inside it
-            slip = round(tr.loc[tr["iteration"] == last, "slip_margin_rel"].item(), 2)
+            slip = round(tr.loc[tr["iteration"] == last, "slip_margin_ratio"].item(), 2)
             differs.append(not paper["slip_margin_saturates_above"] <= slip <= 1.0)
         differs.append(abs(tr["torque_norm_nm"].max() - paper["torque_residual_nm"]) >= 1e-3)  # 3 decimals
         differs.append(not 0 <= round(ok.loc[ok["mu"] == mu, "residual_norm_n"].median(), 2) <= tau)
@@ -187,7 +187,7 @@ def test_fig17_legend_lies_outside_every_panel(tmp_path):
         it = np.arange(1, 101)
         return {"iterations": [{"trial_id": trial_id, "iteration": int(i), "residual_norm_n": 4.0 + i / 10,
                                 "torque_norm_nm": 1e-3 * np.sqrt(i), "slip_margin_n": 1.0,
-                                "slip_margin_rel": 1.0 - 1.0 / i, "normal_force_1_n": 6.5 * np.sqrt(i),
+                                "slip_margin_ratio": 1.0 - 1.0 / i, "normal_force_1_n": 6.5 * np.sqrt(i),
                                 "depth_1_mm": 0.5 * i ** 2} for i in it]}
 
     store, _, _ = _wrench_report(tmp_path, outputs, trace)

@@ -73,7 +73,7 @@ def test_the_mu_lines_of_fig17_are_told_apart_by_lightness():
     run = Run(records, {"config": {"evaluator": {"tau_f_n": 0.5}}}, paper)
     run.memo("tables/iterations", lambda: pd.DataFrame(
         [{"trial_id": f"t{m}", "iteration": i, "residual_norm_n": 1.0, "torque_norm_nm": 0.0,
-          "slip_margin_rel": 0.5, "normal_force_1_n": 10.0} for m in mus for i in range(5)]))
+          "slip_margin_ratio": 0.5, "normal_force_1_n": 10.0} for m in mus for i in range(5)]))
     with mpl.rc_context(RC):
         fig = Figure()
         fig17(run, fig)

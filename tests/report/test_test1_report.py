@@ -158,7 +158,8 @@ def test_table5_says_which_runs_ended_on_a_bound(run):
     path, _ = run
     t5 = read_table(path, "table5").set_index("parameter")
     runs = RunStore(path).read("summary/pso_runs").to_pandas()
-    conv = runs[runs["converged"]]
+    # the PSO log's column n_exp (docs/records.md) under Table 5's parameter name n
+    conv = runs[runs["converged"]].rename(columns={"n_exp": "n"})
     assert list(t5.index) == ["lambda1", "lambda2", "n", "b", "k", "c"]
     for p in t5.index:
         assert t5.loc[p, "n_at_bound"] == sum(p in str(b).split(",") for b in conv["at_bound"])

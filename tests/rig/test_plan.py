@@ -160,7 +160,7 @@ def test_predictions_follow_their_definitions(t2_rows):
             w = row["mass_kg"] * GRAVITY
             assert p["f_lat_pred_n"] == pytest.approx(w * math.sqrt(p["sf_predicted"] ** 2 - 1))
         if row["planner"] != "heuristic":
-            assert p["n_believed"] == 1.5 and p["creep_believed"] == 1.0
+            assert p["believed_n_exp"] == 1.5 and p["creep_believed"] == 1.0
 
 
 def test_each_planner_sizes_its_grip_from_its_own_belief(t2_rows):

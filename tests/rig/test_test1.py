@@ -233,7 +233,7 @@ def test_pso_reidentification_recovers_n_and_k(reduced):
     assert set(runs["material"]) == set(T.MATERIALS)
     best = runs.loc[runs.groupby("material")["cost_rmse_pct"].idxmin()].set_index("material")
     truth = res.truths[res.truths["environment"] == "normal_lab"].set_index("material")
-    np.testing.assert_allclose(best["n"], truth.loc[best.index, "n_exp"], atol=0.03)
+    np.testing.assert_allclose(best["n_exp"], truth.loc[best.index, "n_exp"], atol=0.03)
     np.testing.assert_allclose(best["k_n_per_mm_n"], truth.loc[best.index, "k_n_per_mm_n"],
                                rtol=0.06)
     t5 = T.table5(runs)
@@ -295,7 +295,7 @@ def test_pso_reidentify_reruns_follow_the_run_by_run_rule(reduced):
     kw = {"n_particles": 3, "n_iterations": 2, "traces_per_run": 4}
     runs = T.pso_reidentify(res.waveforms, normal, SEED, n_restarts=5, max_reruns=20, **kw)
     want = _pso_run_by_run(res.waveforms, normal, SEED, 5, 20, **kw)
-    got = [(r.material, r.run, r.lambda1, r.lambda2, r.n, r.b, r.k, r.c, r.converged)
+    got = [(r.material, r.run, r.lambda1, r.lambda2, r.n_exp, r.b, r.k, r.c, r.converged)
            for r in runs.itertuples()]
     assert got == want
     counts = runs.groupby("material")["run"].size()

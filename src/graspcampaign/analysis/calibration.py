@@ -14,6 +14,7 @@ from scipy import stats
 from graspcampaign.analysis.records import at_bound
 from graspcampaign.core import bench
 from graspcampaign.core.bench import FAMILIES
+from graspcampaign.core.identify import PARAMETER_COLUMNS, PARAMETER_NAMES
 
 MATERIALS = tuple(FAMILIES)
 """Material families in Table 4 order."""
@@ -74,11 +75,10 @@ def table4(fits: pd.DataFrame, truths: pd.DataFrame | None = None) -> pd.DataFra
 
 def table5(runs: pd.DataFrame) -> pd.DataFrame:
     """Mean (with its 95% Student-t interval ``mean_low``/``mean_high``), SD, CV (%) of each
-    identified parameter over the converged runs (Table 5), and ``n_at_bound``: converged runs
-    that ended with that parameter on a search bound."""
-    ok = runs[runs["converged"].astype(bool)]
-    p = ["lambda1", "lambda2", "n", "b", "k", "c"]
-    out = pd.DataFrame({"parameter": p, "mean": ok[p].mean().to_numpy(),
+    identified parameter over the converged runs (Table 5; ``parameter`` its name, as §4's), and
+    ``n_at_bound``: converged runs that ended with that parameter on a search bound."""
+    ok, p = runs[runs["converged"].astype(bool)], list(PARAMETER_COLUMNS)
+    out = pd.DataFrame({"parameter": list(PARAMETER_NAMES), "mean": ok[p].mean().to_numpy(),
                         "sd": ok[p].std(ddof=1).to_numpy(), "n_runs": len(ok)})
     half = stats.t.ppf(0.975, len(ok) - 1) * out["sd"] / np.sqrt(len(ok)) if len(ok) > 1 else np.nan
     out["mean_low"], out["mean_high"] = out["mean"] - half, out["mean"] + half

@@ -1,5 +1,5 @@
-"""Record columns renamed since runs were stored: the former names, per trial kind, and their
-mapping to the current ones when a run is read.
+"""Record columns renamed since runs were stored: the former names, per trial kind and stored
+part, and their mapping to the current ones when a run is read.
 
 A stored file keeps the names it was written with (its digest is of its values under them, so a
 renamed column is not a damaged file). Every read for reports, ``status`` and the API goes through
@@ -17,19 +17,28 @@ from collections.abc import Mapping
 import pyarrow as pa
 import pyarrow.compute as pc
 
-#: Per trial kind, the former column name -> the current one (docs/decisions.md, "Record
-#: columns named by what they hold"). The kind decides: ``slip_margin_n`` of the quasi-static
-#: kinds is a margin in newtons and keeps its name.
-FORMER_NAMES: dict[str, dict[str, str]] = {
-    "dynamic_grasp": {"slip_margin_n": "slip_margin_ratio"},
-    "dynamic_check": {"slip_margin_n": "slip_margin_ratio"},
-    "test1_bench": {"exponent_n": "n_exp", "shifted_m": "shifted_m_exp"},
+#: Per trial kind and stored part (``records``, ``tables/<name>``, ``summary/<name>``), the former
+#: column name -> the current one (docs/decisions.md, "Record columns named by what they hold").
+#: The kind and the part decide: ``slip_margin_n`` of the quasi-static kinds is a margin in
+#: newtons and keeps its name, and ``n`` is Test 1's exponent in its PSO log only.
+FORMER_NAMES: dict[str, dict[str, dict[str, str]]] = {
+    "dynamic_grasp": {"records": {"slip_margin_n": "slip_margin_ratio"}},
+    "dynamic_check": {"records": {"slip_margin_n": "slip_margin_ratio"}},
+    "test1_bench": {"records": {"exponent_n": "n_exp", "shifted_m": "shifted_m_exp"},
+                    "summary/truths": {"exponent_n": "n_exp"},
+                    "summary/pso_runs": {"n": "n_exp"}},
+    "wrench_balance": {"tables/iterations": {"slip_margin_rel": "slip_margin_ratio"}},
+    "test2_grasp": {"records": {"n_believed": "believed_n_exp"},
+                    "tables/belief_none": {"n_believed": "believed_n_exp"}},
+    "test3_disturbance": {"records": {"n_believed": "believed_n_exp"},
+                          "tables/belief_none": {"n_believed": "believed_n_exp"}},
 }
 
 
-def renamed(kind: str | None) -> dict[str, str]:
-    """The former -> current column names of trial kind ``kind`` (none for another kind)."""
-    return FORMER_NAMES.get(kind or "", {})
+def renamed(kind: str | None, part: str = "records") -> dict[str, str]:
+    """The former -> current column names of part ``part`` of a run of trial kind ``kind`` (none
+    for another kind or part)."""
+    return FORMER_NAMES.get(kind or "", {}).get(part, {})
 
 
 def current_names(table: pa.Table, names: Mapping[str, str]) -> pa.Table:

@@ -317,7 +317,7 @@ class RunStore:
     def _read(self, part: str, columns: list[str] | None) -> tuple[pa.Table, list[Facts]]:
         """:meth:`read`'s table and the facts of the files it was read from; each file's columns
         under their current names (:func:`~graspcampaign.campaign.former_names.current_names`)."""
-        names, read = self.former_names(), []
+        names, read = self.former_names(part), []
         stored = columns if columns is None else [
             *columns, *(former for former, current in names.items() if current in columns)]
         for path in self._live(part):
@@ -346,7 +346,7 @@ class RunStore:
         import pyarrow.dataset as ds
 
         live = self._verified(part)
-        if any(former in own.schema.names for own in live.values() for former in self.former_names()):
+        if any(former in own.schema.names for own in live.values() for former in self.former_names(part)):
             return ds.dataset(self.read(part))  # stored before a rename: its columns renamed, in memory
         schema = pa.unify_schemas([own.schema.remove_metadata() for own in live.values()],
                                   promote_options="permissive") if live else pa.schema([])
@@ -354,13 +354,13 @@ class RunStore:
             page_checksum_verification=True))
         return ds.dataset([str(p) for p in live], schema=schema, format=fmt)
 
-    def former_names(self) -> dict[str, str]:
-        """The former -> current column names of the run's trial kind (its manifest's; none
-        without a manifest), :data:`~graspcampaign.campaign.former_names.FORMER_NAMES`."""
+    def former_names(self, part: str = "records") -> dict[str, str]:
+        """The former -> current column names of ``part`` of the run's trial kind (its manifest's;
+        none without a manifest), :data:`~graspcampaign.campaign.former_names.FORMER_NAMES`."""
         from graspcampaign.campaign.provenance import read_manifest
 
         manifest = read_manifest(self.manifest_path)
-        return renamed(manifest.get("kind") if manifest else None)
+        return renamed(manifest.get("kind") if manifest else None, part)
 
     def source(self, manifest: dict) -> str:
         """The data source of the run's records (SPEC §4): ``virtual`` as soon as one record says

@@ -27,6 +27,7 @@ __all__ = [
     "F0_N",
     "DELTA0_MM",
     "PAPER_BOUNDS",
+    "PARAMETER_COLUMNS",
     "PARAMETER_NAMES",
     "FLAT_PARAMETERS",
     "IdentificationResult",
@@ -42,6 +43,9 @@ logger = logging.getLogger(__name__)
 
 PARAMETER_NAMES = ("lambda1", "lambda2", "n", "b", "k", "c")
 """Order of the identified parameter vector (§4)."""
+
+PARAMETER_COLUMNS = ("lambda1", "lambda2", "n_exp", "b", "k", "c")
+"""The record column of each parameter of :data:`PARAMETER_NAMES` (docs/records.md: n is ``n_exp``)."""
 
 PAPER_BOUNDS = {
     "lambda1": (0.05, 1.5),

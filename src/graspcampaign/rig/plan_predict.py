@@ -144,7 +144,7 @@ def predictions_from_plan(plan: HardwarePlan, belief: PlannerBelief, mass: float
         "pc_mag": plan.pc_mag, "pe_mag": plan.pe_mag,
         "belief_error": belief.belief_error, "belief_model": belief.model,
         "g_geo_believed": g_geo, "mu_s_believed": belief.mu_s,
-        "k_believed_n_per_mm_n": belief.k_n_per_mm_n, "n_believed": belief.n,
+        "k_believed_n_per_mm_n": belief.k_n_per_mm_n, "believed_n_exp": belief.n,
         "creep_believed": creep,
         "grip_force_n": sizing.grip_force, "grip_needed_n": sizing.needed_force,
         "grip_cap_n": sizing.cap_force, "grip_capped": sizing.capped,
@@ -191,7 +191,7 @@ def predict_trial(row: dict, belief: PlannerBelief | None = None) -> dict[str, A
         their outward normals: the fingers close along ``-normal``); ``h_tilde, s1, s2, s3,
         pc_mag, pe_mag``; ``belief_error`` (paper | none), ``belief_model`` (calibrated,
         nominal_law, nominal_geometry, actual); ``g_geo_believed, mu_s_believed,
-        k_believed_n_per_mm_n, n_believed, creep_believed``; ``grip_force_n`` (commanded per
+        k_believed_n_per_mm_n, believed_n_exp, creep_believed``; ``grip_force_n`` (commanded per
         finger), ``grip_needed_n``, ``grip_cap_n``, ``grip_capped``, ``sf_predicted`` (the
         believed SF); ``normal_force_pred_j_n``, ``normal_force_pred_mean_n``,
         ``deformation_pred_j_mm``, ``deformation_pred_mean_mm``; ``contact_loss_predicted``;

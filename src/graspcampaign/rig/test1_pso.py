@@ -130,7 +130,7 @@ def pso_reidentify(waveforms: pd.DataFrame, schedule: pd.DataFrame, seed: int, *
     Returns
     -------
     pandas.DataFrame
-        One row per logged run: ``material, run, lambda1, lambda2, n, b, k, c,
+        One row per logged run: ``material, run, lambda1, lambda2, n_exp, b, k, c,
         k_n_per_mm_n, c_n_s_per_m, cost_rmse_pct, converged, n_traces, n_evaluations,
         at_bound, source`` (``at_bound``: parameters on a search bound, comma-joined).
     """
@@ -181,7 +181,7 @@ def pso_reidentify(waveforms: pd.DataFrame, schedule: pd.DataFrame, seed: int, *
         for r, res in enumerate(runs):
             lam1, lam2, n, b, k, c = (float(v) for v in res.best_x)
             rows.append({
-                "material": m, "run": r + 1, "lambda1": lam1, "lambda2": lam2, "n": n,
+                "material": m, "run": r + 1, "lambda1": lam1, "lambda2": lam2, "n_exp": n,
                 "b": b, "k": k, "c": c,
                 "k_n_per_mm_n": float(contact_stiffness_k(lam1, psis[m],
                                                           bench.FINGERTIP_RADIUS)),

@@ -177,7 +177,7 @@ def pso_transfer_errors(runs: pd.DataFrame, waveforms: pd.DataFrame, schedule: p
                         ) -> pd.DataFrame:
     """Normal-force error of every PSO-identified parameter set on held-out traces (§7.5).
 
-    Each run's law (``K = 2 lambda1 Psi sqrt(R)``, ``C = 4 pi R lambda2``, its ``n``; Psi of
+    Each run's law (``K = 2 lambda1 Psi sqrt(R)``, ``C = 4 pi R lambda2``, its ``n_exp``; Psi of
     the family's mean modulus, as in :func:`graspcampaign.rig.test1.pso_reidentify`) predicts
     the loading branch of every normal-indentation trace of its material in ``splits``; the
     error of one trace is its RMSE in % of the trace's peak force.
@@ -200,7 +200,7 @@ def pso_transfer_errors(runs: pd.DataFrame, waveforms: pd.DataFrame, schedule: p
         for r in g_runs.to_dict("records"):
             k = float(contact_stiffness_k(r["lambda1"], psi, bench.FINGERTIP_RADIUS))
             c = float(contact_damping_c(r["lambda2"], bench.FINGERTIP_RADIUS))
-            err = np.array([np.sqrt(np.mean((normal_force(d, v, k, r["n"], c) - f) ** 2))
+            err = np.array([np.sqrt(np.mean((normal_force(d, v, k, r["n_exp"], c) - f) ** 2))
                             / peak * 100.0 for d, v, f, peak in traces])
             rows.append({"material": m, "run": int(r["run"]), "converged": bool(r["converged"]),
                          "n_traces": len(traces), "rmse_mean_pct": float(err.mean()),

@@ -66,7 +66,7 @@ def run(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
         "residual_z_n": res.residual_z.tolist(),
         "torque_norm_nm": res.torque_norm.tolist(),
         "slip_margin_n": res.slip_margin.tolist(),
-        "slip_margin_rel": res.slip_margin_ratio.tolist(),
+        "slip_margin_ratio": res.slip_margin_ratio.tolist(),
         "normal_force_1_n": res.normal_forces[:, 0].tolist(),
         "depth_1_mm": (1e3 * depths[:, 0]).tolist(),
     }}

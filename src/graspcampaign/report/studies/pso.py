@@ -11,7 +11,7 @@ from graspcampaign.analysis import agreement
 from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
 from graspcampaign.analysis.records import at_bound
 from graspcampaign.analysis.vocabulary import PROPOSED, colour, label
-from graspcampaign.core.identify import PARAMETER_NAMES
+from graspcampaign.core.identify import PARAMETER_COLUMNS, PARAMETER_NAMES
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
 from graspcampaign.report.document import Col
@@ -19,7 +19,7 @@ from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, verdicts
 
 #: Identified parameters in Table 3's order: record column -> Table 3's name (the identification's, §4).
-PARAMETERS = dict(zip(("lambda1", "lambda2", "n_exp", "b", "k", "c"), PARAMETER_NAMES, strict=True))
+PARAMETERS = dict(zip(PARAMETER_COLUMNS, PARAMETER_NAMES, strict=True))
 BOUND = Col("at_bound", "on a search bound", share="at_bound_pct")
 NOT_IDENTIFIABLE = "no verdict: J does not depend on it, so its spread measures no identifiability"
 

@@ -169,7 +169,7 @@ def _pso_rows(run: Run):
 
     yield "PSO runs logged", "§7.5", known(len(runs)), p.pso_runs_logged, "", 0
     yield "PSO runs converged", "§7.5", known(runs["converged"].sum()), p.pso_runs_converged, "", 0
-    n = runs.loc[runs["converged"], "n"]
+    n = runs.loc[runs["converged"], "n_exp"]
     yield "n over the converged runs: median", "§7.5", lambda: known(n.median()), p.pso_n_run_median, "", 3
     for w, k in (("mean", "mean"), ("median", "median"), ("worst run", "max")):
         yield (f"held-out RMSE of the converged runs: {w}", "§7.5", lambda k=k: known(conv.agg(k)),

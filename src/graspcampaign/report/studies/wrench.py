@@ -54,7 +54,7 @@ def _per_mu(run: Run) -> pd.DataFrame:
                  for q, paper, ours, d in (
             (f"iteration from which ‖R‖ stays < {tau:g} N", p.residual_settles_within_iterations, settle, 0),
             ("final slip margin (μf_n − ‖f_t‖)/(μf_n) [–]", (p.slip_margin_saturates_above, 1.0)
-             if mu >= p.slip_margin_saturates_from_mu else None, float(tr["slip_margin_rel"].iloc[-1]), 2),
+             if mu >= p.slip_margin_saturates_from_mu else None, float(tr["slip_margin_ratio"].iloc[-1]), 2),
             ("final finger-1 normal force [N]", p.finger_force_command_n,
              float(tr["normal_force_1_n"].iloc[-1]), 0),
             ("largest torque residual ‖τ‖ [N·m]", p.torque_residual_nm, float(tr["torque_norm_nm"].max()), 3),
@@ -87,7 +87,7 @@ def finding(run: Run) -> str:
 
 PANELS = (("residual_norm_n", "(a) force residual ‖R‖ [N]"),
           ("torque_norm_nm", "(b) torque residual ‖τ‖ [N·m]"),
-          ("slip_margin_rel", "(c) slip margin (μf_n − ‖f_t‖)/(μf_n) [–]"),
+          ("slip_margin_ratio", "(c) slip margin (μf_n − ‖f_t‖)/(μf_n) [–]"),
           ("normal_force_1_n", "(d) finger-1 normal force [N]"))
 
 
@@ -105,7 +105,7 @@ def fig17(run: Run, fig) -> None:
     axes[2].axhline(p.slip_margin_saturates_above, color=style.PAPER, linestyle=":", label=f"paper: > "
                     f"{p.slip_margin_saturates_above:g} for μ ≥ {p.slip_margin_saturates_from_mu:g}")
     axes[2].axhline(0.0, color=style.CRITERION, linestyle="--", label="slip boundary")
-    if trace["slip_margin_rel"].min() < -1.0:  # the seed contact can reach −100 and hides it
+    if trace["slip_margin_ratio"].min() < -1.0:  # the seed contact can reach −100 and hides it
         axes[2].set(ylim=(-1.0, 1.1), title=PANELS[2][1] + ", clipped at −1")
     axes[3].axhline(p.finger_force_command_n, color=style.PAPER, linestyle=":",
                     label=f"paper: ≈{p.finger_force_command_n:g} N command")
