@@ -7,6 +7,12 @@ Each refusal: exit 2, one sentence naming what is wrong and where, nothing store
 
 from __future__ import annotations
 
+import bz2
+import gzip
+import lzma
+import zipfile
+from pathlib import Path
+
 import pytest
 import trimesh
 from cli_checks import refused
@@ -29,3 +35,49 @@ def test_a_near_miss_material_is_suggested_in_a_sentence(tmp_path, sphere, mater
                        tmp_path / "p.png"],
             f"unknown material '{material}'; {meant}use one of gel, silicone_soft, bio_foam, "
             "silicone_ref.")
+
+
+def _binary_ply(path: Path, vertices: int | None = None, faces: int | None = None) -> None:
+    """The sphere as a binary PLY whose header declares ``vertices`` / ``faces`` elements."""
+    mesh = trimesh.creation.icosphere(subdivisions=2, radius=40.0)
+    data = mesh.export(file_type="ply", encoding="binary")
+    if vertices is not None:
+        data = data.replace(b"element vertex %d\n" % len(mesh.vertices), b"element vertex %d\n" % vertices)
+    if faces is not None:
+        data = data.replace(b"element face %d\n" % len(mesh.faces), b"element face %d\n" % faces)
+    path.write_bytes(data)
+
+
+@pytest.mark.parametrize(("vertices", "faces", "declared", "least"), [
+    # it said "cannot be read as PLY (PLY is unexpected length!)."
+    (2_000_000_000, None, "2,000,000,000 vertex", 2_000_000_000 * 12),
+    (None, 10**9, "162 vertex and 1,000,000,000 face", 162 * 12 + 10**9),  # a list: its count alone
+])
+def test_a_binary_ply_declaring_more_than_it_holds_is_named(tmp_path, vertices, faces, declared,
+                                                            least):
+    path = tmp_path / "big.ply"
+    _binary_ply(path, vertices, faces)
+    after = path.stat().st_size - path.read_bytes().index(b"end_header\n") - len(b"end_header\n")
+    refused(tmp_path, ["plan", path, "--mass-kg", "0.1"],
+            f"mesh 'big.ply' is truncated or its header is wrong: its header declares {declared} "
+            f"elements, at least {least:,} bytes of binary data, but the file holds only {after:,} "
+            "bytes after its header.")
+
+
+@pytest.mark.parametrize(("name", "pack", "what", "todo"), [
+    # it said "... 3499 bytes are neither a binary STL (84 bytes plus 50 per triangle) nor ..."
+    ("sphere.stl", gzip.compress, "a gzip-compressed file, not an STL", "decompress it first (gunzip)"),
+    ("sphere.ply", bz2.compress, "a bzip2-compressed file, not a PLY", "decompress it first (bunzip2)"),
+    ("sphere.obj", lzma.compress, "an xz-compressed file, not an OBJ", "decompress it first (unxz)"),
+    ("sphere.stl", None, "a zip archive, not an STL", "extract the mesh from it first (unzip)"),
+])
+def test_a_compressed_mesh_file_is_named_as_one(tmp_path, sphere, name, pack, what, todo):
+    path = tmp_path / "packed" / name
+    path.parent.mkdir()
+    if pack is None:
+        with zipfile.ZipFile(path, "w") as archive:
+            archive.write(sphere, "sphere.stl")
+    else:
+        path.write_bytes(pack(sphere.read_bytes()))
+    refused(tmp_path, ["plan", path, "--mass-kg", "0.1"],
+            f"mesh '{name}' is {what} file itself: {todo} and give the mesh it holds.")
