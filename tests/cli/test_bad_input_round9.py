@@ -9,13 +9,16 @@ from __future__ import annotations
 
 import bz2
 import gzip
+import json
 import lzma
 import zipfile
 from pathlib import Path
 
 import pytest
 import trimesh
-from cli_checks import refused
+from cli_checks import SMOKE, invoke, refused
+
+from graspcampaign.campaign.provenance import code_version
 
 
 @pytest.fixture
@@ -81,3 +84,41 @@ def test_a_compressed_mesh_file_is_named_as_one(tmp_path, sphere, name, pack, wh
         path.write_bytes(pack(sphere.read_bytes()))
     refused(tmp_path, ["plan", path, "--mass-kg", "0.1"],
             f"mesh '{name}' is {what} file itself: {todo} and give the mesh it holds.")
+
+
+def _stored_by(run: Path, version: str, layout: int | None = None) -> None:
+    """Make the run's manifest say a code of ``version`` stored it (in file layout ``layout``)."""
+    path = run / "manifest.json"
+    manifest = json.loads(path.read_text())
+    manifest["code_version"] = version
+    if layout is not None:
+        manifest["format"] = layout
+    path.write_text(json.dumps(manifest))
+
+
+@pytest.mark.parametrize("command", ["status", "report", "run"])
+def test_a_run_stored_in_a_later_file_layout_is_refused_naming_both_versions(results, command):
+    """A manifest of newer code was read without a word, whatever its files' layout."""
+    run = results / "smoke" / "default"
+    _stored_by(run, "9.0.0+0123456789ab", layout=2)
+    refused(results, [command, "smoke", *(SMOKE if command == "run" else []), "--root", results],
+            f"run smoke/default at {run} was stored by graspcampaign 9.0.0+0123456789ab in file "
+            f"layout 2, and this code ({code_version()}) reads layout 1 at most; read it with "
+            "graspcampaign 9.0.0 or later.")
+
+
+def test_a_run_stored_by_a_later_release_in_this_layout_is_read_with_a_warning(results):
+    run = results / "smoke" / "default"
+    _stored_by(run, "9.0.0+0123456789ab")
+    status = invoke("status", "smoke", "--root", results)
+    assert status.exit_code == 0, status.output
+    assert status.stderr == ("warning: run smoke/default was stored by graspcampaign "
+                             f"9.0.0+0123456789ab, a later release than this code ({code_version()}); "
+                             "it is read as this code reads it.\n")
+    _stored_by(run, "0.0.1+0123456789ab")  # an earlier release: no word
+    assert invoke("status", "smoke", "--root", results).stderr == ""
+
+
+def test_a_new_manifest_records_its_file_layout(results):
+    manifest = json.loads((results / "smoke" / "default" / "manifest.json").read_text())
+    assert manifest["format"] == 1
