@@ -122,3 +122,15 @@ def test_a_run_stored_by_a_later_release_in_this_layout_is_read_with_a_warning(r
 def test_a_new_manifest_records_its_file_layout(results):
     manifest = json.loads((results / "smoke" / "default" / "manifest.json").read_text())
     assert manifest["format"] == 1
+
+
+@pytest.mark.parametrize("value", [
+    # the escaped quote ended the string for the key scan, which then read the rest as one string
+    r"{shape:['a\'b'],shape:[sphere]}",
+    r'{shape:["a\"b"],shape:[sphere]}',
+    r"{'sh\'ape':[sphere],shape:[sphere],shape:[pear]}",
+])
+def test_a_key_repeated_beside_an_escaped_quote_in_a_mapping_is_refused(tmp_path, value):
+    refused(tmp_path, ["show", "smoke", f"factors={value}", "--root", tmp_path / "results"],
+            f"override {f'factors={value}'!r} names factors.shape twice; give it once (Hydra would "
+            "keep the last silently).")
