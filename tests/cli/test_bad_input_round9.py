@@ -134,3 +134,30 @@ def test_a_key_repeated_beside_an_escaped_quote_in_a_mapping_is_refused(tmp_path
     refused(tmp_path, ["show", "smoke", f"factors={value}", "--root", tmp_path / "results"],
             f"override {f'factors={value}'!r} names factors.shape twice; give it once (Hydra would "
             "keep the last silently).")
+
+
+@pytest.mark.parametrize("name", ["times.csv", "times.JSON", "times.xlsx"])
+def test_reproduce_times_named_as_another_format_is_refused(results, tmp_path, name):
+    """``reproduce --times times.csv`` appended '== smoke: 3 s' lines to a file named as CSV."""
+    times = tmp_path / name
+    refused(results, ["reproduce", "--times", times, "--root", results],
+            f"--times {times}: reproduce appends lines of text ('== <step>: <s> s') to it, not "
+            f"{times.suffix}; give --times {times.with_suffix('.txt')}.")
+
+
+@pytest.mark.parametrize("name", ["day1.png", "day1.md", "day1.yaml"])
+def test_a_schedule_out_named_as_a_picture_or_a_page_is_refused(results, tmp_path, name):
+    """``schedule --out day1.png`` wrote day1.png.csv and day1.png.parquet (round 8 refused only
+    .xlsx, .xls, .json, .txt and .tsv)."""
+    out = tmp_path / name
+    refused(results, ["schedule", "test3_disturbance", "--out", out, "--root", results],
+            f"--out {out}: schedule writes the sheet as CSV and Parquet (<stem>.csv and "
+            f"<stem>.parquet), not as {out.suffix}; give --out {tmp_path / 'day1'} or "
+            f"{tmp_path / 'day1.csv'}.")
+
+
+def test_a_schedule_out_ending_in_csv_in_capitals_names_the_stem(results, tmp_path):
+    """``--out day1.CSV`` wrote day1.CSV.csv and day1.CSV.parquet; day1.csv names the stem day1."""
+    done = invoke("schedule", "test3_disturbance", "--out", tmp_path / "day1.CSV", "--root", results)
+    assert done.exit_code == 0, done.output
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["day1.csv", "day1.parquet", "results"]

@@ -19,6 +19,7 @@ from graspcampaign.cli.app import (
     compose,
     fail,
     guard,
+    other_format,
     outside_runs,
     path_or_empty,
     state,
@@ -56,9 +57,9 @@ def schedule(
     kind = get_kind(cfg.kind)
     if kind.schedule is None:
         fail(f"study {cfg.name!r} is a simulation study; only hardware protocols have a schedule.")
-    if out and out.suffix in (".csv", ".parquet"):  # --out x.csv: the stem is x
+    if out and out.suffix.lower() in (".csv", ".parquet"):  # --out x.csv: the stem is x
         out = out.with_suffix("")
-    elif out and out.suffix.lower() in (".xlsx", ".xls", ".json", ".txt", ".tsv"):  # not x.xlsx.csv
+    elif out and other_format(out, ()):  # not x.xlsx.csv
         fail(f"--out {out}: schedule writes the sheet as CSV and Parquet (<stem>.csv and "
              f"<stem>.parquet), not as {out.suffix}; give --out {out.with_suffix('')} or "
              f"{out.with_suffix('.csv')}.")
