@@ -161,3 +161,26 @@ def test_a_schedule_out_ending_in_csv_in_capitals_names_the_stem(results, tmp_pa
     done = invoke("schedule", "test3_disturbance", "--out", tmp_path / "day1.CSV", "--root", results)
     assert done.exit_code == 0, done.output
     assert sorted(p.name for p in tmp_path.iterdir()) == ["day1.csv", "day1.parquet", "results"]
+
+
+# -- round 9's table: the odd inputs tried beyond the brief --------------------------------------
+@pytest.mark.parametrize(("args", "what", "wanted"), [
+    (["plan", "{path}", "--mass-kg", "0.1"], "{path}", "a mesh file (STL, OBJ or PLY)"),
+    (["show", "{path}"], "study file {path}", "a YAML file"),
+    (["ingest", "test2_grasp", "{path}"], "{path}", "a file of measured records (CSV, XLSX or Parquet)"),
+])
+@pytest.mark.parametrize("link", ["to a missing file", "in a loop"])
+def test_a_symlink_leading_nowhere_is_named_as_one(results, tmp_path, args, what, wanted, link):
+    """Each said "no such file" (or "does not exist") of a path that is there: a link."""
+    path = tmp_path / "given.yaml"
+    if link == "in a loop":
+        (tmp_path / "other.yaml").symlink_to(path)
+        path.symlink_to(tmp_path / "other.yaml")
+        why = "is a symbolic link in a loop (it leads back to itself)"
+    else:
+        path.symlink_to(tmp_path / "moved" / "given.yaml")
+        why = f"is a symbolic link to {tmp_path / 'moved' / 'given.yaml'}, which does not exist"
+    rooted = [] if args[0] == "plan" else ["--root", results]
+    refused(results, [*(a.format(path=path) for a in args), *rooted],
+            f"{what.format(path=path)} {why}; give {wanted}.")
+

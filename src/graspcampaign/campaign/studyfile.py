@@ -175,7 +175,7 @@ def find_study(study: str) -> Path:
             raise ConfigError(f"study file {study} {unknown}; give its path in full.")
         if path.is_dir():
             raise ConfigError(f"study file {study} is a directory, not a file.")
-        if path.exists() and not path.is_file():  # it said "does not exist"
+        if os.path.lexists(path) and not path.is_file():  # it said "does not exist"
             raise ConfigError(f"study file {study} {path_problem(path, directory=False)}; give a "
                               "YAML file.")
         if not path.is_file():

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import json
+import os
 import traceback
 from pathlib import Path
 from typing import Annotated
@@ -148,7 +149,7 @@ def plan(
         fail("--png is empty; give a picture path ending in .png, such as plan.png.")
     if mesh.is_dir():
         fail(f"{mesh} is a directory; give a mesh file (STL, OBJ or PLY).")
-    if mesh.exists() and not mesh.is_file():  # a named pipe, /dev/null: not "no such file"
+    if os.path.lexists(mesh) and not mesh.is_file():  # a named pipe, /dev/null, a dangling link
         fail(f"{mesh} {path_problem(mesh, directory=False)}; give a mesh file (STL, OBJ or PLY).")
     if not mesh.is_file():
         fail(f"{mesh}: no such mesh file.")
