@@ -184,3 +184,17 @@ def test_a_symlink_leading_nowhere_is_named_as_one(results, tmp_path, args, what
     refused(results, [*(a.format(path=path) for a in args), *rooted],
             f"{what.format(path=path)} {why}; give {wanted}.")
 
+
+def test_a_binary_stl_cut_short_is_named_as_one(tmp_path, sphere):
+    """It said "8042 bytes are neither a binary STL (84 bytes plus 50 per triangle) nor an ASCII
+    STL"; a file of other bytes keeps that sentence."""
+    cut, other = tmp_path / "cut.stl", tmp_path / "other.stl"
+    cut.write_bytes(sphere.read_bytes()[:8042])
+    refused(tmp_path, ["plan", cut, "--mass-kg", "0.1"],
+            "mesh 'cut.stl' is truncated or its header is wrong: its header declares 320 triangles, "
+            "16,084 bytes as a binary STL (84 plus 50 per triangle), but the file holds only 8,042 "
+            "bytes.")
+    other.write_bytes(bytes(80) + (4_000_000_000).to_bytes(4, "little") + bytes(5000))
+    refused(tmp_path, ["plan", other, "--mass-kg", "0.1"],
+            "mesh 'other.stl' is not an STL file: 5084 bytes are neither a binary STL (84 bytes "
+            "plus 50 per triangle) nor an ASCII STL (text starting with 'solid').")

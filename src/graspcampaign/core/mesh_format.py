@@ -30,6 +30,11 @@ class MeshError(ValueError):
     """A mesh or shape request that cannot be used; the message says what is wrong."""
 
 
+#: The most triangles a binary STL cut short is recognised by (a 2.5 GB file): 50 times the
+#: million faces beyond which `plan` warns of a mesh's size (decisions.md).
+MAX_STL_TRIANGLES = 50_000_000
+
+
 def check_stl_layout(name: str, base: str, n_bytes: int) -> None:
     """Tell an STL from other bytes before trimesh guesses (it would try text decodings)."""
     with open(name, "rb") as fh:
@@ -43,6 +48,15 @@ def check_stl_layout(name: str, base: str, n_bytes: int) -> None:
             return
         except UnicodeDecodeError:
             pass
+    declared = int.from_bytes(head[80:84], "little") if len(head) == 84 else 0
+    # a binary STL cut short (the copy stopped midway): a count no file of another kind holds by
+    # chance (bytes 80-84 of other data read as a count are mostly far above it) and one whole
+    # triangle at least; text beginning 'solid' is an ASCII STL's to explain
+    if (0 < declared <= MAX_STL_TRIANGLES and 134 <= n_bytes < 84 + 50 * declared
+            and head.lstrip()[:5].lower() != b"solid"):
+        raise MeshError(f"mesh {base!r} is truncated or its header is wrong: its header declares "
+                        f"{declared:,} triangles, {84 + 50 * declared:,} bytes as a binary STL "
+                        f"(84 plus 50 per triangle), but the file holds only {n_bytes:,} bytes.")
     raise MeshError(f"mesh {base!r} is not an STL file: {n_bytes} bytes are neither a binary STL "
                     "(84 bytes plus 50 per triangle) nor an ASCII STL (text starting with 'solid').")
 
