@@ -102,7 +102,7 @@ MASS = "a mass must be positive and a three-finger hand lifts at most ~10 kg"
          "fingertip_radius_mm = -5.0 is out of range; allowed: > 0 and <= 50 mm (a fingertip is a "
          "few millimetres to a few centimetres in radius)."),
         (["--mass-kg", "0.1", "--material", "unobtainium"],
-         "unknown material 'unobtainium': use one of gel, silicone_soft, bio_foam, silicone_ref"),
+         "unknown material 'unobtainium'; use one of gel, silicone_soft, bio_foam, silicone_ref."),
         (["--mass-kg", "0.1", "--unit", "furlong"], "unknown unit 'furlong': use one of 'm', 'cm', 'mm'."),
         (["--mass-kg", "abc"], "--mass-kg 'abc' is not a number; see graspcampaign plan --help."),
         (["--mass-kg", "0.1", "--png", ""], "--png is empty; give a picture path ending in .png, such "

@@ -95,7 +95,7 @@ def test_plan_with_mu_overrides_the_material(stl_files):
      "fingertip_radius_mm = 80 is out of range; allowed: > 0 and <= 50 mm (a fingertip is a few "
      "millimetres to a few centimetres in radius)."),
     ({"mass_kg": 0.1, "material": "steel"},
-     "unknown material 'steel': use one of gel, silicone_soft, bio_foam, silicone_ref"),
+     "unknown material 'steel'; use one of gel, silicone_soft, bio_foam, silicone_ref."),
 ])
 def test_plan_rejects_bad_values(stl_files, kwargs, message):
     with pytest.raises(ValueError) as info:

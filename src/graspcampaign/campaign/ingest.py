@@ -43,7 +43,7 @@ def ingest_files(study: StudyCfg, paths: list[str], run: str = "measured",
     for path in paths:
         if Path(path).is_dir():
             raise UserInputError(f"{path} is a directory, not a file of measured records.")
-        if os.path.exists(path) and not Path(path).is_file():  # a named pipe, /dev/null
+        if os.path.lexists(path) and not Path(path).is_file():  # a named pipe, /dev/null, a link
             raise UserInputError(f"{path} {path_problem(Path(path), directory=False)}; give a file "
                                  "of measured records (CSV, XLSX or Parquet).")
         if not Path(path).is_file():

@@ -15,6 +15,7 @@ import difflib
 import errno
 import re
 import unicodedata
+from collections.abc import Iterator
 from typing import Any
 
 from graspcampaign.campaign.schema import FACTOR_SPECS, example
@@ -42,18 +43,32 @@ def split(item: str) -> tuple[str, str, str, str]:
     return prefix, key.strip(), sep, value
 
 
+def _unquoted(value: str) -> Iterator[tuple[int, str]]:
+    """``(index, character)`` of each character of an override's ``value`` outside its quoted
+    strings, as Hydra's grammar (``QUOTED_VALUE``) reads them: a string runs from a quote to the
+    same quote not escaped by a backslash (``'a\\'b'`` is one string). A quote never closed is no
+    string to Hydra either: its characters are outside."""
+    i = 0
+    while i < len(value):
+        char = value[i]
+        if char in "'\"":
+            end = re.match(rf"(?:\\.|[^\\{char}])*{char}", value[i + 1:], re.DOTALL)
+            if end:
+                i += 1 + end.end()
+                continue
+        yield i, char
+        i += 1
+
+
 def _mapping_keys(value: str) -> list[str]:
     """The top-level keys of a ``{k: v, ...}`` value as typed, repeats kept (Hydra's parser keeps
-    only the last of a repeated key, so a repeat must be seen before it parses)."""
+    only the last of a repeated key, so a repeat must be seen before it parses); a quoted string
+    (:func:`_unquoted`) is part of the key or value it stands in."""
     if not value.lstrip().startswith("{"):
         return []
-    keys, depth, quote, start, in_key = [], 0, None, 0, False
-    for i, char in enumerate(value):
-        if quote:
-            quote = None if char == quote else quote
-        elif char in "'\"":
-            quote = char
-        elif char in "[{(":
+    keys, depth, start, in_key = [], 0, 0, False
+    for i, char in _unquoted(value):
+        if char in "[{(":
             depth += 1
             if depth == 1:
                 start, in_key = i + 1, True
@@ -69,20 +84,9 @@ def _mapping_keys(value: str) -> list[str]:
 
 def _n_values(value: str) -> int:
     """The comma-separated values of an override's ``value``, as Hydra's grammar splits them: a
-    comma inside a quoted string (``'a,b'``; a backslash escapes the next character) separates
-    nothing, and its parse takes a time linear in the string. A quote never closed is no string
-    to Hydra either: its commas count."""
-    n, i = 1, 0
-    while i < len(value):
-        char = value[i]
-        if char in "'\"":
-            end = re.match(rf"(?:\\.|[^\\{char}])*{char}", value[i + 1:], re.DOTALL)
-            if end:
-                i += 1 + end.end()
-                continue
-        n += char == ","
-        i += 1
-    return n
+    comma inside a quoted string (:func:`_unquoted`; ``'a,b'``) separates nothing, and its parse
+    takes a time linear in the string."""
+    return 1 + sum(char == "," for _, char in _unquoted(value))
 
 
 def check_overrides(given: list[str]) -> None:

@@ -8,6 +8,7 @@ without the numerical layers.
 
 from __future__ import annotations
 
+import errno
 import os
 import shlex
 import stat
@@ -36,6 +37,8 @@ def path_problem(path: Path, *, write: bool = False, directory: bool = True) -> 
         if i == 0 and not directory:
             if where.is_dir():
                 return "is a directory, not a file"
+            if not write and not where.exists():  # a symlink leading nowhere: not "no such file"
+                return _dangling(where)
             if where.exists() and not where.is_file():
                 return f"is {_special(where.stat().st_mode)}, not a regular file"
         elif not where.is_dir():
@@ -43,6 +46,16 @@ def path_problem(path: Path, *, write: bool = False, directory: bool = True) -> 
             return what if i == 0 else f"{where} {what}"
         return _write_denied(where) if write else None
     return None
+
+
+def _dangling(link: Path) -> str:
+    """What a symbolic link that leads to no file is: one in a loop, or one to a missing target."""
+    try:
+        os.stat(link)
+    except OSError as exc:
+        if exc.errno == errno.ELOOP:
+            return "is a symbolic link in a loop (it leads back to itself)"
+    return f"is a symbolic link to {os.readlink(link)}, which does not exist"
 
 
 def _special(mode: int) -> str:

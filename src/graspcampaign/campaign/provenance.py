@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import datetime as dt
+import itertools
 import json
 import os
 import platform
@@ -103,6 +104,7 @@ def new_manifest(study: StudyCfg, run: str, n_trials: int, source: str) -> dict[
         "finished_at": None,
         "sessions": [],
         "digests": True,  # every file of the run carries the digest of its values (records.py)
+        "format": MANIFEST_FORMAT,
         "config": study_dict(study),
     }
 
@@ -148,7 +150,14 @@ _FIELDS: dict[str, tuple[tuple[type, ...], str]] = {
 }
 _OPTIONAL = {"n_recorded": ((int,), _COUNT), "digests": ((bool,), "true or false"),
              "overrides": ((list,), "a list of overrides"),
-             "default_design": ((dict,), "the study file's default design")}
+             "default_design": ((dict,), "the study file's default design"),
+             "format": ((int,), "a format number")}
+
+#: The layout of a run's files this code writes and reads (the manifest's ``format``; a manifest
+#: without one is format 1). Raise it when a run stored now could not be read as one stored
+#: before (a file, table or column moved or changed meaning, not merely added): this code then
+#: refuses a run of a later format instead of misreading it (docs/decisions.md).
+MANIFEST_FORMAT = 1
 
 
 def read_manifest(path: Path) -> dict[str, Any] | None:
@@ -181,12 +190,42 @@ def read_manifest(path: Path) -> dict[str, Any] | None:
             why = _manifest_problem(manifest) if text.strip() else "it is empty"
     if why is not None:
         raise manifest_error(path, why)
+    _check_not_newer(path.parent, manifest)
     mismatch = manifest_mismatch(path.parent, manifest)
     if mismatch:
         run_path, what = path.parent, MISMATCH.format(mismatch[0])
         raise DamagedRunError(f"run {run_path.parent.name}/{run_path.name} at {run_path} has "
                               f"{what}; {mismatch[1]}.", f"has {what}")
     return manifest
+
+
+def _release(version: str) -> tuple[int, ...]:
+    """The release numbers of a code version ("0.2.1+3f2a..." -> (0, 2, 1)); () if none."""
+    release = version.partition("+")[0]
+    numbers = []
+    for part in release.split("."):
+        digits = "".join(itertools.takewhile(str.isdigit, part))
+        if not digits:
+            break
+        numbers.append(int(digits))
+    return tuple(numbers)
+
+
+def _check_not_newer(run_path: Path, manifest: dict[str, Any]) -> None:
+    """Refuse a run stored in a later layout than this code reads (``format``), and warn, once, of
+    one stored by a later release in this layout: a later release may compute or name things
+    otherwise (the two versions named), but its files read as this code's."""
+    label, theirs, ours = f"{run_path.parent.name}/{run_path.name}", manifest["code_version"], code_version()
+    if manifest.get("format", 1) > MANIFEST_FORMAT:
+        raise UserInputError(f"run {label} at {run_path} was stored by graspcampaign {theirs} in "
+                             f"file layout {manifest['format']}, and this code ({ours}) reads "
+                             f"layout {MANIFEST_FORMAT} at most; read it with graspcampaign "
+                             f"{theirs.partition('+')[0]} or later.")
+    if _release(theirs) > _release(ours):
+        import warnings
+
+        warnings.warn(f"run {label} was stored by graspcampaign {theirs}, a later release than "
+                      f"this code ({ours}); it is read as this code reads it.", stacklevel=3)
 
 
 #: How a run's problem names a manifest that does not describe the run.

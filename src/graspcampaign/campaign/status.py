@@ -7,7 +7,6 @@ imports the numerical layers (the kind facts and explicit design sizes come from
 
 from __future__ import annotations
 
-import difflib
 import os
 import statistics
 from pathlib import Path
@@ -18,7 +17,7 @@ from graspcampaign.campaign.kind import KINDS, get_kind, kind_available
 from graspcampaign.campaign.paths import check_root, how_to_make, near_run
 from graspcampaign.campaign.schema import StudyCfg, design_shape
 from graspcampaign.campaign.studyfile import check_name, list_studies, run_dir, run_path
-from graspcampaign.core.words import counted
+from graspcampaign.core.words import counted, meant
 from graspcampaign.errors import UserInputError
 
 
@@ -196,9 +195,8 @@ def check_known(root: Path | str, study: str) -> None:
     check_name(study, "study")
     if (Path(root) / study).is_dir() or study in (known := list_studies()):
         return
-    near = difflib.get_close_matches(study, known, n=1)
     raise UserInputError(f"unknown study {study!r}: not on the config search path and no records "
-                         f"under {root}; {f'did you mean {near[0]!r}? ' if near else ''}available "
+                         f"under {root}; {meant(study, known)}available "
                          f"studies: {', '.join(known)}.")
 
 

@@ -17,7 +17,6 @@ module alone.
 
 from __future__ import annotations
 
-import difflib
 import math
 import os
 import re
@@ -26,6 +25,7 @@ from pathlib import Path
 from typing import Any
 
 from graspcampaign.campaign.paths import expand_home, path_problem
+from graspcampaign.core.words import meant
 from graspcampaign.errors import ConfigError, UserInputError
 
 _RUN_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
@@ -175,7 +175,7 @@ def find_study(study: str) -> Path:
             raise ConfigError(f"study file {study} {unknown}; give its path in full.")
         if path.is_dir():
             raise ConfigError(f"study file {study} is a directory, not a file.")
-        if path.exists() and not path.is_file():  # it said "does not exist"
+        if os.path.lexists(path) and not path.is_file():  # it said "does not exist"
             raise ConfigError(f"study file {study} {path_problem(path, directory=False)}; give a "
                               "YAML file.")
         if not path.is_file():
@@ -185,8 +185,7 @@ def find_study(study: str) -> Path:
         return path
     files = study_files()
     if study not in files:
-        near = difflib.get_close_matches(study, files, n=1)
-        raise ConfigError(f"unknown study {study!r}; {f'did you mean {near[0]!r}? ' if near else ''}"
+        raise ConfigError(f"unknown study {study!r}; {meant(study, files)}"
                           f"available studies: {', '.join(files)} (searched: {search_path_text()}).")
     return files[study]
 

@@ -198,6 +198,18 @@ def compose(study: str, overrides: list[str] | None, root: Path | None = None):
     return _configure(compose_study(study, overrides or []), root)
 
 
+#: Suffixes naming a file format of their own (a table, a workbook, text, a picture, a page, an
+#: archive): a command refuses to write another format under a name ending so (``other_format``).
+FORMAT_SUFFIXES = (".csv", ".tsv", ".txt", ".json", ".yaml", ".yml", ".parquet", ".xlsx", ".xls",
+                   ".ods", ".png", ".jpg", ".jpeg", ".svg", ".pdf", ".html", ".md", ".zip", ".gz")
+
+
+def other_format(out: Path, writes: tuple[str, ...]) -> bool:
+    """Whether ``out``'s suffix names a format (:data:`FORMAT_SUFFIXES`, any case) other than
+    those of ``writes``: the file written would not be what its name says."""
+    return out.suffix.lower() in FORMAT_SUFFIXES and out.suffix.lower() not in writes
+
+
 def outside_runs(out: Path, option: str) -> None:
     """Refuse an output ``out`` at or inside a run's directory, which holds that run's files only (a
     file in its records/ would have every command refuse the run as damaged)."""

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import json
+import os
 import traceback
 from pathlib import Path
 from typing import Annotated
@@ -19,6 +20,7 @@ from graspcampaign.cli.app import (
     compose,
     fail,
     guard,
+    other_format,
     outside_runs,
     path_or_empty,
     state,
@@ -56,9 +58,9 @@ def schedule(
     kind = get_kind(cfg.kind)
     if kind.schedule is None:
         fail(f"study {cfg.name!r} is a simulation study; only hardware protocols have a schedule.")
-    if out and out.suffix in (".csv", ".parquet"):  # --out x.csv: the stem is x
+    if out and out.suffix.lower() in (".csv", ".parquet"):  # --out x.csv: the stem is x
         out = out.with_suffix("")
-    elif out and out.suffix.lower() in (".xlsx", ".xls", ".json", ".txt", ".tsv"):  # not x.xlsx.csv
+    elif out and other_format(out, ()):  # not x.xlsx.csv
         fail(f"--out {out}: schedule writes the sheet as CSV and Parquet (<stem>.csv and "
              f"<stem>.parquet), not as {out.suffix}; give --out {out.with_suffix('')} or "
              f"{out.with_suffix('.csv')}.")
@@ -147,7 +149,7 @@ def plan(
         fail("--png is empty; give a picture path ending in .png, such as plan.png.")
     if mesh.is_dir():
         fail(f"{mesh} is a directory; give a mesh file (STL, OBJ or PLY).")
-    if mesh.exists() and not mesh.is_file():  # a named pipe, /dev/null: not "no such file"
+    if os.path.lexists(mesh) and not mesh.is_file():  # a named pipe, /dev/null, a dangling link
         fail(f"{mesh} {path_problem(mesh, directory=False)}; give a mesh file (STL, OBJ or PLY).")
     if not mesh.is_file():
         fail(f"{mesh}: no such mesh file.")

@@ -30,6 +30,7 @@ from graspcampaign.cli.app import (
     compose,
     fail,
     guard,
+    other_format,
     path_or_empty,
     state,
     writable_stem,
@@ -169,6 +170,9 @@ def reproduce(
     check_root(root, write=True)
     if times is not None:  # checked before the first study runs, not after it
         writable_stem(times, "--times", "a file such as", "reproduce_times.txt")
+        if other_format(times, (".txt",)):  # lines of text, under a name saying CSV or JSON
+            fail(f"--times {times}: reproduce appends lines of text ('== <step>: <s> s') to it, "
+                 f"not {times.suffix}; give --times {times.with_suffix('.txt')}.")
         times.parent.mkdir(parents=True, exist_ok=True)
 
     def timed(step: str, start: float) -> None:

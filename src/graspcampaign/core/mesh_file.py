@@ -3,7 +3,9 @@
 Every mesh leaving :func:`load_mesh` or :func:`check_mesh` is a closed, outward-wound
 triangulated surface in metres whose solid's volume centroid (``mesh.center_mass``) sits at the
 origin. Every refusal is a :class:`MeshError` whose message is one sentence naming the file and
-what is wrong. :mod:`graspcampaign.core.mesh` re-exports the public names.
+what is wrong. A file's bytes are read first by :mod:`graspcampaign.core.mesh_format` (its format,
+an STL's layout, OBJ lines, a PLY header), then by trimesh. :mod:`graspcampaign.core.mesh`
+re-exports the public names.
 
 Shape letters used in this module: ``n`` vertices (nodes), ``f`` faces, ``p`` query points.
 """
@@ -12,11 +14,19 @@ from __future__ import annotations
 
 import logging
 import os
-import re
 
 import numpy as np
 import trimesh
 
+from graspcampaign.core.mesh_format import (
+    MeshError,
+    check_compressed,
+    check_obj_lines,
+    check_ply_faces,
+    check_stl_layout,
+    other_format,
+    ply_layout,
+)
 from graspcampaign.core.plausible import OBJECT_SIZE_MM
 from graspcampaign.core.winding import winding_numbers
 from graspcampaign.core.words import counted, listed, plural
@@ -27,7 +37,7 @@ __all__ = [
     "MAX_COORDINATE_M",
     "MESH_SUFFIXES",
     "UNITS",
-    "MeshError",
+    "MeshError",  # defined in core.mesh_format, which reads a file's bytes before trimesh
     "centre_mesh",
     "check_mesh",
     "check_one_body",
@@ -39,10 +49,6 @@ __all__ = [
 UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3}
 #: File types read by :func:`load_mesh`.
 MESH_SUFFIXES = (".stl", ".obj", ".ply")
-
-
-class MeshError(ValueError):
-    """A mesh or shape request that cannot be used; the message says what is wrong."""
 
 
 def centre_mesh(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
@@ -92,16 +98,18 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
         raise MeshError(f"mesh {base!r} is empty: the file has 0 bytes.")
     with open(name, "rb") as fh:
         head = fh.read(4096)
-    other = _other_format(head, n_bytes)
+    other = other_format(head, n_bytes)
+    if other is None:  # a binary STL's 80-byte header is free text: its size tells it first
+        check_compressed(head, base, suffix)
     if other and other[1] != suffix:
         raise MeshError(f"mesh {base!r} is not {'a' if suffix == '.ply' else 'an'} "
                         f"{suffix[1:].upper()} file: it looks like {other[0]}; rename it to {other[1]}.")
     if suffix == ".stl":
-        _check_stl_layout(name, base, n_bytes)
+        check_stl_layout(name, base, n_bytes)
     face_word = "triangle" if suffix == ".stl" else None  # set when the faces keep the file's order
-    if suffix == ".obj" and _check_obj_lines(name, base):
+    if suffix == ".obj" and check_obj_lines(name, base):
         face_word = "face"
-    ply = _ply_layout(name, base) if suffix == ".ply" else None
+    ply = ply_layout(name, base) if suffix == ".ply" else None
     try:
         # validate=False, process=False: keep non-finite values, degenerate faces and bad winding
         # so that they are reported here and by check_mesh instead of silently dropped
@@ -113,7 +121,7 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
     if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
         raise MeshError(f"mesh {base!r} is empty: it has no faces.")
     if ply is not None:
-        _check_ply_faces(np.asarray(mesh.faces), len(mesh.vertices), base, ply)
+        check_ply_faces(np.asarray(mesh.faces), len(mesh.vertices), base, ply)
         if dict(ply["elements"]).get("face") == len(mesh.faces):  # no polygon split in triangles
             face_word = "face"
     vertices = np.asarray(mesh.vertices)
@@ -154,150 +162,6 @@ def _coordinate_order(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
 #: Largest coordinate accepted from a mesh file [m]: a kilometre is no graspable object, and
 #: bounding coordinates keeps areas and volumes (cubes of lengths) far from float overflow.
 MAX_COORDINATE_M = 1e3
-
-
-def _check_stl_layout(name: str, base: str, n_bytes: int) -> None:
-    """Tell an STL from other bytes before trimesh guesses (it would try text decodings)."""
-    with open(name, "rb") as fh:
-        head = fh.read(84)
-    if len(head) == 84 and 84 + 50 * int.from_bytes(head[80:84], "little") == n_bytes:
-        return  # binary STL: 80-byte header, triangle count, 50 bytes per triangle
-    if head.lstrip()[:5].lower() == b"solid":
-        try:
-            with open(name, encoding="ascii") as fh:
-                fh.read()
-            return
-        except UnicodeDecodeError:
-            pass
-    raise MeshError(f"mesh {base!r} is not an STL file: {n_bytes} bytes are neither a binary STL "
-                    "(84 bytes plus 50 per triangle) nor an ASCII STL (text starting with 'solid').")
-
-
-def _other_format(head: bytes, n_bytes: int) -> tuple[str, str] | None:
-    """Recognise an STL, PLY or OBJ file by its first bytes: (what it looks like, its suffix)."""
-    if len(head) >= 84 and 84 + 50 * int.from_bytes(head[80:84], "little") == n_bytes:
-        return "a binary STL (84 bytes plus 50 per triangle)", ".stl"
-    if head.lstrip()[:5].lower() == b"solid" and b"facet" in head:
-        return "an ASCII STL (text starting with 'solid')", ".stl"
-    if head[:4] in (b"ply\n", b"ply\r"):
-        return "a PLY file (its first line is 'ply')", ".ply"
-    if re.search(rb"(?m)^[ \t]*v[ \t]+[-+.\d]", head):  # an OBJ vertex line: 'v 1.0 2.0 3.0'
-        return "an OBJ file (text with vertex lines 'v x y z')", ".obj"
-    return None
-
-
-def _check_obj_lines(name: str, base: str) -> bool:
-    """Refuse an OBJ with a vertex or face it cannot read, naming the line; return whether trimesh
-    keeps its faces in the file's order (it splits polygons into triangles and regroups faces by
-    object, group and material).
-
-    Refused: binary data (OBJ is text), a 'v' line without three numbers, a face index that is
-    not a whole number or refers to a missing vertex, vertices without faces. trimesh reports
-    each as "could not be read to its end due to unmatched data". A face's vertex index is
-    1-based, or negative counting back from the vertices read so far (the OBJ format); a
-    positive index is checked against every vertex of the file, as readers do.
-    """
-    n_vertices = n_faces = 0
-    in_order = True
-    largest = (0, 0)  # (positive vertex index, line)
-    with open(name, "rb") as fh:
-        if b"\0" in fh.read(4096):
-            raise MeshError(f"mesh {base!r} is not an OBJ file: OBJ is text, but the file holds "
-                            "binary data.")
-    with open(name, encoding="utf-8", errors="replace") as fh:
-        for line_no, line in enumerate(fh, 1):
-            words = line.split()
-            if words[:1] == ["v"]:
-                n_vertices += 1
-                if len(words) < 4:
-                    raise MeshError(f"mesh {base!r} has a vertex (line {line_no}) with "
-                                    f"{counted(len(words) - 1, 'coordinate')}: an OBJ 'v' line "
-                                    "gives x, y and z.")
-                for token in words[1:]:
-                    try:
-                        float(token)
-                    except ValueError:
-                        raise MeshError(f"mesh {base!r} has a vertex (line {line_no}) whose "
-                                        f"coordinate {token!r} is not a number.") from None
-            elif words[:1] in (["o"], ["g"], ["usemtl"]):
-                in_order = False
-            elif words[:1] == ["f"]:
-                n_faces += 1
-                in_order &= len(words) == 4
-                for token in words[1:]:
-                    try:
-                        index = int(token.split("/", 1)[0])  # v, v/vt, v//vn or v/vt/vn
-                    except ValueError:
-                        raise MeshError(f"mesh {base!r} has a face (line {line_no}) whose vertex "
-                                        f"{token!r} is not a whole number.") from None
-                    if index > largest[0]:
-                        largest = (index, line_no)
-                    elif index == 0 or index < -n_vertices:  # a positive index passes both
-                        raise MeshError(f"mesh {base!r} has a face (line {line_no}) that refers to "
-                                        f"vertex {index}, but {counted(n_vertices, 'vertex', 'vertices')} "
-                                        "precede it: OBJ "
-                                        "indices count from 1, or back from -1.")
-    if largest[0] > n_vertices:
-        raise MeshError(f"mesh {base!r} has a face (line {largest[1]}) that refers to vertex "
-                        f"{largest[0]}, but the file has only {counted(n_vertices, 'vertex', 'vertices')}.")
-    if n_vertices and not n_faces:
-        raise MeshError(f"mesh {base!r} has {counted(n_vertices, 'vertex', 'vertices')} but no "
-                        "faces: a point cloud is no surface; export the mesh with its faces (OBJ 'f' lines).")
-    return in_order
-
-
-def _ply_layout(name: str, base: str) -> dict | None:
-    """Read a PLY header (``None`` if there is none: trimesh's reader says why) and refuse an
-    ASCII PLY that ends before the elements its header declares (one element a line)."""
-    elements: list[list] = []
-    ascii_format = False
-    n_header = 0  # header lines, end_header included
-    with open(name, "rb") as fh:
-        for raw in fh:
-            n_header += 1
-            words = raw.decode("ascii", errors="replace").split()
-            if words[:1] == ["format"]:
-                ascii_format = words[1:2] == ["ascii"]
-            elif words[:1] == ["element"] and len(words) == 3 and words[2].isdigit():
-                elements.append([words[1], int(words[2])])
-            elif words == ["end_header"]:
-                break
-        else:
-            return None
-        if not ascii_format:
-            return {"ascii": False, "elements": elements}
-        n_lines = sum(1 for raw in fh if raw.strip())
-    line = n_header
-    for element, count in elements:
-        if n_lines < count:
-            raise MeshError(f"mesh {base!r} is truncated: its header declares {count} "
-                            f"{element} elements, but the file ends after {n_lines} of them "
-                            f"(line {line + n_lines}).")
-        n_lines -= count
-        line += count
-    return {"ascii": True, "elements": elements, "header_lines": n_header}
-
-
-def _check_ply_faces(faces: np.ndarray, n_vertices: int, base: str, ply: dict | None) -> None:
-    """Refuse a PLY face that refers to a missing vertex, naming the face (and its line)."""
-    bad = (faces < 0) | (faces >= n_vertices)
-    if not bad.any():
-        return
-    row = int(np.flatnonzero(bad.any(axis=1))[0])
-    index = int(faces[row][bad[row]][0])
-    counts = dict(ply["elements"]) if ply else {}
-    where = ""
-    if counts.get("face") == len(faces):  # no polygon was split into triangles: rows are faces
-        where = f" (face {row + 1})"
-        if ply["ascii"]:
-            before = 0
-            for element, count in ply["elements"]:
-                if element == "face":
-                    break
-                before += count
-            where = f" (face {row + 1}, line {ply['header_lines'] + before + row + 1})"
-    raise MeshError(f"mesh {base!r} has a face{where} that refers to vertex {index}, but the file "
-                    f"has only {counted(n_vertices, 'vertex', 'vertices')}: PLY indices count from 0.")
 
 
 def _check_coordinates(vertices: np.ndarray, base: str, unit: str, per_triangle: bool) -> None:

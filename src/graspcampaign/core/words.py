@@ -22,3 +22,13 @@ def plural(noun: str, n: int, nouns: str | None = None) -> str:
 def counted(n: int, noun: str, nouns: str | None = None) -> str:
     """``n`` and ``noun``, plural unless ``n`` is 1 ("1 trial", "0 trials", "3 vertices")."""
     return f"{n} {plural(noun, n, nouns)}"
+
+
+def meant(word: str, known) -> str:
+    """``did you mean 'x'? `` naming the one of ``known`` nearest a misspelt ``word``
+    (``difflib.get_close_matches``), or ``""`` when none is alike: the one way a message suggests a
+    name ("unknown study 'smok'; did you mean 'smoke'? available studies: ...")."""
+    import difflib
+
+    near = difflib.get_close_matches(word, list(known), n=1)
+    return f"did you mean {near[0]!r}? " if near else ""

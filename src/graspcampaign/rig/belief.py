@@ -55,6 +55,7 @@ import numpy as np
 from graspcampaign.core import bench
 from graspcampaign.core import disturbance as dist
 from graspcampaign.core.contact import NOMINAL_CONTACT, ContactParams, effective_modulus
+from graspcampaign.core.words import meant
 
 __all__ = [
     "BELIEF_ERRORS",
@@ -203,7 +204,8 @@ def material_model(material: str, friction_level: str = "natural",
         Unknown material or friction level.
     """
     if material not in bench.FAMILIES:
-        raise ValueError(f"unknown material {material!r}: use one of {', '.join(bench.FAMILIES)}")
+        raise ValueError(f"unknown material {material!r}; {meant(material, bench.FAMILIES)}use one of "
+                         f"{', '.join(bench.FAMILIES)}.")
     fam = bench.FAMILIES[material]
     if friction_level == "natural":
         mu_s, mu_k = fam.mu_s, fam.mu_k
