@@ -69,6 +69,19 @@ def test_both_names_become_one_column_no_value_lost():
     assert out.column_names == ["n_exp"] and out.column("n_exp").type == pa.int32()
 
 
+@pytest.mark.parametrize(("current", "former", "merged"), [
+    (pa.array([1, None], pa.int64()), pa.array([None, 1.5]), pa.array([1.0, 1.5])),
+    (pa.array([1, None], pa.int32()), pa.array([None, 2**40]), pa.array([1, 2**40], pa.int64())),
+])
+def test_both_names_of_different_types_become_one_column_of_the_type_both_fit(current, former, merged):
+    # the shards of a compacted file typed apart (whole numbers before, fractions after): the type
+    # pyarrow's permissive unification gives them, as it gives the files of a run read together
+    table = pa.table({"n_exp": current, "n": former})
+    out = current_names(table, {"n": "n_exp"})
+    assert out.column_names == ["n_exp"]
+    assert out.column("n_exp").combine_chunks().equals(merged)
+
+
 def test_a_table_without_former_names_is_unchanged():
     table = pa.table({"slip_margin_n": [1.5], "slip_margin_ratio": [0.7]})
     assert current_names(table, renamed("quasi_static")).equals(table)

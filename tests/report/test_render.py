@@ -5,6 +5,8 @@ identifications (prepared/)", ...), some without the run or a remedy."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pandas as pd
 import pyarrow as pa
 import pytest
@@ -14,7 +16,10 @@ from graspcampaign.report.studies import dynamic, sensitivity, surrogate, wrench
 
 
 class NoParts:
-    """A run's store holding no part at all (a run recorded before its kind stored them)."""
+    """A run's store holding no part at all (a run recorded before its kind stored them), under a
+    results root of its own."""
+
+    path = Path("/data/runs/study/r1")
 
     def read(self, part: str) -> pa.Table:
         return pa.table({})
@@ -22,11 +27,14 @@ class NoParts:
 
 def bare(study: str) -> Run:
     records = pd.DataFrame({"trial_id": ["t0"], "status": ["ok"], "mu": [0.3], "panel": ["mu_mass"]})
-    return Run(records, {"study": study, "run": "r1", "config": {"factors": {}}}, store=NoParts())
+    return Run(records, {"study": study, "run": "r1", "config": {"factors": {}}, "overrides": ["seeds=2"]},
+               store=NoParts())
 
 
-TRIALS = ("the study stores it while the run's trials run and this run stored none; record a new run with "
-          "`graspcampaign run {study} --run NEW`")
+#: the commands name the run's root and the overrides it was started with: `run` refuses a run's
+#: own command without them ("started with another config"), and another root is another run
+TRIALS = ("the study stores it while the run's trials run and this run stored none; run `graspcampaign run "
+          "{study} seeds=2 --run NEW --root /data/runs` to record a new run")
 
 
 @pytest.mark.parametrize(("study", "name", "read", "todo"), [
@@ -35,8 +43,8 @@ TRIALS = ("the study stores it while the run's trials run and this run stored no
     ("wrench_balance", "tables/iterations", wrench._traces, TRIALS),
     ("sensitivity", "prepared", sensitivity._identified(True, "median"), TRIALS),
     ("surrogate", "summary/surrogate_regression", surrogate._read("regression", "r2"),
-     "the study writes it once every trial is recorded; `graspcampaign run {study} --run r1` completes "
-     "the run"),
+     "the study writes it once every trial is recorded; run `graspcampaign run {study} seeds=2 --run r1 "
+     "--root /data/runs` again to complete the run"),
 ])
 def test_a_part_an_item_needs_and_the_run_lacks_is_named_in_one_sentence(study, name, read, todo):
     with pytest.raises(ValueError) as raised:

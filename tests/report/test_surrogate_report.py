@@ -209,7 +209,7 @@ def test_a_run_without_its_summary_says_how_to_get_it(sim_root, tmp_path):
     md = report_md(root / "surrogate" / "default")
     assert ("Table surrogate_classification not computed: run surrogate/default has no "
             "`summary/surrogate_classification` table: the study writes it once every trial is recorded; "
-            "`graspcampaign run surrogate --run default` completes the run.") in md
+            f"run `graspcampaign run surrogate --root {root}` again to complete the run.") in md
 
 
 def test_the_pso_call_is_the_reference_of_the_ratios_not_a_row_without_a_paper_value():

@@ -44,7 +44,8 @@ def renamed(kind: str | None, part: str = "records") -> dict[str, str]:
 def current_names(table: pa.Table, names: Mapping[str, str]) -> pa.Table:
     """Return ``table`` with each former column name of ``names`` (former -> current) replaced by
     the current one, in the former column's place; a table holding both names gets one column
-    (the current name's place): the current name's value where it has one, else the former's."""
+    (the current name's place, the type both fit): the current name's value where it has one, else
+    the former's."""
     for former, current in names.items():
         if former not in table.column_names:
             continue
@@ -53,6 +54,10 @@ def current_names(table: pa.Table, names: Mapping[str, str]) -> pa.Table:
             table = table.set_column(i, current, column)
             continue
         j, kept = table.column_names.index(current), table.column(current)
-        merged = column if pa.types.is_null(kept.type) else pc.coalesce(kept, column.cast(kept.type))
+        # the type both fit, as a run's files are unified (int and double: double; a column all
+        # missing: the other's type); cast to the current name's type, a former 1.5 failed to read
+        common = pa.unify_schemas([pa.schema([(current, kept.type)]), pa.schema([(current, column.type)])],
+                                  promote_options="permissive").field(current).type
+        merged = pc.coalesce(kept.cast(common), column.cast(common))
         table = table.set_column(j, current, merged).remove_column(i)
     return table

@@ -194,14 +194,23 @@ def _ingests(study: str) -> bool:
 def write_file(path: Path, data: str | bytes) -> None:
     """Write ``data`` (text as UTF-8) as ``path`` through a hidden temporary file beside it, so
     that a write stopped midway (Ctrl-C, a full disk) leaves ``path`` as it was, never half written,
-    and no temporary file behind."""
+    and no temporary file behind. The file written over keeps its permissions, and a symbolic link
+    its place (the file it points to is written), as a write in place kept them; the temporary
+    file is this process's own, so two processes writing one file never replace each other's."""
     if path.is_dir():  # os.replace would say only "Is a directory"
         raise UserInputError(f"{path} is a directory where this command writes a file; move it "
                              "aside and run the command again.")
-    tmp = path.with_name(f".{path.name}.tmp")
+    target = Path(os.path.realpath(path)) if path.is_symlink() else path
+    try:
+        mode = stat.S_IMODE(os.stat(target).st_mode)
+    except OSError:  # none yet: the umask's, as for any new file
+        mode = None
+    tmp = target.with_name(f".{target.name}.{os.getpid()}.tmp")
     try:
         tmp.write_bytes(data.encode("utf-8") if isinstance(data, str) else data)
-        os.replace(tmp, path)
+        if mode is not None:
+            os.chmod(tmp, mode)
+        os.replace(tmp, target)
     except OSError as exc:  # named by the file it was for, not the temporary one
         raise OSError(exc.errno, exc.strerror, str(path)) from None
     finally:

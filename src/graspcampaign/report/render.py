@@ -15,6 +15,7 @@ import pandas as pd
 
 from graspcampaign.analysis.records import executed, status_counts
 from graspcampaign.analysis.vocabulary import data_source
+from graspcampaign.campaign.paths import how_to_make
 from graspcampaign.campaign.provenance import design_change, ingested
 from graspcampaign.core.bench_specimen import FINGERTIP_RADIUS
 from graspcampaign.errors import UserInputError
@@ -108,11 +109,17 @@ class Run:
         ValueError naming the run, the part and what to do when the run has none."""
         if len(frame := self.part(name)):
             return frame
-        study, run = self.study, self.manifest.get("run")
-        todo = (f"the study writes it once every trial is recorded; `graspcampaign run {study} --run {run}` "
-                "completes the run" if name.startswith("summary/") else "the study stores it while the run's "
-                f"trials run and this run stored none; record a new run with `graspcampaign run {study} "
-                "--run NEW`")
+        # the commands as paths.how_to_make gives them: under the run's root, with the overrides it was
+        # started with (without them `run` refuses the run as started with another config)
+        study, run, given = self.study, self.manifest.get("run"), self.manifest.get("overrides") or []
+        root = "results" if (where := getattr(self.store, "path", None)) is None else where.parent.parent
+        if name.startswith("summary/"):
+            again = how_to_make(root, study, run, given).removesuffix(" first.")
+            todo = f"the study writes it once every trial is recorded; {again} again to complete the run"
+        else:
+            new = how_to_make(root, study, "NEW", given).removesuffix(" first.")
+            todo = ("the study stores it while the run's trials run and this run stored none; "
+                    f"{new} to record a new run")
         raise ValueError(f"run {study}/{run} has no `{name}` table: {todo}")
 
     def memo(self, name: str, compute: Callable[[], Any]) -> Any:

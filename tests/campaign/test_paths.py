@@ -1,0 +1,70 @@
+"""campaign/paths.py: ``write_file`` writes a file whole or not at all, as a write in place would
+have left it otherwise (its permissions, a symbolic link to it), whoever else writes it meanwhile.
+
+The rest of the module (results roots, output places, run names) is exercised through the commands
+in tests/cli (test_bad_places.py, test_bad_input_round8.py).
+"""
+
+from __future__ import annotations
+
+import os
+import stat
+
+import pytest
+
+from graspcampaign.campaign import paths
+from graspcampaign.campaign.paths import write_file
+
+
+@pytest.fixture
+def umask_022():
+    """A known umask, so that a mode kept is told from the one a new file gets (0o644)."""
+    old = os.umask(0o022)
+    yield
+    os.umask(old)
+
+
+@pytest.mark.parametrize("mode", [0o600, 0o664], ids=oct)
+def test_a_file_written_over_keeps_its_permissions(tmp_path, umask_022, mode):
+    path = tmp_path / "report.md"
+    path.write_text("before")
+    path.chmod(mode)
+    write_file(path, "after")
+    assert path.read_text() == "after"
+    assert stat.S_IMODE(path.stat().st_mode) == mode
+
+
+def test_a_new_file_gets_the_umasks_permissions(tmp_path, umask_022):
+    write_file(tmp_path / "report.md", b"new")
+    assert stat.S_IMODE((tmp_path / "report.md").stat().st_mode) == 0o644
+
+
+def test_a_symbolic_link_written_through_stays_a_link(tmp_path):
+    (tmp_path / "kept").mkdir()
+    target, link = tmp_path / "kept" / "headline.md", tmp_path / "headline.md"
+    target.write_text("before")
+    link.symlink_to(target)
+    write_file(link, "after")
+    assert link.is_symlink() and os.readlink(link) == str(target)
+    assert target.read_text() == "after"
+    assert sorted(p.name for p in tmp_path.rglob("*")) == ["headline.md", "headline.md", "kept"]
+
+
+def test_two_writers_of_one_file_never_take_each_others_temporary_file(tmp_path, monkeypatch):
+    """Another process writes the file while this one is between writing its temporary file and
+    moving it in place: each moves its own, the last one's stays, and nothing is left beside it."""
+    path, replace, others = tmp_path / "index.md", os.replace, []
+
+    def meanwhile(src, dst):
+        if not others:  # the other writer, a process of another id, runs its whole write here
+            others.append(1)
+            monkeypatch.setattr(paths.os, "getpid", lambda: 1)
+            write_file(path, "theirs")
+            monkeypatch.undo()
+            monkeypatch.setattr(paths.os, "replace", meanwhile)
+        replace(src, dst)
+
+    monkeypatch.setattr(paths.os, "replace", meanwhile)
+    write_file(path, "ours")
+    assert path.read_text() == "ours"
+    assert [p.name for p in tmp_path.iterdir()] == ["index.md"]
