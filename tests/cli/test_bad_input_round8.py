@@ -253,8 +253,8 @@ def test_report_over_a_root_of_files_only_is_one_sentence(tmp_path):
         (tmp_path / name).write_text("x")
     refused(tmp_path, ["report", "--root", tmp_path],
             f"no runs under {tmp_path}: its 3 entries where runs would be (app/a.conf, …) are files, "
-            f"not run directories; is it a results root? (a run is made by graspcampaign run STUDY "
-            f"--root {tmp_path}).")
+            f"not run directories, so it is no results root; give the root your runs are in, or make "
+            f"one with graspcampaign run STUDY --root {tmp_path}.")
 
 
 def test_report_jobs_beyond_four_per_core_are_refused_before_any_starts(results):

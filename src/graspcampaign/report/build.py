@@ -161,8 +161,9 @@ def _runs(root: Path, studies: list[str] | None, run: str | Mapping[str, str] | 
                              f"--root {root}).")
     if not stores and len(failed) > 1 and not any(os.path.isdir(root / label) for label, _, _ in failed):
         raise UserInputError(f"no runs under {root}: its {len(failed)} entries where runs would be "
-                             f"({failed[0][0]}, …) are files, not run directories; is it a results root? "
-                             f"(a run is made by graspcampaign run STUDY --root {root}).")
+                             f"({failed[0][0]}, …) are files, not run directories, so it is no results "
+                             f"root; give the root your runs are in, or make one with graspcampaign run "
+                             f"STUDY --root {root}.")
     return stores, failed
 
 
