@@ -345,8 +345,8 @@ class RunStore:
         """
         import pyarrow.dataset as ds
 
-        live = self._verified(part)
-        if any(former in own.schema.names for own in live.values() for former in self.former_names(part)):
+        live, former = self._verified(part), self.former_names(part)
+        if any(name in own.schema.names for own in live.values() for name in former):
             return ds.dataset(self.read(part))  # stored before a rename: its columns renamed, in memory
         schema = pa.unify_schemas([own.schema.remove_metadata() for own in live.values()],
                                   promote_options="permissive") if live else pa.schema([])

@@ -266,9 +266,11 @@ def report(
         check_known(root, study)
     if jobs == 0 or jobs < -1:
         fail(f"--jobs {jobs}: give a number of processes (1 or more), or -1 for one per core.")
-    if jobs > (most := WORKERS_PER_CORE * (os.cpu_count() or 1)):  # as runner.n_jobs
+    if jobs > (most := WORKERS_PER_CORE * (cores := os.cpu_count() or 1)):  # as runner.n_jobs
+        from graspcampaign.core.words import counted
+
         fail(f"--jobs {jobs}: more than {WORKERS_PER_CORE} processes per core of this machine "
-             f"({os.cpu_count()} cores); give at most {most}, or -1 for one per core.")
+             f"({counted(cores, 'core')}); give at most {most}, or -1 for one per core.")
     # one batch: every named study and run is checked before any report is written
     runs = {s: configured_run(s) if run is None else run for s in studies} if studies else run
     _report_paths(build_reports(studies or None, run=runs, root=root, formats=fmt.split(","),
