@@ -58,6 +58,16 @@ def test_the_opening_states_the_papers_stable_region_beside_ours():
                                    f"{said[True]} inside it, {said[False]} outside (Wilson 95%). ")
 
 
+@pytest.mark.parametrize(("cells", "inside", "outside"), [
+    ({(0.4, 0.5): (3, 10), (0.3, 0.3): (1, 10)}, _wilson(4, 20) + " of 20 inside it", "no trial outside"),
+    ({(0.8, 0.5): (3, 10), (0.9, 0.05): (1, 10)}, "no trial inside it", _wilson(4, 20) + " of 20 outside")])
+def test_a_sweep_on_one_side_of_the_stable_region_says_so(cells, inside, outside):
+    # a sweep inside the region printed "— of <NA> outside"; one outside it left the region unsaid
+    assert finding(_run(cells)).startswith(f"Paper's stable region: μ ≥ {PAPER.stable_mu_min:g}, m ≤ "
+                                           f"{PAPER.stable_mass_max_kg:g} kg (Fig. 19a); ours succeeds "
+                                           f"on {inside}, {outside} (Wilson 95%). ")
+
+
 def test_the_papers_words_on_the_region_and_the_drop_are_judged_by_wilson_intervals_apart():
     # the rows printed "—, no paper value" though Fig. 19a and Sec. 6.6 state them in words
     run = _run({(0.4, 0.5): (30, 50), (0.8, 0.5): (5, 50), (0.4, 0.05): (20, 40), (0.8, 0.05): (2, 40)})

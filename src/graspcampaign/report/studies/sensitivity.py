@@ -185,9 +185,11 @@ def finding(run: Run) -> str:
     held = claims["differs"].eq(False)  # by _word_claims: Wilson intervals apart the paper's way
     seen = [name for name, r in rows.items() if held[r.index[0]]]
     p, inside, outside = run.paper, *(claims.loc[q] for q in REGION)
+    side = {where: f"{_rate(r)} of {r['n']:.0f} {where}" if pd.notna(r["value"]) else f"no trial {where}"
+            for where, r in (("inside it", inside), ("outside", outside))}  # a sweep on one side of it
     text = (f"Paper's stable region: μ ≥ {p.stable_mu_min:g}, m ≤ {p.stable_mass_max_kg:g} kg (Fig. 19a); "
-            f"ours succeeds on {_rate(inside)} of {inside['n']:.0f} inside it, {_rate(outside)} of "
-            f"{outside['n']:.0f} outside (Wilson 95%). " if pd.notna(inside["value"]) else "")
+            f"ours succeeds on {side['inside it']}, {side['outside']} (Wilson 95%). "
+            if pd.notna(inside["value"]) or pd.notna(outside["value"]) else "")
     verb = "separates" if len(seen) == 1 else "separate"
     text += (f"{len(seen)} of {len(rows)} Fig. 19 boundaries {verb} our rates "
              f"({fmt.listed(seen) + '; ' if seen else ''}table sensitivity_claims). " if rows else "")
