@@ -59,7 +59,7 @@ OVERRIDES = {
                        "rejected); known keys: backend, n_jobs, address, batch_size, target_task_s, "
                        "progress, progress_interval_s, connect_timeout_s.",
     "factors.nosuch=[1,2]": "factors.nosuch is not a known factor (override 'factors.nosuch=[1,2]' "
-                            "rejected); known factors: b_n_s_per_m, budget, damping_law, dt_s, "
+                            "rejected); known factors: b, budget, damping_law, dt_s, "
                             "grip_law, integrator, lambda1, lambda2, mass_kg, model_preset, mu, "
                             "n_cand, n_exp, n_max, nodes, planner, pso_seed, shape, variant, w1, w2, "
                             "w3, weight_scale.",

@@ -26,7 +26,7 @@ def _run(cells: dict) -> Run:
     doubles with n."""
     a = [{"panel": "mu_mass", "mass_kg": m, "mu": mu, "success": i < won, "runtime_ms": 1.0}
          for (m, mu), (won, n) in cells.items() for i in range(n)]
-    c = [{"panel": "n_b", "n_exp": n, "b_n_s_per_m": b, "success": False, "runtime_ms": n}
+    c = [{"panel": "n_b", "n_exp": n, "b": b, "success": False, "runtime_ms": n}
          for n in (1.0, 2.0) for b in (0.1, 0.2)]
     records = pd.DataFrame(a + c).assign(status="ok", success_vertical=lambda f: f["success"],
                                          delta_max_mm=1.0, loop_capped=False)

@@ -4,7 +4,8 @@ Trial ids are a readable key plus a short hash of the trial's own factor values,
 stable across runs, machines and worker counts. The random stream of a trial is derived from the
 study seed and the trial's *scene* (every factor but the method factors such as ``planner``), so
 every planner of one scene draw faces the same object, mass, friction and random draws: this is
-what the paired McNemar tests need.
+what the paired McNemar tests need. A renamed factor is hashed under its first name
+(``former_names.FIRST_NAMES``): a run stored before the rename keeps its trials' ids and streams.
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
+from graspcampaign.campaign.former_names import FIRST_NAMES
 from graspcampaign.campaign.schema import StudyCfg, design_shape
 
 if TYPE_CHECKING:
@@ -104,16 +106,17 @@ def expand(study: StudyCfg, rows: list[dict[str, Any]] | None = None) -> list[Tr
     protocol's schedule: one row per commanded trial, see ``TrialKind.design``).
     """
     trials = []
-    method = set(study.method_factors)
+    method = {FIRST_NAMES.get(name, name) for name in study.method_factors}
     for index, factors in enumerate(_cartesian(study) if rows is None else map(dict, rows)):
         factors.setdefault("seed", 0)
         factors.setdefault("repeat", 0)
-        scene = {k: v for k, v in factors.items() if k not in method}
+        hashed = {FIRST_NAMES.get(k, k): v for k, v in factors.items()}  # the names ids were made by
+        scene = {k: v for k, v in hashed.items() if k not in method}
         readable = "_".join(
             f"s{v}" if k == "seed" else f"r{v}" if k == "repeat" else _level_text(v)
             for k, v in factors.items() if k != "repeat" or study.repeats > 1
         )[:_READABLE_MAX]
-        digest = content_hash({"study": study.name, "kind": study.kind, "factors": factors})
+        digest = content_hash({"study": study.name, "kind": study.kind, "factors": hashed})
         trials.append(
             Trial(
                 index=index,

@@ -18,6 +18,7 @@ import unicodedata
 from collections.abc import Iterator
 from typing import Any
 
+from graspcampaign.campaign.former_names import FORMER_FACTORS, former_factor
 from graspcampaign.campaign.schema import FACTOR_SPECS, example
 from graspcampaign.campaign.studycheck import (
     GROUPS,
@@ -327,7 +328,10 @@ def _character_sentence(item: str, typed: str, error: str) -> str | None:
 
 def _unknown_override(key: str, typed: str | None, factors: list[str], set_keys: list[str] = ()) -> str:
     """``evaluator.nosuch=1``: name the section's known keys, as the ``+`` form does; a ``params.``
-    or ``paper.`` key near one the study sets (``set_keys``) is taken for a typo of it."""
+    or ``paper.`` key near one the study sets (``set_keys``) is taken for a typo of it; a factor by
+    its former name (``b_n_s_per_m=[0.5]``) is told its current one."""
+    if key.removeprefix("factors.") in FORMER_FACTORS:
+        return former_factor(key.removeprefix("factors."), key, typed)
     if "." not in key and key not in FACTOR_SPECS:
         return (f"{key} is neither a known key of the study config nor a factor of this study "
                 f"(factors: {', '.join(factors) or 'none'}); override rejected.")

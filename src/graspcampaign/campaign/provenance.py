@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Any
 
 import graspcampaign
+from graspcampaign.campaign.former_names import current_config
 from graspcampaign.campaign.grid import content_hash
 from graspcampaign.campaign.schema import StudyCfg
 from graspcampaign.errors import DamagedRunError, UserInputError
@@ -43,9 +44,11 @@ def config_hash(study: StudyCfg, manifest: dict[str, Any] | None = None) -> str:
     """Hash the parts of the resolved config that can change a trial's result.
 
     With the (verified) ``manifest`` of a run that stored this same config under its legacy
-    digest, return that digest: the run keeps one name for its config across sessions."""
+    digest, or under a factor's former name (``former_names.current_config``), return the run's
+    digest: the run keeps one name for its config across sessions."""
     digest = config_digest(study_dict(study))
-    if manifest and manifest["config_hash"] != digest and config_digest(manifest["config"]) == digest:
+    if manifest and manifest["config_hash"] != digest and config_digest(
+            current_config(manifest["config"])) == digest:
         return manifest["config_hash"]
     return digest
 

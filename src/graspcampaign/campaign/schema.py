@@ -18,6 +18,7 @@ import re
 from dataclasses import dataclass, field
 from typing import Any
 
+from graspcampaign.campaign.former_names import FORMER_FACTORS, RENAMED_FACTORS, former_factor
 from graspcampaign.core.plausible import FINGERTIP_RADIUS, PLAUSIBLE
 from graspcampaign.errors import ConfigError
 
@@ -227,7 +228,7 @@ FACTOR_SPECS: dict[str, dict[str, Any]] = {
     "lambda1": {"type": float, **_LAMBDA},
     "lambda2": {"type": float, **_LAMBDA},
     "n_exp": {"type": float, **PLAUSIBLE["n_exp"].meta()},
-    "b_n_s_per_m": {"type": float, **PLAUSIBLE["b_n_s_per_m"].meta()},
+    "b": {"type": float, **PLAUSIBLE["b"].meta()},  # MSD nodal damping, internal units (Sec. 11)
     "n_max": {"type": int, "ge": 1},
     "dt_s": {"type": float, "gt": 0.0},
     "weight_scale": {"type": float, "gt": 0.0},
@@ -336,6 +337,9 @@ def check_study(study: StudyCfg) -> None:
                           f"{study.runner.backend} runs the trials on this machine and would ignore "
                           "it: add runner.backend=dask, or drop runner.address.", key="runner.address")
     check_workers(study.runner)
+    for name in (n for n in study.method_factors if n in FORMER_FACTORS):
+        raise ConfigError(former_factor(name, f"method_factors' {name}", fixed=RENAMED_FACTORS[name]),
+                          key="method_factors")
     for name, levels in study.factors.items():
         check_factor(name, levels)
     seen: set[str] = set()
@@ -394,6 +398,8 @@ def check_factor(name: str, levels: Any) -> None:
         Naming ``factors.<name>`` (or the level ``factors.<name>[i]``) and what is allowed.
     """
     key = f"factors.{name}"
+    if name in FORMER_FACTORS:
+        raise ConfigError(former_factor(name, key), key=key)
     if name not in FACTOR_SPECS:
         raise ConfigError(f"{key} is not a known factor; known factors: "
                           f"{', '.join(sorted(FACTOR_SPECS))}.", key=key)

@@ -76,7 +76,7 @@ PLAUSIBLE: dict[str, PlausibleRange] = {
         0.0, 15.0, True, "the identification scale factors stay within 10x their PSO bounds",
         "PSO bounds lambda1, lambda2 in [0.05, 1.5] (Sec. 4, Sec. 11); sensitivity sweep "
         "[0.1, 1.5] (Sec. 6.6)"),
-    "b_n_s_per_m": PlausibleRange(
+    "b": PlausibleRange(
         0.0, 20.0, False, "nodal damping stays within 10x its PSO bound",
         "PSO bounds b in [0.1, 2.0] (Sec. 4, Sec. 11)"),
 }

@@ -9,10 +9,10 @@ Panels (the ``panel`` column):
     Hunt-Crossley scale factors lambda1 x lambda2 set directly (no identification), exponent n
     from the configured model (Table 3), at a fixed mass and friction.
 ``n_b``
-    exponent n x nodal damping b, lambda1 and lambda2 from the configured model, at the same fixed
-    mass and friction; the runtime panel of Fig. 19c. ``b`` is an MSD constant (Sec. 2): the
-    quasi-static evaluator never reads it, so this axis is inert by construction (recorded, not
-    hidden).
+    exponent n x nodal damping b (in the simulator's internal units, as Sec. 11's PSO bound), lambda1
+    and lambda2 from the configured model, at the same fixed mass and friction; the runtime panel of
+    Fig. 19c. ``b`` is an MSD constant (Sec. 2): the quasi-static evaluator never reads it, so this
+    axis is inert by construction (recorded, not hidden).
 
 One trial plans one grasp with ``params.planner`` (heuristic by default) on ``params.shape`` (the
 390-node sphere by default, Sec. 6.2) and evaluates it with Algorithms 1-2. Grid levels are
@@ -39,7 +39,7 @@ PANELS = ("mu_mass", "lambda", "n_b")
 PANEL_AXES = {
     "mu_mass": ("mu", "mass_kg"),
     "lambda": ("lambda1", "lambda2"),
-    "n_b": ("n_exp", "b_n_s_per_m"),
+    "n_b": ("n_exp", "b"),
 }
 """Panel -> (x factor, y factor) as recorded."""
 

@@ -21,7 +21,7 @@ from graspcampaign.report.spec import Claims, Finding, GateRemoved, Rate, Report
 
 PANELS = {"mu_mass": ("mu", "mass_kg", "friction coefficient μ [–]", "object mass m [kg]"),
           "lambda": ("lambda1", "lambda2", "λ1 [–]", "λ2 [–]"),
-          "n_b": ("n_exp", "b_n_s_per_m", "contact exponent n [–]", "nodal damping b [internal units]")}
+          "n_b": ("n_exp", "b", "contact exponent n [–]", "nodal damping b [internal units]")}
 EPS = 1e-9  # level comparisons of float factors
 LOOP_AT_N_MAX = "still moving at N_max [%]"  # the header of this share in every study
 #: how a heatmap aggregates its cells: aggregation, scale, colour-scale top (None: the largest), cell text
@@ -320,7 +320,7 @@ CLAIMS = Claims("sensitivity_claims", "The paper's Fig. 19 statements (in words)
            Rate(STRIP[1], "Sec. 10", _where("lambda", _strip, False), outcome="loop_capped"),
            *(Value(f"(c) runtime max/min over {axis} levels", "Sec. 6.6, Fig. 19c", _runtime_ratio(column),
                    lambda p: "nearly flat", "–", 2, because=FLAT) for axis, column in (("n", "n_exp"),
-                                                                                      ("b", "b_n_s_per_m")))])
+                                                                                      ("b", "b")))])
 
 
 SPEC = ReportSpec("sensitivity", [
