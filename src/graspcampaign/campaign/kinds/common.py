@@ -122,6 +122,12 @@ _IDENTIFICATION_COLUMNS = {"n_exponent": "n_exp", "msd_b": "b", "msd_k": "k", "m
                            "pso_best_cost": "best_cost", "pso_n_evaluations": "n_evaluations"}
 
 
+def at_bound_text(prepared: dict | None) -> str:
+    """The parameters a trial's prepared body ended on a PSO bound at, comma-joined; "" for a body
+    not identified (no key, or the null its row of a stored prepared/ table reads back as)."""
+    return str((prepared or {}).get("at_bound") or "")
+
+
 def identification_record(result) -> dict:
     """Flatten an IdentificationResult into the record columns of docs/records.md."""
     return {_IDENTIFICATION_COLUMNS.get(k, k): v for k, v in result.to_record().items()}

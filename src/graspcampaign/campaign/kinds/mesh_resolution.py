@@ -243,7 +243,7 @@ def run(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
     """Dispatch on the trial's panel."""
     out = {"resolution": _resolution, "budget": _budget, "n_max": _n_max}[
         inp.trial.factors["panel"]](inp, rng)
-    out["pso_at_bound"] = str((inp.prepared or {}).get("at_bound", ""))
+    out["pso_at_bound"] = common.at_bound_text(inp.prepared)
     return out
 
 

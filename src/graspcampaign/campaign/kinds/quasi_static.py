@@ -293,7 +293,7 @@ def run(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
         "n_sharp_edge": int(len(features.sharp_edges)),
         "lambda1": contact.lambda1, "lambda2": contact.lambda2, "n_exp": contact.n,
         "believed_lambda1": plan.contact.lambda1, "believed_n_exp": plan.contact.n,
-        "pso_at_bound": str((inp.prepared or {}).get("at_bound", "")),
+        "pso_at_bound": common.at_bound_text(inp.prepared),
         "context_time_s": context_time,
         "plan_time_s": plan_time,
         "plan_cached": cached,

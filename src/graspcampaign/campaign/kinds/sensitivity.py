@@ -157,7 +157,7 @@ def run(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
     _, _, out = plan_and_evaluate(study, f["shape"], params.nodes, f["mass_kg"], f["mu"],
                                   contact, f["planner"], rng)
     out["identified"] = bool(inp.prepared and inp.prepared.get("identified"))
-    out["pso_at_bound"] = str((inp.prepared or {}).get("at_bound", ""))
+    out["pso_at_bound"] = common.at_bound_text(inp.prepared)
     out["nodes"] = params.nodes
     out["runtime_ms"] = 1e3 * out["plan_time_s"]
     return out
