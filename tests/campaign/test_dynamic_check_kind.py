@@ -120,9 +120,10 @@ def test_missing_or_wrong_source_is_bad_input(tmp_path):
     with pytest.raises(UserInputError, match=r"^dynamic_check re-simulates quasi-static plans, "
                                              r"but smoke/default is a 'mesh_features' run; "):
         _run("dynamic_check", tmp_path, "params.source_study=smoke")
-    with pytest.raises(UserInputError, match=r"^dynamic_check takes the factors model_preset and "
-                                             r"the filters shape, mass_kg, mu, planner; got "
-                                             r"nodes\.$"):
+    with pytest.raises(UserInputError, match=r"^study 'dynamic_check' \(trial kind 'dynamic_check'\) "
+                                             r"builds its own trial list from its params and reads "
+                                             r"only the factors model_preset, shape, mass_kg, mu and "
+                                             r"planner: factors\.nodes would change nothing"):
         _run("dynamic_check", tmp_path, "+factors.nodes=[144]")
 
 

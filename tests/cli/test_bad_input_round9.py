@@ -198,3 +198,19 @@ def test_a_binary_stl_cut_short_is_named_as_one(tmp_path, sphere):
     refused(tmp_path, ["plan", other, "--mass-kg", "0.1"],
             "mesh 'other.stl' is not an STL file: 5084 bytes are neither a binary STL (84 bytes "
             "plus 50 per triangle) nor an ASCII STL (text starting with 'solid').")
+
+
+@pytest.mark.parametrize(("study", "override", "reads"), [
+    ("sensitivity", "+factors.mu=[0.1]", "reads no factor"),
+    ("test2_grasp", "+factors.shape=[sphere]", "reads no factor"),
+    ("dynamic_check", "+factors.nodes=[390]",
+     "reads only the factors model_preset, shape, mass_kg, mu and planner")])
+def test_a_factor_a_study_of_an_explicit_design_never_reads_is_refused(results, study, override, reads):
+    """``show sensitivity +factors.mu=[0.1]`` was accepted and ran the same 2,160 trials under
+    another config hash: a kind that builds its own trial list reads only its own factors."""
+    name = override.split("=")[0].removeprefix("+")
+    refused(results, ["show", study, override, "--root", results],
+            f"study {study!r} (trial kind {study!r}) builds its own trial list from its params and "
+            f"{reads}: {name} would change nothing but the config hash; set its params instead "
+            f"(graspcampaign show {study} lists them).")
+

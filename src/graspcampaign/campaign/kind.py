@@ -59,7 +59,9 @@ class TrialKind:
 
     ``factors`` names the factors ``run`` reads on every trial of a Cartesian design; a study
     without one of them is refused when it is composed, naming it (a ``KeyError`` in every trial
-    otherwise).
+    otherwise). With an explicit ``design`` it names the factors the design reads from the study
+    (dynamic_check's presets and source filters); a study setting another is refused, as it
+    would change nothing but the config hash.
     """
 
     name: str

@@ -240,6 +240,13 @@ def check_kind(study: StudyCfg) -> None:
     facts = kind_facts(study.kind)
     if not facts["design"]:
         check_kind_factors(study.factors, study.kind, facts["factors"])
+    elif ignored := [name for name in study.factors if name not in facts["factors"]]:
+        reads = (f"reads only the factors {listed(facts['factors'])}" if facts["factors"]
+                 else "reads no factor")
+        raise ConfigError(f"study {study.name!r} (trial kind {study.kind!r}) builds its own trial list from "
+                          f"its params and {reads}: factors.{ignored[0]} would change nothing but the "
+                          f"config hash; set its params instead (graspcampaign show {study.name} lists "
+                          "them).", key=f"factors.{ignored[0]}")
     check_params(study.params, facts["params"], study.kind)
 
 

@@ -136,10 +136,7 @@ def design(study, params) -> list[dict[str, Any]]:
     if not presets:
         raise UserInputError("dynamic_check needs the factor model_preset (conf/model presets to "
                              "simulate), e.g. model_preset=[table2,firm].")
-    unknown = sorted(set(study.factors) - {"model_preset", *FILTERS})
-    if unknown:
-        raise UserInputError(f"dynamic_check takes the factors model_preset and the filters "
-                             f"{', '.join(FILTERS)}; got {', '.join(unknown)}.")
+    # another factor is refused when the study is composed (the kind's factors, studycheck)
     source = load_source(study.output.root, params.source_study, params.source_run)
     rows = source.records
     for name in FILTERS:
@@ -246,7 +243,7 @@ def run(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
 
 DYNAMIC_CHECK = TrialKind(
     name="dynamic_check", run=run, params=DynamicCheckParams, design=design,
-    seconds_per_trial=0.2,
+    seconds_per_trial=0.2, factors=("model_preset", *FILTERS),
     description="every quasi-static trial of a study re-run through the dynamic grasp "
                 "(closure, lift-off, hold) per material preset; both labels recorded",
 )
