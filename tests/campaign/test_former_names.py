@@ -31,7 +31,8 @@ from graspcampaign.campaign.status import run_status
 from graspcampaign.report.build import build_reports
 
 #: What the code before the rename wrote, per kind and part: current name -> the name it wrote.
-WROTE = {"dynamic_grasp": {"records": {"slip_margin_ratio": "slip_margin_n"}},
+WROTE = {**dict.fromkeys(("dynamic_grasp", "dynamic_check"),
+                         {"records": {"slip_margin_ratio": "slip_margin_n"}}),
          "test1_bench": {"records": {"n_exp": "exponent_n", "shifted_m_exp": "shifted_m"},
                          "summary/truths": {"n_exp": "exponent_n"}, "summary/pso_runs": {"n_exp": "n"}},
          "wrench_balance": {"tables/iterations": {"slip_margin_ratio": "slip_margin_rel"}},
@@ -80,6 +81,14 @@ def test_both_names_of_different_types_become_one_column_of_the_type_both_fit(cu
     out = current_names(table, {"n": "n_exp"})
     assert out.column_names == ["n_exp"]
     assert out.column("n_exp").combine_chunks().equals(merged)
+
+
+def test_where_both_names_hold_a_value_the_current_one_is_kept():
+    """A row written under both names (no run writes one: a shard holds one name) reads the
+    current name's value, as ``current_names`` promises, never the former's."""
+    table = pa.table({"n_exp": [0.4, None], "exponent_n": [0.9, 0.5]})
+    out = current_names(table, {"exponent_n": "n_exp"})
+    assert out.column("n_exp").to_pylist() == [0.4, 0.5]
 
 
 def test_a_table_without_former_names_is_unchanged():
@@ -345,6 +354,20 @@ def test_a_wrench_trace_resumed_across_the_rename_has_one_column(wrench_runs):
     mixed, now = _trace(roots["mixed"]), _trace(roots["now"])
     assert sorted(mixed) == sorted(now) and "slip_margin_rel" not in mixed  # the two names are one column
     pd.testing.assert_frame_equal(mixed[now.columns], now)  # each row's value, none lost
+
+
+def test_a_dynamic_check_run_stored_before_reads_as_one_stored_now(tmp_path):
+    """dynamic_check recorded the dynamic grasp's ``slip_margin_n`` (its record is the dynamic
+    grasp's) before the rename too: a run of it stored then reads as one stored now."""
+    source = ["shape=[sphere]", "mass_kg=[0.2]", "mu=[0.5]", "seeds=1", "+params.nodes=144"]
+    for name in ("now", "before"):
+        _run(tmp_path / name, "baseline_grid", source)
+        _run(tmp_path / name, "dynamic_check", ["+params.t_max_s=0.12"], before=name == "before")
+    assert "slip_margin_n" in _stored_names(tmp_path / "before" / "dynamic_check" / "default")
+    before, now = (_records(tmp_path / n, "dynamic_check").drop(columns=["plan_time_s", "grasp_time_s"])
+                   for n in ("before", "now"))  # wall times (docs/records.md): run to run
+    assert "slip_margin_n" not in before and now["slip_margin_ratio"].notna().all()
+    pd.testing.assert_frame_equal(before, now)
 
 
 @pytest.mark.parametrize("study", ["test2_grasp", "test3_disturbance"])

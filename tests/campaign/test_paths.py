@@ -7,6 +7,7 @@ in tests/cli (test_bad_places.py, test_bad_input_round8.py).
 
 from __future__ import annotations
 
+import errno
 import os
 import stat
 
@@ -14,6 +15,7 @@ import pytest
 
 from graspcampaign.campaign import paths
 from graspcampaign.campaign.paths import write_file
+from graspcampaign.errors import UserInputError
 
 
 @pytest.fixture
@@ -68,3 +70,29 @@ def test_two_writers_of_one_file_never_take_each_others_temporary_file(tmp_path,
     write_file(path, "ours")
     assert path.read_text() == "ours"
     assert [p.name for p in tmp_path.iterdir()] == ["index.md"]
+
+
+def test_a_write_stopped_midway_leaves_the_file_as_it_was_and_nothing_beside_it(tmp_path, monkeypatch):
+    """A full disk when the file is moved in place: the file keeps its old content, no temporary
+    file stays behind, and the error names the file the write was for (not the temporary one)."""
+    path = tmp_path / "report.md"
+    path.write_text("before")
+
+    def disk_full(src, dst):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(src))
+
+    monkeypatch.setattr(paths.os, "replace", disk_full)
+    with pytest.raises(OSError) as stopped:
+        write_file(path, "after")
+    assert (stopped.value.errno, stopped.value.filename) == (errno.ENOSPC, str(path))
+    assert path.read_text() == "before"
+    assert [p.name for p in tmp_path.iterdir()] == ["report.md"]
+
+
+def test_a_directory_where_the_file_belongs_is_named_and_left_alone(tmp_path):
+    (tmp_path / "report.md" / "inside").mkdir(parents=True)
+    with pytest.raises(UserInputError) as refused:
+        write_file(tmp_path / "report.md", "text")
+    assert str(refused.value) == (f"{tmp_path / 'report.md'} is a directory where this command writes "
+                                  "a file; move it aside and run the command again.")
+    assert [p.name for p in tmp_path.rglob("*")] == ["report.md", "inside"]

@@ -40,8 +40,9 @@ def study_paper_block(name: str) -> dict:
 
 def write_run(root, name="ablation", kind="quasi_static", n_success=None, error_rows=(),
               source="simulation", planners=("heuristic", "random"), aborted_rows=None,
-              run="r1"):
-    """A run of ``len(planners) * 10`` trials; ``n_success[planner]`` successes each."""
+              run="r1", columns=None):
+    """A run of ``len(planners) * 10`` trials; ``n_success[planner]`` successes each (the first
+    ones of its trials); ``columns(trial_index)``: more columns of a record."""
     study = StudyCfg(name=name, kind=kind, seed=3, seeds=10,
                      factors={"shape": ["sphere"], "planner": list(planners)},
                      paper=study_paper_block(name))
@@ -53,6 +54,7 @@ def write_run(root, name="ablation", kind="quasi_static", n_success=None, error_
                "trial_index": trial.index, "scene_id": trial.scene_id, "status": "ok",
                "error_type": None, "error_message": None, "wall_time_s": 0.01, "worker": "w",
                "host": "h", "source": source, **trial.factors}
+        row.update(columns(trial.index) if columns else {})
         if kind == "quasi_static":  # every quasi-static record names its grip law (docs/records.md)
             row["grip_law"] = "paper"
         if aborted_rows is not None:  # hardware protocols: an aborted attempt stays "ok"
@@ -402,3 +404,35 @@ def test_the_headline_reads_each_run_once_for_every_row_it_serves(tmp_path, monk
     assert rows.loc[["Grasp validation, all", "Disturbance, all"], "n"].tolist() == [9, 9]
     assert rows.loc["Disturbance, natural μ", "verdict"] == \
         "the records lack the `friction_level` column this sub-population needs"
+
+
+def test_report_jobs_start_no_more_processes_than_runs(tmp_path, monkeypatch):
+    """loky starts every process ``n_jobs`` asks for, whether or not a task comes for it: two runs
+    reported with ``n_jobs=8`` ask it for two."""
+    import joblib
+
+    asked, Parallel = [], joblib.Parallel
+
+    class Counted(Parallel):
+        def __init__(self, n_jobs=None, **kw):
+            asked.append(n_jobs)
+            super().__init__(n_jobs=n_jobs, **kw)
+
+    monkeypatch.setattr(joblib, "Parallel", Counted)
+    for run in ("r1", "r2"):
+        write_run(tmp_path, run=run)
+    batch = build_reports(root=tmp_path, formats=["md"], n_jobs=8)
+    assert asked == [2] and len(batch) == 2 and batch.failed == []
+
+
+def test_a_sub_population_row_reads_its_column_beside_the_row_of_all(tmp_path):
+    """Table 1's Test 2 rows read one run: the nominal row needs its ``group`` column though the
+    row of all trials, read with it, does not. Groups A-E in turn over the heuristic's trials 0-9
+    (A, B and D: trials 0, 1, 3, 5, 6 and 8), of which trials 0-6 succeed: 5 of 6 nominal."""
+    write_run(tmp_path, name="test2_grasp", kind="no_section_kind", source="virtual", aborted_rows=set(),
+              columns=lambda i: {"group": "ABCDE"[i % 5]})
+    from graspcampaign.report import headline
+
+    rows = headline.headline_rows(tmp_path).set_index("headline")
+    assert rows.loc["Grasp validation, nominal", ["n", "rate_pct"]].tolist() == [6, pytest.approx(500 / 6)]
+    assert rows.loc["Grasp validation, all", ["n", "rate_pct"]].tolist() == [10, pytest.approx(70.0)]

@@ -441,3 +441,11 @@ def test_differing_counts_the_rows_that_differ_of_those_compared():
     frame = pd.DataFrame({"differs": [True, False, None, np.True_, math.nan]})
     assert fmt.differing(frame) == (2, 3)
     assert fmt.differing(pd.DataFrame({"differs": [None, None]})) == (0, 0)
+
+
+@pytest.mark.parametrize("value", [None, float("nan"), pd.NA])
+def test_a_missing_estimate_prints_the_missing_mark_without_its_interval(value):
+    """An interval beside no value reads as a value (the table's "— (0.10–0.30)"): a missing
+    estimate is the missing mark alone, with or without a unit."""
+    assert fmt.estimate(value, 0.1, 0.3, 2) == fmt.MISSING
+    assert fmt.estimate(value, 3.6, 8.9, 1, unit="%") == fmt.MISSING

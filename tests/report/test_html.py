@@ -17,6 +17,7 @@ import subprocess
 from html.parser import HTMLParser
 from pathlib import Path
 
+import pandas as pd
 import pytest
 
 from graspcampaign.analysis.vocabulary import label
@@ -366,3 +367,37 @@ def test_a_wide_tables_row_labels_and_caption_stay_in_view_when_it_scrolls():
     stripe = "tbody tr:nth-child(even)"
     assert rules["th"]["background"] and rules["td:first-child"]["background"] == "#fff"
     assert rules[f"{stripe} td:first-child"]["background"] == rules[stripe]["background"]
+
+
+def test_a_column_of_yes_no_or_reasons_only_is_no_column_of_numbers():
+    """Right-alignment is for a column holding a number: yes/no and missing marks alone are words,
+    and a text standing where a value *is* set is text even in a column with a reason column."""
+    from graspcampaign.report.document import Col, Table
+
+    frame = pd.DataFrame({"x": [1.5, None, "hand-tuned"], "x_why": [None, "not computed: no trial", None],
+                          "flag": ["yes", "no", None],
+                          "y": [1.5, None, 2.0], "y_why": [None, "not computed: no trial", None]})
+    table = Table("t", "caption", frame, [Col("x", "x", why="x_why"), Col("flag", "flag"),
+                                          Col("y", "y", why="y_why")])
+    rows, numeric = table.grid
+    assert [text for text, _ in rows[2]] == ["hand-tuned", MISSING, "2.00"]
+    assert numeric == [False, False, True]
+
+
+@pytest.mark.parametrize("what", ["a symbolic link to nowhere", "a named pipe"])
+def test_a_report_folder_taken_by_another_kind_of_file_is_named(tmp_path, what):
+    """mkdir says only "File exists" of a dangling link or a pipe where ``figures`` belongs."""
+    import os
+
+    from graspcampaign.errors import UserInputError
+    from graspcampaign.report.document import Document
+
+    out = tmp_path / "report"
+    out.mkdir()
+    if what == "a named pipe":
+        os.mkfifo(out / "tables")
+    else:
+        (out / "tables").symlink_to(tmp_path / "moved")
+    with pytest.raises(UserInputError, match=rf"^{out / 'tables'} is a file where the report's "
+                                             r"directory belongs; move it aside and report again\.$"):
+        Document("t", "virtual", []).write(out, ["csv"])
