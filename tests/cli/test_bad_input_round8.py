@@ -67,6 +67,10 @@ def test_an_old_or_encrypted_excel_workbook_is_named_as_one(results, tmp_path, n
     ("day1.xlsx", lambda path: zipfile.ZipFile(path, "w").writestr("word/document.xml", "<w/>"),
      "the file is a zip archive but not an Excel workbook (it holds no xl/workbook.xml); save the "
      "sheet from the spreadsheet program as .xlsx or as CSV UTF-8."),
+    # named .csv, it was told "the file is an Excel workbook (xlsx) ...; rename it to day1.xlsx"
+    ("day1.csv", lambda path: zipfile.ZipFile(path, "w").writestr("word/document.xml", "<w/>"),
+     "the file is a zip archive but not an Excel workbook (it holds no xl/workbook.xml); save the "
+     "sheet from the spreadsheet program as .xlsx or as CSV UTF-8."),
 ])
 def test_a_workbook_or_table_cut_short_or_a_zip_of_another_kind_is_named(results, tmp_path, name,
                                                                         make, message):

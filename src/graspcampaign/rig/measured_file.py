@@ -121,13 +121,13 @@ def _check_content(path: Path, named: str) -> None:
     with path.open("rb") as handle:
         head = handle.read(4)
     holds = _MAGIC.get(head)
-    if holds not in (named, None):
-        raise IngestError(f"{path.name}: the file is {_TYPES[holds]}, not {_TYPES[named]} as its "
-                          f"name says; rename it to {path.stem}{holds}.")
-    if holds == ".xlsx" == named and not _workbook(path):  # a .docx, an .odt: zip archives too
+    if holds == ".xlsx" and not _workbook(path):  # a .docx, an .odt: zip archives too, any name
         raise IngestError(f"{path.name}: the file is a zip archive but not an Excel workbook (it "
                           "holds no xl/workbook.xml); save the sheet from the spreadsheet program "
                           "as .xlsx or as CSV UTF-8.")
+    if holds not in (named, None):
+        raise IngestError(f"{path.name}: the file is {_TYPES[holds]}, not {_TYPES[named]} as its "
+                          f"name says; rename it to {path.stem}{holds}.")
     if holds is None and named != ".csv":
         raise IngestError(f"{path.name}: the file is not {_TYPES[named]}: it does not begin as "
                           f"one does; if it is CSV text, rename it to {path.stem}.csv.")
