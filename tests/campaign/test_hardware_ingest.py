@@ -190,7 +190,9 @@ def _bad(export: pd.DataFrame, kind: str, folder, store):
         return [path], (r"records\.txt: unsupported file type '\.txt' "
                         r"\(expected \.csv, \.parquet or \.xlsx\)\.")
     if kind == "missing_file":
-        return [folder / "nowhere.csv"], re.escape(f"{folder / 'nowhere.csv'}: no such file.")
+        missing = folder / "nowhere.csv"
+        return [missing], re.escape(f"{missing} does not exist; give a file of measured records "
+                                    "(CSV, XLSX or Parquet).")
     if kind == "corrupt":
         path = folder / "broken.parquet"
         path.write_bytes(b"PAR1 not really parquet")

@@ -96,3 +96,13 @@ def test_a_directory_where_the_file_belongs_is_named_and_left_alone(tmp_path):
     assert str(refused.value) == (f"{tmp_path / 'report.md'} is a directory where this command writes "
                                   "a file; move it aside and run the command again.")
     assert [p.name for p in tmp_path.rglob("*")] == ["report.md", "inside"]
+
+
+def test_a_regular_file_or_a_link_to_one_is_a_file_to_read(tmp_path):
+    """``input_file_problem`` finds nothing wrong with a file to read, given as itself or through a
+    symbolic link (it asks :func:`path_problem`, whose checks a link to a file must pass)."""
+    (tmp_path / "day1.csv").write_text("trial_id\n")
+    (tmp_path / "link.csv").symlink_to(tmp_path / "day1.csv")
+    assert [paths.input_file_problem(tmp_path / name) for name in ("day1.csv", "link.csv")] == [None, None]
+    assert paths.input_file_problem(tmp_path) == "is a directory, not a file"
+    assert paths.input_file_problem(tmp_path / "none.csv") == "does not exist"

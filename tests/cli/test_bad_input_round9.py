@@ -214,3 +214,27 @@ def test_a_factor_a_study_of_an_explicit_design_never_reads_is_refused(results, 
             f"{reads}: {name} would change nothing but the config hash; set its params instead "
             f"(graspcampaign show {study} lists them).")
 
+
+
+# -- one check of a file given to read (campaign/paths.py input_file_problem) ---------------------
+@pytest.mark.parametrize(("args", "what", "wanted"), [
+    (["plan", "{path}", "--mass-kg", "0.1"], "{path}", "a mesh file (STL, OBJ or PLY)"),
+    (["show", "{path}"], "study file {path}", "a YAML file"),
+    (["ingest", "test2_grasp", "{path}"], "{path}", "a file of measured records (CSV, XLSX or Parquet)"),
+])
+@pytest.mark.parametrize("given", ["a directory", "nothing", "a name under a file"])
+def test_a_file_to_read_that_is_a_directory_or_missing_is_named_alike(results, tmp_path, args, what,
+                                                                      wanted, given):
+    """The three commands said it three ways: "is a directory" (plan), "is a directory, not a file
+    of measured records" (ingest), "is a directory, not a file" (show); ": no such mesh file"
+    (plan), ": no such file" (ingest), "does not exist" (show)."""
+    path = tmp_path / "given.yaml"
+    if given == "a directory":
+        path.mkdir()
+    elif given == "a name under a file":
+        path.write_text("")
+        path = path / "inner.yaml"
+    why = "is a directory, not a file" if given == "a directory" else "does not exist"
+    rooted = [] if args[0] == "plan" else ["--root", results]
+    refused(results, [*(a.format(path=path) for a in args), *rooted],
+            f"{what.format(path=path)} {why}; give {wanted}.")

@@ -252,9 +252,10 @@ def test_a_directory_given_for_a_file_is_named_as_one(results, tmp_path):
     folder.mkdir()
     for command in ("show", "run"):
         refused(results, [command, folder, "--root", results],
-                f"study file {folder} is a directory, not a file.")
+                f"study file {folder} is a directory, not a file; give a YAML file.")
     refused(results, ["ingest", "test2_grasp", tmp_path, "--root", results],
-            f"{tmp_path} is a directory, not a file of measured records.")
+            f"{tmp_path} is a directory, not a file; give a file of measured records (CSV, XLSX "
+            "or Parquet).")
 
 
 def test_a_named_pipe_in_place_of_a_schedule_file_is_refused_at_once(finished, tmp_path):

@@ -119,7 +119,8 @@ def test_plan_bad_values_exit_2(stl_files, args, message):
 
 
 def test_plan_names_a_folder_or_an_empty_path_given_as_the_mesh(tmp_path):
-    for mesh, message in ((tmp_path, f"{tmp_path} is a directory; give a mesh file (STL, OBJ or PLY)."),
+    folder = f"{tmp_path} is a directory, not a file; give a mesh file (STL, OBJ or PLY)."
+    for mesh, message in ((tmp_path, folder),
                           ("", "the mesh path is empty; give a mesh file (STL, OBJ or PLY).")):
         result = runner.invoke(app, ["plan", str(mesh), "--mass-kg", "0.1"])
         assert (result.exit_code, result.stdout, result.stderr) == (2, "", f"error: {message}\n")

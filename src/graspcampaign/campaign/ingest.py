@@ -12,13 +12,12 @@ code version may change between ingests (the rig's records do not depend on it).
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 from graspcampaign.campaign import provenance
 from graspcampaign.campaign.grid import content_hash
 from graspcampaign.campaign.kind import get_kind
-from graspcampaign.campaign.paths import check_root, path_problem
+from graspcampaign.campaign.paths import check_root, input_file_problem
 from graspcampaign.campaign.records import ERROR_COLUMNS, RunStore, config_metadata
 from graspcampaign.campaign.runner import kind_params, run_lock, run_path, study_trials
 from graspcampaign.campaign.schema import StudyCfg
@@ -41,13 +40,9 @@ def ingest_files(study: StudyCfg, paths: list[str], run: str = "measured",
         raise UserInputError(f"study {study.name!r} has no measured records to ingest "
                              "(only hardware protocols do).")
     for path in paths:
-        if Path(path).is_dir():
-            raise UserInputError(f"{path} is a directory, not a file of measured records.")
-        if os.path.lexists(path) and not Path(path).is_file():  # a named pipe, /dev/null, a link
-            raise UserInputError(f"{path} {path_problem(Path(path), directory=False)}; give a file "
-                                 "of measured records (CSV, XLSX or Parquet).")
-        if not Path(path).is_file():
-            raise UserInputError(f"{path}: no such file.")
+        if (why := input_file_problem(Path(path))) is not None:
+            raise UserInputError(f"{path} {why}; give a file of measured records (CSV, XLSX or "
+                                 "Parquet).")
     files = [Path(path).resolve() for path in paths]  # a file named twice clashes with itself
     for i, path in enumerate(paths):
         if files[i] in files[:i]:

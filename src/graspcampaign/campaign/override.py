@@ -84,9 +84,12 @@ def _mapping_keys(value: str) -> list[str]:
 
 
 def _n_values(value: str) -> int:
-    """The comma-separated values of an override's ``value``, as Hydra's grammar splits them: a
-    comma inside a quoted string (:func:`_unquoted`; ``'a,b'``) separates nothing, and its parse
-    takes a time linear in the string."""
+    """The elements an override's ``value`` holds: one more than its commas outside quoted strings,
+    at any depth of brackets (``[1,2],3`` counts 3, where Hydra's grammar splits the top level
+    into 2 values). Elements, not top-level values, are the measure of the limit this guards:
+    Hydra's parse time grows with the elements it reads, nested or not. A comma inside a quoted
+    string (:func:`_unquoted`; ``'a,b'``) separates nothing, and its parse takes a time linear
+    in the string."""
     return 1 + sum(char == "," for _, char in _unquoted(value))
 
 

@@ -48,6 +48,20 @@ def path_problem(path: Path, *, write: bool = False, directory: bool = True) -> 
     return None
 
 
+def input_file_problem(path: Path) -> str | None:
+    """Why ``path``, given as a file to read, is not one, in the words after the path; None for a
+    regular file (or a symbolic link to one).
+
+    The one check of every file a command reads (a study file, measured records, a mesh), so that
+    each names a bad one alike: a directory ("is a directory, not a file"), a named pipe, device,
+    socket or symbolic link leading nowhere (:func:`path_problem`'s words: it exists, so "does not
+    exist" would mislead), or nothing there ("does not exist"). The caller adds what to give.
+    """
+    if os.path.lexists(path):  # a regular file: None; anything else: why not
+        return path_problem(path, directory=False)
+    return "does not exist"
+
+
 def _dangling(link: Path) -> str:
     """What a symbolic link that leads to no file is: one in a loop, or one to a missing target."""
     try:

@@ -24,7 +24,7 @@ from functools import cache
 from pathlib import Path
 from typing import Any
 
-from graspcampaign.campaign.paths import expand_home, path_problem
+from graspcampaign.campaign.paths import expand_home, input_file_problem
 from graspcampaign.core.words import meant
 from graspcampaign.errors import ConfigError, UserInputError
 
@@ -95,8 +95,7 @@ def study_dirs() -> list[Path]:
     for entry in os.environ.get("GRASPCAMPAIGN_PATH", "").split(os.pathsep):
         if not entry.strip():
             continue
-        path, unknown = expand_home(entry)
-        problem = unknown or _path_problem(path)
+        path, problem = _search_entry(entry)
         if problem:
             _warn(f"GRASPCAMPAIGN_PATH entry {entry} {problem}; it is skipped.")
             continue
@@ -104,7 +103,16 @@ def study_dirs() -> list[Path]:
     return [*extra, project_dirs()[1]]
 
 
+def _search_entry(entry: str) -> tuple[Path, str | None]:
+    """A ``GRASPCAMPAIGN_PATH`` entry as the directory it names (``~`` read as a shell reads it)
+    and why it is skipped (a home that cannot be found, no directory there), or None: one reading
+    for the search and for the words that describe it."""
+    path, unknown = expand_home(entry)
+    return path, unknown or _path_problem(path)
+
+
 def _path_problem(path: Path) -> str | None:
+    """Why ``path`` is no directory of study files (missing, or a file: then how to run it)."""
     if not path.exists():
         return "does not exist"
     if not path.is_dir():
@@ -127,8 +135,7 @@ def search_path_text() -> str:
     searched, skipped = [], []
     for entry in os.environ.get("GRASPCAMPAIGN_PATH", "").split(os.pathsep):
         if entry.strip():
-            path, unknown = expand_home(entry)
-            problem = unknown or _path_problem(path)
+            problem = _search_entry(entry)[1]
             (skipped.append(f"{entry} ({problem.split(' (')[0]})") if problem
              else searched.append(entry))
     text = ", ".join([*searched, str(project_dirs()[1])])
@@ -173,13 +180,8 @@ def find_study(study: str) -> Path:
         path, unknown = expand_home(study)
         if unknown:
             raise ConfigError(f"study file {study} {unknown}; give its path in full.")
-        if path.is_dir():
-            raise ConfigError(f"study file {study} is a directory, not a file.")
-        if os.path.lexists(path) and not path.is_file():  # it said "does not exist"
-            raise ConfigError(f"study file {study} {path_problem(path, directory=False)}; give a "
-                              "YAML file.")
-        if not path.is_file():
-            raise ConfigError(f"study file {study} does not exist.")
+        if (why := input_file_problem(path)) is not None:
+            raise ConfigError(f"study file {study} {why}; give a YAML file.")
         if path.suffix not in _SUFFIXES:
             raise ConfigError(f"study file {study} must end in .yaml or .yml.")
         return path

@@ -4,7 +4,6 @@
 from __future__ import annotations
 
 import json
-import os
 import traceback
 from pathlib import Path
 from typing import Annotated
@@ -140,19 +139,15 @@ def plan(
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
 ) -> None:
     """Plan a three-finger grasp on a mesh and predict the disturbances it resists."""
-    from graspcampaign.campaign.paths import path_problem
+    from graspcampaign.campaign.paths import input_file_problem
     from graspcampaign.rig.plan import PicturePathError, plan_mesh
 
     if mesh == "":  # as a Path, "" would read "." (path_or_empty)
         fail("the mesh path is empty; give a mesh file (STL, OBJ or PLY).")
     if png == "":
         fail("--png is empty; give a picture path ending in .png, such as plan.png.")
-    if mesh.is_dir():
-        fail(f"{mesh} is a directory; give a mesh file (STL, OBJ or PLY).")
-    if os.path.lexists(mesh) and not mesh.is_file():  # a named pipe, /dev/null, a dangling link
-        fail(f"{mesh} {path_problem(mesh, directory=False)}; give a mesh file (STL, OBJ or PLY).")
-    if not mesh.is_file():
-        fail(f"{mesh}: no such mesh file.")
+    if (why := input_file_problem(mesh)) is not None:
+        fail(f"{mesh} {why}; give a mesh file (STL, OBJ or PLY).")
     picture, option = ((mesh.with_suffix(".plan.png"), "the default picture") if png is None
                        else (png, "--png"))
     outside_runs(picture, option)
