@@ -28,3 +28,16 @@ def test_a_run_of_the_next_patch_release_is_warned_of(tmp_path):
                                          rf"{major}\.{minor}\.{patch + 1}\+0123456789ab, a later release"):
         _check_not_newer(tmp_path / "smoke" / "default",
                          {"code_version": f"{major}.{minor}.{patch + 1}+0123456789ab"})
+
+
+def test_reading_a_run_of_this_release_asks_git_nothing(tmp_path, monkeypatch):
+    """Every manifest read passes the release check (a report reads about a hundred); the commit
+    (two git processes) is needed only to name this code in a refusal or warning."""
+    from graspcampaign.campaign import provenance
+
+    def no_git():
+        raise AssertionError("git_state called to read a manifest of this release")
+
+    monkeypatch.setattr(provenance, "git_state", no_git)
+    _check_not_newer(tmp_path / "smoke" / "default",
+                     {"code_version": f"{graspcampaign.__version__}+0123456789ab", "format": 1})

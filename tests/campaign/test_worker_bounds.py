@@ -47,3 +47,13 @@ def test_one_worker_more_than_four_per_core_is_refused(eight_cores):
 def test_n_jobs_is_not_bounded_where_it_starts_no_local_worker(eight_cores, runner):
     """A sequential run reads no n_jobs; a remote Dask cluster has the workers it has."""
     check_workers(runner)
+
+
+def test_a_machine_whose_cores_are_unknown_is_named_as_the_one_core_the_bound_counts(monkeypatch):
+    """os.cpu_count() is None where the count cannot be found; the bound then counts one core
+    (4 workers), and the sentence names that one core, not 'None cores'."""
+    monkeypatch.setattr(os, "cpu_count", lambda: None)
+    with pytest.raises(ConfigError, match=r"^runner\.n_jobs = 5 would start 5 worker processes, "
+                                          r"more than 4 per core of this machine \(1 core\); .* "
+                                          r"give at most 4, or -1 for one per core\.$"):
+        check_workers(RunnerCfg(backend="loky", n_jobs=5))

@@ -217,18 +217,21 @@ def _release(version: str) -> tuple[int, ...]:
 def _check_not_newer(run_path: Path, manifest: dict[str, Any]) -> None:
     """Refuse a run stored in a later layout than this code reads (``format``), and warn, once, of
     one stored by a later release in this layout: a later release may compute or name things
-    otherwise (the two versions named), but its files read as this code's."""
-    label, theirs, ours = f"{run_path.parent.name}/{run_path.name}", manifest["code_version"], code_version()
+    otherwise (the two versions named), but its files read as this code's. Every manifest read
+    passes here, so the git commit (two git processes, :func:`code_version`) is asked for only
+    to name this code in a refusal or warning: the release compared is the package's."""
+    label, theirs = f"{run_path.parent.name}/{run_path.name}", manifest["code_version"]
     if manifest.get("format", 1) > MANIFEST_FORMAT:
         raise UserInputError(f"run {label} at {run_path} was stored by graspcampaign {theirs} in "
-                             f"file layout {manifest['format']}, and this code ({ours}) reads "
-                             f"layout {MANIFEST_FORMAT} at most; read it with graspcampaign "
+                             f"file layout {manifest['format']}, and this code ({code_version()}) "
+                             f"reads layout {MANIFEST_FORMAT} at most; read it with graspcampaign "
                              f"{theirs.partition('+')[0]} or later.")
-    if _release(theirs) > _release(ours):
+    if _release(theirs) > _release(graspcampaign.__version__):
         import warnings
 
         warnings.warn(f"run {label} was stored by graspcampaign {theirs}, a later release than "
-                      f"this code ({ours}); it is read as this code reads it.", stacklevel=3)
+                      f"this code ({code_version()}); it is read as this code reads it.",
+                      stacklevel=3)
 
 
 #: How a run's problem names a manifest that does not describe the run.

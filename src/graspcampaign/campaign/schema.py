@@ -20,6 +20,7 @@ from typing import Any
 
 from graspcampaign.campaign.former_names import FORMER_FACTORS, RENAMED_FACTORS, former_factor
 from graspcampaign.core.plausible import FINGERTIP_RADIUS, PLAUSIBLE
+from graspcampaign.core.words import counted
 from graspcampaign.errors import ConfigError
 
 _LAMBDA = PLAUSIBLE["lambda"].meta()
@@ -383,7 +384,7 @@ def check_workers(runner: RunnerCfg) -> None:
     if runner.address is None and runner.workers() > most:
         raise ConfigError(
             f"runner.n_jobs = {runner.n_jobs} would start {runner.n_jobs:,} worker processes, more "
-            f"than {WORKERS_PER_CORE} per core of this machine ({os.cpu_count()} cores); trials "
+            f"than {WORKERS_PER_CORE} per core of this machine ({counted(cores, 'core')}); trials "
             "compute, so more workers than cores only share them, each holding its own memory: "
             f"give at most {most}, or -1 for one per core.", key="runner.n_jobs")
 
