@@ -367,15 +367,21 @@ def check_study(study: StudyCfg) -> None:
 WORKERS_PER_CORE = 4
 
 
+def most_workers() -> tuple[int, int]:
+    """This machine's cores (1 where unknown) and the most worker processes allowed on it,
+    :data:`WORKERS_PER_CORE` per core (``runner.n_jobs``, ``report --jobs``)."""
+    import os
+
+    cores = os.cpu_count() or 1
+    return cores, WORKERS_PER_CORE * cores
+
+
 def check_workers(runner: RunnerCfg) -> None:
     """Refuse more worker processes than :data:`WORKERS_PER_CORE` per core of this machine (joblib
     and a Dask LocalCluster start as many as ``n_jobs`` says; a remote cluster has its own), and a
     negative ``n_jobs`` leaving more cores unused than the machine has (joblib reads it as one
     worker, silently: -1000000 meant 1)."""
-    import os
-
-    cores = os.cpu_count() or 1
-    most = WORKERS_PER_CORE * cores
+    cores, most = most_workers()
     if runner.address is None and runner.backend != "sequential" and runner.n_jobs < -cores:
         raise ConfigError(
             f"runner.n_jobs = {runner.n_jobs} would leave {-runner.n_jobs - 1:,} cores unused, "

@@ -12,7 +12,6 @@ unless ``--debug``. The application, its shared options and checks are in
 from __future__ import annotations
 
 import json
-import os
 import shlex
 import sys
 from pathlib import Path
@@ -255,7 +254,7 @@ def report(
 
     With studies and no `--run`, each study's configured run (its `output.run`) is reported.
     """
-    from graspcampaign.campaign.schema import WORKERS_PER_CORE
+    from graspcampaign.campaign.schema import WORKERS_PER_CORE, most_workers
     from graspcampaign.campaign.status import check_known
     from graspcampaign.campaign.studyfile import check_name, configured_run
     from graspcampaign.report.build import build_reports
@@ -266,7 +265,8 @@ def report(
         check_known(root, study)
     if jobs == 0 or jobs < -1:
         fail(f"--jobs {jobs}: give a number of processes (1 or more), or -1 for one per core.")
-    if jobs > (most := WORKERS_PER_CORE * (cores := os.cpu_count() or 1)):  # as runner.n_jobs
+    cores, most = most_workers()
+    if jobs > most:  # as runner.n_jobs
         from graspcampaign.core.words import counted
 
         fail(f"--jobs {jobs}: more than {WORKERS_PER_CORE} processes per core of this machine "
