@@ -71,3 +71,11 @@ def test_bzip2_is_told_by_its_block_magic_not_by_its_first_three_bytes():
     check_compressed(b"BZh ello: a text mesh file\n", "words.obj", ".obj")
     with pytest.raises(MeshError, match=r"^mesh 'sphere\.obj' is a bzip2-compressed file, not an OBJ"):
         check_compressed(bz2.compress(b"v 0 0 0\n" * 10)[:64], "sphere.obj", ".obj")
+
+
+@pytest.mark.parametrize("property_line", ["list", "list uchar", ""])
+def test_a_binary_ply_property_without_its_types_is_left_to_the_reader(tmp_path, property_line):
+    """A header line 'property list' (or 'property' alone) names no type: it was an IndexError
+    (a traceback) while the header was read; now no length is claimed and the reader says why."""
+    name = _binary_ply(tmp_path / "bare.ply", [property_line], 3, b"\0" * 40)
+    assert ply_layout(name, "bare.ply") == {"ascii": False, "elements": [["vertex", 3]]}

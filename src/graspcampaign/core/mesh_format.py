@@ -152,8 +152,8 @@ def ply_layout(name: str, base: str) -> dict | None:
                 sizes.append(0)
             elif words[:1] == ["property"] and sizes and sizes[-1] is not None:
                 # a list property holds at least its count (its items may be none)
-                size = PLY_TYPE_BYTES.get(words[2] if words[1:2] == ["list"] else words[1:2][0]
-                                          if len(words) > 1 else "")
+                kind = words[2:3] if words[1:2] == ["list"] else words[1:2]  # [] if it has none
+                size = PLY_TYPE_BYTES.get(kind[0]) if kind else None
                 sizes[-1] = None if size is None else sizes[-1] + size
             elif words == ["end_header"]:
                 break
