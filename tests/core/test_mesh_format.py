@@ -71,3 +71,34 @@ def test_bzip2_is_told_by_its_block_magic_not_by_its_first_three_bytes():
     check_compressed(b"BZh ello: a text mesh file\n", "words.obj", ".obj")
     with pytest.raises(MeshError, match=r"^mesh 'sphere\.obj' is a bzip2-compressed file, not an OBJ"):
         check_compressed(bz2.compress(b"v 0 0 0\n" * 10)[:64], "sphere.obj", ".obj")
+
+
+@pytest.mark.parametrize("property_line", ["list", "list uchar", ""])
+def test_a_binary_ply_property_without_its_types_is_left_to_the_reader(tmp_path, property_line):
+    """A header line 'property list' (or 'property' alone) names no type: it was an IndexError
+    (a traceback) while the header was read; now no length is claimed and the reader says why."""
+    name = _binary_ply(tmp_path / "bare.ply", [property_line], 3, b"\0" * 40)
+    assert ply_layout(name, "bare.ply") == {"ascii": False, "elements": [["vertex", 3]]}
+
+
+def test_a_binary_stl_cut_short_whose_header_begins_solid_is_named_truncated(tmp_path):
+    """A binary STL's 80-byte header is free text, and CAD programs write 'solid <name>' there; cut
+    short, such a file is no ASCII STL (its triangles are not ASCII text): it was "not an STL file"."""
+    triangle = struct.pack("<12fH", *[0.5 + i for i in range(12)], 0)
+    assert any(byte >= 0x80 for byte in triangle)  # binary data: no ASCII STL
+    path = tmp_path / "part.stl"
+    path.write_bytes(b"solid part".ljust(80, b" ") + struct.pack("<I", 3) + triangle * 2)
+    with pytest.raises(MeshError, match=r"^mesh 'part\.stl' is truncated or its header is wrong: its "
+                                        r"header declares 3 triangles, 234 bytes as a binary STL \(84 "
+                                        r"plus 50 per triangle\), but the file holds only 184 bytes\.$"):
+        check_stl_layout(str(path), "part.stl", path.stat().st_size)
+
+
+def test_an_ascii_stl_with_a_byte_beyond_ascii_is_no_truncated_binary_stl(tmp_path):
+    """Text's bytes 80-84 read as a count exceed MAX_STL_TRIANGLES: an ASCII STL holding one UTF-8
+    letter stays "not an STL file", never "truncated"."""
+    text = "solid Größe\n" + "facet normal 0 0 1\n outer loop\n  vertex 0 0 0\n" * 4
+    path = tmp_path / "text.stl"
+    path.write_bytes(text.encode())
+    with pytest.raises(MeshError, match=r"^mesh 'text\.stl' is not an STL file: "):
+        check_stl_layout(str(path), "text.stl", path.stat().st_size)

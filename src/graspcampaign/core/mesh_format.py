@@ -50,10 +50,10 @@ def check_stl_layout(name: str, base: str, n_bytes: int) -> None:
             pass
     declared = int.from_bytes(head[80:84], "little") if len(head) == 84 else 0
     # a binary STL cut short (the copy stopped midway): a count no file of another kind holds by
-    # chance (bytes 80-84 of other data read as a count are mostly far above it) and one whole
-    # triangle at least; text beginning 'solid' is an ASCII STL's to explain
-    if (0 < declared <= MAX_STL_TRIANGLES and 134 <= n_bytes < 84 + 50 * declared
-            and head.lstrip()[:5].lower() != b"solid"):
+    # chance (bytes 80-84 of other data read as a count are mostly far above it; of text, whose
+    # byte 83 is 0x09 or more, always: 0x09000000 > MAX_STL_TRIANGLES) and one whole triangle at
+    # least. Its header may begin 'solid' (free text; some CAD programs write 'solid <name>').
+    if 0 < declared <= MAX_STL_TRIANGLES and 134 <= n_bytes < 84 + 50 * declared:
         raise MeshError(f"mesh {base!r} is truncated or its header is wrong: its header declares "
                         f"{declared:,} triangles, {84 + 50 * declared:,} bytes as a binary STL "
                         f"(84 plus 50 per triangle), but the file holds only {n_bytes:,} bytes.")
@@ -152,8 +152,8 @@ def ply_layout(name: str, base: str) -> dict | None:
                 sizes.append(0)
             elif words[:1] == ["property"] and sizes and sizes[-1] is not None:
                 # a list property holds at least its count (its items may be none)
-                size = PLY_TYPE_BYTES.get(words[2] if words[1:2] == ["list"] else words[1:2][0]
-                                          if len(words) > 1 else "")
+                kind = words[2:3] if words[1:2] == ["list"] else words[1:2]  # [] if it has none
+                size = PLY_TYPE_BYTES.get(kind[0]) if kind else None
                 sizes[-1] = None if size is None else sizes[-1] + size
             elif words == ["end_header"]:
                 break
