@@ -64,3 +64,18 @@ def test_a_stored_part_is_read_once_and_returned():
     pd.testing.assert_frame_equal(run.stored("tables/x"), frame)
     pd.testing.assert_frame_equal(run.stored("tables/x"), frame)
     assert reads == ["tables/x"]
+
+
+def test_a_file_that_cannot_be_read_is_not_said_to_be_written():
+    """``reason`` says "cannot write FILE" of a full disk only (no space is missing to read): a
+    statistic whose file is missing, or unreadable, was said to be one that "cannot write" it."""
+    import errno
+
+    from graspcampaign.report.render import reason
+
+    missing = FileNotFoundError(errno.ENOENT, "No such file or directory", "/data/runs/a/manifest.json")
+    assert "cannot write" not in reason(missing)
+    assert "/data/runs/a/manifest.json" in reason(missing)
+    full = OSError(errno.ENOSPC, "No space left on device", "/data/report/report.md")
+    assert reason(full) == ("cannot write /data/report/report.md: no space left on device; free some "
+                            "space there and run the command again")

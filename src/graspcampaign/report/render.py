@@ -135,10 +135,10 @@ def reason(exc: BaseException) -> str:
         key = str(exc.args[0]) if exc.args else ""
         listed = re.search(r"\['([^']+)'", key)
         return f"the records have no `{listed.group(1) if listed else key}` column"
-    if isinstance(exc, OSError) and exc.filename and exc.errno:  # a full disk, a file's place
-        full = exc.errno in (errno.ENOSPC, errno.EDQUOT)  # what cli.guard says of a full disk
-        return (f"cannot write {exc.filename}: {os.strerror(exc.errno).lower()}"
-                + ("; free some space there and run the command again" if full else ""))
+    if isinstance(exc, OSError) and exc.filename and exc.errno in (errno.ENOSPC, errno.EDQUOT):
+        # what cli.guard says of a full disk; only a write fills one (a missing file may be a read)
+        return (f"cannot write {exc.filename}: {os.strerror(exc.errno).lower()}; free some space there "
+                "and run the command again")
     text = str(exc).strip().splitlines()[0].rstrip(".") if str(exc).strip() else type(exc).__name__
     return text if isinstance(exc, ValueError | UserInputError) else f"{type(exc).__name__}: {text}"
 
