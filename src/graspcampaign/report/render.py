@@ -139,6 +139,8 @@ def reason(exc: BaseException) -> str:
         # what cli.guard says of a full disk; only a write fills one (a missing file may be a read)
         return (f"cannot write {exc.filename}: {os.strerror(exc.errno).lower()}; free some space there "
                 "and run the command again")
+    if isinstance(exc, OSError) and exc.filename and exc.errno:  # read or write: the file and why
+        return f"{exc.filename}: {os.strerror(exc.errno).lower()}"
     text = str(exc).strip().splitlines()[0].rstrip(".") if str(exc).strip() else type(exc).__name__
     return text if isinstance(exc, ValueError | UserInputError) else f"{type(exc).__name__}: {text}"
 
