@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import errno
 import re
 
 #: A value longer than this is shown by its start and its length (a 100,000-character override
@@ -20,6 +21,12 @@ def shorten(message: str) -> str:
 
     message = _LONG_QUOTED.sub(lambda m: f"'{cut(m.group(1))}'", message)
     return _LONG_WORD.sub(lambda m: cut(m.group(0)), message)
+
+
+def disk_full(exc: BaseException) -> bool:
+    """Whether ``exc`` is a write that found no space (a full disk, or a quota reached): the one
+    failure whose advice is "free some space there and run the command again"."""
+    return isinstance(exc, OSError) and exc.errno in (errno.ENOSPC, errno.EDQUOT)
 
 
 class UserInputError(Exception):

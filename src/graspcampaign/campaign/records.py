@@ -40,7 +40,6 @@ trials no longer recorded run again (both in :mod:`graspcampaign.campaign.integr
 from __future__ import annotations
 
 import contextlib
-import errno
 import json
 import logging
 import os
@@ -72,7 +71,7 @@ from graspcampaign.campaign.verify import (
     supersedes,
     verify_file,
 )
-from graspcampaign.errors import DamagedRunError, StoreWriteError
+from graspcampaign.errors import DamagedRunError, StoreWriteError, disk_full
 
 log = logging.getLogger(__name__)
 
@@ -147,7 +146,7 @@ def writing(path: Path, tmp: Path | None = None):
             with contextlib.suppress(OSError):
                 tmp.unlink(missing_ok=True)
         why = os.strerror(exc.errno) if exc.errno else str(exc) or type(exc).__name__
-        free = exc.errno in (errno.ENOSPC, errno.EDQUOT)
+        free = disk_full(exc)
         raise StoreWriteError(
             f"cannot write {path}: {why[:1].lower()}{why[1:]}; what was stored before is kept, so "
             f"{'free some space there and ' if free else ''}run the command again.") from None

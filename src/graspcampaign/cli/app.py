@@ -8,7 +8,6 @@ The commands are in :mod:`graspcampaign.cli.main` (studies, runs, reports) and
 
 from __future__ import annotations
 
-import errno
 import logging
 import os
 import sys
@@ -132,7 +131,7 @@ def guard(fn):
 
     @functools.wraps(fn)
     def wrapper(*args, **kwargs):
-        from graspcampaign.errors import UserInputError
+        from graspcampaign.errors import UserInputError, disk_full
 
         try:
             return fn(*args, **kwargs)
@@ -145,7 +144,7 @@ def guard(fn):
                 fail(str(exc))
             raise
         except OSError as exc:  # a full disk where no layer said so itself (a report's figure)
-            if exc.errno not in (errno.ENOSPC, errno.EDQUOT):
+            if not disk_full(exc):
                 raise
             if state["debug"]:
                 traceback.print_exc()

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import errno
 import importlib
 import logging
 import os
@@ -17,7 +16,7 @@ import pandas as pd
 from graspcampaign.campaign.paths import check_root, how_to_make, near_run, write_file
 from graspcampaign.campaign.provenance import read_manifest
 from graspcampaign.campaign.records import RunStore
-from graspcampaign.errors import ConfigError, UserInputError
+from graspcampaign.errors import ConfigError, UserInputError, disk_full
 from graspcampaign.report import document as D
 from graspcampaign.report import spec as S
 from graspcampaign.report.document import NAV, Col, Document, Table, Text
@@ -175,8 +174,7 @@ def _report_or_failure(store: RunStore, root: Path, formats: list[str], figure_f
         return report_run(store, root, formats, figure_format), None
     except Exception as exc:  # noqa: BLE001 - one broken run never stops the others
         log.debug("report of %s failed", label, exc_info=True)
-        full = isinstance(exc, OSError) and exc.errno in (errno.ENOSPC, errno.EDQUOT)  # as cli.guard
-        return None, (label, reason(exc), full or isinstance(exc, UserInputError))
+        return None, (label, reason(exc), disk_full(exc) or isinstance(exc, UserInputError))
 
 
 def _report_in_worker(*args):

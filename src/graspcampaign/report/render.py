@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import errno
 import logging
 import os
 import re
@@ -18,7 +17,7 @@ from graspcampaign.analysis.vocabulary import data_source
 from graspcampaign.campaign.paths import how_to_make
 from graspcampaign.campaign.provenance import design_change, ingested
 from graspcampaign.core.bench_specimen import FINGERTIP_RADIUS
-from graspcampaign.errors import UserInputError
+from graspcampaign.errors import UserInputError, disk_full
 from graspcampaign.report import format as fmt
 from graspcampaign.report.document import Document, Section, Table, Text
 
@@ -135,7 +134,7 @@ def reason(exc: BaseException) -> str:
         key = str(exc.args[0]) if exc.args else ""
         listed = re.search(r"\['([^']+)'", key)
         return f"the records have no `{listed.group(1) if listed else key}` column"
-    if isinstance(exc, OSError) and exc.filename and exc.errno in (errno.ENOSPC, errno.EDQUOT):
+    if isinstance(exc, OSError) and exc.filename and disk_full(exc):
         # what cli.guard says of a full disk; only a write fills one (a missing file may be a read)
         return (f"cannot write {exc.filename}: {os.strerror(exc.errno).lower()}; free some space there "
                 "and run the command again")
