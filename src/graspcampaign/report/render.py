@@ -165,7 +165,8 @@ def render(spec, run: Run, document: Document) -> Document:
     lacks gets a note under it; each joins ``run.failures``. A ValueError or KeyError, like a missing
     shown column, is the data's reason (no executed trial, a column a run whose trials all errored
     or recorded before it existed lacks: the item is legitimately empty); any other exception means
-    the item's code failed: it joins ``run.broken``."""
+    the item's code failed: it joins ``run.broken``, as does an item reading a table (``run.tables``)
+    the spec declares nowhere or only below it (:class:`Tables`)."""
     from graspcampaign.report.spec import Finding
 
     slots, names = {}, [(i, item.name) for i, item in enumerate(spec.items) if isinstance(item, Table)]
