@@ -18,7 +18,11 @@ SPEC_STUDIES |= {"dynamic_check"}  # SPEC §8: every quasi-static label re-simul
 
 
 def test_one_campaign_file_per_spec_study():
-    assert set(list_studies()) == SPEC_STUDIES
+    found = set(list_studies())
+    assert found == SPEC_STUDIES, (
+        f"study files in campaigns/ but not in SPEC_STUDIES: {sorted(found - SPEC_STUDIES)}; in SPEC_STUDIES "
+        f"without a file: {sorted(SPEC_STUDIES - found)}. A study added to campaigns/ is added to "
+        "SPEC_STUDIES (tests/campaign/test_compose.py; docs/ARCHITECTURE.md, Adding a study)")
 
 
 # Study files are checked through composition below.

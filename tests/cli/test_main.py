@@ -32,7 +32,7 @@ def test_list_separates_the_papers_studies_from_the_extensions(tmp_path, monkeyp
     extensions = invoke("list", "--names", "--extensions").stdout.split()
     # make reproduce runs the first list, make extensions the second (after baseline_grid)
     assert {"baseline_grid", "test1_bench", "friction_mass"} <= set(paper)
-    assert extensions == ["dynamic_check", "grip_laws"]
+    assert extensions == ["dynamic_check", "grip_laws"], "a study file with `extension: true` is listed here"
     assert "smoke" not in paper and not set(paper) & set(extensions)
 
 

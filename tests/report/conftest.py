@@ -46,6 +46,12 @@ REDUCED = {
 
 
 @pytest.fixture(scope="session")
+def reduced() -> list[str]:
+    """The studies :func:`sim_root` runs, sorted."""
+    return sorted(REDUCED)
+
+
+@pytest.fixture(scope="session")
 def sim_root(tmp_path_factory):
     """Root of the reduced runs, reported in every format (tables, md, json, html)."""
     from graspcampaign.campaign.compose import compose_study

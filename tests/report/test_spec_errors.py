@@ -19,7 +19,7 @@ import graspcampaign.report.studies as studies
 from graspcampaign.report.build import KIND_SPECS, SPECS
 from graspcampaign.report.document import Document, cols
 from graspcampaign.report.render import Run, render
-from graspcampaign.report.spec import Finding, Rates, ReportSpec, Table, Value
+from graspcampaign.report.spec import Figure, Finding, Rates, ReportSpec, Table, Value
 
 RECORDS = pd.DataFrame({"trial_id": ["a", "b", "c", "d"], "status": "ok", "shape": "sphere",
                         "planner": ["heuristic", "heuristic", "random", "random"],
@@ -74,6 +74,48 @@ def test_a_compute_returning_a_series_says_so():
 def test_rates_by_a_column_the_records_lack_name_it_instead_of_an_empty_table():
     shown, _ = notes(Rates("by_planner", "c", ["plannr"]))
     assert shown == ["Table by_planner not computed: the records have no `plannr` column."]
+
+
+def broken(*items) -> tuple[list[str], list[str]]:
+    """The notes the page shows and the items whose code failed (``Run.broken``)."""
+    run = Run(RECORDS, {"study": "mini", "config": {"factors": {}}})
+    doc = render(ReportSpec("mini", items), run, Document("mini", "simulation", []))
+    return [b.markdown for b in doc.blocks if getattr(b, "kind", "") == "note"], run.broken
+
+
+def draws(table: str):
+    def draw(run: Run, fig) -> None:
+        fig.subplots().plot(run.tables[table]["success_pct"])
+    return draw
+
+
+def test_a_table_name_the_spec_declares_nowhere_is_the_items_failure_with_the_near_name():
+    # before: "its table by_mas was not computed", counted as the data's reason (exit 0), though no
+    # table of that name exists
+    shown, failed = broken(Table("by_mass", "c", by_mass), Figure("f", "c", draws("by_mas"), (3, 2)))
+    assert shown == ["Figure f not computed: LookupError: this report declares no table by_mas; did you "
+                     "mean 'by_mass'? its tables: by_mass."]
+    assert failed == ["Figure f"]
+
+
+def test_a_table_read_by_an_item_above_it_is_the_items_failure_saying_where_to_declare_it():
+    # before: "its table by_mass was not computed", though the table is computed, right below
+    shown, failed = broken(Figure("f", "c", draws("by_mass"), (3, 2)), Table("by_mass", "c", by_mass))
+    assert shown == ["Figure f not computed: LookupError: table by_mass is declared below this item, so it "
+                     "is not computed yet; declare it above the items that read it."]
+    assert failed == ["Figure f"]
+
+
+def test_a_declared_table_not_computed_stays_the_datas_reason_and_a_finding_reads_any_table():
+    def fails(run: Run) -> pd.DataFrame:
+        raise ValueError("no executed trial")
+
+    shown, failed = broken(Finding(lambda run: f"{len(run.tables['by_mass'])} masses."),
+                           Table("none", "c", fails), Figure("f", "c", draws("none"), (3, 2)),
+                           Table("by_mass", "c", by_mass))
+    assert shown == ["Table none not computed: no executed trial.",
+                     "Figure f not computed: its table none was not computed."]
+    assert failed == []
 
 
 def test_every_spec_of_the_studies_package_is_registered():

@@ -17,17 +17,30 @@ from graspcampaign.analysis.vocabulary import data_source
 from graspcampaign.campaign.paths import how_to_make
 from graspcampaign.campaign.provenance import design_change, ingested
 from graspcampaign.core.bench_specimen import FINGERTIP_RADIUS
+from graspcampaign.core.words import listed, meant
 from graspcampaign.errors import UserInputError, disk_full
 from graspcampaign.report import format as fmt
-from graspcampaign.report.document import Document, Section, Table, Text
+from graspcampaign.report.document import Document, Figure, Section, Table, Text
 
 log = logging.getLogger(__name__)
 
 
 class Tables(dict):
-    """The tables rendered so far, by name; one not rendered (its note says why) raises ValueError."""
+    """The tables rendered so far, by name; one not rendered (its note says why) raises ValueError,
+    the data's reason. When :func:`render` knows the spec's tables (``declared``; ``below``: those
+    declared below the item being rendered), a name the spec declares nowhere (a misspelling) or
+    only below the item reading it raises LookupError instead: the item's code failed."""
+
+    declared: tuple[str, ...] = ()
+    below: tuple[str, ...] = ()
 
     def __missing__(self, name: str):
+        if name in self.below:
+            raise LookupError(f"table {name} is declared below this item, so it is not computed yet; "
+                              "declare it above the items that read it")
+        if self.declared and name not in self.declared:
+            raise LookupError(f"this report declares no table {name}; {meant(name, self.declared)}its "
+                              f"tables: {listed(self.declared)}")
         raise ValueError(f"its table {name} was not computed")
 
 
@@ -152,11 +165,16 @@ def render(spec, run: Run, document: Document) -> Document:
     lacks gets a note under it; each joins ``run.failures``. A ValueError or KeyError, like a missing
     shown column, is the data's reason (no executed trial, a column a run whose trials all errored
     or recorded before it existed lacks: the item is legitimately empty); any other exception means
-    the item's code failed: it joins ``run.broken``."""
+    the item's code failed: it joins ``run.broken``, as does an item reading a table (``run.tables``)
+    the spec declares nowhere or only below it (:class:`Tables`)."""
     from graspcampaign.report.spec import Finding
 
-    slots = {}
+    slots, names = {}, [(i, item.name) for i, item in enumerate(spec.items) if isinstance(item, Table)]
+    # an item of another class (a wrapper with a render method) may render tables of any name
+    known = all(isinstance(item, Table | Figure | Section | Text | Finding) for item in spec.items)
+    run.tables.declared = tuple(n for _, n in names) if known else ()
     for i, item in sorted(enumerate(spec.items), key=lambda e: isinstance(e[1], Finding)):
+        run.tables.below = () if isinstance(item, Finding) else tuple(n for j, n in names if j > i)
         run.items += not isinstance(item, Section | Text)
         try:
             slots[i] = item.render(run)
@@ -170,6 +188,7 @@ def render(spec, run: Run, document: Document) -> Document:
                 run.failures.append(note)
                 slots[i].insert(slots[i].index(table) + 1, Text(note, "note"))
         run.tables.update({b.name: b.frame for b in slots[i] if isinstance(b, Table)})
+    run.tables.below = ()
     document.blocks.extend(b for i in sorted(slots) for b in slots[i])
     return document
 

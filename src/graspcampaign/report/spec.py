@@ -121,7 +121,9 @@ def _check_item(study: str, number: int, item: Any) -> None:
 class Finding:
     """The opening paragraph: the main finding from the records and where and why it differs from
     the paper (naming the decision in ``docs/decisions.md``); computed last, shown first, it ends
-    with what the validity gate removed when the report has a :func:`GateRemoved` table."""
+    with what the validity gate removed when the report has a :func:`GateRemoved` table. ``text``:
+    the function of the run returning the paragraph; ``title`` names the item in a note and the
+    list of failed items only (its heading is always "What this shows")."""
 
     text: Callable[[Run], str]
     title: str = "The main finding"
@@ -184,8 +186,10 @@ class Value:
 
 def Rate(label: str, section: str, where: Callable[[Run], pd.Series], outcome: str = "success") -> Value:
     """One rate (a :class:`Value` row in %, one decimal, Wilson 95 %) over the executed trials that
-    ``where(run)`` selects (a boolean mask over ``run.ok``); the paper prints words, not a rate, for
-    every such row (sensitivity's, judged in those words), so it has no paper value."""
+    ``where(run)`` selects (a boolean mask over ``run.ok``; :func:`Rates`' ``where`` takes the records
+    instead); the paper prints words, not a rate, for every such row (sensitivity's, judged in those
+    words), so it has no paper value: a rate beside a paper number is a :class:`Value` of
+    :func:`share` with its ``paper``."""
     return Value(label, section, lambda run: rec.rate(run.records, lambda ok: where(run).to_numpy(), outcome),
                  None, "%", 1)
 

@@ -12,6 +12,8 @@ from graspcampaign.report.spec import Figure, Finding, ReportSpec, Table, Value
 
 
 def _worst(column: str):
+    """The function of the run giving the sphere's largest ``column`` (a sharp-feature count) over
+    the run's resolutions: a :class:`Value`'s ``value``."""
     def value(run: Run) -> int:
         sphere = run.ok.loc[run.ok["shape"] == "sphere", column]
         if not len(sphere):
@@ -77,9 +79,9 @@ SPEC = ReportSpec("smoke", [
         Col("max_edge_deviation_deg", "largest dihedral departure [°]", sig=3), *cols("build_time_s")],
         by=["shape", "nodes"]),
     Value("sharp vertices on the sphere (worst resolution)", "Sec. 3.1", _worst("n_sharp_vertex"),
-          lambda p: p.sphere_sharp_vertices, digits=0),
+          paper=lambda p: p.sphere_sharp_vertices, digits=0),
     Value("sharp edges on the sphere (worst resolution)", "Sec. 3.1", _worst("n_sharp_edge"),
-          lambda p: p.sphere_sharp_edges, digits=0),
+          paper=lambda p: p.sphere_sharp_edges, digits=0),
     Figure("sharp_features", "Sharp vertices and edges per object at each requested mesh resolution (bar "
            "labels: the counts)", _features, (9.0, 4.2)),
 ])
