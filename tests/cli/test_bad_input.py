@@ -119,9 +119,9 @@ STUDY_VALUES = {
                             "{path}, line 6: factors.mu[1] = 50.0 is out of range; allowed: >= "
                             "0.0 and <= 3.0 (dry friction of soft materials stays below 3)."),
     "negative_mass": ("factors:\n  mass_kg: [-0.2]\n",
-                      "{path}, line 6: factors.mass_kg[0] = -0.2 is out of range; allowed: > "
-                      "0.0 and <= 10.0 (a mass must be positive and a three-finger hand lifts at "
-                      "most ~10 kg)."),
+                      "{path}, line 6: factors.mass_kg[0] = -0.2 is out of range; allowed: >= "
+                      "0.0001 and <= 10.0 (below 0.1 g an object weighs less than the rig's 1 mN "
+                      "force resolution, and a three-finger hand lifts at most ~10 kg)."),
     "run_escaping_results": ("output:\n  run: ../../elsewhere\n",
                              "{path}, line 9: output.run = '../../elsewhere' is not allowed; use "
                              "letters, digits, '.', '_' and '-' (starting with a letter or digit, "
@@ -286,10 +286,12 @@ IMPOSSIBLE = {
              "soft materials stays below 3).",
     "mu=[0.3,-0.1]": "factors.mu[1] = -0.1 is out of range; allowed: >= 0.0 and <= 3.0 (dry "
                      "friction of soft materials stays below 3).",
-    "mass_kg=-1": "factors.mass_kg[0] = -1.0 is out of range; allowed: > 0.0 and <= 10.0 (a mass "
-                  "must be positive and a three-finger hand lifts at most ~10 kg).",
-    "mass_kg=40": "factors.mass_kg[0] = 40.0 is out of range; allowed: > 0.0 and <= 10.0 (a mass "
-                  "must be positive and a three-finger hand lifts at most ~10 kg).",
+    "mass_kg=-1": "factors.mass_kg[0] = -1.0 is out of range; allowed: >= 0.0001 and <= 10.0 "
+                  "(below 0.1 g an object weighs less than the rig's 1 mN force resolution, and a "
+                  "three-finger hand lifts at most ~10 kg).",
+    "mass_kg=40": "factors.mass_kg[0] = 40.0 is out of range; allowed: >= 0.0001 and <= 10.0 "
+                  "(below 0.1 g an object weighs less than the rig's 1 mN force resolution, and a "
+                  "three-finger hand lifts at most ~10 kg).",
     "model.lambda1=100": "model.lambda1 = 100.0 is out of range; allowed: > 0.0 and <= 15.0 (the "
                          "identification scale factors stay within 10x their PSO bounds).",
     "model.n_exp=0": "model.n_exp = 0.0 is out of range; allowed: > 0.0 and <= 3.0 (contact force "
@@ -327,7 +329,8 @@ def test_a_kind_parameter_out_of_range_is_refused_before_the_run_starts(results,
             f"{override.removeprefix('+').replace('=', ' = ')} is out of range; allowed: {allowed}.")
 
 
-MASS_ALLOWED = "> 0.0 and <= 10.0 (a mass must be positive and a three-finger hand lifts at most ~10 kg)"
+MASS_ALLOWED = (">= 0.0001 and <= 10.0 (below 0.1 g an object weighs less than the rig's 1 mN force "
+                "resolution, and a three-finger hand lifts at most ~10 kg)")
 
 
 @pytest.mark.parametrize("command", ["show", "run"])

@@ -1,5 +1,5 @@
 """The rough edges the previous session's closing note left (branch left): an output option ending
-in a path separator, ...
+in a path separator, a mass outside its plausible range, ...
 
 Each refusal: exit 2, one sentence naming what is wrong and where, nothing stored changed
 (``refused``)."""
@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import pytest
 import trimesh
-from cli_checks import refused
+from cli_checks import invoke, refused
 
 
 @pytest.fixture
@@ -38,3 +38,27 @@ def test_an_output_path_ending_in_a_slash_is_refused_as_the_directory_it_names(
                        *(["--root", tmp_path / "results"] if args[0] != "plan" else [])],
             f"{option} {folder}/ ends in '/', so it names a directory; give "
             f"{instead.format(dir=folder)}.")
+
+
+MASS = ("below 0.1 g an object weighs less than the rig's 1 mN force resolution, and a "
+        "three-finger hand lifts at most ~10 kg")
+
+
+@pytest.mark.parametrize(("given", "read"), [
+    ("1e-300", "1e-300"),  # it planned a grasp of zero forces (> 0 was the whole lower bound)
+    ("5e-05", "5e-05"),  # 0.05 g: below the 1 mN the rig resolves (Fig. 22)
+    ("1e300", "1e+300"), ("0", "0.0"), ("-1", "-1.0"), ("nan", "nan"), ("inf", "inf"),
+    ("-inf", "-inf"),
+])
+def test_a_mass_outside_its_plausible_range_is_refused_naming_the_option(tmp_path, sphere, given,
+                                                                         read):
+    # each said 'mass_kg = ...', a name the command line does not take
+    refused(tmp_path, ["plan", sphere, f"--mass-kg={given}"],
+            f"--mass-kg {read} is out of range; allowed: >= 0.0001 and <= 10 kg ({MASS}).")
+
+
+def test_the_lightest_plausible_mass_is_planned(tmp_path, sphere):
+    """0.1 g (a weight of 0.98 mN) is the lower bound itself, a closed one."""
+    result = invoke("plan", sphere, "--mass-kg", "1e-4", "--png", tmp_path / "p.png")
+    assert result.exit_code == 0, result.output
+    assert "mass: 0.0001 kg (W = 0.001 N)" in result.stdout

@@ -157,7 +157,9 @@ def plan(
     try:  # plan_mesh checks the picture path before any planning work
         result = plan_mesh(mesh, mass_kg=mass_kg, material=material, mu=mu,
                            fingertip_radius_mm=fingertip_radius_mm, unit=unit,
-                           png_path=picture, png_option=option)
+                           png_path=picture, names={"png_path": option, "mass_kg": "--mass-kg",
+                                                    "mu": "--mu",
+                                                    "fingertip_radius_mm": "--fingertip-radius-mm"})
     except PicturePathError as exc:
         fail(str(exc) if png is not None else
               f"{str(exc).rstrip('.')}; pass --png with a path where the picture can be written.")
