@@ -48,7 +48,7 @@ def test_show_prints_design_without_running(tmp_path):
 @pytest.mark.parametrize(
     ("override", "message"),
     [
-        ("+factors.mass_kg=[-0.2]", r"factors\.mass_kg\[0\] = -0\.2 is out of range; allowed: > 0\.0"),
+        ("+factors.mass_kg=[-0.2]", r"factors\.mass_kg\[0\] = -0\.2 is out of range; allowed: >= 0\.0001"),
         ("+factors.mu=[-0.1]", r"factors\.mu\[0\] = -0\.1 is out of range; allowed: >= 0\.0"),
         ("nodes=[5]", r"factors\.nodes\[0\] = 5 is out of range; allowed: >= 12"),
         ("seeds=0", r"seeds = 0 is out of range; allowed: >= 1"),
