@@ -62,3 +62,57 @@ def test_the_lightest_plausible_mass_is_planned(tmp_path, sphere):
     result = invoke("plan", sphere, "--mass-kg", "1e-4", "--png", tmp_path / "p.png")
     assert result.exit_code == 0, result.output
     assert "mass: 0.0001 kg (W = 0.001 N)" in result.stdout
+
+
+SHAPES = "sphere, ellipsoid, rounded_cube, pear, handle"
+KINDS = ("dynamic_check, dynamic_grasp, gravity_settle, heuristic_weights, mesh_features, "
+         "mesh_resolution, pso_repeatability, quasi_static, sensitivity, surrogate, test1_bench, "
+         "test2_grasp, test3_disturbance, wrench_balance")
+FACTORS = ("b, budget, damping_law, dt_s, grip_law, integrator, lambda1, lambda2, mass_kg, "
+           "model_preset, mu, n_cand, n_exp, n_max, nodes, planner, pso_seed, shape, variant, w1, "
+           "w2, w3, weight_scale")
+
+
+@pytest.mark.parametrize(("args", "message"), [
+    # each named the known set without the near miss in it
+    (["show", "smoke", "kind=mesh_featurs"],
+     f"trial kind 'mesh_featurs' is unknown; did you mean 'mesh_features'? known kinds: {KINDS}."),
+    (["show", "baseline_grid", "shape=[spher]"],
+     f"factors.shape[0] has unknown value 'spher'; did you mean 'sphere'? allowed values: {SHAPES}."),
+    (["show", "baseline_grid", "runner.backend=sequentail"],
+     "runner.backend has unknown value 'sequentail'; did you mean 'sequential'? allowed values: "
+     "loky, dask, sequential."),
+    (["show", "baseline_grid", "plannr=[heuristic]"],
+     "plannr is neither a known key of the study config nor a factor of this study (factors: "
+     "mass_kg, mu, planner, shape); did you mean 'planner'? override rejected."),
+    (["show", "baseline_grid", "factors.plannr=[heuristic]"],
+     "factors.plannr is not a known factor (override 'factors.plannr=[heuristic]' rejected); did "
+     f"you mean factors.planner? known factors: {FACTORS}."),
+    (["show", "baseline_grid", "+factors.plannr=[heuristic]"],
+     f"factors.plannr is not a known factor; did you mean factors.planner? known factors: {FACTORS}."),
+    (["show", "baseline_grid", "model=nominl"],
+     "model=nominl is not an option of config group model; did you mean model=nominal? available "
+     "options: firm, nominal, table2."),
+    (["show", "sensitivity", "params.panels=[lamda]"],
+     "params.panels has unknown panel 'lamda'; did you mean 'lambda'? allowed: mu_mass, lambda, n_b."),
+    (["show", "mesh_resolution", "params.panels=[resoluton]"],
+     "params.panels has unknown panel 'resoluton'; did you mean 'resolution'? allowed: resolution, "
+     "budget, n_max."),
+])
+def test_a_name_from_a_known_set_is_suggested_when_misspelt(tmp_path, args, message):
+    refused(tmp_path, args, message)
+
+
+@pytest.mark.parametrize(("args", "message"), [
+    (["--figure-format", "pgn"], "unknown figure format 'pgn'; did you mean 'png'? choose from png, "
+                                 "svg, pdf."),
+    (["--format", "md,hmtl"], "unknown report format 'hmtl'; did you mean 'html'? choose from md, "
+                              "csv, json, html."),
+])
+def test_a_misspelt_report_or_figure_format_is_suggested(results, args, message):
+    refused(results, ["report", "smoke", "--root", results, *args], message)
+
+
+def test_a_misspelt_mesh_unit_is_suggested(tmp_path, sphere):
+    refused(tmp_path, ["plan", sphere, "--mass-kg", "0.1", "--unit", "mmm"],
+            "unknown unit 'mmm'; did you mean 'mm'? use one of 'm', 'cm', 'mm'.")

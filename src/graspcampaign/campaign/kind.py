@@ -15,6 +15,7 @@ from typing import Any
 
 from graspcampaign.campaign.grid import Trial
 from graspcampaign.campaign.schema import StudyCfg
+from graspcampaign.core.words import meant
 from graspcampaign.errors import StudyNotRunnableError
 
 
@@ -126,8 +127,8 @@ def get_kind(name: str) -> TrialKind:
         return RUNTIME_KINDS[name]
     if name not in KINDS:
         raise StudyNotRunnableError(
-            f"trial kind {name!r} is unknown; known kinds: {', '.join(sorted(KINDS))}."
-        )
+            f"trial kind {name!r} is unknown; {meant(name, sorted(KINDS))}known kinds: "
+            f"{', '.join(sorted(KINDS))}.")
     target = KINDS[name]
     if target is None:
         raise StudyNotRunnableError(

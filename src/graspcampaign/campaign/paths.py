@@ -172,18 +172,17 @@ def how_to_make(root: Path | str, study: str, run: str | None = None,
 
 
 def near_run(root: Path | str, study: str, run: str) -> str:
-    """For a "no run at PATH" message: `` (did you mean --run NAME, a run of STUDY there?)`` naming
-    the stored run of ``study`` under ``root`` nearest ``run`` (a misspelt --run), or ``""``: the
-    command that makes ``run`` is the advice only when no run there is named alike."""
-    import difflib
+    """For a "no run at PATH" message: ``did you mean --run NAME? `` naming the stored run of
+    ``study`` under ``root`` nearest ``run`` (a misspelt --run; :func:`~graspcampaign.core.words.meant`),
+    or ``""``; the command that makes ``run`` follows it."""
+    from graspcampaign.core.words import meant
 
     try:
         runs = [e.name for e in os.scandir(Path(root) / study)
                 if os.path.isfile(os.path.join(e.path, "manifest.json"))]
     except OSError:
         return ""
-    near = difflib.get_close_matches(run, runs, n=1)
-    return f" (did you mean --run {near[0]}, a run of {study} there?)" if near else ""
+    return meant(run, runs, "--run {}")
 
 
 def root_options(root: Path | str) -> list[str]:

@@ -221,7 +221,7 @@ def open_run(root: Path | str, study: str, run: str, option_prefix: str = "--"):
     store = RunStore(run_dir(root, study, run))
     manifest = store.check(["records"])  # a run that is not what its manifest says: refused
     if manifest is None:
-        raise UserInputError(f"no run at {store.path}{near_run(root, study, store.path.name)}; "
+        raise UserInputError(f"no run at {store.path}; {near_run(root, study, store.path.name)}"
                              f"{how_to_make(root, study, run)}")
     return store, manifest
 

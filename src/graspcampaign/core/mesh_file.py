@@ -29,7 +29,7 @@ from graspcampaign.core.mesh_format import (
 )
 from graspcampaign.core.plausible import OBJECT_SIZE_MM
 from graspcampaign.core.winding import winding_numbers
-from graspcampaign.core.words import counted, listed, plural
+from graspcampaign.core.words import counted, listed, meant, plural
 
 logger = logging.getLogger(__name__)
 
@@ -82,7 +82,8 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
         Unknown unit, missing or unreadable file, or a mesh that fails :func:`check_mesh`.
     """
     if unit not in UNITS:
-        raise MeshError(f"unknown unit {unit!r}: use one of {', '.join(repr(u) for u in UNITS)}.")
+        raise MeshError(f"unknown unit {unit!r}; {meant(unit, UNITS)}use one of "
+                        f"{', '.join(repr(u) for u in UNITS)}.")
     name = os.fspath(path)
     base = os.path.basename(name)
     if not os.path.isfile(name):
