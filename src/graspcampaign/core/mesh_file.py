@@ -97,7 +97,7 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
     n_bytes = os.path.getsize(name)
     if n_bytes == 0:
         raise MeshError(f"mesh {base!r} is empty: the file has 0 bytes.")
-    with open(name, "rb") as fh:
+    with open(name, "rb") as fh:  # read once: the format and layout checks share it
         head = fh.read(4096)
     other = other_format(head, n_bytes)
     if other is None:  # a binary STL's 80-byte header is free text: its size tells it first
@@ -106,9 +106,9 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
         raise MeshError(f"mesh {base!r} is not {'a' if suffix == '.ply' else 'an'} "
                         f"{suffix[1:].upper()} file: it looks like {other[0]}; rename it to {other[1]}.")
     if suffix == ".stl":
-        check_stl_layout(name, base, n_bytes)
+        check_stl_layout(name, base, n_bytes, head)
     face_word = "triangle" if suffix == ".stl" else None  # set when the faces keep the file's order
-    if suffix == ".obj" and check_obj_lines(name, base):
+    if suffix == ".obj" and check_obj_lines(name, base, head):
         face_word = "face"
     ply = ply_layout(name, base) if suffix == ".ply" else None
     try:
