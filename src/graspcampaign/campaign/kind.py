@@ -78,6 +78,9 @@ class TrialKind:
     ingest: Callable[[StudyCfg, Any, list[str], Any], list[dict[str, Any]]] | None = None
     template: Callable[[StudyCfg, Any, Any], tuple[Any, Any]] | None = None
     description: str = ""
+    #: what a run does besides its trials (its prepare or finalize stage), in words for `show`,
+    #: whose time estimate counts trials only; with its cost at paper scale where it was measured
+    stages: str = ""
     factors: tuple[str, ...] = ()
     extra: dict[str, Any] = field(default_factory=dict)
 

@@ -150,9 +150,9 @@ def design_text(study: StudyCfg, run: str | None = None, overrides: list[str] = 
         if done and (measured := _median_trial_s(opened[0])) is not None:
             per, basis = measured, "median of the trials recorded"
         remaining = (total - done) * per / workers
+        stages = f"; trials only, not counted: {facts['stages']}" if facts.get("stages") else ""
         lines.append(f"estimated time: {_fmt_seconds(remaining)} for {counted(total - done, 'trial')} "
-                     f"(~{_fmt_seconds(per)} each, {basis}, on {counted(workers, 'worker')}; "
-                     "setup and finalize stages not counted)")
+                     f"(~{_fmt_seconds(per)} each, {basis}, on {counted(workers, 'worker')}){stages}")
     if study.paper:  # Test 2's block is 3,000 characters: lines of about 100, no pair split
         pairs = _paper_pairs(study.paper)
         lines.append(f"paper: {pairs[0]}")

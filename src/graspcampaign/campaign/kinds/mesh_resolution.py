@@ -257,4 +257,5 @@ MESH_RESOLUTION = TrialKind(
     prepare=prepare,
     design=design,
     description="Fig. 20 runtime/residual vs nodes; success vs N_cand; N_max = 200 re-run",
+    stages="a PSO identification of each body before its trials (Sec. 4)",
 )
