@@ -142,8 +142,8 @@ def test_show_counts_only_the_overridden_design_as_recorded(smoke_run):
     assert refused.exit_code == 2 and "factors.nodes [144] -> [144, 390]" in refused.stderr
     assert f"note: `run` would refuse: {refused.stderr.removeprefix('error: ')}" in full.stdout
     assert "note:" not in same.stdout
-    # the time per trial is the median of the run's own records once it has some
-    assert "each, median of the trials recorded, on" in full.stdout
+    # the time per trial is the mean of the run's own records once it has some
+    assert "each, mean of the trials recorded, on" in full.stdout
     assert "{" not in full.stdout and "'" not in full.stdout  # no Python reprs
 
 
