@@ -281,14 +281,9 @@ BAD_ROW = {
     "empty_trial_id": ({"trial_id": ""}, "csv", "trial_id", r"trial id is empty\.$"),
     "bad_source": ({"source": "simulated"}, "csv", "source",
                    r"value 'simulated' is not one of measured, virtual\.$"),
-    # a near miss is named as a misspelt column is (it said only "is not one of")
-    "misspelt_outcome": ({"outcome": "failure_slp"}, "csv", "outcome",
-                         r"value 'failure_slp' \(did you mean 'failure_slip'\?\) is not one of stable, "
-                         r"success, partial, failure_slip, failure_drop, failure_damage, "
-                         r"failure_contact_loss, aborted\.$"),
-    "misspelt_source": ({"source": "Measured "}, "csv", "source",
-                        r"value 'Measured' \(did you mean 'measured'\?\) is not one of measured, "
-                        r"virtual\.$"),
+    "misspelt_outcome": ({"outcome": "failure_slp"}, "csv", "outcome", r"value 'failure_slp' \(did "
+                         r"you mean 'failure_slip'\?\) is not one of stable, success, partial, "
+                         r"failure_slip, failure_drop, failure_damage, failure_contact_loss, aborted\.$"),
     "success_inconsistent_with_outcome": (
         {"outcome": "failure_slip", "success": True, "stable": False, "slip_flag": True}, "csv",
         "success", r"success is True but outcome is 'failure_slip' \(success means outcome "
