@@ -205,8 +205,9 @@ def test_model_preset_factor_rejects_an_unknown_preset(tmp_path):
 
 def test_pso_budget_factor_rejects_a_misspelt_budget():
     """Any budget but 'converged' ran the 8 x 15 repeatability budget under the misspelt name."""
-    with pytest.raises(UserInputError, match=r"factors.budget\[0\] has unknown value 'convergd'; "
-                                             r"allowed values: repeatability, converged\."):
+    with pytest.raises(UserInputError, match=r"factors.budget\[0\] has unknown value 'convergd'; did "
+                                             r"you mean 'converged'\? allowed values: repeatability, "
+                                             r"converged\."):
         compose_study("pso_repeatability", ["budget=[convergd]"])
 
 

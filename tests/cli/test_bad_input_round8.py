@@ -277,7 +277,7 @@ def test_report_jobs_beyond_four_per_core_are_refused_before_any_starts(results)
 def test_a_misspelt_run_is_named_beside_the_command_that_would_make_it(results, command, missing):
     """Only the command making a run 'defualt' was suggested."""
     refused(results, [command, "smoke", "--run", "defualt", "--root", results],
-            missing.format(root=results) + " (did you mean --run default, a run of smoke there?); run "
+            missing.format(root=results) + "; did you mean --run default? run "
             f"`graspcampaign run smoke --run defualt --root {results}` first.")
 
 

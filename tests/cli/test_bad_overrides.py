@@ -36,9 +36,9 @@ OVERRIDES = {
     # a key below an unknown one names the first unknown part in its section (it said only "not a
     # known key of the study config")
     "evaluator.tau.x=1": "evaluator.tau is not a known key of evaluator (override 'evaluator.tau.x=1' "
-                         "rejected); known keys: seed_depth_m, n_max, alpha, eps, tau_f_n, tau_t_nm, "
-                         "n_cand, residual_check, grip_law, grip_safety_factor, grip_cap_depth_m, "
-                         "oracle_cone_facets, fc_cone_edges.",
+                         "rejected); did you mean evaluator.tau_f_n? known keys: seed_depth_m, "
+                         "n_max, alpha, eps, tau_f_n, tau_t_nm, n_cand, residual_check, grip_law, "
+                         "grip_safety_factor, grip_cap_depth_m, oracle_cone_facets, fc_cone_edges.",
     "nosuch.a=1": "nosuch is not a known key of the study config (override 'nosuch.a=1' rejected); known "
                   "keys: name, kind, description, seed, seeds, repeats, factors, zip, method_factors, "
                   "params, paper, compare_with, extension, model, evaluator, features, pso, runner, "
@@ -132,7 +132,8 @@ def test_override_messages_name_the_override_in_plain_words(results, override):
 def test_the_quoted_form_an_override_message_suggests_is_read(results):
     """The fix the message gives parses: the value then meets the factor's own check."""
     refused(results, ["show", "baseline_grid", 'shape=["sphère"]', "--root", results],
-            "factors.shape[0] has unknown value 'sphère'; allowed values: sphere, ellipsoid, "
+            "factors.shape[0] has unknown value 'sphère'; did you mean 'sphere'? allowed values: "
+            "sphere, ellipsoid, "
             "rounded_cube, pear, handle.")
 
 

@@ -86,24 +86,27 @@ def test_plan_without_friction_reports_no_hold_and_no_numpy_warning(stl_files):
         in result.stdout
 
 
-MASS = "a mass must be positive and a three-finger hand lifts at most ~10 kg"
+MASS = ("below 0.1 g an object weighs less than the rig's 1 mN force resolution, and a "
+        "three-finger hand lifts at most ~10 kg")
 
 
 @pytest.mark.parametrize(
     ("args", "message"),
     [
-        (["--mass-kg", "-1"], f"mass_kg = -1.0 is out of range; allowed: > 0 and <= 10 kg ({MASS})."),
-        (["--mass-kg", "500"], f"mass_kg = 500.0 is out of range; allowed: > 0 and <= 10 kg ({MASS})."),
-        (["--mass-kg", "0.1", "--mu", "50"], "mu = 50.0 is out of range; allowed: >= 0 and <= 3 (dry "
+        (["--mass-kg", "-1"], f"--mass-kg -1.0 is out of range; allowed: >= 0.0001 and <= 10 kg "
+                              f"({MASS})."),
+        (["--mass-kg", "500"], f"--mass-kg 500.0 is out of range; allowed: >= 0.0001 and <= 10 kg "
+                               f"({MASS})."),
+        (["--mass-kg", "0.1", "--mu", "50"], "--mu 50.0 is out of range; allowed: >= 0 and <= 3 (dry "
                                              "friction of soft materials stays below 3)."),
-        (["--mass-kg", "0.1", "--mu", "nan"], "mu = nan is out of range; allowed: >= 0 and <= 3 (dry "
+        (["--mass-kg", "0.1", "--mu", "nan"], "--mu nan is out of range; allowed: >= 0 and <= 3 (dry "
                                               "friction of soft materials stays below 3)."),
         (["--mass-kg", "0.1", "--fingertip-radius-mm", "-5"],
-         "fingertip_radius_mm = -5.0 is out of range; allowed: > 0 and <= 50 mm (a fingertip is a "
+         "--fingertip-radius-mm -5.0 is out of range; allowed: > 0 and <= 50 mm (a fingertip is a "
          "few millimetres to a few centimetres in radius)."),
         (["--mass-kg", "0.1", "--material", "unobtainium"],
          "unknown material 'unobtainium'; use one of gel, silicone_soft, bio_foam, silicone_ref."),
-        (["--mass-kg", "0.1", "--unit", "furlong"], "unknown unit 'furlong': use one of 'm', 'cm', 'mm'."),
+        (["--mass-kg", "0.1", "--unit", "furlong"], "unknown unit 'furlong'; use one of 'm', 'cm', 'mm'."),
         (["--mass-kg", "abc"], "--mass-kg 'abc' is not a number; see graspcampaign plan --help."),
         (["--mass-kg", "0.1", "--png", ""], "--png is empty; give a picture path ending in .png, such "
                                             "as plan.png."),
@@ -347,7 +350,7 @@ def test_a_picture_path_through_a_dangling_symlink_is_probed_where_it_would_be_w
     target) and probes the directory the target would be created in."""
     link = tmp_path / "link.png"
     link.symlink_to(target)
-    bad_mass = f"mass_kg = -1.0 is out of range; allowed: > 0 and <= 10 kg ({MASS})."
+    bad_mass = f"--mass-kg -1.0 is out of range; allowed: >= 0.0001 and <= 10 kg ({MASS})."
     message = bad_mass if target == "pic.png" else \
         f"--png {link}: cannot write there (No such file or directory)."
     refused(tmp_path, ["plan", stl_files["sphere"], "--mass-kg", "-1", "--png", link], message)

@@ -102,7 +102,7 @@ def test_make_object_is_deterministic_and_returns_copies():
 
 
 def test_make_object_errors():
-    with pytest.raises(MeshError, match=r"unknown shape 'cube': allowed shapes are sphere, "):
+    with pytest.raises(MeshError, match=r"unknown shape 'cube'; allowed shapes are sphere, "):
         make_object("cube")
     with pytest.raises(MeshError, match="n_nodes must be at least 12, got 11"):
         make_object("sphere", 11)
@@ -140,7 +140,7 @@ def test_load_mesh_fixes_globally_inverted_winding(tmp_path):
 
 
 def test_load_mesh_errors(tmp_path):
-    with pytest.raises(MeshError, match="unknown unit 'in': use one of 'm', 'cm', 'mm'"):
+    with pytest.raises(MeshError, match="unknown unit 'in'; use one of 'm', 'cm', 'mm'"):
         load_mesh(tmp_path / "x.stl", unit="in")
     with pytest.raises(MeshError, match=r"mesh file '.*missing\.stl' does not exist"):
         load_mesh(tmp_path / "missing.stl")

@@ -23,18 +23,23 @@ def _stl(path, declared: int, n_triangles: int, extra: bytes = b""):
     return path.stat().st_size
 
 
+def _head(path) -> bytes:
+    """A file's first bytes, as load_mesh reads them once for every check."""
+    return path.read_bytes()[:4096]
+
+
 def test_a_binary_stl_cut_within_its_first_triangle_is_no_stl_named_truncated(tmp_path):
     """A truncated STL is named so once one whole triangle is there (84 + 50 bytes); 20 bytes of a
     first triangle are not enough to say the file is an STL at all."""
     n_bytes = _stl(tmp_path / "short.stl", declared=2, n_triangles=0, extra=b"\1" * 20)
     assert n_bytes == 104
     with pytest.raises(MeshError, match=r"^mesh 'short\.stl' is not an STL file: 104 bytes"):
-        check_stl_layout(str(tmp_path / "short.stl"), "short.stl", n_bytes)
+        check_stl_layout(str(tmp_path / "short.stl"), "short.stl", n_bytes, _head(tmp_path / "short.stl"))
     n_bytes = _stl(tmp_path / "cut.stl", declared=2, n_triangles=1)
     assert n_bytes == 134
     with pytest.raises(MeshError, match=r"^mesh 'cut\.stl' is truncated or its header is wrong: its "
                                         r"header declares 2 triangles, 184 bytes"):
-        check_stl_layout(str(tmp_path / "cut.stl"), "cut.stl", n_bytes)
+        check_stl_layout(str(tmp_path / "cut.stl"), "cut.stl", n_bytes, _head(tmp_path / "cut.stl"))
 
 
 def _binary_ply(path, properties: list[str], n_vertices: int, body: bytes, faces: int | None = None):
@@ -91,7 +96,7 @@ def test_a_binary_stl_cut_short_whose_header_begins_solid_is_named_truncated(tmp
     with pytest.raises(MeshError, match=r"^mesh 'part\.stl' is truncated or its header is wrong: its "
                                         r"header declares 3 triangles, 234 bytes as a binary STL \(84 "
                                         r"plus 50 per triangle\), but the file holds only 184 bytes\.$"):
-        check_stl_layout(str(path), "part.stl", path.stat().st_size)
+        check_stl_layout(str(path), "part.stl", path.stat().st_size, _head(path))
 
 
 def test_an_ascii_stl_with_a_byte_beyond_ascii_is_no_truncated_binary_stl(tmp_path):
@@ -101,4 +106,4 @@ def test_an_ascii_stl_with_a_byte_beyond_ascii_is_no_truncated_binary_stl(tmp_pa
     path = tmp_path / "text.stl"
     path.write_bytes(text.encode())
     with pytest.raises(MeshError, match=r"^mesh 'text\.stl' is not an STL file: "):
-        check_stl_layout(str(path), "text.stl", path.stat().st_size)
+        check_stl_layout(str(path), "text.stl", path.stat().st_size, _head(path))

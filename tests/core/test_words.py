@@ -6,7 +6,7 @@ import re
 from pathlib import Path
 
 import graspcampaign
-from graspcampaign.core.words import MISSING, counted, listed, plural
+from graspcampaign.core.words import MISSING, counted, listed, meant, plural
 
 
 def test_a_count_reads_singular_only_for_one():
@@ -46,3 +46,34 @@ def test_listed_joins_as_a_sentence_does():
     assert listed(["a"]) == "a"
     assert listed(["a", "b"]) == "a and b"
     assert listed(["a", "b", "c"]) == "a, b and c"
+
+
+def test_no_module_suggests_a_near_name_its_own_way():
+    """Every "did you mean" of the package goes through ``meant``: no other module matches names
+    with difflib or writes the question itself (paths, overrides, measured files and the report's
+    missing-column note each did)."""
+    assert _lines_matching(r"""difflib|get_close_matches|f["'][^"']*did you mean""", but="words.py") == []
+
+
+def test_meant_names_the_nearest_as_the_user_types_it():
+    assert meant("smok", ["smoke", "shapes"]) == "did you mean 'smoke'? "
+    assert meant("defualt", ["default"], "--run {}") == "did you mean --run default? "
+    assert meant("zzz", ["smoke"]) == ""
+    assert meant("smoke", []) == ""
+
+
+def test_meant_takes_a_name_in_other_case_or_with_spaces_for_the_name():
+    # difflib scores 'ID' against 'id' 0 (it compares characters as they are): case first
+    assert meant("ID", ["id", "side"]) == "did you mean 'id'? "
+    assert meant(" Smoke ", ["smoke", "smoker"]) == "did you mean 'smoke'? "
+
+
+def test_meant_keeps_difflibs_cutoff():
+    """The nearest is the one difflib.get_close_matches gives (its ratio above the cutoff)."""
+    import difflib
+
+    known = ["heuristic", "no_pso", "random", "antipodal", "centroid", "ferrari_canny"]
+    for word in ("heuristc", "antipdal", "rnd", "centre", "xyz"):
+        near = difflib.get_close_matches(word, known, n=1)
+        assert meant(word, known) == (f"did you mean {near[0]!r}? " if near else "")
+    assert meant("pgn", ["png"], cutoff=0.7) == "" and meant("pgn", ["png"]) == "did you mean 'png'? "

@@ -34,7 +34,7 @@ def bare(study: str) -> Run:
 #: the commands name the run's root and the overrides it was started with: `run` refuses a run's
 #: own command without them ("started with another config"), and another root is another run
 TRIALS = ("the study stores it while the run's trials run and this run stored none; run `graspcampaign run "
-          "{study} seeds=2 --run NEW --root /data/runs` to record a new run")
+          "{study} seeds=2 --run NEW --root /data/runs` to record a new run.")
 
 
 @pytest.mark.parametrize(("study", "name", "read", "todo"), [
@@ -44,7 +44,7 @@ TRIALS = ("the study stores it while the run's trials run and this run stored no
     ("sensitivity", "prepared", sensitivity._identified(True, "median"), TRIALS),
     ("surrogate", "summary/surrogate_regression", surrogate._read("regression", "r2"),
      "the study writes it once every trial is recorded; run `graspcampaign run {study} seeds=2 --run r1 "
-     "--root /data/runs` again to complete the run"),
+     "--root /data/runs` again to complete the run."),
 ])
 def test_a_part_an_item_needs_and_the_run_lacks_is_named_in_one_sentence(study, name, read, todo):
     with pytest.raises(ValueError) as raised:

@@ -60,8 +60,9 @@ def test_two_tables_of_one_name_are_refused_at_import():
 def test_a_shown_column_the_frame_lacks_is_named_under_its_table():
     # still shown as "—" (a run recorded before a column existed keeps its table), but said
     shown, failures = notes(Table("by_mass", "c", by_mass, ["mass_kg", "succes_pct", "n_grasps"]))
-    assert shown == failures == ["Table by_mass shows `succes_pct`, `n_grasps`, not in its frame (nearest: "
-                     "`success_pct`): shown as —."]
+    # each column with its own nearest (it said "(nearest: `success_pct`)" after both, of neither)
+    assert shown == failures == ["Table by_mass shows `succes_pct` (did you mean 'success_pct'?), "
+                                 "`n_grasps`, not in its frame: shown as —."]
 
 
 def test_a_compute_returning_a_series_says_so():

@@ -281,6 +281,9 @@ BAD_ROW = {
     "empty_trial_id": ({"trial_id": ""}, "csv", "trial_id", r"trial id is empty\.$"),
     "bad_source": ({"source": "simulated"}, "csv", "source",
                    r"value 'simulated' is not one of measured, virtual\.$"),
+    "misspelt_outcome": ({"outcome": "failure_slp"}, "csv", "outcome", r"value 'failure_slp' \(did "
+                         r"you mean 'failure_slip'\?\) is not one of stable, success, partial, "
+                         r"failure_slip, failure_drop, failure_damage, failure_contact_loss, aborted\.$"),
     "success_inconsistent_with_outcome": (
         {"outcome": "failure_slip", "success": True, "stable": False, "slip_flag": True}, "csv",
         "success", r"success is True but outcome is 'failure_slip' \(success means outcome "

@@ -81,11 +81,16 @@ def test_plan_with_mu_overrides_the_material(stl_files):
     assert out["png"] is None
 
 
+MASS = ("below 0.1 g an object weighs less than the rig's 1 mN force resolution, and a "
+        "three-finger hand lifts at most ~10 kg")
+
+
 @pytest.mark.parametrize("kwargs, message", [
-    ({"mass_kg": 0.0}, "mass_kg = 0.0 is out of range; allowed: > 0 and <= 10 kg (a mass must be "
-                       "positive and a three-finger hand lifts at most ~10 kg)."),
-    ({"mass_kg": 50.0}, "mass_kg = 50.0 is out of range; allowed: > 0 and <= 10 kg (a mass must be "
-                        "positive and a three-finger hand lifts at most ~10 kg)."),
+    ({"mass_kg": 0.0}, f"mass_kg = 0.0 is out of range; allowed: >= 0.0001 and <= 10 kg ({MASS})."),
+    ({"mass_kg": 50.0}, f"mass_kg = 50.0 is out of range; allowed: >= 0.0001 and <= 10 kg ({MASS})."),
+    # 1e-300 kg passed (> 0) and planned a grasp of zero forces
+    ({"mass_kg": 1e-300}, f"mass_kg = 1e-300 is out of range; allowed: >= 0.0001 and <= 10 kg "
+                          f"({MASS})."),
     ({"mass_kg": "heavy"}, "mass_kg must be a number, got 'heavy'."),
     ({"mass_kg": 0.1, "mu": -0.2}, "mu = -0.2 is out of range; allowed: >= 0 and <= 3 (dry friction "
                                    "of soft materials stays below 3)."),

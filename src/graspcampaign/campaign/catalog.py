@@ -129,7 +129,7 @@ def registry_names(name: str) -> tuple[str, ...]:
 
 
 def kind_facts(name: str) -> dict[str, Any]:
-    """Return ``{"seconds_per_trial", "design", "source", "factors", "params"}`` of an available
+    """Return ``{"seconds_per_trial", "design", "source", "factors", "params", "stages"}`` of an available
     trial kind: ``factors`` the factors a Cartesian design must have, ``params`` its params schema
     as ``{"name", "fields": [[name, annotation, metadata], ...]}`` (None: it takes none), so that
     ``show`` checks a study's params as ``run`` does without importing the kind."""
@@ -139,7 +139,7 @@ def kind_facts(name: str) -> dict[str, Any]:
         kind = get_kind(name)
         return {"seconds_per_trial": kind.seconds_per_trial, "design": kind.design is not None,
                 "source": kind.source, "factors": list(kind.factors),
-                "params": params_spec(kind.params)}
+                "params": params_spec(kind.params), "stages": kind.stages}
 
     if name in RUNTIME_KINDS:  # kinds registered at run time (tests) are never cached
         return compute()

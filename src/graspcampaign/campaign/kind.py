@@ -15,6 +15,7 @@ from typing import Any
 
 from graspcampaign.campaign.grid import Trial
 from graspcampaign.campaign.schema import StudyCfg
+from graspcampaign.core.words import meant
 from graspcampaign.errors import StudyNotRunnableError
 
 
@@ -77,6 +78,9 @@ class TrialKind:
     ingest: Callable[[StudyCfg, Any, list[str], Any], list[dict[str, Any]]] | None = None
     template: Callable[[StudyCfg, Any, Any], tuple[Any, Any]] | None = None
     description: str = ""
+    #: what a run does besides its trials (its prepare or finalize stage), in words for `show`,
+    #: whose time estimate counts trials only; with its cost at paper scale where it was measured
+    stages: str = ""
     factors: tuple[str, ...] = ()
     extra: dict[str, Any] = field(default_factory=dict)
 
@@ -126,8 +130,8 @@ def get_kind(name: str) -> TrialKind:
         return RUNTIME_KINDS[name]
     if name not in KINDS:
         raise StudyNotRunnableError(
-            f"trial kind {name!r} is unknown; known kinds: {', '.join(sorted(KINDS))}."
-        )
+            f"trial kind {name!r} is unknown; {meant(name, sorted(KINDS))}known kinds: "
+            f"{', '.join(sorted(KINDS))}.")
     target = KINDS[name]
     if target is None:
         raise StudyNotRunnableError(

@@ -11,7 +11,6 @@ to anything but ``true``/``false`` (OmegaConf reads ``pso.enabled=2`` as true).
 from __future__ import annotations
 
 import dataclasses
-import difflib
 import errno
 import re
 import unicodedata
@@ -19,7 +18,7 @@ from collections.abc import Iterator
 from typing import Any
 
 from graspcampaign.campaign.former_names import FORMER_FACTORS, former_factor
-from graspcampaign.campaign.schema import FACTOR_SPECS, example
+from graspcampaign.campaign.schema import FACTOR_SPECS, StudyCfg, example
 from graspcampaign.campaign.studycheck import (
     GROUPS,
     field_at,
@@ -29,6 +28,7 @@ from graspcampaign.campaign.studycheck import (
     split_optional,
 )
 from graspcampaign.campaign.studyfile import NESTED_TOO_DEEPLY
+from graspcampaign.core.words import meant
 from graspcampaign.errors import ConfigError
 
 #: The most comma-separated values one override holds: Hydra's parser takes a time quadratic in
@@ -336,8 +336,9 @@ def _unknown_override(key: str, typed: str | None, factors: list[str], set_keys:
     if key.removeprefix("factors.") in FORMER_FACTORS:
         return former_factor(key.removeprefix("factors."), key, typed)
     if "." not in key and key not in FACTOR_SPECS:
+        names = [*factors, *(f.name for f in dataclasses.fields(StudyCfg)), *sorted(FACTOR_SPECS)]
         return (f"{key} is neither a known key of the study config nor a factor of this study "
-                f"(factors: {', '.join(factors) or 'none'}); override rejected.")
+                f"(factors: {', '.join(factors) or 'none'}); {meant(key, names)}override rejected.")
     if "." not in key:  # a known factor by its bare name (`planner=[...]`), not one of this study's
         key = f"factors.{key}"
     parent, name = key.rsplit(".", 1)
@@ -347,16 +348,17 @@ def _unknown_override(key: str, typed: str | None, factors: list[str], set_keys:
         return known_keys_sentence(key, schema, typed)
     if parent == "factors":
         if name not in FACTOR_SPECS:
-            return (f"{key} is not a known factor ({rejected}); known factors: "
+            return (f"{key} is not a known factor ({rejected}); "
+                    f"{meant(name, FACTOR_SPECS, 'factors.{}')}known factors: "
                     f"{', '.join(sorted(FACTOR_SPECS))}.")
         return (f"{name} is not a factor of this study ({rejected}; its factors: "
                 f"{', '.join(factors) or 'none'}); add it with +factors.{name}={example(name)}.")
     if (section := parent.split(".")[0]) in ("params", "paper"):
         checker = "its trial kind's schema" if section == "params" else "the study's paper schema"
-        near = difflib.get_close_matches(name, [k.rsplit(".", 1)[1] for k in set_keys
-                                                if k.rsplit(".", 1)[0] == parent], n=1)
-        meant = f"did you mean {parent}.{near[0]}? A key it does not set is added " if near else "add it "
-        return (f"{key} is not set by this study ({rejected}); {meant}with a leading '+' "
+        near = meant(name, [k.rsplit(".", 1)[1] for k in set_keys if k.rsplit(".", 1)[0] == parent],
+                     f"{parent}.{{}}")
+        add = f"{near}A key it does not set is added " if near else "add it "
+        return (f"{key} is not set by this study ({rejected}); {add}with a leading '+' "
                 f"(+{key}=...), and {checker} checks it.")
     known = parent  # evaluator.tau.x: the first unknown part (tau) in the deepest known section
     while known and schema_at(known) is None:
@@ -370,10 +372,10 @@ def _unknown_override(key: str, typed: str | None, factors: list[str], set_keys:
 def _nothing_to_delete(key: str, typed: str | None, factors: list[str]) -> str:
     """``~nosuch``: the study has no such key (``~mu`` names the factor it means, factors.mu)."""
     name = key.rpartition(".")[2]
-    meant = (f", or write ~factors.{name} to delete the factor {name}"
-             if name in factors and key != f"factors.{name}" else "")
+    factor = (f", or write ~factors.{name} to delete the factor {name}"
+              if name in factors and key != f"factors.{name}" else "")
     return (f"override {typed or '~' + key!r} deletes {key}, which this study does not have, so "
-            f"there is nothing to delete; leave it out{meant}.")
+            f"there is nothing to delete; leave it out{factor}.")
 
 
 def missing_option_sentence(group: str, option: str) -> str:
@@ -386,7 +388,8 @@ def missing_option_sentence(group: str, option: str) -> str:
     if not options:
         groups = sorted(p.name for p in project_dirs()[0].iterdir() if p.is_dir())
         return f"{group} is not a config group; config groups: {', '.join(groups)}."
-    return f"{named} of config group {group}; available options: {options}."
+    near = meant(option, options.split(", "), f"{group}={{}}") if option[:1] != "[" else ""
+    return f"{named} of config group {group}; {near}available options: {options}."
 
 
 def _group_options(group: str) -> str:

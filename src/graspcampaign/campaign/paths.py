@@ -156,34 +156,34 @@ def expand_home(path: str | os.PathLike) -> tuple[Path, str | None]:
 
 
 def how_to_make(root: Path | str, study: str, run: str | None = None,
-                overrides: Sequence[str] = ()) -> str:
+                overrides: Sequence[str] = (), then: str = "first") -> str:
     """The end of a "no such run" message: the command that makes run ``run`` of ``study`` (default:
     its configured run) under ``root``, with the options it needs (a hardware protocol's ``measured``
     run: ``ingest``) and the ``overrides`` a run already started was given (without them `run`
-    refuses it as started with another config)."""
+    refuses it as started with another config), followed by ``then`` ("first", or "again to finish
+    it" for a run started): one sentence, which no caller cuts to add its own end."""
     from graspcampaign.campaign.studyfile import configured_run
 
     rooted = root_options(root)
     if run == "measured" and _ingests(study):  # `ingest`'s run: a rig's files make it
         command = " ".join(["graspcampaign ingest", shlex.quote(study), "FILE…", *map(shlex.quote, rooted)])
-        return f"store the rig's measured records with `{command}` first."
+        return f"store the rig's measured records with `{command}` {then}."
     options = [] if run in (None, configured_run(study)) else ["--run", run]
-    return f"run `{shlex.join(['graspcampaign', 'run', study, *overrides, *options, *rooted])}` first."
+    return f"run `{shlex.join(['graspcampaign', 'run', study, *overrides, *options, *rooted])}` {then}."
 
 
 def near_run(root: Path | str, study: str, run: str) -> str:
-    """For a "no run at PATH" message: `` (did you mean --run NAME, a run of STUDY there?)`` naming
-    the stored run of ``study`` under ``root`` nearest ``run`` (a misspelt --run), or ``""``: the
-    command that makes ``run`` is the advice only when no run there is named alike."""
-    import difflib
+    """For a "no run at PATH" message: ``did you mean --run NAME? `` naming the stored run of
+    ``study`` under ``root`` nearest ``run`` (a misspelt --run; :func:`~graspcampaign.core.words.meant`),
+    or ``""``; the command that makes ``run`` follows it."""
+    from graspcampaign.core.words import meant
 
     try:
         runs = [e.name for e in os.scandir(Path(root) / study)
                 if os.path.isfile(os.path.join(e.path, "manifest.json"))]
     except OSError:
         return ""
-    near = difflib.get_close_matches(run, runs, n=1)
-    return f" (did you mean --run {near[0]}, a run of {study} there?)" if near else ""
+    return meant(run, runs, "--run {}")
 
 
 def root_options(root: Path | str) -> list[str]:

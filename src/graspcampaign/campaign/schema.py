@@ -20,7 +20,7 @@ from typing import Any
 
 from graspcampaign.campaign.former_names import FORMER_FACTORS, RENAMED_FACTORS, former_factor
 from graspcampaign.core.plausible import FINGERTIP_RADIUS, PLAUSIBLE
-from graspcampaign.core.words import counted
+from graspcampaign.core.words import counted, meant
 from graspcampaign.errors import ConfigError
 
 _LAMBDA = PLAUSIBLE["lambda"].meta()
@@ -285,9 +285,9 @@ def check_value(key: str, value: Any, meta: dict[str, Any]) -> Any:
     if choices is not None:
         allowed = _registry_names(choices) if isinstance(choices, str) else tuple(choices)
         if value not in allowed:
-            raise ConfigError(
-                f"{key} has unknown value {value!r}; allowed values: {', '.join(map(str, allowed))}.",
-                key=key)
+            near = meant(value, allowed) if isinstance(value, str) else ""
+            raise ConfigError(f"{key} has unknown value {value!r}; {near}allowed values: "
+                              f"{', '.join(map(str, allowed))}.", key=key)
     if isinstance(value, (int, float)) and not isinstance(value, bool):
         if isinstance(value, float) and not math.isfinite(value):
             raise ConfigError(f"{key} must be finite, got {value!r}.", key=key)
@@ -408,8 +408,8 @@ def check_factor(name: str, levels: Any) -> None:
     if name in FORMER_FACTORS:
         raise ConfigError(former_factor(name, key), key=key)
     if name not in FACTOR_SPECS:
-        raise ConfigError(f"{key} is not a known factor; known factors: "
-                          f"{', '.join(sorted(FACTOR_SPECS))}.", key=key)
+        raise ConfigError(f"{key} is not a known factor; {meant(name, FACTOR_SPECS, 'factors.{}')}"
+                          f"known factors: {', '.join(sorted(FACTOR_SPECS))}.", key=key)
     if not isinstance(levels, list) or not levels:
         raise ConfigError(f"{key} must be a non-empty list of levels.", key=key)
     spec = FACTOR_SPECS[name]

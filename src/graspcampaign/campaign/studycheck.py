@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from graspcampaign.campaign.schema import SCHEMAS, StudyCfg, check_factor, check_value, example
-from graspcampaign.core.words import listed, plural
+from graspcampaign.core.words import listed, meant, plural
 from graspcampaign.errors import ConfigError
 
 _SCALARS = {"int": int, "float": float, "str": str, "bool": bool}
@@ -185,8 +185,11 @@ def known_keys_sentence(key: str, schema: type, typed: str | None = None) -> str
     """``<key> is not a known key of <its section>[ (override '<typed>' rejected)]; known keys:
     ...``: the section as the user writes it (``evaluator``; the study config at the top)."""
     rejected = f" (override {typed!r} rejected)" if typed else ""
-    return (f"{key} is not a known key of {section_of(key)}{rejected}; known keys: "
-            f"{', '.join(f.name for f in dataclasses.fields(schema))}.")
+    parent, _, name = key.rpartition(".")
+    names = [f.name for f in dataclasses.fields(schema)]
+    near = meant(name, names, f"{parent}.{{}}" if parent else "{}")
+    return (f"{key} is not a known key of {section_of(key)}{rejected}; {near}known keys: "
+            f"{', '.join(names)}.")
 
 
 def section_of(key: str) -> str:
@@ -265,7 +268,7 @@ def check_kind_name(kind: str) -> None:
     from graspcampaign.campaign.kind import KINDS, RUNTIME_KINDS
 
     if kind not in KINDS and kind not in RUNTIME_KINDS:
-        raise ConfigError(f"trial kind {kind!r} is unknown; known kinds: "
+        raise ConfigError(f"trial kind {kind!r} is unknown; {meant(kind, sorted(KINDS))}known kinds: "
                           f"{', '.join(sorted(KINDS))}.", key="kind")
 
 
@@ -399,8 +402,9 @@ def check_params(params: dict[str, Any], spec: dict[str, Any] | None, kind: str)
     for name, value in params.items():
         key = f"params.{name}"
         if name not in fields:
-            raise ConfigError(f"{key} is not a known key of params; known keys: "
-                              f"{', '.join(fields)}.", key=key)
+            raise ConfigError(f"{key} is not a known key of params; "
+                              f"{meant(name, fields, 'params.{}')}known keys: {', '.join(fields)}.",
+                              key=key)
         typ, meta = fields[name]
         check_typed(key, value, typ, meta)
 

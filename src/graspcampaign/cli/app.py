@@ -112,6 +112,23 @@ def path_or_empty(value: str) -> Path | str:
     return Path(value) if value else value
 
 
+def file_path(option: str, hint: str, example: str):
+    """The parser of an option naming a file to write (``schedule --out``, ``plan --png``,
+    ``reproduce --times``): :func:`path_or_empty`, and a value ending in a path separator refused
+    as the directory it names, as an existing directory is (:func:`writable_stem`): as a Path the
+    separator would be dropped and ``--out day1/`` would write ``day1.csv`` beside it.
+
+    ``hint`` and ``example`` name the file to give instead ("a file stem such as", "schedule")."""
+    separators = os.sep + (os.altsep or "")
+
+    def parse(value: str) -> Path | str:
+        if value.endswith(tuple(separators)) and value.rstrip(separators):  # "/" alone: the root
+            fail(f"{option} {value} ends in '{value[-1]}', so it names a directory; give {hint} "
+                 f"{Path(value) / example}.")
+        return path_or_empty(value)
+    return parse
+
+
 RootOpt = Annotated[Path | None, typer.Option("--root", help="Results root (default: output.root, "
                                                              "i.e. results).",
                                               parser=path_or_empty, metavar="path")]

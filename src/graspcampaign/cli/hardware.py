@@ -18,6 +18,7 @@ from graspcampaign.cli.app import (
     check_root,
     compose,
     fail,
+    file_path,
     guard,
     other_format,
     outside_runs,
@@ -39,7 +40,8 @@ def schedule(
                                        "(x.csv or x.parquet names the same two files as x; "
                                        "default: <root>/<study>/schedule/sheet, a folder "
                                        "that `report` does not take for a run).",
-                                  parser=path_or_empty, metavar="path")
+                                  parser=file_path("--out", "a file stem such as", "schedule"),
+                                  metavar="path")
     ] = None,
     template: Annotated[bool, typer.Option(
         "--template", help="Also write the measured-records sheet to fill in (every column, empty, "
@@ -135,7 +137,8 @@ def plan(
     unit: Annotated[str, typer.Option(help="Length unit of the mesh file: m, cm or mm.")] = "mm",
     png: Annotated[Path | None, typer.Option(
         help="Picture path, ending in .png (default: <mesh>.plan.png beside the mesh).",
-        parser=path_or_empty, metavar="path")] = None,
+        parser=file_path("--png", "a file path ending in .png, such as", "plan.png"),
+        metavar="path")] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
 ) -> None:
     """Plan a three-finger grasp on a mesh and predict the disturbances it resists."""
@@ -154,7 +157,9 @@ def plan(
     try:  # plan_mesh checks the picture path before any planning work
         result = plan_mesh(mesh, mass_kg=mass_kg, material=material, mu=mu,
                            fingertip_radius_mm=fingertip_radius_mm, unit=unit,
-                           png_path=picture, png_option=option)
+                           png_path=picture, names={"png_path": option, "mass_kg": "--mass-kg",
+                                                    "mu": "--mu",
+                                                    "fingertip_radius_mm": "--fingertip-radius-mm"})
     except PicturePathError as exc:
         fail(str(exc) if png is not None else
               f"{str(exc).rstrip('.')}; pass --png with a path where the picture can be written.")

@@ -28,6 +28,7 @@ from graspcampaign.cli.app import (
     check_root,
     compose,
     fail,
+    file_path,
     guard,
     other_format,
     path_or_empty,
@@ -153,7 +154,7 @@ def reproduce(
     root: RootOpt = None,
     times: Annotated[Path | None, typer.Option(
         help="Also append each step's '== <step>: <s> s' line to this file.",
-        parser=path_or_empty, metavar="path")] = None,
+        parser=file_path("--times", "a file such as", "reproduce_times.txt"), metavar="path")] = None,
 ) -> None:
     """Run every study of `list --names` at paper scale, then write every report.
 

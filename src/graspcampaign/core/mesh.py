@@ -47,6 +47,7 @@ from graspcampaign.core.mesh_file import (  # noqa: F401  (re-exported: user mes
     check_one_body,
     load_mesh,
 )
+from graspcampaign.core.words import meant
 
 logger = logging.getLogger(__name__)
 
@@ -359,7 +360,8 @@ def make_object(shape: str, n_nodes: int = 390) -> trimesh.Trimesh:
         Unknown shape, or ``n_nodes < 12``.
     """
     if shape not in SHAPES:
-        raise MeshError(f"unknown shape {shape!r}: allowed shapes are {', '.join(SHAPES)}")
+        raise MeshError(f"unknown shape {shape!r}; {meant(shape, SHAPES)}allowed shapes are "
+                        f"{', '.join(SHAPES)}")
     if isinstance(n_nodes, bool) or not isinstance(n_nodes, (int, np.integer)):
         raise MeshError(f"n_nodes must be an integer, got {n_nodes!r}")
     if n_nodes < MIN_NODES:

@@ -29,7 +29,7 @@ from graspcampaign.core.mesh_format import (
 )
 from graspcampaign.core.plausible import OBJECT_SIZE_MM
 from graspcampaign.core.winding import winding_numbers
-from graspcampaign.core.words import counted, listed, plural
+from graspcampaign.core.words import counted, listed, meant, plural
 
 logger = logging.getLogger(__name__)
 
@@ -82,7 +82,8 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
         Unknown unit, missing or unreadable file, or a mesh that fails :func:`check_mesh`.
     """
     if unit not in UNITS:
-        raise MeshError(f"unknown unit {unit!r}: use one of {', '.join(repr(u) for u in UNITS)}.")
+        raise MeshError(f"unknown unit {unit!r}; {meant(unit, UNITS)}use one of "
+                        f"{', '.join(repr(u) for u in UNITS)}.")
     name = os.fspath(path)
     base = os.path.basename(name)
     if not os.path.isfile(name):
@@ -96,7 +97,7 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
     n_bytes = os.path.getsize(name)
     if n_bytes == 0:
         raise MeshError(f"mesh {base!r} is empty: the file has 0 bytes.")
-    with open(name, "rb") as fh:
+    with open(name, "rb") as fh:  # read once: the format and layout checks share it
         head = fh.read(4096)
     other = other_format(head, n_bytes)
     if other is None:  # a binary STL's 80-byte header is free text: its size tells it first
@@ -105,9 +106,9 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
         raise MeshError(f"mesh {base!r} is not {'a' if suffix == '.ply' else 'an'} "
                         f"{suffix[1:].upper()} file: it looks like {other[0]}; rename it to {other[1]}.")
     if suffix == ".stl":
-        check_stl_layout(name, base, n_bytes)
+        check_stl_layout(name, base, n_bytes, head)
     face_word = "triangle" if suffix == ".stl" else None  # set when the faces keep the file's order
-    if suffix == ".obj" and check_obj_lines(name, base):
+    if suffix == ".obj" and check_obj_lines(name, base, head):
         face_word = "face"
     ply = ply_layout(name, base) if suffix == ".ply" else None
     try:

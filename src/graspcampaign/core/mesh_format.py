@@ -35,10 +35,10 @@ class MeshError(ValueError):
 MAX_STL_TRIANGLES = 50_000_000
 
 
-def check_stl_layout(name: str, base: str, n_bytes: int) -> None:
-    """Tell an STL from other bytes before trimesh guesses (it would try text decodings)."""
-    with open(name, "rb") as fh:
-        head = fh.read(84)
+def check_stl_layout(name: str, base: str, n_bytes: int, head: bytes) -> None:
+    """Tell an STL from other bytes before trimesh guesses (it would try text decodings); ``head``
+    is the file's first bytes (84 or more, if it holds them), read once by the caller."""
+    head = head[:84]
     if len(head) == 84 and 84 + 50 * int.from_bytes(head[80:84], "little") == n_bytes:
         return  # binary STL: 80-byte header, triangle count, 50 bytes per triangle
     if head.lstrip()[:5].lower() == b"solid":
@@ -74,7 +74,7 @@ def other_format(head: bytes, n_bytes: int) -> tuple[str, str] | None:
     return None
 
 
-def check_obj_lines(name: str, base: str) -> bool:
+def check_obj_lines(name: str, base: str, head: bytes) -> bool:
     """Refuse an OBJ with a vertex or face it cannot read, naming the line; return whether trimesh
     keeps its faces in the file's order (it splits polygons into triangles and regroups faces by
     object, group and material).
@@ -83,15 +83,16 @@ def check_obj_lines(name: str, base: str) -> bool:
     not a whole number or refers to a missing vertex, vertices without faces. trimesh reports
     each as "could not be read to its end due to unmatched data". A face's vertex index is
     1-based, or negative counting back from the vertices read so far (the OBJ format); a
-    positive index is checked against every vertex of the file, as readers do.
+    positive index is checked against every vertex of the file, as readers do. ``head`` is the
+    file's first 4096 bytes (or all of a shorter file), read once by the caller: a NUL among them
+    is binary data.
     """
     n_vertices = n_faces = 0
     in_order = True
     largest = (0, 0)  # (positive vertex index, line)
-    with open(name, "rb") as fh:
-        if b"\0" in fh.read(4096):
-            raise MeshError(f"mesh {base!r} is not an OBJ file: OBJ is text, but the file holds "
-                            "binary data.")
+    if b"\0" in head[:4096]:
+        raise MeshError(f"mesh {base!r} is not an OBJ file: OBJ is text, but the file holds "
+                        "binary data.")
     with open(name, encoding="utf-8", errors="replace") as fh:
         for line_no, line in enumerate(fh, 1):
             words = line.split()

@@ -58,9 +58,11 @@ class PlausibleRange:
 
 PLAUSIBLE: dict[str, PlausibleRange] = {
     "mass_kg": PlausibleRange(
-        0.0, 10.0, True, "a mass must be positive and a three-finger hand lifts at most ~10 kg",
-        "Robotiq 3-Finger Adaptive Gripper datasheet: 10 kg encompassing-grip payload; the paper's "
-        "objects weigh 0.1-0.8 kg (Sec. 6.6, 8)"),
+        1e-4, 10.0, False, "below 0.1 g an object weighs less than the rig's 1 mN force "
+        "resolution, and a three-finger hand lifts at most ~10 kg",
+        "Fig. 22: the rig's load cell resolves 1 mN (0.1 g weighs 0.98 mN); Robotiq 3-Finger "
+        "Adaptive Gripper datasheet: 10 kg encompassing-grip payload; the paper's objects weigh "
+        "0.1-0.8 kg (Sec. 6.6, 8)"),
     "mu": PlausibleRange(
         0.0, 3.0, False, "dry friction of soft materials stays below 3",
         "Persson (2001) J. Chem. Phys. 115, 3840 (rubber friction rarely exceeds mu ~ 3); the "

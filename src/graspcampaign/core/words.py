@@ -24,11 +24,21 @@ def counted(n: int, noun: str, nouns: str | None = None) -> str:
     return f"{n} {plural(noun, n, nouns)}"
 
 
-def meant(word: str, known) -> str:
-    """``did you mean 'x'? `` naming the one of ``known`` nearest a misspelt ``word``
-    (``difflib.get_close_matches``), or ``""`` when none is alike: the one way a message suggests a
-    name ("unknown study 'smok'; did you mean 'smoke'? available studies: ...")."""
+def meant(word: str, known, shown: str = "{!r}", cutoff: float = 0.6) -> str:
+    """``did you mean 'x'? `` naming the one of ``known`` nearest a misspelt ``word``, or ``""``
+    when none is alike: the one way a message suggests a name ("unknown study 'smok'; did you mean
+    'smoke'? available studies: ...").
+
+    A name equal to ``word`` but for case or surrounding spaces is the nearest; otherwise
+    ``difflib.get_close_matches`` of the lower-cased words, above ``cutoff`` (its default 0.6).
+    ``shown`` formats the name as the user would type it ("--run {}": ``did you mean --run
+    default? ``)."""
     import difflib
 
-    near = difflib.get_close_matches(word, list(known), n=1)
-    return f"did you mean {near[0]!r}? " if near else ""
+    lowered: dict[str, str] = {}
+    for name in map(str, known):  # the first of names alike but for case
+        lowered.setdefault(name.lower(), name)
+    typed = str(word).strip().lower()
+    near = [typed] if typed in lowered else difflib.get_close_matches(typed, list(lowered), n=1,
+                                                                      cutoff=cutoff)
+    return f"did you mean {shown.format(lowered[near[0]])}? " if near else ""

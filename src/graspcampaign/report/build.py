@@ -151,8 +151,8 @@ def _runs(root: Path, studies: list[str] | None, run: str | Mapping[str, str] | 
                 continue
             if manifest is None:
                 if wanted is not None:
-                    raise UserInputError(f"no run {r!r} of study {name!r} under {root}"
-                                         f"{near_run(root, name, r)}; {how_to_make(root, name, r)}")
+                    raise UserInputError(f"no run {r!r} of study {name!r} under {root}; "
+                                         f"{near_run(root, name, r)}{how_to_make(root, name, r)}")
                 continue
             stores.append(store)
     if not stores and not failed:

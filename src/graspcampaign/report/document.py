@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import base64
-import difflib
 import html
 import json
 import math
@@ -19,6 +18,7 @@ import pandas as pd
 
 from graspcampaign.analysis.vocabulary import FACTOR_LABELS, UNITS, VOCABULARIES, label
 from graspcampaign.campaign.paths import write_file
+from graspcampaign.core.words import meant
 from graspcampaign.errors import UserInputError
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
@@ -42,8 +42,8 @@ def check_formats(formats: Sequence[str] | str | None, allowed: Sequence[str] = 
     items = formats.split(",") if isinstance(formats, str) else ["md", "csv"] if formats is None else formats
     items = list(dict.fromkeys(f.strip().lower() for f in items if f and str(f).strip()))
     if not items or (bad := [f for f in items if f not in allowed]):
-        raise UserInputError(f"{f'unknown {what} {bad[0]!r}' if items else f'no {what} given'}; choose "
-                             f"from {', '.join(allowed)}.")
+        raise UserInputError(f"{f'unknown {what} {bad[0]!r}' if items else f'no {what} given'}; "
+                             f"{meant(bad[0], allowed) if items else ''}choose from {', '.join(allowed)}.")
     return items
 
 
@@ -178,14 +178,13 @@ class Table:
 
     def absent(self) -> str:
         """The note on shown columns the frame lacks (a misspelt name, or a run recorded before the
-        column existed): named, with the frame's nearest column, since each prints as the missing mark."""
+        column existed): each named with the frame's nearest column, as each prints as the missing mark."""
         missing = [c.key for c in self.cols if c.key not in self.frame]
         if not missing:
             return ""
-        near = [m for c in missing for m in difflib.get_close_matches(c, map(str, self.frame.columns), 1)]
-        hint = f" (nearest: {', '.join(f'`{m}`' for m in near)})" if near else ""
-        names = ", ".join(f"`{c}`" for c in missing)
-        return f"Table {self.name} shows {names}, not in its frame{hint}: shown as {fmt.MISSING}."
+        near = {c: meant(c, self.frame.columns).strip() for c in missing}
+        names = ", ".join(f"`{c}`" + (f" ({near[c]})" if near[c] else "") for c in missing)
+        return f"Table {self.name} shows {names}, not in its frame: shown as {fmt.MISSING}."
 
     @cached_property
     def grid(self) -> tuple[list[list[tuple[str, str | None]]], list[bool]]:

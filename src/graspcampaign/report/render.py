@@ -126,12 +126,11 @@ class Run:
         study, run, given = self.study, self.manifest.get("run"), self.manifest.get("overrides") or []
         root = "results" if (where := getattr(self.store, "path", None)) is None else where.parent.parent
         if name.startswith("summary/"):
-            again = how_to_make(root, study, run, given).removesuffix(" first.")
-            todo = f"the study writes it once every trial is recorded; {again} again to complete the run"
+            todo = ("the study writes it once every trial is recorded; "
+                    + how_to_make(root, study, run, given, then="again to complete the run"))
         else:
-            new = how_to_make(root, study, "NEW", given).removesuffix(" first.")
             todo = ("the study stores it while the run's trials run and this run stored none; "
-                    f"{new} to record a new run")
+                    + how_to_make(root, study, "NEW", given, then="to record a new run"))
         raise ValueError(f"run {study}/{run} has no `{name}` table: {todo}")
 
     def memo(self, name: str, compute: Callable[[], Any]) -> Any:

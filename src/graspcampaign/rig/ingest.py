@@ -29,6 +29,7 @@ import pandas as pd
 
 from graspcampaign.rig.measured_file import (
     IngestError,
+    aside,
     cell_problem,
     header_problems,
     ingest_error,
@@ -253,8 +254,8 @@ def _parse(spec: FieldSpec, value, label: str, row: int):
     if spec.kind == "str":
         text = str(value).strip()
         if spec.choices and text not in spec.choices:
-            raise ingest_error(label, row, spec.name, f"value {text!r} is not one of "
-                               f"{', '.join(spec.choices)}")
+            raise ingest_error(label, row, spec.name, f"value {text!r}{aside(text, spec.choices)} is "
+                               f"not one of {', '.join(spec.choices)}")
         return text
     number = _as_float(value)
     if number is None:

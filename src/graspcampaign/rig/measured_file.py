@@ -14,13 +14,12 @@ import io
 import re
 from collections import Counter
 from collections.abc import Collection, Mapping, Sequence
-from difflib import get_close_matches
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-from graspcampaign.core.words import counted
+from graspcampaign.core.words import counted, meant
 
 __all__ = ["IngestError", "cell_problem", "header_problems", "ingest_error", "read_table",
            "table_and_label"]
@@ -35,6 +34,13 @@ def ingest_error(label: str, row: int | None, column: str, problem: str) -> Inge
     """The error naming the file ``label``, its ``row`` (None: the header) and ``column``."""
     where = "header" if row is None else f"row {row}"
     return IngestError(f"{label}, {where}, column '{column}': {problem}.")
+
+
+def aside(word: str, known, cutoff: float = 0.6) -> str:
+    """`` (did you mean 'x'?)`` after a cell value or column name ``word`` that is none of
+    ``known`` (:func:`~graspcampaign.core.words.meant`), or ``""``."""
+    near = meant(word, known, cutoff=cutoff)
+    return f" ({near.strip()})" if near else ""
 
 
 def cell_problem(value, expected: str = "a number") -> str:
@@ -288,9 +294,7 @@ def header_problems(columns: list[str], required: list[str], units: dict[str, st
                    f"{', '.join(twice)}")
     if unknown := [c for c in unknown if c not in explained]:
         def hint(c: str) -> str:
-            near = [k for k in known if k.lower() == c.lower().strip()] or get_close_matches(
-                c.lower(), known, n=1, cutoff=0.75)
-            return f"'{c}'" + (f" (did you mean '{near[0]}'?)" if near else "")
+            return f"'{c}'{aside(c, known, cutoff=0.75)}"
         more = f" and {len(unknown) - 8} more" if len(unknown) > 8 else ""
         out.append(f"{'a column is' if len(unknown) == 1 else 'columns are'} not part of the sheet: "
                    f"{', '.join(map(hint, unknown[:8]))}{more}; its columns are {', '.join(known)}")

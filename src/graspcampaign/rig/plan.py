@@ -27,6 +27,7 @@ Paper §8.1 (planners, hardware weighting, grip sizing from believed quality, ka
 from __future__ import annotations
 
 import logging
+from collections.abc import Mapping
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
@@ -95,7 +96,9 @@ logger = logging.getLogger(__name__)
 # graspcampaign plan MESH
 # --------------------------------------------------------------------------------------------
 def _check_plausible(value: object, name: str, quantity: str, unit: str) -> float:
-    """Return ``value`` as a float inside its plausible range (``core.plausible.PLAUSIBLE``)."""
+    """Return ``value`` as a float inside its plausible range (``core.plausible.PLAUSIBLE``); a
+    refusal names it as ``name = value``, or, for a command-line option (``name`` starting with
+    ``-``), as typed: ``--mass-kg value``."""
     from graspcampaign.core.plausible import PLAUSIBLE
 
     try:
@@ -105,7 +108,8 @@ def _check_plausible(value: object, name: str, quantity: str, unit: str) -> floa
     rng = PLAUSIBLE[quantity]
     if not rng.contains(number):
         unit = f" {unit}" if unit else ""
-        raise ValueError(f"{name} = {value!r} is out of range; allowed: {rng.text()}{unit} "
+        given = f"{name} {value!r}" if name.startswith("-") else f"{name} = {value!r}"
+        raise ValueError(f"{given} is out of range; allowed: {rng.text()}{unit} "
                          f"({rng.why}).")
     return number
 
@@ -221,7 +225,7 @@ UNLOADED_N = 1e-6
 
 def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: float | None = None,
               fingertip_radius_mm: float = DEFAULT_FINGERTIP_RADIUS_MM, unit: str = "mm", png_path=None,
-              png_option: str = "picture path", seed: int = 0) -> dict[str, Any]:
+              names: Mapping[str, str] | None = None, seed: int = 0) -> dict[str, Any]:
     """Plan a proposed-planner grasp on a user's mesh and predict its disturbance limits.
 
     Parameters
@@ -231,7 +235,7 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
         metres; either is validated by :func:`graspcampaign.core.mesh.check_mesh` and centred on
         its volume centroid, the frame of the returned contacts.
     mass_kg : float
-        Object mass, in its plausible range (``core.plausible.PLAUSIBLE``: (0, 10] kg).
+        Object mass, in its plausible range (``core.plausible.PLAUSIBLE``: [0.1 g, 10 kg]).
     material : str, optional
         Table 4 family; default :data:`~graspcampaign.rig.DEFAULT_PLAN_MATERIAL` (also for the contact
         law when only ``mu`` is given).
@@ -244,8 +248,10 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
     png_path : path, optional
         Where to write the picture (mesh, contacts, force arrows), exactly this path; none when
         omitted. Checked first (:func:`check_picture_path`).
-    png_option : str
-        How a refusal of ``png_path`` names it (the command line passes ``--png``).
+    names : mapping of str to str, optional
+        How refusals name the arguments, by parameter (the command line passes its options:
+        ``{"mass_kg": "--mass-kg", "png_path": "--png", ...}``); any other is named as its
+        parameter (``mass_kg = 0.0``), ``png_path`` as "picture path".
     seed : int
         Candidate sampling seed.
 
@@ -278,13 +284,14 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
     """
     from graspcampaign.core.mesh import check_mesh, load_mesh
 
+    names = {"png_path": "picture path", **(names or {})}
     if png_path is not None:  # before any work: a plan whose picture cannot be written is lost
-        png_path = check_picture_path(png_path, png_option)
-    mass = _check_plausible(mass_kg, "mass_kg", "mass_kg", "kg")
-    radius_mm = _check_plausible(fingertip_radius_mm, "fingertip_radius_mm", "fingertip_radius_mm",
-                                 "mm")
+        png_path = check_picture_path(png_path, names["png_path"])
+    mass = _check_plausible(mass_kg, names.get("mass_kg", "mass_kg"), "mass_kg", "kg")
+    radius_mm = _check_plausible(fingertip_radius_mm, names.get(
+        "fingertip_radius_mm", "fingertip_radius_mm"), "fingertip_radius_mm", "mm")
     if mu is not None:
-        mu = _check_plausible(mu, "mu", "mu", "")
+        mu = _check_plausible(mu, names.get("mu", "mu"), "mu", "")
     name_material = DEFAULT_PLAN_MATERIAL if material is None else material  # "" is no material
     mat = material_model(name_material, "natural", radius_mm * 1e-3)
     if mu is not None:
@@ -341,7 +348,7 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
                                        title=f"{name}: SF {out['sf_predicted']:.2f}, "
                                              f"F_lat {out['f_lat_n']:.2f} N"))
         except OSError as exc:  # a full disk, or the directory changed since the check
-            raise PicturePathError(f"{png_option} {png_path}: cannot write there "
+            raise PicturePathError(f"{names['png_path']} {png_path}: cannot write there "
                              f"({exc.strerror or type(exc).__name__}).") from None
     return out
 

@@ -23,6 +23,7 @@ import pandas as pd
 from graspcampaign.rig.ingest import check_one_source
 from graspcampaign.rig.measured_file import (
     IngestError,
+    aside,
     cell_problem,
     header_problems,
     ingest_error,
@@ -232,8 +233,8 @@ def _sources(raw: pd.Series, label: str) -> np.ndarray:
             raise ingest_error(label, i + 1, "source", f"value is empty; expected one of "
                                f"{', '.join(SOURCES)}")
         if text not in SOURCES:
-            raise ingest_error(label, i + 1, "source", f"value {text!r} is not one of "
-                               f"{', '.join(SOURCES)}")
+            raise ingest_error(label, i + 1, "source", f"value {text!r}{aside(text, SOURCES)} is not "
+                               f"one of {', '.join(SOURCES)}")
         values.append(text)
     return np.asarray(values, dtype=object)
 

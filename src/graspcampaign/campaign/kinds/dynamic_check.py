@@ -101,8 +101,8 @@ def load_source(root: str, name: str, run: str) -> Source:
         source = name + ("" if run == configured_run(name) else f" --run {run}")
         raise MissingSourceRunError(
             f"dynamic_check re-simulates the records of {name}/{run}, but {path} holds no run; "
-            f"{how_to_make(root, name, run).removesuffix('.')} (or set params.source_study / "
-            "params.source_run).", source)
+            + how_to_make(root, name, run, then="first (or set params.source_study / "
+                                                "params.source_run)"), source)
     if manifest.get("kind") != "quasi_static":
         raise UserInputError(
             f"dynamic_check re-simulates quasi-static plans, but {name}/{run} is a "
@@ -116,11 +116,10 @@ def load_source(root: str, name: str, run: str) -> Source:
     recorded = set(records["trial_id"]) if len(records) else set()
     missing = len(set(trials) - recorded)
     if missing:
-        again = how_to_make(root, name, run, manifest.get("overrides", []))
         raise UserInputError(
             f"dynamic_check needs every trial of {name}/{run}, but {missing} of {len(trials)} are "
-            f"not recorded under {path}; {again.removesuffix(' first.')} again to "
-            "finish it.")
+            f"not recorded under {path}; "
+            + how_to_make(root, name, run, manifest.get("overrides", []), then="again to finish it"))
     records = records[records["status"] == "ok"].set_index("trial_id", drop=False)
     return Source(study=study, path=path, records=records, trials=trials,
                   nodes=int(kind_params(study, kind).nodes), config_hash=manifest["config_hash"])

@@ -34,6 +34,7 @@ from graspcampaign.campaign.kind import TrialInput, TrialKind
 from graspcampaign.campaign.kinds import common, quasi_static
 from graspcampaign.campaign.kinds.sensitivity import plan_and_evaluate
 from graspcampaign.campaign.schema import NODES, config_field
+from graspcampaign.core.words import meant
 from graspcampaign.errors import ConfigError
 
 PANELS = ("resolution", "budget", "n_max")
@@ -76,8 +77,8 @@ class MeshResolutionParams:
     def __post_init__(self) -> None:
         unknown = [p for p in self.panels if p not in PANELS]
         if unknown or not self.panels:
-            raise ConfigError(f"params.panels has unknown panel {unknown[0]!r}; allowed: "
-                              f"{', '.join(PANELS)}." if unknown else
+            raise ConfigError(f"params.panels has unknown panel {unknown[0]!r}; "
+                              f"{meant(unknown[0], PANELS)}allowed: {', '.join(PANELS)}." if unknown else
                               "params.panels must name at least one panel.")
         for key in ("resolutions", "budgets", "budget_nodes"):
             values = getattr(self, key)
@@ -256,4 +257,5 @@ MESH_RESOLUTION = TrialKind(
     prepare=prepare,
     design=design,
     description="Fig. 20 runtime/residual vs nodes; success vs N_cand; N_max = 200 re-run",
+    stages="a PSO identification of each body before its trials (Sec. 4)",
 )

@@ -316,5 +316,7 @@ QUASI_STATIC = TrialKind(
     body_key=body_key,
     prepare=prepare,
     description="plan with one planner, judge with the quasi-static evaluator (Algorithms 1-2)",
+    stages="a PSO identification of each soft body before its trials (Sec. 4; none with "
+           "pso.enabled=false)",
     factors=("shape", "mass_kg", "mu", "planner"),
 )

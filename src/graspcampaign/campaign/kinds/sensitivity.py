@@ -31,6 +31,7 @@ from graspcampaign.campaign.kind import TrialInput, TrialKind
 from graspcampaign.campaign.kinds import common, quasi_static
 from graspcampaign.campaign.schema import NODES, config_field
 from graspcampaign.core.plausible import PLAUSIBLE
+from graspcampaign.core.words import meant
 from graspcampaign.errors import ConfigError
 
 PANELS = ("mu_mass", "lambda", "n_b")
@@ -76,8 +77,8 @@ class SensitivityParams:
     def __post_init__(self) -> None:
         unknown = [p for p in self.panels if p not in PANELS]
         if unknown or not self.panels:
-            raise ConfigError(f"params.panels has unknown panel {unknown[0]!r}; allowed: "
-                              f"{', '.join(PANELS)}." if unknown else
+            raise ConfigError(f"params.panels has unknown panel {unknown[0]!r}; "
+                              f"{meant(unknown[0], PANELS)}allowed: {', '.join(PANELS)}." if unknown else
                               "params.panels must name at least one panel.")
         check_range("params.mu_range", self.mu_range)
         check_range("params.mass_range_kg", self.mass_range_kg, lower=1e-9)
@@ -172,4 +173,6 @@ SENSITIVITY = TrialKind(
     prepare=prepare,
     design=design,
     description="Fig. 19 sweeps: mu x m (identified), lambda1 x lambda2 and n x b (set directly)",
+    stages="a PSO identification of each mu x m body before the trials (at paper scale about as "
+           "long as the trials; docs/decisions.md)",
 )

@@ -320,4 +320,5 @@ SURROGATE = TrialKind(
     seconds_per_trial=0.03,
     finalize=finalize,
     description="Appendix A dataset: sampled scenarios through the evaluator (+ a brief PSO call)",
+    stages="the fits of Appendix A's surrogates after the trials",
 )

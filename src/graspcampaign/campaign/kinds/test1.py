@@ -353,4 +353,6 @@ TEST1_BENCH = TrialKind(
     ingest=ingest,
     template=template,
     description="Test 1 bench protocol (§7): one planned event on the virtual bench, fitted",
+    stages="the PSO re-identification of each material and the summaries after the trials "
+           "(Sec. 7.5; at paper scale longer than the trials; docs/decisions.md)",
 )
