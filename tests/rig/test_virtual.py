@@ -287,3 +287,21 @@ def test_a_fingertip_sunk_exactly_its_radius_is_not_buried(gel_equator, monkeypa
     out = v.virtual_trial(row, pred, np.random.default_rng(0))
     assert out["valid_geometry"] and out["damage_flag"]
     assert out["max_indentation_mm"] == pytest.approx(1e3 * radius)
+
+
+def test_an_object_lost_in_the_lift_has_slid_the_drop_travel(gel_equator, monkeypatch):
+    """Kinetic friction equal to the static one, grips of 0.1-0.175 N too weak to carry the
+    weight: the object slides from the start of the lift and is lost. A lost object is tracked
+    until it leaves the fingertips (RigParams.drop_travel, 25 mm), as a pulled one is in
+    rig.disturb, so its peak slip reads 25 mm (less 3 SD of the 0.1 mm vision noise), not the
+    travel of the acceleration phase alone (13.6 mm at 0.15 N before the fix)."""
+    import dataclasses
+
+    row, _ = gel_equator
+    truth = v.specimen_truth
+    monkeypatch.setattr(v, "specimen_truth", lambda *a, **k: dataclasses.replace(
+        truth(*a, **k), mu_k=truth(*a, **k).mu_s))
+    for grip in (0.1, 0.125, 0.15, 0.175):
+        out = _run(row, grip_force_n=grip)
+        assert out["outcome"] == "failure_drop" and out["drop_flag"] and out["slip_flag"]
+        assert out["peak_slip_mm"] >= 1e3 * v.RigParams().drop_travel - 0.3, grip
