@@ -12,6 +12,7 @@ import pytest
 from scipy import stats as sps
 
 from graspcampaign import stats as S
+from graspcampaign.analysis import agreement
 
 # ---------------------------------------------------------------------------------------------
 # Classifier metrics
@@ -160,3 +161,24 @@ def test_survival_curve_counts_thresholds_at_least_level():
     below = np.nextafter(curve.levels, -np.inf)
     np.testing.assert_allclose(curve.surviving_fraction, 1 - ecdf.evaluate(below))
     assert curve.n == 5
+
+
+def test_cv_interval_is_scipys_bootstrap_of_the_sample_cv():
+    # the statistic is the sample CV (ddof 1, as coefficient_of_variation): scipy's bootstrap of
+    # scipy.stats.variation(ddof=1) from the same seed draws the same resamples, so the same ends
+    x = np.array([2.1, 2.5, 1.7, 3.0, 2.2, 2.8])
+    ref = sps.bootstrap((x,), lambda v, axis: sps.variation(v, axis=axis, ddof=1), n_resamples=2000,
+                        method="percentile", rng=np.random.default_rng(4), vectorized=True)
+    got = agreement.cv_interval(x, seed=4, n_resamples=2000)
+    assert got == pytest.approx((ref.confidence_interval.low, ref.confidence_interval.high), rel=1e-12)
+
+
+def test_a_constant_measurement_has_no_centred_r2():
+    # measured = 3 throughout: no variance for the centred R^2 to explain (nan, not -inf); the
+    # uncentred one is statsmodels' R^2 of the regression through the origin
+    from statsmodels.regression.linear_model import OLS
+
+    measured, predicted = np.array([3.0, 3.0, 3.0]), np.array([1.0, 2.0, 4.0])
+    res = S.parity_fit(measured, predicted)
+    assert math.isnan(res.r2_centred)
+    assert res.r2_uncentred == pytest.approx(OLS(measured, predicted[:, None]).fit().rsquared, rel=1e-12)

@@ -48,6 +48,16 @@ def test_chi2_2x2_is_plain_pearson_unless_yates_requested():
     assert res_y.statistic == pytest.approx(yates, rel=1e-12) and res_y.yates_correction
 
 
+def test_yates_is_not_said_to_correct_a_table_larger_than_2x2():
+    # Yates' correction is defined for one degree of freedom: on a 2 x 3 table the statistic is
+    # Pearson's closed form, uncorrected, so the result must not claim a correction
+    table = np.array([[12, 5, 7], [3, 10, 6]])
+    expected = table.sum(1, keepdims=True) * table.sum(0, keepdims=True) / table.sum()
+    res = S.chi2_contingency_test(table, yates=True)
+    assert res.statistic == pytest.approx(((table - expected) ** 2 / expected).sum(), rel=1e-12)
+    assert not res.yates_correction
+
+
 def test_chi2_refuses_yates_with_monte_carlo_up_front():
     # scipy refuses correction=True with MonteCarloMethod, but only once a small table resampled, in
     # its own words; the combination is refused on its arguments, whatever the table

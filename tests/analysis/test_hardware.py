@@ -129,6 +129,20 @@ def test_threshold_agreement_and_summary():
     assert summary["n_lat_threshold"] == 290
 
 
+def test_threshold_agreement_of_three_pulls_by_hand():
+    """Predicted 2, 4, 3 N, measured 4, 2, 3 N: differences 2, -2, 0 (mean 0, SD 2), so the limits
+    are -/+ 1.96 * 2 and their half-width 3.92 N; errors |p - m| / m are 50 %, 100 %, 0 %, of
+    which one is *over* 50 %. Two pulls fit any line exactly: no statistics, only the count."""
+    rec = _records({"heuristic": (3, 3)}, block="A", threshold_censored=False, mass_kg=0.2,
+                   threshold_measured_nm=np.nan, threshold_pred_nm=np.nan, disturbance_kind="lateral",
+                   first_finger_measured=0, first_finger_pred=1, peak_slip_mm=0.0)
+    d = hardware.derive(rec.assign(threshold_measured_n=[4.0, 2.0, 3.0], threshold_pred_n=[2.0, 4.0, 3.0]))
+    out = disturbance.threshold_agreement(d)
+    assert (out["bias_n"], out["sd_n"], out["loa_half_n"]) == pytest.approx((0.0, 2.0, 3.92))
+    assert out["n_err_over_50pct"] == 1 and out["median_err_pct"] == pytest.approx(50.0)
+    assert disturbance.threshold_agreement(d.iloc[:2]) == {"planner": "heuristic", "n": 2}
+
+
 def test_lateral_survival_counts_failures_as_zero():
     rec = pd.DataFrame({"trial_id": list("abcd"), "planner": "heuristic", "aborted": False,
                         "success": True, "block": "A", "friction_level": "natural",

@@ -38,3 +38,72 @@ def test_the_belief_gap_is_exact_beliefs_minus_the_papers():
     rate = long.groupby("belief_error")["success"].mean() * 100
     assert (row["success_paper_pct"], row["success_none_pct"]) == pytest.approx((rate["paper"], rate["none"]))
     assert row["difference_pp"] == pytest.approx(rate["none"] - rate["paper"]) == pytest.approx(40.0)
+
+
+def test_a_flag_is_scored_against_the_success_rate_of_its_group():
+    """4 of 6 trials succeed (base 4/6, Wilson interval from statsmodels); the flag marks 2 of
+    them and nothing else (precision 2/2, recall 2/4). Flagging every trial has a precision equal
+    to the base rate: no better than it, so not ``above_base``."""
+    from statsmodels.stats.proportion import proportion_confint
+
+    rec = pd.DataFrame({"planner": "heuristic", "success": [True, True, True, True, False, False],
+                        "flag": [True, True, False, False, False, False], "every": True})
+    out = hardware.classifier_table(rec, ["flag", "every"], ["planner"]).set_index("flag")
+    low, high = proportion_confint(4, 6, method="wilson")
+    assert out.loc["flag", ["base", "base_low", "base_high"]].tolist() == pytest.approx([4 / 6, low, high])
+    assert (out.loc["flag", "precision"], out.loc["flag", "recall"]) == pytest.approx((1.0, 2 / 4))
+    assert out.loc["every", "precision"] == pytest.approx(out.loc["every", "base"])
+    assert not out.loc["every", "above_base"] and out.loc["flag", "above_base"]
+
+
+def test_the_planner_with_the_higher_success_ranks_first():
+    """Under the paper's beliefs the proposed planner holds 6 of 10, centroid 3 of 10: ranks 1, 2;
+    under exact beliefs centroid holds 9 of 10, the proposed one still 6: ranks 2, 1."""
+    paper = pd.concat([_records({"heuristic": (6, 10)}), _records({"centroid": (3, 10)})])
+    none = paper.assign(success=np.where(paper["planner"] == "centroid", np.arange(20) % 10 < 9,
+                                         paper["success"]))
+    long = pd.concat([paper.assign(belief_error="paper"), none.assign(belief_error="none")])
+    out = hardware.belief_pairs(long).set_index("planner")
+    assert out.loc[["heuristic", "centroid"], "rank_paper"].tolist() == [1, 2]
+    assert out.loc[["heuristic", "centroid"], "rank_none"].tolist() == [2, 1]
+
+
+def test_a_zero_measurement_has_no_percentage_error():
+    """A force measured as 0 N has no relative error (nan, not inf): the median error of the
+    others, |1.1 - 1| / 1 = 10 % and |1.3 - 1| / 1 = 30 %, is 20 %."""
+    rec = _records({"heuristic": (3, 3)})
+    rec = rec.assign(normal_force_mean_n=[0.0, 1.0, 1.0], normal_force_pred_mean_n=[0.5, 1.1, 1.3],
+                     contact_point_error_mm=1.0)
+    d = hardware.derive(rec)
+    assert d["force_err_pct"].isna().tolist() == [True, False, False]
+    acc = hardware.force_accuracy(d).set_index("scope")
+    assert acc.loc["all", "force_err_pct"] == pytest.approx(20.0)
+
+
+def test_three_pairs_get_a_parity_fit():
+    """Three (predicted, measured) pairs (1, 2), (2, 3), (3, 7): the slope through the origin is
+    sum(xy) / sum(x^2) = (2 + 6 + 21) / 14 (Eisenhauer 2003)."""
+    df = pd.DataFrame({"scope": "all", "m": [2.0, 3.0, 7.0], "p": [1.0, 2.0, 3.0]})
+    out = hardware.parity_by(df, "scope", "m", "p").iloc[0]
+    assert out["n_parity"] == 3 and out["parity_slope"] == pytest.approx(29 / 14)
+
+
+def test_a_threshold_measured_as_zero_is_no_threshold():
+    """Block A: a pull that read 0 N held nothing (no uncensored ramp reached a load): it enters
+    neither the threshold nor its error; 2 N against 2.5 N predicted is a 25 % error."""
+    rec = _records({"heuristic": (2, 2)}, block="A", disturbance_kind="lateral", mass_kg=0.2,
+                   threshold_censored=False, threshold_pred_n=2.5, threshold_measured_nm=np.nan,
+                   threshold_pred_nm=np.nan, first_finger_measured=0, first_finger_pred=1, peak_slip_mm=0.0)
+    d = hardware.derive(rec.assign(threshold_measured_n=[0.0, 2.0]))
+    assert d["threshold"].isna().tolist() == [True, False]
+    assert d["lat_threshold_n"].isna().tolist() == [True, False]
+    assert d["threshold_err_pct"].tolist() == pytest.approx([np.nan, 25.0], nan_ok=True)
+
+
+def test_the_headline_of_block_c_is_its_torque_threshold():
+    """Table 8 reads block C by its sustained torque [N·m] (0.3 and 0.45 here), not missing."""
+    rec = _records({"heuristic": (2, 2)}, block="C", disturbance_kind="yaw", mass_kg=0.2,
+                   threshold_censored=False, threshold_measured_n=np.nan, threshold_pred_n=np.nan,
+                   threshold_pred_nm=0.4, first_finger_measured=0, first_finger_pred=1, peak_slip_mm=0.0)
+    d = hardware.derive(rec.assign(threshold_measured_nm=[0.3, 0.45]))
+    assert d["headline"].tolist() == pytest.approx([0.3, 0.45])

@@ -6,6 +6,8 @@ form of its bootstraps: one resample at a time (it passes the kernel 64 at once)
 median bootstrap in one call (it runs it in batches), the same generator draws in the same order.
 """
 
+import warnings
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -157,3 +159,25 @@ def test_kernel_weighs_each_row_of_counts_as_if_alone():
     alone = np.concatenate([weighted_rho(*pairs, row[None]) for row in counts])
     assert np.array_equal(together, alone, equal_nan=True)
     assert np.isnan(together[3]) and not np.isnan(np.delete(together, 3)).any()  # row 3 is empty
+
+
+def test_nans_sort_last_each_in_a_group_of_its_own():
+    """As the docstring says (np.argsort puts NaN last, in input order; nan != nan): [nan, 1, nan,
+    1] has the 1s in group 0 and the NaNs, the first one first, in groups 1 and 2."""
+    group, n = tie_groups(np.array([np.nan, 1.0, np.nan, 1.0]))
+    assert (group.tolist(), n) == ([1, 0, 2, 0], 3)
+
+
+def test_a_sample_constant_where_it_has_weight_has_no_rank_correlation():
+    """x takes three values but only the pairs at x = 2 weigh anything (0.1 and 0.3, a tenth of
+    the integer weights 1 and 3): the repeated sample (2, 1), 3 x (2, 2) has a constant x, so no
+    rank correlation (nan, as spearmanr of it), not the ~1e-15 left by centring ranks of
+    weightless groups."""
+    x, y = np.array([1.0, 2.0, 2.0, 4.0]), np.array([3.0, 1.0, 2.0, 4.0])
+    weights = np.array([0.0, 0.1, 0.3, 0.0])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert np.isnan(stats.spearmanr(np.repeat(x, [0, 1, 3, 0]), np.repeat(y, [0, 1, 3, 0])).statistic)
+    for a, b in ((x, y), (y, x)):
+        assert np.isnan(weighted_rho(*sorted_pairs(a, b, weights, np.zeros(4, dtype=np.int64)),
+                                     np.ones((1, 1)))[0])

@@ -70,3 +70,42 @@ def test_list_rows_equal_the_composed_studies():
 @pytest.mark.slow  # builds the 19,168-event Test 1 schedule and the other protocol designs
 def test_list_rows_equal_the_composed_studies_with_explicit_designs():
     _rows_equal_composed({"mesh_resolution", "sensitivity", "test1_bench", "test3_disturbance"})
+
+
+@pytest.mark.parametrize(("seeds", "backend", "expected"), [
+    (30, "runner.backend=sequential", "90 s for 30 trials (~3 s each, as the trial kind estimates, "
+                                      "on 1 worker;"),
+    (30, "runner.n_jobs=2", "45 s for 30 trials (~3 s each, as the trial kind estimates, on 2 workers;"),
+    (2000, "runner.backend=sequential", "100 min for 2000 trials (~3 s each,"),
+    (2500, "runner.backend=sequential", "2.1 h for 2500 trials (~3 s each,")])
+def test_show_estimates_the_time_the_workers_share(tmp_path, monkeypatch, seeds, backend, expected):
+    """At 3 s a trial: 30 trials take 90 s on one worker (under 2 min it reads in seconds), 45 s
+    on two; 2000 take 6000 s, 100 min (under 2 h in minutes); 2500 take 7500 s, 2.1 h."""
+    from graspcampaign.campaign import status
+
+    facts = catalog.kind_facts(compose_study("smoke").kind)
+    monkeypatch.setattr(status, "kind_facts", lambda name: {**facts, "seconds_per_trial": 3.0})
+    study = compose_study("smoke", ["shape=[sphere]", "nodes=[144]", f"seeds={seeds}", backend,
+                                    f"output.root={tmp_path}"])
+    line = next(x for x in status.design_text(study).splitlines() if x.startswith("estimated time: "))
+    assert line.startswith(f"estimated time: {expected}")
+
+
+def test_the_paper_block_keeps_an_empty_table_as_its_key():
+    """Nested keys dotted, lists as written, and an empty table kept as ``key={}`` (it is part of
+    the study file: dropping it would show a paper block other than the file's)."""
+    from graspcampaign.campaign.status import _paper_pairs
+
+    assert _paper_pairs({"rates": {}, "test": {"n": 830, "ci": [0.1, 0.2]}}) == [
+        "rates={}", "test.n=830", "test.ci=[0.1, 0.2]"]
+
+
+def test_the_paper_block_is_wrapped_at_a_hundred_characters(tmp_path):
+    """Test 2's paper block is ~3,000 characters: `show` wraps it into lines of at most 100 (a
+    pair is never split), each continuation line indented."""
+    from graspcampaign.campaign.status import design_text
+
+    text = design_text(compose_study("test2_grasp", [f"output.root={tmp_path}"]))
+    block = text[text.index("\npaper: ") + 1:].splitlines()
+    assert len(block) > 10 and max(map(len, block)) <= 100
+    assert all(line.startswith("  ") for line in block[1:])

@@ -265,3 +265,22 @@ def test_a_session_asks_a_compacted_file_too_new_to_remember_once(study_factory,
     resumed = run_study(study_factory(runner=one), run="r", allow_drift=True)
     assert resumed.n_ran == len(asked) == 8
     assert asked[0] >= 1 and sum(asked[1:]) == 0, asked
+
+
+def test_a_null_and_a_zero_have_different_digests():
+    """Nulls are in the digest's mask, their slots read 0: [null, 1] and [0, 1] are other values."""
+    assert verify.content_digest(pa.table({"n": pa.array([None, 1], pa.int64())})) != \
+        verify.content_digest(pa.table({"n": pa.array([0, 1], pa.int64())}))
+
+
+def test_the_facts_count_missing_ids_and_name_a_malformed_one(tmp_path):
+    """A trial id is a key, "-", then 10 hex digits (grid.expand): one with 8 is malformed."""
+    path = tmp_path / "r.parquet"
+    pq.write_table(pa.table({"trial_id": ["a-0123456789", None, "b-01234567", None]}), path)
+    facts = verify.facts(path)
+    assert (facts.n_rows, facts.n_null_ids, facts.bad_id) == (4, 2, "b-01234567")
+
+
+def test_a_reason_is_cut_only_past_120_characters():
+    assert verify.reason(ValueError("x" * 120)) == "x" * 120
+    assert verify.reason(ValueError("x" * 121)) == "x" * 117 + "..."

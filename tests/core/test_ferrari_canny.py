@@ -108,6 +108,8 @@ def test_epsilon_is_zero_when_all_normals_point_the_same_way():
     normals /= np.linalg.norm(normals, axis=1, keepdims=True)
     for backend in ("numba", "numpy"):
         assert epsilon_metric(0.05 * normals, normals, 0.5, ORIGIN, 0.05, backend=backend)[0] == 0.0
+    # the ConvexHull reference too: the origin outside the hull is 0, not a negative distance
+    assert epsilon_qhull(primitive_wrenches(0.05 * normals, normals, 0.5, ORIGIN, 0.05))[0] == 0.0
     parallel = np.tile([[0.0, 0.0, 1.0]], (3, 1))  # identical normals: singular tangent map
     points = np.array([[0.01, 0.0, 0.05], [-0.01, 0.01, 0.05], [0.0, -0.01, 0.05]])
     assert epsilon_metric(points, parallel, 0.8, ORIGIN, 0.05)[0] == 0.0

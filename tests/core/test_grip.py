@@ -154,3 +154,29 @@ def test_grip_law_validation_names_the_allowed_values():
         EvaluatorParams(grip_law="firm")
     with pytest.raises(ValueError, match=r"grip_safety_factor > 1"):
         EvaluatorParams(grip_safety_factor=1.0)
+
+
+def test_a_frictionless_horizontal_squeeze_needs_an_unbounded_grip():
+    # A = sum n_z = 0 on the equator and mu = 0 leaves no friction: f_need = W / (A + mu B / SF) =
+    # W / 0, no equal grip lifts the body; the fingers stop at the cap and the grasp slips
+    points, normals = ring(0.0)
+    res = evaluate_grasps(points, normals, ORIGIN, 0.2, 0.0, K, N, law("slip", grip_cap_depth=2e-3))
+    assert res.grip_needed[0] == np.inf
+    assert res.grip_force[0] == pytest.approx(K * 2.0, rel=1e-12) and not res.success[0]
+
+
+def test_uniform_friction_carries_the_vertical_deficit_when_no_friction_set_balances():
+    # Three parallel contact planes tilted by a = 30 deg (outward normal (sin a, 0, cos a)): the
+    # tangential forces cannot cancel the normal forces' push along -n, so no friction set
+    # balances the wrench at any grip; the oracle stays at the cap F = K * 5 mm and records the
+    # uniform utilisation of §6.1. Each finger pushes -F n; its upmost tangent is (-cos a, 0,
+    # sin a), so eta = (W + 3 F cos a) / (3 F sin a) zeroes the vertical residual and leaves the
+    # horizontal R_x = -3 F sin a - eta 3 F cos a.
+    a = np.radians(30.0)
+    normals = np.tile([np.sin(a), 0.0, np.cos(a)], (3, 1))
+    points = np.array([[0.0, 0.0, 0.05], [0.02, 0.03, 0.05], [-0.02, 0.03, 0.04]])
+    res = evaluate_grasps(points, normals, ORIGIN, 0.2, 0.5, K, N, law("oracle", grip_cap_depth=5e-3))
+    f, w = K * 5.0, 0.2 * G
+    assert res.grip_force[0] == pytest.approx(f, rel=1e-12)
+    eta = (w + 3 * f * np.cos(a)) / (3 * f * np.sin(a))
+    assert res.full_residual_norm[0] == pytest.approx(3 * f * np.sin(a) + eta * 3 * f * np.cos(a), rel=1e-9)

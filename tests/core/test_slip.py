@@ -54,6 +54,19 @@ def test_lateral_slip_scale_symmetric_closed_form():
                                "lateral", 0.0) in (2, 3)
 
 
+def test_a_downward_pull_adds_to_the_weight_an_upward_one_relieves_it():
+    # Equatorial contacts with vertical tangents carry a third of the vertical load each: W + s
+    # under a pull s downwards, W - s upwards. With W = 3 N and a capacity of 1.68 N per contact
+    # the contacts saturate at 3 c - W = 2.04 N down and 3 c + W = 8.04 N up.
+    normals = _cone(0.0)
+    points, w, c = 0.05 * normals, 3.0, 1.68
+    for kind, expected in (("down", 3 * c - w), ("up", 3 * c + w)):
+        unit_force, unit_moment = s.disturbance_wrench(kind, 1.0)
+        scales = s.slip_load_factors(points, normals, [1, 1, 1], np.zeros(3), np.full(3, c),
+                                     [0, 0, -w], np.zeros(3), unit_force, unit_moment)
+        np.testing.assert_allclose(scales, expected, rtol=1e-12)
+
+
 def test_first_slip_finger_follows_the_weakest_contact():
     normals = _cone(0.0)
     points = 0.05 * normals

@@ -244,3 +244,64 @@ def test_a_small_virtual_campaign_has_every_outcome_class(t2_rows):
     out = pd.DataFrame([_run(r, seed=i) for i, r in enumerate(rows)])
     assert {"stable", "failure_drop", "failure_contact_loss"} <= set(out["outcome"])
     assert (out["source"] == "virtual").all()
+
+
+def test_an_object_moved_away_meets_the_finger_where_its_surface_crosses_the_finger_line():
+    """The 50 mm sphere truly sits 10 mm along +y from where the planner believes it: the finger
+    closing along -x on the believed equator point (50, 0, 0) mm runs at y = -10 mm in the object's
+    own frame and meets its surface at (sqrt(50^2 - 10^2), -10, 0) mm (faceted: 1.5 mm)."""
+    from graspcampaign.core.mesh import make_object
+
+    mesh = make_object("sphere", 390)
+    normals = np.array([[1.0, 0, 0], [-0.5, np.sqrt(3) / 2, 0], [-0.5, -np.sqrt(3) / 2, 0]])
+    points, _, hit = v.realise_contacts(mesh, 0.05 * normals, normals, np.array([0.0, 0.01, 0.0]))
+    assert hit.all()
+    np.testing.assert_allclose(points[0], [math.sqrt(0.05**2 - 0.01**2), -0.01, 0.0], atol=1.5e-3)
+
+
+def test_kinetic_friction_below_static_lets_a_sliding_object_travel_further(gel_equator, monkeypatch):
+    """Coulomb: once the object slides it is resisted by mu_k, not mu_s. On grips too weak for the
+    lift (seed 0: the object slides at 0.1-0.2 N) the same trial with mu_k = mu_s / 2 slides at
+    least as far as with mu_k = mu_s, and further at some grip; a rig blind to mu_k slides alike."""
+    import dataclasses
+
+    row, _ = gel_equator
+    truth = v.specimen_truth
+
+    def slip(ratio, grip):
+        monkeypatch.setattr(v, "specimen_truth", lambda *a, **k: dataclasses.replace(
+            truth(*a, **k), mu_k=ratio * truth(*a, **k).mu_s))
+        return _run(row, grip_force_n=grip)["peak_slip_mm"]
+
+    pairs = [(slip(1.0, g), slip(0.5, g)) for g in (0.1, 0.15, 0.2)]
+    assert all(half >= equal for equal, half in pairs) and any(half > equal for equal, half in pairs)
+
+
+def test_a_fingertip_sunk_exactly_its_radius_is_not_buried(gel_equator, monkeypatch):
+    """Buried means deeper *than* the radius (§3.2, issue 13): at a depth of exactly 5 mm the
+    contact still exists (a damage event on gel, whose damage depth is shallower, but readable)."""
+    row, _ = gel_equator
+    radius = v.RigParams().fingertip_radius
+    pred = predict_trial(row)  # the planner sizes its grip first, with the real law
+    monkeypatch.setattr(v.dist, "indentation_from_force", lambda force, *a, **k: np.full(3, radius))
+    out = v.virtual_trial(row, pred, np.random.default_rng(0))
+    assert out["valid_geometry"] and out["damage_flag"]
+    assert out["max_indentation_mm"] == pytest.approx(1e3 * radius)
+
+
+def test_an_object_lost_in_the_lift_has_slid_the_drop_travel(gel_equator, monkeypatch):
+    """Kinetic friction equal to the static one, grips of 0.1-0.175 N too weak to carry the
+    weight: the object slides from the start of the lift and is lost. A lost object is tracked
+    until it leaves the fingertips (RigParams.drop_travel, 25 mm), as a pulled one is in
+    rig.disturb, so its peak slip reads 25 mm (less 3 SD of the 0.1 mm vision noise), not the
+    travel of the acceleration phase alone (13.6 mm at 0.15 N before the fix)."""
+    import dataclasses
+
+    row, _ = gel_equator
+    truth = v.specimen_truth
+    monkeypatch.setattr(v, "specimen_truth", lambda *a, **k: dataclasses.replace(
+        truth(*a, **k), mu_k=truth(*a, **k).mu_s))
+    for grip in (0.1, 0.125, 0.15, 0.175):
+        out = _run(row, grip_force_n=grip)
+        assert out["outcome"] == "failure_drop" and out["drop_flag"] and out["slip_flag"]
+        assert out["peak_slip_mm"] >= 1e3 * v.RigParams().drop_travel - 0.3, grip

@@ -388,8 +388,9 @@ def virtual_trial(row: dict, predictions: dict, rng: np.random.Generator,
         accel = (lift_demand - budget_k) / mass
         speed = accel * t_acc
         slide = 0.5 * accel * t_acc**2
-        if budget_k <= base:
+        if budget_k <= base:  # kinetic friction cannot carry the weight: it slides until lost
             dropped = True
+            slide = max(slide, p.drop_travel)
         else:
             slide += speed * speed * mass / (2.0 * (budget_k - base))
             dropped = slide > p.drop_travel
