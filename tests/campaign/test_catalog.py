@@ -74,8 +74,8 @@ def test_list_rows_equal_the_composed_studies_with_explicit_designs():
 
 @pytest.mark.parametrize(("seeds", "backend", "expected"), [
     (30, "runner.backend=sequential", "90 s for 30 trials (~3 s each, as the trial kind estimates, "
-                                      "on 1 worker;"),
-    (30, "runner.n_jobs=2", "45 s for 30 trials (~3 s each, as the trial kind estimates, on 2 workers;"),
+                                      "on 1 worker)"),
+    (30, "runner.n_jobs=2", "45 s for 30 trials (~3 s each, as the trial kind estimates, on 2 workers)"),
     (2000, "runner.backend=sequential", "100 min for 2000 trials (~3 s each,"),
     (2500, "runner.backend=sequential", "2.1 h for 2500 trials (~3 s each,")])
 def test_show_estimates_the_time_the_workers_share(tmp_path, monkeypatch, seeds, backend, expected):
