@@ -232,6 +232,10 @@ def _yaml_error_sentence(path: Path, exc: Exception, n_lines: int) -> str:
     context = (getattr(exc, "context", None) or "").strip()
     if problem.startswith(_REFUSALS):
         return f"{where}: {problem}."
+    if tag := re.match(r"could not determine a constructor for the tag '(.+)'", problem):
+        return (f"{where}: the tag {tag[1].replace('tag:yaml.org,2002:', '!!')} is not read; a "
+                "study or group file holds plain values (numbers, text, true/false, lists, "
+                "mappings), so remove it.")
     if "'\\t'" in problem:
         return f"{where}: a tab character where YAML allows only spaces for indentation."
     text = f"{context}: {problem}" if context else problem
@@ -274,6 +278,12 @@ def _loader() -> type:
         seen: dict[Any, int] = {}
         for key_node, _ in node.value:
             key = loader.construct_object(key_node, deep=True)
+            if isinstance(key, (list, dict)):  # '? [a, b]': a complex key, which no setting has
+                start, end = key_node.start_mark, key_node.end_mark
+                raise yaml.constructor.ConstructorError(
+                    None, None, f"the key {start.buffer[start.index:end.index]} is a "
+                                f"{'list' if isinstance(key, list) else 'mapping'}, not a name; "
+                                "write the name of the setting", start)
             if key in seen:
                 raise yaml.constructor.ConstructorError(
                     None, None, f"key {key!r} is given twice (first on line {seen[key] + 1})",

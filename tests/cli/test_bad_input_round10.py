@@ -1,0 +1,31 @@
+"""Bad input, round 10: study files with YAML's rarer forms (a complex key, a language tag),
+overrides deleting a study's own keys or naming a character after a dot, paths that loop or hold
+a line break, text meshes and measured files saved in another text form (a byte-order mark,
+UTF-16, a title above the header), and a workbook with merged cells.
+Each refusal: exit 2, one sentence naming what is wrong and where, nothing stored changed
+(``refused``)."""
+
+from __future__ import annotations
+
+import pytest
+from cli_checks import refused
+
+HEADER = "# @package _global_\n# schema: StudyCfg\n"
+BODY = "name: mine\nkind: mesh_features\nfactors:\n  shape: [sphere]\n  nodes: [144]\n"
+
+
+@pytest.mark.parametrize(("extra", "tail"), [
+    # a traceback (TypeError: unhashable type: 'list'), of show, run and list alike
+    ("? [a, b]\n: 1\n", "line 8: the key [a, b] is a list, not a name; write the name of the setting."),
+    ("? {a: 1}\n: 1\n", "line 8: the key {a: 1} is a mapping, not a name; write the name of the setting."),
+    # "this is not valid YAML (could not determine a constructor for the tag 'tag:yaml.org,...')"
+    ("params: !!python/object/apply:os.system [echo]\n",
+     "line 8: the tag !!python/object/apply:os.system is not read; a study or group file holds "
+     "plain values (numbers, text, true/false, lists, mappings), so remove it."),
+])
+def test_a_complex_key_or_a_language_tag_in_a_study_file_is_named_with_its_line(results, user_dir,
+                                                                              extra, tail):
+    path = user_dir / "mine.yaml"
+    path.write_text(HEADER + BODY + extra)
+    for command in ("show", "run"):
+        refused(results, [command, path, "--root", results], f"{path}, {tail}")
