@@ -29,3 +29,19 @@ def test_a_complex_key_or_a_language_tag_in_a_study_file_is_named_with_its_line(
     path.write_text(HEADER + BODY + extra)
     for command in ("show", "run"):
         refused(results, [command, path, "--root", results], f"{path}, {tail}")
+
+
+@pytest.mark.parametrize(("override", "default"), [
+    # each was accepted: baseline_grid then showed (and ran) 1 seed, not its 15; study seed 0, not 605
+    ("~seeds", "1"), ("~seed", "0"), ("~method_factors", '["planner", "variant"]'),
+    ("~extension", "false"),
+    # it said "trial kind 'quasi_static' needs the factors shape, mass_kg, mu and planner ..."
+    ("~factors", "{}"),
+])
+def test_deleting_a_key_the_study_sets_is_refused_naming_the_default_that_would_stand_in(
+        results, override, default):
+    key = override[1:]
+    for command in ("show", "run"):
+        refused(results, [command, "baseline_grid", override, "--root", results],
+                f"override '{override}' deletes {key}, whose place the schema's default ({default}) "
+                f"would take without a word; set it instead ({key}=...).")

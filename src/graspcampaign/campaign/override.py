@@ -13,6 +13,7 @@ from __future__ import annotations
 import dataclasses
 import difflib
 import errno
+import json
 import re
 import unicodedata
 from collections.abc import Iterator
@@ -132,6 +133,13 @@ def check_overrides(given: list[str]) -> None:
         if required and (required[1].default == "???" or "." in key):
             raise ConfigError(f"override {item!r} deletes {key}, which every study needs; set it "
                               f"instead ({key}=...).", key=key)
+        if required:  # ~seeds: the schema's default stands in for the study's 15, unsaid
+            field = required[1]
+            default = (field.default if field.default_factory is dataclasses.MISSING
+                       else field.default_factory())
+            raise ConfigError(f"override {item!r} deletes {key}, whose place the schema's default "
+                              f"({json.dumps(default)}) would take without a word; set it instead "
+                              f"({key}=...).", key=key)
         setting, parts = bool(sep) and "~" not in prefix, key.split(".")
         for i in range(1, len(parts) if setting else 0):  # evaluator.alpha.x=1, factors.mu.0.x=1
             single = ".".join(parts[:i])
