@@ -45,3 +45,17 @@ def test_deleting_a_key_the_study_sets_is_refused_naming_the_default_that_would_
         refused(results, [command, "baseline_grid", override, "--root", results],
                 f"override '{override}' deletes {key}, whose place the schema's default ({default}) "
                 f"would take without a word; set it instead ({key}=...).")
+
+
+KEY_CHARACTERS = "but a key takes only ASCII letters, digits, '_', '-', '.' and '/'"
+
+
+@pytest.mark.parametrize(("override", "said"), [
+    # each named the dot before it: "its key has '.' at character 9" (Hydra's caret marks where its
+    # token began)
+    ("+factors.μ=[0.3]", f"its key has 'μ' at character 10, {KEY_CHARACTERS}."),
+    ("factors.μ=[0.3]", f"its key has 'μ' at character 9, {KEY_CHARACTERS}."),
+])
+def test_a_character_no_key_holds_after_a_dot_is_named_itself(results, override, said):
+    refused(results, ["show", "smoke", override, "--root", results],
+            f"cannot parse override {override!r}: {said}")

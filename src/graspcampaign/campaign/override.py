@@ -310,6 +310,10 @@ def _character_sentence(item: str, typed: str, error: str) -> str | None:
     at = controls[0] if controls else lines[1].index("^") - len(_LEXER)
     if not 0 <= at < len(item):
         return None
+    # the caret marks where the lexer's token began ('factors.' of 'factors.μ'): the character is
+    # the first one after it that no key or prefix holds
+    at = next((i for i in range(at, item.find("=") if "=" in item else len(item))
+               if not (item[i].isascii() and (item[i].isalnum() or item[i] in "_-./+~@"))), at)
     char = item[at]
     shown = (repr(char) if char.isprintable() and not char.isspace() or char == " " else
              f"U+{ord(char):04X} ({unicodedata.name(char, 'a control character').lower()})")
