@@ -8,7 +8,8 @@ Each refusal: exit 2, one sentence naming what is wrong and where, nothing store
 from __future__ import annotations
 
 import pytest
-from cli_checks import refused
+import trimesh
+from cli_checks import SMOKE, refused
 
 HEADER = "# @package _global_\n# schema: StudyCfg\n"
 BODY = "name: mine\nkind: mesh_features\nfactors:\n  shape: [sphere]\n  nodes: [144]\n"
@@ -59,3 +60,26 @@ KEY_CHARACTERS = "but a key takes only ASCII letters, digits, '_', '-', '.' and 
 def test_a_character_no_key_holds_after_a_dot_is_named_itself(results, override, said):
     refused(results, ["show", "smoke", override, "--root", results],
             f"cannot parse override {override!r}: {said}")
+
+
+LOOP = "is a symbolic link in a loop (it leads back to itself)"
+
+
+@pytest.mark.parametrize(("args", "place", "said"), [
+    # each said "is not a directory" (or, for --png, "directory ... does not exist")
+    (["status", "smoke", "--root"], "{loop}", f"--root {{loop}}: {LOOP}."),
+    (["report", "--root"], "{loop}", f"--root {{loop}}: {LOOP}."),
+    (["run", "smoke", *SMOKE, "--root"], "{loop}/results", f"--root {{loop}}/results: {{loop}} {LOOP}."),
+    (["schedule", "test2_grasp", "--out"], "{loop}/sheet", f"--out {{loop}}/sheet: {{loop}} {LOOP}."),
+    (["plan", "{sphere}", "--mass-kg", "0.1", "--png"], "{loop}/p.png",
+     f"--png {{loop}}/p.png: {{loop}} {LOOP}."),
+])
+def test_a_place_to_read_or_write_through_a_loop_of_links_is_named_as_one(tmp_path, args, place,
+                                                                          said):
+    (tmp_path / "a").symlink_to("b")
+    (tmp_path / "b").symlink_to("a")
+    sphere = tmp_path / "sphere.stl"
+    trimesh.creation.icosphere(subdivisions=2, radius=40.0).export(sphere)
+    names = {"loop": tmp_path / "a", "sphere": sphere}
+    refused(tmp_path, [arg.format(**names) for arg in args] + [place.format(**names)],
+            said.format(**names))
