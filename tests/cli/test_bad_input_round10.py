@@ -7,9 +7,11 @@ Each refusal: exit 2, one sentence naming what is wrong and where, nothing store
 
 from __future__ import annotations
 
+import json
+
 import pytest
 import trimesh
-from cli_checks import SMOKE, refused
+from cli_checks import SMOKE, invoke, refused
 
 HEADER = "# @package _global_\n# schema: StudyCfg\n"
 BODY = "name: mine\nkind: mesh_features\nfactors:\n  shape: [sphere]\n  nodes: [144]\n"
@@ -83,3 +85,25 @@ def test_a_place_to_read_or_write_through_a_loop_of_links_is_named_as_one(tmp_pa
     names = {"loop": tmp_path / "a", "sphere": sphere}
     refused(tmp_path, [arg.format(**names) for arg in args] + [place.format(**names)],
             said.format(**names))
+
+
+@pytest.mark.parametrize("file_type", ["obj", "stl_ascii", "ply"])
+def test_a_text_mesh_saved_with_a_byte_order_mark_plans_as_without_one(tmp_path, file_type):
+    # an OBJ whose first line is a vertex was "has a face (line 6) that refers to vertex 4, but the
+    # file has only 3 vertices", an ASCII STL "is not an STL file: ... neither a binary STL nor an
+    # ASCII STL (text starting with 'solid')"
+    sphere = trimesh.creation.icosphere(subdivisions=2, radius=40.0)
+    text = sphere.export(file_type=file_type, encoding="ascii") if file_type == "ply" else \
+        sphere.export(file_type=file_type)
+    text = text if isinstance(text, bytes) else text.encode()
+    text = b"".join(line for line in text.splitlines(keepends=True) if not line.startswith(b"#"))
+    suffix = ".stl" if file_type == "stl_ascii" else f".{file_type}"
+    plain, marked = tmp_path / "plain" / f"ball{suffix}", tmp_path / "marked" / f"ball{suffix}"
+    for path, data in ((plain, text), (marked, b"\xef\xbb\xbf" + text)):
+        path.parent.mkdir()
+        path.write_bytes(data)
+    done = [invoke("plan", path, "--mass-kg", "0.1", "--png", tmp_path / f"{path.parent.name}.png",
+                   "--json") for path in (plain, marked)]
+    assert [d.exit_code for d in done] == [0, 0], done[1].output
+    plans = [{k: v for k, v in json.loads(d.stdout).items() if k != "png"} for d in done]
+    assert plans[1] == plans[0]
