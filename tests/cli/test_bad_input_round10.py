@@ -8,7 +8,9 @@ Each refusal: exit 2, one sentence naming what is wrong and where, nothing store
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
+import pandas as pd
 import pytest
 import trimesh
 from cli_checks import SMOKE, invoke, refused
@@ -107,3 +109,29 @@ def test_a_text_mesh_saved_with_a_byte_order_mark_plans_as_without_one(tmp_path,
     assert [d.exit_code for d in done] == [0, 0], done[1].output
     plans = [{k: v for k, v in json.loads(d.stdout).items() if k != "png"} for d in done]
     assert plans[1] == plans[0]
+
+
+def _filled_sheet(tmp_path: Path) -> str:
+    """Two rows of test2_grasp's measured-records template, filled in, as CSV text."""
+    made = invoke("schedule", "test2_grasp", "params.fraction=0.06", "--template", "--out",
+                  tmp_path / "sheet")
+    assert made.exit_code == 0, made.output
+    rows = pd.read_csv(tmp_path / "sheet-template.csv").iloc[:2].assign(
+        aborted=False, outcome="stable", success=True, stable=True, slip_flag=False,
+        drop_flag=False, damage_flag=False, contact_loss_flag=False, peak_slip_mm=0.16,
+        sf_actual=1.5, g_geo_actual=0.5)
+    return rows.drop(columns=["abort_reason", "environment", "source"]).to_csv(index=False)
+
+
+@pytest.mark.parametrize("encoding", ["utf-16", "utf-16-le"])
+def test_a_file_saved_as_utf16_is_named_as_one(results, user_dir, tmp_path, encoding):
+    # a CSV was "the file is not UTF-8 text (byte 0xff)" with its byte-order mark, and without one
+    # "row 4: 1 cells where the header has 22 columns"; a study file "... (byte 0xff)"
+    sheet = tmp_path / "day1.csv"
+    sheet.write_bytes(_filled_sheet(tmp_path).encode(encoding))
+    refused(results, ["ingest", "test2_grasp", sheet, "--set", "params.fraction=0.06", "--root",
+                      results], "day1.csv: the file is UTF-16 text, not UTF-8; save it as CSV UTF-8.")
+    study = user_dir / "mine.yaml"
+    study.write_bytes((HEADER + BODY).encode(encoding))
+    refused(results, ["show", study, "--root", results],
+            f"{study}: the file is UTF-16 text, not UTF-8; save it as UTF-8.")

@@ -26,7 +26,7 @@ from typing import Any
 
 from graspcampaign.campaign.paths import expand_home, input_file_problem
 from graspcampaign.core.words import meant
-from graspcampaign.errors import ConfigError, UserInputError
+from graspcampaign.errors import ConfigError, UserInputError, not_utf8
 
 _RUN_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
 _SCHEMA_LINE = re.compile(r"^#\s*schema:\s*(\w+)")
@@ -315,13 +315,11 @@ def read_yaml(path: Path, *, study: bool = False) -> dict[str, Any]:
                               "5 KB, and each command reads YAML at about a second per MB, "
                               "twice, docs/decisions.md).")
         raw = Path(path).read_bytes()
-        text = raw.decode("utf-8-sig")  # a byte-order mark is no content
     except OSError as exc:
         raise ConfigError(f"{path} cannot be read ({exc.strerror or type(exc).__name__}).") from None
-    except UnicodeDecodeError as exc:
-        line = raw[:exc.start].count(b"\n") + 1
-        raise ConfigError(f"{path}, line {line}: the file is not UTF-8 text (byte "
-                          f"0x{raw[exc.start]:02x}); save it as UTF-8.") from None
+    if why := not_utf8(raw):
+        raise ConfigError(f"{path}{why}; save it as UTF-8.")
+    text = raw.decode("utf-8-sig")  # a byte-order mark is no content
     try:
         data = yaml.load(text, Loader=_loader())  # noqa: S506  (a SafeLoader subclass)
     except yaml.YAMLError as exc:

@@ -21,6 +21,7 @@ import numpy as np
 import pandas as pd
 
 from graspcampaign.core.words import counted
+from graspcampaign.errors import not_utf8
 
 __all__ = ["IngestError", "cell_problem", "header_problems", "ingest_error", "read_table",
            "table_and_label"]
@@ -191,12 +192,9 @@ def _checked_csv(path: Path) -> str:
     export), or a data row with more or fewer cells than the header (pandas shifts a longer first
     row into an index and pads a shorter row, a truncated file's last row, with empty cells)."""
     data = path.read_bytes()
-    try:
-        text = data.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        line = data[:exc.start].count(b"\n") + 1
-        raise IngestError(f"{path.name}, line {line}: the file is not UTF-8 text (byte "
-                          f"0x{data[exc.start]:02x}); save it as CSV UTF-8.") from None
+    if why := not_utf8(data):
+        raise IngestError(f"{path.name}{why}; save it as CSV UTF-8.")
+    text = data.decode("utf-8-sig")
     try:
         # lines as the csv module (and pandas) end them: not str.splitlines, which also breaks
         # at U+2028 and other separators a cell may hold
