@@ -135,3 +135,27 @@ def test_a_file_saved_as_utf16_is_named_as_one(results, user_dir, tmp_path, enco
     study.write_bytes((HEADER + BODY).encode(encoding))
     refused(results, ["show", study, "--root", results],
             f"{study}: the file is UTF-16 text, not UTF-8; save it as UTF-8.")
+
+
+@pytest.mark.parametrize(("above", "lines"), [
+    # it said "row 1: 22 cells where the header has 1 columns (a cell with a comma needs quotes; ...)"
+    ("Test 2, day 1\n", "the first line (a title or a note above the header?) holds"),
+    ("# rig B\nby: me\n", "the first 2 lines (a title or a note above the header?) hold"),
+])
+def test_a_title_above_the_header_of_a_csv_is_named_as_one(results, tmp_path, above, lines):
+    sheet = tmp_path / "day1.csv"
+    sheet.write_text(above.replace(", ", " ") + _filled_sheet(tmp_path))
+    refused(results, ["ingest", "test2_grasp", sheet, "--set", "params.fraction=0.06", "--root",
+                      results],
+            f"day1.csv, header: {lines} fewer cells than the 3 lines after, which have 22 cells "
+            "each; the header must be the first line, so delete the lines above it.")
+
+
+def test_a_row_of_one_cell_is_counted_in_the_singular(results, tmp_path):
+    # "row 2: 1 cells where the header has 22 columns"
+    sheet = tmp_path / "day1.csv"
+    sheet.write_text(_filled_sheet(tmp_path) + "t2A-sphere-06-prop-f6071de919\n" + "x," * 21 + "x\n")
+    refused(results, ["ingest", "test2_grasp", sheet, "--set", "params.fraction=0.06", "--root",
+                      results],
+            "day1.csv, row 3: 1 cell where the header has 22 columns (a cell with a comma needs "
+            "quotes; a truncated file loses its last row's cells).")

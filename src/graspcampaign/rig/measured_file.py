@@ -208,14 +208,25 @@ def _checked_csv(path: Path) -> str:
         if len(header) == 1 and sep in header[0]:
             raise IngestError(f"{path.name}, header: the cells are separated by {name}, not commas; "
                               "save the sheet as comma-separated CSV (decimal point '.').")
+    # a title above the header: narrower lines, then a header and data rows all of one width
+    width = len(rows[-1])
+    above = next((k for k, row in enumerate(rows) if len(row) == width), 0)
+    if (above and len(rows) - above >= 2 and all(len(row) < width for row in rows[:above])
+            and all(len(row) == width for row in rows[above:])):
+        lines = "the first line" if above == 1 else f"the first {above} lines"
+        raise IngestError(f"{path.name}, header: {lines} (a title or a note above the header?) "
+                          f"{'holds' if above == 1 else 'hold'} fewer cells than the "
+                          f"{counted(len(rows) - above, 'line')} after, which have "
+                          f"{counted(len(rows[-1]), 'cell')} each; the header must be the first "
+                          "line, so delete the lines above it.")
     for i, row in enumerate(rows[1:], start=1):
         if row == header:  # it was "value 'aborted' is not a boolean"
             raise IngestError(f"{path.name}, row {i}: the row repeats the header (two sheets "
                               "pasted one after the other?); delete it.")
         if len(row) != len(header):
-            raise IngestError(f"{path.name}, row {i}: {len(row)} cells where the header has "
-                              f"{len(header)} columns (a cell with a comma needs quotes; a "
-                              "truncated file loses its last row's cells).")
+            raise IngestError(f"{path.name}, row {i}: {counted(len(row), 'cell')} where the "
+                              f"header has {counted(len(header), 'column')} (a cell with a comma "
+                              "needs quotes; a truncated file loses its last row's cells).")
     return text
 
 
