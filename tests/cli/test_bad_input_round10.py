@@ -7,6 +7,7 @@ Each refusal: exit 2, one sentence naming what is wrong and where, nothing store
 
 from __future__ import annotations
 
+import io
 import json
 from pathlib import Path
 
@@ -159,3 +160,24 @@ def test_a_row_of_one_cell_is_counted_in_the_singular(results, tmp_path):
                       results],
             "day1.csv, row 3: 1 cell where the header has 22 columns (a cell with a comma needs "
             "quotes; a truncated file loses its last row's cells).")
+
+
+@pytest.mark.parametrize(("cells", "where"), [
+    # the rows were stored, the second trial's peak slip as not measured; the header was "a
+    # required column is missing: aborted; a column is not part of the sheet: 'Unnamed: 1'; ..."
+    ("J2:J3", "rows 1-2, column 'peak_slip_mm'"),
+    ("A1:B1", "header, columns 'trial_id', 'Unnamed: 1'"),
+])
+def test_merged_cells_of_a_workbook_are_named_by_their_rows_and_columns(results, tmp_path, cells,
+                                                                        where):
+    from openpyxl import load_workbook
+
+    book = tmp_path / "day1.xlsx"
+    pd.read_csv(io.StringIO(_filled_sheet(tmp_path))).to_excel(book, index=False)
+    sheets = load_workbook(book)
+    sheets.active.merge_cells(cells)
+    sheets.save(book)
+    refused(results, ["ingest", "test2_grasp", book, "--set", "params.fraction=0.06", "--root",
+                      results],
+            f"day1.xlsx, {where}: the cells {cells} are merged, so only the first holds the value "
+            "and the others read as empty; unmerge them and give each cell its value.")

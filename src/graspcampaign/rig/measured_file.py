@@ -92,6 +92,7 @@ def read_table(path: str | Path, *, csv_options: dict | None = None,
                     for name in book.sheet_names[1:]}
             if frame.isna().to_numpy().any():  # an uncomputed formula reads as an empty cell
                 _check_formulas(path, book.sheet_names[0], frame)
+            _check_merged(path, book.sheet_names[0], frame)
             return frame
         return pd.read_parquet(path)
     except IngestError:
@@ -184,6 +185,33 @@ def _check_formulas(path: Path, sheet: str, frame: pd.DataFrame) -> None:
                                 "the values")
     finally:
         book.close()
+
+
+def _check_merged(path: Path, sheet: str, frame: pd.DataFrame) -> None:
+    """Refuse merged cells on the sheet read: a merged range keeps its value in its first cell
+    only, so pandas reads the others as empty (a measurement merged over two trials' rows would be
+    stored for the first and taken as not measured for the second). Looked for in the archive's
+    worksheets first (most workbooks have none), then on the sheet itself."""
+    import zipfile
+
+    with zipfile.ZipFile(path) as archive:
+        if not any(b"<mergeCell " in archive.read(name) for name in archive.namelist()
+                   if name.startswith("xl/worksheets/") and name.endswith(".xml")):
+            return
+    from openpyxl import load_workbook
+
+    book = load_workbook(path)  # not read-only: a read-only sheet does not list its merged cells
+    merged = sorted(book[sheet].merged_cells.ranges, key=lambda r: (r.min_row, r.min_col))
+    if merged:
+        first = merged[0]
+        where = ("header" if first.min_row == 1 else f"row {first.min_row - 1}"
+                 if first.min_row == first.max_row else f"rows {first.min_row - 1}-{first.max_row - 1}")
+        names = [f"'{c}'" for c in frame.columns[first.min_col - 1:first.max_col]]
+        column = f", column {names[0]}" if len(names) == 1 else f", columns {', '.join(names)}" \
+            if names else ""
+        raise IngestError(f"{path.name}, {where}{column}: the cells {first.coord} are merged, so "
+                          "only the first holds the value and the others read as empty; unmerge "
+                          "them and give each cell its value.")
 
 
 def _checked_csv(path: Path) -> str:
