@@ -181,3 +181,19 @@ def test_merged_cells_of_a_workbook_are_named_by_their_rows_and_columns(results,
                       results],
             f"day1.xlsx, {where}: the cells {cells} are merged, so only the first holds the value "
             "and the others read as empty; unmerge them and give each cell its value.")
+
+
+@pytest.mark.parametrize(("args", "option", "place", "code"), [
+    # run made a results root named 'res\nults' and wrote its run there; schedule wrote 'she\net.csv'
+    (["run", "smoke", *SMOKE], "--root", "res\nults", "U+000A"),
+    (["schedule", "test2_grasp", "--out"], "--out", "she\net", "U+000A"),
+    (["plan", "{sphere}", "--mass-kg", "0.1", "--png"], "--png", "p\tq.png", "U+0009"),
+])
+def test_a_path_to_write_holding_a_line_break_or_a_tab_is_refused(tmp_path, args, option, place,
+                                                                  code):
+    sphere = tmp_path / "sphere.stl"
+    trimesh.creation.icosphere(subdivisions=2, radius=40.0).export(sphere)
+    given = str(tmp_path / place)
+    words = [arg.format(sphere=sphere) for arg in args] + ([option] if option == "--root" else [])
+    refused(tmp_path, [*words, given], f"{option} {given!r}: {code} (a control character) is not "
+                                       "allowed in a path given here; remove it.")

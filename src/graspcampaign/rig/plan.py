@@ -198,8 +198,10 @@ def check_picture_path(path, option: str = "picture path") -> Path:
     PicturePathError
         One sentence naming the path and what is wrong with it.
     """
-    from graspcampaign.campaign.paths import path_problem
+    from graspcampaign.campaign.paths import control_character, path_problem
 
+    if (control := control_character(path, option)) is not None:
+        raise PicturePathError(control)
     path = Path(path)
     if path.is_dir():
         raise PicturePathError(f"{option} {path} is a directory: give a file path ending in .png, "
