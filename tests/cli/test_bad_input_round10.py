@@ -197,3 +197,12 @@ def test_a_path_to_write_holding_a_line_break_or_a_tab_is_refused(tmp_path, args
     words = [arg.format(sphere=sphere) for arg in args] + ([option] if option == "--root" else [])
     refused(tmp_path, [*words, given], f"{option} {given!r}: {code} (a control character) is not "
                                        "allowed in a path given here; remove it.")
+
+
+@pytest.mark.parametrize("override", ["description=[a]", "compare_with={a:1}"])
+def test_a_list_or_a_mapping_where_text_belongs_is_named_in_plain_words(results, override):
+    # it said "description: Cannot convert 'list' to string: '['a']'." (OmegaConf's words)
+    key, _, _ = override.partition("=")
+    got = "['a']" if key == "description" else "{'a': 1}"
+    refused(results, ["show", "baseline_grid", override, "--root", results],
+            f"{key} must be a value of type str, got {got}.")

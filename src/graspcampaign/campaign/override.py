@@ -445,7 +445,7 @@ def omegaconf_error_sentence(exc: BaseException, prefix: str = "") -> str:
         return (f"{key} takes a list of levels, e.g. {key}={example(name).replace(' ', '')} (or "
                 f"the bare {name}={example(name)[1:].split(',')[0]}), got {value!r}.")
     if re.search(r"Cannot merge|Cannot assign|incompatible with type hint|is not a ListConfig|"
-                 r"is not a subclass", text):
+                 r"is not a subclass|Cannot convert '\w+' to string", text):
         got = f", got {value!r}" if value is not None else ""
         return f"{key} must be {_takes(key, base)}{got}."
     return f"{key}: {text}."
