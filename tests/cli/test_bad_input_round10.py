@@ -206,3 +206,12 @@ def test_a_list_or_a_mapping_where_text_belongs_is_named_in_plain_words(results,
     got = "['a']" if key == "description" else "{'a': 1}"
     refused(results, ["show", "baseline_grid", override, "--root", results],
             f"{key} must be a value of type str, got {got}.")
+
+
+def test_one_measured_record_stored_is_said_in_the_singular(results, tmp_path):
+    # "1 measured records stored in ..."
+    sheet = tmp_path / "day1.csv"
+    sheet.write_text("".join(_filled_sheet(tmp_path).splitlines(keepends=True)[:2]))
+    done = invoke("ingest", "test2_grasp", sheet, "--set", "params.fraction=0.06", "--root", results)
+    assert done.exit_code == 0, done.output
+    assert done.stdout == f"1 measured record stored in {results / 'test2_grasp' / 'measured'}\n"
