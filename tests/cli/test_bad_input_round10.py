@@ -149,7 +149,7 @@ def test_a_title_above_the_header_of_a_csv_is_named_as_one(results, tmp_path, ab
     refused(results, ["ingest", "test2_grasp", sheet, "--set", "params.fraction=0.06", "--root",
                       results],
             f"day1.csv, header: {lines} fewer cells than the 3 lines after, which have 22 cells "
-            "each; the header must be the first line, so delete the lines above it.")
+            "each; the header must be the first row, so delete the rows above it.")
 
 
 def test_a_row_of_one_cell_is_counted_in_the_singular(results, tmp_path):
@@ -215,3 +215,24 @@ def test_one_measured_record_stored_is_said_in_the_singular(results, tmp_path):
     done = invoke("ingest", "test2_grasp", sheet, "--set", "params.fraction=0.06", "--root", results)
     assert done.exit_code == 0, done.output
     assert done.stdout == f"1 measured record stored in {results / 'test2_grasp' / 'measured'}\n"
+
+
+@pytest.mark.parametrize("suffix", [".xlsx", ".csv"])
+def test_a_title_row_as_wide_as_the_table_is_named_by_the_row_holding_the_names(results, tmp_path,
+                                                                                suffix):
+    # it said "required columns are missing: trial_id, aborted, ...; columns are not part of the
+    # sheet: 'Test 2, day 1', 'Unnamed: 1', ..."
+    sheet = tmp_path / f"day1{suffix}"
+    table = pd.read_csv(io.StringIO(_filled_sheet(tmp_path)), dtype=str)
+    rows = [["Test 2 day 1"] + [None] * (table.shape[1] - 1), list(table.columns),
+            *table.to_numpy().tolist()]
+    if suffix == ".xlsx":
+        pd.DataFrame(rows).to_excel(sheet, index=False, header=False)
+    else:
+        pd.DataFrame(rows).to_csv(sheet, index=False, header=False)
+    refused(results, ["ingest", "test2_grasp", sheet, "--set", "params.fraction=0.06", "--root",
+                      results],
+            f"day1{suffix}, header: row 1 holds the column names, so what is above it (a title or "
+            "a note?) was read as the header; the header must be the first row, so delete the "
+            "rows above it (`graspcampaign schedule <study> --template` writes a sheet with every "
+            "column).")

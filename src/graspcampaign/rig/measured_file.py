@@ -246,7 +246,7 @@ def _checked_csv(path: Path) -> str:
                           f"{'holds' if above == 1 else 'hold'} fewer cells than the "
                           f"{counted(len(rows) - above, 'line')} after, which have "
                           f"{counted(len(rows[-1]), 'cell')} each; the header must be the first "
-                          "line, so delete the lines above it.")
+                          "row, so delete the rows above it.")
     for i, row in enumerate(rows[1:], start=1):
         if row == header:  # it was "value 'aborted' is not a boolean"
             raise IngestError(f"{path.name}, row {i}: the row repeats the header (two sheets "
@@ -273,7 +273,8 @@ def table_and_label(data: pd.DataFrame | str | Path, file_label: str | None,
 def header_problems(columns: list[str], required: list[str], units: dict[str, str],
                     unit_re: re.Pattern, optional: Sequence[str] = (),
                     ignored: Collection[str] = (),
-                    other_sheets: Mapping[str, Sequence[str]] | None = None) -> list[str]:
+                    other_sheets: Mapping[str, Sequence[str]] | None = None,
+                    first_rows: Sequence[Sequence] = ()) -> list[str]:
     """Describe every problem of a header, all at once.
 
     Missing required columns; a missing column whose quantity is present under another unit suffix
@@ -284,7 +285,9 @@ def header_problems(columns: list[str], required: list[str], units: dict[str, st
     ``ignored`` columns are accepted and not read (the commanded sheet's own columns, when a rig
     fills in its measurements beside its commands). ``other_sheets`` (a workbook's other sheets'
     headers, ``read_table``'s ``attrs["other_sheets"]``): when the first sheet, the one read,
-    misses required columns that another sheet has, the problem names that sheet.
+    misses required columns that another sheet has, the problem names that sheet. ``first_rows``
+    (the table's first data rows): when one of them holds every required column's name, the
+    header is below a title or a note, and the problem says which row holds it.
 
     Returns
     -------
@@ -319,6 +322,12 @@ def header_problems(columns: list[str], required: list[str], units: dict[str, st
                      "lacks the required columns; sheet '{}' has them all").format(holder)
             return [f"ingest reads the workbook's first sheet, which {first}: move it to the front "
                     "or save it as CSV"]
+        below = next((k for k, row in enumerate(first_rows)
+                      if set(required) <= {str(cell).strip() for cell in row}), None)
+        if below is not None:  # a title above the header: its names are a data row's cells
+            return [f"row {below + 1} holds the column names, so what is above it (a title or a "
+                    "note?) was read as the header; the header must be the first row, so delete "
+                    "the rows above it"]
     out += wrong
     if twice:
         out.append(f"{'a column appears' if len(twice) == 1 else 'columns appear'} more than once: "
