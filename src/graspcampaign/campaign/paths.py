@@ -41,9 +41,13 @@ def path_problem(path: Path, *, write: bool = False, directory: bool = True) -> 
                 return _dangling(where)
             if where.exists() and not where.is_file():
                 return f"is {_special(where.stat().st_mode)}, not a regular file"
-        elif not where.is_dir():  # a symlink leading nowhere or in a loop: not "not a directory"
-            what = ("is a file, not a directory" if where.is_file() else _dangling(where)
-                    if not where.exists() else f"is {_special(where.stat().st_mode)}, not a directory")
+        elif not where.is_dir():
+            if where.is_file():
+                what = "is a file, not a directory"
+            elif not where.exists():  # a symlink leading nowhere or in a loop
+                what = _dangling(where)
+            else:
+                what = f"is {_special(where.stat().st_mode)}, not a directory"
             return what if i == 0 else f"{where} {what}"
         return _write_denied(where) if write else None
     return None

@@ -202,16 +202,20 @@ def _check_merged(path: Path, sheet: str, frame: pd.DataFrame) -> None:
 
     book = load_workbook(path)  # not read-only: a read-only sheet does not list its merged cells
     merged = sorted(book[sheet].merged_cells.ranges, key=lambda r: (r.min_row, r.min_col))
-    if merged:
-        first = merged[0]
-        where = ("header" if first.min_row == 1 else f"row {first.min_row - 1}"
-                 if first.min_row == first.max_row else f"rows {first.min_row - 1}-{first.max_row - 1}")
-        names = [f"'{c}'" for c in frame.columns[first.min_col - 1:first.max_col]]
-        column = f", column {names[0]}" if len(names) == 1 else f", columns {', '.join(names)}" \
-            if names else ""
-        raise IngestError(f"{path.name}, {where}{column}: the cells {first.coord} are merged, so "
-                          "only the first holds the value and the others read as empty; unmerge "
-                          "them and give each cell its value.")
+    if not merged:
+        return
+    first = merged[0]
+    rows = (first.min_row - 1, first.max_row - 1)  # data rows: the sheet's row 1 is the header
+    if rows[0] == 0:
+        where = "header"
+    else:
+        where = f"row {rows[0]}" if rows[0] == rows[1] else f"rows {rows[0]}-{rows[1]}"
+    names = [f"'{c}'" for c in frame.columns[first.min_col - 1:first.max_col]]
+    if names:
+        where += f", column {names[0]}" if len(names) == 1 else f", columns {', '.join(names)}"
+    raise IngestError(f"{path.name}, {where}: the cells {first.coord} are merged, so only the "
+                      "first holds the value and the others read as empty; unmerge them and give "
+                      "each cell its value.")
 
 
 def _checked_csv(path: Path) -> str:
