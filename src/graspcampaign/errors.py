@@ -29,6 +29,27 @@ def disk_full(exc: BaseException) -> bool:
     return isinstance(exc, OSError) and exc.errno in (errno.ENOSPC, errno.EDQUOT)
 
 
+def not_utf8(data: bytes) -> str | None:
+    """Why the bytes of a text file (a study file, a CSV of measured records) are not UTF-8 text,
+    in the words after the file's name, or None; a UTF-8 byte-order mark is allowed.
+
+    UTF-16 (a spreadsheet's "Unicode text" export) is named as such, with or without its
+    byte-order mark, when its first 100 characters are ASCII or Latin-1 (every other byte a NUL):
+    without a mark such text decodes as UTF-8, each character beside a NUL byte, and a CSV read
+    so was cells and lines of nothing ("1 cells where the header has 22 columns"). Otherwise the
+    line and the first byte that no UTF-8 character holds.
+    """
+    head = data[2:202] if data[:2] in (b"\xff\xfe", b"\xfe\xff") else data[:200]
+    if len(head) >= 2 and any(head[1::2]) != any(head[0::2]):  # every other byte a NUL
+        return ": the file is UTF-16 text, not UTF-8"
+    try:
+        data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        line = data[:exc.start].count(b"\n") + 1
+        return f", line {line}: the file is not UTF-8 text (byte 0x{data[exc.start]:02x})"
+    return None
+
+
 class UserInputError(Exception):
     """Bad usage or bad input: a config, an override, a file or a command-line value.
 

@@ -162,10 +162,10 @@ def test_a_study_file_without_its_kinds_factors_is_named_with_its_line(results, 
 
 def test_factors_missing_for_the_trial_kind_are_named(results):
     for command in ("show", "run"):
-        refused(results, [command, "baseline_grid", "~factors", "--root", results],
-                "trial kind 'quasi_static' needs the factors shape, mass_kg, mu and planner on "
-                "every trial, which this study does not set (its factors: none); give each a list "
-                "of levels under factors, e.g. shape: [sphere, pear].")
+        refused(results, [command, "baseline_grid", "~factors.mu", "--root", results],
+                "trial kind 'quasi_static' needs the factor mu on every trial, which this study "
+                "does not set (its factors: shape, mass_kg, planner); give each a list of levels "
+                "under factors, e.g. mu: [0.3, 0.5].")
         refused(results, [command, "smoke", "kind=quasi_static", "--root", results],
                 "trial kind 'quasi_static' needs the factors mass_kg, mu and planner on every "
                 "trial, which this study does not set (its factors: shape, nodes); give each a "

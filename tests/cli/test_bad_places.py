@@ -33,7 +33,7 @@ def test_a_root_that_is_not_a_directory_is_refused_before_any_work(finished, tmp
     records.write_text("trial_id\n")
     cases = {blocker: f"--root {blocker}: is a file, not a directory.",
              blocker / "sub": f"--root {blocker / 'sub'}: {blocker} is a file, not a directory.",
-             Path("/dev/null"): "--root /dev/null: is not a directory."}
+             Path("/dev/null"): "--root /dev/null: is a character device, not a directory."}
     for root, message in cases.items():
         for args in (["run", "smoke", *SMOKE], ["show", "smoke"], ["status", "smoke"], ["report"],
                      ["report", "smoke"], ["reproduce"], ["ingest", "test2_grasp", records],

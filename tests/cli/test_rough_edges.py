@@ -121,7 +121,8 @@ def test_a_misspelt_mesh_unit_is_suggested(tmp_path, sphere):
 @pytest.mark.parametrize(("study", "stage"), [
     # measured at paper scale: the 144 PSO identifications took 7 s of CPU beside the trials' 9 s,
     # Test 1's re-identification 32 s after trials that took 22 s on 2 workers (decisions.md; the
-    # words give the proportion, not this machine's seconds); the line said only "setup and finalize stages not counted", as for every kind, stage or none
+    # words give the proportion, not this machine's seconds); the line said only "setup and
+    # finalize stages not counted", as for every kind, stage or none
     ("sensitivity", "a PSO identification of each mu x m body before the trials (at paper scale about "
                     "as long as the trials; docs/decisions.md)"),
     ("test1_bench", "the PSO re-identification of each material and the summaries after the trials "

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 import errno
+import json
 import re
 import unicodedata
 from collections.abc import Iterator
@@ -132,6 +133,13 @@ def check_overrides(given: list[str]) -> None:
         if required and (required[1].default == "???" or "." in key):
             raise ConfigError(f"override {item!r} deletes {key}, which every study needs; set it "
                               f"instead ({key}=...).", key=key)
+        if required:  # ~seeds: the schema's default stands in for the study's 15, unsaid
+            field = required[1]
+            default = (field.default if field.default_factory is dataclasses.MISSING
+                       else field.default_factory())
+            raise ConfigError(f"override {item!r} deletes {key}, whose place the schema's default "
+                              f"({json.dumps(default)}) would take without a word; set it instead "
+                              f"({key}=...).", key=key)
         setting, parts = bool(sep) and "~" not in prefix, key.split(".")
         for i in range(1, len(parts) if setting else 0):  # evaluator.alpha.x=1, factors.mu.0.x=1
             single = ".".join(parts[:i])
@@ -302,6 +310,10 @@ def _character_sentence(item: str, typed: str, error: str) -> str | None:
     at = controls[0] if controls else lines[1].index("^") - len(_LEXER)
     if not 0 <= at < len(item):
         return None
+    # the caret marks where the lexer's token began ('factors.' of 'factors.μ'): the character is
+    # the first one after it that no key or prefix holds
+    at = next((i for i in range(at, item.find("=") if "=" in item else len(item))
+               if not (item[i].isascii() and (item[i].isalnum() or item[i] in "_-./+~@"))), at)
     char = item[at]
     shown = (repr(char) if char.isprintable() and not char.isspace() or char == " " else
              f"U+{ord(char):04X} ({unicodedata.name(char, 'a control character').lower()})")
@@ -436,7 +448,7 @@ def omegaconf_error_sentence(exc: BaseException, prefix: str = "") -> str:
         return (f"{key} takes a list of levels, e.g. {key}={example(name).replace(' ', '')} (or "
                 f"the bare {name}={example(name)[1:].split(',')[0]}), got {value!r}.")
     if re.search(r"Cannot merge|Cannot assign|incompatible with type hint|is not a ListConfig|"
-                 r"is not a subclass", text):
+                 r"is not a subclass|Cannot convert '\w+' to string", text):
         got = f", got {value!r}" if value is not None else ""
         return f"{key} must be {_takes(key, base)}{got}."
     return f"{key}: {text}."

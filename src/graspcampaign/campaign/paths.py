@@ -42,10 +42,29 @@ def path_problem(path: Path, *, write: bool = False, directory: bool = True) -> 
             if where.exists() and not where.is_file():
                 return f"is {_special(where.stat().st_mode)}, not a regular file"
         elif not where.is_dir():
-            what = "is a file, not a directory" if where.is_file() else "is not a directory"
+            if where.is_file():
+                what = "is a file, not a directory"
+            elif not where.exists():  # a symlink leading nowhere or in a loop
+                what = _dangling(where)
+            else:
+                what = f"is {_special(where.stat().st_mode)}, not a directory"
             return what if i == 0 else f"{where} {what}"
         return _write_denied(where) if write else None
     return None
+
+
+def control_character(path: str | os.PathLike, option: str) -> str | None:
+    """The sentence refusing a results root or an output path that holds a control character (a
+    line break, a tab), or None. Such a name is legal, but no one types it on purpose (a path
+    pasted across two lines): it would make a directory or file whose name every listing and
+    message splits. The path is shown quoted, with the character escaped, as an override is."""
+    import unicodedata
+
+    char = next((c for c in os.fspath(path) if unicodedata.category(c) == "Cc"), None)
+    if char is None:
+        return None
+    return (f"{option} {os.fspath(path)!r}: U+{ord(char):04X} (a control character) is not "
+            "allowed in a path given here; remove it.")
 
 
 def input_file_problem(path: Path) -> str | None:
@@ -114,6 +133,8 @@ def check_root(root: str | Path, key: str = "--root", *, write: bool = False) ->
     if not str(root).strip():
         raise UserInputError(f"{key} is empty; give the results directory (for example "
                              "results): an empty root would mean the current directory.")
+    if (control := control_character(root, key)) is not None:
+        raise UserInputError(control)
     why = path_problem(Path(root), write=write) or _not_a_results_root(Path(root))
     if why is not None:
         raise UserInputError(f"{key} {root}: {why}.")

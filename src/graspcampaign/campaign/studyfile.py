@@ -26,7 +26,7 @@ from typing import Any
 
 from graspcampaign.campaign.paths import expand_home, input_file_problem
 from graspcampaign.core.words import meant
-from graspcampaign.errors import ConfigError, UserInputError
+from graspcampaign.errors import ConfigError, UserInputError, not_utf8
 
 _RUN_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
 _SCHEMA_LINE = re.compile(r"^#\s*schema:\s*(\w+)")
@@ -232,6 +232,10 @@ def _yaml_error_sentence(path: Path, exc: Exception, n_lines: int) -> str:
     context = (getattr(exc, "context", None) or "").strip()
     if problem.startswith(_REFUSALS):
         return f"{where}: {problem}."
+    if tag := re.match(r"could not determine a constructor for the tag '(.+)'", problem):
+        return (f"{where}: the tag {tag[1].replace('tag:yaml.org,2002:', '!!')} is not read; a "
+                "study or group file holds plain values (numbers, text, true/false, lists, "
+                "mappings), so remove it.")
     if "'\\t'" in problem:
         return f"{where}: a tab character where YAML allows only spaces for indentation."
     text = f"{context}: {problem}" if context else problem
@@ -274,6 +278,12 @@ def _loader() -> type:
         seen: dict[Any, int] = {}
         for key_node, _ in node.value:
             key = loader.construct_object(key_node, deep=True)
+            if isinstance(key, (list, dict)):  # '? [a, b]': a complex key, which no setting has
+                start, end = key_node.start_mark, key_node.end_mark
+                raise yaml.constructor.ConstructorError(
+                    None, None, f"the key {start.buffer[start.index:end.index]} is a "
+                                f"{'list' if isinstance(key, list) else 'mapping'}, not a name; "
+                                "write the name of the setting", start)
             if key in seen:
                 raise yaml.constructor.ConstructorError(
                     None, None, f"key {key!r} is given twice (first on line {seen[key] + 1})",
@@ -305,13 +315,11 @@ def read_yaml(path: Path, *, study: bool = False) -> dict[str, Any]:
                               "5 KB, and each command reads YAML at about a second per MB, "
                               "twice, docs/decisions.md).")
         raw = Path(path).read_bytes()
-        text = raw.decode("utf-8-sig")  # a byte-order mark is no content
     except OSError as exc:
         raise ConfigError(f"{path} cannot be read ({exc.strerror or type(exc).__name__}).") from None
-    except UnicodeDecodeError as exc:
-        line = raw[:exc.start].count(b"\n") + 1
-        raise ConfigError(f"{path}, line {line}: the file is not UTF-8 text (byte "
-                          f"0x{raw[exc.start]:02x}); save it as UTF-8.") from None
+    if why := not_utf8(raw):
+        raise ConfigError(f"{path}{why}; save it as UTF-8.")
+    text = raw.decode("utf-8-sig")  # a byte-order mark is no content
     try:
         data = yaml.load(text, Loader=_loader())  # noqa: S506  (a SafeLoader subclass)
     except yaml.YAMLError as exc:

@@ -240,10 +240,12 @@ def writable_stem(out: Path, option: str, hint: str = "a file stem such as",
                    example: str = "schedule") -> Path:
     """Check that files ``<out>.<ext>`` (or ``out``) can be written, before any work: a directory
     in its place, a file on its path or a directory that cannot be written is bad input."""
-    from graspcampaign.campaign.paths import path_problem
+    from graspcampaign.campaign.paths import control_character, path_problem
 
     if out == "":  # as a Path, "" would read "." (path_or_empty)
         fail(f"{option} is empty; give {hint} {example}.")
+    if (control := control_character(out, option)) is not None:
+        fail(control)
     outside_runs(out, option)
     why = path_problem(out, write=True, directory=False)
     if why == "is a directory, not a file":

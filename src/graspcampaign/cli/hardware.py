@@ -115,13 +115,14 @@ def ingest(
 
     The source is measured, or virtual for a virtual rig's exports."""
     from graspcampaign.campaign.ingest import ingest_files
+    from graspcampaign.core.words import counted
 
     check_root(root, write=True)
     cfg = compose(study, overrides, root)
     n, path, source = ingest_files(cfg, [str(f) for f in files], run, given=(study, overrides or []))
-    typer.echo(f"{n} measured records stored in {path}" if source == "measured" else
-               f"{n} virtual-rig records (source = {source}: exports, not rig measurements) "
-               f"stored in {path}")
+    typer.echo(f"{counted(n, 'measured record')} stored in {path}" if source == "measured" else
+               f"{counted(n, 'virtual-rig record')} (source = {source}: exports, not rig "
+               f"measurements) stored in {path}")
 
 
 @app.command()

@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import logging
 import os
+import shutil
+import tempfile
 
 import numpy as np
 import trimesh
@@ -26,6 +28,7 @@ from graspcampaign.core.mesh_format import (
     check_stl_layout,
     other_format,
     ply_layout,
+    text_with_bom,
 )
 from graspcampaign.core.plausible import OBJECT_SIZE_MM
 from graspcampaign.core.winding import winding_numbers
@@ -99,6 +102,13 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
         raise MeshError(f"mesh {base!r} is empty: the file has 0 bytes.")
     with open(name, "rb") as fh:  # read once: the format and layout checks share it
         head = fh.read(4096)
+    if text_with_bom(head, n_bytes):  # as a study file's or a CSV's, the mark is no content
+        with tempfile.TemporaryDirectory() as folder, open(name, "rb") as fh:
+            fh.seek(3)
+            copy = os.path.join(folder, base)  # the same name in every message
+            with open(copy, "wb") as out:
+                shutil.copyfileobj(fh, out)
+            return load_mesh(copy, unit)
     other = other_format(head, n_bytes)
     if other is None:  # a binary STL's 80-byte header is free text: its size tells it first
         check_compressed(head, base, suffix)

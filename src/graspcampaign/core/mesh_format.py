@@ -23,6 +23,7 @@ __all__ = [
     "check_stl_layout",
     "other_format",
     "ply_layout",
+    "text_with_bom",
 ]
 
 
@@ -61,9 +62,21 @@ def check_stl_layout(name: str, base: str, n_bytes: int, head: bytes) -> None:
                     "(84 bytes plus 50 per triangle) nor an ASCII STL (text starting with 'solid').")
 
 
+def _binary_stl_size(head: bytes, n_bytes: int) -> bool:
+    """Whether ``n_bytes`` is the size of a binary STL counting the triangles its header says."""
+    return len(head) >= 84 and 84 + 50 * int.from_bytes(head[80:84], "little") == n_bytes
+
+
+def text_with_bom(head: bytes, n_bytes: int) -> bool:
+    """Whether a mesh file begins with a UTF-8 byte-order mark (as Windows Notepad saves text): a
+    text mesh whose readers would take the mark for part of its first line (a binary STL of the
+    size its header says may begin so, its 80-byte header being free text)."""
+    return head.startswith(b"\xef\xbb\xbf") and not _binary_stl_size(head, n_bytes)
+
+
 def other_format(head: bytes, n_bytes: int) -> tuple[str, str] | None:
     """Recognise an STL, PLY or OBJ file by its first bytes: (what it looks like, its suffix)."""
-    if len(head) >= 84 and 84 + 50 * int.from_bytes(head[80:84], "little") == n_bytes:
+    if _binary_stl_size(head, n_bytes):
         return "a binary STL (84 bytes plus 50 per triangle)", ".stl"
     if head.lstrip()[:5].lower() == b"solid" and b"facet" in head:
         return "an ASCII STL (text starting with 'solid')", ".stl"

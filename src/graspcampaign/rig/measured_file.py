@@ -20,6 +20,7 @@ import numpy as np
 import pandas as pd
 
 from graspcampaign.core.words import counted, meant
+from graspcampaign.errors import not_utf8
 
 __all__ = ["IngestError", "cell_problem", "header_problems", "ingest_error", "read_table",
            "table_and_label"]
@@ -97,6 +98,7 @@ def read_table(path: str | Path, *, csv_options: dict | None = None,
                     for name in book.sheet_names[1:]}
             if frame.isna().to_numpy().any():  # an uncomputed formula reads as an empty cell
                 _check_formulas(path, book.sheet_names[0], frame)
+            _check_merged(path, book.sheet_names[0], frame)
             return frame
         return pd.read_parquet(path)
     except IngestError:
@@ -191,18 +193,46 @@ def _check_formulas(path: Path, sheet: str, frame: pd.DataFrame) -> None:
         book.close()
 
 
+def _check_merged(path: Path, sheet: str, frame: pd.DataFrame) -> None:
+    """Refuse merged cells on the sheet read: a merged range keeps its value in its first cell
+    only, so pandas reads the others as empty (a measurement merged over two trials' rows would be
+    stored for the first and taken as not measured for the second). Looked for in the archive's
+    worksheets first (most workbooks have none), then on the sheet itself."""
+    import zipfile
+
+    with zipfile.ZipFile(path) as archive:
+        if not any(b"<mergeCell " in archive.read(name) for name in archive.namelist()
+                   if name.startswith("xl/worksheets/") and name.endswith(".xml")):
+            return
+    from openpyxl import load_workbook
+
+    book = load_workbook(path)  # not read-only: a read-only sheet does not list its merged cells
+    merged = sorted(book[sheet].merged_cells.ranges, key=lambda r: (r.min_row, r.min_col))
+    if not merged:
+        return
+    first = merged[0]
+    rows = (first.min_row - 1, first.max_row - 1)  # data rows: the sheet's row 1 is the header
+    if rows[0] == 0:
+        where = "header"
+    else:
+        where = f"row {rows[0]}" if rows[0] == rows[1] else f"rows {rows[0]}-{rows[1]}"
+    names = [f"'{c}'" for c in frame.columns[first.min_col - 1:first.max_col]]
+    if names:
+        where += f", column {names[0]}" if len(names) == 1 else f", columns {', '.join(names)}"
+    raise IngestError(f"{path.name}, {where}: the cells {first.coord} are merged, so only the "
+                      "first holds the value and the others read as empty; unmerge them and give "
+                      "each cell its value.")
+
+
 def _checked_csv(path: Path) -> str:
     """Return a CSV's text, or refuse one that pandas would misread or describe only by an
     exception's name: not UTF-8, empty, cells separated by ';' or tabs (a spreadsheet's regional
     export), or a data row with more or fewer cells than the header (pandas shifts a longer first
     row into an index and pads a shorter row, a truncated file's last row, with empty cells)."""
     data = path.read_bytes()
-    try:
-        text = data.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        line = data[:exc.start].count(b"\n") + 1
-        raise IngestError(f"{path.name}, line {line}: the file is not UTF-8 text (byte "
-                          f"0x{data[exc.start]:02x}); save it as CSV UTF-8.") from None
+    if why := not_utf8(data):
+        raise IngestError(f"{path.name}{why}; save it as CSV UTF-8.")
+    text = data.decode("utf-8-sig")
     try:
         # lines as the csv module (and pandas) end them: not str.splitlines, which also breaks
         # at U+2028 and other separators a cell may hold
@@ -216,14 +246,25 @@ def _checked_csv(path: Path) -> str:
         if len(header) == 1 and sep in header[0]:
             raise IngestError(f"{path.name}, header: the cells are separated by {name}, not commas; "
                               "save the sheet as comma-separated CSV (decimal point '.').")
+    # a title above the header: narrower lines, then a header and data rows all of one width
+    width = len(rows[-1])
+    above = next((k for k, row in enumerate(rows) if len(row) == width), 0)
+    if (above and len(rows) - above >= 2 and all(len(row) < width for row in rows[:above])
+            and all(len(row) == width for row in rows[above:])):
+        lines = "the first line" if above == 1 else f"the first {above} lines"
+        raise IngestError(f"{path.name}, header: {lines} (a title or a note above the header?) "
+                          f"{'holds' if above == 1 else 'hold'} fewer cells than the "
+                          f"{counted(len(rows) - above, 'line')} after, which have "
+                          f"{counted(len(rows[-1]), 'cell')} each; the header must be the first "
+                          "row, so delete the rows above it.")
     for i, row in enumerate(rows[1:], start=1):
         if row == header:  # it was "value 'aborted' is not a boolean"
             raise IngestError(f"{path.name}, row {i}: the row repeats the header (two sheets "
                               "pasted one after the other?); delete it.")
         if len(row) != len(header):
-            raise IngestError(f"{path.name}, row {i}: {len(row)} cells where the header has "
-                              f"{len(header)} columns (a cell with a comma needs quotes; a "
-                              "truncated file loses its last row's cells).")
+            raise IngestError(f"{path.name}, row {i}: {counted(len(row), 'cell')} where the "
+                              f"header has {counted(len(header), 'column')} (a cell with a comma "
+                              "needs quotes; a truncated file loses its last row's cells).")
     return text
 
 
@@ -242,7 +283,8 @@ def table_and_label(data: pd.DataFrame | str | Path, file_label: str | None,
 def header_problems(columns: list[str], required: list[str], units: dict[str, str],
                     unit_re: re.Pattern, optional: Sequence[str] = (),
                     ignored: Collection[str] = (),
-                    other_sheets: Mapping[str, Sequence[str]] | None = None) -> list[str]:
+                    other_sheets: Mapping[str, Sequence[str]] | None = None,
+                    first_rows: Sequence[Sequence] = ()) -> list[str]:
     """Describe every problem of a header, all at once.
 
     Missing required columns; a missing column whose quantity is present under another unit suffix
@@ -253,7 +295,9 @@ def header_problems(columns: list[str], required: list[str], units: dict[str, st
     ``ignored`` columns are accepted and not read (the commanded sheet's own columns, when a rig
     fills in its measurements beside its commands). ``other_sheets`` (a workbook's other sheets'
     headers, ``read_table``'s ``attrs["other_sheets"]``): when the first sheet, the one read,
-    misses required columns that another sheet has, the problem names that sheet.
+    misses required columns that another sheet has, the problem names that sheet. ``first_rows``
+    (the table's first data rows): when one of them holds every required column's name, the
+    header is below a title or a note, and the problem says which row holds it.
 
     Returns
     -------
@@ -288,6 +332,12 @@ def header_problems(columns: list[str], required: list[str], units: dict[str, st
                      "lacks the required columns; sheet '{}' has them all").format(holder)
             return [f"ingest reads the workbook's first sheet, which {first}: move it to the front "
                     "or save it as CSV"]
+        below = next((k for k, row in enumerate(first_rows)
+                      if set(required) <= {str(cell).strip() for cell in row}), None)
+        if below is not None:  # a title above the header: its names are a data row's cells
+            return [f"row {below + 1} holds the column names, so what is above it (a title or a "
+                    "note?) was read as the header; the header must be the first row, so delete "
+                    "the rows above it"]
     out += wrong
     if twice:
         out.append(f"{'a column appears' if len(twice) == 1 else 'columns appear'} more than once: "

@@ -202,8 +202,10 @@ def check_picture_path(path, option: str = "picture path") -> Path:
     PicturePathError
         One sentence naming the path and what is wrong with it.
     """
-    from graspcampaign.campaign.paths import path_problem
+    from graspcampaign.campaign.paths import control_character, path_problem
 
+    if (control := control_character(path, option)) is not None:
+        raise PicturePathError(control)
     path = Path(path)
     if path.is_dir():
         raise PicturePathError(f"{option} {path} is a directory: give a file path ending in .png, "
@@ -211,11 +213,11 @@ def check_picture_path(path, option: str = "picture path") -> Path:
     if path.suffix.lower() != ".png":
         raise PicturePathError(f"{option} {path} does not end in .png: the picture is a PNG file, "
                                f"so give a path such as {path.with_suffix('.png')}.")
-    if not path.parent.exists():
-        raise PicturePathError(f"{option} {path}: directory {path.parent} does not exist.")
-    why = path_problem(path, write=True, directory=False)
+    why = path_problem(path, write=True, directory=False)  # first: a parent in a loop of links
     if why is not None:
         raise PicturePathError(f"{option} {path}: {why}.")
+    if not path.parent.exists():
+        raise PicturePathError(f"{option} {path}: directory {path.parent} does not exist.")
     return path
 
 

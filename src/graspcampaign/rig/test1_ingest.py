@@ -108,7 +108,8 @@ def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterabl
     units = {c: _EXPECTED_UNIT[c.rsplit("_", 1)[0]] for c in WAVEFORM_COLUMNS[1:]}
     problems = header_problems(list(df.columns), list(WAVEFORM_COLUMNS), units, _UNIT_RE,
                                ("attempt", "anomaly", "source"),
-                               other_sheets=df.attrs.get("other_sheets"))
+                               other_sheets=df.attrs.get("other_sheets"),
+                               first_rows=df.head(5).to_numpy().tolist())
     if problems:
         raise IngestError(f"{label}, header: {'; '.join(problems)} (`graspcampaign schedule "
                           "test1_bench --template` writes a sheet with every column).")
