@@ -89,6 +89,7 @@ def read_table(path: str | Path, *, csv_options: dict | None = None,
                 frame.attrs["other_sheets"] = {
                     str(name): [str(c) for c in pd.read_excel(book, name, nrows=0).columns]
                     for name in book.sheet_names[1:]}
+            _check_merged(path, frame)
             if frame.isna().to_numpy().any():  # an uncomputed formula reads as an empty cell
                 _check_formulas(path, book.sheet_names[0], frame)
             return frame
@@ -183,6 +184,59 @@ def _check_formulas(path: Path, sheet: str, frame: pd.DataFrame) -> None:
                                 "the values")
     finally:
         book.close()
+
+
+def _check_merged(path: Path, frame: pd.DataFrame) -> None:
+    """Refuse merged cells in the first sheet's table (its header and data rows).
+
+    A merged range keeps its value in its first (top-left) cell and leaves the others empty
+    (ECMA-376 Part 1 §18.3.1.55), so pandas reads every cell but the first as not measured: a value
+    merged over two trials would be stored for the first alone. The sheet's row ``k + 2`` is the
+    frame's row ``k`` (header in row 1), as in :func:`_check_formulas`.
+    """
+    from openpyxl.utils.cell import range_boundaries
+
+    for ref in _merged_ranges(path):
+        col, row = range_boundaries(ref)[:2]
+        if col <= len(frame.columns) and row <= len(frame) + 1:
+            raise ingest_error(path.name, row - 1 or None, str(frame.columns[col - 1]),
+                               f"the cell is merged with others ({ref}), which leaves all of them "
+                               "but the first empty; unmerge them and fill in each cell")
+
+
+def _merged_ranges(path: Path) -> list[str]:
+    """The merged ranges (``'J2:J3'``) of a workbook's first sheet, read from its XML: openpyxl
+    names them only when it loads the whole workbook into memory, not in its read-only mode.
+
+    The first sheet is the first ``<sheet>`` of ``xl/workbook.xml`` (the one pandas reads); its
+    part is named by the workbook's relationships (ECMA-376 Part 1 §18.2.19, Part 2 §9.3). A part
+    that cannot be found leaves the check to the reader, which said the workbook is readable.
+    """
+    import xml.etree.ElementTree as ET
+    import zipfile
+
+    with zipfile.ZipFile(path) as archive:
+        try:
+            sheet = ET.fromstring(archive.read("xl/workbook.xml")).find("{*}sheets/{*}sheet")
+            rid = next(v for k, v in sheet.attrib.items() if k.endswith("}id"))
+            rels = ET.fromstring(archive.read("xl/_rels/workbook.xml.rels"))
+            target = next(r.get("Target") for r in rels if r.get("Id") == rid)
+        except (KeyError, AttributeError, StopIteration, ET.ParseError):
+            return []
+        part = target.lstrip("/") if target.startswith("/") else f"xl/{target}"
+        if part not in archive.namelist():
+            return []
+        found, tail = [], b""
+        with archive.open(part) as xml:  # in pieces: a sheet of a million rows is ~100 MB of XML
+            while chunk := xml.read(2**20):
+                text = tail + chunk
+                found += _MERGE.findall(text)
+                tail = text[-256:]  # a range cut in two is found whole in the next piece
+    return list(dict.fromkeys(r.decode() for r in found))
+
+
+#: a merged range in a worksheet's XML, ``<mergeCell ref="J2:J3"/>`` (any namespace prefix)
+_MERGE = re.compile(rb'<(?:\w+:)?mergeCell\s[^>]*?ref="([A-Z]+[0-9]+:[A-Z]+[0-9]+)"')
 
 
 def _checked_csv(path: Path) -> str:
