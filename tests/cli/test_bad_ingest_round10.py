@@ -62,3 +62,23 @@ def test_merged_cells_in_a_workbook_are_named(stored, tmp_path, merge, where):
     refused(stored, ["ingest", "test2_grasp", book, *T2, "--root", stored],
             f"day2.xlsx, {where}: the cell is merged with others ({merge}), which leaves all of "
             "them but the first empty; unmerge them and fill in each cell.")
+
+
+def test_a_title_line_above_the_header_is_named_as_one(stored, tmp_path):
+    # the old code took the title for the header: "row 1: 25 cells where the header has 1 columns"
+    sheet = tmp_path / "day2.csv"
+    sheet.write_text("# bench export 2026-03-01\n" + _records(tmp_path, slice(2, 4)).to_csv(index=False))
+    refused(stored, ["ingest", "test2_grasp", sheet, *T2, "--root", stored],
+            "day2.csv, header: the first line has 1 cell where the rows below it have 25 cells (a "
+            "title or note line above the header?); the header must be the first line: delete the "
+            "lines above it.")
+
+
+def test_a_row_with_one_cell_is_counted_in_the_singular(stored, tmp_path):
+    # the old code said "1 cells"; one data row alone is not taken for a title line's evidence
+    sheet = tmp_path / "day2.csv"
+    sheet.write_text(_records(tmp_path, slice(2, 3)).to_csv(index=False) + "note\n")
+    refused(stored, ["ingest", "test2_grasp", sheet, *T2, "--root", stored],
+            "day2.csv, row 2: 1 cell where the header has 25 columns (a cell with a comma needs "
+            "quotes; a truncated file loses its last row's cells).")
+

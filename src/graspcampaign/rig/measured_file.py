@@ -251,28 +251,43 @@ def _checked_csv(path: Path) -> str:
         line = data[:exc.start].count(b"\n") + 1
         raise IngestError(f"{path.name}, line {line}: the file is not UTF-8 text (byte "
                           f"0x{data[exc.start]:02x}); save it as CSV UTF-8.") from None
+    # lines as the csv module (and pandas) end them: not str.splitlines, which also breaks at
+    # U+2028 and other separators a cell may hold; row by row, not a list of a million rows (a
+    # waveform file's), which took 0.8 GB to check a 45 MB file
+    rows = (r for r in csv.reader(io.StringIO(text, newline=""))
+            if r and (r[0].strip() or any(c.strip() for c in r)))
     try:
-        # lines as the csv module (and pandas) end them: not str.splitlines, which also breaks
-        # at U+2028 and other separators a cell may hold
-        rows = [r for r in csv.reader(io.StringIO(text, newline="")) if any(c.strip() for c in r)]
+        header = next(rows, None)
+        if header is None:
+            raise IngestError(f"{path.name}: the file is empty.")  # blank lines only
+        for sep, name in ((";", "';'"), ("\t", "tabs")):
+            if len(header) == 1 and sep in header[0]:
+                raise IngestError(f"{path.name}, header: the cells are separated by {name}, not "
+                                  "commas; save the sheet as comma-separated CSV (decimal point '.').")
+        for i, row in enumerate(rows, start=1):
+            if row == header:  # it was "value 'aborted' is not a boolean"
+                raise IngestError(f"{path.name}, row {i}: the row repeats the header (two sheets "
+                                  "pasted one after the other?); delete it.")
+            if len(row) != len(header):
+                _wrong_cells(path.name, header, i, row, next(rows, None) if i == 1 else None)
     except csv.Error as exc:  # a cell over the csv module's field limit, a stray NUL byte
         raise IngestError(f"{path.name}: the file cannot be read as CSV ({exc}).") from None
-    if not rows:
-        raise IngestError(f"{path.name}: the file is empty.")  # blank lines only
-    header = rows[0]
-    for sep, name in ((";", "';'"), ("\t", "tabs")):
-        if len(header) == 1 and sep in header[0]:
-            raise IngestError(f"{path.name}, header: the cells are separated by {name}, not commas; "
-                              "save the sheet as comma-separated CSV (decimal point '.').")
-    for i, row in enumerate(rows[1:], start=1):
-        if row == header:  # it was "value 'aborted' is not a boolean"
-            raise IngestError(f"{path.name}, row {i}: the row repeats the header (two sheets "
-                              "pasted one after the other?); delete it.")
-        if len(row) != len(header):
-            raise IngestError(f"{path.name}, row {i}: {len(row)} cells where the header has "
-                              f"{len(header)} columns (a cell with a comma needs quotes; a "
-                              "truncated file loses its last row's cells).")
     return text
+
+
+def _wrong_cells(name: str, header: list[str], i: int, row: list[str],
+                 below: list[str] | None) -> None:
+    """Refuse data row ``i`` of a CSV whose cells are not the header's; when it is the first row
+    and the row ``below`` it has as many cells, the header line is the odd one (a title or note
+    line above the header, which pandas would take for it)."""
+    if below is not None and len(below) == len(row):
+        raise IngestError(f"{name}, header: the first line has {counted(len(header), 'cell')} "
+                          f"where the rows below it have {counted(len(row), 'cell')} (a title or "
+                          "note line above the header?); the header must be the first line: "
+                          "delete the lines above it.")
+    raise IngestError(f"{name}, row {i}: {counted(len(row), 'cell')} where the header has "
+                      f"{counted(len(header), 'column')} (a cell with a comma needs quotes; a "
+                      "truncated file loses its last row's cells).")
 
 
 def table_and_label(data: pd.DataFrame | str | Path, file_label: str | None,
