@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 import pytest
 from cli_checks import invoke, refused
@@ -82,3 +83,19 @@ def test_a_row_with_one_cell_is_counted_in_the_singular(stored, tmp_path):
             "day2.csv, row 2: 1 cell where the header has 25 columns (a cell with a comma needs "
             "quotes; a truncated file loses its last row's cells).")
 
+
+def _waves(n: int) -> pd.DataFrame:
+    """``n`` samples at 1 kHz of the Test 1 event :data:`EVENT`, held at 0.5 mm (its commanded
+    depth is 0.75 mm, within ``PEAK_FACTOR``)."""
+    return pd.DataFrame({"event_id": EVENT, "time_s": np.arange(n) * 1e-3, "displacement_mm": 0.5,
+                         "normal_force_n": 0.3, "tangential_force_n": 0.0,
+                         "tangential_displacement_mm": 0.0})
+
+
+def test_text_in_a_long_waveform_file_is_one_sentence_without_a_pandas_warning(results, tmp_path):
+    # pandas reads a long file in pieces and warned of the column's "mixed types" first (the old
+    # code printed "warning: Columns (1: time_s) have mixed types. Specify dtype option ...")
+    waves = tmp_path / "waves.csv"
+    waves.write_text(_waves(150_000).to_csv(index=False) + f"{EVENT},abc,0,0,0,0\n")
+    refused(results, ["ingest", "test1_bench", waves, *T1, "--root", results],
+            "waves.csv, row 150001, column 'time_s': value 'abc' is not a number of seconds.")

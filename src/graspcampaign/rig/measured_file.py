@@ -12,6 +12,7 @@ import csv
 import datetime
 import io
 import re
+import warnings
 from collections import Counter
 from collections.abc import Collection, Mapping, Sequence
 from difflib import get_close_matches
@@ -81,7 +82,9 @@ def read_table(path: str | Path, *, csv_options: dict | None = None,
     text = _checked_csv(path) if suffix == ".csv" else None
     try:
         if text is not None:  # the text the check read: the file is read once
-            return pd.read_csv(io.StringIO(text), **(csv_options or {}))
+            with warnings.catch_warnings():  # mixed types in a column: the validators name the cell
+                warnings.simplefilter("ignore", pd.errors.DtypeWarning)
+                return pd.read_csv(io.StringIO(text), **(csv_options or {}))
         if suffix == ".xlsx":
             with pd.ExcelFile(path) as book:
                 frame = pd.read_excel(book, book.sheet_names[0], **(excel_options or {}))
