@@ -99,3 +99,21 @@ def test_text_in_a_long_waveform_file_is_one_sentence_without_a_pandas_warning(r
     waves.write_text(_waves(150_000).to_csv(index=False) + f"{EVENT},abc,0,0,0,0\n")
     refused(results, ["ingest", "test1_bench", waves, *T1, "--root", results],
             "waves.csv, row 150001, column 'time_s': value 'abc' is not a number of seconds.")
+
+
+def test_a_waveform_time_column_in_milliseconds_is_named(results, tmp_path):
+    # the old code stored the event's fits with time read as seconds: a damping 1000x too large,
+    # accepted; the event is commanded at 100 Hz (schedule's daq_hz), its samples are 10 ms apart
+    waves = _waves(300).assign(time_s=lambda d: d["time_s"] * 1e4)  # 10 ms, written as 10
+    waves.to_csv(tmp_path / "waves.csv", index=False)
+    refused(results, ["ingest", "test1_bench", tmp_path / "waves.csv", *T1, "--root", results],
+            f"waves.csv, row 2, column 'time_s': event '{EVENT}' is sampled every 10 s (0.1 Hz) "
+            "where the schedule commands 100 Hz (ratio 0.001, outside 1/30 to 30: time not in "
+            "seconds?).")
+
+
+def test_a_waveform_sampled_at_a_rate_the_bench_can_log_is_stored(results, tmp_path):
+    # 1 kHz on an event commanded at 100 Hz: a logger faster than the sheet said, not a unit slip
+    _waves(3000).to_csv(tmp_path / "waves.csv", index=False)
+    done = invoke("ingest", "test1_bench", tmp_path / "waves.csv", *T1, "--root", results)
+    assert done.exit_code == 0, done.output
