@@ -1,4 +1,5 @@
-"""Bad measured files, round 10: merged cells in a workbook, ... Each is refused in one sentence
+"""Bad measured files, round 10: merged cells in a workbook, a title line above a CSV header, text
+in a long file, a time column in milliseconds, an empty header cell. Each is refused in one sentence
 naming the file, row and column, with exit 2 and nothing stored changed (``refused``), on a run
 that already holds records."""
 
@@ -117,3 +118,15 @@ def test_a_waveform_sampled_at_a_rate_the_bench_can_log_is_stored(results, tmp_p
     _waves(3000).to_csv(tmp_path / "waves.csv", index=False)
     done = invoke("ingest", "test1_bench", tmp_path / "waves.csv", *T1, "--root", results)
     assert done.exit_code == 0, done.output
+
+
+def test_a_column_with_an_empty_header_cell_is_named_by_its_place(results, tmp_path):
+    # a spreadsheet's export with a trailing comma on every line; the old code named pandas'
+    # 'Unnamed: 6', which is in no file
+    lines = _waves(300).to_csv(index=False).splitlines()
+    (tmp_path / "waves.csv").write_text("".join(f"{line},\n" for line in lines))
+    refused(results, ["ingest", "test1_bench", tmp_path / "waves.csv", *T1, "--root", results],
+            "waves.csv, header: a column is not part of the sheet: column 7 (its header cell is "
+            "empty); its columns are event_id, time_s, displacement_mm, normal_force_n, "
+            "tangential_force_n, tangential_displacement_mm, attempt, anomaly, source "
+            "(`graspcampaign schedule test1_bench --template` writes a sheet with every column).")

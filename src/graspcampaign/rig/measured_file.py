@@ -360,6 +360,8 @@ def header_problems(columns: list[str], required: list[str], units: dict[str, st
                    f"{', '.join(twice)}")
     if unknown := [c for c in unknown if c not in explained]:
         def hint(c: str) -> str:
+            if empty := re.fullmatch(r"Unnamed: ([0-9]+)", c):  # pandas' name of an empty cell
+                return f"column {int(empty[1]) + 1} (its header cell is empty)"
             near = [k for k in known if k.lower() == c.lower().strip()] or get_close_matches(
                 c.lower(), known, n=1, cutoff=0.75)
             return f"'{c}'" + (f" (did you mean '{near[0]}'?)" if near else "")
