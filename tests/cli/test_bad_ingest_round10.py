@@ -1,7 +1,7 @@
 """Bad measured files, round 10: merged cells in a workbook, a title line above a CSV header, text
 in a long file, a time column in milliseconds, an empty header cell. Each is refused in one sentence
-naming the file, row and column, with exit 2 and nothing stored changed (``refused``), on a run
-that already holds records."""
+naming the file, row and column, with exit 2 and nothing stored changed (``refused``; for Tests 2-3
+on a run that already holds records, ``stored``)."""
 
 from __future__ import annotations
 
