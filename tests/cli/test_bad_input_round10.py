@@ -1,7 +1,7 @@
 """Bad input, round 10: study files with YAML's rarer forms (a complex key, a language tag),
 overrides deleting a study's own keys or naming a character after a dot, paths that loop or hold
 a line break, text meshes and measured files saved in another text form (a byte-order mark,
-UTF-16, a title above the header), and a workbook with merged cells.
+UTF-16, a title above the header). Merged workbook cells: test_bad_ingest_round10.py.
 Each refusal: exit 2, one sentence naming what is wrong and where, nothing stored changed
 (``refused``)."""
 
@@ -140,16 +140,18 @@ def test_a_file_saved_as_utf16_is_named_as_one(results, user_dir, tmp_path, enco
 
 @pytest.mark.parametrize(("above", "lines"), [
     # it said "row 1: 22 cells where the header has 1 columns (a cell with a comma needs quotes; ...)"
-    ("Test 2, day 1\n", "the first line (a title or a note above the header?) holds"),
-    ("# rig B\nby: me\n", "the first 2 lines (a title or a note above the header?) hold"),
+    ("Test 2, day 1\n", "the first line has 1 cell where the rows below it have 22 cells (a title "
+                        "or note line above the header?)"),
+    ("# rig B\nby: me\n", "the first 2 lines have 1 cell each where the rows below them have 22 "
+                          "cells (title or note lines above the header?)"),
 ])
 def test_a_title_above_the_header_of_a_csv_is_named_as_one(results, tmp_path, above, lines):
     sheet = tmp_path / "day1.csv"
     sheet.write_text(above.replace(", ", " ") + _filled_sheet(tmp_path))
     refused(results, ["ingest", "test2_grasp", sheet, "--set", "params.fraction=0.06", "--root",
                       results],
-            f"day1.csv, header: {lines} fewer cells than the 3 lines after, which have 22 cells "
-            "each; the header must be the first row, so delete the rows above it.")
+            f"day1.csv, header: {lines}; the header must be the first line: delete the lines above "
+            "it.")
 
 
 def test_a_row_of_one_cell_is_counted_in_the_singular(results, tmp_path):
@@ -160,27 +162,6 @@ def test_a_row_of_one_cell_is_counted_in_the_singular(results, tmp_path):
                       results],
             "day1.csv, row 3: 1 cell where the header has 22 columns (a cell with a comma needs "
             "quotes; a truncated file loses its last row's cells).")
-
-
-@pytest.mark.parametrize(("cells", "where"), [
-    # the rows were stored, the second trial's peak slip as not measured; the header was "a
-    # required column is missing: aborted; a column is not part of the sheet: 'Unnamed: 1'; ..."
-    ("J2:J3", "rows 1-2, column 'peak_slip_mm'"),
-    ("A1:B1", "header, columns 'trial_id', 'Unnamed: 1'"),
-])
-def test_merged_cells_of_a_workbook_are_named_by_their_rows_and_columns(results, tmp_path, cells,
-                                                                        where):
-    from openpyxl import load_workbook
-
-    book = tmp_path / "day1.xlsx"
-    pd.read_csv(io.StringIO(_filled_sheet(tmp_path))).to_excel(book, index=False)
-    sheets = load_workbook(book)
-    sheets.active.merge_cells(cells)
-    sheets.save(book)
-    refused(results, ["ingest", "test2_grasp", book, "--set", "params.fraction=0.06", "--root",
-                      results],
-            f"day1.xlsx, {where}: the cells {cells} are merged, so only the first holds the value "
-            "and the others read as empty; unmerge them and give each cell its value.")
 
 
 @pytest.mark.parametrize(("args", "option", "place", "code"), [

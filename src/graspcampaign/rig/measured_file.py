@@ -12,8 +12,9 @@ import csv
 import datetime
 import io
 import re
+import warnings
 from collections import Counter
-from collections.abc import Collection, Mapping, Sequence
+from collections.abc import Collection, Iterator, Mapping, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -88,7 +89,9 @@ def read_table(path: str | Path, *, csv_options: dict | None = None,
     text = _checked_csv(path) if suffix == ".csv" else None
     try:
         if text is not None:  # the text the check read: the file is read once
-            return pd.read_csv(io.StringIO(text), **(csv_options or {}))
+            with warnings.catch_warnings():  # mixed types in a column: the validators name the cell
+                warnings.simplefilter("ignore", pd.errors.DtypeWarning)
+                return pd.read_csv(io.StringIO(text), **(csv_options or {}))
         if suffix == ".xlsx":
             with pd.ExcelFile(path) as book:
                 frame = pd.read_excel(book, book.sheet_names[0], **(excel_options or {}))
@@ -96,9 +99,9 @@ def read_table(path: str | Path, *, csv_options: dict | None = None,
                 frame.attrs["other_sheets"] = {
                     str(name): [str(c) for c in pd.read_excel(book, name, nrows=0).columns]
                     for name in book.sheet_names[1:]}
+            _check_merged(path, frame)
             if frame.isna().to_numpy().any():  # an uncomputed formula reads as an empty cell
                 _check_formulas(path, book.sheet_names[0], frame)
-            _check_merged(path, book.sheet_names[0], frame)
             return frame
         return pd.read_parquet(path)
     except IngestError:
@@ -193,35 +196,57 @@ def _check_formulas(path: Path, sheet: str, frame: pd.DataFrame) -> None:
         book.close()
 
 
-def _check_merged(path: Path, sheet: str, frame: pd.DataFrame) -> None:
-    """Refuse merged cells on the sheet read: a merged range keeps its value in its first cell
-    only, so pandas reads the others as empty (a measurement merged over two trials' rows would be
-    stored for the first and taken as not measured for the second). Looked for in the archive's
-    worksheets first (most workbooks have none), then on the sheet itself."""
+def _check_merged(path: Path, frame: pd.DataFrame) -> None:
+    """Refuse merged cells in the first sheet's table (its header and data rows).
+
+    A merged range keeps its value in its first (top-left) cell and leaves the others empty
+    (ECMA-376 Part 1 §18.3.1.55), so pandas reads every cell but the first as not measured: a value
+    merged over two trials would be stored for the first alone. The sheet's row ``k + 2`` is the
+    frame's row ``k`` (header in row 1), as in :func:`_check_formulas`.
+    """
+    from openpyxl.utils.cell import range_boundaries
+
+    for ref in _merged_ranges(path):
+        col, row = range_boundaries(ref)[:2]
+        if col <= len(frame.columns) and row <= len(frame) + 1:
+            raise ingest_error(path.name, row - 1 or None, str(frame.columns[col - 1]),
+                               f"the cell is merged with others ({ref}), which leaves all of them "
+                               "but the first empty; unmerge them and fill in each cell")
+
+
+def _merged_ranges(path: Path) -> list[str]:
+    """The merged ranges (``'J2:J3'``) of a workbook's first sheet, read from its XML: openpyxl
+    names them only when it loads the whole workbook into memory, not in its read-only mode.
+
+    The first sheet is the first ``<sheet>`` of ``xl/workbook.xml`` (the one pandas reads); its
+    part is named by the workbook's relationships (ECMA-376 Part 1 §18.2.19, Part 2 §9.3). A part
+    that cannot be found leaves the check to the reader, which said the workbook is readable.
+    """
+    import xml.etree.ElementTree as ET
     import zipfile
 
     with zipfile.ZipFile(path) as archive:
-        if not any(b"<mergeCell " in archive.read(name) for name in archive.namelist()
-                   if name.startswith("xl/worksheets/") and name.endswith(".xml")):
-            return
-    from openpyxl import load_workbook
+        try:
+            sheet = ET.fromstring(archive.read("xl/workbook.xml")).find("{*}sheets/{*}sheet")
+            rid = next(v for k, v in sheet.attrib.items() if k.endswith("}id"))
+            rels = ET.fromstring(archive.read("xl/_rels/workbook.xml.rels"))
+            target = next(r.get("Target") for r in rels if r.get("Id") == rid)
+        except (KeyError, AttributeError, StopIteration, ET.ParseError):
+            return []
+        part = target.lstrip("/") if target.startswith("/") else f"xl/{target}"
+        if part not in archive.namelist():
+            return []
+        found, tail = [], b""
+        with archive.open(part) as xml:  # in pieces: a sheet of a million rows is ~100 MB of XML
+            while chunk := xml.read(2**20):
+                text = tail + chunk
+                found += _MERGE.findall(text)
+                tail = text[-256:]  # a range cut in two is found whole in the next piece
+    return list(dict.fromkeys(r.decode() for r in found))
 
-    book = load_workbook(path)  # not read-only: a read-only sheet does not list its merged cells
-    merged = sorted(book[sheet].merged_cells.ranges, key=lambda r: (r.min_row, r.min_col))
-    if not merged:
-        return
-    first = merged[0]
-    rows = (first.min_row - 1, first.max_row - 1)  # data rows: the sheet's row 1 is the header
-    if rows[0] == 0:
-        where = "header"
-    else:
-        where = f"row {rows[0]}" if rows[0] == rows[1] else f"rows {rows[0]}-{rows[1]}"
-    names = [f"'{c}'" for c in frame.columns[first.min_col - 1:first.max_col]]
-    if names:
-        where += f", column {names[0]}" if len(names) == 1 else f", columns {', '.join(names)}"
-    raise IngestError(f"{path.name}, {where}: the cells {first.coord} are merged, so only the "
-                      "first holds the value and the others read as empty; unmerge them and give "
-                      "each cell its value.")
+
+#: a merged range in a worksheet's XML, ``<mergeCell ref="J2:J3"/>`` (any namespace prefix)
+_MERGE = re.compile(rb'<(?:\w+:)?mergeCell\s[^>]*?ref="([A-Z]+[0-9]+:[A-Z]+[0-9]+)"')
 
 
 def _checked_csv(path: Path) -> str:
@@ -233,39 +258,46 @@ def _checked_csv(path: Path) -> str:
     if why := not_utf8(data):
         raise IngestError(f"{path.name}{why}; save it as CSV UTF-8.")
     text = data.decode("utf-8-sig")
+    # lines as the csv module (and pandas) end them: not str.splitlines, which also breaks at
+    # U+2028 and other separators a cell may hold; row by row, not a list of a million rows (a
+    # waveform file's), which took 0.8 GB to check a 45 MB file
+    rows = (r for r in csv.reader(io.StringIO(text, newline=""))
+            if r and (r[0].strip() or any(c.strip() for c in r)))
     try:
-        # lines as the csv module (and pandas) end them: not str.splitlines, which also breaks
-        # at U+2028 and other separators a cell may hold
-        rows = [r for r in csv.reader(io.StringIO(text, newline="")) if any(c.strip() for c in r)]
+        header = next(rows, None)
+        if header is None:
+            raise IngestError(f"{path.name}: the file is empty.")  # blank lines only
+        for sep, name in ((";", "';'"), ("\t", "tabs")):
+            if len(header) == 1 and sep in header[0]:
+                raise IngestError(f"{path.name}, header: the cells are separated by {name}, not "
+                                  "commas; save the sheet as comma-separated CSV (decimal point '.').")
+        for i, row in enumerate(rows, start=1):
+            if row == header:  # it was "value 'aborted' is not a boolean"
+                raise IngestError(f"{path.name}, row {i}: the row repeats the header (two sheets "
+                                  "pasted one after the other?); delete it.")
+            if len(row) != len(header):
+                _wrong_cells(path.name, header, i, row, rows)
     except csv.Error as exc:  # a cell over the csv module's field limit, a stray NUL byte
         raise IngestError(f"{path.name}: the file cannot be read as CSV ({exc}).") from None
-    if not rows:
-        raise IngestError(f"{path.name}: the file is empty.")  # blank lines only
-    header = rows[0]
-    for sep, name in ((";", "';'"), ("\t", "tabs")):
-        if len(header) == 1 and sep in header[0]:
-            raise IngestError(f"{path.name}, header: the cells are separated by {name}, not commas; "
-                              "save the sheet as comma-separated CSV (decimal point '.').")
-    # a title above the header: narrower lines, then a header and data rows all of one width
-    width = len(rows[-1])
-    above = next((k for k, row in enumerate(rows) if len(row) == width), 0)
-    if (above and len(rows) - above >= 2 and all(len(row) < width for row in rows[:above])
-            and all(len(row) == width for row in rows[above:])):
-        lines = "the first line" if above == 1 else f"the first {above} lines"
-        raise IngestError(f"{path.name}, header: {lines} (a title or a note above the header?) "
-                          f"{'holds' if above == 1 else 'hold'} fewer cells than the "
-                          f"{counted(len(rows) - above, 'line')} after, which have "
-                          f"{counted(len(rows[-1]), 'cell')} each; the header must be the first "
-                          "row, so delete the rows above it.")
-    for i, row in enumerate(rows[1:], start=1):
-        if row == header:  # it was "value 'aborted' is not a boolean"
-            raise IngestError(f"{path.name}, row {i}: the row repeats the header (two sheets "
-                              "pasted one after the other?); delete it.")
-        if len(row) != len(header):
-            raise IngestError(f"{path.name}, row {i}: {counted(len(row), 'cell')} where the "
-                              f"header has {counted(len(header), 'column')} (a cell with a comma "
-                              "needs quotes; a truncated file loses its last row's cells).")
     return text
+
+
+def _wrong_cells(name: str, header: list[str], i: int, row: list[str], rest: Iterator[list[str]]) -> None:
+    """Refuse data row ``i`` of a CSV, the first whose cells are not the header's. When it is wider
+    than the lines above it and every row after it (one at least) is as wide, the lines above are
+    the odd ones: a title or note above the header, which pandas would take for it."""
+    below = next(rest, None)
+    if (below is not None and len(row) > len(header) and len(below) == len(row)
+            and all(len(r) == len(row) for r in rest)):
+        one = i == 1
+        raise IngestError(f"{name}, header: the first {'line has' if one else f'{i} lines have'} "
+                          f"{counted(len(header), 'cell')}{'' if one else ' each'} where the rows "
+                          f"below {'it' if one else 'them'} have {counted(len(row), 'cell')} "
+                          f"({'a title or note line' if one else 'title or note lines'} above the "
+                          "header?); the header must be the first line: delete the lines above it.")
+    raise IngestError(f"{name}, row {i}: {counted(len(row), 'cell')} where the header has "
+                      f"{counted(len(header), 'column')} (a cell with a comma needs quotes; a "
+                      "truncated file loses its last row's cells).")
 
 
 def table_and_label(data: pd.DataFrame | str | Path, file_label: str | None,
@@ -344,6 +376,8 @@ def header_problems(columns: list[str], required: list[str], units: dict[str, st
                    f"{', '.join(twice)}")
     if unknown := [c for c in unknown if c not in explained]:
         def hint(c: str) -> str:
+            if empty := re.fullmatch(r"Unnamed: ([0-9]+)", c):  # pandas' name of an empty cell
+                return f"column {int(empty[1]) + 1} (its header cell is empty)"
             return f"'{c}'{aside(c, known, cutoff=0.75)}"
         more = f" and {len(unknown) - 8} more" if len(unknown) > 8 else ""
         out.append(f"{'a column is' if len(unknown) == 1 else 'columns are'} not part of the sheet: "

@@ -33,7 +33,7 @@ from graspcampaign.rig.measured_file import (
 from graspcampaign.rig.record_schema import ATTEMPT_TYPO_LIMIT, SOURCES
 from graspcampaign.rig.test1_summary import WAVEFORM_COLUMNS
 
-__all__ = ["PEAK_FACTOR", "read_waveforms", "validate_waveforms", "waveform_template"]
+__all__ = ["PEAK_FACTOR", "RATE_FACTOR", "read_waveforms", "validate_waveforms", "waveform_template"]
 
 
 _UNIT_RE = re.compile(r"^(?P<stem>time|displacement|normal_force|tangential_force|"
@@ -69,6 +69,15 @@ cyclic event overshoots by some 20 % (the virtual bench: 1.00 to 1.42). A factor
 a decade) passes those with a margin of 2 and catches a unit slip (10x: cm, 1000x: m or um)."""
 
 
+RATE_FACTOR = 30.0
+"""An event's sampling rate (one over its median sample interval) lies within this factor of the
+schedule's ``daq_hz``, both ways. The bench logs each event at one fixed rate of 50 Hz to 500 Hz
+(§7.1); a factor of 30 passes a logger at any of those rates whatever the sheet commanded (10x),
+and one up to 1.5 kHz on a 50 Hz event, while a time column in minutes (60x too slow) or in
+milliseconds (1000x too fast) is caught: its fits would be wrong by that factor (a damping 1000x
+off)."""
+
+
 def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterable[str],
                        file_label: str | None = None, schedule: pd.DataFrame | None = None
                        ) -> pd.DataFrame:
@@ -79,7 +88,8 @@ def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterabl
     (values outside them usually mean wrong units), known event ids, duplicate samples
     (same ``event_id`` and ``time_s``), strictly increasing time within each event, and, given
     the ``schedule``, each event's peak displacement against its commanded depth and stroke
-    (within :data:`PEAK_FACTOR`).
+    (within :data:`PEAK_FACTOR`) and its sampling rate against its commanded ``daq_hz`` (within
+    :data:`RATE_FACTOR`).
 
     Parameters
     ----------
@@ -127,7 +137,10 @@ def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterabl
         if pd.api.types.is_datetime64_any_dtype(raw):  # else read as microseconds since 1970
             raw = raw.astype(object)
         num = pd.to_numeric(raw, errors="coerce")
-        nonnum = num.isna() & raw.notna() & ~raw.astype(str).str.strip().str.lower().isin(
+        # the cells read as no number, told from nan/inf spellings: those cells alone, not every
+        # cell as text (3 s of a million rows)
+        nonnum = num.isna() & raw.notna()
+        nonnum[nonnum] = ~raw[nonnum].astype(str).str.strip().str.lower().isin(
             ["nan", "inf", "-inf", "+inf", "infinity", "-infinity"])
         if nonnum.any():
             i = int(np.flatnonzero(nonnum.to_numpy())[0])
@@ -205,6 +218,26 @@ def _check_commanded(table: pd.DataFrame, schedule: pd.DataFrame, label: str) ->
             raise ingest_error(label, i + 1, column, f"event '{at.index[k]}' peaks at {peak[k]:g} mm where "
                                f"the schedule commands a {what} of {commanded[k]:g} mm (ratio "
                                f"{ratio[k]:.3g}, outside 1/{PEAK_FACTOR:g} to {PEAK_FACTOR:g}: wrong units?)")
+    if "daq_hz" in commands:
+        _check_rate(table, commands["daq_hz"], label)
+
+
+def _check_rate(table: pd.DataFrame, daq_hz: pd.Series, label: str) -> None:
+    """Refuse an event sampled at a rate not within :data:`RATE_FACTOR` of its commanded
+    ``daq_hz`` (an event of one sample has no rate)."""
+    events = table["event_id"]
+    step = table["time_s"].groupby(events, sort=False).diff().groupby(events, sort=False).median()
+    commanded = daq_hz.reindex(step.index).to_numpy(dtype=float)
+    ratio = 1.0 / step.to_numpy() / commanded  # time increases within an event: step > 0
+    off = (commanded > 0) & ((ratio > RATE_FACTOR) | (ratio < 1.0 / RATE_FACTOR))
+    if off.any():
+        k = int(np.flatnonzero(off)[0])
+        event = step.index[k]
+        i = int(np.flatnonzero((events == event).to_numpy())[1])  # its first interval ends here
+        raise ingest_error(label, i + 1, "time_s", f"event '{event}' is sampled every "
+                           f"{step.iloc[k]:g} s ({1.0 / step.iloc[k]:.4g} Hz) where the schedule "
+                           f"commands {commanded[k]:g} Hz (ratio {ratio[k]:.3g}, outside "
+                           f"1/{RATE_FACTOR:g} to {RATE_FACTOR:g}: time not in seconds?)")
 
 
 def _attempts(raw: pd.Series, label: str) -> np.ndarray:
