@@ -438,3 +438,29 @@ def test_status_and_report_given_a_study_files_path_ask_for_its_name(results):
         refused(results, [command, path, "--root", results],
                 f"study {str(path)!r} is a path; give the study's name (smoke, the name: of a "
                 "study file), under which its runs are stored.")
+
+
+def test_a_scheduler_that_accepts_no_connection_in_time_is_said_so(monkeypatch):
+    # a peer that never completes the TCP connection (a firewall dropping the packets) was called
+    # one that "accepted the connection but did not answer Dask's handshake"
+    pytest.importorskip("distributed")
+    import asyncio
+
+    from distributed.comm import registry
+
+    from graspcampaign.campaign.scheduler import check_scheduler
+    from graspcampaign.errors import UserInputError
+
+    class Silent:
+        def get_connector(self):
+            return self
+
+        async def connect(self, location, deserialize):
+            await asyncio.sleep(60)
+
+    monkeypatch.setattr(registry, "get_backend", lambda scheme: Silent())
+    with pytest.raises(UserInputError) as info:
+        check_scheduler("tcp://192.0.2.1:8786", 0.3)
+    assert str(info.value) == ("runner.address = 'tcp://192.0.2.1:8786': no Dask scheduler answered "
+                               "within 0.3 s (nothing accepted the connection); start one (dask "
+                               "scheduler) or drop runner.address to run on a local cluster.")

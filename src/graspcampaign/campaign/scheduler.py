@@ -29,11 +29,13 @@ def check_scheduler(address: str, timeout_s: float) -> None:
         Nothing accepts the connection in time (``OSError``), nothing answers the handshake in
         time, or the answer is not Dask's protocol; naming the address and the timeout.
     """
+    import distributed.comm  # noqa: F401  (imported here: seconds on a loaded machine, not the peer's)
+
     outcome: dict[str, Any] = {}
 
     def probe() -> None:
         try:
-            asyncio.run(_handshake(address, timeout_s))
+            asyncio.run(_handshake(address, timeout_s, outcome))
         except BaseException as exc:  # noqa: BLE001  (reported below, in this thread's caller)
             outcome["error"] = exc
 
@@ -41,7 +43,10 @@ def check_scheduler(address: str, timeout_s: float) -> None:
     worker.start()
     worker.join(timeout_s + 2.0)  # the probe keeps its own deadline; this is a backstop
     error = outcome.get("error")
-    if worker.is_alive() or isinstance(error, (TimeoutError, asyncio.TimeoutError)):
+    timed_out = worker.is_alive() or isinstance(error, (TimeoutError, asyncio.TimeoutError))
+    if timed_out and not outcome.get("connected"):
+        reason = "nothing accepted the connection"
+    elif timed_out:
         reason = "it accepted the connection but did not answer Dask's handshake"
     elif isinstance(error, _NotDask) or (error is not None and not isinstance(error, OSError)):
         reason = "it answered, but not in Dask's protocol"
@@ -59,7 +64,9 @@ class _NotDask(Exception):
     """The peer answered something that is not a Dask handshake."""
 
 
-async def _handshake(address: str, timeout_s: float) -> None:
+async def _handshake(address: str, timeout_s: float, outcome: dict[str, Any]) -> None:
+    """Connect and exchange the handshake by the deadline; ``outcome["connected"]`` is set once
+    a connection is made, so a timeout can say which step it stopped at."""
     from distributed.comm.addressing import parse_address
     from distributed.comm.registry import get_backend
 
@@ -76,6 +83,7 @@ async def _handshake(address: str, timeout_s: float) -> None:
         except (OSError, asyncio.TimeoutError) as exc:
             failure = exc if isinstance(exc, OSError) else None
             await asyncio.sleep(min(0.05, max(deadline - time.monotonic(), 0)))
+    outcome["connected"] = True
     try:
         left = max(deadline - time.monotonic(), 0.001)
         await asyncio.wait_for(comm.write(comm.handshake_info()), left)
