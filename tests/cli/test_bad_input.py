@@ -300,9 +300,10 @@ IMPOSSIBLE = {
                          "identification scale factors stay within 10x their PSO bounds).",
     "model.n_exp=0": "model.n_exp = 0.0 is out of range; allowed: > 0.0 and <= 3.0 (contact force "
                      "exponents of soft bodies lie between ~0.4 and ~2).",
-    "model.fingertip_radius_m=0.5": "model.fingertip_radius_m = 0.5 is out of range; allowed: > 0.0 "
-                                    "and <= 0.05 (a fingertip is a few millimetres to a few "
-                                    "centimetres in radius).",
+    "model.fingertip_radius_m=0.5": "model.fingertip_radius_m = 0.5 is out of range; allowed: >= "
+                                    "0.001 and <= 0.05 (below 1 mm the evaluator's 0.5 mm seed "
+                                    "penetration sinks half a fingertip's radius, and robot pads "
+                                    "stay below 50 mm).",
 }
 
 

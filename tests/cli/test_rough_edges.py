@@ -64,6 +64,44 @@ def test_the_lightest_plausible_mass_is_planned(tmp_path, sphere):
     assert "mass: 0.0001 kg (W = 0.001 N)" in result.stdout
 
 
+RADIUS = ("below 1 mm the evaluator's 0.5 mm seed penetration sinks half a fingertip's radius, and "
+          "robot pads stay below 50 mm")
+
+
+@pytest.mark.parametrize(("given", "allowed"), [
+    # plan drew a grasp of zero forces and a study ran (the lower bound was > 0, spelt twice)
+    ("--fingertip-radius-mm=1e-300", "--fingertip-radius-mm 1e-300 is out of range; allowed: >= 1 "
+                                     "and <= 50 mm"),
+    ("--fingertip-radius-mm=0.5", "--fingertip-radius-mm 0.5 is out of range; allowed: >= 1 and "
+                                  "<= 50 mm"),
+    ("--fingertip-radius-mm=1e300", "--fingertip-radius-mm 1e+300 is out of range; allowed: >= 1 "
+                                    "and <= 50 mm"),
+    ("model.fingertip_radius_m=1e-300", "model.fingertip_radius_m = 1e-300 is out of range; "
+                                        "allowed: >= 0.001 and <= 0.05"),
+    ("study file", "model.fingertip_radius_m = 0.0005 is out of range; allowed: >= 0.001 and <= 0.05"),
+])
+def test_a_fingertip_radius_outside_its_one_plausible_range_is_refused(tmp_path, sphere, given,
+                                                                       allowed):
+    if given.startswith("--"):
+        args = ["plan", sphere, "--mass-kg", "0.1", given]
+    elif given.startswith("model."):
+        args = ["show", "smoke", given, "--root", tmp_path]
+    else:
+        study = tmp_path / "tiny.yaml"
+        study.write_text("# @package _global_\n# schema: StudyCfg\nname: tiny\nkind: mesh_features\n"
+                         "model:\n  fingertip_radius_m: 0.0005\nfactors:\n  shape: [sphere]\n")
+        args = ["show", study, "--root", tmp_path]
+        allowed = f"{study}, line 6: {allowed}"
+    refused(tmp_path, args, f"{allowed} ({RADIUS}).")
+
+
+def test_the_smallest_plausible_fingertip_is_planned(tmp_path, sphere):
+    """1 mm is the lower bound itself, a closed one (twice Algorithm 2's 0.5 mm seed)."""
+    result = invoke("plan", sphere, "--mass-kg", "0.1", "--fingertip-radius-mm", "1",
+                    "--png", tmp_path / "p.png")
+    assert result.exit_code == 0, result.output
+
+
 SHAPES = "sphere, ellipsoid, rounded_cube, pear, handle"
 KINDS = ("dynamic_check, dynamic_grasp, gravity_settle, heuristic_weights, mesh_features, "
          "mesh_resolution, pso_repeatability, quasi_static, sensitivity, surrogate, test1_bench, "
@@ -121,7 +159,8 @@ def test_a_misspelt_mesh_unit_is_suggested(tmp_path, sphere):
 @pytest.mark.parametrize(("study", "stage"), [
     # measured at paper scale: the 144 PSO identifications took 7 s of CPU beside the trials' 9 s,
     # Test 1's re-identification 32 s after trials that took 22 s on 2 workers (decisions.md; the
-    # words give the proportion, not this machine's seconds); the line said only "setup and finalize stages not counted", as for every kind, stage or none
+    # words give the proportion, not this machine's seconds); the line said only "setup and
+    # finalize stages not counted", as for every kind, stage or none
     ("sensitivity", "a PSO identification of each mu x m body before the trials (at paper scale about "
                     "as long as the trials; docs/decisions.md)"),
     ("test1_bench", "the PSO re-identification of each material and the summaries after the trials "
