@@ -19,25 +19,48 @@ def sphere(tmp_path):
     return path
 
 
-@pytest.mark.parametrize(("args", "option", "instead"), [
+@pytest.mark.parametrize(("args", "option", "instead", "makes_dirs"), [
     # schedule --out day1/ wrote day1.csv and day1.parquet beside the directory meant
-    (["schedule", "test2_grasp"], "--out", "a file stem such as {dir}/schedule"),
+    (["schedule", "test2_grasp"], "--out", "a file stem such as {dir}/schedule", False),
     # plan said the path "does not end in .png", reproduce wrote its times to a file named day1
     (["plan", "{mesh}", "--mass-kg", "0.1"], "--png", "a file path ending in .png, such as "
-                                                      "{dir}/plan.png"),
-    (["reproduce"], "--times", "a file such as {dir}/reproduce_times.txt"),
+                                                      "{dir}/plan.png", False),
+    (["reproduce"], "--times", "a file such as {dir}/reproduce_times.txt", True),
 ])
 @pytest.mark.parametrize("exists", [False, True])
 def test_an_output_path_ending_in_a_slash_is_refused_as_the_directory_it_names(
-        tmp_path, sphere, args, option, instead, exists):
+        tmp_path, sphere, args, option, instead, makes_dirs, exists):
     folder = tmp_path / "day1"
     if exists:
         folder.mkdir()
     given = [a.format(mesh=sphere) for a in args]
+    # schedule and plan refuse a file in a missing directory (a typo grows no tree), so for them
+    # the advice says to create it: the file suggested alone was refused in turn
+    create = "" if exists or makes_dirs else f", and no directory {folder} exists; create one and"
     refused(tmp_path, [*given, option, f"{folder}/",
                        *(["--root", tmp_path / "results"] if args[0] != "plan" else [])],
-            f"{option} {folder}/ ends in '/', so it names a directory; give "
-            f"{instead.format(dir=folder)}.")
+            f"{option} {folder}/ ends in '/', so it names a directory{create}"
+            f"{' ' if create else '; '}give {instead.format(dir=folder)}.")
+
+
+@pytest.mark.parametrize(("args", "option", "instead"), [
+    (["schedule", "test2_grasp", "--root", "{root}"], "--out", "a file stem such as {dir}/schedule"),
+    (["plan", "{mesh}", "--mass-kg", "0.1"], "--png", "a file path ending in .png, such as "
+                                                      "{dir}/plan.png"),
+])
+def test_the_advice_for_a_missing_directory_works_when_followed(tmp_path, sphere, args, option,
+                                                                instead):
+    """Create the directory, give the file suggested: the command takes it (it said only 'give
+    day1/schedule', which was refused in turn: 'directory day1 does not exist')."""
+    folder = tmp_path / "day1"
+    given = [a.format(mesh=sphere, root=tmp_path / "results") for a in args]
+    suggested = instead.format(dir=folder)
+    refused(tmp_path, [*given, option, f"{folder}/"],
+            f"{option} {folder}/ ends in '/', so it names a directory, and no directory {folder} "
+            f"exists; create one and give {suggested}.")
+    folder.mkdir()
+    result = invoke(*given, option, suggested.rpartition(" ")[2])
+    assert result.exit_code == 0, result.output
 
 
 MASS = ("below 0.1 g an object weighs less than the rig's 1 mN force resolution, and a "
