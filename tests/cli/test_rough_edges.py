@@ -196,3 +196,45 @@ def test_show_names_the_stage_its_time_estimate_leaves_out(tmp_path, study, stag
     assert result.exit_code == 0, result.output
     estimate = next(line for line in result.stdout.splitlines() if line.startswith("estimated time: "))
     assert estimate.endswith(f" workers); trials only, not counted: {stage}")
+
+
+QUASI_STATIC = "choose a study of kind quasi_static (ablation, baseline_grid, grip_laws, shapes) as " \
+               "params.source_study."
+
+
+def test_show_describes_a_study_whose_source_run_is_missing(tmp_path):
+    """show exited 2 with run's refusal: it describes the study, the missing run a line of it."""
+    root = tmp_path / "results"
+    root.mkdir()
+    result = invoke("show", "dynamic_check", "--root", root)
+    assert result.exit_code == 0, result.output
+    lines = result.stdout.splitlines()
+    assert lines[6:9] == [
+        f"design: not known until its source run is recorded: dynamic_check re-simulates the "
+        f"records of baseline_grid/default, but {root}/baseline_grid/default holds no run; run "
+        f"`graspcampaign run baseline_grid --root {root}` first (or set params.source_study / "
+        "params.source_run).",
+        f"run: {root}/dynamic_check/default (0 recorded)",
+        "estimated time: none before the design is known (see design)"]
+    assert not any(root.iterdir())
+
+
+@pytest.mark.parametrize("command", ["run", "show"])
+@pytest.mark.parametrize(("source", "message"), [
+    # it said to `ingest test2_grasp FILE…` (or `run test2_grasp`) first, then refused that run as
+    # not quasi-static
+    (["params.source_study=test2_grasp", "params.source_run=measured"],
+     f"dynamic_check re-simulates quasi-static plans, but test2_grasp is a study of kind "
+     f"'test2_grasp'; {QUASI_STATIC}"),
+    (["params.source_study=test2_grasp"],
+     f"dynamic_check re-simulates quasi-static plans, but test2_grasp is a study of kind "
+     f"'test2_grasp'; {QUASI_STATIC}"),
+    # it said to `run baseline_gird` first, an unknown study
+    (["params.source_study=baseline_gird"],
+     "params.source_study 'baseline_gird' is neither a study on the config search path nor stored "
+     f"under {{root}}; did you mean 'baseline_grid'? {QUASI_STATIC}"),
+])
+def test_a_source_run_this_kind_would_refuse_is_not_advised(tmp_path, command, source, message):
+    root = tmp_path / "results"
+    root.mkdir()
+    refused(root, [command, "dynamic_check", *source, "--root", root], message.format(root=root))
