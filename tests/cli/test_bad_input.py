@@ -113,7 +113,8 @@ STUDY_VALUES = {
                                      "evaluator, features, pso, runner, output."),
     "unknown_group_key": ("model:\n  lambda3: 0.2\n",
                           "{path}, line 9: model.lambda3 is not a known key of model; "
-                          "did you mean model.lambda2? known keys: lambda1, lambda2, n_exp, "
+                          "did you mean model.lambda1 or model.lambda2? known keys: lambda1, "
+                          "lambda2, n_exp, "
                           "fingertip_radius_m, e_finger_pa, e_object_pa, nu_finger, nu_object, "
                           "damping_law, alpha_hc_s_per_m."),
     "impossible_friction": ("factors:\n  mu: [0.3, 50]\n",
