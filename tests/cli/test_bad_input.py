@@ -113,7 +113,8 @@ STUDY_VALUES = {
                                      "evaluator, features, pso, runner, output."),
     "unknown_group_key": ("model:\n  lambda3: 0.2\n",
                           "{path}, line 9: model.lambda3 is not a known key of model; "
-                          "did you mean model.lambda2? known keys: lambda1, lambda2, n_exp, "
+                          "did you mean model.lambda1 or model.lambda2? known keys: lambda1, "
+                          "lambda2, n_exp, "
                           "fingertip_radius_m, e_finger_pa, e_object_pa, nu_finger, nu_object, "
                           "damping_law, alpha_hc_s_per_m."),
     "impossible_friction": ("factors:\n  mu: [0.3, 50]\n",
@@ -300,9 +301,10 @@ IMPOSSIBLE = {
                          "identification scale factors stay within 10x their PSO bounds).",
     "model.n_exp=0": "model.n_exp = 0.0 is out of range; allowed: > 0.0 and <= 3.0 (contact force "
                      "exponents of soft bodies lie between ~0.4 and ~2).",
-    "model.fingertip_radius_m=0.5": "model.fingertip_radius_m = 0.5 is out of range; allowed: > 0.0 "
-                                    "and <= 0.05 (a fingertip is a few millimetres to a few "
-                                    "centimetres in radius).",
+    "model.fingertip_radius_m=0.5": "model.fingertip_radius_m = 0.5 is out of range; allowed: >= "
+                                    "0.001 and <= 0.05 (below 1 mm the evaluator's 0.5 mm seed "
+                                    "penetration sinks half a fingertip's radius, and robot pads "
+                                    "stay below 50 mm).",
 }
 
 

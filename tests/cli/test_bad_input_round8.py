@@ -113,6 +113,10 @@ def test_dynamic_check_of_an_unfinished_source_run_says_how_to_finish_it(tmp_pat
             f"dynamic_check needs every trial of baseline_grid/default, but 1 of 2 are not recorded "
             f"under {source}; run `graspcampaign run baseline_grid {again} --root {root}` again to "
             "finish it.")
+    shown = invoke("show", "dynamic_check", "--root", root)  # describes it, the missing part a line
+    assert shown.exit_code == 0, shown.output
+    assert ("design: not known until its source run is recorded: dynamic_check needs every trial "
+            "of baseline_grid/default, but 1 of 2") in shown.stdout
     assert invoke("run", "baseline_grid", *BG, "--root", root).exit_code == 0  # as it says
 
 

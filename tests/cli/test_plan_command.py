@@ -102,8 +102,9 @@ MASS = ("below 0.1 g an object weighs less than the rig's 1 mN force resolution,
         (["--mass-kg", "0.1", "--mu", "nan"], "--mu nan is out of range; allowed: >= 0 and <= 3 (dry "
                                               "friction of soft materials stays below 3)."),
         (["--mass-kg", "0.1", "--fingertip-radius-mm", "-5"],
-         "--fingertip-radius-mm -5.0 is out of range; allowed: > 0 and <= 50 mm (a fingertip is a "
-         "few millimetres to a few centimetres in radius)."),
+         "--fingertip-radius-mm -5.0 is out of range; allowed: >= 1 and <= 50 mm (below 1 mm the "
+         "evaluator's 0.5 mm seed penetration sinks half a fingertip's radius, and robot pads "
+         "stay below 50 mm)."),
         (["--mass-kg", "0.1", "--material", "unobtainium"],
          "unknown material 'unobtainium'; use one of gel, silicone_soft, bio_foam, silicone_ref."),
         (["--mass-kg", "0.1", "--unit", "furlong"], "unknown unit 'furlong'; use one of 'm', 'cm', 'mm'."),

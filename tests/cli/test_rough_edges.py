@@ -19,25 +19,48 @@ def sphere(tmp_path):
     return path
 
 
-@pytest.mark.parametrize(("args", "option", "instead"), [
+@pytest.mark.parametrize(("args", "option", "instead", "makes_dirs"), [
     # schedule --out day1/ wrote day1.csv and day1.parquet beside the directory meant
-    (["schedule", "test2_grasp"], "--out", "a file stem such as {dir}/schedule"),
+    (["schedule", "test2_grasp"], "--out", "a file stem such as {dir}/schedule", False),
     # plan said the path "does not end in .png", reproduce wrote its times to a file named day1
     (["plan", "{mesh}", "--mass-kg", "0.1"], "--png", "a file path ending in .png, such as "
-                                                      "{dir}/plan.png"),
-    (["reproduce"], "--times", "a file such as {dir}/reproduce_times.txt"),
+                                                      "{dir}/plan.png", False),
+    (["reproduce"], "--times", "a file such as {dir}/reproduce_times.txt", True),
 ])
 @pytest.mark.parametrize("exists", [False, True])
 def test_an_output_path_ending_in_a_slash_is_refused_as_the_directory_it_names(
-        tmp_path, sphere, args, option, instead, exists):
+        tmp_path, sphere, args, option, instead, makes_dirs, exists):
     folder = tmp_path / "day1"
     if exists:
         folder.mkdir()
     given = [a.format(mesh=sphere) for a in args]
+    # schedule and plan refuse a file in a missing directory (a typo grows no tree), so for them
+    # the advice says to create it: the file suggested alone was refused in turn
+    create = "" if exists or makes_dirs else f", and no directory {folder} exists; create one and"
     refused(tmp_path, [*given, option, f"{folder}/",
                        *(["--root", tmp_path / "results"] if args[0] != "plan" else [])],
-            f"{option} {folder}/ ends in '/', so it names a directory; give "
-            f"{instead.format(dir=folder)}.")
+            f"{option} {folder}/ ends in '/', so it names a directory{create}"
+            f"{' ' if create else '; '}give {instead.format(dir=folder)}.")
+
+
+@pytest.mark.parametrize(("args", "option", "instead"), [
+    (["schedule", "test2_grasp", "--root", "{root}"], "--out", "a file stem such as {dir}/schedule"),
+    (["plan", "{mesh}", "--mass-kg", "0.1"], "--png", "a file path ending in .png, such as "
+                                                      "{dir}/plan.png"),
+])
+def test_the_advice_for_a_missing_directory_works_when_followed(tmp_path, sphere, args, option,
+                                                                instead):
+    """Create the directory, give the file suggested: the command takes it (it said only 'give
+    day1/schedule', which was refused in turn: 'directory day1 does not exist')."""
+    folder = tmp_path / "day1"
+    given = [a.format(mesh=sphere, root=tmp_path / "results") for a in args]
+    suggested = instead.format(dir=folder)
+    refused(tmp_path, [*given, option, f"{folder}/"],
+            f"{option} {folder}/ ends in '/', so it names a directory, and no directory {folder} "
+            f"exists; create one and give {suggested}.")
+    folder.mkdir()
+    result = invoke(*given, option, suggested.rpartition(" ")[2])
+    assert result.exit_code == 0, result.output
 
 
 MASS = ("below 0.1 g an object weighs less than the rig's 1 mN force resolution, and a "
@@ -62,6 +85,44 @@ def test_the_lightest_plausible_mass_is_planned(tmp_path, sphere):
     result = invoke("plan", sphere, "--mass-kg", "1e-4", "--png", tmp_path / "p.png")
     assert result.exit_code == 0, result.output
     assert "mass: 0.0001 kg (W = 0.001 N)" in result.stdout
+
+
+RADIUS = ("below 1 mm the evaluator's 0.5 mm seed penetration sinks half a fingertip's radius, and "
+          "robot pads stay below 50 mm")
+
+
+@pytest.mark.parametrize(("given", "allowed"), [
+    # plan drew a grasp of zero forces and a study ran (the lower bound was > 0, spelt twice)
+    ("--fingertip-radius-mm=1e-300", "--fingertip-radius-mm 1e-300 is out of range; allowed: >= 1 "
+                                     "and <= 50 mm"),
+    ("--fingertip-radius-mm=0.5", "--fingertip-radius-mm 0.5 is out of range; allowed: >= 1 and "
+                                  "<= 50 mm"),
+    ("--fingertip-radius-mm=1e300", "--fingertip-radius-mm 1e+300 is out of range; allowed: >= 1 "
+                                    "and <= 50 mm"),
+    ("model.fingertip_radius_m=1e-300", "model.fingertip_radius_m = 1e-300 is out of range; "
+                                        "allowed: >= 0.001 and <= 0.05"),
+    ("study file", "model.fingertip_radius_m = 0.0005 is out of range; allowed: >= 0.001 and <= 0.05"),
+])
+def test_a_fingertip_radius_outside_its_one_plausible_range_is_refused(tmp_path, sphere, given,
+                                                                       allowed):
+    if given.startswith("--"):
+        args = ["plan", sphere, "--mass-kg", "0.1", given]
+    elif given.startswith("model."):
+        args = ["show", "smoke", given, "--root", tmp_path]
+    else:
+        study = tmp_path / "tiny.yaml"
+        study.write_text("# @package _global_\n# schema: StudyCfg\nname: tiny\nkind: mesh_features\n"
+                         "model:\n  fingertip_radius_m: 0.0005\nfactors:\n  shape: [sphere]\n")
+        args = ["show", study, "--root", tmp_path]
+        allowed = f"{study}, line 6: {allowed}"
+    refused(tmp_path, args, f"{allowed} ({RADIUS}).")
+
+
+def test_the_smallest_plausible_fingertip_is_planned(tmp_path, sphere):
+    """1 mm is the lower bound itself, a closed one (twice Algorithm 2's 0.5 mm seed)."""
+    result = invoke("plan", sphere, "--mass-kg", "0.1", "--fingertip-radius-mm", "1",
+                    "--png", tmp_path / "p.png")
+    assert result.exit_code == 0, result.output
 
 
 SHAPES = "sphere, ellipsoid, rounded_cube, pear, handle"
@@ -135,3 +196,45 @@ def test_show_names_the_stage_its_time_estimate_leaves_out(tmp_path, study, stag
     assert result.exit_code == 0, result.output
     estimate = next(line for line in result.stdout.splitlines() if line.startswith("estimated time: "))
     assert estimate.endswith(f" workers); trials only, not counted: {stage}")
+
+
+QUASI_STATIC = "choose a study of kind quasi_static (ablation, baseline_grid, grip_laws, shapes) as " \
+               "params.source_study."
+
+
+def test_show_describes_a_study_whose_source_run_is_missing(tmp_path):
+    """show exited 2 with run's refusal: it describes the study, the missing run a line of it."""
+    root = tmp_path / "results"
+    root.mkdir()
+    result = invoke("show", "dynamic_check", "--root", root)
+    assert result.exit_code == 0, result.output
+    lines = result.stdout.splitlines()
+    assert lines[6:9] == [
+        f"design: not known until its source run is recorded: dynamic_check re-simulates the "
+        f"records of baseline_grid/default, but {root}/baseline_grid/default holds no run; run "
+        f"`graspcampaign run baseline_grid --root {root}` first (or set params.source_study / "
+        "params.source_run).",
+        f"run: {root}/dynamic_check/default (0 recorded)",
+        "estimated time: none before the design is known (see design)"]
+    assert not any(root.iterdir())
+
+
+@pytest.mark.parametrize("command", ["run", "show"])
+@pytest.mark.parametrize(("source", "message"), [
+    # it said to `ingest test2_grasp FILE…` (or `run test2_grasp`) first, then refused that run as
+    # not quasi-static
+    (["params.source_study=test2_grasp", "params.source_run=measured"],
+     f"dynamic_check re-simulates quasi-static plans, but test2_grasp is a study of kind "
+     f"'test2_grasp'; {QUASI_STATIC}"),
+    (["params.source_study=test2_grasp"],
+     f"dynamic_check re-simulates quasi-static plans, but test2_grasp is a study of kind "
+     f"'test2_grasp'; {QUASI_STATIC}"),
+    # it said to `run baseline_gird` first, an unknown study
+    (["params.source_study=baseline_gird"],
+     "params.source_study 'baseline_gird' is neither a study on the config search path nor stored "
+     f"under {{root}}; did you mean 'baseline_grid'? {QUASI_STATIC}"),
+])
+def test_a_source_run_this_kind_would_refuse_is_not_advised(tmp_path, command, source, message):
+    root = tmp_path / "results"
+    root.mkdir()
+    refused(root, [command, "dynamic_check", *source, "--root", root], message.format(root=root))

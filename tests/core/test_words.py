@@ -46,6 +46,7 @@ def test_listed_joins_as_a_sentence_does():
     assert listed(["a"]) == "a"
     assert listed(["a", "b"]) == "a and b"
     assert listed(["a", "b", "c"]) == "a, b and c"
+    assert listed(["a", "b", "c"], last="or") == "a, b or c"
 
 
 def test_no_module_suggests_a_near_name_its_own_way():
@@ -77,3 +78,22 @@ def test_meant_keeps_difflibs_cutoff():
         near = difflib.get_close_matches(word, known, n=1)
         assert meant(word, known) == (f"did you mean {near[0]!r}? " if near else "")
     assert meant("pgn", ["png"], cutoff=0.7) == "" and meant("pgn", ["png"]) == "did you mean 'png'? "
+
+
+def test_meant_names_every_name_tied_at_the_best_ratio():
+    """difflib named the larger of two names tied at the best ratio (lambda2 for lambda3, no_s3
+    for no_s, png for pdg): a coin flip shown as a hint; the ties are named, in the order known."""
+    import difflib
+
+    for word, known, tied in [("lambda3", ["lambda1", "lambda2", "n_exp"], ["lambda1", "lambda2"]),
+                              ("no_s", ["heuristic", "no_s1", "no_s2", "no_s3"],
+                               ["no_s1", "no_s2", "no_s3"]),
+                              ("pdg", ["png", "svg", "pdf"], ["png", "pdf"])]:
+        scores = {k: difflib.SequenceMatcher(None, k, word).ratio() for k in known}
+        assert [k for k in known if scores[k] == max(scores.values())] == tied  # a tie, by difflib
+    assert meant("lambda3", ["lambda1", "lambda2", "n_exp"], "model.{}") == (
+        "did you mean model.lambda1 or model.lambda2? ")
+    assert meant("no_s", ["heuristic", "no_s1", "no_s2", "no_s3"]) == (
+        "did you mean 'no_s1', 'no_s2' or 'no_s3'? ")
+    assert meant("pdg", ["png", "svg", "pdf"]) == "did you mean 'png' or 'pdf'? "
+    assert meant("lambda1x", ["lambda1", "lambda2"]) == "did you mean 'lambda1'? "  # no tie: one

@@ -97,8 +97,9 @@ MASS = ("below 0.1 g an object weighs less than the rig's 1 mN force resolution,
     ({"mass_kg": 0.1, "mu": 50}, "mu = 50 is out of range; allowed: >= 0 and <= 3 (dry friction of "
                                  "soft materials stays below 3)."),
     ({"mass_kg": 0.1, "fingertip_radius_mm": 80},
-     "fingertip_radius_mm = 80 is out of range; allowed: > 0 and <= 50 mm (a fingertip is a few "
-     "millimetres to a few centimetres in radius)."),
+     "fingertip_radius_mm = 80 is out of range; allowed: >= 1 and <= 50 mm (below 1 mm the "
+     "evaluator's 0.5 mm seed penetration sinks half a fingertip's radius, and robot pads stay "
+     "below 50 mm)."),
     ({"mass_kg": 0.1, "material": "steel"},
      "unknown material 'steel'; use one of gel, silicone_soft, bio_foam, silicone_ref."),
 ])

@@ -52,9 +52,8 @@ class ContactModelCfg:
     lambda1: float = config_field(0.332, **_LAMBDA)  # Table 3
     lambda2: float = config_field(0.880, **_LAMBDA)  # Table 3
     n_exp: float = config_field(0.487, **PLAUSIBLE["n_exp"].meta())  # Table 3 (Hunt-Crossley exponent)
-    fingertip_radius_m: float = config_field(  # Table 2
-        FINGERTIP_RADIUS, gt=0.0, le=PLAUSIBLE["fingertip_radius_mm"].high * 1e-3,
-        why=PLAUSIBLE["fingertip_radius_mm"].why)
+    fingertip_radius_m: float = config_field(  # Table 2; the range is plan's, in metres
+        FINGERTIP_RADIUS, **PLAUSIBLE["fingertip_radius_mm"].meta(scale=1e-3))
     e_finger_pa: float = config_field(0.0893e6, gt=0.0)  # Table 2
     e_object_pa: float = config_field(0.14e6, gt=0.0)  # Table 2
     nu_finger: float = config_field(0.5, ge=0.0, le=0.5)  # Table 2

@@ -18,7 +18,7 @@ from graspcampaign.campaign.paths import check_root, how_to_make, near_run
 from graspcampaign.campaign.schema import StudyCfg, design_shape
 from graspcampaign.campaign.studyfile import check_name, list_studies, run_dir, run_path
 from graspcampaign.core.words import counted, meant
-from graspcampaign.errors import UserInputError
+from graspcampaign.errors import MissingSourceRunError, UserInputError
 
 
 def _fmt_seconds(seconds: float) -> str:
@@ -116,7 +116,10 @@ def design_text(study: StudyCfg, run: str | None = None, overrides: list[str] = 
     typed, follow the description (which tells the study file's design, not theirs)."""
     ready = kind_available(study.kind)
     facts = kind_facts(study.kind) if ready else None
-    total = study_size(study)
+    try:
+        total = study_size(study)
+    except MissingSourceRunError as exc:  # a design read from a run not made (or finished) yet
+        total, waiting = None, exc
     lines = [f"study: {study.name}", f"description: {' '.join(study.description.split())}"]
     if overrides:
         lines.append(f"overrides: {' '.join(overrides)} (the description is of the study file's "
@@ -131,7 +134,9 @@ def design_text(study: StudyCfg, run: str | None = None, overrides: list[str] = 
         lines.append(f"  {name} [{len(levels)}]{role}: {', '.join(map(str, levels))}")
     if study.zip:
         lines.append("zipped: " + "; ".join(" + ".join(g) for g in study.zip))
-    if facts and facts["design"]:
+    if total is None:  # described all the same: what is missing is a line, not a refusal
+        lines.append(f"design: not known until its source run is recorded: {waiting}")
+    elif facts and facts["design"]:
         lines.append(f"design: the protocol's schedule = {counted(total, 'trial')}")
     else:
         axes = " x ".join(f"{name} {size}" for name, size in design_shape(study).items())
@@ -139,11 +144,17 @@ def design_text(study: StudyCfg, run: str | None = None, overrides: list[str] = 
     from graspcampaign.campaign.provenance import ingested
 
     opened = opened_run(study, run) if ready else None  # the run opened and checked once
-    done = recorded_in(study, run, opened)
-    lines.append(f"run: {run_path(study, run)} ({done} of {total} recorded)")
+    if total is None:  # its trial ids are the source's: count what is stored
+        done = len(opened[0].recorded_ids()) if opened is not None else 0
+        lines.append(f"run: {run_path(study, run)} ({done} recorded)")
+    else:
+        done = recorded_in(study, run, opened)
+        lines.append(f"run: {run_path(study, run)} ({done} of {total} recorded)")
     if refusal := drift_refusal(study, run, opened):
         lines.append(f"note: {refusal}")
-    if facts and opened is not None and ingested(opened[1]):  # its trials come from a rig, not `run`
+    if total is None:
+        lines.append("estimated time: none before the design is known (see design)")
+    elif facts and opened is not None and ingested(opened[1]):  # its trials come from a rig, not `run`
         lines.append(f"estimated time: none: `run` adds no trials to an ingested run; its "
                      f"{counted(total - done, 'trial')} not recorded come from `ingest`")
     elif facts:

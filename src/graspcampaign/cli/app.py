@@ -112,19 +112,26 @@ def path_or_empty(value: str) -> Path | str:
     return Path(value) if value else value
 
 
-def file_path(option: str, hint: str, example: str):
+def file_path(option: str, hint: str, example: str, makes_dirs: bool = False):
     """The parser of an option naming a file to write (``schedule --out``, ``plan --png``,
     ``reproduce --times``): :func:`path_or_empty`, and a value ending in a path separator refused
     as the directory it names, as an existing directory is (:func:`writable_stem`): as a Path the
     separator would be dropped and ``--out day1/`` would write ``day1.csv`` beside it.
 
-    ``hint`` and ``example`` name the file to give instead ("a file stem such as", "schedule")."""
+    ``hint`` and ``example`` name the file to give instead ("a file stem such as", "schedule").
+    A command that refuses a file in a missing directory (``makes_dirs`` false: a typo grows no
+    tree) says the directory named does not exist and to create it, so the file suggested is one
+    the command then takes."""
     separators = os.sep + (os.altsep or "")
 
     def parse(value: str) -> Path | str:
         if value.endswith(tuple(separators)) and value.rstrip(separators):  # "/" alone: the root
-            fail(f"{option} {value} ends in '{value[-1]}', so it names a directory; give {hint} "
-                 f"{Path(value) / example}.")
+            named = f"{option} {value} ends in '{value[-1]}', so it names a directory"
+            instead = f"give {hint} {Path(value) / example}."
+            if makes_dirs or os.path.isdir(value):
+                fail(f"{named}; {instead}")
+            fail(f"{named}, and no directory {value.rstrip(separators)} exists; create one and "
+                 f"{instead}")
         return path_or_empty(value)
     return parse
 

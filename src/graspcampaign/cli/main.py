@@ -154,7 +154,8 @@ def reproduce(
     root: RootOpt = None,
     times: Annotated[Path | None, typer.Option(
         help="Also append each step's '== <step>: <s> s' line to this file.",
-        parser=file_path("--times", "a file such as", "reproduce_times.txt"), metavar="path")] = None,
+        parser=file_path("--times", "a file such as", "reproduce_times.txt", makes_dirs=True),
+        metavar="path")] = None,
 ) -> None:
     """Run every study of `list --names` at paper scale, then write every report.
 

@@ -27,7 +27,7 @@ class PlausibleRange:
     low, high : float
         Bounds, in the unit the quantity's name carries.
     low_open : bool
-        Whether ``low`` itself is excluded (a mass must be > 0, a friction coefficient may be 0).
+        Whether ``low`` itself is excluded (an exponent must be > 0, a friction coefficient may be 0).
     why : str
         The reason, short enough for an error message.
     source : str
@@ -51,9 +51,14 @@ class PlausibleRange:
         """The interval in words, e.g. ``> 0 and <= 10``."""
         return f"{'>' if self.low_open else '>='} {self.low:g} and <= {self.high:g}"
 
-    def meta(self) -> dict:
-        """Validation metadata for ``campaign.schema.check_value`` (``gt``/``ge``, ``le``, ``why``)."""
-        return {"gt" if self.low_open else "ge": self.low, "le": self.high, "why": self.why}
+    def meta(self, scale: float = 1.0) -> dict:
+        """Validation metadata for ``campaign.schema.check_value`` (``gt``/``ge``, ``le``, ``why``).
+
+        ``scale`` converts the bounds to the unit of the field they check (``1e-3`` for a field in
+        metres checked by a range in millimetres), so one range serves both spellings.
+        """
+        return {"gt" if self.low_open else "ge": self.low * scale, "le": self.high * scale,
+                "why": self.why}
 
 
 PLAUSIBLE: dict[str, PlausibleRange] = {
@@ -68,8 +73,11 @@ PLAUSIBLE: dict[str, PlausibleRange] = {
         "Persson (2001) J. Chem. Phys. 115, 3840 (rubber friction rarely exceeds mu ~ 3); the "
         "paper's materials measure mu_s = 0.51-0.77 (Table 4)"),
     "fingertip_radius_mm": PlausibleRange(
-        0.0, 50.0, True, "a fingertip is a few millimetres to a few centimetres in radius",
-        "Table 2 (R = 5 mm); human fingertips 7-10 mm, robot pads below 50 mm"),
+        1.0, 50.0, False, "below 1 mm the evaluator's 0.5 mm seed penetration sinks half a "
+        "fingertip's radius, and robot pads stay below 50 mm",
+        "Algorithm 2 line 1 and Sec. 5: every contact is seeded 0.5 mm deep, and a contact deeper "
+        "than R is outside the sphere model (the valid-geometry gate); Table 2 (R = 5 mm); human "
+        "fingertips 7-10 mm, robot pads below 50 mm"),
     "n_exp": PlausibleRange(
         0.0, 3.0, True, "contact force exponents of soft bodies lie between ~0.4 and ~2",
         "Table 4 (n = 0.43-0.48), Hertz 1.5 (Johnson 1985, Contact Mechanics, Sec. 4.2); PSO "

@@ -5,12 +5,13 @@ MISSING = "\u2014"
 """The mark of a value that is missing or could not be computed (its reason stands beside it)."""
 
 
-def listed(words, empty: str = MISSING) -> str:
-    """``a``, ``a and b``, ``a, b and c`` (``empty`` for none): a list in a sentence."""
+def listed(words, empty: str = MISSING, last: str = "and") -> str:
+    """``a``, ``a and b``, ``a, b and c`` (``empty`` for none): a list in a sentence; ``last`` joins
+    the last two ("or": ``a, b or c``)."""
     words = list(words)
     if not words:
         return empty
-    return words[0] if len(words) == 1 else f"{', '.join(words[:-1])} and {words[-1]}"
+    return words[0] if len(words) == 1 else f"{', '.join(words[:-1])} {last} {words[-1]}"
 
 
 def plural(noun: str, n: int, nouns: str | None = None) -> str:
@@ -29,16 +30,25 @@ def meant(word: str, known, shown: str = "{!r}", cutoff: float = 0.6) -> str:
     when none is alike: the one way a message suggests a name ("unknown study 'smok'; did you mean
     'smoke'? available studies: ...").
 
-    A name equal to ``word`` but for case or surrounding spaces is the nearest; otherwise
-    ``difflib.get_close_matches`` of the lower-cased words, above ``cutoff`` (its default 0.6).
-    ``shown`` formats the name as the user would type it ("--run {}": ``did you mean --run
+    A name equal to ``word`` but for case or surrounding spaces is the nearest; otherwise the name
+    of the highest ``difflib.SequenceMatcher`` ratio with the lower-cased word, at or above
+    ``cutoff`` (``difflib.get_close_matches``'s score and default 0.6). Names tied at that ratio
+    are all named, in ``known``'s order ("did you mean 'lambda1' or 'lambda2'?"): difflib would
+    name the larger string alone, a coin flip shown as a hint (docs/decisions.md, "The near-miss
+    rule"). ``shown`` formats a name as the user would type it ("--run {}": ``did you mean --run
     default? ``)."""
-    import difflib
+    from difflib import SequenceMatcher
 
     lowered: dict[str, str] = {}
     for name in map(str, known):  # the first of names alike but for case
         lowered.setdefault(name.lower(), name)
     typed = str(word).strip().lower()
-    near = [typed] if typed in lowered else difflib.get_close_matches(typed, list(lowered), n=1,
-                                                                      cutoff=cutoff)
-    return f"did you mean {shown.format(lowered[near[0]])}? " if near else ""
+    if typed in lowered:
+        near = [typed]
+    else:  # get_close_matches' score: the candidate first, the word typed second
+        scores = {name: SequenceMatcher(None, name, typed).ratio() for name in lowered}
+        best = max(scores.values(), default=0.0)
+        near = [name for name, score in scores.items() if score == best] if best >= cutoff else []
+    if not near:
+        return ""
+    return f"did you mean {listed([shown.format(lowered[n]) for n in near], last='or')}? "

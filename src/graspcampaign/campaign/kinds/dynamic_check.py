@@ -80,9 +80,12 @@ def load_source(root: str, name: str, run: str) -> Source:
 
     Raises
     ------
+    MissingSourceRunError
+        When the run does not exist or is not complete; the message names the run and the
+        command that makes it (``source``: the study to run first).
     UserInputError
-        When the run does not exist, is not complete, or is not a quasi-static study; the message
-        names the run and the command to run first.
+        When the source is not a quasi-static study (its run's kind, or its study file's when
+        there is no run) or no study at all.
     """
     from omegaconf import OmegaConf
 
@@ -91,14 +94,14 @@ def load_source(root: str, name: str, run: str) -> Source:
     from graspcampaign.campaign.records import RunStore
     from graspcampaign.campaign.runner import kind_params, study_trials
     from graspcampaign.campaign.schema import StudyCfg
+    from graspcampaign.campaign.studyfile import configured_run
 
     path = Path(root) / name / run
     store = RunStore(path)
     manifest = store.check(["records"])  # the source's records as its manifest says
+    source = name + ("" if run == configured_run(name) else f" --run {run}")  # what to run first
     if manifest is None:
-        from graspcampaign.campaign.studyfile import configured_run
-
-        source = name + ("" if run == configured_run(name) else f" --run {run}")
+        check_source_study(root, name)  # advice to make a run this kind would refuse is none
         raise MissingSourceRunError(
             f"dynamic_check re-simulates the records of {name}/{run}, but {path} holds no run; "
             + how_to_make(root, name, run, then="first (or set params.source_study / "
@@ -106,8 +109,7 @@ def load_source(root: str, name: str, run: str) -> Source:
     if manifest.get("kind") != "quasi_static":
         raise UserInputError(
             f"dynamic_check re-simulates quasi-static plans, but {name}/{run} is a "
-            f"{manifest.get('kind')!r} run; choose a study of kind quasi_static "
-            "(baseline_grid, ablation, shapes) as params.source_study.")
+            f"{manifest.get('kind')!r} run; {_choose()}")
     study = OmegaConf.to_object(OmegaConf.merge(OmegaConf.structured(StudyCfg),
                                                 manifest["config"]))
     kind = get_kind(study.kind)
@@ -115,14 +117,54 @@ def load_source(root: str, name: str, run: str) -> Source:
     records = store.read().to_pandas()
     recorded = set(records["trial_id"]) if len(records) else set()
     missing = len(set(trials) - recorded)
-    if missing:
-        raise UserInputError(
+    if missing:  # like a missing run, one that `show` and `list` name as still to make
+        raise MissingSourceRunError(
             f"dynamic_check needs every trial of {name}/{run}, but {missing} of {len(trials)} are "
             f"not recorded under {path}; "
-            + how_to_make(root, name, run, manifest.get("overrides", []), then="again to finish it"))
+            + how_to_make(root, name, run, manifest.get("overrides", []), then="again to finish it"),
+            source)
     records = records[records["status"] == "ok"].set_index("trial_id", drop=False)
     return Source(study=study, path=path, records=records, trials=trials,
                   nodes=int(kind_params(study, kind).nodes), config_hash=manifest["config_hash"])
+
+
+def quasi_static_studies() -> list[str]:
+    """The studies on the config search path whose kind is ``quasi_static``: the sources this kind
+    can check."""
+    from graspcampaign.campaign.studyfile import read_yaml, study_files
+
+    return [name for name, path in study_files().items()
+            if read_yaml(path, study=True).get("kind") == "quasi_static"]
+
+
+def _choose() -> str:
+    return f"choose a study of kind quasi_static ({', '.join(quasi_static_studies())}) as " \
+           "params.source_study."
+
+
+def check_source_study(root: str, name: str) -> None:
+    """Refuse, before its run is asked for, a source study whose run this kind would refuse: one
+    whose study file names another kind, or one neither on the search path nor stored under
+    ``root``.
+
+    Raises
+    ------
+    UserInputError
+        Naming the study, its kind and the studies to choose from.
+    """
+    from graspcampaign.campaign.studyfile import read_yaml, study_files
+    from graspcampaign.core.words import meant
+
+    files = study_files()
+    if name in files:
+        kind = read_yaml(files[name], study=True).get("kind")
+        if kind != "quasi_static":
+            raise UserInputError(f"dynamic_check re-simulates quasi-static plans, but {name} is a "
+                                 f"study of kind {kind!r}; {_choose()}")
+    elif not (Path(root) / name).is_dir():  # a study known by its records alone is its runs'
+        raise UserInputError(
+            f"params.source_study {name!r} is neither a study on the config search path nor "
+            f"stored under {root}; {meant(name, quasi_static_studies())}{_choose()}")
 
 
 def design(study, params) -> list[dict[str, Any]]:

@@ -346,7 +346,9 @@ TEST1_BENCH = TrialKind(
     run=run,
     params=Test1BenchParams,
     source="virtual",
-    seconds_per_trial=0.001,  # generate + fit, CPU per event after issue 16 (docs/decisions.md)
+    # generate + fit per event after issue 16; a paper-scale run's mean wall_time_s is 0.7-1.4 ms
+    # on this 2-core machine when quiet, 2.3-3.7 ms under load (docs/decisions.md)
+    seconds_per_trial=0.001,
     design=design,
     finalize=finalize,
     schedule=schedule,
