@@ -1,4 +1,5 @@
-"""Tests of campaign/status.py beyond the command line's: the time a run's own records give."""
+"""Tests of campaign/status.py beyond the command line's: the time a run's own records give and
+when a run is complete."""
 
 from __future__ import annotations
 
