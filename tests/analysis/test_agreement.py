@@ -182,3 +182,24 @@ def test_a_constant_measurement_has_no_centred_r2():
     res = S.parity_fit(measured, predicted)
     assert math.isnan(res.r2_centred)
     assert res.r2_uncentred == pytest.approx(OLS(measured, predicted[:, None]).fit().rsquared, rel=1e-12)
+
+
+def test_median_interval_is_the_percentile_interval_of_the_exact_bootstrap_distribution():
+    # The bootstrap median of n = 11 values is the order statistic x_(k) with probability
+    # F(k) - F(k-1), F(k) = P(at least 6 of 11 draws <= x_(k)) = binom.sf(5, 11, k/11), each draw
+    # being <= x_(k) with probability k/11. Its 2.5 % and 97.5 % points, the smallest x_(k) with
+    # F(k) >= q, are x_(3) = 1.3 and x_(9) = 4.4, each 0.018 in probability from the next atom
+    # (11 Monte Carlo SDs at 10,000 resamples), so every seed gives those two values exactly
+    x = np.array([3.1, 0.4, 2.2, 5.9, 1.3, 4.4, 0.9, 2.8, 3.7, 1.8, 6.5])
+    cdf = sps.binom.sf(5, 11, np.arange(1, 12) / 11)
+    low, high = np.sort(x)[np.searchsorted(cdf, [0.025, 0.975])]
+    assert (low, high) == (1.3, 4.4)
+    for seed in range(4):
+        assert agreement.median_interval(x, seed=seed) == (low, high)
+    # and scipy's percentile bootstrap of np.median from the same seed, at another level
+    ref = sps.bootstrap((x,), np.median, n_resamples=999, confidence_level=0.8, method="percentile",
+                        rng=np.random.default_rng(7)).confidence_interval
+    assert agreement.median_interval(x, seed=7, n_resamples=999, confidence_level=0.8) == (
+        ref.low, ref.high)
+    with pytest.raises(ValueError, match=r"^x must hold at least 3 values, got 2\.$"):
+        agreement.median_interval([1.0, 2.0], seed=0)

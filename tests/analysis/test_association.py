@@ -257,3 +257,32 @@ def test_logistic_validation():
         S.logistic_regression(df.assign(x2=df.x * 2), "y", ["x", "x2"])
     with pytest.raises(ValueError, match="df must be a pandas DataFrame"):
         S.logistic_regression({"y": [0, 1]}, "y", ["x"])
+
+
+def test_a_fit_without_finite_standard_errors_is_not_converged(monkeypatch):
+    # statsmodels' Newton fit says "converged" from the size of its last step alone; its standard
+    # errors are the square roots of the diagonal of inv(-Hessian) / n, nan where a numerically
+    # indefinite Hessian leaves a negative entry. The paper's 2 x 2 fit converges with finite Woolf
+    # SEs; the same fit with its SEs made nan (no real data set was found that does it: 3,000
+    # random small designs, 1-2 predictors at scales 1e-8 to 1e8) is no estimate to report
+    from statsmodels.discrete.discrete_model import Logit
+
+    from graspcampaign.analysis import association
+
+    class NanSE:
+        def __init__(self, fit):
+            self.fit, self.bse = fit, np.full(len(fit.params), np.nan)
+
+        def __getattr__(self, name):
+            return getattr(self.fit, name)
+
+    class Model(Logit):
+        def fit(self, *args, **kwargs):
+            return NanSE(super().fit(*args, **kwargs))
+
+    df = _two_by_two_frame(637, 182, 213, 261)
+    assert S.logistic_regression(df, "success", ["proposed"]).converged
+    monkeypatch.setattr(association, "Logit", Model)
+    res = S.logistic_regression(df, "success", ["proposed"])
+    assert res.coefficients["se"].isna().all() and res.separation_kind == "none"
+    assert not res.converged

@@ -284,3 +284,68 @@ def test_the_facts_count_missing_ids_and_name_a_malformed_one(tmp_path):
 def test_a_reason_is_cut_only_past_120_characters():
     assert verify.reason(ValueError("x" * 120)) == "x" * 120
     assert verify.reason(ValueError("x" * 121)) == "x" * 117 + "..."
+
+
+def _other_values_same_size(path: Path) -> bytes:
+    """``path``'s table with other values in column x under the digest of the old ones, written as
+    the store writes (zstd, page checksums: every page reads as sound): its first m values 99 and
+    one more metadata entry, padded, for the first m and padding that give the old size."""
+    import io
+    from itertools import product
+
+    import numpy as np
+
+    table = pq.read_table(path)
+    x = table.column("x").to_numpy()
+
+    def written(m: int, pad: int) -> bytes:
+        values = pa.array(np.where(np.arange(len(x)) < m, 99.0, x))
+        changed = table.set_column(table.schema.get_field_index("x"), "x", values)
+        out = io.BytesIO()
+        pq.write_table(changed.replace_schema_metadata({**table.schema.metadata, b"pad": b"p" * pad}),
+                       out, compression="zstd", write_page_checksum=True)
+        return out.getvalue()
+
+    return next(data for data in (written(m, pad) for m, pad in product(range(1, len(x) + 1), range(40)))
+                if len(data) == path.stat().st_size)
+
+
+def test_a_file_rewritten_in_place_at_its_old_size_and_mtime_is_known_by_its_ctime(tmp_path,
+                                                                                    past_the_tick):
+    """Same inode, same size, mtime set back with os.utime, every page checksum sound: only the
+    ctime, which no call sets back, says the file changed, and its values then differ from the
+    digest stored with them."""
+    store, path = _verified_shard(tmp_path)
+    before = path.stat()
+    data = _other_values_same_size(path)
+    time.sleep(0.05)  # past the file system's clock tick: the rewrite gets a new ctime
+    with open(path, "r+b") as handle:
+        handle.write(data)
+    os.utime(path, ns=(before.st_atime_ns, before.st_mtime_ns))
+    after = path.stat()
+    assert (after.st_ino, after.st_size, after.st_mtime_ns) == (before.st_ino, before.st_size,
+                                                                before.st_mtime_ns)
+    assert after.st_ctime_ns != before.st_ctime_ns
+    assert pq.read_table(path).column("x").to_pylist() != [0.5 * i for i in range(20)]  # sound pages
+    with pytest.raises(DamagedRunError, match="its values differ from those written"):
+        store.read()
+
+
+@pytest.mark.parametrize("read_after_s, remembered", [(1.5, False), (2.5, True)])
+def test_a_file_with_whole_second_times_is_remembered_two_seconds_after_its_change(
+        tmp_path, monkeypatch, read_after_s, remembered):
+    """FAT keeps a file's mtime in 2 s steps (Microsoft's FAT specification: the write time's
+    seconds field counts 2 s units): a change stamped at a whole second T may have happened up to
+    T + 2 s, so a read 1.5 s after T may precede a change the same stamp hides, and is not
+    remembered; 2.5 s after it is."""
+    from types import SimpleNamespace
+
+    monkeypatch.setattr(verify, "_VERIFIED", {})
+    path = RunStore(tmp_path / "results" / "unit" / "r1").write_shard(
+        "records", "a", [{"trial_id": f"a{i}", "x": 0.5 * i} for i in range(3)])
+    stamp = 1_700_000_000 * 10**9  # a whole second
+    monkeypatch.setattr(verify, "_key", lambda stat: (stat.st_ino, stat.st_size, stamp, stamp))
+    monkeypatch.setattr(verify, "time", SimpleNamespace(
+        time_ns=lambda: stamp + int(read_after_s * 10**9)))
+    verify.read_file(path)
+    assert (verify.cached(path) is not None) == remembered

@@ -82,3 +82,20 @@ def test_microslip_limits():
     assert s.microslip(1e-6, q, k) == pytest.approx(1e-6 * q / k, rel=1e-5)
     assert s.microslip(1.0, q, k) == pytest.approx(1.5 * q / k)
     assert s.microslip(2.0, q, k) == pytest.approx(1.5 * q / k)
+
+
+@pytest.mark.parametrize("kind, expected", [("up", 6.0), ("down", 0.0), ("none", np.inf)])
+def test_a_contact_exactly_on_its_cone_sticks_until_the_disturbance_loads_it(monkeypatch, kind,
+                                                                             expected):
+    # Eq. 16 (§3.5): a contact sticks while |f_stick| <= mu_s f_n, so one exactly on its cone is
+    # not slipping. Equatorial contacts under W = 3 N carry 1 N each, upwards, against a capacity
+    # of exactly 1 N (the statics set exactly: lstsq leaves a ~1e-16 residue). A pull s upwards
+    # unloads them, 1 - s/3, until they meet the cone again at s = 3c + W = 6 N; a pull down loads
+    # them at once (3c - W = 0); a disturbance they do not carry leaves them sticking for ever.
+    unit = {"up": 1.0 / 3.0, "down": -1.0 / 3.0, "none": 0.0}[kind]
+    monkeypatch.setattr(s, "_tangential_solve", lambda *args: np.array(
+        [[[0.0, 0.0, 1.0]] * 3, [[0.0, 0.0, 1.0 - unit]] * 3]))
+    normals = _cone(0.0)
+    scales = s.slip_load_factors(0.05 * normals, normals, [1, 1, 1], np.zeros(3), np.ones(3),
+                                 [0, 0, -3.0], np.zeros(3), *s.disturbance_wrench(kind, 1.0))
+    np.testing.assert_allclose(scales, expected, rtol=1e-12)

@@ -8,6 +8,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from graspcampaign.core.statics import GRAVITY
 from graspcampaign.rig import protocol
 from graspcampaign.rig import virtual as v
 from graspcampaign.rig.plan import predict_trial
@@ -305,3 +306,70 @@ def test_an_object_lost_in_the_lift_has_slid_the_drop_travel(gel_equator, monkey
         out = _run(row, grip_force_n=grip)
         assert out["outcome"] == "failure_drop" and out["drop_flag"] and out["slip_flag"]
         assert out["peak_slip_mm"] >= 1e3 * v.RigParams().drop_travel - 0.3, grip
+
+
+# Every noise of the rig off: what a trial records is the model's own value (to the record's 0.01 mm)
+QUIET = v.RigParams(pose_sd=0.0, grip_tracking_rel=0.0, vision_noise=0.0, contact_point_noise=0.0)
+
+
+def test_each_pad_deflects_under_its_own_third_of_the_weight(gel_equator):
+    """Three equal horizontal contacts share the weight, W/3 each (test_slip's symmetric grasp);
+    under a grip 30 times what holds it a pad is far below its own capacity (kappa mu_s f_n), where
+    Mindlin's partial slip is Hooke's law with the stick stiffness: W / (3 k_t) (Johnson 1985 Eq.
+    7.42 to first order; the next term, 1/6 of the utilisation 1/30, adds 0.001 mm here). The
+    0.1 kg gel sphere, k_t = 1773 N/m: 0.18 mm (a capacity of the whole budget B_s, not a pad's,
+    gave 0.56 mm)."""
+    row, truth = gel_equator
+    weight = row["mass_kg"] * GRAVITY
+    grip = 30.0 * weight / (3 * QUIET.kappa * truth.mu_s)
+    out = v.virtual_trial(row, predict_trial(row) | {"grip_force_n": grip}, np.random.default_rng(0),
+                          QUIET)
+    assert out["peak_slip_mm"] == pytest.approx(1e3 * weight / (3 * truth.k_t), abs=0.006)
+
+
+def test_an_offset_centre_of_mass_swings_until_its_most_loaded_contact_holds(gel_equator, monkeypatch):
+    """Three horizontal contacts 50 mm from their centre at 120 deg, the object's centre of mass
+    15 mm from it towards contact 1, a grip giving a budget of 1.4 times the weight. The most loaded
+    contact carries its barycentric share of the weight (a linear solve for the barycentric
+    coordinates here); it holds while that share is within its own capacity kappa mu_s f_n, which
+    a centre 10 mm off meets exactly (found by brentq): the object swings the other 5 mm. Measured
+    as the slip beyond the same grasp centred (its pad deflection alone)."""
+    from scipy.optimize import brentq
+
+    row, truth = gel_equator
+    weight = row["mass_kg"] * GRAVITY
+    grip = 1.4 * weight / (3 * QUIET.kappa * truth.mu_s)
+    azimuth = np.radians([0.0, 120.0, 240.0])
+    normals = np.stack([np.cos(azimuth), np.sin(azimuth), np.zeros(3)], axis=1)
+
+    def share(offset):  # the most loaded contact's share of the weight, centre `offset` towards 1
+        corners = np.vstack([(0.05 * normals)[:, :2].T, np.ones(3)])
+        return np.linalg.solve(corners, [offset, 0.0, 1.0]).max()
+
+    held = brentq(lambda e: share(e) * weight - QUIET.kappa * truth.mu_s * grip, 0.0, 0.05)
+    assert held == pytest.approx(0.010, rel=1e-9)
+
+    def slip(offset):  # contacts displaced by -offset: the centre of mass sits +offset from them
+        points = 0.05 * normals - [offset, 0.0, 0.0]
+        monkeypatch.setattr(v, "realise_contacts", lambda *a: (points, normals, np.ones(3, bool)))
+        pred = predict_trial(row) | {"grip_force_n": grip}
+        return v.virtual_trial(row, pred, np.random.default_rng(0), QUIET)["peak_slip_mm"]
+
+    assert slip(0.015) - slip(0.0) == pytest.approx(1e3 * (0.015 - held), abs=0.011)
+    assert slip(0.009) == slip(0.0)  # within what the contacts hold: no swing
+
+
+def test_the_contact_point_error_is_measured_where_the_planner_put_the_contact(gel_equator,
+                                                                               monkeypatch):
+    """Vision measures the achieved contacts in the world, where the planned ones are: with the
+    object 10 mm from where the planner believes it, fingers that touch the very world points
+    planned are 0 mm off, and fingers that touch the object at the planned points of its own frame
+    (moved with it) are 10 mm off."""
+    row, _ = gel_equator
+    row = row | {"pose_err_mm": 10.0}
+    pred = predict_trial(row)
+    for moved, expected in ((True, 0.0), (False, 10.0)):
+        monkeypatch.setattr(v, "realise_contacts", lambda mesh, points, normals, offset, moved=moved: (
+            points - offset if moved else points, normals, np.ones(3, bool)))
+        out = v.virtual_trial(row, pred, np.random.default_rng(0), QUIET)
+        assert out["contact_point_error_mm"] == pytest.approx(expected, abs=1e-9)

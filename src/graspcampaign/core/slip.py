@@ -129,7 +129,9 @@ def slip_load_factors(points, normals, normal_forces, centroid, capacities, base
 
     The tangential forces are affine in the disturbance scale ``s``:
     ``f_t,j(s) = a_j + s b_j`` (base wrench plus ``s`` times the unit wrench); contact j saturates
-    at the smallest ``s >= 0`` with ``|a_j + s b_j| = capacity_j``.
+    at the smallest ``s >= 0`` beyond which ``|a_j + s b_j| > capacity_j``. A contact exactly on its
+    cone sticks (Eq. 16, ``<=``): it saturates at 0 if the disturbance loads it, else where it
+    meets the cone again.
 
     Returns
     -------
@@ -147,7 +149,7 @@ def slip_load_factors(points, normals, normal_forces, centroid, capacities, base
     qc = np.einsum("ij,ij->i", a, a) - cap**2
     out = np.full(3, np.inf)
     for j in range(3):
-        if qc[j] >= 0.0:
+        if qc[j] > 0.0:  # beyond the cone; on it (0) the root below is 0 or the next meeting
             out[j] = 0.0
         elif qa[j] > 1e-18:
             out[j] = (-qb[j] + np.sqrt(qb[j] ** 2 - 4.0 * qa[j] * qc[j])) / (2.0 * qa[j])
