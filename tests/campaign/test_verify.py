@@ -306,8 +306,11 @@ def _other_values_same_size(path: Path) -> bytes:
                        out, compression="zstd", write_page_checksum=True)
         return out.getvalue()
 
-    return next(data for data in (written(m, pad) for m, pad in product(range(1, len(x) + 1), range(40)))
-                if len(data) == path.stat().st_size)
+    same = next((data for data in (written(m, pad) for m, pad in product(range(1, len(x) + 1), range(40)))
+                 if len(data) == path.stat().st_size), None)
+    if same is None:  # the encoder of another pyarrow release may give no such rewrite
+        pytest.skip(f"pyarrow {pa.__version__} writes no same-size rewrite in this search")
+    return same
 
 
 def test_a_file_rewritten_in_place_at_its_old_size_and_mtime_is_known_by_its_ctime(tmp_path,
