@@ -1,5 +1,5 @@
 """Fixtures of the command-line tests: a user's own study directory, a breakable config home, and
-finished runs (made once) that a bad-store test damages a copy of."""
+finished runs (made once) that a bad-store test damages a copy of, and a mesh to plan on."""
 
 from __future__ import annotations
 
@@ -7,6 +7,7 @@ import shutil
 from pathlib import Path
 
 import pytest
+import trimesh
 from cli_checks import BG, SMOKE, invoke
 
 from graspcampaign.campaign import studyfile
@@ -49,3 +50,11 @@ def finished(tmp_path_factory):
 def results(finished, tmp_path):
     """A copy of the finished results root this test may damage."""
     return Path(shutil.copytree(finished, tmp_path / "results"))
+
+
+@pytest.fixture
+def sphere(tmp_path):
+    """A valid mesh file to plan on (40 mm sphere)."""
+    path = tmp_path / "sphere.stl"
+    trimesh.creation.icosphere(subdivisions=2, radius=40.0).export(path)
+    return path

@@ -21,14 +21,6 @@ from cli_checks import SMOKE, invoke, refused
 from graspcampaign.campaign.provenance import code_version
 
 
-@pytest.fixture
-def sphere(tmp_path):
-    """A valid mesh file to plan on (40 mm sphere)."""
-    path = tmp_path / "sphere.stl"
-    trimesh.creation.icosphere(subdivisions=2, radius=40.0).export(path)
-    return path
-
-
 @pytest.mark.parametrize(("material", "meant"), [
     ("silicone_rf", "did you mean 'silicone_ref'? "),  # it had no suggestion and no final period
     ("steel", ""),

@@ -7,16 +7,7 @@ Each refusal: exit 2, one sentence naming what is wrong and where, nothing store
 from __future__ import annotations
 
 import pytest
-import trimesh
 from cli_checks import invoke, refused
-
-
-@pytest.fixture
-def sphere(tmp_path):
-    """A valid mesh file to plan on (40 mm sphere)."""
-    path = tmp_path / "sphere.stl"
-    trimesh.creation.icosphere(subdivisions=2, radius=40.0).export(path)
-    return path
 
 
 @pytest.mark.parametrize(("args", "option", "instead", "makes_dirs"), [
