@@ -325,7 +325,7 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
         chash = provenance.config_hash(study, manifest)
         session = {"started_at": provenance.now_utc(), "host": socket.gethostname(),
                    "backend": study.runner.backend, "n_jobs": study.runner.n_jobs,
-                   "config_hash": chash, "finished_at": None}
+                   "config_hash": chash, "n_trials": len(trials), "finished_at": None}
         expected = expected_records(manifest) if manifest is not None else 0
         if manifest is None:
             from graspcampaign.campaign.compose import as_given
@@ -390,10 +390,11 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
             _finalize(kind, study, params, store)
         store.compact_all()
         summary.wall_time_s = time.perf_counter() - t0
-        session.update(finished_at=provenance.now_utc(), ran=summary.n_ran, errors=summary.n_error)
+        session.update(finished_at=provenance.now_utc(), ran=summary.n_ran, errors=summary.n_error,
+                       recorded=summary.n_already + summary.n_ran)  # of its design: run_complete
         manifest["n_recorded"] = len(done) + summary.n_ran
-        if complete:
-            manifest["finished_at"] = session["finished_at"]
+        # finished: every trial of the design it now runs recorded (a drifted design may be larger)
+        manifest["finished_at"] = session["finished_at"] if complete else None
         provenance.write_manifest(store.manifest_path, manifest)
         check_run(store)  # never a run its own checks refuse: DamagedRunError (exit 2) if it is
     return summary

@@ -14,7 +14,7 @@ from typing import Any
 import pandas as pd
 
 from graspcampaign.campaign.paths import check_root, how_to_make, near_run, write_file
-from graspcampaign.campaign.provenance import read_manifest
+from graspcampaign.campaign.provenance import read_manifest, run_size
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.errors import ConfigError, UserInputError, disk_full
 from graspcampaign.report import document as D
@@ -270,7 +270,7 @@ def index_rows(root: Path, page: str, unreadable: list[tuple[str, str]] | None =
                 unreadable.append((run_dir.relative_to(root).as_posix(), reason(exc)))
             m, source = {}, None
         rows.append([m.get("study", run_dir.parent.name), m.get("run", run_dir.name),
-                     SOURCE_SHORT.get(source, source), m.get("n_trials"),
+                     SOURCE_SHORT.get(source, source), run_size(m),
                      report.with_suffix(".html").relative_to(root).as_posix()])
     return pd.DataFrame(rows, columns=["study", "run", "source", "trials", "report"])
 
