@@ -27,7 +27,7 @@ from graspcampaign.campaign import provenance
 from graspcampaign.campaign.grid import Trial, content_hash, expand
 from graspcampaign.campaign.integrity import check_run, expected_records
 from graspcampaign.campaign.kind import TrialInput, TrialKind, get_kind
-from graspcampaign.campaign.paths import check_root
+from graspcampaign.campaign.paths import LOCK_FILE, check_root
 from graspcampaign.campaign.provenance import DriftError, check_drift  # noqa: F401 - DriftError: API
 from graspcampaign.campaign.records import ERROR_COLUMNS, RunStore, config_metadata
 from graspcampaign.campaign.schema import StudyCfg, check_config, check_design_rows
@@ -425,7 +425,7 @@ def run_lock(store: RunStore, label: str) -> Iterator[None]:
     import fcntl
 
     made = [p for p in (store.path, *store.path.parents) if not p.exists()]  # deepest first
-    lock, handle, held = store.path / ".lock", None, False
+    lock, handle, held = store.path / LOCK_FILE, None, False
     try:
         for _ in range(_LOCK_ATTEMPTS):
             with contextlib.suppress(FileNotFoundError):  # the directory was removed meanwhile
