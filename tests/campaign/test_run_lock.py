@@ -14,6 +14,7 @@ import kinds_for_tests  # noqa: F401  (registers the test kinds)
 import pyarrow.parquet as pq
 import pytest
 
+from graspcampaign.campaign.paths import held_by_a_run
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.runner import run_lock, run_study
 from graspcampaign.campaign.studyfile import run_path
@@ -66,3 +67,18 @@ def test_a_held_run_is_refused_before_its_dask_scheduler_is_awaited(study_factor
                                                                       r"being run by another process"):
         run_study(study)
     assert not (store.path / "manifest.json").exists()
+
+
+def test_a_held_run_is_seen_held_and_the_probe_takes_nothing(tmp_path):
+    """``paths.held_by_a_run`` (what ``report`` asks): no run directory or lock file is not held;
+    a run whose lock another holder has is, and the probe neither keeps a lock nor makes a file."""
+    store = RunStore(tmp_path / "study" / "run")
+    assert not held_by_a_run(store.path)
+    with run_lock(store, "study/run"):
+        assert held_by_a_run(store.path) and held_by_a_run(store.path)
+    assert not (tmp_path / "study").exists()  # the lock's holder removed what it made
+    store.path.mkdir(parents=True)
+    (store.path / ".lock").touch()  # left by a holder that died: the system let its lock go
+    assert not held_by_a_run(store.path)
+    with run_lock(store, "study/run"):  # the probe kept no lock: the run is taken at once
+        pass

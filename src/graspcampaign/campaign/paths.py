@@ -207,6 +207,31 @@ def near_run(root: Path | str, study: str, run: str) -> str:
     return meant(run, runs, "--run {}")
 
 
+#: The file a run or ingest holds its run by (``runner.run_lock``), in the run's directory.
+LOCK_FILE = ".lock"
+
+
+def held_by_a_run(run_dir: Path) -> bool:
+    """Whether another process holds the run at ``run_dir`` (its lock, ``runner.run_lock``) now: a
+    ``run`` or ``ingest`` is recording it. Probed with a shared lock let go at once, nothing made
+    or written; no lock file, or a file system without locks, says no."""
+    import fcntl
+
+    try:
+        handle = os.open(run_dir / LOCK_FILE, os.O_RDONLY)
+    except OSError:
+        return False
+    try:
+        fcntl.flock(handle, fcntl.LOCK_SH | fcntl.LOCK_NB)
+    except BlockingIOError:
+        return True
+    except OSError:  # no locks here (NFS mounted with nolock): run_lock warned who ran it
+        return False
+    finally:
+        os.close(handle)  # the shared lock goes with it
+    return False
+
+
 def root_options(root: Path | str) -> list[str]:
     """The ``--root`` option a suggested command needs to reach ``root`` (none for the default,
     ``results``); for :func:`shlex.join`, so that a root with a space stays one argument."""

@@ -27,7 +27,7 @@ from graspcampaign.campaign import provenance
 from graspcampaign.campaign.grid import Trial, content_hash, expand
 from graspcampaign.campaign.integrity import check_run, expected_records
 from graspcampaign.campaign.kind import TrialInput, TrialKind, get_kind
-from graspcampaign.campaign.paths import check_root
+from graspcampaign.campaign.paths import LOCK_FILE, check_root
 from graspcampaign.campaign.provenance import DriftError, check_drift  # noqa: F401 - DriftError: API
 from graspcampaign.campaign.records import ERROR_COLUMNS, RunStore, config_metadata
 from graspcampaign.campaign.schema import StudyCfg, check_config, check_design_rows
@@ -325,7 +325,7 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
         chash = provenance.config_hash(study, manifest)
         session = {"started_at": provenance.now_utc(), "host": socket.gethostname(),
                    "backend": study.runner.backend, "n_jobs": study.runner.n_jobs,
-                   "config_hash": chash, "finished_at": None}
+                   "config_hash": chash, "n_trials": len(trials), "finished_at": None}
         expected = expected_records(manifest) if manifest is not None else 0
         if manifest is None:
             from graspcampaign.campaign.compose import as_given
@@ -390,10 +390,11 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
             _finalize(kind, study, params, store)
         store.compact_all()
         summary.wall_time_s = time.perf_counter() - t0
-        session.update(finished_at=provenance.now_utc(), ran=summary.n_ran, errors=summary.n_error)
+        session.update(finished_at=provenance.now_utc(), ran=summary.n_ran, errors=summary.n_error,
+                       recorded=summary.n_already + summary.n_ran)  # of its design: run_complete
         manifest["n_recorded"] = len(done) + summary.n_ran
-        if complete:
-            manifest["finished_at"] = session["finished_at"]
+        # finished: every trial of the design it now runs recorded (a drifted design may be larger)
+        manifest["finished_at"] = session["finished_at"] if complete else None
         provenance.write_manifest(store.manifest_path, manifest)
         check_run(store)  # never a run its own checks refuse: DamagedRunError (exit 2) if it is
     return summary
@@ -424,7 +425,7 @@ def run_lock(store: RunStore, label: str) -> Iterator[None]:
     import fcntl
 
     made = [p for p in (store.path, *store.path.parents) if not p.exists()]  # deepest first
-    lock, handle, held = store.path / ".lock", None, False
+    lock, handle, held = store.path / LOCK_FILE, None, False
     try:
         for _ in range(_LOCK_ATTEMPTS):
             with contextlib.suppress(FileNotFoundError):  # the directory was removed meanwhile

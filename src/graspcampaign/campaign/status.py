@@ -247,6 +247,8 @@ def run_status(root: Path | str, study: str, run: str = "default") -> dict[str, 
     UserInputError
         No such run; for a study that is neither known nor in ``root``, the available studies.
     """
+    from graspcampaign.campaign.provenance import run_complete, run_size
+
     store, manifest = open_run(root, study, run)
     table, source = store.read_records(manifest, ["status"])  # pyarrow only: status answers fast
     statuses = table.column("status").to_pylist() if table.num_rows else []
@@ -255,11 +257,11 @@ def run_status(root: Path | str, study: str, run: str = "default") -> dict[str, 
         "run": run,
         "path": str(store.path),
         "source": source,  # as the run's report says
-        "n_trials": manifest.get("n_trials"),
+        "n_trials": run_size(manifest),  # of the design it now runs (--allow-drift may change it)
         "n_recorded": len(statuses),
         "n_ok": statuses.count("ok"),
         "n_error": statuses.count("error"),
-        "complete": len(statuses) == manifest.get("n_trials"),
+        "complete": run_complete(manifest, len(statuses)),
         "config_hash": manifest.get("config_hash"),
         "code_version": manifest.get("code_version"),
         "started_at": manifest.get("started_at"),

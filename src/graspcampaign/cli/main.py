@@ -290,6 +290,8 @@ def _report_paths(batch) -> None:
             failed = (f" ({len(titles)} of {items} items failed: {', '.join(titles)}; their notes in "
                       "the report say why)" if titles else "")
             typer.echo(f"{label}: {path}{' (and .html)' if html and path.suffix == '.md' else ''}{failed}")
+            if path in batch.in_progress:  # another process is recording the run: exit 0 all the same
+                typer.echo(f"  run in progress: {batch.in_progress[path]}")
     for label, why, _ in batch.failed:
         typer.echo(f"error: the report of {label} could not be written: {why}", err=True)
     broken = any(titles for _, titles in batch.broken.values())

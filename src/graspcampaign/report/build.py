@@ -13,8 +13,8 @@ from typing import Any
 
 import pandas as pd
 
-from graspcampaign.campaign.paths import check_root, how_to_make, near_run, write_file
-from graspcampaign.campaign.provenance import read_manifest
+from graspcampaign.campaign.paths import check_root, held_by_a_run, how_to_make, near_run, write_file
+from graspcampaign.campaign.provenance import read_manifest, run_size
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.errors import ConfigError, UserInputError, disk_full
 from graspcampaign.report import document as D
@@ -45,13 +45,15 @@ class ReportBatch(list):
     """The written report paths (``report.md``); ``failed``: ``(run label, reason, bad input)`` of
     runs not written; ``broken``: a written report's ``(items, titles of those whose code failed)``
     (:func:`~graspcampaign.report.render.render`) by its path; ``pages``: the root pages written
-    (index and headline, each format); ``formats``: the formats written."""
+    (index and headline, each format); ``formats``: the formats written; ``in_progress``: by its
+    path, how much of a run another process was recording was recorded when its report was made."""
 
     def __init__(self, written=(), failed=(), formats=("md", "csv")):
         super().__init__(written)
         self.failed: list[tuple[str, str, bool]] = list(failed)
         self.broken: dict[Path, tuple[int, list[str]]] = {}
         self.pages: list[Path] = []
+        self.in_progress: dict[Path, str] = {}
         self.formats = list(formats)
 
 
@@ -91,20 +93,26 @@ def _paper(run_paper: dict | None, study: str, notes: list[str]) -> Any:
 
 
 def report_run(store: RunStore, root: Path, formats: list[str], figure_format: str,
-               ) -> tuple[Path, int, list[str]]:
-    """Write one run's report under ``<run>/report/``; return its main page, its number of items
-    and the titles of those whose code failed (``Run.broken``)."""
+               ) -> tuple[Path, int, list[str], str | None]:
+    """Write one run's report under ``<run>/report/``; return its main page, its number of items,
+    the titles of those whose code failed (``Run.broken``) and, for a run another process held
+    while it was read (``paths.held_by_a_run``), how much of it was recorded then."""
+    busy = held_by_a_run(store.path)  # asked before and after the records are read
     manifest = store.check()  # never a report of records that are not what the manifest says
     if not manifest:
         raise UserInputError(f"{store.manifest_path} is missing.")
     records, notes = store.read("records").to_pandas(), []
+    progress = None  # of a run another process is recording: how much was recorded when read
+    if busy or held_by_a_run(store.path):
+        progress = f"{len(records)} of {run_size(manifest)} recorded when this report was made"
     study, kind = str(manifest.get("study")), str(manifest.get("kind"))
     like = (manifest.get("config") or {}).get("compare_with") or study  # its paper values' study
     run = Run(records, manifest, _paper((manifest.get("config") or {}).get("paper"), like, notes),
               store, figure_format)
     up = "../" * (len(store.path.relative_to(root).parts) + 1)
     doc = Document(f"{study} — run {manifest.get('run')}", run.source,
-                   provenance(run) + [("Note", n) for n in notes], nav=[(t, up + h) for t, h in NAV])
+                   provenance(run) + ([("Run in progress", progress)] if progress else [])
+                   + [("Note", n) for n in notes], nav=[(t, up + h) for t, h in NAV])
     if not len(records):
         doc.blocks.append(Text("No trial of this run is recorded yet.", "note"))
     else:
@@ -114,7 +122,7 @@ def report_run(store: RunStore, root: Path, formats: list[str], figure_format: s
         render(GENERIC, run, doc)
     for failure in run.failures:
         log.warning("report %s/%s: %s", study, manifest.get("run"), failure)
-    return doc.write(store.path / "report", formats, figure_format), run.items, run.broken
+    return doc.write(store.path / "report", formats, figure_format), run.items, run.broken, progress
 
 
 def _runs(root: Path, studies: list[str] | None, run: str | Mapping[str, str] | None,
@@ -212,9 +220,11 @@ def build_reports(studies: list[str] | None = None, run: str | Mapping[str, str]
                                            for store in stores)
     for written, failure in outcomes:
         if failure is None:
-            page, items, titles = written
+            page, items, titles, busy = written
             batch.append(page)
             batch.broken[page] = (items, titles)
+            if busy:
+                batch.in_progress[page] = busy
         else:
             batch.failed.append(failure)
     if len(batch) and write_root_pages(root, formats):
@@ -270,7 +280,7 @@ def index_rows(root: Path, page: str, unreadable: list[tuple[str, str]] | None =
                 unreadable.append((run_dir.relative_to(root).as_posix(), reason(exc)))
             m, source = {}, None
         rows.append([m.get("study", run_dir.parent.name), m.get("run", run_dir.name),
-                     SOURCE_SHORT.get(source, source), m.get("n_trials"),
+                     SOURCE_SHORT.get(source, source), run_size(m),
                      report.with_suffix(".html").relative_to(root).as_posix()])
     return pd.DataFrame(rows, columns=["study", "run", "source", "trials", "report"])
 

@@ -15,7 +15,7 @@ import pandas as pd
 from graspcampaign.analysis.records import executed, status_counts
 from graspcampaign.analysis.vocabulary import data_source
 from graspcampaign.campaign.paths import how_to_make
-from graspcampaign.campaign.provenance import design_change, ingested
+from graspcampaign.campaign.provenance import design_change, ingested, run_size
 from graspcampaign.core.bench_specimen import FINGERTIP_RADIUS
 from graspcampaign.core.words import listed, meant
 from graspcampaign.errors import UserInputError, disk_full
@@ -210,7 +210,7 @@ def provenance(run: Run) -> list[tuple[str, str]]:
     def given(value: Any, code: bool = False) -> str:  # a missing entry (an ingested run's) marked "—"
         return fmt.MISSING if fmt.is_missing(value) else f"`{value}`" if code else str(value)
 
-    return [("Trials", f"{len(run.records)} recorded of {given(m.get('n_trials'))}; {counts['executed']} "
+    return [("Trials", f"{len(run.records)} recorded of {given(run_size(m))}; {counts['executed']} "
                        "executed" + (f"; {excluded}, excluded from every denominator" if excluded else "")),
             *([("Design", design)] if (design := design_text(m.get("config") or {})) else []),
             *([("Reduced/modified run", f"overrides `{change[0]}`; {change[1]}")]

@@ -8,6 +8,7 @@ import pandas as pd
 
 from graspcampaign.analysis import dynamic_check as dc
 from graspcampaign.analysis.vocabulary import label
+from graspcampaign.campaign.provenance import run_size
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
 from graspcampaign.report.document import Col, pct_col
@@ -93,7 +94,7 @@ def finding(run: Run) -> str:
     else:
         text = (f"No {CLAIM_SHAPE} comparison can be judged against the paper's full agreement (Sec. 6.1): "
                 f"none of the {source} trials re-simulated has a settled dynamic grasp (table kappa). ")
-    planned, out = run.manifest.get("n_trials"), int(judged.query("comparison == 'source'").not_settled.sum())
+    planned, out = run_size(run.manifest), int(judged.query("comparison == 'source'").not_settled.sum())
     if planned and len(run.records) < planned:
         text += f"Partial run: {len(run.records)} of {planned} dynamic grasps recorded. "
     if out:
