@@ -250,7 +250,30 @@ def check_kind(study: StudyCfg) -> None:
                           f"its params and {reads}: factors.{ignored[0]} would change nothing but the "
                           f"config hash; set its params instead (graspcampaign show {study.name} lists "
                           "them).", key=f"factors.{ignored[0]}")
+    check_method_factors(study, facts)
     check_params(study.params, facts["params"], study.kind)
+
+
+def check_method_factors(study: StudyCfg, facts: dict[str, Any]) -> None:
+    """Refuse a name in ``method_factors`` that no trial of the study holds: neither a known
+    factor, ``seed``, ``repeat``, a factor of the study nor a key of its kind's trials
+    (``TrialKind.trial_keys``); it would change nothing but the config hash. A designed kind
+    declaring no trial keys (a protocol: its trials are its schedule's rows) is not checked."""
+    from graspcampaign.campaign.schema import FACTOR_SPECS
+
+    keys = facts.get("trial_keys") or []
+    if facts["design"] and not keys:
+        return
+    known = [*FACTOR_SPECS, "seed", "repeat", *study.factors, *keys]
+    for name in study.method_factors:
+        if name not in known:
+            named = sorted({*study.factors, *keys} - {"seed"}) or ["none"]
+            raise ConfigError(
+                f"method_factors names {name!r}, which is no factor and no key of a trial of kind "
+                f"{study.kind!r}, so it would change nothing but the config hash; "
+                f"{meant(name, known)}a method factor names a factor or trial key whose levels "
+                f"share one scene's random draws (this study's: {', '.join(named)}).",
+                key="method_factors")
 
 
 # -- files -----------------------------------------------------------------------------------------
