@@ -7,7 +7,7 @@ Each refusal: exit 2, one sentence naming what is wrong and where, nothing store
 from __future__ import annotations
 
 import pytest
-from cli_checks import refused
+from cli_checks import invoke, refused
 
 HEADER = "# @package _global_\n# schema: StudyCfg\n"
 
@@ -37,3 +37,35 @@ def test_a_method_factor_in_a_study_file_is_named_with_its_line(results, user_di
             "trial of kind 'mesh_features', so it would change nothing but the config hash; a "
             "method factor names a factor or trial key whose levels share one scene's random "
             "draws (this study's: nodes, shape).")
+
+
+@pytest.mark.parametrize(("override", "said"), [
+    # accepted: schedule test2_grasp then failed with a traceback (OverflowError: Python int too
+    # large to convert to C long); 2**32 fails the surrogate's scikit-learn models
+    ("seed=12345678901234567890123", "seed = 12345678901234567890123 is out of range; allowed: "
+     ">= 0 and <= 4294967295 (a 32-bit word, the seeds numpy's RandomState takes)."),
+    ("seed=4294967296", "seed = 4294967296 is out of range; allowed: >= 0 and <= 4294967295 (a "
+     "32-bit word, the seeds numpy's RandomState takes)."),
+    # accepted: one task of every trial
+    ("runner.batch_size=100000000000000000000", "runner.batch_size = 100000000000000000000 is out "
+     "of range; allowed: >= 0 and <= 1000000 (a study holds at most 1,000,000 trials, "
+     "docs/decisions.md)."),
+    # accepted: show printed "paper: figure=, ..." and the run stored it
+    ("paper.figure=", "campaigns/baseline_grid.yaml with override paper.figure=: paper.figure is "
+     "empty; write the text the paper prints there."),
+])
+def test_a_seed_a_task_size_or_a_paper_text_past_what_it_takes_is_refused(results, override,
+                                                                          said):
+    for command in ("show", "run"):
+        refused(results, [command, "baseline_grid", override, "--root", results], said)
+
+
+def test_the_largest_seed_numpy_takes_is_accepted(results):
+    import numpy as np
+    from sklearn.utils import check_random_state
+
+    check_random_state(2**32 - 1)  # the bound is numpy's, not ours
+    with pytest.raises(ValueError, match="2\\*\\*32 - 1"):
+        np.random.RandomState(2**32)
+    done = invoke("show", "baseline_grid", f"seed={2**32 - 1}", "--root", results)
+    assert done.exit_code == 0, done.output
