@@ -69,3 +69,17 @@ def test_the_largest_seed_numpy_takes_is_accepted(results):
         np.random.RandomState(2**32)
     done = invoke("show", "baseline_grid", f"seed={2**32 - 1}", "--root", results)
     assert done.exit_code == 0, done.output
+
+
+@pytest.mark.parametrize(("args", "said"), [
+    # each printed the path as it is, its line break splitting the sentence over two lines
+    (["show", "{path}", "--root", "{root}"], "study file {path!r} does not exist; give a YAML file."),
+    (["plan", "{path}", "--mass-kg", "0.1"],
+     "{path!r} does not exist; give a mesh file (STL, OBJ or PLY)."),
+    (["ingest", "test2_grasp", "{path}", "--root", "{root}"],
+     "{path!r} does not exist; give a file of measured records (CSV, XLSX or Parquet)."),
+])
+def test_a_path_to_read_holding_a_line_break_is_named_quoted(results, tmp_path, args, said):
+    suffix = {"show": ".yaml", "plan": ".obj", "ingest": ".csv"}[args[0]]
+    path = str(tmp_path / f"no\nsuch{suffix}")
+    refused(results, [arg.format(path=path, root=results) for arg in args], said.format(path=path))
