@@ -7,6 +7,7 @@ Each refusal: exit 2, one sentence naming what is wrong and where, nothing store
 from __future__ import annotations
 
 import pytest
+import trimesh
 from cli_checks import invoke, refused
 
 HEADER = "# @package _global_\n# schema: StudyCfg\n"
@@ -83,3 +84,20 @@ def test_a_path_to_read_holding_a_line_break_is_named_quoted(results, tmp_path, 
     suffix = {"show": ".yaml", "plan": ".obj", "ingest": ".csv"}[args[0]]
     path = str(tmp_path / f"no\nsuch{suffix}")
     refused(results, [arg.format(path=path, root=results) for arg in args], said.format(path=path))
+
+
+@pytest.mark.parametrize(("file_type", "suffix", "encoding"), [
+    # an OBJ was "is not an OBJ file: OBJ is text, but the file holds binary data", an ASCII STL
+    # "its header declares 3,145,760 triangles ... as a binary STL", a PLY "cannot be read as PLY
+    # (Not a ply file!)"
+    ("obj", ".obj", "utf-16"), ("obj", ".obj", "utf-16-le"), ("stl_ascii", ".stl", "utf-16"),
+    ("ply", ".ply", "utf-16"),
+])
+def test_a_text_mesh_saved_as_utf16_is_named_as_one(tmp_path, file_type, suffix, encoding):
+    sphere = trimesh.creation.icosphere(subdivisions=2, radius=40.0)
+    text = sphere.export(file_type=file_type, encoding="ascii") if file_type == "ply" else \
+        sphere.export(file_type=file_type)
+    path = tmp_path / f"ball{suffix}"
+    path.write_bytes((text.decode() if isinstance(text, bytes) else text).encode(encoding))
+    refused(tmp_path, ["plan", path, "--mass-kg", "0.1"],
+            f"mesh 'ball{suffix}' is UTF-16 text, not UTF-8; save it as UTF-8 (or ASCII) text.")
