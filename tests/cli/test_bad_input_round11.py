@@ -6,10 +6,15 @@ Each refusal: exit 2, one sentence naming what is wrong and where, nothing store
 
 from __future__ import annotations
 
+import numpy as np
+import pandas as pd
 import pytest
 import trimesh
 from cli_checks import invoke, refused
 
+T2 = ["--set", "params.fraction=0.06"]
+T1 = ["--set", "params.materials=[gel]", "--set", "params.specimens=[1]", "--set",
+      "params.environments=[normal_lab]"]
 HEADER = "# @package _global_\n# schema: StudyCfg\n"
 
 
@@ -101,3 +106,34 @@ def test_a_text_mesh_saved_as_utf16_is_named_as_one(tmp_path, file_type, suffix,
     path.write_bytes((text.decode() if isinstance(text, bytes) else text).encode(encoding))
     refused(tmp_path, ["plan", path, "--mass-kg", "0.1"],
             f"mesh 'ball{suffix}' is UTF-16 text, not UTF-8; save it as UTF-8 (or ASCII) text.")
+
+
+def _filled_sheet(tmp_path, rows: int = 2) -> pd.DataFrame:
+    """The first ``rows`` rows of test2_grasp's measured-records template, filled in."""
+    made = invoke("schedule", "test2_grasp", "params.fraction=0.06", "--template", "--out",
+                  tmp_path / "sheet")
+    assert made.exit_code == 0, made.output
+    return pd.read_csv(tmp_path / "sheet-template.csv").iloc[:rows].assign(
+        aborted=False, outcome="stable", success=True, stable=True, slip_flag=False,
+        drop_flag=False, damage_flag=False, contact_loss_flag=False, peak_slip_mm=0.16,
+        sf_actual=1.5, g_geo_actual=0.5).drop(columns=["abort_reason", "environment", "source"])
+
+
+def test_a_row_of_only_commas_in_a_measured_csv_is_named_as_an_empty_row(results, tmp_path):
+    # "day1.csv, row 2, column 'trial_id': trial id is empty."
+    sheet = tmp_path / "day1.csv"
+    lines = _filled_sheet(tmp_path).to_csv(index=False).splitlines(keepends=True)
+    sheet.write_text("".join([*lines[:2], "," * (lines[0].count(",")) + "\n", *lines[2:]]))
+    refused(results, ["ingest", "test2_grasp", sheet, *T2, "--root", results],
+            "day1.csv, row 2 is empty; delete it.")
+
+
+def test_a_row_of_only_commas_in_a_waveform_file_is_named_as_an_empty_row(results, tmp_path):
+    # "waves.csv, row 3, column 'event_id': event id is empty."
+    waves = pd.DataFrame({"event_id": "t1-49ea66f7c6ce", "time_s": np.arange(4) * 1e-2,
+                          "displacement_mm": 0.5, "normal_force_n": 1.0,
+                          "tangential_force_n": 0.0, "tangential_displacement_mm": 0.0})
+    lines = waves.to_csv(index=False).splitlines(keepends=True)
+    (tmp_path / "waves.csv").write_text("".join([*lines[:3], ",,,,,\n", *lines[3:]]))
+    refused(results, ["ingest", "test1_bench", tmp_path / "waves.csv", *T1, "--root", results],
+            "waves.csv, row 3 is empty; delete it.")

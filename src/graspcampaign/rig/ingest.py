@@ -31,6 +31,7 @@ from graspcampaign.rig.measured_file import (
     IngestError,
     aside,
     cell_problem,
+    empty_row,
     header_problems,
     ingest_error,
     read_table,
@@ -179,7 +180,8 @@ def validate_records(data: pd.DataFrame | str | Path, schedule: pd.DataFrame,
     ids = []
     for i, value in enumerate(df["trial_id"].tolist()):
         if _blank(value):
-            raise ingest_error(label, i + 1, "trial_id", "trial id is empty")
+            raise empty_row(label, df, i + 1) or ingest_error(label, i + 1, "trial_id",
+                                                              "trial id is empty")
         ids.append(str(value).strip())
     aborted = []
     for i, value in enumerate(df["aborted"].tolist()):
