@@ -137,3 +137,25 @@ def test_a_row_of_only_commas_in_a_waveform_file_is_named_as_an_empty_row(result
     (tmp_path / "waves.csv").write_text("".join([*lines[:3], ",,,,,\n", *lines[3:]]))
     refused(results, ["ingest", "test1_bench", tmp_path / "waves.csv", *T1, "--root", results],
             "waves.csv, row 3 is empty; delete it.")
+
+
+def test_the_template_lists_every_boolean_word_ingest_reads(results, tmp_path):
+    # the columns sheet said "true/false" while ingest also read yes/no, y/n, t/f and 1/0
+    made = invoke("schedule", "test2_grasp", "params.fraction=0.06", "--template", "--out",
+                  tmp_path / "sheet")
+    assert made.exit_code == 0, made.output
+    columns = pd.read_csv(next(tmp_path.glob("sheet-*columns*.csv")), dtype=str)
+    allowed = set(columns.loc[columns["type"] == "bool", "allowed"])
+    assert allowed == {"true/false, yes/no, y/n, t/f, 1/0"}
+    words = [w for pair in allowed.pop().split(", ") for w in pair.split("/")]
+    sheet = tmp_path / "day1.csv"
+    table = _filled_sheet(tmp_path, rows=len(words))
+    # every word the template names, in either case, is stored as the side of its pair it is
+    truth = [i % 2 == 0 for i in range(len(words))]
+    table = table.assign(slip_flag=[w.upper() if i % 3 else w for i, w in enumerate(words)])
+    table.to_csv(sheet, index=False)
+    done = invoke("ingest", "test2_grasp", sheet, *T2, "--root", results)
+    assert done.exit_code == 0, done.output
+    stored = pd.read_parquet(results / "test2_grasp" / "measured" / "records")
+    stored = stored.set_index("rig_trial_id").loc[table["trial_id"]]
+    assert stored["slip_flag"].tolist() == truth
