@@ -159,3 +159,18 @@ def test_the_template_lists_every_boolean_word_ingest_reads(results, tmp_path):
     stored = pd.read_parquet(results / "test2_grasp" / "measured" / "records")
     stored = stored.set_index("rig_trial_id").loc[table["trial_id"]]
     assert stored["slip_flag"].tolist() == truth
+
+
+RUNNER_KEYS = ("backend, n_jobs, address, batch_size, target_task_s, progress, progress_interval_s, "
+               "connect_timeout_s")
+
+
+@pytest.mark.parametrize(("word", "meant"), [
+    # each drew "did you mean runner.progress?" (cores) or a name no one meant
+    ("cores", "n_jobs"), ("workers", "n_jobs"), ("jobs", "n_jobs"), ("Threads", "n_jobs"),
+    ("progres", "progress"),  # a typo is still answered by spelling
+])
+def test_a_word_of_another_tool_for_a_runner_key_is_answered_with_the_key(results, word, meant):
+    refused(results, ["show", "smoke", f"+runner.{word}=2", "--root", results],
+            f"runner.{word} is not a known key of runner (override '+runner.{word}=2' rejected); "
+            f"did you mean runner.{meant}? known keys: {RUNNER_KEYS}.")

@@ -116,9 +116,10 @@ class RunnerCfg:
     """Where and how trials run."""
 
     backend: str = config_field("loky", choices=("loky", "dask", "sequential"))
-    # joblib's n_jobs: N worker processes, -1 every core, -2 every core but one, ...; 0 means nothing
-    n_jobs: int = config_field(-1, ne=0, why="joblib's n_jobs: a number of worker processes, or -1 for every "
-                                   "core, -2 for every core but one")
+    # joblib's n_jobs (0 means nothing); said_as: other tools' words for it, answered with n_jobs
+    n_jobs: int = config_field(-1, ne=0, said_as=("cores", "workers", "jobs", "threads"), why="joblib's "
+                               "n_jobs: a number of worker processes, or -1 for every core, -2 for every "
+                               "core but one")
     address: str | None = None  # Dask scheduler address; None starts a LocalCluster
     # trials per task (no more than a study holds); 0 sizes tasks to ~target_task_s
     batch_size: int = config_field(0, ge=0, le=MAX_TRIALS, why=_MAX_TRIALS_WHY)

@@ -186,8 +186,12 @@ def known_keys_sentence(key: str, schema: type, typed: str | None = None) -> str
     ...``: the section as the user writes it (``evaluator``; the study config at the top)."""
     rejected = f" (override {typed!r} rejected)" if typed else ""
     parent, _, name = key.rpartition(".")
-    names = [f.name for f in dataclasses.fields(schema)]
-    near = meant(name, names, f"{parent}.{{}}" if parent else "{}")
+    fields = dataclasses.fields(schema)
+    names = [f.name for f in fields]
+    # a word another tool uses for a key (its field's `said_as`: cores -> n_jobs) is answered by
+    # meaning, which spelling cannot find ("cores" is nearest "progress")
+    said = next((f.name for f in fields if name.lower() in f.metadata.get("said_as", ())), name)
+    near = meant(said, names, f"{parent}.{{}}" if parent else "{}")
     return (f"{key} is not a known key of {section_of(key)}{rejected}; {near}known keys: "
             f"{', '.join(names)}.")
 
