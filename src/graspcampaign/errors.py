@@ -33,14 +33,14 @@ def not_utf8(data: bytes) -> str | None:
     """Why the bytes of a text file (a study file, a CSV of measured records) are not UTF-8 text,
     in the words after the file's name, or None; a UTF-8 byte-order mark is allowed.
 
-    UTF-16 (a spreadsheet's "Unicode text" export) is named as such, with or without its
-    byte-order mark, when its first 100 characters are ASCII or Latin-1 (every other byte a NUL):
-    without a mark such text decodes as UTF-8, each character beside a NUL byte, and a CSV read
-    so was cells and lines of nothing ("1 cells where the header has 22 columns"). Otherwise the
-    line and the first byte that no UTF-8 character holds.
+    UTF-16 (a spreadsheet's "Unicode text" export) is named as such (:func:`core.text.utf16`,
+    which a text mesh asks too): a CSV read as UTF-8 was cells and lines of nothing ("1 cells
+    where the header has 22 columns"). Otherwise the line and the first byte that no UTF-8
+    character holds.
     """
-    head = data[2:202] if data[:2] in (b"\xff\xfe", b"\xfe\xff") else data[:200]
-    if len(head) >= 2 and any(head[1::2]) != any(head[0::2]):  # every other byte a NUL
+    from graspcampaign.core.text import utf16
+
+    if utf16(data):
         return ": the file is UTF-16 text, not UTF-8"
     try:
         data.decode("utf-8-sig")

@@ -225,8 +225,8 @@ def _bad(export: pd.DataFrame, kind: str, folder, store):
     elif kind == "not_boolean":
         df["aborted"] = df["aborted"].astype(object)
         df.loc[0, "aborted"] = "maybe"
-        msg = at + (r"row 1, column 'aborted': value 'maybe' is not a boolean \(true/false, 1/0, "
-                    r"yes/no\)\.")
+        msg = at + (r"row 1, column 'aborted': value 'maybe' is not a boolean \(true/false, yes/no, "
+                    r"y/n, t/f, 1/0\)\.")
     elif kind == "not_number":
         df["normal_force_1_n"] = df["normal_force_1_n"].astype(object)
         df.loc[0, "normal_force_1_n"] = "1,5"

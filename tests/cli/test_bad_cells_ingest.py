@@ -49,7 +49,7 @@ def test_a_date_where_a_boolean_belongs_is_named(results, tmp_path):
     refused(results, ["ingest", "test2_grasp", tmp_path / "rig.parquet", "--set",
                       "params.fraction=0.06", "--root", results],
             "rig.parquet, row 1, column 'aborted': value 2026-03-01 12:00:00 is a date/time, not a "
-            "boolean (true/false, 1/0, yes/no).")
+            "boolean (true/false, yes/no, y/n, t/f, 1/0).")
 
 
 def test_a_date_in_a_waveform_time_column_is_named(results, tmp_path):

@@ -198,9 +198,10 @@ PLUS = {
     "+model.foo=1": "model.foo is not a known key of model (override '+model.foo=1' "
                     "rejected); known keys: lambda1, lambda2, n_exp, fingertip_radius_m, "
                     "e_finger_pa, e_object_pa, nu_finger, nu_object, damping_law, alpha_hc_s_per_m.",
-    # difflib's nearest (ratio 0.62 > 0.6), not what was meant (n_jobs): a hint, not a correction
+    # another tool's word for n_jobs, answered by meaning (n_jobs' said_as; difflib's nearest
+    # was runner.progress, ratio 0.62)
     "+runner.cores=4": "runner.cores is not a known key of runner (override '+runner.cores=4' "
-                       "rejected); did you mean runner.progress? known keys: backend, n_jobs, "
+                       "rejected); did you mean runner.n_jobs? known keys: backend, n_jobs, "
                        "address, batch_size, target_task_s, progress, progress_interval_s, "
                        "connect_timeout_s.",
     "model=nosuch": "model=nosuch is not an option of config group model; available options: "

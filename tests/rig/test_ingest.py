@@ -268,7 +268,7 @@ BAD_ROW = {
                                 r"value 1e\+06 lies outside \[-1, 20\] N \(wrong units\?\)\.$"),
     "not_finite": ({"sf_actual": np.inf}, "parquet", "sf_actual", r"value inf is not finite\.$"),
     "bad_aborted_flag": ({"aborted": "maybe"}, "csv", "aborted",
-                         r"value 'maybe' is not a boolean \(true/false, 1/0, yes/no\)\.$"),
+                         r"value 'maybe' is not a boolean \(true/false, yes/no, y/n, t/f, 1/0\)\.$"),
     "empty_required_cell_of_an_executed_trial": (
         {"g_geo_actual": np.nan}, "xlsx", "g_geo_actual",
         r"value is empty but the trial was executed \(aborted is false\)\.$"),

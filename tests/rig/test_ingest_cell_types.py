@@ -14,8 +14,9 @@ from graspcampaign.rig.record_schema import record_columns
 CASES = {  # column, typed cell, the problem the message names
     "true_as_a_force": ("normal_force_1_n", True, r"value True is not a number"),
     "false_as_a_force": ("normal_force_1_n", False, r"value False is not a number"),
-    "two_as_a_flag": ("aborted", 2, r"value 2 is not a boolean \(true/false, 1/0, yes/no\)"),
-    "minus_one_as_a_flag": ("aborted", -1, r"value -1 is not a boolean \(true/false, 1/0, yes/no\)"),
+    "two_as_a_flag": ("aborted", 2, r"value 2 is not a boolean \(true/false, yes/no, y/n, t/f, 1/0\)"),
+    "minus_one_as_a_flag": ("aborted", -1,
+                            r"value -1 is not a boolean \(true/false, yes/no, y/n, t/f, 1/0\)"),
 }
 
 

@@ -17,7 +17,7 @@ from pathlib import Path
 from graspcampaign.campaign import provenance
 from graspcampaign.campaign.grid import content_hash
 from graspcampaign.campaign.kind import get_kind
-from graspcampaign.campaign.paths import check_root, input_file_problem
+from graspcampaign.campaign.paths import check_root, input_file_problem, shown
 from graspcampaign.campaign.records import ERROR_COLUMNS, RunStore, config_metadata
 from graspcampaign.campaign.runner import kind_params, run_lock, run_path, study_trials
 from graspcampaign.campaign.schema import StudyCfg
@@ -41,7 +41,7 @@ def ingest_files(study: StudyCfg, paths: list[str], run: str = "measured",
                              "(only hardware protocols do).")
     for path in paths:
         if (why := input_file_problem(Path(path))) is not None:
-            raise UserInputError(f"{path} {why}; give a file of measured records (CSV, XLSX or "
+            raise UserInputError(f"{shown(path)} {why}; give a file of measured records (CSV, XLSX or "
                                  "Parquet).")
     files = [Path(path).resolve() for path in paths]  # a file named twice clashes with itself
     for i, path in enumerate(paths):

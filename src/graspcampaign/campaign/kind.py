@@ -63,6 +63,11 @@ class TrialKind:
     otherwise). With an explicit ``design`` it names the factors the design reads from the study
     (dynamic_check's presets and source filters); a study setting another is refused, as it
     would change nothing but the config hash.
+
+    ``trial_keys`` names the keys a trial of this kind holds besides the study's factors, ``seed``
+    and ``repeat`` (a designed kind's own columns, dynamic_check's ``source_trial_id``): with every
+    known factor name, what ``method_factors`` may name (a name outside them has no effect). A
+    designed kind declaring none (a protocol: its trials are its schedule's rows) is not checked.
     """
 
     name: str
@@ -82,6 +87,7 @@ class TrialKind:
     #: whose time estimate counts trials only; with its cost at paper scale where it was measured
     stages: str = ""
     factors: tuple[str, ...] = ()
+    trial_keys: tuple[str, ...] = ()
     extra: dict[str, Any] = field(default_factory=dict)
 
 

@@ -110,6 +110,8 @@ def _convert(typ: Any, value: Any, where: str, levels: dict[str, list] | None = 
     elif typ is int:
         if isinstance(value, int) and not isinstance(value, bool):
             return value
+    elif typ is str and isinstance(value, str) and not value.strip():
+        raise ConfigError(f"{where} is empty; write the text the paper prints there.")
     elif isinstance(value, typ):
         return value
     words = {int: "a whole number", float: "a number", str: "text", bool: "true or false"}

@@ -53,6 +53,16 @@ def path_problem(path: Path, *, write: bool = False, directory: bool = True) -> 
     return None
 
 
+def shown(path: str | os.PathLike) -> str:
+    """``path`` as a message shows it: as given, or quoted with its control characters escaped
+    (``'/x/no\\nsuch.yaml'``) when it holds one (a line break, a tab), so that the sentence stays
+    on one line. The one way every message names a path a user gave."""
+    import unicodedata
+
+    text = os.fspath(path)
+    return repr(text) if any(unicodedata.category(c) == "Cc" for c in text) else text
+
+
 def control_character(path: str | os.PathLike, option: str) -> str | None:
     """The sentence refusing a results root or an output path that holds a control character (a
     line break, a tab), or None. Such a name is legal, but no one types it on purpose (a path
@@ -63,7 +73,7 @@ def control_character(path: str | os.PathLike, option: str) -> str | None:
     char = next((c for c in os.fspath(path) if unicodedata.category(c) == "Cc"), None)
     if char is None:
         return None
-    return (f"{option} {os.fspath(path)!r}: U+{ord(char):04X} (a control character) is not "
+    return (f"{option} {shown(path)}: U+{ord(char):04X} (a control character) is not "
             "allowed in a path given here; remove it.")
 
 

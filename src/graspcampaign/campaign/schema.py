@@ -32,6 +32,10 @@ _LAMBDA = PLAUSIBLE["lambda"].meta()
 #: with a few GB should be asked to hold (docs/decisions.md, "At most 10^6 trials per study").
 MAX_TRIALS = 1_000_000
 _MAX_TRIALS_WHY = f"a study holds at most {MAX_TRIALS:,} trials, docs/decisions.md"
+#: The largest study seed: 2**32 - 1, the range of numpy's ``RandomState`` seed, which
+#: scikit-learn's ``random_state`` (the surrogate's models and split) passes the seed to.
+SEED_MAX = 2**32 - 1
+_SEED_WHY = "a 32-bit word, the seeds numpy's RandomState takes"
 
 
 def config_field(default: Any, **meta: Any) -> Any:
@@ -112,11 +116,13 @@ class RunnerCfg:
     """Where and how trials run."""
 
     backend: str = config_field("loky", choices=("loky", "dask", "sequential"))
-    # joblib's n_jobs: N worker processes, -1 every core, -2 every core but one, ...; 0 means nothing
-    n_jobs: int = config_field(-1, ne=0, why="joblib's n_jobs: a number of worker processes, or -1 for every "
-                                   "core, -2 for every core but one")
+    # joblib's n_jobs (0 means nothing); said_as: other tools' words for it, answered with n_jobs
+    n_jobs: int = config_field(-1, ne=0, said_as=("cores", "workers", "jobs", "threads"), why="joblib's "
+                               "n_jobs: a number of worker processes, or -1 for every core, -2 for every "
+                               "core but one")
     address: str | None = None  # Dask scheduler address; None starts a LocalCluster
-    batch_size: int = config_field(0, ge=0)  # trials per task; 0 sizes tasks to ~target_task_s
+    # trials per task (no more than a study holds); 0 sizes tasks to ~target_task_s
+    batch_size: int = config_field(0, ge=0, le=MAX_TRIALS, why=_MAX_TRIALS_WHY)
     target_task_s: float = config_field(0.5, gt=0.0)  # SPEC Sec. 5: 0.2-1 s of compute per task
     progress: bool = True
     # without a terminal (make, CI, batch jobs): one progress line at most this often; 30 s keeps a
@@ -153,7 +159,7 @@ class StudyCfg:
     name: str = "???"
     kind: str = "???"
     description: str = ""
-    seed: int = config_field(0, ge=0)  # study seed: root of every trial's random stream
+    seed: int = config_field(0, ge=0, le=SEED_MAX, why=_SEED_WHY)  # root of every trial's stream
     seeds: int = config_field(1, ge=1, le=MAX_TRIALS, why=_MAX_TRIALS_WHY)  # seed indices 0..seeds-1
     repeats: int = config_field(1, ge=1, le=MAX_TRIALS, why=_MAX_TRIALS_WHY)  # repeats of each scene
     factors: dict[str, list[Any]] = field(default_factory=dict)

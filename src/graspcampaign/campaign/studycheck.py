@@ -186,8 +186,12 @@ def known_keys_sentence(key: str, schema: type, typed: str | None = None) -> str
     ...``: the section as the user writes it (``evaluator``; the study config at the top)."""
     rejected = f" (override {typed!r} rejected)" if typed else ""
     parent, _, name = key.rpartition(".")
-    names = [f.name for f in dataclasses.fields(schema)]
-    near = meant(name, names, f"{parent}.{{}}" if parent else "{}")
+    fields = dataclasses.fields(schema)
+    names = [f.name for f in fields]
+    # a word another tool uses for a key (its field's `said_as`: cores -> n_jobs) is answered by
+    # meaning, which spelling cannot find ("cores" is nearest "progress")
+    said = next((f.name for f in fields if name.lower() in f.metadata.get("said_as", ())), name)
+    near = meant(said, names, f"{parent}.{{}}" if parent else "{}")
     return (f"{key} is not a known key of {section_of(key)}{rejected}; {near}known keys: "
             f"{', '.join(names)}.")
 
@@ -250,7 +254,30 @@ def check_kind(study: StudyCfg) -> None:
                           f"its params and {reads}: factors.{ignored[0]} would change nothing but the "
                           f"config hash; set its params instead (graspcampaign show {study.name} lists "
                           "them).", key=f"factors.{ignored[0]}")
+    check_method_factors(study, facts)
     check_params(study.params, facts["params"], study.kind)
+
+
+def check_method_factors(study: StudyCfg, facts: dict[str, Any]) -> None:
+    """Refuse a name in ``method_factors`` that no trial of the study holds: neither a known
+    factor, ``seed``, ``repeat``, a factor of the study nor a key of its kind's trials
+    (``TrialKind.trial_keys``); it would change nothing but the config hash. A designed kind
+    declaring no trial keys (a protocol: its trials are its schedule's rows) is not checked."""
+    from graspcampaign.campaign.schema import FACTOR_SPECS
+
+    keys = facts.get("trial_keys") or []
+    if facts["design"] and not keys:
+        return
+    known = [*FACTOR_SPECS, "seed", "repeat", *study.factors, *keys]
+    for name in study.method_factors:
+        if name not in known:
+            named = sorted({*study.factors, *keys} - {"seed"}) or ["none"]
+            raise ConfigError(
+                f"method_factors names {name!r}, which is no factor and no key of a trial of kind "
+                f"{study.kind!r}, so it would change nothing but the config hash; "
+                f"{meant(name, known)}a method factor names a factor or trial key whose levels "
+                f"share one scene's random draws (this study's: {', '.join(named)}).",
+                key="method_factors")
 
 
 # -- files -----------------------------------------------------------------------------------------

@@ -24,7 +24,7 @@ from functools import cache
 from pathlib import Path
 from typing import Any
 
-from graspcampaign.campaign.paths import expand_home, input_file_problem
+from graspcampaign.campaign.paths import expand_home, input_file_problem, shown
 from graspcampaign.core.words import meant
 from graspcampaign.errors import ConfigError, UserInputError, not_utf8
 
@@ -179,11 +179,11 @@ def find_study(study: str) -> Path:
     if is_path_argument(study):
         path, unknown = expand_home(study)
         if unknown:
-            raise ConfigError(f"study file {study} {unknown}; give its path in full.")
+            raise ConfigError(f"study file {shown(study)} {unknown}; give its path in full.")
         if (why := input_file_problem(path)) is not None:
-            raise ConfigError(f"study file {study} {why}; give a YAML file.")
+            raise ConfigError(f"study file {shown(study)} {why}; give a YAML file.")
         if path.suffix not in _SUFFIXES:
-            raise ConfigError(f"study file {study} must end in .yaml or .yml.")
+            raise ConfigError(f"study file {shown(study)} must end in .yaml or .yml.")
         return path
     files = study_files()
     if study not in files:

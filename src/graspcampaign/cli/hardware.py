@@ -143,7 +143,7 @@ def plan(
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
 ) -> None:
     """Plan a three-finger grasp on a mesh and predict the disturbances it resists."""
-    from graspcampaign.campaign.paths import input_file_problem
+    from graspcampaign.campaign.paths import input_file_problem, shown
     from graspcampaign.rig.plan import PicturePathError, plan_mesh
 
     if mesh == "":  # as a Path, "" would read "." (path_or_empty)
@@ -151,7 +151,7 @@ def plan(
     if png == "":
         fail("--png is empty; give a picture path ending in .png, such as plan.png.")
     if (why := input_file_problem(mesh)) is not None:
-        fail(f"{mesh} {why}; give a mesh file (STL, OBJ or PLY).")
+        fail(f"{shown(mesh)} {why}; give a mesh file (STL, OBJ or PLY).")
     picture, option = ((mesh.with_suffix(".plan.png"), "the default picture") if png is None
                        else (png, "--png"))
     outside_runs(picture, option)

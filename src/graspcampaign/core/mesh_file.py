@@ -28,6 +28,7 @@ from graspcampaign.core.mesh_format import (
     check_stl_layout,
     other_format,
     ply_layout,
+    text_utf16,
     text_with_bom,
 )
 from graspcampaign.core.plausible import OBJECT_SIZE_MM
@@ -102,6 +103,9 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
         raise MeshError(f"mesh {base!r} is empty: the file has 0 bytes.")
     with open(name, "rb") as fh:  # read once: the format and layout checks share it
         head = fh.read(4096)
+    if text_utf16(head, n_bytes):  # named as a study file's or a CSV's is
+        raise MeshError(f"mesh {base!r} is UTF-16 text, not UTF-8; save it as UTF-8 (or ASCII) "
+                        "text.")
     if text_with_bom(head, n_bytes):  # as a study file's or a CSV's, the mark is no content
         with tempfile.TemporaryDirectory() as folder, open(name, "rb") as fh:
             fh.seek(3)

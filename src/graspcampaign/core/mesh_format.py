@@ -74,6 +74,15 @@ def text_with_bom(head: bytes, n_bytes: int) -> bool:
     return head.startswith(b"\xef\xbb\xbf") and not _binary_stl_size(head, n_bytes)
 
 
+def text_utf16(head: bytes, n_bytes: int) -> bool:
+    """Whether a mesh file is UTF-16 text (:func:`core.text.utf16`: Windows PowerShell's
+    redirection writes it), which no mesh reader takes: an OBJ was "binary data", an ASCII STL a
+    binary STL of millions of triangles. A binary STL of the size its header says is not asked."""
+    from graspcampaign.core.text import utf16
+
+    return utf16(head) and not _binary_stl_size(head, n_bytes)
+
+
 def other_format(head: bytes, n_bytes: int) -> tuple[str, str] | None:
     """Recognise an STL, PLY or OBJ file by its first bytes: (what it looks like, its suffix)."""
     if _binary_stl_size(head, n_bytes):

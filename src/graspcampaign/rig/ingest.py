@@ -31,6 +31,7 @@ from graspcampaign.rig.measured_file import (
     IngestError,
     aside,
     cell_problem,
+    empty_row,
     header_problems,
     ingest_error,
     read_table,
@@ -38,6 +39,8 @@ from graspcampaign.rig.measured_file import (
 )
 from graspcampaign.rig.record_schema import (
     ATTEMPT_TYPO_LIMIT,
+    BOOLEAN_ALLOWED,
+    BOOLEAN_WORDS,
     DECISIVE,
     FLAG_OF,
     UNIT_NAMES,
@@ -57,9 +60,9 @@ __all__ = [
 logger = logging.getLogger(__name__)
 
 _UNIT_RE = re.compile(r"^(?P<stem>.+)_(?P<unit>mm|m|cm|um|n|kn|mn|nm|nmm|deg|rad|s|ms|kg|g)$")
-_TRUE = {"true", "1", "yes", "y", "t", "1.0"}
-_FALSE = {"false", "0", "no", "n", "f", "0.0"}
-_BOOLEAN = "a boolean (true/false, 1/0, yes/no)"  # what a boolean cell must hold
+_TRUE = {yes for yes, _ in BOOLEAN_WORDS} | {"1.0"}
+_FALSE = {no for _, no in BOOLEAN_WORDS} | {"0.0"}
+_BOOLEAN = f"a boolean ({BOOLEAN_ALLOWED})"  # what a boolean cell must hold
 
 
 MAX_RECORDS_BYTES = 32 * 2**20
@@ -179,7 +182,8 @@ def validate_records(data: pd.DataFrame | str | Path, schedule: pd.DataFrame,
     ids = []
     for i, value in enumerate(df["trial_id"].tolist()):
         if _blank(value):
-            raise ingest_error(label, i + 1, "trial_id", "trial id is empty")
+            raise empty_row(label, df, i + 1) or ingest_error(label, i + 1, "trial_id",
+                                                              "trial id is empty")
         ids.append(str(value).strip())
     aborted = []
     for i, value in enumerate(df["aborted"].tolist()):

@@ -38,6 +38,17 @@ def ingest_error(label: str, row: int | None, column: str, problem: str) -> Inge
     return IngestError(f"{label}, {where}, column '{column}': {problem}.")
 
 
+def empty_row(label: str, frame, row: int) -> IngestError | None:
+    """The error naming data row ``row`` (1-based) of ``frame`` when its every cell is empty (a
+    line of only commas, a spreadsheet row cleared but not deleted), else None: a row to delete,
+    not a trial or an event without its id."""
+    cells = frame.iloc[row - 1].tolist()
+    if all(not v.strip() if isinstance(v, str) else pd.api.types.is_scalar(v) and pd.isna(v)
+           for v in cells):
+        return IngestError(f"{label}, row {row} is empty; delete it.")
+    return None
+
+
 def aside(word: str, known, cutoff: float = 0.6) -> str:
     """`` (did you mean 'x'?)`` after a cell value or column name ``word`` that is none of
     ``known`` (:func:`~graspcampaign.core.words.meant`), or ``""``."""

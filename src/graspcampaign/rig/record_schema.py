@@ -51,6 +51,12 @@ import pandas as pd
 
 from graspcampaign.rig.protocol import STUDY_TEST2, STUDY_TEST3
 
+#: The words a boolean cell of measured records may hold, any case, true's and false's in pairs:
+#: what ingest reads (``ingest._as_bool``, which also takes 1.0/0.0, a spreadsheet's number) and
+#: what the template's columns sheet and ingest's refusals list (:data:`BOOLEAN_ALLOWED`).
+BOOLEAN_WORDS = (("true", "false"), ("yes", "no"), ("y", "n"), ("t", "f"), ("1", "0"))
+BOOLEAN_ALLOWED = ", ".join(f"{yes}/{no}" for yes, no in BOOLEAN_WORDS)
+
 __all__ = [
     "ATTEMPT_TYPO_LIMIT",
     "DECISIVE",
@@ -187,7 +193,7 @@ def record_template(schedule: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame]
             allowed = f"{spec.kind} in [{spec.low:g}, {spec.high:g}]"
         else:
             unit = "-"
-            allowed = ("true/false" if spec.kind == "bool"
+            allowed = (BOOLEAN_ALLOWED if spec.kind == "bool"
                        else ", ".join(spec.choices) if spec.choices else "text")
         required = ("every row" if spec.name in ("trial_id", "aborted")
                     else "optional column" if spec.optional

@@ -25,6 +25,7 @@ from graspcampaign.rig.measured_file import (
     IngestError,
     aside,
     cell_problem,
+    empty_row,
     header_problems,
     ingest_error,
     read_table,
@@ -129,8 +130,8 @@ def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterabl
     ids = df["event_id"]
     bad = ids.isna() | (ids.astype(str).str.strip() == "")
     if bad.any():
-        raise ingest_error(label, int(np.flatnonzero(bad.to_numpy())[0]) + 1, "event_id",
-                           "event id is empty")
+        row = int(np.flatnonzero(bad.to_numpy())[0]) + 1
+        raise empty_row(label, df, row) or ingest_error(label, row, "event_id", "event id is empty")
     out["event_id"] = ids.astype(str).str.strip()
     for c in WAVEFORM_COLUMNS[1:]:
         raw = df[c]

@@ -284,7 +284,7 @@ def run(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
 
 DYNAMIC_CHECK = TrialKind(
     name="dynamic_check", run=run, params=DynamicCheckParams, design=design,
-    seconds_per_trial=0.2, factors=("model_preset", *FILTERS),
+    seconds_per_trial=0.2, factors=("model_preset", *FILTERS), trial_keys=(*SCENE, SOURCE_ID),
     description="every quasi-static trial of a study re-run through the dynamic grasp "
                 "(closure, lift-off, hold) per material preset; both labels recorded",
 )
