@@ -1,6 +1,6 @@
 """``report`` of a run another process is recording (its lock, ``runner.run_lock``, held) writes its
 pages, says so in the provenance header and on stdout, and exits 0; a run nobody holds says
-nothing of it. The lock is held from the test as the lock tests hold it."""
+nothing of it. ``status`` says whether the run is in progress. The lock is held from the test as the lock tests hold it."""
 
 from __future__ import annotations
 
@@ -36,3 +36,16 @@ def test_a_report_of_a_run_being_recorded_says_it_is_in_progress(tmp_path):
     result = invoke("report", "smoke", "--root", root)
     assert result.exit_code == 0, result.output
     assert "in progress" not in result.output and "in progress" not in page.read_text()
+
+
+def test_status_says_whether_another_process_is_recording_the_run(tmp_path):
+    # status printed "complete: False" of a run being recorded and of one stopped alike
+    root = tmp_path / "results"
+    assert invoke("run", "smoke", *SMOKE, "--root", root).exit_code == 0
+    store = RunStore(root / "smoke" / "default")
+    with run_lock(store, "smoke/default"):
+        held = invoke("status", "smoke", "--root", root, "--json")
+    free = invoke("status", "smoke", "--root", root)
+    assert held.exit_code == 0 and free.exit_code == 0, held.output + free.output
+    assert json.loads(held.stdout)["in_progress"] is True
+    assert "in_progress: False\n" in free.stdout

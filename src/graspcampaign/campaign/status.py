@@ -247,6 +247,7 @@ def run_status(root: Path | str, study: str, run: str = "default") -> dict[str, 
     UserInputError
         No such run; for a study that is neither known nor in ``root``, the available studies.
     """
+    from graspcampaign.campaign.paths import held_by_a_run
     from graspcampaign.campaign.provenance import run_complete, run_size
 
     store, manifest = open_run(root, study, run)
@@ -262,6 +263,7 @@ def run_status(root: Path | str, study: str, run: str = "default") -> dict[str, 
         "n_ok": statuses.count("ok"),
         "n_error": statuses.count("error"),
         "complete": run_complete(manifest, len(statuses)),
+        "in_progress": held_by_a_run(store.path),  # another process is running or ingesting it now
         "config_hash": manifest.get("config_hash"),
         "code_version": manifest.get("code_version"),
         "started_at": manifest.get("started_at"),
