@@ -1,6 +1,7 @@
 """``report`` of a run another process is recording (its lock, ``runner.run_lock``, held) writes its
 pages, says so in the provenance header and on stdout, and exits 0; a run nobody holds says
-nothing of it. ``status`` says whether the run is in progress. The lock is held from the test as the lock tests hold it."""
+nothing of it. ``status`` says whether the run is in progress. The lock is held from the test as
+the lock tests hold it."""
 
 from __future__ import annotations
 
