@@ -1,7 +1,7 @@
 """A run resumed under ``--allow-drift`` to a larger design and run to its end is complete at that
 design's size, through the command line: ``status``, the report's provenance header and the index
-count the design of the session that last ran it; a manifest stored before sessions recorded
-their design is read as then (its first design's count)."""
+count the design of the session that last ran it, and the header names the drift; a manifest
+stored before sessions recorded their design is read as then (its first design's count)."""
 
 from __future__ import annotations
 
@@ -39,6 +39,12 @@ def test_a_run_resumed_to_a_larger_design_and_run_to_its_end_is_complete(tmp_pat
     page = (root / "smoke" / "default" / "report" / "report.md").read_text()
     assert "- **Trials:** 4 recorded of 4; 4 executed" in page.splitlines()
     assert _index_trials(root) == "4"
+    # the header's design and hash are the first session's: the drift names the other config
+    sessions = json.loads((root / "smoke" / "default" / "manifest.json").read_text())["sessions"]
+    assert sessions[0]["config_hash"] != sessions[1]["config_hash"]
+    assert (f"- **Drift:** resumed under another config (`{sessions[1]['config_hash']}`) with "
+            "--allow-drift: the design and hash above are the first session's; the records hold "
+            "the trials of each") in page.splitlines()
 
 
 def test_a_manifest_whose_sessions_name_no_design_is_read_as_before(tmp_path):

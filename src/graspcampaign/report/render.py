@@ -201,6 +201,12 @@ def design_text(config: dict) -> str:
                                   if factors and config.get(k, 1) != 1)])
 
 
+def drifted(manifest: dict) -> list[str]:
+    """The config hashes, in order, of the sessions that resumed the run under another config."""
+    hashes = [h for x in manifest.get("sessions") or [] if (h := x.get("config_hash"))]
+    return [h for i, h in enumerate(hashes) if h != manifest.get("config_hash") and h not in hashes[:i]]
+
+
 def provenance(run: Run) -> list[tuple[str, str]]:
     """Return the provenance lines every report starts with."""
     m, counts = run.manifest, status_counts(run.records)
@@ -216,6 +222,9 @@ def provenance(run: Run) -> list[tuple[str, str]]:
             *([("Reduced/modified run", f"overrides `{change[0]}`; {change[1]}")]
               if (change := design_change(m)) else []),
             ("Config hash", given(m.get("config_hash"), code=True)),
+            *([("Drift", f"resumed under another config ({', '.join(f'`{h}`' for h in drift)}) with "
+                         "--allow-drift: the design and hash above are the first session's; the records "
+                         "hold the trials of each")] if (drift := drifted(m)) else []),
             ("Code", given(m.get("code_version"), code=True) + (" (dirty tree)" if (m.get("git") or {}).get(
                 "dirty") else "")),
             ("Started / finished", f"{given(m.get('started_at'))} / {given(m.get('finished_at'))}"),
