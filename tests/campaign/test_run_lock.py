@@ -82,3 +82,26 @@ def test_a_held_run_is_seen_held_and_the_probe_takes_nothing(tmp_path):
     assert not held_by_a_run(store.path)
     with run_lock(store, "study/run"):  # the probe kept no lock: the run is taken at once
         pass
+
+
+def test_a_run_starting_while_a_status_probes_it_is_not_refused(tmp_path):
+    """``held_by_a_run`` (``status``, ``report``) holds the lock file shared for an instant; a run
+    taking the run then was refused as "being run by another process". The probe's hold is
+    stretched here to 50 ms, by a shared lock taken as it takes one and let go by a timer."""
+    import threading
+
+    store = RunStore(tmp_path / "study" / "run")
+    store.path.mkdir(parents=True)
+    probe = os.open(store.path / ".lock", os.O_RDONLY | os.O_CREAT, 0o644)
+    fcntl.flock(probe, fcntl.LOCK_SH | fcntl.LOCK_NB)  # as held_by_a_run does
+    threading.Timer(0.05, os.close, (probe,)).start()  # the probe lets go
+    with run_lock(store, "study/run"):
+        assert held_by_a_run(store.path)
+
+
+def test_a_run_held_by_another_run_is_still_refused_within_the_probe_grace(tmp_path):
+    store = RunStore(tmp_path / "study" / "run")
+    with run_lock(store, "study/run"), pytest.raises(UserInputError, match=r"^run again at .* is "
+                                                                           r"being run by another"):
+        with run_lock(store, "again"):
+            pass

@@ -242,6 +242,31 @@ def held_by_a_run(run_dir: Path) -> bool:
     return False
 
 
+#: How long a run waits for a lock held shared, by :func:`held_by_a_run` probing it for an
+#: instant (a `status` or `report` at the same moment), before it takes the run as held.
+_PROBE_GRACE_S = 0.2
+
+
+def lock_exclusive(handle: int) -> None:
+    """Take the exclusive lock of a run's lock file (``runner.run_lock``) without waiting for
+    another run, but over a probe's instant: a `status` or `report` asking :func:`held_by_a_run`
+    holds the file shared for microseconds, and a run starting then was refused as "being run by
+    another process". Retried for :data:`_PROBE_GRACE_S`; a run holding it raises
+    ``BlockingIOError`` all the same."""
+    import fcntl
+    import time
+
+    deadline = time.monotonic() + _PROBE_GRACE_S
+    while True:
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            return
+        except BlockingIOError:
+            if time.monotonic() >= deadline:
+                raise
+            time.sleep(0.005)
+
+
 def root_options(root: Path | str) -> list[str]:
     """The ``--root`` option a suggested command needs to reach ``root`` (none for the default,
     ``results``); for :func:`shlex.join`, so that a root with a space stays one argument."""

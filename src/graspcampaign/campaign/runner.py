@@ -27,7 +27,7 @@ from graspcampaign.campaign import provenance
 from graspcampaign.campaign.grid import Trial, content_hash, expand
 from graspcampaign.campaign.integrity import check_run, expected_records
 from graspcampaign.campaign.kind import TrialInput, TrialKind, get_kind
-from graspcampaign.campaign.paths import LOCK_FILE, check_root
+from graspcampaign.campaign.paths import LOCK_FILE, check_root, lock_exclusive
 from graspcampaign.campaign.provenance import DriftError, check_drift  # noqa: F401 - DriftError: API
 from graspcampaign.campaign.records import ERROR_COLUMNS, RunStore, config_metadata
 from graspcampaign.campaign.schema import StudyCfg, check_config, check_design_rows
@@ -422,8 +422,6 @@ def run_lock(store: RunStore, label: str) -> Iterator[None]:
     by its holder at the end, as are the directories made for a run that stays empty: a lock file
     so removed after this process opened it, or its directory so removed before, is made and
     opened again (two new runs of one run at once: the one refused by its backend removes both)."""
-    import fcntl
-
     made = [p for p in (store.path, *store.path.parents) if not p.exists()]  # deepest first
     lock, handle, held = store.path / LOCK_FILE, None, False
     try:
@@ -434,7 +432,7 @@ def run_lock(store: RunStore, label: str) -> Iterator[None]:
             if handle is None:
                 continue
             try:
-                fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                lock_exclusive(handle)  # a status probing the run meanwhile: not a run
             except BlockingIOError:
                 raise UserInputError(f"run {label} at {store.path} is being run by another process; "
                                      "wait for it to finish (status shows its progress), or choose "
