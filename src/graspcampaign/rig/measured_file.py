@@ -271,11 +271,11 @@ def _checked_csv(path: Path) -> str:
     text = data.decode("utf-8-sig")
     # lines as the csv module (and pandas) end them: not str.splitlines, which also breaks at
     # U+2028 and other separators a cell may hold; row by row, not a list of a million rows (a
-    # waveform file's), which took 0.8 GB to check a 45 MB file
-    rows = (r for r in csv.reader(io.StringIO(text, newline=""))
-            if r and (r[0].strip() or any(c.strip() for c in r)))
+    # waveform file's), which took 0.8 GB to check a 45 MB file; the rows pandas reads: it skips a
+    # blank or all-space line, not a line of only commas, so such a line counts in the row numbers
+    rows = (r for r in csv.reader(io.StringIO(text, newline="")) if r and (len(r) > 1 or r[0].strip()))
     try:
-        header = next(rows, None)
+        header = next((r for r in rows if r[0].strip() or any(c.strip() for c in r)), None)
         if header is None:
             raise IngestError(f"{path.name}: the file is empty.")  # blank lines only
         for sep, name in ((";", "';'"), ("\t", "tabs")):
@@ -283,6 +283,8 @@ def _checked_csv(path: Path) -> str:
                 raise IngestError(f"{path.name}, header: the cells are separated by {name}, not "
                                   "commas; save the sheet as comma-separated CSV (decimal point '.').")
         for i, row in enumerate(rows, start=1):
+            if not row[0].strip() and len(row) <= len(header) and not any(c.strip() for c in row):
+                continue  # only commas: pandas pads it, and ingest names it an empty row to delete
             if row == header:  # it was "value 'aborted' is not a boolean"
                 raise IngestError(f"{path.name}, row {i}: the row repeats the header (two sheets "
                                   "pasted one after the other?); delete it.")
