@@ -74,9 +74,10 @@ RATE_FACTOR = 30.0
 """An event's sampling rate (one over its median sample interval) lies within this factor of the
 schedule's ``daq_hz``, both ways. The bench logs each event at one fixed rate of 50 Hz to 500 Hz
 (§7.1); a factor of 30 passes a logger at any of those rates whatever the sheet commanded (10x),
-and one up to 1.5 kHz on a 50 Hz event, while a time column in minutes (60x too slow) or in
-milliseconds (1000x too fast) is caught: its fits would be wrong by that factor (a damping 1000x
-off)."""
+and one up to 1.5 kHz on a 50 Hz event. A time column in milliseconds (a rate 1000x too slow) is
+caught at any of them; one in minutes (a rate 60x too fast) is caught unless the logger ran well
+below the commanded rate (a 50 Hz log of a 500 Hz event in minutes reads 3 kHz, 6x). Either would
+put its fits off by that factor (a damping 1000x off)."""
 
 
 def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterable[str],
@@ -229,7 +230,8 @@ def _check_rate(table: pd.DataFrame, daq_hz: pd.Series, label: str) -> None:
     events = table["event_id"]
     step = table["time_s"].groupby(events, sort=False).diff().groupby(events, sort=False).median()
     commanded = daq_hz.reindex(step.index).to_numpy(dtype=float)
-    ratio = 1.0 / step.to_numpy() / commanded  # time increases within an event: step > 0
+    with np.errstate(divide="ignore", invalid="ignore"):  # time increases within an event: step > 0
+        ratio = 1.0 / step.to_numpy() / commanded  # a daq_hz of 0 is no command (masked below)
     off = (commanded > 0) & ((ratio > RATE_FACTOR) | (ratio < 1.0 / RATE_FACTOR))
     if off.any():
         k = int(np.flatnonzero(off)[0])
