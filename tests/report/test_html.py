@@ -321,8 +321,6 @@ def test_chromium_renders_the_index_without_errors(sim_root, tmp_path):
 
 
 def _claims_block(rows):
-    import pandas as pd
-
     from graspcampaign.report.render import Run
     from graspcampaign.report.spec import Claims
 

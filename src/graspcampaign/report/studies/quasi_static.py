@@ -24,7 +24,7 @@ from graspcampaign.report import spec as S
 from graspcampaign.report import style
 from graspcampaign.report.document import Col, cols, pct_col
 from graspcampaign.report.render import Run
-from graspcampaign.report.studies.pso import table3
+from graspcampaign.report.studies.pso import PARAMETERS, table3
 
 DECISION = f"`docs/decisions.md`, *{S.VALIDITY}*"
 LAWS, BY_LAW = ["planner", "grip_law"], ["grip_law", "planner"]
@@ -40,9 +40,9 @@ def _carried(by_group: dict, p, k: dict):
 def _bounds(run: Run) -> str:
     """Which identified parameters ended on a PSO search bound, at what value; where J is flat."""
     prep, parts = run.part("prepared"), []
-    for p in (p for p in ("lambda1", "lambda2", "n", "b", "k", "c") if f"at_bound_{p}" in prep):
+    for column, p in ((c, p) for c, p in PARAMETERS.items() if f"at_bound_{p}" in prep):
         if (on := prep[f"at_bound_{p}"].astype(bool)).any():
-            at = "/".join(f"{v:g}" for v in sorted(set(prep.loc[on, "n_exp" if p == "n" else p])))
+            at = "/".join(f"{v:g}" for v in sorted(set(prep.loc[on, column])))
             parts.append(f"{label('parameter', p)} = {at} in {int(on.sum())} of {len(prep)}")
     flat = prep["flat_parameters"].value_counts() if "flat_parameters" in prep else pd.Series()
     flat_in = ", ".join(label("parameter", p) for p in str(flat.index[0]).split(",")) if len(flat) else ""
