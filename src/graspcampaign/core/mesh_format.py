@@ -40,7 +40,7 @@ def check_stl_layout(name: str, base: str, n_bytes: int, head: bytes) -> None:
     """Tell an STL from other bytes before trimesh guesses (it would try text decodings); ``head``
     is the file's first bytes (84 or more, if it holds them), read once by the caller."""
     head = head[:84]
-    if len(head) == 84 and 84 + 50 * int.from_bytes(head[80:84], "little") == n_bytes:
+    if _binary_stl_size(head, n_bytes):
         return  # binary STL: 80-byte header, triangle count, 50 bytes per triangle
     if head.lstrip()[:5].lower() == b"solid":
         try:

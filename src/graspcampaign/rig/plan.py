@@ -95,11 +95,14 @@ logger = logging.getLogger(__name__)
 # --------------------------------------------------------------------------------------------
 # graspcampaign plan MESH
 # --------------------------------------------------------------------------------------------
-def _check_plausible(value: object, name: str, quantity: str, unit: str) -> float:
-    """Return ``value`` as a float inside its plausible range (``core.plausible.PLAUSIBLE``); a
-    refusal names it as ``name = value``, or, for a command-line option (``name`` starting with
-    ``-``), as typed: ``--mass-kg value``."""
+def _check_plausible(value: object, quantity: str, unit: str, names: Mapping[str, str]) -> float:
+    """Return ``value`` as a float inside its plausible range (``core.plausible.PLAUSIBLE``);
+    ``quantity`` is also the parameter of :func:`plan_mesh` that gives it. A refusal names it as
+    ``names[quantity]`` (else ``quantity``): ``name = value``, or, for a command-line option (a
+    name starting with ``-``), as typed: ``--mass-kg value``."""
     from graspcampaign.core.plausible import PLAUSIBLE
+
+    name = names.get(quantity, quantity)
 
     try:
         number = float(value)  # type: ignore[arg-type]
@@ -289,11 +292,10 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
     names = {"png_path": "picture path", **(names or {})}
     if png_path is not None:  # before any work: a plan whose picture cannot be written is lost
         png_path = check_picture_path(png_path, names["png_path"])
-    mass = _check_plausible(mass_kg, names.get("mass_kg", "mass_kg"), "mass_kg", "kg")
-    radius_mm = _check_plausible(fingertip_radius_mm, names.get(
-        "fingertip_radius_mm", "fingertip_radius_mm"), "fingertip_radius_mm", "mm")
+    mass = _check_plausible(mass_kg, "mass_kg", "kg", names)
+    radius_mm = _check_plausible(fingertip_radius_mm, "fingertip_radius_mm", "mm", names)
     if mu is not None:
-        mu = _check_plausible(mu, names.get("mu", "mu"), "mu", "")
+        mu = _check_plausible(mu, "mu", "", names)
     name_material = DEFAULT_PLAN_MATERIAL if material is None else material  # "" is no material
     mat = material_model(name_material, "natural", radius_mm * 1e-3)
     if mu is not None:

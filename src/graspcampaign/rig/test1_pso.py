@@ -134,7 +134,7 @@ def pso_reidentify(waveforms: pd.DataFrame, schedule: pd.DataFrame, seed: int, *
         k_n_per_mm_n, c_n_s_per_m, cost_rmse_pct, converged, n_traces, n_evaluations,
         at_bound, source`` (``at_bound``: parameters on a search bound, comma-joined).
     """
-    from graspcampaign.core.identify import at_bound, paper_bounds
+    from graspcampaign.core.identify import PARAMETER_COLUMNS, at_bound, paper_bounds
 
     lower, upper = paper_bounds()
     upper = upper.copy()
@@ -179,13 +179,13 @@ def pso_reidentify(waveforms: pd.DataFrame, schedule: pd.DataFrame, seed: int, *
         runs = [res for res, _ in outs]
         converged = converged_runs(runs, [pso_cost(traces, psis[m]) for _, traces in outs])
         for r, res in enumerate(runs):
-            lam1, lam2, n, b, k, c = (float(v) for v in res.best_x)
+            # the record columns analysis.calibration reads back (n is n_exp)
+            x = dict(zip(PARAMETER_COLUMNS, map(float, res.best_x), strict=True))
             rows.append({
-                "material": m, "run": r + 1, "lambda1": lam1, "lambda2": lam2, "n_exp": n,
-                "b": b, "k": k, "c": c,
-                "k_n_per_mm_n": float(contact_stiffness_k(lam1, psis[m],
+                "material": m, "run": r + 1, **x,
+                "k_n_per_mm_n": float(contact_stiffness_k(x["lambda1"], psis[m],
                                                           bench.FINGERTIP_RADIUS)),
-                "c_n_s_per_m": float(contact_damping_c(lam2, bench.FINGERTIP_RADIUS)),
+                "c_n_s_per_m": float(contact_damping_c(x["lambda2"], bench.FINGERTIP_RADIUS)),
                 "cost_rmse_pct": res.best_cost,
                 "converged": bool(converged[r]),
                 "n_traces": min(traces_per_run, len(pools[m])),
