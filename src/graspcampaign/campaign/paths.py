@@ -53,14 +53,19 @@ def path_problem(path: Path, *, write: bool = False, directory: bool = True) -> 
     return None
 
 
+def _first_control(path: str | os.PathLike) -> str | None:
+    """The first control character (Unicode category Cc: a line break, a tab) of ``path``, or None."""
+    import unicodedata
+
+    return next((c for c in os.fspath(path) if unicodedata.category(c) == "Cc"), None)
+
+
 def shown(path: str | os.PathLike) -> str:
     """``path`` as a message shows it: as given, or quoted with its control characters escaped
     (``'/x/no\\nsuch.yaml'``) when it holds one (a line break, a tab), so that the sentence stays
     on one line. The one way every message names a path a user gave."""
-    import unicodedata
-
     text = os.fspath(path)
-    return repr(text) if any(unicodedata.category(c) == "Cc" for c in text) else text
+    return text if _first_control(text) is None else repr(text)
 
 
 def control_character(path: str | os.PathLike, option: str) -> str | None:
@@ -68,10 +73,7 @@ def control_character(path: str | os.PathLike, option: str) -> str | None:
     line break, a tab), or None. Such a name is legal, but no one types it on purpose (a path
     pasted across two lines): it would make a directory or file whose name every listing and
     message splits. The path is shown quoted, with the character escaped, as an override is."""
-    import unicodedata
-
-    char = next((c for c in os.fspath(path) if unicodedata.category(c) == "Cc"), None)
-    if char is None:
+    if (char := _first_control(path)) is None:
         return None
     return (f"{option} {shown(path)}: U+{ord(char):04X} (a control character) is not "
             "allowed in a path given here; remove it.")

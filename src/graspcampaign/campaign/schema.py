@@ -343,7 +343,7 @@ def check_study(study: StudyCfg) -> None:
                           f"{study.runner.backend} runs the trials on this machine and would ignore "
                           "it: add runner.backend=dask, or drop runner.address.", key="runner.address")
     check_workers(study.runner)
-    for name in (n for n in study.method_factors if n in FORMER_FACTORS):
+    if (name := next((n for n in study.method_factors if n in FORMER_FACTORS), None)) is not None:
         raise ConfigError(former_factor(name, f"method_factors' {name}", fixed=RENAMED_FACTORS[name]),
                           key="method_factors")
     for name, levels in study.factors.items():
