@@ -29,9 +29,10 @@ def disk_full(exc: BaseException) -> bool:
     return isinstance(exc, OSError) and exc.errno in (errno.ENOSPC, errno.EDQUOT)
 
 
-def not_utf8(data: bytes) -> str | None:
-    """Why the bytes of a text file (a study file, a CSV of measured records) are not UTF-8 text,
-    in the words after the file's name, or None; a UTF-8 byte-order mark is allowed.
+def utf8_text(data: bytes) -> tuple[str | None, str]:
+    """The bytes of a text file (a study file, a CSV of measured records) decoded once as UTF-8, a
+    byte-order mark dropped, and ``""``; or None and why they are not UTF-8 text, in the words
+    after the file's name.
 
     UTF-16 (a spreadsheet's "Unicode text" export) is named as such (:func:`core.text.utf16`,
     which a text mesh asks too): a CSV read as UTF-8 was cells and lines of nothing ("1 cells
@@ -41,13 +42,12 @@ def not_utf8(data: bytes) -> str | None:
     from graspcampaign.core.text import utf16
 
     if utf16(data):
-        return ": the file is UTF-16 text, not UTF-8"
+        return None, ": the file is UTF-16 text, not UTF-8"
     try:
-        data.decode("utf-8-sig")
+        return data.decode("utf-8-sig"), ""
     except UnicodeDecodeError as exc:
         line = data[:exc.start].count(b"\n") + 1
-        return f", line {line}: the file is not UTF-8 text (byte 0x{data[exc.start]:02x})"
-    return None
+        return None, f", line {line}: the file is not UTF-8 text (byte 0x{data[exc.start]:02x})"
 
 
 class UserInputError(Exception):

@@ -26,7 +26,7 @@ from typing import Any
 
 from graspcampaign.campaign.paths import expand_home, input_file_problem, shown
 from graspcampaign.core.words import meant
-from graspcampaign.errors import ConfigError, UserInputError, not_utf8
+from graspcampaign.errors import ConfigError, UserInputError, utf8_text
 
 _RUN_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
 _SCHEMA_LINE = re.compile(r"^#\s*schema:\s*(\w+)")
@@ -317,9 +317,9 @@ def read_yaml(path: Path, *, study: bool = False) -> dict[str, Any]:
         raw = Path(path).read_bytes()
     except OSError as exc:
         raise ConfigError(f"{path} cannot be read ({exc.strerror or type(exc).__name__}).") from None
-    if why := not_utf8(raw):
+    text, why = utf8_text(raw)  # a byte-order mark is no content
+    if text is None:
         raise ConfigError(f"{path}{why}; save it as UTF-8.")
-    text = raw.decode("utf-8-sig")  # a byte-order mark is no content
     try:
         data = yaml.load(text, Loader=_loader())  # noqa: S506  (a SafeLoader subclass)
     except yaml.YAMLError as exc:

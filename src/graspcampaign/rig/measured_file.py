@@ -21,7 +21,7 @@ import numpy as np
 import pandas as pd
 
 from graspcampaign.core.words import counted, meant
-from graspcampaign.errors import not_utf8
+from graspcampaign.errors import utf8_text
 
 __all__ = ["IngestError", "cell_problem", "header_problems", "ingest_error", "read_table",
            "table_and_label"]
@@ -266,9 +266,9 @@ def _checked_csv(path: Path) -> str:
     export), or a data row with more or fewer cells than the header (pandas shifts a longer first
     row into an index and pads a shorter row, a truncated file's last row, with empty cells)."""
     data = path.read_bytes()
-    if why := not_utf8(data):
+    text, why = utf8_text(data)
+    if text is None:
         raise IngestError(f"{path.name}{why}; save it as CSV UTF-8.")
-    text = data.decode("utf-8-sig")
     # lines as the csv module (and pandas) end them: not str.splitlines, which also breaks at
     # U+2028 and other separators a cell may hold; row by row, not a list of a million rows (a
     # waveform file's), which took 0.8 GB to check a 45 MB file; the rows pandas reads: it skips a
