@@ -49,8 +49,9 @@ def paper_table(name, caption, key, row, items, rates=(), medians=(), *, where=N
     cols = [Col("belief_error", "belief error")]
     for col, paper, head, digits in items:
         c, paper_c = columns(col, digits)
-        # the paper's value headed in the unit of ours: "paper %", "paper n", "paper [N]" (was "paper")
-        unit = "%" if digits is None else "n" if c == "n" else head[head.rfind("["):] * head.endswith("]")
+        # the paper's value headed in the unit of ours: "paper %", "paper n", "paper [N]", "paper"
+        bracket = head[head.rfind("["):] if head.endswith("]") else ""
+        unit = "%" if digits is None else "n" if c == "n" else bracket
         cols += [pct_col(col, head) if digits is None else Col(c, head, digits if digits != "" else None),
                  *[Col(paper_c, f"paper {unit}".rstrip(), 1 if digits is None else digits)] * bool(paper),
                  *[Col("difference", "difference [pp]", 1, signed=True)] * (col == "success"),
