@@ -237,8 +237,12 @@ def mass_finding(run: Run) -> str:
             f"{fmt.span(beyond.delta_required_mm, ' mm')}, beyond the fingertip radius"
             if len(beyond) else "") + " (table friction_mass). "
     feasible = [(run.ok[c] == "feasible").sum() for c in ("lp_status_mu0", "lp_status_mu0_ideal")]
-    return text + (f"Quasi-static and dynamic labels agree on {(g.success == g.qs_success).sum()} of "
-                   f"{len(g)} (table like_for_like); the friction-cone LP at μ = 0 is feasible in "
+    settled = g[g.dynamic_status != "not_settled"]  # unsettled: no dynamic label (as dynamic_check)
+    out = f"{len(g) - len(settled)} not settled by t_max, left out; " if len(settled) < len(g) else ""
+    agree = (f"Quasi-static and dynamic labels agree on {(settled.success == settled.qs_success).sum()} of "
+             f"the {len(settled)} settled runs ({out}" if len(settled) else
+             "No run has a dynamic label to set beside the quasi-static one: none settled by t_max (")
+    return text + (f"{agree}table like_for_like); the friction-cone LP at μ = 0 is feasible in "
                    f"{feasible[0]} of {len(run.ok)} on the meshed sphere and {feasible[1]} on the ideal one "
                    "(table friction_cone). Body constants are SI, not the paper's internal units "
                    "(`docs/decisions.md`, *Dynamic studies* and *Dynamic grasp in the paper's order*).")
@@ -335,13 +339,15 @@ FRICTION_MASS = ReportSpec("friction_mass", [
               "the fingertip radius is non-physical (the fingertip centre inside the object) and a failure; "
               "‖R‖ is the normal-only residual after Algorithm 2 has balanced R_z: it moves the three depths "
               "together, so each contact carries the same force, set by the weight, and ‖R‖ is the contact "
-              "normals' horizontal imbalance, the same at every μ and preset", "dynamic_status",
+              "normals' horizontal imbalance, the same at every μ and preset; labels agree: — where the "
+              "dynamic grasp did not settle by t_max (no dynamic label)", "dynamic_status",
               Col("success", "dynamic success"), Col("qs_success", f"{QS} success"), "labels_agree",
               Col("qs_success_unbounded", f"{QS} success without the gate"),
               Col("qs_failure_check", f"{QS} failing check"),
               Col("qs_residual_norm_n", f"{QS} ‖R‖ [N]", sig=3),
               Col("qs_delta_max_mm", f"{QS} δmax [mm]", sig=3),
-              labels_agree=lambda d: d.success == d.qs_success),
+              labels_agree=lambda d: (d.success == d.qs_success).where(d.dynamic_status != "not_settled"),
+              ),
     _fm_table("friction_cone", "Friction-cone LP on the same contacts at μ and at μ = 0 (the paper: feasible "
               "at every μ and as μ → 0 on the sphere): why μ = 0 fails on the meshed sphere (force or torque "
               "balance), the force-only LP's torque residual, the facet normals' largest angle off radial, "
