@@ -237,10 +237,10 @@ def mass_finding(run: Run) -> str:
             f"{fmt.span(beyond.delta_required_mm, ' mm')}, beyond the fingertip radius"
             if len(beyond) else "") + " (table friction_mass). "
     feasible = [(run.ok[c] == "feasible").sum() for c in ("lp_status_mu0", "lp_status_mu0_ideal")]
-    settled = g[g.dynamic_status != "not_settled"]  # unsettled: no dynamic label (as dynamic_check)
-    out = f"{len(g) - len(settled)} not settled by t_max, left out; " if len(settled) < len(g) else ""
-    agree = (f"Quasi-static and dynamic labels agree on {(settled.success == settled.qs_success).sum()} of "
-             f"the {len(settled)} settled runs ({out}" if len(settled) else
+    labelled = g[g.dynamic_status != "not_settled"]  # unsettled: no dynamic label (as dynamic_check)
+    out = f"{len(g) - len(labelled)} not settled by t_max, left out; " if len(labelled) < len(g) else ""
+    agree = (f"Quasi-static and dynamic labels agree on {(labelled.success == labelled.qs_success).sum()} of "
+             f"the {len(labelled)} runs with a dynamic label ({out}" if len(labelled) else
              "No run has a dynamic label to set beside the quasi-static one: none settled by t_max (")
     return text + (f"{agree}table like_for_like); the friction-cone LP at μ = 0 is feasible in "
                    f"{feasible[0]} of {len(run.ok)} on the meshed sphere and {feasible[1]} on the ideal one "
