@@ -135,13 +135,19 @@ def test_the_finding_lists_the_parameters_on_a_search_bound_as_a_sentence(monkey
     claims = pd.DataFrame({"quantity": [f"{q}, accepted fits: mean" for q in ("contact exponent n",
                                                                              "force-fit RMSE")],
                            "value": [0.47, 0.6], "paper": [0.46, 2.66], "digits": [2, 2],
-                           "differs": [False, True]})
+                           "differs": [False, True], "n": [9, 9]})
     table5 = pd.DataFrame({"parameter": ["lambda1", "lambda2", "n", "b", "k"],
                            "n_at_bound": [0, 115, 0, 6, 7], "n_runs": 120, "cv_pct": 6.8,
                            "mean": [2.107, 1.0, 0.47, 1.0, 1.0], "paper_mean": 0.333, "digits": 3})
     paper = SimpleNamespace(n_exp_sd=0.07, n_exp_simulation=0.487, table5={"n": SimpleNamespace(cv_pct=20.5)})
     stub = SimpleNamespace(tables={"test1_claims": claims, "table5": table5}, source="virtual", paper=paper)
-    assert "runs ended on a search bound for λ2 (115 runs), b (6 runs) and k (7 runs)" in test1.finding(stub)
+    assert "; ended on a search bound: λ2 in 115, b in 6 and k in 7 of the 120 runs. " in test1.finding(stub)
+    # one run of three on a bound read "runs ended on a search bound for λ2 (1 run)": plural, no total
+    stub.tables["table5"] = table5.assign(n_at_bound=[0, 1, 0, 0, 0], n_runs=3)
+    assert "over 3 converged runs" in (text := test1.finding(stub))
+    assert "; ended on a search bound: λ2 in 1 of the 3 runs. " in text
+    # the n is the accepted normal fits' mean, not the completed events': both counts named
+    assert "Over 12 completed events the 9 accepted normal fits give n = 0.47" in text
 
 
 def test_counts_table_against_the_records_and_traces(run):

@@ -235,7 +235,7 @@ def finding(run: Run) -> str:
     n, rmse = (claims.set_index("quantity").loc[f"{q}, accepted fits: mean"]  # as the claims table prints
                for q in ("contact exponent n", "force-fit RMSE"))
     differ, judged = fmt.differing(claims)
-    text = (f"Over {len(_fits(run))} completed events the accepted normal fits give n = "
+    text = (f"Over {len(_fits(run))} completed events the {fmt.number(n.n, 0)} accepted normal fits give n = "
             f"{fmt.number(n.value, n.digits)} (paper {fmt.number(n.paper, n.digits)} ± "
             f"{fmt.number(p.n_exp_sd, n.digits)}, Table 3 {p.n_exp_simulation:g}) at a mean RMSE of "
             f"{fmt.number(rmse.value, rmse.digits)}% of peak (paper {fmt.number(rmse.paper, rmse.digits)}%); "
@@ -243,10 +243,12 @@ def finding(run: Run) -> str:
                "test1_claims). " if differ else "every §7 quantity agrees. "))
     if len(t5 := t.get("table5", [])):
         r = t5.set_index("parameter")
-        bound = [f"{label('parameter', q)} ({counted(k, 'run')})" for q, k in r["n_at_bound"].items() if k]
+        runs = int(r["n_runs"].iloc[0])
+        bound = [f"{label('parameter', q)} in {k}" for q, k in r["n_at_bound"].items() if k]
         l1 = r.loc["lambda1"]  # as Table 5 prints it
-        ends = f"; runs ended on a search bound for {fmt.listed(bound)}" if bound else ""
-        text += (f"PSO re-identification over {counted(r['n_runs'].iloc[0], 'converged run')} (Table "
+        ends = (f"; ended on a search bound: {fmt.listed(bound)} of the {counted(runs, 'run')}"
+                if bound else "")
+        text += (f"PSO re-identification over {counted(runs, 'converged run')} (Table "
                  f"5): λ1 = {fmt.number(l1['mean'], l1.digits)} (paper "
                  f"{fmt.number(l1.paper_mean, l1.digits)}){ends}. ")
     return text + ("Why: the virtual bench differs by construction (smaller fit errors and loops, C not "
