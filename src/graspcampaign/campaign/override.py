@@ -350,7 +350,7 @@ def _unknown_override(key: str, typed: str | None, factors: list[str], set_keys:
     if "." not in key and key not in FACTOR_SPECS:
         names = [*factors, *(f.name for f in dataclasses.fields(StudyCfg)), *sorted(FACTOR_SPECS)]
         return (f"{key} is neither a known key of the study config nor a factor of this study "
-                f"(factors: {', '.join(factors) or 'none'}); {meant(key, names)}override rejected.")
+                f"(factors: {', '.join(factors) or 'none'}); {meant(key, names, '{}')}override rejected.")
     if "." not in key:  # a known factor by its bare name (`planner=[...]`), not one of this study's
         key = f"factors.{key}"
     parent, name = key.rsplit(".", 1)
