@@ -23,3 +23,12 @@ KEYS = ("name, kind, description, seed, seeds, repeats, factors, zip, method_fac
 ])
 def test_a_near_miss_of_a_config_key_is_named_as_typed_at_any_depth(results, override, said):
     refused(results, ["show", "smoke", override, "--root", results], said)
+
+
+def test_deleting_a_key_the_study_does_not_set_says_what_deleting_would_do(results):
+    # it said the schema's default "would take" compare_with's place "without a word", of a
+    # study whose compare_with already was that default
+    refused(results, ["show", "smoke", "~compare_with", "--root", results],
+            "override '~compare_with' deletes compare_with, a key every study has: it would only "
+            "put back the schema's default (\"\"), which a study that does not set compare_with "
+            "already holds; set the value you want instead (compare_with=...).")
