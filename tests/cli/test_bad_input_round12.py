@@ -72,3 +72,40 @@ def test_a_quoted_tilde_in_a_path_option_is_the_home_directory(home_dir):
 def test_a_path_option_in_the_home_of_no_user_is_refused(home_dir, args, said):
     refused(home_dir, args, said)
     assert list(Path.cwd().iterdir()) == []
+
+
+def _study(folder: Path, seeds: str, nodes: str = "[144]") -> Path:
+    path = folder / "mine.yaml"
+    path.write_text(HEADER + f"name: mine\nkind: mesh_features\nseeds: {seeds}\nfactors:\n"
+                    f"  shape: [sphere]\n  nodes: {nodes}\n")
+    return path
+
+
+@pytest.mark.parametrize(("seeds", "nodes", "said"), [
+    # each was run as octal: 8 seeds, 100 nodes, with nothing said
+    ("010", "[144]", "line 5: seeds = 010 has a leading zero, which YAML reads as octal 8; write 10 "
+     "or 8."),
+    ("-010", "[144]", "line 5: seeds = -010 has a leading zero, which YAML reads as octal -8; write "
+     "-10 or -8."),
+    ("2", "[144, 0144]", "line 8: factors.nodes[1] = 0144 has a leading zero, which YAML reads as "
+     "octal 100; write 144 or 100."),
+    ("2", "\n    - 144\n    - 0_620", "line 10: factors.nodes[1] = 0_620 has a leading zero, which "
+     "YAML reads as octal 400; write 620 or 400."),
+])
+def test_an_integer_with_a_leading_zero_in_a_study_file_is_refused(results, user_dir, seeds, nodes,
+                                                                    said):
+    path = _study(user_dir, seeds, nodes)
+    for command in ("show", "run"):
+        refused(results, [command, path, "--root", results], f"{path}, {said}")
+
+
+@pytest.mark.parametrize(("file", "override", "n_seeds"), [
+    ("07", None, 7),  # octal 7 is 7
+    ("0x10", None, 16), ("0b11", None, 3), ("1_000", None, 1000),  # each means what it says
+    ("1", "seeds=010", 10),  # Hydra's override grammar reads it as written
+])
+def test_an_integer_read_as_written_is_taken(results, user_dir, file, override, n_seeds):
+    path = _study(user_dir, file)
+    done = invoke("show", path, *([override] if override else []), "--root", results)
+    assert done.exit_code == 0, done.output
+    assert f"seeds per scene: {n_seeds} " in done.output
