@@ -109,3 +109,32 @@ def test_an_integer_read_as_written_is_taken(results, user_dir, file, override, 
     done = invoke("show", path, *([override] if override else []), "--root", results)
     assert done.exit_code == 0, done.output
     assert f"seeds per scene: {n_seeds} " in done.output
+
+
+@pytest.mark.parametrize(("study", "schedule", "typo", "hint"), [
+    # each was accepted: a protocol's trial keys were not declared, so they went unchecked
+    ("test1_bench", "test1", "materal", "did you mean 'material'? "),
+    ("test2_grasp", "test2", "plannr", "did you mean 'planner'? "),
+    ("test3_disturbance", "test3", "nosuch", ""),
+])
+def test_a_method_factor_no_protocol_trial_holds_is_refused(results, study, schedule, typo, hint):
+    from graspcampaign.campaign.compose import compose_study
+    from graspcampaign.rig import protocol, test1
+
+    if schedule == "test1":
+        columns = set(test1.test1_schedule(0).columns)
+    else:  # a Tests 2-3 trial keeps the sheet's id as rig_trial_id, and not the study's name
+        sheet = getattr(protocol, f"{schedule}_schedule")(0)
+        columns = {"rig_trial_id" if c == "trial_id" else c for c in sheet.columns} - {"study"}
+    named = sorted({*compose_study(study, []).factors, *columns} - {"seed"})
+    refused(results, ["show", study, f"method_factors=[{typo}]", "--root", results],
+            f"method_factors names {typo!r}, which is no factor and no key of a trial of kind "
+            f"{study!r}, so it would change nothing but the config hash; {hint}a method factor "
+            "names a factor or trial key whose levels share one scene's random draws (this "
+            f"study's: {', '.join(named)}).")
+
+
+def test_a_method_factor_a_protocol_trial_holds_is_taken(results):
+    done = invoke("show", "test3_disturbance", "method_factors=[planner,condition]", "--root",
+                  results)
+    assert done.exit_code == 0, done.output
