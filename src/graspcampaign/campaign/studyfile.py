@@ -273,8 +273,9 @@ def _octal(node: Any) -> str | None:
 @cache
 def _loader() -> type:
     """A SafeLoader that refuses a key given twice in one mapping, as OmegaConf does, a null key
-    (``~: 1``), and an alias (``*name``) or a merge key (``<<:``): expanded, a few lines of aliases
-    of aliases are billions of values."""
+    (``~: 1``), an alias (``*name``) or a merge key (``<<:``): expanded, a few lines of aliases
+    of aliases are billions of values; and an integer YAML 1.1 reads as octal (``010``,
+    :func:`_octal`), named by its key (``factors.nodes[1]``)."""
     import yaml
 
     class Loader(yaml.SafeLoader):
@@ -333,8 +334,8 @@ def read_yaml(path: Path, *, study: bool = False) -> dict[str, Any]:
     ------
     ConfigError
         A file that cannot be read, is not UTF-8 (naming the line and byte), invalid YAML
-        (naming the file and line), an empty study file, or a file that is not a
-        mapping of keys.
+        or YAML this loader refuses (naming the file and line), an empty study file, or a file
+        that is not a mapping of keys.
     """
     import yaml
 

@@ -398,6 +398,7 @@ def sheet_keys(columns: tuple[str, ...]) -> tuple[str, ...]:
     return tuple(SHEET_ID if c == "trial_id" else c for c in (*SCHEDULE_FRONT, *columns)
                  if c != "study")
 
+
 TEST2_GRASP = TrialKind(
     name=TEST2, run=run, params=Test2GraspParams,
     description="Test 2 grasp validation (§8): one commanded slot, planned and executed on the "
