@@ -49,8 +49,9 @@ def test_deleting_a_key_the_study_sets_is_refused_naming_the_default_that_would_
     key = override[1:]
     for command in ("show", "run"):
         refused(results, [command, "baseline_grid", override, "--root", results],
-                f"override '{override}' deletes {key}, whose place the schema's default ({default}) "
-                f"would take without a word; set it instead ({key}=...).")
+                f"override '{override}' deletes {key}, a key every study has: it would only put "
+                f"back the schema's default ({default}), which a study that does not set {key} "
+                f"already holds; set the value you want instead ({key}=...).")
 
 
 KEY_CHARACTERS = "but a key takes only ASCII letters, digits, '_', '-', '.' and '/'"

@@ -43,8 +43,9 @@ def test_a_run_resumed_to_a_larger_design_and_run_to_its_end_is_complete(tmp_pat
     sessions = json.loads((root / "smoke" / "default" / "manifest.json").read_text())["sessions"]
     assert sessions[0]["config_hash"] != sessions[1]["config_hash"]
     assert (f"- **Drift:** resumed under another config (`{sessions[1]['config_hash']}`) with "
-            "--allow-drift: the design and hash above are the first session's; the records hold "
-            "the trials of each") in page.splitlines()
+            "--allow-drift: the design and hash above are the first session's, the trial count the "
+            f"design of the session that ran it last (`{sessions[1]['config_hash']}`); the records "
+            "hold the trials of each") in page.splitlines()
 
 
 def test_a_manifest_whose_sessions_name_no_design_is_read_as_before(tmp_path):
@@ -73,4 +74,8 @@ def test_a_manifest_whose_sessions_name_no_design_is_read_as_before(tmp_path):
     assert invoke("report", "smoke", "--root", root).exit_code == 0
     page = (root / "smoke" / "default" / "report" / "report.md").read_text()
     assert "- **Trials:** 4 recorded of 1; 4 executed" in page.splitlines()
+    other = json.loads(manifest_path.read_text())["sessions"][1]["config_hash"]
+    assert (f"- **Drift:** resumed under another config (`{other}`) with --allow-drift: the design, "
+            "hash and trial count above are the first session's; the records hold the trials of "
+            "each") in page.splitlines()
     assert _index_trials(root) == "1"

@@ -136,7 +136,7 @@ FACTORS = ("b, budget, damping_law, dt_s, grip_law, integrator, lambda1, lambda2
      "loky, dask, sequential."),
     (["show", "baseline_grid", "plannr=[heuristic]"],
      "plannr is neither a known key of the study config nor a factor of this study (factors: "
-     "mass_kg, mu, planner, shape); did you mean 'planner'? override rejected."),
+     "mass_kg, mu, planner, shape); did you mean planner? override rejected."),
     (["show", "baseline_grid", "factors.plannr=[heuristic]"],
      "factors.plannr is not a known factor (override 'factors.plannr=[heuristic]' rejected); did "
      f"you mean factors.planner? known factors: {FACTORS}."),

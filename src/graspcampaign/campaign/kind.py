@@ -67,7 +67,7 @@ class TrialKind:
     ``trial_keys`` names the keys a trial of this kind holds besides the study's factors, ``seed``
     and ``repeat`` (a designed kind's own columns, dynamic_check's ``source_trial_id``): with every
     known factor name, what ``method_factors`` may name (a name outside them has no effect). A
-    designed kind declaring none (a protocol: its trials are its schedule's rows) is not checked.
+    protocol declares its schedule's columns (``rig``'s column tuples, which build the schedule).
     """
 
     name: str

@@ -134,12 +134,13 @@ def check_overrides(given: list[str]) -> None:
             raise ConfigError(f"override {item!r} deletes {key}, which every study needs; set it "
                               f"instead ({key}=...).", key=key)
         if required:  # ~seeds: the schema's default stands in for the study's 15, unsaid
-            field = required[1]
+            field = required[1]  # (checked before composition: whether the study sets it is unknown)
             default = (field.default if field.default_factory is dataclasses.MISSING
                        else field.default_factory())
-            raise ConfigError(f"override {item!r} deletes {key}, whose place the schema's default "
-                              f"({json.dumps(default)}) would take without a word; set it instead "
-                              f"({key}=...).", key=key)
+            raise ConfigError(f"override {item!r} deletes {key}, a key every study has: it would "
+                              f"only put back the schema's default ({json.dumps(default)}), which "
+                              f"a study that does not set {key} already holds; set the value you "
+                              f"want instead ({key}=...).", key=key)
         setting, parts = bool(sep) and "~" not in prefix, key.split(".")
         for i in range(1, len(parts) if setting else 0):  # evaluator.alpha.x=1, factors.mu.0.x=1
             single = ".".join(parts[:i])
@@ -350,7 +351,7 @@ def _unknown_override(key: str, typed: str | None, factors: list[str], set_keys:
     if "." not in key and key not in FACTOR_SPECS:
         names = [*factors, *(f.name for f in dataclasses.fields(StudyCfg)), *sorted(FACTOR_SPECS)]
         return (f"{key} is neither a known key of the study config nor a factor of this study "
-                f"(factors: {', '.join(factors) or 'none'}); {meant(key, names)}override rejected.")
+                f"(factors: {', '.join(factors) or 'none'}); {meant(key, names, '{}')}override rejected.")
     if "." not in key:  # a known factor by its bare name (`planner=[...]`), not one of this study's
         key = f"factors.{key}"
     parent, name = key.rsplit(".", 1)

@@ -143,7 +143,7 @@ def design_change(manifest: dict[str, Any]) -> tuple[str, str] | None:
 
 
 
-def _last_design(manifest: dict[str, Any]) -> dict[str, Any] | None:
+def last_design(manifest: dict[str, Any]) -> dict[str, Any] | None:
     """The last session that names its design's trial count (``n_trials``): a ``run`` session
     since sessions record it; None for a run stored before, or only ingested."""
     sessions = manifest.get("sessions") if isinstance(manifest.get("sessions"), list) else []
@@ -154,7 +154,7 @@ def _last_design(manifest: dict[str, Any]) -> dict[str, Any] | None:
 def run_size(manifest: dict[str, Any]) -> Any:
     """The trial count of the run's design: the design of the session that last ran it (a run
     resumed under ``--allow-drift`` runs its new design), else the one it was started with."""
-    last = _last_design(manifest)
+    last = last_design(manifest)
     return manifest.get("n_trials") if last is None else last["n_trials"]
 
 
@@ -163,7 +163,7 @@ def run_complete(manifest: dict[str, Any], n_recorded: int) -> bool:
     that last ran it counted them on ending (``recorded``; one still running or killed counted
     none), since a drifted run may also hold trials of an earlier design that its new one left
     out; for a run whose sessions name no design, its ``n_recorded`` trials are its ``n_trials``."""
-    last = _last_design(manifest)
+    last = last_design(manifest)
     if last is None:
         return n_recorded == manifest.get("n_trials")
     return last.get("recorded") == last["n_trials"]

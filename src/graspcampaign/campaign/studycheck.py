@@ -261,13 +261,11 @@ def check_kind(study: StudyCfg) -> None:
 def check_method_factors(study: StudyCfg, facts: dict[str, Any]) -> None:
     """Refuse a name in ``method_factors`` that no trial of the study holds: neither a known
     factor, ``seed``, ``repeat``, a factor of the study nor a key of its kind's trials
-    (``TrialKind.trial_keys``); it would change nothing but the config hash. A designed kind
-    declaring no trial keys (a protocol: its trials are its schedule's rows) is not checked."""
+    (``TrialKind.trial_keys``: a designed kind's row keys, a protocol's schedule columns); it
+    would change nothing but the config hash. One rule for every kind."""
     from graspcampaign.campaign.schema import FACTOR_SPECS
 
     keys = facts.get("trial_keys") or []
-    if facts["design"] and not keys:
-        return
     known = [*FACTOR_SPECS, "seed", "repeat", *study.factors, *keys]
     for name in study.method_factors:
         if name not in known:

@@ -230,7 +230,7 @@ def _yaml_error_sentence(path: Path, exc: Exception, n_lines: int) -> str:
     where = f"{path}, line {min(mark.line + 1, max(n_lines, 1))}" if mark is not None else f"{path}"
     problem = (getattr(exc, "problem", None) or str(exc).splitlines()[0]).strip()
     context = (getattr(exc, "context", None) or "").strip()
-    if problem.startswith(_REFUSALS):
+    if problem.startswith(_REFUSALS) or _LEADING_ZERO in problem:
         return f"{where}: {problem}."
     if tag := re.match(r"could not determine a constructor for the tag '(.+)'", problem):
         return (f"{where}: the tag {tag[1].replace('tag:yaml.org,2002:', '!!')} is not read; a "
@@ -244,13 +244,38 @@ def _yaml_error_sentence(path: Path, exc: Exception, n_lines: int) -> str:
 
 _REFUSALS = ("the alias *", "the merge key <<", "the key ")  # what the loader refuses, in words
 _MERGE, _NULL = "tag:yaml.org,2002:merge", "tag:yaml.org,2002:null"
+_LEADING_ZERO = " has a leading zero"  # the loader's refusal of an octal integer, in words
+
+
+def _key_part(parent: Any, index: Any) -> str:
+    """How a node composed at ``index`` of ``parent`` extends the key it is under: ``.name`` for a
+    mapping's value, ``[i]`` for a list's item, nothing for the file or a mapping's key."""
+    if isinstance(index, int):
+        return f"[{index}]"
+    return f".{index.value}" if getattr(index, "value", None) is not None and parent is not None else ""
+
+
+def _octal(node: Any) -> str | None:
+    """Why an integer written with a leading zero (``010``) is refused, in words, or None: YAML 1.1,
+    which PyYAML and OmegaConf read, takes it for octal (8), which no one writing a study means;
+    one the same in both readings (``07``, ``00``) is not refused."""
+    value = getattr(node, "value", None)
+    if getattr(node, "tag", None) != "tag:yaml.org,2002:int" or not isinstance(value, str):
+        return None
+    sign, digits = ("-" if value[:1] == "-" else ""), value.lstrip("+-").replace("_", "")
+    if (len(digits) < 2 or digits[0] != "0" or not set(digits) <= set("01234567")
+            or int(digits, 8) == int(digits)):
+        return None
+    octal, decimal = f"{sign}{int(digits, 8)}", f"{sign}{int(digits)}"
+    return f"{_LEADING_ZERO}, which YAML reads as octal {octal}; write {decimal} or {octal}"
 
 
 @cache
 def _loader() -> type:
     """A SafeLoader that refuses a key given twice in one mapping, as OmegaConf does, a null key
-    (``~: 1``), and an alias (``*name``) or a merge key (``<<:``): expanded, a few lines of aliases
-    of aliases are billions of values."""
+    (``~: 1``), an alias (``*name``) or a merge key (``<<:``): expanded, a few lines of aliases
+    of aliases are billions of values; and an integer YAML 1.1 reads as octal (``010``,
+    :func:`_octal`), named by its key (``factors.nodes[1]``)."""
     import yaml
 
     class Loader(yaml.SafeLoader):
@@ -272,7 +297,14 @@ def _loader() -> type:
                     None, None, f"the alias *{event.anchor} repeats a value given elsewhere, and "
                                 "aliases are not read (expanded, a few can make billions of "
                                 "values); write the value out", event.start_mark)
-            return super().compose_node(parent, index)
+            self.key_path = [*getattr(self, "key_path", []), _key_part(parent, index)]
+            node = super().compose_node(parent, index)
+            if (octal := _octal(node)) is not None:
+                raise yaml.composer.ComposerError(
+                    None, None, f"{''.join(self.key_path).lstrip('.')} = {node.value}{octal}",
+                    node.start_mark)
+            self.key_path.pop()
+            return node
 
     def mapping(loader: yaml.SafeLoader, node: yaml.MappingNode, deep: bool = False) -> dict:
         seen: dict[Any, int] = {}
@@ -302,8 +334,8 @@ def read_yaml(path: Path, *, study: bool = False) -> dict[str, Any]:
     ------
     ConfigError
         A file that cannot be read, is not UTF-8 (naming the line and byte), invalid YAML
-        (naming the file and line), an empty study file, or a file that is not a
-        mapping of keys.
+        or YAML this loader refuses (naming the file and line), an empty study file, or a file
+        that is not a mapping of keys.
     """
     import yaml
 

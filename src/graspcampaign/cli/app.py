@@ -106,10 +106,25 @@ Overrides = Annotated[
 RunOpt = Annotated[str | None, typer.Option("--run", help="Run name (default: the study's output.run).")]
 
 
-def path_or_empty(value: str) -> Path | str:
+def path_or_empty(value: str, option: str = "path") -> Path | str:
     """A path option's value, ``""`` kept as given (as a Path it would read as "."), so that an
-    empty ``--root`` is refused instead of meaning the current directory."""
-    return Path(value) if value else value
+    empty ``--root`` is refused instead of meaning the current directory; a leading ``~`` or
+    ``~user`` is read as the shell reads it (quoted, ``--root '~/runs'`` reaches the tool as typed,
+    and would make a directory named ``~``), and one whose home cannot be found is refused naming
+    ``option``. The one reading of every path option (:data:`RootOpt`, :func:`file_path`)."""
+    from graspcampaign.campaign.paths import expand_home, shown
+
+    if not value:
+        return value
+    path, unknown = expand_home(value)
+    if unknown:
+        fail(f"{option} {shown(value)} {unknown}; give its path in full.")
+    return path
+
+
+def root_path(value: str) -> Path | str:
+    """``--root``'s value (:func:`path_or_empty`)."""
+    return path_or_empty(value, "--root")
 
 
 def file_path(option: str, hint: str, example: str, makes_dirs: bool = False):
@@ -132,13 +147,13 @@ def file_path(option: str, hint: str, example: str, makes_dirs: bool = False):
                 fail(f"{named}; {instead}")
             fail(f"{named}, and no directory {value.rstrip(separators)} exists; create one and "
                  f"{instead}")
-        return path_or_empty(value)
+        return path_or_empty(value, option)
     return parse
 
 
 RootOpt = Annotated[Path | None, typer.Option("--root", help="Results root (default: output.root, "
                                                              "i.e. results).",
-                                              parser=path_or_empty, metavar="path")]
+                                              parser=root_path, metavar="path")]
 
 # ValueErrors from the core and rig layers that mean bad input (a mesh, an ingested file).
 _INPUT_ERRORS = {"MeshError", "IngestError"}

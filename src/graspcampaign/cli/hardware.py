@@ -106,7 +106,8 @@ def schedule(
 @guard
 def ingest(
     study: StudyArg,
-    files: Annotated[list[Path], typer.Argument(help="Measured records (CSV, XLSX or Parquet).")],
+    files: Annotated[list[Path], typer.Argument(help="Measured records (CSV, XLSX or Parquet).",
+                                                parser=lambda value: Path(path_or_empty(value)))],
     run: Annotated[str, typer.Option("--run", help="Run that receives the measured records.")] = "measured",
     overrides: Annotated[list[str] | None, typer.Option("--set", help="Hydra override (repeatable).")] = None,
     root: RootOpt = None,
@@ -129,7 +130,8 @@ def ingest(
 @guard
 def plan(
     mesh: Annotated[Path, typer.Argument(
-        help="Object mesh (STL, OBJ or PLY).", parser=path_or_empty, metavar="mesh")],
+        help="Object mesh (STL, OBJ or PLY).", parser=lambda value: path_or_empty(value, "mesh"),
+        metavar="mesh")],
     mass_kg: Annotated[float, typer.Option("--mass-kg", help="Object mass in kg.")],
     material: Annotated[str, typer.Option(help="Table 4 material family.")] = DEFAULT_PLAN_MATERIAL,
     mu: Annotated[float | None, typer.Option(help="Static friction; overrides the material's.")] = None,

@@ -31,7 +31,7 @@ from graspcampaign.cli.app import (
     file_path,
     guard,
     other_format,
-    path_or_empty,
+    root_path,
     state,
     writable_stem,
 )
@@ -224,7 +224,7 @@ def status(
     study: Annotated[str, typer.Argument(help="Study name.", show_default=False)],
     run: RunOpt = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
-    root: Annotated[Path, typer.Option(help="Results root.", parser=path_or_empty,
+    root: Annotated[Path, typer.Option(help="Results root.", parser=root_path,
                                        metavar="path")] = Path("results"),
 ) -> None:
     """Summarise a run from its records only (never runs anything)."""
@@ -245,7 +245,7 @@ def report(
     studies: Annotated[list[str] | None, typer.Argument(
         help="Studies (default: every run of every study under the root).")] = None,
     run: RunOpt = None,
-    root: Annotated[Path, typer.Option(help="Results root.", parser=path_or_empty,
+    root: Annotated[Path, typer.Option(help="Results root.", parser=root_path,
                                        metavar="path")] = Path("results"),
     fmt: Annotated[str, typer.Option("--format", help="Comma-separated: md,csv,json,html.")] = "md,csv",
     figure_format: Annotated[str, typer.Option("--figure-format", help="png, svg or pdf.")] = "png",

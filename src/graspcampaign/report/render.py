@@ -15,7 +15,7 @@ import pandas as pd
 from graspcampaign.analysis.records import executed, status_counts
 from graspcampaign.analysis.vocabulary import data_source
 from graspcampaign.campaign.paths import how_to_make
-from graspcampaign.campaign.provenance import design_change, ingested, run_size
+from graspcampaign.campaign.provenance import design_change, ingested, last_design, run_size
 from graspcampaign.core.bench_specimen import FINGERTIP_RADIUS
 from graspcampaign.core.words import listed, meant
 from graspcampaign.errors import UserInputError, disk_full
@@ -207,6 +207,17 @@ def drifted(manifest: dict) -> list[str]:
     return [h for i, h in enumerate(hashes) if h != manifest.get("config_hash") and h not in hashes[:i]]
 
 
+def drift_text(manifest: dict, drift: list[str]) -> str:
+    """The header's "Drift" line: the other configs, and which session each line above describes
+    (the trial count: the design of the session that ran the run last, ``run_size``)."""
+    last = last_design(manifest)
+    which = (f"the design and hash above are the first session's, the trial count the design of the "
+             f"session that ran it last (`{last.get('config_hash')}`)" if last else
+             "the design, hash and trial count above are the first session's")
+    return (f"resumed under another config ({', '.join(f'`{h}`' for h in drift)}) with --allow-drift: "
+            f"{which}; the records hold the trials of each")
+
+
 def provenance(run: Run) -> list[tuple[str, str]]:
     """Return the provenance lines every report starts with."""
     m, counts = run.manifest, status_counts(run.records)
@@ -222,9 +233,7 @@ def provenance(run: Run) -> list[tuple[str, str]]:
             *([("Reduced/modified run", f"overrides `{change[0]}`; {change[1]}")]
               if (change := design_change(m)) else []),
             ("Config hash", given(m.get("config_hash"), code=True)),
-            *([("Drift", f"resumed under another config ({', '.join(f'`{h}`' for h in drift)}) with "
-                         "--allow-drift: the design and hash above are the first session's; the records "
-                         "hold the trials of each")] if (drift := drifted(m)) else []),
+            *([("Drift", drift_text(m, drift))] if (drift := drifted(m)) else []),
             ("Code", given(m.get("code_version"), code=True) + (" (dirty tree)" if (m.get("git") or {}).get(
                 "dirty") else "")),
             ("Started / finished", f"{given(m.get('started_at'))} / {given(m.get('finished_at'))}"),

@@ -55,6 +55,7 @@ from graspcampaign.rig.protocol_design import (
     STUDY_TEST3,
     TEST2_C_CELLS,
     TEST2_C_PER_SHAPE,
+    TEST2_COLUMNS,
     TEST2_D_OBJECTS,
     TEST2_E_CELLS,
     TEST2_E_PER_SHAPE,
@@ -67,6 +68,7 @@ from graspcampaign.rig.protocol_design import (
     TEST3_B_RAMP_N_PER_S,
     TEST3_C_CAP_NM,
     TEST3_C_RAMP_NM_PER_S,
+    TEST3_COLUMNS,
     TEST3_D_CELLS,
     TEST3_D_DURATIONS_MS,
     TEST3_D_OBSERVE_S,
@@ -192,11 +194,6 @@ def _test2_slots() -> list[dict[str, Any]]:
             slots.append(_t2_slot("X", envelope[i % len(envelope)], planner, pose=pose))
     return slots
 
-
-TEST2_COLUMNS = ["group", "object_id", "shape", "object_index", "material", "mass_kg", "planner",
-                 "planner_label", "plan_key", "friction_level", "pose_err_mm",
-                 "closing_speed_mm_per_s", "lift_speed_mm_per_s", "hold_s", "matched", "condition",
-                 "repeat"]
 
 
 def test2_schedule(seed: int = 0) -> pd.DataFrame:
@@ -344,14 +341,6 @@ def _test3_proposed() -> list[dict[str, Any]]:
         slots += cell
     return slots
 
-
-TEST3_COLUMNS = ["block", "disturbance", "disturbance_kind", "probe", "object_id", "shape",
-                 "object_index", "material", "mass_kg", "planner", "planner_label", "plan_key",
-                 "friction_level", "pose_err_mm", "closing_speed_mm_per_s", "lift_speed_mm_per_s",
-                 "hold_s", "direction_deg", "load_frac_w", "load_n", "ramp_rate_n_per_s",
-                 "ramp_cap_n", "torque_ramp_nm_per_s", "torque_cap_nm", "pulse_duration_ms",
-                 "frequency_hz", "amplitude_n", "duration_s", "proof_force_n", "proof_torque_nm",
-                 "matched", "condition", "repeat"]
 
 
 def test3_schedule(seed: int = 0) -> pd.DataFrame:

@@ -173,6 +173,25 @@ TEST3_MATCHED = (
 SESSION_SLOTS = 45
 """Trial slots per session (decision: a half-day at ~4 min per trial); two sessions per day."""
 
+SCHEDULE_FRONT = ("trial_id", "slot_id", "attempt", "rig_fault", "study", "protocol_seed", "run_order",
+                  "day", "session", "session_position")
+"""The first columns of a Tests 2-3 schedule: ids and run order (``protocol_order``)."""
+
+TEST2_COLUMNS = ("group", "object_id", "shape", "object_index", "material", "mass_kg", "planner",
+                 "planner_label", "plan_key", "friction_level", "pose_err_mm",
+                 "closing_speed_mm_per_s", "lift_speed_mm_per_s", "hold_s", "matched", "condition",
+                 "repeat")
+"""The design columns of the Test 2 schedule, after :data:`SCHEDULE_FRONT`."""
+
+TEST3_COLUMNS = ("block", "disturbance", "disturbance_kind", "probe", "object_id", "shape",
+                 "object_index", "material", "mass_kg", "planner", "planner_label", "plan_key",
+                 "friction_level", "pose_err_mm", "closing_speed_mm_per_s", "lift_speed_mm_per_s",
+                 "hold_s", "direction_deg", "load_frac_w", "load_n", "ramp_rate_n_per_s",
+                 "ramp_cap_n", "torque_ramp_nm_per_s", "torque_cap_nm", "pulse_duration_ms",
+                 "frequency_hz", "amplitude_n", "duration_s", "proof_force_n", "proof_torque_nm",
+                 "matched", "condition", "repeat")
+"""The design columns of the Test 3 schedule, after :data:`SCHEDULE_FRONT`."""
+
 # --------------------------------------------------------------------------------------------
 # Objects
 # --------------------------------------------------------------------------------------------

@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from graspcampaign.rig.protocol_design import PAPER_COUNTS, PLANNER_LABELS, SESSION_SLOTS
+from graspcampaign.rig.protocol_design import PAPER_COUNTS, PLANNER_LABELS, SCHEDULE_FRONT, SESSION_SLOTS
 
 __all__ = [
     "check_seed",
@@ -103,7 +103,7 @@ def _order(slots: list[dict[str, Any]], rng: np.random.Generator, n_faults: int)
     return rows
 
 
-def _finish(rows: list[dict], study: str, seed: int, columns: list[str]) -> pd.DataFrame:
+def _finish(rows: list[dict], study: str, seed: int, columns: tuple[str, ...]) -> pd.DataFrame:
     for r in rows:
         r["trial_id"] = r["slot_id"] if r["attempt"] == 1 else f"{r['slot_id']}-a{r['attempt']}"
         r["study"] = study
@@ -111,15 +111,14 @@ def _finish(rows: list[dict], study: str, seed: int, columns: list[str]) -> pd.D
         r["planner_label"] = PLANNER_LABELS[r["planner"]]
         r.pop("unit", None)
     df = pd.DataFrame(rows)
-    front = ["trial_id", "slot_id", "attempt", "rig_fault", "study", "protocol_seed", "run_order",
-             "day", "session", "session_position"]
+    front = list(SCHEDULE_FRONT)
     rest = [c for c in columns if c not in front]
     extra = [c for c in df.columns if c not in front + rest]
     return df[front + rest + extra].reset_index(drop=True)
 
 
 def schedule_slots(slots: list[dict[str, Any]], study: str, prefix: str, key: str, seed: int,
-                   columns: list[str]) -> pd.DataFrame:
+                   columns: tuple[str, ...]) -> pd.DataFrame:
     """Id, plan-key, order (with the paper's rig faults) and tabulate one study's slots."""
     _with_ids(slots, study, prefix, key)
     _plan_keys(slots)

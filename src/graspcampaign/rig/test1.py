@@ -58,6 +58,7 @@ from graspcampaign.rig.test1_protocol import (
     BLOCKS,
     ENVIRONMENTS,
     PUBLISHED,
+    SCHEDULE_COLUMNS,
     SPLITS,
     Test1Protocol,
     event_id_for,
@@ -314,12 +315,7 @@ def test1_schedule(seed: int = 0, *, protocol: Test1Protocol | None = None,
         return df
     df["split"] = [_split(r, p) for r in rows]
     df["run_order"] = np.arange(1, len(df) + 1)
-    cols = ["event_id", "material", "specimen", "specimen_id", "environment", "block",
-            "split", "surface", "surface_radius_mm", "angle_deg", "speed_mm_per_s",
-            "depth_mm", "normal_load_n", "load_level", "hold_s", "stroke_mm", "cycle_index",
-            "repeat", "profile", "accel_mm_per_s2", "max_speed_mm_per_s", "daq_hz", "day",
-            "session", "run_order"]
-    df = df[cols].astype({"specimen": "int64", "cycle_index": "int64", "repeat": "int64",
+    df = df[list(SCHEDULE_COLUMNS)].astype({"specimen": "int64", "cycle_index": "int64", "repeat": "int64",
                           "load_level": "int64", "day": "int64", "session": "int64",
                           "daq_hz": "float64"})
     if df["event_id"].duplicated().any():  # pragma: no cover - guards the id scheme

@@ -199,6 +199,36 @@ def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterabl
     return out
 
 
+#: the channels whose sign says which way the fingertip moves or pushes (§7.1, Eq. 13: indentation
+#: and the contact force it makes are positive into the specimen; the tensile adhesion pull-off at
+#: separation is small)
+_SIGNED = (("displacement_mm", "mm", "indentation (into the specimen)"),
+           ("normal_force_n", "N", "compression (the fingertip pressing)"))
+
+
+def _check_sign(table: pd.DataFrame, commands: pd.DataFrame, label: str) -> None:
+    """Refuse an event commanded into contact (a depth, or a sliding preload) whose indentation or
+    normal force peaks below zero (its sample of largest magnitude is negative): the column was
+    recorded with the other sign convention, and its fits would fail (it was stored flagged
+    ``fit_failed``). The first such sample in the file is named. An event that is not commanded
+    into contact is not asked: its approach (the fingertip short of the specimen) is negative."""
+    contact = pd.Series(False, index=commands.index)
+    for target in ("depth_mm", "normal_load_n"):
+        if target in commands:
+            contact |= commands[target].fillna(0.0).to_numpy(dtype=float) > 0
+    events = table["event_id"]
+    asked = table[events.map(contact).fillna(False).to_numpy(dtype=bool)]
+    rows = []
+    for column, unit, positive in _SIGNED:
+        at = asked[column].abs().groupby(asked["event_id"], sort=False).idxmax()  # each peak
+        rows += [(int(i), column, unit, positive, float(table[column].iloc[i])) for i in at
+                 if table[column].iloc[i] < 0]
+    if rows:
+        i, column, unit, positive, value = min(rows)
+        raise ingest_error(label, i + 1, column, f"event '{events.iloc[i]}' peaks at {value:g} {unit}, "
+                           f"below zero: {positive} is positive here; flip the column's sign")
+
+
 def _check_commanded(table: pd.DataFrame, schedule: pd.DataFrame, label: str) -> None:
     """Refuse an event whose peak displacement is not within :data:`PEAK_FACTOR` of what the
     schedule commands (a depth for the pressing blocks, a stroke for the tangential slide)."""
@@ -220,6 +250,7 @@ def _check_commanded(table: pd.DataFrame, schedule: pd.DataFrame, label: str) ->
             raise ingest_error(label, i + 1, column, f"event '{at.index[k]}' peaks at {peak[k]:g} mm where "
                                f"the schedule commands a {what} of {commanded[k]:g} mm (ratio "
                                f"{ratio[k]:.3g}, outside 1/{PEAK_FACTOR:g} to {PEAK_FACTOR:g}: wrong units?)")
+    _check_sign(table, commands, label)
     if "daq_hz" in commands:
         _check_rate(table, commands["daq_hz"], label)
 

@@ -33,6 +33,12 @@ BLOCKS = ("normal", "relaxation", "sliding", "oblique", "cyclic")
 SPLITS = ("train", "unseen_specimen", "unseen_speed", "unseen_load", "flat_to_curved",
           "extended_relaxation")
 """Training split and the held-out splits of §7.6."""
+SCHEDULE_COLUMNS = ("event_id", "material", "specimen", "specimen_id", "environment", "block",
+                    "split", "surface", "surface_radius_mm", "angle_deg", "speed_mm_per_s",
+                    "depth_mm", "normal_load_n", "load_level", "hold_s", "stroke_mm", "cycle_index",
+                    "repeat", "profile", "accel_mm_per_s2", "max_speed_mm_per_s", "daq_hz", "day",
+                    "session", "run_order")
+"""The columns of the Test 1 commanded-event sheet (``test1_schedule``), in order."""
 
 PUBLISHED = {
     "events_commanded": 19229,

@@ -35,6 +35,7 @@ import pandas as pd
 from graspcampaign.campaign.kind import TrialInput, TrialKind
 from graspcampaign.campaign.schema import StudyCfg, check_value, config_field
 from graspcampaign.errors import ConfigError
+from graspcampaign.rig.protocol_design import SCHEDULE_FRONT, TEST2_COLUMNS, TEST3_COLUMNS
 
 TEST2 = "test2_grasp"
 TEST3 = "test3_disturbance"
@@ -390,11 +391,19 @@ def _check_against_stored(entries: list[tuple[str, int, str, str, bool]],
 _COMMON = dict(source="virtual", seconds_per_trial=0.004, design=design, schedule=schedule,
                ingest=ingest, template=template)
 
+
+def sheet_keys(columns: tuple[str, ...]) -> tuple[str, ...]:
+    """The keys of a trial of a Tests 2-3 protocol: its schedule's columns as :func:`design`
+    keeps them (``study`` dropped, ``trial_id`` as :data:`SHEET_ID`)."""
+    return tuple(SHEET_ID if c == "trial_id" else c for c in (*SCHEDULE_FRONT, *columns)
+                 if c != "study")
+
+
 TEST2_GRASP = TrialKind(
     name=TEST2, run=run, params=Test2GraspParams,
     description="Test 2 grasp validation (§8): one commanded slot, planned and executed on the "
-                "virtual rig", **_COMMON)
+                "virtual rig", trial_keys=sheet_keys(TEST2_COLUMNS), **_COMMON)
 TEST3_DISTURBANCE = TrialKind(
     name=TEST3, run=run, params=Test3DisturbanceParams,
     description="Test 3 disturbance robustness (§9): one commanded slot, planned, lifted and "
-                "disturbed on the virtual rig", **_COMMON)
+                "disturbed on the virtual rig", trial_keys=sheet_keys(TEST3_COLUMNS), **_COMMON)

@@ -256,6 +256,7 @@ MESH_RESOLUTION = TrialKind(
     body_key=body_key,
     prepare=prepare,
     design=design,
+    trial_keys=("panel",),  # the figure panel a design row belongs to
     description="Fig. 20 runtime/residual vs nodes; success vs N_cand; N_max = 200 re-run",
     stages="a PSO identification of each body before its trials (Sec. 4)",
 )

@@ -172,6 +172,7 @@ SENSITIVITY = TrialKind(
     body_key=body_key,
     prepare=prepare,
     design=design,
+    trial_keys=("panel",),  # the figure panel a design row belongs to
     description="Fig. 19 sweeps: mu x m (identified), lambda1 x lambda2 and n x b (set directly)",
     stages="a PSO identification of each mu x m body before the trials (at paper scale about as "
            "long as the trials; docs/decisions.md)",

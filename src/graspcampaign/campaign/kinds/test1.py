@@ -37,6 +37,7 @@ from graspcampaign.campaign.kind import TrialInput, TrialKind
 from graspcampaign.campaign.schema import StudyCfg, check_value, config_field
 from graspcampaign.core.bench_specimen import FINGERTIP_RADIUS
 from graspcampaign.errors import ConfigError
+from graspcampaign.rig.test1_protocol import SCHEDULE_COLUMNS
 
 N_SPECIMENS = 12
 """Specimens per family (§7.1)."""
@@ -350,6 +351,7 @@ TEST1_BENCH = TrialKind(
     # on this 2-core machine when quiet, 2.3-3.7 ms under load (docs/decisions.md)
     seconds_per_trial=0.001,
     design=design,
+    trial_keys=SCHEDULE_COLUMNS,  # a trial is a row of the commanded-event sheet
     finalize=finalize,
     schedule=schedule,
     ingest=ingest,

@@ -1,0 +1,189 @@
+"""Bad input, round 12: what session 33 saw and left. A near miss of a config key named alike
+wherever it is typed, ... Each refusal: exit 2, one sentence naming what is wrong and where,
+nothing stored changed (``refused``)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+from cli_checks import SMOKE, invoke, refused
+
+HEADER = "# @package _global_\n# schema: StudyCfg\n"
+KEYS = ("name, kind, description, seed, seeds, repeats, factors, zip, method_factors, params, paper, "
+        "compare_with, extension, model, evaluator, features, pso, runner, output")
+
+
+@pytest.mark.parametrize(("override", "said"), [
+    # a top-level key was quoted ('seed'), a dotted one not (runner.progress)
+    ("seedz=1", "seedz is neither a known key of the study config nor a factor of this study "
+     "(factors: nodes, shape); did you mean seed? override rejected."),
+    ("+seedz=1", f"seedz is not a known key of the study config (override '+seedz=1' rejected); "
+     f"did you mean seed? known keys: {KEYS}."),
+    ("runer.n_jobs=1", f"runer is not a known key of the study config (override 'runer.n_jobs=1' "
+     f"rejected); did you mean runner? known keys: {KEYS}."),
+])
+def test_a_near_miss_of_a_config_key_is_named_as_typed_at_any_depth(results, override, said):
+    refused(results, ["show", "smoke", override, "--root", results], said)
+
+
+def test_deleting_a_key_the_study_does_not_set_says_what_deleting_would_do(results):
+    # it said the schema's default "would take" compare_with's place "without a word", of a
+    # study whose compare_with already was that default
+    refused(results, ["show", "smoke", "~compare_with", "--root", results],
+            "override '~compare_with' deletes compare_with, a key every study has: it would only "
+            "put back the schema's default (\"\"), which a study that does not set compare_with "
+            "already holds; set the value you want instead (compare_with=...).")
+
+
+@pytest.fixture
+def home_dir(tmp_path, monkeypatch):
+    """A home directory (``HOME``) and a current directory apart from it."""
+    home, here = tmp_path / "home", tmp_path / "here"
+    home.mkdir()
+    here.mkdir()
+    monkeypatch.setenv("HOME", str(home))
+    monkeypatch.chdir(here)
+    return home
+
+
+def test_a_quoted_tilde_in_a_path_option_is_the_home_directory(home_dir):
+    # each made a directory named '~' in the current directory
+    done = invoke("run", "smoke", *SMOKE, "--root", "~/runs")
+    assert done.exit_code == 0, done.output
+    assert (home_dir / "runs" / "smoke" / "default" / "manifest.json").is_file()
+    for args in (["status", "smoke", "--root", "~/runs"], ["report", "smoke", "--root", "~/runs"],
+                 ["schedule", "test2_grasp", "--out", "~/day1"]):
+        done = invoke(*args)
+        assert done.exit_code == 0, done.output
+    assert (home_dir / "runs" / "smoke" / "default" / "report" / "report.md").is_file()
+    assert (home_dir / "day1.csv").is_file()
+    assert list(Path.cwd().iterdir()) == []
+
+
+@pytest.mark.parametrize(("args", "said"), [
+    (["show", "smoke", "--root", "~nosuchuser/runs"], "--root ~nosuchuser/runs starts with "
+     "~nosuchuser, a home directory that cannot be found; give its path in full."),
+    (["schedule", "test2_grasp", "--out", "~nosuchuser/day1"], "--out ~nosuchuser/day1 starts "
+     "with ~nosuchuser, a home directory that cannot be found; give its path in full."),
+    (["plan", "~nosuchuser/ball.obj", "--mass-kg", "0.1"], "mesh ~nosuchuser/ball.obj starts with "
+     "~nosuchuser, a home directory that cannot be found; give its path in full."),
+])
+def test_a_path_option_in_the_home_of_no_user_is_refused(home_dir, args, said):
+    refused(home_dir, args, said)
+    assert list(Path.cwd().iterdir()) == []
+
+
+def _study(folder: Path, seeds: str, nodes: str = "[144]") -> Path:
+    path = folder / "mine.yaml"
+    path.write_text(HEADER + f"name: mine\nkind: mesh_features\nseeds: {seeds}\nfactors:\n"
+                    f"  shape: [sphere]\n  nodes: {nodes}\n")
+    return path
+
+
+@pytest.mark.parametrize(("seeds", "nodes", "said"), [
+    # each was run as octal: 8 seeds, 100 nodes, with nothing said
+    ("010", "[144]", "line 5: seeds = 010 has a leading zero, which YAML reads as octal 8; write 10 "
+     "or 8."),
+    ("-010", "[144]", "line 5: seeds = -010 has a leading zero, which YAML reads as octal -8; write "
+     "-10 or -8."),
+    ("2", "[144, 0144]", "line 8: factors.nodes[1] = 0144 has a leading zero, which YAML reads as "
+     "octal 100; write 144 or 100."),
+    ("2", "\n    - 144\n    - 0_620", "line 10: factors.nodes[1] = 0_620 has a leading zero, which "
+     "YAML reads as octal 400; write 620 or 400."),
+])
+def test_an_integer_with_a_leading_zero_in_a_study_file_is_refused(results, user_dir, seeds, nodes,
+                                                                    said):
+    path = _study(user_dir, seeds, nodes)
+    for command in ("show", "run"):
+        refused(results, [command, path, "--root", results], f"{path}, {said}")
+
+
+@pytest.mark.parametrize(("file", "override", "n_seeds"), [
+    ("07", None, 7),  # octal 7 is 7
+    ("0x10", None, 16), ("0b11", None, 3), ("1_000", None, 1000),  # each means what it says
+    ("1", "seeds=010", 10),  # Hydra's override grammar reads it as written
+])
+def test_an_integer_read_as_written_is_taken(results, user_dir, file, override, n_seeds):
+    path = _study(user_dir, file)
+    done = invoke("show", path, *([override] if override else []), "--root", results)
+    assert done.exit_code == 0, done.output
+    assert f"seeds per scene: {n_seeds} " in done.output
+
+
+@pytest.mark.parametrize(("study", "schedule", "typo", "hint"), [
+    # each was accepted: a protocol's trial keys were not declared, so they went unchecked
+    ("test1_bench", "test1", "materal", "did you mean 'material'? "),
+    ("test2_grasp", "test2", "plannr", "did you mean 'planner'? "),
+    ("test3_disturbance", "test3", "nosuch", ""),
+])
+def test_a_method_factor_no_protocol_trial_holds_is_refused(results, study, schedule, typo, hint):
+    from graspcampaign.campaign.compose import compose_study
+    from graspcampaign.rig import protocol, test1
+
+    if schedule == "test1":
+        columns = set(test1.test1_schedule(0).columns)
+    else:  # a Tests 2-3 trial keeps the sheet's id as rig_trial_id, and not the study's name
+        sheet = getattr(protocol, f"{schedule}_schedule")(0)
+        columns = {"rig_trial_id" if c == "trial_id" else c for c in sheet.columns} - {"study"}
+    named = sorted({*compose_study(study, []).factors, *columns} - {"seed"})
+    refused(results, ["show", study, f"method_factors=[{typo}]", "--root", results],
+            f"method_factors names {typo!r}, which is no factor and no key of a trial of kind "
+            f"{study!r}, so it would change nothing but the config hash; {hint}a method factor "
+            "names a factor or trial key whose levels share one scene's random draws (this "
+            f"study's: {', '.join(named)}).")
+
+
+def test_a_method_factor_a_protocol_trial_holds_is_taken(results):
+    done = invoke("show", "test3_disturbance", "method_factors=[planner,condition]", "--root",
+                  results)
+    assert done.exit_code == 0, done.output
+
+
+T1 = ["--set", "params.materials=[gel]", "--set", "params.specimens=[1]", "--set",
+      "params.environments=[normal_lab]"]
+#: a Test 1 event of that selection: a normal press to 0.75 mm at 0.5 mm/s, logged at 100 Hz
+EVENT = "t1-49ea66f7c6ce"
+
+
+def _press(n: int = 301) -> pd.DataFrame:
+    """A press as the bench logs it (§7.1): from 0.1 mm off the specimen to 0.75 mm into it and
+    back (deepest, 0.65 mm, at its middle sample), its force compressive but for a small adhesion
+    pull-off at separation."""
+    depth = 0.75 * np.sin(np.linspace(0.0, np.pi, n)) - 0.1
+    force = np.where(depth > 0, 2.0 * np.clip(depth, 0, None) ** 1.5, 0.0)
+    force[-5:] = -0.012  # the pull-off
+    return pd.DataFrame({"event_id": EVENT, "time_s": np.arange(n) * 1e-2, "displacement_mm": depth,
+                         "normal_force_n": force, "tangential_force_n": 0.0,
+                         "tangential_displacement_mm": 0.0})
+
+
+@pytest.mark.parametrize(("flipped", "row", "peak", "said"), [
+    # each was stored, its fits flagged fit_failed
+    ("displacement_mm", 151, "-0.65 mm", "indentation (into the specimen)"),
+    ("normal_force_n", 151, f"{-2.0 * 0.65 ** 1.5:g} N", "compression (the fingertip pressing)"),
+])
+def test_a_test1_channel_recorded_with_the_other_sign_is_refused(results, tmp_path, flipped, row,
+                                                                 peak, said):
+    waves = _press()
+    waves[flipped] = -waves[flipped]
+    waves.to_csv(tmp_path / "waves.csv", index=False)
+    refused(results, ["ingest", "test1_bench", tmp_path / "waves.csv", *T1, "--root", results],
+            f"waves.csv, row {row}, column '{flipped}': event '{EVENT}' peaks at {peak}, below "
+            f"zero: {said} is positive here; flip the column's sign.")
+
+
+def test_a_force_negative_throughout_is_refused(results, tmp_path):
+    waves = _press().assign(normal_force_n=-0.3)
+    waves.to_csv(tmp_path / "waves.csv", index=False)
+    refused(results, ["ingest", "test1_bench", tmp_path / "waves.csv", *T1, "--root", results],
+            f"waves.csv, row 1, column 'normal_force_n': event '{EVENT}' peaks at -0.3 N, below "
+            "zero: compression (the fingertip pressing) is positive here; flip the column's sign.")
+
+
+def test_a_press_with_its_adhesion_pull_off_is_stored(results, tmp_path):
+    _press().to_csv(tmp_path / "waves.csv", index=False)
+    done = invoke("ingest", "test1_bench", tmp_path / "waves.csv", *T1, "--root", results)
+    assert done.exit_code == 0, done.output
