@@ -90,3 +90,19 @@ def test_a_renamed_method_factor_still_shares_the_scene():
                            seeds=1))
     assert len(trials) == 2 and trials[0].scene_id == trials[1].scene_id
     np.testing.assert_array_equal(trials[0].rng(3).random(4), trials[1].rng(3).random(4))
+
+
+def test_a_stored_protocol_run_keeps_its_trial_ids():
+    """A protocol's rows carry no seed: its trials take seed 0, as the reference test2_grasp run
+    (commit 1787481, ``params.fraction=0.08``) stored them; its first three ids and scenes."""
+    from graspcampaign.campaign.compose import compose_study
+    from graspcampaign.campaign.kind import get_kind
+    from graspcampaign.campaign.runner import kind_params, study_trials
+
+    study = compose_study("test2_grasp", ["params.fraction=0.08"])
+    kind = get_kind(study.kind)
+    trials = study_trials(study, kind, kind_params(study, kind))[:3]
+    assert [(t.trial_id, t.scene_id) for t in trials] == [
+        ("t2A-sphere-06-prop-f6071de919_t2A-sphere-06-prop-51f4759af3", "64d93d2075"),
+        ("t2C-ellipsoid-03-prop-0b3171aa9a_t2C-ellipsoid-0-d7c68f5e1b", "eb966f0da2"),
+        ("t2M-sphere-01-fb-febaf3d67e_t2M-sphere-01-fb-feb-490ced6c7e", "4946aeac97")]
