@@ -77,6 +77,16 @@ def test_chi2_validation():
         S.chi2_contingency_test([[1, -2], [3, 4]])
 
 
+def test_chi2_refuses_a_single_row_and_an_empty_column():
+    # one row compares nothing (scipy: 0 degrees of freedom); an empty column expects 0 counts
+    with pytest.raises(ValueError) as err:
+        S.chi2_contingency_test([[3, 4, 5]])
+    assert str(err.value) == "table must be a 2-D array of at least 2 x 2 counts, got shape (1, 3)."
+    assert sps.chi2_contingency([[3, 4, 5]]).dof == 0
+    with pytest.raises(ValueError, match="no all-zero row or column"):
+        S.chi2_contingency_test([[0, 3], [0, 4]])
+
+
 @pytest.mark.parametrize("successes, trials", [([40, 10], [100, 100]), ([26, 24, 30], [100, 100, 90])])
 def test_equal_rates_with_large_counts_is_scipys_pearson_chi_square(successes, trials):
     table = pd.DataFrame({"won": successes, "lost": np.subtract(trials, successes)})
@@ -257,6 +267,10 @@ def test_logistic_validation():
         S.logistic_regression(df.assign(x2=df.x * 2), "y", ["x", "x2"])
     with pytest.raises(ValueError, match="df must be a pandas DataFrame"):
         S.logistic_regression({"y": [0, 1]}, "y", ["x"])
+    # as many rows as coefficients leaves no residual degree of freedom: refused, one row more is not
+    with pytest.raises(ValueError) as err:
+        S.logistic_regression(df.iloc[:2], "y", ["x"])
+    assert str(err.value) == "df must have more rows than coefficients (2), got 2."
 
 
 def test_a_fit_without_finite_standard_errors_is_not_converged(monkeypatch):

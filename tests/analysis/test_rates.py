@@ -369,3 +369,33 @@ def test_power_validation():
         S.power_two_proportions(0.8, 0.4, discordant=0.5)
     with pytest.raises(ValueError, match="alternative must be"):
         S.power_two_proportions(0.8, 0.4, alternative="less")
+
+
+def test_power_one_sided_unpaired_matches_closed_form():
+    # One-sided arcsine test (Cohen 1988): n = 2 ((z_{1-a} + z_{1-b}) / h)^2 per arm exactly (no
+    # far tail to neglect)
+    p1, p2 = 0.72, 0.62
+    h = 2 * math.asin(math.sqrt(p1)) - 2 * math.asin(math.sqrt(p2))
+    closed = 2 * ((sps.norm.isf(0.05) + sps.norm.isf(0.2)) / h) ** 2
+    res = S.power_two_proportions(p1, p2, alternative="one-sided")
+    assert res.n_per_arm_unrounded == pytest.approx(closed, rel=1e-9)
+    assert res.n_per_arm == math.ceil(closed) == 272
+
+
+def test_power_accepts_a_rate_of_zero_or_one():
+    # a random baseline that never succeeds (p = 0) is a rate the power question asks about;
+    # one-sided, so the closed form is exact: h = 2 asin(sqrt(0.3)) - 0
+    h = 2 * math.asin(math.sqrt(0.3))
+    closed = 2 * ((sps.norm.isf(0.05) + sps.norm.isf(0.2)) / h) ** 2
+    for p1, p2 in ((0.3, 0.0), (1.0, 0.7)):
+        res = S.power_two_proportions(p1, p2, alternative="one-sided")
+        assert res.n_per_arm_unrounded == pytest.approx(closed, rel=1e-9)
+
+
+def test_power_paired_whole_number_is_not_rounded_up_a_pair():
+    # z_{1-a/2} = 2 (alpha = 2 sf(2)), power 0.5 (z_b = 0), psi = 0.5, d = 0.5:
+    # n = (2 sqrt(0.5))^2 / 0.25 = 8 by hand; the float path gives 8 + 9e-15
+    res = S.power_two_proportions(0.75, 0.25, alpha=2 * sps.norm.sf(2.0), power=0.5, paired=True,
+                                  discordant=0.5)
+    assert res.n_per_arm_unrounded == pytest.approx(8.0, rel=1e-12)
+    assert res.n_per_arm == 8

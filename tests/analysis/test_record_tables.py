@@ -143,3 +143,38 @@ def test_failure_checks_show_geometry_for_gated_records_even_at_zero():
     assert table[["none", "residual", "torque", "slip", "geometry"]].iloc[0].tolist() == [1, 1, 0, 0, 0]
     # a run recorded before the validity gate has no geometry column
     assert "geometry" not in rec.failure_check_table(records.drop(columns="valid_geometry"), ["planner"])
+
+
+def test_mcnemar_pairs_by_trial_order_not_row_order():
+    """Rows stored out of trial order (shards are read in any order): scene s1's first a (trial 0,
+    a success) pairs with its first b (trial 1, a failure), its second a (trial 2, a failure)
+    with its second b (trial 3, a success). By hand: a won one pair, b one, none both."""
+    records = pd.DataFrame({"scene_id": "s1", "trial_index": [2, 1, 0, 3], "planner": ["a", "b", "a", "b"],
+                            "status": "ok", "success": [False, False, True, True]})
+    row = rec.mcnemar_table(records, "a", ["b"]).iloc[0]
+    assert (row["pairs"], row["reference_only"], row["compared_only"], row["both_success"],
+            row["both_fail"]) == (2, 1, 1, 0, 0)
+
+
+def test_mcnemar_counts_the_concordant_pairs_apart():
+    """Three pairs both succeed, one both fail, one a alone (counted by hand)."""
+    records = pd.DataFrame({"scene_id": [f"s{i // 2}" for i in range(10)], "trial_index": range(10),
+                            "planner": ["a", "b"] * 5, "status": "ok",
+                            "success": [True, True] * 3 + [False, False] + [True, False]})
+    row = rec.mcnemar_table(records, "a", ["b"]).iloc[0]
+    assert (row["both_success"], row["both_fail"], row["reference_only"]) == (3, 1, 1)
+
+
+def test_a_median_of_two_values_has_no_interval_three_have_one():
+    """docs/decisions.md: a median's bootstrap interval from MIN_TRIALS = 3 values on, none below."""
+    two, three = rec.median(pd.Series([1.0, 2.0]), seed=0), rec.median(pd.Series([1.0, 2.0, 4.0]), 0)
+    assert two.value == 1.5 and math.isnan(two.low) and math.isnan(two.high) and two.n == 2
+    assert three.value == 2.0 and three.low <= 2.0 <= three.high
+
+
+def test_failure_checks_of_a_gated_run_without_the_column_show_geometry():
+    """Records whose first failing check reads "geometry" come from the gate even where the
+    ``valid_geometry`` column is missing (a trimmed export): the geometry column is shown."""
+    records = pd.DataFrame({"status": "ok", "planner": "a", "failure_check": ["none", "geometry"]})
+    table = rec.failure_check_table(records, ["planner"])
+    assert table[["none", "geometry", "geometry_pct"]].iloc[0].tolist() == [1, 1, 50.0]

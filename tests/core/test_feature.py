@@ -160,3 +160,20 @@ def test_coarse_mesh_warning_and_resolution_aware_option(caplog):
         assert FeatureThresholds(resolution_aware=True).effective(390) == pytest.approx(
             (0.2, np.radians(30.0)))
         sharp_features(make_object("sphere", 144))  # no warning at the coarsest study mesh
+
+
+def test_a_face_centre_of_a_subdivided_cube_is_not_near_its_edges():
+    """A unit cube subdivided once: 8 corners and 12 edge midpoints lie on its sharp edges, the 6
+    face centres 0.5 from them (by hand); each vertex's mean edge length is the mean over its
+    trimesh neighbours (about 0.66 at a face centre), so 0.5 is beyond half of it: not near."""
+    cube = trimesh.creation.box(extents=[1.0, 1.0, 1.0]).subdivide()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CoarseMeshWarning)
+        f = sharp_features(cube)
+    mean = [np.mean(np.linalg.norm(cube.vertices[n] - v, axis=1))
+            for v, n in zip(cube.vertices, cube.vertex_neighbors, strict=True)]
+    np.testing.assert_allclose(f.vertex_mean_edge_length, mean, rtol=1e-12)
+    centre = np.isclose(np.abs(cube.vertices), 0.5).sum(axis=1) == 1  # one coordinate on a face
+    assert centre.sum() == 6
+    np.testing.assert_allclose(f.vertex_sharp_edge_distance[centre], 0.5, rtol=1e-12)
+    assert not f.vertex_near_sharp_edge[centre].any() and f.vertex_near_sharp_edge[~centre].all()

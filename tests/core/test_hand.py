@@ -81,3 +81,32 @@ def test_finger_contacts_broad_phase_is_exact(samples):
     for j in np.flatnonzero(best >= 0):
         assert got.depths[j] == pytest.approx(brute.depths[best[j]], abs=1e-15)
         assert got.faces[j] == brute.faces[best[j]]
+
+
+
+def test_planned_contacts_take_the_outermost_crossing_of_a_ring():
+    """A ray from a torus's centroid (the hole's centre) crosses the ring at R - r = 30 mm and
+    leaves it at R + r = 50 mm; the planned contact is where it leaves (a faceted ring: 50 mm
+    within the chord sag of its 32 x 64 sections, r (1 - cos(pi / 32)) + R (1 - cos(pi / 64)))."""
+    import trimesh
+
+    ring = trimesh.creation.torus(major_radius=0.04, minor_radius=0.01, major_sections=64,
+                                  minor_sections=32)
+    directions = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [-0.6, -0.8, 0.0]])
+    points, _, normals = hand.planned_contacts(ring, directions)
+    distance = np.linalg.norm(points - ring.centroid, axis=1)
+    sag = 0.01 * (1 - np.cos(np.pi / 32)) + 0.04 * (1 - np.cos(np.pi / 64))
+    assert np.all(distance <= 0.05 + 1e-12) and np.all(distance >= 0.05 - sag)
+    assert np.all(np.einsum("ij,ij->i", normals, directions) > 0.9)  # outward, away from the hole
+
+
+def test_a_finger_off_the_object_stands_at_its_pad_point_nearest_the_object(sphere):
+    """A fingertip 15 mm above the sphere's top vertex, approaching straight down, touches
+    nothing; its contact point is its pad's lowest point, 5 mm below its centre (10 mm above the
+    vertex), the side facing the object, not the far side 20 mm up."""
+    body = msd.msd_body_from_mesh(sphere, msd.MsdParams())
+    top = sphere.vertices[np.argmax(sphere.vertices[:, 2])]
+    centres = np.array([top + [0.0, 0.0, 0.015]])
+    got = hand.finger_contacts(sphere.vertices, body, centres, 0.005, np.array([[0.0, 0.0, 1.0]]))
+    assert not got.active[0] and got.depths[0] == 0.0 and got.faces[0] == -1
+    np.testing.assert_allclose(got.points[0], top + [0.0, 0.0, 0.010], atol=1e-15)

@@ -235,3 +235,12 @@ def test_plan_picture_force_labels_neither_overlap_nor_leave_the_figure(tmp_path
         assert figure.x0 <= box.x0 and box.x1 <= figure.x1 and figure.y0 <= box.y0 and box.y1 <= figure.y1
     for i, (box, _) in enumerate(drawn):
         assert not any(box.overlaps(other) for other, _ in drawn[i + 1:])
+
+
+def test_the_time_under_grip_is_the_lift_plus_the_hold():
+    """The creep the planner believes is read at the time under grip: lifting 50 mm at 25 mm/s
+    takes 2 s, then the 10 s hold: 12 s by hand (defaults: 50 / 30 s + the 3 s hold)."""
+    from graspcampaign.rig.plan_predict import grip_time_s
+
+    assert grip_time_s({"lift_speed_mm_per_s": 25.0, "hold_s": 10.0}) == pytest.approx(12.0)
+    assert grip_time_s({}) == pytest.approx(50.0 / 30.0 + 3.0)
