@@ -6,6 +6,7 @@ from __future__ import annotations
 import re
 import shutil
 
+import numpy as np
 import pandas as pd
 import pytest
 from statsmodels.stats.proportion import proportion_confint
@@ -281,3 +282,39 @@ def test_an_unfitted_classifier_gives_its_reason_once_per_row():
     for row in table.grid[0]:
         assert sum(note in text for text, _ in row) == 1, row
     assert (table.frame[["verdict", "accuracy_verdict"]] == "not fitted").all().all()
+
+
+def _opening(residual_ok, residual_check="norm", classification=None):
+    """The surrogate opening of a run whose records pass the residual check where ``residual_ok``
+    (every fingertip within its radius), with ``classification`` as its classifier table (none
+    fitted by default) and no regression or timing rows."""
+    from types import SimpleNamespace
+
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies.surrogate import finding
+
+    n = len(residual_ok)
+    records = pd.DataFrame({"status": "ok", "residual_ok": residual_ok, "success_unbounded": False,
+                            "delta_max_mm": 1.0})
+    run = Run(records, {"config": {"evaluator": {"residual_check": residual_check}}},
+              SimpleNamespace(n_scenarios=1500, class_balance_pct=8.7, residual_r2=0.5))
+    run.tables.update({
+        "surrogate_dataset": pd.DataFrame([{"n": n, "success_unbounded_pct": 0.0}]),
+        "surrogate_classification": classification if classification is not None else pd.DataFrame(
+            [{"label": "success_unbounded", "roc_auc": float("nan"), "paper_auc": 0.69,
+              "note": "not fitted: fewer than 10"}]),
+        "surrogate_regression": pd.DataFrame(columns=["r2"]),
+        "surrogate_timing": pd.DataFrame(columns=["what"])})
+    return finding(run)
+
+
+@pytest.mark.parametrize("passed, n, check", [(0, 16, "norm"), (2, 1500, "norm"), (3, 40, "vertical")])
+def test_the_why_counts_the_scenarios_algorithm_2_passes_under_the_residual_check(passed, n, check):
+    """It said "Algorithm 2 as published passes few grasps under ‖R‖" whatever the records (the
+    reduced run: none of 16); now the count of records with ``residual_ok``, under the configured
+    check's name."""
+    residual_ok = np.arange(n) < passed
+    said = {0: "none"}.get(int(residual_ok.sum()), str(int(residual_ok.sum())))
+    shown = {"norm": "‖R‖", "vertical": "|R_z|"}[check]
+    assert (f"Why: in SI, Algorithm 2 as published passes the {shown} check in {said} of {n} scenarios "
+            "and buries a fingertip") in _opening(residual_ok, check)
