@@ -131,7 +131,8 @@ def test_the_finding_gives_each_auc_with_its_held_out_counts_as_the_table(fitted
     assert said, "the finding names no classifier AUC"
     table = md_table(md, "surrogate_classification").query("label == 'Algorithm 1 as published'")
     printed = [f"{r['model']} {r['AUC (95%)']} on {r['held out']} held out ({r['held-out positives']} "
-               "positive)" for _, r in table.iterrows()]
+               f"positive, {int(r['held out']) - int(r['held-out positives'])} negative)"
+               for _, r in table.iterrows()]
     assert said.group(1).replace("\u2212", "-") == " and ".join(printed)
     stored = RunStore(fitted_run).read("summary/surrogate_classification").to_pandas()
     assert table["held out"].astype(int).tolist() == \
@@ -318,3 +319,17 @@ def test_the_why_counts_the_scenarios_algorithm_2_passes_under_the_residual_chec
     shown = {"norm": "‖R‖", "vertical": "|R_z|"}[check]
     assert (f"Why: in SI, Algorithm 2 as published passes the {shown} check in {said} of {n} scenarios "
             "and buries a fingertip") in _opening(residual_ok, check)
+
+
+def test_an_auc_without_an_interval_is_said_with_its_held_out_classes_and_why():
+    """The paper-scale opening said "MLP 64-32 0.90 on 300 held out (6 positive)": an AUC over 6
+    positives with no interval and no word why. Now with its negatives (300 − 6) and the reason the
+    run stored for giving no interval."""
+    from math import nan
+
+    why = "only 6 held-out positives, too few for an interval"
+    cls = pd.DataFrame([{"label": "success_unbounded", "model_label": "MLP 64-32", "roc_auc": 0.8997,
+                         "roc_auc_low": nan, "roc_auc_high": nan, "test_trials": 300.0, "test_positives": 6.0,
+                         "roc_auc_interval_note": why, "paper_auc": 0.69, "note": ""}])
+    assert (f"classifier AUC MLP 64-32 0.90 on 300 held out (6 positive, {300 - 6} negative; {why}) "
+            "(paper 0.69;") in _opening(np.zeros(16, bool), classification=cls)

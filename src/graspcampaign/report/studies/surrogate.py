@@ -131,9 +131,11 @@ def finding(run: Run) -> str:
             "surrogate_dataset)")
     cls = t["surrogate_classification"].query(f"label == '{PAPER_LABEL}'")
     fit = cls[cls["roc_auc"].notna()]
-    aucs = fmt.listed([  # as the table prints them: with the 95% interval and the held-out trials
+    aucs = fmt.listed([  # as the table prints them, with the held-out classes and why no interval
         f"{r['model_label']} {fmt.estimate(r['roc_auc'], r['roc_auc_low'], r['roc_auc_high'], 2)} on "
-        f"{fmt.number(r['test_trials'], 0)} held out ({fmt.number(r['test_positives'], 0)} positive)"
+        f"{fmt.number(r['test_trials'], 0)} held out ({fmt.number(r['test_positives'], 0)} positive, "
+        f"{fmt.number(r['test_trials'] - r['test_positives'], 0)} negative"
+        f"{'; ' + n if isinstance(n := r['roc_auc_interval_note'], str) and n else ''})"
         for _, r in fit.iterrows()])
     papers = fmt.listed([fmt.number(v, 2) for v in fit["paper_auc"]])
     text += (f"; classifier AUC {aucs} (paper {papers}; table surrogate_classification). " if len(fit)
