@@ -121,14 +121,16 @@ def test_chi2_monte_carlo_p_only_for_small_expected_counts_and_keeps_the_tables_
     large, small = [[40, 60], [10, 90]], [[0, 4], [1, 3], [4, 0]]
     res = S.chi2_contingency_test(large, n_resamples=999)
     assert (res.method, res.pvalue) == ("χ²", sps.chi2_contingency(large, correction=False).pvalue)
+    assert res.n_resamples == 0  # the distribution's p: no table drawn
     res, reference = S.chi2_contingency_test(small, n_resamples=999), sps.chi2_contingency(small)
     assert (res.method, res.statistic, res.dof) == ("Monte Carlo χ²", reference.statistic, reference.dof)
+    assert res.n_resamples == 999
     with pytest.raises(ValueError, match="must be an integer"):  # scipy's: resampling needs whole counts
         S.chi2_contingency_test([[0.5, 4], [1, 3]], n_resamples=999)
 
 
 def test_equal_rates_without_a_success_or_failure_needs_no_test():
-    assert S.equal_rates_test([0, 0], [3, 5]) == S.RatesTest(0.0, 1.0, "", 2, 8)
+    assert S.equal_rates_test([0, 0], [3, 5]) == S.RatesTest(0.0, 1.0, "", 2, 8, 0)
     assert S.equal_rates_test([3, 5], [3, 5]).pvalue == 1.0
 
 

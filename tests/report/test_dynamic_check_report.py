@@ -13,6 +13,7 @@ from pathlib import Path
 from types import SimpleNamespace
 
 import pandas as pd
+import pytest
 import yaml
 
 from graspcampaign.analysis.vocabulary import label
@@ -81,15 +82,23 @@ def test_every_kappa_verdict_is_the_rules_words_told_why_context_rows_are_not_co
                                  "no verdict: nothing to compare")
 
 
-def test_the_judged_verdict_names_the_grasps_not_settled_by_t_max_it_leaves_out():
+@pytest.mark.parametrize("firm_settles, counts, said", [
+    (False, (4, 2, 2), "4 simulations of 2 sphere grasps under 2 presets"),
+    (True, (2, 2, 1), "2 simulations of 2 sphere grasps under 1 preset")])
+def test_the_judged_verdict_names_the_grasps_not_settled_by_t_max_it_leaves_out(firm_settles, counts, said):
     """A dynamic grasp stopped by t_max is undetermined, not a failure: the verdict on the sphere
-    names how many it leaves out (counted from the records) and the time budget."""
+    names how many it leaves out and the time budget. It said "4 sphere grasps" of 2 source grasps
+    each simulated under 2 presets: now the simulations, the grasps and the presets (the records'
+    not-settled sphere rows, their source trials and presets, counted here)."""
     run = _run()
     run.manifest["config"]["params"] = {"t_max_s": 0.05}
+    if firm_settles:
+        run.records.loc[run.records.model_preset == "firm", "dynamic_status"] = "penetration_limit"
     run.tables["kappa"] = report._kappa(run)
     sphere = run.records[run.records["shape"] == "sphere"]
-    out = int((sphere.dynamic_status == "not_settled").sum())
-    assert f"{out} sphere grasps not settled by t_max = 0.05 s are left out." in report.finding(run)
+    out = sphere[sphere.dynamic_status == "not_settled"]
+    assert (len(out), out.source_trial_id.nunique(), out.model_preset.nunique()) == counts
+    assert f"{said}, not settled by t_max = 0.05 s, are left out." in report.finding(run)
 
 
 def test_a_run_whose_every_grasp_timed_out_gets_no_verdict():
@@ -106,7 +115,8 @@ def test_a_run_whose_every_grasp_timed_out_gets_no_verdict():
     assert "consistent" not in text and "the labels agree on" not in text
     assert ("No sphere comparison can be judged against the paper's full agreement (Sec. 6.1): none of the "
             "baseline_grid trials re-simulated has a "
-            "settled dynamic grasp (table kappa). 40 sphere grasps not settled by t_max are left out.") \
+            "settled dynamic grasp (table kappa). 40 simulations of 20 sphere grasps under 2 presets, not "
+            "settled by t_max, are left out.") \
         in text
     assert "0 of 0" not in text and "mutual failure" not in text  # no count or caveat about no comparison
 

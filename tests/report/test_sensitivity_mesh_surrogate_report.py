@@ -301,6 +301,22 @@ def test_the_finding_says_success_varies_only_where_a_test_of_equal_rates_says_s
     assert "does not vary with mass (0.0% at each of its 2 levels)" in text
 
 
+def test_a_monte_carlo_p_that_no_resample_reached_is_given_as_the_bound_the_resamples_can_give():
+    """6 of 6 at one mass, 0 of 60 at the other: only the observed table (1 of C(66, 6) with these
+    margins, scipy's hypergeometric) has its χ², so none of equal_rates_test's default 9999 random
+    tables reaches it and the Monte Carlo p is its floor 1/(9999 + 1), not a measured 1.0e-4."""
+    from scipy.stats import hypergeom
+
+    from graspcampaign.report import format as fmt
+    from graspcampaign.report.studies.sensitivity import finding
+
+    exact = hypergeom(66, 6, 6).pmf(6)  # the chance of the observed table
+    assert exact * 9999 < 1e-3
+    text = finding(_panel_a({(0.1, 0.05): (6, 6), (0.8, 0.05): (0, 60)}))
+    assert (f"varies with mass (0.0–100.0% over 2 levels; Monte Carlo χ² p ≤ {fmt.p_value(1 / 10000)} "
+            "(the smallest p 9999 resamples can give))") in text
+
+
 def test_the_opening_counts_the_boundaries_whose_wilson_intervals_separate_our_rates():
     """The opening said "the paper's μ ≥ 0.2 boundary does not appear" whatever the records; now it
     counts the Fig. 19 boundaries whose two sides' Wilson intervals (statsmodels) do not overlap."""

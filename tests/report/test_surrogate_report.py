@@ -6,6 +6,7 @@ from __future__ import annotations
 import re
 import shutil
 
+import numpy as np
 import pandas as pd
 import pytest
 from statsmodels.stats.proportion import proportion_confint
@@ -130,7 +131,8 @@ def test_the_finding_gives_each_auc_with_its_held_out_counts_as_the_table(fitted
     assert said, "the finding names no classifier AUC"
     table = md_table(md, "surrogate_classification").query("label == 'Algorithm 1 as published'")
     printed = [f"{r['model']} {r['AUC (95%)']} on {r['held out']} held out ({r['held-out positives']} "
-               "positive)" for _, r in table.iterrows()]
+               f"positive, {int(r['held out']) - int(r['held-out positives'])} negative)"
+               for _, r in table.iterrows()]
     assert said.group(1).replace("\u2212", "-") == " and ".join(printed)
     stored = RunStore(fitted_run).read("summary/surrogate_classification").to_pandas()
     assert table["held out"].astype(int).tolist() == \
@@ -281,3 +283,53 @@ def test_an_unfitted_classifier_gives_its_reason_once_per_row():
     for row in table.grid[0]:
         assert sum(note in text for text, _ in row) == 1, row
     assert (table.frame[["verdict", "accuracy_verdict"]] == "not fitted").all().all()
+
+
+def _opening(residual_ok, residual_check="norm", classification=None):
+    """The surrogate opening of a run whose records pass the residual check where ``residual_ok``
+    (every fingertip within its radius), with ``classification`` as its classifier table (none
+    fitted by default) and no regression or timing rows."""
+    from types import SimpleNamespace
+
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies.surrogate import finding
+
+    n = len(residual_ok)
+    records = pd.DataFrame({"status": "ok", "residual_ok": residual_ok, "success_unbounded": False,
+                            "delta_max_mm": 1.0})
+    run = Run(records, {"config": {"evaluator": {"residual_check": residual_check}}},
+              SimpleNamespace(n_scenarios=1500, class_balance_pct=8.7, residual_r2=0.5))
+    run.tables.update({
+        "surrogate_dataset": pd.DataFrame([{"n": n, "success_unbounded_pct": 0.0}]),
+        "surrogate_classification": classification if classification is not None else pd.DataFrame(
+            [{"label": "success_unbounded", "roc_auc": float("nan"), "paper_auc": 0.69,
+              "note": "not fitted: fewer than 10"}]),
+        "surrogate_regression": pd.DataFrame(columns=["r2"]),
+        "surrogate_timing": pd.DataFrame(columns=["what"])})
+    return finding(run)
+
+
+@pytest.mark.parametrize("passed, n, check", [(0, 16, "norm"), (2, 1500, "norm"), (3, 40, "vertical")])
+def test_the_why_counts_the_scenarios_algorithm_2_passes_under_the_residual_check(passed, n, check):
+    """It said "Algorithm 2 as published passes few grasps under ‖R‖" whatever the records (the
+    reduced run: none of 16); now the count of records with ``residual_ok``, under the configured
+    check's name."""
+    residual_ok = np.arange(n) < passed
+    said = {0: "none"}.get(int(residual_ok.sum()), str(int(residual_ok.sum())))
+    shown = {"norm": "‖R‖", "vertical": "|R_z|"}[check]
+    assert (f"Why: in SI, Algorithm 2 as published passes the {shown} check in {said} of {n} scenarios "
+            "and buries a fingertip") in _opening(residual_ok, check)
+
+
+def test_an_auc_without_an_interval_is_said_with_its_held_out_classes_and_why():
+    """The paper-scale opening said "MLP 64-32 0.90 on 300 held out (6 positive)": an AUC over 6
+    positives with no interval and no word why. Now with its negatives (300 − 6) and the reason the
+    run stored for giving no interval."""
+    from math import nan
+
+    why = "only 6 held-out positives, too few for an interval"
+    cls = pd.DataFrame([{"label": "success_unbounded", "model_label": "MLP 64-32", "roc_auc": 0.8997,
+                         "roc_auc_low": nan, "roc_auc_high": nan, "test_trials": 300.0, "test_positives": 6.0,
+                         "roc_auc_interval_note": why, "paper_auc": 0.69, "note": ""}])
+    assert (f"classifier AUC MLP 64-32 0.90 on 300 held out (6 positive, {300 - 6} negative; {why}) "
+            "(paper 0.69;") in _opening(np.zeros(16, bool), classification=cls)

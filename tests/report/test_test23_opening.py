@@ -50,3 +50,21 @@ def test_test3_opening_gives_the_drop_rate_and_table8_says_when_blocks_a_and_c_s
     page = report_md(sim_root / "test3_disturbance" / "default")
     caption = page.split("(`tables/table8.csv`)")[0].rsplit("\n**", 1)[1]
     assert "blocks A and C succeed only when the threshold reaches the proof load" in caption
+
+
+# Table 4 of the paper (μ_s, μ_k per material family), typed from its text
+TABLE4_MU = {"gel": (0.772, 0.544), "silicone_soft": (0.619, 0.440), "bio_foam": (0.684, 0.506),
+             "silicone_ref": (0.509, 0.364)}
+
+
+def test_test3_opening_defines_sf_and_derives_the_arrest_bound_from_its_materials(sim_root):
+    """It said "with μ_k/μ_s ≈ 0.7 a slip is not arrested once SF < ~1.4": SF undefined, 1.4 a
+    literal. A slip that started is arrested only while the kinetic budget, μ_k/μ_s of the static
+    one, carries the weight, i.e. SF ≥ μ_s/μ_k: the range of that ratio over the proposed
+    planner's materials (the records), from the paper's Table 4."""
+    ex = _both(sim_root, "test3_disturbance").query("belief_error == 'paper' and planner == 'heuristic'")
+    ratios = [TABLE4_MU[m][0] / TABLE4_MU[m][1] for m in set(ex["material"])]
+    low, high = f"{min(ratios):.2f}", f"{max(ratios):.2f}"
+    bound = low if low == high else f"{low}–{high}"
+    assert ("a slip is not arrested once SF (static friction budget over the weight it carries) < "
+            f"μ_s/μ_k = {bound} (Table 4, its materials). ") in _finding(sim_root, "test3_disturbance")

@@ -36,13 +36,14 @@ from graspcampaign.analysis.checks import (
 
 Chi2Result = result(
     "Chi2Result", "Pearson chi-square test of independence; ``expected`` (r, c) under independence; "
-    "``method`` names how ``pvalue`` was found.", statistic=float, pvalue=float, dof=int,
-    expected=np.ndarray, yates_correction=bool, method=str)
+    "``method`` names how ``pvalue`` was found, ``n_resamples`` how many random tables a Monte Carlo "
+    "``pvalue`` drew (0: none), whose smallest is 1/(n_resamples + 1).", statistic=float, pvalue=float,
+    dof=int, expected=np.ndarray, yates_correction=bool, method=str, n_resamples=int)
 RatesTest = result(
     "RatesTest", "Test that ``groups`` groups of ``n`` trials share one success rate (their k x 2 table "
     "of successes and failures); ``method`` names how ``pvalue`` was found, \"\" when every trial or "
-    "none succeeded (equal rates: no test, ``pvalue`` 1).", statistic=float, pvalue=float, method=str,
-    groups=int, n=int)
+    "none succeeded (equal rates: no test, ``pvalue`` 1); ``n_resamples`` as :class:`Chi2Result`'s.",
+    statistic=float, pvalue=float, method=str, groups=int, n=int, n_resamples=int)
 #: Smallest expected count of a table whose chi-square p-value is read from the distribution (Cochran 1954).
 MIN_EXPECTED = 5.0
 KruskalResult = result(
@@ -75,7 +76,8 @@ def chi2_contingency_test(table: ArrayLike, *, yates: bool = False, n_resamples:
     expected.setflags(write=False)
     dof = (counts.shape[0] - 1) * (counts.shape[1] - 1)  # scipy's is nan for a Monte Carlo p
     return Chi2Result(float(res.statistic), float(res.pvalue), dof, expected,
-                      bool(yates) and counts.shape == (2, 2), "Monte Carlo χ²" if resampled else "χ²")
+                      bool(yates) and counts.shape == (2, 2), "Monte Carlo χ²" if resampled else "χ²",
+                      n_resamples if resampled else 0)
 
 
 def equal_rates_test(successes: ArrayLike, trials: ArrayLike, *, n_resamples: int = 9999,
@@ -86,9 +88,9 @@ def equal_rates_test(successes: ArrayLike, trials: ArrayLike, *, n_resamples: in
     s, t = check_cluster_counts(successes, trials, group="group")
     check_count(n_resamples, "n_resamples", positive=True)
     if s.sum() in (0, t.sum()):
-        return RatesTest(0.0, 1.0, "", int(s.size), int(t.sum()))
+        return RatesTest(0.0, 1.0, "", int(s.size), int(t.sum()), 0)
     res = chi2_contingency_test(np.column_stack([s, t - s]), n_resamples=n_resamples, seed=seed)
-    return RatesTest(res.statistic, res.pvalue, res.method, int(s.size), int(t.sum()))
+    return RatesTest(res.statistic, res.pvalue, res.method, int(s.size), int(t.sum()), res.n_resamples)
 
 
 def kruskal_wallis(*groups: ArrayLike) -> KruskalResult:

@@ -9,6 +9,7 @@ import pandas as pd
 from graspcampaign.analysis import dynamic_check as dc
 from graspcampaign.analysis.vocabulary import label
 from graspcampaign.campaign.provenance import run_size
+from graspcampaign.core.words import counted
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
 from graspcampaign.report.document import Col, pct_col
@@ -97,8 +98,12 @@ def finding(run: Run) -> str:
     planned, out = run_size(run.manifest), int(judged.query("comparison == 'source'").not_settled.sum())
     if planned and len(run.records) < planned:
         text += f"Partial run: {len(run.records)} of {planned} dynamic grasps recorded. "
-    if out:
-        text += f"{out} {CLAIM_SHAPE} grasps {NOT_SETTLED}{_t_max(run)} are left out. "
+    if out:  # one source grasp is simulated once per preset
+        g = ok[(ok["shape"] == CLAIM_SHAPE) & (ok.dynamic_status == dc.UNDETERMINED)]
+        grasps = counted(g.source_trial_id.nunique(), f"{CLAIM_SHAPE} grasp")
+        presets = counted(g.model_preset.nunique(), "preset")
+        text += (f"{counted(out, 'simulation')} of {grasps} under {presets}, {NOT_SETTLED}{_t_max(run)}, "
+                 "are left out. ")
     return text + f"{DECISION}."
 
 

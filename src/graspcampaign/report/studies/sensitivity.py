@@ -159,8 +159,10 @@ def _varies(run: Run, a: pd.DataFrame, column: str, factor: str) -> str:
     if not test.method:
         return f"does not vary with {factor} ({shares} at each of its {test.groups} levels)"
     verb = "varies" if test.pvalue < 1 - CONFIDENCE_LEVEL else "does not detectably vary"
-    return (f"{verb} with {factor} ({shares} over {test.groups} levels; {test.method} "
-            f"p = {fmt.p_value(test.pvalue)})")
+    floor = test.n_resamples and test.pvalue <= 1 / (test.n_resamples + 1)  # no resample reached it
+    p = (f"p ≤ {fmt.p_value(test.pvalue)} (the smallest p {test.n_resamples} resamples can give)" if floor
+         else f"p = {fmt.p_value(test.pvalue)}")
+    return f"{verb} with {factor} ({shares} over {test.groups} levels; {test.method} {p})"
 
 
 #: Fig. 19's boundaries as pairs of sensitivity_claims rows, the side with the higher rate first.
