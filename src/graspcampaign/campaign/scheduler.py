@@ -81,7 +81,8 @@ async def _handshake(address: str, timeout_s: float, outcome: dict[str, Any]) ->
         try:
             comm = await asyncio.wait_for(connector.connect(location, deserialize=False), left)
         except (OSError, asyncio.TimeoutError) as exc:
-            failure = exc if isinstance(exc, OSError) else None
+            if not isinstance(exc, (TimeoutError, asyncio.TimeoutError)):  # a refusal is kept: a
+                failure = exc  # last try cut short by the deadline (an OSError too) says nothing new
             await asyncio.sleep(min(0.05, max(deadline - time.monotonic(), 0)))
     outcome["connected"] = True
     try:
