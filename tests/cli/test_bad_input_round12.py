@@ -116,6 +116,31 @@ def test_a_number_with_a_colon_in_a_study_file_is_refused(results, user_dir, see
         refused(results, [command, path, "--root", results], f"{path}, {said}")
 
 
+@pytest.mark.parametrize(("lines", "said"), [
+    # each said "got False (bool)" (or True, or null) of a word the file does not hold
+    ("factors:\n  shape: [NO]\n  nodes: [144]", "line 6: factors.shape[0] must be of type str, got "
+     "NO, which YAML reads as false; quote it: 'NO'."),
+    ("factors:\n  shape: [sphere, yes]\n  nodes: [144]", "line 6: factors.shape[1] must be of type "
+     "str, got yes, which YAML reads as true; quote it: 'yes'."),
+    ("output:\n  run: Off", "line 6: output.run must be of type str, got Off, which YAML reads as "
+     "false; quote it: 'Off'."),
+    ("description: no", "line 5: description must be of type str, got no, which YAML reads as false; "
+     "quote it: 'no'."),
+    # a number wanted: quotes would not help
+    ("factors:\n  shape: [sphere]\n  nodes: [on]", "line 7: factors.nodes[0] must be of type int, "
+     "got on, which YAML reads as true."),
+    ("output:\n  root: ~", "line 6: output.root must be of type str, got ~, which YAML reads as "
+     "null; quote it: '~'."),  # it said "got null"
+    # written as YAML's own words, they are named as before
+    ("compare_with: false", "line 5: compare_with must be of type str, got False (bool)."),
+    ("output:\n  run: null", "line 6: output.run must be of type str, got null."),
+])
+def test_a_word_yaml_reads_as_true_or_false_is_named_as_written(results, user_dir, lines, said):
+    path = user_dir / "mine.yaml"
+    path.write_text(HEADER + f"name: mine\nkind: mesh_features\n{lines}\n")
+    refused(results, ["show", path, "--root", results], f"{path}, {said}")
+
+
 @pytest.mark.parametrize(("file", "override", "n_seeds"), [
     ("07", None, 7),  # octal 7 is 7
     ("0x10", None, 16), ("0b11", None, 3), ("1_000", None, 1000),  # each means what it says

@@ -38,9 +38,7 @@ from graspcampaign.campaign.studycheck import (
     check_kind,
     check_paper_block,
     check_study_file,
-    in_file,
     known_keys_sentence,
-    line_of,
 )
 from graspcampaign.campaign.studyfile import (  # noqa: F401  (project_dirs, list_studies: public here too)
     check_group_files,
@@ -52,6 +50,7 @@ from graspcampaign.campaign.studyfile import (  # noqa: F401  (project_dirs, lis
     read_yaml,
     schema_of,
 )
+from graspcampaign.campaign.written import in_file, line_of
 from graspcampaign.errors import ConfigError, UserInputError
 
 
