@@ -144,13 +144,31 @@ def test_a_word_yaml_reads_as_true_or_false_is_named_as_written(results, user_di
 @pytest.mark.parametrize(("file", "override", "n_seeds"), [
     ("07", None, 7),  # octal 7 is 7
     ("0x10", None, 16), ("0b11", None, 3), ("1_000", None, 1000),  # each means what it says
-    ("1", "seeds=010", 10),  # Hydra's override grammar reads it as written
+    ("1", "seeds='10'", 10),  # text, which OmegaConf reads as an int setting's number
 ])
 def test_an_integer_read_as_written_is_taken(results, user_dir, file, override, n_seeds):
     path = _study(user_dir, file)
     done = invoke("show", path, *([override] if override else []), "--root", results)
     assert done.exit_code == 0, done.output
     assert f"seeds per scene: {n_seeds} " in done.output
+
+
+@pytest.mark.parametrize(("override", "zero", "number"), [
+    ("seeds=010", "010", 10),  # it was taken as 10
+    ("factors.nodes=[0144]", "0144", 144),  # these said "must be of type int, got '0144' (str)"
+    ("nodes=[144,0144]", "0144", 144),
+    ("seed=-0_7", "-0_7", -7),
+])
+def test_an_override_with_a_leading_zero_is_refused(results, override, zero, number):
+    refused(results, ["show", "smoke", override, "--root", results], f"override {override!r}: "
+            f"{zero} has a leading zero, which Hydra reads as the text '{zero}', not the number "
+            f"{number}; write {number}, or quote it ('{zero}') to mean text.")
+
+
+def test_an_override_quoted_with_a_leading_zero_is_text(results):
+    done = invoke("show", "smoke", "output.run='007'", "--root", results)
+    assert done.exit_code == 0, done.output
+    assert f"{Path(results) / 'smoke' / '007'} " in done.output
 
 
 @pytest.mark.parametrize(("study", "schedule", "typo", "hint"), [
