@@ -245,3 +245,27 @@ def test_a_press_with_its_adhesion_pull_off_is_stored(results, tmp_path):
     _press().to_csv(tmp_path / "waves.csv", index=False)
     done = invoke("ingest", "test1_bench", tmp_path / "waves.csv", *T1, "--root", results)
     assert done.exit_code == 0, done.output
+
+
+def test_a_tilde_in_output_root_is_the_home_directory(home_dir, user_dir):
+    # each made a directory named '~' in the current directory
+    done = invoke("run", "smoke", *SMOKE, 'output.root="~/runs"')
+    assert done.exit_code == 0, done.output
+    assert (home_dir / "runs" / "smoke" / "default" / "manifest.json").is_file()
+    path = user_dir / "mine.yaml"
+    path.write_text(HEADER + "name: mine\nkind: mesh_features\noutput:\n  root: ~/mine\nfactors:\n"
+                    "  shape: [sphere]\n  nodes: [144]\n")
+    done = invoke("run", path)
+    assert done.exit_code == 0, done.output
+    assert (home_dir / "mine" / "mine" / "default" / "manifest.json").is_file()
+    assert list(Path.cwd().iterdir()) == []
+
+
+def test_output_root_in_the_home_of_no_user_is_refused(home_dir, user_dir):
+    refused(home_dir, ["show", "smoke", 'output.root="~nosuchuser/runs"'], "output.root = "
+            "~nosuchuser/runs starts with ~nosuchuser, a home directory that cannot be found; give "
+            "its path in full.")
+    path = user_dir / "mine.yaml"
+    path.write_text(HEADER + "name: mine\nkind: mesh_features\noutput:\n  root: ~nosuchuser/r\n")
+    refused(home_dir, ["show", path], f"{path}, line 6: output.root = ~nosuchuser/r starts with "
+            "~nosuchuser, a home directory that cannot be found; give its path in full.")

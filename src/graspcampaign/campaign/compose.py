@@ -32,6 +32,7 @@ from graspcampaign.campaign.override import (  # noqa: F401  (omegaconf_error_se
     rewrite,
     split,
 )
+from graspcampaign.campaign.paths import config_root
 from graspcampaign.campaign.schema import SCHEMAS, StudyCfg, check_config, check_study
 from graspcampaign.campaign.studycheck import (
     check_conf,
@@ -144,6 +145,7 @@ def compose_study(study: str, overrides: list[str] | None = None) -> StudyCfg:
             sentence = override_sentence(exc, overrides, given, names, set_keys)
             raise _blamed(ConfigError(sentence, key=_error_key(exc)), path, overrides) from None
     try:
+        obj.output.root = config_root(obj.output.root)  # read once, for every reader of the config
         check_study(obj)
     except ConfigError as exc:
         raise _blamed(exc, path, overrides) from None
