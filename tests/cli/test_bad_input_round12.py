@@ -101,16 +101,74 @@ def test_an_integer_with_a_leading_zero_in_a_study_file_is_refused(results, user
         refused(results, [command, path, "--root", results], f"{path}, {said}")
 
 
+@pytest.mark.parametrize(("seeds", "nodes", "said"), [
+    # each was run as base 60 (1:30 is 1 * 60 + 30) with nothing said
+    ("1:30", "[144]", "line 5: seeds = 1:30 has a colon, which YAML reads as a base-60 (sexagesimal) "
+     "number, 90; write 90 or '1:30'."),
+    ("2", "[144, 1:30:00]", "line 8: factors.nodes[1] = 1:30:00 has colons, which YAML reads as a "
+     "base-60 (sexagesimal) number, 5400; write 5400 or '1:30:00'."),
+    ("2", "\n    - 144\n    - -1:30.5", "line 10: factors.nodes[1] = -1:30.5 has a colon, which YAML "
+     "reads as a base-60 (sexagesimal) number, -90.5; write -90.5 or '-1:30.5'."),
+])
+def test_a_number_with_a_colon_in_a_study_file_is_refused(results, user_dir, seeds, nodes, said):
+    path = _study(user_dir, seeds, nodes)
+    for command in ("show", "run"):
+        refused(results, [command, path, "--root", results], f"{path}, {said}")
+
+
+@pytest.mark.parametrize(("lines", "said"), [
+    # each said "got False (bool)" (or True, or null) of a word the file does not hold
+    ("factors:\n  shape: [NO]\n  nodes: [144]", "line 6: factors.shape[0] must be of type str, got "
+     "NO, which YAML reads as false; quote it: 'NO'."),
+    ("factors:\n  shape: [sphere, yes]\n  nodes: [144]", "line 6: factors.shape[1] must be of type "
+     "str, got yes, which YAML reads as true; quote it: 'yes'."),
+    ("output:\n  run: Off", "line 6: output.run must be of type str, got Off, which YAML reads as "
+     "false; quote it: 'Off'."),
+    ("description: no", "line 5: description must be of type str, got no, which YAML reads as false; "
+     "quote it: 'no'."),
+    # a number wanted: quotes would not help
+    ("factors:\n  shape: [sphere]\n  nodes: [on]", "line 7: factors.nodes[0] must be of type int, "
+     "got on, which YAML reads as true."),
+    ("output:\n  root: ~", "line 6: output.root must be of type str, got ~, which YAML reads as "
+     "null; quote it: '~'."),  # it said "got null"
+    # written as YAML's own words, they are named as before
+    ("compare_with: false", "line 5: compare_with must be of type str, got False (bool)."),
+    ("output:\n  run: null", "line 6: output.run must be of type str, got null."),
+])
+def test_a_word_yaml_reads_as_true_or_false_is_named_as_written(results, user_dir, lines, said):
+    path = user_dir / "mine.yaml"
+    path.write_text(HEADER + f"name: mine\nkind: mesh_features\n{lines}\n")
+    refused(results, ["show", path, "--root", results], f"{path}, {said}")
+
+
 @pytest.mark.parametrize(("file", "override", "n_seeds"), [
     ("07", None, 7),  # octal 7 is 7
     ("0x10", None, 16), ("0b11", None, 3), ("1_000", None, 1000),  # each means what it says
-    ("1", "seeds=010", 10),  # Hydra's override grammar reads it as written
+    ("1", "seeds='10'", 10),  # text, which OmegaConf reads as an int setting's number
 ])
 def test_an_integer_read_as_written_is_taken(results, user_dir, file, override, n_seeds):
     path = _study(user_dir, file)
     done = invoke("show", path, *([override] if override else []), "--root", results)
     assert done.exit_code == 0, done.output
     assert f"seeds per scene: {n_seeds} " in done.output
+
+
+@pytest.mark.parametrize(("override", "zero", "number"), [
+    ("seeds=010", "010", 10),  # it was taken as 10
+    ("factors.nodes=[0144]", "0144", 144),  # these said "must be of type int, got '0144' (str)"
+    ("nodes=[144,0144]", "0144", 144),
+    ("seed=-0_7", "-0_7", -7),
+])
+def test_an_override_with_a_leading_zero_is_refused(results, override, zero, number):
+    refused(results, ["show", "smoke", override, "--root", results], f"override {override!r}: "
+            f"{zero} has a leading zero, which Hydra reads as the text '{zero}', not the number "
+            f"{number}; write {number}, or quote it ('{zero}') to mean text.")
+
+
+def test_an_override_quoted_with_a_leading_zero_is_text(results):
+    done = invoke("show", "smoke", "output.run='007'", "--root", results)
+    assert done.exit_code == 0, done.output
+    assert f"{Path(results) / 'smoke' / '007'} " in done.output
 
 
 @pytest.mark.parametrize(("study", "schedule", "typo", "hint"), [
@@ -187,3 +245,27 @@ def test_a_press_with_its_adhesion_pull_off_is_stored(results, tmp_path):
     _press().to_csv(tmp_path / "waves.csv", index=False)
     done = invoke("ingest", "test1_bench", tmp_path / "waves.csv", *T1, "--root", results)
     assert done.exit_code == 0, done.output
+
+
+def test_a_tilde_in_output_root_is_the_home_directory(home_dir, user_dir):
+    # each made a directory named '~' in the current directory
+    done = invoke("run", "smoke", *SMOKE, 'output.root="~/runs"')
+    assert done.exit_code == 0, done.output
+    assert (home_dir / "runs" / "smoke" / "default" / "manifest.json").is_file()
+    path = user_dir / "mine.yaml"
+    path.write_text(HEADER + "name: mine\nkind: mesh_features\noutput:\n  root: ~/mine\nfactors:\n"
+                    "  shape: [sphere]\n  nodes: [144]\n")
+    done = invoke("run", path)
+    assert done.exit_code == 0, done.output
+    assert (home_dir / "mine" / "mine" / "default" / "manifest.json").is_file()
+    assert list(Path.cwd().iterdir()) == []
+
+
+def test_output_root_in_the_home_of_no_user_is_refused(home_dir, user_dir):
+    refused(home_dir, ["show", "smoke", 'output.root="~nosuchuser/runs"'], "output.root = "
+            "~nosuchuser/runs starts with ~nosuchuser, a home directory that cannot be found; give "
+            "its path in full.")
+    path = user_dir / "mine.yaml"
+    path.write_text(HEADER + "name: mine\nkind: mesh_features\noutput:\n  root: ~nosuchuser/r\n")
+    refused(home_dir, ["show", path], f"{path}, line 6: output.root = ~nosuchuser/r starts with "
+            "~nosuchuser, a home directory that cannot be found; give its path in full.")

@@ -211,6 +211,7 @@ def _light_study(path: Path, data: dict[str, Any]):
     from graspcampaign.campaign import studycheck
     from graspcampaign.campaign.schema import SCHEMAS, StudyCfg, check_study
     from graspcampaign.campaign.studyfile import project_dirs
+    from graspcampaign.campaign.written import in_file
     from graspcampaign.errors import ConfigError
 
     studycheck.check_study_file(path, data)
@@ -229,7 +230,7 @@ def _light_study(path: Path, data: dict[str, Any]):
         if checked:
             studycheck.check_kind(study)
     except ConfigError as exc:
-        raise studycheck.in_file(path, exc) from None
+        raise in_file(path, exc) from None
     studycheck.check_paper_block(study, data.get("name"), path, project_dirs()[1])
     return study, checked
 
@@ -269,8 +270,8 @@ def study_row(path: Path) -> dict[str, Any]:
             digest.update(conf.read_bytes())
         source = study.params.get("source_study")
         if source:  # a design read from another run's records: keyed on that run's manifest too
-            manifest = Path(study.output.root) / source / study.params.get("source_run",
-                                                                           "default")
+            manifest = expand_home(study.output.root)[0] / source / study.params.get(
+                "source_run", "default")  # ~ read as compose_study reads it (paths.config_root)
             digest.update(_read_or_none(manifest / "manifest.json"))
 
         def compute() -> int | str:

@@ -32,15 +32,14 @@ from graspcampaign.campaign.override import (  # noqa: F401  (omegaconf_error_se
     rewrite,
     split,
 )
+from graspcampaign.campaign.paths import config_root
 from graspcampaign.campaign.schema import SCHEMAS, StudyCfg, check_config, check_study
 from graspcampaign.campaign.studycheck import (
     check_conf,
     check_kind,
     check_paper_block,
     check_study_file,
-    in_file,
     known_keys_sentence,
-    line_of,
 )
 from graspcampaign.campaign.studyfile import (  # noqa: F401  (project_dirs, list_studies: public here too)
     check_group_files,
@@ -52,6 +51,7 @@ from graspcampaign.campaign.studyfile import (  # noqa: F401  (project_dirs, lis
     read_yaml,
     schema_of,
 )
+from graspcampaign.campaign.written import in_file, line_of
 from graspcampaign.errors import ConfigError, UserInputError
 
 
@@ -145,6 +145,7 @@ def compose_study(study: str, overrides: list[str] | None = None) -> StudyCfg:
             sentence = override_sentence(exc, overrides, given, names, set_keys)
             raise _blamed(ConfigError(sentence, key=_error_key(exc)), path, overrides) from None
     try:
+        obj.output.root = config_root(obj.output.root)  # read once, for every reader of the config
         check_study(obj)
     except ConfigError as exc:
         raise _blamed(exc, path, overrides) from None

@@ -155,6 +155,11 @@ def check_overrides(given: list[str]) -> None:
             if parsed is not _UNPARSED and not isinstance(parsed, bool):
                 raise ConfigError(f"{key} must be true or false, got {parsed!r} (override "
                                   f"{item!r}).", key=key)
+        if setting and (zero := _leading_zero(item)):
+            number = int(zero.replace("_", ""))
+            raise ConfigError(f"override {item!r}: {zero} has a leading zero, which Hydra reads as "
+                              f"the text '{zero}', not the number {number}; write {number}, or "
+                              f"quote it ('{zero}') to mean text.", key=key)
 
 
 def _one_value(key: str) -> bool:
@@ -179,6 +184,24 @@ def _parsed_value(item: str) -> Any:
     except Exception:  # noqa: BLE001  (a parse error is Hydra's to report, with its position)
         return _UNPARSED
     return _UNPARSED if isinstance(value, str) and "${" in value else value
+
+
+def _leading_zero(item: str) -> str | None:
+    """An integer written with a leading zero, unquoted, in an override's value (``010``,
+    ``[144,0144]``), or None: Hydra's grammar reads it as text, which ``seeds`` took as 10 and
+    ``nodes`` refused unexplained (docs/decisions.md)."""
+    from hydra.core.override_parser.overrides_parser import OverridesParser
+
+    try:
+        items = [OverridesParser.create().parse_overrides([item])[0]._value]
+    except Exception:  # noqa: BLE001  (a parse error is Hydra's to report, with its position)
+        return None
+    while items:  # a QuotedString is quoted text, no str
+        value = items.pop()
+        items += value if isinstance(value, list) else value.values() if isinstance(value, dict) else []
+        if type(value) is str and re.fullmatch(r"[+-]?0[0-9_]*[0-9]", value):
+            return value
+    return None
 
 
 def rewrite(factors: set[str], overrides: list[str]) -> list[str]:

@@ -16,7 +16,7 @@ import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 
-from graspcampaign.errors import UserInputError
+from graspcampaign.errors import ConfigError, UserInputError
 
 
 def path_problem(path: Path, *, write: bool = False, directory: bool = True) -> str | None:
@@ -186,6 +186,25 @@ def expand_home(path: str | os.PathLike) -> tuple[Path, str | None]:
         return Path(path).expanduser(), None
     except RuntimeError:  # pathlib's "Could not determine home directory."
         return Path(path), f"starts with {Path(path).parts[0]}, a home directory that cannot be found"
+
+
+def config_root(root: str) -> str:
+    """A composed study's ``output.root`` with a leading ``~`` read as the home directory, as the
+    ``--root`` option reads it (:func:`expand_home`): ``output.root=~/runs`` (quoted, or in a
+    study file) made a directory named ``~``. Anything else is returned as written.
+
+    Raises
+    ------
+    ConfigError
+        A home directory that cannot be found, naming ``output.root``.
+    """
+    if not isinstance(root, str) or not root.startswith("~"):
+        return root
+    path, unknown = expand_home(root)
+    if unknown:
+        raise ConfigError(f"output.root = {root} {unknown}; give its path in full.",
+                          key="output.root")
+    return str(path)
 
 
 def how_to_make(root: Path | str, study: str, run: str | None = None,

@@ -19,62 +19,12 @@ from pathlib import Path
 from typing import Any
 
 from graspcampaign.campaign.schema import SCHEMAS, StudyCfg, check_factor, check_value, example
+from graspcampaign.campaign.written import in_file
 from graspcampaign.core.words import listed, meant, plural
 from graspcampaign.errors import ConfigError
 
 _SCALARS = {"int": int, "float": float, "str": str, "bool": bool}
 GROUPS = ("model", "evaluator", "features", "pso", "runner", "output")  # conf/<group>/
-
-
-# -- where a key is written ----------------------------------------------------------------------
-def key_lines(text: str) -> dict[str, int]:
-    """Return ``{dotted key: 1-based line}`` of every mapping key and list item of a YAML text
-    (``factors.mu`` and ``factors.mu[1]``); empty if the text does not parse."""
-    import yaml
-
-    try:
-        root = yaml.compose(text, Loader=yaml.SafeLoader)
-    except yaml.YAMLError:
-        return {}
-    out: dict[str, int] = {}
-
-    def walk(node: Any, key: str) -> None:
-        if isinstance(node, yaml.MappingNode):
-            for key_node, value in node.value:
-                sub = f"{key}.{key_node.value}" if key else str(key_node.value)
-                out.setdefault(sub, key_node.start_mark.line + 1)
-                walk(value, sub)
-        elif isinstance(node, yaml.SequenceNode):
-            for i, item in enumerate(node.value):
-                sub = f"{key}[{i}]"
-                out.setdefault(sub, item.start_mark.line + 1)
-                walk(item, sub)
-
-    walk(root, "")
-    return out
-
-
-def line_of(path: Path, key: str | None) -> int | None:
-    """The line of ``path`` that writes ``key`` or, failing that, its nearest parent."""
-    if not key:
-        return None
-    try:
-        lines = key_lines(Path(path).read_text(encoding="utf-8-sig"))
-    except (OSError, UnicodeDecodeError):
-        return None
-    while key:
-        if key in lines:
-            return lines[key]
-        cut = max(key.rfind("."), key.rfind("["))
-        key = key[:cut] if cut > 0 else ""
-    return None
-
-
-def in_file(path: Path, exc: ConfigError, key_prefix: str = "") -> ConfigError:
-    """``exc`` with the file (and the line of its key) in front: ``<path>, line 7: ...``."""
-    line = line_of(path, exc.key[len(key_prefix):] if exc.key and key_prefix else exc.key)
-    where = f"{path}, line {line}" if line else f"{path}"
-    return ConfigError(f"{where}: {exc}", key=exc.key)
 
 
 # -- types -----------------------------------------------------------------------------------------

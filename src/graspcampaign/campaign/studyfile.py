@@ -230,7 +230,7 @@ def _yaml_error_sentence(path: Path, exc: Exception, n_lines: int) -> str:
     where = f"{path}, line {min(mark.line + 1, max(n_lines, 1))}" if mark is not None else f"{path}"
     problem = (getattr(exc, "problem", None) or str(exc).splitlines()[0]).strip()
     context = (getattr(exc, "context", None) or "").strip()
-    if problem.startswith(_REFUSALS) or _LEADING_ZERO in problem:
+    if problem.startswith(_REFUSALS) or any(words in problem for words in _MISREADINGS):
         return f"{where}: {problem}."
     if tag := re.match(r"could not determine a constructor for the tag '(.+)'", problem):
         return (f"{where}: the tag {tag[1].replace('tag:yaml.org,2002:', '!!')} is not read; a "
@@ -244,7 +244,10 @@ def _yaml_error_sentence(path: Path, exc: Exception, n_lines: int) -> str:
 
 _REFUSALS = ("the alias *", "the merge key <<", "the key ")  # what the loader refuses, in words
 _MERGE, _NULL = "tag:yaml.org,2002:merge", "tag:yaml.org,2002:null"
+_INT, _FLOAT = "tag:yaml.org,2002:int", "tag:yaml.org,2002:float"
 _LEADING_ZERO = " has a leading zero"  # the loader's refusal of an octal integer, in words
+_BASE_60 = ", which YAML reads as a base-60"  # and of a sexagesimal one
+_MISREADINGS = (_LEADING_ZERO, _BASE_60)
 
 
 def _key_part(parent: Any, index: Any) -> str:
@@ -260,7 +263,7 @@ def _octal(node: Any) -> str | None:
     which PyYAML and OmegaConf read, takes it for octal (8), which no one writing a study means;
     one the same in both readings (``07``, ``00``) is not refused."""
     value = getattr(node, "value", None)
-    if getattr(node, "tag", None) != "tag:yaml.org,2002:int" or not isinstance(value, str):
+    if getattr(node, "tag", None) != _INT or not isinstance(value, str):
         return None
     sign, digits = ("-" if value[:1] == "-" else ""), value.lstrip("+-").replace("_", "")
     if (len(digits) < 2 or digits[0] != "0" or not set(digits) <= set("01234567")
@@ -270,12 +273,31 @@ def _octal(node: Any) -> str | None:
     return f"{_LEADING_ZERO}, which YAML reads as octal {octal}; write {decimal} or {octal}"
 
 
+def _base_60(loader: Any, node: Any) -> str | None:
+    """Why a number written with colons (``1:30``, ``1:30.5``) is refused, in words, or None:
+    YAML 1.1 takes it for base 60 (90, 90.5: a clock time), which no one writing a study means:
+    a setting that wants a number gets another one, one that wants text gets its digits."""
+    value, tag = getattr(node, "value", None), getattr(node, "tag", None)
+    if tag not in (_INT, _FLOAT) or not isinstance(value, str) or ":" not in value:
+        return None
+    read = (loader.construct_yaml_int if tag == _INT else loader.construct_yaml_float)(node)
+    colons = "a colon" if value.count(":") == 1 else "colons"
+    return f" has {colons}{_BASE_60} (sexagesimal) number, {read!r}; write {read!r} or '{value}'"
+
+
+def _misread(loader: Any, node: Any) -> str | None:
+    """Why a number YAML 1.1 reads as other than it is written is refused (:func:`_octal`,
+    :func:`_base_60`), or None: the one rule the loader checks each value by."""
+    return _octal(node) or _base_60(loader, node)
+
+
 @cache
 def _loader() -> type:
     """A SafeLoader that refuses a key given twice in one mapping, as OmegaConf does, a null key
     (``~: 1``), an alias (``*name``) or a merge key (``<<:``): expanded, a few lines of aliases
-    of aliases are billions of values; and an integer YAML 1.1 reads as octal (``010``,
-    :func:`_octal`), named by its key (``factors.nodes[1]``)."""
+    of aliases are billions of values; and a number YAML 1.1 reads as other than it is written,
+    octal (``010``) or base 60 (``1:30``) (:func:`_misread`), named by its key
+    (``factors.nodes[1]``)."""
     import yaml
 
     class Loader(yaml.SafeLoader):
@@ -299,9 +321,9 @@ def _loader() -> type:
                                 "values); write the value out", event.start_mark)
             self.key_path = [*getattr(self, "key_path", []), _key_part(parent, index)]
             node = super().compose_node(parent, index)
-            if (octal := _octal(node)) is not None:
+            if (misread := _misread(self, node)) is not None:
                 raise yaml.composer.ComposerError(
-                    None, None, f"{''.join(self.key_path).lstrip('.')} = {node.value}{octal}",
+                    None, None, f"{''.join(self.key_path).lstrip('.')} = {node.value}{misread}",
                     node.start_mark)
             self.key_path.pop()
             return node
