@@ -269,3 +269,11 @@ def test_output_root_in_the_home_of_no_user_is_refused(home_dir, user_dir):
     path.write_text(HEADER + "name: mine\nkind: mesh_features\noutput:\n  root: ~nosuchuser/r\n")
     refused(home_dir, ["show", path], f"{path}, line 6: output.root = ~nosuchuser/r starts with "
             "~nosuchuser, a home directory that cannot be found; give its path in full.")
+
+
+def test_a_kind_parameter_refused_by_its_own_check_names_its_key_once(results):
+    # the params' ConfigError went through the OmegaConf sentence, which put the prefix before
+    # the key it already had: "params.params.materials[0]: params.materials[0] has unknown value"
+    refused(results, ["show", "test1_bench", "params.materials=[no]", "--root", results],
+            "params.materials[0] has unknown value 'no'; allowed values: gel, silicone_soft, "
+            "bio_foam, silicone_ref.")
