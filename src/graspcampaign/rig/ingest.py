@@ -111,7 +111,9 @@ def _as_bool(value) -> bool | None:
 
 
 def _as_float(value) -> float | None:
-    if isinstance(value, (bool, np.bool_)):
+    """A cell's number, or None. Text with an underscore is none: Python's float reads '1_4' as
+    14 (digit grouping), which no spreadsheet writes, so it is a typo, not fourteen."""
+    if isinstance(value, (bool, np.bool_)) or (isinstance(value, str) and "_" in value):
         return None
     try:
         return float(value)
