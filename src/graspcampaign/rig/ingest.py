@@ -126,7 +126,8 @@ def _check_header(df: pd.DataFrame, schema, label: str, commanded: Collection[st
     problems = header_problems(columns, [s.name for s in schema if not s.optional],
                                {s.name: s.unit for s in schema}, _UNIT_RE,
                                [s.name for s in schema if s.optional], commanded,
-                               df.attrs.get("other_sheets"), df.head(5).to_numpy().tolist())
+                               df.attrs.get("other_sheets"), df.head(5).to_numpy().tolist(),
+                               df.attrs.get("filled_sheets", ()))
     if problems:
         raise IngestError(f"{label}, header: {'; '.join(problems)} (`graspcampaign schedule "
                           "<study> --template` writes a sheet with every column).")
