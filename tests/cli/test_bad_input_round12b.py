@@ -38,3 +38,11 @@ def test_records_on_a_second_sheet_of_a_workbook_are_named_not_left_unread(store
         _records(tmp_path, slice(0, 0)).to_excel(writer, sheet_name="blank", index=False)
     done = invoke("ingest", "test2_grasp", book, *T2, "--root", stored)
     assert done.exit_code == 0, done.output
+
+
+def test_negative_zero_is_the_level_zero_so_listing_both_is_refused(tmp_path):
+    # the old code took 0.0 and -0.0 for two levels (their reprs differ): two trials of one scene
+    for command in ("show", "run"):
+        refused(tmp_path, [command, "wrench_balance", "factors.mu=[0.0,-0.0]", "--root", tmp_path],
+                "factors.mu lists the level 0.0 twice (factors.mu[0] and factors.mu[1]); give each "
+                "level once.")
