@@ -5,6 +5,7 @@ changed (``refused``; for Tests 2-3 on a run that already holds records, ``store
 from __future__ import annotations
 
 import pandas as pd
+import pytest
 import test_bad_ingest_round10 as round10
 from cli_checks import invoke, refused
 
@@ -46,3 +47,32 @@ def test_negative_zero_is_the_level_zero_so_listing_both_is_refused(tmp_path):
         refused(tmp_path, [command, "wrench_balance", "factors.mu=[0.0,-0.0]", "--root", tmp_path],
                 "factors.mu lists the level 0.0 twice (factors.mu[0] and factors.mu[1]); give each "
                 "level once.")
+
+
+NAME_SAID = ("a name in it is 300 bytes long, more than the 255 a file system takes for one file "
+             "or directory name; give a shorter one.")
+
+
+def _cut(path) -> str:
+    """``path`` as a message shows a value over 200 characters: its first 60 and its length."""
+    text = str(path)
+    return f"{text[:60]}... ({len(text)} characters)"
+
+
+@pytest.mark.parametrize("command", [["run", "smoke"], ["status", "smoke"], ["report"]])
+def test_a_results_root_with_a_name_over_255_bytes_is_refused_before_any_work(tmp_path, command):
+    # the old code ended in a traceback (OSError: [Errno 36] File name too long)
+    root = tmp_path / ("b" * 300)
+    refused(tmp_path, [*command, "--root", root], f"--root {_cut(root)}: {NAME_SAID}")
+
+
+def test_an_output_file_with_a_name_over_255_bytes_is_refused_before_any_work(tmp_path, sphere):
+    # the old code: schedule and plan ended in a traceback; reproduce ran every study (hours at
+    # paper scale) and would have failed appending its first time
+    out = tmp_path / ("b" * 296)  # with .txt or .png: 300 bytes
+    refused(tmp_path, ["schedule", "test2_grasp", "--out", f"{out}bbbb", "--root", tmp_path],
+            f"--out {out}bbbb: {NAME_SAID}")
+    refused(tmp_path, ["reproduce", "--times", f"{out}.txt", "--root", tmp_path],
+            f"--times {out}.txt: {NAME_SAID}")
+    refused(tmp_path, ["plan", sphere, "--mass-kg", "0.1", "--png", f"{out}.png"],
+            f"{_cut(f'{out}.png')}: {NAME_SAID}")
