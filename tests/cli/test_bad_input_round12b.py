@@ -76,3 +76,14 @@ def test_an_output_file_with_a_name_over_255_bytes_is_refused_before_any_work(tm
             f"--times {out}.txt: {NAME_SAID}")
     refused(tmp_path, ["plan", sphere, "--mass-kg", "0.1", "--png", f"{out}.png"],
             f"{_cut(f'{out}.png')}: {NAME_SAID}")
+
+
+@pytest.mark.parametrize(("override", "said"), [
+    # the old code said "got None" of a mapping merged into a factor's list of levels
+    ("factors.mu={a:1}", "factors.mu takes a list of levels, e.g. factors.mu=[0.3,0.5] (or the "
+     "bare mu=0.3), got a mapping."),
+    # it said "must be a list." naming nothing given
+    ("zip={a:1}", "zip must be a list, got a mapping."),
+])
+def test_a_mapping_where_a_list_belongs_is_named_a_mapping_not_none(tmp_path, override, said):
+    refused(tmp_path, ["show", "wrench_balance", override, "--root", tmp_path], said)

@@ -446,12 +446,20 @@ def omegaconf_error_sentence(exc: BaseException, prefix: str = "") -> str:
     if key.startswith("factors.") and key.count(".") == 1 and "[" not in key:
         name = key.split(".", 1)[1]
         return (f"{key} takes a list of levels, e.g. {key}={example(name).replace(' ', '')} (or "
-                f"the bare {name}={example(name)[1:].split(',')[0]}), got {value!r}.")
+                f"the bare {name}={example(name)[1:].split(',')[0]}){_got(value, text)}.")
     if re.search(r"Cannot merge|Cannot assign|incompatible with type hint|is not a ListConfig|"
                  r"is not a subclass|Cannot convert '\w+' to string", text):
-        got = f", got {value!r}" if value is not None else ""
-        return f"{key} must be {_takes(key, base)}{got}."
+        return f"{key} must be {_takes(key, base)}{_got(value, text)}."
     return f"{key}: {text}."
+
+
+def _got(value: Any, text: str) -> str:
+    """``, got <value>`` for a message, or ``""`` when OmegaConf names none. A mapping merged
+    into a list (``factors.mu={a:1}``) comes with no value, only "Cannot merge DictConfig with
+    ListConfig": it is named as a mapping, not as None."""
+    if value is not None:
+        return f", got {value!r}"
+    return ", got a mapping" if text.startswith("Cannot merge DictConfig") else ""
 
 
 def _unresolved(text: str) -> str:
