@@ -87,3 +87,22 @@ def test_an_output_file_with_a_name_over_255_bytes_is_refused_before_any_work(tm
 ])
 def test_a_mapping_where_a_list_belongs_is_named_a_mapping_not_none(tmp_path, override, said):
     refused(tmp_path, ["show", "wrench_balance", override, "--root", tmp_path], said)
+
+
+@pytest.mark.parametrize(("override", "said"), [
+    # each said "<section> is neither a known key of the study config nor a factor of this
+    # study ...; did you mean '<section>'?": the section itself, which is known
+    ("runner={nosuch:1}", "runner.nosuch is not a known key of runner (override "
+     "'runner={nosuch:1}' rejected); known keys: backend, n_jobs, address, batch_size, "
+     "target_task_s, progress, progress_interval_s, connect_timeout_s."),
+    ("paper={figure:x,a:1}", "paper.a is not set by this study (override 'paper={figure:x,a:1}' "
+     "rejected); add it with a leading '+' (+paper.a=...), and the study's paper schema checks "
+     "it."),
+    ("factors={mu:[0.1],nosuch:[1]}", "factors.nosuch is not a known factor (override "
+     "'factors={mu:[0.1],nosuch:[1]}' rejected); known factors: b, budget, damping_law, dt_s, "
+     "grip_law, integrator, lambda1, lambda2, mass_kg, model_preset, mu, n_cand, n_exp, n_max, "
+     "nodes, planner, pso_seed, shape, variant, w1, w2, w3, weight_scale."),
+])
+def test_an_unknown_key_inside_a_sections_mapping_is_named_not_the_section(tmp_path, override,
+                                                                           said):
+    refused(tmp_path, ["show", "wrench_balance", override, "--root", tmp_path], said)

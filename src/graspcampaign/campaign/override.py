@@ -347,6 +347,11 @@ def _unknown_override(key: str, typed: str | None, factors: list[str], set_keys:
     its former name (``b_n_s_per_m=[0.5]``) is told its current one."""
     if key.removeprefix("factors.") in FORMER_FACTORS:
         return former_factor(key.removeprefix("factors."), key, typed)
+    inside = [k for k in _mapping_keys(split(typed)[3] if typed else "")
+              if field_at(f"{key}.{k}") is None and f"{key}.{k}" not in set_keys
+              and not (key == "factors" and k in factors)]
+    if "." not in key and field_at(key) is not None and inside:  # runner={nosuch: 1}: the key in it
+        return _unknown_override(f"{key}.{inside[0]}", typed, factors, set_keys)
     if "." not in key and key not in FACTOR_SPECS:
         names = [*factors, *(f.name for f in dataclasses.fields(StudyCfg)), *sorted(FACTOR_SPECS)]
         return (f"{key} is neither a known key of the study config nor a factor of this study "
