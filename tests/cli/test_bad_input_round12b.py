@@ -106,3 +106,16 @@ def test_a_mapping_where_a_list_belongs_is_named_a_mapping_not_none(tmp_path, ov
 def test_an_unknown_key_inside_a_sections_mapping_is_named_not_the_section(tmp_path, override,
                                                                            said):
     refused(tmp_path, ["show", "wrench_balance", override, "--root", tmp_path], said)
+
+
+def test_an_ascii_stl_cut_short_is_named_as_one_not_empty(tmp_path, sphere):
+    # the old code said "is empty: it has no faces" of a file holding 80 whole facets
+    import trimesh
+
+    text = trimesh.load(sphere).export(file_type="stl_ascii")
+    cut = tmp_path / "cut.stl"
+    cut.write_text(text[:text.rindex("endsolid")])  # every facet, no closing line
+    lines = text[:text.rindex("endsolid")].rstrip().splitlines()
+    refused(tmp_path, ["plan", cut, "--mass-kg", "0.1"],
+            f"mesh 'cut.stl' is cut short: an ASCII STL ends with an 'endsolid' line, and this "
+            f"one ends on line {len(lines)} ('endfacet'); copy or export it again.")
