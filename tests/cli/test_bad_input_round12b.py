@@ -119,3 +119,18 @@ def test_an_ascii_stl_cut_short_is_named_as_one_not_empty(tmp_path, sphere):
     refused(tmp_path, ["plan", cut, "--mass-kg", "0.1"],
             f"mesh 'cut.stl' is cut short: an ASCII STL ends with an 'endsolid' line, and this "
             f"one ends on line {len(lines)} ('endfacet'); copy or export it again.")
+
+
+@pytest.mark.parametrize(("command", "selection", "said"), [
+    # schedule ended in a traceback (KeyError: "['plan_time_s'] not found in axis"); run stored a
+    # run of 0 trials; ingest then had no sheet to check records against
+    (["schedule", "test2_grasp"], ["params.fraction=1e-320"], "params.fraction=1e-320 selects"),
+    (["run", "test2_grasp"], ["params.fraction=1e-9"], "params.fraction=1e-09 selects"),
+    (["show", "test2_grasp"], ["params.objects=[sphere-01]", "params.groups=[C]"],
+     "params.objects=[sphere-01], params.groups=[C] select"),
+])
+def test_a_protocol_selection_that_keeps_no_trial_is_refused(tmp_path, command, selection, said):
+    kind = command[1]
+    refused(tmp_path, [*command, *selection, "--root", tmp_path],
+            f"{said} no trial of the {kind} sheet; select more (empty lists and fraction 1.0 are "
+            "the full protocol).")
