@@ -134,3 +134,14 @@ def test_a_protocol_selection_that_keeps_no_trial_is_refused(tmp_path, command, 
     refused(tmp_path, [*command, *selection, "--root", tmp_path],
             f"{said} no trial of the {kind} sheet; select more (empty lists and fraction 1.0 are "
             "the full protocol).")
+
+
+@pytest.mark.parametrize(("study", "override", "said"), [
+    # the old code said "params.params.groups[0]: params.groups[0] has unknown value 'a'; ..."
+    ("test2_grasp", "params.groups=[a]", "params.groups[0] has unknown value 'a'; did you mean "
+     "'A'? allowed values: A, B, C, D, E, M, X."),
+    ("test3_disturbance", "params.blocks=[z]", "params.blocks[0] has unknown value 'z'; allowed "
+     "values: A, B, C, D, E."),
+])
+def test_a_kind_parameters_own_check_is_said_once_with_its_key(tmp_path, study, override, said):
+    refused(tmp_path, ["show", study, override, "--root", tmp_path], said)

@@ -418,7 +418,14 @@ def _group_options(group: str) -> str:
 
 
 def omegaconf_error_sentence(exc: BaseException, prefix: str = "") -> str:
-    """Turn an OmegaConf/Hydra exception into one sentence in plain words naming the key."""
+    """Turn an OmegaConf/Hydra exception into one sentence in plain words naming the key. One
+    raised by a check of ours (a ``ConfigError`` a schema's ``__post_init__`` raised, which
+    OmegaConf wraps) is already that sentence, its key named: it is returned as it is."""
+    own = exc
+    while own is not None and not isinstance(own, ConfigError):
+        own = own.__cause__ or own.__context__
+    if own is not None:
+        return str(own)
     while not hasattr(exc, "full_key") and (exc.__cause__ or exc.__context__) is not None:
         exc = exc.__cause__ or exc.__context__
     key = getattr(exc, "full_key", None) or getattr(exc, "key", None)
