@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from graspcampaign.core.words import counted, meant
+from graspcampaign.core.words import counted, meant, plural
 from graspcampaign.errors import utf8_text
 
 __all__ = ["IngestError", "cell_problem", "header_problems", "ingest_error", "read_table",
@@ -390,8 +390,8 @@ def header_problems(columns: list[str], required: list[str], units: dict[str, st
                     "note?) was read as the header; the header must be the first row, so delete "
                     "the rows above it"]
     elif also := [n for n in filled_sheets if set(required) <= set((other_sheets or {})[n])]:
-        return [f"{'sheet' if len(also) == 1 else 'sheets'} {', '.join(map(repr, also))} "
-                f"{'holds' if len(also) == 1 else 'hold'} records too (every required column, "
+        return [f"{plural('sheet', len(also))} {', '.join(map(repr, also))} "
+                f"{plural('holds', len(also), 'hold')} records too (every required column, "
                 "rows below it), but ingest reads only the workbook's first sheet, so they would "
                 "not be stored: save each sheet as a CSV file and ingest the files together, or "
                 "move the rows to the first sheet"]
