@@ -145,3 +145,13 @@ def test_a_protocol_selection_that_keeps_no_trial_is_refused(tmp_path, command, 
 ])
 def test_a_kind_parameters_own_check_is_said_once_with_its_key(tmp_path, study, override, said):
     refused(tmp_path, ["show", study, override, "--root", tmp_path], said)
+
+
+def test_an_interpolation_resolving_to_no_number_says_to_what(tmp_path, monkeypatch):
+    # the old code said "... cannot be resolved: While dereferencing interpolation
+    # '${oc.env:GC_ROUND12}': Value 'twelve' of type 'str' could not be converted to Integer."
+    monkeypatch.setenv("GC_ROUND12", "twelve")
+    refused(tmp_path, ["show", "smoke", "seed=${oc.env:GC_ROUND12}", "--root", tmp_path],
+            "seed = '${oc.env:GC_ROUND12}' resolves to 'twelve', not a whole number.")
+    refused(tmp_path, ["show", "smoke", "evaluator.alpha=${oc.env:GC_ROUND12}", "--root", tmp_path],
+            "evaluator.alpha = '${oc.env:GC_ROUND12}' resolves to 'twelve', not a number.")

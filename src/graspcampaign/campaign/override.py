@@ -445,6 +445,10 @@ def omegaconf_error_sentence(exc: BaseException, prefix: str = "") -> str:
     if "Interpolation" in type(exc).__name__:  # ${oc.env:NOPE}, ${nosuch:x}: as written
         written = getattr(exc, "child_node", None)
         shown = f" = {str(written)!r}" if written is not None else ""
+        if to := re.search(r"Value (.*) of type '\w+' could not be converted to (Integer|Float)$",
+                           text):  # resolved, to what no number is: ${oc.env:HOME} for a seed
+            return (f"{key}{shown} resolves to {to[1]}, not "
+                    f"{'a whole number' if to[2] == 'Integer' else 'a number'}.")
         return f"{key}{shown} cannot be resolved: {_unresolved(text)}."
     found = None if prefix else field_at(key)
     base = split_optional(str(found[1].type))[0] if found else None
