@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import errno
+import os
 import re
 
 #: A value longer than this is shown by its start and its length (a 100,000-character override
@@ -10,7 +11,8 @@ import re
 #: docs/decisions.md, "Long values in messages").
 LONG_VALUE = 200
 _LONG_QUOTED = re.compile(rf"'([^'\n]{{{LONG_VALUE + 1},}})'")
-_LONG_WORD = re.compile(rf"[^\s']{{{LONG_VALUE + 1},}}")
+#: a long unquoted word, the punctuation after it (the colon after a path) kept outside the cut
+_LONG_WORD = re.compile(rf"([^\s']{{{LONG_VALUE + 1},}}?)([:;,.]?)(?=[\s']|$)")
 
 
 def shorten(message: str) -> str:
@@ -20,13 +22,43 @@ def shorten(message: str) -> str:
         return f"{text[:60]}... ({len(text)} characters)"
 
     message = _LONG_QUOTED.sub(lambda m: f"'{cut(m.group(1))}'", message)
-    return _LONG_WORD.sub(lambda m: cut(m.group(0)), message)
+    return _LONG_WORD.sub(lambda m: cut(m.group(1)) + m.group(2), message)
 
 
 def disk_full(exc: BaseException) -> bool:
     """Whether ``exc`` is a write that found no space (a full disk, or a quota reached): the one
     failure whose advice is "free some space there and run the command again"."""
     return isinstance(exc, OSError) and exc.errno in (errno.ENOSPC, errno.EDQUOT)
+
+
+#: Bytes of one file or directory name (NAME_MAX: Linux's ext4, xfs, btrfs and tmpfs, macOS's
+#: APFS) and of a whole path (PATH_MAX in Linux's limits.h, its terminating NUL included).
+NAME_MAX, PATH_MAX = 255, 4096
+
+
+def too_long(path: str | os.PathLike) -> str | None:
+    """Why the system would refuse ``path`` as too long (one name in it over :data:`NAME_MAX`
+    bytes, or the whole over :data:`PATH_MAX`), in the words after the path; None if it is not.
+    Checked before any work: ``os.path.exists`` answers False for such a path, so without it a
+    command ran and then failed at its first write."""
+    raw = os.fsencode(path)
+    size = max((len(name) for name in raw.split(b"/")), default=0)
+    if size > NAME_MAX:
+        return (f"a name in it is {size} bytes long, more than the {NAME_MAX} a file system takes "
+                "for one file or directory name; give a shorter one")
+    if len(raw) >= PATH_MAX:
+        return (f"it is {len(raw)} bytes long, more than the {PATH_MAX - 1} a path may have; "
+                "give a shorter one")
+    return None
+
+
+def name_too_long(exc: BaseException) -> str | None:
+    """The sentence for a path the system refused as too long (``ENAMETOOLONG``), naming it
+    shortened (:func:`shorten`) and why (:func:`too_long`); None for any other exception."""
+    if not (isinstance(exc, OSError) and exc.errno == errno.ENAMETOOLONG):
+        return None
+    path = os.fsdecode(exc.filename or "")
+    return f"{shorten(path)}: {too_long(path) or 'it is too long for the system; give a shorter one'}."
 
 
 def utf8_text(data: bytes) -> tuple[str | None, str]:

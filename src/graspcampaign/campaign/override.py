@@ -371,6 +371,11 @@ def _unknown_override(key: str, typed: str | None, factors: list[str], set_keys:
     its former name (``b_n_s_per_m=[0.5]``) is told its current one."""
     if key.removeprefix("factors.") in FORMER_FACTORS:
         return former_factor(key.removeprefix("factors."), key, typed)
+    inside = [k for k in _mapping_keys(split(typed)[3] if typed else "")
+              if field_at(f"{key}.{k}") is None and f"{key}.{k}" not in set_keys
+              and not (key == "factors" and k in factors)]
+    if "." not in key and field_at(key) is not None and inside:  # runner={nosuch: 1}: the key in it
+        return _unknown_override(f"{key}.{inside[0]}", typed, factors, set_keys)
     if "." not in key and key not in FACTOR_SPECS:
         names = [*factors, *(f.name for f in dataclasses.fields(StudyCfg)), *sorted(FACTOR_SPECS)]
         return (f"{key} is neither a known key of the study config nor a factor of this study "
@@ -437,7 +442,14 @@ def _group_options(group: str) -> str:
 
 
 def omegaconf_error_sentence(exc: BaseException, prefix: str = "") -> str:
-    """Turn an OmegaConf/Hydra exception into one sentence in plain words naming the key."""
+    """Turn an OmegaConf/Hydra exception into one sentence in plain words naming the key. One
+    raised by a check of ours (a ``ConfigError`` a schema's ``__post_init__`` raised, which
+    OmegaConf wraps) is already that sentence, its key named: it is returned as it is."""
+    own = exc
+    while own is not None and not isinstance(own, ConfigError):
+        own = own.__cause__ or own.__context__
+    if own is not None:
+        return str(own)
     while not hasattr(exc, "full_key") and (exc.__cause__ or exc.__context__) is not None:
         exc = exc.__cause__ or exc.__context__
     key = getattr(exc, "full_key", None) or getattr(exc, "key", None)
@@ -457,6 +469,10 @@ def omegaconf_error_sentence(exc: BaseException, prefix: str = "") -> str:
     if "Interpolation" in type(exc).__name__:  # ${oc.env:NOPE}, ${nosuch:x}: as written
         written = getattr(exc, "child_node", None)
         shown = f" = {str(written)!r}" if written is not None else ""
+        if to := re.search(r"Value (.*) of type '\w+' could not be converted to (Integer|Float)$",
+                           text):  # resolved, to what no number is: ${oc.env:HOME} for a seed
+            return (f"{key}{shown} resolves to {to[1]}, not "
+                    f"{'a whole number' if to[2] == 'Integer' else 'a number'}.")
         return f"{key}{shown} cannot be resolved: {_unresolved(text)}."
     found = None if prefix else field_at(key)
     base = split_optional(str(found[1].type))[0] if found else None
@@ -470,12 +486,20 @@ def omegaconf_error_sentence(exc: BaseException, prefix: str = "") -> str:
     if key.startswith("factors.") and key.count(".") == 1 and "[" not in key:
         name = key.split(".", 1)[1]
         return (f"{key} takes a list of levels, e.g. {key}={example(name).replace(' ', '')} (or "
-                f"the bare {name}={example(name)[1:].split(',')[0]}), got {value!r}.")
+                f"the bare {name}={example(name)[1:].split(',')[0]}){_got(value, text)}.")
     if re.search(r"Cannot merge|Cannot assign|incompatible with type hint|is not a ListConfig|"
                  r"is not a subclass|Cannot convert '\w+' to string", text):
-        got = f", got {value!r}" if value is not None else ""
-        return f"{key} must be {_takes(key, base)}{got}."
+        return f"{key} must be {_takes(key, base)}{_got(value, text)}."
     return f"{key}: {text}."
+
+
+def _got(value: Any, text: str) -> str:
+    """``, got <value>`` for a message, or ``""`` when OmegaConf names none. A mapping merged
+    into a list (``factors.mu={a:1}``) comes with no value, only "Cannot merge DictConfig with
+    ListConfig": it is named as a mapping, not as None."""
+    if value is not None:
+        return f", got {value!r}"
+    return ", got a mapping" if text.startswith("Cannot merge DictConfig") else ""
 
 
 def _unresolved(text: str) -> str:

@@ -16,7 +16,7 @@ import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 
-from graspcampaign.errors import ConfigError, UserInputError
+from graspcampaign.errors import ConfigError, UserInputError, too_long
 
 
 def path_problem(path: Path, *, write: bool = False, directory: bool = True) -> str | None:
@@ -29,8 +29,11 @@ def path_problem(path: Path, *, write: bool = False, directory: bool = True) -> 
     place this process cannot write: probed by creating and removing a temporary file in the
     directory the file would be created in (or opening the existing regular file to append,
     never to create), because permission bits do not tell (root passes them, yet cannot create a
-    file in ``/proc``).
+    file in ``/proc``). A path too long for the system (:func:`~graspcampaign.errors.too_long`)
+    is refused first: no check of it or its parents would say so.
     """
+    if (long := too_long(path)) is not None:
+        return long
     for i, where in enumerate([path, *path.parents]):
         if not os.path.lexists(where):
             continue

@@ -276,7 +276,7 @@ def check_value(key: str, value: Any, meta: dict[str, Any]) -> Any:
     typ = meta.get("type")
     if typ is not None and value is not None:
         if typ is float and isinstance(value, (int, float)) and not isinstance(value, bool):
-            value = float(value)
+            value = float(value) + 0.0  # -0.0 + 0.0 is 0.0: one zero, one level, one id
         elif typ is int and isinstance(value, int) and not isinstance(value, bool):
             pass
         elif typ is str and isinstance(value, str):

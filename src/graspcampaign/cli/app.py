@@ -170,7 +170,7 @@ def guard(fn):
 
     @functools.wraps(fn)
     def wrapper(*args, **kwargs):
-        from graspcampaign.errors import UserInputError, disk_full
+        from graspcampaign.errors import UserInputError, disk_full, name_too_long
 
         try:
             return fn(*args, **kwargs)
@@ -183,10 +183,12 @@ def guard(fn):
                 fail(str(exc))
             raise
         except OSError as exc:  # a full disk where no layer said so itself (a report's figure)
-            if not disk_full(exc):
+            if not (disk_full(exc) or name_too_long(exc)):  # or a name too long to stat or open
                 raise
             if state["debug"]:
                 traceback.print_exc()
+            if name_too_long(exc):
+                fail(name_too_long(exc))
             fail(f"cannot write {exc.filename or 'a file'}: {os.strerror(exc.errno).lower()}; free "
                   "some space there and run the command again.")
     return wrapper

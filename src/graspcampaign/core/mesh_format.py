@@ -45,10 +45,15 @@ def check_stl_layout(name: str, base: str, n_bytes: int, head: bytes) -> None:
     if head.lstrip()[:5].lower() == b"solid":
         try:
             with open(name, encoding="ascii") as fh:
-                fh.read()
-            return
+                lines = fh.read().rstrip().splitlines()
         except UnicodeDecodeError:
             pass
+        else:  # an ASCII STL ends with 'endsolid': without it, trimesh reads no face at all
+            if not lines[-1].strip().lower().startswith("endsolid"):
+                raise MeshError(f"mesh {base!r} is cut short: an ASCII STL ends with an "
+                                f"'endsolid' line, and this one ends on line {len(lines)} "
+                                f"({lines[-1].strip()[:40]!r}); copy or export it again.")
+            return
     declared = int.from_bytes(head[80:84], "little") if len(head) == 84 else 0
     # a binary STL cut short (the copy stopped midway): a count no file of another kind holds by
     # chance (bytes 80-84 of other data read as a count are mostly far above it; of text, whose

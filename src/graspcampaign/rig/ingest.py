@@ -111,7 +111,9 @@ def _as_bool(value) -> bool | None:
 
 
 def _as_float(value) -> float | None:
-    if isinstance(value, (bool, np.bool_)):
+    """A cell's number, or None. Text with an underscore is none: Python's float reads '1_4' as
+    14 (digit grouping), which no spreadsheet writes, so it is a typo, not fourteen."""
+    if isinstance(value, (bool, np.bool_)) or (isinstance(value, str) and "_" in value):
         return None
     try:
         return float(value)
@@ -124,7 +126,8 @@ def _check_header(df: pd.DataFrame, schema, label: str, commanded: Collection[st
     problems = header_problems(columns, [s.name for s in schema if not s.optional],
                                {s.name: s.unit for s in schema}, _UNIT_RE,
                                [s.name for s in schema if s.optional], commanded,
-                               df.attrs.get("other_sheets"), df.head(5).to_numpy().tolist())
+                               df.attrs.get("other_sheets"), df.head(5).to_numpy().tolist(),
+                               df.attrs.get("filled_sheets", ()))
     if problems:
         raise IngestError(f"{label}, header: {'; '.join(problems)} (`graspcampaign schedule "
                           "<study> --template` writes a sheet with every column).")

@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from graspcampaign.core.words import counted, meant
+from graspcampaign.core.words import counted, meant, plural
 from graspcampaign.errors import utf8_text
 
 __all__ = ["IngestError", "cell_problem", "header_problems", "ingest_error", "read_table",
@@ -106,10 +106,13 @@ def read_table(path: str | Path, *, csv_options: dict | None = None,
         if suffix == ".xlsx":
             with pd.ExcelFile(path) as book:
                 frame = pd.read_excel(book, book.sheet_names[0], **(excel_options or {}))
-                # the headers of the other sheets, for a header check to say where records are
-                frame.attrs["other_sheets"] = {
-                    str(name): [str(c) for c in pd.read_excel(book, name, nrows=0).columns]
-                    for name in book.sheet_names[1:]}
+                # the headers of the other sheets, and those with a row below the header, for a
+                # header check to say where records are
+                other = {str(name): pd.read_excel(book, name, nrows=1)
+                         for name in book.sheet_names[1:]}
+                frame.attrs["other_sheets"] = {name: [str(c) for c in sheet.columns]
+                                               for name, sheet in other.items()}
+                frame.attrs["filled_sheets"] = [name for name, sheet in other.items() if len(sheet)]
             _check_merged(path, frame)
             if frame.isna().to_numpy().any():  # an uncomputed formula reads as an empty cell
                 _check_formulas(path, book.sheet_names[0], frame)
@@ -329,7 +332,8 @@ def header_problems(columns: list[str], required: list[str], units: dict[str, st
                     unit_re: re.Pattern, optional: Sequence[str] = (),
                     ignored: Collection[str] = (),
                     other_sheets: Mapping[str, Sequence[str]] | None = None,
-                    first_rows: Sequence[Sequence] = ()) -> list[str]:
+                    first_rows: Sequence[Sequence] = (),
+                    filled_sheets: Collection[str] = ()) -> list[str]:
     """Describe every problem of a header, all at once.
 
     Missing required columns; a missing column whose quantity is present under another unit suffix
@@ -340,7 +344,9 @@ def header_problems(columns: list[str], required: list[str], units: dict[str, st
     ``ignored`` columns are accepted and not read (the commanded sheet's own columns, when a rig
     fills in its measurements beside its commands). ``other_sheets`` (a workbook's other sheets'
     headers, ``read_table``'s ``attrs["other_sheets"]``): when the first sheet, the one read,
-    misses required columns that another sheet has, the problem names that sheet. ``first_rows``
+    misses required columns that another sheet has, the problem names that sheet; when it has them
+    and another sheet of ``filled_sheets`` (those with a data row) has them too, that sheet's
+    records would be left unread, and the problem names it. ``first_rows``
     (the table's first data rows): when one of them holds every required column's name, the
     header is below a title or a note, and the problem says which row holds it.
 
@@ -383,6 +389,12 @@ def header_problems(columns: list[str], required: list[str], units: dict[str, st
             return [f"row {below + 1} holds the column names, so what is above it (a title or a "
                     "note?) was read as the header; the header must be the first row, so delete "
                     "the rows above it"]
+    elif also := [n for n in filled_sheets if set(required) <= set((other_sheets or {})[n])]:
+        return [f"{plural('sheet', len(also))} {', '.join(map(repr, also))} "
+                f"{plural('holds', len(also), 'hold')} records too (every required column, "
+                "rows below it), but ingest reads only the workbook's first sheet, so they would "
+                "not be stored: save each sheet as a CSV file and ingest the files together, or "
+                "move the rows to the first sheet"]
     out += wrong
     if twice:
         out.append(f"{'a column appears' if len(twice) == 1 else 'columns appear'} more than once: "

@@ -121,7 +121,8 @@ def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterabl
     problems = header_problems(list(df.columns), list(WAVEFORM_COLUMNS), units, _UNIT_RE,
                                ("attempt", "anomaly", "source"),
                                other_sheets=df.attrs.get("other_sheets"),
-                               first_rows=df.head(5).to_numpy().tolist())
+                               first_rows=df.head(5).to_numpy().tolist(),
+                               filled_sheets=df.attrs.get("filled_sheets", ()))
     if problems:
         raise IngestError(f"{label}, header: {'; '.join(problems)} (`graspcampaign schedule "
                           "test1_bench --template` writes a sheet with every column).")

@@ -158,7 +158,15 @@ def protocol_schedule(study: StudyCfg, params: Any) -> pd.DataFrame:
     """Return the study's commanded sheet (a copy; cached per seed and selection)."""
     if study.kind not in (TEST2, TEST3):
         raise ConfigError(f"study {study.name!r} has kind {study.kind!r}, not a Tests 2-3 protocol.")
-    return _sheet(study.kind, int(study.seed), *params.selection()).copy()
+    sheet = _sheet(study.kind, int(study.seed), *params.selection())
+    if sheet.empty:  # a run of no trial, a sheet of no row: nothing a reduction is for
+        chosen = [f"params.{name}=[{','.join(getattr(params, name))}]"
+                  for name in ("objects", "groups", "blocks") if getattr(params, name, None)]
+        chosen += [f"params.fraction={params.fraction!r}"] if params.fraction < 1.0 else []
+        raise ConfigError(f"{', '.join(chosen)} {'selects' if len(chosen) == 1 else 'select'} no "
+                          f"trial of the {study.kind} sheet; select more (empty lists and "
+                          "fraction 1.0 are the full protocol).", key="params")
+    return sheet.copy()
 
 
 def _native(value: Any) -> Any:
