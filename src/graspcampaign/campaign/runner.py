@@ -69,8 +69,6 @@ def kind_params(study: StudyCfg, kind: TrialKind) -> Any:
     try:
         merged = OmegaConf.merge(OmegaConf.structured(kind.params), study.params)
         obj = OmegaConf.to_object(merged)
-    except ConfigError:  # the params' own check, already a sentence naming its key
-        raise
     except Exception as exc:  # OmegaConf raises several unrelated types
         raise ConfigError(omegaconf_error_sentence(exc, prefix="params.")) from None
     check_config(obj, prefix="params.")
