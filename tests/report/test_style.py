@@ -121,3 +121,23 @@ def test_plain_log_labels_read_as_numbers():
     assert _log_labels(0.3, 20.0) == ["0.5", "1", "2", "5", "10", "20"]
     assert _log_labels(1.0, 7.0) == ["1", "2", "5"]
     assert _log_labels(0.53, 1.7) == ["0.6", "0.7", "0.8", "0.9", "1"]
+
+
+def test_plain_log_levels_closer_than_a_label_leave_the_later_one_blank():
+    """Fig. 20a-b labelled a run's 356 and 390 nodes (0.04 decades apart) at their ticks, printed over
+    each other as "356390": the drawn labels (matplotlib's own text extents) never overlap, the later of
+    two touching levels keeps its tick mark without a label, every other level is labelled."""
+    levels = [144, 250, 356, 390, 600, 900, 1300, 1750]
+    with mpl.rc_context(RC):
+        fig = Figure(figsize=(4.9, 3.0), layout="constrained")  # Fig. 20's panel width
+        FigureCanvasAgg(fig)
+        ax = fig.subplots()
+        ax.plot(levels, levels)
+        ax.set_xscale("log")
+        plain_log(ax.xaxis, levels)
+        fig.canvas.draw()
+    shown = [t for t in ax.xaxis.get_majorticklabels() if t.get_text()]
+    assert [t.get_text() for t in shown] == ["144", "250", "356", "600", "900", "1300", "1750"]
+    assert list(ax.get_xticks()) == levels  # the 390 tick mark stays
+    boxes = [t.get_window_extent(fig.canvas.get_renderer()) for t in shown]
+    assert not any(a.overlaps(b) for a, b in zip(boxes, boxes[1:])), boxes
