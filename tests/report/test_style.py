@@ -140,4 +140,21 @@ def test_plain_log_levels_closer_than_a_label_leave_the_later_one_blank():
     assert [t.get_text() for t in shown] == ["144", "250", "356", "600", "900", "1300", "1750"]
     assert list(ax.get_xticks()) == levels  # the 390 tick mark stays
     boxes = [t.get_window_extent(fig.canvas.get_renderer()) for t in shown]
-    assert not any(a.overlaps(b) for a, b in zip(boxes, boxes[1:])), boxes
+    assert not any(a.overlaps(b) for a, b in zip(boxes, boxes[1:], strict=False)), boxes
+
+
+def test_grouped_bars_name_the_trials_under_each_group():
+    """Fig. 16, Fig. 18 and dynamic_check drew success rates without the trials behind them (rate_bars'
+    panels showed n): each group's tick reads its n, a range where its bars' n differ."""
+    import pandas as pd
+
+    from graspcampaign.report.style import grouped_bars
+
+    t = pd.DataFrame({"planner": ["heuristic", "heuristic", "centroid", "centroid"],
+                      "grip_law": ["paper", "slip", "paper", "slip"], "n": [50, 50, 40, 50],
+                      "rate_pct": [10.0, 20.0, 30.0, 40.0], "wilson_low_pct": [5.0, 15.0, 25.0, 35.0],
+                      "wilson_high_pct": [15.0, 25.0, 35.0, 45.0]})
+    with mpl.rc_context(RC):
+        ax = Figure().subplots()
+        grouped_bars(ax, t, "planner", "grip_law")
+    assert [x.get_text() for x in ax.get_xticklabels()] == ["proposed\nH(G)\nn=50", "centroid\nn=40–50"]

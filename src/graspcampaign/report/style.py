@@ -181,6 +181,13 @@ def tick(text: str, width: int = 9) -> str:
     return "\n".join(lines)
 
 
+def tick_n(text: str, n: Sequence[int]) -> str:
+    """A group's :func:`tick` label over the trials behind its rates, "n=50", or "n=40–50" where its
+    bars' differ; the label alone without ``n``."""
+    n = [int(k) for k in n]
+    return tick(text) + (f"\nn={min(n)}" + (f"–{max(n)}" if max(n) > min(n) else "") if n else "")
+
+
 def rate_bars(ax, f: pd.DataFrame, key: str, title: str, ylabel: str = "success rate [%]") -> None:
     """Rates [%] of ``f`` per ``key`` (its vocabulary) with Wilson whiskers, the paper's in black."""
     f = f.rename(columns=lambda c: c.replace("rate_pct", "success_pct").replace("wilson", "success")
@@ -199,7 +206,7 @@ def rate_bars(ax, f: pd.DataFrame, key: str, title: str, ylabel: str = "success 
 def grouped_bars(ax, t: pd.DataFrame, x: str, hue: str | None = None,
                  rate: tuple[str, str, str] = ("rate_pct", "wilson_low_pct", "wilson_high_pct")) -> None:
     """Rates (the ``rate`` columns: value, Wilson low, high) per ``x`` (and ``hue``) level with their
-    whiskers and the paper's marks (``paper_pct``, if any)."""
+    whiskers, the paper's marks (``paper_pct``, if any) and each level's trials (``n``, if any)."""
     xs, hues = list(dict.fromkeys(t[x])), list(dict.fromkeys(t[hue])) if hue else [None]
     width, marked = 0.8 / len(hues), False
     for i, h in enumerate(hues):
@@ -208,7 +215,8 @@ def grouped_bars(ax, t: pd.DataFrame, x: str, hue: str | None = None,
             ax, np.arange(len(xs)) + (i - (len(hues) - 1) / 2) * width, *(sub[c] for c in rate),
             colour(hue, h, i) if hue else [colour(x, v, j) for j, v in enumerate(xs)], width,
             sub["paper_pct"].tolist() if "paper_pct" in sub else None, label(hue, h) if hue else None)
-    ax.set_xticks(np.arange(len(xs)), [tick(label(x, v)) for v in xs])
+    ax.set_xticks(np.arange(len(xs)), [tick_n(label(x, v), t.loc[t[x] == v, "n"] if "n" in t else ())
+                                       for v in xs])
     rate_axes(ax)
     handles = [*ax.get_legend_handles_labels()[0], interval_handle("ours, Wilson 95%"),
                *([paper_handle()] if marked else [])]
