@@ -158,3 +158,29 @@ def test_grouped_bars_name_the_trials_under_each_group():
         ax = Figure().subplots()
         grouped_bars(ax, t, "planner", "grip_law")
     assert [x.get_text() for x in ax.get_xticklabels()] == ["proposed\nH(G)\nn=50", "centroid\nn=40–50"]
+
+
+def test_a_legend_below_clears_the_tick_labels_of_a_short_axes():
+    """Fig. 18a put its legend a fixed fraction of the axes' height below them (-0.14): on its short
+    axes that ran into the three-line ticks ("Ferrari–/Canny ε/n=675"). The legend is placed in
+    points below the ticks and x label, so its drawn box (matplotlib's extents) clears both."""
+    import pandas as pd
+
+    from graspcampaign.report.style import grouped_bars
+
+    planners = ["heuristic", "antipodal", "centroid", "random", "epsilon"]
+    t = pd.DataFrame({"planner": planners, "n": 675, "rate_pct": 10.0, "wilson_low_pct": 5.0,
+                      "wilson_high_pct": 15.0, "paper_pct": 40.0})
+    for height in (3.0, 3.8, 6.0):
+        with mpl.rc_context(RC):
+            fig = Figure(figsize=(10.0, height), layout="constrained")
+            FigureCanvasAgg(fig)
+            ax = fig.subplots(1, 2, width_ratios=[1, 2.2])[0]
+            ax.set_xlabel("planner")
+            grouped_bars(ax, t, "planner")
+            fig.canvas.draw()
+        renderer = fig.canvas.get_renderer()
+        legend = ax.get_legend().get_window_extent(renderer)
+        for text in [*ax.get_xticklabels(), ax.xaxis.label]:
+            assert not text.get_window_extent(renderer).overlaps(legend), (height, text.get_text())
+        assert legend.y1 > ax.get_window_extent(renderer).y0 - 80, height  # still under its axes
