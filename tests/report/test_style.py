@@ -184,3 +184,32 @@ def test_a_legend_below_clears_the_tick_labels_of_a_short_axes():
         for text in [*ax.get_xticklabels(), ax.xaxis.label]:
             assert not text.get_window_extent(renderer).overlaps(legend), (height, text.get_text())
         assert legend.y1 > ax.get_window_extent(renderer).y0 - 80, height  # still under its axes
+
+
+def test_fig17_residual_axis_reads_plain_one_two_five_newtons():
+    """Fig. 17a's log residual axis, 0.5 N (τ_F) to ~17 N at paper scale, was labelled 10⁰ and 10¹ only:
+    two labels for a panel read against 0.5 N. It reads 0.5, 1, 2, 5, 10, 20."""
+    from types import SimpleNamespace
+
+    import pandas as pd
+
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies.wrench import fig17
+
+    records = pd.DataFrame({"trial_id": ["t"], "status": "ok", "mu": [0.3]})
+    paper = SimpleNamespace(residual_settles_within_iterations=(30, 40), slip_margin_saturates_above=0.8,
+                            slip_margin_saturates_from_mu=0.3, finger_force_command_n=65.0)
+    run = Run(records, {"config": {"evaluator": {"tau_f_n": 0.5}}}, paper)
+    run.memo("tables/iterations", lambda: pd.DataFrame(
+        [{"trial_id": "t", "iteration": i, "residual_norm_n": r, "torque_norm_nm": 0.0,
+          "slip_margin_ratio": 0.5, "normal_force_1_n": 10.0} for i, r in enumerate((3.5, 8.0, 12.0))]))
+    with mpl.rc_context(RC):
+        fig = Figure(figsize=(9.0, 7.0), layout="constrained")
+        FigureCanvasAgg(fig)
+        fig17(run, fig)
+        fig.canvas.draw()
+    axis = fig.axes[0].yaxis
+    low, high = axis.get_view_interval()
+    shown = [t.get_text() for t in (*axis.get_majorticklabels(), *axis.get_minorticklabels())
+             if t.get_text() and low <= t.get_position()[1] <= high]
+    assert shown == ["0.5", "1", "2", "5", "10"], shown
