@@ -191,11 +191,15 @@ def tick(text: str, width: int = 9) -> str:
     return "\n".join(lines)
 
 
-def tick_n(text: str, n: Sequence[int]) -> str:
-    """A group's :func:`tick` label over the trials behind its rates, "n=50", or "n=40–50" where its
-    bars' differ; the label alone without ``n``."""
+def n_text(n: Sequence[int]) -> str:
+    """The trials behind a group's rates, "n=50", or "n=40–50" where its bars' (or budgets') differ."""
     n = [int(k) for k in n]
-    return tick(text) + (f"\nn={min(n)}" + (f"–{max(n)}" if max(n) > min(n) else "") if n else "")
+    return f"n={min(n)}" + (f"–{max(n)}" if max(n) > min(n) else "")
+
+
+def tick_n(text: str, n: Sequence[int]) -> str:
+    """A group's :func:`tick` label over :func:`n_text` of ``n``; the label alone without ``n``."""
+    return tick(text) + (f"\n{n_text(n)}" if len(n) else "")
 
 
 def rate_bars(ax, f: pd.DataFrame, key: str, title: str, ylabel: str = "success rate [%]") -> None:
