@@ -76,3 +76,18 @@ def test_fig20_budget_axes_label_the_budgets_run(sim_root):
     assert len(panels) == 2
     for ax in panels:
         assert _labels_in_view(ax.xaxis) == expected, ax.get_title("left")
+
+
+def test_fig20c_names_the_trials_behind_its_rates(sim_root):
+    """Fig. 20c showed success rates per budget without the trials behind them: each series' legend
+    entry reads the trials per budget of the run's table."""
+    import pandas as pd
+
+    tables = sim_root / "mesh_resolution" / "default" / "report" / "tables"
+    table = pd.read_csv(tables / "success_vs_n_cand.csv")
+    fig = _draw_all(sim_root, "mesh_resolution")["fig20_mesh_resolution"]
+    ax = next(a for a in fig.axes if a.get_title("left").startswith("(c)"))
+    entries = [t.get_text() for t in ax.get_legend().get_texts() if "check" in t.get_text()]
+    ours = table[table["planner"] != "reference"]
+    assert entries == [f"{nodes} nodes, ‖R‖ check (Wilson 95%, n={g['trials'].iloc[0]} per budget)"
+                       for nodes, g in ours.groupby("nodes")]

@@ -212,3 +212,20 @@ def test_a_pull_direction_without_a_threshold_says_why_in_fig_33c():
     drawn = dict(zip(line.get_xdata(), line.get_ydata(), strict=True))
     assert [a for a, v in drawn.items() if np.isnan(v)] == [45.0, 135.0, 180.0, 225.0]
     assert [t.get_text() for t in ax.get_xticklabels()] == [f"{a}" for a in range(0, 360, 45)]
+
+
+def test_every_line_style_of_the_bland_altman_panel_has_its_legend_entry(sim_root):
+    """Fig. 34b drew the 95% limits dashed (ours) and dotted (the paper's) under one solid legend
+    entry "bias, 95% limits" each: every (colour, style) of a horizontal line drawn in the panel has a
+    legend entry of that colour and style."""
+    import matplotlib as mpl
+    from matplotlib.lines import Line2D
+
+    _, fig = _drawn(sim_root, "test3_disturbance", "fig34_threshold_prediction")
+    ax = next(a for a in fig.axes if a.get_title("left").startswith("(b)"))
+    drawn = {(mpl.colors.to_hex(line.get_color()), line.get_linestyle()) for line in ax.lines
+             if np.ptp(line.get_ydata()) == 0 and np.isfinite(line.get_ydata()).all()}
+    shown = {(mpl.colors.to_hex(h.get_color()), h.get_linestyle()) for h in ax.get_legend().legend_handles
+             if isinstance(h, Line2D) and h.get_linestyle() != "None"}
+    assert {"--", ":"} <= {ls for _, ls in drawn}  # both kinds of limits drawn
+    assert drawn <= shown, drawn - shown

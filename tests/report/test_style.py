@@ -121,3 +121,95 @@ def test_plain_log_labels_read_as_numbers():
     assert _log_labels(0.3, 20.0) == ["0.5", "1", "2", "5", "10", "20"]
     assert _log_labels(1.0, 7.0) == ["1", "2", "5"]
     assert _log_labels(0.53, 1.7) == ["0.6", "0.7", "0.8", "0.9", "1"]
+
+
+def test_plain_log_levels_closer_than_a_label_leave_the_later_one_blank():
+    """Fig. 20a-b labelled a run's 356 and 390 nodes (0.04 decades apart) at their ticks, printed over
+    each other as "356390": the drawn labels (matplotlib's own text extents) never overlap, the later of
+    two touching levels keeps its tick mark without a label, every other level is labelled."""
+    levels = [144, 250, 356, 390, 600, 900, 1300, 1750]
+    with mpl.rc_context(RC):
+        fig = Figure(figsize=(4.9, 3.0), layout="constrained")  # Fig. 20's panel width
+        FigureCanvasAgg(fig)
+        ax = fig.subplots()
+        ax.plot(levels, levels)
+        ax.set_xscale("log")
+        plain_log(ax.xaxis, levels)
+        fig.canvas.draw()
+    shown = [t for t in ax.xaxis.get_majorticklabels() if t.get_text()]
+    assert [t.get_text() for t in shown] == ["144", "250", "356", "600", "900", "1300", "1750"]
+    assert list(ax.get_xticks()) == levels  # the 390 tick mark stays
+    boxes = [t.get_window_extent(fig.canvas.get_renderer()) for t in shown]
+    assert not any(a.overlaps(b) for a, b in zip(boxes, boxes[1:], strict=False)), boxes
+
+
+def test_grouped_bars_name_the_trials_under_each_group():
+    """Fig. 16, Fig. 18 and dynamic_check drew success rates without the trials behind them (rate_bars'
+    panels showed n): each group's tick reads its n, a range where its bars' n differ."""
+    import pandas as pd
+
+    from graspcampaign.report.style import grouped_bars
+
+    t = pd.DataFrame({"planner": ["heuristic", "heuristic", "centroid", "centroid"],
+                      "grip_law": ["paper", "slip", "paper", "slip"], "n": [50, 50, 40, 50],
+                      "rate_pct": [10.0, 20.0, 30.0, 40.0], "wilson_low_pct": [5.0, 15.0, 25.0, 35.0],
+                      "wilson_high_pct": [15.0, 25.0, 35.0, 45.0]})
+    with mpl.rc_context(RC):
+        ax = Figure().subplots()
+        grouped_bars(ax, t, "planner", "grip_law")
+    assert [x.get_text() for x in ax.get_xticklabels()] == ["proposed\nH(G)\nn=50", "centroid\nn=40–50"]
+
+
+def test_a_legend_below_clears_the_tick_labels_of_a_short_axes():
+    """Fig. 18a put its legend a fixed fraction of the axes' height below them (-0.14): on its short
+    axes that ran into the three-line ticks ("Ferrari–/Canny ε/n=675"). The legend is placed in
+    points below the ticks and x label, so its drawn box (matplotlib's extents) clears both."""
+    import pandas as pd
+
+    from graspcampaign.report.style import grouped_bars
+
+    planners = ["heuristic", "antipodal", "centroid", "random", "epsilon"]
+    t = pd.DataFrame({"planner": planners, "n": 675, "rate_pct": 10.0, "wilson_low_pct": 5.0,
+                      "wilson_high_pct": 15.0, "paper_pct": 40.0})
+    for height in (3.0, 3.8, 6.0):
+        with mpl.rc_context(RC):
+            fig = Figure(figsize=(10.0, height), layout="constrained")
+            FigureCanvasAgg(fig)
+            ax = fig.subplots(1, 2, width_ratios=[1, 2.2])[0]
+            ax.set_xlabel("planner")
+            grouped_bars(ax, t, "planner")
+            fig.canvas.draw()
+        renderer = fig.canvas.get_renderer()
+        legend = ax.get_legend().get_window_extent(renderer)
+        for text in [*ax.get_xticklabels(), ax.xaxis.label]:
+            assert not text.get_window_extent(renderer).overlaps(legend), (height, text.get_text())
+        assert legend.y1 > ax.get_window_extent(renderer).y0 - 80, height  # still under its axes
+
+
+def test_fig17_residual_axis_reads_plain_one_two_five_newtons():
+    """Fig. 17a's log residual axis, 0.5 N (τ_F) to ~17 N at paper scale, was labelled 10⁰ and 10¹ only:
+    two labels for a panel read against 0.5 N. It reads 0.5, 1, 2, 5, 10, 20."""
+    from types import SimpleNamespace
+
+    import pandas as pd
+
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies.wrench import fig17
+
+    records = pd.DataFrame({"trial_id": ["t"], "status": "ok", "mu": [0.3]})
+    paper = SimpleNamespace(residual_settles_within_iterations=(30, 40), slip_margin_saturates_above=0.8,
+                            slip_margin_saturates_from_mu=0.3, finger_force_command_n=65.0)
+    run = Run(records, {"config": {"evaluator": {"tau_f_n": 0.5}}}, paper)
+    run.memo("tables/iterations", lambda: pd.DataFrame(
+        [{"trial_id": "t", "iteration": i, "residual_norm_n": r, "torque_norm_nm": 0.0,
+          "slip_margin_ratio": 0.5, "normal_force_1_n": 10.0} for i, r in enumerate((3.5, 8.0, 12.0))]))
+    with mpl.rc_context(RC):
+        fig = Figure(figsize=(9.0, 7.0), layout="constrained")
+        FigureCanvasAgg(fig)
+        fig17(run, fig)
+        fig.canvas.draw()
+    axis = fig.axes[0].yaxis
+    low, high = axis.get_view_interval()
+    shown = [t.get_text() for t in (*axis.get_majorticklabels(), *axis.get_minorticklabels())
+             if t.get_text() and low <= t.get_position()[1] <= high]
+    assert shown == ["0.5", "1", "2", "5", "10"], shown

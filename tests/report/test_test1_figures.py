@@ -1,4 +1,4 @@
-"""Fig. 26 of ``test1_bench``: its legends lie clear of the bars and the paper's marks.
+"""Figs. 23 and 26 of ``test1_bench``: their legends lie clear of the bars, lines and the paper's marks.
 
 The tables are synthetic, shaped as the golden reduced run's (a CV of 128 % for b under the top
 centre, a held-out error of 7.8 % as the second bar of panel (c)); the figure is drawn on an Agg
@@ -84,3 +84,17 @@ def test_fig24c_draws_a_family_line_only_beside_other_families(monkeypatch, fami
     means = oblique.groupby("angle_deg")["margin_n"].mean()  # pandas: the line "ours, all" draws
     overall = fig.axes[2].containers[0].lines[0]
     assert list(overall.get_ydata()) == pytest.approx(means.tolist())
+
+
+def test_no_line_of_fig23c_runs_through_its_legend(sim_root):
+    """Fig. 23c's legend sat at the upper right, where the 5% review line ran through its last entry:
+    no vertical line of the panel (our mean, the paper's, the review threshold) crosses the legend box."""
+    from test_figure_text import _draw_all
+
+    fig = _draw_all(sim_root, "test1_bench")["fig23_normal_law"]
+    ax = next(a for a in fig.axes if a.get_title("left").startswith("(c)"))
+    renderer = fig.canvas.get_renderer()
+    box = ax.get_legend().get_window_extent(renderer)
+    lines = [line.get_window_extent(renderer) for line in ax.get_lines()]
+    assert len(lines) == 3
+    assert not [b for b in lines if box.overlaps(b)]

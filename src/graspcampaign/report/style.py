@@ -12,7 +12,8 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
-from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter, SymmetricalLogLocator
+from matplotlib.ticker import Formatter, FuncFormatter, LogLocator, NullFormatter, SymmetricalLogLocator
+from matplotlib.transforms import ScaledTranslation
 
 from graspcampaign.analysis.vocabulary import OTHER_COLOURS, PROPOSED, colour, label
 from graspcampaign.report import format as fmt
@@ -107,8 +108,17 @@ def rate_axes(ax, ylabel: str = "success rate [%]") -> None:
 
 
 def legend_below(ax, handles=None, ncol: int = 3) -> None:
-    """A legend under the axes (never over the data)."""
-    ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=ncol)
+    """A legend under the axes (never over the data), below their tick labels and x label: placed in
+    points from the axes' edge, as the labels are (a fraction of the axes' height put it over the
+    three-line "Ferrari–/Canny ε/n=675" ticks of Fig. 18's shorter axes)."""
+    ticks = ax.get_xticklabels()  # the text set_xticks gave; '' until drawn otherwise, one line
+    lines = max([t.get_text().count("\n") + 1 for t in ticks], default=1)
+    size = max([t.get_fontsize() for t in ticks], default=mpl.rcParams["font.size"])
+    xlabel = ax.xaxis.label
+    below = (mpl.rcParams["xtick.major.size"] + mpl.rcParams["xtick.major.pad"] + 1.2 * lines * size
+             + (ax.xaxis.labelpad + 1.2 * xlabel.get_fontsize() if xlabel.get_text() else 0.0))
+    ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, 0.0), ncol=ncol,
+              bbox_transform=ax.transAxes + ScaledTranslation(0.0, -below / 72, ax.figure.dpi_scale_trans))
 
 
 class OneTwoFive(LogLocator):
@@ -125,15 +135,44 @@ class OneTwoFive(LogLocator):
         return LogLocator(subs=np.arange(1.0, 10.0)).tick_values(vmin, vmax)
 
 
+class Uncrowded(Formatter):
+    """Plain numbers ("356", "0.6") at given ticks, a label left blank where it would run into the one
+    labelled before it (its tick mark stays): a run's levels can sit closer than a label's width on a
+    log axis (Fig. 20's 356 and 390 nodes, 0.04 decades apart, printed as "356390")."""
+
+    def __call__(self, x, pos=None) -> str:
+        return f"{x:g}"
+
+    def format_ticks(self, values) -> list[str]:
+        labels, axis = [f"{v:g}" for v in values], self.axis
+        if axis is None or not len(values):
+            return labels
+        along = 1 if axis.axis_name == "y" else 0
+        at = axis.axes.transData.transform(np.c_[values, values])[:, along]  # display px
+        size = mpl.font_manager.FontProperties(size=mpl.rcParams[f"{axis.axis_name}tick.labelsize"])
+        em = size.get_size_in_points() * axis.figure.dpi / 72
+        # half a label across (digits are 0.64 em wide in DejaVu Sans) or up, and a quarter em apart
+        half = [(0.5 if along else 0.32 * len(t)) * em for t in labels]
+        last = None
+        for i in np.argsort(at):
+            if last is not None and abs(at[i] - at[last]) < half[i] + half[last] + 0.25 * em:
+                labels[i] = ""
+            else:
+                last = i
+        return labels
+
+
 def plain_log(axis, at: Sequence[float] | None = None) -> None:
     """Label a log ``axis`` (an ``Axis``, a colorbar's too) in plain numbers, "0.6" and "20", never
-    "6×10⁻¹": at the values ``at`` (the levels a run used) or at :class:`OneTwoFive`; no minor labels
-    (matplotlib labels minor ticks as a×10ᵇ where an axis spans less than a decade)."""
+    "6×10⁻¹": at the values ``at`` (the levels a run used, labels that would touch thinned by
+    :class:`Uncrowded`) or at :class:`OneTwoFive`; no minor labels (matplotlib labels minor ticks as
+    a×10ᵇ where an axis spans less than a decade)."""
     if at is None:
         axis.set_major_locator(OneTwoFive())
         axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
     else:
-        axis.set_ticks(list(at), [f"{v:g}" for v in at])
+        axis.set_ticks(list(at))
+        axis.set_major_formatter(Uncrowded())
     axis.set_minor_formatter(NullFormatter())
 
 
@@ -150,6 +189,17 @@ def tick(text: str, width: int = 9) -> str:
             else:
                 lines.append(part)
     return "\n".join(lines)
+
+
+def n_text(n: Sequence[int]) -> str:
+    """The trials behind a group's rates, "n=50", or "n=40–50" where its bars' (or budgets') differ."""
+    n = [int(k) for k in n]
+    return f"n={min(n)}" + (f"–{max(n)}" if max(n) > min(n) else "")
+
+
+def tick_n(text: str, n: Sequence[int]) -> str:
+    """A group's :func:`tick` label over :func:`n_text` of ``n``; the label alone without ``n``."""
+    return tick(text) + (f"\n{n_text(n)}" if len(n) else "")
 
 
 def rate_bars(ax, f: pd.DataFrame, key: str, title: str, ylabel: str = "success rate [%]") -> None:
@@ -170,7 +220,7 @@ def rate_bars(ax, f: pd.DataFrame, key: str, title: str, ylabel: str = "success 
 def grouped_bars(ax, t: pd.DataFrame, x: str, hue: str | None = None,
                  rate: tuple[str, str, str] = ("rate_pct", "wilson_low_pct", "wilson_high_pct")) -> None:
     """Rates (the ``rate`` columns: value, Wilson low, high) per ``x`` (and ``hue``) level with their
-    whiskers and the paper's marks (``paper_pct``, if any)."""
+    whiskers, the paper's marks (``paper_pct``, if any) and each level's trials (``n``, if any)."""
     xs, hues = list(dict.fromkeys(t[x])), list(dict.fromkeys(t[hue])) if hue else [None]
     width, marked = 0.8 / len(hues), False
     for i, h in enumerate(hues):
@@ -179,7 +229,8 @@ def grouped_bars(ax, t: pd.DataFrame, x: str, hue: str | None = None,
             ax, np.arange(len(xs)) + (i - (len(hues) - 1) / 2) * width, *(sub[c] for c in rate),
             colour(hue, h, i) if hue else [colour(x, v, j) for j, v in enumerate(xs)], width,
             sub["paper_pct"].tolist() if "paper_pct" in sub else None, label(hue, h) if hue else None)
-    ax.set_xticks(np.arange(len(xs)), [tick(label(x, v)) for v in xs])
+    ax.set_xticks(np.arange(len(xs)), [tick_n(label(x, v), t.loc[t[x] == v, "n"] if "n" in t else ())
+                                       for v in xs])
     rate_axes(ax)
     handles = [*ax.get_legend_handles_labels()[0], interval_handle("ours, Wilson 95%"),
                *([paper_handle()] if marked else [])]

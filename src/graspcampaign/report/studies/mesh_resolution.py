@@ -257,7 +257,8 @@ def fig20(run: Run, fig) -> None:
             ax_c.errorbar(x, g["success_pct"], yerr=[g["success_pct"] - g["success_low_pct"],
                                                      g["success_high_pct"] - g["success_pct"]],
                           marker="os^D"[i % 4], color=col, capsize=2, mfc="none" if i else col,
-                          label=f"{nodes} nodes, ‖R‖ check (Wilson 95%)")
+                          label=f"{nodes} nodes, ‖R‖ check (Wilson 95%, "
+                          f"{style.n_text(g['trials'])} per budget)")
             ax_c.plot(x * 1.12, g["vertical_pct"], marker="os^D"[i % 4], linestyle="--", color=col,
                       mfc="none", label=f"{nodes} nodes, |R_z| reading")
             ax_d.plot(g["n_cand"], np.maximum(g["h_gap_to_reference"], 1e-4), marker="o", color=col,

@@ -164,8 +164,8 @@ def planner_bars(table: str):
                        [colour("planner", q) for q in g["planner"]], 0.4, list(g["paper_success_pct"]))
             for patch in ax.patches[-len(g):]:
                 patch.set_hatch("//" * (r == "none"))
-        ax.set_xticks(np.arange(len(g)), [style.tick(label("planner", q)) for q in g["planner"]],
-                      fontsize=7)
+        ax.set_xticks(np.arange(len(g)), [style.tick_n(label("planner", q), t.loc[t["planner"] == q, "n"])
+                                          for q in g["planner"]], fontsize=7)
         style.rate_axes(ax)
         ax.set_title("(a) all trials; hatched: exact beliefs")
         style.legend_below(ax, [style.interval_handle(), style.paper_handle()], ncol=2)

@@ -203,9 +203,11 @@ def fig34(run: Run, fig) -> None:
                                                          ("loa_high_n", "--"))]
     lines += [(bias + k * half, ls, style.PAPER, "paper") for k, ls in ((0, "-"), (-1, ":"), (1, ":"))
               if bias is not None]
+    named = set()  # an entry per style drawn: the limits are dashed (ours) or dotted (paper's), not solid
     for v, ls, col, who in lines:
-        b.axhline(np.nan if v is None else v, ls=ls, lw=1, color=col,
-                  label=f"{who}: bias, 95% limits" if ls == "-" else None)
+        what = f"{who}: {'bias' if ls == '-' else '95% limits'}"
+        b.axhline(np.nan if v is None else v, ls=ls, lw=1, color=col, label=None if what in named else what)
+        named.add(what)
     b.set(xlabel=f"mean of {run.rig} and predicted [N]", ylabel=f"{run.rig} − predicted [N]",
           title="(b) Bland–Altman")
     style.legend_below(b, ncol=2)

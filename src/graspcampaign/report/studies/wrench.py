@@ -100,6 +100,7 @@ def fig17(run: Run, fig) -> None:
             ax.plot(g["iteration"], g[col], color=c, label=f"μ = {mu:g}")
     lo, hi = p.residual_settles_within_iterations
     axes[0].set_yscale("log")
+    style.plain_log(axes[0].yaxis)  # 0.5, 1, 2, 5, 10, 20 N: not 10⁰ and 10¹ alone over 0.4-20 N
     axes[0].axhline(tau, color=style.CRITERION, linestyle="--", label=f"τ_F {tau:g} N")
     axes[0].axvspan(lo, hi, color=style.PAPER, alpha=0.12, label=f"paper: settles in {lo}–{hi}")
     axes[2].axhline(p.slip_margin_saturates_above, color=style.PAPER, linestyle=":", label=f"paper: > "
