@@ -218,12 +218,15 @@ def _check_sign(table: pd.DataFrame, commands: pd.DataFrame, label: str) -> None
         if target in commands:
             contact |= commands[target].fillna(0.0).to_numpy(dtype=float) > 0
     events = table["event_id"]
-    asked = table[events.map(contact).fillna(False).to_numpy(dtype=bool)]
     rows = []
     for column, unit, positive in _SIGNED:
-        at = asked[column].abs().groupby(asked["event_id"], sort=False).idxmax()  # each peak
-        rows += [(int(i), column, unit, positive, float(table[column].iloc[i])) for i in at
-                 if table[column].iloc[i] < 0]
+        values = table[column]
+        at = values.abs().groupby(events, sort=False).idxmax()  # each event's peak sample
+        asked = contact.reindex(at.index, fill_value=False).to_numpy(dtype=bool)
+        peak = values.to_numpy()[at.to_numpy()]  # by array, not per event: 19,000 in a file
+        below = asked & (peak < 0)
+        rows += [(int(i), column, unit, positive, float(v))
+                 for i, v in zip(at.to_numpy()[below], peak[below], strict=True)]
     if rows:
         i, column, unit, positive, value = min(rows)
         raise ingest_error(label, i + 1, column, f"event '{events.iloc[i]}' peaks at {value:g} {unit}, "
