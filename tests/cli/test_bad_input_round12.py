@@ -220,8 +220,9 @@ def _press(n: int = 301) -> pd.DataFrame:
 
 @pytest.mark.parametrize(("flipped", "row", "peak", "said"), [
     # each was stored, its fits flagged fit_failed
-    ("displacement_mm", 151, "-0.65 mm", "indentation (into the specimen)"),
-    ("normal_force_n", 151, f"{-2.0 * 0.65 ** 1.5:g} N", "compression (the fingertip pressing)"),
+    ("displacement_mm", 151, f"is at -0.65 mm where its normal force peaks ({2.0 * 0.65 ** 1.5:g} N)",
+     "indentation (into the specimen)"),
+    ("normal_force_n", 151, f"peaks at {-2.0 * 0.65 ** 1.5:g} N", "compression (the fingertip pressing)"),
 ])
 def test_a_test1_channel_recorded_with_the_other_sign_is_refused(results, tmp_path, flipped, row,
                                                                  peak, said):
@@ -229,7 +230,7 @@ def test_a_test1_channel_recorded_with_the_other_sign_is_refused(results, tmp_pa
     waves[flipped] = -waves[flipped]
     waves.to_csv(tmp_path / "waves.csv", index=False)
     refused(results, ["ingest", "test1_bench", tmp_path / "waves.csv", *T1, "--root", results],
-            f"waves.csv, row {row}, column '{flipped}': event '{EVENT}' peaks at {peak}, below "
+            f"waves.csv, row {row}, column '{flipped}': event '{EVENT}' {peak}, below "
             f"zero: {said} is positive here; flip the column's sign.")
 
 
@@ -241,8 +242,12 @@ def test_a_force_negative_throughout_is_refused(results, tmp_path):
             "zero: compression (the fingertip pressing) is positive here; flip the column's sign.")
 
 
-def test_a_press_with_its_adhesion_pull_off_is_stored(results, tmp_path):
-    _press().to_csv(tmp_path / "waves.csv", index=False)
+@pytest.mark.parametrize("approach_mm", [0.1, 1.0])
+def test_a_press_with_its_adhesion_pull_off_is_stored(results, tmp_path, approach_mm):
+    # 1.0: logged from further off the specimen than the 0.75 mm commanded depth, so the
+    # displacement's largest sample is the approach (-1 mm); a first sign rule refused it
+    depth = (0.75 + approach_mm) * np.sin(np.linspace(0.0, np.pi, 301)) - approach_mm
+    _press().assign(displacement_mm=depth).to_csv(tmp_path / "waves.csv", index=False)
     done = invoke("ingest", "test1_bench", tmp_path / "waves.csv", *T1, "--root", results)
     assert done.exit_code == 0, done.output
 

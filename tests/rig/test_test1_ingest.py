@@ -222,33 +222,3 @@ def test_ingest_error_is_a_value_error_and_labels_dataframes(good):
     with pytest.raises(ValueError, match=r"^<dataframe>, header: a required column is missing: "
                                          r"event_id" + TEMPLATE + "$"):
         T.validate_waveforms(df.drop(columns="event_id"), ids)
-
-
-def test_the_sign_check_costs_about_as_much_as_finding_each_events_peak():
-    """The sign check (``_check_sign``) of a file of every Test 1 event is a few array passes: at
-    most 8x one ``groupby(...).idxmax()`` over the same samples (two columns, each a groupby and
-    a lookup: about 2x). It copied the table's asked rows and read each event's peak by
-    ``.iloc`` in Python, 19,000 events a file: some 35x (2.8 s per 5.7 M samples)."""
-    import time
-
-    from graspcampaign.rig.test1_ingest import _check_sign
-
-    schedule = T.test1_schedule(0)
-    events, n = schedule["event_id"].to_numpy(), 60
-    depth = 0.75 * np.sin(np.linspace(0.0, np.pi, n)) - 0.1
-    table = pd.DataFrame({"event_id": np.repeat(events, n),
-                          "displacement_mm": np.tile(depth, len(events)),
-                          "normal_force_n": np.tile(np.clip(depth, 0.0, None), len(events))})
-    commands = schedule.set_index("event_id")
-
-    def fastest(work) -> float:
-        times = []
-        for _ in range(3):
-            start = time.perf_counter()
-            work()
-            times.append(time.perf_counter() - start)
-        return min(times)
-
-    one_pass = fastest(lambda: table["displacement_mm"].abs().groupby(
-        table["event_id"], sort=False).idxmax())
-    assert fastest(lambda: _check_sign(table, commands, "waves.csv")) < 8 * one_pass

@@ -200,37 +200,34 @@ def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterabl
     return out
 
 
-#: the channels whose sign says which way the fingertip moves or pushes (§7.1, Eq. 13: indentation
-#: and the contact force it makes are positive into the specimen; the tensile adhesion pull-off at
-#: separation is small)
-_SIGNED = (("displacement_mm", "mm", "indentation (into the specimen)"),
-           ("normal_force_n", "N", "compression (the fingertip pressing)"))
-
-
 def _check_sign(table: pd.DataFrame, commands: pd.DataFrame, label: str) -> None:
-    """Refuse an event commanded into contact (a depth, or a sliding preload) whose indentation or
-    normal force peaks below zero (its sample of largest magnitude is negative): the column was
-    recorded with the other sign convention, and its fits would fail (it was stored flagged
-    ``fit_failed``). The first such sample in the file is named. An event that is not commanded
-    into contact is not asked: its approach (the fingertip short of the specimen) is negative."""
+    """Refuse an event commanded into contact (a depth, or a sliding preload) recorded with the
+    other sign convention (§7.1, Eq. 13: indentation and the force it makes are positive into the
+    specimen), which was stored with its fits flagged ``fit_failed``: its normal force of largest
+    size is tensile (the only tension, the adhesion pull-off at separation, is small beside the
+    press), or its displacement is negative at that sample, where the fingertip presses hardest.
+    The displacement's own largest sample says nothing: a bench may log its approach from further
+    off the specimen than the commanded depth. The first such sample in the file is named. An
+    event not commanded into contact is not asked."""
     contact = pd.Series(False, index=commands.index)
     for target in ("depth_mm", "normal_load_n"):
         if target in commands:
             contact |= commands[target].fillna(0.0).to_numpy(dtype=float) > 0
     events = table["event_id"]
-    rows = []
-    for column, unit, positive in _SIGNED:
-        values = table[column]
-        at = values.abs().groupby(events, sort=False).idxmax()  # each event's peak sample
-        asked = contact.reindex(at.index, fill_value=False).to_numpy(dtype=bool)
-        peak = values.to_numpy()[at.to_numpy()]  # by array, not per event: 19,000 in a file
-        below = asked & (peak < 0)
-        rows += [(int(i), column, unit, positive, float(v))
-                 for i, v in zip(at.to_numpy()[below], peak[below], strict=True)]
-    if rows:
-        i, column, unit, positive, value = min(rows)
-        raise ingest_error(label, i + 1, column, f"event '{events.iloc[i]}' peaks at {value:g} {unit}, "
-                           f"below zero: {positive} is positive here; flip the column's sign")
+    force = table["normal_force_n"].to_numpy(dtype=float)
+    at = pd.Series(np.abs(force)).groupby(events.to_numpy(), sort=False).idxmax()  # hardest press
+    rows = at.to_numpy()[contact.reindex(at.index, fill_value=False).to_numpy(dtype=bool)]
+    depth = table["displacement_mm"].to_numpy(dtype=float)[rows]
+    bad = [(int(i), "normal_force_n", f"peaks at {force[i]:g} N", "compression (the fingertip "
+            "pressing)") for i in rows[force[rows] < 0]]
+    pressed = (force[rows] > 0) & (depth < 0)  # a tensile peak is named above, its depth moot
+    bad += [(int(i), "displacement_mm", f"is at {d:g} mm where its normal force peaks "
+             f"({force[i]:g} N)", "indentation (into the specimen)")
+            for i, d in zip(rows[pressed], depth[pressed], strict=True)]
+    if bad:
+        i, column, said, positive = min(bad)
+        raise ingest_error(label, i + 1, column, f"event '{events.iloc[i]}' {said}, below zero: "
+                           f"{positive} is positive here; flip the column's sign")
 
 
 def _check_commanded(table: pd.DataFrame, schedule: pd.DataFrame, label: str) -> None:
