@@ -215,7 +215,7 @@ def _check_sign(table: pd.DataFrame, commands: pd.DataFrame, label: str) -> None
             contact |= commands[target].fillna(0.0).to_numpy(dtype=float) > 0
     events = table["event_id"]
     force = table["normal_force_n"].to_numpy(dtype=float)
-    at = pd.Series(np.abs(force)).groupby(events.to_numpy(), sort=False).idxmax()  # hardest press
+    at = pd.Series(np.abs(force)).groupby(events.reset_index(drop=True), sort=False).idxmax()  # by place
     rows = at.to_numpy()[contact.reindex(at.index, fill_value=False).to_numpy(dtype=bool)]
     depth = table["displacement_mm"].to_numpy(dtype=float)[rows]
     bad = [(int(i), "normal_force_n", f"peaks at {force[i]:g} N", "compression (the fingertip "
