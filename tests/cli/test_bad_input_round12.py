@@ -153,16 +153,18 @@ def test_an_integer_read_as_written_is_taken(results, user_dir, file, override, 
     assert f"seeds per scene: {n_seeds} " in done.output
 
 
-@pytest.mark.parametrize(("override", "zero", "number"), [
-    ("seeds=010", "010", 10),  # it was taken as 10
-    ("factors.nodes=[0144]", "0144", 144),  # these said "must be of type int, got '0144' (str)"
-    ("nodes=[144,0144]", "0144", 144),
-    ("seed=-0_7", "-0_7", -7),
+@pytest.mark.parametrize(("override", "zero", "number", "advice"), [
+    ("seeds=010", "010", 10, "."),  # it was taken as 10
+    ("factors.nodes=[0144]", "0144", 144, "."),  # these said "must be of type int, got '0144' (str)"
+    ("nodes=[144,0144]", "0144", 144, "."),
+    ("seed=-0_7", "-0_7", -7, "."),
+    # quoting is advice only where a key takes text (a number key turns '010' into 10)
+    ("output.run=007", "007", 7, ", or quote it ('007') to mean text."),
 ])
-def test_an_override_with_a_leading_zero_is_refused(results, override, zero, number):
+def test_an_override_with_a_leading_zero_is_refused(results, override, zero, number, advice):
     refused(results, ["show", "smoke", override, "--root", results], f"override {override!r}: "
             f"{zero} has a leading zero, which Hydra reads as the text '{zero}', not the number "
-            f"{number}; write {number}, or quote it ('{zero}') to mean text.")
+            f"{number}; write {number}{advice}")
 
 
 def test_an_override_quoted_with_a_leading_zero_is_text(results):

@@ -156,10 +156,12 @@ def check_overrides(given: list[str]) -> None:
                 raise ConfigError(f"{key} must be true or false, got {parsed!r} (override "
                                   f"{item!r}).", key=key)
         if setting and (zero := _leading_zero(item)):
-            number = int(zero.replace("_", ""))
+            number, factor = int(zero.replace("_", "")), FACTOR_SPECS.get(key.removeprefix("factors."))
+            numeric = (split_optional(str(found[1].type))[0] in ("int", "float") if found else
+                       factor is not None and factor["type"] is not str)  # quoting makes no text
             raise ConfigError(f"override {item!r}: {zero} has a leading zero, which Hydra reads as "
-                              f"the text '{zero}', not the number {number}; write {number}, or "
-                              f"quote it ('{zero}') to mean text.", key=key)
+                              f"the text '{zero}', not the number {number}; write {number}"
+                              + ("." if numeric else f", or quote it ('{zero}') to mean text."), key=key)
 
 
 def _one_value(key: str) -> bool:
