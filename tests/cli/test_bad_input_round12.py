@@ -284,3 +284,11 @@ def test_a_kind_parameter_refused_by_its_own_check_names_its_key_once(results):
     refused(results, ["show", "test1_bench", "params.materials=[no]", "--root", results],
             "params.materials[0] has unknown value 'no'; allowed values: gel, silicone_soft, "
             "bio_foam, silicone_ref.")
+
+
+def test_quoting_advice_keeps_an_interpolation_whole(results):
+    # the word to quote stopped at the interpolation's '{' and ',': 'quote it: output.root="~$"{…}'
+    refused(results, ["show", "smoke", "output.root=~${oc.env:X,y}", "--root", results],
+            "cannot parse override 'output.root=~${oc.env:X,y}': '~' (character 13) is not allowed "
+            "in an unquoted value (only ASCII letters, digits, spaces and _-+.$%*@?|/\\ are); quote "
+            'it: output.root="~${oc.env:X,y}", typed in single quotes on the shell.')

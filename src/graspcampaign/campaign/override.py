@@ -353,10 +353,16 @@ def _character_sentence(item: str, typed: str, error: str) -> str | None:
         return (f"cannot parse override {typed!r}: its key has {shown} at character {where}, but "
                 f"a key takes only ASCII letters, digits, '_', '-', '.' and '/'{fix}.")
     where = typed.find(char, equal + 1) + 1
-    start, end = at, at + 1  # the unquoted word holding the character, between [ ] { } , =
-    while start > 0 and item[start - 1] not in "[]{},=\"'":
+    # the unquoted word holding the character, between [ ] { } , = outside an interpolation ${…}
+    spans = [range(*m.span()) for m in re.finditer(r"\$\{[^}]*\}", item)]
+
+    def bounds(i: int) -> bool:
+        return item[i] in "[]{},=\"'" and not any(i in span for span in spans)
+
+    start, end = at, at + 1
+    while start > 0 and not bounds(start - 1):
         start -= 1
-    while end < len(item) and item[end] not in "[]{},=\"'":
+    while end < len(item) and not bounds(end):
         end += 1
     word = item[start:end].strip()
     quote = "'" if '"' in word else '"'
