@@ -101,6 +101,18 @@ def test_the_judged_verdict_names_the_grasps_not_settled_by_t_max_it_leaves_out(
     assert f"{said}, not settled by t_max = 0.05 s, are left out." in report.finding(run)
 
 
+def test_one_simulation_left_out_is_said_in_the_singular():
+    """One sphere simulation not settled (source grasp 11 under table2; the others' status set to a
+    failure here) read "1 simulation of 1 sphere grasp under 1 preset, ..., are left out"."""
+    run = _run()
+    run.manifest["config"]["params"] = {"t_max_s": 0.05}
+    keep = (run.records.trial_id == "table2-sphere-11") | (run.records.dynamic_status != "not_settled")
+    run.records.loc[~keep, "dynamic_status"] = "penetration_limit"
+    run.tables["kappa"] = report._kappa(run)
+    assert ("1 simulation of 1 sphere grasp under 1 preset, not settled by t_max = 0.05 s, is left out."
+            in report.finding(run))
+
+
 def test_a_run_whose_every_grasp_timed_out_gets_no_verdict():
     """Before, 40 grasps stopped by t_max were 40 'both fail' and a 'consistent' verdict."""
     run = _run()

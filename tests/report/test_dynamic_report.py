@@ -436,3 +436,7 @@ def test_labels_agree_only_where_the_dynamic_grasp_settled():
     fresh.__dict__["ok"] = ok.assign(dynamic_status="not_settled", success=False)
     assert ("No run has a dynamic label to set beside the quasi-static one: none settled by t_max "
             "(table like_for_like)") in finding(fresh)
+    one = friction_mass_run([0.1])  # one run with a label read "agree on 1 of the 1 runs"
+    one.__dict__["ok"] = ok.assign(dynamic_status=["stable"] + ["not_settled"] * (out + 1))
+    assert (f"Quasi-static and dynamic labels agree on 1 of the 1 run with a dynamic label ({out + 1} not "
+            "settled by t_max, left out; table like_for_like)") in finding(one)

@@ -150,6 +150,23 @@ def test_the_finding_lists_the_parameters_on_a_search_bound_as_a_sentence(monkey
     assert "Over 12 completed events the 9 accepted normal fits give n = 0.47" in text
 
 
+def test_one_event_and_one_accepted_fit_are_said_in_the_singular(monkeypatch):
+    """A run of one completed event whose one normal fit is accepted read "Over 1 completed events
+    the 1 accepted normal fits give n = 0.47". Tables of a stub run, the sentence written out by hand."""
+    from types import SimpleNamespace
+
+    from graspcampaign.report.studies import test1
+
+    monkeypatch.setattr(test1, "_fits", lambda run: range(1))
+    claims = pd.DataFrame({"quantity": [f"{q}, accepted fits: mean" for q in ("contact exponent n",
+                                                                             "force-fit RMSE")],
+                           "value": [0.47, 0.6], "paper": [0.46, 2.66], "digits": [2, 2],
+                           "differs": [False, True], "n": [1, 1]})
+    paper = SimpleNamespace(n_exp_sd=0.07, n_exp_simulation=0.487)
+    stub = SimpleNamespace(tables={"test1_claims": claims}, source="virtual", paper=paper)
+    assert "Over 1 completed event the 1 accepted normal fit gives n = 0.47 " in test1.finding(stub)
+
+
 def test_counts_table_against_the_records_and_traces(run):
     path, records = run
     counts = read_table(path, "test1_counts").set_index("quantity")

@@ -10,6 +10,7 @@ from matplotlib.ticker import NullFormatter
 
 from graspcampaign.analysis.records import DESIGN_LIMIT_MM
 from graspcampaign.analysis.vocabulary import FINGERS, colour, label, ordered
+from graspcampaign.core.words import counted
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
 from graspcampaign.report.document import Col, cols
@@ -240,7 +241,7 @@ def mass_finding(run: Run) -> str:
     labelled = g[g.dynamic_status != "not_settled"]  # unsettled: no dynamic label (as dynamic_check)
     out = f"{len(g) - len(labelled)} not settled by t_max, left out; " if len(labelled) < len(g) else ""
     agree = (f"Quasi-static and dynamic labels agree on {(labelled.success == labelled.qs_success).sum()} of "
-             f"the {len(labelled)} runs with a dynamic label ({out}" if len(labelled) else
+             f"the {counted(len(labelled), 'run')} with a dynamic label ({out}" if len(labelled) else
              "No run has a dynamic label to set beside the quasi-static one: none settled by t_max (")
     return text + (f"{agree}table like_for_like); the friction-cone LP at μ = 0 is feasible in "
                    f"{feasible[0]} of {len(run.ok)} on the meshed sphere and {feasible[1]} on the ideal one "

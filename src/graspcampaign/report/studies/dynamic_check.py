@@ -9,7 +9,7 @@ import pandas as pd
 from graspcampaign.analysis import dynamic_check as dc
 from graspcampaign.analysis.vocabulary import label
 from graspcampaign.campaign.provenance import run_size
-from graspcampaign.core.words import counted
+from graspcampaign.core.words import counted, plural
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
 from graspcampaign.report.document import Col, pct_col
@@ -103,7 +103,7 @@ def finding(run: Run) -> str:
         grasps = counted(g.source_trial_id.nunique(), f"{CLAIM_SHAPE} grasp")
         presets = counted(g.model_preset.nunique(), "preset")
         text += (f"{counted(out, 'simulation')} of {grasps} under {presets}, {NOT_SETTLED}{_t_max(run)}, "
-                 "are left out. ")
+                 f"{plural('is', out, 'are')} left out. ")
     return text + f"{DECISION}."
 
 

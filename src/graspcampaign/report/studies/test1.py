@@ -13,7 +13,7 @@ from graspcampaign.analysis.records import Estimate
 from graspcampaign.analysis.vocabulary import colour, label
 from graspcampaign.core.bench import RMSE_REVIEW_THRESHOLD_PCT as REVIEW_PCT
 from graspcampaign.core.contact import normal_force
-from graspcampaign.core.words import counted
+from graspcampaign.core.words import counted, plural
 from graspcampaign.report import format as fmt
 from graspcampaign.report.document import Col, cols
 from graspcampaign.report.render import Run
@@ -235,7 +235,9 @@ def finding(run: Run) -> str:
     n, rmse = (claims.set_index("quantity").loc[f"{q}, accepted fits: mean"]  # as the claims table prints
                for q in ("contact exponent n", "force-fit RMSE"))
     differ, judged = fmt.differing(claims)
-    text = (f"Over {len(_fits(run))} completed events the {fmt.number(n.n, 0)} accepted normal fits give n = "
+    fits = int(n.n)  # the accepted normal fits n is the mean of
+    text = (f"Over {counted(len(_fits(run)), 'completed event')} the {counted(fits, 'accepted normal fit')} "
+            f"{plural('gives', fits, 'give')} n = "
             f"{fmt.number(n.value, n.digits)} (paper {fmt.number(n.paper, n.digits)} ± "
             f"{fmt.number(p.n_exp_sd, n.digits)}, Table 3 {p.n_exp_simulation:g}) at a mean RMSE of "
             f"{fmt.number(rmse.value, rmse.digits)}% of peak (paper {fmt.number(rmse.paper, rmse.digits)}%); "
