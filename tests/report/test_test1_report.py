@@ -125,8 +125,8 @@ def test_the_finding_counts_the_differing_claims_and_points_to_their_table(run):
 
 
 def test_the_finding_lists_the_parameters_on_a_search_bound_as_a_sentence(monkeypatch):
-    """Three parameters on a bound read "λ2 (115 runs), b (6 runs) and k (7 runs)" (fmt.listed); the
-    list was joined with commas only. Tables of a stub run, the sentence written out by hand."""
+    """Three parameters on a bound read "λ2 in 115, b in 6 and k in 7 of the 120 runs" (fmt.listed;
+    the list was once joined with commas only). Tables of a stub run, the sentence written out by hand."""
     from types import SimpleNamespace
 
     from graspcampaign.report.studies import test1

@@ -8,6 +8,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.ticker import NullFormatter
 
+from graspcampaign.analysis.dynamic_check import UNDETERMINED
 from graspcampaign.analysis.records import DESIGN_LIMIT_MM
 from graspcampaign.analysis.vocabulary import FINGERS, colour, label, ordered
 from graspcampaign.core.words import counted
@@ -238,7 +239,7 @@ def mass_finding(run: Run) -> str:
             f"{fmt.span(beyond.delta_required_mm, ' mm')}, beyond the fingertip radius"
             if len(beyond) else "") + " (table friction_mass). "
     feasible = [(run.ok[c] == "feasible").sum() for c in ("lp_status_mu0", "lp_status_mu0_ideal")]
-    labelled = g[g.dynamic_status != "not_settled"]  # unsettled: no dynamic label (as dynamic_check)
+    labelled = g[g.dynamic_status != UNDETERMINED]  # unsettled: no dynamic label
     out = f"{len(g) - len(labelled)} not settled by t_max, left out; " if len(labelled) < len(g) else ""
     agree = (f"Quasi-static and dynamic labels agree on {(labelled.success == labelled.qs_success).sum()} of "
              f"the {counted(len(labelled), 'run')} with a dynamic label ({out}" if len(labelled) else
@@ -347,7 +348,7 @@ FRICTION_MASS = ReportSpec("friction_mass", [
               Col("qs_failure_check", f"{QS} failing check"),
               Col("qs_residual_norm_n", f"{QS} ‖R‖ [N]", sig=3),
               Col("qs_delta_max_mm", f"{QS} δmax [mm]", sig=3),
-              labels_agree=lambda d: (d.success == d.qs_success).where(d.dynamic_status != "not_settled"),
+              labels_agree=lambda d: (d.success == d.qs_success).where(d.dynamic_status != UNDETERMINED),
               ),
     _fm_table("friction_cone", "Friction-cone LP on the same contacts at μ and at μ = 0 (the paper: feasible "
               "at every μ and as μ → 0 on the sphere): why μ = 0 fails on the meshed sphere (force or torque "
