@@ -1,0 +1,63 @@
+"""Bad input, round 12, what its adversary noticed and left: missing-value words and spreadsheet
+errors in measured cells, hidden sheets and rows, long paths echoed, a Hydra ``defaults:`` list or a
+date in a study file, a PLY whose header and body disagree. Each refusal: exit 2, one sentence
+naming what is wrong and where, nothing stored changed (``refused``; on a run that already holds
+records, ``stored``)."""
+
+from __future__ import annotations
+
+import pandas as pd
+import pytest
+import test_bad_ingest_round10 as round10
+from cli_checks import invoke, refused
+
+T2, _records = round10.T2, round10._records
+stored = round10.stored  # the fixture: a measured Test 2 run holding two trials
+#: how ingest and the template name the cells that say "not measured" (written out here)
+NOT_MEASURED = "empty or NA, N/A, NaN, null, none (any case)"
+
+
+def _one_cell(tmp_path, column: str, value, suffix: str = ".csv"):
+    """Two trials of the Test 2 template, filled in, with ``value`` in the second row's ``column``."""
+    frame = _records(tmp_path, slice(2, 4)).astype({column: object})
+    frame.loc[1, column] = value
+    path = tmp_path / f"day2{suffix}"
+    frame.to_csv(path, index=False) if suffix == ".csv" else frame.to_excel(path, index=False)
+    return path
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".xlsx"])
+@pytest.mark.parametrize("word", ["NA", "n/a", "N/A", "null"])
+def test_a_required_cell_saying_not_measured_is_named_by_its_word(stored, tmp_path, word, suffix):
+    # the old code said "value is empty" of NA and null, and "value 'n/a' is not a number" of n/a
+    # in a CSV (in a workbook pandas read it as empty)
+    sheet = _one_cell(tmp_path, "sf_actual", word, suffix)
+    refused(stored, ["ingest", "test2_grasp", sheet, *T2, "--root", stored],
+            f"day2{suffix}, row 2, column 'sf_actual': value '{word}' means not measured, but the "
+            "trial was executed (aborted is false).")
+
+
+@pytest.mark.parametrize("word", ["n/a", "N/A", "none"])
+def test_each_not_measured_word_is_read_as_an_empty_cell(stored, tmp_path, word):
+    # the old code refused n/a and N/A in a CSV, which it read as missing in a workbook
+    sheet = _one_cell(tmp_path, "peak_slip_mm", word)
+    done = invoke("ingest", "test2_grasp", sheet, *T2, "--root", stored)
+    assert done.exit_code == 0, done.output
+    kept = pd.read_parquet(stored / "test2_grasp" / "measured" / "records").set_index("rig_trial_id")
+    assert pd.isna(kept.loc[pd.read_csv(sheet)["trial_id"][1], "peak_slip_mm"])
+
+
+@pytest.mark.parametrize("mark", ["-", "?"])
+def test_a_dash_in_a_number_cell_is_refused_saying_how_to_write_not_measured(stored, tmp_path, mark):
+    sheet = _one_cell(tmp_path, "peak_slip_mm", mark)
+    refused(stored, ["ingest", "test2_grasp", sheet, *T2, "--root", stored],
+            f"day2.csv, row 2, column 'peak_slip_mm': value '{mark}' is not a number; a cell not "
+            f"measured is {NOT_MEASURED}.")
+
+
+def test_the_template_says_which_words_mean_not_measured(tmp_path):
+    done = invoke("schedule", "test2_grasp", *T2[1:], "--template", "--out", tmp_path / "sheet")
+    assert done.exit_code == 0, done.output
+    columns = pd.read_csv(tmp_path / "sheet-template-columns.csv").set_index("column")
+    assert columns.loc["peak_slip_mm", "required"] == (
+        f"column required, cells may be {NOT_MEASURED}: not measured")
