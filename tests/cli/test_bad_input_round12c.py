@@ -61,3 +61,22 @@ def test_the_template_says_which_words_mean_not_measured(tmp_path):
     columns = pd.read_csv(tmp_path / "sheet-template-columns.csv").set_index("column")
     assert columns.loc["peak_slip_mm", "required"] == (
         f"column required, cells may be {NOT_MEASURED}: not measured")
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".xlsx"])
+@pytest.mark.parametrize(("column", "error"), [("sf_actual", "#DIV/0!"), ("peak_slip_mm", "#N/A"),
+                                               ("stable", "#VALUE!"), ("peak_slip_mm", "#REF!")])
+def test_a_spreadsheet_error_in_a_cell_is_named_as_one(stored, tmp_path, column, error, suffix):
+    # the old code said "value is empty" of an error cell in a workbook (pandas reads one as
+    # empty), and stored it as not measured in a column that may be empty; a CSV export's text
+    # was "value '#DIV/0!' is not a number"
+    sheet = _one_cell(tmp_path, column, error, suffix)
+    if suffix == ".xlsx":  # openpyxl writes these words as error cells (t="e"), as Excel does
+        from openpyxl import load_workbook
+
+        cell = load_workbook(sheet)["Sheet1"].cell(3, list(pd.read_csv(
+            tmp_path / "sheet-template.csv").columns).index(column) + 1)
+        assert (cell.data_type, cell.value) == ("e", error)
+    refused(stored, ["ingest", "test2_grasp", sheet, *T2, "--root", stored],
+            f"day2{suffix}, row 2, column '{column}': the cell holds the spreadsheet error "
+            f"{error}; fix the formula or clear the cell.")

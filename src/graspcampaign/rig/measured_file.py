@@ -56,10 +56,25 @@ def aside(word: str, known, cutoff: float = 0.6) -> str:
     return f" ({near.strip()})" if near else ""
 
 
+#: The error values a spreadsheet formula leaves in its cell: ECMA-376 Part 1 §18.18.21
+#: (ST_CellErrorType) and those newer Excel writes (Microsoft's "#SPILL! error" etc. pages). A
+#: workbook stores one as an error cell, which pandas reads as empty; a CSV export writes its text.
+SPREADSHEET_ERRORS = ("#NULL!", "#DIV/0!", "#VALUE!", "#REF!", "#NAME?", "#NUM!", "#N/A",
+                      "#SPILL!", "#CALC!", "#FIELD!", "#BLOCKED!", "#CONNECT!", "#BUSY!",
+                      "#UNKNOWN!", "#GETTING_DATA")
+
+
+def spreadsheet_error(error: str) -> str:
+    """The problem of a cell holding the spreadsheet error ``error``."""
+    return f"the cell holds the spreadsheet error {error}; fix the formula or clear the cell"
+
+
 def cell_problem(value, expected: str = "a number") -> str:
     """The problem of a cell that is not ``expected``. A date/time or a list (Parquet keeps both)
     is named as one, not by its Python repr; a decimal comma ('1,5', a spreadsheet's regional
-    export with quoted cells) is named as one."""
+    export with quoted cells) is named as one, and a spreadsheet error ('#DIV/0!') as one."""
+    if isinstance(value, str) and value.strip().upper() in SPREADSHEET_ERRORS:
+        return spreadsheet_error(value.strip().upper())
     if isinstance(value, (datetime.date, np.datetime64)):  # pd.Timestamp is a datetime.date
         return f"value {value} is a date/time, not {expected}"
     if isinstance(value, (list, tuple, np.ndarray)):
@@ -114,7 +129,8 @@ def read_table(path: str | Path, *, csv_options: dict | None = None,
                                                for name, sheet in other.items()}
                 frame.attrs["filled_sheets"] = [name for name, sheet in other.items() if len(sheet)]
             _check_merged(path, frame)
-            if frame.isna().to_numpy().any():  # an uncomputed formula reads as an empty cell
+            if frame.isna().to_numpy().any():  # an error, an uncomputed formula: an empty cell
+                _check_errors(path, book.sheet_names[0], frame)
                 _check_formulas(path, book.sheet_names[0], frame)
             return frame
         return pd.read_parquet(path)
@@ -183,6 +199,26 @@ def _check_compound(path: Path) -> None:
     raise IngestError(f"{path.name}: the file is an old-format Excel workbook (.xls), which ingest "
                       "does not read; open it in a spreadsheet program and save it as .xlsx or as "
                       "CSV UTF-8.")
+
+
+def _check_errors(path: Path, sheet: str, frame: pd.DataFrame) -> None:
+    """Refuse an error cell (a formula's ``#DIV/0!``, a typed ``#N/A``), which pandas reads as an
+    empty cell: it would be stored as not measured. The stored values are read (a formula's last
+    result), row ``k`` of the frame being the sheet's row ``k + 2`` as in :func:`_check_formulas`.
+    """
+    from openpyxl import load_workbook
+
+    book = load_workbook(path, read_only=True, data_only=True)
+    try:
+        rows = book[sheet].iter_rows(min_row=2, max_row=len(frame) + 1, min_col=1,
+                                     max_col=len(frame.columns))
+        for k, cells in enumerate(rows):
+            for j, cell in enumerate(cells):
+                if getattr(cell, "data_type", None) == "e" and pd.isna(frame.iat[k, j]):
+                    raise ingest_error(path.name, k + 1, str(frame.columns[j]),
+                                       spreadsheet_error(str(cell.value)))
+    finally:
+        book.close()
 
 
 def _check_formulas(path: Path, sheet: str, frame: pd.DataFrame) -> None:
