@@ -80,3 +80,42 @@ def test_a_spreadsheet_error_in_a_cell_is_named_as_one(stored, tmp_path, column,
     refused(stored, ["ingest", "test2_grasp", sheet, *T2, "--root", stored],
             f"day2{suffix}, row 2, column '{column}': the cell holds the spreadsheet error "
             f"{error}; fix the formula or clear the cell.")
+
+
+def _hidden(tmp_path, rows=(), sheet_hidden: bool = False):
+    """day2.xlsx: a hidden helper sheet first (``sheet_hidden``), then two trials with the sheet
+    rows ``rows`` hidden, as a spreadsheet program hides or filters them out."""
+    from openpyxl import load_workbook
+
+    book_path = tmp_path / "day2.xlsx"
+    with pd.ExcelWriter(book_path) as writer:
+        if sheet_hidden:
+            pd.DataFrame({"material": ["gel"]}).to_excel(writer, sheet_name="lookup", index=False)
+        _records(tmp_path, slice(2, 5)).to_excel(writer, sheet_name="day2", index=False)
+    book = load_workbook(book_path)
+    if sheet_hidden:
+        book["lookup"].sheet_state = "hidden"
+    for row in rows:
+        book["day2"].row_dimensions[row].hidden = True
+    book.save(book_path)
+    return book_path
+
+
+def test_a_hidden_first_sheet_is_named_not_read_silently(stored, tmp_path):
+    # the old code read the hidden sheet, the one a user does not see, and said not a word of
+    # its being hidden
+    refused(stored, ["ingest", "test2_grasp", _hidden(tmp_path, sheet_hidden=True), *T2,
+                     "--root", stored],
+            "day2.xlsx: ingest reads the workbook's first sheet, and it, 'lookup', is hidden (a "
+            "sheet someone set aside?); unhide it if it holds the records, or move the sheet that "
+            "does to the front.")
+
+
+@pytest.mark.parametrize(("rows", "said"), [((3,), "row 2 is"), ((2, 4), "row 1, row 3 are")])
+def test_hidden_rows_of_a_workbook_are_named_not_stored(stored, tmp_path, rows, said):
+    # the old code stored the hidden rows with the others, without a word
+    refused(stored, ["ingest", "test2_grasp", _hidden(tmp_path, rows), *T2, "--root", stored],
+            f"day2.xlsx: {said} hidden in the sheet (hidden or filtered out: left out of the "
+            "records?); delete the hidden rows to leave them out, or unhide them to ingest them.")
+    done = invoke("ingest", "test2_grasp", _hidden(tmp_path, (9,)), *T2, "--root", stored)
+    assert done.exit_code == 0, done.output  # a hidden row below the table holds no record
