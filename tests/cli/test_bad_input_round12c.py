@@ -119,3 +119,21 @@ def test_hidden_rows_of_a_workbook_are_named_not_stored(stored, tmp_path, rows, 
             "records?); delete the hidden rows to leave them out, or unhide them to ingest them.")
     done = invoke("ingest", "test2_grasp", _hidden(tmp_path, (9,)), *T2, "--root", stored)
     assert done.exit_code == 0, done.output  # a hidden row below the table holds no record
+
+
+def _cut(path) -> str:
+    """``path`` as a message shows a value over 200 characters: its first 60 and its length."""
+    text = str(path)
+    return f"{text[:60]}... ({len(text)} characters)"
+
+
+def test_a_long_output_path_is_echoed_shortened(tmp_path):
+    # the old code echoed both paths in full (330 and 324 characters) in the one sentence
+    deep = tmp_path.joinpath(*["d" * 50] * 6)
+    refused(tmp_path, ["schedule", "test2_grasp", *T2[1:], "--out", deep / "sheet", "--root",
+                       tmp_path],
+            f"--out {_cut(deep / 'sheet')}: directory {_cut(deep)} does not exist.")
+    (tmp_path / "afile").write_text("")
+    times = tmp_path.joinpath("afile", *["t" * 50] * 6).with_suffix(".txt")
+    refused(tmp_path, ["reproduce", "--times", times, "--root", tmp_path],
+            f"--times {_cut(times)}: {tmp_path / 'afile'} is a file, not a directory.")
