@@ -137,3 +137,23 @@ def test_a_long_output_path_is_echoed_shortened(tmp_path):
     times = tmp_path.joinpath("afile", *["t" * 50] * 6).with_suffix(".txt")
     refused(tmp_path, ["reproduce", "--times", times, "--root", tmp_path],
             f"--times {_cut(times)}: {tmp_path / 'afile'} is a file, not a directory.")
+
+
+STUDY = "# @package _global_\nname: mine\nkind: quasi_static\n{line}\nseeds: 1\nfactors:\n  shape: [sphere]\n"
+
+
+@pytest.mark.parametrize(("line", "said"), [
+    # the old code said "defaults is not a known key of the study config; known keys: ...", of
+    # Hydra's own list, which a Hydra user writes on purpose
+    ("defaults:\n  - _self_\n  - evaluator: default",
+     "defaults is not a key of a study file: the presets of the groups (model, evaluator, "
+     "features, pso, runner, output) are chosen by the defaults list of conf/config.yaml, which "
+     "every study is merged over; set a group's keys under its name in the study file "
+     "(evaluator: {n_cand: 300}), or choose another preset on the command line (model=firm)."),
+    # it said "got datetime.date(2024, 1, 1) (date)": Python's repr, not what was written
+    ("seed: 2024-01-01", "seed must be of type int, got 2024-01-01 (a date)."),
+])
+def test_a_study_file_says_defaults_and_dates_in_its_own_words(tmp_path, line, said):
+    study = tmp_path / "mine.yaml"
+    study.write_text(STUDY.format(line=line))
+    refused(tmp_path, ["show", study, "--root", tmp_path], f"{study}, line 4: {said}")
