@@ -157,3 +157,18 @@ def test_a_study_file_says_defaults_and_dates_in_its_own_words(tmp_path, line, s
     study = tmp_path / "mine.yaml"
     study.write_text(STUDY.format(line=line))
     refused(tmp_path, ["show", study, "--root", tmp_path], f"{study}, line 4: {said}")
+
+
+@pytest.mark.parametrize("declared", ["binary_big_endian", "binary_little_endian"])
+def test_a_ply_whose_header_says_binary_over_a_text_body_is_named(tmp_path, sphere, declared):
+    # the old code said trimesh's "PLY is unexpected length!"
+    import trimesh
+
+    text = trimesh.load(sphere).export(file_type="ply", encoding="ascii").decode()
+    assert "format ascii 1.0" in text
+    mesh = tmp_path / "mesh.ply"
+    mesh.write_text(text.replace("format ascii 1.0", f"format {declared} 1.0"))
+    refused(tmp_path, ["plan", mesh, "--mass-kg", "0.1"],
+            f"mesh 'mesh.ply' says 'format {declared} 1.0' in its header, but what follows the "
+            "header is text (lines of numbers), which an ASCII PLY holds (format ascii 1.0); "
+            "correct that line or export the mesh again.")
