@@ -14,6 +14,7 @@ every study file with it.
 from __future__ import annotations
 
 import dataclasses
+import datetime
 import functools
 from pathlib import Path
 from typing import Any
@@ -54,6 +55,8 @@ def _is_interpolation(value: Any) -> bool:
 
 
 def _got(value: Any) -> str:
+    if isinstance(value, datetime.date):  # YAML reads an unquoted 2024-01-01 as a date
+        return f"{value} (a date)"
     return "null" if value is None else f"{value!r} ({type(value).__name__})"
 
 
@@ -157,12 +160,22 @@ def check_fields(data: dict[str, Any], schema: type, prefix: str = "") -> None:
     fields = {f.name: f for f in dataclasses.fields(schema)}
     for name, value in data.items():
         key = f"{prefix}{name}"
+        if key == "defaults" and schema is StudyCfg:  # Hydra's own list, written on purpose
+            raise ConfigError(_DEFAULTS_SAID, key=key)
         if name not in fields:
             raise ConfigError(known_keys_sentence(key, schema), key=key)
         if key == "factors":
             check_factors(value)
         else:
             check_typed(key, value, str(fields[name].type), dict(fields[name].metadata))
+
+
+#: Why a study file takes no Hydra ``defaults:`` list: conf/config.yaml's chooses the groups
+_DEFAULTS_SAID = (f"defaults is not a key of a study file: the presets of the groups "
+                  f"({', '.join(GROUPS)}) are chosen by the defaults list of conf/config.yaml, "
+                  "which every study is merged over; set a group's keys under its name in the "
+                  "study file (evaluator: {n_cand: 300}), or choose another preset on the command "
+                  "line (model=firm).")
 
 
 def check_factors(factors: Any) -> None:

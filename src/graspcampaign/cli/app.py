@@ -160,7 +160,12 @@ _INPUT_ERRORS = {"MeshError", "IngestError"}
 
 
 def fail(message: str, code: int = 2) -> None:
-    typer.echo(f"error: {message}", err=True)
+    """Print ``message`` as the command's error, long values shortened (``errors.shorten``, as
+    every ``UserInputError`` is: a path of 300 characters echoed whole buried the sentence), and
+    exit with ``code``."""
+    from graspcampaign.errors import shorten
+
+    typer.echo(f"error: {shorten(message)}", err=True)
     raise typer.Exit(code)
 
 

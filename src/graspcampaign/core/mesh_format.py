@@ -167,14 +167,14 @@ def ply_layout(name: str, base: str) -> dict | None:
     ASCII PLY that ends before the elements its header declares (one element a line)."""
     elements: list[list] = []
     sizes: list[int | None] = []  # each element's least size in bytes (None: a type unknown)
-    ascii_format = False
+    ascii_format, declared = False, ""
     n_header = 0  # header lines, end_header included
     with open(name, "rb") as fh:
         for raw in fh:
             n_header += 1
             words = raw.decode("ascii", errors="replace").split()
             if words[:1] == ["format"]:
-                ascii_format = words[1:2] == ["ascii"]
+                ascii_format, declared = words[1:2] == ["ascii"], " ".join(words)
             elif words[:1] == ["element"] and len(words) == 3 and words[2].isdigit():
                 elements.append([words[1], int(words[2])])
                 sizes.append(0)
@@ -188,6 +188,12 @@ def ply_layout(name: str, base: str) -> dict | None:
         else:
             return None
         if not ascii_format:
+            body = fh.read(4096)
+            if len(body) >= 16 and not body.strip(_PLY_TEXT) and b"\n" in body:  # only numbers
+                raise MeshError(f"mesh {base!r} says '{declared}' in its header, but what follows "
+                                "the header is text (lines of numbers), which an ASCII PLY holds "
+                                "(format ascii 1.0); correct that line or export the mesh again.")
+            fh.seek(-len(body), os.SEEK_CUR)
             _check_ply_length(base, elements, sizes, os.fstat(fh.fileno()).st_size - fh.tell())
             return {"ascii": False, "elements": elements}
         n_lines = sum(1 for raw in fh if raw.strip())
@@ -224,6 +230,9 @@ def check_ply_faces(faces: np.ndarray, n_vertices: int, base: str, ply: dict | N
                     f"has only {counted(n_vertices, 'vertex', 'vertices')}: PLY indices count from 0.")
 
 
+#: The bytes of an ASCII PLY's body (numbers, spaces, line ends): binary data of 16 bytes or more
+#: made of them alone is all but impossible (a float's exponent byte would be a digit or a space).
+_PLY_TEXT = b"0123456789+-.eE \t\r\n"
 #: Bytes of each PLY property type (the PLY format's scalar types, old and sized names).
 PLY_TYPE_BYTES = {**dict.fromkeys(("char", "uchar", "int8", "uint8"), 1),
                   **dict.fromkeys(("short", "ushort", "int16", "uint16"), 2),

@@ -43,6 +43,8 @@ from graspcampaign.rig.record_schema import (
     BOOLEAN_WORDS,
     DECISIVE,
     FLAG_OF,
+    NOT_MEASURED_SAID,
+    NOT_MEASURED_WORDS,
     UNIT_NAMES,
     FieldSpec,
     schema_for,
@@ -63,6 +65,7 @@ _UNIT_RE = re.compile(r"^(?P<stem>.+)_(?P<unit>mm|m|cm|um|n|kn|mn|nm|nmm|deg|rad
 _TRUE = {yes for yes, _ in BOOLEAN_WORDS} | {"1.0"}
 _FALSE = {no for _, no in BOOLEAN_WORDS} | {"0.0"}
 _BOOLEAN = f"a boolean ({BOOLEAN_ALLOWED})"  # what a boolean cell must hold
+_NOT_MEASURED = {word.lower() for word in NOT_MEASURED_WORDS}
 
 
 MAX_RECORDS_BYTES = 32 * 2**20
@@ -73,7 +76,8 @@ records (2 MiB); a 200 MiB file took a minute and 3 GiB to refuse (docs/decision
 def read_records(path: str | Path) -> pd.DataFrame:
     """Read a records file (``.csv``, ``.parquet``/``.pq``, ``.xlsx``) without checks.
 
-    Every CSV cell stays a string (the checks parse them); see :func:`read_table`. A file over
+    Every CSV cell stays a string (the checks parse them), and no cell's word is read as missing
+    (a CSV's or a workbook's: `_blank` reads NOT_MEASURED_WORDS); see :func:`read_table`. A file over
     :data:`MAX_RECORDS_BYTES` is refused unread.
     """
     path = Path(path)
@@ -82,17 +86,24 @@ def read_records(path: str | Path) -> pd.DataFrame:
                           f"records is at most {MAX_RECORDS_BYTES // 2**20} MiB (the whole Test 2 "
                           "sheet with its commanded columns is 2 MiB); check it is the right file.")
     return read_table(path, csv_options={"dtype": str, "keep_default_na": False},
-                      excel_options={"dtype": object})
+                      excel_options={"dtype": object, "keep_default_na": False,
+                                     "na_values": [""]})
 
 
-def _blank(value) -> bool:
+def _empty(value) -> bool:
+    """Whether a cell is empty: nothing, blank text, or a reader's missing value (NaN, NA)."""
     if value is None:
         return True
     if isinstance(value, float) and math.isnan(value):
         return True
     if value is pd.NA or value is pd.NaT:
         return True
-    return isinstance(value, str) and value.strip().lower() in ("", "nan", "none", "null", "na")
+    return isinstance(value, str) and not value.strip()
+
+
+def _blank(value) -> bool:
+    """Whether a cell says not measured: empty, or one of ``NOT_MEASURED_WORDS`` (any case)."""
+    return _empty(value) or isinstance(value, str) and value.strip().lower() in _NOT_MEASURED
 
 
 def _as_bool(value) -> bool | None:
@@ -184,7 +195,7 @@ def validate_records(data: pd.DataFrame | str | Path, schedule: pd.DataFrame,
     n = len(df)
     ids = []
     for i, value in enumerate(df["trial_id"].tolist()):
-        if _blank(value):
+        if _empty(value):  # 'NA' is an id the schedule does not have, not an empty cell
             raise empty_row(label, df, i + 1) or ingest_error(label, i + 1, "trial_id",
                                                               "trial id is empty")
         ids.append(str(value).strip())
@@ -211,7 +222,9 @@ def validate_records(data: pd.DataFrame | str | Path, schedule: pd.DataFrame,
             executed = not aborted[i]
             if _blank(value):
                 if executed and spec.executed_required:
-                    raise ingest_error(label, i + 1, spec.name, "value is empty but the trial was "
+                    said = ("value is empty" if _empty(value) else
+                            f"value {value.strip()!r} means not measured,")
+                    raise ingest_error(label, i + 1, spec.name, f"{said} but the trial was "
                                        "executed (aborted is false)")
                 if spec.kind in ("float", "int"):
                     clean.append(math.nan)
@@ -265,8 +278,10 @@ def _parse(spec: FieldSpec, value, label: str, row: int):
                                f"not one of {', '.join(spec.choices)}")
         return text
     number = _as_float(value)
-    if number is None:
-        raise ingest_error(label, row, spec.name, cell_problem(value))
+    if number is None:  # a dash or a question mark: a mark for not measured, not its word
+        mark = isinstance(value, str) and not any(c.isalnum() for c in value)
+        raise ingest_error(label, row, spec.name, cell_problem(value) + (
+            f"; a cell not measured is {NOT_MEASURED_SAID}" if mark else ""))
     if not math.isfinite(number):
         raise ingest_error(label, row, spec.name, f"value {value!r} is not finite")
     if spec.kind == "int" and number != int(number):

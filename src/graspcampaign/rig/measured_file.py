@@ -56,10 +56,25 @@ def aside(word: str, known, cutoff: float = 0.6) -> str:
     return f" ({near.strip()})" if near else ""
 
 
+#: The error values a spreadsheet formula leaves in its cell: ECMA-376 Part 1 §18.18.21
+#: (ST_CellErrorType) and those newer Excel writes (Microsoft's "#SPILL! error" etc. pages). A
+#: workbook stores one as an error cell, which pandas reads as empty; a CSV export writes its text.
+SPREADSHEET_ERRORS = ("#NULL!", "#DIV/0!", "#VALUE!", "#REF!", "#NAME?", "#NUM!", "#N/A",
+                      "#SPILL!", "#CALC!", "#FIELD!", "#BLOCKED!", "#CONNECT!", "#BUSY!",
+                      "#UNKNOWN!", "#GETTING_DATA")
+
+
+def spreadsheet_error(error: str) -> str:
+    """The problem of a cell holding the spreadsheet error ``error``."""
+    return f"the cell holds the spreadsheet error {error}; fix the formula or clear the cell"
+
+
 def cell_problem(value, expected: str = "a number") -> str:
     """The problem of a cell that is not ``expected``. A date/time or a list (Parquet keeps both)
     is named as one, not by its Python repr; a decimal comma ('1,5', a spreadsheet's regional
-    export with quoted cells) is named as one."""
+    export with quoted cells) is named as one, and a spreadsheet error ('#DIV/0!') as one."""
+    if isinstance(value, str) and value.strip().upper() in SPREADSHEET_ERRORS:
+        return spreadsheet_error(value.strip().upper())
     if isinstance(value, (datetime.date, np.datetime64)):  # pd.Timestamp is a datetime.date
         return f"value {value} is a date/time, not {expected}"
     if isinstance(value, (list, tuple, np.ndarray)):
@@ -114,7 +129,8 @@ def read_table(path: str | Path, *, csv_options: dict | None = None,
                                                for name, sheet in other.items()}
                 frame.attrs["filled_sheets"] = [name for name, sheet in other.items() if len(sheet)]
             _check_merged(path, frame)
-            if frame.isna().to_numpy().any():  # an uncomputed formula reads as an empty cell
+            if frame.isna().to_numpy().any():  # an error, an uncomputed formula: an empty cell
+                _check_errors(path, book.sheet_names[0], frame)
                 _check_formulas(path, book.sheet_names[0], frame)
             return frame
         return pd.read_parquet(path)
@@ -185,6 +201,26 @@ def _check_compound(path: Path) -> None:
                       "CSV UTF-8.")
 
 
+def _check_errors(path: Path, sheet: str, frame: pd.DataFrame) -> None:
+    """Refuse an error cell (a formula's ``#DIV/0!``, a typed ``#N/A``), which pandas reads as an
+    empty cell: it would be stored as not measured. The stored values are read (a formula's last
+    result), row ``k`` of the frame being the sheet's row ``k + 2`` as in :func:`_check_formulas`.
+    """
+    from openpyxl import load_workbook
+
+    book = load_workbook(path, read_only=True, data_only=True)
+    try:
+        rows = book[sheet].iter_rows(min_row=2, max_row=len(frame) + 1, min_col=1,
+                                     max_col=len(frame.columns))
+        for k, cells in enumerate(rows):
+            for j, cell in enumerate(cells):
+                if getattr(cell, "data_type", None) == "e" and pd.isna(frame.iat[k, j]):
+                    raise ingest_error(path.name, k + 1, str(frame.columns[j]),
+                                       spreadsheet_error(str(cell.value)))
+    finally:
+        book.close()
+
+
 def _check_formulas(path: Path, sheet: str, frame: pd.DataFrame) -> None:
     """Refuse a formula cell without a computed value, which pandas reads as an empty cell.
 
@@ -211,16 +247,30 @@ def _check_formulas(path: Path, sheet: str, frame: pd.DataFrame) -> None:
 
 
 def _check_merged(path: Path, frame: pd.DataFrame) -> None:
-    """Refuse merged cells in the first sheet's table (its header and data rows).
+    """Refuse a hidden first sheet, hidden rows and merged cells in the first sheet's table (its
+    header and data rows), all read from the sheet's XML (:func:`_first_sheet_marks`).
 
     A merged range keeps its value in its first (top-left) cell and leaves the others empty
     (ECMA-376 Part 1 §18.3.1.55), so pandas reads every cell but the first as not measured: a value
-    merged over two trials would be stored for the first alone. The sheet's row ``k + 2`` is the
-    frame's row ``k`` (header in row 1), as in :func:`_check_formulas`.
+    merged over two trials would be stored for the first alone. A hidden sheet or row (hidden, or
+    filtered out, §18.3.1.73 ``hidden``) is one someone left out, usually: pandas reads it as any
+    other, so it would be stored without a word. The sheet's row ``k + 2`` is the frame's row
+    ``k`` (header in row 1), as in :func:`_check_formulas`.
     """
     from openpyxl.utils.cell import range_boundaries
 
-    for ref in _merged_ranges(path):
+    name, merged, hidden = _first_sheet_marks(path)
+    if name is not None:
+        raise IngestError(f"{path.name}: ingest reads the workbook's first sheet, and it, "
+                          f"'{name}', is hidden (a sheet someone set aside?); unhide it if it "
+                          "holds the records, or move the sheet that does to the front.")
+    if rows := [r for r in hidden if r <= len(frame) + 1]:
+        said = ", ".join("the header" if r == 1 else f"row {r - 1}" for r in rows[:5])
+        more = f" and {len(rows) - 5} more" if len(rows) > 5 else ""
+        raise IngestError(f"{path.name}: {said}{more} {plural('is', len(rows), 'are')} hidden in "
+                          "the sheet (hidden or filtered out: left out of the records?); delete "
+                          "the hidden rows to leave them out, or unhide them to ingest them.")
+    for ref in merged:
         col, row = range_boundaries(ref)[:2]
         if col <= len(frame.columns) and row <= len(frame) + 1:
             raise ingest_error(path.name, row - 1 or None, str(frame.columns[col - 1]),
@@ -228,13 +278,16 @@ def _check_merged(path: Path, frame: pd.DataFrame) -> None:
                                "but the first empty; unmerge them and fill in each cell")
 
 
-def _merged_ranges(path: Path) -> list[str]:
-    """The merged ranges (``'J2:J3'``) of a workbook's first sheet, read from its XML: openpyxl
-    names them only when it loads the whole workbook into memory, not in its read-only mode.
+def _first_sheet_marks(path: Path) -> tuple[str | None, list[str], list[int]]:
+    """The name of a workbook's first sheet when it is hidden (else None), its merged ranges
+    (``'J2:J3'``) and its hidden rows (1-based, the sheet's numbers), read from its XML in pieces:
+    openpyxl names merged ranges and hidden rows only when it loads the whole workbook into
+    memory, not in its read-only mode.
 
-    The first sheet is the first ``<sheet>`` of ``xl/workbook.xml`` (the one pandas reads); its
-    part is named by the workbook's relationships (ECMA-376 Part 1 §18.2.19, Part 2 §9.3). A part
-    that cannot be found leaves the check to the reader, which said the workbook is readable.
+    The first sheet is the first ``<sheet>`` of ``xl/workbook.xml`` (the one pandas reads), its
+    ``state`` ``hidden`` or ``veryHidden`` when hidden; its part is named by the workbook's
+    relationships (ECMA-376 Part 1 §18.2.19, Part 2 §9.3). A part that cannot be found leaves the
+    checks to the reader, which said the workbook is readable.
     """
     import xml.etree.ElementTree as ET
     import zipfile
@@ -246,21 +299,27 @@ def _merged_ranges(path: Path) -> list[str]:
             rels = ET.fromstring(archive.read("xl/_rels/workbook.xml.rels"))
             target = next(r.get("Target") for r in rels if r.get("Id") == rid)
         except (KeyError, AttributeError, StopIteration, ET.ParseError):
-            return []
+            return None, [], []
+        name = sheet.get("name") if sheet.get("state") in ("hidden", "veryHidden") else None
         part = target.lstrip("/") if target.startswith("/") else f"xl/{target}"
         if part not in archive.namelist():
-            return []
-        found, tail = [], b""
+            return name, [], []
+        found, rows, tail = [], [], b""
         with archive.open(part) as xml:  # in pieces: a sheet of a million rows is ~100 MB of XML
             while chunk := xml.read(2**20):
                 text = tail + chunk
                 found += _MERGE.findall(text)
-                tail = text[-256:]  # a range cut in two is found whole in the next piece
-    return list(dict.fromkeys(r.decode() for r in found))
+                rows += [int(r) for r in _HIDDEN_ROW.findall(text)]
+                tail = text[-512:]  # a tag cut in two is found whole in the next piece
+    return (name, list(dict.fromkeys(r.decode() for r in found)),
+            sorted(set(rows)))
 
 
 #: a merged range in a worksheet's XML, ``<mergeCell ref="J2:J3"/>`` (any namespace prefix)
 _MERGE = re.compile(rb'<(?:\w+:)?mergeCell\s[^>]*?ref="([A-Z]+[0-9]+:[A-Z]+[0-9]+)"')
+#: a hidden row's number in a worksheet's XML, ``<row r="3" hidden="1" ...>`` (attributes in any
+#: order; ``hidden`` is an xsd:boolean, "1" or "true")
+_HIDDEN_ROW = re.compile(rb'<(?:\w+:)?row\s(?=[^>]*?\bhidden="(?:1|true)")[^>]*?\br="([0-9]+)"')
 
 
 def _checked_csv(path: Path) -> str:

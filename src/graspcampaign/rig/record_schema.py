@@ -56,6 +56,14 @@ from graspcampaign.rig.protocol import STUDY_TEST2, STUDY_TEST3
 #: what the template's columns sheet and ingest's refusals list (:data:`BOOLEAN_ALLOWED`).
 BOOLEAN_WORDS = (("true", "false"), ("yes", "no"), ("y", "n"), ("t", "f"), ("1", "0"))
 BOOLEAN_ALLOWED = ", ".join(f"{yes}/{no}" for yes, no in BOOLEAN_WORDS)
+#: The words a cell of measured records may hold, any case, to say "not measured", as an empty
+#: cell does: the words of pandas' default missing values (``read_csv``'s ``na_values``) but the
+#: spreadsheet errors (``#N/A``: a formula's error is named as one) and the numeric oddities
+#: (``-1.#IND``). What ingest reads (``ingest._not_measured``) and the template's columns sheet
+#: lists (:data:`NOT_MEASURED_SAID`); any other text where a number belongs (``-``, ``?``) is
+#: refused.
+NOT_MEASURED_WORDS = ("NA", "N/A", "NaN", "null", "none")
+NOT_MEASURED_SAID = f"empty or {', '.join(NOT_MEASURED_WORDS)} (any case)"
 
 __all__ = [
     "ATTEMPT_TYPO_LIMIT",
@@ -198,7 +206,7 @@ def record_template(schedule: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame]
         required = ("every row" if spec.name in ("trial_id", "aborted")
                     else "optional column" if spec.optional
                     else "executed rows" if spec.executed_required else "column required, cells "
-                    "may be empty")
+                    f"may be {NOT_MEASURED_SAID}: not measured")
         rows.append({"column": spec.name, "type": spec.kind, "unit": unit, "allowed": allowed,
                      "required": required})
     return sheet, pd.DataFrame(rows)
