@@ -172,3 +172,17 @@ def test_a_ply_whose_header_says_binary_over_a_text_body_is_named(tmp_path, sphe
             f"mesh 'mesh.ply' says 'format {declared} 1.0' in its header, but what follows the "
             "header is text (lines of numbers), which an ASCII PLY holds (format ascii 1.0); "
             "correct that line or export the mesh again.")
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".xlsx"])
+def test_a_waveform_sample_is_read_alike_from_a_csv_and_a_workbook(results, tmp_path, suffix):
+    # a workbook read pandas' missing-value words ('NA' was "value nan (an empty cell or NaN) is
+    # not finite"), a CSV only the empty cell: a sample is measured, no word stands for one
+    from test_bad_input_round12 import T1, _press
+
+    waves = _press().astype({"displacement_mm": object})
+    waves.loc[10, "displacement_mm"] = "NA"
+    path = tmp_path / f"waves{suffix}"
+    waves.to_csv(path, index=False) if suffix == ".csv" else waves.to_excel(path, index=False)
+    refused(results, ["ingest", "test1_bench", path, *T1, "--root", results],
+            f"waves{suffix}, row 11, column 'displacement_mm': value 'NA' is not a number.")

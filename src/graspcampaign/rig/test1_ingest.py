@@ -54,12 +54,12 @@ def read_waveforms(path: str | Path) -> pd.DataFrame:
     """Read a waveform file (``.csv``, ``.parquet``/``.pq`` or ``.xlsx``) without checks.
 
     Via :func:`graspcampaign.rig.ingest.read_table` (an unsupported, missing or unreadable
-    file raises :class:`IngestError`); CSV channels are parsed as numbers, only an empty cell
-    is missing.
+    file raises :class:`IngestError`); channels are parsed as numbers, only an empty cell is
+    missing, in a CSV and a workbook alike (a sample is measured: no word stands for one).
     """
-    return read_table(path, csv_options={"dtype": {"event_id": str, "anomaly": str},
-                                         "keep_default_na": False, "na_values": [""]},
-                      excel_options={"dtype": {"event_id": str}})
+    missing = {"keep_default_na": False, "na_values": [""]}
+    return read_table(path, csv_options={"dtype": {"event_id": str, "anomaly": str}, **missing},
+                      excel_options={"dtype": {"event_id": str}, **missing})
 
 
 PEAK_FACTOR = 3.0
