@@ -304,3 +304,28 @@ def test_a_trace_file_of_no_task_runs_again_only_the_trials_without_other_traces
         store.repair()
     assert _ids(store) == ["c", "d"]
     assert _ids(store, "tables/trace") == ["c", "d"]
+
+
+def test_a_run_resumed_under_another_config_holds_its_sessions_records(study_factory):
+    """The records a session of another config wrote (``--allow-drift``) are the run's own: a
+    check of the run afterwards, as status and report make, names no foreign file."""
+    run_study(study_factory())
+    run_study(study_factory(seeds=3), allow_drift=True)
+    store = RunStore(run_path(study_factory()))
+    manifest = store.check()
+    assert len({s["config_hash"] for s in manifest["sessions"]}) == 2
+    assert len(store.recorded_ids()) == 24
+
+
+def test_an_exact_duplicate_trace_file_drops_no_record(tmp_path):
+    """A trace file duplicating another moves aside; its trials' traces stay in the other file,
+    so their records stay and nothing runs again."""
+    store = RunStore(tmp_path / "run")
+    store.write_shard("records", "x", [{"trial_id": "a"}, {"trial_id": "b"}])
+    rows = [{"trial_id": "a", "v": 1.0}, {"trial_id": "b", "v": 2.0}]
+    store.write_shard("tables/trace", "x", rows)
+    store.write_shard("tables/trace", "z", rows)
+    with pytest.warns(UserWarning, match=r"duplicate file .*part-z\.parquet moved to"):
+        store.repair()
+    assert _ids(store) == ["a", "b"]
+    assert _ids(store, "tables/trace") == ["a", "b"]
