@@ -240,3 +240,16 @@ def test_status_counts_the_records_stored_not_the_manifests_count(study_factory)
     store.manifest_path.write_text(json.dumps({**manifest, "n_recorded": 0, "finished_at": None}))
     status = run_status(study.output.root, "unit", "r1")
     assert (status["n_recorded"], status["n_ok"], status["complete"]) == (16, 16, False)
+
+
+def test_a_fail_fast_run_whose_error_is_its_last_trial_is_finished(study_factory):
+    """fail_fast stops at the first error; when that is the design's last trial nothing is left
+    to stop, so the run is finished as one without fail_fast (its finish time set, its kind's
+    finalize run): it was left unfinished while ``status`` called it complete (mutation round 7,
+    N6). The one task runs mu = 0.1 then mu = 13, which fails."""
+    summary = run_study(study_factory(factors={"mu": [0.1, 13.0]}, seeds=1,
+                                      runner={"batch_size": 6}), fail_fast=True)
+    assert (summary.n_ran, summary.n_error, summary.stopped_early) == (2, 1, True)
+    manifest = json.loads((summary.path / "manifest.json").read_text())
+    assert manifest["finished_at"] is not None
+    assert manifest["finished_at"] == manifest["sessions"][-1]["finished_at"]

@@ -385,7 +385,8 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
                         break
         finally:
             bar.close()
-        complete = not summary.stopped_early and summary.n_already + summary.n_ran == len(trials)
+        # every trial recorded, even if fail_fast stopped at the last one: nothing was left out
+        complete = summary.n_already + summary.n_ran == len(trials)
         if complete and kind.finalize is not None:
             _finalize(kind, study, params, store)
         store.compact_all()
