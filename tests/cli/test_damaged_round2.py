@@ -1,0 +1,42 @@
+"""Damaged and tampered stored runs, round 2: what a disk, a sync tool or a colleague leaves in a
+finished run, and what ``run`` (resume), ``status`` and ``report`` then do. A report never counts
+data it cannot trust, and what a repair says it does, it does.
+
+Every case damages its own copy of the finished runs (``results`` in conftest.py).
+"""
+
+from __future__ import annotations
+
+import pyarrow.parquet as pq
+from cli_checks import BG, grid_run, invoke
+
+
+def _prepared(results) -> list[dict]:
+    """The stored preparations (PSO identifications) of the tiny baseline_grid run, by body,
+    without the time each took (a measurement, not a result)."""
+    rows = pq.read_table(grid_run(results) / "prepared").to_pylist()
+    return sorted(({k: v for k, v in r.items() if k != "wall_time_s"} for r in rows),
+                  key=lambda r: r["body_id"])
+
+
+def test_a_quarantined_preparation_is_computed_again_as_the_warning_says(results):
+    """A damaged prepared/ file is moved aside with "it is computed again": it is, for the
+    recorded trials' bodies too (it was not: only pending trials' bodies were prepared, so a
+    finished run's resume left prepared/ empty, exit 0, and the report dropped the
+    identifications table without a word)."""
+    before = _prepared(results)
+    assert before
+    (shard,) = (grid_run(results) / "prepared").glob("*.parquet")
+    size = shard.stat().st_size
+    with shard.open("r+b") as handle:  # cut short in its middle, as an interrupted copy leaves it
+        handle.truncate(size // 2)
+    repaired = invoke("run", "baseline_grid", *BG, "runner.progress=false", "--root", results)
+    assert repaired.exit_code == 0, repaired.output
+    target = grid_run(results) / "quarantine" / f"prepared__{shard.name}"
+    assert repaired.stderr == (f"warning: damaged file {shard} moved to {target} (it does not end "
+                               "with a Parquet footer: cut short, or not a Parquet file); it is "
+                               "computed again\n")
+    assert "2 trials, 2 already recorded, 0 ran" in repaired.stdout
+    assert _prepared(results) == before  # seeded by the body: the ones the trials used
+    assert invoke("report", "baseline_grid", "--root", results).exit_code == 0
+    assert (grid_run(results) / "report" / "tables" / "identifications.csv").is_file()
