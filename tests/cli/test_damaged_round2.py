@@ -7,8 +7,13 @@ Every case damages its own copy of the finished runs (``results`` in conftest.py
 
 from __future__ import annotations
 
+import contextlib
+import shutil
+import subprocess
+
 import pyarrow.parquet as pq
-from cli_checks import BG, grid_run, invoke
+import pytest
+from cli_checks import BG, grid_run, invoke, refused
 
 
 def _prepared(results) -> list[dict]:
@@ -40,3 +45,33 @@ def test_a_quarantined_preparation_is_computed_again_as_the_warning_says(results
     assert _prepared(results) == before  # seeded by the body: the ones the trials used
     assert invoke("report", "baseline_grid", "--root", results).exit_code == 0
     assert (grid_run(results) / "report" / "tables" / "identifications.csv").is_file()
+
+
+@contextlib.contextmanager
+def _immutable(path):
+    """``path`` made immutable (``chattr +i``: no file in it can be added, renamed or removed,
+    even by root, as on a read-only share) for the block; the test is skipped where that cannot
+    be done (not root, a file system without the attribute)."""
+    chattr = shutil.which("chattr")
+    if chattr is None or subprocess.run([chattr, "+i", path], capture_output=True).returncode:
+        pytest.skip("chattr +i is not available here")
+    try:
+        yield
+    finally:
+        subprocess.run([chattr, "-i", path], check=True)
+
+
+def test_a_file_that_cannot_be_moved_aside_is_refused_in_one_sentence_nothing_copied(results):
+    """A file a sync tool left (``desktop.ini``) in a records/ directory nothing can be removed
+    from: `run` says what it could not move and why, exit 2, and leaves no copy in quarantine/
+    (it copied the file there, failed to remove it, and ended in a traceback: the file then stood
+    in both places)."""
+    records = grid_run(results) / "records"
+    stray = records / "desktop.ini"
+    stray.write_text("[.ShellClassInfo]\n")
+    target = grid_run(results) / "quarantine" / "records__desktop.ini"
+    with _immutable(records):
+        refused(results, ["run", "baseline_grid", *BG, "runner.progress=false", "--root", results],
+                f"cannot move {stray} to {target} (not a Parquet shard of the run): operation not "
+                f"permitted; it stays where it is, so make {records} and {target.parent} writable "
+                "and run the command again.")

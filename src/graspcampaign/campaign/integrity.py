@@ -33,9 +33,13 @@ of ``tables/`` or of ``quarantine/``; a damaged or missing manifest) is refused.
 
 from __future__ import annotations
 
+import contextlib
 import json
+import logging
+import os
 import re
 import shlex
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -54,7 +58,9 @@ from graspcampaign.campaign.provenance import (
 from graspcampaign.campaign.records import OPTIONAL_COLUMNS, RECORD_COLUMNS
 from graspcampaign.campaign.verify import Facts, facts, one_check, verify_file
 from graspcampaign.core.words import counted
-from graspcampaign.errors import DamagedRunError
+from graspcampaign.errors import DamagedRunError, StoreWriteError
+
+log = logging.getLogger(__name__)
 
 #: Names of stored shards; anything else in a part directory (hidden files aside) is not a shard.
 SHARD = re.compile(r"(part|compact)-[^/]+\.parquet")
@@ -376,6 +382,34 @@ def _trials_of_trace(store, path: Path, others: list[Path]) -> set[str]:
     return store.recorded_ids() - set().union(*(_ids(other)[1] for other in others))
 
 
+def _quarantine(store, path: Path, reason: str, what: str, then: str) -> Path:
+    """Move ``path`` to ``quarantine/``, never over an earlier quarantined file, and warn:
+    "<what> <path> moved to <target> (<reason>); <then>". A rename, never a copy: a copy left
+    beside a file that could not be removed would count twice; what cannot be moved is refused,
+    nothing moved or made."""
+    directory = store._dir("quarantine")
+    stem = path.relative_to(store.path).as_posix().replace("/", "__")
+    target, k, made = directory / stem, 1, not directory.exists()
+    while target.exists():
+        base, dot, suffix = stem.rpartition(".")
+        target = directory / (f"{base}~{k}.{suffix}" if dot else f"{stem}~{k}")
+        k += 1
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+        os.rename(path, target)
+    except OSError as exc:
+        if made:
+            with contextlib.suppress(OSError):
+                directory.rmdir()
+        raise StoreWriteError(f"cannot move {path} to {target} ({reason}): "
+                              f"{os.strerror(exc.errno).lower()}; it stays where it is, so make "
+                              f"{path.parent} and {directory} writable and run the command "
+                              "again.") from None
+    warnings.warn(f"{what} {path} moved to {target} ({reason}); {then}", stacklevel=3)
+    log.warning("quarantined %s as %s: %s", path, target, reason)
+    return target
+
+
 @one_check()
 def repair(store, manifest: dict | None = None, config_hash: str | None = None,
            design: set[str] | None = None) -> list[tuple[Path, Path, str]]:
@@ -421,7 +455,7 @@ def repair(store, manifest: dict | None = None, config_hash: str | None = None,
             then = ("its trials stay recorded in " + problem.reason.split(" also in ")[-1]
                     if problem.fix == "duplicate" else "it held no part of the run"
                     if problem.part in ("tables", "summary") else _THEN[group])
-            target = store._quarantine(problem.path, problem.reason, what, then)
+            target = _quarantine(store, problem.path, problem.reason, what, then)
             moved.append((problem.path, target, problem.reason))
     if not moved and not (store.path / "tables").is_dir():
         return moved
