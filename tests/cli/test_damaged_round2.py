@@ -11,9 +11,13 @@ import contextlib
 import shutil
 import subprocess
 
+import pyarrow as pa
+import pyarrow.compute as pc
 import pyarrow.parquet as pq
 import pytest
-from cli_checks import BG, grid_run, invoke, refused
+from cli_checks import BG, grid_run, invoke, refused, resume_advice
+
+from graspcampaign.campaign.records import CONTENT_KEY, RunStore, content_digest
 
 
 def _prepared(results) -> list[dict]:
@@ -75,3 +79,40 @@ def test_a_file_that_cannot_be_moved_aside_is_refused_in_one_sentence_nothing_co
                 f"cannot move {stray} to {target} (not a Parquet shard of the run): operation not "
                 f"permitted; it stays where it is, so make {records} and {target.parent} writable "
                 "and run the command again.")
+
+
+def _as_written(table: pa.Table, target) -> None:
+    """Write ``table`` as ``target`` as the tool writes a file: with the digest of its values."""
+    digest = {CONTENT_KEY: content_digest(table).encode()}
+    pq.write_table(table.replace_schema_metadata({**(table.schema.metadata or {}), **digest}),
+                   target, write_page_checksum=True)
+
+
+def test_a_trial_recorded_twice_with_other_values_is_run_again_not_kept_from_either(results):
+    """A colleague's file of the same run, written by the tool, recording one of its trials with
+    another verdict: not "a duplicate" whose trials "stay recorded" in the run's file (which kept
+    the run's verdict, unchecked, and said the two agreed); neither record is trusted, the trial
+    runs again and its record is the one the design's seed gives."""
+    records = grid_run(results) / "records"
+    (compact,) = records.glob("compact-*.parquet")
+    table = pq.read_table(compact)
+    first, truth = table["trial_id"][0].as_py(), table["success"][0].as_py()
+    flipped = table.slice(0, 1).set_column(table.schema.get_field_index("success"), "success",
+                                           pc.invert(table.slice(0, 1)["success"]))
+    colleague = records / "part-colleague.parquet"
+    _as_written(flipped, colleague)
+    why = f"1 trial also in records/{compact.name} with other values (column success)"
+    for args in (["status", "baseline_grid"], ["report", "baseline_grid"]):
+        refused(results, [*args, "--root", results],
+                f"run baseline_grid/default at {grid_run(results)} has a file "
+                f"records/part-colleague.parquet recording {why}; {resume_advice(results)}")
+    kept = colleague.read_bytes()
+    repaired = invoke("run", "baseline_grid", *BG, "runner.progress=false", "--root", results)
+    assert repaired.exit_code == 0, repaired.output
+    target = grid_run(results) / "quarantine" / "records__part-colleague.parquet"
+    assert repaired.stderr == (f"warning: file {colleague} moved to {target} ({why}); its trials "
+                               "will run again\n")
+    assert "2 trials, 1 already recorded, 1 ran" in repaired.stdout
+    assert target.read_bytes() == kept
+    again = RunStore(grid_run(results)).read().to_pandas().set_index("trial_id")
+    assert len(again) == 2 and bool(again.loc[first, "success"]) == truth

@@ -56,7 +56,7 @@ from graspcampaign.campaign.provenance import (
     record_sources,
 )
 from graspcampaign.campaign.records import OPTIONAL_COLUMNS, RECORD_COLUMNS
-from graspcampaign.campaign.verify import Facts, facts, one_check, verify_file
+from graspcampaign.campaign.verify import Facts, facts, one_check, other_values, verify_file
 from graspcampaign.core.words import counted
 from graspcampaign.errors import DamagedRunError, StoreWriteError
 
@@ -91,6 +91,8 @@ class Problem:
     part: str = "records"
     reason: str = ""
     advice: str = ""
+    #: trials recorded with other values in an earlier file: their records there go too
+    conflicting: frozenset = frozenset()
 
 
 def _rel(store, path: Path) -> str:
@@ -227,6 +229,13 @@ def file_problems(store, part: str, allowed: dict[str, set]) -> list[Problem]:
             out.append(Problem(path, f"a file {rel} that {said}", "quarantine", part, f"it {said}"))
             continue
         twice = unique & seen.keys()
+        other = other_values(path, {seen[t] for t in twice}, twice) if part == "records" else None
+        if other:
+            why = (f"{counted(len(twice), 'trial')} also in {_rel(store, other[0])} with other "
+                   f"values (column {other[1]})")
+            out.append(Problem(path, f"a file {rel} recording {why}", "quarantine", part, why,
+                               conflicting=frozenset(twice)))
+            continue
         if twice:
             first = _rel(store, seen[min(twice)])
             scope = "every trial" if twice == unique else f"{len(twice)} of its {len(unique)} trials"
@@ -456,6 +465,7 @@ def repair(store, manifest: dict | None = None, config_hash: str | None = None,
                     if problem.fix == "duplicate" else "it held no part of the run"
                     if problem.part in ("tables", "summary") else _THEN[group])
             target = _quarantine(store, problem.path, problem.reason, what, then)
+            lost |= problem.conflicting  # neither record of a trial recorded twice is trusted
             moved.append((problem.path, target, problem.reason))
     if not moved and not (store.path / "tables").is_dir():
         return moved
