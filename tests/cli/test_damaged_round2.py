@@ -116,3 +116,30 @@ def test_a_trial_recorded_twice_with_other_values_is_run_again_not_kept_from_eit
     assert target.read_bytes() == kept
     again = RunStore(grid_run(results)).read().to_pandas().set_index("trial_id")
     assert len(again) == 2 and bool(again.loc[first, "success"]) == truth
+
+
+@pytest.mark.parametrize(("part", "copy"), [
+    ("records", "{stem} (conflicted copy 2026-11-30).parquet"),  # Dropbox
+    ("tables/candidates", "{stem} (1).parquet"),  # a browser's or Google Drive's second download
+])
+def test_a_sync_tools_copy_of_a_shard_is_moved_aside_not_the_shard(results, part, copy):
+    """A byte-identical copy of a shard under a sync tool's name: the copy is moved aside and
+    nothing runs again (the run's own file was called the duplicate, its name sorting after the
+    copy's, and moved aside, so the run went on from the copy; and a trace table's copy, now moved
+    aside, would have run all its trials again although the run's own file holds their traces)."""
+    (own,) = (grid_run(results) / part).glob("*.parquet")
+    kept = own.read_bytes()
+    duplicate = own.with_name(copy.format(stem=own.stem))
+    duplicate.write_bytes(kept)
+    rel = duplicate.relative_to(grid_run(results)).as_posix()
+    why = "named as a copy of a shard: the tool's names have no spaces or brackets"
+    refused(results, ["report", "baseline_grid", "--root", results],
+            f"run baseline_grid/default at {grid_run(results)} has a file {rel} {why}; "
+            f"{resume_advice(results)}")
+    repaired = invoke("run", "baseline_grid", *BG, "runner.progress=false", "--root", results)
+    assert repaired.exit_code == 0, repaired.output
+    target = grid_run(results) / "quarantine" / rel.replace("/", "__")
+    assert repaired.stderr == (f"warning: file {duplicate} moved to {target} ({why}); its trials "
+                               "will run again\n")
+    assert "2 trials, 2 already recorded, 0 ran" in repaired.stdout
+    assert own.read_bytes() == kept and target.read_bytes() == kept

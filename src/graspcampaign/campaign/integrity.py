@@ -62,8 +62,10 @@ from graspcampaign.errors import DamagedRunError, StoreWriteError
 
 log = logging.getLogger(__name__)
 
-#: Names of stored shards; anything else in a part directory (hidden files aside) is not a shard.
-SHARD = re.compile(r"(part|compact)-[^/]+\.parquet")
+#: Names of stored shards (a hash, a body id or "final", a "-k" suffix); anything else in a part
+#: directory (hidden files aside) is not a shard, a copy of one under a sync tool's or file
+#: manager's name ("compact-x (1).parquet", "part-x - Copy.parquet") neither.
+SHARD = re.compile(r"(part|compact)-[A-Za-z0-9_-]+\.parquet")
 _PARTS = ("records", "prepared", "tables", "summary")
 #: What happens to the trials of a file moved aside, by the part it was in.
 _THEN = {"records": "its trials will run again", "tables": "its trials will run again",
@@ -125,9 +127,12 @@ def layout_problems(store) -> list[Problem]:
     for directory in (d for d in dirs if d.is_dir()):
         for entry in sorted(directory.iterdir()):
             if not _hidden(entry) and not SHARD.fullmatch(entry.name):
-                out.append(Problem(entry, f"a file {_rel(store, entry)} that is not a Parquet "
-                                          "shard of the run", "quarantine",
-                                   _rel(store, directory), "not a Parquet shard of the run"))
+                copy = re.fullmatch(r"(part|compact)-.*\.parquet", entry.name)
+                why = ("named as a copy of a shard: the tool's names have no spaces or brackets"
+                       if copy else "not a Parquet shard of the run")
+                out.append(Problem(entry, f"a file {_rel(store, entry)} "
+                                          f"{why if copy else 'that is ' + why}", "quarantine",
+                                   _rel(store, directory), why))
     return out
 
 
@@ -213,7 +218,7 @@ def file_problems(store, part: str, allowed: dict[str, set]) -> list[Problem]:
                               why) for path in store._listing(part)[0] if path not in bad
                       and (why := _no_digest(facts(path), allowed))]
     seen: dict[str, Path] = {}
-    for path in (p for p in store._listing(part)[0] if p not in bad):
+    for path in (p for p in store._listing(part)[0] if p not in bad and SHARD.fullmatch(p.name)):
         rel, own = _rel(store, path), facts(path)  # one read of a file too new to be remembered
         unlike = _not_records(own, allowed) if part == "records" else None
         foreign = None if unlike else _foreign(own, allowed) if part == "records" else None
@@ -456,7 +461,9 @@ def repair(store, manifest: dict | None = None, config_hash: str | None = None,
             if group == "tables" and problem.fix != "duplicate" and problem.part != "tables":
                 others = [p for p in store._listing(problem.part)[0]
                           if p not in {q.path for q in found}]
-                lost |= _trials_of_trace(store, problem.path, others)
+                # trials whose traces another file of the table holds (a copy's) lost none
+                lost |= _trials_of_trace(store, problem.path, others) - set().union(
+                    *(_ids(other)[1] for other in others))
             if group == "summary":
                 (store.path / "summary" / "complete.json").unlink(missing_ok=True)
             what = {"duplicate": "duplicate file"}.get(
