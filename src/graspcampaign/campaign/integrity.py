@@ -33,9 +33,13 @@ of ``tables/`` or of ``quarantine/``; a damaged or missing manifest) is refused.
 
 from __future__ import annotations
 
+import contextlib
 import json
+import logging
+import os
 import re
 import shlex
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -52,12 +56,16 @@ from graspcampaign.campaign.provenance import (
     record_sources,
 )
 from graspcampaign.campaign.records import OPTIONAL_COLUMNS, RECORD_COLUMNS
-from graspcampaign.campaign.verify import Facts, facts, one_check, verify_file
+from graspcampaign.campaign.verify import Facts, facts, one_check, other_values, verify_file
 from graspcampaign.core.words import counted
-from graspcampaign.errors import DamagedRunError
+from graspcampaign.errors import DamagedRunError, StoreWriteError
 
-#: Names of stored shards; anything else in a part directory (hidden files aside) is not a shard.
-SHARD = re.compile(r"(part|compact)-[^/]+\.parquet")
+log = logging.getLogger(__name__)
+
+#: Names of stored shards (a hash, a body id or "final", a "-k" suffix); anything else in a part
+#: directory (hidden files aside) is not a shard, a copy of one under a sync tool's or file
+#: manager's name ("compact-x (1).parquet", "part-x - Copy.parquet") neither.
+SHARD = re.compile(r"(part|compact)-[A-Za-z0-9_-]+\.parquet")
 _PARTS = ("records", "prepared", "tables", "summary")
 #: What happens to the trials of a file moved aside, by the part it was in.
 _THEN = {"records": "its trials will run again", "tables": "its trials will run again",
@@ -85,6 +93,8 @@ class Problem:
     part: str = "records"
     reason: str = ""
     advice: str = ""
+    #: trials recorded with other values in an earlier file: their records there go too
+    conflicting: frozenset = frozenset()
 
 
 def _rel(store, path: Path) -> str:
@@ -117,9 +127,12 @@ def layout_problems(store) -> list[Problem]:
     for directory in (d for d in dirs if d.is_dir()):
         for entry in sorted(directory.iterdir()):
             if not _hidden(entry) and not SHARD.fullmatch(entry.name):
-                out.append(Problem(entry, f"a file {_rel(store, entry)} that is not a Parquet "
-                                          "shard of the run", "quarantine",
-                                   _rel(store, directory), "not a Parquet shard of the run"))
+                copy = re.fullmatch(r"(part|compact)-.*\.parquet", entry.name)
+                why = ("named as a copy of a shard: the tool's names have no spaces or brackets"
+                       if copy else "not a Parquet shard of the run")
+                out.append(Problem(entry, f"a file {_rel(store, entry)} "
+                                          f"{why if copy else 'that is ' + why}", "quarantine",
+                                   _rel(store, directory), why))
     return out
 
 
@@ -205,7 +218,7 @@ def file_problems(store, part: str, allowed: dict[str, set]) -> list[Problem]:
                               why) for path in store._listing(part)[0] if path not in bad
                       and (why := _no_digest(facts(path), allowed))]
     seen: dict[str, Path] = {}
-    for path in (p for p in store._listing(part)[0] if p not in bad):
+    for path in (p for p in store._listing(part)[0] if p not in bad and SHARD.fullmatch(p.name)):
         rel, own = _rel(store, path), facts(path)  # one read of a file too new to be remembered
         unlike = _not_records(own, allowed) if part == "records" else None
         foreign = None if unlike else _foreign(own, allowed) if part == "records" else None
@@ -221,6 +234,13 @@ def file_problems(store, part: str, allowed: dict[str, set]) -> list[Problem]:
             out.append(Problem(path, f"a file {rel} that {said}", "quarantine", part, f"it {said}"))
             continue
         twice = unique & seen.keys()
+        other = other_values(path, {seen[t] for t in twice}, twice) if part == "records" else None
+        if other:
+            why = (f"{counted(len(twice), 'trial')} also in {_rel(store, other[0])} with other "
+                   f"values (column {other[1]})")
+            out.append(Problem(path, f"a file {rel} recording {why}", "quarantine", part, why,
+                               conflicting=frozenset(twice)))
+            continue
         if twice:
             first = _rel(store, seen[min(twice)])
             scope = "every trial" if twice == unique else f"{len(twice)} of its {len(unique)} trials"
@@ -376,6 +396,34 @@ def _trials_of_trace(store, path: Path, others: list[Path]) -> set[str]:
     return store.recorded_ids() - set().union(*(_ids(other)[1] for other in others))
 
 
+def _quarantine(store, path: Path, reason: str, what: str, then: str) -> Path:
+    """Move ``path`` to ``quarantine/``, never over an earlier quarantined file, and warn:
+    "<what> <path> moved to <target> (<reason>); <then>". A rename, never a copy: a copy left
+    beside a file that could not be removed would count twice; what cannot be moved is refused,
+    nothing moved or made."""
+    directory = store._dir("quarantine")
+    stem = path.relative_to(store.path).as_posix().replace("/", "__")
+    target, k, made = directory / stem, 1, not directory.exists()
+    while target.exists():
+        base, dot, suffix = stem.rpartition(".")
+        target = directory / (f"{base}~{k}.{suffix}" if dot else f"{stem}~{k}")
+        k += 1
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+        os.rename(path, target)
+    except OSError as exc:
+        if made:
+            with contextlib.suppress(OSError):
+                directory.rmdir()
+        raise StoreWriteError(f"cannot move {path} to {target} ({reason}): "
+                              f"{os.strerror(exc.errno).lower()}; it stays where it is, so make "
+                              f"{path.parent} and {directory} writable and run the command "
+                              "again.") from None
+    warnings.warn(f"{what} {path} moved to {target} ({reason}); {then}", stacklevel=3)
+    log.warning("quarantined %s as %s: %s", path, target, reason)
+    return target
+
+
 @one_check()
 def repair(store, manifest: dict | None = None, config_hash: str | None = None,
            design: set[str] | None = None) -> list[tuple[Path, Path, str]]:
@@ -413,7 +461,9 @@ def repair(store, manifest: dict | None = None, config_hash: str | None = None,
             if group == "tables" and problem.fix != "duplicate" and problem.part != "tables":
                 others = [p for p in store._listing(problem.part)[0]
                           if p not in {q.path for q in found}]
-                lost |= _trials_of_trace(store, problem.path, others)
+                # trials whose traces another file of the table holds (a copy's) lost none
+                lost |= _trials_of_trace(store, problem.path, others) - set().union(
+                    *(_ids(other)[1] for other in others))
             if group == "summary":
                 (store.path / "summary" / "complete.json").unlink(missing_ok=True)
             what = {"duplicate": "duplicate file"}.get(
@@ -421,7 +471,8 @@ def repair(store, manifest: dict | None = None, config_hash: str | None = None,
             then = ("its trials stay recorded in " + problem.reason.split(" also in ")[-1]
                     if problem.fix == "duplicate" else "it held no part of the run"
                     if problem.part in ("tables", "summary") else _THEN[group])
-            target = store._quarantine(problem.path, problem.reason, what, then)
+            target = _quarantine(store, problem.path, problem.reason, what, then)
+            lost |= problem.conflicting  # neither record of a trial recorded twice is trusted
             moved.append((problem.path, target, problem.reason))
     if not moved and not (store.path / "tables").is_dir():
         return moved

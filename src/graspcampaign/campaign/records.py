@@ -41,10 +41,7 @@ from __future__ import annotations
 
 import contextlib
 import json
-import logging
 import os
-import shutil
-import warnings
 from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
@@ -72,8 +69,6 @@ from graspcampaign.campaign.verify import (
     verify_file,
 )
 from graspcampaign.errors import DamagedRunError, StoreWriteError, disk_full
-
-log = logging.getLogger(__name__)
 
 #: The columns every record has (docs/records.md; written by the runner and by ``ingest``) and
 #: what they hold; the optional ones hold it when present (a column of missing values: any type).
@@ -399,23 +394,6 @@ class RunStore:
         from graspcampaign.campaign.integrity import repair
 
         return repair(self, manifest, config_hash, design)
-
-    def _quarantine(self, path: Path, reason: str, what: str = "damaged file",
-                    then: str = "its trials will run again") -> Path:
-        """Move ``path`` to ``quarantine/``, never over an earlier quarantined file, and warn:
-        "<what> <path> moved to <target> (<reason>); <then>"."""
-        directory = self._dir("quarantine")
-        directory.mkdir(parents=True, exist_ok=True)
-        stem = path.relative_to(self.path).as_posix().replace("/", "__")
-        target, k = directory / stem, 1
-        while target.exists():
-            base, dot, suffix = stem.rpartition(".")
-            target = directory / (f"{base}~{k}.{suffix}" if dot else f"{stem}~{k}")
-            k += 1
-        shutil.move(str(path), target)
-        warnings.warn(f"{what} {path} moved to {target} ({reason}); {then}", stacklevel=3)
-        log.warning("quarantined %s as %s: %s", path, target, reason)
-        return target
 
     def _rewrite(self, path: Path, table: pa.Table, tag: Any) -> None:
         """Replace ``path`` by ``table`` (read from it, with its metadata) crash-safely: the new

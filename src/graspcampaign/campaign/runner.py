@@ -350,7 +350,8 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
 
         pending = [t for t in trials if t.trial_id not in done]
         summary = RunSummary(study.name, run, path, len(trials), n_already=len(trials) - len(pending))
-        prepared = _prepare_bodies(kind, study, params, pending, store, map_unordered, summary)
+        # every trial's body: a recorded trial's preparation lost (quarantined) is computed again
+        prepared = _prepare_bodies(kind, study, params, trials, store, map_unordered, summary)
         size = task_size(study, kind, len(pending))
         tasks = [
             [(t, prepared.get(content_hash(kind.body_key(t.factors))) if kind.body_key else None)
@@ -482,11 +483,12 @@ def _finalize(kind: TrialKind, study: StudyCfg, params: Any, store: RunStore) ->
     provenance.write_manifest(done, {"tables": sorted(tables), "at": provenance.now_utc()})
 
 
-def _prepare_bodies(kind, study, params, pending, store, map_unordered, summary):
-    """Compute (or read back) the shared preparation of every body the pending trials need."""
+def _prepare_bodies(kind, study, params, trials, store, map_unordered, summary):
+    """Compute (or read back) the shared preparation of every body the trials need (seeded by
+    the body alone, so one computed again is the one the recorded trials used)."""
     if kind.body_key is None or kind.prepare is None:
         return {}
-    bodies = {content_hash(kind.body_key(t.factors)): kind.body_key(t.factors) for t in pending}
+    bodies = {content_hash(kind.body_key(t.factors)): kind.body_key(t.factors) for t in trials}
     stored = store.read("prepared").to_pylist()
     have = {row["body_id"]: row for row in stored}
     missing = [b for h, b in bodies.items() if h not in have]

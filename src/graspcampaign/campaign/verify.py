@@ -272,3 +272,28 @@ def verify_file(path: Path) -> str | None:
 def facts(path: Path) -> Facts:
     """The facts of ``path``, verified (raises :class:`Damaged`)."""
     return cached(path) or read_file(path, [])[1]
+
+
+#: What a record says of where and how long it ran, not of its trial (docs/records.md).
+EXECUTION_COLUMNS = ("wall_time_s", "worker", "host")
+
+
+def other_values(path: Path, earlier: set[Path], ids: set[str]) -> tuple[Path, str] | None:
+    """The first of the ``earlier`` files and column where the records of trials ``ids`` in it
+    and in ``path`` differ (every column but :data:`EXECUTION_COLUMNS`, one only in one of them
+    too), or None: the same trial recorded twice with other values."""
+
+    def rows(file: Path, keep: pa.Array) -> pa.Table:
+        table = read_file(file)[0]
+        return table.filter(pc.is_in(table.column("trial_id"), value_set=keep)).sort_by("trial_id")
+
+    for file in sorted(earlier):
+        theirs = rows(file, pa.array(sorted(ids), pa.string()))
+        mine = rows(path, theirs.column("trial_id").combine_chunks())
+        shared = set(mine.column_names) & set(theirs.column_names)
+        differ = (set(mine.column_names) ^ set(theirs.column_names)) | {
+            n for n in shared if content_digest(mine.select([n])) != content_digest(theirs.select([n]))}
+        differ -= set(EXECUTION_COLUMNS)
+        if differ:
+            return file, min(differ)
+    return None
