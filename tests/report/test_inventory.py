@@ -105,7 +105,9 @@ def test_dynamic_tables_match_their_records(sim_root):
     assert (records[["touch_1_s", "touch_2_s", "touch_3_s"]].notna().all(axis=1)  # the contact path runs
             & (records[["normal_force_1_n", "normal_force_2_n", "normal_force_3_n"]] > 0).any(axis=1)).any()
     like = pd.read_csv(fm / "report" / "tables" / "like_for_like.csv")
-    assert list(like["labels_agree"]) == list(records["success"] == records["qs_success"])
+    # a grasp not settled by t_max has no dynamic label to agree or not (—: read as NaN)
+    agree = (records["success"] == records["qs_success"]).where(records["dynamic_status"] != "not_settled")
+    assert like["labels_agree"].tolist() == pytest.approx(agree.astype(float).tolist(), nan_ok=True)
     cone = pd.read_csv(fm / "report" / "tables" / "friction_cone.csv")
     assert list(cone["lp_mu0_reason"]) == list(records["lp_mu0_reason"])
     stable = pd.read_csv(fm / "report" / "tables" / "stable_by_preset.csv").set_index("model_preset")

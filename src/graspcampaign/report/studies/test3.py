@@ -28,9 +28,8 @@ def drops(run: Run) -> str:
     d, paper = t2.ex(run, PROPOSED), paper_of(run, lambda p: p.table9[PROPOSED].drop_pct)
     ratio = fmt.span([FAMILIES[m].mu_s / FAMILIES[m].mu_k for m in d["material"].unique() if m in FAMILIES],
                      digits=2)
-    return (f"The proposed planner drops {fmt.number(100 * d['is_drop'].mean(), 1)}% of its trials (paper "
-            f"{fmt.number(paper, 1)}%): a slip is not arrested once SF (static friction budget over the "
-            f"weight it carries) < μ_s/μ_k = {ratio} (Table 4, its materials). ")
+    return (f"The proposed planner drops {fmt.number(100 * d['is_drop'].mean(), 1)}% of trials (paper "
+            f"{fmt.number(paper, 1)}%): no slip is arrested below a safety factor of μ_s/μ_k = {ratio}. ")
 
 
 def table8(run: Run, d: pd.DataFrame, out: pd.DataFrame) -> pd.DataFrame:
