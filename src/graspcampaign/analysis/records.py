@@ -43,6 +43,15 @@ def flag(frame: pd.DataFrame, column: str) -> pd.Series:
     return col if col.dtype == bool else col.astype("boolean").fillna(False).astype(bool)
 
 
+def in_design_order(frame: pd.DataFrame) -> pd.DataFrame:
+    """``frame``'s rows by ``trial_index`` then ``trial_id`` (where it has them), each trial's rows
+    in their stored order. A run's files hold rows in the order its tasks finished, which depends
+    on ``n_jobs``, the task size and any resume: a resampling statistic read in that order would
+    differ between two runs of the same trials."""
+    keys = [c for c in ("trial_index", "trial_id") if c in frame]
+    return frame.sort_values(keys, kind="stable").reset_index(drop=True) if keys else frame
+
+
 def executed(records: pd.DataFrame) -> pd.DataFrame:
     """Return the executed trials (``status == "ok"``, not ``aborted``), outcomes as bool (missing:
     False); an aborted hardware attempt enters no statistic (paper Sec. 8.1)."""

@@ -13,6 +13,7 @@ from typing import Any
 
 import pandas as pd
 
+from graspcampaign.analysis.records import in_design_order
 from graspcampaign.campaign.paths import check_root, held_by_a_run, how_to_make, near_run, write_file
 from graspcampaign.campaign.provenance import read_manifest, run_size
 from graspcampaign.campaign.records import RunStore
@@ -101,7 +102,7 @@ def report_run(store: RunStore, root: Path, formats: list[str], figure_format: s
     manifest = store.check()  # never a report of records that are not what the manifest says
     if not manifest:
         raise UserInputError(f"{store.manifest_path} is missing.")
-    records, notes = store.read("records").to_pandas(), []
+    records, notes = in_design_order(store.read("records").to_pandas()), []
     progress = None  # of a run another process is recording: how much was recorded when read
     if busy or held_by_a_run(store.path):
         progress = f"{len(records)} of {run_size(manifest)} recorded when this report was made"

@@ -12,7 +12,7 @@ from typing import Any
 
 import pandas as pd
 
-from graspcampaign.analysis.records import executed, status_counts
+from graspcampaign.analysis.records import executed, in_design_order, status_counts
 from graspcampaign.analysis.vocabulary import data_source
 from graspcampaign.campaign.paths import how_to_make
 from graspcampaign.campaign.provenance import design_change, ingested, last_design, run_size
@@ -113,8 +113,8 @@ class Run:
 
     def part(self, name: str) -> pd.DataFrame:
         """Return a stored part of the run (e.g. ``prepared``; empty if the run has none)."""
-        return self.memo(name, lambda: self.store.read(name).to_pandas() if self.store is not None
-                         else pd.DataFrame())
+        return self.memo(name, lambda: in_design_order(self.store.read(name).to_pandas())
+                         if self.store is not None else pd.DataFrame())
 
     def stored(self, name: str) -> pd.DataFrame:
         """Return the stored part ``name`` (:meth:`part`) an item cannot do without; raise the one
