@@ -130,8 +130,7 @@ def read_table(path: str | Path, *, csv_options: dict | None = None,
                 frame.attrs["filled_sheets"] = [name for name, sheet in other.items() if len(sheet)]
             _check_merged(path, frame)
             if frame.isna().to_numpy().any():  # an error, an uncomputed formula: an empty cell
-                _check_errors(path, book.sheet_names[0], frame)
-                _check_formulas(path, book.sheet_names[0], frame)
+                _check_empty_cells(path, book.sheet_names[0], frame)
             return frame
         return pd.read_parquet(path)
     except IngestError:
@@ -201,49 +200,38 @@ def _check_compound(path: Path) -> None:
                       "CSV UTF-8.")
 
 
-def _check_errors(path: Path, sheet: str, frame: pd.DataFrame) -> None:
-    """Refuse an error cell (a formula's ``#DIV/0!``, a typed ``#N/A``), which pandas reads as an
-    empty cell: it would be stored as not measured. The stored values are read (a formula's last
-    result), row ``k`` of the frame being the sheet's row ``k + 2`` as in :func:`_check_formulas`.
-    """
+def _check_empty_cells(path: Path, sheet: str, frame: pd.DataFrame) -> None:
+    """Refuse a cell pandas read as empty that holds an error (a formula's ``#DIV/0!``, a typed
+    ``#N/A``: read from the stored values, a formula's last result) or a formula without a computed
+    value (a file written by a program such as openpyxl and never opened in a spreadsheet program
+    stores the formula only): either would be stored as not measured."""
+    for data_only, data_type, said in (
+            (True, "e", lambda value: spreadsheet_error(str(value))),
+            (False, "f", lambda value: f"the cell holds a formula ({value}) with no computed value; "
+                                       "open and save the file in a spreadsheet program, which "
+                                       "stores the values")):
+        if (found := _first_empty(path, sheet, frame, data_only, data_type)) is not None:
+            k, j, value = found
+            raise ingest_error(path.name, k + 1, str(frame.columns[j]), said(value))
+
+
+def _first_empty(path: Path, sheet: str, frame: pd.DataFrame, data_only: bool, data_type: str):
+    """``(k, j, value)`` of the first cell of openpyxl's ``data_type`` (``"e"`` an error, ``"f"`` a
+    formula) that the frame holds as empty, or None; the frame's row ``k`` is the sheet's row
+    ``k + 2`` (header in row 1: pandas keeps leading empty rows and columns)."""
     from openpyxl import load_workbook
 
-    book = load_workbook(path, read_only=True, data_only=True)
+    book = load_workbook(path, read_only=True, data_only=data_only)
     try:
         rows = book[sheet].iter_rows(min_row=2, max_row=len(frame) + 1, min_col=1,
                                      max_col=len(frame.columns))
         for k, cells in enumerate(rows):
             for j, cell in enumerate(cells):
-                if getattr(cell, "data_type", None) == "e" and pd.isna(frame.iat[k, j]):
-                    raise ingest_error(path.name, k + 1, str(frame.columns[j]),
-                                       spreadsheet_error(str(cell.value)))
+                if getattr(cell, "data_type", None) == data_type and pd.isna(frame.iat[k, j]):
+                    return k, j, cell.value
     finally:
         book.close()
-
-
-def _check_formulas(path: Path, sheet: str, frame: pd.DataFrame) -> None:
-    """Refuse a formula cell without a computed value, which pandas reads as an empty cell.
-
-    An XLSX stores a formula and, once a spreadsheet program has computed it, its value; a file
-    written by a program (openpyxl) and never opened in one has the formula only. pandas reads the
-    stored values, so the cell would be taken as not measured. The frame's row ``k`` is the
-    sheet's row ``k + 2`` (header in row 1: pandas keeps leading empty rows and columns).
-    """
-    from openpyxl import load_workbook
-
-    book = load_workbook(path, read_only=True, data_only=False)
-    try:
-        rows = book[sheet].iter_rows(min_row=2, max_row=len(frame) + 1, min_col=1,
-                                     max_col=len(frame.columns))
-        for k, cells in enumerate(rows):
-            for j, cell in enumerate(cells):
-                if getattr(cell, "data_type", None) == "f" and pd.isna(frame.iat[k, j]):
-                    raise ingest_error(path.name, k + 1, str(frame.columns[j]),
-                                f"the cell holds a formula ({cell.value}) with no computed value; "
-                                "open and save the file in a spreadsheet program, which stores "
-                                "the values")
-    finally:
-        book.close()
+    return None
 
 
 def _check_merged(path: Path, frame: pd.DataFrame) -> None:
@@ -255,7 +243,7 @@ def _check_merged(path: Path, frame: pd.DataFrame) -> None:
     merged over two trials would be stored for the first alone. A hidden sheet or row (hidden, or
     filtered out, §18.3.1.73 ``hidden``) is one someone left out, usually: pandas reads it as any
     other, so it would be stored without a word. The sheet's row ``k + 2`` is the frame's row
-    ``k`` (header in row 1), as in :func:`_check_formulas`.
+    ``k`` (header in row 1), as in :func:`_first_empty`.
     """
     from openpyxl.utils.cell import range_boundaries
 
