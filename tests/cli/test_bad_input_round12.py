@@ -104,11 +104,12 @@ def test_an_integer_with_a_leading_zero_in_a_study_file_is_refused(results, user
 @pytest.mark.parametrize(("seeds", "nodes", "said"), [
     # each was run as base 60 (1:30 is 1 * 60 + 30) with nothing said
     ("1:30", "[144]", "line 5: seeds = 1:30 has a colon, which YAML reads as a base-60 (sexagesimal) "
-     "number, 90; write 90 or '1:30'."),
+     "number, 90; write 90, or '1:30' in quotes to mean text."),
     ("2", "[144, 1:30:00]", "line 8: factors.nodes[1] = 1:30:00 has colons, which YAML reads as a "
-     "base-60 (sexagesimal) number, 5400; write 5400 or '1:30:00'."),
+     "base-60 (sexagesimal) number, 5400; write 5400, or '1:30:00' in quotes to mean text."),
     ("2", "\n    - 144\n    - -1:30.5", "line 10: factors.nodes[1] = -1:30.5 has a colon, which YAML "
-     "reads as a base-60 (sexagesimal) number, -90.5; write -90.5 or '-1:30.5'."),
+     "reads as a base-60 (sexagesimal) number, -90.5; write -90.5, or '-1:30.5' in quotes to mean "
+     "text."),
 ])
 def test_a_number_with_a_colon_in_a_study_file_is_refused(results, user_dir, seeds, nodes, said):
     path = _study(user_dir, seeds, nodes)

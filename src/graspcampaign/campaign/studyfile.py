@@ -282,7 +282,8 @@ def _base_60(loader: Any, node: Any) -> str | None:
         return None
     read = (loader.construct_yaml_int if tag == _INT else loader.construct_yaml_float)(node)
     colons = "a colon" if value.count(":") == 1 else "colons"
-    return f" has {colons}{_BASE_60} (sexagesimal) number, {read!r}; write {read!r} or '{value}'"
+    return (f" has {colons}{_BASE_60} (sexagesimal) number, {read!r}; write {read!r}, or '{value}' "
+            "in quotes to mean text")
 
 
 def _misread(loader: Any, node: Any) -> str | None:
