@@ -1,10 +1,14 @@
-"""Damage a Parquet file the way a bad disk sector does: one value column's page, nothing else."""
+"""Damage a Parquet file the way a bad disk sector does: one value column's page, nothing else;
+write an edited table as the tool writes one (:func:`as_written`)."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
+import pyarrow as pa
 import pyarrow.parquet as pq
+
+from graspcampaign.campaign.verify import CONTENT_KEY, content_digest
 
 
 def corrupt_value_column(path: Path, column: str) -> None:
@@ -33,3 +37,9 @@ def corrupt_value_column(path: Path, column: str) -> None:
     except OSError:
         return
     raise AssertionError(f"flipping bytes of {column} in {path} did not damage a checked page")
+
+
+def as_written(table: pa.Table, target: Path) -> None:
+    """Write ``table`` as ``target`` as the tool writes a file: with the digest of its values."""
+    meta = {**(table.schema.metadata or {}), CONTENT_KEY: content_digest(table).encode()}
+    pq.write_table(table.replace_schema_metadata(meta), target, write_page_checksum=True)

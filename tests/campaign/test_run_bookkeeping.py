@@ -15,23 +15,13 @@ import pyarrow as pa
 import pyarrow.compute as pc
 import pyarrow.parquet as pq
 import pytest
+from damage import as_written
 
 from graspcampaign.campaign import integrity, provenance
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.runner import run_lock, run_study
-from graspcampaign.campaign.studyfile import run_path
-from graspcampaign.campaign.verify import CONTENT_KEY, content_digest
+from graspcampaign.campaign.verify import content_digest
 from graspcampaign.errors import UserInputError
-
-
-@pytest.fixture
-def finished(study_factory):
-    """A finished run of the test kind: its store, manifest and compacted records file."""
-    study = study_factory()
-    run_study(study)
-    store = RunStore(run_path(study))
-    (compact,) = (store.path / "records").glob("compact-*.parquet")
-    return study, store, compact
 
 
 def _stored_ids(store: RunStore) -> set:
@@ -40,12 +30,6 @@ def _stored_ids(store: RunStore) -> set:
 
 def _manifest(store: RunStore) -> dict:
     return json.loads(store.manifest_path.read_text())
-
-
-def _as_written(table: pa.Table, target) -> None:
-    """Write ``table`` as the tool writes a file: with the digest of its values."""
-    meta = {**(table.schema.metadata or {}), CONTENT_KEY: content_digest(table).encode()}
-    pq.write_table(table.replace_schema_metadata(meta), target, write_page_checksum=True)
 
 
 def test_a_resumed_session_keeps_counting_the_trials_stored_before_it(finished):
@@ -93,7 +77,7 @@ def test_a_run_held_by_one_lock_refuses_a_second(finished):
 def test_one_trial_recorded_twice_in_a_file_is_found(finished):
     _, store, compact = finished
     table = pq.read_table(compact)
-    _as_written(pa.concat_tables([table, table.slice(0, 1)]), compact)
+    as_written(pa.concat_tables([table, table.slice(0, 1)]), compact)
     found = [p.text for p in integrity.problems(store, _manifest(store))]
     assert any(f"records/{compact.name} that records 1 trial twice" in t for t in found), found
 
@@ -102,6 +86,6 @@ def test_one_missing_trial_is_found(finished):
     _, store, compact = finished
     table = pq.read_table(compact)
     first = table["trial_id"][0]
-    _as_written(table.filter(pc.not_equal(table["trial_id"], first)), compact)
+    as_written(table.filter(pc.not_equal(table["trial_id"], first)), compact)
     found = [p.text for p in integrity.problems(store, _manifest(store))]
     assert "missing records: its manifest counts 16 recorded trials but 15 are stored" in found, found

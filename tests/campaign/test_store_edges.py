@@ -15,13 +15,13 @@ import kinds_for_tests  # noqa: F401  (registers the test kinds)
 import pyarrow as pa
 import pyarrow.parquet as pq
 import pytest
-from damage import corrupt_value_column
+from damage import as_written, corrupt_value_column
 
 from graspcampaign.campaign import records, verify
 from graspcampaign.campaign.records import RunStore, config_metadata
 from graspcampaign.campaign.runner import run_study
 from graspcampaign.campaign.studyfile import run_path
-from graspcampaign.campaign.verify import CONFIG_KEY, CONTENT_KEY, SOURCES_KEY, content_digest
+from graspcampaign.campaign.verify import CONFIG_KEY, SOURCES_KEY
 from graspcampaign.errors import DamagedRunError
 
 
@@ -226,24 +226,8 @@ def test_a_file_that_changed_while_it_was_read_is_not_remembered(tmp_path, monke
 
 
 # -- a run checked against its manifest (campaign.integrity) -------------------------------------
-@pytest.fixture
-def finished(study_factory):
-    """A finished run of the test kind (16 trials): its store and compacted records file."""
-    study = study_factory()
-    run_study(study)
-    store = RunStore(run_path(study))
-    (compact,) = (store.path / "records").glob("compact-*.parquet")
-    return store, compact
-
-
-def _as_written(table: pa.Table, target) -> None:
-    """Write ``table`` as the tool writes a file: with the digest of its values."""
-    meta = {**(table.schema.metadata or {}), CONTENT_KEY: content_digest(table).encode()}
-    pq.write_table(table.replace_schema_metadata(meta), target, write_page_checksum=True)
-
-
 def test_a_file_whose_name_only_begins_like_a_shard_is_no_shard(finished):
-    store, compact = finished
+    _, store, compact = finished
     shutil.copy(compact, store.path / "records" / "part-x.parquet.bak")
     with pytest.raises(DamagedRunError, match=r"has a file records/part-x\.parquet\.bak that is "
                                               "not a Parquet shard of the run"):
@@ -251,22 +235,22 @@ def test_a_file_whose_name_only_begins_like_a_shard_is_no_shard(finished):
 
 
 def test_one_trial_recorded_twice_in_one_file_is_found(finished):
-    store, compact = finished
+    _, store, compact = finished
     table = pq.read_table(compact)
-    _as_written(pa.concat_tables([table, table.slice(3, 1)]), compact)
+    as_written(pa.concat_tables([table, table.slice(3, 1)]), compact)
     with pytest.raises(DamagedRunError, match=f"a file records/{compact.name} that records 1 "
                                               "trial twice"):
         store.check()
 
 
 def test_an_unfinished_run_storing_one_trial_more_than_its_design_is_refused(finished):
-    store, compact = finished
+    _, store, compact = finished
     manifest = json.loads(store.manifest_path.read_text())
     store.manifest_path.write_text(json.dumps({**manifest, "finished_at": None}))
     table = pq.read_table(compact)
     extra = table.slice(0, 1).set_column(0, "trial_id", pa.array(["extra-0123456789"]))
     assert table.column_names[0] == "trial_id"
-    _as_written(extra.replace_schema_metadata(table.schema.metadata),
+    as_written(extra.replace_schema_metadata(table.schema.metadata),
                 store.path / "records" / "part-extra.parquet")
     with pytest.raises(DamagedRunError, match=r"n_trials is 16, but it stores 17 trials of its one "
                                               "config"):
