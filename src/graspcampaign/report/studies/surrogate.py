@@ -152,7 +152,7 @@ def finding(run: Run) -> str:
         text += (f"An MLP prediction ({us[0]}) is {fmt.number(tm.loc['mlp', 'speedup'], sig=3)}× faster "
                  f"than the brief PSO call ({us[1]}; paper {paper_us} µs, "
                  f"{fmt.number(tm.loc['mlp', 'paper_speedup'], 0)}×; table surrogate_timing). ")
-    check = "|R_z|" if run.config.get("evaluator", {}).get("residual_check") == "vertical" else "‖R‖"
+    check = "|R_z|" if (run.config.get("evaluator") or {}).get("residual_check") == "vertical" else "‖R‖"
     passed = int(run.ok["residual_ok"].astype(bool).sum())  # the configured residual check alone
     return text + (f"Why: in SI, Algorithm 2 as published passes the {check} check in {passed or 'none'} of "
                    f"{len(deep)} scenarios and buries a fingertip "
