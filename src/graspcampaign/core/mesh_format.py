@@ -23,6 +23,7 @@ __all__ = [
     "check_stl_layout",
     "other_format",
     "ply_layout",
+    "text_utf16",
     "text_with_bom",
 ]
 

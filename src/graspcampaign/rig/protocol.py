@@ -195,7 +195,6 @@ def _test2_slots() -> list[dict[str, Any]]:
     return slots
 
 
-
 def test2_schedule(seed: int = 0) -> pd.DataFrame:
     """Return the Test 2 (grasp validation, §8) commanded-trial sheet.
 
@@ -340,7 +339,6 @@ def _test3_proposed() -> list[dict[str, Any]]:
             cursor += 1
         slots += cell
     return slots
-
 
 
 def test3_schedule(seed: int = 0) -> pd.DataFrame:

@@ -59,7 +59,7 @@ BOOLEAN_ALLOWED = ", ".join(f"{yes}/{no}" for yes, no in BOOLEAN_WORDS)
 #: The words a cell of measured records may hold, any case, to say "not measured", as an empty
 #: cell does: the words of pandas' default missing values (``read_csv``'s ``na_values``) but the
 #: spreadsheet errors (``#N/A``: a formula's error is named as one) and the numeric oddities
-#: (``-1.#IND``). What ingest reads (``ingest._not_measured``) and the template's columns sheet
+#: (``-1.#IND``). What ingest reads (``ingest._blank``) and the template's columns sheet
 #: lists (:data:`NOT_MEASURED_SAID`); any other text where a number belongs (``-``, ``?``) is
 #: refused.
 NOT_MEASURED_WORDS = ("NA", "N/A", "NaN", "null", "none")
@@ -67,9 +67,13 @@ NOT_MEASURED_SAID = f"empty or {', '.join(NOT_MEASURED_WORDS)} (any case)"
 
 __all__ = [
     "ATTEMPT_TYPO_LIMIT",
+    "BOOLEAN_ALLOWED",
+    "BOOLEAN_WORDS",
     "DECISIVE",
     "FLAG_OF",
     "FieldSpec",
+    "NOT_MEASURED_SAID",
+    "NOT_MEASURED_WORDS",
     "OUTCOME_VALUES",
     "SOURCES",
     "TEST2_SCHEMA",
