@@ -44,16 +44,19 @@ def check_stl_layout(name: str, base: str, n_bytes: int, head: bytes) -> None:
     if _binary_stl_size(head, n_bytes):
         return  # binary STL: 80-byte header, triangle count, 50 bytes per triangle
     if head.lstrip()[:5].lower() == b"solid":
+        last, at = "", 0  # its last line holding text, and that line's number
         try:
-            with open(name, encoding="ascii") as fh:
-                lines = fh.read().rstrip().splitlines()
+            with open(name, encoding="ascii") as fh:  # line by line: not the whole file at once
+                for n, line in enumerate(fh, 1):
+                    if line.strip():
+                        last, at = line.strip(), n
         except UnicodeDecodeError:
             pass
         else:  # an ASCII STL ends with 'endsolid': without it, trimesh reads no face at all
-            if not lines[-1].strip().lower().startswith("endsolid"):
+            if not last.lower().startswith("endsolid"):
                 raise MeshError(f"mesh {base!r} is cut short: an ASCII STL ends with an "
-                                f"'endsolid' line, and this one ends on line {len(lines)} "
-                                f"({lines[-1].strip()[:40]!r}); copy or export it again.")
+                                f"'endsolid' line, and this one ends on line {at} "
+                                f"({last[:40]!r}); copy or export it again.")
             return
     declared = int.from_bytes(head[80:84], "little") if len(head) == 84 else 0
     # a binary STL cut short (the copy stopped midway): a count no file of another kind holds by
