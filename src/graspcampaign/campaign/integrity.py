@@ -381,10 +381,10 @@ def _holds_files(path: Path) -> bool:
     return path.is_dir() and any(p.is_file() for p in path.rglob("*") if not _hidden(p))
 
 
-def _trials_of_trace(store, path: Path, others: list[Path]) -> set[str]:
+def _trials_of_trace(store, path: Path) -> set[str]:
     """The trials whose traces a trace file moved aside held: from its key pages, else from the
-    records file of the same task, else every recorded trial without a row in the table's other
-    files (re-running a trial that had none costs time, never a wrong record)."""
+    records file of the same task, else every recorded trial (the caller keeps those with a row in
+    the table's other files; re-running a trial that had none costs time, never a wrong record)."""
     try:
         return set(pq.read_table(path, columns=["trial_id"],
                                  page_checksum_verification=True).column("trial_id").to_pylist())
@@ -393,7 +393,7 @@ def _trials_of_trace(store, path: Path, others: list[Path]) -> set[str]:
     twin = store.path / "records" / path.name  # a task's traces and records share its name
     if twin.is_file() and SHARD.fullmatch(twin.name) and verify_file(twin) is None:
         return _ids(twin)[1]
-    return store.recorded_ids() - set().union(*(_ids(other)[1] for other in others))
+    return store.recorded_ids()
 
 
 def _quarantine(store, path: Path, reason: str, what: str, then: str) -> Path:
@@ -462,7 +462,7 @@ def repair(store, manifest: dict | None = None, config_hash: str | None = None,
                 others = [p for p in store._listing(problem.part)[0]
                           if p not in {q.path for q in found}]
                 # trials whose traces another file of the table holds (a copy's) lost none
-                lost |= _trials_of_trace(store, problem.path, others) - set().union(
+                lost |= _trials_of_trace(store, problem.path) - set().union(
                     *(_ids(other)[1] for other in others))
             if group == "summary":
                 (store.path / "summary" / "complete.json").unlink(missing_ok=True)

@@ -142,7 +142,6 @@ def design_change(manifest: dict[str, Any]) -> tuple[str, str] | None:
     return " ".join(changed), f"{manifest.get('n_trials')}{of} trials"
 
 
-
 def last_design(manifest: dict[str, Any]) -> dict[str, Any] | None:
     """The last session that names its design's trial count (``n_trials``): a ``run`` session
     since sessions record it; None for a run stored before, or only ingested."""
@@ -167,6 +166,7 @@ def run_complete(manifest: dict[str, Any], n_recorded: int) -> bool:
     if last is None:
         return n_recorded == manifest.get("n_trials")
     return last.get("recorded") == last["n_trials"]
+
 
 #: The manifest's fields every command relies on, and what each must hold.
 _COUNT = "a whole number of trials"

@@ -14,7 +14,7 @@ from typing import Any
 
 from graspcampaign.campaign.catalog import design_size, kind_facts
 from graspcampaign.campaign.kind import KINDS, get_kind, kind_available
-from graspcampaign.campaign.paths import check_root, how_to_make, near_run
+from graspcampaign.campaign.paths import check_root, held_by_a_run, how_to_make, near_run
 from graspcampaign.campaign.schema import StudyCfg, design_shape
 from graspcampaign.campaign.studyfile import check_name, list_studies, run_dir, run_path
 from graspcampaign.core.words import counted, meant
@@ -247,7 +247,6 @@ def run_status(root: Path | str, study: str, run: str = "default") -> dict[str, 
     UserInputError
         No such run; for a study that is neither known nor in ``root``, the available studies.
     """
-    from graspcampaign.campaign.paths import held_by_a_run
     from graspcampaign.campaign.provenance import run_complete, run_size
 
     store, manifest = open_run(root, study, run)

@@ -15,14 +15,9 @@ from graspcampaign.errors import ConfigError
 _BOOL, _NULL = "tag:yaml.org,2002:bool", "tag:yaml.org,2002:null"
 
 
-def key_lines(text: str) -> dict[str, int]:
-    """Return ``{dotted key: 1-based line}`` of every mapping key and list item of a YAML text
-    (``factors.mu`` and ``factors.mu[1]``); empty if the text does not parse."""
-    return {key: line for key, (line, _) in _key_nodes(text).items()}
-
-
 def _key_nodes(text: str) -> dict[str, tuple[int, Any]]:
-    """:func:`key_lines` with each key's value node: ``{dotted key: (line, node)}``."""
+    """Return ``{dotted key: (1-based line, value node)}`` of every mapping key and list item of
+    a YAML text (``factors.mu`` and ``factors.mu[1]``); empty if the text does not parse."""
     import yaml
 
     try:
@@ -47,14 +42,21 @@ def _key_nodes(text: str) -> dict[str, tuple[int, Any]]:
     return out
 
 
-def line_of(path: Path, key: str | None) -> int | None:
-    """The line of ``path`` that writes ``key`` or, failing that, its nearest parent."""
+def _file_nodes(path: Path) -> dict[str, tuple[int, Any]]:
+    """:func:`_key_nodes` of the file at ``path``; empty if it cannot be read as UTF-8."""
+    try:
+        return _key_nodes(Path(path).read_text(encoding="utf-8-sig"))
+    except (OSError, UnicodeDecodeError):
+        return {}
+
+
+def line_of(path: Path, key: str | None, nodes: dict[str, tuple[int, Any]] | None = None
+            ) -> int | None:
+    """The line of ``path`` that writes ``key`` or, failing that, its nearest parent (``nodes``:
+    the file's :func:`_file_nodes`, when read already)."""
     if not key:
         return None
-    try:
-        lines = key_lines(Path(path).read_text(encoding="utf-8-sig"))
-    except (OSError, UnicodeDecodeError):
-        return None
+    lines = {k: line for k, (line, _) in (_file_nodes(path) if nodes is None else nodes).items()}
     while key:
         if key in lines:
             return lines[key]
@@ -69,8 +71,9 @@ def in_file(path: Path, exc: ConfigError, key_prefix: str = "") -> ConfigError:
     false or null (``no``, ``On``, ``NO``, ``~``) is named as written: ``no, which YAML reads as
     false; quote it: 'no'`` (the quotes where text is wanted)."""
     key = exc.key[len(key_prefix):] if exc.key and key_prefix else exc.key
-    line, text = line_of(path, key), str(exc)
-    if (word := _yaml_word(path, key)) is not None:
+    nodes = _file_nodes(path)  # read and parsed once, for the line and the word
+    line, text = line_of(path, key, nodes), str(exc)
+    if (word := _yaml_word(nodes, key)) is not None:
         import yaml
 
         read = yaml.safe_load(word)  # what every YAML 1.1 reader makes of it
@@ -82,14 +85,11 @@ def in_file(path: Path, exc: ConfigError, key_prefix: str = "") -> ConfigError:
     return ConfigError(f"{where}: {text}", key=exc.key)
 
 
-def _yaml_word(path: Path, key: str | None) -> str | None:
-    """The word ``path`` writes at ``key`` if YAML reads it as a bool or null and it is none of
-    ``true``, ``false``, ``null`` (``yes``, ``no``, ``on``, ``off`` in any of their cases, ``~``),
-    else None."""
-    try:
-        written = _key_nodes(Path(path).read_text(encoding="utf-8-sig")).get(key or "")
-    except (OSError, UnicodeDecodeError):
-        return None
+def _yaml_word(nodes: dict[str, tuple[int, Any]], key: str | None) -> str | None:
+    """The word a file (its :func:`_file_nodes`) writes at ``key`` if YAML reads it as a bool or
+    null and it is none of ``true``, ``false``, ``null`` (``yes``, ``no``, ``on``, ``off`` in any
+    of their cases, ``~``), else None."""
+    written = nodes.get(key or "")
     node = written[1] if written else None
     if getattr(node, "tag", None) not in (_BOOL, _NULL) or node.style is not None:
         return None

@@ -188,12 +188,13 @@ def guard(fn):
                 fail(str(exc))
             raise
         except OSError as exc:  # a full disk where no layer said so itself (a report's figure)
-            if not (disk_full(exc) or name_too_long(exc)):  # or a name too long to stat or open
+            long = name_too_long(exc)  # or a name too long to stat or open
+            if not (disk_full(exc) or long):
                 raise
             if state["debug"]:
                 traceback.print_exc()
-            if name_too_long(exc):
-                fail(name_too_long(exc))
+            if long:
+                fail(long)
             fail(f"cannot write {exc.filename or 'a file'}: {os.strerror(exc.errno).lower()}; free "
                   "some space there and run the command again.")
     return wrapper
