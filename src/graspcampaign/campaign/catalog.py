@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import Any
 
 import graspcampaign
-from graspcampaign.campaign.paths import expand_home
+from graspcampaign.campaign.paths import config_root, expand_home
 
 log = logging.getLogger(__name__)
 
@@ -270,8 +270,8 @@ def study_row(path: Path) -> dict[str, Any]:
             digest.update(conf.read_bytes())
         source = study.params.get("source_study")
         if source:  # a design read from another run's records: keyed on that run's manifest too
-            manifest = expand_home(study.output.root)[0] / source / study.params.get(
-                "source_run", "default")  # ~ read as compose_study reads it (paths.config_root)
+            manifest = Path(config_root(study.output.root)) / source / study.params.get(
+                "source_run", "default")  # ~ read as compose_study reads it
             digest.update(_read_or_none(manifest / "manifest.json"))
 
         def compute() -> int | str:
