@@ -91,8 +91,8 @@ class TrialKind:
     extra: dict[str, Any] = field(default_factory=dict)
 
 
-# name -> "module:attribute" of a TrialKind, or None while not implemented (with the issue that
-# will implement it, shown by `graspcampaign list`).
+# name -> "module:attribute" of a TrialKind, or None while not implemented (`graspcampaign list`
+# then shows its studies as not yet runnable).
 KINDS: dict[str, str | None] = {
     "mesh_features": "graspcampaign.campaign.kinds.smoke:MESH_FEATURES",
     "quasi_static": "graspcampaign.campaign.kinds.quasi_static:QUASI_STATIC",
