@@ -1,5 +1,6 @@
-"""The reports cite design decisions by their `docs/decisions.md` heading, never by an internal
-issue number: every string of report/ and analysis/ (docstrings aside) is read with :mod:`ast`."""
+"""The reports cite design decisions by their `docs/decisions.md` heading (every citation names one,
+and each one named is a heading), never by an internal issue number: every string of report/ and
+analysis/ (docstrings aside) is read with :mod:`ast`."""
 
 from __future__ import annotations
 
@@ -42,3 +43,40 @@ def test_every_cited_decision_is_a_heading():
     cited = {VALIDITY} | {title for _, s in report_strings() if "docs/decisions.md" in s
                           for title in re.findall(r"\*([^*{}]+)\*", s.split("docs/decisions.md", 1)[1])}
     assert len(cited) > 10 and cited - headings() == set()
+
+
+def cited_texts() -> list[tuple[str, str]]:
+    """``(module, text)`` of every string of report/ and analysis/ but docstrings, an f-string whole
+    (its fields as ``{expression}``), so a citation split by a field is read as one."""
+    out = []
+    for path in sorted([*(PACKAGE / "report").rglob("*.py"), *(PACKAGE / "analysis").rglob("*.py")]):
+        tree = ast.parse(path.read_text())
+        docs = {id(node.body[0].value) for node in ast.walk(tree)
+                if isinstance(node, ast.Module | ast.ClassDef | ast.FunctionDef)
+                and node.body and isinstance(node.body[0], ast.Expr)}
+        parts = set()
+        for node in ast.walk(tree):
+            if isinstance(node, ast.JoinedStr):
+                parts |= {id(value) for value in node.values}
+                out.append((path.name, "".join(
+                    value.value if isinstance(value, ast.Constant) else f"{{{ast.unparse(value.value)}}}"
+                    for value in node.values)))
+        out += [(path.name, node.value) for node in ast.walk(tree) if isinstance(node, ast.Constant)
+                and isinstance(node.value, str) and id(node) not in docs | parts]
+    return out
+
+
+#: citations of docs/decisions.md in report text that name no heading, and where their decision is;
+#: report text is its owner's to reword (fails here once it names the heading: drop it then)
+LOOSE = {("dynamic.py", "`, energy audit)."): "the energy audit's entries are under *Dynamic MSD simulator*"}
+
+
+def test_every_citation_of_the_decisions_names_a_heading():
+    """A report cites a decision as ``docs/decisions.md`, *<heading>*``: a citation naming no heading
+    (``docs/decisions.md`, energy audit``) sends the reader to a 6,000-line file with nothing to find;
+    the headings named are checked by :func:`test_every_cited_decision_is_a_heading`."""
+    loose = [(module, after[:40]) for module, text in cited_texts()
+             for after in text.split("docs/decisions.md")[1:]
+             if not re.match(r"`?,\s*\*[^*]+\*", after)]
+    assert len([t for _, t in cited_texts() if "docs/decisions.md" in t]) > 10
+    assert sorted(loose) == sorted(LOOSE), "cite a decision by its heading: `docs/decisions.md`, *...*"
