@@ -139,7 +139,7 @@ GRAVITY_SETTLE = ReportSpec("gravity_settle", [
               *cols("energy_increases")], by=["integrator"]),
     Text("The energy-balance error at the settle step is each integrator's own truncation of the stiffest "
          "mesh modes; mechanical energy growing without external power would be a defect, and the table "
-         "counts such steps (`docs/decisions.md`, energy audit)."),
+         "counts such steps (`docs/decisions.md`, *Dynamic MSD simulator*)."),
     Figure("integrator_audit", "Global error against step size (dashed: the expected order's slope) and "
            "energy-balance error over time, per integrator; (b) plots the absolute error in J, the table "
            "integrator_audit its largest value relative to the largest energy [–]", integrator_figure,
