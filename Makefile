@@ -15,7 +15,7 @@ unexport PYTHONDONTWRITEBYTECODE
 help:  ## list the targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/' | expand -t 14
 
-install: $(WARM)  ## create .venv, install the package with every extra, compile the kernels
+install: $(WARM)  ## create .venv, install the package with its dev, dask, ml and xlsx extras (not bench: MuJoCo), compile the kernels
 $(STAMP): pyproject.toml
 	$(PY) -m venv $(VENV)
 	$(BIN)/pip install --quiet --disable-pip-version-check -e '.[dev,dask,ml,xlsx]'
