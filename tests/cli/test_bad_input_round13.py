@@ -48,3 +48,27 @@ def test_an_accented_letter_in_a_value_is_still_told_to_be_quoted(tmp_path):
             "cannot parse override 'output.run=caf\xe9': '\xe9' (character 15) is not allowed in "
             "an unquoted value (only ASCII letters, digits, spaces and _-+.$%*@?|/\\ are); quote "
             "it: output.run=\"caf\xe9\", typed in single quotes on the shell.")
+
+
+HEADER = "# @package _global_\n# schema: StudyCfg\n"
+
+
+@pytest.mark.parametrize(("key", "line", "said"), [
+    # each was "se​eds is not a known key of the study config; did you mean seeds?", the key
+    # printed with its invisible character, so that it read as the key suggested
+    ("se\u200beds: 1", 5, "the key 'se\\u200beds' holds U+200B (zero width space), which does not "
+     "print; write 'seeds'."),
+    ("seeds\xa0: 1", 5, "the key 'seeds\\xa0' holds U+00A0 (no-break space), which does not print; "
+     "write 'seeds'."),
+    ("runner:\n  n_jo\u200bbs: 1", 6, "the key 'n_jo\\u200bbs' holds U+200B (zero width space), "
+     "which does not print; write 'n_jobs'."),
+    # a section's own sentences showed it as typed too ("factors.no​des is not a known factor")
+    ("factors:\n  shape: [sphere]\n  no\ufeffdes: [144]", 7, "the key 'no\\ufeffdes' holds U+FEFF "
+     "(zero width no-break space), which does not print; write 'nodes'."),
+])
+def test_a_key_holding_a_character_that_does_not_print_is_named_escaped(tmp_path, user_dir, key,
+                                                                       line, said):
+    path = user_dir / "mine.yaml"
+    path.write_text(HEADER + f"name: mine\nkind: mesh_features\n{key}\n", encoding="utf-8")
+    for command in ("show", "run"):
+        refused(tmp_path, [command, path, "--root", tmp_path], f"{path}, line {line}: {said}")
