@@ -72,3 +72,18 @@ def test_a_key_holding_a_character_that_does_not_print_is_named_escaped(tmp_path
     path.write_text(HEADER + f"name: mine\nkind: mesh_features\n{key}\n", encoding="utf-8")
     for command in ("show", "run"):
         refused(tmp_path, [command, path, "--root", tmp_path], f"{path}, line {line}: {said}")
+
+
+@pytest.mark.parametrize(("typed", "said"), [
+    # each was blamed on the study file ("campaigns/smoke.yaml, line 11: ..."), which does not
+    # say cube, 7 or a tenth shape: an override's list element (factors.shape.0) was not matched
+    # to the key the check names (factors.shape[0])
+    ("factors.shape.0=cube", "factors.shape[0] has unknown value 'cube'; allowed values: sphere, "
+     "ellipsoid, rounded_cube, pear, handle."),
+    ("factors.nodes.1=7", "factors.nodes[1] = 7 is out of range; allowed: >= 12 and <= 20000 (a "
+     "closed mesh needs 12 nodes, and one finer than 20,000 resolves nothing a 5 mm fingertip "
+     "feels)."),
+    ("factors.shape.9=pear", "factors.shape[9]: list index out of range."),
+])
+def test_an_override_of_one_level_is_named_as_the_override_not_the_study_file(tmp_path, typed, said):
+    refused(tmp_path, ["show", "smoke", typed, "--root", tmp_path], said)
