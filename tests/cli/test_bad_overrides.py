@@ -72,11 +72,10 @@ OVERRIDES = {
     "shape=[sphère]": "cannot parse override 'shape=[sphère]': 'è' (character 11) is not allowed in "
                       "an unquoted value (only ASCII letters, digits, spaces and _-+.$%*@?|/\\ "
                       "are); quote it: shape=[\"sphère\"], typed in single quotes on the shell.",
+    # a character that looks like ASCII is named with the ASCII it looks like (quoting keeps it)
     "shape=[pear,sph\u00a0ere]": "cannot parse override 'shape=[pear,sph\\xa0ere]': U+00A0 "
-                                 "(no-break space) (character 16) is not allowed in an unquoted "
-                                 "value (only ASCII letters, digits, spaces and "
-                                 "_-+.$%*@?|/\\ are); quote it: shape=[pear,\"sph\u00a0ere\"], "
-                                 "typed in single quotes on the shell.",
+                                 "(no-break space) (character 16) looks like a space but is not "
+                                 "ASCII; write 'shape=[pear,sph ere]'.",
     "seeds =2": "cannot parse override 'seeds =2': its key has ' ' at character 6, but a key takes "
                 "only ASCII letters, digits, '_', '-', '.' and '/'; write 'seeds=2'.",
     # Hydra's parser gives no reason in its first line ("Error parsing override 'a==b'"), and named

@@ -15,6 +15,7 @@ import contextlib
 import copy
 import functools
 import hashlib
+import re
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
@@ -177,9 +178,9 @@ def _blamed(exc: ConfigError, path: Path, overrides: list[str],
         return exc
     for item in overrides:
         set_key = split(item)[1]
-        for blamed in (key, *also):
-            if set_key == blamed.split("[")[0] or blamed.startswith((f"{set_key}.", f"{set_key}[")) \
-                    or set_key.startswith(f"{blamed}."):
+        for blamed in (key, *also):  # as an override writes it: factors.shape[0] is factors.shape.0
+            blamed = re.sub(r"\[(\d+)\]", r".\1", blamed)
+            if set_key == blamed or blamed.startswith(f"{set_key}.") or set_key.startswith(f"{blamed}."):
                 return exc
     for blamed in (key, *also):  # a factor the file lacks: the line of its kind
         if line_of(path, blamed) is not None:

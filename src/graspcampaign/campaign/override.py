@@ -29,7 +29,7 @@ from graspcampaign.campaign.studycheck import (
     split_optional,
 )
 from graspcampaign.campaign.studyfile import NESTED_TOO_DEEPLY
-from graspcampaign.core.words import meant
+from graspcampaign.core.words import meant, stands_for
 from graspcampaign.errors import ConfigError
 
 #: The most comma-separated values one override holds: Hydra's parser takes a time quadratic in
@@ -342,17 +342,28 @@ def _character_sentence(item: str, typed: str, error: str) -> str | None:
                if not (item[i].isascii() and (item[i].isalnum() or item[i] in "_-./+~@"))), at)
     char = item[at]
     shown = (repr(char) if char.isprintable() and not char.isspace() or char == " " else
+             f"byte 0x{ord(char) - 0xDC00:02X}" if 0xDC80 <= ord(char) <= 0xDCFF else
              f"U+{ord(char):04X} ({unicodedata.name(char, 'a control character').lower()})")
     equal = typed.find("=")
     if unicodedata.category(char) == "Cc":  # a newline or a control character: no quote helps
         return (f"cannot parse override {typed!r}: {shown} (character {typed.find(char) + 1}) is "
                 "not allowed in an override; remove it.")
+    # a look-alike (٣, a no-break space, a zero-width space): quoting keeps it; its ASCII is meant
+    folded = "".join(c if stands_for(c) is None else stands_for(c) for c in typed)
     if equal < 0 or at < item.find("="):  # in the key (or the prefix before it)
         where = typed.find(char) + 1
-        fix = f"; write {''.join(typed.split())!r}" if char.isspace() else ""
+        fix = (f"; write {''.join(folded.split())!r}"
+               if char.isspace() or stands_for(char) is not None else "")
         return (f"cannot parse override {typed!r}: its key has {shown} at character {where}, but "
                 f"a key takes only ASCII letters, digits, '_', '-', '.' and '/'{fix}.")
     where = typed.find(char, equal + 1) + 1
+    if (ascii_char := stands_for(char)) is not None:
+        looks = ("shows as nothing" if not ascii_char else
+                 f"looks like {'a space' if ascii_char == ' ' else repr(ascii_char)} but is not ASCII")
+        return f"cannot parse override {typed!r}: {shown} (character {where}) {looks}; write {folded!r}."
+    if shown.startswith("byte"):  # an argument's byte the locale could not decode (surrogateescape)
+        return (f"cannot parse override {typed!r}: {shown} (character {where}) is not UTF-8 text (a "
+                "terminal in another encoding?); type the override in UTF-8.")
     # the unquoted word holding the character, between [ ] { } , = outside an interpolation ${…}
     spans = [range(*m.span()) for m in re.finditer(r"\$\{[^}]*\}", item)]
 

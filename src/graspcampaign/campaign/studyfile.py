@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import Any
 
 from graspcampaign.campaign.paths import expand_home, input_file_problem, shown
-from graspcampaign.core.words import meant
+from graspcampaign.core.words import meant, stands_for
 from graspcampaign.errors import ConfigError, UserInputError, utf8_text
 
 _RUN_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
@@ -293,6 +293,18 @@ def _misread(loader: Any, node: Any) -> str | None:
 
 
 @cache
+def _unprintable_key(key: str) -> str:
+    """The loader's refusal of a key holding a character that does not print (a zero-width or
+    no-break space pasted in): shown, the key would read as the known key it differs from."""
+    import unicodedata
+
+    char = next(c for c in key if not c.isprintable())
+    folded = "".join(c if stands_for(c) is None else stands_for(c) for c in key).strip()
+    fix = f"write {folded!r}" if folded.isprintable() and folded.isascii() else "remove it"
+    name = unicodedata.name(char, "a control character").lower()
+    return f"the key {key!r} holds U+{ord(char):04X} ({name}), which does not print; {fix}"
+
+
 def _loader() -> type:
     """A SafeLoader that refuses a key given twice in one mapping, as OmegaConf does, a null key
     (``~: 1``), an alias (``*name``) or a merge key (``<<:``): expanded, a few lines of aliases
@@ -339,6 +351,9 @@ def _loader() -> type:
                     None, None, f"the key {start.buffer[start.index:end.index]} is a "
                                 f"{'list' if isinstance(key, list) else 'mapping'}, not a name; "
                                 "write the name of the setting", start)
+            if isinstance(key, str) and not key.isprintable():  # 'se\u200beds', 'seeds\xa0'
+                raise yaml.constructor.ConstructorError(
+                    None, None, _unprintable_key(key), key_node.start_mark)
             if key in seen:
                 raise yaml.constructor.ConstructorError(
                     None, None, f"key {key!r} is given twice (first on line {seen[key] + 1})",

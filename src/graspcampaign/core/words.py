@@ -52,3 +52,22 @@ def meant(word: str, known, shown: str = "{!r}", cutoff: float = 0.6) -> str:
     if not near:
         return ""
     return f"did you mean {listed([shown.format(lowered[n]) for n in near], last='or')}? "
+
+
+def stands_for(char: str) -> str | None:
+    """The ASCII a non-ASCII character is taken for when read, or None: a digit of another script
+    (Arabic-Indic ``٣``, full-width ``３``) its digit, a full-width letter or a no-break space its
+    compatibility form (NFKC: ``Ａ`` -> ``A``, U+00A0 -> a space), a character that shows as
+    nothing (format characters: a zero-width space, a byte-order mark, a soft hyphen) ``""``. Such
+    a character pasted into a value or key is no typo a reader can see, and quoting it keeps it."""
+    import unicodedata
+
+    if char.isascii():
+        return None
+    if unicodedata.category(char) == "Cf":
+        return ""
+    if (digit := unicodedata.decimal(char, None)) is not None:
+        return str(digit)
+    folded = unicodedata.normalize("NFKC", char)
+    return folded if folded.isascii() and folded.isprintable() else None
+
