@@ -111,7 +111,7 @@ def test_a_trial_recorded_twice_with_other_values_is_run_again_not_kept_from_eit
     assert repaired.exit_code == 0, repaired.output
     target = grid_run(results) / "quarantine" / "records__part-colleague.parquet"
     assert repaired.stderr == (f"warning: file {colleague} moved to {target} ({why}); its trials "
-                               "will run again\n")
+                               "no longer recorded will run again\n")
     assert "2 trials, 1 already recorded, 1 ran" in repaired.stdout
     assert target.read_bytes() == kept
     again = RunStore(grid_run(results)).read().to_pandas().set_index("trial_id")
@@ -126,7 +126,9 @@ def test_a_sync_tools_copy_of_a_shard_is_moved_aside_not_the_shard(results, part
     """A byte-identical copy of a shard under a sync tool's name: the copy is moved aside and
     nothing runs again (the run's own file was called the duplicate, its name sorting after the
     copy's, and moved aside, so the run went on from the copy; and a trace table's copy, now moved
-    aside, would have run all its trials again although the run's own file holds their traces)."""
+    aside, would have run all its trials again although the run's own file holds their traces).
+    The warning says only the trials no longer recorded run again (it said "its trials will run
+    again" over "0 ran")."""
     (own,) = (grid_run(results) / part).glob("*.parquet")
     kept = own.read_bytes()
     duplicate = own.with_name(copy.format(stem=own.stem))
@@ -140,6 +142,23 @@ def test_a_sync_tools_copy_of_a_shard_is_moved_aside_not_the_shard(results, part
     assert repaired.exit_code == 0, repaired.output
     target = grid_run(results) / "quarantine" / rel.replace("/", "__")
     assert repaired.stderr == (f"warning: file {duplicate} moved to {target} ({why}); its trials "
-                               "will run again\n")
+                               "no longer recorded will run again\n")
     assert "2 trials, 2 already recorded, 0 ran" in repaired.stdout
     assert own.read_bytes() == kept and target.read_bytes() == kept
+
+
+def test_run_moves_nothing_aside_in_an_ingested_run(results):
+    """The quarantine warning's "will run again" is never said of an ingested run: `run` refuses
+    such a run before its repair moves anything (ingested runs are added to by `ingest` only)."""
+    import json
+
+    manifest_path = grid_run(results) / "manifest.json"
+    manifest = json.loads(manifest_path.read_text())
+    manifest["sessions"][0]["ingested"] = ["day1.csv"]
+    manifest_path.write_text(json.dumps(manifest, indent=2))
+    (own,) = (grid_run(results) / "records").glob("*.parquet")
+    shutil.copyfile(own, own.with_name(f"{own.stem} (1).parquet"))
+    refused(results, ["run", "baseline_grid", *BG, "--root", results],
+            f"run baseline_grid/default at {grid_run(results)} holds simulation records (ingested); "
+            "`run` never adds simulated or virtual trials to them, so choose another run name "
+            "(--run NAME).")

@@ -68,7 +68,8 @@ log = logging.getLogger(__name__)
 SHARD = re.compile(r"(part|compact)-[A-Za-z0-9_-]+\.parquet")
 _PARTS = ("records", "prepared", "tables", "summary")
 #: What happens to the trials of a file moved aside, by the part it was in.
-_THEN = {"records": "its trials will run again", "tables": "its trials will run again",
+_THEN = {"records": "its trials no longer recorded will run again",
+         "tables": "its trials no longer recorded will run again",
          "prepared": "it is computed again", "summary": "it is computed again"}
 _HOLDS = {"text": lambda t: pa.types.is_string(t) or pa.types.is_large_string(t),
           "whole numbers": pa.types.is_integer,
