@@ -63,10 +63,10 @@ def _renamed_to_csv(results):
 
 def _duplicate(results):
     compact = _compact(results)
-    copy = compact.with_name("part-dup.parquet")
+    copy = compact.with_name("part-dddddddddd.parquet")
     shutil.copyfile(compact, copy)
     why = f"every trial also in records/{compact.name}"
-    return (f"a duplicate file records/part-dup.parquet ({why})",
+    return (f"a duplicate file records/part-dddddddddd.parquet ({why})",
             resume_advice(results, "quarantine the duplicate"), copy,
             "duplicate file {path} moved to {target} (" + why + "); its trials stay recorded in "
             f"records/{compact.name}")
@@ -74,27 +74,27 @@ def _duplicate(results):
 
 def _foreign_study(results):
     (shard,) = (results / "smoke" / "default" / "records").glob("*.parquet")
-    copy = grid_run(results) / "records" / "part-foreign.parquet"
+    copy = grid_run(results) / "records" / "part-ffffffffff.parquet"
     shutil.copyfile(shard, copy)
-    return ("a file records/part-foreign.parquet holding records of another study (smoke)",
+    return ("a file records/part-ffffffffff.parquet holding records of another study (smoke)",
             resume_advice(results), copy, "file {path} moved to {target} (records of another study "
                                     "(smoke)); its trials no longer recorded will run again")
 
 
 def _another_run(results):
-    copy = grid_run(results) / "records" / "part-other.parquet"
+    copy = grid_run(results) / "records" / "part-0000000000.parquet"
     _rewritten(_compact(results), copy, lambda t: _with_run(t, "other"))
-    return ("a file records/part-other.parquet holding records of another run (other)",
+    return ("a file records/part-0000000000.parquet holding records of another run (other)",
             resume_advice(results), copy, "file {path} moved to {target} (records of another run "
                                     "(other)); its trials no longer recorded will run again")
 
 
 def _another_config(results):
-    copy = grid_run(results) / "records" / "part-config.parquet"
+    copy = grid_run(results) / "records" / "part-cccccccccc.parquet"
     _rewritten(_compact(results), copy, lambda t: t.replace_schema_metadata(
         {b"graspcampaign.config_hashes": b'["0123456789abcdef"]'}))
     why = "records run with another config (hash 0123456789abcdef, not one this run ran with)"
-    return (f"a file records/part-config.parquet holding {why}", resume_advice(results), copy,
+    return (f"a file records/part-cccccccccc.parquet holding {why}", resume_advice(results), copy,
             "file {path} moved to {target} (" + why + "); its trials no longer recorded will run again")
 
 
@@ -126,12 +126,12 @@ def _records_emptied(results):
 def _partly_duplicated(results):
     compact = _compact(results)
     table = pq.read_table(compact)
-    first, both = compact.with_name("part-a.parquet"), compact.with_name("part-b.parquet")
+    first, both = compact.with_name("part-aaaaaaaaaa.parquet"), compact.with_name("part-bbbbbbbbbb.parquet")
     _as_written(table.slice(0, 1), first)
     _as_written(table, both)
     compact.unlink()
-    why = "1 of its 2 trials also in records/part-a.parquet"
-    return (f"a duplicate file records/part-b.parquet ({why})", resume_advice(results), both,
+    why = "1 of its 2 trials also in records/part-aaaaaaaaaa.parquet"
+    return (f"a duplicate file records/part-bbbbbbbbbb.parquet ({why})", resume_advice(results), both,
             "file {path} moved to {target} (" + why + "); its trials no longer recorded will run again")
 
 
@@ -328,7 +328,7 @@ def test_a_run_that_cannot_be_read_never_replaces_what_the_root_pages_say(result
     pages = {p.name: p.read_bytes() for p in results.glob("*.*")}
     assert sorted(pages) == ["headline.csv", "headline.md", "index.md"]
     why = (f"run baseline_grid/default at {grid_run(results)} has a duplicate file "
-           f"records/part-dup.parquet (every trial also in records/{_compact(results).name}); "
+           f"records/part-dddddddddd.parquet (every trial also in records/{_compact(results).name}); "
            + resume_advice(results, "quarantine the duplicate")[:-1])
     left = f"warning: the headline and index pages were left as they were: run " \
            f"baseline_grid/default cannot be read ({why})\n"
