@@ -202,8 +202,8 @@ def read_manifest(path: Path) -> dict[str, Any] | None:
     if not (path.exists() or path.is_symlink()):
         return None
     why = None
-    try:
-        text = path.read_bytes().decode("utf-8")
+    try:  # a byte order mark (an editor's re-save) carries no content: RFC 8259 lets a reader skip it
+        text = path.read_bytes().decode("utf-8").removeprefix("\ufeff")
     except IsADirectoryError:
         why = "it is a directory, not a file"
     except OSError as exc:
