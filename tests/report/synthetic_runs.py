@@ -68,6 +68,7 @@ def make_run(root, name: str, kind: str, factors: dict, seeds: int, paper: dict 
         store.write_shard("prepared", "aaaaaaaaaa", prepared)
     manifest = new_manifest(study, "r1", len(trials), source)
     manifest["finished_at"] = now_utc()
+    manifest["sessions"].append({"config_hash": manifest["config_hash"]})  # a finished run had one
     write_manifest(store.manifest_path, manifest)
     return store
 
