@@ -54,3 +54,24 @@ def test_schema_header_is_required(tmp_path):
 def test_zip_groups_must_have_equal_lengths():
     with pytest.raises(ConfigError, match=r"zip\[0\] groups factors of different lengths"):
         compose_study("baseline_grid", ["+zip=[[mass_kg,planner]]"])
+
+
+def test_an_error_is_named_with_its_line_from_one_read_of_the_study_file(tmp_path, monkeypatch):
+    """A key the composed study refuses (a parameter the trial kind lacks) is named with the line
+    of the user's study file that writes it, the file read and parsed for lines once: the
+    line's search and the message each read it (twice before)."""
+    from graspcampaign.campaign import written
+    from graspcampaign.campaign.studyfile import project_dirs
+
+    text = (project_dirs()[1] / "smoke.yaml").read_text()
+    study = tmp_path / "mine.yaml"
+    study.write_text(text.replace("name: smoke", "name: mine").replace(
+        "kind: mesh_features", "kind: mesh_features\nparams:\n  bogus: 1"))
+    parsed, parse = [], written._key_nodes
+    monkeypatch.setattr(written, "_key_nodes", lambda text: parsed.append(text) or parse(text))
+    with pytest.raises(ConfigError) as info:
+        compose_study(str(study))
+    line = study.read_text().splitlines().index("  bogus: 1") + 1
+    assert str(info.value) == (f"{study}, line {line}: params.bogus is not a parameter of trial "
+                               "kind 'mesh_features', which takes none.")
+    assert len(parsed) == 1

@@ -17,8 +17,8 @@ from graspcampaign.errors import DamagedRunError
 
 def test_schema_union_keeps_columns_added_later(tmp_path):
     store = RunStore(tmp_path / "run")
-    store.write_shard("records", "a", [{"trial_id": "a", "x": 1.0}])
-    store.write_shard("records", "b", [{"trial_id": "b", "x": None, "y": "new"}])
+    store.write_shard("records", "aaaaaaaaaa", [{"trial_id": "a", "x": 1.0}])
+    store.write_shard("records", "bbbbbbbbbb", [{"trial_id": "b", "x": None, "y": "new"}])
     df = store.read().to_pandas().sort_values("trial_id")
     assert df["y"].isna().tolist() == [True, False] and df["y"].iloc[1] == "new"
     assert df["x"].iloc[0] == 1.0
@@ -26,29 +26,30 @@ def test_schema_union_keeps_columns_added_later(tmp_path):
 
 def test_truncated_shard_is_quarantined_with_warning(tmp_path):
     store = RunStore(tmp_path / "run")
-    store.write_shard("records", "a", [{"trial_id": "a", "x": 1.0}])
-    path = store.write_shard("records", "b", [{"trial_id": "b", "x": 2.0}])
+    store.write_shard("records", "aaaaaaaaaa", [{"trial_id": "a", "x": 1.0}])
+    path = store.write_shard("records", "bbbbbbbbbb", [{"trial_id": "b", "x": 2.0}])
     data = path.read_bytes()
     path.write_bytes(data[: len(data) // 2])
-    with pytest.warns(UserWarning, match="damaged file .*part-b.parquet moved to"):
+    with pytest.warns(UserWarning, match="damaged file .*part-bbbbbbbbbb.parquet moved to"):
         moved = store.repair()
-    assert [(m[0].name, m[1].name) for m in moved] == [("part-b.parquet", "records__part-b.parquet")]
+    assert [(m[0].name, m[1].name) for m in moved] == [("part-bbbbbbbbbb.parquet",
+                                                         "records__part-bbbbbbbbbb.parquet")]
     assert store.recorded_ids() == {"a"}
-    assert (tmp_path / "run" / "quarantine" / "records__part-b.parquet").exists()
+    assert (tmp_path / "run" / "quarantine" / "records__part-bbbbbbbbbb.parquet").exists()
 
 
 def _two_shards(tmp_path):
     store = RunStore(tmp_path / "results" / "unit" / "r1")
-    store.write_shard("records", "a", [{"trial_id": "a", "residual_norm_n": 0.25}])
+    store.write_shard("records", "aaaaaaaaaa", [{"trial_id": "a", "residual_norm_n": 0.25}])
     rows = [{"trial_id": f"b{i}", "residual_norm_n": 0.1 * i, "status": "ok"} for i in range(20)]
-    path = store.write_shard("records", "b", rows)
+    path = store.write_shard("records", "bbbbbbbbbb", rows)
     return store, path
 
 
 def test_advice_for_a_damaged_run_is_a_command_a_shell_runs_as_given(tmp_path):
     """The resume command names a results root with a space as one argument (was split in two)."""
     store = RunStore(tmp_path / "my results" / "unit" / "r1")
-    path = store.write_shard("records", "b", [{"trial_id": "b", "residual_norm_n": 0.5}])
+    path = store.write_shard("records", "bbbbbbbbbb", [{"trial_id": "b", "residual_norm_n": 0.5}])
     corrupt_value_column(path, "residual_norm_n")
     with pytest.raises(DamagedRunError) as info:
         store.read()
@@ -60,7 +61,7 @@ def test_advice_for_a_damaged_run_is_a_command_a_shell_runs_as_given(tmp_path):
 def test_damaged_value_column_is_refused_on_read_and_nothing_moves(tmp_path):
     store, path = _two_shards(tmp_path)
     corrupt_value_column(path, "residual_norm_n")
-    message = (f"run unit/r1 at {store.path} has a damaged file records/part-b.parquet "
+    message = (f"run unit/r1 at {store.path} has a damaged file records/part-bbbbbbbbbb.parquet "
                "(could not verify page integrity, CRC checksum verification failed for page_ordinal "
                "0); resume the run (graspcampaign run unit --run r1 --root "
                f"{tmp_path / 'results'}) to quarantine the file and run its trials again.")
@@ -75,10 +76,10 @@ def test_damaged_value_column_is_refused_on_read_and_nothing_moves(tmp_path):
 def test_compaction_never_reads_an_unverified_shard(tmp_path):
     store, path = _two_shards(tmp_path)
     corrupt_value_column(path, "residual_norm_n")
-    with pytest.raises(DamagedRunError, match="has a damaged file records/part-b.parquet"):
+    with pytest.raises(DamagedRunError, match="has a damaged file records/part-bbbbbbbbbb.parquet"):
         store.compact()
     assert sorted(p.name for p in (store.path / "records").iterdir()) == [
-        "part-a.parquet", "part-b.parquet"]
+        "part-aaaaaaaaaa.parquet", "part-bbbbbbbbbb.parquet"]
 
 
 def test_repair_moves_exactly_the_damaged_shard_and_never_overwrites_quarantine(tmp_path):
@@ -91,14 +92,14 @@ def test_repair_moves_exactly_the_damaged_shard_and_never_overwrites_quarantine(
             store.repair()
         assert store.recorded_ids() == {"a"}
     names = sorted(p.name for p in (store.path / "quarantine").iterdir())
-    assert names == ["records__part-b.parquet", "records__part-b~1.parquet",
-                     "records__part-b~2.parquet"]
+    assert names == ["records__part-bbbbbbbbbb.parquet", "records__part-bbbbbbbbbb~1.parquet",
+                     "records__part-bbbbbbbbbb~2.parquet"]
 
 
 def test_temporary_files_are_invisible_and_cleaned(tmp_path):
     store = RunStore(tmp_path / "run")
-    store.write_shard("records", "a", [{"trial_id": "a"}])
-    tmp = tmp_path / "run" / "records" / ".part-b.parquet.tmp"
+    store.write_shard("records", "aaaaaaaaaa", [{"trial_id": "a"}])
+    tmp = tmp_path / "run" / "records" / ".part-bbbbbbbbbb.parquet.tmp"
     tmp.write_bytes(b"half a file")
     assert store.recorded_ids() == {"a"}
     store.clean()
@@ -149,7 +150,7 @@ def test_a_damaged_measured_run_is_refused_with_the_ingest_advice(tmp_path):
     with pytest.raises(DamagedRunError) as info:
         store.verify()
     assert str(info.value) == (
-        f"run unit/r1 at {store.path} has a damaged file records/part-b.parquet (could not verify "
+        f"run unit/r1 at {store.path} has a damaged file records/part-bbbbbbbbbb.parquet (could not verify "
         "page integrity, CRC checksum verification failed for page_ordinal 0); move it out of the "
         "run directory and ingest the file that held its records again.")
 
@@ -170,10 +171,10 @@ def test_a_damaged_ingested_virtual_run_is_refused_with_the_ingest_advice(tmp_pa
 
 def test_trace_rows_without_a_record_are_dropped_on_repair(tmp_path):
     store = RunStore(tmp_path / "run")
-    store.write_shard("records", "a", [{"trial_id": "a"}])
-    store.write_shard("tables/trace", "a", [{"trial_id": "a", "step": 0}])
+    store.write_shard("records", "aaaaaaaaaa", [{"trial_id": "a"}])
+    store.write_shard("tables/trace", "aaaaaaaaaa", [{"trial_id": "a", "step": 0}])
     # a kill between a task's traces and its records leaves traces of an unrecorded trial
-    store.write_shard("tables/trace", "b", [{"trial_id": "b", "step": 0},
+    store.write_shard("tables/trace", "bbbbbbbbbb", [{"trial_id": "b", "step": 0},
                                             {"trial_id": "b", "step": 1}])
     assert store.repair() == []
     assert store.read("tables/trace").column("trial_id").to_pylist() == ["a"]

@@ -37,17 +37,18 @@ def _compacted(store: RunStore, part: str = "records"):
 
 
 def test_a_shard_named_after_two_superseded_shards_is_read(tmp_path):
-    """``write_shard`` skips every name a compacted file lists (part-a and part-a-1 here), not
-    only the first: a shard under a superseded name is ignored as a compaction's leftover."""
+    """``write_shard`` skips every name a compacted file lists (part-aaaaaaaaaa and
+    part-aaaaaaaaaa-1 here), not only the first: a shard under a superseded name is ignored as a
+    compaction's leftover."""
     store = RunStore(tmp_path / "run")
-    store.write_shard("records", "a", [{"trial_id": "a"}])
-    store.write_shard("records", "b", [{"trial_id": "b"}])
-    store.compact()  # supersedes part-a, part-b
-    assert store.write_shard("records", "a", [{"trial_id": "c"}]).name == "part-a-1.parquet"
-    store.write_shard("records", "d", [{"trial_id": "d"}])
-    store.compact()  # a second compacted file supersedes part-a-1, part-d
-    path = store.write_shard("records", "a", [{"trial_id": "e"}])
-    assert path.name == "part-a-2.parquet"
+    store.write_shard("records", "aaaaaaaaaa", [{"trial_id": "a"}])
+    store.write_shard("records", "bbbbbbbbbb", [{"trial_id": "b"}])
+    store.compact()  # supersedes part-aaaaaaaaaa, part-bbbbbbbbbb
+    assert store.write_shard("records", "aaaaaaaaaa", [{"trial_id": "c"}]).name == "part-aaaaaaaaaa-1.parquet"
+    store.write_shard("records", "dddddddddd", [{"trial_id": "d"}])
+    store.compact()  # a second compacted file supersedes part-aaaaaaaaaa-1, part-dddddddddd
+    path = store.write_shard("records", "aaaaaaaaaa", [{"trial_id": "e"}])
+    assert path.name == "part-aaaaaaaaaa-2.parquet"
     assert _ids(store) == ["a", "b", "c", "d", "e"]
 
 
@@ -55,13 +56,13 @@ def test_a_shard_duplicating_part_of_a_compacted_file_is_the_one_moved_aside(tmp
     """Of two files recording one trial the compacted file is the earlier one and stays: the shard
     is moved aside and every trial of the compacted file stays recorded, none runs again."""
     store = RunStore(tmp_path / "run")
-    store.write_shard("records", "x", [{"trial_id": "a"}, {"trial_id": "b"}])
-    store.write_shard("records", "y", [{"trial_id": "c"}])
+    store.write_shard("records", "0000000000", [{"trial_id": "a"}, {"trial_id": "b"}])
+    store.write_shard("records", "1111111111", [{"trial_id": "c"}])
     store.compact()
-    store.write_shard("records", "z", [{"trial_id": "a"}])
-    with pytest.warns(UserWarning, match=r"duplicate file .*part-z\.parquet moved to"):
+    store.write_shard("records", "2222222222", [{"trial_id": "a"}])
+    with pytest.warns(UserWarning, match=r"duplicate file .*part-2222222222\.parquet moved to"):
         moved = store.repair()
-    assert [path.name for path, _, _ in moved] == ["part-z.parquet"]
+    assert [path.name for path, _, _ in moved] == ["part-2222222222.parquet"]
     assert _ids(store) == ["a", "b", "c"]
 
 
@@ -69,39 +70,39 @@ def test_a_rewritten_compacted_file_still_supersedes_its_shards(tmp_path):
     """Removing rows from a compacted file writes a file that supersedes it and the shards it
     superseded: a shard a crash left behind stays unread (each trial read once)."""
     store = RunStore(tmp_path / "run")
-    left = store.write_shard("records", "x", [{"trial_id": "a"}, {"trial_id": "b"}])
+    left = store.write_shard("records", "0000000000", [{"trial_id": "a"}, {"trial_id": "b"}])
     kept = left.read_bytes()
-    store.write_shard("records", "y", [{"trial_id": "c"}])
+    store.write_shard("records", "1111111111", [{"trial_id": "c"}])
     store.compact()
     left.write_bytes(kept)  # a crash between writing the compacted file and removing its sources
     assert _ids(store) == ["a", "b", "c"]
     store._drop_rows("records", {"c"})
     written = json.loads(pq.read_schema(_compacted(store)).metadata[SOURCES_KEY])
-    assert "part-x.parquet" in written
+    assert "part-0000000000.parquet" in written
     assert _ids(store) == ["a", "b"]
 
 
 def test_removing_rows_keeps_a_single_remaining_row(tmp_path):
     store = RunStore(tmp_path / "run")
-    store.write_shard("records", "x", [{"trial_id": "a"}, {"trial_id": "b"}])
+    store.write_shard("records", "0000000000", [{"trial_id": "a"}, {"trial_id": "b"}])
     store._drop_rows("records", {"b"})
     assert _ids(store) == ["a"]
 
 
 def test_removing_every_row_of_a_file_removes_its_trials(tmp_path):
     store = RunStore(tmp_path / "run")
-    store.write_shard("records", "x", [{"trial_id": "a"}, {"trial_id": "b"}])
-    store.write_shard("records", "y", [{"trial_id": "c"}])
+    store.write_shard("records", "0000000000", [{"trial_id": "a"}, {"trial_id": "b"}])
+    store.write_shard("records", "1111111111", [{"trial_id": "c"}])
     store._drop_rows("records", {"a", "b"})
     assert _ids(store) == ["c"]
-    assert not (store.path / "records" / "part-x.parquet").exists()
+    assert not (store.path / "records" / "part-0000000000.parquet").exists()
 
 
 def test_keeping_the_rows_of_recorded_trials_drops_rows_without_a_trial_id(tmp_path):
     """A trace table's rows without a trial id belong to no recorded trial: keeping the rows of
     the recorded trials drops them, even from a file whose ids are all recorded."""
     store = RunStore(tmp_path / "run")
-    store.write_shard("tables/trace", "x", [{"trial_id": "a", "v": 1.0},
+    store.write_shard("tables/trace", "0000000000", [{"trial_id": "a", "v": 1.0},
                                             {"trial_id": None, "v": 2.0}])
     store._keep_rows("tables/trace", {"a"})
     table = pq.read_table(_compacted(store, "tables/trace"))
@@ -113,8 +114,8 @@ def test_a_compacted_file_names_the_configs_of_its_shards(tmp_path):
     """What pyarrow reads in the compacted file's metadata: both sessions' configs, so that a
     shard of another config stays recognisable after compaction."""
     store = RunStore(tmp_path / "run")
-    store.write_shard("records", "x", [{"trial_id": "a"}], metadata=config_metadata("h2"))
-    store.write_shard("records", "y", [{"trial_id": "b"}], metadata=config_metadata("h1"))
+    store.write_shard("records", "0000000000", [{"trial_id": "a"}], metadata=config_metadata("h2"))
+    store.write_shard("records", "1111111111", [{"trial_id": "b"}], metadata=config_metadata("h1"))
     store.compact()
     meta = pq.read_schema(_compacted(store)).metadata
     assert json.loads(meta[CONFIG_KEY]) == ["h1", "h2"]
@@ -122,7 +123,7 @@ def test_a_compacted_file_names_the_configs_of_its_shards(tmp_path):
 
 def test_a_file_rewritten_without_some_rows_keeps_its_config(tmp_path):
     store = RunStore(tmp_path / "run")
-    store.write_shard("records", "x", [{"trial_id": "a"}, {"trial_id": "b"}],
+    store.write_shard("records", "0000000000", [{"trial_id": "a"}, {"trial_id": "b"}],
                       metadata=config_metadata("h1"))
     store._drop_rows("records", {"b"})
     assert json.loads(pq.read_schema(_compacted(store)).metadata[CONFIG_KEY]) == ["h1"]
@@ -132,23 +133,23 @@ def test_cleaning_keeps_a_compacted_file_whose_footer_cannot_be_read(tmp_path):
     """``clean`` removes temporary and superseded files only: a compacted file it cannot read
     supersedes nothing it knows, and is evidence for the repair, never deleted."""
     store = RunStore(tmp_path / "run")
-    store.write_shard("records", "x", [{"trial_id": "a"}])
+    store.write_shard("records", "0000000000", [{"trial_id": "a"}])
     bad = store.path / "records" / "compact-0123456789.parquet"
     bad.write_bytes(b"not a parquet file")
-    (store.path / "records" / ".part-y.parquet.tmp").write_bytes(b"half")
+    (store.path / "records" / ".part-1111111111.parquet.tmp").write_bytes(b"half")
     store.clean()
     assert sorted(p.name for p in (store.path / "records").iterdir()) == [
-        "compact-0123456789.parquet", "part-x.parquet"]
+        "compact-0123456789.parquet", "part-0000000000.parquet"]
 
 
 def test_a_damaged_compacted_file_still_supersedes_its_shards(tmp_path):
     """A compacted file whose values are damaged but whose footer reads still names its sources:
     a leftover source shard is not live beside it (the damage is the one problem counted)."""
     store = RunStore(tmp_path / "run")
-    left = store.write_shard("records", "x", [{"trial_id": f"a{i}", "v": 0.5 * i}
+    left = store.write_shard("records", "0000000000", [{"trial_id": f"a{i}", "v": 0.5 * i}
                                               for i in range(20)])
     kept = left.read_bytes()
-    store.write_shard("records", "y", [{"trial_id": "b", "v": 1.0}])
+    store.write_shard("records", "1111111111", [{"trial_id": "b", "v": 1.0}])
     store.compact()
     compacted = _compacted(store)
     corrupt_value_column(compacted, "v")
@@ -173,12 +174,12 @@ def test_a_shard_reaches_the_disk_before_it_gets_its_name(tmp_path, monkeypatch)
 
     monkeypatch.setattr(records.os, "fsync", synced)
     monkeypatch.setattr(records.os, "replace", renamed)
-    RunStore(tmp_path / "run").write_shard("records", "x", [{"trial_id": "a"}])
-    assert events == [("fsync", ".part-x.parquet.tmp"), ("replace", ".part-x.parquet.tmp")]
+    RunStore(tmp_path / "run").write_shard("records", "0000000000", [{"trial_id": "a"}])
+    assert events == [("fsync", ".part-0000000000.parquet.tmp"), ("replace", ".part-0000000000.parquet.tmp")]
 
 
 def test_the_first_malformed_trial_id_in_row_order_is_named(tmp_path):
-    path = RunStore(tmp_path / "run").write_shard("records", "x", [
+    path = RunStore(tmp_path / "run").write_shard("records", "0000000000", [
         {"trial_id": "zz bad"}, {"trial_id": "a-0123456789"}, {"trial_id": "aa bad"}])
     assert verify.facts(path).bad_id == "zz bad"
 
@@ -186,17 +187,17 @@ def test_the_first_malformed_trial_id_in_row_order_is_named(tmp_path):
 @pytest.mark.parametrize("wrong", ["a-0123456789abcdef", "a-0123456789.parquet", "a-0123456789\n"])
 def test_a_trial_id_with_anything_after_its_ten_hex_digits_is_malformed(tmp_path, wrong):
     """An id ends in '-' and exactly ten hex digits (``grid.expand``)."""
-    path = RunStore(tmp_path / "run").write_shard("records", "x", [
+    path = RunStore(tmp_path / "run").write_shard("records", "0000000000", [
         {"trial_id": "a-0123456789"}, {"trial_id": wrong}])
     assert verify.facts(path).bad_id == wrong
 
 
 def test_the_facts_of_a_file_replaced_after_it_was_verified_are_its_new_ones(tmp_path, past_the_tick):
     store = RunStore(tmp_path / "run")
-    path = store.write_shard("records", "x", [{"trial_id": "a"}])
+    path = store.write_shard("records", "0000000000", [{"trial_id": "a"}])
     assert verify.facts(path).ids == {"a"}
     assert verify.cached(path) is not None  # remembered: past the tick
-    store.write_shard("records", "x", [{"trial_id": "b"}, {"trial_id": "c"}])  # same name
+    store.write_shard("records", "0000000000", [{"trial_id": "b"}, {"trial_id": "c"}])  # same name
     assert verify.cached(path) is None
     assert verify.facts(path).ids == {"b", "c"}
 
@@ -204,7 +205,7 @@ def test_the_facts_of_a_file_replaced_after_it_was_verified_are_its_new_ones(tmp
 def test_a_file_that_changed_while_it_was_read_is_not_remembered(tmp_path, monkeypatch):
     """Within one check a file is read once while its key holds; one whose key changed during the
     read (a writer still at it) is read again when next asked, not trusted as first read."""
-    path = RunStore(tmp_path / "run").write_shard("records", "x", [{"trial_id": "a"}])
+    path = RunStore(tmp_path / "run").write_shard("records", "0000000000", [{"trial_id": "a"}])
     monkeypatch.setattr(verify, "_VERIFIED", {})
     calls, fstat = [], os.fstat
 
@@ -228,8 +229,8 @@ def test_a_file_that_changed_while_it_was_read_is_not_remembered(tmp_path, monke
 # -- a run checked against its manifest (campaign.integrity) -------------------------------------
 def test_a_file_whose_name_only_begins_like_a_shard_is_no_shard(finished):
     _, store, compact = finished
-    shutil.copy(compact, store.path / "records" / "part-x.parquet.bak")
-    with pytest.raises(DamagedRunError, match=r"has a file records/part-x\.parquet\.bak that is "
+    shutil.copy(compact, store.path / "records" / "part-0000000000.parquet.bak")
+    with pytest.raises(DamagedRunError, match=r"has a file records/part-0000000000\.parquet\.bak that is "
                                               "not a Parquet shard of the run"):
         store.check()
 
@@ -251,7 +252,7 @@ def test_an_unfinished_run_storing_one_trial_more_than_its_design_is_refused(fin
     extra = table.slice(0, 1).set_column(0, "trial_id", pa.array(["extra-0123456789"]))
     assert table.column_names[0] == "trial_id"
     as_written(extra.replace_schema_metadata(table.schema.metadata),
-                store.path / "records" / "part-extra.parquet")
+                store.path / "records" / "part-eeeeeeeeee.parquet")
     with pytest.raises(DamagedRunError, match=r"n_trials is 16, but it stores 17 trials of its one "
                                               "config"):
         store.check()
@@ -261,8 +262,8 @@ def test_shards_live_again_after_a_compacted_file_moves_aside_are_checked_too(tm
     """A damaged compacted file is moved aside; the shards it superseded (a crash left them) are
     live again and checked in turn: a damaged one moves aside too, an intact one is read."""
     store = RunStore(tmp_path / "run")
-    x = store.write_shard("records", "x", [{"trial_id": f"a{i}", "v": 0.5 * i} for i in range(20)])
-    y = store.write_shard("records", "y", [{"trial_id": "b", "v": 1.0}])
+    x = store.write_shard("records", "0000000000", [{"trial_id": f"a{i}", "v": 0.5 * i} for i in range(20)])
+    y = store.write_shard("records", "1111111111", [{"trial_id": "b", "v": 1.0}])
     kept = {x: x.read_bytes(), y: y.read_bytes()}
     store.compact()
     corrupt_value_column(_compacted(store), "v")
@@ -272,7 +273,7 @@ def test_shards_live_again_after_a_compacted_file_moves_aside_are_checked_too(tm
     compacted = _compacted(store).name
     with pytest.warns(UserWarning, match="damaged file"):
         moved = store.repair()
-    assert sorted(path.name for path, _, _ in moved) == sorted([compacted, "part-x.parquet"])
+    assert sorted(path.name for path, _, _ in moved) == sorted([compacted, "part-0000000000.parquet"])
     assert _ids(store) == ["b"]
 
 
@@ -280,11 +281,12 @@ def test_a_trace_file_of_no_task_runs_again_only_the_trials_without_other_traces
     """An unreadable trace file with no records file of its name: its trials are the recorded ones
     without a row in the table's other files; only their records are dropped to run again."""
     store = RunStore(tmp_path / "run")
-    store.write_shard("records", "x", [{"trial_id": "a"}, {"trial_id": "b"}])
-    store.write_shard("records", "y", [{"trial_id": "c"}, {"trial_id": "d"}])
-    store.write_shard("tables/trace", "y", [{"trial_id": "c", "v": 1.0}, {"trial_id": "d", "v": 2.0}])
-    (store.path / "tables" / "trace" / "part-q.parquet").write_bytes(b"not a parquet file")
-    with pytest.warns(UserWarning, match="part-q.parquet moved to"):
+    store.write_shard("records", "0000000000", [{"trial_id": "a"}, {"trial_id": "b"}])
+    store.write_shard("records", "1111111111", [{"trial_id": "c"}, {"trial_id": "d"}])
+    store.write_shard("tables/trace", "1111111111", [{"trial_id": "c", "v": 1.0},
+                                                     {"trial_id": "d", "v": 2.0}])
+    (store.path / "tables" / "trace" / "part-3333333333.parquet").write_bytes(b"not a parquet file")
+    with pytest.warns(UserWarning, match="part-3333333333.parquet moved to"):
         store.repair()
     assert _ids(store) == ["c", "d"]
     assert _ids(store, "tables/trace") == ["c", "d"]
@@ -305,11 +307,11 @@ def test_an_exact_duplicate_trace_file_drops_no_record(tmp_path):
     """A trace file duplicating another moves aside; its trials' traces stay in the other file,
     so their records stay and nothing runs again."""
     store = RunStore(tmp_path / "run")
-    store.write_shard("records", "x", [{"trial_id": "a"}, {"trial_id": "b"}])
+    store.write_shard("records", "0000000000", [{"trial_id": "a"}, {"trial_id": "b"}])
     rows = [{"trial_id": "a", "v": 1.0}, {"trial_id": "b", "v": 2.0}]
-    store.write_shard("tables/trace", "x", rows)
-    store.write_shard("tables/trace", "z", rows)
-    with pytest.warns(UserWarning, match=r"duplicate file .*part-z\.parquet moved to"):
+    store.write_shard("tables/trace", "0000000000", rows)
+    store.write_shard("tables/trace", "2222222222", rows)
+    with pytest.warns(UserWarning, match=r"duplicate file .*part-2222222222\.parquet moved to"):
         store.repair()
     assert _ids(store) == ["a", "b"]
     assert _ids(store, "tables/trace") == ["a", "b"]

@@ -50,6 +50,13 @@ MANIFESTS = {
                          "config_hash is null, not a hash"),
     "no_sessions": (lambda m: json.dumps({k: v for k, v in m.items() if k != "sessions"}),
                     "it has no sessions field"),
+    # a run that counts its records or is finished was written by a session: none listed is damage
+    "empty_sessions": (lambda m: json.dumps({**m, "sessions": []}),
+                       "sessions is [], but a run with n_recorded or finished_at has had at least "
+                       "one session"),
+    # a byte order mark is skipped; a byte that is not UTF-8 is still named where it is in the file
+    "garbled_after_bom": (lambda m: b"\xef\xbb\xbf" + json.dumps(m).encode()[:40] + b"\xff"
+                          + json.dumps(m).encode()[41:], "not UTF-8 text: byte 43 is 0xff"),
     # status once reported such a run's source as null, then as "simulation" (the report's
     # fallback): neither, the run is refused as every command refuses it (docs/decisions.md)
     "no_source": (lambda m: json.dumps({k: v for k, v in m.items() if k != "source"}),
@@ -71,6 +78,30 @@ def test_a_damaged_manifest_is_refused_by_every_command(results, case):
                "its records cannot be checked without it, so restore the file from a backup or "
                "move the run directory aside and run the study again.")
     refused_by_every_command(results, message)
+
+
+def test_a_manifest_with_a_byte_order_mark_reads_as_the_same_manifest(results):
+    """A manifest re-saved by an editor that adds a UTF-8 byte order mark holds the same fields:
+    every command reads it as before (it was refused in Python's words, "Unexpected UTF-8 BOM
+    (decode using utf-8-sig)")."""
+    path = grid_run(results) / "manifest.json"
+    before = invoke("status", "baseline_grid", "--root", results)
+    path.write_bytes(b"\xef\xbb\xbf" + path.read_bytes())
+    after = invoke("status", "baseline_grid", "--root", results)
+    assert before.exit_code == after.exit_code == 0, after.output
+    assert after.stdout == before.stdout and after.stderr == ""
+    assert invoke("report", "baseline_grid", "--root", results).exit_code == 0
+
+
+def test_an_unfinished_run_of_a_version_that_listed_sessions_at_their_end_is_read(results):
+    """Versions before the integrity checks stored a new run's manifest with no session until its
+    first session ended: such a run, interrupted (no n_recorded, not finished), is no damage."""
+    path = grid_run(results) / "manifest.json"
+    manifest = json.loads(path.read_text())
+    del manifest["n_recorded"]
+    path.write_text(json.dumps({**manifest, "sessions": [], "finished_at": None}, indent=2))
+    shown = invoke("status", "baseline_grid", "--root", results)
+    assert shown.exit_code == 0 and shown.stderr == "", shown.output
 
 
 # -- 3 (and 2, 4). stored files not what the manifest says, or none; a run refused before it starts

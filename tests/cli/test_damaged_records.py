@@ -49,7 +49,7 @@ def _damage_records_file(results):
     records.write_text("not a directory")
     return ("a file records where its records directory belongs", resume_advice(results),
             records, "file {path} moved to {target} (a file where a directory belongs); its "
-                     "trials will run again")
+                     "trials no longer recorded will run again")
 
 
 def _renamed_to_csv(results):
@@ -58,15 +58,15 @@ def _renamed_to_csv(results):
     compact.rename(renamed)
     return (f"a file records/{renamed.name} that is not a Parquet shard of the run",
             resume_advice(results), renamed, "file {path} moved to {target} (not a Parquet shard of "
-                                       "the run); its trials will run again")
+                                       "the run); its trials no longer recorded will run again")
 
 
 def _duplicate(results):
     compact = _compact(results)
-    copy = compact.with_name("part-dup.parquet")
+    copy = compact.with_name("part-dddddddddd.parquet")
     shutil.copyfile(compact, copy)
     why = f"every trial also in records/{compact.name}"
-    return (f"a duplicate file records/part-dup.parquet ({why})",
+    return (f"a duplicate file records/part-dddddddddd.parquet ({why})",
             resume_advice(results, "quarantine the duplicate"), copy,
             "duplicate file {path} moved to {target} (" + why + "); its trials stay recorded in "
             f"records/{compact.name}")
@@ -74,28 +74,28 @@ def _duplicate(results):
 
 def _foreign_study(results):
     (shard,) = (results / "smoke" / "default" / "records").glob("*.parquet")
-    copy = grid_run(results) / "records" / "part-foreign.parquet"
+    copy = grid_run(results) / "records" / "part-ffffffffff.parquet"
     shutil.copyfile(shard, copy)
-    return ("a file records/part-foreign.parquet holding records of another study (smoke)",
+    return ("a file records/part-ffffffffff.parquet holding records of another study (smoke)",
             resume_advice(results), copy, "file {path} moved to {target} (records of another study "
-                                    "(smoke)); its trials will run again")
+                                    "(smoke)); its trials no longer recorded will run again")
 
 
 def _another_run(results):
-    copy = grid_run(results) / "records" / "part-other.parquet"
+    copy = grid_run(results) / "records" / "part-0000000000.parquet"
     _rewritten(_compact(results), copy, lambda t: _with_run(t, "other"))
-    return ("a file records/part-other.parquet holding records of another run (other)",
+    return ("a file records/part-0000000000.parquet holding records of another run (other)",
             resume_advice(results), copy, "file {path} moved to {target} (records of another run "
-                                    "(other)); its trials will run again")
+                                    "(other)); its trials no longer recorded will run again")
 
 
 def _another_config(results):
-    copy = grid_run(results) / "records" / "part-config.parquet"
+    copy = grid_run(results) / "records" / "part-cccccccccc.parquet"
     _rewritten(_compact(results), copy, lambda t: t.replace_schema_metadata(
         {b"graspcampaign.config_hashes": b'["0123456789abcdef"]'}))
     why = "records run with another config (hash 0123456789abcdef, not one this run ran with)"
-    return (f"a file records/part-config.parquet holding {why}", resume_advice(results), copy,
-            "file {path} moved to {target} (" + why + "); its trials will run again")
+    return (f"a file records/part-cccccccccc.parquet holding {why}", resume_advice(results), copy,
+            "file {path} moved to {target} (" + why + "); its trials no longer recorded will run again")
 
 
 def _twice_in_one_file(results):
@@ -103,8 +103,8 @@ def _twice_in_one_file(results):
     table = pq.read_table(compact)
     _as_written(pa.concat_tables([table, table]), compact)
     return (f"a file records/{compact.name} that records 2 trials twice", resume_advice(results),
-            compact, "file {path} moved to {target} (it records 2 trials twice); its trials will "
-                     "run again")
+            compact, "file {path} moved to {target} (it records 2 trials twice); its trials no "
+                     "longer recorded will run again")
 
 
 def _records_removed(results):
@@ -126,13 +126,13 @@ def _records_emptied(results):
 def _partly_duplicated(results):
     compact = _compact(results)
     table = pq.read_table(compact)
-    first, both = compact.with_name("part-a.parquet"), compact.with_name("part-b.parquet")
+    first, both = compact.with_name("part-aaaaaaaaaa.parquet"), compact.with_name("part-bbbbbbbbbb.parquet")
     _as_written(table.slice(0, 1), first)
     _as_written(table, both)
     compact.unlink()
-    why = "1 of its 2 trials also in records/part-a.parquet"
-    return (f"a duplicate file records/part-b.parquet ({why})", resume_advice(results), both,
-            "file {path} moved to {target} (" + why + "); its trials will run again")
+    why = "1 of its 2 trials also in records/part-aaaaaaaaaa.parquet"
+    return (f"a duplicate file records/part-bbbbbbbbbb.parquet ({why})", resume_advice(results), both,
+            "file {path} moved to {target} (" + why + "); its trials no longer recorded will run again")
 
 
 def _edited(results, edit, digest: bool | None):
@@ -165,7 +165,7 @@ def _edit_case(edit, digest: bool | None, why: str, damaged: bool = False):
             f"a file records/{compact.name} {why}"
         reason = why if damaged else why.split(" ", 1)[1]
         return (text, resume_advice(results), compact, ("damaged file" if damaged else "file") +
-                " {path} moved to {target} (" + reason + "); its trials will run again")
+                " {path} moved to {target} (" + reason + "); its trials no longer recorded will run again")
     return case
 
 
@@ -295,7 +295,8 @@ def test_run_quarantines_records_of_a_trial_outside_its_design(results):
     assert repaired.exit_code == 0, repaired.output
     target = grid_run(results) / "quarantine" / f"records__{compact.name}"
     assert repaired.stderr == (f"warning: file {compact} moved to {target} (records of 1 trial not "
-                               f"in the study's design ({foreign})); its trials will run again\n")
+                               f"in the study's design ({foreign})); its trials no longer "
+                               "recorded will run again\n")
     assert "2 trials, 0 already recorded, 2 ran" in repaired.stdout
     assert target.read_bytes() == kept
     store = RunStore(grid_run(results))
@@ -327,7 +328,7 @@ def test_a_run_that_cannot_be_read_never_replaces_what_the_root_pages_say(result
     pages = {p.name: p.read_bytes() for p in results.glob("*.*")}
     assert sorted(pages) == ["headline.csv", "headline.md", "index.md"]
     why = (f"run baseline_grid/default at {grid_run(results)} has a duplicate file "
-           f"records/part-dup.parquet (every trial also in records/{_compact(results).name}); "
+           f"records/part-dddddddddd.parquet (every trial also in records/{_compact(results).name}); "
            + resume_advice(results, "quarantine the duplicate")[:-1])
     left = f"warning: the headline and index pages were left as they were: run " \
            f"baseline_grid/default cannot be read ({why})\n"
@@ -356,7 +357,7 @@ def test_the_advice_for_an_unidentifiable_trace_file_is_true(results):
     assert repaired.exit_code == 0, repaired.output
     target = grid_run(results) / "quarantine" / f"tables__candidates__{trace.name}"
     assert repaired.stderr == (f"warning: damaged file {trace} moved to {target} ({why}); its "
-                               "trials will run again\n")
+                               "trials no longer recorded will run again\n")
     assert "2 ran" in repaired.stdout and target.read_bytes() == b"x" * 100
     store = RunStore(grid_run(results))
     assert store.check() is not None and len(store.read("tables/candidates")) > 0

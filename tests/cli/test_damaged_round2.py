@@ -99,19 +99,19 @@ def test_a_trial_recorded_twice_with_other_values_is_run_again_not_kept_from_eit
     first, truth = table["trial_id"][0].as_py(), table["success"][0].as_py()
     flipped = table.slice(0, 1).set_column(table.schema.get_field_index("success"), "success",
                                            pc.invert(table.slice(0, 1)["success"]))
-    colleague = records / "part-colleague.parquet"
+    colleague = records / "part-c0c0c0c0c0.parquet"
     _as_written(flipped, colleague)
     why = f"1 trial also in records/{compact.name} with other values (column success)"
     for args in (["status", "baseline_grid"], ["report", "baseline_grid"]):
         refused(results, [*args, "--root", results],
                 f"run baseline_grid/default at {grid_run(results)} has a file "
-                f"records/part-colleague.parquet recording {why}; {resume_advice(results)}")
+                f"records/part-c0c0c0c0c0.parquet recording {why}; {resume_advice(results)}")
     kept = colleague.read_bytes()
     repaired = invoke("run", "baseline_grid", *BG, "runner.progress=false", "--root", results)
     assert repaired.exit_code == 0, repaired.output
-    target = grid_run(results) / "quarantine" / "records__part-colleague.parquet"
+    target = grid_run(results) / "quarantine" / "records__part-c0c0c0c0c0.parquet"
     assert repaired.stderr == (f"warning: file {colleague} moved to {target} ({why}); its trials "
-                               "will run again\n")
+                               "no longer recorded will run again\n")
     assert "2 trials, 1 already recorded, 1 ran" in repaired.stdout
     assert target.read_bytes() == kept
     again = RunStore(grid_run(results)).read().to_pandas().set_index("trial_id")
@@ -121,18 +121,21 @@ def test_a_trial_recorded_twice_with_other_values_is_run_again_not_kept_from_eit
 @pytest.mark.parametrize(("part", "copy"), [
     ("records", "{stem} (conflicted copy 2026-11-30).parquet"),  # Dropbox
     ("tables/candidates", "{stem} (1).parquet"),  # a browser's or Google Drive's second download
+    ("records", "{stem}-DESKTOP-7QK3M2L.parquet"),  # OneDrive: "-<computer name>", no space
 ])
 def test_a_sync_tools_copy_of_a_shard_is_moved_aside_not_the_shard(results, part, copy):
     """A byte-identical copy of a shard under a sync tool's name: the copy is moved aside and
     nothing runs again (the run's own file was called the duplicate, its name sorting after the
     copy's, and moved aside, so the run went on from the copy; and a trace table's copy, now moved
-    aside, would have run all its trials again although the run's own file holds their traces)."""
+    aside, would have run all its trials again although the run's own file holds their traces).
+    The warning says only the trials no longer recorded run again (it said "its trials will run
+    again" over "0 ran")."""
     (own,) = (grid_run(results) / part).glob("*.parquet")
     kept = own.read_bytes()
     duplicate = own.with_name(copy.format(stem=own.stem))
     duplicate.write_bytes(kept)
     rel = duplicate.relative_to(grid_run(results)).as_posix()
-    why = "named as a copy of a shard: the tool's names have no spaces or brackets"
+    why = "named as a copy of a shard: not a name the tool writes"
     refused(results, ["report", "baseline_grid", "--root", results],
             f"run baseline_grid/default at {grid_run(results)} has a file {rel} {why}; "
             f"{resume_advice(results)}")
@@ -140,6 +143,23 @@ def test_a_sync_tools_copy_of_a_shard_is_moved_aside_not_the_shard(results, part
     assert repaired.exit_code == 0, repaired.output
     target = grid_run(results) / "quarantine" / rel.replace("/", "__")
     assert repaired.stderr == (f"warning: file {duplicate} moved to {target} ({why}); its trials "
-                               "will run again\n")
+                               "no longer recorded will run again\n")
     assert "2 trials, 2 already recorded, 0 ran" in repaired.stdout
     assert own.read_bytes() == kept and target.read_bytes() == kept
+
+
+def test_run_moves_nothing_aside_in_an_ingested_run(results):
+    """The quarantine warning's "will run again" is never said of an ingested run: `run` refuses
+    such a run before its repair moves anything (ingested runs are added to by `ingest` only)."""
+    import json
+
+    manifest_path = grid_run(results) / "manifest.json"
+    manifest = json.loads(manifest_path.read_text())
+    manifest["sessions"][0]["ingested"] = ["day1.csv"]
+    manifest_path.write_text(json.dumps(manifest, indent=2))
+    (own,) = (grid_run(results) / "records").glob("*.parquet")
+    shutil.copyfile(own, own.with_name(f"{own.stem} (1).parquet"))
+    refused(results, ["run", "baseline_grid", *BG, "--root", results],
+            f"run baseline_grid/default at {grid_run(results)} holds simulation records (ingested); "
+            "`run` never adds simulated or virtual trials to them, so choose another run name "
+            "(--run NAME).")

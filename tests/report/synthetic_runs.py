@@ -60,14 +60,15 @@ def make_run(root, name: str, kind: str, factors: dict, seeds: int, paper: dict 
         rows.append(row)
     store = RunStore(root / name / "r1")
     half = len(rows) // 2
-    store.write_shard("records", "a", rows[:half])
-    store.write_shard("records", "b", rows[half:])
+    store.write_shard("records", "aaaaaaaaaa", rows[:half])
+    store.write_shard("records", "bbbbbbbbbb", rows[half:])
     for tname, trows in traces.items():
-        store.write_shard(f"tables/{tname}", "a", trows)
+        store.write_shard(f"tables/{tname}", "aaaaaaaaaa", trows)
     if prepared:
-        store.write_shard("prepared", "a", prepared)
+        store.write_shard("prepared", "aaaaaaaaaa", prepared)
     manifest = new_manifest(study, "r1", len(trials), source)
     manifest["finished_at"] = now_utc()
+    manifest["sessions"].append({"config_hash": manifest["config_hash"]})  # a finished run had one
     write_manifest(store.manifest_path, manifest)
     return store
 

@@ -71,7 +71,7 @@ def write_run(root, name="ablation", kind="quasi_static", n_success=None, error_
                        exceeds_1mm=0.5 + trial.index > 1)
         rows.append(row)
     store = RunStore(root / name / run)
-    store.write_shard("records", "a", rows)
+    store.write_shard("records", "aaaaaaaaaa", rows)
     write_manifest(store.manifest_path, new_manifest(study, run, len(rows), source))
     return store
 
@@ -255,7 +255,7 @@ def test_the_index_pages_read_no_run_again(tmp_path, opened):
     # to verify it and once for its report, no more (was once more for each index page)
     write_run(tmp_path / "results", name="other", kind="no_section_kind", planners=("heuristic",))
     build_reports(root=tmp_path / "results", formats=["md", "html"])
-    assert opened == {"other/r1/records/part-a.parquet": 2}
+    assert opened == {"other/r1/records/part-aaaaaaaaaa.parquet": 2}
     assert "| other | [r1](other/r1/report/report.md) | simulation | 10 |" in \
         (tmp_path / "results" / "index.md").read_text()
 

@@ -249,7 +249,7 @@ def test_a_non_finite_sweep_level_is_reported_not_raised(runs, tmp_path):
     shutil.rmtree(copy / "records")
     for column in ERROR_COLUMNS:  # text as the runner stores it, not pandas' NaN
         records[column] = records[column].astype(object).where(records[column].notna(), None)
-    store.write_shard("records", "a", records.to_dict("records"), strings=ERROR_COLUMNS)
+    store.write_shard("records", "aaaaaaaaaa", records.to_dict("records"), strings=ERROR_COLUMNS)
     result = CliRunner().invoke(app, ["report", "--root", str(tmp_path / "results"),
                                       "--figure-format", "svg"])
     assert result.exit_code == 0, result.output

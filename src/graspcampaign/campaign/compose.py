@@ -52,7 +52,7 @@ from graspcampaign.campaign.studyfile import (  # noqa: F401  (project_dirs, lis
     read_yaml,
     schema_of,
 )
-from graspcampaign.campaign.written import in_file, line_of
+from graspcampaign.campaign.written import file_nodes, in_file, line_of
 from graspcampaign.errors import ConfigError, UserInputError
 
 
@@ -182,9 +182,10 @@ def _blamed(exc: ConfigError, path: Path, overrides: list[str],
             blamed = re.sub(r"\[(\d+)\]", r".\1", blamed)
             if set_key == blamed or blamed.startswith(f"{set_key}.") or set_key.startswith(f"{blamed}."):
                 return exc
+    nodes = file_nodes(path)  # read once: the line of each key tried, then the message's
     for blamed in (key, *also):  # a factor the file lacks: the line of its kind
-        if line_of(path, blamed) is not None:
-            return in_file(path, ConfigError(str(exc), key=blamed))
+        if line_of(path, blamed, nodes) is not None:
+            return in_file(path, ConfigError(str(exc), key=blamed), nodes=nodes)
     return exc
 
 

@@ -62,13 +62,17 @@ from graspcampaign.errors import DamagedRunError, StoreWriteError
 
 log = logging.getLogger(__name__)
 
-#: Names of stored shards (a hash, a body id or "final", a "-k" suffix); anything else in a part
-#: directory (hidden files aside) is not a shard, a copy of one under a sync tool's or file
-#: manager's name ("compact-x (1).parquet", "part-x - Copy.parquet") neither.
-SHARD = re.compile(r"(part|compact)-[A-Za-z0-9_-]+\.parquet")
+#: Names of stored shards, as the store writes them: "part-" and a content hash (10 hex digits,
+#: ``grid.content_hash``: a task's trial ids, a body id) or "final", then a "-k" suffix where a
+#: compacted file supersedes the name; "compact-" and a content hash. Anything else in a part
+#: directory (hidden files aside) is not a shard, a copy of one under any sync tool's or file
+#: manager's name ("compact-x (1).parquet", "part-x - Copy.parquet", OneDrive's "part-x-HOST.parquet")
+#: neither.
+SHARD = re.compile(r"(part-([0-9a-f]{10}|final)(-[1-9][0-9]*)?|compact-[0-9a-f]{10})\.parquet")
 _PARTS = ("records", "prepared", "tables", "summary")
 #: What happens to the trials of a file moved aside, by the part it was in.
-_THEN = {"records": "its trials will run again", "tables": "its trials will run again",
+_THEN = {"records": "its trials no longer recorded will run again",
+         "tables": "its trials no longer recorded will run again",
          "prepared": "it is computed again", "summary": "it is computed again"}
 _HOLDS = {"text": lambda t: pa.types.is_string(t) or pa.types.is_large_string(t),
           "whole numbers": pa.types.is_integer,
@@ -128,7 +132,7 @@ def layout_problems(store) -> list[Problem]:
         for entry in sorted(directory.iterdir()):
             if not _hidden(entry) and not SHARD.fullmatch(entry.name):
                 copy = re.fullmatch(r"(part|compact)-.*\.parquet", entry.name)
-                why = ("named as a copy of a shard: the tool's names have no spaces or brackets"
+                why = ("named as a copy of a shard: not a name the tool writes"
                        if copy else "not a Parquet shard of the run")
                 out.append(Problem(entry, f"a file {_rel(store, entry)} "
                                           f"{why if copy else 'that is ' + why}", "quarantine",

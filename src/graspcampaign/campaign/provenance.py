@@ -202,8 +202,8 @@ def read_manifest(path: Path) -> dict[str, Any] | None:
     if not (path.exists() or path.is_symlink()):
         return None
     why = None
-    try:
-        text = path.read_bytes().decode("utf-8")
+    try:  # a byte order mark (an editor's re-save) carries no content: RFC 8259 lets a reader skip it
+        text = path.read_bytes().decode("utf-8").removeprefix("\ufeff")
     except IsADirectoryError:
         why = "it is a directory, not a file"
     except OSError as exc:
@@ -324,6 +324,11 @@ def _manifest_problem(manifest: Any) -> str | None:
             return f"{key} is {shown if len(shown) <= 40 else shown[:37] + '...'}, not {what}"
     if not all(isinstance(s, dict) for s in manifest["sessions"]):
         return "sessions holds an entry that is not an object"
+    # a session is listed when its counts are written; before that (versions up to the integrity
+    # checks) a run was stored with no session until its first one ended, unfinished, uncounted
+    if not manifest["sessions"] and ("n_recorded" in manifest or manifest["finished_at"]):
+        return ("sessions is [], but a run with n_recorded or finished_at has had at least one "
+                "session")
     return None
 
 

@@ -42,7 +42,7 @@ def _key_nodes(text: str) -> dict[str, tuple[int, Any]]:
     return out
 
 
-def _file_nodes(path: Path) -> dict[str, tuple[int, Any]]:
+def file_nodes(path: Path) -> dict[str, tuple[int, Any]]:
     """:func:`_key_nodes` of the file at ``path``; empty if it cannot be read as UTF-8."""
     try:
         return _key_nodes(Path(path).read_text(encoding="utf-8-sig"))
@@ -53,10 +53,10 @@ def _file_nodes(path: Path) -> dict[str, tuple[int, Any]]:
 def line_of(path: Path, key: str | None, nodes: dict[str, tuple[int, Any]] | None = None
             ) -> int | None:
     """The line of ``path`` that writes ``key`` or, failing that, its nearest parent (``nodes``:
-    the file's :func:`_file_nodes`, when read already)."""
+    the file's :func:`file_nodes`, when read already)."""
     if not key:
         return None
-    lines = {k: line for k, (line, _) in (_file_nodes(path) if nodes is None else nodes).items()}
+    lines = {k: line for k, (line, _) in (file_nodes(path) if nodes is None else nodes).items()}
     while key:
         if key in lines:
             return lines[key]
@@ -65,13 +65,15 @@ def line_of(path: Path, key: str | None, nodes: dict[str, tuple[int, Any]] | Non
     return None
 
 
-def in_file(path: Path, exc: ConfigError, key_prefix: str = "") -> ConfigError:
+def in_file(path: Path, exc: ConfigError, key_prefix: str = "",
+            nodes: dict[str, tuple[int, Any]] | None = None) -> ConfigError:
     """``exc`` with the file (and the line of its key) in front: ``<path>, line 7: ...``; a value
     it names as ``False (bool)`` or ``null`` that the file writes as a word YAML 1.1 reads as true,
     false or null (``no``, ``On``, ``NO``, ``~``) is named as written: ``no, which YAML reads as
-    false; quote it: 'no'`` (the quotes where text is wanted)."""
+    false; quote it: 'no'`` (the quotes where text is wanted). ``nodes``: the file's
+    :func:`file_nodes`, when read already."""
     key = exc.key[len(key_prefix):] if exc.key and key_prefix else exc.key
-    nodes = _file_nodes(path)  # read and parsed once, for the line and the word
+    nodes = file_nodes(path) if nodes is None else nodes  # read once, for the line and the word
     line, text = line_of(path, key, nodes), str(exc)
     if (word := _yaml_word(nodes, key)) is not None:
         import yaml
@@ -86,7 +88,7 @@ def in_file(path: Path, exc: ConfigError, key_prefix: str = "") -> ConfigError:
 
 
 def _yaml_word(nodes: dict[str, tuple[int, Any]], key: str | None) -> str | None:
-    """The word a file (its :func:`_file_nodes`) writes at ``key`` if YAML reads it as a bool or
+    """The word a file (its :func:`file_nodes`) writes at ``key`` if YAML reads it as a bool or
     null and it is none of ``true``, ``false``, ``null`` (``yes``, ``no``, ``on``, ``off`` in any
     of their cases, ``~``), else None."""
     written = nodes.get(key or "")

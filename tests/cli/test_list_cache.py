@@ -1,0 +1,29 @@
+"""``list``'s cached design size of a study whose design is read from another run's records."""
+
+from __future__ import annotations
+
+import pyarrow.parquet as pq
+from cli_checks import grid_run
+
+from graspcampaign.campaign import catalog
+from graspcampaign.campaign.studyfile import project_dirs
+
+
+def test_a_listed_design_read_from_a_source_run_follows_that_runs_manifest(results, tmp_path,
+                                                                             monkeypatch):
+    """dynamic_check's row is cached under its study files and its source run's manifest: listed
+    before baseline_grid/default is stored it is "after baseline_grid"; once the run is stored
+    (its manifest none, then the run's), the row is computed again from the run, not answered
+    "after baseline_grid" from the cache (mutant C2 of mutation round 7 survived every test)."""
+    monkeypatch.setenv("GRASPCAMPAIGN_CACHE", str(tmp_path / "cache"))
+    monkeypatch.chdir(results.parent)  # output.root "results": this copy of the finished root
+    study_file = project_dirs()[1] / "dynamic_check.yaml"
+    source = grid_run(results)
+    aside = source.rename(tmp_path / "aside")
+    before = catalog.study_row(study_file)
+    assert (before["trials"], before["runnable"]) == ("?", "after baseline_grid")
+    aside.rename(source)
+    ok = pq.read_table(source / "records", columns=["status"]).column("status").to_pylist()
+    after = catalog.study_row(study_file)
+    # its two model presets (campaigns/dynamic_check.yaml) times the source run's executed trials
+    assert (after["trials"], after["runnable"]) == (2 * ok.count("ok"), "yes")
