@@ -22,6 +22,14 @@ def _pi_with_trace(inp, rng):
     return out
 
 
+def _pi_with_sparse_trace(inp, rng):
+    """Two trace rows for a ``random`` planner's trial, none (an empty table) for the others."""
+    out = _pi_estimate(inp, rng)
+    n = 2 if inp.trial.factors.get("planner") == "random" else 0
+    out["__tables__"] = {"trace": {"step": list(range(n)), "value": [out["pi_estimate"]] * n}}
+    return out
+
+
 def _prepare(study, params, body, rng):
     return {"identified_scale": float(rng.uniform(1, 2))}
 
@@ -34,7 +42,9 @@ def _pi_prepared(inp, rng):
 
 PI = TrialKind(name="test_pi", run=_pi_estimate, seconds_per_trial=0.001)
 PI_TRACE = TrialKind(name="test_pi_trace", run=_pi_with_trace, seconds_per_trial=0.001)
+PI_SPARSE_TRACE = TrialKind(name="test_pi_sparse_trace", run=_pi_with_sparse_trace,
+                            seconds_per_trial=0.001)
 PI_PREPARED = TrialKind(name="test_pi_prepared", run=_pi_prepared, seconds_per_trial=0.001,
                         body_key=lambda f: {"mass_kg": f["mass_kg"]}, prepare=_prepare)
-for _k in (PI, PI_TRACE, PI_PREPARED):
+for _k in (PI, PI_TRACE, PI_SPARSE_TRACE, PI_PREPARED):
     register_kind(_k)

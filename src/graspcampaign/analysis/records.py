@@ -44,11 +44,14 @@ def flag(frame: pd.DataFrame, column: str) -> pd.Series:
 
 
 def in_design_order(frame: pd.DataFrame) -> pd.DataFrame:
-    """``frame``'s rows by ``trial_index`` then ``trial_id`` (where it has them), each trial's rows
-    in their stored order. A run's files hold rows in the order its tasks finished, which depends
-    on ``n_jobs``, the task size and any resume: a resampling statistic read in that order would
-    differ between two runs of the same trials."""
+    """``frame``'s rows by ``trial_index`` then ``trial_id`` (where it has them; preparations, which
+    have neither, by ``body_id``), each trial's rows in their stored order. A run's files hold rows
+    in the order its tasks finished, which depends on ``n_jobs``, the task size and any resume (and
+    a preparation computed again is stored last): a statistic read in that order would differ
+    between two runs of the same trials, if only in its last digits (a sum's order)."""
     keys = [c for c in ("trial_index", "trial_id") if c in frame]
+    if not keys and "body_id" in frame:
+        keys = ["body_id"]
     return frame.sort_values(keys, kind="stable").reset_index(drop=True) if keys else frame
 
 

@@ -20,31 +20,26 @@ manifest says, before anything counts or reports its records:
 - no trial is recorded twice, in one records file or across files, and no trial's traces are in
   two files of one trace table;
 - no recorded trial went missing: the run stores at least the ``n_recorded`` trials its manifest
-  counted when they were last written.
+  counted when they were last written;
+- no other part went missing: the traces, preparations and summary tables the run's records say
+  it stored are there (:mod:`graspcampaign.campaign.parts`).
 
 Reading never changes a run: :func:`check_run` raises :class:`DamagedRunError`, one sentence naming
-the run, the first offending file and what to do. Only :func:`repair`, called by the runner when a
-run starts or resumes, changes it, and it deletes no stored file: a damaged file, a file that is
-not a shard, a shard of another run or config and a duplicate shard are moved to ``quarantine/``,
-and the trials whose records are then missing run again (a duplicate's trials stay recorded in
-the shard it duplicates). What cannot be repaired safely (a file in place of the run directory,
-of ``tables/`` or of ``quarantine/``; a damaged or missing manifest) is refused.
+the run, the first offending file and what to do. Only
+:func:`graspcampaign.campaign.repair.repair`, called by the runner when a run starts or resumes,
+changes it (and deletes no stored file). What cannot be repaired safely (a file in place of the run
+directory, of ``tables/`` or of ``quarantine/``; a damaged or missing manifest) is refused.
 """
 
 from __future__ import annotations
 
-import contextlib
 import json
-import logging
-import os
 import re
 import shlex
-import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
 import pyarrow as pa
-import pyarrow.parquet as pq
 
 from graspcampaign.campaign.paths import root_options
 from graspcampaign.campaign.provenance import (
@@ -56,11 +51,9 @@ from graspcampaign.campaign.provenance import (
     record_sources,
 )
 from graspcampaign.campaign.records import OPTIONAL_COLUMNS, RECORD_COLUMNS
-from graspcampaign.campaign.verify import Facts, facts, one_check, other_values, verify_file
+from graspcampaign.campaign.verify import Facts, facts, one_check, other_values
 from graspcampaign.core.words import counted
-from graspcampaign.errors import DamagedRunError, StoreWriteError
-
-log = logging.getLogger(__name__)
+from graspcampaign.errors import DamagedRunError
 
 #: Names of stored shards, as the store writes them: "part-" and a content hash (10 hex digits,
 #: ``grid.content_hash``: a task's trial ids, a body id) or "final", then a "-k" suffix where a
@@ -70,10 +63,6 @@ log = logging.getLogger(__name__)
 #: neither.
 SHARD = re.compile(r"(part-([0-9a-f]{10}|final)(-[1-9][0-9]*)?|compact-[0-9a-f]{10})\.parquet")
 _PARTS = ("records", "prepared", "tables", "summary")
-#: What happens to the trials of a file moved aside, by the part it was in.
-_THEN = {"records": "its trials no longer recorded will run again",
-         "tables": "its trials no longer recorded will run again",
-         "prepared": "it is computed again", "summary": "it is computed again"}
 _HOLDS = {"text": lambda t: pa.types.is_string(t) or pa.types.is_large_string(t),
           "whole numbers": pa.types.is_integer,
           "numbers": lambda t: pa.types.is_integer(t) or pa.types.is_floating(t)}
@@ -88,7 +77,9 @@ class Problem:
     ``text`` completes "run S/R at P has ..."; ``reason`` is what the quarantine warning says.
     ``fix`` is what ``run`` does about it: "quarantine" (move the file aside; trials missing then
     run again), "duplicate" (move it aside; its trials stay recorded elsewhere), "missing" (run
-    the missing trials again) or "refuse".
+    the missing trials again), "rerun" (drop the records of trials ``rerun`` whose traces are
+    gone, so they run again), "recompute" (compute a preparation or summary table again) or
+    "refuse".
     """
 
     path: Path
@@ -99,6 +90,8 @@ class Problem:
     advice: str = ""
     #: trials recorded with other values in an earlier file: their records there go too
     conflicting: frozenset = frozenset()
+    #: trials whose traces are gone (:mod:`graspcampaign.campaign.parts`): they run again
+    rerun: frozenset = frozenset()
 
 
 def _rel(store, path: Path) -> str:
@@ -286,6 +279,10 @@ def problems(store, manifest: dict | None, parts: list[str] | None = None) -> li
         elif counted := _miscounted(manifest, len(stored)):
             found.append(Problem(store.manifest_path, MISMATCH.format(counted), "refuse",
                                  advice="restore the file from a backup"))
+    if manifest is not None and not found and (parts is None or "records" in parts):
+        from graspcampaign.campaign.parts import part_problems  # it names Problem
+
+        found += part_problems(store, full=parts is None)
     return found
 
 
@@ -323,7 +320,9 @@ def _advice(store, problem: Problem, by_ingest: bool) -> str:
     command = shlex.join(["graspcampaign", "run", study, "--run", run, *root_options(root)])
     resume = f"resume the run ({command}) to"
     return {"duplicate": f"{resume} quarantine the duplicate",
-            "missing": f"{resume} run the missing trials again"}.get(
+            "missing": f"{resume} run the missing trials again",
+            "rerun": f"{resume} run those trials again",
+            "recompute": f"{resume} compute it again"}.get(
                 problem.fix, f"{resume} quarantine the file and run its trials again")
 
 
@@ -383,107 +382,3 @@ def _holds_files(path: Path) -> bool:
     if path.is_file():
         return True
     return path.is_dir() and any(p.is_file() for p in path.rglob("*") if not _hidden(p))
-
-
-def _trials_of_trace(store, path: Path) -> set[str]:
-    """The trials whose traces a trace file moved aside held: from its key pages, else from the
-    records file of the same task, else every recorded trial (the caller keeps those with a row in
-    the table's other files; re-running a trial that had none costs time, never a wrong record)."""
-    try:
-        return set(pq.read_table(path, columns=["trial_id"],
-                                 page_checksum_verification=True).column("trial_id").to_pylist())
-    except Exception:  # noqa: BLE001 - pyarrow raises several types for a damaged or foreign file
-        pass
-    twin = store.path / "records" / path.name  # a task's traces and records share its name
-    if twin.is_file() and SHARD.fullmatch(twin.name) and verify_file(twin) is None:
-        return _ids(twin)[1]
-    return store.recorded_ids()
-
-
-def _quarantine(store, path: Path, reason: str, what: str, then: str) -> Path:
-    """Move ``path`` to ``quarantine/``, never over an earlier quarantined file, and warn:
-    "<what> <path> moved to <target> (<reason>); <then>". A rename, never a copy: a copy left
-    beside a file that could not be removed would count twice; what cannot be moved is refused,
-    nothing moved or made."""
-    directory = store._dir("quarantine")
-    stem = path.relative_to(store.path).as_posix().replace("/", "__")
-    target, k, made = directory / stem, 1, not directory.exists()
-    while target.exists():
-        base, dot, suffix = stem.rpartition(".")
-        target = directory / (f"{base}~{k}.{suffix}" if dot else f"{stem}~{k}")
-        k += 1
-    try:
-        directory.mkdir(parents=True, exist_ok=True)
-        os.rename(path, target)
-    except OSError as exc:
-        if made:
-            with contextlib.suppress(OSError):
-                directory.rmdir()
-        raise StoreWriteError(f"cannot move {path} to {target} ({reason}): "
-                              f"{os.strerror(exc.errno).lower()}; it stays where it is, so make "
-                              f"{path.parent} and {directory} writable and run the command "
-                              "again.") from None
-    warnings.warn(f"{what} {path} moved to {target} ({reason}); {then}", stacklevel=3)
-    log.warning("quarantined %s as %s: %s", path, target, reason)
-    return target
-
-
-@one_check()
-def repair(store, manifest: dict | None = None, config_hash: str | None = None,
-           design: set[str] | None = None) -> list[tuple[Path, Path, str]]:
-    """Quarantine what makes the run differ from its manifest and make the rest consistent.
-
-    - a records file that is damaged, foreign, not a shard or records a trial twice: moved
-      aside; its trials are no longer recorded, so they run again; a duplicate records file:
-      moved aside, its trials stay recorded in the file it duplicates;
-    - the same in a trace table (``tables/``), and the records of the trials it held are dropped
-      so that they run again with their traces (an exact duplicate drops nothing);
-    - trace rows of a trial that has no record are dropped;
-    - a preparation moved aside is recomputed; a summary table once every trial is recorded.
-
-    ``config_hash`` is the config of the session about to run (its shards are the run's own);
-    ``design`` the trial ids of its design when every session ran it (a file recording another
-    trial is not the run's).
-    What :func:`check_run` refuses is left to it (the runner calls it first).
-
-    Returns
-    -------
-    list of (file, quarantined as, reason)
-    """
-    moved: list[tuple[Path, Path, str]] = []
-    lost: set[str] = set()
-    for _ in range(10):  # moving a file aside can make superseded shards live again: look again
-        allowed = owners(store, manifest, config_hash, design)
-        found = [p for p in layout_problems(store) if p.fix != "refuse"]
-        flagged = {p.path for p in found}
-        for part in store._parts():
-            found += [p for p in file_problems(store, part, allowed) if p.path not in flagged]
-        if not found:
-            break
-        for problem in found:
-            group = problem.part.split("/")[0]
-            if group == "tables" and problem.fix != "duplicate" and problem.part != "tables":
-                others = [p for p in store._listing(problem.part)[0]
-                          if p not in {q.path for q in found}]
-                # trials whose traces another file of the table holds (a copy's) lost none
-                lost |= _trials_of_trace(store, problem.path) - set().union(
-                    *(_ids(other)[1] for other in others))
-            if group == "summary":
-                (store.path / "summary" / "complete.json").unlink(missing_ok=True)
-            what = {"duplicate": "duplicate file"}.get(
-                problem.fix, "damaged file" if problem.text.startswith("a damaged") else "file")
-            then = ("its trials stay recorded in " + problem.reason.split(" also in ")[-1]
-                    if problem.fix == "duplicate" else "it held no part of the run"
-                    if problem.part in ("tables", "summary") else _THEN[group])
-            target = _quarantine(store, problem.path, problem.reason, what, then)
-            lost |= problem.conflicting  # neither record of a trial recorded twice is trusted
-            moved.append((problem.path, target, problem.reason))
-    if not moved and not (store.path / "tables").is_dir():
-        return moved
-    if lost:
-        store._drop_rows("records", lost)
-    recorded = store.recorded_ids()
-    for part in store._parts(summaries=False):
-        if part.startswith("tables/"):
-            store._keep_rows(part, recorded)
-    return moved

@@ -25,16 +25,20 @@ compacted file lists its source shards, a rewritten file the file it replaces. A
 still present after a crash between "write the new file" and "delete the old ones" is ignored and
 removed, so no trial is ever read twice. A records file also names the configs of the sessions
 that wrote it (``graspcampaign.config_hashes``), so a shard of another config is recognised.
-Every file the tool writes carries the SHA-256 of its values (``graspcampaign.content_sha256``,
-:func:`content_digest`), checked whenever the file is verified: a file rewritten with other values
-(a row removed, a value or a column changed) is damaged even though its page checksums are valid.
+A records file written by ``run`` also says what each of its trials stored in the run's other
+parts (``graspcampaign.parts``, :mod:`graspcampaign.campaign.parts`), merged by a compaction and
+kept for the trials a rewrite keeps. Every file the tool writes carries the SHA-256 of its values
+(``graspcampaign.content_sha256``, :func:`content_digest`), checked whenever the file is verified:
+a file rewritten with other values (a row removed, a value or a column changed) is damaged even
+though its page checksums are valid.
 
 Reading never changes a run: a damaged file raises :class:`~graspcampaign.errors.DamagedRunError`
 naming the run and the file. Whether the run as a whole is what its manifest says (its layout, no
 file that is not a shard, no foreign or duplicate records, none missing) is
 :meth:`RunStore.check`; only :meth:`RunStore.repair` (called by the runner when a run starts or
 resumes) moves files to ``quarantine/`` and makes the rest consistent, so that exactly the
-trials no longer recorded run again (both in :mod:`graspcampaign.campaign.integrity`).
+trials no longer recorded run again (:mod:`graspcampaign.campaign.integrity`,
+:mod:`graspcampaign.campaign.repair`).
 """
 
 from __future__ import annotations
@@ -56,6 +60,7 @@ from graspcampaign.campaign.grid import content_hash
 from graspcampaign.campaign.verify import (
     CONFIG_KEY,
     CONTENT_KEY,
+    PARTS_KEY,
     READ_ERRORS,
     SOURCES_KEY,
     Damaged,
@@ -128,6 +133,18 @@ def _write_atomic(table: pa.Table, path: Path) -> None:
         with open(tmp, "rb") as fh:
             os.fsync(fh.fileno())
         os.replace(tmp, path)
+
+
+def _parts_of(metadata: list[dict], ids: set[str] | None = None) -> dict[bytes, bytes]:
+    """The ``PARTS_KEY`` metadata of a file made of files with ``metadata`` (of the trials
+    ``ids`` only, if given): every trial any of them accounts for; none if none of them has it (a
+    file stored before it was kept, or by ``ingest``)."""
+    held = [json.loads(meta[PARTS_KEY]) for meta in metadata if PARTS_KEY in meta]
+    if not held:
+        return {}
+    merged = {trial: stored for each in held for trial, stored in each.items()
+              if ids is None or trial in ids}
+    return {PARTS_KEY: json.dumps(merged, sort_keys=True, separators=(",", ":")).encode()}
 
 
 @contextlib.contextmanager
@@ -390,8 +407,8 @@ class RunStore:
     def repair(self, manifest: dict | None = None, config_hash: str | None = None,
                design: set[str] | None = None) -> list[tuple[Path, Path, str]]:
         """Quarantine what makes the run differ from its manifest and make the rest consistent
-        (:func:`graspcampaign.campaign.integrity.repair`); return (file, moved to, reason)."""
-        from graspcampaign.campaign.integrity import repair
+        (:func:`graspcampaign.campaign.repair.repair`); return (file, moved to, reason)."""
+        from graspcampaign.campaign.repair import repair
 
         return repair(self, manifest, config_hash, design)
 
@@ -403,8 +420,10 @@ class RunStore:
             meta = table.schema.metadata or {}
             sources = [path.name, *json.loads(meta.get(SOURCES_KEY) or b"[]")]
             name = f"compact-{content_hash([path.name, tag])}.parquet"
+            kept = _parts_of([meta], set(table.column("trial_id").to_pylist())
+                             if PARTS_KEY in meta else None)
             table = table.replace_schema_metadata(
-                {SOURCES_KEY: json.dumps(sources).encode(),
+                {SOURCES_KEY: json.dumps(sources).encode(), **kept,
                  **({CONFIG_KEY: meta[CONFIG_KEY]} if CONFIG_KEY in meta else {})})
             _write_atomic(table, path.parent / name)
         path.unlink(missing_ok=True)
@@ -460,6 +479,7 @@ class RunStore:
         names = sorted(p.name for p in parts)
         merged = merged.replace_schema_metadata(
             {SOURCES_KEY: json.dumps(names).encode(),
+             **_parts_of([t.schema.metadata or {} for t in tables]),
              **({CONFIG_KEY: json.dumps(configs).encode()} if configs else {})})
         _write_atomic(merged, directory / f"compact-{content_hash(names)}.parquet")
         for path in parts:

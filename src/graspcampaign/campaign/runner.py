@@ -27,6 +27,7 @@ from graspcampaign.campaign import provenance
 from graspcampaign.campaign.grid import Trial, content_hash, expand
 from graspcampaign.campaign.integrity import check_run, expected_records
 from graspcampaign.campaign.kind import TrialInput, TrialKind, get_kind
+from graspcampaign.campaign.parts import account, finalize, parts_metadata, prepare_bodies
 from graspcampaign.campaign.paths import LOCK_FILE, check_root, lock_exclusive
 from graspcampaign.campaign.provenance import DriftError, check_drift  # noqa: F401 - DriftError: API
 from graspcampaign.campaign.records import ERROR_COLUMNS, RunStore, config_metadata
@@ -100,10 +101,12 @@ def _error_fields(exc: BaseException) -> dict[str, Any]:
 
 def run_task(kind: TrialKind, study: StudyCfg, run: str, params: Any,
              items: list[tuple[Trial, dict[str, Any] | None]], fail_fast: bool):
-    """Run a batch of trials; return their record rows and trace-table rows."""
+    """Run a batch of trials; return their record rows, trace-table rows and what each stored
+    besides its record (:func:`~graspcampaign.campaign.parts.account`)."""
     host, worker = socket.gethostname(), f"pid{os.getpid()}"
     rows: list[dict[str, Any]] = []
     tables: dict[str, list[dict[str, Any]]] = {}
+    accounts: dict[str, dict[str, Any]] = {}
     for trial, prepared in items:
         row: dict[str, Any] = {
             "trial_id": trial.trial_id, "study": study.name, "run": run, "kind": kind.name,
@@ -112,11 +115,12 @@ def run_task(kind: TrialKind, study: StudyCfg, run: str, params: Any,
             "worker": worker, "host": host, "source": kind.source,
         }
         row.update(trial.factors)
-        start = time.perf_counter()
+        start, traced = time.perf_counter(), {}
         try:
             out = dict(kind.run(TrialInput(trial, study, params, prepared), trial.rng(study.seed)))
             for name, columns in out.pop("__tables__", {}).items():
                 n = len(next(iter(columns.values()))) if columns else 0
+                traced.update({name: n} if n else {})
                 tables.setdefault(name, []).extend(
                     {"trial_id": trial.trial_id, **{c: v[i] for c, v in columns.items()}}
                     for i in range(n)
@@ -129,24 +133,10 @@ def run_task(kind: TrialKind, study: StudyCfg, run: str, params: Any,
             row.update(_error_fields(exc))
         row["wall_time_s"] = time.perf_counter() - start
         rows.append(row)
+        accounts[trial.trial_id] = account(traced, prepared["body_id"] if prepared else None)
         if fail_fast and row["status"] == "error":
             break
-    return rows, tables
-
-
-def run_prepare(kind: TrialKind, study: StudyCfg, params: Any, body: dict[str, Any]):
-    """Compute one shared preparation (e.g. an identification) for a body."""
-    import numpy as np
-
-    from graspcampaign.campaign.grid import stream_key
-
-    rng = np.random.default_rng(
-        np.random.SeedSequence(study.seed, spawn_key=stream_key({"prepare": body}))
-    )
-    start = time.perf_counter()
-    out = kind.prepare(study, params, body, rng)
-    return {"body_id": content_hash(body), **body, **out,
-            "wall_time_s": time.perf_counter() - start}
+    return rows, tables, accounts
 
 
 # -- backends -----------------------------------------------------------------------------------
@@ -351,7 +341,7 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
         pending = [t for t in trials if t.trial_id not in done]
         summary = RunSummary(study.name, run, path, len(trials), n_already=len(trials) - len(pending))
         # every trial's body: a recorded trial's preparation lost (quarantined) is computed again
-        prepared = _prepare_bodies(kind, study, params, trials, store, map_unordered, summary)
+        prepared = prepare_bodies(kind, study, params, trials, store, map_unordered, summary)
         size = task_size(study, kind, len(pending))
         tasks = [
             [(t, prepared.get(content_hash(kind.body_key(t.factors))) if kind.body_key else None)
@@ -364,14 +354,14 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
             with one_check():  # each task's write_shard asks the compacted files: read each once
                 results = map_unordered(run_task, [(kind, study, run, params, items, fail_fast)
                                                    for items in tasks])
-                for rows, tables in results:
+                for rows, tables, accounts in results:
                     # named after its trials; a name a compacted file supersedes gets a suffix (write_shard)
                     name = content_hash([r["trial_id"] for r in rows])
                     for table_name, table_rows in tables.items():
                         if table_rows:
                             store.write_shard(f"tables/{table_name}", name, table_rows)
-                    store.write_shard("records", name, rows, metadata=config_metadata(chash),
-                                      strings=ERROR_COLUMNS)
+                    store.write_shard("records", name, rows, strings=ERROR_COLUMNS, metadata={
+                        **config_metadata(chash), **parts_metadata(accounts)})
                     n_err = sum(r["status"] == "error" for r in rows)
                     summary.n_ran += len(rows)
                     summary.n_error += n_err
@@ -389,7 +379,7 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
         # every trial recorded, even if fail_fast stopped at the last one: nothing was left out
         complete = summary.n_already + summary.n_ran == len(trials)
         if complete and kind.finalize is not None:
-            _finalize(kind, study, params, store)
+            finalize(kind, study, params, store)
         store.compact_all()
         summary.wall_time_s = time.perf_counter() - t0
         session.update(finished_at=provenance.now_utc(), ran=summary.n_ran, errors=summary.n_error,
@@ -468,32 +458,3 @@ def run_lock(store: RunStore, label: str) -> Iterator[None]:
 
 #: Times a run opens its lock afresh after another process removed it (or its directory) meanwhile.
 _LOCK_ATTEMPTS = 10
-
-
-def _finalize(kind: TrialKind, study: StudyCfg, params: Any, store: RunStore) -> None:
-    """Compute the study-level tables once all trials are recorded (skipped if stored)."""
-    done = store.path / "summary" / "complete.json"
-    if done.exists():
-        return
-    records = store.read().to_pandas()
-    tables = kind.finalize(study, params, records, store)
-    for name, rows in tables.items():
-        if rows:
-            store.write_shard(f"summary/{name}", "final", rows)
-    provenance.write_manifest(done, {"tables": sorted(tables), "at": provenance.now_utc()})
-
-
-def _prepare_bodies(kind, study, params, trials, store, map_unordered, summary):
-    """Compute (or read back) the shared preparation of every body the trials need (seeded by
-    the body alone, so one computed again is the one the recorded trials used)."""
-    if kind.body_key is None or kind.prepare is None:
-        return {}
-    bodies = {content_hash(kind.body_key(t.factors)): kind.body_key(t.factors) for t in trials}
-    stored = store.read("prepared").to_pylist()
-    have = {row["body_id"]: row for row in stored}
-    missing = [b for h, b in bodies.items() if h not in have]
-    for row in map_unordered(run_prepare, [(kind, study, params, b) for b in missing]):
-        store.write_shard("prepared", row["body_id"], [row])
-        have[row["body_id"]] = row
-        summary.n_prepared += 1
-    return {h: have[h] for h in bodies}

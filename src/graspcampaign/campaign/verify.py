@@ -31,6 +31,9 @@ SOURCES_KEY = b"graspcampaign.sources"
 CONFIG_KEY = b"graspcampaign.config_hashes"
 #: Metadata of every file the tool writes: the SHA-256 of its values (:func:`content_digest`).
 CONTENT_KEY = b"graspcampaign.content_sha256"
+#: Metadata of a records file written by ``run``: what each of its trials stored in the run's
+#: other parts (its trace rows per table, its preparation), :mod:`graspcampaign.campaign.parts`.
+PARTS_KEY = b"graspcampaign.parts"
 # What pyarrow raises for a file it cannot read (bad footer, bad page, failed checksum, bad codec).
 READ_ERRORS = (pa.ArrowException, OSError, ValueError, EOFError)
 #: A trial id as ``grid.expand`` makes it: a readable key, "-", the 10-digit hash of the factors.
@@ -126,6 +129,14 @@ class Facts:
     def digest(self) -> bool:
         """Whether it carries the digest of its values."""
         return CONTENT_KEY in (self.schema.metadata or {})
+
+    @property
+    def parts(self) -> dict | None:
+        """What each trial of a records file stored in the run's other parts (``PARTS_KEY``:
+        ``{trial_id: {"tables": {name: rows}, "body": body_id}}``), or None: a file written
+        before this was kept, or by ``ingest``."""
+        raw = (self.schema.metadata or {}).get(PARTS_KEY)
+        return json.loads(raw) if raw else None
 
 
 def _listed(schema: pa.Schema, key: bytes) -> list:

@@ -1,0 +1,192 @@
+"""What a run stores besides its records, and whether all of it is still there.
+
+Besides ``records/`` a run stores a trial's per-step traces in ``tables/<name>/``, the shared
+preparation of a body (e.g. a PSO identification) in ``prepared/`` and, once every trial is
+recorded, its study-level tables in ``summary/<name>/``. A file or a directory of those parts that
+goes missing (deleted by hand, lost in a copy) leaves every remaining file intact, so no check of
+one file can see it; the report would then silently lack those rows. So the run keeps account:
+
+- each records file written by ``run`` says in its Parquet metadata (``PARTS_KEY``), per trial,
+  how many rows it stored in each trace table (tables it stored no row in are not named) and the
+  ``body_id`` of the preparation it used; compaction merges the accounts, a rewrite keeps those
+  of the trials it keeps (:mod:`graspcampaign.campaign.records`);
+- ``summary/complete.json`` lists, besides every table ``finalize`` returned (``tables``), those
+  it stored rows of (``written``).
+
+:func:`part_problems` compares the two with what is stored: a trial whose trace rows are gone
+(a whole table, or one file of it), a body whose preparation is gone, a summary table that was
+written and is gone. A records file without an account (stored before it was kept, or by
+``ingest``, which stores no trace) and a ``complete.json`` without ``written`` are read as before:
+nothing is asked of them (docs/decisions.md, "A run keeps account of its other parts").
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+from typing import Any
+
+import pyarrow.parquet as pq
+
+from graspcampaign.campaign import provenance
+from graspcampaign.campaign.grid import content_hash, stream_key
+from graspcampaign.campaign.verify import PARTS_KEY, READ_ERRORS, SOURCES_KEY, facts
+from graspcampaign.core.words import counted
+
+COMPLETE = "complete.json"
+
+
+def account(rows: dict[str, int], body: str | None) -> dict[str, Any]:
+    """One trial's entry of a records file's account: its rows per trace table (those it stored
+    rows in) and the body id of its preparation (if it used one)."""
+    return {**({"tables": rows} if rows else {}), **({"body": body} if body is not None else {})}
+
+
+def parts_metadata(accounts: dict[str, dict[str, Any]]) -> dict[str, str]:
+    """The metadata of a records shard whose trials stored ``accounts`` (``{trial_id: account}``)."""
+    return {PARTS_KEY.decode(): json.dumps(accounts, sort_keys=True, separators=(",", ":"))}
+
+
+def _accounts(store) -> dict[str, dict[str, Any]]:
+    """The accounts of every live records file that has one (verified files: their facts)."""
+    out: dict[str, dict[str, Any]] = {}
+    for path in store._listing("records")[0]:
+        out.update(facts(path).parts or {})
+    return out
+
+
+def part_problems(store, full: bool = True) -> list:
+    """What the run's accounts say is stored but is not: trace rows of recorded trials,
+    preparations of the bodies they used, summary tables ``finalize`` wrote.
+
+    ``full`` (``run``, ``report``): the trial ids and body ids stored, every file verified in full,
+    against those accounted for, naming the first missing. Else (``status``, which reads no more
+    than the records): a part's directory missing, or its files' footers counting fewer rows than
+    accounted for; files that are damaged are the full check's.
+    """
+    from graspcampaign.campaign.integrity import Problem
+
+    tables: dict[str, dict[str, int]] = {}
+    bodies: set[str] = set()
+    for trial, stored in _accounts(store).items():
+        for name, n in stored.get("tables", {}).items():
+            tables.setdefault(name, {})[trial] = n
+        if "body" in stored:
+            bodies.add(stored["body"])
+    out = []
+    for name, rows in sorted(tables.items()):
+        part = f"tables/{name}"
+        trials = counted(len(rows), "recorded trial")
+        if not (store.path / part).is_dir():
+            what, gone = f"no {part} directory, where {trials} stored traces", sorted(rows)
+        elif full:
+            held = set().union(*(facts(path).ids for path in store._listing(part)[0]))
+            gone = sorted(set(rows) - held)
+            what = (f"{part} without the traces of {counted(len(gone), 'recorded trial')} "
+                    f"(first {gone[0]})") if gone else ""
+        else:
+            n, want, gone = _footer_rows(store.path / part), sum(rows.values()), []
+            what = (f"{part} with {counted(n, 'trace row')} where {trials} stored {want}"
+                    if n is not None and n < want else "")
+        if what:
+            out.append(Problem(store.path / part, what, "rerun", part, what, rerun=frozenset(gone)))
+    where, used = store.path / "prepared", counted(len(bodies), "body", "bodies")
+    if bodies and not where.is_dir():
+        what = (f"no prepared directory, which holds the preparations of the {used} its recorded "
+                "trials used")
+    elif bodies and full:
+        gone = sorted(bodies - _body_ids(store))
+        what = (f"prepared without {counted(len(gone), 'preparation')} its recorded trials used "
+                f"(first body {gone[0]})") if gone else ""
+    else:
+        n = _footer_rows(where) if bodies else None
+        what = (f"prepared with {counted(n, 'preparation')} where its recorded trials used {used}"
+                if n is not None and n < len(bodies) else "")
+    if what:
+        out.append(Problem(where, what, "recompute", "prepared", what))
+    for name in _written(store):
+        part = f"summary/{name}"
+        stored = store._listing(part)[0] if full else list((store.path / part).glob("*.parquet"))
+        if not stored:
+            what = f"no {part} table, which summary/{COMPLETE} says was stored"
+            out.append(Problem(store.path / part, what, "recompute", part, what))
+    return out
+
+
+def _body_ids(store) -> set[str]:
+    """The body ids of the run's stored preparations (its files verified in full)."""
+    table = store.read("prepared", ["body_id"])
+    return set(table.column("body_id").to_pylist()) if "body_id" in table.column_names else set()
+
+
+def _footer_rows(directory: Path) -> int | None:
+    """The rows of the live Parquet files in ``directory`` by their footers alone (those a
+    compacted file supersedes left out); None if a footer cannot be read (a damaged file is the
+    full check's to name)."""
+    footers = {}
+    for path in sorted(directory.glob("*.parquet")):
+        try:
+            footers[path.name] = pq.read_metadata(path)
+        except READ_ERRORS:
+            return None
+    superseded = {name for meta in footers.values()
+                  for name in json.loads((meta.metadata or {}).get(SOURCES_KEY) or b"[]")}
+    return sum(meta.num_rows for name, meta in footers.items() if name not in superseded)
+
+
+def _written(store) -> list[str]:
+    """The summary tables ``finalize`` stored rows of (``written`` in ``complete.json``; none for
+    one written before it was kept, or unreadable: what that means is the layout check's)."""
+    try:
+        done = json.loads((store.path / "summary" / COMPLETE).read_text())
+    except (OSError, ValueError):
+        return []
+    written = done.get("written") if isinstance(done, dict) else None
+    return [str(name) for name in written] if isinstance(written, list) else []
+
+
+# -- computing them (the runner) ----------------------------------------------------------------
+def run_prepare(kind, study, params: Any, body: dict[str, Any]) -> dict[str, Any]:
+    """Compute one shared preparation (e.g. an identification) for a body."""
+    import numpy as np
+
+    rng = np.random.default_rng(
+        np.random.SeedSequence(study.seed, spawn_key=stream_key({"prepare": body}))
+    )
+    start = time.perf_counter()
+    out = kind.prepare(study, params, body, rng)
+    return {"body_id": content_hash(body), **body, **out,
+            "wall_time_s": time.perf_counter() - start}
+
+
+def prepare_bodies(kind, study, params, trials, store, map_unordered, summary) -> dict[str, Any]:
+    """Compute (or read back) the shared preparation of every body the trials need (seeded by
+    the body alone, so one computed again is the one the recorded trials used)."""
+    if kind.body_key is None or kind.prepare is None:
+        return {}
+    bodies = {content_hash(kind.body_key(t.factors)): kind.body_key(t.factors) for t in trials}
+    stored = store.read("prepared").to_pylist()
+    have = {row["body_id"]: row for row in stored}
+    missing = [b for h, b in bodies.items() if h not in have]
+    for row in map_unordered(run_prepare, [(kind, study, params, b) for b in missing]):
+        store.write_shard("prepared", row["body_id"], [row])
+        have[row["body_id"]] = row
+        summary.n_prepared += 1
+    return {h: have[h] for h in bodies}
+
+
+def finalize(kind, study, params: Any, store) -> None:
+    """Compute the study-level tables once all trials are recorded (skipped if stored) and store
+    those not stored yet: a table moved aside or gone is stored again, the others stay as they
+    are (computed from the same records)."""
+    done = store.path / "summary" / COMPLETE
+    if done.exists():
+        return
+    records = store.read().to_pandas()
+    tables = kind.finalize(study, params, records, store)
+    for name, rows in tables.items():
+        if rows and not store._listing(f"summary/{name}")[0]:
+            store.write_shard(f"summary/{name}", "final", rows)
+    provenance.write_manifest(done, {"tables": sorted(tables), "at": provenance.now_utc(),
+                                     "written": sorted(name for name, rows in tables.items() if rows)})

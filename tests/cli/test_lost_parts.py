@@ -1,0 +1,177 @@
+"""A part of a finished run gone (a trace table, one file of it, prepared/, a summary table): every
+other file is intact, so no check of one file sees it, and the report silently lacked its rows.
+The records say what each trial stored besides its record (``campaign.parts``): ``report`` and
+``status`` refuse the run naming what is gone, ``run`` computes exactly that again, and the report
+is then the undamaged run's, table for table, byte for byte.
+
+Every case damages its own copy of the finished runs (``kept`` below).
+"""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pyarrow.parquet as pq
+import pytest
+from cli_checks import BG, invoke, refused, replaced
+
+from graspcampaign.campaign.records import RunStore
+
+T2 = ["params.fraction=0.02", "runner.backend=sequential", "runner.batch_size=4"]
+SURROGATE = ["seeds=16", "runner.backend=sequential"]
+#: the tiny baseline_grid run, first of a sphere and a pear, then resumed with an ellipsoid too
+FIRST, THEN = replaced(BG, "shape=[sphere,pear]"), replaced(BG, "shape=[sphere,pear,ellipsoid]")
+OVERRIDES = {"test2_grasp": T2, "surrogate": SURROGATE, "baseline_grid": [*THEN, "--allow-drift"]}
+
+
+@pytest.fixture(scope="session")
+def kept(tmp_path_factory):
+    """A results root with finished test2_grasp (belief_none traces), surrogate (summary tables)
+    and baseline_grid runs (a preparation per body; candidates traces in two files: the first
+    session's two shards compacted, the second session's one shard), each reported."""
+    root = tmp_path_factory.mktemp("lost_parts") / "results"
+    for args in (["run", "test2_grasp", *T2], ["run", "surrogate", *SURROGATE],
+                 ["run", "baseline_grid", *FIRST], ["run", "baseline_grid", *THEN, "--allow-drift"],
+                 ["report"]):
+        done = invoke(*args, "runner.progress=false", "--root", root) if args[0] == "run" else \
+            invoke(*args, "--root", root)
+        assert done.exit_code == 0, done.output
+    return root
+
+
+@pytest.fixture
+def results(kept, tmp_path):
+    """A copy of the finished runs this test may damage."""
+    return Path(shutil.copytree(kept, tmp_path / "results"))
+
+
+def _tables(root: Path, study: str) -> dict[str, bytes]:
+    """The report's tables of the study's run, by file name, as written."""
+    folder = root / study / "default" / "report" / "tables"
+    return {p.name: p.read_bytes() for p in sorted(folder.iterdir())}
+
+
+def _advice(root: Path, study: str, then: str) -> str:
+    return f"resume the run (graspcampaign run {study} --run default --root {root}) to {then}."
+
+
+def _mended(results: Path, study: str, lost: str, counted: str | None = None) -> None:
+    """``report`` refuses the run with "<run> has <lost>; <advice>" and ``status`` with the same
+    or, where only the files' footers tell (it reads no more than the records), with "<run> has
+    <counted>; <advice>" (exit 2, nothing changed); ``run`` warns as ``report`` and computes it
+    again; the report's tables are then the undamaged run's, byte for byte."""
+    before, run = _tables(results, study), results / study / "default"
+    label = f"run {study}/default at {run} has"
+    again = "run those trials again" if lost.startswith(("tables/", "no tables/")) else \
+        "compute it again"
+    advice = _advice(results, study, again)
+    refused(results, ["report", study, "--root", results], f"{label} {lost}; {advice}")
+    refused(results, ["status", study, "--root", results], f"{label} {counted or lost}; {advice}")
+    mended = invoke("run", study, *OVERRIDES[study], "runner.progress=false", "--root", results)
+    assert mended.exit_code == 0, mended.output
+    then = "those trials run again" if again.startswith("run") else "it is computed again"
+    assert mended.stderr == f"warning: {label} {lost}; {then}\n"
+    assert invoke("report", study, "--root", results).exit_code == 0
+    assert _tables(results, study) == before
+
+
+def _first(run: Path, part: str) -> str:
+    """The first trial id (by sort order) with rows in ``part`` of the run."""
+    return min(RunStore(run).read(part, ["trial_id"]).column("trial_id").to_pylist())
+
+
+def test_a_deleted_trace_table_is_named_and_its_trials_run_again(results):
+    """tables/belief_none of test2_grasp deleted: its rows vanished from Tables 6-7 without a
+    word; now report and status refuse it and run runs the trials that stored them again."""
+    run = results / "test2_grasp" / "default"
+    n = len(set(RunStore(run).read("tables/belief_none").column("trial_id").to_pylist()))
+    shutil.rmtree(run / "tables" / "belief_none")
+    _mended(results, "test2_grasp", f"no tables/belief_none directory, where {n} recorded trials "
+                                    "stored traces")
+
+
+def test_a_deleted_compacted_trace_file_is_named_and_its_trials_run_again(results):
+    """The compacted file of tables/belief_none deleted, its directory left empty."""
+    run = results / "test2_grasp" / "default"
+    first = _first(run, "tables/belief_none")
+    n = len(set(RunStore(run).read("tables/belief_none").column("trial_id").to_pylist()))
+    (compacted,) = (run / "tables" / "belief_none").glob("*.parquet")
+    rows = _rows(compacted)
+    compacted.unlink()
+    _mended(results, "test2_grasp", f"tables/belief_none without the traces of {n} recorded "
+                                    f"trials (first {first})",
+            f"tables/belief_none with 0 trace rows where {n} recorded trials stored {rows}")
+
+
+def test_one_deleted_file_of_a_trace_table_is_named_and_its_trials_run_again(results):
+    """The compacted file of tables/candidates deleted (the first session's: the sphere's and the
+    pear's traces), its other file kept: the ellipsoid's trial keeps its traces and its record,
+    the sphere's and the pear's run again."""
+    run = results / "baseline_grid" / "default"
+    (compacted,) = (run / "tables" / "candidates").glob("compact-*.parquet")
+    (shard,) = (run / "tables" / "candidates").glob("part-*.parquet")
+    assert _holds(shard, "ellipsoid") and not _holds(compacted, "ellipsoid")
+    first = min(_holds(compacted, "pear"), _holds(compacted, "sphere"))
+    kept, rows = _rows(shard), _rows(shard) + _rows(compacted)
+    compacted.unlink()
+    _mended(results, "baseline_grid", f"tables/candidates without the traces of 2 recorded "
+                                      f"trials (first {first})",
+            f"tables/candidates with {kept} trace rows where 3 recorded trials stored {rows}")
+
+
+def _rows(path: Path) -> int:
+    return pq.read_metadata(path).num_rows
+
+
+def _holds(path: Path, prefix: str) -> str | None:
+    """The trial id starting with ``prefix`` that ``path`` holds traces of, or None."""
+    ids = set(pq.read_table(path, columns=["trial_id"]).column("trial_id").to_pylist())
+    return next((i for i in sorted(ids) if i.startswith(prefix)), None)
+
+
+def test_a_deleted_prepared_directory_is_named_and_computed_again(results):
+    """prepared/ of baseline_grid deleted: report lost its identifications table without a word
+    (run recomputed it, report did not notice)."""
+    run = results / "baseline_grid" / "default"
+    n = len(RunStore(run).read("prepared", ["body_id"]))
+    assert n == 3  # the sphere's body, the pear's and the ellipsoid's
+    shutil.rmtree(run / "prepared")
+    _mended(results, "baseline_grid", "no prepared directory, which holds the preparations of "
+                                      f"the {n} bodies its recorded trials used")
+
+
+def test_a_deleted_preparation_is_named_and_computed_again(results):
+    """The ellipsoid's preparation deleted (the second session's shard; the first session's two
+    are compacted into one file, which stays)."""
+    run = results / "baseline_grid" / "default"
+    (shard,) = (run / "prepared").glob("part-*.parquet")
+    body = RunStore(run).read("prepared", ["body_id", "shape"]).to_pydict()
+    assert dict(zip(body["shape"], body["body_id"], strict=True))["ellipsoid"] in shard.name
+    shard.unlink()
+    _mended(results, "baseline_grid", "prepared without 1 preparation its recorded trials used "
+                                      f"(first body {shard.name[5:-8]})",
+            "prepared with 2 preparations where its recorded trials used 3 bodies")
+
+
+def test_a_deleted_summary_table_is_named_and_computed_again(results):
+    """summary/surrogate_parity deleted: complete.json says finalize stored it; finalize runs
+    again and stores it alone (the other tables stay as they are)."""
+    run = results / "surrogate" / "default"
+    timing = (run / "summary" / "surrogate_timing" / "part-final.parquet").read_bytes()
+    shutil.rmtree(run / "summary" / "surrogate_parity")
+    _mended(results, "surrogate", "no summary/surrogate_parity table, which "
+                                  "summary/complete.json says was stored")
+    assert (run / "summary" / "surrogate_timing" / "part-final.parquet").read_bytes() == timing
+
+
+def test_an_undamaged_run_and_a_trial_without_traces_are_never_called_damaged(kept):
+    """Every finished run reports (the fixture) and shows its status; in baseline_grid the
+    heuristic trials store no candidates and in test2_grasp not every trial stores belief_none
+    rows, and neither is missing anything."""
+    for study in ("test2_grasp", "surrogate", "baseline_grid"):
+        assert invoke("status", study, "--root", kept).exit_code == 0
+    run = kept / "baseline_grid" / "default"
+    traced = set(RunStore(run).read("tables/candidates", ["trial_id"]).column("trial_id").to_pylist())
+    recorded = RunStore(run).recorded_ids()
+    assert traced and traced < recorded
