@@ -48,3 +48,19 @@ def test_commas_inside_quoted_strings_do_not_count_toward_the_bound():
 def test_a_key_after_an_escaped_quote_is_no_repeat():
     """``{a:'x\\',y:1',y:2}``: Hydra reads keys a and y (the first y is inside a's string)."""
     check_overrides([r"factors={a:'x\',y:1',y:2}"])
+
+
+@pytest.mark.parametrize("item", ["pso.enabled=true", "model=default", "nodes=[144,0390]",
+                                  "seeds=010", "pso.enabled=2"])
+def test_check_overrides_parses_each_override_once(monkeypatch, item):
+    # the value and its leading zero are read from one parse (they were two: a parse takes a time
+    # quadratic in the values, up to ~1 s for the 2,000 an override may hold)
+    calls = []
+    real = OverridesParser.parse_overrides
+    monkeypatch.setattr(OverridesParser, "parse_overrides",
+                        lambda self, items: calls.append(items) or real(self, items))
+    try:
+        check_overrides([item])
+    except ConfigError:  # the refusals of a leading zero and a bool are tests/cli's
+        pass
+    assert calls == [[item]]

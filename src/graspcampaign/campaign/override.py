@@ -147,15 +147,16 @@ def check_overrides(given: list[str]) -> None:
             if _one_value(single):
                 raise ConfigError(f"{single} takes one value, so {key} names nothing in it (override "
                                   f"{item!r} rejected); set it as {single}=VALUE.", key=single)
-        if setting and key in GROUPS and isinstance(_parsed_value(item), list):  # Hydra merges all
+        parsed = _parse(item) if setting else None  # once: the checks below read it
+        if setting and key in GROUPS and isinstance(_value(parsed), list):  # Hydra merges all
             raise ConfigError(missing_option_sentence(key, value.strip()), key=key)
         found = field_at(key) if setting else None
         if found and split_optional(str(found[1].type))[0] == "bool":
-            parsed = _parsed_value(item)
-            if parsed is not _UNPARSED and not isinstance(parsed, bool):
-                raise ConfigError(f"{key} must be true or false, got {parsed!r} (override "
+            read = _value(parsed)
+            if read is not _UNPARSED and not isinstance(read, bool):
+                raise ConfigError(f"{key} must be true or false, got {read!r} (override "
                                   f"{item!r}).", key=key)
-        if setting and (zero := _leading_zero(item)):
+        if setting and (zero := _leading_zero(parsed)):
             number, factor = int(zero.replace("_", "")), FACTOR_SPECS.get(key.removeprefix("factors."))
             numeric = (split_optional(str(found[1].type))[0] in ("int", "float") if found else
                        factor is not None and factor["type"] is not str)  # quoting makes no text
@@ -177,27 +178,41 @@ def _one_value(key: str) -> bool:
 _UNPARSED = object()
 
 
-def _parsed_value(item: str) -> Any:
-    """The value Hydra's grammar reads from an override (``'2'`` -> 2), or ``_UNPARSED``."""
+def _parse(item: str) -> Any:
+    """Hydra's reading of an override (its ``Override``), or None where its grammar refuses it:
+    the one parse that :func:`_value` and :func:`_leading_zero` read (a parse takes a time
+    quadratic in the values, docs/decisions.md, "Long list overrides")."""
     from hydra.core.override_parser.overrides_parser import OverridesParser
 
     try:
-        value = OverridesParser.create().parse_overrides([item])[0].value()
+        return OverridesParser.create().parse_overrides([item])[0]
     except Exception:  # noqa: BLE001  (a parse error is Hydra's to report, with its position)
+        return None
+
+
+def _value(parsed: Any) -> Any:
+    """The value of a parsed override (``'2'`` -> 2; :func:`_parse`), or ``_UNPARSED``."""
+    if parsed is None:
         return _UNPARSED
+    value = parsed.value()
     return _UNPARSED if isinstance(value, str) and "${" in value else value
 
 
-def _leading_zero(item: str) -> str | None:
-    """An integer written with a leading zero, unquoted, in an override's value (``010``,
-    ``[144,0144]``), or None: Hydra's grammar reads it as text, which ``seeds`` took as 10 and
-    ``nodes`` refused unexplained (docs/decisions.md)."""
-    from hydra.core.override_parser.overrides_parser import OverridesParser
+def _parsed_value(item: str) -> Any:
+    """The value Hydra's grammar reads from an override (``'2'`` -> 2), or ``_UNPARSED``."""
+    return _value(_parse(item))
 
-    try:
-        items = [OverridesParser.create().parse_overrides([item])[0]._value]
-    except Exception:  # noqa: BLE001  (a parse error is Hydra's to report, with its position)
+
+def _leading_zero(parsed: Any) -> str | None:
+    """An integer written with a leading zero, unquoted, in a parsed override's value (``010``,
+    ``[144,0144]``; :func:`_parse`), or None: Hydra's grammar reads it as text, which ``seeds``
+    took as 10 and ``nodes`` refused unexplained (docs/decisions.md)."""
+    if parsed is None:
         return None
+    # Hydra's private _value, read here only: its public value() turns a QuotedString into the
+    # same str as unquoted text, and only the rendering get_value_element_as_str() shows the
+    # quotes, which would have to be parsed again
+    items = [parsed._value]
     while items:  # a QuotedString is quoted text, no str
         value = items.pop()
         items += value if isinstance(value, list) else value.values() if isinstance(value, dict) else []
