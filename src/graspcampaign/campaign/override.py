@@ -238,10 +238,28 @@ def rewrite(factors: set[str], overrides: list[str]) -> list[str]:
     return out
 
 
+#: Hydra's functions of sweeps (its grammar's sweeps choice, range, interval and glob, and tag,
+#: sort and shuffle, which tag, order or shuffle a sweep's values or a list): a value calling one
+#: is refused as a sweep is, whatever it returns (sort([b,a]) is the list [a,b]).
+SWEEP_FUNCTIONS = ("choice", "range", "interval", "glob", "tag", "sort", "shuffle")
+
+
+def _sweep_function(value: str) -> str | None:
+    """The first of :data:`SWEEP_FUNCTIONS` an override's ``value`` calls where Hydra's grammar
+    reads a call (at the start of the value or of an element, ``[a,sort([b,c])]``), outside its
+    quoted strings (:func:`_unquoted`; ``'sort(x)'`` is text), or None."""
+    kept = dict(_unquoted(value))
+    plain = "".join(kept.get(i, " ") for i in range(len(value)))
+    names = "|".join(SWEEP_FUNCTIONS)
+    match = re.search(rf"(?:^|[\[{{,:(=])\s*({names})\s*\(", plain)
+    return match[1] if match else None
+
+
 def check_sweeps(overrides: list[str], given: list[str]) -> None:
     """Refuse Hydra's sweeps (``seeds=1,2``, ``choice()``, ``range()``, ``interval()``,
-    ``glob()``, also inside a list): a sweep is many studies (Hydra's ``--multirun``), and this tool
-    composes one study per command. Checked after bare factor names are rewritten, where
+    ``glob()``, also inside a list) and its other functions of sweeps (``tag()``, ``sort()``,
+    ``shuffle()``; :data:`SWEEP_FUNCTIONS`): a sweep is many studies (Hydra's ``--multirun``), and
+    this tool composes one study per command. Checked after bare factor names are rewritten, where
     ``shape=sphere,pear`` is already the list ``factors.shape=[sphere,pear]``.
 
     Raises
@@ -257,11 +275,17 @@ def check_sweeps(overrides: list[str], given: list[str]) -> None:
         return isinstance(value, (Sweep, Glob))
 
     for item, typed in zip(overrides, given, strict=True):
-        if holds_sweep(_parsed_value(item)):  # unparsed: Hydra names the error when it composes
-            raise ConfigError(f"override {typed!r} is a sweep (one study per value, Hydra's "
-                              "--multirun), which this tool does not run; give a factor its "
-                              "levels as a list (e.g. mu=[0.3,0.5]), or run the study once per "
-                              "value.", key=split(item)[1])
+        # unparsed: Hydra names the error when it composes, unless the value calls a function of
+        # sweeps (tag(a,[sphere]) is Hydra's TypeError); a list sort() or shuffle() returns is none
+        if holds_sweep(_parsed_value(item)):
+            what = "is a sweep"
+        elif (function := _sweep_function(split(item)[3])) is not None:
+            what = f"calls {function}(), a function of Hydra's sweeps"
+        else:
+            continue
+        raise ConfigError(f"override {typed!r} {what} (one study per value, Hydra's --multirun), "
+                          "which this tool does not run; give a factor its levels as a list (e.g. "
+                          "mu=[0.3,0.5]), or run the study once per value.", key=split(item)[1])
 
 
 def _typed(key: str, overrides: list[str], given: list[str]) -> str | None:
