@@ -31,3 +31,39 @@ def test_a_quoted_function_name_is_text(tmp_path):
     refused(tmp_path, ["show", "smoke", "shape=['sort(x)']", "--root", tmp_path],
             "factors.shape[0] has unknown value 'sort(x)'; allowed values: sphere, ellipsoid, "
             "rounded_cube, pear, handle.")
+
+
+def test_a_factors_bare_name_with_a_level_index_sets_that_level(tmp_path):
+    # shape.0=cube was "shape is not a known key of the study config (...); did you mean paper?";
+    # it now is factors.shape.0=cube, refused as that override is (cube is no shape)
+    said = ("factors.shape[0] has unknown value 'cube'; allowed values: sphere, ellipsoid, "
+            "rounded_cube, pear, handle.")
+    refused(tmp_path, ["show", "smoke", "shape.0=cube", "--root", tmp_path], said)
+    refused(tmp_path, ["show", "smoke", "factors.shape.0=cube", "--root", tmp_path], said)
+
+
+def test_a_factors_bare_name_with_a_level_index_composes_as_the_full_key():
+    from graspcampaign.campaign.compose import compose_study
+
+    # the study's levels (smoke.yaml: sphere, ellipsoid, rounded_cube, pear, handle), level 1 replaced
+    assert compose_study("smoke", ["shape.1=rounded_cube", "shape.2=ellipsoid"]).factors["shape"] == [
+        "sphere", "rounded_cube", "ellipsoid", "pear", "handle"]
+
+
+@pytest.mark.parametrize(("typed", "level"), [
+    # each was "shape is not a known key of the study config; did you mean paper? known keys: ..."
+    ("+shape.0=pear", "shape.0=pear"),
+    ("+shape=[pear]", "shape.0=VALUE"),
+    ("shape.x=1", "shape.0=VALUE"),
+])
+def test_a_factors_bare_name_in_another_form_is_refused_with_the_forms_it_takes(tmp_path, typed, level):
+    refused(tmp_path, ["show", "smoke", typed, "--root", tmp_path],
+            f"override {typed!r} names the factor shape by its bare name in a form it does not "
+            f"take; write {level} (one level, as factors.{level}) or shape=[...] (all its levels).")
+
+
+def test_a_bare_name_with_an_index_of_a_factor_the_study_lacks_says_to_add_it(tmp_path):
+    # it was "planner is not a known key of the study config (...); did you mean paper? ..."
+    refused(tmp_path, ["show", "smoke", "planner.0=pso", "--root", tmp_path],
+            "planner is not a factor of this study (override 'planner.0=pso' rejected; its factors: "
+            "nodes, shape); add it with +factors.planner=[heuristic, random].")

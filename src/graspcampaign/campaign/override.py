@@ -224,15 +224,33 @@ def _leading_zero(parsed: Any) -> str | None:
 def rewrite(factors: set[str], overrides: list[str]) -> list[str]:
     """Map bare factor names to ``factors.<name>`` and scalars to one-level lists.
 
-    Only ``name=value`` exactly: a prefix (``+name=``) or a space around the key is left to Hydra,
-    which refuses it, as it does for every other key.
+    Only ``name=value`` and ``name.N=value`` (level ``N``) exactly; a bare factor name in any
+    other form (``+name=``, ``+name.0=``, ``name.x=``) is refused, as is one with a dotted tail
+    that is no factor of this study. A space around the key is left to Hydra, which refuses it,
+    as it does for every other key; ``~name`` is the deletion's to name.
+
+    Raises
+    ------
+    ConfigError
+        Naming the override as typed and what to write instead.
     """
     out = []
     for item in overrides:
-        _, key, _, value = split(item)
+        prefix, key, sep, value = split(item)
+        head, dot, tail = key.partition(".")
         if key in factors and item.startswith(f"{key}="):
             value = value.strip()
             out.append(f"factors.{key}={value if value.startswith('[') else f'[{value}]'}")
+        elif head in factors and tail.isdigit() and item.startswith(f"{key}="):
+            out.append(f"factors.{item}")  # one level, as factors.shape.0=cube
+        elif ((dot or "+" in prefix) and "~" not in prefix and sep and item.startswith(prefix + key)
+              and (head in factors or head in FACTOR_SPECS) and field_at(head) is None):
+            if head not in factors:  # planner.0=pso where planner is no factor: add it first
+                raise ConfigError(_unknown_override(head, item, sorted(factors)), key=key)
+            level = f"{head}.{tail}={value.strip()}" if tail.isdigit() else f"{head}.0=VALUE"
+            raise ConfigError(f"override {item!r} names the factor {head} by its bare name in a "
+                              f"form it does not take; write {level} (one level, as "
+                              f"factors.{level}) or {head}=[...] (all its levels).", key=key)
         else:
             out.append(item)
     return out
