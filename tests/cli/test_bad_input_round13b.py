@@ -67,3 +67,13 @@ def test_a_bare_name_with_an_index_of_a_factor_the_study_lacks_says_to_add_it(tm
     refused(tmp_path, ["show", "smoke", "planner.0=pso", "--root", tmp_path],
             "planner is not a factor of this study (override 'planner.0=pso' rejected; its factors: "
             "nodes, shape); add it with +factors.planner=[heuristic, random].")
+
+
+@pytest.mark.parametrize("name", [".csv", ".Parquet", ".xlsx"])
+def test_a_schedule_stem_that_is_only_a_suffix_is_refused(tmp_path, name):
+    # --out <dir>/.csv wrote the hidden files .csv.csv and .csv.parquet
+    out = tmp_path / name
+    refused(tmp_path, ["schedule", "test2_grasp", "--out", out, "--root", tmp_path / "results"],
+            f"--out {out} names only a suffix, no file stem: the sheet would be written as the "
+            f"hidden files {name}.csv and {name}.parquet; give a file stem such as "
+            f"{tmp_path / 'schedule'}.")
