@@ -1,4 +1,4 @@
-"""The quote-aware scans of an override's value (``override._n_values``, ``_mapping_keys``) against
+"""The quote-aware scans of an override's value (``override_scan.n_values``, ``mapping_keys``) against
 Hydra's own parser: the values it splits a sweep into and the keys of the mapping it builds. The
 scans exist because Hydra's parse keeps only the last of a repeated key and takes long on a huge
 sweep; where neither happens they must read a value as Hydra does.
@@ -9,7 +9,8 @@ from __future__ import annotations
 import pytest
 from hydra.core.override_parser.overrides_parser import OverridesParser
 
-from graspcampaign.campaign.override import MAX_OVERRIDE_VALUES, _mapping_keys, _n_values, check_overrides
+from graspcampaign.campaign.override import MAX_OVERRIDE_VALUES, check_overrides
+from graspcampaign.campaign.override_scan import mapping_keys, n_values
 from graspcampaign.errors import ConfigError
 
 PARSER = OverridesParser.create()
@@ -27,12 +28,12 @@ def _hydra(value: str):
 @pytest.mark.parametrize("value", SWEEPS)
 def test_the_values_counted_are_hydras(value):
     parsed = _hydra(value)
-    assert _n_values(value) == (len(parsed.value().list) if parsed.is_sweep_override() else 1)
+    assert n_values(value) == (len(parsed.value().list) if parsed.is_sweep_override() else 1)
 
 
 @pytest.mark.parametrize("value", MAPPINGS)
 def test_the_keys_of_a_mapping_are_hydras(value):
-    assert _mapping_keys(value) == list(_hydra(value).value())
+    assert mapping_keys(value) == list(_hydra(value).value())
 
 
 def test_commas_inside_quoted_strings_do_not_count_toward_the_bound():

@@ -15,11 +15,11 @@ import errno
 import json
 import re
 import unicodedata
-from collections.abc import Iterator
 from typing import Any
 
 from graspcampaign.campaign.former_names import FORMER_FACTORS, former_factor
 from graspcampaign.campaign.omegaconf_words import omegaconf_error_sentence
+from graspcampaign.campaign.override_scan import mapping_keys, n_values, sweep_function
 from graspcampaign.campaign.schema import FACTOR_SPECS, StudyCfg, example
 from graspcampaign.campaign.studycheck import (
     GROUPS,
@@ -45,55 +45,6 @@ def split(item: str) -> tuple[str, str, str, str]:
     return prefix, key.strip(), sep, value
 
 
-def _unquoted(value: str) -> Iterator[tuple[int, str]]:
-    """``(index, character)`` of each character of an override's ``value`` outside its quoted
-    strings, as Hydra's grammar (``QUOTED_VALUE``) reads them: a string runs from a quote to the
-    same quote not escaped by a backslash (``'a\\'b'`` is one string). A quote never closed is no
-    string to Hydra either: its characters are outside."""
-    i = 0
-    while i < len(value):
-        char = value[i]
-        if char in "'\"":
-            end = re.match(rf"(?:\\.|[^\\{char}])*{char}", value[i + 1:], re.DOTALL)
-            if end:
-                i += 1 + end.end()
-                continue
-        yield i, char
-        i += 1
-
-
-def _mapping_keys(value: str) -> list[str]:
-    """The top-level keys of a ``{k: v, ...}`` value as typed, repeats kept (Hydra's parser keeps
-    only the last of a repeated key, so a repeat must be seen before it parses); a quoted string
-    (:func:`_unquoted`) is part of the key or value it stands in."""
-    if not value.lstrip().startswith("{"):
-        return []
-    keys, depth, start, in_key = [], 0, 0, False
-    for i, char in _unquoted(value):
-        if char in "[{(":
-            depth += 1
-            if depth == 1:
-                start, in_key = i + 1, True
-        elif char in "]})":
-            depth -= 1
-        elif depth == 1 and char == ",":
-            start, in_key = i + 1, True
-        elif depth == 1 and char == ":" and in_key:
-            keys.append(value[start:i].strip())
-            in_key = False
-    return keys
-
-
-def _n_values(value: str) -> int:
-    """The elements an override's ``value`` holds: one more than its commas outside quoted strings,
-    at any depth of brackets (``[1,2],3`` counts 3, where Hydra's grammar splits the top level
-    into 2 values). Elements, not top-level values, are the measure of the limit this guards:
-    Hydra's parse time grows with the elements it reads, nested or not. A comma inside a quoted
-    string (:func:`_unquoted`; ``'a,b'``) separates nothing, and its parse takes a time linear
-    in the string."""
-    return 1 + sum(char == "," for _, char in _unquoted(value))
-
-
 def check_overrides(given: list[str]) -> None:
     """Refuse, before composition, overrides Hydra would misread or silently ignore.
 
@@ -108,13 +59,13 @@ def check_overrides(given: list[str]) -> None:
         if not key:
             raise ConfigError(f"override {item!r} has no key before '='; write KEY=VALUE, e.g. "
                               "seeds=3 or mu=[0.3,0.5].")
-        for name in [key] + [f"{key}.{inner}" for inner in _mapping_keys(value)]:
+        for name in [key] + [f"{key}.{inner}" for inner in mapping_keys(value)]:
             if (first := named.get(name.removeprefix("factors."))) is not None:
                 said = (f"override {item!r} names {name} twice" if first == item else
                         f"overrides {first!r} and {item!r} both name {name}")
                 raise ConfigError(f"{said}; give it once (Hydra would keep the last silently).", key=name)
             named[name.removeprefix("factors.")] = item
-        if (values := _n_values(value)) > MAX_OVERRIDE_VALUES:  # before Hydra parses it
+        if (values := n_values(value)) > MAX_OVERRIDE_VALUES:  # before Hydra parses it
             raise ConfigError(f"override {item!r} holds {values:,} comma-separated values, more "
                               f"than an override can hold ({MAX_OVERRIDE_VALUES:,}); give them in "
                               "a study file instead (a copy of the study run by its path, e.g. "
@@ -256,29 +207,13 @@ def rewrite(factors: set[str], overrides: list[str]) -> list[str]:
     return out
 
 
-#: Hydra's functions of sweeps (its grammar's sweeps choice, range, interval and glob, and tag,
-#: sort and shuffle, which tag, order or shuffle a sweep's values or a list): a value calling one
-#: is refused as a sweep is, whatever it returns (sort([b,a]) is the list [a,b]).
-SWEEP_FUNCTIONS = ("choice", "range", "interval", "glob", "tag", "sort", "shuffle")
-
-
-def _sweep_function(value: str) -> str | None:
-    """The first of :data:`SWEEP_FUNCTIONS` an override's ``value`` calls where Hydra's grammar
-    reads a call (at the start of the value or of an element, ``[a,sort([b,c])]``), outside its
-    quoted strings (:func:`_unquoted`; ``'sort(x)'`` is text), or None."""
-    kept = dict(_unquoted(value))
-    plain = "".join(kept.get(i, " ") for i in range(len(value)))
-    names = "|".join(SWEEP_FUNCTIONS)
-    match = re.search(rf"(?:^|[\[{{,:(=])\s*({names})\s*\(", plain)
-    return match[1] if match else None
-
-
 def check_sweeps(overrides: list[str], given: list[str]) -> None:
     """Refuse Hydra's sweeps (``seeds=1,2``, ``choice()``, ``range()``, ``interval()``,
     ``glob()``, also inside a list) and its other functions of sweeps (``tag()``, ``sort()``,
-    ``shuffle()``; :data:`SWEEP_FUNCTIONS`): a sweep is many studies (Hydra's ``--multirun``), and
-    this tool composes one study per command. Checked after bare factor names are rewritten, where
-    ``shape=sphere,pear`` is already the list ``factors.shape=[sphere,pear]``.
+    ``shuffle()``; :data:`~graspcampaign.campaign.override_scan.SWEEP_FUNCTIONS`): a sweep is many
+    studies (Hydra's ``--multirun``), and this tool composes one study per command. Checked after
+    bare factor names are rewritten, where ``shape=sphere,pear`` is already the list
+    ``factors.shape=[sphere,pear]``.
 
     Raises
     ------
@@ -297,7 +232,7 @@ def check_sweeps(overrides: list[str], given: list[str]) -> None:
         # sweeps (tag(a,[sphere]) is Hydra's TypeError); a list sort() or shuffle() returns is none
         if holds_sweep(_parsed_value(item)):
             what = "is a sweep"
-        elif (function := _sweep_function(split(item)[3])) is not None:
+        elif (function := sweep_function(split(item)[3])) is not None:
             what = f"calls {function}(), a function of Hydra's sweeps"
         else:
             continue
@@ -447,7 +382,7 @@ def _unknown_override(key: str, typed: str | None, factors: list[str], set_keys:
     its former name (``b_n_s_per_m=[0.5]``) is told its current one."""
     if key.removeprefix("factors.") in FORMER_FACTORS:
         return former_factor(key.removeprefix("factors."), key, typed)
-    inside = [k for k in _mapping_keys(split(typed)[3] if typed else "")
+    inside = [k for k in mapping_keys(split(typed)[3] if typed else "")
               if field_at(f"{key}.{k}") is None and f"{key}.{k}" not in set_keys
               and not (key == "factors" and k in factors)]
     if "." not in key and field_at(key) is not None and inside:  # runner={nosuch: 1}: the key in it
