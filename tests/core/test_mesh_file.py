@@ -144,3 +144,39 @@ def test_an_stl_numbers_its_vertices_whatever_the_winding_or_triangle_order(tmp_
         return sorted(map(tuple, turned))
     assert triangles(inward) == triangles(outward)
     assert inward.volume == pytest.approx(ball.volume * 1e-9)  # outward, in m^3
+
+
+@pytest.mark.parametrize("file_type", ["obj", "stl_ascii", "ply"])
+def test_a_mesh_with_a_byte_order_mark_is_read_in_place(tmp_path, monkeypatch, file_type):
+    """A text mesh behind a UTF-8 byte-order mark reads as the same mesh without it, and nothing is
+    written meanwhile (it was copied, past the mark, to a temporary file)."""
+    import builtins
+
+    ball = _ball(40.0)
+    text = ball.export(file_type=file_type, encoding="ascii") if file_type == "ply" else \
+        ball.export(file_type=file_type)
+    text = text if isinstance(text, bytes) else text.encode()
+    suffix = ".stl" if file_type == "stl_ascii" else f".{file_type}"
+    plain, marked = tmp_path / f"plain{suffix}", tmp_path / f"marked{suffix}"
+    plain.write_bytes(text)
+    marked.write_bytes(b"\xef\xbb\xbf" + text)
+    expected = load_mesh(plain)
+    opened, real = [], builtins.open
+
+    def watched(file, mode="r", *args, **kwargs):
+        opened.append(mode)
+        return real(file, mode, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "open", watched)
+    mesh = load_mesh(marked)
+    monkeypatch.undo()
+    assert opened and not [mode for mode in opened if set(mode) & set("wax+")]
+    np.testing.assert_array_equal(mesh.vertices, expected.vertices)
+    np.testing.assert_array_equal(mesh.faces, expected.faces)
+
+
+def test_a_file_holding_only_a_byte_order_mark_is_an_empty_mesh(tmp_path):
+    path = tmp_path / "mark.obj"
+    path.write_bytes(b"\xef\xbb\xbf")
+    with pytest.raises(MeshError, match=r"^mesh 'mark.obj' is empty: the file has 0 bytes\.$"):
+        load_mesh(path)

@@ -15,11 +15,11 @@ import errno
 import json
 import re
 import unicodedata
-from collections.abc import Iterator
 from typing import Any
 
 from graspcampaign.campaign.former_names import FORMER_FACTORS, former_factor
 from graspcampaign.campaign.omegaconf_words import omegaconf_error_sentence
+from graspcampaign.campaign.override_scan import mapping_keys, n_values, sweep_function
 from graspcampaign.campaign.schema import FACTOR_SPECS, StudyCfg, example
 from graspcampaign.campaign.studycheck import (
     GROUPS,
@@ -45,55 +45,6 @@ def split(item: str) -> tuple[str, str, str, str]:
     return prefix, key.strip(), sep, value
 
 
-def _unquoted(value: str) -> Iterator[tuple[int, str]]:
-    """``(index, character)`` of each character of an override's ``value`` outside its quoted
-    strings, as Hydra's grammar (``QUOTED_VALUE``) reads them: a string runs from a quote to the
-    same quote not escaped by a backslash (``'a\\'b'`` is one string). A quote never closed is no
-    string to Hydra either: its characters are outside."""
-    i = 0
-    while i < len(value):
-        char = value[i]
-        if char in "'\"":
-            end = re.match(rf"(?:\\.|[^\\{char}])*{char}", value[i + 1:], re.DOTALL)
-            if end:
-                i += 1 + end.end()
-                continue
-        yield i, char
-        i += 1
-
-
-def _mapping_keys(value: str) -> list[str]:
-    """The top-level keys of a ``{k: v, ...}`` value as typed, repeats kept (Hydra's parser keeps
-    only the last of a repeated key, so a repeat must be seen before it parses); a quoted string
-    (:func:`_unquoted`) is part of the key or value it stands in."""
-    if not value.lstrip().startswith("{"):
-        return []
-    keys, depth, start, in_key = [], 0, 0, False
-    for i, char in _unquoted(value):
-        if char in "[{(":
-            depth += 1
-            if depth == 1:
-                start, in_key = i + 1, True
-        elif char in "]})":
-            depth -= 1
-        elif depth == 1 and char == ",":
-            start, in_key = i + 1, True
-        elif depth == 1 and char == ":" and in_key:
-            keys.append(value[start:i].strip())
-            in_key = False
-    return keys
-
-
-def _n_values(value: str) -> int:
-    """The elements an override's ``value`` holds: one more than its commas outside quoted strings,
-    at any depth of brackets (``[1,2],3`` counts 3, where Hydra's grammar splits the top level
-    into 2 values). Elements, not top-level values, are the measure of the limit this guards:
-    Hydra's parse time grows with the elements it reads, nested or not. A comma inside a quoted
-    string (:func:`_unquoted`; ``'a,b'``) separates nothing, and its parse takes a time linear
-    in the string."""
-    return 1 + sum(char == "," for _, char in _unquoted(value))
-
-
 def check_overrides(given: list[str]) -> None:
     """Refuse, before composition, overrides Hydra would misread or silently ignore.
 
@@ -108,13 +59,13 @@ def check_overrides(given: list[str]) -> None:
         if not key:
             raise ConfigError(f"override {item!r} has no key before '='; write KEY=VALUE, e.g. "
                               "seeds=3 or mu=[0.3,0.5].")
-        for name in [key] + [f"{key}.{inner}" for inner in _mapping_keys(value)]:
+        for name in [key] + [f"{key}.{inner}" for inner in mapping_keys(value)]:
             if (first := named.get(name.removeprefix("factors."))) is not None:
                 said = (f"override {item!r} names {name} twice" if first == item else
                         f"overrides {first!r} and {item!r} both name {name}")
                 raise ConfigError(f"{said}; give it once (Hydra would keep the last silently).", key=name)
             named[name.removeprefix("factors.")] = item
-        if (values := _n_values(value)) > MAX_OVERRIDE_VALUES:  # before Hydra parses it
+        if (values := n_values(value)) > MAX_OVERRIDE_VALUES:  # before Hydra parses it
             raise ConfigError(f"override {item!r} holds {values:,} comma-separated values, more "
                               f"than an override can hold ({MAX_OVERRIDE_VALUES:,}); give them in "
                               "a study file instead (a copy of the study run by its path, e.g. "
@@ -147,15 +98,16 @@ def check_overrides(given: list[str]) -> None:
             if _one_value(single):
                 raise ConfigError(f"{single} takes one value, so {key} names nothing in it (override "
                                   f"{item!r} rejected); set it as {single}=VALUE.", key=single)
-        if setting and key in GROUPS and isinstance(_parsed_value(item), list):  # Hydra merges all
+        parsed = _parse(item) if setting else None  # once: the checks below read it
+        if setting and key in GROUPS and isinstance(_value(parsed), list):  # Hydra merges all
             raise ConfigError(missing_option_sentence(key, value.strip()), key=key)
         found = field_at(key) if setting else None
         if found and split_optional(str(found[1].type))[0] == "bool":
-            parsed = _parsed_value(item)
-            if parsed is not _UNPARSED and not isinstance(parsed, bool):
-                raise ConfigError(f"{key} must be true or false, got {parsed!r} (override "
+            read = _value(parsed)
+            if read is not _UNPARSED and not isinstance(read, bool):
+                raise ConfigError(f"{key} must be true or false, got {read!r} (override "
                                   f"{item!r}).", key=key)
-        if setting and (zero := _leading_zero(item)):
+        if setting and (zero := _leading_zero(parsed)):
             number, factor = int(zero.replace("_", "")), FACTOR_SPECS.get(key.removeprefix("factors."))
             numeric = (split_optional(str(found[1].type))[0] in ("int", "float") if found else
                        factor is not None and factor["type"] is not str)  # quoting makes no text
@@ -177,27 +129,41 @@ def _one_value(key: str) -> bool:
 _UNPARSED = object()
 
 
-def _parsed_value(item: str) -> Any:
-    """The value Hydra's grammar reads from an override (``'2'`` -> 2), or ``_UNPARSED``."""
+def _parse(item: str) -> Any:
+    """Hydra's reading of an override (its ``Override``), or None where its grammar refuses it:
+    the one parse that :func:`_value` and :func:`_leading_zero` read (a parse takes a time
+    quadratic in the values, docs/decisions.md, "Long list overrides")."""
     from hydra.core.override_parser.overrides_parser import OverridesParser
 
     try:
-        value = OverridesParser.create().parse_overrides([item])[0].value()
+        return OverridesParser.create().parse_overrides([item])[0]
     except Exception:  # noqa: BLE001  (a parse error is Hydra's to report, with its position)
+        return None
+
+
+def _value(parsed: Any) -> Any:
+    """The value of a parsed override (``'2'`` -> 2; :func:`_parse`), or ``_UNPARSED``."""
+    if parsed is None:
         return _UNPARSED
+    value = parsed.value()
     return _UNPARSED if isinstance(value, str) and "${" in value else value
 
 
-def _leading_zero(item: str) -> str | None:
-    """An integer written with a leading zero, unquoted, in an override's value (``010``,
-    ``[144,0144]``), or None: Hydra's grammar reads it as text, which ``seeds`` took as 10 and
-    ``nodes`` refused unexplained (docs/decisions.md)."""
-    from hydra.core.override_parser.overrides_parser import OverridesParser
+def _parsed_value(item: str) -> Any:
+    """The value Hydra's grammar reads from an override (``'2'`` -> 2), or ``_UNPARSED``."""
+    return _value(_parse(item))
 
-    try:
-        items = [OverridesParser.create().parse_overrides([item])[0]._value]
-    except Exception:  # noqa: BLE001  (a parse error is Hydra's to report, with its position)
+
+def _leading_zero(parsed: Any) -> str | None:
+    """An integer written with a leading zero, unquoted, in a parsed override's value (``010``,
+    ``[144,0144]``; :func:`_parse`), or None: Hydra's grammar reads it as text, which ``seeds``
+    took as 10 and ``nodes`` refused unexplained (docs/decisions.md)."""
+    if parsed is None:
         return None
+    # Hydra's private _value, read here only: its public value() turns a QuotedString into the
+    # same str as unquoted text, and only the rendering get_value_element_as_str() shows the
+    # quotes, which would have to be parsed again
+    items = [parsed._value]
     while items:  # a QuotedString is quoted text, no str
         value = items.pop()
         items += value if isinstance(value, list) else value.values() if isinstance(value, dict) else []
@@ -209,15 +175,33 @@ def _leading_zero(item: str) -> str | None:
 def rewrite(factors: set[str], overrides: list[str]) -> list[str]:
     """Map bare factor names to ``factors.<name>`` and scalars to one-level lists.
 
-    Only ``name=value`` exactly: a prefix (``+name=``) or a space around the key is left to Hydra,
-    which refuses it, as it does for every other key.
+    Only ``name=value`` and ``name.N=value`` (level ``N``) exactly; a bare factor name in any
+    other form (``+name=``, ``+name.0=``, ``name.x=``) is refused, as is one with a dotted tail
+    that is no factor of this study. A space around the key is left to Hydra, which refuses it,
+    as it does for every other key; ``~name`` is the deletion's to name.
+
+    Raises
+    ------
+    ConfigError
+        Naming the override as typed and what to write instead.
     """
     out = []
     for item in overrides:
-        _, key, _, value = split(item)
+        prefix, key, sep, value = split(item)
+        head, dot, tail = key.partition(".")
         if key in factors and item.startswith(f"{key}="):
             value = value.strip()
             out.append(f"factors.{key}={value if value.startswith('[') else f'[{value}]'}")
+        elif head in factors and tail.isdigit() and item.startswith(f"{key}="):
+            out.append(f"factors.{item}")  # one level, as factors.shape.0=cube
+        elif ((dot or "+" in prefix) and "~" not in prefix and sep and item.startswith(prefix + key)
+              and (head in factors or head in FACTOR_SPECS) and field_at(head) is None):
+            if head not in factors:  # planner.0=pso where planner is no factor: add it first
+                raise ConfigError(_unknown_override(head, item, sorted(factors)), key=key)
+            level = f"{head}.{tail}={value.strip()}" if tail.isdigit() else f"{head}.0=VALUE"
+            raise ConfigError(f"override {item!r} names the factor {head} by its bare name in a "
+                              f"form it does not take; write {level} (one level, as "
+                              f"factors.{level}) or {head}=[...] (all its levels).", key=key)
         else:
             out.append(item)
     return out
@@ -225,9 +209,11 @@ def rewrite(factors: set[str], overrides: list[str]) -> list[str]:
 
 def check_sweeps(overrides: list[str], given: list[str]) -> None:
     """Refuse Hydra's sweeps (``seeds=1,2``, ``choice()``, ``range()``, ``interval()``,
-    ``glob()``, also inside a list): a sweep is many studies (Hydra's ``--multirun``), and this tool
-    composes one study per command. Checked after bare factor names are rewritten, where
-    ``shape=sphere,pear`` is already the list ``factors.shape=[sphere,pear]``.
+    ``glob()``, also inside a list) and its other functions of sweeps (``tag()``, ``sort()``,
+    ``shuffle()``; :data:`~graspcampaign.campaign.override_scan.SWEEP_FUNCTIONS`): a sweep is many
+    studies (Hydra's ``--multirun``), and this tool composes one study per command. Checked after
+    bare factor names are rewritten, where ``shape=sphere,pear`` is already the list
+    ``factors.shape=[sphere,pear]``.
 
     Raises
     ------
@@ -242,11 +228,17 @@ def check_sweeps(overrides: list[str], given: list[str]) -> None:
         return isinstance(value, (Sweep, Glob))
 
     for item, typed in zip(overrides, given, strict=True):
-        if holds_sweep(_parsed_value(item)):  # unparsed: Hydra names the error when it composes
-            raise ConfigError(f"override {typed!r} is a sweep (one study per value, Hydra's "
-                              "--multirun), which this tool does not run; give a factor its "
-                              "levels as a list (e.g. mu=[0.3,0.5]), or run the study once per "
-                              "value.", key=split(item)[1])
+        # unparsed: Hydra names the error when it composes, unless the value calls a function of
+        # sweeps (tag(a,[sphere]) is Hydra's TypeError); a list sort() or shuffle() returns is none
+        if holds_sweep(_parsed_value(item)):
+            what = "is a sweep"
+        elif (function := sweep_function(split(item)[3])) is not None:
+            what = f"calls {function}(), a function of Hydra's sweeps"
+        else:
+            continue
+        raise ConfigError(f"override {typed!r} {what} (one study per value, Hydra's --multirun), "
+                          "which this tool does not run; give a factor its levels as a list (e.g. "
+                          "mu=[0.3,0.5]), or run the study once per value.", key=split(item)[1])
 
 
 def _typed(key: str, overrides: list[str], given: list[str]) -> str | None:
@@ -390,7 +382,7 @@ def _unknown_override(key: str, typed: str | None, factors: list[str], set_keys:
     its former name (``b_n_s_per_m=[0.5]``) is told its current one."""
     if key.removeprefix("factors.") in FORMER_FACTORS:
         return former_factor(key.removeprefix("factors."), key, typed)
-    inside = [k for k in _mapping_keys(split(typed)[3] if typed else "")
+    inside = [k for k in mapping_keys(split(typed)[3] if typed else "")
               if field_at(f"{key}.{k}") is None and f"{key}.{k}" not in set_keys
               and not (key == "factors" and k in factors)]
     if "." not in key and field_at(key) is not None and inside:  # runner={nosuch: 1}: the key in it

@@ -14,8 +14,6 @@ from __future__ import annotations
 
 import logging
 import os
-import shutil
-import tempfile
 
 import numpy as np
 import trimesh
@@ -36,6 +34,8 @@ from graspcampaign.core.winding import winding_numbers
 from graspcampaign.core.words import counted, listed, meant, plural
 
 logger = logging.getLogger(__name__)
+
+_BOM = b"\xef\xbb\xbf"  # UTF-8's byte-order mark
 
 __all__ = [
     "MAX_COORDINATE_M",
@@ -98,21 +98,17 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
             f"mesh file {name!r} has unsupported type {suffix or '(none)'!r}: "
             f"use {', '.join(MESH_SUFFIXES)}."
         )
-    n_bytes = os.path.getsize(name)
-    if n_bytes == 0:
-        raise MeshError(f"mesh {base!r} is empty: the file has 0 bytes.")
+    n_bytes, skip = os.path.getsize(name), 0  # skip: the bytes of a byte-order mark read past
     with open(name, "rb") as fh:  # read once: the format and layout checks share it
         head = fh.read(4096)
+        if text_with_bom(head, n_bytes):  # as a study file's or a CSV's, the mark is no content:
+            skip = len(_BOM)  # every check and trimesh read the file from the byte after it
+            head, n_bytes = head[skip:] + fh.read(skip), n_bytes - skip
+    if n_bytes == 0:
+        raise MeshError(f"mesh {base!r} is empty: the file has 0 bytes.")
     if text_utf16(head, n_bytes):  # named as a study file's or a CSV's is
         raise MeshError(f"mesh {base!r} is UTF-16 text, not UTF-8; save it as UTF-8 (or ASCII) "
                         "text.")
-    if text_with_bom(head, n_bytes):  # as a study file's or a CSV's, the mark is no content
-        with tempfile.TemporaryDirectory() as folder, open(name, "rb") as fh:
-            fh.seek(3)
-            copy = os.path.join(folder, base)  # the same name in every message
-            with open(copy, "wb") as out:
-                shutil.copyfileobj(fh, out)
-            return load_mesh(copy, unit)
     other = other_format(head, n_bytes)
     if other is None:  # a binary STL's 80-byte header is free text: its size tells it first
         check_compressed(head, base, suffix)
@@ -120,7 +116,7 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
         raise MeshError(f"mesh {base!r} is not {'a' if suffix == '.ply' else 'an'} "
                         f"{suffix[1:].upper()} file: it looks like {other[0]}; rename it to {other[1]}.")
     if suffix == ".stl":
-        check_stl_layout(name, base, n_bytes, head)
+        check_stl_layout(name, base, n_bytes, head, skip=skip)
     face_word = "triangle" if suffix == ".stl" else None  # set when the faces keep the file's order
     if suffix == ".obj" and check_obj_lines(name, base, head):
         face_word = "face"
@@ -128,8 +124,12 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
     try:
         # validate=False, process=False: keep non-finite values, degenerate faces and bad winding
         # so that they are reported here and by check_mesh instead of silently dropped
-        with np.errstate(all="ignore"):  # non-finite values are reported below, not warned about
-            mesh = trimesh.load(name, force="mesh", process=False, validate=False)
+        # (a file past its byte-order mark is given as a file object: trimesh reads from its
+        # position, as it does from a name, and nothing is copied)
+        with np.errstate(all="ignore"), open(name, "rb") as fh:  # non-finite values are reported
+            fh.seek(skip)                                          # below, not warned about
+            mesh = trimesh.load(fh, file_type=suffix[1:], force="mesh", process=False,
+                                validate=False)
     except Exception as exc:  # trimesh raises many types for unreadable files
         text = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         raise MeshError(f"mesh {base!r} cannot be read as {suffix[1:].upper()} ({text}).") from exc

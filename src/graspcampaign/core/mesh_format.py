@@ -8,6 +8,7 @@ is a :class:`MeshError` naming the file and what is wrong, in one sentence.
 
 from __future__ import annotations
 
+import io
 import os
 import re
 
@@ -37,17 +38,19 @@ class MeshError(ValueError):
 MAX_STL_TRIANGLES = 50_000_000
 
 
-def check_stl_layout(name: str, base: str, n_bytes: int, head: bytes) -> None:
+def check_stl_layout(name: str, base: str, n_bytes: int, head: bytes, skip: int = 0) -> None:
     """Tell an STL from other bytes before trimesh guesses (it would try text decodings); ``head``
-    is the file's first bytes (84 or more, if it holds them), read once by the caller."""
+    is the file's first bytes (84 or more, if it holds them), read once by the caller, from byte
+    ``skip`` (past a byte-order mark; ``n_bytes`` counts from there too)."""
     head = head[:84]
     if _binary_stl_size(head, n_bytes):
         return  # binary STL: 80-byte header, triangle count, 50 bytes per triangle
     if head.lstrip()[:5].lower() == b"solid":
         last, at = "", 0  # its last line holding text, and that line's number
         try:
-            with open(name, encoding="ascii") as fh:  # line by line: not the whole file at once
-                for n, line in enumerate(fh, 1):
+            with open(name, "rb") as raw:  # line by line: not the whole file at once
+                raw.seek(skip)
+                for n, line in enumerate(io.TextIOWrapper(raw, encoding="ascii"), 1):
                     if line.strip():
                         last, at = line.strip(), n
         except UnicodeDecodeError:
@@ -124,7 +127,8 @@ def check_obj_lines(name: str, base: str, head: bytes) -> bool:
     if b"\0" in head[:4096]:
         raise MeshError(f"mesh {base!r} is not an OBJ file: OBJ is text, but the file holds "
                         "binary data.")
-    with open(name, encoding="utf-8", errors="replace") as fh:
+    # utf-8-sig: a byte-order mark is no part of the first line (head is read past it)
+    with open(name, encoding="utf-8-sig", errors="replace") as fh:
         for line_no, line in enumerate(fh, 1):
             words = line.split()
             if words[:1] == ["v"]:

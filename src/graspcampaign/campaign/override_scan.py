@@ -1,0 +1,76 @@
+"""Quote-aware scans of an override's value as Hydra's grammar reads it, made before Hydra parses it
+(its parse keeps only the last of a repeated key, takes a time quadratic in the values, and
+evaluates a function before anything can name it): the characters outside quoted strings, a
+mapping's keys, the count of values, a call of one of Hydra's functions of sweeps.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterator
+
+
+def unquoted(value: str) -> Iterator[tuple[int, str]]:
+    """``(index, character)`` of each character of an override's ``value`` outside its quoted
+    strings, as Hydra's grammar (``QUOTED_VALUE``) reads them: a string runs from a quote to the
+    same quote not escaped by a backslash (``'a\\'b'`` is one string). A quote never closed is no
+    string to Hydra either: its characters are outside."""
+    i = 0
+    while i < len(value):
+        char = value[i]
+        if char in "'\"":
+            end = re.match(rf"(?:\\.|[^\\{char}])*{char}", value[i + 1:], re.DOTALL)
+            if end:
+                i += 1 + end.end()
+                continue
+        yield i, char
+        i += 1
+
+
+def mapping_keys(value: str) -> list[str]:
+    """The top-level keys of a ``{k: v, ...}`` value as typed, repeats kept (Hydra's parser keeps
+    only the last of a repeated key, so a repeat must be seen before it parses); a quoted string
+    (:func:`unquoted`) is part of the key or value it stands in."""
+    if not value.lstrip().startswith("{"):
+        return []
+    keys, depth, start, in_key = [], 0, 0, False
+    for i, char in unquoted(value):
+        if char in "[{(":
+            depth += 1
+            if depth == 1:
+                start, in_key = i + 1, True
+        elif char in "]})":
+            depth -= 1
+        elif depth == 1 and char == ",":
+            start, in_key = i + 1, True
+        elif depth == 1 and char == ":" and in_key:
+            keys.append(value[start:i].strip())
+            in_key = False
+    return keys
+
+
+def n_values(value: str) -> int:
+    """The elements an override's ``value`` holds: one more than its commas outside quoted strings,
+    at any depth of brackets (``[1,2],3`` counts 3, where Hydra's grammar splits the top level
+    into 2 values). Elements, not top-level values, are the measure of the limit this guards:
+    Hydra's parse time grows with the elements it reads, nested or not. A comma inside a quoted
+    string (:func:`unquoted`; ``'a,b'``) separates nothing, and its parse takes a time linear
+    in the string."""
+    return 1 + sum(char == "," for _, char in unquoted(value))
+
+
+#: Hydra's functions of sweeps (its grammar's sweeps choice, range, interval and glob, and tag,
+#: sort and shuffle, which tag, order or shuffle a sweep's values or a list): a value calling one
+#: is refused as a sweep is, whatever it returns (sort([b,a]) is the list [a,b]).
+SWEEP_FUNCTIONS = ("choice", "range", "interval", "glob", "tag", "sort", "shuffle")
+
+
+def sweep_function(value: str) -> str | None:
+    """The first of :data:`SWEEP_FUNCTIONS` an override's ``value`` calls where Hydra's grammar
+    reads a call (at the start of the value or of an element, ``[a,sort([b,c])]``), outside its
+    quoted strings (:func:`unquoted`; ``'sort(x)'`` is text), or None."""
+    kept = dict(unquoted(value))
+    plain = "".join(kept.get(i, " ") for i in range(len(value)))
+    names = "|".join(SWEEP_FUNCTIONS)
+    match = re.search(rf"(?:^|[\[{{,:(=])\s*({names})\s*\(", plain)
+    return match[1] if match else None
