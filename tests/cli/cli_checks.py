@@ -37,9 +37,16 @@ def grid_run(root: Path) -> Path:
     return root / "baseline_grid" / "default"
 
 
+#: :data:`BG` as a shell takes it (a word with brackets quoted), as a suggested command gives it
+BG_QUOTED = ("seeds=1 'shape=[sphere]' 'mass_kg=[0.2]' 'mu=[0.3]' 'planner=[heuristic,ferrari_canny]' "
+             "pso.n_particles=2 pso.n_iterations=1 runner.backend=sequential runner.batch_size=1")
+
+
 def resume_advice(root: Path, then: str = "quarantine the file and run its trials again") -> str:
-    """The advice a damaged baseline_grid run is refused with: resume it to ``then``."""
-    return f"resume the run (graspcampaign run baseline_grid --run default --root {root}) to {then}."
+    """The advice a damaged baseline_grid run (made with :data:`BG`) is refused with: resume it,
+    with the overrides it was started with, to ``then``."""
+    return (f"resume the run (graspcampaign run baseline_grid {BG_QUOTED} --run default --root "
+            f"{root}) to {then}.")
 
 
 @contextlib.contextmanager

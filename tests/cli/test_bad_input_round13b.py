@@ -74,6 +74,5 @@ def test_a_schedule_stem_that_is_only_a_suffix_is_refused(tmp_path, name):
     # --out <dir>/.csv wrote the hidden files .csv.csv and .csv.parquet
     out = tmp_path / name
     refused(tmp_path, ["schedule", "test2_grasp", "--out", out, "--root", tmp_path / "results"],
-            f"--out {out} names only a suffix, no file stem: the sheet would be written as the "
-            f"hidden files {name}.csv and {name}.parquet; give a file stem such as "
-            f"{tmp_path / 'schedule'}.")
+            f"--out {out} names only a suffix, no file name (a name beginning with a dot is a "
+            f"hidden file's); give a file stem such as {tmp_path / 'schedule'}.")

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import pyarrow.parquet as pq
 import pytest
-from cli_checks import BG, invoke, refused, replaced
+from cli_checks import BG, BG_QUOTED, invoke, refused, replaced
 
 from graspcampaign.campaign.records import RunStore
 
@@ -52,8 +52,17 @@ def _tables(root: Path, study: str) -> dict[str, bytes]:
     return {p.name: p.read_bytes() for p in sorted(folder.iterdir())}
 
 
+#: the overrides each run was started with (the kept fixture's; baseline_grid: its first
+#: session's, FIRST), as a shell takes them
+STARTED = {"test2_grasp": " ".join(T2), "surrogate": " ".join(SURROGATE),
+           "baseline_grid": BG_QUOTED.replace("'shape=[sphere]' ", "") + " 'shape=[sphere,pear]'"}
+
+
 def _advice(root: Path, study: str, then: str) -> str:
-    return f"resume the run (graspcampaign run {study} --run default --root {root}) to {then}."
+    """The advice of a damaged run of ``study``: resume it, with the overrides it was started with
+    (a drifted baseline_grid: its first session's), to ``then``."""
+    return (f"resume the run (graspcampaign run {study} {STARTED[study]} runner.progress=false "
+            f"--run default --root {root}) to {then}.")
 
 
 def _mended(results: Path, study: str, lost: str, counted: str | None = None) -> None:

@@ -35,13 +35,12 @@ from __future__ import annotations
 
 import json
 import re
-import shlex
 from dataclasses import dataclass
 from pathlib import Path
 
 import pyarrow as pa
 
-from graspcampaign.campaign.paths import root_options
+from graspcampaign.campaign.paths import run_command
 from graspcampaign.campaign.provenance import (
     MISMATCH,
     ingested,
@@ -304,8 +303,12 @@ def _miscounted(manifest: dict, n_stored: int) -> str | None:
     return None
 
 
-def _advice(store, problem: Problem, by_ingest: bool) -> str:
+def _advice(store, problem: Problem, manifest: dict | None) -> str:
+    """What to do about ``problem`` of the run ``store``: ingest's remedies for an ingested run,
+    else the command that resumes this run (:func:`~graspcampaign.campaign.paths.run_command`:
+    with the overrides its manifest keeps, which `run` needs to take it as the same config)."""
     study, run, root = store.path.parent.name, store.path.name, store.path.parent.parent
+    by_ingest = isinstance(manifest, dict) and ingested(manifest)
     if problem.advice:
         return problem.advice
     if problem.fix == "refuse":
@@ -317,8 +320,9 @@ def _advice(store, problem: Problem, by_ingest: bool) -> str:
         if problem.text.startswith("a damaged file records/"):
             return "move it out of the run directory and ingest the file that held its records again"
         return "move it out of the run directory"
-    command = shlex.join(["graspcampaign", "run", study, "--run", run, *root_options(root)])
-    resume = f"resume the run ({command}) to"
+    given = manifest.get("overrides") if isinstance(manifest, dict) else None
+    overrides = given if isinstance(given, list) and all(isinstance(o, str) for o in given) else []
+    resume = f"resume the run ({run_command(study, overrides, run, root)}) to"
     return {"duplicate": f"{resume} quarantine the duplicate",
             "missing": f"{resume} run the missing trials again",
             "rerun": f"{resume} run those trials again",
@@ -333,11 +337,10 @@ def refusal(store, found: list[Problem], manifest: dict | None = None) -> Damage
             manifest = json.loads(store.manifest_path.read_text())
         except (OSError, ValueError):
             manifest = None
-    by_ingest = isinstance(manifest, dict) and ingested(manifest)
     n = len(found) - 1
     more = f" (and {counted(n, 'more problem')})" if n else ""
     return DamagedRunError(f"run {store.path.parent.name}/{store.path.name} at {store.path} has "
-                           f"{found[0].text}{more}; {_advice(store, found[0], by_ingest)}.",
+                           f"{found[0].text}{more}; {_advice(store, found[0], manifest)}.",
                            f"has {found[0].text}{more}")
 
 

@@ -108,7 +108,9 @@ def check_overrides(given: list[str]) -> None:
                 raise ConfigError(f"{key} must be true or false, got {read!r} (override "
                                   f"{item!r}).", key=key)
         if setting and (zero := _leading_zero(parsed)):
-            number, factor = int(zero.replace("_", "")), FACTOR_SPECS.get(key.removeprefix("factors."))
+            name, _, index = key.removeprefix("factors.").partition(".")  # nodes.0: a level of nodes
+            number = int(zero.replace("_", ""))
+            factor = FACTOR_SPECS.get(name) if index.isdigit() or not index else None
             numeric = (split_optional(str(found[1].type))[0] in ("int", "float") if found else
                        factor is not None and factor["type"] is not str)  # quoting makes no text
             raise ConfigError(f"override {item!r}: {zero} has a leading zero, which Hydra reads as "
@@ -178,7 +180,8 @@ def rewrite(factors: set[str], overrides: list[str]) -> list[str]:
     Only ``name=value`` and ``name.N=value`` (level ``N``) exactly; a bare factor name in any
     other form (``+name=``, ``+name.0=``, ``name.x=``) is refused, as is one with a dotted tail
     that is no factor of this study. A space around the key is left to Hydra, which refuses it,
-    as it does for every other key; ``~name`` is the deletion's to name.
+    as it does for every other key; ``~name`` is the deletion's to name, but a level deleted by
+    its index (``~name.N``, ``~factors.name.N``) is refused: Hydra deletes no list item.
 
     Raises
     ------
@@ -189,6 +192,11 @@ def rewrite(factors: set[str], overrides: list[str]) -> list[str]:
     for item in overrides:
         prefix, key, sep, value = split(item)
         head, dot, tail = key.partition(".")
+        if "~" in prefix and (level := _deleted_level(key, factors)):
+            raise ConfigError(f"override {item!r} deletes level {level[1]} of the factor {level[0]} "
+                              f"(factors.{level[0]}.{level[1]}), but a level cannot be deleted by "
+                              f"its index (Hydra deletes no item of a list); give the levels to "
+                              f"keep instead, as {level[0]}=[...].", key=f"factors.{level[0]}")
         if key in factors and item.startswith(f"{key}="):
             value = value.strip()
             out.append(f"factors.{key}={value if value.startswith('[') else f'[{value}]'}")
@@ -205,6 +213,13 @@ def rewrite(factors: set[str], overrides: list[str]) -> list[str]:
         else:
             out.append(item)
     return out
+
+
+def _deleted_level(key: str, factors: set[str]) -> tuple[str, str] | None:
+    """The factor and level index a deletion's ``key`` names (``shape.0`` or ``factors.shape.0``,
+    read as ``shape.0=cube`` is), or None where it names no level of a factor of this study."""
+    name, _, index = key.removeprefix("factors.").partition(".")
+    return (name, index) if name in factors and index.isdigit() else None
 
 
 def check_sweeps(overrides: list[str], given: list[str]) -> None:

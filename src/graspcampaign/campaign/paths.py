@@ -219,12 +219,29 @@ def how_to_make(root: Path | str, study: str, run: str | None = None,
     it" for a run started): one sentence, which no caller cuts to add its own end."""
     from graspcampaign.campaign.studyfile import configured_run
 
-    rooted = root_options(root)
     if run == "measured" and _ingests(study):  # `ingest`'s run: a rig's files make it
+        rooted = root_options(root)
         command = " ".join(["graspcampaign ingest", shlex.quote(study), "FILE…", *map(shlex.quote, rooted)])
         return f"store the rig's measured records with `{command}` {then}."
-    options = [] if run in (None, configured_run(study)) else ["--run", run]
-    return f"run `{shlex.join(['graspcampaign', 'run', study, *overrides, *options, *rooted])}` {then}."
+    named = None if run in (None, configured_run(study)) else run
+    return f"run `{run_command(study, overrides, named, root)}` {then}."
+
+
+def run_command(study: str, overrides: Sequence[str] = (), run: str | None = None,
+                root: Path | str | None = None) -> str:
+    """The ``graspcampaign run`` command, quoted for a shell (:func:`shlex.join`), that makes or
+    resumes run ``run`` of ``study`` (None: no ``--run``, its configured run) under ``root`` (None:
+    no ``--root``): the study, the ``overrides`` the run was given, as given (without them `run`
+    refuses the run as started with another config), then ``--run`` and ``--root``
+    (:func:`root_options`). The one builder of every `run` command a message suggests: a
+    damaged run's advice, a missing run's, a Ctrl-C's. An override setting ``output.root`` keeps
+    ``--root`` even for the default root, which would otherwise yield to it."""
+    rooted = [] if root is None else root_options(root)
+    if root is not None and not rooted and any(
+            item.lstrip("+~").partition("=")[0] == "output.root" for item in overrides):
+        rooted = ["--root", str(root)]
+    named = [] if run is None else ["--run", run]
+    return shlex.join(["graspcampaign", "run", study, *overrides, *named, *rooted])
 
 
 def near_run(root: Path | str, study: str, run: str) -> str:

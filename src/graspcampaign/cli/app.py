@@ -131,7 +131,10 @@ def file_path(option: str, hint: str, example: str, makes_dirs: bool = False):
     """The parser of an option naming a file to write (``schedule --out``, ``plan --png``,
     ``reproduce --times``): :func:`path_or_empty`, and a value ending in a path separator refused
     as the directory it names, as an existing directory is (:func:`writable_stem`): as a Path the
-    separator would be dropped and ``--out day1/`` would write ``day1.csv`` beside it.
+    separator would be dropped and ``--out day1/`` would write ``day1.csv`` beside it. A value
+    whose name is only a format suffix (``DIR/.csv``, :data:`FORMAT_SUFFIXES`, any case) is refused
+    too: to a Path that is a hidden file's name with no suffix, so the file would be written as
+    the hidden ``.csv`` (``.csv.csv`` for a stem), which a directory listing does not show.
 
     ``hint`` and ``example`` name the file to give instead ("a file stem such as", "schedule").
     A command that refuses a file in a missing directory (``makes_dirs`` false: a typo grows no
@@ -147,6 +150,9 @@ def file_path(option: str, hint: str, example: str, makes_dirs: bool = False):
                 fail(f"{named}; {instead}")
             fail(f"{named}, and no directory {value.rstrip(separators)} exists; create one and "
                  f"{instead}")
+        if Path(value).name.lower() in FORMAT_SUFFIXES:  # '.txt' is a hidden name to Path
+            fail(f"{option} {value} names only a suffix, no file name (a name beginning with a dot "
+                 f"is a hidden file's); give {hint} {Path(value).with_name(example)}.")
         return path_or_empty(value, option)
     return parse
 

@@ -11,7 +11,6 @@ from typing import Annotated
 import typer
 
 from graspcampaign.cli.app import (
-    FORMAT_SUFFIXES,
     Overrides,
     RootOpt,
     StudyArg,
@@ -60,10 +59,6 @@ def schedule(
     kind = get_kind(cfg.kind)
     if kind.schedule is None:
         fail(f"study {cfg.name!r} is a simulation study; only hardware protocols have a schedule.")
-    if out and out.name.lower() in FORMAT_SUFFIXES:  # '.csv' is a stem to Path: '.csv.csv'
-        fail(f"--out {out} names only a suffix, no file stem: the sheet would be written as the "
-             f"hidden files {out.name}.csv and {out.name}.parquet; give a file stem such as "
-             f"{out.with_name('schedule')}.")
     if out and out.suffix.lower() in (".csv", ".parquet"):  # --out x.csv: the stem is x
         out = out.with_suffix("")
     elif out and other_format(out, ()):  # not x.xlsx.csv

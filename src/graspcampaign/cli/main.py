@@ -12,7 +12,6 @@ unless ``--debug``. The application, its shared options and checks are in
 from __future__ import annotations
 
 import json
-import shlex
 import sys
 from pathlib import Path
 from typing import Annotated
@@ -202,19 +201,15 @@ def reproduce(
 
 def _interrupted(cfg, path: Path, study: str, overrides, run, root) -> None:
     """Ctrl-C: say what is recorded and how to resume; exit 130."""
+    from graspcampaign.campaign.paths import run_command
     from graspcampaign.campaign.status import recorded_in, study_size
 
     try:
         done = f"{recorded_in(cfg, run)} of {study_size(cfg)} trials"
     except Exception:  # noqa: BLE001  (a second Ctrl-C or a shard in flight: say less)
         done = "the trials finished so far"
-    again = ["graspcampaign", "run", study, *(overrides or [])]
-    if run:
-        again += ["--run", run]
-    if root is not None:
-        again += ["--root", str(root)]
     typer.echo(f"interrupted: {done} are recorded in {path}; resume with: "
-               f"{shlex.join(again)}", err=True)
+               f"{run_command(study, overrides or [], run or None, root)}", err=True)
     raise typer.Exit(130)
 
 

@@ -1,0 +1,66 @@
+"""Bad input, round 13: what its left-overs left. An output file named only by a format suffix, for
+every option naming a file to write, and the overrides of a numeric factor's level or a factor's
+level deleted by its bare name. Each refusal: exit 2, one sentence naming what is wrong, where, and
+what to write, nothing stored changed (``refused``)."""
+
+from __future__ import annotations
+
+import pytest
+from cli_checks import refused
+
+SUFFIX_ONLY = "names only a suffix, no file name (a name beginning with a dot is a hidden file's)"
+
+
+@pytest.mark.parametrize("name", [".txt", ".TXT", ".csv"])
+def test_a_times_file_named_only_by_a_suffix_is_refused(tmp_path, monkeypatch, name):
+    # reproduce --times DIR/.txt appended its lines to the hidden file .txt
+    from graspcampaign.cli import main
+
+    monkeypatch.setattr(main, "_study_rows", lambda: [])  # on the old code: no study is run
+    times = tmp_path / "logs" / name
+    refused(tmp_path, ["reproduce", "--root", tmp_path / "results", "--times", times],
+            f"--times {times} {SUFFIX_ONLY}; give a file such as "
+            f"{tmp_path / 'logs' / 'reproduce_times.txt'}.")
+
+
+@pytest.mark.parametrize("name", [".png", ".PNG"])
+def test_a_picture_named_only_by_a_suffix_is_refused(tmp_path, sphere, name):
+    # plan --png DIR/.png said it "does not end in .png" and suggested DIR/.png.png
+    png = tmp_path / name
+    refused(tmp_path, ["plan", sphere, "--mass-kg", "0.2", "--png", png],
+            f"--png {png} {SUFFIX_ONLY}; give a file path ending in .png, such as "
+            f"{tmp_path / 'plan.png'}.")
+
+
+@pytest.mark.parametrize("typed", ["factors.nodes.0=0144", "nodes.0=0144"])
+def test_a_numeric_factors_level_with_a_leading_zero_is_not_told_to_quote_it(tmp_path, typed):
+    # a level of nodes was looked up as the factor "nodes.0", none, and told to "quote it ('0144')
+    # to mean text", which nodes refuses: its levels are whole numbers
+    refused(tmp_path, ["show", "smoke", typed, "--root", tmp_path],
+            f"override {typed!r}: 0144 has a leading zero, which Hydra reads as the text '0144', "
+            "not the number 144; write 144.")
+
+
+def test_a_text_factors_level_with_a_leading_zero_may_be_quoted(tmp_path):
+    refused(tmp_path, ["show", "smoke", "shape.0=0144", "--root", tmp_path],
+            "override 'shape.0=0144': 0144 has a leading zero, which Hydra reads as the text "
+            "'0144', not the number 144; write 144, or quote it ('0144') to mean text.")
+
+
+@pytest.mark.parametrize(("typed", "factor", "level"), [
+    ("~shape.0", "shape", "0"),  # said "deletes shape.0, which this study does not have"
+    ("~nodes.1", "nodes", "1"),
+    ("~factors.shape.0", "shape", "0"),  # said "list indices must be integers or slices, not str."
+])
+def test_a_factors_level_deleted_by_its_index_is_refused_naming_the_level(tmp_path, typed, factor,
+                                                                         level):
+    refused(tmp_path, ["show", "smoke", typed, "--root", tmp_path],
+            f"override {typed!r} deletes level {level} of the factor {factor} "
+            f"(factors.{factor}.{level}), but a level cannot be deleted by its index (Hydra deletes "
+            f"no item of a list); give the levels to keep instead, as {factor}=[...].")
+
+
+def test_a_deleted_level_of_a_factor_the_study_lacks_has_nothing_to_delete(tmp_path):
+    refused(tmp_path, ["show", "smoke", "~planner.0", "--root", tmp_path],
+            "override '~planner.0' deletes planner.0, which this study does not have, so there is "
+            "nothing to delete; leave it out.")
