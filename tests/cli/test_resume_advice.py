@@ -49,3 +49,29 @@ def test_an_interrupted_runs_resume_command_keeps_its_overrides_and_root(monkeyp
     said = stopped.stderr.split("resume with: ", 1)[1].strip()
     assert shlex.split(said) == ["graspcampaign", "run", "smoke", "output.root=elsewhere", *SMOKE,
                                  "--root", "results"]
+
+
+def test_a_run_resumed_without_its_overrides_is_told_the_command_that_resumes_it(tmp_path):
+    root = tmp_path / "my results"
+    assert invoke("run", "smoke", *SMOKE, "--root", root).exit_code == 0
+    refused = invoke("run", "smoke", "--root", root)  # the overrides it was started with left out
+    assert refused.exit_code == 2
+    found = re.search(r"resume it as started \((.*)\), use a new run name", refused.stderr)
+    assert found, refused.stderr  # the old sentence offered only a new run name or --allow-drift
+    words = shlex.split(found.group(1))
+    assert words == ["graspcampaign", "run", "smoke", *SMOKE, "--run", "default", "--root", str(root)]
+    resumed = invoke(*words[1:])
+    assert resumed.exit_code == 0, resumed.output
+
+
+def test_a_drift_the_overrides_cannot_undo_offers_no_command(tmp_path):
+    """A run whose own overrides no longer compose to its config (here its config hash, as a study
+    file edited since would leave it) is not told a command that would be refused again."""
+    root = tmp_path / "results"
+    assert invoke("run", "smoke", *SMOKE, "--root", root).exit_code == 0
+    manifest = root / "smoke" / "default" / "manifest.json"
+    stored = json.loads(manifest.read_text())
+    manifest.write_text(json.dumps({**stored, "overrides": [*stored["overrides"], "seed=99"]}))
+    refused = invoke("run", "smoke", "--root", root)
+    assert refused.exit_code == 2 and "was started with a different" in refused.stderr
+    assert "resume it as started" not in refused.stderr

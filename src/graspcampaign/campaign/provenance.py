@@ -419,7 +419,28 @@ def check_drift(manifest: dict[str, Any], study: StudyCfg, allow_drift: bool, pa
         changes.append(f"code version ({manifest.get('code_version')} -> "
                        f"{code_version()})")
     if changes:
+        resume = _as_started(manifest, study, path) if changed and len(changes) == 1 else ""
         raise DriftError(
-            f"run {path} was started with a different {' and '.join(changes)}; use a new run "
-            "name (output.run=NAME or --run NAME) or pass --allow-drift to mix them."
+            f"run {path} was started with a different {' and '.join(changes)}; {resume}use a new "
+            "run name (output.run=NAME or --run NAME) or pass --allow-drift to mix them."
         )
+
+
+def _as_started(manifest: dict[str, Any], study: StudyCfg, path: Path) -> str:
+    """``"resume it as started (COMMAND), "`` where the overrides the run was started with
+    (``overrides``, as given) compose to its config today, so that command resumes it; ``""``
+    otherwise (the study file itself changed, or the manifest keeps no overrides)."""
+    from graspcampaign.campaign.compose import compose_study
+    from graspcampaign.campaign.paths import run_command
+    from graspcampaign.errors import UserInputError
+
+    given = manifest.get("overrides")
+    if not isinstance(given, list) or not all(isinstance(item, str) for item in given):
+        return ""
+    try:
+        again = compose_study(study.name, list(given))
+    except UserInputError:
+        return ""
+    if config_drift(manifest, again):
+        return ""
+    return f"resume it as started ({run_command(study.name, given, path.name, path.parent.parent)}), "
