@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import contextlib
 import http.server
+import shlex
 import shutil
 import socket
 import threading
@@ -337,13 +338,16 @@ def test_plan_refuses_an_empty_material(tmp_path):
 
 # -- 8. the drift message names what changed -------------------------------------------------------
 def test_drift_names_the_first_changed_keys(results):
+    resume = shlex.join(["graspcampaign", "run", "smoke", *SMOKE, "runner.backend=sequential",
+                         "--run", "default", "--root", str(results)])
     refused(results, ["run", "smoke", *SMOKE, "features.edge_dihedral_deg=31", "--root", results],
             f"run {results / 'smoke' / 'default'} was started with a different resolved study "
-            "config (features.edge_dihedral_deg 30.0 -> 31.0); use a new run name " + RUN_NAME)
+            f"config (features.edge_dihedral_deg 30.0 -> 31.0); resume it as started ({resume}), use "
+            "a new run name " + RUN_NAME)
     refused(results, ["run", "smoke", "shape=[sphere,pear]", "nodes=[144]", "seeds=2", "--root", results],
             f"run {results / 'smoke' / 'default'} was started with a different resolved study "
-            'config (seeds 1 -> 2, factors.shape ["sphere"] -> ["sphere", "pear"]); use a new run '
-            "name " + RUN_NAME)
+            f'config (seeds 1 -> 2, factors.shape ["sphere"] -> ["sphere", "pear"]); resume it as '
+            f"started ({resume}), use a new run name " + RUN_NAME)
 
 
 # -- 9. study-file errors name the file, the line, the key and what it takes -----------------------
