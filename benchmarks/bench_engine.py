@@ -20,7 +20,7 @@ import numpy as np
 from _common import print_table
 from joblib import Parallel, delayed, parallel_config
 
-from graspcampaign.campaign.grid import expand
+from graspcampaign.campaign.grid import content_hash, expand
 from graspcampaign.campaign.kind import TrialKind, register_kind
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.runner import run_study
@@ -111,7 +111,7 @@ def main() -> None:
         store = RunStore(root / "read" / "run")
         rng = np.random.default_rng(1)
         for shard in range(1000):
-            store.write_shard("records", f"{shard:04d}", [
+            store.write_shard("records", content_hash(shard), [
                 {"trial_id": f"t{shard}-{i}", "status": "ok", "shape": "sphere",
                  "mass_kg": 0.4, "mu": 0.3, "success": bool(rng.random() < 0.5),
                  "residual_norm_n": float(rng.random()), "delta_max_mm": float(rng.random()),

@@ -31,6 +31,7 @@ import pyarrow as pa
 from _common import best_of, print_table
 
 from graspcampaign.campaign.compose import compose_study
+from graspcampaign.campaign.grid import content_hash
 from graspcampaign.campaign.provenance import config_digest, read_manifest, write_manifest
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.runner import run_study
@@ -90,14 +91,14 @@ def tiled_run(real: RunStore, root: Path, name: str) -> tuple[RunStore, int]:
     store = RunStore(root / name / "bench")
     for s, ks in enumerate(np.array_split(np.arange(copies), N_SHARDS)):  # shards, as a run writes
         part = [c for k in ks for c in _copy(rows, int(k), n_seeds, n_index)]
-        store.write_shard("records", f"{s:03d}", part, strings=strings)
+        store.write_shard("records", content_hash(s), part, strings=strings)  # a name the store writes
     tables = real.path / "tables"
     for table in sorted(p.name for p in tables.iterdir() if p.is_dir()) if tables.is_dir() else []:
         aux = real.read(f"tables/{table}")
         aux_rows, aux_strings = aux.to_pylist(), _string_columns(aux)
         for s, ks in enumerate(np.array_split(np.arange(copies), N_SHARDS)):
             part = [{**r, "trial_id": _tiled(r["trial_id"], int(k))} for k in ks for r in aux_rows]
-            store.write_shard(f"tables/{table}", f"{s:03d}", part, strings=aux_strings)
+            store.write_shard(f"tables/{table}", content_hash(s), part, strings=aux_strings)
     if (real.path / "prepared").is_dir():
         shutil.copytree(real.path / "prepared", store.path / "prepared")
     manifest = read_manifest(real.manifest_path)
