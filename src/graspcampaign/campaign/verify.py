@@ -25,6 +25,8 @@ import pyarrow as pa
 import pyarrow.compute as pc
 import pyarrow.parquet as pq
 
+from graspcampaign.core.words import counted
+
 SOURCES_KEY = b"graspcampaign.sources"
 #: Metadata of a records file: the config hashes of the sessions that wrote its rows (a shard of
 #: another config is not the run's, campaign.integrity), kept through compactions and rewrites.
@@ -119,6 +121,8 @@ class Facts:
     owners: dict
     n_null_ids: int = 0
     bad_id: str | None = None
+    #: ``PARTS_KEY`` read once, when the file is verified (:func:`accounts_of`)
+    accounts: dict | None = None
 
     @property
     def config_hashes(self) -> frozenset:
@@ -135,8 +139,7 @@ class Facts:
         """What each trial of a records file stored in the run's other parts (``PARTS_KEY``:
         ``{trial_id: {"tables": {name: rows}, "body": body_id}}``), or None: a file written
         before this was kept, or by ``ingest``."""
-        raw = (self.schema.metadata or {}).get(PARTS_KEY)
-        return json.loads(raw) if raw else None
+        return self.accounts
 
 
 def _listed(schema: pa.Schema, key: bytes) -> list:
@@ -155,17 +158,48 @@ def supersedes(path: Path) -> list[str]:
     return _listed(schema, SOURCES_KEY)
 
 
+def accounts_of(schema: pa.Schema, ids: frozenset) -> dict | None:
+    """The ``PARTS_KEY`` account of a file recording trials ``ids`` as ``run`` writes it (a JSON
+    mapping of trial ids it records to ``{"tables": {name: rows > 0}, "body": body_id}``, each
+    optional), or None if it has none; raises :class:`Damaged` saying how it differs from that (a
+    check would else trust, or trip over, values the tool never writes)."""
+    raw = (schema.metadata or {}).get(PARTS_KEY)
+    if raw is None:
+        return None
+    why = "its account of the run's other parts, metadata graspcampaign.parts, is not one the tool writes"
+    try:
+        accounts = json.loads(raw)
+    except ValueError:
+        raise Damaged(f"{why}: it is not JSON") from None
+    if not isinstance(accounts, dict):
+        raise Damaged(f"{why}: it is no mapping of trial ids")
+    for trial, stored in accounts.items():
+        tables = stored.get("tables", {}) if isinstance(stored, dict) else None
+        if not (isinstance(tables, dict) and set(stored) <= {"tables", "body"}
+                and all(type(n) is int and n > 0 for n in tables.values())
+                and isinstance(stored.get("body", ""), str)):
+            raise Damaged(f"{why}: trial {trial} has {json.dumps(stored)[:80]}, not its rows per "
+                          "trace table (whole numbers above 0) and the body id of its preparation")
+    other = sorted(set(accounts) - ids)
+    if other:
+        raise Damaged(f"{why}: it names {counted(len(other), 'trial')} it does not record (first {other[0]})")
+    return accounts
+
+
 def _facts(table: pa.Table) -> Facts:
     ids = table.column("trial_id") if "trial_id" in table.column_names else None
     owners = {c: set(_unique(table, c).to_pylist()) for c in _OWNERS if c in table.column_names}
     if ids is None:
+        accounts_of(table.schema, frozenset())
         return Facts(table.schema, 0, frozenset(), owners)
     unique = _unique(table, "trial_id").drop_null()
     bad = None
     if pa.types.is_string(ids.type):  # the first malformed id: unique keeps the order of rows
         wrong = unique.filter(pc.invert(pc.match_substring_regex(unique, TRIAL_ID)))
         bad = wrong[0].as_py() if len(wrong) else None
-    return Facts(table.schema, len(ids), frozenset(unique.to_pylist()), owners, ids.null_count, bad)
+    known = frozenset(unique.to_pylist())
+    return Facts(table.schema, len(ids), known, owners, ids.null_count, bad,
+                 accounts_of(table.schema, known))
 
 
 def _unique(table: pa.Table, name: str) -> pa.Array:

@@ -1,0 +1,76 @@
+"""Damaged runs, round 3: attacks on the account a run keeps of its other parts (campaign.parts).
+
+Each case damages its own copy of the finished runs of tests/cli/test_lost_parts.py (``kept``: a
+test2_grasp run with belief_none traces, a surrogate run with summary tables, a baseline_grid run of
+two sessions with a preparation per body and candidates traces) and goes through the CLI: what
+``status`` and ``report`` say of it, and what ``run`` makes of it.
+"""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pyarrow.parquet as pq
+import pytest
+from cli_checks import invoke, refused, replaced
+from test_lost_parts import OVERRIDES, _advice, _tables, kept  # noqa: F401 - kept: a fixture
+
+from graspcampaign.campaign.records import _write_atomic
+from graspcampaign.campaign.verify import PARTS_KEY
+
+
+@pytest.fixture
+def results(kept, tmp_path):  # noqa: F811 - the fixture of test_lost_parts
+    """A copy of the finished runs this test may damage."""
+    return Path(shutil.copytree(kept, tmp_path / "results"))
+
+
+def _run(results: Path, study: str, *extra: str):
+    """``graspcampaign run`` of ``study`` as the fixture ran it (``extra`` replacing overrides)."""
+    return invoke("run", study, *replaced(OVERRIDES[study], *extra), "runner.progress=false",
+                  "--root", results)
+
+
+def _restamp(path: Path, metadata: dict[bytes, bytes]) -> None:
+    """Rewrite ``path`` with ``metadata`` in place of its own as the store writes a file (the
+    digest of its values stamped again): an older or foreign file, intact by every check of one
+    file."""
+    table = pq.read_table(path)
+    _write_atomic(table.replace_schema_metadata(metadata), path)
+
+
+def _first_session_records(run: Path) -> Path:
+    """The records file of baseline_grid's first session (the sphere's and the pear's trials)."""
+    (path,) = [p for p in (run / "records").glob("*.parquet")
+               if "pear" in str(pq.read_table(p, columns=["shape"]).column("shape").to_pylist())]
+    return path
+
+
+@pytest.mark.parametrize(("account", "why"), [
+    (b'{"pear_0.2', "it is not JSON"),
+    (b'{"pear_0.2_0.3_ferrari_canny_s0-599544ae7e": {"tables": {"candidates": "50"}}}',
+     'trial pear_0.2_0.3_ferrari_canny_s0-599544ae7e has {"tables": {"candidates": "50"}}, not its '
+     "rows per trace table (whole numbers above 0) and the body id of its preparation"),
+    (b'{"cube_0.2_0.3_heuristic_s0-0123456789": {}}',
+     "it names 1 trial it does not record (first cube_0.2_0.3_heuristic_s0-0123456789)"),
+])
+def test_an_account_the_tool_never_writes_is_a_damaged_file(results, account, why):
+    """A records file whose account is not JSON, counts rows in text or names a trial it does not
+    record: status, report and run ended in a traceback (exit 1; json.loads, a sum of str). Now
+    it is a damaged file: named (exit 2), moved aside by run, its trials run again."""
+    run = results / "baseline_grid" / "default"
+    path = _first_session_records(run)
+    meta = pq.read_schema(path).metadata
+    _restamp(path, {**meta, PARTS_KEY: account})
+    rel = path.relative_to(run).as_posix()
+    said = (f"run baseline_grid/default at {run} has a damaged file {rel} (its account of the "
+            "run's other parts, metadata graspcampaign.parts, is not one the tool writes: "
+            f"{why}); {_advice(results, 'baseline_grid', 'quarantine the file and run its trials again')}")
+    for command in ("status", "report"):
+        refused(results, [command, "baseline_grid", "--root", results], said)
+    mended = _run(results, "baseline_grid")
+    assert mended.exit_code == 0, mended.output
+    assert "4 ran (4 ok, 0 errors)" in mended.stdout
+    assert invoke("report", "baseline_grid", "--root", results).exit_code == 0
+
