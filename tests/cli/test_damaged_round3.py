@@ -13,10 +13,10 @@ from pathlib import Path
 
 import pyarrow.parquet as pq
 import pytest
-from cli_checks import invoke, refused, replaced
+from cli_checks import BG, invoke, refused, replaced
 from test_lost_parts import OVERRIDES, _advice, _tables, kept  # noqa: F401 - kept: a fixture
 
-from graspcampaign.campaign.records import _write_atomic
+from graspcampaign.campaign.records import RunStore, _write_atomic
 from graspcampaign.campaign.verify import PARTS_KEY
 
 
@@ -74,3 +74,26 @@ def test_an_account_the_tool_never_writes_is_a_damaged_file(results, account, wh
     assert "4 ran (4 ok, 0 errors)" in mended.stdout
     assert invoke("report", "baseline_grid", "--root", results).exit_code == 0
 
+
+def test_a_drifted_run_computes_the_preparations_of_its_recorded_trials_outside_its_design(results):
+    """prepared/ of baseline_grid gone, the run resumed drifted to the sphere alone: it computed
+    the sphere's preparation only and then refused itself in its final check (exit 2, the pear's
+    and the ellipsoid's gone), which its advice (resume the run) could not mend. Now the bodies
+    every recorded trial used are computed again, each read back from its record's factors, and
+    the report is the undamaged run's again."""
+    run = results / "baseline_grid" / "default"
+    before = _tables(results, "baseline_grid")
+    ids = set(RunStore(run).read("prepared", ["body_id"]).column("body_id").to_pylist())
+    shutil.rmtree(run / "prepared")
+    mended = invoke("run", "baseline_grid", *BG, "runner.progress=false", "--allow-drift",
+                    "--root", results)
+    assert mended.exit_code == 0, mended.output
+    assert mended.stderr == (f"warning: run baseline_grid/default at {run} has no prepared "
+                             "directory, which holds the preparations of the 3 bodies its "
+                             "recorded trials used; it is computed again\n")
+    assert set(RunStore(run).read("prepared", ["body_id"]).column("body_id").to_pylist()) == ids
+    for command in ("status", "report"):
+        assert invoke(command, "baseline_grid", "--root", results).exit_code == 0
+    assert _run(results, "baseline_grid").exit_code == 0  # back to the three shapes
+    assert invoke("report", "baseline_grid", "--root", results).exit_code == 0
+    assert _tables(results, "baseline_grid") == before
