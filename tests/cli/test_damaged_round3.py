@@ -11,6 +11,7 @@ from __future__ import annotations
 import shutil
 from pathlib import Path
 
+import pyarrow.compute as pc
 import pyarrow.parquet as pq
 import pytest
 from cli_checks import BG, invoke, refused, replaced
@@ -97,3 +98,30 @@ def test_a_drifted_run_computes_the_preparations_of_its_recorded_trials_outside_
     assert _run(results, "baseline_grid").exit_code == 0  # back to the three shapes
     assert invoke("report", "baseline_grid", "--root", results).exit_code == 0
     assert _tables(results, "baseline_grid") == before
+
+
+def test_a_trace_file_of_the_same_trials_with_other_values_is_trusted_for_none_of_them(results):
+    """A copy of tables/belief_none's file with other values (another run's traces of the same
+    trials) put in under a name sorting first: report called the run's own file the duplicate,
+    and run moved it aside, keeping the copy's values as the run's traces. Now the values are
+    compared, as for records: neither file is trusted, its trials run again."""
+    run = results / "test2_grasp" / "default"
+    before = _tables(results, "test2_grasp")
+    (own,) = (run / "tables" / "belief_none").glob("*.parquet")
+    table = pq.read_table(own)
+    n = len(set(table.column("trial_id").to_pylist()))
+    where = table.column_names.index("contact_1_x_mm")
+    other = table.set_column(where, "contact_1_x_mm", pc.multiply(table.column(where), 2.0))
+    _write_atomic(other.replace_schema_metadata(None), own.with_name("compact-0000000000.parquet"))
+    rel = own.relative_to(run).as_posix()
+    why = (f"{n} trials also in tables/belief_none/compact-0000000000.parquet with other values "
+           "(column contact_1_x_mm)")
+    refused(results, ["report", "test2_grasp", "--root", results],
+            f"run test2_grasp/default at {run} has a file {rel} holding the traces of {why}; "
+            f"{_advice(results, 'test2_grasp', 'quarantine the file and run its trials again')}")
+    mended = _run(results, "test2_grasp")
+    assert mended.exit_code == 0, mended.output
+    assert f"{n} ran ({n} ok, 0 errors)" in mended.stdout
+    assert mended.stderr.startswith(f"warning: file {own} moved to ") and why in mended.stderr
+    assert invoke("report", "test2_grasp", "--root", results).exit_code == 0
+    assert _tables(results, "test2_grasp") == before

@@ -231,11 +231,13 @@ def file_problems(store, part: str, allowed: dict[str, set]) -> list[Problem]:
             out.append(Problem(path, f"a file {rel} that {said}", "quarantine", part, f"it {said}"))
             continue
         twice = unique & seen.keys()
-        other = other_values(path, {seen[t] for t in twice}, twice) if part == "records" else None
+        # a trace file of the same trials with other values (another run's): neither is trusted
+        other = other_values(path, {seen[t] for t in twice}, twice) if twice else None
         if other:
             why = (f"{counted(len(twice), 'trial')} also in {_rel(store, other[0])} with other "
                    f"values (column {other[1]})")
-            out.append(Problem(path, f"a file {rel} recording {why}", "quarantine", part, why,
+            held = "recording" if part == "records" else "holding the traces of"
+            out.append(Problem(path, f"a file {rel} {held} {why}", "quarantine", part, why,
                                conflicting=frozenset(twice)))
             continue
         if twice:
