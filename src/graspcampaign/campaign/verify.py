@@ -25,8 +25,6 @@ import pyarrow as pa
 import pyarrow.compute as pc
 import pyarrow.parquet as pq
 
-from graspcampaign.core.words import counted
-
 SOURCES_KEY = b"graspcampaign.sources"
 #: Metadata of a records file: the config hashes of the sessions that wrote its rows (a shard of
 #: another config is not the run's, campaign.integrity), kept through compactions and rewrites.
@@ -160,9 +158,9 @@ def supersedes(path: Path) -> list[str]:
 
 def accounts_of(schema: pa.Schema, ids: frozenset) -> dict | None:
     """The ``PARTS_KEY`` account of a file recording trials ``ids`` as ``run`` writes it (a JSON
-    mapping of trial ids it records to ``{"tables": {name: rows > 0}, "body": body_id}``, each
-    optional), or None if it has none; raises :class:`Damaged` saying how it differs from that (a
-    check would else trust, or trip over, values the tool never writes)."""
+    mapping of trial ids to ``{"tables": {name: rows > 0}, "body": body_id}``, each optional), of
+    the trials it records, or None if it has none; raises :class:`Damaged` saying how it differs
+    from that (a check would else trust, or trip over, values the tool never writes)."""
     raw = (schema.metadata or {}).get(PARTS_KEY)
     if raw is None:
         return None
@@ -180,10 +178,8 @@ def accounts_of(schema: pa.Schema, ids: frozenset) -> dict | None:
                 and isinstance(stored.get("body", ""), str)):
             raise Damaged(f"{why}: trial {trial} has {json.dumps(stored)[:80]}, not its rows per "
                           "trace table (whole numbers above 0) and the body id of its preparation")
-    other = sorted(set(accounts) - ids)
-    if other:
-        raise Damaged(f"{why}: it names {counted(len(other), 'trial')} it does not record (first {other[0]})")
-    return accounts
+    # a trial it does not record is no part of it (a rewrite keeps the entries of the trials kept)
+    return {trial: stored for trial, stored in accounts.items() if trial in ids}
 
 
 def _facts(table: pa.Table) -> Facts:
