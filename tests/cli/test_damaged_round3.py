@@ -124,3 +124,32 @@ def test_a_trace_file_of_the_same_trials_with_other_values_is_trusted_for_none_o
     assert invoke("report", "test2_grasp", "--root", results).exit_code == 0
     assert _tables(results, "test2_grasp") == before
 
+
+@pytest.mark.parametrize("lost", [["complete.json"], ["complete.json", "surrogate_parity"], []])
+def test_a_finished_run_without_its_summary_record_is_named_and_finalized_again(results, lost):
+    """summary/complete.json of the finished surrogate run deleted, alone, with a summary table,
+    or with the whole summary/ directory (``[]``): report exited 0, lacking the tables gone without
+    a word (complete.json, which says which were stored, went with them). Now a finished run of a
+    kind with a finalize stage names the file gone; run finalizes again, storing only the tables
+    not stored (surrogate_timing, a measured time, stays byte for byte where it was kept)."""
+    run = results / "surrogate" / "default"
+    before, summary = _tables(results, "surrogate"), run / "summary"
+    timing = (summary / "surrogate_timing" / "part-final.parquet").read_bytes()
+    for name in lost:
+        (summary / name).unlink() if name.endswith(".json") else shutil.rmtree(summary / name)
+    if not lost:
+        shutil.rmtree(summary)
+    said = (f"run surrogate/default at {run} has no summary/complete.json, which a finished run "
+            "of surrogate stores when it computes its summary tables")
+    for command in ("status", "report"):
+        refused(results, [command, "surrogate", "--root", results],
+                f"{said}; {_advice(results, 'surrogate', 'compute it again')}")
+    mended = _run(results, "surrogate")
+    assert mended.exit_code == 0, mended.output
+    assert mended.stderr == f"warning: {said}; it is computed again\n"
+    assert invoke("report", "surrogate", "--root", results).exit_code == 0
+    if lost:
+        assert (summary / "surrogate_timing" / "part-final.parquet").read_bytes() == timing
+        assert _tables(results, "surrogate") == before
+    else:  # every table computed again: the same but for the measured times
+        assert set(_tables(results, "surrogate")) == set(before)

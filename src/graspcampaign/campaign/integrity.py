@@ -284,7 +284,7 @@ def problems(store, manifest: dict | None, parts: list[str] | None = None) -> li
     if manifest is not None and not found and (parts is None or "records" in parts):
         from graspcampaign.campaign.parts import part_problems  # it names Problem
 
-        found += part_problems(store, full=parts is None)
+        found += part_problems(store, full=parts is None, manifest=manifest)
     return found
 
 

@@ -57,14 +57,15 @@ def _accounts(store) -> dict[str, dict[str, Any]]:
     return out
 
 
-def part_problems(store, full: bool = True) -> list:
+def part_problems(store, full: bool = True, manifest: dict | None = None) -> list:
     """What the run's accounts say is stored but is not: trace rows of recorded trials,
     preparations of the bodies they used, summary tables ``finalize`` wrote.
 
     ``full`` (``run``, ``report``): the trial ids and body ids stored, every file verified in full,
     against those accounted for, naming the first missing. Else (``status``, which reads no more
     than the records): a part's directory missing, or its files' footers counting fewer rows than
-    accounted for; files that are damaged are the full check's.
+    accounted for; files that are damaged are the full check's. Both: a finished run of a kind
+    with a finalize stage (``manifest``: read if not given) without ``complete.json``.
     """
     from graspcampaign.campaign.integrity import Problem
 
@@ -106,6 +107,13 @@ def part_problems(store, full: bool = True) -> list:
                 if n is not None and n < len(bodies) else "")
     if what:
         out.append(Problem(where, what, "recompute", "prepared", what))
+    done = store.path / "summary" / COMPLETE
+    manifest = provenance.read_manifest(store.manifest_path) if manifest is None else manifest
+    if (manifest or {}).get("finished_at") and not done.is_file() and not provenance.ingested(
+            manifest) and provenance.kind_facts_or_none(manifest["kind"]).get("finalize"):
+        what = (f"no summary/{COMPLETE}, which a finished run of {manifest['kind']} stores when it "
+                "computes its summary tables")
+        out.append(Problem(done, what, "recompute", "summary", what))
     for name in _written(store):
         part = f"summary/{name}"
         stored = store._listing(part)[0] if full else list((store.path / part).glob("*.parquet"))
