@@ -153,3 +153,34 @@ def test_a_finished_run_without_its_summary_record_is_named_and_finalized_again(
         assert _tables(results, "surrogate") == before
     else:  # every table computed again: the same but for the measured times
         assert set(_tables(results, "surrogate")) == set(before)
+
+
+@pytest.mark.parametrize("other", [False, True])
+def test_a_second_preparation_of_a_body_is_named_not_reported_twice(results, other):
+    """baseline_grid's first-session preparations copied in under another shard name, byte for
+    byte or with other values (another run's identification of the same bodies): status and
+    report exited 0, and Table 3 counted each body twice or mixed the copy's values in (a
+    preparation is keyed by its body_id, not by a trial id, so no check saw two). Now a copy is a
+    duplicate, moved aside by run; other values are trusted in neither file: both moved aside,
+    every body computed again. The report is then the undamaged run's."""
+    run = results / "baseline_grid" / "default"
+    before = _tables(results, "baseline_grid")
+    (own,) = (run / "prepared").glob("compact-*.parquet")
+    table = pq.read_table(own)
+    if other:
+        where = table.column_names.index("lambda1")
+        table = table.set_column(where, "lambda1", pc.multiply(table.column(where), 2.0))
+    copy = run / "prepared" / "compact-0000000000.parquet"
+    _write_atomic(table.replace_schema_metadata(None), copy)
+    rel, advice = own.relative_to(run).as_posix(), _advice(results, "baseline_grid", "X")[:-2]
+    said = (f"a file {rel} holding 2 preparations of bodies also in prepared/{copy.name} with "
+            f"other values (column lambda1) (and 1 more problem); {advice}compute it again."
+            if other else f"a duplicate file {rel} (every preparation also in prepared/{copy.name})"
+                          f"; {advice}quarantine the duplicate.")
+    refused(results, ["report", "baseline_grid", "--root", results],
+            f"run baseline_grid/default at {run} has {said}")
+    mended = _run(results, "baseline_grid")
+    assert mended.exit_code == 0, mended.output
+    assert mended.stderr.count("moved to") == (2 if other else 1), mended.stderr
+    assert invoke("report", "baseline_grid", "--root", results).exit_code == 0
+    assert _tables(results, "baseline_grid") == before

@@ -319,18 +319,20 @@ def facts(path: Path) -> Facts:
 EXECUTION_COLUMNS = ("wall_time_s", "worker", "host")
 
 
-def other_values(path: Path, earlier: set[Path], ids: set[str]) -> tuple[Path, str] | None:
+def other_values(path: Path, earlier: set[Path], ids: set[str],
+                 key: str = "trial_id") -> tuple[Path, str] | None:
     """The first of the ``earlier`` files and column where the records of trials ``ids`` in it
     and in ``path`` differ (every column but :data:`EXECUTION_COLUMNS`, one only in one of them
-    too), or None: the same trial recorded twice with other values."""
+    too), or None: the same trial recorded twice with other values. ``key``: the column naming
+    what ``ids`` are (``body_id`` for preparations)."""
 
     def rows(file: Path, keep: pa.Array) -> pa.Table:
         table = read_file(file)[0]
-        return table.filter(pc.is_in(table.column("trial_id"), value_set=keep)).sort_by("trial_id")
+        return table.filter(pc.is_in(table.column(key), value_set=keep)).sort_by(key)
 
     for file in sorted(earlier):
         theirs = rows(file, pa.array(sorted(ids), pa.string()))
-        mine = rows(path, theirs.column("trial_id").combine_chunks())
+        mine = rows(path, theirs.column(key).combine_chunks())
         shared = set(mine.column_names) & set(theirs.column_names)
         differ = (set(mine.column_names) ^ set(theirs.column_names)) | {
             n for n in shared if content_digest(mine.select([n])) != content_digest(theirs.select([n]))}
