@@ -184,3 +184,31 @@ def test_a_second_preparation_of_a_body_is_named_not_reported_twice(results, oth
     assert mended.stderr.count("moved to") == (2 if other else 1), mended.stderr
     assert invoke("report", "baseline_grid", "--root", results).exit_code == 0
     assert _tables(results, "baseline_grid") == before
+
+
+def test_a_trace_file_cut_short_is_named_by_report_as_by_status(results):
+    """The second session's candidates file rewritten without 10 of its trial's 50 rows (its
+    digest stamped again): status refused it (its footers count 140 rows where 150 were stored),
+    but report exited 0 on the cut traces and run found nothing to do, so status refused the run
+    for ever. Now report and run count each trial's rows too; run runs that trial again."""
+    run = results / "baseline_grid" / "default"
+    before = _tables(results, "baseline_grid")
+    (shard,) = (run / "tables" / "candidates").glob("part-*.parquet")
+    table = pq.read_table(shard)
+    (trial,) = set(table.column("trial_id").to_pylist())
+    _write_atomic(table.slice(10), shard)
+    lost = (f"tables/candidates with other trace rows than 1 recorded trial stored (first {trial}: "
+            "40 where it stored 50)")
+    advice = _advice(results, "baseline_grid", "run those trials again")
+    label = f"run baseline_grid/default at {run} has"
+    refused(results, ["report", "baseline_grid", "--root", results], f"{label} {lost}; {advice}")
+    refused(results, ["status", "baseline_grid", "--root", results],
+            f"{label} tables/candidates with 140 trace rows where 3 recorded trials stored 150; "
+            f"{advice}")
+    mended = _run(results, "baseline_grid")
+    assert mended.exit_code == 0, mended.output
+    assert mended.stderr == f"warning: {label} {lost}; those trials run again\n"
+    assert "1 ran (1 ok, 0 errors)" in mended.stdout
+    for command in ("status", "report"):
+        assert invoke(command, "baseline_grid", "--root", results).exit_code == 0
+    assert _tables(results, "baseline_grid") == before

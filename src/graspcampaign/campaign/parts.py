@@ -25,6 +25,7 @@ from __future__ import annotations
 import contextlib
 import json
 import time
+from collections import Counter
 from pathlib import Path
 from typing import Any
 
@@ -61,11 +62,12 @@ def part_problems(store, full: bool = True, manifest: dict | None = None) -> lis
     """What the run's accounts say is stored but is not: trace rows of recorded trials,
     preparations of the bodies they used, summary tables ``finalize`` wrote.
 
-    ``full`` (``run``, ``report``): the trial ids and body ids stored, every file verified in full,
-    against those accounted for, naming the first missing. Else (``status``, which reads no more
-    than the records): a part's directory missing, or its files' footers counting fewer rows than
-    accounted for; files that are damaged are the full check's. Both: a finished run of a kind
-    with a finalize stage (``manifest``: read if not given) without ``complete.json``.
+    ``full`` (``run``, ``report``): each trial's trace rows and the body ids stored, every file
+    verified in full, against those accounted for, naming the first that differs. Else
+    (``status``, which reads no more than the records): a part's directory missing, or its files'
+    footers counting fewer rows than accounted for; files that are damaged are the full check's.
+    Both: a finished run of a kind with a finalize stage (``manifest``: read if not given)
+    without ``complete.json``.
     """
     from graspcampaign.campaign.integrity import Problem
 
@@ -83,10 +85,15 @@ def part_problems(store, full: bool = True, manifest: dict | None = None) -> lis
         if not (store.path / part).is_dir():
             what, gone = f"no {part} directory, where {trials} stored traces", sorted(rows)
         elif full:
-            held = set().union(*(facts(path).ids for path in store._listing(part)[0]))
-            gone = sorted(set(rows) - held)
-            what = (f"{part} without the traces of {counted(len(gone), 'recorded trial')} "
-                    f"(first {gone[0]})") if gone else ""
+            held: Counter = Counter()
+            for path in store._listing(part)[0]:
+                held.update(facts(path).rows_of())
+            gone = sorted(trial for trial, n in rows.items() if held[trial] != n)
+            what = "" if not gone else (
+                f"{part} without the traces of {counted(len(gone), 'recorded trial')} "
+                f"(first {gone[0]})" if not any(held[t] for t in gone) else
+                f"{part} with other trace rows than {counted(len(gone), 'recorded trial')} stored "
+                f"(first {gone[0]}: {held[gone[0]]} where it stored {rows[gone[0]]})")
         else:
             n, want, gone = _footer_rows(store.path / part), sum(rows.values()), []
             what = (f"{part} with {counted(n, 'trace row')} where {trials} stored {want}"

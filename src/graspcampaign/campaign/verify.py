@@ -121,6 +121,12 @@ class Facts:
     bad_id: str | None = None
     #: ``PARTS_KEY`` read once, when the file is verified (:func:`accounts_of`)
     accounts: dict | None = None
+    #: the rows of each trial where some trial has more than one (a trace table's), else None
+    counts: dict | None = None
+
+    def rows_of(self) -> dict:
+        """The rows the file holds of each trial it holds."""
+        return dict.fromkeys(self.ids, 1) if self.counts is None else self.counts
 
     @property
     def config_hashes(self) -> frozenset:
@@ -194,8 +200,13 @@ def _facts(table: pa.Table) -> Facts:
         wrong = unique.filter(pc.invert(pc.match_substring_regex(unique, TRIAL_ID)))
         bad = wrong[0].as_py() if len(wrong) else None
     known = frozenset(unique.to_pylist())
+    counts = None
+    if len(known) < len(ids) - ids.null_count:  # a trace table's: its rows per trial
+        tally = pc.value_counts(ids.combine_chunks().drop_null())
+        counts = dict(zip(tally.field("values").to_pylist(), tally.field("counts").to_pylist(),
+                          strict=True))
     return Facts(table.schema, len(ids), known, owners, ids.null_count, bad,
-                 accounts_of(table.schema, known))
+                 accounts_of(table.schema, known), counts)
 
 
 def _unique(table: pa.Table, name: str) -> pa.Array:
