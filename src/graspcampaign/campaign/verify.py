@@ -19,6 +19,7 @@ import os
 import time
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pyarrow as pa
@@ -177,15 +178,27 @@ def accounts_of(schema: pa.Schema, ids: frozenset) -> dict | None:
         raise Damaged(f"{why}: it is not JSON") from None
     if not isinstance(accounts, dict):
         raise Damaged(f"{why}: it is no mapping of trial ids")
-    for trial, stored in accounts.items():
-        tables = stored.get("tables", {}) if isinstance(stored, dict) else None
-        if not (isinstance(tables, dict) and set(stored) <= {"tables", "body"}
-                and all(type(n) is int and n > 0 for n in tables.values())
-                and isinstance(stored.get("body", ""), str)):
-            raise Damaged(f"{why}: trial {trial} has {json.dumps(stored)[:80]}, not its rows per "
-                          "trace table (whole numbers above 0) and the body id of its preparation")
+    trial = next((trial for trial, stored in accounts.items() if not _an_account(stored)), None)
+    if trial is not None:
+        raise Damaged(f"{why}: trial {trial} has {json.dumps(accounts[trial])[:80]}, not its rows "
+                      "per trace table (whole numbers above 0) and the body id of its preparation")
     # a trial it does not record is no part of it (a rewrite keeps the entries of the trials kept)
-    return {trial: stored for trial, stored in accounts.items() if trial in ids}
+    return accounts if accounts.keys() <= ids else {
+        trial: stored for trial, stored in accounts.items() if trial in ids}
+
+
+def _an_account(stored: Any) -> bool:
+    """Whether ``stored`` is one trial's entry as ``run`` writes it (types compared exactly: one
+    entry per trial of a run, 20,000 in a large one, each checked on every first read)."""
+    if type(stored) is not dict or not stored.keys() <= _ACCOUNT_KEYS:
+        return False
+    tables = stored.get("tables", _NONE)
+    if type(tables) is not dict or type(stored.get("body", "")) is not str:
+        return False
+    return all(type(n) is int and n > 0 for n in tables.values())
+
+
+_ACCOUNT_KEYS, _NONE = frozenset({"tables", "body"}), {}
 
 
 def _facts(table: pa.Table) -> Facts:
