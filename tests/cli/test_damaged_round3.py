@@ -212,3 +212,20 @@ def test_a_trace_file_cut_short_is_named_by_report_as_by_status(results):
     for command in ("status", "report"):
         assert invoke(command, "baseline_grid", "--root", results).exit_code == 0
     assert _tables(results, "baseline_grid") == before
+
+
+def test_status_says_what_it_checked_where_report_names_a_loss_it_cannot_see(results):
+    """A byte of the second session's candidates file flipped: report names the damaged file;
+    status, which reads the records and only the other parts' footers (it answers in well under a
+    second), exits 0, and now says so in its output, where it said nothing of what it left out."""
+    run = results / "baseline_grid" / "default"
+    (shard,) = (run / "tables" / "candidates").glob("part-*.parquet")
+    data = bytearray(shard.read_bytes())
+    data[len(data) // 3] ^= 0xFF
+    shard.write_bytes(bytes(data))
+    assert invoke("report", "baseline_grid", "--root", results).exit_code == 2
+    shown = invoke("status", "baseline_grid", "--root", results)
+    assert shown.exit_code == 0, shown.output
+    assert shown.stdout.endswith(
+        "checked: records/ in full; tables/, prepared/ and summary/ by their directories and their "
+        "files' footers (report and run verify every file)\n")
