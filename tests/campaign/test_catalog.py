@@ -24,7 +24,8 @@ def test_cached_facts_equal_the_code(tmp_path, monkeypatch):
         assert facts == {"seconds_per_trial": kind.seconds_per_trial, "design": True,
                          "source": kind.source, "factors": list(kind.factors),
                          "trial_keys": list(kind.trial_keys),
-                         "params": catalog.params_spec(kind.params), "stages": kind.stages}
+                         "params": catalog.params_spec(kind.params), "stages": kind.stages,
+                         "finalize": False}
         assert [f[0] for f in facts["params"]["fields"]] == ["objects", "groups", "fraction",
                                                              "belief_error"]
         study = compose_study("test2_grasp", ["params.fraction=0.1"])

@@ -130,7 +130,8 @@ def registry_names(name: str) -> tuple[str, ...]:
 
 def kind_facts(name: str) -> dict[str, Any]:
     """Return ``{"seconds_per_trial", "design", "source", "factors", "trial_keys", "params",
-    "stages"}`` of an available trial kind: ``factors`` the factors a Cartesian design must have,
+    "stages", "finalize"}`` of an available trial kind (``finalize``: whether it has that
+    stage): ``factors`` the factors a Cartesian design must have,
     ``trial_keys`` the keys its trials hold besides the factors (``TrialKind.trial_keys``),
     ``params`` its params schema as ``{"name", "fields": [[name, annotation, metadata], ...]}``
     (None: it takes none), so that ``show`` checks a study's params as ``run`` does without
@@ -142,7 +143,8 @@ def kind_facts(name: str) -> dict[str, Any]:
         return {"seconds_per_trial": kind.seconds_per_trial, "design": kind.design is not None,
                 "source": kind.source, "factors": list(kind.factors),
                 "trial_keys": list(kind.trial_keys),
-                "params": params_spec(kind.params), "stages": kind.stages}
+                "params": params_spec(kind.params), "stages": kind.stages,
+                "finalize": kind.finalize is not None}
 
     if name in RUNTIME_KINDS:  # kinds registered at run time (tests) are never cached
         return compute()

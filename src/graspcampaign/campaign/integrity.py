@@ -17,8 +17,8 @@ manifest says, before anything counts or reports its records:
 - every record is the run's own: its ``study``, ``run``, ``kind`` and ``source`` are the
   manifest's, and the configs its shard was written under (``CONFIG_KEY`` in the shard's
   metadata) are ones the run ran with (and, for ``run``, its trial is in the design);
-- no trial is recorded twice, in one records file or across files, and no trial's traces are in
-  two files of one trace table;
+- no trial is recorded twice, in one records file or across files, no trial's traces are in
+  two files of one trace table and no body's preparation in two files of ``prepared/``;
 - no recorded trial went missing: the run stores at least the ``n_recorded`` trials its manifest
   counted when they were last written;
 - no other part went missing: the traces, preparations and summary tables the run's records say
@@ -204,12 +204,13 @@ def _no_digest(own: Facts, allowed: dict) -> str | None:
 
 def file_problems(store, part: str, allowed: dict[str, set]) -> list[Problem]:
     """Damaged files of ``part``; in records also foreign files and files recording a trial
-    twice; in records and trace tables trials stored in two files (the earlier file is kept:
-    compacted files first, then shards, each by name)."""
+    twice; in records and trace tables trials, in ``prepared/`` bodies, stored in two files (the
+    earlier file is kept: compacted files first, then shards, each by name; with other values,
+    neither is trusted)."""
     out = [Problem(path, f"a damaged file {_rel(store, path)} ({why})", "quarantine", part, why)
            for path, why in store.damaged(part)]
     bad = {p.path for p in out}
-    if part != "records" and not part.startswith("tables/"):
+    if part not in ("records", "prepared") and not part.startswith("tables/"):
         return out + [Problem(path, f"a file {_rel(store, path)} with {why}", "quarantine", part,
                               why) for path in store._listing(part)[0] if path not in bad
                       and (why := _no_digest(facts(path), allowed))]
@@ -224,28 +225,49 @@ def file_problems(store, part: str, allowed: dict[str, set]) -> list[Problem]:
                                f"a file {rel} holding {foreign}", "quarantine", part,
                                unlike or foreign))
             continue
-        n, unique = own.n_rows, own.ids
+        n, unique = own.n_rows, own.ids if part != "prepared" else _body_ids(path)
         if part == "records" and len(unique) < n:
             said = f"records {counted(n - len(unique), 'trial')} twice"
             out.append(Problem(path, f"a file {rel} that {said}", "quarantine", part, f"it {said}"))
             continue
         twice = unique & seen.keys()
-        other = other_values(path, {seen[t] for t in twice}, twice) if part == "records" else None
+        # a trace file or preparation of the same trials or bodies with other values (another
+        # run's): neither is trusted
+        key = "body_id" if part == "prepared" else "trial_id"
+        other = other_values(path, {seen[t] for t in twice}, twice, key) if twice else None
+        if other and part == "prepared":  # both moved aside: each body is computed again
+            for file, also in ((path, other[0]), (other[0], path)):
+                why = (f"{counted(len(twice), 'preparation')} of bodies also in {_rel(store, also)} "
+                       f"with other values (column {other[1]})")
+                out.append(Problem(file, f"a file {_rel(store, file)} holding {why}", "recompute",
+                                   part, why))
+            continue
         if other:
             why = (f"{counted(len(twice), 'trial')} also in {_rel(store, other[0])} with other "
                    f"values (column {other[1]})")
-            out.append(Problem(path, f"a file {rel} recording {why}", "quarantine", part, why,
+            held = "recording" if part == "records" else "holding the traces of"
+            out.append(Problem(path, f"a file {rel} {held} {why}", "quarantine", part, why,
                                conflicting=frozenset(twice)))
             continue
         if twice:
             first = _rel(store, seen[min(twice)])
-            scope = "every trial" if twice == unique else f"{len(twice)} of its {len(unique)} trials"
+            each = "preparation" if part == "prepared" else "trial"
+            scope = f"every {each}" if twice == unique else \
+                f"{len(twice)} of its {counted(len(unique), each)}"
             why = f"{scope} also in {first}"
             out.append(Problem(path, f"a duplicate file {rel} ({why})",
                                "duplicate" if twice == unique else "quarantine", part, why))
             continue
         seen.update(dict.fromkeys(unique, path))
     return out
+
+
+def _body_ids(path: Path) -> frozenset:
+    """The body ids of a verified file of preparations (its ``body_id`` column alone read)."""
+    from graspcampaign.campaign.verify import read_file
+
+    table = read_file(path, ["body_id"])[0]
+    return frozenset(table.column("body_id").to_pylist()) if table.num_columns else frozenset()
 
 
 def expected_records(manifest: dict) -> int:
@@ -281,7 +303,7 @@ def problems(store, manifest: dict | None, parts: list[str] | None = None) -> li
     if manifest is not None and not found and (parts is None or "records" in parts):
         from graspcampaign.campaign.parts import part_problems  # it names Problem
 
-        found += part_problems(store, full=parts is None)
+        found += part_problems(store, full=parts is None, manifest=manifest)
     return found
 
 

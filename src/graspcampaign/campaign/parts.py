@@ -22,8 +22,10 @@ nothing is asked of them (docs/decisions.md, "A run keeps account of its other p
 
 from __future__ import annotations
 
+import contextlib
 import json
 import time
+from collections import Counter
 from pathlib import Path
 from typing import Any
 
@@ -56,14 +58,16 @@ def _accounts(store) -> dict[str, dict[str, Any]]:
     return out
 
 
-def part_problems(store, full: bool = True) -> list:
+def part_problems(store, full: bool = True, manifest: dict | None = None) -> list:
     """What the run's accounts say is stored but is not: trace rows of recorded trials,
     preparations of the bodies they used, summary tables ``finalize`` wrote.
 
-    ``full`` (``run``, ``report``): the trial ids and body ids stored, every file verified in full,
-    against those accounted for, naming the first missing. Else (``status``, which reads no more
-    than the records): a part's directory missing, or its files' footers counting fewer rows than
-    accounted for; files that are damaged are the full check's.
+    ``full`` (``run``, ``report``): each trial's trace rows and the body ids stored, every file
+    verified in full, against those accounted for, naming the first that differs. Else
+    (``status``, which reads no more than the records): a part's directory missing, or its files'
+    footers counting fewer rows than accounted for; files that are damaged are the full check's.
+    Both: a finished run of a kind with a finalize stage (``manifest``: read if not given)
+    without ``complete.json``.
     """
     from graspcampaign.campaign.integrity import Problem
 
@@ -81,10 +85,15 @@ def part_problems(store, full: bool = True) -> list:
         if not (store.path / part).is_dir():
             what, gone = f"no {part} directory, where {trials} stored traces", sorted(rows)
         elif full:
-            held = set().union(*(facts(path).ids for path in store._listing(part)[0]))
-            gone = sorted(set(rows) - held)
-            what = (f"{part} without the traces of {counted(len(gone), 'recorded trial')} "
-                    f"(first {gone[0]})") if gone else ""
+            held: Counter = Counter()
+            for path in store._listing(part)[0]:
+                held.update(facts(path).rows_of())
+            gone = sorted(trial for trial, n in rows.items() if held[trial] != n)
+            what = "" if not gone else (
+                f"{part} without the traces of {counted(len(gone), 'recorded trial')} "
+                f"(first {gone[0]})" if not any(held[t] for t in gone) else
+                f"{part} with other trace rows than {counted(len(gone), 'recorded trial')} stored "
+                f"(first {gone[0]}: {held[gone[0]]} where it stored {rows[gone[0]]})")
         else:
             n, want, gone = _footer_rows(store.path / part), sum(rows.values()), []
             what = (f"{part} with {counted(n, 'trace row')} where {trials} stored {want}"
@@ -105,6 +114,13 @@ def part_problems(store, full: bool = True) -> list:
                 if n is not None and n < len(bodies) else "")
     if what:
         out.append(Problem(where, what, "recompute", "prepared", what))
+    done = store.path / "summary" / COMPLETE
+    manifest = provenance.read_manifest(store.manifest_path) if manifest is None else manifest
+    if (manifest or {}).get("finished_at") and not done.is_file() and not provenance.ingested(
+            manifest) and provenance.kind_facts_or_none(manifest["kind"]).get("finalize"):
+        what = (f"no summary/{COMPLETE}, which a finished run of {manifest['kind']} stores when it "
+                "computes its summary tables")
+        out.append(Problem(done, what, "recompute", "summary", what))
     for name in _written(store):
         part = f"summary/{name}"
         stored = store._listing(part)[0] if full else list((store.path / part).glob("*.parquet"))
@@ -161,19 +177,53 @@ def run_prepare(kind, study, params: Any, body: dict[str, Any]) -> dict[str, Any
 
 
 def prepare_bodies(kind, study, params, trials, store, map_unordered, summary) -> dict[str, Any]:
-    """Compute (or read back) the shared preparation of every body the trials need (seeded by
-    the body alone, so one computed again is the one the recorded trials used)."""
+    """Compute (or read back) the shared preparation of every body the trials need and of every
+    body a recorded trial used (seeded by the body alone, so one computed again is the one the
+    recorded trials used): a drifted run's recorded trials outside its design keep theirs."""
     if kind.body_key is None or kind.prepare is None:
         return {}
     bodies = {content_hash(kind.body_key(t.factors)): kind.body_key(t.factors) for t in trials}
     stored = store.read("prepared").to_pylist()
     have = {row["body_id"]: row for row in stored}
+    bodies.update(_recorded_bodies(kind, store, trials, set(have) | set(bodies)))
     missing = [b for h, b in bodies.items() if h not in have]
     for row in map_unordered(run_prepare, [(kind, study, params, b) for b in missing]):
         store.write_shard("prepared", row["body_id"], [row])
         have[row["body_id"]] = row
         summary.n_prepared += 1
     return {h: have[h] for h in bodies}
+
+
+def _recorded_bodies(kind, store, trials, known: set[str]) -> dict[str, dict[str, Any]]:
+    """``{body_id: body}`` of the bodies recorded trials used (their accounts) that are not
+    ``known``: the body of a trial's factors read back from its record (its factors are columns
+    of it, beside its outputs: those of the design's factors, or of the run's first config, whose
+    body hashes to the id its account names). One that none does (a level stored as another
+    number type) is refused naming what computes it: the config whose design holds it."""
+    used = {trial: stored["body"] for trial, stored in _accounts(store).items()
+            if "body" in stored and stored["body"] not in known}
+    if not used:
+        return {}
+    from graspcampaign.errors import DamagedRunError
+
+    first = (provenance.read_manifest(store.manifest_path) or {}).get("config") or {}
+    names = {frozenset(t.factors) for t in trials} | {frozenset(first.get("factors") or {})}
+    out = {}
+    for row in (r for r in store.read().to_pylist() if r["trial_id"] in used):
+        for keys in names:
+            with contextlib.suppress(KeyError):  # a factor this trial was not run with
+                body = kind.body_key({k: row[k] for k in keys if k in row})
+                if content_hash(body) == used[row["trial_id"]]:
+                    out[used[row["trial_id"]]] = body
+    lost = sorted(set(used.values()) - set(out))
+    if lost:
+        raise DamagedRunError(
+            f"run {store.path.parent.name}/{store.path.name} at {store.path} has prepared without "
+            f"{counted(len(lost), 'preparation')} its recorded trials outside this design used "
+            f"(first body {lost[0]}), which cannot be told from their records; run it with the "
+            "config that recorded them (without --allow-drift) to compute them again.",
+            f"has prepared without {counted(len(lost), 'preparation')}")
+    return out
 
 
 def finalize(kind, study, params: Any, store) -> None:

@@ -121,7 +121,9 @@ def repair(store, manifest: dict | None = None, config_hash: str | None = None,
                 (store.path / "summary" / "complete.json").unlink(missing_ok=True)
             what = {"duplicate": "duplicate file"}.get(
                 problem.fix, "damaged file" if problem.text.startswith("a damaged") else "file")
-            then = ("its trials stay recorded in " + problem.reason.split(" also in ")[-1]
+            kept = "its preparations stay in " if group == "prepared" else \
+                "its trials stay recorded in "
+            then = (kept + problem.reason.split(" also in ")[-1]
                     if problem.fix == "duplicate" else "it held no part of the run"
                     if problem.part in ("tables", "summary") else _THEN[group])
             target = _quarantine(store, problem.path, problem.reason, what, then)

@@ -240,7 +240,7 @@ def open_run(root: Path | str, study: str, run: str, option_prefix: str = "--"):
 
 
 def run_status(root: Path | str, study: str, run: str = "default") -> dict[str, Any]:
-    """Summarise a run from its manifest and records only.
+    """Summarise a run from its manifest and records only (``checked`` says so).
 
     Raises
     ------
@@ -267,4 +267,11 @@ def run_status(root: Path | str, study: str, run: str = "default") -> dict[str, 
         "code_version": manifest.get("code_version"),
         "started_at": manifest.get("started_at"),
         "finished_at": manifest.get("finished_at"),
+        "checked": CHECKED,
     }
+
+
+#: What ``status`` checked of a run (it answers from the records: a loss or damage only the other
+#: parts' files show in full is ``report``'s and ``run``'s to name).
+CHECKED = ("records/ in full; tables/, prepared/ and summary/ by their directories and their "
+           "files' footers (report and run verify every file)")

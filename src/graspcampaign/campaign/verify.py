@@ -19,6 +19,7 @@ import os
 import time
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pyarrow as pa
@@ -119,6 +120,14 @@ class Facts:
     owners: dict
     n_null_ids: int = 0
     bad_id: str | None = None
+    #: ``PARTS_KEY`` read once, when the file is verified (:func:`accounts_of`)
+    accounts: dict | None = None
+    #: the rows of each trial where some trial has more than one (a trace table's), else None
+    counts: dict | None = None
+
+    def rows_of(self) -> dict:
+        """The rows the file holds of each trial it holds."""
+        return dict.fromkeys(self.ids, 1) if self.counts is None else self.counts
 
     @property
     def config_hashes(self) -> frozenset:
@@ -135,8 +144,7 @@ class Facts:
         """What each trial of a records file stored in the run's other parts (``PARTS_KEY``:
         ``{trial_id: {"tables": {name: rows}, "body": body_id}}``), or None: a file written
         before this was kept, or by ``ingest``."""
-        raw = (self.schema.metadata or {}).get(PARTS_KEY)
-        return json.loads(raw) if raw else None
+        return self.accounts
 
 
 def _listed(schema: pa.Schema, key: bytes) -> list:
@@ -155,17 +163,63 @@ def supersedes(path: Path) -> list[str]:
     return _listed(schema, SOURCES_KEY)
 
 
+def accounts_of(schema: pa.Schema, ids: frozenset) -> dict | None:
+    """The ``PARTS_KEY`` account of a file recording trials ``ids`` as ``run`` writes it (a JSON
+    mapping of trial ids to ``{"tables": {name: rows > 0}, "body": body_id}``, each optional), of
+    the trials it records, or None if it has none; raises :class:`Damaged` saying how it differs
+    from that (a check would else trust, or trip over, values the tool never writes)."""
+    raw = (schema.metadata or {}).get(PARTS_KEY)
+    if raw is None:
+        return None
+    why = "its account of the run's other parts, metadata graspcampaign.parts, is not one the tool writes"
+    try:
+        accounts = json.loads(raw)
+    except ValueError:
+        raise Damaged(f"{why}: it is not JSON") from None
+    if not isinstance(accounts, dict):
+        raise Damaged(f"{why}: it is no mapping of trial ids")
+    trial = next((trial for trial, stored in accounts.items() if not _an_account(stored)), None)
+    if trial is not None:
+        raise Damaged(f"{why}: trial {trial} has {json.dumps(accounts[trial])[:80]}, not its rows "
+                      "per trace table (whole numbers above 0) and the body id of its preparation")
+    # a trial it does not record is no part of it (a rewrite keeps the entries of the trials kept)
+    return accounts if accounts.keys() <= ids else {
+        trial: stored for trial, stored in accounts.items() if trial in ids}
+
+
+def _an_account(stored: Any) -> bool:
+    """Whether ``stored`` is one trial's entry as ``run`` writes it (types compared exactly: one
+    entry per trial of a run, 20,000 in a large one, each checked on every first read)."""
+    if type(stored) is not dict or not stored.keys() <= _ACCOUNT_KEYS:
+        return False
+    tables = stored.get("tables", _NONE)
+    if type(tables) is not dict or type(stored.get("body", "")) is not str:
+        return False
+    return all(type(n) is int and n > 0 for n in tables.values())
+
+
+_ACCOUNT_KEYS, _NONE = frozenset({"tables", "body"}), {}
+
+
 def _facts(table: pa.Table) -> Facts:
     ids = table.column("trial_id") if "trial_id" in table.column_names else None
     owners = {c: set(_unique(table, c).to_pylist()) for c in _OWNERS if c in table.column_names}
     if ids is None:
+        accounts_of(table.schema, frozenset())
         return Facts(table.schema, 0, frozenset(), owners)
     unique = _unique(table, "trial_id").drop_null()
     bad = None
     if pa.types.is_string(ids.type):  # the first malformed id: unique keeps the order of rows
         wrong = unique.filter(pc.invert(pc.match_substring_regex(unique, TRIAL_ID)))
         bad = wrong[0].as_py() if len(wrong) else None
-    return Facts(table.schema, len(ids), frozenset(unique.to_pylist()), owners, ids.null_count, bad)
+    known = frozenset(unique.to_pylist())
+    counts = None
+    if len(known) < len(ids) - ids.null_count:  # a trace table's: its rows per trial
+        tally = pc.value_counts(ids.combine_chunks().drop_null())
+        counts = dict(zip(tally.field("values").to_pylist(), tally.field("counts").to_pylist(),
+                          strict=True))
+    return Facts(table.schema, len(ids), known, owners, ids.null_count, bad,
+                 accounts_of(table.schema, known), counts)
 
 
 def _unique(table: pa.Table, name: str) -> pa.Array:
@@ -289,18 +343,20 @@ def facts(path: Path) -> Facts:
 EXECUTION_COLUMNS = ("wall_time_s", "worker", "host")
 
 
-def other_values(path: Path, earlier: set[Path], ids: set[str]) -> tuple[Path, str] | None:
+def other_values(path: Path, earlier: set[Path], ids: set[str],
+                 key: str = "trial_id") -> tuple[Path, str] | None:
     """The first of the ``earlier`` files and column where the records of trials ``ids`` in it
     and in ``path`` differ (every column but :data:`EXECUTION_COLUMNS`, one only in one of them
-    too), or None: the same trial recorded twice with other values."""
+    too), or None: the same trial recorded twice with other values. ``key``: the column naming
+    what ``ids`` are (``body_id`` for preparations)."""
 
     def rows(file: Path, keep: pa.Array) -> pa.Table:
         table = read_file(file)[0]
-        return table.filter(pc.is_in(table.column("trial_id"), value_set=keep)).sort_by("trial_id")
+        return table.filter(pc.is_in(table.column(key), value_set=keep)).sort_by(key)
 
     for file in sorted(earlier):
         theirs = rows(file, pa.array(sorted(ids), pa.string()))
-        mine = rows(path, theirs.column("trial_id").combine_chunks())
+        mine = rows(path, theirs.column(key).combine_chunks())
         shared = set(mine.column_names) & set(theirs.column_names)
         differ = (set(mine.column_names) ^ set(theirs.column_names)) | {
             n for n in shared if content_digest(mine.select([n])) != content_digest(theirs.select([n]))}
