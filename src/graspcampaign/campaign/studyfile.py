@@ -292,7 +292,6 @@ def _misread(loader: Any, node: Any) -> str | None:
     return _octal(node) or _base_60(loader, node)
 
 
-@cache
 def _unprintable_key(key: str) -> str:
     """The loader's refusal of a key holding a character that does not print (a zero-width or
     no-break space pasted in): shown, the key would read as the known key it differs from."""
@@ -305,6 +304,7 @@ def _unprintable_key(key: str) -> str:
     return f"the key {key!r} holds U+{ord(char):04X} ({name}), which does not print; {fix}"
 
 
+@cache
 def _loader() -> type:
     """A SafeLoader that refuses a key given twice in one mapping, as OmegaConf does, a null key
     (``~: 1``), an alias (``*name``) or a merge key (``<<:``): expanded, a few lines of aliases
