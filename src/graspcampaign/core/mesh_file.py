@@ -104,7 +104,8 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
             skip = len(codecs.BOM_UTF8)  # every check and trimesh read the file from the byte after it
             head, n_bytes = head[skip:] + fh.read(skip), n_bytes - skip
     if n_bytes == 0:
-        raise MeshError(f"mesh {base!r} is empty: the file has 0 bytes.")
+        raise MeshError(f"mesh {base!r} is empty: the file "
+                        f"{'holds only a byte-order mark' if skip else 'has 0 bytes'}.")
     if text_utf16(head, n_bytes):  # named as a study file's or a CSV's is
         raise MeshError(f"mesh {base!r} is UTF-16 text, not UTF-8; save it as UTF-8 (or ASCII) "
                         "text.")
