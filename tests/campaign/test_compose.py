@@ -75,3 +75,18 @@ def test_an_error_is_named_with_its_line_from_one_read_of_the_study_file(tmp_pat
     assert str(info.value) == (f"{study}, line {line}: params.bogus is not a parameter of trial "
                                "kind 'mesh_features', which takes none.")
     assert len(parsed) == 1
+
+
+def test_every_yaml_file_is_read_by_one_loader_class(tmp_path, monkeypatch):
+    """The checking loader's class (:func:`studyfile._loader`) is built once per process, not once
+    per file read: a compose reads a study file and its group files, a ``list`` every study's."""
+    import yaml
+
+    from graspcampaign.campaign.studyfile import read_yaml
+
+    loaders, load = [], yaml.load
+    monkeypatch.setattr(yaml, "load", lambda text, Loader: loaders.append(Loader) or load(text, Loader))
+    for name in ("a", "b"):
+        (tmp_path / f"{name}.yaml").write_text("seeds: 1\n")
+        assert read_yaml(tmp_path / f"{name}.yaml") == {"seeds": 1}
+    assert len(loaders) == 2 and loaders[0] is loaders[1]

@@ -9,29 +9,13 @@ import shutil
 import kinds_for_tests  # noqa: F401  (registers the test kinds)
 import pyarrow.parquet as pq
 import pytest
+from killed import Killed, kill_after
 
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.runner import run_study
 from graspcampaign.campaign.studyfile import run_path
 from graspcampaign.campaign.verify import PARTS_KEY, facts
 from graspcampaign.errors import DamagedRunError
-
-
-class _Killed(BaseException):
-    """Stands in for SIGKILL: the run stops between two tasks, nothing after the loop runs."""
-
-
-def _kill_after(monkeypatch, n_tasks):
-    from graspcampaign.campaign import runner
-
-    calls = []
-
-    def advance(self, n, failed):
-        calls.append(n)
-        if len(calls) == n_tasks:
-            raise _Killed
-
-    monkeypatch.setattr(runner._Progress, "advance", advance)
 
 
 def _accounts(store: RunStore) -> dict:
@@ -69,8 +53,8 @@ def test_the_trials_of_a_trace_file_gone_run_again_and_no_other(study_factory, m
     study = study_factory(kind="test_pi_sparse_trace", runner={"batch_size": 3})
     clean = run_study(study_factory(kind="test_pi_sparse_trace", runner={"batch_size": 3}), run="clean")
     with monkeypatch.context() as m:
-        _kill_after(m, 3)
-        with pytest.raises(_Killed):
+        kill_after(m, 3)
+        with pytest.raises(Killed):
             run_study(study)
     store = RunStore(run_path(study))
     shards = sorted((store.path / "tables" / "trace").glob("part-*.parquet"))

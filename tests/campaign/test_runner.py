@@ -6,6 +6,7 @@ import kinds_for_tests  # noqa: F401  (registers the test kinds)
 import pandas as pd
 import pyarrow.parquet as pq
 import pytest
+from killed import Killed, kill_after
 
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.runner import DriftError, run_path, run_study
@@ -157,22 +158,6 @@ def test_runner_settings_are_not_drift(study_factory):
     assert again.n_ran == 0
 
 
-class _Killed(Exception):
-    """Stands in for SIGKILL: the run stops between two tasks, nothing after the loop runs."""
-
-
-def _kill_after(monkeypatch, n_tasks):
-    from graspcampaign.campaign import runner
-
-    calls = []
-
-    def advance(self, n, failed):
-        calls.append(n)
-        if len(calls) == n_tasks:
-            raise _Killed
-
-    monkeypatch.setattr(runner._Progress, "advance", advance)
-
 
 def _tree(root):
     return {p: p.read_bytes() for p in sorted(root.rglob("*")) if p.is_file()}
@@ -185,8 +170,8 @@ def test_killed_run_with_a_damaged_value_column_reruns_exactly_that_shard(
     clean = _records(run_study(study_factory(runner={"batch_size": 3}), run="clean"))
     study = study_factory(runner={"batch_size": 3})
     with monkeypatch.context() as m:
-        _kill_after(m, 3)
-        with pytest.raises(_Killed):
+        kill_after(m, 3)
+        with pytest.raises(Killed):
             run_study(study)
     records = sorted((run_path(study) / "records").glob("part-*.parquet"))
     assert len(records) == 3 and not list(records[0].parent.glob("compact-*"))
@@ -239,8 +224,8 @@ def test_damaged_trace_file_reruns_the_trials_it_held(study_factory, monkeypatch
                               run="clean")
     study = study_factory(kind="test_pi_trace", runner={"batch_size": 4})
     with monkeypatch.context() as m:
-        _kill_after(m, 2)
-        with pytest.raises(_Killed):
+        kill_after(m, 2)
+        with pytest.raises(Killed):
             run_study(study)
     path = run_path(study)
     trace = sorted((path / "tables" / "trace").glob("part-*.parquet"))[0]

@@ -103,7 +103,7 @@ def test_keeping_the_rows_of_recorded_trials_drops_rows_without_a_trial_id(tmp_p
     the recorded trials drops them, even from a file whose ids are all recorded."""
     store = RunStore(tmp_path / "run")
     store.write_shard("tables/trace", "0000000000", [{"trial_id": "a", "v": 1.0},
-                                            {"trial_id": None, "v": 2.0}])
+                                                     {"trial_id": None, "v": 2.0}])
     store._keep_rows("tables/trace", {"a"})
     table = pq.read_table(_compacted(store, "tables/trace"))
     assert table.column("trial_id").to_pylist() == ["a"]
@@ -147,7 +147,7 @@ def test_a_damaged_compacted_file_still_supersedes_its_shards(tmp_path):
     a leftover source shard is not live beside it (the damage is the one problem counted)."""
     store = RunStore(tmp_path / "run")
     left = store.write_shard("records", "0000000000", [{"trial_id": f"a{i}", "v": 0.5 * i}
-                                              for i in range(20)])
+                                                       for i in range(20)])
     kept = left.read_bytes()
     store.write_shard("records", "1111111111", [{"trial_id": "b", "v": 1.0}])
     store.compact()

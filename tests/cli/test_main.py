@@ -140,11 +140,16 @@ def test_show_counts_only_the_overridden_design_as_recorded(smoke_run):
     # ... and says that `run` would not add them to this run, in run's own words
     refused = invoke("run", "smoke", "--root", str(smoke_run))
     assert refused.exit_code == 2 and "factors.nodes [144] -> [144, 390]" in refused.stderr
-    assert f"note: `run` would refuse: {refused.stderr.removeprefix('error: ')}" in full.stdout
+    note = f"note: `run` would refuse: {refused.stderr.removeprefix('error: ')}"
+    assert note in full.stdout
     assert "note:" not in same.stdout
     # the time per trial is the mean of the run's own records once it has some
     assert "each, mean of the trials recorded, on" in full.stdout
-    assert "{" not in full.stdout and "'" not in full.stdout  # no Python reprs
+    # no Python reprs; run's sentence, checked above word for word, quotes its resume command's
+    # overrides for a shell ('nodes=[144]', since 5eb09e5)
+    assert "resume it as started (graspcampaign run smoke 'nodes=[144]'" in note
+    shown = full.stdout.replace(note, "")
+    assert "{" not in shown and "'" not in shown
 
 
 def test_report_without_run_reports_the_configured_run(smoke_run, tmp_path):

@@ -178,5 +178,7 @@ def test_a_mesh_with_a_byte_order_mark_is_read_in_place(tmp_path, monkeypatch, f
 def test_a_file_holding_only_a_byte_order_mark_is_an_empty_mesh(tmp_path):
     path = tmp_path / "mark.obj"
     path.write_bytes(b"\xef\xbb\xbf")
-    with pytest.raises(MeshError, match=r"^mesh 'mark.obj' is empty: the file has 0 bytes\.$"):
+    # it said "the file has 0 bytes" of a file of 3
+    with pytest.raises(MeshError, match=r"^mesh 'mark.obj' is empty: the file holds only a "
+                                        r"byte-order mark\.$"):
         load_mesh(path)

@@ -5,8 +5,10 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+import pytest
+
 import graspcampaign
-from graspcampaign.core.words import MISSING, counted, listed, meant, plural
+from graspcampaign.core.words import MISSING, as_ascii, counted, listed, meant, plural, stands_for
 
 
 def test_a_count_reads_singular_only_for_one():
@@ -97,3 +99,24 @@ def test_meant_names_every_name_tied_at_the_best_ratio():
         "did you mean 'no_s1', 'no_s2' or 'no_s3'? ")
     assert meant("pdg", ["png", "svg", "pdf"]) == "did you mean 'png' or 'pdf'? "
     assert meant("lambda1x", ["lambda1", "lambda2"]) == "did you mean 'lambda1'? "  # no tie: one
+
+
+@pytest.mark.parametrize(("char", "ascii_char"), [
+    # the Unicode Character Database's values (UnicodeData.txt: decimal digit value, compatibility
+    # decomposition <wide>/<noBreak>, general category Cf), not this module's rule
+    ("\u0663", "3"),  # ARABIC-INDIC DIGIT THREE, decimal 3
+    ("\uff13", "3"),  # FULLWIDTH DIGIT THREE, decimal 3
+    ("\uff21", "A"),  # FULLWIDTH LATIN CAPITAL LETTER A, <wide> 0041
+    ("\u00a0", " "),  # NO-BREAK SPACE, <noBreak> 0020
+    ("\u200b", ""),   # ZERO WIDTH SPACE, Cf
+    ("\ufeff", ""),   # ZERO WIDTH NO-BREAK SPACE (the byte-order mark), Cf
+    ("\u00e9", None),  # LATIN SMALL LETTER E WITH ACUTE: canonical e + U+0301, no ASCII alone
+    ("a", None),  # ASCII already
+])
+def test_a_character_stands_for_the_ascii_unicode_reads_it_as(char, ascii_char):
+    assert stands_for(char) == ascii_char
+
+
+def test_a_pasted_text_is_written_as_the_ascii_it_was_meant_as():
+    assert as_ascii("se\u200beds=\u0663") == "seeds=3"
+    assert as_ascii("caf\u00e9\u00a0") == "caf\u00e9 "  # a letter that stands for none is kept

@@ -46,6 +46,7 @@ from graspcampaign.campaign.provenance import (
     ingested,
     kind_facts_or_none,
     one_config,
+    overrides_given,
     read_manifest,
     record_sources,
 )
@@ -342,9 +343,7 @@ def _advice(store, problem: Problem, manifest: dict | None) -> str:
         if problem.text.startswith("a damaged file records/"):
             return "move it out of the run directory and ingest the file that held its records again"
         return "move it out of the run directory"
-    given = manifest.get("overrides") if isinstance(manifest, dict) else None
-    overrides = given if isinstance(given, list) and all(isinstance(o, str) for o in given) else []
-    resume = f"resume the run ({run_command(study, overrides, run, root)}) to"
+    resume = f"resume the run ({run_command(study, overrides_given(manifest) or [], run, root)}) to"
     return {"duplicate": f"{resume} quarantine the duplicate",
             "missing": f"{resume} run the missing trials again",
             "rerun": f"{resume} run those trials again",

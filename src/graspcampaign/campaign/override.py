@@ -29,7 +29,7 @@ from graspcampaign.campaign.studycheck import (
     split_optional,
 )
 from graspcampaign.campaign.studyfile import NESTED_TOO_DEEPLY
-from graspcampaign.core.words import meant, stands_for
+from graspcampaign.core.words import as_ascii, meant, stands_for
 from graspcampaign.errors import ConfigError
 
 #: The most comma-separated values one override holds: Hydra's parser takes a time quadratic in
@@ -356,7 +356,7 @@ def _character_sentence(item: str, typed: str, error: str) -> str | None:
         return (f"cannot parse override {typed!r}: {shown} (character {typed.find(char) + 1}) is "
                 "not allowed in an override; remove it.")
     # a look-alike (٣, a no-break space, a zero-width space): quoting keeps it; its ASCII is meant
-    folded = "".join(c if stands_for(c) is None else stands_for(c) for c in typed)
+    folded = as_ascii(typed)
     if equal < 0 or at < item.find("="):  # in the key (or the prefix before it)
         where = typed.find(char) + 1
         fix = (f"; write {''.join(folded.split())!r}"

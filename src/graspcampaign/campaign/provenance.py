@@ -142,6 +142,15 @@ def design_change(manifest: dict[str, Any]) -> tuple[str, str] | None:
     return " ".join(changed), f"{manifest.get('n_trials')}{of} trials"
 
 
+def overrides_given(manifest: Any) -> list[str] | None:
+    """The overrides a run's ``manifest`` keeps as they were given (``overrides``,
+    :func:`~graspcampaign.campaign.compose.as_given`), which a command resuming the run must give
+    again; None where it keeps none (a run made by the API, or stored before manifests kept them)
+    or keeps something other than a list of text."""
+    given = manifest.get("overrides") if isinstance(manifest, dict) else None
+    return given if isinstance(given, list) and all(isinstance(item, str) for item in given) else None
+
+
 def last_design(manifest: dict[str, Any]) -> dict[str, Any] | None:
     """The last session that names its design's trial count (``n_trials``): a ``run`` session
     since sessions record it; None for a run stored before, or only ingested."""
@@ -434,8 +443,8 @@ def _as_started(manifest: dict[str, Any], study: StudyCfg, path: Path) -> str:
     from graspcampaign.campaign.paths import run_command
     from graspcampaign.errors import UserInputError
 
-    given = manifest.get("overrides")
-    if not isinstance(given, list) or not all(isinstance(item, str) for item in given):
+    given = overrides_given(manifest)
+    if given is None:
         return ""
     try:
         again = compose_study(study.name, list(given))

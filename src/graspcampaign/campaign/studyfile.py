@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import Any
 
 from graspcampaign.campaign.paths import expand_home, input_file_problem, shown
-from graspcampaign.core.words import meant, stands_for
+from graspcampaign.core.words import as_ascii, meant
 from graspcampaign.errors import ConfigError, UserInputError, utf8_text
 
 _RUN_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
@@ -292,19 +292,19 @@ def _misread(loader: Any, node: Any) -> str | None:
     return _octal(node) or _base_60(loader, node)
 
 
-@cache
 def _unprintable_key(key: str) -> str:
     """The loader's refusal of a key holding a character that does not print (a zero-width or
     no-break space pasted in): shown, the key would read as the known key it differs from."""
     import unicodedata
 
     char = next(c for c in key if not c.isprintable())
-    folded = "".join(c if stands_for(c) is None else stands_for(c) for c in key).strip()
+    folded = as_ascii(key).strip()
     fix = f"write {folded!r}" if folded.isprintable() and folded.isascii() else "remove it"
     name = unicodedata.name(char, "a control character").lower()
     return f"the key {key!r} holds U+{ord(char):04X} ({name}), which does not print; {fix}"
 
 
+@cache
 def _loader() -> type:
     """A SafeLoader that refuses a key given twice in one mapping, as OmegaConf does, a null key
     (``~: 1``), an alias (``*name``) or a merge key (``<<:``): expanded, a few lines of aliases

@@ -12,6 +12,7 @@ Shape letters used in this module: ``n`` vertices (nodes), ``f`` faces, ``p`` qu
 
 from __future__ import annotations
 
+import codecs
 import logging
 import os
 
@@ -34,8 +35,6 @@ from graspcampaign.core.winding import winding_numbers
 from graspcampaign.core.words import counted, listed, meant, plural
 
 logger = logging.getLogger(__name__)
-
-_BOM = b"\xef\xbb\xbf"  # UTF-8's byte-order mark
 
 __all__ = [
     "MAX_COORDINATE_M",
@@ -102,10 +101,11 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
     with open(name, "rb") as fh:  # read once: the format and layout checks share it
         head = fh.read(4096)
         if text_with_bom(head, n_bytes):  # as a study file's or a CSV's, the mark is no content:
-            skip = len(_BOM)  # every check and trimesh read the file from the byte after it
+            skip = len(codecs.BOM_UTF8)  # every check and trimesh read the file from the byte after it
             head, n_bytes = head[skip:] + fh.read(skip), n_bytes - skip
     if n_bytes == 0:
-        raise MeshError(f"mesh {base!r} is empty: the file has 0 bytes.")
+        raise MeshError(f"mesh {base!r} is empty: the file "
+                        f"{'holds only a byte-order mark' if skip else 'has 0 bytes'}.")
     if text_utf16(head, n_bytes):  # named as a study file's or a CSV's is
         raise MeshError(f"mesh {base!r} is UTF-16 text, not UTF-8; save it as UTF-8 (or ASCII) "
                         "text.")

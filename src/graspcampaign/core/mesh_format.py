@@ -8,6 +8,7 @@ is a :class:`MeshError` naming the file and what is wrong, in one sentence.
 
 from __future__ import annotations
 
+import codecs
 import io
 import os
 import re
@@ -83,7 +84,7 @@ def text_with_bom(head: bytes, n_bytes: int) -> bool:
     """Whether a mesh file begins with a UTF-8 byte-order mark (as Windows Notepad saves text): a
     text mesh whose readers would take the mark for part of its first line (a binary STL of the
     size its header says may begin so, its 80-byte header being free text)."""
-    return head.startswith(b"\xef\xbb\xbf") and not _binary_stl_size(head, n_bytes)
+    return head.startswith(codecs.BOM_UTF8) and not _binary_stl_size(head, n_bytes)
 
 
 def text_utf16(head: bytes, n_bytes: int) -> bool:

@@ -71,3 +71,9 @@ def stands_for(char: str) -> str | None:
     folded = unicodedata.normalize("NFKC", char)
     return folded if folded.isascii() and folded.isprintable() else None
 
+
+def as_ascii(text: str) -> str:
+    """``text`` with every character :func:`stands_for` reads as ASCII written as that ASCII (a
+    zero-width space dropped, an Arabic-Indic or full-width digit written as its digit), the
+    others kept as they are: what a user who pasted ``text`` meant to type."""
+    return "".join(char if (ascii_char := stands_for(char)) is None else ascii_char for char in text)
