@@ -10,14 +10,16 @@ import re
 #: echoed in full buries the sentence; longer than any path or key list a message names:
 #: docs/decisions.md, "Long values in messages").
 LONG_VALUE = 200
-_LONG_QUOTED = re.compile(rf"'([^'\n]{{{LONG_VALUE + 1},}})'")
+#: a long quoted value: its quotes are no apostrophe ("the run's", "trials'"), which a word
+#: character stands beside
+_LONG_QUOTED = re.compile(rf"(?<!\w)'([^'\n]{{{LONG_VALUE + 1},}})'(?!\w)")
 #: a long unquoted word, the punctuation after it (the colon after a path) kept outside the cut
 _LONG_WORD = re.compile(rf"([^\s']{{{LONG_VALUE + 1},}}?)([:;,.]?)(?=[\s']|$)")
 
 
 def shorten(message: str) -> str:
     """Return ``message`` with every quoted value or word longer than :data:`LONG_VALUE`
-    characters cut to its first 60 and its length: ``'xxxx...' (100000 characters)``."""
+    characters cut to its first 60 and its length: ``'xxxx... (100000 characters)'``."""
     def cut(text: str) -> str:
         return f"{text[:60]}... ({len(text)} characters)"
 
