@@ -40,6 +40,7 @@ from pathlib import Path
 
 import pyarrow as pa
 
+from graspcampaign.campaign.parts import COMPLETE
 from graspcampaign.campaign.paths import run_command
 from graspcampaign.campaign.provenance import (
     MISMATCH,
@@ -118,7 +119,7 @@ def layout_problems(store) -> list[Problem]:
         for entry in sorted(top.iterdir()) if top.is_dir() else []:
             if entry.is_dir():
                 dirs.append(entry)
-            elif not _hidden(entry) and not (group == "summary" and entry.name == "complete.json"):
+            elif not _hidden(entry) and not (group == "summary" and entry.name == COMPLETE):
                 out.append(Problem(entry, f"a file {_rel(store, entry)} that is not a directory "
                                           f"of {group}", "quarantine", group, "not a directory"))
     for directory in (d for d in dirs if d.is_dir()):

@@ -19,6 +19,7 @@ from pathlib import Path
 import pyarrow.parquet as pq
 
 from graspcampaign.campaign.integrity import SHARD, file_problems, layout_problems, owners
+from graspcampaign.campaign.parts import COMPLETE, part_problems
 from graspcampaign.campaign.verify import facts, one_check, verify_file
 from graspcampaign.errors import StoreWriteError
 
@@ -118,7 +119,7 @@ def repair(store, manifest: dict | None = None, config_hash: str | None = None,
                 lost |= _trials_of_trace(store, problem.path) - set().union(
                     *(facts(other).ids for other in others))
             if group == "summary":
-                (store.path / "summary" / "complete.json").unlink(missing_ok=True)
+                (store.path / "summary" / COMPLETE).unlink(missing_ok=True)
             what = {"duplicate": "duplicate file"}.get(
                 problem.fix, "damaged file" if problem.text.startswith("a damaged") else "file")
             kept = "its preparations stay in " if group == "prepared" else \
@@ -148,8 +149,6 @@ def _recount(store, lost: set[str], aside: set[str]) -> list[tuple[Path, Path, s
     (a preparation gone is computed again by the runner anyway). Returns (part, part, what is
     gone) for each, with a warning; none for a part a file was moved ``aside`` from (its warning
     said what happens)."""
-    from graspcampaign.campaign.parts import COMPLETE, part_problems
-
     out = []
     for problem in part_problems(store):
         rerun = problem.rerun - lost  # those of a file moved aside above were named with it
