@@ -12,7 +12,10 @@ import pytest
 from statsmodels.stats.proportion import proportion_confint
 from synthetic_runs import md_table, read_table, report_md
 
+from graspcampaign.campaign.parts import COMPLETE
+from graspcampaign.campaign.provenance import now_utc, write_manifest
 from graspcampaign.campaign.records import RunStore
+from graspcampaign.errors import DamagedRunError
 from graspcampaign.report.build import build_reports
 
 
@@ -70,6 +73,8 @@ def _reported(sim_root, root, tables):
     store = RunStore(root / "surrogate" / "default")
     for name, table in tables.items():
         store.write_shard(f"summary/{name}", "final", table.to_dict("records"))
+    # the record finalize leaves (as a run before it listed the tables it stored wrote it)
+    write_manifest(store.path / "summary" / COMPLETE, {"tables": sorted(tables), "at": now_utc()})
     assert build_reports(["surrogate"], root=root).failed == []
     return store.path
 
@@ -204,14 +209,19 @@ def test_too_few_held_out_positives_show_the_auc_without_a_verdict(sim_root, tmp
 
 
 def test_a_run_without_its_summary_says_how_to_get_it(sim_root, tmp_path):
+    """A finished run whose summary/ is gone is refused, naming it and the command that computes
+    it again (it was reported with each summary table "not computed": damaged runs, round 3)."""
     root = tmp_path / "results"
     shutil.copytree(sim_root / "surrogate" / "default", root / "surrogate" / "default",
                     ignore=shutil.ignore_patterns("report", "summary"))
-    build_reports(["surrogate"], root=root)
-    md = report_md(root / "surrogate" / "default")
-    assert ("Table surrogate_classification not computed: run surrogate/default has no "
-            "`summary/surrogate_classification` table: the study writes it once every trial is recorded; "
-            f"run `graspcampaign run surrogate --root {root}` again to complete the run.") in md
+    with pytest.raises(DamagedRunError) as refused:
+        build_reports(["surrogate"], root=root)
+    assert str(refused.value).startswith(
+        f"run surrogate/default at {root / 'surrogate' / 'default'} has no summary/complete.json, "
+        "which a finished run of surrogate stores when it computes its summary tables; resume the "
+        "run (graspcampaign run surrogate ")
+    assert str(refused.value).endswith(f"--run default --root {root}) to compute it again.")
+    assert not (root / "surrogate" / "default" / "report").exists()
 
 
 def test_the_pso_call_is_the_reference_of_the_ratios_not_a_row_without_a_paper_value():
