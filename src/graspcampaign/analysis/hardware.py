@@ -131,12 +131,13 @@ def parity_by(df: pd.DataFrame, by: str, measured: str, predicted: str) -> pd.Da
 
 
 def force_accuracy(df: pd.DataFrame) -> pd.DataFrame:
-    """Return per scope (all, each planner) the normal-force parity and median errors (§8.3, Fig. 29)."""
+    """Return per scope (all, each planner) the normal-force parity and median errors (§8.3, Fig. 29), each
+    median with its count ``n_<things>`` (a trial may lack a deformation or a contact point)."""
     df = df.dropna(subset=["normal_force_mean_n", "normal_force_pred_mean_n"])
     long = scoped(df, {"all": df["planner"].notna(), **{p: df["planner"] == p for p in
                                                         ordered("planner", df["planner"])}})
-    errors = long.groupby("scope", sort=False)[["force_err_pct", "deformation_err_pct",
-                                                "contact_point_error_mm"]].median().reset_index()
+    g = long.groupby("scope", sort=False)[["force_err_pct", "deformation_err_pct", "contact_point_error_mm"]]
+    errors = g.median().join(g.count().rename(columns=lambda c: f"n_{things(c)}")).reset_index()
     return parity_by(long, "scope", "normal_force_mean_n", "normal_force_pred_mean_n").merge(errors)
 
 

@@ -11,7 +11,7 @@ import pandas as pd
 from graspcampaign.analysis import hardware as hw
 from graspcampaign.analysis.rates import power_two_proportions
 from graspcampaign.analysis.records import Estimate
-from graspcampaign.analysis.vocabulary import PROPOSED, colour, label
+from graspcampaign.analysis.vocabulary import PROPOSED, colour, label, things
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
 from graspcampaign.report.document import Col, Figure, Table, cols, pct_col
@@ -332,7 +332,8 @@ def claims(run: Run):
             ("median |normal-force error|", "force_err_pct", "force_err_median_pct", "%"),
             ("median |deformation error|", "deformation_err_pct", "deformation_err_median_pct", "%"),
             ("median contact-point error", "contact_point_error_mm", "contact_point_err_median_mm", "mm")):
-        yield q, "§8.3, Fig. 29", Estimate(acc[col], n=acc["n_parity"]), getattr(p, key), unit, 2
+        n = acc["n_parity" if col.startswith("parity") else f"n_{things(col)}"]
+        yield q, "§8.3, Fig. 29", Estimate(acc[col], n=n), getattr(p, key), unit, 2
     yield from mcnemar_rows(mc, p.mcnemar_centroid, "§8.5")
     yield ("discordant-pair odds ratio", "§8.5", Estimate(*mc[["odds_ratio", "odds_ratio_low",
            "odds_ratio_high", "pairs"]]), p.mcnemar_centroid.odds_ratio, "", 1)
@@ -382,7 +383,9 @@ SPEC = ReportSpec("test2_grasp", [
               Col("parity_r2_centred", "parity R² (centred)", 3),
               Col("force_err_pct", "median |F_n| error [%]", 1),
               Col("deformation_err_pct", "median deformation error [%]", 1),
-              Col("contact_point_error_mm", "median contact-point error [mm]", 2)], by=["scope"]),
+              Col("n_deformation_err", "n (deformation)"),
+              Col("contact_point_error_mm", "median contact-point error [mm]", 2),
+              Col("n_contact_point_error", "n (contact point)")], by=["scope"]),
     classifier("test2_classifier", lambda run: f"Pre-execution flags against {run.rig} success (§8.4, "
                "Fig. 31c): `predicted_stable` is §9.5's SF_predicted > 1, optimistic where the beliefs are "
                "wrong; `predicted_stable_residual` §8.1's residual ≤ τ_F = 0.0886 N, the flag the paper's "
