@@ -331,6 +331,14 @@ def test_the_why_counts_the_scenarios_algorithm_2_passes_under_the_residual_chec
             "and buries a fingertip") in _opening(residual_ok, check)
 
 
+def test_a_scenario_without_a_residual_verdict_is_not_counted_as_passing():
+    """A record whose ``residual_ok`` is missing (NaN in a float column) was counted as passing:
+    ``astype(bool)`` reads NaN as True. Read as every other outcome (``records.flag``): missing is
+    not passed."""
+    residual_ok = [1.0, float("nan"), 0.0, float("nan")]  # one passed, one failed, two unknown
+    assert "passes the ‖R‖ check in 1 of 4 scenarios" in _opening(residual_ok)
+
+
 def test_an_auc_without_an_interval_is_said_with_its_held_out_classes_and_why():
     """The paper-scale opening said "MLP 64-32 0.90 on 300 held out (6 positive)": an AUC over 6
     positives with no interval and no word why. Now with its negatives (300 − 6) and the reason the

@@ -167,6 +167,26 @@ def test_one_event_and_one_accepted_fit_are_said_in_the_singular(monkeypatch):
     assert "Over 1 completed event the 1 accepted normal fit gives n = 0.47 " in test1.finding(stub)
 
 
+def test_no_accepted_fit_is_said_as_none_not_a_broken_finding(monkeypatch):
+    """Events completed but no normal fit accepted: the claims row is "not computed", its n missing
+    (pd.NA in the Int64 column), and ``int(n.n)`` raised, so the finding broke where it had printed
+    the row as the claims table does. Now zero accepted fits and the table's dash."""
+    from types import SimpleNamespace
+
+    from graspcampaign.report import format as fmt
+    from graspcampaign.report.studies import test1
+
+    monkeypatch.setattr(test1, "_fits", lambda run: range(3))
+    claims = pd.DataFrame({"quantity": [f"{q}, accepted fits: mean" for q in ("contact exponent n",
+                                                                             "force-fit RMSE")],
+                           "value": [float("nan")] * 2, "paper": [0.46, 2.66], "digits": [2, 2],
+                           "differs": [pd.NA] * 2, "n": pd.array([pd.NA, pd.NA], dtype="Int64")})
+    paper = SimpleNamespace(n_exp_sd=0.07, n_exp_simulation=0.487)
+    stub = SimpleNamespace(tables={"test1_claims": claims}, source="virtual", paper=paper)
+    assert (f"Over 3 completed events the 0 accepted normal fits give n = {fmt.MISSING} "
+            in test1.finding(stub))
+
+
 def test_counts_table_against_the_records_and_traces(run):
     path, records = run
     counts = read_table(path, "test1_counts").set_index("quantity")

@@ -11,7 +11,7 @@ import pandas as pd
 
 from graspcampaign.analysis.agreement import AUC_INTERVAL_MIN_CLASS, auc_interval
 from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
-from graspcampaign.analysis.records import beyond_radius
+from graspcampaign.analysis.records import beyond_radius, flag
 from graspcampaign.analysis.vocabulary import colour, label, ordered
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
@@ -153,7 +153,7 @@ def finding(run: Run) -> str:
                  f"than the brief PSO call ({us[1]}; paper {paper_us} µs, "
                  f"{fmt.number(tm.loc['mlp', 'paper_speedup'], 0)}×; table surrogate_timing). ")
     check = "|R_z|" if (run.config.get("evaluator") or {}).get("residual_check") == "vertical" else "‖R‖"
-    passed = int(run.ok["residual_ok"].astype(bool).sum())  # the configured residual check alone
+    passed = int(flag(run.ok, "residual_ok").sum())  # the configured residual check alone (missing: not)
     return text + (f"Why: in SI, Algorithm 2 as published passes the {check} check in {passed or 'none'} of "
                    f"{len(deep)} scenarios and buries a fingertip "
                    f"deeper than its radius r = {run.radius_mm:g} mm in {int(deep.sum())} of {len(deep)} "

@@ -235,7 +235,7 @@ def finding(run: Run) -> str:
     n, rmse = (claims.set_index("quantity").loc[f"{q}, accepted fits: mean"]  # as the claims table prints
                for q in ("contact exponent n", "force-fit RMSE"))
     differ, judged = fmt.differing(claims)
-    fits = int(n.n)  # the accepted normal fits n is the mean of
+    fits = 0 if pd.isna(n.n) else int(n.n)  # the accepted fits n is the mean of (none: not computed)
     text = (f"Over {counted(len(_fits(run)), 'completed event')} the {counted(fits, 'accepted normal fit')} "
             f"{plural('gives', fits, 'give')} n = "
             f"{fmt.number(n.value, n.digits)} (paper {fmt.number(n.paper, n.digits)} ± "
