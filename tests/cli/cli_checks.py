@@ -26,6 +26,18 @@ BG = ["seeds=1", "shape=[sphere]", "mass_kg=[0.2]", "mu=[0.3]", "planner=[heuris
 SMOKE = ["shape=[sphere]", "nodes=[144]", "runner.backend=sequential"]
 
 
+#: the two comment lines a study file begins with (its package and its schema)
+HEADER = "# @package _global_\n# schema: StudyCfg\n"
+
+
+def mesh_study(folder: Path, body: str) -> Path:
+    """The user's study file ``folder/mine.yaml``: a mesh_features study named mine, ``body`` from
+    its line 5 on."""
+    path = folder / "mine.yaml"
+    path.write_text(HEADER + "name: mine\nkind: mesh_features\n" + body, encoding="utf-8")
+    return path
+
+
 def replaced(overrides: list[str], *new: str) -> list[str]:
     """``overrides`` with ``new`` in place of those of the same keys (a key is named once)."""
     keys = {item.partition("=")[0] for item in new}
