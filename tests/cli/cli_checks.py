@@ -26,6 +26,18 @@ BG = ["seeds=1", "shape=[sphere]", "mass_kg=[0.2]", "mu=[0.3]", "planner=[heuris
 SMOKE = ["shape=[sphere]", "nodes=[144]", "runner.backend=sequential"]
 
 
+#: the two comment lines a study file begins with (its package and its schema)
+HEADER = "# @package _global_\n# schema: StudyCfg\n"
+
+
+def mesh_study(folder: Path, body: str) -> Path:
+    """The user's study file ``folder/mine.yaml``: a mesh_features study named mine, ``body`` from
+    its line 5 on."""
+    path = folder / "mine.yaml"
+    path.write_text(HEADER + "name: mine\nkind: mesh_features\n" + body, encoding="utf-8")
+    return path
+
+
 def replaced(overrides: list[str], *new: str) -> list[str]:
     """``overrides`` with ``new`` in place of those of the same keys (a key is named once)."""
     keys = {item.partition("=")[0] for item in new}
@@ -40,6 +52,33 @@ def grid_run(root: Path) -> Path:
 #: :data:`BG` as a shell takes it (a word with brackets quoted), as a suggested command gives it
 BG_QUOTED = ("seeds=1 'shape=[sphere]' 'mass_kg=[0.2]' 'mu=[0.3]' 'planner=[heuristic,ferrari_canny]' "
              "pso.n_particles=2 pso.n_iterations=1 runner.backend=sequential runner.batch_size=1")
+
+
+def quarantined(root: Path, path: Path) -> Path:
+    """Where resuming the tiny baseline_grid run under ``root`` moves its file ``path`` aside: into
+    quarantine/, named by its path in the run with each ``/`` as ``__``."""
+    run = grid_run(root)
+    return run / "quarantine" / path.relative_to(run).as_posix().replace("/", "__")
+
+
+def resume_grid(root: Path):
+    """Resume the tiny baseline_grid run under ``root`` (made with :data:`BG`), as the advice a
+    damaged run is refused with says; it exits 0."""
+    result = invoke("run", "baseline_grid", *BG, "runner.progress=false", "--root", root)
+    assert result.exit_code == 0, result.output
+    return result
+
+
+def resumed(root: Path, moved: Path, why: str, *, damaged: bool = False,
+            then: str = "its trials no longer recorded will run again"):
+    """:func:`resume_grid`, its only warning that the file ``moved`` went to quarantine
+    (:func:`quarantined`) for reason ``why`` (a "damaged file" when ``damaged``), and ``then``
+    what runs again; the result and where the file went."""
+    result = resume_grid(root)
+    target = quarantined(root, moved)
+    kind = "damaged file" if damaged else "file"
+    assert result.stderr == f"warning: {kind} {moved} moved to {target} ({why}); {then}\n"
+    return result, target
 
 
 def resume_advice(root: Path, then: str = "quarantine the file and run its trials again") -> str:

@@ -19,7 +19,7 @@ import threading
 from pathlib import Path
 
 import pytest
-from cli_checks import invoke, refused
+from cli_checks import HEADER, invoke, refused
 
 from graspcampaign.campaign import studyfile
 from graspcampaign.campaign.kind import KINDS
@@ -27,7 +27,6 @@ from graspcampaign.campaign.kind import KINDS
 PROJECT = Path(studyfile.project_dirs()[0]).parent
 CAMPAIGNS = PROJECT / "campaigns"
 SMOKE = ["shape=[sphere]", "nodes=[144]"]
-HEADER = "# @package _global_\n# schema: StudyCfg\n"
 BODY = "kind: mesh_features\nfactors:\n  shape: [sphere]\n  nodes: [144]\n"
 RUN_NAME = "(output.run=NAME or --run NAME) or pass --allow-drift to mix them."
 

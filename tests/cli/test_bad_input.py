@@ -11,7 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from cli_checks import invoke, refused, snapshot
+from cli_checks import HEADER, invoke, refused, snapshot
 
 from graspcampaign.campaign import studyfile
 
@@ -34,7 +34,6 @@ def _commands(case: str, first: str) -> tuple[str, ...]:
     return ("show", "run") if case == first else ("run",)
 
 
-HEADER = "# @package _global_\n# schema: StudyCfg\n"
 GOOD_BODY = "name: mine\nkind: mesh_features\nfactors:\n  shape: [sphere]\n  nodes: [144]\n"
 
 # study file class -> (file text, the message after "<path>")

@@ -14,9 +14,8 @@ from pathlib import Path
 import pandas as pd
 import pytest
 import trimesh
-from cli_checks import SMOKE, invoke, refused
+from cli_checks import HEADER, SMOKE, invoke, refused
 
-HEADER = "# @package _global_\n# schema: StudyCfg\n"
 BODY = "name: mine\nkind: mesh_features\nfactors:\n  shape: [sphere]\n  nodes: [144]\n"
 
 

@@ -10,12 +10,11 @@ import numpy as np
 import pandas as pd
 import pytest
 import trimesh
-from cli_checks import invoke, refused
+from cli_checks import invoke, mesh_study, refused
 
 T2 = ["--set", "params.fraction=0.06"]
 T1 = ["--set", "params.materials=[gel]", "--set", "params.specimens=[1]", "--set",
       "params.environments=[normal_lab]"]
-HEADER = "# @package _global_\n# schema: StudyCfg\n"
 
 
 @pytest.mark.parametrize(("override", "name", "hint"), [
@@ -35,9 +34,7 @@ def test_a_method_factor_no_trial_holds_is_refused(results, override, name, hint
 
 
 def test_a_method_factor_in_a_study_file_is_named_with_its_line(results, user_dir):
-    path = user_dir / "mine.yaml"
-    path.write_text(HEADER + "name: mine\nkind: mesh_features\nmethod_factors: [nosuch]\n"
-                    "factors:\n  shape: [sphere]\n  nodes: [144]\n")
+    path = mesh_study(user_dir, "method_factors: [nosuch]\nfactors:\n  shape: [sphere]\n  nodes: [144]\n")
     refused(results, ["show", path, "--root", results],
             f"{path}, line 5: method_factors names 'nosuch', which is no factor and no key of a "
             "trial of kind 'mesh_features', so it would change nothing but the config hash; a "

@@ -9,9 +9,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
-from cli_checks import SMOKE, invoke, refused
+from cli_checks import SMOKE, invoke, mesh_study, refused
 
-HEADER = "# @package _global_\n# schema: StudyCfg\n"
 KEYS = ("name, kind, description, seed, seeds, repeats, factors, zip, method_factors, params, paper, "
         "compare_with, extension, model, evaluator, features, pso, runner, output")
 
@@ -77,10 +76,7 @@ def test_a_path_option_in_the_home_of_no_user_is_refused(home_dir, args, said):
 
 
 def _study(folder: Path, seeds: str, nodes: str = "[144]") -> Path:
-    path = folder / "mine.yaml"
-    path.write_text(HEADER + f"name: mine\nkind: mesh_features\nseeds: {seeds}\nfactors:\n"
-                    f"  shape: [sphere]\n  nodes: {nodes}\n")
-    return path
+    return mesh_study(folder, f"seeds: {seeds}\nfactors:\n  shape: [sphere]\n  nodes: {nodes}\n")
 
 
 @pytest.mark.parametrize(("seeds", "nodes", "said"), [
@@ -137,8 +133,7 @@ def test_a_number_with_a_colon_in_a_study_file_is_refused(results, user_dir, see
     ("output:\n  run: null", "line 6: output.run must be of type str, got null."),
 ])
 def test_a_word_yaml_reads_as_true_or_false_is_named_as_written(results, user_dir, lines, said):
-    path = user_dir / "mine.yaml"
-    path.write_text(HEADER + f"name: mine\nkind: mesh_features\n{lines}\n")
+    path = mesh_study(user_dir, f"{lines}\n")
     refused(results, ["show", path, "--root", results], f"{path}, {said}")
 
 
@@ -260,9 +255,7 @@ def test_a_tilde_in_output_root_is_the_home_directory(home_dir, user_dir):
     done = invoke("run", "smoke", *SMOKE, 'output.root="~/runs"')
     assert done.exit_code == 0, done.output
     assert (home_dir / "runs" / "smoke" / "default" / "manifest.json").is_file()
-    path = user_dir / "mine.yaml"
-    path.write_text(HEADER + "name: mine\nkind: mesh_features\noutput:\n  root: ~/mine\nfactors:\n"
-                    "  shape: [sphere]\n  nodes: [144]\n")
+    path = mesh_study(user_dir, "output:\n  root: ~/mine\nfactors:\n  shape: [sphere]\n  nodes: [144]\n")
     done = invoke("run", path)
     assert done.exit_code == 0, done.output
     assert (home_dir / "mine" / "mine" / "default" / "manifest.json").is_file()
@@ -273,8 +266,7 @@ def test_output_root_in_the_home_of_no_user_is_refused(home_dir, user_dir):
     refused(home_dir, ["show", "smoke", 'output.root="~nosuchuser/runs"'], "output.root = "
             "~nosuchuser/runs starts with ~nosuchuser, a home directory that cannot be found; give "
             "its path in full.")
-    path = user_dir / "mine.yaml"
-    path.write_text(HEADER + "name: mine\nkind: mesh_features\noutput:\n  root: ~nosuchuser/r\n")
+    path = mesh_study(user_dir, "output:\n  root: ~nosuchuser/r\n")
     refused(home_dir, ["show", path], f"{path}, line 6: output.root = ~nosuchuser/r starts with "
             "~nosuchuser, a home directory that cannot be found; give its path in full.")
 

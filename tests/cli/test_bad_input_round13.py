@@ -6,7 +6,7 @@ where, and what to write, nothing stored changed (``refused``)."""
 from __future__ import annotations
 
 import pytest
-from cli_checks import refused
+from cli_checks import mesh_study, refused
 
 
 @pytest.mark.parametrize(("typed", "said"), [
@@ -50,9 +50,6 @@ def test_an_accented_letter_in_a_value_is_still_told_to_be_quoted(tmp_path):
             "it: output.run=\"caf\xe9\", typed in single quotes on the shell.")
 
 
-HEADER = "# @package _global_\n# schema: StudyCfg\n"
-
-
 @pytest.mark.parametrize(("key", "line", "said"), [
     # each was "se​eds is not a known key of the study config; did you mean seeds?", the key
     # printed with its invisible character, so that it read as the key suggested
@@ -68,8 +65,7 @@ HEADER = "# @package _global_\n# schema: StudyCfg\n"
 ])
 def test_a_key_holding_a_character_that_does_not_print_is_named_escaped(tmp_path, user_dir, key,
                                                                        line, said):
-    path = user_dir / "mine.yaml"
-    path.write_text(HEADER + f"name: mine\nkind: mesh_features\n{key}\n", encoding="utf-8")
+    path = mesh_study(user_dir, f"{key}\n")
     for command in ("show", "run"):
         refused(tmp_path, [command, path, "--root", tmp_path], f"{path}, line {line}: {said}")
 

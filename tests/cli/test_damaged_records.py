@@ -15,7 +15,7 @@ from pathlib import Path
 import pyarrow as pa
 import pyarrow.parquet as pq
 import pytest
-from cli_checks import BG, grid_run, invoke, refused, resume_advice
+from cli_checks import BG, grid_run, invoke, quarantined, refused, resume_advice, resume_grid, resumed
 
 from graspcampaign.campaign.records import CONTENT_KEY, RunStore, content_digest
 
@@ -221,14 +221,12 @@ def test_a_run_not_what_its_manifest_says_is_refused_then_repaired_by_run(result
         refused(results, [*args, "--root", results], message)
     # the advice works: resuming the run moves the file aside (never deletes it), then every
     # command reads the run again
-    repaired = invoke("run", "baseline_grid", *BG, "runner.progress=false", "--root", results)
-    assert repaired.exit_code == 0, repaired.output
-    quarantined = None
+    repaired = resume_grid(results)
+    target = None
     if offending is not None:
-        quarantined = grid_run(results) / "quarantine" / offending.relative_to(grid_run(results)) \
-            .as_posix().replace("/", "__")
-        assert quarantined.read_bytes() == kept
-    assert repaired.stderr == "warning: " + warning.format(path=offending, target=quarantined) + "\n"
+        target = quarantined(results, offending)
+        assert target.read_bytes() == kept
+    assert repaired.stderr == "warning: " + warning.format(path=offending, target=target) + "\n"
     ran = RERUN.get(case, 2)
     assert f"2 trials, {2 - ran} already recorded, {ran} ran" in repaired.stdout
     status = invoke("status", "baseline_grid", "--root", results, "--json")
@@ -255,8 +253,7 @@ def test_a_trial_run_again_counts_though_a_compaction_listed_its_shard_name(resu
             f"run baseline_grid/default at {grid_run(results)} has missing records: {missing}; "
             f"{resume_advice(results, 'run the missing trials again')}")
     for already, ran in ((1, 1), (2, 0)):  # the advice works once, then nothing is left to run
-        again = invoke("run", "baseline_grid", *BG, "runner.progress=false", "--root", results)
-        assert again.exit_code == 0, again.output
+        again = resume_grid(results)
         assert f"2 trials, {already} already recorded, {ran} ran" in again.stdout
     status = invoke("status", "baseline_grid", "--root", results, "--json")
     assert status.exit_code == 0 and json.loads(status.stdout)["n_recorded"] == 2
@@ -291,12 +288,7 @@ def test_run_quarantines_records_of_a_trial_outside_its_design(results):
     compact = _edited(results, lambda t: _set(t, "trial_id", [foreign, *t["trial_id"].to_pylist()[1:]]),
                       True)
     kept = compact.read_bytes()
-    repaired = invoke("run", "baseline_grid", *BG, "runner.progress=false", "--root", results)
-    assert repaired.exit_code == 0, repaired.output
-    target = grid_run(results) / "quarantine" / f"records__{compact.name}"
-    assert repaired.stderr == (f"warning: file {compact} moved to {target} (records of 1 trial not "
-                               f"in the study's design ({foreign})); its trials no longer "
-                               "recorded will run again\n")
+    repaired, target = resumed(results, compact, f"records of 1 trial not in the study's design ({foreign})")
     assert "2 trials, 0 already recorded, 2 ran" in repaired.stdout
     assert target.read_bytes() == kept
     store = RunStore(grid_run(results))
@@ -353,11 +345,7 @@ def test_the_advice_for_an_unidentifiable_trace_file_is_true(results):
     refused(results, ["report", "baseline_grid", "--root", results],
             f"run baseline_grid/default at {grid_run(results)} has a damaged file "
             f"tables/candidates/{trace.name} ({why}); {resume_advice(results)}")
-    repaired = invoke("run", "baseline_grid", *BG, "runner.progress=false", "--root", results)
-    assert repaired.exit_code == 0, repaired.output
-    target = grid_run(results) / "quarantine" / f"tables__candidates__{trace.name}"
-    assert repaired.stderr == (f"warning: damaged file {trace} moved to {target} ({why}); its "
-                               "trials no longer recorded will run again\n")
+    repaired, target = resumed(results, trace, why, damaged=True)
     assert "2 ran" in repaired.stdout and target.read_bytes() == b"x" * 100
     store = RunStore(grid_run(results))
     assert store.check() is not None and len(store.read("tables/candidates")) > 0

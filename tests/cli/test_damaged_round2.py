@@ -15,7 +15,7 @@ import pyarrow as pa
 import pyarrow.compute as pc
 import pyarrow.parquet as pq
 import pytest
-from cli_checks import BG, grid_run, invoke, refused, resume_advice
+from cli_checks import BG, grid_run, invoke, refused, resume_advice, resumed
 
 from graspcampaign.campaign.records import CONTENT_KEY, RunStore, content_digest
 
@@ -39,12 +39,8 @@ def test_a_quarantined_preparation_is_computed_again_as_the_warning_says(results
     size = shard.stat().st_size
     with shard.open("r+b") as handle:  # cut short in its middle, as an interrupted copy leaves it
         handle.truncate(size // 2)
-    repaired = invoke("run", "baseline_grid", *BG, "runner.progress=false", "--root", results)
-    assert repaired.exit_code == 0, repaired.output
-    target = grid_run(results) / "quarantine" / f"prepared__{shard.name}"
-    assert repaired.stderr == (f"warning: damaged file {shard} moved to {target} (it does not end "
-                               "with a Parquet footer: cut short, or not a Parquet file); it is "
-                               "computed again\n")
+    repaired, _ = resumed(results, shard, "it does not end with a Parquet footer: cut short, or not a "
+                          "Parquet file", damaged=True, then="it is computed again")
     assert "2 trials, 2 already recorded, 0 ran" in repaired.stdout
     assert _prepared(results) == before  # seeded by the body: the ones the trials used
     assert invoke("report", "baseline_grid", "--root", results).exit_code == 0
@@ -107,11 +103,7 @@ def test_a_trial_recorded_twice_with_other_values_is_run_again_not_kept_from_eit
                 f"run baseline_grid/default at {grid_run(results)} has a file "
                 f"records/part-c0c0c0c0c0.parquet recording {why}; {resume_advice(results)}")
     kept = colleague.read_bytes()
-    repaired = invoke("run", "baseline_grid", *BG, "runner.progress=false", "--root", results)
-    assert repaired.exit_code == 0, repaired.output
-    target = grid_run(results) / "quarantine" / "records__part-c0c0c0c0c0.parquet"
-    assert repaired.stderr == (f"warning: file {colleague} moved to {target} ({why}); its trials "
-                               "no longer recorded will run again\n")
+    repaired, target = resumed(results, colleague, why)
     assert "2 trials, 1 already recorded, 1 ran" in repaired.stdout
     assert target.read_bytes() == kept
     again = RunStore(grid_run(results)).read().to_pandas().set_index("trial_id")
@@ -139,11 +131,7 @@ def test_a_sync_tools_copy_of_a_shard_is_moved_aside_not_the_shard(results, part
     refused(results, ["report", "baseline_grid", "--root", results],
             f"run baseline_grid/default at {grid_run(results)} has a file {rel} {why}; "
             f"{resume_advice(results)}")
-    repaired = invoke("run", "baseline_grid", *BG, "runner.progress=false", "--root", results)
-    assert repaired.exit_code == 0, repaired.output
-    target = grid_run(results) / "quarantine" / rel.replace("/", "__")
-    assert repaired.stderr == (f"warning: file {duplicate} moved to {target} ({why}); its trials "
-                               "no longer recorded will run again\n")
+    repaired, target = resumed(results, duplicate, why)
     assert "2 trials, 2 already recorded, 0 ran" in repaired.stdout
     assert own.read_bytes() == kept and target.read_bytes() == kept
 
