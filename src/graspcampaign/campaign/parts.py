@@ -54,7 +54,7 @@ def _accounts(store) -> dict[str, dict[str, Any]]:
     """The accounts of every live records file that has one (verified files: their facts)."""
     out: dict[str, dict[str, Any]] = {}
     for path in store._listing("records")[0]:
-        out.update(facts(path).parts or {})
+        out.update(facts(path).accounts or {})
     return out
 
 

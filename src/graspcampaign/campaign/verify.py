@@ -120,7 +120,9 @@ class Facts:
     owners: dict
     n_null_ids: int = 0
     bad_id: str | None = None
-    #: ``PARTS_KEY`` read once, when the file is verified (:func:`accounts_of`)
+    #: What each trial of a records file stored in the run's other parts (``PARTS_KEY``:
+    #: ``{trial_id: {"tables": {name: rows}, "body": body_id}}``), read once, when the file is
+    #: verified (:func:`accounts_of`); None: a file written before this was kept, or by ``ingest``
     accounts: dict | None = None
     #: the rows of each trial where some trial has more than one (a trace table's), else None
     counts: dict | None = None
@@ -138,13 +140,6 @@ class Facts:
     def digest(self) -> bool:
         """Whether it carries the digest of its values."""
         return CONTENT_KEY in (self.schema.metadata or {})
-
-    @property
-    def parts(self) -> dict | None:
-        """What each trial of a records file stored in the run's other parts (``PARTS_KEY``:
-        ``{trial_id: {"tables": {name: rows}, "body": body_id}}``), or None: a file written
-        before this was kept, or by ``ingest``."""
-        return self.accounts
 
 
 def _listed(schema: pa.Schema, key: bytes) -> list:
