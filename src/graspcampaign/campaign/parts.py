@@ -33,7 +33,7 @@ import pyarrow.parquet as pq
 
 from graspcampaign.campaign import provenance
 from graspcampaign.campaign.grid import content_hash, stream_key
-from graspcampaign.campaign.verify import PARTS_KEY, READ_ERRORS, SOURCES_KEY, facts
+from graspcampaign.campaign.verify import PARTS_KEY, READ_ERRORS, SOURCES_KEY, facts, parts_json
 from graspcampaign.core.words import counted
 
 COMPLETE = "complete.json"
@@ -47,7 +47,7 @@ def account(rows: dict[str, int], body: str | None) -> dict[str, Any]:
 
 def parts_metadata(accounts: dict[str, dict[str, Any]]) -> dict[str, str]:
     """The metadata of a records shard whose trials stored ``accounts`` (``{trial_id: account}``)."""
-    return {PARTS_KEY.decode(): json.dumps(accounts, sort_keys=True, separators=(",", ":"))}
+    return {PARTS_KEY.decode(): parts_json(accounts)}
 
 
 def _accounts(store) -> dict[str, dict[str, Any]]:

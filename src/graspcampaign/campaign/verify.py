@@ -182,6 +182,13 @@ def accounts_of(schema: pa.Schema, ids: frozenset) -> dict | None:
         trial: stored for trial, stored in accounts.items() if trial in ids}
 
 
+def parts_json(accounts: dict) -> str:
+    """The ``PARTS_KEY`` value of a records file whose trials stored ``accounts`` (``{trial_id:
+    account}``), as :func:`accounts_of` reads it back: the one encoding ``run``, a compaction and
+    a rewrite write."""
+    return json.dumps(accounts, sort_keys=True, separators=(",", ":"))
+
+
 def _an_account(stored: Any) -> bool:
     """Whether ``stored`` is one trial's entry as ``run`` writes it (types compared exactly: one
     entry per trial of a run, 20,000 in a large one, each checked on every first read)."""
