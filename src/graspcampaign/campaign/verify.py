@@ -352,13 +352,13 @@ def other_values(path: Path, earlier: set[Path], ids: set[str],
     too), or None: the same trial recorded twice with other values. ``key``: the column naming
     what ``ids`` are (``body_id`` for preparations)."""
 
-    def rows(file: Path, keep: pa.Array) -> pa.Table:
-        table = read_file(file)[0]
+    def rows(table: pa.Table, keep: pa.Array) -> pa.Table:
         return table.filter(pc.is_in(table.column(key), value_set=keep)).sort_by(key)
 
+    own = read_file(path)[0]  # read once, compared with each earlier file
     for file in sorted(earlier):
-        theirs = rows(file, pa.array(sorted(ids), pa.string()))
-        mine = rows(path, theirs.column(key).combine_chunks())
+        theirs = rows(read_file(file)[0], pa.array(sorted(ids), pa.string()))
+        mine = rows(own, theirs.column(key).combine_chunks())
         shared = set(mine.column_names) & set(theirs.column_names)
         differ = (set(mine.column_names) ^ set(theirs.column_names)) | {
             n for n in shared if content_digest(mine.select([n])) != content_digest(theirs.select([n]))}
