@@ -182,7 +182,7 @@ def prepare_bodies(kind, study, params, trials, store, map_unordered, summary) -
     recorded trials used): a drifted run's recorded trials outside its design keep theirs."""
     if kind.body_key is None or kind.prepare is None:
         return {}
-    bodies = {content_hash(kind.body_key(t.factors)): kind.body_key(t.factors) for t in trials}
+    bodies = {content_hash(body): body for body in (kind.body_key(t.factors) for t in trials)}
     stored = store.read("prepared").to_pylist()
     have = {row["body_id"]: row for row in stored}
     bodies.update(_recorded_bodies(kind, store, trials, set(have) | set(bodies)))
