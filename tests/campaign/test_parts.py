@@ -22,7 +22,7 @@ def _accounts(store: RunStore) -> dict:
     """Every trial's account, from the stored records files' metadata as written."""
     out = {}
     for path in store._listing("records")[0]:
-        out.update(facts(path).parts or {})
+        out.update(facts(path).accounts or {})
     return out
 
 

@@ -33,7 +33,7 @@ import pyarrow.parquet as pq
 
 from graspcampaign.campaign import provenance
 from graspcampaign.campaign.grid import content_hash, stream_key
-from graspcampaign.campaign.verify import PARTS_KEY, READ_ERRORS, SOURCES_KEY, facts
+from graspcampaign.campaign.verify import PARTS_KEY, READ_ERRORS, SOURCES_KEY, facts, parts_json
 from graspcampaign.core.words import counted
 
 COMPLETE = "complete.json"
@@ -47,14 +47,14 @@ def account(rows: dict[str, int], body: str | None) -> dict[str, Any]:
 
 def parts_metadata(accounts: dict[str, dict[str, Any]]) -> dict[str, str]:
     """The metadata of a records shard whose trials stored ``accounts`` (``{trial_id: account}``)."""
-    return {PARTS_KEY.decode(): json.dumps(accounts, sort_keys=True, separators=(",", ":"))}
+    return {PARTS_KEY.decode(): parts_json(accounts)}
 
 
 def _accounts(store) -> dict[str, dict[str, Any]]:
     """The accounts of every live records file that has one (verified files: their facts)."""
     out: dict[str, dict[str, Any]] = {}
     for path in store._listing("records")[0]:
-        out.update(facts(path).parts or {})
+        out.update(facts(path).accounts or {})
     return out
 
 
@@ -182,7 +182,7 @@ def prepare_bodies(kind, study, params, trials, store, map_unordered, summary) -
     recorded trials used): a drifted run's recorded trials outside its design keep theirs."""
     if kind.body_key is None or kind.prepare is None:
         return {}
-    bodies = {content_hash(kind.body_key(t.factors)): kind.body_key(t.factors) for t in trials}
+    bodies = {content_hash(body): body for body in (kind.body_key(t.factors) for t in trials)}
     stored = store.read("prepared").to_pylist()
     have = {row["body_id"]: row for row in stored}
     bodies.update(_recorded_bodies(kind, store, trials, set(have) | set(bodies)))

@@ -68,6 +68,7 @@ from graspcampaign.campaign.verify import (
     cached,
     content_digest,
     facts,
+    parts_json,
     read_file,
     reason,
     supersedes,
@@ -144,7 +145,7 @@ def _parts_of(metadata: list[dict], ids: set[str] | None = None) -> dict[bytes, 
         return {}
     merged = {trial: stored for each in held for trial, stored in each.items()
               if ids is None or trial in ids}
-    return {PARTS_KEY: json.dumps(merged, sort_keys=True, separators=(",", ":")).encode()}
+    return {PARTS_KEY: parts_json(merged).encode()}
 
 
 @contextlib.contextmanager

@@ -110,11 +110,11 @@ def repair(store, manifest: dict | None = None, config_hash: str | None = None,
             found += [p for p in file_problems(store, part, allowed) if p.path not in flagged]
         if not found:
             break
+        aside = {p.path for p in found}
         for problem in found:
             group = problem.part.split("/")[0]
             if group == "tables" and problem.fix != "duplicate" and problem.part != "tables":
-                others = [p for p in store._listing(problem.part)[0]
-                          if p not in {q.path for q in found}]
+                others = [p for p in store._listing(problem.part)[0] if p not in aside]
                 # trials whose traces another file of the table holds (a copy's) lost none
                 lost |= _trials_of_trace(store, problem.path) - set().union(
                     *(facts(other).ids for other in others))

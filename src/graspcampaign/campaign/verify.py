@@ -120,7 +120,9 @@ class Facts:
     owners: dict
     n_null_ids: int = 0
     bad_id: str | None = None
-    #: ``PARTS_KEY`` read once, when the file is verified (:func:`accounts_of`)
+    #: What each trial of a records file stored in the run's other parts (``PARTS_KEY``:
+    #: ``{trial_id: {"tables": {name: rows}, "body": body_id}}``), read once, when the file is
+    #: verified (:func:`accounts_of`); None: a file written before this was kept, or by ``ingest``
     accounts: dict | None = None
     #: the rows of each trial where some trial has more than one (a trace table's), else None
     counts: dict | None = None
@@ -138,13 +140,6 @@ class Facts:
     def digest(self) -> bool:
         """Whether it carries the digest of its values."""
         return CONTENT_KEY in (self.schema.metadata or {})
-
-    @property
-    def parts(self) -> dict | None:
-        """What each trial of a records file stored in the run's other parts (``PARTS_KEY``:
-        ``{trial_id: {"tables": {name: rows}, "body": body_id}}``), or None: a file written
-        before this was kept, or by ``ingest``."""
-        return self.accounts
 
 
 def _listed(schema: pa.Schema, key: bytes) -> list:
@@ -185,6 +180,13 @@ def accounts_of(schema: pa.Schema, ids: frozenset) -> dict | None:
     # a trial it does not record is no part of it (a rewrite keeps the entries of the trials kept)
     return accounts if accounts.keys() <= ids else {
         trial: stored for trial, stored in accounts.items() if trial in ids}
+
+
+def parts_json(accounts: dict) -> str:
+    """The ``PARTS_KEY`` value of a records file whose trials stored ``accounts`` (``{trial_id:
+    account}``), as :func:`accounts_of` reads it back: the one encoding ``run``, a compaction and
+    a rewrite write."""
+    return json.dumps(accounts, sort_keys=True, separators=(",", ":"))
 
 
 def _an_account(stored: Any) -> bool:
@@ -350,13 +352,13 @@ def other_values(path: Path, earlier: set[Path], ids: set[str],
     too), or None: the same trial recorded twice with other values. ``key``: the column naming
     what ``ids`` are (``body_id`` for preparations)."""
 
-    def rows(file: Path, keep: pa.Array) -> pa.Table:
-        table = read_file(file)[0]
+    def rows(table: pa.Table, keep: pa.Array) -> pa.Table:
         return table.filter(pc.is_in(table.column(key), value_set=keep)).sort_by(key)
 
+    own = read_file(path)[0]  # read once, compared with each earlier file
     for file in sorted(earlier):
-        theirs = rows(file, pa.array(sorted(ids), pa.string()))
-        mine = rows(path, theirs.column(key).combine_chunks())
+        theirs = rows(read_file(file)[0], pa.array(sorted(ids), pa.string()))
+        mine = rows(own, theirs.column(key).combine_chunks())
         shared = set(mine.column_names) & set(theirs.column_names)
         differ = (set(mine.column_names) ^ set(theirs.column_names)) | {
             n for n in shared if content_digest(mine.select([n])) != content_digest(theirs.select([n]))}
