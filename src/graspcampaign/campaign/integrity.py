@@ -40,7 +40,7 @@ from pathlib import Path
 
 import pyarrow as pa
 
-from graspcampaign.campaign.parts import COMPLETE
+from graspcampaign.campaign.parts import COMPLETE, body_ids
 from graspcampaign.campaign.paths import run_command
 from graspcampaign.campaign.provenance import (
     MISMATCH,
@@ -52,7 +52,7 @@ from graspcampaign.campaign.provenance import (
     record_sources,
 )
 from graspcampaign.campaign.records import OPTIONAL_COLUMNS, RECORD_COLUMNS
-from graspcampaign.campaign.verify import Facts, facts, one_check, other_values
+from graspcampaign.campaign.verify import Facts, facts, one_check, other_values, read_file
 from graspcampaign.core.words import counted
 from graspcampaign.errors import DamagedRunError
 
@@ -227,7 +227,7 @@ def file_problems(store, part: str, allowed: dict[str, set]) -> list[Problem]:
                                f"a file {rel} holding {foreign}", "quarantine", part,
                                unlike or foreign))
             continue
-        n, unique = own.n_rows, own.ids if part != "prepared" else _body_ids(path)
+        n, unique = own.n_rows, own.ids if part != "prepared" else body_ids(read_file(path, ["body_id"])[0])
         if part == "records" and len(unique) < n:
             said = f"records {counted(n - len(unique), 'trial')} twice"
             out.append(Problem(path, f"a file {rel} that {said}", "quarantine", part, f"it {said}"))
@@ -262,14 +262,6 @@ def file_problems(store, part: str, allowed: dict[str, set]) -> list[Problem]:
             continue
         seen.update(dict.fromkeys(unique, path))
     return out
-
-
-def _body_ids(path: Path) -> frozenset:
-    """The body ids of a verified file of preparations (its ``body_id`` column alone read)."""
-    from graspcampaign.campaign.verify import read_file
-
-    table = read_file(path, ["body_id"])[0]
-    return frozenset(table.column("body_id").to_pylist()) if table.num_columns else frozenset()
 
 
 def expected_records(manifest: dict) -> int:
