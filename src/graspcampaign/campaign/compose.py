@@ -11,6 +11,7 @@ Overrides follow Hydra's grammar. A factor may be overridden by its bare name:
 
 from __future__ import annotations
 
+import codecs
 import contextlib
 import copy
 import functools
@@ -196,9 +197,6 @@ _COMPOSED: dict[tuple, StudyCfg] = {}
 _COMPOSED_MAX = 64
 
 
-_BOM = b"\xef\xbb\xbf"
-
-
 @contextlib.contextmanager
 def _study_search_dir(path: Path, campaigns_dir: Path) -> Iterator[tuple[Path, str]]:
     """Yield a Hydra search directory and the ``campaigns/<option>`` that is the study file.
@@ -209,12 +207,12 @@ def _study_search_dir(path: Path, campaigns_dir: Path) -> Iterator[tuple[Path, s
     composition only.
     """
     text = Path(path).read_bytes()
-    if path.resolve().parent == campaigns_dir.resolve() and not text.startswith(_BOM):
+    if path.resolve().parent == campaigns_dir.resolve() and not text.startswith(codecs.BOM_UTF8):
         yield campaigns_dir.parent, path.stem
         return
     with tempfile.TemporaryDirectory(prefix="graspcampaign-") as tmp:
         (Path(tmp) / "campaigns").mkdir()
-        (Path(tmp) / "campaigns" / "_user_study.yaml").write_bytes(text.removeprefix(_BOM))
+        (Path(tmp) / "campaigns" / "_user_study.yaml").write_bytes(text.removeprefix(codecs.BOM_UTF8))
         yield Path(tmp), "_user_study"
 
 
