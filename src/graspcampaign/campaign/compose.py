@@ -16,6 +16,7 @@ import contextlib
 import copy
 import functools
 import hashlib
+import os
 import re
 import tempfile
 from collections.abc import Iterator
@@ -48,6 +49,7 @@ from graspcampaign.campaign.studyfile import (  # noqa: F401  (project_dirs, lis
     check_package_header,
     find_study,
     group_options,
+    is_path_argument,
     list_studies,
     project_dirs,
     read_yaml,
@@ -263,14 +265,17 @@ def check_yaml_schemas() -> list[tuple[Path, str]]:
 
 
 def as_given(study: str, overrides: list[str], composed: StudyCfg) -> dict[str, Any]:
-    """What a run's manifest keeps of its command: the ``overrides`` as given, and the design the
-    study file composes to without them (``default_design``: its config hash and trial count; the
-    count None where it cannot be counted, as a design read from a run that is not stored; no
-    ``default_design`` for a study file that needs overrides to compose)."""
+    """What a run's manifest keeps of its command: the ``overrides`` as given, the absolute path of
+    a study file ``study`` gives by path (``study_file``; a name is the manifest's ``study``), and
+    the design the study file composes to without them (``default_design``: its config hash and
+    trial count; the count None where it cannot be counted, as a design read from a run that is
+    not stored; no ``default_design`` for a study file that needs overrides to compose)."""
     from graspcampaign.campaign.catalog import design_size
     from graspcampaign.campaign.provenance import config_hash
 
     given: dict[str, Any] = {"overrides": list(overrides)}
+    if is_path_argument(study):  # a command resuming the run finds it so from any directory
+        given["study_file"] = os.path.abspath(find_study(study))
     try:
         default = compose_study(study, [])
     except UserInputError:

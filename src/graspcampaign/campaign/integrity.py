@@ -50,6 +50,7 @@ from graspcampaign.campaign.provenance import (
     overrides_given,
     read_manifest,
     record_sources,
+    study_given,
 )
 from graspcampaign.campaign.records import OPTIONAL_COLUMNS, RECORD_COLUMNS
 from graspcampaign.campaign.verify import Facts, facts, one_check, other_values, read_file
@@ -323,7 +324,8 @@ def _advice(store, problem: Problem, manifest: dict | None) -> str:
     """What to do about ``problem`` of the run ``store``: ingest's remedies for an ingested run,
     else the command that resumes this run (:func:`~graspcampaign.campaign.paths.run_command`:
     with the overrides its manifest keeps, which `run` needs to take it as the same config)."""
-    study, run, root = store.path.parent.name, store.path.name, store.path.parent.parent
+    run, root = store.path.name, store.path.parent.parent
+    study = study_given(manifest, store.path.parent.name)  # a study file given by path: that path
     by_ingest = isinstance(manifest, dict) and ingested(manifest)
     if problem.advice:
         return problem.advice
