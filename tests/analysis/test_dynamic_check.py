@@ -133,3 +133,21 @@ def test_a_grasp_not_settled_by_t_max_is_left_out_not_a_failure():
     assert np.isnan(centroid[["agreement", "agreement_low", "agreement_high", "kappa",
                               "qs_success_rate", "dynamic_success_rate"]].astype(float)).all()
     assert centroid["kappa_why"] == "no trial to compare"
+
+
+@pytest.mark.parametrize("missing", [np.nan, None])
+def test_a_trial_missing_a_label_enters_no_table_and_is_counted_apart(missing):
+    """``astype(bool)`` read a missing quasi-static label as a success (NaN) or a failure (None), and
+    ``executed`` read a missing dynamic label as a failure: each missing label made a pair. Such a
+    trial is now no pair (as McNemar's unpaired rows), counted in ``unlabelled``; the table and kappa
+    are those of the labelled trials alone (scikit-learn on them)."""
+    labelled = _records(20, 5, 10, 15, planner="heuristic")
+    gaps = pd.DataFrame({"qs_success": [missing, missing, True, False],
+                         "success": [True, False, missing, missing], "status": "ok", "planner": "heuristic",
+                         "dynamic_status": ["stable", "dropped", "stable", "dropped"]})
+    records = pd.concat([labelled, gaps], ignore_index=True)
+    np.testing.assert_array_equal(dc.confusion_matrix(records), [[20, 5], [10, 15]])
+    row = dc.agreement_table(records, by="planner").iloc[0]
+    assert (row["n"], row["unlabelled"], row["not_settled"]) == (50, 4, 0)
+    assert row["kappa"] == pytest.approx(cohen_kappa_score(labelled.qs_success, labelled.success))
+    assert row["qs_success_rate"] == 0.5 and row["dynamic_success_rate"] == 0.6

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 from omegaconf import OmegaConf
 
@@ -90,3 +92,15 @@ def test_every_yaml_file_is_read_by_one_loader_class(tmp_path, monkeypatch):
         (tmp_path / f"{name}.yaml").write_text("seeds: 1\n")
         assert read_yaml(tmp_path / f"{name}.yaml") == {"seeds": 1}
     assert len(loaders) == 2 and loaders[0] is loaders[1]
+
+
+def test_the_byte_order_mark_is_one_constant():
+    """compose spelled the UTF-8 byte-order mark itself (``_BOM``) beside ``codecs.BOM_UTF8``, the
+    constant the mesh readers use; no module spells its bytes again (a study file starting with the
+    mark still composes: test_bad_configs)."""
+    import graspcampaign
+
+    root = Path(graspcampaign.__file__).parent
+    spelled = sorted(p.relative_to(root).as_posix() for p in root.rglob("*.py")
+                     if r"\xef\xbb\xbf" in p.read_text(encoding="utf-8"))
+    assert spelled == []

@@ -98,3 +98,15 @@ def test_a_run_stored_before_the_accounts_is_read_as_before(study_factory):
     assert store.check() is not None
     again = run_study(study)
     assert again.n_ran == 0 and again.n_already == 16
+
+
+def test_one_function_reads_the_body_ids_of_a_run_and_of_one_file():
+    """integrity (one file of preparations) and parts (the run's) each had a ``_body_ids`` of the
+    same logic; ``parts.body_ids`` serves both, a table without the column holding none."""
+    import pyarrow as pa
+
+    from graspcampaign.campaign import integrity, parts
+
+    assert integrity.body_ids is parts.body_ids
+    assert parts.body_ids(pa.table({"body_id": ["b1", "b2", "b1"]})) == frozenset({"b1", "b2"})
+    assert parts.body_ids(pa.table({})) == frozenset()

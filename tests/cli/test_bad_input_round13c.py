@@ -1,12 +1,13 @@
 """Bad input, round 13: what its left-overs left. An output file named only by a format suffix, for
 every option naming a file to write, and the overrides of a numeric factor's level or a factor's
-level deleted by its bare name. Each refusal: exit 2, one sentence naming what is wrong, where, and
-what to write, nothing stored changed (``refused``)."""
+level deleted by its bare name; later, a number in an override written with an underscore. Each
+refusal: exit 2, one sentence naming what is wrong, where, and what to write, nothing stored
+changed (``refused``)."""
 
 from __future__ import annotations
 
 import pytest
-from cli_checks import refused
+from cli_checks import invoke, refused
 
 SUFFIX_ONLY = "names only a suffix, no file name (a name beginning with a dot is a hidden file's)"
 
@@ -64,3 +65,25 @@ def test_a_deleted_level_of_a_factor_the_study_lacks_has_nothing_to_delete(tmp_p
     refused(tmp_path, ["show", "smoke", "~planner.0", "--root", tmp_path],
             "override '~planner.0' deletes planner.0, which this study does not have, so there is "
             "nothing to delete; leave it out.")
+
+
+@pytest.mark.parametrize(("typed", "word", "read", "end"), [
+    ("seeds=1_0", "1_0", "10", "."),  # ran ten seeds per scene
+    ("seeds='1_0'", "1_0", "10", "."),  # quoted, OmegaConf's int() read it so too
+    ("nodes=[144,1_750]", "1_750", "1750", "."),
+    ("evaluator.alpha=0.1_5", "0.1_5", "0.15", "."),
+    ("shape.0=1_0", "1_0", "10", ", or quote it ('1_0') to mean text."),  # a text factor's level
+])
+def test_a_number_written_with_an_underscore_is_refused_naming_what_it_reads_as(tmp_path, typed, word,
+                                                                                read, end):
+    # Hydra's grammar (and Python's int) read the underscore as grouping digits: seeds=1_0 ran 10
+    # seeds, where a measured cell 1_4 is refused as a typo
+    refused(tmp_path, ["show", "smoke", typed, "--root", tmp_path],
+            f"override {typed!r}: {word} has an underscore, which is read as grouping digits, the "
+            f"number {read}; write the value without it ({read}, if that is what you meant){end}")
+
+
+@pytest.mark.parametrize("typed", ["description=run_1_0", "description='1_0'"])
+def test_an_underscore_in_text_is_no_number(tmp_path, typed):
+    done = invoke("show", "smoke", typed, "--root", tmp_path)
+    assert done.exit_code == 0, done.output

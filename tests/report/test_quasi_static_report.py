@@ -400,3 +400,15 @@ def test_headline_rows_are_algorithm_2s_trials_only(runs):
     # a count is an integer in the CSV (675, not 675.0)
     text = (root / "headline.csv").read_text()
     assert ",675," in text and ",675.0," not in text
+
+
+def test_an_identification_without_a_bound_reading_is_not_counted_on_the_bound():
+    """``astype(bool)`` read a missing ``at_bound_lambda1`` (NaN) as on the bound: 2 of 3 for the one
+    recorded (``records.at_bound``, the pso report's rule, reads it as not on it)."""
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies.quasi_static import _bounds
+
+    run = Run(pd.DataFrame(), {}, None)
+    run.memo("prepared", lambda: pd.DataFrame({"lambda1": [0.05, 0.05, 1.0],
+                                               "at_bound_lambda1": [True, np.nan, False]}))
+    assert _bounds(run) == f"; on a PSO search bound: {label('parameter', 'lambda1')} = 0.05 in 1 of 3."

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import matplotlib.pyplot as plt
 import numpy as np
+import pandas as pd
 from synthetic_runs import SHAPES, make_run, report_md
 
 from graspcampaign.analysis.vocabulary import label
@@ -63,3 +64,12 @@ def test_smoke_figure_shows_every_count_even_equal_ones_and_the_table_says_what_
     assert "| shape | nodes | built nodes |" in md
     assert ("a vertex is sharp when its angular defect (2π minus the sum of its face angles) exceeds 0.2 "
             "rad, an edge when its dihedral angle departs from 180° by more than 30°") in md  # paper.yaml
+
+
+def test_a_mesh_without_a_watertight_reading_is_not_counted_closed():
+    """``astype(bool)`` read a missing ``watertight`` (NaN) as closed: 2 of 3 for the one recorded."""
+    from graspcampaign.report.studies.smoke import finding
+
+    records = {"status": "ok", "shape": "cube", "nodes": [144, 144, 390], "watertight": [True, np.nan, False]}
+    assert finding(Run(pd.DataFrame(records), {}, None)).startswith(
+        "1 of 3 meshes are closed (watertight) across 1 shapes and 2 resolutions")

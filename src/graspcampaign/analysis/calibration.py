@@ -11,7 +11,7 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
-from graspcampaign.analysis.records import at_bound
+from graspcampaign.analysis.records import at_bound, flag
 from graspcampaign.core import bench
 from graspcampaign.core.bench import FAMILIES
 from graspcampaign.core.identify import PARAMETER_COLUMNS, PARAMETER_NAMES
@@ -25,7 +25,7 @@ def fitted(records: pd.DataFrame) -> pd.DataFrame:
     """Completed events of executed trials, ``fit_ok``/``accepted``/``slipped_measured`` as bool."""
     ok = records[records["status"] == "ok"]
     ok = ok[ok["event_status"] == "completed"] if "event_status" in ok else ok
-    return ok.assign(**{c: ok[c].astype("boolean").fillna(False).astype(bool) for c in (
+    return ok.assign(**{c: flag(ok, c) for c in (
         "fit_ok", "accepted", "slipped_measured") if c in ok}).reset_index(drop=True)
 
 

@@ -24,7 +24,7 @@ from statsmodels.stats.inter_rater import cohens_kappa as sm_kappa
 
 from graspcampaign.analysis.checks import result
 from graspcampaign.analysis.rates import wilson_interval
-from graspcampaign.analysis.records import executed
+from graspcampaign.analysis.records import executed, known
 
 LABEL_PAIRS = {"source": ("qs_success", "success"), "preset": ("qs_preset_success", "success"),
                "source_unbounded": ("qs_success_unbounded", "success_unbounded"),
@@ -42,13 +42,14 @@ KappaResult = result(
 
 def confusion_matrix(records: pd.DataFrame, qs_column: str = "qs_success",
                      dynamic_column: str = "success") -> np.ndarray:
-    """Return the (2, 2) counts of two boolean label columns over the executed, determined trials."""
-    rows = executed(records)
+    """Return the (2, 2) counts of two boolean label columns over the executed, determined trials
+    that carry both labels (:func:`~.records.known`)."""
     for column in (qs_column, dynamic_column, "dynamic_status"):
-        if column not in rows.columns:
+        if column not in records.columns:
             raise KeyError(f"dynamic_check records have no column {column!r}")
+    rows = executed(known(records, [qs_column, dynamic_column]))
     rows = rows[rows["dynamic_status"] != UNDETERMINED]
-    qs, dyn = (rows[c].astype(bool).to_numpy() for c in (qs_column, dynamic_column))
+    qs, dyn = (rows[c].to_numpy() for c in (qs_column, dynamic_column))
     return np.array([[np.sum(qs & dyn), np.sum(qs & ~dyn)],
                      [np.sum(~qs & dyn), np.sum(~qs & ~dyn)]], dtype=np.int64)
 
@@ -81,21 +82,23 @@ def agreement_table(records: pd.DataFrame, qs_column: str = "qs_success",
                     confidence_level: float = 0.95) -> pd.DataFrame:
     """Return the :func:`confusion_matrix` counts, both success rates, the agreement (Wilson
     interval) and :func:`cohens_kappa` of two label columns over the determined trials, and the
-    executed trials left out as undetermined (``not_settled``), overall or per group of ``by``;
-    the rates are nan in a group with no determined trial."""
-    rows = executed(records)
+    executed trials left out as undetermined (``not_settled``) or, determined, missing a label
+    (``unlabelled``), overall or per group of ``by``; the rates are nan in a group with no trial."""
+    labelled = records.reindex(columns=[qs_column, dynamic_column]).notna().all(axis=1)
+    rows = executed(records.assign(_labelled=labelled))  # read before executed() fills a missing success
     keys = [] if by is None else ([by] if isinstance(by, str) else list(by))
     out = []
     groups = rows.groupby(keys, sort=True, observed=True) if keys else [((), rows)]
     for key, group in groups:
-        table = confusion_matrix(group, qs_column, dynamic_column)
+        table = confusion_matrix(group[group["_labelled"]], qs_column, dynamic_column)
         k, agree = cohens_kappa(table, confidence_level), int(np.trace(table))
+        settled = int((group["dynamic_status"] != UNDETERMINED).sum())
         w = wilson_interval(agree, k.n, confidence_level) if k.n else None
         n = k.n or np.nan  # no determined trial: no rate
         out.append({
             **dict(zip(keys, key if isinstance(key, tuple) else (key,), strict=True)),
-            "n": k.n, "not_settled": len(group) - k.n, "both_success": int(table[0, 0]),
-            "qs_only": int(table[0, 1]), "dynamic_only": int(table[1, 0]),
+            "n": k.n, "not_settled": len(group) - settled, "unlabelled": settled - k.n,
+            "both_success": int(table[0, 0]), "qs_only": int(table[0, 1]), "dynamic_only": int(table[1, 0]),
             "both_failure": int(table[1, 1]), "qs_success_rate": table[0].sum() / n,
             "dynamic_success_rate": table[:, 0].sum() / n, "agreement": agree / n,
             "agreement_low": w.low if w else np.nan, "agreement_high": w.high if w else np.nan,

@@ -11,7 +11,7 @@ import numpy as np
 import pandas as pd
 
 from graspcampaign.analysis import agreement, association, rates
-from graspcampaign.analysis.records import executed, mcnemar_table, rate_table
+from graspcampaign.analysis.records import executed, known, mcnemar_table, rate_table
 from graspcampaign.analysis.vocabulary import label, ordered, things
 from graspcampaign.core.statics import GRAVITY
 
@@ -108,7 +108,7 @@ def summary(df: pd.DataFrame, by: Sequence[str], rates: Sequence[str] = (), medi
         "rate_pct", "success_pct").replace("wilson", "success"))
     for col in rates:
         name = col.removeprefix("is_")
-        t = rate_table(df[df[col].notna()].astype({col: bool}), by, outcome=col, order=order)
+        t = rate_table(known(df, [col]), by, outcome=col, order=order)
         t = t[[*by, "n", "rate_pct", "wilson_low_pct", "wilson_high_pct"]]
         out = out.merge(t.set_axis([*by, f"n_{name}", f"{name}_pct", f"{name}_low_pct", f"{name}_high_pct"],
                                    axis=1), on=by, how="left")

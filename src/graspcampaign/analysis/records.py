@@ -43,6 +43,13 @@ def flag(frame: pd.DataFrame, column: str) -> pd.Series:
     return col if col.dtype == bool else col.astype("boolean").fillna(False).astype(bool)
 
 
+def known(frame: pd.DataFrame, columns: Sequence[str]) -> pd.DataFrame:
+    """Return the rows of ``frame`` whose outcome ``columns`` are all recorded, those columns as bool: a
+    rate or a pair of outcomes is over the trials whose outcomes are known (``astype(bool)`` reads a
+    NaN as True, a None as False). Sums of a flag count it with :func:`flag` (missing: not set)."""
+    return frame[frame[list(columns)].notna().all(axis=1)].astype(dict.fromkeys(columns, bool))
+
+
 def in_design_order(frame: pd.DataFrame) -> pd.DataFrame:
     """``frame``'s rows by ``trial_index`` then ``trial_id`` (where it has them; preparations, which
     have neither, by ``body_id``), each trial's rows in their stored order. A run's files hold rows
@@ -182,13 +189,13 @@ def mcnemar_table(records: pd.DataFrame, reference: str, others: Sequence[str], 
             .pivot(index=[pair_on, "_occurrence"], columns=method, values="success"))
     rows = []
     for other in [o for o in others if reference in wide and o in wide]:
-        complete = wide[[reference, other]].notna().all(axis=1)
-        a, b = (wide.loc[complete, c].astype(bool).to_numpy() for c in (reference, other))
+        paired = known(wide, [reference, other])
+        a, b = (paired[c].to_numpy() for c in (reference, other))
         n01, n10 = rates.discordant_pairs(a, b) if a.size else (0, 0)
         res = rates.mcnemar(n01, n10)
         p = (res.pvalue_chi2, res.pvalue_exact) if n01 + n10 else (math.nan, math.nan)  # no test, no p
         rows.append([reference, other, a.size, n10, n01, int(np.sum(a & b)), int(np.sum(~a & ~b)),
-                     int((~complete).sum()), res.statistic, *p,
+                     len(wide) - len(paired), res.statistic, *p,
                      res.odds_ratio, res.odds_ratio_low, res.odds_ratio_high,
                      "" if n01 + n10 else "no discordant pair: the test is undefined"])
     return pd.DataFrame(rows, columns=[

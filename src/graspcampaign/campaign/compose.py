@@ -11,10 +11,12 @@ Overrides follow Hydra's grammar. A factor may be overridden by its bare name:
 
 from __future__ import annotations
 
+import codecs
 import contextlib
 import copy
 import functools
 import hashlib
+import os
 import re
 import tempfile
 from collections.abc import Iterator
@@ -47,6 +49,7 @@ from graspcampaign.campaign.studyfile import (  # noqa: F401  (project_dirs, lis
     check_package_header,
     find_study,
     group_options,
+    is_path_argument,
     list_studies,
     project_dirs,
     read_yaml,
@@ -196,9 +199,6 @@ _COMPOSED: dict[tuple, StudyCfg] = {}
 _COMPOSED_MAX = 64
 
 
-_BOM = b"\xef\xbb\xbf"
-
-
 @contextlib.contextmanager
 def _study_search_dir(path: Path, campaigns_dir: Path) -> Iterator[tuple[Path, str]]:
     """Yield a Hydra search directory and the ``campaigns/<option>`` that is the study file.
@@ -209,12 +209,12 @@ def _study_search_dir(path: Path, campaigns_dir: Path) -> Iterator[tuple[Path, s
     composition only.
     """
     text = Path(path).read_bytes()
-    if path.resolve().parent == campaigns_dir.resolve() and not text.startswith(_BOM):
+    if path.resolve().parent == campaigns_dir.resolve() and not text.startswith(codecs.BOM_UTF8):
         yield campaigns_dir.parent, path.stem
         return
     with tempfile.TemporaryDirectory(prefix="graspcampaign-") as tmp:
         (Path(tmp) / "campaigns").mkdir()
-        (Path(tmp) / "campaigns" / "_user_study.yaml").write_bytes(text.removeprefix(_BOM))
+        (Path(tmp) / "campaigns" / "_user_study.yaml").write_bytes(text.removeprefix(codecs.BOM_UTF8))
         yield Path(tmp), "_user_study"
 
 
@@ -265,14 +265,17 @@ def check_yaml_schemas() -> list[tuple[Path, str]]:
 
 
 def as_given(study: str, overrides: list[str], composed: StudyCfg) -> dict[str, Any]:
-    """What a run's manifest keeps of its command: the ``overrides`` as given, and the design the
-    study file composes to without them (``default_design``: its config hash and trial count; the
-    count None where it cannot be counted, as a design read from a run that is not stored; no
-    ``default_design`` for a study file that needs overrides to compose)."""
+    """What a run's manifest keeps of its command: the ``overrides`` as given, the absolute path of
+    a study file ``study`` gives by path (``study_file``; a name is the manifest's ``study``), and
+    the design the study file composes to without them (``default_design``: its config hash and
+    trial count; the count None where it cannot be counted, as a design read from a run that is
+    not stored; no ``default_design`` for a study file that needs overrides to compose)."""
     from graspcampaign.campaign.catalog import design_size
     from graspcampaign.campaign.provenance import config_hash
 
     given: dict[str, Any] = {"overrides": list(overrides)}
+    if is_path_argument(study):  # a command resuming the run finds it so from any directory
+        given["study_file"] = os.path.abspath(find_study(study))
     try:
         default = compose_study(study, [])
     except UserInputError:

@@ -40,7 +40,7 @@ from pathlib import Path
 
 import pyarrow as pa
 
-from graspcampaign.campaign.parts import COMPLETE
+from graspcampaign.campaign.parts import COMPLETE, body_ids
 from graspcampaign.campaign.paths import run_command
 from graspcampaign.campaign.provenance import (
     MISMATCH,
@@ -50,9 +50,10 @@ from graspcampaign.campaign.provenance import (
     overrides_given,
     read_manifest,
     record_sources,
+    study_given,
 )
 from graspcampaign.campaign.records import OPTIONAL_COLUMNS, RECORD_COLUMNS
-from graspcampaign.campaign.verify import Facts, facts, one_check, other_values
+from graspcampaign.campaign.verify import Facts, facts, one_check, other_values, read_file
 from graspcampaign.core.words import counted
 from graspcampaign.errors import DamagedRunError
 
@@ -227,7 +228,7 @@ def file_problems(store, part: str, allowed: dict[str, set]) -> list[Problem]:
                                f"a file {rel} holding {foreign}", "quarantine", part,
                                unlike or foreign))
             continue
-        n, unique = own.n_rows, own.ids if part != "prepared" else _body_ids(path)
+        n, unique = own.n_rows, own.ids if part != "prepared" else body_ids(read_file(path, ["body_id"])[0])
         if part == "records" and len(unique) < n:
             said = f"records {counted(n - len(unique), 'trial')} twice"
             out.append(Problem(path, f"a file {rel} that {said}", "quarantine", part, f"it {said}"))
@@ -262,14 +263,6 @@ def file_problems(store, part: str, allowed: dict[str, set]) -> list[Problem]:
             continue
         seen.update(dict.fromkeys(unique, path))
     return out
-
-
-def _body_ids(path: Path) -> frozenset:
-    """The body ids of a verified file of preparations (its ``body_id`` column alone read)."""
-    from graspcampaign.campaign.verify import read_file
-
-    table = read_file(path, ["body_id"])[0]
-    return frozenset(table.column("body_id").to_pylist()) if table.num_columns else frozenset()
 
 
 def expected_records(manifest: dict) -> int:
@@ -331,7 +324,8 @@ def _advice(store, problem: Problem, manifest: dict | None) -> str:
     """What to do about ``problem`` of the run ``store``: ingest's remedies for an ingested run,
     else the command that resumes this run (:func:`~graspcampaign.campaign.paths.run_command`:
     with the overrides its manifest keeps, which `run` needs to take it as the same config)."""
-    study, run, root = store.path.parent.name, store.path.name, store.path.parent.parent
+    run, root = store.path.name, store.path.parent.parent
+    study = study_given(manifest, store.path.parent.name)  # a study file given by path: that path
     by_ingest = isinstance(manifest, dict) and ingested(manifest)
     if problem.advice:
         return problem.advice

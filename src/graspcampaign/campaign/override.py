@@ -5,7 +5,8 @@ Refused up front: an override without a key (``=3``); a key named twice (Hydra k
 one of more than :data:`MAX_OVERRIDE_VALUES` values (Hydra's parser is quadratic in them); Hydra's
 own keys (``hydra.run.dir=/tmp``, ``+hydra.x=1``), which the Compose API accepts and ignores
 because this tool runs the study itself; a whole config group deleted (``~runner``); a bool set
-to anything but ``true``/``false`` (OmegaConf reads ``pso.enabled=2`` as true).
+to anything but ``true``/``false`` (OmegaConf reads ``pso.enabled=2`` as true); a number with a
+leading zero (text to Hydra) or an underscore (``seeds=1_0``: its digits grouped, 10).
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ from typing import Any
 
 from graspcampaign.campaign.former_names import FORMER_FACTORS, former_factor
 from graspcampaign.campaign.omegaconf_words import omegaconf_error_sentence
-from graspcampaign.campaign.override_scan import mapping_keys, n_values, sweep_function
+from graspcampaign.campaign.override_scan import mapping_keys, n_values, sweep_function, underscored_numbers
 from graspcampaign.campaign.schema import FACTOR_SPECS, StudyCfg, example
 from graspcampaign.campaign.studycheck import (
     GROUPS,
@@ -107,15 +108,29 @@ def check_overrides(given: list[str]) -> None:
             if read is not _UNPARSED and not isinstance(read, bool):
                 raise ConfigError(f"{key} must be true or false, got {read!r} (override "
                                   f"{item!r}).", key=key)
+        numeric = setting and _numeric(key, found)
         if setting and (zero := _leading_zero(parsed)):
-            name, _, index = key.removeprefix("factors.").partition(".")  # nodes.0: a level of nodes
             number = int(zero.replace("_", ""))
-            factor = FACTOR_SPECS.get(name) if index.isdigit() or not index else None
-            numeric = (split_optional(str(found[1].type))[0] in ("int", "float") if found else
-                       factor is not None and factor["type"] is not str)  # quoting makes no text
             raise ConfigError(f"override {item!r}: {zero} has a leading zero, which Hydra reads as "
                               f"the text '{zero}', not the number {number}; write {number}"
                               + ("." if numeric else f", or quote it ('{zero}') to mean text."), key=key)
+        # seeds=1_0 is ten to Hydra, seeds='1_0' to OmegaConf's int(): seldom what was meant
+        for word in underscored_numbers(value, quoted=numeric) if setting else ():
+            read = _parsed_value(f"x={word}")
+            if isinstance(read, int | float) and not isinstance(read, bool):
+                raise ConfigError(f"override {item!r}: {word} has an underscore, which is read as "
+                                  f"grouping digits, the number {read}; write the value without it "
+                                  f"({read}, if that is what you meant)"
+                                  + ("." if numeric else f", or quote it ('{word}') to mean text."), key=key)
+
+
+def _numeric(key: str, found: Any) -> bool:
+    """Whether ``key`` (``found``: its schema field, or None) takes a number: a field of type int or
+    float, or a level of a factor whose levels are not text (``nodes.0``)."""
+    name, _, index = key.removeprefix("factors.").partition(".")  # nodes.0: a level of nodes
+    factor = FACTOR_SPECS.get(name) if index.isdigit() or not index else None
+    return (split_optional(str(found[1].type))[0] in ("int", "float") if found else
+            factor is not None and factor["type"] is not str)  # quoting makes no text
 
 
 def _one_value(key: str) -> bool:

@@ -1,7 +1,8 @@
 """Quote-aware scans of an override's value as Hydra's grammar reads it, made before Hydra parses it
 (its parse keeps only the last of a repeated key, takes a time quadratic in the values, and
 evaluates a function before anything can name it): the characters outside quoted strings, a
-mapping's keys, the count of values, a call of one of Hydra's functions of sweeps.
+mapping's keys, the count of values, a call of one of Hydra's functions of sweeps, the numbers
+written with an underscore.
 """
 
 from __future__ import annotations
@@ -25,6 +26,20 @@ def unquoted(value: str) -> Iterator[tuple[int, str]]:
                 continue
         yield i, char
         i += 1
+
+
+def blanked(value: str) -> str:
+    """An override's ``value`` with each character of its quoted strings (:func:`unquoted`) a space."""
+    kept = dict(unquoted(value))
+    return "".join(kept.get(i, " ") for i in range(len(value)))
+
+
+def underscored_numbers(value: str, quoted: bool = False) -> list[str]:
+    """The words of an override's ``value`` outside its quoted strings (``quoted``: inside them too)
+    written as a number with an underscore (``1_0``, ``[144,1_750]``, ``-0.1_5``): those Hydra's
+    grammar may read as a number with its digits grouped (``1_0`` is 10), which the caller asks it."""
+    words = re.findall(r"[^\s\[\]{}(),:='\"]+", value if quoted else blanked(value))
+    return [w for w in words if "_" in w and re.fullmatch(r"[+-]?[\d_.]+(?:[eE][+-]?[\d_]+)?", w)]
 
 
 def mapping_keys(value: str) -> list[str]:
@@ -69,8 +84,6 @@ def sweep_function(value: str) -> str | None:
     """The first of :data:`SWEEP_FUNCTIONS` an override's ``value`` calls where Hydra's grammar
     reads a call (at the start of the value or of an element, ``[a,sort([b,c])]``), outside its
     quoted strings (:func:`unquoted`; ``'sort(x)'`` is text), or None."""
-    kept = dict(unquoted(value))
-    plain = "".join(kept.get(i, " ") for i in range(len(value)))
-    names = "|".join(SWEEP_FUNCTIONS)
+    plain, names = blanked(value), "|".join(SWEEP_FUNCTIONS)
     match = re.search(rf"(?:^|[\[{{,:(=])\s*({names})\s*\(", plain)
     return match[1] if match else None

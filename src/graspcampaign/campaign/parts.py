@@ -105,7 +105,7 @@ def part_problems(store, full: bool = True, manifest: dict | None = None) -> lis
         what = (f"no prepared directory, which holds the preparations of the {used} its recorded "
                 "trials used")
     elif bodies and full:
-        gone = sorted(bodies - _body_ids(store))
+        gone = sorted(bodies - body_ids(store.read("prepared", ["body_id"])))
         what = (f"prepared without {counted(len(gone), 'preparation')} its recorded trials used "
                 f"(first body {gone[0]})") if gone else ""
     else:
@@ -130,10 +130,10 @@ def part_problems(store, full: bool = True, manifest: dict | None = None) -> lis
     return out
 
 
-def _body_ids(store) -> set[str]:
-    """The body ids of the run's stored preparations (its files verified in full)."""
-    table = store.read("prepared", ["body_id"])
-    return set(table.column("body_id").to_pylist()) if "body_id" in table.column_names else set()
+def body_ids(table) -> frozenset[str]:
+    """The body ids of a ``pyarrow.Table`` of preparations, read with its ``body_id`` column alone (a
+    run's, :meth:`~graspcampaign.campaign.records.RunStore.read`, or one file's; none without it)."""
+    return frozenset(table.column("body_id").to_pylist()) if "body_id" in table.column_names else frozenset()
 
 
 def _footer_rows(directory: Path) -> int | None:

@@ -151,6 +151,14 @@ def overrides_given(manifest: Any) -> list[str] | None:
     return given if isinstance(given, list) and all(isinstance(item, str) for item in given) else None
 
 
+def study_given(manifest: Any, name: str) -> str:
+    """The study a command resuming the run names: the absolute path of the study file the run was
+    started from where it was given by path (``study_file``, :func:`~graspcampaign.campaign.compose.
+    as_given`), else ``name``, the study's name (a manifest stored before it kept the file, too)."""
+    given = manifest.get("study_file") if isinstance(manifest, dict) else None
+    return given if isinstance(given, str) and given else name
+
+
 def last_design(manifest: dict[str, Any]) -> dict[str, Any] | None:
     """The last session that names its design's trial count (``n_trials``): a ``run`` session
     since sessions record it; None for a run stored before, or only ingested."""
@@ -187,7 +195,7 @@ _FIELDS: dict[str, tuple[tuple[type, ...], str]] = {
     "sessions": ((list,), "a list of sessions"), "config": ((dict,), "the resolved config"),
 }
 _OPTIONAL = {"n_recorded": ((int,), _COUNT), "digests": ((bool,), "true or false"),
-             "overrides": ((list,), "a list of overrides"),
+             "overrides": ((list,), "a list of overrides"), "study_file": ((str,), "a study file's path"),
              "default_design": ((dict,), "the study file's default design"),
              "format": ((int,), "a format number")}
 
@@ -443,13 +451,13 @@ def _as_started(manifest: dict[str, Any], study: StudyCfg, path: Path) -> str:
     from graspcampaign.campaign.paths import run_command
     from graspcampaign.errors import UserInputError
 
-    given = overrides_given(manifest)
+    given, named = overrides_given(manifest), study_given(manifest, study.name)
     if given is None:
         return ""
     try:
-        again = compose_study(study.name, list(given))
+        again = compose_study(named, list(given))
     except UserInputError:
         return ""
     if config_drift(manifest, again):
         return ""
-    return f"resume it as started ({run_command(study.name, given, path.name, path.parent.parent)}), "
+    return f"resume it as started ({run_command(named, given, path.name, path.parent.parent)}), "

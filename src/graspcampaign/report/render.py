@@ -15,7 +15,7 @@ import pandas as pd
 from graspcampaign.analysis.records import executed, in_design_order, status_counts
 from graspcampaign.analysis.vocabulary import data_source
 from graspcampaign.campaign.paths import how_to_make
-from graspcampaign.campaign.provenance import design_change, ingested, last_design, run_size
+from graspcampaign.campaign.provenance import design_change, ingested, last_design, run_size, study_given
 from graspcampaign.core.bench_specimen import FINGERTIP_RADIUS
 from graspcampaign.core.words import listed, meant
 from graspcampaign.errors import UserInputError, disk_full
@@ -123,7 +123,8 @@ class Run:
             return frame
         # the commands as paths.how_to_make gives them: under the run's root, with the overrides it was
         # started with (without them `run` refuses the run as started with another config)
-        study, run, given = self.study, self.manifest.get("run"), self.manifest.get("overrides") or []
+        study, run, given = study_given(self.manifest, self.study), self.manifest.get("run"), \
+            self.manifest.get("overrides") or []
         root = "results" if (where := getattr(self.store, "path", None)) is None else where.parent.parent
         if name.startswith("summary/"):
             todo = ("the study writes it once every trial is recorded; "

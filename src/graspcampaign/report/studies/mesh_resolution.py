@@ -9,7 +9,7 @@ import numpy as np
 import pandas as pd
 
 from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
-from graspcampaign.analysis.records import MIN_TRIALS, Estimate, median
+from graspcampaign.analysis.records import MIN_TRIALS, Estimate, flag, known, median
 from graspcampaign.analysis.vocabulary import OTHER_COLOURS, PROPOSED, colour
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.core.words import counted
@@ -143,7 +143,7 @@ def _n_max(run: Run) -> pd.DataFrame:
             failed["residual_z_rerun_n"].abs() <= HORIZONTAL * failed["residual_norm_rerun_n"])
         rows.append({"planner": planner, "trials": len(g), "failures_at_n_max": len(failed),
                      "failures_loop_still_moving": int(failed["loop_capped"].sum()),
-                     "budget_capped": int(failed["budget_capped"].astype(bool).sum()),
+                     "budget_capped": int(flag(failed, "budget_capped").sum()),
                      "horizontal_residual_rerun": int(horizontal.sum()),
                      **rate_cols(g, "success", "success"), **rate_cols(g, "success_rerun", "rerun"),
                      "residual_median_failures_rerun_n": failed["residual_norm_rerun_n"].median()})
@@ -168,10 +168,13 @@ def _cross_check(run: Run) -> str:
     base = pd.concat(frames, ignore_index=True)  # a trial in several baseline runs counts once
     base = base[base["status"] == "ok"].drop_duplicates(key)
     merged = nm.merge(base, on=key, suffixes=("", "_baseline"))
-    same = (merged["success"].astype(bool) == merged["success_baseline"].astype(bool)).sum()
+    judged = known(merged, ["success", "success_baseline"])  # a verdict compared is a verdict recorded
+    same = (judged["success"] == judged["success_baseline"]).sum()
+    unjudged = f" ({len(merged) - len(judged)} with no verdict recorded to compare)" if len(judged) < len(
+        merged) else ""
     close = np.isclose(merged["residual_norm_n"], merged["residual_norm_n_baseline"], rtol=1e-9).sum()
     return (f"Cross-check against the `baseline_grid` records beside this run{skipped}: {same} of "
-            f"{len(merged)} re-derived trials have the baseline's verdict and {close} its residual "
+            f"{len(merged)} re-derived trials have the baseline's verdict{unjudged} and {close} its residual "
             "(relative 1e-9).")
 
 

@@ -41,7 +41,7 @@ def _bounds(run: Run) -> str:
     """Which identified parameters ended on a PSO search bound, at what value; where J is flat."""
     prep, parts = run.part("prepared"), []
     for column, p in ((c, p) for c, p in PARAMETERS.items() if f"at_bound_{p}" in prep):
-        if (on := prep[f"at_bound_{p}"].astype(bool)).any():
+        if (on := rec.flag(prep, f"at_bound_{p}")).any():
             at = "/".join(f"{v:g}" for v in sorted(set(prep.loc[on, column])))
             parts.append(f"{label('parameter', p)} = {at} in {int(on.sum())} of {len(prep)}")
     flat = prep["flat_parameters"].value_counts() if "flat_parameters" in prep else pd.Series()
@@ -322,7 +322,7 @@ def over_limit(run: Run) -> str:
     parts = []
     for law in laws:
         g = ok if law is None else ok[ok["grip_law"] == law]
-        cap = g["grip_capped"].fillna(False).astype(bool) if "grip_capped" in g else np.isclose(
+        cap = rec.flag(g, "grip_capped") if "grip_capped" in g else np.isclose(
             g["delta_max_mm"], r, rtol=0, atol=1e-6)
         parts.append(("" if law is None else f"{label('grip_law', law)} ") + (
             f"{int((g['delta_max_mm'] > DESIGN_LIMIT_MM).sum())} of {len(g)}" if len(g) else "no success") + (

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import pandas as pd
 
+from graspcampaign.analysis.records import flag
 from graspcampaign.analysis.vocabulary import colour, label, ordered
 from graspcampaign.core.words import counted
 from graspcampaign.report.document import Col, cols
@@ -25,7 +26,7 @@ def _worst(column: str):
 def finding(run: Run) -> str:
     ok = run.ok
     levels = ok["nodes"].nunique()
-    text = (f"{int(ok['watertight'].astype(bool).sum())} of {len(ok)} meshes are closed (watertight) across "
+    text = (f"{int(flag(ok, 'watertight').sum())} of {len(ok)} meshes are closed (watertight) across "
             f"{ok['shape'].nunique()} shapes and {counted(levels, 'resolution')} (table meshes)")
     if not (ok["shape"] == "sphere").any():
         return text + "."

@@ -1,0 +1,56 @@
+"""Tests of the mesh_resolution report's N_max panel: its counts and its cross-check against the
+baseline_grid records, where an outcome is missing (``records.flag``, ``records.known``)."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pandas as pd
+import pyarrow as pa
+
+from graspcampaign.report.render import Run
+from graspcampaign.report.studies import mesh_resolution as mr
+
+
+def _n_max_run(budget_capped, store=None) -> Run:
+    """An N_max panel: trials A, B, C failed at N_max (``budget_capped`` as given), D passed."""
+    records = pd.DataFrame({
+        "panel": "n_max", "status": "ok", "planner": "heuristic", "shape": "sphere", "mass_kg": 0.4,
+        "mu": 0.3, "seed": [0, 1, 2, 3], "success": [False, False, False, True],
+        "success_rerun": [True, False, False, True], "loop_capped": False, "budget_capped": budget_capped,
+        "failure_check_rerun": "residual", "residual_z_rerun_n": 1.0, "residual_norm_rerun_n": 1.0,
+        "residual_norm_n": [1.0, 2.0, 3.0, 0.1]})
+    return Run(records, {}, SimpleNamespace(), store=store)
+
+
+def test_a_failure_without_a_budget_cap_reading_is_not_counted_as_capped():
+    """``astype(bool)`` read a missing ``budget_capped`` (NaN) as capped: 2 of 3 for the one recorded."""
+    row = mr._n_max(_n_max_run([True, np.nan, False, False])).iloc[0]
+    assert (row["failures_at_n_max"], row["budget_capped"]) == (3, 1)
+
+
+def test_the_cross_check_compares_recorded_verdicts_only(tmp_path, monkeypatch):
+    """A baseline record with no verdict (a null, read as None) had agreed with a re-derived failure
+    (``astype(bool)``: False == False); it is now no comparison, and the sentence says so."""
+    baseline = pa.table({"status": ["ok"] * 3, "planner": ["heuristic"] * 3, "shape": ["sphere"] * 3,
+                         "mass_kg": [0.4] * 3, "mu": [0.3] * 3, "seed": [0, 1, 2],
+                         "success": pa.array([False, None, True], pa.bool_()),
+                         "residual_norm_n": [1.0, 2.0, 3.0]})
+
+    class Stored:  # a baseline_grid run beside this one, read as RunStore reads one
+        def __init__(self, path):
+            self.path = path
+
+        def check(self, parts):
+            return {}
+
+        def read(self):
+            return baseline
+
+    (tmp_path / "baseline_grid" / "run0").mkdir(parents=True)
+    monkeypatch.setattr(mr, "RunStore", Stored)
+    run = _n_max_run(False, store=SimpleNamespace(path=tmp_path / "mesh_resolution" / "run1"))
+    assert mr._cross_check(run) == (
+        "Cross-check against the `baseline_grid` records beside this run: 1 of 3 re-derived trials have the "
+        "baseline's verdict (1 with no verdict recorded to compare) and 3 its residual (relative 1e-9).")
