@@ -54,14 +54,26 @@ def pct_error(measured: pd.Series, predicted: pd.Series) -> pd.Series:
     return (100.0 * (p - m).abs() / m.abs()).where(m != 0)
 
 
+def deformation_pred_read(df: pd.DataFrame) -> pd.Series:
+    """Return the predicted trial-mean deformation [mm] over the fingers with a measured reading, as
+    ``deformation_mean_mm`` is (a buried finger has none); ``deformation_pred_mean_mm`` where the
+    records hold no per-finger deformation."""
+    read, pred = ([f"deformation_{p}{j}_mm" for j in (1, 2, 3)] for p in ("", "pred_"))
+    every = df["deformation_pred_mean_mm"].astype(float)
+    if not set(read + pred) <= set(df):
+        return every
+    return df[pred].astype(float).where(df[read].notna().to_numpy()).mean(axis=1).fillna(every)
+
+
 def derive(records: pd.DataFrame) -> pd.DataFrame:
     """Return the executed trials with the columns every Tests 2-3 table reads.
 
-    ``is_<class>``, ``natural`` (success at natural friction), ``force_err_pct``, ``deformation_err_pct``,
-    ``g_geo_gap``/``mu_s_gap`` (believed - actual), ``gate_removed`` (a success only without the δ ≤ r
-    gate), ``match_key``; Test 3: ``threshold``/``threshold_pred`` (uncensored ramps; N·m in block C),
-    ``threshold_err_pct``, ``lat_threshold_n``/``_err_pct`` (block A), ``payload_pct_w`` (block B down),
-    ``headline`` (Table 8: A, C threshold, B payload, D, E peak slip [mm]), ``first_finger_correct``.
+    ``is_<class>``, ``natural`` (success at natural friction), ``force_err_pct``, ``deformation_err_pct``
+    (against :func:`deformation_pred_read`), ``g_geo_gap``/``mu_s_gap`` (believed - actual),
+    ``gate_removed`` (a success only without the δ ≤ r gate), ``match_key``; Test 3: ``threshold``/
+    ``threshold_pred`` (uncensored ramps; N·m in block C), ``threshold_err_pct``, ``lat_threshold_n``/
+    ``_err_pct`` (block A), ``payload_pct_w`` (block B down), ``headline`` (Table 8: A, C threshold, B
+    payload, D, E peak slip [mm]), ``first_finger_correct``.
     """
     df = executed(records)
     df = df.assign(**{c: np.nan for c in VIRTUAL_ONLY if c not in df})
@@ -69,7 +81,7 @@ def derive(records: pd.DataFrame) -> pd.DataFrame:
     new = {**{f"is_{k}": df["outcome"] == v for k, v in CLASSES.items()},
            "natural": df["success"].where(df["friction_level"] == "natural"),
            "force_err_pct": pct_error(df["normal_force_mean_n"], df["normal_force_pred_mean_n"]),
-           "deformation_err_pct": pct_error(df["deformation_mean_mm"], df["deformation_pred_mean_mm"]),
+           "deformation_err_pct": pct_error(df["deformation_mean_mm"], deformation_pred_read(df)),
            "g_geo_gap": df["g_geo_believed"].astype(float) - df["g_geo_actual"].astype(float),
            "mu_s_gap": df["mu_s_believed"].astype(float) - df["mu_s_actual"].astype(float),
            "gate_removed": (unbounded & ~df["success"]).where(unbounded.notna()),
