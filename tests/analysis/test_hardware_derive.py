@@ -95,6 +95,17 @@ def test_a_deformation_error_compares_the_fingers_that_were_read():
     assert got.tolist() == pytest.approx([100 / 11, 20.0, 20.0])
 
 
+def test_the_deformation_errors_over_a_sub_quantum_measurement_are_counted_per_scope():
+    """Measured means 0.05, 0, 0.2, missing and 0.099 mm against 1 mm predicted (heuristic), 1 mm
+    (centroid): three heuristic errors (0 mm has none), two of them over a mean below the 0.1 mm vision
+    step (0.05, 0.099; §8.1); none of the centroid's."""
+    rec = pd.concat([_records({"heuristic": (5, 5)}).assign(
+        deformation_mean_mm=[0.05, 0.0, 0.2, np.nan, 0.099]), _records({"centroid": (1, 1)})])
+    acc = hardware.force_accuracy(hardware.derive(rec.assign(contact_point_error_mm=1.0))).set_index("scope")
+    assert acc["n_deformation_err"].to_dict() == {"all": 4, "heuristic": 3, "centroid": 1}
+    assert acc["n_deformation_below_quantum"].to_dict() == {"all": 2, "heuristic": 2, "centroid": 0}
+
+
 def test_three_pairs_get_a_parity_fit():
     """Three (predicted, measured) pairs (1, 2), (2, 3), (3, 7): the slope through the origin is
     sum(xy) / sum(x^2) = (2 + 6 + 21) / 14 (Eisenhauer 2003)."""

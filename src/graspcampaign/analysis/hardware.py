@@ -18,6 +18,10 @@ from graspcampaign.core.statics import GRAVITY
 CLASSES = {"stable": "stable", "marginal": "success", "partial": "partial", "slip": "failure_slip",
            "drop": "failure_drop", "damage": "failure_damage", "contact_loss": "failure_contact_loss"}
 """Short name -> primary outcome class (§8.1 grading precedence: one class per trial)."""
+VISION_QUANTUM_MM = 0.1
+"""The vision channel's quantisation [mm] (§8.1): a recorded mean deformation below it is within one step
+of zero, a near-zero denominator of ``deformation_err_pct`` (`docs/decisions.md`,
+*The deformation errors over a recorded mean below 0.1 mm are kept, counted and drawn apart*)."""
 VIRTUAL_ONLY = ("mu_s_actual", "valid_geometry", "success_unbounded")
 """Record columns only the virtual rig knows (missing values on an ingested run)."""
 
@@ -68,12 +72,11 @@ def deformation_pred_read(df: pd.DataFrame) -> pd.Series:
 def derive(records: pd.DataFrame) -> pd.DataFrame:
     """Return the executed trials with the columns every Tests 2-3 table reads.
 
-    ``is_<class>``, ``natural`` (success at natural friction), ``force_err_pct``, ``deformation_err_pct``
-    (against :func:`deformation_pred_read`), ``g_geo_gap``/``mu_s_gap`` (believed - actual),
-    ``gate_removed`` (a success only without the δ ≤ r gate), ``match_key``; Test 3: ``threshold``/
-    ``threshold_pred`` (uncensored ramps; N·m in block C), ``threshold_err_pct``, ``lat_threshold_n``/
-    ``_err_pct`` (block A), ``payload_pct_w`` (block B down), ``headline`` (Table 8: A, C threshold, B
-    payload, D, E peak slip [mm]), ``first_finger_correct``.
+    ``is_<class>``, ``natural`` (success at natural friction), ``force_err_pct``, ``deformation_err_pct``,
+    ``g_geo_gap``/``mu_s_gap`` (believed - actual), ``gate_removed`` (a success only without the δ ≤ r
+    gate), ``match_key``; Test 3: ``threshold``/``threshold_pred`` (uncensored ramps; N·m in block C),
+    ``threshold_err_pct``, ``lat_threshold_n``/``_err_pct`` (block A), ``payload_pct_w`` (block B down),
+    ``headline`` (Table 8: A, C threshold, B payload, D, E peak slip [mm]), ``first_finger_correct``.
     """
     df = executed(records)
     df = df.assign(**{c: np.nan for c in VIRTUAL_ONLY if c not in df})
@@ -144,12 +147,15 @@ def parity_by(df: pd.DataFrame, by: str, measured: str, predicted: str) -> pd.Da
 
 def force_accuracy(df: pd.DataFrame) -> pd.DataFrame:
     """Return per scope (all, each planner) the normal-force parity and median errors (§8.3, Fig. 29), each
-    median with its count ``n_<things>`` (a trial may lack a deformation or a contact point)."""
+    median with its count ``n_<things>`` (a trial may lack a deformation or a contact point), and the
+    count ``n_deformation_below_quantum`` of errors over a recorded mean below :data:`VISION_QUANTUM_MM`."""
     df = df.dropna(subset=["normal_force_mean_n", "normal_force_pred_mean_n"])
     long = scoped(df, {"all": df["planner"].notna(), **{p: df["planner"] == p for p in
                                                         ordered("planner", df["planner"])}})
     g = long.groupby("scope", sort=False)[["force_err_pct", "deformation_err_pct", "contact_point_error_mm"]]
     errors = g.median().join(g.count().rename(columns=lambda c: f"n_{things(c)}")).reset_index()
+    low = long["deformation_err_pct"].notna() & (long["deformation_mean_mm"] < VISION_QUANTUM_MM)
+    errors["n_deformation_below_quantum"] = low.groupby(long["scope"], sort=False).sum().to_numpy()
     return parity_by(long, "scope", "normal_force_mean_n", "normal_force_pred_mean_n").merge(errors)
 
 
