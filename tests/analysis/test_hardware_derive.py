@@ -80,6 +80,32 @@ def test_a_zero_measurement_has_no_percentage_error():
     assert acc.loc["all", "force_err_pct"] == pytest.approx(20.0)
 
 
+def test_a_deformation_error_compares_the_fingers_that_were_read():
+    """A buried finger has no deformation reading: the measured mean is over fingers 1-2 (1.0, 1.2:
+    1.1 mm), so the prediction is too (1.0, 1.0: 1.0 mm), |1.0 - 1.1| / 1.1 = 100/11 %, not the
+    three-finger 2.0 mm's 900/11 % (at paper scale all 32 Test 2 errors above 1000 % were such
+    trials). Three readings: 1.2 against 1.0, 20 %; none read beside a recorded mean (a measured file
+    may give only the mean): the recorded prediction, 0.6 against 0.5, 20 %."""
+    rec = _records({"heuristic": (3, 3)}).assign(
+        deformation_1_mm=[1.0, 1.0, np.nan], deformation_2_mm=[1.2, 1.0, np.nan],
+        deformation_3_mm=[np.nan, 1.0, np.nan], deformation_mean_mm=[1.1, 1.0, 0.5],
+        deformation_pred_1_mm=[1.0, 1.2, 0.6], deformation_pred_2_mm=[1.0, 1.2, 0.6],
+        deformation_pred_3_mm=[4.0, 1.2, 0.6], deformation_pred_mean_mm=[2.0, 1.2, 0.6])
+    got = hardware.derive(rec)["deformation_err_pct"]
+    assert got.tolist() == pytest.approx([100 / 11, 20.0, 20.0])
+
+
+def test_the_deformation_errors_over_a_sub_quantum_measurement_are_counted_per_scope():
+    """Measured means 0.05, 0, 0.2, missing and 0.099 mm against 1 mm predicted (heuristic), 1 mm
+    (centroid): three heuristic errors (0 mm has none), two of them over a mean below the 0.1 mm vision
+    step (0.05, 0.099; §8.1); none of the centroid's."""
+    rec = pd.concat([_records({"heuristic": (5, 5)}).assign(
+        deformation_mean_mm=[0.05, 0.0, 0.2, np.nan, 0.099]), _records({"centroid": (1, 1)})])
+    acc = hardware.force_accuracy(hardware.derive(rec.assign(contact_point_error_mm=1.0))).set_index("scope")
+    assert acc["n_deformation_err"].to_dict() == {"all": 4, "heuristic": 3, "centroid": 1}
+    assert acc["n_deformation_below_quantum"].to_dict() == {"all": 2, "heuristic": 2, "centroid": 0}
+
+
 def test_three_pairs_get_a_parity_fit():
     """Three (predicted, measured) pairs (1, 2), (2, 3), (3, 7): the slope through the origin is
     sum(xy) / sum(x^2) = (2 + 6 + 21) / 14 (Eisenhauer 2003)."""

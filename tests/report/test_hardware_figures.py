@@ -85,6 +85,23 @@ def test_virtual_rig_figures_are_not_labelled_measured(sim_root, study):
     assert any("virtual-rig" in t for t in texts)
 
 
+def test_fig29c_marks_the_errors_over_a_measured_deformation_below_the_vision_step(sim_root):
+    """Fig. 29c's tail ran to 10^4 % with nothing saying why: the trials whose recorded mean deformation
+    (the error's denominator) lies above 0 but below the 0.1 mm vision quantisation (§8.1), counted here
+    from the records, are drawn dark over the histogram, one bar height per trial, and the legend gives n."""
+    from matplotlib.colors import to_hex
+
+    from graspcampaign.report import style
+
+    run, fig = _drawn(sim_root, "test2_grasp", "fig29_prediction_accuracy")
+    r = run.records[(run.records["status"] == "ok") & ~run.records["aborted"].astype(bool)]
+    n = int(r["deformation_mean_mm"].between(0.0, 0.1, inclusive="neither").sum())
+    ax = fig.axes[2]
+    dark = [p for p in ax.patches if to_hex(p.get_facecolor()) == to_hex(style.CRITERION)]
+    assert n > 0 and sum(p.get_height() for p in dark) == n
+    assert f"denominator < 0.1 mm, n={n}" in [t.get_text() for t in ax.get_legend().get_texts()]
+
+
 @pytest.mark.parametrize(("study", "name"), [("test2_grasp", "fig30_representative_grasp"),
                                              ("test3_disturbance", "fig35_representative_pull")])
 def test_schematic_slip_axis_has_readable_ticks_and_no_finger_hides_another(sim_root, study, name):

@@ -18,6 +18,10 @@ from graspcampaign.core.statics import GRAVITY
 CLASSES = {"stable": "stable", "marginal": "success", "partial": "partial", "slip": "failure_slip",
            "drop": "failure_drop", "damage": "failure_damage", "contact_loss": "failure_contact_loss"}
 """Short name -> primary outcome class (§8.1 grading precedence: one class per trial)."""
+VISION_QUANTUM_MM = 0.1
+"""The vision channel's quantisation [mm] (§8.1): a recorded mean deformation below it is within one step
+of zero, a near-zero denominator of ``deformation_err_pct`` (`docs/decisions.md`,
+*The deformation errors over a recorded mean below 0.1 mm are kept, counted and drawn apart*)."""
 VIRTUAL_ONLY = ("mu_s_actual", "valid_geometry", "success_unbounded")
 """Record columns only the virtual rig knows (missing values on an ingested run)."""
 
@@ -54,6 +58,17 @@ def pct_error(measured: pd.Series, predicted: pd.Series) -> pd.Series:
     return (100.0 * (p - m).abs() / m.abs()).where(m != 0)
 
 
+def deformation_pred_read(df: pd.DataFrame) -> pd.Series:
+    """Return the predicted trial-mean deformation [mm] over the fingers with a measured reading, as
+    ``deformation_mean_mm`` is (a buried finger has none); ``deformation_pred_mean_mm`` where the
+    records hold no per-finger deformation."""
+    read, pred = ([f"deformation_{p}{j}_mm" for j in (1, 2, 3)] for p in ("", "pred_"))
+    every = df["deformation_pred_mean_mm"].astype(float)
+    if not set(read + pred) <= set(df):
+        return every
+    return df[pred].astype(float).where(df[read].notna().to_numpy()).mean(axis=1).fillna(every)
+
+
 def derive(records: pd.DataFrame) -> pd.DataFrame:
     """Return the executed trials with the columns every Tests 2-3 table reads.
 
@@ -69,7 +84,7 @@ def derive(records: pd.DataFrame) -> pd.DataFrame:
     new = {**{f"is_{k}": df["outcome"] == v for k, v in CLASSES.items()},
            "natural": df["success"].where(df["friction_level"] == "natural"),
            "force_err_pct": pct_error(df["normal_force_mean_n"], df["normal_force_pred_mean_n"]),
-           "deformation_err_pct": pct_error(df["deformation_mean_mm"], df["deformation_pred_mean_mm"]),
+           "deformation_err_pct": pct_error(df["deformation_mean_mm"], deformation_pred_read(df)),
            "g_geo_gap": df["g_geo_believed"].astype(float) - df["g_geo_actual"].astype(float),
            "mu_s_gap": df["mu_s_believed"].astype(float) - df["mu_s_actual"].astype(float),
            "gate_removed": (unbounded & ~df["success"]).where(unbounded.notna()),
@@ -132,12 +147,15 @@ def parity_by(df: pd.DataFrame, by: str, measured: str, predicted: str) -> pd.Da
 
 def force_accuracy(df: pd.DataFrame) -> pd.DataFrame:
     """Return per scope (all, each planner) the normal-force parity and median errors (§8.3, Fig. 29), each
-    median with its count ``n_<things>`` (a trial may lack a deformation or a contact point)."""
+    median with its count ``n_<things>`` (a trial may lack a deformation or a contact point), and the
+    count ``n_deformation_below_quantum`` of errors over a recorded mean below :data:`VISION_QUANTUM_MM`."""
     df = df.dropna(subset=["normal_force_mean_n", "normal_force_pred_mean_n"])
     long = scoped(df, {"all": df["planner"].notna(), **{p: df["planner"] == p for p in
                                                         ordered("planner", df["planner"])}})
     g = long.groupby("scope", sort=False)[["force_err_pct", "deformation_err_pct", "contact_point_error_mm"]]
     errors = g.median().join(g.count().rename(columns=lambda c: f"n_{things(c)}")).reset_index()
+    low = long["deformation_err_pct"].notna() & (long["deformation_mean_mm"] < VISION_QUANTUM_MM)
+    errors["n_deformation_below_quantum"] = low.groupby(long["scope"], sort=False).sum().to_numpy()
     return parity_by(long, "scope", "normal_force_mean_n", "normal_force_pred_mean_n").merge(errors)
 
 
