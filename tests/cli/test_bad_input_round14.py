@@ -1,0 +1,45 @@
+"""Bad input, round 14: a new researcher's first hour. A study file that says where its runs go
+(``output.root``), a run renamed after another study, Ctrl-C outside a run. Each refusal: exit 2,
+one sentence naming what is wrong, where, and what to write, nothing stored changed (``refused``)."""
+
+from __future__ import annotations
+
+import json
+
+from cli_checks import invoke, mesh_study, refused
+
+import graspcampaign as gc
+
+#: a one-trial mesh study (sphere, 144 nodes) run in this process
+ONE = "seed: 0\nseeds: 1\nfactors: {shape: [sphere], nodes: [144]}\nrunner: {backend: sequential}\n"
+
+
+def test_status_and_report_find_the_run_where_its_study_file_stores_it(tmp_path, user_dir, monkeypatch):
+    # the study file's output.run was read and its output.root was not: status and report looked
+    # under results/ and said "run `graspcampaign run mine` first", which had just been done
+    monkeypatch.chdir(tmp_path)
+    mesh_study(user_dir, ONE + "output: {root: elsewhere, run: r1}\n")
+    assert invoke("run", "mine").exit_code == 0
+    status = invoke("status", "mine", "--json")
+    assert status.exit_code == 0, status.output
+    assert json.loads(status.stdout)["path"] == "elsewhere/mine/r1"
+    report = invoke("report", "mine")
+    assert report.exit_code == 0, report.output
+    assert report.stdout.splitlines()[0] == "report: elsewhere/mine/r1/report/report.md"
+    assert gc.load_records("mine")["status"].tolist() == ["ok"]
+    # --root still names another root, and the command said to make a run missing there makes it
+    # there (`graspcampaign run mine` stores it under the file's output.root)
+    refused(tmp_path, ["status", "mine", "--root", "results"],
+            "no run at results/mine/r1; run `graspcampaign run mine --root results` first.")
+    assert not (tmp_path / "results").exists()
+
+
+def test_a_report_of_studies_stored_under_different_roots_asks_for_one(tmp_path, user_dir, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    mesh_study(user_dir, ONE + "output: {root: elsewhere}\n")
+    assert invoke("run", "smoke", "shape=[sphere]", "nodes=[144]", "runner.backend=sequential").exit_code == 0
+    assert invoke("run", "mine").exit_code == 0
+    refused(tmp_path, ["report", "smoke", "mine"],
+            "the studies named are stored under different results roots (their output.root: smoke "
+            "under results, mine under elsewhere), and one report writes one root's index; report "
+            "them one root at a time, with --root.")
