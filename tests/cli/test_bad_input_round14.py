@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 
+import pytest
 from cli_checks import invoke, mesh_study, refused
 
 import graspcampaign as gc
@@ -43,3 +44,25 @@ def test_a_report_of_studies_stored_under_different_roots_asks_for_one(tmp_path,
             "the studies named are stored under different results roots (their output.root: smoke "
             "under results, mine under elsewhere), and one report writes one root's index; report "
             "them one root at a time, with --root.")
+
+
+@pytest.mark.parametrize("command", ["show", "run"])
+def test_a_run_renamed_after_another_study_is_refused_naming_that_study(tmp_path, command):
+    # baseline_grid renamed smoke was stored as results/smoke/default, among smoke's runs, and
+    # `report smoke` then read its quasi-static records with smoke's report (exit 1, an item failed)
+    refused(tmp_path, [command, "baseline_grid", "name=smoke", "--root", tmp_path],
+            "override 'name=smoke' names the study smoke (campaigns/smoke.yaml): runs are stored "
+            "and reported by their study's name, so this run of baseline_grid would be taken for "
+            "one of smoke's; give a name no study has (graspcampaign list shows them).")
+
+
+def test_a_run_renamed_after_a_study_of_ones_own_is_refused_and_a_new_name_runs(tmp_path, user_dir):
+    mesh_study(user_dir, ONE)
+    refused(tmp_path, ["show", "smoke", "name=mine", "--root", tmp_path],
+            f"override 'name=mine' names the study mine ({user_dir / 'mine.yaml'}): runs are stored "
+            "and reported by their study's name, so this run of smoke would be taken for one of "
+            "mine's; give a name no study has (graspcampaign list shows them).")
+    # a name of its own, or the study's own name, is taken
+    for name in ("smoke_again", "smoke"):
+        assert invoke("show", "smoke", f"name={name}", "--root", tmp_path).exit_code == 0
+    assert invoke("show", "mine", "name=mine", "--root", tmp_path).exit_code == 0
