@@ -7,7 +7,7 @@ from __future__ import annotations
 import json
 
 import pytest
-from cli_checks import invoke, mesh_study, refused
+from cli_checks import SMOKE, invoke, mesh_study, refused, snapshot
 
 import graspcampaign as gc
 
@@ -66,3 +66,36 @@ def test_a_run_renamed_after_a_study_of_ones_own_is_refused_and_a_new_name_runs(
     for name in ("smoke_again", "smoke"):
         assert invoke("show", "smoke", f"name={name}", "--root", tmp_path).exit_code == 0
     assert invoke("show", "mine", "name=mine", "--root", tmp_path).exit_code == 0
+
+
+def _interrupt(*args, **kwargs):
+    raise KeyboardInterrupt
+
+
+@pytest.mark.parametrize("command", [["report", "smoke"], ["run", "smoke", "--report"]])
+def test_ctrl_c_while_reports_are_written_says_what_it_leaves(results, monkeypatch, command):
+    # it exited 130 saying nothing: Typer turns a KeyboardInterrupt into a silent exit 130, so the
+    # "interrupted" of main() was never printed
+    from graspcampaign.report import build
+
+    before = _pages(results)
+    monkeypatch.setattr(build, "report_run", _interrupt)
+    result = invoke(*command, *(SMOKE if command[0] == "run" else []), "--root", results)
+    assert result.exit_code == 130
+    assert result.stderr == ("interrupted: each report file written so far is whole (written in "
+                             "full, then put in place) and the rest are not written; run the "
+                             "command again to write them.\n")
+    assert _pages(results) == before  # (`run` adds its session to the run's manifest)
+
+
+def _pages(root):
+    """What a report writes under ``root``: each run's report/ and the root's pages."""
+    return {k: v for k, v in snapshot(root).items() if "/report" in k or "/" not in k}
+
+
+def test_ctrl_c_in_any_other_command_is_said(results, monkeypatch):
+    from graspcampaign.campaign import status
+
+    monkeypatch.setattr(status, "run_status", _interrupt)
+    result = invoke("status", "smoke", "--root", results)
+    assert (result.exit_code, result.stderr, result.stdout) == (130, "interrupted (Ctrl-C).\n", "")

@@ -140,9 +140,7 @@ def run_cmd(
         _interrupted(cfg, path, study, overrides, run, root)
     _echo_summary(summary)
     if report:
-        from graspcampaign.report.build import build_reports
-
-        _report_paths(build_reports([cfg.name], run=summary.run, root=cfg.output.root))
+        _report_paths(_reports([cfg.name], run=summary.run, root=cfg.output.root))
     if summary.n_error:
         raise typer.Exit(1)
 
@@ -166,7 +164,6 @@ def reproduce(
 
     from graspcampaign.campaign.paths import stored_root
     from graspcampaign.campaign.runner import run_path, run_study
-    from graspcampaign.report.build import build_reports
 
     check_root(root, write=True)
     if times is not None:  # checked before the first study runs, not after it
@@ -195,7 +192,7 @@ def reproduce(
             raise typer.Exit(1)
         timed(name, start)
     start = time.perf_counter()
-    batch = build_reports(None, root=root or stored_root([]), n_jobs=1 if state["debug"] else -1)
+    batch = _reports(None, root=root or stored_root([]), n_jobs=1 if state["debug"] else -1)
     timed("report", start)
     _report_paths(batch)
 
@@ -258,7 +255,6 @@ def report(
     from graspcampaign.campaign.schema import WORKERS_PER_CORE, most_workers
     from graspcampaign.campaign.status import check_known
     from graspcampaign.campaign.studyfile import check_name, configured_output
-    from graspcampaign.report.build import build_reports
 
     root = stored_root(studies or []) if root is None else root
     if run is not None:
@@ -275,8 +271,22 @@ def report(
              f"({counted(cores, 'core')}); give at most {most}, or -1 for one per core.")
     # one batch: every named study and run is checked before any report is written
     runs = {s: configured_output(s, "run") if run is None else run for s in studies} if studies else run
-    _report_paths(build_reports(studies or None, run=runs, root=root, formats=fmt.split(","),
+    _report_paths(_reports(studies or None, run=runs, root=root, formats=fmt.split(","),
                                 figure_format=figure_format, n_jobs=1 if state["debug"] else jobs))
+
+
+def _reports(*args, **kwargs):
+    """``report.build.build_reports(*args, **kwargs)``; a Ctrl-C said as what it leaves, exit 130
+    (every file of a report is written whole, then put in place: ``paths.write_file``)."""
+    from graspcampaign.report.build import build_reports
+
+    try:
+        return build_reports(*args, **kwargs)
+    except KeyboardInterrupt:
+        typer.echo("interrupted: each report file written so far is whole (written in full, then put "
+                   "in place) and the rest are not written; run the command again to write them.",
+                   err=True)
+        raise typer.Exit(130) from None
 
 
 def _report_paths(batch) -> None:
