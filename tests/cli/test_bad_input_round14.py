@@ -99,3 +99,12 @@ def test_ctrl_c_in_any_other_command_is_said(results, monkeypatch):
     monkeypatch.setattr(status, "run_status", _interrupt)
     result = invoke("status", "smoke", "--root", results)
     assert (result.exit_code, result.stderr, result.stdout) == (130, "interrupted (Ctrl-C).\n", "")
+
+
+@pytest.mark.parametrize("name", ["étude", "mesh_ü"])
+def test_a_name_with_a_letter_beyond_ascii_is_told_the_letters_are_ascii(tmp_path, name):
+    # "use letters, digits, ..." refused é, which is a letter, without saying which letters it meant
+    refused(tmp_path, ["show", "smoke", "--run", name, "--root", tmp_path],
+            f"--run = {name!r} is not allowed; use ASCII letters (a-z, A-Z), digits, '.', '_' and "
+            "'-' (starting with a letter or digit, at most 100), so the run stays inside the "
+            "results directory.")

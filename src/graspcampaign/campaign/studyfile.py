@@ -443,9 +443,9 @@ def check_name(value: Any, key: str) -> str:
         raise ConfigError(f"{key} = {value!r} is not a name: give it as text (a str).", key=key)
     text = value
     if not _RUN_NAME.fullmatch(text):
-        raise ConfigError(f"{key} = {text!r} is not allowed; use letters, digits, '.', '_' and '-' "
-                          "(starting with a letter or digit, at most 100), so the run stays "
-                          "inside the results directory.", key=key)
+        raise ConfigError(f"{key} = {text!r} is not allowed; use ASCII letters (a-z, A-Z), digits, "
+                          "'.', '_' and '-' (starting with a letter or digit, at most 100), so the "
+                          "run stays inside the results directory.", key=key)
     return text
 
 
