@@ -108,3 +108,18 @@ def test_a_name_with_a_letter_beyond_ascii_is_told_the_letters_are_ascii(tmp_pat
             f"--run = {name!r} is not allowed; use ASCII letters (a-z, A-Z), digits, '.', '_' and "
             "'-' (starting with a letter or digit, at most 100), so the run stays inside the "
             "results directory.")
+
+
+@pytest.mark.parametrize(("zipped", "said"), [
+    # an empty group and a group of one were taken ("zipped: " with nothing after it)
+    ("[[]]", "zip[0] names no factor; a zip group advances two or more factors together, level "
+     "by level (e.g. zip: [[shape, nodes]]), or leave zip out."),
+    ("[[shape]]", "zip[0] names only shape; a zip group advances two or more factors together, "
+     "level by level (e.g. zip: [[shape, nodes]]), or leave zip out."),
+    # a factor named twice in one group was said to be "already zipped"
+    ("[[shape, nodes, shape]]", "zip[0] names shape twice; give each factor once."),
+])
+def test_a_zip_group_of_fewer_than_two_factors_is_refused(tmp_path, user_dir, zipped, said):
+    path = mesh_study(user_dir, "seed: 0\nseeds: 1\nfactors: {shape: [sphere, pear], nodes: [144, 390]}\n"
+                                f"zip: {zipped}\n")
+    refused(tmp_path, ["show", "mine", "--root", tmp_path], f"{path}, line 8: {said}")
