@@ -1,13 +1,16 @@
 """Bad input, round 14: a new researcher's first hour. A study file that says where its runs go
-(``output.root``), a run renamed after another study, Ctrl-C outside a run. Each refusal: exit 2,
-one sentence naming what is wrong, where, and what to write, nothing stored changed (``refused``)."""
+(``output.root``), a run renamed after another study, a study compared with (or hiding) one of
+another trial kind, a zip group of one factor, a name of non-ASCII letters, Ctrl-C outside a run.
+Each refusal: exit 2, one sentence naming what is wrong, where, and what to write, nothing stored
+changed (``refused``)."""
 
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import pytest
-from cli_checks import SMOKE, invoke, mesh_study, refused, snapshot
+from cli_checks import HEADER, SMOKE, invoke, mesh_study, refused, snapshot
 
 import graspcampaign as gc
 
@@ -123,3 +126,31 @@ def test_a_zip_group_of_fewer_than_two_factors_is_refused(tmp_path, user_dir, zi
     path = mesh_study(user_dir, "seed: 0\nseeds: 1\nfactors: {shape: [sphere, pear], nodes: [144, 390]}\n"
                                 f"zip: {zipped}\n")
     refused(tmp_path, ["show", "mine", "--root", tmp_path], f"{path}, line 8: {said}")
+
+
+def test_comparing_with_a_study_of_another_trial_kind_is_refused(tmp_path, user_dir):
+    # a quasi-static study compared with smoke was reported with smoke's report: its mesh tables
+    # empty (no such columns) and "sharp vertices on the sphere: 0, matches as printed" of a run
+    # that built no mesh feature at all
+    path = user_dir / "mine.yaml"
+    path.write_text(HEADER + "name: mine\nkind: quasi_static\ncompare_with: smoke\nseed: 0\nseeds: 1\n"
+                    "factors: {shape: [sphere], mass_kg: [0.4], mu: [0.3], planner: [heuristic]}\n"
+                    "paper: {sphere_sharp_vertices: 0, sphere_sharp_edges: 0}\n")
+    refused(tmp_path, ["run", "mine", "--root", tmp_path],
+            f"{path}, line 5: compare_with = smoke is a study of trial kind mesh_features, and this "
+            "study's kind is quasi_static: it would be reported with smoke's report, which reads "
+            "mesh_features records; compare with a study of kind quasi_static (ablation, "
+            "baseline_grid, shapes) or leave compare_with out.")
+
+
+def test_a_file_hiding_a_tool_study_of_another_kind_is_refused(tmp_path, user_dir):
+    # with baseline_grid's paper block copied (as the message of a missing block advises) a
+    # mesh_features file named baseline_grid ran, to be reported with baseline_grid's report
+    paper = (Path(__file__).parents[2] / "campaigns" / "baseline_grid.yaml").read_text().split("paper:")[1]
+    path = user_dir / "baseline_grid.yaml"
+    path.write_text(HEADER + "name: baseline_grid\nkind: mesh_features\n" + ONE + "paper:" + paper)
+    refused(tmp_path, ["show", "baseline_grid", "--root", tmp_path],
+            f"{path}: this file takes the name of the tool's study baseline_grid "
+            "(campaigns/baseline_grid.yaml), of trial kind quasi_static, which it hides, and its kind "
+            "is mesh_features: it would be reported with baseline_grid's report, which reads "
+            "quasi_static records; give your study a name of its own.")
