@@ -154,3 +154,22 @@ def test_a_file_hiding_a_tool_study_of_another_kind_is_refused(tmp_path, user_di
             "(campaigns/baseline_grid.yaml), of trial kind quasi_static, which it hides, and its kind "
             "is mesh_features: it would be reported with baseline_grid's report, which reads "
             "quasi_static records; give your study a name of its own.")
+
+
+@pytest.mark.parametrize("command", ["show", "run"])
+def test_an_empty_output_root_in_a_study_file_is_refused_with_its_line(tmp_path, user_dir, monkeypatch,
+                                                                      command):
+    # show took it (the run "at mine/r1" in the current directory); run refused it without the file
+    monkeypatch.chdir(tmp_path)
+    path = mesh_study(user_dir, ONE + "output: {root: '', run: r1}\n")
+    refused(tmp_path, [command, "mine"],
+            f"{path}, line 9: output.root is empty; give the results directory (for example "
+            "results): an empty root would mean the current directory.")
+
+
+def test_show_refuses_an_output_root_run_refuses(tmp_path):
+    # a file, or a run's directory, given as output.root: show printed a run under it
+    (tmp_path / "notes.txt").write_text("mine")
+    for command in ("show", "run"):
+        refused(tmp_path, [command, "smoke", f"output.root={tmp_path / 'notes.txt'}"],
+                f"output.root {tmp_path / 'notes.txt'}: is a file, not a directory.")

@@ -33,7 +33,7 @@ from graspcampaign.campaign.override import (  # noqa: F401  (omegaconf_error_se
     rewrite,
     split,
 )
-from graspcampaign.campaign.paths import config_root
+from graspcampaign.campaign.paths import check_root, config_root
 from graspcampaign.campaign.schema import SCHEMAS, StudyCfg, check_config, check_study
 from graspcampaign.campaign.studycheck import (
     check_conf,
@@ -148,6 +148,7 @@ def compose_study(study: str, overrides: list[str] | None = None) -> StudyCfg:
             raise _blamed(ConfigError(sentence, key=_error_key(exc)), path, overrides) from None
     try:
         obj.output.root = config_root(obj.output.root)  # read once, for every reader of the config
+        _check_output_root(obj.output.root)
         check_study(obj)
     except ConfigError as exc:
         raise _blamed(exc, path, overrides) from None
@@ -162,6 +163,16 @@ def compose_study(study: str, overrides: list[str] | None = None) -> StudyCfg:
         _COMPOSED.pop(next(iter(_COMPOSED)))
     _COMPOSED[key] = copy.deepcopy(obj)
     return obj
+
+
+def _check_output_root(root: str) -> None:
+    """Refuse an ``output.root`` that `run` refuses (empty, a file, a run's or a study's place;
+    ``paths.check_root``) when composed, so that `show` refuses it too, and each names the file
+    and line or the override that sets it (whether it can be written is `run`'s to check)."""
+    try:
+        check_root(root, "output.root")
+    except UserInputError as exc:
+        raise ConfigError(str(exc), key="output.root") from None
 
 
 def _check_renamed(name: str, written: Any, path: Path, campaigns_dir: Path, given: list[str]) -> None:
