@@ -173,3 +173,11 @@ def test_show_refuses_an_output_root_run_refuses(tmp_path):
     for command in ("show", "run"):
         refused(tmp_path, [command, "smoke", f"output.root={tmp_path / 'notes.txt'}"],
                 f"output.root {tmp_path / 'notes.txt'}: is a file, not a directory.")
+
+
+def test_an_alias_of_no_anchor_is_named_as_one(tmp_path, user_dir):
+    # *nope (no &nope anywhere) was said to repeat "a value given elsewhere"
+    path = mesh_study(user_dir, "seed: 0\nseeds: 1\nfactors: {shape: *nope, nodes: [144]}\n")
+    refused(tmp_path, ["show", "mine", "--root", tmp_path],
+            f"{path}, line 7: the alias *nope names no anchor (&nope) before it, and aliases are "
+            "not read (expanded, a few can make billions of values); write the value out.")

@@ -328,10 +328,12 @@ def _loader() -> type:
                                 "the setting", index.start_mark)
             if self.check_event(yaml.events.AliasEvent):
                 event = self.peek_event()
+                said = ("repeats a value given elsewhere" if event.anchor in self.anchors
+                        else f"names no anchor (&{event.anchor}) before it")
                 raise yaml.composer.ComposerError(
-                    None, None, f"the alias *{event.anchor} repeats a value given elsewhere, and "
-                                "aliases are not read (expanded, a few can make billions of "
-                                "values); write the value out", event.start_mark)
+                    None, None, f"the alias *{event.anchor} {said}, and aliases are not read "
+                                "(expanded, a few can make billions of values); write the value "
+                                "out", event.start_mark)
             self.key_path = [*getattr(self, "key_path", []), _key_part(parent, index)]
             node = super().compose_node(parent, index)
             if (misread := _misread(self, node)) is not None:
