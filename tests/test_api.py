@@ -39,7 +39,7 @@ def test_bad_input_raises_the_command_line_sentence(tmp_path):
                                              r"studies: ablation, baseline_grid, "):
         gc.load_records("nosuch", root=tmp_path)
     # the API's argument names, not the command line's options
-    with pytest.raises(UserInputError, match=r"^run = '\.\./x' is not allowed; use letters, "):
+    with pytest.raises(UserInputError, match=r"^run = '\.\./x' is not allowed; use ASCII letters "):
         gc.load_records("smoke", "../x", root=tmp_path)
     with pytest.raises(UserInputError, match=rf"^root {tmp_path}/f: is a file, not a directory\.$"):
         (tmp_path / "f").write_text("")

@@ -24,7 +24,7 @@ from graspcampaign.campaign.runner import RunSummary, run_study
 __all__ = ["compose_study", "run_study", "load_records", "RunSummary"]
 
 
-def load_records(study: str, run: str | None = None, *, root: str | Path = "results",
+def load_records(study: str, run: str | None = None, *, root: str | Path | None = None,
                  dataset: bool = False) -> Any:
     """Return the records of a run: one row per trial, every column with its unit in its name.
 
@@ -34,8 +34,9 @@ def load_records(study: str, run: str | None = None, *, root: str | Path = "resu
         Study name (a directory under ``root``).
     run : str, optional
         Run name; default the study's configured run (``output.run``, normally ``default``).
-    root : str or path
-        Results root (``output.root``).
+    root : str or path, optional
+        Results root; default the study's configured root (``output.root``, normally
+        ``results``).
     dataset : bool
         Return a :class:`pyarrow.dataset.Dataset` instead of a DataFrame: nothing is read until
         asked, and filters and column selections are pushed down to the files (runs of millions
@@ -54,8 +55,10 @@ def load_records(study: str, run: str | None = None, *, root: str | Path = "resu
         No such run, a run name leaving ``root``, or a run whose stored files are not what its
         manifest says (``DamagedRunError``: a damaged file, a duplicate or foreign shard).
     """
+    from graspcampaign.campaign.paths import stored_root
     from graspcampaign.campaign.status import open_run
-    from graspcampaign.campaign.studyfile import configured_run
+    from graspcampaign.campaign.studyfile import configured_output
 
-    store, _ = open_run(root, study, configured_run(study) if run is None else run, "")
+    root = stored_root([study]) if root is None else root
+    store, _ = open_run(root, study, configured_output(study, "run") if run is None else run, "")
     return store.dataset() if dataset else store.read().to_pandas()

@@ -125,8 +125,9 @@ STUDY_VALUES = {
                       "force resolution, and a three-finger hand lifts at most ~10 kg)."),
     "run_escaping_results": ("output:\n  run: ../../elsewhere\n",
                              "{path}, line 9: output.run = '../../elsewhere' is not allowed; use "
-                             "letters, digits, '.', '_' and '-' (starting with a letter or digit, "
-                             "at most 100), so the run stays inside the results directory."),
+                             "ASCII letters (a-z, A-Z), digits, '.', '_' and '-' (starting with a "
+                             "letter or digit, at most 100), so the run stays inside the results "
+                             "directory."),
     # OmegaConf's 'KeyError raised while resolving interpolation: "Environment variable ..."'
     "unset_environment_variable": ("description: ${oc.env:GRASPCAMPAIGN_NO_SUCH_VARIABLE}\n",
                                    "{path}, line 8: description = "
@@ -135,9 +136,9 @@ STUDY_VALUES = {
                                    "(set it, or give a default: "
                                    "${{oc.env:GRASPCAMPAIGN_NO_SUCH_VARIABLE,VALUE}})."),
     "name_escaping_results": ("name: ../mine\n",
-                              "{path}, line 7: name = '../mine' is not allowed; use letters, "
-                              "digits, '.', '_' and '-' (starting with a letter or digit, at most "
-                              "100), so the run stays inside the results directory."),
+                              "{path}, line 7: name = '../mine' is not allowed; use ASCII letters "
+                              "(a-z, A-Z), digits, '.', '_' and '-' (starting with a letter or "
+                              "digit, at most 100), so the run stays inside the results directory."),
 }
 
 
@@ -214,8 +215,8 @@ def test_unknown_keys_added_with_plus_and_unknown_options(results, override):
         refused(results, [command, "smoke", override, "--root", results], PLUS[override])
 
 
-RUN_NAME = ("is not allowed; use letters, digits, '.', '_' and '-' (starting with a letter or "
-            "digit, at most 100), so the run stays inside the results directory.")
+RUN_NAME = ("is not allowed; use ASCII letters (a-z, A-Z), digits, '.', '_' and '-' (starting "
+            "with a letter or digit, at most 100), so the run stays inside the results directory.")
 
 
 @pytest.mark.parametrize("name", ["../../elsewhere", "a/b", "..", ".hidden", "/abs"])

@@ -19,8 +19,8 @@ import pyarrow.parquet as pq
 import pytest
 from cli_checks import SMOKE, grid_run, invoke, refused, snapshot
 
-RUN_NAME = ("is not allowed; use letters, digits, '.', '_' and '-' (starting with a letter or "
-            "digit, at most 100), so the run stays inside the results directory.")
+RUN_NAME = ("is not allowed; use ASCII letters (a-z, A-Z), digits, '.', '_' and '-' (starting "
+            "with a letter or digit, at most 100), so the run stays inside the results directory.")
 EMPTY_ROOT = ("is empty; give the results directory (for example results): an empty root would "
               "mean the current directory.")
 

@@ -35,7 +35,7 @@ from graspcampaign.campaign.override import (  # noqa: F401  (omegaconf_error_se
     rewrite,
     split,
 )
-from graspcampaign.campaign.paths import config_root
+from graspcampaign.campaign.paths import check_root, config_root
 from graspcampaign.campaign.schema import SCHEMAS, StudyCfg, check_config, check_study
 from graspcampaign.campaign.studycheck import (
     check_conf,
@@ -54,6 +54,7 @@ from graspcampaign.campaign.studyfile import (  # noqa: F401  (project_dirs, lis
     project_dirs,
     read_yaml,
     schema_of,
+    study_files,
 )
 from graspcampaign.campaign.written import file_nodes, in_file, line_of
 from graspcampaign.errors import ConfigError, UserInputError
@@ -150,6 +151,7 @@ def compose_study(study: str, overrides: list[str] | None = None) -> StudyCfg:
             raise _blamed(ConfigError(sentence, key=_error_key(exc)), path, overrides) from None
     try:
         obj.output.root = config_root(obj.output.root)  # read once, for every reader of the config
+        _check_output_root(obj.output.root)
         check_study(obj)
     except ConfigError as exc:
         raise _blamed(exc, path, overrides) from None
@@ -157,12 +159,39 @@ def compose_study(study: str, overrides: list[str] | None = None) -> StudyCfg:
         check_kind(obj)
     except ConfigError as exc:  # about the kind as much as its factors or params
         raise _blamed(exc, path, overrides, also=("kind",)) from None
+    _check_renamed(obj.name, data.get("name"), path, campaigns_dir, given)
     check_paper_block(obj, data.get("name"), path, campaigns_dir,
                       [o for o in given if split(o)[1].split(".")[0] == "paper"])
     if len(_COMPOSED) >= _COMPOSED_MAX:
         _COMPOSED.pop(next(iter(_COMPOSED)))
     _COMPOSED[key] = copy.deepcopy(obj)
     return obj
+
+
+def _check_output_root(root: str) -> None:
+    """Refuse an ``output.root`` that `run` refuses (empty, a file, a run's or a study's place;
+    ``paths.check_root``) when composed, so that `show` refuses it too, and each names the file
+    and line or the override that sets it (whether it can be written is `run`'s to check)."""
+    try:
+        check_root(root, "output.root")
+    except UserInputError as exc:
+        raise ConfigError(str(exc), key="output.root") from None
+
+
+def _check_renamed(name: str, written: Any, path: Path, campaigns_dir: Path, given: list[str]) -> None:
+    """Refuse a study renamed on the command line (``name=...``) after another study on the search
+    path: runs are stored (``<root>/<name>/``) and reported (``report/studies/``, by name) by their
+    study's name, so its runs would be taken for that study's (docs/decisions.md, "A study's
+    name")."""
+    other = study_files().get(name) if name != written else None
+    if other is None or other.resolve() == path.resolve():
+        return
+    typed = next((o for o in given if split(o)[1] == "name"), f"name={name}")
+    where = f"{campaigns_dir.name}/{other.name}" if other.parent == campaigns_dir else str(other)
+    raise ConfigError(f"override {typed!r} names the study {name} ({where}): runs are stored and "
+                      f"reported by their study's name, so this run of {written} would be taken for "
+                      f"one of {name}'s; give a name no study has (graspcampaign list shows them).",
+                      key="name")
 
 
 def _error_key(exc: BaseException) -> str | None:

@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 
 from graspcampaign.campaign.former_names import FIRST_NAMES
 from graspcampaign.campaign.schema import StudyCfg, design_shape
+from graspcampaign.errors import ConfigError
 
 if TYPE_CHECKING:
     import numpy as np
@@ -65,6 +66,38 @@ def stream_key(scene: dict[str, Any]) -> tuple[int, ...]:
     """Derive a ``SeedSequence`` spawn key (four 32-bit words) from a scene's factor values."""
     digest = hashlib.sha256(_canonical(scene).encode()).digest()
     return tuple(int.from_bytes(digest[i : i + 4], "little") for i in range(0, 16, 4))
+
+
+def check_zip(study: StudyCfg) -> None:
+    """Check the zip groups: each names two or more of the factors, each factor once over all
+    groups, and a group's factors have as many levels.
+
+    Raises
+    ------
+    ConfigError
+        For the first group that does not, naming it (``zip[i]``).
+    """
+    seen: set[str] = set()
+    for i, group in enumerate(study.zip):
+        key = f"zip[{i}]"
+        if len(group) < 2:  # a group of one zips nothing to it
+            named = f"only {group[0]}" if group else "no factor"
+            first_two = ", ".join(list(study.factors)[:2]) or "shape, mass_kg"
+            raise ConfigError(f"{key} names {named}; a zip group advances two or more factors "
+                              f"together, level by level (e.g. zip: [[{first_two}]]), or leave "
+                              "zip out.", key=key)
+        for j, name in enumerate(group):
+            if name not in study.factors:
+                raise ConfigError(f"{key} names {name!r}, which is not among the factors.", key=key)
+            if name in group[:j]:
+                raise ConfigError(f"{key} names {name} twice; give each factor once.", key=key)
+            if name in seen:
+                raise ConfigError(f"{key} names {name!r}, which is already zipped.", key=key)
+            seen.add(name)
+        if len({len(study.factors[n]) for n in group}) > 1:
+            raise ConfigError(f"{key} groups factors of different lengths: "
+                              + ", ".join(f"{n} has {len(study.factors[n])}" for n in group) + ".",
+                              key=key)
 
 
 def design_axes(study: StudyCfg) -> list[list[dict[str, Any]]]:

@@ -217,13 +217,13 @@ def how_to_make(root: Path | str, study: str, run: str | None = None,
     run: ``ingest``) and the ``overrides`` a run already started was given (without them `run`
     refuses it as started with another config), followed by ``then`` ("first", or "again to finish
     it" for a run started): one sentence, which no caller cuts to add its own end."""
-    from graspcampaign.campaign.studyfile import configured_run
+    from graspcampaign.campaign.studyfile import configured_output
 
     if run == "measured" and _ingests(study):  # `ingest`'s run: a rig's files make it
-        rooted = root_options(root)
+        rooted = root_options(root, study)
         command = " ".join(["graspcampaign ingest", shlex.quote(study), "FILE…", *map(shlex.quote, rooted)])
         return f"store the rig's measured records with `{command}` {then}."
-    named = None if run in (None, configured_run(study)) else run
+    named = None if run in (None, configured_output(study, "run")) else run
     return f"run `{run_command(study, overrides, named, root)}` {then}."
 
 
@@ -236,7 +236,7 @@ def run_command(study: str, overrides: Sequence[str] = (), run: str | None = Non
     (:func:`root_options`). The one builder of every `run` command a message suggests: a
     damaged run's advice, a missing run's, a Ctrl-C's. An override setting ``output.root`` keeps
     ``--root`` even for the default root, which would otherwise yield to it."""
-    rooted = [] if root is None else root_options(root)
+    rooted = [] if root is None else root_options(root, study)
     if root is not None and not rooted and any(
             item.lstrip("+~").partition("=")[0] == "output.root" for item in overrides):
         rooted = ["--root", str(root)]
@@ -308,10 +308,34 @@ def lock_exclusive(handle: int) -> None:
             time.sleep(0.005)
 
 
-def root_options(root: Path | str) -> list[str]:
-    """The ``--root`` option a suggested command needs to reach ``root`` (none for the default,
-    ``results``); for :func:`shlex.join`, so that a root with a space stays one argument."""
-    return [] if Path(root) == Path("results") else ["--root", str(root)]
+def root_options(root: Path | str, study: str | None = None) -> list[str]:
+    """The ``--root`` option a suggested command of ``study`` needs to reach ``root`` (none for
+    the root it writes to by default, its ``output.root``: :func:`stored_root`); for
+    :func:`shlex.join`, so that a root with a space stays one argument."""
+    return [] if Path(root) == stored_root([] if study is None else [study]) else ["--root", str(root)]
+
+
+def stored_root(studies: Sequence[str]) -> Path:
+    """The results root the named studies are stored under when no ``--root`` is given: their
+    ``output.root`` as their study files set it (read without Hydra; else ``conf/output``'s,
+    ``results``), ``~`` read as the home directory (:func:`config_root`), as `run` stores them.
+
+    Raises
+    ------
+    UserInputError
+        Studies stored under different roots (one report writes one root's index), or a root in
+        the home directory of no user.
+    """
+    from graspcampaign.campaign.studyfile import configured_output
+
+    roots = ({study: configured_output(study, "root") for study in studies}
+             or {"": configured_output(None, "root")})
+    if len(set(roots.values())) > 1:
+        raise UserInputError("the studies named are stored under different results roots (their "
+                             f"output.root: {', '.join(f'{s} under {r}' for s, r in roots.items())}), "
+                             "and one report writes one root's index; report them one root at a "
+                             "time, with --root.")
+    return Path(config_root(next(iter(roots.values()))))
 
 
 def _ingests(study: str) -> bool:

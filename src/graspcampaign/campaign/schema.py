@@ -321,7 +321,7 @@ def check_config(obj: Any, prefix: str = "") -> None:
 
 
 def check_study(study: StudyCfg) -> None:
-    """Check a whole study: group ranges, factor names and levels, zip groups.
+    """Check a whole study: group ranges, factor names and levels, zip groups (``grid.check_zip``).
 
     Raises
     ------
@@ -348,23 +348,9 @@ def check_study(study: StudyCfg) -> None:
                           key="method_factors")
     for name, levels in study.factors.items():
         check_factor(name, levels)
-    seen: set[str] = set()
-    for i, group in enumerate(study.zip):
-        for name in group:
-            if name not in study.factors:
-                raise ConfigError(f"zip[{i}] names {name!r}, which is not among the factors.",
-                                  key=f"zip[{i}]")
-            if name in seen:
-                raise ConfigError(f"zip[{i}] names {name!r}, which is already zipped.",
-                                  key=f"zip[{i}]")
-            seen.add(name)
-        lengths = {len(study.factors[n]) for n in group}
-        if len(lengths) > 1:
-            raise ConfigError(
-                f"zip[{i}] groups factors of different lengths: "
-                + ", ".join(f"{n} has {len(study.factors[n])}" for n in group)
-                + ".", key=f"zip[{i}]"
-            )
+    from graspcampaign.campaign.grid import check_zip  # grid imports this module
+
+    check_zip(study)
     check_design_size(study)
 
 

@@ -360,6 +360,8 @@ def check_paper_block(obj: StudyCfg, written: Any, path: Path, campaigns_dir: Pa
     data = read_yaml(tool) if tool.is_file() else {}
     levels = {f"{group}.{k}": v for group in ("factors", "params")
               for k, v in (data.get(group) or {}).items() if isinstance(v, list)}
+    if data.get("kind") not in (None, obj.kind):  # compared with, or hidden by, the user's file
+        _check_compared_kind(obj, str(data["kind"]), path, campaigns_dir, paper_types())
     try:
         check_paper(like, obj.paper, f"{where}: paper", compare_with=bool(obj.compare_with),
                     levels=levels)
@@ -372,6 +374,29 @@ def check_paper_block(obj: StudyCfg, written: Any, path: Path, campaigns_dir: Pa
             f"({campaigns_dir.name}/{hidden.name}), which it hides, so its runs are reported as "
             f"that study and its paper block must hold that study's values; copy the paper block "
             f"of {campaigns_dir.name}/{hidden.name}, or give your study a name of its own.") from None
+
+
+def _check_compared_kind(obj: StudyCfg, theirs: str, path: Path, campaigns_dir: Path,
+                         studies: dict[str, Any]) -> None:
+    """Refuse a study reported with the report of a study of another trial kind, which reads
+    records of that kind (``report.build.spec_for``: by name, then by ``compare_with``): one that
+    compares with it, or a user's file that takes its name and hides it."""
+    from graspcampaign.campaign.studyfile import read_yaml
+
+    like = obj.compare_with or obj.name
+    reported = (f"it would be reported with {like}'s report, which reads {theirs} records")
+    if not obj.compare_with:
+        raise ConfigError(f"{path}: this file takes the name of the tool's study {like} "
+                          f"({campaigns_dir.name}/{like}.yaml), of trial kind {theirs}, which it "
+                          f"hides, and its kind is {obj.kind}: {reported}; give your study a name of "
+                          "its own.", key="name")
+    same = [name for name in sorted(studies) if (campaigns_dir / f"{name}.yaml").is_file()
+            and read_yaml(campaigns_dir / f"{name}.yaml").get("kind") == obj.kind]
+    instead = (f"compare with a study of kind {obj.kind} ({', '.join(same)}) or leave compare_with "
+               "out" if same else f"no study of the tool's is of kind {obj.kind}: leave compare_with out")
+    raise in_file(path, ConfigError(
+        f"compare_with = {like} is a study of trial kind {theirs}, and this study's kind is "
+        f"{obj.kind}: {reported}; {instead}.", key="compare_with"))
 
 
 # -- the trial kind's needs ------------------------------------------------------------------------

@@ -328,10 +328,12 @@ def _loader() -> type:
                                 "the setting", index.start_mark)
             if self.check_event(yaml.events.AliasEvent):
                 event = self.peek_event()
+                said = ("repeats a value given elsewhere" if event.anchor in self.anchors
+                        else f"names no anchor (&{event.anchor}) before it")
                 raise yaml.composer.ComposerError(
-                    None, None, f"the alias *{event.anchor} repeats a value given elsewhere, and "
-                                "aliases are not read (expanded, a few can make billions of "
-                                "values); write the value out", event.start_mark)
+                    None, None, f"the alias *{event.anchor} {said}, and aliases are not read "
+                                "(expanded, a few can make billions of values); write the value "
+                                "out", event.start_mark)
             self.key_path = [*getattr(self, "key_path", []), _key_part(parent, index)]
             node = super().compose_node(parent, index)
             if (misread := _misread(self, node)) is not None:
@@ -443,9 +445,9 @@ def check_name(value: Any, key: str) -> str:
         raise ConfigError(f"{key} = {value!r} is not a name: give it as text (a str).", key=key)
     text = value
     if not _RUN_NAME.fullmatch(text):
-        raise ConfigError(f"{key} = {text!r} is not allowed; use letters, digits, '.', '_' and '-' "
-                          "(starting with a letter or digit, at most 100), so the run stays "
-                          "inside the results directory.", key=key)
+        raise ConfigError(f"{key} = {text!r} is not allowed; use ASCII letters (a-z, A-Z), digits, "
+                          "'.', '_' and '-' (starting with a letter or digit, at most 100), so the "
+                          "run stays inside the results directory.", key=key)
     return text
 
 
@@ -468,23 +470,24 @@ def run_path(study: Any, run: str | None = None) -> Path:
     return run_dir(study.output.root, study.name, study.output.run, "output.run")
 
 
-def configured_run(study: str) -> str:
-    """Return the run a study writes to by default (``output.run``), read without Hydra.
+def configured_output(study: str | None, key: str = "run") -> str:
+    """Return where a study writes by default, read without Hydra: its ``output.run`` (``key``
+    ``"run"``) or its results root, ``output.root`` (``"root"``, ``~`` not yet read as a home).
 
-    The study file's ``output.run`` if it sets one, else the ``conf/output`` default's, else
-    ``default``; for a name not on the search path (records of a study of another tool version),
-    ``default``.
+    The study file's ``output.<key>`` if it sets one, else the ``conf/output`` default's
+    (``default``, ``results``); for no study, or a name not on the search path (records of a study
+    of another tool version), the ``conf/output`` default's.
     """
     try:
-        data = read_yaml(find_study(study), study=True)
+        data = {} if study is None else read_yaml(find_study(study), study=True)
     except ConfigError:
-        return "default"
+        data = {}
     output = data.get("output")
-    if isinstance(output, dict) and output.get("run"):
-        return str(output["run"])
+    if isinstance(output, dict) and output.get(key):
+        return str(output[key])
     default = project_dirs()[0] / "output" / "default.yaml"
-    run = read_yaml(default).get("run") if default.is_file() else None
-    return str(run or "default")
+    value = read_yaml(default).get(key) if default.is_file() else None
+    return str(value or {"run": "default", "root": "results"}[key])
 
 
 def group_options(group: str) -> tuple[str, ...]:

@@ -187,6 +187,11 @@ def guard(fn):
             return fn(*args, **kwargs)
         except typer.Exit:
             raise
+        except KeyboardInterrupt:  # Typer exits 130 on it in silence; a command says more itself
+            if state["debug"]:
+                traceback.print_exc()
+            typer.echo("interrupted (Ctrl-C).", err=True)
+            raise typer.Exit(130) from None
         except (UserInputError, ValueError) as exc:
             if state["debug"]:
                 traceback.print_exc()

@@ -140,9 +140,7 @@ def run_cmd(
         _interrupted(cfg, path, study, overrides, run, root)
     _echo_summary(summary)
     if report:
-        from graspcampaign.report.build import build_reports
-
-        _report_paths(build_reports([cfg.name], run=summary.run, root=cfg.output.root))
+        _report_paths(_reports([cfg.name], run=summary.run, root=cfg.output.root))
     if summary.n_error:
         raise typer.Exit(1)
 
@@ -164,8 +162,8 @@ def reproduce(
     """
     import time
 
+    from graspcampaign.campaign.paths import stored_root
     from graspcampaign.campaign.runner import run_path, run_study
-    from graspcampaign.report.build import build_reports
 
     check_root(root, write=True)
     if times is not None:  # checked before the first study runs, not after it
@@ -194,7 +192,7 @@ def reproduce(
             raise typer.Exit(1)
         timed(name, start)
     start = time.perf_counter()
-    batch = build_reports(None, root=root or Path("results"), n_jobs=1 if state["debug"] else -1)
+    batch = _reports(None, root=root or stored_root([]), n_jobs=1 if state["debug"] else -1)
     timed("report", start)
     _report_paths(batch)
 
@@ -219,14 +217,15 @@ def status(
     study: Annotated[str, typer.Argument(help="Study name.", show_default=False)],
     run: RunOpt = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
-    root: Annotated[Path, typer.Option(help="Results root.", parser=root_path,
-                                       metavar="path")] = Path("results"),
+    root: RootOpt = None,
 ) -> None:
     """Summarise a run from its records only (never runs anything)."""
+    from graspcampaign.campaign.paths import stored_root
     from graspcampaign.campaign.status import run_status
-    from graspcampaign.campaign.studyfile import configured_run
+    from graspcampaign.campaign.studyfile import configured_output
 
-    info = run_status(root, study, configured_run(study) if run is None else run)
+    root = stored_root([study]) if root is None else root
+    info = run_status(root, study, configured_output(study, "run") if run is None else run)
     if as_json:
         typer.echo(json.dumps(info, indent=2, default=str))
         return
@@ -240,8 +239,9 @@ def report(
     studies: Annotated[list[str] | None, typer.Argument(
         help="Studies (default: every run of every study under the root).")] = None,
     run: RunOpt = None,
-    root: Annotated[Path, typer.Option(help="Results root.", parser=root_path,
-                                       metavar="path")] = Path("results"),
+    root: Annotated[Path | None, typer.Option(
+        help="Results root (default: the studies' output.root, i.e. results).", parser=root_path,
+        metavar="path")] = None,
     fmt: Annotated[str, typer.Option("--format", help="Comma-separated: md,csv,json,html.")] = "md,csv",
     figure_format: Annotated[str, typer.Option("--figure-format", help="png, svg or pdf.")] = "png",
     jobs: Annotated[int, typer.Option(
@@ -251,11 +251,12 @@ def report(
 
     With studies and no `--run`, each study's configured run (its `output.run`) is reported.
     """
+    from graspcampaign.campaign.paths import stored_root
     from graspcampaign.campaign.schema import WORKERS_PER_CORE, most_workers
     from graspcampaign.campaign.status import check_known
-    from graspcampaign.campaign.studyfile import check_name, configured_run
-    from graspcampaign.report.build import build_reports
+    from graspcampaign.campaign.studyfile import check_name, configured_output
 
+    root = stored_root(studies or []) if root is None else root
     if run is not None:
         check_name(run, "--run")
     for study in studies or []:
@@ -269,9 +270,23 @@ def report(
         fail(f"--jobs {jobs}: more than {WORKERS_PER_CORE} processes per core of this machine "
              f"({counted(cores, 'core')}); give at most {most}, or -1 for one per core.")
     # one batch: every named study and run is checked before any report is written
-    runs = {s: configured_run(s) if run is None else run for s in studies} if studies else run
-    _report_paths(build_reports(studies or None, run=runs, root=root, formats=fmt.split(","),
+    runs = {s: configured_output(s, "run") if run is None else run for s in studies} if studies else run
+    _report_paths(_reports(studies or None, run=runs, root=root, formats=fmt.split(","),
                                 figure_format=figure_format, n_jobs=1 if state["debug"] else jobs))
+
+
+def _reports(*args, **kwargs):
+    """``report.build.build_reports(*args, **kwargs)``; a Ctrl-C said as what it leaves, exit 130
+    (every file of a report is written whole, then put in place: ``paths.write_file``)."""
+    from graspcampaign.report.build import build_reports
+
+    try:
+        return build_reports(*args, **kwargs)
+    except KeyboardInterrupt:
+        typer.echo("interrupted: each report file written so far is whole (written in full, then put "
+                   "in place) and the rest are not written; run the command again to write them.",
+                   err=True)
+        raise typer.Exit(130) from None
 
 
 def _report_paths(batch) -> None:

@@ -95,12 +95,13 @@ def load_source(root: str, name: str, run: str) -> Source:
     from graspcampaign.campaign.records import RunStore
     from graspcampaign.campaign.runner import kind_params, study_trials
     from graspcampaign.campaign.schema import StudyCfg
-    from graspcampaign.campaign.studyfile import configured_run
+    from graspcampaign.campaign.studyfile import configured_output
 
     path = Path(root) / name / run
     store = RunStore(path)
     manifest = store.check(["records"])  # the source's records as its manifest says
-    source = name + ("" if run == configured_run(name) else f" --run {run}")  # what to run first
+    # what to run first
+    source = name + ("" if run == configured_output(name, "run") else f" --run {run}")
     if manifest is None:
         check_source_study(root, name)  # advice to make a run this kind would refuse is none
         raise MissingSourceRunError(
