@@ -186,3 +186,36 @@ def test_a_records_file_holds_its_account_once_one_entry_per_row(study_factory, 
     _stored_once_row_by_row(store)
     assert store.check() is not None
 
+
+def test_a_resumed_run_asks_its_accounts_once_and_reads_its_preparations_once(study_factory,
+                                                                              monkeypatch):
+    """A finished run resumed: the runner's checks before the repair asked the accounts
+    (part_problems) twice more, though the repair, which asks them in full, mends whatever they
+    name; and prepared/ was read five times after its verification (the body ids of its files
+    for the duplicate check, for the accounts' check, each again in the run's final check, then
+    its rows for the trials to run). Now the accounts are asked by the repair and the final
+    check, and each file of prepared/ is read twice: verified, then its rows."""
+    import graspcampaign.campaign.parts as parts
+    import graspcampaign.campaign.repair as repair
+
+    study = study_factory(kind="test_pi_prepared_trace")
+    store = RunStore(run_study(study).path)
+    asked, opened = [], []
+    ask, open_file = parts.part_problems, pq.ParquetFile
+
+    def asking(*args, **kwargs):
+        asked.append(kwargs.get("full", True))
+        return ask(*args, **kwargs)
+
+    def opening(source, *args, **kwargs):
+        opened.append(str(getattr(source, "name", source)))
+        return open_file(source, *args, **kwargs)
+
+    monkeypatch.setattr(parts, "part_problems", asking)
+    monkeypatch.setattr(repair, "part_problems", asking)
+    monkeypatch.setattr(pq, "ParquetFile", opening)
+    again = run_study(study)
+    assert again.n_ran == 0 and again.n_already == 16
+    assert asked == [True, True]
+    (file,) = store._listing("prepared")[0]
+    assert opened.count(str(file)) == 2

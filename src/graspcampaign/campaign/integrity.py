@@ -227,7 +227,7 @@ def file_problems(store, part: str, allowed: dict[str, set]) -> list[Problem]:
                                f"a file {rel} holding {foreign}", "quarantine", part,
                                unlike or foreign))
             continue
-        n, unique = own.n_rows, own.ids if part != "prepared" else _body_ids(path)
+        n, unique = own.n_rows, own.ids if part != "prepared" else own.bodies
         if part == "records" and len(unique) < n:
             said = f"records {counted(n - len(unique), 'trial')} twice"
             out.append(Problem(path, f"a file {rel} that {said}", "quarantine", part, f"it {said}"))
@@ -264,14 +264,6 @@ def file_problems(store, part: str, allowed: dict[str, set]) -> list[Problem]:
     return out
 
 
-def _body_ids(path: Path) -> frozenset:
-    """The body ids of a verified file of preparations (its ``body_id`` column alone read)."""
-    from graspcampaign.campaign.verify import read_file
-
-    table = read_file(path, ["body_id"])[0]
-    return frozenset(table.column("body_id").to_pylist()) if table.num_columns else frozenset()
-
-
 def expected_records(manifest: dict) -> int:
     """How many trials the manifest says are stored at least (0 if it cannot tell)."""
     if "n_recorded" in manifest:
@@ -280,8 +272,12 @@ def expected_records(manifest: dict) -> int:
     return manifest["n_trials"] if manifest["finished_at"] and one_config(manifest) else 0
 
 
-def problems(store, manifest: dict | None, parts: list[str] | None = None) -> list[Problem]:
-    """Every problem of the run's ``parts`` (default: all), layout first; reads only."""
+def problems(store, manifest: dict | None, parts: list[str] | None = None, *,
+             accounts: bool = True) -> list[Problem]:
+    """Every problem of the run's ``parts`` (default: all), layout first; reads only.
+    ``accounts``: with what the records' accounts say is stored but is gone
+    (:func:`~graspcampaign.campaign.parts.part_problems`, which asks it of a run whose records
+    are whole)."""
     found = [p for p in layout_problems(store)
              if parts is None or p.fix == "refuse" or p.part in parts]
     flagged = {p.path for p in found}
@@ -302,7 +298,7 @@ def problems(store, manifest: dict | None, parts: list[str] | None = None) -> li
         elif counted := _miscounted(manifest, len(stored)):
             found.append(Problem(store.manifest_path, MISMATCH.format(counted), "refuse",
                                  advice="restore the file from a backup"))
-    if manifest is not None and not found and (parts is None or "records" in parts):
+    if accounts and manifest is not None and not found and (parts is None or "records" in parts):
         from graspcampaign.campaign.parts import part_problems  # it names Problem
 
         found += part_problems(store, full=parts is None, manifest=manifest)
@@ -395,8 +391,10 @@ def check_run(store, parts: list[str] | None = None, *, repairable: bool = False
                 "the study again.", "has stored files but no manifest.json")
         return None
     # what repair cannot fix is in the layout or the manifest's count, which needs the records
-    # checked (no other part can make it refuse)
-    found = problems(store, manifest, ["records"] if repairable else parts)
+    # checked (no other part can make it refuse); what the accounts say is gone, repair mends
+    # (its recount asks it once, of every file verified in full)
+    found = problems(store, manifest, ["records"] if repairable else parts,
+                     accounts=not repairable)
     found = [p for p in found if not repairable or p.fix == "refuse"]
     if found:
         raise refusal(store, found, manifest)

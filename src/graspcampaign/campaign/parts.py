@@ -125,9 +125,9 @@ def part_problems(store, full: bool = True, manifest: dict | None = None) -> lis
 
 
 def _body_ids(store) -> set[str]:
-    """The body ids of the run's stored preparations (its files verified in full)."""
-    table = store.read("prepared", ["body_id"])
-    return set(table.column("body_id").to_pylist()) if "body_id" in table.column_names else set()
+    """The body ids of the run's stored preparations (its files verified in full: their
+    facts)."""
+    return set().union(*(own.bodies for own in store._verified("prepared").values()))
 
 
 def _footer_rows(directory: Path) -> int | None:

@@ -115,7 +115,7 @@ class Facts:
     a ``trial_id`` column (0 without one), distinct ``trial_id`` values (a trace table holds many
     rows per trial: made distinct in Arrow, not in Python), the ``study``/``run``/``kind``/
     ``source``/``status`` values, the rows without a trial id and the first malformed one; a
-    records file's account of the run's other parts."""
+    records file's account of the run's other parts, a file of preparations' body ids."""
 
     schema: pa.Schema
     n_rows: int
@@ -129,6 +129,8 @@ class Facts:
     account: Account | None = None
     #: the rows of each trial where some trial has more than one (a trace table's), else None
     counts: dict | None = None
+    #: the distinct ``body_id`` values of a file without a ``trial_id`` column (preparations')
+    bodies: frozenset = frozenset()
 
     def rows_of(self) -> dict:
         """The rows the file holds of each trial it holds."""
@@ -182,7 +184,9 @@ def _facts(table: pa.Table, account: bytes | None) -> Facts:
     owners = {c: set(_unique(table, c).to_pylist()) for c in _OWNERS if c in table.column_names}
     if ids is None:
         account_of(account, [None] * table.num_rows, frozenset())
-        return Facts(table.schema, 0, frozenset(), owners)
+        bodies = frozenset(_unique(table, "body_id").to_pylist()) if (
+            "body_id" in table.column_names) else frozenset()
+        return Facts(table.schema, 0, frozenset(), owners, bodies=bodies)
     unique = _unique(table, "trial_id").drop_null()
     bad = None
     if pa.types.is_string(ids.type):  # the first malformed id: unique keeps the order of rows
