@@ -7,9 +7,9 @@ goes missing (deleted by hand, lost in a copy) leaves every remaining file intac
 one file can see it; the report would then silently lack those rows. So the run keeps account:
 
 - each records file written by ``run`` says in its Parquet metadata (``PARTS_KEY``), per trial,
-  how many rows it stored in each trace table (tables it stored no row in are not named) and the
-  ``body_id`` of the preparation it used; compaction merges the accounts, a rewrite keeps those
-  of the trials it keeps (:mod:`graspcampaign.campaign.records`);
+  how many rows it stored in each trace table and the ``body_id`` of the preparation it used
+  (row by row, :mod:`graspcampaign.campaign.account`); compaction merges the accounts, a rewrite
+  keeps those of the trials it keeps (:mod:`graspcampaign.campaign.records`);
 - ``summary/complete.json`` lists, besides every table ``finalize`` returned (``tables``), those
   it stored rows of (``written``).
 
