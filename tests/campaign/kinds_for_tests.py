@@ -40,11 +40,22 @@ def _pi_prepared(inp, rng):
     return out
 
 
+def _pi_prepared_with_trace(inp, rng):
+    """A prepared trial storing 1 to 3 trace rows (by its index)."""
+    out = _pi_prepared(inp, rng)
+    n = 1 + inp.trial.index % 3
+    out["__tables__"] = {"trace": {"step": list(range(n)), "value": [out["pi_estimate"]] * n}}
+    return out
+
+
 PI = TrialKind(name="test_pi", run=_pi_estimate, seconds_per_trial=0.001)
 PI_TRACE = TrialKind(name="test_pi_trace", run=_pi_with_trace, seconds_per_trial=0.001)
 PI_SPARSE_TRACE = TrialKind(name="test_pi_sparse_trace", run=_pi_with_sparse_trace,
                             seconds_per_trial=0.001)
 PI_PREPARED = TrialKind(name="test_pi_prepared", run=_pi_prepared, seconds_per_trial=0.001,
                         body_key=lambda f: {"mass_kg": f["mass_kg"]}, prepare=_prepare)
-for _k in (PI, PI_TRACE, PI_SPARSE_TRACE, PI_PREPARED):
+PI_PREPARED_TRACE = TrialKind(name="test_pi_prepared_trace", run=_pi_prepared_with_trace,
+                              seconds_per_trial=0.001, body_key=lambda f: {"mass_kg": f["mass_kg"]},
+                              prepare=_prepare)
+for _k in (PI, PI_TRACE, PI_SPARSE_TRACE, PI_PREPARED, PI_PREPARED_TRACE):
     register_kind(_k)

@@ -145,14 +145,13 @@ def test_a_full_disk_while_writing_the_manifest_changes_nothing(results, monkeyp
 def test_a_full_disk_while_writing_records_loses_nothing_and_the_run_resumes(results, monkeypatch):
     import re
 
-    write_table = pq.write_table
+    write_table = pq.ParquetWriter.write_table
 
-    def full(table, where, *args, **kwargs):
-        Path(where).write_bytes(b"PAR1")  # a partly written file
-        raise _disk_full(where)
+    def full(self, table, *args, **kwargs):  # the file's start written, then no room for its pages
+        raise _disk_full(self.where)
 
     before = snapshot(results)
-    monkeypatch.setattr(pq, "write_table", full)
+    monkeypatch.setattr(pq.ParquetWriter, "write_table", full)
     fresh = results / "smoke" / "fresh"
     result = invoke("run", "smoke", *SMOKE, "runner.progress=false", "--run", "fresh",
                     "--root", results)
@@ -165,7 +164,7 @@ def test_a_full_disk_while_writing_records_loses_nothing_and_the_run_resumes(res
     assert {p: h for p, h in after.items() if not p.startswith("smoke/fresh")} == before
     assert sorted(p for p in after if p.startswith("smoke/fresh/")) == [
         "smoke/fresh/manifest.json", "smoke/fresh/records"]  # the started run, no record file
-    monkeypatch.setattr(pq, "write_table", write_table)
+    monkeypatch.setattr(pq.ParquetWriter, "write_table", write_table)
     resumed = invoke("run", "smoke", *SMOKE, "runner.progress=false", "--run", "fresh",
                      "--root", results)
     assert resumed.exit_code == 0 and "1 trial, 0 already recorded, 1 ran" in resumed.stdout

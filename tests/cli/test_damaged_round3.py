@@ -53,11 +53,14 @@ def _first_session_records(run: Path) -> Path:
     (b'{"pear_0.2_0.3_ferrari_canny_s0-599544ae7e": {"tables": {"candidates": "50"}}}',
      'trial pear_0.2_0.3_ferrari_canny_s0-599544ae7e has {"tables": {"candidates": "50"}}, not its '
      "rows per trace table (whole numbers above 0) and the body id of its preparation"),
+    (b'{"v":2,"tables":{"candidates":[50,50]}}', "table candidates has 2 values for the file's 4 rows"),
+    (b'{"v":3,"tables":{}}', "it is of version 3, not 2"),
 ])
 def test_an_account_the_tool_never_writes_is_a_damaged_file(results, account, why):
     """A records file whose account is not JSON or counts rows in text: status, report and run
     ended in a traceback (exit 1; json.loads, a sum of str). Now it is a damaged file: named
-    (exit 2), moved aside by run, its trials run again."""
+    (exit 2), moved aside by run, its trials run again. So is one of the row-by-row form whose
+    list has another length than the file's rows, or of a version this release does not write."""
     run = results / "baseline_grid" / "default"
     path = _first_session_records(run)
     meta = pq.read_schema(path).metadata

@@ -40,7 +40,7 @@ from pathlib import Path
 
 import pyarrow as pa
 
-from graspcampaign.campaign.parts import COMPLETE, body_ids
+from graspcampaign.campaign.parts import COMPLETE
 from graspcampaign.campaign.paths import run_command
 from graspcampaign.campaign.provenance import (
     MISMATCH,
@@ -53,7 +53,7 @@ from graspcampaign.campaign.provenance import (
     study_given,
 )
 from graspcampaign.campaign.records import OPTIONAL_COLUMNS, RECORD_COLUMNS
-from graspcampaign.campaign.verify import Facts, facts, one_check, other_values, read_file
+from graspcampaign.campaign.verify import Facts, facts, one_check, other_values
 from graspcampaign.core.words import counted
 from graspcampaign.errors import DamagedRunError
 
@@ -228,7 +228,7 @@ def file_problems(store, part: str, allowed: dict[str, set]) -> list[Problem]:
                                f"a file {rel} holding {foreign}", "quarantine", part,
                                unlike or foreign))
             continue
-        n, unique = own.n_rows, own.ids if part != "prepared" else body_ids(read_file(path, ["body_id"])[0])
+        n, unique = own.n_rows, own.ids if part != "prepared" else own.bodies
         if part == "records" and len(unique) < n:
             said = f"records {counted(n - len(unique), 'trial')} twice"
             out.append(Problem(path, f"a file {rel} that {said}", "quarantine", part, f"it {said}"))
@@ -273,8 +273,12 @@ def expected_records(manifest: dict) -> int:
     return manifest["n_trials"] if manifest["finished_at"] and one_config(manifest) else 0
 
 
-def problems(store, manifest: dict | None, parts: list[str] | None = None) -> list[Problem]:
-    """Every problem of the run's ``parts`` (default: all), layout first; reads only."""
+def problems(store, manifest: dict | None, parts: list[str] | None = None, *,
+             accounts: bool = True) -> list[Problem]:
+    """Every problem of the run's ``parts`` (default: all), layout first; reads only.
+    ``accounts``: with what the records' accounts say is stored but is gone
+    (:func:`~graspcampaign.campaign.parts.part_problems`, which asks it of a run whose records
+    are whole)."""
     found = [p for p in layout_problems(store)
              if parts is None or p.fix == "refuse" or p.part in parts]
     flagged = {p.path for p in found}
@@ -295,7 +299,7 @@ def problems(store, manifest: dict | None, parts: list[str] | None = None) -> li
         elif counted := _miscounted(manifest, len(stored)):
             found.append(Problem(store.manifest_path, MISMATCH.format(counted), "refuse",
                                  advice="restore the file from a backup"))
-    if manifest is not None and not found and (parts is None or "records" in parts):
+    if accounts and manifest is not None and not found and (parts is None or "records" in parts):
         from graspcampaign.campaign.parts import part_problems  # it names Problem
 
         found += part_problems(store, full=parts is None, manifest=manifest)
@@ -389,8 +393,10 @@ def check_run(store, parts: list[str] | None = None, *, repairable: bool = False
                 "the study again.", "has stored files but no manifest.json")
         return None
     # what repair cannot fix is in the layout or the manifest's count, which needs the records
-    # checked (no other part can make it refuse)
-    found = problems(store, manifest, ["records"] if repairable else parts)
+    # checked (no other part can make it refuse); what the accounts say is gone, repair mends
+    # (its recount asks it once, of every file verified in full)
+    found = problems(store, manifest, ["records"] if repairable else parts,
+                     accounts=not repairable)
     found = [p for p in found if not repairable or p.fix == "refuse"]
     if found:
         raise refusal(store, found, manifest)

@@ -7,9 +7,9 @@ goes missing (deleted by hand, lost in a copy) leaves every remaining file intac
 one file can see it; the report would then silently lack those rows. So the run keeps account:
 
 - each records file written by ``run`` says in its Parquet metadata (``PARTS_KEY``), per trial,
-  how many rows it stored in each trace table (tables it stored no row in are not named) and the
-  ``body_id`` of the preparation it used; compaction merges the accounts, a rewrite keeps those
-  of the trials it keeps (:mod:`graspcampaign.campaign.records`);
+  how many rows it stored in each trace table and the ``body_id`` of the preparation it used
+  (row by row, :mod:`graspcampaign.campaign.account`); compaction merges the accounts, a rewrite
+  keeps those of the trials it keeps (:mod:`graspcampaign.campaign.records`);
 - ``summary/complete.json`` lists, besides every table ``finalize`` returned (``tables``), those
   it stored rows of (``written``).
 
@@ -32,30 +32,25 @@ from typing import Any
 import pyarrow.parquet as pq
 
 from graspcampaign.campaign import provenance
+from graspcampaign.campaign.account import Account
 from graspcampaign.campaign.grid import content_hash, stream_key
-from graspcampaign.campaign.verify import PARTS_KEY, READ_ERRORS, SOURCES_KEY, facts, parts_json
+from graspcampaign.campaign.verify import READ_ERRORS, SOURCES_KEY, facts
 from graspcampaign.core.words import counted
 
 COMPLETE = "complete.json"
 
 
-def account(rows: dict[str, int], body: str | None) -> dict[str, Any]:
-    """One trial's entry of a records file's account: its rows per trace table (those it stored
-    rows in) and the body id of its preparation (if it used one)."""
+def entry(rows: dict[str, int], body: str | None) -> dict[str, Any]:
+    """One trial's entry of a records file's account (:meth:`Account.from_entries`): its rows
+    per trace table (those it stored rows in) and the body id of its preparation (if it used
+    one)."""
     return {**({"tables": rows} if rows else {}), **({"body": body} if body is not None else {})}
 
 
-def parts_metadata(accounts: dict[str, dict[str, Any]]) -> dict[str, str]:
-    """The metadata of a records shard whose trials stored ``accounts`` (``{trial_id: account}``)."""
-    return {PARTS_KEY.decode(): parts_json(accounts)}
-
-
-def _accounts(store) -> dict[str, dict[str, Any]]:
+def _accounts(store) -> list[Account]:
     """The accounts of every live records file that has one (verified files: their facts)."""
-    out: dict[str, dict[str, Any]] = {}
-    for path in store._listing("records")[0]:
-        out.update(facts(path).accounts or {})
-    return out
+    return [own.account for own in map(facts, store._listing("records")[0])
+            if own.account is not None]
 
 
 def part_problems(store, full: bool = True, manifest: dict | None = None) -> list:
@@ -73,11 +68,10 @@ def part_problems(store, full: bool = True, manifest: dict | None = None) -> lis
 
     tables: dict[str, dict[str, int]] = {}
     bodies: set[str] = set()
-    for trial, stored in _accounts(store).items():
-        for name, n in stored.get("tables", {}).items():
-            tables.setdefault(name, {})[trial] = n
-        if "body" in stored:
-            bodies.add(stored["body"])
+    for held in _accounts(store):
+        for name, rows in held.traces().items():
+            tables.setdefault(name, {}).update(rows)
+        bodies.update(held.used().values())
     out = []
     for name, rows in sorted(tables.items()):
         part = f"tables/{name}"
@@ -105,7 +99,7 @@ def part_problems(store, full: bool = True, manifest: dict | None = None) -> lis
         what = (f"no prepared directory, which holds the preparations of the {used} its recorded "
                 "trials used")
     elif bodies and full:
-        gone = sorted(bodies - body_ids(store.read("prepared", ["body_id"])))
+        gone = sorted(bodies - _body_ids(store))
         what = (f"prepared without {counted(len(gone), 'preparation')} its recorded trials used "
                 f"(first body {gone[0]})") if gone else ""
     else:
@@ -130,10 +124,10 @@ def part_problems(store, full: bool = True, manifest: dict | None = None) -> lis
     return out
 
 
-def body_ids(table) -> frozenset[str]:
-    """The body ids of a ``pyarrow.Table`` of preparations, read with its ``body_id`` column alone (a
-    run's, :meth:`~graspcampaign.campaign.records.RunStore.read`, or one file's; none without it)."""
-    return frozenset(table.column("body_id").to_pylist()) if "body_id" in table.column_names else frozenset()
+def _body_ids(store) -> set[str]:
+    """The body ids of the run's stored preparations (its files verified in full: their
+    facts)."""
+    return set().union(*(own.bodies for own in store._verified("prepared").values()))
 
 
 def _footer_rows(directory: Path) -> int | None:
@@ -200,8 +194,8 @@ def _recorded_bodies(kind, store, trials, known: set[str]) -> dict[str, dict[str
     of it, beside its outputs: those of the design's factors, or of the run's first config, whose
     body hashes to the id its account names). One that none does (a level stored as another
     number type) is refused naming what computes it: the config whose design holds it."""
-    used = {trial: stored["body"] for trial, stored in _accounts(store).items()
-            if "body" in stored and stored["body"] not in known}
+    used = {trial: body for held in _accounts(store) for trial, body in held.used().items()
+            if body not in known}
     if not used:
         return {}
     from graspcampaign.errors import DamagedRunError

@@ -26,7 +26,7 @@ still present after a crash between "write the new file" and "delete the old one
 removed, so no trial is ever read twice. A records file also names the configs of the sessions
 that wrote it (``graspcampaign.config_hashes``), so a shard of another config is recognised.
 A records file written by ``run`` also says what each of its trials stored in the run's other
-parts (``graspcampaign.parts``, :mod:`graspcampaign.campaign.parts`), merged by a compaction and
+parts (``graspcampaign.parts``, :mod:`graspcampaign.campaign.account`), merged by a compaction and
 kept for the trials a rewrite keeps. Every file the tool writes carries the SHA-256 of its values
 (``graspcampaign.content_sha256``, :func:`content_digest`), checked whenever the file is verified:
 a file rewritten with other values (a row removed, a value or a column changed) is damaged even
@@ -55,6 +55,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from graspcampaign.analysis.vocabulary import data_source
+from graspcampaign.campaign.account import Account, encode, merge
 from graspcampaign.campaign.former_names import current_names, renamed
 from graspcampaign.campaign.grid import content_hash
 from graspcampaign.campaign.verify import (
@@ -68,7 +69,6 @@ from graspcampaign.campaign.verify import (
     cached,
     content_digest,
     facts,
-    parts_json,
     read_file,
     reason,
     supersedes,
@@ -122,30 +122,25 @@ def _cell(value: Any, flag: bool) -> Any:
     return None if flag and isinstance(value, float | np.floating) and np.isnan(value) else value
 
 
-def _write_atomic(table: pa.Table, path: Path) -> None:
+def _write_atomic(table: pa.Table, path: Path, account: Account | None = None) -> None:
     """Write ``table`` (stamped with its :func:`content_digest`) as ``path`` via a hidden temporary
-    file; a failed write (a full disk) removes it, leaves ``path`` as it was and raises
+    file, with the ``account`` of its trials (:func:`~graspcampaign.campaign.account.encode`: in
+    the file's key-value metadata alone, not again in the Arrow schema pyarrow stores there); a
+    failed write (a full disk) removes it, leaves ``path`` as it was and raises
     :class:`StoreWriteError` naming the file and why."""
     tmp = path.with_name(f".{path.name}.tmp")
     table = table.replace_schema_metadata(
         {**(table.schema.metadata or {}), CONTENT_KEY: content_digest(table).encode()})
     with writing(path, tmp):
-        pq.write_table(table, tmp, compression="zstd", write_page_checksum=True)
+        with pq.ParquetWriter(tmp, table.schema, compression="zstd",
+                              write_page_checksum=True) as writer:
+            writer.write_table(table)
+            if account is not None:
+                writer.add_key_value_metadata(
+                    {PARTS_KEY: encode(account, table.column("trial_id").to_pylist())})
         with open(tmp, "rb") as fh:
             os.fsync(fh.fileno())
         os.replace(tmp, path)
-
-
-def _parts_of(metadata: list[dict], ids: set[str] | None = None) -> dict[bytes, bytes]:
-    """The ``PARTS_KEY`` metadata of a file made of files with ``metadata`` (of the trials
-    ``ids`` only, if given): every trial any of them accounts for; none if none of them has it (a
-    file stored before it was kept, or by ``ingest``)."""
-    held = [json.loads(meta[PARTS_KEY]) for meta in metadata if PARTS_KEY in meta]
-    if not held:
-        return {}
-    merged = {trial: stored for each in held for trial, stored in each.items()
-              if ids is None or trial in ids}
-    return {PARTS_KEY: parts_json(merged).encode()}
 
 
 @contextlib.contextmanager
@@ -190,8 +185,10 @@ class RunStore:
     # -- writing --------------------------------------------------------------------------------
     def write_shard(self, part: str, name: str, rows: list[dict[str, Any]],
                     metadata: dict[str, str] | None = None,
-                    strings: tuple[str, ...] = ()) -> Path:
-        """Write ``rows`` as ``<part>/part-<name>.parquet`` atomically and return its path.
+                    strings: tuple[str, ...] = (), account: Account | None = None) -> Path:
+        """Write ``rows`` as ``<part>/part-<name>.parquet`` atomically, with the ``account`` of
+        what their trials stored in the run's other parts (records written by ``run``), and
+        return its path.
 
         A name a compacted file lists as superseded gets a suffix (``part-<name>-1.parquet``):
         a file of that name would be ignored as a leftover of the compaction. What a compacted
@@ -206,7 +203,7 @@ class RunStore:
         path = directory / f"part-{name}{f'-{k}' if k else ''}.parquet"
         with writing(path):
             directory.mkdir(parents=True, exist_ok=True)
-        _write_atomic(table_from_rows(rows, metadata, strings), path)
+        _write_atomic(table_from_rows(rows, metadata, strings), path, account)
         return path
 
     # -- listing and verification ---------------------------------------------------------------
@@ -413,20 +410,19 @@ class RunStore:
 
         return repair(self, manifest, config_hash, design)
 
-    def _rewrite(self, path: Path, table: pa.Table, tag: Any) -> None:
-        """Replace ``path`` by ``table`` (read from it, with its metadata) crash-safely: the new
-        file supersedes the old one and whatever the old one superseded, so no crash in between
-        can make a row count twice."""
+    def _rewrite(self, path: Path, table: pa.Table, tag: Any, account: Account | None) -> None:
+        """Replace ``path`` by ``table`` (read from it, with its metadata; ``account``: its
+        facts') crash-safely: the new file supersedes the old one and whatever the old one
+        superseded, so no crash in between can make a row count twice; it keeps the account of
+        the trials it keeps."""
         if table.num_rows:
             meta = table.schema.metadata or {}
             sources = [path.name, *json.loads(meta.get(SOURCES_KEY) or b"[]")]
             name = f"compact-{content_hash([path.name, tag])}.parquet"
-            kept = _parts_of([meta], set(table.column("trial_id").to_pylist())
-                             if PARTS_KEY in meta else None)
             table = table.replace_schema_metadata(
-                {SOURCES_KEY: json.dumps(sources).encode(), **kept,
+                {SOURCES_KEY: json.dumps(sources).encode(),
                  **({CONFIG_KEY: meta[CONFIG_KEY]} if CONFIG_KEY in meta else {})})
-            _write_atomic(table, path.parent / name)
+            _write_atomic(table, path.parent / name, account)
         path.unlink(missing_ok=True)
 
     def _drop_rows(self, part: str, ids: set[str]) -> None:
@@ -453,7 +449,7 @@ class RunStore:
                     continue
                 table = read_file(path, again=True)[0] if table is None else table
             rows = pc.is_in(table.column("trial_id"), value_set=value_set)
-            self._rewrite(path, table.filter(rows if keep else pc.invert(rows)), tag)
+            self._rewrite(path, table.filter(rows if keep else pc.invert(rows)), tag, own.account)
 
     def compact(self, part: str = "records") -> None:
         """Merge the live part shards of ``part`` into one compacted file, crash-safely.
@@ -466,10 +462,12 @@ class RunStore:
         parts = [p for p in live if p.name.startswith("part-")]
         if len(parts) < 2:
             return
-        tables = []
+        tables, accounts = [], []
         for path in parts:
             with self._refusing(path):
-                tables.append(read_file(path, again=True)[0])
+                table, own = read_file(path, again=True)
+            tables.append(table)
+            accounts.append(own.account)
         schema = pa.unify_schemas([t.schema.remove_metadata() for t in tables],
                                   promote_options="permissive")
         configs = sorted({h for t in tables for h in json.loads(
@@ -480,9 +478,12 @@ class RunStore:
         names = sorted(p.name for p in parts)
         merged = merged.replace_schema_metadata(
             {SOURCES_KEY: json.dumps(names).encode(),
-             **_parts_of([t.schema.metadata or {} for t in tables]),
              **({CONFIG_KEY: json.dumps(configs).encode()} if configs else {})})
-        _write_atomic(merged, directory / f"compact-{content_hash(names)}.parquet")
+        # every trial any of them accounts for (none: none of them has an account, a file stored
+        # before it was kept or by ingest); a trial of a file without one stored nothing else
+        held = [account for account in accounts if account is not None]
+        _write_atomic(merged, directory / f"compact-{content_hash(names)}.parquet",
+                      merge(held) if held else None)
         for path in parts:
             path.unlink(missing_ok=True)
 

@@ -24,10 +24,11 @@ from typing import Any
 from omegaconf import OmegaConf
 
 from graspcampaign.campaign import provenance
+from graspcampaign.campaign.account import Account
 from graspcampaign.campaign.grid import Trial, content_hash, expand
 from graspcampaign.campaign.integrity import check_run, expected_records
 from graspcampaign.campaign.kind import TrialInput, TrialKind, get_kind
-from graspcampaign.campaign.parts import account, finalize, parts_metadata, prepare_bodies
+from graspcampaign.campaign.parts import entry, finalize, prepare_bodies
 from graspcampaign.campaign.paths import LOCK_FILE, check_root, lock_exclusive
 from graspcampaign.campaign.provenance import DriftError, check_drift  # noqa: F401 - DriftError: API
 from graspcampaign.campaign.records import ERROR_COLUMNS, RunStore, config_metadata
@@ -102,7 +103,7 @@ def _error_fields(exc: BaseException) -> dict[str, Any]:
 def run_task(kind: TrialKind, study: StudyCfg, run: str, params: Any,
              items: list[tuple[Trial, dict[str, Any] | None]], fail_fast: bool):
     """Run a batch of trials; return their record rows, trace-table rows and what each stored
-    besides its record (:func:`~graspcampaign.campaign.parts.account`)."""
+    besides its record (:func:`~graspcampaign.campaign.parts.entry`)."""
     host, worker = socket.gethostname(), f"pid{os.getpid()}"
     rows: list[dict[str, Any]] = []
     tables: dict[str, list[dict[str, Any]]] = {}
@@ -133,7 +134,7 @@ def run_task(kind: TrialKind, study: StudyCfg, run: str, params: Any,
             row.update(_error_fields(exc))
         row["wall_time_s"] = time.perf_counter() - start
         rows.append(row)
-        accounts[trial.trial_id] = account(traced, prepared["body_id"] if prepared else None)
+        accounts[trial.trial_id] = entry(traced, prepared["body_id"] if prepared else None)
         if fail_fast and row["status"] == "error":
             break
     return rows, tables, accounts
@@ -360,8 +361,9 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
                     for table_name, table_rows in tables.items():
                         if table_rows:
                             store.write_shard(f"tables/{table_name}", name, table_rows)
-                    store.write_shard("records", name, rows, strings=ERROR_COLUMNS, metadata={
-                        **config_metadata(chash), **parts_metadata(accounts)})
+                    store.write_shard("records", name, rows, strings=ERROR_COLUMNS,
+                                      metadata=config_metadata(chash),
+                                      account=Account.from_entries(accounts))
                     n_err = sum(r["status"] == "error" for r in rows)
                     summary.n_ran += len(rows)
                     summary.n_error += n_err

@@ -19,12 +19,13 @@ import os
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 import pyarrow as pa
 import pyarrow.compute as pc
 import pyarrow.parquet as pq
+
+from graspcampaign.campaign.account import Account, NotAnAccount, decode
 
 SOURCES_KEY = b"graspcampaign.sources"
 #: Metadata of a records file: the config hashes of the sessions that wrote its rows (a shard of
@@ -33,7 +34,8 @@ CONFIG_KEY = b"graspcampaign.config_hashes"
 #: Metadata of every file the tool writes: the SHA-256 of its values (:func:`content_digest`).
 CONTENT_KEY = b"graspcampaign.content_sha256"
 #: Metadata of a records file written by ``run``: what each of its trials stored in the run's
-#: other parts (its trace rows per table, its preparation), :mod:`graspcampaign.campaign.parts`.
+#: other parts (its trace rows per table, its preparation), :mod:`graspcampaign.campaign.parts`;
+#: in the file's key-value metadata alone (:mod:`graspcampaign.campaign.account`).
 PARTS_KEY = b"graspcampaign.parts"
 # What pyarrow raises for a file it cannot read (bad footer, bad page, failed checksum, bad codec).
 READ_ERRORS = (pa.ArrowException, OSError, ValueError, EOFError)
@@ -112,7 +114,8 @@ class Facts:
     """What the run checks need of a verified file: its schema (with its metadata), its rows with
     a ``trial_id`` column (0 without one), distinct ``trial_id`` values (a trace table holds many
     rows per trial: made distinct in Arrow, not in Python), the ``study``/``run``/``kind``/
-    ``source``/``status`` values, the rows without a trial id and the first malformed one."""
+    ``source``/``status`` values, the rows without a trial id and the first malformed one; a
+    records file's account of the run's other parts, a file of preparations' body ids."""
 
     schema: pa.Schema
     n_rows: int
@@ -120,12 +123,14 @@ class Facts:
     owners: dict
     n_null_ids: int = 0
     bad_id: str | None = None
-    #: What each trial of a records file stored in the run's other parts (``PARTS_KEY``:
-    #: ``{trial_id: {"tables": {name: rows}, "body": body_id}}``), read once, when the file is
-    #: verified (:func:`accounts_of`); None: a file written before this was kept, or by ``ingest``
-    accounts: dict | None = None
+    #: What each trial of a records file stored in the run's other parts (``PARTS_KEY``,
+    #: :mod:`graspcampaign.campaign.account`), read once, when the file is verified
+    #: (:func:`account_of`); None: a file written before this was kept, or by ``ingest``
+    account: Account | None = None
     #: the rows of each trial where some trial has more than one (a trace table's), else None
     counts: dict | None = None
+    #: the distinct ``body_id`` values of a file without a ``trial_id`` column (preparations')
+    bodies: frozenset = frozenset()
 
     def rows_of(self) -> dict:
         """The rows the file holds of each trial it holds."""
@@ -158,57 +163,30 @@ def supersedes(path: Path) -> list[str]:
     return _listed(schema, SOURCES_KEY)
 
 
-def accounts_of(schema: pa.Schema, ids: frozenset) -> dict | None:
-    """The ``PARTS_KEY`` account of a file recording trials ``ids`` as ``run`` writes it (a JSON
-    mapping of trial ids to ``{"tables": {name: rows > 0}, "body": body_id}``, each optional), of
-    the trials it records, or None if it has none; raises :class:`Damaged` saying how it differs
-    from that (a check would else trust, or trip over, values the tool never writes)."""
-    raw = (schema.metadata or {}).get(PARTS_KEY)
+def account_of(raw: bytes | None, ids: list, recorded: frozenset) -> Account | None:
+    """The account stored as ``raw`` (``PARTS_KEY``, :mod:`graspcampaign.campaign.account`) by a
+    file whose rows record trials ``ids`` (row order), of the trials ``recorded``, or None if it
+    has none; raises :class:`Damaged` saying how it differs from what ``run`` writes (a check
+    would else trust, or trip over, values the tool never writes)."""
     if raw is None:
         return None
-    why = "its account of the run's other parts, metadata graspcampaign.parts, is not one the tool writes"
     try:
-        accounts = json.loads(raw)
-    except ValueError:
-        raise Damaged(f"{why}: it is not JSON") from None
-    if not isinstance(accounts, dict):
-        raise Damaged(f"{why}: it is no mapping of trial ids")
-    trial = next((trial for trial, stored in accounts.items() if not _an_account(stored)), None)
-    if trial is not None:
-        raise Damaged(f"{why}: trial {trial} has {json.dumps(accounts[trial])[:80]}, not its rows "
-                      "per trace table (whole numbers above 0) and the body id of its preparation")
-    # a trial it does not record is no part of it (a rewrite keeps the entries of the trials kept)
-    return accounts if accounts.keys() <= ids else {
-        trial: stored for trial, stored in accounts.items() if trial in ids}
+        return decode(raw, ids, recorded)
+    except NotAnAccount as exc:
+        raise Damaged("its account of the run's other parts, metadata graspcampaign.parts, is "
+                      f"not one the tool writes: {exc}") from None
 
 
-def parts_json(accounts: dict) -> str:
-    """The ``PARTS_KEY`` value of a records file whose trials stored ``accounts`` (``{trial_id:
-    account}``), as :func:`accounts_of` reads it back: the one encoding ``run``, a compaction and
-    a rewrite write."""
-    return json.dumps(accounts, sort_keys=True, separators=(",", ":"))
-
-
-def _an_account(stored: Any) -> bool:
-    """Whether ``stored`` is one trial's entry as ``run`` writes it (types compared exactly: one
-    entry per trial of a run, 20,000 in a large one, each checked on every first read)."""
-    if type(stored) is not dict or not stored.keys() <= _ACCOUNT_KEYS:
-        return False
-    tables = stored.get("tables", _NONE)
-    if type(tables) is not dict or type(stored.get("body", "")) is not str:
-        return False
-    return all(type(n) is int and n > 0 for n in tables.values())
-
-
-_ACCOUNT_KEYS, _NONE = frozenset({"tables", "body"}), {}
-
-
-def _facts(table: pa.Table) -> Facts:
+def _facts(table: pa.Table, account: bytes | None) -> Facts:
+    """The facts of ``table``, read from a file whose key-value metadata holds ``account``
+    (``PARTS_KEY``, None if it has none)."""
     ids = table.column("trial_id") if "trial_id" in table.column_names else None
     owners = {c: set(_unique(table, c).to_pylist()) for c in _OWNERS if c in table.column_names}
     if ids is None:
-        accounts_of(table.schema, frozenset())
-        return Facts(table.schema, 0, frozenset(), owners)
+        account_of(account, [None] * table.num_rows, frozenset())
+        bodies = frozenset(_unique(table, "body_id").to_pylist()) if (
+            "body_id" in table.column_names) else frozenset()
+        return Facts(table.schema, 0, frozenset(), owners, bodies=bodies)
     unique = _unique(table, "trial_id").drop_null()
     bad = None
     if pa.types.is_string(ids.type):  # the first malformed id: unique keeps the order of rows
@@ -221,7 +199,7 @@ def _facts(table: pa.Table) -> Facts:
         counts = dict(zip(tally.field("values").to_pylist(), tally.field("counts").to_pylist(),
                           strict=True))
     return Facts(table.schema, len(ids), known, owners, ids.null_count, bad,
-                 accounts_of(table.schema, known), counts)
+                 account_of(account, ids.to_pylist() if account else [], known), counts)
 
 
 def _unique(table: pa.Table, name: str) -> pa.Array:
@@ -307,12 +285,14 @@ def read_file(path: Path, columns: list[str] | None = None, *,
                 _VERIFIED[name] = known
                 return file.read(columns=_present(columns, known[1].schema), use_threads=False), known[1]
             table = file.read(use_threads=False)
+            # the account is in the file's key-value metadata, not (version 2) the Arrow schema's
+            account = (file.metadata.metadata or {}).get(PARTS_KEY)
             settled = _key(os.fstat(handle.fileno())) == key
         written = (table.schema.metadata or {}).get(CONTENT_KEY)
         if written is not None and written.decode(errors="replace") != content_digest(table):
             raise Damaged("its values differ from those written: their SHA-256 is not the one "
                           "stored with them")
-        own = _facts(table)
+        own = _facts(table, account)
     except READ_ERRORS as exc:
         raise Damaged(reason(exc)) from None
     changed = max(key[2:])
