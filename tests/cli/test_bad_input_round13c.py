@@ -117,3 +117,28 @@ def test_an_underscore_in_text_in_a_study_file_is_no_number(results, user_dir, l
     path = mesh_study(user_dir, f"{line}\nfactors:\n  shape: [sphere]\n  nodes: [144]\n")
     done = invoke("show", path, "--root", results)
     assert done.exit_code == 0, done.output
+
+
+@pytest.mark.parametrize(("args", "said"), [
+    # Typer (pydantic) read each as Python's float() and int() do: 0.15, 10, 5.0, 10
+    (["plan", "ball.obj", "--mass-kg", "0.1_5"], "--mass-kg 0.1_5 has an underscore, which is read "
+     "as grouping digits, the number 0.15; write the number without it (0.15, if that is what you "
+     "meant)."),
+    (["plan", "ball.obj", "--mass-kg", "0.1", "--mu", "1_0"], "--mu 1_0 has an underscore, which is "
+     "read as grouping digits, the number 10.0; write the number without it (10.0, if that is what "
+     "you meant)."),
+    (["plan", "ball.obj", "--mass-kg", "0.1", "--fingertip-radius-mm=5_0"], "--fingertip-radius-mm "
+     "5_0 has an underscore, which is read as grouping digits, the number 50.0; write the number "
+     "without it (50.0, if that is what you meant)."),
+    (["report", "--jobs", "1_0"], "--jobs 1_0 has an underscore, which is read as grouping digits, "
+     "the number 10; write the number without it (10, if that is what you meant)."),
+    # what Typer cannot read is named as before
+    (["plan", "ball.obj", "--mass-kg", "1__0"], "--mass-kg '1__0' is not a number; see graspcampaign "
+     "plan --help."),
+    (["report", "--jobs", "1.5"], "--jobs '1.5' is not a whole number; see graspcampaign report --help."),
+])
+def test_a_numeric_option_written_with_an_underscore_is_refused_naming_what_it_reads_as(tmp_path, args,
+                                                                                       said):
+    # the mesh is never looked for: the option is refused as the command line is read
+    where = ["--root", tmp_path] if args[0] == "report" else []
+    refused(tmp_path, [*args, *where], said)
