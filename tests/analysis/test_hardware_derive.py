@@ -9,7 +9,7 @@ import pandas as pd
 import pytest
 from test_hardware import _records
 
-from graspcampaign.analysis import hardware
+from graspcampaign.analysis import hardware, records
 
 
 def test_gate_removed_is_a_success_only_without_the_validity_gate():
@@ -133,3 +133,17 @@ def test_the_headline_of_block_c_is_its_torque_threshold():
                    threshold_pred_nm=0.4, first_finger_measured=0, first_finger_pred=1, peak_slip_mm=0.0)
     d = hardware.derive(rec.assign(threshold_measured_nm=[0.3, 0.45]))
     assert d["headline"].tolist() == pytest.approx([0.3, 0.45])
+
+
+def test_a_ramp_censored_is_no_threshold_and_a_missing_mark_is_no_censoring():
+    """Block A, 2 N held against 2.5 N predicted on four ramps marked censored, not, and missing
+    (None, NaN: a records file written before the column): only the censored one loses its
+    threshold and error (25 %). The mark is read by ``records.flag``, the one reading of a flag
+    (missing: not set), which derive typed out again."""
+    rec = _records({"heuristic": (4, 4)}, block="A", disturbance_kind="lateral", mass_kg=0.2,
+                   threshold_pred_n=2.5, threshold_measured_n=2.0, threshold_measured_nm=np.nan,
+                   threshold_pred_nm=np.nan, first_finger_measured=0, first_finger_pred=1, peak_slip_mm=0.0)
+    d = hardware.derive(rec.assign(threshold_censored=pd.Series([True, False, None, np.nan], dtype=object)))
+    assert d["threshold"].isna().tolist() == [True, False, False, False]
+    assert d["threshold_err_pct"].tolist() == pytest.approx([np.nan, 25.0, 25.0, 25.0], nan_ok=True)
+    assert hardware.flag is records.flag

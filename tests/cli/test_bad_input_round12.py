@@ -139,7 +139,7 @@ def test_a_word_yaml_reads_as_true_or_false_is_named_as_written(results, user_di
 
 @pytest.mark.parametrize(("file", "override", "n_seeds"), [
     ("07", None, 7),  # octal 7 is 7
-    ("0x10", None, 16), ("0b11", None, 3), ("1_000", None, 1000),  # each means what it says
+    ("0x10", None, 16), ("0b11", None, 3),  # each means what it says (1_000 is refused since)
     ("1", "seeds='10'", 10),  # text, which OmegaConf reads as an int setting's number
 ])
 def test_an_integer_read_as_written_is_taken(results, user_dir, file, override, n_seeds):

@@ -7,7 +7,7 @@ changed (``refused``)."""
 from __future__ import annotations
 
 import pytest
-from cli_checks import invoke, refused
+from cli_checks import invoke, mesh_study, refused
 
 SUFFIX_ONLY = "names only a suffix, no file name (a name beginning with a dot is a hidden file's)"
 
@@ -87,3 +87,58 @@ def test_a_number_written_with_an_underscore_is_refused_naming_what_it_reads_as(
 def test_an_underscore_in_text_is_no_number(tmp_path, typed):
     done = invoke("show", "smoke", typed, "--root", tmp_path)
     assert done.exit_code == 0, done.output
+
+
+@pytest.mark.parametrize(("lines", "said"), [
+    # YAML 1.1 (PyYAML, OmegaConf) reads an underscore between digits as grouping them: each was
+    # taken as the number, as an override's was before check_overrides refused it
+    ("seeds: 1_0", "line 5: seeds = 1_0 has an underscore, which YAML reads as grouping digits, the "
+     "number 10; write the number without it (10, if that is what you meant), or '1_0' in quotes "
+     "to mean text."),
+    ("seeds: 1_000", "line 5: seeds = 1_000 has an underscore, which YAML reads as grouping digits, "
+     "the number 1000; write the number without it (1000, if that is what you meant), or '1_000' "
+     "in quotes to mean text."),
+    ("factors:\n  shape: [sphere]\n  nodes: [144, 1_750]", "line 7: factors.nodes[1] = 1_750 has an "
+     "underscore, which YAML reads as grouping digits, the number 1750; write the number without "
+     "it (1750, if that is what you meant), or '1_750' in quotes to mean text."),
+    ("description: -0.1_5", "line 5: description = -0.1_5 has an underscore, which YAML reads as "
+     "grouping digits, the number -0.15; write the number without it (-0.15, if that is what you "
+     "meant), or '-0.1_5' in quotes to mean text."),  # a text key got "-0.15"
+])
+def test_a_number_written_with_an_underscore_in_a_study_file_is_refused(results, user_dir, lines,
+                                                                        said):
+    path = mesh_study(user_dir, f"{lines}\n")
+    for command in ("show", "run"):
+        refused(results, [command, path, "--root", results], f"{path}, {said}")
+
+
+@pytest.mark.parametrize("line", ["description: '1_0'", "description: run_1_0"])
+def test_an_underscore_in_text_in_a_study_file_is_no_number(results, user_dir, line):
+    path = mesh_study(user_dir, f"{line}\nfactors:\n  shape: [sphere]\n  nodes: [144]\n")
+    done = invoke("show", path, "--root", results)
+    assert done.exit_code == 0, done.output
+
+
+@pytest.mark.parametrize(("args", "said"), [
+    # Typer (pydantic) read each as Python's float() and int() do: 0.15, 10, 5.0, 10
+    (["plan", "ball.obj", "--mass-kg", "0.1_5"], "--mass-kg 0.1_5 has an underscore, which is read "
+     "as grouping digits, the number 0.15; write the number without it (0.15, if that is what you "
+     "meant)."),
+    (["plan", "ball.obj", "--mass-kg", "0.1", "--mu", "1_0"], "--mu 1_0 has an underscore, which is "
+     "read as grouping digits, the number 10.0; write the number without it (10.0, if that is what "
+     "you meant)."),
+    (["plan", "ball.obj", "--mass-kg", "0.1", "--fingertip-radius-mm=5_0"], "--fingertip-radius-mm "
+     "5_0 has an underscore, which is read as grouping digits, the number 50.0; write the number "
+     "without it (50.0, if that is what you meant)."),
+    (["report", "--jobs", "1_0"], "--jobs 1_0 has an underscore, which is read as grouping digits, "
+     "the number 10; write the number without it (10, if that is what you meant)."),
+    # what Typer cannot read is named as before
+    (["plan", "ball.obj", "--mass-kg", "1__0"], "--mass-kg '1__0' is not a number; see graspcampaign "
+     "plan --help."),
+    (["report", "--jobs", "1.5"], "--jobs '1.5' is not a whole number; see graspcampaign report --help."),
+])
+def test_a_numeric_option_written_with_an_underscore_is_refused_naming_what_it_reads_as(tmp_path, args,
+                                                                                       said):
+    # the mesh is never looked for: the option is refused as the command line is read
+    where = ["--root", tmp_path] if args[0] == "report" else []
+    refused(tmp_path, [*args, *where], said)

@@ -16,6 +16,7 @@ import pandas as pd
 import pytest
 import yaml
 
+from graspcampaign.analysis import dynamic_check as dc
 from graspcampaign.analysis.vocabulary import label
 from graspcampaign.report.document import cell
 from graspcampaign.report.render import Run
@@ -188,12 +189,17 @@ def test_the_time_budget_is_read_from_the_records_when_the_config_leaves_the_def
     assert table.caption(run).endswith("(t_max = 1 s of simulated time)")
 
 
+def _table(run: Run, name: str):
+    """The report's table ``name`` as its page shows it (its shown columns chosen from its frame)."""
+    return next(i for i in report.SPEC.items if getattr(i, "name", "") == name).render(run)[0]
+
+
 def test_group_tables_show_each_evaluators_success_as_a_percentage():
     run = _run()
-    table = next(i for i in report.SPEC.items if getattr(i, "name", "") == "agreement_by_shape")
+    table = _table(run, "agreement_by_shape")
     shown = {c.label: c for c in table.cols}
     records = run.records
-    for r in table.compute(run).to_dict("records"):
+    for r in table.frame.to_dict("records"):
         g = records[(records.model_preset == r["model_preset"]) & (records["shape"] == r["shape"])
                     & (records.dynamic_status != "not_settled")]
         assert cell(r, shown["quasi-static success %"]) == f"{100 * g.qs_success.mean():.1f}"
@@ -205,3 +211,31 @@ def test_the_description_states_no_stale_trial_count():
     path = Path(__file__).parents[2] / "campaigns" / "dynamic_check.yaml"
     description = yaml.safe_load(path.read_text())["description"]
     assert not re.search(r"\d+\s*(x|×)\s*\d+\s*trials", description), description
+
+
+COUNTS = ("n determined", f"{label('dynamic_status', 'not_settled')} (left out)",
+          "a label missing (left out)")
+
+
+def test_a_trial_missing_a_label_has_its_column_so_the_shown_counts_add_up():
+    """agreement_table counts a settled trial missing a label apart (``unlabelled``); the report's
+    tables showed n and not settled alone, which then fell short of the trials by that count."""
+    run = _run()
+    run.records["qs_success"] = run.records.qs_success.astype(object)
+    run.records.loc[[0, 2, 1], "qs_success"] = None  # table2's sphere 0 and 2 settled, 1 did not
+    seen = []
+    for name in ("kappa", "agreement_by_shape"):
+        table = _table(run, name)
+        heads = [c.label for c in table.cols]
+        for r, row in zip(table.frame.to_dict("records"), table.grid[0], strict=True):
+            shown = dict(zip(heads, (text for text, _ in row), strict=True))
+            g = run.records[run.records.model_preset == r["model_preset"]]
+            g = g if r.get("scope") == report.ALL else g[g["shape"] == r.get("shape", "sphere")]
+            assert sum(int(shown[h]) for h in COUNTS) == len(g)  # every trial counted once
+            labels = list(dc.LABEL_PAIRS[r["comparison"]])
+            settled = g[g.dynamic_status != "not_settled"]
+            seen.append(int(shown[COUNTS[2]]))
+            assert seen[-1] == int(settled[labels].isna().any(axis=1).sum())
+    assert seen.count(2) == 3  # table2's source pair: sphere and every shape (kappa), sphere (by shape)
+    for name in ("kappa", "agreement_by_shape", "agreement_by_planner"):  # none missing: no column
+        assert COUNTS[2] not in [c.label for c in _table(_run(), name).cols]

@@ -11,7 +11,7 @@ import numpy as np
 import pandas as pd
 
 from graspcampaign.analysis import agreement, association, rates
-from graspcampaign.analysis.records import executed, known, mcnemar_table, rate_table
+from graspcampaign.analysis.records import executed, flag, known, mcnemar_table, rate_table
 from graspcampaign.analysis.vocabulary import label, ordered, things
 from graspcampaign.core.statics import GRAVITY
 
@@ -93,8 +93,7 @@ def derive(records: pd.DataFrame) -> pd.DataFrame:
         a, c = df["block"] == "A", df["block"] == "C"
         m = df["threshold_measured_nm"].where(c, df["threshold_measured_n"]).astype(float)
         p = df["threshold_pred_nm"].where(c, df["threshold_pred_n"]).astype(float)
-        ok = np.isfinite(m) & np.isfinite(p) & (m > 0) & \
-            ~df["threshold_censored"].astype("boolean").fillna(False).astype(bool)
+        ok = np.isfinite(m) & np.isfinite(p) & (m > 0) & ~flag(df, "threshold_censored")
         err = pct_error(m, p).where(ok)
         payload = (100 * m / (df["mass_kg"] * GRAVITY)).where(ok & (df["disturbance_kind"] == "down"))
         ff = df["first_finger_measured"].fillna(0).astype(int)
@@ -163,10 +162,10 @@ def classifier_table(df: pd.DataFrame, flags: Sequence[str], by: Sequence[str]) 
     """Return each flag scored against measured success per group of ``by``: counts, accuracy, f1, the base
     success rate, precision and recall with Wilson 95 % bounds (``_low``, ``_high``), ``above_base``."""
     rows = []
-    for flag in flags:
+    for column in flags:
         for key, g in df.groupby(list(by), sort=False):
-            m = agreement.classifier_metrics(g[flag].astype(bool), g["success"].astype(bool))
-            row = {"flag": flag, **dict(zip(by, key, strict=True)), "n": m.n, "flagged": m.tp + m.fp,
+            m = agreement.classifier_metrics(g[column].astype(bool), g["success"].astype(bool))
+            row = {"flag": column, **dict(zip(by, key, strict=True)), "n": m.n, "flagged": m.tp + m.fp,
                    "tp": m.tp, "fp": m.fp, "fn": m.fn, "tn": m.tn, "accuracy": m.accuracy, "f1": m.f1}
             for name, k, n in (("base", m.tp + m.fn, m.n), ("precision", m.tp, m.tp + m.fp),
                                ("recall", m.tp, m.tp + m.fn)):

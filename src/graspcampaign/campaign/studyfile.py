@@ -247,7 +247,8 @@ _MERGE, _NULL = "tag:yaml.org,2002:merge", "tag:yaml.org,2002:null"
 _INT, _FLOAT = "tag:yaml.org,2002:int", "tag:yaml.org,2002:float"
 _LEADING_ZERO = " has a leading zero"  # the loader's refusal of an octal integer, in words
 _BASE_60 = ", which YAML reads as a base-60"  # and of a sexagesimal one
-_MISREADINGS = (_LEADING_ZERO, _BASE_60)
+_GROUPED = " has an underscore, which YAML reads as grouping digits"  # and of 1_0 (10)
+_MISREADINGS = (_LEADING_ZERO, _BASE_60, _GROUPED)
 
 
 def _key_part(parent: Any, index: Any) -> str:
@@ -273,14 +274,19 @@ def _octal(node: Any) -> str | None:
     return f"{_LEADING_ZERO}, which YAML reads as octal {octal}; write {decimal} or {octal}"
 
 
-def _base_60(loader: Any, node: Any) -> str | None:
-    """Why a number written with colons (``1:30``, ``1:30.5``) is refused, in words, or None:
-    YAML 1.1 takes it for base 60 (90, 90.5: a clock time), which no one writing a study means:
-    a setting that wants a number gets another one, one that wants text gets its digits."""
+def _separated(loader: Any, node: Any) -> str | None:
+    """Why a number written with colons (``1:30``, ``1:30.5``) or an underscore (``1_0``) is
+    refused, in words, or None: YAML 1.1 takes the first for base 60 (90, 90.5: a clock time) and
+    reads the second with its digits grouped (10, as an override's is refused, ``check_overrides``),
+    which no one writing a study means: a setting that wants a number gets another one, one that
+    wants text gets its digits."""
     value, tag = getattr(node, "value", None), getattr(node, "tag", None)
-    if tag not in (_INT, _FLOAT) or not isinstance(value, str) or ":" not in value:
+    if tag not in (_INT, _FLOAT) or not isinstance(value, str) or not {":", "_"} & set(value):
         return None
     read = (loader.construct_yaml_int if tag == _INT else loader.construct_yaml_float)(node)
+    if ":" not in value:
+        return (f"{_GROUPED}, the number {read!r}; write the number without it ({read!r}, if that "
+                f"is what you meant), or '{value}' in quotes to mean text")
     colons = "a colon" if value.count(":") == 1 else "colons"
     return (f" has {colons}{_BASE_60} (sexagesimal) number, {read!r}; write {read!r}, or '{value}' "
             "in quotes to mean text")
@@ -288,8 +294,8 @@ def _base_60(loader: Any, node: Any) -> str | None:
 
 def _misread(loader: Any, node: Any) -> str | None:
     """Why a number YAML 1.1 reads as other than it is written is refused (:func:`_octal`,
-    :func:`_base_60`), or None: the one rule the loader checks each value by."""
-    return _octal(node) or _base_60(loader, node)
+    :func:`_separated`), or None: the one rule the loader checks each value by."""
+    return _octal(node) or _separated(loader, node)
 
 
 def _unprintable_key(key: str) -> str:
@@ -309,7 +315,7 @@ def _loader() -> type:
     """A SafeLoader that refuses a key given twice in one mapping, as OmegaConf does, a null key
     (``~: 1``), an alias (``*name``) or a merge key (``<<:``): expanded, a few lines of aliases
     of aliases are billions of values; and a number YAML 1.1 reads as other than it is written,
-    octal (``010``) or base 60 (``1:30``) (:func:`_misread`), named by its key
+    octal (``010``), base 60 (``1:30``) or grouped (``1_0``) (:func:`_misread`), named by its key
     (``factors.nodes[1]``)."""
     import yaml
 

@@ -157,6 +157,27 @@ def file_path(option: str, hint: str, example: str, makes_dirs: bool = False):
     return parse
 
 
+def number(option: str, kind: type = float):
+    """The parser of a numeric option (``plan --mass-kg``, ``report --jobs``): Typer's own reading
+    of ``kind`` (pydantic's; a word it cannot read is refused by :func:`usage_sentence`), and a
+    number written with an underscore refused, as an override's is (``check_overrides``): read as
+    grouping digits, ``--mass-kg 0.1_5`` was 0.15. The one reading of every numeric option."""
+    def parse(value: str) -> float | int:
+        from pydantic import TypeAdapter, ValidationError
+        from pydantic_core import PydanticCustomError
+
+        try:
+            read = TypeAdapter(kind).validate_python(value)
+        except ValidationError as exc:  # re-raised as is, it would be called a value error
+            error = exc.errors()[0]
+            raise PydanticCustomError(error["type"], error["msg"]) from None
+        if "_" in str(value):
+            fail(f"{option} {value} has an underscore, which is read as grouping digits, the "
+                 f"number {read}; write the number without it ({read}, if that is what you meant).")
+        return read
+    return parse
+
+
 RootOpt = Annotated[Path | None, typer.Option("--root", help="Results root (default: output.root, "
                                                              "i.e. results).",
                                               parser=root_path, metavar="path")]

@@ -20,6 +20,7 @@ from graspcampaign.cli.app import (
     fail,
     file_path,
     guard,
+    number,
     other_format,
     outside_runs,
     path_or_empty,
@@ -132,11 +133,14 @@ def plan(
     mesh: Annotated[Path, typer.Argument(
         help="Object mesh (STL, OBJ or PLY).", parser=lambda value: path_or_empty(value, "mesh"),
         metavar="mesh")],
-    mass_kg: Annotated[float, typer.Option("--mass-kg", help="Object mass in kg.")],
+    mass_kg: Annotated[float, typer.Option("--mass-kg", help="Object mass in kg.",
+                                           parser=number("--mass-kg"), metavar="<float>")],
     material: Annotated[str, typer.Option(help="Table 4 material family.")] = DEFAULT_PLAN_MATERIAL,
-    mu: Annotated[float | None, typer.Option(help="Static friction; overrides the material's.")] = None,
+    mu: Annotated[float | None, typer.Option(help="Static friction; overrides the material's.",
+                                             parser=number("--mu"), metavar="<float>")] = None,
     fingertip_radius_mm: Annotated[float, typer.Option(
-        "--fingertip-radius-mm", help="Fingertip radius in mm.")] = DEFAULT_FINGERTIP_RADIUS_MM,
+        "--fingertip-radius-mm", help="Fingertip radius in mm.", parser=number("--fingertip-radius-mm"),
+        metavar="<float>")] = DEFAULT_FINGERTIP_RADIUS_MM,
     unit: Annotated[str, typer.Option(help="Length unit of the mesh file: m, cm or mm.")] = "mm",
     png: Annotated[Path | None, typer.Option(
         help="Picture path, ending in .png (default: <mesh>.plan.png beside the mesh).",

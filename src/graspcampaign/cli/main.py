@@ -29,6 +29,7 @@ from graspcampaign.cli.app import (
     fail,
     file_path,
     guard,
+    number,
     other_format,
     root_path,
     state,
@@ -245,7 +246,8 @@ def report(
     fmt: Annotated[str, typer.Option("--format", help="Comma-separated: md,csv,json,html.")] = "md,csv",
     figure_format: Annotated[str, typer.Option("--figure-format", help="png, svg or pdf.")] = "png",
     jobs: Annotated[int, typer.Option(
-        "--jobs", help="Processes writing the runs' reports (-1: one per core; --debug: 1).")] = 1,
+        "--jobs", help="Processes writing the runs' reports (-1: one per core; --debug: 1).",
+        parser=number("--jobs", int), metavar="<int>")] = 1,
 ) -> None:
     """Write reports (Markdown, CSV tables, figures, HTML) from the records; never runs a trial.
 

@@ -22,6 +22,7 @@ import pandas as pd
 
 from graspcampaign.core.words import counted, meant, plural
 from graspcampaign.errors import utf8_text
+from graspcampaign.rig.sheet_xml import SheetMarks, first_sheet_marks
 
 __all__ = ["IngestError", "cell_problem", "header_problems", "ingest_error", "read_table",
            "table_and_label"]
@@ -128,9 +129,7 @@ def read_table(path: str | Path, *, csv_options: dict | None = None,
                 frame.attrs["other_sheets"] = {name: [str(c) for c in sheet.columns]
                                                for name, sheet in other.items()}
                 frame.attrs["filled_sheets"] = [name for name, sheet in other.items() if len(sheet)]
-            _check_merged(path, frame)
-            if frame.isna().to_numpy().any():  # an error, an uncomputed formula: an empty cell
-                _check_empty_cells(path, book.sheet_names[0], frame)
+            _check_sheet(path, book.sheet_names[0], frame)
             return frame
         return pd.read_parquet(path)
     except IngestError:
@@ -200,19 +199,26 @@ def _check_compound(path: Path) -> None:
                       "CSV UTF-8.")
 
 
-def _check_empty_cells(path: Path, sheet: str, frame: pd.DataFrame) -> None:
+def _check_empty_cells(path: Path, sheet: str, frame: pd.DataFrame, marks: SheetMarks) -> None:
     """Refuse a cell pandas read as empty that holds an error (a formula's ``#DIV/0!``, a typed
-    ``#N/A``: read from the stored values, a formula's last result) or a formula without a computed
-    value (a file written by a program such as openpyxl and never opened in a spreadsheet program
-    stores the formula only): either would be stored as not measured."""
-    for data_only, data_type, said in (
-            (True, "e", lambda value: spreadsheet_error(str(value))),
-            (False, "f", lambda value: f"the cell holds a formula ({value}) with no computed value; "
-                                       "open and save the file in a spreadsheet program, which "
-                                       "stores the values")):
-        if (found := _first_empty(path, sheet, frame, data_only, data_type)) is not None:
-            k, j, value = found
-            raise ingest_error(path.name, k + 1, str(frame.columns[j]), said(value))
+    ``#N/A``: its stored value, a formula's last result) or a formula without a computed value (a
+    file written by a program such as openpyxl and never opened in a spreadsheet program stores
+    the formula only): either would be stored as not measured. The cells are those the sheet's
+    XML names (``marks``), or openpyxl's (:func:`_first_empty`) where the XML leaves one unplaced."""
+    if marks.unplaced:  # openpyxl counts the place of a cell without its reference
+        error = _first_empty(path, sheet, frame, True, "e")
+        formula = None if error else _first_empty(path, sheet, frame, False, "f")
+    else:  # the sheet's row k + 2 is the frame's row k (header in row 1), its column j + 1 column j
+        error, formula = ((cell[0] - 2, cell[1] - 1, cell[2]) if cell else None
+                          for cell in (marks.error, marks.formula))
+    if error is not None:
+        k, j, value = error
+        raise ingest_error(path.name, k + 1, str(frame.columns[j]), spreadsheet_error(str(value)))
+    if formula is not None:
+        k, j, value = formula
+        raise ingest_error(path.name, k + 1, str(frame.columns[j]),
+                           f"the cell holds a formula ({value}) with no computed value; open and "
+                           "save the file in a spreadsheet program, which stores the values")
 
 
 def _first_empty(path: Path, sheet: str, frame: pd.DataFrame, data_only: bool, data_type: str):
@@ -234,9 +240,11 @@ def _first_empty(path: Path, sheet: str, frame: pd.DataFrame, data_only: bool, d
     return None
 
 
-def _check_merged(path: Path, frame: pd.DataFrame) -> None:
+def _check_sheet(path: Path, sheet: str, frame: pd.DataFrame) -> None:
     """Refuse a hidden first sheet, hidden rows and merged cells in the first sheet's table (its
-    header and data rows), all read from the sheet's XML (:func:`_first_sheet_marks`).
+    header and data rows), and a cell pandas read as empty that holds an error or a formula
+    (:func:`_check_empty_cells`), all read from the sheet's XML in one pass
+    (:func:`~graspcampaign.rig.sheet_xml.first_sheet_marks`).
 
     A merged range keeps its value in its first (top-left) cell and leaves the others empty
     (ECMA-376 Part 1 §18.3.1.55), so pandas reads every cell but the first as not measured: a value
@@ -247,7 +255,14 @@ def _check_merged(path: Path, frame: pd.DataFrame) -> None:
     """
     from openpyxl.utils.cell import range_boundaries
 
-    name, merged, hidden = _first_sheet_marks(path)
+    empty = frame.isna().to_numpy()  # where an error or an uncomputed formula may be
+    n_rows, n_columns = empty.shape
+
+    def wanted(row: int, column: int) -> bool:  # a cell of the table that pandas read as empty
+        return 2 <= row <= n_rows + 1 and column <= n_columns and bool(empty[row - 2, column - 1])
+
+    marks = first_sheet_marks(path, wanted if empty.any() else None)
+    name, merged, hidden = marks.hidden_sheet, marks.merged, marks.hidden_rows
     if name is not None:
         raise IngestError(f"{path.name}: ingest reads the workbook's first sheet, and it, "
                           f"'{name}', is hidden (a sheet someone set aside?); unhide it if it "
@@ -264,50 +279,8 @@ def _check_merged(path: Path, frame: pd.DataFrame) -> None:
             raise ingest_error(path.name, row - 1 or None, str(frame.columns[col - 1]),
                                f"the cell is merged with others ({ref}), which leaves all of them "
                                "but the first empty; unmerge them and fill in each cell")
-
-
-def _first_sheet_marks(path: Path) -> tuple[str | None, list[str], list[int]]:
-    """The name of a workbook's first sheet when it is hidden (else None), its merged ranges
-    (``'J2:J3'``) and its hidden rows (1-based, the sheet's numbers), read from its XML in pieces:
-    openpyxl names merged ranges and hidden rows only when it loads the whole workbook into
-    memory, not in its read-only mode.
-
-    The first sheet is the first ``<sheet>`` of ``xl/workbook.xml`` (the one pandas reads), its
-    ``state`` ``hidden`` or ``veryHidden`` when hidden; its part is named by the workbook's
-    relationships (ECMA-376 Part 1 §18.2.19, Part 2 §9.3). A part that cannot be found leaves the
-    checks to the reader, which said the workbook is readable.
-    """
-    import xml.etree.ElementTree as ET
-    import zipfile
-
-    with zipfile.ZipFile(path) as archive:
-        try:
-            sheet = ET.fromstring(archive.read("xl/workbook.xml")).find("{*}sheets/{*}sheet")
-            rid = next(v for k, v in sheet.attrib.items() if k.endswith("}id"))
-            rels = ET.fromstring(archive.read("xl/_rels/workbook.xml.rels"))
-            target = next(r.get("Target") for r in rels if r.get("Id") == rid)
-        except (KeyError, AttributeError, StopIteration, ET.ParseError):
-            return None, [], []
-        name = sheet.get("name") if sheet.get("state") in ("hidden", "veryHidden") else None
-        part = target.lstrip("/") if target.startswith("/") else f"xl/{target}"
-        if part not in archive.namelist():
-            return name, [], []
-        found, rows, tail = [], [], b""
-        with archive.open(part) as xml:  # in pieces: a sheet of a million rows is ~100 MB of XML
-            while chunk := xml.read(2**20):
-                text = tail + chunk
-                found += _MERGE.findall(text)
-                rows += [int(r) for r in _HIDDEN_ROW.findall(text)]
-                tail = text[-512:]  # a tag cut in two is found whole in the next piece
-    return (name, list(dict.fromkeys(r.decode() for r in found)),
-            sorted(set(rows)))
-
-
-#: a merged range in a worksheet's XML, ``<mergeCell ref="J2:J3"/>`` (any namespace prefix)
-_MERGE = re.compile(rb'<(?:\w+:)?mergeCell\s[^>]*?ref="([A-Z]+[0-9]+:[A-Z]+[0-9]+)"')
-#: a hidden row's number in a worksheet's XML, ``<row r="3" hidden="1" ...>`` (attributes in any
-#: order; ``hidden`` is an xsd:boolean, "1" or "true")
-_HIDDEN_ROW = re.compile(rb'<(?:\w+:)?row\s(?=[^>]*?\bhidden="(?:1|true)")[^>]*?\br="([0-9]+)"')
+    if empty.any():
+        _check_empty_cells(path, sheet, frame, marks)
 
 
 def _checked_csv(path: Path) -> str:

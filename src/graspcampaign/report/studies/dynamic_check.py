@@ -24,10 +24,15 @@ PAIRS = {"source": "source study's label", "preset": "Algorithms 1–2 under the
          "preset_unbounded": "Algorithms 1–2 under the preset, no validity gate"}
 NOT_SETTLED = label("dynamic_status", dc.UNDETERMINED)
 AGREE = [Col("n", "n determined"), Col("not_settled", f"{NOT_SETTLED} (left out)"),
-         Col("both_success", "both succeed"), Col("qs_only", "quasi-static only"),
-         Col("dynamic_only", "dynamic only"), Col("both_failure", "both fail"),
-         pct_col("agreement", "agreement"),
+         Col("unlabelled", "a label missing (left out)"), Col("both_success", "both succeed"),
+         Col("qs_only", "quasi-static only"), Col("dynamic_only", "dynamic only"),
+         Col("both_failure", "both fail"), pct_col("agreement", "agreement"),
          Col("kappa", "Cohen's κ (95%)", 2, low="kappa_low", high="kappa_high"), Col("kappa_why", "κ note")]
+
+
+def _agree(t: pd.DataFrame) -> list[Col]:
+    """:data:`AGREE`, the trials missing a label (``unlabelled``) shown only where there are some."""
+    return [c for c in AGREE if c.key != "unlabelled" or t.unlabelled.any()]
 
 
 def _t_max(run: Run) -> str:
@@ -139,9 +144,9 @@ def _by(by: str) -> Table:
     return Table(f"agreement_by_{by}", lambda run: f"Agreement of the source study's quasi-static label and "
                  f"the dynamic label per preset and {by}; κ undefined where every trial has one label in "
                  f"both columns; {_left_out(run)}",
-                 lambda run: agreement(run, ["model_preset", by]), [
+                 lambda run: agreement(run, ["model_preset", by]), lambda run, t: [
                      Col("qs_success_rate_pct", "quasi-static success %", 1),
-                     Col("dynamic_success_rate_pct", "dynamic success %", 1), *AGREE],
+                     Col("dynamic_success_rate_pct", "dynamic success %", 1), *_agree(t)],
                  by=["model_preset", by])
 
 
@@ -151,8 +156,8 @@ SPEC = ReportSpec("dynamic_check", [
           f"Cohen's κ (asymptotic 95% interval, statsmodels) per preset and label pair, beside the paper's "
           f"claim \"{run.paper.claim}\" read as full agreement (100%): judged on the {CLAIM_SHAPE}'s trials "
           f"(the claim's scope); the rows over {ALL} are context, with no verdict; {_left_out(run)}",
-          _kappa, [
-              Col("scope", "trials"), Col("comparison_label", "quasi-static label"), *AGREE,
+          _kappa, lambda run, t: [
+              Col("scope", "trials"), Col("comparison_label", "quasi-static label"), *_agree(t),
               Col("paper_pct", "paper %", 1), Col("verdict", "verdict")], by=["model_preset"]),
     Figure("confusion", f"Confusion matrices per preset on the {CLAIM_SHAPE} (the claim's scope): the "
            "source study's label and Algorithms 1–2 under the preset (rows) against the dynamic label "
