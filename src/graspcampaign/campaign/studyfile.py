@@ -449,12 +449,11 @@ def check_name(value: Any, key: str) -> str:
     """
     if not isinstance(value, str):  # a notebook's run=3 was stored as a number, then refused
         raise ConfigError(f"{key} = {value!r} is not a name: give it as text (a str).", key=key)
-    text = value
-    if not _RUN_NAME.fullmatch(text):
-        raise ConfigError(f"{key} = {text!r} is not allowed; use ASCII letters (a-z, A-Z), digits, "
+    if not _RUN_NAME.fullmatch(value):
+        raise ConfigError(f"{key} = {value!r} is not allowed; use ASCII letters (a-z, A-Z), digits, "
                           "'.', '_' and '-' (starting with a letter or digit, at most 100), so the "
                           "run stays inside the results directory.", key=key)
-    return text
+    return value
 
 
 def run_dir(root: str | Path, study: str, run: str, key: str = "--run") -> Path:
