@@ -19,3 +19,19 @@ UNITS = "use one of m, cm, mm (the unit of the mesh file's coordinates)."
 ])
 def test_an_unknown_mesh_unit_names_the_option_and_its_values(tmp_path, sphere, unit, said):
     refused(tmp_path, ["plan", sphere, "--mass-kg", "0.1", "--unit", unit], said)
+
+
+@pytest.mark.parametrize(("args", "said"), [
+    # "unknown report format 'md csv'; did you mean 'csv'?": md was asked for too
+    (["--format", "md csv"], "--format 'md csv': report formats are separated by commas, not spaces; "
+                             "give --format md,csv."),
+    (["--format", "md csv,json"], "--format 'md csv,json': report formats are separated by commas, "
+                                  "not spaces; give --format md,csv,json."),
+    # "did you mean 'png' or 'svg'?" to a list of both, whether by spaces or commas
+    (["--figure-format", "svg png"], "--figure-format 'svg png': one figure format is taken, not 2; "
+                                     "choose one of png, svg, pdf."),
+    (["--figure-format", "svg,png"], "--figure-format 'svg,png': one figure format is taken, not 2; "
+                                     "choose one of png, svg, pdf."),
+])
+def test_report_formats_separated_by_spaces_are_told_the_commas(tmp_path, args, said):
+    refused(tmp_path, ["report", "smoke", "--root", tmp_path, *args], said)
