@@ -12,9 +12,9 @@ import pyarrow.parquet as pq
 import pytest
 from killed import Killed, kill_after
 
+from graspcampaign.campaign.paths import run_path
 from graspcampaign.campaign.records import RunStore, _write_atomic
 from graspcampaign.campaign.runner import run_study
-from graspcampaign.campaign.studyfile import run_path
 from graspcampaign.campaign.verify import PARTS_KEY
 from graspcampaign.errors import DamagedRunError
 

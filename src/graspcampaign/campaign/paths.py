@@ -1,4 +1,5 @@
-"""Where commands read and write: the results root and output files, checked before any work.
+"""Where commands read and write: the results root, a run's directory and output files, checked
+before any work.
 
 A bad place (an empty name, a file where a directory belongs, a directory, named pipe, device or
 socket where a file belongs, a read-only file system) is one sentence naming the option and why,
@@ -10,11 +11,13 @@ from __future__ import annotations
 
 import errno
 import os
+import re
 import shlex
 import stat
 import tempfile
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 from graspcampaign.errors import ConfigError, UserInputError, too_long
 
@@ -375,3 +378,44 @@ def write_file(path: Path, data: str | bytes) -> None:
         raise OSError(exc.errno, exc.strerror, str(path)) from None
     finally:
         tmp.unlink(missing_ok=True)
+
+
+#: A study or run name: one path component of ASCII letters, digits, '.', '_' and '-'.
+_RUN_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
+
+
+def check_name(value: Any, key: str) -> str:
+    """Check a study or run name: one path component, so results stay under the results root.
+
+    Raises
+    ------
+    ConfigError
+        Naming ``key`` and the allowed characters.
+    """
+    if not isinstance(value, str):  # a notebook's run=3 was stored as a number, then refused
+        raise ConfigError(f"{key} = {value!r} is not a name: give it as text (a str).", key=key)
+    text = value
+    if not _RUN_NAME.fullmatch(text):
+        raise ConfigError(f"{key} = {text!r} is not allowed; use ASCII letters (a-z, A-Z), digits, "
+                          "'.', '_' and '-' (starting with a letter or digit, at most 100), so the "
+                          "run stays inside the results directory.", key=key)
+    return text
+
+
+def run_dir(root: str | Path, study: str, run: str, key: str = "--run") -> Path:
+    """Return ``<root>/<study>/<run>`` after checking both names stay one path component each."""
+    return Path(root) / check_name(study, "study name") / check_name(run, key)
+
+
+def run_path(study: Any, run: str | None = None) -> Path:
+    """Return a composed study's ``<output.root>/<study>/<run>`` (``run`` None: ``output.run``).
+
+    Raises
+    ------
+    ConfigError
+        A run name that is not one plain path component (``../elsewhere``): runs stay inside the
+        results root; an empty name is refused, never taken for the default run.
+    """
+    if run is not None:
+        return run_dir(study.output.root, study.name, run)
+    return run_dir(study.output.root, study.name, study.output.run, "output.run")

@@ -29,11 +29,10 @@ from graspcampaign.campaign.grid import Trial, content_hash, expand
 from graspcampaign.campaign.integrity import check_run, expected_records
 from graspcampaign.campaign.kind import TrialInput, TrialKind, get_kind
 from graspcampaign.campaign.parts import entry, finalize, prepare_bodies
-from graspcampaign.campaign.paths import LOCK_FILE, check_root, lock_exclusive
+from graspcampaign.campaign.paths import LOCK_FILE, check_root, lock_exclusive, run_path
 from graspcampaign.campaign.provenance import DriftError, check_drift  # noqa: F401 - DriftError: API
 from graspcampaign.campaign.records import ERROR_COLUMNS, RunStore, config_metadata
 from graspcampaign.campaign.schema import StudyCfg, check_config, check_design_rows
-from graspcampaign.campaign.studyfile import run_path
 from graspcampaign.campaign.verify import one_check
 from graspcampaign.errors import ConfigError, UserInputError
 

@@ -14,9 +14,17 @@ from typing import Any
 
 from graspcampaign.campaign.catalog import design_size, kind_facts
 from graspcampaign.campaign.kind import KINDS, get_kind, kind_available
-from graspcampaign.campaign.paths import check_root, held_by_a_run, how_to_make, near_run
+from graspcampaign.campaign.paths import (
+    check_name,
+    check_root,
+    held_by_a_run,
+    how_to_make,
+    near_run,
+    run_dir,
+    run_path,
+)
 from graspcampaign.campaign.schema import StudyCfg, design_shape
-from graspcampaign.campaign.studyfile import check_name, list_studies, run_dir, run_path
+from graspcampaign.campaign.studyfile import list_studies
 from graspcampaign.core.words import counted, meant
 from graspcampaign.errors import MissingSourceRunError, UserInputError
 

@@ -28,7 +28,6 @@ from graspcampaign.campaign.paths import expand_home, input_file_problem, shown
 from graspcampaign.core.words import as_ascii, meant
 from graspcampaign.errors import ConfigError, UserInputError, utf8_text
 
-_RUN_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
 _SCHEMA_LINE = re.compile(r"^#\s*schema:\s*(\w+)")
 _SUFFIXES = (".yaml", ".yml")
 _MAX_BYTES = 2**20  # a study or config-group file (docs/decisions.md)
@@ -431,43 +430,6 @@ def check_group_files() -> None:
     conf_dir, _ = project_dirs()
     for path in sorted(conf_dir.rglob("*.yaml")):
         read_yaml(path)
-
-
-def check_name(value: Any, key: str) -> str:
-    """Check a study or run name: one path component, so results stay under the results root.
-
-    Raises
-    ------
-    ConfigError
-        Naming ``key`` and the allowed characters.
-    """
-    if not isinstance(value, str):  # a notebook's run=3 was stored as a number, then refused
-        raise ConfigError(f"{key} = {value!r} is not a name: give it as text (a str).", key=key)
-    text = value
-    if not _RUN_NAME.fullmatch(text):
-        raise ConfigError(f"{key} = {text!r} is not allowed; use ASCII letters (a-z, A-Z), digits, "
-                          "'.', '_' and '-' (starting with a letter or digit, at most 100), so the "
-                          "run stays inside the results directory.", key=key)
-    return text
-
-
-def run_dir(root: str | Path, study: str, run: str, key: str = "--run") -> Path:
-    """Return ``<root>/<study>/<run>`` after checking both names stay one path component each."""
-    return Path(root) / check_name(study, "study name") / check_name(run, key)
-
-
-def run_path(study: Any, run: str | None = None) -> Path:
-    """Return a composed study's ``<output.root>/<study>/<run>`` (``run`` None: ``output.run``).
-
-    Raises
-    ------
-    ConfigError
-        A run name that is not one plain path component (``../elsewhere``): runs stay inside the
-        results root; an empty name is refused, never taken for the default run.
-    """
-    if run is not None:
-        return run_dir(study.output.root, study.name, run)
-    return run_dir(study.output.root, study.name, study.output.run, "output.run")
 
 
 def configured_output(study: str | None, key: str = "run") -> str:

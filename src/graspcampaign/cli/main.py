@@ -251,10 +251,10 @@ def report(
 
     With studies and no `--run`, each study's configured run (its `output.run`) is reported.
     """
-    from graspcampaign.campaign.paths import stored_root
+    from graspcampaign.campaign.paths import check_name, stored_root
     from graspcampaign.campaign.schema import WORKERS_PER_CORE, most_workers
     from graspcampaign.campaign.status import check_known
-    from graspcampaign.campaign.studyfile import check_name, configured_output
+    from graspcampaign.campaign.studyfile import configured_output
 
     root = stored_root(studies or []) if root is None else root
     if run is not None:
