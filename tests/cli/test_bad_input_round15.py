@@ -7,8 +7,10 @@ what to write, nothing stored changed (``refused``)."""
 from __future__ import annotations
 
 import pytest
-from cli_checks import refused
+from cli_checks import invoke, mesh_study, refused
 
+#: a one-trial mesh study (sphere, 144 nodes) run in this process
+ONE = "seed: 0\nseeds: 1\nfactors: {shape: [sphere], nodes: [144]}\nrunner: {backend: sequential}\n"
 UNITS = "use one of m, cm, mm (the unit of the mesh file's coordinates)."
 
 
@@ -35,3 +37,25 @@ def test_an_unknown_mesh_unit_names_the_option_and_its_values(tmp_path, sphere, 
 ])
 def test_report_formats_separated_by_spaces_are_told_the_commas(tmp_path, args, said):
     refused(tmp_path, ["report", "smoke", "--root", tmp_path, *args], said)
+
+
+MISCASED = ("is not read: a study file's name ends in .yaml or .yml in lower case, as the study search "
+            "path and Hydra's look for it (the case of a file name matters on Linux);")
+
+
+@pytest.mark.parametrize("suffix", [".YAML", ".Yml"])
+def test_a_study_file_ending_in_upper_case_is_told_the_case_matters(tmp_path, user_dir, suffix):
+    # "must end in .yaml or .yml" to a file ending in .YAML; on GRASPCAMPAIGN_PATH it was passed
+    # over, and its study said to be unknown among the others
+    path = mesh_study(user_dir, ONE).rename(user_dir / f"mine{suffix}")
+    lower = f"mine{suffix.lower()}"
+    refused(tmp_path, ["show", path, "--root", tmp_path],
+            f"study file {path} {MISCASED} rename it {lower}.")
+    refused(tmp_path, ["show", "mine", "--root", tmp_path],
+            f"unknown study 'mine': the file {path} {MISCASED} rename it {lower}.")
+    # status and report take a study's name: a path is told so, whatever its suffix's case
+    refused(tmp_path, ["status", path.name, "--root", tmp_path],
+            f"study '{path.name}' is a path; give the study's name (mine, the name: of a study "
+            "file), under which its runs are stored.")
+    path.rename(user_dir / lower)
+    assert invoke("show", "mine", "--root", tmp_path).exit_code == 0

@@ -204,7 +204,7 @@ def check_known(root: Path | str, study: str) -> None:
     """Refuse a study name that is neither on the config search path nor stored under ``root``,
     naming the available studies (and the nearest one), or a study file's path given for its
     name (``run`` and ``show`` take a path; what is stored is under the study's name)."""
-    if isinstance(study, str) and (Path(study).suffix in (".yaml", ".yml") or os.sep in study):
+    if isinstance(study, str) and (Path(study).suffix.lower() in (".yaml", ".yml") or os.sep in study):
         from graspcampaign.campaign.studyfile import read_yaml
 
         try:

@@ -162,7 +162,7 @@ def list_studies() -> list[str]:
 
 def is_path_argument(study: str) -> bool:
     """Whether a study argument names a file rather than a study."""
-    return study.endswith(_SUFFIXES) or "/" in study or os.sep in study
+    return study.lower().endswith(_SUFFIXES) or "/" in study or os.sep in study
 
 
 def find_study(study: str) -> Path:
@@ -181,14 +181,27 @@ def find_study(study: str) -> Path:
             raise ConfigError(f"study file {shown(study)} {unknown}; give its path in full.")
         if (why := input_file_problem(path)) is not None:
             raise ConfigError(f"study file {shown(study)} {why}; give a YAML file.")
+        if path.suffix.lower() in _SUFFIXES and path.suffix not in _SUFFIXES:
+            raise ConfigError(f"study file {shown(study)} {_MISCASED} rename it "
+                              f"{path.with_suffix(path.suffix.lower()).name}.")
         if path.suffix not in _SUFFIXES:
             raise ConfigError(f"study file {shown(study)} must end in .yaml or .yml.")
         return path
     files = study_files()
     if study not in files:
+        for directory in study_dirs():  # a mine.YAML there is not listed
+            found = [p for p in directory.iterdir() if p.stem == study and p.suffix.lower() in _SUFFIXES]
+            if found:
+                raise ConfigError(f"unknown study {study!r}: the file {found[0]} {_MISCASED} rename "
+                                  f"it {study}{found[0].suffix.lower()}.")
         raise ConfigError(f"unknown study {study!r}; {meant(study, files)}"
                           f"available studies: {', '.join(files)} (searched: {search_path_text()}).")
     return files[study]
+
+
+#: why a study file ending in .YAML (.Yml, ...) is not read: the case of a suffix matters
+_MISCASED = ("is not read: a study file's name ends in .yaml or .yml in lower case, as the study "
+             "search path and Hydra's look for it (the case of a file name matters on Linux);")
 
 
 def schema_of(path: Path) -> str | None:
