@@ -7,7 +7,7 @@ what to write, nothing stored changed (``refused``)."""
 from __future__ import annotations
 
 import pytest
-from cli_checks import invoke, mesh_study, refused
+from cli_checks import SMOKE, invoke, mesh_study, refused
 
 #: a one-trial mesh study (sphere, 144 nodes) run in this process
 ONE = "seed: 0\nseeds: 1\nfactors: {shape: [sphere], nodes: [144]}\nrunner: {backend: sequential}\n"
@@ -59,3 +59,29 @@ def test_a_study_file_ending_in_upper_case_is_told_the_case_matters(tmp_path, us
             "file), under which its runs are stored.")
     path.rename(user_dir / lower)
     assert invoke("show", "mine", "--root", tmp_path).exit_code == 0
+
+
+def test_a_new_run_named_as_another_but_for_case_is_refused_naming_it(results):
+    # --run Default made results/smoke/Default beside results/smoke/default: one directory on
+    # macOS, Windows or a USB stick, where the second run's trials joined the first's records
+    smoke = results / "smoke"
+    refused(results, ["run", "smoke", *SMOKE, "--run", "Default", "--root", results],
+            f"run smoke/Default at {smoke / 'Default'}: its name differs only in case from "
+            f"{smoke / 'default'}, which is there already, and on a file system that ignores case "
+            "(macOS, Windows, a USB stick) the two are one directory; to add to that run, give --run "
+            "default; for a new one, give a run name that differs in more than case.")
+    # the run itself resumes, and a name that differs in more than case is a run of its own
+    for run in ("default", "Default2"):
+        assert invoke("run", "smoke", *SMOKE, "--run", run, "--root", results).exit_code == 0
+
+
+def test_an_ingest_into_a_run_named_as_a_folder_there_but_for_case_is_refused(results, tmp_path):
+    # ingest makes runs too (its default run, measured); a folder that is no run is named as such
+    (results / "test2_grasp" / "Measured").mkdir(parents=True)
+    (sheet := tmp_path / "rig.csv").write_text("trial_id\n")
+    where = results / "test2_grasp"
+    refused(results, ["ingest", "test2_grasp", sheet, "--root", results],
+            f"run test2_grasp/measured at {where / 'measured'}: its name differs only in case from "
+            f"{where / 'Measured'}, which is there already, and on a file system that ignores case "
+            "(macOS, Windows, a USB stick) the two are one directory; give a run name that differs "
+            "in more than case.")

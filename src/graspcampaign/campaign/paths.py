@@ -261,6 +261,30 @@ def near_run(root: Path | str, study: str, run: str) -> str:
     return meant(run, runs, "--run {}")
 
 
+def check_case_twin(path: Path, label: str) -> None:
+    """Refuse the run at ``path`` (``label``: ``study/run``) when its directory is not there and
+    one whose name differs from it only in case is (``smoke/Default`` beside ``smoke/default``).
+
+    On a file system that ignores case (macOS's and Windows' by default, the FAT and exFAT of USB
+    sticks) the two are one directory: a copy of the results there would merge the runs, and a run
+    made there would add its trials to the other's. Read from the study directory's listing, which
+    spells each name as it was made, so the answer is the same on either kind of file system."""
+    try:
+        names = [entry.name for entry in os.scandir(path.parent)]
+    except OSError:  # no directory of the study yet: no run of it either
+        return
+    twins = [name for name in names if name.lower() == path.name.lower()]
+    if not twins or path.name in names:
+        return
+    twin = path.parent / twins[0]
+    add = (f"to add to that run, give --run {twin.name}; for a new one, "
+           if os.path.lexists(twin / "manifest.json") else "")
+    raise UserInputError(f"run {label} at {path}: its name differs only in case from {twin}, "
+                         "which is there already, and on a file system that ignores case (macOS, "
+                         f"Windows, a USB stick) the two are one directory; {add}give a run name that "
+                         "differs in more than case.")
+
+
 #: The file a run or ingest holds its run by (``runner.run_lock``), in the run's directory.
 LOCK_FILE = ".lock"
 

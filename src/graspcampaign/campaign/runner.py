@@ -29,7 +29,7 @@ from graspcampaign.campaign.grid import Trial, content_hash, expand
 from graspcampaign.campaign.integrity import check_run, expected_records
 from graspcampaign.campaign.kind import TrialInput, TrialKind, get_kind
 from graspcampaign.campaign.parts import entry, finalize, prepare_bodies
-from graspcampaign.campaign.paths import LOCK_FILE, check_root, lock_exclusive, run_path
+from graspcampaign.campaign.paths import LOCK_FILE, check_case_twin, check_root, lock_exclusive, run_path
 from graspcampaign.campaign.provenance import DriftError, check_drift  # noqa: F401 - DriftError: API
 from graspcampaign.campaign.records import ERROR_COLUMNS, RunStore, config_metadata
 from graspcampaign.campaign.schema import StudyCfg, check_config, check_design_rows
@@ -300,6 +300,7 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
     run = study.output.run if run is None else run
     trials = study_trials(study, kind, params)
     path = run_path(study, run)
+    check_case_twin(path, f"{study.name}/{run}")
     store = RunStore(path)
     _checked_manifest(store, study, run, allow_drift)
     show = study.runner.progress if progress is None else progress
