@@ -85,3 +85,22 @@ def test_an_ingest_into_a_run_named_as_a_folder_there_but_for_case_is_refused(re
             f"{where / 'Measured'}, which is there already, and on a file system that ignores case "
             "(macOS, Windows, a USB stick) the two are one directory; give a run name that differs "
             "in more than case.")
+
+
+def test_ctrl_c_before_a_command_starts_is_said_as_within_one(monkeypatch, capsys):
+    # main()'s own handler is not dead under Typer 0.29: Typer's try begins after it builds the
+    # click command (get_command) and answers a completion request, so a Ctrl-C there reaches
+    # main(), which said "interrupted" where every command says "interrupted (Ctrl-C)."
+    import typer.main
+
+    from graspcampaign.cli.main import main
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(typer.main, "get_command", interrupted)
+    monkeypatch.setattr("sys.argv", ["graspcampaign", "list"])
+    with pytest.raises(BaseException) as stopped:  # noqa: PT011  (without the handler, the Ctrl-C itself)
+        main()
+    assert stopped.type is SystemExit, "main() let the Ctrl-C through (a traceback)"
+    assert (stopped.value.code, *capsys.readouterr()) == (130, "", "interrupted (Ctrl-C).\n")
