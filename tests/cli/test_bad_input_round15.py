@@ -6,8 +6,12 @@ what to write, nothing stored changed (``refused``)."""
 
 from __future__ import annotations
 
+import pyarrow as pa
+import pyarrow.parquet as pq
 import pytest
-from cli_checks import SMOKE, invoke, mesh_study, refused
+from cli_checks import SMOKE, grid_run, invoke, mesh_study, refused, resumed
+
+from graspcampaign.campaign.records import _write_atomic
 
 #: a one-trial mesh study (sphere, 144 nodes) run in this process
 ONE = "seed: 0\nseeds: 1\nfactors: {shape: [sphere], nodes: [144]}\nrunner: {backend: sequential}\n"
@@ -104,3 +108,20 @@ def test_ctrl_c_before_a_command_starts_is_said_as_within_one(monkeypatch, capsy
         main()
     assert stopped.type is SystemExit, "main() let the Ctrl-C through (a traceback)"
     assert (stopped.value.code, *capsys.readouterr()) == (130, "", "interrupted (Ctrl-C).\n")
+
+
+def test_a_trace_file_of_trials_outside_the_design_is_moved_aside_as_a_records_file_is(results):
+    # its rows were dropped on resume as a killed run's leftovers (traces of trials with no
+    # record): the file rewritten to nothing, i.e. deleted, and not a word said, where a records
+    # file of such trials is moved to quarantine/ with a warning
+    (own,) = (grid_run(results) / "tables" / "candidates").glob("*.parquet")
+    outside = "sphere_0.2_0.3_heuristic_s0-0123456789"
+    table = pq.read_table(own)
+    foreign = own.with_name("part-eeeeeeeeee.parquet")
+    _write_atomic(table.set_column(0, "trial_id", pa.array([outside] * table.num_rows))
+                  .replace_schema_metadata(None), foreign)  # as the tool writes a file
+    kept = foreign.read_bytes()
+    repaired, target = resumed(results, foreign, f"traces of 1 trial not in the study's design ({outside})")
+    assert "2 trials, 2 already recorded, 0 ran" in repaired.stdout
+    assert target.read_bytes() == kept
+    assert [p.name for p in own.parent.iterdir()] == [own.name]
