@@ -6,12 +6,25 @@ what to write, nothing stored changed (``refused``)."""
 
 from __future__ import annotations
 
+import shutil
+
 import pyarrow as pa
 import pyarrow.parquet as pq
 import pytest
-from cli_checks import SMOKE, grid_run, invoke, mesh_study, refused, resumed
+from cli_checks import (
+    BG,
+    BG_QUOTED,
+    SMOKE,
+    grid_run,
+    invoke,
+    mesh_study,
+    refused,
+    replaced,
+    resume_grid,
+    resumed,
+)
 
-from graspcampaign.campaign.records import _write_atomic
+from graspcampaign.campaign.records import RunStore, _write_atomic
 
 #: a one-trial mesh study (sphere, 144 nodes) run in this process
 ONE = "seed: 0\nseeds: 1\nfactors: {shape: [sphere], nodes: [144]}\nrunner: {backend: sequential}\n"
@@ -125,3 +138,39 @@ def test_a_trace_file_of_trials_outside_the_design_is_moved_aside_as_a_records_f
     assert "2 trials, 2 already recorded, 0 ran" in repaired.stdout
     assert target.read_bytes() == kept
     assert [p.name for p in own.parent.iterdir()] == [own.name]
+
+
+def test_preparations_lost_are_not_computed_again_under_other_pso_settings(results):
+    # resumed with --allow-drift after prepared/ was lost, the run computed the body's PSO
+    # identification again with the new pso.n_particles, while its recorded trials used the old
+    run = grid_run(results)
+    (body,) = RunStore(run).read("prepared", ["body_id"]).column("body_id").to_pylist()
+    shutil.rmtree(run / "prepared")
+    drifted = ["run", "baseline_grid", *replaced(BG, "pso.n_particles=3"), "--allow-drift", "--root", results]
+    lost = (f"run baseline_grid/default at {run} has lost 1 preparation its recorded trials used "
+            f"(first body {body}), which this session cannot compute again as they were: ")
+    new = "start a new run for this config (output.run=NAME or --run NAME)."
+    refused(results, drifted, f"{lost}they were computed with the settings the run was started with "
+                              f"(pso.n_particles 2 -> 3); resume it as started (graspcampaign run "
+                              f"baseline_grid {BG_QUOTED} --run default --root {results}) to compute "
+                              f"them again as they were, or {new}")
+    # the advice works: resumed as started, the preparation is computed as it was, and then the
+    # drift runs; a drift of the design alone computes it as it was too
+    assert resume_grid(results).stderr == (
+        f"warning: run baseline_grid/default at {run} has no prepared directory, which holds the "
+        "preparations of the 1 body its recorded trials used; it is computed again\n")
+    assert invoke(*drifted).exit_code == 0
+    shutil.rmtree(run / "prepared")
+    # which of the run's two configs computed it is not kept
+    refused(results, drifted, f"{lost}its sessions ran more than one config, and which computed each "
+                              f"is not kept; {new}")
+
+
+def test_preparations_lost_are_computed_again_in_a_drift_of_the_design_alone(results):
+    run = grid_run(results)
+    shutil.rmtree(run / "prepared")
+    alone = invoke("run", "baseline_grid", *replaced(BG, "planner=[heuristic]"), "--allow-drift",
+                   "--root", results)
+    assert alone.exit_code == 0, alone.output
+    assert "1 trial, 1 already recorded, 0 ran" in alone.stdout
+    assert (run / "prepared").is_dir()

@@ -28,7 +28,7 @@ from graspcampaign.campaign.account import Account
 from graspcampaign.campaign.grid import Trial, content_hash, expand
 from graspcampaign.campaign.integrity import check_run, expected_records
 from graspcampaign.campaign.kind import TrialInput, TrialKind, get_kind
-from graspcampaign.campaign.parts import entry, finalize, prepare_bodies
+from graspcampaign.campaign.parts import check_preparations, entry, finalize, prepare_bodies
 from graspcampaign.campaign.paths import LOCK_FILE, check_case_twin, check_root, lock_exclusive, run_path
 from graspcampaign.campaign.provenance import DriftError, check_drift  # noqa: F401 - DriftError: API
 from graspcampaign.campaign.records import ERROR_COLUMNS, RunStore, config_metadata
@@ -316,7 +316,8 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
         chash = provenance.config_hash(study, manifest)
         session = {"started_at": provenance.now_utc(), "host": socket.gethostname(),
                    "backend": study.runner.backend, "n_jobs": study.runner.n_jobs,
-                   "config_hash": chash, "n_trials": len(trials), "finished_at": None}
+                   "config_hash": chash, "n_trials": len(trials), "finished_at": None,
+                   "preparation_hash": provenance.preparation_hash(provenance.study_dict(study))}
         expected = expected_records(manifest) if manifest is not None else 0
         if manifest is None:
             from graspcampaign.campaign.compose import as_given
@@ -405,6 +406,7 @@ def _checked_manifest(store: RunStore, study: StudyCfg, run: str, allow_drift: b
                 "(ingested); `run` never adds simulated or virtual trials to them, so choose "
                 "another run name (--run NAME).")
         check_drift(manifest, study, allow_drift, store.path)
+        check_preparations(store, manifest, study)  # a drift allowed cannot remake them
     return manifest
 
 
