@@ -5,9 +5,9 @@ from __future__ import annotations
 import kinds_for_tests  # noqa: F401  (registers the test kinds)
 import pytest
 
+from graspcampaign.campaign.paths import run_path
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.runner import run_study
-from graspcampaign.campaign.studyfile import run_path
 
 
 @pytest.fixture

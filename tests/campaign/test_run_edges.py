@@ -15,10 +15,10 @@ import pytest
 
 from graspcampaign.campaign import provenance
 from graspcampaign.campaign.kind import get_kind
+from graspcampaign.campaign.paths import run_path
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.runner import run_study, task_size
 from graspcampaign.campaign.status import run_status
-from graspcampaign.campaign.studyfile import run_path
 from graspcampaign.errors import DamagedRunError, StoreWriteError
 
 

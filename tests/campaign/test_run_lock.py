@@ -14,10 +14,9 @@ import kinds_for_tests  # noqa: F401  (registers the test kinds)
 import pyarrow.parquet as pq
 import pytest
 
-from graspcampaign.campaign.paths import held_by_a_run
+from graspcampaign.campaign.paths import held_by_a_run, run_path
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.runner import run_lock, run_study
-from graspcampaign.campaign.studyfile import run_path
 from graspcampaign.errors import UserInputError
 
 

@@ -18,9 +18,9 @@ import pytest
 from damage import as_written, corrupt_value_column
 
 from graspcampaign.campaign import records, verify
+from graspcampaign.campaign.paths import run_path
 from graspcampaign.campaign.records import RunStore, config_metadata
 from graspcampaign.campaign.runner import run_study
-from graspcampaign.campaign.studyfile import run_path
 from graspcampaign.campaign.verify import CONFIG_KEY, SOURCES_KEY
 from graspcampaign.errors import DamagedRunError
 

@@ -107,7 +107,9 @@ MASS = ("below 0.1 g an object weighs less than the rig's 1 mN force resolution,
          "stay below 50 mm)."),
         (["--mass-kg", "0.1", "--material", "unobtainium"],
          "unknown material 'unobtainium'; use one of gel, silicone_soft, bio_foam, silicone_ref."),
-        (["--mass-kg", "0.1", "--unit", "furlong"], "unknown unit 'furlong'; use one of 'm', 'cm', 'mm'."),
+        (["--mass-kg", "0.1", "--unit", "furlong"], "--unit 'furlong' is not a length unit a mesh is "
+                                                   "read in; use one of m, cm, mm (the unit of the "
+                                                   "mesh file's coordinates)."),
         (["--mass-kg", "abc"], "--mass-kg 'abc' is not a number; see graspcampaign plan --help."),
         (["--mass-kg", "0.1", "--png", ""], "--png is empty; give a picture path ending in .png, such "
                                             "as plan.png."),

@@ -167,7 +167,8 @@ def test_a_misspelt_report_or_figure_format_is_suggested(results, args, message)
 
 def test_a_misspelt_mesh_unit_is_suggested(tmp_path, sphere):
     refused(tmp_path, ["plan", sphere, "--mass-kg", "0.1", "--unit", "mmm"],
-            "unknown unit 'mmm'; did you mean 'mm'? use one of 'm', 'cm', 'mm'.")
+            "--unit 'mmm' is not a length unit a mesh is read in; did you mean --unit mm? use one "
+            "of m, cm, mm (the unit of the mesh file's coordinates).")
 
 
 @pytest.mark.parametrize(("study", "stage"), [

@@ -188,7 +188,23 @@ def design_size(study) -> int:
 
     if study.kind in RUNTIME_KINDS:
         return compute()
-    return int(_fact("designs", f"{study.kind}:{config_hash(study)}", compute))
+    # a design read from another run's records: keyed on that run's manifest too, which its
+    # config hash leaves out (output.root is where it runs, not what)
+    source = _source_manifest(study.params, study.output.root)
+    read = f":{hashlib.sha256(source).hexdigest()[:16]}" if source is not None else ""
+    return int(_fact("designs", f"{study.kind}:{config_hash(study)}{read}", compute))
+
+
+def _source_manifest(params: dict[str, Any], root: str) -> bytes | None:
+    """The manifest of the run a study's design is read from (``params.source_study`` and
+    ``source_run``, dynamic_check's; ``b"<none>"`` where there is none), or None for a study
+    whose design reads no run: what a cached design or size of it is keyed on besides the
+    study."""
+    source = params.get("source_study")
+    if not source:
+        return None
+    run = Path(config_root(root)) / source / params.get("source_run", "default")  # ~ as compose
+    return _read_or_none(run / "manifest.json")                                  # reads it
 
 
 def _read_or_none(path: Path) -> bytes:
@@ -270,11 +286,7 @@ def study_row(path: Path) -> dict[str, Any]:
         digest = hashlib.sha256(path.read_bytes())
         for conf in sorted(project_dirs()[0].rglob("*.yaml")):
             digest.update(conf.read_bytes())
-        source = study.params.get("source_study")
-        if source:  # a design read from another run's records: keyed on that run's manifest too
-            manifest = Path(config_root(study.output.root)) / source / study.params.get(
-                "source_run", "default")  # ~ read as compose_study reads it
-            digest.update(_read_or_none(manifest / "manifest.json"))
+        digest.update(_source_manifest(study.params, study.output.root) or b"")
 
         def compute() -> int | str:
             from graspcampaign.campaign.compose import compose_study

@@ -17,7 +17,7 @@ from pathlib import Path
 from graspcampaign.campaign import provenance
 from graspcampaign.campaign.grid import content_hash
 from graspcampaign.campaign.kind import get_kind
-from graspcampaign.campaign.paths import check_root, input_file_problem, shown
+from graspcampaign.campaign.paths import check_case_twin, check_root, input_file_problem, shown
 from graspcampaign.campaign.records import ERROR_COLUMNS, RunStore, config_metadata
 from graspcampaign.campaign.runner import kind_params, run_lock, run_path, study_trials
 from graspcampaign.campaign.schema import StudyCfg
@@ -51,6 +51,7 @@ def ingest_files(study: StudyCfg, paths: list[str], run: str = "measured",
             raise UserInputError(f"{path} {again}; give each file of measured records once.")
     check_root(study.output.root, "output.root", write=True)
     store = RunStore(run_path(study, run))
+    check_case_twin(store.path, f"{study.name}/{run}")
     with run_lock(store, f"{study.name}/{run}"):  # read, checked and written by this process alone
         return _ingest(study, paths, store, run, given)
 

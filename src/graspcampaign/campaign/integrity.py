@@ -16,7 +16,8 @@ manifest says, before anything counts or reports its records:
   its values (checked by ``verify_file``);
 - every record is the run's own: its ``study``, ``run``, ``kind`` and ``source`` are the
   manifest's, and the configs its shard was written under (``CONFIG_KEY`` in the shard's
-  metadata) are ones the run ran with (and, for ``run``, its trial is in the design);
+  metadata) are ones the run ran with (and, for ``run``, its trial is in the design, as is every
+  trial a trace file holds);
 - no trial is recorded twice, in one records file or across files, no trial's traces are in
   two files of one trace table and no body's preparation in two files of ``prepared/``;
 - no recorded trial went missing: the run stores at least the ``n_recorded`` trials its manifest
@@ -169,9 +170,16 @@ def _foreign(own: Facts, allowed: dict[str, set]) -> str | None:
     other = sorted(own.config_hashes - allowed["config_hash"])
     if other and allowed["config_hash"]:
         return f"records run with another config (hash {other[0]}, not one this run ran with)"
+    return _outside_design(own, allowed)
+
+
+def _outside_design(own: Facts, allowed: dict[str, set], what: str = "records") -> str | None:
+    """Why the ``what`` of a file (records, or a trace table's traces) are not the run's own as
+    the design tells (a trial not in it), or None. A trace file says only its trials (a column
+    named as an owner, ``kind``, may be a quantity of its own there): the design alone tells."""
     other = sorted(own.ids - allowed["design"])
     if other and allowed["design"]:
-        return f"records of {counted(len(other), 'trial')} not in the study's design ({other[0]})"
+        return f"{what} of {counted(len(other), 'trial')} not in the study's design ({other[0]})"
     return None
 
 
@@ -221,7 +229,10 @@ def file_problems(store, part: str, allowed: dict[str, set]) -> list[Problem]:
     for path in (p for p in store._listing(part)[0] if p not in bad and SHARD.fullmatch(p.name)):
         rel, own = _rel(store, path), facts(path)  # one read of a file too new to be remembered
         unlike = _not_records(own, allowed) if part == "records" else None
-        foreign = None if unlike else _foreign(own, allowed) if part == "records" else None
+        # a trace file of trials outside the design is moved aside as a records file is (its
+        # rows were dropped as a crash's leftovers: the file gone without a word)
+        foreign = (None if unlike or part == "prepared" else _foreign(own, allowed)
+                   if part == "records" else _outside_design(own, allowed, "traces"))
         unlike = unlike or (None if foreign else _no_digest(own, allowed))
         if unlike or foreign:
             out.append(Problem(path, f"a file {rel} with {unlike}" if unlike else

@@ -188,6 +188,53 @@ def prepare_bodies(kind, study, params, trials, store, map_unordered, summary) -
     return {h: have[h] for h in bodies}
 
 
+def check_preparations(store, manifest: dict, study) -> None:
+    """Refuse a session (``study``, its config) whose settings a preparation depends on (all but
+    the design's: :func:`~graspcampaign.campaign.provenance.preparation_hash`) are not those of
+    every session of the run, when preparations its recorded trials used are gone or damaged:
+    computed again they would be this session's (a PSO identification under other ``pso.*``
+    settings), not the ones those trials used, and no file says which session computed each. A
+    drift of the design alone computes them as they were. Changes nothing.
+
+    Raises
+    ------
+    DriftError
+        Naming the first body, what changed and the command that computes them as they were
+        (the run resumed as started, where its sessions so far ran its first settings), or a
+        new run.
+    """
+    from graspcampaign.campaign.verify import verify_file
+
+    first, now = (provenance.preparation_hash(config) for config in
+                  (manifest["config"], provenance.study_dict(study)))
+    ran = {s.get("preparation_hash") or (first if s.get("config_hash") == manifest["config_hash"]
+                                         else None) for s in manifest["sessions"]}
+    if ran <= {now}:  # a session stored before sessions kept it: of the first config's hash
+        return
+
+    def whole(part: str) -> list:  # a damaged file is moved aside by the repair
+        return [facts(path) for path in store._listing(part)[0] if verify_file(path) is None]
+
+    used = {body for own in whole("records") if own.account is not None
+            for body in own.account.used().values()}
+    gone = sorted(used - set().union(*(own.bodies for own in whole("prepared"))))
+    if not gone:
+        return
+    if ran == {first}:
+        changed = [c for c in provenance.config_changes(manifest["config"], study, limit=100)
+                   if c.split(".")[0].split(" ")[0] not in provenance.PREPARATION_FREE][:3]
+        why = f"they were computed with the settings the run was started with ({', '.join(changed)})"
+        resume = provenance.as_started(manifest, study, store.path).rstrip(", ")
+        then = f"{resume} to compute them again as they were, or " if resume else ""
+    else:
+        why, then = "its sessions ran more than one config, and which computed each is not kept", ""
+    raise provenance.DriftError(
+        f"run {store.path.parent.name}/{store.path.name} at {store.path} has lost "
+        f"{counted(len(gone), 'preparation')} its recorded trials used (first body {gone[0]}), "
+        f"which this session cannot compute again as they were: {why}; {then}start a new run "
+        "for this config (output.run=NAME or --run NAME).")
+
+
 def _recorded_bodies(kind, store, trials, known: set[str]) -> dict[str, dict[str, Any]]:
     """``{body_id: body}`` of the bodies recorded trials used (their accounts) that are not
     ``known``: the body of a trial's factors read back from its record (its factors are columns

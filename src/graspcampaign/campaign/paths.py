@@ -1,4 +1,5 @@
-"""Where commands read and write: the results root and output files, checked before any work.
+"""Where commands read and write: the results root, a run's directory and output files, checked
+before any work.
 
 A bad place (an empty name, a file where a directory belongs, a directory, named pipe, device or
 socket where a file belongs, a read-only file system) is one sentence naming the option and why,
@@ -10,11 +11,13 @@ from __future__ import annotations
 
 import errno
 import os
+import re
 import shlex
 import stat
 import tempfile
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 from graspcampaign.errors import ConfigError, UserInputError, too_long
 
@@ -258,6 +261,30 @@ def near_run(root: Path | str, study: str, run: str) -> str:
     return meant(run, runs, "--run {}")
 
 
+def check_case_twin(path: Path, label: str) -> None:
+    """Refuse the run at ``path`` (``label``: ``study/run``) when its directory is not there and
+    one whose name differs from it only in case is (``smoke/Default`` beside ``smoke/default``).
+
+    On a file system that ignores case (macOS's and Windows' by default, the FAT and exFAT of USB
+    sticks) the two are one directory: a copy of the results there would merge the runs, and a run
+    made there would add its trials to the other's. Read from the study directory's listing, which
+    spells each name as it was made, so the answer is the same on either kind of file system."""
+    try:
+        names = [entry.name for entry in os.scandir(path.parent)]
+    except OSError:  # no directory of the study yet: no run of it either
+        return
+    twins = [name for name in names if name.lower() == path.name.lower()]
+    if not twins or path.name in names:
+        return
+    twin = path.parent / twins[0]
+    add = (f"to add to that run, give --run {twin.name}; for a new one, "
+           if os.path.lexists(twin / "manifest.json") else "")
+    raise UserInputError(f"run {label} at {path}: its name differs only in case from {twin}, "
+                         "which is there already, and on a file system that ignores case (macOS, "
+                         f"Windows, a USB stick) the two are one directory; {add}give a run name that "
+                         "differs in more than case.")
+
+
 #: The file a run or ingest holds its run by (``runner.run_lock``), in the run's directory.
 LOCK_FILE = ".lock"
 
@@ -375,3 +402,44 @@ def write_file(path: Path, data: str | bytes) -> None:
         raise OSError(exc.errno, exc.strerror, str(path)) from None
     finally:
         tmp.unlink(missing_ok=True)
+
+
+#: A study or run name: one path component of ASCII letters, digits, '.', '_' and '-'.
+_RUN_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
+
+
+def check_name(value: Any, key: str) -> str:
+    """Check a study or run name: one path component, so results stay under the results root.
+
+    Raises
+    ------
+    ConfigError
+        Naming ``key`` and the allowed characters.
+    """
+    if not isinstance(value, str):  # a notebook's run=3 was stored as a number, then refused
+        raise ConfigError(f"{key} = {value!r} is not a name: give it as text (a str).", key=key)
+    text = value
+    if not _RUN_NAME.fullmatch(text):
+        raise ConfigError(f"{key} = {text!r} is not allowed; use ASCII letters (a-z, A-Z), digits, "
+                          "'.', '_' and '-' (starting with a letter or digit, at most 100), so the "
+                          "run stays inside the results directory.", key=key)
+    return text
+
+
+def run_dir(root: str | Path, study: str, run: str, key: str = "--run") -> Path:
+    """Return ``<root>/<study>/<run>`` after checking both names stay one path component each."""
+    return Path(root) / check_name(study, "study name") / check_name(run, key)
+
+
+def run_path(study: Any, run: str | None = None) -> Path:
+    """Return a composed study's ``<output.root>/<study>/<run>`` (``run`` None: ``output.run``).
+
+    Raises
+    ------
+    ConfigError
+        A run name that is not one plain path component (``../elsewhere``): runs stay inside the
+        results root; an empty name is refused, never taken for the default run.
+    """
+    if run is not None:
+        return run_dir(study.output.root, study.name, run)
+    return run_dir(study.output.root, study.name, study.output.run, "output.run")

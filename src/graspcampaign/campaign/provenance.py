@@ -25,6 +25,11 @@ _PACKAGES = ("numpy", "scipy", "trimesh", "pandas", "pyarrow", "joblib", "hydra-
              "omegaconf", "statsmodels", "matplotlib", "dask", "distributed", "scikit-learn")
 #: What never changes a trial's result: where and how trials run, and the text describing them.
 _RESULT_FREE = ("runner", "output", "description")
+#: What a body's preparation (``prepared/``) depends on no more than a trial's result depends on
+#: :data:`_RESULT_FREE`: which trials the design forms (a preparation is keyed and seeded by its
+#: body and the study seed alone) and what the report compares them with.
+PREPARATION_FREE = (*_RESULT_FREE, "factors", "seeds", "repeats", "zip", "method_factors", "paper",
+                    "compare_with", "extension")
 #: What the hash left out before the description left it too (docs/decisions.md): runs stored
 #: then carry this legacy digest, which still names their config.
 _LEGACY_FREE = ("runner", "output")
@@ -57,6 +62,13 @@ def config_digest(config: dict[str, Any], free: tuple[str, ...] = _RESULT_FREE) 
     """:func:`config_hash` of a resolved config as plain data (a manifest's ``config``), leaving
     out the top-level keys ``free``."""
     return content_hash({k: v for k, v in config.items() if k not in free}, length=16)
+
+
+def preparation_hash(config: dict[str, Any]) -> str:
+    """The digest of what a body's preparation depends on in a resolved config as plain data (all
+    but :data:`PREPARATION_FREE`; a factor's former name read as its current one), kept by each
+    ``run`` session (``preparation_hash``)."""
+    return config_digest(current_config(config), PREPARATION_FREE)
 
 
 def git_state() -> dict[str, Any]:
@@ -436,14 +448,14 @@ def check_drift(manifest: dict[str, Any], study: StudyCfg, allow_drift: bool, pa
         changes.append(f"code version ({manifest.get('code_version')} -> "
                        f"{code_version()})")
     if changes:
-        resume = _as_started(manifest, study, path) if changed and len(changes) == 1 else ""
+        resume = as_started(manifest, study, path) if changed and len(changes) == 1 else ""
         raise DriftError(
             f"run {path} was started with a different {' and '.join(changes)}; {resume}use a new "
             "run name (output.run=NAME or --run NAME) or pass --allow-drift to mix them."
         )
 
 
-def _as_started(manifest: dict[str, Any], study: StudyCfg, path: Path) -> str:
+def as_started(manifest: dict[str, Any], study: StudyCfg, path: Path) -> str:
     """``"resume it as started (COMMAND), "`` where the overrides the run was started with
     (``overrides``, as given) compose to its config today, so that command resumes it; ``""``
     otherwise (the study file itself changed, or the manifest keeps no overrides)."""

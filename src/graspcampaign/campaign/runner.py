@@ -28,12 +28,11 @@ from graspcampaign.campaign.account import Account
 from graspcampaign.campaign.grid import Trial, content_hash, expand
 from graspcampaign.campaign.integrity import check_run, expected_records
 from graspcampaign.campaign.kind import TrialInput, TrialKind, get_kind
-from graspcampaign.campaign.parts import entry, finalize, prepare_bodies
-from graspcampaign.campaign.paths import LOCK_FILE, check_root, lock_exclusive
+from graspcampaign.campaign.parts import check_preparations, entry, finalize, prepare_bodies
+from graspcampaign.campaign.paths import LOCK_FILE, check_case_twin, check_root, lock_exclusive, run_path
 from graspcampaign.campaign.provenance import DriftError, check_drift  # noqa: F401 - DriftError: API
 from graspcampaign.campaign.records import ERROR_COLUMNS, RunStore, config_metadata
 from graspcampaign.campaign.schema import StudyCfg, check_config, check_design_rows
-from graspcampaign.campaign.studyfile import run_path
 from graspcampaign.campaign.verify import one_check
 from graspcampaign.errors import ConfigError, UserInputError
 
@@ -301,6 +300,7 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
     run = study.output.run if run is None else run
     trials = study_trials(study, kind, params)
     path = run_path(study, run)
+    check_case_twin(path, f"{study.name}/{run}")
     store = RunStore(path)
     _checked_manifest(store, study, run, allow_drift)
     show = study.runner.progress if progress is None else progress
@@ -316,7 +316,8 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
         chash = provenance.config_hash(study, manifest)
         session = {"started_at": provenance.now_utc(), "host": socket.gethostname(),
                    "backend": study.runner.backend, "n_jobs": study.runner.n_jobs,
-                   "config_hash": chash, "n_trials": len(trials), "finished_at": None}
+                   "config_hash": chash, "n_trials": len(trials), "finished_at": None,
+                   "preparation_hash": provenance.preparation_hash(provenance.study_dict(study))}
         expected = expected_records(manifest) if manifest is not None else 0
         if manifest is None:
             from graspcampaign.campaign.compose import as_given
@@ -405,6 +406,7 @@ def _checked_manifest(store: RunStore, study: StudyCfg, run: str, allow_drift: b
                 "(ingested); `run` never adds simulated or virtual trials to them, so choose "
                 "another run name (--run NAME).")
         check_drift(manifest, study, allow_drift, store.path)
+        check_preparations(store, manifest, study)  # a drift allowed cannot remake them
     return manifest
 
 

@@ -328,7 +328,7 @@ def check_study(study: StudyCfg) -> None:
     ConfigError
         For the first problem found, naming its key.
     """
-    from graspcampaign.campaign.studyfile import check_name
+    from graspcampaign.campaign.paths import check_name
 
     check_name(study.name, "name")
     check_name(study.output.run, "output.run")

@@ -14,9 +14,17 @@ from typing import Any
 
 from graspcampaign.campaign.catalog import design_size, kind_facts
 from graspcampaign.campaign.kind import KINDS, get_kind, kind_available
-from graspcampaign.campaign.paths import check_root, held_by_a_run, how_to_make, near_run
+from graspcampaign.campaign.paths import (
+    check_name,
+    check_root,
+    held_by_a_run,
+    how_to_make,
+    near_run,
+    run_dir,
+    run_path,
+)
 from graspcampaign.campaign.schema import StudyCfg, design_shape
-from graspcampaign.campaign.studyfile import check_name, list_studies, run_dir, run_path
+from graspcampaign.campaign.studyfile import list_studies
 from graspcampaign.core.words import counted, meant
 from graspcampaign.errors import MissingSourceRunError, UserInputError
 
@@ -196,7 +204,7 @@ def check_known(root: Path | str, study: str) -> None:
     """Refuse a study name that is neither on the config search path nor stored under ``root``,
     naming the available studies (and the nearest one), or a study file's path given for its
     name (``run`` and ``show`` take a path; what is stored is under the study's name)."""
-    if isinstance(study, str) and (Path(study).suffix in (".yaml", ".yml") or os.sep in study):
+    if isinstance(study, str) and (Path(study).suffix.lower() in (".yaml", ".yml") or os.sep in study):
         from graspcampaign.campaign.studyfile import read_yaml
 
         try:

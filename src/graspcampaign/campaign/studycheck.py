@@ -269,7 +269,7 @@ def check_study_file(path: Path, data: dict[str, Any]) -> None:
     ConfigError
         Naming the file, the line, the key and what is allowed.
     """
-    from graspcampaign.campaign.studyfile import check_name
+    from graspcampaign.campaign.paths import check_name
 
     try:
         check_study_data(data)

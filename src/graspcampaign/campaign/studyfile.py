@@ -28,7 +28,6 @@ from graspcampaign.campaign.paths import expand_home, input_file_problem, shown
 from graspcampaign.core.words import as_ascii, meant
 from graspcampaign.errors import ConfigError, UserInputError, utf8_text
 
-_RUN_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
 _SCHEMA_LINE = re.compile(r"^#\s*schema:\s*(\w+)")
 _SUFFIXES = (".yaml", ".yml")
 _MAX_BYTES = 2**20  # a study or config-group file (docs/decisions.md)
@@ -163,7 +162,7 @@ def list_studies() -> list[str]:
 
 def is_path_argument(study: str) -> bool:
     """Whether a study argument names a file rather than a study."""
-    return study.endswith(_SUFFIXES) or "/" in study or os.sep in study
+    return study.lower().endswith(_SUFFIXES) or "/" in study or os.sep in study
 
 
 def find_study(study: str) -> Path:
@@ -182,14 +181,27 @@ def find_study(study: str) -> Path:
             raise ConfigError(f"study file {shown(study)} {unknown}; give its path in full.")
         if (why := input_file_problem(path)) is not None:
             raise ConfigError(f"study file {shown(study)} {why}; give a YAML file.")
+        if path.suffix.lower() in _SUFFIXES and path.suffix not in _SUFFIXES:
+            raise ConfigError(f"study file {shown(study)} {_MISCASED} rename it "
+                              f"{path.with_suffix(path.suffix.lower()).name}.")
         if path.suffix not in _SUFFIXES:
             raise ConfigError(f"study file {shown(study)} must end in .yaml or .yml.")
         return path
     files = study_files()
     if study not in files:
+        for directory in study_dirs():  # a mine.YAML there is not listed
+            found = [p for p in directory.iterdir() if p.stem == study and p.suffix.lower() in _SUFFIXES]
+            if found:
+                raise ConfigError(f"unknown study {study!r}: the file {found[0]} {_MISCASED} rename "
+                                  f"it {study}{found[0].suffix.lower()}.")
         raise ConfigError(f"unknown study {study!r}; {meant(study, files)}"
                           f"available studies: {', '.join(files)} (searched: {search_path_text()}).")
     return files[study]
+
+
+#: why a study file ending in .YAML (.Yml, ...) is not read: the case of a suffix matters
+_MISCASED = ("is not read: a study file's name ends in .yaml or .yml in lower case, as the study "
+             "search path and Hydra's look for it (the case of a file name matters on Linux);")
 
 
 def schema_of(path: Path) -> str | None:
@@ -437,42 +449,6 @@ def check_group_files() -> None:
     conf_dir, _ = project_dirs()
     for path in sorted(conf_dir.rglob("*.yaml")):
         read_yaml(path)
-
-
-def check_name(value: Any, key: str) -> str:
-    """Check a study or run name: one path component, so results stay under the results root.
-
-    Raises
-    ------
-    ConfigError
-        Naming ``key`` and the allowed characters.
-    """
-    if not isinstance(value, str):  # a notebook's run=3 was stored as a number, then refused
-        raise ConfigError(f"{key} = {value!r} is not a name: give it as text (a str).", key=key)
-    if not _RUN_NAME.fullmatch(value):
-        raise ConfigError(f"{key} = {value!r} is not allowed; use ASCII letters (a-z, A-Z), digits, "
-                          "'.', '_' and '-' (starting with a letter or digit, at most 100), so the "
-                          "run stays inside the results directory.", key=key)
-    return value
-
-
-def run_dir(root: str | Path, study: str, run: str, key: str = "--run") -> Path:
-    """Return ``<root>/<study>/<run>`` after checking both names stay one path component each."""
-    return Path(root) / check_name(study, "study name") / check_name(run, key)
-
-
-def run_path(study: Any, run: str | None = None) -> Path:
-    """Return a composed study's ``<output.root>/<study>/<run>`` (``run`` None: ``output.run``).
-
-    Raises
-    ------
-    ConfigError
-        A run name that is not one plain path component (``../elsewhere``): runs stay inside the
-        results root; an empty name is refused, never taken for the default run.
-    """
-    if run is not None:
-        return run_dir(study.output.root, study.name, run)
-    return run_dir(study.output.root, study.name, study.output.run, "output.run")
 
 
 def configured_output(study: str | None, key: str = "run") -> str:

@@ -165,7 +165,7 @@ def plan(
         result = plan_mesh(mesh, mass_kg=mass_kg, material=material, mu=mu,
                            fingertip_radius_mm=fingertip_radius_mm, unit=unit,
                            png_path=picture, names={"png_path": option, "mass_kg": "--mass-kg",
-                                                    "mu": "--mu",
+                                                    "mu": "--mu", "unit": "--unit",
                                                     "fingertip_radius_mm": "--fingertip-radius-mm"})
     except PicturePathError as exc:
         fail(str(exc) if png is not None else

@@ -253,10 +253,10 @@ def report(
 
     With studies and no `--run`, each study's configured run (its `output.run`) is reported.
     """
-    from graspcampaign.campaign.paths import stored_root
+    from graspcampaign.campaign.paths import check_name, stored_root
     from graspcampaign.campaign.schema import WORKERS_PER_CORE, most_workers
     from graspcampaign.campaign.status import check_known
-    from graspcampaign.campaign.studyfile import check_name, configured_output
+    from graspcampaign.campaign.studyfile import configured_output
 
     root = stored_root(studies or []) if root is None else root
     if run is not None:
@@ -315,11 +315,17 @@ from graspcampaign.cli import hardware  # noqa: E402, F401  (registers schedule,
 
 
 def main() -> None:
-    """Console-script entry point."""
+    """Console-script entry point.
+
+    A Ctrl-C inside a command is said by the command (``app.guard``, or a run's own message), and
+    Typer turns one anywhere else in its command into a silent exit 130; a Ctrl-C before that (as
+    Typer builds the commands, a few milliseconds of each start, or answers a completion request)
+    reaches this function, which says it in the same words rather than print a traceback.
+    """
     try:
         app()
     except KeyboardInterrupt:
-        typer.echo("interrupted", err=True)
+        typer.echo("interrupted (Ctrl-C).", err=True)
         sys.exit(130)
 
 

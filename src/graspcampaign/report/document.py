@@ -37,10 +37,20 @@ NUMBER = re.compile(r"[<>≤≥]? ?[+−-]?(\d[\d,]*(\.\d+)?(e[+−-]?\d+| ?× ?
 
 
 def check_formats(formats: Sequence[str] | str | None, allowed: Sequence[str] = FORMATS,
-                  what: str = "report format") -> list[str]:
-    """Return the requested formats (comma-separated or a list) or raise naming an unknown one."""
+                  what: str = "report format", option: str = "--format", one: bool = False) -> list[str]:
+    """Return the requested formats (comma-separated or a list; with ``one``, a single one) or
+    raise naming an unknown one, or formats separated by spaces (or more than one) as the option
+    ``option`` that gives them."""
     items = formats.split(",") if isinstance(formats, str) else ["md", "csv"] if formats is None else formats
     items = list(dict.fromkeys(f.strip().lower() for f in items if f and str(f).strip()))
+    words = list(dict.fromkeys(w for f in items for w in f.split()))
+    given = formats if isinstance(formats, str) else ",".join(items)
+    if one and len(words) > 1:  # 'svg png' or 'svg,png': one format draws the figures
+        raise UserInputError(f"{option} {given!r}: one {what} is taken, not {len(words)}; choose one "
+                             f"of {', '.join(allowed)}.")
+    if len(words) > len(items):  # 'md csv' is one item of two words, not csv misspelt
+        raise UserInputError(f"{option} {given!r}: {what}s are separated by commas, not spaces; give "
+                             f"{option} {','.join(words)}.")
     if not items or (bad := [f for f in items if f not in allowed]):
         raise UserInputError(f"{f'unknown {what} {bad[0]!r}' if items else f'no {what} given'}; "
                              f"{meant(bad[0], allowed) if items else ''}choose from {', '.join(allowed)}.")

@@ -117,6 +117,22 @@ def _check_plausible(value: object, quantity: str, unit: str, names: Mapping[str
     return number
 
 
+def _check_unit(unit: object, names: Mapping[str, str]) -> str:
+    """Return ``unit``, one of the length units a mesh file is read in (``core.mesh.UNITS``); a
+    refusal names it as :func:`_check_plausible` names a value (``--unit 'inch'`` on the command
+    line) and lists the units."""
+    from graspcampaign.core.mesh import UNITS
+    from graspcampaign.core.words import meant
+
+    if unit in UNITS:
+        return unit  # type: ignore[return-value]
+    name = names.get("unit", "unit")
+    given = f"{name} {unit!r}" if name.startswith("-") else f"{name} = {unit!r}"
+    shown = f"{name} {{}}" if name.startswith("-") else "{!r}"
+    raise ValueError(f"{given} is not a length unit a mesh is read in; {meant(unit, UNITS, shown)}use "
+                     f"one of {', '.join(UNITS)} (the unit of the mesh file's coordinates).")
+
+
 def _check_size(mesh, name: str, unit: str) -> float:
     """Return the object's size [mm]; refuse one no hand can grasp, naming the likely unit."""
     from graspcampaign.core.mesh import UNITS
@@ -282,7 +298,7 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
         Unreadable or invalid mesh, or one of more than one body or with an internal cavity
         (:func:`graspcampaign.core.mesh_file.check_one_body`).
     ValueError
-        Out-of-range mass, friction, radius, an unknown material, an object whose size no
+        Out-of-range mass, friction, radius, an unknown unit or material, an object whose size no
         three-finger hand grasps (``core.plausible.OBJECT_SIZE_MM``; the message names the unit
         its coordinates look like); :class:`PicturePathError` for a picture path that cannot be
         written.
@@ -296,6 +312,7 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
     radius_mm = _check_plausible(fingertip_radius_mm, "fingertip_radius_mm", "mm", names)
     if mu is not None:
         mu = _check_plausible(mu, "mu", "", names)
+    unit = _check_unit(unit, names)
     name_material = DEFAULT_PLAN_MATERIAL if material is None else material  # "" is no material
     mat = material_model(name_material, "natural", radius_mm * 1e-3)
     if mu is not None:
