@@ -91,7 +91,7 @@ def load_source(root: str, name: str, run: str) -> Source:
 
     from graspcampaign.campaign.kind import get_kind
     from graspcampaign.campaign.paths import how_to_make
-    from graspcampaign.campaign.provenance import study_given
+    from graspcampaign.campaign.provenance import overrides_given, study_given
     from graspcampaign.campaign.records import RunStore
     from graspcampaign.campaign.runner import kind_params, study_trials
     from graspcampaign.campaign.schema import StudyCfg
@@ -122,7 +122,7 @@ def load_source(root: str, name: str, run: str) -> Source:
         raise MissingSourceRunError(
             f"dynamic_check needs every trial of {name}/{run}, but {missing} of {len(trials)} are "
             f"not recorded under {path}; "
-            + how_to_make(root, study_given(manifest, name), run, manifest.get("overrides", []),
+            + how_to_make(root, study_given(manifest, name), run, overrides_given(manifest) or [],
                           then="again to finish it"),
             source)
     records = records[records["status"] == "ok"].set_index("trial_id", drop=False)
