@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 
+import pytest
 from cli_checks import BG, invoke, refused
 
 from graspcampaign.campaign.records import RunStore
@@ -32,3 +33,18 @@ def test_an_unfinished_source_whose_overrides_hold_a_number_is_named_in_one_sent
     refused(root, ["run", "dynamic_check", "runner.backend=sequential", "--root", root],
             f"dynamic_check needs every trial of baseline_grid/default, but 1 of 2 are not recorded "
             f"under {source}; run `graspcampaign run baseline_grid --root {root}` again to finish it.")
+
+
+@pytest.mark.parametrize(("key", "value"), [
+    ("source_run", "''"), ("source_run", "../x"), ("source_run", "x/y"), ("source_run", "."),
+    ("source_study", "../smoke"),
+])
+def test_a_source_named_by_no_run_name_is_refused_as_a_run_name_is(tmp_path, key, value):
+    """``params.source_run=''`` named the study's directory as the run and advised ``run
+    baseline_grid --run ''``, which `run` refuses (as ``--run ../x``): a source run or study name is
+    a name of one path component, as ``--run`` and ``output.run`` are, refused in their words."""
+    root = tmp_path / "results"
+    shown = value.strip("'")
+    refused(root, ["run", "dynamic_check", f"params.{key}={value}", "--root", root],
+            f"params.{key} = {shown!r} is not allowed; use letters, digits, '.', '_' and '-' (starting "
+            "with a letter or digit, at most 100), so the run stays inside the results directory.")

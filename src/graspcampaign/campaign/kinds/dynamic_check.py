@@ -85,7 +85,9 @@ def load_source(root: str, name: str, run: str) -> Source:
         command that makes it (``source``: the study to run first).
     UserInputError
         When the source is not a quasi-static study (its run's kind, or its study file's when
-        there is no run) or no study at all.
+        there is no run) or no study at all, or ``name`` or ``run`` is no name of one path
+        component (``studyfile.check_name``: ``params.source_run=../x`` left the study's directory,
+        and ``''`` named the study's directory itself).
     """
     from omegaconf import OmegaConf
 
@@ -95,9 +97,9 @@ def load_source(root: str, name: str, run: str) -> Source:
     from graspcampaign.campaign.records import RunStore
     from graspcampaign.campaign.runner import kind_params, study_trials
     from graspcampaign.campaign.schema import StudyCfg
-    from graspcampaign.campaign.studyfile import configured_run
+    from graspcampaign.campaign.studyfile import check_name, configured_run
 
-    path = Path(root) / name / run
+    path = Path(root) / check_name(name, "params.source_study") / check_name(run, "params.source_run")
     store = RunStore(path)
     manifest = store.check(["records"])  # the source's records as its manifest says
     source = name + ("" if run == configured_run(name) else f" --run {run}")  # what to run first
