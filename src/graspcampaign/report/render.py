@@ -15,7 +15,14 @@ import pandas as pd
 from graspcampaign.analysis.records import executed, in_design_order, status_counts
 from graspcampaign.analysis.vocabulary import data_source
 from graspcampaign.campaign.paths import how_to_make
-from graspcampaign.campaign.provenance import design_change, ingested, last_design, run_size, study_given
+from graspcampaign.campaign.provenance import (
+    design_change,
+    ingested,
+    last_design,
+    overrides_given,
+    run_size,
+    study_given,
+)
 from graspcampaign.core.bench_specimen import FINGERTIP_RADIUS
 from graspcampaign.core.words import listed, meant
 from graspcampaign.errors import UserInputError, disk_full
@@ -124,7 +131,7 @@ class Run:
         # the commands as paths.how_to_make gives them: under the run's root, with the overrides it was
         # started with (without them `run` refuses the run as started with another config)
         study, run, given = study_given(self.manifest, self.study), self.manifest.get("run"), \
-            self.manifest.get("overrides") or []
+            overrides_given(self.manifest) or []
         root = "results" if (where := getattr(self.store, "path", None)) is None else where.parent.parent
         if name.startswith("summary/"):
             todo = ("the study writes it once every trial is recorded; "

@@ -85,19 +85,21 @@ def load_source(root: str, name: str, run: str) -> Source:
         command that makes it (``source``: the study to run first).
     UserInputError
         When the source is not a quasi-static study (its run's kind, or its study file's when
-        there is no run) or no study at all.
+        there is no run) or no study at all, or ``name`` or ``run`` is no name of one path
+        component (``paths.check_name``: ``params.source_run=../x`` left the study's directory,
+        and ``''`` named the study's directory itself).
     """
     from omegaconf import OmegaConf
 
     from graspcampaign.campaign.kind import get_kind
-    from graspcampaign.campaign.paths import how_to_make
-    from graspcampaign.campaign.provenance import study_given
+    from graspcampaign.campaign.paths import check_name, how_to_make
+    from graspcampaign.campaign.provenance import overrides_given, study_given
     from graspcampaign.campaign.records import RunStore
     from graspcampaign.campaign.runner import kind_params, study_trials
     from graspcampaign.campaign.schema import StudyCfg
     from graspcampaign.campaign.studyfile import configured_output
 
-    path = Path(root) / name / run
+    path = Path(root) / check_name(name, "params.source_study") / check_name(run, "params.source_run")
     store = RunStore(path)
     manifest = store.check(["records"])  # the source's records as its manifest says
     # what to run first
@@ -123,7 +125,7 @@ def load_source(root: str, name: str, run: str) -> Source:
         raise MissingSourceRunError(
             f"dynamic_check needs every trial of {name}/{run}, but {missing} of {len(trials)} are "
             f"not recorded under {path}; "
-            + how_to_make(root, study_given(manifest, name), run, manifest.get("overrides", []),
+            + how_to_make(root, study_given(manifest, name), run, overrides_given(manifest) or [],
                           then="again to finish it"),
             source)
     records = records[records["status"] == "ok"].set_index("trial_id", drop=False)
