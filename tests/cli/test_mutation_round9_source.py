@@ -46,5 +46,6 @@ def test_a_source_named_by_no_run_name_is_refused_as_a_run_name_is(tmp_path, key
     root = tmp_path / "results"
     shown = value.strip("'")
     refused(root, ["run", "dynamic_check", f"params.{key}={value}", "--root", root],
-            f"params.{key} = {shown!r} is not allowed; use letters, digits, '.', '_' and '-' (starting "
-            "with a letter or digit, at most 100), so the run stays inside the results directory.")
+            f"params.{key} = {shown!r} is not allowed; use ASCII letters (a-z, A-Z), digits, '.', '_' "
+            "and '-' (starting with a letter or digit, at most 100), so the run stays inside the results "
+            "directory.")
