@@ -142,3 +142,21 @@ def refused(root: Path, args, message: str, *, warnings: str = "", seconds: floa
     assert result.exit_code == 2, result.output
     assert result.stderr == f"{warnings}error: {message}\n" and result.stdout == ""
     assert snapshot(root) == before
+
+
+def unfinished_source(root: Path, monkeypatch) -> Path:
+    """Run baseline_grid (``BG``) under ``root`` and stop it by Ctrl-C while its second trial's
+    shard is written: an unfinished source run for dynamic_check; return its directory."""
+    from graspcampaign.campaign.records import RunStore
+
+    write_shard, written = RunStore.write_shard, []
+
+    def interrupted(self, kind, *args, **kwargs):
+        if kind == "records" and written.append(kind) is None and len(written) == 2:
+            raise KeyboardInterrupt
+        return write_shard(self, kind, *args, **kwargs)
+
+    monkeypatch.setattr(RunStore, "write_shard", interrupted)
+    assert invoke("run", "baseline_grid", *BG, "--root", root).exit_code == 130
+    monkeypatch.setattr(RunStore, "write_shard", write_shard)
+    return root / "baseline_grid" / "default"

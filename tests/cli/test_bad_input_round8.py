@@ -19,10 +19,9 @@ from pathlib import Path
 import pandas as pd
 import pytest
 import trimesh
-from cli_checks import BG, SMOKE, invoke, refused, replaced, snapshot
+from cli_checks import BG, SMOKE, invoke, refused, replaced, snapshot, unfinished_source
 
 from graspcampaign.campaign import studyfile
-from graspcampaign.campaign.records import RunStore
 
 
 def test_a_comma_inside_a_quoted_string_separates_no_values(results):
@@ -97,17 +96,7 @@ def test_dynamic_check_of_an_unfinished_source_run_says_how_to_finish_it(tmp_pat
     """The advice named `graspcampaign run baseline_grid` without the source run's overrides, which
     `run` refuses as a run started with another config."""
     root = tmp_path / "results"
-    write_shard, written = RunStore.write_shard, []
-
-    def interrupted(self, kind, *args, **kwargs):  # Ctrl-C while the second trial's shard is written
-        if kind == "records" and written.append(kind) is None and len(written) == 2:
-            raise KeyboardInterrupt
-        return write_shard(self, kind, *args, **kwargs)
-
-    monkeypatch.setattr(RunStore, "write_shard", interrupted)
-    assert invoke("run", "baseline_grid", *BG, "--root", root).exit_code == 130
-    monkeypatch.setattr(RunStore, "write_shard", write_shard)
-    source = root / "baseline_grid" / "default"
+    source = unfinished_source(root, monkeypatch)
     again = " ".join(f"'{o}'" if "[" in o else o for o in BG)
     refused(root, ["run", "dynamic_check", "runner.backend=sequential", "--root", root],
             f"dynamic_check needs every trial of baseline_grid/default, but 1 of 2 are not recorded "

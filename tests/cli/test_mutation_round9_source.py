@@ -7,9 +7,7 @@ from __future__ import annotations
 import json
 
 import pytest
-from cli_checks import BG, invoke, refused
-
-from graspcampaign.campaign.records import RunStore
+from cli_checks import BG, refused, unfinished_source
 
 
 def test_an_unfinished_source_whose_overrides_hold_a_number_is_named_in_one_sentence(tmp_path, monkeypatch):
@@ -17,17 +15,7 @@ def test_an_unfinished_source_whose_overrides_hold_a_number_is_named_in_one_sent
     joined a number into it (a TypeError and its traceback); as every command resuming a run, it
     gives them as ``overrides_given`` reads them: none that is not text."""
     root = tmp_path / "results"
-    write_shard, written = RunStore.write_shard, []
-
-    def interrupted(self, kind, *args, **kwargs):  # Ctrl-C while the second trial's shard is written
-        if kind == "records" and written.append(kind) is None and len(written) == 2:
-            raise KeyboardInterrupt
-        return write_shard(self, kind, *args, **kwargs)
-
-    monkeypatch.setattr(RunStore, "write_shard", interrupted)
-    assert invoke("run", "baseline_grid", *BG, "--root", root).exit_code == 130
-    monkeypatch.setattr(RunStore, "write_shard", write_shard)
-    source = root / "baseline_grid" / "default"
+    source = unfinished_source(root, monkeypatch)
     manifest = source / "manifest.json"
     manifest.write_text(json.dumps({**json.loads(manifest.read_text()), "overrides": [1, *BG]}))
     refused(root, ["run", "dynamic_check", "runner.backend=sequential", "--root", root],
