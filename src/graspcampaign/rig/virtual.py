@@ -66,6 +66,7 @@ from typing import Any
 
 import numpy as np
 
+from graspcampaign.analysis.hardware import VISION_QUANTUM_MM
 from graspcampaign.core import bench
 from graspcampaign.core import disturbance as dist
 from graspcampaign.core import slip as slip_statics
@@ -159,7 +160,7 @@ class RigParams:
     grip_tracking_rel: float = 0.05
     coating_mu_rel: float = COATING_MU_REL
     finger_force_resolution: float = 5.0e-3
-    vision_resolution: float = 1.0e-4
+    vision_resolution: float = VISION_QUANTUM_MM / 1000.0  # mm -> m: the one §8.1 value
     vision_noise: float = 1.0e-4
     contact_point_noise: float = 1.0e-3
     load_cell_resolution: float = 0.01
