@@ -191,3 +191,12 @@ def test_show_reads_a_source_runs_design_under_its_own_root(results, tmp_path, m
     assert waiting.stdout.splitlines()[6].startswith(
         "design: not known until its source run is recorded: dynamic_check re-simulates the "
         f"records of baseline_grid/default, but {empty}/baseline_grid/default holds no run; ")
+
+
+def test_a_tool_study_given_another_kind_by_override_blames_the_override(tmp_path):
+    """``smoke kind=surrogate`` was told that smoke's own file 'takes the name of the tool's study
+    smoke, which it hides', and to rename it: the override changed the kind, not a file."""
+    refused(tmp_path, ["show", "smoke", "kind=surrogate", "--root", tmp_path],
+            "kind = surrogate: smoke is a study of trial kind mesh_features, and it would be reported "
+            "with smoke's report, which reads mesh_features records; give a study of another kind a "
+            "study file of its own.")

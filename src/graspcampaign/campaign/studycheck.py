@@ -385,6 +385,9 @@ def _check_compared_kind(obj: StudyCfg, theirs: str, path: Path, campaigns_dir: 
 
     like = obj.compare_with or obj.name
     reported = (f"it would be reported with {like}'s report, which reads {theirs} records")
+    if not obj.compare_with and path.resolve() == (campaigns_dir / f"{like}.yaml").resolve():
+        raise ConfigError(f"kind = {obj.kind}: {like} is a study of trial kind {theirs}, and {reported}; "
+                          "give a study of another kind a study file of its own.", key="kind")
     if not obj.compare_with:
         raise ConfigError(f"{path}: this file takes the name of the tool's study {like} "
                           f"({campaigns_dir.name}/{like}.yaml), of trial kind {theirs}, which it "
