@@ -388,7 +388,7 @@ SPEC = ReportSpec("test2_grasp", [
               Col("n_parity", "n"), Col("parity_slope", "parity slope", 3),
               Col("parity_r2", "parity R² (uncentred)", 3),
               Col("parity_r2_centred", "parity R² (centred)", 3),
-              Col("force_err_pct", "median |F_n| error [%]", 1),
+              Col("force_err_pct", "median |F_n| error [%]", 1), Col("n_force_err", "n (F_n error)"),
               Col("deformation_err_pct", "median deformation error [%]", 1),
               Col("n_deformation_err", "n (deformation)"),
               Col("n_deformation_below_quantum", f"n (deformation < {hw.VISION_QUANTUM_MM:g} mm)"),
