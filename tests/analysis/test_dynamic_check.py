@@ -151,3 +151,21 @@ def test_a_trial_missing_a_label_enters_no_table_and_is_counted_apart(missing):
     assert (row["n"], row["unlabelled"], row["not_settled"]) == (50, 4, 0)
     assert row["kappa"] == pytest.approx(cohen_kappa_score(labelled.qs_success, labelled.success))
     assert row["qs_success_rate"] == 0.5 and row["dynamic_success_rate"] == 0.6
+
+
+def test_a_group_without_an_executed_trial_is_no_row_and_its_labels_are_read_once():
+    """``agreement_table`` groups the stored rows and leaves the labels to ``confusion_matrix``: a
+    planner whose trials all errored is no row (as when the groups were of the executed trials), and
+    an errored trial with both labels enters no count of its planner's row."""
+    records = pd.concat([
+        _records(3, 1, 2, 4, planner="heuristic"),
+        pd.DataFrame({"qs_success": [True, False], "success": [True, False], "status": "error",
+                      "dynamic_status": "stable", "planner": ["heuristic", "centroid"]})],
+        ignore_index=True)
+    table = dc.agreement_table(records, by="planner")
+    assert list(table.planner) == ["heuristic"]
+    row = table.iloc[0]
+    assert (row["n"], row["unlabelled"], row["not_settled"], row["both_success"]) == (10, 0, 0, 3)
+    overall = dc.agreement_table(records[records.status == "error"])  # no executed trial at all
+    assert len(overall) == 1 and overall.loc[0, "n"] == 0
+    assert overall.loc[0, "kappa_why"] == "no trial to compare"

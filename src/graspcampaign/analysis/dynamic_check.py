@@ -84,20 +84,23 @@ def agreement_table(records: pd.DataFrame, qs_column: str = "qs_success",
     interval) and :func:`cohens_kappa` of two label columns over the determined trials, and the
     executed trials left out as undetermined (``not_settled``) or, determined, missing a label
     (``unlabelled``), overall or per group of ``by``; the rates are nan in a group with no trial."""
-    labelled = records.reindex(columns=[qs_column, dynamic_column]).notna().all(axis=1)
-    rows = executed(records.assign(_labelled=labelled))  # read before executed() fills a missing success
     keys = [] if by is None else ([by] if isinstance(by, str) else list(by))
     out = []
-    groups = rows.groupby(keys, sort=True, observed=True) if keys else [((), rows)]
+    # the stored rows: confusion_matrix alone reads a group's labels (executed() fills a missing
+    # success with False)
+    groups = records.groupby(keys, sort=True, observed=True) if keys else [((), records)]
     for key, group in groups:
-        table = confusion_matrix(group[group["_labelled"]], qs_column, dynamic_column)
+        ok = executed(group)
+        if keys and not len(ok):  # a group of ``by`` with no executed trial is no row
+            continue
+        table = confusion_matrix(group, qs_column, dynamic_column)
         k, agree = cohens_kappa(table, confidence_level), int(np.trace(table))
-        settled = int((group["dynamic_status"] != UNDETERMINED).sum())
+        settled = int((ok["dynamic_status"] != UNDETERMINED).sum())
         w = wilson_interval(agree, k.n, confidence_level) if k.n else None
         n = k.n or np.nan  # no determined trial: no rate
         out.append({
             **dict(zip(keys, key if isinstance(key, tuple) else (key,), strict=True)),
-            "n": k.n, "not_settled": len(group) - settled, "unlabelled": settled - k.n,
+            "n": k.n, "not_settled": len(ok) - settled, "unlabelled": settled - k.n,
             "both_success": int(table[0, 0]), "qs_only": int(table[0, 1]), "dynamic_only": int(table[1, 0]),
             "both_failure": int(table[1, 1]), "qs_success_rate": table[0].sum() / n,
             "dynamic_success_rate": table[:, 0].sum() / n, "agreement": agree / n,
