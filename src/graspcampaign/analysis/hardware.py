@@ -69,6 +69,12 @@ def deformation_pred_read(df: pd.DataFrame) -> pd.Series:
     return df[pred].astype(float).where(df[read].notna().to_numpy()).mean(axis=1).fillna(every)
 
 
+def below_quantum(df: pd.DataFrame) -> pd.Series:
+    """Return whether each trial's ``deformation_err_pct`` divides by a recorded mean deformation below
+    :data:`VISION_QUANTUM_MM` (within one vision step of zero); False where it has no error."""
+    return df["deformation_err_pct"].notna() & (df["deformation_mean_mm"] < VISION_QUANTUM_MM)
+
+
 def derive(records: pd.DataFrame) -> pd.DataFrame:
     """Return the executed trials with the columns every Tests 2-3 table reads.
 
@@ -147,13 +153,14 @@ def parity_by(df: pd.DataFrame, by: str, measured: str, predicted: str) -> pd.Da
 def force_accuracy(df: pd.DataFrame) -> pd.DataFrame:
     """Return per scope (all, each planner) the normal-force parity and median errors (§8.3, Fig. 29), each
     median with its count ``n_<things>`` (a trial may lack a deformation or a contact point), and the
-    count ``n_deformation_below_quantum`` of errors over a recorded mean below :data:`VISION_QUANTUM_MM`."""
+    count ``n_deformation_below_quantum`` of errors over a recorded mean below :data:`VISION_QUANTUM_MM`
+    (:func:`below_quantum`)."""
     df = df.dropna(subset=["normal_force_mean_n", "normal_force_pred_mean_n"])
     long = scoped(df, {"all": df["planner"].notna(), **{p: df["planner"] == p for p in
                                                         ordered("planner", df["planner"])}})
     g = long.groupby("scope", sort=False)[["force_err_pct", "deformation_err_pct", "contact_point_error_mm"]]
     errors = g.median().join(g.count().rename(columns=lambda c: f"n_{things(c)}")).reset_index()
-    low = long["deformation_err_pct"].notna() & (long["deformation_mean_mm"] < VISION_QUANTUM_MM)
+    low = below_quantum(long)
     errors["n_deformation_below_quantum"] = low.groupby(long["scope"], sort=False).sum().to_numpy()
     return parity_by(long, "scope", "normal_force_mean_n", "normal_force_pred_mean_n").merge(errors)
 

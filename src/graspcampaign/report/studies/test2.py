@@ -226,7 +226,7 @@ def fig29(run: Run, fig) -> None:
         bins = np.geomspace(floor, max(float(err.max()), 10 * floor), 41)
         ax.hist(err.clip(lower=floor), bins=bins, color="#8aa9d6", label=f"ours, n={len(err)}")
         if col == "deformation_err_pct":  # drawn over: the trials dividing by a near-zero measurement
-            low = err[d["deformation_mean_mm"] < hw.VISION_QUANTUM_MM]
+            low = err[hw.below_quantum(d)]
             ax.hist(low.clip(lower=floor), bins=bins, color=style.CRITERION,
                     label=f"denominator < {hw.VISION_QUANTUM_MM:g} mm, n={len(low)}")
         ax.set_xscale("log")
