@@ -32,7 +32,9 @@ def test_a_failure_without_a_budget_cap_reading_is_not_counted_as_capped():
 
 def test_the_cross_check_compares_recorded_verdicts_only(tmp_path, monkeypatch):
     """A baseline record with no verdict (a null, read as None) had agreed with a re-derived failure
-    (``astype(bool)``: False == False); it is now no comparison, and the sentence says so."""
+    (``astype(bool)``: False == False); it is now no comparison, and the sentence says so. Its "k of N"
+    is over the compared trials: seeds 0 and 2 (re-derived False, False; baseline False, True) agree
+    once, 1 of 2 (it said 1 of 3, the uncompared trial in N); the residuals, all recorded, 3 of 3."""
     baseline = pa.table({"status": ["ok"] * 3, "planner": ["heuristic"] * 3, "shape": ["sphere"] * 3,
                          "mass_kg": [0.4] * 3, "mu": [0.3] * 3, "seed": [0, 1, 2],
                          "success": pa.array([False, None, True], pa.bool_()),
@@ -52,5 +54,6 @@ def test_the_cross_check_compares_recorded_verdicts_only(tmp_path, monkeypatch):
     monkeypatch.setattr(mr, "RunStore", Stored)
     run = _n_max_run(False, store=SimpleNamespace(path=tmp_path / "mesh_resolution" / "run1"))
     assert mr._cross_check(run) == (
-        "Cross-check against the `baseline_grid` records beside this run: 1 of 3 re-derived trials have the "
-        "baseline's verdict (1 with no verdict recorded to compare) and 3 its residual (relative 1e-9).")
+        "Cross-check against the `baseline_grid` records beside this run: 1 of 2 re-derived trials have the "
+        "baseline's verdict (1 more not compared: no verdict recorded) and 3 of 3 its residual "
+        "(relative 1e-9).")

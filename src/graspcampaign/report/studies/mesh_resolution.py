@@ -170,12 +170,12 @@ def _cross_check(run: Run) -> str:
     merged = nm.merge(base, on=key, suffixes=("", "_baseline"))
     judged = known(merged, ["success", "success_baseline"])  # a verdict compared is a verdict recorded
     same = (judged["success"] == judged["success_baseline"]).sum()
-    unjudged = f" ({len(merged) - len(judged)} with no verdict recorded to compare)" if len(judged) < len(
-        merged) else ""
+    unjudged = len(merged) - len(judged)  # N of "k of N" is the compared trials; the rest said apart
     close = np.isclose(merged["residual_norm_n"], merged["residual_norm_n_baseline"], rtol=1e-9).sum()
     return (f"Cross-check against the `baseline_grid` records beside this run{skipped}: {same} of "
-            f"{len(merged)} re-derived trials have the baseline's verdict{unjudged} and {close} its residual "
-            "(relative 1e-9).")
+            f"{len(judged)} re-derived trials have the baseline's verdict" + (
+                f" ({unjudged} more not compared: no verdict recorded) and {close} of {len(merged)}"
+                if unjudged else f" and {close}") + " its residual (relative 1e-9).")
 
 
 def _reading(run: Run) -> str:
