@@ -83,6 +83,20 @@ def test_readings_counts_rates_and_removed_passes():
     assert (row["success_low_pct"], row["success_high_pct"]) == pytest.approx((100 * low, 100 * high))
 
 
+@pytest.mark.parametrize("missing", [np.nan, None])
+def test_a_trial_missing_a_reading_enters_no_reading(missing):
+    """t0 (paper, heuristic: a pass under every reading) with no ``success_no_torque`` recorded was read
+    as failing with the torque check off (``fillna(False)``): τ_T "removed" -1 passes and n was 2. The
+    group is now t1 alone (a failure, a pass without the gate): n 1, success 0, without the gate 1."""
+    rows = records()
+    rows["success_no_torque"] = rows["success_no_torque"].astype(object)
+    rows.loc[0, "success_no_torque"] = missing
+    table = readings(rows, ["grip_law", "planner"]).set_index(["grip_law", "planner"])
+    row = table.loc[("paper", "heuristic")]
+    assert row[["n", "success", "success_unbounded", "success_no_torque"]].tolist() == [1, 0, 1, 0]
+    assert (row["gate_removed"], row["torque_binds"]) == (1, 0)
+
+
 def test_grip_need_and_epsilon():
     need = grip_need(records(), {"grip_law": ["slip", "oracle"]}).set_index(["grip_law", "planner"])
     assert list(need.index) == [("slip", "heuristic"), ("oracle", "centroid"), ("oracle", "random")]

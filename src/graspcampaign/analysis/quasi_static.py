@@ -61,8 +61,11 @@ def mechanism(records: pd.DataFrame, tau_f_n: float, order: dict | None = None,
 
 def readings(records: pd.DataFrame, by: list[str], order: dict | None = None) -> pd.DataFrame:
     """Return per group each reading's count ``r`` and rate ``r_pct`` (Wilson ``r_low_pct``,
-    ``r_high_pct``), ``gate_removed`` and ``torque_binds`` (the passes the gate, the torque check remove)."""
-    flags = records.assign(**{r: records[r].astype("boolean").fillna(False) for r in READINGS})
+    ``r_high_pct``), ``gate_removed`` and ``torque_binds`` (the passes the gate, the torque check remove),
+    over the trials with every reading recorded (:func:`~.records.known`): the removed passes are
+    differences of two readings of one trial, and a reading not recorded (a file written before its
+    column existed reads null) is no failure."""
+    flags = rec.known(records, READINGS)
     frame = None
     for r in READINGS:
         t = rec.rate_table(flags, by, outcome=r, order=order)[
