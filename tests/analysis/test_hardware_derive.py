@@ -95,6 +95,20 @@ def test_a_deformation_error_compares_the_fingers_that_were_read():
     assert got.tolist() == pytest.approx([100 / 11, 20.0, 20.0])
 
 
+def test_a_force_error_compares_the_fingers_that_were_read():
+    """An ingested file may leave a finger's force empty (not measured), and ingest checks the recorded
+    mean against the fingers recorded: 1.0 and 1.2 N, mean 1.1 N. The prediction over the same fingers
+    is 1.0 N, |1.0 - 1.1| / 1.1 = 100/11 %, not the three-finger 2.0 N's 900/11 %. Three read: 1.2
+    against 1.0, 20 %; none read beside a recorded mean: the recorded prediction, 0.6 against 0.5, 20 %."""
+    rec = _records({"heuristic": (3, 3)}).assign(
+        normal_force_1_n=[1.0, 1.0, np.nan], normal_force_2_n=[1.2, 1.0, np.nan],
+        normal_force_3_n=[np.nan, 1.0, np.nan], normal_force_mean_n=[1.1, 1.0, 0.5],
+        normal_force_pred_1_n=[1.0, 1.2, 0.6], normal_force_pred_2_n=[1.0, 1.2, 0.6],
+        normal_force_pred_3_n=[4.0, 1.2, 0.6], normal_force_pred_mean_n=[2.0, 1.2, 0.6])
+    got = hardware.derive(rec)["force_err_pct"]
+    assert got.tolist() == pytest.approx([100 / 11, 20.0, 20.0])
+
+
 def test_the_deformation_errors_over_a_sub_quantum_measurement_are_counted_per_scope():
     """Measured means 0.05, 0, 0.2, missing and 0.099 mm against 1 mm predicted (heuristic), 1 mm
     (centroid): three heuristic errors (0 mm has none), two of them over a mean below the 0.1 mm vision

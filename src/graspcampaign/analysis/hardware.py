@@ -58,12 +58,13 @@ def pct_error(measured: pd.Series, predicted: pd.Series) -> pd.Series:
     return (100.0 * (p - m).abs() / m.abs()).where(m != 0)
 
 
-def deformation_pred_read(df: pd.DataFrame) -> pd.Series:
-    """Return the predicted trial-mean deformation [mm] over the fingers with a measured reading, as
-    ``deformation_mean_mm`` is (a buried finger has none); ``deformation_pred_mean_mm`` where the
-    records hold no per-finger deformation."""
-    read, pred = ([f"deformation_{p}{j}_mm" for j in (1, 2, 3)] for p in ("", "pred_"))
-    every = df["deformation_pred_mean_mm"].astype(float)
+def pred_read(df: pd.DataFrame, stem: str, unit: str) -> pd.Series:
+    """Return the predicted trial mean of ``<stem>_pred_<j>_<unit>`` over the fingers with a measured
+    ``<stem>_<j>_<unit>``, as the recorded ``<stem>_mean_<unit>`` is (ingest's mean counts the fingers
+    recorded; a buried finger has no deformation reading); ``<stem>_pred_mean_<unit>`` where the
+    records hold no per-finger values."""
+    read, pred = ([f"{stem}_{p}{j}_{unit}" for j in (1, 2, 3)] for p in ("", "pred_"))
+    every = df[f"{stem}_pred_mean_{unit}"].astype(float)
     if not set(read + pred) <= set(df):
         return every
     return df[pred].astype(float).where(df[read].notna().to_numpy()).mean(axis=1).fillna(every)
@@ -89,8 +90,8 @@ def derive(records: pd.DataFrame) -> pd.DataFrame:
     unbounded = df["success_unbounded"].astype("boolean")
     new = {**{f"is_{k}": df["outcome"] == v for k, v in CLASSES.items()},
            "natural": df["success"].where(df["friction_level"] == "natural"),
-           "force_err_pct": pct_error(df["normal_force_mean_n"], df["normal_force_pred_mean_n"]),
-           "deformation_err_pct": pct_error(df["deformation_mean_mm"], deformation_pred_read(df)),
+           "force_err_pct": pct_error(df["normal_force_mean_n"], pred_read(df, "normal_force", "n")),
+           "deformation_err_pct": pct_error(df["deformation_mean_mm"], pred_read(df, "deformation", "mm")),
            "g_geo_gap": df["g_geo_believed"].astype(float) - df["g_geo_actual"].astype(float),
            "mu_s_gap": df["mu_s_believed"].astype(float) - df["mu_s_actual"].astype(float),
            "gate_removed": (unbounded & ~df["success"]).where(unbounded.notna()),
