@@ -92,9 +92,10 @@ def paper_marks(ax, x: Sequence[float], values: Sequence, width: float) -> bool:
 
 def bars(ax, x: Sequence[float], values, low, high, colours, width: float = 0.7,
          paper: Sequence | None = None, label: str | None = None) -> bool:
-    """Bars with interval whiskers (none for a missing value) and, optionally, the paper's marks;
-    return whether a paper mark was drawn."""
-    x, v, lo, hi = (np.asarray(a, dtype=float) for a in (x, values, low, high))
+    """Bars with interval whiskers (none for a missing value or bound; ``low``, ``high`` None: none)
+    and, optionally, the paper's marks; return whether a paper mark was drawn."""
+    x, v = np.asarray(x, dtype=float), np.asarray(values, dtype=float)
+    lo, hi = (np.full_like(v, np.nan) if a is None else np.asarray(a, dtype=float) for a in (low, high))
     ax.bar(x, np.nan_to_num(v), width, color=colours, edgecolor="white", label=label)
     shown = np.isfinite(v) & np.isfinite(lo) & np.isfinite(hi)  # a missing value: no mark at 0
     ax.errorbar(x[shown], v[shown], yerr=np.vstack([v - lo, hi - v])[:, shown], fmt="none",

@@ -15,6 +15,7 @@ from graspcampaign.core.bench import RMSE_REVIEW_THRESHOLD_PCT as REVIEW_PCT
 from graspcampaign.core.contact import normal_force
 from graspcampaign.core.words import counted, plural
 from graspcampaign.report import format as fmt
+from graspcampaign.report import style
 from graspcampaign.report.document import Col, cols
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Claims, Figure, Finding, ReportSpec, Table, Text, Value, share, verdicts
@@ -274,11 +275,6 @@ def _pick(run: Run, ax, block: str, what: str, **cond) -> tuple[pd.Series | None
     return (row, w[w["event_id"] == row["event_id"]].sort_values("time_s")) if row is not None else (None, w)
 
 
-def _bars(ax, x, ours, paper, colours, width=0.7, err=None, label_=None) -> None:
-    ax.bar(x, ours, width, yerr=err, color=colours, alpha=0.85, ecolor=CRITERION, label=label_)
-    paper_marks(ax, x, list(paper), width)
-
-
 def _mats(f: pd.DataFrame) -> list[str]:
     return [m for m in cal.MATERIALS if m in set(f["material"])]
 
@@ -336,8 +332,9 @@ def fig24(run: Run, fig) -> None:
     mats = _mats(sl)
     g, x = sl.groupby("material"), np.arange(len(mats))
     for off, col, c in ((-0.18, "mu_s", BLUE), (0.18, "mu_k", ORANGE)):
-        _bars(ax_a, x + off, g[col].mean().reindex(mats), [getattr(t4[m], col) for m in mats], c, 0.36,
-              g[col].std().reindex(mats), f"ours {col.replace('mu_', 'μ')}, mean ± SD over slides")
+        mean, sd = g[col].mean().reindex(mats), g[col].std().reindex(mats)
+        style.bars(ax_a, x + off, mean, mean - sd, mean + sd, c, 0.36, [getattr(t4[m], col) for m in mats],
+                   f"ours {col.replace('mu_', 'μ')}, mean ± SD over slides")
     ax_a.set_xticks(x, [label("material", m) for m in mats])
     ax_a.set(ylabel="friction coefficient [–]", title="(a) static and kinetic friction")
     legend_below(ax_a, [*ax_a.get_legend_handles_labels()[0], paper_handle("paper Table 4")], 2)
@@ -388,8 +385,8 @@ def fig25(run: Run, fig) -> None:
     ax_a.set(xlabel="time since hold start [s]", ylabel="normalised force F/F0 [–]")
     ax_a.legend(loc="upper right", fontsize=7)
     ins, mats = ax_a.inset_axes([0.45, 0.3, 0.5, 0.32]), _mats(rl)
-    _bars(ins, np.arange(len(mats)), rl.groupby("material")["rho"].mean().reindex(mats),
-          [p.table4[m].rho for m in mats], [colour("material", m) for m in mats])
+    style.bars(ins, np.arange(len(mats)), rl.groupby("material")["rho"].mean().reindex(mats), None, None,
+               [colour("material", m) for m in mats], paper=[p.table4[m].rho for m in mats])
     ins.set_xticks(np.arange(len(mats)), [label("material", m).replace(", ", "\n") for m in mats], fontsize=6)
     ins.set(ylim=(0.5, 1.0))
     ins.set_title("mean ρ per family (◆ paper)", fontsize=6.5)
@@ -413,7 +410,7 @@ def fig26(run: Run, fig) -> None:
     ax_a, ax_b, ax_c = fig.subplots(1, 3)
     t5, tr = run.tables["table5"], run.tables.get("transfer", pd.DataFrame(columns=["quantity", "split"]))
     x, names, sim = np.arange(len(t5)), t5["parameter_label"], t5["paper_simulation"]
-    _bars(ax_a, x, t5["cv_pct"], t5["paper_cv_pct"], BLUE)
+    style.bars(ax_a, x, t5["cv_pct"], None, None, BLUE, paper=t5["paper_cv_pct"])
     ax_a.set_xticks(x, names)
     ax_a.set(ylabel="coefficient of variation over converged runs [%]",
              title="(a) identifiability: CV per parameter")
@@ -428,7 +425,8 @@ def fig26(run: Run, fig) -> None:
     ax_b.set(ylabel="identified / simulation value (Table 3) [–]", title="(b) experiment vs simulation")
     legend_below(ax_b, ncol=2)
     xs, held = np.arange(len(tr)), tr["split"] != "train"
-    _bars(ax_c, xs, tr.get("mean_error_pct", []), tr.get("paper_pct", []), np.where(held, BLUE, GREY), 0.6)
+    style.bars(ax_c, xs, tr.get("mean_error_pct", []), None, None, np.where(held, BLUE, GREY), 0.6,
+               tr.get("paper_pct", []))
     ax_c.set_xticks(xs, [s if q in s else f"{q}\n{s}" for q, s in zip(tr.get("quantity_label", []), tr.get(
         "split_label", []), strict=True)], rotation=60, ha="right", fontsize=6.5)  # split naming its quantity
     ax_c.set(ylabel="mean transfer error [%]", title="(c) training (grey) vs held-out splits (blue)")
