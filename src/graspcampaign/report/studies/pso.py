@@ -91,13 +91,16 @@ def table3(name: str, caption: str, identified, paper_from, empty: str | None = 
     beside Table 3; ``identified(run)`` returns the identifications, ``paper_from(run)`` Table 3."""
     def compute(run: Run) -> pd.DataFrame:
         ident, ref, rows = identified(run), paper_from(run), []
-        best = ident.loc[ident["best_cost"].astype(float).idxmin()] \
-            if "best_cost" in ident and ident["best_cost"].notna().any() else None
+        cost = ident["best_cost"].astype(float) if "best_cost" in ident else pd.Series(np.nan, ident.index)
+        best = ident[cost == cost.min()]  # every run reaching the best cost (none without a cost)
+        tied = f"{len(best)} runs tie at the best J = {fmt.number(cost.min(), sig=4)}"
         for p in [p for p in PARAMETERS if p in ident and ident[p].notna().any()]:
             v, pv = ident[p].dropna().to_numpy(float), getattr(ref, PARAMETERS[p])
+            at_best = best[p].dropna().unique()  # one value, or runs tied at the best cost disagreeing
             rows.append({"parameter": p, "parameter_label": label("parameter", p), "paper": pv,
                          "digits": _digits(ref, p), "ours_mean": v.mean(), "ours_median": np.median(v),
-                         "ours_best_run": float(best[p]) if best is not None else math.nan,
+                         "ours_best_run": float(at_best[0]) if at_best.size == 1 else math.nan,
+                         "best_run_why": tied if at_best.size > 1 else "",
                          "difference_mean": v.mean() - pv, "n": v.size,
                          "relative_difference_pct": 100 * (v.mean() - pv) / pv,
                          **_bound(ident[ident[p].notna()], p)})
@@ -106,7 +109,7 @@ def table3(name: str, caption: str, identified, paper_from, empty: str | None = 
     return Table(name, caption, compute, [
         Col("parameter_label", "parameter"), Col("paper", "paper (Table 3)", "digits"),
         Col("ours_mean", "ours mean", "digits"), Col("ours_median", "ours median", "digits"),
-        Col("ours_best_run", "ours best-cost run", "digits"),
+        Col("ours_best_run", "ours best-cost run", "digits", why="best_run_why"),
         Col("difference_mean", "difference (mean − paper)", "digits", signed=True),
         Col("relative_difference_pct", "relative [%]", 0, signed=True), Col("n", "n"), BOUND], empty=empty)
 
