@@ -13,6 +13,7 @@ import pytest
 from cli_checks import invoke, refused
 
 T2 = ["--set", "params.fraction=0.06"]
+MATERIALS = "use one of gel, silicone_soft, bio_foam, silicone_ref."
 
 
 def _records(tmp_path: Path) -> pd.DataFrame:
@@ -88,4 +89,14 @@ def test_a_file_open_in_a_spreadsheet_program_is_refused(results, tmp_path, name
             f"(delete {lock} if no program has it open).")
     (tmp_path / lock).unlink()  # closed: the same file is stored
     assert invoke("ingest", "test2_grasp", path, *T2, "--root", results).exit_code == 0
+
+
+@pytest.mark.parametrize(("material", "meant"), [
+    ("unobtainium", ""), ("Gel", "did you mean 'gel'? "), ("", ""),
+])
+def test_plan_names_the_material_option(tmp_path, sphere, material, meant):
+    # it said "unknown material 'unobtainium'; ...", naming no option
+    refused(tmp_path, ["plan", sphere, "--mass-kg", "0.1", "--material", material, "--png",
+                       tmp_path / "p.png"],
+            f"--material {material!r} is not a Table 4 material family; {meant}{MATERIALS}")
 
