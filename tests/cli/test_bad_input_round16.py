@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pandas as pd
 import pytest
-from cli_checks import invoke, refused
+from cli_checks import SMOKE, invoke, refused
 
 T2 = ["--set", "params.fraction=0.06"]
 MATERIALS = "use one of gel, silicone_soft, bio_foam, silicone_ref."
@@ -100,3 +100,40 @@ def test_plan_names_the_material_option(tmp_path, sphere, material, meant):
                        tmp_path / "p.png"],
             f"--material {material!r} is not a Table 4 material family; {meant}{MATERIALS}")
 
+
+def test_show_of_a_run_named_as_another_but_for_case_says_run_would_refuse_it(results):
+    # show said "run: …/Default (0 of 10 recorded)" of a run `run` refuses to make
+    smoke = results / "smoke"
+    shown = invoke("show", "smoke", *SMOKE, "--run", "Default", "--root", results)
+    assert shown.exit_code == 0, shown.output
+    assert (f"note: `run` and `ingest` would refuse: run smoke/Default at {smoke / 'Default'}: its "
+            f"name differs only in case from {smoke / 'default'}, which is there already, and on a "
+            "file system that ignores case (macOS, Windows, a USB stick) the two are one directory; "
+            "to add to that run, give --run default; for a new one, give a run name that differs "
+            "in more than case.\n") in shown.stdout
+    assert "note:" not in invoke("show", "smoke", *SMOKE, "--run", "Default2", "--root",
+                                 results).stdout
+
+
+@pytest.mark.parametrize("command", ["status", "report"])
+def test_status_and_report_of_a_case_twin_do_not_advise_a_refused_run(results, command):
+    # they said "did you mean --run default? run `graspcampaign run smoke --run Default ...`
+    # first.", a command that `run` refuses
+    said = (f"no run at {results / 'smoke' / 'Default'}; " if command == "status" else
+            f"no run 'Default' of study 'smoke' under {results}; ")
+    refused(results, [command, "smoke", "--run", "Default", "--root", results],
+            f"{said}did you mean --run default? a run named Default cannot be made beside default "
+            "(on a file system that ignores case the two are one directory).")
+
+
+def test_status_given_a_study_files_path_names_its_name_key(results, user_dir):
+    # it said "(mine, the name: of a study file)"
+    path = user_dir / "mine.yaml"
+    path.write_text("# @package _global_\n# schema: StudyCfg\nname: mine\nkind: mesh_features\n")
+    refused(results, ["status", path, "--root", results],
+            f"study {str(path)!r} is a path; give the study's name (mine, the value of name: in the "
+            "study file), under which its runs are stored.")
+    refused(results, ["status", "elsewhere/theirs.yaml", "--root", results],
+            "study 'elsewhere/theirs.yaml' is a path; give the study's name (the value of name: in "
+            "the study file; theirs if the file is named after it), under which its runs are "
+            "stored.")
