@@ -330,8 +330,8 @@ def test_plan_refuses_an_empty_material(tmp_path):
     mesh.write_text("solid nothing\nendsolid nothing\n")
     result = invoke("plan", mesh, "--mass-kg", "0.3", "--material", "")
     assert result.exit_code == 2, result.output
-    assert result.stderr == ("error: unknown material ''; use one of gel, silicone_soft, bio_foam, "
-                             "silicone_ref.\n")
+    assert result.stderr == ("error: --material '' is not a Table 4 material family; use one of "
+                             "gel, silicone_soft, bio_foam, silicone_ref.\n")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["object.stl"]  # no picture either
 
 

@@ -443,5 +443,5 @@ def test_status_and_report_given_a_study_files_path_ask_for_its_name(results):
     path = PROJECT / "campaigns" / "smoke.yaml"
     for command in ("status", "report"):
         refused(results, [command, path, "--root", results],
-                f"study {str(path)!r} is a path; give the study's name (smoke, the name: of a "
-                "study file), under which its runs are stored.")
+                f"study {str(path)!r} is a path; give the study's name (smoke, the value of name: in "
+                "the study file), under which its runs are stored.")

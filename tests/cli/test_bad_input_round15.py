@@ -72,8 +72,8 @@ def test_a_study_file_ending_in_upper_case_is_told_the_case_matters(tmp_path, us
             f"unknown study 'mine': the file {path} {MISCASED} rename it {lower}.")
     # status and report take a study's name: a path is told so, whatever its suffix's case
     refused(tmp_path, ["status", path.name, "--root", tmp_path],
-            f"study '{path.name}' is a path; give the study's name (mine, the name: of a study "
-            "file), under which its runs are stored.")
+            f"study '{path.name}' is a path; give the study's name (the value of name: in the "
+            "study file; mine if the file is named after it), under which its runs are stored.")
     path.rename(user_dir / lower)
     assert invoke("show", "mine", "--root", tmp_path).exit_code == 0
 

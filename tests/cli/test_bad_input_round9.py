@@ -28,8 +28,8 @@ from graspcampaign.campaign.provenance import code_version
 def test_a_near_miss_material_is_suggested_in_a_sentence(tmp_path, sphere, material, meant):
     refused(tmp_path, ["plan", sphere, "--mass-kg", "0.1", "--material", material, "--png",
                        tmp_path / "p.png"],
-            f"unknown material '{material}'; {meant}use one of gel, silicone_soft, bio_foam, "
-            "silicone_ref.")
+            f"--material '{material}' is not a Table 4 material family; {meant}use one of gel, "
+            "silicone_soft, bio_foam, silicone_ref.")
 
 
 def _binary_ply(path: Path, vertices: int | None = None, faces: int | None = None) -> None:

@@ -106,7 +106,8 @@ MASS = ("below 0.1 g an object weighs less than the rig's 1 mN force resolution,
          "evaluator's 0.5 mm seed penetration sinks half a fingertip's radius, and robot pads "
          "stay below 50 mm)."),
         (["--mass-kg", "0.1", "--material", "unobtainium"],
-         "unknown material 'unobtainium'; use one of gel, silicone_soft, bio_foam, silicone_ref."),
+         "--material 'unobtainium' is not a Table 4 material family; use one of gel, "
+         "silicone_soft, bio_foam, silicone_ref."),
         (["--mass-kg", "0.1", "--unit", "furlong"], "--unit 'furlong' is not a length unit a mesh is "
                                                    "read in; use one of m, cm, mm (the unit of the "
                                                    "mesh file's coordinates)."),

@@ -101,7 +101,8 @@ MASS = ("below 0.1 g an object weighs less than the rig's 1 mN force resolution,
      "evaluator's 0.5 mm seed penetration sinks half a fingertip's radius, and robot pads stay "
      "below 50 mm)."),
     ({"mass_kg": 0.1, "material": "steel"},
-     "unknown material 'steel'; use one of gel, silicone_soft, bio_foam, silicone_ref."),
+     "material = 'steel' is not a Table 4 material family; use one of gel, silicone_soft, "
+     "bio_foam, silicone_ref."),
 ])
 def test_plan_rejects_bad_values(stl_files, kwargs, message):
     with pytest.raises(ValueError) as info:

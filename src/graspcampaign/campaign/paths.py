@@ -219,9 +219,14 @@ def how_to_make(root: Path | str, study: str, run: str | None = None,
     its configured run) under ``root``, with the options it needs (a hardware protocol's ``measured``
     run: ``ingest``) and the ``overrides`` a run already started was given (without them `run`
     refuses it as started with another config), followed by ``then`` ("first", or "again to finish
-    it" for a run started): one sentence, which no caller cuts to add its own end."""
+    it" for a run started): one sentence, which no caller cuts to add its own end. For a run named
+    as one there but for case, which `run` and `ingest` refuse (:func:`check_case_twin`), it says
+    that instead of a command that would be refused."""
     from graspcampaign.campaign.studyfile import configured_output
 
+    if run is not None and (twin := case_twin(Path(root) / study / run)) is not None:
+        return (f"a run named {run} cannot be made beside {twin.name} (on a file system that "
+                "ignores case the two are one directory).")  # `run` and `ingest` refuse it
     if run == "measured" and _ingests(study):  # `ingest`'s run: a rig's files make it
         rooted = root_options(root, study)
         command = " ".join(["graspcampaign ingest", shlex.quote(study), "FILE…", *map(shlex.quote, rooted)])
@@ -261,28 +266,42 @@ def near_run(root: Path | str, study: str, run: str) -> str:
     return meant(run, runs, "--run {}")
 
 
+def case_twin(path: Path) -> Path | None:
+    """The entry beside ``path`` whose name differs from ``path``'s only in case, when ``path`` is
+    not there itself (by the directory's listing); else None."""
+    try:
+        names = [entry.name for entry in os.scandir(path.parent)]
+    except OSError:  # no directory of the study yet: no run of it either
+        return None
+    twins = [name for name in names if name.lower() == path.name.lower()]
+    return None if not twins or path.name in names else path.parent / twins[0]
+
+
 def check_case_twin(path: Path, label: str) -> None:
     """Refuse the run at ``path`` (``label``: ``study/run``) when its directory is not there and
-    one whose name differs from it only in case is (``smoke/Default`` beside ``smoke/default``).
+    one whose name differs from it only in case is (``smoke/Default`` beside ``smoke/default``):
+    :func:`case_twin_problem`'s sentence."""
+    if (problem := case_twin_problem(path, label)) is not None:
+        raise UserInputError(problem)
+
+
+def case_twin_problem(path: Path, label: str) -> str | None:
+    """Why `run` and `ingest` refuse the run at ``path`` (``label``: ``study/run``), one sentence,
+    when its directory is not there and one whose name differs from it only in case is; else None.
+    `show` prints it as a note, and a "no run" message gives it in place of the command that would
+    make the run (which would be refused).
 
     On a file system that ignores case (macOS's and Windows' by default, the FAT and exFAT of USB
     sticks) the two are one directory: a copy of the results there would merge the runs, and a run
     made there would add its trials to the other's. Read from the study directory's listing, which
     spells each name as it was made, so the answer is the same on either kind of file system."""
-    try:
-        names = [entry.name for entry in os.scandir(path.parent)]
-    except OSError:  # no directory of the study yet: no run of it either
-        return
-    twins = [name for name in names if name.lower() == path.name.lower()]
-    if not twins or path.name in names:
-        return
-    twin = path.parent / twins[0]
+    if (twin := case_twin(path)) is None:
+        return None
     add = (f"to add to that run, give --run {twin.name}; for a new one, "
            if os.path.lexists(twin / "manifest.json") else "")
-    raise UserInputError(f"run {label} at {path}: its name differs only in case from {twin}, "
-                         "which is there already, and on a file system that ignores case (macOS, "
-                         f"Windows, a USB stick) the two are one directory; {add}give a run name that "
-                         "differs in more than case.")
+    return (f"run {label} at {path}: its name differs only in case from {twin}, which is there "
+            "already, and on a file system that ignores case (macOS, Windows, a USB stick) the two "
+            f"are one directory; {add}give a run name that differs in more than case.")
 
 
 #: The file a run or ingest holds its run by (``runner.run_lock``), in the run's directory.

@@ -15,6 +15,7 @@ from typing import Any
 from graspcampaign.campaign.catalog import design_size, kind_facts
 from graspcampaign.campaign.kind import KINDS, get_kind, kind_available
 from graspcampaign.campaign.paths import (
+    case_twin_problem,
     check_name,
     check_root,
     held_by_a_run,
@@ -160,6 +161,9 @@ def design_text(study: StudyCfg, run: str | None = None, overrides: list[str] = 
         lines.append(f"run: {run_path(study, run)} ({done} of {total} recorded)")
     if refusal := drift_refusal(study, run, opened):
         lines.append(f"note: {refusal}")
+    elif opened is None and (twin := case_twin_problem(run_path(study, run),
+                                                       f"{study.name}/{run or study.output.run}")):
+        lines.append(f"note: `run` and `ingest` would refuse: {twin}")
     if total is None:
         lines.append("estimated time: none before the design is known (see design)")
     elif facts and opened is not None and ingested(opened[1]):  # its trials come from a rig, not `run`
@@ -208,11 +212,14 @@ def check_known(root: Path | str, study: str) -> None:
         from graspcampaign.campaign.studyfile import read_yaml
 
         try:
-            name = read_yaml(Path(study)).get("name") or Path(study).stem
-        except UserInputError:
-            name = Path(study).stem
-        raise UserInputError(f"study {study!r} is a path; give the study's name ({name}, the name: "
-                             "of a study file), under which its runs are stored.")
+            name = read_yaml(Path(study)).get("name")
+        except UserInputError:  # not read: its file's stem, which a study's name usually is
+            name = None
+        which = (f"{name}, the value of name: in the study file" if isinstance(name, str) and name
+                 else f"the value of name: in the study file; {Path(study).stem} if the file is "
+                      "named after it")
+        raise UserInputError(f"study {study!r} is a path; give the study's name ({which}), under "
+                             "which its runs are stored.")
     check_name(study, "study")
     if (Path(root) / study).is_dir() or study in (known := list_studies()):
         return

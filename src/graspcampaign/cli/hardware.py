@@ -166,6 +166,7 @@ def plan(
                            fingertip_radius_mm=fingertip_radius_mm, unit=unit,
                            png_path=picture, names={"png_path": option, "mass_kg": "--mass-kg",
                                                     "mu": "--mu", "unit": "--unit",
+                                                    "material": "--material",
                                                     "fingertip_radius_mm": "--fingertip-radius-mm"})
     except PicturePathError as exc:
         fail(str(exc) if png is not None else

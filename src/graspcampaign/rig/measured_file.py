@@ -101,6 +101,7 @@ def read_table(path: str | Path, *, csv_options: dict | None = None,
     """
     path = Path(path)
     suffix = path.suffix.lower()
+    _check_lock(path)
     if suffix == ".xls" and path.is_file():  # the old binary format, which no reader here reads
         _check_compound(path)
     if suffix not in (".csv", ".parquet", ".pq", ".xlsx"):
@@ -121,7 +122,10 @@ def read_table(path: str | Path, *, csv_options: dict | None = None,
                 return pd.read_csv(io.StringIO(text), **(csv_options or {}))
         if suffix == ".xlsx":
             with pd.ExcelFile(path) as book:
-                frame = pd.read_excel(book, book.sheet_names[0], **(excel_options or {}))
+                with warnings.catch_warnings(record=True) as caught:
+                    warnings.simplefilter("always")
+                    frame = pd.read_excel(book, book.sheet_names[0], **(excel_options or {}))
+                _check_dates(path.name, frame, caught)
                 # the headers of the other sheets, and those with a row below the header, for a
                 # header check to say where records are
                 other = {str(name): pd.read_excel(book, name, nrows=1)
@@ -140,6 +144,47 @@ def read_table(path: str | Path, *, csv_options: dict | None = None,
                           f"({type(exc).__name__})" + ("; it is damaged or incomplete (a copy cut "
                                                         "short?): copy or save it again" if cut else "")
                           + ".") from exc
+
+
+def _check_lock(path: Path) -> None:
+    """Refuse a spreadsheet program's lock file (Excel's ``~$name.xlsx``, which a glob such as
+    ``*.xlsx`` picks up beside the workbook), and a file beside which one is: the file is open, so
+    what is saved may not be what the program shows. Excel names it ``~$`` and the file's name, or
+    that name without its first two characters (a longer name; Microsoft's "Description of how
+    Word creates temporary files"), LibreOffice ``.~lock.name#``."""
+    name = path.name
+    if name.startswith("~$"):
+        raise IngestError(f"{name}: the file is the lock file Excel keeps beside a workbook open in "
+                          "it, not records; ingest the workbook itself, saved and closed.")
+    for lock in (f"~${name}", f"~${name[2:]}", f".~lock.{name}#"):
+        if (path.parent / lock).is_file():
+            raise IngestError(f"{name}: the file is open in a spreadsheet program (its lock file "
+                              f"{lock} is beside it), so what is saved may not be what it shows; "
+                              f"save and close it, then ingest again (delete {lock} if no program "
+                              "has it open).")
+
+
+#: openpyxl's warning for a cell whose number format is a date's and whose value no date is (a
+#: serial number past 9999-12-31, or before the epoch), which it reads as the error #VALUE!
+_NO_DATE = re.compile(r"Cell ([A-Z]+[0-9]+) is marked as a date but the serial value (\S+) is outside")
+
+
+def _check_dates(name: str, frame: pd.DataFrame, caught: list) -> None:
+    """Refuse the first cell of the first sheet that is formatted as a date and holds a number no
+    date is (openpyxl's warning, in ``caught``): read as the error #VALUE!, pandas leaves it empty,
+    so a value would be stored as not measured. Row and column as :func:`_check_sheet` names them."""
+    from openpyxl.utils.cell import column_index_from_string, coordinate_from_string
+
+    for warning in caught:
+        if match := _NO_DATE.match(str(warning.message)):
+            letters, row = coordinate_from_string(match[1])
+            j = column_index_from_string(letters) - 1
+            column = str(frame.columns[j]) if j < len(frame.columns) else letters
+            raise ingest_error(name, row - 1 or None, column,
+                               f"the cell ({match[1]}) is formatted as a date, but its value "
+                               f"{match[2]} is outside the dates a workbook holds (up to "
+                               "9999-12-31), so it would be read as empty; give the cell a number "
+                               "format, or fix its value")
 
 
 #: what a file of each type is, and how it begins (an xlsx workbook is a zip archive)

@@ -133,6 +133,21 @@ def _check_unit(unit: object, names: Mapping[str, str]) -> str:
                      f"one of {', '.join(UNITS)} (the unit of the mesh file's coordinates).")
 
 
+def _check_material(material: object, names: Mapping[str, str]) -> str:
+    """Return ``material``, a Table 4 family (``core.bench.FAMILIES``); a refusal names it as
+    :func:`_check_unit` names a unit (``--material 'steel'`` on the command line), suggests the
+    nearest family and lists them."""
+    from graspcampaign.core.bench import FAMILIES
+    from graspcampaign.core.words import meant
+
+    if material in FAMILIES:
+        return material  # type: ignore[return-value]
+    name = names.get("material", "material")
+    given = f"{name} {material!r}" if name.startswith("-") else f"{name} = {material!r}"
+    raise ValueError(f"{given} is not a Table 4 material family; {meant(material, FAMILIES)}use one "
+                     f"of {', '.join(FAMILIES)}.")
+
+
 def _check_size(mesh, name: str, unit: str) -> float:
     """Return the object's size [mm]; refuse one no hand can grasp, naming the likely unit."""
     from graspcampaign.core.mesh import UNITS
@@ -313,7 +328,8 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
     if mu is not None:
         mu = _check_plausible(mu, "mu", "", names)
     unit = _check_unit(unit, names)
-    name_material = DEFAULT_PLAN_MATERIAL if material is None else material  # "" is no material
+    name_material = _check_material(DEFAULT_PLAN_MATERIAL if material is None else material,
+                                    names)  # "" is no material
     mat = material_model(name_material, "natural", radius_mm * 1e-3)
     if mu is not None:
         mat = replace(mat, mu_s=mu, mu_k=mu * mat.mu_k / mat.mu_s, friction_level="user")
