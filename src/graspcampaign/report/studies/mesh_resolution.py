@@ -320,7 +320,7 @@ SPEC = ReportSpec("mesh_resolution", [
           "N_cand (the paper's future work, Sec. 11); mean H(G) of the chosen triple, its gap to the "
           "reference search on the same body, and how often the sampled search found the reference argmin",
           _budget, [Col("n_cand_label", "N_cand"), "trials",
-                    "success_pct", "vertical_pct", "h_mean",
+                    "success_pct", "vertical_pct", Col("n_vertical", "n (vertical)"), "h_mean",
                     "h_gap_to_reference", "reference_argmin_found_pct"], by=["nodes", "planner"],
           empty="the run has no budget panel"),
     Table("n_max_rerun", "Baseline-grid failures at N_max and re-evaluated at the doubled budget "

@@ -331,7 +331,7 @@ SPEC = ReportSpec("sensitivity", [
           "|R_z| reading; Wilson 95%), trials whose Algorithm 2 was still moving at N_max, trials with a "
           "contact deeper than the fingertip radius r (non-physical: the fingertip centre inside the "
           "object), the median penetration over the physical trials (δmax ≤ r) and runtime per evaluation",
-          _panels, ["cells", "trials", "success_pct", "vertical_pct",
+          _panels, ["cells", "trials", "success_pct", "vertical_pct", Col("n_vertical", "n (vertical)"),
                     Col("loop_at_n_max_pct", LOOP_AT_N_MAX, 1),
                     Col("beyond_radius", "δmax > r (non-physical)", share="beyond_radius_pct"),
                     Col("delta_max_median_mm", "median δmax, δmax ≤ r [mm]", sig=3, why="delta_max_why"),
