@@ -171,11 +171,14 @@ def _cross_check(run: Run) -> str:
     judged = known(merged, ["success", "success_baseline"])  # a verdict compared is a verdict recorded
     same = (judged["success"] == judged["success_baseline"]).sum()
     unjudged = len(merged) - len(judged)  # N of "k of N" is the compared trials; the rest said apart
-    close = np.isclose(merged["residual_norm_n"], merged["residual_norm_n_baseline"], rtol=1e-9).sum()
+    res = merged[["residual_norm_n", "residual_norm_n_baseline"]].dropna()  # likewise the residuals
+    close = np.isclose(res["residual_norm_n"], res["residual_norm_n_baseline"], rtol=1e-9).sum()
+    unread = len(merged) - len(res)
     return (f"Cross-check against the `baseline_grid` records beside this run{skipped}: {same} of "
             f"{len(judged)} re-derived trials have the baseline's verdict" + (
-                f" ({unjudged} more not compared: no verdict recorded) and {close} of {len(merged)}"
-                if unjudged else f" and {close}") + " its residual (relative 1e-9).")
+                f" ({unjudged} more not compared: no verdict recorded)" * bool(unjudged)) + f" and {close}"
+            + f" of {len(res)}" * bool(unjudged or unread) + " its residual (relative 1e-9"
+            + f"; {unread} more not compared: no residual recorded" * bool(unread) + ").")
 
 
 def _reading(run: Run) -> str:
