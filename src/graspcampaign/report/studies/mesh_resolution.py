@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from graspcampaign.analysis.quasi_static import loop_at_n_max_pct
 from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
 from graspcampaign.analysis.records import MIN_TRIALS, Estimate, flag, known, median
 from graspcampaign.analysis.vocabulary import OTHER_COLOURS, PROPOSED, colour
@@ -33,7 +34,7 @@ def _runtime(run: Run) -> pd.DataFrame:
         "equilibrium_median_ms": 1e3 * g["equilibrium_time_s"].median(),
         "paper_runtime_ms": run.paper.runtime_ms.get(str(int(nodes))),
         "residual_median_n": g["residual_norm_n"].median(),
-        "loop_at_n_max_pct": 100 * g["loop_capped"].mean(),
+        "loop_at_n_max_pct": loop_at_n_max_pct(g),
         **rate_cols(g, "success", "success")} for nodes, g in panel_rows(run, "resolution").groupby("nodes")])
 
 

@@ -11,6 +11,7 @@ import pandas as pd
 from matplotlib.lines import Line2D
 
 from graspcampaign.analysis.association import equal_rates_test
+from graspcampaign.analysis.quasi_static import loop_at_n_max_pct
 from graspcampaign.analysis.rates import CONFIDENCE_LEVEL
 from graspcampaign.analysis.records import Estimate, at_bound, beyond_radius, rate
 from graspcampaign.report import format as fmt
@@ -92,7 +93,7 @@ def _panels(run: Run) -> pd.DataFrame:
         g, (x, y) = panel_rows(run, panel), PANELS[panel][:2]
         deep = beyond_radius(g, run.radius_mm)
         rows.append({"panel": panel, "cells": g.groupby([x, y]).ngroups, "trials": len(g),
-                     "loop_at_n_max_pct": 100 * g["loop_capped"].mean(), "beyond_radius": int(deep.sum()),
+                     "loop_at_n_max_pct": loop_at_n_max_pct(g), "beyond_radius": int(deep.sum()),
                      "beyond_radius_pct": 100 * deep.mean(),
                      "delta_max_median_mm": g.loc[~deep, "delta_max_mm"].median(),
                      "delta_max_why": "no physical trial" if deep.all() else "",
