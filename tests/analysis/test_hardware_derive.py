@@ -109,6 +109,26 @@ def test_a_force_error_compares_the_fingers_that_were_read():
     assert got.tolist() == pytest.approx([100 / 11, 20.0, 20.0])
 
 
+def test_the_force_parity_compares_the_fingers_that_were_read():
+    """Fig. 29a and the parity slope pair the measured mean with the prediction over the same fingers,
+    as the force error does. Trial 0 read fingers 1 and 2 only (measured 1.1 N, predicted 1.0 N over
+    them, 2.0 N over all three); trials 1-2 read every finger. The slope through the origin is
+    Σxy / Σx² by hand over the matched pairs (x predicted, y measured), numpy's least squares
+    without an intercept agrees; the three-finger means give 16.2 / 19.25 = 0.84."""
+    rec = _records({"heuristic": (3, 3)}).assign(
+        normal_force_1_n=[1.0, 2.0, 3.0], normal_force_2_n=[1.2, 2.0, 3.0],
+        normal_force_3_n=[np.nan, 2.0, 3.0], normal_force_mean_n=[1.1, 2.0, 3.0],
+        normal_force_pred_1_n=[1.0, 2.5, 3.0], normal_force_pred_2_n=[1.0, 2.5, 3.0],
+        normal_force_pred_3_n=[4.0, 2.5, 3.0], normal_force_pred_mean_n=[2.0, 2.5, 3.0],
+        contact_point_error_mm=np.nan)
+    x, y = np.array([1.0, 2.5, 3.0]), np.array([1.1, 2.0, 3.0])
+    by_hand = (x @ y) / (x @ x)
+    assert np.linalg.lstsq(x[:, None], y, rcond=None)[0][0] == pytest.approx(by_hand)
+    row = hardware.force_accuracy(hardware.derive(rec)).set_index("scope").loc["all"]
+    assert row["n_parity"] == 3 and row["parity_slope"] == pytest.approx(by_hand)
+    assert by_hand == pytest.approx(15.1 / 16.25)
+
+
 def test_the_deformation_errors_over_a_sub_quantum_measurement_are_counted_per_scope():
     """Measured means 0.05, 0, 0.2, missing and 0.099 mm against 1 mm predicted (heuristic), 1 mm
     (centroid): three heuristic errors (0 mm has none), two of them over a mean below the 0.1 mm vision

@@ -4,6 +4,8 @@ Expected counts are read off the hand-written rows below; intervals come from st
 rank correlations from scipy, never from the code under test.
 """
 
+import math
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -163,3 +165,12 @@ def test_weighted_spearman_of_a_constant_sample_is_nan_without_a_warning():
         assert np.isnan(weighted_spearman([1.0, 1.0, 1.0], [0.0, 1.0, 2.0], [1.0, 2.0, 1.0]))
     with pytest.warns(stats.ConstantInputWarning):
         assert np.isnan(stats.spearmanr([1.0, 1.0, 1.0, 1.0], [0.0, 1.0, 1.0, 2.0]).statistic)
+
+
+def test_the_loop_at_n_max_share_counts_the_capped_trials():
+    """The sensitivity and mesh-resolution tables' "still moving at N_max": 1 of 4 trials capped, 25 %
+    (a missing flag is not set, records.flag); no trial, no share."""
+    from graspcampaign.analysis.quasi_static import loop_at_n_max_pct
+
+    assert loop_at_n_max_pct(pd.DataFrame({"loop_capped": [True, None, False, False]})) == 25.0
+    assert math.isnan(loop_at_n_max_pct(pd.DataFrame({"loop_capped": pd.Series([], dtype=bool)})))

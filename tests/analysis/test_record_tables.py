@@ -192,3 +192,51 @@ def test_failure_checks_of_a_gated_run_without_the_column_show_geometry():
     records = pd.DataFrame({"status": "ok", "planner": "a", "failure_check": ["none", "geometry"]})
     table = rec.failure_check_table(records, ["planner"])
     assert table[["none", "geometry", "geometry_pct"]].iloc[0].tolist() == [1, 1, 50.0]
+
+
+def _older_file_records() -> pd.DataFrame:
+    """Records as RunStore.read gives a run resumed across the release that added the later readings:
+    the first file's rows have no ``success_vertical`` or ``success_unbounded`` (null, read as None), and
+    one trial errored (no outcome at all)."""
+    import pyarrow as pa
+
+    return pa.table({
+        "trial_id": [f"t{i}" for i in range(6)], "planner": ["heuristic"] * 6,
+        "status": ["ok"] * 5 + ["error"], "success": [True, False, True, False, True, None],
+        "success_vertical": [None, None, True, False, True, None],
+        "success_unbounded": [None, None, True, True, True, None]}).to_pandas()
+
+
+def test_a_reading_an_older_file_lacks_enters_no_rate():
+    """Five executed trials, three with an |R_z| reading (two of them pass): the rate is 2 of 3 with
+    statsmodels' Wilson interval, not 2 of 5 (a missing reading read as a failure); its n is 3, the
+    errored trial counted apart as before. The reading ``success`` is recorded for all five."""
+    records = _older_file_records()
+    assert records["success_vertical"].isna().sum() == 3  # the frame is what a Parquet null reads as
+    row = rec.rate_table(records, ["planner"], outcome="success_vertical").iloc[0]
+    low, high = proportion_confint(2, 3, method="wilson")
+    assert (row["n"], row["successes"], row["n_error"]) == (3, 2, 1)
+    assert [row["rate_pct"], row["wilson_low_pct"], row["wilson_high_pct"]] == pytest.approx(
+        [200 / 3, 100 * low, 100 * high])
+    one = rec.rate(records, outcome="success_vertical")
+    assert (one.n, one.value) == (3, pytest.approx(200 / 3))
+    assert rec.rate(records).n == 5  # success: every executed trial has it
+    assert rec.executed(records)["success_vertical"].isna().sum() == 2  # kept missing, not False
+
+
+def test_a_trial_without_the_ungated_reading_is_no_gate_removal():
+    """``gate_removed`` (a pass only without the validity gate) of a trial without ``success_unbounded``
+    is unknown: Test 2's belief table rate of it is over the three trials read (one removed: t3, which
+    passed without the gate and failed with it), where the missing two counted as not removed (1 of 5)."""
+    from graspcampaign.analysis import hardware
+
+    records = _older_file_records().assign(outcome="stable", friction_level="natural", object_id="o",
+                                           condition="c", repeat=0, aborted=False)
+    d = hardware.derive(records.assign(**{c: 1.0 for c in (
+        "normal_force_mean_n", "normal_force_pred_mean_n", "deformation_mean_mm", "deformation_pred_mean_mm",
+        "g_geo_believed", "g_geo_actual", "mu_s_believed")}))
+    assert d["gate_removed"].tolist()[2:] == [False, True, False] and d["gate_removed"][:2].isna().all()
+    row = hardware.summary(d, ["planner"], ["gate_removed"]).iloc[0]
+    assert (row["n_gate_removed"], row["gate_removed_pct"]) == (3, pytest.approx(100 / 3))
+    gate = rec.gate_table(records.assign(valid_geometry=True), ["planner"]).iloc[0]
+    assert (gate["n"], gate["success_unbounded"], gate["removed"]) == (5, 3, 1)

@@ -30,15 +30,13 @@ def test_a_failure_without_a_budget_cap_reading_is_not_counted_as_capped():
     assert (row["failures_at_n_max"], row["budget_capped"]) == (3, 1)
 
 
-def test_the_cross_check_compares_recorded_verdicts_only(tmp_path, monkeypatch):
-    """A baseline record with no verdict (a null, read as None) had agreed with a re-derived failure
-    (``astype(bool)``: False == False); it is now no comparison, and the sentence says so. Its "k of N"
-    is over the compared trials: seeds 0 and 2 (re-derived False, False; baseline False, True) agree
-    once, 1 of 2 (it said 1 of 3, the uncompared trial in N); the residuals, all recorded, 3 of 3."""
+def _cross_check(tmp_path, monkeypatch, success, residual) -> str:
+    """The cross-check sentence of the run of :func:`_n_max_run` against a baseline_grid run beside it
+    whose three trials (seeds 0-2) recorded ``success`` and ``residual`` (None: a null)."""
     baseline = pa.table({"status": ["ok"] * 3, "planner": ["heuristic"] * 3, "shape": ["sphere"] * 3,
                          "mass_kg": [0.4] * 3, "mu": [0.3] * 3, "seed": [0, 1, 2],
-                         "success": pa.array([False, None, True], pa.bool_()),
-                         "residual_norm_n": [1.0, 2.0, 3.0]})
+                         "success": pa.array(success, pa.bool_()),
+                         "residual_norm_n": pa.array(residual, pa.float64())})
 
     class Stored:  # a baseline_grid run beside this one, read as RunStore reads one
         def __init__(self, path):
@@ -53,7 +51,25 @@ def test_the_cross_check_compares_recorded_verdicts_only(tmp_path, monkeypatch):
     (tmp_path / "baseline_grid" / "run0").mkdir(parents=True)
     monkeypatch.setattr(mr, "RunStore", Stored)
     run = _n_max_run(False, store=SimpleNamespace(path=tmp_path / "mesh_resolution" / "run1"))
-    assert mr._cross_check(run) == (
+    return mr._cross_check(run)
+
+
+def test_the_cross_check_compares_recorded_verdicts_only(tmp_path, monkeypatch):
+    """A baseline record with no verdict (a null, read as None) had agreed with a re-derived failure
+    (``astype(bool)``: False == False); it is now no comparison, and the sentence says so. Its "k of N"
+    is over the compared trials: seeds 0 and 2 (re-derived False, False; baseline False, True) agree
+    once, 1 of 2 (it said 1 of 3, the uncompared trial in N); the residuals, all recorded, 3 of 3."""
+    assert _cross_check(tmp_path, monkeypatch, [False, None, True], [1.0, 2.0, 3.0]) == (
         "Cross-check against the `baseline_grid` records beside this run: 1 of 2 re-derived trials have the "
         "baseline's verdict (1 more not compared: no verdict recorded) and 3 of 3 its residual "
         "(relative 1e-9).")
+
+
+def test_the_cross_check_compares_recorded_residuals_only(tmp_path, monkeypatch):
+    """A baseline trial with no residual (null) is no comparison, as one with no verdict: the residuals
+    of seeds 0 and 2 are compared (N 2) and the third is said apart, where it counted as "not close"
+    in an N of 3 (a NaN is close to nothing). The verdicts, all recorded, are as before."""
+    assert _cross_check(tmp_path, monkeypatch, [False, False, True], [1.0, None, 3.0]) == (
+        "Cross-check against the `baseline_grid` records beside this run: 2 of 3 re-derived trials have the "
+        "baseline's verdict and 2 of 2 its residual (relative 1e-9; 1 more not compared: no residual "
+        "recorded).")

@@ -79,7 +79,8 @@ def below_quantum(df: pd.DataFrame) -> pd.Series:
 def derive(records: pd.DataFrame) -> pd.DataFrame:
     """Return the executed trials with the columns every Tests 2-3 table reads.
 
-    ``is_<class>``, ``natural`` (success at natural friction), ``force_err_pct``, ``deformation_err_pct``,
+    ``is_<class>``, ``natural`` (success at natural friction), ``normal_force_pred_read_n`` (the prediction
+    over the fingers whose force was read, :func:`pred_read`), ``force_err_pct``, ``deformation_err_pct``,
     ``g_geo_gap``/``mu_s_gap`` (believed - actual), ``gate_removed`` (a success only without the δ ≤ r
     gate), ``match_key``; Test 3: ``threshold``/``threshold_pred`` (uncensored ramps; N·m in block C),
     ``threshold_err_pct``, ``lat_threshold_n``/``_err_pct`` (block A), ``payload_pct_w`` (block B down),
@@ -88,9 +89,10 @@ def derive(records: pd.DataFrame) -> pd.DataFrame:
     df = executed(records)
     df = df.assign(**{c: np.nan for c in VIRTUAL_ONLY if c not in df})
     unbounded = df["success_unbounded"].astype("boolean")
+    force = pred_read(df, "normal_force", "n")
     new = {**{f"is_{k}": df["outcome"] == v for k, v in CLASSES.items()},
            "natural": df["success"].where(df["friction_level"] == "natural"),
-           "force_err_pct": pct_error(df["normal_force_mean_n"], pred_read(df, "normal_force", "n")),
+           "normal_force_pred_read_n": force, "force_err_pct": pct_error(df["normal_force_mean_n"], force),
            "deformation_err_pct": pct_error(df["deformation_mean_mm"], pred_read(df, "deformation", "mm")),
            "g_geo_gap": df["g_geo_believed"].astype(float) - df["g_geo_actual"].astype(float),
            "mu_s_gap": df["mu_s_believed"].astype(float) - df["mu_s_actual"].astype(float),
@@ -152,18 +154,19 @@ def parity_by(df: pd.DataFrame, by: str, measured: str, predicted: str) -> pd.Da
 
 
 def force_accuracy(df: pd.DataFrame) -> pd.DataFrame:
-    """Return per scope (all, each planner) the normal-force parity and median errors (§8.3, Fig. 29), each
-    median with its count ``n_<things>`` (a trial may lack a deformation or a contact point), and the
-    count ``n_deformation_below_quantum`` of errors over a recorded mean below :data:`VISION_QUANTUM_MM`
+    """Return per scope (all, each planner) the normal-force parity (the measured mean on the prediction
+    over the same fingers, ``normal_force_pred_read_n``) and median errors (§8.3, Fig. 29), each median
+    with its count ``n_<things>`` (a trial may lack a deformation or a contact point), and the count
+    ``n_deformation_below_quantum`` of errors over a recorded mean below :data:`VISION_QUANTUM_MM`
     (:func:`below_quantum`)."""
-    df = df.dropna(subset=["normal_force_mean_n", "normal_force_pred_mean_n"])
+    df = df.dropna(subset=["normal_force_mean_n", "normal_force_pred_read_n"])
     long = scoped(df, {"all": df["planner"].notna(), **{p: df["planner"] == p for p in
                                                         ordered("planner", df["planner"])}})
     g = long.groupby("scope", sort=False)[["force_err_pct", "deformation_err_pct", "contact_point_error_mm"]]
     errors = g.median().join(g.count().rename(columns=lambda c: f"n_{things(c)}")).reset_index()
     low = below_quantum(long)
     errors["n_deformation_below_quantum"] = low.groupby(long["scope"], sort=False).sum().to_numpy()
-    return parity_by(long, "scope", "normal_force_mean_n", "normal_force_pred_mean_n").merge(errors)
+    return parity_by(long, "scope", "normal_force_mean_n", "normal_force_pred_read_n").merge(errors)
 
 
 def classifier_table(df: pd.DataFrame, flags: Sequence[str], by: Sequence[str]) -> pd.DataFrame:

@@ -76,6 +76,12 @@ def readings(records: pd.DataFrame, by: list[str], order: dict | None = None) ->
                         torque_binds=frame["success_no_torque"] - frame["success"])
 
 
+def loop_at_n_max_pct(trials: pd.DataFrame) -> float:
+    """Return the share [%] of ``trials`` whose Algorithm 2 was still moving at its N_max iterations
+    (``loop_capped``, a flag: missing, not set); nan without a trial."""
+    return 100 * rec.flag(trials, "loop_capped").mean()
+
+
 def grip_need(records: pd.DataFrame, order: dict | None = None) -> pd.DataFrame:
     """Return per grip law (``slip``, ``oracle``) and planner the counts ``holdable`` (needed grip
     within the cap), ``no_equal_grip`` (``grip_needed_n`` infinite), ``capped_passes`` and

@@ -21,10 +21,12 @@ from graspcampaign.core.verdict import FAILURE_CHECKS  # none, residual, torque,
 
 #: The paper's per-contact penetration design limit [mm] (Sec. 4, Sec. 5.5; SPEC Sec. 2.7).
 DESIGN_LIMIT_MM = 1.0
-#: Outcome columns cast to plain bool on executed trials (nullable in the records).
-BOOLEAN_COLUMNS = ("success", "success_vertical", "stable", "slip_flag", "drop_flag",
-                   "damage_flag", "contact_loss_flag", "predicted_stable", "retention_pred",
-                   "exceeds_1mm", "loop_capped", "settled", "success_unbounded", "valid_geometry")
+#: Outcome columns cast to plain bool on executed trials (nullable in the records). The readings
+#: added after ``success`` (``success_unbounded``, ``success_vertical``, ...) stay as recorded: an
+#: older file of a resumed run lacks them (null), and a rate reads them through :func:`known`.
+BOOLEAN_COLUMNS = ("success", "stable", "slip_flag", "drop_flag", "damage_flag", "contact_loss_flag",
+                   "predicted_stable", "retention_pred", "exceeds_1mm", "loop_capped", "settled",
+                   "valid_geometry")
 
 
 @dataclass(frozen=True)
@@ -104,12 +106,14 @@ def rate_table(records: pd.DataFrame, by: Sequence[str], *, outcome: str = "succ
                cluster: str | None = None, seed: int = 0,
                n_resamples: int = rates.BOOTSTRAP_RESAMPLES,
                order: Mapping[str, Sequence] | None = None) -> pd.DataFrame:
-    """Return the rate [%] of ``outcome`` per group of ``by`` with Wilson and cluster intervals;
-    ``cluster``: the object column whose values the bootstrap resamples (``shape``, ``object_id``)."""
+    """Return the rate [%] of ``outcome`` per group of ``by`` with Wilson and cluster intervals, over the
+    executed trials with ``outcome`` recorded (:func:`known`; ``n``); ``cluster``: the object column
+    whose values the bootstrap resamples (``shape``, ``object_id``)."""
     by = list(by)
     records = records[[c for c in dict.fromkeys([*by, outcome, cluster, "status", "aborted"])
                        if c in records]]  # every column read here (the rest: copies of no use)
     ok = executed(records)
+    ok = known(ok, [outcome]) if outcome in ok else ok
     status = records["status"] if "status" in records else pd.Series("ok", records.index)
     err = records[status == "error"]
     aborted = records[(status == "ok") & flag(records, "aborted")] if "aborted" in records \
@@ -154,9 +158,10 @@ def rate_cells(g: pd.DataFrame, outcome: str, cluster: str | None, seed: int,
 
 def rate(records: pd.DataFrame, mask=None, outcome: str = "success") -> Estimate:
     """Return the rate [%] of ``outcome`` over the executed trials ``mask(ok)`` selects (None:
-    all); raise ValueError naming why there is none."""
+    all) with ``outcome`` recorded (:func:`known`; ``n``); raise ValueError naming why there is none."""
     ok = executed(records)
     g = ok[mask(ok)] if mask is not None and len(ok) else ok
+    g = known(g, [outcome]) if outcome in g else g
     cells = rate_cells(g, outcome, None, 0)
     if cells["rate_why"]:
         raise ValueError(cells["rate_why"])
@@ -276,7 +281,7 @@ def gate_table(records: pd.DataFrame, by: Sequence[str],
             raise KeyError(column)
     rows = []
     for key, g in groups(ok, list(by), order):
-        unbounded = g[g["success_unbounded"]]
+        unbounded = g[flag(g, "success_unbounded")]  # recorded as passing without the gate
         cells = rate_cells(unbounded.assign(removed=~unbounded["success"]), "removed", None, 0)
         rows.append({**key, "n": len(g), "success_unbounded": len(unbounded),
                      "removed": cells["successes"], "removed_pct": cells["rate_pct"],

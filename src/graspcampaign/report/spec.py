@@ -42,9 +42,11 @@ def share(frame: Any, event: Any) -> Estimate:
 
 def rate_cols(g: pd.DataFrame, outcome: str, prefix: str) -> dict:
     """``<prefix>_pct`` and its Wilson 95 % ``<prefix>_low_pct``/``_high_pct`` of ``outcome`` over the
-    executed trials of ``g`` (the columns :func:`~graspcampaign.report.document.pct_col` shows)."""
+    executed trials of ``g`` with it recorded (the columns :func:`~graspcampaign.report.document.pct_col`
+    shows), and their count ``n_<prefix>``."""
     e = rec.rate(g, outcome=outcome)
-    return {f"{prefix}_pct": e.value, f"{prefix}_low_pct": e.low, f"{prefix}_high_pct": e.high}
+    return {f"{prefix}_pct": e.value, f"{prefix}_low_pct": e.low, f"{prefix}_high_pct": e.high,
+            f"n_{prefix}": e.n}
 
 
 def _paper_by(fn: PaperKey | None, run: Run, frame: pd.DataFrame, by: Sequence[str]) -> list:

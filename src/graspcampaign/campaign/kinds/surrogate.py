@@ -27,7 +27,7 @@ import pandas as pd
 
 from graspcampaign.analysis.agreement import auc_interval
 from graspcampaign.analysis.rates import wilson_interval
-from graspcampaign.analysis.records import executed
+from graspcampaign.analysis.records import executed, flag
 from graspcampaign.campaign.kind import TrialInput, TrialKind
 from graspcampaign.campaign.kinds import common
 from graspcampaign.campaign.kinds.sensitivity import check_range, plan_and_evaluate
@@ -230,22 +230,22 @@ def finalize(study, params: SurrogateParams, records: pd.DataFrame, store=None
         "surrogate_roc", "surrogate_scores", "surrogate_parity", "surrogate_timing")}
     # the splits first, then every model fitted at once (over the run's cores), then scored
     splits, split, timed = {}, None, {}
-    for label in LABELS:
-        y = ok[label].astype(bool).to_numpy()
+    for label in LABELS:  # a label an older file lacks (null) is read as not won, records.flag
+        y = flag(ok, label).to_numpy()
         if min(y.sum(), len(y) - y.sum()) >= MIN_POSITIVES:
             splits[label] = train_test_split(np.arange(len(y)), test_size=params.test_fraction,
                                              stratify=y, random_state=seed)
             split = split or splits[label]
     train, test = split or train_test_split(np.arange(len(ok)), test_size=params.test_fraction,
                                             random_state=seed)
-    jobs = [(model, x[fit_on], ok[label].astype(bool).to_numpy()[fit_on])
+    jobs = [(model, x[fit_on], flag(ok, label).to_numpy()[fit_on])
             for label, (fit_on, _) in splits.items()
             for model in models(params, seed, regression=False).values()]
     jobs += [(model, x[train], values[train]) for values in targets(ok).values()
              for model in models(params, seed, regression=True).values()]
     fitted = iter(_fit_all(jobs, study.runner.workers()))
     for label in LABELS:
-        y = ok[label].astype(bool).to_numpy()
+        y = flag(ok, label).to_numpy()
         base = {"label": label, "positives": int(y.sum()), "trials": len(y),
                 "class_balance_pct": 100 * float(y.mean()) if len(y) else np.nan}
         if label not in splits:

@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from graspcampaign.analysis.quasi_static import loop_at_n_max_pct
 from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
 from graspcampaign.analysis.records import MIN_TRIALS, Estimate, flag, known, median
 from graspcampaign.analysis.vocabulary import OTHER_COLOURS, PROPOSED, colour
@@ -33,7 +34,7 @@ def _runtime(run: Run) -> pd.DataFrame:
         "equilibrium_median_ms": 1e3 * g["equilibrium_time_s"].median(),
         "paper_runtime_ms": run.paper.runtime_ms.get(str(int(nodes))),
         "residual_median_n": g["residual_norm_n"].median(),
-        "loop_at_n_max_pct": 100 * g["loop_capped"].mean(),
+        "loop_at_n_max_pct": loop_at_n_max_pct(g),
         **rate_cols(g, "success", "success")} for nodes, g in panel_rows(run, "resolution").groupby("nodes")])
 
 
@@ -171,11 +172,14 @@ def _cross_check(run: Run) -> str:
     judged = known(merged, ["success", "success_baseline"])  # a verdict compared is a verdict recorded
     same = (judged["success"] == judged["success_baseline"]).sum()
     unjudged = len(merged) - len(judged)  # N of "k of N" is the compared trials; the rest said apart
-    close = np.isclose(merged["residual_norm_n"], merged["residual_norm_n_baseline"], rtol=1e-9).sum()
+    res = merged[["residual_norm_n", "residual_norm_n_baseline"]].dropna()  # likewise the residuals
+    close = np.isclose(res["residual_norm_n"], res["residual_norm_n_baseline"], rtol=1e-9).sum()
+    unread = len(merged) - len(res)
     return (f"Cross-check against the `baseline_grid` records beside this run{skipped}: {same} of "
             f"{len(judged)} re-derived trials have the baseline's verdict" + (
-                f" ({unjudged} more not compared: no verdict recorded) and {close} of {len(merged)}"
-                if unjudged else f" and {close}") + " its residual (relative 1e-9).")
+                f" ({unjudged} more not compared: no verdict recorded)" * bool(unjudged)) + f" and {close}"
+            + f" of {len(res)}" * bool(unjudged or unread) + " its residual (relative 1e-9"
+            + f"; {unread} more not compared: no residual recorded" * bool(unread) + ").")
 
 
 def _reading(run: Run) -> str:
@@ -320,7 +324,7 @@ SPEC = ReportSpec("mesh_resolution", [
           "N_cand (the paper's future work, Sec. 11); mean H(G) of the chosen triple, its gap to the "
           "reference search on the same body, and how often the sampled search found the reference argmin",
           _budget, [Col("n_cand_label", "N_cand"), "trials",
-                    "success_pct", "vertical_pct", "h_mean",
+                    "success_pct", "vertical_pct", Col("n_vertical", "n (vertical)"), "h_mean",
                     "h_gap_to_reference", "reference_argmin_found_pct"], by=["nodes", "planner"],
           empty="the run has no budget panel"),
     Table("n_max_rerun", "Baseline-grid failures at N_max and re-evaluated at the doubled budget "

@@ -11,6 +11,7 @@ import pandas as pd
 from matplotlib.lines import Line2D
 
 from graspcampaign.analysis.association import equal_rates_test
+from graspcampaign.analysis.quasi_static import loop_at_n_max_pct
 from graspcampaign.analysis.rates import CONFIDENCE_LEVEL
 from graspcampaign.analysis.records import Estimate, at_bound, beyond_radius, rate
 from graspcampaign.report import format as fmt
@@ -92,7 +93,7 @@ def _panels(run: Run) -> pd.DataFrame:
         g, (x, y) = panel_rows(run, panel), PANELS[panel][:2]
         deep = beyond_radius(g, run.radius_mm)
         rows.append({"panel": panel, "cells": g.groupby([x, y]).ngroups, "trials": len(g),
-                     "loop_at_n_max_pct": 100 * g["loop_capped"].mean(), "beyond_radius": int(deep.sum()),
+                     "loop_at_n_max_pct": loop_at_n_max_pct(g), "beyond_radius": int(deep.sum()),
                      "beyond_radius_pct": 100 * deep.mean(),
                      "delta_max_median_mm": g.loc[~deep, "delta_max_mm"].median(),
                      "delta_max_why": "no physical trial" if deep.all() else "",
@@ -331,7 +332,7 @@ SPEC = ReportSpec("sensitivity", [
           "|R_z| reading; Wilson 95%), trials whose Algorithm 2 was still moving at N_max, trials with a "
           "contact deeper than the fingertip radius r (non-physical: the fingertip centre inside the "
           "object), the median penetration over the physical trials (δmax ≤ r) and runtime per evaluation",
-          _panels, ["cells", "trials", "success_pct", "vertical_pct",
+          _panels, ["cells", "trials", "success_pct", "vertical_pct", Col("n_vertical", "n (vertical)"),
                     Col("loop_at_n_max_pct", LOOP_AT_N_MAX, 1),
                     Col("beyond_radius", "δmax > r (non-physical)", share="beyond_radius_pct"),
                     Col("delta_max_median_mm", "median δmax, δmax ≤ r [mm]", sig=3, why="delta_max_why"),

@@ -125,7 +125,7 @@ def _timing(run: Run) -> pd.DataFrame:
 
 def finding(run: Run) -> str:
     d, p, t = run.tables["surrogate_dataset"].iloc[0], run.paper, run.tables
-    deep, won = beyond_radius(run.ok, run.radius_mm), run.ok["success_unbounded"].astype(bool)
+    deep, won = beyond_radius(run.ok, run.radius_mm), flag(run.ok, "success_unbounded")
     text = (f"{int(d['n'])} scenarios (paper {p.n_scenarios}): {d['success_unbounded_pct']:.1f}% succeed "
             f"under Algorithm 1 as published (paper {fmt.number(p.class_balance_pct, 1)}%; table "
             "surrogate_dataset)")
@@ -204,7 +204,7 @@ def _caption(run: Run) -> str:
     cls = run.tables.get("surrogate_classification", pd.DataFrame(columns=["label", "roc_auc"]))
     fitted = [lab for lab in LABELS if cls.loc[cls["label"] == lab, "roc_auc"].notna().any()]
     words = {"-": "solid", "--": "dashed", ":": "dotted"}
-    won = run.ok["success_unbounded"].astype(bool)
+    won = flag(run.ok, "success_unbounded")
     buried = int((won & beyond_radius(run.ok, run.radius_mm)).sum())
     return ("Fig. A.1 (ours): (a) ROC curves of the fitted classifiers (" + (", ".join(
         f"{words[LINES[lab]]}: {name(lab)}" for lab in fitted) or "none fitted") + (
@@ -265,7 +265,7 @@ SPEC = ReportSpec("surrogate", [
           "(the paper's label) beside the paper's positives; the configured check (a contact deeper than "
           "the fingertip radius is invalid) and the |R_z| reading", _dataset,
           [Col("group_label", "group"), Col("n", "scenarios"), Col("paper_pct", "paper %", 1),
-           *(pct_col(o, name(o)) for o in LABELS),
+           *(pct_col(o, name(o)) for o in LABELS), *(Col(f"n_{o}", f"n ({name(o)})") for o in LABELS[1:]),
            Col("difference", "difference [pp]", 1, signed=True), Col("verdict", "verdict")]),
     Table("surrogate_classification", _classification_caption, _classification, [
               Col("label_name", "label"), Col("model_label", "model"), Col("positives", "positives"),

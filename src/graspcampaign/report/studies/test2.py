@@ -209,8 +209,8 @@ def fig28(run: Run, fig) -> None:
 
 def fig29(run: Run, fig) -> None:
     a, *hist = fig.subplots(1, 3)
-    e = ex(run).dropna(subset=["normal_force_pred_mean_n", "normal_force_mean_n"])
-    style.parity(a, e["normal_force_pred_mean_n"], e["normal_force_mean_n"], [
+    e = ex(run).dropna(subset=["normal_force_pred_read_n", "normal_force_mean_n"])
+    style.parity(a, e["normal_force_pred_read_n"], e["normal_force_mean_n"], [
         (0, run.tables["test2_force_accuracy"]["parity_slope"].iloc[0], "ours, through the origin",
          {"color": colour("planner", PROPOSED)}),
         (0, paper_of(run, lambda p: p.parity_slope), "paper", {"ls": "--", "color": style.PAPER})],
