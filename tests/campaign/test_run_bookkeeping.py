@@ -55,6 +55,21 @@ def test_every_part_of_the_config_but_the_runner_output_and_description_enters_i
         assert (changed == digest) == (field.name in ("runner", "output", "description")), field.name
 
 
+def test_the_changes_a_preparation_depends_on_are_found_past_any_number_of_design_changes(
+        study_factory):
+    """check_preparations names the settings a preparation depends on that changed: the changes
+    outside ``free`` (PREPARATION_FREE: the design among them) are told apart by key, not by
+    reading the text back, so a hundred factors changed before pso (dataclass order) hide none."""
+    study = study_factory()
+    config = provenance.study_dict(study)
+    recorded = {**config, "factors": {f"f{i}": [i] for i in range(101)},
+                "pso": {**config["pso"], "n_particles": config["pso"]["n_particles"] + 1}}
+    n = config["pso"]["n_particles"]
+    assert provenance.config_changes(recorded, study, free=provenance.PREPARATION_FREE) == [
+        f"pso.n_particles {n + 1} -> {n}"]
+    assert provenance.config_changes(recorded, study)[0] == "factors.f0 [0] -> <unset>"
+
+
 def test_the_values_digest_ignores_column_order_and_sees_a_renamed_column(finished):
     table = pq.read_table(finished[2])
     digest = content_digest(table)
