@@ -130,7 +130,8 @@ class _Cells:
 
         ref = place[0].decode()
         at = (int(place[2]), column_index_from_string(place[1].decode()))
-        written, first = "=" + (_text(formula[2]) or "") if formula else "", None
+        written = "=" + (_text(formula[2]) or "") if formula else ""
+        first = None  # a shared formula's first cell and text, for a cell that reads them
         if formula:  # a shared formula's text is read from its first cell, as openpyxl reads it
             given = dict(_ATTRIBUTE.findall(formula[1] or b""))
             if given.get(b"t") == b"shared" and (si := given.get(b"si")) is not None:
