@@ -13,7 +13,7 @@ from graspcampaign.campaign.compose import compose_study
 from graspcampaign.campaign.kinds import dynamic_check as kind
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.runner import run_study
-from graspcampaign.errors import UserInputError
+from graspcampaign.errors import MissingSourceRunError, UserInputError
 
 SOURCE = ("shape=[sphere]", "mass_kg=[0.2]", "mu=[0.5]", "seeds=1", "+params.nodes=144")
 
@@ -106,6 +106,22 @@ def test_replanned_vertices_must_match_the_record(checked):
                                            r"the planner or its config changed since the source "
                                            r"ran$"):
         kind._replan(source, row)
+
+
+def test_a_relative_source_root_is_read_from_the_working_directory(checked, tmp_path, monkeypatch):
+    """A source run was cached by its root as given: asked for under a relative root from a
+    directory holding the run, then from one holding none, the second read the first's run
+    (test_main::test_list_separates_the_papers_studies_from_the_extensions listed dynamic_check
+    with 4 trials, not "after baseline_grid", after another test's list had read its run)."""
+    root, source = checked[0], checked[1]
+    monkeypatch.chdir(root.parent)
+    assert set(kind.load_source(root.name, "baseline_grid", "default").trials) == set(
+        source["trial_id"])
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(MissingSourceRunError, match=rf"^dynamic_check re-simulates the records of "
+                                                    rf"baseline_grid/default, but {root.name}/"
+                                                    r"baseline_grid/default holds no run; "):
+        kind.load_source(root.name, "baseline_grid", "default")
 
 
 def test_missing_or_wrong_source_is_bad_input(tmp_path):

@@ -18,6 +18,7 @@ import pytest
 from damage import as_written
 
 from graspcampaign.campaign import integrity, provenance
+from graspcampaign.campaign.paths import run_path
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.runner import run_lock, run_study
 from graspcampaign.campaign.verify import content_digest
@@ -55,6 +56,21 @@ def test_every_part_of_the_config_but_the_runner_output_and_description_enters_i
         assert (changed == digest) == (field.name in ("runner", "output", "description")), field.name
 
 
+def test_the_changes_a_preparation_depends_on_are_found_past_any_number_of_design_changes(
+        study_factory):
+    """check_preparations names the settings a preparation depends on that changed: the changes
+    outside ``free`` (PREPARATION_FREE: the design among them) are told apart by key, not by
+    reading the text back, so a hundred factors changed before pso (dataclass order) hide none."""
+    study = study_factory()
+    config = provenance.study_dict(study)
+    recorded = {**config, "factors": {f"f{i}": [i] for i in range(101)},
+                "pso": {**config["pso"], "n_particles": config["pso"]["n_particles"] + 1}}
+    n = config["pso"]["n_particles"]
+    assert provenance.config_changes(recorded, study, free=provenance.PREPARATION_FREE) == [
+        f"pso.n_particles {n + 1} -> {n}"]
+    assert provenance.config_changes(recorded, study)[0] == "factors.f0 [0] -> <unset>"
+
+
 def test_the_values_digest_ignores_column_order_and_sees_a_renamed_column(finished):
     table = pq.read_table(finished[2])
     digest = content_digest(table)
@@ -89,3 +105,29 @@ def test_one_missing_trial_is_found(finished):
     as_written(table.filter(pc.not_equal(table["trial_id"], first)), compact)
     found = [p.text for p in integrity.problems(store, _manifest(store))]
     assert "missing records: its manifest counts 16 recorded trials but 15 are stored" in found, found
+
+
+def test_three_copies_of_a_preparation_with_other_values_name_each_file_once(study_factory):
+    """Two copies of a run's preparations, each with other values: the earlier file was named once
+    by each copy, and run, moving it aside twice, failed on the second move (no such file). Each
+    of the three is named once, all move aside, and the preparations computed again are the
+    run's own (seeded by the body alone)."""
+    study = study_factory(kind="test_pi_prepared")
+    run_study(study)
+    store = RunStore(run_path(study))
+    (own,) = (store.path / "prepared").glob("*.parquet")
+    table = pq.read_table(own)
+    at = table.column_names.index("identified_scale")
+    copies = [own.with_name(f"part-{c * 10}.parquet") for c in "ab"]
+    for factor, copy in enumerate(copies, start=2):
+        as_written(table.set_column(at, "identified_scale", pc.multiply(table.column(at), factor)),
+                   copy)
+    named = [p.path for p in integrity.problems(store, _manifest(store)) if p.part == "prepared"]
+    assert sorted(named) == sorted([own, *copies])
+    with pytest.warns(UserWarning, match="moved to") as moved:
+        assert run_study(study).n_prepared == table.num_rows
+    assert len(moved) == 3, [str(w.message) for w in moved]
+    (again,) = (store.path / "prepared").glob("*.parquet")
+    columns = ["body_id", "identified_scale"]
+    assert pq.read_table(again, columns=columns).sort_by("body_id").equals(
+        table.select(columns).sort_by("body_id"))

@@ -140,8 +140,12 @@ def test_load_mesh_fixes_globally_inverted_winding(tmp_path):
 
 
 def test_load_mesh_errors(tmp_path):
-    with pytest.raises(MeshError, match="unknown unit 'in'; use one of 'm', 'cm', 'mm'"):
+    with pytest.raises(MeshError) as unit:  # the sentence plan gives (--unit on the command line)
         load_mesh(tmp_path / "x.stl", unit="in")
+    assert str(unit.value) == ("unit = 'in' is not a length unit a mesh is read in; use one of m, cm, "
+                               "mm (the unit of the mesh file's coordinates).")
+    with pytest.raises(MeshError, match=r"^unit = 'MM' is not .* in; did you mean 'mm'\? use one"):
+        load_mesh(tmp_path / "x.stl", unit="MM")
     with pytest.raises(MeshError, match=r"mesh file '.*missing\.stl' does not exist"):
         load_mesh(tmp_path / "missing.stl")
     (tmp_path / "shape.step").write_text("solid")

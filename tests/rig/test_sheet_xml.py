@@ -122,3 +122,22 @@ def test_a_workbook_with_empty_cells_is_loaded_once(tmp_path, monkeypatch):
                                           r"spreadsheet error #DIV/0!; fix the formula or clear"):
         read_table(path, excel_options={"dtype": object, "keep_default_na": False, "na_values": [""]})
     assert len(loads) == 1
+
+
+def test_a_shared_formula_is_moved_to_a_cell_asked_for_only(tmp_path, monkeypatch):
+    """A shared formula's text is moved (openpyxl's Translator, which parses it) to the cells the
+    check asks about: those pandas read as empty. The cells of one holding values were each
+    translated and then passed over; its first cell is still read for the text of the others."""
+    from openpyxl.formula import translate
+
+    moved, translator = [], translate.Translator
+    monkeypatch.setattr(translate, "Translator",
+                        lambda *a, **k: moved.append(a) or translator(*a, **k))
+    rows = "".join(f'<row r="{r}"><c r="A{r}"><v>{r}</v></c><c r="B{r}"><f t="shared" si="0"'
+                   + (' ref="B2:B9">A2*2</f>' if r == 2 else "/>") + f"<v>{2 * r}</v></c></row>"
+                   for r in range(2, 10))
+    path = _book(tmp_path / "book.xlsx", rows)
+    assert sheet_xml.first_sheet_marks(path, lambda row, column: column == 1) == sheet_xml.SheetMarks()
+    assert moved == []
+    marks = sheet_xml.first_sheet_marks(path, lambda row, column: (row, column) == (7, 2))
+    assert (marks.formula, moved) == ((7, 2, "=A7*2"), [("=A2*2", "B2")])

@@ -188,23 +188,38 @@ def design_size(study) -> int:
 
     if study.kind in RUNTIME_KINDS:
         return compute()
-    # a design read from another run's records: keyed on that run's manifest too, which its
-    # config hash leaves out (output.root is where it runs, not what)
-    source = _source_manifest(study.params, study.output.root)
-    read = f":{hashlib.sha256(source).hexdigest()[:16]}" if source is not None else ""
+    # a design read from another run's records: keyed on that run too, which its config hash
+    # leaves out (output.root is where it runs, not what)
+    source = _source_key(study.params, study.output.root)
+    read = f":{source}" if source is not None else ""
     return int(_fact("designs", f"{study.kind}:{config_hash(study)}{read}", compute))
 
 
-def _source_manifest(params: dict[str, Any], root: str) -> bytes | None:
-    """The manifest of the run a study's design is read from (``params.source_study`` and
-    ``source_run``, dynamic_check's; ``b"<none>"`` where there is none), or None for a study
-    whose design reads no run: what a cached design or size of it is keyed on besides the
-    study."""
+def _source_key(params: dict[str, Any], root: str) -> str | None:
+    """What a cached design or size of a study is keyed on besides the study, where its design is
+    read from another run (``params.source_study`` and ``source_run``, dynamic_check's): that
+    run's absolute path and what of its manifest the design follows (:func:`_source_state`);
+    None for a study whose design reads no run."""
     source = params.get("source_study")
     if not source:
         return None
     run = Path(config_root(root)) / source / params.get("source_run", "default")  # ~ as compose
-    return _read_or_none(run / "manifest.json")                                  # reads it
+    state = [str(run.absolute()), _source_state(_read_or_none(run / "manifest.json"))]  # reads it
+    return hashlib.sha256(json.dumps(state).encode()).hexdigest()[:16]
+
+
+def _source_state(manifest: bytes) -> Any:
+    """What of a source run's ``manifest`` (its bytes) the design read from the run follows: its
+    config hash (its trials), its recorded count and every session that may have recorded trials
+    (their records' labels are the trials checked): a session that ran none, such as a resume of
+    the finished run, changes neither, so it adds no entry to the catalog. The text itself where
+    it is no manifest (none, or damaged: reading the design names what is wrong)."""
+    try:
+        read = json.loads(manifest)
+        return [read["config_hash"], read.get("n_recorded"),
+                [session for session in read["sessions"] if session.get("ran") != 0]]
+    except (ValueError, KeyError, TypeError, AttributeError):
+        return manifest.decode("utf-8", "replace")
 
 
 def _read_or_none(path: Path) -> bytes:
@@ -286,7 +301,7 @@ def study_row(path: Path) -> dict[str, Any]:
         digest = hashlib.sha256(path.read_bytes())
         for conf in sorted(project_dirs()[0].rglob("*.yaml")):
             digest.update(conf.read_bytes())
-        digest.update(_source_manifest(study.params, study.output.root) or b"")
+        digest.update((_source_key(study.params, study.output.root) or "").encode())
 
         def compute() -> int | str:
             from graspcampaign.campaign.compose import compose_study

@@ -251,6 +251,8 @@ def file_problems(store, part: str, allowed: dict[str, set]) -> list[Problem]:
         other = other_values(path, {seen[t] for t in twice}, twice, key) if twice else None
         if other and part == "prepared":  # both moved aside: each body is computed again
             for file, also in ((path, other[0]), (other[0], path)):
+                if any(named.path == file for named in out):  # the earlier file, by a third copy
+                    continue
                 why = (f"{counted(len(twice), 'preparation')} of bodies also in {_rel(store, also)} "
                        f"with other values (column {other[1]})")
                 out.append(Problem(file, f"a file {_rel(store, file)} holding {why}", "recompute",

@@ -127,7 +127,7 @@ def check_overrides(given: list[str]) -> None:
 def _numeric(key: str, found: Any) -> bool:
     """Whether ``key`` (``found``: its schema field, or None) takes a number: a field of type int or
     float, or a level of a factor whose levels are not text (``nodes.0``)."""
-    name, _, index = key.removeprefix("factors.").partition(".")  # nodes.0: a level of nodes
+    name, index = _factor_and_index(key)
     factor = FACTOR_SPECS.get(name) if index.isdigit() or not index else None
     return (split_optional(str(found[1].type))[0] in ("int", "float") if found else
             factor is not None and factor["type"] is not str)  # quoting makes no text
@@ -233,8 +233,17 @@ def rewrite(factors: set[str], overrides: list[str]) -> list[str]:
 def _deleted_level(key: str, factors: set[str]) -> tuple[str, str] | None:
     """The factor and level index a deletion's ``key`` names (``shape.0`` or ``factors.shape.0``,
     read as ``shape.0=cube`` is), or None where it names no level of a factor of this study."""
-    name, _, index = key.removeprefix("factors.").partition(".")
+    name, index = _factor_and_index(key)
     return (name, index) if name in factors and index.isdigit() else None
+
+
+def _factor_and_index(key: str) -> tuple[str, str]:
+    """A key read as a factor and what follows its name, with or without ``factors.``
+    (``nodes.0`` and ``factors.nodes.0``: ``('nodes', '0')``, a level of nodes; ``nodes``:
+    ``('nodes', '')``): whether the name is a factor and the rest a level's index is the
+    caller's to ask."""
+    name, _, index = key.removeprefix("factors.").partition(".")
+    return name, index
 
 
 def check_sweeps(overrides: list[str], given: list[str]) -> None:

@@ -221,8 +221,8 @@ def check_preparations(store, manifest: dict, study) -> None:
     if not gone:
         return
     if ran == {first}:
-        changed = [c for c in provenance.config_changes(manifest["config"], study, limit=100)
-                   if c.split(".")[0].split(" ")[0] not in provenance.PREPARATION_FREE][:3]
+        changed = provenance.config_changes(manifest["config"], study,
+                                            free=provenance.PREPARATION_FREE)
         why = f"they were computed with the settings the run was started with ({', '.join(changed)})"
         resume = provenance.as_started(manifest, study, store.path).rstrip(", ")
         then = f"{resume} to compute them again as they were, or " if resume else ""

@@ -388,10 +388,12 @@ def write_manifest(path: Path, manifest: dict[str, Any]) -> None:
         os.replace(tmp, path)
 
 
-def config_changes(recorded: dict[str, Any] | None, study: StudyCfg, limit: int = 3) -> list[str]:
+def config_changes(recorded: dict[str, Any] | None, study: StudyCfg, limit: int = 3,
+                   free: tuple[str, ...] = _RESULT_FREE) -> list[str]:
     """The first keys where ``study`` differs from a manifest's recorded ``config``, as
-    ``'evaluator.n_cand 1000 -> 10'`` (only the parts that can change a result, as
-    :func:`config_hash`); empty when the manifest holds no config to compare."""
+    ``'evaluator.n_cand 1000 -> 10'``, leaving out the top-level keys ``free`` (as
+    :func:`config_digest`: by default those that cannot change a result, as :func:`config_hash`);
+    empty when the manifest holds no config to compare."""
     if not isinstance(recorded, dict):
         return []
     now = json.loads(json.dumps(study_dict(study), default=str))  # as the manifest stores it
@@ -402,7 +404,7 @@ def config_changes(recorded: dict[str, Any] | None, study: StudyCfg, limit: int 
             return
         if isinstance(old, dict) and isinstance(new, dict):
             for sub in [*old, *(k for k in new if k not in old)]:
-                if key == "" and sub in _RESULT_FREE:
+                if key == "" and sub in free:
                     continue
                 walk(old.get(sub, "<unset>"), new.get(sub, "<unset>"), f"{key}.{sub}" if key else sub)
             return

@@ -45,6 +45,7 @@ from graspcampaign.core.mesh_file import (  # noqa: F401  (re-exported: user mes
     centre_mesh,
     check_mesh,
     check_one_body,
+    check_unit,
     load_mesh,
 )
 from graspcampaign.core.words import meant
@@ -61,6 +62,7 @@ __all__ = [
     "load_mesh",
     "check_mesh",
     "check_one_body",
+    "check_unit",
     "fibonacci_directions",
 ]
 

@@ -44,6 +44,7 @@ __all__ = [
     "centre_mesh",
     "check_mesh",
     "check_one_body",
+    "check_unit",
     "load_mesh",
     "winding_numbers",  # re-exported from core.winding
 ]
@@ -61,6 +62,24 @@ def centre_mesh(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
     for _ in range(2):
         mesh.vertices = np.asarray(mesh.vertices) - np.asarray(mesh.center_mass)
     return mesh
+
+
+def check_unit(unit: object, name: str = "unit") -> str:
+    """Return ``unit``, one of the length units a mesh file is read in (:data:`UNITS`).
+
+    Raises
+    ------
+    MeshError
+        Another, naming it as ``name`` calls it (a command-line option, starting with ``-``, as
+        typed: ``--unit 'inch'``; else ``unit = 'inch'``), a near miss as the user would type it,
+        and the units.
+    """
+    if unit in UNITS:
+        return unit  # type: ignore[return-value]
+    given = f"{name} {unit!r}" if name.startswith("-") else f"{name} = {unit!r}"
+    shown = f"{name} {{}}" if name.startswith("-") else "{!r}"
+    raise MeshError(f"{given} is not a length unit a mesh is read in; {meant(unit, UNITS, shown)}use "
+                    f"one of {', '.join(UNITS)} (the unit of the mesh file's coordinates).")
 
 
 def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
@@ -82,11 +101,10 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
     Raises
     ------
     MeshError
-        Unknown unit, missing or unreadable file, or a mesh that fails :func:`check_mesh`.
+        Unknown unit (:func:`check_unit`), missing or unreadable file, or a mesh that fails
+        :func:`check_mesh`.
     """
-    if unit not in UNITS:
-        raise MeshError(f"unknown unit {unit!r}; {meant(unit, UNITS)}use one of "
-                        f"{', '.join(repr(u) for u in UNITS)}.")
+    check_unit(unit)
     name = os.fspath(path)
     base = os.path.basename(name)
     if not os.path.isfile(name):

@@ -117,26 +117,10 @@ def _check_plausible(value: object, quantity: str, unit: str, names: Mapping[str
     return number
 
 
-def _check_unit(unit: object, names: Mapping[str, str]) -> str:
-    """Return ``unit``, one of the length units a mesh file is read in (``core.mesh.UNITS``); a
-    refusal names it as :func:`_check_plausible` names a value (``--unit 'inch'`` on the command
-    line) and lists the units."""
-    from graspcampaign.core.mesh import UNITS
-    from graspcampaign.core.words import meant
-
-    if unit in UNITS:
-        return unit  # type: ignore[return-value]
-    name = names.get("unit", "unit")
-    given = f"{name} {unit!r}" if name.startswith("-") else f"{name} = {unit!r}"
-    shown = f"{name} {{}}" if name.startswith("-") else "{!r}"
-    raise ValueError(f"{given} is not a length unit a mesh is read in; {meant(unit, UNITS, shown)}use "
-                     f"one of {', '.join(UNITS)} (the unit of the mesh file's coordinates).")
-
-
 def _check_material(material: object, names: Mapping[str, str]) -> str:
     """Return ``material``, a Table 4 family (``core.bench.FAMILIES``); a refusal names it as
-    :func:`_check_unit` names a unit (``--material 'steel'`` on the command line), suggests the
-    nearest family and lists them."""
+    ``core.mesh_file.check_unit`` names a unit (``--material 'steel'`` on the command line),
+    suggests the nearest family and lists them."""
     from graspcampaign.core.bench import FAMILIES
     from graspcampaign.core.words import meant
 
@@ -310,15 +294,16 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
     Raises
     ------
     graspcampaign.core.mesh.MeshError
-        Unreadable or invalid mesh, or one of more than one body or with an internal cavity
-        (:func:`graspcampaign.core.mesh_file.check_one_body`).
+        An unknown unit (:func:`graspcampaign.core.mesh_file.check_unit`, named as
+        ``names["unit"]``), an unreadable or invalid mesh, or one of more than one body or with an
+        internal cavity (:func:`graspcampaign.core.mesh_file.check_one_body`).
     ValueError
-        Out-of-range mass, friction, radius, an unknown unit or material, an object whose size no
+        Out-of-range mass, friction, radius, an unknown material, an object whose size no
         three-finger hand grasps (``core.plausible.OBJECT_SIZE_MM``; the message names the unit
         its coordinates look like); :class:`PicturePathError` for a picture path that cannot be
         written.
     """
-    from graspcampaign.core.mesh import check_mesh, load_mesh
+    from graspcampaign.core.mesh import check_mesh, check_unit, load_mesh
 
     names = {"png_path": "picture path", **(names or {})}
     if png_path is not None:  # before any work: a plan whose picture cannot be written is lost
@@ -327,7 +312,7 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
     radius_mm = _check_plausible(fingertip_radius_mm, "fingertip_radius_mm", "mm", names)
     if mu is not None:
         mu = _check_plausible(mu, "mu", "", names)
-    unit = _check_unit(unit, names)
+    unit = check_unit(unit, names.get("unit", "unit"))
     name_material = _check_material(DEFAULT_PLAN_MATERIAL if material is None else material,
                                     names)  # "" is no material
     mat = material_model(name_material, "natural", radius_mm * 1e-3)

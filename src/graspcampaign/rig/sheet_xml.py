@@ -131,17 +131,20 @@ class _Cells:
         ref = place[0].decode()
         at = (int(place[2]), column_index_from_string(place[1].decode()))
         written = "=" + (_text(formula[2]) or "") if formula else ""
+        first = None  # a shared formula's first cell and text, for a cell that reads them
         if formula:  # a shared formula's text is read from its first cell, as openpyxl reads it
             given = dict(_ATTRIBUTE.findall(formula[1] or b""))
             if given.get(b"t") == b"shared" and (si := given.get(b"si")) is not None:
                 if si not in self.shared and written != "=":
-                    self.shared[si] = (written, ref)
+                    self.shared[si] = (written, ref)  # kept whether or not its cell is asked for
                 elif si in self.shared and self.shared[si][1] != ref:
-                    from openpyxl.formula.translate import Translator
-
-                    written = Translator(*self.shared[si]).translate_formula(ref)
+                    first = self.shared[si]
         if not self.wanted(*at):
             return
+        if first is not None:  # moved to a cell asked for only (a translation parses the formula)
+            from openpyxl.formula.translate import Translator
+
+            written = Translator(*first).translate_formula(ref)
         if error and (self.error is None or at < self.error[:2]):
             value = _VALUE.search(content)
             self.error = (*at, _text(value[1]) if value else None)

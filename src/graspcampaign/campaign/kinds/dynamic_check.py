@@ -24,6 +24,7 @@ the like-for-like label, same contact law as the dynamic run), and the dynamic o
 
 from __future__ import annotations
 
+import os
 import time
 from dataclasses import dataclass
 from functools import lru_cache
@@ -74,9 +75,10 @@ def _source_path(study, params) -> Path:
     return Path(study.output.root) / params.source_study / params.source_run
 
 
-@lru_cache(maxsize=4)
 def load_source(root: str, name: str, run: str) -> Source:
-    """Read a source run (cached per worker): manifest config, ok records, trials.
+    """Read a source run (cached per worker, :func:`_read_source`): manifest config, ok records,
+    trials. A relative ``root`` is read from the working directory, and cached with it: one
+    process may ask for ``results`` from two directories (a notebook's ``chdir``, the tests).
 
     Raises
     ------
@@ -89,6 +91,13 @@ def load_source(root: str, name: str, run: str) -> Source:
         component (``paths.check_name``: ``params.source_run=../x`` left the study's directory,
         and ``''`` named the study's directory itself).
     """
+    return _read_source(root, name, run, "" if Path(root).is_absolute() else os.getcwd())
+
+
+@lru_cache(maxsize=4)
+def _read_source(root: str, name: str, run: str, cwd: str) -> Source:
+    """:func:`load_source` of the run ``name``/``run`` under ``root`` (relative: to ``cwd``, the
+    working directory it was asked from, which names the cached read)."""
     from omegaconf import OmegaConf
 
     from graspcampaign.campaign.kind import get_kind
