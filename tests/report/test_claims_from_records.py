@@ -58,7 +58,7 @@ def test_the_sensitivity_opening_counts_the_slip_checks_the_records_hold(sim_roo
     n = int((records["status"] == "ok").sum())
     text = finding(_rendered(sim_root, "sensitivity", slipping))
     assert "rarely binds" not in text
-    assert f"and the slip check fails first in {n} of {n} executed trials; " in text
+    assert f"(η ≈ 0), and the slip check fails first in {n} of {n} executed trials; " in text
 
 
 def test_the_test1_opening_says_smaller_fit_errors_only_where_the_claims_show_them(sim_root):

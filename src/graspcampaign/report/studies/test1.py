@@ -254,7 +254,7 @@ def finding(run: Run) -> str:
         text += (f"PSO re-identification over {counted(runs, 'converged run')} (Table "
                  f"5): λ1 = {fmt.number(l1['mean'], l1.digits)} (paper "
                  f"{fmt.number(l1.paper_mean, l1.digits)}){ends}. ")
-    loop = claims.set_index("quantity").loc["loop area: median"]  # "smaller" where the claims show it
+    loop = claims.set_index("quantity").reindex(["loop area: median"]).iloc[0]  # "smaller": as the claims
     smaller = [w for w, r in (("fit errors", rmse), ("loops", loop)) if r.value < r.paper]
     return text + (f"Why: the virtual bench differs by construction ({'smaller ' * bool(smaller)}"
                    f"{' and '.join(smaller)}{', ' * bool(smaller)}C not identifiable at 1 mN, λ1 where "
