@@ -42,13 +42,32 @@ def belief_gap(paper: pd.Series, none: pd.Series, table: str) -> str:
             f"planner's gap to the first from {gap} pp to {gap0} pp (table {table}). ")
 
 
+def why(e: pd.DataFrame, top: str, table: str) -> str:
+    """Why the proposed planner trails ``top``, as far as the executed trials ``e`` show it: its contacts
+    reach less vertical friction (a lower median G_geo) and its grip hits the damage cap more often, each
+    said only where the records hold it; where neither holds, that the records do not show why."""
+    g = e.groupby("planner")["g_geo_actual"].median()
+    cap = e.groupby("planner")["grip_capped"].mean() * 100
+    who, n1, n2 = label("planner", top), (lambda v: fmt.number(v, 1)), (lambda v: fmt.number(v, 2))
+    less, more = bool(g[PROPOSED] < g[top]), bool(cap[PROPOSED] > cap[top])
+    capped = f"{n1(cap[PROPOSED])}% of trials ({who} {n1(cap[top])}%; {table})"
+    if not (less or more):
+        return (f"The records do not show why: the proposed planner's median G_geo is {n2(g[PROPOSED])} "
+                f"({who} {n2(g[top])}), its grip at the damage cap on {capped}. ")
+    friction = (f"the proposed score H~ has no gravity term, so its contacts reach less vertical friction "
+                f"(median G_geo {n2(g[PROPOSED])}, {who} {n2(g[top])}{'' if more else '; ' + table})")
+    whose = "its" if less else "the proposed planner's"
+    grip = f"{whose} grip hits the damage cap on {capped}"
+    return f"Why: {' and '.join([friction] * less + [grip] * more)}. "
+
+
 def finding(run: Run, extra=lambda run: "") -> str:
     """The opening paragraph, from the records: who ranks first and how the proposed planner stands
     against the paper, for how many planners Table 7 (or 9) differs, why (the belief table holds the
     detail), what exact beliefs change, the decisions."""
-    d, e, n1, n2 = frames(run), ex(run), (lambda v: fmt.number(v, 1)), (lambda v: fmt.number(v, 2))
+    d, e, n1 = frames(run), ex(run), (lambda v: fmt.number(v, 1))
     by = d.groupby(["belief_error", "planner"])["success"]
-    s, n, lab, prefix = by.mean() * 100, by.size(), (lambda q: label("planner", q)), run.study.split("_")[0]
+    s, n, prefix = by.mean() * 100, by.size(), run.study.split("_")[0]
     table_number = 7 + 2 * (prefix == "test3")  # the paper's Table 7 (test 2) or 9 (test 3)
     paper, table = s["paper"].sort_values(ascending=False), f"table{table_number}"
     rows = run.tables[table].query("belief_error == 'paper'").set_index("planner")
@@ -71,12 +90,9 @@ def finding(run: Run, extra=lambda run: "") -> str:
     differ, judged = fmt.differing(rows)
     text += (f"; success differs from the paper's for {differ} of {judged} planners (Table "
              f"{table_number}). ")
-    g = e.groupby("planner")["g_geo_actual"].median()
-    cap = e.groupby("planner")["grip_capped"].mean() * 100
-    text += (f"Why: the proposed score H~ has no gravity term, so its contacts reach less vertical friction "
-             f"(median G_geo {n2(g[PROPOSED])}, {lab(top)} {n2(g[top])}) and its grip hits the damage cap on "
-             f"{n1(cap[PROPOSED])}% of trials ({lab(top)} {n1(cap[top])}%; table {prefix}_belief). "
-             ) + extra(run)
+    if PROPOSED not in tops:  # a gap to explain
+        text += why(e, top, f"table {prefix}_belief")
+    text += extra(run)
     if "none" in s and paper[PROPOSED] < paper.max():
         text += belief_gap(paper, s["none"].reindex(paper.index), f"{prefix}_belief_pairs")
     text += ("Virtual-rig data, not hardware (`rig/virtual.py`). " if run.source == "virtual" else

@@ -101,8 +101,8 @@ MECHANISM = S.Table("mechanism", lambda run: (
 
 def grid_finding(run: Run, more: str = "") -> str:
     """The proposed planner beside the paper, how many planners differ, and why the paper's rates
-    cannot come from its own Algorithm 2 (from the records; per planner: table mechanism); ``more``:
-    sentences before the decision."""
+    cannot come from its own Algorithm 2 (said where the records cap a planner below its paper rate;
+    per planner: table mechanism); ``more``: sentences before the decision."""
     m, rates = run.tables["mechanism"], qs.algorithm_2(run.tables["success_by_planner"])
     t, paper = m.sum(numeric_only=True).astype(int), rates.set_index("planner")["paper_pct"]
     judged = m[m["n"].gt(0) & m["planner"].isin(paper.dropna().index)]
@@ -112,8 +112,9 @@ def grid_finding(run: Run, more: str = "") -> str:
         f"The proposed planner passes {fmt.number(h.rate_pct, 1)}% of {h.n} triples (Wilson 95% "
         f"{fmt.interval(h.wilson_low_pct, h.wilson_high_pct, 1)}; paper {fmt.number(h.paper_pct, 1)}%); "
         for h in rates[(rates["planner"] == PROPOSED) & (rates["n"] > 0)].itertuples())
+    cannot = "**The paper's rates cannot come from its own Algorithm 2.** " if capped else ""  # none capped
     return (
-        f"**The paper's rates cannot come from its own Algorithm 2.** {proposed}"
+        f"{cannot}{proposed}"
         f"{differ} of {compared} planners with a paper value "
         f"{'differs' if differ == 1 else 'differ'} from it (table success_by_planner). Why: line 7 drives "
         f"every upper contact (n_out,z > 0) to δ = 0 (released in {t.released} of {t.n} triples, "

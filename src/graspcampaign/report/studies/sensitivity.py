@@ -199,10 +199,12 @@ def finding(run: Run) -> str:
     if len(a):
         text += f"Success {_varies(run, a, 'mass_kg', 'mass')} and {_varies(run, a, 'mu', 'friction')}. "
     if len(seen) < len(rows):
-        text += ("Why: Algorithm 2 releases contacts until the remaining normals carry the weight (η ≈ 0), "
-                 "so the slip check rarely binds; the static loop reads neither damping, λ2 nor b (panels b, "
-                 "c; `docs/decisions.md`, *Sensitivity, mesh resolution, "
-                 "surrogate*). ")
+        first = run.ok.get("failure_check")  # the first failing check, as recorded (none: not recorded)
+        slips = "" if first is None else int((first == "slip").sum())
+        slip = f", and the slip check fails first in {slips} of {len(run.ok)} executed trials" * (slips != "")
+        text += ("Why: Algorithm 2 releases contacts until the remaining normals carry the weight (η ≈ 0)"
+                 f"{slip}; the static loop reads neither damping, λ2 nor b (panels b, c; "
+                 "`docs/decisions.md`, *Sensitivity, mesh resolution, surrogate*). ")
     return text.rstrip()
 
 

@@ -154,6 +154,8 @@ def finding(run: Run) -> str:
                  f"{fmt.number(tm.loc['mlp', 'paper_speedup'], 0)}×; table surrogate_timing). ")
     check = "|R_z|" if (run.config.get("evaluator") or {}).get("residual_check") == "vertical" else "‖R‖"
     passed = int(flag(run.ok, "residual_ok").sum())  # the configured residual check alone (missing: not)
+    if passed == len(deep) and not deep.any():  # nothing non-physical, every scenario passes: no why
+        return text
     return text + (f"Why: in SI, Algorithm 2 as published passes the {check} check in {passed or 'none'} of "
                    f"{len(deep)} scenarios and buries a fingertip "
                    f"deeper than its radius r = {run.radius_mm:g} mm in {int(deep.sum())} of {len(deep)} "

@@ -72,10 +72,11 @@ def finding(run: Run) -> str:
             f"and {scales} H by the factor; the paper states both (Sec. 5.2; table components). H of the "
             f"hand-reachable 45°/45°/−90° set {where} "
             f"({unit['h_reachable']:.3f} at {at}, paper {fmt.number(unit['paper_h_reachable'], 3)}; table "
-            "h_by_scale). Why: S1 follows the published Eq. 7, but S2 and S3 rest on a bounded s2ᵢ and a "
-            "triangle geometry the paper does not publish (`docs/decisions.md`, *Geometry and metric*: "
-            "bounded s2ᵢ, §5.2 reachable optimum). The weight ratio, which the paper did not probe: table "
-            "ratio_sweep.")
+            "h_by_scale). " + ("Why: S1 follows the published Eq. 7, but S2 and S3 rest on a bounded "
+                               "s2ᵢ and a triangle geometry the paper does not publish (`docs/decisions.md`, "
+                               "*Geometry and metric*: bounded s2ᵢ, §5.2 reachable optimum). "
+                               if differ else "")  # nothing to explain where every scale matches
+            + "The weight ratio, which the paper did not probe: table ratio_sweep.")
 
 
 SPEC = ReportSpec("heuristic_weights", [

@@ -71,12 +71,14 @@ def finding(run: Run) -> str:
     table, p = _per_mu(run), run.paper
     settle, (differ, judged) = table[table["quantity"].str.startswith("iteration")], fmt.differing(table)
     deep, r = _beyond_radius_from(run, _traces(run)), run.radius_mm
-    return (f"Under the fixed {p.finger_force_command_n:g} N grip command the force residual settles below "
+    text = (f"Under the fixed {p.finger_force_command_n:g} N grip command the force residual settles below "
             f"τ_F = {_tau(run):g} N at {settle['ours'].notna().sum()} of {len(settle)} friction levels "
             f"(paper: all by iteration {p.residual_settles_within_iterations[1]}); "
-            f"{differ} of {judged} compared "
-            "quantities differ (table wrench_balance). Why: at Table 3's contact constants the command "
-            f"drives contacts {fmt.number(run.ok['delta_max_mm'].max() / 1e3, sig=3)} m deep"
+            f"{differ} of {judged} compared quantities differ (table wrench_balance).")
+    if not differ:  # nothing to explain
+        return text
+    return (f"{text} Why: at Table 3's contact constants the command drives contacts "
+            f"{fmt.number(run.ok['delta_max_mm'].max() / 1e3, sig=3)} m deep"
             + (f" (fingertip radius r = {r:g} mm; this run's trace has no finger-1 depth: stored before "
                "the kind recorded it)"
                if deep is None else f", within the fingertip radius r = {r:g} mm" if math.isnan(deep) else

@@ -1,0 +1,97 @@
+"""Causal and comparative sentences of the openings hold on the records they are printed over: each
+case takes a reduced run of the shared results tree (conftest.py), sets the records (or the table a
+sentence reads them from) so the sentence's claim would be false, and checks the opening no longer
+makes it. The Tests 2-3 "Why" clause: test_test23_opening.py."""
+
+from __future__ import annotations
+
+import pandas as pd
+
+from graspcampaign.campaign.paper import study_paper
+from graspcampaign.campaign.records import RunStore
+from graspcampaign.report.build import spec_for
+from graspcampaign.report.document import Document
+from graspcampaign.report.render import Run, render
+
+
+def _rendered(root, study: str, records=lambda r: r) -> Run:
+    """The run of ``study`` with ``records`` applied to its records, every item rendered."""
+    store = RunStore(root / study / "default")
+    run = Run(records(store.read().to_pandas()), store.check(), study_paper(study), store)
+    render(spec_for(study, ""), run, Document("", run.source, []))
+    return run
+
+
+def test_the_grid_opening_says_the_rates_cannot_come_from_algorithm_2_only_where_it_caps_a_planner(sim_root):
+    # "**The paper's rates cannot come from its own Algorithm 2.**" opened the paragraph even where
+    # the mechanism table capped no planner below its paper rate (every triple with ρ·W < τ_F)
+    from graspcampaign.report.studies.quasi_static import grid_finding
+
+    run = _rendered(sim_root, "baseline_grid")
+    assert grid_finding(run).startswith("**The paper's rates cannot come from its own Algorithm 2.** ")
+    m = run.tables["mechanism"]
+    run.tables["mechanism"] = m.assign(rho_passable=m["n"])  # every triple could pass
+    text = grid_finding(run)
+    assert "cannot come from" not in text and "which caps 0 of " in text
+
+
+def test_the_weights_opening_gives_no_why_where_h_matches_the_paper_at_every_scale(sim_root):
+    from graspcampaign.report.studies.weights import finding
+
+    run = _rendered(sim_root, "heuristic_weights")
+    assert "Why: S1 follows the published Eq. 7" in finding(run)
+    scale = run.tables["h_by_scale"]
+    run.tables["h_by_scale"] = scale.assign(differs=False)
+    text = finding(run)
+    assert f"matches the paper's at {len(scale)} of {len(scale)} scales" in text and "Why" not in text
+
+
+def test_the_sensitivity_opening_counts_the_slip_checks_the_records_hold(sim_root):
+    # it said "so the slip check rarely binds" whatever the records' failing checks were
+    from graspcampaign.report.studies.sensitivity import finding
+
+    def slipping(records: pd.DataFrame) -> pd.DataFrame:
+        ok = records["status"] == "ok"
+        return records.assign(failure_check=records["failure_check"].where(~ok, "slip"))
+
+    records = RunStore(sim_root / "sensitivity" / "default").read().to_pandas()
+    n = int((records["status"] == "ok").sum())
+    text = finding(_rendered(sim_root, "sensitivity", slipping))
+    assert "rarely binds" not in text
+    assert f"(η ≈ 0), and the slip check fails first in {n} of {n} executed trials; " in text
+
+
+def test_the_test1_opening_says_smaller_fit_errors_only_where_the_claims_show_them(sim_root):
+    from graspcampaign.report.studies.test1 import finding
+
+    run = _rendered(sim_root, "test1_bench")
+    claims = run.tables["test1_claims"]
+    run.tables["test1_claims"] = claims.assign(source="virtual")
+    assert "(smaller fit errors and loops, C not identifiable at 1 mN, λ1 where Eq. 14" in finding(run)
+    rows = claims["quantity"].isin(["force-fit RMSE, accepted fits: mean", "loop area: median"])
+    run.tables["test1_claims"] = claims.assign(value=claims["value"].where(~rows, 1e3))  # above the paper's
+    text = finding(run)
+    assert "smaller" not in text and "near 2.1" not in text
+    assert "(C not identifiable at 1 mN, λ1 where Eq. 14 with Table 4's moduli puts it)" in text
+
+
+def test_the_wrench_opening_gives_no_why_where_every_quantity_agrees(sim_root, monkeypatch):
+    from graspcampaign.report.studies import wrench
+
+    run = _rendered(sim_root, "wrench_balance")
+    assert "Why: at Table 3's contact constants" in wrench.finding(run)
+    per_mu = wrench._per_mu
+    monkeypatch.setattr(wrench, "_per_mu", lambda run: per_mu(run).assign(differs=False))
+    text = wrench.finding(run)
+    assert text.endswith("quantities differ (table wrench_balance).")
+    assert "Why" not in text and "non-physical" not in text
+
+
+def test_the_surrogate_opening_gives_no_why_where_every_scenario_passes_within_the_radius(sim_root):
+    from graspcampaign.report.studies.surrogate import finding
+
+    def physical(records: pd.DataFrame) -> pd.DataFrame:
+        return records.assign(residual_ok=True, delta_max_mm=0.5)  # every check passed, 0.5 mm < r
+
+    assert "Why: in SI, Algorithm 2 as published" in finding(_rendered(sim_root, "surrogate"))
+    assert "Why" not in finding(_rendered(sim_root, "surrogate", physical))
