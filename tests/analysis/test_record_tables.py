@@ -240,3 +240,25 @@ def test_a_trial_without_the_ungated_reading_is_no_gate_removal():
     assert (row["n_gate_removed"], row["gate_removed_pct"]) == (3, pytest.approx(100 / 3))
     gate = rec.gate_table(records.assign(valid_geometry=True), ["planner"]).iloc[0]
     assert (gate["n"], gate["success_unbounded"], gate["removed"]) == (5, 3, 1)
+
+
+def test_a_trial_without_a_geometry_reading_is_not_counted_invalid():
+    """``valid_geometry`` came with the validity gate, after ``success``: a trial of an older file has none
+    (null, read as None). The gate table counts the one recorded False (t3, counted by hand), where the
+    two trials without a reading counted as invalid too (3 of 5); ``executed()`` keeps them missing, so a
+    rate of it (Test 2's belief table) is over the three read: 2 of 3, statsmodels' Wilson interval."""
+    import pyarrow as pa
+
+    from graspcampaign.analysis import hardware
+
+    records = pa.Table.from_pandas(_older_file_records()).append_column(
+        "valid_geometry", pa.array([None, None, True, False, True, None])).to_pandas()
+    assert records["valid_geometry"].isna().sum() == 3
+    gate = rec.gate_table(records, ["planner"]).iloc[0]
+    assert (gate["n"], gate["invalid_geometry"]) == (5, 1)
+    assert rec.executed(records)["valid_geometry"].isna().sum() == 2  # kept missing, not False
+    row = hardware.summary(rec.executed(records), ["planner"], ["valid_geometry"]).iloc[0]
+    low, high = proportion_confint(2, 3, method="wilson")
+    assert row["n_valid_geometry"] == 3
+    assert [row[f"valid_geometry{end}_pct"] for end in ("", "_low", "_high")] == pytest.approx(
+        [200 / 3, 100 * low, 100 * high])

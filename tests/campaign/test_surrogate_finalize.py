@@ -139,3 +139,26 @@ def test_a_split_holding_out_one_positive_stores_the_auc_without_an_interval(sur
     assert cls[["roc_auc_low", "roc_auc_high"]].isna().all().all()
     assert (cls["roc_auc_interval_note"] == "only 1 held-out positive, too few for an interval").all()
     assert (cls["roc_auc_resamples"] == 0).all() and (cls["roc_auc_interval"] == "").all()
+
+
+def test_a_trial_without_a_label_is_no_training_example(surrogate_scenarios, surrogate_finalize):
+    """100 of 400 scenarios have no ``success_vertical`` (null, as a Parquet file written before the
+    reading reads): that label's classifiers are trained and scored on the 300 recorded, as on a run of
+    those 300 alone (same split of their positions, same fits), where the 100 were negatives (400
+    trials). The other labels are unchanged."""
+    import pyarrow as pa
+
+    full = surrogate_scenarios()
+    unread = full.index % 4 == 0
+    df = pa.Table.from_pandas(full.assign(success_vertical=full["success_vertical"].where(~unread)),
+                              preserve_index=False).to_pandas()
+    assert df["success_vertical"].isna().sum() == 100
+    out = surrogate_finalize(df)["surrogate_classification"].set_index(["label", "model"])
+    alone = surrogate_finalize(full[~unread].reset_index(drop=True))["surrogate_classification"]
+    row = out.loc["success_vertical"]
+    assert (row["trials"] == 300).all() and (row["test_trials"] == 60).all()
+    assert (row["positives"] == int((full["mu"][~unread] > 0.3).sum())).all()
+    pd.testing.assert_frame_equal(row.reset_index(drop=True), alone.set_index(["label", "model"]).loc[
+        "success_vertical"].reset_index(drop=True))
+    whole = surrogate_finalize(full)["surrogate_classification"].set_index(["label", "model"])
+    pd.testing.assert_frame_equal(out.loc["success"], whole.loc["success"])

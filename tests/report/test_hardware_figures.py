@@ -11,8 +11,9 @@ import pytest
 from graspcampaign.campaign.records import RunStore
 
 
-def _drawn(root, study: str, name: str):
-    """Figure ``name`` of the run, drawn on an Agg canvas (the report's tables rendered first)."""
+def _drawn(root, study: str, name: str, records=None):
+    """Figure ``name`` of the run (its ``records`` if given, an Arrow table), drawn on an Agg canvas (the
+    report's tables rendered first)."""
     import matplotlib as mpl
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
@@ -24,7 +25,8 @@ def _drawn(root, study: str, name: str):
     from graspcampaign.report.render import Run, render
 
     store = RunStore(root / study / "default")
-    run = Run(store.read().to_pandas(), store.check(), study_paper(study), store)
+    run = Run((store.read() if records is None else records).to_pandas(), store.check(), study_paper(study),
+              store)
     spec = spec_for(study, "")
     render(spec, run, Document("", run.source, []))
     item = next(i for i in spec.items if getattr(i, "name", None) == name)
@@ -126,6 +128,32 @@ def test_schematic_slip_axis_has_readable_ticks_and_no_finger_hides_another(sim_
                     assert over.get_linewidth() < under.get_linewidth()
         for line in fingers:
             assert f"({line.get_ydata()[0]:.3g} N)" in line.get_label()
+
+
+def test_fig30_leaves_out_a_finger_without_a_recorded_force_and_says_so(sim_root):
+    """An ingested file may leave a finger's force empty (null in the records): Fig. 30 drew it as a NaN
+    line, "finger 2, recorded (nan N)". Here finger 2 of the trial the figure draws is emptied (its mean
+    force, which chose the trial, kept): fingers 1 and 3 are drawn and the caption says one was not; with
+    every finger read the caption has no such sentence."""
+    import pyarrow as pa
+    import pyarrow.compute as pc
+
+    from graspcampaign.report.studies import test2
+
+    run, fig = _drawn(sim_root, "test2_grasp", "fig30_representative_grasp")
+    trial = fig.axes[0].get_title("left").split(":")[0]
+    assert "not drawn" not in test2.fig30_caption(run)
+    records = RunStore(sim_root / "test2_grasp" / "default").read()
+    column = records["normal_force_2_n"]
+    emptied = pc.if_else(pc.equal(records["rig_trial_id"], trial), pa.scalar(None, column.type), column)
+    at = records.schema.get_field_index("normal_force_2_n")
+    records = records.set_column(at, "normal_force_2_n", emptied)
+    run, fig = _drawn(sim_root, "test2_grasp", "fig30_representative_grasp", records)
+    assert fig.axes[0].get_title("left").startswith(f"{trial}:")  # the same trial
+    fingers = [line.get_label() for line in fig.axes[0].get_lines() if line.get_label().startswith("finger ")]
+    assert [f.split(",")[0] for f in fingers] == ["finger 1", "finger 3"]
+    assert not any("nan" in f for f in fingers)
+    assert test2.fig30_caption(run).endswith("; 1 of 3 fingers not drawn (finger 2: no force recorded)")
 
 
 @pytest.mark.parametrize(("study", "name"), [("test2_grasp", "fig30_representative_grasp"),

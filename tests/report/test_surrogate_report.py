@@ -310,7 +310,7 @@ def _opening(residual_ok, residual_check="norm", classification=None):
     run = Run(records, {"config": {"evaluator": {"residual_check": residual_check}}},
               SimpleNamespace(n_scenarios=1500, class_balance_pct=8.7, residual_r2=0.5))
     run.tables.update({
-        "surrogate_dataset": pd.DataFrame([{"n": n, "success_unbounded_pct": 0.0}]),
+        "surrogate_dataset": pd.DataFrame([{"n": n, "success_unbounded_pct": 0.0, "n_success_unbounded": n}]),
         "surrogate_classification": classification if classification is not None else pd.DataFrame(
             [{"label": "success_unbounded", "roc_auc": float("nan"), "paper_auc": 0.69,
               "note": "not fitted: fewer than 10"}]),
@@ -351,3 +351,29 @@ def test_an_auc_without_an_interval_is_said_with_its_held_out_classes_and_why():
                          "roc_auc_interval_note": why, "paper_auc": 0.69, "note": ""}])
     assert (f"classifier AUC MLP 64-32 0.90 on 300 held out (6 positive, {300 - 6} negative; {why}) "
             "(paper 0.69;") in _opening(np.zeros(16, bool), classification=cls)
+
+
+def test_the_opening_rate_is_said_with_its_own_n():
+    """10 scenarios, 4 without Algorithm 1's label (null, as a Parquet file written before the reading
+    reads): the rate is 3 of the 6 recorded, 50.0 % (counted by hand), and the opening says so and how
+    many are no training example, where it paired the 10 scenarios with the rate over 6."""
+    from types import SimpleNamespace
+
+    import pyarrow as pa
+
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies import surrogate
+
+    records = pa.table({"status": ["ok"] * 10, "shape": ["sphere"] * 10, "residual_ok": [False] * 10,
+                        "delta_max_mm": [1.0] * 10, "success": [False] * 10, "success_vertical": [False] * 10,
+                        "success_unbounded": [True] * 3 + [False] * 3 + [None] * 4}).to_pandas()
+    paper = SimpleNamespace(n_scenarios=1500, class_balance_pct=8.7, residual_r2=0.5)
+    run = Run(records, {"config": {}}, paper)
+    unfitted = {"label": "success_unbounded", "note": "x", "paper_auc": 0.69, "roc_auc": float("nan")}
+    run.tables.update({"surrogate_dataset": surrogate._dataset(run),
+                       "surrogate_classification": pd.DataFrame([unfitted]),
+                       "surrogate_regression": pd.DataFrame(columns=["r2"]),
+                       "surrogate_timing": pd.DataFrame(columns=["what"])})
+    assert surrogate.finding(run).startswith(
+        "10 scenarios (paper 1500), 6 with Algorithm 1's label recorded (4 without: no training example): "
+        "50.0% of those 6 succeed under Algorithm 1 as published (paper 8.7%;")

@@ -22,11 +22,11 @@ from graspcampaign.core.verdict import FAILURE_CHECKS  # none, residual, torque,
 #: The paper's per-contact penetration design limit [mm] (Sec. 4, Sec. 5.5; SPEC Sec. 2.7).
 DESIGN_LIMIT_MM = 1.0
 #: Outcome columns cast to plain bool on executed trials (nullable in the records). The readings
-#: added after ``success`` (``success_unbounded``, ``success_vertical``, ...) stay as recorded: an
-#: older file of a resumed run lacks them (null), and a rate reads them through :func:`known`.
+#: added after ``success`` (``success_unbounded``, ``success_vertical``, ``valid_geometry``, ...) stay
+#: as recorded: an older file of a resumed run lacks them (null), and a rate reads them through
+#: :func:`known`.
 BOOLEAN_COLUMNS = ("success", "stable", "slip_flag", "drop_flag", "damage_flag", "contact_loss_flag",
-                   "predicted_stable", "retention_pred", "exceeds_1mm", "loop_capped", "settled",
-                   "valid_geometry")
+                   "predicted_stable", "retention_pred", "exceeds_1mm", "loop_capped", "settled")
 
 
 @dataclass(frozen=True)
@@ -274,7 +274,8 @@ def failure_check_table(records: pd.DataFrame, by: Sequence[str],
 def gate_table(records: pd.DataFrame, by: Sequence[str],
                order: Mapping[str, Sequence] | None = None) -> pd.DataFrame:
     """Return per group the ``success_unbounded`` trials the validity gate ``removed`` (a contact
-    deeper than the fingertip radius), with Wilson 95 %, and all ``invalid_geometry`` trials."""
+    deeper than the fingertip radius), with Wilson 95 %, and the ``invalid_geometry`` trials (a recorded
+    ``valid_geometry`` False; a trial without the reading is not counted)."""
     ok = executed(records)
     for column in ("success_unbounded", "valid_geometry", "success"):
         if column not in ok:
@@ -289,7 +290,7 @@ def gate_table(records: pd.DataFrame, by: Sequence[str],
                      "removed_high_pct": cells["wilson_high_pct"],
                      "removed_why": "no success without the gate" if cells["rate_why"] else "",
                      "success": int(g["success"].sum()),
-                     "invalid_geometry": int((~g["valid_geometry"]).sum())})
+                     "invalid_geometry": int((~known(g, ["valid_geometry"])["valid_geometry"]).sum())})
     return pd.DataFrame(rows, columns=[*by, "n", "success_unbounded", "removed", "removed_pct",
                                        "removed_low_pct", "removed_high_pct", "removed_why",
                                        "success", "invalid_geometry"])

@@ -197,8 +197,9 @@ def finalize(study, params: SurrogateParams, records: pd.DataFrame, store=None
              ) -> dict[str, list[dict[str, Any]]]:
     """Fit, score and time Appendix A's surrogates on the run's executed scenarios.
 
-    Features: the shape one-hot and m, μ, λ1, λ2, b (standardised in the pipeline). For each
-    label of :data:`LABELS` with at least :data:`MIN_POSITIVES` of either class, a stratified
+    Features: the shape one-hot and m, μ, λ1, λ2, b (standardised in the pipeline). A label's
+    examples are the trials with it recorded (``trials``; one an older file lacks is left out). For
+    each label of :data:`LABELS` with at least :data:`MIN_POSITIVES` of either class, a stratified
     ``1 - test_fraction`` / ``test_fraction`` split (``random_state`` = study seed) trains both
     classifiers; the held-out trials give ROC AUC (with its
     :func:`~graspcampaign.analysis.agreement.auc_interval`, seed = study seed, or the reason it has
@@ -230,10 +231,13 @@ def finalize(study, params: SurrogateParams, records: pd.DataFrame, store=None
         "surrogate_roc", "surrogate_scores", "surrogate_parity", "surrogate_timing")}
     # the splits first, then every model fitted at once (over the run's cores), then scored
     splits, split, timed = {}, None, {}
-    for label in LABELS:  # a label an older file lacks (null) is read as not won, records.flag
-        y = flag(ok, label).to_numpy()
+    # a trial without the label (null where an older file of the run lacks it) is no example: each
+    # label's split, fit and scores are over the trials that have it (positions in ``ok``)
+    labelled = {label: np.flatnonzero(ok[label].notna().to_numpy()) for label in LABELS}
+    for label, rows in labelled.items():
+        y = flag(ok, label).to_numpy()[rows]
         if min(y.sum(), len(y) - y.sum()) >= MIN_POSITIVES:
-            splits[label] = train_test_split(np.arange(len(y)), test_size=params.test_fraction,
+            splits[label] = train_test_split(rows, test_size=params.test_fraction,
                                              stratify=y, random_state=seed)
             split = split or splits[label]
     train, test = split or train_test_split(np.arange(len(ok)), test_size=params.test_fraction,
@@ -245,9 +249,10 @@ def finalize(study, params: SurrogateParams, records: pd.DataFrame, store=None
              for model in models(params, seed, regression=True).values()]
     fitted = iter(_fit_all(jobs, study.runner.workers()))
     for label in LABELS:
-        y = flag(ok, label).to_numpy()
-        base = {"label": label, "positives": int(y.sum()), "trials": len(y),
-                "class_balance_pct": 100 * float(y.mean()) if len(y) else np.nan}
+        y = flag(ok, label).to_numpy()  # read at the labelled trials alone
+        known = y[labelled[label]]
+        base = {"label": label, "positives": int(known.sum()), "trials": len(known),
+                "class_balance_pct": 100 * float(known.mean()) if len(known) else np.nan}
         if label not in splits:
             out["surrogate_classification"].append({**base, "note": (
                 f"not fitted: fewer than {MIN_POSITIVES} trials of one class")})

@@ -126,8 +126,11 @@ def _timing(run: Run) -> pd.DataFrame:
 def finding(run: Run) -> str:
     d, p, t = run.tables["surrogate_dataset"].iloc[0], run.paper, run.tables
     deep, won = beyond_radius(run.ok, run.radius_mm), flag(run.ok, "success_unbounded")
-    text = (f"{int(d['n'])} scenarios (paper {p.n_scenarios}): {d['success_unbounded_pct']:.1f}% succeed "
-            f"under Algorithm 1 as published (paper {fmt.number(p.class_balance_pct, 1)}%; table "
+    n, labelled = int(d["n"]), int(d["n_success_unbounded"])  # the rate's own n: the trials labelled
+    of = ("", "") if labelled == n else (f", {labelled} with Algorithm 1's label recorded ({n - labelled} "
+                                         "without: no training example)", f"of those {labelled} ")
+    text = (f"{n} scenarios (paper {p.n_scenarios}){of[0]}: {d['success_unbounded_pct']:.1f}% {of[1]}"
+            f"succeed under Algorithm 1 as published (paper {fmt.number(p.class_balance_pct, 1)}%; table "
             "surrogate_dataset)")
     cls = t["surrogate_classification"].query(f"label == '{PAPER_LABEL}'")
     fit = cls[cls["roc_auc"].notna()]

@@ -250,19 +250,33 @@ FINGER_LINES = ((1, "-", 3.2), (2, "--", 2.2), (3, "-.", 1.4))
 or near-equal forces all stay visible."""
 
 
-def fig30(run: Run, fig) -> None:
+def representative(run: Run) -> pd.Series:
+    """Fig. 30's trial: the median-force stable proposed sphere grasp at natural friction."""
     e = ex(run, PROPOSED).query("shape == 'sphere' and outcome == 'stable' and friction_level == 'natural'")
-    t = median_trial(e, "normal_force_mean_n")
+    return median_trial(e, "normal_force_mean_n")
+
+
+def fig30_caption(run: Run) -> str:
+    """Fig. 30's caption, with the fingers of its trial that recorded no force (not drawn), if any."""
+    unread = [j for j in (1, 2, 3) if pd.isna(representative(run)[f"normal_force_{j}_n"])]
+    return ("Fig. 30 (schematic of the median-force stable proposed sphere grasp): commanded phases, "
+            "recorded hold forces and peak slip as levels" + (
+                f"; {len(unread)} of 3 fingers not drawn (finger {fmt.listed(map(str, unread))}: no force "
+                "recorded)" if unread else ""))
+
+
+def fig30(run: Run, fig) -> None:
+    t = representative(run)
     lift = paper_of(run, lambda p: p.lift_height_mm) or LIFT_HEIGHT_MM
     t0 = CLOSING_TRAVEL_MM / t["closing_speed_mm_per_s"]
     t1 = t0 + lift / t["lift_speed_mm_per_s"]
     t2, band, slip = t1 + t["hold_s"], paper_of(run, lambda p: p.hold_force_per_finger_n), "#c62828"
-    force = {j: float(t[f"normal_force_{j}_n"]) for j in (1, 2, 3)}
+    force = {j: float(t[f"normal_force_{j}_n"]) for j in (1, 2, 3) if pd.notna(t[f"normal_force_{j}_n"])}
     pred, slip_max = t["normal_force_pred_mean_n"], paper_of(run, lambda p: p.hold_slip_max_mm)
     style.schematic(fig, t, ((0, t0, "closing", "#e3f2fd"), (t0, t1, "lift", "#fff8e1"), (t1, t2, "hold",
                                                                                    "#e8f5e9")), [
         *(([t0, t2], [force[j]] * 2, f"finger {j}, recorded ({force[j]:.3g} N)",
-           {"color": f"C{j + 1}", "ls": ls, "lw": lw}) for j, ls, lw in FINGER_LINES),
+           {"color": f"C{j + 1}", "ls": ls, "lw": lw}) for j, ls, lw in FINGER_LINES if j in force),
         # every level's legend entry gives its value, as the fingers' do
         ([t0, t2], [pred] * 2, f"predicted, mean ({pred:.3g} N)", {"ls": ":", "color": "#333333"}),
         *[(None, band, f"paper: steady hold ({fmt.paper_text(band)} N)",
@@ -425,8 +439,7 @@ SPEC = ReportSpec("test2_grasp", [
            "(b) normal-force and (c) deformation errors with their medians (log axis: every trial "
            f"shown; dark in (c): trials whose {run.rig} mean deformation, the error's denominator, is below "
            f"the {hw.VISION_QUANTUM_MM:g} mm vision quantisation, §8.1)", fig29, (12.0, 3.8)),
-    Figure("fig30_representative_grasp", "Fig. 30 (schematic of the median-force stable proposed sphere "
-           "grasp): commanded phases, recorded hold forces and peak slip as levels", fig30, (9.5, 5.4)),
+    Figure("fig30_representative_grasp", fig30_caption, fig30, (9.5, 5.4)),
     Figure("fig31_planner_comparison", "Fig. 31: success per planner (a) with own and exact beliefs "
            "(hatched), (b) matched ablation; (c) `predicted_stable` against the outcome", style.panels(
                planner_bars("table7"), ("test2_matched", None, "planner", "(b) matched ablation"),
