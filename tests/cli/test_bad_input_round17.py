@@ -165,3 +165,16 @@ def test_an_event_of_one_sample_is_refused(results, tmp_path):
     refused(results, ["ingest", "test1_bench", tmp_path / "waves.csv", *T1, "--root", results],
             f"waves.csv, row 1, column 'event_id': event '{EVENT}' has 1 sample, fewer than the 10 "
             "its fits need (a log cut short?); give its whole waveform, or leave the event out.")
+
+
+def test_a_report_of_waveforms_without_a_cyclic_event_names_the_missing_column(results, tmp_path):
+    # pandas' groupby says "Columns not found: 'onset_mm'", which the report printed inside its
+    # sentence: "the records have no `Columns not found: 'onset_mm'` column"
+    _press().to_csv(tmp_path / "waves.csv", index=False)
+    done = invoke("ingest", "test1_bench", tmp_path / "waves.csv", *T1, "--root", results)
+    assert done.exit_code == 0, done.output
+    done = invoke("report", "test1_bench", "--run", "measured", "--root", results)
+    assert done.exit_code == 0, done.output
+    claims = pd.read_csv(results / "test1_bench" / "measured" / "report" / "tables" / "test1_claims.csv")
+    said = claims.loc[claims["quantity"].str.startswith("permanent set"), "verdict"]
+    assert list(said.unique()) == ["not computed: the records have no `onset_mm` column"]
