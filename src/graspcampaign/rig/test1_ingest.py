@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from graspcampaign.core.words import counted
 from graspcampaign.rig.file_kinds import STUDY_TEST1, other_files
 from graspcampaign.rig.ingest import check_one_source
 from graspcampaign.rig.measured_file import (
@@ -246,10 +247,9 @@ def _check_samples(table: pd.DataFrame, label: str) -> None:
         event = size.index[int(np.flatnonzero((size < MIN_EVENT_SAMPLES).to_numpy())[0])]
         i = int(np.flatnonzero((events == event).to_numpy())[0])
         n = int(size[event])
-        raise ingest_error(label, i + 1, "event_id", f"event '{event}' has {n} "
-                           f"{'sample' if n == 1 else 'samples'}, fewer than the "
-                           f"{MIN_EVENT_SAMPLES} its fits need (a log cut short?); give its whole "
-                           "waveform, or leave the event out")
+        raise ingest_error(label, i + 1, "event_id", f"event '{event}' has {counted(n, 'sample')}, "
+                           f"fewer than the {MIN_EVENT_SAMPLES} its fits need (a log cut short?); "
+                           "give its whole waveform, or leave the event out")
 
 
 def _check_tare(table: pd.DataFrame, commands: pd.DataFrame, label: str) -> None:
