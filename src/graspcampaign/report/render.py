@@ -150,10 +150,10 @@ class Run:
 
 def reason(exc: BaseException) -> str:
     """One sentence saying why a statistic could not be computed."""
-    if isinstance(exc, KeyError):  # pandas names the columns as a list: "... : ['success']"
-        key = str(exc.args[0]) if exc.args else ""
-        listed = re.search(r"\['([^']+)'", key)
-        return f"the records have no `{listed.group(1) if listed else key}` column"
+    if isinstance(exc, KeyError):  # pandas names the columns in a list ("... : ['success']") or
+        key = str(exc.args[0]) if exc.args else ""  # after "Column(s) not found: " (a groupby's)
+        listed = re.search(r"\['([^']+)'|Columns? not found: '?([^',]+)", key)
+        return f"the records have no `{next(filter(None, listed.groups())) if listed else key}` column"
     if isinstance(exc, OSError) and exc.filename and disk_full(exc):
         # what cli.guard says of a full disk; only a write fills one (a missing file may be a read)
         return (f"cannot write {exc.filename}: {os.strerror(exc.errno).lower()}; free some space there "

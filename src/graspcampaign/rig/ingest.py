@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from graspcampaign.rig.file_kinds import other_files
 from graspcampaign.rig.measured_file import (
     IngestError,
     aside,
@@ -132,13 +133,14 @@ def _as_float(value) -> float | None:
         return None
 
 
-def _check_header(df: pd.DataFrame, schema, label: str, commanded: Collection[str]) -> None:
+def _check_header(df: pd.DataFrame, schema, label: str, commanded: Collection[str],
+                  study: str) -> None:
     columns = [str(c) for c in df.columns]
     problems = header_problems(columns, [s.name for s in schema if not s.optional],
                                {s.name: s.unit for s in schema}, _UNIT_RE,
                                [s.name for s in schema if s.optional], commanded,
                                df.attrs.get("other_sheets"), df.head(5).to_numpy().tolist(),
-                               df.attrs.get("filled_sheets", ()))
+                               df.attrs.get("filled_sheets", ()), other_files(study))
     if problems:
         raise IngestError(f"{label}, header: {'; '.join(problems)} (`graspcampaign schedule "
                           "<study> --template` writes a sheet with every column).")
@@ -188,7 +190,8 @@ def validate_records(data: pd.DataFrame | str | Path, schedule: pd.DataFrame,
     schema = schema_for(str(studies[0]))
     df = df.reset_index(drop=True)
     df.columns = [str(c).strip() for c in df.columns]
-    _check_header(df, schema, label, schedule.columns)  # first: it names a sheet holding records
+    # first: it names a sheet holding records
+    _check_header(df, schema, label, schedule.columns, str(studies[0]))
     if len(df) == 0:
         raise ingest_error(label, None, "trial_id", "the file has no data rows")
 
@@ -202,6 +205,8 @@ def validate_records(data: pd.DataFrame | str | Path, schedule: pd.DataFrame,
     aborted = []
     for i, value in enumerate(df["aborted"].tolist()):
         flag = _as_bool(value)
+        if flag is None and _not_scheduled(ids[i], schedule):  # a 'Total' row below the trials
+            raise ingest_error(label, i + 1, "trial_id", f"trial id '{ids[i]}' is not in the schedule")
         if flag is None and all(_blank(v) for v in df.iloc[i].drop("trial_id")):  # the template's
             raise ingest_error(label, i + 1, "aborted", "the row is not filled in (only its "
                                "trial_id); a file holds the trials run: delete the rows not run yet")
@@ -291,6 +296,13 @@ def _parse(spec: FieldSpec, value, label: str, row: int):
         raise ingest_error(label, row, spec.name, f"value {number:g} lies outside "
                            f"[{spec.low:g}, {spec.high:g}]{unit} (wrong units?)")
     return number
+
+
+def _not_scheduled(tid: str, schedule: pd.DataFrame) -> bool:
+    """Whether trial id ``tid`` is neither the schedule's nor a re-run ``<slot_id>-a<k>`` of one of
+    its slots (whatever ``k``: :func:`_check_ids` names a wrong attempt number)."""
+    m = re.fullmatch(r"(?P<slot>.+)-a(?P<k>[0-9]+)", tid)
+    return not ((schedule["trial_id"] == tid).any() or m and (schedule["slot_id"] == m["slot"]).any())
 
 
 def _check_ids(df: pd.DataFrame, schedule: pd.DataFrame, label: str) -> None:

@@ -398,7 +398,8 @@ def header_problems(columns: list[str], required: list[str], units: dict[str, st
                     ignored: Collection[str] = (),
                     other_sheets: Mapping[str, Sequence[str]] | None = None,
                     first_rows: Sequence[Sequence] = (),
-                    filled_sheets: Collection[str] = ()) -> list[str]:
+                    filled_sheets: Collection[str] = (),
+                    others: Sequence[tuple[str, str, Collection[str]]] = ()) -> list[str]:
     """Describe every problem of a header, all at once.
 
     Missing required columns; a missing column whose quantity is present under another unit suffix
@@ -413,7 +414,11 @@ def header_problems(columns: list[str], required: list[str], units: dict[str, st
     and another sheet of ``filled_sheets`` (those with a data row) has them too, that sheet's
     records would be left unread, and the problem names it. ``first_rows``
     (the table's first data rows): when one of them holds every required column's name, the
-    header is below a title or a note, and the problem says which row holds it.
+    header is below a title or a note, and the problem says which row holds it. ``others``
+    (``(what, advice, columns)`` of the files this one may be mistaken for,
+    :func:`graspcampaign.rig.file_kinds.other_files`): a header with a problem that holds every
+    column of one of them, and none of the required columns but its, is named as that file (the
+    first that fits), with what it lacks and the advice.
 
     Returns
     -------
@@ -460,6 +465,12 @@ def header_problems(columns: list[str], required: list[str], units: dict[str, st
                 "rows below it), but ingest reads only the workbook's first sheet, so they would "
                 "not be stored: save each sheet as a CSV file and ingest the files together, or "
                 "move the rows to the first sheet"]
+    held = set(required) & set(counts)  # the other file must hold these too: not a typo in ours
+    if (missing or unknown) and (mistaken := next((o for o in others if set(o[2]) <= set(counts)
+                                                   and held <= set(o[2])), None)):
+        lacks = (f" (no {', '.join(missing[:8])}{' and more' if len(missing) > 8 else ''})"
+                 if missing else "")
+        return [f"its columns are those of {mistaken[0]}{lacks}{mistaken[1]}"]
     out += wrong
     if twice:
         out.append(f"{'a column appears' if len(twice) == 1 else 'columns appear'} more than once: "

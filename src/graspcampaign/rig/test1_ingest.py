@@ -20,6 +20,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from graspcampaign.core.words import counted
+from graspcampaign.rig.file_kinds import STUDY_TEST1, other_files
 from graspcampaign.rig.ingest import check_one_source
 from graspcampaign.rig.measured_file import (
     IngestError,
@@ -34,7 +36,8 @@ from graspcampaign.rig.measured_file import (
 from graspcampaign.rig.record_schema import ATTEMPT_TYPO_LIMIT, SOURCES
 from graspcampaign.rig.test1_summary import WAVEFORM_COLUMNS
 
-__all__ = ["PEAK_FACTOR", "RATE_FACTOR", "read_waveforms", "validate_waveforms", "waveform_template"]
+__all__ = ["MIN_EVENT_SAMPLES", "PEAK_FACTOR", "RATE_FACTOR", "TARE_LIMIT_N", "read_waveforms",
+           "validate_waveforms", "waveform_template"]
 
 
 _UNIT_RE = re.compile(r"^(?P<stem>time|displacement|normal_force|tangential_force|"
@@ -80,6 +83,22 @@ below the commanded rate (a 50 Hz log of a 500 Hz event in minutes reads 3 kHz, 
 put its fits off by that factor (a damping 1000x off)."""
 
 
+MIN_EVENT_SAMPLES = 10
+"""The fewest samples an event's waveform may have: the fewest any block's fit reads
+(:func:`graspcampaign.core.bench_fit_friction.fit_sliding`: 10; an oblique press 5). The bench logs
+every event at 50 Hz to 500 Hz through its whole motion (§7.1: the virtual bench's fewest is 235),
+so a few samples are a log cut short or filtered, whose fits would be stored as failed."""
+
+
+TARE_LIMIT_N = 0.01
+"""Largest tension [N] an event commanded to a depth may read before contact (the median of its
+samples before its displacement first exceeds 0): ten steps of the load cell's 1 mN resolution
+(§7.1). Before the fingertip touches, the cell reads nothing but its noise (the virtual bench: within
+3 mN); the only tension the bench measures, the adhesion pull-off of §7.2 (ii), comes at
+separation, after contact. A steady tension before contact is a cell not zeroed (tared), whose
+offset would shift every force, and so every fit (50 mN: a gel slide's mu_s 0.78 read as 0.98)."""
+
+
 def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterable[str],
                        file_label: str | None = None, schedule: pd.DataFrame | None = None
                        ) -> pd.DataFrame:
@@ -122,7 +141,8 @@ def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterabl
                                ("attempt", "anomaly", "source"),
                                other_sheets=df.attrs.get("other_sheets"),
                                first_rows=df.head(5).to_numpy().tolist(),
-                               filled_sheets=df.attrs.get("filled_sheets", ()))
+                               filled_sheets=df.attrs.get("filled_sheets", ()),
+                               others=other_files(STUDY_TEST1))
     if problems:
         raise IngestError(f"{label}, header: {'; '.join(problems)} (`graspcampaign schedule "
                           "test1_bench --template` writes a sheet with every column).")
@@ -135,6 +155,15 @@ def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterabl
         row = int(np.flatnonzero(bad.to_numpy())[0]) + 1
         raise empty_row(label, df, row) or ingest_error(label, row, "event_id", "event id is empty")
     out["event_id"] = ids.astype(str).str.strip()
+    known = set(known_event_ids)
+    unknown = ~out["event_id"].isin(known)
+
+    def refuse(i: int, column: str, problem: str) -> IngestError:
+        """The error of row ``i + 1``'s cell, or of its event id when that is not the schedule's
+        (a 'Total' row below the samples is named as one, not by its empty time)."""
+        if unknown.iloc[i]:
+            return _unknown_event(label, i, out["event_id"].iloc[i], known, schedule)
+        return ingest_error(label, i + 1, column, problem)
     for c in WAVEFORM_COLUMNS[1:]:
         raw = df[c]
         if pd.api.types.is_datetime64_any_dtype(raw):  # else read as microseconds since 1970
@@ -148,27 +177,23 @@ def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterabl
         if nonnum.any():
             i = int(np.flatnonzero(nonnum.to_numpy())[0])
             expected = "a number of seconds" if c == "time_s" else "a number"
-            raise ingest_error(label, i + 1, c, cell_problem(raw.iloc[i], expected))
+            raise refuse(i, c, cell_problem(raw.iloc[i], expected))
         vals = num.to_numpy(dtype=float)
         notfinite = ~np.isfinite(vals)
         if notfinite.any():
             i = int(np.flatnonzero(notfinite)[0])
             problem = ("value nan (an empty cell or NaN) is not finite" if np.isnan(vals[i])
                        else f"value {vals[i]:g} is not finite")  # not np.float64(inf)
-            raise ingest_error(label, i + 1, c, problem)
+            raise refuse(i, c, problem)
         lo, hi, what = _RANGES[c]
         outside = (vals < lo) | (vals > hi)
         if outside.any():
             i = int(np.flatnonzero(outside)[0])
-            raise ingest_error(label, i + 1, c, f"value {vals[i]:g} lies outside {what} "
-                               "(wrong units?)")
+            raise refuse(i, c, f"value {vals[i]:g} lies outside {what} (wrong units?)")
         out[c] = vals
-    known = set(known_event_ids)
-    unknown = ~out["event_id"].isin(known)
     if unknown.any():
         i = int(np.flatnonzero(unknown.to_numpy())[0])
-        raise ingest_error(label, i + 1, "event_id",
-                           f"event id '{out['event_id'].iloc[i]}' is not in the schedule")
+        raise _unknown_event(label, i, out["event_id"].iloc[i], known, schedule)
     dup = out.duplicated(["event_id", "time_s"], keep="first")
     if dup.any():
         i = int(np.flatnonzero(dup.to_numpy())[0])
@@ -184,6 +209,7 @@ def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterabl
         raise ingest_error(label, i + 1, "time_s", f"time {out['time_s'].iloc[i]:g} s does not "
                            f"increase within event '{out['event_id'].iloc[i]}' (previous sample "
                            f"{prev.iloc[i]:g} s)")
+    _check_samples(out, label)
     if schedule is not None:
         _check_commanded(out, schedule, label)
     if "attempt" in df.columns:
@@ -198,6 +224,53 @@ def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterabl
         if extra in out:
             _check_constant(out, extra, label)
     return out
+
+
+def _unknown_event(label: str, i: int, event: str, known: set[str],
+                   schedule: pd.DataFrame | None) -> IngestError:
+    """The error of row ``i + 1``, whose event id ``event`` is not among ``known``: named as the
+    schedule's event id in another case, or as a specimen id (a column the sheet also has)."""
+    hint = ""
+    if same := next((k for k in known if k.lower() == event.lower()), None):
+        hint = f" (event ids are case-sensitive: '{same}'?)"
+    elif schedule is not None and "specimen_id" in schedule and (schedule["specimen_id"] == event).any():
+        hint = (" (it is a specimen_id; the column holds the event_id of the schedule's row of "
+                "each event)")
+    return ingest_error(label, i + 1, "event_id", f"event id '{event}' is not in the schedule{hint}")
+
+
+def _check_samples(table: pd.DataFrame, label: str) -> None:
+    """Refuse an event of fewer than :data:`MIN_EVENT_SAMPLES` samples, naming its first."""
+    events = table["event_id"]
+    size = events.groupby(events, sort=False).size()
+    if (size < MIN_EVENT_SAMPLES).any():
+        event = size.index[int(np.flatnonzero((size < MIN_EVENT_SAMPLES).to_numpy())[0])]
+        i = int(np.flatnonzero((events == event).to_numpy())[0])
+        n = int(size[event])
+        raise ingest_error(label, i + 1, "event_id", f"event '{event}' has {counted(n, 'sample')}, "
+                           f"fewer than the {MIN_EVENT_SAMPLES} its fits need (a log cut short?); "
+                           "give its whole waveform, or leave the event out")
+
+
+def _check_tare(table: pd.DataFrame, commands: pd.DataFrame, label: str) -> None:
+    """Refuse an event commanded to a depth whose normal force before contact (its samples before
+    its displacement first exceeds 0) has a median below ``-TARE_LIMIT_N`` (a load cell not
+    zeroed), naming the first such event's first sample."""
+    if "depth_mm" not in commands:
+        return
+    events = table["event_id"].reset_index(drop=True)
+    touched = (table["displacement_mm"].reset_index(drop=True) > 0).groupby(events, sort=False).cummax()
+    force = table["normal_force_n"].reset_index(drop=True)
+    before = force[~touched.astype(bool)].groupby(events[~touched.astype(bool)], sort=False).median()
+    pressed = commands["depth_mm"].reindex(before.index).fillna(0.0).to_numpy(dtype=float) > 0
+    tense = pressed & (before.to_numpy() < -TARE_LIMIT_N)
+    if tense.any():
+        event = before.index[int(np.flatnonzero(tense)[0])]
+        i = int(np.flatnonzero((events == event).to_numpy())[0])
+        raise ingest_error(label, i + 1, "normal_force_n", f"event '{event}' reads {before[event]:.4g} "
+                           f"N before contact (the median of its samples before its displacement "
+                           f"exceeds 0), a tension beyond {TARE_LIMIT_N:g} N, as from a load cell not "
+                           "zeroed (tared): zero the channel (subtract its reading before contact)")
 
 
 def _check_sign(table: pd.DataFrame, commands: pd.DataFrame, label: str) -> None:
@@ -251,7 +324,8 @@ def _check_commanded(table: pd.DataFrame, schedule: pd.DataFrame, label: str) ->
             raise ingest_error(label, i + 1, column, f"event '{at.index[k]}' peaks at {peak[k]:g} mm where "
                                f"the schedule commands a {what} of {commanded[k]:g} mm (ratio "
                                f"{ratio[k]:.3g}, outside 1/{PEAK_FACTOR:g} to {PEAK_FACTOR:g}: wrong units?)")
-    _check_sign(table, commands, label)
+    _check_sign(table, commands, label)  # first: a force negative throughout is a flipped sign
+    _check_tare(table, commands, label)
     if "daq_hz" in commands:
         _check_rate(table, commands["daq_hz"], label)
 
