@@ -272,13 +272,15 @@ def fig30(run: Run, fig) -> None:
     t1 = t0 + lift / t["lift_speed_mm_per_s"]
     t2, band, slip = t1 + t["hold_s"], paper_of(run, lambda p: p.hold_force_per_finger_n), "#c62828"
     force = {j: float(t[f"normal_force_{j}_n"]) for j in (1, 2, 3) if pd.notna(t[f"normal_force_{j}_n"])}
-    pred, slip_max = t["normal_force_pred_mean_n"], paper_of(run, lambda p: p.hold_slip_max_mm)
+    # the prediction over the fingers read, as the parity and the errors (hw.pred_read)
+    pred, slip_max = t["normal_force_pred_read_n"], paper_of(run, lambda p: p.hold_slip_max_mm)
     style.schematic(fig, t, ((0, t0, "closing", "#e3f2fd"), (t0, t1, "lift", "#fff8e1"), (t1, t2, "hold",
                                                                                    "#e8f5e9")), [
         *(([t0, t2], [force[j]] * 2, f"finger {j}, recorded ({force[j]:.3g} N)",
            {"color": f"C{j + 1}", "ls": ls, "lw": lw}) for j, ls, lw in FINGER_LINES if j in force),
         # every level's legend entry gives its value, as the fingers' do
-        ([t0, t2], [pred] * 2, f"predicted, mean ({pred:.3g} N)", {"ls": ":", "color": "#333333"}),
+        ([t0, t2], [pred] * 2, f"predicted, mean{' of the fingers drawn' * (len(force) < 3)} ({pred:.3g} N)",
+         {"ls": ":", "color": "#333333"}),
         *[(None, band, f"paper: steady hold ({fmt.paper_text(band)} N)",
            {"color": style.PAPER, "alpha": 0.12})] * bool(band)], [
         ([0, t0, t1, t2], [0, 0, lift, lift], "lift height, commanded [mm]", {"color": "#333333"}),
