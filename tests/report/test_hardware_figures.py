@@ -188,6 +188,32 @@ def test_fig30_predicts_over_the_fingers_it_draws(sim_root):
 
 @pytest.mark.parametrize(("study", "name"), [("test2_grasp", "fig30_representative_grasp"),
                                              ("test3_disturbance", "fig35_representative_pull")])
+def test_a_schematic_leaves_out_a_peak_slip_not_recorded_and_says_so(sim_root, study, name):
+    """Figs. 30 and 35 drew a trial's missing ``peak_slip_mm`` (null in the records) as a NaN line whose
+    legend read "(nan mm)": with the drawn trial's peak slip emptied it is not drawn and the caption says
+    so; with it recorded, one peak-slip line and no such sentence."""
+    from graspcampaign.report.build import spec_for
+
+    item = next(i for i in spec_for(study, "").items if getattr(i, "name", None) == name)
+
+    def caption(run):  # a caption is a sentence or a function of the run
+        return item.caption(run) if callable(item.caption) else item.caption
+
+    def slips(fig):
+        return [line.get_label() for line in fig.axes[1].get_lines() if "peak slip" in line.get_label()]
+
+    run, fig = _drawn(sim_root, study, name)
+    trial = fig.axes[0].get_title("left").split(":")[0]
+    assert len(slips(fig)) == 1 and "not drawn" not in caption(run)
+    run, fig = _drawn(sim_root, study, name, _emptied(sim_root, study, trial, "peak_slip_mm"))
+    assert fig.axes[0].get_title("left").startswith(f"{trial}:")  # the same trial
+    assert slips(fig) == []
+    assert caption(run).endswith("recorded peak slip" * (study == "test3_disturbance")
+                                 + "; peak slip not drawn (not recorded)")
+
+
+@pytest.mark.parametrize(("study", "name"), [("test2_grasp", "fig30_representative_grasp"),
+                                             ("test3_disturbance", "fig35_representative_pull")])
 def test_every_level_in_a_schematic_legend_gives_its_value(sim_root, study, name):
     """Fig. 30's legend read "paper: slip below" with no value and gave none for the predicted force,
     the recorded slip or the paper's hold band, nor did Fig. 35's for the threshold, the prediction or
