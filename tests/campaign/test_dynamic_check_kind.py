@@ -160,3 +160,65 @@ def test_a_missing_source_is_made_by_the_command_named_even_off_its_configured_r
             "params.source_study / params.source_run).") in str(info.value)
     assert info.value.source == "my_grid --run default"  # what `list` says to run first
 
+
+
+def _source_frame(rows, missing):
+    """A source run's ok records as ``load_source`` holds them: an Arrow table (a null where a trial
+    has no reading) read into pandas, indexed by trial id; ``missing`` "NaN": the nulls as NaN, as a
+    frame reindexed or concatenated in pandas holds them."""
+    import pyarrow as pa
+
+    frame = pa.Table.from_pylist(rows).to_pandas()
+    if missing == "NaN":
+        frame = frame.astype(object).where(frame.notna(), np.nan)
+    return frame.set_index("trial_id", drop=False)
+
+
+@pytest.mark.parametrize("missing", ["None", "NaN"])
+def test_a_source_trial_without_a_label_is_unlabelled_not_a_label(missing):
+    """``source_labels`` read a source label with ``bool()``: a trial whose file lacked
+    ``success_unbounded`` / ``valid_geometry`` (null) was checked as a quasi-static failure (None) or
+    success (NaN). Its label is now None and the agreement table counts it in ``unlabelled``."""
+    from types import SimpleNamespace
+
+    from graspcampaign.analysis.dynamic_check import agreement_table
+
+    source = SimpleNamespace(study=SimpleNamespace(model=SimpleNamespace(fingertip_radius_m=0.005)))
+    # (success, success_unbounded, valid_geometry) of five source trials; None: not recorded
+    labels = {"t0": (True, True, True), "t1": (False, None, True), "t2": (False, True, None),
+              "t3": (None, None, None), "t4": (False, False, True)}
+    rows = _source_frame([{"trial_id": t, "success": s, "success_unbounded": u, "valid_geometry": v,
+                           "delta_max_mm": 1.0, "failure_check": "none"}
+                          for t, (s, u, v) in labels.items()], missing)
+    got = {t: kind.source_labels(source, rows.loc[t]) for t in labels}
+    for t, (s, u, v) in labels.items():
+        assert (got[t]["qs_success"], got[t]["qs_success_unbounded"], got[t]["qs_valid_geometry"]) == \
+            (s, u, v), t
+        assert got[t]["qs_gate_derived"] is False
+    # the check's records (every dynamic grasp held), as the kind's rows are stored
+    import pyarrow as pa
+
+    records = pa.Table.from_pylist([{"status": "ok", "dynamic_status": "stable", "success": True,
+                                     "success_unbounded": True, **got[t]} for t in labels]).to_pandas()
+    gated = agreement_table(records, "qs_success", "success").iloc[0]
+    # by hand: qs_success recorded on t0, t1, t2, t4 (t0 held in both, the other three dynamic only)
+    assert (gated["n"], gated["unlabelled"], gated["both_success"], gated["dynamic_only"]) == (4, 1, 1, 3)
+    unbounded = agreement_table(records, "qs_success_unbounded", "success_unbounded").iloc[0]
+    # by hand: qs_success_unbounded recorded on t0, t2 (True) and t4 (False)
+    assert (unbounded["n"], unbounded["unlabelled"], unbounded["both_success"],
+            unbounded["dynamic_only"]) == (3, 2, 2, 1)
+
+
+def test_a_source_before_the_gate_without_a_reading_is_unlabelled():
+    """A source written before the validity gate (no ``success_unbounded`` / ``valid_geometry``)
+    derives the gate here: a trial without ``success`` or ``delta_max_mm`` gets no label from it."""
+    from types import SimpleNamespace
+
+    source = SimpleNamespace(study=SimpleNamespace(model=SimpleNamespace(fingertip_radius_m=0.005)))
+    rows = _source_frame([{"trial_id": "a", "success": None, "delta_max_mm": 1.0},
+                          {"trial_id": "b", "success": True, "delta_max_mm": None},
+                          {"trial_id": "c", "success": True, "delta_max_mm": 6.0}], "None")
+    got = [kind.source_labels(source, rows.loc[t]) for t in "abc"]
+    assert [(g["qs_success"], g["qs_success_unbounded"], g["qs_valid_geometry"]) for g in got] == [
+        (None, None, True), (None, True, None), (False, True, False)]  # c: 6 mm > the 5 mm radius
+    assert all(g["qs_gate_derived"] for g in got)

@@ -156,6 +156,62 @@ def test_fig30_leaves_out_a_finger_without_a_recorded_force_and_says_so(sim_root
     assert test2.fig30_caption(run).endswith("; 1 of 3 fingers not drawn (finger 2: no force recorded)")
 
 
+def _emptied(root, study: str, trial: str, column: str):
+    """The run's records (an Arrow table, as Parquet gives them) with ``column`` of ``trial`` null."""
+    import pyarrow as pa
+    import pyarrow.compute as pc
+
+    records = RunStore(root / study / "default").read()
+    values = records[column]
+    emptied = pc.if_else(pc.equal(records["rig_trial_id"], trial), pa.scalar(None, values.type), values)
+    return records.set_column(records.schema.get_field_index(column), column, emptied)
+
+
+def test_fig30_predicts_over_the_fingers_it_draws(sim_root):
+    """Fig. 30 drew the predicted level from the three-finger ``normal_force_pred_mean_n`` beside a finger
+    left out for want of a recorded force, while the parity and the errors (Fig. 29) predict over the
+    fingers read: the level is the mean prediction of the fingers drawn (by hand from the records)."""
+    run, fig = _drawn(sim_root, "test2_grasp", "fig30_representative_grasp")
+    trial = fig.axes[0].get_title("left").split(":")[0]
+    records = _emptied(sim_root, "test2_grasp", trial, "normal_force_2_n")
+    row = records.filter(records["rig_trial_id"].to_numpy(zero_copy_only=False) == trial).to_pylist()[0]
+    pred = [line for line in fig.axes[0].get_lines() if line.get_label().startswith("predicted")]
+    assert pred[0].get_ydata()[0] == pytest.approx(row["normal_force_pred_mean_n"], rel=1e-12)
+    assert pred[0].get_label().startswith("predicted, mean (")
+    _, fig = _drawn(sim_root, "test2_grasp", "fig30_representative_grasp", records)
+    by_hand = (row["normal_force_pred_1_n"] + row["normal_force_pred_3_n"]) / 2
+    assert by_hand != pytest.approx(row["normal_force_pred_mean_n"], rel=1e-6)  # the test can tell
+    pred = [line for line in fig.axes[0].get_lines() if line.get_label().startswith("predicted")]
+    assert pred[0].get_ydata()[0] == pytest.approx(by_hand, rel=1e-12)
+    assert pred[0].get_label() == f"predicted, mean of the fingers drawn ({by_hand:.3g} N)"
+
+
+@pytest.mark.parametrize(("study", "name"), [("test2_grasp", "fig30_representative_grasp"),
+                                             ("test3_disturbance", "fig35_representative_pull")])
+def test_a_schematic_leaves_out_a_peak_slip_not_recorded_and_says_so(sim_root, study, name):
+    """Figs. 30 and 35 drew a trial's missing ``peak_slip_mm`` (null in the records) as a NaN line whose
+    legend read "(nan mm)": with the drawn trial's peak slip emptied it is not drawn and the caption says
+    so; with it recorded, one peak-slip line and no such sentence."""
+    from graspcampaign.report.build import spec_for
+
+    item = next(i for i in spec_for(study, "").items if getattr(i, "name", None) == name)
+
+    def caption(run):  # a caption is a sentence or a function of the run
+        return item.caption(run) if callable(item.caption) else item.caption
+
+    def slips(fig):
+        return [line.get_label() for line in fig.axes[1].get_lines() if "peak slip" in line.get_label()]
+
+    run, fig = _drawn(sim_root, study, name)
+    trial = fig.axes[0].get_title("left").split(":")[0]
+    assert len(slips(fig)) == 1 and "not drawn" not in caption(run)
+    run, fig = _drawn(sim_root, study, name, _emptied(sim_root, study, trial, "peak_slip_mm"))
+    assert fig.axes[0].get_title("left").startswith(f"{trial}:")  # the same trial
+    assert slips(fig) == []
+    assert caption(run).endswith("recorded peak slip" * (study == "test3_disturbance")
+                                 + "; peak slip not drawn (not recorded)")
+
+
 @pytest.mark.parametrize(("study", "name"), [("test2_grasp", "fig30_representative_grasp"),
                                              ("test3_disturbance", "fig35_representative_pull")])
 def test_every_level_in_a_schematic_legend_gives_its_value(sim_root, study, name):

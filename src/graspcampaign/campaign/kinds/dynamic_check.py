@@ -32,6 +32,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import pandas as pd
 
 from graspcampaign.campaign.kind import TrialInput, TrialKind
 from graspcampaign.campaign.kinds import common
@@ -236,24 +237,34 @@ def _replan(source: Source, row) -> tuple[np.ndarray, np.ndarray, np.ndarray, An
 
 
 def source_labels(source: Source, row) -> dict[str, Any]:
-    """The source's quasi-static labels, read by column name.
+    """The source's quasi-static labels, read by column name; a label the source trial did not
+    record is None (null in the records), never a verdict.
 
     Records written before the validity gate (no ``success_unbounded`` / ``valid_geometry``
     columns) hold the unbounded reading in ``success``; then the gate is applied here with the
-    source's fingertip radius and ``qs_gate_derived`` says so.
+    source's fingertip radius and ``qs_gate_derived`` says so. Where the columns exist but a trial
+    has no reading (null: an older file of a resumed run, an ingested one), its label is None: the
+    agreement tables count the trial in ``unlabelled`` (``analysis.dynamic_check``), where
+    ``bool()`` made a None a failure and a NaN a success.
     """
     radius_mm = source.study.model.fingertip_radius_m * 1e3
     delta = float(row["delta_max_mm"])
     gated = "success_unbounded" in row.index and "valid_geometry" in row.index
     if gated:
-        unbounded, valid = bool(row["success_unbounded"]), bool(row["valid_geometry"])
-        success = bool(row["success"])
+        unbounded, valid, success = (_label(row[c]) for c in ("success_unbounded", "valid_geometry",
+                                                               "success"))
     else:
-        unbounded, valid = bool(row["success"]), delta <= radius_mm
-        success = unbounded and valid
+        unbounded, valid = _label(row["success"]), None if np.isnan(delta) else delta <= radius_mm
+        success = None if unbounded is None or valid is None else unbounded and valid
     return {"qs_success": success, "qs_success_unbounded": unbounded, "qs_valid_geometry": valid,
             "qs_delta_max_mm": delta, "qs_gate_derived": not gated,
             "qs_failure_check": str(row.get("failure_check", ""))}
+
+
+def _label(value) -> bool | None:
+    """A recorded label as bool, None where it is missing (None or NaN, as a row of a records frame
+    holds a null)."""
+    return None if pd.isna(value) else bool(value)
 
 
 def run(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:

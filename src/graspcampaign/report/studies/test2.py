@@ -256,13 +256,20 @@ def representative(run: Run) -> pd.Series:
     return median_trial(e, "normal_force_mean_n")
 
 
+def unread_slip(t: pd.Series) -> str:
+    """Fig. 30's and Fig. 35's caption clause for a trial that recorded no peak slip (not drawn)."""
+    return "; peak slip not drawn (not recorded)" if pd.isna(t["peak_slip_mm"]) else ""
+
+
 def fig30_caption(run: Run) -> str:
-    """Fig. 30's caption, with the fingers of its trial that recorded no force (not drawn), if any."""
-    unread = [j for j in (1, 2, 3) if pd.isna(representative(run)[f"normal_force_{j}_n"])]
+    """Fig. 30's caption, with the readings of its trial not recorded (not drawn), if any: fingers without
+    a force, the peak slip."""
+    t = representative(run)
+    unread = [j for j in (1, 2, 3) if pd.isna(t[f"normal_force_{j}_n"])]
     return ("Fig. 30 (schematic of the median-force stable proposed sphere grasp): commanded phases, "
             "recorded hold forces and peak slip as levels" + (
                 f"; {len(unread)} of 3 fingers not drawn (finger {fmt.listed(map(str, unread))}: no force "
-                "recorded)" if unread else ""))
+                "recorded)" if unread else "") + unread_slip(t))
 
 
 def fig30(run: Run, fig) -> None:
@@ -272,18 +279,20 @@ def fig30(run: Run, fig) -> None:
     t1 = t0 + lift / t["lift_speed_mm_per_s"]
     t2, band, slip = t1 + t["hold_s"], paper_of(run, lambda p: p.hold_force_per_finger_n), "#c62828"
     force = {j: float(t[f"normal_force_{j}_n"]) for j in (1, 2, 3) if pd.notna(t[f"normal_force_{j}_n"])}
-    pred, slip_max = t["normal_force_pred_mean_n"], paper_of(run, lambda p: p.hold_slip_max_mm)
+    # the prediction over the fingers read, as the parity and the errors (hw.pred_read)
+    pred, slip_max = t["normal_force_pred_read_n"], paper_of(run, lambda p: p.hold_slip_max_mm)
     style.schematic(fig, t, ((0, t0, "closing", "#e3f2fd"), (t0, t1, "lift", "#fff8e1"), (t1, t2, "hold",
                                                                                    "#e8f5e9")), [
         *(([t0, t2], [force[j]] * 2, f"finger {j}, recorded ({force[j]:.3g} N)",
            {"color": f"C{j + 1}", "ls": ls, "lw": lw}) for j, ls, lw in FINGER_LINES if j in force),
         # every level's legend entry gives its value, as the fingers' do
-        ([t0, t2], [pred] * 2, f"predicted, mean ({pred:.3g} N)", {"ls": ":", "color": "#333333"}),
+        ([t0, t2], [pred] * 2, f"predicted, mean{' of the fingers drawn' * (len(force) < 3)} ({pred:.3g} N)",
+         {"ls": ":", "color": "#333333"}),
         *[(None, band, f"paper: steady hold ({fmt.paper_text(band)} N)",
            {"color": style.PAPER, "alpha": 0.12})] * bool(band)], [
         ([0, t0, t1, t2], [0, 0, lift, lift], "lift height, commanded [mm]", {"color": "#333333"}),
-        ([t1, t2], [t["peak_slip_mm"]] * 2, f"peak slip, recorded ({t['peak_slip_mm']:.3g} mm)",
-         {"color": slip}),
+        *[([t1, t2], [t["peak_slip_mm"]] * 2, f"peak slip, recorded ({t['peak_slip_mm']:.3g} mm)",
+           {"color": slip})] * pd.notna(t["peak_slip_mm"]),  # none recorded: not drawn (the caption)
         ([0, t2], [2.0, 2.0], "2 mm success criterion", {"color": slip, "ls": "--"}),
         ([0, t2], [slip_max] * 2, f"paper: slip below {fmt.paper_text(slip_max)} mm",
          {"color": style.PAPER, "ls": ":"})],

@@ -220,9 +220,21 @@ def fig34(run: Run, fig) -> None:
     style.legend_below(c, [style.paper_handle()])
 
 
-def fig35(run: Run, fig) -> None:
+def representative_pull(run: Run) -> pd.Series:
+    """Fig. 35's trial: the median-threshold proposed natural-friction pull of block A."""
     d = t2.ex(run, PROPOSED).query(f"block == 'A' and {NATURAL}").dropna(subset=["lat_threshold_n"])
-    t = t2.median_trial(d, "lat_threshold_n")
+    return t2.median_trial(d, "lat_threshold_n")
+
+
+def fig35_caption(run: Run) -> str:
+    """Fig. 35's caption, saying when its trial recorded no peak slip (not drawn)."""
+    return ("Fig. 35 (schematic of one recorded trial, the median-threshold proposed natural-friction pull): "
+            "hold, commanded ramp to the recorded threshold at 2 mm slip, predicted threshold, recorded peak "
+            "slip" + t2.unread_slip(representative_pull(run)))
+
+
+def fig35(run: Run, fig) -> None:
+    t = representative_pull(run)
     h, thr, paper = t["hold_s"], t["lat_threshold_n"], paper_of(run, lambda p: p.lateral_threshold_median_n)
     t1 = h + thr / t["ramp_rate_n_per_s"]
     end = 1.15 * t1
@@ -235,8 +247,9 @@ def fig35(run: Run, fig) -> None:
         ([0, end], [paper] * 2, f"paper: natural-friction median ({fmt.paper_text(paper)} N)",
          {"ls": ":", "color": style.PAPER})], [
         ([0, end], [2.0, 2.0], "2 mm slip criterion (detection)", {"color": "#c62828", "ls": "--"}),
-        ([t1, end], [t["peak_slip_mm"]] * 2, f"recorded peak slip after release ({t['peak_slip_mm']:.3g} mm"
-         + ", object lost" * bool(t["drop_flag"]) + ")", {"color": "#333333"})],
+        *[([t1, end], [t["peak_slip_mm"]] * 2, f"recorded peak slip after release ({t['peak_slip_mm']:.3g} mm"
+           + ", object lost" * bool(t["drop_flag"]) + ")", {"color": "#333333"})]
+        * pd.notna(t["peak_slip_mm"])],  # none recorded: not drawn (the caption says so)
         "lateral pull over the commanded phases")
     fig.axes[0].set_ylabel("lateral force [N]")
     fig.axes[1].set(ylabel="slip [mm]", xlabel="time from the start of the hold [s]")
@@ -318,9 +331,7 @@ SPEC = ReportSpec("test3_disturbance", [
     Figure("fig34_threshold_prediction", lambda run: f"Fig. 34: (a) predicted against {run.rig} lateral "
            "thresholds of the proposed planner with the OLS fit, (b) Bland–Altman, (c) median "
            "lateral-threshold error per planner", fig34, (13.0, 4.0)),
-    Figure("fig35_representative_pull", "Fig. 35 (schematic of one recorded trial, the median-threshold "
-           "proposed natural-friction pull): hold, commanded ramp to the recorded threshold at 2 mm slip, "
-           "predicted threshold, recorded peak slip", fig35, (9.5, 5.2)),
+    Figure("fig35_representative_pull", fig35_caption, fig35, (9.5, 5.2)),
     Figure("fig36_robustness", lambda run: "Fig. 36: (a) success per planner with the planners' own beliefs "
            "and with exact ones (hatched), (b) share of natural-friction pulls holding each level (a grasp "
            f"lost before the pull counts as 0 N), (c) the retention flag (`predicted_stable`) against the "
