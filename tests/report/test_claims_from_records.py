@@ -95,3 +95,20 @@ def test_the_surrogate_opening_gives_no_why_where_every_scenario_passes_within_t
 
     assert "Why: in SI, Algorithm 2 as published" in finding(_rendered(sim_root, "surrogate"))
     assert "Why" not in finding(_rendered(sim_root, "surrogate", physical))
+
+
+def test_the_test3_opening_gives_no_cause_of_the_drops_where_none_held_a_low_safety_factor(sim_root):
+    # "drops X% (paper Y%): no slip is arrested below a safety factor of μ_s/μ_k = …" made the Coulomb
+    # fact the drops' cause whatever the dropped trials' recorded SF; here each held 2.0, above Table 4's
+    # highest μ_s/μ_k (0.772/0.544 = 1.42)
+    from graspcampaign.report.studies.test3 import drops
+
+    def held(records: pd.DataFrame) -> pd.DataFrame:
+        return records.assign(sf_actual=records["sf_actual"].mask(records["outcome"] == "failure_drop", 2.0))
+
+    records = RunStore(sim_root / "test3_disturbance" / "default").read().to_pandas()
+    ours = records.query("planner == 'heuristic' and status == 'ok' and not aborted")
+    n = int((ours["outcome"] == "failure_drop").sum())
+    assert n > 0 and ": no slip" not in (text := drops(_rendered(sim_root, "test3_disturbance", held)))
+    assert text.endswith(f"%). No slip is arrested below a safety factor of μ_s/μ_k = 1.35–1.42; none of its "
+                         f"{n} drops held one below it. ")
