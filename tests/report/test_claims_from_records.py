@@ -5,7 +5,9 @@ makes it. The Tests 2-3 "Why" clause: test_test23_opening.py."""
 
 from __future__ import annotations
 
+import numpy as np
 import pandas as pd
+from scipy.stats import binomtest
 
 from graspcampaign.campaign.paper import study_paper
 from graspcampaign.campaign.records import RunStore
@@ -112,3 +114,21 @@ def test_the_test3_opening_gives_no_cause_of_the_drops_where_none_held_a_low_saf
     assert n > 0 and ": no slip" not in (text := drops(_rendered(sim_root, "test3_disturbance", held)))
     assert text.endswith(f"%). No slip is arrested below a safety factor of μ_s/μ_k = 1.35–1.42; none of its "
                          f"{n} drops held one below it. ")
+
+
+def test_the_grip_laws_opening_gives_its_why_only_where_the_proposed_planner_loses_a_pair(sim_root):
+    # "Why: H(G) is geometric …" followed the McNemar counts whatever they were, "loses to 0" included
+    from graspcampaign.report.studies.quasi_static import grip_finding
+
+    run = _rendered(sim_root, "grip_laws")
+    tests = run.tables["mcnemar"]
+    run.tables["mcnemar"] = tests.assign(p_exact=1.0)  # no pair differs
+    text = grip_finding(run)
+    assert f"it beats 0 and loses to 0 of {len(tests)} planner–law pairs. `docs/decisions.md`" in text
+    assert "Why" not in text
+    first = tests.index == tests.index[0]  # its first pair lost: the other planner alone succeeds 9 times
+    run.tables["mcnemar"] = tests.assign(reference_only=tests["reference_only"].mask(first, 0),
+                                         compared_only=tests["compared_only"].mask(first, 9),
+                                         p_exact=np.where(first, binomtest(0, 9).pvalue, 1.0))
+    text = grip_finding(run)
+    assert f"it beats 0 and loses to 1 of {len(tests)} planner–law pairs. Why: H(G) is geometric" in text
