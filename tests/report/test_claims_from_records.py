@@ -132,3 +132,22 @@ def test_the_grip_laws_opening_gives_its_why_only_where_the_proposed_planner_los
                                          p_exact=np.where(first, binomtest(0, 9).pvalue, 1.0))
     text = grip_finding(run)
     assert f"it beats 0 and loses to 1 of {len(tests)} planner–law pairs. Why: H(G) is geometric" in text
+
+
+def test_the_test1_opening_says_c_is_not_identifiable_only_where_its_interval_reaches_zero(sim_root):
+    # "C not identifiable at 1 mN" was printed for any virtual-bench run, whatever the claims table's
+    # standard error of C; here the median event's Wald 95% interval, C ± 1.96 SE, is set to exclude 0
+    from graspcampaign.report.studies.test1 import finding
+
+    run = _rendered(sim_root, "test1_bench")
+    claims, median, se = run.tables["test1_claims"], "per-event C: median (paper: Table 4's family range)", \
+        "standard error of per-event C: median"
+    rows = claims.set_index("quantity")["value"]
+    assert abs(rows[median]) <= 1.96 * rows[se]  # as recorded: the interval reaches zero
+    assert "C not identifiable at 1 mN" in finding(run)
+    run.tables["test1_claims"] = claims.assign(value=claims["value"].mask(claims["quantity"] == se,
+                                                                          abs(rows[median]) / 2.5))
+    text = finding(run)
+    assert "not identifiable" not in text
+    assert "Why: the virtual bench differs by construction (" in text
+    assert "loops, λ1 where Eq. 14 with Table 4's moduli puts it): " in text  # reduced run: "smaller … loops"

@@ -19,7 +19,7 @@ from graspcampaign.report import style
 from graspcampaign.report.document import Col, cols
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Claims, Figure, Finding, ReportSpec, Table, Text, verdicts
-from graspcampaign.report.studies.test1_claims import CLAIMS, FRAMES, fitted
+from graspcampaign.report.studies.test1_claims import C_MEDIAN, C_SE, CLAIMS, FRAMES, c_unresolved, fitted
 from graspcampaign.report.style import CRITERION, PAPER, legend_below, paper_handle, paper_marks, plain_log
 
 WHY = "`docs/decisions.md`, *Test 1 bench protocol* and *Test 1 in the engine*"
@@ -175,11 +175,12 @@ def finding(run: Run) -> str:
         text += (f"PSO re-identification over {counted(runs, 'converged run')} (Table "
                  f"5): λ1 = {fmt.number(l1['mean'], l1.digits)} (paper "
                  f"{fmt.number(l1.paper_mean, l1.digits)}){ends}. ")
-    loop = claims.set_index("quantity").reindex(["loop area: median"]).iloc[0]  # "smaller": as the claims
+    loop, c, se = (claims.set_index("quantity").reindex(["loop area: median", C_MEDIAN, C_SE]).iloc[i]
+                   for i in range(3))  # "smaller", "not identifiable": as the claims table prints them
     smaller = [w for w, r in (("fit errors", rmse), ("loops", loop)) if r.value < r.paper]
-    return text + (f"Why: the virtual bench differs by construction ({'smaller ' * bool(smaller)}"
-                   f"{' and '.join(smaller)}{', ' * bool(smaller)}C not identifiable at 1 mN, λ1 where "
-                   "Eq. 14 with Table 4's moduli puts it): "
+    why = [f"smaller {' and '.join(smaller)}"] * bool(smaller) + ["C not identifiable at 1 mN"] * \
+        c_unresolved(c.value, se.value) + ["λ1 where Eq. 14 with Table 4's moduli puts it"]
+    return text + (f"Why: the virtual bench differs by construction ({', '.join(why)}): "
                    f"{WHY}. Virtual-bench data, not hardware: synthetic waveforms drawn around Table 4 that "
                    "cannot confirm the paper's values." if run.source == "virtual" else
                    "Measured on a rig (ingested records).")

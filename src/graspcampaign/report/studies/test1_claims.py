@@ -45,6 +45,18 @@ def _v(frame: str, col: str, how: str = "mean"):
     return value
 
 
+#: the claims' rows for per-event C, and the normal quantile of a two-sided 95% Wald interval
+C_MEDIAN = "per-event C: median (paper: Table 4's family range)"
+C_SE = "standard error of per-event C: median"
+WALD_95 = 1.96
+
+
+def c_unresolved(c: float, se: float) -> bool:
+    """Whether per-event C is not identifiable: the median event's Wald 95% interval, its median C ±
+    1.96 times its median standard error, reaches zero (missing values: not shown, False)."""
+    return bool(abs(c) <= WALD_95 * se)
+
+
 def _t4(col: str):
     return lambda p: (min(getattr(r, col) for r in p.table4.values()),
                       max(getattr(r, col) for r in p.table4.values()))
@@ -71,9 +83,9 @@ CLAIMS = [
     *(Value(f"{w.replace('_', ' ')}: median", "§7.2", _v("normal", f"{w}_mj", "median"),
             lambda p, w=w: getattr(p, f"{w}_median_mj"), "mJ", 3)
       for w in ("loop_area", "loading_work", "unloading_work")),
-    Value("per-event C: median (paper: Table 4's family range)", "§7.2",
+    Value(C_MEDIAN, "§7.2",
           _v("normal", "c_n_s_per_m", "median"), _t4("c_n_s_per_m"), "N s/m", 3),
-    Value("standard error of per-event C: median", "§7.2", _v("normal", "c_se_n_s_per_m", "median"),
+    Value(C_SE, "§7.2", _v("normal", "c_se_n_s_per_m", "median"),
           None, "N s/m"),
     *(Value(f"μs {label('environment', e)}: campaign mean", "§7.3", _v(e, "mu_s"),
             lambda p, e=e: p.mu_s_environment[e]) for e in ("cool_dry", "warm_humid")),
