@@ -54,6 +54,23 @@ def _table4(run: Run) -> pd.DataFrame:
         "material", key=lambda m: m.map(cal.MATERIALS.index), kind="stable")
 
 
+def _c_caption(run: Run) -> str:
+    """What Table 4's C is: the median of the accepted fits' per-event C, beside their mean per family
+    (the numbers, not a judgement of them), and whether per-event C is identifiable (its median
+    standard error against its median, :func:`c_unresolved`, as table test1_claims prints them)."""
+    cols = ["material", "c_n_s_per_m", "c_se_n_s_per_m"]  # missing: no C said of it
+    accepted, normal = (FRAMES[f](run).reindex(columns=cols) for f in ("accepted", "normal"))
+    mean = accepted.groupby("material")["c_n_s_per_m"].mean()
+    means = ", ".join(f"{label('material', m)} {fmt.number(mean[m], sig=3)}"
+                      for m in cal.MATERIALS if m in mean)  # Table 4's order
+    unresolved = c_unresolved(normal["c_n_s_per_m"].median(), normal["c_se_n_s_per_m"].median())
+    return ("Our C is the median of the accepted fits' per-event C"
+            + f" (their mean: {means} N s/m)" * bool(means)
+            + ": per-event C is not identifiable at 1 mN (its median standard error is below)" * unresolved
+            + "; a negative C, non-physical (a damper cannot add energy), is a fit of the noise; 'fits "
+            "with C < 0' counts them")
+
+
 def _margins(run: Run) -> pd.DataFrame:
     t = FRAMES["oblique"](run).groupby("angle_deg")["margin_n"].agg(events="size", mean_n="mean", sd_n="std")
     t["paper_n"] = [run.paper.oblique_margin_n.get(f"{a:g}") for a in t.index]
@@ -369,10 +386,7 @@ SPEC = ReportSpec("test1_bench", [
     Table("table4", lambda run: "Table 4, ours beside the paper's: family means of the accepted normal "
           "fits (n, K, f0.5) and of the fitted slides and holds. Our E is " + ("the virtual bench's drawn "
           "specimen modulus (the bench measures none), mean and SD over specimens. " if run.source ==
-          "virtual" else "empty: the bench measures no modulus. ") + "Our C is the median of the accepted "
-          "fits' per-event C: per-event C is not identifiable at 1 mN (its median standard error is "
-          "below), a few wild fits rule its mean, and a negative C, non-physical (a damper cannot add "
-          "energy), is a fit of the noise; 'fits with C < 0' counts them", _table4, [
+          "virtual" else "empty: the bench measures no modulus. ") + _c_caption(run), _table4, [
               Col("row", "row"), Col("n_accepted_fits", "accepted normal fits", 0),
               *(Col(k, v, sig=3) for k, v in T4.items())], by=["material"]),
     Claims("test1_claims", "§7 figures in the text beside the paper's (accepted fits unless stated; "
