@@ -5,7 +5,9 @@ makes it. The Tests 2-3 "Why" clause: test_test23_opening.py."""
 
 from __future__ import annotations
 
+import numpy as np
 import pandas as pd
+from scipy.stats import binomtest
 
 from graspcampaign.campaign.paper import study_paper
 from graspcampaign.campaign.records import RunStore
@@ -95,3 +97,79 @@ def test_the_surrogate_opening_gives_no_why_where_every_scenario_passes_within_t
 
     assert "Why: in SI, Algorithm 2 as published" in finding(_rendered(sim_root, "surrogate"))
     assert "Why" not in finding(_rendered(sim_root, "surrogate", physical))
+
+
+def test_the_test3_opening_gives_no_cause_of_the_drops_where_none_held_a_low_safety_factor(sim_root):
+    # "drops X% (paper Y%): no slip is arrested below a safety factor of μ_s/μ_k = …" made the Coulomb
+    # fact the drops' cause whatever the dropped trials' recorded SF; here each held 2.0, above Table 4's
+    # highest μ_s/μ_k (0.772/0.544 = 1.42)
+    from graspcampaign.report.studies.test3 import drops
+
+    def held(records: pd.DataFrame) -> pd.DataFrame:
+        return records.assign(sf_actual=records["sf_actual"].mask(records["outcome"] == "failure_drop", 2.0))
+
+    records = RunStore(sim_root / "test3_disturbance" / "default").read().to_pandas()
+    ours = records.query("planner == 'heuristic' and status == 'ok' and not aborted")
+    n = int((ours["outcome"] == "failure_drop").sum())
+    assert n > 0 and ": no slip" not in (text := drops(_rendered(sim_root, "test3_disturbance", held)))
+    assert text.endswith(f"%). No slip is arrested below a safety factor of μ_s/μ_k = 1.35–1.42; none of its "
+                         f"{n} drops held one below it. ")
+
+
+def test_the_grip_laws_opening_gives_its_why_only_where_the_proposed_planner_loses_a_pair(sim_root):
+    # "Why: H(G) is geometric …" followed the McNemar counts whatever they were, "loses to 0" included
+    from graspcampaign.report.studies.quasi_static import grip_finding
+
+    run = _rendered(sim_root, "grip_laws")
+    tests = run.tables["mcnemar"]
+    run.tables["mcnemar"] = tests.assign(p_exact=1.0)  # no pair differs
+    text = grip_finding(run)
+    assert f"it beats 0 and loses to 0 of {len(tests)} planner–law pairs. `docs/decisions.md`" in text
+    assert "Why" not in text
+    first = tests.index == tests.index[0]  # its first pair lost: the other planner alone succeeds 9 times
+    run.tables["mcnemar"] = tests.assign(reference_only=tests["reference_only"].mask(first, 0),
+                                         compared_only=tests["compared_only"].mask(first, 9),
+                                         p_exact=np.where(first, binomtest(0, 9).pvalue, 1.0))
+    text = grip_finding(run)
+    assert f"it beats 0 and loses to 1 of {len(tests)} planner–law pairs. Why: H(G) is geometric" in text
+
+
+def test_the_test1_opening_says_c_is_not_identifiable_only_where_its_interval_reaches_zero(sim_root):
+    # "C not identifiable at 1 mN" was printed for any virtual-bench run, whatever the claims table's
+    # standard error of C; here the median event's Wald 95% interval, C ± 1.96 SE, is set to exclude 0
+    from graspcampaign.report.studies.test1 import finding
+
+    run = _rendered(sim_root, "test1_bench")
+    claims, median, se = run.tables["test1_claims"], "per-event C: median (paper: Table 4's family range)", \
+        "standard error of per-event C: median"
+    rows = claims.set_index("quantity")["value"]
+    assert abs(rows[median]) <= 1.96 * rows[se]  # as recorded: the interval reaches zero
+    assert "C not identifiable at 1 mN" in finding(run)
+    run.tables["test1_claims"] = claims.assign(value=claims["value"].mask(claims["quantity"] == se,
+                                                                          abs(rows[median]) / 2.5))
+    text = finding(run)
+    assert "not identifiable" not in text
+    assert "Why: the virtual bench differs by construction (" in text
+    assert "loops, λ1 where Eq. 14 with Table 4's moduli puts it): " in text  # reduced run: "smaller … loops"
+
+
+def test_the_table4_caption_gives_the_mean_of_c_it_once_said_a_few_wild_fits_rule(sim_root):
+    # "a few wild fits rule its mean" whatever the fits; here every fit's C is 0.05 N s/m, resolved
+    # (SE 0.001): the mean is the median, and C is identifiable
+    def calm(records: pd.DataFrame) -> pd.DataFrame:
+        normal = records["block"] == "normal"
+        return records.assign(c_n_s_per_m=records["c_n_s_per_m"].mask(normal, 0.05),
+                              c_se_n_s_per_m=records["c_se_n_s_per_m"].mask(normal, 0.001))
+
+    def sig3(v: float) -> str:  # 3 significant digits, as Table 4 prints C
+        return np.format_float_positional(v, 3, unique=False, fractional=False, trim="k").replace("-", "−")
+
+    table4 = next(item for item in spec_for("test1_bench", "").items if getattr(item, "name", "") == "table4")
+    caption = table4.caption(_rendered(sim_root, "test1_bench", calm))
+    assert "wild" not in caption and "not identifiable" not in caption
+    assert "per-event C (their mean: gel 0.0500 N s/m); a negative C" in caption
+    records = RunStore(sim_root / "test1_bench" / "default").read().to_pandas()
+    accepted = records.query("block == 'normal'")
+    accepted = accepted[accepted["fit_ok"].astype(bool) & accepted["accepted"].astype(bool)]
+    assert (f"(their mean: gel {sig3(accepted['c_n_s_per_m'].mean())} N s/m): per-event C is not "
+            "identifiable") in table4.caption(_rendered(sim_root, "test1_bench"))

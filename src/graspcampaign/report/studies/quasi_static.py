@@ -389,9 +389,10 @@ BASELINE_GRID = S.ReportSpec("baseline_grid", [
 
 def grip_finding(run: Run) -> str:
     """Under which grip law the paper's ordering appears, the proposed planner's rate under each,
-    the paired tests counted, and the physical reason, from the records (per planner: the tables)."""
+    the paired tests counted, and the physical reason where it loses a pair (per planner: the tables)."""
     t, tests, paper = run.tables["success_by_planner"], run.tables["mcnemar"], run.paper.success_pct
     sig, need = tests.query("p_exact < 0.05"), run.tables["grip_need"].query("grip_law == 'oracle'")
+    beats, loses = (sig.query(f"reference_only {than} compared_only") for than in (">", "<"))
     ours = t.pivot(index="planner", columns="grip_law", values="rate_pct")  # NaN: a planner not run
     laws = run.order["grip_law"]
     same = [law for law in laws  # strictly: planners tied at one rate (say all at 0%) show no order
@@ -406,13 +407,12 @@ def grip_finding(run: Run) -> str:
         + " (table success_by_planner). " + (
             f"{deep} of the {int(t['successes'].sum())} successes lie deeper than the paper's "
             f"{DESIGN_LIMIT_MM:g} mm design limit (per law: table design_limit). " if deep else "")
-        + "Paired per law (McNemar, exact p < 0.05; "
-        f"table mcnemar), it beats {len(sig.query('reference_only > compared_only'))} and loses to "
-        f"{len(sig.query('reference_only < compared_only'))} of {len(tests)} planner–law pairs. "
-        "Why: H(G) is geometric and sees neither gravity nor the tilt of the contact plane; horizontal "
-        "normals (the centroid planner's triple) let an equal grip balance by symmetry, while under "
-        f"oracle no equal grip holds on {need['no_equal_grip'].sum()} of {need['n'].sum()} triples "
-        f"(normals per planner: table grip_need). {DECISION}.")
+        + f"Paired per law (McNemar, exact p < 0.05; table mcnemar), it beats {len(beats)} and loses to "
+        f"{len(loses)} of {len(tests)} planner–law pairs. " + (  # a loss to explain
+            "Why: H(G) is geometric and sees neither gravity nor the tilt of the contact plane; horizontal "
+            "normals (the centroid planner's triple) let an equal grip balance by symmetry, while under "
+            f"oracle no equal grip holds on {need['no_equal_grip'].sum()} of {need['n'].sum()} triples "
+            "(normals per planner: table grip_need). " if len(loses) else "") + f"{DECISION}.")
 
 
 GRIP_LAWS = S.ReportSpec("grip_laws", [

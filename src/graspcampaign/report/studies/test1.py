@@ -18,7 +18,8 @@ from graspcampaign.report import format as fmt
 from graspcampaign.report import style
 from graspcampaign.report.document import Col, cols
 from graspcampaign.report.render import Run
-from graspcampaign.report.spec import Claims, Figure, Finding, ReportSpec, Table, Text, Value, share, verdicts
+from graspcampaign.report.spec import Claims, Figure, Finding, ReportSpec, Table, Text, verdicts
+from graspcampaign.report.studies.test1_claims import C_MEDIAN, C_SE, CLAIMS, FRAMES, c_unresolved, fitted
 from graspcampaign.report.style import CRITERION, PAPER, legend_below, paper_handle, paper_marks, plain_log
 
 WHY = "`docs/decisions.md`, *Test 1 bench protocol* and *Test 1 in the engine*"
@@ -28,88 +29,8 @@ T4 = {"modulus_kpa": "E [kPa]", "modulus_sd_kpa": "E SD [kPa]", "n_exp": "n", "k
       "mu_s": "μs", "mu_k": "μk", "k_t_n_per_mm": "kt [N/mm]", "rho": "ρ", "tau_s": "τ [s]"}
 
 
-def _fits(run: Run, block: str | None = None, *need: str) -> pd.DataFrame:
-    f = run.memo("fitted", lambda: cal.fitted(run.records))
-    f = f[f["block"] == block] if block else f
-    return f[f[list(need)].all(axis=1)] if need else f
-
-
-FRAMES = {
-    "accepted": lambda r: _fits(r, "normal", "fit_ok", "accepted"), "normal": lambda r: _fits(r, "normal"),
-    "flagged": lambda r: _fits(r, "normal").query("~accepted"),
-    "sliding": lambda r: _fits(r, "sliding", "fit_ok"),
-    "relaxation": lambda r: _fits(r, "relaxation", "fit_ok"),
-    "cool_dry": lambda r: FRAMES["sliding"](r).query("environment == 'cool_dry'"),
-    "warm_humid": lambda r: FRAMES["sliding"](r).query("environment == 'warm_humid'"),
-    "oblique": lambda r: cal.oblique_summary(_fits(r)), "cyclic": lambda r: cal.cyclic_summary(_fits(r)),
-    "damage": lambda r: r.memo("damage", lambda: cal.damage_summary(
-        r.part("summary/damage_depth"), r.part("summary/truths"), r.radius_mm)),
-    "last_cycle": lambda r: FRAMES["cyclic"](r).sort_values("cycle_index").groupby("specimen_id").tail(1)}
-
-
-def _v(frame: str, col: str, how: str = "mean"):
-    """A Value: ``how`` of ``col`` over ``FRAMES[frame]`` (lowest/highest family mean; share: Wilson)."""
-    def value(run: Run) -> Estimate:
-        if not len(f := FRAMES[frame](run)):
-            raise ValueError(f"no {frame.replace('_', ' ')} event in the records")
-        if how == "share":
-            return share(f, f[col])
-        v = f.groupby("material")[col].mean() if how in ("lowest", "highest") else f[col]
-        return Estimate(float(v.agg({"lowest": "min", "highest": "max"}.get(how, how))), n=len(f))
-    return value
-
-
-def _t4(col: str):
-    return lambda p: (min(getattr(r, col) for r in p.table4.values()),
-                      max(getattr(r, col) for r in p.table4.values()))
-
-
-def _pair(what: str, sec: str, frame: str, col: str, paper, unit: str = "", digits: int = 2,
-          hows=("lowest", "highest"), of: str = "family") -> list[Value]:
-    return [Value(f"{what}: {h} {of}", sec, _v(frame, col, w), paper, unit, digits)
-            for h, w in zip(("lowest", "highest"), hows, strict=True)]
-
-
-CLAIMS = [
-    Value("contact exponent n, accepted fits: mean", "§7.2", _v("accepted", "n_exp"),
-          lambda p: p.n_exp_mean),
-    Value("contact exponent n, accepted fits: SD", "§7.2", _v("accepted", "n_exp", "std"),
-          lambda p: p.n_exp_sd),
-    *_pair("mean n per family", "§7.2", "accepted", "n_exp", lambda p: p.n_exp_family_range),
-    Value("force-fit RMSE, accepted fits: mean", "§7.2", _v("accepted", "rmse_pct"),
-          lambda p: p.rmse_pct_accepted, "%"),
-    Value("force-fit RMSE, all normal fits: mean", "§7.2", _v("normal", "rmse_pct"),
-          lambda p: p.rmse_pct_all, "%"),
-    *_pair("RMSE of the review-flagged fits", "§7.2", "flagged", "rmse_pct",
-           lambda p: p.flagged_rmse_pct_range, "%", 1, ("min", "max"), "fit"),
-    *(Value(f"{w.replace('_', ' ')}: median", "§7.2", _v("normal", f"{w}_mj", "median"),
-            lambda p, w=w: getattr(p, f"{w}_median_mj"), "mJ", 3)
-      for w in ("loop_area", "loading_work", "unloading_work")),
-    Value("per-event C: median (paper: Table 4's family range)", "§7.2",
-          _v("normal", "c_n_s_per_m", "median"), _t4("c_n_s_per_m"), "N s/m", 3),
-    Value("standard error of per-event C: median", "§7.2", _v("normal", "c_se_n_s_per_m", "median"),
-          None, "N s/m"),
-    *(Value(f"μs {label('environment', e)}: campaign mean", "§7.3", _v(e, "mu_s"),
-            lambda p, e=e: p.mu_s_environment[e]) for e in ("cool_dry", "warm_humid")),
-    Value("μs > μk in every family", "Table 4", lambda r: bool(r.tables["table4"].query("row == 'ours'").eval(
-        "mu_s > mu_k").all()), lambda p: all(r.mu_s > r.mu_k for r in p.table4.values())),
-    *_pair("kt per family", "§7.3", "sliding", "k_t_n_per_mm", lambda p: p.k_t_range_n_per_mm, "N/mm"),
-    Value("Coulomb prediction = sign of the slip margin", "§7.3",
-          _v("oblique", "classification_matches_margin", "share"),
-          lambda p: p.oblique_classification_match_pct, "%", 1),
-    Value("Coulomb prediction = slip on the bench", "§7.3",
-          _v("oblique", "classification_matches_measured", "share"), None, "%", 1),
-    *_pair("ρ per family", "§7.4", "relaxation", "rho", _t4("rho")),
-    *_pair("τ per family", "§7.4", "relaxation", "tau_s", _t4("tau_s"), "s", 1),
-    Value("K/K1 at the last measured cycle: lowest specimen (paper: above the target)", "§7.4",
-          _v("last_cycle", "k_ratio", "min"), lambda p: (p.k_ratio_target, 1.0), digits=3),
-    *_pair("permanent set after cycling", "§7.4", "last_cycle", "permanent_set_mm",
-           lambda p: p.permanent_set_mm, "mm", of="family mean"),
-]
-
-
 def _counts(run: Run) -> pd.DataFrame:
-    f, p, att, w = _fits(run), run.paper, run.aux("attempts"), run.aux("waveforms")
+    f, p, att, w = fitted(run), run.paper, run.aux("attempts"), run.aux("waveforms")
     nf, blocks = f[f["block"] == "normal"], f["block"].value_counts()
     rows = [("commanded attempts", len(att) or None, p.events_commanded),
             ("aborted attempts (re-run, not fitted)",
@@ -125,12 +46,29 @@ def _counts(run: Run) -> pd.DataFrame:
 
 
 def _table4(run: Run) -> pd.DataFrame:
-    ours = cal.table4(_fits(run), run.part("summary/truths")).assign(row="ours")
+    ours = cal.table4(fitted(run), run.part("summary/truths")).assign(row="ours")
     paper = [{"material": m, "row": "paper", **asdict(run.paper.table4[m])} for m in ours["material"]]
     # the paper block's key is exponent_n (in every stored run's config hash); the records' n_exp
     paper = pd.DataFrame(paper).rename(columns={"exponent_n": "n_exp"})
     return pd.concat([ours, paper]).sort_values(
         "material", key=lambda m: m.map(cal.MATERIALS.index), kind="stable")
+
+
+def _c_caption(run: Run) -> str:
+    """What Table 4's C is: the median of the accepted fits' per-event C, beside their mean per family
+    (the numbers, not a judgement of them), and whether per-event C is identifiable (its median
+    standard error against its median, :func:`c_unresolved`, as table test1_claims prints them)."""
+    cols = ["material", "c_n_s_per_m", "c_se_n_s_per_m"]  # missing: no C said of it
+    accepted, normal = (FRAMES[f](run).reindex(columns=cols) for f in ("accepted", "normal"))
+    mean = accepted.groupby("material")["c_n_s_per_m"].mean()
+    means = ", ".join(f"{label('material', m)} {fmt.number(mean[m], sig=3)}"
+                      for m in cal.MATERIALS if m in mean)  # Table 4's order
+    unresolved = c_unresolved(normal["c_n_s_per_m"].median(), normal["c_se_n_s_per_m"].median())
+    return ("Our C is the median of the accepted fits' per-event C"
+            + f" (their mean: {means} N s/m)" * bool(means)
+            + ": per-event C is not identifiable at 1 mN (its median standard error is below)" * unresolved
+            + "; a negative C, non-physical (a damper cannot add energy), is a fit of the noise; 'fits "
+            "with C < 0' counts them")
 
 
 def _margins(run: Run) -> pd.DataFrame:
@@ -237,7 +175,7 @@ def finding(run: Run) -> str:
                for q in ("contact exponent n", "force-fit RMSE"))
     differ, judged = fmt.differing(claims)
     fits = 0 if pd.isna(n.n) else int(n.n)  # the accepted fits n is the mean of (none: not computed)
-    text = (f"Over {counted(len(_fits(run)), 'completed event')} the {counted(fits, 'accepted normal fit')} "
+    text = (f"Over {counted(len(fitted(run)), 'completed event')} the {counted(fits, 'accepted normal fit')} "
             f"{plural('gives', fits, 'give')} n = "
             f"{fmt.number(n.value, n.digits)} (paper {fmt.number(n.paper, n.digits)} ± "
             f"{fmt.number(p.n_exp_sd, n.digits)}, Table 3 {p.n_exp_simulation:g}) at a mean RMSE of "
@@ -254,11 +192,12 @@ def finding(run: Run) -> str:
         text += (f"PSO re-identification over {counted(runs, 'converged run')} (Table "
                  f"5): λ1 = {fmt.number(l1['mean'], l1.digits)} (paper "
                  f"{fmt.number(l1.paper_mean, l1.digits)}){ends}. ")
-    loop = claims.set_index("quantity").reindex(["loop area: median"]).iloc[0]  # "smaller": as the claims
+    loop, c, se = (claims.set_index("quantity").reindex(["loop area: median", C_MEDIAN, C_SE]).iloc[i]
+                   for i in range(3))  # "smaller", "not identifiable": as the claims table prints them
     smaller = [w for w, r in (("fit errors", rmse), ("loops", loop)) if r.value < r.paper]
-    return text + (f"Why: the virtual bench differs by construction ({'smaller ' * bool(smaller)}"
-                   f"{' and '.join(smaller)}{', ' * bool(smaller)}C not identifiable at 1 mN, λ1 where "
-                   "Eq. 14 with Table 4's moduli puts it): "
+    why = [f"smaller {' and '.join(smaller)}"] * bool(smaller) + ["C not identifiable at 1 mN"] * \
+        c_unresolved(c.value, se.value) + ["λ1 where Eq. 14 with Table 4's moduli puts it"]
+    return text + (f"Why: the virtual bench differs by construction ({', '.join(why)}): "
                    f"{WHY}. Virtual-bench data, not hardware: synthetic waveforms drawn around Table 4 that "
                    "cannot confirm the paper's values." if run.source == "virtual" else
                    "Measured on a rig (ingested records).")
@@ -267,7 +206,7 @@ def finding(run: Run) -> str:
 # -- figures -------------------------------------------------------------------------------------------
 def _pick(run: Run, ax, block: str, what: str, **cond) -> tuple[pd.Series | None, pd.DataFrame]:
     """The first retained trace of ``block`` matching ``cond`` (Table 4's first family first)."""
-    w, f = run.aux("waveforms"), _fits(run, block)
+    w, f = run.aux("waveforms"), fitted(run, block)
     f = f[f["event_id"].isin(set(w.get("event_id", [])))]
     for k, v in cond.items():
         f = f[np.isclose(f[k].astype(float), v)]
@@ -447,10 +386,7 @@ SPEC = ReportSpec("test1_bench", [
     Table("table4", lambda run: "Table 4, ours beside the paper's: family means of the accepted normal "
           "fits (n, K, f0.5) and of the fitted slides and holds. Our E is " + ("the virtual bench's drawn "
           "specimen modulus (the bench measures none), mean and SD over specimens. " if run.source ==
-          "virtual" else "empty: the bench measures no modulus. ") + "Our C is the median of the accepted "
-          "fits' per-event C: per-event C is not identifiable at 1 mN (its median standard error is "
-          "below), a few wild fits rule its mean, and a negative C, non-physical (a damper cannot add "
-          "energy), is a fit of the noise; 'fits with C < 0' counts them", _table4, [
+          "virtual" else "empty: the bench measures no modulus. ") + _c_caption(run), _table4, [
               Col("row", "row"), Col("n_accepted_fits", "accepted normal fits", 0),
               *(Col(k, v, sig=3) for k, v in T4.items())], by=["material"]),
     Claims("test1_claims", "§7 figures in the text beside the paper's (accepted fits unless stated; "
