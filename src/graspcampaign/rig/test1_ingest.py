@@ -21,7 +21,7 @@ import numpy as np
 import pandas as pd
 
 from graspcampaign.core.words import counted
-from graspcampaign.rig.file_kinds import STUDY_TEST1, other_files
+from graspcampaign.rig.file_kinds import other_files
 from graspcampaign.rig.ingest import check_one_source
 from graspcampaign.rig.measured_file import (
     IngestError,
@@ -33,6 +33,7 @@ from graspcampaign.rig.measured_file import (
     read_table,
     table_and_label,
 )
+from graspcampaign.rig.protocol_design import STUDY_TEST1
 from graspcampaign.rig.record_schema import ATTEMPT_TYPO_LIMIT, SOURCES
 from graspcampaign.rig.test1_summary import WAVEFORM_COLUMNS
 
