@@ -333,7 +333,8 @@ def _check_commanded(table: pd.DataFrame, schedule: pd.DataFrame, label: str) ->
 
 def _check_rate(table: pd.DataFrame, daq_hz: pd.Series, label: str) -> None:
     """Refuse an event sampled at a rate not within :data:`RATE_FACTOR` of its commanded
-    ``daq_hz`` (an event of one sample has no rate)."""
+    ``daq_hz`` (each event has a rate: :func:`_check_samples` refused one of fewer than
+    :data:`MIN_EVENT_SAMPLES` samples before)."""
     events = table["event_id"]
     step = table["time_s"].groupby(events, sort=False).diff().groupby(events, sort=False).median()
     commanded = daq_hz.reindex(step.index).to_numpy(dtype=float)
