@@ -40,10 +40,11 @@ EVENT = "t1-49ea66f7c6ce"
 def filled_records(tmp_path: Path, study: str = "test2_grasp", rows: slice = slice(0, 2)) -> pd.DataFrame:
     """Rows ``rows`` of ``study``'s measured-records template (``schedule --template``, the
     :data:`T2` selection), filled in as one stable trial each: the per-finger values and their means
-    agree (``MEAN_REL_TOL``); Test 3's disturbance columns as a censored ramp."""
-    made = invoke("schedule", study, *T2[1::2], "--template", "--out", tmp_path / study)
+    agree (``MEAN_REL_TOL``); Test 3's disturbance columns as a censored ramp. The template is left
+    at ``tmp_path/sheet-template.csv`` (``--out tmp_path/sheet``), which a test may read."""
+    made = invoke("schedule", study, *T2[1::2], "--template", "--out", tmp_path / "sheet")
     assert made.exit_code == 0, made.output
-    sheet = pd.read_csv(tmp_path / f"{study}-template.csv", keep_default_na=False).iloc[rows].assign(
+    sheet = pd.read_csv(tmp_path / "sheet-template.csv", keep_default_na=False).iloc[rows].assign(
         aborted=False, outcome="stable", success=True, stable=True, slip_flag=False,
         drop_flag=False, damage_flag=False, contact_loss_flag=False, peak_slip_mm=0.1,
         sf_actual=1.5, g_geo_actual=0.5, normal_force_1_n=0.5, normal_force_2_n=0.52,
