@@ -14,6 +14,8 @@ import signal
 import stat
 from pathlib import Path
 
+import numpy as np
+import pandas as pd
 from typer.testing import CliRunner
 
 from graspcampaign.cli.main import app
@@ -24,6 +26,48 @@ runner = CliRunner()
 BG = ["seeds=1", "shape=[sphere]", "mass_kg=[0.2]", "mu=[0.3]", "planner=[heuristic,ferrari_canny]",
       "pso.n_particles=2", "pso.n_iterations=1", "runner.backend=sequential", "runner.batch_size=1"]
 SMOKE = ["shape=[sphere]", "nodes=[144]", "runner.backend=sequential"]
+
+#: the Test 2 selection the measured-file tests fill in, and Test 1's (one material, specimen and
+#: environment)
+T2 = ["--set", "params.fraction=0.06"]
+T1 = ["--set", "params.materials=[gel]", "--set", "params.specimens=[1]", "--set",
+      "params.environments=[normal_lab]"]
+#: a Test 1 event of the :data:`T1` selection: a normal press to 0.75 mm at 0.5 mm/s, held 0.2 s,
+#: logged at 100 Hz
+EVENT = "t1-49ea66f7c6ce"
+
+
+def filled_records(tmp_path: Path, study: str = "test2_grasp", rows: slice = slice(0, 2)) -> pd.DataFrame:
+    """Rows ``rows`` of ``study``'s measured-records template (``schedule --template``, the
+    :data:`T2` selection), filled in as one stable trial each: the per-finger values and their means
+    agree (``MEAN_REL_TOL``); Test 3's disturbance columns as a censored ramp. The template is left
+    at ``tmp_path/sheet-template.csv`` (``--out tmp_path/sheet``), which a test may read."""
+    made = invoke("schedule", study, *T2[1::2], "--template", "--out", tmp_path / "sheet")
+    assert made.exit_code == 0, made.output
+    sheet = pd.read_csv(tmp_path / "sheet-template.csv", keep_default_na=False).iloc[rows].assign(
+        aborted=False, outcome="stable", success=True, stable=True, slip_flag=False,
+        drop_flag=False, damage_flag=False, contact_loss_flag=False, peak_slip_mm=0.1,
+        sf_actual=1.5, g_geo_actual=0.5, normal_force_1_n=0.5, normal_force_2_n=0.52,
+        normal_force_3_n=0.54, normal_force_mean_n=0.52, deformation_1_mm=1.0,
+        deformation_2_mm=1.1, deformation_3_mm=1.2, deformation_mean_mm=1.1,
+        max_indentation_mm=1.3, contact_point_error_mm=0.4)
+    if study == "test3_disturbance":
+        sheet = sheet.assign(threshold_measured_n=2.0, threshold_measured_nm=0.0,
+                             threshold_censored=True, first_finger_measured=0,
+                             rotation_at_limit_deg=0.0)
+    return sheet.reset_index(drop=True)
+
+
+def bench_press(n: int = 301) -> pd.DataFrame:
+    """A press of :data:`EVENT` as the bench logs it (§7.1): from 0.1 mm off the specimen to
+    0.75 mm into it and back (deepest, 0.65 mm, at its middle sample), its force compressive but
+    for a small adhesion pull-off at separation."""
+    depth = 0.75 * np.sin(np.linspace(0.0, np.pi, n)) - 0.1
+    force = np.where(depth > 0, 2.0 * np.clip(depth, 0, None) ** 1.5, 0.0)
+    force[-5:] = -0.012  # the pull-off
+    return pd.DataFrame({"event_id": EVENT, "time_s": np.arange(n) * 1e-2, "displacement_mm": depth,
+                         "normal_force_n": force, "tangential_force_n": 0.0,
+                         "tangential_displacement_mm": 0.0})
 
 
 #: the two comment lines a study file begins with (its package and its schema)

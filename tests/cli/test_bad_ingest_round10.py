@@ -10,36 +10,14 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
-from cli_checks import invoke, refused
-
-T2 = ["--set", "params.fraction=0.06"]
-T1 = ["--set", "params.materials=[gel]", "--set", "params.specimens=[1]", "--set",
-      "params.environments=[normal_lab]"]
-#: the Test 1 event filled in below: a normal press to 0.75 mm at 0.5 mm/s, held 0.2 s, 100 Hz
-EVENT = "t1-49ea66f7c6ce"
-
-
-def _records(tmp_path: Path, rows: slice) -> pd.DataFrame:
-    """Rows ``rows`` of the Test 2 template (``schedule --template``), filled in as one stable
-    trial each: the per-finger values and their means agree (``MEAN_REL_TOL``)."""
-    made = invoke("schedule", "test2_grasp", "params.fraction=0.06", "--template", "--out",
-                  tmp_path / "sheet")
-    assert made.exit_code == 0, made.output
-    sheet = pd.read_csv(tmp_path / "sheet-template.csv", keep_default_na=False).iloc[rows]
-    return sheet.assign(
-        aborted=False, outcome="stable", success=True, stable=True, slip_flag=False,
-        drop_flag=False, damage_flag=False, contact_loss_flag=False, peak_slip_mm=0.1,
-        sf_actual=1.5, g_geo_actual=0.5, normal_force_1_n=0.5, normal_force_2_n=0.52,
-        normal_force_3_n=0.54, normal_force_mean_n=0.52, deformation_1_mm=1.0,
-        deformation_2_mm=1.1, deformation_3_mm=1.2, deformation_mean_mm=1.1,
-        max_indentation_mm=1.3, contact_point_error_mm=0.4).reset_index(drop=True)
+from cli_checks import EVENT, T1, T2, filled_records, invoke, refused
 
 
 @pytest.fixture
 def stored(results, tmp_path):
     """``results`` with a measured Test 2 run holding two trials: a refused ingest must leave
     them as they are."""
-    _records(tmp_path, slice(0, 2)).to_csv(tmp_path / "day1.csv", index=False)
+    filled_records(tmp_path, rows=slice(0, 2)).to_csv(tmp_path / "day1.csv", index=False)
     done = invoke("ingest", "test2_grasp", tmp_path / "day1.csv", *T2, "--root", results)
     assert done.exit_code == 0, done.output
     return results
@@ -60,7 +38,7 @@ def _workbook(frame: pd.DataFrame, path: Path, merge: str) -> Path:
     ("M1:O1", "header, column 'normal_force_1_n'"),  # it said 'Unnamed: 13', 'Unnamed: 14'
 ])
 def test_merged_cells_in_a_workbook_are_named(stored, tmp_path, merge, where):
-    book = _workbook(_records(tmp_path, slice(2, 4)), tmp_path / "day2.xlsx", merge)
+    book = _workbook(filled_records(tmp_path, rows=slice(2, 4)), tmp_path / "day2.xlsx", merge)
     refused(stored, ["ingest", "test2_grasp", book, *T2, "--root", stored],
             f"day2.xlsx, {where}: the cell is merged with others ({merge}), which leaves all of "
             "them but the first empty; unmerge them and fill in each cell.")
@@ -69,7 +47,8 @@ def test_merged_cells_in_a_workbook_are_named(stored, tmp_path, merge, where):
 def test_a_title_line_above_the_header_is_named_as_one(stored, tmp_path):
     # the old code took the title for the header: "row 1: 25 cells where the header has 1 columns"
     sheet = tmp_path / "day2.csv"
-    sheet.write_text("# bench export 2026-03-01\n" + _records(tmp_path, slice(2, 4)).to_csv(index=False))
+    sheet.write_text("# bench export 2026-03-01\n"
+                     + filled_records(tmp_path, rows=slice(2, 4)).to_csv(index=False))
     refused(stored, ["ingest", "test2_grasp", sheet, *T2, "--root", stored],
             "day2.csv, header: the first line has 1 cell where the rows below it have 25 cells (a "
             "title or note line above the header?); the header must be the first line: delete the "
@@ -79,7 +58,7 @@ def test_a_title_line_above_the_header_is_named_as_one(stored, tmp_path):
 def test_a_row_with_one_cell_is_counted_in_the_singular(stored, tmp_path):
     # the old code said "1 cells"; one data row alone is not taken for a title line's evidence
     sheet = tmp_path / "day2.csv"
-    sheet.write_text(_records(tmp_path, slice(2, 3)).to_csv(index=False) + "note\n")
+    sheet.write_text(filled_records(tmp_path, rows=slice(2, 3)).to_csv(index=False) + "note\n")
     refused(stored, ["ingest", "test2_grasp", sheet, *T2, "--root", stored],
             "day2.csv, row 2: 1 cell where the header has 25 columns (a cell with a comma needs "
             "quotes; a truncated file loses its last row's cells).")

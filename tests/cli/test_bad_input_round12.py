@@ -7,9 +7,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
 import pytest
-from cli_checks import SMOKE, invoke, mesh_study, refused
+from cli_checks import EVENT, SMOKE, T1, bench_press, invoke, mesh_study, refused
 
 KEYS = ("name, kind, description, seed, seeds, repeats, factors, zip, method_factors, params, paper, "
         "compare_with, extension, model, evaluator, features, pso, runner, output")
@@ -198,24 +197,6 @@ def test_a_method_factor_a_protocol_trial_holds_is_taken(results):
     assert done.exit_code == 0, done.output
 
 
-T1 = ["--set", "params.materials=[gel]", "--set", "params.specimens=[1]", "--set",
-      "params.environments=[normal_lab]"]
-#: a Test 1 event of that selection: a normal press to 0.75 mm at 0.5 mm/s, logged at 100 Hz
-EVENT = "t1-49ea66f7c6ce"
-
-
-def _press(n: int = 301) -> pd.DataFrame:
-    """A press as the bench logs it (§7.1): from 0.1 mm off the specimen to 0.75 mm into it and
-    back (deepest, 0.65 mm, at its middle sample), its force compressive but for a small adhesion
-    pull-off at separation."""
-    depth = 0.75 * np.sin(np.linspace(0.0, np.pi, n)) - 0.1
-    force = np.where(depth > 0, 2.0 * np.clip(depth, 0, None) ** 1.5, 0.0)
-    force[-5:] = -0.012  # the pull-off
-    return pd.DataFrame({"event_id": EVENT, "time_s": np.arange(n) * 1e-2, "displacement_mm": depth,
-                         "normal_force_n": force, "tangential_force_n": 0.0,
-                         "tangential_displacement_mm": 0.0})
-
-
 @pytest.mark.parametrize(("flipped", "row", "peak", "said"), [
     # each was stored, its fits flagged fit_failed
     ("displacement_mm", 151, f"is at -0.65 mm where its normal force peaks ({2.0 * 0.65 ** 1.5:g} N)",
@@ -224,7 +205,7 @@ def _press(n: int = 301) -> pd.DataFrame:
 ])
 def test_a_test1_channel_recorded_with_the_other_sign_is_refused(results, tmp_path, flipped, row,
                                                                  peak, said):
-    waves = _press()
+    waves = bench_press()
     waves[flipped] = -waves[flipped]
     waves.to_csv(tmp_path / "waves.csv", index=False)
     refused(results, ["ingest", "test1_bench", tmp_path / "waves.csv", *T1, "--root", results],
@@ -233,7 +214,7 @@ def test_a_test1_channel_recorded_with_the_other_sign_is_refused(results, tmp_pa
 
 
 def test_a_force_negative_throughout_is_refused(results, tmp_path):
-    waves = _press().assign(normal_force_n=-0.3)
+    waves = bench_press().assign(normal_force_n=-0.3)
     waves.to_csv(tmp_path / "waves.csv", index=False)
     refused(results, ["ingest", "test1_bench", tmp_path / "waves.csv", *T1, "--root", results],
             f"waves.csv, row 1, column 'normal_force_n': event '{EVENT}' peaks at -0.3 N, below "
@@ -245,7 +226,7 @@ def test_a_press_with_its_adhesion_pull_off_is_stored(results, tmp_path, approac
     # 1.0: logged from further off the specimen than the 0.75 mm commanded depth, so the
     # displacement's largest sample is the approach (-1 mm); a first sign rule refused it
     depth = (0.75 + approach_mm) * np.sin(np.linspace(0.0, np.pi, 301)) - approach_mm
-    _press().assign(displacement_mm=depth).to_csv(tmp_path / "waves.csv", index=False)
+    bench_press().assign(displacement_mm=depth).to_csv(tmp_path / "waves.csv", index=False)
     done = invoke("ingest", "test1_bench", tmp_path / "waves.csv", *T1, "--root", results)
     assert done.exit_code == 0, done.output
 

@@ -7,15 +7,14 @@ from __future__ import annotations
 import pandas as pd
 import pytest
 import test_bad_ingest_round10 as round10
-from cli_checks import invoke, refused
+from cli_checks import T2, filled_records, invoke, refused
 
-T2, _records = round10.T2, round10._records
 stored = round10.stored  # the fixture: a measured Test 2 run holding two trials
 
 
 def test_a_number_with_an_underscore_in_a_measured_cell_is_refused(stored, tmp_path):
     # the old code stored sf_actual '1_4' as 14.0 (Python's float reads '_' as digit grouping)
-    frame = _records(tmp_path, slice(2, 4)).astype({"sf_actual": object})
+    frame = filled_records(tmp_path, rows=slice(2, 4)).astype({"sf_actual": object})
     frame.loc[1, "sf_actual"] = "1_4"
     frame.to_csv(tmp_path / "day2.csv", index=False)
     refused(stored, ["ingest", "test2_grasp", tmp_path / "day2.csv", *T2, "--root", stored],
@@ -26,8 +25,8 @@ def test_records_on_a_second_sheet_of_a_workbook_are_named_not_left_unread(store
     # the old code stored the first sheet's two trials and said nothing of the second sheet's
     book = tmp_path / "days.xlsx"
     with pd.ExcelWriter(book) as writer:
-        _records(tmp_path, slice(2, 4)).to_excel(writer, sheet_name="day2", index=False)
-        _records(tmp_path, slice(4, 6)).to_excel(writer, sheet_name="day3", index=False)
+        filled_records(tmp_path, rows=slice(2, 4)).to_excel(writer, sheet_name="day2", index=False)
+        filled_records(tmp_path, rows=slice(4, 6)).to_excel(writer, sheet_name="day3", index=False)
     refused(stored, ["ingest", "test2_grasp", book, *T2, "--root", stored],
             "days.xlsx, header: sheet 'day3' holds records too (every required column, rows "
             "below it), but ingest reads only the workbook's first sheet, so they would not be "
@@ -35,8 +34,8 @@ def test_records_on_a_second_sheet_of_a_workbook_are_named_not_left_unread(store
             "rows to the first sheet (`graspcampaign schedule <study> --template` writes a sheet "
             "with every column).")
     with pd.ExcelWriter(book) as writer:  # a blank template kept behind the records holds none
-        _records(tmp_path, slice(2, 4)).to_excel(writer, sheet_name="day2", index=False)
-        _records(tmp_path, slice(0, 0)).to_excel(writer, sheet_name="blank", index=False)
+        filled_records(tmp_path, rows=slice(2, 4)).to_excel(writer, sheet_name="day2", index=False)
+        filled_records(tmp_path, rows=slice(0, 0)).to_excel(writer, sheet_name="blank", index=False)
     done = invoke("ingest", "test2_grasp", book, *T2, "--root", stored)
     assert done.exit_code == 0, done.output
 

@@ -9,9 +9,8 @@ from __future__ import annotations
 import pandas as pd
 import pytest
 import test_bad_ingest_round10 as round10
-from cli_checks import invoke, refused
+from cli_checks import T1, T2, bench_press, filled_records, invoke, refused
 
-T2, _records = round10.T2, round10._records
 stored = round10.stored  # the fixture: a measured Test 2 run holding two trials
 #: how ingest and the template name the cells that say "not measured" (written out here)
 NOT_MEASURED = "empty or NA, N/A, NaN, null, none (any case)"
@@ -19,7 +18,7 @@ NOT_MEASURED = "empty or NA, N/A, NaN, null, none (any case)"
 
 def _one_cell(tmp_path, column: str, value, suffix: str = ".csv"):
     """Two trials of the Test 2 template, filled in, with ``value`` in the second row's ``column``."""
-    frame = _records(tmp_path, slice(2, 4)).astype({column: object})
+    frame = filled_records(tmp_path, rows=slice(2, 4)).astype({column: object})
     frame.loc[1, column] = value
     path = tmp_path / f"day2{suffix}"
     frame.to_csv(path, index=False) if suffix == ".csv" else frame.to_excel(path, index=False)
@@ -91,7 +90,7 @@ def _hidden(tmp_path, rows=(), sheet_hidden: bool = False):
     with pd.ExcelWriter(book_path) as writer:
         if sheet_hidden:
             pd.DataFrame({"material": ["gel"]}).to_excel(writer, sheet_name="lookup", index=False)
-        _records(tmp_path, slice(2, 5)).to_excel(writer, sheet_name="day2", index=False)
+        filled_records(tmp_path, rows=slice(2, 5)).to_excel(writer, sheet_name="day2", index=False)
     book = load_workbook(book_path)
     if sheet_hidden:
         book["lookup"].sheet_state = "hidden"
@@ -178,9 +177,7 @@ def test_a_ply_whose_header_says_binary_over_a_text_body_is_named(tmp_path, sphe
 def test_a_waveform_sample_is_read_alike_from_a_csv_and_a_workbook(results, tmp_path, suffix):
     # a workbook read pandas' missing-value words ('NA' was "value nan (an empty cell or NaN) is
     # not finite"), a CSV only the empty cell: a sample is measured, no word stands for one
-    from test_bad_input_round12 import T1, _press
-
-    waves = _press().astype({"displacement_mm": object})
+    waves = bench_press().astype({"displacement_mm": object})
     waves.loc[10, "displacement_mm"] = "NA"
     path = tmp_path / f"waves{suffix}"
     waves.to_csv(path, index=False) if suffix == ".csv" else waves.to_excel(path, index=False)

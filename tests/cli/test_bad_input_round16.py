@@ -10,26 +10,9 @@ from pathlib import Path
 
 import pandas as pd
 import pytest
-from cli_checks import SMOKE, invoke, refused
+from cli_checks import SMOKE, T2, filled_records, invoke, refused
 
-T2 = ["--set", "params.fraction=0.06"]
 MATERIALS = "use one of gel, silicone_soft, bio_foam, silicone_ref."
-
-
-def _records(tmp_path: Path) -> pd.DataFrame:
-    """The first two rows of the Test 2 template (``schedule --template``), filled in as one stable
-    trial each (the per-finger values and their means agree)."""
-    made = invoke("schedule", "test2_grasp", "params.fraction=0.06", "--template", "--out",
-                  tmp_path / "sheet")
-    assert made.exit_code == 0, made.output
-    sheet = pd.read_csv(tmp_path / "sheet-template.csv", keep_default_na=False).iloc[:2]
-    return sheet.assign(
-        aborted=False, outcome="stable", success=True, stable=True, slip_flag=False,
-        drop_flag=False, damage_flag=False, contact_loss_flag=False, peak_slip_mm=0.1,
-        sf_actual=1.5, g_geo_actual=0.5, normal_force_1_n=0.5, normal_force_2_n=0.52,
-        normal_force_3_n=0.54, normal_force_mean_n=0.52, deformation_1_mm=1.0,
-        deformation_2_mm=1.1, deformation_3_mm=1.2, deformation_mean_mm=1.1,
-        max_indentation_mm=1.3, contact_point_error_mm=0.4).reset_index(drop=True)
 
 
 def _dated(frame: pd.DataFrame, path: Path, cell: str, serial: float) -> Path:
@@ -47,7 +30,7 @@ def _dated(frame: pd.DataFrame, path: Path, cell: str, serial: float) -> Path:
 def test_a_date_cell_past_year_9999_is_refused_naming_the_cell(results, tmp_path):
     # 3,000,000 days after 1900 is past 9999-12-31: openpyxl warned and read the error #VALUE!,
     # which pandas leaves empty, so row 2's peak slip was stored as not measured
-    book = _dated(_records(tmp_path), tmp_path / "day1.xlsx", "J3", 3_000_000)
+    book = _dated(filled_records(tmp_path), tmp_path / "day1.xlsx", "J3", 3_000_000)
     refused(results, ["ingest", "test2_grasp", book, *T2, "--root", results],
             "day1.xlsx, row 2, column 'peak_slip_mm': the cell (J3) is formatted as a date, but "
             "its value 3000000 is outside the dates a workbook holds (up to 9999-12-31), so it "
@@ -56,7 +39,7 @@ def test_a_date_cell_past_year_9999_is_refused_naming_the_cell(results, tmp_path
 
 def test_a_date_cell_within_the_calendar_is_named_as_a_date(results, tmp_path):
     # the neighbouring case, unchanged: a date the calendar holds is read as one and refused
-    book = _dated(_records(tmp_path), tmp_path / "day1.xlsx", "J3", 45_000)
+    book = _dated(filled_records(tmp_path), tmp_path / "day1.xlsx", "J3", 45_000)
     refused(results, ["ingest", "test2_grasp", book, *T2, "--root", results],
             "day1.xlsx, row 2, column 'peak_slip_mm': value 2023-03-15 00:00:00 is a date/time, "
             "not a number.")
@@ -79,7 +62,7 @@ def test_excels_lock_file_given_as_records_is_named_as_one(results, tmp_path):
 ])
 def test_a_file_open_in_a_spreadsheet_program_is_refused(results, tmp_path, name, lock):
     # it was stored as saved, whatever the program showed unsaved
-    frame = _records(tmp_path)
+    frame = filled_records(tmp_path)
     path = tmp_path / name
     frame.to_csv(path, index=False) if name.endswith(".csv") else frame.to_excel(path, index=False)
     (tmp_path / lock).write_bytes(b"\x0bresearcher")

@@ -6,64 +6,21 @@ exit 2, one sentence naming the file, row and column, nothing stored changed (``
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pandas as pd
 import pytest
-from cli_checks import invoke, refused
+from cli_checks import EVENT, T1, T2, bench_press, filled_records, invoke, refused
 
-T2 = ["--set", "params.fraction=0.06"]
-T1 = ["--set", "params.materials=[gel]", "--set", "params.specimens=[1]", "--set",
-      "params.environments=[normal_lab]"]
-#: the Test 1 event filled in below: a normal press to 0.75 mm at 0.5 mm/s, held 0.2 s, 100 Hz
-EVENT = "t1-49ea66f7c6ce"
 TEMPLATE = "(`graspcampaign schedule <study> --template` writes a sheet with every column)."
 TEMPLATE1 = "(`graspcampaign schedule test1_bench --template` writes a sheet with every column)."
 NO_T1 = "no event_id, time_s, displacement_mm, normal_force_n, tangential_force_n, tangential_displacement_mm"
 NO_T2 = "no trial_id, aborted, outcome, success, stable, slip_flag, drop_flag, damage_flag and more"
 
 
-def _template(tmp_path: Path, study: str) -> pd.DataFrame:
-    """The first two rows of ``study``'s measured-records template (``schedule --template``)."""
-    made = invoke("schedule", study, "params.fraction=0.06", "--template", "--out", tmp_path / study)
-    assert made.exit_code == 0, made.output
-    return pd.read_csv(tmp_path / f"{study}-template.csv", keep_default_na=False).iloc[:2]
-
-
-def _records(tmp_path: Path, study: str = "test2_grasp") -> pd.DataFrame:
-    """Two rows of the template filled in as one stable trial each (the per-finger values and
-    their means agree; Test 3's disturbance columns as a censored ramp)."""
-    sheet = _template(tmp_path, study).assign(
-        aborted=False, outcome="stable", success=True, stable=True, slip_flag=False,
-        drop_flag=False, damage_flag=False, contact_loss_flag=False, peak_slip_mm=0.1,
-        sf_actual=1.5, g_geo_actual=0.5, normal_force_1_n=0.5, normal_force_2_n=0.52,
-        normal_force_3_n=0.54, normal_force_mean_n=0.52, deformation_1_mm=1.0,
-        deformation_2_mm=1.1, deformation_3_mm=1.2, deformation_mean_mm=1.1,
-        max_indentation_mm=1.3, contact_point_error_mm=0.4)
-    if study == "test3_disturbance":
-        sheet = sheet.assign(threshold_measured_n=2.0, threshold_measured_nm=0.0,
-                             threshold_censored=True, first_finger_measured=0,
-                             rotation_at_limit_deg=0.0)
-    return sheet.reset_index(drop=True)
-
-
-def _press(n: int = 301) -> pd.DataFrame:
-    """A press of :data:`EVENT` as the bench logs it (§7.1): from 0.1 mm off the specimen to
-    0.75 mm into it and back, its force compressive but for a small adhesion pull-off at
-    separation."""
-    depth = 0.75 * np.sin(np.linspace(0.0, np.pi, n)) - 0.1
-    force = np.where(depth > 0, 2.0 * np.clip(depth, 0, None) ** 1.5, 0.0)
-    force[-5:] = -0.012  # the pull-off
-    return pd.DataFrame({"event_id": EVENT, "time_s": np.arange(n) * 1e-2, "displacement_mm": depth,
-                         "normal_force_n": force, "tangential_force_n": 0.0,
-                         "tangential_displacement_mm": 0.0})
-
-
 # -- a file of another test ----------------------------------------------------------------------
 def test_a_test2_file_given_to_test3s_ingest_says_it_is_test2s(results, tmp_path):
     # the old code listed the five Test 3 columns it lacks, without a word of what it is
-    _records(tmp_path).to_csv(tmp_path / "day1.csv", index=False)
+    filled_records(tmp_path).to_csv(tmp_path / "day1.csv", index=False)
     refused(results, ["ingest", "test3_disturbance", tmp_path / "day1.csv", *T2, "--root", results],
             "day1.csv, header: its columns are those of a Test 2 measured-records file (no "
             "threshold_measured_n, threshold_measured_nm, threshold_censored, first_finger_measured, "
@@ -73,21 +30,21 @@ def test_a_test2_file_given_to_test3s_ingest_says_it_is_test2s(results, tmp_path
 
 def test_a_test3_file_given_to_test2s_ingest_says_it_is_test3s(results, tmp_path):
     # the old code: "columns are not part of the sheet: 'threshold_measured_n', ..."
-    _records(tmp_path, "test3_disturbance").to_csv(tmp_path / "day1.csv", index=False)
+    filled_records(tmp_path, "test3_disturbance").to_csv(tmp_path / "day1.csv", index=False)
     refused(results, ["ingest", "test2_grasp", tmp_path / "day1.csv", *T2, "--root", results],
             "day1.csv, header: its columns are those of a Test 3 measured-records file; ingest it "
             f"with `graspcampaign ingest test3_disturbance FILE` {TEMPLATE}")
 
 
 def test_test1_waveforms_given_to_test2s_ingest_say_they_are_test1s(results, tmp_path):
-    _press().to_csv(tmp_path / "waves.csv", index=False)
+    bench_press().to_csv(tmp_path / "waves.csv", index=False)
     refused(results, ["ingest", "test2_grasp", tmp_path / "waves.csv", *T2, "--root", results],
             f"waves.csv, header: its columns are those of a Test 1 measured-records file ({NO_T2}); "
             f"ingest it with `graspcampaign ingest test1_bench FILE` {TEMPLATE}")
 
 
 def test_a_test2_file_given_to_test1s_ingest_says_it_is_test2s(results, tmp_path):
-    _records(tmp_path).to_csv(tmp_path / "day1.csv", index=False)
+    filled_records(tmp_path).to_csv(tmp_path / "day1.csv", index=False)
     refused(results, ["ingest", "test1_bench", tmp_path / "day1.csv", *T1, "--root", results],
             f"day1.csv, header: its columns are those of a Test 2 measured-records file ({NO_T1}); "
             f"ingest it with `graspcampaign ingest test2_grasp FILE` {TEMPLATE1}")
@@ -108,7 +65,7 @@ def test_the_commanded_sheet_given_as_waveforms_is_named(results, tmp_path):
 def test_a_total_row_below_the_records_is_named_by_its_trial_id(results, tmp_path, sums):
     # the old code: "row 3, column 'aborted': the row is not filled in (only its trial_id)", and
     # with sums beside it "value '' is not a boolean"
-    records = _records(tmp_path)
+    records = filled_records(tmp_path)
     total = {c: "" for c in records.columns} | {"trial_id": "Total"}
     if sums:
         total |= {"normal_force_1_n": 1.0, "peak_slip_mm": 0.2}
@@ -119,7 +76,7 @@ def test_a_total_row_below_the_records_is_named_by_its_trial_id(results, tmp_pat
 
 def test_a_total_row_below_the_samples_is_named_by_its_event_id(results, tmp_path):
     # the old code: "row 302, column 'time_s': value nan (an empty cell or NaN) is not finite"
-    waves = _press()
+    waves = bench_press()
     total = pd.DataFrame([{"event_id": "Total", "normal_force_n": waves["normal_force_n"].sum()}])
     pd.concat([waves, total]).to_csv(tmp_path / "waves.csv", index=False)
     refused(results, ["ingest", "test1_bench", tmp_path / "waves.csv", *T1, "--root", results],
@@ -134,14 +91,14 @@ def test_a_total_row_below_the_samples_is_named_by_its_event_id(results, tmp_pat
 ])
 def test_an_event_id_in_capitals_or_a_specimen_id_is_named_as_such(results, tmp_path, event, hint):
     # the old code: "event id '...' is not in the schedule", nothing more
-    _press().assign(event_id=event).to_csv(tmp_path / "waves.csv", index=False)
+    bench_press().assign(event_id=event).to_csv(tmp_path / "waves.csv", index=False)
     refused(results, ["ingest", "test1_bench", tmp_path / "waves.csv", *T1, "--root", results],
             f"waves.csv, row 1, column 'event_id': event id '{event}' is not in the schedule{hint}.")
 
 
 def test_a_load_cell_not_zeroed_before_a_press_is_refused(results, tmp_path):
     # the old code stored it, every force 50 mN low (a slide's mu_s 0.78 read as 0.98), accepted
-    waves = _press().assign(normal_force_n=lambda d: d["normal_force_n"] - 0.05)
+    waves = bench_press().assign(normal_force_n=lambda d: d["normal_force_n"] - 0.05)
     waves.to_csv(tmp_path / "waves.csv", index=False)
     refused(results, ["ingest", "test1_bench", tmp_path / "waves.csv", *T1, "--root", results],
             f"waves.csv, row 1, column 'normal_force_n': event '{EVENT}' reads -0.05 N before "
@@ -153,7 +110,7 @@ def test_a_load_cell_not_zeroed_before_a_press_is_refused(results, tmp_path):
 def test_a_press_with_noise_before_contact_is_stored(results, tmp_path):
     # the neighbouring case: a cell reading its noise (a few mN either way) before contact
     noise = np.random.default_rng(1).normal(0.0, 0.003, 301)
-    _press().assign(normal_force_n=lambda d: d["normal_force_n"] + noise).to_csv(
+    bench_press().assign(normal_force_n=lambda d: d["normal_force_n"] + noise).to_csv(
         tmp_path / "waves.csv", index=False)
     done = invoke("ingest", "test1_bench", tmp_path / "waves.csv", *T1, "--root", results)
     assert done.exit_code == 0, done.output
@@ -161,7 +118,7 @@ def test_a_press_with_noise_before_contact_is_stored(results, tmp_path):
 
 def test_an_event_of_one_sample_is_refused(results, tmp_path):
     # the old code stored it, its fits failed (a waveform of one sample has no rate to check)
-    _press().iloc[150:151].to_csv(tmp_path / "waves.csv", index=False)
+    bench_press().iloc[150:151].to_csv(tmp_path / "waves.csv", index=False)
     refused(results, ["ingest", "test1_bench", tmp_path / "waves.csv", *T1, "--root", results],
             f"waves.csv, row 1, column 'event_id': event '{EVENT}' has 1 sample, fewer than the 10 "
             "its fits need (a log cut short?); give its whole waveform, or leave the event out.")
@@ -170,7 +127,7 @@ def test_an_event_of_one_sample_is_refused(results, tmp_path):
 def test_a_report_of_waveforms_without_a_cyclic_event_names_the_missing_column(results, tmp_path):
     # pandas' groupby says "Columns not found: 'onset_mm'", which the report printed inside its
     # sentence: "the records have no `Columns not found: 'onset_mm'` column"
-    _press().to_csv(tmp_path / "waves.csv", index=False)
+    bench_press().to_csv(tmp_path / "waves.csv", index=False)
     done = invoke("ingest", "test1_bench", tmp_path / "waves.csv", *T1, "--root", results)
     assert done.exit_code == 0, done.output
     done = invoke("report", "test1_bench", "--run", "measured", "--root", results)

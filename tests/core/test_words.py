@@ -8,7 +8,16 @@ from pathlib import Path
 import pytest
 
 import graspcampaign
-from graspcampaign.core.words import MISSING, as_ascii, counted, listed, meant, plural, stands_for
+from graspcampaign.core.words import (
+    MISSING,
+    as_ascii,
+    as_given,
+    counted,
+    listed,
+    meant,
+    plural,
+    stands_for,
+)
 
 
 def test_a_count_reads_singular_only_for_one():
@@ -49,6 +58,18 @@ def test_listed_joins_as_a_sentence_does():
     assert listed(["a", "b"]) == "a and b"
     assert listed(["a", "b", "c"]) == "a, b and c"
     assert listed(["a", "b", "c"], last="or") == "a, b or c"
+
+
+def test_a_value_is_quoted_as_given():
+    assert as_given("--unit", "inch") == "--unit 'inch'"  # an option, as typed
+    assert as_given("unit", "inch") == "unit = 'inch'"  # a parameter or key
+    assert as_given("mass_kg", 0.0) == "mass_kg = 0.0"
+
+
+def test_no_module_quotes_a_refused_value_its_own_way():
+    """Every "--name 'value'" / "name = 'value'" of a refusal goes through ``as_given`` (plan's
+    range, material and unit checks each spelt it)."""
+    assert _lines_matching(r"""startswith\(["']-["']\) else f["']\{name\} = """, but="words.py") == []
 
 
 def test_no_module_suggests_a_near_name_its_own_way():

@@ -32,7 +32,7 @@ from graspcampaign.core.mesh_format import (
 )
 from graspcampaign.core.plausible import OBJECT_SIZE_MM
 from graspcampaign.core.winding import winding_numbers
-from graspcampaign.core.words import counted, listed, meant, plural
+from graspcampaign.core.words import as_given, counted, listed, meant, plural
 
 logger = logging.getLogger(__name__)
 
@@ -76,10 +76,10 @@ def check_unit(unit: object, name: str = "unit") -> str:
     """
     if unit in UNITS:
         return unit  # type: ignore[return-value]
-    given = f"{name} {unit!r}" if name.startswith("-") else f"{name} = {unit!r}"
     shown = f"{name} {{}}" if name.startswith("-") else "{!r}"
-    raise MeshError(f"{given} is not a length unit a mesh is read in; {meant(unit, UNITS, shown)}use "
-                    f"one of {', '.join(UNITS)} (the unit of the mesh file's coordinates).")
+    raise MeshError(f"{as_given(name, unit)} is not a length unit a mesh is read in; "
+                    f"{meant(unit, UNITS, shown)}use one of {', '.join(UNITS)} (the unit of the mesh "
+                    "file's coordinates).")
 
 
 def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:

@@ -54,6 +54,13 @@ def meant(word: str, known, shown: str = "{!r}", cutoff: float = 0.6) -> str:
     return f"did you mean {listed([shown.format(lowered[n]) for n in near], last='or')}? "
 
 
+def as_given(name: str, value: object) -> str:
+    """``value`` as given under ``name``: a command-line option (a name starting with ``-``) as
+    typed, ``--unit 'inch'``; any other name as ``unit = 'inch'`` (a parameter or a config key):
+    the one way a refusal quotes what it refuses."""
+    return f"{name} {value!r}" if name.startswith("-") else f"{name} = {value!r}"
+
+
 def stands_for(char: str) -> str | None:
     """The ASCII a non-ASCII character is taken for when read, or None: a digit of another script
     (Arabic-Indic ``٣``, full-width ``３``) its digit, a full-width letter or a no-break space its

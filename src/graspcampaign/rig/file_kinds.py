@@ -11,16 +11,19 @@ header holds.
 
 from __future__ import annotations
 
-from graspcampaign.rig.protocol import STUDY_TEST2, STUDY_TEST3
-from graspcampaign.rig.protocol_design import SCHEDULE_FRONT, TEST2_COLUMNS, TEST3_COLUMNS
+from graspcampaign.rig.protocol_design import (
+    SCHEDULE_FRONT,
+    STUDY_TEST1,
+    STUDY_TEST2,
+    STUDY_TEST3,
+    TEST2_COLUMNS,
+    TEST3_COLUMNS,
+)
 from graspcampaign.rig.record_schema import schema_for
 from graspcampaign.rig.test1_protocol import SCHEDULE_COLUMNS
 from graspcampaign.rig.test1_summary import WAVEFORM_COLUMNS
 
-__all__ = ["STUDY_TEST1", "other_files"]
-
-STUDY_TEST1 = "test1_bench"
-"""The study of Test 1 (§7), whose measured files are waveforms."""
+__all__ = ["other_files"]
 
 _TESTS = {STUDY_TEST1: "Test 1", STUDY_TEST2: "Test 2", STUDY_TEST3: "Test 3"}
 

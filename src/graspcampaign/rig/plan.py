@@ -39,6 +39,7 @@ from graspcampaign.core import slip
 from graspcampaign.core.equilibrium import EvaluatorParams
 from graspcampaign.core.planner import DEFAULT_N_CAND
 from graspcampaign.core.statics import GRAVITY
+from graspcampaign.core.words import as_given
 from graspcampaign.rig import DEFAULT_FINGERTIP_RADIUS_MM, DEFAULT_PLAN_MATERIAL
 from graspcampaign.rig.belief import (  # noqa: F401  (re-exported: the planners' knowledge)
     CHARACTERISTIC_Z,
@@ -111,8 +112,7 @@ def _check_plausible(value: object, quantity: str, unit: str, names: Mapping[str
     rng = PLAUSIBLE[quantity]
     if not rng.contains(number):
         unit = f" {unit}" if unit else ""
-        given = f"{name} {value!r}" if name.startswith("-") else f"{name} = {value!r}"
-        raise ValueError(f"{given} is out of range; allowed: {rng.text()}{unit} "
+        raise ValueError(f"{as_given(name, value)} is out of range; allowed: {rng.text()}{unit} "
                          f"({rng.why}).")
     return number
 
@@ -126,10 +126,8 @@ def _check_material(material: object, names: Mapping[str, str]) -> str:
 
     if material in FAMILIES:
         return material  # type: ignore[return-value]
-    name = names.get("material", "material")
-    given = f"{name} {material!r}" if name.startswith("-") else f"{name} = {material!r}"
-    raise ValueError(f"{given} is not a Table 4 material family; {meant(material, FAMILIES)}use one "
-                     f"of {', '.join(FAMILIES)}.")
+    raise ValueError(f"{as_given(names.get('material', 'material'), material)} is not a Table 4 "
+                     f"material family; {meant(material, FAMILIES)}use one of {', '.join(FAMILIES)}.")
 
 
 def _check_size(mesh, name: str, unit: str) -> float:

@@ -38,6 +38,7 @@ __all__ = [
     "PLANNER_LABELS",
     "SESSION_SLOTS",
     "SHAPE_ORDER",
+    "STUDY_TEST1",
     "STUDY_TEST2",
     "STUDY_TEST3",
     "TEST2_C_CELLS",
@@ -68,6 +69,7 @@ __all__ = [
 ]
 
 
+STUDY_TEST1 = "test1_bench"  # §7: its measured files are waveforms
 STUDY_TEST2 = "test2_grasp"
 STUDY_TEST3 = "test3_disturbance"
 

@@ -21,7 +21,7 @@ import numpy as np
 import pandas as pd
 
 from graspcampaign.core.words import counted
-from graspcampaign.rig.file_kinds import STUDY_TEST1, other_files
+from graspcampaign.rig.file_kinds import other_files
 from graspcampaign.rig.ingest import check_one_source
 from graspcampaign.rig.measured_file import (
     IngestError,
@@ -33,6 +33,7 @@ from graspcampaign.rig.measured_file import (
     read_table,
     table_and_label,
 )
+from graspcampaign.rig.protocol_design import STUDY_TEST1
 from graspcampaign.rig.record_schema import ATTEMPT_TYPO_LIMIT, SOURCES
 from graspcampaign.rig.test1_summary import WAVEFORM_COLUMNS
 
@@ -332,7 +333,8 @@ def _check_commanded(table: pd.DataFrame, schedule: pd.DataFrame, label: str) ->
 
 def _check_rate(table: pd.DataFrame, daq_hz: pd.Series, label: str) -> None:
     """Refuse an event sampled at a rate not within :data:`RATE_FACTOR` of its commanded
-    ``daq_hz`` (an event of one sample has no rate)."""
+    ``daq_hz`` (each event has a rate: :func:`_check_samples` refused one of fewer than
+    :data:`MIN_EVENT_SAMPLES` samples before)."""
     events = table["event_id"]
     step = table["time_s"].groupby(events, sort=False).diff().groupby(events, sort=False).median()
     commanded = daq_hz.reindex(step.index).to_numpy(dtype=float)
