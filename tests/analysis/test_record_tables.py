@@ -255,7 +255,7 @@ def test_a_trial_without_a_geometry_reading_is_not_counted_invalid():
         "valid_geometry", pa.array([None, None, True, False, True, None])).to_pandas()
     assert records["valid_geometry"].isna().sum() == 3
     gate = rec.gate_table(records, ["planner"]).iloc[0]
-    assert (gate["n"], gate["invalid_geometry"]) == (5, 1)
+    assert (gate["n"], gate["n_valid_geometry"], gate["invalid_geometry"]) == (5, 3, 1)  # of the 3 read
     assert rec.executed(records)["valid_geometry"].isna().sum() == 2  # kept missing, not False
     row = hardware.summary(rec.executed(records), ["planner"], ["valid_geometry"]).iloc[0]
     low, high = proportion_confint(2, 3, method="wilson")

@@ -194,6 +194,7 @@ def test_the_gate_table_counts_what_the_records_say(sim_root, study):
     assert gate["success_unbounded"].sum() == unbounded.sum()
     assert gate["removed"].sum() == (unbounded & ~success).sum()
     assert gate["invalid_geometry"].sum() == (~ok["valid_geometry"].astype(bool)).sum()
+    assert gate["n_valid_geometry"].sum() == ok["valid_geometry"].notna().sum()  # the trials read
 
 
 def test_real_reduced_runs_state_their_records(sim_root):

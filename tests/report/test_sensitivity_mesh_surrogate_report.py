@@ -360,6 +360,22 @@ def test_the_gate_sentence_counts_only_successes_there_were(passed, deep, expect
         in text
 
 
+def test_the_gate_sentence_counts_the_deep_contacts_of_the_trials_read():
+    # "1 of 5 executed trials have a contact deeper than the fingertip radius" counted in 5 the two
+    # trials of an older file without a valid_geometry reading (null); 1 of the 3 read is deep (by hand)
+    from types import SimpleNamespace
+
+    from graspcampaign.analysis.records import gate_table
+    from graspcampaign.report.spec import gate_text
+
+    records = pd.DataFrame({"panel": "resolution", "status": "ok", "success_unbounded": [False] * 5,
+                            "valid_geometry": [None, True, False, None, True], "success": [False] * 5})
+    text = gate_text(SimpleNamespace(tables={"gate_removed": gate_table(records, ["panel"])}))
+    assert ("removed none (no trial succeeded without it): 1 of 3 executed trials with a `valid_geometry` "
+            "reading have a contact deeper than the fingertip radius, which is no contact (no reading in 2 "
+            "of 5; table gate_removed; ") in text
+
+
 def _timings(fastest, median, min_column=True, itself=((1.0, 1.0),)):
     """A resolution panel: per trial on 1750 nodes, and on the 144-node reference mesh against itself
     (``itself``), the two meshes' fastest and median repeats [s] in the given ratios (the reference

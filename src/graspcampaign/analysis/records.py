@@ -275,7 +275,8 @@ def gate_table(records: pd.DataFrame, by: Sequence[str],
                order: Mapping[str, Sequence] | None = None) -> pd.DataFrame:
     """Return per group the ``success_unbounded`` trials the validity gate ``removed`` (a contact
     deeper than the fingertip radius), with Wilson 95 %, and the ``invalid_geometry`` trials (a recorded
-    ``valid_geometry`` False; a trial without the reading is not counted)."""
+    ``valid_geometry`` False) of the ``n_valid_geometry`` with the reading (a trial without it is in
+    ``n`` only)."""
     ok = executed(records)
     for column in ("success_unbounded", "valid_geometry", "success"):
         if column not in ok:
@@ -284,16 +285,17 @@ def gate_table(records: pd.DataFrame, by: Sequence[str],
     for key, g in groups(ok, list(by), order):
         unbounded = g[flag(g, "success_unbounded")]  # recorded as passing without the gate
         cells = rate_cells(unbounded.assign(removed=~unbounded["success"]), "removed", None, 0)
+        read = known(g, ["valid_geometry"])  # the trials with a depth reading
         rows.append({**key, "n": len(g), "success_unbounded": len(unbounded),
                      "removed": cells["successes"], "removed_pct": cells["rate_pct"],
                      "removed_low_pct": cells["wilson_low_pct"],
                      "removed_high_pct": cells["wilson_high_pct"],
                      "removed_why": "no success without the gate" if cells["rate_why"] else "",
-                     "success": int(g["success"].sum()),
-                     "invalid_geometry": int((~known(g, ["valid_geometry"])["valid_geometry"]).sum())})
+                     "success": int(g["success"].sum()), "n_valid_geometry": len(read),
+                     "invalid_geometry": int((~read["valid_geometry"]).sum())})
     return pd.DataFrame(rows, columns=[*by, "n", "success_unbounded", "removed", "removed_pct",
                                        "removed_low_pct", "removed_high_pct", "removed_why",
-                                       "success", "invalid_geometry"])
+                                       "success", "n_valid_geometry", "invalid_geometry"])
 
 
 def at_bound(frame: pd.DataFrame, parameter: str) -> pd.Series:

@@ -311,15 +311,18 @@ GATE = "gate_removed"
 
 
 def gate_text(run: Run) -> str:
-    """The Finding's sentence on the :func:`GateRemoved` table ("" without one)."""
+    """The Finding's sentence on the :func:`GateRemoved` table ("" without one): the trials deeper
+    than r of those with a ``valid_geometry`` reading, and how many have none where some do."""
     if (g := run.tables.get(GATE)) is None or not len(g):
         return ""
     successes = int(g["success_unbounded"].sum())
     removed = f"removed {int(g['removed'].sum())} of {successes} successes" if successes \
         else "removed none (no trial succeeded without it)"
-    return (f" The validity gate {removed}: {int(g['invalid_geometry'].sum())} of {int(g['n'].sum())} "
-            f"executed trials have a contact deeper than the fingertip radius, which is no contact (table "
-            f"{GATE}; `docs/decisions.md`, *{VALIDITY}*).")
+    read, n = int(g["n_valid_geometry"].sum()), int(g["n"].sum())  # a trial without the reading: n only
+    unread = f"no reading in {n - read} of {n}; " if read < n else ""
+    return (f" The validity gate {removed}: {int(g['invalid_geometry'].sum())} of {read} executed trials "
+            f"{'with a `valid_geometry` reading ' * bool(unread)}have a contact deeper than the fingertip "
+            f"radius, which is no contact ({unread}table {GATE}; `docs/decisions.md`, *{VALIDITY}*).")
 
 
 def GateRemoved(by: Sequence[str]) -> Table:
