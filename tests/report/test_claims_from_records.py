@@ -60,7 +60,23 @@ def test_the_sensitivity_opening_counts_the_slip_checks_the_records_hold(sim_roo
     n = int((records["status"] == "ok").sum())
     text = finding(_rendered(sim_root, "sensitivity", slipping))
     assert "rarely binds" not in text
-    assert f"(η ≈ 0), and the slip check fails first in {n} of {n} executed trials; " in text
+    assert f", and the slip check fails first in {n} of {n} executed trials; " in text
+
+
+def test_the_sensitivity_opening_gives_the_friction_utilisation_the_records_hold(sim_root):
+    # "the remaining normals carry the weight (η ≈ 0)" was asserted, not read; here every executed
+    # trial needs half its normal force in friction, |η| = 0.5 (signs alternate: |η|, not η, is the
+    # utilisation), and a trial without a loaded tangent contact has none (NaN)
+    from graspcampaign.report.studies.sensitivity import finding
+
+    def utilised(records: pd.DataFrame) -> pd.DataFrame:
+        return records.assign(eta=np.resize([0.5, -0.5, np.nan], len(records)))
+
+    text = finding(_rendered(sim_root, "sensitivity", utilised))
+    assert "η ≈ 0" not in text
+    assert "Why: Algorithm 2 releases contacts until the remaining normals carry the weight (median |η| " \
+           "0.50), and the slip check" in text
+    assert "(median |η| " not in finding(_rendered(sim_root, "sensitivity", lambda r: r.drop(columns="eta")))
 
 
 def test_the_test1_opening_says_smaller_fit_errors_only_where_the_claims_show_them(sim_root):

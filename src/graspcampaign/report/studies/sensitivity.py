@@ -202,7 +202,9 @@ def finding(run: Run) -> str:
         first = run.ok.get("failure_check")  # the first failing check, as recorded (none: not recorded)
         slips = "" if first is None else int((first == "slip").sum())
         slip = f", and the slip check fails first in {slips} of {len(run.ok)} executed trials" * (slips != "")
-        text += ("Why: Algorithm 2 releases contacts until the remaining normals carry the weight (η ≈ 0)"
+        used = run.ok.get("eta", pd.Series(dtype=float)).abs().dropna()  # none: no contact carries friction
+        eta = f" (median |η| {fmt.number(used.median(), 2)})" if len(used) else ""  # as recorded
+        text += (f"Why: Algorithm 2 releases contacts until the remaining normals carry the weight{eta}"
                  f"{slip}; the static loop reads neither damping, λ2 nor b (panels b, c; "
                  "`docs/decisions.md`, *Sensitivity, mesh resolution, surrogate*). ")
     return text.rstrip()
