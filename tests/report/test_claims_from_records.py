@@ -37,6 +37,24 @@ def test_the_grid_opening_says_the_rates_cannot_come_from_algorithm_2_only_where
     assert "cannot come from" not in text and "which caps 0 of " in text
 
 
+def test_the_grid_opening_gives_its_why_only_where_a_planner_differs_or_is_capped(sim_root):
+    # "Why: line 7 drives every upper contact to δ = 0 … caps k of n planners" followed the counts
+    # whatever they were, "0 of 4 planners … differ" and "caps 0 of 4" together included
+    from graspcampaign.report.studies.quasi_static import grid_finding
+
+    run = _rendered(sim_root, "baseline_grid")
+    rates, m = run.tables["success_by_planner"], run.tables["mechanism"]
+    compared = int(rates["differs"].notna().sum())
+    run.tables["success_by_planner"] = rates.assign(differs=rates["differs"].where(rates["differs"].isna(),
+                                                                                   False))
+    assert "Why: line 7 drives every upper contact" in grid_finding(run)  # still capped
+    run.tables["mechanism"] = m.assign(rho_passable=m["n"])  # and no planner capped: no gap
+    text = grid_finding(run)
+    assert f"0 of {compared} planners with a paper value differ from it (table success_by_planner). " \
+           "SPEC §8; " in text
+    assert "Why" not in text and "line 7" not in text
+
+
 def test_the_weights_opening_gives_no_why_where_h_matches_the_paper_at_every_scale(sim_root):
     from graspcampaign.report.studies.weights import finding
 

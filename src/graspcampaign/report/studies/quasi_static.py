@@ -102,7 +102,8 @@ MECHANISM = S.Table("mechanism", lambda run: (
 def grid_finding(run: Run, more: str = "") -> str:
     """The proposed planner beside the paper, how many planners differ, and why the paper's rates
     cannot come from its own Algorithm 2 (said where the records cap a planner below its paper rate;
-    per planner: table mechanism); ``more``: sentences before the decision."""
+    per planner: table mechanism; the Why only where a planner differs or is capped); ``more``:
+    sentences before the decision."""
     m, rates = run.tables["mechanism"], qs.algorithm_2(run.tables["success_by_planner"])
     t, paper = m.sum(numeric_only=True).astype(int), rates.set_index("planner")["paper_pct"]
     judged = m[m["n"].gt(0) & m["planner"].isin(paper.dropna().index)]
@@ -113,14 +114,16 @@ def grid_finding(run: Run, more: str = "") -> str:
         f"{fmt.interval(h.wilson_low_pct, h.wilson_high_pct, 1)}; paper {fmt.number(h.paper_pct, 1)}%); "
         for h in rates[(rates["planner"] == PROPOSED) & (rates["n"] > 0)].itertuples())
     cannot = "**The paper's rates cannot come from its own Algorithm 2.** " if capped else ""  # none capped
+    why = (  # a gap to explain: a planner differing from the paper or capped below its rate
+        f" Why: line 7 drives every upper contact (n_out,z > 0) to δ = 0 (released in {t.released} of "
+        f"{t.n} triples, {100 * t.released / t.n:.1f}%) and the lower ones leave a horizontal residual W·ρ "
+        "the loop never reduces: only triples with ρ·W < τ_F can pass, which caps "
+        f"{capped} of {len(judged)} planners below the paper's rate (table mechanism)." if differ or capped
+        else "")
     return (
         f"{cannot}{proposed}"
         f"{differ} of {compared} planners with a paper value "
-        f"{'differs' if differ == 1 else 'differ'} from it (table success_by_planner). Why: line 7 drives "
-        f"every upper contact (n_out,z > 0) to δ = 0 (released in {t.released} of {t.n} triples, "
-        f"{100 * t.released / t.n:.1f}%) and the lower ones leave a horizontal residual W·ρ the loop "
-        "never reduces: only triples with ρ·W < τ_F can pass, which caps "
-        f"{capped} of {len(judged)} planners below the paper's rate (table mechanism).{more} "
+        f"{'differs' if differ == 1 else 'differ'} from it (table success_by_planner).{why}{more} "
         f"SPEC §8; {DECISION}.")
 
 
