@@ -330,3 +330,28 @@ def test_every_line_style_of_the_bland_altman_panel_has_its_legend_entry(sim_roo
              if isinstance(h, Line2D) and h.get_linestyle() != "None"}
     assert {"--", ":"} <= {ls for _, ls in drawn}  # both kinds of limits drawn
     assert drawn <= shown, drawn - shown
+
+
+def test_fig30_says_why_its_hold_lies_below_the_papers_band(sim_root):
+    """Fig. 30 drew the paper's steady hold (1.4–1.7 N per finger, the paper's text on Fig. 30) far
+    above the recorded forces and its caption said nothing of it. The caption now gives the trial's mean
+    hold and, for the commanded grip, the paper's band as multiples of it (numbers by hand from the drawn
+    trial's record); inside the band, or with no commanded grip (the ``paper`` law), no cause is given."""
+    from graspcampaign.report.studies import test2
+
+    run, fig = _drawn(sim_root, "test2_grasp", "fig30_representative_grasp")
+    t = test2.representative(run)
+    caption = test2.fig30_caption(run)
+    assert t["normal_force_mean_n"] < 1.4  # the reduced virtual run grips lighter than the paper's hand
+    grip = t["grip_force_n"]
+    assert caption.endswith(  # no reading left out: the clause ends the caption
+        f"; its mean hold, {t['normal_force_mean_n']:.3g} N per finger, is below the paper's steady hold "
+        f"(1.4–1.7 N): the grip law commands {grip:.3g} N per finger, safety factor {t['sf_predicted']:g} "
+        f"for this {t['mass_kg']:g} kg object, and the paper's band is {1.4 / grip:.1f}–{1.7 / grip:.1f} "
+        "times that")
+    inside = t.copy()
+    inside["normal_force_mean_n"] = 1.5
+    assert test2.hold_gap(run, inside) == ""
+    paper_law = t.copy()
+    paper_law["grip_force_n"] = float("nan")
+    assert test2.hold_gap(run, paper_law).endswith("is below the paper's steady hold (1.4–1.7 N)")

@@ -267,9 +267,27 @@ def fig30_caption(run: Run) -> str:
     t = representative(run)
     unread = [j for j in (1, 2, 3) if pd.isna(t[f"normal_force_{j}_n"])]
     return ("Fig. 30 (schematic of the median-force stable proposed sphere grasp): commanded phases, "
-            "recorded hold forces and peak slip as levels" + (
+            "recorded hold forces and peak slip as levels" + hold_gap(run, t) + (
                 f"; {len(unread)} of 3 fingers not drawn (finger {fmt.listed(map(str, unread))}: no force "
                 "recorded)" if unread else "") + unread_slip(t))
+
+
+def hold_gap(run: Run, t: pd.Series) -> str:
+    """Fig. 30's caption clause where the trial's mean hold force lies outside the paper's steady-hold band:
+    by how much, and, where a grip law commanded the force (``grip_force_n``; NaN under ``paper``), the
+    force it commanded and the paper's band as multiples of it (no clause inside the band)."""
+    band, held = paper_of(run, lambda p: p.hold_force_per_finger_n), t["normal_force_mean_n"]
+    if not band or pd.isna(held) or band[0] <= held <= band[1]:
+        return ""
+    side = "below" if held < band[0] else "above"
+    text = (f"; its mean hold, {fmt.number(held, sig=3)} N per finger, is {side} the paper's steady hold "
+            f"({fmt.paper_text(band)} N)")
+    grip = t.get("grip_force_n")
+    if pd.isna(grip) or grip <= 0:
+        return text
+    return (text + f": the grip law commands {fmt.number(grip, sig=3)} N per finger, safety factor "
+            f"{fmt.number(t['sf_predicted'])} for this {fmt.number(t['mass_kg'])} kg object, and the paper's "
+            f"band is {fmt.interval(band[0] / grip, band[1] / grip, 1)} times that")
 
 
 def fig30(run: Run, fig) -> None:
