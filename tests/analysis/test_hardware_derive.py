@@ -80,32 +80,23 @@ def test_a_zero_measurement_has_no_percentage_error():
     assert acc.loc["all", "force_err_pct"] == pytest.approx(20.0)
 
 
-def test_a_deformation_error_compares_the_fingers_that_were_read():
-    """A buried finger has no deformation reading: the measured mean is over fingers 1-2 (1.0, 1.2:
-    1.1 mm), so the prediction is too (1.0, 1.0: 1.0 mm), |1.0 - 1.1| / 1.1 = 100/11 %, not the
-    three-finger 2.0 mm's 900/11 % (at paper scale all 32 Test 2 errors above 1000 % were such
-    trials). Three readings: 1.2 against 1.0, 20 %; none read beside a recorded mean (a measured file
-    may give only the mean): the recorded prediction, 0.6 against 0.5, 20 %."""
-    rec = _records({"heuristic": (3, 3)}).assign(
-        deformation_1_mm=[1.0, 1.0, np.nan], deformation_2_mm=[1.2, 1.0, np.nan],
-        deformation_3_mm=[np.nan, 1.0, np.nan], deformation_mean_mm=[1.1, 1.0, 0.5],
-        deformation_pred_1_mm=[1.0, 1.2, 0.6], deformation_pred_2_mm=[1.0, 1.2, 0.6],
-        deformation_pred_3_mm=[4.0, 1.2, 0.6], deformation_pred_mean_mm=[2.0, 1.2, 0.6])
-    got = hardware.derive(rec)["deformation_err_pct"]
-    assert got.tolist() == pytest.approx([100 / 11, 20.0, 20.0])
+@pytest.mark.parametrize(("quantity", "unit"), [("deformation", "mm"), ("normal_force", "n")])
+def test_an_error_compares_the_fingers_that_were_read(quantity, unit):
+    """A buried finger has no deformation reading, and an ingested file may leave a finger's force
+    empty (not measured; ingest checks the recorded mean against the fingers recorded): the measured
+    mean is over fingers 1-2 (1.0, 1.2: 1.1), so the prediction is too (1.0, 1.0: 1.0),
+    |1.0 - 1.1| / 1.1 = 100/11 %, not the three-finger 2.0's 900/11 % (at paper scale all 32 Test 2
+    deformation errors above 1000 % were such trials). Three readings: 1.2 against 1.0, 20 %; none
+    read beside a recorded mean (a measured file may give only the mean): the recorded prediction,
+    0.6 against 0.5, 20 %."""
+    def col(part: str) -> str:
+        return f"{quantity}_{part}_{unit}"
 
-
-def test_a_force_error_compares_the_fingers_that_were_read():
-    """An ingested file may leave a finger's force empty (not measured), and ingest checks the recorded
-    mean against the fingers recorded: 1.0 and 1.2 N, mean 1.1 N. The prediction over the same fingers
-    is 1.0 N, |1.0 - 1.1| / 1.1 = 100/11 %, not the three-finger 2.0 N's 900/11 %. Three read: 1.2
-    against 1.0, 20 %; none read beside a recorded mean: the recorded prediction, 0.6 against 0.5, 20 %."""
-    rec = _records({"heuristic": (3, 3)}).assign(
-        normal_force_1_n=[1.0, 1.0, np.nan], normal_force_2_n=[1.2, 1.0, np.nan],
-        normal_force_3_n=[np.nan, 1.0, np.nan], normal_force_mean_n=[1.1, 1.0, 0.5],
-        normal_force_pred_1_n=[1.0, 1.2, 0.6], normal_force_pred_2_n=[1.0, 1.2, 0.6],
-        normal_force_pred_3_n=[4.0, 1.2, 0.6], normal_force_pred_mean_n=[2.0, 1.2, 0.6])
-    got = hardware.derive(rec)["force_err_pct"]
+    rec = _records({"heuristic": (3, 3)}).assign(**{
+        col("1"): [1.0, 1.0, np.nan], col("2"): [1.2, 1.0, np.nan], col("3"): [np.nan, 1.0, np.nan],
+        col("mean"): [1.1, 1.0, 0.5], col("pred_1"): [1.0, 1.2, 0.6], col("pred_2"): [1.0, 1.2, 0.6],
+        col("pred_3"): [4.0, 1.2, 0.6], col("pred_mean"): [2.0, 1.2, 0.6]})
+    got = hardware.derive(rec)[f"{quantity.removeprefix('normal_')}_err_pct"]
     assert got.tolist() == pytest.approx([100 / 11, 20.0, 20.0])
 
 

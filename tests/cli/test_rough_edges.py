@@ -160,15 +160,33 @@ def test_a_name_from_a_known_set_is_suggested_when_misspelt(tmp_path, args, mess
                                  "svg, pdf."),
     (["--format", "md,hmtl"], "unknown report format 'hmtl'; did you mean 'html'? choose from md, "
                               "csv, json, html."),
+    # formats separated by spaces were told "unknown report format 'md csv'; did you mean 'csv'?":
+    # md was asked for too
+    (["--format", "md csv"], "--format 'md csv': report formats are separated by commas, not spaces; "
+                             "give --format md,csv."),
+    (["--format", "md csv,json"], "--format 'md csv,json': report formats are separated by commas, "
+                                  "not spaces; give --format md,csv,json."),
+    # "did you mean 'png' or 'svg'?" to a list of both, whether by spaces or commas
+    (["--figure-format", "svg png"], "--figure-format 'svg png': one figure format is taken, not 2; "
+                                     "choose one of png, svg, pdf."),
+    (["--figure-format", "svg,png"], "--figure-format 'svg,png': one figure format is taken, not 2; "
+                                     "choose one of png, svg, pdf."),
 ])
 def test_a_misspelt_report_or_figure_format_is_suggested(results, args, message):
     refused(results, ["report", "smoke", "--root", results, *args], message)
 
 
-def test_a_misspelt_mesh_unit_is_suggested(tmp_path, sphere):
-    refused(tmp_path, ["plan", sphere, "--mass-kg", "0.1", "--unit", "mmm"],
-            "--unit 'mmm' is not a length unit a mesh is read in; did you mean --unit mm? use one "
-            "of m, cm, mm (the unit of the mesh file's coordinates).")
+UNITS = "use one of m, cm, mm (the unit of the mesh file's coordinates)."
+
+
+@pytest.mark.parametrize(("unit", "said"), [
+    ("mmm", f"--unit 'mmm' is not a length unit a mesh is read in; did you mean --unit mm? {UNITS}"),
+    # "unknown unit 'inch'; use one of 'm', 'cm', 'mm'.": which of the command's values was it?
+    ("inch", f"--unit 'inch' is not a length unit a mesh is read in; {UNITS}"),
+    ("MM", f"--unit 'MM' is not a length unit a mesh is read in; did you mean --unit mm? {UNITS}"),
+])
+def test_a_misspelt_mesh_unit_is_suggested(tmp_path, sphere, unit, said):
+    refused(tmp_path, ["plan", sphere, "--mass-kg", "0.1", "--unit", unit], said)
 
 
 @pytest.mark.parametrize(("study", "stage"), [

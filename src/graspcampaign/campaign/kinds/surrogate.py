@@ -234,22 +234,23 @@ def finalize(study, params: SurrogateParams, records: pd.DataFrame, store=None
     # a trial without the label (null where an older file of the run lacks it) is no example: each
     # label's split, fit and scores are over the trials that have it (positions in ``ok``)
     labelled = {label: np.flatnonzero(ok[label].notna().to_numpy()) for label in LABELS}
+    flags = {label: flag(ok, label).to_numpy() for label in LABELS}  # read at ``labelled`` alone
     for label, rows in labelled.items():
-        y = flag(ok, label).to_numpy()[rows]
+        y = flags[label][rows]
         if min(y.sum(), len(y) - y.sum()) >= MIN_POSITIVES:
             splits[label] = train_test_split(rows, test_size=params.test_fraction,
                                              stratify=y, random_state=seed)
             split = split or splits[label]
     train, test = split or train_test_split(np.arange(len(ok)), test_size=params.test_fraction,
                                             random_state=seed)
-    jobs = [(model, x[fit_on], flag(ok, label).to_numpy()[fit_on])
+    jobs = [(model, x[fit_on], flags[label][fit_on])
             for label, (fit_on, _) in splits.items()
             for model in models(params, seed, regression=False).values()]
     jobs += [(model, x[train], values[train]) for values in targets(ok).values()
              for model in models(params, seed, regression=True).values()]
     fitted = iter(_fit_all(jobs, study.runner.workers()))
     for label in LABELS:
-        y = flag(ok, label).to_numpy()  # read at the labelled trials alone
+        y = flags[label]
         known = y[labelled[label]]
         base = {"label": label, "positives": int(known.sum()), "trials": len(known),
                 "class_balance_pct": 100 * float(known.mean()) if len(known) else np.nan}
