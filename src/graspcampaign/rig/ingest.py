@@ -298,10 +298,14 @@ def _parse(spec: FieldSpec, value, label: str, row: int):
     return number
 
 
+#: a re-run's trial id, ``<slot_id>-a<k>`` (``protocol_order`` writes it)
+_RERUN_ID = re.compile(r"(?P<slot>.+)-a(?P<k>[0-9]+)")
+
+
 def _not_scheduled(tid: str, schedule: pd.DataFrame) -> bool:
     """Whether trial id ``tid`` is neither the schedule's nor a re-run ``<slot_id>-a<k>`` of one of
     its slots (whatever ``k``: :func:`_check_ids` names a wrong attempt number)."""
-    m = re.fullmatch(r"(?P<slot>.+)-a(?P<k>[0-9]+)", tid)
+    m = _RERUN_ID.fullmatch(tid)
     return not ((schedule["trial_id"] == tid).any() or m and (schedule["slot_id"] == m["slot"]).any())
 
 
@@ -315,7 +319,7 @@ def _check_ids(df: pd.DataFrame, schedule: pd.DataFrame, label: str) -> None:
             slot_col.append(known[tid])
             attempt_col.append(int(attempts[tid]))
             continue
-        m = re.fullmatch(r"(?P<slot>.+)-a(?P<k>[0-9]+)", tid)
+        m = _RERUN_ID.fullmatch(tid)
         if m and m["slot"] in slots and 2 <= int(m["k"]) <= ATTEMPT_TYPO_LIMIT:
             slot_col.append(m["slot"])
             attempt_col.append(int(m["k"]))

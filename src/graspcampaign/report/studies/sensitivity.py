@@ -200,8 +200,8 @@ def finding(run: Run) -> str:
         text += f"Success {_varies(run, a, 'mass_kg', 'mass')} and {_varies(run, a, 'mu', 'friction')}. "
     if len(seen) < len(rows):
         first = run.ok.get("failure_check")  # the first failing check, as recorded (none: not recorded)
-        slips = "" if first is None else int((first == "slip").sum())
-        slip = f", and the slip check fails first in {slips} of {len(run.ok)} executed trials" * (slips != "")
+        slip = "" if first is None else (f", and the slip check fails first in {(first == 'slip').sum()} of "
+                                         f"{len(run.ok)} executed trials")
         used = run.ok.get("eta", pd.Series(dtype=float)).abs().dropna()  # none: no contact carries friction
         eta = f" (median |η| {fmt.number(used.median(), 2)})" if len(used) else ""  # as recorded
         text += (f"Why: Algorithm 2 releases contacts until the remaining normals carry the weight{eta}"
