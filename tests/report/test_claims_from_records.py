@@ -5,6 +5,8 @@ makes it. The Tests 2-3 "Why" clause: test_test23_opening.py."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pandas as pd
 from scipy.stats import binomtest
@@ -118,6 +120,11 @@ def test_the_wrench_opening_gives_no_why_where_every_quantity_agrees(sim_root, m
     assert "Why: at Table 3's contact constants" in wrench.finding(run)
     per_mu = wrench._per_mu
     monkeypatch.setattr(wrench, "_per_mu", lambda run: per_mu(run).assign(differs=False))
+    text = wrench.finding(run)
+    assert "quantities differ (table wrench_balance). At Table 3's contact constants" in text
+    # no cause without a difference, but a contact deeper than the fingertip radius is still flagged
+    assert "Why" not in text and text.count("a non-physical state") == 1
+    monkeypatch.setattr(wrench, "_beyond_radius_from", lambda run, trace: math.nan)  # within the radius
     text = wrench.finding(run)
     assert text.endswith("quantities differ (table wrench_balance).")
     assert "Why" not in text and "non-physical" not in text

@@ -75,13 +75,14 @@ def finding(run: Run) -> str:
             f"τ_F = {_tau(run):g} N at {settle['ours'].notna().sum()} of {len(settle)} friction levels "
             f"(paper: all by iteration {p.residual_settles_within_iterations[1]}); "
             f"{differ} of {judged} compared quantities differ (table wrench_balance).")
-    if not differ:  # nothing to explain
+    physical = deep is not None and math.isnan(deep)  # every contact within the fingertip radius
+    if not differ and (deep is None or physical):  # nothing to explain, no non-physical state to flag
         return text
-    return (f"{text} Why: at Table 3's contact constants the command drives contacts "
+    return (f"{text} {'Why: at' if differ else 'At'} Table 3's contact constants the command drives contacts "
             f"{fmt.number(run.ok['delta_max_mm'].max() / 1e3, sig=3)} m deep"
             + (f" (fingertip radius r = {r:g} mm; this run's trace has no finger-1 depth: stored before "
                "the kind recorded it)"
-               if deep is None else f", within the fingertip radius r = {r:g} mm" if math.isnan(deep) else
+               if deep is None else f", within the fingertip radius r = {r:g} mm" if physical else
                f", deeper than the fingertip radius r = {r:g} mm from iteration {deep:.0f} on (hatched in "
                "Fig. 17): a non-physical state")
             + ", recorded rather than rescaled (`docs/decisions.md`, *Simulation studies*: wrench_balance).")
