@@ -7,7 +7,8 @@ the paper column against the study files' ``paper:`` blocks, and each verdict's 
     python benchmarks/audit_tables.py RESULTS_ROOT [study ...]
 
 Studies: test1_bench, test3_disturbance (``_audit_test1.py``, ``_audit_test3.py``), friction_mass
-(the dynamic grasp), dynamic_check, sensitivity, pso_repeatability. A bootstrap interval depends on
+(the dynamic grasp), dynamic_check, sensitivity, pso_repeatability, and the quasi-static shapes,
+ablation, baseline_grid and grip_laws (``_audit_quasi_static.py``, their opening paragraphs too). A bootstrap interval depends on
 the order of its values: the records are taken in design order (``trial_index``), as the report takes them.
 """
 
@@ -30,6 +31,7 @@ from _audit_common import (
     sig3_decimals,
     wilson,
 )
+from _audit_quasi_static import audit_quasi_static
 from _audit_test1 import audit_test1
 from _audit_test3 import audit_test3
 from scipy import stats
@@ -324,7 +326,9 @@ def audit_friction_mass() -> None:
 
 STUDIES = {"test1_bench": audit_test1, "test3_disturbance": audit_test3,
            "friction_mass": audit_friction_mass, "dynamic_check": audit_dynamic_check,
-           "sensitivity": audit_sensitivity, "pso_repeatability": audit_pso}
+           "sensitivity": audit_sensitivity, "pso_repeatability": audit_pso,
+           **{s: lambda s=s: audit_quasi_static(s)
+              for s in ("shapes", "ablation", "baseline_grid", "grip_laws")}}
 
 if __name__ == "__main__":
     for s in sys.argv[2:] or STUDIES:
