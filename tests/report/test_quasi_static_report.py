@@ -7,6 +7,7 @@ pandas, scipy and statsmodels, never with the report's helpers.
 
 from __future__ import annotations
 
+import re
 import zlib
 
 import numpy as np
@@ -150,6 +151,36 @@ def test_grid_mechanism_readings_and_epsilon_tables(runs):
     assert "J is flat in λ2, b, k, c in 2 of 2 bodies" in text
     assert "not computed" not in text
     assert figures(store) == {"fig18_baselines", "h_epsilon"}
+
+
+def test_the_h_epsilon_caption_gives_the_resamples_and_seed_that_reproduce_its_intervals(runs):
+    """An outsider reproduces every interval of table h_epsilon from its caption alone: scipy's
+    percentile bootstrap of each per-trial median, then the trial-cluster resamples of the pooled ρ
+    (each candidate repeated as often as its trial is drawn, scipy's spearmanr), one generator. The
+    caption said neither count nor seed (the pooled ρ takes 2000 resamples, the rest 10000)."""
+    store = runs["grid"]
+    text = caption(store, "h_epsilon")
+    found = re.search(r"(\d+) resamples of each per-trial median, then (\d+) of the pooled ρ, from one "
+                      r"generator of seed (\d+)", text)
+    assert found, text
+    per_trial, pooled, seed = map(int, found.groups())
+    ok = ok_records(store).sort_values("trial_index")
+    fc = ok[ok["planner"] == "ferrari_canny"]
+    table, rng = read_table(store, "h_epsilon").set_index("reading"), np.random.default_rng(seed)
+    for reading, column in (("median per trial", "spearman_h_epsilon"),
+                            ("median per trial, force closure", "spearman_h_epsilon_fc")):
+        ci = stats.bootstrap((fc[column].to_numpy(float),), np.median, n_resamples=per_trial,
+                             method="percentile", rng=rng).confidence_interval
+        assert table.loc[reading, ["low", "high"]].tolist() == pytest.approx([ci.low, ci.high], rel=1e-12)
+    cand = store.read("tables/candidates").to_pandas()
+    trials = sorted(cand["trial_id"].unique())
+    pairs = [cand.loc[cand["trial_id"] == t, ["h_total", "epsilon_fc"]].to_numpy(float) for t in trials]
+    rhos = []
+    for _ in range(pooled):
+        drawn = np.concatenate([pairs[i] for i in rng.integers(0, len(trials), len(trials))])
+        rhos.append(stats.spearmanr(drawn[:, 0], drawn[:, 1]).statistic)
+    expected = np.nanquantile(rhos, [0.025, 0.975])
+    assert table.loc["pooled", ["low", "high"]].tolist() == pytest.approx(expected, rel=1e-9)
 
 
 def test_grip_laws_mcnemar_pairs_within_each_law(runs):

@@ -20,6 +20,8 @@ from graspcampaign.core.verdict import FAILURE_CHECKS
 #: A pass rests on one fingertip when one contact gives >= this share of the vertical support
 #: (``support_share_max``; descriptive, beside ``n_loaded == 1``; docs/decisions.md).
 SINGLE_FINGERTIP_SHARE = 0.95
+#: Trial-cluster resamples of the pooled H-epsilon rho (at most; docs/decisions.md, H against epsilon).
+POOLED_RESAMPLES = 2000
 #: Success as gated; without the validity gate; under |R_z|; with the torque check off.
 READINGS = ("success", "success_unbounded", "success_vertical", "success_no_torque")
 
@@ -142,7 +144,8 @@ def h_epsilon_correlation(records: pd.DataFrame, candidates: pd.DataFrame, *, co
 
     Rows: the median over the paper-law ``ferrari_canny`` trials of each trial's rho over all (and
     force-closure) candidates; rho over those trials' pooled ``candidates``, its percentile
-    interval resampling trials (a trial's candidates share a body; at most 2000 resamples)."""
+    interval resampling trials (a trial's candidates share a body; at most
+    :data:`POOLED_RESAMPLES` resamples)."""
     rng, alpha = np.random.default_rng(seed), (1 - confidence) / 2
     if not len(rows := paper_law(records).query("planner == 'ferrari_canny'")):
         raise ValueError("no executed trial of the ferrari_canny planner")
@@ -167,7 +170,7 @@ def h_epsilon_correlation(records: pd.DataFrame, candidates: pd.DataFrame, *, co
     if (k := len(np.unique(trial))) >= 2:
         ranks = sorted_pairs(pooled["h_total"].to_numpy(float),
                              pooled["epsilon_fc"].to_numpy(float), np.ones(len(trial)), trial)
-        draws, n_boot = [], min(n_resamples, 2000)
+        draws, n_boot = [], min(n_resamples, POOLED_RESAMPLES)
         for start in range(0, n_boot, 64):  # each resample's trial counts, drawn in turn, 64 a call
             draws.append(weighted_rho(*ranks, np.array(
                 [np.bincount(rng.integers(0, k, k), minlength=k)

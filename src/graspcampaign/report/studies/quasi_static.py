@@ -16,6 +16,7 @@ from matplotlib.ticker import MaxNLocator
 
 from graspcampaign.analysis import quasi_static as qs
 from graspcampaign.analysis import records as rec
+from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
 from graspcampaign.analysis.records import DESIGN_LIMIT_MM, FAILURE_CHECKS, Estimate
 from graspcampaign.analysis.vocabulary import PROPOSED, colour, label, ordered
 from graspcampaign.campaign.paper import study_paper
@@ -173,9 +174,11 @@ EPSILON = [
                 Col("n", "n"), pct_col("force_closure", "force closure"),
                 *(Col(f"epsilon_{s}", f"{s} ε", sig=3) for s in ("median", "mean", "max"))],
             by=["planner"]),
-    S.Table("h_epsilon", "Does H(G) rank grasps as the classical metric does? Spearman ρ of H(G) "
-            "and ε (ρ < 0: agreement) over the Ferrari–Canny ε planner's trials' candidates, per trial "
-            "and pooled; percentile bootstrap over trials (a trial's candidates share a body)",
+    S.Table("h_epsilon", lambda run: "Does H(G) rank grasps as the classical metric does? Spearman ρ "
+            "of H(G) and ε (ρ < 0: agreement) over the Ferrari–Canny ε planner's trials' candidates, per "
+            "trial and pooled; percentile bootstrap over trials (a trial's candidates share a body): "
+            f"{BOOTSTRAP_RESAMPLES} resamples of each per-trial median, then {qs.POOLED_RESAMPLES} of the "
+            f"pooled ρ, from one generator of seed {run.seed}",
             lambda run: qs.h_epsilon_correlation(run.records, run.aux("candidates"), seed=run.seed),
             [Col("reading", "reading"), Col("rho", "ρ (95%)", 3, low="low", high="high"),
              Col("n_trials", "trials"), Col("n_pairs", "candidates")]),
