@@ -33,10 +33,11 @@ def tally(study: str, name: str, checked: int, bad: list[str]) -> None:
 
 def auc_ci(pos: np.ndarray, neg: np.ndarray, seed: int) -> tuple[float, float]:
     """The AUC's percentile-bootstrap 95 % interval, positives and negatives resampled apart."""
-    def auc(p, n, axis=-1):  # share of (positive, negative) pairs ranked right, ties one half
-        p, n = np.moveaxis(p, axis, -1)[..., :, None], np.moveaxis(n, axis, -1)[..., None, :]
-        return ((p > n) + 0.5 * (p == n)).mean(axis=(-2, -1))
-    ci = stats.bootstrap((pos, neg), auc, paired=False, vectorized=True, n_resamples=10_000, batch=500,
+    def auc(p, n, axis=-1):  # Mann-Whitney U / (n_pos n_neg) from mid-ranks: ties count one half
+        p, n = np.moveaxis(p, axis, -1), np.moveaxis(n, axis, -1)
+        ranks = stats.rankdata(np.concatenate([p, n], axis=-1), axis=-1)[..., :p.shape[-1]]
+        return (ranks.sum(axis=-1) - p.shape[-1] * (p.shape[-1] + 1) / 2) / (p.shape[-1] * n.shape[-1])
+    ci = stats.bootstrap((pos, neg), auc, paired=False, vectorized=True, n_resamples=10_000,
                          method="percentile", rng=np.random.default_rng(seed)).confidence_interval
     return float(ci.low), float(ci.high)
 
