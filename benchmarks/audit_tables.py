@@ -1,4 +1,4 @@
-"""Recompute every cell of the report tables of six studies from their Parquet records, as an outsider:
+"""Recompute every cell of the report tables of eleven studies from their Parquet records, as an outsider:
 pandas, scipy and statsmodels from docs/records.md's column meanings and the paper's statistics
 (Wilson intervals, McNemar, percentile bootstraps, medians, OLS, CVs), never graspcampaign's code;
 the paper column against the study files' ``paper:`` blocks, and each verdict's words against its
@@ -7,9 +7,12 @@ the paper column against the study files' ``paper:`` blocks, and each verdict's 
     python benchmarks/audit_tables.py RESULTS_ROOT [study ...]
 
 Studies: test1_bench, test3_disturbance (``_audit_test1.py``, ``_audit_test3.py``), friction_mass
-(the dynamic grasp), dynamic_check, sensitivity, pso_repeatability, and the quasi-static shapes,
-ablation, baseline_grid and grip_laws (``_audit_quasi_static.py``, their opening paragraphs too). A bootstrap interval depends on
-the order of its values: the records are taken in design order (``trial_index``), as the report takes them.
+(the dynamic grasp), dynamic_check, sensitivity, pso_repeatability; the quasi-static shapes, ablation,
+baseline_grid and grip_laws (``_audit_quasi_static.py``, their opening paragraphs too); smoke,
+heuristic_weights, wrench_balance, mesh_resolution and surrogate (``_audit_small.py``; its surrogate part in
+``_audit_surrogate.py``, which refits the stored models with scikit-learn, and each opening paragraph's
+numbers). A bootstrap interval depends on the order of its values: the records are taken in design order
+(``trial_index``), as the report takes them.
 """
 
 from __future__ import annotations
@@ -32,6 +35,7 @@ from _audit_common import (
     wilson,
 )
 from _audit_quasi_static import audit_quasi_static
+from _audit_small import STUDIES as SMALL
 from _audit_test1 import audit_test1
 from _audit_test3 import audit_test3
 from scipy import stats
@@ -326,7 +330,7 @@ def audit_friction_mass() -> None:
 
 STUDIES = {"test1_bench": audit_test1, "test3_disturbance": audit_test3,
            "friction_mass": audit_friction_mass, "dynamic_check": audit_dynamic_check,
-           "sensitivity": audit_sensitivity, "pso_repeatability": audit_pso,
+           "sensitivity": audit_sensitivity, "pso_repeatability": audit_pso, **SMALL,
            **{s: lambda s=s: audit_quasi_static(s)
               for s in ("shapes", "ablation", "baseline_grid", "grip_laws")}}
 

@@ -149,12 +149,14 @@ def finding(run: Run) -> str:
                  f"{best['model_label']}; paper {fmt.number(p.residual_r2, 2)} for |R_z|)" + (
                      ", worse than predicting the held-out mean. " if best["r2"] < 0 else ". "))
     if "mlp" in (tm := t["surrogate_timing"].set_index("what")).index:
+        # each call's time beside its own paper time, as table surrogate_timing prints them
         us = [f"{fmt.number(tm.loc[w, 'time_us'], fmt.decimals(tm['time_us']))} µs, median of "
-              f"{tm.loc[w, 'n_timed']:.0f}" for w in ("mlp", "pso_call")]  # as table surrogate_timing
-        paper_us = fmt.number(tm.loc["mlp", "paper_time_us"], fmt.decimals(tm["paper_time_us"]))
+              f"{tm.loc[w, 'n_timed']:.0f}; paper "
+              f"{fmt.number(tm.loc[w, 'paper_time_us'], fmt.decimals(tm['paper_time_us']))} µs"
+              for w in ("mlp", "pso_call")]
         text += (f"An MLP prediction ({us[0]}) is {fmt.number(tm.loc['mlp', 'speedup'], sig=3)}× faster "
-                 f"than the brief PSO call ({us[1]}; paper {paper_us} µs, "
-                 f"{fmt.number(tm.loc['mlp', 'paper_speedup'], 0)}×; table surrogate_timing). ")
+                 f"than the brief PSO call ({us[1]}); the paper's is "
+                 f"{fmt.number(tm.loc['mlp', 'paper_speedup'], 0)}× (table surrogate_timing). ")
     check = "|R_z|" if (run.config.get("evaluator") or {}).get("residual_check") == "vertical" else "‖R‖"
     passed = int(flag(run.ok, "residual_ok").sum())  # the configured residual check alone (missing: not)
     if passed == len(deep) and not deep.any():  # nothing non-physical, every scenario passes: no why
