@@ -194,7 +194,9 @@ def check_preparations(store, manifest: dict, study) -> None:
     every session of the run, when preparations its recorded trials used are gone or damaged:
     computed again they would be this session's (a PSO identification under other ``pso.*``
     settings), not the ones those trials used, and no file says which session computed each. A
-    drift of the design alone computes them as they were. Changes nothing.
+    preparation is gone too where the repair will move its file aside (damaged, a copy's name,
+    another file holding the body with other values: both moved). A drift of the design alone
+    computes them as they were. Changes nothing.
 
     Raises
     ------
@@ -203,6 +205,7 @@ def check_preparations(store, manifest: dict, study) -> None:
         (the run resumed as started, where its sessions so far ran its first settings), or a
         new run.
     """
+    from graspcampaign.campaign.integrity import file_problems, layout_problems, owners
     from graspcampaign.campaign.verify import verify_file
 
     first, now = (provenance.preparation_hash(config) for config in
@@ -212,12 +215,14 @@ def check_preparations(store, manifest: dict, study) -> None:
     if ran <= {now}:  # a session stored before sessions kept it: of the first config's hash
         return
 
-    def whole(part: str) -> list:  # a damaged file is moved aside by the repair
-        return [facts(path) for path in store._listing(part)[0] if verify_file(path) is None]
-
-    used = {body for own in whole("records") if own.account is not None
+    records = [facts(path) for path in store._listing("records")[0] if verify_file(path) is None]
+    used = {body for own in records if own.account is not None
             for body in own.account.used().values()}
-    gone = sorted(used - set().union(*(own.bodies for own in whole("prepared"))))
+    # the files of prepared/ the repair keeps (a duplicate's bodies stay in the file it copies)
+    aside = {p.path for p in [*layout_problems(store),
+                              *file_problems(store, "prepared", owners(store, manifest))]}
+    kept = [facts(path) for path in store._listing("prepared")[0] if path not in aside]
+    gone = sorted(used - set().union(*(own.bodies for own in kept)))
     if not gone:
         return
     if ran == {first}:
