@@ -6,18 +6,20 @@ recorded, its study-level tables in ``summary/<name>/``. A file or a directory o
 goes missing (deleted by hand, lost in a copy) leaves every remaining file intact, so no check of
 one file can see it; the report would then silently lack those rows. So the run keeps account:
 
-- each records file written by ``run`` says in its Parquet metadata (``PARTS_KEY``), per trial,
-  how many rows it stored in each trace table and the ``body_id`` of the preparation it used
-  (row by row, :mod:`graspcampaign.campaign.account`); compaction merges the accounts, a rewrite
-  keeps those of the trials it keeps (:mod:`graspcampaign.campaign.records`);
+- each records file written by ``run`` (or ``ingest``: its trials store nothing else) says in
+  its Parquet metadata (``PARTS_KEY``), per trial, how many rows it stored in each trace table and
+  the ``body_id`` of the preparation it used (row by row, :mod:`graspcampaign.campaign.account`);
+  compaction merges the accounts, a rewrite keeps those of the trials it keeps
+  (:mod:`graspcampaign.campaign.records`);
 - ``summary/complete.json`` lists, besides every table ``finalize`` returned (``tables``), those
   it stored rows of (``written``).
 
 :func:`part_problems` compares the two with what is stored: a trial whose trace rows are gone
 (a whole table, or one file of it), a body whose preparation is gone, a summary table that was
-written and is gone. A records file without an account (stored before it was kept, or by
-``ingest``, which stores no trace) and a ``complete.json`` without ``written`` are read as before:
-nothing is asked of them (docs/decisions.md, "A run keeps account of its other parts").
+written and is gone. A records file without an account (stored before it was kept) and a
+``complete.json`` without ``written`` are read as before: nothing is asked of them
+(docs/decisions.md, "A run keeps account of its other parts"); :func:`unaccounted` says which
+trials ``status`` therefore cannot answer for.
 """
 
 from __future__ import annotations
@@ -122,6 +124,24 @@ def part_problems(store, full: bool = True, manifest: dict | None = None) -> lis
             what = f"no {part} table, which summary/{COMPLETE} says was stored"
             out.append(Problem(store.path / part, what, "recompute", part, what))
     return out
+
+
+def unaccounted(store, manifest: dict) -> str | None:
+    """Why a lost trace file or preparation of some recorded trials cannot be named: their records
+    files were stored before runs kept the account (none of an ingested run's: ``ingest`` stores
+    nothing besides records), as a clause completing "…; " of ``status``'s ``checked``; None if
+    every records file has its account. No account is made up for them after the fact."""
+    if provenance.ingested(manifest):
+        return None
+    bare = [path for path in store._listing("records")[0] if facts(path).account is None]
+    if not bare:
+        return None
+    first = bare[0].relative_to(store.path).as_posix()
+    files = first if len(bare) == 1 else f"{counted(len(bare), 'records file')}, first {first},"
+    n = sum(len(facts(path).ids) for path in bare)
+    return (f"the traces and preparations of {counted(n, 'recorded trial')} are not accounted "
+            f"({files} stored before runs kept that account), so one of theirs lost cannot be "
+            "named")
 
 
 def _body_ids(store) -> set[str]:

@@ -262,6 +262,7 @@ def run_status(root: Path | str, study: str, run: str = "default") -> dict[str, 
     UserInputError
         No such run; for a study that is neither known nor in ``root``, the available studies.
     """
+    from graspcampaign.campaign.parts import unaccounted
     from graspcampaign.campaign.provenance import run_complete, run_size
 
     store, manifest = open_run(root, study, run)
@@ -282,7 +283,7 @@ def run_status(root: Path | str, study: str, run: str = "default") -> dict[str, 
         "code_version": manifest.get("code_version"),
         "started_at": manifest.get("started_at"),
         "finished_at": manifest.get("finished_at"),
-        "checked": CHECKED,
+        "checked": "; ".join(filter(None, (CHECKED, unaccounted(store, manifest)))),
     }
 
 
