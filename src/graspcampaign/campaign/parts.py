@@ -126,19 +126,18 @@ def part_problems(store, full: bool = True, manifest: dict | None = None) -> lis
     return out
 
 
-def unaccounted(store, manifest: dict) -> str | None:
+def unaccounted(store, manifest: dict, records: dict) -> str | None:
     """Why a lost trace file or preparation of some recorded trials cannot be named: their records
-    files were stored before runs kept the account (none of an ingested run's: ``ingest`` stores
-    nothing besides records), as a clause completing "…; " of ``status``'s ``checked``; None if
-    every records file has its account. No account is made up for them after the fact."""
-    if provenance.ingested(manifest):
+    files (of ``records``, the run's live ones and their facts) were stored before runs kept the
+    account (none of an ingested run's: ``ingest`` stores nothing besides records), as a clause
+    completing "…; " of ``status``'s ``checked``; None if every records file has its account. No
+    account is made up for them after the fact."""
+    bare = {path: own for path, own in records.items() if own.account is None}
+    if not bare or provenance.ingested(manifest):
         return None
-    bare = [path for path in store._listing("records")[0] if facts(path).account is None]
-    if not bare:
-        return None
-    first = bare[0].relative_to(store.path).as_posix()
+    first = min(bare).relative_to(store.path).as_posix()
     files = first if len(bare) == 1 else f"{counted(len(bare), 'records file')}, first {first},"
-    n = sum(len(facts(path).ids) for path in bare)
+    n = sum(len(own.ids) for own in bare.values())
     return (f"the traces and preparations of {counted(n, 'recorded trial')} are not accounted "
             f"({files} stored before runs kept that account), so one of theirs lost cannot be "
             "named")

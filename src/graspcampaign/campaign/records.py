@@ -321,31 +321,32 @@ class RunStore:
         """The records' ``columns`` (:meth:`read`) and the run's data source (:meth:`source`),
         from one listing of its files (raises DamagedRunError)."""
         table, read = self._read("records", columns)
-        return table, self._source(read, manifest)
+        return table, self._source(read.values(), manifest)
 
-    def _read(self, part: str, columns: list[str] | None) -> tuple[pa.Table, list[Facts]]:
-        """:meth:`read`'s table and the facts of the files it was read from; each file's columns
-        under their current names (:func:`~graspcampaign.campaign.former_names.current_names`)."""
+    def _read(self, part: str, columns: list[str] | None) -> tuple[pa.Table, dict[Path, Facts]]:
+        """:meth:`read`'s table and the files it was read from with their facts; each file's
+        columns under their current names (:func:`~graspcampaign.campaign.former_names.current_names`)."""
         names, read = self.former_names(part), []
         stored = columns if columns is None else [
             *columns, *(former for former, current in names.items() if current in columns)]
         for path in self._live(part):
             with self._refusing(path):
                 table, own = read_file(path, stored)
-                read.append((current_names(table, names), own))
+                read.append((current_names(table, names), own, path))
         if not read:
-            return pa.table({}), []
-        schema = pa.unify_schemas([table.schema.remove_metadata() for table, _ in read],
+            return pa.table({}), {}
+        schema = pa.unify_schemas([table.schema.remove_metadata() for table, _, _ in read],
                                   promote_options="permissive")
         if columns is not None:
             schema = pa.schema([schema.field(c) for c in columns if c in schema.names])
         tables = []
-        for table, _ in read:
+        for table, _, _ in read:
             for field in schema:
                 if field.name not in table.column_names:
                     table = table.append_column(field, pa.nulls(table.num_rows, field.type))
             tables.append(table.select(schema.names).replace_schema_metadata(None))
-        return pa.concat_tables(tables, promote_options="permissive").cast(schema), [own for _, own in read]
+        return (pa.concat_tables(tables, promote_options="permissive").cast(schema),
+                {path: own for _, own, path in read})
 
     def dataset(self, part: str = "records"):
         """Return a ``pyarrow.dataset.Dataset`` over the verified files of ``part`` (large runs).
