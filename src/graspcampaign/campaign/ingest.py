@@ -7,7 +7,9 @@ is refused: measured records are never overwritten. The kind also sees the run's
 so its own rules across files (e.g. one executed attempt per slot in Tests 2-3) hold across
 ``ingest`` calls too. A run holds the records of one config: an ingest under another resolved
 config (a changed seed; a changed description is none) is refused as drift, as ``run`` refuses it; the
-code version may change between ingests (the rig's records do not depend on it).
+code version may change between ingests (the rig's records do not depend on it). The records
+file keeps the account a run's keeps (:mod:`graspcampaign.campaign.parts`): its trials stored
+nothing else.
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from graspcampaign.campaign import provenance
+from graspcampaign.campaign.account import Account
 from graspcampaign.campaign.grid import content_hash
 from graspcampaign.campaign.kind import get_kind
 from graspcampaign.campaign.paths import check_case_twin, check_root, input_file_problem, shown
@@ -88,8 +91,11 @@ def _ingest(study: StudyCfg, paths: list[str], store: RunStore, run: str,
         manifest = provenance.new_manifest(study, run, len(study_trials(study, kind, params)), source)
         manifest.update(as_given(*given, study) if given else {})
     chash = provenance.config_hash(study, manifest)
+    # the account a run's records keep (campaign.parts), through its one encoding: an ingested
+    # trial stores nothing besides its record (no trace, no preparation)
     store.write_shard("records", content_hash(sorted(r["trial_id"] for r in rows)), rows,
-                      metadata=config_metadata(chash), strings=ERROR_COLUMNS)
+                      metadata=config_metadata(chash), strings=ERROR_COLUMNS,
+                      account=Account.from_entries({row["trial_id"]: {} for row in rows}))
     manifest["sessions"].append({"ingested": [str(p) for p in paths], "rows": len(rows),
                                  "at": provenance.now_utc(), "config_hash": chash})
     manifest["n_recorded"] = len(stored_ids) + len(rows)

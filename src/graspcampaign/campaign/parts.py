@@ -6,18 +6,20 @@ recorded, its study-level tables in ``summary/<name>/``. A file or a directory o
 goes missing (deleted by hand, lost in a copy) leaves every remaining file intact, so no check of
 one file can see it; the report would then silently lack those rows. So the run keeps account:
 
-- each records file written by ``run`` says in its Parquet metadata (``PARTS_KEY``), per trial,
-  how many rows it stored in each trace table and the ``body_id`` of the preparation it used
-  (row by row, :mod:`graspcampaign.campaign.account`); compaction merges the accounts, a rewrite
-  keeps those of the trials it keeps (:mod:`graspcampaign.campaign.records`);
+- each records file written by ``run`` (or ``ingest``: its trials store nothing else) says in
+  its Parquet metadata (``PARTS_KEY``), per trial, how many rows it stored in each trace table and
+  the ``body_id`` of the preparation it used (row by row, :mod:`graspcampaign.campaign.account`);
+  compaction merges the accounts, a rewrite keeps those of the trials it keeps
+  (:mod:`graspcampaign.campaign.records`);
 - ``summary/complete.json`` lists, besides every table ``finalize`` returned (``tables``), those
   it stored rows of (``written``).
 
 :func:`part_problems` compares the two with what is stored: a trial whose trace rows are gone
 (a whole table, or one file of it), a body whose preparation is gone, a summary table that was
-written and is gone. A records file without an account (stored before it was kept, or by
-``ingest``, which stores no trace) and a ``complete.json`` without ``written`` are read as before:
-nothing is asked of them (docs/decisions.md, "A run keeps account of its other parts").
+written and is gone. A records file without an account (stored before it was kept) and a
+``complete.json`` without ``written`` are read as before: nothing is asked of them
+(docs/decisions.md, "A run keeps account of its other parts"); :func:`unaccounted` says which
+trials ``status`` therefore cannot answer for.
 """
 
 from __future__ import annotations
@@ -124,6 +126,23 @@ def part_problems(store, full: bool = True, manifest: dict | None = None) -> lis
     return out
 
 
+def unaccounted(store, manifest: dict, records: dict) -> str | None:
+    """Why a lost trace file or preparation of some recorded trials cannot be named: their records
+    files (of ``records``, the run's live ones and their facts) were stored before runs kept the
+    account (none of an ingested run's: ``ingest`` stores nothing besides records), as a clause
+    completing "…; " of ``status``'s ``checked``; None if every records file has its account. No
+    account is made up for them after the fact."""
+    bare = {path: own for path, own in records.items() if own.account is None}
+    if not bare or provenance.ingested(manifest):
+        return None
+    first = min(bare).relative_to(store.path).as_posix()
+    files = first if len(bare) == 1 else f"{counted(len(bare), 'records file')}, first {first},"
+    n = sum(len(own.ids) for own in bare.values())
+    return (f"the traces and preparations of {counted(n, 'recorded trial')} are not accounted "
+            f"({files} stored before runs kept that account), so one of theirs lost cannot be "
+            "named")
+
+
 def _body_ids(store) -> set[str]:
     """The body ids of the run's stored preparations (its files verified in full: their
     facts)."""
@@ -194,7 +213,9 @@ def check_preparations(store, manifest: dict, study) -> None:
     every session of the run, when preparations its recorded trials used are gone or damaged:
     computed again they would be this session's (a PSO identification under other ``pso.*``
     settings), not the ones those trials used, and no file says which session computed each. A
-    drift of the design alone computes them as they were. Changes nothing.
+    preparation is gone too where the repair will move its file aside (damaged, a copy's name,
+    another file holding the body with other values: both moved). A drift of the design alone
+    computes them as they were. Changes nothing.
 
     Raises
     ------
@@ -203,6 +224,7 @@ def check_preparations(store, manifest: dict, study) -> None:
         (the run resumed as started, where its sessions so far ran its first settings), or a
         new run.
     """
+    from graspcampaign.campaign.integrity import file_problems, layout_problems, owners
     from graspcampaign.campaign.verify import verify_file
 
     first, now = (provenance.preparation_hash(config) for config in
@@ -212,12 +234,14 @@ def check_preparations(store, manifest: dict, study) -> None:
     if ran <= {now}:  # a session stored before sessions kept it: of the first config's hash
         return
 
-    def whole(part: str) -> list:  # a damaged file is moved aside by the repair
-        return [facts(path) for path in store._listing(part)[0] if verify_file(path) is None]
-
-    used = {body for own in whole("records") if own.account is not None
+    records = [facts(path) for path in store._listing("records")[0] if verify_file(path) is None]
+    used = {body for own in records if own.account is not None
             for body in own.account.used().values()}
-    gone = sorted(used - set().union(*(own.bodies for own in whole("prepared"))))
+    # the files of prepared/ the repair keeps (a duplicate's bodies stay in the file it copies)
+    aside = {p.path for p in [*layout_problems(store),
+                              *file_problems(store, "prepared", owners(store, manifest))]}
+    kept = [facts(path) for path in store._listing("prepared")[0] if path not in aside]
+    gone = sorted(used - set().union(*(own.bodies for own in kept)))
     if not gone:
         return
     if ran == {first}:

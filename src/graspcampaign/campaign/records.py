@@ -25,12 +25,12 @@ compacted file lists its source shards, a rewritten file the file it replaces. A
 still present after a crash between "write the new file" and "delete the old ones" is ignored and
 removed, so no trial is ever read twice. A records file also names the configs of the sessions
 that wrote it (``graspcampaign.config_hashes``), so a shard of another config is recognised.
-A records file written by ``run`` also says what each of its trials stored in the run's other
-parts (``graspcampaign.parts``, :mod:`graspcampaign.campaign.account`), merged by a compaction and
-kept for the trials a rewrite keeps. Every file the tool writes carries the SHA-256 of its values
-(``graspcampaign.content_sha256``, :func:`content_digest`), checked whenever the file is verified:
-a file rewritten with other values (a row removed, a value or a column changed) is damaged even
-though its page checksums are valid.
+A records file written by ``run`` or ``ingest`` also says what each of its trials stored in the
+run's other parts (``graspcampaign.parts``, :mod:`graspcampaign.campaign.account`), merged by a
+compaction (never with a shard stored before it was kept) and kept for the trials a rewrite keeps.
+Every file the tool writes carries the SHA-256 of its values (``graspcampaign.content_sha256``,
+:func:`content_digest`), checked whenever the file is verified: a file rewritten with other values
+(a row removed, a value or a column changed) is damaged even though its page checksums are valid.
 
 Reading never changes a run: a damaged file raises :class:`~graspcampaign.errors.DamagedRunError`
 naming the run and the file. Whether the run as a whole is what its manifest says (its layout, no
@@ -321,31 +321,32 @@ class RunStore:
         """The records' ``columns`` (:meth:`read`) and the run's data source (:meth:`source`),
         from one listing of its files (raises DamagedRunError)."""
         table, read = self._read("records", columns)
-        return table, self._source(read, manifest)
+        return table, self._source(read.values(), manifest)
 
-    def _read(self, part: str, columns: list[str] | None) -> tuple[pa.Table, list[Facts]]:
-        """:meth:`read`'s table and the facts of the files it was read from; each file's columns
-        under their current names (:func:`~graspcampaign.campaign.former_names.current_names`)."""
+    def _read(self, part: str, columns: list[str] | None) -> tuple[pa.Table, dict[Path, Facts]]:
+        """:meth:`read`'s table and the files it was read from with their facts; each file's
+        columns under their current names (:func:`~graspcampaign.campaign.former_names.current_names`)."""
         names, read = self.former_names(part), []
         stored = columns if columns is None else [
             *columns, *(former for former, current in names.items() if current in columns)]
         for path in self._live(part):
             with self._refusing(path):
                 table, own = read_file(path, stored)
-                read.append((current_names(table, names), own))
+                read.append((current_names(table, names), own, path))
         if not read:
-            return pa.table({}), []
-        schema = pa.unify_schemas([table.schema.remove_metadata() for table, _ in read],
+            return pa.table({}), {}
+        schema = pa.unify_schemas([table.schema.remove_metadata() for table, _, _ in read],
                                   promote_options="permissive")
         if columns is not None:
             schema = pa.schema([schema.field(c) for c in columns if c in schema.names])
         tables = []
-        for table, _ in read:
+        for table, _, _ in read:
             for field in schema:
                 if field.name not in table.column_names:
                     table = table.append_column(field, pa.nulls(table.num_rows, field.type))
             tables.append(table.select(schema.names).replace_schema_metadata(None))
-        return pa.concat_tables(tables, promote_options="permissive").cast(schema), [own for _, own in read]
+        return (pa.concat_tables(tables, promote_options="permissive").cast(schema),
+                {path: own for _, own, path in read})
 
     def dataset(self, part: str = "records"):
         """Return a ``pyarrow.dataset.Dataset`` over the verified files of ``part`` (large runs).
@@ -452,22 +453,29 @@ class RunStore:
             self._rewrite(path, table.filter(rows if keep else pc.invert(rows)), tag, own.account)
 
     def compact(self, part: str = "records") -> None:
-        """Merge the live part shards of ``part`` into one compacted file, crash-safely.
+        """Merge the live part shards of ``part`` into one compacted file, crash-safely; records
+        shards with an account and those without one (stored before it was kept) into one each.
 
         Every shard is verified in full again (:func:`~graspcampaign.campaign.verify.read_file`):
         a compacted file is never written from a shard that was not checked as it is read.
         """
-        directory = self._dir(part)
-        live, _ = self._listing(part)
-        parts = [p for p in live if p.name.startswith("part-")]
+        parts = [p for p in self._listing(part)[0] if p.name.startswith("part-")]
         if len(parts) < 2:
             return
-        tables, accounts = [], []
+        shards = []
         for path in parts:
             with self._refusing(path):
-                table, own = read_file(path, again=True)
-            tables.append(table)
-            accounts.append(own.account)
+                shards.append((path, *read_file(path, again=True)))
+        # merged into an account, a trial of a file without one would be accounted as having
+        # stored nothing else (made up after the fact): its traces lost would never be named
+        for group in ([s for s in shards if s[2].account is not None],
+                      [s for s in shards if s[2].account is None]):
+            if len(group) > 1:
+                self._merge(part, group)
+
+    def _merge(self, part: str, shards: list[tuple[Path, pa.Table, Facts]]) -> None:
+        """Merge ``shards`` (path, table, facts) of ``part`` into one compacted file."""
+        tables = [table for _, table, _ in shards]
         schema = pa.unify_schemas([t.schema.remove_metadata() for t in tables],
                                   promote_options="permissive")
         configs = sorted({h for t in tables for h in json.loads(
@@ -475,16 +483,14 @@ class RunStore:
         merged = pa.concat_tables(
             [t.replace_schema_metadata(None) for t in tables], promote_options="permissive"
         ).cast(schema)
-        names = sorted(p.name for p in parts)
+        names = sorted(path.name for path, _, _ in shards)
         merged = merged.replace_schema_metadata(
             {SOURCES_KEY: json.dumps(names).encode(),
              **({CONFIG_KEY: json.dumps(configs).encode()} if configs else {})})
-        # every trial any of them accounts for (none: none of them has an account, a file stored
-        # before it was kept or by ingest); a trial of a file without one stored nothing else
-        held = [account for account in accounts if account is not None]
-        _write_atomic(merged, directory / f"compact-{content_hash(names)}.parquet",
+        held = [own.account for _, _, own in shards if own.account is not None]
+        _write_atomic(merged, self._dir(part) / f"compact-{content_hash(names)}.parquet",
                       merge(held) if held else None)
-        for path in parts:
+        for path, _, _ in shards:
             path.unlink(missing_ok=True)
 
     def compact_all(self) -> None:

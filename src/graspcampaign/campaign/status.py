@@ -262,16 +262,18 @@ def run_status(root: Path | str, study: str, run: str = "default") -> dict[str, 
     UserInputError
         No such run; for a study that is neither known nor in ``root``, the available studies.
     """
+    from graspcampaign.campaign.parts import unaccounted
     from graspcampaign.campaign.provenance import run_complete, run_size
 
     store, manifest = open_run(root, study, run)
-    table, source = store.read_records(manifest, ["status"])  # pyarrow only: status answers fast
+    # pyarrow only: status answers fast; the files listed once, for the accounts too
+    table, records = store._read("records", ["status"])
     statuses = table.column("status").to_pylist() if table.num_rows else []
     return {
         "study": study,
         "run": run,
         "path": str(store.path),
-        "source": source,  # as the run's report says
+        "source": store._source(records.values(), manifest),  # as the run's report says
         "n_trials": run_size(manifest),  # of the design it now runs (--allow-drift may change it)
         "n_recorded": len(statuses),
         "n_ok": statuses.count("ok"),
@@ -282,7 +284,7 @@ def run_status(root: Path | str, study: str, run: str = "default") -> dict[str, 
         "code_version": manifest.get("code_version"),
         "started_at": manifest.get("started_at"),
         "finished_at": manifest.get("finished_at"),
-        "checked": CHECKED,
+        "checked": "; ".join(filter(None, (CHECKED, unaccounted(store, manifest, records)))),
     }
 
 

@@ -125,7 +125,8 @@ class Facts:
     bad_id: str | None = None
     #: What each trial of a records file stored in the run's other parts (``PARTS_KEY``,
     #: :mod:`graspcampaign.campaign.account`), read once, when the file is verified
-    #: (:func:`account_of`); None: a file written before this was kept, or by ``ingest``
+    #: (:func:`account_of`); None: a file written before this was kept (by ``run``, or
+    #: ``ingest`` before it kept one too)
     account: Account | None = None
     #: the rows of each trial where some trial has more than one (a trace table's), else None
     counts: dict | None = None
