@@ -20,6 +20,13 @@ PLANNERS = ["heuristic", "centroid", "no_pso", "force_balance", "random"]
 CLASSES = {"stable": "stable", "marginal": "success", "partial": "partial", "slip": "failure_slip",
            "drop": "failure_drop", "damage": "failure_damage", "contact_loss": "failure_contact_loss"}
 SEED = 801  # campaigns/test2_grasp.yaml
+PRINTED = {"parity_slope": 2, "parity_r2": 3, "force_err_median_pct": 1, "deformation_err_median_pct": 1,
+           "contact_point_err_median_mm": 1, "slip_friction_kruskal_h": 0, "proposed_stable_pct": 0,
+           "proposed_marginal_pct": 0, "proposed_drop_damage_contact_pct_max": 1,
+           "group_e_success_pct_range": 0}
+"""Decimals the paper prints (paper.txt §8.2-8.6: "slope 0.98 ... R² = 0.720", "13.8 %", "14.1 %", "3.6 mm",
+"H = 578", "71 % ... 7 %", "between 90 and 100 %"): the verdict rule's last printed digit; "under 4 %", a
+bound, is kept at one decimal, as the shares beside it are."""
 
 
 def pred_over_read(d: pd.DataFrame, stem: str, unit: str) -> pd.Series:
@@ -192,11 +199,12 @@ def audit_test2() -> None:
     for s, m in parts.items():
         g = prop[m]
         pv = tuple(ref["group_e_success_pct_range"]) if s[:2] == "E " else key.get(s)
+        digits = PRINTED["group_e_success_pct_range"] if s[:2] == "E " else 1
         r = {"scope": s, **summary_rows(g, False), "n_stable": len(g), **rate_block(g, "is_stable", "stable"),
-             "paper_text": None if pv is None else f"{pv[0]:.1f}–{pv[1]:.1f}" if isinstance(pv, tuple)
-             else f"{pv:.1f}"}
+             "digits": digits, "paper_text": None if pv is None else
+             f"{pv[0]:.{digits}f}–{pv[1]:.{digits}f}" if isinstance(pv, tuple) else f"{pv:.1f}"}
         r["differs"] = judge(r["success_pct"], pv, 1, r["success_low_pct"], r["success_high_pct"]) \
-            if isinstance(pv, float) else judge(r["success_pct"], pv, 1)
+            if isinstance(pv, float) else judge(r["success_pct"], pv, digits)
         r["difference"] = r["success_pct"] - pv if isinstance(pv, float) else None
         rows.append(r)
     compare(study, "test2_groups", pd.DataFrame(rows), ["scope"])
@@ -206,11 +214,12 @@ def audit_test2() -> None:
         w = rate_block(prop, f"is_{k}", "rate")
         pv = ref["proposed_stable_pct"] if v == "stable" else ref["proposed_marginal_pct"] if v == "success" \
             else ref["table7"]["heuristic"][t7p[v]] if v in t7p else None
-        rows.append({"outcome": v, "n": len(prop), "rate_pct": w["rate_pct"],
+        digits = PRINTED.get({"stable": "proposed_stable_pct", "success": "proposed_marginal_pct"}.get(v), 1)
+        rows.append({"outcome": v, "n": len(prop), "rate_pct": w["rate_pct"], "digits": digits,
                      "wilson_low_pct": w["rate_low_pct"], "wilson_high_pct": w["rate_high_pct"],
                      "paper_pct": pv,
                      "difference": None if pv is None else w["rate_pct"] - pv,
-                     "differs": judge(w["rate_pct"], pv, 1, w["rate_low_pct"], w["rate_high_pct"])})
+                     "differs": judge(w["rate_pct"], pv, digits, w["rate_low_pct"], w["rate_high_pct"])})
     compare(study, "test2_outcomes", pd.DataFrame(rows), ["outcome"])
     rates_table(study, "test2_materials", rec, "material", ref["success_by_material_pct"])
     rates_table(study, "test2_matched", rec[rec["matched"].fillna(False).astype(bool)], "planner",
@@ -336,10 +345,11 @@ def audit_t2_claims(study, ref, prop, acc, mc, tests) -> None:
     rows = []
     bad = prop["is_drop"] | prop["is_damage"] | prop["is_contact_loss"]
     low, high = wilson(int(bad.sum()), len(prop))
-    v, top = 100 * bad.mean(), ref["proposed_drop_damage_contact_pct_max"]
+    v, top, dd = 100 * bad.mean(), ref["proposed_drop_damage_contact_pct_max"], PRINTED[
+        "proposed_drop_damage_contact_pct_max"]
     rows.append({"quantity": "proposed drop, damage or contact loss", "value": v, "low": 100 * low,
-                 "high": 100 * high, "n": len(prop), "paper": f"0.0–{top:.1f}", "difference": None,
-                 "differs": judge(v, (0.0, top), 1)})
+                 "high": 100 * high, "n": len(prop), "paper": f"{0:.{dd}f}–{top:.{dd}f}", "digits": dd,
+                 "difference": None, "differs": judge(v, (0.0, top), dd)})
     a = acc.loc["all"]
     for q, col, key, n in (
             ("parity slope (through the origin)", "parity_slope", "parity_slope", "n_parity"),
@@ -349,17 +359,17 @@ def audit_t2_claims(study, ref, prop, acc, mc, tests) -> None:
              "n_deformation_err"),
             ("median contact-point error", "contact_point_error_mm", "contact_point_err_median_mm",
              "n_contact_point_error")):
-        rows.append({"quantity": q, "value": a[col], "n": a[n], "paper": ref[key],
-                     "difference": a[col] - ref[key], "differs": judge(a[col], ref[key], 2)})
+        rows.append({"quantity": q, "value": a[col], "n": a[n], "paper": ref[key], "digits": PRINTED[key],
+                     "difference": a[col] - ref[key], "differs": judge(a[col], ref[key], PRINTED[key])})
     m, pm = mc.loc["centroid"], ref["mcnemar_centroid"]
     for q, col, key, digits in (("McNemar χ² proposed vs centroid", "chi2_cc", "chi2", 1),
                                 ("pairs won by proposed (vs centroid)", "reference_only", "won", 0),
                                 ("pairs lost by proposed (vs centroid)", "compared_only", "lost", 0)):
-        rows.append({"quantity": q, "value": m[col], "n": m["pairs"], "paper": pm[key],
+        rows.append({"quantity": q, "value": m[col], "n": m["pairs"], "paper": pm[key], "digits": digits,
                      "difference": m[col] - pm[key], "differs": judge(m[col], pm[key], digits)})
     rows.append({"quantity": "discordant-pair odds ratio", "value": m["odds_ratio"],
                  "low": m["odds_ratio_low"], "high": m["odds_ratio_high"], "n": m["pairs"],
-                 "paper": pm["odds_ratio"],
+                 "paper": pm["odds_ratio"], "digits": 1,
                  "difference": m["odds_ratio"] - pm["odds_ratio"],
                  "differs": judge(m["odds_ratio"], pm["odds_ratio"], 1, m["odds_ratio_low"],
                                   m["odds_ratio_high"])})
@@ -367,9 +377,9 @@ def audit_t2_claims(study, ref, prop, acc, mc, tests) -> None:
             ("χ² planner × success (proposed, centroid, random)", "chi2_planner_success", "statistic", 1),
             ("Kruskal–Wallis p, force error across planners", "force_err_kruskal_p", "p", 3),
             ("Kruskal–Wallis H, peak slip across friction levels", "slip_friction_kruskal_h", "statistic",
-             1))):
+             PRINTED["slip_friction_kruskal_h"]))):
         v = tests[col].iloc[i]
-        rows.append({"quantity": q, "value": v, "n": tests["n"].iloc[i], "paper": ref[key],
+        rows.append({"quantity": q, "value": v, "n": tests["n"].iloc[i], "paper": ref[key], "digits": digits,
                      "difference": v - ref[key], "differs": judge(v, ref[key], digits)})
     compare(study, "test2_claims", pd.DataFrame(rows), ["quantity"], rtol=1e-7)
 

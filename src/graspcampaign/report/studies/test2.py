@@ -330,8 +330,10 @@ def groups(run: Run) -> pd.DataFrame:
     out = hw.summary(hw.scoped(d, parts), ["scope"], ["is_stable"], order={"scope": list(parts)})
     out["paper"] = [paper_of(run, getattr, "group_e_success_pct_range" if s[:2] == "E " else key[s])
                     if s[:2] == "E " or s in key else None for s in out["scope"]]
-    out["paper_text"] = [p and fmt.paper_text(p, 1) for p in out["paper"]]
-    return verdicts(out, "success_pct", "paper", "success_low_pct", "success_high_pct", unit="%")
+    # the decimals the paper prints: §8.6 "between 90 and 100 %" for group E, one elsewhere
+    out["digits"] = [0 if s[:2] == "E " else 1 for s in out["scope"]]
+    out["paper_text"] = [p and fmt.paper_text(p, d) for p, d in zip(out["paper"], out["digits"], strict=True)]
+    return verdicts(out, "success_pct", "paper", "success_low_pct", "success_high_pct", "digits", unit="%")
 
 
 def outcomes(run: Run) -> pd.DataFrame:
@@ -342,7 +344,8 @@ def outcomes(run: Run) -> pd.DataFrame:
     t7 = {"failure_slip": "slip_pct", "failure_drop": "drop_pct", "failure_damage": "damage_pct"}
     out["paper_pct"] = [paper_of(run, getattr, ref[v]) if v in ref else paper_of(
         run, lambda p, v: getattr(p.table7[PROPOSED], t7[v]), v) if v in t7 else None for v in out["outcome"]]
-    return verdicts(out, "rate_pct", "paper_pct", "wilson_low_pct", "wilson_high_pct", unit="%")
+    out["digits"] = [0 if v in ref else 1 for v in out["outcome"]]  # §8.2 prints "71 %" and "7 %"
+    return verdicts(out, "rate_pct", "paper_pct", "wilson_low_pct", "wilson_high_pct", "digits", unit="%")
 
 
 def power(run: Run) -> pd.DataFrame:
@@ -372,14 +375,16 @@ def claims(run: Run):
     yield ("proposed drop, damage or contact loss", "§8.2, Fig. 28c", share(d, d["is_drop"] | d["is_damage"]
            | d["is_contact_loss"]), (0.0, p.proposed_drop_damage_contact_pct_max), "%", 1)
     acc, mc = t["test2_force_accuracy"].iloc[0], t["test2_mcnemar"].set_index("compared").loc["centroid"]
-    for q, col, key, unit in (
-            ("parity slope (through the origin)", "parity_slope", "parity_slope", ""),
-            ("parity R² (uncentred)", "parity_r2", "parity_r2", ""),
-            ("median |normal-force error|", "force_err_pct", "force_err_median_pct", "%"),
-            ("median |deformation error|", "deformation_err_pct", "deformation_err_median_pct", "%"),
-            ("median contact-point error", "contact_point_error_mm", "contact_point_err_median_mm", "mm")):
+    # digits: the decimals §8.3 prints ("slope 0.98", "R² = 0.720", "13.8 %", "14.1 %", "3.6 mm"), the
+    # verdict rule's unit of the paper's last printed digit
+    for q, col, key, unit, digits in (
+            ("parity slope (through the origin)", "parity_slope", "parity_slope", "", 2),
+            ("parity R² (uncentred)", "parity_r2", "parity_r2", "", 3),
+            ("median |normal-force error|", "force_err_pct", "force_err_median_pct", "%", 1),
+            ("median |deformation error|", "deformation_err_pct", "deformation_err_median_pct", "%", 1),
+            ("median contact-point error", "contact_point_error_mm", "contact_point_err_median_mm", "mm", 1)):
         n = acc["n_parity" if col.startswith("parity") else f"n_{things(col)}"]
-        yield q, "§8.3, Fig. 29", Estimate(acc[col], n=n), getattr(p, key), unit, 2
+        yield q, "§8.3, Fig. 29", Estimate(acc[col], n=n), getattr(p, key), unit, digits
     yield from mcnemar_rows(mc, p.mcnemar_centroid, "§8.5")
     yield ("discordant-pair odds ratio", "§8.5", Estimate(*mc[["odds_ratio", "odds_ratio_low",
            "odds_ratio_high", "pairs"]]), p.mcnemar_centroid.odds_ratio, "", 1)
@@ -387,7 +392,7 @@ def claims(run: Run):
             ("χ² planner × success (proposed, centroid, random)", "chi2_planner_success", "statistic", 1),
             ("Kruskal–Wallis p, force error across planners", "force_err_kruskal_p", "p", 3),
             ("Kruskal–Wallis H, peak slip across friction levels", "slip_friction_kruskal_h", "statistic",
-             1)), strict=True):
+             0)), strict=True):  # §8.6 prints "H = 578"
         yield q, "§8.5-8.6", Estimate(r[col], n=r["n"]), getattr(p, key), "", digits
 
 
@@ -415,7 +420,7 @@ SPEC = ReportSpec("test2_grasp", [
     Table("test2_outcomes", "Primary outcome class of each trial of the proposed planner (§8.2, Fig. 28c; "
           "slip, drop, damage: Table 7); success = stable + marginal success", outcomes, [
               Col("n", "n"), Col("rate_pct", "share % (Wilson 95%)", 1, low="wilson_low_pct",
-                                 high="wilson_high_pct"), Col("paper_pct", "paper %", 1),
+                                 high="wilson_high_pct"), Col("paper_pct", "paper %", "digits"),
               Col("verdict", "verdict")], by=["outcome"]),
     Rates("test2_materials", "Success per material, all planners (§8.2, Fig. 28b)", ["material"],
           lambda p, k: p.success_by_material_pct[k["material"]]),
