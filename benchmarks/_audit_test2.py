@@ -289,6 +289,8 @@ def audit_t2_classifier(study: str, d: pd.DataFrame, ref: dict) -> None:
                 r["above_base"] = bool(r["precision"] > r["base"])
                 pc = scores.get(s, (None,) * 3) if belief == "paper" else (None,) * 3
                 r |= dict(zip(("paper_accuracy", "paper_precision", "paper_recall"), pc, strict=True))
+                # the accuracy's decimals as printed: §8.4 "80.6 %" (0.806) and "0.93"
+                r["paper_accuracy_digits"] = {"all": 3, "heuristic": 2}.get(s) if pc[0] is not None else None
                 r["differs"] = judge(r["precision"], pc[1], 2, r["precision_low"], r["precision_high"]) \
                     if tp + fp else None
                 r["difference"] = r["precision"] - pc[1] if pc[1] is not None and tp + fp else None

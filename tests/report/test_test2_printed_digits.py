@@ -61,3 +61,15 @@ def test_outcome_shares_and_group_e_print_whole_percents_and_are_judged_at_one_p
         e["scope"], "paper %"]) == {"90–100"}
     assert list(e["differs"].astype(str)) == [str(not 90 <= round(v) <= 100) for v in e["success_pct"]]
     assert pd.api.types.is_numeric_dtype(e["success_pct"])
+
+
+@pytest.mark.parametrize(("study", "name", "printed"), [
+    ("test2_grasp", "test2_classifier", {"all": "0.806", "proposed H(G)": "0.93"}),  # §8.4: "80.6 %", "0.93"
+    ("test3_disturbance", "test3_retention_classifier", {"all": "0.888"})])  # §9.5: "88.8 % accuracy"
+def test_the_classifier_tables_print_the_papers_accuracy_as_it_prints_it(sim_root, study, name, printed):
+    """The paper's accuracy column printed every value at two decimals: 80.6 % read 0.81, 88.8 % 0.89."""
+    md = md_table(report_md(sim_root / study / "default"), name)
+    shown = md[md["belief error"] == "paper"].drop_duplicates("scope").set_index("scope")
+    paper = shown.columns[[c == "paper" for c in shown.columns]]
+    assert len(paper) == 3  # beside precision, recall and accuracy, in that order
+    assert {s: shown.loc[s].iloc[list(shown.columns).index("accuracy") + 1] for s in printed} == printed

@@ -4,6 +4,7 @@ Tables 6-9 show the records and their ``belief_error = none`` counterfactual (tr
 from __future__ import annotations
 
 from dataclasses import asdict
+from decimal import Decimal
 
 import numpy as np
 import pandas as pd
@@ -120,6 +121,10 @@ def classifier(name: str, caption: str, scopes, paper) -> Table:
             out[f"paper_{k}"] = [ref.get(s, [None] * 3)[i] if b == "paper" else None
                                  for s, b in zip(out["scope"], out["belief_error"], strict=True)]
         out["why"] = np.where(out["flagged"] > 0, "", "no trial flagged")
+        # the paper's accuracy with the decimals it prints (§8.4 "80.6 %" = 0.806 and "0.93"; §9.5 0.888):
+        # two decimals printed 0.806 as 0.81
+        out["paper_accuracy_digits"] = pd.array([None if fmt.is_missing(v) else typed_decimals(v)
+                                                 for v in out["paper_accuracy"]], dtype="Int64")
         return verdicts(out, "precision", "paper_precision", "precision_low", "precision_high", digits=2)
     fracs = [c for k, h in (("base", "base success rate"), ("precision", "precision"), ("recall", "recall"))
              for c in (Col(k, f"{h} (Wilson 95%)", 3, low=f"{k}_low", high=f"{k}_high",
@@ -127,8 +132,13 @@ def classifier(name: str, caption: str, scopes, paper) -> Table:
                        *[Col(f"paper_{k}", "paper", 2)] * (k != "base"))]
     return Table(name, caption, compute, [
         *(Col(c, c) for c in ("n", "flagged", "fp")), *fracs, Col("above_base", "precision above base"),
-        Col("accuracy", "accuracy", 3), Col("paper_accuracy", "paper", 2),
+        Col("accuracy", "accuracy", 3), Col("paper_accuracy", "paper", "paper_accuracy_digits"),
         Col("verdict", "verdict (precision)")], by=["flag", "belief_error", "scope"])
+
+
+def typed_decimals(value: float) -> int:
+    """The decimals of a paper value as its study file types it (0.806: 3, 0.93: 2, 1.0: 1)."""
+    return max(0, -Decimal(repr(float(value))).as_tuple().exponent)
 
 
 def matched_mcnemar(name: str, caption: str) -> Table:
