@@ -119,3 +119,18 @@ def judge(ours, ref, digits, low=None, high=None):
 def sig3_decimals(value: float) -> int:
     """Decimals giving ``value`` three significant digits (Tables 3 and 5 as printed)."""
     return max(0, 2 - math.floor(math.log10(abs(value))))
+
+
+def opening(study: str) -> str:
+    """The report's opening paragraph (the first after 'What this shows')."""
+    text = (ROOT / study / "default" / "report" / "report.md").read_text()
+    return text.split("## What this shows", 1)[1].strip().split("\n\n", 1)[0]
+
+
+def check_opening(study: str, parts: list[str]) -> None:
+    """Each expected phrase (a number in its words) is in the opening paragraph."""
+    text, bad = opening(study), [p for p in parts if p not in opening(study)]
+    SUMMARY.append((study, "opening", len(parts), len(bad)))
+    print(f"{study} / opening: {len(parts)} phrases checked, {len(bad)} mismatches")
+    for b in bad:
+        print(f"    not in the opening: {b!r}\n    opening: {text[:600]!r}")

@@ -1,4 +1,4 @@
-"""Recompute every cell of the report tables of eleven studies from their Parquet records, as an outsider:
+"""Recompute every cell of the report tables of sixteen studies from their Parquet records, as an outsider:
 pandas, scipy and statsmodels from docs/records.md's column meanings and the paper's statistics
 (Wilson intervals, McNemar, percentile bootstraps, medians, OLS, CVs), never graspcampaign's code;
 the paper column against the study files' ``paper:`` blocks, and each verdict's words against its
@@ -6,12 +6,13 @@ the paper column against the study files' ``paper:`` blocks, and each verdict's 
 
     python benchmarks/audit_tables.py RESULTS_ROOT [study ...]
 
-Studies: test1_bench, test3_disturbance (``_audit_test1.py``, ``_audit_test3.py``), friction_mass
-(the dynamic grasp), dynamic_check, sensitivity, pso_repeatability; the quasi-static shapes, ablation,
-baseline_grid and grip_laws (``_audit_quasi_static.py``, their opening paragraphs too); smoke,
-heuristic_weights, wrench_balance, mesh_resolution and surrogate (``_audit_small.py``; its surrogate part in
-``_audit_surrogate.py``, which refits the stored models with scikit-learn, and each opening paragraph's
-numbers). A bootstrap interval depends on the order of its values: the records are taken in design order
+Studies: test1_bench, test2_grasp, test3_disturbance (``_audit_test1.py``, ``_audit_test2.py``,
+``_audit_test3.py``), friction_mass (the dynamic grasp), dynamic_check, sensitivity, pso_repeatability,
+gravity_settle; the quasi-static shapes, ablation, baseline_grid and grip_laws (``_audit_quasi_static.py``);
+smoke, heuristic_weights, wrench_balance, mesh_resolution and surrogate (``_audit_small.py``; its surrogate
+part in ``_audit_surrogate.py``, which refits the stored models with scikit-learn); the opening paragraphs
+of all but test1_bench, test3_disturbance, friction_mass, dynamic_check, sensitivity and pso_repeatability.
+A bootstrap interval depends on the order of its values: the records are taken in design order
 (``trial_index``), as the report takes them.
 """
 
@@ -27,16 +28,19 @@ from _audit_common import (
     RADIUS_MM,
     SUMMARY,
     aux,
+    check_opening,
     compare,
     judge,
     paper,
     records,
     sig3_decimals,
+    table,
     wilson,
 )
 from _audit_quasi_static import audit_quasi_static
 from _audit_small import STUDIES as SMALL
 from _audit_test1 import audit_test1
+from _audit_test2 import audit_test2
 from _audit_test3 import audit_test3
 from scipy import stats
 
@@ -328,9 +332,79 @@ def audit_friction_mass() -> None:
     compare(study, "status", rec.groupby("status").size().rename("n").reset_index(), ["status"])
 
 
+# ---------------------------------------------------------------- gravity_settle (Sec. 5.4, Fig. 10)
+def audit_gravity_settle() -> None:
+    """Each settle and audit cell from the records' definitions and the trace tables: squash ratio from the
+    settled node heights, shape difference from the node positions, the last settle-trace sample, the
+    observed order from the step study, the energy audit's balance from its energy columns."""
+    study, rec = "gravity_settle", records("gravity_settle")
+    ok = rec[rec["status"] == "ok"].set_index("integrator").loc[["rk4", "implicit"]].reset_index()
+    shape, settle = aux(study, "tables", "shape"), aux(study, "tables", "settle")
+    conv, energy = aux(study, "tables", "step_convergence"), aux(study, "tables", "energy_audit")
+    first = shape[shape["trial_id"] == ok["trial_id"].iloc[0]].set_index("node")[["x_m", "y_m", "z_m"]]
+    rows = []
+    for _, r in ok.iterrows():
+        t = r["trial_id"]
+        s = shape[shape["trial_id"] == t].set_index("node")
+        trace = settle[settle["trial_id"] == t].sort_values("time_s")
+        c = conv[conv["trial_id"] == t].sort_values("dt_s", ascending=False)
+        en = energy[(energy["trial_id"] == t) & (energy["step"] == "dt")].sort_values("time_s")
+        half = energy[(energy["trial_id"] == t) & (energy["step"] == "dt/2")]
+        dt, err = c["dt_s"].to_numpy(float), c["max_position_error_m"].to_numpy(float)
+        kinds = en[["kinetic_energy_j", "elastic_energy_j", "gravitational_energy_j"]].to_numpy()
+        mech, scale = kinds.sum(axis=1), np.abs(kinds).max()  # mechanical energy over the sampled steps
+        rows.append({
+            "integrator": r["integrator"], "nodes": len(s), "mass_kg": 0.4, "paper_settles": True,
+            "squash_ratio": np.ptp(s["z_m"]) / np.ptp(s["z0_m"]),
+            "shape_difference_max_mm": 1e3 * np.linalg.norm(s[["x_m", "y_m", "z_m"]] - first, axis=1).max(),
+            "simulated_time_s": trace["time_s"].iloc[-1], "final_kinetic_energy_uj": 1e6 * trace[
+                "kinetic_energy_j"].iloc[-1], "max_kinetic_energy_j": trace["kinetic_energy_j"].max(),
+            "n_steps": round(trace["time_s"].iloc[-1] / r["dt_s"]), "dt_us": 1e6 * r["dt_s"],
+            "expected_order": {"rk4": 4, "implicit": 2}[r["integrator"]],
+            "observed_order": math.log(err[-2] / err[-1]) / math.log(dt[-2] / dt[-1]),
+            "error_at_settle_dt_um": 1e6 * err[np.isclose(dt, r["dt_s"])][0],
+            "energy_audit_span_s": en["time_s"].iloc[-1] - en["time_s"].iloc[0],
+            "energy_increases": int(np.sum(np.diff(mech) > 1e-12 * scale)),
+            "lu_factorizations": 0 if r["integrator"] == "rk4" else r["lu_factorizations"],
+            # msd.settle_on_floor's stop: kinetic energy below 1e-7 m g H0 (H0 the undeformed height)
+            "settled": bool(trace["kinetic_energy_j"].iloc[-1]
+                            < 1e-7 * r["mass_kg"] * 9.81 * np.ptp(s["z0_m"]))})
+        for col, part in (("energy_balance_rel_error", en), ("energy_balance_rel_error_half_dt", half)):
+            energies = part[["kinetic_energy_j", "elastic_energy_j", "gravitational_energy_j",
+                             "dissipated_energy_j"]].abs().to_numpy()  # the largest energy of any kind
+            rows[-1][col] = part["balance_error_j"].abs().max() / energies.max()
+        rows[-1]["energy_audit_steps"] = round(rows[-1]["energy_audit_span_s"] / r["dt_s"])
+        print(f"   {t}: last settle-trace height ratio {trace['height_ratio'].iloc[-1]:.6g}; "
+              "final KE / max KE "
+              f"{trace['kinetic_energy_j'].iloc[-1] / trace['kinetic_energy_j'].max():.2g} (settled: "
+              f"{r['settled']}); not recomputable from the traces: max_floor_penetration_mm (a maximum over "
+              "time), newton_iterations_per_step")
+    rk4 = ok[ok["integrator"] == "rk4"].iloc[0]
+    for row, (_, r) in zip(rows, ok.iterrows(), strict=True):  # one RK4 stable step for both
+        row["dt_over_rk4_limit"] = r["dt_s"] * rk4["dt_over_rk4_limit"] / rk4["dt_s"]
+    expected = pd.DataFrame(rows)
+    for name in ("settle", "integrator_audit"):
+        got = table(study, name)
+        cols = [c for c in expected.columns if c in got.columns and c != "integrator"]
+        compare(study, name, expected[["integrator", *cols]], ["integrator"], rtol=1e-6)
+    settled = table(study, "settle")
+    words = {True: "settles", False: "**does not settle**"}
+    names = {"rk4": "RK4 (explicit, the paper's)", "implicit": "implicit midpoint"}
+    parts = [f"{names[i]} {words[z]} "
+             f"within {t:.3f} s at {x:.2f}× RK4's stable step" for i, z, t, x in zip(
+                 ok["integrator"], expected["settled"], expected["simulated_time_s"], ok["dt_over_rk4_limit"],
+                 strict=True)]
+    widest = float(f"{expected.shape_difference_max_mm.max():.3g}")
+    parts += [f"the final shapes differ by at most {widest:g} mm",
+              f"finds {int(settled['energy_increases'].sum())} energy increases",
+              f"{'as' if expected['settled'].all() else 'unlike'} the paper's Fig. 10"]
+    check_opening(study, parts)
+
+
 STUDIES = {"test1_bench": audit_test1, "test3_disturbance": audit_test3,
            "friction_mass": audit_friction_mass, "dynamic_check": audit_dynamic_check,
-           "sensitivity": audit_sensitivity, "pso_repeatability": audit_pso, **SMALL,
+           "sensitivity": audit_sensitivity, "pso_repeatability": audit_pso, "test2_grasp": audit_test2,
+           "gravity_settle": audit_gravity_settle, **SMALL,
            **{s: lambda s=s: audit_quasi_static(s)
               for s in ("shapes", "ablation", "baseline_grid", "grip_laws")}}
 

@@ -4,6 +4,7 @@ Tables 6-9 show the records and their ``belief_error = none`` counterfactual (tr
 from __future__ import annotations
 
 from dataclasses import asdict
+from decimal import Decimal
 
 import numpy as np
 import pandas as pd
@@ -120,6 +121,10 @@ def classifier(name: str, caption: str, scopes, paper) -> Table:
             out[f"paper_{k}"] = [ref.get(s, [None] * 3)[i] if b == "paper" else None
                                  for s, b in zip(out["scope"], out["belief_error"], strict=True)]
         out["why"] = np.where(out["flagged"] > 0, "", "no trial flagged")
+        # the paper's accuracy with the decimals it prints (§8.4 "80.6 %" = 0.806 and "0.93"; §9.5 0.888):
+        # two decimals printed 0.806 as 0.81
+        out["paper_accuracy_digits"] = pd.array([None if fmt.is_missing(v) else typed_decimals(v)
+                                                 for v in out["paper_accuracy"]], dtype="Int64")
         return verdicts(out, "precision", "paper_precision", "precision_low", "precision_high", digits=2)
     fracs = [c for k, h in (("base", "base success rate"), ("precision", "precision"), ("recall", "recall"))
              for c in (Col(k, f"{h} (Wilson 95%)", 3, low=f"{k}_low", high=f"{k}_high",
@@ -127,8 +132,13 @@ def classifier(name: str, caption: str, scopes, paper) -> Table:
                        *[Col(f"paper_{k}", "paper", 2)] * (k != "base"))]
     return Table(name, caption, compute, [
         *(Col(c, c) for c in ("n", "flagged", "fp")), *fracs, Col("above_base", "precision above base"),
-        Col("accuracy", "accuracy", 3), Col("paper_accuracy", "paper", 2),
+        Col("accuracy", "accuracy", 3), Col("paper_accuracy", "paper", "paper_accuracy_digits"),
         Col("verdict", "verdict (precision)")], by=["flag", "belief_error", "scope"])
+
+
+def typed_decimals(value: float) -> int:
+    """The decimals of a paper value as its study file types it (0.806: 3, 0.93: 2, 1.0: 1)."""
+    return max(0, -Decimal(repr(float(value))).as_tuple().exponent)
 
 
 def matched_mcnemar(name: str, caption: str) -> Table:
@@ -330,8 +340,10 @@ def groups(run: Run) -> pd.DataFrame:
     out = hw.summary(hw.scoped(d, parts), ["scope"], ["is_stable"], order={"scope": list(parts)})
     out["paper"] = [paper_of(run, getattr, "group_e_success_pct_range" if s[:2] == "E " else key[s])
                     if s[:2] == "E " or s in key else None for s in out["scope"]]
-    out["paper_text"] = [p and fmt.paper_text(p, 1) for p in out["paper"]]
-    return verdicts(out, "success_pct", "paper", "success_low_pct", "success_high_pct", unit="%")
+    # the decimals the paper prints: §8.6 "between 90 and 100 %" for group E, one elsewhere
+    out["digits"] = [0 if s[:2] == "E " else 1 for s in out["scope"]]
+    out["paper_text"] = [p and fmt.paper_text(p, d) for p, d in zip(out["paper"], out["digits"], strict=True)]
+    return verdicts(out, "success_pct", "paper", "success_low_pct", "success_high_pct", "digits", unit="%")
 
 
 def outcomes(run: Run) -> pd.DataFrame:
@@ -342,7 +354,8 @@ def outcomes(run: Run) -> pd.DataFrame:
     t7 = {"failure_slip": "slip_pct", "failure_drop": "drop_pct", "failure_damage": "damage_pct"}
     out["paper_pct"] = [paper_of(run, getattr, ref[v]) if v in ref else paper_of(
         run, lambda p, v: getattr(p.table7[PROPOSED], t7[v]), v) if v in t7 else None for v in out["outcome"]]
-    return verdicts(out, "rate_pct", "paper_pct", "wilson_low_pct", "wilson_high_pct", unit="%")
+    out["digits"] = [0 if v in ref else 1 for v in out["outcome"]]  # §8.2 prints "71 %" and "7 %"
+    return verdicts(out, "rate_pct", "paper_pct", "wilson_low_pct", "wilson_high_pct", "digits", unit="%")
 
 
 def power(run: Run) -> pd.DataFrame:
@@ -372,14 +385,16 @@ def claims(run: Run):
     yield ("proposed drop, damage or contact loss", "§8.2, Fig. 28c", share(d, d["is_drop"] | d["is_damage"]
            | d["is_contact_loss"]), (0.0, p.proposed_drop_damage_contact_pct_max), "%", 1)
     acc, mc = t["test2_force_accuracy"].iloc[0], t["test2_mcnemar"].set_index("compared").loc["centroid"]
-    for q, col, key, unit in (
-            ("parity slope (through the origin)", "parity_slope", "parity_slope", ""),
-            ("parity R² (uncentred)", "parity_r2", "parity_r2", ""),
-            ("median |normal-force error|", "force_err_pct", "force_err_median_pct", "%"),
-            ("median |deformation error|", "deformation_err_pct", "deformation_err_median_pct", "%"),
-            ("median contact-point error", "contact_point_error_mm", "contact_point_err_median_mm", "mm")):
+    # digits: the decimals §8.3 prints ("slope 0.98", "R² = 0.720", "13.8 %", "14.1 %", "3.6 mm"), the
+    # verdict rule's unit of the paper's last printed digit
+    for q, col, key, unit, digits in (
+            ("parity slope (through the origin)", "parity_slope", "parity_slope", "", 2),
+            ("parity R² (uncentred)", "parity_r2", "parity_r2", "", 3),
+            ("median |normal-force error|", "force_err_pct", "force_err_median_pct", "%", 1),
+            ("median |deformation error|", "deformation_err_pct", "deformation_err_median_pct", "%", 1),
+            ("median contact-point error", "contact_point_error_mm", "contact_point_err_median_mm", "mm", 1)):
         n = acc["n_parity" if col.startswith("parity") else f"n_{things(col)}"]
-        yield q, "§8.3, Fig. 29", Estimate(acc[col], n=n), getattr(p, key), unit, 2
+        yield q, "§8.3, Fig. 29", Estimate(acc[col], n=n), getattr(p, key), unit, digits
     yield from mcnemar_rows(mc, p.mcnemar_centroid, "§8.5")
     yield ("discordant-pair odds ratio", "§8.5", Estimate(*mc[["odds_ratio", "odds_ratio_low",
            "odds_ratio_high", "pairs"]]), p.mcnemar_centroid.odds_ratio, "", 1)
@@ -387,7 +402,7 @@ def claims(run: Run):
             ("χ² planner × success (proposed, centroid, random)", "chi2_planner_success", "statistic", 1),
             ("Kruskal–Wallis p, force error across planners", "force_err_kruskal_p", "p", 3),
             ("Kruskal–Wallis H, peak slip across friction levels", "slip_friction_kruskal_h", "statistic",
-             1)), strict=True):
+             0)), strict=True):  # §8.6 prints "H = 578"
         yield q, "§8.5-8.6", Estimate(r[col], n=r["n"]), getattr(p, key), "", digits
 
 
@@ -415,7 +430,7 @@ SPEC = ReportSpec("test2_grasp", [
     Table("test2_outcomes", "Primary outcome class of each trial of the proposed planner (§8.2, Fig. 28c; "
           "slip, drop, damage: Table 7); success = stable + marginal success", outcomes, [
               Col("n", "n"), Col("rate_pct", "share % (Wilson 95%)", 1, low="wilson_low_pct",
-                                 high="wilson_high_pct"), Col("paper_pct", "paper %", 1),
+                                 high="wilson_high_pct"), Col("paper_pct", "paper %", "digits"),
               Col("verdict", "verdict")], by=["outcome"]),
     Rates("test2_materials", "Success per material, all planners (§8.2, Fig. 28b)", ["material"],
           lambda p, k: p.success_by_material_pct[k["material"]]),
