@@ -261,8 +261,8 @@ def _check_tare(table: pd.DataFrame, commands: pd.DataFrame, label: str) -> None
         return
     events = table["event_id"].reset_index(drop=True)
     touched = (table["displacement_mm"].reset_index(drop=True) > 0).groupby(events, sort=False).cummax()
-    force = table["normal_force_n"].reset_index(drop=True)
-    before = force[~touched.astype(bool)].groupby(events[~touched.astype(bool)], sort=False).median()
+    free = ~touched.astype(bool)  # the samples before the event's displacement first exceeds 0
+    before = table["normal_force_n"].reset_index(drop=True)[free].groupby(events[free], sort=False).median()
     pressed = commands["depth_mm"].reindex(before.index).fillna(0.0).to_numpy(dtype=float) > 0
     tense = pressed & (before.to_numpy() < -TARE_LIMIT_N)
     if tense.any():
