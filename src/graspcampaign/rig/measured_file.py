@@ -406,7 +406,8 @@ def header_problems(columns: list[str], required: list[str], units: dict[str, st
     (``peak_slip_cm`` for ``peak_slip_mm``, ``units`` maps a column to its suffix) as wrong units;
     a column given twice (pandas reads the second ``x`` of a CSV or XLSX header as ``x.1``); any
     other column the sheet does not have (a misspelt optional column such as ``Source`` would
-    otherwise be dropped and its rows stored as measured), with the closest known name.
+    otherwise be dropped and its rows stored as measured), with the closest known name (the column
+    spelt as the sheet spells its names, so ``Time (s)`` and ``time [s]`` are near ``time_s``).
     ``ignored`` columns are accepted and not read (the commanded sheet's own columns, when a rig
     fills in its measurements beside its commands). ``other_sheets`` (a workbook's other sheets'
     headers, ``read_table``'s ``attrs["other_sheets"]``): when the first sheet, the one read,
@@ -479,7 +480,8 @@ def header_problems(columns: list[str], required: list[str], units: dict[str, st
         def hint(c: str) -> str:
             if empty := re.fullmatch(r"Unnamed: ([0-9]+)", c):  # pandas' name of an empty cell
                 return f"column {int(empty[1]) + 1} (its header cell is empty)"
-            return f"'{c}'{aside(c, known, cutoff=0.75)}"
+            # compared as the sheet writes a name (lower case, '_' between words): 'Time (s)' as time_s
+            return f"'{c}'{aside(re.sub(r'[^0-9a-z]+', '_', c.lower()).strip('_'), known, cutoff=0.75)}"
         more = f" and {len(unknown) - 8} more" if len(unknown) > 8 else ""
         out.append(f"{'a column is' if len(unknown) == 1 else 'columns are'} not part of the sheet: "
                    f"{', '.join(map(hint, unknown[:8]))}{more}; its columns are {', '.join(known)}")
