@@ -177,19 +177,30 @@ def test_the_grip_laws_opening_gives_its_why_only_where_the_proposed_planner_los
 
 def test_the_test1_opening_says_c_is_not_identifiable_only_where_its_interval_reaches_zero(sim_root):
     # "C not identifiable at 1 mN" was printed for any virtual-bench run, whatever the claims table's
-    # standard error of C; here the median event's Wald 95% interval, C ± 1.96 SE, is set to exclude 0
+    # standard error of C; here the normal fits' standard errors are scaled so that the median event's
+    # Wald 95% interval, C ± 1.96 SE, excludes 0. The opening and Table 4's caption read one test
     from graspcampaign.report.studies.test1 import finding
 
+    table4 = next(item for item in spec_for("test1_bench", "").items if getattr(item, "name", "") == "table4")
+    median = "per-event C: median (paper: Table 4's family range)"
+    se = "standard error of per-event C: median"
     run = _rendered(sim_root, "test1_bench")
-    claims, median, se = run.tables["test1_claims"], "per-event C: median (paper: Table 4's family range)", \
-        "standard error of per-event C: median"
-    rows = claims.set_index("quantity")["value"]
+    rows = run.tables["test1_claims"].set_index("quantity")["value"]
     assert abs(rows[median]) <= 1.96 * rows[se]  # as recorded: the interval reaches zero
     assert "C not identifiable at 1 mN" in finding(run)
-    run.tables["test1_claims"] = claims.assign(value=claims["value"].mask(claims["quantity"] == se,
-                                                                          abs(rows[median]) / 2.5))
+    assert "per-event C is not identifiable at 1 mN" in table4.caption(run)
+    scale = abs(rows[median]) / 2.5 / rows[se]  # the median SE becomes |median C| / 2.5
+
+    def resolved(records: pd.DataFrame) -> pd.DataFrame:
+        normal = records["block"] == "normal"
+        return records.assign(c_se_n_s_per_m=records["c_se_n_s_per_m"].mask(normal, records["c_se_n_s_per_m"]
+                                                                           * scale))
+
+    run = _rendered(sim_root, "test1_bench", resolved)
+    rows = run.tables["test1_claims"].set_index("quantity")["value"]
+    assert abs(rows[median]) > 1.96 * rows[se]
     text = finding(run)
-    assert "not identifiable" not in text
+    assert "not identifiable" not in text and "not identifiable" not in table4.caption(run)
     assert "Why: the virtual bench differs by construction (" in text
     assert "loops, λ1 where Eq. 14 with Table 4's moduli puts it): " in text  # reduced run: "smaller … loops"
 

@@ -132,6 +132,7 @@ def test_the_finding_lists_the_parameters_on_a_search_bound_as_a_sentence(monkey
     from graspcampaign.report.studies import test1
 
     monkeypatch.setattr(test1, "fitted", lambda run: range(12))
+    monkeypatch.setattr(test1, "c_unresolved", lambda run: False)  # it reads the fits, which a stub has not
     claims = pd.DataFrame({"quantity": [f"{q}, accepted fits: mean" for q in ("contact exponent n",
                                                                              "force-fit RMSE")],
                            "value": [0.47, 0.6], "paper": [0.46, 2.66], "digits": [2, 2],
@@ -158,6 +159,7 @@ def test_one_event_and_one_accepted_fit_are_said_in_the_singular(monkeypatch):
     from graspcampaign.report.studies import test1
 
     monkeypatch.setattr(test1, "fitted", lambda run: range(1))
+    monkeypatch.setattr(test1, "c_unresolved", lambda run: False)  # it reads the fits, which a stub has not
     claims = pd.DataFrame({"quantity": [f"{q}, accepted fits: mean" for q in ("contact exponent n",
                                                                              "force-fit RMSE")],
                            "value": [0.47, 0.6], "paper": [0.46, 2.66], "digits": [2, 2],
@@ -177,6 +179,7 @@ def test_no_accepted_fit_is_said_as_none_not_a_broken_finding(monkeypatch):
     from graspcampaign.report.studies import test1
 
     monkeypatch.setattr(test1, "fitted", lambda run: range(3))
+    monkeypatch.setattr(test1, "c_unresolved", lambda run: False)  # it reads the fits, which a stub has not
     claims = pd.DataFrame({"quantity": [f"{q}, accepted fits: mean" for q in ("contact exponent n",
                                                                              "force-fit RMSE")],
                            "value": [float("nan")] * 2, "paper": [0.46, 2.66], "digits": [2, 2],

@@ -44,14 +44,21 @@ def confusion_matrix(records: pd.DataFrame, qs_column: str = "qs_success",
                      dynamic_column: str = "success") -> np.ndarray:
     """Return the (2, 2) counts of two boolean label columns over the executed, determined trials
     that carry both labels (:func:`~.records.known`)."""
-    for column in (qs_column, dynamic_column, "dynamic_status"):
+    return _executed(records, qs_column, dynamic_column)[1]
+
+
+def _executed(records: pd.DataFrame, qs_column: str, dynamic_column: str) -> tuple[pd.DataFrame, np.ndarray]:
+    """The executed trials of ``records`` and :func:`confusion_matrix`: a label is told missing on the
+    stored rows, as ``executed()`` fills a missing success with False (its one call per group)."""
+    labels = [qs_column, dynamic_column]
+    for column in (*labels, "dynamic_status"):
         if column not in records.columns:
             raise KeyError(f"dynamic_check records have no column {column!r}")
-    rows = executed(known(records, [qs_column, dynamic_column]))
-    rows = rows[rows["dynamic_status"] != UNDETERMINED]
-    qs, dyn = (rows[c].to_numpy() for c in (qs_column, dynamic_column))
-    return np.array([[np.sum(qs & dyn), np.sum(qs & ~dyn)],
-                     [np.sum(~qs & dyn), np.sum(~qs & ~dyn)]], dtype=np.int64)
+    ok = executed(records.assign(_labelled=records[labels].notna().all(axis=1)))
+    rows = known(ok[ok["_labelled"] & (ok["dynamic_status"] != UNDETERMINED)], labels)
+    qs, dyn = (rows[c].to_numpy() for c in labels)
+    return ok, np.array([[np.sum(qs & dyn), np.sum(qs & ~dyn)],
+                         [np.sum(~qs & dyn), np.sum(~qs & ~dyn)]], dtype=np.int64)
 
 
 def cohens_kappa(table, confidence_level: float = 0.95) -> KappaResult:
@@ -86,14 +93,11 @@ def agreement_table(records: pd.DataFrame, qs_column: str = "qs_success",
     (``unlabelled``), overall or per group of ``by``; the rates are nan in a group with no trial."""
     keys = [] if by is None else ([by] if isinstance(by, str) else list(by))
     out = []
-    # the stored rows: confusion_matrix alone reads a group's labels (executed() fills a missing
-    # success with False)
     groups = records.groupby(keys, sort=True, observed=True) if keys else [((), records)]
     for key, group in groups:
-        ok = executed(group)
+        ok, table = _executed(group, qs_column, dynamic_column)
         if keys and not len(ok):  # a group of ``by`` with no executed trial is no row
             continue
-        table = confusion_matrix(group, qs_column, dynamic_column)
         k, agree = cohens_kappa(table, confidence_level), int(np.trace(table))
         settled = int((ok["dynamic_status"] != UNDETERMINED).sum())
         w = wilson_interval(agree, k.n, confidence_level) if k.n else None

@@ -36,6 +36,7 @@ from graspcampaign.rig.measured_file import (
     header_problems,
     ingest_error,
     read_table,
+    refuse_larger,
     table_and_label,
 )
 from graspcampaign.rig.record_schema import (
@@ -81,11 +82,8 @@ def read_records(path: str | Path) -> pd.DataFrame:
     (a CSV's or a workbook's: `_blank` reads NOT_MEASURED_WORDS); see :func:`read_table`. A file over
     :data:`MAX_RECORDS_BYTES` is refused unread.
     """
-    path = Path(path)
-    if path.is_file() and (size := path.stat().st_size) > MAX_RECORDS_BYTES:
-        raise IngestError(f"{path.name}: the file is {size / 2**20:.0f} MiB, and a file of trial "
-                          f"records is at most {MAX_RECORDS_BYTES // 2**20} MiB (the whole Test 2 "
-                          "sheet with its commanded columns is 2 MiB); check it is the right file.")
+    refuse_larger(path, MAX_RECORDS_BYTES, "trial records",
+                  "the whole Test 2 sheet with its commanded columns is 2 MiB")
     return read_table(path, csv_options={"dtype": str, "keep_default_na": False},
                       excel_options={"dtype": object, "keep_default_na": False,
                                      "na_values": [""]})

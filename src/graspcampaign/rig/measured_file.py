@@ -11,6 +11,7 @@ from __future__ import annotations
 import csv
 import datetime
 import io
+import math
 import re
 import warnings
 from collections import Counter
@@ -25,7 +26,7 @@ from graspcampaign.errors import utf8_text
 from graspcampaign.rig.sheet_xml import SheetMarks, first_sheet_marks
 
 __all__ = ["IngestError", "cell_problem", "header_problems", "ingest_error", "read_table",
-           "table_and_label"]
+           "refuse_larger", "table_and_label"]
 
 
 class IngestError(ValueError):
@@ -84,6 +85,17 @@ def cell_problem(value, expected: str = "a number") -> str:
     comma = isinstance(value, str) and re.fullmatch(r"\s*[+-]?[0-9]*,[0-9]+\s*", value)
     return f"value {value!r} is not {expected}" + (
         " (a decimal comma: save the sheet with a decimal point '.')" if comma else "")
+
+
+def refuse_larger(path: str | Path, limit: int, files: str, largest: str) -> None:
+    """Refuse the file ``path`` unread when it is over ``limit`` bytes: "a file of ``files`` is at most
+    ..." with ``largest``, what the limit is drawn from (the largest file the protocol makes)."""
+    def size(n: int) -> str:  # MiB below 1 GiB, else GiB rounded up to 0.1
+        return f"{n / 2**20:.0f} MiB" if n < 2**30 else f"{math.ceil(n / 2**30 * 10) / 10:g} GiB"
+    path = Path(path)
+    if path.is_file() and (n := path.stat().st_size) > limit:
+        raise IngestError(f"{path.name}: the file is {size(n)}, and a file of {files} is at most "
+                          f"{size(limit)} ({largest}); check it is the right file.")
 
 
 def read_table(path: str | Path, *, csv_options: dict | None = None,
@@ -406,7 +418,8 @@ def header_problems(columns: list[str], required: list[str], units: dict[str, st
     (``peak_slip_cm`` for ``peak_slip_mm``, ``units`` maps a column to its suffix) as wrong units;
     a column given twice (pandas reads the second ``x`` of a CSV or XLSX header as ``x.1``); any
     other column the sheet does not have (a misspelt optional column such as ``Source`` would
-    otherwise be dropped and its rows stored as measured), with the closest known name.
+    otherwise be dropped and its rows stored as measured), with the closest known name (the column
+    spelt as the sheet spells its names, so ``Time (s)`` and ``time [s]`` are near ``time_s``).
     ``ignored`` columns are accepted and not read (the commanded sheet's own columns, when a rig
     fills in its measurements beside its commands). ``other_sheets`` (a workbook's other sheets'
     headers, ``read_table``'s ``attrs["other_sheets"]``): when the first sheet, the one read,
@@ -479,7 +492,8 @@ def header_problems(columns: list[str], required: list[str], units: dict[str, st
         def hint(c: str) -> str:
             if empty := re.fullmatch(r"Unnamed: ([0-9]+)", c):  # pandas' name of an empty cell
                 return f"column {int(empty[1]) + 1} (its header cell is empty)"
-            return f"'{c}'{aside(c, known, cutoff=0.75)}"
+            # compared as the sheet writes a name (lower case, '_' between words): 'Time (s)' as time_s
+            return f"'{c}'{aside(re.sub(r'[^0-9a-z]+', '_', c.lower()).strip('_'), known, cutoff=0.75)}"
         more = f" and {len(unknown) - 8} more" if len(unknown) > 8 else ""
         out.append(f"{'a column is' if len(unknown) == 1 else 'columns are'} not part of the sheet: "
                    f"{', '.join(map(hint, unknown[:8]))}{more}; its columns are {', '.join(known)}")

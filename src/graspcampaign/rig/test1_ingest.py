@@ -31,14 +31,15 @@ from graspcampaign.rig.measured_file import (
     header_problems,
     ingest_error,
     read_table,
+    refuse_larger,
     table_and_label,
 )
 from graspcampaign.rig.protocol_design import STUDY_TEST1
 from graspcampaign.rig.record_schema import ATTEMPT_TYPO_LIMIT, SOURCES
 from graspcampaign.rig.test1_summary import WAVEFORM_COLUMNS
 
-__all__ = ["MIN_EVENT_SAMPLES", "PEAK_FACTOR", "RATE_FACTOR", "TARE_LIMIT_N", "read_waveforms",
-           "validate_waveforms", "waveform_template"]
+__all__ = ["MAX_WAVEFORM_BYTES", "MIN_EVENT_SAMPLES", "PEAK_FACTOR", "RATE_FACTOR", "TARE_LIMIT_N",
+           "read_waveforms", "validate_waveforms", "waveform_template"]
 
 
 _UNIT_RE = re.compile(r"^(?P<stem>time|displacement|normal_force|tangential_force|"
@@ -54,13 +55,24 @@ _RANGES = {  # physical envelope of the rig (§7.1): values outside suggest wron
 }
 
 
+MAX_WAVEFORM_BYTES = 8 * 2**30
+"""The largest waveform file read: twice every event of the full Test 1 schedule in one CSV with
+every float64 digit written (3.9 GiB; 1.7 GiB as the sensors resolve them, 1 um and 1 mN), which
+leaves room for re-run attempts and a note on every sample (``benchmarks/test1_file_size.py``:
+32.8 M samples at 50-500 Hz, §7.1). Reading takes some ten times a file's size in memory (83 MB:
+0.87 GB), so a file beyond any the protocol makes is refused unread (docs/decisions.md)."""
+
+
 def read_waveforms(path: str | Path) -> pd.DataFrame:
     """Read a waveform file (``.csv``, ``.parquet``/``.pq`` or ``.xlsx``) without checks.
 
     Via :func:`graspcampaign.rig.ingest.read_table` (an unsupported, missing or unreadable
     file raises :class:`IngestError`); channels are parsed as numbers, only an empty cell is
-    missing, in a CSV and a workbook alike (a sample is measured: no word stands for one).
+    missing, in a CSV and a workbook alike (a sample is measured: no word stands for one). A file
+    over :data:`MAX_WAVEFORM_BYTES` is refused unread.
     """
+    refuse_larger(path, MAX_WAVEFORM_BYTES, "Test 1 waveforms", "all 19,168 events of the full schedule "
+                  "in one CSV are 3.9 GiB with every float64 digit, 1.7 GiB as the sensors resolve them")
     missing = {"keep_default_na": False, "na_values": [""]}
     return read_table(path, csv_options={"dtype": {"event_id": str, "anomaly": str}, **missing},
                       excel_options={"dtype": {"event_id": str}, **missing})
@@ -261,8 +273,8 @@ def _check_tare(table: pd.DataFrame, commands: pd.DataFrame, label: str) -> None
         return
     events = table["event_id"].reset_index(drop=True)
     touched = (table["displacement_mm"].reset_index(drop=True) > 0).groupby(events, sort=False).cummax()
-    force = table["normal_force_n"].reset_index(drop=True)
-    before = force[~touched.astype(bool)].groupby(events[~touched.astype(bool)], sort=False).median()
+    free = ~touched.astype(bool)  # the samples before the event's displacement first exceeds 0
+    before = table["normal_force_n"].reset_index(drop=True)[free].groupby(events[free], sort=False).median()
     pressed = commands["depth_mm"].reindex(before.index).fillna(0.0).to_numpy(dtype=float) > 0
     tense = pressed & (before.to_numpy() < -TARE_LIMIT_N)
     if tense.any():

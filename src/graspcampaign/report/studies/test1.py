@@ -19,7 +19,7 @@ from graspcampaign.report import style
 from graspcampaign.report.document import Col, cols
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Claims, Figure, Finding, ReportSpec, Table, Text, verdicts
-from graspcampaign.report.studies.test1_claims import C_MEDIAN, C_SE, CLAIMS, FRAMES, c_unresolved, fitted
+from graspcampaign.report.studies.test1_claims import CLAIMS, FRAMES, c_unresolved, fitted
 from graspcampaign.report.style import CRITERION, PAPER, legend_below, paper_handle, paper_marks, plain_log
 
 WHY = "`docs/decisions.md`, *Test 1 bench protocol* and *Test 1 in the engine*"
@@ -57,16 +57,15 @@ def _table4(run: Run) -> pd.DataFrame:
 def _c_caption(run: Run) -> str:
     """What Table 4's C is: the median of the accepted fits' per-event C, beside their mean per family
     (the numbers, not a judgement of them), and whether per-event C is identifiable (its median
-    standard error against its median, :func:`c_unresolved`, as table test1_claims prints them)."""
-    cols = ["material", "c_n_s_per_m", "c_se_n_s_per_m"]  # missing: no C said of it
-    accepted, normal = (FRAMES[f](run).reindex(columns=cols) for f in ("accepted", "normal"))
+    standard error against its median, :func:`c_unresolved`, as the opening reads them)."""
+    accepted = FRAMES["accepted"](run).reindex(columns=["material", "c_n_s_per_m"])  # missing: no C said
     mean = accepted.groupby("material")["c_n_s_per_m"].mean()
     means = ", ".join(f"{label('material', m)} {fmt.number(mean[m], sig=3)}"
                       for m in cal.MATERIALS if m in mean)  # Table 4's order
-    unresolved = c_unresolved(normal["c_n_s_per_m"].median(), normal["c_se_n_s_per_m"].median())
     return ("Our C is the median of the accepted fits' per-event C"
             + f" (their mean: {means} N s/m)" * bool(means)
-            + ": per-event C is not identifiable at 1 mN (its median standard error is below)" * unresolved
+            + ": per-event C is not identifiable at 1 mN (its median standard error is below)"
+            * c_unresolved(run)
             + "; a negative C, non-physical (a damper cannot add energy), is a fit of the noise; 'fits "
             "with C < 0' counts them")
 
@@ -192,11 +191,10 @@ def finding(run: Run) -> str:
         text += (f"PSO re-identification over {counted(runs, 'converged run')} (Table "
                  f"5): λ1 = {fmt.number(l1['mean'], l1.digits)} (paper "
                  f"{fmt.number(l1.paper_mean, l1.digits)}){ends}. ")
-    loop, c, se = (claims.set_index("quantity").reindex(["loop area: median", C_MEDIAN, C_SE]).iloc[i]
-                   for i in range(3))  # "smaller", "not identifiable": as the claims table prints them
+    loop = claims.set_index("quantity").reindex(["loop area: median"]).iloc[0]  # as table test1_claims has it
     smaller = [w for w, r in (("fit errors", rmse), ("loops", loop)) if r.value < r.paper]
     why = [f"smaller {' and '.join(smaller)}"] * bool(smaller) + ["C not identifiable at 1 mN"] * \
-        c_unresolved(c.value, se.value) + ["λ1 where Eq. 14 with Table 4's moduli puts it"]
+        c_unresolved(run) + ["λ1 where Eq. 14 with Table 4's moduli puts it"]
     return text + (f"Why: the virtual bench differs by construction ({', '.join(why)}): "
                    f"{WHY}. Virtual-bench data, not hardware: synthetic waveforms drawn around Table 4 that "
                    "cannot confirm the paper's values." if run.source == "virtual" else

@@ -51,9 +51,11 @@ C_SE = "standard error of per-event C: median"
 WALD_95 = 1.96
 
 
-def c_unresolved(c: float, se: float) -> bool:
-    """Whether per-event C is not identifiable: the median event's Wald 95% interval, its median C ±
-    1.96 times its median standard error, reaches zero (missing values: not shown, False)."""
+def c_unresolved(run: Run) -> bool:
+    """Whether per-event C is not identifiable: the median event's Wald 95% interval, the normal fits'
+    median C ± 1.96 times their median standard error (the claims C_MEDIAN, C_SE), reaches zero
+    (missing values: not shown, False)."""
+    c, se = FRAMES["normal"](run).reindex(columns=["c_n_s_per_m", "c_se_n_s_per_m"]).median()
     return bool(abs(c) <= WALD_95 * se)
 
 

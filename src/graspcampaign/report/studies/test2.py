@@ -261,9 +261,9 @@ or near-equal forces all stay visible."""
 
 
 def representative(run: Run) -> pd.Series:
-    """Fig. 30's trial: the median-force stable proposed sphere grasp at natural friction."""
-    e = ex(run, PROPOSED).query("shape == 'sphere' and outcome == 'stable' and friction_level == 'natural'")
-    return median_trial(e, "normal_force_mean_n")
+    """Fig. 30's trial (chosen once a run): the median-force stable proposed natural-friction sphere grasp."""
+    return run.memo("fig30_trial", lambda: median_trial(ex(run, PROPOSED).query(
+        "shape == 'sphere' and outcome == 'stable' and friction_level == 'natural'"), "normal_force_mean_n"))
 
 
 def unread_slip(t: pd.Series) -> str:

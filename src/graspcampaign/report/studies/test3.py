@@ -228,9 +228,9 @@ def fig34(run: Run, fig) -> None:
 
 
 def representative_pull(run: Run) -> pd.Series:
-    """Fig. 35's trial: the median-threshold proposed natural-friction pull of block A."""
-    d = t2.ex(run, PROPOSED).query(f"block == 'A' and {NATURAL}").dropna(subset=["lat_threshold_n"])
-    return t2.median_trial(d, "lat_threshold_n")
+    """Fig. 35's trial (chosen once a run): the median-threshold proposed natural-friction pull of block A."""
+    return run.memo("fig35_trial", lambda: t2.median_trial(t2.ex(run, PROPOSED).query(
+        f"block == 'A' and {NATURAL}"), "lat_threshold_n"))
 
 
 def fig35_caption(run: Run) -> str:
