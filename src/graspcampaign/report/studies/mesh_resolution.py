@@ -40,9 +40,9 @@ def _runtime(run: Run) -> pd.DataFrame:
 
 #: The largest and reference meshes of the paper's cost ratio (Sec. 6.7) and of issue 7's speed target.
 PAPER_MESHES = (1750, 144)
-#: Whose the cost ratio's target ≤ ``runtime_ratio_target`` is, in the verdict's words: this tool's, set
-#: by issue 7, not the paper's (which states none: "a factor of only ≈ 2", Sec. 6.7; docs/decisions.md).
-SPEED = "this tool's speed"
+#: The cost ratio's target ≤ ``runtime_ratio_target`` in the verdict's words: this tool's, set by issue 7,
+#: not the paper's (which states none: "a factor of only ≈ 2", Sec. 6.7; docs/decisions.md).
+SPEED = "this tool's speed target"
 
 
 def _meshes(run: Run) -> tuple[int, int]:
@@ -191,14 +191,14 @@ def _reading(run: Run) -> str:
     p, (top, ref), estimators, unlike = run.paper, _meshes(run), _estimators(run), _unlike_paper(run)
     ratio, (grows, growth) = _cost_ratio(run, estimators[0]), _growth(run, estimators[0])
     verdict = fmt.verdict(ratio.value, p.runtime_ratio_1750_144, low=ratio.low, high=ratio.high, digits=2)
-    target = fmt.verdict(ratio.value, (None, p.runtime_ratio_target), digits=2, whose=SPEED)
+    target = fmt.verdict(ratio.value, (None, p.runtime_ratio_target), digits=2, bound=SPEED)
     paper = f"{unlike.split(' (')[0]}, paper {p.runtime_ratio_1750_144}" if unlike else (
-        f"paper {p.runtime_ratio_1750_144}: {verdict.word}; {SPEED} target ≤ {p.runtime_ratio_target} "
+        f"paper {p.runtime_ratio_1750_144}: {verdict.word}; {SPEED} ≤ {p.runtime_ratio_target} "
         f"(issue 7, not a paper value): {target.word}")
     if estimators[0] == "fastest":  # the median repeats judged by the target row's rule, as printed
         median, (median_grows, median_growth) = _cost_ratio(run, "median").value, _growth(run, "median")
         other = fmt.Verdict(None, "") if unlike else \
-            fmt.verdict(median, (None, p.runtime_ratio_target), digits=2, whose=SPEED)
+            fmt.verdict(median, (None, p.runtime_ratio_target), digits=2, bound=SPEED)
         if (other.differs, median_grows) != (None if unlike else target.differs, grows):
             paper += (f"; by the median repeats {fmt.number(median, 2)}, which reads "
                       f"{', '.join(w for w in (other.words, median_growth) if w)}: the estimator decides")
@@ -312,7 +312,7 @@ def _cost_rows(run: Run):
 def _speed(run: Run, repeats: str, target: float) -> str:
     """The speed target row's words: ours within or above it, not a paper value ("" if not computed)."""
     try:
-        judged = fmt.verdict(_cost_ratio(run, repeats).value, (None, target), digits=2, whose=SPEED)
+        judged = fmt.verdict(_cost_ratio(run, repeats).value, (None, target), digits=2, bound=SPEED)
     except ValueError:  # no resolution trial: the row's value says so
         return ""
     return f"not a paper value: {judged.why or judged.word}"
