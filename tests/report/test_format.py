@@ -91,7 +91,7 @@ def test_number_variants():
     ((1.504, (None, 1.5)), {"digits": 2},
      (False, "within the paper's target ≤ 1.50 at its printed precision")),
     ((1.51, (None, 1.5)), {"digits": 2}, (True, "differs: above the paper's target ≤ 1.50")),
-    # a bound that is not the paper's (issue 7's cost-ratio target for this tool) is said as whose it is
+    # a bound that is not the paper's (this tool's cost-ratio target, issue 7) is said as whose it is
     ((1.51, (None, 1.5)), {"digits": 2, "bound": "this tool's speed target"},
      (True, "differs: above this tool's speed target ≤ 1.50")),
     ((40.0, (50, None)), {"digits": 0, "unit": "%"}, (True, "differs: below the paper's target ≥ 50%")),

@@ -397,7 +397,7 @@ def _timings(fastest, median, min_column=True, itself=((1.0, 1.0),)):
 
 
 DESIGN = (" neither stage's work depends on the mesh size")
-TOOL = "this tool's speed target ≤ 1.5 (issue 7, not a paper value): "
+TOOL = "this tool's speed target ≤ 1.5 (not a paper value): "
 
 
 @pytest.mark.parametrize(("fastest", "median", "min_column", "expected"), [
@@ -438,7 +438,7 @@ def test_the_cost_ratio_finding_reads_the_tables_verdicts_and_the_median_rows_ar
     table = COST.compute(run).set_index("quantity")
     for repeats, value in values.items():
         row = table.loc[f"cost ratio, 1750 / 144 nodes, {repeats} repeats, against this tool's speed target "
-                        "(≤ 1.5; issue 7, not a paper value)"]
+                        "(≤ 1.5; not a paper value)"]
         assert table.loc[f"cost ratio, 1750 / 144 nodes, {repeats} repeats", "value"] == row["value"] == \
             pytest.approx(value)
         assert row["verdict"] == ("not compared: shown to check the estimator choice" if repeats == "median"
@@ -504,13 +504,13 @@ def test_the_cost_ratio_target_is_this_tools_not_the_papers():
     table = COST.compute(run)
     target = table[table["quantity"].str.contains("target")]
     assert target["quantity"].tolist() == [
-        f"cost ratio, 1750 / 144 nodes, {r} repeats, against this tool's speed target (≤ 1.5; issue 7, not a "
-        "paper value)" for r in ("fastest", "median")]
-    assert target["section"].tolist() == ["issue 7"] * 2 and target["paper"].isna().all()
+        f"cost ratio, 1750 / 144 nodes, {r} repeats, against this tool's speed target (≤ 1.5; not a paper "
+        "value)" for r in ("fastest", "median")]
+    assert target["section"].tolist() == ["not in the paper"] * 2 and target["paper"].isna().all()
     assert target["differs"].isna().all()  # not a comparison with the paper
     assert target["verdict"].iloc[0] == "not a paper value: within this tool's speed target ≤ 1.50"
     text = finding(run)
-    assert "; this tool's speed target ≤ 1.5 (issue 7, not a paper value): within this tool's speed target " \
+    assert "; this tool's speed target ≤ 1.5 (not a paper value): within this tool's speed target " \
            "≤ 1.50; table cost_ratio)" in text
     said = [text, COST.caption, *table["quantity"], *table["verdict"]]
     assert not [s for s in said if "paper's target" in s]

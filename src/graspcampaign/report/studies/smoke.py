@@ -14,7 +14,7 @@ from graspcampaign.report.spec import Claims, Figure, Finding, ReportSpec, Table
 
 #: What of a smooth shape a coarse mesh cannot keep under the vertex threshold (as DECISION states it).
 CAUSE = {"ellipsoid": "the ellipsoid's 60 mm tips", "pear": "the pear's top lobe"}
-DECISION = "`docs/decisions.md`, *Geometry and metric (issue 3)*"
+DECISION = "`docs/decisions.md`, *Geometry and metric*"
 FEATURES = (("sharp vertex", "sharp vertices"), ("sharp edge", "sharp edges"))
 
 
