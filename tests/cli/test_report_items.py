@@ -21,7 +21,7 @@ def mini_spec(study: str, kind: str) -> ReportSpec:
         raise ValueError("no sphere in this run")
 
     return ReportSpec("smoke", [
-        Table("raises", "c", lambda run: run.ok.assign(n=len(run.paper.sphere_sharp_vertices))),
+        Table("raises", "c", lambda run: run.ok.assign(n=len(run.paper.sphere_defect_nodes))),
         Table("legit", "c", empty),
         Table("column", "c", lambda run: run.ok.assign(n=run.ok["n_sharp_vertx"])),
         Table("series", "c", lambda run: run.ok.groupby("shape")["n_sharp_vertex"].sum())])

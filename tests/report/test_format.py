@@ -86,11 +86,14 @@ def test_number_variants():
     ((False, True), {}, (True, "differs: the paper reports yes, ours is no")),
     ((1.0, None), {}, (None, "no paper value")),
     ((math.nan, 3.0), {}, (None, "not computed")),
-    # one-sided bounds: Sec. 11's cost-ratio target "at most 1.5"; 1.504 prints 1.50, within it
+    # one-sided bounds "at most 1.5"; 1.504 prints 1.50, within it
     ((1.24, (None, 1.5)), {"digits": 2}, (False, "within the paper's target ≤ 1.50")),
     ((1.504, (None, 1.5)), {"digits": 2},
      (False, "within the paper's target ≤ 1.50 at its printed precision")),
     ((1.51, (None, 1.5)), {"digits": 2}, (True, "differs: above the paper's target ≤ 1.50")),
+    # a bound that is not the paper's (this tool's cost-ratio target, issue 7) is said as whose it is
+    ((1.51, (None, 1.5)), {"digits": 2, "bound": "this tool's speed target"},
+     (True, "differs: above this tool's speed target ≤ 1.50")),
     ((40.0, (50, None)), {"digits": 0, "unit": "%"}, (True, "differs: below the paper's target ≥ 50%")),
     # a residual that never settles (an infinite settling iteration) lies above the window 30-40
     ((math.inf, (30, 40)), {"digits": 0}, (True, "differs: above the paper's range 30–40")),

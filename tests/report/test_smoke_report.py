@@ -8,7 +8,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
-from synthetic_runs import SHAPES, make_run, report_md
+from synthetic_runs import SHAPES, make_run, read_table, report_md
 
 from graspcampaign.analysis.vocabulary import label
 from graspcampaign.report.build import build_reports
@@ -73,3 +73,39 @@ def test_a_mesh_without_a_watertight_reading_is_not_counted_closed():
     records = {"status": "ok", "shape": "cube", "nodes": [144, 144, 390], "watertight": [True, np.nan, False]}
     assert finding(Run(pd.DataFrame(records), {}, None)).startswith(
         "1 of 3 meshes are closed (watertight) across 1 shapes and 2 resolutions")
+
+
+def test_the_smoke_report_compares_what_sec_3_1_claims_and_says_where_ours_differ(tmp_path):
+    """Sec. 3.1: the thresholds "cleanly separate the smooth test meshes" (none on the sphere, ellipsoid
+    or pear), the 390-node sphere's defects are ≈ 0.03 rad and its dihedral departures below about 15°
+    at 144 nodes. The report compared the sphere's two counts only, so the ellipsoid's and the pear's
+    sharp vertices at 144 nodes and the sphere's 18.4° were said in docs/decisions.md alone. The records
+    here are the full smoke run's (docs/decisions.md, *Geometry and metric*); the verdicts by hand."""
+    measured = {("sphere", 144): (0, 0, 0.092, 18.4), ("sphere", 390): (0, 0, 0.034, 11.0),
+                ("ellipsoid", 144): (12, 0, 0.350, 27.0), ("ellipsoid", 390): (0, 0, 0.149, 19.0),
+                ("pear", 144): (11, 1, 0.348, 30.6), ("pear", 390): (0, 0, 0.148, 20.4)}
+
+    def outputs(factors, rng):
+        v, e, defect, dihedral = measured.get((factors["shape"], factors["nodes"]), (22, 66, 0.96, 62.5))
+        return {**mesh_outputs(factors, rng), "n_sharp_vertex": v, "n_sharp_edge": e,
+                "max_vertex_defect_rad": defect, "max_edge_deviation_deg": dihedral}
+
+    store = make_run(tmp_path, "smoke", "mesh_features", {"shape": SHAPES, "nodes": [144, 390]}, seeds=1,
+                     paper=None, outputs=outputs)
+    build_reports(["smoke"], root=tmp_path)
+    table = read_table(store, "paper_comparison")
+    sharp = {f"sharp vertices and edges, {s}, {n} nodes": "differs by +12" if (s, n) in (
+        ("ellipsoid", 144), ("pear", 144)) else "matches as printed" for s in ("sphere", "ellipsoid", "pear")
+        for n in (144, 390)}
+    assert dict(zip(table["quantity"], table["verdict"], strict=True)) == {
+        **sharp, "largest angular defect, sphere, 390 nodes": "matches as printed",  # 0.034 prints 0.03
+        "largest dihedral departure, sphere, 144 nodes": "differs: above the paper's bound ≤ 15.0°"}
+    assert (table["section"] == "Sec. 3.1").all()
+    md = " ".join(report_md(store).split())
+    assert ("(table meshes). **Unlike the paper**, whose thresholds \"cleanly separate the smooth test "
+            "meshes\" (Sec. 3.1), the ellipsoid at 144 nodes has 12 sharp vertices; the pear at 144 nodes "
+            "has 11 sharp vertices and 1 sharp edge: at 144 nodes the mesh is too coarse to keep the real "
+            "curvature of the ellipsoid's 60 mm tips and the pear's top lobe under 0.2 rad a vertex "
+            "(`docs/decisions.md`, *Geometry and metric*). The sphere's largest dihedral departure "
+            "at 144 nodes is 18.4°, above the paper's \"below about 15°\" (Sec. 3.1) but under the 30° "
+            "threshold, so no edge of it is sharp (the same entry).") in md

@@ -151,7 +151,7 @@ class Verdict(NamedTuple):
 
 def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits: int = 1,
             unit: str = "", ratio: str = "", commanded: str = "", because: str = "",
-            pinned: str = "") -> Verdict:
+            pinned: str = "", bound: str = "the paper's target") -> Verdict:
     """Say how ours stands against the paper's value, the one rule: a range agrees
     inside it and a one-sided bound (a range with a None end, ``(None, hi)``: at most hi) within it
     (ours rounded to ``digits``, as printed; ours ``inf`` lies above every range); a word when equal;
@@ -165,12 +165,13 @@ def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits:
     ``commanded``: ours is the run's own command, reached by construction (the words say how), so it
     is not compared. ``because``: why ours is not compared (the words are that reason).
     ``pinned``: ours is a CV over runs that all ended on a search bound, at these values (as printed):
-    the words add that it measures the bound."""
+    the words add that it measures the bound. ``bound``: what a one-sided bound is and whose, in its words
+    ("the paper's bound" for a limit the paper observed; "this tool's speed target", one not the paper's)."""
     if because:
         return Verdict(None, because)
     if pinned:
         judged = verdict(ours, paper, low=low, high=high, digits=digits, unit=unit, ratio=ratio,
-                         commanded=commanded)
+                         commanded=commanded, bound=bound)
         return Verdict(judged.differs, f"{judged.words}; on its search bound ({pinned}) in every run, "
                        f"so CV {number(ours, digits)}{unit.strip()} measures the bound, not repeatability")
     if commanded:
@@ -184,8 +185,8 @@ def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits:
         bounded = not is_missing(paper[0]) and not is_missing(paper[1])
         lo = float(paper[0]) if not is_missing(paper[0]) else -math.inf
         hi = float(paper[1]) if not is_missing(paper[1]) else math.inf
-        kind, word = ("range", "inside") if bounded else ("target", "within")
-        where = f"the paper's {kind} {paper_text(paper, digits)}{'' if unit in ('', '%') else ' '}{unit}"
+        what, word = ("the paper's range", "inside") if bounded else (bound, "within")
+        where = f"{what} {paper_text(paper, digits)}{'' if unit in ('', '%', '°') else ' '}{unit}"
         if lo <= float(ours) <= hi:
             return Verdict(False, f"{word} {where}")
         if lo <= round(float(ours), digits) <= hi:  # ours as printed (0.4252 -> 0.43 in 0.43-0.48)

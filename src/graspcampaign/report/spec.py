@@ -59,8 +59,8 @@ def verdicts(frame: pd.DataFrame, ours: str, paper: str, low: str | None = None,
              why: str = "why", **forms: str) -> pd.DataFrame:
     """Add ``difference``, ``differs`` and ``verdict`` columns by the one verdict rule; ``unit`` and
     ``forms`` (:func:`~graspcampaign.report.format.verdict`'s ``ratio``, ``commanded``, ``because``,
-    ``pinned``) are each a column of ``frame`` or the value itself; a row whose ours is missing is not
-    compared because of its ``why`` text, if any. A row not compared has no difference."""
+    ``pinned``, ``bound``) are each a column of ``frame`` or the value itself; a row whose ours is missing
+    is not compared because of its ``why`` text, if any. A row not compared has no difference."""
     out = []
     for r in frame.to_dict("records"):
         u = str(r[unit] or "") if unit in r else unit
@@ -181,6 +181,7 @@ class Value:
     unit: str = ""
     digits: int = 2
     because: str = ""  # why ours is not compared (a context row), as the verdict rule's ``because``
+    bound: str = "the paper's target"  # what a one-sided paper value is, as the verdict rule's ``bound``
 
     def estimate(self, run: Run) -> Estimate:
         return v if isinstance(v := self.value(run), Estimate) else Estimate(v)
@@ -200,10 +201,10 @@ def Claims(name: str, caption: str | Callable[[Run], str],
            rows: Sequence[Value] | Callable[[Run], Iterable[tuple]] = (),
            empty: str | None = "no executed trial has its data") -> Table:
     """A table of single quantities beside the paper's: :func:`Rate` and :class:`Value` rows, or
-    ``rows(run)`` yielding ``(quantity, section, value, paper, unit, digits[, because])`` with the paper's
-    value itself and ours a number, an Estimate or a function of nothing giving one (its ValueError: the
-    row's reason); ``digits`` the decimals, or ``fmt.P`` for a p-value; ``because`` why a context row is
-    not compared; ``empty`` as for :class:`Table`."""
+    ``rows(run)`` yielding ``(quantity, section, value, paper, unit, digits[, because[, bound]])`` with the
+    paper's value itself and ours a number, an Estimate or a function of nothing giving one (its ValueError:
+    the row's reason); ``digits`` the decimals, or ``fmt.P`` for a p-value; ``because`` why a context row is
+    not compared; ``bound`` what a one-sided paper value is; ``empty`` as for :class:`Table`."""
     def compute(run: Run) -> pd.DataFrame:
         out = []
         for r in rows(run) if callable(rows) else rows:
@@ -217,12 +218,12 @@ def Claims(name: str, caption: str | Callable[[Run], str],
                 e, why = Estimate(math.nan), f"not computed: {reason(exc)}"
             p = paper_of(run, r.paper)
             out.append([r.label, r.section, fmt.paper_text(p, r.digits) if isinstance(p, tuple | list) else p,
-                        e.value, e.low, e.high, e.n, r.unit, r.digits, why, p, r.because])
+                        e.value, e.low, e.high, e.n, r.unit, r.digits, why, p, r.because, r.bound])
         columns = ["quantity", "section", "paper", "value", "low", "high", "n", "unit", "digits", "why",
-                   "_paper", "_because"]
+                   "_paper", "_because", "_bound"]
         frame = pd.DataFrame(out, columns=columns).astype({"n": "Int64"})
-        return verdicts(frame, "value", "_paper", "low", "high", "digits", "unit",
-                        because="_because").drop(columns=["_paper", "_because"])
+        return verdicts(frame, "value", "_paper", "low", "high", "digits", "unit", because="_because",
+                        bound="_bound").drop(columns=["_paper", "_because", "_bound"])
 
     def shown(run: Run, frame: pd.DataFrame) -> list[Col]:
         ours = "ours (95%)" if (frame["low"].notna() & frame["high"].notna()).any() else "ours"
