@@ -265,15 +265,21 @@ def audit_t2_classifier(study: str, d: pd.DataFrame, ref: dict) -> None:
     c = ref["classifier"]
     scores = {"all": (c["accuracy"], c["precision"], c["recall"]),
               "heuristic": tuple(ref["classifier_proposed"][k] for k in ("accuracy", "precision", "recall")),
-              "baselines": (None, ref["classifier_baselines_precision"], None),
-              "group C": (None, ref["classifier_group_c_precision"], None)}
+              "baselines": (None, ref["classifier_baselines_precision"], None)}
+    # §8.1's and §8.4's group C precisions are of the residual flag alone (§8.1), each for its population
+    gc, residual = ref["classifier_group_c"], "predicted_stable_residual"
+    scores |= {("group C, proposed", residual): (None, gc["proposed"]["precision"], None),
+               ("group C, all planners", residual): (None, gc["pooled"]["precision"], None),
+               ("outside C, all planners", residual): (None, gc["pooled"]["precision_elsewhere"], None)}
     rows = []
     for flag in ("predicted_stable", "predicted_stable_residual"):
         for belief, part in d.groupby("belief_error"):
             h = part["planner"] == "heuristic"
             scopes = {"all": part, **{q: part[part["planner"] == q] for q in PLANNERS},
-                      "baselines": part[~h], "group C": part[h & (part["group"] == "C")],
-                      "outside C": part[h & (part["group"] != "C")]}
+                      "baselines": part[~h], "group C, proposed": part[h & (part["group"] == "C")],
+                      "outside C, proposed": part[h & (part["group"] != "C")],
+                      "group C, all planners": part[part["group"] == "C"],
+                      "outside C, all planners": part[part["group"] != "C"]}
             for s, g in scopes.items():
                 if not len(g):
                     continue
@@ -287,7 +293,7 @@ def audit_t2_classifier(study: str, d: pd.DataFrame, ref: dict) -> None:
                     low, high = wilson(int(k), int(n))
                     r |= {name: k / n if n else math.nan, f"{name}_low": low, f"{name}_high": high}
                 r["above_base"] = bool(r["precision"] > r["base"])
-                pc = scores.get(s, (None,) * 3) if belief == "paper" else (None,) * 3
+                pc = scores.get((s, flag), scores.get(s, (None,) * 3)) if belief == "paper" else (None,) * 3
                 r |= dict(zip(("paper_accuracy", "paper_precision", "paper_recall"), pc, strict=True))
                 # the accuracy's decimals as printed: §8.4 "80.6 %" (0.806) and "0.93"
                 r["paper_accuracy_digits"] = {"all": 3, "heuristic": 2}.get(s) if pc[0] is not None else None
@@ -363,6 +369,18 @@ def audit_t2_claims(study, ref, prop, acc, mc, tests) -> None:
              "n_contact_point_error")):
         rows.append({"quantity": q, "value": a[col], "n": a[n], "paper": ref[key], "digits": PRINTED[key],
                      "difference": a[col] - ref[key], "differs": judge(a[col], ref[key], PRINTED[key])})
+    # §8.1: the residual flag certifies 71 of the proposed planner's 144 group C trials (49%), ≈ 90% elsewhere
+    gc = ref["classifier_group_c"]["proposed"]
+    for where, part, key, said in (
+            ("group C trials", prop[prop["group"] == "C"], "certified_pct", "71 of 144"),
+            ("trials outside group C", prop[prop["group"] != "C"], "certified_elsewhere_pct", "≈ 90%")):
+        k = int(part["predicted_stable_residual"].astype(bool).sum())
+        low, high = wilson(k, len(part))
+        v = 100 * k / len(part)
+        rows.append({"quantity": f"proposed planner's {where} certified by `predicted_stable_residual` "
+                                 f"(paper {said})", "value": v, "low": 100 * low, "high": 100 * high,
+                     "n": len(part), "paper": gc[key], "digits": 0, "difference": v - gc[key],
+                     "differs": judge(v, gc[key], 0, 100 * low, 100 * high)})
     m, pm = mc.loc["centroid"], ref["mcnemar_centroid"]
     for q, col, key, digits in (("McNemar χ² proposed vs centroid", "chi2_cc", "chi2", 1),
                                 ("pairs won by proposed (vs centroid)", "reference_only", "won", 0),

@@ -153,6 +153,37 @@ class ClassifierPaper:
 
 
 @dataclass(frozen=True)
+class GroupCProposed:
+    """§8.1: the flag on the proposed planner's group C trials: how many it certifies (and their share),
+    how many of those are not successes, its precision, and its certified share outside group C."""
+
+    section: str
+    trials: int
+    certified: int
+    certified_failed: int
+    precision: float
+    certified_pct: float
+    certified_elsewhere_pct: float
+
+
+@dataclass(frozen=True)
+class GroupCPooled:
+    """§8.4: the pooled flag's precision inside group C and over every other trial."""
+
+    section: str
+    precision: float
+    precision_elsewhere: float
+
+
+@dataclass(frozen=True)
+class GroupCPaper:
+    """The flag's precision inside group C as §8.1 (proposed planner) and §8.4 (pooled) print it."""
+
+    proposed: GroupCProposed
+    pooled: GroupCPooled
+
+
+@dataclass(frozen=True)
 class McNemarPaper:
     """A printed McNemar test: chi2 (continuity-corrected), pairs won and lost, odds ratio."""
 
@@ -196,7 +227,7 @@ class Test2Paper:
     classifier: ClassifierPaper
     classifier_proposed: ClassifierPaper
     classifier_baselines_precision: float
-    classifier_group_c_precision: float
+    classifier_group_c: GroupCPaper
     proposed_certified: int
     proposed_certified_failed: int
     successes_labelled_unstable: int

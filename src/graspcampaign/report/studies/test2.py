@@ -4,7 +4,6 @@ Tables 6-9 show the records and their ``belief_error = none`` counterfactual (tr
 from __future__ import annotations
 
 from dataclasses import asdict
-from decimal import Decimal
 
 import numpy as np
 import pandas as pd
@@ -18,7 +17,8 @@ from graspcampaign.report import style
 from graspcampaign.report.document import Col, Figure, Table, cols, pct_col
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Claims, Finding, Paired, Rates, ReportSpec, paper_of, share, verdicts
-from graspcampaign.report.studies.opening import FLAGS, ex, finding, frames
+from graspcampaign.report.studies.flags import classifier, confusion, group_c, scores
+from graspcampaign.report.studies.opening import ex, finding, frames
 
 PLANNERS, ME = ("heuristic", "centroid", "no_pso", "force_balance", "random"), f"planner == '{PROPOSED}'"
 READINGS, PAPER_ROWS = {"belief_error": ["paper", "none"]}, "belief_error == 'paper'"
@@ -111,36 +111,6 @@ def belief_tables(prefix: str) -> list[Table]:
                   "rig has no oracle)")]
 
 
-def classifier(name: str, caption: str, scopes, paper) -> Table:
-    """The flags against the rig's success per belief reading and scope, beside the paper's scores
-    (``paper(p)``: scope -> (accuracy, precision, recall), None where not printed)."""
-    def compute(run: Run) -> pd.DataFrame:
-        d, ref = frames(run), paper_of(run, paper) or {}
-        out = hw.classifier_table(hw.scoped(d, scopes(d)), FLAGS, ["belief_error", "scope"])
-        for i, k in enumerate(("accuracy", "precision", "recall")):
-            out[f"paper_{k}"] = [ref.get(s, [None] * 3)[i] if b == "paper" else None
-                                 for s, b in zip(out["scope"], out["belief_error"], strict=True)]
-        out["why"] = np.where(out["flagged"] > 0, "", "no trial flagged")
-        # the paper's accuracy with the decimals it prints (§8.4 "80.6 %" = 0.806 and "0.93"; §9.5 0.888):
-        # two decimals printed 0.806 as 0.81
-        out["paper_accuracy_digits"] = pd.array([None if fmt.is_missing(v) else typed_decimals(v)
-                                                 for v in out["paper_accuracy"]], dtype="Int64")
-        return verdicts(out, "precision", "paper_precision", "precision_low", "precision_high", digits=2)
-    fracs = [c for k, h in (("base", "base success rate"), ("precision", "precision"), ("recall", "recall"))
-             for c in (Col(k, f"{h} (Wilson 95%)", 3, low=f"{k}_low", high=f"{k}_high",
-                           why="why" if k == "precision" else None),
-                       *[Col(f"paper_{k}", "paper", 2)] * (k != "base"))]
-    return Table(name, caption, compute, [
-        *(Col(c, c) for c in ("n", "flagged", "fp")), *fracs, Col("above_base", "precision above base"),
-        Col("accuracy", "accuracy", 3), Col("paper_accuracy", "paper", "paper_accuracy_digits"),
-        Col("verdict", "verdict (precision)")], by=["flag", "belief_error", "scope"])
-
-
-def typed_decimals(value: float) -> int:
-    """The decimals of a paper value as its study file types it (0.806: 3, 0.93: 2, 1.0: 1)."""
-    return max(0, -Decimal(repr(float(value))).as_tuple().exponent)
-
-
 def matched_mcnemar(name: str, caption: str) -> Table:
     """McNemar of the proposed planner against each baseline on the occurrence-matched pairs, beside
     the paper's (against the centroid planner only)."""
@@ -179,25 +149,6 @@ def planner_bars(table: str):
         style.rate_axes(ax)
         ax.set_title("(a) all trials; hatched: exact beliefs")
         style.legend_below(ax, [style.interval_handle(), style.paper_handle()], ncol=2)
-    return draw
-
-
-def confusion(paper, flag: str):
-    """Panel: ``predicted_stable`` against the rig's outcome, with ours and the paper's scores; ``flag``
-    says in words what the flag predicts (the y label; the caption names the column)."""
-    def draw(run: Run, ax) -> None:
-        m = hw.classifier_table(ex(run).assign(all=1), ["predicted_stable"], ["all"]).iloc[0]
-        cells, ref = np.array([[m["tn"], m["fn"]], [m["fp"], m["tp"]]]), paper_of(run, paper)
-        ax.imshow(cells, cmap="Blues", vmin=0)
-        for (i, j), v in np.ndenumerate(cells):
-            ax.text(j, i, v, ha="center", va="center", color="white" if v > 0.6 * cells.max() else "k")
-        ax.set(xticks=[0, 1], xticklabels=["failed", "succeeded"], yticks=[0, 1], yticklabels=["no", "yes"],
-               xlabel=f"{run.rig} outcome [trials]", ylabel=flag, title="(c) flag vs outcome")
-        ax.grid(False)
-        ax.plot([], [], " ", label="\n".join([f"n = {m['n']}", *(
-            f"{k}: ours {fmt.number(m[k], 2)}, paper {fmt.number(getattr(ref, k), 2)}"
-            for k in ("accuracy", "precision", "recall") if ref)]))
-        ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), handlelength=0)
     return draw
 
 
@@ -395,6 +346,13 @@ def claims(run: Run):
             ("median contact-point error", "contact_point_error_mm", "contact_point_err_median_mm", "mm", 1)):
         n = acc["n_parity" if col.startswith("parity") else f"n_{things(col)}"]
         yield q, "§8.3, Fig. 29", Estimate(acc[col], n=n), getattr(p, key), unit, digits
+    g, flag = p.classifier_group_c.proposed, "predicted_stable_residual"
+    for where, part, paper, said in (
+            ("group C trials", d[d["group"] == "C"], g.certified_pct, f"{g.certified} of {g.trials}"),
+            ("trials outside group C", d[d["group"] != "C"], g.certified_elsewhere_pct,
+             f"≈ {fmt.number(g.certified_elsewhere_pct, 0)}%")):  # §8.1 prints "49%" and "≈ 90%"
+        yield (f"proposed planner's {where} certified by `{flag}` (paper {said})", g.section,
+               lambda part=part: share(part, part[flag]), paper, "%", 0)
     yield from mcnemar_rows(mc, p.mcnemar_centroid, "§8.5")
     yield ("discordant-pair odds ratio", "§8.5", Estimate(*mc[["odds_ratio", "odds_ratio_low",
            "odds_ratio_high", "pairs"]]), p.mcnemar_centroid.odds_ratio, "", 1)
@@ -453,15 +411,18 @@ SPEC = ReportSpec("test2_grasp", [
     classifier("test2_classifier", lambda run: f"Pre-execution flags against {run.rig} success (§8.4, "
                "Fig. 31c): `predicted_stable` is §9.5's SF_predicted > 1, optimistic where the beliefs are "
                "wrong; `predicted_stable_residual` §8.1's residual ≤ τ_F = 0.0886 N, the flag the paper's "
-               "scores belong to: friction-blind, it carries no information about a friction hold",
+               "scores belong to: friction-blind, it carries no information about a friction hold. §8.4's "
+               "scores stand beside both flags; the precisions inside and outside group C beside the "
+               "residual flag alone, each for the trials its section states (§8.1 the proposed planner's, "
+               "§8.4 all planners')",
                lambda d: {
                    **per_planner(d), "baselines": d["planner"] != PROPOSED,
-                   "group C": d.eval(f"{ME} and group == 'C'"),
-                   "outside C": d.eval(f"{ME} and group != 'C'")},
-               lambda p: {"all": [*vars(p.classifier).values()], PROPOSED: [*vars(
-                   p.classifier_proposed).values()],
+                   "group C, proposed": d.eval(f"{ME} and group == 'C'"),
+                   "outside C, proposed": d.eval(f"{ME} and group != 'C'"),
+                   "group C, all planners": d["group"] == "C", "outside C, all planners": d["group"] != "C"},
+               lambda p: {"all": scores(p.classifier), PROPOSED: scores(p.classifier_proposed),
                           "baselines": (None, p.classifier_baselines_precision, None),
-                          "group C": (None, p.classifier_group_c_precision, None)}),
+                          **group_c(p.classifier_group_c)}),
     matched_mcnemar("test2_mcnemar", "Matched ablation (§8.5): McNemar, proposed against each baseline on "
                     "occurrence-matched pairs (object, condition, repeat)"),
     Table("test2_tests", "χ² of planner × success; Kruskal–Wallis of the force error across planners, "

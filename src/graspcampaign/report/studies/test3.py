@@ -17,6 +17,7 @@ from graspcampaign.report import style
 from graspcampaign.report.document import Col, cols, pct_col
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Claims, Figure, Finding, ReportSpec, Table, paper_of, share, verdicts
+from graspcampaign.report.studies import flags
 from graspcampaign.report.studies import test2 as t2
 
 NATURAL = "friction_level == 'natural'"
@@ -316,13 +317,13 @@ SPEC = ReportSpec("test3_disturbance", [
     Table("test3_first_finger", lambda run: f"First finger to slip, predicted against the {run.rig} "
           "one, over the trials whose first finger is known (§9.3); Wilson 95% intervals", first_finger,
           [Col("n", "n"), pct_col("first_finger_correct", "first finger correct")], by=["scope"]),
-    t2.classifier("test3_retention_classifier", "The retention flag against success (§9.5, Fig. 36c): "
+    flags.classifier("test3_retention_classifier", "The retention flag against success (§9.5, Fig. 36c): "
                "`predicted_stable` (= `retention_pred`) is the believed retention margin under the "
                "commanded disturbance > 1, optimistic where the beliefs are wrong; "
                "`predicted_stable_residual` Algorithm 2's residual ≤ τ_F, the paper's §8.1 flag: "
                "friction-blind, it carries no information about a friction hold",
                t2.per_planner,
-               lambda p: {"all": [*vars(p.retention_classifier).values()]}),
+               lambda p: {"all": flags.scores(p.retention_classifier)}),
     Table("test3_logistic", "Logistic regression of failure over the fixed-load blocks B, D, E (§9.5): "
           "applied load [N], mass [kg], believed μ_s, proposed-planner indicator (Wald 95%)",
           lambda run: ds.failure_logistic(t2.ex(run))),
@@ -342,7 +343,7 @@ SPEC = ReportSpec("test3_disturbance", [
     Figure("fig36_robustness", lambda run: "Fig. 36: (a) success per planner with the planners' own beliefs "
            "and with exact ones (hatched), (b) share of natural-friction pulls holding each level (a grasp "
            f"lost before the pull counts as 0 N), (c) the retention flag (`predicted_stable`) against the "
-           f"{run.rig} outcome", style.panels(t2.planner_bars("table9"), survival, t2.confusion(
+           f"{run.rig} outcome", style.panels(t2.planner_bars("table9"), survival, flags.confusion(
                lambda p: p.retention_classifier, "predicted to retain: believed margin > 1")),
            (13.0, 4.0)),
 ])
