@@ -61,4 +61,5 @@ def test_a_csv_not_utf8_is_named_so_before_an_earlier_row_of_too_many_cells(tmp_
     assert data[:decoded.value.start].count(b"\n") + 1 == 5
     with pytest.raises(IngestError) as caught:
         read_table(sheet)
-    assert str(caught.value) == "day1.csv, line 5: the file is not UTF-8 text (byte 0xff); save it as CSV UTF-8."
+    assert str(caught.value) == ("day1.csv, line 5: the file is not UTF-8 text (byte 0xff); save it "
+                                 "as CSV UTF-8.")
