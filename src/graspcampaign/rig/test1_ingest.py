@@ -59,8 +59,9 @@ MAX_WAVEFORM_BYTES = 8 * 2**30
 """The largest waveform file read: twice every event of the full Test 1 schedule in one CSV with
 every float64 digit written (3.9 GiB; 1.7 GiB as the sensors resolve them, 1 um and 1 mN), which
 leaves room for re-run attempts and a note on every sample (``benchmarks/test1_file_size.py``:
-32.8 M samples at 50-500 Hz, §7.1). Reading takes some ten times a file's size in memory (83 MB:
-0.87 GB), so a file beyond any the protocol makes is refused unread (docs/decisions.md)."""
+32.8 M samples at 50-500 Hz, §7.1). An ingest's memory grows by some 330 bytes a sample (the
+whole schedule's file: about 10 GiB, ``benchmarks/test1_ingest_memory.py``), so a file beyond any
+the protocol makes is refused unread (docs/decisions.md)."""
 
 
 def read_waveforms(path: str | Path) -> pd.DataFrame:
