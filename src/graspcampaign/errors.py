@@ -5,6 +5,7 @@ from __future__ import annotations
 import errno
 import os
 import re
+from pathlib import Path
 
 #: A value longer than this is shown by its start and its length (a 100,000-character override
 #: echoed in full buries the sentence; longer than any path or key list a message names:
@@ -82,6 +83,30 @@ def utf8_text(data: bytes) -> tuple[str | None, str]:
     except UnicodeDecodeError as exc:
         line = data[:exc.start].count(b"\n") + 1
         return None, f", line {line}: the file is not UTF-8 text (byte 0x{data[exc.start]:02x})"
+
+
+def utf8_file(path: str | os.PathLike) -> str | None:
+    """Why the file ``path`` is not UTF-8 text, in :func:`utf8_text`'s words, or None when it is:
+    decoded block by block and the text dropped, never held whole (a Test 1 waveform file of the
+    full schedule is 1.7 GiB; its text and the bytes beside it took three times that). The file's
+    bytes are read whole only to say why one is not UTF-8."""
+    import codecs
+
+    from graspcampaign.core.text import utf16
+
+    with open(path, "rb") as handle:
+        head = handle.read(202)  # the bytes utf16 asks for
+        if utf16(head):
+            return utf8_text(head)[1]
+        decoder = codecs.getincrementaldecoder("utf-8")()
+        try:
+            decoder.decode(head)
+            for block in iter(lambda: handle.read(1 << 24), b""):
+                decoder.decode(block)
+            decoder.decode(b"", final=True)
+        except UnicodeDecodeError:
+            return utf8_text(Path(path).read_bytes())[1]
+    return None
 
 
 class UserInputError(Exception):

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import csv
 import datetime
-import io
 import math
 import re
 import warnings
@@ -22,7 +21,7 @@ import numpy as np
 import pandas as pd
 
 from graspcampaign.core.words import counted, meant, plural
-from graspcampaign.errors import utf8_text
+from graspcampaign.errors import utf8_file
 from graspcampaign.rig.sheet_xml import SheetMarks, first_sheet_marks
 
 __all__ = ["IngestError", "cell_problem", "header_problems", "ingest_error", "read_table",
@@ -126,12 +125,13 @@ def read_table(path: str | Path, *, csv_options: dict | None = None,
     if path.stat().st_size == 0:
         raise IngestError(f"{path.name}: the file is empty.")
     _check_content(path, ".parquet" if suffix == ".pq" else suffix)
-    text = _checked_csv(path) if suffix == ".csv" else None
+    if suffix == ".csv":
+        _checked_csv(path)
     try:
-        if text is not None:  # the text the check read: the file is read once
+        if suffix == ".csv":  # from the file: its text held as a str was 5 times its size
             with warnings.catch_warnings():  # mixed types in a column: the validators name the cell
                 warnings.simplefilter("ignore", pd.errors.DtypeWarning)
-                return pd.read_csv(io.StringIO(text), **(csv_options or {}))
+                return pd.read_csv(path, **(csv_options or {}))
         if suffix == ".xlsx":
             with pd.ExcelFile(path) as book:
                 with warnings.catch_warnings(record=True) as caught:
@@ -340,39 +340,39 @@ def _check_sheet(path: Path, sheet: str, frame: pd.DataFrame) -> None:
         _check_empty_cells(path, sheet, frame, marks)
 
 
-def _checked_csv(path: Path) -> str:
-    """Return a CSV's text, or refuse one that pandas would misread or describe only by an
-    exception's name: not UTF-8, empty, cells separated by ';' or tabs (a spreadsheet's regional
-    export), or a data row with more or fewer cells than the header (pandas shifts a longer first
-    row into an index and pads a shorter row, a truncated file's last row, with empty cells)."""
-    data = path.read_bytes()
-    text, why = utf8_text(data)
-    if text is None:
+def _checked_csv(path: Path) -> None:
+    """Refuse a CSV that pandas would misread or describe only by an exception's name: not UTF-8,
+    empty, cells separated by ';' or tabs (a spreadsheet's regional export), or a data row with
+    more or fewer cells than the header (pandas shifts a longer first row into an index and pads
+    a shorter row, a truncated file's last row, with empty cells). The file is read block by block
+    and row by row, never held whole (docs/decisions.md, "A Test 1 waveform file is read ...")."""
+    if (why := utf8_file(path)) is not None:
         raise IngestError(f"{path.name}{why}; save it as CSV UTF-8.")
     # lines as the csv module (and pandas) end them: not str.splitlines, which also breaks at
     # U+2028 and other separators a cell may hold; row by row, not a list of a million rows (a
     # waveform file's), which took 0.8 GB to check a 45 MB file; the rows pandas reads: it skips a
     # blank or all-space line, not a line of only commas, so such a line counts in the row numbers
-    rows = (r for r in csv.reader(io.StringIO(text, newline="")) if r and (len(r) > 1 or r[0].strip()))
-    try:
-        header = next((r for r in rows if r[0].strip() or any(c.strip() for c in r)), None)
-        if header is None:
-            raise IngestError(f"{path.name}: the file is empty.")  # blank lines only
-        for sep, name in ((";", "';'"), ("\t", "tabs")):
-            if len(header) == 1 and sep in header[0]:
-                raise IngestError(f"{path.name}, header: the cells are separated by {name}, not "
-                                  "commas; save the sheet as comma-separated CSV (decimal point '.').")
-        for i, row in enumerate(rows, start=1):
-            if not row[0].strip() and len(row) <= len(header) and not any(c.strip() for c in row):
-                continue  # only commas: pandas pads it, and ingest names it an empty row to delete
-            if row == header:  # it was "value 'aborted' is not a boolean"
-                raise IngestError(f"{path.name}, row {i}: the row repeats the header (two sheets "
-                                  "pasted one after the other?); delete it.")
-            if len(row) != len(header):
-                _wrong_cells(path.name, header, i, row, rows)
-    except csv.Error as exc:  # a cell over the csv module's field limit, a stray NUL byte
-        raise IngestError(f"{path.name}: the file cannot be read as CSV ({exc}).") from None
-    return text
+    with path.open(encoding="utf-8-sig", newline="") as handle:
+        rows = (r for r in csv.reader(handle) if r and (len(r) > 1 or r[0].strip()))
+        try:
+            header = next((r for r in rows if r[0].strip() or any(c.strip() for c in r)), None)
+            if header is None:
+                raise IngestError(f"{path.name}: the file is empty.")  # blank lines only
+            for sep, name in ((";", "';'"), ("\t", "tabs")):
+                if len(header) == 1 and sep in header[0]:
+                    raise IngestError(f"{path.name}, header: the cells are separated by {name}, not "
+                                      "commas; save the sheet as comma-separated CSV (decimal point "
+                                      "'.').")
+            for i, row in enumerate(rows, start=1):
+                if not row[0].strip() and len(row) <= len(header) and not any(c.strip() for c in row):
+                    continue  # only commas: pandas pads it, and ingest names it an empty row to delete
+                if row == header:  # it was "value 'aborted' is not a boolean"
+                    raise IngestError(f"{path.name}, row {i}: the row repeats the header (two "
+                                      "sheets pasted one after the other?); delete it.")
+                if len(row) != len(header):
+                    _wrong_cells(path.name, header, i, row, rows)
+        except csv.Error as exc:  # a cell over the csv module's field limit, a stray NUL byte
+            raise IngestError(f"{path.name}: the file cannot be read as CSV ({exc}).") from None
 
 
 def _wrong_cells(name: str, header: list[str], i: int, row: list[str], rest: Iterator[list[str]]) -> None:

@@ -59,8 +59,9 @@ MAX_WAVEFORM_BYTES = 8 * 2**30
 """The largest waveform file read: twice every event of the full Test 1 schedule in one CSV with
 every float64 digit written (3.9 GiB; 1.7 GiB as the sensors resolve them, 1 um and 1 mN), which
 leaves room for re-run attempts and a note on every sample (``benchmarks/test1_file_size.py``:
-32.8 M samples at 50-500 Hz, §7.1). Reading takes some ten times a file's size in memory (83 MB:
-0.87 GB), so a file beyond any the protocol makes is refused unread (docs/decisions.md)."""
+32.8 M samples at 50-500 Hz, §7.1). An ingest's memory grows by some 330 bytes a sample (the
+whole schedule's file: about 10 GiB, ``benchmarks/test1_ingest_memory.py``), so a file beyond any
+the protocol makes is refused unread (docs/decisions.md)."""
 
 
 def read_waveforms(path: str | Path) -> pd.DataFrame:
@@ -232,7 +233,10 @@ def validate_waveforms(data: pd.DataFrame | str | Path, known_event_ids: Iterabl
         out["anomaly"] = anomaly.where(anomaly.notna(), "").astype(str).str.strip()
     if "source" in df.columns:
         out["source"] = _sources(df["source"], label)
-        check_one_source([(label, i + 1, v) for i, v in enumerate(out["source"])])
+        # row 1 and the first row of another source: the rows check_one_source tells apart (a list
+        # of every row took 0.35 GB for 3.4 M samples)
+        other = np.flatnonzero((out["source"] != out["source"].iloc[0]).to_numpy())[:1]
+        check_one_source([(label, i + 1, out["source"].iloc[i]) for i in (0, *other)])
     for extra in ("attempt", "anomaly"):
         if extra in out:
             _check_constant(out, extra, label)
@@ -381,19 +385,23 @@ def _attempts(raw: pd.Series, label: str) -> np.ndarray:
 
 
 def _sources(raw: pd.Series, label: str) -> np.ndarray:
-    """Parse the optional ``source`` column: ``measured`` (a rig) or ``virtual`` (a virtual bench)."""
-    values = []
-    for i, value in enumerate(raw.tolist()):
+    """Parse the optional ``source`` column: ``measured`` (a rig) or ``virtual`` (a virtual bench).
+    Each distinct value is read once, and the first row of one that is neither is named (a list
+    of every row's value took 0.25 GB for 3.4 M samples)."""
+    codes, values = pd.factorize(raw)  # code -1: a missing value, which no source is
+    texts = [str(value).strip() for value in values]
+    known = np.array([text in SOURCES for text in texts] + [False])[codes]
+    if not known.all():
+        i = int(np.flatnonzero(~known)[0])
+        value = raw.iloc[[i]].tolist()[0]  # as a Python value: no np reprs
         text = "" if value is None or (isinstance(value, float) and math.isnan(value)) \
             else str(value).strip()
         if not text:
             raise ingest_error(label, i + 1, "source", f"value is empty; expected one of "
                                f"{', '.join(SOURCES)}")
-        if text not in SOURCES:
-            raise ingest_error(label, i + 1, "source", f"value {text!r}{aside(text, SOURCES)} is not "
-                               f"one of {', '.join(SOURCES)}")
-        values.append(text)
-    return np.asarray(values, dtype=object)
+        raise ingest_error(label, i + 1, "source", f"value {text!r}{aside(text, SOURCES)} is not "
+                           f"one of {', '.join(SOURCES)}")
+    return np.asarray([*texts, ""], dtype=object)[codes]
 
 
 def _check_constant(table: pd.DataFrame, column: str, label: str) -> None:
