@@ -46,6 +46,18 @@ def test_a_records_file_far_beyond_any_sheet_is_refused_unread(results, tmp_path
             seconds=10)
 
 
+def test_a_records_file_just_over_the_limit_is_not_said_to_be_at_it(results, tmp_path):
+    # the old code rounded a size in MiB to the nearest one: 32 MiB and one byte read "the file is
+    # 32 MiB, and ... at most 32 MiB", as the GiB sizes of Test 1's limit no longer do
+    huge = tmp_path / "export.csv"
+    with huge.open("wb") as out:
+        out.truncate(32 * 2**20 + 1)
+    refused(results, ["ingest", "test2_grasp", huge, "--root", results],
+            "export.csv: the file is 32.1 MiB, and a file of trial records is at most 32 MiB (the "
+            "whole Test 2 sheet with its commanded columns is 2 MiB); check it is the right file.",
+            seconds=10)
+
+
 def test_a_decimal_comma_in_a_quoted_cell_is_named(results, tmp_path):
     # a spreadsheet's regional export with every cell quoted passes the separator check; the old
     # code said only "value '0,16' is not a number"

@@ -25,7 +25,6 @@ def test_the_cost_ratio_target_is_this_tools_not_the_papers():
     assert target["differs"].isna().all()  # not a comparison with the paper
     assert target["verdict"].iloc[0] == "not a paper value: within this tool's speed target ≤ 1.50"
     text = finding(run)
-    assert "; this tool's speed target ≤ 1.5 (not a paper value): within this tool's speed target " \
-           "≤ 1.50; table cost_ratio)" in text
+    assert "; within this tool's speed target ≤ 1.50, not a paper value; table cost_ratio)" in text
     said = [text, COST.caption, *table["quantity"], *table["verdict"]]
     assert not [s for s in said if "paper's target" in s]

@@ -90,12 +90,19 @@ def test_section_7_claims_against_the_records(run):
     margins = read_table(path, "oblique_margin").set_index("angle_deg")
     assert margins.loc[45.0, "paper_n"] == -0.16 and np.isnan(margins.loc[15.0, "paper_n"])
     assert margins["events"].sum() == share["n"]
+    # §7.4, Fig. 25: K/K1 "remains above the 0.85 durability target", one-sided; it was judged as the
+    # range 0.850–1.000 and said "inside the paper's range", whose 1.00 end is not the paper's
+    k = claims.loc["K/K1 at the last measured cycle: lowest specimen (paper: above the target)"]
+    assert k["paper"] == "≥ 0.850"
+    assert k["verdict"] == ("within the paper's durability target ≥ 0.850" if round(k["value"], 3) >= 0.85
+                            else "differs: below the paper's durability target ≥ 0.850")
 
 
 def _differs(row: dict) -> bool | None:
     """Whether a §7 quantity differs from the paper's, recounted by decisions.md's rule from its value
-    (a share's Wilson interval from statsmodels, not the table's): outside a range even as printed; a
-    point value a printed digit or more from the paper's, or from the nearest end of ours' interval."""
+    (a share's Wilson interval from statsmodels, not the table's): outside a range or below a bound even
+    as printed; a point value a printed digit or more from the paper's, or from the nearest end of ours'
+    interval."""
     if pd.isna(row["paper"]) or pd.isna(row["value"]):
         return None
     if row["paper"] in ("True", "False"):
@@ -104,6 +111,8 @@ def _differs(row: dict) -> bool | None:
     if "–" in row["paper"]:
         low, high = map(float, row["paper"].split("–"))
         return not (low <= value <= high or low <= round(value, digits) <= high)
+    if row["paper"].startswith("≥ "):  # a one-sided bound (K/K1's durability target)
+        return round(value, digits) < float(row["paper"][2:])
     paper, nearest = float(row["paper"]), value
     if not pd.isna(row["n"]) and not pd.isna(row["low"]):  # a share [%]: its Wilson 95% interval
         k, n = round(value / 100 * row["n"]), int(row["n"])

@@ -36,7 +36,6 @@ from graspcampaign.rig.measured_file import (
     header_problems,
     ingest_error,
     read_table,
-    refuse_larger,
     table_and_label,
 )
 from graspcampaign.rig.record_schema import (
@@ -58,6 +57,7 @@ __all__ = [
     "header_problems",
     "read_records",
     "read_table",
+    "refuse_larger",
     "validate_records",
 ]
 
@@ -73,6 +73,18 @@ _NOT_MEASURED = {word.lower() for word in NOT_MEASURED_WORDS}
 MAX_RECORDS_BYTES = 32 * 2**20
 """The largest records file read: 16x the full Test 2 sheet with every commanded column beside the
 records (2 MiB); a 200 MiB file took a minute and 3 GiB to refuse (docs/decisions.md)."""
+
+
+def refuse_larger(path: str | Path, limit: int, files: str, largest: str) -> None:
+    """Refuse the file ``path`` unread when it is over ``limit`` bytes: "a file of ``files`` is at most
+    ..." with ``largest``, what the limit is drawn from (the largest file the protocol makes)."""
+    def size(n: int) -> str:  # MiB below 1 GiB, else GiB; rounded up to 0.1 (just over is not "at" it)
+        unit, scale = ("MiB", 2**20) if n < 2**30 else ("GiB", 2**30)
+        return f"{math.ceil(n / scale * 10) / 10:g} {unit}"
+    path = Path(path)
+    if path.is_file() and (n := path.stat().st_size) > limit:
+        raise IngestError(f"{path.name}: the file is {size(n)}, and a file of {files} is at most "
+                          f"{size(limit)} ({largest}); check it is the right file.")
 
 
 def read_records(path: str | Path) -> pd.DataFrame:

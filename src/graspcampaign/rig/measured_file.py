@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import csv
 import datetime
-import math
 import re
 import warnings
 from collections import Counter
@@ -25,7 +24,7 @@ from graspcampaign.errors import utf8_file
 from graspcampaign.rig.sheet_xml import SheetMarks, first_sheet_marks
 
 __all__ = ["IngestError", "cell_problem", "header_problems", "ingest_error", "read_table",
-           "refuse_larger", "table_and_label"]
+           "table_and_label"]
 
 
 class IngestError(ValueError):
@@ -84,17 +83,6 @@ def cell_problem(value, expected: str = "a number") -> str:
     comma = isinstance(value, str) and re.fullmatch(r"\s*[+-]?[0-9]*,[0-9]+\s*", value)
     return f"value {value!r} is not {expected}" + (
         " (a decimal comma: save the sheet with a decimal point '.')" if comma else "")
-
-
-def refuse_larger(path: str | Path, limit: int, files: str, largest: str) -> None:
-    """Refuse the file ``path`` unread when it is over ``limit`` bytes: "a file of ``files`` is at most
-    ..." with ``largest``, what the limit is drawn from (the largest file the protocol makes)."""
-    def size(n: int) -> str:  # MiB below 1 GiB, else GiB rounded up to 0.1
-        return f"{n / 2**20:.0f} MiB" if n < 2**30 else f"{math.ceil(n / 2**30 * 10) / 10:g} GiB"
-    path = Path(path)
-    if path.is_file() and (n := path.stat().st_size) > limit:
-        raise IngestError(f"{path.name}: the file is {size(n)}, and a file of {files} is at most "
-                          f"{size(limit)} ({largest}); check it is the right file.")
 
 
 def read_table(path: str | Path, *, csv_options: dict | None = None,

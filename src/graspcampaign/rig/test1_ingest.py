@@ -22,7 +22,7 @@ import pandas as pd
 
 from graspcampaign.core.words import counted
 from graspcampaign.rig.file_kinds import other_files
-from graspcampaign.rig.ingest import check_one_source
+from graspcampaign.rig.ingest import check_one_source, refuse_larger
 from graspcampaign.rig.measured_file import (
     IngestError,
     aside,
@@ -31,7 +31,6 @@ from graspcampaign.rig.measured_file import (
     header_problems,
     ingest_error,
     read_table,
-    refuse_larger,
     table_and_label,
 )
 from graspcampaign.rig.protocol_design import STUDY_TEST1

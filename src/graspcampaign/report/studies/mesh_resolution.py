@@ -191,17 +191,15 @@ def _reading(run: Run) -> str:
     p, (top, ref), estimators, unlike = run.paper, _meshes(run), _estimators(run), _unlike_paper(run)
     ratio, (grows, growth) = _cost_ratio(run, estimators[0]), _growth(run, estimators[0])
     verdict = fmt.verdict(ratio.value, p.runtime_ratio_1750_144, low=ratio.low, high=ratio.high, digits=2)
-    target = fmt.verdict(ratio.value, (None, p.runtime_ratio_target), digits=2, bound=SPEED)
+    above, target = _speed(ratio.value, p.runtime_ratio_target)
     paper = f"{unlike.split(' (')[0]}, paper {p.runtime_ratio_1750_144}" if unlike else (
-        f"paper {p.runtime_ratio_1750_144}: {verdict.word}; {SPEED} ≤ {p.runtime_ratio_target} "
-        f"(not a paper value): {target.word}")
+        f"paper {p.runtime_ratio_1750_144}: {verdict.word}; {target}, not a paper value")
     if estimators[0] == "fastest":  # the median repeats judged by the target row's rule, as printed
         median, (median_grows, median_growth) = _cost_ratio(run, "median").value, _growth(run, "median")
-        other = fmt.Verdict(None, "") if unlike else \
-            fmt.verdict(median, (None, p.runtime_ratio_target), digits=2, bound=SPEED)
-        if (other.differs, median_grows) != (None if unlike else target.differs, grows):
+        other = (None, "") if unlike else _speed(median, p.runtime_ratio_target)
+        if (other[0], median_grows) != (None if unlike else above, grows):
             paper += (f"; by the median repeats {fmt.number(median, 2)}, which reads "
-                      f"{', '.join(w for w in (other.words, median_growth) if w)}: the estimator decides")
+                      f"{', '.join(w for w in (other[1], median_growth) if w)}: the estimator decides")
     design = ("which the design does not predict" if grows else "the design predicts none"
               if math.isnan(ratio.low) else "as the design predicts")
     return (f"One evaluation on the largest mesh ({top} nodes) costs {fmt.number(ratio.value, 2)} times one "
@@ -306,16 +304,23 @@ def _cost_rows(run: Run):
     for r in estimators:
         yield (f"cost ratio, {sizes}, {r} repeats, against this tool's speed target (≤ {target:g}; not a "
                "paper value)", "not in the paper", lambda r=r: _cost_ratio(run, r), None, "", 2,
-               because[r] or _speed(run, r, target))
+               because[r] or _target_row(run, r, target))
 
 
-def _speed(run: Run, repeats: str, target: float) -> str:
-    """The speed target row's words: ours within or above it, not a paper value ("" if not computed)."""
+def _speed(ratio: float, target: float) -> tuple[bool | None, str]:
+    """A cost ratio against this tool's speed target ≤ ``target``, by the verdict rule (as printed): whether
+    above it, and the words, "within …" or "above this tool's speed target ≤ 1.50" (the row's and the
+    opening's alike; "differs" alone would read as a difference from the paper)."""
+    judged = fmt.verdict(ratio, (None, target), digits=2, bound=SPEED)
+    return judged.differs, judged.why or judged.word
+
+
+def _target_row(run: Run, repeats: str, target: float) -> str:
+    """The speed target row's verdict: :func:`_speed`'s words, not a paper value ("" if not computed)."""
     try:
-        judged = fmt.verdict(_cost_ratio(run, repeats).value, (None, target), digits=2, bound=SPEED)
+        return f"not a paper value: {_speed(_cost_ratio(run, repeats).value, target)[1]}"
     except ValueError:  # no resolution trial: the row's value says so
         return ""
-    return f"not a paper value: {judged.why or judged.word}"
 
 
 COST = Claims("cost_ratio", "Per-evaluation cost ratio, largest against reference mesh (median over the "
