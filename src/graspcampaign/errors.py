@@ -80,9 +80,10 @@ def utf8_text(data: bytes) -> tuple[str | None, str]:
         return None, ": the file is UTF-16 text, not UTF-8"
     try:
         return data.decode("utf-8-sig"), ""
-    except UnicodeDecodeError as exc:
-        line = data[:exc.start].count(b"\n") + 1
-        return None, f", line {line}: the file is not UTF-8 text (byte 0x{data[exc.start]:02x})"
+    except UnicodeDecodeError as exc:  # its start counts from after a byte-order mark
+        at = exc.start + 3 * data.startswith(b"\xef\xbb\xbf")
+        line = data[:at].count(b"\n") + 1
+        return None, f", line {line}: the file is not UTF-8 text (byte 0x{data[at]:02x})"
 
 
 def utf8_file(path: str | os.PathLike) -> str | None:

@@ -63,3 +63,14 @@ def test_a_csv_not_utf8_is_named_so_before_an_earlier_row_of_too_many_cells(tmp_
         read_table(sheet)
     assert str(caught.value) == ("day1.csv, line 5: the file is not UTF-8 text (byte 0xff); save it "
                                  "as CSV UTF-8.")
+
+
+def test_a_csv_not_utf8_after_a_byte_order_mark_is_named_by_its_own_byte_and_line(tmp_path):
+    # 'utf-8-sig' counts the error's position from after the mark: the sentence named the byte three
+    # before the bad one, a newline on line 2 ("line 2 ... (byte 0x0a)"), which is UTF-8
+    sheet = tmp_path / "day1.csv"
+    sheet.write_bytes(b"\xef\xbb\xbfa,b\n1,2\n3,\xff\n")
+    with pytest.raises(IngestError) as caught:
+        read_table(sheet)
+    assert str(caught.value) == ("day1.csv, line 3: the file is not UTF-8 text (byte 0xff); save it "
+                                 "as CSV UTF-8.")
