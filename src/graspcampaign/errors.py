@@ -5,7 +5,6 @@ from __future__ import annotations
 import errno
 import os
 import re
-from pathlib import Path
 
 #: A value longer than this is shown by its start and its length (a 100,000-character override
 #: echoed in full buries the sentence; longer than any path or key list a message names:
@@ -81,33 +80,45 @@ def utf8_text(data: bytes) -> tuple[str | None, str]:
     try:
         return data.decode("utf-8-sig"), ""
     except UnicodeDecodeError as exc:  # its start counts from after a byte-order mark
-        at = exc.start + 3 * data.startswith(b"\xef\xbb\xbf")
-        line = data[:at].count(b"\n") + 1
-        return None, f", line {line}: the file is not UTF-8 text (byte 0x{data[at]:02x})"
+        return None, _not_utf8(data, exc.start + 3 * data.startswith(b"\xef\xbb\xbf"))
+
+
+def _not_utf8(data: bytes, at: int, lines: int = 0) -> str:
+    """The words after a file's name for the byte ``data[at]`` that no UTF-8 character holds, ``lines``
+    newlines before ``data``."""
+    line = lines + data[:at].count(b"\n") + 1
+    return f", line {line}: the file is not UTF-8 text (byte 0x{data[at]:02x})"
+
+
+#: The bytes :func:`utf8_file` decodes at a time (16 MiB).
+UTF8_BLOCK = 1 << 24
 
 
 def utf8_file(path: str | os.PathLike) -> str | None:
     """Why the file ``path`` is not UTF-8 text, in :func:`utf8_text`'s words, or None when it is:
     decoded block by block and the text dropped, never held whole (a Test 1 waveform file of the
-    full schedule is 1.7 GiB; its text and the bytes beside it took three times that). The file's
-    bytes are read whole only to say why one is not UTF-8."""
+    full schedule is 1.7 GiB; its text and the bytes beside it took three times that), nor to say
+    why it is not UTF-8: the line is the newlines counted in the blocks before the bad byte."""
     import codecs
 
     from graspcampaign.core.text import utf16
 
     with open(path, "rb") as handle:
-        head = handle.read(202)  # the bytes utf16 asks for
-        if utf16(head):
-            return utf8_text(head)[1]
-        decoder = codecs.getincrementaldecoder("utf-8")()
-        try:
-            decoder.decode(head)
-            for block in iter(lambda: handle.read(1 << 24), b""):
-                decoder.decode(block)
-            decoder.decode(b"", final=True)
-        except UnicodeDecodeError:
-            return utf8_text(Path(path).read_bytes())[1]
-    return None
+        block = handle.read(202)  # the bytes utf16 asks for
+        if utf16(block):
+            return utf8_text(block)[1]
+        # "utf-8", not "utf-8-sig": a byte-order mark is a character; the bytes count from the file's start
+        decoder, lines = codecs.getincrementaldecoder("utf-8")(), 0
+        while True:
+            pending = decoder.getstate()[0]  # a character's first bytes, cut at the last block's end
+            try:
+                decoder.decode(block, final=not block)
+            except UnicodeDecodeError as exc:  # its start counts in the pending bytes, then the block
+                return _not_utf8(pending + block, exc.start, lines)
+            if not block:
+                return None
+            lines += block.count(b"\n")  # the pending bytes are no newline (each is 0x80 or above)
+            block = handle.read(UTF8_BLOCK)
 
 
 class UserInputError(Exception):

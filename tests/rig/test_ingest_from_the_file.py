@@ -74,3 +74,45 @@ def test_a_csv_not_utf8_after_a_byte_order_mark_is_named_by_its_own_byte_and_lin
         read_table(sheet)
     assert str(caught.value) == ("day1.csv, line 3: the file is not UTF-8 text (byte 0xff); save it "
                                  "as CSV UTF-8.")
+
+
+@pytest.mark.parametrize("block", [5, 7, 64])
+@pytest.mark.parametrize("bom", [b"", b"\xef\xbb\xbf"])
+def test_a_csv_not_utf8_is_named_without_reading_it_whole(tmp_path, monkeypatch, block, bom):
+    # the refusal read the whole file to name the line (a waveform file may be 8 GiB): now the
+    # newlines of the blocks before the bad one are counted; small blocks cut 'é' (0xc3 0xa9) and
+    # the CRLF line ends, and put the bad byte (after more 'é') in a later block than the first
+    import graspcampaign.errors as errors
+
+    sheet = tmp_path / "day1.csv"
+    rows = "".join(f"{i},é{'x' * (i % 9)}\r\n" for i in range(40))
+    data = bom + f"a,b\r\n{rows}".encode() + b"7,\xc3\xa9\xc3\x28\r\n" + b"8,9\r\n"
+    sheet.write_bytes(data)
+    with pytest.raises(UnicodeDecodeError) as decoded:  # bytes.decode's own answer
+        data.decode("utf-8")
+    line, byte = data[:decoded.value.start].count(b"\n") + 1, data[decoded.value.start]
+    assert (line, byte) == (42, 0xc3)
+    monkeypatch.setattr(errors, "UTF8_BLOCK", block)
+    _no_whole_file(monkeypatch)
+    with pytest.raises(IngestError) as caught:
+        read_table(sheet)
+    assert str(caught.value) == (f"day1.csv, line {line}: the file is not UTF-8 text (byte 0x{byte:02x}); "
+                                 "save it as CSV UTF-8.")
+
+
+def test_a_csv_cut_inside_its_last_character_is_named_at_that_character(tmp_path, monkeypatch):
+    # the last block decoded whole but for its cut character, which only the final decode refuses
+    import graspcampaign.errors as errors
+
+    sheet = tmp_path / "day1.csv"
+    data = b"a,b\n" + b"1,x\n" * 40 + b"2,\xc3"  # 'é' cut after its first byte, at the end
+    sheet.write_bytes(data)
+    with pytest.raises(UnicodeDecodeError) as decoded:
+        data.decode("utf-8")
+    assert (data[:decoded.value.start].count(b"\n") + 1, decoded.value.start) == (42, len(data) - 1)
+    monkeypatch.setattr(errors, "UTF8_BLOCK", 10)
+    _no_whole_file(monkeypatch)
+    with pytest.raises(IngestError) as caught:
+        read_table(sheet)
+    assert str(caught.value) == ("day1.csv, line 42: the file is not UTF-8 text (byte 0xc3); save it as "
+                                 "CSV UTF-8.")
