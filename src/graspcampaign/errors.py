@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import codecs
 import errno
 import os
 import re
@@ -80,7 +81,7 @@ def utf8_text(data: bytes) -> tuple[str | None, str]:
     try:
         return data.decode("utf-8-sig"), ""
     except UnicodeDecodeError as exc:  # its start counts from after a byte-order mark
-        return None, _not_utf8(data, exc.start + 3 * data.startswith(b"\xef\xbb\xbf"))
+        return None, _not_utf8(data, exc.start + len(codecs.BOM_UTF8) * data.startswith(codecs.BOM_UTF8))
 
 
 def _not_utf8(data: bytes, at: int, lines: int = 0) -> str:
@@ -99,8 +100,6 @@ def utf8_file(path: str | os.PathLike) -> str | None:
     decoded block by block and the text dropped, never held whole (a Test 1 waveform file of the
     full schedule is 1.7 GiB; its text and the bytes beside it took three times that), nor to say
     why it is not UTF-8: the line is the newlines counted in the blocks before the bad byte."""
-    import codecs
-
     from graspcampaign.core.text import utf16
 
     with open(path, "rb") as handle:
