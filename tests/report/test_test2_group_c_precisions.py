@@ -22,8 +22,8 @@ SCOPES = {"group C, proposed": ("planner == 'heuristic' and group == 'C'", 0.76)
           "outside C, proposed": ("planner == 'heuristic' and group != 'C'", None),
           "group C, all planners": ("group == 'C'", 0.54),  # §8.4 "inside Group C"
           "outside C, all planners": ("group != 'C'", 0.78)}  # §8.4 "against 0.78 elsewhere"
-CLASH = ("§8.1 prints 0.76 (54 of 71) and §8.4 0.54 for group C, which holds the proposed planner's "
-         "trials alone (§8.1): both cannot hold")
+CLASH = ("§8.1 prints 0.76 (54 of 71) and §8.4 0.54 for group C, whose 144 trials §8.1 lists under the "
+         "proposed planner alone: both cannot hold")
 
 
 @pytest.fixture

@@ -58,8 +58,8 @@ def group_c(g) -> dict:
     planner's trials, §8.4 the pooled ones; both group C rows say the two values cannot both hold."""
     p, q, flag = g.proposed, g.pooled, "predicted_stable_residual"
     clash = (f"{p.section} prints {fmt.number(p.precision, 2)} ({p.certified - p.certified_failed} of "
-             f"{p.certified}) and {q.section} {fmt.number(q.precision, 2)} for group C, which holds the "
-             "proposed planner's trials alone (§8.1): both cannot hold")
+             f"{p.certified}) and {q.section} {fmt.number(q.precision, 2)} for group C, whose {p.trials} "
+             f"trials {p.section} lists under the proposed planner alone: both cannot hold")
     return {("group C, proposed", flag): (None, p.precision, None, clash),
             ("group C, all planners", flag): (None, q.precision, None, clash),
             ("outside C, all planners", flag): (None, q.precision_elsewhere, None)}
