@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import pandas as pd
 
 from graspcampaign.analysis.records import flag
@@ -26,12 +28,11 @@ def _smooth(run: Run) -> pd.DataFrame:
         .sort_values(["shape", "nodes"], key=lambda c: c.map(rank) if c.name == "shape" else c)
 
 
-def _sphere(run: Run, nodes: int, column: str) -> float:
-    """The recorded ``column`` of the sphere's mesh of ``nodes`` requested nodes (ValueError: none)."""
+def _sphere(run: Run, nodes: int, column: str) -> tuple[float, str]:
+    """The recorded ``column`` of the sphere's mesh of ``nodes`` requested nodes, and why it is not
+    compared ("": it is; NaN and the reason where the run has no such mesh)."""
     at = run.ok.loc[(run.ok["shape"] == "sphere") & (run.ok["nodes"] == nodes), column]
-    if not len(at):
-        raise ValueError(f"this run has no {nodes}-node sphere")
-    return float(at.iloc[0])
+    return (float(at.iloc[0]), "") if len(at) else (math.nan, f"not compared: this run has no {nodes}-node sphere")
 
 
 def _rows(run: Run):
@@ -41,12 +42,12 @@ def _rows(run: Run):
     for m in _smooth(run).itertuples():
         yield (f"sharp vertices and edges, {label('shape', m.shape)}, {m.nodes} nodes", "Sec. 3.1", m.sharp,
                p.smooth_sharp_features[m.shape], "", 0)
-    yield (f"largest angular defect, sphere, {p.sphere_defect_nodes} nodes", "Sec. 3.1",
-           lambda: _sphere(run, p.sphere_defect_nodes, "max_vertex_defect_rad"), p.sphere_defect_rad, "rad",
-           2)
-    yield (f"largest dihedral departure, sphere, {p.sphere_dihedral_nodes} nodes", "Sec. 3.1",
-           lambda: _sphere(run, p.sphere_dihedral_nodes, "max_edge_deviation_deg"),
-           (None, p.sphere_dihedral_below_deg), "°", 1, "", "the paper's bound")
+    value, because = _sphere(run, p.sphere_defect_nodes, "max_vertex_defect_rad")
+    yield (f"largest angular defect, sphere, {p.sphere_defect_nodes} nodes", "Sec. 3.1", value,
+           p.sphere_defect_rad, "rad", 2, because)
+    value, because = _sphere(run, p.sphere_dihedral_nodes, "max_edge_deviation_deg")
+    yield (f"largest dihedral departure, sphere, {p.sphere_dihedral_nodes} nodes", "Sec. 3.1", value,
+           (None, p.sphere_dihedral_below_deg), "°", 1, because, "the paper's bound")
 
 
 def finding(run: Run) -> str:
@@ -78,11 +79,8 @@ def _dihedral(run: Run, entry: str) -> str:
     """The sphere's largest dihedral departure where it lies outside the paper's bound (Sec. 3.1); ``entry``
     names the decision that records it."""
     p, threshold = run.paper, run.config["features"]["edge_dihedral_deg"]
-    try:
-        ours = _sphere(run, p.sphere_dihedral_nodes, "max_edge_deviation_deg")
-    except ValueError:
-        return ""
-    if not fmt.verdict(ours, (None, p.sphere_dihedral_below_deg), digits=1).differs:
+    ours, missing = _sphere(run, p.sphere_dihedral_nodes, "max_edge_deviation_deg")
+    if missing or not fmt.verdict(ours, (None, p.sphere_dihedral_below_deg), digits=1).differs:
         return ""
     return (f" The sphere's largest dihedral departure at {p.sphere_dihedral_nodes} nodes is "
             f"{fmt.number(ours, 1)}°, above the paper's \"below about {p.sphere_dihedral_below_deg:g}°\" "
