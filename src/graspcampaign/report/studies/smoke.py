@@ -32,7 +32,8 @@ def _sphere(run: Run, nodes: int, column: str) -> tuple[float, str]:
     """The recorded ``column`` of the sphere's mesh of ``nodes`` requested nodes, and why it is not
     compared ("": it is; NaN and the reason where the run has no such mesh)."""
     at = run.ok.loc[(run.ok["shape"] == "sphere") & (run.ok["nodes"] == nodes), column]
-    return (float(at.iloc[0]), "") if len(at) else (math.nan, f"not compared: this run has no {nodes}-node sphere")
+    missing = f"not compared: this run has no {nodes}-node sphere"
+    return (float(at.iloc[0]), "") if len(at) else (math.nan, missing)
 
 
 def _rows(run: Run):
