@@ -298,11 +298,14 @@ def audit_mesh() -> None:
     for target in (False, True):
         for i, r in enumerate(est):
             v, lo, hi = est[r]
-            p = (None, ref["runtime_ratio_target"]) if target else ref["runtime_ratio_1750_144"]
-            rows.append({"quantity": f"cost ratio, {top} / {refn} nodes, {r} repeats"
-                         + (", against the paper's target (≤)" if target else ""),
+            # the ≤ 1.5 target is issue 7's speed target for this tool, not a paper value (Sec. 6.7 and
+            # 11 state none): shown, never counted as a difference from the paper
+            rows.append({"quantity": f"cost ratio, {top} / {refn} nodes, {r} repeats" + (
+                             f", against this tool's speed target (≤ {ref['runtime_ratio_target']:g}; not a "
+                             "paper value)" if target else ""),
                          "value": v, "low": lo, "high": hi, "n": int((res["nodes"] == top).sum()),
-                         "differs": judge(v, p, 2, lo, hi) if paper_meshes and i == 0 else None})
+                         "differs": judge(v, ref["runtime_ratio_1750_144"], 2, lo, hi)
+                         if paper_meshes and i == 0 and not target else None})
     compare(study, "cost_ratio", pd.DataFrame(rows), ["quantity"])
     # the budget panel: each body's reference row (exhaustive or sampled) against the sampled search
     reference = bud[bud["planner"] == "reference"].set_index(["shape", "nodes"])
