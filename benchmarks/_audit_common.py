@@ -32,6 +32,14 @@ def aux(study: str, where: str, name: str) -> pd.DataFrame:
     return pd.read_parquet(ROOT / study / "default" / where / name)
 
 
+def belief_none(study: str) -> pd.DataFrame | None:
+    """The run's ``tables/belief_none`` counterfactual of Tests 2-3 (None: the run stored none)."""
+    try:
+        return aux(study, "tables", "belief_none")
+    except FileNotFoundError:
+        return None
+
+
 def table(study: str, name: str) -> pd.DataFrame:
     """The report's CSV ``name`` (an empty cell is missing)."""
     return pd.read_csv(ROOT / study / "default" / "report" / "tables" / f"{name}.csv", keep_default_na=False,

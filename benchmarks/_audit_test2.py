@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 import pandas as pd
-from _audit_common import aux, check_opening, compare, judge, paper, records, table, wilson
+from _audit_common import belief_none, check_opening, compare, judge, paper, records, table, wilson
 from _audit_test3 import object_bootstrap, pairs_row, rate_block
 from scipy import stats
 from scipy.optimize import brentq
@@ -108,11 +108,7 @@ def summary_rows(g: pd.DataFrame, boot: bool) -> dict:
 
 def audit_test2() -> None:
     study, rec, ref = "test2_grasp", records("test2_grasp"), paper("test2_grasp")
-    try:
-        none = aux(study, "tables", "belief_none")
-    except FileNotFoundError:
-        none = None
-    d = t2_frames(rec, none)
+    d = t2_frames(rec, belief_none(study))
     e = d[d["belief_error"] == "paper"]
     prop = e[e["planner"] == "heuristic"]
     labels = {"heuristic": "proposed H(G)", "centroid": "centroid", "no_pso": "no PSO",

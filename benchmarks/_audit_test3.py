@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pandas as pd
 import statsmodels.api as sm
-from _audit_common import aux, compare, judge, paper, records, wilson
+from _audit_common import belief_none, compare, judge, paper, records, wilson
 from scipy import stats
 from statsmodels.stats.contingency_tables import mcnemar
 
@@ -88,11 +88,7 @@ def pairs_row(a: np.ndarray, b: np.ndarray) -> dict:
 
 def audit_test3() -> None:
     study, rec, ref = "test3_disturbance", records("test3_disturbance"), paper("test3_disturbance")
-    try:
-        none = aux(study, "tables", "belief_none")
-    except FileNotFoundError:
-        none = None
-    d = t3_frames(rec, none)
+    d = t3_frames(rec, belief_none(study))
     e = d[d["belief_error"] == "paper"]
     prop = e[e["planner"] == "heuristic"]
     nat = prop[prop["friction_level"] == "natural"]
