@@ -137,7 +137,8 @@ def opening(study: str) -> str:
 
 def check_opening(study: str, parts: list[str]) -> None:
     """Each expected phrase (a number in its words) is in the opening paragraph."""
-    text, bad = opening(study), [p for p in parts if p not in opening(study)]
+    text = opening(study)
+    bad = [p for p in parts if p not in text]
     SUMMARY.append((study, "opening", len(parts), len(bad)))
     print(f"{study} / opening: {len(parts)} phrases checked, {len(bad)} mismatches")
     for b in bad:

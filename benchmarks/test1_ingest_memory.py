@@ -1,5 +1,5 @@
 """Peak memory and wall time of ``graspcampaign ingest test1_bench`` on one waveform CSV of part of
-the full Test 1 schedule (every 40th and every 10th event of the 19,229 rows of ``test1_schedule``,
+the full Test 1 schedule (every 40th and every 10th of the 19,168 events of ``test1_schedule``,
 seed 701 as campaigns/test1_bench.yaml), written as ``benchmarks/test1_file_size.py`` writes the
 whole (the virtual bench's waveforms in the waveform sheet's columns, the channels as the sensors
 resolve them), each ingest in a process of its own, and extrapolated in a line through the two

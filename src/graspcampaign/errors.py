@@ -100,10 +100,10 @@ def utf8_file(path: str | os.PathLike) -> str | None:
     decoded block by block and the text dropped, never held whole (a Test 1 waveform file of the
     full schedule is 1.7 GiB; its text and the bytes beside it took three times that), nor to say
     why it is not UTF-8: the line is the newlines counted in the blocks before the bad byte."""
-    from graspcampaign.core.text import utf16
+    from graspcampaign.core.text import UTF16_HEAD, utf16
 
     with open(path, "rb") as handle:
-        block = handle.read(202)  # the bytes utf16 asks for
+        block = handle.read(UTF16_HEAD)
         if utf16(block):
             return utf8_text(block)[1]
         # "utf-8", not "utf-8-sig": a byte-order mark is a character; the bytes count from the file's start

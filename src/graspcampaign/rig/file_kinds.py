@@ -35,29 +35,17 @@ def _required(study: str) -> tuple[str, ...]:
     return tuple(s.name for s in schema_for(study) if not s.optional)
 
 
-def _files() -> list[tuple[str, str, tuple[str, ...]]]:
-    """``(study, what the file is, its columns)`` of every file: the measured ones first (a
-    larger set of columns before a smaller one it holds: Test 3's records hold Test 2's columns),
-    then the commanded sheets."""
-    measured = [(study, f"a {_TESTS[study]} measured-records file", _required(study))
-                for study in (STUDY_TEST1, STUDY_TEST3, STUDY_TEST2)]
-    sheets = [(study, f"the commanded sheet `graspcampaign schedule {study}` writes", columns)
-              for study, columns in ((STUDY_TEST1, SCHEDULE_COLUMNS),
-                                     (STUDY_TEST3, (*SCHEDULE_FRONT, *TEST3_COLUMNS)),
-                                     (STUDY_TEST2, (*SCHEDULE_FRONT, *TEST2_COLUMNS)))]
-    return measured + sheets
-
-
 def other_files(study: str) -> list[tuple[str, str, tuple[str, ...]]]:
     """``(what, advice, columns)`` of the files an ingest of ``study`` may be given by mistake:
     the other tests' measured files (advice, from its separator on: the study whose ingest takes
-    it) and every test's commanded sheet (advice: the template to fill in)."""
-    out = []
-    for owner, what, columns in _files():
-        records = "measured-records" in what
-        if records and owner == study:
-            continue
-        advice = (f"; ingest it with `graspcampaign ingest {owner} FILE`" if records else
-                  ", not measured records; fill in the template instead")
-        out.append((what, advice, columns))
-    return out
+    it), a larger set of columns before a smaller one it holds (Test 3's records hold Test 2's
+    columns), then every test's commanded sheet (advice: the template to fill in)."""
+    measured = [(f"a {_TESTS[owner]} measured-records file",
+                 f"; ingest it with `graspcampaign ingest {owner} FILE`", _required(owner))
+                for owner in (STUDY_TEST1, STUDY_TEST3, STUDY_TEST2) if owner != study]
+    sheets = [(f"the commanded sheet `graspcampaign schedule {owner}` writes",
+               ", not measured records; fill in the template instead", columns)
+              for owner, columns in ((STUDY_TEST1, SCHEDULE_COLUMNS),
+                                     (STUDY_TEST3, (*SCHEDULE_FRONT, *TEST3_COLUMNS)),
+                                     (STUDY_TEST2, (*SCHEDULE_FRONT, *TEST2_COLUMNS)))]
+    return measured + sheets
