@@ -348,3 +348,27 @@ def test_the_radius_is_the_indenter_radius_the_records_carry(monkeypatch):
     two = r"^the records hold more than one indenter radius: \[5\.0, 7\.5\] mm$"
     with pytest.raises(ValueError, match=two):
         _ = mixed.radius_mm
+
+
+def test_the_why_names_a_smaller_fit_error_only_where_the_claims_row_differs(monkeypatch):
+    """"Why: the virtual bench differs by construction (smaller fit errors …)" is a reason owed only for a
+    difference: an RMSE below the paper's that the verdict rule calls agreeing (the claims row's
+    ``differs`` False) gave the reason all the same. Tables of a stub run, the words written out by hand."""
+    from types import SimpleNamespace
+
+    from graspcampaign.report.studies import test1
+
+    monkeypatch.setattr(test1, "fitted", lambda run: range(12))
+    monkeypatch.setattr(test1, "c_unresolved", lambda run: False)  # it reads the fits, which a stub has not
+    claims = pd.DataFrame({"quantity": [*(f"{q}, accepted fits: mean" for q in ("contact exponent n",
+                                                                                "force-fit RMSE")),
+                                        "loop area: median"],
+                           "value": [0.47, 2.6, 0.082], "paper": [0.46, 2.66, 0.009], "digits": [2, 2, 3],
+                           "differs": [False, False, True], "n": [9, 9, 9]})
+    paper = SimpleNamespace(n_exp_sd=0.07, n_exp_simulation=0.487)
+    stub = SimpleNamespace(tables={"test1_claims": claims}, source="virtual", paper=paper)
+    assert "differs by construction (λ1 where" in test1.finding(stub)  # the loop is larger: no reason
+    stub.tables["test1_claims"] = claims.assign(value=[0.47, 2.6, 0.001])
+    assert "differs by construction (smaller loops, λ1 where" in test1.finding(stub)
+    stub.tables["test1_claims"] = claims.assign(differs=[False, True, True], value=[0.47, 2.6, 0.001])
+    assert "differs by construction (smaller fit errors and loops, λ1 where" in test1.finding(stub)

@@ -192,7 +192,9 @@ def finding(run: Run) -> str:
                  f"5): λ1 = {fmt.number(l1['mean'], l1.digits)} (paper "
                  f"{fmt.number(l1.paper_mean, l1.digits)}){ends}. ")
     loop = claims.set_index("quantity").reindex(["loop area: median"]).iloc[0]  # as table test1_claims has it
-    smaller = [w for w, r in (("fit errors", rmse), ("loops", loop)) if r.value < r.paper]
+    # smaller only where the row differs from the paper's by the verdict rule (agreeing: no reason owed)
+    smaller = [w for w, r in (("fit errors", rmse), ("loops", loop))
+               if pd.notna(r.differs) and bool(r.differs) and r.value < r.paper]
     why = [f"smaller {' and '.join(smaller)}"] * bool(smaller) + ["C not identifiable at 1 mN"] * \
         c_unresolved(run) + ["λ1 where Eq. 14 with Table 4's moduli puts it"]
     return text + (f"Why: the virtual bench differs by construction ({', '.join(why)}): "
