@@ -222,3 +222,30 @@ def test_ingest_error_is_a_value_error_and_labels_dataframes(good):
     with pytest.raises(ValueError, match=r"^<dataframe>, header: a required column is missing: "
                                          r"event_id" + TEMPLATE + "$"):
         T.validate_waveforms(df.drop(columns="event_id"), ids)
+
+
+def test_ingest_refuses_below_the_fits_own_minimum_named_once_in_core():
+    """Test 1 ingest refuses an event of fewer samples than the fits read, core's ``MIN_FIT_SAMPLES``;
+    rig's ``MIN_EVENT_SAMPLES = 10`` repeated the bare 10 of ``fit_sliding`` and ``fit_relaxation``, so a
+    change to one would not move the other. Read from the source (no size check there is a bare number)
+    and from a fit: a hold of ``MIN_FIT_SAMPLES`` samples fits, one of a sample fewer does not."""
+    import ast
+    import inspect
+
+    from graspcampaign.core import bench, bench_fit_friction, bench_fit_relaxation
+    from graspcampaign.rig import test1_ingest
+
+    for module in (bench_fit_friction, bench_fit_relaxation):
+        bare = [node.lineno for node in ast.walk(ast.parse(inspect.getsource(module)))
+                if isinstance(node, ast.Compare) and isinstance(node.left, ast.Attribute)
+                and node.left.attr == "size" and isinstance(node.comparators[0], ast.Constant)
+                and node.comparators[0].value == bench.MIN_FIT_SAMPLES]
+        assert not bare, f"{module.__name__}: a bare sample count at line {bare[0]}"
+    rig = next(node for node in ast.parse(inspect.getsource(test1_ingest)).body
+               if isinstance(node, ast.Assign) and node.targets[0].id == "MIN_EVENT_SAMPLES")
+    assert isinstance(rig.value, ast.Name) and rig.value.id == "MIN_FIT_SAMPLES"  # core's, not retyped
+    assert test1_ingest.MIN_EVENT_SAMPLES == bench.MIN_FIT_SAMPLES
+    t = np.arange(bench.MIN_FIT_SAMPLES) * 0.5
+    f = 0.4 * (0.7 + 0.3 * np.exp(-t / 3.0))
+    assert bench.fit_relaxation(t, np.full(t.size, 1e-3), f).success
+    assert not bench.fit_relaxation(t[1:], np.full(t.size - 1, 1e-3), f[1:]).success

@@ -67,6 +67,7 @@ from graspcampaign.core.bench_fit_normal import (
     loading_window,
 )
 from graspcampaign.core.bench_fit_relaxation import (
+    MIN_FIT_SAMPLES,
     RELAXATION_FIT_POINTS,
     RelaxationFitResult,
     fit_relaxation,
@@ -157,6 +158,7 @@ __all__ = [
     # re-exported: they live in graspcampaign.core.bench_fit_relaxation
     "RelaxationFitResult",
     "fit_relaxation",
+    "MIN_FIT_SAMPLES",
     "RELAXATION_FIT_POINTS",
     # re-exported: they live in graspcampaign.core.bench_fit_friction
     "SlidingFitResult",

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from graspcampaign.core.bench_fit_relaxation import peak_hold
+from graspcampaign.core.bench_fit_relaxation import MIN_FIT_SAMPLES, peak_hold
 
 __all__ = [
     "KINETIC_WINDOW",
@@ -88,18 +88,18 @@ def fit_sliding(time: np.ndarray, normal_force_: np.ndarray, tangential_force: n
     xs = np.asarray(tangential_displacement, dtype=float)
     nan = SlidingFitResult(math.nan, math.nan, math.nan, math.nan, math.nan, False)
     stroke = xs.max() - xs.min() if xs.size else 0.0
-    if xs.size < 10 or stroke <= 0:
+    if xs.size < MIN_FIT_SAMPLES or stroke <= 0:
         return nan
     start = xs.min()
     rel = xs - start
     moving = np.flatnonzero(rel > 2e-6)
     full = np.flatnonzero(rel >= stroke - 2e-6)
-    if moving.size < 10 or not full.size:
+    if moving.size < MIN_FIT_SAMPLES or not full.size:
         return nan
     seg = np.arange(max(int(moving[0]) - 1, 0), int(full[0]) + 1)
     fn_seg = fn[seg]
     fnm = float(np.mean(fn_seg))
-    if fnm <= 0 or seg.size < 10:
+    if fnm <= 0 or seg.size < MIN_FIT_SAMPLES:
         return nan
     pos = rel[seg] / stroke
     fts = ft[seg]

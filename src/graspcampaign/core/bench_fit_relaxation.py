@@ -18,6 +18,7 @@ from graspcampaign.core.bench_fit_backend import TYPICAL_RELAXATION, check_fit_b
 from graspcampaign.core.fit_kernel import MODEL_RELAXATION
 
 __all__ = [
+    "MIN_FIT_SAMPLES",
     "RELAXATION_FIT_POINTS",
     "RelaxationFitResult",
     "fit_relaxation",
@@ -29,6 +30,13 @@ log = logging.getLogger(__name__)
 
 RELAXATION_FIT_POINTS = 600
 """Largest number of (block-averaged) hold samples passed to the relaxation solver."""
+
+
+MIN_FIT_SAMPLES = 10
+"""The fewest samples a relaxation or sliding fit (:func:`fit_relaxation`,
+:func:`graspcampaign.core.bench_fit_friction.fit_sliding`) reads, of the event's waveform and of the
+stretch it fits (the hold, the slide): fewer, and the fit fails (an oblique press reads 5). Test 1
+ingest refuses an event shorter than this (:mod:`graspcampaign.rig.test1_ingest`)."""
 
 
 @dataclass(frozen=True)
@@ -96,10 +104,10 @@ def fit_relaxation(time: np.ndarray, displacement: np.ndarray, normal_force_: np
     x = np.asarray(displacement, dtype=float)
     f = np.asarray(normal_force_, dtype=float)
     nan = RelaxationFitResult(math.nan, math.nan, math.nan, math.nan, math.nan, False)
-    if x.size < 10:
+    if x.size < MIN_FIT_SAMPLES:
         return nan
     run = peak_hold(x, tolerance)
-    if run.size < 10:
+    if run.size < MIN_FIT_SAMPLES:
         return nan
     th = t[run] - t[run[0]]
     y = f[run]

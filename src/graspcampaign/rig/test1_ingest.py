@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from graspcampaign.core.bench import MIN_FIT_SAMPLES
 from graspcampaign.core.words import counted
 from graspcampaign.rig.file_kinds import other_files
 from graspcampaign.rig.ingest import check_one_source, refuse_larger
@@ -96,11 +97,12 @@ below the commanded rate (a 50 Hz log of a 500 Hz event in minutes reads 3 kHz, 
 put its fits off by that factor (a damping 1000x off)."""
 
 
-MIN_EVENT_SAMPLES = 10
-"""The fewest samples an event's waveform may have: the fewest any block's fit reads
-(:func:`graspcampaign.core.bench_fit_friction.fit_sliding`: 10; an oblique press 5). The bench logs
-every event at 50 Hz to 500 Hz through its whole motion (§7.1: the virtual bench's fewest is 235),
-so a few samples are a log cut short or filtered, whose fits would be stored as failed."""
+MIN_EVENT_SAMPLES = MIN_FIT_SAMPLES
+"""The fewest samples an event's waveform may have: the fewest any block's fit reads (core's
+:data:`~graspcampaign.core.bench_fit_relaxation.MIN_FIT_SAMPLES`, of a slide or a hold; an oblique
+press 5). The bench logs every event at 50 Hz to 500 Hz through its whole motion (§7.1: the virtual
+bench's fewest is 235), so a few samples are a log cut short or filtered, whose fits would be stored
+as failed."""
 
 
 TARE_LIMIT_N = 0.01
