@@ -95,6 +95,12 @@ def test_number_variants():
     ((1.51, (None, 1.5)), {"digits": 2, "bound": "this tool's speed target"},
      (True, "differs: above this tool's speed target ≤ 1.50")),
     ((40.0, (50, None)), {"digits": 0, "unit": "%"}, (True, "differs: below the paper's target ≥ 50%")),
+    # a lower bound is met, not lain "within" (Test 1's K/K1 read "within the paper's durability target
+    # ≥ 0.850"); 0.8496 prints 0.850, meeting it as printed
+    ((0.902, (0.85, None)), {"digits": 3, "bound": "the paper's durability target"},
+     (False, "meets the paper's durability target ≥ 0.850")),
+    ((0.8496, (0.85, None)), {"digits": 3},
+     (False, "meets the paper's target ≥ 0.850 at its printed precision")),
     # a residual that never settles (an infinite settling iteration) lies above the window 30-40
     ((math.inf, (30, 40)), {"digits": 0}, (True, "differs: above the paper's range 30–40")),
     # ratios, 3 significant digits written out as the tables do: 17000 / 9.17 = 1853.87 -> 1850 times

@@ -153,7 +153,8 @@ def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits:
             unit: str = "", ratio: str = "", commanded: str = "", because: str = "",
             pinned: str = "", bound: str = "the paper's target") -> Verdict:
     """Say how ours stands against the paper's value, the one rule: a range agrees
-    inside it and a one-sided bound (a range with a None end, ``(None, hi)``: at most hi) within it
+    inside it and a one-sided bound (a range with a None end) when ours keeps it: "within" an upper one
+    (``(None, hi)``: at most hi), "meets" a lower one (``(lo, None)``: at least lo)
     (ours rounded to ``digits``, as printed; ours ``inf`` lies above every range); a word when equal;
     ours with a 95 % interval when it holds the paper's value, or its nearest end is within one unit
     of the paper's last printed digit (``10**-digits``), as a point value is (so a zero-width interval
@@ -185,7 +186,9 @@ def verdict(ours: Any, paper: Any, *, low: Any = None, high: Any = None, digits:
         bounded = not is_missing(paper[0]) and not is_missing(paper[1])
         lo = float(paper[0]) if not is_missing(paper[0]) else -math.inf
         hi = float(paper[1]) if not is_missing(paper[1]) else math.inf
-        what, word = ("the paper's range", "inside") if bounded else (bound, "within")
+        # an upper bound is kept within ("within the paper's design limit ≤ 1.00 mm"), a lower one met
+        what, word = ("the paper's range", "inside") if bounded else (
+            bound, "within" if is_missing(paper[0]) else "meets")
         where = f"{what} {paper_text(paper, digits)}{'' if unit in ('', '%', '°') else ' '}{unit}"
         if lo <= float(ours) <= hi:
             return Verdict(False, f"{word} {where}")
