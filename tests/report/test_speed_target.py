@@ -23,7 +23,10 @@ def test_the_cost_ratio_target_is_this_tools_not_the_papers():
         "value)" for r in ("fastest", "median")]
     assert target["section"].tolist() == ["not in the paper"] * 2 and target["paper"].isna().all()
     assert target["differs"].isna().all()  # not a comparison with the paper
-    assert target["verdict"].iloc[0] == "not a paper value: within this tool's speed target ≤ 1.50"
+    # said once in each row, in its label, read first (the verdict had repeated it: "not a paper value: …")
+    assert target["verdict"].iloc[0] == "within this tool's speed target ≤ 1.50"
+    assert [f"{q} {v}".count("not a paper value") for q, v in zip(target["quantity"], target["verdict"],
+                                                                  strict=True)] == [1, 1]
     text = finding(run)
     assert "; within this tool's speed target ≤ 1.50, not a paper value; table cost_ratio)" in text
     said = [text, COST.caption, *table["quantity"], *table["verdict"]]

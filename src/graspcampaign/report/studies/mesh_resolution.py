@@ -316,9 +316,10 @@ def _speed(ratio: float, target: float) -> tuple[bool | None, str]:
 
 
 def _target_row(run: Run, repeats: str, target: float) -> str:
-    """The speed target row's verdict: :func:`_speed`'s words, not a paper value ("" if not computed)."""
+    """The speed target row's verdict: :func:`_speed`'s words ("" if not computed); its label, read first,
+    says once that the target is not a paper value."""
     try:
-        return f"not a paper value: {_speed(_cost_ratio(run, repeats).value, target)[1]}"
+        return _speed(_cost_ratio(run, repeats).value, target)[1]
     except ValueError:  # no resolution trial: the row's value says so
         return ""
 
