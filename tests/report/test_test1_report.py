@@ -21,6 +21,7 @@ from graspcampaign.campaign.compose import compose_study
 from graspcampaign.campaign.ingest import ingest_files
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.report.build import build_reports
+from graspcampaign.report.studies.test1_claims import LOOP_MEDIAN, N_MEAN, RMSE_MEAN
 
 FIGURES = {"fig23_normal_law", "fig24_tangential", "fig25_relaxation_cycling", "fig26_identification"}
 
@@ -142,10 +143,9 @@ def test_the_finding_lists_the_parameters_on_a_search_bound_as_a_sentence(monkey
 
     monkeypatch.setattr(test1, "fitted", lambda run: range(12))
     monkeypatch.setattr(test1, "c_unresolved", lambda run: False)  # it reads the fits, which a stub has not
-    claims = pd.DataFrame({"quantity": [f"{q}, accepted fits: mean" for q in ("contact exponent n",
-                                                                             "force-fit RMSE")],
-                           "value": [0.47, 0.6], "paper": [0.46, 2.66], "digits": [2, 2],
-                           "differs": [False, True], "n": [9, 9]})
+    claims = pd.DataFrame({"quantity": [N_MEAN, RMSE_MEAN, LOOP_MEDIAN],
+                           "value": [0.47, 0.6, 0.01], "paper": [0.46, 2.66, 0.009], "digits": [2, 2, 3],
+                           "differs": [False, True, False], "n": [9, 9, 9]})
     table5 = pd.DataFrame({"parameter": ["lambda1", "lambda2", "n", "b", "k"],
                            "n_at_bound": [0, 115, 0, 6, 7], "n_runs": 120, "cv_pct": 6.8,
                            "mean": [2.107, 1.0, 0.47, 1.0, 1.0], "paper_mean": 0.333, "digits": 3})
@@ -169,10 +169,9 @@ def test_one_event_and_one_accepted_fit_are_said_in_the_singular(monkeypatch):
 
     monkeypatch.setattr(test1, "fitted", lambda run: range(1))
     monkeypatch.setattr(test1, "c_unresolved", lambda run: False)  # it reads the fits, which a stub has not
-    claims = pd.DataFrame({"quantity": [f"{q}, accepted fits: mean" for q in ("contact exponent n",
-                                                                             "force-fit RMSE")],
-                           "value": [0.47, 0.6], "paper": [0.46, 2.66], "digits": [2, 2],
-                           "differs": [False, True], "n": [1, 1]})
+    claims = pd.DataFrame({"quantity": [N_MEAN, RMSE_MEAN, LOOP_MEDIAN],
+                           "value": [0.47, 0.6, 0.01], "paper": [0.46, 2.66, 0.009], "digits": [2, 2, 3],
+                           "differs": [False, True, False], "n": [1, 1, 1]})
     paper = SimpleNamespace(n_exp_sd=0.07, n_exp_simulation=0.487)
     stub = SimpleNamespace(tables={"test1_claims": claims}, source="virtual", paper=paper)
     assert "Over 1 completed event the 1 accepted normal fit gives n = 0.47 " in test1.finding(stub)
@@ -189,10 +188,9 @@ def test_no_accepted_fit_is_said_as_none_not_a_broken_finding(monkeypatch):
 
     monkeypatch.setattr(test1, "fitted", lambda run: range(3))
     monkeypatch.setattr(test1, "c_unresolved", lambda run: False)  # it reads the fits, which a stub has not
-    claims = pd.DataFrame({"quantity": [f"{q}, accepted fits: mean" for q in ("contact exponent n",
-                                                                             "force-fit RMSE")],
-                           "value": [float("nan")] * 2, "paper": [0.46, 2.66], "digits": [2, 2],
-                           "differs": [pd.NA] * 2, "n": pd.array([pd.NA, pd.NA], dtype="Int64")})
+    claims = pd.DataFrame({"quantity": [N_MEAN, RMSE_MEAN, LOOP_MEDIAN],
+                           "value": [float("nan")] * 3, "paper": [0.46, 2.66, 0.009], "digits": [2, 2, 3],
+                           "differs": [pd.NA] * 3, "n": pd.array([pd.NA] * 3, dtype="Int64")})
     paper = SimpleNamespace(n_exp_sd=0.07, n_exp_simulation=0.487)
     stub = SimpleNamespace(tables={"test1_claims": claims}, source="virtual", paper=paper)
     assert (f"Over 3 completed events the 0 accepted normal fits give n = {fmt.MISSING} "
@@ -360,9 +358,7 @@ def test_the_why_names_a_smaller_fit_error_only_where_the_claims_row_differs(mon
 
     monkeypatch.setattr(test1, "fitted", lambda run: range(12))
     monkeypatch.setattr(test1, "c_unresolved", lambda run: False)  # it reads the fits, which a stub has not
-    claims = pd.DataFrame({"quantity": [*(f"{q}, accepted fits: mean" for q in ("contact exponent n",
-                                                                                "force-fit RMSE")),
-                                        "loop area: median"],
+    claims = pd.DataFrame({"quantity": [N_MEAN, RMSE_MEAN, LOOP_MEDIAN],
                            "value": [0.47, 2.6, 0.082], "paper": [0.46, 2.66, 0.009], "digits": [2, 2, 3],
                            "differs": [False, False, True], "n": [9, 9, 9]})
     paper = SimpleNamespace(n_exp_sd=0.07, n_exp_simulation=0.487)
@@ -372,3 +368,38 @@ def test_the_why_names_a_smaller_fit_error_only_where_the_claims_row_differs(mon
     assert "differs by construction (smaller loops, λ1 where" in test1.finding(stub)
     stub.tables["test1_claims"] = claims.assign(differs=[False, True, True], value=[0.47, 2.6, 0.001])
     assert "differs by construction (smaller fit errors and loops, λ1 where" in test1.finding(stub)
+
+
+def test_the_opening_reads_the_loop_row_by_the_name_the_claims_table_declares(monkeypatch):
+    """The opening found the loop-area row by retyping its label ("loop area: median") and read a row it
+    did not find as missing: a renamed row silently dropped "smaller loops" from the why. Now it reads the
+    rows by the names test1_claims declares them with: renamed there, the opening follows (the reason
+    stays); a row the table lacks (a label changed in the table alone) breaks the opening, loudly. Tables
+    of a stub run, the words written out by hand."""
+    from types import SimpleNamespace
+
+    from graspcampaign.report.render import Run, render
+    from graspcampaign.report.spec import Finding
+    from graspcampaign.report.studies import test1, test1_claims
+
+    monkeypatch.setattr(test1, "fitted", lambda run: range(12))
+    monkeypatch.setattr(test1, "c_unresolved", lambda run: False)  # it reads the fits, which a stub has not
+    monkeypatch.setattr(test1_claims, "LOOP_MEDIAN", "loop area, renamed: median")
+
+    def stub(loop: str) -> SimpleNamespace:
+        claims = pd.DataFrame({"quantity": [N_MEAN, RMSE_MEAN, loop], "value": [0.47, 2.6, 0.001],
+                               "paper": [0.46, 2.66, 0.009], "digits": [2, 2, 3],
+                               "differs": [False, False, True], "n": [9, 9, 9]})
+        paper = SimpleNamespace(n_exp_sd=0.07, n_exp_simulation=0.487)
+        return SimpleNamespace(tables={"test1_claims": claims}, source="virtual", paper=paper)
+
+    renamed = test1.finding(stub("loop area, renamed: median"))
+    assert "differs by construction (smaller loops, λ1 where" in renamed
+    with pytest.raises(LookupError, match="table test1_claims has no row 'loop area, renamed: median', which "
+                                          "the opening reads"):
+        test1.finding(stub(LOOP_MEDIAN))  # the old label: the table was renamed, the opening not
+    # in a report, the opening is broken (its code failed), not a gap in the data
+    run = Run(pd.DataFrame(), {})
+    run.tables["test1_claims"] = stub(LOOP_MEDIAN).tables["test1_claims"]
+    render(SimpleNamespace(items=[Finding(test1.finding)]), run, SimpleNamespace(blocks=[]))
+    assert run.broken == ["The main finding"]

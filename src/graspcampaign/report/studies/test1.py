@@ -19,7 +19,7 @@ from graspcampaign.report import style
 from graspcampaign.report.document import Col, cols
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Claims, Figure, Finding, ReportSpec, Table, Text, verdicts
-from graspcampaign.report.studies.test1_claims import CLAIMS, FRAMES, c_unresolved, fitted
+from graspcampaign.report.studies.test1_claims import CLAIMS, FRAMES, c_unresolved, fitted, opening_rows
 from graspcampaign.report.style import CRITERION, PAPER, legend_below, paper_handle, paper_marks, plain_log
 
 WHY = "`docs/decisions.md`, *Test 1 bench protocol* and *Test 1 in the engine*"
@@ -170,8 +170,7 @@ def _note(run: Run) -> str:
 
 def finding(run: Run) -> str:
     t, p, claims = run.tables, run.paper, run.tables["test1_claims"]
-    n, rmse = (claims.set_index("quantity").loc[f"{q}, accepted fits: mean"]  # as the claims table prints
-               for q in ("contact exponent n", "force-fit RMSE"))
+    n, rmse, loop = opening_rows(claims)  # as the claims table prints them
     differ, judged = fmt.differing(claims)
     fits = 0 if pd.isna(n.n) else int(n.n)  # the accepted fits n is the mean of (none: not computed)
     text = (f"Over {counted(len(fitted(run)), 'completed event')} the {counted(fits, 'accepted normal fit')} "
@@ -191,7 +190,6 @@ def finding(run: Run) -> str:
         text += (f"PSO re-identification over {counted(runs, 'converged run')} (Table "
                  f"5): λ1 = {fmt.number(l1['mean'], l1.digits)} (paper "
                  f"{fmt.number(l1.paper_mean, l1.digits)}){ends}. ")
-    loop = claims.set_index("quantity").reindex(["loop area: median"]).iloc[0]  # as table test1_claims has it
     # smaller only where the row differs from the paper's by the verdict rule (agreeing: no reason owed)
     smaller = [w for w, r in (("fit errors", rmse), ("loops", loop))
                if pd.notna(r.differs) and bool(r.differs) and r.value < r.paper]

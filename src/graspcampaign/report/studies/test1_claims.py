@@ -45,10 +45,24 @@ def _v(frame: str, col: str, how: str = "mean"):
     return value
 
 
+#: the claims' rows the opening (:func:`graspcampaign.report.studies.test1.finding`) reads, named once
+#: here, where CLAIMS declares them: a row renamed is renamed where the opening looks it up
+N_MEAN, RMSE_MEAN = "contact exponent n, accepted fits: mean", "force-fit RMSE, accepted fits: mean"
+LOOP_MEDIAN = "loop area: median"
 #: the claims' rows for per-event C, and the normal quantile of a two-sided 95% Wald interval
 C_MEDIAN = "per-event C: median (paper: Table 4's family range)"
 C_SE = "standard error of per-event C: median"
 WALD_95 = 1.96
+
+
+def opening_rows(claims: pd.DataFrame) -> list[pd.Series]:
+    """The rows :data:`N_MEAN`, :data:`RMSE_MEAN` and :data:`LOOP_MEDIAN` of table test1_claims, which the
+    opening reads; one it lacks is the code's failure (LookupError: the opening is broken), never a
+    silent gap."""
+    rows, names = claims.set_index("quantity"), (N_MEAN, RMSE_MEAN, LOOP_MEDIAN)
+    if missing := [q for q in names if q not in rows.index]:
+        raise LookupError(f"table test1_claims has no row {missing[0]!r}, which the opening reads")
+    return [rows.loc[q] for q in names]
 
 
 def c_unresolved(run: Run) -> bool:
@@ -71,20 +85,21 @@ def _pair(what: str, sec: str, frame: str, col: str, paper, unit: str = "", digi
 
 
 CLAIMS = [
-    Value("contact exponent n, accepted fits: mean", "§7.2", _v("accepted", "n_exp"),
+    Value(N_MEAN, "§7.2", _v("accepted", "n_exp"),
           lambda p: p.n_exp_mean),
     Value("contact exponent n, accepted fits: SD", "§7.2", _v("accepted", "n_exp", "std"),
           lambda p: p.n_exp_sd),
     *_pair("mean n per family", "§7.2", "accepted", "n_exp", lambda p: p.n_exp_family_range),
-    Value("force-fit RMSE, accepted fits: mean", "§7.2", _v("accepted", "rmse_pct"),
+    Value(RMSE_MEAN, "§7.2", _v("accepted", "rmse_pct"),
           lambda p: p.rmse_pct_accepted, "%"),
     Value("force-fit RMSE, all normal fits: mean", "§7.2", _v("normal", "rmse_pct"),
           lambda p: p.rmse_pct_all, "%"),
     *_pair("RMSE of the review-flagged fits", "§7.2", "flagged", "rmse_pct",
            lambda p: p.flagged_rmse_pct_range, "%", 1, ("min", "max"), "fit"),
-    *(Value(f"{w.replace('_', ' ')}: median", "§7.2", _v("normal", f"{w}_mj", "median"),
+    *(Value(row, "§7.2", _v("normal", f"{w}_mj", "median"),
             lambda p, w=w: getattr(p, f"{w}_median_mj"), "mJ", 3)
-      for w in ("loop_area", "loading_work", "unloading_work")),
+      for w, row in (("loop_area", LOOP_MEDIAN), ("loading_work", "loading work: median"),
+                     ("unloading_work", "unloading work: median"))),
     Value(C_MEDIAN, "§7.2",
           _v("normal", "c_n_s_per_m", "median"), _t4("c_n_s_per_m"), "N s/m", 3),
     Value(C_SE, "§7.2", _v("normal", "c_se_n_s_per_m", "median"),
