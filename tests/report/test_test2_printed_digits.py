@@ -73,3 +73,44 @@ def test_the_classifier_tables_print_the_papers_accuracy_as_it_prints_it(sim_roo
     paper = shown.columns[[c == "paper" for c in shown.columns]]
     assert len(paper) == 3  # beside precision, recall and accuracy, in that order
     assert {s: shown.loc[s].iloc[list(shown.columns).index("accuracy") + 1] for s in printed} == printed
+
+
+def test_the_paper_accuracy_takes_its_decimals_from_the_text_the_study_file_types(sim_root, tmp_path,
+                                                                                   monkeypatch):
+    """The decimals of the paper's accuracy were those of the stored number: typed 0.8060 (or 0.90) in the
+    study file, it read 0.806 (0.9), one digit short. Now they are the study file's text at that key
+    (``campaign.paper.typed_text``), where it is the run's value; a file that types another value there
+    (changed since the run) leaves the run's value its own decimals. The stored reduced run, reported with
+    a copy of the study files (``GRASPCAMPAIGN_HOME``) typing §8.4's 0.806 as 0.8060 and the proposed
+    planner's 0.93 as 0.940."""
+    import shutil
+
+    from graspcampaign.campaign.paper import check_paper
+    from graspcampaign.campaign.records import RunStore
+    from graspcampaign.campaign.studyfile import project_dirs
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies import test2
+
+    conf, campaigns = project_dirs()
+    home = tmp_path / "home"
+    shutil.copytree(conf, home / "conf")
+    shutil.copytree(campaigns, home / "campaigns")
+    path = home / "campaigns" / "test2_grasp.yaml"
+    text = path.read_text()
+    assert "classifier: {accuracy: 0.806," in text and "classifier_proposed: {accuracy: 0.93," in text
+    path.write_text(text.replace("classifier: {accuracy: 0.806,", "classifier: {accuracy: 0.8060,").replace(
+        "classifier_proposed: {accuracy: 0.93,", "classifier_proposed: {accuracy: 0.940,"))
+    store = RunStore(sim_root / "test2_grasp" / "default")
+    manifest = store.check()
+    paper = check_paper("test2_grasp", manifest["config"]["paper"])
+    run = Run(store.read().to_pandas(), manifest, paper, store)
+    table = next(item for item in test2.SPEC.items if getattr(item, "name", "") == "test2_classifier")
+    monkeypatch.setenv("GRASPCAMPAIGN_HOME", str(home))
+    project_dirs.cache_clear()
+    try:
+        digits = table.compute(run).query("belief_error == 'paper'").drop_duplicates("scope").set_index(
+            "scope")["paper_accuracy_digits"]
+    finally:
+        monkeypatch.delenv("GRASPCAMPAIGN_HOME")
+        project_dirs.cache_clear()
+    assert (digits["all"], digits["heuristic"]) == (4, 2)

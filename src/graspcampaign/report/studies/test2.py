@@ -420,7 +420,7 @@ SPEC = ReportSpec("test2_grasp", [
                    "group C, proposed": d.eval(f"{ME} and group == 'C'"),
                    "outside C, proposed": d.eval(f"{ME} and group != 'C'"),
                    "group C, all planners": d["group"] == "C", "outside C, all planners": d["group"] != "C"},
-               lambda p: {"all": scores(p.classifier), PROPOSED: scores(p.classifier_proposed),
+               lambda p: {"all": scores(p, "classifier"), PROPOSED: scores(p, "classifier_proposed"),
                           "baselines": (None, p.classifier_baselines_precision, None),
                           **group_c(p.classifier_group_c)}),
     matched_mcnemar("test2_mcnemar", "Matched ablation (§8.5): McNemar, proposed against each baseline on "

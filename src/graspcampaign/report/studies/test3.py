@@ -323,7 +323,7 @@ SPEC = ReportSpec("test3_disturbance", [
                "`predicted_stable_residual` Algorithm 2's residual ≤ τ_F, the paper's §8.1 flag: "
                "friction-blind, it carries no information about a friction hold",
                t2.per_planner,
-               lambda p: {"all": flags.scores(p.retention_classifier)}),
+               lambda p: {"all": flags.scores(p, "retention_classifier")}),
     Table("test3_logistic", "Logistic regression of failure over the fixed-load blocks B, D, E (§9.5): "
           "applied load [N], mass [kg], believed μ_s, proposed-planner indicator (Wald 95%)",
           lambda run: ds.failure_logistic(t2.ex(run))),
