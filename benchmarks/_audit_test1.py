@@ -145,7 +145,7 @@ def audit_test1() -> None:
     c["τ per family: lowest family"] = val(fam(relax, "tau_s").min(), rng("tau_s"), 1, len(relax))
     c["τ per family: highest family"] = val(fam(relax, "tau_s").max(), rng("tau_s"), 1, len(relax))
     c["K/K1 at the last measured cycle: lowest specimen (paper: above the target)"] = val(
-        last["k_ratio"].min(), (ref["k_ratio_target"], 1.0), 3, len(last))
+        last["k_ratio"].min(), (ref["k_ratio_target"], None), 3, len(last))  # one-sided: Sec. 7.4
     c["permanent set after cycling: lowest family mean"] = val(fam(last, "pset").min(),
                                                                ref["permanent_set_mm"], 2, len(last))
     c["permanent set after cycling: highest family mean"] = val(fam(last, "pset").max(),
