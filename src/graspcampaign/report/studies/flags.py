@@ -26,12 +26,13 @@ def scores(c) -> tuple:
 
 def classifier(name: str, caption: str, scopes, paper) -> Table:
     """The flags against the rig's success per belief reading and scope, beside the paper's scores
-    (``paper(p)``: scope, or (scope, flag) for a value of that flag alone, -> (accuracy, precision,
-    recall[, note]), None where not printed; a note, why the paper's value is in doubt, ends the verdict)."""
+    (``paper(p)``: (scope, flag) -> (accuracy, precision, recall[, note]), None where not printed; a note,
+    why the paper's value is in doubt, ends the verdict). A paper value names the one flag it was computed
+    for and stands beside it alone: the other flag's rows show ours ("no paper value")."""
     def compute(run: Run) -> pd.DataFrame:
         d, ref = frames(run), paper_of(run, paper) or {}
         out = hw.classifier_table(hw.scoped(d, scopes(d)), FLAGS, ["belief_error", "scope"])
-        refs = [(ref.get((s, f), ref.get(s)) if b == "paper" else None) or (None,) * 3
+        refs = [(ref.get((s, f)) if b == "paper" else None) or (None,) * 3
                 for f, s, b in zip(out["flag"], out["scope"], out["belief_error"], strict=True)]
         for i, k in enumerate(("accuracy", "precision", "recall")):
             out[f"paper_{k}"] = [r[i] for r in refs]
