@@ -197,6 +197,19 @@ def test_flag_precision_recall_and_base_rate(sim_root, study, name):
         assert row["recall"] == pytest.approx(tp / ok.sum())
 
 
+def test_section_9_5s_scores_stand_beside_the_retention_flag_only(sim_root):
+    """§9.5: "the pre-disturbance retention flag is scored positive when the planner's believed retention
+    margin under the commanded disturbance exceeds unity — … 88.8 % accuracy (precision 0.93, recall
+    0.94" — ours `predicted_stable`. Its scores stood beside the residual flag's row too (that flag is
+    §8.1's Test 2 flag, which §9.5 does not score)."""
+    t = read_table(sim_root / "test3_disturbance" / "default", "test3_retention_classifier")
+    t = t.set_index(["flag", "belief_error", "scope"]).sort_index()
+    paper = ["paper_accuracy", "paper_precision", "paper_recall"]
+    assert t.loc["predicted_stable_residual", paper].isna().all().all()
+    assert t.loc[("predicted_stable", "paper", "all"), paper].tolist() == [0.888, 0.93, 0.94]
+    assert t.drop(index=("predicted_stable", "paper", "all"))[paper].isna().all().all()
+
+
 @pytest.mark.parametrize("study", sorted(STUDIES))
 def test_the_opening_paragraph_gives_the_records_numbers(sim_root, study):
     finding = _finding(sim_root, study)

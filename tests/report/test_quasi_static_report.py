@@ -183,6 +183,34 @@ def test_the_h_epsilon_caption_gives_the_resamples_and_seed_that_reproduce_its_i
     assert table.loc["pooled", ["low", "high"]].tolist() == pytest.approx(expected, rel=1e-9)
 
 
+@pytest.mark.parametrize(("params", "why"), [
+    ({"candidate_sample": 0}, "this run stored no candidate table (params.candidate_sample=0 keeps none)"),
+    ({}, "this run's candidate table (tables/candidates), which its ferrari_canny trials store, is missing; "
+         "its records were stored before runs kept account of their tables, so `graspcampaign run` cannot "
+         "redo it: restore it from a backup, or record a new run")])
+def test_a_run_without_candidates_says_why_and_keeps_the_per_trial_rows(tmp_path, params, why):
+    """A run that stored no candidate table (params.candidate_sample=0) or lost it (an older run, stored
+    before runs kept account of their tables: the synthetic writer keeps none) said in its h_epsilon
+    items "the records have no `trial_id` column" and, in the figure's, "UndefinedVariableError: name
+    'trial_id' is not defined" (counted as an item whose code failed). The per-trial medians come from
+    the records and stay; the pooled row and the figure say why they are absent, with no path."""
+    root = tmp_path / "results"
+    factors = {"shape": SHAPES[:2], "mass_kg": [0.2], "mu": [0.3], "planner": PLANNERS}
+    store = make_run(root, "baseline_grid", "quasi_static", factors, seeds=3, paper=None,
+                     outputs=quasi_static_outputs, params=params)
+    batch = build_reports(["baseline_grid"], root=root)
+    assert batch.broken[batch[0]][1] == []  # the data's reason, no failing code
+    table = read_table(store, "h_epsilon").set_index("reading")
+    fc = ok_records(store).query("planner == 'ferrari_canny'")
+    assert list(table.index) == ["median per trial", "median per trial, force closure"]  # no pooled row
+    assert table.loc["median per trial", "rho"] == pytest.approx(fc["spearman_h_epsilon"].median())
+    assert table.loc["median per trial, force closure", "n_trials"] == len(fc)
+    assert caption(store, "h_epsilon").endswith(f"; no pooled row: {why}** (`tables/h_epsilon.csv`)")
+    text = report_md(store)
+    assert f"*Figure h_epsilon not computed: {why}.*" in text
+    assert "trial_id" not in text and str(tmp_path) not in text
+
+
 def test_grip_laws_mcnemar_pairs_within_each_law(runs):
     store = runs["laws"]
     ok = ok_records(store)

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 
+import pandas as pd
 import pytest
 from statsmodels.stats.proportion import proportion_confint
 from synthetic_runs import read_table
@@ -70,3 +71,78 @@ def test_claims_give_the_certified_shares_of_the_proposed_planners_trials_in_and
         r = claims.loc[f"proposed planner's {where} certified by `{RESIDUAL}` (paper {said})"]
         assert (r["section"], float(r["paper"]), r["digits"], r["n"]) == ("§8.1", paper, 0, len(part))
         assert r["value"] == pytest.approx(100 * part[RESIDUAL].astype(bool).mean())
+
+
+def test_claims_give_section_8_4s_counts_of_the_residual_flag_beside_ours(run, trials):
+    """§8.4: "only 24 of 1008 measured successes were labelled unstable"; "just 50 of its 677 certified
+    grasps (7.4 %) subsequently failed" (the proposed planner's). The study file carried the four
+    numbers and nothing read them; each is now a row beside our count, counted here from the records."""
+    claims = read_table(run, "test2_claims").set_index("quantity")
+    ok, flagged = trials["success"].astype(bool), trials[RESIDUAL].astype(bool)
+    mine = trials["planner"] == "heuristic"
+    for quantity, paper, ours, n in (
+            ("successes, all planners", 1008, ok.sum(), len(trials)),
+            (f"successes labelled unstable by `{RESIDUAL}`", 24, (ok & ~flagged).sum(), ok.sum()),
+            (f"proposed planner's grasps certified by `{RESIDUAL}`", 677, (mine & flagged).sum(), mine.sum()),
+            ("proposed planner's certified grasps that failed", 50, (mine & flagged & ~ok).sum(),
+             (mine & flagged).sum())):
+        r = claims.loc[quantity]
+        assert (r["section"], float(r["paper"]), r["value"], r["n"]) == ("§8.4", paper, ours, n), quantity
+        assert r["difference"] == ours - paper
+
+
+#: §8.4's other scores, typed from its text: "accuracy of 80.6 % over the full set of 1755 trials
+#: (precision 0.76, recall 0.98 …)"; "restricted to the baseline trials the precision is only 0.57";
+#: "for the proposed planner alone … accuracy of 0.93 with precision 0.93 and recall 0.98"
+SCORES = {"all": (0.806, 0.76, 0.98), "baselines": (None, 0.57, None), "heuristic": (0.93, 0.93, 0.98)}
+
+
+def test_section_8_4s_scores_stand_beside_the_residual_flag_only(run):
+    """§8.1: "the pre-execution flag itself is the planner's residual criterion …, not a safety-factor
+    threshold", the flag §8.4 scores. Its accuracy, precision and recall stood beside both flags, the
+    believed-SF flag `predicted_stable` included; that flag's rows now carry no paper value at all."""
+    t = read_table(run, "test2_classifier").set_index(["flag", "belief_error", "scope"]).sort_index()
+    paper = ["paper_accuracy", "paper_precision", "paper_recall"]
+    assert t.loc[SF, paper].isna().all().all()  # every scope, both readings
+    assert t.loc[(SF, "paper"), "verdict"].isin(["no paper value", "no trial flagged"]).all()
+    for scope, want in SCORES.items():
+        got = t.loc[(RESIDUAL, "paper", scope), paper].tolist()
+        assert [None if math.isnan(v) else v for v in got] == list(want), scope
+    assert t.loc[(RESIDUAL, "none"), paper].isna().all().all()  # the counterfactual: no paper value
+
+
+def test_fig_31c_draws_the_believed_sf_flag_with_ours_alone():
+    """Fig. 31c's panel draws `predicted_stable` (§9.5's believed SF > 1); its legend printed §8.4's
+    accuracy, precision and recall beside ours ("paper 0.81"), scores of the residual flag. The caption
+    says where the paper's scores stand."""
+    import inspect
+
+    import matplotlib as mpl
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    from graspcampaign.campaign.paper import study_paper
+    from graspcampaign.report import style
+    from graspcampaign.report.build import spec_for
+    from graspcampaign.report.render import Run
+
+    records = pd.DataFrame({"belief_error": "paper", "planner": "heuristic", "source": "virtual",
+                            "predicted_stable": [True, True, False, False, True],
+                            "success": [True, False, False, True, True]})
+    r = Run(records, {"study": "test2_grasp", "source": "virtual"}, study_paper("test2_grasp"))
+    r.memo("hardware", lambda: records)
+    figure = next(i for i in spec_for("test2_grasp", "").items if getattr(i, "name", None) ==
+                  "fig31_planner_comparison")
+    panel = inspect.getclosurevars(figure.draw).nonlocals["specs"][-1]  # style.panels' last panel
+    with mpl.rc_context(style.RC):
+        fig = Figure()
+        FigureCanvasAgg(fig)
+        ax = fig.add_subplot()
+        panel(r, ax)
+    legend = "\n".join(t.get_text() for t in ax.get_legend().texts)
+    # ours, counted here: 3 flagged, 2 of them successes; 3 successes, 2 of them flagged; 3 of 5 right
+    assert legend == "n = 5\naccuracy: ours 0.60\nprecision: ours 0.67\nrecall: ours 0.67"
+    assert figure.caption.endswith("(c) `predicted_stable` against the outcome, ours alone: the paper's "
+                                   "Fig. 31c scores are of the residual flag, beside it in table "
+                                   "test2_classifier")
+

@@ -16,6 +16,9 @@ from graspcampaign.report.render import Run
 from graspcampaign.report.spec import paper_of, verdicts
 from graspcampaign.report.studies.opening import FLAGS, ex, frames
 
+RESIDUAL = "predicted_stable_residual"
+"""The flag §8.4 scores: §8.1, "the pre-execution flag itself is the planner's residual criterion"."""
+
 
 def scores(p, key: str) -> tuple:
     """The paper's classifier ``p.<key>`` as :func:`classifier` takes it: (accuracy, precision, recall, no
@@ -26,13 +29,14 @@ def scores(p, key: str) -> tuple:
 
 def classifier(name: str, caption: str, scopes, paper) -> Table:
     """The flags against the rig's success per belief reading and scope, beside the paper's scores
-    (``paper(p)``: scope, or (scope, flag) for a value of that flag alone, -> (accuracy, precision,
-    recall[, note[, key]]), None where not printed; a note, why the paper's value is in doubt, ends the
-    verdict; ``key``, where the study file types the accuracy: it prints with the decimals typed there)."""
+    (``paper(p)``: (scope, flag) -> (accuracy, precision, recall[, note[, key]]), None where not printed;
+    a note, why the paper's value is in doubt, ends the verdict; ``key``, where the study file types the
+    accuracy: it prints with the decimals typed there). A paper value names the one flag it was computed
+    for and stands beside it alone: the other flag's rows show ours ("no paper value")."""
     def compute(run: Run) -> pd.DataFrame:
         d, ref = frames(run), paper_of(run, paper) or {}
         out = hw.classifier_table(hw.scoped(d, scopes(d)), FLAGS, ["belief_error", "scope"])
-        refs = [(ref.get((s, f), ref.get(s)) if b == "paper" else None) or (None,) * 3
+        refs = [(ref.get((s, f)) if b == "paper" else None) or (None,) * 3
                 for f, s, b in zip(out["flag"], out["scope"], out["belief_error"], strict=True)]
         for i, k in enumerate(("accuracy", "precision", "recall")):
             out[f"paper_{k}"] = [r[i] for r in refs]
@@ -64,7 +68,7 @@ def group_c(g) -> dict:
     """The paper's precisions of the flag inside group C and outside it (``classifier`` keys), each beside
     the residual flag, the one §8.1 gives them, for the population its section states: §8.1 the proposed
     planner's trials, §8.4 the pooled ones; both group C rows say the two values cannot both hold."""
-    p, q, flag = g.proposed, g.pooled, "predicted_stable_residual"
+    p, q, flag = g.proposed, g.pooled, RESIDUAL
     clash = (f"{p.section} prints {fmt.number(p.precision, 2)} ({p.certified - p.certified_failed} of "
              f"{p.certified}) and {q.section} {fmt.number(q.precision, 2)} for group C, whose {p.trials} "
              f"trials {p.section} lists under the proposed planner alone: both cannot hold")
@@ -84,8 +88,9 @@ def typed_decimals(value: float, typed: str | None = None) -> int:
 
 
 def confusion(paper, flag: str):
-    """Panel: ``predicted_stable`` against the rig's outcome, with ours and the paper's scores; ``flag``
-    says in words what the flag predicts (the y label; the caption names the column)."""
+    """Panel: ``predicted_stable`` against the rig's outcome, with ours and the paper's scores (``paper``
+    None: ours alone, where the paper scores another flag); ``flag`` says in words what the flag predicts
+    (the y label; the caption names the column)."""
     def draw(run: Run, ax) -> None:
         m = hw.classifier_table(ex(run).assign(all=1), ["predicted_stable"], ["all"]).iloc[0]
         cells, ref = np.array([[m["tn"], m["fn"]], [m["fp"], m["tp"]]]), paper_of(run, paper)
@@ -96,7 +101,7 @@ def confusion(paper, flag: str):
                xlabel=f"{run.rig} outcome [trials]", ylabel=flag, title="(c) flag vs outcome")
         ax.grid(False)
         ax.plot([], [], " ", label="\n".join([f"n = {m['n']}", *(
-            f"{k}: ours {fmt.number(m[k], 2)}, paper {fmt.number(getattr(ref, k), 2)}"
-            for k in ("accuracy", "precision", "recall") if ref)]))
+            f"{k}: ours {fmt.number(m[k], 2)}" + (f", paper {fmt.number(getattr(ref, k), 2)}" if ref else "")
+            for k in ("accuracy", "precision", "recall"))]))
         ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), handlelength=0)
     return draw

@@ -142,10 +142,25 @@ def LawPaired() -> S.Table:
     return replace(base, compute=compute, cols=[Col("grip_law_label", "grip law"), *base.cols])
 
 
+def no_candidates(run: Run) -> str:
+    """Why the run holds no (H, ε) candidates of its ferrari_canny trials (``tables/candidates``), in
+    the run's terms; "" if it holds them. Never a path: a report is the same bytes wherever it is made."""
+    if len(run.aux("candidates")):
+        return ""
+    if run.params.get("candidate_sample") == 0:
+        return "this run stored no candidate table (params.candidate_sample=0 keeps none)"
+    # a run keeping account of its parts is refused by the report's check when one is gone
+    return ("this run's candidate table (tables/candidates), which its ferrari_canny trials store, is "
+            "missing; its records were stored before runs kept account of their tables, so `graspcampaign "
+            "run` cannot redo it: restore it from a backup, or record a new run")
+
+
 def h_epsilon_figure(run: Run, fig) -> None:
     trials = qs.paper_law(run.records).query("planner == 'ferrari_canny'")
     if not len(trials):
         raise ValueError("no executed trial of the ferrari_canny planner")
+    if why := no_candidates(run):
+        raise ValueError(why)
     c = run.aux("candidates").query("trial_id in @trials.trial_id")
     a, b = fig.subplots(1, 2)
     bar = fig.colorbar(a.hexbin(c["h_total"], c["epsilon_fc"], gridsize=40, bins="log", mincnt=1), ax=a,
@@ -178,8 +193,11 @@ EPSILON = [
             "of H(G) and ε (ρ < 0: agreement) over the Ferrari–Canny ε planner's trials' candidates, per "
             "trial and pooled; percentile bootstrap over trials (a trial's candidates share a body): "
             f"{BOOTSTRAP_RESAMPLES} resamples of each per-trial median, then {qs.POOLED_RESAMPLES} of the "
-            f"pooled ρ, from one generator of seed {run.seed}",
-            lambda run: qs.h_epsilon_correlation(run.records, run.aux("candidates"), seed=run.seed),
+            f"pooled ρ, from one generator of seed {run.seed}"
+            + (f"; no pooled row: {why}" if (why := no_candidates(run)) else ""),
+            lambda run: qs.h_epsilon_correlation(run.records, pd.DataFrame(columns=[
+                "trial_id", "h_total", "epsilon_fc"]) if no_candidates(run) else run.aux("candidates"),
+                seed=run.seed),
             [Col("reading", "reading"), Col("rho", "ρ (95%)", 3, low="low", high="high"),
              Col("n_trials", "trials"), Col("n_pairs", "candidates")]),
     S.Figure("h_epsilon", lambda run: "H(G) against Ferrari–Canny ε: (a) the Ferrari–Canny ε "

@@ -17,7 +17,7 @@ from graspcampaign.report import style
 from graspcampaign.report.document import Col, Figure, Table, cols, pct_col
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Claims, Finding, Paired, Rates, ReportSpec, paper_of, share, verdicts
-from graspcampaign.report.studies.flags import classifier, confusion, group_c, scores
+from graspcampaign.report.studies.flags import RESIDUAL, classifier, confusion, group_c, scores
 from graspcampaign.report.studies.opening import ex, finding, frames
 
 PLANNERS, ME = ("heuristic", "centroid", "no_pso", "force_balance", "random"), f"planner == '{PROPOSED}'"
@@ -346,13 +346,24 @@ def claims(run: Run):
             ("median contact-point error", "contact_point_error_mm", "contact_point_err_median_mm", "mm", 1)):
         n = acc["n_parity" if col.startswith("parity") else f"n_{things(col)}"]
         yield q, "§8.3, Fig. 29", Estimate(acc[col], n=n), getattr(p, key), unit, digits
-    g, flag = p.classifier_group_c.proposed, "predicted_stable_residual"
+    g, flag = p.classifier_group_c.proposed, RESIDUAL
     for where, part, paper, said in (
             ("group C trials", d[d["group"] == "C"], g.certified_pct, f"{g.certified} of {g.trials}"),
             ("trials outside group C", d[d["group"] != "C"], g.certified_elsewhere_pct,
              f"≈ {fmt.number(g.certified_elsewhere_pct, 0)}%")):  # §8.1 prints "49%" and "≈ 90%"
         yield (f"proposed planner's {where} certified by `{flag}` (paper {said})", g.section,
                lambda part=part: share(part, part[flag]), paper, "%", 0)
+    c = t["test2_classifier"].query(f"flag == '{flag}' and {PAPER_ROWS}").set_index("scope")
+    for q, scope, ours, of, paper in (  # §8.4's counts: ours, of how many trials (columns of the table)
+            ("successes, all planners", "all", ["tp", "fn"], ["n"], p.measured_successes),
+            (f"successes labelled unstable by `{flag}`", "all", ["fn"], ["tp", "fn"],
+             p.successes_labelled_unstable),
+            (f"proposed planner's grasps certified by `{flag}`", PROPOSED, ["flagged"], ["n"],
+             p.proposed_certified),
+            ("proposed planner's certified grasps that failed", PROPOSED, ["fp"], ["flagged"],
+             p.proposed_certified_failed)):
+        yield q, "§8.4", lambda scope=scope, ours=ours, of=of: Estimate(
+            c.loc[scope, ours].sum(), n=c.loc[scope, of].sum()), paper, "", 0
     yield from mcnemar_rows(mc, p.mcnemar_centroid, "§8.5")
     yield ("discordant-pair odds ratio", "§8.5", Estimate(*mc[["odds_ratio", "odds_ratio_low",
            "odds_ratio_high", "pairs"]]), p.mcnemar_centroid.odds_ratio, "", 1)
@@ -411,17 +422,18 @@ SPEC = ReportSpec("test2_grasp", [
     classifier("test2_classifier", lambda run: f"Pre-execution flags against {run.rig} success (§8.4, "
                "Fig. 31c): `predicted_stable` is §9.5's SF_predicted > 1, optimistic where the beliefs are "
                "wrong; `predicted_stable_residual` §8.1's residual ≤ τ_F = 0.0886 N, the flag the paper's "
-               "scores belong to: friction-blind, it carries no information about a friction hold. §8.4's "
-               "scores stand beside both flags; the precisions inside and outside group C beside the "
-               "residual flag alone, each for the trials its section states (§8.1 the proposed planner's, "
-               "§8.4 all planners')",
+               "scores belong to: friction-blind, it carries no information about a friction hold. Every "
+               "paper value (§8.4's scores; the precisions inside and outside group C, each for the trials "
+               "its section states: §8.1 the proposed planner's, §8.4 all planners') stands beside the "
+               "residual flag alone: the paper scores no believed-SF flag",
                lambda d: {
                    **per_planner(d), "baselines": d["planner"] != PROPOSED,
                    "group C, proposed": d.eval(f"{ME} and group == 'C'"),
                    "outside C, proposed": d.eval(f"{ME} and group != 'C'"),
                    "group C, all planners": d["group"] == "C", "outside C, all planners": d["group"] != "C"},
-               lambda p: {"all": scores(p, "classifier"), PROPOSED: scores(p, "classifier_proposed"),
-                          "baselines": (None, p.classifier_baselines_precision, None),
+               lambda p: {("all", RESIDUAL): scores(p, "classifier"),
+                          (PROPOSED, RESIDUAL): scores(p, "classifier_proposed"),
+                          ("baselines", RESIDUAL): (None, p.classifier_baselines_precision, None),
                           **group_c(p.classifier_group_c)}),
     matched_mcnemar("test2_mcnemar", "Matched ablation (§8.5): McNemar, proposed against each baseline on "
                     "occurrence-matched pairs (object, condition, repeat)"),
@@ -444,7 +456,8 @@ SPEC = ReportSpec("test2_grasp", [
            f"the {hw.VISION_QUANTUM_MM:g} mm vision quantisation, §8.1)", fig29, (12.0, 3.8)),
     Figure("fig30_representative_grasp", fig30_caption, fig30, (9.5, 5.4)),
     Figure("fig31_planner_comparison", "Fig. 31: success per planner (a) with own and exact beliefs "
-           "(hatched), (b) matched ablation; (c) `predicted_stable` against the outcome", style.panels(
-               planner_bars("table7"), ("test2_matched", None, "planner", "(b) matched ablation"),
-               confusion(lambda p: p.classifier, "predicted stable: believed SF > 1")), (13.0, 4.0)),
+           "(hatched), (b) matched ablation; (c) `predicted_stable` against the outcome, ours alone: the "
+           "paper's Fig. 31c scores are of the residual flag, beside it in table test2_classifier",
+           style.panels(planner_bars("table7"), ("test2_matched", None, "planner", "(b) matched ablation"),
+                        confusion(None, "predicted stable: believed SF > 1")), (13.0, 4.0)),
 ])
