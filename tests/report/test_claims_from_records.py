@@ -36,7 +36,25 @@ def test_the_grid_opening_says_the_rates_cannot_come_from_algorithm_2_only_where
     m = run.tables["mechanism"]
     run.tables["mechanism"] = m.assign(rho_passable=m["n"])  # every triple could pass
     text = grid_finding(run)
-    assert "cannot come from" not in text and "which caps 0 of " in text
+    assert "cannot come from" not in text and "which caps" not in text  # no "caps 0 of 4 planners"
+    assert "only triples with ρ·W < τ_F can pass (table mechanism)." in text  # a planner still differs
+
+
+def test_the_grid_opening_counts_the_planners_the_mechanism_caps(sim_root):
+    # "which caps 0 of 4 planners below the paper's rate" was printed wherever a planner differed;
+    # the count is of the planners with a paper value whose share of triples with ρ·W < τ_F lies
+    # below that value: here set by hand, one planner (the proposed, paper 67.6%) at 0 passable
+    from graspcampaign.report.studies.quasi_static import grid_finding
+
+    run = _rendered(sim_root, "baseline_grid")
+    m = run.tables["mechanism"]
+    run.tables["mechanism"] = m.assign(rho_passable=m["n"].where(m["planner"] != "heuristic", 0))
+    judged = int((m["n"].gt(0) & m["planner"].isin(run.paper.success_pct)).sum())  # with a paper value
+    assert f"can pass, which caps 1 of {judged} planners below the paper's rate (table mechanism)." \
+        in grid_finding(run)
+    one = run.tables["mechanism"]
+    run.tables["mechanism"] = one[one["planner"] == "heuristic"]  # the one planner judged
+    assert "can pass, which caps 1 of 1 planner below the paper's rate" in grid_finding(run)
 
 
 def test_the_grid_opening_gives_its_why_only_where_a_planner_differs_or_is_capped(sim_root):

@@ -20,6 +20,7 @@ from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
 from graspcampaign.analysis.records import DESIGN_LIMIT_MM, FAILURE_CHECKS, Estimate
 from graspcampaign.analysis.vocabulary import PROPOSED, colour, label, ordered
 from graspcampaign.campaign.paper import study_paper
+from graspcampaign.core.words import counted
 from graspcampaign.report import format as fmt
 from graspcampaign.report import spec as S
 from graspcampaign.report import style
@@ -115,15 +116,15 @@ def grid_finding(run: Run, more: str = "") -> str:
         f"{fmt.interval(h.wilson_low_pct, h.wilson_high_pct, 1)}; paper {fmt.number(h.paper_pct, 1)}%); "
         for h in rates[(rates["planner"] == PROPOSED) & (rates["n"] > 0)].itertuples())
     cannot = "**The paper's rates cannot come from its own Algorithm 2.** " if capped else ""  # none capped
+    caps = f", which caps {capped} of {counted(len(judged), 'planner')} below the paper's rate" * bool(capped)
     why = (  # a gap to explain: a planner differing from the paper or capped below its rate
         f" Why: line 7 drives every upper contact (n_out,z > 0) to δ = 0 (released in {t.released} of "
         f"{t.n} triples, {100 * t.released / t.n:.1f}%) and the lower ones leave a horizontal residual W·ρ "
-        "the loop never reduces: only triples with ρ·W < τ_F can pass, which caps "
-        f"{capped} of {len(judged)} planners below the paper's rate (table mechanism)." if differ or capped
-        else "")
+        f"the loop never reduces: only triples with ρ·W < τ_F can pass{caps} (table mechanism)."
+        if differ or capped else "")
     return (
         f"{cannot}{proposed}"
-        f"{differ} of {compared} planners with a paper value "
+        f"{differ} of {counted(compared, 'planner')} with a paper value "
         f"{'differs' if differ == 1 else 'differ'} from it (table success_by_planner).{why}{more} "
         f"SPEC §8; {DECISION}.")
 
