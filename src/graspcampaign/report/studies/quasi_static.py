@@ -60,7 +60,8 @@ IDENTIFICATIONS = replace(table3(
 
 
 def readings(by: list[str]) -> S.Table:
-    """Success under every reading per group, and the passes the gate and τ_T alone removed."""
+    """Success under every reading per group, and the passes the gate and τ_T alone removed; the
+    trials left out for a reading missing in a column shown only where there are some."""
     heads = {"success": "success", "success_unbounded": "without the validity gate",
              "success_vertical": "|R_z| reading", "success_no_torque": "torque check off"}
 
@@ -83,8 +84,9 @@ def readings(by: list[str]) -> S.Table:
         f"{run.config['evaluator']['tau_t_nm']:g} N·m, slip margin > 0, no active contact deeper "
         "than the fingertip radius); without that validity gate; |R_z| < τ_F (the paper's prose)"
         + torque(run) + "; the passes the gate alone and τ_T alone removed"),
-        compute, [Col("n", "n"), *(pct_col(r, h) for r, h in heads.items()),
-            Col("gate_removed", "removed by the gate"),
+        compute, lambda run, t: [
+            Col("n", "n"), *[Col("n_unread", "a reading missing (left out)")] * bool(t["n_unread"].any()),
+            *(pct_col(r, h) for r, h in heads.items()), Col("gate_removed", "removed by the gate"),
             Col("torque_binds", "failed only τ_T")], by=by)
 
 
