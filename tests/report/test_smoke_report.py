@@ -104,7 +104,7 @@ def test_the_smoke_report_compares_what_sec_3_1_claims_and_says_where_ours_diffe
     md = " ".join(report_md(store).split())
     assert ("(table meshes). **Unlike the paper**, whose thresholds \"cleanly separate the smooth test "
             "meshes\" (Sec. 3.1), the ellipsoid at 144 nodes has 12 sharp vertices; the pear at 144 nodes "
-            "has 11 sharp vertices and 1 sharp edge. `docs/decisions.md` (*Geometry and metric*) explains: "
+            "has 11 sharp vertices and 1 sharp edge. `docs/decisions.md`, *Geometry and metric* explains: "
             "at 144 nodes the mesh is too coarse to keep the real curvature of the ellipsoid's 60 mm tips "
             "and the pear's top lobe under 0.2 rad a vertex. The sphere's largest dihedral departure "
             "at 144 nodes is 18.4°, above the paper's \"below about 15°\" (Sec. 3.1) but under the 30° "

@@ -76,9 +76,8 @@ def finding(run: Run) -> str:
         sharp["n_sharp_vertex"] > 0) & (f["vertex_defect_rad"] == EXPLAINED_DEFECT_RAD) & (
         not f.get("resolution_aware"))
     parts = " and ".join(CAUSE[s] for s in sharp.loc[explained, "shape"].unique())
-    why = (f" `docs/decisions.md` (*Geometry and metric*) explains: at {EXPLAINED_NODES} nodes the mesh is "
-           f"too coarse to keep the real curvature of {parts} under {EXPLAINED_DEFECT_RAD:g} rad a vertex."
-           ) if explained.any() else ""
+    why = (f" {DECISION} explains: at {EXPLAINED_NODES} nodes the mesh is too coarse to keep the real "
+           f"curvature of {parts} under {EXPLAINED_DEFECT_RAD:g} rad a vertex.") if explained.any() else ""
     return (f"{text}. **Unlike the paper**, whose thresholds \"cleanly separate the smooth test meshes\" "
             f"(Sec. 3.1), {found}.{why}{_dihedral(run, 'the same entry' if why else DECISION)}")
 
