@@ -87,11 +87,12 @@ def rates(study, rec, ok, by, paper_of, seed, bootstrap=True, judged=lambda key:
 
 
 def readings(ok: pd.DataFrame, by: list[str]) -> pd.DataFrame:
-    known = ok[ok[READINGS].notna().all(axis=1)]
+    """Per group the readings over the trials with all four recorded; ``n_unread`` the others."""
     rows = []
-    for key, g in known.groupby(by):
+    for key, every in ok.groupby(by):
         key = key if isinstance(key, tuple) else (key,)
-        row = {**dict(zip(by, key, strict=True)), "n": len(g)}
+        g = every[every[READINGS].notna().all(axis=1)]
+        row = {**dict(zip(by, key, strict=True)), "n": len(g), "n_unread": len(every) - len(g)}
         for r in READINGS:
             k = int(g[r].astype(bool).sum())
             row[r] = k

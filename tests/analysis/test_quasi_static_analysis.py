@@ -99,6 +99,27 @@ def test_a_trial_missing_a_reading_enters_no_reading(missing):
     assert (row["gate_removed"], row["torque_binds"]) == (1, 0)
 
 
+def test_readings_count_the_trials_left_out_for_a_reading_missing():
+    """The rows above: t0 (paper, heuristic) lacks ``success_vertical``, t7 (oracle, centroid, the
+    group's one trial) ``success_unbounded``; t8 errored (no reading, not executed: in no count). n was
+    the trials read with the others dropped unsaid, and a group with none read was no row at all."""
+    rows = records().astype(dict.fromkeys(["success", "success_unbounded", "success_vertical",
+                                           "success_no_torque"], object))
+    rows.loc[0, "success_vertical"] = None
+    rows.loc[7, "success_unbounded"] = np.nan
+    rows.loc[8, ["success", "success_unbounded", "success_vertical", "success_no_torque"]] = None
+    table = readings(rows, ["grip_law", "planner"]).set_index(["grip_law", "planner"])
+    assert table["n_unread"].to_dict() == {  # executed trials per group (rows above) minus those read
+        ("paper", "heuristic"): 1, ("paper", "random"): 0, ("paper", "ferrari_canny"): 0,
+        ("slip", "heuristic"): 0, ("oracle", "random"): 0, ("oracle", "centroid"): 1}
+    assert table.loc[("paper", "heuristic"), ["n", "success", "success_vertical"]].tolist() == [1, 0, 1]
+    lost = table.loc[("oracle", "centroid")]
+    assert lost[["n", "success", "success_unbounded", "gate_removed"]].tolist() == [0, 0, 0, 0]
+    assert math.isnan(lost["success_pct"]) and math.isnan(lost["success_unbounded_low_pct"])
+    assert list(table.columns[:3]) == ["n", "n_unread", "success"]
+    assert (readings(records(), ["planner"])["n_unread"] == 0).all()  # every trial read
+
+
 def test_grip_need_and_epsilon():
     need = grip_need(records(), {"grip_law": ["slip", "oracle"]}).set_index(["grip_law", "planner"])
     assert list(need.index) == [("slip", "heuristic"), ("oracle", "centroid"), ("oracle", "random")]

@@ -206,3 +206,24 @@ def test_a_flag_missing_on_some_rows_is_a_nullable_bool_whatever_comes_first(fir
     assert str(table.schema.field("slipped_measured").type) == "bool"
     assert table.column("slipped_measured").null_count == 1
     assert str(table.schema.field("x_mm").type) == "double"  # a NaN measurement stays a number
+
+
+def test_read_with_facts_gives_the_rows_and_the_files_read_with_their_sources(tmp_path):
+    """The public read ``status`` answers from (it read the store's private ``_read`` and
+    ``_source``): the table ``read`` gives, the live records files with their verified facts, and
+    the run's source from those facts (``virtual`` as soon as one record says so, SPEC §4)."""
+    import pyarrow.parquet as pq
+
+    store = RunStore(tmp_path / "results" / "unit" / "r1")
+    store.write_shard("records", "aaaaaaaaaa", [{"trial_id": "a", "status": "ok", "source": "measured"}])
+    store.write_shard("records", "bbbbbbbbbb", [{"trial_id": f"b{i}", "status": "error", "source": "virtual"}
+                                                for i in range(3)])
+    table, files = store.read_with_facts("records", ["status"])
+    on_disk = sorted((store.path / "records").glob("*.parquet"))
+    assert sorted(files) == on_disk
+    assert sorted(table.column("status").to_pylist()) == sorted(
+        s for path in on_disk for s in pq.read_table(path, columns=["status"]).column("status").to_pylist())
+    assert [own.ids for own in map(files.get, on_disk)] == [{"a"}, {"b0", "b1", "b2"}]
+    manifest = {"source": "measured"}
+    assert store.source(manifest, files.values()) == store.source(manifest) == "virtual"
+    assert store.source(manifest, [files[on_disk[0]]]) == "measured"  # the facts given, not re-listed

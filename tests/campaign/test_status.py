@@ -77,3 +77,15 @@ def _stored(root) -> int:
     """The records stored under the run unit/r1 of ``root``, counted from the Parquet files."""
     return sum(pq.read_metadata(p).num_rows for p in (Path(root) / "unit" / "r1" / "records").glob(
         "*.parquet"))
+
+
+def test_status_reads_the_store_through_its_public_methods_only():
+    """``run_status`` read ``store._read`` and ``store._source``, private to RunStore: a change
+    there broke status unseen. Every attribute status reads of a store is public."""
+    import ast
+
+    tree = ast.parse(Path(status.__file__).read_text())
+    private = sorted({f"{node.value.id}.{node.attr}" for node in ast.walk(tree)
+                      if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name)
+                      and node.value.id == "store" and node.attr.startswith("_")})
+    assert private == []

@@ -36,7 +36,25 @@ def test_the_grid_opening_says_the_rates_cannot_come_from_algorithm_2_only_where
     m = run.tables["mechanism"]
     run.tables["mechanism"] = m.assign(rho_passable=m["n"])  # every triple could pass
     text = grid_finding(run)
-    assert "cannot come from" not in text and "which caps 0 of " in text
+    assert "cannot come from" not in text and "which caps" not in text  # no "caps 0 of 4 planners"
+    assert "only triples with ρ·W < τ_F can pass (table mechanism)." in text  # a planner still differs
+
+
+def test_the_grid_opening_counts_the_planners_the_mechanism_caps(sim_root):
+    # "which caps 0 of 4 planners below the paper's rate" was printed wherever a planner differed;
+    # the count is of the planners with a paper value whose share of triples with ρ·W < τ_F lies
+    # below that value: here set by hand, one planner (the proposed, paper 67.6%) at 0 passable
+    from graspcampaign.report.studies.quasi_static import grid_finding
+
+    run = _rendered(sim_root, "baseline_grid")
+    m = run.tables["mechanism"]
+    run.tables["mechanism"] = m.assign(rho_passable=m["n"].where(m["planner"] != "heuristic", 0))
+    judged = int((m["n"].gt(0) & m["planner"].isin(run.paper.success_pct)).sum())  # with a paper value
+    assert f"can pass, which caps 1 of {judged} planners below the paper's rate (table mechanism)." \
+        in grid_finding(run)
+    one = run.tables["mechanism"]
+    run.tables["mechanism"] = one[one["planner"] == "heuristic"]  # the one planner judged
+    assert "can pass, which caps 1 of 1 planner below the paper's rate" in grid_finding(run)
 
 
 def test_the_grid_opening_gives_its_why_only_where_a_planner_differs_or_is_capped(sim_root):
@@ -155,6 +173,39 @@ def test_the_test3_opening_gives_no_cause_of_the_drops_where_none_held_a_low_saf
     assert n > 0 and ": no slip" not in (text := drops(_rendered(sim_root, "test3_disturbance", held)))
     assert text.endswith(f"%). No slip is arrested below a safety factor of μ_s/μ_k = 1.35–1.42; none of its "
                          f"{n} drops held one below it. ")
+
+
+def test_the_test3_opening_counts_the_drops_below_the_arrest_bound_of_those_with_an_sf_reading(sim_root):
+    # "k of N below the safety factor μ_s/μ_k …" took N as every drop, a drop without a recorded
+    # `sf_actual` among them (counted neither below nor above): N is now the drops with the reading and
+    # the rest are said apart. Table 4's μ_s/μ_k typed from the paper (test_test23_opening.TABLE4_MU).
+    from graspcampaign.report.studies.test3 import drops
+
+    mu = {"gel": (0.772, 0.544), "silicone_soft": (0.619, 0.440), "bio_foam": (0.684, 0.506),
+          "silicone_ref": (0.509, 0.364)}
+    records = RunStore(sim_root / "test3_disturbance" / "default").read().to_pandas()
+    ours = records.query("planner == 'heuristic' and status == 'ok' and not aborted")
+    dropped = ours[ours["outcome"] == "failure_drop"].sort_values("trial_id")
+    blank = set(dropped["trial_id"].iloc[:2])  # two drops lose their SF reading
+
+    def unread(sf=None):
+        def change(r: pd.DataFrame) -> pd.DataFrame:
+            sf_actual = r["sf_actual"].mask(r["outcome"] == "failure_drop", sf) if sf else r["sf_actual"]
+            return r.assign(sf_actual=sf_actual.mask(r["trial_id"].isin(blank)))
+        return change
+
+    kept = dropped[~dropped["trial_id"].isin(blank)]
+    below = sum(s < mu[m][0] / mu[m][1] for m, s in zip(kept["material"], kept["sf_actual"], strict=True))
+    assert len(dropped) > 2 and below > 0
+    assert drops(_rendered(sim_root, "test3_disturbance", unread())).endswith(
+        f"%): {below} of {len(kept)} with an `sf_actual` reading below the safety factor μ_s/μ_k = 1.35–1.42 "
+        "that arrests a slip (2 more without one). ")
+    assert drops(_rendered(sim_root, "test3_disturbance", unread(2.0))).endswith(  # none held one below
+        f"; none of its {len(kept)} drops with an `sf_actual` reading held one below it "
+        "(2 more without one). ")
+    blank = set(dropped["trial_id"])
+    assert drops(_rendered(sim_root, "test3_disturbance", unread())).endswith(
+        f"; none of its {len(dropped)} drops has an `sf_actual` reading. ")
 
 
 def test_the_grip_laws_opening_gives_its_why_only_where_the_proposed_planner_loses_a_pair(sim_root):

@@ -480,3 +480,32 @@ def test_an_identification_without_a_bound_reading_is_not_counted_on_the_bound()
     run.memo("prepared", lambda: pd.DataFrame({"lambda1": [0.05, 0.05, 1.0],
                                                "at_bound_lambda1": [True, np.nan, False]}))
     assert _bounds(run) == f"; on a PSO search bound: {label('parameter', 'lambda1')} = 0.05 in 1 of 3."
+
+
+def test_the_readings_table_says_how_many_trials_a_missing_reading_left_out(tmp_path):
+    """n of the readings table is the trials with every reading recorded; the executed trials without
+    one (here the random planner's every other trial, no ``success_vertical``, as a file written before
+    the column existed) were left out unsaid. They are now a column, shown only where some are."""
+    state = {"k": 0}
+
+    def outputs(factors, rng):
+        out = quasi_static_outputs(factors, rng)
+        if factors["planner"] == "random":
+            state["k"] += 1
+            out["success_vertical"] = out["success_vertical"] if state["k"] % 2 else None
+        return out
+
+    store = make_run(tmp_path / "results", "baseline_grid", "quasi_static", {
+        "shape": SHAPES[:2], "mass_kg": [0.2], "mu": [0.3], "planner": PLANNERS}, seeds=3, paper=None,
+        outputs=outputs, tables=candidates)
+    build_reports(["baseline_grid"], root=tmp_path / "results")
+    ok = ok_records(store)
+    unread = ok["success_vertical"].isna().groupby(ok["planner"]).sum()
+    assert unread["random"] == 3 and unread.drop("random").eq(0).all()
+    shown = md_table(report_md(store), "readings").set_index("planner")
+    assert list(shown.columns[:3]) == ["n", "a reading missing (left out)", "success % (Wilson 95%)"]
+    named = unread.rename(lambda p: label("planner", p))  # the table's rows are the planners' labels
+    assert shown["a reading missing (left out)"].astype(int).to_dict() == named.to_dict()
+    assert shown["n"].astype(int).to_dict() == (ok.groupby("planner").size() - unread).rename(
+        lambda p: label("planner", p)).to_dict()
+    assert read_table(store, "readings").set_index("planner")["n_unread"].to_dict() == unread.to_dict()

@@ -64,16 +64,22 @@ def mechanism(records: pd.DataFrame, tau_f_n: float, order: dict | None = None,
 def readings(records: pd.DataFrame, by: list[str], order: dict | None = None) -> pd.DataFrame:
     """Return per group each reading's count ``r`` and rate ``r_pct`` (Wilson ``r_low_pct``,
     ``r_high_pct``), ``gate_removed`` and ``torque_binds`` (the passes the gate, the torque check remove),
-    over the trials with every reading recorded (:func:`~.records.known`): the removed passes are
+    over the ``n`` trials with every reading recorded (:func:`~.records.known`): the removed passes are
     differences of two readings of one trial, and a reading not recorded (a file written before its
-    column existed reads null) is no failure."""
+    column existed reads null) is no failure. ``n_unread``: the executed trials left out for a reading
+    missing (a group whose every trial lacks one has ``n`` 0 and no rate)."""
     flags = rec.known(records, READINGS)
-    frame = None
+    ok = rec.executed(records[[c for c in (*by, "status", "aborted") if c in records]])
+    frame = pd.DataFrame([{**key, "executed": len(g)} for key, g in rec.groups(ok, by, order)],
+                         columns=[*by, "executed"])
     for r in READINGS:
         t = rec.rate_table(flags, by, outcome=r, order=order)[
             [*by, "n", "successes", "rate_pct", "wilson_low_pct", "wilson_high_pct"]]
         t.columns = [*by, "n", r, f"{r}_pct", f"{r}_low_pct", f"{r}_high_pct"]
-        frame = t if frame is None else frame.merge(t, on=[*by, "n"])
+        frame = frame.merge(t if r == READINGS[0] else t.drop(columns="n"), on=by, how="left")
+    counts = ["n", *READINGS]  # a group with no trial read: 0 of 0, its rates missing
+    frame = frame.assign(**{c: frame[c].fillna(0).astype(int) for c in counts})
+    frame.insert(len(by) + 1, "n_unread", frame.pop("executed") - frame["n"])
     return frame.assign(gate_removed=frame["success_unbounded"] - frame["success"],
                         torque_binds=frame["success_no_torque"] - frame["success"])
 

@@ -315,17 +315,18 @@ class RunStore:
         DamagedRunError
             If a file of ``part`` is damaged (nothing is moved; see :meth:`repair`).
         """
-        return self._read(part, columns)[0]
+        return self.read_with_facts(part, columns)[0]
 
     def read_records(self, manifest: dict, columns: list[str]) -> tuple[pa.Table, str]:
         """The records' ``columns`` (:meth:`read`) and the run's data source (:meth:`source`),
         from one listing of its files (raises DamagedRunError)."""
-        table, read = self._read("records", columns)
-        return table, self._source(read.values(), manifest)
+        table, read = self.read_with_facts("records", columns)
+        return table, self.source(manifest, read.values())
 
-    def _read(self, part: str, columns: list[str] | None) -> tuple[pa.Table, dict[Path, Facts]]:
-        """:meth:`read`'s table and the files it was read from with their facts; each file's
-        columns under their current names (:func:`~graspcampaign.campaign.former_names.current_names`)."""
+    def read_with_facts(self, part: str, columns: list[str] | None) -> tuple[pa.Table, dict[Path, Facts]]:
+        """:meth:`read`'s table and the files it was read from with their verified facts (sources,
+        accounts), from one listing; each file's columns under their current names
+        (:func:`~graspcampaign.campaign.former_names.current_names`). Raises as :meth:`read`."""
         names, read = self.former_names(part), []
         stored = columns if columns is None else [
             *columns, *(former for former, current in names.items() if current in columns)]
@@ -372,14 +373,12 @@ class RunStore:
         manifest = read_manifest(self.manifest_path)
         return renamed(manifest.get("kind") if manifest else None, part)
 
-    def source(self, manifest: dict) -> str:
+    def source(self, manifest: dict, records: Iterable[Facts] | None = None) -> str:
         """The data source of the run's records (SPEC §4): ``virtual`` as soon as one record says
         so, else the manifest's (``analysis.vocabulary.data_source``), from the sources each records
-        file's verified facts hold: no column is read again."""
-        return self._source(self._verified("records").values(), manifest)
-
-    @staticmethod
-    def _source(records: Iterable[Facts], manifest: dict) -> str:
+        file's verified facts hold (``records``: those of files already read, :meth:`read_with_facts`;
+        default every live records file's): no column is read again."""
+        records = self._verified("records").values() if records is None else records
         held = set().union(*(own.owners.get("source", ()) for own in records))
         return data_source(held, manifest.get("source"))
 

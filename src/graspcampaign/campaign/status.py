@@ -267,13 +267,13 @@ def run_status(root: Path | str, study: str, run: str = "default") -> dict[str, 
 
     store, manifest = open_run(root, study, run)
     # pyarrow only: status answers fast; the files listed once, for the accounts too
-    table, records = store._read("records", ["status"])
+    table, records = store.read_with_facts("records", ["status"])
     statuses = table.column("status").to_pylist() if table.num_rows else []
     return {
         "study": study,
         "run": run,
         "path": str(store.path),
-        "source": store._source(records.values(), manifest),  # as the run's report says
+        "source": store.source(manifest, records.values()),  # as the run's report says
         "n_trials": run_size(manifest),  # of the design it now runs (--allow-drift may change it)
         "n_recorded": len(statuses),
         "n_ok": statuses.count("ok"),

@@ -20,6 +20,7 @@ from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
 from graspcampaign.analysis.records import DESIGN_LIMIT_MM, FAILURE_CHECKS, Estimate
 from graspcampaign.analysis.vocabulary import PROPOSED, colour, label, ordered
 from graspcampaign.campaign.paper import study_paper
+from graspcampaign.core.words import counted
 from graspcampaign.report import format as fmt
 from graspcampaign.report import spec as S
 from graspcampaign.report import style
@@ -59,7 +60,8 @@ IDENTIFICATIONS = replace(table3(
 
 
 def readings(by: list[str]) -> S.Table:
-    """Success under every reading per group, and the passes the gate and τ_T alone removed."""
+    """Success under every reading per group, and the passes the gate and τ_T alone removed; the
+    trials left out for a reading missing in a column shown only where there are some."""
     heads = {"success": "success", "success_unbounded": "without the validity gate",
              "success_vertical": "|R_z| reading", "success_no_torque": "torque check off"}
 
@@ -82,8 +84,9 @@ def readings(by: list[str]) -> S.Table:
         f"{run.config['evaluator']['tau_t_nm']:g} N·m, slip margin > 0, no active contact deeper "
         "than the fingertip radius); without that validity gate; |R_z| < τ_F (the paper's prose)"
         + torque(run) + "; the passes the gate alone and τ_T alone removed"),
-        compute, [Col("n", "n"), *(pct_col(r, h) for r, h in heads.items()),
-            Col("gate_removed", "removed by the gate"),
+        compute, lambda run, t: [
+            Col("n", "n"), *[Col("n_unread", "a reading missing (left out)")] * bool(t["n_unread"].any()),
+            *(pct_col(r, h) for r, h in heads.items()), Col("gate_removed", "removed by the gate"),
             Col("torque_binds", "failed only τ_T")], by=by)
 
 
@@ -115,15 +118,15 @@ def grid_finding(run: Run, more: str = "") -> str:
         f"{fmt.interval(h.wilson_low_pct, h.wilson_high_pct, 1)}; paper {fmt.number(h.paper_pct, 1)}%); "
         for h in rates[(rates["planner"] == PROPOSED) & (rates["n"] > 0)].itertuples())
     cannot = "**The paper's rates cannot come from its own Algorithm 2.** " if capped else ""  # none capped
+    caps = f", which caps {capped} of {counted(len(judged), 'planner')} below the paper's rate" * bool(capped)
     why = (  # a gap to explain: a planner differing from the paper or capped below its rate
         f" Why: line 7 drives every upper contact (n_out,z > 0) to δ = 0 (released in {t.released} of "
         f"{t.n} triples, {100 * t.released / t.n:.1f}%) and the lower ones leave a horizontal residual W·ρ "
-        "the loop never reduces: only triples with ρ·W < τ_F can pass, which caps "
-        f"{capped} of {len(judged)} planners below the paper's rate (table mechanism)." if differ or capped
-        else "")
+        f"the loop never reduces: only triples with ρ·W < τ_F can pass{caps} (table mechanism)."
+        if differ or capped else "")
     return (
         f"{cannot}{proposed}"
-        f"{differ} of {compared} planners with a paper value "
+        f"{differ} of {counted(compared, 'planner')} with a paper value "
         f"{'differs' if differ == 1 else 'differ'} from it (table success_by_planner).{why}{more} "
         f"SPEC §8; {DECISION}.")
 

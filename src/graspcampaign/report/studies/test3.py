@@ -26,18 +26,23 @@ NATURAL = "friction_level == 'natural'"
 def drops(run: Run) -> str:
     """The proposed planner's drops and, where the records show it, their cause: a slip that started is
     arrested only while the kinetic budget (μ_k/μ_s of the static one) carries the weight, i.e. SF ≥
-    μ_s/μ_k of its material; the dropped trials whose recorded ``sf_actual`` lies below it are counted."""
+    μ_s/μ_k of its material; the dropped trials whose recorded ``sf_actual`` lies below it are counted,
+    of those with an ``sf_actual`` reading (the drops without one said apart)."""
     d, paper = t2.ex(run, PROPOSED), paper_of(run, lambda p: p.table9[PROPOSED].drop_pct)
     arrest = d["material"].map({m: f.mu_s / f.mu_k for m, f in FAMILIES.items()})  # NaN: not in Table 4
     ratio, dropped = fmt.span(arrest.dropna().unique(), digits=2), d[d["is_drop"]]
-    below = int((dropped["sf_actual"].astype(float) < arrest[dropped.index]).sum())
+    read = dropped[dropped["sf_actual"].notna()]  # a drop with no SF recorded is neither below nor above
+    below = int((read["sf_actual"].astype(float) < arrest[read.index]).sum())
+    unread = len(dropped) - len(read)
+    with_sf, more = (" with an `sf_actual` reading", f" ({unread} more without one)") if unread else ("", "")
     text = f"The proposed planner drops {fmt.number(100 * d['is_drop'].mean(), 1)}% of trials (paper " \
            f"{fmt.number(paper, 1)}%)"
     if below:  # short: the opening's 900 characters (test_openings)
-        return (f"{text}: {below} of {len(dropped)} below the safety factor μ_s/μ_k = {ratio} that "
-                "arrests a slip. ")
+        return (f"{text}: {below} of {len(read)}{with_sf} below the safety factor μ_s/μ_k = {ratio} that "
+                f"arrests a slip{more}. ")
     return f"{text}. No slip is arrested below a safety factor of μ_s/μ_k = {ratio}" + (
-        f"; none of its {len(dropped)} drops held one below it. " if len(dropped) else ". ")
+        f"; none of its {len(read)} drops{with_sf} held one below it{more}. " if len(read) else
+        f"; none of its {len(dropped)} drops has an `sf_actual` reading. " if len(dropped) else ". ")
 
 
 def table8(run: Run, d: pd.DataFrame, out: pd.DataFrame) -> pd.DataFrame:
