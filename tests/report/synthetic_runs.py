@@ -10,6 +10,7 @@ Imported by name (``from synthetic_runs import ...``), as pytest puts this direc
 from __future__ import annotations
 
 import re
+import zlib
 from collections.abc import Callable
 from pathlib import Path
 
@@ -22,6 +23,7 @@ from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.schema import StudyCfg
 
 SHAPES = ["sphere", "ellipsoid", "rounded_cube", "pear", "handle"]
+PLANNERS = ["heuristic", "antipodal", "random", "centroid", "ferrari_canny"]  # the design's order
 P_SUCCESS = {"heuristic": 0.7, "antipodal": 0.4, "random": 0.1, "centroid": 0.0, "no_s1": 0.7,
              "no_s2": 0.65}
 
@@ -153,3 +155,14 @@ def report_md(run: RunStore | Path) -> str:
 def caption(store: RunStore, name: str) -> str:
     """The bold caption line above table ``name`` in report.md."""
     return next(line for line in report_md(store).splitlines() if f"(`tables/{name}.csv`)" in line)
+
+
+def candidates(trial_id: str, factors: dict, out: dict) -> dict:
+    """50 (H, epsilon) candidates per ferrari_canny trial (docs/records.md trace table)."""
+    if factors["planner"] != "ferrari_canny":
+        return {}
+    rng = np.random.default_rng(zlib.crc32(trial_id.encode()))
+    h = rng.uniform(0.2, 3.0, 50)
+    eps = np.maximum(0.0, 0.1 - 0.04 * h + 0.03 * rng.normal(size=50))
+    return {"candidates": [{"trial_id": trial_id, "candidate": i, "h_total": float(a), "epsilon_fc": float(e)}
+                           for i, (a, e) in enumerate(zip(h, eps, strict=True))]}

@@ -8,7 +8,6 @@ pandas, scipy and statsmodels, never with the report's helpers.
 from __future__ import annotations
 
 import re
-import zlib
 
 import numpy as np
 import pandas as pd
@@ -17,7 +16,9 @@ from scipy import stats
 from statsmodels.stats.contingency_tables import mcnemar as sm_mcnemar
 from statsmodels.stats.proportion import proportion_confint
 from synthetic_runs import (
+    PLANNERS,
     SHAPES,
+    candidates,
     caption,
     make_run,
     md_table,
@@ -31,21 +32,9 @@ from graspcampaign.analysis.vocabulary import label
 from graspcampaign.report import format as fmt
 from graspcampaign.report.build import build_reports
 
-PLANNERS = ["heuristic", "antipodal", "random", "centroid", "ferrari_canny"]  # the design's order
 SHOWN = ["heuristic", "antipodal", "centroid", "random", "ferrari_canny"]  # the vocabulary's, every report's
 LAWS = ["paper", "slip", "oracle"]
 G = 9.81  # core.statics.GRAVITY
-
-
-def candidates(trial_id: str, factors: dict, out: dict) -> dict:
-    """50 (H, epsilon) candidates per ferrari_canny trial (docs/records.md trace table)."""
-    if factors["planner"] != "ferrari_canny":
-        return {}
-    rng = np.random.default_rng(zlib.crc32(trial_id.encode()))
-    h = rng.uniform(0.2, 3.0, 50)
-    eps = np.maximum(0.0, 0.1 - 0.04 * h + 0.03 * rng.normal(size=50))
-    return {"candidates": [{"trial_id": trial_id, "candidate": i, "h_total": float(a), "epsilon_fc": float(e)}
-                           for i, (a, e) in enumerate(zip(h, eps, strict=True))]}
 
 
 PREPARED = [{"shape": s, "mass_kg": 0.2, "mu": 0.3, "nodes": 390, "body_id": f"b{i}", "lambda1": 1.5,
@@ -181,34 +170,6 @@ def test_the_h_epsilon_caption_gives_the_resamples_and_seed_that_reproduce_its_i
         rhos.append(stats.spearmanr(drawn[:, 0], drawn[:, 1]).statistic)
     expected = np.nanquantile(rhos, [0.025, 0.975])
     assert table.loc["pooled", ["low", "high"]].tolist() == pytest.approx(expected, rel=1e-9)
-
-
-@pytest.mark.parametrize(("params", "why"), [
-    ({"candidate_sample": 0}, "this run stored no candidate table (params.candidate_sample=0 keeps none)"),
-    ({}, "this run's candidate table (tables/candidates), which its ferrari_canny trials store, is missing; "
-         "its records were stored before runs kept account of their tables, so `graspcampaign run` cannot "
-         "redo it: restore it from a backup, or record a new run")])
-def test_a_run_without_candidates_says_why_and_keeps_the_per_trial_rows(tmp_path, params, why):
-    """A run that stored no candidate table (params.candidate_sample=0) or lost it (an older run, stored
-    before runs kept account of their tables: the synthetic writer keeps none) said in its h_epsilon
-    items "the records have no `trial_id` column" and, in the figure's, "UndefinedVariableError: name
-    'trial_id' is not defined" (counted as an item whose code failed). The per-trial medians come from
-    the records and stay; the pooled row and the figure say why they are absent, with no path."""
-    root = tmp_path / "results"
-    factors = {"shape": SHAPES[:2], "mass_kg": [0.2], "mu": [0.3], "planner": PLANNERS}
-    store = make_run(root, "baseline_grid", "quasi_static", factors, seeds=3, paper=None,
-                     outputs=quasi_static_outputs, params=params)
-    batch = build_reports(["baseline_grid"], root=root)
-    assert batch.broken[batch[0]][1] == []  # the data's reason, no failing code
-    table = read_table(store, "h_epsilon").set_index("reading")
-    fc = ok_records(store).query("planner == 'ferrari_canny'")
-    assert list(table.index) == ["median per trial", "median per trial, force closure"]  # no pooled row
-    assert table.loc["median per trial", "rho"] == pytest.approx(fc["spearman_h_epsilon"].median())
-    assert table.loc["median per trial, force closure", "n_trials"] == len(fc)
-    assert caption(store, "h_epsilon").endswith(f"; no pooled row: {why}** (`tables/h_epsilon.csv`)")
-    text = report_md(store)
-    assert f"*Figure h_epsilon not computed: {why}.*" in text
-    assert "trial_id" not in text and str(tmp_path) not in text
 
 
 def test_grip_laws_mcnemar_pairs_within_each_law(runs):
@@ -468,44 +429,3 @@ def test_headline_rows_are_algorithm_2s_trials_only(runs):
     # a count is an integer in the CSV (675, not 675.0)
     text = (root / "headline.csv").read_text()
     assert ",675," in text and ",675.0," not in text
-
-
-def test_an_identification_without_a_bound_reading_is_not_counted_on_the_bound():
-    """``astype(bool)`` read a missing ``at_bound_lambda1`` (NaN) as on the bound: 2 of 3 for the one
-    recorded (``records.at_bound``, the pso report's rule, reads it as not on it)."""
-    from graspcampaign.report.render import Run
-    from graspcampaign.report.studies.quasi_static import _bounds
-
-    run = Run(pd.DataFrame(), {}, None)
-    run.memo("prepared", lambda: pd.DataFrame({"lambda1": [0.05, 0.05, 1.0],
-                                               "at_bound_lambda1": [True, np.nan, False]}))
-    assert _bounds(run) == f"; on a PSO search bound: {label('parameter', 'lambda1')} = 0.05 in 1 of 3."
-
-
-def test_the_readings_table_says_how_many_trials_a_missing_reading_left_out(tmp_path):
-    """n of the readings table is the trials with every reading recorded; the executed trials without
-    one (here the random planner's every other trial, no ``success_vertical``, as a file written before
-    the column existed) were left out unsaid. They are now a column, shown only where some are."""
-    state = {"k": 0}
-
-    def outputs(factors, rng):
-        out = quasi_static_outputs(factors, rng)
-        if factors["planner"] == "random":
-            state["k"] += 1
-            out["success_vertical"] = out["success_vertical"] if state["k"] % 2 else None
-        return out
-
-    store = make_run(tmp_path / "results", "baseline_grid", "quasi_static", {
-        "shape": SHAPES[:2], "mass_kg": [0.2], "mu": [0.3], "planner": PLANNERS}, seeds=3, paper=None,
-        outputs=outputs, tables=candidates)
-    build_reports(["baseline_grid"], root=tmp_path / "results")
-    ok = ok_records(store)
-    unread = ok["success_vertical"].isna().groupby(ok["planner"]).sum()
-    assert unread["random"] == 3 and unread.drop("random").eq(0).all()
-    shown = md_table(report_md(store), "readings").set_index("planner")
-    assert list(shown.columns[:3]) == ["n", "a reading missing (left out)", "success % (Wilson 95%)"]
-    named = unread.rename(lambda p: label("planner", p))  # the table's rows are the planners' labels
-    assert shown["a reading missing (left out)"].astype(int).to_dict() == named.to_dict()
-    assert shown["n"].astype(int).to_dict() == (ok.groupby("planner").size() - unread).rename(
-        lambda p: label("planner", p)).to_dict()
-    assert read_table(store, "readings").set_index("planner")["n_unread"].to_dict() == unread.to_dict()
