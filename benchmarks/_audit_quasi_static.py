@@ -146,7 +146,13 @@ def mechanism(ok: pd.DataFrame, tau_f: float) -> pd.DataFrame:
                      "rho_passable": int((g["rho"] * g["mass_kg"] * G < tau_f).sum()),
                      "successes": int(s.sum()),
                      "single_fingertip": int((s & (g["support_share_max"] >= 0.95)).sum()),
-                     "single_loaded": int((s & (g["n_loaded"] == 1)).sum()), "rho_median": g["rho"].median()})
+                     "single_loaded": int((s & (g["n_loaded"] == 1)).sum()), "rho_median": g["rho"].median(),
+                     # the trials (passes, of the one-fingertip counts) a count leaves out for no reading
+                     "released_unread": int(g["n_released"].isna().sum()),
+                     "upper_released_unread": int((g["n_released"].isna() | g["n_upper"].isna()).sum()),
+                     "rho_passable_unread": int((g["rho"].isna() | g["mass_kg"].isna()).sum()),
+                     "single_fingertip_unread": int((s & g["support_share_max"].isna()).sum()),
+                     "single_loaded_unread": int((s & g["n_loaded"].isna()).sum())})
     return pd.DataFrame(rows)
 
 
@@ -375,15 +381,19 @@ def opening_grid(study: str, ok: pd.DataFrame, pct: dict, tau_f: float) -> list[
     differ = sum(judge(*pct_wilson(int(as_bool(g["success"]).sum()), len(g))[:1], pct[p], 1,
                        *pct_wilson(int(as_bool(g["success"]).sum()), len(g))[1:]) for p, g in judged)
     passable = law["rho"] * law["mass_kg"] * G < tau_f
-    capped = sum(100 * passable[g.index].mean() < pct[p] for p, g in judged)
-    rel = int((law["n_released"] > 0).sum())
+    has_rho = law[["rho", "mass_kg"]].notna().all(axis=1)  # a triple without ρ is in no share of passable
+    capped_of = [(p, g[has_rho[g.index]]) for p, g in judged if has_rho[g.index].any()]
+    capped = sum(100 * passable[g.index].mean() < pct[p] for p, g in capped_of)
+    rel, n_rel = int((law["n_released"] > 0).sum()), int(law["n_released"].notna().sum())
+    with_rel = (" with an `n_released` reading" if n_rel < len(law) else "") + (
+        f", {100 * rel / n_rel:.1f}%" if n_rel else "")
     outside = int((as_bool(law["success"]) & ~passable).sum())  # a pass with rho W >= tau_F: none can be
     print(f"   {study}: paper-law passes with rho*W >= tau_F: {outside}")
     return [*(["**The paper's rates cannot come from its own Algorithm 2.**"] if capped else []),
             f"The proposed planner passes {rate:.1f}% of {len(h)} triples (Wilson 95% {lo:.1f}–{hi:.1f}; "
             f"paper {pct[PROPOSED]:.1f}%)", f"{differ} of {len(judged)} planners with a paper value",
-            f"released in {rel} of {len(law)} triples, {100 * rel / len(law):.1f}%",
-            f"caps {capped} of {len(judged)} planners below the paper's rate"]
+            f"released in {rel} of {n_rel} triples{with_rel}",
+            f"caps {capped} of {len(capped_of)} planners below the paper's rate"]
 
 
 def opening_laws(ok: pd.DataFrame) -> list[str]:

@@ -71,6 +71,33 @@ def test_mechanism_counts_the_paper_law_ok_rows():
     assert strict.loc["random", "single_fingertip"] == 0
 
 
+@pytest.mark.parametrize("missing", [np.nan, None])
+def test_mechanism_leaves_a_trial_without_a_reading_out_of_that_count(missing):
+    """A trial without the reading a count compares stayed in n and counted as its negation (a missing
+    ρ as not passable). Paper-law rows above: t1 (heuristic, fails, ρ·W = 1.77 N) loses ``rho`` and its
+    ``support_share_max`` (a failure: in no one-fingertip count); t3 (random, n_released 1 = n_upper)
+    ``n_released``; t0 (heuristic, passes, share 1.0) ``support_share_max``; t2 (random, passes, 2 loaded)
+    ``n_loaded``. Each count keeps what it counted and says how many it left out."""
+    rows = records().astype({"rho": object, "n_released": object, "support_share_max": object,
+                             "n_loaded": object})
+    rows.loc[1, ["rho", "support_share_max"]] = missing
+    rows.loc[3, "n_released"] = missing
+    rows.loc[0, "support_share_max"] = missing
+    rows.loc[2, "n_loaded"] = missing
+    m = mechanism(rows.infer_objects(), tau_f_n=0.5).set_index("planner")
+    counts = ["n", "released", "upper_released", "rho_passable", "successes", "single_fingertip",
+              "single_loaded"]
+    assert m.loc["heuristic", counts].tolist() == [2, 2, 2, 1, 1, 0, 1]  # ρ passable: 1 of the 1 read
+    assert m.loc["random", counts].tolist() == [2, 0, 1, 1, 1, 1, 0]
+    unread = [f"{c}_unread" for c in ("released", "upper_released", "rho_passable", "single_fingertip",
+                                      "single_loaded")]
+    assert m.loc["heuristic", unread].tolist() == [0, 0, 1, 1, 0]  # t1's share: not a pass, not counted
+    assert m.loc["random", unread].tolist() == [1, 1, 0, 0, 1]
+    assert m.loc["ferrari_canny", unread].tolist() == [0] * 5
+    assert m.loc["heuristic", "rho_median"] == pytest.approx(0.1)  # of t0's alone
+    assert (mechanism(records(), tau_f_n=0.5)[unread] == 0).all().all()  # every trial read
+
+
 def test_readings_counts_rates_and_removed_passes():
     r = readings(records(), ["grip_law", "planner"]).set_index(["grip_law", "planner"])
     row = r.loc[("paper", "heuristic")]

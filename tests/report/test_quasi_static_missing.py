@@ -22,6 +22,9 @@ from synthetic_runs import (
 from graspcampaign.analysis.vocabulary import label
 from graspcampaign.report.build import build_reports
 
+G, TAU_F = 9.81, 0.5  # core.statics.GRAVITY; τ_F of conf/evaluator/default.yaml
+PAPER = {"heuristic": 67.6, "antipodal": 40.0, "random": 11.0, "centroid": 0.0}  # baseline_grid.yaml
+
 
 @pytest.mark.parametrize(("params", "why"), [
     ({"candidate_sample": 0}, "this run stored no candidate table (params.candidate_sample=0 keeps none)"),
@@ -90,3 +93,62 @@ def test_the_readings_table_says_how_many_trials_a_missing_reading_left_out(tmp_
     assert shown["n"].astype(int).to_dict() == (ok.groupby("planner").size() - unread).rename(
         lambda p: label("planner", p)).to_dict()
     assert read_table(store, "readings").set_index("planner")["n_unread"].to_dict() == unread.to_dict()
+
+
+def test_the_mechanism_table_and_the_grid_opening_leave_a_trial_without_a_reading_out(tmp_path):
+    """A paper-law trial without ``rho`` counted as not passable (ρ·W < τ_F compares False) yet stayed in
+    n: the proposed planner, its every trial with ρ·W ≥ τ_F unread here, looked capped below its paper
+    rate (67.6%) by the ρ of trials that have none. Each count now leaves out the trials without its
+    reading (ρ; every other random trial's ``n_released``; the centroid planner's ``support_share_max``, of
+    failures only: no pass of one fingertip is left out), says how many in a column after it where any
+    is, and the opening's released share and caps count the trials read."""
+    state = {"k": 0}
+
+    def outputs(factors, rng):
+        out = quasi_static_outputs(factors, rng)
+        if factors["planner"] == "heuristic" and out["rho"] * factors["mass_kg"] * G >= TAU_F:
+            out["rho"] = None
+        if factors["planner"] == "random":
+            state["k"] += 1
+            out["n_released"] = out["n_released"] if state["k"] % 2 else None
+        if factors["planner"] == "centroid":
+            out["support_share_max"] = None
+        return out
+
+    store = make_run(tmp_path / "results", "baseline_grid", "quasi_static", {
+        "shape": SHAPES, "mass_kg": [0.2], "mu": [0.3], "planner": PLANNERS}, seeds=2, paper=None,
+        outputs=outputs, tables=candidates)
+    assert store.check()["config"]["evaluator"]["tau_f_n"] == TAU_F
+    build_reports(["baseline_grid"], root=tmp_path / "results")
+    ok = ok_records(store)
+    by = ok["planner"]
+    passable = (ok["rho"] * ok["mass_kg"] * G < TAU_F).groupby(by).sum()
+    read = ok["rho"].notna().groupby(by).sum()
+    assert 0 < passable["heuristic"] == read["heuristic"]  # every proposed triple read can pass
+    assert 100 * passable["heuristic"] / (by == "heuristic").sum() < PAPER["heuristic"]  # of all: capped
+    # the opening: shares of the triples read
+    share = 100 * passable / read
+    capped = int((share[list(PAPER)] < pd.Series(PAPER)).sum())
+    assert share["heuristic"] == 100.0 and capped == 0  # by the trials read, no planner lies below its rate
+    released, with_reading = int((ok["n_released"] >= 1).sum()), int(ok["n_released"].notna().sum())
+    text = report_md(store).split("## What this shows\n\n", 1)[1].split("\n", 1)[0]
+    assert f"(released in {released} of {with_reading} triples with an `n_released` reading, " \
+           f"{100 * released / with_reading:.1f}%)" in text
+    assert "cannot come from" not in text and "which caps" not in text  # it capped the proposed planner
+    assert "only triples with ρ·W < τ_F can pass (table mechanism)." in text
+    # the table: each count's trials without its reading, in a column after it where there are some
+    unread = {"rho_passable": ok["rho"].isna(), "released": ok["n_released"].isna(),
+              "single_fingertip": ok["support_share_max"].isna() & ok["success"]}
+    counts = {k: v.groupby(by).sum() for k, v in unread.items()}
+    assert counts["rho_passable"]["heuristic"] > 0 and counts["released"]["random"] > 0
+    assert counts["single_fingertip"]["centroid"] == 0  # it never passes: no pass is left out
+    table = read_table(store, "mechanism").set_index("planner")
+    for k, c in counts.items():
+        assert table[f"{k}_unread"].to_dict() == c.to_dict(), k
+    shown = md_table(report_md(store), "mechanism").set_index("planner")
+    assert list(shown.columns) == ["n", "released δ = 0", "released δ = 0: no reading (left out)",
+                                   "released = upper", "released = upper: no reading (left out)",
+                                   "median ρ", "ρ·W < τ_F", "ρ·W < τ_F: no reading (left out)", "passes",
+                                   "passes on one fingertip", "passes, one loaded"]
+    assert shown["ρ·W < τ_F: no reading (left out)"].astype(int).to_dict() == counts["rho_passable"].rename(
+        lambda p: label("planner", p)).to_dict()

@@ -44,21 +44,35 @@ def _counts(frame: pd.DataFrame, by: list[str], counts: list[str], median: tuple
     return pd.DataFrame(rows, columns=[*by, "n", *counts, median[0]])
 
 
+#: Each count of :func:`mechanism` and the record columns it reads: a trial missing one is out of
+#: that count's n (``<count>_unread``), never counted as its negation; the ``single_`` counts are of
+#: passes (a failed trial is in neither, read or not).
+MECHANISM_READINGS = {"released": ["n_released"], "upper_released": ["n_released", "n_upper"],
+                      "rho_passable": ["rho", "mass_kg"], "single_fingertip": ["support_share_max"],
+                      "single_loaded": ["n_loaded"]}
+
+
 def mechanism(records: pd.DataFrame, tau_f_n: float, order: dict | None = None,
               threshold: float = SINGLE_FINGERTIP_SHARE) -> pd.DataFrame:
     """Return per planner (paper-law rows) the counts ``released`` (a contact at delta = 0),
     ``upper_released`` (every upper contact released), ``rho_passable`` (rho m g < ``tau_f_n``),
     ``successes``, ``single_fingertip`` (passes whose largest contact gives >= ``threshold`` of
-    the vertical support), ``single_loaded`` (passes with one loaded contact), ``rho_median``."""
+    the vertical support), ``single_loaded`` (passes with one loaded contact), ``rho_median``, and
+    ``<count>_unread``: the trials (passes, of the last two) that count leaves out for a reading of
+    :data:`MECHANISM_READINGS` not recorded; a count's n is ``n`` (``successes``) less them."""
     rows = paper_law(records)
     passes = rec.flag(rows, "success")
     frame = rows.assign(
         released=rows["n_released"] >= 1, upper_released=rows["n_released"] == rows["n_upper"],
         rho_passable=rows["rho"] * rows["mass_kg"] * GRAVITY < tau_f_n, successes=passes,
         single_fingertip=passes & (rows["support_share_max"] >= threshold),
-        single_loaded=passes & (rows["n_loaded"] == 1))
+        single_loaded=passes & (rows["n_loaded"] == 1), **{  # a missing value compares False: set apart
+            f"{c}_unread": rows[read].isna().any(axis=1) & (passes | (not c.startswith("single_")))
+            for c, read in MECHANISM_READINGS.items()})
     return _counts(frame, ["planner"], ["released", "upper_released", "rho_passable", "successes",
-                                        "single_fingertip", "single_loaded"], ("rho_median", "rho"), order)
+                                        "single_fingertip", "single_loaded",
+                                        *(f"{c}_unread" for c in MECHANISM_READINGS)],
+                   ("rho_median", "rho"), order)
 
 
 def readings(records: pd.DataFrame, by: list[str], order: dict | None = None) -> pd.DataFrame:

@@ -90,17 +90,31 @@ def readings(by: list[str]) -> S.Table:
             Col("torque_binds", "failed only τ_T")], by=by)
 
 
+#: The mechanism table's columns after n and their headings.
+MECHANISM_HEADS = {"released": "released δ = 0", "upper_released": "released = upper",
+                   "rho_median": "median ρ", "rho_passable": "ρ·W < τ_F", "successes": "passes",
+                   "single_fingertip": "passes on one fingertip", "single_loaded": "passes, one loaded"}
+
+
+def mechanism_cols(run: Run, t: pd.DataFrame) -> list[Col]:
+    """The mechanism table's columns; after a count, the trials it left out for a reading not recorded
+    (``<count>_unread``: its n is n less them, or the passes less them), where some row has any."""
+    out = [Col("n", "n")]
+    for key, head in MECHANISM_HEADS.items():
+        out.append(Col(key, head, 3 if key == "rho_median" else None))
+        if f"{key}_unread" in t and t[f"{key}_unread"].any():
+            out.append(Col(f"{key}_unread", f"{head}: no reading (left out)"))
+    return out
+
+
 MECHANISM = S.Table("mechanism", lambda run: (
     "How Algorithm 2 ends each planner's triples (paper law): a contact released to δ = 0 by line "
     "7; as many released as upper (n_out,z > 0) contacts; median ρ = |R_xy|/W; ρ·W < τ_F = "
     f"{run.config['evaluator']['tau_f_n']:g} N (only these can pass ‖R‖ < τ_F); passes; passes "
     f"with one contact giving ≥ {100 * qs.SINGLE_FINGERTIP_SHARE:g}% of the vertical support; with "
     "one loaded contact"),
-    lambda run: qs.mechanism(run.records, run.config["evaluator"]["tau_f_n"], run.order), [
-        Col("n", "n"), Col("released", "released δ = 0"), Col("upper_released", "released = upper"),
-        Col("rho_median", "median ρ", 3), Col("rho_passable", "ρ·W < τ_F"),
-        Col("successes", "passes"), Col("single_fingertip", "passes on one fingertip"),
-        Col("single_loaded", "passes, one loaded")], by=["planner"])
+    lambda run: qs.mechanism(run.records, run.config["evaluator"]["tau_f_n"], run.order), mechanism_cols,
+    by=["planner"])
 
 
 def grid_finding(run: Run, more: str = "") -> str:
@@ -110,8 +124,13 @@ def grid_finding(run: Run, more: str = "") -> str:
     sentences before the decision."""
     m, rates = run.tables["mechanism"], qs.algorithm_2(run.tables["success_by_planner"])
     t, paper = m.sum(numeric_only=True).astype(int), rates.set_index("planner")["paper_pct"]
-    judged = m[m["n"].gt(0) & m["planner"].isin(paper.dropna().index)]
-    capped = int((100 * judged["rho_passable"] / judged["n"] < judged["planner"].map(paper)).sum())
+    read = m["n"] - m.get("rho_passable_unread", 0)  # a count's n: the triples with its reading
+    judged = m[read.gt(0) & m["planner"].isin(paper.dropna().index)]
+    capped = int((100 * judged["rho_passable"] / read[judged.index] < judged["planner"].map(paper)).sum())
+    released_n = t.n - t.get("released_unread", 0)
+    released = f"released in {t.released} of {released_n} triples" + (
+        " with an `n_released` reading" if released_n < t.n else "") + (
+        f", {100 * t.released / released_n:.1f}%" if released_n else "")
     differ, compared = fmt.differing(rates)
     proposed = "".join(
         f"The proposed planner passes {fmt.number(h.rate_pct, 1)}% of {h.n} triples (Wilson 95% "
@@ -120,9 +139,9 @@ def grid_finding(run: Run, more: str = "") -> str:
     cannot = "**The paper's rates cannot come from its own Algorithm 2.** " if capped else ""  # none capped
     caps = f", which caps {capped} of {counted(len(judged), 'planner')} below the paper's rate" * bool(capped)
     why = (  # a gap to explain: a planner differing from the paper or capped below its rate
-        f" Why: line 7 drives every upper contact (n_out,z > 0) to δ = 0 (released in {t.released} of "
-        f"{t.n} triples, {100 * t.released / t.n:.1f}%) and the lower ones leave a horizontal residual W·ρ "
-        f"the loop never reduces: only triples with ρ·W < τ_F can pass{caps} (table mechanism)."
+        f" Why: line 7 drives every upper contact (n_out,z > 0) to δ = 0 ({released}) and the lower ones "
+        "leave a horizontal residual W·ρ the loop never reduces: only triples with ρ·W < τ_F can pass"
+        f"{caps} (table mechanism)."
         if differ or capped else "")
     return (
         f"{cannot}{proposed}"
