@@ -208,6 +208,46 @@ def test_the_test3_opening_counts_the_drops_below_the_arrest_bound_of_those_with
         f"; none of its {len(dropped)} drops has an `sf_actual` reading. ")
 
 
+def test_the_test3_opening_counts_the_drops_below_the_arrest_bound_of_those_of_a_table4_material(sim_root):
+    # a drop whose material is not in Table 4 has no μ_s/μ_k to compare its SF with (neither below nor
+    # above) yet stayed in N, as a drop without `sf_actual` did before: N is now the drops with both, and
+    # each drop left out is said once, for the first it lacks. Table 4 typed from the paper as above.
+    from graspcampaign.report.studies.test3 import drops
+
+    mu = {"gel": (0.772, 0.544), "silicone_soft": (0.619, 0.440), "bio_foam": (0.684, 0.506),
+          "silicone_ref": (0.509, 0.364)}
+    records = RunStore(sim_root / "test3_disturbance" / "default").read().to_pandas()
+    ours = records.query("planner == 'heuristic' and status == 'ok' and not aborted")
+    dropped = ours[ours["outcome"] == "failure_drop"].sort_values("trial_id")
+    ids = list(dropped["trial_id"])
+
+    def text(other, blank=(), sf=None) -> str:
+        """The sentence with the drops ``other`` of a material not in Table 4, ``blank`` without SF."""
+        def change(r: pd.DataFrame) -> pd.DataFrame:
+            sf_actual = r["sf_actual"].mask(r["outcome"] == "failure_drop", sf) if sf else r["sf_actual"]
+            return r.assign(material=r["material"].mask(r["trial_id"].isin(other), "cardboard"),
+                            sf_actual=sf_actual.mask(r["trial_id"].isin(blank)))
+        return drops(_rendered(sim_root, "test3_disturbance", change))
+
+    def below(kept: pd.DataFrame) -> int:
+        return sum(s < mu[m][0] / mu[m][1] for m, s in zip(kept["material"], kept["sf_actual"], strict=True))
+
+    kept = dropped[~dropped["trial_id"].isin(ids[:3])]
+    assert len(dropped) > 3 and below(kept) > 0
+    assert text(ids[:2], ids[2:3]).endswith(
+        f"%): {below(kept)} of {len(kept)} with an `sf_actual` reading and a Table 4 material below the "
+        "safety factor μ_s/μ_k = 1.35–1.42 that arrests a slip (1 more without an `sf_actual` reading, "
+        "2 more of a material not in Table 4). ")
+    kept = dropped[~dropped["trial_id"].isin(ids[:2])]  # every drop has its SF
+    assert text(ids[:2]).endswith(f"%): {below(kept)} of {len(kept)} with a Table 4 material below the "
+                                  "safety factor μ_s/μ_k = 1.35–1.42 that arrests a slip (2 more of a "
+                                  "material not in Table 4). ")
+    assert text(ids[:2], ids[2:3], sf=2.0).endswith(  # none held one below
+        f"; none of its {len(dropped) - 3} drops with an `sf_actual` reading and a Table 4 material held one "
+        "below it (1 more without an `sf_actual` reading, 2 more of a material not in Table 4). ")
+    assert text(ids).endswith(f"; none of its {len(dropped)} drops has a Table 4 material. ")
+
+
 def test_the_grip_laws_opening_gives_its_why_only_where_the_proposed_planner_loses_a_pair(sim_root):
     # "Why: H(G) is geometric …" followed the McNemar counts whatever they were, "loses to 0" included
     from graspcampaign.report.studies.quasi_static import grip_finding

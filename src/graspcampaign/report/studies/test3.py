@@ -27,14 +27,19 @@ def drops(run: Run) -> str:
     """The proposed planner's drops and, where the records show it, their cause: a slip that started is
     arrested only while the kinetic budget (μ_k/μ_s of the static one) carries the weight, i.e. SF ≥
     μ_s/μ_k of its material; the dropped trials whose recorded ``sf_actual`` lies below it are counted,
-    of those with an ``sf_actual`` reading (the drops without one said apart)."""
+    of those with an ``sf_actual`` reading and a material of Table 4 (the others said apart)."""
     d, paper = t2.ex(run, PROPOSED), paper_of(run, lambda p: p.table9[PROPOSED].drop_pct)
     arrest = d["material"].map({m: f.mu_s / f.mu_k for m, f in FAMILIES.items()})  # NaN: not in Table 4
     ratio, dropped = fmt.span(arrest.dropna().unique(), digits=2), d[d["is_drop"]]
-    read = dropped[dropped["sf_actual"].notna()]  # a drop with no SF recorded is neither below nor above
+    no_sf, no_ratio = dropped["sf_actual"].isna(), arrest[dropped.index].isna()  # neither below nor above
+    read = dropped[~no_sf & ~no_ratio]
     below = int((read["sf_actual"].astype(float) < arrest[read.index]).sum())
-    unread = len(dropped) - len(read)
-    with_sf, more = (" with an `sf_actual` reading", f" ({unread} more without one)") if unread else ("", "")
+    unread, other = int(no_sf.sum()), int((no_ratio & ~no_sf).sum())  # each drop left out said once
+    needs = [*["an `sf_actual` reading"] * bool(unread), *["a Table 4 material"] * bool(other)]
+    with_sf = f" with {' and '.join(needs)}" if needs else ""
+    apart = [f"{k} more {w}" for k, w in ((unread, f"without {'an `sf_actual` reading' if other else 'one'}"),
+                                          (other, "of a material not in Table 4")) if k]
+    more = f" ({', '.join(apart)})" if apart else ""
     text = f"The proposed planner drops {fmt.number(100 * d['is_drop'].mean(), 1)}% of trials (paper " \
            f"{fmt.number(paper, 1)}%)"
     if below:  # short: the opening's 900 characters (test_openings)
@@ -42,7 +47,7 @@ def drops(run: Run) -> str:
                 f"arrests a slip{more}. ")
     return f"{text}. No slip is arrested below a safety factor of μ_s/μ_k = {ratio}" + (
         f"; none of its {len(read)} drops{with_sf} held one below it{more}. " if len(read) else
-        f"; none of its {len(dropped)} drops has an `sf_actual` reading. " if len(dropped) else ". ")
+        f"; none of its {len(dropped)} drops has {' and '.join(needs)}. " if len(dropped) else ". ")
 
 
 def table8(run: Run, d: pd.DataFrame, out: pd.DataFrame) -> pd.DataFrame:
