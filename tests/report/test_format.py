@@ -147,6 +147,17 @@ def test_a_cell_shows_the_reason_of_a_missing_value():
         "1.2–2.0"  # 1.25 rounds half to even, once
 
 
+def test_a_rate_says_its_own_n_only_where_it_is_not_the_rows():
+    from graspcampaign.report.document import NUMBER, Col, cell
+
+    rate = Col("r_pct", "r", 1, low="r_low_pct", high="r_high_pct", of="n_r")
+    row = {"n": 40, "n_r": 8, "r_pct": 12.5, "r_low_pct": 2.24, "r_high_pct": 47.09}
+    assert cell(row, rate) == "12.5 (2.2–47.1) of 8"
+    assert cell({**row, "n_r": 40.0}, rate) == "12.5 (2.2–47.1)"  # a count read back as a float
+    assert cell({**row, "n_r": math.nan, "r_pct": math.nan}, rate) == fmt.MISSING  # no trial read
+    assert NUMBER.fullmatch("12.5 (2.2–47.1) of 8")  # right-aligned as every number
+
+
 @given(st.floats(allow_nan=False, allow_infinity=False), st.integers(0, 4))
 def test_fixed_decimals_agree_with_python_at_any_magnitude(x, digits):
     """``number(x, d)`` is Python's own ``f"{x:.{d}f}"`` (round half even on the exact binary value),

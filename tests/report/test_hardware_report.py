@@ -458,3 +458,39 @@ def test_the_findings_rates_carry_their_trial_counts(sim_root, study):
         assert f"{label('planner', q)} {100 * rates['mean'][q]:.1f}%" not in text
     table = 9 if study == "test3_disturbance" else 7
     assert f"(Table {table})" in head
+
+
+@pytest.mark.parametrize("prefix", ["test2", "test3"])
+def test_the_belief_table_gives_a_rates_own_n_where_it_is_not_the_rows(prefix):
+    """The valid-geometry, gate-removed and grip-capped rates are over the trials with the reading
+    (``hardware.summary``: ``n_<name>``), while the row shows the group's n: "50.0 (…)" beside n 4 read
+    as half of 4 trials. A rate over fewer trials than its row's n now says of how many; a row whose
+    rates are over all its trials is printed as before. Here the proposed planner's four trials: two
+    with a depth reading (one valid), three with a gate reading; the centroid planner's two all read."""
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies.test2 import belief_tables
+
+    d = pd.DataFrame({"planner": ["heuristic"] * 4 + ["centroid"] * 2, "belief_error": "paper",
+                      "belief_model": "calibrated", "status": "ok",
+                      "success": [True, False, True, False, True, False],
+                      "grip_capped": [False, True, False, False, False, False],
+                      "valid_geometry": [True, False, None, None, True, True],
+                      "gate_removed": [False, None, False, True, False, False],
+                      **{c: 1.0 for c in ("g_geo_believed", "g_geo_actual", "g_geo_gap", "mu_s_believed",
+                                          "mu_s_actual", "mu_s_gap", "creep_believed", "sf_predicted",
+                                          "sf_actual")}})
+    run = Run(pd.DataFrame(), {}, None)
+    run.memo("hardware", lambda: d)  # the frame opening.frames derives from the records
+    table = next(t for t in belief_tables(prefix) if t.name == f"{prefix}_belief")
+    [shown] = table.render(run)
+    cells = {c.label: [r[i][0] for r in shown.grid[0]] for i, c in enumerate(shown.cols)}
+
+    def wilson(k: int, n: int) -> str:  # statsmodels, to the table's 1 decimal
+        low, high = proportion_confint(k, n, method="wilson")
+        return f"{100 * k / n:.1f} ({100 * low:.1f}–{100 * high:.1f})"
+
+    assert cells["n"] == ["4", "2"]
+    assert cells["valid geometry % (Wilson 95%)"] == [f"{wilson(1, 2)} of 2", wilson(2, 2)]
+    assert cells["gate removed % (Wilson 95%)"] == [f"{wilson(1, 3)} of 3", wilson(0, 2)]
+    assert cells["grip capped % (Wilson 95%)"] == [wilson(1, 4), wilson(0, 2)]  # every trial read
+    assert shown.grid[1][list(cells).index("valid geometry % (Wilson 95%)")]  # still a column of numbers

@@ -142,7 +142,7 @@ def test_every_rate_shown_with_its_wilson_interval_is_headed_by_the_one_helper()
             for c in shown if isinstance(shown, list | tuple) else ():
                 rate = isinstance(c, Col) and c.key.endswith("_pct") and c.key[:-4]
                 if rate and (c.low, c.high) == (f"{rate}_low_pct", f"{rate}_high_pct") and \
-                        c != pct_col(rate, c.label.removesuffix(" % (Wilson 95%)")):
+                        c != pct_col(rate, c.label.removesuffix(" % (Wilson 95%)"), of=c.of):  # its own n
                     by_hand.append(f"{study}: {item.name}: {c.label!r}")
     assert by_hand == []
 

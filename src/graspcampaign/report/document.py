@@ -31,9 +31,9 @@ SOURCE_LABEL = {"simulation": "simulation (this tool's numerical model)", "measu
 NAV = [("Index", "index.html"), ("Table 1 headline", "headline.html")]
 """The navigation bar of every page (relative to the results root)."""
 # a printed number: a bound, a sign, digits or inf, an exponent, a unit sign, a range or an interval
-# ("35.7 (25.5–47.4)")
+# ("35.7 (25.5–47.4)"), the count a rate is over ("35.7 (25.5–47.4) of 40")
 NUMBER = re.compile(r"[<>≤≥]? ?[+−-]?(\d[\d,]*(\.\d+)?(e[+−-]?\d+| ?× ?10[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+)?|inf) ?[%×]?"
-                    r"(–[\d.]+)?( \([^()]*\))?")
+                    r"(–[\d.]+)?( \([^()]*\))?( of \d+)?")
 
 
 def check_formats(formats: Sequence[str] | str | None, allowed: Sequence[str] = FORMATS,
@@ -63,7 +63,8 @@ class Col:
     (or the CSV column holding each row's) or ``sig`` significant digits; ``low``/``high`` the
     interval columns in brackets (only the interval when ``low == key``); ``why`` the column whose
     text replaces a value not computed; ``share`` a percentage after a count, ``k (p%)``; ``link``
-    the column holding a relative link to another page."""
+    the column holding a relative link to another page; ``of`` the column holding the count a rate is
+    over, printed after it (``12.5 (5.1–27.4) of 40``) where it differs from the row's ``n``."""
 
     key: str
     label: str
@@ -75,6 +76,7 @@ class Col:
     why: str | None = None
     share: str | None = None
     link: str | None = None
+    of: str | None = None
 
     @property
     def keys(self) -> list[str]:
@@ -102,9 +104,11 @@ def cols(*names: str, frame: pd.DataFrame | None = None, digits: int | None = No
     return out
 
 
-def pct_col(name: str, head: str) -> Col:
-    """The rate ``<name>_pct`` under ``<head> % (Wilson 95%)`` with its ``_low_pct``/``_high_pct``."""
-    return Col(f"{name}_pct", f"{head} % (Wilson 95%)", 1, low=f"{name}_low_pct", high=f"{name}_high_pct")
+def pct_col(name: str, head: str, of: str | None = None) -> Col:
+    """The rate ``<name>_pct`` under ``<head> % (Wilson 95%)`` with its ``_low_pct``/``_high_pct`` (and
+    its count ``of``, see :class:`Col`)."""
+    return Col(f"{name}_pct", f"{head} % (Wilson 95%)", 1, low=f"{name}_low_pct", high=f"{name}_high_pct",
+               of=of)
 
 
 def cell(row: Mapping[str, Any], col: Col) -> str:
@@ -125,7 +129,9 @@ def cell(row: Mapping[str, Any], col: Col) -> str:
     if col.low and col.low == col.key:
         return fmt.interval(value, row.get(col.high), digits, sig=col.sig)
     if col.low:
-        return fmt.estimate(value, row.get(col.low), row.get(col.high), digits, sig=col.sig)
+        k = row.get(col.of) if col.of else None  # the rate's own n, said where it is not the row's
+        return fmt.estimate(value, row.get(col.low), row.get(col.high), digits, sig=col.sig) + (
+            f" of {int(k)}" if not fmt.is_missing(k) and k != row.get("n") else "")
     if col.share:
         return f"{fmt.number(value, digits)} ({fmt.number(row.get(col.share), 1)}%)"
     return fmt.number(value, digits, sig=col.sig, signed=col.signed)

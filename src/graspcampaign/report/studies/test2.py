@@ -97,7 +97,7 @@ def belief_tables(prefix: str) -> list[Table]:
                   "grasps (fingers within the 5 mm fingertip radius), successes the δ ≤ r gate removed",
                   beliefs, [Col("belief_error", "belief error"), Col("belief_model", "belief model"),
                             Col("n", "n"), *(Col(c, f"median {head}", sig=3) for c, head in med.items()),
-                            *(pct_col(c, h) for c, h in rates.items())], by=["planner"]),
+                            *(pct_col(c, h, of=f"n_{c}") for c, h in rates.items())], by=["planner"]),
             Table(f"{prefix}_belief_pairs", "How much of the ranking the belief mechanism explains: "
                   "success on the same trials with the planners' own beliefs (`paper`) and with the "
                   "trial's actual quantities (`none`, same execution noise); McNemar exact p; rank",
