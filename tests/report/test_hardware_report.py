@@ -19,7 +19,7 @@ import yaml
 from statsmodels.stats.contingency_tables import mcnemar
 from statsmodels.stats.power import NormalIndPower
 from statsmodels.stats.proportion import proportion_confint, proportion_effectsize
-from synthetic_runs import read_table, report_md
+from synthetic_runs import md_table, read_table, report_md
 from typer.testing import CliRunner
 
 from graspcampaign.analysis.vocabulary import label
@@ -375,6 +375,21 @@ def test_test3_threshold_columns_carry_their_unit_and_equal_the_records(sim_root
     agree = read_table(run, "test3_threshold_agreement").iloc[0]
     assert agree["ols_intercept_n"] == pytest.approx(fit.intercept)
     assert "threshold" not in coating and "ols_intercept" not in agree  # no column without its unit
+
+
+def test_the_natural_surface_of_block_a_stands_beside_the_papers_table_8_rate(sim_root):
+    """Fig. 33a's natural bar is Table 8's lateral-pull block (proposed planner, natural friction, 87.1 %
+    of 240, paper.txt): test3_coating's natural row said "no paper value" beside the paper's 4.34 N
+    threshold of the same trials. Its verdict: the paper's rate against our Wilson 95 % interval."""
+    run = sim_root / "test3_disturbance" / "default"
+    row = read_table(run, "test3_coating").set_index("friction_level").loc["natural"]
+    md = md_table(report_md(run), "test3_coating").set_index("surface").loc["natural"]
+    assert (row["paper_success_pct"], row["paper_threshold_n"]) == (87.1, 4.34)
+    assert md["paper %"] == "87.1"
+    low, high = (100 * v for v in proportion_confint(round(row["n"] * row["success_pct"] / 100), row["n"],
+                                                     method="wilson"))
+    assert row["differs"] == (not low <= 87.1 <= high)
+    assert "paper" in row["verdict"] and "no paper value" not in row["verdict"]
 
 
 @pytest.mark.parametrize("study", sorted(STUDIES))
