@@ -358,7 +358,7 @@ def claims(run: Run):
            "odds_ratio_high", "pairs"]]), p.mcnemar_centroid.odds_ratio, "", 1)
     for (_, r), (q, key, col, digits) in zip(t["test2_tests"].iterrows(), (
             ("χ² planner × success (proposed, centroid, random)", "chi2_planner_success", "statistic", 1),
-            ("Kruskal–Wallis p, force error across planners", "force_err_kruskal_p", "p", 3),
+            ("Kruskal–Wallis p, force error across planners", "force_err_kruskal_p", "p", fmt.P),
             ("Kruskal–Wallis H, peak slip across friction levels", "slip_friction_kruskal_h", "statistic",
              0)), strict=True):  # §8.6 prints "H = 578"
         yield q, "§8.5-8.6", Estimate(r[col], n=r["n"]), getattr(p, key), "", digits
