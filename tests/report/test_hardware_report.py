@@ -392,6 +392,19 @@ def test_the_natural_surface_of_block_a_stands_beside_the_papers_table_8_rate(si
     assert "paper" in row["verdict"] and "no paper value" not in row["verdict"]
 
 
+@pytest.mark.parametrize(("study", "campaign", "per_planner"), [
+    ("test2_grasp", "§8.1", "§8.1"),  # §8.1: 1785 commanded, 30 aborted, 819 + 936 per planner
+    ("test3_disturbance", "§9.1", "Table 9")])  # §9.1: 1245 commanded, 15 aborted; Table 9's n
+def test_the_trial_counts_cite_their_own_campaigns_section(sim_root, study, campaign, per_planner):
+    """Both counts tables cited "§8.1, §9.1" on every row: Test 2's page cited Test 3's section and the
+    reverse."""
+    name = "test2_counts" if study == "test2_grasp" else "test3_counts"
+    md = md_table(report_md(sim_root / study / "default"), name)
+    planner = md["quantity"].str.startswith("executed, ")
+    assert planner.sum() == 5 and (~planner).sum() == 4
+    assert set(md.loc[~planner, "paper §"]) == {campaign} and set(md.loc[planner, "paper §"]) == {per_planner}
+
+
 @pytest.mark.parametrize("study", sorted(STUDIES))
 def test_the_papers_trial_counts_are_whole_numbers_in_the_csv(sim_root, study):
     """``n_paper`` (Tables 6 and 9: the paper's trials per row) prints 830, not 830.0; empty where the
