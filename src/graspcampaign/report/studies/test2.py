@@ -96,7 +96,8 @@ def belief_tables(prefix: str) -> list[Table]:
         return out.merge(d.groupby(by)["belief_model"].first(), on=by)
 
     return [Table(f"{prefix}_belief", "What each planner believes and what the rig realises (§8.1, §9.3; "
-                  "rig/belief.py): medians (gap = believed − actual), grips at the damage cap, valid "
+                  "rig/belief.py): medians (gap: the median of each trial's believed − actual, not the "
+                  "difference of the two medians), grips at the damage cap, valid "
                   "grasps (fingers within the 5 mm fingertip radius), successes the δ ≤ r gate removed",
                   beliefs, [Col("belief_error", "belief error"), Col("belief_model", "belief model"),
                             Col("n", "n"), *(Col(c, f"median {head}", sig=3) for c, head in med.items()),
