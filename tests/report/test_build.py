@@ -238,6 +238,22 @@ def test_headline_page_and_index(tmp_path):
     assert "[Table 1 headline](headline.md)" in index and "other/r1/report/report.md" in index
 
 
+def test_the_headline_gives_the_n_the_papers_table_1_prints_for_every_row(tmp_path):
+    """Table 1 (paper.txt) prints every row's n: 50, 675, 465 (validation groups A/B/D), 819, 740
+    (natural-friction envelope), 830. The nominal and natural-μ rows printed "—" under "paper n", as if
+    the paper gave none, beside our 465 and 740 trials of the same sub-populations."""
+    from graspcampaign.report.headline import headline_rows, write_headline
+
+    frame = headline_rows(tmp_path)
+    assert frame.set_index("headline")["n_paper"].to_dict() == {
+        "Heuristic ablation": 50, "Baseline grid": 675, "Grasp validation, nominal": 465,
+        "Grasp validation, all": 819, "Disturbance, natural μ": 740, "Disturbance, all": 830}
+    write_headline(tmp_path, ["md"], frame)
+    md = (tmp_path / "headline.md").read_text()
+    assert "| Grasp validation, nominal | — | — | 86.5 | 465 |" in md
+    assert "| Disturbance, natural μ | — | — | 86.0 | 740 |" in md
+
+
 def test_the_headline_links_only_a_report_written(tmp_path):
     # the headline summarises every run under the root from its records; it linked the report of a
     # run never reported (`report baseline_grid --run r1` beside r2): a dead link

@@ -19,7 +19,7 @@ import yaml
 from statsmodels.stats.contingency_tables import mcnemar
 from statsmodels.stats.power import NormalIndPower
 from statsmodels.stats.proportion import proportion_confint, proportion_effectsize
-from synthetic_runs import read_table, report_md
+from synthetic_runs import md_table, read_table, report_md
 from typer.testing import CliRunner
 
 from graspcampaign.analysis.vocabulary import label
@@ -134,9 +134,12 @@ def test_belief_tables_equal_a_pandas_recomputation(sim_root, study):
     np.testing.assert_allclose(t.xs("none", level="belief_error")["g_geo_gap"], 0.0, atol=1e-12)
     capped = both.groupby(["planner", "belief_error"])["grip_capped"].mean() * 100
     np.testing.assert_allclose(t["grip_capped_pct"].sort_index(), capped.sort_index())
-    # its headers name the quantities as the finding does ("median g geo gap" read as two words)
+    # its headers name the quantities as the finding does ("median g geo gap" read as two words); its
+    # caption says the gap is the trials' median gap: "(gap = believed − actual)" beside a believed 0.743
+    # and an actual 0.699 read as 0.044, not the 0 printed (paper scale, Test 2's proposed planner)
     md = (sim_root / study / "default" / "report" / "report.md").read_text()
-    assert "gap = believed − actual" in md and "| median G_geo gap |" in md and "| median μ_s gap |" in md
+    assert "gap: the median of each trial's believed − actual, not the difference of the two medians" in md
+    assert "| median G_geo gap |" in md and "| median μ_s gap |" in md
     assert " g geo " not in md and " mu s " not in md
     # the belief model in decisions.md's words (it printed "nominal_geometry")
     shown = md.split(f"tables/{prefix}_belief.csv")[1].split("\n\n")[1]
@@ -388,6 +391,34 @@ def test_test3_threshold_columns_carry_their_unit_and_equal_the_records(sim_root
     agree = read_table(run, "test3_threshold_agreement").iloc[0]
     assert agree["ols_intercept_n"] == pytest.approx(fit.intercept)
     assert "threshold" not in coating and "ols_intercept" not in agree  # no column without its unit
+
+
+def test_the_natural_surface_of_block_a_stands_beside_the_papers_table_8_rate(sim_root):
+    """Fig. 33a's natural bar is Table 8's lateral-pull block (proposed planner, natural friction, 87.1 %
+    of 240, paper.txt): test3_coating's natural row said "no paper value" beside the paper's 4.34 N
+    threshold of the same trials. Its verdict: the paper's rate against our Wilson 95 % interval."""
+    run = sim_root / "test3_disturbance" / "default"
+    row = read_table(run, "test3_coating").set_index("friction_level").loc["natural"]
+    md = md_table(report_md(run), "test3_coating").set_index("surface").loc["natural"]
+    assert (row["paper_success_pct"], row["paper_threshold_n"]) == (87.1, 4.34)
+    assert md["paper %"] == "87.1"
+    low, high = (100 * v for v in proportion_confint(round(row["n"] * row["success_pct"] / 100), row["n"],
+                                                     method="wilson"))
+    assert row["differs"] == (not low <= 87.1 <= high)
+    assert "paper" in row["verdict"] and "no paper value" not in row["verdict"]
+
+
+@pytest.mark.parametrize(("study", "campaign", "per_planner"), [
+    ("test2_grasp", "§8.1", "§8.1"),  # §8.1: 1785 commanded, 30 aborted, 819 + 936 per planner
+    ("test3_disturbance", "§9.1", "Table 9")])  # §9.1: 1245 commanded, 15 aborted; Table 9's n
+def test_the_trial_counts_cite_their_own_campaigns_section(sim_root, study, campaign, per_planner):
+    """Both counts tables cited "§8.1, §9.1" on every row: Test 2's page cited Test 3's section and the
+    reverse."""
+    name = "test2_counts" if study == "test2_grasp" else "test3_counts"
+    md = md_table(report_md(sim_root / study / "default"), name)
+    planner = md["quantity"].str.startswith("executed, ")
+    assert planner.sum() == 5 and (~planner).sum() == 4
+    assert set(md.loc[~planner, "paper §"]) == {campaign} and set(md.loc[planner, "paper §"]) == {per_planner}
 
 
 @pytest.mark.parametrize("study", sorted(STUDIES))

@@ -42,6 +42,23 @@ def _wilson(k: int, n: int) -> str:
     return f"{100 * k / n:.1f}% ({100 * low:.1f}–{100 * high:.1f}%)"
 
 
+def test_a_share_equal_at_every_level_is_said_to_be_each_levels_not_a_range_over_them():
+    """At paper scale friction's 12 levels each held 2 of 60 successes: the opening said "3.3% over 12
+    levels", read as a total or a spread beside mass's "0.0–20.0% over 12 levels". Here 25 of 200 at each
+    friction (p from scipy's chi-square on the records' table: 1.0)."""
+    from scipy.stats import chi2_contingency
+
+    from graspcampaign.report import format as fmt
+
+    run = _run({(0.1, 0.05): (20, 100), (0.1, 0.5): (20, 100), (0.8, 0.05): (5, 100), (0.8, 0.5): (5, 100)})
+    a = run.records[run.records["panel"] == "mu_mass"]
+    p = chi2_contingency(pd.crosstab(a["mu"], a["success"]), correction=False).pvalue
+    text = finding(run)
+    assert (f"does not detectably vary with friction (12.5% at each of its 2 levels; χ² p = "
+            f"{fmt.p_value(p)})") in text
+    assert "varies with mass (5.0–20.0% over 2 levels;" in text
+
+
 def test_the_opening_states_the_papers_stable_region_beside_ours():
     # the opening counted boundaries but never said where the paper's stable region lies; its edge
     # (m = 0.5 kg, μ = 0.2) belongs to it: "μ ≥ 0.2, m ≤ 0.5 kg"

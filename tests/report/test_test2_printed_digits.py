@@ -35,9 +35,27 @@ def test_claims_print_and_judge_the_papers_values_at_its_decimals(run):
     for quantity, printed in CLAIMS.items():
         r = csv.loc[quantity]
         assert md.loc[quantity, "paper"] == printed, quantity
-        assert r["digits"] == decimals(printed), quantity
+        assert str(r["digits"]) == str(decimals(printed)), quantity  # text: the p row's digits are "p"
         far = abs(r["value"] - float(printed)) >= 10.0 ** -decimals(printed)
         assert str(r["differs"]) == str(far), quantity
+
+
+def test_the_kruskal_wallis_p_claim_prints_as_a_p_value_not_at_three_decimals(run):
+    """§8.5's "Kruskal–Wallis p = 0.002" row printed ours at three decimals: at paper scale a p of 9.0e-16
+    (test2_tests) read "0.000", "differs by −0.002". It is a p-value row (digits ``p``): printed by the one
+    p rule as test2_tests prints the same p, two significant digits or scientific form."""
+    quantity = "Kruskal–Wallis p, force error across planners"
+    r = read_table(run, "test2_claims").set_index("quantity").loc[quantity]
+    p = read_table(run, "test2_tests").set_index("test").loc["Kruskal–Wallis force_err_pct by planner", "p"]
+    assert r["value"] == p and r["digits"] == "p"
+    md = md_table(report_md(run), "test2_claims").set_index("quantity")
+    ours = md.loc[quantity, next(c for c in md.columns if c.startswith("ours"))]  # "ours (95%)"
+    assert ours == md_table(report_md(run), "test2_tests").set_index("test").loc[
+        "Kruskal–Wallis force_err_pct by planner", "p"]
+    assert ours == (f"{p:.1e}".replace("e-0", "e-") if p < 1e-3 else f"{p:#.2g}")
+    # the difference at the 3 decimals the verdict compares at (it printed 4 significant digits)
+    diff = f"{p - 0.002:+.3f}"
+    assert md.loc[quantity, "difference"] == diff and f"by {diff}" in r["verdict"].replace("−", "-")
 
 
 def test_outcome_shares_and_group_e_print_whole_percents_and_are_judged_at_one_point(run):

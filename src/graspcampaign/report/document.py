@@ -125,7 +125,8 @@ def cell(row: Mapping[str, Any], col: Col) -> str:
         row.get(col.digits) if isinstance(col.digits, str) else col.digits
     if fmt.is_p_value(col.key) or (digits == fmt.P and not col.signed):
         return fmt.p_value(value)
-    digits = None if fmt.is_missing(digits) or digits == fmt.P else int(digits)
+    # a p row's difference (signed) at the 3 decimals its verdict compares at
+    digits = None if fmt.is_missing(digits) else 3 if digits == fmt.P else int(digits)
     if col.low and col.low == col.key:
         return fmt.interval(value, row.get(col.high), digits, sig=col.sig)
     if col.low:

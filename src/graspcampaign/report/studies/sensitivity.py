@@ -157,13 +157,15 @@ def _varies(run: Run, a: pd.DataFrame, column: str, factor: str) -> str:
     if len(g) < 2:
         return f"is {shares} at the one {factor} level (nothing to compare)"
     test = equal_rates_test(g["sum"], g["size"], seed=run.seed)  # the run's seed, as every resampling
+    # one share printed ("3.3%"): it is every level's, not a range over them ("0.0–20.0% over 12 levels")
+    levels = f"over {test.groups}" if fmt.DASH in shares else f"at each of its {test.groups}"
     if not test.method:
-        return f"does not vary with {factor} ({shares} at each of its {test.groups} levels)"
+        return f"does not vary with {factor} ({shares} {levels} levels)"
     verb = "varies" if test.pvalue < 1 - CONFIDENCE_LEVEL else "does not detectably vary"
     floor = test.n_resamples and test.pvalue <= 1 / (test.n_resamples + 1)  # no resample reached it
     p = (f"p ≤ {fmt.p_value(test.pvalue)} (the smallest p {test.n_resamples} resamples can give)" if floor
          else f"p = {fmt.p_value(test.pvalue)}")
-    return f"{verb} with {factor} ({shares} over {test.groups} levels; {test.method} {p})"
+    return f"{verb} with {factor} ({shares} {levels} levels; {test.method} {p})"
 
 
 #: Fig. 19's boundaries as pairs of sensitivity_claims rows, the side with the higher rate first.

@@ -67,15 +67,18 @@ def per_planner(d: pd.DataFrame) -> dict[str, pd.Series]:
 
 
 def counts(table: str):
-    """The trial counts (commanded, executed, aborted, errored, per planner) beside the paper's."""
+    """The trial counts (commanded, executed, aborted, errored, per planner) beside the paper's: Test 2's
+    (``table7``) from §8.1, Test 3's (``table9``) from §9.1 and, per planner, its Table 9."""
+    section, planners = {"table7": ("§8.1", "§8.1"), "table9": ("§9.1", "Table 9")}[table]
+
     def rows(run: Run):
         r, d, p = run.records, ex(run), run.paper
-        yield from ((q, "§8.1, §9.1", v, x, "", 0) for q, v, x in (
+        yield from ((q, section, v, x, "", 0) for q, v, x in (
             ("commanded attempts", len(r), p.commanded), ("executed trials", len(d), p.executed),
             ("aborted before load (rig faults)", int((r["status"] == "ok").sum()) - len(d), p.aborted),
-            ("trial errors (software)", int((r["status"] == "error").sum()), None), *(
-                (f"executed, {label('planner', q)}", int((d["planner"] == q).sum()),
-                 paper_of(run, lambda p, q: getattr(p, table)[q].n, q)) for q in PLANNERS)))
+            ("trial errors (software)", int((r["status"] == "error").sum()), None)))
+        yield from ((f"executed, {label('planner', q)}", planners, int((d["planner"] == q).sum()),
+                     paper_of(run, lambda p, q: getattr(p, table)[q].n, q), "", 0) for q in PLANNERS)
     return rows
 
 
@@ -93,7 +96,8 @@ def belief_tables(prefix: str) -> list[Table]:
         return out.merge(d.groupby(by)["belief_model"].first(), on=by)
 
     return [Table(f"{prefix}_belief", "What each planner believes and what the rig realises (§8.1, §9.3; "
-                  "rig/belief.py): medians (gap = believed − actual), grips at the damage cap, valid "
+                  "rig/belief.py): medians (gap: the median of each trial's believed − actual, not the "
+                  "difference of the two medians), grips at the damage cap, valid "
                   "grasps (fingers within the 5 mm fingertip radius), successes the δ ≤ r gate removed",
                   beliefs, [Col("belief_error", "belief error"), Col("belief_model", "belief model"),
                             Col("n", "n"), *(Col(c, f"median {head}", sig=3) for c, head in med.items()),
@@ -369,7 +373,7 @@ def claims(run: Run):
            "odds_ratio_high", "pairs"]]), p.mcnemar_centroid.odds_ratio, "", 1)
     for (_, r), (q, key, col, digits) in zip(t["test2_tests"].iterrows(), (
             ("χ² planner × success (proposed, centroid, random)", "chi2_planner_success", "statistic", 1),
-            ("Kruskal–Wallis p, force error across planners", "force_err_kruskal_p", "p", 3),
+            ("Kruskal–Wallis p, force error across planners", "force_err_kruskal_p", "p", fmt.P),
             ("Kruskal–Wallis H, peak slip across friction levels", "slip_friction_kruskal_h", "statistic",
              0)), strict=True):  # §8.6 prints "H = 578"
         yield q, "§8.5-8.6", Estimate(r[col], n=r["n"]), getattr(p, key), "", digits

@@ -76,7 +76,10 @@ def coating(run: Run) -> pd.DataFrame:
                      medians=["lat_threshold_n"],
                      order={"friction_level": ["natural", *COATINGS]})
     ref = [paper_of(run, lambda p, k: p.coating[k], k) for k in out["friction_level"]]
-    out["paper_success_pct"] = [r and r.success_pct for r in ref]
+    # natural friction: the same 240 block-A trials as Table 8's lateral-pull row (87.1 %)
+    out["paper_success_pct"] = [r.success_pct if r else paper_of(run, lambda p: p.table8["A"].success_pct)
+                                if k == "natural" else None
+                                for k, r in zip(out["friction_level"], ref, strict=True)]
     out["paper_threshold_n"] = [r.threshold_n if r else paper_of(run, lambda p: p.lateral_threshold_median_n)
                                 if k == "natural" else None
                                 for k, r in zip(out["friction_level"], ref, strict=True)]
