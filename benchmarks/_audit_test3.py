@@ -228,7 +228,9 @@ def audit_test3() -> None:
                     low, high = wilson(k, n)
                     r |= {name: k / n if n else math.nan, f"{name}_low": low, f"{name}_high": high}
                 r["f1"] = 2 * tp / (2 * tp + fp + fn) if tp + fp + fn else math.nan
-                pc = ref["retention_classifier"] if (belief == "paper" and s == "all") else {}
+                # §9.5 scores the believed retention margin's flag alone (ours predicted_stable)
+                pc = ref["retention_classifier"] if (belief == "paper" and s == "all"
+                                                     and flag == "predicted_stable") else {}
                 r |= {"paper_accuracy": pc.get("accuracy"), "paper_precision": pc.get("precision"),
                       "paper_recall": pc.get("recall")}
                 r["differs"] = judge(r["precision"], pc.get("precision"), 2, r["precision_low"],
