@@ -69,7 +69,7 @@ def _cache_unusable(exc: OSError) -> None:
     import warnings
 
     base = expand_home(chosen)[0]
-    reason = ("is not a directory" if base.exists() and not base.is_dir()
+    reason = ("is not a directory" if os.path.exists(base) and not os.path.isdir(base)
               else f"cannot be written ({exc.strerror or type(exc).__name__})")
     warnings.warn(f"GRASPCAMPAIGN_CACHE={chosen} {reason}, so the catalog cache is not kept; list "
                   "and show work without it, recomputing what they need (slower).", stacklevel=3)

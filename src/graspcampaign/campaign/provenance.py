@@ -19,7 +19,7 @@ import graspcampaign
 from graspcampaign.campaign.former_names import current_config
 from graspcampaign.campaign.grid import content_hash
 from graspcampaign.campaign.schema import StudyCfg
-from graspcampaign.errors import DamagedRunError, UserInputError
+from graspcampaign.errors import DamagedRunError, UserInputError, access_denied
 
 _PACKAGES = ("numpy", "scipy", "trimesh", "pandas", "pyarrow", "joblib", "hydra-core",
              "omegaconf", "statsmodels", "matplotlib", "dask", "distributed", "scikit-learn")
@@ -227,6 +227,9 @@ def read_manifest(path: Path) -> dict[str, Any] | None:
         A manifest that cannot be read or is not what the tool writes (not JSON, not an object, a
         field missing or of the wrong type), in one sentence naming the file and what to do: the
         run's records cannot be checked or used without it.
+    UserInputError
+        A manifest this user may not open (:func:`~graspcampaign.errors.access_denied`): not
+        damaged, so no advice to restore it.
     """
     if not (path.exists() or path.is_symlink()):
         return None
@@ -235,6 +238,8 @@ def read_manifest(path: Path) -> dict[str, Any] | None:
         text = path.read_bytes().decode("utf-8").removeprefix("\ufeff")
     except IsADirectoryError:
         why = "it is a directory, not a file"
+    except PermissionError as exc:  # not damaged: this user may not open it
+        raise UserInputError(access_denied(exc)) from None
     except OSError as exc:
         why = f"it cannot be read: {exc.strerror or type(exc).__name__}"
     except UnicodeDecodeError as exc:
