@@ -108,6 +108,8 @@ def _run_cases(prefix, scratch, finished, sheets):
     filled_records(sheets).to_csv(scratch / "records.csv", index=False)
     cases["mesh:plan"] = (["plan", "ball.stl", "--mass-kg", "0.1"], {})
     cases["hidden:plan"] = (["plan", "hidden/ball.stl", "--mass-kg", "0.1"], {})
+    shutil.copy(scratch / "ball.stl", scratch / "open.stl")
+    cases["png:plan"] = (["plan", "open.stl", "--mass-kg", "0.1", "--png", "hidden/x.png"], {})
     cases["csv:ingest"] = (["ingest", "test2_grasp", "records.csv", "--root", "ingested"], {})
     # the config search path, a config home and the catalog cache in places this user may not open
     (scratch / "studies").mkdir()
@@ -194,6 +196,10 @@ MESH, RECORDS = "a mesh file (STL, OBJ or PLY)", "a file of measured records (CS
                    f"{RECORDS}.")], ids=["mesh", "mesh in a closed folder", "records"])
 def test_a_file_to_read_that_this_user_may_not_open_is_said_so(places, case, message):
     _refused(places, case, message)
+
+
+def test_a_picture_path_in_a_folder_this_user_may_not_open_names_the_option(places):
+    _refused(places, "png:plan", "--png hidden/x.png: cannot write there (Permission denied).")
 
 
 def test_a_search_path_entry_this_user_may_not_read_is_skipped_with_a_warning(places):
