@@ -74,3 +74,22 @@ def test_ingest_into_a_place_a_file_or_a_loop_holds_is_refused_naming_it(tmp_pat
             run.symlink_to("measured") if case == "loop" else run.write_text("not a folder\n")
         refused(root, ["ingest", "test2_grasp", sheet, *T2, "--root", root],
                 f"run test2_grasp/measured at {run} {message.format(root=root)}")
+
+
+def test_a_study_name_on_the_search_path_that_is_no_file_says_what_it_is(user_dir, tmp_path):
+    """Each was "the file … is not read: a study file's name ends in .yaml or .yml in lower case
+    …; rename it mine.yaml", the name it already had."""
+    import os
+
+    (user_dir / "loop.yaml").symlink_to("loop.yaml")
+    (user_dir / "gone.yaml").symlink_to(user_dir / "elsewhere.yaml")
+    (user_dir / "folder.yaml").mkdir()
+    os.mkfifo(user_dir / "pipe.yaml")
+    cases = {"loop": "is a symbolic link in a loop (it leads back to itself)",
+             "gone": f"is a symbolic link to {user_dir / 'elsewhere.yaml'}, which does not exist",
+             "folder": "is a directory, not a file", "pipe": "is a named pipe (FIFO), not a regular file"}
+    for name, what in cases.items():
+        for command in ("show", "run"):
+            refused(tmp_path, [command, name, "--root", tmp_path / "results"],
+                    f"unknown study {name!r}: {user_dir / name}.yaml {what}; make it a study file "
+                    "(YAML) or move it aside.")

@@ -200,8 +200,11 @@ def find_study(study: str) -> Path:
         return path
     files = study_files()
     if study not in files:
-        for directory in study_dirs():  # a mine.YAML there is not listed
+        for directory in study_dirs():  # a mine.YAML there is not listed, nor a mine.yaml that is
             found = [p for p in directory.iterdir() if p.stem == study and p.suffix.lower() in _SUFFIXES]
+            if found and found[0].suffix in _SUFFIXES:  # no file (a link leading nowhere, a folder)
+                raise ConfigError(f"unknown study {study!r}: {found[0]} {input_file_problem(found[0])}"
+                                  "; make it a study file (YAML) or move it aside.")
             if found:
                 raise ConfigError(f"unknown study {study!r}: the file {found[0]} {_MISCASED} rename "
                                   f"it {study}{found[0].suffix.lower()}.")
