@@ -1,16 +1,19 @@
 """Bad input, round 18: symbolic links that lead nowhere where a run, its study or a part of it
-belongs, and files in a run's place given to `ingest`. Each is one sentence naming the run and
-what is in its place, exit 2, nothing stored changed (``cli_checks.refused``).
+belongs, files in a run's place given to `ingest`, and named pipes (FIFOs) where the tool reads a
+file, whose read waited for ever. Each is one sentence naming the run and what is in its place,
+exit 2, nothing stored changed (``cli_checks.refused``), within its deadline.
 
 (The places this user may not open are tests/cli/test_unreadable_places.py.)
 """
 
 from __future__ import annotations
 
+import os
+import shlex
 import shutil
 
 import pytest
-from cli_checks import SMOKE, T2, filled_records, refused
+from cli_checks import SMOKE, T2, filled_records, invoke, refused, snapshot
 
 #: the commands that open a run of smoke under a root (its records, then what they say)
 OPENING = (["status", "smoke"], ["show", "smoke"], ["run", "smoke", *SMOKE], ["report", "smoke"])
@@ -79,8 +82,6 @@ def test_ingest_into_a_place_a_file_or_a_loop_holds_is_refused_naming_it(tmp_pat
 def test_a_study_name_on_the_search_path_that_is_no_file_says_what_it_is(user_dir, tmp_path):
     """Each was "the file … is not read: a study file's name ends in .yaml or .yml in lower case
     …; rename it mine.yaml", the name it already had."""
-    import os
-
     (user_dir / "loop.yaml").symlink_to("loop.yaml")
     (user_dir / "gone.yaml").symlink_to(user_dir / "elsewhere.yaml")
     (user_dir / "folder.yaml").mkdir()
@@ -93,3 +94,52 @@ def test_a_study_name_on_the_search_path_that_is_no_file_says_what_it_is(user_di
             refused(tmp_path, [command, name, "--root", tmp_path / "results"],
                     f"unknown study {name!r}: {user_dir / name}.yaml {what}; make it a study file "
                     "(YAML) or move it aside.")
+
+
+@pytest.mark.parametrize("name", ["part-0123456789.parquet", "compact-0123456789.parquet"])
+def test_a_named_pipe_named_as_a_shard_is_named_and_moved_aside(results, name):
+    """status, show and report waited for ever, reading it; run waited too."""
+    records = results / "smoke" / "default" / "records"
+    os.mkfifo(records / name)
+    for args in OPENING[:2] + OPENING[3:]:
+        refused(results, [*args, "--root", results],
+                f"run smoke/default at {records.parent} has records/{name}, named as a shard, which "
+                "is a named pipe (FIFO), not a regular file; resume the run (graspcampaign run "
+                f"smoke {shlex.join(SMOKE)} --run default --root {results}) to quarantine the file "
+                "and run its trials again.")
+    kept = {k: v for k, v in snapshot(records).items() if k != name}
+    done = invoke(*OPENING[2], "--root", results, seconds=20)  # the records stay as they were
+    assert done.exit_code == 0, done.output
+    assert done.stderr.startswith(f"warning: file {records / name} moved to {records.parent}/"
+                                  f"quarantine/records__{name} (it is a named pipe (FIFO), not a ")
+    assert snapshot(records) == kept
+
+
+def test_a_manifest_that_is_a_named_pipe_is_refused_and_a_lock_that_is_one_is_no_run(results):
+    """status and run waited for ever reading the manifest; status, probing the lock, too."""
+    run = results / "smoke" / "default"
+    os.mkfifo(run / ".lock")
+    done = invoke("status", "smoke", "--root", results, seconds=20)
+    assert done.exit_code == 0 and "\ncomplete: True\n" in done.stdout, done.output
+    (run / "manifest.json").unlink()
+    os.mkfifo(run / "manifest.json")
+    for args in (["status", "smoke"], ["run", "smoke", *SMOKE]):
+        refused(results, [*args, "--root", results],
+                f"run smoke/default at {run} has a damaged manifest.json (it is a named pipe (FIFO), "
+                "not a regular file); its records cannot be checked without it, so restore the file "
+                "from a backup or move the run directory aside and run the study again.")
+
+
+def test_a_config_group_file_or_the_cache_that_is_a_named_pipe_is_not_read(home, tmp_path,
+                                                                            monkeypatch):
+    """show and list waited for ever reading them."""
+    monkeypatch.setenv("GRASPCAMPAIGN_CACHE", str(tmp_path / "cache"))
+    (tmp_path / "cache").mkdir()
+    os.mkfifo(tmp_path / "cache" / "catalog.json")
+    done = invoke("list", "--names", seconds=20)
+    assert (done.exit_code, done.stderr) == (0, "") and "baseline_grid" in done.stdout.split()
+    firm = home / "conf" / "model" / "firm.yaml"
+    firm.unlink()
+    os.mkfifo(firm)
+    refused(tmp_path, ["show", "smoke", "--root", tmp_path / "results"],
+            f"{firm} is a named pipe (FIFO), not a regular file; a config-group file is a YAML file.")

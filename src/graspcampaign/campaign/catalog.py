@@ -76,8 +76,8 @@ def _cache_unusable(exc: OSError) -> None:
 
 
 def _load() -> dict[str, Any]:
-    try:
-        data = json.loads(cache_path().read_text())
+    try:  # no regular file there (a named pipe, whose read waits for ever): none
+        data = json.loads(path.read_text()) if (path := cache_path()).is_file() else None
     except (OSError, ValueError):
         return {"source": source_hash()}
     # a file this code did not write (valid JSON, but a list, or a section that is no mapping) is

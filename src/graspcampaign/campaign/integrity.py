@@ -130,7 +130,10 @@ def layout_problems(store) -> list[Problem]:
                                           f"of {group}", "quarantine", group, "not a directory"))
     for directory in (d for d in dirs if d.is_dir()):
         for entry in sorted(directory.iterdir()):
-            if not _hidden(entry) and not SHARD.fullmatch(entry.name):
+            if SHARD.fullmatch(entry.name) and (what := path_problem(entry, directory=False)):
+                out.append(Problem(entry, f"{_rel(store, entry)}, named as a shard, which {what}",
+                                   "quarantine", _rel(store, directory), f"it {what}"))
+            elif not _hidden(entry) and not SHARD.fullmatch(entry.name):
                 copy = re.fullmatch(r"(part|compact)-.*\.parquet", entry.name)
                 why = ("named as a copy of a shard: not a name the tool writes"
                        if copy else "not a Parquet shard of the run")

@@ -345,7 +345,7 @@ def held_by_a_run(run_dir: Path) -> bool:
     import fcntl
 
     try:
-        handle = os.open(run_dir / LOCK_FILE, os.O_RDONLY)
+        handle = os.open(run_dir / LOCK_FILE, os.O_RDONLY | os.O_NONBLOCK)  # a named pipe: no wait
     except OSError:
         return False
     try:

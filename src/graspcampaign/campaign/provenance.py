@@ -18,6 +18,7 @@ from typing import Any
 import graspcampaign
 from graspcampaign.campaign.former_names import current_config
 from graspcampaign.campaign.grid import content_hash
+from graspcampaign.campaign.paths import path_problem
 from graspcampaign.campaign.schema import StudyCfg
 from graspcampaign.errors import DamagedRunError, UserInputError, access_denied
 
@@ -233,9 +234,9 @@ def read_manifest(path: Path) -> dict[str, Any] | None:
     """
     if not (path.exists() or path.is_symlink()):
         return None
-    why = None
+    why = None if path.is_file() or path.is_dir() else f"it {path_problem(path, directory=False)}"
     try:  # a byte order mark (an editor's re-save) carries no content: RFC 8259 lets a reader skip it
-        text = path.read_bytes().decode("utf-8").removeprefix("\ufeff")
+        text = "" if why else path.read_bytes().decode("utf-8").removeprefix("\ufeff")
     except IsADirectoryError:
         why = "it is a directory, not a file"
     except PermissionError as exc:  # not damaged: this user may not open it

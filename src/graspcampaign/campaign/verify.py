@@ -314,6 +314,13 @@ def _present(columns: list[str] | None, schema: pa.Schema) -> list[str]:
     return schema.names if columns is None else [c for c in columns if c in schema.names]
 
 
+def shards(directory: Path, pattern: str) -> list[Path]:
+    """The regular files of ``directory`` matching ``pattern``, sorted: those a read may open (a
+    named pipe named as a shard blocked every command reading the run for ever, a directory failed
+    it; :func:`~graspcampaign.campaign.integrity.layout_problems` names them)."""
+    return sorted(path for path in directory.glob(pattern) if path.is_file())
+
+
 def verify_file(path: Path) -> str | None:
     """Why ``path`` cannot be trusted (:func:`read_file`), or None if it is intact."""
     try:
