@@ -143,3 +143,31 @@ def test_a_config_group_file_or_the_cache_that_is_a_named_pipe_is_not_read(home,
     os.mkfifo(firm)
     refused(tmp_path, ["show", "smoke", "--root", tmp_path / "results"],
             f"{firm} is a named pipe (FIFO), not a regular file; a config-group file is a YAML file.")
+
+
+def test_a_config_place_that_is_a_link_in_a_loop_is_said_so(tmp_path, monkeypatch):
+    """Each was said not to exist (GRASPCAMPAIGN_PATH, GRASPCAMPAIGN_HOME), or not writable
+    because the file exists (GRASPCAMPAIGN_CACHE)."""
+    from graspcampaign.campaign import studyfile
+
+    loop = tmp_path / "loop"
+    loop.symlink_to("loop")
+    said = f"{loop} is a symbolic link in a loop (it leads back to itself)"
+    monkeypatch.setenv("GRASPCAMPAIGN_PATH", str(loop))
+    done = invoke("list", "--names", seconds=20)
+    assert done.exit_code == 0 and "baseline_grid" in done.stdout.split()
+    assert done.stderr == f"warning: GRASPCAMPAIGN_PATH entry {said}; it is skipped.\n"
+    monkeypatch.delenv("GRASPCAMPAIGN_PATH")
+    monkeypatch.setenv("GRASPCAMPAIGN_CACHE", str(loop))
+    done = invoke("show", "smoke", "--root", tmp_path / "results", seconds=20)
+    assert done.exit_code == 0 and "study: smoke" in done.stdout
+    assert done.stderr == (f"warning: GRASPCAMPAIGN_CACHE={said}, so the catalog cache is not kept; "
+                           "list and show work without it, recomputing what they need (slower).\n")
+    monkeypatch.setenv("GRASPCAMPAIGN_HOME", str(loop))
+    studyfile.project_dirs.cache_clear()
+    try:
+        refused(tmp_path, ["list"], f"GRASPCAMPAIGN_HOME={said}; point it at a directory holding conf/ "
+                "(with conf/config.yaml and the config groups) and campaigns/ (the study files), e.g. "
+                "a copy of the shipped ones, or unset it to use those.")
+    finally:
+        studyfile.project_dirs.cache_clear()

@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import Any
 
 import graspcampaign
-from graspcampaign.campaign.paths import config_root, expand_home
+from graspcampaign.campaign.paths import config_root, expand_home, path_problem
 
 log = logging.getLogger(__name__)
 
@@ -70,6 +70,7 @@ def _cache_unusable(exc: OSError) -> None:
 
     base = expand_home(chosen)[0]
     reason = ("is not a directory" if os.path.exists(base) and not os.path.isdir(base)
+              else path_problem(base) if os.path.islink(base) and not os.path.exists(base)
               else f"cannot be written ({exc.strerror or type(exc).__name__})")
     warnings.warn(f"GRASPCAMPAIGN_CACHE={chosen} {reason}, so the catalog cache is not kept; list "
                   "and show work without it, recomputing what they need (slower).", stacklevel=3)

@@ -27,6 +27,7 @@ from typing import Any
 from graspcampaign.campaign.paths import (
     expand_home,
     input_file_problem,
+    path_problem,
     read_denied,
     shown,
     unreachable,
@@ -78,8 +79,8 @@ def project_dirs() -> tuple[Path, Path]:
 def _home_problem(root: Path) -> str | None:
     """What a ``GRASPCAMPAIGN_HOME`` directory lacks, in words (None: nothing); a directory of it
     this user may not read is named."""
-    if not os.path.exists(root):
-        return unreachable(root) or "does not exist"
+    if not os.path.exists(root):  # a symbolic link leading nowhere: said so
+        return unreachable(root) or os.path.islink(root) and path_problem(root) or "does not exist"
     if not root.is_dir():
         return "is a file, not a directory"
     for place in ("", "conf", "campaigns"):
@@ -123,8 +124,8 @@ def _search_entry(entry: str) -> tuple[Path, str | None]:
 def _path_problem(path: Path) -> str | None:
     """Why ``path`` is no directory of study files (missing, or a file: then how to run it; one
     this user may not read)."""
-    if not os.path.exists(path):
-        return unreachable(path) or "does not exist"
+    if not os.path.exists(path):  # a symbolic link leading nowhere: said so
+        return unreachable(path) or os.path.islink(path) and path_problem(path) or "does not exist"
     if not path.is_dir():
         hint = (" (run a study file by giving its path: graspcampaign run " + str(path) + ")"
                 if path.suffix in _SUFFIXES else "")
