@@ -207,7 +207,7 @@ def build_reports(studies: list[str] | None = None, run: str | Mapping[str, str]
     else left as they were (a warning names the run), so a damaged run never replaces what they
     said of it. The runs' reports are independent: with ``n_jobs`` other than 1 they are written
     in that many processes (joblib loky; -1: one per core), the same files as one by one."""
-    root, formats = check_root(root), D.check_formats(formats)
+    root, formats = check_root(root, write=True), D.check_formats(formats)  # it writes the index
     figure_format = D.check_formats(figure_format, D.FIGURE_FORMATS, "figure format",
                                     "--figure-format", one=True)[0]
     batch = ReportBatch(formats=formats)
