@@ -47,13 +47,19 @@ print(json.dumps(out))
 """
 
 
-def _as_user() -> list[str]:
-    """The command prefix that runs a child as a user permission bits stop."""
+def _as_user(env: dict[str, str]) -> list[str]:
+    """The command prefix that runs a child as a user permission bits stop (skipped where none
+    can be, or where that user cannot import the package: a clone in root's private home)."""
     if os.geteuid() != 0:
         return []
     if shutil.which("setpriv") is None:
         pytest.skip("as root, permission bits stop no one, and setpriv (to run as nobody) is missing")
-    return ["setpriv", f"--reuid={NOBODY}", f"--regid={NOBODY}", "--clear-groups"]
+    prefix = ["setpriv", f"--reuid={NOBODY}", f"--regid={NOBODY}", "--clear-groups"]
+    probe = subprocess.run([*prefix, sys.executable, "-c", "import graspcampaign.cli.main"], env=env,
+                           cwd="/", capture_output=True, timeout=120)
+    if probe.returncode:
+        pytest.skip(f"uid {NOBODY} cannot run the package from here: {probe.stderr[-200:]!r}")
+    return prefix
 
 
 def _give(tree: Path) -> None:
@@ -67,10 +73,9 @@ def _give(tree: Path) -> None:
 def places(finished, tmp_path_factory):
     """A scratch tree of closed places, the commands run on it by the child (by case name) and
     the tree as it was before: ``(scratch, results, before)``."""
-    prefix = _as_user()
     scratch = Path(tempfile.mkdtemp(prefix="graspcampaign-unreadable-"))
     try:
-        yield _run_cases(prefix, scratch, finished, tmp_path_factory.mktemp("sheet"))
+        yield _run_cases(scratch, finished, tmp_path_factory.mktemp("sheet"))
     finally:
         for path in [scratch, *(p for p in scratch.rglob("*") if not p.is_symlink())]:
             path.chmod(0o700)  # open again, so that the tree can be removed
@@ -84,7 +89,7 @@ def _run(scratch: Path, name: str, finished: Path) -> Path:
     return root
 
 
-def _run_cases(prefix, scratch, finished, sheets):
+def _run_cases(scratch, finished, sheets):
     cases, closed = {}, []
     # an intact shard, the manifest, the records folder this user may not open
     for name, place in (("shard", "records/*.parquet"), ("manifest", "manifest.json"),
@@ -134,6 +139,7 @@ def _run_cases(prefix, scratch, finished, sheets):
     env = {"PATH": os.environ.get("PATH", ""), "PYTHONPATH": str(source), "HOME": str(user),
            "GRASPCAMPAIGN_CACHE": str(user / "cache"), "NUMBA_CACHE_DIR": str(user / "numba"),
            "OMP_NUM_THREADS": "1"}
+    prefix = _as_user(env)
     done = subprocess.run([*prefix, sys.executable, "-c", DRIVER, json.dumps(cases)], cwd=scratch,
                           env=env, capture_output=True, text=True, timeout=600)
     for path, mode in modes.items():  # open again: a test run by a user may read them then
