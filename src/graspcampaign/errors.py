@@ -64,6 +64,42 @@ def name_too_long(exc: BaseException) -> str | None:
     return f"{shorten(path)}: {too_long(path) or 'it is too long for the system; give a shorter one'}."
 
 
+def access_denied(exc: BaseException) -> str | None:
+    """The sentence for a file or directory whose permissions keep this process out
+    (``EACCES``: chmod 000, another user's private folder), naming the place to open up (the
+    directory on its way that cannot be searched, if one: :func:`blocked`); None for any other
+    exception. Said as what it is: the file is not damaged and nothing was changed."""
+    if not (isinstance(exc, OSError) and exc.errno == errno.EACCES):
+        return None
+    where = blocked(exc.filename) if exc.filename else "a file or directory"
+    return (f"{where}: permission denied (its permissions, or those of the directory holding it, "
+            "keep this user out); give this user access (chmod, chown), or run the command as the "
+            "user who owns it.")
+
+
+def blocked(path: str | os.PathLike) -> str:
+    """``path``, or the first directory on its way this process may not search (a ``stat`` of
+    what is in it is refused), which is then the place whose permissions to change."""
+    path = os.fsdecode(path)
+    for parent in reversed(_parents(path)):  # from the top down
+        try:
+            os.stat(os.path.join(parent, os.curdir))
+        except PermissionError:
+            return parent
+        except OSError:
+            break
+    return path
+
+
+def _parents(path: str) -> list[str]:
+    """The directories above ``path``, nearest first (``a/b/c``: ``a/b``, ``a``)."""
+    out, parent = [], os.path.dirname(path)
+    while parent and parent not in out:
+        out.append(parent)
+        parent = os.path.dirname(parent)
+    return out
+
+
 def utf8_text(data: bytes) -> tuple[str | None, str]:
     """The bytes of a text file (a study file, a CSV of measured records) decoded once as UTF-8, a
     byte-order mark dropped, and ``""``; or None and why they are not UTF-8 text, in the words

@@ -74,7 +74,7 @@ def test_an_output_file_with_a_name_over_255_bytes_is_refused_before_any_work(tm
     refused(tmp_path, ["reproduce", "--times", f"{out}.txt", "--root", tmp_path],
             f"--times {_cut(f'{out}.txt')}: {NAME_SAID}")
     refused(tmp_path, ["plan", sphere, "--mass-kg", "0.1", "--png", f"{out}.png"],
-            f"{_cut(f'{out}.png')}: {NAME_SAID}")
+            f"--png {_cut(f'{out}.png')}: {NAME_SAID}")  # named as --out and --times are (round 18)
 
 
 @pytest.mark.parametrize(("override", "said"), [

@@ -78,7 +78,7 @@ def test_a_read_only_root_or_output_is_refused_before_any_work(finished, read_on
     records.write_text("trial_id\n")
     for root in (read_only, read_only / "results"):
         for args in (["run", "smoke", *SMOKE], ["reproduce"], ["ingest", "test2_grasp", records],
-                     ["schedule", "test2_grasp"]):
+                     ["schedule", "test2_grasp"], ["report"]):  # report writes the root's index
             refused(finished, [*args, "--root", root], f"--root {root}: {ro}")
     # the --times file is checked before the first study runs, not after it
     fresh = tmp_path / "fresh"

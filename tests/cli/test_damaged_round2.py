@@ -62,19 +62,24 @@ def _immutable(path):
 
 
 def test_a_file_that_cannot_be_moved_aside_is_refused_in_one_sentence_nothing_copied(results):
-    """A file a sync tool left (``desktop.ini``) in a records/ directory nothing can be removed
-    from: `run` says what it could not move and why, exit 2, and leaves no copy in quarantine/
-    (it copied the file there, failed to remove it, and ended in a traceback: the file then stood
-    in both places)."""
+    """A file a sync tool left (``desktop.ini``) in a records/ directory, the file immutable: `run`
+    says what it could not move and why, exit 2, and leaves no copy in quarantine/ (it copied the
+    file there, failed to remove it, and ended in a traceback: the file then stood in both
+    places). A records/ directory nothing can be written in is refused before that, as one this
+    user may not write (``runner.run_lock``)."""
     records = grid_run(results) / "records"
     stray = records / "desktop.ini"
     stray.write_text("[.ShellClassInfo]\n")
     target = grid_run(results) / "quarantine" / "records__desktop.ini"
+    run = ["run", "baseline_grid", *BG, "runner.progress=false", "--root", results]
+    with _immutable(stray):
+        refused(results, run, f"cannot move {stray} to {target} (not a Parquet shard of the run): "
+                f"operation not permitted; it stays where it is, so make {records} and "
+                f"{target.parent} writable and run the command again.")
     with _immutable(records):
-        refused(results, ["run", "baseline_grid", *BG, "runner.progress=false", "--root", results],
-                f"cannot move {stray} to {target} (not a Parquet shard of the run): operation not "
-                f"permitted; it stays where it is, so make {records} and {target.parent} writable "
-                "and run the command again.")
+        refused(results, run, f"run baseline_grid/default at {grid_run(results)}: {records}: cannot "
+                "write there (Operation not permitted); make it writable for this user, or run the "
+                "command as the user who owns the run.")
 
 
 def _as_written(table: pa.Table, target) -> None:

@@ -182,3 +182,24 @@ def test_a_file_holding_only_a_byte_order_mark_is_an_empty_mesh(tmp_path):
     with pytest.raises(MeshError, match=r"^mesh 'mark.obj' is empty: the file holds only a "
                                         r"byte-order mark\.$"):
         load_mesh(path)
+
+
+def test_a_mesh_file_this_user_may_not_read_is_a_mesh_error(tmp_path, monkeypatch):
+    """As root no permission bit stops the read, so the open is refused as the system refuses a
+    chmod 000 file to its owner (tests/cli/test_unreadable_places.py does it for real)."""
+    import errno
+    import os
+
+    from graspcampaign.core import mesh_file
+
+    path = tmp_path / "ball.stl"
+    _ball(20.0).export(path)
+
+    def denied(name, *args, **kwargs):
+        raise PermissionError(errno.EACCES, os.strerror(errno.EACCES), name)
+
+    monkeypatch.setattr(mesh_file, "open", denied, raising=False)
+    with pytest.raises(MeshError) as refused:
+        load_mesh(path)
+    assert str(refused.value) == (f"mesh file {str(path)!r} cannot be read by this user (permission "
+                                  "denied); chmod or chown it, or run as its owner.")

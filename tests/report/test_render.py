@@ -76,7 +76,9 @@ def test_a_file_that_cannot_be_read_is_not_said_to_be_written():
     missing = FileNotFoundError(errno.ENOENT, "No such file or directory", "/data/runs/a/manifest.json")
     assert reason(missing) == "/data/runs/a/manifest.json: no such file or directory"
     denied = PermissionError(errno.EACCES, "Permission denied", "/data/report/report.md")
-    assert reason(denied) == "/data/report/report.md: permission denied"  # no class name, no errno
+    assert reason(denied) == ("/data/report/report.md: permission denied (its permissions, or those "
+                              "of the directory holding it, keep this user out); give this user "
+                              "access (chmod, chown), or run the command as the user who owns it")
     full = OSError(errno.ENOSPC, "No space left on device", "/data/report/report.md")
     assert reason(full) == ("cannot write /data/report/report.md: no space left on device; free some "
                             "space there and run the command again")

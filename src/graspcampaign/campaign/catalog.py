@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import Any
 
 import graspcampaign
-from graspcampaign.campaign.paths import config_root, expand_home
+from graspcampaign.campaign.paths import config_root, expand_home, path_problem
 
 log = logging.getLogger(__name__)
 
@@ -69,15 +69,16 @@ def _cache_unusable(exc: OSError) -> None:
     import warnings
 
     base = expand_home(chosen)[0]
-    reason = ("is not a directory" if base.exists() and not base.is_dir()
+    reason = ("is not a directory" if os.path.exists(base) and not os.path.isdir(base)
+              else path_problem(base) if os.path.islink(base) and not os.path.exists(base)
               else f"cannot be written ({exc.strerror or type(exc).__name__})")
     warnings.warn(f"GRASPCAMPAIGN_CACHE={chosen} {reason}, so the catalog cache is not kept; list "
                   "and show work without it, recomputing what they need (slower).", stacklevel=3)
 
 
 def _load() -> dict[str, Any]:
-    try:
-        data = json.loads(cache_path().read_text())
+    try:  # no regular file there (a named pipe, whose read waits for ever): none
+        data = json.loads(path.read_text()) if (path := cache_path()).is_file() else None
     except (OSError, ValueError):
         return {"source": source_hash()}
     # a file this code did not write (valid JSON, but a list, or a section that is no mapping) is

@@ -19,6 +19,7 @@ from pathlib import Path
 from graspcampaign.campaign import provenance
 from graspcampaign.campaign.account import Account
 from graspcampaign.campaign.grid import content_hash
+from graspcampaign.campaign.integrity import check_place
 from graspcampaign.campaign.kind import get_kind
 from graspcampaign.campaign.paths import check_case_twin, check_root, input_file_problem, shown
 from graspcampaign.campaign.records import ERROR_COLUMNS, RunStore, config_metadata
@@ -55,6 +56,7 @@ def ingest_files(study: StudyCfg, paths: list[str], run: str = "measured",
     check_root(study.output.root, "output.root", write=True)
     store = RunStore(run_path(study, run))
     check_case_twin(store.path, f"{study.name}/{run}")
+    check_place(store)  # a file or a link leading nowhere where the run belongs: before the lock
     with run_lock(store, f"{study.name}/{run}"):  # read, checked and written by this process alone
         return _ingest(study, paths, store, run, given)
 

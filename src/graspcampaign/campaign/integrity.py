@@ -42,7 +42,7 @@ from pathlib import Path
 import pyarrow as pa
 
 from graspcampaign.campaign.parts import COMPLETE
-from graspcampaign.campaign.paths import run_command
+from graspcampaign.campaign.paths import path_problem, run_command
 from graspcampaign.campaign.provenance import (
     MISMATCH,
     ingested,
@@ -115,6 +115,10 @@ def layout_problems(store) -> list[Problem]:
             fix = "refuse" if name in ("quarantine", "tables") else "quarantine"
             out.append(Problem(where, f"a file {name} where its {name} directory belongs", fix,
                                name, "a file where a directory belongs"))
+        elif where.is_symlink() and not where.exists():  # every write there fails: never repaired
+            out.append(Problem(where, f"{name}/, which {path_problem(where)}", "refuse", name,
+                               "a symbolic link leading nowhere", "remove the link or make it lead "
+                               "to a directory, then resume the run"))
     dirs = [store.path / p for p in ("records", "prepared")]
     for group in ("tables", "summary"):
         top = store.path / group
@@ -126,7 +130,10 @@ def layout_problems(store) -> list[Problem]:
                                           f"of {group}", "quarantine", group, "not a directory"))
     for directory in (d for d in dirs if d.is_dir()):
         for entry in sorted(directory.iterdir()):
-            if not _hidden(entry) and not SHARD.fullmatch(entry.name):
+            if SHARD.fullmatch(entry.name) and (what := path_problem(entry, directory=False)):
+                out.append(Problem(entry, f"{_rel(store, entry)}, named as a shard, which {what}",
+                                   "quarantine", _rel(store, directory), f"it {what}"))
+            elif not _hidden(entry) and not SHARD.fullmatch(entry.name):
                 copy = re.fullmatch(r"(part|compact)-.*\.parquet", entry.name)
                 why = ("named as a copy of a shard: not a name the tool writes"
                        if copy else "not a Parquet shard of the run")
@@ -377,6 +384,30 @@ def refusal(store, found: list[Problem], manifest: dict | None = None) -> Damage
                            f"has {found[0].text}{more}")
 
 
+def check_place(store) -> None:
+    """Refuse a run whose directory, or its study's, cannot be one: a file in its place, or a
+    symbolic link leading nowhere (its run said "no run" and advised the `run` that then failed to
+    make it, for ever); checked by :func:`check_run`, and by `ingest` before it holds the run.
+
+    Raises
+    ------
+    DamagedRunError
+        Naming the run, what is in its place and what to do; nothing is changed.
+    """
+    label = f"run {store.path.parent.name}/{store.path.name} at {store.path}"
+    study = store.path.parent
+    if study.exists() and not study.is_dir():  # "run it first" then failed to write, for ever
+        raise DamagedRunError(f"{label} cannot be stored: {study} is a file, not the study's "
+                              "directory; move it aside.", "lies in a file, not a study directory")
+    if store.path.exists() and not store.path.is_dir():
+        raise DamagedRunError(f"{label} is a file, not a run directory; move it aside or choose "
+                              "another run name (--run NAME).", "is a file, not a run directory")
+    if (why := path_problem(store.path)) is not None:  # a symbolic link leading nowhere, its own
+        own = why.startswith("is ")  # or (its parent) the study's
+        raise DamagedRunError(f"{label} cannot be stored: {'it ' * own}{why}; remove the link"
+                              f"{' or choose another run name (--run NAME)' * own}.", why)
+
+
 @one_check()
 def check_run(store, parts: list[str] | None = None, *, repairable: bool = False) -> dict | None:
     """Return the run's manifest after checking that the run is what it says; None if no run.
@@ -389,14 +420,8 @@ def check_run(store, parts: list[str] | None = None, *, repairable: bool = False
     DamagedRunError
         The run cannot be trusted as stored; nothing is changed.
     """
+    check_place(store)
     label = f"run {store.path.parent.name}/{store.path.name} at {store.path}"
-    study = store.path.parent
-    if study.exists() and not study.is_dir():  # "run it first" then failed to write, for ever
-        raise DamagedRunError(f"{label} cannot be stored: {study} is a file, not the study's "
-                              "directory; move it aside.", "lies in a file, not a study directory")
-    if store.path.exists() and not store.path.is_dir():
-        raise DamagedRunError(f"{label} is a file, not a run directory; move it aside or choose "
-                              "another run name (--run NAME).", "is a file, not a run directory")
     manifest = read_manifest(store.manifest_path)
     if manifest is None:
         if any(_holds_files(store.path / p) for p in _PARTS):

@@ -36,7 +36,7 @@ import pyarrow.parquet as pq
 from graspcampaign.campaign import provenance
 from graspcampaign.campaign.account import Account
 from graspcampaign.campaign.grid import content_hash, stream_key
-from graspcampaign.campaign.verify import READ_ERRORS, SOURCES_KEY, facts
+from graspcampaign.campaign.verify import READ_ERRORS, SOURCES_KEY, facts, shards
 from graspcampaign.core.words import counted
 
 COMPLETE = "complete.json"
@@ -119,7 +119,7 @@ def part_problems(store, full: bool = True, manifest: dict | None = None) -> lis
         out.append(Problem(done, what, "recompute", "summary", what))
     for name in _written(store):
         part = f"summary/{name}"
-        stored = store._listing(part)[0] if full else list((store.path / part).glob("*.parquet"))
+        stored = store._listing(part)[0] if full else shards(store.path / part, "*.parquet")
         if not stored:
             what = f"no {part} table, which summary/{COMPLETE} says was stored"
             out.append(Problem(store.path / part, what, "recompute", part, what))
@@ -154,7 +154,7 @@ def _footer_rows(directory: Path) -> int | None:
     compacted file supersedes left out); None if a footer cannot be read (a damaged file is the
     full check's to name)."""
     footers = {}
-    for path in sorted(directory.glob("*.parquet")):
+    for path in shards(directory, "*.parquet"):
         try:
             footers[path.name] = pq.read_metadata(path)
         except READ_ERRORS:
@@ -167,8 +167,9 @@ def _footer_rows(directory: Path) -> int | None:
 def _written(store) -> list[str]:
     """The summary tables ``finalize`` stored rows of (``written`` in ``complete.json``; none for
     one written before it was kept, or unreadable: what that means is the layout check's)."""
-    try:
-        done = json.loads((store.path / "summary" / COMPLETE).read_text())
+    done_file = store.path / "summary" / COMPLETE
+    try:  # no regular file (a named pipe, whose read waits for ever): as one that cannot be read
+        done = json.loads(done_file.read_text()) if done_file.is_file() else None
     except (OSError, ValueError):
         return []
     written = done.get("written") if isinstance(done, dict) else None

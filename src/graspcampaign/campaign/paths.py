@@ -19,7 +19,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from graspcampaign.errors import ConfigError, UserInputError, too_long
+from graspcampaign.errors import ConfigError, UserInputError, blocked, too_long
 
 
 def path_problem(path: Path, *, write: bool = False, directory: bool = True) -> str | None:
@@ -55,7 +55,7 @@ def path_problem(path: Path, *, write: bool = False, directory: bool = True) -> 
             else:
                 what = f"is {_special(where.stat().st_mode)}, not a directory"
             return what if i == 0 else f"{where} {what}"
-        return _write_denied(where) if write else None
+        return write_denied(where) if write else None
     return None
 
 
@@ -92,11 +92,41 @@ def input_file_problem(path: Path) -> str | None:
     The one check of every file a command reads (a study file, measured records, a mesh), so that
     each names a bad one alike: a directory ("is a directory, not a file"), a named pipe, device,
     socket or symbolic link leading nowhere (:func:`path_problem`'s words: it exists, so "does not
-    exist" would mislead), or nothing there ("does not exist"). The caller adds what to give.
+    exist" would mislead), a file, or a directory on its way, this user may not open (a probe:
+    root passes permission bits), or nothing there ("does not exist"). The caller adds what to
+    give.
     """
     if os.path.lexists(path):  # a regular file: None; anything else: why not
-        return path_problem(path, directory=False)
-    return "does not exist"
+        return path_problem(path, directory=False) or read_denied(path)
+    return unreachable(path) or "does not exist"
+
+
+#: What to do of a place this user may not open, after the words saying so.
+_OPEN_UP = "chmod or chown it, or run the command as its owner"
+
+
+def read_denied(path: Path) -> str | None:
+    """Why this user may not read the file ``path``, or list the directory ``path`` and open
+    what it holds, in the words after the path; None if it may. A probe, not the permission bits
+    (root passes them)."""
+    try:
+        if os.path.isdir(path):
+            with os.scandir(path):
+                pass
+            os.stat(os.path.join(path, os.curdir))
+        else:
+            os.close(os.open(path, os.O_RDONLY | os.O_NONBLOCK))
+    except PermissionError:
+        return f"cannot be read by this user (permission denied; {_OPEN_UP})"
+    return None
+
+
+def unreachable(path: Path) -> str | None:
+    """Why this user cannot reach ``path``: a directory on its way it may not search
+    (:func:`~graspcampaign.errors.blocked`), in the words after the path; or None."""
+    if (parent := blocked(path)) == os.fspath(path):
+        return None
+    return f"cannot be reached by this user ({parent} cannot be searched: permission denied; {_OPEN_UP})"
 
 
 def _dangling(link: Path) -> str:
@@ -116,7 +146,7 @@ def _special(mode: int) -> str:
             if stat.S_ISBLK(mode) else "a special file")
 
 
-def _write_denied(where: Path) -> str | None:
+def write_denied(where: Path) -> str | None:
     """Why this process cannot write into (or over) ``where``, or None: a probe, not a guess. An
     existing regular file is opened to append (without creating it, without waiting); anything
     else is probed in the directory its file would be created in (a dangling symlink's target's)."""
@@ -315,7 +345,7 @@ def held_by_a_run(run_dir: Path) -> bool:
     import fcntl
 
     try:
-        handle = os.open(run_dir / LOCK_FILE, os.O_RDONLY)
+        handle = os.open(run_dir / LOCK_FILE, os.O_RDONLY | os.O_NONBLOCK)  # a named pipe: no wait
     except OSError:
         return False
     try:

@@ -18,8 +18,9 @@ from typing import Any
 import graspcampaign
 from graspcampaign.campaign.former_names import current_config
 from graspcampaign.campaign.grid import content_hash
+from graspcampaign.campaign.paths import path_problem
 from graspcampaign.campaign.schema import StudyCfg
-from graspcampaign.errors import DamagedRunError, UserInputError
+from graspcampaign.errors import DamagedRunError, UserInputError, access_denied
 
 _PACKAGES = ("numpy", "scipy", "trimesh", "pandas", "pyarrow", "joblib", "hydra-core",
              "omegaconf", "statsmodels", "matplotlib", "dask", "distributed", "scikit-learn")
@@ -227,14 +228,19 @@ def read_manifest(path: Path) -> dict[str, Any] | None:
         A manifest that cannot be read or is not what the tool writes (not JSON, not an object, a
         field missing or of the wrong type), in one sentence naming the file and what to do: the
         run's records cannot be checked or used without it.
+    UserInputError
+        A manifest this user may not open (:func:`~graspcampaign.errors.access_denied`): not
+        damaged, so no advice to restore it.
     """
     if not (path.exists() or path.is_symlink()):
         return None
-    why = None
+    why = None if path.is_file() or path.is_dir() else f"it {path_problem(path, directory=False)}"
     try:  # a byte order mark (an editor's re-save) carries no content: RFC 8259 lets a reader skip it
-        text = path.read_bytes().decode("utf-8").removeprefix("\ufeff")
+        text = "" if why else path.read_bytes().decode("utf-8").removeprefix("\ufeff")
     except IsADirectoryError:
         why = "it is a directory, not a file"
+    except PermissionError as exc:  # not damaged: this user may not open it
+        raise UserInputError(access_denied(exc)) from None
     except OSError as exc:
         why = f"it cannot be read: {exc.strerror or type(exc).__name__}"
     except UnicodeDecodeError as exc:

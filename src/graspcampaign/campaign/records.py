@@ -71,6 +71,7 @@ from graspcampaign.campaign.verify import (
     facts,
     read_file,
     reason,
+    shards,
     supersedes,
     verify_file,
 )
@@ -215,7 +216,7 @@ class RunStore:
         directory = self._dir(part)
         if not directory.is_dir():
             return [], []
-        files = sorted(directory.glob("compact-*.parquet")) + sorted(directory.glob("part-*.parquet"))
+        files = shards(directory, "compact-*.parquet") + shards(directory, "part-*.parquet")
         sources, unreadable = self._superseded(part)
         bad = {p for p, _ in unreadable}
         return [p for p in files if p.name not in sources and p not in bad], unreadable
@@ -225,7 +226,7 @@ class RunStore:
         footer cannot be read."""
         sources: set[str] = set()
         unreadable = []
-        for path in sorted(self._dir(part).glob("compact-*.parquet")):
+        for path in shards(self._dir(part), "compact-*.parquet"):
             try:
                 sources.update(supersedes(path))
             except READ_ERRORS as exc:

@@ -35,9 +35,10 @@ def _trials_of_trace(store, path: Path) -> set[str]:
     """The trials whose traces a trace file moved aside held: from its key pages, else from the
     records file of the same task, else every recorded trial (the caller keeps those with a row in
     the table's other files; re-running a trial that had none costs time, never a wrong record)."""
-    try:
-        return set(pq.read_table(path, columns=["trial_id"],
-                                 page_checksum_verification=True).column("trial_id").to_pylist())
+    try:  # not a regular file (a named pipe would block the read): from the records file
+        if path.is_file():
+            return set(pq.read_table(path, columns=["trial_id"],
+                                     page_checksum_verification=True).column("trial_id").to_pylist())
     except Exception:  # noqa: BLE001 - pyarrow raises several types for a damaged or foreign file
         pass
     twin = store.path / "records" / path.name  # a task's traces and records share its name

@@ -29,7 +29,14 @@ from graspcampaign.campaign.grid import Trial, content_hash, expand
 from graspcampaign.campaign.integrity import check_run, expected_records
 from graspcampaign.campaign.kind import TrialInput, TrialKind, get_kind
 from graspcampaign.campaign.parts import check_preparations, entry, finalize, prepare_bodies
-from graspcampaign.campaign.paths import LOCK_FILE, check_case_twin, check_root, lock_exclusive, run_path
+from graspcampaign.campaign.paths import (
+    LOCK_FILE,
+    check_case_twin,
+    check_root,
+    lock_exclusive,
+    run_path,
+    write_denied,
+)
 from graspcampaign.campaign.provenance import DriftError, check_drift  # noqa: F401 - DriftError: API
 from graspcampaign.campaign.records import ERROR_COLUMNS, RunStore, config_metadata
 from graspcampaign.campaign.schema import StudyCfg, check_config, check_design_rows
@@ -449,6 +456,7 @@ def run_lock(store: RunStore, label: str) -> Iterator[None]:
             raise UserInputError(f"run {label} at {store.path}: its lock file was removed "
                                  f"{_LOCK_ATTEMPTS} times while this run opened it; run it from "
                                  "one process at a time.")
+        _check_writable(store, label)
         yield
     finally:
         if held:  # removed while still held: a process that opened it before then opens it again
@@ -458,6 +466,17 @@ def run_lock(store: RunStore, label: str) -> Iterator[None]:
         for directory in made:
             with contextlib.suppress(OSError):  # not empty: it holds what was stored
                 directory.rmdir()
+
+
+def _check_writable(store: RunStore, label: str) -> None:
+    """Refuse a run (or an ingest into it) one of whose directories this user may not write in
+    (another user's run): found before anything is written, where the first shard's write failed
+    after the manifest had recorded a session. Its report/ is left to `report`."""
+    for where, folders, _ in os.walk(store.path):
+        folders[:] = [f for f in folders if Path(where, f) != store.path / "report"]
+        if (why := write_denied(Path(where))) is not None:
+            raise UserInputError(f"run {label} at {store.path}: {where}: {why}; make it writable "
+                                 "for this user, or run the command as the user who owns the run.")
 
 
 #: Times a run opens its lock afresh after another process removed it (or its directory) meanwhile.

@@ -49,8 +49,8 @@ def opened_run(study: StudyCfg, run: str | None = None):
     """``(RunStore, manifest)`` of the study's run, checked against its manifest (a run that is not
     what its manifest says is refused); None when there is no run yet."""
     path = run_path(study, run)
-    if not path.parent.exists():  # no study directory, so no run (a file there: refused)
-        return None
+    if not os.path.lexists(path.parent):  # no study directory, so no run (a file there, or a
+        return None  # symbolic link leading nowhere: refused)
     from graspcampaign.campaign.records import RunStore
 
     store = RunStore(path)

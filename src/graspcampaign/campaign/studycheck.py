@@ -19,6 +19,7 @@ import functools
 from pathlib import Path
 from typing import Any
 
+from graspcampaign.campaign.paths import input_file_problem
 from graspcampaign.campaign.schema import SCHEMAS, StudyCfg, check_factor, check_value, example
 from graspcampaign.campaign.written import in_file
 from graspcampaign.core.words import listed, meant, plural
@@ -328,6 +329,8 @@ def check_conf(conf_dir: Path) -> str:
 
     digest = hashlib.sha256()
     for path in sorted(Path(conf_dir).rglob("*.yaml")):
+        if (why := input_file_problem(path)) is not None:  # a named pipe: the read waited for ever
+            raise ConfigError(f"{path} {why}; a config-group file is a YAML file.")
         digest.update(path.as_posix().encode())
         digest.update(path.read_bytes())
     _checked_conf(str(conf_dir), digest.hexdigest())

@@ -24,7 +24,14 @@ from functools import cache
 from pathlib import Path
 from typing import Any
 
-from graspcampaign.campaign.paths import expand_home, input_file_problem, shown
+from graspcampaign.campaign.paths import (
+    expand_home,
+    input_file_problem,
+    path_problem,
+    read_denied,
+    shown,
+    unreachable,
+)
 from graspcampaign.core.words import as_ascii, meant
 from graspcampaign.errors import ConfigError, UserInputError, utf8_text
 
@@ -70,11 +77,15 @@ def project_dirs() -> tuple[Path, Path]:
 
 
 def _home_problem(root: Path) -> str | None:
-    """What a ``GRASPCAMPAIGN_HOME`` directory lacks, in words (None: nothing)."""
-    if not root.exists():
-        return "does not exist"
+    """What a ``GRASPCAMPAIGN_HOME`` directory lacks, in words (None: nothing); a directory of it
+    this user may not read is named."""
+    if not os.path.exists(root):  # a symbolic link leading nowhere: said so
+        return unreachable(root) or os.path.islink(root) and path_problem(root) or "does not exist"
     if not root.is_dir():
         return "is a file, not a directory"
+    for place in ("", "conf", "campaigns"):
+        if os.path.isdir(root / place) and (why := read_denied(root / place)):
+            return f"has {place}/, which {why}" if place else why
     if not (root / "conf").is_dir():
         return "has no conf/ directory"
     if not (root / "conf" / "config.yaml").is_file():
@@ -111,14 +122,15 @@ def _search_entry(entry: str) -> tuple[Path, str | None]:
 
 
 def _path_problem(path: Path) -> str | None:
-    """Why ``path`` is no directory of study files (missing, or a file: then how to run it)."""
-    if not path.exists():
-        return "does not exist"
+    """Why ``path`` is no directory of study files (missing, or a file: then how to run it; one
+    this user may not read)."""
+    if not os.path.exists(path):  # a symbolic link leading nowhere: said so
+        return unreachable(path) or os.path.islink(path) and path_problem(path) or "does not exist"
     if not path.is_dir():
         hint = (" (run a study file by giving its path: graspcampaign run " + str(path) + ")"
                 if path.suffix in _SUFFIXES else "")
         return f"is a file, not a directory of study files{hint}"
-    return None
+    return read_denied(path)
 
 
 def _warn(message: str) -> None:
@@ -189,8 +201,11 @@ def find_study(study: str) -> Path:
         return path
     files = study_files()
     if study not in files:
-        for directory in study_dirs():  # a mine.YAML there is not listed
+        for directory in study_dirs():  # a mine.YAML there is not listed, nor a mine.yaml that is
             found = [p for p in directory.iterdir() if p.stem == study and p.suffix.lower() in _SUFFIXES]
+            if found and found[0].suffix in _SUFFIXES:  # no file (a link leading nowhere, a folder)
+                raise ConfigError(f"unknown study {study!r}: {found[0]} {input_file_problem(found[0])}"
+                                  "; make it a study file (YAML) or move it aside.")
             if found:
                 raise ConfigError(f"unknown study {study!r}: the file {found[0]} {_MISCASED} rename "
                                   f"it {study}{found[0].suffix.lower()}.")

@@ -26,6 +26,7 @@ import pyarrow.compute as pc
 import pyarrow.parquet as pq
 
 from graspcampaign.campaign.account import Account, NotAnAccount, decode
+from graspcampaign.errors import UserInputError, access_denied
 
 SOURCES_KEY = b"graspcampaign.sources"
 #: Metadata of a records file: the config hashes of the sessions that wrote its rows (a shard of
@@ -275,6 +276,9 @@ def read_file(path: Path, columns: list[str] | None = None, *,
     ------
     Damaged
         Why the file cannot be trusted (first line of pyarrow's error).
+    UserInputError
+        The file's permissions keep this process out (:func:`~graspcampaign.errors.access_denied`):
+        it is not damaged, so it is neither quarantined nor are its trials run again.
     """
     name, start = os.path.abspath(path), time.time_ns()
     try:
@@ -294,6 +298,8 @@ def read_file(path: Path, columns: list[str] | None = None, *,
             raise Damaged("its values differ from those written: their SHA-256 is not the one "
                           "stored with them")
         own = _facts(table, account)
+    except PermissionError as exc:  # an intact file this user may not open is no damage
+        raise UserInputError(access_denied(exc)) from None
     except READ_ERRORS as exc:
         raise Damaged(reason(exc)) from None
     changed = max(key[2:])
@@ -306,6 +312,13 @@ def read_file(path: Path, columns: list[str] | None = None, *,
 
 def _present(columns: list[str] | None, schema: pa.Schema) -> list[str]:
     return schema.names if columns is None else [c for c in columns if c in schema.names]
+
+
+def shards(directory: Path, pattern: str) -> list[Path]:
+    """The regular files of ``directory`` matching ``pattern``, sorted: those a read may open (a
+    named pipe named as a shard blocked every command reading the run for ever, a directory failed
+    it; :func:`~graspcampaign.campaign.integrity.layout_problems` names them)."""
+    return sorted(path for path in directory.glob(pattern) if path.is_file())
 
 
 def verify_file(path: Path) -> str | None:

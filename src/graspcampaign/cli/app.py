@@ -202,7 +202,7 @@ def guard(fn):
 
     @functools.wraps(fn)
     def wrapper(*args, **kwargs):
-        from graspcampaign.errors import UserInputError, disk_full, name_too_long
+        from graspcampaign.errors import UserInputError, access_denied, disk_full, name_too_long
 
         try:
             return fn(*args, **kwargs)
@@ -219,9 +219,9 @@ def guard(fn):
             if isinstance(exc, UserInputError) or type(exc).__name__ in _INPUT_ERRORS:
                 fail(str(exc))
             raise
-        except OSError as exc:  # a full disk where no layer said so itself (a report's figure)
-            long = name_too_long(exc)  # or a name too long to stat or open
-            if not (disk_full(exc) or long):
+        except OSError as exc:  # a full disk where no layer said so itself (a report's figure),
+            long = name_too_long(exc) or access_denied(exc)  # a name too long to stat or open, or
+            if not (disk_full(exc) or long):  # a place this user may not open (chmod 000)
                 raise
             if state["debug"]:
                 traceback.print_exc()

@@ -116,11 +116,15 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
             f"use {', '.join(MESH_SUFFIXES)}."
         )
     n_bytes, skip = os.path.getsize(name), 0  # skip: the bytes of a byte-order mark read past
-    with open(name, "rb") as fh:  # read once: the format and layout checks share it
-        head = fh.read(4096)
-        if text_with_bom(head, n_bytes):  # as a study file's or a CSV's, the mark is no content:
-            skip = len(codecs.BOM_UTF8)  # every check and trimesh read the file from the byte after it
-            head, n_bytes = head[skip:] + fh.read(skip), n_bytes - skip
+    try:
+        with open(name, "rb") as fh:  # read once: the format and layout checks share it
+            head = fh.read(4096)
+            if text_with_bom(head, n_bytes):  # as a study file's or a CSV's, the mark is no content:
+                skip = len(codecs.BOM_UTF8)  # every check and trimesh read it from the byte after it
+                head, n_bytes = head[skip:] + fh.read(skip), n_bytes - skip
+    except PermissionError:  # chmod 000, another user's: the file is there, and may be whole
+        raise MeshError(f"mesh file {name!r} cannot be read by this user (permission denied); "
+                        "chmod or chown it, or run as its owner.") from None
     if n_bytes == 0:
         raise MeshError(f"mesh {base!r} is empty: the file "
                         f"{'holds only a byte-order mark' if skip else 'has 0 bytes'}.")

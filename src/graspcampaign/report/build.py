@@ -17,7 +17,7 @@ from graspcampaign.analysis.records import in_design_order
 from graspcampaign.campaign.paths import check_root, held_by_a_run, how_to_make, near_run, write_file
 from graspcampaign.campaign.provenance import read_manifest, run_size
 from graspcampaign.campaign.records import RunStore
-from graspcampaign.errors import ConfigError, UserInputError, disk_full
+from graspcampaign.errors import ConfigError, UserInputError, access_denied, disk_full
 from graspcampaign.report import document as D
 from graspcampaign.report import spec as S
 from graspcampaign.report.document import NAV, Col, Document, Table, Text
@@ -183,7 +183,8 @@ def _report_or_failure(store: RunStore, root: Path, formats: list[str], figure_f
         return report_run(store, root, formats, figure_format), None
     except Exception as exc:  # noqa: BLE001 - one broken run never stops the others
         log.debug("report of %s failed", label, exc_info=True)
-        return None, (label, reason(exc), disk_full(exc) or isinstance(exc, UserInputError))
+        bad_input = disk_full(exc) or access_denied(exc) or isinstance(exc, UserInputError)
+        return None, (label, reason(exc), bool(bad_input))
 
 
 def _report_in_worker(*args):
@@ -206,7 +207,7 @@ def build_reports(studies: list[str] | None = None, run: str | Mapping[str, str]
     else left as they were (a warning names the run), so a damaged run never replaces what they
     said of it. The runs' reports are independent: with ``n_jobs`` other than 1 they are written
     in that many processes (joblib loky; -1: one per core), the same files as one by one."""
-    root, formats = check_root(root), D.check_formats(formats)
+    root, formats = check_root(root, write=True), D.check_formats(formats)  # it writes the index
     figure_format = D.check_formats(figure_format, D.FIGURE_FORMATS, "figure format",
                                     "--figure-format", one=True)[0]
     batch = ReportBatch(formats=formats)

@@ -25,7 +25,7 @@ from graspcampaign.campaign.provenance import (
 )
 from graspcampaign.core.bench_specimen import FINGERTIP_RADIUS
 from graspcampaign.core.words import listed, meant
-from graspcampaign.errors import UserInputError, disk_full
+from graspcampaign.errors import UserInputError, access_denied, disk_full
 from graspcampaign.report import format as fmt
 from graspcampaign.report.document import Document, Figure, Section, Table, Text
 
@@ -158,6 +158,8 @@ def reason(exc: BaseException) -> str:
         # what cli.guard says of a full disk; only a write fills one (a missing file may be a read)
         return (f"cannot write {exc.filename}: {os.strerror(exc.errno).lower()}; free some space there "
                 "and run the command again")
+    if (denied := access_denied(exc)) is not None:  # what cli.guard says of it: whose permissions
+        return denied.rstrip(".")
     if isinstance(exc, OSError) and exc.filename and exc.errno:  # read or write: the file and why
         return f"{exc.filename}: {os.strerror(exc.errno).lower()}"
     text = str(exc).strip().splitlines()[0].rstrip(".") if str(exc).strip() else type(exc).__name__

@@ -27,6 +27,7 @@ Paper §8.1 (planners, hardware weighting, grip sizing from believed quality, ka
 from __future__ import annotations
 
 import logging
+import os
 from collections.abc import Mapping
 from dataclasses import replace
 from pathlib import Path
@@ -223,7 +224,7 @@ def check_picture_path(path, option: str = "picture path") -> Path:
     if (control := control_character(path, option)) is not None:
         raise PicturePathError(control)
     path = Path(path)
-    if path.is_dir():
+    if os.path.isdir(path):  # Path.is_dir raises below a directory this user may not search
         raise PicturePathError(f"{option} {path} is a directory: give a file path ending in .png, "
                                f"such as {path / 'plan.png'}.")
     if path.suffix.lower() != ".png":
@@ -232,7 +233,7 @@ def check_picture_path(path, option: str = "picture path") -> Path:
     why = path_problem(path, write=True, directory=False)  # first: a parent in a loop of links
     if why is not None:
         raise PicturePathError(f"{option} {path}: {why}.")
-    if not path.parent.exists():
+    if not os.path.exists(path.parent):
         raise PicturePathError(f"{option} {path}: directory {path.parent} does not exist.")
     return path
 
