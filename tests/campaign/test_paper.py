@@ -81,3 +81,46 @@ def test_nested_and_optional_fields():
 
 def study_paper_block(study: str) -> dict:
     return yaml.safe_load((project_dirs()[1] / f"{study}.yaml").read_text())["paper"]
+
+
+def test_typed_text_never_reads_a_study_file_that_is_no_regular_file(tmp_path, monkeypatch):
+    """``typed_text`` reads the study file when a report is made (the classifier tables' accuracy
+    decimals); a campaigns/test2_grasp.yaml that is a named pipe made `report test2_grasp` wait for ever
+    on its read, as every other read of a named pipe did before it was named (decisions.md, *A named
+    pipe where the tool reads a file is named, never read*). No file there: the text is None, the number's
+    own decimals are used. A regular file gives its text as typed (0.806, not the number 0.806's repr)."""
+    import os
+    import signal
+
+    from graspcampaign.campaign.paper import typed_text
+
+    conf, campaigns = project_dirs()
+    home = tmp_path / "home"
+    shutil.copytree(conf, home / "conf")
+    shutil.copytree(campaigns, home / "campaigns")
+    path = home / "campaigns" / "test2_grasp.yaml"
+    text = path.read_text()
+    path.write_text(text.replace("classifier: {accuracy: 0.806,", "classifier: {accuracy: 0.8060,"))
+    monkeypatch.setenv("GRASPCAMPAIGN_HOME", str(home))
+    project_dirs.cache_clear()
+
+    class Waited(Exception):  # not an OSError (TimeoutError is one), which typed_text would take as no file
+        pass
+
+    def expired(signum, frame):
+        raise Waited("typed_text still reading after 10 s")
+
+    previous = signal.signal(signal.SIGALRM, expired)
+    signal.setitimer(signal.ITIMER_REAL, 10)
+    try:
+        assert typed_text("test2_grasp", "classifier.accuracy") == "0.8060"
+        path.unlink()
+        os.mkfifo(path)
+        assert typed_text("test2_grasp", "classifier.accuracy") is None
+        path.unlink()
+        path.mkdir()
+        assert typed_text("test2_grasp", "classifier.accuracy") is None
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+        project_dirs.cache_clear()
