@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 from functools import cache
 from typing import Any
 
-from graspcampaign.errors import ConfigError, UserInputError
+from graspcampaign.errors import ConfigError
 
 Range = tuple[float, float]
 
@@ -350,25 +350,3 @@ def study_paper(study: str) -> Any:
     like = data.get("compare_with") or study
     return check_paper(like, data.get("paper"), f"{path.name}: paper",
                        compare_with=like != study)
-
-
-def typed_text(study: str, key: str) -> str | None:
-    """Return the scalar ``campaigns/<study>.yaml`` types at ``paper.<key>`` (a dotted path), as typed:
-    ``0.90``, which YAML reads as the number 0.9, keeps the decimals the paper prints. None where the
-    file cannot be read or has no scalar there (the run's stored config keeps numbers, not their text);
-    a file that is no regular file (a named pipe, whose read waits for ever) is not read."""
-    import yaml
-
-    from graspcampaign.campaign.studyfile import project_dirs
-
-    try:
-        path = project_dirs()[1] / f"{study}.yaml"
-        if not path.is_file():  # nothing there, a directory, a named pipe: no text
-            return None
-        node = yaml.compose(path.read_text(encoding="utf-8"), Loader=yaml.SafeLoader)
-    except (OSError, UnicodeDecodeError, yaml.YAMLError, UserInputError):
-        return None
-    for name in ("paper", *key.split(".")):
-        pairs = node.value if isinstance(node, yaml.MappingNode) else []
-        node = next((value for k, value in pairs if isinstance(k, yaml.ScalarNode) and k.value == name), None)
-    return node.value if isinstance(node, yaml.ScalarNode) else None

@@ -9,7 +9,6 @@ import numpy as np
 import pandas as pd
 
 from graspcampaign.analysis import hardware as hw
-from graspcampaign.campaign.paper import typed_text
 from graspcampaign.report import format as fmt
 from graspcampaign.report.document import Col, Table
 from graspcampaign.report.render import Run
@@ -20,18 +19,15 @@ RESIDUAL = "predicted_stable_residual"
 """The flag §8.4 scores: §8.1, "the pre-execution flag itself is the planner's residual criterion"."""
 
 
-def scores(p, key: str) -> tuple:
-    """The paper's classifier ``p.<key>`` as :func:`classifier` takes it: (accuracy, precision, recall, no
-    note, the key of its accuracy in the study file's ``paper:`` block)."""
-    c = getattr(p, key)
-    return c.accuracy, c.precision, c.recall, "", f"{key}.accuracy"
+def scores(c) -> tuple:
+    """A printed classifier's (accuracy, precision, recall), as :func:`classifier` takes them."""
+    return c.accuracy, c.precision, c.recall
 
 
 def classifier(name: str, caption: str, scopes, paper) -> Table:
     """The flags against the rig's success per belief reading and scope, beside the paper's scores
-    (``paper(p)``: (scope, flag) -> (accuracy, precision, recall[, note[, key]]), None where not printed;
-    a note, why the paper's value is in doubt, ends the verdict; ``key``, where the study file types the
-    accuracy: it prints with the decimals typed there). A paper value names the one flag it was computed
+    (``paper(p)``: (scope, flag) -> (accuracy, precision, recall[, note]), None where not printed; a note,
+    why the paper's value is in doubt, ends the verdict). A paper value names the one flag it was computed
     for and stands beside it alone: the other flag's rows show ours ("no paper value")."""
     def compute(run: Run) -> pd.DataFrame:
         d, ref = frames(run), paper_of(run, paper) or {}
@@ -44,12 +40,8 @@ def classifier(name: str, caption: str, scopes, paper) -> Table:
         out["why"] = np.where(out["flagged"] > 0, "", "no trial flagged")
         # the paper's accuracy with the decimals it prints (§8.4 "80.6 %" = 0.806 and "0.93"; §9.5 0.888):
         # two decimals printed 0.806 as 0.81
-        study = run.config.get("compare_with") or run.study  # the study file its paper values are typed in
-        typed = {key: typed_text(study, key) for key in {r[4] for r in refs if len(r) > 4}}
-        texts = [typed[r[4]] if len(r) > 4 else None for r in refs]
-        out["paper_accuracy_digits"] = pd.array([None if fmt.is_missing(v) else typed_decimals(v, t)
-                                                 for v, t in zip(out["paper_accuracy"], texts, strict=True)],
-                                                dtype="Int64")
+        out["paper_accuracy_digits"] = pd.array([None if fmt.is_missing(v) else typed_decimals(v)
+                                                 for v in out["paper_accuracy"]], dtype="Int64")
         out = verdicts(out, "precision", "paper_precision", "precision_low", "precision_high", digits=2)
         out["verdict"] = [f"{v}; {w}" if w else v
                           for v, w in zip(out["verdict"], out["paper_why"], strict=True)]
@@ -77,14 +69,9 @@ def group_c(g) -> dict:
             ("outside C, all planners", flag): (None, q.precision_elsewhere, None)}
 
 
-def typed_decimals(value: float, typed: str | None = None) -> int:
-    """The decimals of a paper value as its study file types it, ``typed`` (``0.90``: 2, where the number
-    YAML reads, 0.9, has one), if that is this value; else as the number reads (0.806: 3, 0.93: 2, 1.0: 1)."""
-    try:
-        text = typed if typed is not None and float(typed) == float(value) else repr(float(value))
-    except ValueError:  # not a number: the value's own
-        text = repr(float(value))
-    return max(0, -Decimal(text).as_tuple().exponent)
+def typed_decimals(value: float) -> int:
+    """The decimals of a paper value as its study file types it (0.806: 3, 0.93: 2, 1.0: 1)."""
+    return max(0, -Decimal(repr(float(value))).as_tuple().exponent)
 
 
 def confusion(paper, flag: str):

@@ -435,8 +435,8 @@ SPEC = ReportSpec("test2_grasp", [
                    "group C, proposed": d.eval(f"{ME} and group == 'C'"),
                    "outside C, proposed": d.eval(f"{ME} and group != 'C'"),
                    "group C, all planners": d["group"] == "C", "outside C, all planners": d["group"] != "C"},
-               lambda p: {("all", RESIDUAL): scores(p, "classifier"),
-                          (PROPOSED, RESIDUAL): scores(p, "classifier_proposed"),
+               lambda p: {("all", RESIDUAL): scores(p.classifier),
+                          (PROPOSED, RESIDUAL): scores(p.classifier_proposed),
                           ("baselines", RESIDUAL): (None, p.classifier_baselines_precision, None),
                           **group_c(p.classifier_group_c)}),
     matched_mcnemar("test2_mcnemar", "Matched ablation (§8.5): McNemar, proposed against each baseline on "

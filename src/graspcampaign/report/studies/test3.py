@@ -338,7 +338,7 @@ SPEC = ReportSpec("test3_disturbance", [
                "friction-blind, it carries no information about a friction hold. §9.5's scores stand beside "
                "`predicted_stable` alone, the flag they are of",
                t2.per_planner,
-               lambda p: {("all", "predicted_stable"): flags.scores(p, "retention_classifier")}),
+               lambda p: {("all", "predicted_stable"): flags.scores(p.retention_classifier)}),
     Table("test3_logistic", "Logistic regression of failure over the fixed-load blocks B, D, E (§9.5): "
           "applied load [N], mass [kg], believed μ_s, proposed-planner indicator (Wald 95%)",
           lambda run: ds.failure_logistic(t2.ex(run))),
