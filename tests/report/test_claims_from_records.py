@@ -10,6 +10,7 @@ import math
 import numpy as np
 import pandas as pd
 from scipy.stats import binomtest
+from test_test23_opening import TABLE4_MU
 
 from graspcampaign.campaign.paper import study_paper
 from graspcampaign.campaign.records import RunStore
@@ -178,11 +179,10 @@ def test_the_test3_opening_gives_no_cause_of_the_drops_where_none_held_a_low_saf
 def test_the_test3_opening_counts_the_drops_below_the_arrest_bound_of_those_with_an_sf_reading(sim_root):
     # "k of N below the safety factor μ_s/μ_k …" took N as every drop, a drop without a recorded
     # `sf_actual` among them (counted neither below nor above): N is now the drops with the reading and
-    # the rest are said apart. Table 4's μ_s/μ_k typed from the paper (test_test23_opening.TABLE4_MU).
+    # the rest are said apart. Table 4's μ_s/μ_k from test_test23_opening.TABLE4_MU.
     from graspcampaign.report.studies.test3 import drops
 
-    mu = {"gel": (0.772, 0.544), "silicone_soft": (0.619, 0.440), "bio_foam": (0.684, 0.506),
-          "silicone_ref": (0.509, 0.364)}
+    mu = TABLE4_MU  # Table 4's (μ_s, μ_k), typed from the paper once
     records = RunStore(sim_root / "test3_disturbance" / "default").read().to_pandas()
     ours = records.query("planner == 'heuristic' and status == 'ok' and not aborted")
     dropped = ours[ours["outcome"] == "failure_drop"].sort_values("trial_id")
@@ -214,8 +214,7 @@ def test_the_test3_opening_counts_the_drops_below_the_arrest_bound_of_those_of_a
     # each drop left out is said once, for the first it lacks. Table 4 typed from the paper as above.
     from graspcampaign.report.studies.test3 import drops
 
-    mu = {"gel": (0.772, 0.544), "silicone_soft": (0.619, 0.440), "bio_foam": (0.684, 0.506),
-          "silicone_ref": (0.509, 0.364)}
+    mu = TABLE4_MU  # Table 4's (μ_s, μ_k), typed from the paper once
     records = RunStore(sim_root / "test3_disturbance" / "default").read().to_pandas()
     ours = records.query("planner == 'heuristic' and status == 'ok' and not aborted")
     dropped = ours[ours["outcome"] == "failure_drop"].sort_values("trial_id")
