@@ -124,10 +124,10 @@ def grid_finding(run: Run, more: str = "") -> str:
     sentences before the decision."""
     m, rates = run.tables["mechanism"], qs.algorithm_2(run.tables["success_by_planner"])
     t, paper = m.sum(numeric_only=True).astype(int), rates.set_index("planner")["paper_pct"]
-    read = m["n"] - m.get("rho_passable_unread", 0)  # a count's n: the triples with its reading
+    read = m["n"] - m["rho_passable_unread"]  # a count's n: the triples with its reading
     judged = m[read.gt(0) & m["planner"].isin(paper.dropna().index)]
     capped = int((100 * judged["rho_passable"] / read[judged.index] < judged["planner"].map(paper)).sum())
-    released_n = t.n - t.get("released_unread", 0)
+    released_n = t.n - t.released_unread
     released = f"released in {t.released} of {released_n} triples" + (
         " with an `n_released` reading" if released_n < t.n else "") + (
         f", {100 * t.released / released_n:.1f}%" if released_n else "")
