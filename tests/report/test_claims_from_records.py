@@ -10,7 +10,7 @@ import math
 import numpy as np
 import pandas as pd
 from scipy.stats import binomtest
-from test_test23_opening import TABLE4_MU
+from test_test23_opening import below_arrest
 
 from graspcampaign.campaign.paper import study_paper
 from graspcampaign.campaign.records import RunStore
@@ -176,16 +176,20 @@ def test_the_test3_opening_gives_no_cause_of_the_drops_where_none_held_a_low_saf
                          f"{n} drops held one below it. ")
 
 
+def _proposed_drops(root) -> pd.DataFrame:
+    """The proposed planner's executed, unaborted drops of the reduced Test 3 run, by trial_id."""
+    records = RunStore(root / "test3_disturbance" / "default").read().to_pandas()
+    ours = records.query("planner == 'heuristic' and status == 'ok' and not aborted")
+    return ours[ours["outcome"] == "failure_drop"].sort_values("trial_id")
+
+
 def test_the_test3_opening_counts_the_drops_below_the_arrest_bound_of_those_with_an_sf_reading(sim_root):
     # "k of N below the safety factor μ_s/μ_k …" took N as every drop, a drop without a recorded
     # `sf_actual` among them (counted neither below nor above): N is now the drops with the reading and
-    # the rest are said apart. Table 4's μ_s/μ_k from test_test23_opening.TABLE4_MU.
+    # the rest are said apart. Table 4's μ_s/μ_k from test_test23_opening (below_arrest).
     from graspcampaign.report.studies.test3 import drops
 
-    mu = TABLE4_MU  # Table 4's (μ_s, μ_k), typed from the paper once
-    records = RunStore(sim_root / "test3_disturbance" / "default").read().to_pandas()
-    ours = records.query("planner == 'heuristic' and status == 'ok' and not aborted")
-    dropped = ours[ours["outcome"] == "failure_drop"].sort_values("trial_id")
+    dropped = _proposed_drops(sim_root)
     blank = set(dropped["trial_id"].iloc[:2])  # two drops lose their SF reading
 
     def unread(sf=None):
@@ -195,7 +199,7 @@ def test_the_test3_opening_counts_the_drops_below_the_arrest_bound_of_those_with
         return change
 
     kept = dropped[~dropped["trial_id"].isin(blank)]
-    below = sum(s < mu[m][0] / mu[m][1] for m, s in zip(kept["material"], kept["sf_actual"], strict=True))
+    below = below_arrest(kept)
     assert len(dropped) > 2 and below > 0
     assert drops(_rendered(sim_root, "test3_disturbance", unread())).endswith(
         f"%): {below} of {len(kept)} with an `sf_actual` reading below the safety factor μ_s/μ_k = 1.35–1.42 "
@@ -214,10 +218,7 @@ def test_the_test3_opening_counts_the_drops_below_the_arrest_bound_of_those_of_a
     # each drop left out is said once, for the first it lacks. Table 4 typed from the paper as above.
     from graspcampaign.report.studies.test3 import drops
 
-    mu = TABLE4_MU  # Table 4's (μ_s, μ_k), typed from the paper once
-    records = RunStore(sim_root / "test3_disturbance" / "default").read().to_pandas()
-    ours = records.query("planner == 'heuristic' and status == 'ok' and not aborted")
-    dropped = ours[ours["outcome"] == "failure_drop"].sort_values("trial_id")
+    dropped = _proposed_drops(sim_root)
     ids = list(dropped["trial_id"])
 
     def text(other, blank=(), sf=None) -> str:
@@ -228,17 +229,16 @@ def test_the_test3_opening_counts_the_drops_below_the_arrest_bound_of_those_of_a
                             sf_actual=sf_actual.mask(r["trial_id"].isin(blank)))
         return drops(_rendered(sim_root, "test3_disturbance", change))
 
-    def below(kept: pd.DataFrame) -> int:
-        return sum(s < mu[m][0] / mu[m][1] for m, s in zip(kept["material"], kept["sf_actual"], strict=True))
-
     kept = dropped[~dropped["trial_id"].isin(ids[:3])]
-    assert len(dropped) > 3 and below(kept) > 0
+    below = below_arrest(kept)
+    assert len(dropped) > 3 and below > 0
     assert text(ids[:2], ids[2:3]).endswith(
-        f"%): {below(kept)} of {len(kept)} with an `sf_actual` reading and a Table 4 material below the "
+        f"%): {below} of {len(kept)} with an `sf_actual` reading and a Table 4 material below the "
         "safety factor μ_s/μ_k = 1.35–1.42 that arrests a slip (1 more without an `sf_actual` reading, "
         "2 more of a material not in Table 4). ")
     kept = dropped[~dropped["trial_id"].isin(ids[:2])]  # every drop has its SF
-    assert text(ids[:2]).endswith(f"%): {below(kept)} of {len(kept)} with a Table 4 material below the "
+    below = below_arrest(kept)
+    assert text(ids[:2]).endswith(f"%): {below} of {len(kept)} with a Table 4 material below the "
                                   "safety factor μ_s/μ_k = 1.35–1.42 that arrests a slip (2 more of a "
                                   "material not in Table 4). ")
     assert text(ids[:2], ids[2:3], sf=2.0).endswith(  # none held one below

@@ -7,17 +7,11 @@ from __future__ import annotations
 
 import pandas as pd
 import pytest
-import yaml
 from statsmodels.stats.proportion import proportion_confint
 from synthetic_runs import md_table, read_table, report_md
-
-from graspcampaign.campaign.compose import project_dirs
+from test_hardware_report import _paper
 
 STUDIES = ["test2_grasp", "test3_disturbance"]
-
-
-def _paper(study: str) -> dict:
-    return yaml.safe_load((project_dirs()[1] / f"{study}.yaml").read_text())["paper"]
 
 
 def test_section_9_5s_scores_stand_beside_the_retention_flag_only(sim_root):

@@ -6,6 +6,7 @@ clause on small frames whose sentences are written out by hand."""
 
 from __future__ import annotations
 
+import pandas as pd
 import pytest
 from statsmodels.stats.proportion import proportion_confint
 from synthetic_runs import report_md
@@ -58,6 +59,12 @@ TABLE4_MU = {"gel": (0.772, 0.544), "silicone_soft": (0.619, 0.440), "bio_foam":
              "silicone_ref": (0.509, 0.364)}
 
 
+def below_arrest(dropped: pd.DataFrame) -> int:
+    """How many of ``dropped`` hold a recorded SF (``sf_actual``) below their material's μ_s/μ_k."""
+    return sum(sf < TABLE4_MU[m][0] / TABLE4_MU[m][1] for m, sf in zip(dropped["material"],
+                                                                       dropped["sf_actual"], strict=True))
+
+
 def test_test3_opening_defines_sf_and_derives_the_arrest_bound_from_its_materials(sim_root):
     """It said "with μ_k/μ_s ≈ 0.7 a slip is not arrested once SF < ~1.4": SF undefined, 1.4 a
     literal. A slip that started is arrested only while the kinetic budget, μ_k/μ_s of the static
@@ -70,8 +77,7 @@ def test_test3_opening_defines_sf_and_derives_the_arrest_bound_from_its_material
     low, high = f"{min(ratios):.2f}", f"{max(ratios):.2f}"
     bound = low if low == high else f"{low}–{high}"
     dropped = ex[ex["outcome"] == "failure_drop"]
-    below = sum(sf < TABLE4_MU[m][0] / TABLE4_MU[m][1] for m, sf in zip(dropped["material"],
-                                                                        dropped["sf_actual"], strict=True))
+    below = below_arrest(dropped)
     assert below > 0  # the reference run's drops: the cause holds there
     assert (f"%): {below} of {len(dropped)} below the safety factor μ_s/μ_k = {bound} "
             "that arrests a slip. ") in _finding(sim_root, "test3_disturbance")
