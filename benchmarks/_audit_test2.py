@@ -379,20 +379,24 @@ def audit_t2_claims(study, ref, e, prop, acc, mc, tests) -> None:
                                  f"(paper {said})", "value": v, "low": 100 * low, "high": 100 * high,
                      "n": len(part), "paper": gc[key], "digits": 0, "difference": v - gc[key],
                      "differs": judge(v, gc[key], 0, 100 * low, 100 * high)})
-    # §8.4's counts of the residual flag: "only 24 of 1008 measured successes were labelled unstable",
-    # "just 50 of its 677 certified grasps (7.4 %) subsequently failed" (the proposed planner's)
+    # §8.4's counts of the residual flag as shares (Wilson 95%), the paper's from its two printed counts:
+    # "only 24 of 1008 measured successes were labelled unstable", "just 50 of its 677 certified grasps
+    # (7.4 %) subsequently failed" (the proposed planner's); §8.1: 1755 executed, 819 of the proposed
     y, f = e["success"].astype(bool), e["predicted_stable_residual"].astype(bool)
     yp, fp = prop["success"].astype(bool), prop["predicted_stable_residual"].astype(bool)
-    for q, k, n, key in (
-            ("successes, all planners", y.sum(), len(y), "measured_successes"),
+    for q, k, n, key, of in (
+            ("successes, all planners", y.sum(), len(y), "measured_successes", ref["executed"]),
             ("successes labelled unstable by `predicted_stable_residual`", (y & ~f).sum(), y.sum(),
-             "successes_labelled_unstable"),
-            ("proposed planner's grasps certified by `predicted_stable_residual`", fp.sum(), len(yp),
-             "proposed_certified"),
+             "successes_labelled_unstable", ref["measured_successes"]),
+            ("proposed planner's trials certified by `predicted_stable_residual`", fp.sum(), len(yp),
+             "proposed_certified", ref["table7"]["heuristic"]["n"]),
             ("proposed planner's certified grasps that failed", (fp & ~yp).sum(), fp.sum(),
-             "proposed_certified_failed")):
-        rows.append({"quantity": q, "value": int(k), "n": int(n), "paper": ref[key], "digits": 0,
-                     "difference": int(k) - ref[key], "differs": judge(int(k), ref[key], 0)})
+             "proposed_certified_failed", ref["proposed_certified"])):
+        low, high = wilson(int(k), int(n))
+        v, pv = 100 * k / n, 100 * ref[key] / of
+        rows.append({"quantity": f"{q} (paper {ref[key]} of {of})", "value": v, "low": 100 * low,
+                     "high": 100 * high, "n": int(n), "paper": pv, "digits": 1, "difference": v - pv,
+                     "differs": judge(v, pv, 1, 100 * low, 100 * high)})
     m, pm = mc.loc["centroid"], ref["mcnemar_centroid"]
     for q, col, key, digits in (("McNemar χ² proposed vs centroid", "chi2_cc", "chi2", 1),
                                 ("pairs won by proposed (vs centroid)", "reference_only", "won", 0),

@@ -66,3 +66,26 @@ def test_the_papers_trial_counts_are_whole_numbers_in_the_csv(sim_root, study):
     expected = [str(rows[k]["n"]) if b == "paper" and k in rows else ""
                 for k, b in zip(text[key], text["belief_error"], strict=True)]
     assert text["n_paper"].tolist() == expected
+
+
+def test_section_9_5s_certified_counts_are_shares_beside_the_papers(sim_root):
+    """§9.5: "only 51 of the 680 grasps certified as retained subsequently failed" (§9.1: 1230 executed).
+    As counts, a reduced run's 26 certified "differed by −654" for being reduced; as shares with their
+    Wilson interval (statsmodels) they compare at any scale."""
+    from graspcampaign.campaign.records import RunStore
+
+    run = sim_root / "test3_disturbance" / "default"
+    rec = RunStore(run).read().to_pandas()
+    e = rec[(rec["status"] == "ok") & ~rec["aborted"].astype(bool)]
+    flagged = e["predicted_stable"].astype(bool)
+    claims = read_table(run, "test3_claims").set_index("quantity")
+    for quantity, k, n, ours, of in (
+            ("trials certified as retained by `predicted_stable` (paper 680 of 1230)", 680, 1230,
+             flagged.sum(), len(e)),
+            ("certified grasps that failed (paper 51 of 680)", 51, 680,
+             (flagged & ~e["success"].astype(bool)).sum(), flagged.sum())):
+        r = claims.loc[quantity]
+        low, high = proportion_confint(ours, of, method="wilson")
+        assert (r["unit"], r["n"]) == ("%", of), quantity
+        assert [r["value"], r["low"], r["high"]] == pytest.approx([100 * ours / of, 100 * low, 100 * high])
+        assert float(r["paper"]) == pytest.approx(100 * k / n)

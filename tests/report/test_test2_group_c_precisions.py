@@ -76,20 +76,27 @@ def test_claims_give_the_certified_shares_of_the_proposed_planners_trials_in_and
 
 def test_claims_give_section_8_4s_counts_of_the_residual_flag_beside_ours(run, trials):
     """§8.4: "only 24 of 1008 measured successes were labelled unstable"; "just 50 of its 677 certified
-    grasps (7.4 %) subsequently failed" (the proposed planner's). The study file carried the four
-    numbers and nothing read them; each is now a row beside our count, counted here from the records."""
+    grasps (7.4 %) subsequently failed" (the proposed planner's); §8.1: 1755 executed trials, 819 of the
+    proposed planner. The study file carried the counts and nothing read them; each is now a share beside
+    ours with its Wilson interval (statsmodels), so a reduced run compares too (a count of 65 beside 1008
+    "differed by −943" for being reduced)."""
     claims = read_table(run, "test2_claims").set_index("quantity")
     ok, flagged = trials["success"].astype(bool), trials[RESIDUAL].astype(bool)
     mine = trials["planner"] == "heuristic"
-    for quantity, paper, ours, n in (
-            ("successes, all planners", 1008, ok.sum(), len(trials)),
-            (f"successes labelled unstable by `{RESIDUAL}`", 24, (ok & ~flagged).sum(), ok.sum()),
-            (f"proposed planner's grasps certified by `{RESIDUAL}`", 677, (mine & flagged).sum(), mine.sum()),
-            ("proposed planner's certified grasps that failed", 50, (mine & flagged & ~ok).sum(),
+    for quantity, k, n, ours, of in (
+            ("successes, all planners", 1008, 1755, ok.sum(), len(trials)),
+            (f"successes labelled unstable by `{RESIDUAL}`", 24, 1008, (ok & ~flagged).sum(), ok.sum()),
+            (f"proposed planner's trials certified by `{RESIDUAL}`", 677, 819, (mine & flagged).sum(),
+             mine.sum()),
+            ("proposed planner's certified grasps that failed", 50, 677, (mine & flagged & ~ok).sum(),
              (mine & flagged).sum())):
-        r = claims.loc[quantity]
-        assert (r["section"], float(r["paper"]), r["value"], r["n"]) == ("§8.4", paper, ours, n), quantity
-        assert r["difference"] == ours - paper
+        r = claims.loc[f"{quantity} (paper {k} of {n})"]
+        low, high = proportion_confint(ours, of, method="wilson")
+        assert (r["section"], r["unit"], r["n"]) == ("§8.4", "%", of), quantity
+        assert [r["value"], r["low"], r["high"]] == pytest.approx([100 * ours / of, 100 * low, 100 * high])
+        assert float(r["paper"]) == pytest.approx(100 * k / n) and r["difference"] == pytest.approx(
+            100 * ours / of - 100 * k / n)
+    assert round(float(claims.filter(like="certified grasps that failed", axis=0)["paper"].iloc[0]), 1) == 7.4
 
 
 #: §8.4's other scores, typed from its text: "accuracy of 80.6 % over the full set of 1755 trials
