@@ -38,7 +38,7 @@ def test_the_natural_surface_of_block_a_stands_beside_the_papers_table_8_rate(si
     assert md["paper %"] == "87.1"
     low, high = (100 * v for v in proportion_confint(round(row["n"] * row["success_pct"] / 100), row["n"],
                                                      method="wilson"))
-    assert row["differs"] == (not low <= 87.1 <= high)
+    assert row["differs"] == (not low - 0.1 < 87.1 < high + 0.1)  # one unit of the paper's last digit
     assert "paper" in row["verdict"] and "no paper value" not in row["verdict"]
 
 
