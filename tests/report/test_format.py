@@ -212,7 +212,35 @@ def test_a_column_spanning_decades_rounds_each_value_alone(name):
     import pandas as pd
 
     _, rows = _shown(pd.DataFrame({name: [2.07, 1272.5, 0.3, 2.8e-05, 0.0]}))
-    assert [r[0] for r in rows] == ["2.07", f"{1272.5:.0f}", "0.300", "0.0000280", "0"]
+    assert [r[0] for r in rows] == ["2.07", f"{1272.5:.0f}", "0.300", "2.80e-5", "0"]
+
+
+@pytest.mark.parametrize("value, sig, expected", [
+    (7.02e-5, None, "7.02e-5"),    # friction_mass's finger force printed 0.0000702 N
+    (-6.06e-4, None, f"{fmt.MINUS}6.06e-4"),
+    (1.2e-7, 2, "1.2e-7"),
+    (0.00164, None, "0.00164"),    # from a thousandth up: written out, as a p-value is
+    (0.001, 2, "0.0010"),
+])
+def test_a_value_below_a_thousandth_rounded_alone_prints_in_scientific_form(value, sig, expected):
+    """Rounded to its own significant digits (a column's ``EACH``, or ``sig``), a value below 0.001 prints
+    as p-values do: its written-out leading zeros read as measured digits. The check is Python's own
+    ``e`` format, not the formatter's code."""
+    text = fmt.number(value, fmt.EACH, sig=sig)
+    assert text == expected
+    if "e" in text:
+        assert text.replace(fmt.MINUS, "-") == f"{value:.{(sig or 3) - 1}e}".replace("e-0", "e-")
+    assert fmt.number(7.02e-5, 7) == "0.0000702"  # a column's fixed decimals stay written out
+
+
+@pytest.mark.parametrize("seconds, sig, expected", [
+    (0.99, 2, "990 ms"), (0.0016395, 3, "1.64 ms"), (0.000185, 3, "185 \u00b5s"), (6e-5, 1, "60 \u00b5s"),
+    (0.0009996, 3, "1.00 ms"),     # the prefix of the value as rounded, not "1000 µs" or "1.000 ms"
+    (2.5, 3, "2.50 s"), (0.0, 3, "0.00 s"),
+])
+def test_scaled_writes_the_si_prefix_that_fits_the_magnitude(seconds, sig, expected):
+    """The surrogate's timing printed the paper's 0.99 s as 990000 µs (six digits, two printed)."""
+    assert fmt.scaled(seconds, "s", sig) == expected
 
 
 @pytest.mark.parametrize("p", [2.947e-62, 9.005e-16, 6.642e-64, 0.00099, 2.4e-4])
@@ -400,7 +428,7 @@ def test_provenance_marks_a_missing_entry_as_missing():
     ([0.709, 12.3], "", "0.71–12.30"),       # both ends at one rounding (was "0.709–12.3")
     ([10.0, 40.0, 25.0], "%", "10–40%"),
     ([-1.5, 2.0], "", f"{fmt.MINUS}1.50 to 2.00"),
-    ([0.00012, 5.0], "", "0.000120–5"),      # > 2 decades apart: each end alone, as its table cell
+    ([0.00012, 5.0], "", "1.20e-4–5"),       # > 2 decades apart: each end alone, as its table cell
     ([4.9996, 5.0004], "", "5.00"),          # ends that print alike are one value
     ([math.nan, 2.0, 3.0], "", "2–3"),
     ([math.nan], " mm", fmt.MISSING),

@@ -121,12 +121,14 @@ def cell(row: Mapping[str, Any], col: Col) -> str:
         return str(why) if isinstance(why, str) and why else fmt.MISSING
     if col.key in VOCABULARIES:  # a level prints in the vocabulary's words, as a grouping column's does
         return label(col.key, value)
-    digits = fmt.decimals([value], col.sig or 3) if col.digits == fmt.EACH else \
+    # fmt.EACH: each value at col.sig significant digits, by the one formatter (fmt.number)
+    digits = col.digits if col.digits == fmt.EACH else \
         row.get(col.digits) if isinstance(col.digits, str) else col.digits
     if fmt.is_p_value(col.key) or (digits == fmt.P and not col.signed):
         return fmt.p_value(value)
     # a p row's difference (signed) at the 3 decimals its verdict compares at
-    digits = None if fmt.is_missing(digits) else 3 if digits == fmt.P else int(digits)
+    digits = None if fmt.is_missing(digits) else 3 if digits == fmt.P else \
+        digits if digits == fmt.EACH else int(digits)
     if col.low and col.low == col.key:
         return fmt.interval(value, row.get(col.high), digits, sig=col.sig)
     if col.low:

@@ -41,11 +41,15 @@ def number(value: Any, digits: int | None = None, *, sig: int | None = None,
         return MISSING
     if isinstance(value, bool):
         return "yes" if value else "no"
-    digits = decimals([value]) if digits == EACH else digits
+    alone = digits == EACH or sig is not None  # rounded to significant digits, not a column's decimals
+    digits = decimals([value], sig or 3) if digits == EACH else digits
     if isinstance(value, numbers.Integral) and digits is None and sig is None:
         text = str(int(value))
     elif math.isinf(float(value)):
         text = "inf" if value > 0 else "-inf"
+    elif alone and 0 < abs(float(value)) < SMALL:  # 7.02e-5, not 0.0000702: the digits it carries
+        sign = MINUS if value < 0 else "+" if signed else ""  # the exponent's sign stays "-", as a p-value's
+        return sign + _scientific(abs(float(value)), sig or 3) + unit
     else:
         exact, strip = Decimal(float(value)), digits is None and sig is None
         if digits is None:  # significant digits; negative "decimals" round left of the point
@@ -58,6 +62,32 @@ def number(value: Any, digits: int | None = None, *, sig: int | None = None,
     return text.replace("-", MINUS) + unit
 
 
+SMALL = 1e-3
+"""Below this magnitude a value rounded to significant digits prints in scientific form (``7.02e-5``,
+as a p-value does): written out, its leading zeros (``0.0000702``) read as digits it does not carry."""
+
+
+def _scientific(value: float, sig: int) -> str:
+    """``value`` to ``sig`` significant digits in scientific form, the exponent unpadded: ``7.02e-5``."""
+    return f"{value:.{sig - 1}e}".replace("e-0", "e-").replace("e+0", "e")
+
+
+SCALES = ((1.0, ""), (1e-3, "m"), (1e-6, "\u00b5"), (1e-9, "n"))
+"""The SI prefixes :func:`scaled` writes: none, milli, micro, nano."""
+
+
+def scaled(value: Any, unit: str, sig: int = 3) -> str:
+    """Return ``value`` (in ``unit``, SI) to ``sig`` significant digits with the SI prefix that puts
+    it between 1 and 1000: ``0.00164`` s is ``1.64 ms``, ``0.000185`` s ``185 µs`` (in µs alone a PSO
+    call's 0.99 s printed as ``990000``, digits no one measured). Zero, a missing value and values
+    of 1000 ``unit`` or more print without a prefix."""
+    if is_missing(value) or isinstance(value, str) or not float(value) or not math.isfinite(float(value)):
+        return number(value, sig=sig, unit=f" {unit}")
+    rounded = float(f"{float(value):.{sig - 1}e}")  # the prefix of the value as printed: 0.0009996 s, 1.00 ms
+    factor, prefix = next(((f, x) for f, x in SCALES if abs(rounded) >= f), SCALES[-1])
+    return f"{number(rounded / factor, sig=sig)} {prefix}{unit}"
+
+
 def p_value(p: Any) -> str:
     """Return a p-value by the one rule: two significant digits, written out from 0.001 up
     (``0.047``, ``0.50``, ``1.0``) and in scientific form below (``2.9e-16``); an underflow ``< 2e-308``."""
@@ -65,7 +95,7 @@ def p_value(p: Any) -> str:
         return number(p)
     if float(p) >= 1e-3:
         return number(p, sig=2)
-    return f"{float(p):.1e}".replace("e-0", "e-") if p > 0 else f"< {sys.float_info.min:.0e}"
+    return _scientific(float(p), 2) if p > 0 else f"< {sys.float_info.min:.0e}"
 
 
 def is_p_value(name: str) -> bool:
