@@ -212,6 +212,23 @@ def test_the_test3_opening_counts_the_drops_below_the_arrest_bound_of_those_with
         f"; none of its {len(dropped)} drops has an `sf_actual` reading. ")
 
 
+def test_the_test3_opening_says_one_drop_in_the_singular(sim_root):
+    # with one drop read it said "none of its 1 drops with an `sf_actual` reading held one below it"
+    from graspcampaign.report.studies.test3 import drops
+
+    dropped = _proposed_drops(sim_root)
+    blank = set(dropped["trial_id"].iloc[1:])  # every drop but the first loses its SF reading
+
+    def one_read(r: pd.DataFrame) -> pd.DataFrame:
+        sf_actual = r["sf_actual"].mask(r["outcome"] == "failure_drop", 2.0)  # above the arrest bound
+        return r.assign(sf_actual=sf_actual.mask(r["trial_id"].isin(blank)))
+
+    assert len(dropped) > 2
+    assert drops(_rendered(sim_root, "test3_disturbance", one_read)).endswith(
+        f"; its one drop with an `sf_actual` reading did not hold one below it ({len(dropped) - 1} more "
+        "without one). ")
+
+
 def test_the_test3_opening_counts_the_drops_below_the_arrest_bound_of_those_of_a_table4_material(sim_root):
     # a drop whose material is not in Table 4 has no μ_s/μ_k to compare its SF with (neither below nor
     # above) yet stayed in N, as a drop without `sf_actual` did before: N is now the drops with both, and

@@ -45,9 +45,17 @@ def drops(run: Run) -> str:
     if below:  # short: the opening's 900 characters (test_openings)
         return (f"{text}: {below} of {len(read)}{with_sf} below the safety factor μ_s/μ_k = {ratio} that "
                 f"arrests a slip{more}. ")
+    lacks = " and ".join(needs)
     return f"{text}. No slip is arrested below a safety factor of μ_s/μ_k = {ratio}" + (
-        f"; none of its {len(read)} drops{with_sf} held one below it{more}. " if len(read) else
-        f"; none of its {len(dropped)} drops has {' and '.join(needs)}. " if len(dropped) else ". ")
+        f"; {_none_of(len(read), with_sf, 'held one below it', 'did not hold one below it')}{more}. "
+        if len(read) else f"; {_none_of(len(dropped), '', f'has {lacks}', f'does not have {lacks}')}. "
+        if len(dropped) else ". ")
+
+
+def _none_of(n: int, which: str, held: str, not_held: str) -> str:
+    """``none of its 3 drops <which> <held>``, or of one drop ``its one drop <which> <not_held>``
+    (it once read "none of its 1 drops")."""
+    return f"none of its {n} drops{which} {held}" if n != 1 else f"its one drop{which} {not_held}"
 
 
 def table8(run: Run, d: pd.DataFrame, out: pd.DataFrame) -> pd.DataFrame:
