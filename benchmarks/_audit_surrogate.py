@@ -214,12 +214,11 @@ def audit_surrogate(config) -> None:
         ratio = pso / mlp["time_s"].iloc[0]
         said.append(f"is {float(f'{ratio:.3g}'):g}× faster than the brief PSO call")
         # each call's paper time inside its own brackets (Appendix A: 0.06 ms a prediction, 0.99 s a call)
-        said += [f"median of {int(mlp['n_timed'].iloc[0])}; paper {1e3 * ref['prediction_time_ms']:g} µs)",
-                 f"median of {len(ok)}; paper {1e6 * ref['pso_call_time_s']:g} µs)"]
+        said += [f"; paper {ref['prediction_time_ms']:g} ms)", f"; paper {ref['pso_call_time_s']:g} s)"]
     passed = int(ok["residual_ok"].astype("boolean").fillna(False).sum())
     said += [f"passes the ‖R‖ check in {passed or 'none'} of {len(ok)}",
              f"deeper than its radius r = {1e3 * float(cfg['model']['fingertip_radius_m']):g} mm in "
-             f"{int(deep.sum())} of {len(ok)}"]
+             f"{int(deep.sum())} ("]
     if won.any():
         said.append(f"{int((deep & won).sum())} of the {int(won.sum())} published-algorithm successes")
     opening(study, said)

@@ -38,7 +38,10 @@ def test_depths_beyond_the_fingertip_radius_are_counted_not_summarised(sim_root)
     ok = records[records["status"] == "ok"]
     deep, won = ok["delta_max_mm"] > 5.0, ok["success_unbounded"].astype(bool)
     md = report_md(run)
-    assert f"deeper than its radius r = 5 mm in {deep.sum()} of {len(ok)} scenarios (non-physical" in md
+    assert f"deeper than its radius r = 5 mm in {deep.sum()} (non-physical" in md  # the n said first
+    dataset = md_table(md, "surrogate_dataset").set_index("group")  # the opening's counts, in its table
+    assert dataset.loc["all", ["residual check passed", "contact deeper than r"]].tolist() == [
+        str(int(ok["residual_ok"].astype("boolean").fillna(False).sum())), str(int(deep.sum()))]
     if won.any():
         assert f"{(deep & won).sum()} of the {won.sum()} published-algorithm successes" in md
     else:  # it had said "0 of the 0 published-algorithm successes among them"
@@ -109,7 +112,7 @@ def test_a_fitted_run_shows_every_table_and_its_paper_values(fitted_run):
     assert "Wall time of one call, measured by the run" in md and "held-out positives" in md
     # times in µs, so the paper's 0.06 ms prediction shows (was "0.000" s); a ratio compared as one
     assert timing["time_us"].tolist() == pytest.approx((1e6 * timing["time_s"]).tolist())
-    assert "| 60 |" in md.split("surrogate_timing.csv")[1].split("\n\n")[1]
+    assert "| 0.06 ms |" in md.split("surrogate_timing.csv")[1].split("\n\n")[1]  # as App. A prints it
     times = timing.loc["mlp", "verdict"].split("the paper's 17000× (")[1].removesuffix(" times ours)")
     assert float(times) == pytest.approx(17000 / timing.loc["mlp", "speedup"], rel=5e-3) and "e" not in times
     # the table's ratio is the finding's and the verdict's (each value alone: it printed 32.48 beside 32.5×)
@@ -132,13 +135,15 @@ def test_the_finding_gives_each_auc_with_its_held_out_counts_as_the_table(fitted
     """The opening gave the AUCs without their held-out n (the table has it): now each AUC is said with
     its 95% interval, held-out trials and positives, parsed here from the sentence and from the table."""
     md = report_md(fitted_run)
-    said = re.search(r"; classifier AUC (.+?) \(paper ", md)
+    said = re.search(r"; classifier AUC (.+?) \(paper [^)]*\) (on .+?\)) \(table", md)
     assert said, "the finding names no classifier AUC"
     table = md_table(md, "surrogate_classification").query("label == 'Algorithm 1 as published'")
-    printed = [f"{r['model']} {r['AUC (95%)']} on {r['held out']} held out ({r['held-out positives']} "
-               f"positive, {int(r['held out']) - int(r['held-out positives'])} negative)"
-               for _, r in table.iterrows()]
-    assert said.group(1).replace("\u2212", "-") == " and ".join(printed)
+    held = {f"on {r['held out']} held out ({r['held-out positives']} positive, "
+            f"{int(r['held out']) - int(r['held-out positives'])} negative)" for _, r in table.iterrows()}
+    # the models share one held-out set: said once, after their AUCs
+    assert len(held) == 1 and said.group(2) == held.pop()
+    assert said.group(1).replace("\u2212", "-") == " and ".join(
+        f"{r['model']} {r['AUC (95%)']}" for _, r in table.iterrows())
     stored = RunStore(fitted_run).read("summary/surrogate_classification").to_pandas()
     assert table["held out"].astype(int).tolist() == \
         stored.query("label == 'success_unbounded'")["test_trials"].tolist()
@@ -327,7 +332,7 @@ def test_the_why_counts_the_scenarios_algorithm_2_passes_under_the_residual_chec
     residual_ok = np.arange(n) < passed
     said = {0: "none"}.get(int(residual_ok.sum()), str(int(residual_ok.sum())))
     shown = {"norm": "‖R‖", "vertical": "|R_z|"}[check]
-    assert (f"Why: in SI, Algorithm 2 as published passes the {shown} check in {said} of {n} scenarios "
+    assert (f"Why: in SI, Algorithm 2 as published passes the {shown} check in {said} of {n} "
             "and buries a fingertip") in _opening(residual_ok, check)
 
 
@@ -336,7 +341,7 @@ def test_a_scenario_without_a_residual_verdict_is_not_counted_as_passing():
     ``astype(bool)`` reads NaN as True. Read as every other outcome (``records.flag``): missing is
     not passed."""
     residual_ok = [1.0, float("nan"), 0.0, float("nan")]  # one passed, one failed, two unknown
-    assert "passes the ‖R‖ check in 1 of 4 scenarios" in _opening(residual_ok)
+    assert "passes the ‖R‖ check in 1 of 4 and buries" in _opening(residual_ok)
 
 
 def test_an_auc_without_an_interval_is_said_with_its_held_out_classes_and_why():
