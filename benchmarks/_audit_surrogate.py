@@ -1,9 +1,9 @@
 """The table audit of ``surrogate`` (Appendix A, Fig. A.1; part of ``_audit_small.py``): the class balance
 from the records; AUC, accuracy and its Wilson interval from the held-out scores the run stored
 (``summary/surrogate_scores``), the AUC's percentile-bootstrap interval redrawn with scipy; the stored
-fits against a refit with scikit-learn of the same models on the same stratified split (scores,
-regression R², importances); the timing ratios; and the report's opening paragraph. Nothing here
-imports graspcampaign."""
+fits against a refit with scikit-learn of the same models on each label's own stratified split (scores,
+importances) and, for the regression R², on Appendix A's one split, stratified on the paper's label; the
+timing ratios; and the report's opening paragraph. Nothing here imports graspcampaign."""
 
 from __future__ import annotations
 
@@ -21,6 +21,7 @@ PAPER_LABEL = "success_unbounded"  # Appendix A's label: Algorithm 1 line 6 as p
 NUMERIC = ["mass_kg", "mu", "lambda1", "lambda2", "msd_b"]  # Appendix A's sampled inputs
 SHAPE_LABEL = {"all": "all", "sphere": "sphere", "ellipsoid": "ellipsoid", "rounded_cube": "rounded cube",
                "pear": "pear", "handle": "concave handle"}
+MODEL_LABEL = {"mlp": "MLP 64-32", "random_forest": "random forest"}  # as the report names them
 MIN_CLASS = 10  # the caption: no interval (and no verdict) below 10 held-out trials of either class
 
 
@@ -63,7 +64,7 @@ def refit(ok: pd.DataFrame, seed: int, cfg: dict):
             n_estimators=p["n_trees"], random_state=seed, n_jobs=1)
         return {"mlp": make_pipeline(StandardScaler(), mlp),
                 "random_forest": make_pipeline(StandardScaler(), forest)}
-    scores, importance, r2, first = {}, None, {}, None
+    scores, importance, r2, splits = {}, None, {}, {}
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)
         for label in LABELS:
@@ -73,15 +74,17 @@ def refit(ok: pd.DataFrame, seed: int, cfg: dict):
                 continue
             train, test = train_test_split(rows, test_size=p["test_fraction"], stratify=y[rows],
                                            random_state=seed)
-            first = first or (train, test)
+            splits[label] = train, test
             for name, model in pair(False).items():
                 model.fit(x[train], y[train])
                 scores[label, name] = (y[test], model.predict_proba(x[test])[:, 1])
                 if name == "random_forest" and importance is None:
                     importance = pd.DataFrame({"label": label, "feature": names,
                                                "importance": model[-1].feature_importances_})
-        train, test = first or train_test_split(np.arange(len(ok)), test_size=p["test_fraction"],
-                                                random_state=seed)
+        # Appendix A: "An 80/20 train/test split is used with stratification on the binary label" -- one
+        # split, the paper's label's, holds the regressors out too (unstratified when it cannot be drawn)
+        train, test = splits.get(PAPER_LABEL) or train_test_split(
+            np.arange(len(ok)), test_size=p["test_fraction"], random_state=seed)
         floor = lambda c: np.log10(np.maximum(ok[c].to_numpy(float), 1e-3))  # noqa: E731
         for target, v in (("abs_residual_z_n", ok["abs_residual_z_n"].to_numpy(float)),
                           ("log10_residual_norm_n", floor("residual_norm_n")),
@@ -115,7 +118,10 @@ def audit_surrogate(config) -> None:
     dataset = pd.DataFrame(rows)
     compare(study, "surrogate_dataset", dataset, ["group_label"])
     # the classifiers from the stored held-out scores (the finalize stage's), then refitted
-    stored = aux(study, "summary", "surrogate_scores")
+    try:  # a run that fitted no classifier stored no held-out scores
+        stored = aux(study, "summary", "surrogate_scores")
+    except FileNotFoundError:
+        stored = pd.DataFrame(columns=["label", "model", "positive", "score"])
     fits, importance, r2 = refit(ok, seed, cfg)
     rows, bad, checked, acc_words = [], [], 0, {}
     for lab in LABELS:
@@ -132,7 +138,8 @@ def audit_surrogate(config) -> None:
             a_low, a_high = wilson(hits, len(y))
             p_auc = ref["auc"].get(model) if lab == PAPER_LABEL else None
             p_acc = tuple(ref["accuracy_pct"]) if lab == PAPER_LABEL else None
-            rows.append({**base, "model": model, "test_trials": len(y), "test_positives": int(y.sum()),
+            rows.append({**base, "model": model, "model_label": MODEL_LABEL[model], "test_trials": len(y),
+                         "test_positives": int(y.sum()),
                          "roc_auc": auc, "roc_auc_low": low, "roc_auc_high": high,
                          "accuracy_pct": 100 * hits / len(y), "accuracy_low_pct": 100 * a_low,
                          "accuracy_high_pct": 100 * a_high, "majority_class_accuracy_pct":
@@ -146,8 +153,8 @@ def audit_surrogate(config) -> None:
             if ry is None or not (np.array_equal(ry, y) and np.allclose(rs, score, rtol=1e-9, atol=1e-12)):
                 bad.append(f"{lab}/{model}: the refit's held-out scores differ from the stored ones")
         if not len(fitted):
-            rows.append(base)
-    compare(study, "surrogate_classification", pd.DataFrame(rows), ["label", "model"])
+            rows.append(base | {"model_label": "—"})  # the report's row of a label not fitted: no model
+    compare(study, "surrogate_classification", pd.DataFrame(rows), ["label", "model_label"])
     got = table(study, "surrogate_classification")
     for _, r in got[got["model"].notna()].iterrows():  # the accuracy verdict's words
         checked += 1
@@ -155,6 +162,7 @@ def audit_surrogate(config) -> None:
         if (d is True) != str(r["accuracy_verdict"]).startswith("differs"):
             bad.append(f"{r['label']}/{r['model']}: accuracy verdict {r['accuracy_verdict']!r}, differs {d}")
     stored_cls = aux(study, "summary", "surrogate_classification")
+    stored_cls = stored_cls.assign(model=stored_cls.get("model"))  # absent when no label was fitted
     for _, r in stored_cls[stored_cls["model"].notna()].iterrows():  # the stored table itself
         checked += 1
         y, s = fits.get((r["label"], r["model"]), (None, None))
@@ -203,12 +211,12 @@ def audit_surrogate(config) -> None:
             f"{ref['class_balance_pct']:.1f}%"]
     for (lab, model), (y, s) in fits.items():
         if lab == PAPER_LABEL:
-            name = {"mlp": "MLP 64-32", "random_forest": "random forest"}[model]
+            name = MODEL_LABEL[model]
             said.append(f"{name} {roc_auc_score(y, s):.2f}")
             said.append(f"on {len(y)} held out ({int(y.sum())} positive, {int((~y).sum())} negative")
     best = max(((v, t, m) for (t, m), v in r2.items() if not math.isnan(v)), default=None)
     if best:
-        said.append(f"The best regression R² is {best[0]:.2f}")
+        said.append(f"The best regression R² is {best[0]:.2f}".replace("-", "−"))  # the report's minus
     mlp = timing[timing["what"] == "mlp"]
     if len(mlp):
         ratio = pso / mlp["time_s"].iloc[0]

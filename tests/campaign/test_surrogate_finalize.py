@@ -162,3 +162,65 @@ def test_a_trial_without_a_label_is_no_training_example(surrogate_scenarios, sur
         "success_vertical"].reset_index(drop=True))
     whole = surrogate_finalize(full)["surrogate_classification"].set_index(["label", "model"])
     pd.testing.assert_frame_equal(out.loc["success"], whole.loc["success"])
+
+
+def _held_out(y: np.ndarray | None, n: int = 400, seed: int = 5) -> np.ndarray:
+    """scikit-learn's own held-out 20 % of ``n`` positions: stratified on ``y`` (StratifiedShuffleSplit,
+    which train_test_split(stratify=) draws from), or unstratified (ShuffleSplit) when ``y`` is None."""
+    from sklearn.model_selection import ShuffleSplit, StratifiedShuffleSplit
+
+    cv = (ShuffleSplit if y is None else StratifiedShuffleSplit)(n_splits=1, test_size=0.2,
+                                                                 random_state=seed)
+    return next(cv.split(np.zeros((n, 1)), y))[1]
+
+
+def _diverging_labels(surrogate_scenarios):
+    """Scenarios whose three labels differ: the configured check is rarer than Algorithm 1's label."""
+    df = surrogate_scenarios()
+    df["success"] = (df["mass_kg"] < 0.3) & (df["mu"] > 0.2)
+    return df
+
+
+def test_each_label_is_held_out_by_its_own_stratified_split(surrogate_scenarios, surrogate_finalize):
+    """Every classifier is scored on the split stratified on its own label (seed recorded): its held-out
+    classes, in order, are those of scikit-learn's StratifiedShuffleSplit on that label."""
+    df = _diverging_labels(surrogate_scenarios)
+    out = surrogate_finalize(df)
+    cls, scores = out["surrogate_classification"], out["surrogate_scores"]
+    assert (cls["split_label"] == cls["label"]).all() and (cls["split_seed"] == 5).all()
+    for label in LABELS:
+        y = df[label].to_numpy(bool)
+        for model in ("mlp", "random_forest"):
+            g = scores[(scores["label"] == label) & (scores["model"] == model)]
+            assert g["positive"].tolist() == y[_held_out(y)].tolist()
+
+
+def test_the_regressors_hold_out_appendix_as_split_on_the_papers_label(surrogate_scenarios,
+                                                                       surrogate_finalize):
+    """Appendix A: 'An 80/20 train/test split is used with stratification on the binary label' (one
+    split): the regressors are scored on the split of Algorithm 1 as published, not of whichever label
+    was fitted first (the configured check, whose split they used). The parity table's simulated
+    values are the held-out trials' log10 ||R|| = 3 m, in held-out order."""
+    df = _diverging_labels(surrogate_scenarios)
+    out = surrogate_finalize(df)
+    test = _held_out(df["success_unbounded"].to_numpy(bool))
+    assert not np.array_equal(test, _held_out(df["success"].to_numpy(bool)))  # the old split differs
+    held = out["surrogate_parity"]["simulated"].to_numpy()
+    assert held == pytest.approx(3 * df["mass_kg"].to_numpy()[test])
+    reg = out["surrogate_regression"]
+    assert (reg["split_label"] == "success_unbounded").all() and (reg["split_seed"] == 5).all()
+    assert (reg["test_trials"] == len(test)).all()
+
+
+def test_without_the_papers_label_the_regressors_split_is_unstratified(surrogate_scenarios,
+                                                                       surrogate_finalize):
+    """Algorithm 1's label with too few positives to stratify on: the regressors are held out by an
+    unstratified split of every trial (seed recorded), not by another label's."""
+    df = _diverging_labels(surrogate_scenarios)
+    df["success_unbounded"] = df.index < 5
+    out = surrogate_finalize(df)
+    test = _held_out(None, n=len(df))
+    held = out["surrogate_parity"]["simulated"].to_numpy()
+    assert held == pytest.approx(3 * df["mass_kg"].to_numpy()[test])
+    reg = out["surrogate_regression"]
+    assert (reg["split_label"] == "").all() and (reg["split_seed"] == 5).all()

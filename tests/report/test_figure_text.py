@@ -91,3 +91,25 @@ def test_fig20c_names_the_trials_behind_its_rates(sim_root):
     ours = table[table["planner"] != "reference"]
     assert entries == [f"{nodes} nodes, ‖R‖ check (Wilson 95%, n={g['trials'].iloc[0]} per budget)"
                        for nodes, g in ours.groupby("nodes")]
+
+
+def test_neighbouring_tick_labels_lie_half_an_em_apart(sim_root):
+    """Fig. 18a printed its planners "proposed" and "antipodal" 2.8 px apart (a quarter em at 8 pt), read
+    as one phrase: no overlap, yet crowded. In every figure of every study, two neighbouring horizontal
+    tick labels in view are at least half an em apart (matplotlib's drawn extents)."""
+    from test_style import half_an_em
+
+    crowded = []
+    for study in sorted(p.parent.name for p in sim_root.glob("*/default")):
+        for name, fig in _draw_all(sim_root, study).items():
+            renderer = fig.canvas.get_renderer()
+            for ax in fig.axes:
+                low, high = sorted(ax.get_xlim())
+                shown = sorted((t for t in ax.get_xticklabels() if t.get_text() and t.get_visible()
+                                and t.get_rotation() == 0 and low <= t.get_position()[0] <= high),
+                               key=lambda t: t.get_position()[0])
+                boxes = [t.get_window_extent(renderer) for t in shown]
+                crowded += [(study, name, ax.get_title("left"), a.get_text(), b.get_text())
+                            for a, b, ba, bb in zip(shown, shown[1:], boxes, boxes[1:], strict=False)
+                            if bb.x0 - ba.x1 < half_an_em(a)]
+    assert not crowded, crowded

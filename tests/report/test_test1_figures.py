@@ -98,3 +98,26 @@ def test_no_line_of_fig23c_runs_through_its_legend(sim_root):
     lines = [line.get_window_extent(renderer) for line in ax.get_lines()]
     assert len(lines) == 3
     assert not [b for b in lines if box.overlaps(b)]
+
+
+def test_no_trace_of_fig24b_runs_through_its_legend(sim_root):
+    """Fig. 24b's legend sat at the lower right, where the slide's tangential force drops back to zero at
+    the end of the stroke: the drop ran through "virtual-rig ft (normal-lab)". No drawn point of any line
+    of the panel lies inside the legend box (screen pixels)."""
+    import numpy as np
+    from test_figure_text import _draw_all
+
+    fig = _draw_all(sim_root, "test1_bench")["fig24_tangential"]
+    ax = next(a for a in fig.axes if a.get_title("left").startswith("(b)"))
+    renderer = fig.canvas.get_renderer()
+    box = ax.get_legend().get_window_extent(renderer)
+    inside = []
+    for line in ax.get_lines():
+        xy = np.column_stack([line.get_xdata(), line.get_ydata()]).astype(float)
+        xy = ax.transData.transform(xy[np.isfinite(xy).all(axis=1)])
+        # the segments too: a vertical drop has its two ends outside the box and its middle inside
+        steps = np.linspace(0.0, 1.0, 21)[:, None, None]
+        points = (xy[:-1] + steps * (xy[1:] - xy[:-1])).reshape(-1, 2)
+        within = ((points >= [box.x0, box.y0]) & (points <= [box.x1, box.y1])).all(axis=1)
+        inside += [line.get_label()] * int(within.sum())
+    assert len(ax.get_lines()) == 3 and not inside, set(inside)

@@ -123,8 +123,9 @@ def legend_below(ax, handles=None, ncol: int = 3) -> None:
 
 
 class OneTwoFive(LogLocator):
-    """Log ticks at 1, 2 and 5 of each decade, or at every whole multiple (0.6, 0.7, 0.8) where fewer
-    than three of those fall in view, so a narrow axis still reads."""
+    """Log ticks at 1, 2 and 5 of each decade, or at every whole multiple (0.6, 0.7, 0.8) and 1.5 where
+    fewer than three of those fall in view, so a narrow axis still reads (1.5: the widest step, 1 to 2,
+    otherwise leaves an axis ending below 2 unlabelled from 1 up)."""
 
     def __init__(self) -> None:
         super().__init__(subs=(1.0, 2.0, 5.0))
@@ -133,7 +134,7 @@ class OneTwoFive(LogLocator):
         ticks, (lo, hi) = super().tick_values(vmin, vmax), sorted((vmin, vmax))
         if np.count_nonzero((ticks >= lo) & (ticks <= hi)) >= 3:
             return ticks
-        return LogLocator(subs=np.arange(1.0, 10.0)).tick_values(vmin, vmax)
+        return LogLocator(subs=np.r_[1.0, 1.5, 2.0:10.0]).tick_values(vmin, vmax)
 
 
 class Uncrowded(Formatter):
@@ -152,11 +153,12 @@ class Uncrowded(Formatter):
         at = axis.axes.transData.transform(np.c_[values, values])[:, along]  # display px
         size = mpl.font_manager.FontProperties(size=mpl.rcParams[f"{axis.axis_name}tick.labelsize"])
         em = size.get_size_in_points() * axis.figure.dpi / 72
-        # half a label across (digits are 0.64 em wide in DejaVu Sans) or up, and a quarter em apart
+        # half a label across (digits are 0.64 em wide in DejaVu Sans) or up, and half an em apart (a
+        # word space is 0.32 em: closer, two labels read as one number)
         half = [(0.5 if along else 0.32 * len(t)) * em for t in labels]
         last = None
         for i in np.argsort(at):
-            if last is not None and abs(at[i] - at[last]) < half[i] + half[last] + 0.25 * em:
+            if last is not None and abs(at[i] - at[last]) < half[i] + half[last] + 0.5 * em:
                 labels[i] = ""
             else:
                 last = i

@@ -125,6 +125,8 @@ LOG_FLOOR = 1e-3  # floor before log10 of a residual [N] or a penetration [mm] t
 LABELS = ("success", "success_unbounded", "success_vertical")
 """The configured check (with the validity gate), Algorithm 1 as published (no gate: the paper's
 label) and the |R_z| reading (docs/records.md)."""
+PAPER_LABEL = "success_unbounded"
+"""Appendix A's "binary label": its one 80/20 split, stratified on it, also holds out the regressors'."""
 
 
 def features(df: pd.DataFrame, shapes: list[str]) -> pd.DataFrame:
@@ -199,14 +201,17 @@ def finalize(study, params: SurrogateParams, records: pd.DataFrame, store=None
 
     Features: the shape one-hot and m, μ, λ1, λ2, b (standardised in the pipeline). A label's
     examples are the trials with it recorded (``trials``; one an older file lacks is left out). For
-    each label of :data:`LABELS` with at least :data:`MIN_POSITIVES` of either class, a stratified
-    ``1 - test_fraction`` / ``test_fraction`` split (``random_state`` = study seed) trains both
-    classifiers; the held-out trials give ROC AUC (with its
+    each label of :data:`LABELS` with at least :data:`MIN_POSITIVES` of either class, its own
+    ``1 - test_fraction`` / ``test_fraction`` split stratified on that label (``random_state`` =
+    study seed) trains both classifiers; the held-out trials give ROC AUC (with its
     :func:`~graspcampaign.analysis.agreement.auc_interval`, seed = study seed, or the reason it has
     none), accuracy (with its Wilson 95 % interval), the majority-class accuracy and the ROC curve.
-    Both regressors predict |R_z|, log10 ‖R‖ and log10 δ_max on the first label's split (R² held
-    out). One single-row prediction of the first fitted label's classifiers (else of the |R_z|
-    regressors) is timed here, beside the median of the brief PSO calls timed in the trials.
+    Both regressors predict |R_z|, log10 ‖R‖ and log10 δ_max on Appendix A's one split, the
+    :data:`PAPER_LABEL`'s (an unstratified split of every executed trial, same seed, when that label
+    is not fitted), R² held out. Every row records its split (``split_label``: the label it is
+    stratified on, "" for none; ``split_seed``). One single-row prediction of the first fitted
+    label's classifiers (else of the |R_z| regressors) is timed here, beside the median of the brief
+    PSO calls timed in the trials.
 
     Returns
     -------
@@ -230,7 +235,7 @@ def finalize(study, params: SurrogateParams, records: pd.DataFrame, store=None
         "surrogate_classification", "surrogate_regression", "surrogate_importance",
         "surrogate_roc", "surrogate_scores", "surrogate_parity", "surrogate_timing")}
     # the splits first, then every model fitted at once (over the run's cores), then scored
-    splits, split, timed = {}, None, {}
+    splits, timed = {}, {}
     # a trial without the label (null where an older file of the run lacks it) is no example: each
     # label's split, fit and scores are over the trials that have it (positions in ``ok``)
     labelled = {label: np.flatnonzero(ok[label].notna().to_numpy()) for label in LABELS}
@@ -240,13 +245,16 @@ def finalize(study, params: SurrogateParams, records: pd.DataFrame, store=None
         if min(y.sum(), len(y) - y.sum()) >= MIN_POSITIVES:
             splits[label] = train_test_split(rows, test_size=params.test_fraction,
                                              stratify=y, random_state=seed)
-            split = split or splits[label]
-    train, test = split or train_test_split(np.arange(len(ok)), test_size=params.test_fraction,
-                                            random_state=seed)
+    # the regressors' split: Appendix A's one split, stratified on its binary label
+    on = PAPER_LABEL if PAPER_LABEL in splits else ""
+    regression_split = splits[on] if on else train_test_split(
+        np.arange(len(ok)), test_size=params.test_fraction, random_state=seed)
+    held = {"split_seed": seed}
     jobs = [(model, x[fit_on], flags[label][fit_on])
             for label, (fit_on, _) in splits.items()
             for model in models(params, seed, regression=False).values()]
-    jobs += [(model, x[train], values[train]) for values in targets(ok).values()
+    jobs += [(model, x[regression_split[0]], values[regression_split[0]])
+             for values in targets(ok).values()
              for model in models(params, seed, regression=True).values()]
     fitted = iter(_fit_all(jobs, study.runner.workers()))
     for label in LABELS:
@@ -259,7 +267,7 @@ def finalize(study, params: SurrogateParams, records: pd.DataFrame, store=None
                 f"not fitted: fewer than {MIN_POSITIVES} trials of one class")})
             continue
         test = splits[label][1]
-        first = splits[label] is split
+        first = not timed
         for name in models(params, seed, regression=False):
             model = next(fitted)
             if first:
@@ -274,7 +282,8 @@ def finalize(study, params: SurrogateParams, records: pd.DataFrame, store=None
             w, ci = wilson_interval(hits, len(test)), auc_interval(score[y[test]], score[~y[test]], seed=seed)
             out["surrogate_classification"].append({
                 **base, "model": name, "test_trials": len(test),
-                "test_positives": int(y[test].sum()), "roc_auc": float(roc_auc_score(y[test], score)),
+                "test_positives": int(y[test].sum()), "split_label": label, **held,
+                "roc_auc": float(roc_auc_score(y[test], score)),
                 "roc_auc_low": ci.low, "roc_auc_high": ci.high, "roc_auc_interval": ci.method,
                 "roc_auc_resamples": ci.n_resamples, "roc_auc_interval_note": ci.reason,
                 "accuracy_pct": 100 * w.estimate,
@@ -286,8 +295,7 @@ def finalize(study, params: SurrogateParams, records: pd.DataFrame, store=None
                     {"label": label, "feature": f, "importance": float(v)} for f, v in sorted(
                         zip(frame.columns, model[-1].feature_importances_, strict=True),
                         key=lambda fv: -fv[1])]
-    train, test = split or train_test_split(np.arange(len(ok)), test_size=params.test_fraction,
-                                            random_state=seed)
+    train, test = regression_split
     fallback = not timed  # no classifier fitted: time the regressors of the paper's target
     for target, values in targets(ok).items():
         for name in models(params, seed, regression=True):
@@ -297,7 +305,7 @@ def finalize(study, params: SurrogateParams, records: pd.DataFrame, store=None
             # round-off (|R_z| of force-closed grasps is 0 up to 1e-15 N)
             flat = np.ptp(values[test]) <= 1e-9 * max(1.0, float(np.abs(values).max()))
             out["surrogate_regression"].append({
-                "target": target, "model": name, "test_trials": len(test),
+                "target": target, "model": name, "test_trials": len(test), "split_label": on, **held,
                 "r2": np.nan if flat else float(r2_score(values[test], predicted)),
                 "note": "held-out target constant to round-off: R² undefined" if flat else ""})
             if name == "mlp" and target == "log10_residual_norm_n":

@@ -405,7 +405,8 @@ ABLATION = S.ReportSpec("ablation", [
 
 
 def fig18(run: Run, fig) -> None:
-    ax_a, ax_b = fig.subplots(1, 2, width_ratios=[1, 2.2])
+    # (a) wide enough for its five planners' names half an em apart ("proposed" ran into "antipodal")
+    ax_a, ax_b = fig.subplots(1, 2, width_ratios=[1.3, 2.2])
     style.grouped_bars(ax_a, run.tables["success_by_planner"], "planner")
     style.grouped_bars(ax_b, run.tables["success_by_shape"], "shape", "planner")
     ax_a.set_title("(a) overall")

@@ -290,8 +290,9 @@ def fig24(run: Run, fig) -> None:
             mu = col.replace("mu_", "μ")
             ax_b.plot(x, row[col] * fn * on, color=RED, ls=ls, label=f"{mu} fn ({mu} = {row[col]:.3f})")
         ax_b.set_ylim(min(0.0, np.nanmin(ft)) - 0.01, 1.15 * np.nanmax(row["mu_s"] * fn * on))
-        ax_b.legend(loc="lower right", fontsize=7)
     ax_b.set(xlabel="stage travel [mm]", ylabel="tangential force ft [N]")
+    if row is not None:  # below: at the lower right the end-of-stroke drop ran through it
+        legend_below(ax_b, ncol=2)
     ob = FRAMES["oblique"](run)
     if len(_mats(ob)) > 1:  # one family's line is the overall one: drawn once, as "ours, all"
         _per_family(ax_c, ob, "angle_deg", "margin_n", lw=0.9)
