@@ -65,12 +65,11 @@ def finding(run: Run, extra=lambda run: "") -> str:
     """The opening paragraph, from the records: who ranks first and how the proposed planner stands
     against the paper, for how many planners Table 7 (or 9) differs, why (the belief table holds the
     detail), what exact beliefs change, the decisions."""
-    d, e, n1 = frames(run), ex(run), (lambda v: fmt.number(v, 1))
-    by = d.groupby(["belief_error", "planner"])["success"]
-    s, n, prefix = by.mean() * 100, by.size(), run.study.split("_")[0]
+    e, n1, prefix = ex(run), (lambda v: fmt.number(v, 1)), run.study.split("_")[0]
     table_number = 7 + 2 * (prefix == "test3")  # the paper's Table 7 (test 2) or 9 (test 3)
-    paper, table = s["paper"].sort_values(ascending=False), f"table{table_number}"
-    rows = run.tables[table].query("belief_error == 'paper'").set_index("planner")
+    t = run.tables[f"table{table_number}"].set_index(["belief_error", "planner"])  # success per reading
+    s, n = t["success_pct"], t["n"]
+    paper, rows = s["paper"].sort_values(ascending=False), t.loc["paper"]
     theirs = rows["paper_success_pct"]  # as the table prints them
     tops, top, ranked = list(paper.index[paper == paper.max()]), paper.index[0], first(paper)
 
