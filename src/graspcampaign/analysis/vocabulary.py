@@ -102,8 +102,7 @@ STUDY_PANELS = _terms(  # sensitivity (Fig. 19) and mesh_resolution (Fig. 20) pa
 )
 FINGERS = _terms(("finger1", "finger 1"), ("finger2", "finger 2"), ("finger3", "finger 3"))
 # Levels and counts the hardware protocols fix (rig/ builds its sheets from these) and the words a paper
-# block keys them by, as the reports read them (Test 1 §7.3; Test 2 §8.1 groups; Test 3 §9.2 coatings,
-# block B, block D)
+# block keys them by (Test 1 §7.3; Test 2 §8.1 groups' trials; Test 3 §9.2 coatings, block B, block D)
 OBLIQUE_ANGLES_DEG = (0.0, 15.0, 30.0, 45.0)
 TEST2_GROUP_TRIALS = {"A": 120, "B": 240, "C": 144, "D": 105, "E": 120, "M": 90}
 COATINGS = _terms(("high", "high"), ("medium", "medium"), ("low", "low"))

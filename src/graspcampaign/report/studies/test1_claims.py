@@ -9,7 +9,7 @@ from graspcampaign.analysis import calibration as cal
 from graspcampaign.analysis.records import Estimate
 from graspcampaign.analysis.vocabulary import label
 from graspcampaign.report.render import Run
-from graspcampaign.report.spec import Value, share
+from graspcampaign.report.spec import Claims, Value, share
 
 
 def fitted(run: Run, block: str | None = None, *need: str) -> pd.DataFrame:
@@ -68,21 +68,11 @@ def _t4(col: str):
                       max(getattr(r, col) for r in p.table4.values()))
 
 
-#: the claims' rows for per-event C: the normal fits' median C and median standard error
-C_ROWS = (Value("per-event C: median (paper: Table 4's family range)", "§7.2",
-                _v("normal", "c_n_s_per_m", "median"), _t4("c_n_s_per_m"), "N s/m", 3),
-          Value("standard error of per-event C: median", "§7.2", _v("normal", "c_se_n_s_per_m", "median"),
-                None, "N s/m"))
-
-
 def c_unresolved(run: Run) -> bool:
     """Whether per-event C is not identifiable: the median event's Wald 95% interval, median C ± 1.96 median
-    standard errors (the claims rows :data:`C_ROWS`, evaluated as table test1_claims does: Table 4's caption
-    above it cannot read it), reaches zero (a row not computed: False)."""
-    try:
-        c, se = (row.estimate(run).value for row in C_ROWS)
-    except (ValueError, KeyError):  # no normal event, or no C in the records: the table says why
-        return False
+    standard errors (the claims rows :data:`C_ROWS`, computed as table test1_claims computes them: Table 4's
+    caption above it cannot read it), reaches zero (a row not computed: False)."""
+    c, se = Claims("test1_claims", "", C_ROWS).compute(run)["value"]
     return bool(abs(c) <= WALD_95 * se)
 
 
@@ -92,6 +82,11 @@ def _pair(what: str, sec: str, frame: str, col: str, paper, unit: str = "", digi
             for h, w in zip(("lowest", "highest"), hows, strict=True)]
 
 
+#: the claims' rows for per-event C: the normal fits' median C and median standard error
+C_ROWS = (Value("per-event C: median (paper: Table 4's family range)", "§7.2",
+                _v("normal", "c_n_s_per_m", "median"), _t4("c_n_s_per_m"), "N s/m", 3),
+          Value("standard error of per-event C: median", "§7.2", _v("normal", "c_se_n_s_per_m", "median"),
+                None, "N s/m"))
 CLAIMS = [
     Value(N_MEAN, "§7.2", _v("accepted", "n_exp"),
           lambda p: p.n_exp_mean),
