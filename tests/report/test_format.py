@@ -155,6 +155,8 @@ def test_a_rate_says_its_own_n_only_where_it_is_not_the_rows():
     assert cell(row, rate) == "12.5 (2.2–47.1) of 8"
     assert cell({**row, "n_r": 40.0}, rate) == "12.5 (2.2–47.1)"  # a count read back as a float
     assert cell({**row, "n_r": math.nan, "r_pct": math.nan}, rate) == fmt.MISSING  # no trial read
+    # a row whose n is missing (an Int64 column's NA): the rate's own n is said; NA != 8 raised
+    assert cell({**row, "n": pd.NA}, rate) == cell({**row, "n": math.nan}, rate) == "12.5 (2.2–47.1) of 8"
     assert NUMBER.fullmatch("12.5 (2.2–47.1) of 8")  # right-aligned as every number
 
 

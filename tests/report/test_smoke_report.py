@@ -127,3 +127,34 @@ def test_the_smoke_opening_gives_the_decisions_explanation_only_of_what_it_expla
     md = " ".join(report_md(store).split())
     assert "the ellipsoid at 390 nodes has 12 sharp vertices." in md
     assert "60 mm tips" not in md and "too coarse" not in md and "explains" not in md
+
+
+def test_the_smoke_opening_reads_its_verdicts_from_the_claims_table(tmp_path):
+    """The opening said which smooth meshes and whether the sphere's dihedral departure differ from Sec. 3.1
+    by judging the records again (``fmt.verdict`` on the counts the claims table had judged); it reads the
+    table's ``differs`` now, so the two cannot disagree: a table whose rows all agree gives an opening that
+    says so, whatever the records hold."""
+    from graspcampaign.campaign.paper import study_paper
+    from graspcampaign.report.build import spec_for
+    from graspcampaign.report.document import Document
+    from graspcampaign.report.render import render
+    from graspcampaign.report.studies.smoke import finding
+
+    def outputs(factors, rng):  # the full smoke run's 144-node ellipsoid and sphere (docs/decisions.md)
+        v = 12 if factors["shape"] == "ellipsoid" else 0
+        return {**mesh_outputs(factors, rng), "n_sharp_vertex": v, "n_sharp_edge": 0,
+                "max_edge_deviation_deg": 18.4 if factors["shape"] == "sphere" else 27.0}
+
+    store = make_run(tmp_path, "smoke", "mesh_features", {"shape": ["sphere", "ellipsoid"], "nodes": [144]},
+                     seeds=1, paper=None, outputs=outputs)
+    run = Run(store.read().to_pandas(), store.check(), study_paper("smoke"), store)
+    render(spec_for("smoke", ""), run, Document("", run.source, []))
+    text = finding(run)
+    assert "the ellipsoid at 144 nodes has 12 sharp vertices" in text
+    assert "The sphere's largest dihedral departure at 144 nodes is 18.4°, above" in text
+    claims = run.tables["paper_comparison"]
+    run.tables["paper_comparison"] = claims.assign(differs=False)
+    text = finding(run)
+    assert "; the smooth shapes (sphere, ellipsoid) have no sharp vertex or edge at this resolution, as " \
+        "the paper states (Sec. 3.1)." in text
+    assert "Unlike the paper" not in text and "dihedral" not in text

@@ -6,6 +6,8 @@ clause on small frames whose sentences are written out by hand."""
 
 from __future__ import annotations
 
+import statistics
+
 import pandas as pd
 import pytest
 from statsmodels.stats.proportion import proportion_confint
@@ -86,10 +88,13 @@ def test_test3_opening_defines_sf_and_derives_the_arrest_bound_from_its_material
 PAPER7 = {"heuristic": 77.8, "centroid": 44.9}  # the paper's Table 7 success [%], from its text
 
 
-def _opening_of(trials: dict[str, tuple[list[bool], list[float], list[bool]]]) -> str:
+def _opening_of(trials: dict[str, tuple[list[bool], list[float], list[bool]]], table=lambda t: t,
+                belief=lambda t: t) -> str:
     """The Test 2 opening of a small run: per planner its trials' success, G_geo of the realised
-    contacts and whether the grip was capped (planners' own beliefs only); Table 7's rows with the
-    paper's rates and statsmodels' Wilson intervals, none marked as differing."""
+    contacts and whether the grip was capped (planners' own beliefs only); Table 7's rows with their
+    counts and rates, the paper's rates and statsmodels' Wilson intervals, none marked as differing
+    (``table`` applied to them); table test2_belief's medians of G_geo and shares of capped grips (``belief``
+    applied to them)."""
     import pandas as pd
 
     from graspcampaign.report.render import Run
@@ -103,10 +108,37 @@ def _opening_of(trials: dict[str, tuple[list[bool], list[float], list[bool]]]) -
     rows = []
     for q, (ok, _, _) in trials.items():
         low, high = (100 * v for v in proportion_confint(sum(ok), len(ok), method="wilson"))
-        rows.append({"planner": q, "belief_error": "paper", "paper_success_pct": PAPER7[q],
+        rows.append({"planner": q, "belief_error": "paper", "n": len(ok),
+                     "success_pct": 100 * sum(ok) / len(ok), "paper_success_pct": PAPER7[q],
                      "success_low_pct": low, "success_high_pct": high, "differs": False})
-    run.tables["table7"] = pd.DataFrame(rows)
+    run.tables["table7"] = table(pd.DataFrame(rows))
+    run.tables["test2_belief"] = belief(pd.DataFrame([  # what table test2_belief holds: medians, % capped
+        {"planner": q, "belief_error": "paper", "g_geo_actual": statistics.median(g),
+         "grip_capped_pct": 100 * sum(cap) / len(cap)} for q, (_, g, cap) in trials.items()]))
     return finding(run)
+
+
+def test_the_opening_ranks_the_planners_by_the_rates_table_7_prints():
+    # the opening took the rates and counts again from the trials (groupby mean and size), beside the
+    # Wilson intervals and paper rates it read from Table 7: it reads them all from the table now, so
+    # the two cannot disagree (here a table whose rates rank the centroid first, against the trials)
+    trials = {"heuristic": ([True] * 4 + [False], [0.9] * 5, [False] * 5),
+              "centroid": ([True] * 2 + [False] * 3, [0.6] * 5, [True] * 5)}
+    assert _opening_of(trials).startswith("The proposed H(G) planner ranks first (80.0% of 5 trials")
+    text = _opening_of(trials, lambda t: t.assign(success_pct=[30.0, 90.0], n=[10, 10]))
+    assert text.startswith("The centroid planner ranks first (90.0% of 10 trials")
+    assert "succeeds on 30.0% of 10 (" in text
+
+
+def test_the_why_reads_the_medians_and_capped_shares_table_test2_belief_prints():
+    # the why took G_geo's median and the capped share again from the trials (groupby median, mean); it
+    # reads them from table test2_belief now: a table whose rows show neither cause gives "do not show"
+    trials = {"heuristic": ([True] + [False] * 4, [0.5, 0.55, 0.6, 0.7, 0.8], [True] * 3 + [False] * 2),
+              "centroid": ([True] * 4 + [False], [0.85, 0.9, 0.9, 0.95, 1.0], [True] + [False] * 4)}
+    assert "Why: the proposed score H~ has no gravity term" in _opening_of(trials)
+    text = _opening_of(trials, belief=lambda t: t.assign(g_geo_actual=0.9, grip_capped_pct=[10.0, 30.0]))
+    assert ("The records do not show why: the proposed planner's median G_geo is 0.90 (centroid 0.90), its "
+            "grip at the damage cap on 10.0% of trials (centroid 30.0%; table test2_belief). ") in text
 
 
 def test_the_opening_gives_no_why_where_the_proposed_planner_ranks_first():

@@ -101,9 +101,10 @@ STUDY_PANELS = _terms(  # sensitivity (Fig. 19) and mesh_resolution (Fig. 20) pa
     ("n_max", "doubled N_max re-run"),
 )
 FINGERS = _terms(("finger1", "finger 1"), ("finger2", "finger 2"), ("finger3", "finger 3"))
-# Levels the hardware protocols fix (rig/ builds its sheets from these) and the words a paper block
-# keys them by, as the reports read them (Test 1 §7.3; Test 3 §9.2 coatings, block B, block D)
+# Levels and counts the hardware protocols fix (rig/ builds its sheets from these) and the words a paper
+# block keys them by (Test 1 §7.3; Test 2 §8.1 groups' trials; Test 3 §9.2 coatings, block B, block D)
 OBLIQUE_ANGLES_DEG = (0.0, 15.0, 30.0, 45.0)
+TEST2_GROUP_TRIALS = {"A": 120, "B": 240, "C": 144, "D": 105, "E": 120, "M": 90}
 COATINGS = _terms(("high", "high"), ("medium", "medium"), ("low", "low"))
 VERTICAL_LOADS_W = (("down", 0.25), ("down", 0.5), ("down", 0.75), ("up", 0.5), ("up", 1.0))
 IMPULSE_LOADS_W = (0.8, 1.0, 1.2, 1.4, 1.8)

@@ -132,9 +132,9 @@ def cell(row: Mapping[str, Any], col: Col) -> str:
     if col.low and col.low == col.key:
         return fmt.interval(value, row.get(col.high), digits, sig=col.sig)
     if col.low:
-        k = row.get(col.of) if col.of else None  # the rate's own n, said where it is not the row's
+        k, n = row.get(col.of) if col.of else None, row.get("n")  # the rate's n, said unless the row's
         return fmt.estimate(value, row.get(col.low), row.get(col.high), digits, sig=col.sig) + (
-            f" of {int(k)}" if not fmt.is_missing(k) and k != row.get("n") else "")
+            f" of {int(k)}" if not fmt.is_missing(k) and (fmt.is_missing(n) or k != n) else "")
     if col.share:
         return f"{fmt.number(value, digits)} ({fmt.number(row.get(col.share), 1)}%)"
     return fmt.number(value, digits, sig=col.sig, signed=col.signed)

@@ -19,7 +19,7 @@ from typing import Any
 
 import pandas as pd
 
-from graspcampaign.analysis.vocabulary import COATINGS, IMPULSE_LOADS_W, VERTICAL_LOADS_W
+from graspcampaign.analysis.vocabulary import COATINGS, IMPULSE_LOADS_W, TEST2_GROUP_TRIALS, VERTICAL_LOADS_W
 
 __all__ = [
     "BASELINES",
@@ -108,7 +108,7 @@ PAPER_COUNTS = {
     STUDY_TEST2: {"commanded": 1785, "executed": 1755, "aborted": 30,
                   "planners": {"heuristic": 819, "centroid": 474, "no_pso": 90,
                                "force_balance": 90, "random": 282},
-                  "groups": {"A": 120, "B": 240, "C": 144, "D": 105, "E": 120, "M": 90},
+                  "groups": TEST2_GROUP_TRIALS,
                   "shapes": {"sphere": 183, "ellipsoid": 135, "rounded_cube": 231, "pear": 111,
                              "handle": 159}},
     STUDY_TEST3: {"commanded": 1245, "executed": 1230, "aborted": 15,

@@ -42,12 +42,11 @@ def belief_gap(paper: pd.Series, none: pd.Series, table: str) -> str:
             f"planner's gap to the first from {gap} pp to {gap0} pp (table {table}). ")
 
 
-def why(e: pd.DataFrame, top: str, table: str) -> str:
-    """Why the proposed planner trails ``top``, as far as the executed trials ``e`` show it: its contacts
-    reach less vertical friction (a lower median G_geo) and its grip hits the damage cap more often, each
-    said only where the records hold it; where neither holds, that the records do not show why."""
-    g = e.groupby("planner")["g_geo_actual"].median()
-    cap = e.groupby("planner")["grip_capped"].mean() * 100
+def why(beliefs: pd.DataFrame, top: str, table: str) -> str:
+    """Why the proposed planner trails ``top``, as far as ``beliefs`` (``table``'s rows of the planners' own
+    beliefs, by planner) show it: a lower median G_geo (less vertical friction) and a grip more often at the
+    damage cap, each said only where the records hold it; where neither holds, that they do not show why."""
+    g, cap = beliefs["g_geo_actual"], beliefs["grip_capped_pct"]  # as the table prints them
     who, n1, n2 = label("planner", top), (lambda v: fmt.number(v, 1)), (lambda v: fmt.number(v, 2))
     less, more = bool(g[PROPOSED] < g[top]), bool(cap[PROPOSED] > cap[top])
     capped = f"{n1(cap[PROPOSED])}% of trials ({who} {n1(cap[top])}%; {table})"
@@ -65,12 +64,11 @@ def finding(run: Run, extra=lambda run: "") -> str:
     """The opening paragraph, from the records: who ranks first and how the proposed planner stands
     against the paper, for how many planners Table 7 (or 9) differs, why (the belief table holds the
     detail), what exact beliefs change, the decisions."""
-    d, e, n1 = frames(run), ex(run), (lambda v: fmt.number(v, 1))
-    by = d.groupby(["belief_error", "planner"])["success"]
-    s, n, prefix = by.mean() * 100, by.size(), run.study.split("_")[0]
+    n1, prefix = (lambda v: fmt.number(v, 1)), run.study.split("_")[0]
     table_number = 7 + 2 * (prefix == "test3")  # the paper's Table 7 (test 2) or 9 (test 3)
-    paper, table = s["paper"].sort_values(ascending=False), f"table{table_number}"
-    rows = run.tables[table].query("belief_error == 'paper'").set_index("planner")
+    t = run.tables[f"table{table_number}"].set_index(["belief_error", "planner"])  # success per reading
+    s, n = t["success_pct"], t["n"]
+    paper, rows = s["paper"].sort_values(ascending=False), t.loc["paper"]
     theirs = rows["paper_success_pct"]  # as the table prints them
     tops, top, ranked = list(paper.index[paper == paper.max()]), paper.index[0], first(paper)
 
@@ -91,7 +89,8 @@ def finding(run: Run, extra=lambda run: "") -> str:
     text += (f"; success differs from the paper's for {differ} of {judged} planners (Table "
              f"{table_number}). ")
     if PROPOSED not in tops:  # a gap to explain
-        text += why(e, top, f"table {prefix}_belief")
+        beliefs = run.tables[f"{prefix}_belief"].query("belief_error == 'paper'").set_index("planner")
+        text += why(beliefs, top, f"table {prefix}_belief")
     text += extra(run)
     if "none" in s and paper[PROPOSED] < paper.max():
         text += belief_gap(paper, s["none"].reindex(paper.index), f"{prefix}_belief_pairs")

@@ -21,6 +21,8 @@ CAUSE = {"ellipsoid": "the ellipsoid's 60 mm tips", "pear": "the pear's top lobe
 EXPLAINED_NODES, EXPLAINED_DEFECT_RAD = 144, 0.2
 DECISION = "`docs/decisions.md`, *Geometry and metric*"
 FEATURES = (("sharp vertex", "sharp vertices"), ("sharp edge", "sharp edges"))
+SHARP_ROW = "sharp vertices and edges, {}, {} nodes"  # claims rows the opening reads: shape label, nodes
+DIHEDRAL_ROW = "largest dihedral departure, sphere, {} nodes"  # and the sphere's at the paper's nodes
 
 
 def _smooth(run: Run) -> pd.DataFrame:
@@ -44,13 +46,13 @@ def _rows(run: Run):
     largest angular defect and its largest dihedral departure at the resolutions the paper names."""
     p = run.paper
     for m in _smooth(run).itertuples():
-        yield (f"sharp vertices and edges, {label('shape', m.shape)}, {m.nodes} nodes", "Sec. 3.1", m.sharp,
+        yield (SHARP_ROW.format(label("shape", m.shape), m.nodes), "Sec. 3.1", m.sharp,
                p.smooth_sharp_features[m.shape], "", 0)
     value, because = _sphere(run, p.sphere_defect_nodes, "max_vertex_defect_rad")
     yield (f"largest angular defect, sphere, {p.sphere_defect_nodes} nodes", "Sec. 3.1", value,
            p.sphere_defect_rad, "rad", 2, because)
     value, because = _sphere(run, p.sphere_dihedral_nodes, "max_edge_deviation_deg")
-    yield (f"largest dihedral departure, sphere, {p.sphere_dihedral_nodes} nodes", "Sec. 3.1", value,
+    yield (DIHEDRAL_ROW.format(p.sphere_dihedral_nodes), "Sec. 3.1", value,
            (None, p.sphere_dihedral_below_deg), "°", 1, because, "the paper's bound")
 
 
@@ -61,13 +63,13 @@ def finding(run: Run) -> str:
     smooth = _smooth(run) if run.paper is not None else []
     if not len(smooth):
         return text + "."
-    p, which = run.paper, "any" if levels > 1 else "this"
-    sharp = smooth[[fmt.verdict(m.sharp, p.smooth_sharp_features[m.shape], digits=0).differs is True
-                    for m in smooth.itertuples()]]
+    which, claims = "any" if levels > 1 else "this", run.tables["paper_comparison"].set_index("quantity")
+    judged = claims.loc[[SHARP_ROW.format(label("shape", m.shape), m.nodes) for m in smooth.itertuples()]]
+    sharp = smooth[judged["differs"].eq(True).to_numpy()]  # as the claims table judged them
     if not len(sharp):
         names = ", ".join(label("shape", s) for s in smooth["shape"].unique())
         return text + (f"; the smooth shapes ({names}) have no sharp vertex or edge at {which} resolution, "
-                       "as the paper states (Sec. 3.1)." + _dihedral(run, DECISION))
+                       "as the paper states (Sec. 3.1)." + _dihedral(claims, run, DECISION))
     found = "; ".join(f"the {label('shape', m.shape)} at {m.nodes} nodes has " + " and ".join(
         counted(int(n), *nouns) for n, nouns in zip((m.n_sharp_vertex, m.n_sharp_edge), FEATURES, strict=True)
         if n) for m in sharp.itertuples())
@@ -79,15 +81,15 @@ def finding(run: Run) -> str:
     why = (f" {DECISION} explains: at {EXPLAINED_NODES} nodes the mesh is too coarse to keep the real "
            f"curvature of {parts} under {EXPLAINED_DEFECT_RAD:g} rad a vertex.") if explained.any() else ""
     return (f"{text}. **Unlike the paper**, whose thresholds \"cleanly separate the smooth test meshes\" "
-            f"(Sec. 3.1), {found}.{why}{_dihedral(run, 'the same entry' if why else DECISION)}")
+            f"(Sec. 3.1), {found}.{why}{_dihedral(claims, run, 'the same entry' if why else DECISION)}")
 
 
-def _dihedral(run: Run, entry: str) -> str:
-    """The sphere's largest dihedral departure where it lies outside the paper's bound (Sec. 3.1); ``entry``
-    names the decision that records it."""
+def _dihedral(claims: pd.DataFrame, run: Run, entry: str) -> str:
+    """The sphere's largest dihedral departure where the ``claims`` table (by quantity) judged it outside
+    the paper's bound (Sec. 3.1); ``entry`` names the decision that records it."""
     p, threshold = run.paper, run.config["features"]["edge_dihedral_deg"]
-    ours, missing = _sphere(run, p.sphere_dihedral_nodes, "max_edge_deviation_deg")
-    if missing or not fmt.verdict(ours, (None, p.sphere_dihedral_below_deg), digits=1).differs:
+    ours, differs = claims.loc[DIHEDRAL_ROW.format(p.sphere_dihedral_nodes), ["value", "differs"]]
+    if pd.isna(differs) or not differs:  # not compared (the run has no such mesh), or within the bound
         return ""
     return (f" The sphere's largest dihedral departure at {p.sphere_dihedral_nodes} nodes is "
             f"{fmt.number(ours, 1)}°, above the paper's \"below about {p.sphere_dihedral_below_deg:g}°\" "

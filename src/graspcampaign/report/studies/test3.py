@@ -35,21 +35,23 @@ def drops(run: Run) -> str:
     read = dropped[~no_sf & ~no_ratio]
     below = int((read["sf_actual"].astype(float) < arrest[read.index]).sum())
     unread, other = int(no_sf.sum()), int((no_ratio & ~no_sf).sum())  # each drop left out said once
-    needs = [*["an `sf_actual` reading"] * bool(unread), *["a Table 4 material"] * bool(other)]
-    with_sf = f" with {' and '.join(needs)}" if needs else ""
-    apart = [f"{k} more {w}" for k, w in ((unread, f"without {'an `sf_actual` reading' if other else 'one'}"),
-                                          (other, "of a material not in Table 4")) if k]
+    needs = " and ".join([*["an `sf_actual` reading"] * bool(unread), *["a Table 4 material"] * bool(other)])
+    with_sf = f" with {needs}" if needs else ""  # what a drop read has ("": every drop is read)
+    apart = [f"{unread} more without " + ("an `sf_actual` reading" if other else "one")] * bool(unread) \
+        + [f"{other} more of a material not in Table 4"] * bool(other)
     more = f" ({', '.join(apart)})" if apart else ""
     text = f"The proposed planner drops {fmt.number(100 * d['is_drop'].mean(), 1)}% of trials (paper " \
            f"{fmt.number(paper, 1)}%)"
     if below:  # short: the opening's 900 characters (test_openings)
         return (f"{text}: {below} of {len(read)}{with_sf} below the safety factor μ_s/μ_k = {ratio} that "
                 f"arrests a slip{more}. ")
-    lacks = " and ".join(needs)
-    return f"{text}. No slip is arrested below a safety factor of μ_s/μ_k = {ratio}" + (
-        f"; {_none_of(len(read), with_sf, 'held one below it', 'did not hold one below it')}{more}. "
-        if len(read) else f"; {_none_of(len(dropped), '', f'has {lacks}', f'does not have {lacks}')}. "
-        if len(dropped) else ". ")
+    text += f". No slip is arrested below a safety factor of μ_s/μ_k = {ratio}"
+    if len(read):
+        held = _none_of(len(read), with_sf, "held one below it", "did not hold one below it")
+        return f"{text}; {held}{more}. "
+    if len(dropped):
+        return f"{text}; {_none_of(len(dropped), '', f'has {needs}', f'does not have {needs}')}. "
+    return text + ". "
 
 
 def _none_of(n: int, which: str, held: str, not_held: str) -> str:
