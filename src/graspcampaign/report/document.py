@@ -32,7 +32,7 @@ NAV = [("Index", "index.html"), ("Table 1 headline", "headline.html")]
 """The navigation bar of every page (relative to the results root)."""
 # a printed number: a bound, a sign, digits or inf, an exponent, a unit sign, a range or an interval
 # ("35.7 (25.5–47.4)"), the count a rate is over ("35.7 (25.5–47.4) of 40")
-NUMBER = re.compile(r"[<>≤≥]? ?[+−-]?(\d[\d,]*(\.\d+)?(e[+−-]?\d+| ?× ?10[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+)?|inf) ?[%×]?"
+NUMBER = re.compile(r"[<>≤≥≈]? ?[+−-]?(\d[\d,]*(\.\d+)?(e[+−-]?\d+| ?× ?10[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+)?|inf) ?[%×]?"
                     r"(–[\d.]+)?( \([^()]*\))?( of \d+)?")
 
 
