@@ -97,7 +97,8 @@ def _finding(root, study, run="default") -> str:
 def test_every_page_and_figure_says_virtual_rig(sim_root, study, tmp_path):
     md = (sim_root / study / "default" / "report" / "report.md").read_text()
     assert "**Data source:** VIRTUAL RIG" in md
-    assert "Virtual-rig data, not hardware (`rig/virtual.py`)." in _finding(sim_root, study)
+    # a reader is told what the data are in words, not by a source file (`rig/virtual.py`)
+    assert "Simulated virtual-rig data, not hardware." in _finding(sim_root, study)
     assert "residual-based `predicted_stable`" not in md  # the flag follows §9.5 now
     shutil.copytree(sim_root / study, tmp_path / study)
     build_reports([study], root=tmp_path, formats=["md"], figure_format="svg")

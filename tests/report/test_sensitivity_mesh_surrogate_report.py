@@ -372,9 +372,9 @@ def test_the_gate_sentence_counts_the_deep_contacts_of_the_trials_read():
     records = pd.DataFrame({"panel": "resolution", "status": "ok", "success_unbounded": [False] * 5,
                             "valid_geometry": [None, True, False, None, True], "success": [False] * 5})
     text = gate_text(SimpleNamespace(tables={"gate_removed": gate_table(records, ["panel"])}))
-    assert ("removed none (no trial succeeded without it): 1 of 3 executed trials with a `valid_geometry` "
-            "reading have a contact deeper than the fingertip radius, which is no contact (no reading in 2 "
-            "of 5; table gate_removed; ") in text
+    assert ("removed none (no trial succeeded without it): 1 of 3 executed trials with a validity reading "
+            "(`valid_geometry`) have a contact deeper than the fingertip radius, which is no contact (no "
+            "reading in 2 of 5; table gate_removed; ") in text
 
 
 def _timings(fastest, median, min_column=True, itself=((1.0, 1.0),)):

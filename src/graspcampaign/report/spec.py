@@ -324,8 +324,9 @@ def gate_text(run: Run) -> str:
     read, n = int(g["n_valid_geometry"].sum()), int(g["n"].sum())  # a trial without the reading: n only
     unread = f"no reading in {n - read} of {n}; " if read < n else ""
     return (f" The validity gate {removed}: {int(g['invalid_geometry'].sum())} of {read} executed trials "
-            f"{'with a `valid_geometry` reading ' * bool(unread)}have a contact deeper than the fingertip "
-            f"radius, which is no contact ({unread}table {GATE}; `docs/decisions.md`, *{VALIDITY}*).")
+            f"{'with a validity reading (`valid_geometry`) ' * bool(unread)}have a contact deeper than the "
+            f"fingertip radius, which is no contact ({unread}table {GATE}; `docs/decisions.md`, "
+            f"*{VALIDITY}*).")
 
 
 def GateRemoved(by: Sequence[str]) -> Table:
