@@ -37,7 +37,7 @@ from _audit_common import (
     table,
     wilson,
 )
-from _audit_quasi_static import audit_quasi_static
+from _audit_quasi_static import audit_quasi_static, config
 from _audit_small import STUDIES as SMALL
 from _audit_test1 import audit_test1
 from _audit_test2 import audit_test2
@@ -136,6 +136,9 @@ def audit_sensitivity() -> None:
                      "beyond_radius_pct": 100 * deep.mean(),
                      "delta_max_median_mm": g.loc[~deep, "delta_max_mm"].median(),
                      "runtime_median_ms": g["runtime_ms"].median(),
+                     # Sec. 6.6's reading: friction carries no load, so slip never binds first
+                     "eta_median": g["eta"].abs().median(),
+                     "slip_first": int((g["failure_check"] == "slip").sum()),
                      "success_pct": s["value"], "success_low_pct": s["low"], "success_high_pct": s["high"],
                      "vertical_pct": v["value"], "vertical_low_pct": v["low"],
                      "vertical_high_pct": v["high"]})
@@ -174,6 +177,17 @@ def audit_sensitivity() -> None:
         claims[f"(a) median identified λ1 at μ {words}"] = {"value": part["lambda1"].median(),
                                                             "low": math.nan, "high": math.nan, "n": len(part)}
         claims[f"(a) identified λ1 on its PSO search bound at μ {words}"] = rate(part, "at_bound_lambda1")
+    seed = int(config("sensitivity")["seed"])
+    for factor, column in (("mass", "mass_kg"), ("friction", "mu")):  # Fig. 19a: success over each axis
+        g = a.groupby(column)["success"].agg(["sum", "size"])
+        counts = np.column_stack([g["sum"], g["size"] - g["sum"]])
+        p = math.nan
+        if 0 < g["sum"].sum() < g["size"].sum():  # Pearson's χ², Monte Carlo where an expected count < 5
+            mc = stats.contingency.expected_freq(counts).min() < 5
+            p = stats.chi2_contingency(counts, correction=False, method=stats.MonteCarloMethod(
+                n_resamples=9999, rng=np.random.default_rng(seed)) if mc else None).pvalue
+        claims[f"(a) equal success at every {factor} level: p"] = {"value": p, "low": math.nan,
+                                                                   "high": math.nan, "n": len(a)}
     c = ok[ok["panel"] == "n_b"]
     for axis, column in (("n", "n_exp"), ("b", "b")):
         med = c.groupby(column)["runtime_ms"].median()

@@ -97,9 +97,11 @@ def test_the_sensitivity_opening_counts_the_slip_checks_the_records_hold(sim_roo
 
     records = RunStore(sim_root / "sensitivity" / "default").read().to_pandas()
     n = int((records["status"] == "ok").sum())
-    text = finding(_rendered(sim_root, "sensitivity", slipping))
+    run = _rendered(sim_root, "sensitivity", slipping)
+    text = finding(run)
     assert "rarely binds" not in text
-    assert f", and the slip check fails first in {n} of {n} executed trials; " in text
+    assert f", and the slip check fails first in {n} of {n} (table sensitivity_panels); " in text
+    assert run.tables["sensitivity_panels"]["slip_first"].sum() == n  # the opening's count, per panel
 
 
 def test_the_sensitivity_opening_gives_the_friction_utilisation_the_records_hold(sim_root):
@@ -114,7 +116,7 @@ def test_the_sensitivity_opening_gives_the_friction_utilisation_the_records_hold
     text = finding(_rendered(sim_root, "sensitivity", utilised))
     assert "η ≈ 0" not in text
     assert "Why: Algorithm 2 releases contacts until the remaining normals carry the weight (median |η| " \
-           "0.50), and the slip check" in text
+           "0.50 in each panel), and the slip check" in text
     assert "(median |η| " not in finding(_rendered(sim_root, "sensitivity", lambda r: r.drop(columns="eta")))
 
 

@@ -158,3 +158,23 @@ def test_chromium_shows_a_linked_table_below_the_sticky_bar(tmp_path):
                           "--dump-dom", page.as_uri()], capture_output=True, text=True, timeout=120)
     gap = re.search(r"<body data-gap=\"(-?\d+)\">", out.stdout)
     assert gap and int(gap.group(1)) >= 0, re.findall(r"<body[^>]*>", out.stdout)
+
+
+def test_a_page_whose_tables_show_the_missing_mark_says_once_what_it_means():
+    """Tables printed "—" (no paper value, no reading, not compared) and no caption or page said what
+    it means: the page says it once, under its provenance, and only when one of its tables shows it."""
+    from graspcampaign.report.document import Col
+
+    def page(paper: float | None) -> Document:
+        frame = pd.DataFrame({"quantity": ["a", "b"], "paper": [1.0, paper], "ours": [1.5, 2.5]})
+        return Document("t", "simulation", [("Seed", "1")], [
+            Table("one", "first", frame, [Col("quantity", "q"), Col("paper", "paper", 1)]),
+            Table("two", "second", frame, [Col("quantity", "q"), Col("paper", "paper", 1)])])
+
+    md, html = page(None).markdown(), page(None).html()
+    assert "| b | — |" in md  # the mark the line explains
+    line = "- **—:** in a table, no value there: the paper reports none, or the run records none or does " \
+           "not compare it (the row's verdict or reason says which)"
+    assert md.count(line) == 1 and md.index("- **Seed:** 1\n" + line) > 0  # once, with the provenance
+    assert html.count("<dt>—</dt><dd>in a table, no value there") == 1
+    assert "**—:**" not in page(2.0).markdown() and "<dt>—</dt>" not in page(2.0).html()  # no mark shown

@@ -336,9 +336,12 @@ def test_a_column_of_numbers_with_a_yes_or_a_reason_is_right_aligned_as_numbers(
     # test1_claims' "paper" and "ours (95%)" held ranges, numbers and one "yes"; test3_claims' "ours"
     # one "not computed: ..." row: each column was left-aligned (md "---", html <td>), unlike every
     # column of numbers; text columns (quantity, verdict) stay left
+    from graspcampaign.campaign.paper import Approximate
+
     block = _claims_block([("exponent n", "§7.2", 0.46, (0.43, 0.48), "", 2),
                            ("μs > μk in every family", "Table 4", True, True, "", 0),
-                           ("RMSE", "§7.2", 0.72, 2.66, "%", 2), ("rate", "§9.2", None, 86.0, "%", 1)])
+                           ("RMSE", "§7.2", 0.72, 2.66, "%", 2),
+                           ("rate", "§9.2", None, Approximate(86.0), "%", 1)])
     md = block.md("png").splitlines()
     head = [c.strip() for c in md[2].strip("|").split("|")]
     rule = md[3].strip("|").split("|")
@@ -349,6 +352,8 @@ def test_a_column_of_numbers_with_a_yes_or_a_reason_is_right_aligned_as_numbers(
     assert len(cells) == 4 * len(head) and [bool(c) for c in cells[:len(head)]] == [
         r == "---:" for r in rule]
     assert "| not computed: no executed trial |" in "\n".join(md)
+    # the paper's approximate "∼86%" as it prints it, a number among numbers (it printed "86.0")
+    assert "| rate | §9.2 | ≈ 86 |" in "\n".join(md)
 
 
 def test_a_wide_tables_row_labels_and_caption_stay_in_view_when_it_scrolls():

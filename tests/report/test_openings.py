@@ -40,3 +40,28 @@ def test_every_table_an_opening_points_to_is_printed_below_it(sim_root):
         printed = set(re.findall(r"\(`tables/([a-z0-9_]+)\.csv`\)", md))
         assert named, f"{study}: the opening points to no table"
         assert named <= printed, f"{study}: the opening points to {named - printed}, not in its report"
+
+
+#: what a backticked name in prose may be: a decision or the page's own files, or a record column (or one
+#: of its values) a reader needs to find in a table, in parentheses after the words naming it
+FILES = re.compile(r"docs/decisions\.md|(tables|figures)/[\w.]+")
+COLUMN = re.compile(r"[a-z][a-z0-9_]*")
+
+
+def _captions(md: str) -> list[str]:
+    """A report's table captions (bold before the CSV's name) and figure captions (the italic line)."""
+    return re.findall(r"^\*\*(.+?)\*\* \(`tables/", md, re.M) + re.findall(r"^\*([^*].*)\*$", md, re.M)
+
+
+def test_openings_and_captions_name_things_in_words_not_in_code(sim_root):
+    """The readers' review found `rig/virtual.py` in test3's opening, `predicted_stable_residual` and
+    `bench.true_damage_depth` standing for words in captions: a backticked name is now a decision, the
+    page's files, or a column name in parentheses after the words."""
+    bad = []
+    for study, (opening, md) in _openings(sim_root).items():
+        for text in [opening, *_captions(md)]:
+            for m in re.finditer(r"`([^`]*)`", text):
+                depth = text[:m.start()].count("(") - text[:m.start()].count(")")
+                if not FILES.fullmatch(m.group(1)) and not (COLUMN.fullmatch(m.group(1)) and depth > 0):
+                    bad.append(f"{study}: {m.group(0)} in {text[:80]!r}")
+    assert not bad, "\n".join(bad)

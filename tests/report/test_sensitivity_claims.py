@@ -42,21 +42,26 @@ def _wilson(k: int, n: int) -> str:
     return f"{100 * k / n:.1f}% ({100 * low:.1f}–{100 * high:.1f}%)"
 
 
-def test_a_share_equal_at_every_level_is_said_to_be_each_levels_not_a_range_over_them():
-    """At paper scale friction's 12 levels each held 2 of 60 successes: the opening said "3.3% over 12
-    levels", read as a total or a spread beside mass's "0.0–20.0% over 12 levels". Here 25 of 200 at each
-    friction (p from scipy's chi-square on the records' table: 1.0)."""
+def test_the_openings_p_values_of_equal_success_over_the_levels_are_the_claims_tables():
+    """At paper scale the opening gave "Monte Carlo χ² p ≤ 1.0e-4" and "p = 1.0" over mass's and
+    friction's 12 levels, in no table on the page: each is now a row of sensitivity_claims, and the
+    opening names the test once. Here 40 of 200 against 10 of 200 by mass, 25 of 200 at each friction
+    (p from scipy's chi-square on the records' table)."""
     from scipy.stats import chi2_contingency
 
     from graspcampaign.report import format as fmt
 
     run = _run({(0.1, 0.05): (20, 100), (0.1, 0.5): (20, 100), (0.8, 0.05): (5, 100), (0.8, 0.5): (5, 100)})
     a = run.records[run.records["panel"] == "mu_mass"]
-    p = chi2_contingency(pd.crosstab(a["mu"], a["success"]), correction=False).pvalue
-    text = finding(run)
-    assert (f"does not detectably vary with friction (12.5% at each of its 2 levels; χ² p = "
-            f"{fmt.p_value(p)})") in text
-    assert "varies with mass (5.0–20.0% over 2 levels;" in text
+    p = {k: chi2_contingency(pd.crosstab(a[k], a["success"]), correction=False).pvalue
+         for k in ("mass_kg", "mu")}
+    assert (f"Success varies with mass (χ² p = {fmt.p_value(p['mass_kg'])}) and does not detectably vary "
+            f"with friction (p = {fmt.p_value(p['mu'])}). ") in finding(run)
+    rows = run.tables["sensitivity_claims"].set_index("quantity")
+    for factor, column in (("mass", "mass_kg"), ("friction", "mu")):
+        row = rows.loc[f"(a) equal success at every {factor} level: p"]
+        assert row["value"] == pytest.approx(p[column], rel=1e-12) and row["n"] == 400
+        assert row["verdict"] == "no paper value"
 
 
 def test_the_opening_states_the_papers_stable_region_beside_ours():

@@ -151,7 +151,8 @@ def test_fig_31c_draws_the_believed_sf_flag_with_ours_alone():
     legend = "\n".join(t.get_text() for t in ax.get_legend().texts)
     # ours, counted here: 3 flagged, 2 of them successes; 3 successes, 2 of them flagged; 3 of 5 right
     assert legend == "n = 5\naccuracy: ours 0.60\nprecision: ours 0.67\nrecall: ours 0.67"
-    assert figure.caption.endswith("(c) `predicted_stable` against the outcome, ours alone: the paper's "
+    assert figure.caption.endswith("(c) the believed-stability flag (`predicted_stable`) against the "
+                                   "outcome, ours alone: the paper's "
                                    "Fig. 31c scores are of the residual flag, beside it in table "
                                    "test2_classifier")
 

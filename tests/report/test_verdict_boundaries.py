@@ -31,3 +31,16 @@ def test_ours_at_an_end_of_the_paper_range_is_inside_it(low, width, end):
     judged = fmt.verdict(paper[end], paper, digits=1)
     assert judged.differs is False
     assert judged.words == f"inside the paper's range {fmt.paper_text(paper, 1)}"
+
+
+
+def test_a_paper_value_marked_approximate_prints_as_the_paper_prints_it_and_is_judged_as_before():
+    """Table 1's "∼86%" printed as "86.0", a digit the paper never gave: it prints "≈ 86"; the verdict
+    is the one of the plain number (the paper's 86 against our Wilson interval 11.7–16.7)."""
+    from graspcampaign.campaign.paper import Approximate
+
+    assert fmt.paper_text(Approximate(86.0), 1) == "≈ 86" and fmt.paper_text(86.0, 1) == "86.0"
+    assert fmt.paper_text(Approximate(0.5), 3) == "≈ 0.5"
+    judged = fmt.verdict(14.1, Approximate(86.0), low=11.7, high=16.7, unit="%")
+    assert judged == fmt.verdict(14.1, 86.0, low=11.7, high=16.7, unit="%")
+    assert judged.words == "differs by −71.9 pp: paper outside our 95% CI"  # 14.1 − 86, by hand

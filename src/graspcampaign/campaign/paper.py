@@ -26,6 +26,19 @@ from graspcampaign.errors import ConfigError
 Range = tuple[float, float]
 
 
+class Approximate(float):
+    """A paper value the paper itself marks approximate ("roughly 86 %", Table 1's "∼86%"): compared
+    as the number it is, printed as the paper prints it, ``≈ 86``
+    (:func:`graspcampaign.report.format.paper_text`)."""
+
+
+APPROXIMATE: dict[tuple[str, str], str] = {
+    ("Test3Paper", "natural_success_pct"): 'Table 1 "∼86%"; Sec. 9.2 "roughly 86 %"; Sec. 12 "about 86 %"',
+}
+"""(paper dataclass, field) -> where the paper marks the value approximate: these fields are parsed as
+:class:`Approximate` (derived here, so the study file's stored values and a run's config hash stay)."""
+
+
 def keyed(*keys: str) -> Any:
     """A required dict field whose keys, and those of each nested dict (one name per depth), must
     be words of a vocabulary (planner, shape, ...) or levels of a factor or param of the study file
@@ -82,6 +95,8 @@ def _convert(typ: Any, value: Any, where: str, levels: dict[str, list] | None = 
                     raise ConfigError(f"{where}.{name} is missing (a required key).")
                 continue
             out[name] = _convert(hints[name], value[name], f"{where}.{name}", levels)
+            if (typ.__name__, name) in APPROXIMATE:
+                out[name] = Approximate(out[name])
             if "keys" in f.metadata:
                 _check_keys(out[name], f.metadata["keys"], f"{where}.{name}", levels)
         return typ(**out)

@@ -32,7 +32,7 @@ NAV = [("Index", "index.html"), ("Table 1 headline", "headline.html")]
 """The navigation bar of every page (relative to the results root)."""
 # a printed number: a bound, a sign, digits or inf, an exponent, a unit sign, a range or an interval
 # ("35.7 (25.5–47.4)"), the count a rate is over ("35.7 (25.5–47.4) of 40")
-NUMBER = re.compile(r"[<>≤≥]? ?[+−-]?(\d[\d,]*(\.\d+)?(e[+−-]?\d+| ?× ?10[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+)?|inf) ?[%×]?"
+NUMBER = re.compile(r"[<>≤≥≈]? ?[+−-]?(\d[\d,]*(\.\d+)?(e[+−-]?\d+| ?× ?10[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+)?|inf) ?[%×]?"
                     r"(–[\d.]+)?( \([^()]*\))?( of \d+)?")
 
 
@@ -336,6 +336,12 @@ def _json(value: Any) -> Any:
     return ("inf" if value > 0 else "-inf") if isinstance(value, float) and math.isinf(value) else value
 
 
+MISSING_MEANS = ("in a table, no value there: the paper reports none, or the run records none or does not "
+                 "compare it (the row's verdict or reason says which)")
+"""What the missing mark :data:`~graspcampaign.core.words.MISSING` in a table cell means, said once per
+page."""
+
+
 @dataclass
 class Document:
     """One page: title, data source, provenance lines, blocks and the navigation bar."""
@@ -349,6 +355,14 @@ class Document:
     @property
     def tables(self) -> dict[str, pd.DataFrame]:
         return {b.name: b.frame for b in self.blocks if isinstance(b, Table)}
+
+    @property
+    def lines(self) -> list[tuple[str, str]]:
+        """The provenance lines, then what the missing mark means when a table on the page shows one:
+        said once here for every table, not in each caption."""
+        dashed = any(text == fmt.MISSING for b in self.blocks if isinstance(b, Table)
+                     for row in b.grid[0] for text, _ in row)
+        return [*self.provenance, *([(fmt.MISSING, MISSING_MEANS)] if dashed else [])]
 
     def write(self, out: Path, formats: Sequence[str], figure_format: str = "png") -> Path:
         """Write the requested formats under ``out``; return the main page (md, else html...)."""
@@ -381,8 +395,8 @@ class Document:
         out = [f"# {self.title}"]
         if self.source:
             out.append(f"> **Data source:** {SOURCE_LABEL.get(self.source, self.source)}")
-        if self.provenance:
-            out.append("\n".join(f"- **{k}:** {v}" for k, v in self.provenance))
+        if lines := self.lines:
+            out.append("\n".join(f"- **{k}:** {v}" for k, v in lines))
         return "\n\n".join([*out, *(b.md(figure_format) for b in self.blocks)]) + "\n"
 
     def contents(self) -> str:
@@ -408,7 +422,7 @@ class Document:
         blocks = [b.html() for b in self.blocks]
         first = next((i for i, b in enumerate(self.blocks) if isinstance(b, Table | Figure)), 0)
         body = "\n".join(["<dl class='provenance'>" + "".join(f"<dt>{html.escape(k)}</dt><dd>{inline(v)}</dd>"
-                                                              for k, v in self.provenance) + "</dl>",
+                                                              for k, v in self.lines) + "</dl>",
                           *blocks[:first], self.contents(), *blocks[first:]])
         return ("<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'><meta name='viewport' "
                 f"content='width=device-width,initial-scale=1'><title>{title}</title><style>{CSS}</style>"

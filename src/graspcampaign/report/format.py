@@ -8,6 +8,7 @@ import sys
 from decimal import ROUND_HALF_EVEN, Context, Decimal
 from typing import Any, NamedTuple
 
+from graspcampaign.campaign.paper import Approximate
 from graspcampaign.core.words import MISSING, listed  # noqa: F401 - fmt.listed: the one joiner
 
 MINUS = "\u2212"
@@ -152,7 +153,10 @@ def estimate(value: Any, low: Any = None, high: Any = None, digits: int | None =
 
 def paper_text(paper: Any, digits: int | None = None) -> str:
     """Return the paper's value as printed: a number, a range ``lo–hi``, a one-sided bound (a range
-    with a None end: ``≤ hi``, ``≥ lo``), yes/no or its text."""
+    with a None end: ``≤ hi``, ``≥ lo``), yes/no or its text; a value the paper marks approximate
+    (:class:`~graspcampaign.campaign.paper.Approximate`) with its own digits after ``≈`` (``≈ 86``)."""
+    if isinstance(paper, Approximate):
+        return f"≈ {number(float(paper))}"
     if not isinstance(paper, tuple | list):
         return number(paper, digits)
     if is_missing(paper[0]) or is_missing(paper[1]):

@@ -76,14 +76,14 @@ REDUCED_NOTE = (f"{REDUCED_MARK} A reduced or modified run: its design is not th
 FACTOR_NOUNS = {"shape": "shapes", "mass_kg": "masses", "mu": "frictions", "nodes": "meshes"}
 COLUMNS = [
     Col("headline", "headline (proposed planner)"), Col("testbed", "testbed (ours)"),
-    Col("run", "run", link="report"), Col("paper_pct", "paper %", 1), Col("n_paper", "paper n", 0),
+    Col("run", "run", link="report"), Col("paper", "paper %"), Col("n_paper", "paper n", 0),
     Col("rate_pct", "ours % (Wilson 95%)", 1, low="wilson_low_pct", high="wilson_high_pct", why="why"),
     Col("n", "n"), Col("n_error", "errors"), Col("n_aborted", "aborted"),
     Col("difference", "difference [pp]", 1, signed=True),
     Col("paper_baselines", "baselines: paper"), Col("ours_baselines", "baselines: ours"),
     Col("verdict", "verdict"), Col("section", "section"),
 ]
-ROW = ["headline", "section", "study", "run", "source", "testbed", "paper_pct", "n_paper",
+ROW = ["headline", "section", "study", "run", "source", "testbed", "paper_pct", "paper", "n_paper",
        "paper_baselines", "n", "n_error", "n_aborted", "rate_pct", "wilson_low_pct",
        "wilson_high_pct", "ours_baselines", "why", "report"]
 INTRO = ("Each row is the proposed planner's success rate over executed trials (errored trials "
@@ -109,7 +109,8 @@ def _row(h: Headline, paper: Any, **extra) -> dict:
     row = {"headline": h.label, "section": h.section, "study": h.study, "n": 0, "n_error": 0,
            "n_aborted": 0, "paper_baselines": fmt.MISSING, "ours_baselines": fmt.MISSING, "why": ""}
     if paper is not None:
-        row.update(paper_pct=h.paper(paper), n_paper=h.n_paper(paper) if h.n_paper else None,
+        row.update(paper_pct=h.paper(paper), paper=fmt.paper_text(h.paper(paper), 1),  # as printed: ≈ 86
+                   n_paper=h.n_paper(paper) if h.n_paper else None,
                    paper_baselines=_ranked(h.baselines(paper)) if h.baselines else fmt.MISSING)
     return {**row, **extra}
 

@@ -15,6 +15,7 @@ from graspcampaign.analysis import records as rec
 from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES, wilson_interval
 from graspcampaign.analysis.records import Estimate
 from graspcampaign.analysis.vocabulary import PROPOSED, label, ordered
+from graspcampaign.campaign.paper import Approximate
 from graspcampaign.report import format as fmt
 from graspcampaign.report.document import Col, Figure, Section, Table, Text  # noqa: F401 - API
 from graspcampaign.report.render import Run, reason
@@ -217,7 +218,8 @@ def Claims(name: str, caption: str | Callable[[Run], str],
             except (ValueError, KeyError, ZeroDivisionError) as exc:
                 e, why = Estimate(math.nan), f"not computed: {reason(exc)}"
             p = paper_of(run, r.paper)
-            out.append([r.label, r.section, fmt.paper_text(p, r.digits) if isinstance(p, tuple | list) else p,
+            shown = isinstance(p, tuple | list | Approximate)  # as the paper prints it: 78.0–83.4, ≈ 86
+            out.append([r.label, r.section, fmt.paper_text(p, r.digits) if shown else p,
                         e.value, e.low, e.high, e.n, r.unit, r.digits, why, p, r.because, r.bound])
         columns = ["quantity", "section", "paper", "value", "low", "high", "n", "unit", "digits", "why",
                    "_paper", "_because", "_bound"]
@@ -322,8 +324,9 @@ def gate_text(run: Run) -> str:
     read, n = int(g["n_valid_geometry"].sum()), int(g["n"].sum())  # a trial without the reading: n only
     unread = f"no reading in {n - read} of {n}; " if read < n else ""
     return (f" The validity gate {removed}: {int(g['invalid_geometry'].sum())} of {read} executed trials "
-            f"{'with a `valid_geometry` reading ' * bool(unread)}have a contact deeper than the fingertip "
-            f"radius, which is no contact ({unread}table {GATE}; `docs/decisions.md`, *{VALIDITY}*).")
+            f"{'with a validity reading (`valid_geometry`) ' * bool(unread)}have a contact deeper than the "
+            f"fingertip radius, which is no contact ({unread}table {GATE}; `docs/decisions.md`, "
+            f"*{VALIDITY}*).")
 
 
 def GateRemoved(by: Sequence[str]) -> Table:

@@ -94,7 +94,7 @@ def finding(run: Run, extra=lambda run: "") -> str:
     text += extra(run)
     if "none" in s and paper[PROPOSED] < paper.max():
         text += belief_gap(paper, s["none"].reindex(paper.index), f"{prefix}_belief_pairs")
-    text += ("Virtual-rig data, not hardware (`rig/virtual.py`). " if run.source == "virtual" else
+    text += ("Simulated virtual-rig data, not hardware. " if run.source == "virtual" else
              "Measured on hardware. ") + ("Filled by `graspcampaign ingest` from files marked `source = "
                                           "virtual`: virtual-rig exports, not rig measurements. "
                                           if run.ingested_exports else "")

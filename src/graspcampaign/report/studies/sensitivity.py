@@ -97,7 +97,11 @@ def _panels(run: Run) -> pd.DataFrame:
                      "beyond_radius_pct": 100 * deep.mean(),
                      "delta_max_median_mm": g.loc[~deep, "delta_max_mm"].median(),
                      "delta_max_why": "no physical trial" if deep.all() else "",
-                     "runtime_median_ms": g["runtime_ms"].median(), **rate_cols(g, "success", "success"),
+                     "runtime_median_ms": g["runtime_ms"].median(),
+                     # the opening's why: friction's share of the load, and the slip check failing first
+                     "eta_median": g["eta"].abs().median() if "eta" in g else math.nan,
+                     "slip_first": (g["failure_check"] == "slip").sum() if "failure_check" in g else pd.NA,
+                     **rate_cols(g, "success", "success"),
                      **rate_cols(g, "success_vertical", "vertical")})
     return pd.DataFrame(rows)
 
@@ -149,23 +153,38 @@ def _supplement(run: Run, fig) -> None:
         ax.set_visible(False)
 
 
-def _varies(run: Run, a: pd.DataFrame, column: str, factor: str) -> str:
-    """Whether panel (a)'s success share differs between the levels of ``column`` (a test of equal
-    rates at the report's 95 % level), in the finding's words with the per-level range."""
+def _levels_test(run: Run, column: str):
+    """Panel (a)'s success per level of ``column`` (successes, trials) and the test of equal rates over
+    them (None: fewer than two levels)."""
+    a = panel_rows(run, "mu_mass")
     g = a.groupby(column)["success"].agg(["sum", "size"])
+    return g, equal_rates_test(g["sum"], g["size"], seed=run.seed) if len(g) > 1 else None  # the run's seed
+
+
+def _varies(run: Run, column: str, factor: str, said: str = "") -> str:
+    """Whether panel (a)'s success share differs between the levels of ``column`` (a test of equal
+    rates at the report's 95 % level, its p in table sensitivity_claims), in the finding's words; the
+    test's name is left out when it is ``said`` (the other factor's, said before)."""
+    g, test = _levels_test(run, column)
     shares = fmt.span(100 * g["sum"] / g["size"], "%", digits=1)
-    if len(g) < 2:
+    if test is None:
         return f"is {shares} at the one {factor} level (nothing to compare)"
-    test = equal_rates_test(g["sum"], g["size"], seed=run.seed)  # the run's seed, as every resampling
-    # one share printed ("3.3%"): it is every level's, not a range over them ("0.0–20.0% over 12 levels")
-    levels = f"over {test.groups}" if fmt.DASH in shares else f"at each of its {test.groups}"
-    if not test.method:
-        return f"does not vary with {factor} ({shares} {levels} levels)"
+    if not test.method:  # one share printed ("0.0%"): every level's
+        return f"does not vary with {factor} ({shares} at each of its {test.groups} levels)"
     verb = "varies" if test.pvalue < 1 - CONFIDENCE_LEVEL else "does not detectably vary"
     floor = test.n_resamples and test.pvalue <= 1 / (test.n_resamples + 1)  # no resample reached it
-    p = (f"p ≤ {fmt.p_value(test.pvalue)} (the smallest p {test.n_resamples} resamples can give)" if floor
-         else f"p = {fmt.p_value(test.pvalue)}")
-    return f"{verb} with {factor} ({shares} {levels} levels; {test.method} {p})"
+    method = "" if test.method == said else f"{test.method} "
+    return f"{verb} with {factor} ({method}p {'≤' if floor else '='} {fmt.p_value(test.pvalue)})"
+
+
+def _levels_p(column: str):
+    """The p of equal success over panel (a)'s levels of ``column`` (:func:`_levels_test`)."""
+    def value(run: Run) -> Estimate:
+        g, test = _levels_test(run, column)
+        if test is None or not test.method:
+            raise ValueError("fewer than two levels" if test is None else "no success or no failure to test")
+        return Estimate(test.pvalue, n=test.n)
+    return value
 
 
 #: Fig. 19's boundaries as pairs of sensitivity_claims rows, the side with the higher rate first.
@@ -199,16 +218,17 @@ def finding(run: Run) -> str:
     text += (f"{len(seen)} of {len(rows)} Fig. 19 boundaries {verb} our rates "
              f"({fmt.listed(seen) + '; ' if seen else ''}table sensitivity_claims). " if rows else "")
     if len(a):
-        text += f"Success {_varies(run, a, 'mass_kg', 'mass')} and {_varies(run, a, 'mu', 'friction')}. "
+        said = getattr(_levels_test(run, "mass_kg")[1], "method", "")  # the test named once if both share it
+        text += f"Success {_varies(run, 'mass_kg', 'mass')} and {_varies(run, 'mu', 'friction', said)}. "
     if len(seen) < len(rows):
-        first = run.ok.get("failure_check")  # the first failing check, as recorded (none: not recorded)
-        slip = "" if first is None else (f", and the slip check fails first in {(first == 'slip').sum()} of "
-                                         f"{len(run.ok)} executed trials")
-        used = run.ok.get("eta", pd.Series(dtype=float)).abs().dropna()  # none: no contact carries friction
-        eta = f" (median |η| {fmt.number(used.median(), 2)})" if len(used) else ""  # as recorded
+        t = run.tables["sensitivity_panels"]  # per panel, as recorded (missing: not recorded)
+        slip = "" if t["slip_first"].isna().all() else (
+            f", and the slip check fails first in {int(t['slip_first'].sum())} of {int(t['trials'].sum())}")
+        eta = fmt.span(t["eta_median"], digits=2)  # none: no contact carries friction
+        eta = "" if eta == fmt.MISSING else f" (median |η| {eta}{' in each panel' * (fmt.DASH not in eta)})"
         text += (f"Why: Algorithm 2 releases contacts until the remaining normals carry the weight{eta}"
-                 f"{slip}; the static loop reads neither damping, λ2 nor b (panels b, c; "
-                 "`docs/decisions.md`, *Sensitivity, mesh resolution, surrogate*). ")
+                 f"{slip} (table sensitivity_panels); the static loop reads neither damping, λ2 nor b "
+                 "(panels b, c; `docs/decisions.md`, *Sensitivity, mesh resolution, surrogate*). ")
     return text.rstrip()
 
 
@@ -306,7 +326,9 @@ CLAIMS = Claims("sensitivity_claims", "The paper's Fig. 19 statements (in words)
                 "they lie apart the other way and are not shown by ours where they overlap; its Sec. 6.6 "
                 "words on λ1 (pushed toward its bound at μ < 0.1, the low-friction failure mode) are "
                 "compared as: most (the interval above 50%) identifications on the bound at μ < 0.1, and "
-                "fewer at μ ≥ 0.1", [
+                "fewer at μ ≥ 0.1. The p rows test equal success at every level of panel (a)'s mass or "
+                "friction (Pearson's χ², its Monte Carlo p over 9999 resamples where an expected count is "
+                "below 5: 1.0e-4 there is a bound, the smallest p they can give)", [
            Rate(REGION[0], "Fig. 19a", _where("mu_mass", _inside)),
            Rate(REGION[1], "Fig. 19a", _where("mu_mass", _inside, False)),
            Rate("(a) stable region: |R_z| reading inside it", "Fig. 19a", _where("mu_mass", _inside),
@@ -327,6 +349,8 @@ CLAIMS = Claims("sensitivity_claims", "The paper's Fig. 19 statements (in words)
            Rate(LAMBDA[1], "Fig. 19b", _where("lambda", _below, False)),
            Rate(STRIP[0], "Sec. 10", _where("lambda", _strip), outcome="loop_capped"),
            Rate(STRIP[1], "Sec. 10", _where("lambda", _strip, False), outcome="loop_capped"),
+           *(Value(f"(a) equal success at every {factor} level: p", "Fig. 19a", _levels_p(column),
+                   digits=fmt.P) for factor, column in (("mass", "mass_kg"), ("friction", "mu"))),
            *(Value(f"(c) runtime max/min over {axis} levels", "Sec. 6.6, Fig. 19c", _runtime_ratio(column),
                    lambda p: "nearly flat", "–", 2, because=FLAT) for axis, column in (("n", "n_exp"),
                                                                                       ("b", "b")))])
@@ -342,7 +366,8 @@ SPEC = ReportSpec("sensitivity", [
                     Col("loop_at_n_max_pct", LOOP_AT_N_MAX, 1),
                     Col("beyond_radius", "δmax > r (non-physical)", share="beyond_radius_pct"),
                     Col("delta_max_median_mm", "median δmax, δmax ≤ r [mm]", sig=3, why="delta_max_why"),
-                    "runtime_median_ms"], by=["panel"]),
+                    "runtime_median_ms", Col("eta_median", "median |η|", 2),
+                    Col("slip_first", "slip check failed first")], by=["panel"]),
     Figure("fig19_sensitivity", "Fig. 19 (ours): (a) success over μ × m with the paper's stable region "
            "(dashed); (b) success over λ1 × λ2 with the paper's λ1 boundary (dashed) and non-convergence "
            "strip (dotted); (c) median runtime over n × b; one cell per level, its value printed where it "

@@ -157,7 +157,7 @@ def _damage_caption(run: Run) -> str:
             f"beyond the deepest cycled level ({deepest:g} mm) and {r} beyond the "
             f"{run.radius_mm:g} mm fingertip radius (no contact is that deep): "
             "extrapolations of the fitted laws, not measured depths. Tests 2-3 do not read this table: "
-            "they use the family's closed-form depth (`bench.true_damage_depth`, as far extrapolated)")
+            "they use the family's closed-form true damage depth, as far extrapolated")
 
 
 def _note(run: Run) -> str:

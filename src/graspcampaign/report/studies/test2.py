@@ -427,8 +427,9 @@ SPEC = ReportSpec("test2_grasp", [
               Col("contact_point_error_mm", "median contact-point error [mm]", 2),
               Col("n_contact_point_error", "n (contact point)")], by=["scope"]),
     classifier("test2_classifier", lambda run: f"Pre-execution flags against {run.rig} success (§8.4, "
-               "Fig. 31c): `predicted_stable` is §9.5's SF_predicted > 1, optimistic where the beliefs are "
-               "wrong; `predicted_stable_residual` §8.1's residual ≤ τ_F = 0.0886 N, the flag the paper's "
+               "Fig. 31c): the believed-stability flag (`predicted_stable`) is §9.5's SF_predicted > 1, "
+               "optimistic where the beliefs are wrong; the residual flag (`predicted_stable_residual`) "
+               "§8.1's residual ≤ τ_F = 0.0886 N, the flag the paper's "
                "scores belong to: friction-blind, it carries no information about a friction hold. Every "
                "paper value (§8.4's scores; the precisions inside and outside group C, each for the trials "
                "its section states: §8.1 the proposed planner's, §8.4 all planners') stands beside the "
@@ -463,8 +464,9 @@ SPEC = ReportSpec("test2_grasp", [
            f"the {hw.VISION_QUANTUM_MM:g} mm vision quantisation, §8.1)", fig29, (12.0, 3.8)),
     Figure("fig30_representative_grasp", fig30_caption, fig30, (9.5, 5.4)),
     Figure("fig31_planner_comparison", "Fig. 31: success per planner (a) with own and exact beliefs "
-           "(hatched), (b) matched ablation; (c) `predicted_stable` against the outcome, ours alone: the "
-           "paper's Fig. 31c scores are of the residual flag, beside it in table test2_classifier",
+           "(hatched), (b) matched ablation; (c) the believed-stability flag (`predicted_stable`) against "
+           "the outcome, ours alone: the paper's Fig. 31c scores are of the residual flag, beside it in "
+           "table test2_classifier",
            style.panels(planner_bars("table7"), ("test2_matched", None, "planner", "(b) matched ablation"),
                         confusion(None, "predicted stable: believed SF > 1")), (13.0, 4.0)),
 ])

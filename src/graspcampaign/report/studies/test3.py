@@ -349,11 +349,11 @@ SPEC = ReportSpec("test3_disturbance", [
           "one, over the trials whose first finger is known (§9.3); Wilson 95% intervals", first_finger,
           [Col("n", "n"), pct_col("first_finger_correct", "first finger correct")], by=["scope"]),
     flags.classifier("test3_retention_classifier", "The retention flag against success (§9.5, Fig. 36c): "
-               "`predicted_stable` (= `retention_pred`) is the believed retention margin under the "
-               "commanded disturbance > 1, optimistic where the beliefs are wrong; "
-               "`predicted_stable_residual` Algorithm 2's residual ≤ τ_F, the paper's §8.1 flag: "
-               "friction-blind, it carries no information about a friction hold. §9.5's scores stand beside "
-               "`predicted_stable` alone, the flag they are of",
+               "the retention flag (`predicted_stable`, as `retention_pred`) is the believed retention "
+               "margin under the commanded disturbance > 1, optimistic where the beliefs are wrong; the "
+               "residual flag (`predicted_stable_residual`) is Algorithm 2's residual ≤ τ_F, the paper's "
+               "§8.1 flag: friction-blind, it carries no information about a friction hold. §9.5's scores "
+               "stand beside the retention flag alone, the flag they are of",
                t2.per_planner,
                lambda p: {("all", "predicted_stable"): flags.scores(p.retention_classifier)}),
     Table("test3_logistic", "Logistic regression of failure over the fixed-load blocks B, D, E (§9.5): "
