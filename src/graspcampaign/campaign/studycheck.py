@@ -20,7 +20,14 @@ from pathlib import Path
 from typing import Any
 
 from graspcampaign.campaign.paths import input_file_problem
-from graspcampaign.campaign.schema import SCHEMAS, StudyCfg, check_factor, check_value, example
+from graspcampaign.campaign.schema import (
+    SCHEMAS,
+    StudyCfg,
+    check_factor,
+    check_value,
+    example,
+    not_finite_text,
+)
 from graspcampaign.campaign.written import in_file
 from graspcampaign.core.words import listed, meant, plural
 from graspcampaign.errors import ConfigError
@@ -104,7 +111,8 @@ def check_typed(key: str, value: Any, typ: str, meta: dict[str, Any] | None = No
             scalar is int and not isinstance(value, int)) or (
             scalar is float and isinstance(value, str)):
         # a str field takes a number as its text (output.run: 2), as OmegaConf does
-        raise ConfigError(f"{key} must be of type {base}, got {_got(value)}.", key=key)
+        raise ConfigError(not_finite_text(key, value) or f"{key} must be of type {base}, got "
+                          f"{_got(value)}.", key=key)
     if meta:  # ranges and choices, on the value as the schema will hold it (2 -> 2.0, '2')
         meta = {k: v for k, v in meta.items() if k != "type"}
         check_value(key, str(value) if scalar is str else value,

@@ -1,0 +1,69 @@
+"""Bad input, round 19: an empty mapping given to a config group or a study's section on the
+command line (``model={}``), numbers that overflow to inf or are NaN in an override or a study
+file (``seeds=1e400``), and new users' wrong inputs. Each is one sentence naming what is wrong and
+where, exit 2, nothing stored changed (``cli_checks.refused``).
+
+(A study folder the report may not list, and a complete run it may not write, are in
+tests/cli/test_unreadable_places.py, which runs them as a user permission bits stop.)
+"""
+
+from __future__ import annotations
+
+import pytest
+from cli_checks import HEADER, invoke, refused
+
+#: what an empty mapping's sentence says after naming the override
+MERGED = "an empty mapping, which changes nothing (it is merged into the study's {key}); "
+
+
+@pytest.mark.parametrize(("override", "choose"), [
+    ("model={}", "choose one of its options (model=OPTION; options: firm, nominal, table2) or "),
+    ("pso={ }", "choose one of its options (pso=OPTION; options: converged, repeatability) or "),
+    ("params={}", ""), ("+paper={}", ""), ("factors={}", "")])
+def test_an_empty_mapping_for_a_group_or_a_section_is_refused_naming_it(tmp_path, override, choose):
+    """Each was taken, and changed nothing: the study ran as if it were not given."""
+    key = override.lstrip("+").partition("=")[0]
+    refused(tmp_path, ["show", "baseline_grid", override, "--root", tmp_path],
+            f"override {override!r} gives {key} {MERGED.format(key=key)}{choose}set one of its keys "
+            f"({key}.KEY=VALUE), or leave the override out.")
+
+
+def test_a_mapping_that_sets_a_key_of_a_group_is_still_taken(tmp_path):
+    done = invoke("show", "baseline_grid", "model={lambda1: 2}", "--root", tmp_path)
+    assert done.exit_code == 0 and done.stderr == "", done.output
+
+
+@pytest.mark.parametrize(("override", "said"), [
+    ("seeds=1e400", "1e400 overflows to inf (no float is that large)"),
+    ("seeds='1e400'", "1e400 overflows to inf (no float is that large)"),
+    ("mu=[0.3,1E400]", "1E400 overflows to inf (no float is that large)"),
+    ("pso.inertia=-1e4_00", "-1e4_00 overflows to -inf (no float is that large)"),
+    ("mass_kg=[nan]", "nan is not a number"), ("runner.progress_interval_s=-Inf", "-Inf is infinity"),
+    ("factors={mu: [0.3, 2e308]}", "2e308 overflows to inf (no float is that large)"),
+    ("pso={inertia: NaN}", "NaN is not a number")])
+def test_a_number_that_is_no_finite_number_is_refused_as_typed(tmp_path, override, said):
+    """Each was "seeds must be a whole number, got inf." or "factors.mu[1] must be finite, got
+    inf.": not the value typed."""
+    refused(tmp_path, ["show", "baseline_grid", override, "--root", tmp_path],
+            f"override {override!r}: {said}; give a finite number instead.")
+
+
+def test_a_text_key_may_be_named_inf_or_nan(tmp_path):
+    done = invoke("show", "smoke", "output.run=nan", "--root", tmp_path)
+    assert done.exit_code == 0 and f"run: {tmp_path}/smoke/nan (0 of" in done.stdout, done.output
+
+
+@pytest.mark.parametrize(("line", "key", "said"), [
+    ("seeds: 1e400", "seeds", "1e400 overflows to inf (no float is that large)"),
+    ("runner: {progress_interval_s: 1.0e400}", "runner.progress_interval_s",
+     "1.0e400 overflows to inf (no float is that large)"),
+    ("runner: {progress_interval_s: nan}", "runner.progress_interval_s", "nan is not a number"),
+    ("factors: {shape: [sphere], nodes: [1e999]}", "factors.nodes[0]",
+     "1e999 overflows to inf (no float is that large)")])
+def test_a_study_file_number_that_is_no_finite_number_is_refused_as_typed(tmp_path, line, key, said):
+    """YAML reads 1e400 as text: "seeds must be of type int, got '1e400' (str)."."""
+    study = tmp_path / "mine.yaml"
+    factors = "" if line.startswith("factors") else "factors: {shape: [sphere], nodes: [144]}\n"
+    study.write_text(f"{HEADER}name: mine\nkind: mesh_features\n{line}\n{factors}")
+    refused(tmp_path, ["show", study, "--root", tmp_path / "results"],
+            f"{study}, line 5: {key}: {said}; give a finite number.")
