@@ -98,6 +98,13 @@ def _run_cases(scratch, finished, sheets):
         closed.append(next((root / "smoke" / "default").glob(place)))
         for command in (["status", "smoke"], ["report", "smoke"], ["run", "smoke", *SMOKE]):
             cases[f"{name}:{command[0]}"] = ([*command, "--root", name], {})
+    # a study folder this user may not list, beside a run it may read, under a root reported whole
+    root = _run(scratch, "study", finished)
+    shutil.copytree(finished / "baseline_grid", root / "baseline_grid")
+    for page in finished.glob("*.*"):  # the index and headline pages, which list its runs
+        shutil.copy(page, root)
+    closed.append(root / "smoke")
+    cases["study:report"] = (["report", "--root", "study"], {})
     # a run whose records/ this user may read but not write, resumed with a trial it lacks
     _run(scratch, "unwritable", finished)
     cases["unwritable:run"] = (["run", "smoke", *SMOKE[:1], "nodes=[144,390]", *SMOKE[2:],
@@ -178,6 +185,18 @@ def test_a_manifest_this_user_may_not_read_is_not_called_damaged(places, command
 @pytest.mark.parametrize("command", ["status", "report", "run"])
 def test_a_records_folder_this_user_may_not_open_is_named(places, command):
     _refused(places, f"records:{command}", f"records/smoke/default/records: {DENIED}")
+
+
+def test_a_study_folder_this_user_may_not_list_is_named_and_the_others_reported(places):
+    """Its runs were skipped unsaid (exit 0), and the index, rewritten, no longer listed them."""
+    code, stdout, stderr = places[0]["study:report"]
+    assert (code, stdout) == (2, "report: study/baseline_grid/default/report/report.md\n")
+    assert stderr == ("warning: the headline and index pages were left as they were: run smoke "
+                      f"cannot be read (study/smoke: {DENIED})\nerror: the report of smoke could not "
+                      f"be written: study/smoke: {DENIED}\n")
+    results, scratch, before, after = places
+    assert {k: v for k, v in after.items() if k.startswith("study/")} == \
+        {k: v for k, v in before.items() if k.startswith("study/")}  # the pages too
 
 
 def test_a_run_this_user_may_not_write_is_refused_before_its_manifest_changes(places):

@@ -21,7 +21,7 @@ from graspcampaign.errors import ConfigError, UserInputError, access_denied, dis
 from graspcampaign.report import document as D
 from graspcampaign.report import spec as S
 from graspcampaign.report.document import NAV, Col, Document, Table, Text
-from graspcampaign.report.headline import folders, headline_rows, runs_of, write_headline
+from graspcampaign.report.headline import folders, headline_rows, runs_of, unlistable, write_headline
 from graspcampaign.report.render import Run, provenance, reason, render
 from graspcampaign.report.style import SOURCE_SHORT
 
@@ -148,6 +148,11 @@ def _runs(root: Path, studies: list[str] | None, run: str | Mapping[str, str] | 
         if studies and not os.path.isdir(root / name):
             raise UserInputError(f"no records for study {name!r} under {root}; "
                                  f"{how_to_make(root, name, wanted)}")
+        if wanted is None and (why := unlistable(root / name)):  # its runs cannot be found
+            if named:
+                raise UserInputError(why)
+            failed.append((name, why, True))
+            continue
         # walking, a folder is a run only if it looks like one (/sys/firmware/acpi is none)
         for r in [wanted] if wanted is not None else [d.name for d in runs_of(root / name)]:
             store = RunStore(root / name / r)
@@ -247,8 +252,9 @@ def write_root_pages(root: Path, formats: list[str]) -> bool:
     index = {page: index_rows(root, page, unreadable) for page in root_pages}
     pages = [root / f"{name}.{ext}" for name in ("headline", "index") for ext in ("csv", "md", "html")]
     shown = " ".join(p.read_text(errors="replace") for p in pages if p.is_file())
+    unreadable += [(d.name, why) for d in folders(root) if (why := unlistable(d))]  # a study's runs
     unreadable = [(label, why) for label, why in unreadable
-                  if re.search(rf"(?<![\w.-]){re.escape(label)}/report/report\.", shown)]
+                  if re.search(rf"(?<![\w.-]){re.escape(label)}/([^/\s]+/)?report/report\.", shown)]
     if unreadable:
         label, why = unreadable[0]
         more = f" (and {len(unreadable) - 1} more)" if len(unreadable) > 1 else ""
