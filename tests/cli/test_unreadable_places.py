@@ -21,7 +21,7 @@ from pathlib import Path
 
 import pytest
 import trimesh
-from cli_checks import SMOKE, filled_records, snapshot
+from cli_checks import SMOKE, T2, filled_records, invoke, snapshot
 
 import graspcampaign
 from graspcampaign.campaign import studyfile
@@ -109,6 +109,14 @@ def _run_cases(scratch, finished, sheets):
     _run(scratch, "unwritable", finished)
     cases["unwritable:run"] = (["run", "smoke", *SMOKE[:1], "nodes=[144,390]", *SMOKE[2:],
                                 "--allow-drift", "--root", "unwritable"], {})
+    # a finished run whose records/ this user may read but not write: run has nothing to write;
+    # and a measured run so kept, given the records it holds again
+    _run(scratch, "complete", finished)
+    cases["complete:run"] = (["run", "smoke", *SMOKE, "--allow-drift", "--root", "complete"], {})
+    filled_records(sheets).to_csv(scratch / "again.csv", index=False)
+    made = invoke("ingest", "test2_grasp", scratch / "again.csv", *T2, "--root", scratch / "measured")
+    assert made.exit_code == 0, made.output
+    cases["measured:ingest"] = (["ingest", "test2_grasp", "again.csv", *T2, "--root", "measured"], {})
     # a run whose report/ this user may not write
     _run(scratch, "no_report", finished)
     cases["no_report:report"] = (["report", "smoke", "--root", "no_report"], {})
@@ -136,7 +144,9 @@ def _run_cases(scratch, finished, sheets):
     closed += [scratch / "ball.stl", scratch / "records.csv", scratch / "studies",
                scratch / "home" / "conf", scratch / "hidden"]
     modes = {path: path.stat().st_mode for path in closed + [scratch / "unwritable" / "smoke" /
-             "default" / "records", scratch / "no_report" / "smoke" / "default" / "report"]}
+             "default" / "records", scratch / "no_report" / "smoke" / "default" / "report",
+             scratch / "complete" / "smoke" / "default" / "records",
+             scratch / "measured" / "test2_grasp" / "measured" / "records"]}
     for path in closed:
         path.chmod(0)
     for path in list(modes)[len(closed):]:
@@ -203,6 +213,23 @@ def test_a_run_this_user_may_not_write_is_refused_before_its_manifest_changes(pl
     _refused(places, "unwritable:run", "run smoke/default at unwritable/smoke/default: "
              "unwritable/smoke/default/records: cannot write there (Permission denied); make it "
              "writable for this user, or run the command as the user who owns the run.")
+
+
+def test_a_finished_run_this_user_may_not_write_has_nothing_to_do(places):
+    """It was refused as the run above ("cannot write there"), though nothing was left to run."""
+    results, scratch, before, after = places
+    assert results["complete:run"] == [0, "smoke/default: 1 trial, 1 already recorded, 0 ran (0 ok, "
+                                          "0 errors) in 0.0 s -> complete/smoke/default\n", ""]
+    assert {k: v for k, v in after.items() if k.startswith("complete/")} == \
+        {k: v for k, v in before.items() if k.startswith("complete/")}  # no session recorded
+
+
+def test_records_ingested_again_into_a_run_this_user_may_not_write_are_said_stored(places):
+    """It was "cannot write there": the file's trials are stored already, and would be refused."""
+    first = (places[1] / "again.csv").read_text().splitlines()[1].split(",")[0]  # its trial_id
+    _refused(places, "measured:ingest", f"again.csv, row 1, column 'trial_id': trial {first!r} is "
+             "already stored in this run; measured records are never overwritten (ingest a "
+             "corrected file into another run with --run).")
 
 
 def test_a_report_folder_this_user_may_not_write_is_bad_input(places):

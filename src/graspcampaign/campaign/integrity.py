@@ -56,7 +56,7 @@ from graspcampaign.campaign.provenance import (
 from graspcampaign.campaign.records import OPTIONAL_COLUMNS, RECORD_COLUMNS
 from graspcampaign.campaign.verify import Facts, facts, one_check, other_values
 from graspcampaign.core.words import counted
-from graspcampaign.errors import DamagedRunError
+from graspcampaign.errors import DamagedRunError, UserInputError
 
 #: Names of stored shards, as the store writes them: "part-" and a content hash (10 hex digits,
 #: ``grid.content_hash``: a task's trial ids, a body id) or "final", then a "-k" suffix where a
@@ -445,3 +445,15 @@ def _holds_files(path: Path) -> bool:
     if path.is_file():
         return True
     return path.is_dir() and any(p.is_file() for p in path.rglob("*") if not _hidden(p))
+
+
+def nothing_to_record(store, manifest: dict | None, config_hash: str, trial_ids: set[str]) -> bool:
+    """Whether a run has nothing left to record: finished under this config alone (its manifest),
+    passing its checks (nothing to repair), holding every trial of ``trial_ids``."""
+    if manifest is None or manifest.get("finished_at") is None or not one_config(manifest, config_hash):
+        return False
+    try:
+        check_run(store)
+    except UserInputError:  # damaged, or a file this user may not read: not known complete
+        return False
+    return trial_ids <= store.recorded_ids()
