@@ -67,3 +67,22 @@ def test_a_study_file_number_that_is_no_finite_number_is_refused_as_typed(tmp_pa
     study.write_text(f"{HEADER}name: mine\nkind: mesh_features\n{line}\n{factors}")
     refused(tmp_path, ["show", study, "--root", tmp_path / "results"],
             f"{study}, line 5: {key}: {said}; give a finite number.")
+
+
+def test_one_phrase_of_the_package_says_permission_denied():
+    """There were four ("… (permission denied; chmod or chown it, or run the command as its
+    owner)", "… (permission denied); chmod or chown it, or run as its owner.", "… permission
+    denied (its permissions … keep this user out); give this user access …", "cannot write there
+    (Permission denied); make it writable …"): core.words.PERMISSION_DENIED is now the only text
+    that says it."""
+    import ast
+    from pathlib import Path
+
+    import graspcampaign
+
+    package = Path(graspcampaign.__file__).parent
+    saying = sorted(f"{path.relative_to(package)}:{node.lineno}" for path in package.rglob("*.py")
+                    for node in ast.walk(ast.parse(path.read_text()))
+                    if isinstance(node, ast.Constant) and isinstance(node.value, str)
+                    and "permission denied" in node.value.lower())
+    assert [where.partition(":")[0] for where in saying] == ["core/words.py"], saying

@@ -388,7 +388,10 @@ def test_plan_refuses_a_read_only_directory(stl_files, tmp_path, monkeypatch):
     result = runner.invoke(app, ["plan", str(stl_files["sphere"]), "--mass-kg", "0.1",
                                  "--png", str(locked / "plan.png")])
     assert result.exit_code == 2
-    assert result.stderr == f"error: --png {locked / 'plan.png'}: cannot write there (Permission denied).\n"
+    assert result.stderr == (f"error: --png {locked / 'plan.png'}: cannot be written by this user: "
+                             "permission denied (its permissions, or those of the directory holding "
+                             "it, keep this user out); give this user access (chmod, chown), or run "
+                             "the command as the user who owns it.\n")
 
 
 def test_plan_names_the_default_picture_it_cannot_write(stl_files, tmp_path, monkeypatch):

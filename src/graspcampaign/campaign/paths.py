@@ -19,7 +19,8 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from graspcampaign.errors import ConfigError, UserInputError, blocked, too_long
+from graspcampaign.core.words import PERMISSION_DENIED
+from graspcampaign.errors import ConfigError, UserInputError, blocked, cannot_write, too_long
 
 
 def path_problem(path: Path, *, write: bool = False, directory: bool = True) -> str | None:
@@ -101,10 +102,6 @@ def input_file_problem(path: Path) -> str | None:
     return unreachable(path) or "does not exist"
 
 
-#: What to do of a place this user may not open, after the words saying so.
-_OPEN_UP = "chmod or chown it, or run the command as its owner"
-
-
 def read_denied(path: Path) -> str | None:
     """Why this user may not read the file ``path``, or list the directory ``path`` and open
     what it holds, in the words after the path; None if it may. A probe, not the permission bits
@@ -117,7 +114,7 @@ def read_denied(path: Path) -> str | None:
         else:
             os.close(os.open(path, os.O_RDONLY | os.O_NONBLOCK))
     except PermissionError:
-        return f"cannot be read by this user (permission denied; {_OPEN_UP})"
+        return f"cannot be read by this user: {PERMISSION_DENIED}"
     return None
 
 
@@ -126,7 +123,7 @@ def unreachable(path: Path) -> str | None:
     (:func:`~graspcampaign.errors.blocked`), in the words after the path; or None."""
     if (parent := blocked(path)) == os.fspath(path):
         return None
-    return f"cannot be reached by this user ({parent} cannot be searched: permission denied; {_OPEN_UP})"
+    return f"cannot be reached by this user ({parent} cannot be searched): {PERMISSION_DENIED}"
 
 
 def _dangling(link: Path) -> str:
@@ -159,7 +156,7 @@ def write_denied(where: Path) -> str | None:
             os.close(handle)
             os.unlink(probe)
     except OSError as exc:
-        return f"cannot write there ({exc.strerror or type(exc).__name__})"
+        return cannot_write(exc)
     return None
 
 

@@ -481,8 +481,7 @@ def unwritable(store: RunStore, label: str) -> str | None:
     for where, folders, _ in os.walk(store.path):
         folders[:] = [f for f in folders if Path(where, f) != store.path / "report"]
         if (why := write_denied(Path(where))) is not None:
-            return (f"run {label} at {store.path}: {where}: {why}; make it writable for this user, "
-                    "or run the command as the user who owns the run.")
+            return f"run {label} at {store.path}: {where}: {why}."
     return None
 
 
