@@ -38,7 +38,7 @@ def test_a_mapping_that_sets_a_key_of_a_group_is_still_taken(tmp_path):
     ("seeds='1e400'", "1e400 overflows to inf (no float is that large)"),
     ("mu=[0.3,1E400]", "1E400 overflows to inf (no float is that large)"),
     ("pso.inertia=-1e4_00", "-1e4_00 overflows to -inf (no float is that large)"),
-    ("mass_kg=[nan]", "nan is not a number"), ("runner.progress_interval_s=-Inf", "-Inf is infinity"),
+    ("mass_kg=[nan]", "nan is not a number"), ("runner.progress_interval_s=-Inf", "-Inf is infinite"),
     ("factors={mu: [0.3, 2e308]}", "2e308 overflows to inf (no float is that large)"),
     ("pso={inertia: NaN}", "NaN is not a number")])
 def test_a_number_that_is_no_finite_number_is_refused_as_typed(tmp_path, override, said):
@@ -86,3 +86,21 @@ def test_one_phrase_of_the_package_says_permission_denied():
                     if isinstance(node, ast.Constant) and isinstance(node.value, str)
                     and "permission denied" in node.value.lower())
     assert [where.partition(":")[0] for where in saying] == ["core/words.py"], saying
+
+
+@pytest.mark.parametrize(("option", "typed", "said"), [
+    ("--mass-kg", "1e400", "1e400 overflows to inf (no float is that large)"),
+    ("--mass-kg", "nan", "nan is not a number"), ("--mu", "Infinity", "Infinity is infinite"),
+    ("--fingertip-radius-mm", "-1e999", "-1e999 overflows to -inf (no float is that large)")])
+def test_a_numeric_option_that_is_no_finite_number_is_refused_as_typed(sphere, tmp_path, option, typed,
+                                                                       said):
+    """Each was "--mass-kg inf is out of range; allowed: …" (nan too: no number is out of range)."""
+    args = ["plan", sphere, "--mass-kg", "0.1"]
+    args = args[:2] + [option, typed] if option == "--mass-kg" else args + [option, typed]
+    refused(tmp_path, args, f"{option} {said}; give a finite number.")
+
+
+def test_an_override_of_a_number_written_infinity_is_refused_as_typed(tmp_path):
+    """Hydra reads it as text, and the float field's float() as inf: "must be finite, got inf"."""
+    refused(tmp_path, ["show", "baseline_grid", "pso.inertia=infinity", "--root", tmp_path],
+            "override 'pso.inertia=infinity': infinity is infinite; give a finite number instead.")

@@ -48,11 +48,12 @@ def underscored_numbers(value: str, quoted: bool = False) -> list[str]:
 
 
 def not_finite(value: str, quoted: bool = False) -> str | None:
-    """The first of the :func:`words` of an override's ``value`` that Hydra's grammar reads as a
-    float that is no finite number (``1e400`` overflows to inf; ``nan``, ``-inf``), said as typed
-    with what it is (``'1e400 overflows to inf (...)'``); None if there is none."""
+    """The first of the :func:`words` of an override's ``value`` that Hydra's grammar (or the
+    float() of a number field) reads as a float that is no finite number (``1e400`` overflows to
+    inf; ``nan``, ``-inf``, ``Infinity``), said as typed with what it is (``'1e400 overflows to inf
+    (...)'``); None if there is none."""
     for word in words(value, quoted):
-        if not re.fullmatch(r"[+-]?(?:[\d_]*\.?[\d_]*(?:[eE][+-]?[\d_]+)?|inf|nan)", word, re.I):
+        if not re.fullmatch(r"[+-]?(?:[\d_]*\.?[\d_]*(?:[eE][+-]?[\d_]+)?|inf(?:inity)?|nan)", word, re.I):
             continue
         try:
             read = float(word.replace("_", ""))
@@ -61,7 +62,7 @@ def not_finite(value: str, quoted: bool = False) -> str | None:
         if read != read:
             return f"{word} is not a number"
         if abs(read) == float("inf"):
-            return (f"{word} is infinity" if word.lower().lstrip("+-") == "inf" else
+            return (f"{word} is infinite" if word.lower().lstrip("+-").startswith("inf") else
                     f"{word} overflows to {read} (no float is that large)")
     return None
 
