@@ -104,3 +104,15 @@ def test_an_override_of_a_number_written_infinity_is_refused_as_typed(tmp_path):
     """Hydra reads it as text, and the float field's float() as inf: "must be finite, got inf"."""
     refused(tmp_path, ["show", "baseline_grid", "pso.inertia=infinity", "--root", tmp_path],
             "override 'pso.inertia=infinity': infinity is infinite; give a finite number instead.")
+
+
+def test_a_study_file_whose_name_is_no_study_name_is_told_to_be_renamed(tmp_path):
+    """It was told "write name: my study or rename the file to mine.yaml", and name: my study is
+    refused ("name = 'my study' is not allowed; use ASCII letters …")."""
+    study = tmp_path / "my study.yaml"
+    study.write_text(f"{HEADER}name: mine\nkind: mesh_features\n"
+                     "factors: {shape: [sphere], nodes: [144]}\n")
+    refused(tmp_path, ["show", study, "--root", tmp_path / "results"],
+            f"{study}, line 3: name: mine is not the file's name 'my study', which is no study name "
+            "(ASCII letters, digits, '.', '_' and '-', starting with a letter or digit); a study is "
+            "listed, run and reported by its file name, so rename the file to mine.yaml.")

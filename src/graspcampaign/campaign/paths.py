@@ -454,6 +454,11 @@ def write_file(path: Path, data: str | bytes) -> None:
 _RUN_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
 
 
+def usable_name(text: str) -> bool:
+    """Whether ``text`` may name a study or a run (:func:`check_name`)."""
+    return bool(_RUN_NAME.fullmatch(text))
+
+
 def check_name(value: Any, key: str) -> str:
     """Check a study or run name: one path component, so results stay under the results root.
 
@@ -465,7 +470,7 @@ def check_name(value: Any, key: str) -> str:
     if not isinstance(value, str):  # a notebook's run=3 was stored as a number, then refused
         raise ConfigError(f"{key} = {value!r} is not a name: give it as text (a str).", key=key)
     text = value
-    if not _RUN_NAME.fullmatch(text):
+    if not usable_name(text):
         raise ConfigError(f"{key} = {text!r} is not allowed; use ASCII letters (a-z, A-Z), digits, "
                           "'.', '_' and '-' (starting with a letter or digit, at most 100), so the "
                           "run stays inside the results directory.", key=key)

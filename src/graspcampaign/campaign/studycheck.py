@@ -278,18 +278,25 @@ def check_study_file(path: Path, data: dict[str, Any]) -> None:
     ConfigError
         Naming the file, the line, the key and what is allowed.
     """
-    from graspcampaign.campaign.paths import check_name
+    from graspcampaign.campaign.paths import check_name, usable_name
 
     try:
         check_study_data(data)
         name = data.get("name")
         if isinstance(name, str) and not _is_interpolation(name):
             check_name(name, "name")
-            if name != Path(path).stem:
+            stem = Path(path).stem
+            if name != stem and not usable_name(stem):  # 'my study': no name can be written so
                 raise ConfigError(
-                    f"name: {name} is not the file's name {Path(path).stem}; a study is listed, "
+                    f"name: {name} is not the file's name {stem!r}, which is no study name (ASCII "
+                    "letters, digits, '.', '_' and '-', starting with a letter or digit); a study "
+                    f"is listed, run and reported by its file name, so rename the file to "
+                    f"{name}.yaml.", key="name")
+            if name != stem:
+                raise ConfigError(
+                    f"name: {name} is not the file's name {stem}; a study is listed, "
                     f"run and reported by its file name (status and report look for "
-                    f"{Path(path).stem}), so write name: {Path(path).stem} or rename the file "
+                    f"{stem}), so write name: {stem} or rename the file "
                     f"to {name}.yaml.", key="name")
     except ConfigError as exc:
         raise in_file(path, exc) from None
