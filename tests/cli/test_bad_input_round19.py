@@ -116,3 +116,11 @@ def test_a_study_file_whose_name_is_no_study_name_is_told_to_be_renamed(tmp_path
             f"{study}, line 3: name: mine is not the file's name 'my study', which is no study name "
             "(ASCII letters, digits, '.', '_' and '-', starting with a letter or digit); a study is "
             "listed, run and reported by its file name, so rename the file to mine.yaml.")
+
+
+@pytest.mark.parametrize(("override", "message"), [
+    ("seeds=true", "seeds must be a whole number, got true."),
+    ("pso.inertia=false", "pso.inertia must be a number, got false.")])
+def test_true_or_false_for_a_number_is_echoed_as_typed(tmp_path, override, message):
+    """It was "got True.", Python's spelling, which the user never typed."""
+    refused(tmp_path, ["show", "baseline_grid", override, "--root", tmp_path], message)
