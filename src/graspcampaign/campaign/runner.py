@@ -41,6 +41,7 @@ from graspcampaign.campaign.provenance import DriftError, check_drift  # noqa: F
 from graspcampaign.campaign.records import ERROR_COLUMNS, RunStore, config_metadata
 from graspcampaign.campaign.schema import StudyCfg, check_config, check_design_rows
 from graspcampaign.campaign.verify import one_check
+from graspcampaign.core.words import PERMISSION_DENIED
 from graspcampaign.errors import ConfigError, UserInputError
 
 
@@ -480,8 +481,10 @@ def unwritable(store: RunStore, label: str) -> str | None:
     to `report`."""
     for where, folders, _ in os.walk(store.path):
         folders[:] = [f for f in folders if Path(where, f) != store.path / "report"]
-        if (why := write_denied(Path(where))) is not None:
-            return f"run {label} at {store.path}: {where}: {why}."
+        if (why := write_denied(Path(where))) is not None:  # permission denied says what to do
+            advice = "" if PERMISSION_DENIED in why else ("; make it writable for this user, or "
+                                                          "run the command as the user who owns the run")
+            return f"run {label} at {store.path}: {where}: {why}{advice}."
     return None
 
 
