@@ -99,8 +99,7 @@ MASS = ("below 0.1 g an object weighs less than the rig's 1 mN force resolution,
                                f"({MASS})."),
         (["--mass-kg", "0.1", "--mu", "50"], "--mu 50.0 is out of range; allowed: >= 0 and <= 3 (dry "
                                              "friction of soft materials stays below 3)."),
-        (["--mass-kg", "0.1", "--mu", "nan"], "--mu nan is out of range; allowed: >= 0 and <= 3 (dry "
-                                              "friction of soft materials stays below 3)."),
+        (["--mass-kg", "0.1", "--mu", "nan"], "--mu nan is not a number; give a finite number."),
         (["--mass-kg", "0.1", "--fingertip-radius-mm", "-5"],
          "--fingertip-radius-mm -5.0 is out of range; allowed: >= 1 and <= 50 mm (below 1 mm the "
          "evaluator's 0.5 mm seed penetration sinks half a fingertip's radius, and robot pads "
