@@ -234,3 +234,33 @@ def test_the_checker_passes_public_names_and_private_attributes(tmp_path):
                         "y = feature.__name__, np._NoValue\n",
     })
     assert private_uses(pkg, "fakepkg") == []
+
+
+def store_privates(package_dir: Path, package: str = "graspcampaign") -> list[str]:
+    """Return one line per private attribute of the run store (``campaign.records.RunStore``) read
+    outside its module, as ``<object>._name``: what another module needs of the store is public."""
+    from graspcampaign.campaign.records import RunStore
+
+    ROOTS[package_dir] = package
+    private = {name for name in vars(RunStore) if _private(name)}
+    out = []
+    for path in sorted(package_dir.rglob("*.py")):
+        if path == package_dir / "campaign" / "records.py":
+            continue
+        for node in ast.walk(ast.parse(path.read_text(), filename=str(path))):
+            if (isinstance(node, ast.Attribute) and node.attr in private
+                    and not (isinstance(node.value, ast.Name) and node.value.id == "self")):
+                out.append(f"{module_name(path)}:{node.lineno} reads RunStore.{node.attr}")
+    return out
+
+
+def test_no_module_reads_a_private_of_the_run_store():
+    """campaign.parts, integrity and repair read the store's _listing, _verified, _dir, _parts,
+    _drop_rows and _keep_rows."""
+    assert store_privates(PACKAGE) == []
+
+
+def test_the_store_checker_catches_a_private_read_outside_the_store(tmp_path):
+    pkg = _tree(tmp_path, {"campaign/records.py": "", "campaign/parts.py":
+                           "def f(store):\n    return store._live('records'), store.path\n"})
+    assert store_privates(pkg, "fakepkg") == ["fakepkg.campaign.parts:2 reads RunStore._live"]

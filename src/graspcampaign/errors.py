@@ -71,10 +71,21 @@ def access_denied(exc: BaseException) -> str | None:
     exception. Said as what it is: the file is not damaged and nothing was changed."""
     if not (isinstance(exc, OSError) and exc.errno == errno.EACCES):
         return None
+    from graspcampaign.core.words import PERMISSION_DENIED
+
     where = blocked(exc.filename) if exc.filename else "a file or directory"
-    return (f"{where}: permission denied (its permissions, or those of the directory holding it, "
-            "keep this user out); give this user access (chmod, chown), or run the command as the "
-            "user who owns it.")
+    return f"{where}: {PERMISSION_DENIED}."
+
+
+def cannot_write(exc: OSError) -> str:
+    """What a write that failed with ``exc`` says after the place: :data:`~graspcampaign.core.words.
+    PERMISSION_DENIED` for one this user may not write in, else ``cannot write there (<reason>)``
+    (a read-only file system, a full disk)."""
+    from graspcampaign.core.words import PERMISSION_DENIED
+
+    if exc.errno == errno.EACCES:
+        return f"cannot be written by this user: {PERMISSION_DENIED}"
+    return f"cannot write there ({exc.strerror or type(exc).__name__})"
 
 
 def blocked(path: str | os.PathLike) -> str:

@@ -236,3 +236,12 @@ def test_each_median_error_carries_the_count_it_is_over():
     assert after["n_parity"] == before["n_parity"] and after["n_force_err"] == before["n_parity"]
     assert after["n_deformation_err"] == before["n_deformation_err"] - 7
     assert before["n_deformation_err"] == measured.sum()
+
+
+def test_a_group_with_no_reading_of_a_rate_counts_zero_rows_not_nan():
+    """The count n_stable of a planner none of whose trials recorded is_stable was NaN (the
+    merge of a rate table lacking the group), and made every n_ column a float."""
+    d = _records({"a": (1, 2), "b": (2, 2)}).assign(is_stable=[True, False, None, None])
+    out = hardware.summary(d, ["planner"], ["is_stable"]).set_index("planner")
+    assert out["n_stable"].to_dict() == {"a": 2, "b": 0}
+    assert out["n_stable"].dtype.kind == "i" and np.isnan(out.loc["b", "stable_pct"])

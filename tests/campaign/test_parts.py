@@ -24,7 +24,7 @@ def _accounts(store: RunStore) -> dict:
     it (read here with json and pyarrow alone): a mapping of trial ids (the form written before
     version 2), or lists aligned with the file's trial_id column."""
     out = {}
-    for path in store._listing("records")[0]:
+    for path in store.listing("records")[0]:
         out.update(_accounts_of(path))
     return out
 
@@ -72,7 +72,7 @@ def test_a_trial_that_stores_no_trace_row_is_never_called_damaged(study_factory)
 def _as_version_1(store: RunStore) -> None:
     """Rewrite the run's records files with their accounts as the release before version 2 wrote
     them: ``{trial_id: entry}`` in the Arrow schema's metadata (and so in the file's too)."""
-    for path in store._listing("records")[0]:
+    for path in store.listing("records")[0]:
         entries = _accounts_of(path)
         table = pq.read_table(path)
         old = json.dumps(entries, sort_keys=True, separators=(",", ":")).encode()
@@ -83,7 +83,7 @@ def _as_version_1(store: RunStore) -> None:
 def _versions(store: RunStore) -> set:
     """The versions of the accounts of the run's records files (1: the mapping of trial ids)."""
     return {json.loads(pq.read_metadata(path).metadata[PARTS_KEY]).get("v", 1)
-            for path in store._listing("records")[0]}
+            for path in store.listing("records")[0]}
 
 
 @pytest.mark.parametrize("version", [2, 1])
@@ -138,7 +138,7 @@ def test_a_run_stored_before_the_accounts_is_read_as_before(study_factory):
     is not asked for (nothing says it was stored), the run checks and resumes as before."""
     study = study_factory(kind="test_pi_trace")
     store = RunStore(run_study(study).path)
-    for path in store._listing("records")[0]:
+    for path in store.listing("records")[0]:
         table = pq.read_table(path)
         meta = {k: v for k, v in table.schema.metadata.items() if k != PARTS_KEY}
         pq.write_table(table.replace_schema_metadata(meta), path, write_page_checksum=True)
@@ -155,10 +155,10 @@ def _stored_once_row_by_row(store: RunStore) -> None:
     trace rows each trial stores (1 + its index mod 3) and the body id of the preparation of its
     mass (read from prepared/); no trial id written in it."""
     prepared = {}
-    for path in store._listing("prepared")[0]:
+    for path in store.listing("prepared")[0]:
         prepared.update((r["mass_kg"], r["body_id"]) for r in pq.read_table(path).to_pylist())
     assert len(prepared) == 2
-    for path in store._listing("records")[0]:
+    for path in store.listing("records")[0]:
         raw = pq.read_metadata(path).metadata[PARTS_KEY]
         assert PARTS_KEY not in pq.read_schema(path).metadata
         rows = pq.read_table(path, columns=["trial_id", "trial_index", "mass_kg"]).to_pylist()
@@ -179,10 +179,10 @@ def test_a_records_file_holds_its_account_once_one_entry_per_row(study_factory, 
         with pytest.raises(Killed):
             run_study(study)
     store = RunStore(run_path(study))
-    assert len(store._listing("records")[0]) == 3
+    assert len(store.listing("records")[0]) == 3
     _stored_once_row_by_row(store)
     run_study(study)
-    assert [p.name[:8] for p in store._listing("records")[0]] == ["compact-"]
+    assert [p.name[:8] for p in store.listing("records")[0]] == ["compact-"]
     _stored_once_row_by_row(store)
     assert store.check() is not None
 
@@ -221,5 +221,5 @@ def test_a_resumed_run_asks_its_accounts_once_and_reads_its_preparations_once(st
     again = run_study(study)
     assert again.n_ran == 0 and again.n_already == 16
     assert asked == [True, True]
-    (file,) = store._listing("prepared")[0]
+    (file,) = store.listing("prepared")[0]
     assert opened.count(str(file)) == 2

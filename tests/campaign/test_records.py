@@ -187,7 +187,7 @@ def test_a_rewrite_interrupted_before_the_old_file_goes_counts_no_row_twice(tmp_
     store.compact()
     (compact,) = (tmp_path / "run" / "records").glob("compact-*.parquet")
     saved = compact.read_bytes()
-    store._drop_rows("records", {"a2"})  # what repair does for a trial whose traces were lost
+    store.drop_rows("records", {"a2"})  # what repair does for a trial whose traces were lost
     compact.write_bytes(saved)  # a crash before the old file was removed
     assert sorted(store.recorded_ids()) == ["a1", "b1", "b2"]
     store.clean()

@@ -76,7 +76,7 @@ def test_a_rewritten_compacted_file_still_supersedes_its_shards(tmp_path):
     store.compact()
     left.write_bytes(kept)  # a crash between writing the compacted file and removing its sources
     assert _ids(store) == ["a", "b", "c"]
-    store._drop_rows("records", {"c"})
+    store.drop_rows("records", {"c"})
     written = json.loads(pq.read_schema(_compacted(store)).metadata[SOURCES_KEY])
     assert "part-0000000000.parquet" in written
     assert _ids(store) == ["a", "b"]
@@ -85,7 +85,7 @@ def test_a_rewritten_compacted_file_still_supersedes_its_shards(tmp_path):
 def test_removing_rows_keeps_a_single_remaining_row(tmp_path):
     store = RunStore(tmp_path / "run")
     store.write_shard("records", "0000000000", [{"trial_id": "a"}, {"trial_id": "b"}])
-    store._drop_rows("records", {"b"})
+    store.drop_rows("records", {"b"})
     assert _ids(store) == ["a"]
 
 
@@ -93,7 +93,7 @@ def test_removing_every_row_of_a_file_removes_its_trials(tmp_path):
     store = RunStore(tmp_path / "run")
     store.write_shard("records", "0000000000", [{"trial_id": "a"}, {"trial_id": "b"}])
     store.write_shard("records", "1111111111", [{"trial_id": "c"}])
-    store._drop_rows("records", {"a", "b"})
+    store.drop_rows("records", {"a", "b"})
     assert _ids(store) == ["c"]
     assert not (store.path / "records" / "part-0000000000.parquet").exists()
 
@@ -104,7 +104,7 @@ def test_keeping_the_rows_of_recorded_trials_drops_rows_without_a_trial_id(tmp_p
     store = RunStore(tmp_path / "run")
     store.write_shard("tables/trace", "0000000000", [{"trial_id": "a", "v": 1.0},
                                                      {"trial_id": None, "v": 2.0}])
-    store._keep_rows("tables/trace", {"a"})
+    store.keep_rows("tables/trace", {"a"})
     table = pq.read_table(_compacted(store, "tables/trace"))
     assert table.column("trial_id").to_pylist() == ["a"]
     assert table.column("v").to_pylist() == [1.0]
@@ -125,7 +125,7 @@ def test_a_file_rewritten_without_some_rows_keeps_its_config(tmp_path):
     store = RunStore(tmp_path / "run")
     store.write_shard("records", "0000000000", [{"trial_id": "a"}, {"trial_id": "b"}],
                       metadata=config_metadata("h1"))
-    store._drop_rows("records", {"b"})
+    store.drop_rows("records", {"b"})
     assert json.loads(pq.read_schema(_compacted(store)).metadata[CONFIG_KEY]) == ["h1"]
 
 
@@ -155,7 +155,7 @@ def test_a_damaged_compacted_file_still_supersedes_its_shards(tmp_path):
     corrupt_value_column(compacted, "v")
     left.write_bytes(kept)
     assert [p.name for p, _ in store.damaged("records")] == [compacted.name]
-    assert store._listing("records")[0] == [compacted]
+    assert store.listing("records")[0] == [compacted]
 
 
 def test_a_shard_reaches_the_disk_before_it_gets_its_name(tmp_path, monkeypatch):

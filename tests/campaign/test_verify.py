@@ -161,7 +161,7 @@ def test_values_changed_under_an_unchanged_key_never_get_a_digest_of_their_own(
     _keeping_its_key(a, lambda: _same_size_new_values(a))
     before = {p.name: p.read_bytes() for p in a.parent.iterdir()}
     with pytest.raises(DamagedRunError, match="its values differ from those written"):
-        store.compact() if rewrite == "compact" else store._drop_rows("records", {"a0"})
+        store.compact() if rewrite == "compact" else store.drop_rows("records", {"a0"})
     assert {p.name: p.read_bytes() for p in a.parent.iterdir()} == before  # nothing written
     with pytest.raises(DamagedRunError, match="its values differ from those written"):
         store.read()  # nor is the file trusted any longer
@@ -225,8 +225,8 @@ def test_status_lists_the_records_once_after_the_runs_check(study_factory, monke
     from graspcampaign.campaign import status
 
     summary = run_study(study_factory())
-    listed, listing, opening = [], RunStore._listing, status.open_run
-    monkeypatch.setattr(RunStore, "_listing", lambda self, part: (
+    listed, listing, opening = [], RunStore.listing, status.open_run
+    monkeypatch.setattr(RunStore, "listing", lambda self, part: (
         listed.append(part), listing(self, part))[1])
     monkeypatch.setattr(status, "open_run", lambda *args: (opening(*args), listed.clear())[0])
     got = status.run_status(summary.path.parent.parent, "unit", "r1")
@@ -239,7 +239,7 @@ def test_removing_rows_reads_a_file_not_yet_verified_once(tmp_path, opened):
     store = RunStore(tmp_path / "results" / "unit" / "r1")
     store.write_shard("records", "a", [{"trial_id": f"a{i}"} for i in range(3)])
     store.write_shard("records", "b", [{"trial_id": "b1"}])
-    store._drop_rows("records", {"a1"})
+    store.drop_rows("records", {"a1"})
     assert opened == {"unit/r1/records/part-a.parquet": 1, "unit/r1/records/part-b.parquet": 1}
     assert store.recorded_ids() == {"a0", "a2", "b1"}
 

@@ -99,8 +99,7 @@ MASS = ("below 0.1 g an object weighs less than the rig's 1 mN force resolution,
                                f"({MASS})."),
         (["--mass-kg", "0.1", "--mu", "50"], "--mu 50.0 is out of range; allowed: >= 0 and <= 3 (dry "
                                              "friction of soft materials stays below 3)."),
-        (["--mass-kg", "0.1", "--mu", "nan"], "--mu nan is out of range; allowed: >= 0 and <= 3 (dry "
-                                              "friction of soft materials stays below 3)."),
+        (["--mass-kg", "0.1", "--mu", "nan"], "--mu nan is not a number; give a finite number."),
         (["--mass-kg", "0.1", "--fingertip-radius-mm", "-5"],
          "--fingertip-radius-mm -5.0 is out of range; allowed: >= 1 and <= 50 mm (below 1 mm the "
          "evaluator's 0.5 mm seed penetration sinks half a fingertip's radius, and robot pads "
@@ -388,7 +387,10 @@ def test_plan_refuses_a_read_only_directory(stl_files, tmp_path, monkeypatch):
     result = runner.invoke(app, ["plan", str(stl_files["sphere"]), "--mass-kg", "0.1",
                                  "--png", str(locked / "plan.png")])
     assert result.exit_code == 2
-    assert result.stderr == f"error: --png {locked / 'plan.png'}: cannot write there (Permission denied).\n"
+    assert result.stderr == (f"error: --png {locked / 'plan.png'}: cannot be written by this user: "
+                             "permission denied (its permissions, or those of the directory holding "
+                             "it, keep this user out); give this user access (chmod, chown), or run "
+                             "the command as the user who owns it.\n")
 
 
 def test_plan_names_the_default_picture_it_cannot_write(stl_files, tmp_path, monkeypatch):

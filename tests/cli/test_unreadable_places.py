@@ -21,17 +21,17 @@ from pathlib import Path
 
 import pytest
 import trimesh
-from cli_checks import SMOKE, filled_records, snapshot
+from cli_checks import SMOKE, T2, filled_records, invoke, snapshot
 
 import graspcampaign
 from graspcampaign.campaign import studyfile
 
 NOBODY = 65534
-#: What every sentence of a place this user may not open ends with (errors.access_denied).
+#: What every sentence of a place this user may not open says after the place and what cannot
+#: be done to it (core.words.PERMISSION_DENIED), without its full stop.
 DENIED = ("permission denied (its permissions, or those of the directory holding it, keep this "
           "user out); give this user access (chmod, chown), or run the command as the user who "
-          "owns it.")
-OPEN_UP = "chmod or chown it, or run the command as its owner"
+          "owns it")
 
 DRIVER = """
 import json, sys
@@ -98,10 +98,25 @@ def _run_cases(scratch, finished, sheets):
         closed.append(next((root / "smoke" / "default").glob(place)))
         for command in (["status", "smoke"], ["report", "smoke"], ["run", "smoke", *SMOKE]):
             cases[f"{name}:{command[0]}"] = ([*command, "--root", name], {})
+    # a study folder this user may not list, beside a run it may read, under a root reported whole
+    root = _run(scratch, "study", finished)
+    shutil.copytree(finished / "baseline_grid", root / "baseline_grid")
+    for page in finished.glob("*.*"):  # the index and headline pages, which list its runs
+        shutil.copy(page, root)
+    closed.append(root / "smoke")
+    cases["study:report"] = (["report", "--root", "study"], {})
     # a run whose records/ this user may read but not write, resumed with a trial it lacks
     _run(scratch, "unwritable", finished)
     cases["unwritable:run"] = (["run", "smoke", *SMOKE[:1], "nodes=[144,390]", *SMOKE[2:],
                                 "--allow-drift", "--root", "unwritable"], {})
+    # a finished run whose records/ this user may read but not write: run has nothing to write;
+    # and a measured run so kept, given the records it holds again
+    _run(scratch, "complete", finished)
+    cases["complete:run"] = (["run", "smoke", *SMOKE, "--allow-drift", "--root", "complete"], {})
+    filled_records(sheets).to_csv(scratch / "again.csv", index=False)
+    made = invoke("ingest", "test2_grasp", scratch / "again.csv", *T2, "--root", scratch / "measured")
+    assert made.exit_code == 0, made.output
+    cases["measured:ingest"] = (["ingest", "test2_grasp", "again.csv", *T2, "--root", "measured"], {})
     # a run whose report/ this user may not write
     _run(scratch, "no_report", finished)
     cases["no_report:report"] = (["report", "smoke", "--root", "no_report"], {})
@@ -129,7 +144,9 @@ def _run_cases(scratch, finished, sheets):
     closed += [scratch / "ball.stl", scratch / "records.csv", scratch / "studies",
                scratch / "home" / "conf", scratch / "hidden"]
     modes = {path: path.stat().st_mode for path in closed + [scratch / "unwritable" / "smoke" /
-             "default" / "records", scratch / "no_report" / "smoke" / "default" / "report"]}
+             "default" / "records", scratch / "no_report" / "smoke" / "default" / "report",
+             scratch / "complete" / "smoke" / "default" / "records",
+             scratch / "measured" / "test2_grasp" / "measured" / "records"]}
     for path in closed:
         path.chmod(0)
     for path in list(modes)[len(closed):]:
@@ -167,58 +184,86 @@ def _refused(places, case: str, message: str) -> None:
 @pytest.mark.parametrize("command", ["status", "report", "run"])
 def test_a_shard_this_user_may_not_read_is_named_not_quarantined(places, command):
     shard = next(Path(places[1], "shard", "smoke", "default", "records").glob("*.parquet"))
-    _refused(places, f"shard:{command}", f"{shard.relative_to(places[1])}: {DENIED}")
+    _refused(places, f"shard:{command}", f"{shard.relative_to(places[1])}: {DENIED}.")
 
 
 @pytest.mark.parametrize("command", ["status", "report", "run"])
 def test_a_manifest_this_user_may_not_read_is_not_called_damaged(places, command):
-    _refused(places, f"manifest:{command}", f"manifest/smoke/default/manifest.json: {DENIED}")
+    _refused(places, f"manifest:{command}", f"manifest/smoke/default/manifest.json: {DENIED}.")
 
 
 @pytest.mark.parametrize("command", ["status", "report", "run"])
 def test_a_records_folder_this_user_may_not_open_is_named(places, command):
-    _refused(places, f"records:{command}", f"records/smoke/default/records: {DENIED}")
+    _refused(places, f"records:{command}", f"records/smoke/default/records: {DENIED}.")
+
+
+def test_a_study_folder_this_user_may_not_list_is_named_and_the_others_reported(places):
+    """Its runs were skipped unsaid (exit 0), and the index, rewritten, no longer listed them."""
+    code, stdout, stderr = places[0]["study:report"]
+    assert (code, stdout) == (2, "report: study/baseline_grid/default/report/report.md\n")
+    assert stderr == ("warning: the headline and index pages were left as they were: run smoke "
+                      f"cannot be read (study/smoke: {DENIED}.)\nerror: the report of smoke could "
+                      f"not be written: study/smoke: {DENIED}.\n")
+    results, scratch, before, after = places
+    assert {k: v for k, v in after.items() if k.startswith("study/")} == \
+        {k: v for k, v in before.items() if k.startswith("study/")}  # the pages too
 
 
 def test_a_run_this_user_may_not_write_is_refused_before_its_manifest_changes(places):
     _refused(places, "unwritable:run", "run smoke/default at unwritable/smoke/default: "
-             "unwritable/smoke/default/records: cannot write there (Permission denied); make it "
-             "writable for this user, or run the command as the user who owns the run.")
+             f"unwritable/smoke/default/records: cannot be written by this user: {DENIED}.")
+
+
+def test_a_finished_run_this_user_may_not_write_has_nothing_to_do(places):
+    """It was refused as the run above ("cannot write there"), though nothing was left to run."""
+    results, scratch, before, after = places
+    assert results["complete:run"] == [0, "smoke/default: 1 trial, 1 already recorded, 0 ran (0 ok, "
+                                          "0 errors) in 0.0 s -> complete/smoke/default\n", ""]
+    assert {k: v for k, v in after.items() if k.startswith("complete/")} == \
+        {k: v for k, v in before.items() if k.startswith("complete/")}  # no session recorded
+
+
+def test_records_ingested_again_into_a_run_this_user_may_not_write_are_said_stored(places):
+    """It was "cannot write there": the file's trials are stored already, and would be refused."""
+    first = (places[1] / "again.csv").read_text().splitlines()[1].split(",")[0]  # its trial_id
+    _refused(places, "measured:ingest", f"again.csv, row 1, column 'trial_id': trial {first!r} is "
+             "already stored in this run; measured records are never overwritten (ingest a "
+             "corrected file into another run with --run).")
 
 
 def test_a_report_folder_this_user_may_not_write_is_bad_input(places):
     _refused(places, "no_report:report", "the report of smoke/default could not be written: "
-             f"no_report/smoke/default/report/report.md: {DENIED.rstrip('.')}")
+             f"no_report/smoke/default/report/report.md: {DENIED}")
 
 
 MESH, RECORDS = "a mesh file (STL, OBJ or PLY)", "a file of measured records (CSV, XLSX or Parquet)"
 
 
 @pytest.mark.parametrize(("case", "message"), [
-    ("mesh:plan", f"ball.stl cannot be read by this user (permission denied; {OPEN_UP}); give {MESH}."),
-    ("hidden:plan", "hidden/ball.stl cannot be reached by this user (hidden cannot be searched: "
-                    f"permission denied; {OPEN_UP}); give {MESH}."),
-    ("csv:ingest", f"records.csv cannot be read by this user (permission denied; {OPEN_UP}); give "
-                   f"{RECORDS}.")], ids=["mesh", "mesh in a closed folder", "records"])
+    ("mesh:plan", f"ball.stl cannot be read by this user: {DENIED}; give {MESH}."),
+    ("hidden:plan", "hidden/ball.stl cannot be reached by this user (hidden cannot be searched): "
+                    f"{DENIED}; give {MESH}."),
+    ("csv:ingest", f"records.csv cannot be read by this user: {DENIED}; give {RECORDS}.")],
+    ids=["mesh", "mesh in a closed folder", "records"])
 def test_a_file_to_read_that_this_user_may_not_open_is_said_so(places, case, message):
     _refused(places, case, message)
 
 
 def test_a_picture_path_in_a_folder_this_user_may_not_open_names_the_option(places):
-    _refused(places, "png:plan", "--png hidden/x.png: cannot write there (Permission denied).")
+    _refused(places, "png:plan", f"--png hidden/x.png: cannot be written by this user: {DENIED}.")
 
 
 def test_a_search_path_entry_this_user_may_not_read_is_skipped_with_a_warning(places):
     code, stdout, stderr = places[0]["path:list"]
     assert code == 0 and "baseline_grid" in stdout.split()
-    assert stderr == (f"warning: GRASPCAMPAIGN_PATH entry studies cannot be read by this user "
-                      f"(permission denied; {OPEN_UP}); it is skipped.\n")
+    assert stderr == (f"warning: GRASPCAMPAIGN_PATH entry studies cannot be read by this user: "
+                      f"{DENIED}; it is skipped.\n")
 
 
 def test_a_config_home_this_user_may_not_read_is_named(places):
     home = places[1] / "home"
     _refused(places, "home:list", f"GRASPCAMPAIGN_HOME={home} has conf/, which cannot be read by "
-             f"this user (permission denied; {OPEN_UP}); point it at a directory holding conf/ (with "
+             f"this user: {DENIED}; point it at a directory holding conf/ (with "
              "conf/config.yaml and the config groups) and campaigns/ (the study files), e.g. a copy "
              "of the shipped ones, or unset it to use those.")
 

@@ -201,5 +201,7 @@ def test_a_mesh_file_this_user_may_not_read_is_a_mesh_error(tmp_path, monkeypatc
     monkeypatch.setattr(mesh_file, "open", denied, raising=False)
     with pytest.raises(MeshError) as refused:
         load_mesh(path)
-    assert str(refused.value) == (f"mesh file {str(path)!r} cannot be read by this user (permission "
-                                  "denied); chmod or chown it, or run as its owner.")
+    assert str(refused.value) == (f"mesh file {str(path)!r} cannot be read by this user: permission "
+                                  "denied (its permissions, or those of the directory holding it, "
+                                  "keep this user out); give this user access (chmod, chown), or run "
+                                  "the command as the user who owns it.")

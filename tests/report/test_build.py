@@ -395,8 +395,8 @@ def test_the_headline_lists_a_runs_records_once_after_its_check(tmp_path, monkey
 
     write_run(tmp_path, name="baseline_grid", planners=("heuristic", "random"),
               n_success={"heuristic": 6, "random": 1})
-    listed, listing, check = [], RunStore._listing, RunStore.check
-    monkeypatch.setattr(RunStore, "_listing", lambda self, part: (
+    listed, listing, check = [], RunStore.listing, RunStore.check
+    monkeypatch.setattr(RunStore, "listing", lambda self, part: (
         listed.append(part), listing(self, part))[1])
     monkeypatch.setattr(RunStore, "check", lambda self, *a, **k: (check(self, *a, **k), listed.clear())[0])
     rows = headline.headline_rows(tmp_path).set_index("headline")

@@ -123,9 +123,9 @@ def summary(df: pd.DataFrame, by: Sequence[str], rates: Sequence[str] = (), medi
             *, cluster: str | None = None, seed: int = 0, order: Mapping | None = None) -> pd.DataFrame:
     """Return per group of ``by`` the success :func:`~.records.rate_table` (``success_pct``, ``_low_pct``,
     ``_high_pct``), each boolean column of ``rates`` likewise as ``<name>_pct``, ... and the count
-    ``n_<name>`` of its non-missing rows (``is_`` dropped), and the median and count ``n_<things>`` of
-    ``medians`` (the column without its unit suffix: a count of ``lat_threshold_n`` is ``n_lat_threshold``,
-    not newtons)."""
+    ``n_<name>`` of its non-missing rows (``is_`` dropped; 0 for a group with none), and the median and
+    count ``n_<things>`` of ``medians`` (the column without its unit suffix: a count of ``lat_threshold_n``
+    is ``n_lat_threshold``, not newtons)."""
     by = list(by)
     out = rate_table(df, by, cluster=cluster, seed=seed, order=order).rename(columns=lambda c: c.replace(
         "rate_pct", "success_pct").replace("wilson", "success"))
@@ -135,6 +135,7 @@ def summary(df: pd.DataFrame, by: Sequence[str], rates: Sequence[str] = (), medi
         t = t[[*by, "n", "rate_pct", "wilson_low_pct", "wilson_high_pct"]]
         out = out.merge(t.set_axis([*by, f"n_{name}", f"{name}_pct", f"{name}_low_pct", f"{name}_high_pct"],
                                    axis=1), on=by, how="left")
+        out[f"n_{name}"] = out[f"n_{name}"].fillna(0).astype(int)
     if medians:
         g = df.groupby(by, sort=False)[list(medians)]
         counts = g.count().rename(columns=lambda c: f"n_{things(c)}")

@@ -23,7 +23,7 @@ from graspcampaign.campaign.integrity import check_place
 from graspcampaign.campaign.kind import get_kind
 from graspcampaign.campaign.paths import check_case_twin, check_root, input_file_problem, shown
 from graspcampaign.campaign.records import ERROR_COLUMNS, RunStore, config_metadata
-from graspcampaign.campaign.runner import kind_params, run_lock, run_path, study_trials
+from graspcampaign.campaign.runner import kind_params, run_lock, run_path, study_trials, unwritable
 from graspcampaign.campaign.schema import StudyCfg
 from graspcampaign.errors import UserInputError
 
@@ -82,6 +82,8 @@ def _ingest(study: StudyCfg, paths: list[str], store: RunStore, run: str,
     if clash:
         raise UserInputError(f"trial {clash[0]!r} is already stored in {store.path}; measured "
                              f"records are never overwritten ({len(clash)} such trials).")
+    if (denied := unwritable(store, f"{study.name}/{run}")) is not None:  # a clash is said first
+        raise UserInputError(denied)
     for row in rows:
         row.setdefault("source", "measured")
         row.setdefault("status", "ok")

@@ -56,7 +56,7 @@ from graspcampaign.campaign.provenance import (
 from graspcampaign.campaign.records import OPTIONAL_COLUMNS, RECORD_COLUMNS
 from graspcampaign.campaign.verify import Facts, facts, one_check, other_values
 from graspcampaign.core.words import counted
-from graspcampaign.errors import DamagedRunError
+from graspcampaign.errors import DamagedRunError, UserInputError
 
 #: Names of stored shards, as the store writes them: "part-" and a content hash (10 hex digits,
 #: ``grid.content_hash``: a task's trial ids, a body id) or "final", then a "-k" suffix where a
@@ -230,10 +230,10 @@ def file_problems(store, part: str, allowed: dict[str, set]) -> list[Problem]:
     bad = {p.path for p in out}
     if part not in ("records", "prepared") and not part.startswith("tables/"):
         return out + [Problem(path, f"a file {_rel(store, path)} with {why}", "quarantine", part,
-                              why) for path in store._listing(part)[0] if path not in bad
+                              why) for path in store.listing(part)[0] if path not in bad
                       and (why := _no_digest(facts(path), allowed))]
     seen: dict[str, Path] = {}
-    for path in (p for p in store._listing(part)[0] if p not in bad and SHARD.fullmatch(p.name)):
+    for path in (p for p in store.listing(part)[0] if p not in bad and SHARD.fullmatch(p.name)):
         rel, own = _rel(store, path), facts(path)  # one read of a file too new to be remembered
         unlike = _not_records(own, allowed) if part == "records" else None
         # a trace file of trials outside the design is moved aside as a records file is (its
@@ -303,12 +303,12 @@ def problems(store, manifest: dict | None, parts: list[str] | None = None, *,
              if parts is None or p.fix == "refuse" or p.part in parts]
     flagged = {p.path for p in found}
     allowed = owners(store, manifest)
-    for part in (p for p in store._parts() if parts is None or p in parts):
+    for part in (p for p in store.part_names() if parts is None or p in parts):
         found += [p for p in file_problems(store, part, allowed) if p.path not in flagged]
     # trials missing besides those of a records file named above (they run again with it)
     if manifest is not None and (parts is None or "records" in parts) and not any(
             p.part == "records" for p in found):
-        stored = set().union(*(_ids(path)[1] for path in store._listing("records")[0]))
+        stored = set().union(*(_ids(path)[1] for path in store.listing("records")[0]))
         want = expected_records(manifest)
         if len(stored) < want:
             records = store.path / "records"
@@ -445,3 +445,15 @@ def _holds_files(path: Path) -> bool:
     if path.is_file():
         return True
     return path.is_dir() and any(p.is_file() for p in path.rglob("*") if not _hidden(p))
+
+
+def nothing_to_record(store, manifest: dict | None, config_hash: str, trial_ids: set[str]) -> bool:
+    """Whether a run has nothing left to record: finished under this config alone (its manifest),
+    passing its checks (nothing to repair), holding every trial of ``trial_ids``."""
+    if manifest is None or manifest.get("finished_at") is None or not one_config(manifest, config_hash):
+        return False
+    try:
+        check_run(store)
+    except UserInputError:  # damaged, or a file this user may not read: not known complete
+        return False
+    return trial_ids <= store.recorded_ids()

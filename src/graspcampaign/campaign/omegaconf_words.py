@@ -52,8 +52,8 @@ def omegaconf_error_sentence(exc: BaseException, prefix: str = "") -> str:
     if "is not a valid bool" in text:
         return f"{key} must be true or false, got {value!r}."
     if match := re.search(r"could not be converted to (Integer|Float)", text):
-        return (f"{key} must be {'a whole number' if match[1] == 'Integer' else 'a number'}, got "
-                f"{value!r}.")
+        said = str(value).lower() if isinstance(value, bool) else repr(value)  # seeds=true: as typed
+        return f"{key} must be {'a whole number' if match[1] == 'Integer' else 'a number'}, got {said}."
     if key.startswith("factors.") and key.count(".") == 1 and "[" not in key:
         name = key.split(".", 1)[1]
         return (f"{key} takes a list of levels, e.g. {key}={example(name).replace(' ', '')} (or "

@@ -18,6 +18,7 @@ import re
 import unicodedata
 from typing import Any
 
+from graspcampaign.campaign import override_scan
 from graspcampaign.campaign.former_names import FORMER_FACTORS, former_factor
 from graspcampaign.campaign.omegaconf_words import omegaconf_error_sentence
 from graspcampaign.campaign.override_scan import mapping_keys, n_values, sweep_function, underscored_numbers
@@ -29,7 +30,7 @@ from graspcampaign.campaign.studycheck import (
     schema_at,
     split_optional,
 )
-from graspcampaign.campaign.studyfile import NESTED_TOO_DEEPLY
+from graspcampaign.campaign.studyfile import NESTED_TOO_DEEPLY, group_options
 from graspcampaign.core.words import as_ascii, meant, stands_for
 from graspcampaign.errors import ConfigError
 
@@ -79,7 +80,7 @@ def check_overrides(given: list[str]) -> None:
         if "~" in prefix and key in GROUPS:  # Hydra drops the group's file: the schema's values
             raise ConfigError(f"override {item!r} deletes the config group {key}, which every "
                               f"study needs; set one of its options instead ({key}=OPTION; "
-                              f"options: {_group_options(key)}).", key=key)
+                              f"options: {', '.join(group_options(key))}).", key=key)
         required = field_at(key) if "~" in prefix else None
         # ~name: OmegaConf's missing mark, '???'; ~model.lambda1: a section's schema keeps its keys
         if required and (required[1].default == "???" or "." in key):
@@ -102,6 +103,12 @@ def check_overrides(given: list[str]) -> None:
         parsed = _parse(item) if setting else None  # once: the checks below read it
         if setting and key in GROUPS and isinstance(_value(parsed), list):  # Hydra merges all
             raise ConfigError(missing_option_sentence(key, value.strip()), key=key)
+        if setting and _value(parsed) == {}:  # merged into the study's: it changes nothing
+            choose = (f"choose one of its options ({key}=OPTION; options: "
+                      f"{', '.join(group_options(key))}) or " if key in GROUPS else "")
+            raise ConfigError(f"override {item!r} gives {key} an empty mapping, which changes "
+                              f"nothing (it is merged into the study's {key}); {choose}set one of "
+                              f"its keys ({key}.KEY=VALUE), or leave the override out.", key=key)
         found = field_at(key) if setting else None
         if found and split_optional(str(found[1].type))[0] == "bool":
             read = _value(parsed)
@@ -114,6 +121,10 @@ def check_overrides(given: list[str]) -> None:
             raise ConfigError(f"override {item!r}: {zero} has a leading zero, which Hydra reads as "
                               f"the text '{zero}', not the number {number}; write {number}"
                               + ("." if numeric else f", or quote it ('{zero}') to mean text."), key=key)
+        # 1e400 is inf to Hydra, refused by the schema as "inf"; a mapping's numbers too (pso={...})
+        mapping = setting and value.lstrip()[:1] == "{"
+        if (numeric or mapping) and (number := override_scan.not_finite(value, numeric)):
+            raise ConfigError(f"override {item!r}: {number}; give a finite number instead.", key=key)
         # seeds=1_0 is ten to Hydra, seeds='1_0' to OmegaConf's int(): seldom what was meant
         for word in underscored_numbers(value, quoted=numeric) if setting else ():
             read = _parsed_value(f"x={word}")
@@ -475,17 +486,10 @@ def missing_option_sentence(group: str, option: str) -> str:
 
     named = (f"{group}={option} is a list, and a study composes one option" if option[:1] == "["
              else f"{group}={option} is not an option" if option else f"{group}= names no option")
-    options = _group_options(group)
+    options = ", ".join(group_options(group))
     if not options:
         groups = sorted(p.name for p in project_dirs()[0].iterdir() if p.is_dir())
         return f"{group} is not a config group; config groups: {', '.join(groups)}."
     near = meant(option, options.split(", "), f"{group}={{}}") if option[:1] != "[" else ""
     return f"{named} of config group {group}; {near}available options: {options}."
 
-
-def _group_options(group: str) -> str:
-    """The options of a config group (the files of ``conf/<group>/``), comma-separated."""
-    from graspcampaign.campaign.studyfile import project_dirs
-
-    directory = project_dirs()[0] / group
-    return ", ".join(sorted(p.stem for p in directory.glob("*.yaml")) if directory.is_dir() else [])

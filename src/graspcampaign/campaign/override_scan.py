@@ -2,7 +2,7 @@
 (its parse keeps only the last of a repeated key, takes a time quadratic in the values, and
 evaluates a function before anything can name it): the characters outside quoted strings, a
 mapping's keys, the count of values, a call of one of Hydra's functions of sweeps, the numbers
-written with an underscore.
+written with an underscore, those no finite number.
 """
 
 from __future__ import annotations
@@ -34,12 +34,37 @@ def blanked(value: str) -> str:
     return "".join(kept.get(i, " ") for i in range(len(value)))
 
 
+def words(value: str, quoted: bool = False) -> list[str]:
+    """The words of an override's ``value`` outside its quoted strings (``quoted``: inside them too)."""
+    return re.findall(r"[^\s\[\]{}(),:='\"]+", value if quoted else blanked(value))
+
+
 def underscored_numbers(value: str, quoted: bool = False) -> list[str]:
-    """The words of an override's ``value`` outside its quoted strings (``quoted``: inside them too)
-    written as a number with an underscore (``1_0``, ``[144,1_750]``, ``-0.1_5``): those Hydra's
-    grammar may read as a number with its digits grouped (``1_0`` is 10), which the caller asks it."""
-    words = re.findall(r"[^\s\[\]{}(),:='\"]+", value if quoted else blanked(value))
-    return [w for w in words if "_" in w and re.fullmatch(r"[+-]?[\d_.]+(?:[eE][+-]?[\d_]+)?", w)]
+    """The :func:`words` of an override's ``value`` written as a number with an underscore (``1_0``,
+    ``[144,1_750]``, ``-0.1_5``): those Hydra's grammar may read as a number with its digits grouped
+    (``1_0`` is 10), which the caller asks it."""
+    return [w for w in words(value, quoted) if "_" in w
+            and re.fullmatch(r"[+-]?[\d_.]+(?:[eE][+-]?[\d_]+)?", w)]
+
+
+def not_finite(value: str, quoted: bool = False) -> str | None:
+    """The first of the :func:`words` of an override's ``value`` that Hydra's grammar (or the
+    float() of a number field) reads as a float that is no finite number (``1e400`` overflows to
+    inf; ``nan``, ``-inf``, ``Infinity``), said as typed with what it is (``'1e400 overflows to inf
+    (...)'``); None if there is none."""
+    for word in words(value, quoted):
+        if not re.fullmatch(r"[+-]?(?:[\d_]*\.?[\d_]*(?:[eE][+-]?[\d_]+)?|inf(?:inity)?|nan)", word, re.I):
+            continue
+        try:
+            read = float(word.replace("_", ""))
+        except ValueError:  # '.', '1.2.3'
+            continue
+        if read != read:
+            return f"{word} is not a number"
+        if abs(read) == float("inf"):
+            return (f"{word} is infinite" if word.lower().lstrip("+-").startswith("inf") else
+                    f"{word} overflows to {read} (no float is that large)")
+    return None
 
 
 def mapping_keys(value: str) -> list[str]:

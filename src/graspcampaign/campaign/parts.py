@@ -51,7 +51,7 @@ def entry(rows: dict[str, int], body: str | None) -> dict[str, Any]:
 
 def _accounts(store) -> list[Account]:
     """The accounts of every live records file that has one (verified files: their facts)."""
-    return [own.account for own in map(facts, store._listing("records")[0])
+    return [own.account for own in map(facts, store.listing("records")[0])
             if own.account is not None]
 
 
@@ -82,7 +82,7 @@ def part_problems(store, full: bool = True, manifest: dict | None = None) -> lis
             what, gone = f"no {part} directory, where {trials} stored traces", sorted(rows)
         elif full:
             held: Counter = Counter()
-            for path in store._listing(part)[0]:
+            for path in store.listing(part)[0]:
                 held.update(facts(path).rows_of())
             gone = sorted(trial for trial, n in rows.items() if held[trial] != n)
             what = "" if not gone else (
@@ -119,7 +119,7 @@ def part_problems(store, full: bool = True, manifest: dict | None = None) -> lis
         out.append(Problem(done, what, "recompute", "summary", what))
     for name in _written(store):
         part = f"summary/{name}"
-        stored = store._listing(part)[0] if full else shards(store.path / part, "*.parquet")
+        stored = store.listing(part)[0] if full else shards(store.path / part, "*.parquet")
         if not stored:
             what = f"no {part} table, which summary/{COMPLETE} says was stored"
             out.append(Problem(store.path / part, what, "recompute", part, what))
@@ -146,7 +146,7 @@ def unaccounted(store, manifest: dict, records: dict) -> str | None:
 def _body_ids(store) -> set[str]:
     """The body ids of the run's stored preparations (its files verified in full: their
     facts)."""
-    return set().union(*(own.bodies for own in store._verified("prepared").values()))
+    return set().union(*(own.bodies for own in store.verified("prepared").values()))
 
 
 def _footer_rows(directory: Path) -> int | None:
@@ -235,13 +235,13 @@ def check_preparations(store, manifest: dict, study) -> None:
     if ran <= {now}:  # a session stored before sessions kept it: of the first config's hash
         return
 
-    records = [facts(path) for path in store._listing("records")[0] if verify_file(path) is None]
+    records = [facts(path) for path in store.listing("records")[0] if verify_file(path) is None]
     used = {body for own in records if own.account is not None
             for body in own.account.used().values()}
     # the files of prepared/ the repair keeps (a duplicate's bodies stay in the file it copies)
     aside = {p.path for p in [*layout_problems(store),
                               *file_problems(store, "prepared", owners(store, manifest))]}
-    kept = [facts(path) for path in store._listing("prepared")[0] if path not in aside]
+    kept = [facts(path) for path in store.listing("prepared")[0] if path not in aside]
     gone = sorted(used - set().union(*(own.bodies for own in kept)))
     if not gone:
         return
@@ -302,7 +302,7 @@ def finalize(kind, study, params: Any, store) -> None:
     records = store.read().to_pandas()
     tables = kind.finalize(study, params, records, store)
     for name, rows in tables.items():
-        if rows and not store._listing(f"summary/{name}")[0]:
+        if rows and not store.listing(f"summary/{name}")[0]:
             store.write_shard(f"summary/{name}", "final", rows)
     provenance.write_manifest(done, {"tables": sorted(tables), "at": provenance.now_utc(),
                                      "written": sorted(name for name, rows in tables.items() if rows)})

@@ -19,7 +19,8 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from graspcampaign.errors import ConfigError, UserInputError, blocked, too_long
+from graspcampaign.core.words import PERMISSION_DENIED
+from graspcampaign.errors import ConfigError, UserInputError, blocked, cannot_write, too_long
 
 
 def path_problem(path: Path, *, write: bool = False, directory: bool = True) -> str | None:
@@ -101,10 +102,6 @@ def input_file_problem(path: Path) -> str | None:
     return unreachable(path) or "does not exist"
 
 
-#: What to do of a place this user may not open, after the words saying so.
-_OPEN_UP = "chmod or chown it, or run the command as its owner"
-
-
 def read_denied(path: Path) -> str | None:
     """Why this user may not read the file ``path``, or list the directory ``path`` and open
     what it holds, in the words after the path; None if it may. A probe, not the permission bits
@@ -117,7 +114,7 @@ def read_denied(path: Path) -> str | None:
         else:
             os.close(os.open(path, os.O_RDONLY | os.O_NONBLOCK))
     except PermissionError:
-        return f"cannot be read by this user (permission denied; {_OPEN_UP})"
+        return f"cannot be read by this user: {PERMISSION_DENIED}"
     return None
 
 
@@ -126,7 +123,7 @@ def unreachable(path: Path) -> str | None:
     (:func:`~graspcampaign.errors.blocked`), in the words after the path; or None."""
     if (parent := blocked(path)) == os.fspath(path):
         return None
-    return f"cannot be reached by this user ({parent} cannot be searched: permission denied; {_OPEN_UP})"
+    return f"cannot be reached by this user ({parent} cannot be searched): {PERMISSION_DENIED}"
 
 
 def _dangling(link: Path) -> str:
@@ -159,7 +156,7 @@ def write_denied(where: Path) -> str | None:
             os.close(handle)
             os.unlink(probe)
     except OSError as exc:
-        return f"cannot write there ({exc.strerror or type(exc).__name__})"
+        return cannot_write(exc)
     return None
 
 
@@ -457,6 +454,11 @@ def write_file(path: Path, data: str | bytes) -> None:
 _RUN_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
 
 
+def usable_name(text: str) -> bool:
+    """Whether ``text`` may name a study or a run (:func:`check_name`)."""
+    return bool(_RUN_NAME.fullmatch(text))
+
+
 def check_name(value: Any, key: str) -> str:
     """Check a study or run name: one path component, so results stay under the results root.
 
@@ -468,7 +470,7 @@ def check_name(value: Any, key: str) -> str:
     if not isinstance(value, str):  # a notebook's run=3 was stored as a number, then refused
         raise ConfigError(f"{key} = {value!r} is not a name: give it as text (a str).", key=key)
     text = value
-    if not _RUN_NAME.fullmatch(text):
+    if not usable_name(text):
         raise ConfigError(f"{key} = {text!r} is not allowed; use ASCII letters (a-z, A-Z), digits, "
                           "'.', '_' and '-' (starting with a letter or digit, at most 100), so the "
                           "run stays inside the results directory.", key=key)

@@ -172,13 +172,15 @@ class RunStore:
     def manifest_path(self) -> Path:
         return self.path / "manifest.json"
 
-    def _dir(self, part: str) -> Path:
+    def part_dir(self, part: str) -> Path:
+        """The directory of ``part`` (``records``, ``prepared``, ``tables/<name>``, ...)."""
         return self.path / part
 
-    def _parts(self, summaries: bool = True) -> list[str]:
-        parts = [p for p in ("records", "prepared") if self._dir(p).is_dir()]
+    def part_names(self, summaries: bool = True) -> list[str]:
+        """The parts the run holds (``summaries``: with those of ``summary/``), records first."""
+        parts = [p for p in ("records", "prepared") if self.part_dir(p).is_dir()]
         for group in ("tables", "summary") if summaries else ("tables",):
-            directory = self._dir(group)
+            directory = self.part_dir(group)
             if directory.is_dir():
                 parts += [f"{group}/{d.name}" for d in sorted(directory.iterdir()) if d.is_dir()]
         return parts
@@ -197,7 +199,7 @@ class RunStore:
         read once while it is unchanged; a run session writes its shards within one check, so
         even a file too new to be remembered is read once, docs/decisions.md).
         """
-        directory, k = self._dir(part), 0
+        directory, k = self.part_dir(part), 0
         superseded = self._superseded(part)[0]
         while f"part-{name}{f'-{k}' if k else ''}.parquet" in superseded:
             k += 1
@@ -208,12 +210,10 @@ class RunStore:
         return path
 
     # -- listing and verification ---------------------------------------------------------------
-    def _listing(self, part: str) -> tuple[list[Path], list[tuple[Path, str]]]:
-        """Return the live files of ``part`` and those whose footer cannot be read.
-
-        A file named in another file's sources is superseded (a crash left it behind): not live.
-        """
-        directory = self._dir(part)
+    def listing(self, part: str) -> tuple[list[Path], list[tuple[Path, str]]]:
+        """Return the live files of ``part`` (unverified; :meth:`verified` verifies them) and those
+        whose footer cannot be read; a file another names as a source is superseded: not live."""
+        directory = self.part_dir(part)
         if not directory.is_dir():
             return [], []
         files = shards(directory, "compact-*.parquet") + shards(directory, "part-*.parquet")
@@ -226,7 +226,7 @@ class RunStore:
         footer cannot be read."""
         sources: set[str] = set()
         unreadable = []
-        for path in shards(self._dir(part), "compact-*.parquet"):
+        for path in shards(self.part_dir(part), "compact-*.parquet"):
             try:
                 sources.update(supersedes(path))
             except READ_ERRORS as exc:
@@ -235,7 +235,7 @@ class RunStore:
 
     def damaged(self, part: str) -> list[tuple[Path, str]]:
         """Return ``(file, reason)`` for every live file of ``part`` that fails full verification."""
-        live, out = self._listing(part)
+        live, out = self.listing(part)
         for path in live:
             why = verify_file(path)
             if why is not None:
@@ -250,7 +250,7 @@ class RunStore:
         DamagedRunError
             For the first damaged file, naming the run and the file.
         """
-        for part in self._parts():
+        for part in self.part_names():
             bad = self.damaged(part)
             if bad:
                 raise self._damage_error(*bad[0])
@@ -289,12 +289,12 @@ class RunStore:
 
     def _live(self, part: str) -> list[Path]:
         """The live files of ``part`` (raises DamagedRunError for an unreadable compacted file)."""
-        live, unreadable = self._listing(part)
+        live, unreadable = self.listing(part)
         if unreadable:
             raise self._damage_error(*unreadable[0])
         return live
 
-    def _verified(self, part: str) -> dict[Path, Facts]:
+    def verified(self, part: str) -> dict[Path, Facts]:
         """The live files of ``part`` and their facts, each verified in full (raises
         DamagedRunError)."""
         out = {}
@@ -357,7 +357,7 @@ class RunStore:
         """
         import pyarrow.dataset as ds
 
-        live, former = self._verified(part), self.former_names(part)
+        live, former = self.verified(part), self.former_names(part)
         if any(name in own.schema.names for own in live.values() for name in former):
             return ds.dataset(self.read(part))  # stored before a rename: its columns renamed, in memory
         schema = pa.unify_schemas([own.schema.remove_metadata() for own in live.values()],
@@ -379,13 +379,13 @@ class RunStore:
         so, else the manifest's (``analysis.vocabulary.data_source``), from the sources each records
         file's verified facts hold (``records``: those of files already read, :meth:`read_with_facts`;
         default every live records file's): no column is read again."""
-        records = self._verified("records").values() if records is None else records
+        records = self.verified("records").values() if records is None else records
         held = set().union(*(own.owners.get("source", ()) for own in records))
         return data_source(held, manifest.get("source"))
 
     def recorded_ids(self, part: str = "records") -> set[str]:
         """Return the trial ids stored in ``part`` (every file verified in full first)."""
-        return set().union(*(own.ids for own in self._verified(part).values()))
+        return set().union(*(own.ids for own in self.verified(part).values()))
 
     # -- maintenance ----------------------------------------------------------------------------
     def clean(self) -> None:
@@ -394,12 +394,12 @@ class RunStore:
             return
         for tmp in self.path.rglob(".*.tmp"):
             tmp.unlink(missing_ok=True)
-        for part in self._parts(summaries=False):
-            live, unreadable = self._listing(part)
+        for part in self.part_names(summaries=False):
+            live, unreadable = self.listing(part)
             keep = {p.name for p in live} | {p.name for p, _ in unreadable}
             # only shards a compaction or rewrite superseded: any other file is quarantined
             for pattern in ("compact-*.parquet", "part-*.parquet"):
-                for path in self._dir(part).glob(pattern):
+                for path in self.part_dir(part).glob(pattern):
                     if path.name not in keep and path.is_file():
                         path.unlink(missing_ok=True)
 
@@ -426,11 +426,11 @@ class RunStore:
             _write_atomic(table, path.parent / name, account)
         path.unlink(missing_ok=True)
 
-    def _drop_rows(self, part: str, ids: set[str]) -> None:
+    def drop_rows(self, part: str, ids: set[str]) -> None:
         """Remove the rows of trials ``ids`` from every file of ``part``."""
         self._filter_rows(part, ids, keep=False)
 
-    def _keep_rows(self, part: str, ids: set[str]) -> None:
+    def keep_rows(self, part: str, ids: set[str]) -> None:
         """Keep only the rows of trials ``ids`` in every file of ``part``."""
         self._filter_rows(part, ids, keep=True)
 
@@ -442,7 +442,7 @@ class RunStore:
 
         value_set = pa.array(sorted(ids), pa.string())
         tag = ["keep", content_hash(sorted(ids))] if keep else ["drop", sorted(ids)]
-        for path in self._listing(part)[0]:
+        for path in self.listing(part)[0]:
             with self._refusing(path):
                 known = cached(path)  # else the one full read that verifies it is its table
                 table, own = (None, known) if known else read_file(path, again=True)
@@ -459,7 +459,7 @@ class RunStore:
         Every shard is verified in full again (:func:`~graspcampaign.campaign.verify.read_file`):
         a compacted file is never written from a shard that was not checked as it is read.
         """
-        parts = [p for p in self._listing(part)[0] if p.name.startswith("part-")]
+        parts = [p for p in self.listing(part)[0] if p.name.startswith("part-")]
         if len(parts) < 2:
             return
         shards = []
@@ -488,12 +488,12 @@ class RunStore:
             {SOURCES_KEY: json.dumps(names).encode(),
              **({CONFIG_KEY: json.dumps(configs).encode()} if configs else {})})
         held = [own.account for _, _, own in shards if own.account is not None]
-        _write_atomic(merged, self._dir(part) / f"compact-{content_hash(names)}.parquet",
+        _write_atomic(merged, self.part_dir(part) / f"compact-{content_hash(names)}.parquet",
                       merge(held) if held else None)
         for path, _, _ in shards:
             path.unlink(missing_ok=True)
 
     def compact_all(self) -> None:
         """Compact records, preparations and every trace table."""
-        for part in self._parts(summaries=False):
+        for part in self.part_names(summaries=False):
             self.compact(part)

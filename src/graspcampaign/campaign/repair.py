@@ -52,7 +52,7 @@ def _quarantine(store, path: Path, reason: str, what: str, then: str) -> Path:
     "<what> <path> moved to <target> (<reason>); <then>". A rename, never a copy: a copy left
     beside a file that could not be removed would count twice; what cannot be moved is refused,
     nothing moved or made."""
-    directory = store._dir("quarantine")
+    directory = store.part_dir("quarantine")
     stem = path.relative_to(store.path).as_posix().replace("/", "__")
     target, k, made = directory / stem, 1, not directory.exists()
     while target.exists():
@@ -107,7 +107,7 @@ def repair(store, manifest: dict | None = None, config_hash: str | None = None,
         allowed = owners(store, manifest, config_hash, design)
         found = [p for p in layout_problems(store) if p.fix != "refuse"]
         flagged = {p.path for p in found}
-        for part in store._parts():
+        for part in store.part_names():
             found += [p for p in file_problems(store, part, allowed) if p.path not in flagged]
         if not found:
             break
@@ -115,7 +115,7 @@ def repair(store, manifest: dict | None = None, config_hash: str | None = None,
         for problem in found:
             group = problem.part.split("/")[0]
             if group == "tables" and problem.fix != "duplicate" and problem.part != "tables":
-                others = [p for p in store._listing(problem.part)[0] if p not in aside]
+                others = [p for p in store.listing(problem.part)[0] if p not in aside]
                 # trials whose traces another file of the table holds (a copy's) lost none
                 lost |= _trials_of_trace(store, problem.path) - set().union(
                     *(facts(other).ids for other in others))
@@ -135,11 +135,11 @@ def repair(store, manifest: dict | None = None, config_hash: str | None = None,
     if not moved and not (store.path / "tables").is_dir():
         return moved
     if lost:
-        store._drop_rows("records", lost)
+        store.drop_rows("records", lost)
     recorded = store.recorded_ids()
-    for part in store._parts(summaries=False):
+    for part in store.part_names(summaries=False):
         if part.startswith("tables/"):
-            store._keep_rows(part, recorded)
+            store.keep_rows(part, recorded)
     return moved
 
 

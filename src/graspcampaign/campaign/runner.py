@@ -26,7 +26,7 @@ from omegaconf import OmegaConf
 from graspcampaign.campaign import provenance
 from graspcampaign.campaign.account import Account
 from graspcampaign.campaign.grid import Trial, content_hash, expand
-from graspcampaign.campaign.integrity import check_run, expected_records
+from graspcampaign.campaign.integrity import check_run, expected_records, nothing_to_record
 from graspcampaign.campaign.kind import TrialInput, TrialKind, get_kind
 from graspcampaign.campaign.parts import check_preparations, entry, finalize, prepare_bodies
 from graspcampaign.campaign.paths import (
@@ -41,6 +41,7 @@ from graspcampaign.campaign.provenance import DriftError, check_drift  # noqa: F
 from graspcampaign.campaign.records import ERROR_COLUMNS, RunStore, config_metadata
 from graspcampaign.campaign.schema import StudyCfg, check_config, check_design_rows
 from graspcampaign.campaign.verify import one_check
+from graspcampaign.core.words import PERMISSION_DENIED
 from graspcampaign.errors import ConfigError, UserInputError
 
 
@@ -321,6 +322,12 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
         # read (again) under the lock: another run of it may have written since the check above
         manifest = _checked_manifest(store, study, run, allow_drift)
         chash = provenance.config_hash(study, manifest)
+        # a finished run this user may not write (another's): nothing to run, nothing written
+        if (denied := unwritable(store, f"{study.name}/{run}")) and nothing_to_record(
+                store, manifest, chash, {t.trial_id for t in trials}):
+            return RunSummary(study.name, run, path, len(trials), n_already=len(trials))
+        if denied:
+            raise UserInputError(denied)
         session = {"started_at": provenance.now_utc(), "host": socket.gethostname(),
                    "backend": study.runner.backend, "n_jobs": study.runner.n_jobs,
                    "config_hash": chash, "n_trials": len(trials), "finished_at": None,
@@ -456,7 +463,6 @@ def run_lock(store: RunStore, label: str) -> Iterator[None]:
             raise UserInputError(f"run {label} at {store.path}: its lock file was removed "
                                  f"{_LOCK_ATTEMPTS} times while this run opened it; run it from "
                                  "one process at a time.")
-        _check_writable(store, label)
         yield
     finally:
         if held:  # removed while still held: a process that opened it before then opens it again
@@ -468,15 +474,18 @@ def run_lock(store: RunStore, label: str) -> Iterator[None]:
                 directory.rmdir()
 
 
-def _check_writable(store: RunStore, label: str) -> None:
-    """Refuse a run (or an ingest into it) one of whose directories this user may not write in
-    (another user's run): found before anything is written, where the first shard's write failed
-    after the manifest had recorded a session. Its report/ is left to `report`."""
+def unwritable(store: RunStore, label: str) -> str | None:
+    """The sentence refusing to write a run (or to ingest into it) one of whose directories this
+    user may not write in (another user's run), or None: found before anything is written, where
+    the first shard's write failed after the manifest had recorded a session. Its report/ is left
+    to `report`."""
     for where, folders, _ in os.walk(store.path):
         folders[:] = [f for f in folders if Path(where, f) != store.path / "report"]
-        if (why := write_denied(Path(where))) is not None:
-            raise UserInputError(f"run {label} at {store.path}: {where}: {why}; make it writable "
-                                 "for this user, or run the command as the user who owns the run.")
+        if (why := write_denied(Path(where))) is not None:  # permission denied says what to do
+            advice = "" if PERMISSION_DENIED in why else ("; make it writable for this user, or "
+                                                          "run the command as the user who owns the run")
+            return f"run {label} at {store.path}: {where}: {why}{advice}."
+    return None
 
 
 #: Times a run opens its lock afresh after another process removed it (or its directory) meanwhile.

@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from graspcampaign.campaign.former_names import FORMER_FACTORS, RENAMED_FACTORS, former_factor
+from graspcampaign.campaign.override_scan import not_finite
 from graspcampaign.core.plausible import FINGERTIP_RADIUS, PLAUSIBLE
 from graspcampaign.core.words import counted, meant
 from graspcampaign.errors import ConfigError
@@ -265,6 +266,14 @@ def _fmt_allowed(meta: dict[str, Any]) -> str:
     return " and ".join(parts)
 
 
+def not_finite_text(key: str, value: Any) -> str | None:
+    """The sentence refusing text given for a number ``key`` that reads as no finite number (YAML
+    reads ``1e400`` as text, Python's ``float`` as inf; ``nan``), naming it as typed; or None."""
+    if isinstance(value, str) and len(value.split()) == 1 and (number := not_finite(value.strip())):
+        return f"{key}: {number}; give a finite number."
+    return None
+
+
 def check_value(key: str, value: Any, meta: dict[str, Any]) -> Any:
     """Check one value against its metadata and return it (coerced to the declared type).
 
@@ -281,6 +290,8 @@ def check_value(key: str, value: Any, meta: dict[str, Any]) -> Any:
             pass
         elif typ is str and isinstance(value, str):
             pass
+        elif typ in (int, float) and (overflow := not_finite_text(key, value)):
+            raise ConfigError(overflow, key=key)
         else:
             raise ConfigError(
                 f"{key} must be of type {typ.__name__}, got {value!r} "

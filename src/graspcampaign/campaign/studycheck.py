@@ -20,7 +20,14 @@ from pathlib import Path
 from typing import Any
 
 from graspcampaign.campaign.paths import input_file_problem
-from graspcampaign.campaign.schema import SCHEMAS, StudyCfg, check_factor, check_value, example
+from graspcampaign.campaign.schema import (
+    SCHEMAS,
+    StudyCfg,
+    check_factor,
+    check_value,
+    example,
+    not_finite_text,
+)
 from graspcampaign.campaign.written import in_file
 from graspcampaign.core.words import listed, meant, plural
 from graspcampaign.errors import ConfigError
@@ -104,7 +111,8 @@ def check_typed(key: str, value: Any, typ: str, meta: dict[str, Any] | None = No
             scalar is int and not isinstance(value, int)) or (
             scalar is float and isinstance(value, str)):
         # a str field takes a number as its text (output.run: 2), as OmegaConf does
-        raise ConfigError(f"{key} must be of type {base}, got {_got(value)}.", key=key)
+        raise ConfigError(not_finite_text(key, value) or f"{key} must be of type {base}, got "
+                          f"{_got(value)}.", key=key)
     if meta:  # ranges and choices, on the value as the schema will hold it (2 -> 2.0, '2')
         meta = {k: v for k, v in meta.items() if k != "type"}
         check_value(key, str(value) if scalar is str else value,
@@ -270,18 +278,25 @@ def check_study_file(path: Path, data: dict[str, Any]) -> None:
     ConfigError
         Naming the file, the line, the key and what is allowed.
     """
-    from graspcampaign.campaign.paths import check_name
+    from graspcampaign.campaign.paths import check_name, usable_name
 
     try:
         check_study_data(data)
         name = data.get("name")
         if isinstance(name, str) and not _is_interpolation(name):
             check_name(name, "name")
-            if name != Path(path).stem:
+            stem = Path(path).stem
+            if name != stem and not usable_name(stem):  # 'my study': no name can be written so
                 raise ConfigError(
-                    f"name: {name} is not the file's name {Path(path).stem}; a study is listed, "
+                    f"name: {name} is not the file's name {stem!r}, which is no study name (ASCII "
+                    "letters, digits, '.', '_' and '-', starting with a letter or digit); a study "
+                    f"is listed, run and reported by its file name, so rename the file to "
+                    f"{name}.yaml.", key="name")
+            if name != stem:
+                raise ConfigError(
+                    f"name: {name} is not the file's name {stem}; a study is listed, "
                     f"run and reported by its file name (status and report look for "
-                    f"{Path(path).stem}), so write name: {Path(path).stem} or rename the file "
+                    f"{stem}), so write name: {stem} or rename the file "
                     f"to {name}.yaml.", key="name")
     except ConfigError as exc:
         raise in_file(path, exc) from None

@@ -9,6 +9,7 @@ The commands are in :mod:`graspcampaign.cli.main` (studies, runs, reports) and
 from __future__ import annotations
 
 import logging
+import math
 import os
 import sys
 import traceback
@@ -161,7 +162,8 @@ def number(option: str, kind: type = float):
     """The parser of a numeric option (``plan --mass-kg``, ``report --jobs``): Typer's own reading
     of ``kind`` (pydantic's; a word it cannot read is refused by :func:`usage_sentence`), and a
     number written with an underscore refused, as an override's is (``check_overrides``): read as
-    grouping digits, ``--mass-kg 0.1_5`` was 0.15. The one reading of every numeric option."""
+    grouping digits, ``--mass-kg 0.1_5`` was 0.15; a number that is no finite number refused as
+    typed (``--mass-kg 1e400`` was "inf is out of range"). The one reading of every numeric option."""
     def parse(value: str) -> float | int:
         from pydantic import TypeAdapter, ValidationError
         from pydantic_core import PydanticCustomError
@@ -171,6 +173,10 @@ def number(option: str, kind: type = float):
         except ValidationError as exc:  # re-raised as is, it would be called a value error
             error = exc.errors()[0]
             raise PydanticCustomError(error["type"], error["msg"]) from None
+        if isinstance(read, float) and not math.isfinite(read):  # said as typed, not as inf
+            from graspcampaign.campaign.override_scan import not_finite
+
+            fail(f"{option} {not_finite(str(value).strip()) or value}; give a finite number.")
         if "_" in str(value):
             fail(f"{option} {value} has an underscore, which is read as grouping digits, the "
                  f"number {read}; write the number without it ({read}, if that is what you meant).")

@@ -96,7 +96,9 @@ def schedule(
             if not suffix:
                 write_file(file(".parquet"), table.to_parquet(index=False))
     except OSError as exc:  # permissions, a full disk
-        fail(f"--out {stem}: cannot write there ({exc.strerror or type(exc).__name__}).")
+        from graspcampaign.errors import cannot_write
+
+        fail(f"--out {stem}: {cannot_write(exc)}.")
     typer.echo(f"{counted(len(sheet), 'commanded trial')} -> {file('.csv')} and .parquet")
     if template:
         typer.echo(f"measured-records template -> {stem}-template.csv (columns and units: "

@@ -32,7 +32,7 @@ from graspcampaign.core.mesh_format import (
 )
 from graspcampaign.core.plausible import OBJECT_SIZE_MM
 from graspcampaign.core.winding import winding_numbers
-from graspcampaign.core.words import as_given, counted, listed, meant, plural
+from graspcampaign.core.words import PERMISSION_DENIED, as_given, counted, listed, meant, plural
 
 logger = logging.getLogger(__name__)
 
@@ -123,8 +123,7 @@ def load_mesh(path: str | os.PathLike, unit: str = "mm") -> trimesh.Trimesh:
                 skip = len(codecs.BOM_UTF8)  # every check and trimesh read it from the byte after it
                 head, n_bytes = head[skip:] + fh.read(skip), n_bytes - skip
     except PermissionError:  # chmod 000, another user's: the file is there, and may be whole
-        raise MeshError(f"mesh file {name!r} cannot be read by this user (permission denied); "
-                        "chmod or chown it, or run as its owner.") from None
+        raise MeshError(f"mesh file {name!r} cannot be read by this user: {PERMISSION_DENIED}.") from None
     if n_bytes == 0:
         raise MeshError(f"mesh {base!r} is empty: the file "
                         f"{'holds only a byte-order mark' if skip else 'has 0 bytes'}.")

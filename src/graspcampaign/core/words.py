@@ -1,8 +1,16 @@
 """Words every layer writes alike: the mark of a missing value, the one way to list items and to
-count them."""
+count them, the one way to say a place this user may not open."""
 
 MISSING = "\u2014"
 """The mark of a value that is missing or could not be computed (its reason stands beside it)."""
+
+
+#: The one phrasing of a place whose permissions keep this user out (chmod 000, another user's
+#: folder), after the place and what cannot be done to it; every layer says it so
+#: (errors.access_denied, campaign.paths, core.mesh_file, the command line's files to write).
+PERMISSION_DENIED = ("permission denied (its permissions, or those of the directory holding it, keep "
+                     "this user out); give this user access (chmod, chown), or run the command as "
+                     "the user who owns it")
 
 
 def listed(words, empty: str = MISSING, last: str = "and") -> str:

@@ -21,7 +21,7 @@ from graspcampaign.errors import ConfigError, UserInputError, access_denied, dis
 from graspcampaign.report import document as D
 from graspcampaign.report import spec as S
 from graspcampaign.report.document import NAV, Col, Document, Table, Text
-from graspcampaign.report.headline import folders, headline_rows, runs_of, write_headline
+from graspcampaign.report.headline import folders, headline_rows, runs_of, unlistable, write_headline
 from graspcampaign.report.render import Run, provenance, reason, render
 from graspcampaign.report.style import SOURCE_SHORT
 
@@ -148,6 +148,11 @@ def _runs(root: Path, studies: list[str] | None, run: str | Mapping[str, str] | 
         if studies and not os.path.isdir(root / name):
             raise UserInputError(f"no records for study {name!r} under {root}; "
                                  f"{how_to_make(root, name, wanted)}")
+        if wanted is None and (why := unlistable(root / name)):  # its runs cannot be found
+            if named:
+                raise UserInputError(why)
+            failed.append((name, why, True))
+            continue
         # walking, a folder is a run only if it looks like one (/sys/firmware/acpi is none)
         for r in [wanted] if wanted is not None else [d.name for d in runs_of(root / name)]:
             store = RunStore(root / name / r)
@@ -230,25 +235,27 @@ def build_reports(studies: list[str] | None = None, run: str | Mapping[str, str]
                 batch.in_progress[page] = busy
         else:
             batch.failed.append(failure)
-    if len(batch) and write_root_pages(root, formats):
+    unlisted = [(label, why) for label, why, _ in unreadable if "/" not in label]  # a study's folder
+    if len(batch) and write_root_pages(root, formats, unlisted):
         batch.pages = [root / f"{name}.{ext}" for name in ("index", "headline")
                        for ext in _root_pages(root, formats)]
     return batch
 
 
-def write_root_pages(root: Path, formats: list[str]) -> bool:
+def write_root_pages(root: Path, formats: list[str], unlisted: list[tuple[str, str]] = ()) -> bool:
     """Write the headline and index pages, unless a run they summarise cannot be read and the
     pages as they are show it: then leave both as they were (what they said of the run was
     computed from it when it could be read), warn naming the run, and return False. A run the
-    pages do not show yet is written with its row marked "the run cannot be read"."""
-    unreadable: list[tuple[str, str]] = []
+    pages do not show yet is written with its row marked "the run cannot be read". ``unlisted``:
+    ``(study, why)`` of the study folders whose runs cannot be found (``_runs``), as such runs."""
+    unreadable: list[tuple[str, str]] = list(unlisted)
     frame = headline_rows(root, unreadable)
     root_pages = _root_pages(root, formats)
     index = {page: index_rows(root, page, unreadable) for page in root_pages}
     pages = [root / f"{name}.{ext}" for name in ("headline", "index") for ext in ("csv", "md", "html")]
     shown = " ".join(p.read_text(errors="replace") for p in pages if p.is_file())
     unreadable = [(label, why) for label, why in unreadable
-                  if re.search(rf"(?<![\w.-]){re.escape(label)}/report/report\.", shown)]
+                  if re.search(rf"(?<![\w.-]){re.escape(label)}/([^/\s]+/)?report/report\.", shown)]
     if unreadable:
         label, why = unreadable[0]
         more = f" (and {len(unreadable) - 1} more)" if len(unreadable) > 1 else ""

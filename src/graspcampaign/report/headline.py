@@ -17,7 +17,7 @@ from graspcampaign.campaign.paths import write_file
 from graspcampaign.campaign.provenance import design_change
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.core.words import counted
-from graspcampaign.errors import ConfigError, DamagedRunError, UserInputError
+from graspcampaign.errors import ConfigError, DamagedRunError, UserInputError, access_denied
 from graspcampaign.report import format as fmt
 from graspcampaign.report.document import Col, Document, Table, Text
 from graspcampaign.report.render import reason
@@ -190,6 +190,19 @@ def folders(path: Path, strict: bool = False, files: bool = False) -> list[Path]
         return []
     return sorted(path / name for name in names if os.path.isdir(path / name)
                   or files and not name.startswith(".") and os.path.isfile(path / name))
+
+
+def unlistable(path: Path) -> str | None:
+    """Why this user may not list the folder ``path`` (a study's, chmod 000: its runs cannot be
+    found, so a walk would skip them unsaid), in :func:`~graspcampaign.errors.access_denied`'s
+    sentence; None if it can be listed or is no folder."""
+    try:
+        os.listdir(path)
+    except PermissionError as exc:
+        return access_denied(exc)
+    except OSError:
+        return None
+    return None
 
 
 def runs_of(study_dir: Path) -> list[Path]:

@@ -41,6 +41,7 @@ from graspcampaign.core.equilibrium import EvaluatorParams
 from graspcampaign.core.planner import DEFAULT_N_CAND
 from graspcampaign.core.statics import GRAVITY
 from graspcampaign.core.words import as_given
+from graspcampaign.errors import cannot_write
 from graspcampaign.rig import DEFAULT_FINGERTIP_RADIUS_MM, DEFAULT_PLAN_MATERIAL
 from graspcampaign.rig.belief import (  # noqa: F401  (re-exported: the planners' knowledge)
     CHARACTERISTIC_Z,
@@ -369,8 +370,7 @@ def plan_mesh(mesh_or_path, *, mass_kg: float, material: str | None = None, mu: 
                                        title=f"{name}: SF {out['sf_predicted']:.2f}, "
                                              f"F_lat {out['f_lat_n']:.2f} N"))
         except OSError as exc:  # a full disk, or the directory changed since the check
-            raise PicturePathError(f"{names['png_path']} {png_path}: cannot write there "
-                             f"({exc.strerror or type(exc).__name__}).") from None
+            raise PicturePathError(f"{names['png_path']} {png_path}: {cannot_write(exc)}.") from None
     return out
 
 
