@@ -307,21 +307,20 @@ def _opening(residual_ok, residual_check="norm", classification=None):
     from types import SimpleNamespace
 
     from graspcampaign.report.render import Run
-    from graspcampaign.report.studies.surrogate import finding
+    from graspcampaign.report.studies import surrogate
 
-    n = len(residual_ok)
-    records = pd.DataFrame({"status": "ok", "residual_ok": residual_ok, "success_unbounded": False,
-                            "delta_max_mm": 1.0})
+    records = pd.DataFrame({"status": "ok", "shape": "sphere", "residual_ok": residual_ok, "success": False,
+                            "success_unbounded": False, "success_vertical": False, "delta_max_mm": 1.0})
     run = Run(records, {"config": {"evaluator": {"residual_check": residual_check}}},
               SimpleNamespace(n_scenarios=1500, class_balance_pct=8.7, residual_r2=0.5))
     run.tables.update({
-        "surrogate_dataset": pd.DataFrame([{"n": n, "success_unbounded_pct": 0.0, "n_success_unbounded": n}]),
+        "surrogate_dataset": surrogate._dataset(run),
         "surrogate_classification": classification if classification is not None else pd.DataFrame(
             [{"label": "success_unbounded", "roc_auc": float("nan"), "paper_auc": 0.69,
               "note": "not fitted: fewer than 10"}]),
         "surrogate_regression": pd.DataFrame(columns=["r2"]),
         "surrogate_timing": pd.DataFrame(columns=["what"])})
-    return finding(run)
+    return surrogate.finding(run)
 
 
 @pytest.mark.parametrize("passed, n, check", [(0, 16, "norm"), (2, 1500, "norm"), (3, 40, "vertical")])
@@ -342,6 +341,31 @@ def test_a_scenario_without_a_residual_verdict_is_not_counted_as_passing():
     not passed."""
     residual_ok = [1.0, float("nan"), 0.0, float("nan")]  # one passed, one failed, two unknown
     assert "passes the ‖R‖ check in 1 of 4 and buries" in _opening(residual_ok)
+
+
+def test_the_why_reads_its_counts_from_table_surrogate_dataset():
+    """The opening's why counted the scenarios passing the residual check, buried beyond r and of them
+    Algorithm 1's successes again from the trials, beside table surrogate_dataset's columns of the same
+    counts: here the table (columns set by hand) is what the opening says, as it is what the page shows."""
+    from types import SimpleNamespace
+
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies.surrogate import finding
+
+    records = pd.DataFrame({"status": "ok", "residual_ok": [False] * 8, "success_unbounded": False,
+                            "delta_max_mm": 1.0})  # the trials alone: 0 passed, 0 buried, 0 successes
+    run = Run(records, {"config": {}}, SimpleNamespace(n_scenarios=1500, class_balance_pct=8.7,
+                                                       residual_r2=0.5))
+    run.tables.update({
+        "surrogate_dataset": pd.DataFrame([{
+            "n": 8, "success_unbounded_pct": 50.0, "n_success_unbounded": 8, "n_residual_ok": 3,
+            "n_deeper": 5, "n_success_unbounded_deeper": 2}]),
+        "surrogate_classification": pd.DataFrame([{"label": "success_unbounded", "roc_auc": float("nan"),
+                                                   "paper_auc": 0.69, "note": "not fitted"}]),
+        "surrogate_regression": pd.DataFrame(columns=["r2"]),
+        "surrogate_timing": pd.DataFrame(columns=["what"])})
+    assert ("passes the ‖R‖ check in 3 of 8 and buries a fingertip deeper than its radius r = 5 mm in 5 "
+            "(non-physical; 2 of the 4 published-algorithm successes;") in finding(run)
 
 
 def test_an_auc_without_an_interval_is_said_with_its_held_out_classes_and_why():
