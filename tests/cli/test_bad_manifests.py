@@ -131,6 +131,30 @@ def test_a_run_refused_before_it_starts_writes_nothing(results, monkeypatch):
     assert not (results / "smoke" / "fresh").exists()
 
 
+def test_a_run_this_user_may_not_write_is_refused_before_its_backend_starts(results, monkeypatch):
+    """The write check ran in the run's lock, before a Dask cluster was started or its scheduler awaited;
+    moved after the manifest is read (round 19), it ran after the backend had started: an unwritable
+    run with an unreachable scheduler was refused for the scheduler, after its wait."""
+    import contextlib
+
+    from graspcampaign.campaign import runner as runner_module
+    from graspcampaign.core.words import PERMISSION_DENIED
+    from graspcampaign.errors import UserInputError
+
+    @contextlib.contextmanager
+    def unreachable(study):  # what an unreachable Dask scheduler does, without the wait
+        raise UserInputError("runner.address = 'tcp://127.0.0.1:9': no Dask scheduler answered.")
+        yield
+
+    monkeypatch.setattr(runner_module, "_executor", unreachable)
+    monkeypatch.setattr(runner_module, "write_denied",  # root may write anywhere: another user's run
+                        lambda where: f"cannot be written by this user: {PERMISSION_DENIED}")
+    run = results / "smoke" / "fresh"
+    refused(results, ["run", "smoke", *SMOKE, "--run", "fresh", "--root", results],
+            f"run smoke/fresh at {run}: {run}: cannot be written by this user: {PERMISSION_DENIED}.")
+    assert not run.exists()
+
+
 def _config_edited(m: dict) -> dict:
     config = json.loads(json.dumps(m["config"]))
     config["factors"]["mu"] = [0.4]

@@ -318,7 +318,6 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
         # held first: a run held elsewhere is refused before a Dask cluster starts or is awaited;
         # the lock removes the directories it made if the backend is refused
         held.enter_context(run_lock(store, f"{study.name}/{run}"))
-        map_unordered = held.enter_context(_executor(study))
         # read (again) under the lock: another run of it may have written since the check above
         manifest = _checked_manifest(store, study, run, allow_drift)
         chash = provenance.config_hash(study, manifest)
@@ -328,6 +327,7 @@ def run_study(study: StudyCfg, *, run: str | None = None, allow_drift: bool = Fa
             return RunSummary(study.name, run, path, len(trials), n_already=len(trials))
         if denied:
             raise UserInputError(denied)
+        map_unordered = held.enter_context(_executor(study))  # no cluster started for a refused run
         session = {"started_at": provenance.now_utc(), "host": socket.gethostname(),
                    "backend": study.runner.backend, "n_jobs": study.runner.n_jobs,
                    "config_hash": chash, "n_trials": len(trials), "finished_at": None,
