@@ -174,7 +174,7 @@ def test_a_page_whose_tables_show_the_missing_mark_says_once_what_it_means():
     md, html = page(None).markdown(), page(None).html()
     assert "| b | — |" in md  # the mark the line explains
     line = "- **—:** in a table, no value there: the paper reports none, or the run records none or does " \
-           "not compare it (the row's verdict or reason says which)"
+           "not compare it (where a row has a verdict or reason, it says which)"
     assert md.count(line) == 1 and md.index("- **Seed:** 1\n" + line) > 0  # once, with the provenance
     assert html.count("<dt>—</dt><dd>in a table, no value there") == 1
     assert "**—:**" not in page(2.0).markdown() and "<dt>—</dt>" not in page(2.0).html()  # no mark shown

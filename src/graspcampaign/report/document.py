@@ -337,7 +337,7 @@ def _json(value: Any) -> Any:
 
 
 MISSING_MEANS = ("in a table, no value there: the paper reports none, or the run records none or does not "
-                 "compare it (the row's verdict or reason says which)")
+                 "compare it (where a row has a verdict or reason, it says which)")
 """What the missing mark :data:`~graspcampaign.core.words.MISSING` in a table cell means, said once per
 page."""
 

@@ -10,7 +10,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.lines import Line2D
 
-from graspcampaign.analysis.association import equal_rates_test
+from graspcampaign.analysis.association import RESAMPLES, equal_rates_test
 from graspcampaign.analysis.quasi_static import loop_at_n_max_pct
 from graspcampaign.analysis.rates import CONFIDENCE_LEVEL
 from graspcampaign.analysis.records import Estimate, at_bound, beyond_radius, rate
@@ -223,7 +223,8 @@ def finding(run: Run) -> str:
     if len(seen) < len(rows):
         t = run.tables["sensitivity_panels"]  # per panel, as recorded (missing: not recorded)
         slip = "" if t["slip_first"].isna().all() else (
-            f", and the slip check fails first in {int(t['slip_first'].sum())} of {int(t['trials'].sum())}")
+            f", and the slip check fails first in {int(t['slip_first'].sum())} of "
+            f"{int(t['trials'].sum())} executed trials")
         eta = fmt.span(t["eta_median"], digits=2)  # none: no contact carries friction
         eta = "" if eta == fmt.MISSING else f" (median |η| {eta}{' in each panel' * (fmt.DASH not in eta)})"
         text += (f"Why: Algorithm 2 releases contacts until the remaining normals carry the weight{eta}"
@@ -327,8 +328,9 @@ CLAIMS = Claims("sensitivity_claims", "The paper's Fig. 19 statements (in words)
                 "words on λ1 (pushed toward its bound at μ < 0.1, the low-friction failure mode) are "
                 "compared as: most (the interval above 50%) identifications on the bound at μ < 0.1, and "
                 "fewer at μ ≥ 0.1. The p rows test equal success at every level of panel (a)'s mass or "
-                "friction (Pearson's χ², its Monte Carlo p over 9999 resamples where an expected count is "
-                "below 5: 1.0e-4 there is a bound, the smallest p they can give)", [
+                f"friction (Pearson's χ², its Monte Carlo p over {RESAMPLES} resamples where an expected "
+                f"count is below 5: {fmt.p_value(1 / (RESAMPLES + 1))} there is a bound, the smallest p they "
+                "can give)", [
            Rate(REGION[0], "Fig. 19a", _where("mu_mass", _inside)),
            Rate(REGION[1], "Fig. 19a", _where("mu_mass", _inside, False)),
            Rate("(a) stable region: |R_z| reading inside it", "Fig. 19a", _where("mu_mass", _inside),
