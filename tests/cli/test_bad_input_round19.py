@@ -48,9 +48,13 @@ def test_a_number_that_is_no_finite_number_is_refused_as_typed(tmp_path, overrid
             f"override {override!r}: {said}; give a finite number instead.")
 
 
-def test_a_text_key_may_be_named_inf_or_nan(tmp_path):
-    done = invoke("show", "smoke", "output.run=nan", "--root", tmp_path)
-    assert done.exit_code == 0 and f"run: {tmp_path}/smoke/nan (0 of" in done.stdout, done.output
+@pytest.mark.parametrize(("override", "run"), [("output.run=nan", "nan"), ("output={run: nan}", "nan"),
+                                               ("output={run: Infinity}", "Infinity")])
+def test_a_text_key_may_be_named_inf_or_nan(tmp_path, override, run):
+    """In a mapping too: ``output={run: nan}`` was refused as "nan is not a number" (every float of a
+    mapping was scanned, whatever its key takes)."""
+    done = invoke("show", "smoke", override, "--root", tmp_path)
+    assert done.exit_code == 0 and f"run: {tmp_path}/smoke/{run} (0 of" in done.stdout, done.output
 
 
 @pytest.mark.parametrize(("line", "key", "said"), [

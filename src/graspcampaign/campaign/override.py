@@ -14,6 +14,7 @@ from __future__ import annotations
 import dataclasses
 import errno
 import json
+import math
 import re
 import unicodedata
 from typing import Any
@@ -122,7 +123,9 @@ def check_overrides(given: list[str]) -> None:
                               f"the text '{zero}', not the number {number}; write {number}"
                               + ("." if numeric else f", or quote it ('{zero}') to mean text."), key=key)
         # 1e400 is inf to Hydra, refused by the schema as "inf"; a mapping's numbers too (pso={...})
-        mapping = setting and value.lstrip()[:1] == "{"
+        leaves = override_scan.float_leaves(key, _value(parsed)) if setting else ()  # {run: nan}: text
+        mapping = setting and value.lstrip()[:1] == "{" and any(
+            not math.isfinite(x) and _numeric(at, field_at(at)) for at, x in leaves)
         if (numeric or mapping) and (number := override_scan.not_finite(value, numeric)):
             raise ConfigError(f"override {item!r}: {number}; give a finite number instead.", key=key)
         # seeds=1_0 is ten to Hydra, seeds='1_0' to OmegaConf's int(): seldom what was meant

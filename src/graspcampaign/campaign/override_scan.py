@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterator
+from typing import Any
 
 
 def unquoted(value: str) -> Iterator[tuple[int, str]]:
@@ -65,6 +66,16 @@ def not_finite(value: str, quoted: bool = False) -> str | None:
             return (f"{word} is infinite" if word.lower().lstrip("+-").startswith("inf") else
                     f"{word} overflows to {read} (no float is that large)")
     return None
+
+
+def float_leaves(key: str, value: Any) -> Iterator[tuple[str, float]]:
+    """``(dotted path, number)`` of each float in an override's parsed ``value`` set at ``key``: a
+    mapping's keys and a list's indices extend the path (``pso.inertia``, ``factors.mu.0``)."""
+    if isinstance(value, dict | list):
+        for k, v in value.items() if isinstance(value, dict) else enumerate(value):
+            yield from float_leaves(f"{key}.{k}", v)
+    elif isinstance(value, float):
+        yield key, value
 
 
 def mapping_keys(value: str) -> list[str]:
