@@ -75,7 +75,7 @@ def audit_pso() -> None:
         differs = None if p in flat else judge(100 * cv, pcv, 1, 100 * low, 100 * high)
         rows.append({"parameter": p, "n": v.size, "cv_pct": 100 * cv, "mean": v.mean(), "sd": v.std(ddof=1),
                      "low_pct": 100 * low, "high_pct": 100 * high, "paper_cv_pct": pcv,
-                     "paper_range_pct": "" if pcv is not None else
+                     "paper_text": f"\u2248 {pcv:g}" if pcv is not None else  # the paper's "about 19%"
                      "{:.1f}\u2013{:.1f} (range)".format(*cvs["others_range"]),
                      "digits": sig3_decimals(ref["table3"][name]), "at_bound": bound,
                      "at_bound_pct": 100 * bound / v.size, "differs": differs,
