@@ -343,7 +343,7 @@ def audit_test3_claims(study, ref, d, e, prop, nat, mc, agree, chi, logistic) ->
     # §9.5: "only 51 of the 680 grasps certified as retained subsequently failed", of §9.1's executed
     certified = e["predicted_stable"].astype(bool)
     k, n = ref["retention_certified"], ref["executed"]
-    rows[f"trials certified as retained by `predicted_stable` (paper {k} of {n})"] = share(
+    rows[f"trials certified as retained by the retention flag (paper {k} of {n})"] = share(
         e, certified, 100 * k / n)
     k, n = ref["retention_certified_failed"], ref["retention_certified"]
     rows[f"certified grasps that failed (paper {k} of {n})"] = share(

@@ -60,8 +60,8 @@ def test_the_cross_check_compares_recorded_verdicts_only(tmp_path, monkeypatch):
     is over the compared trials: seeds 0 and 2 (re-derived False, False; baseline False, True) agree
     once, 1 of 2 (it said 1 of 3, the uncompared trial in N); the residuals, all recorded, 3 of 3."""
     assert _cross_check(tmp_path, monkeypatch, [False, None, True], [1.0, 2.0, 3.0]) == (
-        "Cross-check against the `baseline_grid` records beside this run: 1 of 2 re-derived trials have the "
-        "baseline's verdict (1 more not compared: no verdict recorded) and 3 of 3 its residual "
+        "Cross-check against the baseline-grid study's records beside this run: 1 of 2 re-derived trials "
+        "have the baseline's verdict (1 more not compared: no verdict recorded) and 3 of 3 its residual "
         "(relative 1e-9).")
 
 
@@ -70,6 +70,7 @@ def test_the_cross_check_compares_recorded_residuals_only(tmp_path, monkeypatch)
     of seeds 0 and 2 are compared (N 2) and the third is said apart, where it counted as "not close"
     in an N of 3 (a NaN is close to nothing). The verdicts, all recorded, are as before."""
     assert _cross_check(tmp_path, monkeypatch, [False, False, True], [1.0, None, 3.0]) == (
-        "Cross-check against the `baseline_grid` records beside this run: 2 of 3 re-derived trials have the "
-        "baseline's verdict and 2 of 2 its residual (relative 1e-9; 1 more not compared: no residual "
-        "recorded).")
+        "Cross-check against the baseline-grid study's records beside this run: 2 of 3 re-derived trials "
+        "have the baseline's verdict and 2 of 2 its residual (relative 1e-9; 1 more not compared: no "
+        "residual recorded).")
+

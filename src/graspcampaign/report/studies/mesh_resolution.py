@@ -166,8 +166,8 @@ def _cross_check(run: Run) -> str:
             unread.append(store.path.name)
     skipped = f" (run {', '.join(unread)} skipped: it cannot be read)" if unread else ""
     if not frames:
-        return f"No `baseline_grid` records beside this run{skipped}: the re-derived trials were not " \
-               "cross-checked against them." if len(nm) else ""
+        return f"No records of the baseline-grid study beside this run{skipped}: the re-derived trials " \
+               "were not cross-checked against them." if len(nm) else ""
     key = ["shape", "mass_kg", "mu", "planner", "seed"]
     base = pd.concat(frames, ignore_index=True)  # a trial in several baseline runs counts once
     base = base[base["status"] == "ok"].drop_duplicates(key)
@@ -178,7 +178,7 @@ def _cross_check(run: Run) -> str:
     res = merged[["residual_norm_n", "residual_norm_n_baseline"]].dropna()  # likewise the residuals
     close = np.isclose(res["residual_norm_n"], res["residual_norm_n_baseline"], rtol=1e-9).sum()
     unread = len(merged) - len(res)
-    return (f"Cross-check against the `baseline_grid` records beside this run{skipped}: {same} of "
+    return (f"Cross-check against the baseline-grid study's records beside this run{skipped}: {same} of "
             f"{len(judged)} re-derived trials have the baseline's verdict" + (
                 f" ({unjudged} more not compared: no verdict recorded)" * bool(unjudged)) + f" and {close}"
             + f" of {len(res)}" * bool(unjudged or unread) + " its residual (relative 1e-9"
