@@ -287,6 +287,7 @@ def audit_test3_claims(study, ref, d, e, prop, nat, mc, agree, chi, logistic) ->
     def value(v, paper, digits, n=None):
         return {"value": v, "n": n, "paper": paper, "differs": judge(v, paper, digits)}
     rows = {"proposed success, natural friction": share(nat, nat["success"], ref["natural_success_pct"])}
+    rows["proposed success, natural friction"]["paper"] = f"\u2248 {ref['natural_success_pct']:g}"  # "∼86%"
     dirs = nat[nat["block"] == "A"].groupby("direction_deg")["lat"].median()
     lo, hi = ref["direction_threshold_range_n"]
     rows["lowest median threshold over pull directions"] = value(dirs.min(), lo, 2)
