@@ -186,8 +186,8 @@ def audit_sensitivity() -> None:
             mc = stats.contingency.expected_freq(counts).min() < 5
             p = stats.chi2_contingency(counts, correction=False, method=stats.MonteCarloMethod(
                 n_resamples=9999, rng=np.random.default_rng(seed)) if mc else None).pvalue
-        claims[f"(a) equal success at every {factor} level: p"] = {"value": p, "low": math.nan,
-                                                                   "high": math.nan, "n": len(a)}
+        claims[f"(a) equal success at every {factor} level: p"] = {  # no test, no n: one outcome throughout
+            "value": p, "low": math.nan, "high": math.nan, "n": math.nan if math.isnan(p) else len(a)}
     c = ok[ok["panel"] == "n_b"]
     for axis, column in (("n", "n_exp"), ("b", "b")):
         med = c.groupby(column)["runtime_ms"].median()
