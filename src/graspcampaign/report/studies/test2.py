@@ -267,7 +267,8 @@ def fig30(run: Run, fig) -> None:
     style.schematic(fig, t, ((0, t0, "closing", "#e3f2fd"), (t0, t1, "lift", "#fff8e1"), (t1, t2, "hold",
                                                                                    "#e8f5e9")), [
         *(([t0, t2], [force[j]] * 2, f"finger {j}, recorded ({force[j]:.3g} N)",
-           {"color": f"C{j + 1}", "ls": ls, "lw": lw}) for j, ls, lw in FINGER_LINES if j in force),
+           {"color": colour("finger", f"finger{j}"), "ls": ls, "lw": lw}) for j, ls, lw in FINGER_LINES
+          if j in force),
         # every level's legend entry gives its value, as the fingers' do
         ([t0, t2], [pred] * 2, f"predicted, mean{' of the fingers drawn' * (len(force) < 3)} ({pred:.3g} N)",
          {"ls": ":", "color": "#333333"}),
