@@ -287,6 +287,7 @@ def audit_test3_claims(study, ref, d, e, prop, nat, mc, agree, chi, logistic) ->
     def value(v, paper, digits, n=None):
         return {"value": v, "n": n, "paper": paper, "differs": judge(v, paper, digits)}
     rows = {"proposed success, natural friction": share(nat, nat["success"], ref["natural_success_pct"])}
+    rows["proposed success, natural friction"]["paper"] = f"\u2248 {ref['natural_success_pct']:g}"  # "∼86%"
     dirs = nat[nat["block"] == "A"].groupby("direction_deg")["lat"].median()
     lo, hi = ref["direction_threshold_range_n"]
     rows["lowest median threshold over pull directions"] = value(dirs.min(), lo, 2)
@@ -343,7 +344,7 @@ def audit_test3_claims(study, ref, d, e, prop, nat, mc, agree, chi, logistic) ->
     # §9.5: "only 51 of the 680 grasps certified as retained subsequently failed", of §9.1's executed
     certified = e["predicted_stable"].astype(bool)
     k, n = ref["retention_certified"], ref["executed"]
-    rows[f"trials certified as retained by `predicted_stable` (paper {k} of {n})"] = share(
+    rows[f"trials certified as retained by the retention flag (paper {k} of {n})"] = share(
         e, certified, 100 * k / n)
     k, n = ref["retention_certified_failed"], ref["retention_certified"]
     rows[f"certified grasps that failed (paper {k} of {n})"] = share(

@@ -75,7 +75,7 @@ def audit_pso() -> None:
         differs = None if p in flat else judge(100 * cv, pcv, 1, 100 * low, 100 * high)
         rows.append({"parameter": p, "n": v.size, "cv_pct": 100 * cv, "mean": v.mean(), "sd": v.std(ddof=1),
                      "low_pct": 100 * low, "high_pct": 100 * high, "paper_cv_pct": pcv,
-                     "paper_range_pct": "" if pcv is not None else
+                     "paper_text": f"\u2248 {pcv:g}" if pcv is not None else  # the paper's "about 19%"
                      "{:.1f}\u2013{:.1f} (range)".format(*cvs["others_range"]),
                      "digits": sig3_decimals(ref["table3"][name]), "at_bound": bound,
                      "at_bound_pct": 100 * bound / v.size, "differs": differs,
@@ -186,8 +186,8 @@ def audit_sensitivity() -> None:
             mc = stats.contingency.expected_freq(counts).min() < 5
             p = stats.chi2_contingency(counts, correction=False, method=stats.MonteCarloMethod(
                 n_resamples=9999, rng=np.random.default_rng(seed)) if mc else None).pvalue
-        claims[f"(a) equal success at every {factor} level: p"] = {"value": p, "low": math.nan,
-                                                                   "high": math.nan, "n": len(a)}
+        claims[f"(a) equal success at every {factor} level: p"] = {  # no test, no n: one outcome throughout
+            "value": p, "low": math.nan, "high": math.nan, "n": math.nan if math.isnan(p) else len(a)}
     c = ok[ok["panel"] == "n_b"]
     for axis, column in (("n", "n_exp"), ("b", "b")):
         med = c.groupby(column)["runtime_ms"].median()

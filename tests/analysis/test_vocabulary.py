@@ -28,7 +28,8 @@ def test_no_colour_means_two_things():
             if term.colour:
                 owners.setdefault(term.colour.lower(), set()).add(name)
     assert {c: n for c, n in owners.items() if len(n) > 1} == {}
-    assert {"PLANNERS", "BLOCKS", "SHAPES", "MATERIALS", "OUTCOMES"} <= set().union(*owners.values())
+    coloured = {"PLANNERS", "BLOCKS", "SHAPES", "MATERIALS", "OUTCOMES", "FINGERS"}
+    assert coloured <= set().union(*owners.values())
     assert len(V.OTHER_COLOURS) == len(set(V.OTHER_COLOURS))
     for voc in {id(v): v for v in V.VOCABULARIES.values()}.values():  # and one colour per level
         colours = [t.colour for t in voc.values() if t.colour]
@@ -56,3 +57,13 @@ def test_data_source_is_one_rule_over_record_sources_and_the_manifest():
     assert V.data_source(pd.Series(["measured", None]), "measured") == "measured"
     assert V.data_source((), "simulation") == "simulation"
     assert V.data_source((), None) == "simulation"
+
+
+def test_the_fingers_have_their_own_colours_paul_tols_muted_scheme():
+    """Figs. 12-13 drew the fingers in matplotlib's cycle (blue, orange, green), Fig. 30 in green, red and
+    purple (its red the slip line's): one colour per finger now, Tol's colour-blind-safe muted indigo,
+    wine and purple (P. Tol, "Colour schemes", SRON/EPS/TN/09-002, 2021, scheme "muted")."""
+    assert [(t.key, t.label, t.colour.lower()) for t in V.FINGERS.values()] == [
+        ("finger1", "finger 1", "#332288"), ("finger2", "finger 2", "#882255"),
+        ("finger3", "finger 3", "#aa4499")]
+    assert [V.colour("finger", f"finger{j}") for j in (1, 2, 3)] == [t.colour for t in V.FINGERS.values()]

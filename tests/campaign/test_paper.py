@@ -88,6 +88,7 @@ def test_a_value_the_paper_marks_approximate_is_parsed_as_approximate_from_the_d
     an Approximate 86.0 (compared as the number), while the study file keeps its stored 86.0 (a run's
     config hash must not move). Every listed field exists, and the words it cites are in the paper."""
     import dataclasses
+    import typing
     from pathlib import Path
 
     from graspcampaign.campaign.paper import APPROXIMATE, Approximate
@@ -97,9 +98,14 @@ def test_a_value_the_paper_marks_approximate_is_parsed_as_approximate_from_the_d
     assert type(study_paper("test3_disturbance").proposed_success_pct) is float  # "80.8": not marked
     data = yaml.safe_load((project_dirs()[1] / "test3_disturbance.yaml").read_text())
     assert type(data["paper"]["natural_success_pct"]) is float  # the stored key is unchanged
-    classes = {cls.__name__: cls for cls in paper_types().values()}
+    classes, todo = {}, list(paper_types().values())  # the study blocks and the blocks nested in them
+    while todo:
+        cls = todo.pop()
+        classes[cls.__name__] = cls
+        todo += [t for t in typing.get_type_hints(cls).values() if dataclasses.is_dataclass(t)]
     paper = " ".join(Path("/work/shared/paper.txt").read_text().split())
+    plain = paper.replace("$\\text{CV} \\approx ", "CV ≈ ").replace("\\%$", "%")  # Fig. 21's "CV ≈ 19%"
     for (cls, name), source in APPROXIMATE.items():
         assert name in {f.name for f in dataclasses.fields(classes[cls])}, (cls, name)
         for quoted in source.split('"')[1::2]:
-            assert quoted.replace("∼", "$\\sim ").replace("%", "\\%$") in paper or quoted in paper, quoted
+            assert quoted.replace("∼", "$\\sim ").replace("%", "\\%$") in paper or quoted in plain, quoted

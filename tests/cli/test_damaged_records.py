@@ -363,9 +363,9 @@ def test_a_report_reading_another_run_skips_one_that_cannot_be_read(results):
     records = pd.DataFrame({"trial_id": ["t"], "status": ["ok"], "panel": ["n_max"],
                             "success": [True]})
     run = Run(records, {}, store=RunStore(results / "mesh_resolution" / "default"))
-    assert _cross_check(run) == ("No `baseline_grid` records beside this run (run default skipped: "
-                                 "it cannot be read): the re-derived trials were not cross-checked "
-                                 "against them.")
+    assert _cross_check(run) == ("No records of the baseline-grid study beside this run (run default "
+                                 "skipped: it cannot be read): the re-derived trials were not "
+                                 "cross-checked against them.")
 
 
 def test_a_trial_in_two_baseline_runs_is_cross_checked_once(results):
@@ -383,6 +383,6 @@ def test_a_trial_in_two_baseline_runs_is_cross_checked_once(results):
     records = base[key + ["success", "residual_norm_n"]].assign(
         trial_id=[f"t{i}" for i in range(len(base))], status="ok", panel="n_max")
     run = Run(records, {}, store=RunStore(results / "mesh_resolution" / "default"))
-    assert _cross_check(run) == (f"Cross-check against the `baseline_grid` records beside this run: "
+    assert _cross_check(run) == (f"Cross-check against the baseline-grid study's records beside this run: "
                                  f"{len(base)} of {len(base)} re-derived trials have the baseline's "
                                  f"verdict and {len(base)} its residual (relative 1e-9).")

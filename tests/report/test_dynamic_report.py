@@ -13,6 +13,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 import pytest
+from matplotlib.colors import to_hex
 from synthetic_runs import md_table
 
 from graspcampaign.analysis.vocabulary import label
@@ -64,6 +65,9 @@ def test_a_run_without_the_papers_case_says_so_and_draws_its_nearest():
     titles = [ax.get_title() for ax in right]
     plt.close(fig)
     assert len(right) == 2 and all(len(ax.lines) == 3 for ax in right)  # three fingers, not empty
+    # each finger in its vocabulary colour (Tol's muted indigo, wine, purple), not matplotlib's cycle
+    assert all([to_hex(line.get_color()) for line in ax.lines] == ["#332288", "#882255", "#aa4499"]
+               for ax in right)
     assert all("μ=0.3, m=0.4 kg" in t and "nearest the paper's μ=0.1, m=0.4 kg" in t for t in titles)
     assert titles[0].startswith(label("model_preset", "table2"))  # one label for a preset
 

@@ -137,6 +137,7 @@ def test_fig30_leaves_out_a_finger_without_a_recorded_force_and_says_so(sim_root
     every finger read the caption has no such sentence."""
     import pyarrow as pa
     import pyarrow.compute as pc
+    from matplotlib.colors import to_hex
 
     from graspcampaign.report.studies import test2
 
@@ -153,6 +154,9 @@ def test_fig30_leaves_out_a_finger_without_a_recorded_force_and_says_so(sim_root
     fingers = [line.get_label() for line in fig.axes[0].get_lines() if line.get_label().startswith("finger ")]
     assert [f.split(",")[0] for f in fingers] == ["finger 1", "finger 3"]
     assert not any("nan" in f for f in fingers)
+    # each finger in its vocabulary colour, as in Figs. 12-13 (it drew matplotlib's C2 and C4 here)
+    assert [to_hex(line.get_color()) for line in fig.axes[0].get_lines()
+            if line.get_label().startswith("finger ")] == ["#332288", "#aa4499"]
     assert test2.fig30_caption(run).endswith("; 1 of 3 fingers not drawn (finger 2: no force recorded)")
 
 

@@ -80,7 +80,7 @@ def test_section_9_5s_certified_counts_are_shares_beside_the_papers(sim_root):
     flagged = e["predicted_stable"].astype(bool)
     claims = read_table(run, "test3_claims").set_index("quantity")
     for quantity, k, n, ours, of in (
-            ("trials certified as retained by `predicted_stable` (paper 680 of 1230)", 680, 1230,
+            ("trials certified as retained by the retention flag (paper 680 of 1230)", 680, 1230,
              flagged.sum(), len(e)),
             ("certified grasps that failed (paper 51 of 680)", 51, 680,
              (flagged & ~e["success"].astype(bool)).sum(), flagged.sum())):

@@ -20,6 +20,7 @@ from statsmodels.stats.contingency_tables import mcnemar
 from statsmodels.stats.power import NormalIndPower
 from statsmodels.stats.proportion import proportion_confint, proportion_effectsize
 from synthetic_runs import read_table, report_md
+from test_openings import code_for_words
 from typer.testing import CliRunner
 
 from graspcampaign.analysis.vocabulary import label
@@ -84,7 +85,8 @@ def test_ingested_records_reproduce_the_paper_reading(sim_root, measured, study)
     assert {p.name for p in (engine / "figures").iterdir()} == \
         {p.name for p in (ingested / "figures").iterdir()}
     text = (ingested / "report.md").read_text()
-    assert "virtual-rig exports, not rig measurements" in text
+    assert "from virtual-rig exports (their `source` column says virtual), not rig measurements" in text
+    assert not code_for_words(_finding(measured, study, "measured"))  # a command to type stays in code
     assert "no `belief_error = none` counterfactual (a real rig has no oracle)" in text
 
 

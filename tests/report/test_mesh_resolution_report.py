@@ -60,8 +60,8 @@ def test_the_cross_check_compares_recorded_verdicts_only(tmp_path, monkeypatch):
     is over the compared trials: seeds 0 and 2 (re-derived False, False; baseline False, True) agree
     once, 1 of 2 (it said 1 of 3, the uncompared trial in N); the residuals, all recorded, 3 of 3."""
     assert _cross_check(tmp_path, monkeypatch, [False, None, True], [1.0, 2.0, 3.0]) == (
-        "Cross-check against the `baseline_grid` records beside this run: 1 of 2 re-derived trials have the "
-        "baseline's verdict (1 more not compared: no verdict recorded) and 3 of 3 its residual "
+        "Cross-check against the baseline-grid study's records beside this run: 1 of 2 re-derived trials "
+        "have the baseline's verdict (1 more not compared: no verdict recorded) and 3 of 3 its residual "
         "(relative 1e-9).")
 
 
@@ -70,6 +70,27 @@ def test_the_cross_check_compares_recorded_residuals_only(tmp_path, monkeypatch)
     of seeds 0 and 2 are compared (N 2) and the third is said apart, where it counted as "not close"
     in an N of 3 (a NaN is close to nothing). The verdicts, all recorded, are as before."""
     assert _cross_check(tmp_path, monkeypatch, [False, False, True], [1.0, None, 3.0]) == (
-        "Cross-check against the `baseline_grid` records beside this run: 2 of 3 re-derived trials have the "
-        "baseline's verdict and 2 of 2 its residual (relative 1e-9; 1 more not compared: no residual "
-        "recorded).")
+        "Cross-check against the baseline-grid study's records beside this run: 2 of 3 re-derived trials "
+        "have the baseline's verdict and 2 of 2 its residual (relative 1e-9; 1 more not compared: no "
+        "residual recorded).")
+
+
+def test_the_cost_ratio_opening_says_the_verdicts_its_table_rows_hold():
+    """The opening ran the verdict rule again on the cost ratio the cost_ratio table had judged (and the
+    speed target likewise): one verdict per value now, the rows'. A row reworded by hand shows in the
+    opening as worded (the verdict's word, the text before its reason; the target row's words whole); the
+    median repeats, context in the table (not compared), are judged against the target once, there."""
+    from test_sensitivity_mesh_surrogate_report import _timings
+
+    run = _timings([1.1, 1.2, 1.3], [1.1, 1.2, 1.3])
+    table = run.tables["cost_ratio"].set_index("quantity")
+    assert table.loc["cost ratio, 1750 / 144 nodes, fastest repeats", "verdict"] == \
+        "differs by −0.75: paper outside our 95% CI"  # 1.20 − 1.95, the trials' interval 1.10–1.30
+    assert "(paper 1.95: differs by −0.75; within this tool's speed target ≤ 1.50, not a paper value;" \
+        in mr.finding(run)
+    table.loc["cost ratio, 1750 / 144 nodes, fastest repeats", "verdict"] = "as the row says: its reason"
+    table.loc["cost ratio, 1750 / 144 nodes, fastest repeats, against this tool's speed target (≤ 1.5; not "
+              "a paper value)", "verdict"] = "within the row's target"
+    run.tables["cost_ratio"] = table.reset_index()
+    assert "(paper 1.95: as the row says; within the row's target, not a paper value; table cost_ratio)" \
+        in mr.finding(run)

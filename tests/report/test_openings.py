@@ -46,6 +46,20 @@ def test_every_table_an_opening_points_to_is_printed_below_it(sim_root):
 #: of its values) a reader needs to find in a table, in parentheses after the words naming it
 FILES = re.compile(r"docs/decisions\.md|(tables|figures)/[\w.]+")
 COLUMN = re.compile(r"[a-z][a-z0-9_]*")
+#: or a command a reader types, as typed (an ingested run's "Filled by `graspcampaign ingest`")
+COMMAND = re.compile(r"graspcampaign [a-z]+")
+
+
+def code_for_words(text: str) -> list[str]:
+    """The backticked names in ``text`` that stand for words: not a decision, the page's files or a
+    command, nor a column in parentheses (an ingested run's `source = virtual` was one)."""
+    bad = []
+    for m in re.finditer(r"`([^`]*)`", text):
+        depth = text[:m.start()].count("(") - text[:m.start()].count(")")
+        if not (FILES.fullmatch(m.group(1)) or COMMAND.fullmatch(m.group(1))
+                or (COLUMN.fullmatch(m.group(1)) and depth > 0)):
+            bad.append(f"{m.group(0)} in {text[:80]!r}")
+    return bad
 
 
 def _captions(md: str) -> list[str]:
@@ -53,15 +67,23 @@ def _captions(md: str) -> list[str]:
     return re.findall(r"^\*\*(.+?)\*\* \(`tables/", md, re.M) + re.findall(r"^\*([^*].*)\*$", md, re.M)
 
 
+def _claims_cells(md: str) -> list[str]:
+    """The first cell (the quantity) of each row of a report's claims tables (``*_claims.csv``)."""
+    cells = []
+    for table in re.findall(r"\(`tables/\w+_claims\.csv`\)\n\n((?:\|.*\n)+)", md):
+        cells += [row.split(" | ")[0].removeprefix("| ") for row in table.splitlines()[2:]]
+    return cells
+
+
 def test_openings_and_captions_name_things_in_words_not_in_code(sim_root):
     """The readers' review found `rig/virtual.py` in test3's opening, `predicted_stable_residual` and
-    `bench.true_damage_depth` standing for words in captions: a backticked name is now a decision, the
+    `bench.true_damage_depth` standing for words in captions, and `predicted_stable_residual` in test2's
+    claims cells ('certified by `predicted_stable_residual`'): a backticked name is now a decision, the
     page's files, or a column name in parentheses after the words."""
     bad = []
     for study, (opening, md) in _openings(sim_root).items():
-        for text in [opening, *_captions(md)]:
-            for m in re.finditer(r"`([^`]*)`", text):
-                depth = text[:m.start()].count("(") - text[:m.start()].count(")")
-                if not FILES.fullmatch(m.group(1)) and not (COLUMN.fullmatch(m.group(1)) and depth > 0):
-                    bad.append(f"{study}: {m.group(0)} in {text[:80]!r}")
+        for text in [opening, *_captions(md), *_claims_cells(md)]:
+            bad += [f"{study}: {b}" for b in code_for_words(text)]
     assert not bad, "\n".join(bad)
+    md = _openings(sim_root)["test2_grasp"][1]
+    assert "successes labelled unstable by the residual flag (paper 24 of 1008)" in _claims_cells(md)

@@ -40,6 +40,11 @@ def test_pso_cv_table3_and_trace(tmp_path):
         assert cv.loc[p, "cv_pct"] == pytest.approx(100 * sps.variation(ok[p], ddof=1), rel=1e-12)
     assert cv.loc["n_exp", "paper_cv_pct"] == 19.0
     assert cv.loc["lambda1", "paper_cv_pct"] == 60.0
+    # the paper marks n's and the λs' CVs approximate (Sec. 6.8 "about 19%", Fig. 21 "CV ≈ 60%"): shown
+    # as it prints them, as Table 1's "∼86%" is, where the table printed 19.0 and 60.0
+    shown_cv = md_table(report_md(store), "cv").set_index("parameter")["paper CV %"]
+    assert list(shown_cv) == ["≈ 60", "≈ 60", "≈ 19", *["47.0–77.0 (range)"] * 3]
+    assert list(cv["paper_text"]) == list(shown_cv)
     t3 = read_table(store, "table3").set_index("parameter")
     assert t3.loc["n_exp", "paper"] == 0.487
     assert t3.loc["c", "ours_mean"] == pytest.approx(ok["c"].mean())
@@ -96,7 +101,7 @@ def test_pso_cvs_of_parameters_j_does_not_depend_on_get_no_verdict(tmp_path):
     pso.fig21(run, fig)
     ticks = [t.get_text() for t in fig.axes[0].get_xticklabels()]
     plt.close(fig)
-    assert [t.split("\n")[2] for t in ticks] == ["paper 60%", "paper 60%", "paper 19%",
+    assert [t.split("\n")[2] for t in ticks] == ["paper ≈ 60%", "paper ≈ 60%", "paper ≈ 19%",  # as printed
                                                  *3 * ["paper 47–77%"]]
 
 

@@ -152,3 +152,32 @@ def test_the_mechanism_table_and_the_grid_opening_leave_a_trial_without_a_readin
                                    "passes on one fingertip", "passes, one loaded"]
     assert shown["ρ·W < τ_F: no reading (left out)"].astype(int).to_dict() == counts["rho_passable"].rename(
         lambda p: label("planner", p)).to_dict()
+
+
+def test_the_h_epsilon_table_and_figure_read_one_selection_of_trials(tmp_path, monkeypatch):
+    """The h_epsilon figure and ``analysis.quasi_static.h_epsilon_correlation`` each selected the
+    paper-law ferrari_canny trials and raised the same message when there were none: one selection now
+    (``ferrari_canny_trials``), so the table and the figure count the same trials, and its message."""
+    import matplotlib.pyplot as plt
+
+    from graspcampaign.analysis import quasi_static as qs
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies.quasi_static import h_epsilon_figure
+
+    factors = {"shape": SHAPES[:2], "mass_kg": [0.2], "mu": [0.3], "planner": PLANNERS}
+    store = make_run(tmp_path / "results", "baseline_grid", "quasi_static", factors, seeds=3, paper=None,
+                     outputs=quasi_static_outputs, tables=candidates)
+    run = Run(store.read().to_pandas(), store.check(), None, store)
+    fc = ok_records(store).query("planner == 'ferrari_canny'")  # 2 shapes × 3 seeds, all executed
+    assert sorted(qs.ferrari_canny_trials(run.records)["trial_id"]) == sorted(fc["trial_id"])
+    with pytest.raises(ValueError, match="^no executed trial of the ferrari_canny planner$"):
+        qs.ferrari_canny_trials(run.records.query("planner != 'ferrari_canny'"))
+    first = fc[fc["shape"] == SHAPES[0]]  # a narrower selection narrows the table and the figure alike
+    monkeypatch.setattr(qs, "ferrari_canny_trials", lambda records: first)
+    table = qs.h_epsilon_correlation(run.records, run.aux("candidates")).set_index("reading")
+    assert table.loc["median per trial", "n_trials"] == len(first) == 3
+    fig = plt.figure()
+    h_epsilon_figure(run, fig)
+    counted = sum(bar.get_height() for bar in fig.axes[1].patches)  # panel (b): trials per ρ bin
+    plt.close(fig)
+    assert counted == first["spearman_h_epsilon"].notna().sum() == 3

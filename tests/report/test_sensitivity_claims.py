@@ -64,6 +64,20 @@ def test_the_openings_p_values_of_equal_success_over_the_levels_are_the_claims_t
         assert row["verdict"] == "no paper value"
 
 
+@pytest.mark.parametrize(("won", "said"), [(0, "every trial failed"), (1, "every trial succeeded")])
+def test_equal_success_with_one_outcome_throughout_is_said_as_the_finding_it_is(won, said):
+    """A reduced run whose trials all fail has no difference between levels to test: its p rows read
+    "not computed: no success or no failure to test", as if something broke; now the finding itself,
+    in the value's place and as the row's reason, and the opening says the share does not vary."""
+    run = _run({(m, mu): (won * 20, 20) for m in (0.1, 0.8) for mu in (0.05, 0.5)})
+    rows = run.tables["sensitivity_claims"].set_index("quantity")
+    for factor in ("mass", "friction"):
+        row = rows.loc[f"(a) equal success at every {factor} level: p"]
+        assert math.isnan(row["value"]) and row["differs"] is None
+        assert row["why"] == row["verdict"] == f"{said}: no difference to test"
+    assert f"does not vary with mass ({100.0 * won:.1f}% at each of its 2 levels)" in finding(run)
+
+
 def test_the_opening_states_the_papers_stable_region_beside_ours():
     # the opening counted boundaries but never said where the paper's stable region lies; its edge
     # (m = 0.5 kg, μ = 0.2) belongs to it: "μ ≥ 0.2, m ≤ 0.5 kg"

@@ -300,7 +300,8 @@ def test_ingested_traces_are_reported_without_finalize_tables(run, tmp_path):
     assert build_reports(["test1_bench"], root=tmp_path / "results").failed == []
     out = tmp_path / "results" / "test1_bench" / "measured" / "report"
     md = (out / "report.md").read_text()
-    assert "finalize stage of `graspcampaign run`" in md and "its files carried `source = virtual`" in md
+    assert "finalize stage of `graspcampaign run`" in md
+    assert "its files are virtual-bench exports (their `source` column says virtual)" in md
     assert {p.stem for p in (out / "tables").glob("*.csv")} == {
         "test1_counts", "table4", "test1_claims", "oblique_margin", "status"}
     assert {p.stem for p in (out / "figures").glob("*.png")} == FIGURES - {"fig26_identification"}

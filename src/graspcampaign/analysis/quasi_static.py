@@ -36,6 +36,19 @@ def paper_law(records: pd.DataFrame) -> pd.DataFrame:
     return algorithm_2(rec.executed(records))
 
 
+def ferrari_canny_trials(records: pd.DataFrame) -> pd.DataFrame:
+    """Return the paper-law trials of the ``ferrari_canny`` planner, whose candidates carry both H and ε.
+
+    Raises
+    ------
+    ValueError
+        If there is none.
+    """
+    if not len(rows := paper_law(records).query("planner == 'ferrari_canny'")):
+        raise ValueError("no executed trial of the ferrari_canny planner")
+    return rows
+
+
 def _counts(frame: pd.DataFrame, by: list[str], counts: list[str], median: tuple[str, str],
             order: dict | None) -> pd.DataFrame:
     """Return per group ``n``, the sums of the boolean ``counts`` and ``median = (name, column)``."""
@@ -166,9 +179,7 @@ def h_epsilon_correlation(records: pd.DataFrame, candidates: pd.DataFrame, *, co
     force-closure) candidates; rho over those trials' pooled ``candidates``, its percentile
     interval resampling trials (a trial's candidates share a body; at most
     :data:`POOLED_RESAMPLES` resamples)."""
-    rng, alpha = np.random.default_rng(seed), (1 - confidence) / 2
-    if not len(rows := paper_law(records).query("planner == 'ferrari_canny'")):
-        raise ValueError("no executed trial of the ferrari_canny planner")
+    rng, alpha, rows = np.random.default_rng(seed), (1 - confidence) / 2, ferrari_canny_trials(records)
     out = []
     for reading, column in (("median per trial", "spearman_h_epsilon"),
                             ("median per trial, force closure", "spearman_h_epsilon_fc")):

@@ -100,7 +100,10 @@ STUDY_PANELS = _terms(  # sensitivity (Fig. 19) and mesh_resolution (Fig. 20) pa
     ("resolution", "mesh resolution"), ("budget", "candidate budget N_cand"),
     ("n_max", "doubled N_max re-run"),
 )
-FINGERS = _terms(("finger1", "finger 1"), ("finger2", "finger 2"), ("finger3", "finger 3"))
+FINGERS = _terms(  # Paul Tol's muted scheme (colour-blind safe): indigo, wine, purple
+    ("finger1", "finger 1", "#332288"), ("finger2", "finger 2", "#882255"),
+    ("finger3", "finger 3", "#aa4499"),
+)
 # Levels and counts the hardware protocols fix (rig/ builds its sheets from these) and the words a paper
 # block keys them by (Test 1 §7.3; Test 2 §8.1 groups' trials; Test 3 §9.2 coatings, block B, block D)
 OBLIQUE_ANGLES_DEG = (0.0, 15.0, 30.0, 45.0)

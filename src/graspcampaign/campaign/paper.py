@@ -34,6 +34,8 @@ class Approximate(float):
 
 APPROXIMATE: dict[tuple[str, str], str] = {
     ("Test3Paper", "natural_success_pct"): 'Table 1 "∼86%"; Sec. 9.2 "roughly 86 %"; Sec. 12 "about 86 %"',
+    ("CvPaper", "n"): 'Sec. 6.8 "about 19%"; Fig. 21 "CV ≈ 19%"',
+    ("CvPaper", "lambda_approx"): 'Fig. 21 "CV ≈ 60%"',
 }
 """(paper dataclass, field) -> where the paper marks the value approximate: these fields are parsed as
 :class:`Approximate` (derived here, so the study file's stored values and a run's config hash stay)."""

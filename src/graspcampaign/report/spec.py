@@ -169,6 +169,11 @@ def Rates(name: str, caption: str, by: Sequence[str], paper: PaperKey | None = N
         compute, cols, by)
 
 
+class Unmeasured(ValueError):
+    """Raised by a :class:`Value`'s function when what the data show leaves nothing to measure ("every
+    trial failed: no difference to test"): the row says it as a finding, not as "not computed: …"."""
+
+
 @dataclass(frozen=True)
 class Value:
     """One value beside the paper's (a row of :func:`Claims`): ``value(run)`` returns a number or an
@@ -216,7 +221,8 @@ def Claims(name: str, caption: str | Callable[[Run], str],
             try:
                 e, why = r.estimate(run), ""
             except (ValueError, KeyError, ZeroDivisionError) as exc:
-                e, why = Estimate(math.nan), f"not computed: {reason(exc)}"
+                e, why = Estimate(math.nan), reason(exc) if isinstance(exc, Unmeasured) else \
+                    f"not computed: {reason(exc)}"
             p = paper_of(run, r.paper)
             shown = isinstance(p, tuple | list | Approximate)  # as the paper prints it: 78.0–83.4, ≈ 86
             out.append([r.label, r.section, fmt.paper_text(p, r.digits) if shown else p,

@@ -43,6 +43,10 @@ PAPER_MESHES = (1750, 144)
 #: The cost ratio's target ≤ ``runtime_ratio_target`` in the verdict's words: this tool's, set by issue 7,
 #: not the paper's (which states none: "a factor of only ≈ 2", Sec. 6.7; docs/decisions.md).
 SPEED = "this tool's speed target"
+#: The cost_ratio table's rows of an estimator, against the paper and against the target (the opening reads
+#: their verdicts): the meshes ("1750 / 144 nodes"), the repeats ("fastest") and the target.
+RATIO_ROW = "cost ratio, {}, {} repeats"
+TARGET_ROW = RATIO_ROW + ", against this tool's speed target (≤ {:g}; not a paper value)"
 
 
 def _meshes(run: Run) -> tuple[int, int]:
@@ -166,8 +170,8 @@ def _cross_check(run: Run) -> str:
             unread.append(store.path.name)
     skipped = f" (run {', '.join(unread)} skipped: it cannot be read)" if unread else ""
     if not frames:
-        return f"No `baseline_grid` records beside this run{skipped}: the re-derived trials were not " \
-               "cross-checked against them." if len(nm) else ""
+        return f"No records of the baseline-grid study beside this run{skipped}: the re-derived trials " \
+               "were not cross-checked against them." if len(nm) else ""
     key = ["shape", "mass_kg", "mu", "planner", "seed"]
     base = pd.concat(frames, ignore_index=True)  # a trial in several baseline runs counts once
     base = base[base["status"] == "ok"].drop_duplicates(key)
@@ -178,7 +182,7 @@ def _cross_check(run: Run) -> str:
     res = merged[["residual_norm_n", "residual_norm_n_baseline"]].dropna()  # likewise the residuals
     close = np.isclose(res["residual_norm_n"], res["residual_norm_n_baseline"], rtol=1e-9).sum()
     unread = len(merged) - len(res)
-    return (f"Cross-check against the `baseline_grid` records beside this run{skipped}: {same} of "
+    return (f"Cross-check against the baseline-grid study's records beside this run{skipped}: {same} of "
             f"{len(judged)} re-derived trials have the baseline's verdict" + (
                 f" ({unjudged} more not compared: no verdict recorded)" * bool(unjudged)) + f" and {close}"
             + f" of {len(res)}" * bool(unjudged or unread) + " its residual (relative 1e-9"
@@ -186,15 +190,17 @@ def _cross_check(run: Run) -> str:
 
 
 def _reading(run: Run) -> str:
-    """The finding's sentence on the cost ratio, by the verdict rule of its cost_ratio table's rows: the
+    """The finding's sentence on the cost ratio, the verdicts as its cost_ratio table's rows hold them: the
     verdict's estimator against the paper, the median repeats only where they read otherwise, and growth."""
     p, (top, ref), estimators, unlike = run.paper, _meshes(run), _estimators(run), _unlike_paper(run)
     ratio, (grows, growth) = _cost_ratio(run, estimators[0]), _growth(run, estimators[0])
-    verdict = fmt.verdict(ratio.value, p.runtime_ratio_1750_144, low=ratio.low, high=ratio.high, digits=2)
-    above, target = _speed(ratio.value, p.runtime_ratio_target)
+    claims, sizes = run.tables["cost_ratio"].set_index("quantity")["verdict"], f"{top} / {ref} nodes"
+    word = claims[RATIO_ROW.format(sizes, estimators[0])].partition(": ")[0]  # the verdict's word, not why
+    target = claims[TARGET_ROW.format(sizes, estimators[0], p.runtime_ratio_target)]  # the row's words
+    above = target.startswith("above")
     paper = f"{unlike.split(' (')[0]}, paper {p.runtime_ratio_1750_144}" if unlike else (
-        f"paper {p.runtime_ratio_1750_144}: {verdict.word}; {target}, not a paper value")
-    if estimators[0] == "fastest":  # the median repeats judged by the target row's rule, as printed
+        f"paper {p.runtime_ratio_1750_144}: {word}; {target}, not a paper value")
+    if estimators[0] == "fastest":  # the median repeats, context in the table, by the target row's rule
         median, (median_grows, median_growth) = _cost_ratio(run, "median").value, _growth(run, "median")
         other = (None, "") if unlike else _speed(median, p.runtime_ratio_target)
         if (other[0], median_grows) != (None if unlike else above, grows):
@@ -298,13 +304,12 @@ def _cost_rows(run: Run):
     because = {r: unlike or ("not compared: shown to check the estimator choice" if i else "")
                for i, r in enumerate(estimators)}
     for r in estimators:
-        yield (f"cost ratio, {sizes}, {r} repeats", "Sec. 6.7", lambda r=r: _cost_ratio(run, r),
+        yield (RATIO_ROW.format(sizes, r), "Sec. 6.7", lambda r=r: _cost_ratio(run, r),
                run.paper.runtime_ratio_1750_144, "", 2, because[r])
     target = run.paper.runtime_ratio_target
     for r in estimators:
-        yield (f"cost ratio, {sizes}, {r} repeats, against this tool's speed target (≤ {target:g}; not a "
-               "paper value)", "not in the paper", lambda r=r: _cost_ratio(run, r), None, "", 2,
-               because[r] or _target_row(run, r, target))
+        yield (TARGET_ROW.format(sizes, r, target), "not in the paper", lambda r=r: _cost_ratio(run, r),
+               None, "", 2, because[r] or _target_row(run, r, target))
 
 
 def _speed(ratio: float, target: float) -> tuple[bool | None, str]:

@@ -95,8 +95,8 @@ def finding(run: Run, extra=lambda run: "") -> str:
     if "none" in s and paper[PROPOSED] < paper.max():
         text += belief_gap(paper, s["none"].reindex(paper.index), f"{prefix}_belief_pairs")
     text += ("Simulated virtual-rig data, not hardware. " if run.source == "virtual" else
-             "Measured on hardware. ") + ("Filled by `graspcampaign ingest` from files marked `source = "
-                                          "virtual`: virtual-rig exports, not rig measurements. "
+             "Measured on hardware. ") + ("Filled by `graspcampaign ingest` from virtual-rig exports (their "
+                                          "`source` column says virtual), not rig measurements. "
                                           if run.ingested_exports else "")
     return text + ("`docs/decisions.md`, *Planner beliefs on the virtual rig* and "
                    "*Tests 2-3 protocols and virtual rig*.")

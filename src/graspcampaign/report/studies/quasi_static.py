@@ -178,9 +178,7 @@ def no_candidates(run: Run) -> str:
 
 
 def h_epsilon_figure(run: Run, fig) -> None:
-    trials = qs.paper_law(run.records).query("planner == 'ferrari_canny'")
-    if not len(trials):
-        raise ValueError("no executed trial of the ferrari_canny planner")
+    trials = qs.ferrari_canny_trials(run.records)
     if why := no_candidates(run):
         raise ValueError(why)
     c = run.aux("candidates").query("trial_id in @trials.trial_id")

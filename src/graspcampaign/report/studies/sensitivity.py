@@ -15,7 +15,7 @@ from graspcampaign.analysis.quasi_static import loop_at_n_max_pct
 from graspcampaign.analysis.rates import CONFIDENCE_LEVEL
 from graspcampaign.analysis.records import Estimate, at_bound, beyond_radius, rate
 from graspcampaign.report import format as fmt
-from graspcampaign.report import style
+from graspcampaign.report import spec, style
 from graspcampaign.report.document import Col, Figure, Table
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Claims, Finding, GateRemoved, Rate, ReportSpec, Value, rate_cols
@@ -178,11 +178,15 @@ def _varies(run: Run, column: str, factor: str, said: str = "") -> str:
 
 
 def _levels_p(column: str):
-    """The p of equal success over panel (a)'s levels of ``column`` (:func:`_levels_test`)."""
+    """The p of equal success over panel (a)'s levels of ``column`` (:func:`_levels_test`); none, said
+    as the finding it is, when every trial failed or every trial succeeded."""
     def value(run: Run) -> Estimate:
         g, test = _levels_test(run, column)
-        if test is None or not test.method:
-            raise ValueError("fewer than two levels" if test is None else "no success or no failure to test")
+        if test is None:
+            raise ValueError("fewer than two levels")
+        if not test.method:  # one outcome throughout: the rates are equal by construction
+            outcome = "failed" if g["sum"].sum() == 0 else "succeeded"
+            raise spec.Unmeasured(f"every trial {outcome}: no difference to test")
         return Estimate(test.pvalue, n=test.n)
     return value
 

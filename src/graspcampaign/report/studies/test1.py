@@ -161,8 +161,9 @@ def _damage_caption(run: Run) -> str:
 
 
 def _note(run: Run) -> str:
-    return ("*This run was filled by `graspcampaign ingest`, but its files carried `source = virtual`: "
-            "they are virtual-bench exports, not rig measurements.* " if run.ingested_exports else "") + (
+    exports = ("*This run was filled by `graspcampaign ingest`, but its files are virtual-bench exports "
+               "(their `source` column says virtual), not rig measurements.* ")
+    return (exports if run.ingested_exports else "") + (
         "" if len(_runs(run)) else "The PSO re-identification (§7.5, Table 5, Fig. 26) and the §7.6 "
         "transfer errors are computed by the finalize stage of `graspcampaign run`; this run has none "
         "(ingested records, or a run that has not finished).")

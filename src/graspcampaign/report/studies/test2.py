@@ -267,7 +267,8 @@ def fig30(run: Run, fig) -> None:
     style.schematic(fig, t, ((0, t0, "closing", "#e3f2fd"), (t0, t1, "lift", "#fff8e1"), (t1, t2, "hold",
                                                                                    "#e8f5e9")), [
         *(([t0, t2], [force[j]] * 2, f"finger {j}, recorded ({force[j]:.3g} N)",
-           {"color": f"C{j + 1}", "ls": ls, "lw": lw}) for j, ls, lw in FINGER_LINES if j in force),
+           {"color": colour("finger", f"finger{j}"), "ls": ls, "lw": lw}) for j, ls, lw in FINGER_LINES
+          if j in force),
         # every level's legend entry gives its value, as the fingers' do
         ([t0, t2], [pred] * 2, f"predicted, mean{' of the fingers drawn' * (len(force) < 3)} ({pred:.3g} N)",
          {"ls": ":", "color": "#333333"}),
@@ -355,7 +356,7 @@ def claims(run: Run):
             ("group C trials", d[d["group"] == "C"], g.certified_pct, f"{g.certified} of {g.trials}"),
             ("trials outside group C", d[d["group"] != "C"], g.certified_elsewhere_pct,
              f"≈ {fmt.number(g.certified_elsewhere_pct, 0)}%")):  # §8.1 prints "49%" and "≈ 90%"
-        yield (f"proposed planner's {where} certified by `{flag}` (paper {said})", g.section,
+        yield (f"proposed planner's {where} certified by the residual flag (paper {said})", g.section,
                lambda part=part: share(part, part[flag]), paper, "%", 0)
     # §8.4's counts of the flag as shares with Wilson 95 % intervals, so a reduced run compares too: the
     # paper's share from its two printed counts ("just 50 of its 677 certified grasps (7.4 %)")
@@ -363,9 +364,9 @@ def claims(run: Run):
     won = a["success"].astype(bool)
     for q, frame, event, k, n in (
             ("successes, all planners", a, won, p.measured_successes, p.executed),
-            (f"successes labelled unstable by `{flag}`", a[won], ~a.loc[won, flag].astype(bool),
+            ("successes labelled unstable by the residual flag", a[won], ~a.loc[won, flag].astype(bool),
              p.successes_labelled_unstable, p.measured_successes),
-            (f"proposed planner's trials certified by `{flag}`", d, flagged, p.proposed_certified,
+            ("proposed planner's trials certified by the residual flag", d, flagged, p.proposed_certified,
              p.table7[PROPOSED].n),
             ("proposed planner's certified grasps that failed", d[flagged], ~ok[flagged],
              p.proposed_certified_failed, p.proposed_certified)):

@@ -164,7 +164,7 @@ def claims(run: Run):
     a = t2.ex(run)
     kept = a[a["predicted_stable"].astype(bool)]
     for q, frame, event, k, n in (
-            ("trials certified as retained by `predicted_stable`", a, a["predicted_stable"].astype(bool),
+            ("trials certified as retained by the retention flag", a, a["predicted_stable"].astype(bool),
              p.retention_certified, p.executed),
             ("certified grasps that failed", kept, ~kept["success"].astype(bool),
              p.retention_certified_failed, p.retention_certified)):
