@@ -227,8 +227,7 @@ def finding(run: Run) -> str:
     if len(seen) < len(rows):
         t = run.tables["sensitivity_panels"]  # per panel, as recorded (missing: not recorded)
         slip = "" if t["slip_first"].isna().all() else (
-            f", and the slip check fails first in {int(t['slip_first'].sum())} of "
-            f"{int(t['trials'].sum())} executed trials")
+            f", and the slip check fails first in {int(t['slip_first'].sum())} of {int(t['trials'].sum())}")
         eta = fmt.span(t["eta_median"], digits=2)  # none: no contact carries friction
         eta = "" if eta == fmt.MISSING else f" (median |η| {eta}{' in each panel' * (fmt.DASH not in eta)})"
         text += (f"Why: Algorithm 2 releases contacts until the remaining normals carry the weight{eta}"
