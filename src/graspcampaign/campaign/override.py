@@ -14,7 +14,6 @@ from __future__ import annotations
 import dataclasses
 import errno
 import json
-import math
 import re
 import unicodedata
 from typing import Any
@@ -122,10 +121,10 @@ def check_overrides(given: list[str]) -> None:
             raise ConfigError(f"override {item!r}: {zero} has a leading zero, which Hydra reads as "
                               f"the text '{zero}', not the number {number}; write {number}"
                               + ("." if numeric else f", or quote it ('{zero}') to mean text."), key=key)
-        # 1e400 is inf to Hydra, refused by the schema as "inf"; a mapping's numbers too (pso={...})
-        leaves = override_scan.float_leaves(key, _value(parsed)) if setting else ()  # {run: nan}: text
+        # 1e400 is inf to Hydra, refused by the schema as "inf"; a mapping's numbers too (pso={...}), where
+        # their key takes a number ({run: nan} is a run's name)
         mapping = setting and value.lstrip()[:1] == "{" and any(
-            not math.isfinite(x) and _numeric(at, field_at(at)) for at, x in leaves)
+            _numeric(at, field_at(at)) for at in override_scan.not_finite_leaves(key, _value(parsed)))
         if (numeric or mapping) and (number := override_scan.not_finite(value, numeric)):
             raise ConfigError(f"override {item!r}: {number}; give a finite number instead.", key=key)
         # seeds=1_0 is ten to Hydra, seeds='1_0' to OmegaConf's int(): seldom what was meant

@@ -7,6 +7,7 @@ written with an underscore, those no finite number.
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Iterator
 from typing import Any
@@ -68,14 +69,18 @@ def not_finite(value: str, quoted: bool = False) -> str | None:
     return None
 
 
-def float_leaves(key: str, value: Any) -> Iterator[tuple[str, float]]:
-    """``(dotted path, number)`` of each float in an override's parsed ``value`` set at ``key``: a
-    mapping's keys and a list's indices extend the path (``pso.inertia``, ``factors.mu.0``)."""
+def not_finite_leaves(key: str, value: Any) -> Iterator[str]:
+    """The dotted path of each value in an override's parsed ``value`` set at ``key`` that is no finite
+    number: a float (``nan``, ``1e400``) or a text that float() reads as one (``Infinity``, text to
+    Hydra, a number to a number field); a mapping's keys and a list's indices extend the path
+    (``pso.inertia``, ``factors.mu.0``)."""
     if isinstance(value, dict | list):
         for k, v in value.items() if isinstance(value, dict) else enumerate(value):
-            yield from float_leaves(f"{key}.{k}", v)
-    elif isinstance(value, float):
-        yield key, value
+            yield from not_finite_leaves(f"{key}.{k}", v)
+    elif isinstance(value, float) and not math.isfinite(value):
+        yield key
+    elif isinstance(value, str) and not_finite(value, quoted=True):
+        yield key
 
 
 def mapping_keys(value: str) -> list[str]:
