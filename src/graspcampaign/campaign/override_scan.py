@@ -87,6 +87,12 @@ def mapping_keys(value: str) -> list[str]:
     """The top-level keys of a ``{k: v, ...}`` value as typed, repeats kept (Hydra's parser keeps
     only the last of a repeated key, so a repeat must be seen before it parses); a quoted string
     (:func:`unquoted`) is part of the key or value it stands in."""
+    return [key for key, _ in mapping_entries(value)]
+
+
+def mapping_entries(value: str) -> list[tuple[str, str]]:
+    """:func:`mapping_keys` each with the text typed after it, up to the next key (``{a: [1, 2], b: 3}``:
+    ``('a', ' [1, 2],')``, ``('b', ' 3}')``)."""
     if not value.lstrip().startswith("{"):
         return []
     keys, depth, start, in_key = [], 0, 0, False
@@ -100,9 +106,10 @@ def mapping_keys(value: str) -> list[str]:
         elif depth == 1 and char == ",":
             start, in_key = i + 1, True
         elif depth == 1 and char == ":" and in_key:
-            keys.append(value[start:i].strip())
+            keys.append((value[start:i].strip(), start, i + 1))
             in_key = False
-    return keys
+    ends = [start for _, start, _ in keys[1:]] + [len(value)]
+    return [(key, value[after:end]) for (key, _, after), end in zip(keys, ends, strict=False)]  # no key: []
 
 
 def n_values(value: str) -> int:
