@@ -40,10 +40,16 @@ def test_a_mapping_that_sets_a_key_of_a_group_is_still_taken(tmp_path):
     ("pso.inertia=-1e4_00", "-1e4_00 overflows to -inf (no float is that large)"),
     ("mass_kg=[nan]", "nan is not a number"), ("runner.progress_interval_s=-Inf", "-Inf is infinite"),
     ("factors={mu: [0.3, 2e308]}", "2e308 overflows to inf (no float is that large)"),
-    ("pso={inertia: NaN}", "NaN is not a number")])
+    ("pso={inertia: NaN}", "NaN is not a number"),
+    ("pso={inertia: Infinity}", "Infinity is infinite"),
+    ("factors={mu: [0.3, infinity]}", "infinity is infinite"),
+    ("runner={address: nan, progress_interval_s: inf}", "inf is infinite"),
+    ("factors={shape: [nan], mu: [0.3, 2e308]}", "2e308 overflows to inf (no float is that large)")])
 def test_a_number_that_is_no_finite_number_is_refused_as_typed(tmp_path, override, said):
     """Each was "seeds must be a whole number, got inf." or "factors.mu[1] must be finite, got
-    inf.": not the value typed."""
+    inf.": not the value typed. A mapping's ``Infinity``, text to Hydra but inf to a number field, was
+    that again after a mapping's scan kept to its floats; a mapping that gives a text key nan (a run's
+    address, a shape) named that nan, not the number no finite number (rev40b)."""
     refused(tmp_path, ["show", "baseline_grid", override, "--root", tmp_path],
             f"override {override!r}: {said}; give a finite number instead.")
 

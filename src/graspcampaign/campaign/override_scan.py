@@ -7,6 +7,7 @@ written with an underscore, those no finite number.
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Iterator
 from typing import Any
@@ -68,20 +69,30 @@ def not_finite(value: str, quoted: bool = False) -> str | None:
     return None
 
 
-def float_leaves(key: str, value: Any) -> Iterator[tuple[str, float]]:
-    """``(dotted path, number)`` of each float in an override's parsed ``value`` set at ``key``: a
-    mapping's keys and a list's indices extend the path (``pso.inertia``, ``factors.mu.0``)."""
+def not_finite_leaves(key: str, value: Any) -> Iterator[str]:
+    """The dotted path of each value in an override's parsed ``value`` set at ``key`` that is no finite
+    number: a float (``nan``, ``1e400``) or a text that float() reads as one (``Infinity``, text to
+    Hydra, a number to a number field); a mapping's keys and a list's indices extend the path
+    (``pso.inertia``, ``factors.mu.0``)."""
     if isinstance(value, dict | list):
         for k, v in value.items() if isinstance(value, dict) else enumerate(value):
-            yield from float_leaves(f"{key}.{k}", v)
-    elif isinstance(value, float):
-        yield key, value
+            yield from not_finite_leaves(f"{key}.{k}", v)
+    elif isinstance(value, float) and not math.isfinite(value):
+        yield key
+    elif isinstance(value, str) and not_finite(value, quoted=True):
+        yield key
 
 
 def mapping_keys(value: str) -> list[str]:
     """The top-level keys of a ``{k: v, ...}`` value as typed, repeats kept (Hydra's parser keeps
     only the last of a repeated key, so a repeat must be seen before it parses); a quoted string
     (:func:`unquoted`) is part of the key or value it stands in."""
+    return [key for key, _ in mapping_entries(value)]
+
+
+def mapping_entries(value: str) -> list[tuple[str, str]]:
+    """:func:`mapping_keys` each with the text typed after it, up to the next key (``{a: [1, 2], b: 3}``:
+    ``('a', ' [1, 2],')``, ``('b', ' 3}')``)."""
     if not value.lstrip().startswith("{"):
         return []
     keys, depth, start, in_key = [], 0, 0, False
@@ -95,9 +106,10 @@ def mapping_keys(value: str) -> list[str]:
         elif depth == 1 and char == ",":
             start, in_key = i + 1, True
         elif depth == 1 and char == ":" and in_key:
-            keys.append(value[start:i].strip())
+            keys.append((value[start:i].strip(), start, i + 1))
             in_key = False
-    return keys
+    ends = [start for _, start, _ in keys[1:]] + [len(value)]
+    return [(key, value[after:end]) for (key, _, after), end in zip(keys, ends, strict=False)]  # no key: []
 
 
 def n_values(value: str) -> int:
