@@ -378,8 +378,12 @@ def test_an_auc_without_an_interval_is_said_with_its_held_out_classes_and_why():
     cls = pd.DataFrame([{"label": "success_unbounded", "model_label": "MLP 64-32", "roc_auc": 0.8997,
                          "roc_auc_low": nan, "roc_auc_high": nan, "test_trials": 300.0, "test_positives": 6.0,
                          "roc_auc_interval_note": why, "paper_auc": 0.69, "note": ""}])
+    text = _opening(np.zeros(16, bool), classification=cls)
     assert (f"classifier AUC MLP 64-32 0.90 on 300 held out (6 positive, {300 - 6} negative; {why}) "
-            "(paper 0.69;") in _opening(np.zeros(16, bool), classification=cls)
+            "(paper 0.69;") in text
+    # the note is no count: the why's n stays the 16 scenarios (the paper-scale opening said "135 of only 6
+    # held-out positives, too few for an interval", the note's name shadowing the scenarios' count)
+    assert "passes the ‖R‖ check in none of 16 and buries" in text
 
 
 def test_the_opening_rate_is_said_with_its_own_n():

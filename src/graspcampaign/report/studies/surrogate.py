@@ -156,7 +156,7 @@ def finding(run: Run) -> str:
     fit = cls[cls["roc_auc"].notna()]
     held = [f"on {fmt.number(r['test_trials'], 0)} held out ({fmt.number(r['test_positives'], 0)} positive, "
             f"{fmt.number(r['test_trials'] - r['test_positives'], 0)} negative"
-            f"{'; ' + n if isinstance(n := r['roc_auc_interval_note'], str) and n else ''})"
+            f"{'; ' + note if isinstance(note := r['roc_auc_interval_note'], str) and note else ''})"
             for _, r in fit.iterrows()]
     one = len(held) > 1 and len(set(held)) == 1  # the same held-out set and note for each model: said once
     aucs = fmt.listed([  # as the table prints them, with the held-out classes and why no interval
