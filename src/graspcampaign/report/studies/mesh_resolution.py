@@ -254,7 +254,7 @@ def fig20(run: Run, fig) -> None:
         ax_b.scatter(res["nodes"], res["residual_norm_n"], s=10, alpha=0.35, color=c,
                      label="ours, single trials")
         tau, (lo, hi) = float(run.config["evaluator"]["tau_f_n"]), p.residual_scatter_n
-        ax_b.axhline(tau, color=style.CRITERION, linestyle="--", label=f"τ_F = {tau:g} N")
+        ax_b.axhline(tau, color=style.CRITERION, linestyle="--", label=f"τ_F = {fmt.number(tau)} N")
         ax_b.axhspan(lo, hi, color=style.PAPER, alpha=0.12, label=f"paper's scatter {lo}–{hi} N")
         ax_b.set(xscale="log", yscale="log", xlabel="mesh nodes n [–]", ylabel="final force residual ‖R‖ [N]",
                  title="(b) final residual")
@@ -358,7 +358,7 @@ SPEC = ReportSpec("mesh_resolution", [
           empty="the run has no budget panel"),
     Table("n_max_rerun", "Baseline-grid failures at N_max and re-evaluated at the doubled budget "
           "(budget-capped = fails at N_max, passes at the doubled budget; rerun: success at the doubled "
-          f"budget; a horizontal ‖R‖ has |R_z| ≤ {100 * HORIZONTAL:g}% of ‖R‖)", _n_max, [
+          f"budget; a horizontal ‖R‖ has |R_z| ≤ {fmt.number(100 * HORIZONTAL)}% of ‖R‖)", _n_max, [
                               "trials", Col("failures_at_n_max", "failures at N_max"),
                               Col("failures_loop_still_moving", "of them still moving at N_max"),
                               Col("budget_capped", "budget-capped"),

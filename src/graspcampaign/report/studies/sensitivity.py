@@ -46,7 +46,7 @@ def _edge(levels, value: float, below_includes: bool) -> float:
 def _category_axis(axis, levels) -> None:
     """One cell per level, at most about six tick labels (every k-th level), each the level's value."""
     step = math.ceil(len(levels) / 6)
-    axis.set_ticks(range(0, len(levels), step), [f"{v:.3g}" for v in levels[::step]])
+    axis.set_ticks(range(0, len(levels), step), [fmt.number(v, sig=3) for v in levels[::step]])
 
 
 def _cell_text_pt(ax, fig, shape: tuple[int, int]) -> float | None:
@@ -112,7 +112,8 @@ def _figure(run: Run, fig) -> None:
         xl, yl = PANELS[panel][2:]
         tag, handles = "abc"[list(PANELS).index(panel)], []
         deep = 100 * beyond_radius(panel_rows(run, panel), run.radius_mm).mean()
-        caveat = f"\n{deep:.0f}% of trials deeper than r = {run.radius_mm:g} mm (non-physical)" * bool(deep)
+        caveat = (f"\n{fmt.number(deep, 0)}% of trials deeper than r = {fmt.number(run.radius_mm)} mm "
+                  "(non-physical)") * bool(deep)
         if panel == "n_b":
             heatmap(ax, fig, run, panel, "runtime_ms", "median runtime [ms]", "viridis", "median")
             ax.set_title(f"({tag}) runtime, n × b (paper: flat){caveat}")
@@ -213,10 +214,12 @@ def finding(run: Run) -> str:
     held = claims["differs"].eq(False)  # by _word_claims: Wilson intervals apart the paper's way
     seen = [name for name, r in rows.items() if held[r.index[0]]]
     p, inside, outside = run.paper, *(claims.loc[q] for q in REGION)
-    side = {where: f"{_rate(r)} of {r['n']:.0f} {where}" if pd.notna(r["value"]) else f"no trial {where}"
+    side = {where: f"{_rate(r)} of {fmt.number(int(r['n']))} {where}" if pd.notna(r["value"])
+            else f"no trial {where}"
             for where, r in (("inside it", inside), ("outside", outside))}  # a sweep on one side of it
-    text = (f"Paper's stable region: μ ≥ {p.stable_mu_min:g}, m ≤ {p.stable_mass_max_kg:g} kg (Fig. 19a); "
-            f"ours succeeds on {side['inside it']}, {side['outside']} (Wilson 95%). "
+    text = (f"Paper's stable region: μ ≥ {fmt.number(p.stable_mu_min)}, m ≤ "
+            f"{fmt.number(p.stable_mass_max_kg)} kg (Fig. 19a); ours succeeds on {side['inside it']}, "
+            f"{side['outside']} (Wilson 95%). "
             if pd.notna(inside["value"]) or pd.notna(outside["value"]) else "")
     verb = "separates" if len(seen) == 1 else "separate"
     text += (f"{len(seen)} of {len(rows)} Fig. 19 boundaries {verb} our rates "
@@ -301,7 +304,7 @@ def _word_claims(frame: pd.DataFrame) -> pd.DataFrame:
         if pd.isna(r["value"]) or pd.isna(o["value"]):
             continue
         above, below = r["low"] > o["high"], r["high"] < o["low"]
-        ours = f"{_rate(r)} against {f'{other:g}%' if share else _rate(o)}"
+        ours = f"{_rate(r)} against {f'{fmt.number(other)}%' if share else _rate(o)}"
         if above if higher else below:
             judged = fmt.verdict(claim, claim)
         elif above or below:
