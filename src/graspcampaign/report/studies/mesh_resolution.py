@@ -46,7 +46,7 @@ SPEED = "this tool's speed target"
 #: The cost_ratio table's rows of an estimator, against the paper and against the target (the opening reads
 #: their verdicts): the meshes ("1750 / 144 nodes"), the repeats ("fastest") and the target.
 RATIO_ROW = "cost ratio, {}, {} repeats"
-TARGET_ROW = RATIO_ROW + ", against this tool's speed target (≤ {:g}; not a paper value)"
+TARGET_ROW = RATIO_ROW + ", against this tool's speed target (≤ {}; not a paper value)"
 
 
 def _meshes(run: Run) -> tuple[int, int]:
@@ -196,7 +196,8 @@ def _reading(run: Run) -> str:
     ratio, (grows, growth) = _cost_ratio(run, estimators[0]), _growth(run, estimators[0])
     claims, sizes = run.tables["cost_ratio"].set_index("quantity")["verdict"], f"{top} / {ref} nodes"
     word = claims[RATIO_ROW.format(sizes, estimators[0])].partition(": ")[0]  # the verdict's word, not why
-    target = claims[TARGET_ROW.format(sizes, estimators[0], p.runtime_ratio_target)]  # the row's words
+    # the target row's words
+    target = claims[TARGET_ROW.format(sizes, estimators[0], fmt.number(p.runtime_ratio_target))]
     above = target.startswith("above")
     paper = f"{unlike.split(' (')[0]}, paper {p.runtime_ratio_1750_144}" if unlike else (
         f"paper {p.runtime_ratio_1750_144}: {word}; {target}, not a paper value")
@@ -308,8 +309,8 @@ def _cost_rows(run: Run):
                run.paper.runtime_ratio_1750_144, "", 2, because[r])
     target = run.paper.runtime_ratio_target
     for r in estimators:
-        yield (TARGET_ROW.format(sizes, r, target), "not in the paper", lambda r=r: _cost_ratio(run, r),
-               None, "", 2, because[r] or _target_row(run, r, target))
+        yield (TARGET_ROW.format(sizes, r, fmt.number(target)), "not in the paper",
+               lambda r=r: _cost_ratio(run, r), None, "", 2, because[r] or _target_row(run, r, target))
 
 
 def _speed(ratio: float, target: float) -> tuple[bool | None, str]:
