@@ -34,6 +34,9 @@ CRITERION = "#555555"
 SOURCE_SHORT = {"simulation": "simulation", "virtual": "VIRTUAL RIG (synthetic data)",
                 "measured": "measured on hardware"}
 SOURCE_COLOUR = {"simulation": "#1f3a5f", "virtual": "#b35900", "measured": "#1b5e20"}
+FINGER_LINES = ((1, "-", 3.2), (2, "--", 2.2), (3, "-.", 1.4))
+"""A finger's line style and width in every per-finger force plot (Figs. 13 and 30): each drawn thinner
+over the one before, so fingers with equal or near-equal forces all stay visible."""
 
 
 def save(fig: Figure, source: str, formats: Sequence[str] = ("png",)) -> dict[str, bytes]:

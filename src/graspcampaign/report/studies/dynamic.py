@@ -286,9 +286,9 @@ def fig12_13(run: Run, fig) -> None:
             ax[0].plot(s["time_s"], s["residual_z_n"], **kw)
             ax[1].plot(s["time_s"], 1e3 * s["total_penetration_m"], **kw)
             if rep:
-                for j in (1, 2, 3):
+                for j, ls, lw in style.FINGER_LINES:
                     ax[2].plot(s["time_s"], s[f"normal_force_{j}_n"], label=label("finger", f"finger{j}"),
-                               color=colour("finger", f"finger{j}"))
+                               color=colour("finger", f"finger{j}"), ls=ls, lw=lw)
                 end = row.simulated_time_s if np.isnan(row.lift_end_s) else row.lift_end_s
                 for a in ax if not np.isnan(row.lift_start_s) else ():
                     a.axvspan(row.lift_start_s, end, color="0.9", zorder=0, label="lift-off")

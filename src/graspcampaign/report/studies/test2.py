@@ -211,11 +211,6 @@ CLOSING_TRAVEL_MM = 10.0
 closing travel (the figure is labelled a schematic of the commanded phases)."""
 
 
-FINGER_LINES = ((1, "-", 3.2), (2, "--", 2.2), (3, "-.", 1.4))
-"""Fig. 30's finger, line style and width: each drawn thinner over the one before, so fingers with equal
-or near-equal forces all stay visible."""
-
-
 def representative(run: Run) -> pd.Series:
     """Fig. 30's trial (chosen once a run): the median-force stable proposed natural-friction sphere grasp."""
     return run.memo("fig30_trial", lambda: median_trial(ex(run, PROPOSED).query(
@@ -268,7 +263,7 @@ def fig30(run: Run, fig) -> None:
     style.schematic(fig, t, ((0, t0, "closing", "#e3f2fd"), (t0, t1, "lift", "#fff8e1"), (t1, t2, "hold",
                                                                                    "#e8f5e9")), [
         *(([t0, t2], [force[j]] * 2, f"finger {j}, recorded ({fmt.number(force[j], sig=3)} N)",
-           {"color": colour("finger", f"finger{j}"), "ls": ls, "lw": lw}) for j, ls, lw in FINGER_LINES
+           {"color": colour("finger", f"finger{j}"), "ls": ls, "lw": lw}) for j, ls, lw in style.FINGER_LINES
           if j in force),
         # every level's legend entry gives its value, as the fingers' do
         ([t0, t2], [pred] * 2, f"predicted, mean{' of the fingers drawn' * (len(force) < 3)} "
