@@ -187,7 +187,7 @@ def test_fig30_predicts_over_the_fingers_it_draws(sim_root):
     assert by_hand != pytest.approx(row["normal_force_pred_mean_n"], rel=1e-6)  # the test can tell
     pred = [line for line in fig.axes[0].get_lines() if line.get_label().startswith("predicted")]
     assert pred[0].get_ydata()[0] == pytest.approx(by_hand, rel=1e-12)
-    assert pred[0].get_label() == f"predicted, mean of the fingers drawn ({by_hand:.3g} N)"
+    assert pred[0].get_label() == f"predicted, mean of the fingers drawn ({by_hand:#.3g} N)"
 
 
 @pytest.mark.parametrize(("study", "name"), [("test2_grasp", "fig30_representative_grasp"),
