@@ -72,6 +72,19 @@ def test_a_run_without_the_papers_case_says_so_and_draws_its_nearest():
     assert titles[0].startswith(label("model_preset", "table2"))  # one label for a preset
 
 
+def test_fig13_draws_each_finger_thinner_over_the_one_before_in_its_own_style():
+    # Fig. 13 drew three solid lines of one width: fingers 1 and 3, with near-equal forces, hid each other
+    fig = plt.figure()
+    fig12_13(friction_mass_run([0.1]), fig)
+    right = [ax for ax in fig.axes if "Fig. 13" in ax.get_title()]
+    plt.close(fig)
+    assert len(right) == 2
+    for ax in right:
+        widths = [line.get_linewidth() for line in ax.lines]
+        assert len(widths) == 3 and widths[0] > widths[1] > widths[2]
+        assert len({line.get_linestyle() for line in ax.lines}) == 3
+
+
 def test_the_figure_caption_names_the_case_it_shows():
     # the opening named it too ("Representative case of Figs. 12-13: ..."); the caption is its one place
     run = friction_mass_run([0.3])

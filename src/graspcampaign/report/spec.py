@@ -278,14 +278,14 @@ def DesignLimit(by: Sequence[str]) -> Table:
     trials deeper than the fingertip radius r are counted apart (non-physical), the δmax statistics
     are over the others (table ``design_limit``, which :func:`FailureChecks`' caption names)."""
     return Table("design_limit", lambda run: (
-        "Penetration against the paper's 1 mm design limit (Sec. 4, 5.5): executed trials whose "
-        "deepest contact δmax exceeds 1 mm (Wilson 95%); our SI evaluation keeps the published "
-        "algorithm, so this is reported, never rescaled (SPEC §2.7); δmax > r: trials with a contact "
-        f"deeper than the fingertip radius r = {run.radius_mm:g} mm, whose fingertip centre lies inside "
-        "the object (non-physical; the validity gate makes them failures); the δmax statistics are "
-        "over the physical trials, δmax ≤ r (— where none)"),
+        "Penetration against the paper's 1 mm design limit (Sec. 4, 5.5): executed trials whose deepest "
+        "contact δmax exceeds 1 mm (Wilson 95%); our SI evaluation keeps the published algorithm, so this is "
+        "reported, never rescaled (SPEC §2.7); δmax > r: trials with a contact deeper than the fingertip "
+        f"radius r = {fmt.number(run.radius_mm)} mm, whose fingertip centre lies inside the object "
+        "(non-physical; the validity gate makes them failures); the δmax statistics are over the physical "
+        "trials, δmax ≤ r (— where none)"),
         lambda run: rec.design_limit_table(run.records, by, radius_mm=run.radius_mm, order=run.order)
-        .assign(paper=f"within {rec.DESIGN_LIMIT_MM:g} mm"), [
+        .assign(paper=f"within {fmt.number(rec.DESIGN_LIMIT_MM)} mm"), [
         Col("paper", "paper"), Col("n", "n"), Col("exceeds", "> 1 mm"),
         Col("exceeds_pct", "% > 1 mm (Wilson 95%)", 1, low="wilson_low_pct", high="wilson_high_pct"),
         Col("successes_exceeding", "successes > 1 mm"), Col("beyond_radius", "δmax > r (non-physical)"),
@@ -302,11 +302,11 @@ def FailureChecks(by: Sequence[str], paper: PaperKey | None = None) -> Table:
         return frame.assign(paper=[p or "not reported" for p in _paper_by(paper, run, frame, by)])
 
     return Table("failure_checks", lambda run: (
-        "First failing check of Algorithm 1 (none = success; residual ‖R‖ ≥ τ_F, torque, slip margin "
-        "≤ 0; geometry = only the validity gate: a contact deeper than the fingertip radius), executed "
-        "trials; the checks run in that order and the first failing one is counted, so geometry counts "
-        f"only trials passing every published check: {int(rec.beyond_radius(run.ok, run.radius_mm).sum())} "
-        f"of {len(run.ok)} trials have a contact deeper than r = {run.radius_mm:g} mm (non-physical, "
+        "First failing check of Algorithm 1 (none = success; residual ‖R‖ ≥ τ_F, torque, slip margin ≤ 0; "
+        "geometry = only the validity gate: a contact deeper than the fingertip radius), executed trials; "
+        "the checks run in that order and the first failing one is counted, so geometry counts only trials "
+        f"passing every published check: {int(rec.beyond_radius(run.ok, run.radius_mm).sum())} of "
+        f"{len(run.ok)} trials have a contact deeper than r = {fmt.number(run.radius_mm)} mm (non-physical, "
         "failed by the gate too) and are counted under their first failing published check (table "
         "design_limit)"), compute, lambda run, frame: [
         Col("n", "n"), *(Col(c, c, share=f"{c}_pct") for c in frame if f"{c}_pct" in frame),

@@ -34,6 +34,9 @@ CRITERION = "#555555"
 SOURCE_SHORT = {"simulation": "simulation", "virtual": "VIRTUAL RIG (synthetic data)",
                 "measured": "measured on hardware"}
 SOURCE_COLOUR = {"simulation": "#1f3a5f", "virtual": "#b35900", "measured": "#1b5e20"}
+FINGER_LINES = ((1, "-", 3.2), (2, "--", 2.2), (3, "-.", 1.4))
+"""A finger's line style and width in every per-finger force plot (Figs. 13 and 30): each drawn thinner
+over the one before, so fingers with equal or near-equal forces all stay visible."""
 
 
 def save(fig: Figure, source: str, formats: Sequence[str] = ("png",)) -> dict[str, bytes]:
@@ -143,10 +146,10 @@ class Uncrowded(Formatter):
     log axis (Fig. 20's 356 and 390 nodes, 0.04 decades apart, printed as "356390")."""
 
     def __call__(self, x, pos=None) -> str:
-        return f"{x:g}"
+        return fmt.number(x)
 
     def format_ticks(self, values) -> list[str]:
-        labels, axis = [f"{v:g}" for v in values], self.axis
+        labels, axis = [fmt.number(v) for v in values], self.axis
         if axis is None or not len(values):
             return labels
         along = 1 if axis.axis_name == "y" else 0
@@ -172,7 +175,7 @@ def plain_log(axis, at: Sequence[float] | None = None) -> None:
     a×10ᵇ where an axis spans less than a decade)."""
     if at is None:
         axis.set_major_locator(OneTwoFive())
-        axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+        axis.set_major_formatter(FuncFormatter(lambda v, _: fmt.number(v)))
     else:
         axis.set_ticks(list(at))
         axis.set_major_formatter(Uncrowded())
@@ -277,4 +280,4 @@ def schematic(fig, t: pd.Series, spans, top, bottom, title: str) -> None:
     axes[0].set_title(f"{t['rig_trial_id']}: {title}")
     axes[1].set_yscale("symlog", linthresh=1.0)  # millimetres of slip beside tens of lift: 1-2-5 ticks
     axes[1].yaxis.set_major_locator(SymmetricalLogLocator(base=10, linthresh=1.0, subs=(1.0, 2.0, 5.0)))
-    axes[1].yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+    axes[1].yaxis.set_major_formatter(FuncFormatter(lambda v, _: fmt.number(v)))

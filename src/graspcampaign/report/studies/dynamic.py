@@ -77,7 +77,7 @@ def fig10(run: Run, fig) -> None:
         c = colour("integrator", r.integrator, i)
         a.scatter(1e3 * shape["x_m"], 1e3 * shape["z_m"], s=12, c=c, marker="o+x"[i % 3],
                   label=f"{'settled' if r.settled else 'unsettled'}, {label('integrator', r.integrator)} "
-                  f"(ratio {r.squash_ratio:.3f})")
+                  f"(ratio {fmt.number(r.squash_ratio, 3)})")
         moving = trace[trace["kinetic_energy_j"] > 0]  # a log axis has no zero (the release at rest)
         b.semilogy(moving["time_s"], moving["kinetic_energy_j"], color=c,
                    label=label("integrator", r.integrator))
@@ -199,7 +199,8 @@ def paper_rows(run: Run):
         name = label("model_preset", preset)
         at = g[np.isclose(g.mu, mu) & np.isclose(g.mass_kg, mass)]
         rep = at.iloc[0] if len(at) else None
-        case, lifted = f"{name}, μ = {mu:g}, m = {mass:g} kg", g[g.final_phase != "closure"]
+        case = f"{name}, μ = {fmt.number(mu)}, m = {fmt.number(mass)} kg"
+        lifted = g[g.final_phase != "closure"]
         never = "" if len(lifted) else "not compared: no run got past closure"
         yield Value(f"{name}: {TOTAL}", "Sec. 5.5", lambda run, g=lifted: g.total_penetration_mm.max(),
                     lambda p: (None, 1e3 * p.total_penetration_below_m), "mm", because=never,
@@ -259,18 +260,20 @@ def _thick(run: Run) -> str:
     mu, mass, exact = shown_case(run)
     lifted = run.ok[np.isclose(run.ok.mu, mu) & np.isclose(run.ok.mass_kg, mass)].lift_start_s.notna()
     some = "" if lifted.all() else f" (in {lifted.sum()} of {len(lifted)} presets; the others never lift)"
-    return (("the paper's representative case" if exact else "the case nearest the paper's representative "
-             f"μ = {run.paper.representative_mu:g}, m = {run.paper.representative_mass_kg:g} kg (not run)")
-            + f", μ = {mu:g}, m = {mass:g} kg; " + (f"grey: its lift-off{some}" if lifted.any() else
-                                                     "it never lifts off"))
+    return (("the paper's representative case" if exact else "the case nearest the paper's representative μ "
+             f"= {fmt.number(run.paper.representative_mu)}, m = "
+             f"{fmt.number(run.paper.representative_mass_kg)} kg (not run)")
+            + f", μ = {fmt.number(mu)}, m = {fmt.number(mass)} kg; "
+            + (f"grey: its lift-off{some}" if lifted.any() else "it never lifts off"))
 
 
 def fig12_13(run: Run, fig) -> None:
     steps, p, ok = run.aux("steps"), run.paper, ends(run)
     mu, mass, exact = shown_case(run)
-    case = f"μ={mu:g}, m={mass:g} kg" + ("" if exact else "\nthe run's case nearest the paper's "
-                                               f"μ={p.representative_mu:g}, "
-                                               f"m={p.representative_mass_kg:g} kg")
+    case = f"μ={fmt.number(mu)}, m={fmt.number(mass)} kg" + ("" if exact else "\nthe run's case nearest the "
+                                                                              "paper's "
+                                               f"μ={fmt.number(p.representative_mu)}, "
+                                               f"m={fmt.number(p.representative_mass_kg)} kg")
     axes = fig.subplots(ok.model_preset.nunique(), 3, squeeze=False)
     for ax, (preset, g) in zip(axes, ok.groupby("model_preset", sort=False), strict=True):
         for i, row in enumerate(g.itertuples()):
@@ -279,13 +282,13 @@ def fig12_13(run: Run, fig) -> None:
             every = max(len(g), len(s) // 8)  # markers staggered per case: coinciding curves stay visible
             kw = {"linewidth": 2.0 if rep else 0.8, "alpha": 1.0 if rep else 0.5, "color": f"C{i}",
                   "marker": "os^Dv<>ph*"[i % 10], "markevery": (i * every // len(g), every),
-                  "label": f"μ={row.mu:g}, m={row.mass_kg:g} kg"}
+                  "label": f"μ={fmt.number(row.mu)}, m={fmt.number(row.mass_kg)} kg"}
             ax[0].plot(s["time_s"], s["residual_z_n"], **kw)
             ax[1].plot(s["time_s"], 1e3 * s["total_penetration_m"], **kw)
             if rep:
-                for j in (1, 2, 3):
+                for j, ls, lw in style.FINGER_LINES:
                     ax[2].plot(s["time_s"], s[f"normal_force_{j}_n"], label=label("finger", f"finger{j}"),
-                               color=colour("finger", f"finger{j}"))
+                               color=colour("finger", f"finger{j}"), ls=ls, lw=lw)
                 end = row.simulated_time_s if np.isnan(row.lift_end_s) else row.lift_end_s
                 for a in ax if not np.isnan(row.lift_start_s) else ():
                     a.axvspan(row.lift_start_s, end, color="0.9", zorder=0, label="lift-off")
@@ -294,7 +297,7 @@ def fig12_13(run: Run, fig) -> None:
         ax[0].set(xlabel="time [s]", ylabel="vertical residual R_z [N]",
                   title=f"{preset}\nvertical force residual R_z, Fig. 12 top")
         ax[1].axhline(1e3 * p.total_penetration_below_m, color=style.PAPER, linewidth=2,
-                      label=f"paper: settles below {1e3 * p.total_penetration_below_m:g} mm")
+                      label=f"paper: settles below {fmt.number(1e3 * p.total_penetration_below_m)} mm")
         ax[1].set(xlabel="time [s]", ylabel="total penetration Σδ [mm]",
                   title=f"{preset}\nsum of the three contact depths, Fig. 12 bottom")
         ax[2].set(xlabel="time [s]", ylabel="normal force [N]",

@@ -46,7 +46,7 @@ SPEED = "this tool's speed target"
 #: The cost_ratio table's rows of an estimator, against the paper and against the target (the opening reads
 #: their verdicts): the meshes ("1750 / 144 nodes"), the repeats ("fastest") and the target.
 RATIO_ROW = "cost ratio, {}, {} repeats"
-TARGET_ROW = RATIO_ROW + ", against this tool's speed target (≤ {:g}; not a paper value)"
+TARGET_ROW = RATIO_ROW + ", against this tool's speed target (≤ {}; not a paper value)"
 
 
 def _meshes(run: Run) -> tuple[int, int]:
@@ -196,7 +196,8 @@ def _reading(run: Run) -> str:
     ratio, (grows, growth) = _cost_ratio(run, estimators[0]), _growth(run, estimators[0])
     claims, sizes = run.tables["cost_ratio"].set_index("quantity")["verdict"], f"{top} / {ref} nodes"
     word = claims[RATIO_ROW.format(sizes, estimators[0])].partition(": ")[0]  # the verdict's word, not why
-    target = claims[TARGET_ROW.format(sizes, estimators[0], p.runtime_ratio_target)]  # the row's words
+    # the target row's words
+    target = claims[TARGET_ROW.format(sizes, estimators[0], fmt.number(p.runtime_ratio_target))]
     above = target.startswith("above")
     paper = f"{unlike.split(' (')[0]}, paper {p.runtime_ratio_1750_144}" if unlike else (
         f"paper {p.runtime_ratio_1750_144}: {word}; {target}, not a paper value")
@@ -254,7 +255,7 @@ def fig20(run: Run, fig) -> None:
         ax_b.scatter(res["nodes"], res["residual_norm_n"], s=10, alpha=0.35, color=c,
                      label="ours, single trials")
         tau, (lo, hi) = float(run.config["evaluator"]["tau_f_n"]), p.residual_scatter_n
-        ax_b.axhline(tau, color=style.CRITERION, linestyle="--", label=f"τ_F = {tau:g} N")
+        ax_b.axhline(tau, color=style.CRITERION, linestyle="--", label=f"τ_F = {fmt.number(tau)} N")
         ax_b.axhspan(lo, hi, color=style.PAPER, alpha=0.12, label=f"paper's scatter {lo}–{hi} N")
         ax_b.set(xscale="log", yscale="log", xlabel="mesh nodes n [–]", ylabel="final force residual ‖R‖ [N]",
                  title="(b) final residual")
@@ -308,8 +309,8 @@ def _cost_rows(run: Run):
                run.paper.runtime_ratio_1750_144, "", 2, because[r])
     target = run.paper.runtime_ratio_target
     for r in estimators:
-        yield (TARGET_ROW.format(sizes, r, target), "not in the paper", lambda r=r: _cost_ratio(run, r),
-               None, "", 2, because[r] or _target_row(run, r, target))
+        yield (TARGET_ROW.format(sizes, r, fmt.number(target)), "not in the paper",
+               lambda r=r: _cost_ratio(run, r), None, "", 2, because[r] or _target_row(run, r, target))
 
 
 def _speed(ratio: float, target: float) -> tuple[bool | None, str]:
@@ -358,7 +359,7 @@ SPEC = ReportSpec("mesh_resolution", [
           empty="the run has no budget panel"),
     Table("n_max_rerun", "Baseline-grid failures at N_max and re-evaluated at the doubled budget "
           "(budget-capped = fails at N_max, passes at the doubled budget; rerun: success at the doubled "
-          f"budget; a horizontal ‖R‖ has |R_z| ≤ {100 * HORIZONTAL:g}% of ‖R‖)", _n_max, [
+          f"budget; a horizontal ‖R‖ has |R_z| ≤ {fmt.number(100 * HORIZONTAL)}% of ‖R‖)", _n_max, [
                               "trials", Col("failures_at_n_max", "failures at N_max"),
                               Col("failures_loop_still_moving", "of them still moving at N_max"),
                               Col("budget_capped", "budget-capped"),

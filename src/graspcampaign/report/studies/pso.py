@@ -142,7 +142,7 @@ def finding(run: Run) -> str:
         tight = spread.loc[spread["cv_pct"].idxmin()]
         text += ("The paper finds the exponent n the most identifiable; among ours that J depends on and "
                  f"vary, {label('parameter', tight['parameter'])} has the smallest CV "
-                 f"({tight['cv_pct']:.1f}%). ")
+                 f"({fmt.number(tight['cv_pct'], 1)}%). ")
     if len(pinned):
         text += "Pinned in every run (CV 0, a bound of the search box): " + ", ".join(
             f"{label('parameter', p)} at {fmt.number(m, d)}"  # as the cv table's mean column
@@ -165,8 +165,9 @@ def fig21(run: Run, fig) -> None:
         ax_a.scatter(i + jitter.uniform(-0.15, 0.15, v.size), v, s=9, alpha=0.6, color=c, zorder=3)
     ax_a.axhline(1.0, color=style.CRITERION, linestyle="--", linewidth=1.0)
     ax_a.set_xticks(range(len(cv)), [
-        f"{label('parameter', p)}\nCV {r['cv_pct']:.0f}%\npaper {fmt.paper_text(_paper_cv(run, p), 0)}%"
-        + (f"\non bound {r['at_bound']:.0f}/{r['n']}" if r["at_bound"] > 0 else "")
+        f"{label('parameter', p)}\nCV {fmt.number(r['cv_pct'], 0)}%\npaper "
+        f"{fmt.paper_text(_paper_cv(run, p), 0)}%"
+        + (f"\non bound {fmt.number(int(r['at_bound']))}/{r['n']}" if r["at_bound"] > 0 else "")
         for p, r in cv.iterrows()], fontsize=7)
     ax_a.set(ylabel="identified value / mean over runs [–]", title=f"(a) identified values, {len(ok)} runs")
     if len(bands := convergence_bands(run)):

@@ -44,7 +44,7 @@ def _bounds(run: Run) -> str:
     prep, parts = run.part("prepared"), []
     for column, p in ((c, p) for c, p in PARAMETERS.items() if f"at_bound_{p}" in prep):
         if (on := rec.flag(prep, f"at_bound_{p}")).any():
-            at = "/".join(f"{v:g}" for v in sorted(set(prep.loc[on, column])))
+            at = "/".join(fmt.number(v) for v in sorted(set(prep.loc[on, column])))
             parts.append(f"{label('parameter', p)} = {at} in {int(on.sum())} of {len(prep)}")
     flat = prep["flat_parameters"].value_counts() if "flat_parameters" in prep else pd.Series()
     flat_in = ", ".join(label("parameter", p) for p in str(flat.index[0]).split(",")) if len(flat) else ""
@@ -81,7 +81,7 @@ def readings(by: list[str]) -> S.Table:
 
     return S.Table("readings", lambda run: (
         "Success per reading (Wilson 95%): as configured (‖R‖ < τ_F, ‖τ‖ < τ_T = "
-        f"{run.config['evaluator']['tau_t_nm']:g} N·m, slip margin > 0, no active contact deeper "
+        f"{fmt.number(run.config['evaluator']['tau_t_nm'])} N·m, slip margin > 0, no active contact deeper "
         "than the fingertip radius); without that validity gate; |R_z| < τ_F (the paper's prose)"
         + torque(run) + "; the passes the gate alone and τ_T alone removed"),
         compute, lambda run, t: [
@@ -108,10 +108,10 @@ def mechanism_cols(run: Run, t: pd.DataFrame) -> list[Col]:
 
 
 MECHANISM = S.Table("mechanism", lambda run: (
-    "How Algorithm 2 ends each planner's triples (paper law): a contact released to δ = 0 by line "
-    "7; as many released as upper (n_out,z > 0) contacts; median ρ = |R_xy|/W; ρ·W < τ_F = "
-    f"{run.config['evaluator']['tau_f_n']:g} N (only these can pass ‖R‖ < τ_F); passes; passes "
-    f"with one contact giving ≥ {100 * qs.SINGLE_FINGERTIP_SHARE:g}% of the vertical support; with "
+    "How Algorithm 2 ends each planner's triples (paper law): a contact released to δ = 0 by line 7; as many "
+    "released as upper (n_out,z > 0) contacts; median ρ = |R_xy|/W; ρ·W < τ_F = "
+    f"{fmt.number(run.config['evaluator']['tau_f_n'])} N (only these can pass ‖R‖ < τ_F); passes; passes "
+    f"with one contact giving ≥ {fmt.number(100 * qs.SINGLE_FINGERTIP_SHARE)}% of the vertical support; with "
     "one loaded contact"),
     lambda run: qs.mechanism(run.records, run.config["evaluator"]["tau_f_n"], run.order), mechanism_cols,
     by=["planner"])
@@ -130,7 +130,7 @@ def grid_finding(run: Run, more: str = "") -> str:
     released_n = t.n - t.released_unread
     released = f"released in {t.released} of {released_n} triples" + (
         " with an `n_released` reading" if released_n < t.n else "") + (
-        f", {100 * t.released / released_n:.1f}%" if released_n else "")
+        f", {fmt.number(100 * t.released / released_n, 1)}%" if released_n else "")
     differ, compared = fmt.differing(rates)
     proposed = "".join(
         f"The proposed planner passes {fmt.number(h.rate_pct, 1)}% of {h.n} triples (Wilson 95% "
@@ -258,8 +258,8 @@ def shapes_finding(run: Run) -> str:
             "reach the paper's outcome"
             + (f"; ours differs on {fmt.listed(differ)}" if differ else "")
             + " (each shape's first failing checks: table shapes). " +
-        (f"{deep} of {len(ok)} trials have a contact deeper than r = {run.radius_mm:g} mm: in SI the paper's "
-         "contact constants cannot carry the object at a sane indentation" if deep else "") + (
+        (f"{deep} of {len(ok)} trials have a contact deeper than r = {fmt.number(run.radius_mm)} mm: in SI "
+         "the paper's contact constants cannot carry the object at a sane indentation" if deep else "") + (
         f"{'; ' if deep else ''}Algorithm 2's sign step released a contact in {released} of {len(ok)} trials"
         if released else "") + (f" (SPEC §8; {DECISION})." if deep or released else ""))
 
@@ -288,19 +288,20 @@ def fig15(run: Run, fig) -> None:
         ax.set_xticks(x, [style.tick(label("shape", s)) for s in t["shape"]])
     fig.legend(handles=[
         Patch(color=good, label="ours: success"), Patch(color=bad, label="ours: failure"),
-        Patch(facecolor="0.6", hatch="//", edgecolor="white", label=f"contact deeper than r = {r:g} mm "
-              "(non-physical; the validity gate fails it)"),
+        Patch(facecolor="0.6", hatch="//", edgecolor="white",
+              label=f"contact deeper than r = {fmt.number(r)} mm (non-physical; the validity gate fails it)"),
         Patch(color=style.PAPER, alpha=0.12, label=f"paper's H range {lo}–{hi}"),
-        Line2D([], [], color=style.CRITERION, linestyle="--", label=f"criteria: ‖R‖ < τ_F = {tau:g} N; "
-               f"‖τ‖ < τ_T = {tau_t:g} N·m; slip margin > 0")], loc="outside lower center", ncol=2)
+        Line2D([], [], color=style.CRITERION, linestyle="--",
+               label=f"criteria: ‖R‖ < τ_F = {fmt.number(tau)} N; ‖τ‖ < τ_T = {fmt.number(tau_t)} N·m; "
+               "slip margin > 0")], loc="outside lower center", ncol=2)
 
 
 SHAPES = S.ReportSpec("shapes", [
     S.Finding(shapes_finding),
-    S.Table("shapes", lambda run: "Outcome and grasp metrics per shape beside Fig. 15 (medians over "
-            "executed trials); δ > r: trials with a contact deeper than the fingertip radius r = "
-            f"{run.radius_mm:g} mm (non-physical: the validity gate fails them, whatever their first "
-            "failing check; their metrics are of no physical contact), δmax the median over the others "
+    S.Table("shapes", lambda run: "Outcome and grasp metrics per shape beside Fig. 15 (medians over executed "
+            "trials); δ > r: trials with a contact deeper than the fingertip radius r = "
+            f"{fmt.number(run.radius_mm)} mm (non-physical: the validity gate fails them, whatever their "
+            "first failing check; their metrics are of no physical contact), δmax the median over the others "
             "(— where none)",
             _shapes, [
                 Col("paper_success", "paper: success"), Col("paper_failure_check", "paper: check"),
@@ -327,10 +328,10 @@ SHAPES = S.ReportSpec("shapes", [
 # --------------------------------------------------------------------- ablation, grid, grip laws
 GRIP_NEED = S.Table(
     "grip_need", lambda run: "What an equal grip needs under slip and oracle: triples whose needed grip "
-    f"(with the design margin {run.config['evaluator']['grip_safety_factor']:g}) fits within the grip cap, "
-    "triples no equal grip holds, passes at the capped grip (a capped grip presses every finger to the "
-    f"cap depth, the material's damage depth, at most r = {run.radius_mm:g} mm, so δmax is the cap "
-    "whatever the planner), median steepest contact |n_out,z| (0: horizontal normals)",
+    f"(with the design margin {fmt.number(run.config['evaluator']['grip_safety_factor'])}) fits within the "
+    "grip cap, triples no equal grip holds, passes at the capped grip (a capped grip presses every finger to "
+    f"the cap depth, the material's damage depth, at most r = {fmt.number(run.radius_mm)} mm, so δmax is the "
+    "cap whatever the planner), median steepest contact |n_out,z| (0: horizontal normals)",
     lambda run: qs.grip_need(run.records, run.order), [
         Col("n", "n"), Col("holdable", "within the cap"), Col("no_equal_grip", "no equal grip holds"),
         Col("capped_passes", "passes at the cap"),
@@ -353,7 +354,7 @@ def ablation_finding(run: Run) -> str:
 def power(run: Run) -> str:
     """The paper's interval at its ablation's trials per variant (Sec. 6.3), beside ours in the table."""
     return (f"At the paper's {run.paper.trials_per_variant} trials per variant its interval is roughly "
-            f"±{run.paper.interval_half_width_pp:g} pp (Sec. 6.3).")
+            f"±{fmt.number(run.paper.interval_half_width_pp)} pp (Sec. 6.3).")
 
 
 def over_limit(run: Run) -> str:
@@ -372,8 +373,9 @@ def over_limit(run: Run) -> str:
         parts.append(("" if law is None else f"{label('grip_law', law)} ") + (
             f"{int((g['delta_max_mm'] > DESIGN_LIMIT_MM).sum())} of {len(g)}" if len(g) else "no success") + (
             f" ({int(cap.sum())} at the grip cap, δmax = {fmt.span(g.loc[cap, 'delta_max_mm'])} mm ≤ r = "
-            f"{r:g} mm)" if cap.any() else ""))
-    return (f"Successes deeper than the paper's {DESIGN_LIMIT_MM:g} mm design limit: " + "; ".join(parts)
+            f"{fmt.number(r)} mm)" if cap.any() else ""))
+    return (f"Successes deeper than the paper's {fmt.number(DESIGN_LIMIT_MM)} mm design limit: "
+            + "; ".join(parts)
             + "; counted as successes (the limit is reported, never rescaled, SPEC §2.7; δ ≤ r is valid "
             "contact; table design_limit).")
 
@@ -451,7 +453,7 @@ def grip_finding(run: Run) -> str:
             f"{fmt.number(ours.loc[PROPOSED, law], 1)}% under {label('grip_law', law)}" for law in laws])
         + " (table success_by_planner). " + (
             f"{deep} of the {int(t['successes'].sum())} successes lie deeper than the paper's "
-            f"{DESIGN_LIMIT_MM:g} mm design limit (per law: table design_limit). " if deep else "")
+            f"{fmt.number(DESIGN_LIMIT_MM)} mm design limit (per law: table design_limit). " if deep else "")
         + f"Paired per law (McNemar, exact p < 0.05; table mcnemar), it beats {len(beats)} and loses to "
         f"{len(loses)} of {len(tests)} planner–law pairs. " + (  # a loss to explain
             "Why: H(G) is geometric and sees neither gravity nor the tilt of the contact plane; horizontal "

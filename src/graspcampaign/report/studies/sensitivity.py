@@ -25,8 +25,9 @@ PANELS = {"mu_mass": ("mu", "mass_kg", "friction coefficient μ [–]", "object 
           "n_b": ("n_exp", "b", "contact exponent n [–]", "nodal damping b [internal units]")}
 EPS = 1e-9  # level comparisons of float factors
 LOOP_AT_N_MAX = "still moving at N_max [%]"  # the header of this share in every study
-#: how a heatmap aggregates its cells: aggregation, scale, colour-scale top (None: the largest), cell text
-CELLS = {"rate": ("mean", 100.0, 100.0, "{:.0f}"), "median": ("median", 1.0, None, "{:.1f}")}
+#: how a heatmap aggregates its cells: aggregation, scale, colour-scale top (None: the largest), the cell
+#: values' decimals
+CELLS = {"rate": ("mean", 100.0, 100.0, 0), "median": ("median", 1.0, None, 1)}
 
 
 def panel_rows(run: Run, name: str) -> pd.DataFrame:
@@ -46,7 +47,7 @@ def _edge(levels, value: float, below_includes: bool) -> float:
 def _category_axis(axis, levels) -> None:
     """One cell per level, at most about six tick labels (every k-th level), each the level's value."""
     step = math.ceil(len(levels) / 6)
-    axis.set_ticks(range(0, len(levels), step), [f"{v:.3g}" for v in levels[::step]])
+    axis.set_ticks(range(0, len(levels), step), [fmt.number(v) for v in levels[::step]])
 
 
 def _cell_text_pt(ax, fig, shape: tuple[int, int]) -> float | None:
@@ -62,7 +63,7 @@ def heatmap(ax, fig, run: Run, panel: str, value: str, label: str, cmap: str = "
     """``value`` per cell of ``panel`` (:data:`CELLS`) on category axes, one cell per level (tick labels
     the levels); non-finite cells blank and marked n/a; per-cell values where they are legible. Return
     the x and y levels (place boundaries with :func:`_edge`)."""
-    (x, y, xl, yl), (how, scale, vmax, text) = PANELS[panel], CELLS[cells]
+    (x, y, xl, yl), (how, scale, vmax, digits) = PANELS[panel], CELLS[cells]
     part = panel_rows(run, panel)
     g = scale * part.assign(**{value: part[value].astype(float)}).pivot_table(
         index=y, columns=x, values=value, aggfunc=how).sort_index().sort_index(axis=1)
@@ -80,7 +81,8 @@ def heatmap(ax, fig, run: Run, panel: str, value: str, label: str, cmap: str = "
     _category_axis(ax.yaxis, ys)
     size = _cell_text_pt(ax, fig, values.shape)
     for (r, c), v in np.ndenumerate(values) if size else ():
-        ax.text(c, r, text.format(v) if math.isfinite(v) else "n/a", ha="center", va="center", fontsize=size)
+        ax.text(c, r, fmt.number(v, digits) if math.isfinite(v) else "n/a", ha="center", va="center",
+                fontsize=size)
     ax.set(xlim=(-0.5, len(xs) - 0.5), ylim=(-0.5, len(ys) - 0.5))
     ax.grid(False)
     fig.colorbar(mesh, ax=ax, label=label, shrink=0.85)
@@ -112,7 +114,8 @@ def _figure(run: Run, fig) -> None:
         xl, yl = PANELS[panel][2:]
         tag, handles = "abc"[list(PANELS).index(panel)], []
         deep = 100 * beyond_radius(panel_rows(run, panel), run.radius_mm).mean()
-        caveat = f"\n{deep:.0f}% of trials deeper than r = {run.radius_mm:g} mm (non-physical)" * bool(deep)
+        caveat = (f"\n{fmt.number(deep, 0)}% of trials deeper than r = {fmt.number(run.radius_mm)} mm "
+                  "(non-physical)") * bool(deep)
         if panel == "n_b":
             heatmap(ax, fig, run, panel, "runtime_ms", "median runtime [ms]", "viridis", "median")
             ax.set_title(f"({tag}) runtime, n × b (paper: flat){caveat}")
@@ -213,10 +216,12 @@ def finding(run: Run) -> str:
     held = claims["differs"].eq(False)  # by _word_claims: Wilson intervals apart the paper's way
     seen = [name for name, r in rows.items() if held[r.index[0]]]
     p, inside, outside = run.paper, *(claims.loc[q] for q in REGION)
-    side = {where: f"{_rate(r)} of {r['n']:.0f} {where}" if pd.notna(r["value"]) else f"no trial {where}"
+    side = {where: f"{_rate(r)} of {fmt.number(int(r['n']))} {where}" if pd.notna(r["value"])
+            else f"no trial {where}"
             for where, r in (("inside it", inside), ("outside", outside))}  # a sweep on one side of it
-    text = (f"Paper's stable region: μ ≥ {p.stable_mu_min:g}, m ≤ {p.stable_mass_max_kg:g} kg (Fig. 19a); "
-            f"ours succeeds on {side['inside it']}, {side['outside']} (Wilson 95%). "
+    text = (f"Paper's stable region: μ ≥ {fmt.number(p.stable_mu_min)}, m ≤ "
+            f"{fmt.number(p.stable_mass_max_kg)} kg (Fig. 19a); ours succeeds on {side['inside it']}, "
+            f"{side['outside']} (Wilson 95%). "
             if pd.notna(inside["value"]) or pd.notna(outside["value"]) else "")
     verb = "separates" if len(seen) == 1 else "separate"
     text += (f"{len(seen)} of {len(rows)} Fig. 19 boundaries {verb} our rates "
@@ -300,7 +305,7 @@ def _word_claims(frame: pd.DataFrame) -> pd.DataFrame:
         if pd.isna(r["value"]) or pd.isna(o["value"]):
             continue
         above, below = r["low"] > o["high"], r["high"] < o["low"]
-        ours = f"{_rate(r)} against {f'{other:g}%' if share else _rate(o)}"
+        ours = f"{_rate(r)} against {f'{fmt.number(other)}%' if share else _rate(o)}"
         if above if higher else below:
             judged = fmt.verdict(claim, claim)
         elif above or below:

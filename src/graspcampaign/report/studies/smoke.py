@@ -79,7 +79,8 @@ def finding(run: Run) -> str:
         not f.get("resolution_aware"))
     parts = " and ".join(CAUSE[s] for s in sharp.loc[explained, "shape"].unique())
     why = (f" {DECISION} explains: at {EXPLAINED_NODES} nodes the mesh is too coarse to keep the real "
-           f"curvature of {parts} under {EXPLAINED_DEFECT_RAD:g} rad a vertex.") if explained.any() else ""
+           f"curvature of {parts} under {fmt.number(EXPLAINED_DEFECT_RAD)} rad a vertex."
+           ) if explained.any() else ""
     return (f"{text}. **Unlike the paper**, whose thresholds \"cleanly separate the smooth test meshes\" "
             f"(Sec. 3.1), {found}.{why}{_dihedral(claims, run, 'the same entry' if why else DECISION)}")
 
@@ -92,9 +93,10 @@ def _dihedral(claims: pd.DataFrame, run: Run, entry: str) -> str:
     if pd.isna(differs) or not differs:  # not compared (the run has no such mesh), or within the bound
         return ""
     return (f" The sphere's largest dihedral departure at {p.sphere_dihedral_nodes} nodes is "
-            f"{fmt.number(ours, 1)}°, above the paper's \"below about {p.sphere_dihedral_below_deg:g}°\" "
-            "(Sec. 3.1)" + (f" but under the {threshold:g}° threshold, so no edge of it is sharp ({entry})"
-                            if ours <= threshold else "") + ".")
+            f"{fmt.number(ours, 1)}°, above the paper's \"below about "
+            f"{fmt.number(p.sphere_dihedral_below_deg)}°\" (Sec. 3.1)"
+            + (f" but under the {fmt.number(threshold)}° threshold, so no edge of it is sharp ({entry})"
+               if ours <= threshold else "") + ".")
 
 
 def _meshes(run: Run) -> pd.DataFrame:
@@ -106,11 +108,12 @@ def _meshes(run: Run) -> pd.DataFrame:
 def _caption(run: Run) -> str:
     """The meshes table's caption, with the run's sharpness thresholds (Sec. 3.1)."""
     f = run.config["features"]
-    return ("Object meshes: requested (nodes) and built node counts, closure, sharp features and build "
-            "time; Sec. 3.1: a vertex is sharp when its angular defect (2π minus the sum of its face angles) "
-            f"exceeds {f['vertex_defect_rad']:g} rad, an edge when its dihedral angle departs from 180° by "
-            f"more than {f['edge_dihedral_deg']:g}°" + (" (raised on coarse meshes: resolution-aware "
-                                                        "thresholds)" if f.get("resolution_aware") else ""))
+    return ("Object meshes: requested (nodes) and built node counts, closure, sharp features and build time; "
+            "Sec. 3.1: a vertex is sharp when its angular defect (2π minus the sum of its face angles) "
+            f"exceeds {fmt.number(f['vertex_defect_rad'])} rad, an edge when its dihedral angle departs from "
+            f"180° by more than {fmt.number(f['edge_dihedral_deg'])}°"
+            + (" (raised on coarse meshes: resolution-aware thresholds)" if f.get("resolution_aware")
+               else ""))
 
 
 def _features(run: Run, fig) -> None:

@@ -108,9 +108,10 @@ def _regression_caption(run: Run) -> str:
     t = run.part("summary/surrogate_regression")
     on = t["split_label"].iloc[0] if "split_label" in t and len(t) else None
     split = ("split not recorded: a run finalized before it was" if on is None else
-             f"Appendix A's one split, stratified on {name(on)}, seed {t['split_seed'].iloc[0]:.0f}" if on
-             else f"an unstratified split, seed {t['split_seed'].iloc[0]:.0f}: {name(PAPER_LABEL)} was not "
-                  "fitted")
+             f"Appendix A's one split, stratified on {name(on)}, seed "
+             f"{fmt.number(int(t['split_seed'].iloc[0]))}" if on
+             else f"an unstratified split, seed {fmt.number(int(t['split_seed'].iloc[0]))}: "
+                  f"{name(PAPER_LABEL)} was not fitted")
     return (f"Regression R² on the held-out scenarios ({split}; the paper's is the MLP on the vertical "
             "residual |R_z|)")
 
@@ -149,9 +150,9 @@ def finding(run: Run) -> str:
     n, labelled = int(d["n"]), int(d["n_success_unbounded"])  # the rate's own n: the trials labelled
     of = ("", "") if labelled == n else (f", {labelled} with Algorithm 1's label recorded ({n - labelled} "
                                          "without: no training example)", f"of those {labelled} ")
-    text = (f"{n} scenarios (paper {p.n_scenarios}){of[0]}: {d['success_unbounded_pct']:.1f}% {of[1]}"
-            f"succeed under Algorithm 1 as published (paper {fmt.number(p.class_balance_pct, 1)}%; table "
-            "surrogate_dataset)")
+    text = (f"{n} scenarios (paper {p.n_scenarios}){of[0]}: {fmt.number(d['success_unbounded_pct'], 1)}% "
+            f"{of[1]}succeed under Algorithm 1 as published (paper {fmt.number(p.class_balance_pct, 1)}%; "
+            "table surrogate_dataset)")
     cls = t["surrogate_classification"].query(f"label == '{PAPER_LABEL}'")
     fit = cls[cls["roc_auc"].notna()]
     held = [f"on {fmt.number(r['test_trials'], 0)} held out ({fmt.number(r['test_positives'], 0)} positive, "
@@ -185,8 +186,8 @@ def finding(run: Run) -> str:
         return text
     of_won = f"; {deep_won} of the {won} published-algorithm successes" if won else ""
     return text + (f"Why: in SI, Algorithm 2 as published passes the {check} check in {passed or 'none'} of "
-                   f"{n} and buries a fingertip deeper than its radius r = {run.radius_mm:g} mm in {deep} "
-                   f"(non-physical{of_won}; {WHY}).")
+                   f"{n} and buries a fingertip deeper than its radius r = {fmt.number(run.radius_mm)} mm in "
+                   f"{deep} (non-physical{of_won}; {WHY}).")
 
 
 def _classification_caption(run: Run) -> str:
@@ -203,8 +204,9 @@ def _classification_caption(run: Run) -> str:
                 "of either)"
                 if by else f"no interval (the run stored none){point}")
     held_out = 100 * run.params.get("test_fraction", 0.2)
-    return (f"Success classifiers scored by the run on its held-out {held_out:g}% (each label's own split, "
-            f"stratified on it, seed {run.seed}); AUC with {interval}, accuracy with its Wilson 95% interval")
+    return (f"Success classifiers scored by the run on its held-out {fmt.number(held_out)}% (each label's "
+            f"own split, stratified on it, seed {run.seed}); AUC with {interval}, accuracy with its Wilson "
+            "95% interval")
 
 
 NOISE = ("lambda2", "msd_b")  # inputs a quasi-static outcome does not depend on
@@ -255,7 +257,7 @@ def figA1(run: Run, fig) -> None:
         # in the corner, clear of the chance line
         ax_a.text(0.05, 0.95, "not fitted:\ntoo few trials of one class", va="top", transform=ax_a.transAxes)
     ax_a.plot([0, 1], [0, 1], color=style.CRITERION, ls=":", label="chance")
-    ax_a.plot([], [], " ", label="paper AUC: " + ", ".join(f"{label('model', m)} {v:g}" for m, v in
+    ax_a.plot([], [], " ", label="paper AUC: " + ", ".join(f"{label('model', m)} {fmt.number(v)}" for m, v in
                                                           run.paper.auc.items()))
     ax_a.set(xlabel="false positive rate [–]", ylabel="true positive rate [–]",
              title="(a) ROC, success classifiers (held out)")
@@ -268,8 +270,9 @@ def figA1(run: Run, fig) -> None:
         lim = [par[["simulated", "predicted"]].min().min(), par[["simulated", "predicted"]].max().max()]
         ax_b.plot(lim, lim, color="black", lw=1.0, label="parity")
         tau = float(run.config["evaluator"]["tau_f_n"])
-        ax_b.axvline(math.log10(tau), color=style.CRITERION, ls="--", lw=1.0, label=f"τ_F = {tau:g} N")
-    ax_b.plot([], [], " ", label=f"paper: R² {run.paper.residual_r2:g} (|R_z|)")
+        ax_b.axvline(math.log10(tau), color=style.CRITERION, ls="--", lw=1.0,
+                     label=f"τ_F = {fmt.number(tau)} N")
+    ax_b.plot([], [], " ", label=f"paper: R² {fmt.number(run.paper.residual_r2)} (|R_z|)")
     ax_b.set(xlabel="simulated log10 ‖R‖ [log10 N]", ylabel="predicted log10 ‖R‖ [log10 N]",
              title="(b) MLP regressor, force residual")
     ax_b.legend(loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2, fontsize=6.5)  # clear of τ_F
@@ -278,8 +281,8 @@ def figA1(run: Run, fig) -> None:
     ax_c.bar(x, ms, color=[colour("model", w) for w in t["what"]])
     style.paper_marks(ax_c, x, list(1e3 * t["paper_time_s"]), 0.8)
     for xi, v in zip(x, ms, strict=True):
-        ax_c.annotate(f"{v:.3g} ms", (xi, v), xytext=(0, 3), textcoords="offset points", ha="center",
-                      fontsize=7)
+        ax_c.annotate(f"{fmt.number(v, sig=3)} ms", (xi, v), xytext=(0, 3), textcoords="offset points",
+                      ha="center", fontsize=7)
     ax_c.set_xticks(x, t["model_label"])
     ax_c.set(yscale="log", ylabel="wall time of one call [ms]",
              title="(c) one prediction vs a brief PSO call")

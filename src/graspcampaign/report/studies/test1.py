@@ -154,10 +154,10 @@ def _damage_caption(run: Run) -> str:
     return ("Damage-depth threshold per fatigued specimen (§7.4: K/K1 below the stiffness target or set "
             "above the set limit, whichever first, on power laws fitted through the cycled levels), with the "
             f"virtual bench's median error against the true one; the paper gives no numbers. {k} of {n} lie "
-            f"beyond the deepest cycled level ({deepest:g} mm) and {r} beyond the "
-            f"{run.radius_mm:g} mm fingertip radius (no contact is that deep): "
-            "extrapolations of the fitted laws, not measured depths. Tests 2-3 do not read this table: "
-            "they use the family's closed-form true damage depth, as far extrapolated")
+            f"beyond the deepest cycled level ({fmt.number(deepest)} mm) and {r} beyond the "
+            f"{fmt.number(run.radius_mm)} mm fingertip radius (no contact is that deep): extrapolations of "
+            "the fitted laws, not measured depths. Tests 2-3 do not read this table: they use the family's "
+            "closed-form true damage depth, as far extrapolated")
 
 
 def _note(run: Run) -> str:
@@ -175,10 +175,10 @@ def finding(run: Run) -> str:
     differ, judged = fmt.differing(claims)
     fits = 0 if pd.isna(n.n) else int(n.n)  # the accepted fits n is the mean of (none: not computed)
     text = (f"Over {counted(len(fitted(run)), 'completed event')} the {counted(fits, 'accepted normal fit')} "
-            f"{plural('gives', fits, 'give')} n = "
-            f"{fmt.number(n.value, n.digits)} (paper {fmt.number(n.paper, n.digits)} ± "
-            f"{fmt.number(p.n_exp_sd, n.digits)}, Table 3 {p.n_exp_simulation:g}) at a mean RMSE of "
-            f"{fmt.number(rmse.value, rmse.digits)}% of peak (paper {fmt.number(rmse.paper, rmse.digits)}%); "
+            f"{plural('gives', fits, 'give')} n = {fmt.number(n.value, n.digits)} (paper "
+            f"{fmt.number(n.paper, n.digits)} ± {fmt.number(p.n_exp_sd, n.digits)}, Table 3 "
+            f"{fmt.number(p.n_exp_simulation)}) at a mean RMSE of {fmt.number(rmse.value, rmse.digits)}% of "
+            f"peak (paper {fmt.number(rmse.paper, rmse.digits)}%); "
             + (f"{differ} of {judged} §7 quantities differ from the paper's (table "
                "test1_claims). " if differ else "every §7 quantity agrees. "))
     if len(t5 := t.get("table5", [])):
@@ -237,10 +237,11 @@ def fig23(run: Run, fig) -> None:
         ax_a.plot(x[i:], f[i:], color=BLUE, alpha=0.5, lw=1.2, ls="-.", label="unloading")
         fit = normal_force(g * 1e-3, np.full_like(g, row["speed_mm_per_s"] * 1e-3), row["k_n_per_mm_n"],
                            row["n_exp"], row["c_n_s_per_m"])
-        ax_a.plot(g, fit, color=RED, label=f"fit Kδⁿ + Cδ̇: K = {row['k_n_per_mm_n']:.3f}, n = "
-                  f"{row['n_exp']:.3f} (RMSE {row['rmse_pct']:.1f}%)")
+        ax_a.plot(g, fit, color=RED, label=f"fit Kδⁿ + Cδ̇: K = {fmt.number(row['k_n_per_mm_n'], 3)}, n = "
+                  f"{fmt.number(row['n_exp'], 3)} (RMSE {fmt.number(row['rmse_pct'], 1)}%)")
         ax_a.plot(g, law.k_n_per_mm_n * g ** law.exponent_n, color=PAPER, ls="--",
-                  label=f"paper Table 4 law: K = {law.k_n_per_mm_n:g}, n = {law.exponent_n:g}")
+                  label=f"paper Table 4 law: K = {fmt.number(law.k_n_per_mm_n)}, n = "
+                        f"{fmt.number(law.exponent_n)}")
         ax_a.legend(loc="upper left", fontsize=7)
     ax_a.set(xlabel="indentation δ [mm]", ylabel="normal force fn [N]")
     mats = _mats(acc)
@@ -250,8 +251,9 @@ def fig23(run: Run, fig) -> None:
             body.set(facecolor=colour("material", m), alpha=0.55)
     paper_marks(ax_b, range(1, len(mats) + 1), [p.table4[m].exponent_n for m in mats], 0.5)
     ax_b.axhspan(p.n_exp_mean - p.n_exp_sd, p.n_exp_mean + p.n_exp_sd, color=PAPER, alpha=0.08,
-                 label=f"paper mean {p.n_exp_mean:g} ± {p.n_exp_sd:g}")
-    ax_b.axhline(p.n_exp_simulation, color=PAPER, ls="--", lw=1, label=f"Table 3: n = {p.n_exp_simulation:g}")
+                 label=f"paper mean {fmt.number(p.n_exp_mean)} ± {fmt.number(p.n_exp_sd)}")
+    ax_b.axhline(p.n_exp_simulation, color=PAPER, ls="--", lw=1,
+                 label=f"Table 3: n = {fmt.number(p.n_exp_simulation)}")
     ax_b.set_xticks(range(1, len(mats) + 1), [label("material", m) for m in mats])
     ax_b.set(ylabel="fitted contact exponent n [–]", title=f"(b) n of the {len(acc)} accepted fits")
     legend_below(ax_b, [*ax_b.get_legend_handles_labels()[0], paper_handle("paper Table 4 family n")], 2)
@@ -259,9 +261,10 @@ def fig23(run: Run, fig) -> None:
     ax_c.hist(acc["rmse_pct"], bins=bins, color=BLUE, alpha=0.8, label=f"accepted ({len(acc)})")
     ax_c.hist(nf.query("~accepted")["rmse_pct"], bins=bins, color=ORANGE, alpha=0.8,
               label=f"review-flagged ({int((~nf['accepted']).sum())})")
-    ax_c.axvline(acc["rmse_pct"].mean(), color=BLUE, label=f"our mean {acc['rmse_pct'].mean():.2f}%")
-    ax_c.axvline(p.rmse_pct, color=PAPER, ls="--", label=f"paper mean {p.rmse_pct:g}%")
-    ax_c.axvline(REVIEW_PCT, color=CRITERION, ls=":", label=f"review at {REVIEW_PCT:g}%")
+    ax_c.axvline(acc["rmse_pct"].mean(), color=BLUE,
+                 label=f"our mean {fmt.number(acc['rmse_pct'].mean(), 2)}%")
+    ax_c.axvline(p.rmse_pct, color=PAPER, ls="--", label=f"paper mean {fmt.number(p.rmse_pct)}%")
+    ax_c.axvline(REVIEW_PCT, color=CRITERION, ls=":", label=f"review at {fmt.number(REVIEW_PCT)}%")
     ax_c.set(xlabel="force-fit RMSE [% of peak force]", ylabel="normal-indentation events",
              title="(c) force-fit RMSE")
     legend_below(ax_c, ncol=2)  # at the upper right the 5% review line ran through it
@@ -289,7 +292,8 @@ def fig24(run: Run, fig) -> None:
                   label=f"{run.rig} ft ({label('environment', row['environment'])})")
         for col, ls in (("mu_s", "--"), ("mu_k", ":")):
             mu = col.replace("mu_", "μ")
-            ax_b.plot(x, row[col] * fn * on, color=RED, ls=ls, label=f"{mu} fn ({mu} = {row[col]:.3f})")
+            ax_b.plot(x, row[col] * fn * on, color=RED, ls=ls,
+                      label=f"{mu} fn ({mu} = {fmt.number(row[col], 3)})")
         ax_b.set_ylim(min(0.0, np.nanmin(ft)) - 0.01, 1.15 * np.nanmax(row["mu_s"] * fn * on))
     ax_b.set(xlabel="stage travel [mm]", ylabel="tangential force ft [N]")
     if row is not None:  # below: at the lower right the end-of-stroke drop ran through it
@@ -321,9 +325,10 @@ def fig25(run: Run, fig) -> None:
         g = np.linspace(0, t[idx[-1]] - t[idx[0]], 300)
         ax_a.plot(t[idx] - t[idx[0]], f[idx] / row["f0_n"], color=BLUE, lw=0.9, label=f"{run.rig} F/F0")
         ax_a.plot(g, row["rho"] + (1 - row["rho"]) * np.exp(-g / row["tau_s"]), color=RED,
-                  label=f"fit ρ + (1−ρ)e^(−t/τ): ρ = {row['rho']:.2f}, τ = {row['tau_s']:.1f} s")
+                  label=f"fit ρ + (1−ρ)e^(−t/τ): ρ = {fmt.number(row['rho'], 2)}, τ = "
+                        f"{fmt.number(row['tau_s'], 1)} s")
     ax_a.axhline(p.relaxation_ratio_fig25a, color=PAPER, ls="--",
-                 label=f"paper Fig. 25a: {p.relaxation_ratio_fig25a:g}")
+                 label=f"paper Fig. 25a: {fmt.number(p.relaxation_ratio_fig25a)}")
     ax_a.set(xlabel="time since hold start [s]", ylabel="normalised force F/F0 [–]")
     ax_a.legend(loc="upper right", fontsize=7)
     ins, mats = ax_a.inset_axes([0.45, 0.3, 0.5, 0.32]), _mats(rl)
@@ -336,11 +341,12 @@ def fig25(run: Run, fig) -> None:
     for ax, col, ylab in ((ax_b, "k_ratio", "relative stiffness K/K1 = f0.5/f0.5,1 [–]"),
                           (ax_c, "permanent_set_mm", "permanent set [mm]")):
         _per_family(ax, cy, "cycle_index", col, lw=1.2)
-        ax.set(xlabel="load cycle [–] (" + ", then ".join(f"{d:g} mm from {c}" for d, c in cy.groupby(
-            "depth_mm")["cycle_index"].min().items()) + ")", ylabel=ylab)
-    ax_b.axhline(p.k_ratio_target, color=PAPER, ls="--", label=f"paper target {p.k_ratio_target:g}")
+        ax.set(xlabel="load cycle [–] (" + ", then ".join(f"{fmt.number(d)} mm from {c}" for d, c in
+                                                         cy.groupby("depth_mm")["cycle_index"].min().items())
+               + ")", ylabel=ylab)
+    ax_b.axhline(p.k_ratio_target, color=PAPER, ls="--", label=f"paper target {fmt.number(p.k_ratio_target)}")
     ax_c.axhspan(*p.permanent_set_mm, color=PAPER, alpha=0.1,
-                 label=f"paper {p.permanent_set_mm[0]:g}–{p.permanent_set_mm[1]:g} mm")
+                 label=f"paper {fmt.number(p.permanent_set_mm[0])}–{fmt.number(p.permanent_set_mm[1])} mm")
     ax_b.set(title="(b) cyclic softening (family means)",
              ylim=(min([p.k_ratio_target - 0.05, *cy["k_ratio"]]), max([1.02, *cy["k_ratio"]])))
     ax_c.set(title="(c) permanent set (family means)")
@@ -379,9 +385,10 @@ SPEC = ReportSpec("test1_bench", [
     Finding(finding),
     Text(_note),
     Table("test1_counts", lambda run: "Test 1 event counts (§7.1) beside the paper's; commanded = planned "
-          f"events + re-runs of aborted attempts (p = {run.paper.events_aborted}/"
-          f"{run.paper.events_commanded} per attempt, a random realisation); accepted = RMSE ≤ "
-          f"{REVIEW_PCT:g}% of peak and no logged anomaly; a reduced study has proportionally fewer events",
+          "events + re-runs of aborted attempts (p = "
+          f"{run.paper.events_aborted}/{run.paper.events_commanded} per attempt, a random realisation); "
+          f"accepted = RMSE ≤ {fmt.number(REVIEW_PCT)}% of peak and no logged anomaly; a reduced study has "
+          "proportionally fewer events",
           _counts, [*cols("quantity", "paper"), Col("ours", "ours", 0), *cols("verdict")]),
     Table("table4", lambda run: "Table 4, ours beside the paper's: family means of the accepted normal "
           "fits (n, K, f0.5) and of the fitted slides and holds. Our E is " + ("the virtual bench's drawn "
@@ -395,23 +402,23 @@ SPEC = ReportSpec("test1_bench", [
     Table("oblique_margin", "Slip margin μs fn − ft per press angle (§7.3, mean and SD over the oblique "
           "events) beside the paper's means", _margins,
           cols("angle_deg", "events", "paper_n", "mean_n", "sd_n", "verdict")),
-    Figure("fig23_normal_law", lambda run: "Fig. 23 (ours): (a) a retained loading–unloading curve with "
-           "its Eq. 13 fit and the paper's Table 4 family law; (b) fitted n per family with the paper's "
-           f"family values, mean ± SD and Table 3's {run.paper.n_exp_simulation:g}; (c) RMSE distribution "
-           f"with the paper's {run.paper.rmse_pct:g}% mean", fig23, (13.0, 4.6)),
-    Figure("fig24_tangential", "Fig. 24 (ours): (a) μs and μk per family (mean ± SD over slides) with "
-           "Table 4's; (b) a retained 0.5 mm/s slide with the friction limits; (c) slip margin vs press "
-           "angle with the paper's means", fig24, (13.0, 4.6)),
-    Figure("fig25_relaxation_cycling", lambda run: "Fig. 25 (ours): (a) a retained 60 s hold, "
-           "normalised, with its fit and the paper's steady ratio (inset: mean ρ per family); (b) K/K1 "
-           f"over the fatigue cycles with the {run.paper.k_ratio_target:g} target; (c) permanent set with "
-           "the paper's range", fig25, (13.0, 4.3)),
+    Figure("fig23_normal_law", lambda run: "Fig. 23 (ours): (a) a retained loading–unloading curve with its "
+           "Eq. 13 fit and the paper's Table 4 family law; (b) fitted n per family with the paper's family "
+           f"values, mean ± SD and Table 3's {fmt.number(run.paper.n_exp_simulation)}; (c) RMSE distribution "
+           f"with the paper's {fmt.number(run.paper.rmse_pct)}% mean", fig23, (13.0, 4.6)),
+    Figure("fig24_tangential", "Fig. 24 (ours): (a) μs and μk per family (mean ± SD over slides) with Table "
+           "4's; (b) a retained 0.5 mm/s slide with the friction limits; (c) slip margin vs press angle with "
+           "the paper's means", fig24, (13.0, 4.6)),
+    Figure("fig25_relaxation_cycling", lambda run: "Fig. 25 (ours): (a) a retained 60 s hold, normalised, "
+           "with its fit and the paper's steady ratio (inset: mean ρ per family); (b) K/K1 over the fatigue "
+           f"cycles with the {fmt.number(run.paper.k_ratio_target)} target; (c) permanent set with the "
+           "paper's range", fig25, (13.0, 4.3)),
     Table("table5", "Table 5 beside the paper's: PSO re-identification on the training split's normal "
           "traces, mean (95% Student-t interval), SD and CV over the converged runs, each parameter to 3 "
-          "significant digits of the paper's; the mean's verdict sets the paper's mean against our "
-          "interval, the CV's the two CVs; 'at bound': converged runs that ended on a search bound "
-          "(their value is the box, not an identification). b, k and c do not enter a single-contact "
-          "trace and λ2 (C) is unresolved at 1 mN: their spread is the search prior", _table5, [
+          "significant digits of the paper's; the mean's verdict sets the paper's mean against our interval, "
+          "the CV's the two CVs; 'at bound': converged runs that ended on a search bound (their value is the "
+          "box, not an identification). b, k and c do not enter a single-contact trace and λ2 (C) is "
+          "unresolved at 1 mN: their spread is the search prior", _table5, [
               Col("parameter_label", "parameter"), *(Col(k, v, "digits") for k, v in (
                   ("paper_simulation", "Table 3"), ("paper_mean", "paper mean"), ("paper_sd", "paper SD"))),
               Col("mean", "ours mean (95%)", "digits", low="mean_low", high="mean_high"),

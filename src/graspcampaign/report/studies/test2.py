@@ -120,7 +120,7 @@ def matched_mcnemar(name: str, caption: str) -> Table:
     the paper's (against the centroid planner only)."""
     def paper(p, compared: str) -> str | None:
         m = p.mcnemar_centroid
-        return f"χ² {m.chi2:g}; {m.won} won, {m.lost} lost" if compared == "centroid" else None
+        return f"χ² {fmt.number(m.chi2)}; {m.won} won, {m.lost} lost" if compared == "centroid" else None
 
     return Paired(name, caption, pair_on="match_key", paper=paper,
                   trials=lambda run: ex(run)[ex(run)["matched"].astype(bool)])
@@ -168,7 +168,8 @@ def fig28(run: Run, fig) -> None:
            "material", "(b) by material, all planners"), ("test2_outcomes", None, "outcome",
            "(c) outcome classes, proposed", "share of trials [%]"))(run, fig)
     reference = paper_of(run, lambda p: p.fig28_reference_pct) or np.nan
-    fig.axes[0].axhline(reference, color=style.CRITERION, ls="--", label=f"paper's {reference:g}% reference")
+    fig.axes[0].axhline(reference, color=style.CRITERION, ls="--",
+                        label=f"paper's {fmt.number(reference)}% reference")
     legends_below(fig)
 
 
@@ -193,7 +194,7 @@ def fig29(run: Run, fig) -> None:
         if col == "deformation_err_pct":  # drawn over: the trials dividing by a near-zero measurement
             low = err[hw.below_quantum(d)]
             ax.hist(low.clip(lower=floor), bins=bins, color=style.CRITERION,
-                    label=f"denominator < {hw.VISION_QUANTUM_MM:g} mm, n={len(low)}")
+                    label=f"denominator < {fmt.number(hw.VISION_QUANTUM_MM)} mm, n={len(low)}")
         ax.set_xscale("log")
         ax.axvline(err.median(), color=colour("planner", PROPOSED), label="ours: median")
         ax.axvline(paper_of(run, getattr, key) or np.nan, color=style.PAPER, ls="--", label="paper: median")
@@ -208,11 +209,6 @@ LIFT_HEIGHT_MM = 50.0
 CLOSING_TRAVEL_MM = 10.0
 """Fig. 30 draws 10 mm of closing at the trial's closing speed: a schematic length, the records hold no
 closing travel (the figure is labelled a schematic of the commanded phases)."""
-
-
-FINGER_LINES = ((1, "-", 3.2), (2, "--", 2.2), (3, "-.", 1.4))
-"""Fig. 30's finger, line style and width: each drawn thinner over the one before, so fingers with equal
-or near-equal forces all stay visible."""
 
 
 def representative(run: Run) -> pd.Series:
@@ -266,16 +262,18 @@ def fig30(run: Run, fig) -> None:
     pred, slip_max = t["normal_force_pred_read_n"], paper_of(run, lambda p: p.hold_slip_max_mm)
     style.schematic(fig, t, ((0, t0, "closing", "#e3f2fd"), (t0, t1, "lift", "#fff8e1"), (t1, t2, "hold",
                                                                                    "#e8f5e9")), [
-        *(([t0, t2], [force[j]] * 2, f"finger {j}, recorded ({force[j]:.3g} N)",
-           {"color": colour("finger", f"finger{j}"), "ls": ls, "lw": lw}) for j, ls, lw in FINGER_LINES
+        *(([t0, t2], [force[j]] * 2, f"finger {j}, recorded ({fmt.number(force[j], sig=3)} N)",
+           {"color": colour("finger", f"finger{j}"), "ls": ls, "lw": lw}) for j, ls, lw in style.FINGER_LINES
           if j in force),
         # every level's legend entry gives its value, as the fingers' do
-        ([t0, t2], [pred] * 2, f"predicted, mean{' of the fingers drawn' * (len(force) < 3)} ({pred:.3g} N)",
+        ([t0, t2], [pred] * 2, f"predicted, mean{' of the fingers drawn' * (len(force) < 3)} "
+                               f"({fmt.number(pred, sig=3)} N)",
          {"ls": ":", "color": "#333333"}),
         *[(None, band, f"paper: steady hold ({fmt.paper_text(band)} N)",
            {"color": style.PAPER, "alpha": 0.12})] * bool(band)], [
         ([0, t0, t1, t2], [0, 0, lift, lift], "lift height, commanded [mm]", {"color": "#333333"}),
-        *[([t1, t2], [t["peak_slip_mm"]] * 2, f"peak slip, recorded ({t['peak_slip_mm']:.3g} mm)",
+        *[([t1, t2], [t["peak_slip_mm"]] * 2,
+           f"peak slip, recorded ({fmt.number(t['peak_slip_mm'], sig=3)} mm)",
            {"color": slip})] * pd.notna(t["peak_slip_mm"]),  # none recorded: not drawn (the caption)
         ([0, t2], [2.0, 2.0], "2 mm success criterion", {"color": slip, "ls": "--"}),
         ([0, t2], [slip_max] * 2, f"paper: slip below {fmt.paper_text(slip_max)} mm",
@@ -291,8 +289,8 @@ def groups(run: Run) -> pd.DataFrame:
     e = d["group"] == "E"
     parts = {**{g: d["group"] == g for g in sorted(d["group"].unique())},
              "ABD": d["group"].isin(["A", "B", "D"]), "all": d["group"].notna(),
-             **{f"E {w} {v:g} mm/s": e & (d[f"{w}_speed_mm_per_s"] == v) for w in ("closing", "lift")
-                for v in sorted(d[e][f"{w}_speed_mm_per_s"].unique())}}
+             **{f"E {w} {fmt.number(v)} mm/s": e & (d[f"{w}_speed_mm_per_s"] == v)
+                for w in ("closing", "lift") for v in sorted(d[e][f"{w}_speed_mm_per_s"].unique())}}
     out = hw.summary(hw.scoped(d, parts), ["scope"], ["is_stable"], order={"scope": list(parts)})
     out["paper"] = [paper_of(run, getattr, "group_e_success_pct_range" if s[:2] == "E " else key[s])
                     if s[:2] == "E " or s in key else None for s in out["scope"]]
@@ -416,15 +414,16 @@ SPEC = ReportSpec("test2_grasp", [
           where=lambda r: r["matched"].astype(bool)),
     Table("test2_force_accuracy", "Prediction accuracy (§8.3): normal-force parity through the origin "
           "(uncentred, centred R²), median absolute errors, each over its n (a recorded 0 has no relative "
-          f"error); of the deformation errors, n over a recorded mean below the {hw.VISION_QUANTUM_MM:g} mm "
-          "vision quantisation (§8.1)", lambda run: hw.force_accuracy(ex(run)), [
+          "error); of the deformation errors, n over a recorded mean below the "
+          f"{fmt.number(hw.VISION_QUANTUM_MM)} mm vision quantisation (§8.1)",
+          lambda run: hw.force_accuracy(ex(run)), [
               Col("n_parity", "n"), Col("parity_slope", "parity slope", 3),
               Col("parity_r2", "parity R² (uncentred)", 3),
               Col("parity_r2_centred", "parity R² (centred)", 3),
               Col("force_err_pct", "median |F_n| error [%]", 1), Col("n_force_err", "n (F_n error)"),
               Col("deformation_err_pct", "median deformation error [%]", 1),
               Col("n_deformation_err", "n (deformation)"),
-              Col("n_deformation_below_quantum", f"n (deformation < {hw.VISION_QUANTUM_MM:g} mm)"),
+              Col("n_deformation_below_quantum", f"n (deformation < {fmt.number(hw.VISION_QUANTUM_MM)} mm)"),
               Col("contact_point_error_mm", "median contact-point error [mm]", 2),
               Col("n_contact_point_error", "n (contact point)")], by=["scope"]),
     classifier("test2_classifier", lambda run: f"Pre-execution flags against {run.rig} success (§8.4, "
@@ -459,10 +458,9 @@ SPEC = ReportSpec("test2_grasp", [
     Figure("fig28_outcomes", "Fig. 28 (paper in black): proposed success per shape (dashed: the paper's 75% "
            "reference), success per material, proposed outcome classes; Wilson 95%", fig28, (12.0, 4.0)),
     Figure("fig29_prediction_accuracy", lambda run: f"Fig. 29: (a) {run.rig} against predicted trial-mean "
-           "normal force; "
-           "(b) normal-force and (c) deformation errors with their medians (log axis: every trial "
-           f"shown; dark in (c): trials whose {run.rig} mean deformation, the error's denominator, is below "
-           f"the {hw.VISION_QUANTUM_MM:g} mm vision quantisation, §8.1)", fig29, (12.0, 3.8)),
+           "normal force; (b) normal-force and (c) deformation errors with their medians (log axis: every "
+           f"trial shown; dark in (c): trials whose {run.rig} mean deformation, the error's denominator, is "
+           f"below the {fmt.number(hw.VISION_QUANTUM_MM)} mm vision quantisation, §8.1)", fig29, (12.0, 3.8)),
     Figure("fig30_representative_grasp", fig30_caption, fig30, (9.5, 5.4)),
     Figure("fig31_planner_comparison", "Fig. 31: success per planner (a) with own and exact beliefs "
            "(hatched), (b) matched ablation; (c) the believed-stability flag (`predicted_stable`) against "

@@ -138,8 +138,8 @@ def claims(run: Run):
                            ("dropped", "drop_flag", p.impulse_drop_pct)):
         for level, v in ref.items():
             g = dd[np.isclose(dd["load_frac_w"].astype(float), float(level))]
-            yield (f"impulse {float(level):g} W, {what}", "§9.4", lambda g=g, c=col: share(g, g[c]), v,
-                   "%", 1)
+            yield (f"impulse {fmt.number(float(level))} W, {what}", "§9.4",
+                   lambda g=g, c=col: share(g, g[c]), v, "%", 1)
     cells = nat.query("block == 'E'").groupby(["frequency_hz", "amplitude_n"])["peak_slip_mm"].median()
     for i, f in enumerate((min, max)):
         yield (f"sinusoids: {('lowest', 'highest')[i]} median slip over (f, A) cells", "§9.4",
@@ -214,7 +214,7 @@ def survival(run: Run, ax) -> None:
         ax.plot([3.0, s.half_at_n, 5.0], [s.above_3n_pct, 50, s.above_5n_pct], "D", color=style.PAPER,
                 label="paper")
         ax.plot([s.centroid_failed_by_n], [0], "s", mfc="none", color=style.PAPER,
-                label=f"paper: centroid grasp already failed by {s.centroid_failed_by_n:g} N")
+                label=f"paper: centroid grasp already failed by {fmt.number(s.centroid_failed_by_n)} N")
     ax.set(xlabel="lateral pull level [N]", ylabel="natural-friction pulls holding [%]",
            title="(b) survival of the lateral threshold")
     ax.legend(loc="upper right")
@@ -280,13 +280,15 @@ def fig35(run: Run, fig) -> None:
     style.schematic(fig, t, ((0, h, "hold", "#e8f5e9"), (h, t1, "ramp to slip", "#fff8e1")), [
         ([0, h, t1, t1, end], [0, 0, thr, 0, 0], "applied force, commanded ramp", {"color": "#333333"}),
         # every level's legend entry gives its value (Fig. 30's fingers do)
-        ([h, end], [thr] * 2, f"recorded threshold at slip ({thr:.3g} N)", {"color": "#c62828"}),
-        ([h, end], [t["threshold_pred"]] * 2, f"predicted F_lat ({t['threshold_pred']:.3g} N)",
+        ([h, end], [thr] * 2, f"recorded threshold at slip ({fmt.number(thr, sig=3)} N)",
+         {"color": "#c62828"}),
+        ([h, end], [t["threshold_pred"]] * 2, f"predicted F_lat ({fmt.number(t['threshold_pred'], sig=3)} N)",
          {"ls": "--", "color": colour("planner", PROPOSED)}),
         ([0, end], [paper] * 2, f"paper: natural-friction median ({fmt.paper_text(paper)} N)",
          {"ls": ":", "color": style.PAPER})], [
         ([0, end], [2.0, 2.0], "2 mm slip criterion (detection)", {"color": "#c62828", "ls": "--"}),
-        *[([t1, end], [t["peak_slip_mm"]] * 2, f"recorded peak slip after release ({t['peak_slip_mm']:.3g} mm"
+        *[([t1, end], [t["peak_slip_mm"]] * 2,
+           f"recorded peak slip after release ({fmt.number(t['peak_slip_mm'], sig=3)} mm"
            + ", object lost" * bool(t["drop_flag"]) + ")", {"color": "#333333"})]
         * pd.notna(t["peak_slip_mm"])],  # none recorded: not drawn (the caption says so)
         "lateral pull over the commanded phases")

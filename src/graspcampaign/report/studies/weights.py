@@ -62,7 +62,7 @@ def _ratio_sweep(run: Run) -> pd.DataFrame:
 def finding(run: Run) -> str:
     inv, prop, scale = _invariant(run), _proportional(run), run.tables["h_by_scale"]
     unit = scale.iloc[(scale["weight_scale"] - 1).abs().argmin()]
-    at = "unit weights" if unit["weight_scale"] == 1 else f"weight scale {unit['weight_scale']:g}"
+    at = "unit weights" if unit["weight_scale"] == 1 else f"weight scale {fmt.number(unit['weight_scale'])}"
     leaves, scales = ("leaves" if inv.value else "does not always leave",
                       "scales" if prop.value else "does not always scale")
     differ, match = (int((scale["differs"] == verdict).sum()) for verdict in (True, False))
@@ -70,8 +70,8 @@ def finding(run: Run) -> str:
         f" of {len(scale)} scales"
     return (f"Scaling every weight by the same factor {leaves} the chosen triple unchanged ({inv.n} seeds) "
             f"and {scales} H by the factor; the paper states both (Sec. 5.2; table components). H of the "
-            f"hand-reachable 45°/45°/−90° set {where} "
-            f"({unit['h_reachable']:.3f} at {at}, paper {fmt.number(unit['paper_h_reachable'], 3)}; table "
+            f"hand-reachable 45°/45°/−90° set {where} ({fmt.number(unit['h_reachable'], 3)} at {at}, paper "
+            f"{fmt.number(unit['paper_h_reachable'], 3)}; table "
             "h_by_scale). " + ("Why: S1 follows the published Eq. 7, but S2 and S3 rest on a bounded "
                                "s2ᵢ and a triangle geometry the paper does not publish (`docs/decisions.md`, "
                                "*Geometry and metric*: bounded s2ᵢ, §5.2 reachable optimum). "

@@ -52,7 +52,8 @@ def _per_mu(run: Run) -> pd.DataFrame:
         rows += [{"mu": mu, "quantity": q, "paper": paper, "ours": ours, "digits": d, "n": len(rec),
                   "why": NEVER if ours != ours else "", "commanded": COMMANDED if "finger-1" in q else ""}
                  for q, paper, ours, d in (
-            (f"iteration from which ‖R‖ stays < {tau:g} N", p.residual_settles_within_iterations, settle, 0),
+            (f"iteration from which ‖R‖ stays < {fmt.number(tau)} N", p.residual_settles_within_iterations,
+             settle, 0),
             ("final slip margin (μf_n − ‖f_t‖)/(μf_n) [–]", (p.slip_margin_saturates_above, 1.0)
              if mu >= p.slip_margin_saturates_from_mu else None, float(tr["slip_margin_ratio"].iloc[-1]), 2),
             ("final finger-1 normal force [N]", p.finger_force_command_n,
@@ -71,20 +72,21 @@ def finding(run: Run) -> str:
     table, p = _per_mu(run), run.paper
     settle, (differ, judged) = table[table["quantity"].str.startswith("iteration")], fmt.differing(table)
     deep, r = _beyond_radius_from(run, _traces(run)), run.radius_mm
-    text = (f"Under the fixed {p.finger_force_command_n:g} N grip command the force residual settles below "
-            f"τ_F = {_tau(run):g} N at {settle['ours'].notna().sum()} of {len(settle)} friction levels "
-            f"(paper: all by iteration {p.residual_settles_within_iterations[1]}); "
-            f"{differ} of {judged} compared quantities differ (table wrench_balance).")
+    text = (f"Under the fixed {fmt.number(p.finger_force_command_n)} N grip command the force residual "
+            f"settles below τ_F = {fmt.number(_tau(run))} N at {settle['ours'].notna().sum()} of "
+            f"{len(settle)} friction levels (paper: all by iteration "
+            f"{p.residual_settles_within_iterations[1]}); {differ} of {judged} compared quantities differ "
+            "(table wrench_balance).")
     physical = deep is not None and math.isnan(deep)  # every contact within the fingertip radius
     if not differ and (deep is None or physical):  # nothing to explain, no non-physical state to flag
         return text
     return (f"{text} {'Why: at' if differ else 'At'} Table 3's contact constants the command drives contacts "
             f"{fmt.number(run.ok['delta_max_mm'].max() / 1e3, sig=3)} m deep"
-            + (f" (fingertip radius r = {r:g} mm; this run's trace has no finger-1 depth: stored before "
-               "the kind recorded it)"
-               if deep is None else f", within the fingertip radius r = {r:g} mm" if physical else
-               f", deeper than the fingertip radius r = {r:g} mm from iteration {deep:.0f} on (hatched in "
-               "Fig. 17): a non-physical state")
+            + (f" (fingertip radius r = {fmt.number(r)} mm; this run's trace has no finger-1 depth: stored "
+               "before the kind recorded it)"
+               if deep is None else f", within the fingertip radius r = {fmt.number(r)} mm" if physical else
+               f", deeper than the fingertip radius r = {fmt.number(r)} mm from iteration "
+               f"{fmt.number(int(deep))} on (hatched in Fig. 17): a non-physical state")
             + ", recorded rather than rescaled (`docs/decisions.md`, *Simulation studies*: wrench_balance).")
 
 
@@ -100,28 +102,30 @@ def fig17(run: Run, fig) -> None:
         ax.set_title(title)
         levels = trace.groupby("mu", sort=True)
         for c, (mu, g) in zip(style.level_colours(len(levels)), levels, strict=True):
-            ax.plot(g["iteration"], g[col], color=c, label=f"μ = {mu:g}")
+            ax.plot(g["iteration"], g[col], color=c, label=f"μ = {fmt.number(mu)}")
     lo, hi = p.residual_settles_within_iterations
     axes[0].set_yscale("log")
     style.plain_log(axes[0].yaxis)  # 0.5, 1, 2, 5, 10, 20 N: not 10⁰ and 10¹ alone over 0.4-20 N
-    axes[0].axhline(tau, color=style.CRITERION, linestyle="--", label=f"τ_F {tau:g} N")
+    axes[0].axhline(tau, color=style.CRITERION, linestyle="--", label=f"τ_F {fmt.number(tau)} N")
     axes[0].axvspan(lo, hi, color=style.PAPER, alpha=0.12, label=f"paper: settles in {lo}–{hi}")
-    axes[2].axhline(p.slip_margin_saturates_above, color=style.PAPER, linestyle=":", label=f"paper: > "
-                    f"{p.slip_margin_saturates_above:g} for μ ≥ {p.slip_margin_saturates_from_mu:g}")
+    axes[2].axhline(p.slip_margin_saturates_above, color=style.PAPER, linestyle=":",
+                    label=f"paper: > {fmt.number(p.slip_margin_saturates_above)} for μ ≥ "
+                    f"{fmt.number(p.slip_margin_saturates_from_mu)}")
     axes[2].axhline(0.0, color=style.CRITERION, linestyle="--", label="slip boundary")
     if trace["slip_margin_ratio"].min() < -1.0:  # the seed contact can reach −100 and hides it
         axes[2].set(ylim=(-1.0, 1.1), title=PANELS[2][1] + ", clipped at −1")
     axes[3].axhline(p.finger_force_command_n, color=style.PAPER, linestyle=":",
-                    label=f"paper: ≈{p.finger_force_command_n:g} N command")
+                    label=f"paper: ≈{fmt.number(p.finger_force_command_n)} N command")
     if (deep := _beyond_radius_from(run, trace)) is not None and not math.isnan(deep):  # non-physical
         for ax in axes:
             ax.axvspan(deep, trace["iteration"].max(), facecolor="white", edgecolor="#bbbbbb", hatch="//",
                        linewidth=0.5, zorder=0, label=f"non-physical: contact deeper than r = "
-                       f"{run.radius_mm:g} mm (from iteration {deep:.0f})" if ax is axes[3] else None)
+                       f"{fmt.number(run.radius_mm)} mm (from iteration {fmt.number(int(deep))})"
+                       if ax is axes[3] else None)
         last = trace.loc[trace["iteration"].idxmax()]
-        axes[3].annotate(f"finger-1 depth at iteration {last['iteration']:.0f}: "
-                         f"{last['depth_1_mm'] / 1e3:.3g} m", xy=(0.98, 0.55), xycoords="axes fraction",
-                         ha="right", fontsize=7, color=style.CRITERION)
+        axes[3].annotate(f"finger-1 depth at iteration {fmt.number(int(last['iteration']))}: "
+                         f"{fmt.number(last['depth_1_mm'] / 1e3, sig=3)} m", xy=(0.98, 0.55),
+                         xycoords="axes fraction", ha="right", fontsize=7, color=style.CRITERION)
     for ax in axes[2:]:
         ax.set_xlabel("iteration of Algorithm 2")
     handles = {label: h for ax in axes for h, label in zip(*ax.get_legend_handles_labels(), strict=True)}
