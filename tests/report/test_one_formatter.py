@@ -2,12 +2,14 @@
 
 The source of every report module is parsed (``ast``, not a regex on its text): an f-string's
 replacement field with a numeric format spec (``:.3f``, ``:.3g``, ``:.1e``, ``:g``, ``:,``, ``:d``,
-``:%``) and a ``str.format`` template held in a string constant (``"{:.1f}"``) are refused outside
-the allow-list below, where the spec writes no number a reader sees."""
+``:%``), a ``str.format`` template held in a string constant (``"{:.1f}"``), a printf-style template
+(``"%.1f" % x``) and the builtin ``format(x, ".1f")`` are refused outside the allow-list below, where
+the spec writes no number a reader sees."""
 
 from __future__ import annotations
 
 import ast
+import re
 import string
 from pathlib import Path
 
@@ -17,6 +19,7 @@ import graspcampaign.report
 
 REPORT = Path(graspcampaign.report.__file__).parent
 NUMERIC = set("bcdeEfFgGnoxX%,_")  # a spec's type or grouping character that formats a number
+PRINTF = re.compile(r"%(?:\([^)]*\))?[#0 +-]*(?:\*|\d+)?(?:\.(?:\*|\d*))?[diouxXeEfFgG]")  # "%.1f", not "%%"
 
 ALLOWED = {
     # the one formatter itself: these specs are how fmt.number, fmt.scaled and fmt.p_value write digits
@@ -53,6 +56,14 @@ def raw_specs(source: str) -> list[tuple[str, str]]:
                 continue
             found += [(node.value, spec) for _, name, spec, _ in fields
                       if name is not None and (name == "" or name.isdigit()) and numeric(spec)]
+        elif (isinstance(node, ast.BinOp) and isinstance(node.op, ast.Mod)
+              and isinstance(node.left, ast.Constant) and isinstance(node.left.value, str)):
+            template = node.left.value
+            found += [(template, m.group(0)) for m in PRINTF.finditer(template.replace("%%", ""))]
+        elif (isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "format"
+              and len(node.args) == 2 and isinstance(node.args[1], ast.Constant)
+              and isinstance(node.args[1].value, str) and numeric(node.args[1].value)):
+            found.append((ast.unparse(node.args[0]), node.args[1].value))
     return found
 
 
@@ -73,6 +84,11 @@ def test_no_raw_numeric_format_spec_in_report():
     ('f"{n:d}"', [("n", "d")]),
     ('f"{x:.{k}f}"', [("x", ".{}f")]),
     ('CELLS = ("{:.0f}", "{:.1f}")', [("{:.0f}", ".0f"), ("{:.1f}", ".1f")]),
+    ('"%.2f N" % x', [("%.2f N", "%.2f")]),
+    ('"%d of %s (%5.1f%%)" % (k, n, r)', [("%d of %s (%5.1f%%)", "%d"), ("%d of %s (%5.1f%%)", "%5.1f")]),
+    ('format(x, ".3g")', [("x", ".3g")]),
+    ('"%s mm" % name', []),  # a text put in a text
+    ('format(name, ">12")', []),
     ('f"{name:>12}"', []),  # padding a text is no number
     ('f"{fmt.number(x, 3)} N"', []),
     ('"{} nodes".format(n)', []),
