@@ -155,4 +155,3 @@ def test_fig_31c_draws_the_believed_sf_flag_with_ours_alone():
                                    "outcome, ours alone: the paper's "
                                    "Fig. 31c scores are of the residual flag, beside it in table "
                                    "test2_classifier")
-

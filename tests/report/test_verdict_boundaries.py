@@ -33,7 +33,6 @@ def test_ours_at_an_end_of_the_paper_range_is_inside_it(low, width, end):
     assert judged.words == f"inside the paper's range {fmt.paper_text(paper, 1)}"
 
 
-
 def test_a_paper_value_marked_approximate_prints_as_the_paper_prints_it_and_is_judged_as_before():
     """Table 1's "∼86%" printed as "86.0", a digit the paper never gave: it prints "≈ 86"; the verdict
     is the one of the plain number (the paper's 86 against our Wilson interval 11.7–16.7)."""
