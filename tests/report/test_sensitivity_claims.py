@@ -174,3 +174,23 @@ def test_lambda1_bound_words_are_judged_by_wilson_intervals_as_the_other_words(l
         paper=None, differs=None, verdict="")
     out = _word_claims(frame)
     assert list(zip(out["differs"], out["verdict"], strict=True)) == expected
+
+
+def test_the_test_of_equal_success_over_a_factors_levels_runs_once_per_run(monkeypatch):
+    """The opening (the mass test twice: its name, then its p) and table sensitivity_claims read one
+    test per factor: its Monte Carlo p (9999 random tables) was drawn three times for mass, twice for
+    friction. The p the opening prints is still scipy's."""
+    from scipy.stats import chi2_contingency
+
+    from graspcampaign.report import format as fmt
+    from graspcampaign.report.studies import sensitivity
+
+    calls = []
+    real = sensitivity.equal_rates_test
+    monkeypatch.setattr(sensitivity, "equal_rates_test", lambda *a, **k: calls.append(1) or real(*a, **k))
+    run = _run({(0.1, 0.05): (20, 100), (0.1, 0.5): (20, 100), (0.8, 0.05): (5, 100), (0.8, 0.5): (5, 100)})
+    text = finding(run)
+    assert len(calls) == 2  # mass and friction, once each
+    a = run.records[run.records["panel"] == "mu_mass"]
+    p = chi2_contingency(pd.crosstab(a["mass_kg"], a["success"]), correction=False).pvalue
+    assert f"Success varies with mass (χ² p = {fmt.p_value(p)})" in text

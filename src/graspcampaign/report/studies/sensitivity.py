@@ -158,10 +158,12 @@ def _supplement(run: Run, fig) -> None:
 
 def _levels_test(run: Run, column: str):
     """Panel (a)'s success per level of ``column`` (successes, trials) and the test of equal rates over
-    them (None: fewer than two levels)."""
-    a = panel_rows(run, "mu_mass")
-    g = a.groupby(column)["success"].agg(["sum", "size"])
-    return g, equal_rates_test(g["sum"], g["size"], seed=run.seed) if len(g) > 1 else None  # the run's seed
+    them (None: fewer than two levels); its Monte Carlo p computed once per run, read by the opening
+    (twice) and by table sensitivity_claims."""
+    def compute():
+        g = panel_rows(run, "mu_mass").groupby(column)["success"].agg(["sum", "size"])
+        return g, equal_rates_test(g["sum"], g["size"], seed=run.seed) if len(g) > 1 else None  # run's seed
+    return run.memo(f"equal_rates_test/{column}", compute)
 
 
 def _varies(run: Run, column: str, factor: str, said: str = "") -> str:
