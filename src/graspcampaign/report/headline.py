@@ -200,8 +200,8 @@ def unlistable(path: Path) -> str | None:
         os.listdir(path)
     except PermissionError as exc:
         return access_denied(exc)
-    except OSError:
-        return None
+    except OSError:  # no folder, or gone: nothing to name
+        pass
     return None
 
 
