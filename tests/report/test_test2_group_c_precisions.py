@@ -13,8 +13,7 @@ import math
 import pandas as pd
 import pytest
 from statsmodels.stats.proportion import proportion_confint
-from synthetic_runs import read_table
-from test_hardware_report import _both
+from synthetic_runs import both_readings, read_table
 
 RESIDUAL, SF = "predicted_stable_residual", "predicted_stable"
 
@@ -34,7 +33,7 @@ def run(sim_root):
 
 @pytest.fixture
 def trials(sim_root):
-    return _both(sim_root, "test2_grasp").query("belief_error == 'paper'")
+    return both_readings(sim_root, "test2_grasp").query("belief_error == 'paper'")
 
 
 def test_each_group_c_row_holds_its_sections_trials_and_its_value_beside_the_residual_flag_only(run, trials):
