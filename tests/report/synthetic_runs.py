@@ -205,6 +205,10 @@ def code_for_words(text: str) -> list[str]:
     return bad
 
 
+#: the Test 2/3 studies of the shared results tree and their reduced fractions (conftest.py REDUCED)
+HARDWARE_STUDIES = {"test2_grasp": "params.fraction=0.08", "test3_disturbance": "params.fraction=0.1"}
+
+
 def both_readings(root: Path, study: str) -> pd.DataFrame:
     """Executed records of a Test 2/3 run's both belief readings, long: the trace table's outcome columns
     on the records' factors (an independent merge, not the report's own reshaping)."""

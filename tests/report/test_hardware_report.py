@@ -18,7 +18,15 @@ import pytest
 from statsmodels.stats.contingency_tables import mcnemar
 from statsmodels.stats.power import NormalIndPower
 from statsmodels.stats.proportion import proportion_confint, proportion_effectsize
-from synthetic_runs import both_readings, code_for_words, opening, read_table, report_md, study_paper_block
+from synthetic_runs import (
+    HARDWARE_STUDIES,
+    both_readings,
+    code_for_words,
+    opening,
+    read_table,
+    report_md,
+    study_paper_block,
+)
 from typer.testing import CliRunner
 
 from graspcampaign.analysis.vocabulary import label
@@ -29,7 +37,6 @@ from graspcampaign.core.bench_specimen import FAMILIES
 from graspcampaign.report.build import build_reports
 from graspcampaign.report.format import MISSING
 
-STUDIES = {"test2_grasp": "params.fraction=0.08", "test3_disturbance": "params.fraction=0.1"}  # conftest
 OVERRIDES = ["runner.backend=sequential", "runner.progress=false"]
 cli = CliRunner()
 
@@ -38,7 +45,7 @@ cli = CliRunner()
 def measured(sim_root, tmp_path_factory):
     """The reduced runs' records exported and ingested as run `measured` of another root."""
     root = tmp_path_factory.mktemp("ingested")
-    for study, fraction in STUDIES.items():
+    for study, fraction in HARDWARE_STUDIES.items():
         records = RunStore(sim_root / study / "default").read().to_pandas()
         path = root / f"{study}.{'csv' if study == 'test2_grasp' else 'parquet'}"
         export = export_records(records, study)
@@ -46,11 +53,11 @@ def measured(sim_root, tmp_path_factory):
         result = cli.invoke(app, ["ingest", study, str(path), "--set", f"output.root={root}", "--set",
                                   fraction, *[a for o in OVERRIDES for a in ("--set", o)]])
         assert result.exit_code == 0, result.output
-    build_reports(list(STUDIES), root=root, formats=["md", "csv"])
+    build_reports(list(HARDWARE_STUDIES), root=root, formats=["md", "csv"])
     return root
 
 
-@pytest.mark.parametrize("study", sorted(STUDIES))
+@pytest.mark.parametrize("study", sorted(HARDWARE_STUDIES))
 def test_ingested_records_reproduce_the_paper_reading(sim_root, measured, study):
     engine, ingested = (r / study / run / "report" for r, run in ((sim_root, "default"),
                                                                   (measured, "measured")))
@@ -72,7 +79,7 @@ def test_ingested_records_reproduce_the_paper_reading(sim_root, measured, study)
     assert "no `belief_error = none` counterfactual (a real rig has no oracle)" in text
 
 
-@pytest.mark.parametrize("study", sorted(STUDIES))
+@pytest.mark.parametrize("study", sorted(HARDWARE_STUDIES))
 def test_every_page_and_figure_says_virtual_rig(sim_root, study, tmp_path):
     md = (sim_root / study / "default" / "report" / "report.md").read_text()
     assert "**Data source:** VIRTUAL RIG" in md
@@ -103,7 +110,7 @@ def test_planner_tables_are_wilson_rates_of_both_readings(sim_root, study, table
         assert row["paper_success_pct"] == pytest.approx(paper, nan_ok=True)
 
 
-@pytest.mark.parametrize("study", sorted(STUDIES))
+@pytest.mark.parametrize("study", sorted(HARDWARE_STUDIES))
 def test_belief_tables_equal_a_pandas_recomputation(sim_root, study):
     prefix, both = study.split("_")[0], both_readings(sim_root, study)
     t = read_table(sim_root / study / "default", f"{prefix}_belief").set_index(["planner", "belief_error"])
@@ -143,7 +150,7 @@ def test_belief_tables_equal_a_pandas_recomputation(sim_root, study):
             assert r["p_exact"] == pytest.approx(mcnemar(table.to_numpy(), exact=True).pvalue)
 
 
-@pytest.mark.parametrize("study", sorted(STUDIES))
+@pytest.mark.parametrize("study", sorted(HARDWARE_STUDIES))
 def test_matched_mcnemar_shows_the_papers_centroid_test_and_both_p_values(sim_root, study):
     """The matched McNemar table is the quasi-static studies' (spec.Paired): the paper's proposed vs
     centroid test beside ours (it reports no other pair), p of χ² and of the exact test."""
@@ -180,7 +187,7 @@ def test_flag_precision_recall_and_base_rate(sim_root, study, name):
         assert row["recall"] == pytest.approx(tp / ok.sum())
 
 
-@pytest.mark.parametrize("study", sorted(STUDIES))
+@pytest.mark.parametrize("study", sorted(HARDWARE_STUDIES))
 def test_the_opening_paragraph_gives_the_records_numbers(sim_root, study):
     finding = opening(sim_root / study / "default")
     ex = both_readings(sim_root, study).query("belief_error == 'paper'")
@@ -241,7 +248,8 @@ def test_a_partially_ingested_measured_run_is_reported(measured, tmp_path):
     pd.read_csv(measured / "test2_grasp.csv").head(40).to_csv(part, index=False)
     where = tmp_path / "results"
     result = cli.invoke(app, ["ingest", "test2_grasp", str(part), "--set", f"output.root={where}",
-                              "--set", STUDIES["test2_grasp"], *[a for o in OVERRIDES for a in ("--set", o)]])
+                              "--set", HARDWARE_STUDIES["test2_grasp"],
+                              *[a for o in OVERRIDES for a in ("--set", o)]])
     assert result.exit_code == 0, result.output
     result = cli.invoke(app, ["report", "test2_grasp", "--run", "measured", "--root", str(where),
                               "--format", "md,csv,html"])
@@ -289,7 +297,7 @@ def _md_cells(root, study) -> list[str]:
             for c in line.strip("|").split("|")]
 
 
-@pytest.mark.parametrize("study", sorted(STUDIES))
+@pytest.mark.parametrize("study", sorted(HARDWARE_STUDIES))
 def test_tables_name_planners_and_outcomes_in_the_vocabulary_words(sim_root, study):
     """No table shows a record id (``heuristic``, ``no_pso``, ``failure_drop``) where the vocabulary has
     words for it; the outcome class ``success`` is the paper's "marginal success"."""
@@ -307,7 +315,7 @@ CONSTANTS = {"0.0886", *(f"{m.mu_s / m.mu_k:.2f}" for m in FAMILIES.values())}
 μ_s/μ_k of each material (the safety factor below which a slip is not arrested)."""
 
 
-@pytest.mark.parametrize("study", sorted(STUDIES))
+@pytest.mark.parametrize("study", sorted(HARDWARE_STUDIES))
 def test_every_result_in_the_opening_paragraph_is_in_a_table(sim_root, study):
     """Each decimal number the opening paragraph cites is a value of one of the report's tables (as
     printed, or in % of a fraction), a gap "x pp" the difference of two values of one column; no table
@@ -401,7 +409,7 @@ def test_outcome_shares_are_named_as_shares_of_each_class(sim_root):
     assert not {"success_pct", "paper_success_pct"} & set(table.columns)
 
 
-@pytest.mark.parametrize("study", sorted(STUDIES))
+@pytest.mark.parametrize("study", sorted(HARDWARE_STUDIES))
 def test_the_findings_rates_carry_their_trial_counts(sim_root, study):
     """The opening sentence gives the first planners' and the proposed planner's rates with the number
     of executed trials each is of (a 40 % of 5 reads otherwise as a 40 % of 500), counted here from the

@@ -11,11 +11,18 @@ import statistics
 import pandas as pd
 import pytest
 from statsmodels.stats.proportion import proportion_confint
-from synthetic_runs import TABLE4_MU, below_arrest, both_readings, opening, report_md, study_paper_block
-from test_hardware_report import STUDIES
+from synthetic_runs import (
+    HARDWARE_STUDIES,
+    TABLE4_MU,
+    below_arrest,
+    both_readings,
+    opening,
+    report_md,
+    study_paper_block,
+)
 
 
-@pytest.mark.parametrize("study", sorted(STUDIES))
+@pytest.mark.parametrize("study", sorted(HARDWARE_STUDIES))
 def test_the_opening_counts_the_planners_whose_success_differs_from_the_paper(sim_root, study):
     """A planner differs when the paper's rate lies outside our Wilson 95 % interval by more than the
     paper's last printed digit (0.1 pp), the verdict rule; counted here from the records."""
@@ -30,7 +37,7 @@ def test_the_opening_counts_the_planners_whose_success_differs_from_the_paper(si
             f"(Table {table[5:]}). ") in opening(sim_root / study / "default")
 
 
-@pytest.mark.parametrize("study", sorted(STUDIES))
+@pytest.mark.parametrize("study", sorted(HARDWARE_STUDIES))
 def test_the_opening_leaves_the_flags_to_their_table_and_their_reasons_to_its_caption(sim_root, study):
     """The flags' precision is the classifier table's (it was restated with a reason in the opening);
     why the residual flag cannot beat the base rate is now said in that table's caption."""
