@@ -123,7 +123,6 @@ def test_fig_31c_draws_the_believed_sf_flag_with_ours_alone():
     """Fig. 31c's panel draws `predicted_stable` (§9.5's believed SF > 1); its legend printed §8.4's
     accuracy, precision and recall beside ours ("paper 0.81"), scores of the residual flag. The caption
     says where the paper's scores stand."""
-    import inspect
 
     import matplotlib as mpl
     from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -141,7 +140,7 @@ def test_fig_31c_draws_the_believed_sf_flag_with_ours_alone():
     r.memo("hardware", lambda: records)
     figure = next(i for i in spec_for("test2_grasp", "").items if getattr(i, "name", None) ==
                   "fig31_planner_comparison")
-    panel = inspect.getclosurevars(figure.draw).nonlocals["specs"][-1]  # style.panels' last panel
+    panel = figure.draw.specs[-1]  # style.panels' last panel
     with mpl.rc_context(style.RC):
         fig = Figure()
         FigureCanvasAgg(fig)
