@@ -8,6 +8,7 @@ import functools
 import numpy as np
 import pandas as pd
 import pytest
+from hardware_records import PREDICTED, planner_records
 from statsmodels.stats.proportion import proportion_confint
 
 from graspcampaign.analysis import disturbance, hardware
@@ -15,23 +16,6 @@ from graspcampaign.analysis.records import mcnemar_table
 from graspcampaign.rig import protocol
 from graspcampaign.rig.plan import predict_trial
 from graspcampaign.rig.virtual import virtual_trial
-
-
-def _records(planner_counts: dict[str, tuple[int, int]], **extra) -> pd.DataFrame:
-    """Executed records with ``k`` successes out of ``n`` per planner, objects cycled over 10."""
-    rows = []
-    for planner, (k, n) in planner_counts.items():
-        for i in range(n):
-            ok = i < k
-            rows.append({"trial_id": f"{planner}-{i}", "planner": planner, "status": "ok",
-                         "object_id": f"obj-{i % 10}", "aborted": False, "success": ok,
-                         "outcome": "stable" if ok else "failure_slip", "friction_level": "natural",
-                         "condition": "c", "repeat": i, **{c: 1.0 for c in PREDICTED}, **extra})
-    return pd.DataFrame(rows)
-
-
-PREDICTED = ("normal_force_mean_n", "normal_force_pred_mean_n", "deformation_mean_mm",
-             "deformation_pred_mean_mm", "g_geo_believed", "g_geo_actual", "mu_s_believed")
 
 
 def _merge(schedule: pd.DataFrame, preds: pd.DataFrame, meas: pd.DataFrame) -> pd.DataFrame:
@@ -42,7 +26,7 @@ def _merge(schedule: pd.DataFrame, preds: pd.DataFrame, meas: pd.DataFrame) -> p
 
 def test_paper_test2_counts_reproduce_its_chi2():
     # §8.5: 637/819 proposed, 213/474 centroid, 79/282 random -> chi2 = 270.0 (Pearson)
-    rec = _records({"heuristic": (637, 819), "centroid": (213, 474), "random": (79, 282)})
+    rec = planner_records({"heuristic": (637, 819), "centroid": (213, 474), "random": (79, 282)})
     out = hardware.chi2_planners(hardware.derive(rec))
     assert out["statistic"] == pytest.approx(270.0, abs=0.05)
     assert (out["dof"], out["n"]) == (2, 819 + 474 + 282)
@@ -51,7 +35,7 @@ def test_paper_test2_counts_reproduce_its_chi2():
 def test_chi2_planners_says_no_test_ran_when_every_trial_has_one_outcome():
     # 6/6 and 4/4 succeed: scipy has no table to test; the row had read "χ² planner × success
     # (proposed H(G), centroid, random)" with p 1.0, naming a planner with no trial
-    rec = _records({"heuristic": (6, 6), "centroid": (4, 4)})
+    rec = planner_records({"heuristic": (6, 6), "centroid": (4, 4)})
     out = hardware.chi2_planners(hardware.derive(rec))
     assert out["test"] == "no test: every trial has one outcome (proposed H(G), centroid)"
     assert np.isnan(out["p"]) and np.isnan(out["statistic"]) and out["n"] == 10
@@ -63,7 +47,7 @@ def test_chi2_planners_takes_the_monte_carlo_p_below_five_expected():
     # code reported the chi-square distribution's p regardless)
     from scipy import stats
 
-    rec = _records({"heuristic": (6, 8), "centroid": (2, 6), "random": (1, 5)})
+    rec = planner_records({"heuristic": (6, 8), "centroid": (2, 6), "random": (1, 5)})
     out = hardware.chi2_planners(hardware.derive(rec), seed=7)
     table = np.array([[2, 4], [6, 2], [1, 4]])  # planners sorted: centroid, heuristic, random
     ref = stats.chi2_contingency(table, correction=False, method=stats.MonteCarloMethod(
@@ -74,8 +58,8 @@ def test_chi2_planners_takes_the_monte_carlo_p_below_five_expected():
 
 
 def test_planner_summary_rates_and_intervals():
-    rec = _records({"heuristic": (637, 819), "centroid": (213, 474)})
-    rec = pd.concat([rec, _records({"heuristic": (0, 1)}).assign(aborted=True, trial_id="ab")])
+    rec = planner_records({"heuristic": (637, 819), "centroid": (213, 474)})
+    rec = pd.concat([rec, planner_records({"heuristic": (0, 1)}).assign(aborted=True, trial_id="ab")])
     d = hardware.derive(rec)
     out = hardware.summary(d, ["planner"], [f"is_{k}" for k in hardware.CLASSES], cluster="object_id",
                            seed=1).set_index("planner")
@@ -99,7 +83,7 @@ def test_matched_mcnemar_reproduces_the_papers_33_to_3():
         for planner, ok in (("heuristic", a), ("centroid", b)):
             rows.append({"planner": planner, "success": ok, "object_id": f"o{i % 10}",
                          "condition": f"c{i // 30}", "repeat": (i // 10) % 3})
-    d = _records({}).iloc[:0]
+    d = planner_records({}).iloc[:0]
     d = hardware.derive(pd.concat([d, pd.DataFrame(rows)]).assign(
         trial_id=lambda x: np.arange(len(x)).astype(str), status="ok", aborted=False,
         outcome="stable", friction_level="natural", **{c: 1.0 for c in PREDICTED}))
@@ -113,7 +97,7 @@ def test_threshold_agreement_and_summary():
     rng = np.random.default_rng(0)
     pred = rng.uniform(1.0, 6.0, 300)
     meas = 1.2 * pred + 0.1 + rng.normal(0, 0.05, 300)
-    rec = _records({"heuristic": (300, 300)}, block="A", threshold_censored=False, mass_kg=0.2,
+    rec = planner_records({"heuristic": (300, 300)}, block="A", threshold_censored=False, mass_kg=0.2,
                    threshold_measured_nm=np.nan, threshold_pred_nm=np.nan, disturbance_kind="lateral",
                    first_finger_measured=0, first_finger_pred=1, peak_slip_mm=0.0)
     rec = rec.assign(threshold_measured_n=meas, threshold_pred_n=pred)
@@ -135,7 +119,7 @@ def test_threshold_agreement_of_three_pulls_by_hand():
     """Predicted 2, 4, 3 N, measured 4, 2, 3 N: differences 2, -2, 0 (mean 0, SD 2), so the limits
     are -/+ 1.96 * 2 and their half-width 3.92 N; errors |p - m| / m are 50 %, 100 %, 0 %, of
     which one is *over* 50 %. Two pulls fit any line exactly: no statistics, only the count."""
-    rec = _records({"heuristic": (3, 3)}, block="A", threshold_censored=False, mass_kg=0.2,
+    rec = planner_records({"heuristic": (3, 3)}, block="A", threshold_censored=False, mass_kg=0.2,
                    threshold_measured_nm=np.nan, threshold_pred_nm=np.nan, disturbance_kind="lateral",
                    first_finger_measured=0, first_finger_pred=1, peak_slip_mm=0.0)
     d = hardware.derive(rec.assign(threshold_measured_n=[4.0, 2.0, 3.0], threshold_pred_n=[2.0, 4.0, 3.0]))
@@ -230,7 +214,8 @@ def test_each_median_error_carries_the_count_it_is_over():
     with the parity pairs' n (1272 where 1255 trials measured a deformation, in the paper-scale Test 2)."""
     d = _virtual_tables()["test2_schedule"]
     before = hardware.force_accuracy(d).set_index("scope").loc["all"]
-    measured = d[["deformation_err_pct", "normal_force_mean_n", "normal_force_pred_mean_n"]].notna().all(1)
+    measured = d[["deformation_err_pct", "normal_force_mean_n",
+                  "normal_force_pred_mean_n"]].notna().all(axis=1)
     lost = d.assign(deformation_err_pct=d["deformation_err_pct"].mask(measured & (measured.cumsum() <= 7)))
     after = hardware.force_accuracy(lost).set_index("scope").loc["all"]
     assert after["n_parity"] == before["n_parity"] and after["n_force_err"] == before["n_parity"]
@@ -241,7 +226,7 @@ def test_each_median_error_carries_the_count_it_is_over():
 def test_a_group_with_no_reading_of_a_rate_counts_zero_rows_not_nan():
     """The count n_stable of a planner none of whose trials recorded is_stable was NaN (the
     merge of a rate table lacking the group), and made every n_ column a float."""
-    d = _records({"a": (1, 2), "b": (2, 2)}).assign(is_stable=[True, False, None, None])
+    d = planner_records({"a": (1, 2), "b": (2, 2)}).assign(is_stable=[True, False, None, None])
     out = hardware.summary(d, ["planner"], ["is_stable"]).set_index("planner")
     assert out["n_stable"].to_dict() == {"a": 2, "b": 0}
     assert out["n_stable"].dtype.kind == "i" and np.isnan(out.loc["b", "stable_pct"])

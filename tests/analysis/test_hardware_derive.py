@@ -7,13 +7,13 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 import pytest
-from test_hardware import _records
+from hardware_records import planner_records
 
 from graspcampaign.analysis import hardware, records
 
 
 def test_gate_removed_is_a_success_only_without_the_validity_gate():
-    rec = _records({"heuristic": (1, 3)})
+    rec = planner_records({"heuristic": (1, 3)})
     # trial 0 passes with the gate; 1 passes only without it; 2 fails both ways
     got = hardware.derive(rec.assign(success_unbounded=[True, True, False]))["gate_removed"]
     assert got.tolist() == [False, True, False]
@@ -22,7 +22,7 @@ def test_gate_removed_is_a_success_only_without_the_validity_gate():
 
 def test_a_block_b_payload_is_a_share_of_the_objects_weight():
     """A 0.2 kg object weighs 0.2 · 9.81 N (SPEC §1): a pull of 0.981 N is 50 % of it."""
-    rec = _records({"heuristic": (2, 2)}, block="B", disturbance_kind="down", mass_kg=0.2,
+    rec = planner_records({"heuristic": (2, 2)}, block="B", disturbance_kind="down", mass_kg=0.2,
                    threshold_censored=False, threshold_pred_n=1.0, threshold_measured_nm=np.nan,
                    threshold_pred_nm=np.nan, first_finger_measured=0, first_finger_pred=1, peak_slip_mm=0.0)
     d = hardware.derive(rec.assign(threshold_measured_n=[0.981, 1.962]))
@@ -31,7 +31,7 @@ def test_a_block_b_payload_is_a_share_of_the_objects_weight():
 
 def test_the_belief_gap_is_exact_beliefs_minus_the_papers():
     """Under exact beliefs (none) 7 of 10 trials succeed, under the paper's 3: +40 pp."""
-    paper = _records({"heuristic": (3, 10)})
+    paper = planner_records({"heuristic": (3, 10)})
     none = paper.assign(success=np.arange(10) < 7)
     long = pd.concat([paper.assign(belief_error="paper"), none.assign(belief_error="none")])
     row = hardware.belief_pairs(long).iloc[0]
@@ -59,7 +59,7 @@ def test_a_flag_is_scored_against_the_success_rate_of_its_group():
 def test_the_planner_with_the_higher_success_ranks_first():
     """Under the paper's beliefs the proposed planner holds 6 of 10, centroid 3 of 10: ranks 1, 2;
     under exact beliefs centroid holds 9 of 10, the proposed one still 6: ranks 2, 1."""
-    paper = pd.concat([_records({"heuristic": (6, 10)}), _records({"centroid": (3, 10)})])
+    paper = pd.concat([planner_records({"heuristic": (6, 10)}), planner_records({"centroid": (3, 10)})])
     none = paper.assign(success=np.where(paper["planner"] == "centroid", np.arange(20) % 10 < 9,
                                          paper["success"]))
     long = pd.concat([paper.assign(belief_error="paper"), none.assign(belief_error="none")])
@@ -71,7 +71,7 @@ def test_the_planner_with_the_higher_success_ranks_first():
 def test_a_zero_measurement_has_no_percentage_error():
     """A force measured as 0 N has no relative error (nan, not inf): the median error of the
     others, |1.1 - 1| / 1 = 10 % and |1.3 - 1| / 1 = 30 %, is 20 %."""
-    rec = _records({"heuristic": (3, 3)})
+    rec = planner_records({"heuristic": (3, 3)})
     rec = rec.assign(normal_force_mean_n=[0.0, 1.0, 1.0], normal_force_pred_mean_n=[0.5, 1.1, 1.3],
                      contact_point_error_mm=1.0)
     d = hardware.derive(rec)
@@ -92,7 +92,7 @@ def test_an_error_compares_the_fingers_that_were_read(quantity, unit):
     def col(part: str) -> str:
         return f"{quantity}_{part}_{unit}"
 
-    rec = _records({"heuristic": (3, 3)}).assign(**{
+    rec = planner_records({"heuristic": (3, 3)}).assign(**{
         col("1"): [1.0, 1.0, np.nan], col("2"): [1.2, 1.0, np.nan], col("3"): [np.nan, 1.0, np.nan],
         col("mean"): [1.1, 1.0, 0.5], col("pred_1"): [1.0, 1.2, 0.6], col("pred_2"): [1.0, 1.2, 0.6],
         col("pred_3"): [4.0, 1.2, 0.6], col("pred_mean"): [2.0, 1.2, 0.6]})
@@ -106,7 +106,7 @@ def test_the_force_parity_compares_the_fingers_that_were_read():
     them, 2.0 N over all three); trials 1-2 read every finger. The slope through the origin is
     Σxy / Σx² by hand over the matched pairs (x predicted, y measured), numpy's least squares
     without an intercept agrees; the three-finger means give 16.2 / 19.25 = 0.84."""
-    rec = _records({"heuristic": (3, 3)}).assign(
+    rec = planner_records({"heuristic": (3, 3)}).assign(
         normal_force_1_n=[1.0, 2.0, 3.0], normal_force_2_n=[1.2, 2.0, 3.0],
         normal_force_3_n=[np.nan, 2.0, 3.0], normal_force_mean_n=[1.1, 2.0, 3.0],
         normal_force_pred_1_n=[1.0, 2.5, 3.0], normal_force_pred_2_n=[1.0, 2.5, 3.0],
@@ -124,8 +124,8 @@ def test_the_deformation_errors_over_a_sub_quantum_measurement_are_counted_per_s
     """Measured means 0.05, 0, 0.2, missing and 0.099 mm against 1 mm predicted (heuristic), 1 mm
     (centroid): three heuristic errors (0 mm has none), two of them over a mean below the 0.1 mm vision
     step (0.05, 0.099; §8.1); none of the centroid's."""
-    rec = pd.concat([_records({"heuristic": (5, 5)}).assign(
-        deformation_mean_mm=[0.05, 0.0, 0.2, np.nan, 0.099]), _records({"centroid": (1, 1)})])
+    rec = pd.concat([planner_records({"heuristic": (5, 5)}).assign(
+        deformation_mean_mm=[0.05, 0.0, 0.2, np.nan, 0.099]), planner_records({"centroid": (1, 1)})])
     acc = hardware.force_accuracy(hardware.derive(rec.assign(contact_point_error_mm=1.0))).set_index("scope")
     assert acc["n_deformation_err"].to_dict() == {"all": 4, "heuristic": 3, "centroid": 1}
     assert acc["n_deformation_below_quantum"].to_dict() == {"all": 2, "heuristic": 2, "centroid": 0}
@@ -142,7 +142,7 @@ def test_three_pairs_get_a_parity_fit():
 def test_a_threshold_measured_as_zero_is_no_threshold():
     """Block A: a pull that read 0 N held nothing (no uncensored ramp reached a load): it enters
     neither the threshold nor its error; 2 N against 2.5 N predicted is a 25 % error."""
-    rec = _records({"heuristic": (2, 2)}, block="A", disturbance_kind="lateral", mass_kg=0.2,
+    rec = planner_records({"heuristic": (2, 2)}, block="A", disturbance_kind="lateral", mass_kg=0.2,
                    threshold_censored=False, threshold_pred_n=2.5, threshold_measured_nm=np.nan,
                    threshold_pred_nm=np.nan, first_finger_measured=0, first_finger_pred=1, peak_slip_mm=0.0)
     d = hardware.derive(rec.assign(threshold_measured_n=[0.0, 2.0]))
@@ -153,7 +153,7 @@ def test_a_threshold_measured_as_zero_is_no_threshold():
 
 def test_the_headline_of_block_c_is_its_torque_threshold():
     """Table 8 reads block C by its sustained torque [N·m] (0.3 and 0.45 here), not missing."""
-    rec = _records({"heuristic": (2, 2)}, block="C", disturbance_kind="yaw", mass_kg=0.2,
+    rec = planner_records({"heuristic": (2, 2)}, block="C", disturbance_kind="yaw", mass_kg=0.2,
                    threshold_censored=False, threshold_measured_n=np.nan, threshold_pred_n=np.nan,
                    threshold_pred_nm=0.4, first_finger_measured=0, first_finger_pred=1, peak_slip_mm=0.0)
     d = hardware.derive(rec.assign(threshold_measured_nm=[0.3, 0.45]))
@@ -165,7 +165,7 @@ def test_a_ramp_censored_is_no_threshold_and_a_missing_mark_is_no_censoring():
     (None, NaN: a records file written before the column): only the censored one loses its
     threshold and error (25 %). The mark is read by ``records.flag``, the one reading of a flag
     (missing: not set), which derive typed out again."""
-    rec = _records({"heuristic": (4, 4)}, block="A", disturbance_kind="lateral", mass_kg=0.2,
+    rec = planner_records({"heuristic": (4, 4)}, block="A", disturbance_kind="lateral", mass_kg=0.2,
                    threshold_pred_n=2.5, threshold_measured_n=2.0, threshold_measured_nm=np.nan,
                    threshold_pred_nm=np.nan, first_finger_measured=0, first_finger_pred=1, peak_slip_mm=0.0)
     d = hardware.derive(rec.assign(threshold_censored=pd.Series([True, False, None, np.nan], dtype=object)))

@@ -8,30 +8,15 @@ from __future__ import annotations
 
 import json
 import shutil
-from contextlib import contextmanager
 
 import pytest
 from hardware_checks import REDUCED, cli
+from legacy_hashing import old_digest, old_hashing
 
 from graspcampaign.campaign import provenance
-from graspcampaign.campaign.grid import content_hash
 from graspcampaign.campaign.kinds import hardware as H
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.cli.main import app
-
-
-def old_digest(config, *_):
-    """provenance.config_digest as commit 073427b had it: the description inside the hash."""
-    return content_hash({k: v for k, v in config.items() if k not in ("runner", "output")}, length=16)
-
-
-@contextmanager
-def old_hashing():
-    """Store runs as the code before the description left the hash stored them."""
-    with pytest.MonkeyPatch.context() as patch:
-        patch.setattr(provenance, "config_digest", old_digest)
-        patch.setattr(provenance, "config_hash", lambda s, *_: old_digest(provenance.study_dict(s)))
-        yield
 
 
 def _ingest(root, file, *overrides):

@@ -7,6 +7,7 @@ import pandas as pd
 import pyarrow.parquet as pq
 import pytest
 from killed import Killed, kill_after
+from legacy_hashing import old_hashing
 
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.campaign.runner import DriftError, run_path, run_study
@@ -122,8 +123,6 @@ def test_a_description_is_not_part_of_the_config_hash(study_factory):
 
 def _run_stored_by_the_old_hashing(study):
     """Run ``study`` partly, as the code before the description left the hash stored it."""
-    from test_legacy_hash import old_hashing
-
     with old_hashing():
         run_study(study)
 

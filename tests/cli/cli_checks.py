@@ -204,3 +204,32 @@ def unfinished_source(root: Path, monkeypatch) -> Path:
     assert invoke("run", "baseline_grid", *BG, "--root", root).exit_code == 130
     monkeypatch.setattr(RunStore, "write_shard", write_shard)
     return root / "baseline_grid" / "default"
+
+
+# The finished runs of the ``kept`` fixture (conftest.py), whose copies test_lost_parts.py and
+# test_damaged_round3.py damage
+KEPT_T2 = ["params.fraction=0.02", "runner.backend=sequential", "runner.batch_size=4"]
+KEPT_SURROGATE = ["seeds=16", "runner.backend=sequential"]
+#: the tiny baseline_grid run, first of a sphere and a pear, then resumed with an ellipsoid too
+KEPT_FIRST, KEPT_THEN = replaced(BG, "shape=[sphere,pear]"), replaced(BG, "shape=[sphere,pear,ellipsoid]")
+KEPT_OVERRIDES = {"test2_grasp": KEPT_T2, "surrogate": KEPT_SURROGATE,
+                  "baseline_grid": [*KEPT_THEN, "--allow-drift"]}
+
+
+def report_tables(root: Path, study: str) -> dict[str, bytes]:
+    """The report's tables of the study's run, by file name, as written."""
+    folder = root / study / "default" / "report" / "tables"
+    return {p.name: p.read_bytes() for p in sorted(folder.iterdir())}
+
+
+#: the overrides each run was started with (the kept fixture's; baseline_grid: its first
+#: session's, KEPT_FIRST), as a shell takes them
+KEPT_STARTED = {"test2_grasp": " ".join(KEPT_T2), "surrogate": " ".join(KEPT_SURROGATE),
+                "baseline_grid": BG_QUOTED.replace("'shape=[sphere]' ", "") + " 'shape=[sphere,pear]'"}
+
+
+def kept_advice(root: Path, study: str, then: str) -> str:
+    """The advice of a damaged run of ``study``: resume it, with the overrides it was started with
+    (a drifted baseline_grid: its first session's), to ``then``."""
+    return (f"resume the run (graspcampaign run {study} {KEPT_STARTED[study]} runner.progress=false "
+            f"--run default --root {root}) to {then}.")

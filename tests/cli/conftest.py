@@ -8,7 +8,17 @@ from pathlib import Path
 
 import pytest
 import trimesh
-from cli_checks import BG, SMOKE, invoke
+from cli_checks import (
+    BG,
+    KEPT_FIRST,
+    KEPT_SURROGATE,
+    KEPT_T2,
+    KEPT_THEN,
+    SMOKE,
+    T2,
+    filled_records,
+    invoke,
+)
 
 from graspcampaign.campaign import studyfile
 
@@ -58,3 +68,29 @@ def sphere(tmp_path):
     path = tmp_path / "sphere.stl"
     trimesh.creation.icosphere(subdivisions=2, radius=40.0).export(path)
     return path
+
+
+@pytest.fixture
+def stored(results, tmp_path):
+    """``results`` with a measured Test 2 run holding two trials: a refused ingest must leave
+    them as they are."""
+    filled_records(tmp_path, rows=slice(0, 2)).to_csv(tmp_path / "day1.csv", index=False)
+    done = invoke("ingest", "test2_grasp", tmp_path / "day1.csv", *T2, "--root", results)
+    assert done.exit_code == 0, done.output
+    return results
+
+
+@pytest.fixture(scope="session")
+def kept(tmp_path_factory):
+    """A results root with finished test2_grasp (belief_none traces), surrogate (summary tables)
+    and baseline_grid runs (a preparation per body; candidates traces in two files: the first
+    session's two shards compacted, the second session's one shard), each reported."""
+    root = tmp_path_factory.mktemp("lost_parts") / "results"
+    for args in (["run", "test2_grasp", *KEPT_T2], ["run", "surrogate", *KEPT_SURROGATE],
+                 ["run", "baseline_grid", *KEPT_FIRST],
+                 ["run", "baseline_grid", *KEPT_THEN, "--allow-drift"],
+                 ["report"]):
+        done = invoke(*args, "runner.progress=false", "--root", root) if args[0] == "run" else \
+            invoke(*args, "--root", root)
+        assert done.exit_code == 0, done.output
+    return root

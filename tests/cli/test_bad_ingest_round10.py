@@ -13,16 +13,6 @@ import pytest
 from cli_checks import EVENT, T1, T2, filled_records, invoke, refused
 
 
-@pytest.fixture
-def stored(results, tmp_path):
-    """``results`` with a measured Test 2 run holding two trials: a refused ingest must leave
-    them as they are."""
-    filled_records(tmp_path, rows=slice(0, 2)).to_csv(tmp_path / "day1.csv", index=False)
-    done = invoke("ingest", "test2_grasp", tmp_path / "day1.csv", *T2, "--root", results)
-    assert done.exit_code == 0, done.output
-    return results
-
-
 def _workbook(frame: pd.DataFrame, path: Path, merge: str) -> Path:
     from openpyxl import load_workbook
 

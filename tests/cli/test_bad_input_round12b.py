@@ -6,10 +6,7 @@ from __future__ import annotations
 
 import pandas as pd
 import pytest
-import test_bad_ingest_round10 as round10
 from cli_checks import T2, filled_records, invoke, refused
-
-stored = round10.stored  # the fixture: a measured Test 2 run holding two trials
 
 
 def test_a_number_with_an_underscore_in_a_measured_cell_is_refused(stored, tmp_path):

@@ -8,10 +8,8 @@ from __future__ import annotations
 
 import pandas as pd
 import pytest
-import test_bad_ingest_round10 as round10
 from cli_checks import T1, T2, bench_press, filled_records, invoke, refused
 
-stored = round10.stored  # the fixture: a measured Test 2 run holding two trials
 #: how ingest and the template name the cells that say "not measured" (written out here)
 NOT_MEASURED = "empty or NA, N/A, NaN, null, none (any case)"
 

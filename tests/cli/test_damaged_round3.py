@@ -14,22 +14,21 @@ from pathlib import Path
 import pyarrow.compute as pc
 import pyarrow.parquet as pq
 import pytest
-from cli_checks import BG, invoke, refused, replaced
-from test_lost_parts import OVERRIDES, _advice, _tables, kept  # noqa: F401 - kept: a fixture
+from cli_checks import BG, KEPT_OVERRIDES, invoke, kept_advice, refused, replaced, report_tables
 
 from graspcampaign.campaign.records import RunStore, _write_atomic
 from graspcampaign.campaign.verify import PARTS_KEY
 
 
 @pytest.fixture
-def results(kept, tmp_path):  # noqa: F811 - the fixture of test_lost_parts
+def results(kept, tmp_path):
     """A copy of the finished runs this test may damage."""
     return Path(shutil.copytree(kept, tmp_path / "results"))
 
 
 def _run(results: Path, study: str, *extra: str):
     """``graspcampaign run`` of ``study`` as the fixture ran it (``extra`` replacing overrides)."""
-    return invoke("run", study, *replaced(OVERRIDES[study], *extra), "runner.progress=false",
+    return invoke("run", study, *replaced(KEPT_OVERRIDES[study], *extra), "runner.progress=false",
                   "--root", results)
 
 
@@ -68,7 +67,8 @@ def test_an_account_the_tool_never_writes_is_a_damaged_file(results, account, wh
     rel = path.relative_to(run).as_posix()
     said = (f"run baseline_grid/default at {run} has a damaged file {rel} (its account of the "
             "run's other parts, metadata graspcampaign.parts, is not one the tool writes: "
-            f"{why}); {_advice(results, 'baseline_grid', 'quarantine the file and run its trials again')}")
+            f"{why}); "
+            f"{kept_advice(results, 'baseline_grid', 'quarantine the file and run its trials again')}")
     for command in ("status", "report"):
         refused(results, [command, "baseline_grid", "--root", results], said)
     mended = _run(results, "baseline_grid")
@@ -84,7 +84,7 @@ def test_a_drifted_run_computes_the_preparations_of_its_recorded_trials_outside_
     every recorded trial used are computed again, each read back from its record's factors, and
     the report is the undamaged run's again."""
     run = results / "baseline_grid" / "default"
-    before = _tables(results, "baseline_grid")
+    before = report_tables(results, "baseline_grid")
     ids = set(RunStore(run).read("prepared", ["body_id"]).column("body_id").to_pylist())
     shutil.rmtree(run / "prepared")
     mended = invoke("run", "baseline_grid", *BG, "runner.progress=false", "--allow-drift",
@@ -98,7 +98,7 @@ def test_a_drifted_run_computes_the_preparations_of_its_recorded_trials_outside_
         assert invoke(command, "baseline_grid", "--root", results).exit_code == 0
     assert _run(results, "baseline_grid").exit_code == 0  # back to the three shapes
     assert invoke("report", "baseline_grid", "--root", results).exit_code == 0
-    assert _tables(results, "baseline_grid") == before
+    assert report_tables(results, "baseline_grid") == before
 
 
 def test_a_trace_file_of_the_same_trials_with_other_values_is_trusted_for_none_of_them(results):
@@ -107,7 +107,7 @@ def test_a_trace_file_of_the_same_trials_with_other_values_is_trusted_for_none_o
     and run moved it aside, keeping the copy's values as the run's traces. Now the values are
     compared, as for records: neither file is trusted, its trials run again."""
     run = results / "test2_grasp" / "default"
-    before = _tables(results, "test2_grasp")
+    before = report_tables(results, "test2_grasp")
     (own,) = (run / "tables" / "belief_none").glob("*.parquet")
     table = pq.read_table(own)
     n = len(set(table.column("trial_id").to_pylist()))
@@ -119,13 +119,13 @@ def test_a_trace_file_of_the_same_trials_with_other_values_is_trusted_for_none_o
            "(column contact_1_x_mm)")
     refused(results, ["report", "test2_grasp", "--root", results],
             f"run test2_grasp/default at {run} has a file {rel} holding the traces of {why}; "
-            f"{_advice(results, 'test2_grasp', 'quarantine the file and run its trials again')}")
+            f"{kept_advice(results, 'test2_grasp', 'quarantine the file and run its trials again')}")
     mended = _run(results, "test2_grasp")
     assert mended.exit_code == 0, mended.output
     assert f"{n} ran ({n} ok, 0 errors)" in mended.stdout
     assert mended.stderr.startswith(f"warning: file {own} moved to ") and why in mended.stderr
     assert invoke("report", "test2_grasp", "--root", results).exit_code == 0
-    assert _tables(results, "test2_grasp") == before
+    assert report_tables(results, "test2_grasp") == before
 
 
 @pytest.mark.parametrize("lost", [["complete.json"], ["complete.json", "surrogate_parity"], []])
@@ -136,7 +136,7 @@ def test_a_finished_run_without_its_summary_record_is_named_and_finalized_again(
     kind with a finalize stage names the file gone; run finalizes again, storing only the tables
     not stored (surrogate_timing, a measured time, stays byte for byte where it was kept)."""
     run = results / "surrogate" / "default"
-    before, summary = _tables(results, "surrogate"), run / "summary"
+    before, summary = report_tables(results, "surrogate"), run / "summary"
     timing = (summary / "surrogate_timing" / "part-final.parquet").read_bytes()
     for name in lost:
         (summary / name).unlink() if name.endswith(".json") else shutil.rmtree(summary / name)
@@ -146,16 +146,16 @@ def test_a_finished_run_without_its_summary_record_is_named_and_finalized_again(
             "of surrogate stores when it computes its summary tables")
     for command in ("status", "report"):
         refused(results, [command, "surrogate", "--root", results],
-                f"{said}; {_advice(results, 'surrogate', 'compute it again')}")
+                f"{said}; {kept_advice(results, 'surrogate', 'compute it again')}")
     mended = _run(results, "surrogate")
     assert mended.exit_code == 0, mended.output
     assert mended.stderr == f"warning: {said}; it is computed again\n"
     assert invoke("report", "surrogate", "--root", results).exit_code == 0
     if lost:
         assert (summary / "surrogate_timing" / "part-final.parquet").read_bytes() == timing
-        assert _tables(results, "surrogate") == before
+        assert report_tables(results, "surrogate") == before
     else:  # every table computed again: the same but for the measured times
-        assert set(_tables(results, "surrogate")) == set(before)
+        assert set(report_tables(results, "surrogate")) == set(before)
 
 
 @pytest.mark.parametrize("other", [False, True])
@@ -167,7 +167,7 @@ def test_a_second_preparation_of_a_body_is_named_not_reported_twice(results, oth
     duplicate, moved aside by run; other values are trusted in neither file: both moved aside,
     every body computed again. The report is then the undamaged run's."""
     run = results / "baseline_grid" / "default"
-    before = _tables(results, "baseline_grid")
+    before = report_tables(results, "baseline_grid")
     (own,) = (run / "prepared").glob("compact-*.parquet")
     table = pq.read_table(own)
     if other:
@@ -175,7 +175,7 @@ def test_a_second_preparation_of_a_body_is_named_not_reported_twice(results, oth
         table = table.set_column(where, "lambda1", pc.multiply(table.column(where), 2.0))
     copy = run / "prepared" / "compact-0000000000.parquet"
     _write_atomic(table.replace_schema_metadata(None), copy)
-    rel, advice = own.relative_to(run).as_posix(), _advice(results, "baseline_grid", "X")[:-2]
+    rel, advice = own.relative_to(run).as_posix(), kept_advice(results, "baseline_grid", "X")[:-2]
     said = (f"a file {rel} holding 2 preparations of bodies also in prepared/{copy.name} with "
             f"other values (column lambda1) (and 1 more problem); {advice}compute it again."
             if other else f"a duplicate file {rel} (every preparation also in prepared/{copy.name})"
@@ -186,7 +186,7 @@ def test_a_second_preparation_of_a_body_is_named_not_reported_twice(results, oth
     assert mended.exit_code == 0, mended.output
     assert mended.stderr.count("moved to") == (2 if other else 1), mended.stderr
     assert invoke("report", "baseline_grid", "--root", results).exit_code == 0
-    assert _tables(results, "baseline_grid") == before
+    assert report_tables(results, "baseline_grid") == before
 
 
 def test_a_trace_file_cut_short_is_named_by_report_as_by_status(results):
@@ -195,14 +195,14 @@ def test_a_trace_file_cut_short_is_named_by_report_as_by_status(results):
     but report exited 0 on the cut traces and run found nothing to do, so status refused the run
     for ever. Now report and run count each trial's rows too; run runs that trial again."""
     run = results / "baseline_grid" / "default"
-    before = _tables(results, "baseline_grid")
+    before = report_tables(results, "baseline_grid")
     (shard,) = (run / "tables" / "candidates").glob("part-*.parquet")
     table = pq.read_table(shard)
     (trial,) = set(table.column("trial_id").to_pylist())
     _write_atomic(table.slice(10), shard)
     lost = (f"tables/candidates with other trace rows than 1 recorded trial stored (first {trial}: "
             "40 where it stored 50)")
-    advice = _advice(results, "baseline_grid", "run those trials again")
+    advice = kept_advice(results, "baseline_grid", "run those trials again")
     label = f"run baseline_grid/default at {run} has"
     refused(results, ["report", "baseline_grid", "--root", results], f"{label} {lost}; {advice}")
     refused(results, ["status", "baseline_grid", "--root", results],
@@ -214,7 +214,7 @@ def test_a_trace_file_cut_short_is_named_by_report_as_by_status(results):
     assert "1 ran (1 ok, 0 errors)" in mended.stdout
     for command in ("status", "report"):
         assert invoke(command, "baseline_grid", "--root", results).exit_code == 0
-    assert _tables(results, "baseline_grid") == before
+    assert report_tables(results, "baseline_grid") == before
 
 
 def test_status_says_what_it_checked_where_report_names_a_loss_it_cannot_see(results):

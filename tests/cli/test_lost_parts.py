@@ -4,7 +4,7 @@ The records say what each trial stored besides its record (``campaign.parts``): 
 ``status`` refuse the run naming what is gone, ``run`` computes exactly that again, and the report
 is then the undamaged run's, table for table, byte for byte.
 
-Every case damages its own copy of the finished runs (``kept`` below).
+Every case damages its own copy of the finished runs (``kept``, conftest.py).
 """
 
 from __future__ import annotations
@@ -14,30 +14,9 @@ from pathlib import Path
 
 import pyarrow.parquet as pq
 import pytest
-from cli_checks import BG, BG_QUOTED, invoke, refused, replaced
+from cli_checks import KEPT_OVERRIDES, invoke, kept_advice, refused, report_tables
 
 from graspcampaign.campaign.records import RunStore
-
-T2 = ["params.fraction=0.02", "runner.backend=sequential", "runner.batch_size=4"]
-SURROGATE = ["seeds=16", "runner.backend=sequential"]
-#: the tiny baseline_grid run, first of a sphere and a pear, then resumed with an ellipsoid too
-FIRST, THEN = replaced(BG, "shape=[sphere,pear]"), replaced(BG, "shape=[sphere,pear,ellipsoid]")
-OVERRIDES = {"test2_grasp": T2, "surrogate": SURROGATE, "baseline_grid": [*THEN, "--allow-drift"]}
-
-
-@pytest.fixture(scope="session")
-def kept(tmp_path_factory):
-    """A results root with finished test2_grasp (belief_none traces), surrogate (summary tables)
-    and baseline_grid runs (a preparation per body; candidates traces in two files: the first
-    session's two shards compacted, the second session's one shard), each reported."""
-    root = tmp_path_factory.mktemp("lost_parts") / "results"
-    for args in (["run", "test2_grasp", *T2], ["run", "surrogate", *SURROGATE],
-                 ["run", "baseline_grid", *FIRST], ["run", "baseline_grid", *THEN, "--allow-drift"],
-                 ["report"]):
-        done = invoke(*args, "runner.progress=false", "--root", root) if args[0] == "run" else \
-            invoke(*args, "--root", root)
-        assert done.exit_code == 0, done.output
-    return root
 
 
 @pytest.fixture
@@ -46,43 +25,24 @@ def results(kept, tmp_path):
     return Path(shutil.copytree(kept, tmp_path / "results"))
 
 
-def _tables(root: Path, study: str) -> dict[str, bytes]:
-    """The report's tables of the study's run, by file name, as written."""
-    folder = root / study / "default" / "report" / "tables"
-    return {p.name: p.read_bytes() for p in sorted(folder.iterdir())}
-
-
-#: the overrides each run was started with (the kept fixture's; baseline_grid: its first
-#: session's, FIRST), as a shell takes them
-STARTED = {"test2_grasp": " ".join(T2), "surrogate": " ".join(SURROGATE),
-           "baseline_grid": BG_QUOTED.replace("'shape=[sphere]' ", "") + " 'shape=[sphere,pear]'"}
-
-
-def _advice(root: Path, study: str, then: str) -> str:
-    """The advice of a damaged run of ``study``: resume it, with the overrides it was started with
-    (a drifted baseline_grid: its first session's), to ``then``."""
-    return (f"resume the run (graspcampaign run {study} {STARTED[study]} runner.progress=false "
-            f"--run default --root {root}) to {then}.")
-
-
 def _mended(results: Path, study: str, lost: str, counted: str | None = None) -> None:
     """``report`` refuses the run with "<run> has <lost>; <advice>" and ``status`` with the same
     or, where only the files' footers tell (it reads no more than the records), with "<run> has
     <counted>; <advice>" (exit 2, nothing changed); ``run`` warns as ``report`` and computes it
     again; the report's tables are then the undamaged run's, byte for byte."""
-    before, run = _tables(results, study), results / study / "default"
+    before, run = report_tables(results, study), results / study / "default"
     label = f"run {study}/default at {run} has"
     again = "run those trials again" if lost.startswith(("tables/", "no tables/")) else \
         "compute it again"
-    advice = _advice(results, study, again)
+    advice = kept_advice(results, study, again)
     refused(results, ["report", study, "--root", results], f"{label} {lost}; {advice}")
     refused(results, ["status", study, "--root", results], f"{label} {counted or lost}; {advice}")
-    mended = invoke("run", study, *OVERRIDES[study], "runner.progress=false", "--root", results)
+    mended = invoke("run", study, *KEPT_OVERRIDES[study], "runner.progress=false", "--root", results)
     assert mended.exit_code == 0, mended.output
     then = "those trials run again" if again.startswith("run") else "it is computed again"
     assert mended.stderr == f"warning: {label} {lost}; {then}\n"
     assert invoke("report", study, "--root", results).exit_code == 0
-    assert _tables(results, study) == before
+    assert report_tables(results, study) == before
 
 
 def _first(run: Path, part: str) -> str:

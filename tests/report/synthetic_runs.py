@@ -1,4 +1,5 @@
-"""Small synthetic runs for the report tests, and readers of what their reports write.
+"""Small synthetic runs for the report tests, readers of what their reports write, and the other
+helpers more than one test module uses (a test module imports from here, never from another test module).
 
 The records are built column for column as docs/records.md specifies (base columns, factors, the
 kind's outputs, trace tables), written through ``RunStore`` with a manifest from
@@ -9,14 +10,21 @@ Imported by name (``from synthetic_runs import ...``), as pytest puts this direc
 
 from __future__ import annotations
 
+import os
 import re
+import shutil
+import subprocess
+import sys
 import zlib
 from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
+import yaml
 
+import graspcampaign
+from graspcampaign.campaign.compose import project_dirs
 from graspcampaign.campaign.grid import expand
 from graspcampaign.campaign.provenance import new_manifest, now_utc, write_manifest
 from graspcampaign.campaign.records import RunStore
@@ -38,8 +46,6 @@ def make_run(root, name: str, kind: str, factors: dict, seeds: int, paper: dict 
     ``paper`` None takes the study file's paper block (the typed values a real run carries).
     """
     if paper is None:
-        from test_build import study_paper_block
-
         paper = study_paper_block(name)
     study = StudyCfg(name=name, kind=kind, seed=seed, seeds=seeds, factors=factors, paper=paper,
                      **study_kw)
@@ -166,3 +172,155 @@ def candidates(trial_id: str, factors: dict, out: dict) -> dict:
     eps = np.maximum(0.0, 0.1 - 0.04 * h + 0.03 * rng.normal(size=50))
     return {"candidates": [{"trial_id": trial_id, "candidate": i, "h_total": float(a), "epsilon_fc": float(e)}
                            for i, (a, e) in enumerate(zip(h, eps, strict=True))]}
+
+
+def study_paper_block(name: str) -> dict:
+    """The ``paper:`` block of the shipped study file ``name`` as YAML holds it ({} without a file)."""
+    path = project_dirs()[1] / f"{name}.yaml"
+    return yaml.safe_load(path.read_text())["paper"] if path.exists() else {}
+
+
+def opening(run: RunStore | Path) -> str:
+    """The run's "What this shows" paragraph, as report.md prints it."""
+    return report_md(run).split("## What this shows\n\n", 1)[1].split("\n\n", 1)[0]
+
+
+#: what a backticked name in prose may be: a decision or the page's own files, or a record column (or one
+#: of its values) a reader needs to find in a table, in parentheses after the words naming it
+FILES = re.compile(r"docs/decisions\.md|(tables|figures)/[\w.]+")
+COLUMN = re.compile(r"[a-z][a-z0-9_]*")
+#: or a command a reader types, as typed (an ingested run's "Filled by `graspcampaign ingest`")
+COMMAND = re.compile(r"graspcampaign [a-z]+")
+
+
+def code_for_words(text: str) -> list[str]:
+    """The backticked names in ``text`` that stand for words: not a decision, the page's files or a
+    command, nor a column in parentheses (an ingested run's `source = virtual` was one)."""
+    bad = []
+    for m in re.finditer(r"`([^`]*)`", text):
+        depth = text[:m.start()].count("(") - text[:m.start()].count(")")
+        if not (FILES.fullmatch(m.group(1)) or COMMAND.fullmatch(m.group(1))
+                or (COLUMN.fullmatch(m.group(1)) and depth > 0)):
+            bad.append(f"{m.group(0)} in {text[:80]!r}")
+    return bad
+
+
+#: the Test 2/3 studies of the shared results tree and their reduced fractions (conftest.py REDUCED)
+HARDWARE_STUDIES = {"test2_grasp": "params.fraction=0.08", "test3_disturbance": "params.fraction=0.1"}
+
+
+def both_readings(root: Path, study: str) -> pd.DataFrame:
+    """Executed records of a Test 2/3 run's both belief readings, long: the trace table's outcome columns
+    on the records' factors (an independent merge, not the report's own reshaping)."""
+    store = RunStore(root / study / "default")
+    rec, none = store.read().to_pandas(), store.read("tables/belief_none").to_pandas()
+    keep = ["trial_id", "planner", "shape", "aborted", "status"]
+    cf = rec[keep].merge(none.drop(columns=[c for c in keep[1:] if c in none]), on="trial_id")
+    out = pd.concat([rec.assign(belief_error="paper"), cf.assign(belief_error="none")])
+    return out[(out["status"] == "ok") & ~out["aborted"].astype(bool)].reset_index(drop=True)
+
+
+# Table 4 of the paper (μ_s, μ_k per material family), typed from its text
+TABLE4_MU = {"gel": (0.772, 0.544), "silicone_soft": (0.619, 0.440), "bio_foam": (0.684, 0.506),
+             "silicone_ref": (0.509, 0.364)}
+
+
+def below_arrest(dropped: pd.DataFrame) -> int:
+    """How many of ``dropped`` hold a recorded SF (``sf_actual``) below their material's μ_s/μ_k."""
+    return sum(sf < TABLE4_MU[m][0] / TABLE4_MU[m][1] for m, sf in zip(dropped["material"],
+                                                                       dropped["sf_actual"], strict=True))
+
+
+def cost_ratio_run(fastest, median, min_column=True, itself=((1.0, 1.0),)):
+    """A mesh_resolution run's resolution panel: per trial on 1750 nodes, and on the 144-node reference
+    mesh against itself (``itself``), the two meshes' fastest and median repeats [s] in the given ratios
+    (the reference mesh's 1 ms fastest, 2 ms median); its cost_ratio table computed, as the opening
+    reads it."""
+    from types import SimpleNamespace
+
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies.mesh_resolution import COST
+
+    per_mesh = {144: itself, 1750: zip(fastest, median, strict=True)}
+    rows = [{"panel": "resolution", "status": "ok", "nodes": n, "reference_nodes": 144,
+             "eval_time_min_s": 1e-3 * f, "eval_time_reference_min_s": 1e-3, "eval_time_s": 2e-3 * m,
+             "eval_time_reference_s": 2e-3, "cost_ratio_vs_reference": f if min_column else m}
+            for n, ratios in per_mesh.items() for f, m in ratios]
+    records = pd.DataFrame(rows)
+    if not min_column:  # a run stored before the fastest repeat was recorded: its ratio is of medians
+        records = records.drop(columns=["eval_time_min_s", "eval_time_reference_min_s"])
+    run = Run(records, {}, SimpleNamespace(runtime_ratio_1750_144=1.95, runtime_ratio_target=1.5))
+    run.tables["cost_ratio"] = COST.compute(run)
+    return run
+
+
+def _figure_items(items):
+    """Every ``Figure`` of a spec's items, those wrapped in another item (test1's finalize-stage
+    figures) included."""
+    from graspcampaign.report.spec import Figure
+
+    for item in items:
+        if isinstance(item, Figure):
+            yield item
+        elif isinstance(getattr(item, "item", None), Figure):
+            yield item.item
+
+
+def draw_all(root: Path, study: str) -> dict:
+    """Each figure of ``study``'s run, drawn on an Agg canvas (the report's tables rendered first)."""
+    import matplotlib as mpl
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    from graspcampaign.campaign.paper import study_paper
+    from graspcampaign.report import style
+    from graspcampaign.report.build import spec_for
+    from graspcampaign.report.document import Document
+    from graspcampaign.report.render import Run, render
+
+    store = RunStore(root / study / "default")
+    run = Run(store.read().to_pandas(), store.check(), study_paper(study), store)
+    spec = spec_for(study, "")
+    render(spec, run, Document("", run.source, []))
+    drawn = {}
+    for item in _figure_items(spec.items):
+        with mpl.rc_context(style.RC):
+            fig = Figure(figsize=item.size, layout="constrained")
+            FigureCanvasAgg(fig)
+            item.draw(run, fig)
+            fig.canvas.draw()
+        drawn[item.name] = fig
+    return drawn
+
+
+def half_an_em(text) -> float:
+    """Half an em of ``text``'s font in display pixels: the least gap between two neighbouring labels
+    (a word space is 0.32 em in DejaVu Sans; labels closer than that read as one phrase)."""
+    return 0.5 * text.get_fontsize() * text.figure.dpi / 72
+
+
+#: the studies :func:`fresh_reports` reports again (test_report_reads_only.py)
+FRESH_STUDIES = ("surrogate", "test1_bench")
+FORMATS = ["md", "csv", "json", "html"]  # the formats the sim_root fixture writes (conftest.py)
+
+
+_FRESH: dict = {}
+
+
+def fresh_reports(sim_root, tmp_path_factory):
+    """``(root, completed process)``: the runs' records copied without their reports and reported
+    again by ``build_reports`` (SVG figures) in a new interpreter, which prints the sklearn modules
+    it holds; written once per session (test_test1_report.py reads its SVG figures too)."""
+    if sim_root not in _FRESH:
+        root = tmp_path_factory.mktemp("fresh") / "results"
+        for study in FRESH_STUDIES:
+            shutil.copytree(sim_root / study / "default", root / study / "default",
+                            ignore=shutil.ignore_patterns("report"))
+        code = ("import sys\nfrom graspcampaign.report.build import build_reports\n"
+                f"batch = build_reports(root={str(root)!r}, formats={FORMATS!r}, figure_format='svg')\n"
+                "assert batch.failed == [], batch.failed\n"
+                "print(sorted(m for m in sys.modules if m == 'sklearn' or m.startswith('sklearn.')))\n")
+        env = {**os.environ, "PYTHONPATH": str(Path(graspcampaign.__file__).parents[1])}  # this tree
+        _FRESH[sim_root] = root, subprocess.run([sys.executable, "-c", code], capture_output=True,
+                                                text=True, timeout=600, env=env)
+    return _FRESH[sim_root]

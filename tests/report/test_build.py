@@ -14,12 +14,10 @@ from pathlib import Path
 
 import pandas as pd
 import pytest
-import yaml
 from statsmodels.stats.proportion import proportion_confint
-from synthetic_runs import report_md
+from synthetic_runs import report_md, study_paper_block
 from typer.testing import CliRunner
 
-from graspcampaign.campaign.compose import project_dirs
 from graspcampaign.campaign.grid import expand
 from graspcampaign.campaign.provenance import config_digest, new_manifest, write_manifest
 from graspcampaign.campaign.records import RunStore
@@ -31,11 +29,6 @@ from graspcampaign.report.document import check_formats
 from graspcampaign.report.spec import ReportSpec
 
 cli = CliRunner()
-
-
-def study_paper_block(name: str) -> dict:
-    path = project_dirs()[1] / f"{name}.yaml"
-    return yaml.safe_load(path.read_text())["paper"] if path.exists() else {}
 
 
 def write_run(root, name="ablation", kind="quasi_static", n_success=None, error_rows=(),

@@ -10,7 +10,7 @@ import math
 import numpy as np
 import pandas as pd
 from scipy.stats import binomtest
-from test_test23_opening import below_arrest
+from synthetic_runs import below_arrest
 
 from graspcampaign.campaign.paper import study_paper
 from graspcampaign.campaign.records import RunStore
@@ -188,7 +188,7 @@ def _proposed_drops(root) -> pd.DataFrame:
 def test_the_test3_opening_counts_the_drops_below_the_arrest_bound_of_those_with_an_sf_reading(sim_root):
     # "k of N below the safety factor μ_s/μ_k …" took N as every drop, a drop without a recorded
     # `sf_actual` among them (counted neither below nor above): N is now the drops with the reading and
-    # the rest are said apart. Table 4's μ_s/μ_k from test_test23_opening (below_arrest).
+    # the rest are said apart. Table 4's μ_s/μ_k from synthetic_runs (below_arrest).
     from graspcampaign.report.studies.test3 import drops
 
     dropped = _proposed_drops(sim_root)

@@ -3,46 +3,9 @@
 
 from __future__ import annotations
 
+from synthetic_runs import draw_all, half_an_em
+
 from graspcampaign.campaign.records import RunStore
-
-
-def _figure_items(items):
-    """Every ``Figure`` of a spec's items, those wrapped in another item (test1's finalize-stage
-    figures) included."""
-    from graspcampaign.report.spec import Figure
-
-    for item in items:
-        if isinstance(item, Figure):
-            yield item
-        elif isinstance(getattr(item, "item", None), Figure):
-            yield item.item
-
-
-def _draw_all(root, study: str) -> dict:
-    """Each figure of ``study``'s run, drawn on an Agg canvas (the report's tables rendered first)."""
-    import matplotlib as mpl
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    from graspcampaign.campaign.paper import study_paper
-    from graspcampaign.report import style
-    from graspcampaign.report.build import spec_for
-    from graspcampaign.report.document import Document
-    from graspcampaign.report.render import Run, render
-
-    store = RunStore(root / study / "default")
-    run = Run(store.read().to_pandas(), store.check(), study_paper(study), store)
-    spec = spec_for(study, "")
-    render(spec, run, Document("", run.source, []))
-    drawn = {}
-    for item in _figure_items(spec.items):
-        with mpl.rc_context(style.RC):
-            fig = Figure(figsize=item.size, layout="constrained")
-            FigureCanvasAgg(fig)
-            item.draw(run, fig)
-            fig.canvas.draw()
-        drawn[item.name] = fig
-    return drawn
 
 
 def _labels_in_view(axis) -> list[str]:
@@ -60,7 +23,7 @@ def test_no_tick_label_reads_a_times_ten_to_the(sim_root):
     studies = sorted(p.parent.name for p in sim_root.glob("*/default"))
     assert len(studies) == 17
     bad = [(study, name, ax.get_title("left") or ax.get_ylabel(), axis.axis_name, label)
-           for study in studies for name, fig in _draw_all(sim_root, study).items() for ax in fig.axes
+           for study in studies for name, fig in draw_all(sim_root, study).items() for ax in fig.axes
            for axis in (ax.xaxis, ax.yaxis) for label in _labels_in_view(axis) if "times" in label]
     assert not bad, bad
 
@@ -71,7 +34,7 @@ def test_fig20_budget_axes_label_the_budgets_run(sim_root):
     config = RunStore(sim_root / "mesh_resolution" / "default").check()["config"]
     expected = [f"{b:g}" for b in sorted(config["params"]["budgets"])]
     assert expected == ["1", "30"]  # conftest.REDUCED
-    fig = _draw_all(sim_root, "mesh_resolution")["fig20_mesh_resolution"]
+    fig = draw_all(sim_root, "mesh_resolution")["fig20_mesh_resolution"]
     panels = [ax for ax in fig.axes if ax.get_xlabel().startswith("candidate budget")]
     assert len(panels) == 2
     for ax in panels:
@@ -85,7 +48,7 @@ def test_fig20c_names_the_trials_behind_its_rates(sim_root):
 
     tables = sim_root / "mesh_resolution" / "default" / "report" / "tables"
     table = pd.read_csv(tables / "success_vs_n_cand.csv")
-    fig = _draw_all(sim_root, "mesh_resolution")["fig20_mesh_resolution"]
+    fig = draw_all(sim_root, "mesh_resolution")["fig20_mesh_resolution"]
     ax = next(a for a in fig.axes if a.get_title("left").startswith("(c)"))
     entries = [t.get_text() for t in ax.get_legend().get_texts() if "check" in t.get_text()]
     ours = table[table["planner"] != "reference"]
@@ -97,11 +60,10 @@ def test_neighbouring_tick_labels_lie_half_an_em_apart(sim_root):
     """Fig. 18a printed its planners "proposed" and "antipodal" 2.8 px apart (a quarter em at 8 pt), read
     as one phrase: no overlap, yet crowded. In every figure of every study, two neighbouring horizontal
     tick labels in view are at least half an em apart (matplotlib's drawn extents)."""
-    from test_style import half_an_em
 
     crowded = []
     for study in sorted(p.parent.name for p in sim_root.glob("*/default")):
-        for name, fig in _draw_all(sim_root, study).items():
+        for name, fig in draw_all(sim_root, study).items():
             renderer = fig.canvas.get_renderer()
             for ax in fig.axes:
                 low, high = sorted(ax.get_xlim())

@@ -273,7 +273,6 @@ def _panel(draw, run, size=(4.0, 3.0)):
 def test_the_flag_panel_says_in_words_what_the_flag_predicts(study, name):
     # Figs. 31c and 36c were labelled with the raw column name `predicted_stable`; the caption
     # still names the column the label describes
-    import inspect
 
     import pandas as pd
 
@@ -286,7 +285,7 @@ def test_the_flag_panel_says_in_words_what_the_flag_predicts(study, name):
     run = Run(flags, {"study": study, "source": "virtual"})
     run.memo("hardware", lambda: flags)
     figure = next(i for i in spec_for(study, "").items if getattr(i, "name", None) == name)
-    confusion = inspect.getclosurevars(figure.draw).nonlocals["specs"][-1]  # style.panels' last panel
+    confusion = figure.draw.specs[-1]  # style.panels' last panel
     ax = _panel(confusion, run)
     assert ax.get_ylabel() == {"test2_grasp": "predicted stable: believed SF > 1",
                                "test3_disturbance": "predicted to retain: believed margin > 1"}[study]

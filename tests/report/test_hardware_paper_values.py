@@ -8,8 +8,7 @@ from __future__ import annotations
 import pandas as pd
 import pytest
 from statsmodels.stats.proportion import proportion_confint
-from synthetic_runs import md_table, read_table, report_md
-from test_hardware_report import _paper
+from synthetic_runs import md_table, read_table, report_md, study_paper_block
 
 STUDIES = ["test2_grasp", "test3_disturbance"]
 
@@ -62,7 +61,7 @@ def test_the_papers_trial_counts_are_whole_numbers_in_the_csv(sim_root, study):
     name, key = ("table6", "shape") if study == "test2_grasp" else ("table9", "planner")
     path = sim_root / study / "default" / "report" / "tables" / f"{name}.csv"
     text = pd.read_csv(path, dtype=str, keep_default_na=False)
-    rows = _paper(study)[name]
+    rows = study_paper_block(study)[name]
     expected = [str(rows[k]["n"]) if b == "paper" and k in rows else ""
                 for k, b in zip(text[key], text["belief_error"], strict=True)]
     assert text["n_paper"].tolist() == expected

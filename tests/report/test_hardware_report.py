@@ -15,16 +15,21 @@ import shutil
 import numpy as np
 import pandas as pd
 import pytest
-import yaml
 from statsmodels.stats.contingency_tables import mcnemar
 from statsmodels.stats.power import NormalIndPower
 from statsmodels.stats.proportion import proportion_confint, proportion_effectsize
-from synthetic_runs import read_table, report_md
-from test_openings import code_for_words
+from synthetic_runs import (
+    HARDWARE_STUDIES,
+    both_readings,
+    code_for_words,
+    opening,
+    read_table,
+    report_md,
+    study_paper_block,
+)
 from typer.testing import CliRunner
 
 from graspcampaign.analysis.vocabulary import label
-from graspcampaign.campaign.compose import project_dirs
 from graspcampaign.campaign.kinds.hardware import export_records
 from graspcampaign.campaign.records import RunStore
 from graspcampaign.cli.main import app
@@ -32,31 +37,15 @@ from graspcampaign.core.bench_specimen import FAMILIES
 from graspcampaign.report.build import build_reports
 from graspcampaign.report.format import MISSING
 
-STUDIES = {"test2_grasp": "params.fraction=0.08", "test3_disturbance": "params.fraction=0.1"}  # conftest
 OVERRIDES = ["runner.backend=sequential", "runner.progress=false"]
 cli = CliRunner()
-
-
-def _paper(study: str) -> dict:
-    return yaml.safe_load((project_dirs()[1] / f"{study}.yaml").read_text())["paper"]
-
-
-def _both(root, study) -> pd.DataFrame:
-    """Executed records of both belief readings, long: the trace table's outcome columns on the
-    records' factors (an independent merge, not the report's own reshaping)."""
-    store = RunStore(root / study / "default")
-    rec, none = store.read().to_pandas(), store.read("tables/belief_none").to_pandas()
-    keep = ["trial_id", "planner", "shape", "aborted", "status"]
-    cf = rec[keep].merge(none.drop(columns=[c for c in keep[1:] if c in none]), on="trial_id")
-    out = pd.concat([rec.assign(belief_error="paper"), cf.assign(belief_error="none")])
-    return out[(out["status"] == "ok") & ~out["aborted"].astype(bool)].reset_index(drop=True)
 
 
 @pytest.fixture(scope="module")
 def measured(sim_root, tmp_path_factory):
     """The reduced runs' records exported and ingested as run `measured` of another root."""
     root = tmp_path_factory.mktemp("ingested")
-    for study, fraction in STUDIES.items():
+    for study, fraction in HARDWARE_STUDIES.items():
         records = RunStore(sim_root / study / "default").read().to_pandas()
         path = root / f"{study}.{'csv' if study == 'test2_grasp' else 'parquet'}"
         export = export_records(records, study)
@@ -64,11 +53,11 @@ def measured(sim_root, tmp_path_factory):
         result = cli.invoke(app, ["ingest", study, str(path), "--set", f"output.root={root}", "--set",
                                   fraction, *[a for o in OVERRIDES for a in ("--set", o)]])
         assert result.exit_code == 0, result.output
-    build_reports(list(STUDIES), root=root, formats=["md", "csv"])
+    build_reports(list(HARDWARE_STUDIES), root=root, formats=["md", "csv"])
     return root
 
 
-@pytest.mark.parametrize("study", sorted(STUDIES))
+@pytest.mark.parametrize("study", sorted(HARDWARE_STUDIES))
 def test_ingested_records_reproduce_the_paper_reading(sim_root, measured, study):
     engine, ingested = (r / study / run / "report" for r, run in ((sim_root, "default"),
                                                                   (measured, "measured")))
@@ -86,21 +75,16 @@ def test_ingested_records_reproduce_the_paper_reading(sim_root, measured, study)
         {p.name for p in (ingested / "figures").iterdir()}
     text = (ingested / "report.md").read_text()
     assert "from virtual-rig exports (their `source` column says virtual), not rig measurements" in text
-    assert not code_for_words(_finding(measured, study, "measured"))  # a command to type stays in code
+    assert not code_for_words(opening(measured / study / "measured"))  # a command to type stays in code
     assert "no `belief_error = none` counterfactual (a real rig has no oracle)" in text
 
 
-def _finding(root, study, run="default") -> str:
-    md = (root / study / run / "report" / "report.md").read_text()
-    return md.split("## What this shows\n\n")[1].split("\n\n")[0]
-
-
-@pytest.mark.parametrize("study", sorted(STUDIES))
+@pytest.mark.parametrize("study", sorted(HARDWARE_STUDIES))
 def test_every_page_and_figure_says_virtual_rig(sim_root, study, tmp_path):
     md = (sim_root / study / "default" / "report" / "report.md").read_text()
     assert "**Data source:** VIRTUAL RIG" in md
     # a reader is told what the data are in words, not by a source file (`rig/virtual.py`)
-    assert "Simulated virtual-rig data, not hardware." in _finding(sim_root, study)
+    assert "Simulated virtual-rig data, not hardware." in opening(sim_root / study / "default")
     assert "residual-based `predicted_stable`" not in md  # the flag follows §9.5 now
     shutil.copytree(sim_root / study, tmp_path / study)
     build_reports([study], root=tmp_path, formats=["md"], figure_format="svg")
@@ -110,8 +94,8 @@ def test_every_page_and_figure_says_virtual_rig(sim_root, study, tmp_path):
 
 @pytest.mark.parametrize(("study", "table"), [("test2_grasp", "table7"), ("test3_disturbance", "table9")])
 def test_planner_tables_are_wilson_rates_of_both_readings(sim_root, study, table):
-    t, both = read_table(sim_root / study / "default", table), _both(sim_root, study)
-    ref = _paper(study)[table]
+    t, both = read_table(sim_root / study / "default", table), both_readings(sim_root, study)
+    ref = study_paper_block(study)[table]
     assert set(t["belief_error"]) == {"paper", "none"}
     for row in t.to_dict("records"):
         g = both[(both["planner"] == row["planner"]) & (both["belief_error"] == row["belief_error"])]
@@ -126,9 +110,9 @@ def test_planner_tables_are_wilson_rates_of_both_readings(sim_root, study, table
         assert row["paper_success_pct"] == pytest.approx(paper, nan_ok=True)
 
 
-@pytest.mark.parametrize("study", sorted(STUDIES))
+@pytest.mark.parametrize("study", sorted(HARDWARE_STUDIES))
 def test_belief_tables_equal_a_pandas_recomputation(sim_root, study):
-    prefix, both = study.split("_")[0], _both(sim_root, study)
+    prefix, both = study.split("_")[0], both_readings(sim_root, study)
     t = read_table(sim_root / study / "default", f"{prefix}_belief").set_index(["planner", "belief_error"])
     gap = (both["g_geo_believed"] - both["g_geo_actual"]).groupby([both["planner"],
                                                                    both["belief_error"]]).median()
@@ -166,11 +150,11 @@ def test_belief_tables_equal_a_pandas_recomputation(sim_root, study):
             assert r["p_exact"] == pytest.approx(mcnemar(table.to_numpy(), exact=True).pvalue)
 
 
-@pytest.mark.parametrize("study", sorted(STUDIES))
+@pytest.mark.parametrize("study", sorted(HARDWARE_STUDIES))
 def test_matched_mcnemar_shows_the_papers_centroid_test_and_both_p_values(sim_root, study):
     """The matched McNemar table is the quasi-static studies' (spec.Paired): the paper's proposed vs
     centroid test beside ours (it reports no other pair), p of χ² and of the exact test."""
-    prefix, ref = study.split("_")[0], _paper(study)["mcnemar_centroid"]
+    prefix, ref = study.split("_")[0], study_paper_block(study)["mcnemar_centroid"]
     t = read_table(sim_root / study / "default", f"{prefix}_mcnemar").set_index("compared")
     assert all(f"{v}" in t.loc["centroid", "paper"] for v in (ref["chi2"], f"{ref['won']} won",
                                                                f"{ref['lost']} lost"))
@@ -188,7 +172,7 @@ def test_matched_mcnemar_shows_the_papers_centroid_test_and_both_p_values(sim_ro
 def test_flag_precision_recall_and_base_rate(sim_root, study, name):
     t = read_table(sim_root / study / "default", name).query("scope == 'all'")
     t = t.set_index(["flag", "belief_error"])
-    both = _both(sim_root, study)
+    both = both_readings(sim_root, study)
     for (flag, reading), row in t.iterrows():
         g = both[both["belief_error"] == reading]
         flagged, ok = g[flag].astype(bool), g["success"].astype(bool)
@@ -203,13 +187,13 @@ def test_flag_precision_recall_and_base_rate(sim_root, study, name):
         assert row["recall"] == pytest.approx(tp / ok.sum())
 
 
-@pytest.mark.parametrize("study", sorted(STUDIES))
+@pytest.mark.parametrize("study", sorted(HARDWARE_STUDIES))
 def test_the_opening_paragraph_gives_the_records_numbers(sim_root, study):
-    finding = _finding(sim_root, study)
-    ex = _both(sim_root, study).query("belief_error == 'paper'")
+    finding = opening(sim_root / study / "default")
+    ex = both_readings(sim_root, study).query("belief_error == 'paper'")
     rates = ex.groupby("planner")["success"].mean().sort_values(ascending=False) * 100
     table = "table7" if study == "test2_grasp" else "table9"
-    paper = _paper(study)[table]
+    paper = study_paper_block(study)[table]
     n = int((ex["planner"] == "heuristic").sum())
     first = finding.split(". ")[0]  # the main finding opens the paragraph (its first word capitalised)
     first = first[0].lower() + first[1:]
@@ -234,13 +218,13 @@ def test_the_opening_paragraph_gives_the_records_numbers(sim_root, study):
 
 def test_tables_6_and_8_carry_the_papers_values(sim_root):
     t6 = read_table(sim_root / "test2_grasp" / "default", "table6").query("belief_error == 'paper'")
-    p6 = _paper("test2_grasp")["table6"]
+    p6 = study_paper_block("test2_grasp")["table6"]
     assert dict(zip(t6["shape"], t6["paper_success_pct"], strict=True)) == {
         s: p6[s]["success_pct"] for s in t6["shape"]}
-    ex = _both(sim_root, "test2_grasp").query("belief_error == 'paper' and planner == 'heuristic'")
+    ex = both_readings(sim_root, "test2_grasp").query("belief_error == 'paper' and planner == 'heuristic'")
     assert t6.set_index("shape")["n"].to_dict() == ex.groupby("shape").size().to_dict()
     t8 = read_table(sim_root / "test3_disturbance" / "default", "table8").query("belief_error == 'paper'")
-    p8 = _paper("test3_disturbance")["table8"]
+    p8 = study_paper_block("test3_disturbance")["table8"]
     assert dict(zip(t8["block"], t8["paper_success_pct"], strict=True)) == {
         b: p8[b]["success_pct"] for b in t8["block"]}
     # the headline mixes units per block (N, % W, N·m, mm): each value has 3 significant digits of its
@@ -264,7 +248,8 @@ def test_a_partially_ingested_measured_run_is_reported(measured, tmp_path):
     pd.read_csv(measured / "test2_grasp.csv").head(40).to_csv(part, index=False)
     where = tmp_path / "results"
     result = cli.invoke(app, ["ingest", "test2_grasp", str(part), "--set", f"output.root={where}",
-                              "--set", STUDIES["test2_grasp"], *[a for o in OVERRIDES for a in ("--set", o)]])
+                              "--set", HARDWARE_STUDIES["test2_grasp"],
+                              *[a for o in OVERRIDES for a in ("--set", o)]])
     assert result.exit_code == 0, result.output
     result = cli.invoke(app, ["report", "test2_grasp", "--run", "measured", "--root", str(where),
                               "--format", "md,csv,html"])
@@ -292,7 +277,7 @@ def test_share_of_large_threshold_errors_counts_the_records(sim_root):
     """§9.3's share of lateral thresholds off by > 50 %: k of n uncensored proposed block-A ramps from the
     records (pandas), equal to the agreement table's count and shown with its Wilson interval (a share of
     ``range(k)`` summed 0 + 1 + ... + (k - 1) successes instead of k)."""
-    a = _both(sim_root, "test3_disturbance").query(
+    a = both_readings(sim_root, "test3_disturbance").query(
         "belief_error == 'paper' and planner == 'heuristic' and block == 'A'")
     m, p = a["threshold_measured_n"].astype(float), a["threshold_pred_n"].astype(float)
     ok = (m > 0) & p.notna() & ~a["threshold_censored"].astype("boolean").fillna(False).astype(bool)
@@ -312,7 +297,7 @@ def _md_cells(root, study) -> list[str]:
             for c in line.strip("|").split("|")]
 
 
-@pytest.mark.parametrize("study", sorted(STUDIES))
+@pytest.mark.parametrize("study", sorted(HARDWARE_STUDIES))
 def test_tables_name_planners_and_outcomes_in_the_vocabulary_words(sim_root, study):
     """No table shows a record id (``heuristic``, ``no_pso``, ``failure_drop``) where the vocabulary has
     words for it; the outcome class ``success`` is the paper's "marginal success"."""
@@ -330,7 +315,7 @@ CONSTANTS = {"0.0886", *(f"{m.mu_s / m.mu_k:.2f}" for m in FAMILIES.values())}
 μ_s/μ_k of each material (the safety factor below which a slip is not arrested)."""
 
 
-@pytest.mark.parametrize("study", sorted(STUDIES))
+@pytest.mark.parametrize("study", sorted(HARDWARE_STUDIES))
 def test_every_result_in_the_opening_paragraph_is_in_a_table(sim_root, study):
     """Each decimal number the opening paragraph cites is a value of one of the report's tables (as
     printed, or in % of a fraction), a gap "x pp" the difference of two values of one column; no table
@@ -341,11 +326,11 @@ def test_every_result_in_the_opening_paragraph_is_in_a_table(sim_root, study):
     from graspcampaign.analysis.vocabulary import SHAPES
 
     shapes = "|".join(re.escape(t.label) for t in SHAPES.values())
-    assert not re.search(rf"\d \w* ?(on|for) the ({shapes})", _finding(sim_root, study))
+    assert not re.search(rf"\d \w* ?(on|for) the ({shapes})", opening(sim_root / study / "default"))
     folder = sim_root / study / "default" / "report" / "tables"
     columns = [v[np.isfinite(v)] for f in map(pd.read_csv, folder.glob("*.csv")) for c in f
                for v in [pd.to_numeric(f[c], errors="coerce").dropna().to_numpy(float)]]
-    for token, pp in set(re.findall(r"(?<![§\d.])(\d+\.\d+)( pp)?", _finding(sim_root, study))):
+    for token, pp in set(re.findall(r"(?<![§\d.])(\d+\.\d+)( pp)?", opening(sim_root / study / "default"))):
         if token in CONSTANTS:
             continue
         d, t = len(token.split(".")[1]), float(token)
@@ -366,7 +351,7 @@ def test_test3_threshold_columns_carry_their_unit_and_equal_the_records(sim_root
     scipy's fit of measured on predicted over the uncensored proposed ramps."""
     from scipy.stats import linregress
 
-    a = _both(sim_root, "test3_disturbance").query(
+    a = both_readings(sim_root, "test3_disturbance").query(
         "belief_error == 'paper' and planner == 'heuristic' and block == 'A'")
     m, p = a["threshold_measured_n"].astype(float), a["threshold_pred_n"].astype(float)
     ramps = a.assign(m=m)[(m > 0) & p.notna() & ~a["threshold_censored"].astype("boolean").fillna(False)]
@@ -417,19 +402,19 @@ def test_outcome_shares_are_named_as_shares_of_each_class(sim_root):
     """test2_outcomes.csv: the share of the proposed planner's trials in each primary outcome class is
     ``rate_pct`` (with ``wilson_*`` and ``paper_pct``), not ``success_pct``: only two of the classes are
     successes."""
-    ex = _both(sim_root, "test2_grasp").query("belief_error == 'paper' and planner == 'heuristic'")
+    ex = both_readings(sim_root, "test2_grasp").query("belief_error == 'paper' and planner == 'heuristic'")
     table = read_table(sim_root / "test2_grasp" / "default", "test2_outcomes").set_index("outcome")
     shares = 100 * ex["outcome"].value_counts(normalize=True)
     assert table["rate_pct"].to_dict() == pytest.approx({k: shares.get(k, 0.0) for k in table.index})
     assert not {"success_pct", "paper_success_pct"} & set(table.columns)
 
 
-@pytest.mark.parametrize("study", sorted(STUDIES))
+@pytest.mark.parametrize("study", sorted(HARDWARE_STUDIES))
 def test_the_findings_rates_carry_their_trial_counts(sim_root, study):
     """The opening sentence gives the first planners' and the proposed planner's rates with the number
     of executed trials each is of (a 40 % of 5 reads otherwise as a 40 % of 500), counted here from the
     records; the other planners' rates are left to Table 7 / 9, which it names (it listed them all)."""
-    text, both = _finding(sim_root, study), _both(sim_root, study)
+    text, both = opening(sim_root / study / "default"), both_readings(sim_root, study)
     head = text.split(". ")[0]
     rates = both[both["belief_error"] == "paper"].groupby("planner")["success"].agg(["mean", "size"])
     tops = rates.index[rates["mean"] == rates["mean"].max()]

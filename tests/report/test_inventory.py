@@ -203,14 +203,13 @@ def test_real_reduced_runs_state_their_records(sim_root):
     (Kept here, beside the other checks of the shared tree, rather than in
     test_quasi_static_report.py: a module naming ``sim_root`` runs in that tree's xdist scope
     (tests/conftest.py), and the quasi-static module's own synthetic runs need no place there.)"""
-    from synthetic_runs import ok_records
-    from test_quasi_static_report import finding
+    from synthetic_runs import ok_records, opening
 
     for study in ("baseline_grid", "grip_laws"):
         store = RunStore(sim_root / study / "default")
         ok = ok_records(store)
         ok = ok[ok["grip_law"] == "paper"]
-        text = finding(store)
+        text = opening(store)
         if study == "baseline_grid":
             released = int((ok["n_released"] >= 1).sum())
             assert f"released in {released} of {len(ok)} triples, {100 * released / len(ok):.1f}%" in text

@@ -80,9 +80,9 @@ def test_the_cost_ratio_opening_says_the_verdicts_its_table_rows_hold():
     speed target likewise): one verdict per value now, the rows'. A row reworded by hand shows in the
     opening as worded (the verdict's word, the text before its reason; the target row's words whole); the
     median repeats, context in the table (not compared), are judged against the target once, there."""
-    from test_sensitivity_mesh_surrogate_report import _timings
+    from synthetic_runs import cost_ratio_run
 
-    run = _timings([1.1, 1.2, 1.3], [1.1, 1.2, 1.3])
+    run = cost_ratio_run([1.1, 1.2, 1.3], [1.1, 1.2, 1.3])
     table = run.tables["cost_ratio"].set_index("quantity")
     assert table.loc["cost ratio, 1750 / 144 nodes, fastest repeats", "verdict"] == \
         "differs by −0.75: paper outside our 95% CI"  # 1.20 − 1.95, the trials' interval 1.10–1.30

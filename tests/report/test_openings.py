@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import re
 
+from synthetic_runs import code_for_words
+
 #: characters of the "What this shows" paragraph, about five sentences (docs/decisions.md, *Short
 #: openings*): the longest today is test3_disturbance's, ~870 in the reduced run, ~850 at paper scale
 LIMIT = 900
@@ -40,26 +42,6 @@ def test_every_table_an_opening_points_to_is_printed_below_it(sim_root):
         printed = set(re.findall(r"\(`tables/([a-z0-9_]+)\.csv`\)", md))
         assert named, f"{study}: the opening points to no table"
         assert named <= printed, f"{study}: the opening points to {named - printed}, not in its report"
-
-
-#: what a backticked name in prose may be: a decision or the page's own files, or a record column (or one
-#: of its values) a reader needs to find in a table, in parentheses after the words naming it
-FILES = re.compile(r"docs/decisions\.md|(tables|figures)/[\w.]+")
-COLUMN = re.compile(r"[a-z][a-z0-9_]*")
-#: or a command a reader types, as typed (an ingested run's "Filled by `graspcampaign ingest`")
-COMMAND = re.compile(r"graspcampaign [a-z]+")
-
-
-def code_for_words(text: str) -> list[str]:
-    """The backticked names in ``text`` that stand for words: not a decision, the page's files or a
-    command, nor a column in parentheses (an ingested run's `source = virtual` was one)."""
-    bad = []
-    for m in re.finditer(r"`([^`]*)`", text):
-        depth = text[:m.start()].count("(") - text[:m.start()].count(")")
-        if not (FILES.fullmatch(m.group(1)) or COMMAND.fullmatch(m.group(1))
-                or (COLUMN.fullmatch(m.group(1)) and depth > 0)):
-            bad.append(f"{m.group(0)} in {text[:80]!r}")
-    return bad
 
 
 def _captions(md: str) -> list[str]:

@@ -23,6 +23,7 @@ from synthetic_runs import (
     make_run,
     md_table,
     ok_records,
+    opening,
     quasi_static_outputs,
     read_table,
     report_md,
@@ -68,18 +69,13 @@ def figures(store) -> set[str]:
     return {p.stem for p in (store.path / "report" / "figures").glob("*.png")}
 
 
-def finding(store) -> str:
-    """The report's opening "What this shows" paragraph."""
-    return report_md(store).split("## What this shows\n\n", 1)[1].split("\n", 1)[0]
-
-
 def test_grid_opening_paragraph_numbers_are_the_records(runs):
     """The opening gives the main finding and the mechanism in a few numbers from the records and
     points to the tables for the rest (it listed every planner's bound, the one-fingertip passes, the
     design-limit counts and the gate's removals, each printed by a table below)."""
     store = runs["grid"]
     ok = ok_records(store)
-    text = finding(store)
+    text = opening(store)
     released = int((ok["n_released"] >= 1).sum())
     assert f"(released in {released} of {len(ok)} triples, {100 * released / len(ok):.1f}%)" in text
     # the main finding first: the proposed planner's rate and Wilson interval (statsmodels), then why
@@ -195,7 +191,7 @@ def test_grip_laws_mcnemar_pairs_within_each_law(runs):
         if n10 + n01 and stats.binomtest(n10, n10 + n01).pvalue < 0.05:
             won, lost = won + (n10 > n01), lost + (n10 < n01)
     assert (f"(McNemar, exact p < 0.05; table mcnemar), it beats {won} and loses to {lost} of "
-            f"{len(table)} planner–law pairs.") in finding(store)
+            f"{len(table)} planner–law pairs.") in opening(store)
 
 
 def test_grip_laws_rates_readings_checks_and_need(runs):
@@ -230,7 +226,7 @@ def test_grip_laws_rates_readings_checks_and_need(runs):
     oracle = ok[ok["grip_law"] == "oracle"]
     capped = oracle["grip_capped"].astype(bool)
     assert need.xs("oracle")["holdable"].to_dict() == (~capped).groupby(oracle["planner"]).sum().to_dict()
-    text = finding(store)
+    text = opening(store)
     # the "Why" (and its count of triples no equal grip holds) only where the proposed planner loses a
     # pair: the other planner's discordant successes outnumber its own at exact (binomial) p < 0.05
     pairs = read_table(store, "mcnemar")
@@ -274,13 +270,13 @@ def test_successes_beyond_the_design_limit_are_counted_in_the_finding_and_captio
                               and f"{figure}.png" in line)  # the rates only: not a third copy
         assert "design limit" not in figure_caption and figure_caption.endswith(
             "black marks are the paper's (Algorithm 2) values](figures/" + f"{figure}.png)")
-    opening, won = finding(runs["laws"]), ok_records(runs["laws"]).query("success")["delta_max_mm"]
+    text, won = opening(runs["laws"]), ok_records(runs["laws"]).query("success")["delta_max_mm"]
     # the paper's rates as the success table prints them (campaigns/baseline_grid.yaml; was "40%")
-    assert opening.startswith("The paper's ordering (Fig. 18: proposed H(G) 67.6%, antipodal 40.0%, "
-                              "random 11.0%, centroid 0.0%)")
+    assert text.startswith("The paper's ordering (Fig. 18: proposed H(G) 67.6%, antipodal 40.0%, "
+                           "random 11.0%, centroid 0.0%)")
     assert (f"{(won > 1).sum()} of the {len(won)} successes lie deeper than the paper's 1 mm design limit "
-            "(per law: table design_limit).") in opening
-    assert opening.count("design limit") == 1
+            "(per law: table design_limit).") in text
+    assert text.count("design limit") == 1
 
 
 def test_the_papers_ordering_is_claimed_only_where_our_rates_order_the_planners_strictly(runs, tmp_path):
@@ -289,7 +285,7 @@ def test_the_papers_ordering_is_claimed_only_where_our_rates_order_the_planners_
     paper = ["heuristic", "antipodal", "random", "centroid"]  # Fig. 18, highest first
     rates = ok_records(runs["laws"]).groupby(["grip_law", "planner"])["success"].mean().unstack()
     strict = [label("grip_law", law) for law in LAWS if (rates.loc[law, paper].diff().iloc[1:] < 0).all()]
-    assert f") appears under {fmt.listed(strict, 'none of the laws')}: the proposed" in finding(runs["laws"])
+    assert f") appears under {fmt.listed(strict, 'none of the laws')}: the proposed" in opening(runs["laws"])
 
     def fail(factors, rng):  # every trial fails its residual check, so τ_T removes no pass either
         return {**quasi_static_outputs(factors, rng), "success": False, "failure_check": "residual",
@@ -300,9 +296,9 @@ def test_the_papers_ordering_is_claimed_only_where_our_rates_order_the_planners_
                       "grip_law": LAWS}, seeds=2, paper=None, outputs=fail,
                      method_factors=["planner", "grip_law"])
     build_reports(["grip_laws"], root=tmp_path / "results")
-    assert ") appears under none of the laws: the proposed" in finding(store)
-    assert "it beats 0 and loses to 0 of 12 planner–law pairs" in finding(store)  # no pair differs
-    assert "τ_T binds" not in finding(store)
+    assert ") appears under none of the laws: the proposed" in opening(store)
+    assert "it beats 0 and loses to 0 of 12 planner–law pairs" in opening(store)  # no pair differs
+    assert "τ_T binds" not in opening(store)
 
 
 def test_the_laws_that_show_the_papers_ordering_are_listed_in_english(tmp_path):
@@ -325,7 +321,7 @@ def test_the_laws_that_show_the_papers_ordering_are_listed_in_english(tmp_path):
     rates = ok_records(store).groupby(["grip_law", "planner"])["success"].sum().unstack()
     assert (rates[["heuristic", "antipodal", "random", "centroid"]].diff(axis=1).iloc[:, 1:] < 0).all().all()
     assert ") appears under Algorithm 2 (paper), slip-margin grip and oracle equal grip: the proposed" \
-        in finding(store)
+        in opening(store)
 
 
 def test_ablation_gains_its_grip_law_columns(runs):
@@ -338,7 +334,7 @@ def test_ablation_gains_its_grip_law_columns(runs):
     # says it, the opening does not (it said it beside ours, which the table prints)
     assert ("At the paper's 50 trials per variant its interval is roughly ±12 pp (Sec. 6.3)."
             in caption(store, "success_by_planner"))
-    assert "±12 pp" not in finding(store) and "Power" not in finding(store)
+    assert "±12 pp" not in opening(store) and "Power" not in opening(store)
     assert figures(store) == {"fig16_ablation", "h_epsilon"}
 
 
@@ -359,7 +355,7 @@ def test_ablation_finding_scopes_its_numbers_to_each_grip_law(runs):
     """Each grip law the paper did not run: its passes and its most frequent first failing check,
     from the records (it listed every law's cap, grip and check counts, which the tables print)."""
     store = runs["ablation"]
-    ok, text = ok_records(store), finding(store)
+    ok, text = ok_records(store), opening(store)
     said = []
     for law, words in (("slip", "slip-margin grip"), ("oracle", "oracle equal grip")):
         g = ok[ok["grip_law"] == law]
@@ -386,7 +382,7 @@ def test_ablation_opening_grip_counts_are_in_its_grip_need_table(runs):
     need = read_table(store, "grip_need").set_index(["grip_law", "planner"])
     assert need.loc[expected.index, expected.columns].to_dict() == expected.to_dict()
     assert need["n"].to_dict() == other.groupby(["grip_law", "planner"]).size().to_dict()
-    assert "per planner: tables grip_need and failure_checks." in finding(store)
+    assert "per planner: tables grip_need and failure_checks." in opening(store)
 
 
 def test_h_epsilon_histogram_counts_trials_in_whole_numbers(runs):

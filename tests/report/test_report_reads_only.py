@@ -10,40 +10,8 @@ instead of three times.
 
 from __future__ import annotations
 
-import os
-import shutil
-import subprocess
-import sys
-from pathlib import Path
-
 import pytest
-
-import graspcampaign
-
-STUDIES = ("surrogate", "test1_bench")
-FORMATS = ["md", "csv", "json", "html"]  # the formats the sim_root fixture writes (conftest.py)
-
-
-_FRESH: dict = {}
-
-
-def fresh_reports(sim_root, tmp_path_factory):
-    """``(root, completed process)``: the runs' records copied without their reports and reported
-    again by ``build_reports`` (SVG figures) in a new interpreter, which prints the sklearn modules
-    it holds; written once per session (test_test1_report.py reads its SVG figures too)."""
-    if sim_root not in _FRESH:
-        root = tmp_path_factory.mktemp("fresh") / "results"
-        for study in STUDIES:
-            shutil.copytree(sim_root / study / "default", root / study / "default",
-                            ignore=shutil.ignore_patterns("report"))
-        code = ("import sys\nfrom graspcampaign.report.build import build_reports\n"
-                f"batch = build_reports(root={str(root)!r}, formats={FORMATS!r}, figure_format='svg')\n"
-                "assert batch.failed == [], batch.failed\n"
-                "print(sorted(m for m in sys.modules if m == 'sklearn' or m.startswith('sklearn.')))\n")
-        env = {**os.environ, "PYTHONPATH": str(Path(graspcampaign.__file__).parents[1])}  # this tree
-        _FRESH[sim_root] = root, subprocess.run([sys.executable, "-c", code], capture_output=True,
-                                                text=True, timeout=600, env=env)
-    return _FRESH[sim_root]
+from synthetic_runs import FRESH_STUDIES, fresh_reports
 
 
 @pytest.fixture(scope="module")
@@ -51,7 +19,7 @@ def fresh(sim_root, tmp_path_factory):
     return fresh_reports(sim_root, tmp_path_factory)
 
 
-@pytest.mark.parametrize("study", STUDIES)
+@pytest.mark.parametrize("study", FRESH_STUDIES)
 def test_two_reports_of_the_same_records_give_identical_tables(sim_root, fresh, study):
     root, out = fresh
     assert out.returncode == 0, out.stderr[-2000:]

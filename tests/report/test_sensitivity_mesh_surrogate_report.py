@@ -7,7 +7,7 @@ import numpy as np
 import pandas as pd
 import pytest
 from statsmodels.stats.proportion import proportion_confint
-from synthetic_runs import md_table, read_table, report_md
+from synthetic_runs import cost_ratio_run, md_table, read_table, report_md
 
 from graspcampaign.campaign.compose import compose_study
 from graspcampaign.campaign.records import RunStore
@@ -377,27 +377,6 @@ def test_the_gate_sentence_counts_the_deep_contacts_of_the_trials_read():
             "reading in 2 of 5; table gate_removed; ") in text
 
 
-def _timings(fastest, median, min_column=True, itself=((1.0, 1.0),)):
-    """A resolution panel: per trial on 1750 nodes, and on the 144-node reference mesh against itself
-    (``itself``), the two meshes' fastest and median repeats [s] in the given ratios (the reference
-    mesh's 1 ms fastest, 2 ms median); its cost_ratio table computed, as the opening reads it."""
-    from types import SimpleNamespace
-
-    from graspcampaign.report.studies.mesh_resolution import COST
-
-    per_mesh = {144: itself, 1750: zip(fastest, median, strict=True)}
-    rows = [{"panel": "resolution", "status": "ok", "nodes": n, "reference_nodes": 144,
-             "eval_time_min_s": 1e-3 * f, "eval_time_reference_min_s": 1e-3, "eval_time_s": 2e-3 * m,
-             "eval_time_reference_s": 2e-3, "cost_ratio_vs_reference": f if min_column else m}
-            for n, ratios in per_mesh.items() for f, m in ratios]
-    records = pd.DataFrame(rows)
-    if not min_column:  # a run stored before the fastest repeat was recorded: its ratio is of medians
-        records = records.drop(columns=["eval_time_min_s", "eval_time_reference_min_s"])
-    run = Run(records, {}, SimpleNamespace(runtime_ratio_1750_144=1.95, runtime_ratio_target=1.5))
-    run.tables["cost_ratio"] = COST.compute(run)
-    return run
-
-
 DESIGN = (" neither stage's work depends on the mesh size")
 TOOL = ", not a paper value; "
 
@@ -434,7 +413,7 @@ def test_the_cost_ratio_finding_reads_the_tables_verdicts_and_the_median_rows_ar
     value reads the same as printed. Table values recomputed from the records with pandas."""
     from graspcampaign.report.studies.mesh_resolution import COST, finding
 
-    run = _timings(fastest, median, min_column)
+    run = cost_ratio_run(fastest, median, min_column)
     top = run.records[run.records["nodes"] == 1750]
     values = {"median": (top["eval_time_s"] / top["eval_time_reference_s"]).median()}
     if min_column:
@@ -471,7 +450,7 @@ def test_growth_needs_an_interval_above_1_and_above_the_reference_mesh_against_i
     of two trials; the bounds are the trials' extremes, a percentile bootstrap's at 3 trials."""
     from graspcampaign.report.studies.mesh_resolution import finding
 
-    run = _timings(fastest, fastest, itself=itself)
+    run = cost_ratio_run(fastest, fastest, itself=itself)
     assert f"): {expected}:" in finding(run)
 
 
@@ -483,7 +462,7 @@ def test_the_cost_ratio_finding_takes_the_verdict_rules_word_and_nothing_else(mo
     from graspcampaign.report import format as fmt
     from graspcampaign.report.studies.mesh_resolution import finding
 
-    before, rule = finding(_timings([1.50, 1.503, 1.51], [1.48, 1.49, 1.50])), fmt.verdict
+    before, rule = finding(cost_ratio_run([1.50, 1.503, 1.51], [1.48, 1.49, 1.50])), fmt.verdict
     assert "(paper 1.95: differs by −0.45; within this tool's speed target ≤ 1.50 at its " in before
 
     def reworded(*args, **kwargs):
@@ -491,7 +470,7 @@ def test_the_cost_ratio_finding_takes_the_verdict_rules_word_and_nothing_else(mo
         return judged._replace(word=judged.word.upper(), why=judged.why.replace(" ", "_"))
 
     monkeypatch.setattr(fmt, "verdict", reworded)
-    assert finding(_timings([1.50, 1.503, 1.51], [1.48, 1.49, 1.50])) == before.replace(
+    assert finding(cost_ratio_run([1.50, 1.503, 1.51], [1.48, 1.49, 1.50])) == before.replace(
         "differs by −0.45", "DIFFERS BY −0.45").replace(
             "within this tool's speed target ≤ 1.50 at its printed precision",
             "WITHIN THIS TOOL'S SPEED TARGET ≤ 1.50 AT ITS PRINTED PRECISION")

@@ -1,11 +1,11 @@
 """mesh_resolution's cost-ratio target ≤ 1.5 is this tool's speed target (issue 7's), not the paper's.
 
-Records as the kind writes them (``_timings`` of the mesh report tests); the report's words by hand.
+Records as the kind writes them (``cost_ratio_run`` of synthetic_runs.py); the report's words by hand.
 """
 
 from __future__ import annotations
 
-from test_sensitivity_mesh_surrogate_report import _timings
+from synthetic_runs import cost_ratio_run
 
 
 def test_the_cost_ratio_target_is_this_tools_not_the_papers():
@@ -15,7 +15,7 @@ def test_the_cost_ratio_target_is_this_tools_not_the_papers():
     they name it as this tool's, with no paper value, and no row compares it with the paper."""
     from graspcampaign.report.studies.mesh_resolution import COST, finding
 
-    run = _timings([1.1, 1.2, 1.3], [1.1, 1.2, 1.3])
+    run = cost_ratio_run([1.1, 1.2, 1.3], [1.1, 1.2, 1.3])
     table = COST.compute(run)
     target = table[table["quantity"].str.contains("target")]
     assert target["quantity"].tolist() == [

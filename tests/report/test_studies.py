@@ -13,8 +13,16 @@ import pandas as pd
 import pytest
 from scipy import stats as sps
 from statsmodels.stats.proportion import proportion_confint
-from synthetic_runs import SHAPES, make_run, md_table, ok_records, quasi_static_outputs, read_table, report_md
-from test_build import study_paper_block
+from synthetic_runs import (
+    SHAPES,
+    make_run,
+    md_table,
+    ok_records,
+    quasi_static_outputs,
+    read_table,
+    report_md,
+    study_paper_block,
+)
 
 from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
 from graspcampaign.report.build import build_reports

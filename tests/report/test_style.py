@@ -9,6 +9,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
+from synthetic_runs import half_an_em
 
 from graspcampaign.analysis.vocabulary import VOCABULARIES, label
 from graspcampaign.report.style import RC, bars, plain_log, tick
@@ -145,12 +146,6 @@ def test_plain_log_levels_closer_than_a_label_leave_the_later_one_blank():
     assert list(ax.get_xticks()) == levels  # the 390 tick mark stays
     boxes = [t.get_window_extent(fig.canvas.get_renderer()) for t in shown]
     assert min(b.x0 - a.x1 for a, b in zip(boxes, boxes[1:], strict=False)) >= half_an_em(shown[0]), boxes
-
-
-def half_an_em(text) -> float:
-    """Half an em of ``text``'s font in display pixels: the least gap between two neighbouring labels
-    (a word space is 0.32 em in DejaVu Sans; labels closer than that read as one phrase)."""
-    return 0.5 * text.get_fontsize() * text.figure.dpi / 72
 
 
 def test_grouped_bars_name_the_trials_under_each_group():

@@ -14,6 +14,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Rectangle
+from synthetic_runs import draw_all
 
 from graspcampaign.report import style
 from graspcampaign.report.render import Run
@@ -89,9 +90,7 @@ def test_fig24c_draws_a_family_line_only_beside_other_families(monkeypatch, fami
 def test_no_line_of_fig23c_runs_through_its_legend(sim_root):
     """Fig. 23c's legend sat at the upper right, where the 5% review line ran through its last entry:
     no vertical line of the panel (our mean, the paper's, the review threshold) crosses the legend box."""
-    from test_figure_text import _draw_all
-
-    fig = _draw_all(sim_root, "test1_bench")["fig23_normal_law"]
+    fig = draw_all(sim_root, "test1_bench")["fig23_normal_law"]
     ax = next(a for a in fig.axes if a.get_title("left").startswith("(c)"))
     renderer = fig.canvas.get_renderer()
     box = ax.get_legend().get_window_extent(renderer)
@@ -105,9 +104,7 @@ def test_no_trace_of_fig24b_runs_through_its_legend(sim_root):
     the end of the stroke: the drop ran through "virtual-rig ft (normal-lab)". No drawn point of any line
     of the panel lies inside the legend box (screen pixels)."""
     import numpy as np
-    from test_figure_text import _draw_all
-
-    fig = _draw_all(sim_root, "test1_bench")["fig24_tangential"]
+    fig = draw_all(sim_root, "test1_bench")["fig24_tangential"]
     ax = next(a for a in fig.axes if a.get_title("left").startswith("(b)"))
     renderer = fig.canvas.get_renderer()
     box = ax.get_legend().get_window_extent(renderer)

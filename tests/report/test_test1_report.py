@@ -13,8 +13,7 @@ import pandas as pd
 import pytest
 from statsmodels.stats.proportion import proportion_confint
 from statsmodels.stats.weightstats import DescrStatsW
-from synthetic_runs import read_table, report_md
-from test_report_reads_only import fresh_reports
+from synthetic_runs import fresh_reports, read_table, report_md
 
 from graspcampaign.analysis.vocabulary import label
 from graspcampaign.campaign.compose import compose_study

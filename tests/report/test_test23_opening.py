@@ -11,30 +11,37 @@ import statistics
 import pandas as pd
 import pytest
 from statsmodels.stats.proportion import proportion_confint
-from synthetic_runs import report_md
-from test_hardware_report import STUDIES, _both, _finding, _paper
+from synthetic_runs import (
+    HARDWARE_STUDIES,
+    TABLE4_MU,
+    below_arrest,
+    both_readings,
+    opening,
+    report_md,
+    study_paper_block,
+)
 
 
-@pytest.mark.parametrize("study", sorted(STUDIES))
+@pytest.mark.parametrize("study", sorted(HARDWARE_STUDIES))
 def test_the_opening_counts_the_planners_whose_success_differs_from_the_paper(sim_root, study):
     """A planner differs when the paper's rate lies outside our Wilson 95 % interval by more than the
     paper's last printed digit (0.1 pp), the verdict rule; counted here from the records."""
-    ok = _both(sim_root, study).query("belief_error == 'paper'").groupby("planner")["success"]
+    ok = both_readings(sim_root, study).query("belief_error == 'paper'").groupby("planner")["success"]
     table = "table7" if study == "test2_grasp" else "table9"
-    paper = _paper(study)[table]
+    paper = study_paper_block(study)[table]
     differs = []
     for q, g in ok:
         low, high = (100 * v for v in proportion_confint(g.sum(), g.size, method="wilson"))
         differs.append(not low - 0.1 <= paper[q]["success_pct"] <= high + 0.1)
     assert (f"success differs from the paper's for {sum(differs)} of {len(differs)} planners "
-            f"(Table {table[5:]}). ") in _finding(sim_root, study)
+            f"(Table {table[5:]}). ") in opening(sim_root / study / "default")
 
 
-@pytest.mark.parametrize("study", sorted(STUDIES))
+@pytest.mark.parametrize("study", sorted(HARDWARE_STUDIES))
 def test_the_opening_leaves_the_flags_to_their_table_and_their_reasons_to_its_caption(sim_root, study):
     """The flags' precision is the classifier table's (it was restated with a reason in the opening);
     why the residual flag cannot beat the base rate is now said in that table's caption."""
-    finding, page = _finding(sim_root, study), report_md(sim_root / study / "default")
+    finding, page = opening(sim_root / study / "default"), report_md(sim_root / study / "default")
     assert "`predicted_stable`" not in finding and "precision" not in finding
     name = "test2_classifier" if study == "test2_grasp" else "test3_retention_classifier"
     caption = page.split(f"(`tables/{name}.csv`)")[0].rsplit("\n**", 1)[1]
@@ -45,26 +52,16 @@ def test_the_opening_leaves_the_flags_to_their_table_and_their_reasons_to_its_ca
 def test_test3_opening_gives_the_drop_rate_and_table8_says_when_blocks_a_and_c_succeed(sim_root):
     """The proposed planner's drop rate (records) beside the paper's; the proof-load condition of
     blocks A and C, once in the opening, qualifies Table 8 in its caption."""
-    ex = _both(sim_root, "test3_disturbance").query("belief_error == 'paper' and planner == 'heuristic'")
+    ex = both_readings(sim_root, "test3_disturbance").query(
+        "belief_error == 'paper' and planner == 'heuristic'")
     drop = 100 * (ex["outcome"] == "failure_drop").mean()
-    paper = _paper("test3_disturbance")["table9"]["heuristic"]["drop_pct"]
+    paper = study_paper_block("test3_disturbance")["table9"]["heuristic"]["drop_pct"]
     # named: after the sentence on its grip beside the first planner's, "It" read as either
-    assert f"The proposed planner drops {drop:.1f}% of trials (paper {paper:.1f}%)" in _finding(
-        sim_root, "test3_disturbance")
+    assert f"The proposed planner drops {drop:.1f}% of trials (paper {paper:.1f}%)" in opening(
+        sim_root / "test3_disturbance" / "default")
     page = report_md(sim_root / "test3_disturbance" / "default")
     caption = page.split("(`tables/table8.csv`)")[0].rsplit("\n**", 1)[1]
     assert "blocks A and C succeed only when the threshold reaches the proof load" in caption
-
-
-# Table 4 of the paper (μ_s, μ_k per material family), typed from its text
-TABLE4_MU = {"gel": (0.772, 0.544), "silicone_soft": (0.619, 0.440), "bio_foam": (0.684, 0.506),
-             "silicone_ref": (0.509, 0.364)}
-
-
-def below_arrest(dropped: pd.DataFrame) -> int:
-    """How many of ``dropped`` hold a recorded SF (``sf_actual``) below their material's μ_s/μ_k."""
-    return sum(sf < TABLE4_MU[m][0] / TABLE4_MU[m][1] for m, sf in zip(dropped["material"],
-                                                                       dropped["sf_actual"], strict=True))
 
 
 def test_test3_opening_defines_sf_and_derives_the_arrest_bound_from_its_materials(sim_root):
@@ -74,7 +71,8 @@ def test_test3_opening_defines_sf_and_derives_the_arrest_bound_from_its_material
     planner's materials (the records), from the paper's Table 4. It then said "drops X%: no slip is
     arrested below …", a cause it never checked: the dropped trials whose recorded SF (``sf_actual``)
     lies below their material's μ_s/μ_k are now counted (and the cause given only where some are)."""
-    ex = _both(sim_root, "test3_disturbance").query("belief_error == 'paper' and planner == 'heuristic'")
+    ex = both_readings(sim_root, "test3_disturbance").query(
+        "belief_error == 'paper' and planner == 'heuristic'")
     ratios = [TABLE4_MU[m][0] / TABLE4_MU[m][1] for m in set(ex["material"])]
     low, high = f"{min(ratios):.2f}", f"{max(ratios):.2f}"
     bound = low if low == high else f"{low}–{high}"
@@ -82,7 +80,7 @@ def test_test3_opening_defines_sf_and_derives_the_arrest_bound_from_its_material
     below = below_arrest(dropped)
     assert below > 0  # the reference run's drops: the cause holds there
     assert (f"%): {below} of {len(dropped)} below the safety factor μ_s/μ_k = {bound} "
-            "that arrests a slip. ") in _finding(sim_root, "test3_disturbance")
+            "that arrests a slip. ") in opening(sim_root / "test3_disturbance" / "default")
 
 
 PAPER7 = {"heuristic": 77.8, "centroid": 44.9}  # the paper's Table 7 success [%], from its text
@@ -95,7 +93,6 @@ def _opening_of(trials: dict[str, tuple[list[bool], list[float], list[bool]]], t
     counts and rates, the paper's rates and statsmodels' Wilson intervals, none marked as differing
     (``table`` applied to them); table test2_belief's medians of G_geo and shares of capped grips (``belief``
     applied to them)."""
-    import pandas as pd
 
     from graspcampaign.report.render import Run
     from graspcampaign.report.studies.opening import finding

@@ -13,8 +13,7 @@ import math
 import pandas as pd
 import pytest
 from statsmodels.stats.proportion import proportion_confint
-from synthetic_runs import read_table
-from test_hardware_report import _both
+from synthetic_runs import both_readings, read_table
 
 RESIDUAL, SF = "predicted_stable_residual", "predicted_stable"
 
@@ -34,7 +33,7 @@ def run(sim_root):
 
 @pytest.fixture
 def trials(sim_root):
-    return _both(sim_root, "test2_grasp").query("belief_error == 'paper'")
+    return both_readings(sim_root, "test2_grasp").query("belief_error == 'paper'")
 
 
 def test_each_group_c_row_holds_its_sections_trials_and_its_value_beside_the_residual_flag_only(run, trials):
@@ -124,7 +123,6 @@ def test_fig_31c_draws_the_believed_sf_flag_with_ours_alone():
     """Fig. 31c's panel draws `predicted_stable` (§9.5's believed SF > 1); its legend printed §8.4's
     accuracy, precision and recall beside ours ("paper 0.81"), scores of the residual flag. The caption
     says where the paper's scores stand."""
-    import inspect
 
     import matplotlib as mpl
     from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -142,7 +140,7 @@ def test_fig_31c_draws_the_believed_sf_flag_with_ours_alone():
     r.memo("hardware", lambda: records)
     figure = next(i for i in spec_for("test2_grasp", "").items if getattr(i, "name", None) ==
                   "fig31_planner_comparison")
-    panel = inspect.getclosurevars(figure.draw).nonlocals["specs"][-1]  # style.panels' last panel
+    panel = figure.draw.specs[-1]  # style.panels' last panel
     with mpl.rc_context(style.RC):
         fig = Figure()
         FigureCanvasAgg(fig)

@@ -8,40 +8,25 @@ import re
 import numpy as np
 import pandas as pd
 import pytest
+from virtual_exports import virtual_run
 
 from graspcampaign.analysis import hardware as analysis
 from graspcampaign.rig import protocol
 from graspcampaign.rig.ingest import IngestError, validate_records
-from graspcampaign.rig.plan import predict_trial
 from graspcampaign.rig.record_schema import record_columns
-from graspcampaign.rig.virtual import virtual_trial
-
-
-def _virtual(schedule: pd.DataFrame,
-             n_executed: int) -> tuple[pd.DataFrame, pd.DataFrame, pd.DataFrame]:
-    rows = pd.concat([schedule[schedule["rig_fault"] | (schedule["attempt"] == 2)],
-                      schedule[~schedule["rig_fault"] & (schedule["attempt"] == 1)]
-                      .head(n_executed)])
-    rows = rows.sort_values("run_order")
-    preds = pd.DataFrame([predict_trial(r) for r in rows.to_dict("records")])
-    meas = pd.DataFrame([virtual_trial(r, p, np.random.default_rng(i)) for i, (r, p) in
-                         enumerate(zip(rows.to_dict("records"), preds.to_dict("records"),
-                                       strict=True))])
-    meas.insert(0, "trial_id", rows["trial_id"].to_numpy())
-    return rows.reset_index(drop=True), preds, meas
 
 
 @pytest.fixture(scope="module")
 def t2():
     schedule = protocol.test2_schedule(0)
-    rows, preds, meas = _virtual(schedule, 150)
+    rows, preds, meas = virtual_run(schedule, 150)
     return schedule, rows, preds, meas
 
 
 @pytest.fixture(scope="module")
 def t3():
     schedule = protocol.test3_schedule(0)
-    rows, preds, meas = _virtual(schedule, 120)
+    rows, preds, meas = virtual_run(schedule, 120)
     return schedule, rows, preds, meas
 
 

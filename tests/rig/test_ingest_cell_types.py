@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pandas as pd
 import pytest
-from test_ingest import _virtual
+from virtual_exports import virtual_run
 
 from graspcampaign.rig import protocol
 from graspcampaign.rig.ingest import IngestError, validate_records
@@ -23,7 +23,7 @@ CASES = {  # column, typed cell, the problem the message names
 @pytest.fixture(scope="module")
 def records():
     schedule = protocol.test2_schedule(0)
-    _, _, meas = _virtual(schedule, 3)
+    _, _, meas = virtual_run(schedule, 3)
     rec = meas[record_columns("test2_grasp")].reset_index(drop=True)
     return schedule, rec, int((~rec["aborted"].astype(bool)).to_numpy().nonzero()[0][0])
 

@@ -245,13 +245,14 @@ def grouped_bars(ax, t: pd.DataFrame, x: str, hue: str | None = None,
 
 def panels(*specs):
     """A figure with a panel per spec: ``(table, query, key, title[, ylabel])``, :func:`rate_bars` of a
-    table the run has rendered, or ``draw(run, ax)``."""
+    table the run has rendered, or ``draw(run, ax)``; the specs stay readable as ``draw.specs``."""
     def draw(run, fig) -> None:
         for ax, s in zip(fig.subplots(1, len(specs)), specs, strict=True):
             if callable(s):
                 s(run, ax)
             else:
                 rate_bars(ax, run.tables[s[0]].query(s[1] or "index == index"), *s[2:])
+    draw.specs = specs
     return draw
 
 
