@@ -25,6 +25,15 @@ MODEL_LABEL = {"mlp": "MLP 64-32", "random_forest": "random forest"}  # as the r
 MIN_CLASS = 10  # the caption: no interval (and no verdict) below 10 held-out trials of either class
 
 
+def _si(seconds: float) -> str:
+    """A time to three significant digits with the SI prefix that puts it in [1, 1000): 0.00164 s
+    reads "1.64 ms" (the report's reader prints times so; written here from that rule alone)."""
+    for factor, prefix in ((1.0, ""), (1e-3, "m"), (1e-6, "µ"), (1e-9, "n")):
+        if float(f"{seconds:.2e}") >= factor:
+            return f"{seconds / factor:#.3g}".rstrip(".") + f" {prefix}s"
+    return f"{seconds:.3g} s"
+
+
 def tally(study: str, name: str, checked: int, bad: list[str]) -> None:
     SUMMARY.append((study, name, checked, len(bad)))
     print(f"{study} / {name}: {checked} checked, {len(bad)} mismatches")
@@ -221,8 +230,9 @@ def audit_surrogate(config) -> None:
     if len(mlp):
         ratio = pso / mlp["time_s"].iloc[0]
         said.append(f"is {float(f'{ratio:.3g}'):g}× faster than the brief PSO call")
-        # each call's paper time inside its own brackets (Appendix A: 0.06 ms a prediction, 0.99 s a call)
-        said += [f"; paper {ref['prediction_time_ms']:g} ms)", f"; paper {ref['pso_call_time_s']:g} s)"]
+        # each call's time and its paper time in one bracket (Appendix A: 0.06 ms a prediction, 0.99 s a call)
+        said += [f"({_si(mlp['time_s'].iloc[0])}; paper {ref['prediction_time_ms']:g} ms)",
+                 f"({_si(pso)}; paper {ref['pso_call_time_s']:g} s)"]
     passed = int(ok["residual_ok"].astype("boolean").fillna(False).sum())
     said += [f"passes the ‖R‖ check in {passed or 'none'} of {len(ok)}",
              f"deeper than its radius r = {1e3 * float(cfg['model']['fingertip_radius_m']):g} mm in "
