@@ -134,6 +134,23 @@ def test_the_test1_opening_says_smaller_fit_errors_only_where_the_claims_show_th
     assert "(C not identifiable at 1 mN, λ1 where Eq. 14 with Table 4's moduli puts it)" in text
 
 
+def test_the_wrench_opening_names_the_runs_grip_command_not_the_papers(sim_root):
+    """The opening said "Under the fixed 70 N grip command" for a run given
+    ``paper.finger_force_command_n=70``, whose fingers closed at the study's 65 N: the command it
+    names is the run's, the force every trace ends at (the closing ramp ends there)."""
+    import dataclasses
+
+    from graspcampaign.report.studies import wrench
+
+    store = RunStore(sim_root / "wrench_balance" / "default")
+    ends = store.read("tables/iterations").to_pandas().groupby("trial_id")["normal_force_1_n"].last()
+    assert ends.nunique() == 1  # one command for every friction level
+    paper = dataclasses.replace(study_paper("wrench_balance"), finger_force_command_n=70.0)
+    run = Run(store.read().to_pandas(), store.check(), paper, store)
+    render(spec_for("wrench_balance", ""), run, Document("", run.source, []))
+    assert wrench.finding(run).startswith(f"Under the fixed {ends.iloc[0]:.0f} N grip command ")
+
+
 def test_the_wrench_opening_gives_no_why_where_every_quantity_agrees(sim_root, monkeypatch):
     from graspcampaign.report.studies import wrench
 

@@ -72,9 +72,11 @@ def finding(run: Run) -> str:
     table, p = _per_mu(run), run.paper
     settle, (differ, judged) = table[table["quantity"].str.startswith("iteration")], fmt.differing(table)
     deep, r = _beyond_radius_from(run, _traces(run)), run.radius_mm
-    text = (f"Under the fixed {fmt.number(p.finger_force_command_n)} N grip command the force residual "
-            f"settles below τ_F = {fmt.number(_tau(run))} N at {settle['ours'].notna().sum()} of "
-            f"{len(settle)} friction levels (paper: all by iteration "
+    # the run's command (its records'), which each trace ends at; not the paper's, which a run may override
+    command = run.ok["grip_force_n"].median() if "grip_force_n" in run.ok else math.nan
+    text = (f"Under the fixed {f'{fmt.number(command)} N ' if command == command else ''}grip command the "
+            f"force residual settles below τ_F = {fmt.number(_tau(run))} N at "
+            f"{settle['ours'].notna().sum()} of {len(settle)} friction levels (paper: all by iteration "
             f"{p.residual_settles_within_iterations[1]}); {differ} of {judged} compared quantities differ "
             "(table wrench_balance).")
     physical = deep is not None and math.isnan(deep)  # every contact within the fingertip radius
