@@ -385,6 +385,22 @@ def test_provenance_marks_a_missing_entry_as_missing():
     assert not any("None" in v for v in lines.values())
 
 
+def test_provenance_says_which_paper_values_the_command_line_replaced():
+    """A run given ``paper.finger_force_command_n=70`` showed 70 as "paper" in its tables, with only the
+    design line's list of overrides to tell: a line of its own says the paper values are those given."""
+    import pandas as pd
+
+    from graspcampaign.report.render import Run, provenance
+
+    manifest = {"n_trials": 2, "config_hash": "abc",
+                "overrides": ["seeds=2", "paper.auc=0.7", "+paper.x=[1,2]"]}
+    lines = dict(provenance(Run(pd.DataFrame({"status": ["ok", "ok"]}), manifest)))
+    assert lines["Paper values"] == ("`paper.auc=0.7` and `+paper.x=[1,2]` given on the command line: the "
+                                     "paper's values shown here are those given, not the study file's")
+    manifest["overrides"] = ["seeds=2", "papers=1", "runner.n_jobs=2"]  # no key of the paper block
+    assert "Paper values" not in dict(provenance(Run(pd.DataFrame({"status": ["ok"]}), manifest)))
+
+
 @pytest.mark.parametrize("values, unit, expected", [
     ([5.0, 5.0], " mm", "5 mm"),             # a whole number without trailing zeros (was "5.00 mm")
     ([1683.2], " mm", "1683 mm"),            # no rounding left of the point (was "1680 mm")

@@ -20,6 +20,7 @@ from graspcampaign.campaign.provenance import (
     ingested,
     last_design,
     overrides_given,
+    paper_overrides,
     run_size,
     study_given,
 )
@@ -242,6 +243,9 @@ def provenance(run: Run) -> list[tuple[str, str]]:
             *([("Design", design)] if (design := design_text(m.get("config") or {})) else []),
             *([("Reduced/modified run", f"overrides `{change[0]}`; {change[1]}")]
               if (change := design_change(m)) else []),
+            *([("Paper values", f"{listed([f'`{o}`' for o in given_paper])} given on the command line: "
+                                "the paper's values shown here are those given, not the study file's")]
+              if (given_paper := paper_overrides(m)) else []),
             ("Config hash", given(m.get("config_hash"), code=True)),
             *([("Drift", drift_text(m, drift))] if (drift := drifted(m)) else []),
             ("Code", given(m.get("code_version"), code=True) + (" (dirty tree)" if (m.get("git") or {}).get(
