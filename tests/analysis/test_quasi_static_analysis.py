@@ -204,6 +204,19 @@ def test_h_epsilon_correlation_per_trial_and_pooled():
     assert ((unrelated["low"] < 0) & (unrelated["high"] > 0)).all()
 
 
+@pytest.mark.parametrize("candidates", [
+    pd.DataFrame(), pd.DataFrame({"trial_id": ["other"], "h_total": [0.5], "epsilon_fc": [0.1]})])
+def test_h_epsilon_correlation_without_candidates_gives_the_per_trial_rows_and_no_pooled_one(candidates):
+    """A run that stored no candidate table reads an empty frame with no column (``Run.aux``); it raised
+    KeyError 'trial_id', and the report handed it a frame it built with the three columns instead. The
+    per-trial medians come from the records: numpy's median of the trials' rho, as with candidates."""
+    rows, _ = _trials(relation=1.0, n_trials=5)
+    out = h_epsilon_correlation(rows, candidates, n_resamples=200).set_index("reading")
+    assert list(out.index) == ["median per trial", "median per trial, force closure"]
+    assert out.loc["median per trial", "rho"] == pytest.approx(np.median(rows["spearman_h_epsilon"]))
+    assert out.loc["median per trial", "n_trials"] == 5
+
+
 def test_weighted_spearman_of_a_constant_sample_is_nan_without_a_warning():
     """As scipy's spearmanr (NaN for constant input), but no RuntimeWarning in a report run."""
     import warnings

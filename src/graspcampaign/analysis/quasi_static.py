@@ -178,7 +178,8 @@ def h_epsilon_correlation(records: pd.DataFrame, candidates: pd.DataFrame, *, co
     Rows: the median over the paper-law ``ferrari_canny`` trials of each trial's rho over all (and
     force-closure) candidates; rho over those trials' pooled ``candidates``, its percentile
     interval resampling trials (a trial's candidates share a body; at most
-    :data:`POOLED_RESAMPLES` resamples)."""
+    :data:`POOLED_RESAMPLES` resamples), none where ``candidates`` holds none of those trials (an
+    empty frame: the run stored no candidate table)."""
     rng, alpha, rows = np.random.default_rng(seed), (1 - confidence) / 2, ferrari_canny_trials(records)
     out = []
     for reading, column in (("median per trial", "spearman_h_epsilon"),
@@ -196,8 +197,9 @@ def h_epsilon_correlation(records: pd.DataFrame, candidates: pd.DataFrame, *, co
                                  n_resamples=n_resamples, rng=rng,
                                  batch=max(1, 2**22 // len(v))).confidence_interval
             out.append((reading, float(np.median(v)), ci.low, ci.high, len(v), np.nan))
-    pooled = candidates[candidates["trial_id"].isin(rows["trial_id"])]
-    trial = pooled["trial_id"].astype("category").cat.codes.to_numpy()
+    # an empty ``candidates`` (a run that stored no candidate table; it may have no column): no pooled row
+    pooled = candidates[candidates["trial_id"].isin(rows["trial_id"])] if len(candidates) else candidates
+    trial = pooled["trial_id"].astype("category").cat.codes.to_numpy() if len(pooled) else np.empty(0, int)
     if (k := len(np.unique(trial))) >= 2:
         ranks = sorted_pairs(pooled["h_total"].to_numpy(float),
                              pooled["epsilon_fc"].to_numpy(float), np.ones(len(trial)), trial)

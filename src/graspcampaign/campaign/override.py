@@ -122,11 +122,12 @@ def check_overrides(given: list[str]) -> None:
                               f"the text '{zero}', not the number {number}; write {number}"
                               + ("." if numeric else f", or quote it ('{zero}') to mean text."), key=key)
         # 1e400 is inf to Hydra, refused by the schema as "inf"; a mapping's numbers too (pso={...}), as
-        # typed in the entry whose key takes a number ({run: nan, ...}: nan is a run's name)
+        # typed in the entry whose key takes a number ({run: nan, ...}: nan is a run's name), quoted
+        # text there included (pso={inertia: 'Infinity'}: text to Hydra, inf to the number field)
         bad = [at[len(key) + 1:].split(".")[0] for at in override_scan.not_finite_leaves(key, _value(parsed))
                if _numeric(at, field_at(at))] if setting else []
         typed = dict(override_scan.mapping_entries(value)).get(bad[0], "") if bad else ""
-        if number := override_scan.not_finite(value if numeric else typed, numeric):
+        if number := override_scan.not_finite(value if numeric else typed, numeric or bool(typed)):
             raise ConfigError(f"override {item!r}: {number}; give a finite number instead.", key=key)
         # seeds=1_0 is ten to Hydra, seeds='1_0' to OmegaConf's int(): seldom what was meant
         for word in underscored_numbers(value, quoted=numeric) if setting else ():

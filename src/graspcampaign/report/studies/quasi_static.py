@@ -215,9 +215,7 @@ EPSILON = [
             f"{BOOTSTRAP_RESAMPLES} resamples of each per-trial median, then {qs.POOLED_RESAMPLES} of the "
             f"pooled ρ, from one generator of seed {run.seed}"
             + (f"; no pooled row: {why}" if (why := no_candidates(run)) else ""),
-            lambda run: qs.h_epsilon_correlation(run.records, pd.DataFrame(columns=[
-                "trial_id", "h_total", "epsilon_fc"]) if no_candidates(run) else run.aux("candidates"),
-                seed=run.seed),
+            lambda run: qs.h_epsilon_correlation(run.records, run.aux("candidates"), seed=run.seed),
             [Col("reading", "reading"), Col("rho", "ρ (95%)", 3, low="low", high="high"),
              Col("n_trials", "trials"), Col("n_pairs", "candidates")]),
     S.Figure("h_epsilon", lambda run: "H(G) against Ferrari–Canny ε: (a) the Ferrari–Canny ε "

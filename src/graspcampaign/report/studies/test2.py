@@ -10,7 +10,7 @@ import pandas as pd
 
 from graspcampaign.analysis import hardware as hw
 from graspcampaign.analysis.rates import power_two_proportions
-from graspcampaign.analysis.records import Estimate
+from graspcampaign.analysis.records import Estimate, known
 from graspcampaign.analysis.vocabulary import PROPOSED, colour, label, things
 from graspcampaign.report import format as fmt
 from graspcampaign.report import style
@@ -333,6 +333,33 @@ def mcnemar_rows(mc: pd.Series, paper, section: str):
         yield q, section, Estimate(mc[col], n=mc["pairs"]), getattr(paper, key), "", digits
 
 
+def residual_flag_rows(run: Run):
+    """§8.1's and §8.4's counts of the residual flag as shares beside the paper's (claims rows), each over
+    the trials with the flag recorded (:func:`~graspcampaign.analysis.records.known`): a trial without it
+    is neither certified nor labelled unstable (``astype(bool)`` read a NaN as certified)."""
+    p, flag, a = run.paper, RESIDUAL, ex(run)  # success: executed()'s bool (missing: not a success)
+    d, g = known(ex(run, PROPOSED), [flag]), p.classifier_group_c.proposed
+    for where, part, paper, said in (
+            ("group C trials", d[d["group"] == "C"], g.certified_pct, f"{g.certified} of {g.trials}"),
+            ("trials outside group C", d[d["group"] != "C"], g.certified_elsewhere_pct,
+             f"≈ {fmt.number(g.certified_elsewhere_pct, 0)}%")):  # §8.1 prints "49%" and "≈ 90%"
+        yield (f"proposed planner's {where} certified by the residual flag (paper {said})", g.section,
+               lambda part=part: share(part, part[flag]), paper, "%", 0)
+    # §8.4's counts of the flag as shares with Wilson 95 % intervals, so a reduced run compares too: the
+    # paper's share from its two printed counts ("just 50 of its 677 certified grasps (7.4 %)")
+    won, certified = known(a[a["success"]], [flag]), d[d[flag]]
+    for q, frame, event, k, n in (
+            ("successes, all planners", a, a["success"], p.measured_successes, p.executed),
+            ("successes labelled unstable by the residual flag", won, ~won[flag],
+             p.successes_labelled_unstable, p.measured_successes),
+            ("proposed planner's trials certified by the residual flag", d, d[flag], p.proposed_certified,
+             p.table7[PROPOSED].n),
+            ("proposed planner's certified grasps that failed", certified, ~certified["success"],
+             p.proposed_certified_failed, p.proposed_certified)):
+        yield (f"{q} (paper {k} of {n})", "§8.4", lambda frame=frame, event=event: share(frame, event),
+               100 * k / n, "%", 1)
+
+
 def claims(run: Run):
     """§8 headline numbers not in a table above, beside the paper's."""
     p, t, d = run.paper, run.tables, ex(run, PROPOSED)
@@ -349,27 +376,7 @@ def claims(run: Run):
             ("median contact-point error", "contact_point_error_mm", "contact_point_err_median_mm", "mm", 1)):
         n = acc["n_parity" if col.startswith("parity") else f"n_{things(col)}"]
         yield q, "§8.3, Fig. 29", Estimate(acc[col], n=n), getattr(p, key), unit, digits
-    g, flag = p.classifier_group_c.proposed, RESIDUAL
-    for where, part, paper, said in (
-            ("group C trials", d[d["group"] == "C"], g.certified_pct, f"{g.certified} of {g.trials}"),
-            ("trials outside group C", d[d["group"] != "C"], g.certified_elsewhere_pct,
-             f"≈ {fmt.number(g.certified_elsewhere_pct, 0)}%")):  # §8.1 prints "49%" and "≈ 90%"
-        yield (f"proposed planner's {where} certified by the residual flag (paper {said})", g.section,
-               lambda part=part: share(part, part[flag]), paper, "%", 0)
-    # §8.4's counts of the flag as shares with Wilson 95 % intervals, so a reduced run compares too: the
-    # paper's share from its two printed counts ("just 50 of its 677 certified grasps (7.4 %)")
-    a, ok, flagged = ex(run), d["success"].astype(bool), d[flag].astype(bool)
-    won = a["success"].astype(bool)
-    for q, frame, event, k, n in (
-            ("successes, all planners", a, won, p.measured_successes, p.executed),
-            ("successes labelled unstable by the residual flag", a[won], ~a.loc[won, flag].astype(bool),
-             p.successes_labelled_unstable, p.measured_successes),
-            ("proposed planner's trials certified by the residual flag", d, flagged, p.proposed_certified,
-             p.table7[PROPOSED].n),
-            ("proposed planner's certified grasps that failed", d[flagged], ~ok[flagged],
-             p.proposed_certified_failed, p.proposed_certified)):
-        yield (f"{q} (paper {k} of {n})", "§8.4", lambda frame=frame, event=event: share(frame, event),
-               100 * k / n, "%", 1)
+    yield from residual_flag_rows(run)
     yield from mcnemar_rows(mc, p.mcnemar_centroid, "§8.5")
     yield ("discordant-pair odds ratio", "§8.5", Estimate(*mc[["odds_ratio", "odds_ratio_low",
            "odds_ratio_high", "pairs"]]), p.mcnemar_centroid.odds_ratio, "", 1)
