@@ -56,6 +56,22 @@ def test_a_flag_is_scored_against_the_success_rate_of_its_group():
     assert not out.loc["every", "above_base"] and out.loc["flag", "above_base"]
 
 
+def test_a_flag_is_scored_over_the_trials_where_it_and_the_outcome_are_recorded():
+    """A flag or an outcome not recorded (NaN, None) is neither set nor unset: the trial leaves the
+    score (``astype(bool)`` read a NaN flag as set, a None outcome as a failure). Against scikit-learn
+    on the four trials with both recorded."""
+    from sklearn.metrics import accuracy_score, precision_score, recall_score
+
+    rec = pd.DataFrame({"planner": "heuristic",
+                        "success": pd.Series([True, True, False, False, None, True], dtype=object),
+                        "flag": [True, False, True, False, True, np.nan]})
+    out = hardware.classifier_table(rec, ["flag"], ["planner"]).iloc[0]
+    y, f = [True, True, False, False], [True, False, True, False]
+    assert (out["n"], out["tp"] + out["fp"] + out["fn"] + out["tn"]) == (4, 4)
+    assert [out["accuracy"], out["precision"], out["recall"]] == pytest.approx(
+        [accuracy_score(y, f), precision_score(y, f), recall_score(y, f)])
+
+
 def test_the_planner_with_the_higher_success_ranks_first():
     """Under the paper's beliefs the proposed planner holds 6 of 10, centroid 3 of 10: ranks 1, 2;
     under exact beliefs centroid holds 9 of 10, the proposed one still 6: ranks 2, 1."""

@@ -171,12 +171,14 @@ def force_accuracy(df: pd.DataFrame) -> pd.DataFrame:
 
 
 def classifier_table(df: pd.DataFrame, flags: Sequence[str], by: Sequence[str]) -> pd.DataFrame:
-    """Return each flag scored against measured success per group of ``by``: counts, accuracy, f1, the base
-    success rate, precision and recall with Wilson 95 % bounds (``_low``, ``_high``), ``above_base``."""
+    """Return each flag scored against measured success per group of ``by``, over the trials with both
+    recorded (:func:`known`): counts, accuracy, f1, the base success rate, precision and recall with Wilson
+    95 % bounds (``_low``, ``_high``), ``above_base``."""
     rows = []
     for column in flags:
         for key, g in df.groupby(list(by), sort=False):
-            m = agreement.classifier_metrics(g[column].astype(bool), g["success"].astype(bool))
+            g = known(g, [column, "success"])
+            m = agreement.classifier_metrics(g[column], g["success"])
             row = {"flag": column, **dict(zip(by, key, strict=True)), "n": m.n, "flagged": m.tp + m.fp,
                    "tp": m.tp, "fp": m.fp, "fn": m.fn, "tn": m.tn, "accuracy": m.accuracy, "f1": m.f1}
             for name, k, n in (("base", m.tp + m.fn, m.n), ("precision", m.tp, m.tp + m.fp),
