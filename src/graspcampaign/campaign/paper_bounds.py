@@ -2,12 +2,13 @@
 
 A paper dataclass field is typed with one of the kinds below (``class_balance_pct: Pct``), never
 a bare ``float`` or ``int`` (tests/campaign/test_paper_bounds.py walks every field); a tuple of
-two is a closed range of one kind, low end first (``PctRange``). :func:`graspcampaign.campaign.
-paper._convert` checks each value as given against its kind when a study is composed and refuses
-one outside it with the sentence the campaign schema uses for its own out-of-range values
+two is a closed range of one kind, low end first (``PctRange``). ``campaign.paper._convert``
+checks each value as given against its kind when a study is composed and refuses one outside it
+with the sentence the campaign schema uses for its own out-of-range values
 (:func:`graspcampaign.campaign.schema.check_value`): ``paper.class_balance_pct = 250 is out of
 range; allowed: >= 0 and <= 100 (a percentage).`` The kind of each field follows what the paper
-says the quantity is, not its name (docs/decisions.md, "Every paper value has a bound").
+says the quantity is, not its name (docs/decisions.md, "Every paper value has a bound of its
+kind").
 """
 
 from __future__ import annotations
@@ -86,7 +87,7 @@ class Ordered:
 
 ORDERED = Ordered()
 
-# the kinds of quantity the paper reports (docs/decisions.md, "Every paper value has a bound")
+# the kinds of quantity the paper reports (docs/decisions.md, "Every paper value has a bound of its kind")
 Pct = Annotated[float, Between(0, 100, "a percentage")]
 PctError = Annotated[float, AtLeast(0, "an error or a coefficient of variation in percent, which "
                                        "may exceed 100")]
