@@ -1,14 +1,35 @@
 """Typed ``paper:`` blocks of the hardware protocols, Tests 1-3 (paper §7-§9).
 
 See :mod:`graspcampaign.campaign.paper` for the rules. Field names follow the study files;
-``*_pct`` in percent, ranges as closed ``(low, high)`` tuples.
+``*_pct`` in percent, ranges as closed ``(low, high)`` tuples; each number is typed with its kind
+of quantity (:mod:`graspcampaign.campaign.paper_bounds`), which bounds it.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from graspcampaign.campaign.paper import Range, keyed
+from graspcampaign.campaign.paper import keyed
+from graspcampaign.campaign.paper_bounds import (
+    R2,
+    AngleDeg,
+    Count,
+    Fraction,
+    Friction,
+    NonNegative,
+    NonNegativeRange,
+    Pct,
+    PctError,
+    PctErrorRange,
+    PctOfWeight,
+    PctRange,
+    PointsDiff,
+    Positive,
+    PositiveRange,
+    PValue,
+    Score,
+    Signed,
+)
 
 # --------------------------------------------------------------------------------------------
 # Test 1 (§7, Tables 4-5, Figs. 23-26)
@@ -19,45 +40,45 @@ from graspcampaign.campaign.paper import Range, keyed
 class Table4Row:
     """One material family of Table 4 (E mean ± SD over 12 specimens, the rest means)."""
 
-    modulus_kpa: float
-    modulus_sd_kpa: float
-    exponent_n: float
-    k_n_per_mm_n: float
-    f05_n: float
-    c_n_s_per_m: float
-    mu_s: float
-    mu_k: float
-    k_t_n_per_mm: float
-    rho: float
-    tau_s: float
+    modulus_kpa: Positive
+    modulus_sd_kpa: NonNegative
+    exponent_n: Positive
+    k_n_per_mm_n: Positive
+    f05_n: Positive
+    c_n_s_per_m: Positive
+    mu_s: Friction
+    mu_k: Friction
+    k_t_n_per_mm: Positive
+    rho: Fraction
+    tau_s: Positive
 
 
 @dataclass(frozen=True)
 class Table5Row:
     """One parameter of Table 5: simulation (Table 3) and experiment mean ± SD, CV."""
 
-    simulation: float
-    mean: float
-    sd: float
-    cv_pct: float
+    simulation: Positive
+    mean: Positive
+    sd: NonNegative
+    cv_pct: PctError
 
 
 @dataclass(frozen=True)
 class RmseSummary:
     """Mean, median and largest RMSE [% of peak]."""
 
-    mean: float
-    median: float
-    max: float
+    mean: PctError
+    median: PctError
+    max: PctError
 
 
 @dataclass(frozen=True)
 class NormalTransfer:
     """Normal-force transfer error per split [%] (Fig. 26c)."""
 
-    train: float
-    unseen_specimen: float
-    unseen_speed: float
+    train: PctError
+    unseen_specimen: PctError
+    unseen_speed: PctError
 
 
 @dataclass(frozen=True)
@@ -65,9 +86,9 @@ class TransferPaper:
     """§7.6, Fig. 26c: transfer errors [%]."""
 
     normal_force: NormalTransfer
-    friction_max: float
-    relaxation: float
-    flat_to_curved: float
+    friction_max: PctError
+    relaxation: PctError
+    flat_to_curved: PctError
 
 
 @dataclass(frozen=True)
@@ -75,42 +96,42 @@ class Test1Paper:
     """§7: bench calibration."""
 
     tables: str
-    events_commanded: int
-    events_completed: int
-    events_aborted: int
-    normal_fits: int
-    normal_fits_accepted: int
-    oblique_events: int
-    cycle_measurements: int
-    retained_trace_events: int
-    retained_trace_samples: int
-    n_exp_mean: float
-    n_exp_sd: float
-    n_exp_family_range: Range
-    n_exp_simulation: float
-    rmse_pct: float
-    rmse_pct_accepted: float
-    rmse_pct_all: float
-    flagged_rmse_pct_range: Range
-    loop_area_median_mj: float
-    loading_work_median_mj: float
-    unloading_work_median_mj: float
-    oblique_margin_n: dict[str, float] = keyed("press_angle")
-    oblique_classification_match_pct: float
-    mu_s_environment: dict[str, float] = keyed("environment")
-    stick_slip_transition_mm_per_s: float
-    k_t_range_n_per_mm: Range
-    relaxation_ratio_fig25a: float
-    k_ratio_target: float
-    permanent_set_mm: Range
-    stabilises_after_cycles: int
+    events_commanded: Count
+    events_completed: Count
+    events_aborted: Count
+    normal_fits: Count
+    normal_fits_accepted: Count
+    oblique_events: Count
+    cycle_measurements: Count
+    retained_trace_events: Count
+    retained_trace_samples: Count
+    n_exp_mean: Positive
+    n_exp_sd: NonNegative
+    n_exp_family_range: PositiveRange
+    n_exp_simulation: Positive
+    rmse_pct: PctError
+    rmse_pct_accepted: PctError
+    rmse_pct_all: PctError
+    flagged_rmse_pct_range: PctErrorRange
+    loop_area_median_mj: NonNegative
+    loading_work_median_mj: NonNegative
+    unloading_work_median_mj: NonNegative
+    oblique_margin_n: dict[str, Signed] = keyed("press_angle")
+    oblique_classification_match_pct: Pct
+    mu_s_environment: dict[str, Friction] = keyed("environment")
+    stick_slip_transition_mm_per_s: Positive
+    k_t_range_n_per_mm: PositiveRange
+    relaxation_ratio_fig25a: Fraction
+    k_ratio_target: Positive
+    permanent_set_mm: NonNegativeRange
+    stabilises_after_cycles: Count
     table4: dict[str, Table4Row] = keyed("material")
     table5: dict[str, Table5Row] = keyed("parameter")
-    pso_runs_logged: int
-    pso_runs_converged: int
-    pso_n_run_median: float
+    pso_runs_logged: Count
+    pso_runs_converged: Count
+    pso_n_run_median: Positive
     pso_transfer_rmse_pct: RmseSummary
-    pso_diverged_transfer_rmse_pct: Range
+    pso_diverged_transfer_rmse_pct: PctErrorRange
     transfer_pct: TransferPaper
 
 
@@ -123,33 +144,33 @@ class Test1Paper:
 class Table6Row:
     """Proposed planner on one shape (Table 6)."""
 
-    n: int
-    success_pct: float
-    natural_pct: float
-    force_err_pct: float
-    deformation_err_pct: float
+    n: Count
+    success_pct: Pct
+    natural_pct: Pct
+    force_err_pct: PctError
+    deformation_err_pct: PctError
 
 
 @dataclass(frozen=True)
 class Table7Row:
     """Executed trials of one planner (Table 7)."""
 
-    n: int
-    success_pct: float
-    stable_pct: float
-    slip_pct: float
-    drop_pct: float
-    damage_pct: float
+    n: Count
+    success_pct: Pct
+    stable_pct: Pct
+    slip_pct: Pct
+    drop_pct: Pct
+    damage_pct: Pct
 
 
 @dataclass(frozen=True)
 class ClassifierPaper:
     """Scores of a pre-execution flag against measured success."""
 
-    accuracy: float
-    precision: float
-    recall: float
-    f1: float | None = None
+    accuracy: Score
+    precision: Score
+    recall: Score
+    f1: Score | None = None
 
 
 @dataclass(frozen=True)
@@ -158,12 +179,12 @@ class GroupCProposed:
     how many of those are not successes, its precision, and its certified share outside group C."""
 
     section: str
-    trials: int
-    certified: int
-    certified_failed: int
-    precision: float
-    certified_pct: float
-    certified_elsewhere_pct: float
+    trials: Count
+    certified: Count
+    certified_failed: Count
+    precision: Score
+    certified_pct: Pct
+    certified_elsewhere_pct: Pct
 
 
 @dataclass(frozen=True)
@@ -171,8 +192,8 @@ class GroupCPooled:
     """§8.4: the pooled flag's precision inside group C and over every other trial."""
 
     section: str
-    precision: float
-    precision_elsewhere: float
+    precision: Score
+    precision_elsewhere: Score
 
 
 @dataclass(frozen=True)
@@ -187,10 +208,10 @@ class GroupCPaper:
 class McNemarPaper:
     """A printed McNemar test: chi2 (continuity-corrected), pairs won and lost, odds ratio."""
 
-    chi2: float
-    won: int
-    lost: int
-    odds_ratio: float | None = None
+    chi2: NonNegative
+    won: Count
+    lost: Count
+    odds_ratio: NonNegative | None = None
 
 
 @dataclass(frozen=True)
@@ -198,49 +219,49 @@ class Test2Paper:
     """§8: grasp validation."""
 
     tables: str
-    commanded: int
-    executed: int
-    aborted: int
-    proposed_trials: int
-    proposed_success_pct: float
-    proposed_success_wilson_pct: Range
-    proposed_success_bootstrap_pct: Range
-    validation_success_pct: float
-    group_c_pct: float
-    group_e_success_pct_range: Range
-    proposed_stable_pct: float
-    proposed_marginal_pct: float
-    proposed_drop_damage_contact_pct_max: float
-    centroid_success_pct: float
-    no_pso_success_pct: float
-    force_balance_success_pct: float
-    random_success_pct: float
-    parity_slope: float
-    parity_r2: float
-    force_err_median_pct: float
-    deformation_err_median_pct: float
-    contact_point_err_median_mm: float
-    hold_force_per_finger_n: Range
-    hold_slip_max_mm: float
-    lift_height_mm: float
-    fig28_reference_pct: float
+    commanded: Count
+    executed: Count
+    aborted: Count
+    proposed_trials: Count
+    proposed_success_pct: Pct
+    proposed_success_wilson_pct: PctRange
+    proposed_success_bootstrap_pct: PctRange
+    validation_success_pct: Pct
+    group_c_pct: Pct
+    group_e_success_pct_range: PctRange
+    proposed_stable_pct: Pct
+    proposed_marginal_pct: Pct
+    proposed_drop_damage_contact_pct_max: Pct
+    centroid_success_pct: Pct
+    no_pso_success_pct: Pct
+    force_balance_success_pct: Pct
+    random_success_pct: Pct
+    parity_slope: Signed
+    parity_r2: R2
+    force_err_median_pct: PctError
+    deformation_err_median_pct: PctError
+    contact_point_err_median_mm: NonNegative
+    hold_force_per_finger_n: PositiveRange
+    hold_slip_max_mm: NonNegative
+    lift_height_mm: Positive
+    fig28_reference_pct: Pct
     classifier: ClassifierPaper
     classifier_proposed: ClassifierPaper
-    classifier_baselines_precision: float
+    classifier_baselines_precision: Score
     classifier_group_c: GroupCPaper
-    proposed_certified: int
-    proposed_certified_failed: int
-    successes_labelled_unstable: int
-    measured_successes: int
+    proposed_certified: Count
+    proposed_certified_failed: Count
+    successes_labelled_unstable: Count
+    measured_successes: Count
     mcnemar_centroid: McNemarPaper
-    chi2_planner_success: float
-    force_err_planner_median_pct_range: Range
-    force_err_kruskal_p: float
-    slip_friction_kruskal_h: float
+    chi2_planner_success: NonNegative
+    force_err_planner_median_pct_range: PctErrorRange
+    force_err_kruskal_p: PValue
+    slip_friction_kruskal_h: NonNegative
     table6: dict[str, Table6Row] = keyed("shape")
     table7: dict[str, Table7Row] = keyed("planner")
-    success_by_material_pct: dict[str, float] = keyed("material")
-    matched_pct: dict[str, float] = keyed("planner")
+    success_by_material_pct: dict[str, Pct] = keyed("material")
+    matched_pct: dict[str, Pct] = keyed("planner")
 
 
 # --------------------------------------------------------------------------------------------
@@ -253,10 +274,10 @@ class Table8Row:
     """One disturbance block of Table 8 (proposed planner, natural friction)."""
 
     disturbance: str
-    n: int
-    success_pct: float
-    pred_err_pct: float
-    headline: float | None = None
+    n: Count
+    success_pct: Pct
+    pred_err_pct: PctError
+    headline: Positive | None = None
     headline_unit: str | None = None
 
 
@@ -264,43 +285,43 @@ class Table8Row:
 class Table9Row:
     """One planner of Table 9 (all trials)."""
 
-    n: int
-    success_pct: float
-    wilson_pct: Range
-    stable_pct: float
-    drop_pct: float
-    damage_pct: float
-    lat_threshold_n: float
-    threshold_err_pct: float
+    n: Count
+    success_pct: Pct
+    wilson_pct: PctRange
+    stable_pct: Pct
+    drop_pct: Pct
+    damage_pct: Pct
+    lat_threshold_n: Positive
+    threshold_err_pct: PctError
 
 
 @dataclass(frozen=True)
 class CoatingLevel:
     """One coating of the friction probes (§9.2)."""
 
-    threshold_n: float
-    success_pct: float
+    threshold_n: Positive
+    success_pct: Pct
 
 
 @dataclass(frozen=True)
 class SurvivalPaper:
     """§9.5, Fig. 36b: the lateral-threshold survival curve."""
 
-    above_3n_pct: float
-    half_at_n: float
-    above_5n_pct: float
-    centroid_failed_by_n: float
+    above_3n_pct: Pct
+    half_at_n: Positive
+    above_5n_pct: Pct
+    centroid_failed_by_n: Positive
 
 
 @dataclass(frozen=True)
 class LogisticPaper:
     """§9.5: logistic regression of failure (n and coefficients)."""
 
-    n: int
-    load: float
-    mass: float
-    mu: float
-    proposed: float
+    n: Count
+    load: Signed
+    mass: Signed
+    mu: Signed
+    proposed: Signed
 
 
 @dataclass(frozen=True)
@@ -308,57 +329,57 @@ class Test3Paper:
     """§9: disturbance rejection."""
 
     tables: str
-    commanded: int
-    executed: int
-    aborted: int
-    proposed_trials: int
-    proposed_success_pct: float
-    proposed_success_wilson_pct: Range
-    proposed_success_bootstrap_pct: Range
-    natural_success_pct: float
-    no_pso_success_pct: float
-    centroid_success_pct: float
-    force_balance_success_pct: float
-    random_success_pct: float
-    lateral_threshold_median_n: float
-    direction_threshold_range_n: Range
+    commanded: Count
+    executed: Count
+    aborted: Count
+    proposed_trials: Count
+    proposed_success_pct: Pct
+    proposed_success_wilson_pct: PctRange
+    proposed_success_bootstrap_pct: PctRange
+    natural_success_pct: Pct
+    no_pso_success_pct: Pct
+    centroid_success_pct: Pct
+    force_balance_success_pct: Pct
+    random_success_pct: Pct
+    lateral_threshold_median_n: Positive
+    direction_threshold_range_n: PositiveRange
     coating: dict[str, CoatingLevel] = keyed("coating")
-    down_payload_median_pct_w: float
-    vertical_levels_pct: dict[str, float] = keyed("vertical_load")
-    yaw_torque_median_nm: float
-    yaw_torque_with_probes_nm: float
-    yaw_rotation_median_deg: float
-    blocks_pct: dict[str, float] = keyed("block")
-    lateral_threshold_median_error_pct: float
-    lateral_threshold_trials: int
-    geometric_baseline_error_pct: float
-    threshold_err_centroid_pct: float
-    threshold_err_force_balance_pct: float
-    threshold_ols_slope: float
-    threshold_ols_r2: float
-    bland_altman_bias_n: float
-    bland_altman_loa_half_width_n: float
-    threshold_err_over_50pct: float
-    torque_threshold_err_pct: float
-    block_parity_r2: dict[str, float] = keyed("block")
-    first_finger_accuracy_pct: float
-    impulse_retained_pct: dict[str, float] = keyed("impulse_load")
-    impulse_drop_pct: dict[str, float] = keyed("impulse_load")
-    impulse_residual_slip_mm: float
-    sinusoid_slip_mm_range: Range
-    sinusoid_pct: float
-    matched_proposed_pct: float
-    matched_baseline_success_pct_range: Range
-    matched_difference_centroid_pp: float
+    down_payload_median_pct_w: PctOfWeight
+    vertical_levels_pct: dict[str, Pct] = keyed("vertical_load")
+    yaw_torque_median_nm: Positive
+    yaw_torque_with_probes_nm: Positive
+    yaw_rotation_median_deg: AngleDeg
+    blocks_pct: dict[str, Pct] = keyed("block")
+    lateral_threshold_median_error_pct: PctError
+    lateral_threshold_trials: Count
+    geometric_baseline_error_pct: PctError
+    threshold_err_centroid_pct: PctError
+    threshold_err_force_balance_pct: PctError
+    threshold_ols_slope: Signed
+    threshold_ols_r2: R2
+    bland_altman_bias_n: Signed
+    bland_altman_loa_half_width_n: NonNegative
+    threshold_err_over_50pct: Count
+    torque_threshold_err_pct: PctError
+    block_parity_r2: dict[str, R2] = keyed("block")
+    first_finger_accuracy_pct: Pct
+    impulse_retained_pct: dict[str, Pct] = keyed("impulse_load")
+    impulse_drop_pct: dict[str, Pct] = keyed("impulse_load")
+    impulse_residual_slip_mm: NonNegative
+    sinusoid_slip_mm_range: NonNegativeRange
+    sinusoid_pct: Pct
+    matched_proposed_pct: Pct
+    matched_baseline_success_pct_range: PctRange
+    matched_difference_centroid_pp: PointsDiff
     mcnemar_centroid: McNemarPaper
-    margin_over_random_pp: float
+    margin_over_random_pp: PointsDiff
     survival: SurvivalPaper
     retention_classifier: ClassifierPaper
-    retention_certified: int
-    retention_certified_failed: int
+    retention_certified: Count
+    retention_certified_failed: Count
     logistic: LogisticPaper
-    chi2_planner_retention: float
-    drop_pct: float
-    damage_pct: float
+    chi2_planner_retention: NonNegative
+    drop_pct: Pct
+    damage_pct: Pct
     table8: dict[str, Table8Row] = keyed("block")
     table9: dict[str, Table9Row] = keyed("planner")
