@@ -6,7 +6,7 @@ changed (``cli_checks.refused``).
 from __future__ import annotations
 
 import pytest
-from cli_checks import HEADER, refused
+from cli_checks import HEADER, invoke, refused
 
 #: the factors of the one-trial mesh_features study the study-file tests write
 FACTORS = "factors: {shape: [sphere], nodes: [144]}\n"
@@ -26,3 +26,42 @@ def test_a_study_file_key_empty_or_with_a_space_at_an_end_is_named_as_written(tm
     study = tmp_path / "mine.yaml"
     study.write_text(f"{HEADER}name: mine\nkind: mesh_features\n{line}\n{FACTORS}")
     refused(tmp_path, ["show", study, "--root", tmp_path / "results"], f"{study}, line 5: {said}.")
+
+
+#: why two study names may not differ only in case, as each refusal says it
+ONE_DIRECTORY = ("runs are stored and reported by their study's name, and on a file system that "
+                 "ignores case (macOS, Windows, a USB stick) the directories {0}/ and {1}/ are one")
+
+
+def test_a_study_renamed_to_its_own_name_in_other_case_is_refused(tmp_path):
+    """It ran, stored as results/SMOKE/ beside results/smoke/: one directory on macOS."""
+    refused(tmp_path, ["show", "smoke", "name=SMOKE", "--root", tmp_path],
+            f"override 'name=SMOKE' differs only in case from the study's own name smoke: "
+            f"{ONE_DIRECTORY.format('SMOKE', 'smoke')}, so this run would be taken for one of "
+            "smoke's; leave the override out, or give a name that differs in more than case.")
+
+
+def test_a_study_renamed_after_another_study_but_for_case_is_refused(tmp_path):
+    """``name=baseline_grid`` was refused (round 14), ``name=Baseline_Grid`` ran."""
+    refused(tmp_path, ["show", "smoke", "name=Baseline_Grid", "--root", tmp_path],
+            "override 'name=Baseline_Grid' names the study Baseline_Grid, which differs only in "
+            "case from the study baseline_grid (campaigns/baseline_grid.yaml): "
+            f"{ONE_DIRECTORY.format('Baseline_Grid', 'baseline_grid')}, so this run of smoke would "
+            "be taken for one of baseline_grid's; give a name that differs in more than case from "
+            "every study's (graspcampaign list shows them).")
+
+
+def test_a_study_file_of_ones_own_named_as_a_tool_study_but_for_case_is_refused(user_dir, tmp_path):
+    """Smoke.yaml beside the tool's smoke was listed, shown and run (results/Smoke/ beside
+    results/smoke/); now it is listed as broken, the tool's smoke still runnable."""
+    study = user_dir / "Smoke.yaml"
+    study.write_text(f"{HEADER}name: Smoke\nkind: mesh_features\n{FACTORS}")
+    said = (f"{study}, line 3: name: Smoke differs only in case from the study smoke "
+            f"(campaigns/smoke.yaml): {ONE_DIRECTORY.format('Smoke', 'smoke')}; rename the study "
+            "(its file and its name:) to one that differs in more than case.")
+    for named in ("Smoke", study):
+        refused(tmp_path, ["show", named, "--root", tmp_path], said)
+    listed = invoke("list", "--names")
+    assert listed.exit_code == 0 and listed.stderr == f"warning: study Smoke is broken: {said}\n"
+    shown = invoke("show", "smoke", "--root", tmp_path)
+    assert shown.exit_code == 0 and shown.stderr == "", shown.output

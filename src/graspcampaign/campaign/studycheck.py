@@ -279,6 +279,7 @@ def check_study_file(path: Path, data: dict[str, Any]) -> None:
         Naming the file, the line, the key and what is allowed.
     """
     from graspcampaign.campaign.paths import check_name, usable_name
+    from graspcampaign.campaign.studyfile import CASE_TWINS, case_twin_study, project_dirs, study_place
 
     try:
         check_study_data(data)
@@ -298,6 +299,13 @@ def check_study_file(path: Path, data: dict[str, Any]) -> None:
                     f"run and reported by its file name (status and report look for "
                     f"{stem}), so write name: {stem} or rename the file "
                     f"to {name}.yaml.", key="name")
+            shipped = Path(path).parent.resolve() == project_dirs()[1].resolve()
+            if not shipped and (twin := case_twin_study(name)) is not None:
+                raise ConfigError(
+                    f"name: {name} differs only in case from the study {twin[0]} "
+                    f"({study_place(twin[1])}): {CASE_TWINS.format(name, twin[0])}; rename the "
+                    "study (its file and its name:) to one that differs in more than case.",
+                    key="name")
     except ConfigError as exc:
         raise in_file(path, exc) from None
 

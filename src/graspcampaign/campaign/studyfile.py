@@ -163,6 +163,26 @@ def study_files() -> dict[str, Path]:
     return dict(sorted(out.items()))
 
 
+def case_twin_study(name: str) -> tuple[str, Path] | None:
+    """The study on the search path whose name differs from ``name`` only in case (``smoke``
+    for ``Smoke``), and its file; else None. Runs are stored by their study's name
+    (``<root>/<name>/``), and on a file system that ignores case the two are one directory."""
+    return next(((other, path) for other, path in study_files().items()
+                 if other != name and other.lower() == name.lower()), None)
+
+
+def study_place(path: Path) -> str:
+    """A study file as a refusal names it: ``campaigns/smoke.yaml`` for one of the tool's (or the
+    config home's) studies, else its path."""
+    campaigns_dir = project_dirs()[1]
+    return f"{campaigns_dir.name}/{path.name}" if path.parent == campaigns_dir else str(path)
+
+
+#: why two studies may not have names that differ only in case, after "names A and B"
+CASE_TWINS = ("runs are stored and reported by their study's name, and on a file system that "
+              "ignores case (macOS, Windows, a USB stick) the directories {0}/ and {1}/ are one")
+
+
 def list_studies() -> list[str]:
     """Return the study names on the search path, sorted."""
     return list(study_files())
