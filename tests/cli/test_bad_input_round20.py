@@ -65,3 +65,26 @@ def test_a_study_file_of_ones_own_named_as_a_tool_study_but_for_case_is_refused(
     assert listed.exit_code == 0 and listed.stderr == f"warning: study Smoke is broken: {said}\n"
     shown = invoke("show", "smoke", "--root", tmp_path)
     assert shown.exit_code == 0 and shown.stderr == "", shown.output
+
+
+@pytest.mark.parametrize("command", [["run", "smoke"], ["report"], ["status", "smoke"]])
+def test_a_root_that_is_the_tools_configs_place_is_refused(home, command):
+    """A source checkout (or a GRASPCAMPAIGN_HOME) given as the results root took the runs among
+    its files, and `report` of it then wrote one line for each of its files (66 for the checkout:
+    "the report of tests/test_api.py could not be written: run tests/test_api.py at ... is a file,
+    not a run directory ...")."""
+    refused(home, [*command, "--root", home],
+            f"--root {home}: it holds conf/config.yaml and campaigns/, the tool's configs (a source "
+            "checkout or a GRASPCAMPAIGN_HOME), so runs stored there would lie among its files; give "
+            f"a folder for the results instead, such as {home / 'results'}.")
+
+
+@pytest.mark.parametrize(("inside", "what"), [("campaigns", "study files"),
+                                              ("conf/model", "config groups")])
+def test_a_root_among_the_tools_config_files_is_refused(home, inside, what):
+    place = home / inside.split("/")[0]
+    said = "" if inside == place.name else "inside "
+    refused(home, ["run", "smoke", "--root", home / inside],
+            f"--root {home / inside}: it is {said}{place}, the tool's {what}, so runs stored there "
+            f"would lie among them; give a folder for the results instead, such as "
+            f"{home / 'results'}.")

@@ -183,6 +183,30 @@ CASE_TWINS = ("runs are stored and reported by their study's name, and on a file
               "ignores case (macOS, Windows, a USB stick) the directories {0}/ and {1}/ are one")
 
 
+def config_place(absolute: Path) -> str | None:
+    """Why ``absolute`` is the tool's configs' place rather than a results root: a directory
+    holding ``conf/config.yaml`` and ``campaigns/`` (a source checkout, a ``GRASPCAMPAIGN_HOME``),
+    or one inside its ``conf/`` or ``campaigns/``; else None. Runs stored there lie among its files,
+    and `report` takes each of them for a run it cannot read (a line apiece)."""
+    def home(place: Path) -> bool:
+        return (place / "conf" / "config.yaml").is_file() and (place / "campaigns").is_dir()
+
+    if home(absolute):
+        return (f"it holds conf/config.yaml and campaigns/, the tool's configs (a source checkout "
+                f"or a GRASPCAMPAIGN_HOME), so runs stored there would lie among its files; give "
+                f"a folder for the results instead, such as {absolute / 'results'}")
+    inside = next((place for place in absolute.parents
+                   if place.name in ("conf", "campaigns") and home(place.parent)), None)
+    if inside is None and absolute.name in ("conf", "campaigns") and home(absolute.parent):
+        inside = absolute
+    if inside is None:
+        return None
+    return (f"it is {'inside ' if inside != absolute else ''}{inside}, the tool's "
+            f"{'config groups' if inside.name == 'conf' else 'study files'}, so runs stored there "
+            f"would lie among them; give a folder for the results instead, such as "
+            f"{inside.parent / 'results'}")
+
+
 def list_studies() -> list[str]:
     """Return the study names on the search path, sorted."""
     return list(study_files())
