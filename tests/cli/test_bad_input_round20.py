@@ -88,3 +88,11 @@ def test_a_root_among_the_tools_config_files_is_refused(home, inside, what):
             f"--root {home / inside}: it is {said}{place}, the tool's {what}, so runs stored there "
             f"would lie among them; give a folder for the results instead, such as "
             f"{home / 'results'}.")
+
+
+def test_list_extensions_without_names_is_refused(tmp_path):
+    """It printed the table of every study, as if it were not given."""
+    refused(tmp_path, ["list", "--extensions"],
+            "--extensions chooses which names --names prints (graspcampaign list --names "
+            "--extensions: the studies the paper does not run); the table lists every study, each "
+            "marked paper or extension in its 'of' column, so give --names with it or leave it out.")
