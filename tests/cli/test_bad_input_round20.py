@@ -6,7 +6,7 @@ changed (``cli_checks.refused``).
 from __future__ import annotations
 
 import pytest
-from cli_checks import HEADER, invoke, refused
+from cli_checks import HEADER, T2, filled_records, invoke, refused
 
 #: the factors of the one-trial mesh_features study the study-file tests write
 FACTORS = "factors: {shape: [sphere], nodes: [144]}\n"
@@ -96,3 +96,15 @@ def test_list_extensions_without_names_is_refused(tmp_path):
             "--extensions chooses which names --names prints (graspcampaign list --names "
             "--extensions: the studies the paper does not run); the table lists every study, each "
             "marked paper or extension in its 'of' column, so give --names with it or leave it out.")
+
+
+@pytest.mark.parametrize("study", ["test2_grasp", "test3_disturbance"])
+def test_a_trial_id_in_other_case_is_named_as_the_schedules(tmp_path, study):
+    """As Test 1's event ids are (round 17); it was "... is not in the schedule", nothing more."""
+    sheet = filled_records(tmp_path, study, rows=slice(0, 1))
+    typed = sheet.loc[0, "trial_id"].upper()
+    sheet.assign(trial_id=typed).to_csv(tmp_path / "measured.csv", index=False)
+    root = tmp_path / "results"
+    refused(root, ["ingest", study, tmp_path / "measured.csv", *T2, "--root", root],
+            f"measured.csv, row 1, column 'trial_id': trial id '{typed}' is not in the schedule "
+            f"(trial ids are case-sensitive: '{sheet.loc[0, 'trial_id']}'?).")
