@@ -108,3 +108,13 @@ def test_a_trial_id_in_other_case_is_named_as_the_schedules(tmp_path, study):
     refused(root, ["ingest", study, tmp_path / "measured.csv", *T2, "--root", root],
             f"measured.csv, row 1, column 'trial_id': trial id '{typed}' is not in the schedule "
             f"(trial ids are case-sensitive: '{sheet.loc[0, 'trial_id']}'?).")
+
+
+@pytest.mark.parametrize("command", ["status", "report", "show", "run"])
+def test_a_study_and_run_given_as_the_results_directory_spells_them_are_told_apart(results, command):
+    """``status smoke/default`` was "study 'smoke/default' is a path; give the study's name (the
+    value of name: in the study file; default if the file is named after it) ...", naming the run
+    as the study; ``run smoke/default`` was "study file smoke/default does not exist"."""
+    refused(results, [command, "smoke/default", "--root", results],
+            "study 'smoke/default' names a study and a run, as the results directory spells them; "
+            "give the study's name and the run apart: smoke --run default.")

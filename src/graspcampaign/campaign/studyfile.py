@@ -217,6 +217,20 @@ def is_path_argument(study: str) -> bool:
     return study.lower().endswith(_SUFFIXES) or "/" in study or os.sep in study
 
 
+def study_and_run(study: str, root: Path | str | None = None) -> str | None:
+    """Why ``study`` is refused when it is ``<study>/<run>`` (``smoke/default``, as the results
+    directory spells a run) rather than a study: one sentence giving the two apart; else None.
+    Its first part is a study on the search path, or (``root``) a folder of runs there."""
+    parts = study.split("/")
+    if (len(parts) != 2 or not all(parts) or Path(study).suffix.lower() in _SUFFIXES
+            or os.path.isfile(study)):
+        return None
+    if parts[0] not in study_files() and not (root is not None and (Path(root) / parts[0]).is_dir()):
+        return None
+    return (f"study {study!r} names a study and a run, as the results directory spells them; "
+            f"give the study's name and the run apart: {parts[0]} --run {parts[1]}.")
+
+
 def find_study(study: str) -> Path:
     """Return the file of a study given by name (on the search path) or by path.
 
@@ -228,6 +242,8 @@ def find_study(study: str) -> Path:
     if not isinstance(study, str):
         raise ConfigError(f"study = {study!r} is not a study's name or file path: give it as text.")
     if is_path_argument(study):
+        if (apart := study_and_run(study)) is not None:
+            raise ConfigError(apart)
         path, unknown = expand_home(study)
         if unknown:
             raise ConfigError(f"study file {shown(study)} {unknown}; give its path in full.")
