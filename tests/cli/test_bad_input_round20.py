@@ -118,3 +118,32 @@ def test_a_study_and_run_given_as_the_results_directory_spells_them_are_told_apa
     refused(results, [command, "smoke/default", "--root", results],
             "study 'smoke/default' names a study and a run, as the results directory spells them; "
             "give the study's name and the run apart: smoke --run default.")
+
+
+#: how a refused override of a config group says what to write instead
+CHOOSE = "choose one of its options ({0}=OPTION; options: {1})"
+MODELS, RUNNERS = "firm, nominal, table2", "dask, local"
+
+
+@pytest.mark.parametrize(("override", "said"), [
+    ("model=null", f"gives the config group model null, which is no option; "
+                   f"{CHOOSE.format('model', MODELS)}."),
+    ("runner=NULL", f"gives the config group runner null, which is no option; "
+                    f"{CHOOSE.format('runner', RUNNERS)}."),
+    ("+model=firm", "adds the config group model, which every study has already (conf/config.yaml "
+                    f"chooses its option); {CHOOSE.format('model', MODELS)} without the '+': "
+                    "model=firm."),
+    ("++runner=dask", "adds the config group runner, which every study has already "
+                      f"(conf/config.yaml chooses its option); {CHOOSE.format('runner', RUNNERS)} "
+                      "without the '++': runner=dask."),
+    ("model=${seed}", "chooses the option of config group model by ${seed}, a key of the study, but "
+                      "a group's option is chosen before the study is composed; "
+                      f"{CHOOSE.format('model', MODELS)}.")])
+def test_an_override_of_a_config_group_hydra_would_misread_is_refused_in_words(tmp_path, override,
+                                                                               said):
+    """Each was Hydra's own: "Config group override must be a string or a list. Got NoneType.",
+    "Multiple values for model. To override a value use 'override model: firm'.", "force-add of
+    config groups is not supported: '++runner=dask'.", "_dummy_ refers to ${seed}, which is not a
+    key of the study config." (a key of Hydra's own)."""
+    refused(tmp_path, ["show", "baseline_grid", override, "--root", tmp_path],
+            f"override {override!r} {said}")
