@@ -147,3 +147,20 @@ def test_an_override_of_a_config_group_hydra_would_misread_is_refused_in_words(t
     key of the study config." (a key of Hydra's own)."""
     refused(tmp_path, ["show", "baseline_grid", override, "--root", tmp_path],
             f"override {override!r} {said}")
+
+
+def test_compare_with_given_on_the_command_line_is_named_as_the_override(tmp_path):
+    """Both named the study file alone, which does not set compare_with: "campaigns/
+    baseline_grid.yaml: compare_with = 'nosuch' is not a study ..." and "/…/campaigns/
+    baseline_grid.yaml: compare_with = smoke is a study of trial kind mesh_features, ..."."""
+    refused(tmp_path, ["show", "baseline_grid", "compare_with=nosuch", "--root", tmp_path],
+            "campaigns/baseline_grid.yaml with override compare_with=nosuch: compare_with = 'nosuch' "
+            "is not a study with paper values; allowed: ablation, baseline_grid, dynamic_check, "
+            "friction_mass, gravity_settle, heuristic_weights, mesh_resolution, pso_repeatability, "
+            "sensitivity, shapes, smoke, surrogate, test1_bench, test2_grasp, test3_disturbance, "
+            "wrench_balance.")
+    refused(tmp_path, ["show", "baseline_grid", "compare_with=smoke", "--root", tmp_path],
+            "override 'compare_with=smoke': compare_with = smoke is a study of trial kind "
+            "mesh_features, and this study's kind is quasi_static: it would be reported with smoke's "
+            "report, which reads mesh_features records; compare with a study of kind quasi_static "
+            "(ablation, baseline_grid, shapes) or leave compare_with out.")

@@ -387,7 +387,8 @@ def check_paper_block(obj: StudyCfg, written: Any, path: Path, campaigns_dir: Pa
     levels = {f"{group}.{k}": v for group in ("factors", "params")
               for k, v in (data.get(group) or {}).items() if isinstance(v, list)}
     if data.get("kind") not in (None, obj.kind):  # compared with, or hidden by, the user's file
-        _check_compared_kind(obj, str(data["kind"]), path, campaigns_dir, paper_types())
+        typed = next((o for o in overrides if o.lstrip("+").partition("=")[0] == "compare_with"), None)
+        _check_compared_kind(obj, str(data["kind"]), path, campaigns_dir, paper_types(), typed)
     try:
         check_paper(like, obj.paper, f"{where}: paper", compare_with=bool(obj.compare_with),
                     levels=levels)
@@ -403,10 +404,11 @@ def check_paper_block(obj: StudyCfg, written: Any, path: Path, campaigns_dir: Pa
 
 
 def _check_compared_kind(obj: StudyCfg, theirs: str, path: Path, campaigns_dir: Path,
-                         studies: dict[str, Any]) -> None:
+                         studies: dict[str, Any], typed: str | None = None) -> None:
     """Refuse a study reported with the report of a study of another trial kind, which reads
     records of that kind (``report.build.spec_for``: by name, then by ``compare_with``): one that
-    compares with it, or a user's file that takes its name and hides it."""
+    compares with it (named by the override ``typed`` that sets it, else by its file and line), or
+    a user's file that takes its name and hides it."""
     from graspcampaign.campaign.studyfile import read_yaml
 
     like = obj.compare_with or obj.name
@@ -423,9 +425,11 @@ def _check_compared_kind(obj: StudyCfg, theirs: str, path: Path, campaigns_dir: 
             and read_yaml(campaigns_dir / f"{name}.yaml").get("kind") == obj.kind]
     instead = (f"compare with a study of kind {obj.kind} ({', '.join(same)}) or leave compare_with "
                "out" if same else f"no study of the tool's is of kind {obj.kind}: leave compare_with out")
-    raise in_file(path, ConfigError(
-        f"compare_with = {like} is a study of trial kind {theirs}, and this study's kind is "
-        f"{obj.kind}: {reported}; {instead}.", key="compare_with"))
+    said = (f"compare_with = {like} is a study of trial kind {theirs}, and this study's kind is "
+            f"{obj.kind}: {reported}; {instead}.")
+    if typed:
+        raise ConfigError(f"override {typed!r}: {said}", key="compare_with")
+    raise in_file(path, ConfigError(said, key="compare_with"))
 
 
 # -- the trial kind's needs ------------------------------------------------------------------------
