@@ -164,3 +164,20 @@ def test_compare_with_given_on_the_command_line_is_named_as_the_override(tmp_pat
             "mesh_features, and this study's kind is quasi_static: it would be reported with smoke's "
             "report, which reads mesh_features records; compare with a study of kind quasi_static "
             "(ablation, baseline_grid, shapes) or leave compare_with out.")
+
+
+@pytest.mark.parametrize(("override", "said"), [
+    ("mass_kg=[0.2,false]", "factors.mass_kg[1] must be of type float, got false (a boolean)."),
+    ("shape=[true]", "factors.shape[0] must be of type str, got true (a boolean).")])
+def test_true_or_false_among_a_factors_levels_is_named_as_typed(tmp_path, override, said):
+    """Round 19 mended it for a single value; a level of a list was still "got False (bool)",
+    Python's spelling, which the user never typed."""
+    refused(tmp_path, ["show", "baseline_grid", override, "--root", tmp_path], said)
+
+
+def test_true_among_a_study_files_levels_is_named_as_written(tmp_path):
+    study = tmp_path / "mine.yaml"
+    study.write_text(f"{HEADER}name: mine\nkind: mesh_features\n"
+                     "factors: {shape: [sphere], nodes: [true]}\n")
+    refused(tmp_path, ["show", study, "--root", tmp_path / "results"],
+            f"{study}, line 5: factors.nodes[0] must be of type int, got true (a boolean).")

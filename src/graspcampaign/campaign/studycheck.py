@@ -29,7 +29,7 @@ from graspcampaign.campaign.schema import (
     not_finite_text,
 )
 from graspcampaign.campaign.written import in_file
-from graspcampaign.core.words import listed, meant, plural
+from graspcampaign.core.words import listed, meant, plural, typed_value
 from graspcampaign.errors import ConfigError
 
 _SCALARS = {"int": int, "float": float, "str": str, "bool": bool}
@@ -65,7 +65,7 @@ def _is_interpolation(value: Any) -> bool:
 def _got(value: Any) -> str:
     if isinstance(value, datetime.date):  # YAML reads an unquoted 2024-01-01 as a date
         return f"{value} (a date)"
-    return "null" if value is None else f"{value!r} ({type(value).__name__})"
+    return "null" if value is None else typed_value(value)
 
 
 def check_typed(key: str, value: Any, typ: str, meta: dict[str, Any] | None = None) -> None:
