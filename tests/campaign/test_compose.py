@@ -80,7 +80,7 @@ def test_an_error_is_named_with_its_line_from_one_read_of_the_study_file(tmp_pat
 
 
 def test_every_yaml_file_is_read_by_one_loader_class(tmp_path, monkeypatch):
-    """The checking loader's class (:func:`studyfile._loader`) is built once per process, not once
+    """The checking loader's class (:func:`yamlfile._loader`) is built once per process, not once
     per file read: a compose reads a study file and its group files, a ``list`` every study's."""
     import yaml
 

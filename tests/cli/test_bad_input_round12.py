@@ -128,7 +128,7 @@ def test_a_number_with_a_colon_in_a_study_file_is_refused(results, user_dir, see
     ("output:\n  root: ~", "line 6: output.root must be of type str, got ~, which YAML reads as "
      "null; quote it: '~'."),  # it said "got null"
     # written as YAML's own words, they are named as before
-    ("compare_with: false", "line 5: compare_with must be of type str, got False (bool)."),
+    ("compare_with: false", "line 5: compare_with must be of type str, got false (a boolean)."),
     ("output:\n  run: null", "line 6: output.run must be of type str, got null."),
 ])
 def test_a_word_yaml_reads_as_true_or_false_is_named_as_written(results, user_dir, lines, said):

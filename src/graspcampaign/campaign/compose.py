@@ -45,6 +45,8 @@ from graspcampaign.campaign.studycheck import (
     known_keys_sentence,
 )
 from graspcampaign.campaign.studyfile import (  # noqa: F401  (project_dirs, list_studies: public here too)
+    CASE_TWINS,
+    case_twin_study,
     check_group_files,
     check_package_header,
     find_study,
@@ -55,6 +57,7 @@ from graspcampaign.campaign.studyfile import (  # noqa: F401  (project_dirs, lis
     read_yaml,
     schema_of,
     study_files,
+    study_place,
 )
 from graspcampaign.campaign.written import file_nodes, in_file, line_of
 from graspcampaign.errors import ConfigError, UserInputError
@@ -159,9 +162,9 @@ def compose_study(study: str, overrides: list[str] | None = None) -> StudyCfg:
         check_kind(obj)
     except ConfigError as exc:  # about the kind as much as its factors or params
         raise _blamed(exc, path, overrides, also=("kind",)) from None
-    _check_renamed(obj.name, data.get("name"), path, campaigns_dir, given)
+    _check_renamed(obj.name, data.get("name"), path, given)
     check_paper_block(obj, data.get("name"), path, campaigns_dir,
-                      [o for o in given if split(o)[1].split(".")[0] == "paper"])
+                      [o for o in given if split(o)[1].split(".")[0] in ("paper", "compare_with")])
     if len(_COMPOSED) >= _COMPOSED_MAX:
         _COMPOSED.pop(next(iter(_COMPOSED)))
     _COMPOSED[key] = copy.deepcopy(obj)
@@ -178,19 +181,32 @@ def _check_output_root(root: str) -> None:
         raise ConfigError(str(exc), key="output.root") from None
 
 
-def _check_renamed(name: str, written: Any, path: Path, campaigns_dir: Path, given: list[str]) -> None:
+def _check_renamed(name: str, written: Any, path: Path, given: list[str]) -> None:
     """Refuse a study renamed on the command line (``name=...``) after another study on the search
     path: runs are stored (``<root>/<name>/``) and reported (``report/studies/``, by name) by their
     study's name, so its runs would be taken for that study's (docs/decisions.md, "A study's
     name")."""
-    other = study_files().get(name) if name != written else None
-    if other is None or other.resolve() == path.resolve():
+    if name == written:
         return
+    other = study_files().get(name)
     typed = next((o for o in given if split(o)[1] == "name"), f"name={name}")
-    where = f"{campaigns_dir.name}/{other.name}" if other.parent == campaigns_dir else str(other)
-    raise ConfigError(f"override {typed!r} names the study {name} ({where}): runs are stored and "
-                      f"reported by their study's name, so this run of {written} would be taken for "
-                      f"one of {name}'s; give a name no study has (graspcampaign list shows them).",
+    if other is not None and other.resolve() != path.resolve():
+        raise ConfigError(f"override {typed!r} names the study {name} ({study_place(other)}): runs "
+                          f"are stored and reported by their study's name, so this run of {written} "
+                          f"would be taken for one of {name}'s; give a name no study has "
+                          "(graspcampaign list shows them).", key="name")
+    if (twin := case_twin_study(name)) is None:
+        return
+    why = CASE_TWINS.format(name, twin[0])
+    if twin[1].resolve() == path.resolve():  # smoke name=SMOKE
+        raise ConfigError(f"override {typed!r} differs only in case from the study's own name "
+                          f"{twin[0]}: {why}, so this run would be taken for one of {twin[0]}'s; "
+                          "leave the override out, or give a name that differs in more than case.",
+                          key="name")
+    raise ConfigError(f"override {typed!r} names the study {name}, which differs only in case from "
+                      f"the study {twin[0]} ({study_place(twin[1])}): {why}, so this run of "
+                      f"{written} would be taken for one of {twin[0]}'s; give a name that differs "
+                      "in more than case from every study's (graspcampaign list shows them).",
                       key="name")
 
 

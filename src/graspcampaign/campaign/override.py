@@ -18,7 +18,7 @@ import re
 import unicodedata
 from typing import Any
 
-from graspcampaign.campaign import override_scan
+from graspcampaign.campaign import override_groups, override_scan
 from graspcampaign.campaign.former_names import FORMER_FACTORS, former_factor
 from graspcampaign.campaign.omegaconf_words import omegaconf_error_sentence
 from graspcampaign.campaign.override_scan import mapping_keys, n_values, sweep_function, underscored_numbers
@@ -101,6 +101,8 @@ def check_overrides(given: list[str]) -> None:
                 raise ConfigError(f"{single} takes one value, so {key} names nothing in it (override "
                                   f"{item!r} rejected); set it as {single}=VALUE.", key=single)
         parsed = _parse(item) if setting else None  # once: the checks below read it
+        if setting and (why := override_groups.problem(item, prefix, key, value, _value(parsed))):
+            raise ConfigError(why, key=key)
         if setting and key in GROUPS and isinstance(_value(parsed), list):  # Hydra merges all
             raise ConfigError(missing_option_sentence(key, value.strip()), key=key)
         if setting and _value(parsed) == {}:  # merged into the study's: it changes nothing

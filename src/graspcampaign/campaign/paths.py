@@ -194,6 +194,10 @@ def _not_a_results_root(root: Path) -> str | None:
         run = f"run {where.parent.name}/{where.name}"
         what = f"the directory of {run}" if where == absolute else f"inside {run} ({where})"
         return f"it is {what}; give the results root that holds it ({where.parent.parent})"
+    from graspcampaign.campaign.studyfile import config_place  # which imports this module
+
+    if (why := config_place(absolute)) is not None:
+        return why
     try:
         folders = [entry for entry in os.scandir(absolute) if entry.is_dir()]
     except OSError:

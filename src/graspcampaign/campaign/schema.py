@@ -21,7 +21,7 @@ from typing import Any
 from graspcampaign.campaign.former_names import FORMER_FACTORS, RENAMED_FACTORS, former_factor
 from graspcampaign.campaign.override_scan import not_finite
 from graspcampaign.core.plausible import FINGERTIP_RADIUS, PLAUSIBLE
-from graspcampaign.core.words import counted, meant
+from graspcampaign.core.words import counted, meant, typed_value
 from graspcampaign.errors import ConfigError
 
 _LAMBDA = PLAUSIBLE["lambda"].meta()
@@ -293,10 +293,7 @@ def check_value(key: str, value: Any, meta: dict[str, Any]) -> Any:
         elif typ in (int, float) and (overflow := not_finite_text(key, value)):
             raise ConfigError(overflow, key=key)
         else:
-            raise ConfigError(
-                f"{key} must be of type {typ.__name__}, got {value!r} "
-                f"({type(value).__name__}).", key=key
-            )
+            raise ConfigError(f"{key} must be of type {typ.__name__}, got {typed_value(value)}.", key=key)
     choices = meta.get("choices")
     if choices is not None:
         allowed = _registry_names(choices) if isinstance(choices, str) else tuple(choices)

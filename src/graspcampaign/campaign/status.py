@@ -209,7 +209,10 @@ def check_known(root: Path | str, study: str) -> None:
     naming the available studies (and the nearest one), or a study file's path given for its
     name (``run`` and ``show`` take a path; what is stored is under the study's name)."""
     if isinstance(study, str) and (Path(study).suffix.lower() in (".yaml", ".yml") or os.sep in study):
-        from graspcampaign.campaign.studyfile import read_yaml
+        from graspcampaign.campaign.studyfile import read_yaml, study_and_run
+
+        if (apart := study_and_run(study, root)) is not None:
+            raise UserInputError(apart)
 
         try:
             name = read_yaml(Path(study)).get("name")

@@ -29,7 +29,7 @@ from graspcampaign.campaign.schema import (
     not_finite_text,
 )
 from graspcampaign.campaign.written import in_file
-from graspcampaign.core.words import listed, meant, plural
+from graspcampaign.core.words import listed, meant, plural, typed_value
 from graspcampaign.errors import ConfigError
 
 _SCALARS = {"int": int, "float": float, "str": str, "bool": bool}
@@ -65,7 +65,7 @@ def _is_interpolation(value: Any) -> bool:
 def _got(value: Any) -> str:
     if isinstance(value, datetime.date):  # YAML reads an unquoted 2024-01-01 as a date
         return f"{value} (a date)"
-    return "null" if value is None else f"{value!r} ({type(value).__name__})"
+    return "null" if value is None else typed_value(value)
 
 
 def check_typed(key: str, value: Any, typ: str, meta: dict[str, Any] | None = None) -> None:
@@ -279,6 +279,7 @@ def check_study_file(path: Path, data: dict[str, Any]) -> None:
         Naming the file, the line, the key and what is allowed.
     """
     from graspcampaign.campaign.paths import check_name, usable_name
+    from graspcampaign.campaign.studyfile import CASE_TWINS, case_twin_study, project_dirs, study_place
 
     try:
         check_study_data(data)
@@ -298,6 +299,13 @@ def check_study_file(path: Path, data: dict[str, Any]) -> None:
                     f"run and reported by its file name (status and report look for "
                     f"{stem}), so write name: {stem} or rename the file "
                     f"to {name}.yaml.", key="name")
+            shipped = Path(path).parent.resolve() == project_dirs()[1].resolve()
+            if not shipped and (twin := case_twin_study(name)) is not None:
+                raise ConfigError(
+                    f"name: {name} differs only in case from the study {twin[0]} "
+                    f"({study_place(twin[1])}): {CASE_TWINS.format(name, twin[0])}; rename the "
+                    "study (its file and its name:) to one that differs in more than case.",
+                    key="name")
     except ConfigError as exc:
         raise in_file(path, exc) from None
 
@@ -379,7 +387,8 @@ def check_paper_block(obj: StudyCfg, written: Any, path: Path, campaigns_dir: Pa
     levels = {f"{group}.{k}": v for group in ("factors", "params")
               for k, v in (data.get(group) or {}).items() if isinstance(v, list)}
     if data.get("kind") not in (None, obj.kind):  # compared with, or hidden by, the user's file
-        _check_compared_kind(obj, str(data["kind"]), path, campaigns_dir, paper_types())
+        typed = next((o for o in overrides if o.lstrip("+").partition("=")[0] == "compare_with"), None)
+        _check_compared_kind(obj, str(data["kind"]), path, campaigns_dir, paper_types(), typed)
     try:
         check_paper(like, obj.paper, f"{where}: paper", compare_with=bool(obj.compare_with),
                     levels=levels)
@@ -395,10 +404,11 @@ def check_paper_block(obj: StudyCfg, written: Any, path: Path, campaigns_dir: Pa
 
 
 def _check_compared_kind(obj: StudyCfg, theirs: str, path: Path, campaigns_dir: Path,
-                         studies: dict[str, Any]) -> None:
+                         studies: dict[str, Any], typed: str | None = None) -> None:
     """Refuse a study reported with the report of a study of another trial kind, which reads
     records of that kind (``report.build.spec_for``: by name, then by ``compare_with``): one that
-    compares with it, or a user's file that takes its name and hides it."""
+    compares with it (named by the override ``typed`` that sets it, else by its file and line), or
+    a user's file that takes its name and hides it."""
     from graspcampaign.campaign.studyfile import read_yaml
 
     like = obj.compare_with or obj.name
@@ -415,9 +425,11 @@ def _check_compared_kind(obj: StudyCfg, theirs: str, path: Path, campaigns_dir: 
             and read_yaml(campaigns_dir / f"{name}.yaml").get("kind") == obj.kind]
     instead = (f"compare with a study of kind {obj.kind} ({', '.join(same)}) or leave compare_with "
                "out" if same else f"no study of the tool's is of kind {obj.kind}: leave compare_with out")
-    raise in_file(path, ConfigError(
-        f"compare_with = {like} is a study of trial kind {theirs}, and this study's kind is "
-        f"{obj.kind}: {reported}; {instead}.", key="compare_with"))
+    said = (f"compare_with = {like} is a study of trial kind {theirs}, and this study's kind is "
+            f"{obj.kind}: {reported}; {instead}.")
+    if typed:
+        raise ConfigError(f"override {typed!r}: {said}", key="compare_with")
+    raise in_file(path, ConfigError(said, key="compare_with"))
 
 
 # -- the trial kind's needs ------------------------------------------------------------------------

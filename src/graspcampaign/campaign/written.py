@@ -10,6 +10,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from graspcampaign.core.words import typed_value
 from graspcampaign.errors import ConfigError
 
 _BOOL, _NULL = "tag:yaml.org,2002:bool", "tag:yaml.org,2002:null"
@@ -68,7 +69,7 @@ def line_of(path: Path, key: str | None, nodes: dict[str, tuple[int, Any]] | Non
 def in_file(path: Path, exc: ConfigError, key_prefix: str = "",
             nodes: dict[str, tuple[int, Any]] | None = None) -> ConfigError:
     """``exc`` with the file (and the line of its key) in front: ``<path>, line 7: ...``; a value
-    it names as ``False (bool)`` or ``null`` that the file writes as a word YAML 1.1 reads as true,
+    it names as ``false (a boolean)`` or ``null`` that the file writes as a word YAML 1.1 reads as true,
     false or null (``no``, ``On``, ``NO``, ``~``) is named as written: ``no, which YAML reads as
     false; quote it: 'no'`` (the quotes where text is wanted). ``nodes``: the file's
     :func:`file_nodes`, when read already."""
@@ -79,7 +80,7 @@ def in_file(path: Path, exc: ConfigError, key_prefix: str = "",
         import yaml
 
         read = yaml.safe_load(word)  # what every YAML 1.1 reader makes of it
-        said, as_read = ("null", "null") if read is None else (f"{read!r} (bool)", str(read).lower())
+        said, as_read = ("null", "null") if read is None else (typed_value(read), str(read).lower())
         # quotes help where text and nothing else is wanted
         quote = f"; quote it: '{word}'" if f"must be of type str, got {said}." in text else ""
         text = text.replace(f"got {said}", f"got {word}, which YAML reads as {as_read}{quote}")

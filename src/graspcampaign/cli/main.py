@@ -50,6 +50,11 @@ def list_cmd(
 
     Each study file is read directly (no Hydra); a broken file is listed with what is wrong.
     """
+    if extensions and not names:  # it was passed over: the table of every study was printed
+        fail("--extensions chooses which names --names prints (graspcampaign list --names "
+             "--extensions: the studies the paper does not run); the table lists every study, "
+             "each marked paper or extension in its 'of' column, so give --names with it or "
+             "leave it out.")
     rows = _study_rows()
     if names:
         for name in _runnable(rows, extensions):

@@ -92,3 +92,12 @@ def as_ascii(text: str) -> str:
     zero-width space dropped, an Arabic-Indic or full-width digit written as its digit), the
     others kept as they are: what a user who pasted ``text`` meant to type."""
     return "".join(char if (ascii_char := stands_for(char)) is None else ascii_char for char in text)
+
+
+def typed_value(value: object) -> str:
+    """A config value as a refusal names it, with its type: ``0.3 (float)``, ``'x' (str)``; true
+    and false as YAML and Hydra spell them, ``true (a boolean)``, never Python's ``True (bool)``
+    (which no one writing a study or an override types)."""
+    if isinstance(value, bool):
+        return f"{str(value).lower()} (a boolean)"
+    return f"{value!r} ({type(value).__name__})"

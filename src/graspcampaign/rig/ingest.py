@@ -337,7 +337,9 @@ def _check_ids(df: pd.DataFrame, schedule: pd.DataFrame, label: str) -> None:
         if m and m["slot"] in slots:
             raise ingest_error(label, i + 1, "trial_id", f"trial id '{tid}' names attempt {m['k']} of slot "
                                f"'{m['slot']}'; a re-run is attempt 2 to {ATTEMPT_TYPO_LIMIT}")
-        raise ingest_error(label, i + 1, "trial_id", f"trial id '{tid}' is not in the schedule")
+        same = next((k for k in known if k.lower() == str(tid).lower()), None)  # as Test 1's ids
+        hint = f" (trial ids are case-sensitive: '{same}'?)" if same else ""
+        raise ingest_error(label, i + 1, "trial_id", f"trial id '{tid}' is not in the schedule{hint}")
     dup = df["trial_id"].duplicated(keep="first")
     if dup.any():
         i = int(np.flatnonzero(dup.to_numpy())[0])
