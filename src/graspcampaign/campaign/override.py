@@ -21,6 +21,7 @@ from typing import Any
 from graspcampaign.campaign import override_groups, override_scan
 from graspcampaign.campaign.former_names import FORMER_FACTORS, former_factor
 from graspcampaign.campaign.omegaconf_words import omegaconf_error_sentence
+from graspcampaign.campaign.override_groups import missing_option_sentence
 from graspcampaign.campaign.override_scan import mapping_keys, n_values, sweep_function, underscored_numbers
 from graspcampaign.campaign.schema import FACTOR_SPECS, StudyCfg, example
 from graspcampaign.campaign.studycheck import (
@@ -484,18 +485,3 @@ def _nothing_to_delete(key: str, typed: str | None, factors: list[str]) -> str:
               if name in factors and key != f"factors.{name}" else "")
     return (f"override {typed or '~' + key!r} deletes {key}, which this study does not have, so "
             f"there is nothing to delete; leave it out{factor}.")
-
-
-def missing_option_sentence(group: str, option: str) -> str:
-    """``model=nosuch``: name the group's options (the files of ``conf/<group>/``)."""
-    from graspcampaign.campaign.studyfile import project_dirs
-
-    named = (f"{group}={option} is a list, and a study composes one option" if option[:1] == "["
-             else f"{group}={option} is not an option" if option else f"{group}= names no option")
-    options = ", ".join(group_options(group))
-    if not options:
-        groups = sorted(p.name for p in project_dirs()[0].iterdir() if p.is_dir())
-        return f"{group} is not a config group; config groups: {', '.join(groups)}."
-    near = meant(option, options.split(", "), f"{group}={{}}") if option[:1] != "[" else ""
-    return f"{named} of config group {group}; {near}available options: {options}."
-
