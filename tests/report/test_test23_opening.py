@@ -99,6 +99,23 @@ def test_test3_opening_defines_sf_and_derives_the_arrest_bound_from_its_material
             "that arrests a slip. ") in _finding(sim_root, "test3_disturbance")
 
 
+def test_the_drops_below_the_arrest_bound_the_opening_counts_are_a_row_of_table_test3_claims(sim_root):
+    """The opening's "k of N below the safety factor μ_s/μ_k = … that arrests a slip" stood in no table on
+    the page (paper scale: 414 of 583): table test3_claims prints k and N, counted here from the records
+    with the paper's Table 4 typed above."""
+    ex = _both(sim_root, "test3_disturbance").query("belief_error == 'paper' and planner == 'heuristic'")
+    dropped = ex[ex["outcome"] == "failure_drop"].dropna(subset=["sf_actual"])
+    ratios = [TABLE4_MU[m][0] / TABLE4_MU[m][1] for m in set(ex["material"])]
+    bound = "–".join(dict.fromkeys([f"{min(ratios):.2f}", f"{max(ratios):.2f}"]))
+    page = report_md(sim_root / "test3_disturbance" / "default")
+    claims = md_table(page, "test3_claims").set_index("quantity")
+    row = claims.loc[f"proposed drops below the safety factor μ_s/μ_k = {bound} that arrests a slip (n: its "
+                     "drops with an SF reading and a Table 4 material)"]
+    assert [row["ours (95%)"], row["n"], row["paper"]] == [str(below_arrest(dropped)), str(len(dropped)), "—"]
+    assert f"%): {below_arrest(dropped)} of {len(dropped)} below the safety factor" in _finding(
+        sim_root, "test3_disturbance")
+
+
 PAPER7 = {"heuristic": 77.8, "centroid": 44.9}  # the paper's Table 7 success [%], from its text
 
 
