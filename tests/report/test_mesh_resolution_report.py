@@ -3,14 +3,11 @@ baseline_grid records, where an outcome is missing (``records.flag``, ``records.
 
 from __future__ import annotations
 
-import statistics
 from types import SimpleNamespace
 
 import numpy as np
 import pandas as pd
 import pyarrow as pa
-import pytest
-from test_sensitivity_mesh_surrogate_report import _timings
 
 from graspcampaign.report.render import Run
 from graspcampaign.report.studies import mesh_resolution as mr
@@ -97,20 +94,3 @@ def test_the_cost_ratio_opening_says_the_verdicts_its_table_rows_hold():
     run.tables["cost_ratio"] = table.reset_index()
     assert "(paper 1.95: as the row says; within the row's target, not a paper value; table cost_ratio)" \
         in mr.finding(run)
-
-
-def test_the_reference_mesh_against_itself_the_opening_gives_is_a_row_of_the_cost_ratio_table():
-    """The opening's "the reference mesh against itself 0.90–1.20", the timing noise a growth must exceed,
-    stood in no table on the page (paper scale: "1.00–1.04"); each estimator's is a row of table
-    cost_ratio now, not compared. At 3 trials the percentile bootstrap's bounds are the extremes."""
-    itself = [(0.9, 0.9), (1.0, 1.0), (1.2, 1.2)]
-    run = _timings([1.1, 1.15, 1.2], [1.1, 1.15, 1.2], itself=itself)
-    table = mr.COST.compute(run).set_index("quantity")
-    ratios = [f for f, _ in itself]
-    for repeats in ("fastest", "median"):
-        row = table.loc[f"cost ratio, the reference mesh against itself (144 / 144 nodes), {repeats} repeats"]
-        assert row[["value", "low", "high"]].tolist() == pytest.approx(
-            [statistics.median(ratios), min(ratios), max(ratios)])
-        assert pd.isna(row["paper"])
-        assert row["verdict"] == "not compared: the timing noise a growth must exceed"
-    assert "; the reference mesh against itself 0.90–1.20)" in mr.finding(run)

@@ -3,6 +3,8 @@ surrogate's report is tested in test_surrogate_report.py)."""
 
 from __future__ import annotations
 
+import statistics
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -475,6 +477,25 @@ def test_growth_needs_an_interval_above_1_and_above_the_reference_mesh_against_i
 
     run = _timings(fastest, fastest, itself=itself)
     assert f"): {expected}:" in finding(run)
+
+
+def test_the_reference_mesh_against_itself_the_opening_gives_is_a_row_of_the_cost_ratio_table():
+    """The opening's "the reference mesh against itself 0.90–1.20", the timing noise a growth must exceed,
+    stood in no table on the page (paper scale: "1.00–1.04"); each estimator's is a row of table
+    cost_ratio now, not compared. At 3 trials the percentile bootstrap's bounds are the extremes."""
+    from graspcampaign.report.studies.mesh_resolution import COST, finding
+
+    itself = [(0.9, 0.9), (1.0, 1.0), (1.2, 1.2)]
+    run = _timings([1.1, 1.15, 1.2], [1.1, 1.15, 1.2], itself=itself)
+    table = COST.compute(run).set_index("quantity")
+    ratios = [f for f, _ in itself]
+    for repeats in ("fastest", "median"):
+        row = table.loc[f"cost ratio, the reference mesh against itself (144 / 144 nodes), {repeats} repeats"]
+        assert row[["value", "low", "high"]].tolist() == pytest.approx(
+            [statistics.median(ratios), min(ratios), max(ratios)])
+        assert pd.isna(row["paper"])
+        assert row["verdict"] == "not compared: the timing noise a growth must exceed"
+    assert "; the reference mesh against itself 0.90–1.20)" in finding(run)
 
 
 def test_the_cost_ratio_finding_takes_the_verdict_rules_word_and_nothing_else(monkeypatch):
