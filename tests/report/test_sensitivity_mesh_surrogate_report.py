@@ -3,8 +3,6 @@ surrogate's report is tested in test_surrogate_report.py)."""
 
 from __future__ import annotations
 
-import statistics
-
 import numpy as np
 import pandas as pd
 import pytest
@@ -106,9 +104,8 @@ def test_mesh_resolution_report_prints_the_cost_ratio(runs):
     top = res[res["nodes"] == 1750]
     expected = (top["eval_time_min_s"] / top["eval_time_reference_min_s"]).median()
     by_median = (top["eval_time_s"] / top["eval_time_reference_s"]).median()
-    assert ratio["value"].iloc[:4].tolist() == pytest.approx([expected, by_median] * 2, rel=1e-12)
-    # the paper's ratio; then this tool's speed target (issue 7's) and the reference mesh against
-    # itself, which have no paper value
+    assert ratio["value"].tolist() == pytest.approx([expected, by_median] * 2, rel=1e-12)
+    # the paper's ratio; then this tool's speed target (issue 7's), which has no paper value
     assert ratio["paper"].iloc[:2].tolist() == [1.95] * 2 and ratio["paper"].iloc[2:].isna().all()
     within, printed = round(expected, 2) <= 1.5, " at its printed precision" * bool(expected > 1.5)
     assert ratio["verdict"].iloc[2] == (f"within this tool's speed target ≤ 1.50{printed}" if within
@@ -117,7 +114,7 @@ def test_mesh_resolution_report_prints_the_cost_ratio(runs):
     assert runtime.to_dict() == pytest.approx((100 * res.groupby("nodes")["loop_capped"].mean()).to_dict())
     md = report_md(store)
     # a ratio below 1 does not "grow": the sentence names both meshes and the number of trials
-    assert (f"One evaluation on the 1750-node mesh costs {expected:.2f} times one on the 144-node "
+    assert (f"One evaluation on the largest mesh (1750 nodes) costs {expected:.2f} times one on the 144-node "
             f"reference mesh (paper 1.95: {ratio['verdict'].iloc[0].split(':')[0]}; "
             f"{ratio['verdict'].iloc[2]}{TOOL}") in md
     assert ("): too few trials to tell growth from timing noise (2 trials; a 95% interval needs 3), the "
@@ -224,9 +221,8 @@ def test_a_run_without_the_papers_meshes_is_not_compared_with_the_papers_ratio(s
     ratio = read_table(store, "cost_ratio")
     # the paper gives a ratio, for meshes this run lacks (was: "no paper value"); the target is ours
     assert ratio["paper"].iloc[:2].tolist() == [1.95] * 2 and ratio["paper"].iloc[2:].isna().all()
-    paper = ~ratio["quantity"].str.startswith("cost ratio, the reference mesh against itself")
-    assert (ratio["verdict"][paper] == "not compared: this run has no 1750-node mesh (the paper's ratio is "
-                                       "1750 / 144 nodes)").all() and paper.sum() == 4
+    assert (ratio["verdict"] == "not compared: this run has no 1750-node mesh (the paper's ratio is "
+                                "1750 / 144 nodes)").all()
     assert ratio["quantity"].iloc[0] == f"cost ratio, {res['nodes'].max()} / 144 nodes, fastest repeats"
     md = report_md(store)
     assert (f"costs {top.median():.2f} times one on the 144-node reference mesh (not compared: this run has "
@@ -454,8 +450,8 @@ def test_the_cost_ratio_finding_reads_the_tables_verdicts_and_the_median_rows_ar
                                   "within this tool's speed target ≤ 1.50" if value <= 1.5
                                   else "within this tool's speed target ≤ 1.50 at its printed precision"
                                   if round(value, 2) <= 1.5 else "above this tool's speed target ≤ 1.50")
-    assert len(table) == 3 * len(values)  # against the paper, the target, the reference mesh itself
-    assert f"One evaluation on the 1750-node mesh {expected}" in finding(run)
+    assert len(table) == 2 * len(values)
+    assert f"One evaluation on the largest mesh (1750 nodes) {expected}" in finding(run)
 
 
 @pytest.mark.parametrize(("fastest", "itself", "expected"), [
@@ -477,25 +473,6 @@ def test_growth_needs_an_interval_above_1_and_above_the_reference_mesh_against_i
 
     run = _timings(fastest, fastest, itself=itself)
     assert f"): {expected}:" in finding(run)
-
-
-def test_the_reference_mesh_against_itself_the_opening_gives_is_a_row_of_the_cost_ratio_table():
-    """The opening's "the reference mesh against itself 0.90–1.20", the timing noise a growth must exceed,
-    stood in no table on the page (paper scale: "1.00–1.04"); each estimator's is a row of table
-    cost_ratio now, not compared. At 3 trials the percentile bootstrap's bounds are the extremes."""
-    from graspcampaign.report.studies.mesh_resolution import COST, finding
-
-    itself = [(0.9, 0.9), (1.0, 1.0), (1.2, 1.2)]
-    run = _timings([1.1, 1.15, 1.2], [1.1, 1.15, 1.2], itself=itself)
-    table = COST.compute(run).set_index("quantity")
-    ratios = [f for f, _ in itself]
-    for repeats in ("fastest", "median"):
-        row = table.loc[f"cost ratio, the reference mesh against itself (144 / 144 nodes), {repeats} repeats"]
-        assert row[["value", "low", "high"]].tolist() == pytest.approx(
-            [statistics.median(ratios), min(ratios), max(ratios)])
-        assert pd.isna(row["paper"])
-        assert row["verdict"] == "not compared: the timing noise a growth must exceed"
-    assert "; the reference mesh against itself 0.90–1.20)" in finding(run)
 
 
 def test_the_cost_ratio_finding_takes_the_verdict_rules_word_and_nothing_else(monkeypatch):

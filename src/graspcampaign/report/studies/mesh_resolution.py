@@ -209,7 +209,7 @@ def _reading(run: Run) -> str:
                       f"{', '.join(w for w in (other[1], median_growth) if w)}: the estimator decides")
     design = ("which the design does not predict" if grows else "the design predicts none"
               if math.isnan(ratio.low) else "as the design predicts")
-    return (f"One evaluation on the {top}-node mesh costs {fmt.number(ratio.value, 2)} times one "
+    return (f"One evaluation on the largest mesh ({top} nodes) costs {fmt.number(ratio.value, 2)} times one "
             f"on the {ref}-node reference mesh ({paper}; table cost_ratio): {growth}, {design}: neither "
             "stage's work depends on the mesh size, unlike the paper's per-candidate collision queries "
             "(Sec. 6.7).")
@@ -311,11 +311,6 @@ def _cost_rows(run: Run):
     for r in estimators:
         yield (TARGET_ROW.format(sizes, r, fmt.number(target)), "not in the paper",
                lambda r=r: _cost_ratio(run, r), None, "", 2, because[r] or _target_row(run, r, target))
-    ref = meshes[1] if meshes and (panel_rows(run, "resolution")["nodes"] == meshes[1]).any() else None
-    for r in estimators * (ref is not None):  # the timing noise a growth must exceed (_growth), as said
-        yield (f"cost ratio, the reference mesh against itself ({ref} / {ref} nodes), {r} repeats", "not in "
-               "the paper", lambda r=r: _cost_ratio(run, r, ref), None, "", 2, "not compared: the timing "
-               "noise a growth must exceed")
 
 
 def _speed(ratio: float, target: float) -> tuple[bool | None, str]:
@@ -335,10 +330,9 @@ def _target_row(run: Run, repeats: str, target: float) -> str:
         return ""
 
 
-COST = Claims("cost_ratio", "Per-evaluation cost ratio, largest against reference mesh, and the reference "
-              "mesh against itself, the timing noise a growth must exceed (median over the trials of each "
-              "trial's ratio of the two meshes' fastest, and of their median, repeats, timed interleaved in "
-              "the same process so slow drift of the machine load cancels; percentile-"
+COST = Claims("cost_ratio", "Per-evaluation cost ratio, largest against reference mesh (median over the "
+              "trials of each trial's ratio of the two meshes' fastest, and of their median, repeats, timed "
+              "interleaved in the same process so slow drift of the machine load cancels; percentile-"
               f"bootstrap 95% interval over the trials from {MIN_TRIALS} trials on, {BOOTSTRAP_RESAMPLES} "
               "resamples); the verdict uses the fastest repeats, the median ones are context, and a run "
               "stored before the fastest were recorded has the median only; the paper's ratio, and this "
