@@ -489,7 +489,8 @@ def audit_t2_opening(study, d, t7, belief) -> None:
         top = paper_s.index[0]
         g, cap = b["g_geo_actual"], b["grip_capped_pct"]
         if g[q] < g[top]:
-            parts.append(f"median G_geo {g[q]:.2f}, {labels[top]} {g[top]:.2f}")
+            # as the belief table prints the column: 3 significant digits of its largest (G_geo in [0.1, 1))
+            parts.append(f"median G_geo {g[q]:.3f}, {labels[top]} {g[top]:.3f}")
         if cap[q] > cap[top]:
             parts.append(f"damage cap on {cap[q]:.1f}% of trials ({labels[top]} {cap[top]:.1f}%")
     differ, judged = int((rows["differs"] == True).sum()), int(rows["differs"].notna().sum())  # noqa: E712

@@ -356,5 +356,13 @@ def audit_test3_claims(study, ref, d, e, prop, nat, mc, agree, chi, logistic) ->
             "differs": judge(r["coef"], pv, 2, r["ci_low"], r["ci_high"])}
     rows["χ² planner × retention (proposed, centroid, random)"] = value(
         chi.statistic, ref["chi2_planner_retention"], 1, chi.n)
+    # the opening's drops below μ_s/μ_k (Table 4 of the paper, typed here), of those with an SF reading
+    bound = prop["material"].map({"gel": 0.772 / 0.544, "silicone_soft": 0.619 / 0.440,
+                                  "bio_foam": 0.684 / 0.506, "silicone_ref": 0.509 / 0.364})
+    dropped = prop[(prop["outcome"] == "failure_drop") & prop["sf_actual"].notna() & bound.notna()]
+    span = "–".join(dict.fromkeys(f"{v:.2f}" for v in (bound.min(), bound.max())))
+    rows[f"proposed drops below the safety factor μ_s/μ_k = {span} that arrests a slip (n: its drops with an "
+         "SF reading and a Table 4 material)"] = value(
+        int((dropped["sf_actual"].astype(float) < bound[dropped.index]).sum()), None, 0, len(dropped))
     frame = pd.DataFrame([{"quantity": q, **v} for q, v in rows.items()])
     compare(study, "test3_claims", frame, ["quantity"], rtol=1e-4)

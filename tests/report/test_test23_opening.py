@@ -6,6 +6,7 @@ clause on small frames whose sentences are written out by hand."""
 
 from __future__ import annotations
 
+import re
 import statistics
 
 import pandas as pd
@@ -16,6 +17,7 @@ from synthetic_runs import (
     TABLE4_MU,
     below_arrest,
     both_readings,
+    md_table,
     opening,
     report_md,
     study_paper_block,
@@ -47,6 +49,19 @@ def test_the_opening_leaves_the_flags_to_their_table_and_their_reasons_to_its_ca
     caption = page.split(f"(`tables/{name}.csv`)")[0].rsplit("\n**", 1)[1]
     assert "friction-blind, it carries no information about a friction hold" in caption
     assert "optimistic where the beliefs are wrong" in caption
+
+
+@pytest.mark.parametrize("study", sorted(HARDWARE_STUDIES))
+def test_the_why_says_each_median_g_geo_as_its_belief_table_prints_it(sim_root, study):
+    """The "Why" printed G_geo to 2 decimals ("median G_geo 0.70, centroid 0.86") beside table
+    test2_belief's 0.699 and 0.858 (3 significant digits): read back, both are the table's cells."""
+    page, prefix = report_md(sim_root / study / "default"), study.split("_")[0]
+    said = re.search(r"median G_geo (?:is )?([\d.]+),? \(?([a-zA-Z ]+?) ([\d.]+)[;)]",
+                     opening(sim_root / study / "default"))
+    assert said, "the opening gives no median G_geo: nothing to compare"
+    table = md_table(page, f"{prefix}_belief")
+    cells = table[table["belief error"] == "paper"].set_index("planner")["median G_geo actual"]
+    assert [said.group(1), said.group(3)] == [cells["proposed H(G)"], cells[said.group(2)]]
 
 
 def test_test3_opening_gives_the_drop_rate_and_table8_says_when_blocks_a_and_c_succeed(sim_root):
@@ -81,6 +96,24 @@ def test_test3_opening_defines_sf_and_derives_the_arrest_bound_from_its_material
     assert below > 0  # the reference run's drops: the cause holds there
     assert (f"%): {below} of {len(dropped)} below the safety factor μ_s/μ_k = {bound} "
             "that arrests a slip. ") in opening(sim_root / "test3_disturbance" / "default")
+
+
+def test_the_drops_below_the_arrest_bound_the_opening_counts_are_a_row_of_table_test3_claims(sim_root):
+    """The opening's "k of N below the safety factor μ_s/μ_k = … that arrests a slip" stood in no table on
+    the page (paper scale: 414 of 583): table test3_claims prints k and N, counted here from the records
+    with the paper's Table 4 typed above."""
+    ex = both_readings(sim_root, "test3_disturbance").query(
+        "belief_error == 'paper' and planner == 'heuristic'")
+    dropped = ex[ex["outcome"] == "failure_drop"].dropna(subset=["sf_actual"])
+    ratios = [TABLE4_MU[m][0] / TABLE4_MU[m][1] for m in set(ex["material"])]
+    bound = "–".join(dict.fromkeys([f"{min(ratios):.2f}", f"{max(ratios):.2f}"]))
+    page = report_md(sim_root / "test3_disturbance" / "default")
+    claims = md_table(page, "test3_claims").set_index("quantity")
+    row = claims.loc[f"proposed drops below the safety factor μ_s/μ_k = {bound} that arrests a slip (n: its "
+                     "drops with an SF reading and a Table 4 material)"]
+    assert [row["ours (95%)"], row["n"], row["paper"]] == [str(below_arrest(dropped)), str(len(dropped)), "—"]
+    assert f"%): {below_arrest(dropped)} of {len(dropped)} below the safety factor" in opening(
+        sim_root / "test3_disturbance" / "default")
 
 
 PAPER7 = {"heuristic": 77.8, "centroid": 44.9}  # the paper's Table 7 success [%], from its text
@@ -134,7 +167,7 @@ def test_the_why_reads_the_medians_and_capped_shares_table_test2_belief_prints()
               "centroid": ([True] * 4 + [False], [0.85, 0.9, 0.9, 0.95, 1.0], [True] + [False] * 4)}
     assert "Why: the proposed score H~ has no gravity term" in _opening_of(trials)
     text = _opening_of(trials, belief=lambda t: t.assign(g_geo_actual=0.9, grip_capped_pct=[10.0, 30.0]))
-    assert ("The records do not show why: the proposed planner's median G_geo is 0.90 (centroid 0.90), its "
+    assert ("The records do not show why: the proposed planner's median G_geo is 0.900 (centroid 0.900), its "
             "grip at the damage cap on 10.0% of trials (centroid 30.0%; table test2_belief). ") in text
 
 
@@ -153,7 +186,7 @@ def test_the_opening_gives_both_causes_where_the_records_hold_both():
                         "centroid": ([True] * 4 + [False], [0.85, 0.9, 0.9, 0.95, 1.0],
                                      [True] + [False] * 4)})
     assert ("Why: the proposed score H~ has no gravity term, so its contacts reach less vertical friction "
-            "(median G_geo 0.60, centroid 0.90) and its grip hits the damage cap on 60.0% of trials "
+            "(median G_geo 0.600, centroid 0.900) and its grip hits the damage cap on 60.0% of trials "
             "(centroid 20.0%; table test2_belief). ") in text
 
 
@@ -164,7 +197,7 @@ def test_the_opening_says_the_records_do_not_show_why_where_medians_are_equal_an
                         "centroid": ([True] * 4 + [False], [0.7, 0.9, 0.9, 0.9, 1.1],
                                      [True] * 2 + [False] * 3)})
     assert "Why" not in text and "gravity" not in text
-    assert ("The records do not show why: the proposed planner's median G_geo is 0.90 (centroid 0.90), "
+    assert ("The records do not show why: the proposed planner's median G_geo is 0.900 (centroid 0.900), "
             "its grip at the damage cap on 20.0% of trials (centroid 40.0%; table test2_belief). ") in text
 
 
@@ -178,4 +211,4 @@ def test_the_opening_states_only_the_cause_the_records_hold():
     text = _opening_of({"heuristic": ([False] * 5, [0.4] * 5, [True] + [False] * 4),
                         "centroid": ([True] * 3 + [False] * 2, [0.9] * 5, [True] + [False] * 4)})
     assert ("Why: the proposed score H~ has no gravity term, so its contacts reach less vertical friction "
-            "(median G_geo 0.40, centroid 0.90; table test2_belief). ") in text and "damage cap" not in text
+            "(median G_geo 0.400, centroid 0.900; table test2_belief). ") in text and "damage cap" not in text

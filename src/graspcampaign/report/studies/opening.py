@@ -42,12 +42,13 @@ def belief_gap(paper: pd.Series, none: pd.Series, table: str) -> str:
             f"planner's gap to the first from {gap} pp to {gap0} pp (table {table}). ")
 
 
-def why(beliefs: pd.DataFrame, top: str, table: str) -> str:
+def why(beliefs: pd.DataFrame, top: str, table: str, digits: int | str | None) -> str:
     """Why the proposed planner trails ``top``, as far as ``beliefs`` (``table``'s rows of the planners' own
     beliefs, by planner) show it: a lower median G_geo (less vertical friction) and a grip more often at the
-    damage cap, each said only where the records hold it; where neither holds, that they do not show why."""
+    damage cap, each said only where the records hold it; where neither holds, that they do not show why.
+    G_geo at ``digits``, the decimals of the table's column (it said 0.70 beside the table's 0.699)."""
     g, cap = beliefs["g_geo_actual"], beliefs["grip_capped_pct"]  # as the table prints them
-    who, n1, n2 = label("planner", top), (lambda v: fmt.number(v, 1)), (lambda v: fmt.number(v, 2))
+    who, n1, n2 = label("planner", top), (lambda v: fmt.number(v, 1)), (lambda v: fmt.number(v, digits))
     less, more = bool(g[PROPOSED] < g[top]), bool(cap[PROPOSED] > cap[top])
     capped = f"{n1(cap[PROPOSED])}% of trials ({who} {n1(cap[top])}%; {table})"
     if not (less or more):
@@ -89,8 +90,9 @@ def finding(run: Run, extra=lambda run: "") -> str:
     text += (f"; success differs from the paper's for {differ} of {judged} planners (Table "
              f"{table_number}). ")
     if PROPOSED not in tops:  # a gap to explain
-        beliefs = run.tables[f"{prefix}_belief"].query("belief_error == 'paper'").set_index("planner")
-        text += why(beliefs, top, f"table {prefix}_belief")
+        table = run.tables[f"{prefix}_belief"]
+        beliefs = table.query("belief_error == 'paper'").set_index("planner")
+        text += why(beliefs, top, f"table {prefix}_belief", fmt.decimals(table["g_geo_actual"]))
     text += extra(run)
     if "none" in s and paper[PROPOSED] < paper.max():
         text += belief_gap(paper, s["none"].reindex(paper.index), f"{prefix}_belief_pairs")

@@ -23,18 +23,28 @@ from graspcampaign.report.studies import test2 as t2
 NATURAL = "friction_level == 'natural'"
 
 
-def drops(run: Run) -> str:
-    """The proposed planner's drops and, where the records show it, their cause: a slip that started is
+def arrest(run: Run) -> tuple[int, int, str, int, int, int]:
+    """The proposed planner's drops against the safety factor that arrests a slip: a slip that started is
     arrested only while the kinetic budget (μ_k/μ_s of the static one) carries the weight, i.e. SF ≥
-    μ_s/μ_k of its material; the dropped trials whose recorded ``sf_actual`` lies below it are counted,
-    of those with an ``sf_actual`` reading and a material of Table 4 (the others said apart)."""
-    d, paper = t2.ex(run, PROPOSED), paper_of(run, lambda p: p.table9[PROPOSED].drop_pct)
-    arrest = d["material"].map({m: f.mu_s / f.mu_k for m, f in FAMILIES.items()})  # NaN: not in Table 4
-    ratio, dropped = fmt.span(arrest.dropna().unique(), digits=2), d[d["is_drop"]]
-    no_sf, no_ratio = dropped["sf_actual"].isna(), arrest[dropped.index].isna()  # neither below nor above
+    μ_s/μ_k of its material. Returns how many dropped trials' recorded ``sf_actual`` lies below it, of how
+    many read (with an ``sf_actual`` reading and a material of Table 4), μ_s/μ_k's range as printed, the
+    drops without an ``sf_actual`` reading, those of a material not in Table 4, and all the drops (the
+    opening and table test3_claims say them)."""
+    d = t2.ex(run, PROPOSED)
+    bound = d["material"].map({m: f.mu_s / f.mu_k for m, f in FAMILIES.items()})  # NaN: not in Table 4
+    ratio, dropped = fmt.span(bound.dropna().unique(), digits=2), d[d["is_drop"]]
+    no_sf, no_ratio = dropped["sf_actual"].isna(), bound[dropped.index].isna()  # neither below nor above
     read = dropped[~no_sf & ~no_ratio]
-    below = int((read["sf_actual"].astype(float) < arrest[read.index]).sum())
-    unread, other = int(no_sf.sum()), int((no_ratio & ~no_sf).sum())  # each drop left out said once
+    below = int((read["sf_actual"].astype(float) < bound[read.index]).sum())
+    return below, len(read), ratio, int(no_sf.sum()), int((no_ratio & ~no_sf).sum()), len(dropped)
+
+
+def drops(run: Run) -> str:
+    """The proposed planner's drops and, where the records show it, their cause (:func:`arrest`): the
+    dropped trials whose recorded ``sf_actual`` lies below the bound are counted, of those with an
+    ``sf_actual`` reading and a material of Table 4 (the others said apart)."""
+    d, paper = t2.ex(run, PROPOSED), paper_of(run, lambda p: p.table9[PROPOSED].drop_pct)
+    below, n_read, ratio, unread, other, n_dropped = arrest(run)  # each drop left out said once
     needs = " and ".join([*["an `sf_actual` reading"] * bool(unread), *["a Table 4 material"] * bool(other)])
     with_sf = f" with {needs}" if needs else ""  # what a drop read has ("": every drop is read)
     apart = [f"{unread} more without " + ("an `sf_actual` reading" if other else "one")] * bool(unread) \
@@ -43,14 +53,14 @@ def drops(run: Run) -> str:
     text = f"The proposed planner drops {fmt.number(100 * d['is_drop'].mean(), 1)}% of trials (paper " \
            f"{fmt.number(paper, 1)}%)"
     if below:  # short: the opening's 900 characters (test_openings)
-        return (f"{text}: {below} of {len(read)}{with_sf} below the safety factor μ_s/μ_k = {ratio} that "
+        return (f"{text}: {below} of {n_read}{with_sf} below the safety factor μ_s/μ_k = {ratio} that "
                 f"arrests a slip{more}. ")
     text += f". No slip is arrested below a safety factor of μ_s/μ_k = {ratio}"
-    if len(read):
-        held = _none_of(len(read), with_sf, "held one below it", "did not hold one below it")
+    if n_read:
+        held = _none_of(n_read, with_sf, "held one below it", "did not hold one below it")
         return f"{text}; {held}{more}. "
-    if len(dropped):
-        return f"{text}; {_none_of(len(dropped), '', f'has {needs}', f'does not have {needs}')}. "
+    if n_dropped:
+        return f"{text}; {_none_of(n_dropped, '', f'has {needs}', f'does not have {needs}')}. "
     return text + ". "
 
 
@@ -178,6 +188,9 @@ def claims(run: Run):
     chi = t["test3_chi2"].iloc[0]
     yield ("χ² planner × retention (proposed, centroid, random)", "§9.5", Estimate(
         chi["statistic"], n=chi["n"]), p.chi2_planner_retention, "", 1)
+    below, n_read, ratio = arrest(run)[:3]  # the opening's count (§9.6: drops 10.1 %)
+    yield (f"proposed drops below the safety factor μ_s/μ_k = {ratio} that arrests a slip (n: its drops with "
+           "an SF reading and a Table 4 material)", "§9.6", Estimate(below, n=n_read), None, "", 0)
 
 
 def thresholds(run: Run, ax) -> None:
