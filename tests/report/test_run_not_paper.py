@@ -13,20 +13,27 @@ from __future__ import annotations
 import dataclasses
 import re
 
+import matplotlib as mpl
 import pytest
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.colors import to_hex
+from matplotlib.figure import Figure as MplFigure
 
 from graspcampaign.campaign.paper import study_paper
 from graspcampaign.campaign.records import RunStore
+from graspcampaign.report import style
 from graspcampaign.report.build import spec_for
-from graspcampaign.report.document import Document, Table, Text
+from graspcampaign.report.document import Document, Figure, Table, Text
 from graspcampaign.report.render import Run, render
 
-#: the runs, reduced further than the report tests' shared tree (~10 s together, so these stay in the
-#: fast suite): Test 1 on one specimen with a two-iteration PSO
+#: the three runs, reduced further than the report tests' shared tree (~10 s together, so these stay in
+#: the fast suite): Test 1 on one specimen with a two-iteration PSO, Test 2 at the fraction that keeps
+#: Fig. 30's trial (a stable proposed natural-friction sphere grasp)
 REDUCED = {
     "wrench_balance": [],
     "test1_bench": ["params.materials=[gel]", "params.specimens=[1]", "params.pso_restarts=1",
                     "params.pso_particles=4", "params.pso_iterations=2", "params.pso_max_reruns=0"],
+    "test2_grasp": ["params.fraction=0.08"],
 }
 
 
@@ -60,6 +67,20 @@ def _caption(study: str, name: str):
     return lambda run: caption(run) if callable(caption) else caption
 
 
+def _lines(study: str, name: str):
+    """The figure's lines other than the paper's (drawn in ``style.PAPER``): label and points."""
+    item = _item(study, Figure, name)
+
+    def read(run: Run) -> list:
+        with mpl.rc_context(style.RC):
+            fig = MplFigure(figsize=item.size, layout="constrained")
+            FigureCanvasAgg(fig)
+            item.draw(run, fig)
+        return [(i, ln.get_label(), ln.get_xydata().round(9).tolist()) for i, ax in enumerate(fig.axes)
+                for ln in ax.lines if to_hex(ln.get_color()) != to_hex(style.PAPER)]
+    return read
+
+
 def _finding(study: str):
     spec = spec_for(study, "")
 
@@ -74,6 +95,7 @@ RUN_SIDE = [
     ("wrench_balance", "finger_force_command_n", _finding("wrench_balance")),
     ("test1_bench", "events_aborted", _caption("test1_bench", "test1_counts")),
     ("test1_bench", "events_commanded", _caption("test1_bench", "test1_counts")),
+    ("test2_grasp", "lift_height_mm", _lines("test2_grasp", "fig30_representative_grasp")),
 ]
 
 
@@ -100,3 +122,20 @@ def test_test1_counts_caption_gives_the_virtual_benchs_abort_probability(root):
                    run.paper, run.store)
     assert measured.source == "measured"  # a rig's aborts are its own, drawn with no probability
     assert "per attempt" not in _caption("test1_bench", "test1_counts")(measured)
+
+
+def test_fig30_draws_the_protocols_lift_not_the_papers(root):
+    # Fig. 30's "lift height, commanded" level and its lift phase's end read paper.lift_height_mm; the
+    # records hold no lift height, and the rig commands its protocol's LIFT_HEIGHT_MM whatever the paper
+    # block says
+    from graspcampaign.report.studies.test2 import CLOSING_TRAVEL_MM, representative
+    from graspcampaign.rig.protocol_design import LIFT_HEIGHT_MM
+
+    run = _run(root, "test2_grasp", lift_height_mm=80.0)
+    lift = next(pts for _, what, pts in _lines("test2_grasp", "fig30_representative_grasp")(run)
+                if what == "lift height, commanded [mm]")
+    trial = run.records.set_index("trial_id").loc[representative(run)["trial_id"]]
+    t0 = CLOSING_TRAVEL_MM / trial["closing_speed_mm_per_s"]
+    t1 = t0 + LIFT_HEIGHT_MM / trial["lift_speed_mm_per_s"]
+    expected = [0, 0, t0, 0, t1, LIFT_HEIGHT_MM, t1 + trial["hold_s"], LIFT_HEIGHT_MM]
+    assert [v for point in lift for v in point] == pytest.approx(expected, abs=1e-8)
