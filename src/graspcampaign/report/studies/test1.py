@@ -4,6 +4,7 @@ PSO log, transfer errors and damage depths from the run's finalize stage (``summ
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass
+from fractions import Fraction
 
 import numpy as np
 import pandas as pd
@@ -12,6 +13,7 @@ from graspcampaign.analysis import calibration as cal
 from graspcampaign.analysis.records import Estimate
 from graspcampaign.analysis.vocabulary import colour, label
 from graspcampaign.core.bench import RMSE_REVIEW_THRESHOLD_PCT as REVIEW_PCT
+from graspcampaign.core.bench import SensorParams
 from graspcampaign.core.contact import normal_force
 from graspcampaign.core.words import counted, plural
 from graspcampaign.report import format as fmt
@@ -381,12 +383,21 @@ def fig26(run: Run, fig) -> None:
     ax_c.legend(handles=[paper_handle("paper §7.6")], loc="best")  # below: the slanted split names
 
 
+def _abort_text(run: Run) -> str:
+    """The counts caption's clause on the aborts: the virtual bench's per-attempt abort probability, its
+    ``SensorParams.abort_rate`` (the test1 kind passes no other; the records hold the aborts drawn, not
+    the probability), never the paper's counts; none on a rig, whose aborts are its own."""
+    if run.source != "virtual":
+        return ""
+    p = Fraction(SensorParams().abort_rate).limit_denominator(10**6)
+    return f" (p = {p.numerator}/{p.denominator} per attempt, a random realisation)"
+
+
 SPEC = ReportSpec("test1_bench", [
     Finding(finding),
     Text(_note),
     Table("test1_counts", lambda run: "Test 1 event counts (§7.1) beside the paper's; commanded = planned "
-          "events + re-runs of aborted attempts (p = "
-          f"{run.paper.events_aborted}/{run.paper.events_commanded} per attempt, a random realisation); "
+          f"events + re-runs of aborted attempts{_abort_text(run)}; "
           f"accepted = RMSE ≤ {fmt.number(REVIEW_PCT)}% of peak and no logged anomaly; a reduced study has "
           "proportionally fewer events",
           _counts, [*cols("quantity", "paper"), Col("ours", "ours", 0), *cols("verdict")]),

@@ -204,8 +204,9 @@ def fig29(run: Run, fig) -> None:
 
 
 LIFT_HEIGHT_MM = 50.0
-"""Fig. 30's commanded lift when the study gives no paper value: §8.3, "the object lifts smoothly to 50 mm"
-(the protocol's ``rig.protocol_design.LIFT_HEIGHT_MM``, same source; the report does not import rig)."""
+"""Fig. 30's commanded lift [mm]: the protocol's ``rig.protocol_design.LIFT_HEIGHT_MM`` (§8.3, "the object
+lifts smoothly to 50 mm"), the one the rig commands; the records hold no lift height, and the paper's
+``lift_height_mm`` is the paper's, never the run's (the report does not import rig)."""
 CLOSING_TRAVEL_MM = 10.0
 """Fig. 30 draws 10 mm of closing at the trial's closing speed: a schematic length, the records hold no
 closing travel (the figure is labelled a schematic of the commanded phases)."""
@@ -253,7 +254,7 @@ def hold_gap(run: Run, t: pd.Series) -> str:
 
 def fig30(run: Run, fig) -> None:
     t = representative(run)
-    lift = paper_of(run, lambda p: p.lift_height_mm) or LIFT_HEIGHT_MM
+    lift = LIFT_HEIGHT_MM
     t0 = CLOSING_TRAVEL_MM / t["closing_speed_mm_per_s"]
     t1 = t0 + lift / t["lift_speed_mm_per_s"]
     t2, band, slip = t1 + t["hold_s"], paper_of(run, lambda p: p.hold_force_per_finger_n), "#c62828"
