@@ -48,6 +48,11 @@ def split(item: str) -> tuple[str, str, str, str]:
     return prefix, key.strip(), sep, value
 
 
+def group(item: str) -> str:
+    """The top-level config key an override as given sets (``paper`` of ``paper.auc=0.7``)."""
+    return split(item)[1].split(".")[0]
+
+
 def check_overrides(given: list[str]) -> None:
     """Refuse, before composition, overrides Hydra would misread or silently ignore.
 
