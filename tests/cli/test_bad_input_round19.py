@@ -51,7 +51,7 @@ def test_a_number_that_is_no_finite_number_is_refused_as_typed(tmp_path, overrid
     that again after a mapping's scan kept to its floats; a mapping that gives a text key nan (a run's
     address, a shape) named that nan, not the number no finite number (rev40b)."""
     refused(tmp_path, ["show", "baseline_grid", override, "--root", tmp_path],
-            f"override {override!r}: {said}; give a finite number instead.")
+            f"override {override!r}: {said}; give a finite number.")
 
 
 @pytest.mark.parametrize(("override", "run"), [("output.run=nan", "nan"), ("output={run: nan}", "nan"),
@@ -113,7 +113,7 @@ def test_a_numeric_option_that_is_no_finite_number_is_refused_as_typed(sphere, t
 def test_an_override_of_a_number_written_infinity_is_refused_as_typed(tmp_path):
     """Hydra reads it as text, and the float field's float() as inf: "must be finite, got inf"."""
     refused(tmp_path, ["show", "baseline_grid", "pso.inertia=infinity", "--root", tmp_path],
-            "override 'pso.inertia=infinity': infinity is infinite; give a finite number instead.")
+            "override 'pso.inertia=infinity': infinity is infinite; give a finite number.")
 
 
 def test_a_study_file_whose_name_is_no_study_name_is_told_to_be_renamed(tmp_path):

@@ -23,7 +23,7 @@ def test_a_quoted_text_for_a_number_in_a_mapping_is_refused_as_typed(tmp_path, o
     as typed; the mapping's entry is now scanned with its quoted text. factors' list said it as typed
     without the override ("factors.mu[1]: inf is infinite; give a finite number.")."""
     refused(tmp_path, ["show", "baseline_grid", override, "--root", tmp_path],
-            f"override {override!r}: {said}; give a finite number instead.")
+            f"override {override!r}: {said}; give a finite number.")
 
 
 @pytest.mark.parametrize(("override", "run"), [("output={run: 'nan'}", "nan"),

@@ -30,6 +30,7 @@ from omegaconf import OmegaConf
 from graspcampaign.campaign.override import (  # noqa: F401  (omegaconf_error_sentence: public here too)
     check_overrides,
     check_sweeps,
+    group,
     omegaconf_error_sentence,
     override_sentence,
     rewrite,
@@ -164,7 +165,7 @@ def compose_study(study: str, overrides: list[str] | None = None) -> StudyCfg:
         raise _blamed(exc, path, overrides, also=("kind",)) from None
     _check_renamed(obj.name, data.get("name"), path, given)
     check_paper_block(obj, data.get("name"), path, campaigns_dir,
-                      [o for o in given if split(o)[1].split(".")[0] in ("paper", "compare_with")])
+                      [o for o in given if group(o) in ("paper", "compare_with")])
     if len(_COMPOSED) >= _COMPOSED_MAX:
         _COMPOSED.pop(next(iter(_COMPOSED)))
     _COMPOSED[key] = copy.deepcopy(obj)

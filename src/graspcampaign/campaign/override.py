@@ -48,6 +48,11 @@ def split(item: str) -> tuple[str, str, str, str]:
     return prefix, key.strip(), sep, value
 
 
+def group(item: str) -> str:
+    """The top-level config key an override as given sets (``paper`` of ``paper.auc=0.7``)."""
+    return split(item)[1].split(".")[0]
+
+
 def check_overrides(given: list[str]) -> None:
     """Refuse, before composition, overrides Hydra would misread or silently ignore.
 
@@ -131,7 +136,7 @@ def check_overrides(given: list[str]) -> None:
                if _numeric(at, field_at(at))] if setting else []
         typed = dict(override_scan.mapping_entries(value)).get(bad[0], "") if bad else ""
         if number := override_scan.not_finite(value if numeric else typed, numeric or bool(typed)):
-            raise ConfigError(f"override {item!r}: {number}; give a finite number instead.", key=key)
+            raise ConfigError(f"override {item!r}: {number}; give a finite number.", key=key)
         # seeds=1_0 is ten to Hydra, seeds='1_0' to OmegaConf's int(): seldom what was meant
         for word in underscored_numbers(value, quoted=numeric) if setting else ():
             read = _parsed_value(f"x={word}")

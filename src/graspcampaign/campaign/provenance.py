@@ -18,6 +18,7 @@ from typing import Any
 import graspcampaign
 from graspcampaign.campaign.former_names import current_config
 from graspcampaign.campaign.grid import content_hash
+from graspcampaign.campaign.override import group
 from graspcampaign.campaign.paths import path_problem
 from graspcampaign.campaign.schema import StudyCfg
 from graspcampaign.errors import DamagedRunError, UserInputError, access_denied
@@ -151,19 +152,14 @@ def design_change(manifest: dict[str, Any]) -> tuple[str, str] | None:
     size = default.get("n_trials")
     of = f" of the study's {size}" if isinstance(size, int) else ""
     changed = [o for o in map(str, manifest.get("overrides") or [])  # not where or how trials ran
-               if _group(o) not in _RESULT_FREE]
+               if group(o) not in _RESULT_FREE]
     return " ".join(changed), f"{manifest.get('n_trials')}{of} trials"
 
 
 def paper_overrides(manifest: dict[str, Any]) -> list[str]:
     """The overrides of a run's ``manifest`` that replaced a value of its ``paper:`` block (the values
     its report shows as the paper's), as given."""
-    return [o for o in overrides_given(manifest) or [] if _group(o) == "paper"]
-
-
-def _group(override: str) -> str:
-    """The top-level config key an override as given sets (``paper`` of ``paper.auc=0.7``)."""
-    return override.lstrip("+~").split("=")[0].split(".")[0]
+    return [o for o in overrides_given(manifest) or [] if group(o) == "paper"]
 
 
 def overrides_given(manifest: Any) -> list[str] | None:

@@ -74,7 +74,7 @@ def finding(run: Run) -> str:
     deep, r = _beyond_radius_from(run, _traces(run)), run.radius_mm
     # the run's command (its records'), which each trace ends at; not the paper's, which a run may override
     command = run.ok["grip_force_n"].median() if "grip_force_n" in run.ok else math.nan
-    text = (f"Under the fixed {f'{fmt.number(command)} N ' if command == command else ''}grip command the "
+    text = (f"Under the fixed {'' if math.isnan(command) else f'{fmt.number(command)} N '}grip command the "
             f"force residual settles below τ_F = {fmt.number(_tau(run))} N at "
             f"{settle['ours'].notna().sum()} of {len(settle)} friction levels (paper: all by iteration "
             f"{p.residual_settles_within_iterations[1]}); {differ} of {judged} compared quantities differ "
