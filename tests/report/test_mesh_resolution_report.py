@@ -136,3 +136,19 @@ def test_the_runtime_table_holds_the_cost_ratio_interval_of_each_mesh_the_openin
                                                  "cost_ratio_high"]]
     assert table.loc[144].tolist() == [1.0, 0.9, 1.2] and table.loc[1750].tolist() == [1.15, 1.1, 1.2]
     assert "(95% interval 1.10–1.20; the reference mesh against itself 0.90–1.20)" in mr.finding(run)
+
+
+def test_the_largest_meshs_cost_ratio_is_bootstrapped_once_asked_by_size_or_by_default(monkeypatch):
+    """Table mesh_resolution_runtime asks for each mesh's cost ratio by its size, the cost_ratio rows and
+    the opening for the largest mesh's by default: one mesh, one bootstrap (it was run twice)."""
+    from synthetic_runs import cost_ratio_run
+
+    calls = []
+    real = mr._median_ratio
+    monkeypatch.setattr(mr, "_median_ratio", lambda *a: calls.append(a[1:]) or real(*a))
+    run = cost_ratio_run([1.2, 1.3, 1.4, 1.5], [1.2, 1.3, 1.4, 1.5], itself=[(1.0, 1.0)] * 4)
+    calls.clear()  # the cost_ratio table of the helper asked already
+    by_size, by_default = mr._cost_ratio(run, "fastest", 1750), mr._cost_ratio(run, "fastest")
+    assert (by_size.value, by_size.low, by_size.high) == (by_default.value, by_default.low, by_default.high)
+    assert calls == []  # both read the bootstrap the cost_ratio table ran
+    assert mr._cost_ratio(run, "fastest", 144).n == 4 and calls == [("fastest", 144)]

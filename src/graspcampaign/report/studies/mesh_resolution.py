@@ -94,8 +94,10 @@ def _trial_ratios(rows: pd.DataFrame, repeats: str) -> pd.Series:
 def _cost_ratio(run: Run, repeats: str, nodes: int | None = None) -> Estimate:
     """Median over the trials on the ``nodes`` mesh (default the largest) of each trial's cost ratio of
     ``repeats`` repeats, with its percentile-bootstrap 95 % interval from :data:`MIN_TRIALS` trials on;
-    computed once per run (the table, the finding and the growth test read it)."""
-    return run.memo(f"cost_ratio/{repeats}/{nodes}", lambda: _median_ratio(run, repeats, nodes))
+    computed once per run (the table, the finding and the growth test read it; the largest mesh asked
+    for by its size or by default is one)."""
+    mesh = panel_rows(run, "resolution")["nodes"].max() if nodes is None else nodes  # NaN: no trial
+    return run.memo(f"cost_ratio/{repeats}/{mesh}", lambda: _median_ratio(run, repeats, nodes))
 
 
 def _median_ratio(run: Run, repeats: str, nodes: int | None) -> Estimate:
