@@ -25,7 +25,6 @@ def imported_test_modules(source: str) -> list[str]:
     return [name for name in names if name.split(".")[-1].startswith("test_")]
 
 
-
 def test_no_test_module_imports_another():
     found = {str(path.relative_to(TESTS)): names for path in sorted(TESTS.rglob("*.py"))
              if (names := imported_test_modules(path.read_text()))}

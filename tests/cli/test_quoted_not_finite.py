@@ -5,7 +5,7 @@ is wrong and where, as typed, exit 2, nothing stored changed (``cli_checks.refus
 from __future__ import annotations
 
 import pytest
-from cli_checks import HEADER, refused
+from cli_checks import HEADER, invoke, refused
 
 
 @pytest.mark.parametrize(("override", "said"), [
@@ -30,8 +30,6 @@ def test_a_quoted_text_for_a_number_in_a_mapping_is_refused_as_typed(tmp_path, o
                                                ("output={run: 'Infinity'}", "Infinity")])
 def test_a_quoted_text_key_in_a_mapping_may_still_read_inf_or_nan(tmp_path, override, run):
     """The quoted text is scanned only in the entry of a key that takes a number: a run may be named nan."""
-    from cli_checks import invoke
-
     done = invoke("show", "smoke", override, "--root", tmp_path)
     assert done.exit_code == 0 and f"run: {tmp_path}/smoke/{run} (0 of" in done.stdout, done.output
 

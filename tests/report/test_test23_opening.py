@@ -79,6 +79,17 @@ def test_test3_opening_gives_the_drop_rate_and_table8_says_when_blocks_a_and_c_s
     assert "blocks A and C succeed only when the threshold reaches the proof load" in caption
 
 
+def _arrest(sim_root) -> tuple[str, pd.DataFrame]:
+    """The arrest bound μ_s/μ_k as the opening prints it (the range over the proposed planner's
+    materials, one number where they agree, from the paper's Table 4) and the proposed planner's drops
+    with an SF reading (``sf_actual``), the N of "k of N below", of the reduced Test 3 run."""
+    ex = both_readings(sim_root, "test3_disturbance").query(
+        "belief_error == 'paper' and planner == 'heuristic'")
+    ratios = [TABLE4_MU[m][0] / TABLE4_MU[m][1] for m in set(ex["material"])]
+    bound = "–".join(dict.fromkeys([f"{min(ratios):.2f}", f"{max(ratios):.2f}"]))
+    return bound, ex[ex["outcome"] == "failure_drop"].dropna(subset=["sf_actual"])
+
+
 def test_test3_opening_defines_sf_and_derives_the_arrest_bound_from_its_materials(sim_root):
     """It said "with μ_k/μ_s ≈ 0.7 a slip is not arrested once SF < ~1.4": SF undefined, 1.4 a
     literal. A slip that started is arrested only while the kinetic budget, μ_k/μ_s of the static
@@ -86,12 +97,7 @@ def test_test3_opening_defines_sf_and_derives_the_arrest_bound_from_its_material
     planner's materials (the records), from the paper's Table 4. It then said "drops X%: no slip is
     arrested below …", a cause it never checked: the dropped trials whose recorded SF (``sf_actual``)
     lies below their material's μ_s/μ_k are now counted (and the cause given only where some are)."""
-    ex = both_readings(sim_root, "test3_disturbance").query(
-        "belief_error == 'paper' and planner == 'heuristic'")
-    ratios = [TABLE4_MU[m][0] / TABLE4_MU[m][1] for m in set(ex["material"])]
-    low, high = f"{min(ratios):.2f}", f"{max(ratios):.2f}"
-    bound = low if low == high else f"{low}–{high}"
-    dropped = ex[ex["outcome"] == "failure_drop"]
+    bound, dropped = _arrest(sim_root)
     below = below_arrest(dropped)
     assert below > 0  # the reference run's drops: the cause holds there
     assert (f"%): {below} of {len(dropped)} below the safety factor μ_s/μ_k = {bound} "
@@ -101,18 +107,15 @@ def test_test3_opening_defines_sf_and_derives_the_arrest_bound_from_its_material
 def test_the_drops_below_the_arrest_bound_the_opening_counts_are_a_row_of_table_test3_claims(sim_root):
     """The opening's "k of N below the safety factor μ_s/μ_k = … that arrests a slip" stood in no table on
     the page (paper scale: 414 of 583): table test3_claims prints k and N, counted here from the records
-    with the paper's Table 4 typed above."""
-    ex = both_readings(sim_root, "test3_disturbance").query(
-        "belief_error == 'paper' and planner == 'heuristic'")
-    dropped = ex[ex["outcome"] == "failure_drop"].dropna(subset=["sf_actual"])
-    ratios = [TABLE4_MU[m][0] / TABLE4_MU[m][1] for m in set(ex["material"])]
-    bound = "–".join(dict.fromkeys([f"{min(ratios):.2f}", f"{max(ratios):.2f}"]))
+    with the paper's Table 4 (``synthetic_runs.TABLE4_MU``)."""
+    bound, dropped = _arrest(sim_root)
+    below = below_arrest(dropped)
     page = report_md(sim_root / "test3_disturbance" / "default")
     claims = md_table(page, "test3_claims").set_index("quantity")
     row = claims.loc[f"proposed drops below the safety factor μ_s/μ_k = {bound} that arrests a slip (n: its "
                      "drops with an SF reading and a Table 4 material)"]
-    assert [row["ours (95%)"], row["n"], row["paper"]] == [str(below_arrest(dropped)), str(len(dropped)), "—"]
-    assert f"%): {below_arrest(dropped)} of {len(dropped)} below the safety factor" in opening(
+    assert [row["ours (95%)"], row["n"], row["paper"]] == [str(below), str(len(dropped)), "—"]
+    assert f"%): {below} of {len(dropped)} below the safety factor" in opening(
         sim_root / "test3_disturbance" / "default")
 
 
