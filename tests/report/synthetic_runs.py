@@ -266,14 +266,27 @@ def _figure_items(items):
             yield item.item
 
 
-def draw_all(root: Path, study: str) -> dict:
-    """Each figure of ``study``'s run, drawn on an Agg canvas (the report's tables rendered first)."""
+def draw_figure(run, draw, size=None):
+    """The matplotlib Figure ``draw(run, fig)`` draws (a spec ``Figure``'s ``draw`` at its ``size``, or one
+    panel of it on ``fig.add_subplot()``): on an Agg canvas in the report's style (``style.RC``,
+    constrained layout), then drawn, as the report draws a figure."""
     import matplotlib as mpl
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    from graspcampaign.campaign.paper import study_paper
     from graspcampaign.report import style
+
+    with mpl.rc_context(style.RC):
+        fig = Figure(figsize=size, layout="constrained")
+        FigureCanvasAgg(fig)
+        draw(run, fig)
+        fig.canvas.draw()
+    return fig
+
+
+def draw_all(root: Path, study: str) -> dict:
+    """Each figure of ``study``'s run, drawn on an Agg canvas (the report's tables rendered first)."""
+    from graspcampaign.campaign.paper import study_paper
     from graspcampaign.report.build import spec_for
     from graspcampaign.report.document import Document
     from graspcampaign.report.render import Run, render
@@ -282,15 +295,7 @@ def draw_all(root: Path, study: str) -> dict:
     run = Run(store.read().to_pandas(), store.check(), study_paper(study), store)
     spec = spec_for(study, "")
     render(spec, run, Document("", run.source, []))
-    drawn = {}
-    for item in _figure_items(spec.items):
-        with mpl.rc_context(style.RC):
-            fig = Figure(figsize=item.size, layout="constrained")
-            FigureCanvasAgg(fig)
-            item.draw(run, fig)
-            fig.canvas.draw()
-        drawn[item.name] = fig
-    return drawn
+    return {item.name: draw_figure(run, item.draw, item.size) for item in _figure_items(spec.items)}
 
 
 def half_an_em(text) -> float:
