@@ -10,11 +10,7 @@ Imported by name (``from synthetic_runs import ...``), as pytest puts this direc
 
 from __future__ import annotations
 
-import os
 import re
-import shutil
-import subprocess
-import sys
 import zlib
 from collections.abc import Callable
 from pathlib import Path
@@ -23,7 +19,6 @@ import numpy as np
 import pandas as pd
 import yaml
 
-import graspcampaign
 from graspcampaign.campaign.compose import project_dirs
 from graspcampaign.campaign.grid import expand
 from graspcampaign.campaign.provenance import new_manifest, now_utc, write_manifest
@@ -304,28 +299,6 @@ def half_an_em(text) -> float:
     return 0.5 * text.get_fontsize() * text.figure.dpi / 72
 
 
-#: the studies :func:`fresh_reports` reports again (test_report_reads_only.py)
+#: the studies the ``fresh_reports`` fixture (conftest.py) reports again (test_report_reads_only.py)
 FRESH_STUDIES = ("surrogate", "test1_bench")
 FORMATS = ["md", "csv", "json", "html"]  # the formats the sim_root fixture writes (conftest.py)
-
-
-_FRESH: dict = {}
-
-
-def fresh_reports(sim_root, tmp_path_factory):
-    """``(root, completed process)``: the runs' records copied without their reports and reported
-    again by ``build_reports`` (SVG figures) in a new interpreter, which prints the sklearn modules
-    it holds; written once per session (test_test1_report.py reads its SVG figures too)."""
-    if sim_root not in _FRESH:
-        root = tmp_path_factory.mktemp("fresh") / "results"
-        for study in FRESH_STUDIES:
-            shutil.copytree(sim_root / study / "default", root / study / "default",
-                            ignore=shutil.ignore_patterns("report"))
-        code = ("import sys\nfrom graspcampaign.report.build import build_reports\n"
-                f"batch = build_reports(root={str(root)!r}, formats={FORMATS!r}, figure_format='svg')\n"
-                "assert batch.failed == [], batch.failed\n"
-                "print(sorted(m for m in sys.modules if m == 'sklearn' or m.startswith('sklearn.')))\n")
-        env = {**os.environ, "PYTHONPATH": str(Path(graspcampaign.__file__).parents[1])}  # this tree
-        _FRESH[sim_root] = root, subprocess.run([sys.executable, "-c", code], capture_output=True,
-                                                text=True, timeout=600, env=env)
-    return _FRESH[sim_root]
