@@ -122,7 +122,7 @@ def audit_surrogate(config) -> None:
             row |= {f"{lab}_pct": 100 * k / n, f"{lab}_low_pct": 100 * low, f"{lab}_high_pct": 100 * high,
                     f"n_{lab}": n}
             if lab == PAPER_LABEL:  # the count the opening says ("of the k published-algorithm successes")
-                row["successes_unbounded"] = k
+                row["n_unbounded_successes"] = k
         row["differs"] = judge(row[f"{PAPER_LABEL}_pct"], row["paper_pct"], 1, row[f"{PAPER_LABEL}_low_pct"],
                                row[f"{PAPER_LABEL}_high_pct"])
         rows.append(row)

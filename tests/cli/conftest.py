@@ -94,3 +94,10 @@ def kept(tmp_path_factory):
             invoke(*args, "--root", root)
         assert done.exit_code == 0, done.output
     return root
+
+
+@pytest.fixture
+def kept_copy(kept, tmp_path):
+    """A copy of :func:`kept`'s finished runs this test may damage (tests/cli/test_lost_parts.py,
+    test_damaged_round3.py)."""
+    return Path(shutil.copytree(kept, tmp_path / "results"))

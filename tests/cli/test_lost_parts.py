@@ -4,7 +4,7 @@ The records say what each trial stored besides its record (``campaign.parts``): 
 ``status`` refuse the run naming what is gone, ``run`` computes exactly that again, and the report
 is then the undamaged run's, table for table, byte for byte.
 
-Every case damages its own copy of the finished runs (``kept``, conftest.py).
+Every case damages its own copy of the finished runs (``kept_copy`` of ``kept``, conftest.py).
 """
 
 from __future__ import annotations
@@ -13,36 +13,29 @@ import shutil
 from pathlib import Path
 
 import pyarrow.parquet as pq
-import pytest
 from cli_checks import KEPT_OVERRIDES, invoke, kept_advice, refused, report_tables
 
 from graspcampaign.campaign.records import RunStore
 
 
-@pytest.fixture
-def results(kept, tmp_path):
-    """A copy of the finished runs this test may damage."""
-    return Path(shutil.copytree(kept, tmp_path / "results"))
-
-
-def _mended(results: Path, study: str, lost: str, counted: str | None = None) -> None:
+def _mended(kept_copy: Path, study: str, lost: str, counted: str | None = None) -> None:
     """``report`` refuses the run with "<run> has <lost>; <advice>" and ``status`` with the same
     or, where only the files' footers tell (it reads no more than the records), with "<run> has
     <counted>; <advice>" (exit 2, nothing changed); ``run`` warns as ``report`` and computes it
     again; the report's tables are then the undamaged run's, byte for byte."""
-    before, run = report_tables(results, study), results / study / "default"
+    before, run = report_tables(kept_copy, study), kept_copy / study / "default"
     label = f"run {study}/default at {run} has"
     again = "run those trials again" if lost.startswith(("tables/", "no tables/")) else \
         "compute it again"
-    advice = kept_advice(results, study, again)
-    refused(results, ["report", study, "--root", results], f"{label} {lost}; {advice}")
-    refused(results, ["status", study, "--root", results], f"{label} {counted or lost}; {advice}")
-    mended = invoke("run", study, *KEPT_OVERRIDES[study], "runner.progress=false", "--root", results)
+    advice = kept_advice(kept_copy, study, again)
+    refused(kept_copy, ["report", study, "--root", kept_copy], f"{label} {lost}; {advice}")
+    refused(kept_copy, ["status", study, "--root", kept_copy], f"{label} {counted or lost}; {advice}")
+    mended = invoke("run", study, *KEPT_OVERRIDES[study], "runner.progress=false", "--root", kept_copy)
     assert mended.exit_code == 0, mended.output
     then = "those trials run again" if again.startswith("run") else "it is computed again"
     assert mended.stderr == f"warning: {label} {lost}; {then}\n"
-    assert invoke("report", study, "--root", results).exit_code == 0
-    assert report_tables(results, study) == before
+    assert invoke("report", study, "--root", kept_copy).exit_code == 0
+    assert report_tables(kept_copy, study) == before
 
 
 def _first(run: Path, part: str) -> str:
@@ -50,41 +43,41 @@ def _first(run: Path, part: str) -> str:
     return min(RunStore(run).read(part, ["trial_id"]).column("trial_id").to_pylist())
 
 
-def test_a_deleted_trace_table_is_named_and_its_trials_run_again(results):
+def test_a_deleted_trace_table_is_named_and_its_trials_run_again(kept_copy):
     """tables/belief_none of test2_grasp deleted: its rows vanished from Tables 6-7 without a
     word; now report and status refuse it and run runs the trials that stored them again."""
-    run = results / "test2_grasp" / "default"
+    run = kept_copy / "test2_grasp" / "default"
     n = len(set(RunStore(run).read("tables/belief_none").column("trial_id").to_pylist()))
     shutil.rmtree(run / "tables" / "belief_none")
-    _mended(results, "test2_grasp", f"no tables/belief_none directory, where {n} recorded trials "
+    _mended(kept_copy, "test2_grasp", f"no tables/belief_none directory, where {n} recorded trials "
                                     "stored traces")
 
 
-def test_a_deleted_compacted_trace_file_is_named_and_its_trials_run_again(results):
+def test_a_deleted_compacted_trace_file_is_named_and_its_trials_run_again(kept_copy):
     """The compacted file of tables/belief_none deleted, its directory left empty."""
-    run = results / "test2_grasp" / "default"
+    run = kept_copy / "test2_grasp" / "default"
     first = _first(run, "tables/belief_none")
     n = len(set(RunStore(run).read("tables/belief_none").column("trial_id").to_pylist()))
     (compacted,) = (run / "tables" / "belief_none").glob("*.parquet")
     rows = _rows(compacted)
     compacted.unlink()
-    _mended(results, "test2_grasp", f"tables/belief_none without the traces of {n} recorded "
+    _mended(kept_copy, "test2_grasp", f"tables/belief_none without the traces of {n} recorded "
                                     f"trials (first {first})",
             f"tables/belief_none with 0 trace rows where {n} recorded trials stored {rows}")
 
 
-def test_one_deleted_file_of_a_trace_table_is_named_and_its_trials_run_again(results):
+def test_one_deleted_file_of_a_trace_table_is_named_and_its_trials_run_again(kept_copy):
     """The compacted file of tables/candidates deleted (the first session's: the sphere's and the
     pear's traces), its other file kept: the ellipsoid's trial keeps its traces and its record,
     the sphere's and the pear's run again."""
-    run = results / "baseline_grid" / "default"
+    run = kept_copy / "baseline_grid" / "default"
     (compacted,) = (run / "tables" / "candidates").glob("compact-*.parquet")
     (shard,) = (run / "tables" / "candidates").glob("part-*.parquet")
     assert _holds(shard, "ellipsoid") and not _holds(compacted, "ellipsoid")
     first = min(_holds(compacted, "pear"), _holds(compacted, "sphere"))
     kept, rows = _rows(shard), _rows(shard) + _rows(compacted)
     compacted.unlink()
-    _mended(results, "baseline_grid", f"tables/candidates without the traces of 2 recorded "
+    _mended(kept_copy, "baseline_grid", f"tables/candidates without the traces of 2 recorded "
                                       f"trials (first {first})",
             f"tables/candidates with {kept} trace rows where 3 recorded trials stored {rows}")
 
@@ -99,37 +92,37 @@ def _holds(path: Path, prefix: str) -> str | None:
     return next((i for i in sorted(ids) if i.startswith(prefix)), None)
 
 
-def test_a_deleted_prepared_directory_is_named_and_computed_again(results):
+def test_a_deleted_prepared_directory_is_named_and_computed_again(kept_copy):
     """prepared/ of baseline_grid deleted: report lost its identifications table without a word
     (run recomputed it, report did not notice)."""
-    run = results / "baseline_grid" / "default"
+    run = kept_copy / "baseline_grid" / "default"
     n = len(RunStore(run).read("prepared", ["body_id"]))
     assert n == 3  # the sphere's body, the pear's and the ellipsoid's
     shutil.rmtree(run / "prepared")
-    _mended(results, "baseline_grid", "no prepared directory, which holds the preparations of "
+    _mended(kept_copy, "baseline_grid", "no prepared directory, which holds the preparations of "
                                       f"the {n} bodies its recorded trials used")
 
 
-def test_a_deleted_preparation_is_named_and_computed_again(results):
+def test_a_deleted_preparation_is_named_and_computed_again(kept_copy):
     """The ellipsoid's preparation deleted (the second session's shard; the first session's two
     are compacted into one file, which stays)."""
-    run = results / "baseline_grid" / "default"
+    run = kept_copy / "baseline_grid" / "default"
     (shard,) = (run / "prepared").glob("part-*.parquet")
     body = RunStore(run).read("prepared", ["body_id", "shape"]).to_pydict()
     assert dict(zip(body["shape"], body["body_id"], strict=True))["ellipsoid"] in shard.name
     shard.unlink()
-    _mended(results, "baseline_grid", "prepared without 1 preparation its recorded trials used "
+    _mended(kept_copy, "baseline_grid", "prepared without 1 preparation its recorded trials used "
                                       f"(first body {shard.name[5:-8]})",
             "prepared with 2 preparations where its recorded trials used 3 bodies")
 
 
-def test_a_deleted_summary_table_is_named_and_computed_again(results):
+def test_a_deleted_summary_table_is_named_and_computed_again(kept_copy):
     """summary/surrogate_parity deleted: complete.json says finalize stored it; finalize runs
     again and stores it alone (the other tables stay as they are)."""
-    run = results / "surrogate" / "default"
+    run = kept_copy / "surrogate" / "default"
     timing = (run / "summary" / "surrogate_timing" / "part-final.parquet").read_bytes()
     shutil.rmtree(run / "summary" / "surrogate_parity")
-    _mended(results, "surrogate", "no summary/surrogate_parity table, which "
+    _mended(kept_copy, "surrogate", "no summary/surrogate_parity table, which "
                                   "summary/complete.json says was stored")
     assert (run / "summary" / "surrogate_timing" / "part-final.parquet").read_bytes() == timing
 

@@ -67,6 +67,36 @@ def sim_root(tmp_path_factory):
     return root
 
 
+@pytest.fixture(scope="session")
+def fresh_reports(sim_root, tmp_path_factory):
+    """``(root, completed process)``: the ``synthetic_runs.FRESH_STUDIES`` runs' records copied without
+    their reports and reported again by ``build_reports`` (SVG figures) in a new interpreter, which
+    prints the sklearn modules it holds; written once per session (test_report_reads_only.py,
+    test_test1_report.py, which reads its SVG figures). A module using it names ``sim_root`` too, so
+    ``--dist loadscope`` puts it in the one scope of the tree it copies (tests/conftest.py)."""
+    import os
+    import shutil
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    from synthetic_runs import FORMATS, FRESH_STUDIES
+
+    import graspcampaign
+
+    root = tmp_path_factory.mktemp("fresh") / "results"
+    for study in FRESH_STUDIES:
+        shutil.copytree(sim_root / study / "default", root / study / "default",
+                        ignore=shutil.ignore_patterns("report"))
+    code = ("import sys\nfrom graspcampaign.report.build import build_reports\n"
+            f"batch = build_reports(root={str(root)!r}, formats={FORMATS!r}, figure_format='svg')\n"
+            "assert batch.failed == [], batch.failed\n"
+            "print(sorted(m for m in sys.modules if m == 'sklearn' or m.startswith('sklearn.')))\n")
+    env = {**os.environ, "PYTHONPATH": str(Path(graspcampaign.__file__).parents[1])}  # this tree
+    return root, subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600,
+                                env=env)
+
+
 @pytest.fixture
 def verdict_calls(monkeypatch):
     """Every call of the one verdict rule (``format.verdict``) while the test runs: its ``ours``, its

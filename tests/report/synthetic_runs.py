@@ -10,11 +10,7 @@ Imported by name (``from synthetic_runs import ...``), as pytest puts this direc
 
 from __future__ import annotations
 
-import os
 import re
-import shutil
-import subprocess
-import sys
 import zlib
 from collections.abc import Callable
 from pathlib import Path
@@ -23,7 +19,6 @@ import numpy as np
 import pandas as pd
 import yaml
 
-import graspcampaign
 from graspcampaign.campaign.compose import project_dirs
 from graspcampaign.campaign.grid import expand
 from graspcampaign.campaign.provenance import new_manifest, now_utc, write_manifest
@@ -266,14 +261,27 @@ def _figure_items(items):
             yield item.item
 
 
-def draw_all(root: Path, study: str) -> dict:
-    """Each figure of ``study``'s run, drawn on an Agg canvas (the report's tables rendered first)."""
+def draw_figure(run, draw, size=None):
+    """The matplotlib Figure ``draw(run, fig)`` draws (a spec ``Figure``'s ``draw`` at its ``size``, or one
+    panel of it on ``fig.add_subplot()``): on an Agg canvas in the report's style (``style.RC``,
+    constrained layout), then drawn, as the report draws a figure."""
     import matplotlib as mpl
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    from graspcampaign.campaign.paper import study_paper
     from graspcampaign.report import style
+
+    with mpl.rc_context(style.RC):
+        fig = Figure(figsize=size, layout="constrained")
+        FigureCanvasAgg(fig)
+        draw(run, fig)
+        fig.canvas.draw()
+    return fig
+
+
+def draw_all(root: Path, study: str) -> dict:
+    """Each figure of ``study``'s run, drawn on an Agg canvas (the report's tables rendered first)."""
+    from graspcampaign.campaign.paper import study_paper
     from graspcampaign.report.build import spec_for
     from graspcampaign.report.document import Document
     from graspcampaign.report.render import Run, render
@@ -282,15 +290,7 @@ def draw_all(root: Path, study: str) -> dict:
     run = Run(store.read().to_pandas(), store.check(), study_paper(study), store)
     spec = spec_for(study, "")
     render(spec, run, Document("", run.source, []))
-    drawn = {}
-    for item in _figure_items(spec.items):
-        with mpl.rc_context(style.RC):
-            fig = Figure(figsize=item.size, layout="constrained")
-            FigureCanvasAgg(fig)
-            item.draw(run, fig)
-            fig.canvas.draw()
-        drawn[item.name] = fig
-    return drawn
+    return {item.name: draw_figure(run, item.draw, item.size) for item in _figure_items(spec.items)}
 
 
 def half_an_em(text) -> float:
@@ -299,28 +299,6 @@ def half_an_em(text) -> float:
     return 0.5 * text.get_fontsize() * text.figure.dpi / 72
 
 
-#: the studies :func:`fresh_reports` reports again (test_report_reads_only.py)
+#: the studies the ``fresh_reports`` fixture (conftest.py) reports again (test_report_reads_only.py)
 FRESH_STUDIES = ("surrogate", "test1_bench")
 FORMATS = ["md", "csv", "json", "html"]  # the formats the sim_root fixture writes (conftest.py)
-
-
-_FRESH: dict = {}
-
-
-def fresh_reports(sim_root, tmp_path_factory):
-    """``(root, completed process)``: the runs' records copied without their reports and reported
-    again by ``build_reports`` (SVG figures) in a new interpreter, which prints the sklearn modules
-    it holds; written once per session (test_test1_report.py reads its SVG figures too)."""
-    if sim_root not in _FRESH:
-        root = tmp_path_factory.mktemp("fresh") / "results"
-        for study in FRESH_STUDIES:
-            shutil.copytree(sim_root / study / "default", root / study / "default",
-                            ignore=shutil.ignore_patterns("report"))
-        code = ("import sys\nfrom graspcampaign.report.build import build_reports\n"
-                f"batch = build_reports(root={str(root)!r}, formats={FORMATS!r}, figure_format='svg')\n"
-                "assert batch.failed == [], batch.failed\n"
-                "print(sorted(m for m in sys.modules if m == 'sklearn' or m.startswith('sklearn.')))\n")
-        env = {**os.environ, "PYTHONPATH": str(Path(graspcampaign.__file__).parents[1])}  # this tree
-        _FRESH[sim_root] = root, subprocess.run([sys.executable, "-c", code], capture_output=True,
-                                                text=True, timeout=600, env=env)
-    return _FRESH[sim_root]

@@ -231,6 +231,20 @@ def test_the_test3_opening_counts_the_drops_below_the_arrest_bound_of_those_with
         f"; none of its {len(dropped)} drops has an `sf_actual` reading. ")
 
 
+def test_the_drops_below_the_arrest_bound_are_one_named_result_computed_once_per_run(sim_root):
+    # `arrest` returned a 6-tuple its two readers (the opening, the last row of test3_claims) unpacked by
+    # position, and computed it for each: now one named result per run, the one both read. Its counts
+    # from the records with Table 4 typed from the paper (below_arrest).
+    from graspcampaign.report.studies.test3 import arrest
+
+    run = _rendered(sim_root, "test3_disturbance")  # the opening and the claims table both rendered
+    dropped = _proposed_drops(sim_root)
+    result = arrest(run)
+    assert result is arrest(run)
+    assert (result.below, result.n_read, result.ratio, result.unread, result.other, result.n_dropped) == (
+        below_arrest(dropped), len(dropped), "1.35–1.42", 0, 0, len(dropped))
+
+
 def test_the_test3_opening_says_one_drop_in_the_singular(sim_root):
     # with one drop read it said "none of its 1 drops with an `sf_actual` reading held one below it"
     from graspcampaign.report.studies.test3 import drops

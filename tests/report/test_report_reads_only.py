@@ -11,17 +11,12 @@ instead of three times.
 from __future__ import annotations
 
 import pytest
-from synthetic_runs import FRESH_STUDIES, fresh_reports
-
-
-@pytest.fixture(scope="module")
-def fresh(sim_root, tmp_path_factory):
-    return fresh_reports(sim_root, tmp_path_factory)
+from synthetic_runs import FRESH_STUDIES
 
 
 @pytest.mark.parametrize("study", FRESH_STUDIES)
-def test_two_reports_of_the_same_records_give_identical_tables(sim_root, fresh, study):
-    root, out = fresh
+def test_two_reports_of_the_same_records_give_identical_tables(sim_root, fresh_reports, study):
+    root, out = fresh_reports
     assert out.returncode == 0, out.stderr[-2000:]
     tables = []
     for report in (sim_root / study / "default" / "report", root / study / "default" / "report"):
@@ -30,8 +25,8 @@ def test_two_reports_of_the_same_records_give_identical_tables(sim_root, fresh, 
     assert tables[0] == tables[1] and len(tables[0]) > 5
 
 
-def test_the_report_path_never_imports_scikit_learn(fresh):
-    root, out = fresh
+def test_the_report_path_never_imports_scikit_learn(fresh_reports):
+    root, out = fresh_reports
     assert out.returncode == 0, out.stderr[-2000:]
     assert out.stdout.strip() == "[]"
     assert (root / "surrogate" / "default" / "report" / "tables" / "surrogate_timing.csv").exists()

@@ -13,11 +13,9 @@ from __future__ import annotations
 import dataclasses
 import re
 
-import matplotlib as mpl
 import pytest
-from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.colors import to_hex
-from matplotlib.figure import Figure as MplFigure
+from synthetic_runs import draw_figure
 
 from graspcampaign.campaign.paper import study_paper
 from graspcampaign.campaign.records import RunStore
@@ -72,10 +70,7 @@ def _lines(study: str, name: str):
     item = _item(study, Figure, name)
 
     def read(run: Run) -> list:
-        with mpl.rc_context(style.RC):
-            fig = MplFigure(figsize=item.size, layout="constrained")
-            FigureCanvasAgg(fig)
-            item.draw(run, fig)
+        fig = draw_figure(run, item.draw, item.size)
         return [(i, ln.get_label(), ln.get_xydata().round(9).tolist()) for i, ax in enumerate(fig.axes)
                 for ln in ax.lines if to_hex(ln.get_color()) != to_hex(style.PAPER)]
     return read

@@ -349,7 +349,7 @@ def test_the_why_reads_its_counts_from_table_surrogate_dataset():
     Algorithm 1's successes again from the trials, beside table surrogate_dataset's columns of the same
     counts: here the table (columns set by hand) is what the opening says, as it is what the page shows.
     The count of Algorithm 1's successes was recovered from the rounded rate (50% of 8 labelled: 4); it is
-    now the table's column ``successes_unbounded``, counted (3 here, set apart from the rate by hand)."""
+    now the table's column ``n_unbounded_successes``, counted (3 here, set apart from the rate by hand)."""
     from types import SimpleNamespace
 
     from graspcampaign.report.render import Run
@@ -361,7 +361,7 @@ def test_the_why_reads_its_counts_from_table_surrogate_dataset():
                                                        residual_r2=0.5))
     run.tables.update({
         "surrogate_dataset": pd.DataFrame([{
-            "n": 8, "success_unbounded_pct": 50.0, "n_success_unbounded": 8, "successes_unbounded": 3,
+            "n": 8, "success_unbounded_pct": 50.0, "n_success_unbounded": 8, "n_unbounded_successes": 3,
             "n_residual_ok": 3, "n_deeper": 5, "n_success_unbounded_deeper": 2}]),
         "surrogate_classification": pd.DataFrame([{"label": "success_unbounded", "roc_auc": float("nan"),
                                                    "paper_auc": 0.69, "note": "not fitted"}]),
@@ -410,7 +410,7 @@ def test_the_opening_rate_is_said_with_its_own_n():
                        "surrogate_classification": pd.DataFrame([unfitted]),
                        "surrogate_regression": pd.DataFrame(columns=["r2"]),
                        "surrogate_timing": pd.DataFrame(columns=["what"])})
-    assert run.tables["surrogate_dataset"].loc[0, "successes_unbounded"] == 3  # the True values, counted
+    assert run.tables["surrogate_dataset"].loc[0, "n_unbounded_successes"] == 3  # the True values, counted
     assert surrogate.finding(run).startswith(
         "10 scenarios (paper 1500), 6 with Algorithm 1's label recorded (4 without: no training example): "
         "50.0% of those 6 succeed under Algorithm 1 as published (paper 8.7%;")

@@ -13,7 +13,7 @@ import pandas as pd
 import pytest
 from statsmodels.stats.proportion import proportion_confint
 from statsmodels.stats.weightstats import DescrStatsW
-from synthetic_runs import fresh_reports, read_table, report_md
+from synthetic_runs import read_table, report_md
 
 from graspcampaign.analysis.vocabulary import label
 from graspcampaign.campaign.compose import compose_study
@@ -31,14 +31,14 @@ def run(sim_root):
     return path, RunStore(path).read().to_pandas()
 
 
-def test_every_page_and_figure_says_virtual_rig(run, sim_root, tmp_path_factory):
+def test_every_page_and_figure_says_virtual_rig(run, fresh_reports):
     path, _ = run
     md = report_md(path)
     assert "VIRTUAL RIG" in md and "not hardware measurements" in md
     assert md.index("## What this shows") < md.index("Virtual-bench data, not hardware: synthetic waveforms")
     # the run's records (without its report) reported again with SVG figures: that report is
     # written once for test_report_reads_only.py too (in a fresh interpreter)
-    root, out = fresh_reports(sim_root, tmp_path_factory)
+    root, out = fresh_reports
     assert out.returncode == 0, out.stderr[-2000:]
     copy = root / "test1_bench" / "default"
     for name in FIGURES:

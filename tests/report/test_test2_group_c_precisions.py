@@ -13,7 +13,7 @@ import math
 import pandas as pd
 import pytest
 from statsmodels.stats.proportion import proportion_confint
-from synthetic_runs import both_readings, read_table
+from synthetic_runs import both_readings, draw_figure, read_table
 
 RESIDUAL, SF = "predicted_stable_residual", "predicted_stable"
 
@@ -124,12 +124,7 @@ def test_fig_31c_draws_the_believed_sf_flag_with_ours_alone():
     accuracy, precision and recall beside ours ("paper 0.81"), scores of the residual flag. The caption
     says where the paper's scores stand."""
 
-    import matplotlib as mpl
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
     from graspcampaign.campaign.paper import study_paper
-    from graspcampaign.report import style
     from graspcampaign.report.build import spec_for
     from graspcampaign.report.render import Run
 
@@ -141,11 +136,7 @@ def test_fig_31c_draws_the_believed_sf_flag_with_ours_alone():
     figure = next(i for i in spec_for("test2_grasp", "").items if getattr(i, "name", None) ==
                   "fig31_planner_comparison")
     panel = figure.draw.specs[-1]  # style.panels' last panel
-    with mpl.rc_context(style.RC):
-        fig = Figure()
-        FigureCanvasAgg(fig)
-        ax = fig.add_subplot()
-        panel(r, ax)
+    ax = draw_figure(r, lambda run, fig: panel(run, fig.add_subplot())).axes[0]
     legend = "\n".join(t.get_text() for t in ax.get_legend().texts)
     # ours, counted here: 3 flagged, 2 of them successes; 3 successes, 2 of them flagged; 3 of 5 right
     assert legend == "n = 5\naccuracy: ours 0.60\nprecision: ours 0.67\nrecall: ours 0.67"

@@ -54,7 +54,7 @@ def _dataset(run: Run) -> pd.DataFrame:
                      "paper_pct": run.paper.class_balance_pct if group == "all" else None,
                      # the opening's why: the residual check alone, the published algorithm's successes
                      # (counted, not recovered from the rounded rate) and the non-physical depths
-                     "successes_unbounded": int(won.sum()),
+                     "n_unbounded_successes": int(won.sum()),
                      "n_residual_ok": int(flag(g, "residual_ok").sum()), "n_deeper": int(deep.sum()),
                      "n_success_unbounded_deeper": int((deep & won).sum()),
                      **{k: v for o in LABELS for k, v in rate_cols(g, o, o).items()}})
@@ -183,7 +183,7 @@ def finding(run: Run) -> str:
     check = "|R_z|" if (run.config.get("evaluator") or {}).get("residual_check") == "vertical" else "‖R‖"
     # the why's counts as table surrogate_dataset prints them (the residual check alone; missing: not)
     passed, deep, deep_won, won = (int(d[c]) for c in (
-        "n_residual_ok", "n_deeper", "n_success_unbounded_deeper", "successes_unbounded"))
+        "n_residual_ok", "n_deeper", "n_success_unbounded_deeper", "n_unbounded_successes"))
     if passed == n and not deep:  # nothing non-physical, every scenario passes: no why
         return text
     of_won = f"; {deep_won} of the {won} published-algorithm successes" if won else ""
@@ -298,7 +298,7 @@ SPEC = ReportSpec("surrogate", [
           "the fingertip radius is invalid) and the |R_z| reading", _dataset,
           [Col("group_label", "group"), Col("n", "scenarios"), Col("paper_pct", "paper %", 1),
            *(pct_col(o, name(o)) for o in LABELS), *(Col(f"n_{o}", f"n ({name(o)})") for o in LABELS[1:]),
-           Col("successes_unbounded", "Algorithm 1 successes"),
+           Col("n_unbounded_successes", "Algorithm 1 successes"),
            Col("n_residual_ok", "residual check passed"), Col("n_deeper", "contact deeper than r"),
            Col("n_success_unbounded_deeper", "of them Algorithm 1 successes"),
            Col("difference", "difference [pp]", 1, signed=True), Col("verdict", "verdict")]),

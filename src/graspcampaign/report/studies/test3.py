@@ -3,6 +3,8 @@ only where a ramp ended in slip (a ramp that reached its cap is a lower bound)."
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 import pandas as pd
 
@@ -23,20 +25,35 @@ from graspcampaign.report.studies import test2 as t2
 NATURAL = "friction_level == 'natural'"
 
 
-def arrest(run: Run) -> tuple[int, int, str, int, int, int]:
+class Arrest(NamedTuple):
+    """The proposed planner's drops against the arrest bound μ_s/μ_k (:func:`arrest`)."""
+
+    below: int  # drops read whose recorded ``sf_actual`` lies below their material's μ_s/μ_k
+    n_read: int  # drops with an ``sf_actual`` reading and a material of Table 4
+    ratio: str  # μ_s/μ_k's range over the proposed planner's materials, as printed
+    unread: int  # drops without an ``sf_actual`` reading
+    other: int  # drops with one, of a material not in Table 4
+    n_dropped: int  # all the proposed planner's drops
+
+
+def arrest(run: Run) -> Arrest:
     """The proposed planner's drops against the safety factor that arrests a slip: a slip that started is
     arrested only while the kinetic budget (μ_k/μ_s of the static one) carries the weight, i.e. SF ≥
     μ_s/μ_k of its material. Returns how many dropped trials' recorded ``sf_actual`` lies below it, of how
     many read (with an ``sf_actual`` reading and a material of Table 4), μ_s/μ_k's range as printed, the
     drops without an ``sf_actual`` reading, those of a material not in Table 4, and all the drops (the
-    opening and table test3_claims say them)."""
+    opening and table test3_claims say them: computed once per run)."""
+    return run.memo("arrest", lambda: _arrest(run))
+
+
+def _arrest(run: Run) -> Arrest:
     d = t2.ex(run, PROPOSED)
     bound = d["material"].map({m: f.mu_s / f.mu_k for m, f in FAMILIES.items()})  # NaN: not in Table 4
     ratio, dropped = fmt.span(bound.dropna().unique(), digits=2), d[d["is_drop"]]
     no_sf, no_ratio = dropped["sf_actual"].isna(), bound[dropped.index].isna()  # neither below nor above
     read = dropped[~no_sf & ~no_ratio]
     below = int((read["sf_actual"].astype(float) < bound[read.index]).sum())
-    return below, len(read), ratio, int(no_sf.sum()), int((no_ratio & ~no_sf).sum()), len(dropped)
+    return Arrest(below, len(read), ratio, int(no_sf.sum()), int((no_ratio & ~no_sf).sum()), len(dropped))
 
 
 def drops(run: Run) -> str:
@@ -44,23 +61,24 @@ def drops(run: Run) -> str:
     dropped trials whose recorded ``sf_actual`` lies below the bound are counted, of those with an
     ``sf_actual`` reading and a material of Table 4 (the others said apart)."""
     d, paper = t2.ex(run, PROPOSED), paper_of(run, lambda p: p.table9[PROPOSED].drop_pct)
-    below, n_read, ratio, unread, other, n_dropped = arrest(run)  # each drop left out said once
-    needs = " and ".join([*["an `sf_actual` reading"] * bool(unread), *["a Table 4 material"] * bool(other)])
+    a = arrest(run)  # each drop left out said once
+    needs = " and ".join([*["an `sf_actual` reading"] * bool(a.unread),
+                          *["a Table 4 material"] * bool(a.other)])
     with_sf = f" with {needs}" if needs else ""  # what a drop read has ("": every drop is read)
-    apart = [f"{unread} more without " + ("an `sf_actual` reading" if other else "one")] * bool(unread) \
-        + [f"{other} more of a material not in Table 4"] * bool(other)
+    apart = [f"{a.unread} more without " + ("an `sf_actual` reading" if a.other else "one")] \
+        * bool(a.unread) + [f"{a.other} more of a material not in Table 4"] * bool(a.other)
     more = f" ({', '.join(apart)})" if apart else ""
     text = f"The proposed planner drops {fmt.number(100 * d['is_drop'].mean(), 1)}% of trials (paper " \
            f"{fmt.number(paper, 1)}%)"
-    if below:  # short: the opening's 900 characters (test_openings)
-        return (f"{text}: {below} of {n_read}{with_sf} below the safety factor μ_s/μ_k = {ratio} that "
-                f"arrests a slip{more}. ")
-    text += f". No slip is arrested below a safety factor of μ_s/μ_k = {ratio}"
-    if n_read:
-        held = _none_of(n_read, with_sf, "held one below it", "did not hold one below it")
+    if a.below:  # short: the opening's 900 characters (test_openings)
+        return (f"{text}: {a.below} of {a.n_read}{with_sf} below the safety factor μ_s/μ_k = {a.ratio} "
+                f"that arrests a slip{more}. ")
+    text += f". No slip is arrested below a safety factor of μ_s/μ_k = {a.ratio}"
+    if a.n_read:
+        held = _none_of(a.n_read, with_sf, "held one below it", "did not hold one below it")
         return f"{text}; {held}{more}. "
-    if n_dropped:
-        return f"{text}; {_none_of(n_dropped, '', f'has {needs}', f'does not have {needs}')}. "
+    if a.n_dropped:
+        return f"{text}; {_none_of(a.n_dropped, '', f'has {needs}', f'does not have {needs}')}. "
     return text + ". "
 
 
@@ -188,9 +206,9 @@ def claims(run: Run):
     chi = t["test3_chi2"].iloc[0]
     yield ("χ² planner × retention (proposed, centroid, random)", "§9.5", Estimate(
         chi["statistic"], n=chi["n"]), p.chi2_planner_retention, "", 1)
-    below, n_read, ratio = arrest(run)[:3]  # the opening's count (§9.6: drops 10.1 %)
-    yield (f"proposed drops below the safety factor μ_s/μ_k = {ratio} that arrests a slip (n: its drops with "
-           "an SF reading and a Table 4 material)", "§9.6", Estimate(below, n=n_read), None, "", 0)
+    a = arrest(run)  # the opening's count (§9.6: drops 10.1 %)
+    yield (f"proposed drops below the safety factor μ_s/μ_k = {a.ratio} that arrests a slip (n: its drops "
+           "with an SF reading and a Table 4 material)", "§9.6", Estimate(a.below, n=a.n_read), None, "", 0)
 
 
 def thresholds(run: Run, ax) -> None:
