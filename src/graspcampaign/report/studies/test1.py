@@ -267,7 +267,7 @@ def fig23(run: Run, fig) -> None:
                  label=f"our mean {fmt.number(acc['rmse_pct'].mean(), 2)}%")
     ax_c.axvline(p.rmse_pct, color=PAPER, ls="--", label=f"paper mean {fmt.number(p.rmse_pct)}%")
     ax_c.axvline(REVIEW_PCT, color=CRITERION, ls=":", label=f"review at {fmt.number(REVIEW_PCT)}%")
-    ax_c.set(xlabel="force-fit RMSE [% of peak force]", ylabel="normal-indentation events",
+    ax_c.set(xlabel="force-fit RMSE [% of peak force]", ylabel="normal-indentation events [count]",
              title="(c) force-fit RMSE")
     legend_below(ax_c, ncol=2)  # at the upper right the 5% review line ran through it
 
