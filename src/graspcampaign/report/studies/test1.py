@@ -244,8 +244,9 @@ def fig23(run: Run, fig) -> None:
         ax_a.plot(g, law.k_n_per_mm_n * g ** law.exponent_n, color=PAPER, ls="--",
                   label=f"paper Table 4 law: K = {fmt.number(law.k_n_per_mm_n)}, n = "
                         f"{fmt.number(law.exponent_n)}")
-        ax_a.legend(loc="upper left", fontsize=7)
     ax_a.set(xlabel="indentation δ [mm]", ylabel="normal force fn [N]")
+    if row is not None:  # at the upper left the paper's law, above our trace, ran through its last entries
+        legend_below(ax_a, ncol=1)
     mats = _mats(acc)
     if mats:
         parts = ax_b.violinplot([acc.loc[acc["material"] == m, "n_exp"] for m in mats], showmedians=True)
