@@ -133,3 +133,22 @@ def test_no_curve_of_fig23a_runs_through_its_legend(sim_root):
     ax = next(a for a in fig.axes if a.get_title("left").startswith("(a)"))
     inside = _lines_in_legend(ax)
     assert len(ax.get_lines()) == 4 and not inside, set(inside)
+
+
+def test_fig23b_draws_each_violin_in_its_family_colour_and_names_its_lines(sim_root):
+    """Fig. 23b's violins drew their median and min–max bars in matplotlib's first cycle colour (a blue
+    no vocabulary gives), with caps a reader takes for the 95 % whiskers of every other figure, and no
+    legend entry: each violin's lines take its family's colour, and the legend names them."""
+    from graspcampaign.analysis.vocabulary import VOCABULARIES, colour, label
+
+    fig = draw_all(sim_root, "test1_bench")["fig23_normal_law"]
+    ax = next(a for a in fig.axes if a.get_title("left").startswith("(b)"))
+    table = {label("material", v): mpl.colors.to_hex(colour("material", v)) for v in VOCABULARIES["material"]}
+    families = [table[lab.get_text()] for lab in ax.get_xticklabels()]
+    assert families
+    bars = [c for c in ax.collections if type(c).__name__ == "LineCollection"
+            and {mpl.colors.to_hex(rgba) for rgba in c.get_colors()} != {"#000000"}]  # not the paper's marks
+    assert len(bars) == 4  # range bar, min and max caps, median
+    for c in bars:
+        assert [mpl.colors.to_hex(rgba) for rgba in c.get_colors()] == families
+    assert "ours: median, min–max" in [t.get_text() for t in ax.get_legend().get_texts()]
