@@ -75,3 +75,25 @@ def test_neighbouring_tick_labels_lie_half_an_em_apart(sim_root):
                             for a, b, ba, bb in zip(shown, shown[1:], boxes, boxes[1:], strict=False)
                             if bb.x0 - ba.x1 < half_an_em(a)]
     assert not crowded, crowded
+
+
+def test_every_numeric_axis_names_its_unit(sim_root):
+    """The H–ε histogram read "trials" over "Spearman ρ of H and ε over one trial's candidates", its
+    colour bar "candidates", Fig. 23c "normal-indentation events", Fig. 17 "iteration of Algorithm 2":
+    axes without a unit, where every other axis gives one ("[–]", "[count]", "[N]"). Every axis of every
+    figure of every study whose tick labels are numbers names its unit in brackets: in its label, or,
+    where it has none (Figs. 15 and 17 title each panel by its quantity), in its panel's title."""
+    import re
+
+    number = re.compile(r"[−+\-]?[\d.,]+|\$\\mathdefault\{10\^\{[−\-]?\d+\}\}\$")
+    bare = []
+    for study in sorted(p.parent.name for p in sim_root.glob("*/default")):
+        for name, fig in draw_all(sim_root, study).items():
+            for ax in fig.axes:
+                for axis, words in ((ax.xaxis, ax.get_xlabel()), (ax.yaxis, ax.get_ylabel())):
+                    labels = _labels_in_view(axis)
+                    if labels and all(number.fullmatch(t) for t in labels):
+                        named = words or ax.get_title("left") or ax.get_title()
+                        if not re.search(r"\[[^\]]+\]", named):
+                            bare.append((study, name, axis.axis_name, named))
+    assert not bare, bare

@@ -5,9 +5,11 @@ from __future__ import annotations
 
 from types import SimpleNamespace
 
+import matplotlib as mpl
 import numpy as np
 import pandas as pd
 import pytest
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from graspcampaign.report import style
@@ -90,3 +92,36 @@ def test_fig19_supplement_panels_carry_the_letters_its_caption_names_them_by():
     for letter, quantity in zip("abcd", ["|R_z|", "N_max", "fingertip radius", "|R_z|"], strict=True):
         named = caption.split(f"({letter}) ")[1].split("(")[0] if f"({letter}) " in caption else ""
         assert quantity in named, (letter, caption)
+
+
+def _luminance(colour) -> float:
+    """WCAG 2.1 relative luminance of an sRGB colour (W3C's closed form)."""
+    rgb = np.asarray(mpl.colors.to_rgb(colour))
+    return float(np.where(rgb <= 0.04045, rgb / 12.92, ((rgb + 0.055) / 1.055) ** 2.4)
+                 @ [0.2126, 0.7152, 0.0722])
+
+
+def test_fig19_cell_text_contrasts_with_its_cell():
+    """Cell values were black on every cell: on viridis' dark end (Fig. 19c's runtimes at paper scale,
+    1.1 ms of 5.8 ms) and RdYlGn's dark red and green (0 % and 100 %) they read at 1.6-3:1. Every cell
+    value of Fig. 19 and its supplement contrasts with its cell's colour at least 4.5:1 (WCAG 2.1 AA
+    for normal text; black or white reaches it on any colour)."""
+    grid = np.linspace(0.1, 0.8, 12)
+    rows = [{"panel": panel, "status": "ok", x: a, y: b, "success": a < 0.2 or b < 0.2,
+             "success_vertical": a > 0.7, "runtime_ms": 1.0 + 5 * (a > 0.7 and b > 0.7),
+             "delta_max_mm": 1.0, "loop_capped": b < 0.4, "valid_geometry": a < 0.5}
+            for panel, (x, y, *_) in PANELS.items() for a in grid for b in grid]
+    low = []
+    for draw, size in ((_figure, (15.0, 4.9)), (_supplement, (10.0, 8.6))):
+        fig = Figure(figsize=size, layout="constrained")
+        draw(Run(pd.DataFrame(rows), {}, PAPER), fig)
+        FigureCanvasAgg(fig).draw()  # the cells' colours, mapped at drawing
+        for ax in (ax for ax in fig.axes if ax.texts):
+            cells = ax.collections[0].get_facecolors()  # row-major, one per cell, as pcolormesh lays them
+            assert len(ax.texts) == len(cells) == grid.size ** 2
+            for t in ax.texts:
+                c, r = (round(v) for v in t.get_position())
+                dark, bright = sorted((_luminance(t.get_color()), _luminance(cells[r * grid.size + c])))
+                if (bright + 0.05) / (dark + 0.05) < 4.5:
+                    low.append((ax.get_title()[:12], t.get_text(), t.get_color()))
+    assert not low, low[:5]

@@ -99,22 +99,56 @@ def test_no_line_of_fig23c_runs_through_its_legend(sim_root):
     assert not [b for b in lines if box.overlaps(b)]
 
 
-def test_no_trace_of_fig24b_runs_through_its_legend(sim_root):
-    """Fig. 24b's legend sat at the lower right, where the slide's tangential force drops back to zero at
-    the end of the stroke: the drop ran through "virtual-rig ft (normal-lab)". No drawn point of any line
-    of the panel lies inside the legend box (screen pixels)."""
+def _lines_in_legend(ax) -> list[str]:
+    """The label of each line of ``ax`` once per drawn point of it inside the legend box (screen
+    pixels; the segments too: a vertical drop has its two ends outside the box and its middle inside)."""
     import numpy as np
-    fig = draw_all(sim_root, "test1_bench")["fig24_tangential"]
-    ax = next(a for a in fig.axes if a.get_title("left").startswith("(b)"))
-    renderer = fig.canvas.get_renderer()
-    box = ax.get_legend().get_window_extent(renderer)
+    box = ax.get_legend().get_window_extent(ax.figure.canvas.get_renderer())
     inside = []
     for line in ax.get_lines():
         xy = np.column_stack([line.get_xdata(), line.get_ydata()]).astype(float)
         xy = ax.transData.transform(xy[np.isfinite(xy).all(axis=1)])
-        # the segments too: a vertical drop has its two ends outside the box and its middle inside
         steps = np.linspace(0.0, 1.0, 21)[:, None, None]
         points = (xy[:-1] + steps * (xy[1:] - xy[:-1])).reshape(-1, 2)
         within = ((points >= [box.x0, box.y0]) & (points <= [box.x1, box.y1])).all(axis=1)
         inside += [line.get_label()] * int(within.sum())
+    return inside
+
+
+def test_no_trace_of_fig24b_runs_through_its_legend(sim_root):
+    """Fig. 24b's legend sat at the lower right, where the slide's tangential force drops back to zero at
+    the end of the stroke: the drop ran through "virtual-rig ft (normal-lab)". No drawn point of any line
+    of the panel lies inside the legend box (screen pixels)."""
+    fig = draw_all(sim_root, "test1_bench")["fig24_tangential"]
+    ax = next(a for a in fig.axes if a.get_title("left").startswith("(b)"))
+    inside = _lines_in_legend(ax)
     assert len(ax.get_lines()) == 3 and not inside, set(inside)
+
+
+def test_no_curve_of_fig23a_runs_through_its_legend(sim_root):
+    """Fig. 23a's legend sat at the upper left, where the paper's Table 4 law, rising above our trace,
+    ran through the box's right end beside "(RMSE 0.7%)" (the paper-scale run and the reduced one
+    alike): no drawn point of the loading, unloading, fit or paper curve lies inside the legend box."""
+    fig = draw_all(sim_root, "test1_bench")["fig23_normal_law"]
+    ax = next(a for a in fig.axes if a.get_title("left").startswith("(a)"))
+    inside = _lines_in_legend(ax)
+    assert len(ax.get_lines()) == 4 and not inside, set(inside)
+
+
+def test_fig23b_draws_each_violin_in_its_family_colour_and_names_its_lines(sim_root):
+    """Fig. 23b's violins drew their median and min–max bars in matplotlib's first cycle colour (a blue
+    no vocabulary gives), with caps a reader takes for the 95 % whiskers of every other figure, and no
+    legend entry: each violin's lines take its family's colour, and the legend names them."""
+    from graspcampaign.analysis.vocabulary import VOCABULARIES, colour, label
+
+    fig = draw_all(sim_root, "test1_bench")["fig23_normal_law"]
+    ax = next(a for a in fig.axes if a.get_title("left").startswith("(b)"))
+    table = {label("material", v): mpl.colors.to_hex(colour("material", v)) for v in VOCABULARIES["material"]}
+    families = [table[lab.get_text()] for lab in ax.get_xticklabels()]
+    assert families
+    bars = [c for c in ax.collections if type(c).__name__ == "LineCollection"
+            and {mpl.colors.to_hex(rgba) for rgba in c.get_colors()} != {"#000000"}]  # not the paper's marks
+    assert len(bars) == 4  # range bar, min and max caps, median
+    for c in bars:
+        assert [mpl.colors.to_hex(rgba) for rgba in c.get_colors()] == families
+    assert "ours: median, min–max" in [t.get_text() for t in ax.get_legend().get_texts()]

@@ -71,6 +71,15 @@ def level_colours(n: int) -> list[str]:
     return [OTHER_COLOURS[int(i) % len(OTHER_COLOURS)] for i in steps]
 
 
+def ink(fill) -> str:
+    """Black or white, whichever contrasts more with ``fill`` (a cell's colour): the text on a heatmap
+    cell (W3C WCAG 2.1 contrast ratio, (L1 + 0.05)/(L2 + 0.05) of relative luminances; black text on
+    viridis' dark end read at 1.6:1)."""
+    rgb = np.asarray(mpl.colors.to_rgb(fill))
+    lum = np.where(rgb <= 0.04045, rgb / 12.92, ((rgb + 0.055) / 1.055) ** 2.4) @ [0.2126, 0.7152, 0.0722]
+    return "black" if (lum + 0.05) / 0.05 >= 1.05 / (lum + 0.05) else "white"
+
+
 def paper_handle(label: str = "paper's value") -> Line2D:
     """Legend entry of the paper's marks."""
     return Line2D([], [], color=PAPER, marker="D", markersize=5, markerfacecolor="none", linewidth=1.2,

@@ -184,13 +184,13 @@ def h_epsilon_figure(run: Run, fig) -> None:
     c = run.aux("candidates").query("trial_id in @trials.trial_id")
     a, b = fig.subplots(1, 2)
     bar = fig.colorbar(a.hexbin(c["h_total"], c["epsilon_fc"], gridsize=40, bins="log", mincnt=1), ax=a,
-                       label="candidates")
+                       label="candidates [count]")
     style.plain_log(bar.ax.yaxis)  # counts: 1, 2, 5, not 2×10⁰
     a.set(xlabel="H(G) [–], lower is better", ylabel="Ferrari–Canny ε [–], higher is better",
           title="(a) every sampled candidate")
     b.hist(trials["spearman_h_epsilon"].dropna(), bins=30, color=colour("planner", "ferrari_canny"))
     b.axvline(0.0, color=style.CRITERION, linestyle="--", linewidth=1.0)
-    b.set(xlabel="Spearman ρ of H and ε over one trial's candidates", ylabel="trials",
+    b.set(xlabel="Spearman ρ of H and ε over one trial's candidates [–]", ylabel="trials [count]",
           title="(b) per trial (ρ < 0: H agrees with ε)")
     b.yaxis.set_major_locator(MaxNLocator(integer=True))  # trials are counted
 

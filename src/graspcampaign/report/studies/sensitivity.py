@@ -82,7 +82,7 @@ def heatmap(ax, fig, run: Run, panel: str, value: str, label: str, cmap: str = "
     size = _cell_text_pt(ax, fig, values.shape)
     for (r, c), v in np.ndenumerate(values) if size else ():
         ax.text(c, r, fmt.number(v, digits) if math.isfinite(v) else "n/a", ha="center", va="center",
-                fontsize=size)
+                fontsize=size, color=style.ink(mesh.to_rgba(v)) if math.isfinite(v) else "black")
     ax.set(xlim=(-0.5, len(xs) - 0.5), ylim=(-0.5, len(ys) - 0.5))
     ax.grid(False)
     fig.colorbar(mesh, ax=ax, label=label, shrink=0.85)

@@ -8,6 +8,7 @@ from fractions import Fraction
 
 import numpy as np
 import pandas as pd
+from matplotlib.lines import Line2D
 
 from graspcampaign.analysis import calibration as cal
 from graspcampaign.analysis.records import Estimate
@@ -244,13 +245,16 @@ def fig23(run: Run, fig) -> None:
         ax_a.plot(g, law.k_n_per_mm_n * g ** law.exponent_n, color=PAPER, ls="--",
                   label=f"paper Table 4 law: K = {fmt.number(law.k_n_per_mm_n)}, n = "
                         f"{fmt.number(law.exponent_n)}")
-        ax_a.legend(loc="upper left", fontsize=7)
     ax_a.set(xlabel="indentation δ [mm]", ylabel="normal force fn [N]")
+    if row is not None:  # at the upper left the paper's law, above our trace, ran through its last entries
+        legend_below(ax_a, ncol=1)
     mats = _mats(acc)
     if mats:
         parts = ax_b.violinplot([acc.loc[acc["material"] == m, "n_exp"] for m in mats], showmedians=True)
         for body, m in zip(parts["bodies"], mats, strict=True):
             body.set(facecolor=colour("material", m), alpha=0.55)
+        for key in ("cbars", "cmins", "cmaxes", "cmedians"):  # matplotlib's first cycle blue otherwise
+            parts[key].set(color=[colour("material", m) for m in mats], linewidth=1.0)
     paper_marks(ax_b, range(1, len(mats) + 1), [p.table4[m].exponent_n for m in mats], 0.5)
     ax_b.axhspan(p.n_exp_mean - p.n_exp_sd, p.n_exp_mean + p.n_exp_sd, color=PAPER, alpha=0.08,
                  label=f"paper mean {fmt.number(p.n_exp_mean)} ± {fmt.number(p.n_exp_sd)}")
@@ -258,7 +262,9 @@ def fig23(run: Run, fig) -> None:
                  label=f"Table 3: n = {fmt.number(p.n_exp_simulation)}")
     ax_b.set_xticks(range(1, len(mats) + 1), [label("material", m) for m in mats])
     ax_b.set(ylabel="fitted contact exponent n [–]", title=f"(b) n of the {len(acc)} accepted fits")
-    legend_below(ax_b, [*ax_b.get_legend_handles_labels()[0], paper_handle("paper Table 4 family n")], 2)
+    spread = [Line2D([], [], color="#333333", lw=1.0, label="ours: median, min–max")] * bool(mats)
+    legend_below(ax_b, [*ax_b.get_legend_handles_labels()[0], paper_handle("paper Table 4 family n"),
+                        *spread], 2)
     bins = np.linspace(0, max(6.0, 1.1 * float(np.nanpercentile(nf["rmse_pct"], 99.5)) if len(nf) else 6), 61)
     ax_c.hist(acc["rmse_pct"], bins=bins, color=BLUE, alpha=0.8, label=f"accepted ({len(acc)})")
     ax_c.hist(nf.query("~accepted")["rmse_pct"], bins=bins, color=ORANGE, alpha=0.8,
@@ -267,7 +273,7 @@ def fig23(run: Run, fig) -> None:
                  label=f"our mean {fmt.number(acc['rmse_pct'].mean(), 2)}%")
     ax_c.axvline(p.rmse_pct, color=PAPER, ls="--", label=f"paper mean {fmt.number(p.rmse_pct)}%")
     ax_c.axvline(REVIEW_PCT, color=CRITERION, ls=":", label=f"review at {fmt.number(REVIEW_PCT)}%")
-    ax_c.set(xlabel="force-fit RMSE [% of peak force]", ylabel="normal-indentation events",
+    ax_c.set(xlabel="force-fit RMSE [% of peak force]", ylabel="normal-indentation events [count]",
              title="(c) force-fit RMSE")
     legend_below(ax_c, ncol=2)  # at the upper right the 5% review line ran through it
 

@@ -129,7 +129,7 @@ def fig17(run: Run, fig) -> None:
                          f"{fmt.number(last['depth_1_mm'] / 1e3, sig=3)} m", xy=(0.98, 0.55),
                          xycoords="axes fraction", ha="right", fontsize=7, color=style.CRITERION)
     for ax in axes[2:]:
-        ax.set_xlabel("iteration of Algorithm 2")
+        ax.set_xlabel("iteration of Algorithm 2 [–]")
     handles = {label: h for ax in axes for h, label in zip(*ax.get_legend_handles_labels(), strict=True)}
     fig.legend(handles.values(), handles.keys(), loc="outside lower center", ncol=3)  # never over a trace
 
