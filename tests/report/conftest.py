@@ -54,14 +54,11 @@ def reduced() -> list[str]:
 @pytest.fixture(scope="session")
 def sim_root(tmp_path_factory):
     """Root of the reduced runs, reported in every format (tables, md, json, html)."""
-    from graspcampaign.campaign.compose import compose_study
-    from graspcampaign.campaign.runner import run_study
+    from synthetic_runs import run_reduced
+
     from graspcampaign.report.build import build_reports
 
-    root = tmp_path_factory.mktemp("sim") / "results"
-    for study, overrides in REDUCED.items():
-        run_study(compose_study(study, ["runner.backend=sequential", "runner.progress=false",
-                                        f"output.root={root}", *overrides]))
+    root = run_reduced(tmp_path_factory.mktemp("sim") / "results", REDUCED)
     batch = build_reports(root=root, formats=["md", "csv", "json", "html"])
     assert batch.failed == []
     return root

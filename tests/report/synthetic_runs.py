@@ -76,6 +76,18 @@ def make_run(root, name: str, kind: str, factors: dict, seeds: int, paper: dict 
     return store
 
 
+def run_reduced(root: Path, reduced: dict[str, list[str]]) -> Path:
+    """Run each study of ``reduced`` (name: its overrides) by the engine into the results root ``root``,
+    sequentially and without progress lines; return ``root``."""
+    from graspcampaign.campaign.compose import compose_study
+    from graspcampaign.campaign.runner import run_study
+
+    for study, overrides in reduced.items():
+        run_study(compose_study(study, ["runner.backend=sequential", "runner.progress=false",
+                                        f"output.root={root}", *overrides]))
+    return root
+
+
 def quasi_static_outputs(factors: dict, rng: np.random.Generator) -> dict:
     """One quasi_static record (docs/records.md), outcome drawn per planner."""
     planner = factors.get("planner", "heuristic")

@@ -15,7 +15,7 @@ import re
 
 import pytest
 from matplotlib.colors import to_hex
-from synthetic_runs import draw_figure
+from synthetic_runs import draw_figure, run_reduced
 
 from graspcampaign.campaign.paper import study_paper
 from graspcampaign.campaign.records import RunStore
@@ -38,14 +38,7 @@ REDUCED = {
 @pytest.fixture(scope="module")
 def root(tmp_path_factory):
     """A results root holding the :data:`REDUCED` runs, run by the engine (not reported)."""
-    from graspcampaign.campaign.compose import compose_study
-    from graspcampaign.campaign.runner import run_study
-
-    out = tmp_path_factory.mktemp("run_not_paper") / "results"
-    for study, overrides in REDUCED.items():
-        run_study(compose_study(study, ["runner.backend=sequential", "runner.progress=false",
-                                        f"output.root={out}", *overrides]))
-    return out
+    return run_reduced(tmp_path_factory.mktemp("run_not_paper") / "results", REDUCED)
 
 
 def _run(root, study: str, **paper) -> Run:
