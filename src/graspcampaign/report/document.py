@@ -30,6 +30,9 @@ SOURCE_LABEL = {"simulation": "simulation (this tool's numerical model)", "measu
                 "hardware measurements"}
 NAV = [("Index", "index.html"), ("Table 1 headline", "headline.html")]
 """The navigation bar of every page (relative to the results root)."""
+WIDE = 12
+"""Columns from which a table is set compact in HTML (smaller type, tighter cells): at the page's 1,180 px
+the reduced reports' tables of 12 columns and more (Tables 1, 6, 7) overflowed, none of 11 or fewer did."""
 # a printed number: a bound, a sign, digits or inf, an exponent, a unit sign, a range or an interval
 # ("35.7 (25.5–47.4)"), the count a rate is over ("35.7 (25.5–47.4) of 40")
 NUMBER = re.compile(r"[<>≤≥≈]? ?[+−-]?(\d[\d,]*(\.\d+)?(e[+−-]?\d+| ?× ?10[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+)?|inf) ?[%×]?"
@@ -249,7 +252,8 @@ class Table:
         attrs = f" data-table='{self.name}'" if self.csv else ""
         csv = f" <span class='csv'>{self.csv.format(name=self.name)}</span>" if self.csv else ""
         # the caption above the table, not its <caption>: that one wraps to a narrow table's width
-        return (f"<div class='table' id='{self.anchor}'><p class='caption' id='c-{self.name}'>"
+        wide = " wide" if len(self.cols) >= WIDE else ""
+        return (f"<div class='table{wide}' id='{self.anchor}'><p class='caption' id='c-{self.name}'>"
                 f"{inline(self.caption)}{csv}</p><table{attrs} aria-labelledby='c-{self.name}'><thead><tr>"
                 f"{head}</tr></thead><tbody>{body}</tbody></table></div>")
 
@@ -481,7 +485,8 @@ figure{margin:18px 0;background:#fff;padding:10px;border:1px solid #e1e5ea;overf
 max-width:100%;height:auto;cursor:zoom-in}.zoom:checked+label img{max-width:none;cursor:zoom-out}
 figcaption{font-size:13.5px;color:#444;margin-top:6px}footer{color:#666;font-size:13px;
 padding:12px 24px}code{background:#eef2f6;padding:0 3px}.nb{white-space:nowrap}
-td.num{text-align:right;font-variant-numeric:tabular-nums}td:last-child:not(.num){min-width:16em}
+td.num{text-align:right;font-variant-numeric:tabular-nums}th[data-cols=verdict]{min-width:10em}
+.wide table{font-size:12.5px}.wide th,.wide td{padding:3px 5px}
 .contents{background:#fff;border:1px solid #e1e5ea;padding:8px 14px;margin:14px 0;font-size:13.5px}
 .contents ul{columns:2 26em;margin:4px 0 0;padding:0;list-style:none}.contents li{break-inside:avoid}
 .contents a{color:#1f5aa6;text-decoration:none}.contents a:hover{text-decoration:underline}
