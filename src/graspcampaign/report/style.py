@@ -1,5 +1,5 @@
 """The one figure style: rcParams, the data-source label, the paper's marks, rate bars, panels, parity,
-one trial's schematic."""
+one trial's schematic; the HTML page's style sheet."""
 
 from __future__ import annotations
 
@@ -291,3 +291,44 @@ def schematic(fig, t: pd.Series, spans, top, bottom, title: str) -> None:
     axes[1].set_yscale("symlog", linthresh=1.0)  # millimetres of slip beside tens of lift: 1-2-5 ticks
     axes[1].yaxis.set_major_locator(SymmetricalLogLocator(base=10, linthresh=1.0, subs=(1.0, 2.0, 5.0)))
     axes[1].yaxis.set_major_formatter(FuncFormatter(lambda v, _: fmt.number(v)))
+
+
+#: The HTML page's style sheet, self-contained (no font or file fetched). Text colours meet WCAG 2.1's
+#: 4.5:1 against their backgrounds (tests/report/test_html.py); wide tables (``.wide``) are set compact;
+#: in print the navigation and the zoom control go, tables and figures are not cut in two.
+CSS = """
+body{font:15px/1.5 system-ui,-apple-system,"Segoe UI",sans-serif;margin:0;color:#1d2327;background:#fafafa}
+main{max-width:1180px;margin:0 auto;padding:0 24px 48px}nav{position:sticky;top:0;background:#1f3a5f;
+color:#fff;padding:8px 24px;z-index:2;font-size:14px}nav a{color:#fff;margin-right:14px;text-decoration:none}
+nav a:hover{text-decoration:underline}nav .toc{opacity:.85}h1{font-size:26px;margin:18px 0 6px}
+h2{font-size:19px;margin:34px 0 8px;border-bottom:1px solid #d5dbe1;padding-bottom:4px}
+.source{padding:8px 24px;font-weight:600}.source-simulation{background:#e3edf7;color:#1f3a5f}
+.source-virtual{background:#fff3cd;color:#7a4b00}.source-measured{background:#e3f4e6;color:#1b5e20}
+dl.provenance{display:grid;grid-template-columns:max-content auto;gap:2px 14px;font-size:13.5px;color:#444}
+dl.provenance dt{font-weight:600}dl.provenance dd{margin:0}p.finding{font-size:16px;background:#fff;
+border-left:4px solid #1f3a5f;padding:10px 14px}p.note{color:#8a4b00;font-style:italic}
+.table{overflow-x:auto;margin:14px 0}table{border-collapse:collapse;background:#fff;font-size:13.5px}
+p.caption{margin:0;padding:6px 0;font-weight:600;font-size:14px}p.caption .csv{font-weight:400;
+color:#666;font-family:monospace;font-size:12px}th,td{border:1px solid #d5dbe1;padding:4px 8px;
+text-align:left;vertical-align:top}th{background:#eef2f6}tbody tr:nth-child(even){background:#f6f8fa}
+th:first-child,td:first-child,.table p.caption{position:sticky;left:0;z-index:1}
+th:first-child,td:first-child{box-shadow:1px 0 0 #d5dbe1}
+td:first-child{background:#fff}tbody tr:nth-child(even) td:first-child{background:#f6f8fa}
+figure{margin:18px 0;background:#fff;padding:10px;border:1px solid #e1e5ea;overflow-x:auto}figure img{
+max-width:100%;height:auto;cursor:zoom-in}.zoom:checked+label img{max-width:none;cursor:zoom-out}
+.zoom{position:absolute;opacity:0;width:1px;height:1px}
+.zoom:focus-visible+label img{outline:3px solid #1f3a5f;outline-offset:2px}
+figcaption{font-size:13.5px;color:#444;margin-top:6px}footer{color:#666;font-size:13px;
+padding:12px 24px}code{background:#eef2f6;padding:0 3px}.nb{white-space:nowrap}
+td.num{text-align:right;font-variant-numeric:tabular-nums}th[data-cols=verdict]{min-width:10em}
+.wide table{font-size:12.5px}.wide th,.wide td{padding:3px 5px}
+.contents{background:#fff;border:1px solid #e1e5ea;padding:8px 14px;margin:14px 0;font-size:13.5px}
+.contents ul{columns:2 26em;margin:4px 0 0;padding:0;list-style:none}.contents li{break-inside:avoid}
+.contents a{color:#1f5aa6;text-decoration:none}.contents a:hover{text-decoration:underline}
+[id]{scroll-margin-top:48px}
+@media print{body{background:#fff;font-size:11pt}nav,.zoom{display:none}main{max-width:none;padding:0}
+.source{border:1px solid #999}.table,figure{overflow:visible}figure,tr,.contents li{break-inside:avoid}
+th:first-child,td:first-child,.table p.caption{position:static;box-shadow:none}
+thead{display:table-header-group}h2,p.caption{break-after:avoid}
+figure img,.zoom:checked+label img{max-width:100%}.wide table{font-size:8pt}}
+"""
