@@ -218,3 +218,18 @@ def test_fig17_residual_axis_reads_plain_one_two_five_newtons():
     shown = [t.get_text() for t in (*axis.get_majorticklabels(), *axis.get_minorticklabels())
              if t.get_text() and low <= t.get_position()[1] <= high]
     assert shown == ["0.5", "1", "2", "5", "10"], shown
+
+
+def test_a_line_drawn_without_a_colour_takes_the_level_ramp_not_a_planners_blue():
+    """Figs. 12-13 drew their μ × m cases in matplotlib's C0, C1 (tab10): C0 #1f77b4 read as the
+    proposed planner's blue (#1f5aa6). Under the report's style an uncoloured line takes the ramp of
+    levels outside every vocabulary, and no step of the cycle is any vocabulary's colour."""
+    from graspcampaign.analysis.vocabulary import OTHER_COLOURS
+
+    with mpl.rc_context(RC):
+        fig = Figure()
+        ax = fig.subplots()
+        drawn = [mpl.colors.to_hex(ax.plot([0, 1])[0].get_color()) for _ in range(6)]
+    assert drawn[:2] == [OTHER_COLOURS[0], OTHER_COLOURS[3]] and sorted(drawn) == sorted(OTHER_COLOURS)
+    named = {t.colour.lower() for v in VOCABULARIES.values() for t in v.values() if t.colour}
+    assert named.isdisjoint(drawn)

@@ -10,6 +10,7 @@ from collections.abc import Callable, Sequence
 import matplotlib as mpl
 import numpy as np
 import pandas as pd
+from cycler import cycler
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.ticker import Formatter, FuncFormatter, LogLocator, NullFormatter, SymmetricalLogLocator
@@ -25,6 +26,10 @@ RC = {
     "axes.spines.right": False, "legend.frameon": False, "lines.linewidth": 1.5,
     "errorbar.capsize": 3, "figure.dpi": 100, "savefig.dpi": 130, "image.cmap": "viridis",
     "svg.hashsalt": "graspcampaign", "svg.fonttype": "none", "font.family": "DejaVu Sans",
+    # a line drawn without a colour of its own takes the levels' ramp, never matplotlib's tab10, whose
+    # C0 blue read as the proposed planner's (Figs. 12-13's μ × m cases, drawn in C0, C1, ...); the
+    # ramp's steps alternate dark and light, as adjacent steps are hard to tell apart
+    "axes.prop_cycle": cycler(color=[OTHER_COLOURS[i] for i in (0, 3, 1, 4, 2, 5)]),
 }
 """The report's rcParams (every figure of every study)."""
 PAPER = "black"
