@@ -513,6 +513,21 @@ def test_a_wide_table_is_set_compact_and_a_long_record_name_may_wrap():
     assert css_rules()[".wide table"]["font-size"] == "12.5px"
 
 
+def test_a_long_tables_header_row_stays_in_view_over_its_rows():
+    """A table of more than :data:`LONG` rows scrolls in a box under a sticky header row (the header
+    of test2_classifier's 44 rows scrolled out of view); in print it is whole, the header repeated."""
+    from graspcampaign.report.document import LONG, Table
+
+    short = Table("s", "c", pd.DataFrame({"x": range(LONG)})).render(None)[0]
+    long = Table("l", "c", pd.DataFrame({"x": range(LONG + 1)})).render(None)[0]
+    assert "<div class='table' id='t-s'>" in short.html()
+    assert "<div class='table long' id='t-l'>" in long.html()
+    screen, printed = css_rules(), css_rules("print")
+    assert (screen[".long"]["max-height"], screen[".long"]["overflow"]) == ("90vh", "auto")
+    assert (screen[".long thead th"]["position"], screen[".long thead th"]["top"]) == ("sticky", "0")
+    assert printed[".long"]["max-height"] == "none" and printed[".long thead th"]["position"] == "static"
+
+
 def _overflowing(page: Path, tmp_path: Path, width: int = 1280) -> list[str]:
     """The tables and figures of ``page`` wider than their box in Chromium at ``width`` px:
     ``"<id> <content width> > <box width>"``."""

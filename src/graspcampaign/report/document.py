@@ -33,6 +33,9 @@ NAV = [("Index", "index.html"), ("Table 1 headline", "headline.html")]
 WIDE = 12
 """Columns from which a table is set compact in HTML (smaller type, tighter cells): at the page's 1,180 px
 the reduced reports' tables of 12 columns and more (Tables 1, 6, 7) overflowed, none of 11 or fewer did."""
+LONG = 20
+"""Rows beyond which a table scrolls in a box of at most 90% of the window's height under a header row that
+stays in view (on the page, the header of test2_classifier scrolled out of view above its rows 20-44)."""
 # a printed number: a bound, a sign, digits or inf, an exponent, a unit sign, a range or an interval
 # ("35.7 (25.5–47.4)"), the count a rate is over ("35.7 (25.5–47.4) of 40")
 NUMBER = re.compile(r"[<>≤≥≈]? ?[+−-]?(\d[\d,]*(\.\d+)?(e[+−-]?\d+| ?× ?10[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+)?|inf) ?[%×]?"
@@ -254,8 +257,8 @@ class Table:
         attrs = f" data-table='{self.name}'" if self.csv else ""
         csv = f" <span class='csv'>{self.csv.format(name=self.name)}</span>" if self.csv else ""
         # the caption above the table, not its <caption>: that one wraps to a narrow table's width
-        wide = " wide" if len(self.cols) >= WIDE else ""
-        return (f"<div class='table{wide}' id='{self.anchor}'><p class='caption' id='c-{self.name}'>"
+        kind = " wide" * (len(self.cols) >= WIDE) + " long" * (len(cells) > LONG)
+        return (f"<div class='table{kind}' id='{self.anchor}'><p class='caption' id='c-{self.name}'>"
                 f"{inline(self.caption)}{csv}</p><table{attrs} aria-labelledby='c-{self.name}'><thead><tr>"
                 f"{head}</tr></thead><tbody>{body}</tbody></table></div>")
 

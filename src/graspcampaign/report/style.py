@@ -299,7 +299,8 @@ def schematic(fig, t: pd.Series, spans, top, bottom, title: str) -> None:
 
 
 #: The HTML page's style sheet, self-contained (no font or file fetched). Text colours meet WCAG 2.1's
-#: 4.5:1 against their backgrounds (tests/report/test_html.py); wide tables (``.wide``) are set compact;
+#: 4.5:1 against their backgrounds (tests/report/test_html.py); wide tables (``.wide``) are set compact,
+#: long ones (``.long``) scroll in a box under their header row;
 #: in print the navigation and the zoom control go, tables and figures are not cut in two.
 CSS = """
 body{font:15px/1.5 system-ui,-apple-system,"Segoe UI",sans-serif;margin:0;color:#1d2327;background:#fafafa}
@@ -326,12 +327,15 @@ max-width:100%;height:auto;cursor:zoom-in}.zoom:checked+label img{max-width:none
 figcaption{font-size:13.5px;color:#444;margin-top:6px}footer{color:#666;font-size:13px;
 padding:12px 24px}code{background:#eef2f6;padding:0 3px}.nb{white-space:nowrap}
 td.num{text-align:right;font-variant-numeric:tabular-nums}th[data-cols=verdict]{min-width:10em}
-.wide table{font-size:12.5px}.wide th,.wide td{padding:3px 5px}
+.wide table{font-size:12.5px}.wide th,.wide td{padding:3px 5px}.long{max-height:90vh;overflow:auto}
+.long thead th{position:sticky;top:0;z-index:2;box-shadow:0 1px 0 #d5dbe1}
+.long thead th:first-child{z-index:3}
 .contents{background:#fff;border:1px solid #e1e5ea;padding:8px 14px;margin:14px 0;font-size:13.5px}
 .contents ul{columns:2 26em;margin:4px 0 0;padding:0;list-style:none}.contents li{break-inside:avoid}
 .contents a{color:#1f5aa6;text-decoration:none}.contents a:hover{text-decoration:underline}
 [id]{scroll-margin-top:48px}
-@media print{body{background:#fff;font-size:11pt}nav,.zoom{display:none}main{max-width:none;padding:0}
+@media print{body{background:#fff;font-size:11pt}.long{max-height:none}
+.long thead th{position:static}nav,.zoom{display:none}main{max-width:none;padding:0}
 .source{border:1px solid #999}.table,figure{overflow:visible}figure,tr,.contents li{break-inside:avoid}
 th:first-child,td:first-child,.table p.caption{position:static;box-shadow:none}
 thead{display:table-header-group}h2,p.caption{break-after:avoid}
