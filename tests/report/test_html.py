@@ -472,6 +472,8 @@ def test_every_text_colour_of_the_page_reads_at_wcag_aa_contrast():
 def test_the_printed_page_drops_the_controls_and_keeps_tables_and_figures_whole():
     """In print the navigation and zoom checkboxes go, nothing is sticky or scrolls (a scrolled wide
     table printed cut at the page edge), and figures and table rows are not split across pages."""
+    from graspcampaign.report.style import CSS
+
     screen, printed = css_rules(), css_rules("print")
     assert screen["nav"]["position"] == "sticky" and printed["nav"]["display"] == "none"
     assert printed[".zoom"]["display"] == "none"
@@ -479,6 +481,7 @@ def test_the_printed_page_drops_the_controls_and_keeps_tables_and_figures_whole(
     assert all(printed[s]["position"] == "static" for s in ("th:first-child", "td:first-child"))
     assert printed["figure"]["break-inside"] == printed["tr"]["break-inside"] == "avoid"
     assert printed["thead"]["display"] == "table-header-group"
+    assert re.search(r"@page\{size:landscape;", CSS)  # 14-17 columns do not fit A4 portrait
 
 
 def test_a_figure_says_what_it_shows_and_where_its_data_come_from_to_a_screen_reader():

@@ -301,7 +301,8 @@ def schematic(fig, t: pd.Series, spans, top, bottom, title: str) -> None:
 #: The HTML page's style sheet, self-contained (no font or file fetched). Text colours meet WCAG 2.1's
 #: 4.5:1 against their backgrounds (tests/report/test_html.py); wide tables (``.wide``) are set compact,
 #: long ones (``.long``) scroll in a box under their header row;
-#: in print the navigation and the zoom control go, tables and figures are not cut in two.
+#: in print (landscape: at A4 portrait's 718 px, 12 of test2_grasp's 15 tables ran past the edge, in
+#: landscape only Table 9's 21 columns do) the navigation and zoom control go, nothing is cut in two.
 CSS = """
 body{font:15px/1.5 system-ui,-apple-system,"Segoe UI",sans-serif;margin:0;color:#1d2327;background:#fafafa}
 main{max-width:1180px;margin:0 auto;padding:0 24px 48px}nav{position:sticky;top:0;background:#1f3a5f;
@@ -334,7 +335,7 @@ td.num{text-align:right;font-variant-numeric:tabular-nums}th[data-cols=verdict]{
 .contents ul{columns:2 26em;margin:4px 0 0;padding:0;list-style:none}.contents li{break-inside:avoid}
 .contents a{color:#1f5aa6;text-decoration:none}.contents a:hover{text-decoration:underline}
 [id]{scroll-margin-top:48px}
-@media print{body{background:#fff;font-size:11pt}.long{max-height:none}
+@page{size:landscape;margin:12mm}@media print{body{background:#fff;font-size:11pt}.long{max-height:none}
 .long thead th{position:static}nav,.zoom{display:none}main{max-width:none;padding:0}
 .source{border:1px solid #999}.table,figure{overflow:visible}figure,tr,.contents li{break-inside:avoid}
 th:first-child,td:first-child,.table p.caption{position:static;box-shadow:none}
