@@ -140,7 +140,9 @@ def test_every_page_is_self_contained(sim_root):
     assert len(found) >= 12
     for path in found:
         page = parse(path)
-        assert "source" in page.classes and path.read_text().count("<nav>") == 1, path
+        assert "source" in page.classes and len(re.findall(r"<nav[ >]", path.read_text())) == 1, path
+        # a banner of a known kind, each styled (the index's and Table 1's had a bare "source-")
+        assert page.classes & {f"source-{s}" for s in ("simulation", "virtual", "measured", "mixed")}, path
         for key, target in page.links:
             if key == "src":
                 assert target.startswith("data:image/"), (path, target)
@@ -464,7 +466,7 @@ def test_every_text_colour_of_the_page_reads_at_wcag_aa_contrast():
              "navigation": (colour["nav a"], fill["nav"]), "sections in the bar": (toc, fill["nav"]),
              "contents link": (colour[".contents a"], fill[".contents"]),
              **{f"{s} banner": (colour[f".source-{s}"], fill[f".source-{s}"])
-                for s in ("simulation", "virtual", "measured")}}
+                for s in ("simulation", "virtual", "measured", "mixed")}}
     low = {what: round(_contrast(*p), 2) for what, p in pairs.items() if _contrast(*p) < 4.5}
     assert low == {}
 
@@ -564,3 +566,14 @@ def test_chromium_fits_table_1_into_a_1280_px_window(tmp_path):
         verdict="differs by −42.1 pp: paper outside our 95% CI")
     write_headline(tmp_path, ["html"], frame)
     assert _overflowing(tmp_path / "headline.html", tmp_path) == []
+
+
+def test_a_page_over_several_sources_has_a_styled_banner_and_a_named_navigation():
+    """The index's and Table 1's banner ("Data: see each row") had the class ``source-`` no rule styles;
+    the navigation landmark is named for a screen reader's list of landmarks."""
+    from graspcampaign.report.document import Document
+
+    text = Document("Reports", "", []).html()
+    assert "<div class='source source-mixed'>Data: see each row</div>" in text
+    assert css_rules()[".source-mixed"]["background"] == "#eef2f6"
+    assert "<nav aria-label='pages and sections'>" in text

@@ -432,6 +432,7 @@ class Document:
             + (f"<span class='toc'>{toc}</span>" if toc else "")
         banner, title = html.escape(SOURCE_LABEL.get(self.source, self.source) or "see each row"), \
             html.escape(self.title)
+        source = html.escape(self.source or "mixed")  # a page over several runs: each row says its own
         blocks = [b.html() for b in self.blocks]
         first = next((i for i, b in enumerate(self.blocks) if isinstance(b, Table | Figure)), 0)
         body = "\n".join(["<dl class='provenance'>" + "".join(f"<dt>{html.escape(k)}</dt><dd>{inline(v)}</dd>"
@@ -439,7 +440,8 @@ class Document:
                           *blocks[:first], self.contents(), *blocks[first:]])
         return ("<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'><meta name='viewport' "
                 f"content='width=device-width,initial-scale=1'><title>{title}</title><style>{style.CSS}</style>"
-                f"</head><body><nav>{links}</nav><div class='source source-{html.escape(self.source)}'>Data: "
+                f"</head><body><nav aria-label='pages and sections'>{links}</nav><div class='source "
+                f"source-{source}'>Data: "
                 f"{banner}</div><main><h1>{title}</h1>{body}</main><footer>Data: {banner}. Written by "
                 "graspcampaign from the records only.</footer></body></html>\n")
 

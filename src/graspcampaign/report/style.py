@@ -311,6 +311,7 @@ nav a:hover{text-decoration:underline}nav .toc{opacity:.85}h1{font-size:26px;mar
 h2{font-size:19px;margin:34px 0 8px;border-bottom:1px solid #d5dbe1;padding-bottom:4px}
 .source{padding:8px 24px;font-weight:600}.source-simulation{background:#e3edf7;color:#1f3a5f}
 .source-virtual{background:#fff3cd;color:#7a4b00}.source-measured{background:#e3f4e6;color:#1b5e20}
+.source-mixed{background:#eef2f6;color:#1d2327}
 dl.provenance{display:grid;grid-template-columns:max-content auto;gap:2px 14px;font-size:13.5px;color:#444}
 dl.provenance dt{font-weight:600}dl.provenance dd{margin:0}p.finding{font-size:16px;background:#fff;
 border-left:4px solid #1f3a5f;padding:10px 14px}p.note{color:#8a4b00;font-style:italic}
