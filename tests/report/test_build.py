@@ -146,8 +146,8 @@ def test_every_figure_of_an_html_page_zooms_to_full_size_within_the_page(tmp_pat
     write_run(tmp_path)
     build_reports(["ablation"], root=tmp_path, formats=["md", "html"], figure_format=figure_format)
     page = (tmp_path / "ablation" / "r1" / "report" / "report.html").read_text()
-    toggles = re.findall(r"<figure id='([^']+)'><input type='checkbox' class='zoom' id='([^']+)' hidden>"
-                         r"<label for='([^']+)'[^>]*><img ", page)
+    toggles = re.findall(r"<figure id='([^']+)'><input type='checkbox' class='zoom' id='([^']+)' "
+                         r"aria-label='[^']+'><label for='([^']+)'[^>]*><img ", page)
     assert len(toggles) == page.count("<figure ") > 0
     assert all(box == target == f"zoom-{anchor}" for anchor, box, target in toggles)
     assert len({box for _, box, _ in toggles}) == len(toggles)

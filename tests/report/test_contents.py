@@ -37,7 +37,7 @@ class Contents(HTMLParser):
         self.ids[a.get("id")] += 1
         if tag == "span" and a.get("class") == "csv":  # the CSV path after a table's caption
             self.handle_endtag("p")
-        elif (tag == "div" and a.get("class") == "table") or tag == "figure":
+        elif (tag == "div" and "table" in (a.get("class") or "").split()) or tag == "figure":  # "table wide"
             self._block = a.get("id")
         elif tag == "div" and a.get("class") == "contents":
             self._in_contents = True

@@ -1,10 +1,11 @@
-"""The tick labels of every figure (report.style.tick, report.style.plain_log) and its rate bars
-(report.style.bars)."""
+"""The tick labels of every figure (report.style.tick, report.style.plain_log), its rate bars
+(report.style.bars), its colour cycle and the HTML page's style sheet (report.style.CSS)."""
 
 import re
 
 import matplotlib as mpl
 import numpy as np
+import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -218,3 +219,119 @@ def test_fig17_residual_axis_reads_plain_one_two_five_newtons():
     shown = [t.get_text() for t in (*axis.get_majorticklabels(), *axis.get_minorticklabels())
              if t.get_text() and low <= t.get_position()[1] <= high]
     assert shown == ["0.5", "1", "2", "5", "10"], shown
+
+
+def test_a_line_drawn_without_a_colour_takes_the_level_ramp_not_a_planners_blue():
+    """Figs. 12-13 drew their μ × m cases in matplotlib's C0, C1 (tab10): C0 #1f77b4 read as the
+    proposed planner's blue (#1f5aa6). Under the report's style an uncoloured line takes the ramp of
+    levels outside every vocabulary, and no step of the cycle is any vocabulary's colour."""
+    from graspcampaign.analysis.vocabulary import OTHER_COLOURS
+
+    with mpl.rc_context(RC):
+        fig = Figure()
+        ax = fig.subplots()
+        drawn = [mpl.colors.to_hex(ax.plot([0, 1])[0].get_color()) for _ in range(6)]
+    assert drawn[:2] == [OTHER_COLOURS[0], OTHER_COLOURS[3]] and sorted(drawn) == sorted(OTHER_COLOURS)
+    named = {t.colour.lower() for v in VOCABULARIES.values() for t in v.values() if t.colour}
+    assert named.isdisjoint(drawn)
+
+
+def css_rules(media: str = "screen") -> dict[str, dict[str, str]]:
+    """The page's style sheet as ``{selector: {property: value}}`` on screen, or (``print``) with the
+    print rules over it."""
+    from graspcampaign.report.style import CSS
+
+    screen = re.sub(r"@media print\{((?:[^{}]*\{[^{}]*\})*)[^{}]*\}", "", CSS)
+    printed = re.search(r"@media print\{((?:[^{}]*\{[^{}]*\})*)[^{}]*\}", CSS)
+    rules: dict[str, dict[str, str]] = {}
+    for sheet in [screen] + ([printed.group(1)] if media == "print" and printed else []):
+        for selectors, body in re.findall(r"([^{}]+)\{([^{}]*)\}", sheet):
+            for sel in selectors.split(","):
+                rules.setdefault(sel.strip(), {}).update(
+                    dict(d.strip().split(":", 1) for d in body.split(";") if d.strip()))
+    return rules
+
+
+def test_a_wide_tables_row_labels_and_caption_stay_in_view_when_it_scrolls():
+    # the first column scrolled out of view with the rest of a wide table (Tables 6-9): it is sticky
+    # on an opaque background (each row stripe's), as is the caption above the table
+    rules = css_rules()
+    for cell in ("th:first-child", "td:first-child", ".table p.caption"):
+        assert (rules[cell]["position"], rules[cell]["left"]) == ("sticky", "0"), cell
+    stripe = "tbody tr:nth-child(even)"
+    assert rules["th"]["background"] and rules["td:first-child"]["background"] == "#fff"
+    assert rules[f"{stripe} td:first-child"]["background"] == rules[stripe]["background"]
+
+
+def _contrast(fore: str, back: str) -> float:
+    """W3C WCAG 2.1 contrast ratio (L1 + 0.05) / (L2 + 0.05) of two #rrggbb colours, from the relative
+    luminance its definition of "relative luminance" gives (sRGB, threshold 0.03928)."""
+    def luminance(colour: str) -> float:
+        rgb = [int(colour.lstrip("#")[i:i + 2], 16) / 255 for i in (0, 2, 4)]
+        r, g, b = (c / 12.92 if c <= 0.03928 else ((c + 0.055) / 1.055) ** 2.4 for c in rgb)
+        return 0.2126 * r + 0.7152 * g + 0.0722 * b
+
+    hi, lo = sorted((luminance(fore), luminance(back)), reverse=True)
+    return (hi + 0.05) / (lo + 0.05)
+
+
+def _hex(colour: str) -> str:
+    """``#rgb`` or ``#rrggbb`` as ``#rrggbb``."""
+    c = colour.strip().lstrip("#")
+    return "#" + (c if len(c) == 6 else "".join(2 * x for x in c))
+
+
+def test_contrast_checker_matches_known_ratios():
+    # WebAIM's contrast checker: #777777 on #ffffff 4.48:1, #767676 on #ffffff 4.54:1, black on white 21:1
+    assert round(_contrast("#777777", "#ffffff"), 2) == 4.48
+    assert round(_contrast("#767676", "#ffffff"), 2) == 4.54
+    assert _contrast("#000000", "#ffffff") == pytest.approx(21.0)
+
+
+def test_every_text_colour_of_the_page_reads_at_wcag_aa_contrast():
+    """Each text colour of the style sheet against the background it sits on meets WCAG 2.1 AA's
+    4.5:1 for normal text (the caption's CSV path, #777 on the page's #fafafa, read 4.3:1)."""
+    rules = css_rules()
+    page = _hex(rules["body"]["background"])
+    colour = {sel: _hex(rules[sel]["color"]) for sel in rules if "color" in rules[sel]}
+    fill = {sel: _hex(rules[sel]["background"]) for sel in rules if "background" in rules[sel]}
+    # the navigation's section links: white at 85% opacity over the bar
+    bar = [int(fill["nav"][i:i + 2], 16) for i in (1, 3, 5)]
+    toc = "#" + "".join(f"{round(0.85 * 255 + 0.15 * c):02x}" for c in bar)
+    pairs = {"body text": (colour["body"], page), "CSV path": (colour["p.caption .csv"], page),
+             "note": (colour["p.note"], page), "provenance": (colour["dl.provenance"], page),
+             "footer": (colour["footer"], page), "figure caption": (colour["figcaption"], fill["figure"]),
+             "header cell": (colour["body"], fill["th"]),
+             "striped row": (colour["body"], fill["tbody tr:nth-child(even)"]),
+             "navigation": (colour["nav a"], fill["nav"]), "sections in the bar": (toc, fill["nav"]),
+             "contents link": (colour[".contents a"], fill[".contents"]),
+             **{f"{s} banner": (colour[f".source-{s}"], fill[f".source-{s}"])
+                for s in ("simulation", "virtual", "measured", "mixed")}}
+    low = {what: round(_contrast(*p), 2) for what, p in pairs.items() if _contrast(*p) < 4.5}
+    assert low == {}
+
+
+def test_the_printed_page_drops_the_controls_and_keeps_tables_and_figures_whole():
+    """In print the navigation and zoom checkboxes go, nothing is sticky or scrolls (a scrolled wide
+    table printed cut at the page edge), and figures and table rows are not split across pages."""
+    from graspcampaign.report.style import CSS
+
+    screen, printed = css_rules(), css_rules("print")
+    assert screen["nav"]["position"] == "sticky" and printed["nav"]["display"] == "none"
+    assert printed[".zoom"]["display"] == "none"
+    assert screen[".table"]["overflow-x"] == "auto" and printed[".table"]["overflow"] == "visible"
+    assert all(printed[s]["position"] == "static" for s in ("th:first-child", "td:first-child"))
+    assert printed["figure"]["break-inside"] == printed["tr"]["break-inside"] == "avoid"
+    assert printed["thead"]["display"] == "table-header-group"
+    assert screen[".zoom:focus-visible+label img"]["outline"].startswith("3px solid")  # Tab reaches it
+    assert re.search(r"@page\{size:landscape;", CSS)  # 14-17 columns do not fit A4 portrait
+
+
+def test_a_long_tables_header_row_stays_in_view_and_a_wide_table_is_compact():
+    """A long table (class ``long``) scrolls in a box under a sticky header row (test2_classifier's
+    header scrolled out of view above 44 rows); in print it is whole. A wide one is set compact."""
+    screen, printed = css_rules(), css_rules("print")
+    assert (screen[".long"]["max-height"], screen[".long"]["overflow"]) == ("90vh", "auto")
+    assert (screen[".long thead th"]["position"], screen[".long thead th"]["top"]) == ("sticky", "0")
+    assert printed[".long"]["max-height"] == "none" and printed[".long thead th"]["position"] == "static"
+    assert screen[".wide table"]["font-size"] == "12.5px"

@@ -30,6 +30,12 @@ SOURCE_LABEL = {"simulation": "simulation (this tool's numerical model)", "measu
                 "hardware measurements"}
 NAV = [("Index", "index.html"), ("Table 1 headline", "headline.html")]
 """The navigation bar of every page (relative to the results root)."""
+WIDE = 12
+"""Columns from which a table is set compact in HTML (smaller type, tighter cells): at the page's 1,180 px
+the reduced reports' tables of 12 columns and more (Tables 1, 6, 7) overflowed, none of 11 or fewer did."""
+LONG = 20
+"""Rows beyond which a table scrolls in a box of at most 90% of the window's height under a header row that
+stays in view (on the page, the header of test2_classifier scrolled out of view above its rows 20-44)."""
 # a printed number: a bound, a sign, digits or inf, an exponent, a unit sign, a range or an interval
 # ("35.7 (25.5–47.4)"), the count a rate is over ("35.7 (25.5–47.4) of 40")
 NUMBER = re.compile(r"[<>≤≥≈]? ?[+−-]?(\d[\d,]*(\.\d+)?(e[+−-]?\d+| ?× ?10[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+)?|inf) ?[%×]?"
@@ -239,17 +245,20 @@ class Table:
         """A styled HTML table; each header names the CSV columns it shows (``data-cols``)."""
         head = "".join(f"<th data-cols='{' '.join(c.keys)}'>"
                        f"{html.escape(c.label)}</th>" for c in self.cols)
-        # a line never breaks at an en dash: "35.7 (25.5–47.4)" wraps before its interval, not inside it
+        # a line never breaks at an en dash: "35.7 (25.5–47.4)" wraps before its interval, not inside it;
+        # it may after an underscore (a record name, "predicted_stable_residual", set a column's width)
         cells, numeric = self.grid
         td = ["<td class='num'>" if n else "<td>" for n in numeric]
         body = "".join("<tr>" + "".join(
             f"{td[i]}<a href='{html.escape(h, quote=True)}'>{html.escape(v)}</a></td>" if h else
-            td[i] + re.sub(r"\S*–\S*", r"<span class='nb'>\g<0></span>", html.escape(v)) + "</td>"
+            td[i] + re.sub(r"\S*–\S*", r"<span class='nb'>\g<0></span>", html.escape(v)).replace(
+                "_", "_<wbr>") + "</td>"
             for i, (v, h) in enumerate(r)) + "</tr>" for r in cells)
         attrs = f" data-table='{self.name}'" if self.csv else ""
         csv = f" <span class='csv'>{self.csv.format(name=self.name)}</span>" if self.csv else ""
         # the caption above the table, not its <caption>: that one wraps to a narrow table's width
-        return (f"<div class='table' id='{self.anchor}'><p class='caption' id='c-{self.name}'>"
+        kind = " wide" * (len(self.cols) >= WIDE) + " long" * (len(cells) > LONG)
+        return (f"<div class='table{kind}' id='{self.anchor}'><p class='caption' id='c-{self.name}'>"
                 f"{inline(self.caption)}{csv}</p><table{attrs} aria-labelledby='c-{self.name}'><thead><tr>"
                 f"{head}</tr></thead><tbody>{body}</tbody></table></div>")
 
@@ -296,20 +305,20 @@ class Section:
 @dataclass(frozen=True)
 class Figure:
     """A figure: ``draw(run, fig)`` draws on a figure of ``size`` inches in the one style; rendered, its
-    ``images`` by format (``png`` always, for the HTML page)."""
+    ``images`` by format (``png`` always, for the HTML page) and the run's data ``source``."""
 
     name: str
     caption: str | Callable[[Any], str]
     draw: Callable[[Any, Any], None]
     size: tuple[float, float] = (6.4, 3.6)
     images: dict[str, bytes] | None = None
+    source: str = ""
     title = property(lambda self: f"Figure {self.name}")
     anchor = property(lambda self: f"f-{self.name}")
 
     def render(self, run: Any) -> list:
         images = style.draw(lambda fig: self.draw(run, fig), self.size, run.source, (run.figure_format,))
-        return [replace(self, caption=_text(self.caption, run), images=images)]
-
+        return [replace(self, caption=_text(self.caption, run), images=images, source=run.source)]
 
     def md(self, figure_format: str) -> str:
         path = f"figures/{self.name}.{figure_format}"
@@ -317,15 +326,19 @@ class Figure:
         return f"{link}\n\n*{self.caption}*"
 
     def html(self) -> str:
+        """The figure fitted to the page, its caption under it; its alt text the caption as plain text
+        and the data source the image is labelled with, so a screen reader hears both."""
         kind = "svg" if "svg" in self.images else "png"
         data = base64.b64encode(self.images[kind]).decode()
         # the page fits a figure to its width, a three-panel one's labels then at half size: a click on
-        # the image toggles it to full size (scrolling inside the figure), with no link out of the page
-        zoom = f"zoom-{self.anchor}"
-        return (f"<figure id='{self.anchor}'><input type='checkbox' class='zoom' id='{zoom}' hidden>"
-                f"<label for='{zoom}' title='click: full size / fit'><img src='data:image/"
-                f"{'svg+xml' if kind == 'svg' else 'png'};base64,{data}' alt='"
-                f"{html.escape(self.caption, quote=True)}'></label><figcaption>{inline(self.caption)}"
+        # the image toggles it to full size (scrolling inside the figure), with no link out of the page;
+        # the checkbox is invisible, not hidden, so Tab reaches it and Space toggles it too
+        zoom, source = f"zoom-{self.anchor}", style.SOURCE_SHORT.get(self.source, self.source)
+        alt = re.sub(r"[*`]", "", self.caption) + (f" Data: {source}." if source else "")
+        return (f"<figure id='{self.anchor}'><input type='checkbox' class='zoom' id='{zoom}' aria-label="
+                f"'{html.escape(self.title)}: full size'><label for='{zoom}' title='click: full size / fit'>"
+                f"<img src='data:image/{'svg+xml' if kind == 'svg' else 'png'};base64,{data}' alt='"
+                f"{html.escape(alt, quote=True)}'></label><figcaption>{inline(self.caption)}"
                 "</figcaption></figure>")
 
 
@@ -419,14 +432,16 @@ class Document:
             + (f"<span class='toc'>{toc}</span>" if toc else "")
         banner, title = html.escape(SOURCE_LABEL.get(self.source, self.source) or "see each row"), \
             html.escape(self.title)
+        source = html.escape(self.source or "mixed")  # a page over several runs: each row says its own
         blocks = [b.html() for b in self.blocks]
         first = next((i for i, b in enumerate(self.blocks) if isinstance(b, Table | Figure)), 0)
         body = "\n".join(["<dl class='provenance'>" + "".join(f"<dt>{html.escape(k)}</dt><dd>{inline(v)}</dd>"
                                                               for k, v in self.lines) + "</dl>",
                           *blocks[:first], self.contents(), *blocks[first:]])
         return ("<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'><meta name='viewport' "
-                f"content='width=device-width,initial-scale=1'><title>{title}</title><style>{CSS}</style>"
-                f"</head><body><nav>{links}</nav><div class='source source-{html.escape(self.source)}'>Data: "
+                f"content='width=device-width,initial-scale=1'><title>{title}</title><style>{style.CSS}</style>"
+                f"</head><body><nav aria-label='pages and sections'>{links}</nav><div class='source "
+                f"source-{source}'>Data: "
                 f"{banner}</div><main><h1>{title}</h1>{body}</main><footer>Data: {banner}. Written by "
                 "graspcampaign from the records only.</footer></body></html>\n")
 
@@ -457,33 +472,3 @@ def inline(markdown: str) -> str:
     text = re.sub(r"`(.+?)`", r"<code>\1</code>", text)
     text = re.sub(r"\[([^\]]+)\]\(([\w./-]+)\.md\)", r"<a href='\2.html'>\1</a>", text)
     return text.replace("\n- ", "<br>• ").replace("\n\n", "<br><br>")
-
-
-CSS = """
-body{font:15px/1.5 system-ui,-apple-system,"Segoe UI",sans-serif;margin:0;color:#1d2327;background:#fafafa}
-main{max-width:1180px;margin:0 auto;padding:0 24px 48px}nav{position:sticky;top:0;background:#1f3a5f;
-color:#fff;padding:8px 24px;z-index:2;font-size:14px}nav a{color:#fff;margin-right:14px;text-decoration:none}
-nav a:hover{text-decoration:underline}nav .toc{opacity:.85}h1{font-size:26px;margin:18px 0 6px}
-h2{font-size:19px;margin:34px 0 8px;border-bottom:1px solid #d5dbe1;padding-bottom:4px}
-.source{padding:8px 24px;font-weight:600}.source-simulation{background:#e3edf7;color:#1f3a5f}
-.source-virtual{background:#fff3cd;color:#7a4b00}.source-measured{background:#e3f4e6;color:#1b5e20}
-dl.provenance{display:grid;grid-template-columns:max-content auto;gap:2px 14px;font-size:13.5px;color:#444}
-dl.provenance dt{font-weight:600}dl.provenance dd{margin:0}p.finding{font-size:16px;background:#fff;
-border-left:4px solid #1f5aa6;padding:10px 14px}p.note{color:#8a4b00;font-style:italic}
-.table{overflow-x:auto;margin:14px 0}table{border-collapse:collapse;background:#fff;font-size:13.5px}
-p.caption{margin:0;padding:6px 0;font-weight:600;font-size:14px}p.caption .csv{font-weight:400;
-color:#777;font-family:monospace;font-size:12px}th,td{border:1px solid #d5dbe1;padding:4px 8px;
-text-align:left;vertical-align:top}th{background:#eef2f6}tbody tr:nth-child(even){background:#f6f8fa}
-th:first-child,td:first-child,.table p.caption{position:sticky;left:0;z-index:1}
-th:first-child,td:first-child{box-shadow:1px 0 0 #d5dbe1}
-td:first-child{background:#fff}tbody tr:nth-child(even) td:first-child{background:#f6f8fa}
-figure{margin:18px 0;background:#fff;padding:10px;border:1px solid #e1e5ea;overflow-x:auto}figure img{
-max-width:100%;height:auto;cursor:zoom-in}.zoom:checked+label img{max-width:none;cursor:zoom-out}
-figcaption{font-size:13.5px;color:#444;margin-top:6px}footer{color:#666;font-size:13px;
-padding:12px 24px}code{background:#eef2f6;padding:0 3px}.nb{white-space:nowrap}
-td.num{text-align:right;font-variant-numeric:tabular-nums}td:last-child:not(.num){min-width:16em}
-.contents{background:#fff;border:1px solid #e1e5ea;padding:8px 14px;margin:14px 0;font-size:13.5px}
-.contents ul{columns:2 26em;margin:4px 0 0;padding:0;list-style:none}.contents li{break-inside:avoid}
-.contents a{color:#1f5aa6;text-decoration:none}.contents a:hover{text-decoration:underline}
-[id]{scroll-margin-top:48px}
-"""

@@ -1,5 +1,5 @@
 """The one figure style: rcParams, the data-source label, the paper's marks, rate bars, panels, parity,
-one trial's schematic."""
+one trial's schematic; the HTML page's style sheet."""
 
 from __future__ import annotations
 
@@ -10,6 +10,7 @@ from collections.abc import Callable, Sequence
 import matplotlib as mpl
 import numpy as np
 import pandas as pd
+from cycler import cycler
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.ticker import Formatter, FuncFormatter, LogLocator, NullFormatter, SymmetricalLogLocator
@@ -25,6 +26,10 @@ RC = {
     "axes.spines.right": False, "legend.frameon": False, "lines.linewidth": 1.5,
     "errorbar.capsize": 3, "figure.dpi": 100, "savefig.dpi": 130, "image.cmap": "viridis",
     "svg.hashsalt": "graspcampaign", "svg.fonttype": "none", "font.family": "DejaVu Sans",
+    # a line drawn without a colour of its own takes the levels' ramp, never matplotlib's tab10, whose
+    # C0 blue read as the proposed planner's (Figs. 12-13's μ × m cases, drawn in C0, C1, ...); the
+    # ramp's steps alternate dark and light, as adjacent steps are hard to tell apart
+    "axes.prop_cycle": cycler(color=[OTHER_COLOURS[i] for i in (0, 3, 1, 4, 2, 5)]),
 }
 """The report's rcParams (every figure of every study)."""
 PAPER = "black"
@@ -291,3 +296,50 @@ def schematic(fig, t: pd.Series, spans, top, bottom, title: str) -> None:
     axes[1].set_yscale("symlog", linthresh=1.0)  # millimetres of slip beside tens of lift: 1-2-5 ticks
     axes[1].yaxis.set_major_locator(SymmetricalLogLocator(base=10, linthresh=1.0, subs=(1.0, 2.0, 5.0)))
     axes[1].yaxis.set_major_formatter(FuncFormatter(lambda v, _: fmt.number(v)))
+
+
+#: The HTML page's style sheet, self-contained (no font or file fetched). Text colours meet WCAG 2.1's
+#: 4.5:1 against their backgrounds (tests/report/test_html.py); wide tables (``.wide``) are set compact,
+#: long ones (``.long``) scroll in a box under their header row;
+#: in print (landscape: at A4 portrait's 718 px, 12 of test2_grasp's 15 tables ran past the edge, in
+#: landscape only Table 9's 21 columns do) the navigation and zoom control go, nothing is cut in two.
+CSS = """
+body{font:15px/1.5 system-ui,-apple-system,"Segoe UI",sans-serif;margin:0;color:#1d2327;background:#fafafa}
+main{max-width:1180px;margin:0 auto;padding:0 24px 48px}nav{position:sticky;top:0;background:#1f3a5f;
+color:#fff;padding:8px 24px;z-index:2;font-size:14px}nav a{color:#fff;margin-right:14px;text-decoration:none}
+nav a:hover{text-decoration:underline}nav .toc{opacity:.85}h1{font-size:26px;margin:18px 0 6px}
+h2{font-size:19px;margin:34px 0 8px;border-bottom:1px solid #d5dbe1;padding-bottom:4px}
+.source{padding:8px 24px;font-weight:600}.source-simulation{background:#e3edf7;color:#1f3a5f}
+.source-virtual{background:#fff3cd;color:#7a4b00}.source-measured{background:#e3f4e6;color:#1b5e20}
+.source-mixed{background:#eef2f6;color:#1d2327}
+dl.provenance{display:grid;grid-template-columns:max-content auto;gap:2px 14px;font-size:13.5px;color:#444}
+dl.provenance dt{font-weight:600}dl.provenance dd{margin:0}p.finding{font-size:16px;background:#fff;
+border-left:4px solid #1f3a5f;padding:10px 14px}p.note{color:#8a4b00;font-style:italic}
+.table{overflow-x:auto;margin:14px 0}table{border-collapse:collapse;background:#fff;font-size:13.5px}
+p.caption{margin:0;padding:6px 0;font-weight:600;font-size:14px}p.caption .csv{font-weight:400;
+color:#666;font-family:monospace;font-size:12px}th,td{border:1px solid #d5dbe1;padding:4px 8px;
+text-align:left;vertical-align:top}th{background:#eef2f6}tbody tr:nth-child(even){background:#f6f8fa}
+th:first-child,td:first-child,.table p.caption{position:sticky;left:0;z-index:1}
+th:first-child,td:first-child{box-shadow:1px 0 0 #d5dbe1}
+td:first-child{background:#fff}tbody tr:nth-child(even) td:first-child{background:#f6f8fa}
+figure{margin:18px 0;background:#fff;padding:10px;border:1px solid #e1e5ea;overflow-x:auto}figure img{
+max-width:100%;height:auto;cursor:zoom-in}.zoom:checked+label img{max-width:none;cursor:zoom-out}
+.zoom{position:absolute;opacity:0;width:1px;height:1px}
+.zoom:focus-visible+label img{outline:3px solid #1f3a5f;outline-offset:2px}
+figcaption{font-size:13.5px;color:#444;margin-top:6px}footer{color:#666;font-size:13px;
+padding:12px 24px}code{background:#eef2f6;padding:0 3px}.nb{white-space:nowrap}
+td.num{text-align:right;font-variant-numeric:tabular-nums}th[data-cols=verdict]{min-width:10em}
+.wide table{font-size:12.5px}.wide th,.wide td{padding:3px 5px}.long{max-height:90vh;overflow:auto}
+.long thead th{position:sticky;top:0;z-index:2;box-shadow:0 1px 0 #d5dbe1}
+.long thead th:first-child{z-index:3}
+.contents{background:#fff;border:1px solid #e1e5ea;padding:8px 14px;margin:14px 0;font-size:13.5px}
+.contents ul{columns:2 26em;margin:4px 0 0;padding:0;list-style:none}.contents li{break-inside:avoid}
+.contents a{color:#1f5aa6;text-decoration:none}.contents a:hover{text-decoration:underline}
+[id]{scroll-margin-top:48px}
+@page{size:landscape;margin:12mm}@media print{body{background:#fff;font-size:11pt}.long{max-height:none}
+.long thead th{position:static}nav,.zoom{display:none}main{max-width:none;padding:0}
+.source{border:1px solid #999}.table,figure{overflow:visible}figure,tr,.contents li{break-inside:avoid}
+th:first-child,td:first-child,.table p.caption{position:static;box-shadow:none}
+thead{display:table-header-group}h2,p.caption{break-after:avoid}
+figure img,.zoom:checked+label img{max-width:100%}.wide table{font-size:8pt}}
+"""
