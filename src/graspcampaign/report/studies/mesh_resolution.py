@@ -205,9 +205,10 @@ def _word(row: pd.Series) -> str:
                        digits=int(row["digits"]), unit=row["unit"] or "").word
 
 
-def _reading(run: Run) -> str:
+def _reading(run: Run) -> tuple[str, str]:
     """The finding's sentence on the cost ratio, the verdicts as its cost_ratio table's rows hold them: the
-    verdict's estimator against the paper, the median repeats only where they read otherwise, and growth."""
+    verdict's estimator against the paper, the median repeats only where they read otherwise, and growth;
+    up to its closing parenthesis, and what that parenthesis cites (:func:`finding` closes it)."""
     p, (top, ref), estimators, unlike = run.paper, _meshes(run), _estimators(run), _unlike_paper(run)
     ratio, (grows, growth) = _cost_ratio(run, estimators[0]), _growth(run, estimators[0])
     claims, sizes = run.tables["cost_ratio"].set_index("quantity"), f"{top} / {ref} nodes"
@@ -229,23 +230,26 @@ def _reading(run: Run) -> str:
               if math.isnan(ratio.low) else "as the design predicts")
     return (f"One evaluation on the largest mesh ({top} nodes) costs {fmt.number(ratio.value, 2)} times one "
             f"on the {ref}-node reference mesh ({paper}; table cost_ratio): {growth}, {design}: neither "
-            "stage's work depends on the mesh size, unlike the paper's per-candidate collision queries "
-            "(Sec. 6.7).")
+            "stage's work depends on the mesh size, unlike the paper's per-candidate collision queries",
+            "Sec. 6.7")
+
+
+#: The decision the opening's sentences rest on, cited in the last one's closing parenthesis.
+DECISION = "`docs/decisions.md`, *Sensitivity, mesh resolution, surrogate*"
 
 
 def finding(run: Run) -> str:
-    text = [_reading(run)] if len(panel_rows(run, "resolution")) else []
+    sentences = [_reading(run)] if len(panel_rows(run, "resolution")) else []  # (text, its parenthesis)
     if len(panel_rows(run, "n_max")):
         t = _n_max(run)
-        text.append(f"Of {int(t['failures_at_n_max'].sum())} baseline-grid failures, "
-                    f"{int(t['budget_capped'].sum())} pass at the doubled N_max and "
-                    f"{int(t['horizontal_residual_rerun'].sum())} still fail there on a horizontal residual "
-                    "Algorithm 2 does not act on (table n_max_rerun).")
-    why = "`docs/decisions.md`, *Sensitivity, mesh resolution, surrogate*"
-    if not text:
-        return f" ({why}.)"
-    # the decision both sentences rest on, in the last one's closing parenthesis (each ends "…).")
-    return " ".join(text).removesuffix(").") + f"; {why})."
+        sentences.append((f"Of {int(t['failures_at_n_max'].sum())} baseline-grid failures, "
+                          f"{int(t['budget_capped'].sum())} pass at the doubled N_max and "
+                          f"{int(t['horizontal_residual_rerun'].sum())} still fail there on a horizontal "
+                          "residual Algorithm 2 does not act on", "table n_max_rerun"))
+    if not sentences:  # no executed trial of either panel: the decision alone
+        return f" ({DECISION}.)"
+    *before, (last, cites) = sentences
+    return " ".join([*(f"{text} ({cite})." for text, cite in before), f"{last} ({cites}; {DECISION})."])
 
 
 def fig20(run: Run, fig) -> None:
