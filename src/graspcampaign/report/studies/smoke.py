@@ -25,12 +25,18 @@ SHARP_ROW = "sharp vertices and edges, {}, {} nodes"  # claims rows the opening 
 DIHEDRAL_ROW = "largest dihedral departure, sphere, {} nodes"  # and the sphere's at the paper's nodes
 
 
+def _by_shape(meshes: pd.DataFrame, shapes) -> pd.DataFrame:
+    """``meshes`` in the order of ``shapes``, then by resolution."""
+    rank = {s: i for i, s in enumerate(shapes)}
+    return meshes.sort_values(["shape", "nodes"], key=lambda c: c.map(rank) if c.name == "shape" else c)
+
+
 def _smooth(run: Run) -> pd.DataFrame:
     """The executed meshes of the shapes the paper calls smooth (Sec. 3.1), in its order, then by resolution,
     with their sharp features."""
-    rank, ok = {s: i for i, s in enumerate(run.paper.smooth_sharp_features)}, run.ok
-    return ok[ok["shape"].isin(rank)].assign(sharp=lambda m: m["n_sharp_vertex"] + m["n_sharp_edge"]) \
-        .sort_values(["shape", "nodes"], key=lambda c: c.map(rank) if c.name == "shape" else c)
+    shapes, ok = list(run.paper.smooth_sharp_features), run.ok
+    return _by_shape(ok[ok["shape"].isin(shapes)].assign(sharp=ok["n_sharp_vertex"] + ok["n_sharp_edge"]),
+                     shapes)
 
 
 def _sphere(run: Run, nodes: int, column: str) -> tuple[float, str]:
@@ -101,8 +107,7 @@ def _dihedral(claims: pd.DataFrame, run: Run, entry: str) -> str:
 
 def _meshes(run: Run) -> pd.DataFrame:
     """The executed meshes in the vocabulary's shape order, then by resolution."""
-    rank = {s: i for i, s in enumerate(ordered("shape", run.ok["shape"], run.order.get("shape", ())))}
-    return run.ok.sort_values(["shape", "nodes"], key=lambda c: c.map(rank) if c.name == "shape" else c)
+    return _by_shape(run.ok, ordered("shape", run.ok["shape"], run.order.get("shape", ())))
 
 
 def _caption(run: Run) -> str:
