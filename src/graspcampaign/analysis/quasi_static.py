@@ -13,7 +13,7 @@ from scipy import stats
 
 from graspcampaign.analysis import records as rec
 from graspcampaign.analysis.rank_kernel import row_medians, sorted_pairs, tie_groups, weighted_rho
-from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
+from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES, CONFIDENCE_LEVEL
 from graspcampaign.core.statics import GRAVITY
 from graspcampaign.core.verdict import FAILURE_CHECKS
 
@@ -174,8 +174,9 @@ def weighted_spearman(x, y, w) -> float:
                               np.ones((1, 1)))[0])
 
 
-def h_epsilon_correlation(records: pd.DataFrame, candidates: pd.DataFrame, *, confidence: float = 0.95,
-                          n_resamples: int = BOOTSTRAP_RESAMPLES, seed: int = 0) -> pd.DataFrame:
+def h_epsilon_correlation(records: pd.DataFrame, candidates: pd.DataFrame, *,
+                          confidence: float = CONFIDENCE_LEVEL, n_resamples: int = BOOTSTRAP_RESAMPLES,
+                          seed: int = 0) -> pd.DataFrame:
     """Return Spearman's rho of H(G) and epsilon (rho < 0: agreement) with bootstrap intervals.
 
     Rows: the median over the paper-law ``ferrari_canny`` trials of each trial's rho over all (and
