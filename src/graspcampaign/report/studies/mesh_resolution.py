@@ -97,12 +97,12 @@ def _cost_ratio(run: Run, repeats: str, nodes: int | None = None) -> Estimate:
     computed once per run (the table, the finding and the growth test read it; the largest mesh asked
     for by its size or by default is one)."""
     mesh = panel_rows(run, "resolution")["nodes"].max() if nodes is None else nodes  # NaN: no trial
-    return run.memo(f"cost_ratio/{repeats}/{mesh}", lambda: _median_ratio(run, repeats, nodes))
+    return run.memo(f"cost_ratio/{repeats}/{mesh}", lambda: _median_ratio(run, repeats, mesh))
 
 
-def _median_ratio(run: Run, repeats: str, nodes: int | None) -> Estimate:
+def _median_ratio(run: Run, repeats: str, mesh: float) -> Estimate:
     res = panel_rows(run, "resolution")
-    at = res[res["nodes"] == (res["nodes"].max() if nodes is None else nodes)]
+    at = res[res["nodes"] == mesh]
     if not len(at):
         raise ValueError("no resolution trial")
     return median(_trial_ratios(at, repeats), run.seed)
