@@ -25,18 +25,11 @@ SHARP_ROW = "sharp vertices and edges, {}, {} nodes"  # claims rows the opening 
 DIHEDRAL_ROW = "largest dihedral departure, sphere, {} nodes"  # and the sphere's at the paper's nodes
 
 
-def _by_shape(meshes: pd.DataFrame, shapes) -> pd.DataFrame:
-    """``meshes`` in the order of ``shapes``, then by resolution."""
-    rank = {s: i for i, s in enumerate(shapes)}
-    return meshes.sort_values(["shape", "nodes"], key=lambda c: c.map(rank) if c.name == "shape" else c)
-
-
 def _smooth(run: Run) -> pd.DataFrame:
     """The executed meshes of the shapes the paper calls smooth (Sec. 3.1), in its order, then by resolution,
     with their sharp features."""
-    shapes, ok = list(run.paper.smooth_sharp_features), run.ok
-    return _by_shape(ok[ok["shape"].isin(shapes)].assign(sharp=ok["n_sharp_vertex"] + ok["n_sharp_edge"]),
-                     shapes)
+    smooth = _meshes(run, list(run.paper.smooth_sharp_features))
+    return smooth.assign(sharp=smooth["n_sharp_vertex"] + smooth["n_sharp_edge"])
 
 
 def _sphere(run: Run, nodes: int, column: str) -> tuple[float, str]:
@@ -105,9 +98,13 @@ def _dihedral(claims: pd.DataFrame, run: Run, entry: str) -> str:
                if ours <= threshold else "") + ".")
 
 
-def _meshes(run: Run) -> pd.DataFrame:
-    """The executed meshes in the vocabulary's shape order, then by resolution."""
-    return _by_shape(run.ok, ordered("shape", run.ok["shape"], run.order.get("shape", ())))
+def _meshes(run: Run, shapes: list[str] | None = None) -> pd.DataFrame:
+    """The executed meshes of ``shapes`` in their order (default: every shape, in the vocabulary's order),
+    then by resolution."""
+    ok = run.ok if shapes is None else run.ok[run.ok["shape"].isin(shapes)]
+    shapes = ordered("shape", ok["shape"], run.order.get("shape", ())) if shapes is None else shapes
+    rank = {s: i for i, s in enumerate(shapes)}
+    return ok.sort_values(["shape", "nodes"], key=lambda c: c.map(rank) if c.name == "shape" else c)
 
 
 def _caption(run: Run) -> str:
