@@ -234,11 +234,8 @@ def _reading(run: Run) -> tuple[str, str]:
             "Sec. 6.7")
 
 
-#: The decision the opening's sentences rest on, cited in the last one's closing parenthesis.
-DECISION = "`docs/decisions.md`, *Sensitivity, mesh resolution, surrogate*"
-
-
 def finding(run: Run) -> str:
+    decision = "`docs/decisions.md`, *Sensitivity, mesh resolution, surrogate*"  # in the last parenthesis
     sentences = [_reading(run)] if len(panel_rows(run, "resolution")) else []  # (text, its parenthesis)
     if len(panel_rows(run, "n_max")):
         t = _n_max(run)
@@ -247,9 +244,9 @@ def finding(run: Run) -> str:
                           f"{int(t['horizontal_residual_rerun'].sum())} still fail there on a horizontal "
                           "residual Algorithm 2 does not act on", "table n_max_rerun"))
     if not sentences:  # no executed trial of either panel: the decision alone
-        return f" ({DECISION}.)"
+        return f" ({decision}.)"
     *before, (last, cites) = sentences
-    return " ".join([*(f"{text} ({cite})." for text, cite in before), f"{last} ({cites}; {DECISION})."])
+    return " ".join([*(f"{text} ({cite})." for text, cite in before), f"{last} ({cites}; {decision})."])
 
 
 def fig20(run: Run, fig) -> None:
