@@ -31,8 +31,8 @@ def _runtime(run: Run) -> pd.DataFrame:
         ratio = _cost_ratio(run, repeats, int(nodes))
         rows.append({
             "nodes": int(nodes), "faces": int(g["n_faces"].iloc[0]), "trials": len(g),
-            **{f"eval_{k}_ms": 1e3 * g["eval_time_s"].quantile(q) for k, q in (("median", .5), ("p25", .25),
-                                                                                ("p75", .75))},
+            **{f"eval_{k}_ms": 1e3 * g["eval_time_s"].quantile(q)
+               for k, q in (("median", .5), ("p25", .25), ("p75", .75))},
             "cost_ratio_vs_reference": ratio.value, "cost_ratio_low": ratio.low,
             "cost_ratio_high": ratio.high,
             "search_median_ms": 1e3 * g["search_time_s"].median(),
