@@ -42,7 +42,7 @@ TRIALS = ("the study stores it while the run's trials run and this run stored no
     ("friction_mass", "tables/steps", dynamic.ends, TRIALS),
     ("wrench_balance", "tables/iterations", wrench._traces, TRIALS),
     ("sensitivity", "prepared", sensitivity._identified(True, "median"), TRIALS),
-    ("surrogate", "summary/surrogate_regression", surrogate._read("regression", "r2"),
+    ("surrogate", "summary/surrogate_regression", lambda run: surrogate._read(run, "regression", "r2"),
      "the study writes it once every trial is recorded; run `graspcampaign run {study} seeds=2 --run r1 "
      "--root /data/runs` again to complete the run."),
 ])

@@ -23,7 +23,7 @@ from scipy import stats
 from statsmodels.regression.linear_model import OLS
 
 from graspcampaign.analysis.checks import check_1d, check_paired, require, result
-from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
+from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES, CONFIDENCE_LEVEL
 from graspcampaign.core.words import counted
 
 #: Fewer held-out positives or negatives than this and the AUC gets no interval: the percentile
@@ -111,7 +111,7 @@ def coefficient_of_variation(x: ArrayLike, axis: int | None = None) -> float | n
 
 
 def cv_interval(x: ArrayLike, *, seed: int, n_resamples: int = BOOTSTRAP_RESAMPLES,
-                confidence_level: float = 0.95) -> tuple[float, float]:
+                confidence_level: float = CONFIDENCE_LEVEL) -> tuple[float, float]:
     """Return the percentile interval of the CV of ``x`` by ``scipy.stats.bootstrap`` (n >= 3)."""
     arr = check_1d(x, "x", 3)
     require(np.ptp(arr) > 0, "every value is the same: a zero spread has no interval")
@@ -120,7 +120,7 @@ def cv_interval(x: ArrayLike, *, seed: int, n_resamples: int = BOOTSTRAP_RESAMPL
 
 
 def median_interval(x: ArrayLike, *, seed: int, n_resamples: int = BOOTSTRAP_RESAMPLES,
-                    confidence_level: float = 0.95) -> tuple[float, float]:
+                    confidence_level: float = CONFIDENCE_LEVEL) -> tuple[float, float]:
     """Return the percentile interval of the median of ``x`` by ``scipy.stats.bootstrap`` (n >= 3)."""
     return _percentile_interval(check_1d(x, "x", 3), np.median, seed, n_resamples, confidence_level)
 

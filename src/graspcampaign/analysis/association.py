@@ -33,6 +33,7 @@ from graspcampaign.analysis.checks import (
     require,
     result,
 )
+from graspcampaign.analysis.rates import CONFIDENCE_LEVEL
 
 Chi2Result = result(
     "Chi2Result", "Pearson chi-square test of independence; ``expected`` (r, c) under independence; "
@@ -110,7 +111,7 @@ def kruskal_wallis(*groups: ArrayLike) -> KruskalResult:
 
 
 def logistic_regression(df: pd.DataFrame, outcome: str, predictors: Sequence[str], *,
-                        confidence_level: float = 0.95, maxiter: int = 100) -> LogisticResult:
+                        confidence_level: float = CONFIDENCE_LEVEL, maxiter: int = 100) -> LogisticResult:
     """Fit statsmodels' ``Logit`` (Newton, Wald intervals, intercept added) and report convergence
     and separation (Konis 2007: none, quasi-complete, complete, undetermined) instead of raising.
 

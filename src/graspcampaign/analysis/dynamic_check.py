@@ -23,7 +23,7 @@ from scipy.stats import norm
 from statsmodels.stats.inter_rater import cohens_kappa as sm_kappa
 
 from graspcampaign.analysis.checks import result
-from graspcampaign.analysis.rates import wilson_interval
+from graspcampaign.analysis.rates import CONFIDENCE_LEVEL, wilson_interval
 from graspcampaign.analysis.records import executed, known
 
 LABEL_PAIRS = {"source": ("qs_success", "success"), "preset": ("qs_preset_success", "success"),
@@ -61,7 +61,7 @@ def _executed(records: pd.DataFrame, qs_column: str, dynamic_column: str) -> tup
                          [np.sum(~qs & dyn), np.sum(~qs & ~dyn)]], dtype=np.int64)
 
 
-def cohens_kappa(table, confidence_level: float = 0.95) -> KappaResult:
+def cohens_kappa(table, confidence_level: float = CONFIDENCE_LEVEL) -> KappaResult:
     """Return Cohen's kappa of a (2, 2) table of counts (statsmodels' ``cohens_kappa``)."""
     table = np.asarray(table, dtype=np.int64)
     if table.shape != (2, 2) or np.any(table < 0):
@@ -86,7 +86,7 @@ def cohens_kappa(table, confidence_level: float = 0.95) -> KappaResult:
 
 def agreement_table(records: pd.DataFrame, qs_column: str = "qs_success",
                     dynamic_column: str = "success", by=None,
-                    confidence_level: float = 0.95) -> pd.DataFrame:
+                    confidence_level: float = CONFIDENCE_LEVEL) -> pd.DataFrame:
     """Return the :func:`confusion_matrix` counts, both success rates, the agreement (Wilson
     interval) and :func:`cohens_kappa` of two label columns over the determined trials, and the
     executed trials left out as undetermined (``not_settled``) or, determined, missing a label

@@ -13,7 +13,7 @@ from scipy import stats
 
 from graspcampaign.analysis import records as rec
 from graspcampaign.analysis.rank_kernel import row_medians, sorted_pairs, tie_groups, weighted_rho
-from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES
+from graspcampaign.analysis.rates import BOOTSTRAP_RESAMPLES, CONFIDENCE_LEVEL
 from graspcampaign.core.statics import GRAVITY
 from graspcampaign.core.verdict import FAILURE_CHECKS
 
@@ -88,6 +88,15 @@ def mechanism(records: pd.DataFrame, tau_f_n: float, order: dict | None = None,
                    ("rho_median", "rho"), order)
 
 
+def _named_rate(records: pd.DataFrame, by: list[str], outcome: str, order: dict | None) -> pd.DataFrame:
+    """Return :func:`~.records.rate_table`'s ``n``, count and Wilson rate of ``outcome`` per group of
+    ``by`` under the outcome's name: ``<outcome>``, ``<outcome>_pct``, ``<outcome>_low_pct`` and
+    ``<outcome>_high_pct``."""
+    t = rec.rate_table(records, by, outcome=outcome, order=order)
+    return t[[*by, "n", "successes", "rate_pct", "wilson_low_pct", "wilson_high_pct"]].set_axis(
+        [*by, "n", outcome, f"{outcome}_pct", f"{outcome}_low_pct", f"{outcome}_high_pct"], axis=1)
+
+
 def readings(records: pd.DataFrame, by: list[str], order: dict | None = None) -> pd.DataFrame:
     """Return per group each reading's count ``r`` and rate ``r_pct`` (Wilson ``r_low_pct``,
     ``r_high_pct``), ``gate_removed`` and ``torque_binds`` (the passes the gate, the torque check remove),
@@ -100,9 +109,7 @@ def readings(records: pd.DataFrame, by: list[str], order: dict | None = None) ->
     frame = pd.DataFrame([{**key, "executed": len(g)} for key, g in rec.groups(ok, by, order)],
                          columns=[*by, "executed"])
     for r in READINGS:
-        t = rec.rate_table(flags, by, outcome=r, order=order)[
-            [*by, "n", "successes", "rate_pct", "wilson_low_pct", "wilson_high_pct"]]
-        t.columns = [*by, "n", r, f"{r}_pct", f"{r}_low_pct", f"{r}_high_pct"]
+        t = _named_rate(flags, by, r, order)
         frame = frame.merge(t if r == READINGS[0] else t.drop(columns="n"), on=by, how="left")
     counts = ["n", *READINGS]  # a group with no trial read: 0 of 0, its rates missing
     frame = frame.assign(**{c: frame[c].fillna(0).astype(int) for c in counts})
@@ -154,11 +161,7 @@ def epsilon_table(records: pd.DataFrame, order: dict | None = None) -> pd.DataFr
     """Return per planner the force-closure share (epsilon > 0) and the median, mean and max
     epsilon of its chosen triples (paper-law rows: epsilon is geometric)."""
     rows = paper_law(records)
-    out = rec.rate_table(rows.assign(force_closure=rows["epsilon_fc"] > 0), ["planner"],
-                         outcome="force_closure", order=order)
-    out = out[["planner", "n", "successes", "rate_pct", "wilson_low_pct", "wilson_high_pct"]].rename(
-        columns={"successes": "force_closure", "rate_pct": "force_closure_pct",
-                 "wilson_low_pct": "force_closure_low_pct", "wilson_high_pct": "force_closure_high_pct"})
+    out = _named_rate(rows.assign(force_closure=rows["epsilon_fc"] > 0), ["planner"], "force_closure", order)
     eps = rows.groupby("planner")["epsilon_fc"].agg(["median", "mean", "max"])
     return out.join(eps.add_prefix("epsilon_"), on="planner")
 
@@ -171,8 +174,9 @@ def weighted_spearman(x, y, w) -> float:
                               np.ones((1, 1)))[0])
 
 
-def h_epsilon_correlation(records: pd.DataFrame, candidates: pd.DataFrame, *, confidence: float = 0.95,
-                          n_resamples: int = BOOTSTRAP_RESAMPLES, seed: int = 0) -> pd.DataFrame:
+def h_epsilon_correlation(records: pd.DataFrame, candidates: pd.DataFrame, *,
+                          confidence: float = CONFIDENCE_LEVEL, n_resamples: int = BOOTSTRAP_RESAMPLES,
+                          seed: int = 0) -> pd.DataFrame:
     """Return Spearman's rho of H(G) and epsilon (rho < 0: agreement) with bootstrap intervals.
 
     Rows: the median over the paper-law ``ferrari_canny`` trials of each trial's rho over all (and

@@ -61,7 +61,7 @@ SampleSizeResult = result(
     power=float, paired=bool, alternative=str)
 
 
-def wilson_interval(successes: int, n: int, confidence_level: float = 0.95) -> ProportionInterval:
+def wilson_interval(successes: int, n: int, confidence_level: float = CONFIDENCE_LEVEL) -> ProportionInterval:
     """Return the Wilson score interval (statsmodels ``proportion_confint``) of ``successes`` of
     ``n``, clipped to [0, 1]: exactly 0 at no success and exactly 1 at ``successes == n``."""
     require(not (isinstance(n, numbers.Real) and n <= 0),
@@ -76,7 +76,8 @@ def wilson_interval(successes: int, n: int, confidence_level: float = 0.95) -> P
 
 
 def cluster_bootstrap_interval(successes_per_cluster: ArrayLike, trials_per_cluster: ArrayLike, *,
-                               n_resamples: int = 10_000, confidence_level: float = 0.95,
+                               n_resamples: int = BOOTSTRAP_RESAMPLES,
+                               confidence_level: float = CONFIDENCE_LEVEL,
                                rng: np.random.Generator | int) -> BootstrapInterval:
     """Return the percentile interval of a pooled rate ``sum(s) / sum(n)``, resampling clusters.
 
@@ -100,7 +101,7 @@ def discordant_pairs(success_a: ArrayLike, success_b: ArrayLike) -> tuple[int, i
     return int(np.sum(~a & b)), int(np.sum(a & ~b))
 
 
-def mcnemar(n01: int, n10: int, confidence_level: float = 0.95) -> McNemarResult:
+def mcnemar(n01: int, n10: int, confidence_level: float = CONFIDENCE_LEVEL) -> McNemarResult:
     """Return McNemar's test and the discordant-pair odds ratio ``n10 / n01``.
 
     ``statistic``: statsmodels' continuity-corrected chi-square (0, p = 1 when ``n01 == n10``, as

@@ -117,7 +117,7 @@ def report_run(store: RunStore, root: Path, formats: list[str], figure_format: s
     if not len(records):
         doc.blocks.append(Text("No trial of this run is recorded yet.", "note"))
     else:
-        spec = spec_for(study, kind) if study in SPECS else spec_for(like, kind)
+        spec = spec_for(study if study in SPECS else like, kind)  # else that of the study it compares with
         if spec is not None:
             render(spec, run, doc)
         render(GENERIC, run, doc)
@@ -242,7 +242,7 @@ def build_reports(studies: list[str] | None = None, run: str | Mapping[str, str]
     return batch
 
 
-def write_root_pages(root: Path, formats: list[str], unlisted: list[tuple[str, str]] = ()) -> bool:
+def write_root_pages(root: Path, formats: list[str], unlisted: list[tuple[str, str]]) -> bool:
     """Write the headline and index pages, unless a run they summarise cannot be read and the
     pages as they are show it: then leave both as they were (what they said of the run was
     computed from it when it could be read), warn naming the run, and return False. A run the
@@ -274,8 +274,7 @@ def _root_pages(root: Path, formats: list[str]) -> list[str]:
     return [f for f in ("md", "html") if f in formats or (root / f"index.{f}").is_file()] or ["md"]
 
 
-def index_rows(root: Path, page: str, unreadable: list[tuple[str, str]] | None = None,
-               ) -> pd.DataFrame:
+def index_rows(root: Path, page: str, unreadable: list[tuple[str, str]]) -> pd.DataFrame:
     """The index rows: every run's report page (``page``: md or html) with its study, run, source
     (its records', as its page says) and trial count; a run whose manifest or records cannot be
     read is added to ``unreadable``."""
@@ -286,8 +285,7 @@ def index_rows(root: Path, page: str, unreadable: list[tuple[str, str]] | None =
             m = read_manifest(run_dir / "manifest.json") or {}
             source = RunStore(run_dir).source(m)
         except UserInputError as exc:
-            if unreadable is not None:
-                unreadable.append((run_dir.relative_to(root).as_posix(), reason(exc)))
+            unreadable.append((run_dir.relative_to(root).as_posix(), reason(exc)))
             m, source = {}, None
         rows.append([m.get("study", run_dir.parent.name), m.get("run", run_dir.name),
                      SOURCE_SHORT.get(source, source), run_size(m),

@@ -75,8 +75,8 @@ def verdicts(frame: pd.DataFrame, ours: str, paper: str, low: str | None = None,
                               digits=3 if d == fmt.P else int(d), unit=u, **words)
         compared = number and not fmt.is_missing(o) and verdict.differs is not None
         out.append((float(o) - float(p) if compared else math.nan, verdict.differs, verdict.words))
-    return frame.assign(**{c: [row[i] for row in out] for i, c in enumerate(("difference", "differs",
-                                                                          "verdict"))})
+    difference, differs, words = zip(*out, strict=True) if out else ((), (), ())
+    return frame.assign(difference=list(difference), differs=list(differs), verdict=list(words))
 
 
 @dataclass(frozen=True)

@@ -270,10 +270,9 @@ def _thick(run: Run) -> str:
 def fig12_13(run: Run, fig) -> None:
     steps, p, ok = run.aux("steps"), run.paper, ends(run)
     mu, mass, exact = shown_case(run)
-    case = f"μ={fmt.number(mu)}, m={fmt.number(mass)} kg" + ("" if exact else "\nthe run's case nearest the "
-                                                                              "paper's "
-                                               f"μ={fmt.number(p.representative_mu)}, "
-                                               f"m={fmt.number(p.representative_mass_kg)} kg")
+    case = f"μ={fmt.number(mu)}, m={fmt.number(mass)} kg" + ("" if exact else (
+        f"\nthe run's case nearest the paper's μ={fmt.number(p.representative_mu)}, "
+        f"m={fmt.number(p.representative_mass_kg)} kg"))
     axes = fig.subplots(ok.model_preset.nunique(), 3, squeeze=False)
     for ax, (preset, g) in zip(axes, ok.groupby("model_preset", sort=False), strict=True):
         for i, row in enumerate(g.itertuples()):

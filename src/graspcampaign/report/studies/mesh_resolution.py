@@ -31,8 +31,8 @@ def _runtime(run: Run) -> pd.DataFrame:
         ratio = _cost_ratio(run, repeats, int(nodes))
         rows.append({
             "nodes": int(nodes), "faces": int(g["n_faces"].iloc[0]), "trials": len(g),
-            **{f"eval_{k}_ms": 1e3 * g["eval_time_s"].quantile(q) for k, q in (("median", .5), ("p25", .25),
-                                                                                ("p75", .75))},
+            **{f"eval_{k}_ms": 1e3 * g["eval_time_s"].quantile(q)
+               for k, q in (("median", .5), ("p25", .25), ("p75", .75))},
             "cost_ratio_vs_reference": ratio.value, "cost_ratio_low": ratio.low,
             "cost_ratio_high": ratio.high,
             "search_median_ms": 1e3 * g["search_time_s"].median(),
@@ -97,12 +97,12 @@ def _cost_ratio(run: Run, repeats: str, nodes: int | None = None) -> Estimate:
     computed once per run (the table, the finding and the growth test read it; the largest mesh asked
     for by its size or by default is one)."""
     mesh = panel_rows(run, "resolution")["nodes"].max() if nodes is None else nodes  # NaN: no trial
-    return run.memo(f"cost_ratio/{repeats}/{mesh}", lambda: _median_ratio(run, repeats, nodes))
+    return run.memo(f"cost_ratio/{repeats}/{mesh}", lambda: _median_ratio(run, repeats, mesh))
 
 
-def _median_ratio(run: Run, repeats: str, nodes: int | None) -> Estimate:
+def _median_ratio(run: Run, repeats: str, mesh: float) -> Estimate:
     res = panel_rows(run, "resolution")
-    at = res[res["nodes"] == (res["nodes"].max() if nodes is None else nodes)]
+    at = res[res["nodes"] == mesh]
     if not len(at):
         raise ValueError("no resolution trial")
     return median(_trial_ratios(at, repeats), run.seed)
@@ -205,9 +205,10 @@ def _word(row: pd.Series) -> str:
                        digits=int(row["digits"]), unit=row["unit"] or "").word
 
 
-def _reading(run: Run) -> str:
+def _reading(run: Run) -> tuple[str, str]:
     """The finding's sentence on the cost ratio, the verdicts as its cost_ratio table's rows hold them: the
-    verdict's estimator against the paper, the median repeats only where they read otherwise, and growth."""
+    verdict's estimator against the paper, the median repeats only where they read otherwise, and growth;
+    up to its closing parenthesis, and what that parenthesis cites (:func:`finding` closes it)."""
     p, (top, ref), estimators, unlike = run.paper, _meshes(run), _estimators(run), _unlike_paper(run)
     ratio, (grows, growth) = _cost_ratio(run, estimators[0]), _growth(run, estimators[0])
     claims, sizes = run.tables["cost_ratio"].set_index("quantity"), f"{top} / {ref} nodes"
@@ -229,23 +230,23 @@ def _reading(run: Run) -> str:
               if math.isnan(ratio.low) else "as the design predicts")
     return (f"One evaluation on the largest mesh ({top} nodes) costs {fmt.number(ratio.value, 2)} times one "
             f"on the {ref}-node reference mesh ({paper}; table cost_ratio): {growth}, {design}: neither "
-            "stage's work depends on the mesh size, unlike the paper's per-candidate collision queries "
-            "(Sec. 6.7).")
+            "stage's work depends on the mesh size, unlike the paper's per-candidate collision queries",
+            "Sec. 6.7")
 
 
 def finding(run: Run) -> str:
-    text = [_reading(run)] if len(panel_rows(run, "resolution")) else []
+    decision = "`docs/decisions.md`, *Sensitivity, mesh resolution, surrogate*"  # in the last parenthesis
+    sentences = [_reading(run)] if len(panel_rows(run, "resolution")) else []  # (text, its parenthesis)
     if len(panel_rows(run, "n_max")):
         t = _n_max(run)
-        text.append(f"Of {int(t['failures_at_n_max'].sum())} baseline-grid failures, "
-                    f"{int(t['budget_capped'].sum())} pass at the doubled N_max and "
-                    f"{int(t['horizontal_residual_rerun'].sum())} still fail there on a horizontal residual "
-                    "Algorithm 2 does not act on (table n_max_rerun).")
-    why = "`docs/decisions.md`, *Sensitivity, mesh resolution, surrogate*"
-    if not text:
-        return f" ({why}.)"
-    # the decision both sentences rest on, in the last one's closing parenthesis (each ends "…).")
-    return " ".join(text).removesuffix(").") + f"; {why})."
+        sentences.append((f"Of {int(t['failures_at_n_max'].sum())} baseline-grid failures, "
+                          f"{int(t['budget_capped'].sum())} pass at the doubled N_max and "
+                          f"{int(t['horizontal_residual_rerun'].sum())} still fail there on a horizontal "
+                          "residual Algorithm 2 does not act on", "table n_max_rerun"))
+    if not sentences:  # no executed trial of either panel: the decision alone
+        return f" ({decision}.)"
+    *before, (last, cites) = sentences
+    return " ".join([*(f"{text} ({cite})." for text, cite in before), f"{last} ({cites}; {decision})."])
 
 
 def fig20(run: Run, fig) -> None:

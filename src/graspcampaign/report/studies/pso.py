@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 import pandas as pd
@@ -86,7 +87,8 @@ def _cv(run: Run) -> pd.DataFrame:
                         paper_cv_pct=[np.nan if isinstance(v, tuple) else v for v in paper])
 
 
-def table3(name: str, caption: str, identified, paper_from, empty: str | None = None) -> Table:
+def table3(name: str, caption: str | Callable[[Run], str], identified, paper_from,
+           empty: str | None = None) -> Table:
     """A Table item: identified parameters (mean, median, best-cost run, runs on a search bound)
     beside Table 3; ``identified(run)`` returns the identifications, ``paper_from(run)`` Table 3."""
     def compute(run: Run) -> pd.DataFrame:
@@ -132,7 +134,7 @@ def finding(run: Run) -> str:
     cv, flat = run.tables["cv"], _flat(run)
     judged = cv[~cv["parameter"].isin(flat)]  # a parameter J does not depend on has no verdict
     spread, pinned = judged[judged["sd"] > 0], cv[(cv["sd"] == 0) & (cv["at_bound"] == cv["n"])]
-    differ = judged[judged["differs"] == True]  # noqa: E712
+    differ = judged[judged["differs"].eq(True)]
     on_bound = int((differ["at_bound"] == differ["n"]).sum())  # CV 0 measures the bound (their verdicts)
     text = (f"Over {len(_budgets(run)[0])} restarts at the paper's budget, {len(differ)} of {len(judged)} "
             "judged parameters' CVs differ from the paper's (Sec. 6.8; table cv)" + (

@@ -52,11 +52,10 @@ def _bounds(run: Run) -> str:
         f" (J is flat in {flat_in} in {flat.iloc[0]} of {len(prep)} bodies)." if len(flat) else ".")
 
 
-IDENTIFICATIONS = replace(table3(
-    "identifications", "", lambda run: run.part("prepared"),
-    lambda run: study_paper("pso_repeatability").table3, empty=None), caption=lambda run: (
-        "PSO identifications of this run's soft bodies (prepared/) beside Table 3; b, k, c in the "
-        "paper's internal units" + _bounds(run)))
+IDENTIFICATIONS = table3("identifications", lambda run: (
+    "PSO identifications of this run's soft bodies (prepared/) beside Table 3; b, k, c in the paper's "
+    "internal units" + _bounds(run)), lambda run: run.part("prepared"),
+    lambda run: study_paper("pso_repeatability").table3, empty=None)
 
 
 def readings(by: list[str]) -> S.Table:

@@ -28,9 +28,8 @@ DIHEDRAL_ROW = "largest dihedral departure, sphere, {} nodes"  # and the sphere'
 def _smooth(run: Run) -> pd.DataFrame:
     """The executed meshes of the shapes the paper calls smooth (Sec. 3.1), in its order, then by resolution,
     with their sharp features."""
-    rank, ok = {s: i for i, s in enumerate(run.paper.smooth_sharp_features)}, run.ok
-    return ok[ok["shape"].isin(rank)].assign(sharp=lambda m: m["n_sharp_vertex"] + m["n_sharp_edge"]) \
-        .sort_values(["shape", "nodes"], key=lambda c: c.map(rank) if c.name == "shape" else c)
+    smooth = _meshes(run, list(run.paper.smooth_sharp_features))
+    return smooth.assign(sharp=smooth["n_sharp_vertex"] + smooth["n_sharp_edge"])
 
 
 def _sphere(run: Run, nodes: int, column: str) -> tuple[float, str]:
@@ -99,10 +98,13 @@ def _dihedral(claims: pd.DataFrame, run: Run, entry: str) -> str:
                if ours <= threshold else "") + ".")
 
 
-def _meshes(run: Run) -> pd.DataFrame:
-    """The executed meshes in the vocabulary's shape order, then by resolution."""
-    rank = {s: i for i, s in enumerate(ordered("shape", run.ok["shape"], run.order.get("shape", ())))}
-    return run.ok.sort_values(["shape", "nodes"], key=lambda c: c.map(rank) if c.name == "shape" else c)
+def _meshes(run: Run, shapes: list[str] | None = None) -> pd.DataFrame:
+    """The executed meshes of ``shapes`` in their order (default: every shape, in the vocabulary's order),
+    then by resolution."""
+    ok = run.ok if shapes is None else run.ok[run.ok["shape"].isin(shapes)]
+    shapes = ordered("shape", ok["shape"], run.order.get("shape", ())) if shapes is None else shapes
+    rank = {s: i for i, s in enumerate(shapes)}
+    return ok.sort_values(["shape", "nodes"], key=lambda c: c.map(rank) if c.name == "shape" else c)
 
 
 def _caption(run: Run) -> str:

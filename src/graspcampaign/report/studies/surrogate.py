@@ -32,16 +32,14 @@ WHY = ("`docs/decisions.md`, *Contact law, evaluator, planners, PSO* and *Physic
        "Ferrari–Canny ε*")
 
 
-def _read(name: str, *need: str):
-    """The finalize table ``summary/surrogate_<name>`` with the ``need`` columns (absent: the sentence of
-    :meth:`~graspcampaign.report.render.Run.stored`, or empty when ``need`` names no column)."""
-    def read(run: Run) -> pd.DataFrame:
-        t = run.stored(f"summary/surrogate_{name}") if need else run.part(f"summary/surrogate_{name}")
-        t = t.assign(**{c: t.get(c) for c in need})
-        key = t.get("model", t.get("what"))
-        return t if key is None else t.assign(model_label=[label("model", m) if isinstance(m, str) else "—"
-                                                           for m in key])
-    return read
+def _read(run: Run, name: str, *need: str) -> pd.DataFrame:
+    """The run's finalize table ``summary/surrogate_<name>`` with the ``need`` columns (absent: the sentence
+    of :meth:`~graspcampaign.report.render.Run.stored`, or empty when ``need`` names no column)."""
+    t = run.stored(f"summary/surrogate_{name}") if need else run.part(f"summary/surrogate_{name}")
+    t = t.assign(**{c: t.get(c) for c in need})
+    key = t.get("model", t.get("what"))
+    return t if key is None else t.assign(model_label=[label("model", m) if isinstance(m, str) else "—"
+                                                       for m in key])
 
 
 def _dataset(run: Run) -> pd.DataFrame:
@@ -78,9 +76,9 @@ def _auc_intervals(run: Run, t: pd.DataFrame) -> pd.DataFrame:
 
 
 def _classification(run: Run) -> pd.DataFrame:
-    t, p = _read("classification", "model", "roc_auc", "roc_auc_low", "roc_auc_high", "accuracy_pct",
+    t, p = _read(run, "classification", "model", "roc_auc", "roc_auc_low", "roc_auc_high", "accuracy_pct",
                  "accuracy_low_pct", "test_trials", "test_positives", "majority_class_accuracy_pct",
-                 "accuracy_high_pct", "roc_auc_interval_note")(run), run.paper
+                 "accuracy_high_pct", "roc_auc_interval_note"), run.paper
     t = _auc_intervals(run, t)
     main = t["label"] == PAPER_LABEL
     t["paper_auc"] = [p.auc.get(m) if ok else None for m, ok in zip(t["model"], main, strict=True)]
@@ -99,7 +97,7 @@ def _classification(run: Run) -> pd.DataFrame:
 
 
 def _regression(run: Run) -> pd.DataFrame:
-    t = _read("regression", "r2")(run)
+    t = _read(run, "regression", "r2")
     t["paper_r2"] = [run.paper.residual_r2 if (g, m) == ("abs_residual_z_n", "mlp") else None
                      for g, m in zip(t["target"], t["model"], strict=True)]
     return verdicts(t, "r2", "paper_r2", digits=2, why="note").assign(target_name=t["target"].map(name))
@@ -119,7 +117,7 @@ def _regression_caption(run: Run) -> str:
 
 
 def _importance(run: Run) -> pd.DataFrame:
-    t = _read("importance")(run)
+    t = _read(run, "importance")
     return t.assign(label_name=t["label"].map(name), feature_name=t["feature"].map(name)) if len(t) else t
 
 
@@ -132,7 +130,7 @@ def _predicts(stored):
 
 
 def _timing(run: Run) -> pd.DataFrame:
-    t, p = _read("timing", "time_s")(run), run.paper
+    t, p = _read(run, "timing", "time_s"), run.paper
     t["paper_time_s"] = t["what"].map({"pso_call": p.pso_call_time_s, "mlp": p.prediction_time_ms * 1e-3})
     # the paper's times in its own units and digits (App. A: "0.06 ms, versus 0.99 s"); ours with the
     # prefix that fits each (fmt.scaled: 1.64 ms, 185 µs; in µs alone the 0.99 s printed 990000)
@@ -216,7 +214,7 @@ NOISE = ("lambda2", "msd_b")  # inputs a quasi-static outcome does not depend on
 
 def _importance_caption(run: Run) -> str:
     """The importances' caption: which inputs the forest ranks above the larger noise input's share."""
-    t = _read("importance")(run)
+    t = _read(run, "importance")
     text = ("Random-forest impurity importances of the first fitted classifier (λ2 and b cannot affect a "
             "quasi-static outcome: their share is what a forest gives to noise")
     if not len(t):
@@ -250,7 +248,7 @@ def _caption(run: Run) -> str:
 
 def figA1(run: Run, fig) -> None:
     ax_a, ax_b, ax_c = fig.subplots(1, 3)
-    roc, cls = _read("roc")(run), run.tables["surrogate_classification"].set_index(["label", "model"])
+    roc, cls = _read(run, "roc"), run.tables["surrogate_classification"].set_index(["label", "model"])
     for (lab, m), g in roc.groupby(["label", "model"], sort=False) if len(roc) else ():
         ax_a.plot(g["fpr"], g["tpr"], color=colour("model", m), ls=LINES[lab],
                   label=f"{label('model', m)}, {name(lab)}: AUC {fmt.number(cls.loc[(lab, m), 'roc_auc'], 2)}"
@@ -264,7 +262,7 @@ def figA1(run: Run, fig) -> None:
     ax_a.set(xlabel="false positive rate [–]", ylabel="true positive rate [–]",
              title="(a) ROC, success classifiers (held out)")
     ax_a.legend(loc="upper center", bbox_to_anchor=(0.5, -0.2), fontsize=6.5)
-    par, r2 = _read("parity")(run), run.tables["surrogate_regression"].set_index(["target", "model"])
+    par, r2 = _read(run, "parity"), run.tables["surrogate_regression"].set_index(["target", "model"])
     if len(par):
         fit = fmt.number(r2.loc[("log10_residual_norm_n", "mlp"), "r2"], 2)
         ax_b.scatter(par["simulated"], par["predicted"], s=8, alpha=0.5, color=colour("model", "mlp"),

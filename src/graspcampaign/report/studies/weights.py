@@ -12,9 +12,14 @@ from graspcampaign.report.render import Run
 from graspcampaign.report.spec import Claims, Finding, ReportSpec, Table, Value, rate_cols, verdicts
 
 
+def _scene(frame: pd.DataFrame) -> str:
+    """The column naming each trial's scene: ``scene_id``, or ``seed`` where the records have none."""
+    return "scene_id" if "scene_id" in frame else "seed"
+
+
 def _scenes(run: Run):
     ok = run.ok.assign(h_per_scale=run.ok["h_total"] / run.ok["weight_scale"])
-    return ok.groupby("scene_id" if "scene_id" in ok else "seed")
+    return ok.groupby(_scene(ok))
 
 
 def _invariant(run: Run) -> Estimate:
@@ -47,8 +52,7 @@ def _by_scale(run: Run) -> pd.DataFrame:
 
 
 def _ratio_sweep(run: Run) -> pd.DataFrame:
-    unit = run.ok.sort_values("weight_scale", key=lambda s: (s - 1.0).abs()).drop_duplicates(
-        "scene_id" if "scene_id" in run.ok else "seed")
+    unit = run.ok.sort_values("weight_scale", key=lambda s: (s - 1.0).abs()).drop_duplicates(_scene(run.ok))
     moved = {c.removeprefix("argmin_key_ratio_").replace("_", ":"): unit[c] != unit["argmin_key"]
              for c in unit if c.startswith("argmin_key_ratio_")}
     rows = []
@@ -65,8 +69,8 @@ def finding(run: Run) -> str:
     at = "unit weights" if unit["weight_scale"] == 1 else f"weight scale {fmt.number(unit['weight_scale'])}"
     leaves, scales = ("leaves" if inv.value else "does not always leave",
                       "scales" if prop.value else "does not always scale")
-    differ, match = (int((scale["differs"] == verdict).sum()) for verdict in (True, False))
-    where = (f"differs from the paper's at {differ}" if differ else f"matches the paper's at {match}") + \
+    differ, judged = fmt.differing(scale)
+    where = (f"differs from the paper's at {differ}" if differ else f"matches the paper's at {judged}") + \
         f" of {len(scale)} scales"
     return (f"Scaling every weight by the same factor {leaves} the chosen triple unchanged ({inv.n} seeds) "
             f"and {scales} H by the factor; the paper states both (Sec. 5.2; table components). H of the "
