@@ -125,7 +125,8 @@ def fig17(run: Run, fig) -> None:
     axes[0].axhline(tau, color=style.CRITERION, linestyle="--", label=f"τ_F {fmt.number(tau)} N")
     axes[0].axvspan(lo, hi, color=style.PAPER, alpha=0.12, label=f"paper: settles in {lo}–{hi}")
     axes[1].axhline(_tau_t(run), color=style.PAPER, linestyle="-.",  # Sec. 6.4's word, judged against τ_T
-                    label=f"τ_T {fmt.number(_tau_t(run))} N·m (paper: torque essentially zero, never binding)")
+                    label=f"τ_T {fmt.number(_tau_t(run))} N·m (paper: torque essentially zero, never "
+                    "binding)")
     axes[2].axhline(p.slip_margin_saturates_above, color=style.PAPER, linestyle=":",
                     label=f"paper: > {fmt.number(p.slip_margin_saturates_above)} for μ ≥ "
                     f"{fmt.number(p.slip_margin_saturates_from_mu)}")
