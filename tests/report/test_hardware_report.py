@@ -285,7 +285,7 @@ def test_share_of_large_threshold_errors_counts_the_records(sim_root):
     agree = read_table(sim_root / "test3_disturbance" / "default", "test3_threshold_agreement").iloc[0]
     assert (agree["n"], agree["n_err_over_50pct"]) == (n, k)
     row = read_table(sim_root / "test3_disturbance" / "default", "test3_claims").set_index("quantity").loc[
-        "lateral thresholds with error > 50 %"]
+        "lateral thresholds with error > 50 % (paper 35 of 300)"]
     low, high = proportion_confint(k, n, method="wilson")
     assert (row["value"], row["low"], row["high"], row["n"]) == (
         pytest.approx(100 * k / n), pytest.approx(100 * low), pytest.approx(100 * high), n)
