@@ -418,7 +418,8 @@ SPEC = ReportSpec("test1_bench", [
            "their Wilson 95% interval)", CLAIMS),
     Table("oblique_margin", "Slip margin μs fn − ft per press angle (§7.3, mean and SD over the oblique "
           "events) beside the paper's means", _margins,
-          cols("angle_deg", "events", "paper_n", "mean_n", "sd_n", "verdict")),
+          [*cols("angle_deg", "events"), Col("paper_n", "paper [N]", 2),  # §7.3: 0.45 N, 0.05 N, -0.16 N
+           *cols("mean_n", "sd_n", "verdict")]),
     Figure("fig23_normal_law", lambda run: "Fig. 23 (ours): (a) a retained loading–unloading curve with its "
            "Eq. 13 fit and the paper's Table 4 family law; (b) fitted n per family with the paper's family "
            f"values, mean ± SD and Table 3's {fmt.number(run.paper.n_exp_simulation)}; (c) RMSE distribution "
