@@ -148,7 +148,15 @@ def _transfer(run: Run) -> pd.DataFrame:
     t["paper_pct"] = [getattr(ref.normal_force, s) if q == "normal_force" else getattr(ref, q, None)
                       if q != "friction" else ref.friction_max if s != "train" else None
                       for q, s in zip(t["quantity"], t["split"], strict=True)]
-    return verdicts(t, "mean_error_pct", "paper_pct", unit="%")
+    # at §7.6's decimals ("2.58%", "3.64%", "~1%", "3.1%", "4.3%"); its friction error "stays near or below
+    # ~1%", an upper bound: a smaller error agrees (0.1% was judged as differing by −0.9 pp)
+    t["digits"] = [2 if q == "normal_force" else 0 if q == "friction" else 1 for q in t["quantity"]]
+    ref = [None if fmt.is_missing(v) else (None, v) if q == "friction" else v
+           for q, v in zip(t["quantity"], t["paper_pct"], strict=True)]
+    t["paper_text"] = [None if v is None else fmt.paper_text(v, d)
+                       for v, d in zip(ref, t["digits"], strict=True)]
+    return verdicts(t.assign(reference=ref), "mean_error_pct", "reference", digits="digits", unit="%",
+                    bound="the paper's 'near or below ~1%'").drop(columns="reference")
 
 
 def _damage_caption(run: Run) -> str:
@@ -445,10 +453,11 @@ SPEC = ReportSpec("test1_bench", [
           empty=None),
     Claims("pso_summary", _pso_caption, _pso_rows, empty=None),  # both left out without the PSO log
     Table("transfer", "§7.6 transfer errors of the training-split calibration (per-event fits), training "
-          "beside the held-out splits (paper: friction 'near or below ~1%', read as 1.0); unseen specimens "
-          "are drawn with Table 4's modulus SD, which a family calibration cannot know", _transfer,
+          "beside the held-out splits (paper: friction 'near or below ~1%', read as at most 1%); unseen "
+          "specimens are drawn with Table 4's modulus SD, which a family calibration cannot know", _transfer,
           [Col("quantity_label", "quantity"), Col("split_label", "split"), *cols(
-              "events", "paper_pct", "mean_error_pct", "median_error_pct", "p95_error_pct", "verdict")],
+              "events"), Col("paper_text", "paper [%]"), *cols("mean_error_pct", "median_error_pct",
+                                                                "p95_error_pct", "verdict")],
           empty=None),
     _Finalized(Figure("fig26_identification", "Fig. 26 (ours): (a) CV of each PSO-identified parameter "
                       "over the converged runs with Table 5's; (b) identified values relative to Table 3 "
