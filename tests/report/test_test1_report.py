@@ -65,6 +65,13 @@ def test_table4_is_the_records_beside_the_paper(run):
     truths = RunStore(path).read("summary/truths").to_pandas().drop_duplicates("specimen")
     assert ours["modulus_sd_kpa"] == pytest.approx(np.std(truths["modulus_kpa"], ddof=1), rel=1e-12)
     assert (paper["n_exp"], paper["modulus_kpa"], paper["tau_s"]) == (0.473, 40.1, 7.1)
+    # the paper's gel row as Table 4 prints it (paper.txt: "40.1 ± 6.2  0.473  0.346  0.25  0.055  0.772
+    # 0.544  1.97  0.64 / 7.1"); it printed 40, 0.250 and 0.640 at our column's digits
+    shown = md_table(report_md(path), "table4").set_index("row").loc["paper"]
+    heads = ("E [kPa]", "E SD [kPa]", "n", "K [N mm⁻ⁿ]", "f0.5 [N]", "C [N s/m]", "μs", "μk", "kt [N/mm]",
+             "ρ", "τ [s]")
+    assert [shown[c] for c in heads] == [
+        "40.1", "6.2", "0.473", "0.346", "0.25", "0.055", "0.772", "0.544", "1.97", "0.64", "7.1"]
 
 
 def test_section_7_claims_against_the_records(run):

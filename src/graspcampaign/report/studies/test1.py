@@ -30,6 +30,10 @@ BLUE, ORANGE, RED, GREY = "#1f5aa6", "#e08a1e", "#c62828", "#8c8c8c"
 T4 = {"modulus_kpa": "E [kPa]", "modulus_sd_kpa": "E SD [kPa]", "n_exp": "n", "k_n_per_mm_n":
       "K [N mm⁻ⁿ]", "f05_n": "f0.5 [N]", "c_n_s_per_m": "C [N s/m]", "c_negative": "fits with C < 0",
       "mu_s": "μs", "mu_k": "μk", "k_t_n_per_mm": "kt [N/mm]", "rho": "ρ", "tau_s": "τ [s]"}
+T4_PRINTED = {"modulus_kpa": 1, "modulus_sd_kpa": 1, "n_exp": 3, "k_n_per_mm_n": 3, "f05_n": 2,
+              "c_n_s_per_m": 3, "mu_s": 3, "mu_k": 3, "k_t_n_per_mm": 2, "rho": 2, "tau_s": 1}
+"""The decimals of the paper's Table 4 per column (gel: "40.1 ± 6.2", 0.473, 0.346, 0.25, 0.055, 0.772,
+0.544, 1.97, "0.64 / 7.1"): its rows print so; ours print at 3 significant digits of the column."""
 
 
 def _counts(run: Run) -> pd.DataFrame:
@@ -53,6 +57,9 @@ def _table4(run: Run) -> pd.DataFrame:
     paper = [{"material": m, "row": "paper", **asdict(run.paper.table4[m])} for m in ours["material"]]
     # the paper block's key is exponent_n (in every stored run's config hash); the records' n_exp
     paper = pd.DataFrame(paper).rename(columns={"exponent_n": "n_exp"})
+    for k in T4:  # each row's decimals: ours a column's 3 significant digits, the paper's as it prints them
+        mine = fmt.decimals(ours[k]) if k in ours else None
+        ours[f"{k}_digits"], paper[f"{k}_digits"] = mine, T4_PRINTED.get(k, mine)
     return pd.concat([ours, paper]).sort_values(
         "material", key=lambda m: m.map(cal.MATERIALS.index), kind="stable")
 
@@ -420,7 +427,7 @@ SPEC = ReportSpec("test1_bench", [
           "specimen modulus (the bench measures none), mean and SD over specimens. " if run.source ==
           "virtual" else "empty: the bench measures no modulus. ") + _c_caption(run), _table4, [
               Col("row", "row"), Col("n_accepted_fits", "accepted normal fits", 0),
-              *(Col(k, v, sig=3) for k, v in T4.items())], by=["material"]),
+              *(Col(k, v, f"{k}_digits") for k, v in T4.items())], by=["material"]),
     Claims("test1_claims", "§7 figures in the text beside the paper's (accepted fits unless stated; "
            "margins use each specimen's calibrated μs, the median breakaway of its slides; shares with "
            "their Wilson 95% interval)", CLAIMS),
