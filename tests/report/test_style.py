@@ -72,7 +72,7 @@ def test_the_mu_lines_of_fig17_are_told_apart_by_lightness():
     records = pd.DataFrame({"trial_id": [f"t{m}" for m in mus], "status": "ok", "mu": mus})
     paper = SimpleNamespace(residual_settles_within_iterations=(30, 40), slip_margin_saturates_above=0.8,
                             slip_margin_saturates_from_mu=0.3, finger_force_command_n=65.0)
-    run = Run(records, {"config": {"evaluator": {"tau_f_n": 0.5}}}, paper)
+    run = Run(records, {"config": {"evaluator": {"tau_f_n": 0.5, "tau_t_nm": 0.025}}}, paper)
     run.memo("tables/iterations", lambda: pd.DataFrame(
         [{"trial_id": f"t{m}", "iteration": i, "residual_norm_n": 1.0, "torque_norm_nm": 0.0,
           "slip_margin_ratio": 0.5, "normal_force_1_n": 10.0} for m in mus for i in range(5)]))
@@ -205,7 +205,7 @@ def test_fig17_residual_axis_reads_plain_one_two_five_newtons():
     records = pd.DataFrame({"trial_id": ["t"], "status": "ok", "mu": [0.3]})
     paper = SimpleNamespace(residual_settles_within_iterations=(30, 40), slip_margin_saturates_above=0.8,
                             slip_margin_saturates_from_mu=0.3, finger_force_command_n=65.0)
-    run = Run(records, {"config": {"evaluator": {"tau_f_n": 0.5}}}, paper)
+    run = Run(records, {"config": {"evaluator": {"tau_f_n": 0.5, "tau_t_nm": 0.025}}}, paper)
     run.memo("tables/iterations", lambda: pd.DataFrame(
         [{"trial_id": "t", "iteration": i, "residual_norm_n": r, "torque_norm_nm": 0.0,
           "slip_margin_ratio": 0.5, "normal_force_1_n": 10.0} for i, r in enumerate((3.5, 8.0, 12.0))]))

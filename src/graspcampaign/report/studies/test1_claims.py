@@ -99,16 +99,18 @@ CLAIMS = [
           lambda p: p.rmse_pct_all, "%"),
     *_pair("RMSE of the review-flagged fits", "§7.2", "flagged", "rmse_pct",
            lambda p: p.flagged_rmse_pct_range, "%", 1, ("min", "max"), "fit"),
+    # at the decimals §7.2 prints: "0.082 mJ", "median loading work 0.54 mJ, median unloading 0.42 mJ"
     *(Value(row, "§7.2", _v("normal", f"{w}_mj", "median"),
-            lambda p, w=w: getattr(p, f"{w}_median_mj"), "mJ", 3)
-      for w, row in (("loop_area", LOOP_MEDIAN), ("loading_work", "loading work: median"),
-                     ("unloading_work", "unloading work: median"))),
+            lambda p, w=w: getattr(p, f"{w}_median_mj"), "mJ", digits)
+      for w, row, digits in (("loop_area", LOOP_MEDIAN, 3), ("loading_work", "loading work: median", 2),
+                             ("unloading_work", "unloading work: median", 2))),
     *C_ROWS,
     *(Value(f"μs {label('environment', e)}: campaign mean", "§7.3", _v(e, "mu_s"),
             lambda p, e=e: p.mu_s_environment[e]) for e in ("cool_dry", "warm_humid")),
     Value("μs > μk in every family", "Table 4", lambda r: bool(r.tables["table4"].query("row == 'ours'").eval(
         "mu_s > mu_k").all()), lambda p: all(r.mu_s > r.mu_k for r in p.table4.values())),
-    *_pair("kt per family", "§7.3", "sliding", "k_t_n_per_mm", lambda p: p.k_t_range_n_per_mm, "N/mm"),
+    # §7.3: "k_t in the 2 N mm^{-1} to 5 N mm^{-1} range", whole newtons per millimetre
+    *_pair("kt per family", "§7.3", "sliding", "k_t_n_per_mm", lambda p: p.k_t_range_n_per_mm, "N/mm", 0),
     Value("Coulomb prediction = sign of the slip margin", "§7.3",
           _v("oblique", "classification_matches_margin", "share"),
           lambda p: p.oblique_classification_match_pct, "%", 1),
