@@ -345,8 +345,10 @@ def override_sentence(exc: BaseException, overrides: list[str], given: list[str]
     if match:
         return _nothing_to_delete(match.group(1), _typed(match.group(1), overrides, given), factors)
     match = re.match(r"Could not append to config\. An item is already at '([^']+)'", text)
-    if match:
-        return f"{match.group(1)} already exists; override it without the leading '+'."
+    if match:  # Hydra names the key alone
+        typed = _typed(match[1], overrides, given) or f"+{match[1]}=..."
+        return (f"override {typed!r} adds {match[1]}, which every study has already; set it "
+                f"without the leading '+': {typed.lstrip('+')}.")
     match = re.search(r"Could not find '([\w-]+)/([^']*)'", text)
     if match:
         return missing_option_sentence(match.group(1), match.group(2))
@@ -362,7 +364,8 @@ def override_sentence(exc: BaseException, overrides: list[str], given: list[str]
             _, key, _, value = split(item)
             if key in GROUPS and not re.fullmatch(r"[A-Za-z_][\w-]*", value.strip()):
                 return missing_option_sentence(key, value.strip())
-    return omegaconf_error_sentence(exc)
+    return omegaconf_error_sentence(exc, typed={split(item)[1]: split(typed)[3]
+                                                for item, typed in zip(overrides, given, strict=True)})
 
 
 _LEXER = "LexerNoViableAltException: "

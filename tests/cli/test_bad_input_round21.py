@@ -1,0 +1,59 @@
+"""Bad input, round 21: the leftovers of round 20 and new users' wrong inputs (docs/decisions.md,
+"Bad input, round 21 (rough42)", lists every one tried). Each is one sentence naming what is wrong
+and where, exit 2, nothing stored changed (``cli_checks.refused``).
+"""
+
+from __future__ import annotations
+
+import pytest
+from cli_checks import refused
+
+
+@pytest.mark.parametrize(("override", "said"), [
+    ("runner.n_jobs=1e3", "runner.n_jobs must be a whole number, got 1e3."),
+    ("seeds=1E3", "seeds must be a whole number, got 1E3."),
+    ("seeds=2.50", "seeds must be a whole number, got 2.50."),
+    ("seeds=[1e3]", "seeds must be a whole number, got [1e3].")])
+def test_a_number_given_for_a_whole_number_is_echoed_as_typed(tmp_path, override, said):
+    """It was echoed as Hydra read it: "got 1000.0", "got 2.5", "got [1000.0]" (round 20 left
+    ``runner.n_jobs=1e3`` alone)."""
+    refused(tmp_path, ["show", "smoke", override, "--root", tmp_path], said)
+
+
+@pytest.mark.parametrize("override", ["+compare_with=smoke", "+seeds=3", "+runner.n_jobs=2"])
+def test_adding_a_key_every_study_has_names_the_override(tmp_path, override):
+    """Hydra's "Could not append to config. An item is already at 'compare_with'" was said as
+    "compare_with already exists; override it without the leading '+'.", the override unnamed."""
+    key = override[1:].partition("=")[0]
+    refused(tmp_path, ["show", "smoke", override, "--root", tmp_path],
+            f"override {override!r} adds {key}, which every study has already; set it without the "
+            f"leading '+': {override[1:]}.")
+
+
+def test_compare_with_forced_on_the_command_line_is_named_as_typed(tmp_path):
+    """``++compare_with=`` reaches the kind check as compose finds it (``override.group``), not by
+    a key test of the study check's own."""
+    refused(tmp_path, ["show", "test2_grasp", "++compare_with=smoke", "--root", tmp_path],
+            "override '++compare_with=smoke': compare_with = smoke is a study of trial kind "
+            "mesh_features, and this study's kind is test2_grasp: it would be reported with smoke's "
+            "report, which reads mesh_features records; compare with a study of kind test2_grasp "
+            "(test2_grasp) or leave compare_with out.")
+
+
+@pytest.mark.parametrize(("override", "written"), [
+    ("seeds=３", "seeds=3"), ("runner.n_jobs=３", "runner.n_jobs=3"), ("mu=[０.３]", "mu=[0.3]")])
+def test_a_full_width_digit_in_an_override_is_named_with_what_to_write(tmp_path, override, written):
+    at = next(i for i, char in enumerate(override) if not char.isascii())
+    refused(tmp_path, ["show", "baseline_grid", override, "--root", tmp_path],
+            f"cannot parse override {override!r}: {override[at]!r} (character {at + 1}) looks like "
+            f"'{written[at]}' but is not ASCII; write {written!r}.")
+
+
+@pytest.mark.parametrize(("override", "said"), [
+    ("mu=[5]", "factors.mu[0] = 5.0 is out of range; allowed: >= 0 and <= 3 (dry friction of soft "
+               "materials stays below 3)."),
+    ("seed=-1", "seed = -1 is out of range; allowed: >= 0 and <= 4294967295 (a 32-bit word, the "
+                "seeds numpy's RandomState takes).")])
+def test_a_bound_prints_as_plans_plausible_range_prints_it(tmp_path, override, said):
+    """A float bound printed "<= 3.0", where ``plan`` and the whole-number bounds print "<= 3"."""
+    refused(tmp_path, ["show", "baseline_grid", override, "--root", tmp_path], said)
