@@ -6,7 +6,7 @@ and where, exit 2, nothing stored changed (``cli_checks.refused``).
 from __future__ import annotations
 
 import pytest
-from cli_checks import refused
+from cli_checks import T2, filled_records, immutable, refused
 
 
 @pytest.mark.parametrize(("override", "said"), [
@@ -57,3 +57,19 @@ def test_a_full_width_digit_in_an_override_is_named_with_what_to_write(tmp_path,
 def test_a_bound_prints_as_plans_plausible_range_prints_it(tmp_path, override, said):
     """A float bound printed "<= 3.0", where ``plan`` and the whole-number bounds print "<= 3"."""
     refused(tmp_path, ["show", "baseline_grid", override, "--root", tmp_path], said)
+
+
+@pytest.mark.parametrize("command", [["run", "smoke", "nodes=[144]", "shape=[sphere]"],
+                                     ["ingest", "test2_grasp", "day1.csv", *T2]])
+def test_a_new_run_in_a_study_folder_that_cannot_be_written_is_refused(tmp_path, command):
+    """A study folder made immutable (a read-only share): making the run's directory ended in a
+    traceback (PermissionError: [Errno 1] Operation not permitted)."""
+    filled_records(tmp_path).to_csv(tmp_path / "day1.csv", index=False)
+    study = tmp_path / "results" / command[1]
+    study.mkdir(parents=True)
+    args = [tmp_path / arg if arg == "day1.csv" else arg for arg in command]
+    with immutable(study):
+        refused(tmp_path / "results", [*args, "--run", "new", "--root", tmp_path / "results"],
+                f"run {command[1]}/new at {study / 'new'}: {study}: cannot write there (Operation not "
+                "permitted); make it writable for this user, or run the command as the user who "
+                "owns the run.")
