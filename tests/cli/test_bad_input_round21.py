@@ -73,3 +73,28 @@ def test_a_new_run_in_a_study_folder_that_cannot_be_written_is_refused(tmp_path,
                 f"run {command[1]}/new at {study / 'new'}: {study}: cannot write there (Operation not "
                 "permitted); make it writable for this user, or run the command as the user who "
                 "owns the run.")
+
+
+@pytest.mark.parametrize(("override", "reason"), [("mu=(0.3,0.5)", "unexpected '('"),
+                                                  ("mu={0.3}", "cannot read '{0.3}'")])
+def test_a_bare_factor_value_that_cannot_be_parsed_is_quoted_as_typed(tmp_path, override, reason):
+    """The reason was Hydra's for the rewritten factors.mu=[(0.3,0.5)]: "cannot read '[('", a
+    bracket the user never typed."""
+    refused(tmp_path, ["show", "baseline_grid", override, "--root", tmp_path],
+            f"cannot parse override {override!r}: {reason}; write KEY=VALUE, a list as [a,b], and "
+            "quote a value holding other characters.")
+
+
+def test_a_column_name_holding_a_character_that_does_not_print_is_shown_escaped(stored, tmp_path):
+    """A NUL or a zero-width space pasted into a header cell was printed as it is: "a required
+    column is missing: stable; a column is not part of the sheet: 'stable' (did you mean
+    'stable'?)", the two names alike to the eye."""
+    sheet = filled_records(tmp_path, rows=slice(2, 4))
+    columns = list(sheet.columns)
+    sheet.rename(columns={"stable": "sta\x00ble", "outcome": "out\u200bcome"}).to_csv(
+        tmp_path / "day2.csv", index=False)
+    refused(stored, ["ingest", "test2_grasp", tmp_path / "day2.csv", *T2, "--root", stored],
+            "day2.csv, header: required columns are missing: outcome, stable; columns are not part of "
+            "the sheet: 'out\\u200bcome' (did you mean 'outcome'?), 'sta\\x00ble' (did you mean "
+            f"'stable'?); its columns are {', '.join(columns)} (`graspcampaign schedule <study> "
+            "--template` writes a sheet with every column).")

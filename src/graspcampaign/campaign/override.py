@@ -330,8 +330,8 @@ def override_sentence(exc: BaseException, overrides: list[str], given: list[str]
                 if "=" not in item and not item.startswith("~"):  # ~key deletes: no value
                     return f"cannot parse override {typed!r}: expected key=value, e.g. mu=0.3."
                 return (_character_sentence(item, typed, str(error))
-                        or f"cannot parse override {typed!r}: {_parse_reason(str(error))}; write "
-                           "KEY=VALUE, a list as [a,b], and quote a value holding other "
+                        or f"cannot parse override {typed!r}: {_parse_reason(str(error), typed, parser)}"
+                           "; write KEY=VALUE, a list as [a,b], and quote a value holding other "
                            "characters.")
         return f"cannot parse overrides: {text.rstrip('.')}."
     if getattr(exc, "errno", None) == errno.ENAMETOOLONG:  # Hydra looked for the key as a group
@@ -371,9 +371,14 @@ def override_sentence(exc: BaseException, overrides: list[str], given: list[str]
 _LEXER = "LexerNoViableAltException: "
 
 
-def _parse_reason(error: str) -> str:
-    """The reason Hydra's parser gives (its second line), in plain words: ``extraneous input '='
-    expecting {<EOF>, ...}`` -> ``unexpected '='``."""
+def _parse_reason(error: str, typed: str, parser: Any) -> str:
+    """The reason Hydra's parser gives (its second line), in plain words, for the override as
+    ``typed`` if it fails too (``mu=(0.3,0.5)``, whose rewriting fails at ``[(``, which no one
+    typed): ``extraneous input '(' expecting {<EOF>, ...}`` -> ``unexpected '('``."""
+    try:
+        parser.parse_overrides([typed])
+    except Exception as own:  # noqa: BLE001  (any refusal of Hydra's parser)
+        error = str(own)
     lines = error.splitlines()
     reason = lines[1] if len(lines) > 1 and not lines[1].startswith("See ") else lines[0]
     match = re.match(r"(?:extraneous|mismatched) input ('.*') expecting", reason)
