@@ -6,7 +6,7 @@ and where, exit 2, nothing stored changed (``cli_checks.refused``).
 from __future__ import annotations
 
 import pytest
-from cli_checks import T2, filled_records, immutable, refused
+from cli_checks import HEADER, T2, filled_records, immutable, refused
 
 
 @pytest.mark.parametrize(("override", "said"), [
@@ -98,3 +98,16 @@ def test_a_column_name_holding_a_character_that_does_not_print_is_shown_escaped(
             "the sheet: 'out\\u200bcome' (did you mean 'outcome'?), 'sta\\x00ble' (did you mean "
             f"'stable'?); its columns are {', '.join(columns)} (`graspcampaign schedule <study> "
             "--template` writes a sheet with every column).")
+
+
+def test_a_study_compared_with_a_misspelt_study_is_told_the_near_one(user_dir, tmp_path):
+    """``compare_with: Smoke`` listed the 16 studies with paper values, smoke among them, where
+    every other unknown name says "did you mean"."""
+    study = user_dir / "mine.yaml"
+    study.write_text(f"{HEADER}name: mine\nkind: mesh_features\ncompare_with: Smoke\n"
+                     "factors: {shape: [sphere], nodes: [144]}\n")
+    refused(tmp_path, ["show", "mine", "--root", tmp_path],
+            f"{study}: compare_with = 'Smoke' is not a study with paper values; did you mean 'smoke'? "
+            "allowed: ablation, baseline_grid, dynamic_check, friction_mass, gravity_settle, "
+            "heuristic_weights, mesh_resolution, pso_repeatability, sensitivity, shapes, smoke, "
+            "surrogate, test1_bench, test2_grasp, test3_disturbance, wrench_balance.")
