@@ -111,3 +111,18 @@ def test_a_study_compared_with_a_misspelt_study_is_told_the_near_one(user_dir, t
             "allowed: ablation, baseline_grid, dynamic_check, friction_mass, gravity_settle, "
             "heuristic_weights, mesh_resolution, pso_repeatability, sensitivity, shapes, smoke, "
             "surrogate, test1_bench, test2_grasp, test3_disturbance, wrench_balance.")
+
+
+@pytest.mark.parametrize(("option", "value", "said"), [
+    ("--root", " results", "begins with a space, which would be part of the name; write 'results' "
+                           "(its full path, for a name that does begin with one)"),
+    ("--root", "results ", "ends with a space, which would be part of the name; write 'results'"),
+    ("--root", "  ", "is only spaces; give a path"),
+    ("--out", "sheet ", "ends with a space, which would be part of the name; write 'sheet'")])
+def test_a_path_to_write_with_a_space_at_an_end_is_refused(tmp_path, monkeypatch, option, value, said):
+    """Pasted with the space beside it, ``--root ' results'`` made a folder named " results" beside
+    results/ and stored the run there; ``status`` then said "no run at  results/..."."""
+    monkeypatch.chdir(tmp_path)
+    command = ["run", "smoke", "nodes=[144]", "shape=[sphere]"] if option == "--root" else \
+        ["schedule", "test2_grasp", *T2[1:]]
+    refused(tmp_path, [*command, option, value], f"{option} {value!r} {said}.")
