@@ -119,7 +119,8 @@ def compose_study(study: str, overrides: list[str] | None = None) -> StudyCfg:
         raise ConfigError(f"overrides = {overrides!r} is not a list of KEY=VALUE texts; give one, "
                           "e.g. ['seeds=2'].")
     conf_dir, campaigns_dir = project_dirs()
-    files = None if is_path_argument(study) else study_files()  # listed once for every check
+    # the search path listed once, for every check below (a study given by name)
+    files = study_files() if isinstance(study, str) and not is_path_argument(study) else None
     path = find_study(study, files)
     data = read_yaml(path, study=True)
     check_package_header(path)
