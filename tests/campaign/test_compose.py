@@ -104,3 +104,18 @@ def test_the_byte_order_mark_is_one_constant():
     spelled = sorted(p.relative_to(root).as_posix() for p in root.rglob("*.py")
                      if r"\xef\xbb\xbf" in p.read_text(encoding="utf-8"))
     assert spelled == []
+
+
+@pytest.mark.parametrize("overrides", [[], ["name=mine2"]])
+def test_composing_a_users_study_lists_the_study_files_once(tmp_path, monkeypatch, overrides):
+    """find_study, the file's case-twin check and the rename check each listed the search path
+    (twice per call, three times with ``name=``); one listing serves them all."""
+    from graspcampaign.campaign import studyfile
+
+    (tmp_path / "mine.yaml").write_text("# @package _global_\n# schema: StudyCfg\nname: mine\n"
+                                        "kind: mesh_features\nfactors: {shape: [sphere], nodes: [144]}\n")
+    monkeypatch.setenv("GRASPCAMPAIGN_PATH", str(tmp_path))
+    listed, study_dirs = [], studyfile.study_dirs
+    monkeypatch.setattr(studyfile, "study_dirs", lambda: listed.append(1) or study_dirs())
+    assert compose_study("mine", overrides).name == (overrides[0][5:] if overrides else "mine")
+    assert len(listed) == 1

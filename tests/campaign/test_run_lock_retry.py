@@ -102,6 +102,7 @@ def test_a_lock_file_that_cannot_be_opened_is_not_retried(tmp_path, monkeypatch)
         calls.append(path)
         raise PermissionError(errno.EACCES, os.strerror(errno.EACCES), str(path))
 
+    (tmp_path / "run").mkdir()  # a new run's folder is probed for a write before: the lock's open
     monkeypatch.setattr(runner.os, "open", denied)
     with pytest.raises(PermissionError, match="Permission denied"), \
             run_lock(RunStore(tmp_path / "run"), "study/run"):

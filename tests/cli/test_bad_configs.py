@@ -384,7 +384,7 @@ def test_a_study_file_error_names_the_file_line_and_key(results, user_dir, case,
 
 HOME_FILES = {
     "lambda1: -3": ("lambda1: 0.332", "lambda1: -3", 4,
-                    "model.lambda1 = -3.0 is out of range; allowed: > 0.0 and <= 15.0 (the "
+                    "model.lambda1 = -3.0 is out of range; allowed: > 0 and <= 15 (the "
                     "identification scale factors stay within 10x their PSO bounds)."),
     "bogus: 1": ("nu_object: 0.45\n", "nu_object: 0.45\nbogus: 1\n", 12,
                  "model.bogus is not a known key of model; known keys: lambda1, lambda2, "

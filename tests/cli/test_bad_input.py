@@ -118,10 +118,10 @@ STUDY_VALUES = {
                           "damping_law, alpha_hc_s_per_m."),
     "impossible_friction": ("factors:\n  mu: [0.3, 50]\n",
                             "{path}, line 6: factors.mu[1] = 50.0 is out of range; allowed: >= "
-                            "0.0 and <= 3.0 (dry friction of soft materials stays below 3)."),
+                            "0 and <= 3 (dry friction of soft materials stays below 3)."),
     "negative_mass": ("factors:\n  mass_kg: [-0.2]\n",
                       "{path}, line 6: factors.mass_kg[0] = -0.2 is out of range; allowed: >= "
-                      "0.0001 and <= 10.0 (below 0.1 g an object weighs less than the rig's 1 mN "
+                      "0.0001 and <= 10 (below 0.1 g an object weighs less than the rig's 1 mN "
                       "force resolution, and a three-finger hand lifts at most ~10 kg)."),
     "run_escaping_results": ("output:\n  run: ../../elsewhere\n",
                              "{path}, line 9: output.run = '../../elsewhere' is not allowed; use "
@@ -292,19 +292,19 @@ def test_unreachable_dask_scheduler_fails_fast_in_one_sentence(results):
 
 
 IMPOSSIBLE = {
-    "mu=50": "factors.mu[0] = 50.0 is out of range; allowed: >= 0.0 and <= 3.0 (dry friction of "
+    "mu=50": "factors.mu[0] = 50.0 is out of range; allowed: >= 0 and <= 3 (dry friction of "
              "soft materials stays below 3).",
-    "mu=[0.3,-0.1]": "factors.mu[1] = -0.1 is out of range; allowed: >= 0.0 and <= 3.0 (dry "
+    "mu=[0.3,-0.1]": "factors.mu[1] = -0.1 is out of range; allowed: >= 0 and <= 3 (dry "
                      "friction of soft materials stays below 3).",
-    "mass_kg=-1": "factors.mass_kg[0] = -1.0 is out of range; allowed: >= 0.0001 and <= 10.0 "
+    "mass_kg=-1": "factors.mass_kg[0] = -1.0 is out of range; allowed: >= 0.0001 and <= 10 "
                   "(below 0.1 g an object weighs less than the rig's 1 mN force resolution, and a "
                   "three-finger hand lifts at most ~10 kg).",
-    "mass_kg=40": "factors.mass_kg[0] = 40.0 is out of range; allowed: >= 0.0001 and <= 10.0 "
+    "mass_kg=40": "factors.mass_kg[0] = 40.0 is out of range; allowed: >= 0.0001 and <= 10 "
                   "(below 0.1 g an object weighs less than the rig's 1 mN force resolution, and a "
                   "three-finger hand lifts at most ~10 kg).",
-    "model.lambda1=100": "model.lambda1 = 100.0 is out of range; allowed: > 0.0 and <= 15.0 (the "
+    "model.lambda1=100": "model.lambda1 = 100.0 is out of range; allowed: > 0 and <= 15 (the "
                          "identification scale factors stay within 10x their PSO bounds).",
-    "model.n_exp=0": "model.n_exp = 0.0 is out of range; allowed: > 0.0 and <= 3.0 (contact force "
+    "model.n_exp=0": "model.n_exp = 0.0 is out of range; allowed: > 0 and <= 3 (contact force "
                      "exponents of soft bodies lie between ~0.4 and ~2).",
     "model.fingertip_radius_m=0.5": "model.fingertip_radius_m = 0.5 is out of range; allowed: >= "
                                     "0.001 and <= 0.05 (below 1 mm the evaluator's 0.5 mm seed "
@@ -321,15 +321,15 @@ def test_physically_impossible_values_are_refused_with_the_range(results, overri
 
 NODES_ALLOWED = (">= 12 and <= 20000 (a closed mesh needs 12 nodes, and one finer than 20,000 "
                  "resolves nothing a 5 mm fingertip feels)")
-SIM_TIME_ALLOWED = ("> 0.0 and <= 60.0 (a grasp closes, lifts and holds within seconds; 60 s is "
+SIM_TIME_ALLOWED = ("> 0 and <= 60 (a grasp closes, lifts and holds within seconds; 60 s is "
                     "~2x10^6 RK4 steps)")
 
 
 @pytest.mark.parametrize(("study", "override", "allowed"), [
     ("gravity_settle", "+params.settle_t_max_s=-1.0", SIM_TIME_ALLOWED),
-    ("gravity_settle", "+params.implicit_dt_s=0.0", "> 0.0"),
+    ("gravity_settle", "+params.implicit_dt_s=0.0", "> 0"),
     ("friction_mass", "+params.t_max_s=0.0", SIM_TIME_ALLOWED),
-    ("friction_mass", "+params.grip_speed_m_per_s=-0.02", "> 0.0"),
+    ("friction_mass", "+params.grip_speed_m_per_s=-0.02", "> 0"),
     ("shapes", "+params.nodes=5", NODES_ALLOWED), ("shapes", "+params.candidate_sample=-3", ">= 0")])
 def test_a_kind_parameter_out_of_range_is_refused_before_the_run_starts(results, study, override, allowed):
     # a negative settle time ran RK4 to an "ok" record and failed the implicit trial with a bare
@@ -340,7 +340,7 @@ def test_a_kind_parameter_out_of_range_is_refused_before_the_run_starts(results,
             f"{override.removeprefix('+').replace('=', ' = ')} is out of range; allowed: {allowed}.")
 
 
-MASS_ALLOWED = (">= 0.0001 and <= 10.0 (below 0.1 g an object weighs less than the rig's 1 mN force "
+MASS_ALLOWED = (">= 0.0001 and <= 10 (below 0.1 g an object weighs less than the rig's 1 mN force "
                 "resolution, and a three-finger hand lifts at most ~10 kg)")
 
 
@@ -353,9 +353,9 @@ MASS_ALLOWED = (">= 0.0001 and <= 10.0 (below 0.1 g an object weighs less than t
     ("friction_mass", "nodes=[100000]", "factors.nodes[0] = 100000", NODES_ALLOWED),
     ("friction_mass", "+params.t_max_s=1e9", "params.t_max_s = 1000000000.0", SIM_TIME_ALLOWED),
     ("surrogate", "params.mu_range=[0.05,9]", "params.mu_range[1] = 9.0",
-     ">= 0.0 and <= 3.0 (dry friction of soft materials stays below 3)"),
+     ">= 0 and <= 3 (dry friction of soft materials stays below 3)"),
     ("sensitivity", "params.mu_range=[0.05,9]", "params.mu_range[1] = 9.0",
-     ">= 0.0 and <= 3.0 (dry friction of soft materials stays below 3)"),
+     ">= 0 and <= 3 (dry friction of soft materials stays below 3)"),
     ("surrogate", "params.mass_range_kg=[0.1,50]", "params.mass_range_kg[1] = 50.0", MASS_ALLOWED),
     ("sensitivity", "params.mass_range_kg=[0.1,50]", "params.mass_range_kg[1] = 50.0", MASS_ALLOWED)])
 def test_kind_param_lists_and_time_budgets_are_bounded_as_their_factors(

@@ -147,9 +147,10 @@ def test_a_run_this_user_may_not_write_is_refused_before_its_backend_starts(resu
         yield
 
     monkeypatch.setattr(runner_module, "_executor", unreachable)
-    monkeypatch.setattr(runner_module, "write_denied",  # root may write anywhere: another user's run
-                        lambda where: f"cannot be written by this user: {PERMISSION_DENIED}")
     run = results / "smoke" / "fresh"
+    monkeypatch.setattr(runner_module, "write_denied",  # root may write anywhere: another user's run
+                        lambda where: f"cannot be written by this user: {PERMISSION_DENIED}"
+                        if Path(where) == run else None)
     refused(results, ["run", "smoke", *SMOKE, "--run", "fresh", "--root", results],
             f"run smoke/fresh at {run}: {run}: cannot be written by this user: {PERMISSION_DENIED}.")
     assert not run.exists()

@@ -30,7 +30,7 @@ POSITIVE = ("is out of range; allowed: > 0 (a time, force, torque, length, mass,
     ("test2_grasp", "paper.force_err_kruskal_p=1.5",
      "paper.force_err_kruskal_p = 1.5 is out of range; allowed: >= 0 and <= 1 (a p-value)."),
     ("test1_bench", "paper.table4.gel.mu_s=-0.1",
-     "paper.table4.gel.mu_s = -0.1 is out of range; allowed: >= 0 and <= 3.0 (a friction coefficient: "
+     "paper.table4.gel.mu_s = -0.1 is out of range; allowed: >= 0 and <= 3 (a friction coefficient: "
      "dry friction of soft materials stays below 3)."),
     ("pso_repeatability", "paper.cv_pct.n=-19",
      "paper.cv_pct.n = -19 is out of range; allowed: >= 0 (an error or a coefficient of variation in "

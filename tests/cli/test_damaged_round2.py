@@ -7,15 +7,13 @@ Every case damages its own copy of the finished runs (``results`` in conftest.py
 
 from __future__ import annotations
 
-import contextlib
 import shutil
-import subprocess
 
 import pyarrow as pa
 import pyarrow.compute as pc
 import pyarrow.parquet as pq
 import pytest
-from cli_checks import BG, grid_run, invoke, refused, resume_advice, resumed
+from cli_checks import BG, grid_run, immutable, invoke, refused, resume_advice, resumed
 
 from graspcampaign.campaign.records import CONTENT_KEY, RunStore, content_digest
 
@@ -47,20 +45,6 @@ def test_a_quarantined_preparation_is_computed_again_as_the_warning_says(results
     assert (grid_run(results) / "report" / "tables" / "identifications.csv").is_file()
 
 
-@contextlib.contextmanager
-def _immutable(path):
-    """``path`` made immutable (``chattr +i``: no file in it can be added, renamed or removed,
-    even by root, as on a read-only share) for the block; the test is skipped where that cannot
-    be done (not root, a file system without the attribute)."""
-    chattr = shutil.which("chattr")
-    if chattr is None or subprocess.run([chattr, "+i", path], capture_output=True).returncode:
-        pytest.skip("chattr +i is not available here")
-    try:
-        yield
-    finally:
-        subprocess.run([chattr, "-i", path], check=True)
-
-
 def test_a_file_that_cannot_be_moved_aside_is_refused_in_one_sentence_nothing_copied(results):
     """A file a sync tool left (``desktop.ini``) in a records/ directory, the file immutable: `run`
     says what it could not move and why, exit 2, and leaves no copy in quarantine/ (it copied the
@@ -72,11 +56,11 @@ def test_a_file_that_cannot_be_moved_aside_is_refused_in_one_sentence_nothing_co
     stray.write_text("[.ShellClassInfo]\n")
     target = grid_run(results) / "quarantine" / "records__desktop.ini"
     run = ["run", "baseline_grid", *BG, "runner.progress=false", "--root", results]
-    with _immutable(stray):
+    with immutable(stray):
         refused(results, run, f"cannot move {stray} to {target} (not a Parquet shard of the run): "
                 f"operation not permitted; it stays where it is, so make {records} and "
                 f"{target.parent} writable and run the command again.")
-    with _immutable(records):
+    with immutable(records):
         refused(results, run, f"run baseline_grid/default at {grid_run(results)}: {records}: cannot "
                 "write there (Operation not permitted); make it writable for this user, or run the "
                 "command as the user who owns the run.")

@@ -49,7 +49,7 @@ def test_show_prints_design_without_running(tmp_path):
     ("override", "message"),
     [
         ("+factors.mass_kg=[-0.2]", r"factors\.mass_kg\[0\] = -0\.2 is out of range; allowed: >= 0\.0001"),
-        ("+factors.mu=[-0.1]", r"factors\.mu\[0\] = -0\.1 is out of range; allowed: >= 0\.0"),
+        ("+factors.mu=[-0.1]", r"factors\.mu\[0\] = -0\.1 is out of range; allowed: >= 0 and <= 3 "),
         ("nodes=[5]", r"factors\.nodes\[0\] = 5 is out of range; allowed: >= 12"),
         ("seeds=0", r"seeds = 0 is out of range; allowed: >= 1"),
         ("+factors.planner=[telepathy]", r"factors\.planner\[0\] has unknown value 'telepathy'; "

@@ -119,10 +119,12 @@ def compose_study(study: str, overrides: list[str] | None = None) -> StudyCfg:
         raise ConfigError(f"overrides = {overrides!r} is not a list of KEY=VALUE texts; give one, "
                           "e.g. ['seeds=2'].")
     conf_dir, campaigns_dir = project_dirs()
-    path = find_study(study)
+    # the search path listed once, for every check below (a study given by name)
+    files = study_files() if isinstance(study, str) and not is_path_argument(study) else None
+    path = find_study(study, files)
     data = read_yaml(path, study=True)
     check_package_header(path)
-    check_study_file(path, data)
+    check_study_file(path, data, files)
     given = list(overrides or [])
     conf_digest = check_conf(conf_dir)
     check_overrides(given)
@@ -163,9 +165,10 @@ def compose_study(study: str, overrides: list[str] | None = None) -> StudyCfg:
         check_kind(obj)
     except ConfigError as exc:  # about the kind as much as its factors or params
         raise _blamed(exc, path, overrides, also=("kind",)) from None
-    _check_renamed(obj.name, data.get("name"), path, given)
-    check_paper_block(obj, data.get("name"), path, campaigns_dir,
-                      [o for o in given if group(o) in ("paper", "compare_with")])
+    _check_renamed(obj.name, data.get("name"), path, given, files)
+    said = [o for o in given if group(o) in ("paper", "compare_with")]
+    check_paper_block(obj, data.get("name"), path, campaigns_dir, said,
+                      next((o for o in said if group(o) == "compare_with"), None))
     if len(_COMPOSED) >= _COMPOSED_MAX:
         _COMPOSED.pop(next(iter(_COMPOSED)))
     _COMPOSED[key] = copy.deepcopy(obj)
@@ -182,21 +185,23 @@ def _check_output_root(root: str) -> None:
         raise ConfigError(str(exc), key="output.root") from None
 
 
-def _check_renamed(name: str, written: Any, path: Path, given: list[str]) -> None:
+def _check_renamed(name: str, written: Any, path: Path, given: list[str],
+                   files: dict[str, Path] | None = None) -> None:
     """Refuse a study renamed on the command line (``name=...``) after another study on the search
     path: runs are stored (``<root>/<name>/``) and reported (``report/studies/``, by name) by their
     study's name, so its runs would be taken for that study's (docs/decisions.md, "A study's
     name")."""
     if name == written:
         return
-    other = study_files().get(name)
+    files = study_files() if files is None else files
+    other = files.get(name)
     typed = next((o for o in given if split(o)[1] == "name"), f"name={name}")
     if other is not None and other.resolve() != path.resolve():
         raise ConfigError(f"override {typed!r} names the study {name} ({study_place(other)}): runs "
                           f"are stored and reported by their study's name, so this run of {written} "
                           f"would be taken for one of {name}'s; give a name no study has "
                           "(graspcampaign list shows them).", key="name")
-    if (twin := case_twin_study(name)) is None:
+    if (twin := case_twin_study(name, files)) is None:
         return
     why = CASE_TWINS.format(name, twin[0])
     if twin[1].resolve() == path.resolve():  # smoke name=SMOKE

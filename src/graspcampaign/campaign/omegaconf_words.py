@@ -12,10 +12,13 @@ from graspcampaign.campaign.studycheck import field_at, known_keys_sentence, sec
 from graspcampaign.errors import ConfigError
 
 
-def omegaconf_error_sentence(exc: BaseException, prefix: str = "") -> str:
+def omegaconf_error_sentence(exc: BaseException, prefix: str = "",
+                             typed: dict[str, str] | None = None) -> str:
     """Turn an OmegaConf/Hydra exception into one sentence in plain words naming the key. One
     raised by a check of ours (a ``ConfigError`` a schema's ``__post_init__`` raised, which
-    OmegaConf wraps) is already that sentence, its key named: it is returned as it is."""
+    OmegaConf wraps) is already that sentence, its key named: it is returned as it is. ``typed``:
+    each override's value as the user typed it, by key, to name a number Hydra read as one
+    (``runner.n_jobs=1e3`` is "got 1e3", not Python's "got 1000.0")."""
     own = exc
     while own is not None and not isinstance(own, ConfigError):
         own = own.__cause__ or own.__context__
@@ -53,6 +56,8 @@ def omegaconf_error_sentence(exc: BaseException, prefix: str = "") -> str:
         return f"{key} must be true or false, got {value!r}."
     if match := re.search(r"could not be converted to (Integer|Float)", text):
         said = str(value).lower() if isinstance(value, bool) else repr(value)  # seeds=true: as typed
+        if not isinstance(value, (str, bool)) and (typed or {}).get(key):
+            said = typed[key].strip()
         return f"{key} must be {'a whole number' if match[1] == 'Integer' else 'a number'}, got {said}."
     if key.startswith("factors.") and key.count(".") == 1 and "[" not in key:
         name = key.split(".", 1)[1]

@@ -330,8 +330,8 @@ def override_sentence(exc: BaseException, overrides: list[str], given: list[str]
                 if "=" not in item and not item.startswith("~"):  # ~key deletes: no value
                     return f"cannot parse override {typed!r}: expected key=value, e.g. mu=0.3."
                 return (_character_sentence(item, typed, str(error))
-                        or f"cannot parse override {typed!r}: {_parse_reason(str(error))}; write "
-                           "KEY=VALUE, a list as [a,b], and quote a value holding other "
+                        or f"cannot parse override {typed!r}: {_parse_reason(str(error), typed, parser)}"
+                           "; write KEY=VALUE, a list as [a,b], and quote a value holding other "
                            "characters.")
         return f"cannot parse overrides: {text.rstrip('.')}."
     if getattr(exc, "errno", None) == errno.ENAMETOOLONG:  # Hydra looked for the key as a group
@@ -345,8 +345,10 @@ def override_sentence(exc: BaseException, overrides: list[str], given: list[str]
     if match:
         return _nothing_to_delete(match.group(1), _typed(match.group(1), overrides, given), factors)
     match = re.match(r"Could not append to config\. An item is already at '([^']+)'", text)
-    if match:
-        return f"{match.group(1)} already exists; override it without the leading '+'."
+    if match:  # Hydra names the key alone
+        typed = _typed(match[1], overrides, given) or f"+{match[1]}=..."
+        return (f"override {typed!r} adds {match[1]}, which every study has already; set it "
+                f"without the leading '+': {typed.lstrip('+')}.")
     match = re.search(r"Could not find '([\w-]+)/([^']*)'", text)
     if match:
         return missing_option_sentence(match.group(1), match.group(2))
@@ -362,15 +364,21 @@ def override_sentence(exc: BaseException, overrides: list[str], given: list[str]
             _, key, _, value = split(item)
             if key in GROUPS and not re.fullmatch(r"[A-Za-z_][\w-]*", value.strip()):
                 return missing_option_sentence(key, value.strip())
-    return omegaconf_error_sentence(exc)
+    return omegaconf_error_sentence(exc, typed={split(item)[1]: split(typed)[3]
+                                                for item, typed in zip(overrides, given, strict=True)})
 
 
 _LEXER = "LexerNoViableAltException: "
 
 
-def _parse_reason(error: str) -> str:
-    """The reason Hydra's parser gives (its second line), in plain words: ``extraneous input '='
-    expecting {<EOF>, ...}`` -> ``unexpected '='``."""
+def _parse_reason(error: str, typed: str, parser: Any) -> str:
+    """The reason Hydra's parser gives (its second line), in plain words, for the override as
+    ``typed`` if it fails too (``mu=(0.3,0.5)``, whose rewriting fails at ``[(``, which no one
+    typed): ``extraneous input '(' expecting {<EOF>, ...}`` -> ``unexpected '('``."""
+    try:
+        parser.parse_overrides([typed])
+    except Exception as own:  # noqa: BLE001  (any refusal of Hydra's parser)
+        error = str(own)
     lines = error.splitlines()
     reason = lines[1] if len(lines) > 1 and not lines[1].startswith("See ") else lines[0]
     match = re.match(r"(?:extraneous|mismatched) input ('.*') expecting", reason)

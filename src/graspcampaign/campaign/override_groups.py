@@ -26,6 +26,8 @@ def problem(item: str, prefix: str, key: str, value: str, read: Any) -> str | No
     override, and for one choosing an option (an unknown option is named after composition)."""
     if key not in GROUPS or "~" in prefix:  # ~model: check_overrides' own sentence
         return None
+    if "+" not in prefix and read is not None and not _KEY_REFERENCE.search(value):
+        return None  # model=firm: its group's folder is not listed for an override it takes
     choose = f"choose one of its options ({key}=OPTION; options: {', '.join(group_options(key))})"
     if "+" in prefix:
         return (f"override {item!r} adds the config group {key}, which every study has already "

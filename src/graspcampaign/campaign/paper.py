@@ -40,6 +40,7 @@ from graspcampaign.campaign.paper_bounds import (
     Score,
     Signed,
 )
+from graspcampaign.core.words import meant
 from graspcampaign.errors import ConfigError
 
 
@@ -371,7 +372,8 @@ def check_paper(study: str, block: dict | None, where: str = "paper", *,
     types_ = paper_types()
     if compare_with and study not in types_:
         raise ConfigError(f"{where.rsplit(':', 1)[0]}: compare_with = {study!r} is not a study with "
-                          f"paper values; allowed: {', '.join(sorted(types_))}.")
+                          f"paper values; {meant(study, sorted(types_))}allowed: "
+                          f"{', '.join(sorted(types_))}.")
     if study not in types_:
         if block:
             raise ConfigError(f"{where}: study {study!r} has no paper schema, so its paper "

@@ -194,7 +194,7 @@ def _not_a_results_root(root: Path) -> str | None:
         run = f"run {where.parent.name}/{where.name}"
         what = f"the directory of {run}" if where == absolute else f"inside {run} ({where})"
         return f"it is {what}; give the results root that holds it ({where.parent.parent})"
-    from graspcampaign.campaign.studyfile import config_place  # which imports this module
+    from graspcampaign.campaign.studyfile import config_place  # lazy: it imports paths at its top
 
     if (why := config_place(absolute)) is not None:
         return why

@@ -433,6 +433,8 @@ def run_lock(store: RunStore, label: str) -> Iterator[None]:
     so removed after this process opened it, or its directory so removed before, is made and
     opened again (two new runs of one run at once: the one refused by its backend removes both)."""
     made = [p for p in (store.path, *store.path.parents) if not p.exists()]  # deepest first
+    if made and (why := write_denied(made[-1].parent)) is not None:  # chattr +i, a read-only mount
+        raise UserInputError(_denied(store, label, made[-1].parent, why))
     lock, handle, held = store.path / LOCK_FILE, None, False
     try:
         for _ in range(_LOCK_ATTEMPTS):
@@ -481,11 +483,16 @@ def unwritable(store: RunStore, label: str) -> str | None:
     to `report`."""
     for where, folders, _ in os.walk(store.path):
         folders[:] = [f for f in folders if Path(where, f) != store.path / "report"]
-        if (why := write_denied(Path(where))) is not None:  # permission denied says what to do
-            advice = "" if PERMISSION_DENIED in why else ("; make it writable for this user, or "
-                                                          "run the command as the user who owns the run")
-            return f"run {label} at {store.path}: {where}: {why}{advice}."
+        if (why := write_denied(Path(where))) is not None:
+            return _denied(store, label, where, why)
     return None
+
+
+def _denied(store: RunStore, label: str, where: Path | str, why: str) -> str:
+    """The refusal of a run whose directory ``where`` cannot be written, ``why``."""
+    advice = "" if PERMISSION_DENIED in why else ("; make it writable for this user, or run the "
+                                                  "command as the user who owns the run")
+    return f"run {label} at {store.path}: {where}: {why}{advice}."  # permission denied says what to do
 
 
 #: Times a run opens its lock afresh after another process removed it (or its directory) meanwhile.

@@ -20,7 +20,7 @@ from typing import Any
 
 from graspcampaign.campaign.former_names import FORMER_FACTORS, RENAMED_FACTORS, former_factor
 from graspcampaign.campaign.override_scan import not_finite
-from graspcampaign.core.plausible import FINGERTIP_RADIUS, PLAUSIBLE
+from graspcampaign.core.plausible import FINGERTIP_RADIUS, PLAUSIBLE, bound_text
 from graspcampaign.core.words import counted, meant, typed_value
 from graspcampaign.errors import ConfigError
 
@@ -254,16 +254,9 @@ FACTOR_SPECS: dict[str, dict[str, Any]] = {
 
 
 def _fmt_allowed(meta: dict[str, Any]) -> str:
-    parts = []
-    if "gt" in meta:
-        parts.append(f"> {meta['gt']}")
-    if "ge" in meta:
-        parts.append(f">= {meta['ge']}")
-    if "le" in meta:
-        parts.append(f"<= {meta['le']}")
-    if "ne" in meta:
-        parts.append(f"!= {meta['ne']}")
-    return " and ".join(parts)
+    """The bounds of ``meta`` as ``plan`` prints a plausible range: ``>= 0 and <= 3``."""
+    signs = {"gt": ">", "ge": ">=", "le": "<=", "ne": "!="}
+    return " and ".join(f"{sign} {bound_text(meta[key])}" for key, sign in signs.items() if key in meta)
 
 
 def not_finite_text(key: str, value: Any) -> str | None:

@@ -269,9 +269,10 @@ def check_kind_name(kind: str) -> None:
                           f"{', '.join(sorted(KINDS))}.", key="kind")
 
 
-def check_study_file(path: Path, data: dict[str, Any]) -> None:
+def check_study_file(path: Path, data: dict[str, Any], files: dict[str, Path] | None = None) -> None:
     """Check a study file before composition (see :func:`check_study_data`), and that its
-    ``name:`` is its file name: a study is listed, run, shown and reported by that name.
+    ``name:`` is its file name: a study is listed, run, shown and reported by that name (``files``:
+    the study files on the search path, ``studyfile.study_files``, when the caller listed them).
 
     Raises
     ------
@@ -300,7 +301,7 @@ def check_study_file(path: Path, data: dict[str, Any]) -> None:
                     f"{stem}), so write name: {stem} or rename the file "
                     f"to {name}.yaml.", key="name")
             shipped = Path(path).parent.resolve() == project_dirs()[1].resolve()
-            if not shipped and (twin := case_twin_study(name)) is not None:
+            if not shipped and (twin := case_twin_study(name, files)) is not None:
                 raise ConfigError(
                     f"name: {name} differs only in case from the study {twin[0]} "
                     f"({study_place(twin[1])}): {CASE_TWINS.format(name, twin[0])}; rename the "
@@ -361,10 +362,11 @@ def check_conf(conf_dir: Path) -> str:
 
 
 def check_paper_block(obj: StudyCfg, written: Any, path: Path, campaigns_dir: Path,
-                      overrides: list[str] = ()) -> None:
+                      overrides: list[str] = (), compared: str | None = None) -> None:
     """Check the paper block against the paper values of the study it compares with
-    (``written``: the name the study file gives; ``overrides``: those that set paper values,
-    named in the message beside the file).
+    (``written``: the name the study file gives; ``overrides``: those that set paper values or
+    compare_with, named in the message beside the file; ``compared``: the one of them that sets
+    compare_with, as typed).
 
     A study renamed on the command line (``name=other``) keeps comparing with the study its file
     holds (its paper block is that study's); a user's file that takes a tool study's name (and
@@ -387,8 +389,7 @@ def check_paper_block(obj: StudyCfg, written: Any, path: Path, campaigns_dir: Pa
     levels = {f"{group}.{k}": v for group in ("factors", "params")
               for k, v in (data.get(group) or {}).items() if isinstance(v, list)}
     if data.get("kind") not in (None, obj.kind):  # compared with, or hidden by, the user's file
-        typed = next((o for o in overrides if o.lstrip("+").partition("=")[0] == "compare_with"), None)
-        _check_compared_kind(obj, str(data["kind"]), path, campaigns_dir, paper_types(), typed)
+        _check_compared_kind(obj, str(data["kind"]), path, campaigns_dir, paper_types(), compared)
     try:
         check_paper(like, obj.paper, f"{where}: paper", compare_with=bool(obj.compare_with),
                     levels=levels)

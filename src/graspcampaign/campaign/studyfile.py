@@ -163,11 +163,12 @@ def study_files() -> dict[str, Path]:
     return dict(sorted(out.items()))
 
 
-def case_twin_study(name: str) -> tuple[str, Path] | None:
-    """The study on the search path whose name differs from ``name`` only in case (``smoke``
-    for ``Smoke``), and its file; else None. Runs are stored by their study's name
-    (``<root>/<name>/``), and on a file system that ignores case the two are one directory."""
-    return next(((other, path) for other, path in study_files().items()
+def case_twin_study(name: str, files: dict[str, Path] | None = None) -> tuple[str, Path] | None:
+    """The study on the search path (``files``, :func:`study_files`' listing, when the caller has
+    it) whose name differs from ``name`` only in case (``smoke`` for ``Smoke``), and its file; else
+    None. Runs are stored by their study's name (``<root>/<name>/``), and on a file system that
+    ignores case the two are one directory."""
+    return next(((other, path) for other, path in (study_files() if files is None else files).items()
                  if other != name and other.lower() == name.lower()), None)
 
 
@@ -231,8 +232,9 @@ def study_and_run(study: str, root: Path | str | None = None) -> str | None:
             f"give the study's name and the run apart: {parts[0]} --run {parts[1]}.")
 
 
-def find_study(study: str) -> Path:
-    """Return the file of a study given by name (on the search path) or by path.
+def find_study(study: str, files: dict[str, Path] | None = None) -> Path:
+    """Return the file of a study given by name (on the search path: ``files``, :func:`study_files`'
+    listing, when the caller has it) or by path.
 
     Raises
     ------
@@ -255,7 +257,7 @@ def find_study(study: str) -> Path:
         if path.suffix not in _SUFFIXES:
             raise ConfigError(f"study file {shown(study)} must end in .yaml or .yml.")
         return path
-    files = study_files()
+    files = study_files() if files is None else files
     if study not in files:
         for directory in study_dirs():  # a mine.YAML there is not listed, nor a mine.yaml that is
             found = [p for p in directory.iterdir() if p.stem == study and p.suffix.lower() in _SUFFIXES]

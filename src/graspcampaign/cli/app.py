@@ -112,15 +112,33 @@ def path_or_empty(value: str, option: str = "path") -> Path | str:
     empty ``--root`` is refused instead of meaning the current directory; a leading ``~`` or
     ``~user`` is read as the shell reads it (quoted, ``--root '~/runs'`` reaches the tool as typed,
     and would make a directory named ``~``), and one whose home cannot be found is refused naming
-    ``option``. The one reading of every path option (:data:`RootOpt`, :func:`file_path`)."""
+    ``option``, as is an option's (not a file to read, ``option`` "path") beginning or ending with
+    a space (:func:`spaced`). The one reading of every path option (:data:`RootOpt`,
+    :func:`file_path`)."""
     from graspcampaign.campaign.paths import expand_home, shown
 
     if not value:
         return value
+    if option != "path" and (why := spaced(value)):  # a file to read is found or not as named
+        fail(f"{option} {value!r} {why}.")
     path, unknown = expand_home(value)
     if unknown:
         fail(f"{option} {shown(value)} {unknown}; give its path in full.")
     return path
+
+
+def spaced(value: str) -> str | None:
+    """Why a path to write or a results root ``value`` beginning or ending with a space is refused
+    (after the value), or None: pasted with the space beside it, ``--root ' results'`` would make
+    a folder named `` results`` beside ``results``, and `status` would not find the runs there."""
+    if not value.strip(" "):
+        return "is only spaces; give a path"
+    if value[0] == " ":
+        return (f"begins with a space, which would be part of the name; write {value.strip(' ')!r} "
+                "(its full path, for a name that does begin with one)")
+    if value[-1] == " ":
+        return f"ends with a space, which would be part of the name; write {value.strip(' ')!r}"
+    return None
 
 
 def root_path(value: str) -> Path | str:

@@ -11,11 +11,17 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-__all__ = ["FINGERTIP_RADIUS", "PLAUSIBLE", "PlausibleRange", "OBJECT_SIZE_MM"]
+__all__ = ["FINGERTIP_RADIUS", "PLAUSIBLE", "PlausibleRange", "OBJECT_SIZE_MM", "bound_text"]
 
 FINGERTIP_RADIUS = 5e-3
 """The paper's fingertip radius R [m] (Table 2, §7.1): the simulated fingertip's default, the Test 1
 indenter and ``plan``'s default. Kept here, free of numpy, so the command line's help shows it."""
+
+
+def bound_text(value: float) -> str:
+    """A range's bound as every refusal prints it: a whole number without its ``.0`` (``<= 3``,
+    ``<= 4294967295``), any other as Python's shortest text of it (``>= 0.0001``)."""
+    return str(int(value)) if math.isfinite(value) and float(value).is_integer() else repr(float(value))
 
 
 @dataclass(frozen=True)
@@ -49,7 +55,7 @@ class PlausibleRange:
 
     def text(self) -> str:
         """The interval in words, e.g. ``> 0 and <= 10``."""
-        return f"{'>' if self.low_open else '>='} {self.low:g} and <= {self.high:g}"
+        return f"{'>' if self.low_open else '>='} {bound_text(self.low)} and <= {bound_text(self.high)}"
 
     def meta(self, scale: float = 1.0) -> dict:
         """Validation metadata for ``campaign.schema.check_value`` (``gt``/``ge``, ``le``, ``why``).

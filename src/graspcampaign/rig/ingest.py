@@ -53,6 +53,7 @@ from graspcampaign.rig.record_schema import (
 
 __all__ = [
     "IngestError",
+    "case_hint",
     "check_one_source",
     "header_problems",
     "read_records",
@@ -262,6 +263,13 @@ def validate_records(data: pd.DataFrame | str | Path, schedule: pd.DataFrame,
     return clean_df
 
 
+def case_hint(what: str, given: str, known: Collection[str]) -> str:
+    """`` (trial ids are case-sensitive: 'T2A-…'?)``: the id of ``known`` that ``given`` (an id
+    of ``what``, "trial" or "event", not among them) spells in another case, or ``""``."""
+    same = next((k for k in known if k.lower() == str(given).lower()), None)
+    return f" ({what} ids are case-sensitive: '{same}'?)" if same else ""
+
+
 def check_one_source(rows: Sequence[tuple[str, int, str]], stored: pd.DataFrame | None = None) -> None:
     """Refuse records of more than one source in a run: ``rows`` are (file, 1-based row,
     source) of the files being ingested, ``stored`` the run's stored records (None: a new run).
@@ -337,9 +345,8 @@ def _check_ids(df: pd.DataFrame, schedule: pd.DataFrame, label: str) -> None:
         if m and m["slot"] in slots:
             raise ingest_error(label, i + 1, "trial_id", f"trial id '{tid}' names attempt {m['k']} of slot "
                                f"'{m['slot']}'; a re-run is attempt 2 to {ATTEMPT_TYPO_LIMIT}")
-        same = next((k for k in known if k.lower() == str(tid).lower()), None)  # as Test 1's ids
-        hint = f" (trial ids are case-sensitive: '{same}'?)" if same else ""
-        raise ingest_error(label, i + 1, "trial_id", f"trial id '{tid}' is not in the schedule{hint}")
+        raise ingest_error(label, i + 1, "trial_id", f"trial id '{tid}' is not in the schedule"
+                           f"{case_hint('trial', tid, known)}")
     dup = df["trial_id"].duplicated(keep="first")
     if dup.any():
         i = int(np.flatnonzero(dup.to_numpy())[0])

@@ -480,8 +480,10 @@ def header_problems(columns: list[str], required: list[str], units: dict[str, st
         def hint(c: str) -> str:
             if empty := re.fullmatch(r"Unnamed: ([0-9]+)", c):  # pandas' name of an empty cell
                 return f"column {int(empty[1]) + 1} (its header cell is empty)"
-            # compared as the sheet writes a name (lower case, '_' between words): 'Time (s)' as time_s
-            return f"'{c}'{aside(re.sub(r'[^0-9a-z]+', '_', c.lower()).strip('_'), known, cutoff=0.75)}"
+            # compared as the sheet writes a name (lower case, '_' between words): 'Time (s)' as time_s;
+            # a character that does not print (a NUL, a zero-width space) shown escaped: 'sta\x00ble'
+            shown = f"'{c}'" if c.isprintable() else repr(c)
+            return f"{shown}{aside(re.sub(r'[^0-9a-z]+', '_', c.lower()).strip('_'), known, cutoff=0.75)}"
         more = f" and {len(unknown) - 8} more" if len(unknown) > 8 else ""
         out.append(f"{'a column is' if len(unknown) == 1 else 'columns are'} not part of the sheet: "
                    f"{', '.join(map(hint, unknown[:8]))}{more}; its columns are {', '.join(known)}")

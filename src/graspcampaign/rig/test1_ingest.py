@@ -23,7 +23,7 @@ import pandas as pd
 from graspcampaign.core.bench import MIN_FIT_SAMPLES
 from graspcampaign.core.words import counted
 from graspcampaign.rig.file_kinds import other_files
-from graspcampaign.rig.ingest import check_one_source, refuse_larger
+from graspcampaign.rig.ingest import case_hint, check_one_source, refuse_larger
 from graspcampaign.rig.measured_file import (
     IngestError,
     aside,
@@ -248,10 +248,9 @@ def _unknown_event(label: str, i: int, event: str, known: set[str],
                    schedule: pd.DataFrame | None) -> IngestError:
     """The error of row ``i + 1``, whose event id ``event`` is not among ``known``: named as the
     schedule's event id in another case, or as a specimen id (a column the sheet also has)."""
-    hint = ""
-    if same := next((k for k in known if k.lower() == event.lower()), None):
-        hint = f" (event ids are case-sensitive: '{same}'?)"
-    elif schedule is not None and "specimen_id" in schedule and (schedule["specimen_id"] == event).any():
+    hint = case_hint("event", event, known)
+    if (not hint and schedule is not None and "specimen_id" in schedule
+            and (schedule["specimen_id"] == event).any()):
         hint = (" (it is a specimen_id; the column holds the event_id of the schedule's row of "
                 "each event)")
     return ingest_error(label, i + 1, "event_id", f"event id '{event}' is not in the schedule{hint}")
