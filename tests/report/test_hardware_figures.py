@@ -130,6 +130,22 @@ def test_schematic_slip_axis_has_readable_ticks_and_no_finger_hides_another(sim_
             assert f"({line.get_ydata()[0]:#.3g} N)" in line.get_label()  # 0.510 N: 3 digits, as 0.245 N
 
 
+def test_fig30_draws_the_recorded_hold_values_over_the_hold(sim_root):
+    """The trial's recorded normal forces and its prediction are the hold's (§8.1: the forces "settle to
+    a steady hold"), as its peak slip is: Fig. 30 drew the forces from the start of the lift, the slip from
+    the start of the hold. Every recorded level now spans the shaded hold phase exactly."""
+    _, fig = _drawn(sim_root, "test2_grasp", "fig30_representative_grasp")
+    force, slip = fig.axes
+    hold = [p for p in force.patches if p.get_label() == "hold"]
+    assert len(hold) == 1
+    x = hold[0].get_x(), hold[0].get_x() + hold[0].get_width()
+    levels = [line for line in force.get_lines() if line.get_label().startswith(("finger ", "predicted"))]
+    levels += [line for line in slip.get_lines() if line.get_label().startswith("peak slip")]
+    assert len(levels) == 5
+    for line in levels:
+        assert tuple(line.get_xdata()) == pytest.approx(x, rel=1e-12), line.get_label()
+
+
 def test_fig30_leaves_out_a_finger_without_a_recorded_force_and_says_so(sim_root):
     """An ingested file may leave a finger's force empty (null in the records): Fig. 30 drew it as a NaN
     line, "finger 2, recorded (nan N)". Here finger 2 of the trial the figure draws is emptied (its mean

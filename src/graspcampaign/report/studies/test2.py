@@ -263,11 +263,12 @@ def fig30(run: Run, fig) -> None:
     pred, slip_max = t["normal_force_pred_read_n"], paper_of(run, lambda p: p.hold_slip_max_mm)
     style.schematic(fig, t, ((0, t0, "closing", "#e3f2fd"), (t0, t1, "lift", "#fff8e1"), (t1, t2, "hold",
                                                                                    "#e8f5e9")), [
-        *(([t0, t2], [force[j]] * 2, f"finger {j}, recorded ({fmt.number(force[j], sig=3)} N)",
+        # the recorded forces are the hold's (§8.1: "settle to a steady hold"), drawn over it as the peak slip
+        *(([t1, t2], [force[j]] * 2, f"finger {j}, recorded ({fmt.number(force[j], sig=3)} N)",
            {"color": colour("finger", f"finger{j}"), "ls": ls, "lw": lw}) for j, ls, lw in style.FINGER_LINES
           if j in force),
         # every level's legend entry gives its value, as the fingers' do
-        ([t0, t2], [pred] * 2, f"predicted, mean{' of the fingers drawn' * (len(force) < 3)} "
+        ([t1, t2], [pred] * 2, f"predicted, mean{' of the fingers drawn' * (len(force) < 3)} "
                                f"({fmt.number(pred, sig=3)} N)",
          {"ls": ":", "color": "#333333"}),
         *[(None, band, f"paper: steady hold ({fmt.paper_text(band)} N)",
