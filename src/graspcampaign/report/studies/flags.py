@@ -82,7 +82,8 @@ def confusion(paper, flag: str):
     def draw(run: Run, ax) -> None:
         m = hw.classifier_table(ex(run).assign(all=1), ["predicted_stable"], ["all"]).iloc[0]
         cells, ref = np.array([[m["tn"], m["fn"]], [m["fp"], m["tp"]]]), paper_of(run, paper)
-        style.confusion(ax, cells, ["no", "yes"], ["failed", "succeeded"], f"{run.rig} outcome [trials]", flag)
+        style.confusion(ax, cells, ["no", "yes"], ["failed", "succeeded"], f"{run.rig} outcome [trials]",
+                        flag)
         ax.set_title("(c) flag vs outcome")
         ax.plot([], [], " ", label="\n".join([f"n = {m['n']}", *(
             f"{k}: ours {fmt.number(m[k], 2)}" + (f", paper {fmt.number(getattr(ref, k), 2)}" if ref else "")
