@@ -152,12 +152,14 @@ LEGIBLE_PX = 10.0
 
 
 @pytest.mark.parametrize(("study", "name"), [("friction_mass", "fig12_13_dynamic"),
-                                             ("sensitivity", "fig19_sensitivity")])
+                                             ("sensitivity", "fig19_sensitivity"),
+                                             ("surrogate", "figA1_surrogate")])
 def test_wide_figures_text_reads_at_least_ten_px_at_the_pages_width(sim_root, study, name):
     """Figs. 12-13 and 19 were 15 in wide: saved at 130 dpi (1950 px) and shown at the page's 1110 px,
-    their 7.5 pt legend text was 7.7 px high. Every visible text of theirs is at least 10 px (its font
-    size, an em) in the image as the page shows it: the saved PNG's width (its tight box and 0.1 in of
-    padding at the saving dpi) scaled down to the page's, never up."""
+    their 7.5 pt legend text was 7.7 px high (Fig. A1's 6.5 pt legends, 12 in wide, 8.3 px). Every
+    visible text of theirs is at least 10 px (its font size, an em) in the image as the page shows it:
+    the saved PNG's width (its tight box and 0.1 in of padding at the saving dpi) scaled down to the
+    page's, never up."""
     from matplotlib.text import Text
 
     from graspcampaign.report.style import RC
