@@ -459,3 +459,22 @@ def test_labels_agree_only_where_the_dynamic_grasp_settled():
     one.__dict__["ok"] = ok.assign(dynamic_status=["stable"] + ["not_settled"] * (out + 1))
     assert (f"Quasi-static and dynamic labels agree on 1 of the 1 run with a dynamic label ({out + 1} not "
             "settled by t_max, left out; table like_for_like)") in finding(one)
+
+
+def test_figs12_13_draw_their_cases_in_the_level_ramp_steps_spread_over_its_length():
+    """Figs. 12-13 drew the μ × m cases in ``C{i}``, whatever the colour cycle held (matplotlib's tab10
+    outside the report's style, whose C0 is a planner-like blue): each case is now the i-th of
+    ``style.level_colours(n)``, the ramp ``OTHER_COLOURS`` spread dark to light over the n cases."""
+    from graspcampaign.analysis.vocabulary import OTHER_COLOURS
+
+    run = friction_mass_run([0.1, 0.3])  # two μ × three masses
+    fig = plt.figure()
+    fig12_13(run, fig)
+    residual = [ax for ax in fig.axes if "Fig. 12 top" in ax.get_title()]
+    drawn = [[to_hex(line.get_color()) for line in ax.lines if line.get_label().startswith("μ=")]
+             for ax in residual]
+    plt.close(fig)
+    cases = len(run.ok) // 2  # per preset, two presets
+    assert len(residual) == 2 and cases == 6
+    spread = [OTHER_COLOURS[i] for i in (0, 1, 2, 3, 4, 5)]  # six levels: the whole ramp, one step each
+    assert drawn == [spread, spread]

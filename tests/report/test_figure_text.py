@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import pytest
 from synthetic_runs import draw_all, half_an_em
 
 from graspcampaign.campaign.records import RunStore
@@ -77,16 +78,41 @@ def test_neighbouring_tick_labels_lie_half_an_em_apart(sim_root):
     assert not crowded, crowded
 
 
+COUNTED = ("nodes", "features", "evaluations", "events", "candidates", "trials", "triples", "budget")
+"""Things a count axis counts (mesh nodes, sharp features, function evaluations, candidate triples)."""
+
+
+def _counts(named: str) -> bool:
+    """Whether an axis label names a count: its quantity (the words before its unit) ends in one of
+    :data:`COUNTED` (a symbol such as "n" or "N_cand" may follow it), or its unit is one of them
+    ("[triples]"); a statistic or ratio of counts ("Spearman ρ of H and ε over one trial's candidates",
+    "identified value / mean over runs") is none."""
+    import re
+
+    quantity, unit = re.match(r"(.*?)\s*\[([^\]]*)\]", named).groups()
+    words = quantity.split()
+    if unit in COUNTED:
+        return True
+    if re.search(r"\b(of|over|per)\b|/", quantity) or not words:
+        return False
+    if re.fullmatch(r"[A-Za-z](_\w+)?", words[-1]):  # a symbol: "n", "N_cand"
+        words = words[:-1]
+    return bool(words) and words[-1] in COUNTED
+
+
 def test_every_numeric_axis_names_its_unit(sim_root):
     """The H–ε histogram read "trials" over "Spearman ρ of H and ε over one trial's candidates", its
     colour bar "candidates", Fig. 23c "normal-indentation events", Fig. 17 "iteration of Algorithm 2":
     axes without a unit, where every other axis gives one ("[–]", "[count]", "[N]"). Every axis of every
     figure of every study whose tick labels are numbers names its unit in brackets: in its label, or,
-    where it has none (Figs. 15 and 17 title each panel by its quantity), in its panel's title."""
+    where it has none (Figs. 15 and 17 title each panel by its quantity), in its panel's title. A count
+    reads "[count]" (docs/decisions.md): smoke's "requested mesh nodes [–]" and "sharp features [–]",
+    Fig. 20's "mesh nodes n [–]" and "N_cand [triples]", Fig. 9's "function evaluations [–]" read three
+    ways."""
     import re
 
     number = re.compile(r"[−+\-]?[\d.,]+|\$\\mathdefault\{10\^\{[−\-]?\d+\}\}\$")
-    bare = []
+    bare, uncounted = [], []
     for study in sorted(p.parent.name for p in sim_root.glob("*/default")):
         for name, fig in draw_all(sim_root, study).items():
             for ax in fig.axes:
@@ -96,4 +122,54 @@ def test_every_numeric_axis_names_its_unit(sim_root):
                         named = words or ax.get_title("left") or ax.get_title()
                         if not re.search(r"\[[^\]]+\]", named):
                             bare.append((study, name, axis.axis_name, named))
+                        elif _counts(named) and "[count]" not in named:
+                            uncounted.append((study, name, axis.axis_name, named))
     assert not bare, bare
+    assert not uncounted, uncounted
+
+
+def _page_image_px() -> float:
+    """The widest a figure's image shows on the HTML page [px]: ``main``'s max-width less its side
+    padding, less ``figure``'s padding and border (report.style.CSS; ``img{max-width:100%}``)."""
+    import re
+
+    from graspcampaign.report.style import CSS
+
+    def px(rule: str, prop: str) -> list[float]:
+        body = re.search(r"(?:^|})\s*" + rule + r"\{([^}]*)\}", CSS).group(1)  # the screen rule, first
+        value = re.search(r"(?:^|;)" + prop + r":([^;]*)", body).group(1)
+        return [float(v.removesuffix("px")) for v in value.split() if re.fullmatch(r"[\d.]+(px)?", v)]
+
+    main_side = px("main", "padding")[1]  # padding: top side bottom
+    return (px("main", "max-width")[0] - 2 * main_side - 2 * px("figure", "padding")[0]
+            - 2 * px("figure", "border")[0])
+
+
+LEGIBLE_PX = 10.0
+"""The least em [px] of a figure's text at the page's width: 8 px (Figs. 12-13 and 19, 15 in wide, at
+1110 px) read as footnotes beside the page's 13.5-15 px text; 10 px is the smallest its captions'
+12-13.5 px rounds down to by one step (docs/decisions.md, *Figure text legible at the page's width*)."""
+
+
+@pytest.mark.parametrize(("study", "name"), [("friction_mass", "fig12_13_dynamic"),
+                                             ("sensitivity", "fig19_sensitivity"),
+                                             ("surrogate", "figA1_surrogate")])
+def test_wide_figures_text_reads_at_least_ten_px_at_the_pages_width(sim_root, study, name):
+    """Figs. 12-13 and 19 were 15 in wide: saved at 130 dpi (1950 px) and shown at the page's 1110 px,
+    their 7.5 pt legend text was 7.7 px high (Fig. A1's 6.5 pt legends, 12 in wide, 8.3 px). Every
+    visible text of theirs is at least 10 px (its font size, an em) in the image as the page shows it:
+    the saved PNG's width (its tight box and 0.1 in of padding at the saving dpi) scaled down to the
+    page's, never up."""
+    from matplotlib.text import Text
+
+    from graspcampaign.report.style import RC
+
+    fig = draw_all(sim_root, study)[name]
+    dpi = RC["savefig.dpi"]
+    saved_px = (fig.get_tightbbox(fig.canvas.get_renderer()).width + 2 * 0.1) * dpi
+    scale = min(1.0, _page_image_px() / saved_px)
+    small = sorted({(round(t.get_fontsize() * dpi / 72 * scale, 1), t.get_text()[:30])
+                    for t in fig.findobj(Text) if t.get_text().strip() and t.get_visible()
+                    and t.get_fontsize() * dpi / 72 * scale < LEGIBLE_PX})
+    assert _page_image_px() == 1110.0
+    assert not small, (round(saved_px), small[:8])

@@ -15,10 +15,25 @@ from matplotlib.figure import Figure
 from graspcampaign.report import style
 from graspcampaign.report.document import Figure as ReportFigure
 from graspcampaign.report.render import Run
-from graspcampaign.report.studies.sensitivity import PANELS, SPEC, _figure, _supplement
+from graspcampaign.report.studies.sensitivity import PANELS, SPEC, _figure, _panels, _supplement
 
 PAPER = SimpleNamespace(stable_mu_min=0.2, stable_mass_max_kg=0.5, lambda1_stable_below=0.35,
                         nonconvergence_strip_lambda1_from=0.9)
+
+FIG19 = next(i for i in SPEC.items if getattr(i, "name", None) == "fig19_sensitivity")
+
+
+def _fig19(rows: list[dict]) -> Figure:
+    """Fig. 19 of trials ``rows`` at the report's size, over table sensitivity_panels as the report
+    computes it first (the |R_z| reading: the ‖R‖ one where the rows have none)."""
+    frame = pd.DataFrame(rows)
+    if "success_vertical" not in frame:
+        frame["success_vertical"] = frame["success"]
+    run = Run(frame, {}, PAPER)
+    run.tables["sensitivity_panels"] = _panels(run)
+    fig = Figure(figsize=FIG19.size, layout="constrained")
+    _figure(run, fig)
+    return fig
 
 
 @pytest.mark.parametrize("levels", [2, 12, 40])
@@ -29,8 +44,7 @@ def test_fig19_draws_one_cell_per_level_with_legible_or_no_cell_text(levels):
     rows = [{"panel": panel, "status": "ok", x: a, y: b, "success": a < 0.4, "runtime_ms": 1.0 + a,
              "delta_max_mm": 1.0, "loop_capped": False}
             for panel, (x, y, *_) in PANELS.items() for a in grid for b in grid]
-    fig = Figure(figsize=(15.0, 4.9), layout="constrained")
-    _figure(Run(pd.DataFrame(rows), {}, PAPER), fig)
+    fig = _fig19(rows)
     fig.canvas.draw()
     heatmaps = [ax for ax in fig.axes if ax.get_xlabel()]
     assert len(heatmaps) == 3
@@ -54,8 +68,7 @@ def test_fig19_paper_boundaries_run_between_cells_on_the_side_the_claims_count_t
              "delta_max_mm": 1.0, "loop_capped": False}
             for panel, (x, y, *_) in PANELS.items() for a in grids.get(x, grids["lambda1"])
             for b in grids.get(y, grids["lambda1"])]
-    fig = Figure(figsize=(15.0, 4.9), layout="constrained")
-    _figure(Run(pd.DataFrame(rows), {}, PAPER), fig)
+    fig = _fig19(rows)
     a, b = ([line for line in ax.lines if line.get_color() == style.PAPER]
             for ax in fig.axes if ax.get_xlabel() in (PANELS["mu_mass"][2], PANELS["lambda"][2]))
 
@@ -112,9 +125,9 @@ def test_fig19_cell_text_contrasts_with_its_cell():
              "delta_max_mm": 1.0, "loop_capped": b < 0.4, "valid_geometry": a < 0.5}
             for panel, (x, y, *_) in PANELS.items() for a in grid for b in grid]
     low = []
-    for draw, size in ((_figure, (15.0, 4.9)), (_supplement, (10.0, 8.6))):
-        fig = Figure(figsize=size, layout="constrained")
-        draw(Run(pd.DataFrame(rows), {}, PAPER), fig)
+    supplement = Figure(figsize=(10.0, 8.6), layout="constrained")
+    _supplement(Run(pd.DataFrame(rows), {}, PAPER), supplement)
+    for fig in (_fig19(rows), supplement):
         FigureCanvasAgg(fig).draw()  # the cells' colours, mapped at drawing
         for ax in (ax for ax in fig.axes if ax.texts):
             cells = ax.collections[0].get_facecolors()  # row-major, one per cell, as pcolormesh lays them
@@ -125,3 +138,19 @@ def test_fig19_cell_text_contrasts_with_its_cell():
                 if (bright + 0.05) / (dark + 0.05) < 4.5:
                     low.append((ax.get_title()[:12], t.get_text(), t.get_color()))
     assert not low, low[:5]
+
+
+def test_fig19_titles_the_share_deeper_than_r_that_table_sensitivity_panels_holds():
+    """Each panel's title says the share of its trials with a contact deeper than the fingertip radius
+    (r = 5 mm, Table 2), read from table sensitivity_panels, not counted again: here 1 of 4 trials of
+    panel (a) (δmax 6 mm) and 3 of 4 of panel (b) (δmax 5.5, 7 and 9 mm; 5 mm is within r), counted by
+    hand; panel (c) has none, so no caveat."""
+    depths = {"mu_mass": [1.0, 6.0, 2.0, 5.0], "lambda": [5.5, 7.0, 5.0, 9.0], "n_b": [1.0] * 4}
+    rows = [{"panel": panel, "status": "ok", x: a, y: b, "success": False, "runtime_ms": 1.0,
+             "delta_max_mm": depths[panel][2 * i + j], "loop_capped": False}
+            for panel, (x, y, *_) in PANELS.items() for i, a in enumerate([0.1, 0.8])
+            for j, b in enumerate([0.1, 0.8])]
+    titles = [ax.get_title() for ax in _fig19(rows).axes if ax.get_xlabel()]
+    assert [t.split("\n")[1:] for t in titles] == [
+        ["25% of trials deeper than r = 5 mm (non-physical)"],
+        ["75% of trials deeper than r = 5 mm (non-physical)"], []]

@@ -335,3 +335,67 @@ def test_a_long_tables_header_row_stays_in_view_and_a_wide_table_is_compact():
     assert (screen[".long thead th"]["position"], screen[".long thead th"]["top"]) == ("sticky", "0")
     assert printed[".long"]["max-height"] == "none" and printed[".long thead th"]["position"] == "static"
     assert screen[".wide table"]["font-size"] == "12.5px"
+
+
+def _confusion_axes(study: str) -> list:
+    """The confusion-matrix axes of ``study``'s figure (test2_grasp: Fig. 31c; dynamic_check: one
+    per preset and label pair) over counts 0, 1, 9 and 20, drawn on an Agg canvas in the report's
+    style."""
+    import pandas as pd
+
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies import dynamic_check, flags
+
+    with mpl.rc_context(RC):
+        fig = Figure(figsize=(6.0, 3.0), layout="constrained")
+        FigureCanvasAgg(fig)
+        if study == "test2_grasp":  # tn 0, fn 1 / fp 9, tp 20
+            outcomes = [(False, True)] + [(True, False)] * 9 + [(True, True)] * 20
+            records = pd.DataFrame({"belief_error": "paper", "planner": "heuristic", "source": "virtual",
+                                    "predicted_stable": [p for p, _ in outcomes],
+                                    "success": [s for _, s in outcomes]})
+            run = Run(records, {"study": study, "source": "virtual"})
+            run.memo("hardware", lambda: records)
+            flags.confusion(None, "predicted stable")(run, fig.add_subplot())
+        else:
+            run = Run(pd.DataFrame(), {"study": study})
+            run.tables["kappa"] = pd.DataFrame({
+                "comparison": ["source", "preset"], "scope": dynamic_check.CLAIM_SHAPE,
+                "model_preset": "table2", "both_success": [0, 20], "qs_only": [1, 9],
+                "dynamic_only": [9, 1], "both_failure": [20, 0], "not_settled": 0})
+            dynamic_check.confusion_figure(run, fig)
+        fig.canvas.draw()
+        pixels = np.asarray(fig.canvas.buffer_rgba())
+    return [(ax, pixels) for ax in fig.axes if ax.images]
+
+
+@pytest.mark.parametrize("study", ["test2_grasp", "dynamic_check"])
+def test_confusion_cells_belong_to_no_planner_and_their_counts_read_at_wcag_aa(study):
+    """Figs. 31c/36c and dynamic_check's matrices were shaded in matplotlib's Blues, the proposed
+    planner's family beside its bars, their counts white above 0.6 × or 1/2 × the largest count. Both
+    draw one way now: every cell's rendered colour (read back from the canvas) lies outside the hues of
+    the proposed planner and its ablations, and its count reads at WCAG 2.1 AA, 4.5:1 or more."""
+    import colorsys
+
+    from graspcampaign.analysis.vocabulary import PLANNERS
+
+    blues = [colorsys.rgb_to_hsv(*mpl.colors.to_rgb(PLANNERS[k].colour))[0]
+             for k in ("heuristic", "no_s1", "no_s2", "no_s3", "no_pc", "no_pe", "no_pso")]
+    band = (min(blues) - 15 / 360, max(blues) + 15 / 360)
+    drawn = _confusion_axes(study)
+    assert len(drawn) == {"test2_grasp": 1, "dynamic_check": 2}[study]
+    counts, low, planner_hue = [], [], []
+    for ax, pixels in drawn:
+        for t in ax.texts:
+            x, y = ax.transData.transform(t.get_position())
+            rgb = pixels[pixels.shape[0] - int(round(y)) + 6, int(round(x)) - 12, :3] / 255  # beside the text
+            cell = mpl.colors.to_hex(rgb)
+            counts.append(t.get_text())
+            if _contrast(mpl.colors.to_hex(t.get_color()), cell) < 4.5:
+                low.append((t.get_text(), t.get_color(), cell))
+            hue, saturation, _ = colorsys.rgb_to_hsv(*rgb)
+            if saturation > 0.1 and band[0] <= hue <= band[1]:
+                planner_hue.append((t.get_text(), cell))
+    assert sorted(counts, key=int) == sorted(["0", "1", "9", "20"] * len(drawn), key=int)
+    assert not low, low
+    assert not planner_hue, planner_hue

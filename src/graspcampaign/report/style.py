@@ -1,5 +1,5 @@
 """The one figure style: rcParams, the data-source label, the paper's marks, rate bars, panels, parity,
-one trial's schematic; the HTML page's style sheet."""
+confusion matrices, one trial's schematic; the HTML page's style sheet."""
 
 from __future__ import annotations
 
@@ -74,6 +74,12 @@ def level_colours(n: int) -> list[str]:
     apart as lines; more levels than the ramp holds cycle it."""
     steps = np.linspace(0, len(OTHER_COLOURS) - 1, n).round() if n <= len(OTHER_COLOURS) else range(n)
     return [OTHER_COLOURS[int(i) % len(OTHER_COLOURS)] for i in steps]
+
+
+COUNTS = mpl.colors.LinearSegmentedColormap.from_list("counts", ["#ffffff", *OTHER_COLOURS[::-1]])
+"""Colour scale of a count (a confusion matrix's cells), white at 0 to the levels' ramp's darkest: a
+count is a level outside every vocabulary; matplotlib's ``Blues`` read as the proposed planner's
+family beside its bars (Figs. 31c, 36c)."""
 
 
 def ink(fill) -> str:
@@ -280,6 +286,18 @@ def parity(ax, x, y, lines, xlabel: str, title: str, observed: str) -> None:
         ax.plot(grid, (a or 0.0) + (np.nan if b is None else b) * grid, label=what, **kw)
     ax.set(xlabel=f"predicted {xlabel}", ylabel=f"{observed} {xlabel}", title=title)
     ax.legend(loc="upper left")
+
+
+def confusion(ax, cells, rows: Sequence[str], columns: Sequence[str], xlabel: str, ylabel: str) -> None:
+    """A confusion matrix: the counts ``cells`` (``rows`` × ``columns``) shaded on :data:`COUNTS` from 0
+    to the largest, each printed in its cell's :func:`ink`."""
+    cells = np.asarray(cells, dtype=int)
+    image = ax.imshow(cells, cmap=COUNTS, vmin=0, vmax=max(1, cells.max()))
+    for (i, j), v in np.ndenumerate(cells):
+        ax.text(j, i, str(v), ha="center", va="center", color=ink(image.to_rgba(v)))
+    ax.set(xticks=range(len(columns)), xticklabels=columns, yticks=range(len(rows)), yticklabels=rows,
+           xlabel=xlabel, ylabel=ylabel)
+    ax.grid(False)
 
 
 def schematic(fig, t: pd.Series, spans, top, bottom, title: str) -> None:

@@ -271,15 +271,16 @@ def fig12_13(run: Run, fig) -> None:
     steps, p, ok = run.aux("steps"), run.paper, ends(run)
     mu, mass, exact = shown_case(run)
     case = f"μ={fmt.number(mu)}, m={fmt.number(mass)} kg" + ("" if exact else (
-        f"\nthe run's case nearest the paper's μ={fmt.number(p.representative_mu)}, "
-        f"m={fmt.number(p.representative_mass_kg)} kg"))
+        f"\n(nearest the paper's μ={fmt.number(p.representative_mu)}, "
+        f"m={fmt.number(p.representative_mass_kg)} kg)"))
     axes = fig.subplots(ok.model_preset.nunique(), 3, squeeze=False)
     for ax, (preset, g) in zip(axes, ok.groupby("model_preset", sort=False), strict=True):
+        colours = style.level_colours(len(g))  # the cases are levels outside every vocabulary
         for i, row in enumerate(g.itertuples()):
             s = steps[steps["trial_id"] == row.trial_id]
             rep = np.isclose([row.mu, row.mass_kg], [mu, mass]).all()
             every = max(len(g), len(s) // 8)  # markers staggered per case: coinciding curves stay visible
-            kw = {"linewidth": 2.0 if rep else 0.8, "alpha": 1.0 if rep else 0.5, "color": f"C{i}",
+            kw = {"linewidth": 2.0 if rep else 0.8, "alpha": 1.0 if rep else 0.5, "color": colours[i],
                   "marker": "os^Dv<>ph*"[i % 10], "markevery": (i * every // len(g), every),
                   "label": f"μ={fmt.number(row.mu)}, m={fmt.number(row.mass_kg)} kg"}
             ax[0].plot(s["time_s"], s["residual_z_n"], **kw)
@@ -298,9 +299,9 @@ def fig12_13(run: Run, fig) -> None:
         ax[1].axhline(1e3 * p.total_penetration_below_m, color=style.PAPER, linewidth=2,
                       label=f"paper: settles below {fmt.number(1e3 * p.total_penetration_below_m)} mm")
         ax[1].set(xlabel="time [s]", ylabel="total penetration Σδ [mm]",
-                  title=f"{preset}\nsum of the three contact depths, Fig. 12 bottom")
+                  title=f"{preset}\ntotal penetration, Fig. 12 bottom")
         ax[2].set(xlabel="time [s]", ylabel="normal force [N]",
-                  title=f"{preset}\nper-finger normal force, Fig. 13, {case}")
+                  title=f"{preset}\nper-finger normal force, Fig. 13\n{case}")
         ax[1].legend(handles=ax[1].get_legend_handles_labels()[0][-1:], loc="best")
         if ax[2].lines:
             ax[2].legend()
@@ -369,5 +370,5 @@ FRICTION_MASS = ReportSpec("friction_mass", [
     Figure("fig12_13_dynamic", lambda run: "Figs. 12-13 (ours), one row per preset: vertical residual "
            "and total penetration for every μ × m (each its own marker, at staggered times, so curves that "
            "coincide stay visible), and the per-finger normal forces of the case drawn with a thick line, "
-           + _thick(run), fig12_13, (15.0, 8.8)),
+           + _thick(run), fig12_13, (11.0, 8.8)),
 ])

@@ -117,12 +117,8 @@ def confusion_figure(run: Run, fig) -> None:
     axes = fig.subplots(2, k.model_preset.nunique(), squeeze=False)
     for ax, r in zip(axes.ravel(), k.itertuples(), strict=True):  # rows: pair, columns: preset
         table = np.array([[r.both_success, r.qs_only], [r.dynamic_only, r.both_failure]])
-        ax.imshow(table, cmap="Blues", vmin=0, vmax=max(1, table.max()))
-        for (i, j), v in np.ndenumerate(table):
-            ax.text(j, i, str(v), ha="center", va="center", color="white" if v > table.max() / 2 else "black")
-        ax.grid(False)
-        ax.set(xticks=[0, 1], yticks=[0, 1], xticklabels=["success", "failure"],
-               yticklabels=["success", "failure"], xlabel="dynamic label", ylabel="quasi-static label")
+        style.confusion(ax, table, ["success", "failure"], ["success", "failure"], "dynamic label",
+                        "quasi-static label")
         left_out = f"\n({r.not_settled} {NOT_SETTLED}, left out)" if r.not_settled else ""
         ax.set_title(f"{label('model_preset', r.model_preset)}:\n{PAIRS[r.comparison]}{left_out}", fontsize=9)
 

@@ -10,6 +10,7 @@ import pandas as pd
 
 from graspcampaign.analysis import hardware as hw
 from graspcampaign.report import format as fmt
+from graspcampaign.report import style
 from graspcampaign.report.document import Col, Table
 from graspcampaign.report.render import Run
 from graspcampaign.report.spec import paper_of, verdicts
@@ -81,12 +82,9 @@ def confusion(paper, flag: str):
     def draw(run: Run, ax) -> None:
         m = hw.classifier_table(ex(run).assign(all=1), ["predicted_stable"], ["all"]).iloc[0]
         cells, ref = np.array([[m["tn"], m["fn"]], [m["fp"], m["tp"]]]), paper_of(run, paper)
-        ax.imshow(cells, cmap="Blues", vmin=0)
-        for (i, j), v in np.ndenumerate(cells):
-            ax.text(j, i, v, ha="center", va="center", color="white" if v > 0.6 * cells.max() else "k")
-        ax.set(xticks=[0, 1], xticklabels=["failed", "succeeded"], yticks=[0, 1], yticklabels=["no", "yes"],
-               xlabel=f"{run.rig} outcome [trials]", ylabel=flag, title="(c) flag vs outcome")
-        ax.grid(False)
+        style.confusion(ax, cells, ["no", "yes"], ["failed", "succeeded"], f"{run.rig} outcome [trials]",
+                        flag)
+        ax.set_title("(c) flag vs outcome")
         ax.plot([], [], " ", label="\n".join([f"n = {m['n']}", *(
             f"{k}: ours {fmt.number(m[k], 2)}" + (f", paper {fmt.number(getattr(ref, k), 2)}" if ref else "")
             for k in ("accuracy", "precision", "recall"))]))

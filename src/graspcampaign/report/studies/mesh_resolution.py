@@ -271,8 +271,8 @@ def fig20(run: Run, fig) -> None:
         ax.plot(grid, t0 * np.sqrt(grid / n0), color="#888888", linestyle=":", label="O(√n)")
         ax.plot(*zip(*sorted((int(k), v) for k, v in p.runtime_ms.items()), strict=True), linestyle="none",
                 marker="D", color=style.PAPER, label="paper (MATLAB)")
-        ax.set(xscale="log", yscale="log", xlabel="mesh nodes n [–]", ylabel="runtime per evaluation [ms]",
-               title="(a) runtime per evaluation")
+        ax.set(xscale="log", yscale="log", xlabel="mesh nodes n [count]",
+               ylabel="runtime per evaluation [ms]", title="(a) runtime per evaluation")
         ax.set_ylim(ax.get_ylim()[0], ax.get_ylim()[1] * 30)  # a decade and a half above the data: the legend
         ax.legend(loc="upper left", ncol=2, fontsize=6.5)
         ax_b.scatter(res["nodes"], res["residual_norm_n"], s=10, alpha=0.35, color=c,
@@ -280,8 +280,8 @@ def fig20(run: Run, fig) -> None:
         tau, (lo, hi) = float(run.config["evaluator"]["tau_f_n"]), p.residual_scatter_n
         ax_b.axhline(tau, color=style.CRITERION, linestyle="--", label=f"τ_F = {fmt.number(tau)} N")
         ax_b.axhspan(lo, hi, color=style.PAPER, alpha=0.12, label=f"paper's scatter {lo}–{hi} N")
-        ax_b.set(xscale="log", yscale="log", xlabel="mesh nodes n [–]", ylabel="final force residual ‖R‖ [N]",
-                 title="(b) final residual")
+        ax_b.set(xscale="log", yscale="log", xlabel="mesh nodes n [count]",
+                 ylabel="final force residual ‖R‖ [N]", title="(b) final residual")
         ax_b.legend(loc="best", fontsize=6.5)
         # plain node counts, not 2×10²: at the meshes run, and in (a) at the paper's too (its 1750 had none)
         style.plain_log(ax.xaxis, sorted({*per["nodes"], *map(int, p.runtime_ms)}))
@@ -304,9 +304,9 @@ def fig20(run: Run, fig) -> None:
                       label=f"{nodes} nodes")
         lo, hi = p.effective_budget_triples
         ax_d.axvspan(lo, hi, color=style.PAPER, alpha=0.12, label=f"paper: {lo}–{hi} triples")
-        ax_c.set(xscale="log", ylim=(-2, 102), xlabel="candidate budget N_cand [triples]",
+        ax_c.set(xscale="log", ylim=(-2, 102), xlabel="candidate budget N_cand [count]",
                  ylabel="success rate [%]", title="(c) success against N_cand")
-        ax_d.set(xscale="log", yscale="log", xlabel="candidate budget N_cand [triples]",
+        ax_d.set(xscale="log", yscale="log", xlabel="candidate budget N_cand [count]",
                  ylabel="mean H(G) − reference H [–]", title="(d) gap to the reference search")
         # the budgets run, not 10⁰ and 10¹; the gap in plain 1-2-5 steps, not 6×10⁻¹
         budgets = sorted(tab.loc[tab["planner"] != "reference", "n_cand"].unique())

@@ -180,7 +180,7 @@ def fig21(run: Run, fig) -> None:
         if (bands[["p10", "mean"]] > 0).all().all() and bands["mean"].max() / bands["p10"].min() > 50:
             ax_b.set_yscale("log")
         ax_b.legend(loc="upper right")
-    ax_b.set(xlabel="function evaluations [–]", ylabel="best cost J [–]",
+    ax_b.set(xlabel="function evaluations [count]", ylabel="best cost J [–]",
              title="(b) convergence bands of the best cost")
 
 

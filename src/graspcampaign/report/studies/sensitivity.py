@@ -108,12 +108,22 @@ def _panels(run: Run) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
+def _two_per_row(fig, n: int) -> list:
+    """``n`` axes two to a row, an odd last one centred under them: three in one row were ~5 in wide
+    each, their text ~8 px at the HTML page's width (docs/decisions.md, *Figure text legible at the
+    page's width*)."""
+    grid = fig.add_gridspec(math.ceil(n / 2), 4)
+    first = [1 if i == n - 1 and n % 2 else 2 * (i % 2) for i in range(n)]  # of the axes' two columns
+    return [fig.add_subplot(grid[i // 2, c:c + 2]) for i, c in enumerate(first)]
+
+
 def _figure(run: Run, fig) -> None:
     p, panels = run.paper, [k for k in PANELS if len(panel_rows(run, k))]
-    for ax, panel in zip(np.atleast_1d(fig.subplots(1, len(panels))), panels, strict=True):
+    deeper = run.tables["sensitivity_panels"].set_index("panel")["beyond_radius_pct"]
+    for ax, panel in zip(_two_per_row(fig, len(panels)), panels, strict=True):
         xl, yl = PANELS[panel][2:]
         tag, handles = "abc"[list(PANELS).index(panel)], []
-        deep = 100 * beyond_radius(panel_rows(run, panel), run.radius_mm).mean()
+        deep = deeper[panel]
         caveat = (f"\n{fmt.number(deep, 0)}% of trials deeper than r = {fmt.number(run.radius_mm)} mm "
                   "(non-physical)") * bool(deep)
         if panel == "n_b":
@@ -383,7 +393,7 @@ SPEC = ReportSpec("sensitivity", [
     Figure("fig19_sensitivity", "Fig. 19 (ours): (a) success over μ × m with the paper's stable region "
            "(dashed); (b) success over λ1 × λ2 with the paper's λ1 boundary (dashed) and non-convergence "
            "strip (dotted); (c) median runtime over n × b; one cell per level, its value printed where it "
-           "fits", _figure, (15.0, 4.9)),
+           "fits", _figure, (10.0, 8.6)),
     Figure("fig19_supplement", "Beyond Fig. 19: (a) success under the |R_z| reading over μ × m; (b) trials "
            "still moving at N_max and (c) trials whose every contact lies within the fingertip radius "
            "(physical) over λ1 × λ2; (d) success under the |R_z| reading over n × b",

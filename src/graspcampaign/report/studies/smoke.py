@@ -131,9 +131,9 @@ def _features(run: Run, fig) -> None:
             bars = ax.bar(x, g[column], width, color=colour("shape", shape, j), label=label("shape", shape))
             ax.bar_label(bars, fontsize=7)
         ax.set(xticks=range(len(levels)), xticklabels=[str(n) for n in levels],
-               xlabel="requested mesh nodes [–]", title=f"sharp {what}")
+               xlabel="requested mesh nodes [count]", title=f"sharp {what}")
         ax.grid(False, axis="x")  # no grid line through a group's bars
-    fig.axes[0].set_ylabel("sharp features [–]")
+    fig.axes[0].set_ylabel("sharp features [count]")
     fig.legend(*fig.axes[0].get_legend_handles_labels(), loc="outside lower center", ncol=len(groups))
 
 

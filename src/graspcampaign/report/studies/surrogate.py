@@ -261,7 +261,7 @@ def figA1(run: Run, fig) -> None:
                                                           run.paper.auc.items()))
     ax_a.set(xlabel="false positive rate [–]", ylabel="true positive rate [–]",
              title="(a) ROC, success classifiers (held out)")
-    ax_a.legend(loc="upper center", bbox_to_anchor=(0.5, -0.2), fontsize=6.5)
+    ax_a.legend(loc="upper center", bbox_to_anchor=(0.5, -0.2))
     par, r2 = _read(run, "parity"), run.tables["surrogate_regression"].set_index(["target", "model"])
     if len(par):
         fit = fmt.number(r2.loc[("log10_residual_norm_n", "mlp"), "r2"], 2)
@@ -275,7 +275,7 @@ def figA1(run: Run, fig) -> None:
     ax_b.plot([], [], " ", label=f"paper: R² {fmt.number(run.paper.residual_r2)} (|R_z|)")
     ax_b.set(xlabel="simulated log10 ‖R‖ [log10 N]", ylabel="predicted log10 ‖R‖ [log10 N]",
              title="(b) MLP regressor, force residual")
-    ax_b.legend(loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2, fontsize=6.5)  # clear of τ_F
+    ax_b.legend(loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2)  # clear of τ_F
     t = run.tables["surrogate_timing"]
     x, ms = np.arange(len(t)), 1e3 * t["time_s"].to_numpy(float)
     ax_c.bar(x, ms, color=[colour("model", w) for w in t["what"]])
@@ -325,5 +325,5 @@ SPEC = ReportSpec("surrogate", [
               Col("paper_speedup", "paper PSO/this [×]", 0),
               Col("speedup", "ours PSO/this [×]", fmt.EACH, sig=3),  # each ratio as the finding says it
               *cols("verdict", "host", "sklearn_version")]),
-    Figure("figA1_surrogate", _caption, figA1, (12.0, 3.9)),
+    Figure("figA1_surrogate", _caption, figA1, (10.5, 4.0)),
 ])
