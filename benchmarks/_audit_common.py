@@ -129,6 +129,12 @@ def sig3_decimals(value: float) -> int:
     return max(0, 2 - math.floor(math.log10(abs(value))))
 
 
+def sig3_text(value: float) -> str:
+    """``value`` at three significant digits, a trailing zero kept (4.8996 -> "4.90", 17342 -> "17300")."""
+    d = 2 - math.floor(math.log10(abs(value)))
+    return f"{round(value, d):.{max(d, 0)}f}"
+
+
 def opening(study: str) -> str:
     """The report's opening paragraph (the first after 'What this shows')."""
     text = (ROOT / study / "default" / "report" / "report.md").read_text()

@@ -211,6 +211,8 @@ def audit_wrench() -> None:
     study, ok, ref, cfg = "wrench_balance", executed("wrench_balance"), paper("wrench_balance"), \
         config("wrench_balance")
     tau, r_mm = float(cfg["evaluator"]["tau_f_n"]), 1e3 * float(cfg["model"]["fingertip_radius_m"])
+    tau_t = float(cfg["evaluator"]["tau_t_nm"])
+    assert ref["torque_residual_nm"] == 0, "the paper block's torque is §3.7's 'essentially zero'"
     trace = aux(study, "tables", "iterations").merge(ok[["trial_id", "mu"]], on="trial_id")
     rows = []
     for mu, tr in trace.sort_values(["mu", "iteration"]).groupby("mu"):
@@ -226,13 +228,15 @@ def audit_wrench() -> None:
                   judge(last["slip_margin_ratio"], margin, 2)),
                  ("final finger-1 normal force [N]", ref["finger_force_command_n"],
                   last["normal_force_1_n"], 0, None),  # the command itself: not compared
-                 ("largest torque residual ‖τ‖ [N·m]", ref["torque_residual_nm"], torque, 3,
-                  judge(torque, ref["torque_residual_nm"], 3)),
+                 # §3.7: τ_T "is not binding in any reported campaign: torque residuals are essentially
+                 # zero ... (Fig. 17b)": the paper's 0 is a residual that never reaches the run's τ_T
+                 ("largest torque residual ‖τ‖ [N·m] (paper: essentially zero)", (None, tau_t), torque, 3,
+                  judge(torque, (None, tau_t), 3)),
                  ("final residual ‖R‖ of the record [N]", (0.0, tau), rec["residual_norm_n"].median(), 2,
                   judge(rec["residual_norm_n"].median(), (0.0, tau), 2))]
         for q, p, v, d, differs in cells:
-            text = p if not isinstance(p, tuple) else f"{p[0]}–{p[1]}" if d == 0 else \
-                f"{p[0]:.{d}f}–{p[1]:.{d}f}"
+            text = p if not isinstance(p, tuple) else f"≤ {p[1]:g}" if p[0] is None else \
+                f"{p[0]}–{p[1]}" if d == 0 else f"{p[0]:.{d}f}–{p[1]:.{d}f}"
             rows.append({"mu": mu, "quantity": q, "paper": text, "ours": v, "digits": d, "n": len(rec),
                          "differs": differs,
                          "difference": v - p if differs is not None and not isinstance(p, tuple) else None})

@@ -12,7 +12,7 @@ import warnings
 
 import numpy as np
 import pandas as pd
-from _audit_common import SUMMARY, aux, compare, judge, paper, records, table, wilson
+from _audit_common import SUMMARY, aux, compare, judge, paper, records, sig3_text, table, wilson
 from scipy import stats
 from sklearn.metrics import r2_score, roc_auc_score
 
@@ -231,7 +231,7 @@ def audit_surrogate(config) -> None:
     mlp = timing[timing["what"] == "mlp"]
     if len(mlp):
         ratio = pso / mlp["time_s"].iloc[0]
-        said.append(f"is {float(f'{ratio:.3g}'):g}× faster than the brief PSO call")
+        said.append(f"is {sig3_text(ratio)}× faster than the brief PSO call")  # 3 significant digits
         # each call's time and its paper time in one bracket (Appendix A: 0.06 ms a prediction, 0.99 s a call)
         said += [f"({_si(mlp['time_s'].iloc[0])}; paper {ref['prediction_time_ms']:g} ms)",
                  f"({_si(pso)}; paper {ref['pso_call_time_s']:g} s)"]

@@ -119,10 +119,11 @@ def audit_test1() -> None:
                                                              ref["flagged_rmse_pct_range"], 1, len(flagged)),
          "loop area: median": val(normal["loop_area_mj"].median(), ref["loop_area_median_mj"], 3,
                                   len(normal)),
-         "loading work: median": val(normal["loading_work_mj"].median(), ref["loading_work_median_mj"], 3,
+         # §7.2 prints "median loading work 0.54 mJ, median unloading 0.42 mJ": two decimals
+         "loading work: median": val(normal["loading_work_mj"].median(), ref["loading_work_median_mj"], 2,
                                      len(normal)),
          "unloading work: median": val(normal["unloading_work_mj"].median(), ref["unloading_work_median_mj"],
-                                       3, len(normal)),
+                                       2, len(normal)),
          "per-event C: median (paper: Table 4's family range)": val(normal["c_n_s_per_m"].median(),
                                                                     rng("c_n_s_per_m"), 3, len(normal)),
          "standard error of per-event C: median": val(normal["c_se_n_s_per_m"].median(), None, 2,
@@ -133,9 +134,10 @@ def audit_test1() -> None:
     fam_s, fam_k = fam(sliding, "mu_s"), fam(sliding, "mu_k")
     c["μs > μk in every family"] = {"value": bool((fam_s > fam_k).all()), "paper": True, "differs": False,
                                     "n": None, "digits": 2}
-    c["kt per family: lowest family"] = val(fam(sliding, "k_t_n_per_mm").min(), ref["k_t_range_n_per_mm"], 2,
+    # §7.3: k_t "in the 2 N mm^-1 to 5 N mm^-1 range": whole N/mm (Table 4's gel 1.97 inside as printed)
+    c["kt per family: lowest family"] = val(fam(sliding, "k_t_n_per_mm").min(), ref["k_t_range_n_per_mm"], 0,
                                             len(sliding))
-    c["kt per family: highest family"] = val(fam(sliding, "k_t_n_per_mm").max(), ref["k_t_range_n_per_mm"], 2,
+    c["kt per family: highest family"] = val(fam(sliding, "k_t_n_per_mm").max(), ref["k_t_range_n_per_mm"], 0,
                                              len(sliding))
     c["Coulomb prediction = sign of the slip margin"] = shr(predicted == (ob["margin"] < 0),
                                                             ref["oblique_classification_match_pct"])
@@ -197,13 +199,18 @@ def audit_test1() -> None:
     tp = ref["transfer_pct"]
     rows = []
     for (q, split), g in te.groupby(["quantity", "split"]):
+        # §7.6: "2.58% (training) to 2.58% (unseen specimen) and 3.64% (unseen speed)" (two decimals),
+        # "3.1%", "4.3%" (one); the friction error "stays near or below ~1%" across unseen load, specimen
+        # and speed: an upper bound, at the whole percent it prints (none given for the training split)
         friction = tp["friction_max"] if split != "train" else None
         pv = tp["normal_force"][split] if q == "normal_force" else friction \
             if q == "friction" else tp.get(q)
         e = g["error_pct"]
+        judged = judge(e.mean(), (None, pv), 0) if q == "friction" and pv is not None else \
+            judge(e.mean(), pv, 2 if q == "normal_force" else 1)
         rows.append({"quantity": q, "split": split, "events": len(g), "mean_error_pct": e.mean(),
                      "median_error_pct": e.median(), "p95_error_pct": np.percentile(e, 95), "paper_pct": pv,
-                     "differs": judge(e.mean(), pv, 1)})
+                     "differs": judged})
     compare(study, "transfer", pd.DataFrame(rows), ["quantity", "split"])
     # damage depth per family
     true = truths[[*T1_KEY, "damage_depth_mm"]]

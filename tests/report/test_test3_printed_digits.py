@@ -4,7 +4,8 @@ paper says, and §9.5's logistic n beside the paper's. The claims rows printed t
 "0.20", "χ² = 221" as "221.0", test3_coating the "0.185 N" low-friction probe as "0.18"; the first finger
 to slip was counted over every planner's trials, and the logistic regression's n (680) was not compared.
 Checked on the reduced run of the shared results tree (conftest.py) against the records, with statsmodels
-(Wilson intervals, the logistic fit) and the paper's numbers typed from its text here."""
+(Wilson intervals, the logistic fit) and the paper's numbers typed from its text here. The ends of a range
+taken over cells ("0.2 mm to 1.9 mm", "4.0 N to 4.6 N") skip a cell without a value."""
 
 from __future__ import annotations
 
@@ -108,3 +109,49 @@ def test_the_coating_probes_print_the_papers_threshold_and_rate_as_it_prints_the
     for surface, (rate, threshold) in printed.items():
         if surface in md.index:
             assert (md.loc[surface, "paper %"], md.loc[surface, "paper [N]"]) == (rate, threshold), surface
+
+
+def _claims_of(run_dir, records, directions=None):
+    """Table test3_claims of the run at ``run_dir`` computed again over ``records`` (the stored run's,
+    edited), with the tables it reads as the report wrote them (``directions``: test3_directions edited)."""
+    from graspcampaign.campaign.paper import study_paper
+    from graspcampaign.campaign.records import RunStore
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.spec import Claims
+    from graspcampaign.report.studies.test3 import claims
+
+    store = RunStore(run_dir)
+    run = Run(records, store.check(), study_paper("test3_disturbance"), store)
+    for name in ("test3_directions", "test3_threshold_agreement", "test3_mcnemar", "test3_logistic",
+                 "test3_chi2"):
+        run.tables[name] = read_table(run_dir, name)
+    if directions is not None:
+        run.tables["test3_directions"] = directions
+    return Claims("test3_claims", "", claims).compute(run).set_index("quantity")
+
+
+def test_an_extreme_over_cells_skips_a_cell_without_a_value(run):
+    """§9.4's "0.2 mm to 1.9 mm" (the lowest and highest median slip over the sinusoids' (f, A) cells)
+    and §9.2's "4.0 N to 4.6 N" (over pull directions) skip a cell whose median is missing (its trials'
+    peak slip unrecorded, as a contact loss leaves it; a direction without an uncensored ramp). Python's
+    min/max kept a missing value met first, so the first cell's lacking one left both rows "not
+    computed" (fails on the old code). Expected: pandas' medians of the edited records, NaN skipped."""
+    from graspcampaign.campaign.records import RunStore
+
+    records = RunStore(run).read("records").to_pandas()
+    e = records[(records["planner"] == "heuristic") & (records["friction_level"] == "natural")
+                & (records["block"] == "E") & (records["status"] == "ok")
+                & ~records["aborted"].fillna(False).astype(bool)]
+    cells = sorted(set(zip(e["frequency_hz"], e["amplitude_n"], strict=True)))
+    assert len(cells) >= 2  # the reduced run has a first cell to blank and another to read
+    first = e[(e["frequency_hz"] == cells[0][0]) & (e["amplitude_n"] == cells[0][1])].index
+    records.loc[first, "peak_slip_mm"] = np.nan
+    kept = records.loc[e.index].groupby(["frequency_hz", "amplitude_n"])["peak_slip_mm"].median().dropna()
+    directions = read_table(run, "test3_directions")
+    directions.loc[0, "lat_threshold_n"] = np.nan  # the first direction, without a threshold
+    shown = directions["lat_threshold_n"].dropna()
+    got = _claims_of(run, records, directions)
+    for end, want in (("lowest", min(kept)), ("highest", max(kept))):
+        assert got.loc[f"sinusoids: {end} median slip over (f, A) cells", "value"] == pytest.approx(want)
+    for end, want in (("lowest", min(shown)), ("highest", max(shown))):
+        assert got.loc[f"{end} median threshold over pull directions", "value"] == pytest.approx(want)
