@@ -151,12 +151,19 @@ LEGIBLE_PX = 10.0
 12-13.5 px rounds down to by one step (docs/decisions.md, *Figure text legible at the page's width*)."""
 
 
-@pytest.mark.parametrize(("study", "name"), [("friction_mass", "fig12_13_dynamic"),
-                                             ("sensitivity", "fig19_sensitivity"),
-                                             ("surrogate", "figA1_surrogate")])
+@pytest.mark.parametrize(("study", "name"), [
+    ("friction_mass", "fig12_13_dynamic"), ("sensitivity", "fig19_sensitivity"),
+    ("surrogate", "figA1_surrogate"), *(("test1_bench", f) for f in (
+        "fig23_normal_law", "fig24_tangential", "fig25_relaxation_cycling", "fig26_identification")),
+    *(("test2_grasp", f) for f in ("fig28_outcomes", "fig29_prediction_accuracy",
+                                   "fig31_planner_comparison")),
+    *(("test3_disturbance", f) for f in ("fig33_thresholds", "fig34_threshold_prediction",
+                                         "fig36_robustness"))])
 def test_wide_figures_text_reads_at_least_ten_px_at_the_pages_width(sim_root, study, name):
     """Figs. 12-13 and 19 were 15 in wide: saved at 130 dpi (1950 px) and shown at the page's 1110 px,
-    their 7.5 pt legend text was 7.7 px high (Fig. A1's 6.5 pt legends, 12 in wide, 8.3 px). Every
+    their 7.5 pt legend text was 7.7 px high (Fig. A1's 6.5 pt legends, 12 in wide, 8.3 px; Fig. 33,
+    15 in, 7 pt at 7.1 px; Figs. 23-26, 28-29, 31, 34 and 36, three panels in a 12-13 in row, 6-7.5 pt
+    at 7.1-9.5 px). Every
     visible text of theirs is at least 10 px (its font size, an em) in the image as the page shows it:
     the saved PNG's width (its tight box and 0.1 in of padding at the saving dpi) scaled down to the
     page's, never up."""

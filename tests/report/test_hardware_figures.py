@@ -374,3 +374,51 @@ def test_fig30_says_why_its_hold_lies_below_the_papers_band(sim_root):
     paper_law = t.copy()
     paper_law["grip_force_n"] = float("nan")
     assert test2.hold_gap(run, paper_law).endswith("is below the paper's steady hold (1.4–1.7 N)")
+
+
+def test_a_surface_without_a_threshold_says_why_in_fig_33a():
+    """Fig. 33a left the low surface's slot empty (no uncensored ramp, n = 0) with nothing saying why,
+    where 33c marks such a direction: each surface without a median threshold now says so where its bar
+    would stand, its trials counted from table test3_coating."""
+    import numpy as np
+    import pandas as pd
+
+    from graspcampaign.report.render import Run
+    from graspcampaign.report.studies.test3 import thresholds
+
+    run = Run(pd.DataFrame(), {"study": "test3_disturbance"})
+    run.tables["test3_coating"] = pd.DataFrame({
+        "friction_level": ["natural", "high", "medium", "low"], "n": [20, 2, 1, 0],
+        "lat_threshold_n": [1.22, 2.06, np.nan, np.nan], "n_lat_threshold": [11, 1, 0, 0],
+        "paper_threshold_n": [4.34, 4.31, 0.84, 0.185]})
+    ax = _panel(thresholds, run)
+    assert {t.xy[0]: t.get_text() for t in ax.texts} == {2: "1 trial, no threshold", 3: "no trial"}
+    assert [t.get_text() for t in ax.get_xticklabels()] == ["natural\nn=11", "high\nn=1", "medium\nn=0",
+                                                            "low\nn=0"]
+
+
+def test_fig29_draws_every_planners_pooled_trials_in_no_planners_colour(sim_root):
+    """Fig. 29 pools every planner's trials (its parity points and fit, the histograms and their
+    medians) but drew them in the proposed planner's blue, read as that planner's alone. Every coloured
+    mark of ours in it (all but the paper's black, the identity's and the criterion's greys) lies
+    outside the hues of the proposed planner's family (± 15°) and is no planner's colour."""
+    import colorsys
+
+    from matplotlib.colors import to_hex, to_rgb
+
+    from graspcampaign.analysis.vocabulary import PLANNERS
+
+    family = [colorsys.rgb_to_hsv(*to_rgb(PLANNERS[k].colour))[0]
+              for k in ("heuristic", "no_s1", "no_s2", "no_s3", "no_pc", "no_pe", "no_pso")]
+    band = (min(family) - 15 / 360, max(family) + 15 / 360)
+    _, fig = _drawn(sim_root, "test2_grasp", "fig29_prediction_accuracy")
+    colours = set()
+    for ax in fig.axes:
+        colours |= {to_hex(c) for coll in ax.collections for c in coll.get_facecolors()}
+        colours |= {to_hex(p.get_facecolor()) for p in ax.patches}
+        colours |= {to_hex(line.get_color()) for line in ax.get_lines()}
+    planners = {to_hex(p.colour) for p in PLANNERS.values()}
+    blue = [c for c in colours if colorsys.rgb_to_hsv(*to_rgb(c))[1] > 0.1
+            and band[0] <= colorsys.rgb_to_hsv(*to_rgb(c))[0] <= band[1]]
+    assert len(colours) >= 3, colours
+    assert not blue and not colours & planners, (blue, colours & planners)

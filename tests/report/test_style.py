@@ -399,3 +399,30 @@ def test_confusion_cells_belong_to_no_planner_and_their_counts_read_at_wcag_aa(s
     assert sorted(counts, key=int) == sorted(["0", "1", "9", "20"] * len(drawn), key=int)
     assert not low, low
     assert not planner_hue, planner_hue
+
+
+def test_the_papers_mark_inside_a_bar_is_drawn_over_it_on_every_planners_colour():
+    """Fig. 31a's centroid bar (ours 60 %) hid the paper's 44.9 % line behind it, only the diamond
+    showing (Fig. 25a's inset, Fig. 26a and c alike). Drawn over a bar of each planner's colour, the
+    paper's line inside it shows, off its diamond, as near-black pixels on the canvas, beside pixels that
+    contrast with the bar at 3:1 or more (WCAG 2.1's least for graphics), dark bars as light."""
+    from graspcampaign.analysis.vocabulary import PLANNERS
+
+    hidden = []
+    for key, planner in PLANNERS.items():
+        with mpl.rc_context(RC):
+            fig = Figure(figsize=(3.0, 3.0), dpi=100)
+            FigureCanvasAgg(fig)
+            ax = fig.add_subplot()
+            bars(ax, [0.0], [80.0], [70.0], [90.0], [planner.colour], paper=[45.0])
+            ax.set(ylim=(0, 105))
+            fig.canvas.draw()
+            pixels = np.asarray(fig.canvas.buffer_rgba())[..., :3]
+            x, y = ax.transData.transform((0.2, 45.0))  # right of the diamond and the whisker
+        row = pixels.shape[0] - int(round(y))
+        column = pixels[row - 6:row + 7, int(round(x))]
+        darkest = column[column.sum(axis=1).argmin()]
+        ratios = [_contrast(mpl.colors.to_hex(p / 255), planner.colour) for p in column]
+        if darkest.max() > 60 or max(ratios) < 3.0:
+            hidden.append((key, planner.colour, darkest.tolist(), round(max(ratios), 2)))
+    assert not hidden, hidden

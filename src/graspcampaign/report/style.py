@@ -4,6 +4,7 @@ confusion matrices, one trial's schematic; the HTML page's style sheet."""
 from __future__ import annotations
 
 import io
+import math
 import re
 from collections.abc import Callable, Sequence
 
@@ -11,12 +12,13 @@ import matplotlib as mpl
 import numpy as np
 import pandas as pd
 from cycler import cycler
+from matplotlib import patheffects
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.ticker import Formatter, FuncFormatter, LogLocator, NullFormatter, SymmetricalLogLocator
 from matplotlib.transforms import ScaledTranslation
 
-from graspcampaign.analysis.vocabulary import OTHER_COLOURS, PROPOSED, colour, label
+from graspcampaign.analysis.vocabulary import OTHER_COLOURS, colour, label
 from graspcampaign.report import format as fmt
 
 RC = {
@@ -80,6 +82,10 @@ COUNTS = mpl.colors.LinearSegmentedColormap.from_list("counts", ["#ffffff", *OTH
 """Colour scale of a count (a confusion matrix's cells), white at 0 to the levels' ramp's darkest: a
 count is a level outside every vocabulary; matplotlib's ``Blues`` read as the proposed planner's
 family beside its bars (Figs. 31c, 36c)."""
+POOLED, POOLED_FILL = OTHER_COLOURS[1], OTHER_COLOURS[4]
+"""Colours of data pooled over every planner (Fig. 29: points and lines, histogram bars): a dark and a
+light step of the levels' ramp, no planner's colour; drawn in the proposed planner's blue, the pooled
+trials read as the proposed planner's alone."""
 
 
 def ink(fill) -> str:
@@ -102,14 +108,23 @@ def interval_handle(label: str = "95% interval") -> Line2D:
     return Line2D([], [], color="#333333", marker="|", linestyle="none", markersize=8, label=label)
 
 
+HALO = [patheffects.withStroke(linewidth=3.2, foreground="white")]
+"""A white outline under the paper's black marks: black on white has the highest contrast of any pair
+(WCAG 2.1: 21:1), so the mark reads over every bar colour, the darkest planner's blue as the lightest."""
+
+
 def paper_marks(ax, x: Sequence[float], values: Sequence, width: float) -> bool:
-    """Draw the paper's values as black lines behind our bars with a hollow diamond over them, so a
-    bar of ours at the paper's value (a near-zero bar on a paper 0 %) stays visible; return whether any
-    was drawn."""
+    """Draw the paper's values as black lines with a hollow diamond on them, over our bars and
+    whiskers, each outlined in white (:data:`HALO`): drawn behind a bar, a paper value inside it (the
+    centroid planner's 44.9 % in Fig. 31a) showed only its diamond. A paper 0 lies on the bars' base: its
+    line stays behind them, where a line over a near-zero bar of ours (1 % on a paper 0 %, Fig. 18)
+    hid it. Return whether any was drawn."""
     shown = [(xi, float(p)) for xi, p in zip(x, values, strict=True) if not fmt.is_missing(p)]
     for xi, p in shown:
-        ax.hlines(p, xi - width * 0.45, xi + width * 0.45, colors=PAPER, linewidth=1.2, zorder=0.9)
-        ax.plot([xi], [p], marker="D", color=PAPER, markerfacecolor="none", markersize=5, zorder=6)
+        ax.hlines(p, xi - width * 0.45, xi + width * 0.45, colors=PAPER, linewidth=1.2,
+                  **({"zorder": 5, "path_effects": HALO} if p else {"zorder": 0.9}))
+        ax.plot([xi], [p], marker="D", color=PAPER, markerfacecolor="none", markersize=5, zorder=6,
+                path_effects=HALO)
     return bool(shown)
 
 
@@ -263,11 +278,20 @@ def grouped_bars(ax, t: pd.DataFrame, x: str, hue: str | None = None,
     legend_below(ax, handles, ncol=min(len(handles), 5))
 
 
+def two_per_row(fig, n: int) -> list:
+    """``n`` axes two to a row, an odd last one centred under them: three in one row were ~4-5 in wide
+    each, their text 7.6-9.5 px at the HTML page's width (docs/decisions.md, *Figure text legible at the
+    page's width*)."""
+    grid = fig.add_gridspec(math.ceil(n / 2), 4)
+    first = [1 if i == n - 1 and n % 2 else 2 * (i % 2) for i in range(n)]  # of the axes' two columns
+    return [fig.add_subplot(grid[i // 2, c:c + 2]) for i, c in enumerate(first)]
+
+
 def panels(*specs):
     """A figure with a panel per spec: ``(table, query, key, title[, ylabel])``, :func:`rate_bars` of a
     table the run has rendered, or ``draw(run, ax)``; the specs stay readable as ``draw.specs``."""
     def draw(run, fig) -> None:
-        for ax, s in zip(fig.subplots(1, len(specs)), specs, strict=True):
+        for ax, s in zip(two_per_row(fig, len(specs)), specs, strict=True):
             if callable(s):
                 s(run, ax)
             else:
@@ -276,11 +300,11 @@ def panels(*specs):
     return draw
 
 
-def parity(ax, x, y, lines, xlabel: str, title: str, observed: str) -> None:
+def parity(ax, x, y, lines, xlabel: str, title: str, observed: str, points: str) -> None:
     """Parity panel: ``y`` (``observed``: "measured" or "virtual-rig") against ``x``, the predicted,
-    with the identity and lines ``(intercept, slope, label, style)``."""
-    ax.scatter(x, y, s=7, alpha=0.5, color=colour("planner", PROPOSED), label=f"ours, n={len(x)}",
-               rasterized=True)
+    drawn in ``points`` (a planner's colour, or :data:`POOLED` for trials of every planner), with the
+    identity and lines ``(intercept, slope, label, style)``."""
+    ax.scatter(x, y, s=7, alpha=0.5, color=points, label=f"ours, n={len(x)}", rasterized=True)
     grid = np.array([0.0, np.nanmax(np.r_[1.0, np.asarray(x, float), np.asarray(y, float)])])
     for a, b, what, kw in [(0.0, 1.0, "identity", {"ls": ":", "color": "#777777"}), *lines]:
         ax.plot(grid, (a or 0.0) + (np.nan if b is None else b) * grid, label=what, **kw)

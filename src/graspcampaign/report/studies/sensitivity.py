@@ -108,19 +108,10 @@ def _panels(run: Run) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def _two_per_row(fig, n: int) -> list:
-    """``n`` axes two to a row, an odd last one centred under them: three in one row were ~5 in wide
-    each, their text ~8 px at the HTML page's width (docs/decisions.md, *Figure text legible at the
-    page's width*)."""
-    grid = fig.add_gridspec(math.ceil(n / 2), 4)
-    first = [1 if i == n - 1 and n % 2 else 2 * (i % 2) for i in range(n)]  # of the axes' two columns
-    return [fig.add_subplot(grid[i // 2, c:c + 2]) for i, c in enumerate(first)]
-
-
 def _figure(run: Run, fig) -> None:
     p, panels = run.paper, [k for k in PANELS if len(panel_rows(run, k))]
     deeper = run.tables["sensitivity_panels"].set_index("panel")["beyond_radius_pct"]
-    for ax, panel in zip(_two_per_row(fig, len(panels)), panels, strict=True):
+    for ax, panel in zip(style.two_per_row(fig, len(panels)), panels, strict=True):
         xl, yl = PANELS[panel][2:]
         tag, handles = "abc"[list(PANELS).index(panel)], []
         deep = deeper[panel]

@@ -248,7 +248,7 @@ def _per_family(ax, f: pd.DataFrame, x: str, y: str, **kw) -> None:
 
 
 def fig23(run: Run, fig) -> None:
-    ax_a, ax_b, ax_c = fig.subplots(1, 3)
+    ax_a, ax_b, ax_c = style.two_per_row(fig, 3)
     p, acc, nf = run.paper, FRAMES["accepted"](run), FRAMES["normal"](run)
     row, w = _pick(run, ax_a, "normal", "a 1 mm/s to 1.5 mm", speed_mm_per_s=1.0, depth_mm=1.5)
     if row is not None:
@@ -297,7 +297,7 @@ def fig23(run: Run, fig) -> None:
 
 
 def fig24(run: Run, fig) -> None:
-    ax_a, ax_b, ax_c = fig.subplots(1, 3)
+    ax_a, ax_b, ax_c = style.two_per_row(fig, 3)
     sl, t4 = FRAMES["sliding"](run), run.paper.table4
     mats = _mats(sl)
     g, x = sl.groupby("material"), np.arange(len(mats))
@@ -341,7 +341,7 @@ def fig24(run: Run, fig) -> None:
 
 
 def fig25(run: Run, fig) -> None:
-    ax_a, ax_b, ax_c = fig.subplots(1, 3)
+    ax_a, ax_b, ax_c = style.two_per_row(fig, 3)
     p, rl, cy = run.paper, FRAMES["relaxation"](run), FRAMES["cyclic"](run)
     row, w = _pick(run, ax_a, "relaxation", "a 60 s hold", hold_s=60.0)
     if row is not None:
@@ -381,7 +381,7 @@ def fig25(run: Run, fig) -> None:
 
 
 def fig26(run: Run, fig) -> None:
-    ax_a, ax_b, ax_c = fig.subplots(1, 3)
+    ax_a, ax_b, ax_c = style.two_per_row(fig, 3)
     t5, tr = run.tables["table5"], run.tables.get("transfer", pd.DataFrame(columns=["quantity", "split"]))
     x, names, sim = np.arange(len(t5)), t5["parameter_label"], t5["paper_simulation"]
     style.bars(ax_a, x, t5["cv_pct"], None, None, BLUE, paper=t5["paper_cv_pct"])
@@ -441,14 +441,14 @@ SPEC = ReportSpec("test1_bench", [
     Figure("fig23_normal_law", lambda run: "Fig. 23 (ours): (a) a retained loading–unloading curve with its "
            "Eq. 13 fit and the paper's Table 4 family law; (b) fitted n per family with the paper's family "
            f"values, mean ± SD and Table 3's {fmt.number(run.paper.n_exp_simulation)}; (c) RMSE distribution "
-           f"with the paper's {fmt.number(run.paper.rmse_pct)}% mean", fig23, (13.0, 4.6)),
+           f"with the paper's {fmt.number(run.paper.rmse_pct)}% mean", fig23, (10.0, 9.0)),
     Figure("fig24_tangential", "Fig. 24 (ours): (a) μs and μk per family (mean ± SD over slides) with Table "
            "4's; (b) a retained 0.5 mm/s slide with the friction limits; (c) slip margin vs press angle with "
-           "the paper's means", fig24, (13.0, 4.6)),
+           "the paper's means", fig24, (10.0, 9.0)),
     Figure("fig25_relaxation_cycling", lambda run: "Fig. 25 (ours): (a) a retained 60 s hold, normalised, "
            "with its fit and the paper's steady ratio (inset: mean ρ per family); (b) K/K1 over the fatigue "
            f"cycles with the {fmt.number(run.paper.k_ratio_target)} target; (c) permanent set with the "
-           "paper's range", fig25, (13.0, 4.3)),
+           "paper's range", fig25, (9.0, 8.0)),
     Table("table5", "Table 5 beside the paper's: PSO re-identification on the training split's normal "
           "traces, mean (95% Student-t interval), SD and CV over the converged runs, each parameter to 3 "
           "significant digits of the paper's; the mean's verdict sets the paper's mean against our interval, "
@@ -473,7 +473,7 @@ SPEC = ReportSpec("test1_bench", [
     _Finalized(Figure("fig26_identification", "Fig. 26 (ours): (a) CV of each PSO-identified parameter "
                       "over the converged runs with Table 5's; (b) identified values relative to Table 3 "
                       "(ours and the paper's experiment); (c) mean transfer error per quantity and split "
-                      "with the paper's §7.6 values", fig26, (13.0, 4.8))),
+                      "with the paper's §7.6 values", fig26, (9.5, 9.4))),
     Table("damage_depth", _damage_caption, lambda run: FRAMES["damage"](run), [*cols("specimens"), *cols(
         "damage_depth_mean_mm", "damage_depth_min_mm", "damage_depth_max_mm", digits=2),  # 0.01 mm, §7.4
         *cols("set_limited", "extrapolated", "beyond_radius", "abs_error_median_mm", "stiffness_target"),

@@ -174,13 +174,14 @@ def fig28(run: Run, fig) -> None:
 
 
 def fig29(run: Run, fig) -> None:
-    a, *hist = fig.subplots(1, 3)
+    """Every planner's trials pooled, in :data:`style.POOLED` (no planner's colour)."""
+    a, *hist = style.two_per_row(fig, 3)
     e = ex(run).dropna(subset=["normal_force_pred_read_n", "normal_force_mean_n"])
     style.parity(a, e["normal_force_pred_read_n"], e["normal_force_mean_n"], [
         (0, run.tables["test2_force_accuracy"]["parity_slope"].iloc[0], "ours, through the origin",
-         {"color": colour("planner", PROPOSED)}),
+         {"color": style.POOLED}),
         (0, paper_of(run, lambda p: p.parity_slope), "paper", {"ls": "--", "color": style.PAPER})],
-        "trial-mean normal force [N]", "(a) parity, all planners", run.rig)
+        "trial-mean normal force [N]", "(a) parity, all planners", run.rig, style.POOLED)
     for ax, col, what, key in zip(hist, ("force_err_pct", "deformation_err_pct"), ("normal-force",
                                   "deformation"), ("force_err_median_pct", "deformation_err_median_pct"),
                                   strict=True):
@@ -190,13 +191,13 @@ def fig29(run: Run, fig) -> None:
         # unreadable axis); errors below 0.1 % fall in the first bin
         floor = 0.1
         bins = np.geomspace(floor, max(float(err.max()), 10 * floor), 41)
-        ax.hist(err.clip(lower=floor), bins=bins, color="#8aa9d6", label=f"ours, n={len(err)}")
+        ax.hist(err.clip(lower=floor), bins=bins, color=style.POOLED_FILL, label=f"ours, n={len(err)}")
         if col == "deformation_err_pct":  # drawn over: the trials dividing by a near-zero measurement
             low = err[hw.below_quantum(d)]
             ax.hist(low.clip(lower=floor), bins=bins, color=style.CRITERION,
                     label=f"denominator < {fmt.number(hw.VISION_QUANTUM_MM)} mm, n={len(low)}")
         ax.set_xscale("log")
-        ax.axvline(err.median(), color=colour("planner", PROPOSED), label="ours: median")
+        ax.axvline(err.median(), color=style.POOLED, label="ours: median")
         ax.axvline(paper_of(run, getattr, key) or np.nan, color=style.PAPER, ls="--", label="paper: median")
         ax.set(xlabel=f"absolute {what} prediction error [%]", ylabel="trials [count]",
                title=f"({'b' if ax is hist[0] else 'c'}) {what} error")
@@ -465,16 +466,16 @@ SPEC = ReportSpec("test2_grasp", [
     Table("test2_power", "Power (§8.5, §11): trials per arm to detect p1 vs p2 at α = 0.05 (independent: "
           "Cohen's h; matched pairs: McNemar, Connor 1987)", power),
     Figure("fig28_outcomes", "Fig. 28 (paper in black): proposed success per shape (dashed: the paper's 75% "
-           "reference), success per material, proposed outcome classes; Wilson 95%", fig28, (12.0, 4.0)),
+           "reference), success per material, proposed outcome classes; Wilson 95%", fig28, (10.0, 8.0)),
     Figure("fig29_prediction_accuracy", lambda run: f"Fig. 29: (a) {run.rig} against predicted trial-mean "
            "normal force; (b) normal-force and (c) deformation errors with their medians (log axis: every "
            f"trial shown; dark in (c): trials whose {run.rig} mean deformation, the error's denominator, is "
-           f"below the {fmt.number(hw.VISION_QUANTUM_MM)} mm vision quantisation, §8.1)", fig29, (12.0, 3.8)),
+           f"below the {fmt.number(hw.VISION_QUANTUM_MM)} mm vision quantisation, §8.1)", fig29, (10.0, 7.6)),
     Figure("fig30_representative_grasp", fig30_caption, fig30, (9.5, 5.4)),
     Figure("fig31_planner_comparison", "Fig. 31: success per planner (a) with own and exact beliefs "
            "(hatched), (b) matched ablation; (c) the believed-stability flag (`predicted_stable`) against "
            "the outcome, ours alone: the paper's Fig. 31c scores are of the residual flag, beside it in "
            "table test2_classifier",
            style.panels(planner_bars("table7"), ("test2_matched", None, "planner", "(b) matched ablation"),
-                        confusion(None, "predicted stable: believed SF > 1")), (13.0, 4.0)),
+                        confusion(None, "predicted stable: believed SF > 1")), (10.0, 8.0)),
 ])

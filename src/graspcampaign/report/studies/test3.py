@@ -223,10 +223,25 @@ def claims(run: Run):
            "with an SF reading and a Table 4 material)", "§9.6", Estimate(a.below, n=a.n_read), None, "", 0)
 
 
+def no_threshold(ax, at: float, n: int, aside: float = 0.0) -> None:
+    """Say at ``at`` on the axis, upright from 0, why a category has no median threshold: ``n`` trials
+    none of whose ramps was uncensored, or no trial (Fig. 33a's surfaces, 33c's pull directions), ``aside``
+    points to the right (clear of a paper's diamond at ``at``); drawn over the paper's lines, outlined in
+    white as they are."""
+    ax.annotate(f"{counted(int(n), 'trial')}, no threshold" if n > 0 else "no trial", (at, 0),
+                xytext=(aside, 3), textcoords="offset points", rotation=90, ha="center", va="bottom",
+                fontsize=7, color=style.CRITERION, zorder=7, path_effects=style.HALO)  # over a paper mark
+
+
 def thresholds(run: Run, ax) -> None:
+    """Fig. 33a: the median threshold per surface; a surface without one (table test3_coating's
+    ``n_lat_threshold`` 0) says why where its bar would stand, as 33c's directions do."""
     t = run.tables["test3_coating"]
     x = np.arange(len(t))
     ax.bar(x, t["lat_threshold_n"], 0.7, color=colour("planner", PROPOSED), label="ours, uncensored ramps")
+    for at, n in zip(x[t["lat_threshold_n"].isna().to_numpy()], t.loc[t["lat_threshold_n"].isna(), "n"],
+                     strict=True):
+        no_threshold(ax, at, n, aside=10.0)  # the paper's diamond, 5 pt, is at the bar's centre
     style.paper_marks(ax, x, list(t["paper_threshold_n"]), 0.7)
     ax.set(xticks=x, xticklabels=[f"{k}\nn={n}" for k, n in zip(t["friction_level"], t["n_lat_threshold"],
                                                                   strict=True)],
@@ -242,9 +257,7 @@ def directions(run: Run, ax) -> None:
     d = d.set_index("direction_deg").reindex(sorted({*design, *d["direction_deg"]})).reset_index()
     ax.plot(d["direction_deg"], d["lat_threshold_n"], "o-", color=colour("planner", PROPOSED), label="ours")
     for a, n in d.loc[d["lat_threshold_n"].isna(), ["direction_deg", "n"]].itertuples(index=False):
-        ax.annotate(f"{counted(int(n), 'trial')}, no threshold" if n > 0 else "no trial", (a, 0),
-                    xytext=(0, 3), textcoords="offset points", rotation=90, ha="center", va="bottom",
-                    fontsize=7, color=style.CRITERION)
+        no_threshold(ax, a, n)
     ax.axhspan(*(rng or (np.nan,) * 2), color=style.PAPER, alpha=0.15, label="paper: range")
     ax.set(xticks=design, xlabel="pull direction (azimuth) [°]", ylim=(0, None),
            ylabel="median lateral threshold [N]", title="(c) natural friction, by direction")
@@ -272,14 +285,14 @@ def fig33(run: Run, fig) -> None:
 
 
 def fig34(run: Run, fig) -> None:
-    a, b, c = fig.subplots(1, 3)
+    a, b, c = style.two_per_row(fig, 3)
     d = t2.ex(run, PROPOSED).dropna(subset=["lat_threshold_n"])
     m, p, g = d["lat_threshold_n"], d["threshold_pred"], run.tables["test3_threshold_agreement"].iloc[0]
     ours = colour("planner", PROPOSED)
     style.parity(a, p, m, [(g.get("ols_intercept_n"), g.get("ols_slope"), "ours: OLS", {"color": ours}),
                      (0, paper_of(run, lambda p: p.threshold_ols_slope), "paper's slope",
                       {"ls": "--", "color": style.PAPER})], "lateral threshold [N]",
-           "(a) parity, proposed, block A", run.rig)
+           "(a) parity, proposed, block A", run.rig, ours)
     b.scatter((m + p) / 2, m - p, s=7, alpha=0.5, color=ours, label="ours")
     bias, half = (paper_of(run, getattr, k) for k in ("bland_altman_bias_n", "bland_altman_loa_half_width_n"))
     lines = [(g.get(k), ls, ours, "ours") for k, ls in (("bias_n", "-"), ("loa_low_n", "--"),
@@ -415,15 +428,15 @@ SPEC = ReportSpec("test3_disturbance", [
            "Wilson 95% intervals, logistic coefficients with their Wald intervals)", claims),
     Figure("fig33_thresholds", "Fig. 33 (the paper's values in black): block A (a) median threshold and (b) "
            "success per surface (the paper's Fig. 33a), (c) natural-friction threshold per pull direction "
-           "(33b), (d) proposed success per block at natural friction (33c)", fig33, (15.0, 4.2)),
+           "(33b), (d) proposed success per block at natural friction (33c)", fig33, (10.0, 8.4)),
     Figure("fig34_threshold_prediction", lambda run: f"Fig. 34: (a) predicted against {run.rig} lateral "
            "thresholds of the proposed planner with the OLS fit, (b) Bland–Altman, (c) median "
-           "lateral-threshold error per planner", fig34, (13.0, 4.0)),
+           "lateral-threshold error per planner", fig34, (10.0, 8.0)),
     Figure("fig35_representative_pull", fig35_caption, fig35, (9.5, 5.2)),
     Figure("fig36_robustness", lambda run: "Fig. 36: (a) success per planner with the planners' own beliefs "
            "and with exact ones (hatched), (b) share of natural-friction pulls holding each level (a grasp "
            f"lost before the pull counts as 0 N), (c) the retention flag (`predicted_stable`) against the "
            f"{run.rig} outcome", style.panels(t2.planner_bars("table9"), survival, flags.confusion(
                lambda p: p.retention_classifier, "predicted to retain: believed margin > 1")),
-           (13.0, 4.0)),
+           (10.0, 8.0)),
 ])
