@@ -219,6 +219,7 @@ def check_kind(study: StudyCfg) -> None:
     facts = kind_facts(study.kind)
     if not facts["design"]:
         check_kind_factors(study.factors, study.kind, facts["factors"])
+        check_unread_factors(study, facts)
     elif ignored := [name for name in study.factors if name not in facts["factors"]]:
         reads = (f"reads only the factors {listed(facts['factors'])}" if facts["factors"]
                  else "reads no factor")
@@ -228,6 +229,20 @@ def check_kind(study: StudyCfg) -> None:
                           "them).", key=f"factors.{ignored[0]}")
     check_method_factors(study, facts)
     check_params(study.params, facts["params"], study.kind)
+
+
+def check_unread_factors(study: StudyCfg, facts: dict[str, Any]) -> None:
+    """Refuse a factor a Cartesian kind's ``run`` never reads (neither ``TrialKind.factors`` nor
+    ``optional_factors``): it would repeat every trial, identical but for an unread column."""
+    if facts.get("optional_factors") is None:  # a kind registered at run time declares nothing
+        return
+    reads = [*facts["factors"], *facts["optional_factors"]]
+    for name in study.factors:
+        if name not in reads:
+            said = f"it reads {', '.join(reads)}" if reads else "it reads no factor"
+            raise ConfigError(f"factor {name!r} is not read by the {study.kind} kind ({said}); "
+                              f"{meant(name, reads)}remove it or choose a kind that varies it.",
+                              key=f"factors.{name}")
 
 
 def check_method_factors(study: StudyCfg, facts: dict[str, Any]) -> None:

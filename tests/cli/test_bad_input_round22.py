@@ -1,0 +1,59 @@
+"""Bad input, round 22: the rough edges round 21 left (docs/decisions.md, "Unread factors and
+misread numbers (fact42)"). Each is one sentence naming what is wrong and where, exit 2, nothing
+stored changed (``cli_checks.refused``).
+"""
+
+from __future__ import annotations
+
+import os
+
+import pytest
+from cli_checks import mesh_study, refused
+
+from graspcampaign.campaign.kind import KINDS, get_kind
+
+
+@pytest.mark.parametrize(("factors", "said"), [
+    # smoke's kind builds meshes: mu was an axis, each trial run twice but for an unused column
+    ("{shape: [sphere], nodes: [144], mu: [0.3, 0.5]}",
+     "factor 'mu' is not read by the mesh_features kind (it reads shape, nodes); remove it or "
+     "choose a kind that varies it."),
+    ("{shape: [sphere], nodes: [144], planner: [random]}",
+     "factor 'planner' is not read by the mesh_features kind (it reads shape, nodes); remove it or "
+     "choose a kind that varies it.")])
+def test_a_factor_the_kind_never_reads_in_a_study_file_is_refused(results, user_dir, factors, said):
+    path = mesh_study(user_dir, f"seeds: 1\nfactors: {factors}\n")
+    for command in ("show", "run"):
+        refused(results, [command, path, "--root", results], f"{path}, line 6: {said}")
+
+
+@pytest.mark.parametrize(("study", "override", "reads"), [
+    ("smoke", "+factors.mu=[0.3]", "mesh_features kind (it reads shape, nodes)"),
+    ("gravity_settle", "+factors.mu=[0.3]",
+     "gravity_settle kind (it reads shape, mass_kg, nodes, integrator)"),
+    ("wrench_balance", "+factors.planner=[random]",
+     "wrench_balance kind (it reads shape, mass_kg, mu, nodes)"),
+    ("surrogate", "+factors.mu=[0.3]", "surrogate kind (it reads no factor)")])
+def test_a_factor_the_kind_never_reads_in_an_override_is_refused(results, study, override, reads):
+    name = override.split(".")[1].split("=")[0]
+    refused(results, ["show", study, override, "--root", results],
+            f"factor {name!r} is not read by the {reads}; remove it or choose a kind that varies it.")
+
+
+def test_every_shipped_cartesian_kind_declares_the_factors_it_reads():
+    """``optional_factors=None`` (undeclared, as a kind registered by a test) skips the check: no
+    shipped kind may leave it so, or its studies take any factor as an axis again."""
+    undeclared = [name for name, target in KINDS.items() if target is not None
+                  and get_kind(name).design is None and get_kind(name).optional_factors is None]
+    assert undeclared == []
+
+
+def test_a_schedule_out_stem_that_is_a_special_file_is_refused(results, tmp_path):
+    """``--out`` names a stem (<stem>.csv and <stem>.parquet are written beside it): a stem that is
+    itself a device or a named pipe is refused before any work, so no <device>.csv is written in
+    /dev. A named pipe in a tmp folder stands for the device: nothing under /dev is touched."""
+    pipe = tmp_path / "pipe"
+    os.mkfifo(pipe)
+    refused(tmp_path, ["schedule", "test2_grasp", "--out", pipe, "--root", results],
+            f"--out {pipe}: is a named pipe (FIFO), not a regular file.")
+
