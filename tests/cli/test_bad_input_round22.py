@@ -48,6 +48,12 @@ def test_every_shipped_cartesian_kind_declares_the_factors_it_reads():
     assert undeclared == []
 
 
+def test_a_whole_number_typed_with_a_trailing_point_is_echoed_readably(results):
+    """``seeds=3.`` was echoed "got 3.." (the value as typed, then the sentence's full stop)."""
+    refused(results, ["show", "smoke", "seeds=3.", "--root", results],
+            "seeds must be a whole number, got 3. (with a decimal point).")
+
+
 def test_a_schedule_out_stem_that_is_a_special_file_is_refused(results, tmp_path):
     """``--out`` names a stem (<stem>.csv and <stem>.parquet are written beside it): a stem that is
     itself a device or a named pipe is refused before any work, so no <device>.csv is written in
