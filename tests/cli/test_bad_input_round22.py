@@ -8,7 +8,7 @@ from __future__ import annotations
 import os
 
 import pytest
-from cli_checks import mesh_study, refused
+from cli_checks import immutable, invoke, mesh_study, refused, snapshot
 
 from graspcampaign.campaign.kind import KINDS, get_kind
 
@@ -63,3 +63,19 @@ def test_a_schedule_out_stem_that_is_a_special_file_is_refused(results, tmp_path
     refused(tmp_path, ["schedule", "test2_grasp", "--out", pipe, "--root", results],
             f"--out {pipe}: is a named pipe (FIFO), not a regular file.")
 
+
+def test_a_run_whose_report_folder_cannot_be_written_is_named_and_the_others_reported(results):
+    """A report/ made immutable (a read-only share) was found only when report.md was written, after
+    its figures: exit 1 and "report.md: operation not permitted"; it is now checked first, bad
+    input (exit 2) naming the folder, and the other run is reported all the same."""
+    folder = results / "smoke" / "default" / "report"
+    before = snapshot(folder.parent)
+    with immutable(folder):
+        result = invoke("report", "--root", results)
+        assert snapshot(folder.parent) == before
+    assert result.exit_code == 2, result.output
+    assert result.stderr == (
+        f"error: the report of smoke/default could not be written: its report folder {folder}: "
+        "cannot write there (Operation not permitted); make it writable for this user, or run the "
+        "command as the user who owns the run\n")
+    assert f"report: {results / 'baseline_grid' / 'default' / 'report' / 'report.md'}\n" in result.stdout
