@@ -23,7 +23,7 @@ def test_cached_facts_equal_the_code(tmp_path, monkeypatch):
         kind = get_kind("test2_grasp")
         assert facts == {"seconds_per_trial": kind.seconds_per_trial, "design": True,
                          "source": kind.source, "factors": list(kind.factors),
-                         "trial_keys": list(kind.trial_keys),
+                         "optional_factors": None, "trial_keys": list(kind.trial_keys),
                          "params": catalog.params_spec(kind.params), "stages": kind.stages,
                          "finalize": False}
         assert [f[0] for f in facts["params"]["fields"]] == ["objects", "groups", "fraction",

@@ -232,8 +232,10 @@ def test_records_ingested_again_into_a_run_this_user_may_not_write_are_said_stor
 
 
 def test_a_report_folder_this_user_may_not_write_is_bad_input(places):
-    _refused(places, "no_report:report", "the report of smoke/default could not be written: "
-             f"no_report/smoke/default/report/report.md: {DENIED}")
+    """It named report.md, found when that was written after the figures; the folder is now
+    probed first and named (fact42)."""
+    _refused(places, "no_report:report", "the report of smoke/default could not be written: its "
+             f"report folder no_report/smoke/default/report: cannot be written by this user: {DENIED}")
 
 
 MESH, RECORDS = "a mesh file (STL, OBJ or PLY)", "a file of measured records (CSV, XLSX or Parquet)"

@@ -132,7 +132,8 @@ def registry_names(name: str) -> tuple[str, ...]:
 def kind_facts(name: str) -> dict[str, Any]:
     """Return ``{"seconds_per_trial", "design", "source", "factors", "trial_keys", "params",
     "stages", "finalize"}`` of an available trial kind (``finalize``: whether it has that
-    stage): ``factors`` the factors a Cartesian design must have,
+    stage): ``factors`` the factors a Cartesian design must have, ``optional_factors`` those
+    its ``run`` reads when set (None: not declared),
     ``trial_keys`` the keys its trials hold besides the factors (``TrialKind.trial_keys``),
     ``params`` its params schema as ``{"name", "fields": [[name, annotation, metadata], ...]}``
     (None: it takes none), so that ``show`` checks a study's params as ``run`` does without
@@ -143,6 +144,8 @@ def kind_facts(name: str) -> dict[str, Any]:
         kind = get_kind(name)
         return {"seconds_per_trial": kind.seconds_per_trial, "design": kind.design is not None,
                 "source": kind.source, "factors": list(kind.factors),
+                "optional_factors": (None if kind.optional_factors is None
+                                     else list(kind.optional_factors)),
                 "trial_keys": list(kind.trial_keys),
                 "params": params_spec(kind.params), "stages": kind.stages,
                 "finalize": kind.finalize is not None}

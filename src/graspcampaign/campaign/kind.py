@@ -64,6 +64,12 @@ class TrialKind:
     (dynamic_check's presets and source filters); a study setting another is refused, as it
     would change nothing but the config hash.
 
+    ``optional_factors`` names the further factors ``run`` reads when a Cartesian study sets them
+    (``nodes``, ``grip_law``, ...); a Cartesian study setting a factor in neither tuple is refused
+    when it is composed, as it would only repeat every trial with an unread column. ``None`` (the
+    default, kept for kinds registered at run time by tests and benchmarks) declares nothing and
+    skips that check; every shipped kind declares it (tests/campaign/test_kind_factors.py).
+
     ``trial_keys`` names the keys a trial of this kind holds besides the study's factors, ``seed``
     and ``repeat`` (a designed kind's own columns, dynamic_check's ``source_trial_id``): with every
     known factor name, what ``method_factors`` may name (a name outside them has no effect). A
@@ -87,6 +93,7 @@ class TrialKind:
     #: whose time estimate counts trials only; with its cost at paper scale where it was measured
     stages: str = ""
     factors: tuple[str, ...] = ()
+    optional_factors: tuple[str, ...] | None = None
     trial_keys: tuple[str, ...] = ()
     extra: dict[str, Any] = field(default_factory=dict)
 

@@ -58,6 +58,8 @@ def omegaconf_error_sentence(exc: BaseException, prefix: str = "",
         said = str(value).lower() if isinstance(value, bool) else repr(value)  # seeds=true: as typed
         if not isinstance(value, (str, bool)) and (typed or {}).get(key):
             said = typed[key].strip()
+        if said.endswith("."):  # seeds=3.: "got 3.." read as a typo; say what the point is
+            said += " (with a decimal point)"
         return f"{key} must be {'a whole number' if match[1] == 'Integer' else 'a number'}, got {said}."
     if key.startswith("factors.") and key.count(".") == 1 and "[" not in key:
         name = key.split(".", 1)[1]

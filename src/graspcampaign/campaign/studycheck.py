@@ -202,8 +202,8 @@ def check_factors(factors: Any) -> None:
 
 def check_kind(study: StudyCfg) -> None:
     """Check what the study's trial kind needs, without importing its numerical code: a known
-    kind, the factors a Cartesian design must have on every trial, and ``params`` against the
-    kind's params schema (both read from the catalog, :func:`catalog.kind_facts`).
+    kind, the factors a Cartesian design must have on every trial and none it never reads
+    (``optional_factors``), and ``params`` against its schema (read from :func:`catalog.kind_facts`).
 
     Raises
     ------
@@ -219,6 +219,13 @@ def check_kind(study: StudyCfg) -> None:
     facts = kind_facts(study.kind)
     if not facts["design"]:
         check_kind_factors(study.factors, study.kind, facts["factors"])
+        reads = [*facts["factors"], *(facts.get("optional_factors") or [])]  # None: undeclared
+        unread = [name for name in study.factors if name not in reads]  # it would repeat each trial
+        if unread and facts.get("optional_factors") is not None:
+            said = f"it reads {', '.join(reads)}" if reads else "it reads no factor"
+            raise ConfigError(f"factor {unread[0]!r} is not read by the {study.kind} kind ({said}); "
+                              f"{meant(unread[0], reads)}remove it or choose a kind that varies it.",
+                              key=f"factors.{unread[0]}")
     elif ignored := [name for name in study.factors if name not in facts["factors"]]:
         reads = (f"reads only the factors {listed(facts['factors'])}" if facts["factors"]
                  else "reads no factor")

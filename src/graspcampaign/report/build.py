@@ -14,9 +14,17 @@ from typing import Any
 import pandas as pd
 
 from graspcampaign.analysis.records import in_design_order
-from graspcampaign.campaign.paths import check_root, held_by_a_run, how_to_make, near_run, write_file
+from graspcampaign.campaign.paths import (
+    check_root,
+    held_by_a_run,
+    how_to_make,
+    near_run,
+    write_denied,
+    write_file,
+)
 from graspcampaign.campaign.provenance import read_manifest, run_size
 from graspcampaign.campaign.records import RunStore
+from graspcampaign.core.words import PERMISSION_DENIED
 from graspcampaign.errors import ConfigError, UserInputError, access_denied, disk_full
 from graspcampaign.report import document as D
 from graspcampaign.report import spec as S
@@ -102,6 +110,7 @@ def report_run(store: RunStore, root: Path, formats: list[str], figure_format: s
     manifest = store.check()  # never a report of records that are not what the manifest says
     if not manifest:
         raise UserInputError(f"{store.manifest_path} is missing.")
+    _check_report_folder(store)
     records, notes = in_design_order(store.read("records").to_pandas()), []
     progress = None  # of a run another process is recording: how much was recorded when read
     if busy or held_by_a_run(store.path):
@@ -124,6 +133,19 @@ def report_run(store: RunStore, root: Path, formats: list[str], figure_format: s
     for failure in run.failures:
         log.warning("report %s/%s: %s", study, manifest.get("run"), failure)
     return doc.write(store.path / "report", formats, figure_format), run.items, run.broken, progress
+
+
+def _check_report_folder(store: RunStore) -> None:
+    """Refuse, before any figure is drawn, a run whose ``report/`` (or a folder in it, or the run's
+    directory that would hold it) this process cannot write: one sentence naming the folder, bad
+    input (exit 2) as the run's other refusals; the other runs are still reported."""
+    folder = store.path / "report"
+    places = ([Path(where) for where, _, _ in os.walk(folder)] if folder.is_dir() else [store.path])
+    for place in places:
+        if (why := write_denied(place)) is not None:
+            advice = "" if PERMISSION_DENIED in why else ("; make it writable for this user, or run "
+                                                          "the command as the user who owns the run")
+            raise UserInputError(f"its report folder {place}: {why}{advice}.")
 
 
 def _runs(root: Path, studies: list[str] | None, run: str | Mapping[str, str] | None,

@@ -346,9 +346,11 @@ def run_grasp(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
 
 GRAVITY_SETTLE = TrialKind(name="gravity_settle", run=run_settle, params=DynamicParams,
                            seconds_per_trial=10.0, description="MSD body settling on a floor",
-                           factors=("shape", "mass_kg"))
+                           factors=("shape", "mass_kg"),
+                           optional_factors=("nodes", "integrator"))
 DYNAMIC_GRASP = TrialKind(name="dynamic_grasp", run=run_grasp, params=DynamicParams,
                           seconds_per_trial=20.0,
                           description="RK4 dynamic grasp (closure, lift-off, hold) on the 45/45/-90 "
                                       "set + like-for-like checks",
-                          factors=("shape", "mass_kg", "mu"))
+                          factors=("shape", "mass_kg", "mu"),
+                          optional_factors=("nodes", "model_preset", "damping_law"))

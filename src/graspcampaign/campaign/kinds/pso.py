@@ -60,5 +60,5 @@ def run(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
 PSO_REPEATABILITY = TrialKind(
     name="pso_repeatability", run=run, params=PsoRepeatabilityParams, seconds_per_trial=1.0,
     description="PSO identification restarts on one soft body",
-    factors=("shape", "mass_kg", "mu"),
+    factors=("shape", "mass_kg", "mu"), optional_factors=("nodes", "budget"),
 )

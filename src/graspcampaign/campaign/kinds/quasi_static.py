@@ -319,4 +319,5 @@ QUASI_STATIC = TrialKind(
     stages="a PSO identification of each soft body before its trials (Sec. 4; none with "
            "pso.enabled=false)",
     factors=("shape", "mass_kg", "mu", "planner"),
+    optional_factors=("nodes", "grip_law"),
 )

@@ -52,6 +52,6 @@ MESH_FEATURES = TrialKind(
     name="mesh_features",
     run=run,
     seconds_per_trial=0.05,
-    factors=("shape", "nodes"),
+    factors=("shape", "nodes"), optional_factors=(),
     description="object mesh construction, closure and sharp-feature counts",
 )

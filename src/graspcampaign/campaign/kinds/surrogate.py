@@ -335,4 +335,5 @@ SURROGATE = TrialKind(
     finalize=finalize,
     description="Appendix A dataset: sampled scenarios through the evaluator (+ a brief PSO call)",
     stages="the fits of Appendix A's surrogates after the trials",
+    optional_factors=(),  # it samples its scenarios from params, reading no factor
 )

@@ -68,5 +68,5 @@ def run(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
 HEURISTIC_WEIGHTS = TrialKind(
     name="heuristic_weights", run=run, params=WeightsParams, seconds_per_trial=0.05,
     description="argmin of H(G) under uniform weight scaling and weight ratios",
-    factors=("weight_scale",),
+    factors=("weight_scale",), optional_factors=(),
 )

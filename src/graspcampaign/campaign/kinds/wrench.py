@@ -76,5 +76,5 @@ def run(inp: TrialInput, rng: np.random.Generator) -> dict[str, Any]:
 WRENCH_BALANCE = TrialKind(
     name="wrench_balance", run=run, params=WrenchParams, seconds_per_trial=0.05,
     description="fixed grip command on the sphere; four monitors per closing step",
-    factors=("shape", "mass_kg", "mu"),
+    factors=("shape", "mass_kg", "mu"), optional_factors=("nodes",),
 )
