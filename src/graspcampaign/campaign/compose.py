@@ -161,14 +161,17 @@ def compose_study(study: str, overrides: list[str] | None = None) -> StudyCfg:
         check_study(obj)
     except ConfigError as exc:
         raise _blamed(exc, path, overrides) from None
+    said = [o for o in given if group(o) in ("paper", "compare_with")]
+    compared = next((o for o in said if group(o) == "compare_with"), None)
     try:
         check_kind(obj)
     except ConfigError as exc:  # about the kind as much as its factors or params
+        if str(exc.key).startswith("factors.") and any(group(o) == "kind" for o in given):
+            # factors the kind set on the command line does not read: first, is it this study's kind at all
+            check_paper_block(obj, data.get("name"), path, campaigns_dir, said, compared)
         raise _blamed(exc, path, overrides, also=("kind",)) from None
     _check_renamed(obj.name, data.get("name"), path, given, files)
-    said = [o for o in given if group(o) in ("paper", "compare_with")]
-    check_paper_block(obj, data.get("name"), path, campaigns_dir, said,
-                      next((o for o in said if group(o) == "compare_with"), None))
+    check_paper_block(obj, data.get("name"), path, campaigns_dir, said, compared)
     if len(_COMPOSED) >= _COMPOSED_MAX:
         _COMPOSED.pop(next(iter(_COMPOSED)))
     _COMPOSED[key] = copy.deepcopy(obj)
