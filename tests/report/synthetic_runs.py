@@ -305,6 +305,11 @@ def draw_all(root: Path, study: str) -> dict:
     return {item.name: draw_figure(run, item.draw, item.size) for item in _figure_items(spec.items)}
 
 
+def printed_decimals(printed: str) -> int:
+    """The decimals a number as the paper prints it has ("4.0": 1, "95": 0, "≈ 86": 0)."""
+    return len(printed.split(".")[1]) if "." in printed else 0
+
+
 def half_an_em(text) -> float:
     """Half an em of ``text``'s font in display pixels: the least gap between two neighbouring labels
     (a word space is 0.32 em in DejaVu Sans; labels closer than that read as one phrase)."""

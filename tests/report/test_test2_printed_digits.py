@@ -10,16 +10,12 @@ from __future__ import annotations
 import pandas as pd
 import pytest
 from statsmodels.stats.proportion import proportion_confint
-from synthetic_runs import md_table, read_table, report_md
+from synthetic_runs import md_table, printed_decimals, read_table, report_md
 
 #: §8.3-8.6 as printed (paper.txt): slope, R², the median errors, Kruskal–Wallis H
 CLAIMS = {"parity slope (through the origin)": "0.98", "parity R² (uncentred)": "0.720",
           "median |normal-force error|": "13.8", "median |deformation error|": "14.1",
           "median contact-point error": "3.6", "Kruskal–Wallis H, peak slip across friction levels": "578"}
-
-
-def decimals(printed: str) -> int:
-    return len(printed.split(".")[1]) if "." in printed else 0
 
 
 @pytest.fixture
@@ -35,8 +31,8 @@ def test_claims_print_and_judge_the_papers_values_at_its_decimals(run):
     for quantity, printed in CLAIMS.items():
         r = csv.loc[quantity]
         assert md.loc[quantity, "paper"] == printed, quantity
-        assert str(r["digits"]) == str(decimals(printed)), quantity  # text: the p row's digits are "p"
-        far = abs(r["value"] - float(printed)) >= 10.0 ** -decimals(printed)
+        assert str(r["digits"]) == str(printed_decimals(printed)), quantity  # text: the p row: "p"
+        far = abs(r["value"] - float(printed)) >= 10.0 ** -printed_decimals(printed)
         assert str(r["differs"]) == str(far), quantity
 
 

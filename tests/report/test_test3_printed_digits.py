@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 import statsmodels.api as sm
 from statsmodels.stats.proportion import proportion_confint
-from synthetic_runs import both_readings, md_table, read_table, report_md
+from synthetic_runs import both_readings, md_table, printed_decimals, read_table, report_md
 
 #: §9.2-9.5 as printed (paper.txt), by the claims row's quantity
 PRINTED = {"proposed success, natural friction": "≈ 86",  # "roughly 86 %"
@@ -36,10 +36,6 @@ PRINTED = {"proposed success, natural friction": "≈ 86",  # "roughly 86 %"
            "trials of the logistic regression (blocks B, D, E, all planners)": "680"}
 
 
-def decimals(printed: str) -> int:
-    return len(printed.split(".")[1]) if "." in printed else 0
-
-
 @pytest.fixture
 def run(sim_root):
     return sim_root / "test3_disturbance" / "default"
@@ -51,7 +47,7 @@ def test_test3_claims_print_the_papers_values_at_its_decimals(run):
     md = md_table(report_md(run), "test3_claims").set_index("quantity")
     for quantity, printed in PRINTED.items():
         assert md.loc[quantity, "paper"] == printed, quantity
-        assert int(csv.loc[quantity, "digits"]) == decimals(printed), quantity
+        assert int(csv.loc[quantity, "digits"]) == printed_decimals(printed), quantity
 
 
 def test_a_whole_percent_of_the_paper_is_judged_at_one_point(run):
