@@ -310,6 +310,21 @@ def printed_decimals(printed: str) -> int:
     return len(printed.split(".")[1]) if "." in printed else 0
 
 
+def page_image_px() -> float:
+    """The widest a figure's image shows on the HTML page [px]: ``main``'s max-width less its side
+    padding, less ``figure``'s padding and border (report.style.CSS; ``img{max-width:100%}``)."""
+    from graspcampaign.report.style import CSS
+
+    def px(rule: str, prop: str) -> list[float]:
+        body = re.search(r"(?:^|})\s*" + rule + r"\{([^}]*)\}", CSS).group(1)  # the screen rule, first
+        value = re.search(r"(?:^|;)" + prop + r":([^;]*)", body).group(1)
+        return [float(v.removesuffix("px")) for v in value.split() if re.fullmatch(r"[\d.]+(px)?", v)]
+
+    main_side = px("main", "padding")[1]  # padding: top side bottom
+    return (px("main", "max-width")[0] - 2 * main_side - 2 * px("figure", "padding")[0]
+            - 2 * px("figure", "border")[0])
+
+
 def half_an_em(text) -> float:
     """Half an em of ``text``'s font in display pixels: the least gap between two neighbouring labels
     (a word space is 0.32 em in DejaVu Sans; labels closer than that read as one phrase)."""

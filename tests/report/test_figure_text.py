@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 import pytest
-from synthetic_runs import draw_all, half_an_em
+from synthetic_runs import draw_all, half_an_em, page_image_px
 
 from graspcampaign.campaign.records import RunStore
 
@@ -128,23 +128,6 @@ def test_every_numeric_axis_names_its_unit(sim_root):
     assert not uncounted, uncounted
 
 
-def _page_image_px() -> float:
-    """The widest a figure's image shows on the HTML page [px]: ``main``'s max-width less its side
-    padding, less ``figure``'s padding and border (report.style.CSS; ``img{max-width:100%}``)."""
-    import re
-
-    from graspcampaign.report.style import CSS
-
-    def px(rule: str, prop: str) -> list[float]:
-        body = re.search(r"(?:^|})\s*" + rule + r"\{([^}]*)\}", CSS).group(1)  # the screen rule, first
-        value = re.search(r"(?:^|;)" + prop + r":([^;]*)", body).group(1)
-        return [float(v.removesuffix("px")) for v in value.split() if re.fullmatch(r"[\d.]+(px)?", v)]
-
-    main_side = px("main", "padding")[1]  # padding: top side bottom
-    return (px("main", "max-width")[0] - 2 * main_side - 2 * px("figure", "padding")[0]
-            - 2 * px("figure", "border")[0])
-
-
 LEGIBLE_PX = 10.0
 """The least em [px] of a figure's text at the page's width: 8 px (Figs. 12-13 and 19, 15 in wide, at
 1110 px) read as footnotes beside the page's 13.5-15 px text; 10 px is the smallest its captions'
@@ -174,9 +157,9 @@ def test_wide_figures_text_reads_at_least_ten_px_at_the_pages_width(sim_root, st
     fig = draw_all(sim_root, study)[name]
     dpi = RC["savefig.dpi"]
     saved_px = (fig.get_tightbbox(fig.canvas.get_renderer()).width + 2 * 0.1) * dpi
-    scale = min(1.0, _page_image_px() / saved_px)
+    scale = min(1.0, page_image_px() / saved_px)
     small = sorted({(round(t.get_fontsize() * dpi / 72 * scale, 1), t.get_text()[:30])
                     for t in fig.findobj(Text) if t.get_text().strip() and t.get_visible()
                     and t.get_fontsize() * dpi / 72 * scale < LEGIBLE_PX})
-    assert _page_image_px() == 1110.0
+    assert page_image_px() == 1110.0
     assert not small, (round(saved_px), small[:8])
