@@ -1,6 +1,6 @@
-"""Bad input, round 22: the rough edges round 21 left (docs/decisions.md, "Unread factors and
-misread numbers (fact42)"). Each is one sentence naming what is wrong and where, exit 2, nothing
-stored changed (``cli_checks.refused``).
+"""Bad input, round 22: the rough edges round 21 left (docs/decisions.md, "Unread factors, an
+unwritable report folder, and round 21's other leftovers (fact42)"). Each is one sentence naming what
+is wrong and where, exit 2, nothing stored changed (``cli_checks.refused``).
 """
 
 from __future__ import annotations
@@ -79,3 +79,30 @@ def test_a_run_whose_report_folder_cannot_be_written_is_named_and_the_others_rep
         "cannot write there (Operation not permitted); make it writable for this user, or run the "
         "command as the user who owns the run\n")
     assert f"report: {results / 'baseline_grid' / 'default' / 'report' / 'report.md'}\n" in result.stdout
+
+
+@pytest.mark.parametrize(("study", "override", "said"), [
+    # the override's advice, "add it with +factors.mu=[0.3, 0.5]", led to a second refusal: the kind
+    # never reads mu (a Cartesian kind's optional factors; a designed kind reads its design's only)
+    ("smoke", "mu=[0.3]",
+     "mu is not a factor of this study (override 'mu=[0.3]' rejected; its factors: nodes, shape), and the "
+     "mesh_features kind does not read it (it reads shape, nodes)."),
+    ("test3_disturbance", "mu=[0.3]",
+     "mu is not a factor of this study (override 'mu=[0.3]' rejected; its factors: none), and the "
+     "test3_disturbance kind does not read it (it reads no factor).")])
+def test_an_override_is_not_advised_to_add_a_factor_the_kind_never_reads(tmp_path, study, override, said):
+    refused(tmp_path, ["show", study, override, "--root", tmp_path], said)
+
+
+def test_the_advice_to_add_a_factor_is_one_the_study_takes(tmp_path):
+    """A factor the kind reads is advised with an example that composes: grip_law's was the placeholder
+    [a, b], itself refused (grip_law takes paper, slip, oracle); the advice is followed here."""
+    from graspcampaign.campaign.compose import compose_study
+    from graspcampaign.errors import ConfigError
+
+    with pytest.raises(ConfigError) as refusal:
+        compose_study("baseline_grid", ["grip_law=[slip]", f"output.root={tmp_path}"])
+    advice = str(refusal.value).rsplit("add it with ", 1)[1].rstrip(".")
+    assert advice == "+factors.grip_law=[paper, slip]"
+    study = compose_study("baseline_grid", [advice, f"output.root={tmp_path}"])
+    assert study.factors["grip_law"] == ["paper", "slip"]

@@ -59,7 +59,8 @@ def test_show_prints_design_without_running(tmp_path):
         ("colour=red", r"colour is neither a known key of the study config nor a factor of this study "
                        r"\(factors: nodes, shape\); override rejected\.$"),
         ("mu=[0.3]", r"mu is not a factor of this study \(override 'mu=\[0\.3\]' rejected; its factors: "
-                     r"nodes, shape\); add it with \+factors\.mu=\[0\.3, 0\.5\]\.$"),
+                     r"nodes, shape\), and the mesh_features kind does not read it \(it reads shape, "
+                     r"nodes\)\.$"),
         ("model.lambda1=soft", r"model\.lambda1 must be a number, got 'soft'\.$"),
         ("seeds=abc", r"seeds must be a whole number, got 'abc'\.$"),
         ("evaluator.n_cand=1.5", r"evaluator\.n_cand must be a whole number, got 1\.5\.$"),

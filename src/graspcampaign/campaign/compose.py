@@ -153,7 +153,8 @@ def compose_study(study: str, overrides: list[str] | None = None) -> StudyCfg:
             names = sorted(factors) if isinstance(factors, dict) else []
             set_keys = [f"{section}.{k}" for section in ("params", "paper")
                         if isinstance(data.get(section), dict) for k in data[section]]
-            sentence = override_sentence(exc, overrides, given, names, set_keys)
+            reads = _kind_reads(data.get("kind"))
+            sentence = override_sentence(exc, overrides, given, names, set_keys, reads)
             raise _blamed(ConfigError(sentence, key=_error_key(exc)), path, overrides) from None
     try:
         obj.output.root = config_root(obj.output.root)  # read once, for every reader of the config
@@ -176,6 +177,22 @@ def compose_study(study: str, overrides: list[str] | None = None) -> StudyCfg:
         _COMPOSED.pop(next(iter(_COMPOSED)))
     _COMPOSED[key] = copy.deepcopy(obj)
     return obj
+
+
+def _kind_reads(kind: Any) -> tuple[str, list[str]] | None:
+    """Trial kind ``kind`` and the factors it reads (a designed kind: those its design reads), for the
+    sentence of an override naming a factor the study lacks; None for an unknown kind or one that
+    declares no ``optional_factors`` (:func:`~graspcampaign.campaign.studycheck.check_kind`'s rule)."""
+    from graspcampaign.campaign.catalog import kind_facts
+    from graspcampaign.campaign.kind import kind_available
+
+    if not isinstance(kind, str) or not kind_available(kind):
+        return None
+    facts = kind_facts(kind)
+    if facts["design"]:
+        return kind, list(facts["factors"])
+    optional = facts.get("optional_factors")
+    return None if optional is None else (kind, [*facts["factors"], *optional])
 
 
 def _check_output_root(root: str) -> None:

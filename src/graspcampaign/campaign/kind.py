@@ -68,7 +68,7 @@ class TrialKind:
     (``nodes``, ``grip_law``, ...); a Cartesian study setting a factor in neither tuple is refused
     when it is composed, as it would only repeat every trial with an unread column. ``None`` (the
     default, kept for kinds registered at run time by tests and benchmarks) declares nothing and
-    skips that check; every shipped kind declares it (tests/campaign/test_kind_factors.py).
+    skips that check; every shipped kind declares it (tests/cli/test_bad_input_round22.py).
 
     ``trial_keys`` names the keys a trial of this kind holds besides the study's factors, ``seed``
     and ``repeat`` (a designed kind's own columns, dynamic_check's ``source_trial_id``): with every

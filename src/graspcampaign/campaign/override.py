@@ -19,18 +19,13 @@ import unicodedata
 from typing import Any
 
 from graspcampaign.campaign import override_groups, override_scan
+from graspcampaign.campaign.factor_words import not_a_factor
 from graspcampaign.campaign.former_names import FORMER_FACTORS, former_factor
 from graspcampaign.campaign.omegaconf_words import omegaconf_error_sentence
 from graspcampaign.campaign.override_groups import missing_option_sentence
 from graspcampaign.campaign.override_scan import mapping_keys, n_values, sweep_function, underscored_numbers
-from graspcampaign.campaign.schema import FACTOR_SPECS, StudyCfg, example
-from graspcampaign.campaign.studycheck import (
-    GROUPS,
-    field_at,
-    known_keys_sentence,
-    schema_at,
-    split_optional,
-)
+from graspcampaign.campaign.schema import FACTOR_SPECS, StudyCfg
+from graspcampaign.campaign.studycheck import GROUPS, field_at, known_keys_sentence, schema_at, split_optional
 from graspcampaign.campaign.studyfile import NESTED_TOO_DEEPLY, group_options
 from graspcampaign.core.words import as_ascii, meant, stands_for
 from graspcampaign.errors import ConfigError
@@ -309,12 +304,12 @@ def _typed(key: str, overrides: list[str], given: list[str]) -> str | None:
                  if split(item)[1] == key), None)
 
 
-def override_sentence(exc: BaseException, overrides: list[str], given: list[str],
-                      factors: list[str] = (), set_keys: list[str] = ()) -> str:
+def override_sentence(exc: BaseException, overrides: list[str], given: list[str], factors: list[str] = (),
+                      set_keys: list[str] = (), reads: tuple[str, list[str]] | None = None) -> str:
     """One sentence for a composition error, naming the user's override as they typed it (and, for a
-    bare key, the study's factors: ``shape=[...]`` works only where shape is a factor; for a
-    ``params.``/``paper.`` key the study does not set, the nearest of the keys it sets,
-    ``set_keys``)."""
+    bare key, the study's factors: ``shape=[...]`` works only where shape is a factor, and is added only
+    where its trial kind reads it, ``reads``: (kind, the factors it reads), None if unknown; for a
+    ``params.``/``paper.`` key the study does not set, the nearest of the keys it sets, ``set_keys``)."""
     text = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
     if isinstance(exc, RecursionError):  # Hydra's parser recurses once per level of [ or {
         deepest = max(given, key=lambda typed: typed.count("[") + typed.count("{"))
@@ -336,11 +331,11 @@ def override_sentence(exc: BaseException, overrides: list[str], given: list[str]
         return f"cannot parse overrides: {text.rstrip('.')}."
     if getattr(exc, "errno", None) == errno.ENAMETOOLONG:  # Hydra looked for the key as a group
         key = max((split(item)[1] for item in overrides), key=len)
-        return _unknown_override(key, _typed(key, overrides, given), factors, set_keys)
+        return _unknown_override(key, _typed(key, overrides, given), factors, set_keys, reads)
     match = re.match(r"Could not override '([^']+)'", text)
     if match:
         return _unknown_override(match.group(1), _typed(match.group(1), overrides, given),
-                                 factors, set_keys)
+                                 factors, set_keys, reads)
     match = re.match(r"Could not delete from config\. '([^']+)' does not exist", text)
     if match:
         return _nothing_to_delete(match.group(1), _typed(match.group(1), overrides, given), factors)
@@ -446,7 +441,8 @@ def _character_sentence(item: str, typed: str, error: str) -> str | None:
             f"it: {fixed}{shell}.")
 
 
-def _unknown_override(key: str, typed: str | None, factors: list[str], set_keys: list[str] = ()) -> str:
+def _unknown_override(key: str, typed: str | None, factors: list[str], set_keys: list[str] = (),
+                      reads: tuple[str, list[str]] | None = None) -> str:
     """``evaluator.nosuch=1``: name the section's known keys, as the ``+`` form does; a ``params.``
     or ``paper.`` key near one the study sets (``set_keys``) is taken for a typo of it; a factor by
     its former name (``b_n_s_per_m=[0.5]``) is told its current one."""
@@ -456,7 +452,7 @@ def _unknown_override(key: str, typed: str | None, factors: list[str], set_keys:
               if field_at(f"{key}.{k}") is None and f"{key}.{k}" not in set_keys
               and not (key == "factors" and k in factors)]
     if "." not in key and field_at(key) is not None and inside:  # runner={nosuch: 1}: the key in it
-        return _unknown_override(f"{key}.{inside[0]}", typed, factors, set_keys)
+        return _unknown_override(f"{key}.{inside[0]}", typed, factors, set_keys, reads)
     if "." not in key and key not in FACTOR_SPECS:
         names = [*factors, *(f.name for f in dataclasses.fields(StudyCfg)), *sorted(FACTOR_SPECS)]
         return (f"{key} is neither a known key of the study config nor a factor of this study "
@@ -473,8 +469,7 @@ def _unknown_override(key: str, typed: str | None, factors: list[str], set_keys:
             return (f"{key} is not a known factor ({rejected}); "
                     f"{meant(name, FACTOR_SPECS, 'factors.{}')}known factors: "
                     f"{', '.join(sorted(FACTOR_SPECS))}.")
-        return (f"{name} is not a factor of this study ({rejected}; its factors: "
-                f"{', '.join(factors) or 'none'}); add it with +factors.{name}={example(name)}.")
+        return not_a_factor(name, rejected, factors, reads)
     if (section := parent.split(".")[0]) in ("params", "paper"):
         checker = "its trial kind's schema" if section == "params" else "the study's paper schema"
         near = meant(name, [k.rsplit(".", 1)[1] for k in set_keys if k.rsplit(".", 1)[0] == parent],

@@ -423,7 +423,9 @@ def example(name: str) -> str:
     """A level list to show in a message about factor ``name``."""
     spec = FACTOR_SPECS.get(name, {})
     if spec.get("type") is str:
-        return {"shape": "[sphere, pear]", "planner": "[heuristic, random]"}.get(name, "[a, b]")
+        choices = spec.get("choices")  # a placeholder [a, b] would itself be refused
+        return {"shape": "[sphere, pear]", "planner": "[heuristic, random]"}.get(
+            name, f"[{', '.join(choices[:2])}]" if choices else "[a, b]")
     return {"mu": "[0.3, 0.5]", "mass_kg": "[0.2, 0.4]", "nodes": "[144, 390]"}.get(
         name, "[1, 2]" if spec.get("type") is int else "[0.5, 1.0]")
 

@@ -211,6 +211,7 @@ def check_kind(study: StudyCfg) -> None:
         Naming the kind and the missing factor, or the params key and what it takes.
     """
     from graspcampaign.campaign.catalog import kind_facts
+    from graspcampaign.campaign.factor_words import it_reads
     from graspcampaign.campaign.kind import kind_available
 
     check_kind_name(study.kind)
@@ -222,10 +223,9 @@ def check_kind(study: StudyCfg) -> None:
         reads = [*facts["factors"], *(facts.get("optional_factors") or [])]  # None: undeclared
         unread = [name for name in study.factors if name not in reads]  # it would repeat each trial
         if unread and facts.get("optional_factors") is not None:
-            said = f"it reads {', '.join(reads)}" if reads else "it reads no factor"
-            raise ConfigError(f"factor {unread[0]!r} is not read by the {study.kind} kind ({said}); "
-                              f"{meant(unread[0], reads)}remove it or choose a kind that varies it.",
-                              key=f"factors.{unread[0]}")
+            raise ConfigError(f"factor {unread[0]!r} is not read by the {study.kind} kind "
+                              f"({it_reads(reads)}); {meant(unread[0], reads)}"
+                              "remove it or choose a kind that varies it.", key=f"factors.{unread[0]}")
     elif ignored := [name for name in study.factors if name not in facts["factors"]]:
         reads = (f"reads only the factors {listed(facts['factors'])}" if facts["factors"]
                  else "reads no factor")
