@@ -53,8 +53,9 @@ ESSENTIALLY_ZERO = "this tool's torque tolerance τ_T (unpublished; Sec. 3.7: ne
 tolerance τ_T of Algorithm 1 "not binding in any reported campaign: torque residuals are essentially zero
 ... (Fig. 17b)", so ours at most τ_T (the run's) agrees; an exact 0 (one unit of the third decimal) made a
 loose word a strict bound (`docs/decisions.md`, *Hardware reports read as a researcher would (hw42)*).
-The paper gives no value of τ_T: the bound is this tool's (conf/evaluator, `docs/decisions.md` issue 4),
-and says so, as Fig. 17b draws it in the criteria's grey, not the paper's black."""
+The paper gives no value of τ_T: the bound is this tool's (conf/evaluator;
+`docs/decisions.md`, *Contact law, evaluator, planners, PSO*), and says so, as Fig. 17b draws it in the
+criteria's grey."""
 
 
 def _per_mu(run: Run) -> pd.DataFrame:
